@@ -1,0 +1,29 @@
+// core/tool_sample.hpp - what the haptic thread tells the sculpt thread each tick.
+#pragma once
+
+#include <cstdint>
+
+#include "core/math.hpp"
+
+namespace tridex {
+
+/// What the tool does to material along its swept volume.
+enum class ToolOp : std::uint8_t {
+    kNone = 0,      ///< touch only, no change
+    kSubtract = 1,  ///< carve: remove the swept volume
+    kUnion = 2,     ///< add the swept volume as material
+    kPaint = 3,     ///< set a material id where the tool touches
+};
+
+/// One tool pose in world space, pushed by the haptic loop through an SpscRing.
+/// Consecutive samples form the swept segments the sculpt thread applies, in order.
+struct ToolSample {
+    double t_s = 0.0;                        ///< loop time of the sample, s
+    Vec3 position{0.0};                      ///< tool centre (HIP), world m
+    Quat orientation{1.0, 0.0, 0.0, 0.0};    ///< tool frame -> world
+    double radius_m = 0.0;                   ///< ball radius, m
+    ToolOp op = ToolOp::kNone;               ///< Boolean applied along the sweep ending here
+    std::uint32_t buttons = 0;               ///< device button bits at the sample
+};
+
+}  // namespace tridex

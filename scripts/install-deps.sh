@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian 12 packages tridex needs to build, test and run its demo.
+# Idempotent: installs only what is missing. Uses sudo when not root.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config git      # toolchain
+  libglm-dev                                # math (GLM)
+  libopenmesh-dev                           # mesh I/O and half-edge checks (OpenMesh)
+  libvulkan-dev vulkan-validationlayers     # Vulkan loader, headers, validation layer
+  mesa-vulkan-drivers                       # lavapipe, the CPU Vulkan driver
+  glslang-tools                             # GLSL -> SPIR-V at build time
+  libstb-dev                                # stb_image_write for PNG
+  nlohmann-json3-dev                        # report.json
+  libcli11-dev                              # command line
+  libgtest-dev libgmock-dev                 # tests
+  libbenchmark-dev                          # benchmarks
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"

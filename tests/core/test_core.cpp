@@ -1,0 +1,104 @@
+// Tests of core/: the lock-free hand-offs and the mesh topology checks.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "core/spsc_ring.hpp"
+#include "core/tri_mesh.hpp"
+#include "core/triple_buffer.hpp"
+
+namespace tridex {
+namespace {
+
+TEST(SpscRing, KeepsOrderAndRefusesWhenFull) {
+    SpscRing<int> ring(4);
+    EXPECT_EQ(ring.capacity(), 4u);
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(ring.try_push(i));
+    EXPECT_FALSE(ring.try_push(99));
+    int v = -1;
+    for (int i = 0; i < 4; ++i) {
+        ASSERT_TRUE(ring.try_pop(v));
+        EXPECT_EQ(v, i);
+    }
+    EXPECT_FALSE(ring.try_pop(v));
+}
+
+TEST(SpscRing, TwoThreadsLoseNothing) {
+    SpscRing<long> ring(64);
+    constexpr long kCount = 200000;
+    std::thread producer([&] {
+        for (long i = 0; i < kCount;)
+            if (ring.try_push(i)) ++i;
+    });
+    long expected = 0, v = 0;
+    while (expected < kCount)
+        if (ring.try_pop(v)) ASSERT_EQ(v, expected++);
+    producer.join();
+}
+
+struct Big {
+    long a = 0;
+    long payload[256] = {};
+    long b = 0;
+};
+
+TEST(TripleBuffer, ReaderSeesOnlyCompleteSnapshotsInOrder) {
+    TripleBuffer<Big> tb;
+    EXPECT_EQ(tb.latest().a, 0);
+    constexpr long kCount = 100000;
+    std::thread writer([&] {
+        for (long i = 1; i <= kCount; ++i) {
+            Big& s = tb.back();
+            s.a = i;
+            for (long& p : s.payload) p = i;
+            s.b = i;
+            tb.publish();
+        }
+    });
+    long last = 0;
+    while (last < kCount) {
+        const Big& s = tb.latest();
+        ASSERT_EQ(s.a, s.b);
+        ASSERT_EQ(s.payload[128], s.a);
+        ASSERT_GE(s.a, last);
+        last = s.a;
+    }
+    writer.join();
+}
+
+TriMesh unit_cube() {
+    TriMesh m;
+    for (int i = 0; i < 8; ++i) m.positions.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+    // Two CCW-from-outside triangles per face.
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) {
+        m.triangles.push_back({q[0], q[1], q[2]});
+        m.triangles.push_back({q[0], q[2], q[3]});
+    }
+    return m;
+}
+
+TEST(TriMesh, CubeIsClosedWithUnitVolume) {
+    const TriMesh cube = unit_cube();
+    const EdgeStats s = edge_stats(cube);
+    EXPECT_EQ(s.edges, 18u);
+    EXPECT_EQ(s.boundary_edges, 0u);
+    EXPECT_EQ(s.nonmanifold_edges, 0u);
+    EXPECT_EQ(s.misoriented_edges, 0u);
+    EXPECT_NEAR(signed_volume(cube), 1.0, 1e-12);
+    const auto n = vertex_normals(cube);
+    EXPECT_NEAR(glm::length(n[0]), 1.0, 1e-12);
+    EXPECT_LT(n[0].x, 0.0);
+}
+
+TEST(TriMesh, OpenAndNonManifoldEdgesAreCounted) {
+    TriMesh cube = unit_cube();
+    cube.triangles.pop_back();
+    EXPECT_EQ(edge_stats(cube).boundary_edges, 3u);
+    TriMesh fan = unit_cube();
+    fan.triangles.push_back({0, 2, 7});  // third triangle on edge 0-2
+    EXPECT_GE(edge_stats(fan).nonmanifold_edges, 1u);
+}
+
+}  // namespace
+}  // namespace tridex
