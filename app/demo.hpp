@@ -1,0 +1,31 @@
+// app/demo.hpp - `tridex demo`: the main job end to end (load, scan-convert, carve under a 1 kHz
+// haptic loop with a simulated device, contour, render both eyes, write the outputs).
+#pragma once
+
+#include <string>
+
+namespace tridex::app {
+
+/// Options of `tridex demo` (command-line units converted to SI here).
+struct DemoOptions {
+    std::string mesh;              ///< workpiece mesh file (OFF, OBJ, PLY, STL); empty = the bundled bunny
+    int resolution = 256;          ///< lattice cells along the workpiece's longest side
+    double seconds = 4.0;          ///< length of the scripted stroke, s
+    std::string out = "out/demo";  ///< output folder (created)
+    int width = 1280;              ///< per-eye image width, px
+    int height = 960;              ///< per-eye image height, px
+    double stock_m = 0.3;          ///< the workpiece is scaled so its longest side is this, m
+    double tool_radius_m = 0.008;  ///< ball tool radius, m
+    bool validate = false;         ///< enable VK_LAYER_KHRONOS_validation (also on with TRIDEX_VALIDATION=1)
+};
+
+/// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
+/// into options.out. Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
+/// cannot be loaded or is not closed, an impossible resolution, no Vulkan device).
+void run_demo(const DemoOptions& options);
+
+/// The bundled default workpiece (assets/bunny.off): found through $TRIDEX_ASSETS, then next to the
+/// executable's source tree (compile-time path). Throws tridex::Error when it is missing.
+std::string default_mesh_path();
+
+}  // namespace tridex::app

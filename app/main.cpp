@@ -1,0 +1,50 @@
+// app/main.cpp - the `tridex` command line.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "app/demo.hpp"
+#include "core/error.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App cli{"tridex: immersive virtual sculpting with force feedback on a tri-dexel workpiece"};
+    cli.require_subcommand(1);
+
+    tridex::app::DemoOptions demo;
+    double tool_radius_mm = demo.tool_radius_m * 1e3;
+    CLI::App* demo_cmd = cli.add_subcommand(
+        "demo", "Carve the workpiece with a scripted stroke under the 1 kHz haptic loop and write stereo frames");
+    demo_cmd->add_option("--mesh", demo.mesh, "Workpiece mesh (OFF, OBJ, PLY, STL; closed); default: the bundled bunny")
+        ->check(CLI::ExistingFile);
+    demo_cmd->add_option("--resolution", demo.resolution, "Lattice cells along the workpiece's longest side")
+        ->capture_default_str();
+    demo_cmd->add_option("--seconds", demo.seconds, "Length of the scripted stroke, s")->capture_default_str();
+    demo_cmd->add_option("--out", demo.out, "Output folder")->capture_default_str();
+    demo_cmd->add_option("--width", demo.width, "Per-eye image width, px")->capture_default_str();
+    demo_cmd->add_option("--height", demo.height, "Per-eye image height, px")->capture_default_str();
+    demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Ball tool radius, mm")->capture_default_str();
+    demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
+
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return cli.exit(e);
+    }
+    try {
+        if (*demo_cmd) {
+            demo.tool_radius_m = tool_radius_mm * 1e-3;
+            tridex::app::run_demo(demo);
+        }
+        return 0;
+    } catch (const tridex::Error& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "tridex: out of memory; lower --resolution\n");
+        return 3;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "tridex: internal error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,124 @@
+// app/report.cpp - report.json, haptics.csv and the summary lines of `tridex demo`.
+#include "app/report.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "app/stats.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+nlohmann::json summary_json(const Summary& s, bool with_max) {
+    nlohmann::json j{{"median", s.median}, {"p99", s.p99}, {"mean", s.mean}};
+    if (with_max) j["max"] = s.max;
+    return j;
+}
+
+std::vector<double> field(const std::vector<haptics::TickRecord>& recs, float haptics::TickRecord::*member, std::size_t skip) {
+    std::vector<double> v;
+    v.reserve(recs.size());
+    for (std::size_t i = skip; i < recs.size(); ++i) v.push_back(recs[i].*member);
+    return v;
+}
+
+}  // namespace
+
+void write_haptics_csv(const std::string& path, const std::vector<haptics::TickRecord>& records) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw Error(path + ": cannot open for writing");
+    std::fprintf(f, "t_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact\n");
+    for (const auto& r : records)
+        std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%d\n", r.t_s, r.hip_m.x, r.hip_m.y, r.hip_m.z,
+                     r.proxy_m.x, r.proxy_m.y, r.proxy_m.z, r.force_n.x, r.force_n.y, r.force_n.z, r.contact ? 1 : 0);
+    if (std::fclose(f) != 0) throw Error(path + ": write failed");
+}
+
+void write_report_json(const std::string& path, const DemoReport& r) {
+    const auto& recs = *r.records;
+    // The first period has no predecessor; skip it in the period statistics.
+    const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
+    const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
+    double max_force = 0.0;
+    std::size_t contact_ticks = 0;
+    for (const auto& t : recs) {
+        max_force = std::max(max_force, glm::length(t.force_n));
+        contact_ticks += t.contact ? 1 : 0;
+    }
+    nlohmann::json transform = nlohmann::json::array();
+    for (int row = 0; row < 4; ++row) {
+        nlohmann::json rj = nlohmann::json::array();
+        for (int col = 0; col < 4; ++col) rj.push_back(r.transform[col][row]);  // row-major in the file
+        transform.push_back(rj);
+    }
+    const double cell = r.lattice.cell_m;
+    nlohmann::json j;
+    j["mesh_file"] = r.mesh_path;
+    j["ticks"] = recs.size();
+    j["period_us"] = summary_json(period, true);
+    j["tick_compute_us"] = summary_json(compute, true);
+    j["booleans"] = r.sculpt->booleans;
+    j["tiles_recontoured"] = r.sculpt->tiles_recontoured;
+    j["workpiece"] = {{"transform", transform},
+                      {"volume_mesh_m3", r.volume_mesh_m3},
+                      {"volume_dexel_m3", r.volume_dexel_m3},
+                      {"volume_dexel_error_rel", (r.volume_dexel_m3 - r.volume_mesh_m3) / r.volume_mesh_m3},
+                      {"resolution", r.resolution},
+                      {"cell_m", cell},
+                      {"cells", r.lattice.cells}};
+    j["volume_removed_m3"] = r.volume_dexel_m3 - r.volume_after_m3;
+    j["volume_after_m3"] = r.volume_after_m3;
+    j["mesh"] = {{"vertices", r.vertices},
+                 {"triangles", r.triangles},
+                 {"boundary_edges", r.edges.boundary_edges},
+                 {"nonmanifold_edges", r.edges.nonmanifold_edges},
+                 {"misoriented_edges", r.edges.misoriented_edges}};
+    j["haptics"] = {{"contact_ticks", contact_ticks},
+                    {"max_force_n", max_force},
+                    {"device_max_force_n", r.max_force_n},
+                    {"stiffness_n_per_m", r.stiffness_n_per_m},
+                    {"tool_radius_m", r.tool_radius_m},
+                    {"overruns", r.loop.overruns},
+                    {"samples_dropped", r.loop.samples_dropped},
+                    {"invalid_samples", r.loop.invalid_samples},
+                    {"device_lost", r.loop.device_lost}};
+    j["sculpt"] = {{"samples", r.sculpt->samples},
+                   {"steps", r.sculpt->steps},
+                   {"rays_changed", r.sculpt->rays_changed},
+                   {"publishes", r.sculpt->publishes},
+                   {"boolean_ms", summary_json(summarize(r.sculpt->boolean_ms), true)},
+                   {"contour_ms", summary_json(summarize(r.sculpt->contour_ms), true)},
+                   {"tiles_initial", r.tiles_initial},
+                   {"tiles_total", r.tiles_total}};
+    j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},
+                   {"validation_messages", r.validation_messages}, {"render_s", r.render_s}};
+    j["timing_s"] = {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_s}, {"session", r.session_s}};
+    j["wall_s"] = r.wall_s;
+    std::ofstream f(path);
+    if (!f) throw Error(path + ": cannot open for writing");
+    f << j.dump(2) << "\n";
+    if (!f) throw Error(path + ": write failed");
+}
+
+void print_summary(const DemoReport& r, const std::string& out_dir) {
+    const auto& recs = *r.records;
+    const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
+    const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
+    std::printf("tridex demo: %s at %d cells (cell %.3f mm)\n", r.mesh_path.c_str(), r.resolution, r.lattice.cell_m * 1e3);
+    std::printf("  haptic loop: %zu ticks, period median %.1f us, p99 %.1f us; tick compute median %.2f us, p99 %.2f us\n",
+                recs.size(), period.median, period.p99, compute.median, compute.p99);
+    std::printf("  sculpt: %llu Booleans, %llu tiles re-contoured; removed %.3f cm^3 of %.3f cm^3\n",
+                static_cast<unsigned long long>(r.sculpt->booleans),
+                static_cast<unsigned long long>(r.sculpt->tiles_recontoured),
+                (r.volume_dexel_m3 - r.volume_after_m3) * 1e6, r.volume_dexel_m3 * 1e6);
+    std::printf("  mesh: %zu vertices, %zu triangles, %zu boundary edges, %zu non-manifold edges\n", r.vertices,
+                r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
+    std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());
+    std::printf("  wrote %s/{left,right,sbs}.png, sculpted.ply, haptics.csv, report.json in %.1f s\n", out_dir.c_str(),
+                r.wall_s);
+}
+
+}  // namespace tridex::app

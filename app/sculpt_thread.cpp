@@ -1,0 +1,83 @@
+// app/sculpt_thread.cpp - the sculpt thread loop.
+#include "app/sculpt_thread.hpp"
+
+#include <chrono>
+
+#include "compute/active_surface_publish.hpp"
+#include "compute/boolean.hpp"
+
+namespace tridex::app {
+
+namespace {
+// Re-centre the active surface when the tool has moved this many cells from the window centre,
+// even without a model change (a window is ActiveSurface::kWindow rays wide).
+constexpr double kRecentreCells = 4.0;
+}  // namespace
+
+SculptThread::SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
+                           TripleBuffer<ActiveSurface>& surface, const Vec3& start_m)
+    : model_(model), contourer_(contourer), samples_(samples), surface_(surface), published_centre_m_(start_m) {
+    publish(start_m);
+}
+
+SculptThread::~SculptThread() { stop(); }
+
+void SculptThread::start() {
+    stop_.store(false);
+    thread_ = std::thread([this] { run(); });
+}
+
+void SculptThread::stop() {
+    if (!thread_.joinable()) return;
+    stop_.store(true);
+    thread_.join();
+}
+
+void SculptThread::run() {
+    for (;;) {
+        const bool stopping = stop_.load(std::memory_order_acquire);
+        const bool worked = step();
+        if (stopping && !worked) return;  // the ring was drained after stop was asked
+        if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+}
+
+bool SculptThread::step() {
+    const auto t0 = std::chrono::steady_clock::now();
+    ToolSample s;
+    bool any = false, changed = false;
+    while (samples_.try_pop(s)) {
+        any = true;
+        ++stats_.samples;
+        if (have_prev_ && s.op == ToolOp::kSubtract && s.radius_m > 0.0) {
+            const compute::BooleanStats b = compute::subtract_capsule(model_, Segment{prev_.position, s.position}, s.radius_m);
+            ++stats_.booleans;
+            stats_.rays_changed += b.rays_changed;
+            changed = changed || b.rays_changed > 0;
+        }
+        prev_ = s;
+        have_prev_ = true;
+    }
+    if (!any) return false;
+    // Haptics first: publish the changed surface before contouring, which only the renderer needs.
+    const double moved_cells = glm::length(prev_.position - published_centre_m_) / model_.lattice.cell_m;
+    if (changed || moved_cells > kRecentreCells) publish(prev_.position);
+    if (changed) {
+        const auto t1 = std::chrono::steady_clock::now();
+        stats_.tiles_recontoured += contourer_.update(model_);
+        ++stats_.steps;
+        const auto t2 = std::chrono::steady_clock::now();
+        stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        stats_.contour_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    }
+    return true;
+}
+
+void SculptThread::publish(const Vec3& centre_m) {
+    compute::extract_active_surface(model_, centre_m, ++sequence_, surface_.back());
+    surface_.publish();
+    published_centre_m_ = centre_m;
+    ++stats_.publishes;
+}
+
+}  // namespace tridex::app

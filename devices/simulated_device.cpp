@@ -1,0 +1,71 @@
+// devices/simulated_device.cpp - semi-implicit Euler for the hand + device mass.
+#include "devices/simulated_device.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tridex::devices {
+
+namespace {
+
+void require(bool ok, const char* field, double value, const char* rule) {
+    if (!ok) throw Error(std::string("SimulatedDevice: ") + field + " = " + std::to_string(value) + " " + rule);
+}
+
+}  // namespace
+
+SimulatedDevice::SimulatedDevice(DeviceProfile profile, ScriptedPath path, SimulatedHandParams hand, double dt_s)
+    : profile_(std::move(profile)), path_(std::move(path)), hand_(hand), dt_(dt_s) {
+    require(std::isfinite(hand_.mass_kg) && hand_.mass_kg > 0.0, "hand.mass_kg", hand_.mass_kg, "must be > 0");
+    require(std::isfinite(hand_.hand_stiffness_n_per_m) && hand_.hand_stiffness_n_per_m >= 0.0,
+            "hand.hand_stiffness_n_per_m", hand_.hand_stiffness_n_per_m, "must be finite and >= 0");
+    require(std::isfinite(hand_.hand_damping_n_s_per_m) && hand_.hand_damping_n_s_per_m >= 0.0,
+            "hand.hand_damping_n_s_per_m", hand_.hand_damping_n_s_per_m, "must be finite and >= 0");
+    require(std::isfinite(dt_) && dt_ > 0.0 && dt_ <= 1.0, "dt_s", dt_, "must be in (0, 1] s");
+    x_ = path_.position_at(0.0);
+}
+
+void SimulatedDevice::enable_trace(std::size_t capacity) {
+    trace_.clear();
+    trace_.reserve(capacity);
+    trace_capacity_ = capacity;
+}
+
+bool SimulatedDevice::read(DeviceState& out) {
+    ++reads_;
+    if (vanished_) return false;
+    if (faults_.vanish_after_reads > 0 && reads_ > faults_.vanish_after_reads) {
+        vanished_ = true;
+        return false;
+    }
+    const Vec3 target = path_.position_at(t_);
+    const Vec3 hand_force =
+        hand_.hand_stiffness_n_per_m * (target - x_) + hand_.hand_damping_n_s_per_m * (path_.velocity_at(t_) - v_);
+    v_ += (dt_ / hand_.mass_kg) * (hand_force + applied_force_);
+    x_ += dt_ * v_;
+    ++steps_;
+    t_ = static_cast<double>(steps_) * dt_;  // no drift from summing dt
+    if (trace_.size() < trace_capacity_) trace_.push_back({t_, x_, v_, target, applied_force_, hand_force});
+
+    out.t_s = t_;
+    out.pose.position = x_;
+    out.pose.orientation = Quat(1.0, 0.0, 0.0, 0.0);
+    out.velocity_m_s = v_;
+    out.buttons = buttons_.load(std::memory_order_relaxed);
+    if (faults_.nan_first_read > 0 && reads_ >= faults_.nan_first_read &&
+        reads_ - faults_.nan_first_read < faults_.nan_count)
+        out.pose.position = Vec3(std::numeric_limits<double>::quiet_NaN());
+    return true;
+}
+
+void SimulatedDevice::write(const Vec3& force_n, const Vec3& torque_nm) {
+    ++writes_;
+    last_force_ = force_n;
+    last_torque_ = torque_nm;
+    applied_force_ = is_finite(force_n) ? force_n : Vec3(0.0);
+}
+
+}  // namespace tridex::devices

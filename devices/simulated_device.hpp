@@ -1,0 +1,107 @@
+// devices/simulated_device.hpp - a closed-loop virtual hand pushing a device mass along a scripted path.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "devices/haptic_device.hpp"
+#include "devices/scripted_path.hpp"
+
+namespace tridex::devices {
+
+/// The virtual hand that holds the simulated stylus (SI units, documented defaults).
+struct SimulatedHandParams {
+    double mass_kg = 0.05;                 ///< moving mass of stylus + linkage, kg (> 0)
+    double hand_stiffness_n_per_m = 300.0; ///< spring between the hand's target and the stylus, N/m (>= 0)
+    double hand_damping_n_s_per_m = 4.0;   ///< damper on the target-minus-stylus velocity, N*s/m (>= 0)
+};
+
+/// Faults a test can inject into a SimulatedDevice; 0 disables each one.
+struct SimulatedFaults {
+    std::size_t vanish_after_reads = 0;  ///< reads 1..N succeed, every later read returns false
+    std::size_t nan_first_read = 0;      ///< the sample of this read (1-based) has a NaN position ...
+    std::size_t nan_count = 1;           ///< ... and so do the next nan_count - 1 reads
+};
+
+/// One step of the simulation, kept when tracing is enabled.
+struct SimulatedTraceEntry {
+    double t_s = 0.0;           ///< device time at the end of the step, s
+    Vec3 position_m{0.0};       ///< stylus position after the step, m
+    Vec3 velocity_m_s{0.0};     ///< stylus velocity after the step, m/s
+    Vec3 target_m{0.0};         ///< hand target at the start of the step, m
+    Vec3 device_force_n{0.0};   ///< force the device applied during the step (last write), N
+    Vec3 hand_force_n{0.0};     ///< force the hand applied during the step, N
+};
+
+/// A virtual hand follows a ScriptedPath through a spring-damper (hand stiffness/damping) and pushes
+/// a device mass m; forces written by the haptic loop act on that same mass, so the loop is closed:
+///   m dv/dt = k_h (p_target(t) - x) + b_h (v_target(t) - v) + F_written.
+/// read() advances these dynamics by one fixed step dt (the loop period) with the force last
+/// written (semi-implicit Euler: v += dt a(x, v, t); x += dt v; t += dt) and returns the new pose and
+/// velocity, so a run is deterministic whatever the wall-clock timing. The stylus starts at rest on
+/// the path's position at t = 0; its orientation stays identity; the position is not limited to the
+/// profile's workspace. A non-finite written force is applied as zero.
+/// Not thread-safe except set_buttons(): drive it from one thread, inspect it after that thread stopped.
+class SimulatedDevice : public HapticDevice {
+public:
+    /// Throws tridex::Error naming the field when mass_kg <= 0, a stiffness or damping is negative or
+    /// non-finite, or dt_s is not in (0, 1] s.
+    SimulatedDevice(DeviceProfile profile, ScriptedPath path, SimulatedHandParams hand = {}, double dt_s = 1e-3);
+
+    const DeviceProfile& profile() const override { return profile_; }
+    /// Advances one step of dt and returns the new state; false once the injected vanish fault fired.
+    bool read(DeviceState& out) override;
+    /// Stores the force (N, device frame) applied during the following steps; torque is recorded but
+    /// has no effect (3-DOF model).
+    void write(const Vec3& force_n, const Vec3& torque_nm) override;
+
+    /// Replaces the injected faults (call before the loop starts).
+    void set_faults(const SimulatedFaults& faults) { faults_ = faults; }
+    /// Sets the button bits reported by later reads; safe from any thread.
+    void set_buttons(std::uint32_t bits) { buttons_.store(bits, std::memory_order_relaxed); }
+    /// Keeps the first `capacity` steps in trace() (storage reserved here, so read() never allocates).
+    void enable_trace(std::size_t capacity);
+
+    /// Steps taken so far (each successful read is one step).
+    std::size_t steps() const { return steps_; }
+    /// Number of read() calls, failed ones included.
+    std::size_t reads() const { return reads_; }
+    /// Number of write() calls.
+    std::size_t writes() const { return writes_; }
+    /// The last force written, N (as commanded, before any non-finite check).
+    const Vec3& last_force_n() const { return last_force_; }
+    /// The last torque written, N*m.
+    const Vec3& last_torque_nm() const { return last_torque_; }
+    /// Current device time, s.
+    double time_s() const { return t_; }
+    /// Current stylus position, m.
+    const Vec3& position_m() const { return x_; }
+    /// Current stylus velocity, m/s.
+    const Vec3& velocity_m_s() const { return v_; }
+    /// The hand's target path.
+    const ScriptedPath& path() const { return path_; }
+    /// The hand parameters.
+    const SimulatedHandParams& hand() const { return hand_; }
+    /// The recorded steps (see enable_trace).
+    const std::vector<SimulatedTraceEntry>& trace() const { return trace_; }
+
+private:
+    DeviceProfile profile_;
+    ScriptedPath path_;
+    SimulatedHandParams hand_;
+    double dt_;
+    SimulatedFaults faults_;
+    std::atomic<std::uint32_t> buttons_{0};
+    double t_ = 0.0;
+    Vec3 x_{0.0}, v_{0.0};
+    Vec3 last_force_{0.0}, last_torque_{0.0};
+    Vec3 applied_force_{0.0};
+    std::size_t steps_ = 0, reads_ = 0, writes_ = 0;
+    bool vanished_ = false;
+    std::vector<SimulatedTraceEntry> trace_;
+    std::size_t trace_capacity_ = 0;
+};
+
+}  // namespace tridex::devices

@@ -1,0 +1,95 @@
+// gpu/context.hpp - the Vulkan instance, device and queue every GPU module shares.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+namespace tridex::gpu {
+
+/// How to create a Context.
+struct ContextOptions {
+    /// Enable VK_LAYER_KHRONOS_validation and count its messages. Also switched on when the
+    /// environment variable TRIDEX_VALIDATION=1 (the test helper sets it).
+    bool validation = false;
+};
+
+/// Optional device features, each true when the device supports it and the Context enabled it.
+struct DeviceFeatures {
+    bool multiview = false;             ///< Vulkan 1.1 multiview (render passes with a view mask)
+    bool shader_output_layer = false;   ///< Vulkan 1.2: vertex shaders may write gl_Layer
+    bool timeline_semaphore = false;    ///< Vulkan 1.2 timeline semaphores
+    bool host_query_reset = false;      ///< Vulkan 1.2 vkResetQueryPool from the host
+    bool shader_int64 = false;          ///< 64-bit integers in shaders
+    bool shader_float64 = false;        ///< 64-bit floats in shaders
+    bool fragment_stores_and_atomics = false;  ///< storage writes/atomics in fragment shaders
+    bool timestamps = false;            ///< timestamp queries on graphics and compute queues
+};
+
+/// Vulkan 1.2+ instance, the first suitable physical device (prefers a discrete GPU, then integrated,
+/// virtual, CPU - so Mesa lavapipe is accepted), one queue family with graphics + compute, one queue,
+/// and, with validation on, a debug-utils messenger that counts every warning or error message
+/// (validation, general or performance) and prints it to stderr.
+///
+/// Move-only RAII: destroying it waits for the device to go idle and then destroys device, messenger
+/// and instance. Every object created from it must be destroyed first.
+/// Thread safety: the const accessors may be called from any thread; submit_and_wait() and
+/// queue_submit() lock an internal mutex, so several threads may share one Context for submissions.
+class Context {
+public:
+    /// Creates instance, device and queue. Throws tridex::Error with a one-line reason when no
+    /// Vulkan loader/driver is usable, no device offers Vulkan 1.2 with a graphics+compute queue,
+    /// or validation was requested but VK_LAYER_KHRONOS_validation is not installed.
+    static Context create(const ContextOptions& options = {});
+
+    ~Context();
+    Context(Context&&) noexcept;
+    Context& operator=(Context&&) noexcept;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    /// Name the driver reports for the selected device, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+    std::string device_name() const;
+    /// Number of validation/debug messages (warning or error severity) seen so far; 0 when
+    /// validation is off.
+    std::uint32_t validation_messages() const;
+    /// True when the validation layer and the message counter are active.
+    bool validation_enabled() const;
+
+    VkInstance instance() const;              ///< the instance
+    VkPhysicalDevice physical_device() const; ///< the selected physical device
+    VkDevice device() const;                  ///< the logical device
+    VkQueue queue() const;                    ///< the graphics+compute queue (externally synchronised: use queue_submit)
+    std::uint32_t queue_family() const;       ///< family index of queue()
+    const VkPhysicalDeviceProperties& properties() const;  ///< limits, API version, timestampPeriod
+    const DeviceFeatures& features() const;   ///< optional features that are enabled
+
+    /// Index of a memory type allowed by `type_bits` (from VkMemoryRequirements) with all of
+    /// `required` property flags; among those, one that also has `preferred` flags if any.
+    /// Throws tridex::Error when no allowed type has the required flags.
+    std::uint32_t memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
+                              VkMemoryPropertyFlags preferred = 0) const;
+
+    /// Records a one-shot primary command buffer with `record`, submits it to queue() and waits
+    /// (at most 60 s) until the GPU has finished. Exceptions from `record` propagate after the
+    /// command buffer is freed. Throws tridex::Error on a Vulkan failure or on the timeout.
+    void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
+
+    /// vkQueueSubmit under the Context's queue mutex (for callers that manage their own command
+    /// buffers and fences). Throws tridex::Error on failure.
+    void queue_submit(const VkSubmitInfo& submit, VkFence fence) const;
+
+    /// Waits until the device is idle. Throws tridex::Error on device loss.
+    void wait_idle() const;
+
+    struct Impl;
+
+private:
+    explicit Context(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tridex::gpu

@@ -1,0 +1,66 @@
+// renderer/stereo_frame.cpp - command recording of a stereo frame.
+#include "renderer/stereo_frame.hpp"
+
+namespace tridex::renderer {
+
+void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
+                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4]) {
+    const auto w = static_cast<std::uint32_t>(target.width());
+    const auto h = static_cast<std::uint32_t>(target.height());
+    VkClearValue clears[2]{};
+    for (int c = 0; c < 4; ++c) clears[0].color.float32[c] = clear_rgba[c];
+    clears[1].depthStencil = {1.0f, 0};
+    const VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {w, h}};
+    const bool per_eye = pipeline.strategy() == EyeStrategy::kPassPerEye;
+    const std::uint32_t instances = pipeline.strategy() == EyeStrategy::kInstancedLayer ? 2u : 1u;
+    const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+
+    const auto& framebuffers = target.framebuffers();
+    for (std::size_t pass = 0; pass < framebuffers.size(); ++pass) {
+        VkRenderPassBeginInfo begin{};
+        begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+        begin.renderPass = pipeline.render_pass();
+        begin.framebuffer = framebuffers[pass].get();
+        begin.renderArea = scissor;
+        begin.clearValueCount = 2;
+        begin.pClearValues = clears;
+        vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+        vkCmdSetViewport(cmd, 0, 1, &viewport);
+        vkCmdSetScissor(cmd, 0, 1, &scissor);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
+        VkPipeline bound = VK_NULL_HANDLE;
+        for (const StereoDraw& d : draws) {
+            if (d.index_count == 0) continue;
+            const VkPipeline p = pipeline.pipeline(d.kind);
+            if (p != bound) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+                bound = p;
+            }
+            DrawConstants constants = d.constants;
+            constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
+            vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+            const VkDeviceSize offset = 0;
+            vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
+            vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+            vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, 0);
+        }
+        vkCmdEndRenderPass(cmd);
+    }
+
+    // Both colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
+    VkBufferImageCopy copy{};
+    copy.bufferOffset = 0;
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+    copy.imageExtent = {w, h, 1};
+    vkCmdCopyImageToBuffer(cmd, target.colour_image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.readback_buffer(),
+                           1, &copy);
+    VkMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
+                         0, nullptr);
+}
+
+}  // namespace tridex::renderer

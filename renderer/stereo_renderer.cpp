@@ -1,0 +1,154 @@
+// renderer/stereo_renderer.cpp - scene -> draws -> stereo frame, with the eye-strategy fallback.
+#include "renderer/stereo_renderer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "core/error.hpp"
+#include "renderer/eye_self_test.hpp"
+#include "renderer/eyes_binding.hpp"
+#include "renderer/gpu_mesh.hpp"
+#include "renderer/primitive_meshes.hpp"
+#include "renderer/stereo_frame.hpp"
+#include "renderer/stereo_pipeline.hpp"
+#include "renderer/stereo_target.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+// Scene colours (linear RGBA) and the light: from upper right, in front of the screen.
+const glm::vec4 kWorkpieceColour(0.80f, 0.62f, 0.45f, 1.0f);
+const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
+const glm::vec4 kWorkspaceColour(0.30f, 0.85f, 0.40f, 0.18f);
+constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
+const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f));
+constexpr int kSphereRings = 24, kSphereSegments = 48;
+
+glm::mat4 translate_scale(const Vec3& t, const Vec3& s) {
+    glm::mat4 m(1.0f);
+    m[0][0] = static_cast<float>(s.x);
+    m[1][1] = static_cast<float>(s.y);
+    m[2][2] = static_cast<float>(s.z);
+    m[3] = glm::vec4(glm::vec3(t), 1.0f);
+    return m;
+}
+
+}  // namespace
+
+struct OffscreenStereoRenderer::Impl {
+    gpu::Context* context = nullptr;
+    std::string note;
+    std::optional<StereoPipeline> pipeline;
+    std::optional<StereoTarget> target;
+    std::optional<EyesBinding> eyes;
+    GpuMesh workpiece, ball, cube;
+
+    ~Impl() {
+        try {
+            if (context) context->wait_idle();  // nothing should be pending: render() waits for its frame
+        } catch (const Error& e) {
+            std::fprintf(stderr, "renderer: %s\n", e.what());
+        }
+    }
+};
+
+OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, int width, int height,
+                                                        EyeStrategy preferred) {
+    auto impl = std::make_unique<Impl>();
+    impl->context = &context;
+    const std::string asked(to_string(preferred));
+    if (!supported(context, preferred)) {
+        impl->note = asked + " not supported by " + context.device_name() + "; using pass-per-eye";
+    } else {
+        StereoPipeline p = StereoPipeline::create(context, preferred);
+        const EyeSelfTest t = self_test_eye_strategy(context, p);
+        if (t.passed) {
+            impl->note = asked + " self-test passed (" + t.detail + ")";
+            impl->pipeline.emplace(std::move(p));
+        } else {
+            impl->note = asked + " self-test failed (" + t.detail + "); falling back to pass-per-eye";
+        }
+    }
+    if (!impl->pipeline) {
+        StereoPipeline p = StereoPipeline::create(context, EyeStrategy::kPassPerEye);
+        const EyeSelfTest t = self_test_eye_strategy(context, p);
+        if (!t.passed)
+            throw Error("renderer: even the pass-per-eye strategy failed its self-test on " + context.device_name() +
+                        " (" + t.detail + ")");
+        impl->note += " (pass-per-eye self-test passed)";
+        impl->pipeline.emplace(std::move(p));
+    }
+    impl->target.emplace(StereoTarget::create(context, *impl->pipeline, width, height));
+    impl->eyes.emplace(EyesBinding::create(context, impl->pipeline->set_layout()));
+    TriMesh sphere = unit_sphere(kSphereRings, kSphereSegments);
+    impl->ball.assign(context, sphere);
+    Aabb unit;
+    unit.add(Vec3(0.0));
+    unit.add(Vec3(1.0));
+    impl->cube.assign(context, box_mesh(unit));
+    return OffscreenStereoRenderer(std::move(impl));
+}
+
+OffscreenStereoRenderer::OffscreenStereoRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+OffscreenStereoRenderer::~OffscreenStereoRenderer() = default;
+OffscreenStereoRenderer::OffscreenStereoRenderer(OffscreenStereoRenderer&&) noexcept = default;
+OffscreenStereoRenderer& OffscreenStereoRenderer::operator=(OffscreenStereoRenderer&&) noexcept = default;
+
+EyeStrategy OffscreenStereoRenderer::strategy() const { return impl_->pipeline->strategy(); }
+std::string OffscreenStereoRenderer::strategy_note() const { return impl_->note; }
+int OffscreenStereoRenderer::width() const { return impl_->target->width(); }
+int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
+
+StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
+                                             double eye_separation_m, double near_m, double far_m) {
+    Impl& im = *impl_;
+    const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
+    EyesUniform u{};
+    for (int e = 0; e < 2; ++e) {
+        const EyeView v = off_axis_view(screen, eyes[e], near_m, far_m);
+        u.clip_from_world[e] = glm::mat4(v.projection * v.view);
+        u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
+    }
+    u.light_direction = glm::vec4(kTowardsLight, 0.0f);
+
+    std::vector<StereoDraw> draws;
+    const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
+                         bool lit) {
+        StereoDraw d;
+        d.kind = kind;
+        d.vertices = mesh.vertices();
+        d.indices = mesh.indices();
+        d.index_count = mesh.index_count();
+        d.constants.world_from_model = model;
+        d.constants.colour = colour;
+        d.constants.lit = lit ? 1u : 0u;
+        draws.push_back(d);
+    };
+    if (scene.workpiece && !scene.workpiece->triangles.empty()) {
+        im.workpiece.assign(*im.context, *scene.workpiece);
+        add(PipelineKind::kOpaque, im.workpiece, glm::mat4(1.0f), kWorkpieceColour, true);
+    }
+    if (scene.tool_radius_m > 0.0) {
+        if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
+            throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
+        add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
+            kToolColour, true);
+    }
+    if (scene.show_workspace && !scene.workspace_m.empty()) {
+        if (!is_finite(scene.workspace_m.lo) || !is_finite(scene.workspace_m.hi))
+            throw Error("renderer: SceneView.workspace_m must be finite");
+        const glm::mat4 model = translate_scale(scene.workspace_m.lo, scene.workspace_m.size());
+        add(PipelineKind::kTranslucentBack, im.cube, model, kWorkspaceColour, false);
+        add(PipelineKind::kTranslucentFront, im.cube, model, kWorkspaceColour, false);
+    }
+
+    im.eyes->write(u);
+    im.context->submit_and_wait([&](VkCommandBuffer cmd) {
+        record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear);
+    });
+    return StereoImages{im.target->read_layer(0), im.target->read_layer(1)};
+}
+
+}  // namespace tridex::renderer

@@ -1,0 +1,73 @@
+// renderer/stereo_renderer.hpp - offscreen head-tracked stereo rendering of the sculpting scene.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/aabb.hpp"
+#include "core/math.hpp"
+#include "core/pose.hpp"
+#include "core/tri_mesh.hpp"
+#include "gpu/context.hpp"
+#include "renderer/eye_strategy.hpp"
+#include "renderer/image.hpp"
+#include "renderer/off_axis.hpp"
+
+namespace tridex::renderer {
+
+/// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).
+struct SceneView {
+    const TriMesh* workpiece = nullptr;  ///< the carved solid, world m; nullptr or empty = not drawn
+    Vec3 tool_centre_m{0.0};             ///< centre of the ball tool, world m
+    double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
+    bool show_workspace = true;          ///< draw the haptic workspace as a translucent box
+    Aabb workspace_m;                    ///< the workspace, world m (an empty box is not drawn)
+};
+
+/// The two eyes' images of one frame, each width x height RGBA.
+struct StereoImages {
+    Image left, right;
+};
+
+/// Renders both eyes into one 2-layer colour image (+ depth) offscreen and reads them back: the workpiece
+/// lit (Blinn-Phong, one directional light) with per-vertex normals (core vertex_normals), the tool as a
+/// ball, the workspace as a translucent box (alpha-blended, drawn last: back faces, then front faces).
+/// The eye strategy asked for is self-tested at creation (self_test_eye_strategy: each layer must
+/// receive its own eye's draws, read back and checked); if it is unsupported or fails (Mesa 22.3 lavapipe
+/// advertises multiview but draws view 1's clipped triangles into layer 0) the renderer falls back to
+/// kPassPerEye and says so via strategy() / strategy_note(). Move-only (a moved-from renderer may only be
+/// destroyed or assigned); the Context must outlive it. One thread at a time; render() is synchronous.
+class OffscreenStereoRenderer {
+public:
+    /// Builds pipelines and a width x height stereo target, self-testing `preferred`.
+    /// Throws tridex::Error when width/height are outside 1..device limit, when even kPassPerEye fails
+    /// its self-test, or on a Vulkan failure.
+    static OffscreenStereoRenderer create(gpu::Context& context, int width, int height,
+                                          EyeStrategy preferred = EyeStrategy::kMultiview);
+
+    ~OffscreenStereoRenderer();
+    OffscreenStereoRenderer(OffscreenStereoRenderer&&) noexcept;
+    OffscreenStereoRenderer& operator=(OffscreenStereoRenderer&&) noexcept;
+
+    /// The strategy in use (after the self-test).
+    EyeStrategy strategy() const;
+    /// One line: what was asked for, what the self-test saw, what is used and why.
+    std::string strategy_note() const;
+    int width() const;   ///< image width, pixels
+    int height() const;  ///< image height, pixels
+
+    /// Renders one stereo frame: eyes at eye_positions(head, eye_separation_m), each with the off-axis
+    /// frustum through `screen` (off_axis_view, near_m/far_m in m); waits for the GPU and returns both images.
+    /// Throws tridex::Error on invalid input (eye on/behind the screen, bad near/far or separation, bad
+    /// mesh indices, non-finite tool or workspace) or on a Vulkan failure.
+    StereoImages render(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
+                        double near_m = 0.05, double far_m = 20.0);
+
+    struct Impl;
+
+private:
+    explicit OffscreenStereoRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tridex::renderer

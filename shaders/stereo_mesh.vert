@@ -1,0 +1,37 @@
+#version 450
+// shaders/stereo_mesh.vert - transforms a mesh vertex (model m) into one eye's clip space.
+// EYE_MODE selects how the eye is chosen (renderer/eye_strategy.hpp):
+//   0 = one render pass per eye: eye index from the push constant;
+//   1 = multiview: eye = gl_ViewIndex (the view mask routes it to a layer);
+//   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.
+#extension GL_GOOGLE_include_directive : require
+#if EYE_MODE == 1
+#extension GL_EXT_multiview : require
+#elif EYE_MODE == 2
+#extension GL_ARB_shader_viewport_layer_array : require
+#endif
+
+#include "stereo_interface.glsl"
+
+layout(location = 0) in vec3 in_position;  // model space, m
+layout(location = 1) in vec3 in_normal;    // model space, unit (ignored when unlit)
+
+layout(location = 0) out vec3 out_world_position;
+layout(location = 1) out vec3 out_world_normal;
+layout(location = 2) flat out uint out_eye;
+
+void main() {
+#if EYE_MODE == 0
+    uint eye = draw.eye;
+#elif EYE_MODE == 1
+    uint eye = gl_ViewIndex;
+#else
+    uint eye = uint(gl_InstanceIndex) & 1u;
+    gl_Layer = int(eye);
+#endif
+    vec4 world = draw.world_from_model * vec4(in_position, 1.0);
+    out_world_position = world.xyz;
+    out_world_normal = mat3(draw.world_from_model) * in_normal;
+    out_eye = eye;
+    gl_Position = eyes.clip_from_world[eye] * world;
+}

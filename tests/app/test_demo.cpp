@@ -1,0 +1,108 @@
+// Integration test: `tridex demo` end to end on a short stroke, and refusal of bad meshes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int exit_code = -1;
+    std::string err;
+};
+
+// Runs tridex with args under a 300 s timeout; captures stderr.
+RunResult run_tridex(const std::string& args, const fs::path& dir) {
+    fs::create_directories(dir);
+    const fs::path err = dir / "stderr.txt";
+    const std::string cmd = "timeout 300 " + std::string(TRIDEX_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
+                            " 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream f(err);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    r.err = ss.str();
+    return r;
+}
+
+std::string data(const char* rel) { return std::string(std::getenv("TRIDEX_SHARED_DATA")) + "/" + rel; }
+
+TEST(Demo, ShortStrokeWritesConsistentOutputs) {
+    const fs::path out = fs::temp_directory_path() / "tridex-test-demo";
+    fs::remove_all(out);
+    const RunResult r = run_tridex("demo --resolution 96 --seconds 2 --width 320 --height 240 --validate --out " + out.string(), out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+
+    std::ifstream rf(out / "report.json");
+    const nlohmann::json j = nlohmann::json::parse(rf);
+    const int ticks = j["ticks"];
+    EXPECT_GT(ticks, 1500);  // 2 s at 1 kHz, with slack for a shared machine
+    EXPECT_LT(ticks, 2600);
+    EXPECT_GT(j["period_us"]["median"].get<double>(), 900.0);
+    EXPECT_LT(j["period_us"]["median"].get<double>(), 1100.0);
+    EXPECT_GT(j["booleans"].get<int>(), 100);
+    EXPECT_GT(j["tiles_recontoured"].get<int>(), 0);
+    const double vmesh = j["workpiece"]["volume_mesh_m3"], vdex = j["workpiece"]["volume_dexel_m3"];
+    EXPECT_NEAR(vdex / vmesh, 1.0, 0.02);  // 96 cells over the bunny
+    EXPECT_GT(j["volume_removed_m3"].get<double>(), 1e-7);  // a groove was carved
+    EXPECT_LT(j["volume_removed_m3"].get<double>(), 0.1 * vdex);
+    EXPECT_EQ(j["mesh"]["boundary_edges"].get<int>(), 0);
+    EXPECT_EQ(j["mesh"]["nonmanifold_edges"].get<int>(), 0);
+    EXPECT_GT(j["mesh"]["triangles"].get<int>(), 1000);
+    EXPECT_GT(j["haptics"]["contact_ticks"].get<int>(), 100);  // the tool pressed into the bunny
+    EXPECT_LE(j["haptics"]["max_force_n"].get<double>(), j["haptics"]["device_max_force_n"].get<double>() + 1e-9);
+    EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
+
+    // haptics.csv: a header and one row per tick.
+    std::ifstream csv(out / "haptics.csv");
+    std::string line;
+    int rows = -1;
+    while (std::getline(csv, line)) ++rows;
+    EXPECT_EQ(rows, ticks);
+
+    // The two eyes see different views of the same scene.
+    int w[2], h[2], c[2];
+    unsigned char* img[2] = {stbi_load((out / "left.png").c_str(), &w[0], &h[0], &c[0], 4),
+                             stbi_load((out / "right.png").c_str(), &w[1], &h[1], &c[1], 4)};
+    ASSERT_TRUE(img[0] && img[1]);
+    ASSERT_EQ(w[0], 320);
+    ASSERT_EQ(h[0], 240);
+    std::size_t differ = 0;
+    for (int i = 0; i < 320 * 240; ++i)
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(img[0][4 * i + k] - img[1][4 * i + k]) > 8) { ++differ; break; }
+    EXPECT_GT(differ, 200u);
+    stbi_image_free(img[0]);
+    stbi_image_free(img[1]);
+}
+
+class BadMesh : public testing::TestWithParam<const char*> {};
+
+TEST_P(BadMesh, IsRefusedWithOneClearLine) {
+    const std::string file = data(GetParam());
+    const fs::path out = fs::temp_directory_path() / "tridex-test-bad";
+    const RunResult r = run_tridex("demo --resolution 32 --seconds 1 --out " + out.string() + " --mesh " + file, out);
+    EXPECT_EQ(r.exit_code, 2) << r.err;  // tridex::Error, not a crash (>= 128) or timeout (124)
+    EXPECT_NE(r.err.find(fs::path(file).filename().string()), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedBadData, BadMesh,
+                         testing::Values("bad/OutOfMemory.off", "bad/empty.obj", "bad/empty.off", "bad/empty.ply",
+                                         "bad/malformed.obj", "bad/malformed2.obj", "meshes/elephant-with-holes.off"));
+
+}  // namespace

@@ -1,0 +1,151 @@
+// tests/compute/test_contour_models.hpp - analytic and random tri-dexel models for the contouring tests
+// (rays filled directly, without scan conversion), and mesh checks shared by those tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <vector>
+
+#include "compute/tridexel.hpp"
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute::testing {
+
+/// A cubic lattice of `cells`^3 cells of 1 mm with its origin away from zero (m).
+inline Lattice cube_lattice(int cells) {
+    Lattice l;
+    l.origin_m = Vec3(0.25, -0.125, 0.0625);
+    l.cell_m = 1e-3;
+    l.cells = {cells, cells, cells};
+    return l;
+}
+
+/// An empty model on `l` with every tile dirty.
+inline TriDexel empty_model(const Lattice& l) {
+    TriDexel m = TriDexel::empty(l, std::size_t{1} << 32);
+    std::fill(m.tiles.dirty.begin(), m.tiles.dirty.end(), std::uint8_t{1});
+    return m;
+}
+
+/// Grid position of point (t along axis a) on ray (u, v) of set a.
+inline Vec3 ray_point(int a, int u, int v, double t) {
+    Vec3 p;
+    p[a] = t;
+    p[(a + 1) % 3] = u;
+    p[(a + 2) % 3] = v;
+    return p;
+}
+
+/// Fills every ray of the three sets with chord(a, u, v) (sorted, disjoint intervals in grid units).
+inline void fill_rays(TriDexel& m, const std::function<std::vector<Interval>(int, int, int)>& chord) {
+    for (int a = 0; a < 3; ++a) {
+        RaySet& s = m.sets[a];
+        for (int v = 0; v < s.nv; ++v)
+            for (int u = 0; u < s.nu; ++u) s.ray(u, v) = chord(a, u, v);
+    }
+}
+
+/// Exact chord of the sphere (centre c, radius r, grid units) along ray (u, v) of set a.
+inline std::vector<Interval> sphere_chord(const Vec3& c, double r, int a, int u, int v) {
+    const double du = u - c[(a + 1) % 3], dv = v - c[(a + 2) % 3];
+    const double d2 = du * du + dv * dv;
+    if (d2 >= r * r) return {};
+    const double half = std::sqrt(r * r - d2);
+    return {Interval{static_cast<float>(c[a] - half), static_cast<float>(c[a] + half)}};
+}
+
+/// Exact chord of the axis-aligned box [lo, hi] (grid units) along ray (u, v) of set a.
+inline std::vector<Interval> box_chord(const Vec3& lo, const Vec3& hi, int a, int u, int v) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    if (u <= lo[b] || u >= hi[b] || v <= lo[c] || v >= hi[c]) return {};
+    return {Interval{static_cast<float>(lo[a]), static_cast<float>(hi[a])}};
+}
+
+/// Deterministic pseudo-random number in (0.05, 0.95) from integers (a hash, so unchanged run ends of an
+/// edited model keep their exact positions).
+inline double jitter(std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return 0.05 + 0.9 * static_cast<double>(x >> 11) / static_cast<double>(std::uint64_t{1} << 53);
+}
+
+/// Ray (u, v) of set a for a node occupancy `inside(i, j, k)`: each run of inside nodes i0..i1 becomes
+/// [i0 - s, i1 + s'] with s, s' in (0.05, 0.95) from jitter(), so all three ray sets agree on every
+/// node (node x inside iff enter <= x < exit) and every crossing lies on its edge.
+inline std::vector<Interval> voxel_ray(const std::function<bool(int, int, int)>& inside, int n_nodes, int a, int u,
+                                       int v) {
+    std::vector<Interval> ray;
+    auto at = [&](int t) {
+        const Vec3 p = ray_point(a, u, v, t);
+        return inside(static_cast<int>(p.x), static_cast<int>(p.y), static_cast<int>(p.z));
+    };
+    const std::uint64_t base = ((static_cast<std::uint64_t>(a) * 4096 + static_cast<std::uint64_t>(u)) * 4096 +
+                                static_cast<std::uint64_t>(v)) * 4096;
+    for (int t = 0; t < n_nodes;) {
+        if (!at(t)) {
+            ++t;
+            continue;
+        }
+        const int t0 = t;
+        while (t < n_nodes && at(t)) ++t;
+        const int t1 = t - 1;
+        ray.push_back(Interval{static_cast<float>(t0 - jitter((base + t0) * 2)),
+                               static_cast<float>(t1 + jitter((base + t1) * 2 + 1))});
+    }
+    return ray;
+}
+
+/// Lists for every vertex the directed link edges (b -> c for each triangle (v, b, c)) and checks they
+/// form one single cycle: no pinched vertex (two fans meeting at one point). Returns the number of
+/// vertices whose link is not one cycle (0 for a closed oriented 2-manifold); unused vertices count too.
+inline std::size_t pinched_vertices(const TriMesh& m) {
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> link(m.positions.size());
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) link[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+    std::size_t bad = 0;
+    for (auto& l : link) {
+        if (l.size() < 3) {
+            ++bad;
+            continue;
+        }
+        std::map<std::uint32_t, std::uint32_t> next;
+        bool ok = true;
+        for (const auto& [b, c] : l) ok = ok && next.emplace(b, c).second;
+        if (!ok) {
+            ++bad;
+            continue;
+        }
+        std::uint32_t cur = l.front().first;
+        std::size_t steps = 0;
+        do {
+            const auto it = next.find(cur);
+            if (it == next.end()) break;
+            cur = it->second;
+            ++steps;
+        } while (cur != l.front().first && steps <= l.size());
+        if (cur != l.front().first || steps != l.size()) ++bad;
+    }
+    return bad;
+}
+
+/// Expects a closed, consistently oriented 2-manifold without degenerate triangles or pinched vertices.
+inline void expect_closed_manifold(const TriMesh& m) {
+    const EdgeStats s = edge_stats(m);
+    EXPECT_GT(m.triangles.size(), 0u);
+    EXPECT_EQ(s.boundary_edges, 0u);
+    EXPECT_EQ(s.nonmanifold_edges, 0u);
+    EXPECT_EQ(s.misoriented_edges, 0u);
+    EXPECT_EQ(s.degenerate_triangles, 0u);
+    EXPECT_EQ(pinched_vertices(m), 0u);
+    // Closed 2-manifold: every edge in exactly two triangles, so 3T = 2E.
+    EXPECT_EQ(3 * m.triangles.size(), 2 * s.edges);
+}
+
+}  // namespace tridex::compute::testing

@@ -1,0 +1,281 @@
+// Tests of haptics/god_object: planes (point and ball tool), slopes on Z and X rays, enter ends, free
+// space, a thin slab, oblique approach, a convex edge, and the update time.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "core/error.hpp"
+#include "haptics/god_object.hpp"
+#include "surfaces.hpp"
+
+namespace tridex::haptics {
+namespace {
+
+using test::fill_set;
+using test::Intervals;
+using test::make_surface;
+using test::z_plane;
+
+constexpr double kH = 1e-3;         // cell, m
+constexpr float kC = 10.25f;        // plane height, cells (exact in float)
+constexpr double kKp = 700.0;       // N/m
+constexpr double kDt = 1e-3;        // s
+constexpr double kTolM = 1e-12;     // m: double rounding on positions ~0.03 m
+constexpr double kTolN = 1e-9;      // N
+
+Vec3 mm(double x, double y, double z) { return Vec3(x, y, z) * 1e-3; }
+
+void expect_vec(const Vec3& a, const Vec3& b, double tol) {
+    EXPECT_NEAR(a.x, b.x, tol);
+    EXPECT_NEAR(a.y, b.y, tol);
+    EXPECT_NEAR(a.z, b.z, tol);
+}
+
+TEST(GodObject, PointToolBelowPlanePushesUpByStiffness) {
+    const auto s = z_plane(kH, kC);
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    const ContactResult free = g.update(*s, mm(10.3, 12.7, 12.0), kDt);
+    EXPECT_FALSE(free.contact);
+    const ContactResult c = g.update(*s, mm(10.3, 12.7, 8.25), kDt);  // 2 mm below the plane
+    ASSERT_TRUE(c.contact);
+    EXPECT_EQ(c.axis, 2);
+    EXPECT_NEAR(c.depth_m, 2e-3, kTolM);
+    expect_vec(c.normal, Vec3(0, 0, 1), 0.0);
+    expect_vec(c.force_n, Vec3(0, 0, kKp * 2e-3), kTolN);
+    expect_vec(c.proxy_m, mm(10.3, 12.7, 10.25), kTolM);  // on the plane, above the HIP
+    // Sliding sideways at the same depth keeps the same force; the proxy follows on the plane.
+    const ContactResult d = g.update(*s, mm(17.9, 3.1, 8.25), kDt);
+    ASSERT_TRUE(d.contact);
+    expect_vec(d.force_n, Vec3(0, 0, 1.4), kTolN);
+    expect_vec(d.proxy_m, mm(17.9, 3.1, 10.25), kTolM);
+}
+
+TEST(GodObject, BallToolRestsOnPlane) {
+    const auto s = z_plane(kH, kC);
+    const double r = 3e-3;
+    GodObject g(ContactParams{kKp, 0.0, r});
+    EXPECT_FALSE(g.update(*s, mm(5.5, 5.5, 14.0), kDt).contact);  // lowest point 0.75 mm above the plane
+    const ContactResult c = g.update(*s, mm(5.5, 5.5, 11.25), kDt); // centre 1 mm above: depth r - 1 mm
+    ASSERT_TRUE(c.contact);
+    EXPECT_NEAR(c.depth_m, 2e-3, kTolM);
+    expect_vec(c.force_n, Vec3(0, 0, 1.4), kTolN);
+    expect_vec(c.proxy_m, mm(5.5, 5.5, 10.25 + 3.0), kTolM);  // the ball's centre resting on the plane
+    // Deeper than the radius: HIP 2 mm below the plane, depth 5 mm.
+    const ContactResult d = g.update(*s, mm(5.5, 5.5, 8.25), kDt);
+    ASSERT_TRUE(d.contact);
+    EXPECT_NEAR(d.depth_m, 5e-3, kTolM);
+    expect_vec(d.proxy_m, mm(5.5, 5.5, 13.25), kTolM);
+}
+
+TEST(GodObject, DampingActsOnPenetrationRateAndNeverPulls) {
+    const auto s = z_plane(kH, kC);
+    GodObject g(ContactParams{kKp, 2.0, 0.0});
+    g.update(*s, mm(10, 10, 11), kDt);
+    // First contact tick: depth 2 mm reached in 1 ms -> rate 2 m/s, F = 700*0.002 + 2*2 = 5.4 N.
+    expect_vec(g.update(*s, mm(10, 10, 8.25), kDt).force_n, Vec3(0, 0, 5.4), kTolN);
+    // Held still: rate 0 -> the spring alone.
+    expect_vec(g.update(*s, mm(10, 10, 8.25), kDt).force_n, Vec3(0, 0, 1.4), kTolN);
+    // Withdrawing 1 mm in 1 ms: 0.7 - 2 < 0 -> clamped to zero (still in contact), never pulling.
+    const ContactResult w = g.update(*s, mm(10, 10, 9.25), kDt);
+    EXPECT_TRUE(w.contact);
+    expect_vec(w.force_n, Vec3(0.0), 0.0);
+    // dt <= 0 drops the damping term.
+    expect_vec(g.update(*s, mm(10, 10, 8.25), 0.0).force_n, Vec3(0, 0, 1.4), kTolN);
+}
+
+// z = c + sx * x + sy * y (grid units), solid below, seen by Z rays.
+TEST(GodObject, SlopedPlaneOnZRaysGivesItsNormal) {
+    const double sx = 0.3, sy = -0.2;
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [&](int i, int j) { return Intervals{{0.0f, static_cast<float>(kC + sx * i + sy * j)}}; });
+    const Vec3 n_exact = glm::normalize(Vec3(-sx, -sy, 1.0));
+    // Two HIPs: one in each half of a cell (fractional x > y and x < y).
+    for (const Vec3& xy : {Vec3(12.7, 9.2, 0.0), Vec3(12.2, 9.7, 0.0)}) {
+        GodObject g(ContactParams{kKp, 0.0, 0.0});
+        const double surface_z = kC + sx * xy.x + sy * xy.y;  // cells
+        g.update(*s, mm(xy.x, xy.y, surface_z + 1.0), kDt);
+        const ContactResult c = g.update(*s, mm(xy.x, xy.y, surface_z - 1.5), kDt);
+        ASSERT_TRUE(c.contact);
+        // Depths are floats ~14 cells: rounding 1e-6 cells -> normal within 5e-6, depth within 5e-9 m.
+        expect_vec(c.normal, n_exact, 5e-6);
+        EXPECT_NEAR(c.depth_m, 1.5e-3 * n_exact.z, 5e-9);  // vertical 1.5 mm times cos(slope)
+        expect_vec(c.force_n, kKp * c.depth_m * c.normal, kTolN);
+        // The proxy lies on the plane.
+        EXPECT_NEAR(glm::dot(c.proxy_m - mm(0, 0, kC), n_exact), 0.0, 5e-9);
+    }
+}
+
+// x = c + s * y (grid units), solid at smaller x, seen by X rays (u = y, v = z); approach along -x.
+TEST(GodObject, SlopedPlaneOnXRaysGivesItsNormal) {
+    const double sl = 0.4;
+    auto s = make_surface(kH);
+    fill_set(*s, 0, 0, 0, [&](int u, int) { return Intervals{{0.0f, static_cast<float>(kC + sl * u)}}; });
+    const Vec3 n_exact = glm::normalize(Vec3(1.0, -sl, 0.0));
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    const double y = 7.4, z = 20.6, surface_x = kC + sl * y;
+    g.update(*s, mm(surface_x + 2.0, y, z), kDt);
+    const ContactResult c = g.update(*s, mm(surface_x - 1.0, y, z), kDt);
+    ASSERT_TRUE(c.contact);
+    EXPECT_EQ(c.axis, 0);
+    expect_vec(c.normal, n_exact, 5e-6);
+    EXPECT_NEAR(c.depth_m, 1e-3 * n_exact.x, 5e-9);
+}
+
+TEST(GodObject, EnterEndsFaceTheOtherWay) {
+    // Solid above z = c: approaching from below, the surface is the rays' enter end, normal -z.
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [](int, int) { return Intervals{{kC, 60.0f}}; });
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    g.update(*s, mm(8, 8, 9), kDt);
+    const ContactResult c = g.update(*s, mm(8, 8, 11.25), kDt);
+    ASSERT_TRUE(c.contact);
+    expect_vec(c.normal, Vec3(0, 0, -1), 0.0);
+    expect_vec(c.force_n, Vec3(0, 0, -0.7), kTolN);
+    expect_vec(c.proxy_m, mm(8, 8, 10.25), kTolM);
+}
+
+void expect_free(const ContactResult& c, const Vec3& hip) {
+    EXPECT_FALSE(c.contact);
+    EXPECT_EQ(c.force_n, Vec3(0.0));
+    EXPECT_EQ(c.proxy_m, hip);
+    EXPECT_EQ(c.axis, -1);
+}
+
+TEST(GodObject, NoForceInFreeSpaceOrWithoutData) {
+    auto s = z_plane(kH, kC);
+    GodObject g(ContactParams{kKp, 1.0, 0.0});
+    expect_free(g.update(*s, mm(10, 10, 12), kDt), mm(10, 10, 12));  // above the plane
+    expect_free(g.update(*s, mm(10, 10, 10.3), kDt), mm(10, 10, 10.3));
+    // Outside the window (x beyond lattice node 31): no data, no force.
+    g.reset();
+    g.update(*s, mm(40, 10, 12), kDt);
+    expect_free(g.update(*s, mm(40, 10, 8), kDt), mm(40, 10, 8));
+    // A hole: one ray of the triangle is empty.
+    auto holed = z_plane(kH, kC);
+    holed->sets[2].count[10 + ActiveSurface::kWindow * 10] = 0;
+    g.reset();
+    g.update(*holed, mm(10.5, 10.2, 12), kDt);
+    expect_free(g.update(*holed, mm(10.5, 10.2, 8), kDt), mm(10.5, 10.2, 8));
+    // Nothing published yet (sequence 0).
+    auto unpublished = z_plane(kH, kC);
+    unpublished->sequence = 0;
+    g.reset();
+    g.update(*unpublished, mm(10, 10, 12), kDt);
+    expect_free(g.update(*unpublished, mm(10, 10, 8), kDt), mm(10, 10, 8));
+    // A NaN HIP.
+    EXPECT_FALSE(g.update(*s, Vec3(std::nan("")), kDt).contact);
+}
+
+// A slab 0.5 cell thick (0.5 mm) with its top at c; the HIP goes down to 3 mm below the top.
+TEST(GodObject, ThinSlabDoesNotPopThrough) {
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [](int, int) { return Intervals{{kC - 0.5f, kC}}; });
+    for (double r : {0.0, 1e-3}) {
+        GodObject g(ContactParams{kKp, 0.0, r});
+        for (int k = 0; k <= 40; ++k) {
+            const double z = 11.25 + r * 1e3 - 0.1 * k;  // from 1 mm above contact, 0.1 mm per tick
+            const ContactResult c = g.update(*s, mm(9.3, 9.6, z), kDt);
+            const double depth = r + (10.25 - z) * 1e-3;
+            if (depth <= 1e-9) continue;  // not touching yet
+            ASSERT_TRUE(c.contact) << "r " << r << " z " << z;
+            // Below the slab's bottom (z < 9.75 mm) the god-object still rests on the top.
+            EXPECT_NEAR(c.proxy_m.z, 10.25e-3 + r, kTolM);
+            expect_vec(c.force_n, Vec3(0, 0, kKp * depth), kTolN);
+        }
+    }
+    // The same in one tick: from 1 mm above to 3 mm below the top (2.5 mm below the bottom).
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    g.update(*s, mm(9.3, 9.6, 11.25), kDt);
+    const ContactResult c = g.update(*s, mm(9.3, 9.6, 7.25), kDt);
+    ASSERT_TRUE(c.contact);
+    expect_vec(c.force_n, Vec3(0, 0, 2.1), kTolN);
+    // Coming back up out of the top releases it.
+    EXPECT_FALSE(g.update(*s, mm(9.3, 9.6, 10.4), kDt).contact);
+}
+
+TEST(GodObject, StartingInsideMaterialFeelsNothing) {
+    const auto s = z_plane(kH, kC);
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    EXPECT_FALSE(g.update(*s, mm(10, 10, 8), kDt).contact);  // no plane was crossed
+    EXPECT_FALSE(g.update(*s, mm(10, 10, 7), kDt).contact);
+    EXPECT_FALSE(g.update(*s, mm(10, 10, 12), kDt).contact);  // out
+    EXPECT_TRUE(g.update(*s, mm(10, 10, 9), kDt).contact);    // and in again: now it is felt
+}
+
+// The half-space z < c as all three ray sets see it (X and Y rays fully solid on nodes below c).
+std::unique_ptr<ActiveSurface> half_space_all_sets() {
+    auto s = z_plane(kH, kC);
+    fill_set(*s, 0, 0, 0, [](int, int z) { return z < kC ? Intervals{{0.0f, 63.0f}} : Intervals{}; });
+    fill_set(*s, 1, 0, 0, [](int z, int) { return z < kC ? Intervals{{0.0f, 63.0f}} : Intervals{}; });
+    return s;
+}
+
+TEST(GodObject, ObliqueApproachFindsTheCrossedFace) {
+    const auto s = half_space_all_sets();
+    // Mostly along +x and a little down: the X rays are tried first. Straddling the surface they have an
+    // empty ray; one cell deeper they are all solid, but their nearest end (x = 0) is a face the proxy
+    // was already 10 mm behind. Either way the Z rays give the top face.
+    for (double z_end : {10.05, 9.5}) {
+        GodObject g(ContactParams{kKp, 0.0, 0.0});
+        g.update(*s, mm(10.0, 10.0, 10.6), kDt);
+        const ContactResult c = g.update(*s, mm(11.1, 10.0, z_end), kDt);
+        ASSERT_TRUE(c.contact) << z_end;
+        EXPECT_EQ(c.axis, 2);
+        expect_vec(c.normal, Vec3(0, 0, 1), 0.0);
+        EXPECT_NEAR(c.depth_m, (10.25 - z_end) * 1e-3, kTolM);
+    }
+}
+
+TEST(GodObject, SlidingOffAConvexEdgeReleases) {
+    // A block x <= 20, z <= c (cells) in all three ray sets.
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [](int x, int) { return x <= 20 ? Intervals{{0.0f, kC}} : Intervals{}; });
+    fill_set(*s, 0, 0, 0, [](int, int z) { return z < kC ? Intervals{{0.0f, 20.0f}} : Intervals{}; });
+    fill_set(*s, 1, 0, 0, [](int z, int x) { return z < kC && x <= 20 ? Intervals{{0.0f, 63.0f}} : Intervals{}; });
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    g.update(*s, mm(15, 10, 11), kDt);
+    for (double x = 15.0; x <= 19.5; x += 0.5) {
+        const ContactResult c = g.update(*s, mm(x, 10, 9.75), kDt);
+        ASSERT_TRUE(c.contact) << x;
+        expect_vec(c.normal, Vec3(0, 0, 1), 0.0);
+    }
+    // Past the edge the HIP is outside the block: released, not pushed sideways by the side face.
+    for (double x = 20.5; x <= 22.0; x += 0.5) expect_free(g.update(*s, mm(x, 10, 9.75), kDt), mm(x, 10, 9.75));
+}
+
+TEST(GodObject, RejectsBadParameters) {
+    EXPECT_THROW(GodObject(ContactParams{-1.0, 0.0, 0.0}), Error);
+    EXPECT_THROW(GodObject(ContactParams{700.0, std::nan(""), 0.0}), Error);
+    EXPECT_THROW(GodObject(ContactParams{700.0, 0.0, -1e-3}), Error);
+}
+
+TEST(GodObject, UpdateTakesMicroseconds) {
+    const auto s = half_space_all_sets();
+    GodObject g(ContactParams{kKp, 0.5, 2e-3});
+    constexpr int kCalls = 100000;
+    std::vector<double> ns(kCalls);
+    double sink = 0.0;
+    for (int i = 0; i < kCalls; ++i) {
+        // A HIP circling in and out of contact over the surface (2 mm radius, 1 mm deep on average).
+        const double a = 1e-3 * i;
+        const Vec3 hip = mm(15.0 + 2.0 * std::cos(a), 15.0 + 2.0 * std::sin(a), 11.25 + 1.5 * std::sin(7.0 * a));
+        const auto t0 = std::chrono::steady_clock::now();
+        const ContactResult c = g.update(*s, hip, kDt);
+        const auto t1 = std::chrono::steady_clock::now();
+        sink += c.force_n.z;
+        ns[i] = static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+    }
+    std::sort(ns.begin(), ns.end());
+    const double median_us = ns[kCalls / 2] * 1e-3, p99_us = ns[kCalls * 99 / 100] * 1e-3;
+    std::printf("god-object update: median %.3f us, p99 %.3f us over %d calls (force sum %.3g N)\n", median_us,
+                p99_us, kCalls, sink);
+    EXPECT_GT(sink, 0.0);      // the circle really was in contact part of the time
+    EXPECT_LT(median_us, 5.0); // "a few microseconds" (generous for a shared machine)
+}
+
+}  // namespace
+}  // namespace tridex::haptics

@@ -1,0 +1,56 @@
+// tests/renderer/test_scene.hpp - the small scene the renderer tests draw (cube + ball + workspace box).
+#pragma once
+
+#include <cmath>
+
+#include "core/aabb.hpp"
+#include "core/pose.hpp"
+#include "core/tri_mesh.hpp"
+#include "renderer/off_axis.hpp"
+#include "renderer/primitive_meshes.hpp"
+#include "renderer/stereo_renderer.hpp"
+
+namespace tridex::renderer::test {
+
+/// `mesh` with every triangle given its own three vertices, so vertex normals are face normals.
+inline TriMesh flat_shaded(const TriMesh& mesh) {
+    TriMesh out;
+    for (const auto& t : mesh.triangles) {
+        const auto base = static_cast<std::uint32_t>(out.positions.size());
+        for (int k = 0; k < 3; ++k) out.positions.push_back(mesh.positions[t[k]]);
+        out.triangles.push_back({base, base + 1, base + 2});
+    }
+    return out;
+}
+
+/// A 0.4 m x 0.3 m desktop-sized screen centred at the origin in z = 0 (facing +z).
+inline Screen small_screen() { return Screen{Vec3(-0.2, -0.15, 0.0), Vec3(0.2, -0.15, 0.0), Vec3(-0.2, 0.15, 0.0)}; }
+
+/// Head 0.5 m in front of the screen, 0.1 m right of and 0.12 m above its centre.
+inline Pose test_head() { return Pose{Vec3(0.1, 0.12, 0.5), Quat(1.0, 0.0, 0.0, 0.0)}; }
+
+/// A 0.1 m cube centred on the screen plane, turned 30 degrees about y and then 20 degrees about x.
+inline TriMesh test_cube() {
+    Aabb box;
+    box.add(Vec3(-0.05));
+    box.add(Vec3(0.05));
+    TriMesh m = flat_shaded(box_mesh(box));
+    const double deg = std::acos(-1.0) / 180.0;
+    const Quat turn = glm::angleAxis(20.0 * deg, Vec3(1.0, 0.0, 0.0)) * glm::angleAxis(30.0 * deg, Vec3(0.0, 1.0, 0.0));
+    for (Vec3& p : m.positions) p = turn * p;
+    return m;
+}
+
+/// The scene: `cube` as the workpiece, a 3 cm ball tool in front, the workspace box around both.
+inline SceneView test_scene(const TriMesh& cube) {
+    SceneView s;
+    s.workpiece = &cube;
+    s.tool_centre_m = Vec3(0.075, 0.045, 0.07);
+    s.tool_radius_m = 0.025;
+    s.show_workspace = true;
+    s.workspace_m.add(Vec3(-0.11, -0.08, -0.08));
+    s.workspace_m.add(Vec3(0.11, 0.08, 0.1));
+    return s;
+}
+
+}  // namespace tridex::renderer::test
