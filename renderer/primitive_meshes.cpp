@@ -36,25 +36,4 @@ TriMesh unit_sphere(int rings, int segments) {
     return m;
 }
 
-TriMesh box_mesh(const Aabb& box) {
-    if (box.empty()) throw Error("box_mesh: the box is empty");
-    TriMesh m;
-    for (int k = 0; k < 8; ++k)  // corner k: bit 0 -> x, bit 1 -> y, bit 2 -> z
-        m.positions.push_back(Vec3(k & 1 ? box.hi.x : box.lo.x, k & 2 ? box.hi.y : box.lo.y, k & 4 ? box.hi.z : box.lo.z));
-    // Each face as a quad (a, b, c, d) counter-clockwise seen from outside.
-    const std::uint32_t faces[6][4] = {
-        {0, 4, 6, 2},  // -x
-        {1, 3, 7, 5},  // +x
-        {0, 1, 5, 4},  // -y
-        {2, 6, 7, 3},  // +y
-        {0, 2, 3, 1},  // -z
-        {4, 5, 7, 6},  // +z
-    };
-    for (const auto& f : faces) {
-        m.triangles.push_back({f[0], f[1], f[2]});
-        m.triangles.push_back({f[0], f[2], f[3]});
-    }
-    return m;
-}
-
 }  // namespace tridex::renderer

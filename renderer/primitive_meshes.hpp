@@ -1,7 +1,8 @@
-// renderer/primitive_meshes.hpp - small closed meshes for the tool ball and the workspace box.
+// renderer/primitive_meshes.hpp - the UV sphere drawn as the tool ball (the workspace box is core's box_mesh).
 #pragma once
 
 #include "core/aabb.hpp"
+#include "core/primitives.hpp"  // box_mesh, shared with compute/ tests
 #include "core/tri_mesh.hpp"
 
 namespace tridex::renderer {
@@ -10,8 +11,5 @@ namespace tridex::renderer {
 /// sectors (>= 3); closed, outward (counter-clockwise) triangles, 2 * segments * (rings - 1) triangles.
 /// Throws tridex::Error on too few rings or segments.
 TriMesh unit_sphere(int rings, int segments);
-
-/// The 12 outward triangles of `box` (8 shared corners). Throws tridex::Error when the box is empty.
-TriMesh box_mesh(const Aabb& box);
 
 }  // namespace tridex::renderer

@@ -8,7 +8,7 @@
 #include <new>
 
 #include "compute/active_surface_publish.hpp"
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "compute/scan_convert.hpp"
 #include "core/error.hpp"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "compute/boolean.hpp"
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "compute/scan_convert.hpp"
 #include "compute/volume.hpp"
 #include "core/error.hpp"

@@ -14,7 +14,7 @@
 
 #include "compute/mesh_io.hpp"
 #include "compute/mesh_weld.hpp"
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -158,7 +158,7 @@ TEST(MeshIo, WusonSoupIsWeldedButStillOpen) {
 }
 
 TEST(MeshIo, WeldExactClosesABoxSoup) {
-    const TriMesh box = tridex::compute::box_mesh(tridex::Aabb{tridex::Vec3(-1.0, 0.0, -0.0), tridex::Vec3(1.0, 2.0, 3.0)});
+    const TriMesh box = tridex::box_mesh(tridex::Aabb{tridex::Vec3(-1.0, 0.0, -0.0), tridex::Vec3(1.0, 2.0, 3.0)});
     TriMesh soup;
     for (const auto& t : box.triangles) {
         const auto n = static_cast<std::uint32_t>(soup.positions.size());

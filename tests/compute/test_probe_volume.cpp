@@ -1,7 +1,7 @@
 // tests/compute/test_probe_volume.cpp - dexel_volume_m3 on hand-built rays, probe_top on a box.
 #include <gtest/gtest.h>
 
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "compute/probe.hpp"
 #include "compute/scan_convert.hpp"
 #include "compute/volume.hpp"

@@ -13,7 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "compute/mesh_io.hpp"
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "compute/scan_convert.hpp"
 #include "compute/volume.hpp"
 #include "compute/workpiece.hpp"

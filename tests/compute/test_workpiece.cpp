@@ -4,7 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "compute/primitives.hpp"
+#include "core/primitives.hpp"
 #include "compute/workpiece.hpp"
 #include "core/error.hpp"
 

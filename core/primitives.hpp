@@ -1,11 +1,11 @@
-// compute/primitives.hpp - closed triangle meshes of simple solids (stock shapes, test bodies).
+// core/primitives.hpp - closed triangle meshes of simple solids (stock shapes, test bodies).
 #pragma once
 
 #include "core/aabb.hpp"
 #include "core/math.hpp"
 #include "core/tri_mesh.hpp"
 
-namespace tridex::compute {
+namespace tridex {
 
 /// The box `box` (m) as 8 vertices and 12 outward-facing triangles (each face split along the
 /// diagonal from its lowest-index corner). Throws tridex::Error when the box is empty, flat or not finite.
@@ -18,4 +18,4 @@ TriMesh box_mesh(const Aabb& box);
 /// Throws tridex::Error when radius_m <= 0, centre_m is not finite, or subdivisions is not in [0, 7].
 TriMesh icosphere_mesh(const Vec3& centre_m, double radius_m, int subdivisions);
 
-}  // namespace tridex::compute
+}  // namespace tridex

@@ -1,5 +1,5 @@
-// compute/primitives.cpp - box and icosphere meshes.
-#include "compute/primitives.hpp"
+// core/primitives.cpp - box and icosphere meshes.
+#include "core/primitives.hpp"
 
 #include <cmath>
 #include <map>
@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 
-namespace tridex::compute {
+namespace tridex {
 
 TriMesh box_mesh(const Aabb& box) {
     const Vec3 s = box.size();
@@ -71,4 +71,4 @@ TriMesh icosphere_mesh(const Vec3& centre_m, double radius_m, int subdivisions) 
     return m;
 }
 
-}  // namespace tridex::compute
+}  // namespace tridex
