@@ -1,0 +1,70 @@
+// Unit tests of the app's own logic: order statistics and the stroke planned on a model.
+#include <gtest/gtest.h>
+
+#include "app/stats.hpp"
+#include "app/stroke.hpp"
+#include "compute/scan_convert.hpp"
+#include "core/error.hpp"
+#include "core/primitives.hpp"
+
+namespace tridex::app {
+namespace {
+
+TEST(Summarize, NearestRankPercentiles) {
+    std::vector<double> v;
+    for (int i = 100; i >= 1; --i) v.push_back(i);  // 1..100, unsorted
+    const Summary s = summarize(v);
+    EXPECT_EQ(s.median, 50.0);
+    EXPECT_EQ(s.p99, 99.0);
+    EXPECT_EQ(s.max, 100.0);
+    EXPECT_DOUBLE_EQ(s.mean, 50.5);
+    const Summary e = summarize({});
+    EXPECT_EQ(e.max, 0.0);
+}
+
+// A 0.2 x 0.1 x 0.1 m box with its +z face at z = 0.05 and its +y face at y = 0.05.
+compute::TriDexel box_model() {
+    const Aabb box{Vec3(-0.1, -0.05, -0.05), Vec3(0.1, 0.05, 0.05)};
+    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 64), std::size_t(1) << 30);
+    compute::scan_convert(box_mesh(box), m);
+    return m;
+}
+
+TEST(PlanStroke, FollowsTheFacingSideAtTheRequestedDepth) {
+    const compute::TriDexel m = box_model();
+    for (int axis : {1, 2}) {
+        StrokeParams p;
+        p.press_axis = axis;
+        p.duration_s = 4.0;
+        p.length_m = 0.1;
+        p.tool_radius_m = 0.008;
+        p.depth_m = 0.006;
+        const StrokePlan plan = plan_stroke(m, p);
+        ASSERT_EQ(plan.t_s.size(), plan.world_m.size());
+        EXPECT_EQ(plan.t_s.front(), 0.0);
+        EXPECT_EQ(plan.t_s.back(), 4.0);
+        for (std::size_t i = 1; i < plan.t_s.size(); ++i) EXPECT_GT(plan.t_s[i], plan.t_s[i - 1]);
+        // While carving, the ball centre is radius - depth above the flat face (0.05 m), within float depth rounding.
+        int carving = 0;
+        for (std::size_t i = 0; i < plan.t_s.size(); ++i) {
+            if (plan.t_s[i] < 0.3 * 4.0 - 1e-9 || plan.t_s[i] > 0.85 * 4.0 + 1e-9) continue;
+            EXPECT_NEAR(plan.world_m[i][axis], 0.05 + 0.002, 1e-6) << "axis " << axis << " waypoint " << i;
+            ++carving;
+        }
+        EXPECT_GE(carving, 10);
+        EXPECT_NEAR(plan.world_m.front()[axis], 0.05 + p.clearance_m, 1e-6);  // starts clear of the surface
+        EXPECT_NEAR(plan.world_m.back().x - plan.world_m.front().x, 0.1, 1e-9);  // the pass length
+    }
+}
+
+TEST(PlanStroke, RefusesAnEmptyModelAndABadAxis) {
+    const compute::TriDexel empty =
+        compute::TriDexel::empty(compute::Lattice::around(Aabb{Vec3(0.0), Vec3(0.1)}, 32), std::size_t(1) << 30);
+    EXPECT_THROW(plan_stroke(empty, StrokeParams{}), Error);
+    StrokeParams bad;
+    bad.press_axis = 0;
+    EXPECT_THROW(plan_stroke(box_model(), bad), Error);
+}
+
+}  // namespace
+}  // namespace tridex::app
