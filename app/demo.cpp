@@ -2,6 +2,7 @@
 #include "app/demo.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -67,6 +68,9 @@ void run_demo(const DemoOptions& o) {
         throw Error("--resolution: must be between 8 and 4096 cells, got " + std::to_string(o.resolution));
     if (!(o.seconds >= 0.5 && o.seconds <= 600.0))
         throw Error("--seconds: must be between 0.5 and 600, got " + std::to_string(o.seconds));
+    if (!(o.tool_radius_m >= 0.0005 && o.tool_radius_m <= 0.25 * o.stock_m))
+        throw Error("--tool-radius-mm: must be between 0.5 mm and a quarter of the stock (" +
+                    std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_radius_m * 1e3));
     if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
         throw Error("--width/--height: must be between 16 and 8192 px");
     const std::string mesh_path = o.mesh.empty() ? default_mesh_path() : o.mesh;
@@ -112,11 +116,15 @@ void run_demo(const DemoOptions& o) {
     SculptThread sculpt(model, contourer, ring, surface, plan.world_m.front());
     haptics::HapticLoop loop(device, surface, ring, cfg);
 
+    // The session lasts the stroke's length in device time (one simulated step per tick), so an
+    // overloaded machine that skips deadlines still plays the whole stroke; wall time is only a
+    // safety net.
+    const std::size_t session_ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
     const auto t_session = Clock::now();
     sculpt.start();
     loop.start();
-    while (loop.running() && seconds_since(t_session) < o.seconds)
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    while (loop.running() && loop.stats().ticks < session_ticks && seconds_since(t_session) < 3.0 * o.seconds + 10.0)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
     loop.stop();
     sculpt.stop();
     const double session_s = seconds_since(t_session);

@@ -2,9 +2,11 @@
 #include "app/sculpt_thread.hpp"
 
 #include <chrono>
+#include <utility>
 
 #include "compute/active_surface_publish.hpp"
 #include "compute/boolean.hpp"
+#include "core/error.hpp"
 
 namespace tridex::app {
 
@@ -17,13 +19,16 @@ constexpr double kRecentreCells = 4.0;
 SculptThread::SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
                            TripleBuffer<ActiveSurface>& surface, const Vec3& start_m)
     : model_(model), contourer_(contourer), samples_(samples), surface_(surface), published_centre_m_(start_m) {
+    if (!is_finite(start_m)) throw Error("SculptThread: start position is not finite");
     publish(start_m);
 }
 
 SculptThread::~SculptThread() { stop(); }
 
 void SculptThread::start() {
+    if (thread_.joinable()) throw Error("SculptThread::start: already running");
     stop_.store(false);
+    failure_ = nullptr;
     thread_ = std::thread([this] { run(); });
 }
 
@@ -31,12 +36,24 @@ void SculptThread::stop() {
     if (!thread_.joinable()) return;
     stop_.store(true);
     thread_.join();
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
 }
 
 void SculptThread::run() {
     for (;;) {
         const bool stopping = stop_.load(std::memory_order_acquire);
-        const bool worked = step();
+        bool worked = false;
+        if (failure_) {  // failed earlier: keep the ring drained so the producer never sees it full
+            ToolSample s;
+            while (samples_.try_pop(s)) worked = true;
+        } else {
+            try {
+                worked = step();
+            } catch (...) {
+                failure_ = std::current_exception();
+                worked = true;
+            }
+        }
         if (stopping && !worked) return;  // the ring was drained after stop was asked
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }

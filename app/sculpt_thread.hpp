@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <exception>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -34,16 +35,19 @@ struct SculptStats {
 /// changes only when work happens, not the result.
 class SculptThread {
 public:
-    /// All references must outlive the thread. The initial snapshot is published centred on start_m.
+    /// All references must outlive the thread. The initial snapshot is published centred on start_m
+    /// (world m; throws tridex::Error when it is not finite).
     SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
                  TripleBuffer<ActiveSurface>& surface, const Vec3& start_m);
     ~SculptThread();
     SculptThread(const SculptThread&) = delete;
     SculptThread& operator=(const SculptThread&) = delete;
 
-    /// Starts the thread.
+    /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
-    /// Processes every sample still in the ring, then joins. Idempotent.
+    /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
+    /// loop) has stopped. Idempotent. Rethrows the first exception the thread hit (a bad sample, out
+    /// of memory); after such a failure the thread kept draining the ring without applying anything.
     void stop();
     /// Counters; call after stop().
     const SculptStats& stats() const { return stats_; }
@@ -63,6 +67,7 @@ private:
     std::uint64_t sequence_ = 0;
     SculptStats stats_;
     std::atomic<bool> stop_{false};
+    std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
     std::thread thread_;
 };
 

@@ -1,6 +1,7 @@
 // haptics/haptic_loop.cpp - the haptic thread: absolute-deadline ticks and the per-tick pipeline.
 #include "haptics/haptic_loop.hpp"
 
+#include <algorithm>
 #include <sys/prctl.h>
 
 #include <cerrno>
@@ -41,8 +42,8 @@ bool finite_state(const devices::DeviceState& s) {
 }
 
 HapticLoopConfig validated(HapticLoopConfig c) {
-    if (!(std::isfinite(c.period_s) && c.period_s > 0.0 && c.period_s <= 0.1))
-        bad("period_s", c.period_s, "must be in (0, 0.1] s");
+    if (!(std::isfinite(c.period_s) && c.period_s >= 1e-5 && c.period_s <= 0.1))
+        bad("period_s", c.period_s, "must be in [1e-5, 0.1] s");
     if (!(std::isfinite(c.ewma_alpha) && c.ewma_alpha >= 0.0 && c.ewma_alpha < 1.0))
         bad("ewma_alpha", c.ewma_alpha, "must be in [0, 1)");
     if (!(std::isfinite(c.workspace_scale) && c.workspace_scale > 0.0))
@@ -114,7 +115,12 @@ TickRecord HapticLoop::tick(const devices::DeviceState& state, double dt_s) {
     const Vec3 hip = cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position);
     last_hip_ = hip;
     const ContactResult c = god_.update(surface_.latest(), hip, dt_s);
-    const Vec3 force_world = clamp_force(filter_.apply(c.force_n), max_force_n_);
+    // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
+    Vec3 force_world = clamp_force(filter_.apply(clamp_force(c.force_n, max_force_n_)), max_force_n_);
+    if (!is_finite(filter_.value())) {
+        filter_.reset();
+        force_world = Vec3(0.0);
+    }
     device_.write(world_to_device_ * force_world, Vec3(0.0));
 
     ToolSample sample;
@@ -151,9 +157,15 @@ void HapticLoop::run() noexcept {
                 break;
             }
             TickRecord rec;
-            if (finite_state(state)) {
+            // A finite device position can still map to a non-finite world HIP (huge workspace_scale).
+            const bool valid = finite_state(state) &&
+                               is_finite(cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position));
+            if (valid) {
                 // Time step of the contact damping: the device's own clock, else the nominal period.
-                const double dt = state.t_s > prev_device_t ? state.t_s - prev_device_t : cfg_.period_s;
+                // Bounded to [period/10, 10*period] so a glitching clock cannot blow up the damping term.
+                const double dt = state.t_s > prev_device_t
+                                      ? std::clamp(state.t_s - prev_device_t, 0.1 * cfg_.period_s, 10.0 * cfg_.period_s)
+                                      : cfg_.period_s;
                 prev_device_t = state.t_s;
                 rec = tick(state, dt);
             } else {
@@ -173,7 +185,7 @@ void HapticLoop::run() noexcept {
             next += period_ns;
             if (end >= next) {  // missed the next deadline: count it and skip the deadlines already past
                 overruns_.fetch_add(1, std::memory_order_relaxed);
-                while (next <= end) next += period_ns;
+                next += ((end - next) / period_ns + 1) * period_ns;
             }
         }
     } catch (...) {

@@ -19,7 +19,7 @@ namespace tridex::haptics {
 
 /// Settings of the haptic loop (SI units).
 struct HapticLoopConfig {
-    double period_s = 1e-3;        ///< tick period, s (1 kHz), in (0, 0.1]
+    double period_s = 1e-3;        ///< tick period, s (1 kHz), in [1e-5, 0.1]
     ContactParams contact;         ///< god-object stiffness, damping, tool radius
     double ewma_alpha = 0.9;       ///< force filter weight a, [0, 1) (Peng et al.)
     Pose device_to_world;          ///< device frame -> world frame (unit quaternion)
@@ -55,7 +55,7 @@ struct LoopStats {
 ///   device.read() -> validate (a non-finite time, pose or velocity sends zero force and is counted)
 ///   -> map device -> world (world = device_to_world.apply(scale * p)) -> newest ActiveSurface
 ///   (TripleBuffer::latest) -> GodObject (its damping dt is the step of the device's clock, t_s, or
-///   period_s when that does not advance) -> EwmaFilter -> clamp to the profile's max force
+///   period_s when that does not advance) -> clamp -> EwmaFilter (reset when non-finite) -> clamp to the profile's max force
 ///   -> device.write(conj(device_to_world.orientation) * F_world, zero torque)
 ///   -> push a ToolSample (device time, HIP, tool orientation, radius, op, buttons) to the ring
 ///   (when full, count a drop and go on: the next successful push just makes a longer segment)

@@ -265,6 +265,8 @@ TEST(HapticLoop, RejectsBadConfiguration) {
     HapticLoopConfig c;
     c.period_s = 0.0;
     expect_error(c, "period_s");
+    c.period_s = 1e-9;  // would round to a zero-nanosecond deadline step
+    expect_error(c, "period_s");
     c = {};
     c.ewma_alpha = 1.0;
     expect_error(c, "ewma_alpha");
