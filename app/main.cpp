@@ -1,13 +1,33 @@
 // app/main.cpp - the `tridex` command line.
 #include <CLI/CLI.hpp>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <exception>
 #include <new>
 
 #include "app/demo.hpp"
 #include "core/error.hpp"
 
+namespace {
+
+// Mesa's Vulkan drivers (lavapipe) want XDG_RUNTIME_DIR; when the session has none (a plain ssh or
+// CI shell), give them a private 0700 folder of this user's instead of letting them warn or fail.
+void ensure_runtime_dir() {
+    if (std::getenv("XDG_RUNTIME_DIR")) return;
+    const std::string dir = "/tmp/tridex-runtime-" + std::to_string(getuid());
+    struct stat st {};
+    if (mkdir(dir.c_str(), 0700) == 0 || (stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode) && st.st_uid == getuid()))
+        setenv("XDG_RUNTIME_DIR", dir.c_str(), 0);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+    ensure_runtime_dir();
     CLI::App cli{"tridex: immersive virtual sculpting with force feedback on a tri-dexel workpiece"};
     cli.require_subcommand(1);
 
