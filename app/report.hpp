@@ -13,23 +13,28 @@ namespace tridex::app {
 
 /// Everything report.json says about one demo run (SI units; times in s unless named _us / _ms).
 struct DemoReport {
-    std::string mesh_path;
-    int resolution = 0;
-    compute::Lattice lattice;
+    std::string mesh_path;            ///< the workpiece file that was loaded
+    int resolution = 0;               ///< --resolution: cells along the longest side
+    compute::Lattice lattice;         ///< the lattice the model used (origin, cell size, cells)
     Mat4 transform{1.0};              ///< input mesh units -> world metres
     double volume_mesh_m3 = 0.0;      ///< exact volume of the transformed input mesh
     double volume_dexel_m3 = 0.0;     ///< tri-dexel volume before carving
     double volume_after_m3 = 0.0;     ///< tri-dexel volume after carving
     EdgeStats edges;                  ///< of the carved mesh
-    std::size_t vertices = 0, triangles = 0;
+    std::size_t vertices = 0, triangles = 0;  ///< of the carved mesh
+    /// Per-tick haptic records; not owned, must outlive the writers below (non-null).
     const std::vector<haptics::TickRecord>* records = nullptr;
-    haptics::LoopStats loop{};
-    const SculptStats* sculpt = nullptr;
-    std::size_t tiles_initial = 0, tiles_total = 0;
-    double scan_s = 0.0, contour_s = 0.0, session_s = 0.0, render_s = 0.0, wall_s = 0.0;
-    double tool_radius_m = 0.0, stiffness_n_per_m = 0.0, max_force_n = 0.0;
-    std::string device, eye_strategy;
-    std::uint32_t validation_messages = 0;
+    haptics::LoopStats loop{};                ///< haptic loop counters (overruns, drops, invalid samples)
+    const SculptStats* sculpt = nullptr;      ///< sculpt thread counters; not owned, non-null
+    std::size_t tiles_initial = 0;            ///< tiles contoured after scan conversion
+    std::size_t tiles_total = 0;              ///< tiles in the model's tile grid
+    double scan_s = 0.0, contour_s = 0.0, session_s = 0.0, render_s = 0.0, wall_s = 0.0;  ///< wall times, s
+    double tool_radius_m = 0.0;               ///< ball radius, m
+    double stiffness_n_per_m = 0.0;           ///< contact stiffness kp, N/m
+    double max_force_n = 0.0;                 ///< the device profile's force limit, N
+    std::string device;                       ///< Vulkan device name
+    std::string eye_strategy;                 ///< which eye strategy rendered, and why (self-test result)
+    std::uint32_t validation_messages = 0;    ///< Vulkan validation messages seen (0 expected)
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,
