@@ -94,7 +94,8 @@ class BadMesh : public testing::TestWithParam<const char*> {};
 
 TEST_P(BadMesh, IsRefusedWithOneClearLine) {
     const std::string file = data(GetParam());
-    const fs::path out = fs::temp_directory_path() / "tridex-test-bad";
+    // One folder per case: ctest runs the cases in parallel and each captures its own stderr.
+    const fs::path out = fs::temp_directory_path() / ("tridex-test-bad-" + fs::path(file).filename().string());
     const RunResult r = run_tridex("demo --resolution 32 --seconds 1 --out " + out.string() + " --mesh " + file, out);
     EXPECT_EQ(r.exit_code, 2) << r.err;  // tridex::Error, not a crash (>= 128) or timeout (124)
     EXPECT_NE(r.err.find(fs::path(file).filename().string()), std::string::npos) << r.err;
