@@ -62,6 +62,7 @@ void fill_window(const RaySet& set, const Vec3& g, Window& w) {
             for (int n = 0; n < count; ++n) {
                 w.depth[(slot * kK + n) * 2] = ray[first + n].enter;
                 w.depth[(slot * kK + n) * 2 + 1] = ray[first + n].exit;
+                w.material[slot * kK + n] = 0;  // one material until painting exists (issue 3)
             }
         }
     }

@@ -29,6 +29,9 @@ struct ActiveSurface {
         std::array<std::uint8_t, kWindow * kWindow> count{};  ///< intervals per ray, index iu + kWindow*iv
         /// [enter, exit] pairs, grid units, index ((iu + kWindow*iv) * kMaxIntervals + n) * 2 + {0,1}
         std::array<float, kWindow * kWindow * kMaxIntervals * 2> depth{};
+        /// Material id of each interval (index (iu + kWindow*iv) * kMaxIntervals + n); 0 = the workpiece's
+        /// own material. Haptics looks up stiffness, damping and friction per material.
+        std::array<std::uint8_t, kWindow * kWindow * kMaxIntervals> material{};
 
         /// Number of intervals on the ray at window-local (iu, iv).
         int intervals(int iu, int iv) const { return count[iu + kWindow * iv]; }
@@ -36,6 +39,8 @@ struct ActiveSurface {
         float enter(int iu, int iv, int n) const { return depth[((iu + kWindow * iv) * kMaxIntervals + n) * 2]; }
         /// Exit depth (grid units) of interval n on the ray at (iu, iv).
         float exit(int iu, int iv, int n) const { return depth[((iu + kWindow * iv) * kMaxIntervals + n) * 2 + 1]; }
+        /// Material id of interval n on the ray at (iu, iv).
+        std::uint8_t material_of(int iu, int iv, int n) const { return material[(iu + kWindow * iv) * kMaxIntervals + n]; }
     };
 
     std::uint64_t sequence = 0;       ///< increments on every publish; 0 = nothing published yet
