@@ -37,7 +37,11 @@ RunResult run_tridex(const std::string& args, const fs::path& dir) {
     return r;
 }
 
-std::string data(const char* rel) { return std::string(std::getenv("TRIDEX_SHARED_DATA")) + "/" + rel; }
+// ctest sets TRIDEX_SHARED_DATA; run by hand, the test falls back to the source tree's neighbour.
+std::string data(const char* rel) {
+    const char* env = std::getenv("TRIDEX_SHARED_DATA");
+    return std::string(env ? env : TRIDEX_SHARED_DATA_DIR) + "/" + rel;
+}
 
 TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     const fs::path out = fs::temp_directory_path() / "tridex-test-demo";

@@ -1,0 +1,150 @@
+// app/session.cpp - the session pipeline shared by demo and replay.
+#include "app/session.hpp"
+
+#include <filesystem>
+#include <thread>
+
+#include "app/memory.hpp"
+#include "app/report.hpp"
+#include "compute/contour_dual.hpp"
+#include "compute/mesh_export.hpp"
+#include "compute/mesh_io.hpp"
+#include "compute/scan_convert.hpp"
+#include "compute/volume.hpp"
+#include "compute/workpiece.hpp"
+#include "core/error.hpp"
+#include "gpu/context.hpp"
+#include "renderer/image.hpp"
+#include "renderer/off_axis.hpp"
+#include "renderer/stereo_renderer.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// The designer's eyes are 0.65 m from the wall and 0.15 m above the workpiece's centre, which floats
+// 0.3 m in front of the wall within arm's reach: the stroke carves the side facing the designer and
+// the whole workpiece stays inside the wall's frame.
+const Vec3 kHeadPosition{0.0, 0.15, 0.65};
+constexpr double kEyeSeparation = 0.064;        // m
+constexpr std::size_t kRingCapacity = 1 << 16;  // tool samples: 65 s of ticks
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+void check_image_size(int width, int height) {
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+        throw Error("--width/--height: must be between 16 and 8192 px, got " + std::to_string(width) + "x" +
+                    std::to_string(height));
+}
+
+Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m) {
+    if (resolution < 8 || resolution > 4096)
+        throw Error("--resolution: must be between 8 and 4096 cells, got " + std::to_string(resolution));
+    const TriMesh input = compute::load_closed_mesh(mesh_path);
+    const Mat4 to_world = compute::fit_to_stock(input.bounds(), centre_m, stock_m);
+    const TriMesh world_mesh = compute::transformed(input, to_world);
+    const compute::Lattice lattice = compute::Lattice::around(world_mesh.bounds(), resolution);
+    Workpiece wp{mesh_path, resolution, to_world, signed_volume(world_mesh), 0.0, 0.0,
+                 compute::TriDexel::empty(lattice, model_memory_budget_bytes())};
+    const auto t_scan = Clock::now();
+    compute::scan_convert(world_mesh, wp.model);
+    wp.scan_s = seconds_since(t_scan);
+    wp.volume_dexel_m3 = compute::dexel_volume_m3(wp.model);
+    return wp;
+}
+
+SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
+                       std::size_t ticks, double timeout_s, const Vec3& start_m) {
+    SessionRun run;
+    compute::Contourer contourer(wp.model);
+    const auto t_contour = Clock::now();
+    run.tiles_initial = contourer.update(wp.model);
+    run.contour_s = seconds_since(t_contour);
+
+    SpscRing<ToolSample> ring(kRingCapacity);
+    TripleBuffer<ActiveSurface> surface;
+    SculptThread sculpt(wp.model, contourer, ring, surface, start_m);
+    haptics::HapticLoop loop(device, surface, ring, cfg);
+    const auto t_session = Clock::now();
+    sculpt.start();
+    loop.start();
+    while (loop.running() && (ticks == 0 || loop.stats().ticks < ticks) && seconds_since(t_session) < timeout_s)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    loop.stop();
+    sculpt.stop();  // drains every sample the loop pushed; rethrows a sculpt failure
+    run.session_s = seconds_since(t_session);
+    contourer.update(wp.model);  // anything still dirty (normally nothing)
+    run.records = loop.records();
+    run.loop = loop.stats();
+    run.sculpt = sculpt.stats();
+    run.volume_after_m3 = compute::dexel_volume_m3(wp.model);
+    run.carved = contourer.mesh();
+    return run;
+}
+
+void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const SessionRun& run,
+                           const haptics::HapticLoopConfig& cfg, const devices::DeviceProfile& profile,
+                           Clock::time_point t_start) {
+    // Both eyes through the off-axis PowerWall frusta, offscreen.
+    gpu::ContextOptions gopt;
+    gopt.validation = opt.validate;
+    gpu::Context gpu_ctx = gpu::Context::create(gopt);
+    auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
+    renderer::SceneView view;
+    view.workpiece = &run.carved;
+    view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
+    view.tool_radius_m = cfg.contact.tool_radius_m;
+    view.show_workspace = true;
+    const Vec3 c = cfg.device_to_world.position;
+    view.workspace_m = Aabb{profile.workspace_m.lo * cfg.workspace_scale + c, profile.workspace_m.hi * cfg.workspace_scale + c};
+    Pose head;
+    head.position = kHeadPosition;
+    const auto t_render = Clock::now();
+    const renderer::StereoImages eyes = renderer.render(view, renderer::Screen::powerwall(), head, kEyeSeparation);
+    const double render_s = seconds_since(t_render);
+
+    fs::create_directories(opt.out);
+    const fs::path out(opt.out);
+    renderer::write_png((out / "left.png").string(), eyes.left);
+    renderer::write_png((out / "right.png").string(), eyes.right);
+    renderer::write_png((out / "sbs.png").string(), renderer::side_by_side(eyes.left, eyes.right));
+    compute::write_ply((out / "sculpted.ply").string(), run.carved);
+    write_haptics_csv((out / "haptics.csv").string(), run.records);
+
+    DemoReport r;
+    r.mesh_path = wp.mesh_path;
+    r.resolution = wp.resolution;
+    r.lattice = wp.model.lattice;
+    r.transform = wp.to_world;
+    r.volume_mesh_m3 = wp.volume_mesh_m3;
+    r.volume_dexel_m3 = wp.volume_dexel_m3;
+    r.volume_after_m3 = run.volume_after_m3;
+    r.edges = edge_stats(run.carved);
+    r.vertices = run.carved.positions.size();
+    r.triangles = run.carved.triangles.size();
+    r.records = &run.records;
+    r.loop = run.loop;
+    r.sculpt = &run.sculpt;
+    r.tiles_initial = run.tiles_initial;
+    r.tiles_total = wp.model.tiles.count();
+    r.scan_s = wp.scan_s;
+    r.contour_s = run.contour_s;
+    r.session_s = run.session_s;
+    r.render_s = render_s;
+    r.tool_radius_m = cfg.contact.tool_radius_m;
+    r.stiffness_n_per_m = cfg.contact.stiffness_n_per_m;
+    r.max_force_n = profile.max_force_n;
+    r.device = gpu_ctx.device_name();
+    r.eye_strategy = renderer.strategy_note();
+    r.validation_messages = gpu_ctx.validation_messages();
+    r.wall_s = seconds_since(t_start);
+    write_report_json((out / "report.json").string(), r);
+    print_summary(r, opt.out);
+}
+
+}  // namespace tridex::app

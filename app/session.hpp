@@ -1,0 +1,71 @@
+// app/session.hpp - one sculpting session, shared by `tridex demo` and `tridex replay`: prepare the
+// workpiece, run the haptic loop and the sculpt thread with any HapticDevice, render, write outputs.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "app/sculpt_thread.hpp"
+#include "compute/tridexel.hpp"
+#include "core/pose.hpp"
+#include "core/tri_mesh.hpp"
+#include "devices/haptic_device.hpp"
+#include "haptics/haptic_loop.hpp"
+
+namespace tridex::app {
+
+/// The placed, scan-converted workpiece.
+struct Workpiece {
+    std::string mesh_path;          ///< the file it came from
+    int resolution = 0;             ///< lattice cells along the longest side
+    Mat4 to_world{1.0};             ///< input mesh units -> world metres (uniform scale + translation)
+    double volume_mesh_m3 = 0.0;    ///< exact volume of the transformed input mesh
+    double volume_dexel_m3 = 0.0;   ///< tri-dexel volume right after scan conversion
+    double scan_s = 0.0;            ///< scan-conversion wall time, s
+    compute::TriDexel model;        ///< the tri-dexel solid (carved in place by the session)
+};
+
+/// Loads `mesh_path` (closed mesh), scales it so its longest side is stock_m and centres it on centre_m
+/// (world m), and scan-converts it at `resolution` cells along the longest side. Throws tridex::Error on a
+/// bad file, an impossible resolution, or a model that would not fit in memory.
+Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m);
+
+/// What a session produced.
+struct SessionRun {
+    std::vector<haptics::TickRecord> records;  ///< one per haptic tick
+    haptics::LoopStats loop{};                 ///< loop counters
+    SculptStats sculpt;                        ///< sculpt-thread counters
+    std::size_t tiles_initial = 0;             ///< tiles contoured before the session
+    double contour_s = 0.0;                    ///< initial contouring wall time, s
+    double session_s = 0.0;                    ///< wall time of the session, s
+    double volume_after_m3 = 0.0;              ///< tri-dexel volume after the session
+    TriMesh carved;                            ///< the contoured model after the session, world m
+};
+
+/// Runs the haptic loop on `device` with `cfg` and the sculpt thread on wp.model, until the loop has
+/// ticked `ticks` times (0: until the device vanishes, e.g. a replay's end) or `timeout_s` of wall time
+/// passed; start_m (world m) centres the first active-surface snapshot. Rethrows a sculpt-thread failure.
+SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
+                       std::size_t ticks, double timeout_s, const Vec3& start_m);
+
+/// Where and how to write a session's outputs.
+struct OutputOptions {
+    std::string out;        ///< folder (created)
+    int width = 1280;       ///< per-eye image size, px
+    int height = 960;
+    bool validate = false;  ///< Vulkan validation layer
+};
+
+/// Renders both eyes of the carved workpiece (tool at its last position, the device workspace as a
+/// translucent box) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
+/// into opt.out, then prints a summary. Throws tridex::Error when a file cannot be written or no Vulkan
+/// device is usable.
+void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const SessionRun& run,
+                           const haptics::HapticLoopConfig& cfg, const devices::DeviceProfile& profile,
+                           std::chrono::steady_clock::time_point t_start);
+
+/// Checks the per-eye image size (16..8192 px); throws tridex::Error naming --width/--height.
+void check_image_size(int width, int height);
+
+}  // namespace tridex::app
