@@ -22,6 +22,7 @@ namespace {
 const glm::vec4 kWorkpieceColour(0.80f, 0.62f, 0.45f, 1.0f);
 const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
 const glm::vec4 kWorkspaceColour(0.30f, 0.85f, 0.40f, 0.18f);
+const glm::vec4 kBubbleColour(0.45f, 0.65f, 1.00f, 0.15f);
 constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
 const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f));
 constexpr int kSphereRings = 24, kSphereSegments = 48;
@@ -142,6 +143,14 @@ StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Scree
         const glm::mat4 model = translate_scale(scene.workspace_m.lo, scene.workspace_m.size());
         add(PipelineKind::kTranslucentBack, im.cube, model, kWorkspaceColour, false);
         add(PipelineKind::kTranslucentFront, im.cube, model, kWorkspaceColour, false);
+    }
+
+    if (scene.bubble_radius_m > 0.0) {
+        if (!is_finite(scene.bubble_centre_m) || !std::isfinite(scene.bubble_radius_m))
+            throw Error("renderer: SceneView.bubble_centre_m / bubble_radius_m must be finite");
+        const glm::mat4 model = translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m));
+        add(PipelineKind::kTranslucentBack, im.ball, model, kBubbleColour, false);
+        add(PipelineKind::kTranslucentFront, im.ball, model, kBubbleColour, false);
     }
 
     im.eyes->write(u);

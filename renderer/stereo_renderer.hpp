@@ -22,6 +22,10 @@ struct SceneView {
     double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
     bool show_workspace = true;          ///< draw the haptic workspace as a translucent box
     Aabb workspace_m;                    ///< the workspace, world m (an empty box is not drawn)
+    /// The bubble of the bubble workspace technique (Dominjon et al. 2005): position control inside,
+    /// rate control outside; drawn as a translucent sphere when bubble_radius_m > 0 (world m).
+    Vec3 bubble_centre_m{0.0};
+    double bubble_radius_m = 0.0;
 };
 
 /// The two eyes' images of one frame, each width x height RGBA.

@@ -1,6 +1,8 @@
 // Tests of OffscreenStereoRenderer on lavapipe: golden image, disparity, strategies agree, errors.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cstdlib>
 #include <filesystem>
 
@@ -109,6 +111,30 @@ TEST(StereoRender, OffPlaneObjectsDifferBetweenEyesScreenPlaneDoesNot) {
         EXPECT_EQ(differing_pixels(b.left, b.right), 0u);
         const Image clear = r.render(SceneView{}, test::small_screen(), test::test_head(), kEyeSeparation).left;
         EXPECT_GT(differing_pixels(b.left, clear), 1000u);  // the box was drawn at all
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(StereoRender, BubbleIsATranslucentSphereAroundItsCentre) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        OffscreenStereoRenderer r = OffscreenStereoRenderer::create(ctx, 64, 48);
+        const Screen screen = test::small_screen();
+        const Pose head = test::test_head();
+        SceneView v;
+        v.bubble_centre_m = Vec3(0.0, 0.0, 0.05);
+        v.bubble_radius_m = 0.06;
+        const StereoImages with = r.render(v, screen, head, kEyeSeparation);
+        const StereoImages without = r.render(SceneView{}, screen, head, kEyeSeparation);
+        // The bubble tints the middle of the image, translucently (not the opaque tool colour), and
+        // leaves the corners as the clear colour.
+        const auto px = [](const Image& img, int x, int y) { return img.at(x, y); };
+        const auto mid = px(with.left, 32, 24), mid_clear = px(without.left, 32, 24);
+        EXPECT_GT(mid[2], mid_clear[2]);        // bluer
+        EXPECT_LT(mid[2], 120);                 // but see-through (alpha 0.15 over a dark background)
+        for (int k = 0; k < 4; ++k) EXPECT_EQ(px(with.left, 0, 0)[k], px(without.left, 0, 0)[k]) << k;
+        v.bubble_radius_m = std::numeric_limits<double>::infinity();
+        EXPECT_THROW(r.render(v, screen, head, kEyeSeparation), Error);
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
