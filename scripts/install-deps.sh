@@ -13,6 +13,8 @@ PACKAGES=(
   libstb-dev                                # stb_image_write for PNG
   nlohmann-json3-dev                        # report.json
   libcli11-dev                              # command line
+  libglfw3-dev                              # windows and fullscreen on the wall (GLFW)
+  xvfb xauth                                # a virtual X server for the window smoke test
   libgtest-dev libgmock-dev                 # tests
   libbenchmark-dev                          # benchmarks
 )
