@@ -23,5 +23,9 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# Benchmarks print tables and write JSON under out/bench (numbers for notes, not pass/fail).
+bench: build
+	$(BUILD)/app/tridex bench --haptics --out out/bench
+
 clean:
 	rm -rf build out

@@ -9,6 +9,7 @@
 #include <exception>
 #include <new>
 
+#include "app/bench_haptics.hpp"
 #include "app/demo.hpp"
 #include "core/error.hpp"
 
@@ -46,6 +47,15 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Ball tool radius, mm")->capture_default_str();
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
 
+    tridex::app::HapticsBenchOptions hbench;
+    bool bench_haptics = false;
+    CLI::App* bench_cmd = cli.add_subcommand("bench", "Benchmarks that print tables and write JSON (numbers, not pass/fail)");
+    bench_cmd->add_flag("--haptics", bench_haptics,
+                        "Haptic tick compute time against resolution (128..1024) and contact points (1, 2, 16, 64)");
+    bench_cmd->add_option("--out", hbench.out, "Output folder")->capture_default_str();
+    bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
+    bench_cmd->add_option("--ticks", hbench.ticks, "Timed ticks per row")->capture_default_str()->check(CLI::Range(100, 10000000));
+
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -55,6 +65,10 @@ int main(int argc, char** argv) {
         if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
             tridex::app::run_demo(demo);
+        }
+        if (*bench_cmd) {
+            if (!bench_haptics) throw tridex::Error("bench: choose what to measure: --haptics");
+            tridex::app::run_haptics_bench(hbench);
         }
         return 0;
     } catch (const tridex::Error& e) {

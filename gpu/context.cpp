@@ -25,6 +25,9 @@ struct Context::Impl {
     VkPhysicalDeviceMemoryProperties memory{};
     DeviceFeatures features;
     bool validation = false;
+    bool presentation = false;
+    std::vector<std::string> instance_extensions;
+    std::function<bool(VkInstance, VkPhysicalDevice, std::uint32_t)> can_present;
     std::atomic<std::uint32_t> messages{0};
     mutable std::mutex queue_mutex;  // guards queue and pool
 
@@ -113,6 +116,14 @@ void create_instance(Context::Impl& impl) {
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
 
+    for (const std::string& name : impl.instance_extensions) {
+        if (!has_instance_extension(name.c_str(), nullptr))
+            throw Error("gpu: ContextOptions.instance_extensions: the Vulkan loader does not offer " + name);
+        bool listed = false;
+        for (const char* e : extensions) listed = listed || name == e;
+        if (!listed) extensions.push_back(name.c_str());
+    }
+
     VkApplicationInfo app{};
 
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -156,15 +167,30 @@ int type_rank(VkPhysicalDeviceType type) {
     }
 }
 
-// Index of a queue family with graphics and compute, or -1.
-int graphics_compute_family(VkPhysicalDevice device) {
+// True when `device` offers the device extension `name`.
+bool has_device_extension(VkPhysicalDevice device, const char* name) {
+    std::uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &n, exts.data());
+    for (const auto& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
+// Index of a queue family with graphics and compute (and, for presentation with a filter, one that can
+// present), or -1.
+int graphics_compute_family(const Context::Impl& impl, VkPhysicalDevice device) {
     std::uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &n, nullptr);
     std::vector<VkQueueFamilyProperties> families(n);
     vkGetPhysicalDeviceQueueFamilyProperties(device, &n, families.data());
     const VkQueueFlags want = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    for (std::uint32_t i = 0; i < n; ++i)
-        if ((families[i].queueFlags & want) == want && families[i].queueCount > 0) return static_cast<int>(i);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if ((families[i].queueFlags & want) != want || families[i].queueCount == 0) continue;
+        if (impl.presentation && impl.can_present && !impl.can_present(impl.instance, device, i)) continue;
+        return static_cast<int>(i);
+    }
     return -1;
 }
 
@@ -181,8 +207,10 @@ void select_physical_device(Context::Impl& impl) {
     for (VkPhysicalDevice d : devices) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(d, &p);
-        const int family = graphics_compute_family(d);
-        if (p.apiVersion < VK_API_VERSION_1_2 || family < 0) continue;
+        if (p.apiVersion < VK_API_VERSION_1_2) continue;
+        if (impl.presentation && !has_device_extension(d, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) continue;
+        const int family = graphics_compute_family(impl, d);
+        if (family < 0) continue;
         const int rank = type_rank(p.deviceType);
         if (rank < best_rank) {
             best_rank = rank;
@@ -192,7 +220,10 @@ void select_physical_device(Context::Impl& impl) {
         }
     }
     if (impl.physical == VK_NULL_HANDLE)
-        throw Error("gpu: no Vulkan device offers Vulkan 1.2 with a graphics+compute queue");
+        throw Error(impl.presentation
+                        ? "gpu: no Vulkan device offers Vulkan 1.2, VK_KHR_swapchain and a graphics+compute queue "
+                          "that can present to the window system"
+                        : "gpu: no Vulkan device offers Vulkan 1.2 with a graphics+compute queue");
     vkGetPhysicalDeviceMemoryProperties(impl.physical, &impl.memory);
 }
 
@@ -247,6 +278,11 @@ void create_device(Context::Impl& impl) {
     info.pNext = &use;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queue;
+    const char* swapchain_ext = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    if (impl.presentation) {
+        info.enabledExtensionCount = 1;
+        info.ppEnabledExtensionNames = &swapchain_ext;
+    }
     check(vkCreateDevice(impl.physical, &info, nullptr, &impl.device), "vkCreateDevice");
     vkGetDeviceQueue(impl.device, impl.family, 0, &impl.queue);
 
@@ -263,8 +299,12 @@ void create_device(Context::Impl& impl) {
 Context Context::create(const ContextOptions& options) {
     auto impl = std::make_unique<Impl>();
     impl->validation = options.validation || env_validation();
+    impl->presentation = options.presentation;
+    impl->instance_extensions = options.instance_extensions;
+    impl->can_present = options.can_present;
     create_instance(*impl);
     select_physical_device(*impl);
+    impl->can_present = nullptr;  // only needed for the selection; drop what it holds (e.g. a window library)
     create_device(*impl);
     return Context(std::move(impl));
 }
@@ -277,6 +317,7 @@ Context& Context::operator=(Context&&) noexcept = default;
 std::string Context::device_name() const { return impl_->properties.deviceName; }
 std::uint32_t Context::validation_messages() const { return impl_->messages.load(std::memory_order_relaxed); }
 bool Context::validation_enabled() const { return impl_->validation; }
+bool Context::presentation_enabled() const { return impl_->presentation; }
 VkInstance Context::instance() const { return impl_->instance; }
 VkPhysicalDevice Context::physical_device() const { return impl_->physical; }
 VkDevice Context::device() const { return impl_->device; }
@@ -355,6 +396,15 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
 void Context::queue_submit(const VkSubmitInfo& submit, VkFence fence) const {
     std::lock_guard<std::mutex> lock(impl_->queue_mutex);
     check(vkQueueSubmit(impl_->queue, 1, &submit, fence), "vkQueueSubmit");
+}
+
+VkResult Context::queue_present(const VkPresentInfoKHR& present) const {
+    if (!impl_->presentation)
+        throw Error("gpu: queue_present needs a Context created with ContextOptions.presentation = true");
+    std::lock_guard<std::mutex> lock(impl_->queue_mutex);
+    const VkResult r = vkQueuePresentKHR(impl_->queue, &present);
+    if (r == VK_ERROR_OUT_OF_DATE_KHR) return r;
+    return check(r, "vkQueuePresentKHR");
 }
 
 void Context::wait_idle() const {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -15,6 +16,16 @@ struct ContextOptions {
     /// Enable VK_LAYER_KHRONOS_validation and count its messages. Also switched on when the
     /// environment variable TRIDEX_VALIDATION=1 (the test helper sets it).
     bool validation = false;
+    /// Extra instance extensions to enable, e.g. the surface extensions a window system needs
+    /// (glfwGetRequiredInstanceExtensions(): VK_KHR_surface + VK_KHR_xcb_surface on X11). create() throws
+    /// tridex::Error naming the first one the loader does not offer.
+    std::vector<std::string> instance_extensions{};
+    /// Presentation to a window: only devices offering VK_KHR_swapchain are accepted and the extension is
+    /// enabled on the device. With `can_present` set, the queue family must also pass it.
+    bool presentation = false;
+    /// Optional filter (used with presentation = true): true when queue family `family` of `device` can
+    /// present to the window system, e.g. glfwGetPhysicalDevicePresentationSupport. Called during create().
+    std::function<bool(VkInstance instance, VkPhysicalDevice device, std::uint32_t family)> can_present{};
 };
 
 /// Optional device features, each true when the device supports it and the Context enabled it.
@@ -58,6 +69,8 @@ public:
     std::uint32_t validation_messages() const;
     /// True when the validation layer and the message counter are active.
     bool validation_enabled() const;
+    /// True when the device was created for presentation (VK_KHR_swapchain enabled, ContextOptions::presentation).
+    bool presentation_enabled() const;
 
     VkInstance instance() const;              ///< the instance
     VkPhysicalDevice physical_device() const; ///< the selected physical device
@@ -81,6 +94,11 @@ public:
     /// vkQueueSubmit under the Context's queue mutex (for callers that manage their own command
     /// buffers and fences). Throws tridex::Error on failure.
     void queue_submit(const VkSubmitInfo& submit, VkFence fence) const;
+
+    /// vkQueuePresentKHR on queue() under the Context's queue mutex. Returns VK_SUCCESS, VK_SUBOPTIMAL_KHR or
+    /// VK_ERROR_OUT_OF_DATE_KHR (the caller recreates its swapchain); throws tridex::Error on any other
+    /// failure or when the Context was not created with presentation = true.
+    VkResult queue_present(const VkPresentInfoKHR& present) const;
 
     /// Waits until the device is idle. Throws tridex::Error on device loss.
     void wait_idle() const;

@@ -1,4 +1,5 @@
-// haptics/haptic_loop.cpp - the haptic thread: absolute-deadline ticks and the per-tick pipeline.
+// haptics/haptic_loop.cpp - the haptic thread: absolute-deadline ticks and the per-tick pipeline
+// (workspace mapping, contact, filter, safety stages, telemetry).
 #include "haptics/haptic_loop.hpp"
 
 #include <algorithm>
@@ -8,10 +9,12 @@
 #include <cmath>
 #include <cstdint>
 #include <ctime>
+#include <limits>
 #include <string>
 
 #include "core/error.hpp"
 #include "haptics/force_clamp.hpp"
+#include "haptics/realtime.hpp"
 
 namespace tridex::haptics {
 
@@ -65,31 +68,55 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       surface_(surface),
       samples_(samples),
       cfg_(validated(cfg)),
-      max_force_n_(device.profile().max_force_n),
+      limits_(SafetyLimits::from(device.profile(), cfg_.safety)),
       god_(cfg_.contact),
       filter_(cfg_.ewma_alpha),
-      world_to_device_(glm::conjugate(cfg_.device_to_world.orientation)) {
-    if (!(std::isfinite(max_force_n_) && max_force_n_ >= 0.0))
-        throw Error("HapticLoop: device profile '" + device.profile().name +
-                    "' max_force_n = " + std::to_string(max_force_n_) + " must be finite and >= 0");
+      torque_filter_(cfg_.ewma_alpha),
+      mapper_(cfg_.workspace, cfg_.device_to_world, cfg_.workspace_scale, device.profile().workspace_m),
+      watchdog_(cfg_.period_s, cfg_.safety.stale_timeout_s, cfg_.safety.stall_factor, cfg_.safety.rearm_s),
+      safety_(limits_, cfg_.safety, cfg_.passivity_control),
+      world_to_device_(glm::conjugate(cfg_.device_to_world.orientation)),
+      period_hist_(cfg_.period_s / 50.0),
+      compute_hist_(cfg_.period_s / 1000.0) {
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
+    last_tool_ = mapper_.frame().tool_world;
 }
 
 HapticLoop::~HapticLoop() { stop(); }
 
-void HapticLoop::start() {
-    if (running()) return;
-    if (thread_.joinable()) thread_.join();  // ended by itself (device lost)
-    records_.resize(cfg_.max_ticks);         // back to full size after a previous stop() trimmed it
+void HapticLoop::begin_session() {
+    records_.resize(cfg_.max_ticks);  // back to full size after a previous stop() trimmed it
     recorded_ = 0;
     ticks_ = 0;
     overruns_ = 0;
     dropped_ = 0;
     invalid_ = 0;
+    trips_ = 0;
+    speed_cuts_ = 0;
     device_lost_ = false;
+    realtime_ = false;
+    locked_ = false;
+    energy_ = 0.0;
     god_.reset();
     filter_.reset();
-    last_hip_ = cfg_.device_to_world.position;
+    torque_filter_.reset();
+    mapper_.reset();
+    watchdog_.reset();
+    watchdog_.clear_trips();
+    safety_.reset();
+    period_hist_.clear();
+    compute_hist_.clear();
+    last_tool_ = mapper_.frame().tool_world;
+    have_prev_now_ = false;
+    prev_now_s_ = 0.0;
+    prev_device_t_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+void HapticLoop::start() {
+    if (running()) return;
+    if (thread_.joinable()) thread_.join();  // ended by itself (device lost)
+    manual_session_ = false;                 // the thread takes over from step() mode
+    begin_session();
     stop_requested_.store(false, std::memory_order_relaxed);
     running_.store(true, std::memory_order_release);
     thread_ = std::thread(&HapticLoop::run, this);
@@ -98,6 +125,13 @@ void HapticLoop::start() {
 void HapticLoop::stop() {
     stop_requested_.store(true, std::memory_order_release);
     if (thread_.joinable()) thread_.join();
+    if (manual_session_) {
+        manual_session_ = false;
+        try {
+            device_.write(Vec3(0.0), Vec3(0.0));
+        } catch (...) {
+        }
+    }
     records_.resize(recorded_);  // shrinking never reallocates; start() grows it back in place
 }
 
@@ -108,80 +142,191 @@ LoopStats HapticLoop::stats() const {
     s.samples_dropped = dropped_.load(std::memory_order_relaxed);
     s.invalid_samples = invalid_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
+    s.watchdog_trips = trips_.load(std::memory_order_relaxed);
+    s.passivity_energy_j = energy_.load(std::memory_order_relaxed);
+    s.realtime_scheduling = realtime_.load(std::memory_order_relaxed);
+    s.memory_locked = locked_.load(std::memory_order_relaxed);
+    s.velocity_limit_ticks = speed_cuts_.load(std::memory_order_relaxed);
+    s.period_histogram = period_hist_.snapshot();
+    s.compute_histogram = compute_hist_.snapshot();
     return s;
 }
 
-TickRecord HapticLoop::tick(const devices::DeviceState& state, double dt_s) {
-    const Vec3 hip = cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position);
-    last_hip_ = hip;
-    const ContactResult c = god_.update(surface_.latest(), hip, dt_s);
+HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s) {
+    const ContactResult r = god_.update(surface, tool_world.position, dt_s);
+    ContactOut out;
+    out.force_n = r.force_n;
+    out.proxy_m = r.proxy_m;
+    out.contact = r.contact;
+    return out;  // a single point has no torque about its own centre
+}
+
+void HapticLoop::reset_contact() { god_.reset(); }
+
+bool HapticLoop::tick(double now_s, TickRecord& rec) {
+    devices::DeviceState state;
+    if (!device_.read(state)) {
+        device_lost_.store(true, std::memory_order_relaxed);
+        return false;
+    }
+    rec.t_s = now_s;
+    rec.period_us = have_prev_now_ ? static_cast<float>((now_s - prev_now_s_) * 1e6) : 0.0f;
+    prev_now_s_ = now_s;
+    have_prev_now_ = true;
+    rec.device = state;
+    // A finite device position can still map to a non-finite world HIP (huge workspace_scale).
+    const bool finite = finite_state(state) &&
+                        is_finite(cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position));
+    const WatchdogStatus wd = watchdog_.update(now_s, state.t_s, finite);
+    rec.watchdog = wd.causes;
+    if (wd.tripped_now) trips_.store(watchdog_.trips(), std::memory_order_relaxed);
+    if (!finite) {
+        device_.write(Vec3(0.0), Vec3(0.0));
+        invalid_.fetch_add(1, std::memory_order_relaxed);
+        safety_.hold();
+        rec.hip_m = last_tool_.position;
+        rec.proxy_m = last_tool_.position;
+        rec.tool_world = last_tool_;
+        rec.valid_sample = false;
+        rec.force_enabled = false;
+        rec.ramp = 0.0f;
+        rec.modelling_paused = mapper_.frame().modelling_paused;
+        rec.passivity_energy_j = safety_.passivity().energy_j();
+        return true;
+    }
+
+    // Time step of the contact damping, the bubble drift and the energy books: the device's own clock,
+    // else the nominal period; bounded to [period/10, 10*period] so a glitching clock cannot blow up.
+    const double dt = state.t_s > prev_device_t_
+                          ? std::clamp(state.t_s - prev_device_t_, 0.1 * cfg_.period_s, 10.0 * cfg_.period_s)
+                          : cfg_.period_s;
+    prev_device_t_ = state.t_s;
+
+    const WorkspaceFrame& wf = mapper_.update(state, dt);
+    if (wf.mapping_changed || !wf.coupled) reset_contact();
+    ContactOut c;
+    c.proxy_m = wf.tool_world.position;
+    if (wf.coupled) c = contact(surface_.latest(), wf.tool_world, dt);
+
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
-    Vec3 force_world = clamp_force(filter_.apply(clamp_force(c.force_n, max_force_n_)), max_force_n_);
+    const double fmax = limits_.max_force_n, tmax = limits_.max_torque_nm;
+    Vec3 f = clamp_force(filter_.apply(clamp_force(c.force_n + wf.force_n, fmax)), fmax);
     if (!is_finite(filter_.value())) {
         filter_.reset();
-        force_world = Vec3(0.0);
+        f = Vec3(0.0);
     }
-    device_.write(world_to_device_ * force_world, Vec3(0.0));
+    Vec3 tau = clamp_magnitude(torque_filter_.apply(clamp_magnitude(c.torque_nm, tmax)), tmax);
+    if (!is_finite(torque_filter_.value())) {
+        torque_filter_.reset();
+        tau = Vec3(0.0);
+    }
+
+    // The stylus position and velocity in world axes (physical, not scaled): F.dx is the work at the device.
+    const Quat& r = cfg_.device_to_world.orientation;
+    const SafetyOutput out =
+        safety_.apply(f, tau, r * state.pose.position, r * state.velocity_m_s, state.t_s, dt, wd.force_allowed);
+    if (out.over_speed) speed_cuts_.fetch_add(1, std::memory_order_relaxed);
+    energy_.store(safety_.passivity().energy_j(), std::memory_order_relaxed);
+    device_.write(world_to_device_ * out.force_n, world_to_device_ * out.torque_nm);
 
     ToolSample sample;
     sample.t_s = state.t_s;
-    sample.position = hip;
-    sample.orientation = glm::normalize(cfg_.device_to_world.orientation * state.pose.orientation);
+    sample.position = wf.tool_world.position;
+    sample.orientation = wf.tool_world.orientation;
     sample.radius_m = cfg_.contact.tool_radius_m;
-    sample.op = cfg_.op;
+    sample.op = wf.modelling_paused ? ToolOp::kNone : cfg_.op;
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
 
-    TickRecord rec;
-    rec.hip_m = hip;
+    last_tool_ = wf.tool_world;
+    rec.hip_m = wf.tool_world.position;
     rec.proxy_m = c.proxy_m;
-    rec.force_n = force_world;
+    rec.force_n = out.force_n;
     rec.contact = c.contact;
+    rec.tool_world = wf.tool_world;
+    rec.torque_nm = out.torque_nm;
+    rec.modelling_paused = wf.modelling_paused;
+    rec.force_enabled = out.enabled;
+    rec.ramp = static_cast<float>(out.ramp);
+    rec.passivity_energy_j = safety_.passivity().energy_j();
+    return true;
+}
+
+void HapticLoop::finish(TickRecord& rec, double compute_s) {
+    rec.compute_us = static_cast<float>(compute_s * 1e6);
+    // The session's first tick has no period.
+    if (ticks_.load(std::memory_order_relaxed) > 0) period_hist_.add(static_cast<double>(rec.period_us) * 1e-6);
+    compute_hist_.add(compute_s);
+    if (recorded_ < records_.size()) records_[recorded_++] = rec;
+    const std::size_t n = ticks_.fetch_add(1, std::memory_order_relaxed) + 1;
+
+    const WorkspaceFrame& wf = mapper_.frame();
+    LoopView& v = view_.back();
+    v.tick = n;
+    v.t_s = rec.t_s;
+    v.tool_world = rec.tool_world;
+    v.force_n = rec.force_n;
+    v.contact = rec.contact;
+    v.modelling_paused = rec.modelling_paused;
+    v.box = wf.box;
+    v.box_half_extents_m = wf.box_half_extents_m;
+    v.bubble_centre_m = wf.bubble_centre_m;
+    v.bubble_radius_m = wf.bubble_radius_m;
+    view_.publish();
+}
+
+TickRecord HapticLoop::step(double loop_time_s) {
+    if (running()) throw Error("HapticLoop::step: the loop thread is running; stop() it before stepping");
+    if (!manual_session_) {
+        if (thread_.joinable()) thread_.join();
+        begin_session();
+        manual_session_ = true;
+    }
+    TickRecord rec;
+    const std::int64_t start = now_ns();
+    bool ok = false;
+    try {
+        ok = tick(loop_time_s, rec);
+    } catch (...) {
+        device_lost_.store(true, std::memory_order_relaxed);
+    }
+    if (!ok) {
+        try {
+            device_.write(Vec3(0.0), Vec3(0.0));
+        } catch (...) {
+        }
+        TickRecord lost;
+        lost.t_s = loop_time_s;
+        lost.hip_m = last_tool_.position;
+        lost.proxy_m = last_tool_.position;
+        lost.tool_world = last_tool_;
+        lost.valid_sample = false;
+        lost.force_enabled = false;
+        lost.ramp = 0.0f;
+        return lost;
+    }
+    finish(rec, static_cast<double>(now_ns() - start) * 1e-9);
     return rec;
 }
 
 void HapticLoop::run() noexcept {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);  // wake within ~1 ns of the deadline, not the 50 us default
+    if (cfg_.request_realtime) {
+        const RealtimeStatus rt = request_realtime(cfg_.realtime_priority, cfg_.lock_memory);
+        realtime_.store(rt.fifo, std::memory_order_relaxed);
+        locked_.store(rt.memory_locked, std::memory_order_relaxed);
+    }
     const std::int64_t period_ns = std::llround(cfg_.period_s * 1e9);
     const std::int64_t t0 = now_ns();
     std::int64_t next = t0;
-    std::int64_t prev_start = -1;
-    double prev_device_t = std::nan("");  // device time of the previous valid sample
-    devices::DeviceState state;
     try {
         while (!stop_requested_.load(std::memory_order_acquire)) {
             sleep_until_ns(next);
             const std::int64_t start = now_ns();
-            if (!device_.read(state)) {
-                device_lost_.store(true, std::memory_order_relaxed);
-                break;
-            }
             TickRecord rec;
-            // A finite device position can still map to a non-finite world HIP (huge workspace_scale).
-            const bool valid = finite_state(state) &&
-                               is_finite(cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position));
-            if (valid) {
-                // Time step of the contact damping: the device's own clock, else the nominal period.
-                // Bounded to [period/10, 10*period] so a glitching clock cannot blow up the damping term.
-                const double dt = state.t_s > prev_device_t
-                                      ? std::clamp(state.t_s - prev_device_t, 0.1 * cfg_.period_s, 10.0 * cfg_.period_s)
-                                      : cfg_.period_s;
-                prev_device_t = state.t_s;
-                rec = tick(state, dt);
-            } else {
-                device_.write(Vec3(0.0), Vec3(0.0));
-                invalid_.fetch_add(1, std::memory_order_relaxed);
-                rec.hip_m = last_hip_;
-                rec.proxy_m = last_hip_;
-                rec.valid_sample = false;
-            }
+            if (!tick(static_cast<double>(start - t0) * 1e-9, rec)) break;  // device lost
             const std::int64_t end = now_ns();
-            rec.t_s = static_cast<double>(start - t0) * 1e-9;
-            rec.period_us = prev_start < 0 ? 0.0f : static_cast<float>(static_cast<double>(start - prev_start) * 1e-3);
-            rec.compute_us = static_cast<float>(static_cast<double>(end - start) * 1e-3);
-            prev_start = start;
-            if (recorded_ < records_.size()) records_[recorded_++] = rec;
-            ticks_.fetch_add(1, std::memory_order_relaxed);
+            finish(rec, static_cast<double>(end - start) * 1e-9);
             next += period_ns;
             if (end >= next) {  // missed the next deadline: count it and skip the deadlines already past
                 overruns_.fetch_add(1, std::memory_order_relaxed);

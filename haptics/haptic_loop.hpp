@@ -1,8 +1,10 @@
-// haptics/haptic_loop.hpp - the 1 kHz haptic thread: device -> god-object -> filter -> clamp -> device.
+// haptics/haptic_loop.hpp - the 1 kHz haptic thread: device -> workspace map -> contact -> filter
+// -> safety (clamps, watchdog, ramp, passivity) -> device, with telemetry.
 #pragma once
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <thread>
 #include <vector>
 
@@ -14,6 +16,11 @@
 #include "devices/haptic_device.hpp"
 #include "haptics/ewma_filter.hpp"
 #include "haptics/god_object.hpp"
+#include "haptics/safety.hpp"
+#include "haptics/safety_limits.hpp"
+#include "haptics/telemetry.hpp"
+#include "haptics/watchdog.hpp"
+#include "haptics/workspace_mapping.hpp"
 
 namespace tridex::haptics {
 
@@ -22,22 +29,37 @@ struct HapticLoopConfig {
     double period_s = 1e-3;        ///< tick period, s (1 kHz), in [1e-5, 0.1]
     ContactParams contact;         ///< god-object stiffness, damping, tool radius
     double ewma_alpha = 0.9;       ///< force filter weight a, [0, 1) (Peng et al.)
-    Pose device_to_world;          ///< device frame -> world frame (unit quaternion)
-    double workspace_scale = 1.0;  ///< world = device_to_world.apply(workspace_scale * device position), > 0
+    Pose device_to_world;          ///< device frame -> world frame (unit quaternion): the initial workspace mapping
+    double workspace_scale = 1.0;  ///< s > 0: world = R * (s * p) + offset, offset = device_to_world.position until the
+                                   ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain
     ToolOp op = ToolOp::kSubtract; ///< Boolean carried by every ToolSample
     std::size_t max_ticks = 0;     ///< TickRecords preallocated (recording stops when full); 0 = none
+    WorkspaceConfig workspace;     ///< workspace technique (WorkspaceMode) and its parameters
+    SafetyConfig safety;           ///< velocity limit, ramp-in, watchdog and passivity-controller settings
+    bool passivity_control = false;///< the passivity controller damps energy the environment creates (the observer always runs)
+    bool request_realtime = true;  ///< ask for SCHED_FIFO (and mlockall) for the loop thread; refusals are reported, not fatal
+    int realtime_priority = 80;    ///< SCHED_FIFO priority asked for (clamped to the system's range)
+    bool lock_memory = true;       ///< with request_realtime: mlockall(MCL_CURRENT | MCL_ONFAULT) (see request_realtime())
 };
 
 /// What one tick did (world frame), for telemetry and tests.
 struct TickRecord {
-    double t_s = 0.0;          ///< tick start on the loop clock, s since start()
+    double t_s = 0.0;          ///< tick start on the loop clock, s since start() (step(): the time given)
     Vec3 hip_m{0.0};           ///< HIP (tool centre) in the world, m; the last valid HIP on an invalid sample
     Vec3 proxy_m{0.0};         ///< god-object position, m
-    Vec3 force_n{0.0};         ///< force sent to the device (after filter and clamp), world frame, N
-    bool contact = false;      ///< the god-object was in contact
+    Vec3 force_n{0.0};         ///< force sent to the device (after filter and the safety stage), world frame, N
+    bool contact = false;      ///< the contact stage (god-object) was in contact
     float period_us = 0.0f;    ///< time since the previous tick's start, us (0 on the first tick)
     float compute_us = 0.0f;   ///< time from this tick's start to the end of its work, us
     bool valid_sample = true;  ///< false when the device sample had a non-finite value (zero force sent)
+    devices::DeviceState device;     ///< the raw device sample of this tick, device frame (as read, even when invalid)
+    Pose tool_world;                 ///< tool pose in the world (position = hip_m); the last valid one on an invalid sample
+    Vec3 torque_nm{0.0};             ///< torque sent to the device, world frame, N*m
+    bool modelling_paused = false;   ///< the workspace mapper paused modelling (ToolSample op = kNone)
+    std::uint8_t watchdog = 0;       ///< WatchdogCause bits found this tick (0 = healthy sample)
+    bool force_enabled = true;       ///< false when the watchdog or the velocity limit held the output at zero
+    float ramp = 1.0f;               ///< ramp-in factor applied to force and torque, [0, 1]
+    double passivity_energy_j = 0.0; ///< passivity observer energy E after this tick, J (< 0: energy created)
 };
 
 /// Counters of the loop; readable while it runs.
@@ -47,27 +69,55 @@ struct LoopStats {
     std::size_t samples_dropped = 0;  ///< ToolSamples not pushed because the ring was full
     std::size_t invalid_samples = 0;  ///< device samples with a non-finite value (zero force sent)
     bool device_lost = false;         ///< device.read() returned false (or threw) and the loop ended
+    std::size_t watchdog_trips = 0;   ///< watchdog trip episodes (non-finite, stale or stalled data)
+    double passivity_energy_j = 0.0;  ///< passivity observer energy E, J (< 0: the environment created energy)
+    bool realtime_scheduling = false; ///< the loop thread got SCHED_FIFO (false when refused or not asked)
+    bool memory_locked = false;       ///< mlockall succeeded for the loop
+    std::size_t velocity_limit_ticks = 0;  ///< ticks whose output was cut by the velocity limit
+    Histogram period_histogram;       ///< tick periods, s: bins of period_s / 50 up to 4 periods, then overflow
+    Histogram compute_histogram;      ///< tick compute times, s: bins of period_s / 1000 up to 0.2 periods
+};
+
+/// What the render thread needs from the haptic loop, published every tick (world frame, SI units).
+struct LoopView {
+    std::uint64_t tick = 0;         ///< ticks so far when published; 0 = nothing yet
+    double t_s = 0.0;               ///< loop time of the tick, s
+    Pose tool_world;                ///< tool pose, m
+    Vec3 force_n{0.0};              ///< force sent, N
+    bool contact = false;           ///< the tool touches material
+    bool modelling_paused = false;  ///< workspace button held (draw the transparent box)
+    Pose box;                       ///< workspace box centre (m) and orientation
+    Vec3 box_half_extents_m{0.0};   ///< its half extents, m
+    Vec3 bubble_centre_m{0.0};      ///< bubble centre, m (bubble mode)
+    double bubble_radius_m = 0.0;   ///< bubble radius, m; 0 when not in bubble mode
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
-/// (clock_nanosleep with TIMER_ABSTIME on CLOCK_MONOTONIC, the thread's timer slack set to 1 ns) and
-/// measures its own period and compute time. Each tick:
+/// (clock_nanosleep with TIMER_ABSTIME on CLOCK_MONOTONIC, the thread's timer slack set to 1 ns), asks
+/// for SCHED_FIFO and mlockall at start (request_realtime; refusals are reported in LoopStats), and
+/// measures its own period and compute time (per tick and in fixed-bin histograms). Each tick:
 ///   device.read() -> validate (a non-finite time, pose or velocity sends zero force and is counted)
-///   -> map device -> world (world = device_to_world.apply(scale * p)) -> newest ActiveSurface
-///   (TripleBuffer::latest) -> GodObject (its damping dt is the step of the device's clock, t_s, or
-///   period_s when that does not advance) -> clamp -> EwmaFilter (reset when non-finite) -> clamp to the profile's max force
-///   -> device.write(conj(device_to_world.orientation) * F_world, zero torque)
-///   -> push a ToolSample (device time, HIP, tool orientation, radius, op, buttons) to the ring
-///   (when full, count a drop and go on: the next successful push just makes a longer segment)
-///   -> store a TickRecord into the preallocated array (until it is full).
+///   -> Watchdog (non-finite, stale or stalled data -> zero output, re-arm, ramp in again)
+///   -> WorkspaceMapper (tool pose in the world, modelling paused, box/bubble; a workspace jump or a
+///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest):
+///   the GodObject, whose damping dt is the step of the device's clock, t_s, or period_s when that
+///   does not advance -> + the mapper's force (bubble wall) -> clamp -> EwmaFilter (reset when
+///   non-finite) -> clamp to the profile's max force (torque: its own filter and max torque)
+///   -> SafetyStage (clamps, velocity limit and watchdog gate, ramp-in, passivity controller when
+///   enabled, passivity observer) -> device.write(R^-1 * F_world, R^-1 * tau_world)
+///   -> push a ToolSample (device time, HIP, tool orientation, radius, op, or kNone while modelling is
+///   paused, buttons) to the ring (when full, count a drop and go on: the next successful push just
+///   makes a longer segment) -> store a TickRecord into the preallocated array (until it is full)
+///   -> publish a LoopView for the renderer.
 /// Inside the loop nothing allocates, locks or waits on another thread. When device.read() returns
 /// false (or read/write throws), the loop writes zero force and ends by itself (device_lost). On every
 /// exit it writes zero force last. The loop is the only reader of `surface`, the only producer of
 /// `samples` and the only user of `device` while it runs; all three must outlive it.
 class HapticLoop {
 public:
-    /// Checks the configuration; throws tridex::Error naming the HapticLoopConfig field at fault.
-    /// Preallocates (and touches) cfg.max_ticks TickRecords.
+    /// Checks the configuration; throws tridex::Error naming the field at fault (HapticLoopConfig.*,
+    /// ContactParams.*, WorkspaceConfig.*, SafetyConfig.*, or the device profile's max_force_n /
+    /// max_torque_nm). Preallocates (and touches) cfg.max_ticks TickRecords.
     HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface>& surface, SpscRing<ToolSample>& samples,
                HapticLoopConfig cfg);
     /// Stops the thread if it runs.
@@ -75,10 +125,12 @@ public:
     HapticLoop(const HapticLoop&) = delete;
     HapticLoop& operator=(const HapticLoop&) = delete;
 
-    /// Starts the thread; a second call while it runs does nothing. A restart after stop() clears the
-    /// records, the counters, the filter and the god-object.
+    /// Starts the thread; a second call while it runs does nothing. Every start begins a session: it
+    /// clears the records, counters and histograms, the filters, the god-object, the workspace mapping
+    /// (back to device_to_world), the watchdog, the ramp (which restarts) and the passivity books.
     void start();
-    /// Asks the thread to finish its tick, send zero force and exit, then joins. Idempotent.
+    /// Asks the thread to finish its tick, send zero force and exit, then joins; ends a step() session
+    /// with a zero-force write. Idempotent.
     void stop();
     /// True from start() until the thread has exited (after stop(), or by itself on device loss).
     bool running() const { return running_.load(std::memory_order_acquire); }
@@ -89,27 +141,70 @@ public:
     /// The configuration.
     const HapticLoopConfig& config() const { return cfg_; }
 
+    /// Deterministic stepping: runs one tick on the calling thread with loop_time_s (s, increasing) as
+    /// the loop clock instead of CLOCK_MONOTONIC, for tests and offline replays driven by simulated
+    /// time. The first step() after construction or stop() starts a session exactly as start() does
+    /// (no real-time request). Returns the tick's record (also stored in records(), whose unfilled
+    /// tail is default records until stop()). When the device is lost it writes zero force, sets
+    /// stats().device_lost and returns a record with valid_sample = false. stop() ends the session
+    /// and writes zero force. Throws tridex::Error when the loop thread is running.
+    TickRecord step(double loop_time_s);
+    /// The newest LoopView (render thread; exactly one reader thread). Default LoopView before the
+    /// first tick.
+    const LoopView& latest_view() { return view_.latest(); }
+
 private:
+    // What the contact stage returns (world frame). The seam where a multi-point renderer replaces
+    // the single god-object.
+    struct ContactOut {
+        Vec3 force_n{0.0};    // N
+        Vec3 torque_nm{0.0};  // N*m, about the tool centre
+        Vec3 proxy_m{0.0};    // god-object (or the tool centre when free), m
+        bool contact = false;
+    };
+
     void run() noexcept;
-    // One tick's work after a valid read (dt_s: contact damping time step); returns the record.
-    TickRecord tick(const devices::DeviceState& state, double dt_s);
+    void begin_session();
+    // The contact stage: force and torque on the tool at tool_world against the snapshot; dt_s is the
+    // damping time step (s).
+    ContactOut contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s);
+    // Forgets the contact history (workspace jump, declutch).
+    void reset_contact();
+    // One tick at loop time now_s: read, pipeline, write, sample, record. False when the device is lost
+    // (zero force written). rec gets everything but compute_us.
+    bool tick(double now_s, TickRecord& rec);
+    // Counters, histograms, record storage and the view for a finished tick.
+    void finish(TickRecord& rec, double compute_s);
 
     devices::HapticDevice& device_;
     TripleBuffer<ActiveSurface>& surface_;
     SpscRing<ToolSample>& samples_;
     HapticLoopConfig cfg_;
-    double max_force_n_;
+    SafetyLimits limits_;
     GodObject god_;
     EwmaFilter filter_;
+    EwmaFilter torque_filter_;
+    WorkspaceMapper mapper_;
+    Watchdog watchdog_;
+    SafetyStage safety_;
     Quat world_to_device_;
-    Vec3 last_hip_{0.0};
+    Pose last_tool_;
+    // Per-session tick state (loop thread only).
+    double prev_now_s_ = 0.0;
+    bool have_prev_now_ = false;
+    double prev_device_t_ = 0.0;  // device time of the previous valid sample (NaN: none yet)
+    bool manual_session_ = false; // step() mode session open
     std::vector<TickRecord> records_;
     std::size_t recorded_ = 0;
+    TripleBuffer<LoopView> view_;
+    AtomicHistogram period_hist_;
+    AtomicHistogram compute_hist_;
     std::thread thread_;
     std::atomic<bool> stop_requested_{false};
     std::atomic<bool> running_{false};
-    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, invalid_{0};
-    std::atomic<bool> device_lost_{false};
+    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
+    std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
+    std::atomic<double> energy_{0.0};
 };
 
 }  // namespace tridex::haptics

@@ -14,6 +14,11 @@ Screen Screen::powerwall() {
     return Screen{Vec3(-hw, -hh, 0.0), Vec3(hw, -hh, 0.0), Vec3(-hw, hh, 0.0)};
 }
 
+Screen Screen::desktop_monitor() {
+    const double hw = 0.5 * 0.53, hh = 0.5 * 0.30;
+    return Screen{Vec3(-hw, -hh, 0.0), Vec3(hw, -hh, 0.0), Vec3(-hw, hh, 0.0)};
+}
+
 double Screen::width() const { return glm::length(lower_right - lower_left); }
 double Screen::height() const { return glm::length(upper_left - lower_left); }
 

@@ -19,6 +19,9 @@ struct Screen {
     /// The PowerWall: 10 ft x 7.5 ft (3.048 m x 2.286 m), centred at the origin in the z = 0 plane,
     /// x to the right, y up, normal +z (the viewer stands at z > 0).
     static Screen powerwall();
+    /// A 24-inch class desktop monitor: 0.53 m x 0.30 m (about 16:9), centred at the origin in the z = 0 plane,
+    /// x to the right, y up, normal +z; the viewer's head is expected about 0.6 m in front (z = 0.6).
+    static Screen desktop_monitor();
     /// Width |lower_right - lower_left| and height |upper_left - lower_left|, m.
     double width() const;
     double height() const;

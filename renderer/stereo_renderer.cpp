@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "gpu/check.hpp"
 #include "renderer/eye_self_test.hpp"
 #include "renderer/eyes_binding.hpp"
 #include "renderer/gpu_mesh.hpp"
@@ -45,6 +46,10 @@ struct OffscreenStereoRenderer::Impl {
     std::optional<StereoTarget> target;
     std::optional<EyesBinding> eyes;
     GpuMesh workpiece, ball, cube;
+    gpu::UniqueQueryPool timestamps;  // 2 queries: top and bottom of a frame (empty without timestamp support)
+    std::uint64_t timestamp_mask = 0;  // timestampValidBits of the queue family as a mask
+    std::uint64_t frames = 0;
+    double gpu_ms = -1.0;
 
     ~Impl() {
         try {
@@ -89,6 +94,22 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
     unit.add(Vec3(0.0));
     unit.add(Vec3(1.0));
     impl->cube.assign(context, box_mesh(unit));
+
+    std::uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(context.physical_device(), &families, nullptr);
+    std::vector<VkQueueFamilyProperties> family_props(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(context.physical_device(), &families, family_props.data());
+    const std::uint32_t valid_bits = family_props.at(context.queue_family()).timestampValidBits;
+    if (context.features().timestamps && valid_bits > 0) {
+        impl->timestamp_mask = valid_bits >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << valid_bits) - 1);
+        VkQueryPoolCreateInfo q{};
+        q.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+        q.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        q.queryCount = 2;
+        VkQueryPool pool = VK_NULL_HANDLE;
+        gpu::check(vkCreateQueryPool(context.device(), &q, nullptr, &pool), "vkCreateQueryPool");
+        impl->timestamps = gpu::UniqueQueryPool(context.device(), pool);
+    }
     return OffscreenStereoRenderer(std::move(impl));
 }
 
@@ -101,9 +122,18 @@ EyeStrategy OffscreenStereoRenderer::strategy() const { return impl_->pipeline->
 std::string OffscreenStereoRenderer::strategy_note() const { return impl_->note; }
 int OffscreenStereoRenderer::width() const { return impl_->target->width(); }
 int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
+VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
+std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
+double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
 
 StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
                                              double eye_separation_m, double near_m, double far_m) {
+    draw(scene, screen, head, eye_separation_m, near_m, far_m);
+    return StereoImages{impl_->target->read_layer(0), impl_->target->read_layer(1)};
+}
+
+void OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
+                                   double eye_separation_m, double near_m, double far_m) {
     Impl& im = *impl_;
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
@@ -154,10 +184,25 @@ StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Scree
     }
 
     im.eyes->write(u);
+    const VkQueryPool pool = im.timestamps.get();
     im.context->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (pool != VK_NULL_HANDLE) {
+            vkCmdResetQueryPool(cmd, pool, 0, 2);
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
+        }
         record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear);
+        if (pool != VK_NULL_HANDLE) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 1);
     });
-    return StereoImages{im.target->read_layer(0), im.target->read_layer(1)};
+    ++im.frames;
+    if (pool != VK_NULL_HANDLE) {
+        std::uint64_t t[2] = {0, 0};
+        const VkResult r = vkGetQueryPoolResults(im.context->device(), pool, 0, 2, sizeof t, t, sizeof t[0],
+                                                 VK_QUERY_RESULT_64_BIT);
+        if (r == VK_SUCCESS) {
+            const std::uint64_t ticks = ((t[1] & im.timestamp_mask) - (t[0] & im.timestamp_mask)) & im.timestamp_mask;
+            im.gpu_ms = static_cast<double>(ticks) * im.context->properties().limits.timestampPeriod * 1e-6;
+        }
+    }
 }
 
 }  // namespace tridex::renderer

@@ -1,6 +1,7 @@
 // renderer/stereo_renderer.hpp - offscreen head-tracked stereo rendering of the sculpting scene.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -66,6 +67,24 @@ public:
     /// mesh indices, non-finite tool or workspace) or on a Vulkan failure.
     StereoImages render(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
                         double near_m = 0.05, double far_m = 20.0);
+
+    /// As render(), but leaves the frame on the GPU only (no eye Images are built on the CPU): for presenting
+    /// through colour_image() with GPU blits. Same arguments and errors as render().
+    void draw(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
+              double near_m = 0.05, double far_m = 20.0);
+
+    /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
+    /// usage COLOR_ATTACHMENT | TRANSFER_SRC). After render()/draw() it holds the last frame in
+    /// VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL and the GPU is done with it; callers may record transfer reads
+    /// (blits, copies) of it in later submissions on the Context's queue, which the next frame's render pass
+    /// waits for (its external subpass dependency covers transfer reads). Do not change its layout.
+    VkImage colour_image() const;
+    /// Frames rendered so far by render()/draw() (0: colour_image() holds no frame and is in UNDEFINED layout).
+    std::uint64_t frames_rendered() const;
+    /// GPU time of the last frame's recorded work (render passes of both eyes and the readback copy), ms,
+    /// from timestamp queries at the top and bottom of the frame; negative when the device has no
+    /// timestamps or no frame was rendered yet.
+    double last_gpu_ms() const;
 
     struct Impl;
 

@@ -1,8 +1,10 @@
 // Tests of haptics/god_object: planes (point and ball tool), slopes on Z and X rays, enter ends, free
-// space, a thin slab, oblique approach, a convex edge, and the update time.
+// space, a thin slab, oblique approach, a convex edge, the active triangle following the HIP, and the
+// update time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -247,6 +249,42 @@ TEST(GodObject, SlidingOffAConvexEdgeReleases) {
     for (double x = 20.5; x <= 22.0; x += 0.5) expect_free(g.update(*s, mm(x, 10, 9.75), kDt), mm(x, 10, 9.75));
 }
 
+// The active triangle follows the HIP: each tick its three dexel points are the rays of the half cell
+// under the HIP's projection, and it changes exactly when the HIP leaves that half cell's cover.
+TEST(GodObject, NewTriangleWhenTheHipLeavesItsCover) {
+    const double sx = 0.3, sy = -0.2;
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [&](int i, int j) { return Intervals{{0.0f, static_cast<float>(kC + sx * i + sy * j)}}; });
+    GodObject g(ContactParams{kKp, 0.0, 0.0});
+    const Vec3 a(3.3, 5.1, 0.0), b(12.7, 9.4, 0.0);  // cells
+    g.update(*s, mm(a.x, a.y, kC + sx * a.x + sy * a.y + 0.5), kDt);
+    int changes = 0, cover_changes = 0, last_key = -1;
+    std::array<Vec3, 3> last{};
+    for (int k = 0; k <= 400; ++k) {
+        const Vec3 p = a + (b - a) * (k / 400.0);
+        const ContactResult c = g.update(*s, mm(p.x, p.y, kC + sx * p.x + sy * p.y - 1.0), kDt);
+        ASSERT_TRUE(c.contact) << k;
+        const int iu = static_cast<int>(p.x), iv = static_cast<int>(p.y);
+        const bool lower = p.x - iu >= p.y - iv;
+        const int key = (iu * 64 + iv) * 2 + (lower ? 1 : 0);
+        const Vec3 expect[3] = {Vec3(iu, iv, 0), Vec3(iu + 1, lower ? iv : iv + 1, 0), Vec3(lower ? iu + 1 : iu, iv + 1, 0)};
+        for (int v = 0; v < 3; ++v) {
+            EXPECT_NEAR(c.triangle_m[v].x, expect[v].x * kH, kTolM) << k;
+            EXPECT_NEAR(c.triangle_m[v].y, expect[v].y * kH, kTolM) << k;
+            // The dexel point is the ray's end: on the plane.
+            EXPECT_NEAR(c.triangle_m[v].z, (kC + sx * expect[v].x + sy * expect[v].y) * kH, 1e-8) << k;
+        }
+        if (k > 0) {
+            cover_changes += key != last_key ? 1 : 0;
+            changes += c.triangle_m != last ? 1 : 0;
+        }
+        last_key = key;
+        last = c.triangle_m;
+    }
+    EXPECT_EQ(changes, cover_changes);
+    EXPECT_GT(cover_changes, 15);  // the line crosses 9 columns, 4 rows and about 13 diagonals
+}
+
 TEST(GodObject, RejectsBadParameters) {
     EXPECT_THROW(GodObject(ContactParams{-1.0, 0.0, 0.0}), Error);
     EXPECT_THROW(GodObject(ContactParams{700.0, std::nan(""), 0.0}), Error);
@@ -255,26 +293,28 @@ TEST(GodObject, RejectsBadParameters) {
 
 TEST(GodObject, UpdateTakesMicroseconds) {
     const auto s = half_space_all_sets();
-    GodObject g(ContactParams{kKp, 0.5, 2e-3});
-    constexpr int kCalls = 100000;
-    std::vector<double> ns(kCalls);
-    double sink = 0.0;
-    for (int i = 0; i < kCalls; ++i) {
-        // A HIP circling in and out of contact over the surface (2 mm radius, 1 mm deep on average).
-        const double a = 1e-3 * i;
-        const Vec3 hip = mm(15.0 + 2.0 * std::cos(a), 15.0 + 2.0 * std::sin(a), 11.25 + 1.5 * std::sin(7.0 * a));
-        const auto t0 = std::chrono::steady_clock::now();
-        const ContactResult c = g.update(*s, hip, kDt);
-        const auto t1 = std::chrono::steady_clock::now();
-        sink += c.force_n.z;
-        ns[i] = static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+    for (const double r : {2e-3, 0.0}) {
+        GodObject g(ContactParams{kKp, 0.5, r});
+        constexpr int kCalls = 100000;
+        std::vector<double> ns(kCalls);
+        double sink = 0.0;
+        for (int i = 0; i < kCalls; ++i) {
+            // A HIP circling in and out of contact over the surface (2 mm radius, 1 mm deep on average).
+            const double a = 1e-3 * i;
+            const Vec3 hip = mm(15.0 + 2.0 * std::cos(a), 15.0 + 2.0 * std::sin(a), 11.25 + 1.5 * std::sin(7.0 * a));
+            const auto t0 = std::chrono::steady_clock::now();
+            const ContactResult c = g.update(*s, hip, kDt);
+            const auto t1 = std::chrono::steady_clock::now();
+            sink += c.force_n.z;
+            ns[i] = static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+        }
+        std::sort(ns.begin(), ns.end());
+        const double median_us = ns[kCalls / 2] * 1e-3, p99_us = ns[kCalls * 99 / 100] * 1e-3;
+        std::printf("god-object update, tool radius %.0f mm: median %.3f us, p99 %.3f us over %d calls (force sum %.3g N)\n",
+                    r * 1e3, median_us, p99_us, kCalls, sink);
+        EXPECT_GT(sink, 0.0);      // the circle really was in contact part of the time
+        EXPECT_LT(median_us, 5.0); // "a few microseconds" (generous for a shared machine)
     }
-    std::sort(ns.begin(), ns.end());
-    const double median_us = ns[kCalls / 2] * 1e-3, p99_us = ns[kCalls * 99 / 100] * 1e-3;
-    std::printf("god-object update: median %.3f us, p99 %.3f us over %d calls (force sum %.3g N)\n", median_us,
-                p99_us, kCalls, sink);
-    EXPECT_GT(sink, 0.0);      // the circle really was in contact part of the time
-    EXPECT_LT(median_us, 5.0); // "a few microseconds" (generous for a shared machine)
 }
 
 }  // namespace

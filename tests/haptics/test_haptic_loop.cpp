@@ -171,8 +171,26 @@ TEST(HapticLoop, NanSamplesAreCountedAndGetZeroForce) {
         EXPECT_EQ(dev.trace()[n].device_force_n, Vec3(0.0)) << n;
         EXPECT_EQ(recs[n - 1].hip_m, recs[148].hip_m);  // the last valid HIP (read 149)
     }
-    EXPECT_TRUE(recs[154].valid_sample);
-    EXPECT_GT(recs[154].force_n.z, 0.1);  // force resumes with the next valid sample
+    // The watchdog tripped once; it re-arms after SafetyConfig::rearm_s = 10 ms of healthy device time
+    // (read 164: 0.164 - 0.154 >= 0.01), and the force ramps in again over ramp_s = 50 ms from there.
+    EXPECT_EQ(st.watchdog_trips, 1u);
+    EXPECT_EQ(recs[149].watchdog, kWatchdogNonFinite);
+    const double t_rearm = 0.164;
+    for (int n = 155; n <= 163; ++n) {
+        EXPECT_TRUE(recs[n - 1].valid_sample) << n;
+        EXPECT_EQ(recs[n - 1].watchdog, 0) << n;
+        EXPECT_FALSE(recs[n - 1].force_enabled) << n;
+        EXPECT_EQ(recs[n - 1].force_n, Vec3(0.0)) << n;
+    }
+    for (int n = 164; n <= 300; ++n) {
+        const TickRecord& r = recs[n - 1];
+        EXPECT_TRUE(r.force_enabled) << n;
+        const double ramp = std::clamp((r.device.t_s - t_rearm) / 0.05, 0.0, 1.0);
+        EXPECT_NEAR(r.ramp, ramp, 1e-6) << n;
+    }
+    EXPECT_EQ(recs[163].force_n, Vec3(0.0));  // the ramp starts at 0 on the re-arm tick
+    EXPECT_GT(recs[163 + 25].force_n.z, 0.0);
+    EXPECT_GT(recs[163 + 60].force_n.z, 0.1);  // full force again after the ramp
     // Invalid samples push no ToolSample.
     std::size_t samples = 0;
     ToolSample ts;

@@ -1,0 +1,37 @@
+// app/bench_haptics.hpp - `tridex bench --haptics`: haptic tick compute time against model
+// resolution and number of contact points (issue 4's benchmark).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tridex::app {
+
+/// One benchmark row: per-tick contact computation at one resolution and point count.
+struct HapticsBenchRow {
+    int n = 0;               ///< lattice cells along the workpiece's longest side
+    int points = 0;          ///< contact points on the tool
+    double median_us = 0.0;  ///< per-tick compute time, us
+    double p99_us = 0.0;
+    double max_us = 0.0;
+    double contact_fraction = 0.0;  ///< share of ticks with at least one point in contact
+};
+
+/// What to measure.
+struct HapticsBenchOptions {
+    std::string mesh;                                  ///< workpiece; empty = the bundled bunny
+    std::vector<int> resolutions{128, 256, 512, 1024}; ///< N values
+    std::vector<int> points{1, 2, 16, 64};             ///< point counts
+    int ticks = 20000;                                 ///< timed ticks per row (after 1000 warm-up ticks)
+    std::string out = "out/bench";                     ///< folder for haptics_bench.json
+};
+
+/// For each N: scan-converts the workpiece (0.3 m stock), publishes the active surface at the tool's
+/// place on the surface, then times MultiPointRenderer::update (god-object per point, sum of forces and
+/// torques) over a fixed pseudo-random walk of tool poses that press into and slide over the surface, the
+/// same walk for every row. Writes haptics_bench.json (a list of rows) into options.out, prints a table
+/// with the ratio of the slowest to the fastest N per point count, and returns the rows.
+/// Throws tridex::Error on a bad mesh or an unwritable folder.
+std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& options);
+
+}  // namespace tridex::app

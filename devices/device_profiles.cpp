@@ -1,0 +1,64 @@
+// devices/device_profiles.cpp - the Quanser 5-DOF wand and generic 6-DOF profiles, per-axis limits.
+#include "devices/device_profiles.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+
+namespace tridex::devices {
+
+namespace {
+
+constexpr const char* kWandName = "Quanser 5-DOF Haptic Wand";
+const Vec3 kWandForceN(2.3, 2.1, 3.0);
+const Vec3 kWandTorqueNm(0.230, 0.0, 0.250);  // 230 and 250 N*mm; y = roll, unactuated
+
+void require_limit(double v, const char* field) {
+    if (!(std::isfinite(v) && v >= 0.0))
+        throw Error(std::string("DeviceProfile.") + field + " = " + std::to_string(v) + " must be finite and >= 0");
+}
+
+}  // namespace
+
+DeviceProfile quanser_wand_5dof() {
+    DeviceProfile p;
+    p.name = kWandName;
+    p.workspace_m = Aabb{Vec3(-0.15), Vec3(0.15)};
+    p.max_force_n = glm::length(kWandForceN);
+    p.max_torque_nm = glm::length(kWandTorqueNm);
+    p.max_stiffness_n_per_m = units::n_per_mm(0.7);
+    p.dof_in = 5;
+    p.dof_out = 5;
+    return p;
+}
+
+DeviceProfile generic_6dof() {
+    DeviceProfile p;
+    p.name = "Generic 6-DOF";
+    p.workspace_m = Aabb{Vec3(-0.1), Vec3(0.1)};
+    p.max_force_n = 3.0;
+    p.max_torque_nm = 0.3;
+    p.max_stiffness_n_per_m = 1000.0;
+    p.dof_in = 6;
+    p.dof_out = 6;
+    return p;
+}
+
+AxisLimits axis_limits(const DeviceProfile& profile) {
+    require_limit(profile.max_force_n, "max_force_n");
+    require_limit(profile.max_torque_nm, "max_torque_nm");
+    AxisLimits a;
+    if (profile.name == kWandName) {
+        a.max_force_n = kWandForceN;
+        a.max_torque_nm = kWandTorqueNm;
+        return a;
+    }
+    a.max_force_n = Vec3(profile.max_force_n);
+    const double t = profile.max_torque_nm;
+    a.max_torque_nm = profile.dof_out >= 6 ? Vec3(t) : profile.dof_out == 5 ? Vec3(t, 0.0, t) : Vec3(0.0);
+    return a;
+}
+
+}  // namespace tridex::devices

@@ -1,0 +1,39 @@
+// devices/device_profiles.hpp - more device profiles (5-DOF wand, generic 6-DOF) and per-axis output limits.
+#pragma once
+
+#include "core/math.hpp"
+#include "devices/haptic_device.hpp"
+
+namespace tridex::devices {
+
+/// Quanser 5-DOF Haptic Wand as used in Singapogu's MS thesis (Clemson 2007), ch. 3: continuous force
+/// limits 2.3 N (x), 2.1 N (y), 3.0 N (z) and torque limits 230 N*mm and 250 N*mm about the two actuated
+/// rotation axes; the roll about the wand's own axis is neither actuated nor sensed (dof_in = dof_out = 5).
+/// Device-frame convention (an assumption: the thesis gives the numbers, not our frame): the wand lies
+/// along device y in its home pose, so the torque axes are x (0.230 N*m) and z (0.250 N*m) and y is the
+/// unactuated roll axis. Since DeviceProfile holds one force and one torque limit, max_force_n is the
+/// magnitude with every axis at its limit, |(2.3, 2.1, 3.0)| = 4.33 N, and max_torque_nm =
+/// |(0.230, 0.250)| = 0.340 N*m: loose bounds, the per-axis limits of axis_limits() are the real ones.
+/// workspace_m (0.3 m cube) and max_stiffness_n_per_m (700 N/m, as the Omni) are assumptions, not from
+/// the thesis.
+DeviceProfile quanser_wand_5dof();
+
+/// A neutral 6-DOF profile for simulation and tests, not a specific product: 0.2 m cube workspace centred
+/// on the device origin, 3.0 N and 0.3 N*m continuous limits on every axis and in magnitude, 1000 N/m
+/// stable stiffness, 6-DOF sensing and output.
+DeviceProfile generic_6dof();
+
+/// Per-axis continuous limits in the device frame (N, N*m); 0 on an axis = that axis is not actuated.
+struct AxisLimits {
+    Vec3 max_force_n{0.0};    ///< |F_x|, |F_y|, |F_z| limits, N
+    Vec3 max_torque_nm{0.0};  ///< |tau_x|, |tau_y|, |tau_z| limits, N*m
+};
+
+/// The per-axis limits of a profile. DeviceProfile has no per-axis fields, so the Quanser wand is matched by
+/// its name (quanser_wand_5dof().name) and gets its thesis values (torque y = 0, the roll axis); any other
+/// profile gets its scalar force limit on every axis and its scalar torque limit on every axis for
+/// dof_out >= 6, on x and z only for dof_out == 5 (y = the roll axis, as the wand), on none for dof_out < 5.
+/// Throws tridex::Error when a limit of the profile is negative or not finite.
+AxisLimits axis_limits(const DeviceProfile& profile);
+
+}  // namespace tridex::devices

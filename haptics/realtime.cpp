@@ -1,0 +1,44 @@
+// haptics/realtime.cpp - SCHED_FIFO and mlockall requests, refusals reported rather than thrown.
+#include "haptics/realtime.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cerrno>
+
+namespace tridex::haptics {
+
+RealtimeStatus request_realtime(int priority, bool lock_memory) {
+    RealtimeStatus st;
+    const int lo = sched_get_priority_min(SCHED_FIFO);
+    const int hi = sched_get_priority_max(SCHED_FIFO);
+    if (lo < 0 || hi < lo) {
+        st.fifo_errno = EINVAL;
+    } else {
+        sched_param sp{};
+        sp.sched_priority = std::clamp(priority, lo, hi);
+        const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+        if (rc == 0) {
+            // Confirm: some sandboxes report success without applying the policy.
+            int policy = 0;
+            sched_param now{};
+            if (pthread_getschedparam(pthread_self(), &policy, &now) == 0 && policy == SCHED_FIFO) {
+                st.fifo = true;
+                st.priority = now.sched_priority;
+            } else {
+                st.fifo_errno = EPERM;
+            }
+        } else {
+            st.fifo_errno = rc;
+        }
+    }
+    if (lock_memory) {
+        if (mlockall(MCL_CURRENT | MCL_ONFAULT) == 0) st.memory_locked = true;
+        else st.lock_errno = errno;
+    }
+    return st;
+}
+
+}  // namespace tridex::haptics

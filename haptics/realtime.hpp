@@ -1,0 +1,27 @@
+// haptics/realtime.hpp - ask the OS for real-time scheduling and resident memory for the haptic thread.
+#pragma once
+
+namespace tridex::haptics {
+
+/// What the system granted to request_realtime(). Refusals are normal (an unprivileged user, a
+/// container without CAP_SYS_NICE, an RT-throttled cgroup) and only reported.
+struct RealtimeStatus {
+    bool fifo = false;           ///< the calling thread now runs under SCHED_FIFO at `priority`
+    int priority = 0;            ///< the SCHED_FIFO priority granted (0 when refused)
+    int fifo_errno = 0;          ///< pthread_setschedparam's error when refused (EPERM, EINVAL, ...), else 0
+    bool memory_locked = false;  ///< mlockall succeeded: pages already mapped stay resident once touched
+    int lock_errno = 0;          ///< mlockall's errno when refused (EPERM, ENOMEM, ...), else 0
+};
+
+/// Asks for SCHED_FIFO at `priority` for the calling thread (pthread_setschedparam; the priority is
+/// clamped to the system's SCHED_FIFO range) and, when lock_memory is true, for
+/// mlockall(MCL_CURRENT | MCL_ONFAULT) (process-wide; it stays in force after the loop stops): every
+/// page of the process mapped now is locked as soon as it is touched, so
+/// the haptic loop's preallocated records, its stack and the snapshots it reads cannot be paged out.
+/// MCL_ONFAULT keeps large reserved-but-untouched mappings (the model's memory budget) from being
+/// populated; MCL_FUTURE is not used because under a small RLIMIT_MEMLOCK it would make later
+/// allocations of other threads fail. Never throws and never aborts: refusals are returned.
+/// Linux only (sched(7), mlock(2)).
+RealtimeStatus request_realtime(int priority, bool lock_memory);
+
+}  // namespace tridex::haptics

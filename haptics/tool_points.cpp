@@ -1,0 +1,90 @@
+// haptics/tool_points.cpp - tool contact-point sets, their check, axis-angle rotations.
+#include "haptics/tool_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tridex::haptics {
+
+namespace {
+
+constexpr double kUnitTolerance = 1e-9;
+
+std::string indexed(const char* field, int i) { return std::string("ToolPoints.") + field + "[" + std::to_string(i) + "]"; }
+
+}  // namespace
+
+ToolPoints ToolPoints::single(double radius_m) {
+    if (!(std::isfinite(radius_m) && radius_m >= 0.0))
+        throw Error("ToolPoints::single: radius_m = " + std::to_string(radius_m) + " must be finite and >= 0");
+    ToolPoints p;
+    p.count = 1;
+    p.radius_m = radius_m;
+    return p;
+}
+
+ToolPoints ToolPoints::wand(double half_length_m) {
+    if (!(std::isfinite(half_length_m) && half_length_m > 0.0))
+        throw Error("ToolPoints::wand: half_length_m = " + std::to_string(half_length_m) + " must be finite and > 0");
+    ToolPoints p;
+    p.count = 2;
+    p.local_m[0] = Vec3(0.0, half_length_m, 0.0);
+    p.normal[0] = Vec3(0.0, 1.0, 0.0);
+    p.local_m[1] = Vec3(0.0, -half_length_m, 0.0);
+    p.normal[1] = Vec3(0.0, -1.0, 0.0);
+    return p;
+}
+
+ToolPoints ToolPoints::sphere_mesh(double radius_m, int count) {
+    if (!(std::isfinite(radius_m) && radius_m > 0.0))
+        throw Error("ToolPoints::sphere_mesh: radius_m = " + std::to_string(radius_m) + " must be finite and > 0");
+    if (count < 1 || count > kMaxToolPoints)
+        throw Error("ToolPoints::sphere_mesh: count = " + std::to_string(count) + " must be in [1, " +
+                    std::to_string(kMaxToolPoints) + "]");
+    ToolPoints p;
+    p.count = count;
+    const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < count; ++i) {
+        const double z = 1.0 - (2.0 * i + 1.0) / count;
+        const double ring = std::sqrt(std::max(0.0, 1.0 - z * z));
+        const double phi = golden * i;
+        const Vec3 n(ring * std::cos(phi), ring * std::sin(phi), z);
+        p.normal[i] = n / glm::length(n);
+        p.local_m[i] = radius_m * p.normal[i];
+    }
+    return p;
+}
+
+void validate(const ToolPoints& points, bool require_normals) {
+    if (points.count < 1 || points.count > kMaxToolPoints)
+        throw Error("ToolPoints.count = " + std::to_string(points.count) + " must be in [1, " +
+                    std::to_string(kMaxToolPoints) + "]");
+    if (!(std::isfinite(points.radius_m) && points.radius_m >= 0.0))
+        throw Error("ToolPoints.radius_m = " + std::to_string(points.radius_m) + " must be finite and >= 0");
+    for (int i = 0; i < points.count; ++i) {
+        if (!is_finite(points.local_m[i])) throw Error(indexed("local_m", i) + " is not finite");
+        const Vec3& n = points.normal[i];
+        if (!is_finite(n)) throw Error(indexed("normal", i) + " is not finite");
+        const double len = glm::length(n);
+        const bool unit = std::abs(len - 1.0) <= kUnitTolerance;
+        if (require_normals && !unit)
+            throw Error(indexed("normal", i) + " must be a unit vector (the interaction mesh needs normals)");
+        if (!unit && len != 0.0) throw Error(indexed("normal", i) + " must be a unit vector or zero");
+    }
+}
+
+Quat rotation_from_axis_angle(const Vec3& axis, double angle_rad) {
+    if (!is_finite(axis)) throw Error("rotation_from_axis_angle: axis is not finite");
+    if (!std::isfinite(angle_rad)) throw Error("rotation_from_axis_angle: angle_rad is not finite");
+    const double len = glm::length(axis);
+    if (!(len > 0.0) || !std::isfinite(len)) throw Error("rotation_from_axis_angle: axis has zero length");
+    return glm::angleAxis(angle_rad, axis / len);
+}
+
+Vec3 tool_point_world(const Pose& tool, const Vec3& local_m) { return tool.orientation * local_m + tool.position; }
+
+}  // namespace tridex::haptics

@@ -1,0 +1,53 @@
+// haptics/tool_points.hpp - contact points on the tool (tool frame) and the rigid map P_i = R*T_i + P_w.
+#pragma once
+
+#include <array>
+
+#include "core/math.hpp"
+#include "core/pose.hpp"
+
+namespace tridex::haptics {
+
+/// Largest number of contact points a tool can carry (the multi-point renderer's fixed storage).
+constexpr int kMaxToolPoints = 64;
+
+/// Contact points on the tool, in the tool frame (m), each with an outward unit normal of the tool surface
+/// there (used by the haptic interaction mesh; zero where a point has no surface, e.g. the single centre
+/// point). Tool-frame convention of this module: the tool's long axis is +y ("top" at +y, "bottom" at -y).
+/// Source: Singapogu MS thesis (Clemson 2007) ch. 3 (points T_i on the wand); Popescu, Burdea, Bouzit,
+/// "VR Simulation Modeling for a Haptic Glove" 3.1 (haptic interaction mesh).
+struct ToolPoints {
+    int count = 0;                                ///< points in use, [1, kMaxToolPoints]
+    std::array<Vec3, kMaxToolPoints> local_m{};   ///< T_i: point positions in the tool frame, m
+    std::array<Vec3, kMaxToolPoints> normal{};    ///< outward unit normals in the tool frame (or zero)
+    double radius_m = 0;                          ///< ball radius around every point, m; 0 = points
+
+    /// One point at the tool centre with a ball of radius radius_m (m): the single-HIP behaviour of the
+    /// plain god-object. Its normal is zero (no interaction-mesh surface). Throws tridex::Error when
+    /// radius_m is negative or not finite.
+    static ToolPoints single(double radius_m);
+    /// The thesis's 5-DOF wand: a top point (0, +h, 0) and a bottom point (0, -h, 0) on the tool axis, with
+    /// outward normals +y and -y, radius 0. Throws tridex::Error when half_length_m is not finite and > 0.
+    static ToolPoints wand(double half_length_m);
+    /// A haptic interaction mesh over a ball of radius radius_m (m) centred on the tool centre: `count`
+    /// points spread evenly by the Fibonacci (golden-angle) spiral, z_i = 1 - (2i+1)/count,
+    /// phi_i = i * pi * (3 - sqrt 5), normals = unit positions, radius 0. Throws tridex::Error when
+    /// radius_m is not finite and > 0 or count is not in [1, kMaxToolPoints].
+    static ToolPoints sphere_mesh(double radius_m, int count);
+};
+
+/// Checks a ToolPoints: count in [1, kMaxToolPoints], finite positions, radius finite and >= 0, and every
+/// normal of the used points either zero or unit length (within 1e-9); when require_normals, every normal
+/// must be unit. Throws tridex::Error naming the field (e.g. "ToolPoints.normal[3]") otherwise.
+void validate(const ToolPoints& points, bool require_normals);
+
+/// Rotation of `angle_rad` (rad, right-handed) about `axis` (any length, normalised here), as a unit
+/// quaternion: the thesis's axis-angle wand pose (Singapogu ch. 3, Table 3 records rotation as axis-angle).
+/// Throws tridex::Error when axis is zero or not finite, or angle_rad is not finite.
+Quat rotation_from_axis_angle(const Vec3& axis, double angle_rad);
+
+/// World position of the tool-frame point local_m (m): P_i = R*T_i + P_w with R = tool.orientation and
+/// P_w = tool.position (Singapogu ch. 3). No checks (the caller passes finite values).
+Vec3 tool_point_world(const Pose& tool, const Vec3& local_m);
+
+}  // namespace tridex::haptics
