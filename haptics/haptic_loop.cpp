@@ -69,7 +69,9 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       samples_(samples),
       cfg_(validated(cfg)),
       limits_(SafetyLimits::from(device.profile(), cfg_.safety)),
-      god_(cfg_.contact),
+      contact_(cfg_.tool_points.count > 0 ? cfg_.tool_points : ToolPoints::single(cfg_.contact.tool_radius_m),
+               cfg_.contact, cfg_.contact_mode),
+      output_(output_limits(device.profile())),
       filter_(cfg_.ewma_alpha),
       torque_filter_(cfg_.ewma_alpha),
       mapper_(cfg_.workspace, cfg_.device_to_world, cfg_.workspace_scale, device.profile().workspace_m),
@@ -97,7 +99,7 @@ void HapticLoop::begin_session() {
     realtime_ = false;
     locked_ = false;
     energy_ = 0.0;
-    god_.reset();
+    contact_.reset();
     filter_.reset();
     torque_filter_.reset();
     mapper_.reset();
@@ -153,15 +155,18 @@ LoopStats HapticLoop::stats() const {
 }
 
 HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s) {
-    const ContactResult r = god_.update(surface, tool_world.position, dt_s);
+    const MultiPointResult& r = contact_.update(surface, tool_world, dt_s);
     ContactOut out;
-    out.force_n = r.force_n;
-    out.proxy_m = r.proxy_m;
-    out.contact = r.contact;
-    return out;  // a single point has no torque about its own centre
+    out.force_n = r.wrench.force_n;
+    out.torque_nm = r.wrench.torque_nm;  // about the tool centre (zero for a single centred point)
+    out.proxy_m = r.points > 0 ? r.point[0].proxy_m : tool_world.position;
+    out.in_contact = r.in_contact;
+    out.contact = r.in_contact > 0;
+    out.points = &r;
+    return out;
 }
 
-void HapticLoop::reset_contact() { god_.reset(); }
+void HapticLoop::reset_contact() { contact_.reset(); }
 
 bool HapticLoop::tick(double now_s, TickRecord& rec) {
     devices::DeviceState state;
@@ -227,7 +232,9 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         safety_.apply(f, tau, r * state.pose.position, r * state.velocity_m_s, state.t_s, dt, wd.force_allowed);
     if (out.over_speed) speed_cuts_.fetch_add(1, std::memory_order_relaxed);
     energy_.store(safety_.passivity().energy_j(), std::memory_order_relaxed);
-    device_.write(world_to_device_ * out.force_n, world_to_device_ * out.torque_nm);
+    // What the device can render: 3-DOF drops torque, 5-DOF the roll axis; per-axis limits.
+    const Wrench to_device = map_to_device(Wrench{out.force_n, out.torque_nm}, world_to_device_, output_);
+    device_.write(to_device.force_n, to_device.torque_nm);
 
     ToolSample sample;
     sample.t_s = state.t_s;
@@ -243,6 +250,19 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.proxy_m = c.proxy_m;
     rec.force_n = out.force_n;
     rec.contact = c.contact;
+    rec.points_in_contact = c.in_contact;
+    if (c.points) {
+        for (int k = 0; k < 2 && k < c.points->points; ++k) {
+            const PointState& p = c.points->point[k];
+            PointRecord& pr = rec.points[k];
+            pr.world_m = p.world_m;
+            pr.proxy_m = p.proxy_m;
+            pr.force_n = p.force_n;
+            pr.depth_m = p.contact ? p.depth_m : 0.0;
+            const Vec3 an = glm::abs(p.normal);
+            pr.collision_id = !p.contact ? -1 : (an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2));
+        }
+    }
     rec.tool_world = wf.tool_world;
     rec.torque_nm = out.torque_nm;
     rec.modelling_paused = wf.modelling_paused;

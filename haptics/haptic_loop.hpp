@@ -2,6 +2,7 @@
 // -> safety (clamps, watchdog, ramp, passivity) -> device, with telemetry.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -16,6 +17,8 @@
 #include "devices/haptic_device.hpp"
 #include "haptics/ewma_filter.hpp"
 #include "haptics/god_object.hpp"
+#include "haptics/multipoint.hpp"
+#include "haptics/wrench_output.hpp"
 #include "haptics/safety.hpp"
 #include "haptics/safety_limits.hpp"
 #include "haptics/telemetry.hpp"
@@ -40,6 +43,20 @@ struct HapticLoopConfig {
     bool request_realtime = true;  ///< ask for SCHED_FIFO (and mlockall) for the loop thread; refusals are reported, not fatal
     int realtime_priority = 80;    ///< SCHED_FIFO priority asked for (clamped to the system's range)
     bool lock_memory = true;       ///< with request_realtime: mlockall(MCL_CURRENT | MCL_ONFAULT) (see request_realtime())
+    /// Contact points on the tool (tool frame). count 0 (default) = one point at the tool centre with
+    /// radius contact.tool_radius_m, i.e. the single god-object. Singapogu ch. 3: P_i = R*T_i + P_w.
+    ToolPoints tool_points{};
+    /// Per-point god-objects (thesis) or the haptic interaction mesh (Popescu et al. 3.1-3.2).
+    MultiPointMode contact_mode = MultiPointMode::kIndependentProxies;
+};
+
+/// One contact point's state in a tick (world frame, SI units), for recordings.
+struct PointRecord {
+    Vec3 world_m{0.0};              ///< the point on the tool, m
+    Vec3 proxy_m{0.0};              ///< its god-object (collision point), m; = world_m when free
+    Vec3 force_n{0.0};              ///< its force before filtering and limits, N
+    double depth_m = 0.0;           ///< penetration (deviation), m; 0 when free
+    std::int32_t collision_id = -1; ///< ray set (0 = X, 1 = Y, 2 = Z) best aligned with the contact normal; -1 = free
 };
 
 /// What one tick did (world frame), for telemetry and tests.
@@ -60,6 +77,10 @@ struct TickRecord {
     bool force_enabled = true;       ///< false when the watchdog or the velocity limit held the output at zero
     float ramp = 1.0f;               ///< ramp-in factor applied to force and torque, [0, 1]
     double passivity_energy_j = 0.0; ///< passivity observer energy E after this tick, J (< 0: energy created)
+    /// The first two contact points (the wand's top and bottom, Singapogu Table 3; point 0 alone for a
+    /// single-point tool), world frame.
+    std::array<PointRecord, 2> points{};
+    int points_in_contact = 0;       ///< contact points touching material this tick
 };
 
 /// Counters of the loop; readable while it runs.
@@ -100,11 +121,13 @@ struct LoopView {
 ///   -> Watchdog (non-finite, stale or stalled data -> zero output, re-arm, ramp in again)
 ///   -> WorkspaceMapper (tool pose in the world, modelling paused, box/bubble; a workspace jump or a
 ///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest):
-///   the GodObject, whose damping dt is the step of the device's clock, t_s, or period_s when that
-///   does not advance -> + the mapper's force (bubble wall) -> clamp -> EwmaFilter (reset when
+///   the MultiPointRenderer (one god-object per tool point, force sum and torque about the tool centre,
+///   or the interaction mesh), whose damping dt is the step of the device's clock, t_s, or period_s when
+///   that does not advance -> + the mapper's force (bubble wall) -> clamp -> EwmaFilter (reset when
 ///   non-finite) -> clamp to the profile's max force (torque: its own filter and max torque)
 ///   -> SafetyStage (clamps, velocity limit and watchdog gate, ramp-in, passivity controller when
-///   enabled, passivity observer) -> device.write(R^-1 * F_world, R^-1 * tau_world)
+///   enabled, passivity observer) -> map_to_device (the device's DOF and per-axis limits: 3-DOF
+///   drops torque, 5-DOF the roll axis) -> device.write(R^-1 * F_world, R^-1 * tau_world)
 ///   -> push a ToolSample (device time, HIP, tool orientation, radius, op, or kNone while modelling is
 ///   paused, buttons) to the ring (when full, count a drop and go on: the next successful push just
 ///   makes a longer segment) -> store a TickRecord into the preallocated array (until it is full)
@@ -159,8 +182,10 @@ private:
     struct ContactOut {
         Vec3 force_n{0.0};    // N
         Vec3 torque_nm{0.0};  // N*m, about the tool centre
-        Vec3 proxy_m{0.0};    // god-object (or the tool centre when free), m
+        Vec3 proxy_m{0.0};    // god-object of point 0 (or the tool centre when free), m
         bool contact = false;
+        int in_contact = 0;   // points in contact
+        const MultiPointResult* points = nullptr;  // per-point detail of this tick (owned by contact_)
     };
 
     void run() noexcept;
@@ -181,7 +206,8 @@ private:
     SpscRing<ToolSample>& samples_;
     HapticLoopConfig cfg_;
     SafetyLimits limits_;
-    GodObject god_;
+    MultiPointRenderer contact_;
+    OutputLimits output_;  // what the device can render (3/5/6 DOF, per-axis limits)
     EwmaFilter filter_;
     EwmaFilter torque_filter_;
     WorkspaceMapper mapper_;
