@@ -7,6 +7,8 @@
 #include <filesystem>
 
 #include "app/session.hpp"
+#include "app/session_recording.hpp"
+#include "app/session_settings.hpp"
 #include "app/stroke.hpp"
 #include "core/error.hpp"
 #include "devices/simulated_device.hpp"
@@ -26,8 +28,6 @@ using Clock = std::chrono::steady_clock;
 // World frame (DESIGN.md): metres, y up, the PowerWall screen in the z = 0 plane facing +z. The
 // workpiece floats 0.3 m in front of the wall, within the designer's reach (head pose: session.cpp).
 const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
-constexpr double kStiffness = 700.0;      // N/m: 0.7 N/mm, stable on Omni-class devices at 1 kHz
-constexpr double kDamping = 0.5;          // N*s/m along the contact normal
 
 }  // namespace
 
@@ -50,35 +50,44 @@ void run_demo(const DemoOptions& o) {
                     std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_radius_m * 1e3));
     check_image_size(o.width, o.height);
 
-    // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
-    Workpiece wp = prepare_workpiece(o.mesh.empty() ? default_mesh_path() : o.mesh, o.resolution, o.stock_m,
-                                     kWorkpieceCentre);
+    SessionSettings s;
+    s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
+    s.resolution = o.resolution;
+    s.stock_m = o.stock_m;
+    s.workpiece_centre_m = kWorkpieceCentre;
+    s.tool_radius_m = o.tool_radius_m;
+    s.points = o.points;
+    s.device = o.device;
+    s.workspace_mode = o.workspace;
+    s.static_friction = o.static_friction;
+    s.dynamic_friction = o.dynamic_friction;
+    s.cutting = o.cutting;
+    const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
 
-    // 2. The stroke and the simulated device that follows it.
+    // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
+    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+
+    // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;
     sp.duration_s = o.seconds;
     sp.tool_radius_m = o.tool_radius_m;
     const StrokePlan plan = plan_stroke(wp.model, sp);
-    const devices::DeviceProfile profile = devices::DeviceProfile::phantom_omni();
+    s.device_origin_m = plan.centre_m;
+    const haptics::HapticLoopConfig cfg = loop_config(s, static_cast<std::size_t>(o.seconds * 1500.0) + 1000);
     std::vector<Vec3> device_path;
-    for (const Vec3& w : plan.world_m) device_path.push_back(w - plan.centre_m);
+    for (const Vec3& w : plan.world_m) device_path.push_back((w - plan.centre_m) / s.workspace_scale);
     devices::SimulatedDevice device(profile, devices::ScriptedPath(plan.t_s, device_path), devices::SimulatedHandParams{},
-                                    1e-3);
+                                    cfg.period_s);
 
-    // 3. The haptic loop (device workspace centred on the pass) and the sculpt thread. The session lasts
-    // the stroke's length in device time (one simulated step per tick), so an overloaded machine that
-    // skips deadlines still plays the whole stroke; wall time is only a safety net.
-    haptics::HapticLoopConfig cfg;
-    cfg.period_s = 1e-3;
-    cfg.contact = haptics::ContactParams{kStiffness, kDamping, o.tool_radius_m};
-    cfg.device_to_world.position = plan.centre_m;
-    cfg.op = ToolOp::kSubtract;
-    cfg.max_ticks = static_cast<std::size_t>(o.seconds * 1000.0 * 1.5) + 1000;
+    // 3. The haptic loop and the sculpt thread. The session lasts the stroke's length in device time
+    // (one simulated step per tick), so an overloaded machine that skips deadlines still plays the whole
+    // stroke; wall time is only a safety net.
     const std::size_t ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
     const SessionRun run = run_session(wp, device, cfg, ticks, 3.0 * o.seconds + 10.0, plan.world_m.front());
+    if (!o.record.empty()) write_session_recording(o.record, s, run.records);
 
     // 4. Images, mesh, per-tick haptics and the report.
-    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, wp, run, cfg, profile, t_start);
+    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, s, wp, run, cfg, profile, t_start);
 }
 
 }  // namespace tridex::app

@@ -17,10 +17,17 @@ struct DemoOptions {
     double stock_m = 0.3;          ///< the workpiece is scaled so its longest side is this, m
     double tool_radius_m = 0.008;  ///< ball tool radius, m
     bool validate = false;         ///< enable VK_LAYER_KHRONOS_validation (also on with TRIDEX_VALIDATION=1)
+    int points = 1;                ///< contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh
+    std::string device = "omni";   ///< simulated device profile: omni | wand | 6dof
+    std::string workspace = "peng_moving";  ///< workspace technique: peng_moving | scaling | clutching | bubble
+    double static_friction = 0.2;  ///< Coulomb friction on the proxy (static >= dynamic >= 0)
+    double dynamic_friction = 0.15;
+    bool cutting = true;           ///< cutting reaction force while carving
+    std::string record;            ///< when set, the session is recorded to this file (TRDXREC)
 };
 
 /// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
-/// into options.out. Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
+/// into options.out (and the session recording to options.record when set). Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
 /// cannot be loaded or is not closed, an impossible resolution, no Vulkan device).
 void run_demo(const DemoOptions& options);
 

@@ -11,6 +11,7 @@
 
 #include "app/bench_haptics.hpp"
 #include "app/demo.hpp"
+#include "app/replay.hpp"
 #include "core/error.hpp"
 
 namespace {
@@ -46,6 +47,26 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--height", demo.height, "Per-eye image height, px")->capture_default_str();
     demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Ball tool radius, mm")->capture_default_str();
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
+    demo_cmd->add_option("--points", demo.points, "Contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh")
+        ->capture_default_str();
+    demo_cmd->add_option("--device", demo.device, "Simulated device profile: omni, wand (5-DOF) or 6dof")->capture_default_str();
+    demo_cmd->add_option("--workspace", demo.workspace, "Workspace technique: peng_moving, scaling, clutching or bubble")
+        ->capture_default_str();
+    demo_cmd->add_option("--static-friction", demo.static_friction, "Coulomb static friction coefficient")->capture_default_str();
+    demo_cmd->add_option("--dynamic-friction", demo.dynamic_friction, "Coulomb dynamic friction coefficient")->capture_default_str();
+    bool no_cutting = false;
+    demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
+    demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+
+    tridex::app::OutputOptions replay_out;
+    replay_out.out = "out/replay";
+    std::string replay_file;
+    CLI::App* replay_cmd = cli.add_subcommand("replay", "Sculpt a recorded session again and write the demo's outputs");
+    replay_cmd->add_option("FILE", replay_file, "Recording made with `tridex demo --record FILE`")->required()->check(CLI::ExistingFile);
+    replay_cmd->add_option("--out", replay_out.out, "Output folder")->capture_default_str();
+    replay_cmd->add_option("--width", replay_out.width, "Per-eye image width, px")->capture_default_str();
+    replay_cmd->add_option("--height", replay_out.height, "Per-eye image height, px")->capture_default_str();
+    replay_cmd->add_flag("--validate", replay_out.validate, "Enable the Vulkan validation layer");
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -64,8 +85,10 @@ int main(int argc, char** argv) {
     try {
         if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
+            demo.cutting = !no_cutting;
             tridex::app::run_demo(demo);
         }
+        if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out);
         if (*bench_cmd) {
             if (!bench_haptics) throw tridex::Error("bench: choose what to measure: --haptics");
             tridex::app::run_haptics_bench(hbench);

@@ -57,6 +57,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     const double cell = r.lattice.cell_m;
     nlohmann::json j;
     j["mesh_file"] = r.mesh_path;
+    j["settings"] = nlohmann::json::parse(settings_to_json(*r.settings));
     j["ticks"] = recs.size();
     j["period_us"] = summary_json(period, true);
     j["tick_compute_us"] = summary_json(compute, true);
@@ -76,7 +77,17 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                  {"boundary_edges", r.edges.boundary_edges},
                  {"nonmanifold_edges", r.edges.nonmanifold_edges},
                  {"misoriented_edges", r.edges.misoriented_edges}};
-    j["haptics"] = {{"contact_ticks", contact_ticks},
+    const SessionSettings& st = *r.settings;
+    j["haptics"] = {{"workspace_mode", st.workspace_mode},
+                    {"points", st.points},
+                    {"device", r.device_profile},
+                    {"watchdog_trips", r.loop.watchdog_trips},
+                    {"passivity_energy_j", r.loop.passivity_energy_j},
+                    {"realtime_scheduling", r.loop.realtime_scheduling},
+                    {"static_friction", st.static_friction},
+                    {"dynamic_friction", st.dynamic_friction},
+                    {"cutting", st.cutting},
+                    {"contact_ticks", contact_ticks},
                     {"max_force_n", max_force},
                     {"device_max_force_n", r.max_force_n},
                     {"stiffness_n_per_m", r.stiffness_n_per_m},

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/sculpt_thread.hpp"
+#include "app/session_settings.hpp"
 #include "compute/lattice.hpp"
 #include "core/tri_mesh.hpp"
 #include "haptics/haptic_loop.hpp"
@@ -35,6 +36,8 @@ struct DemoReport {
     std::string device;                       ///< Vulkan device name
     std::string eye_strategy;                 ///< which eye strategy rendered, and why (self-test result)
     std::uint32_t validation_messages = 0;    ///< Vulkan validation messages seen (0 expected)
+    const SessionSettings* settings = nullptr;///< the session's settings; not owned, non-null
+    std::string device_profile;               ///< haptic device profile name
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,

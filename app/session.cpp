@@ -75,6 +75,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     loop.start();
     while (loop.running() && (ticks == 0 || loop.stats().ticks < ticks) && seconds_since(t_session) < timeout_s)
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    run.last_view = loop.latest_view();  // this thread is the view's only reader
     loop.stop();
     sculpt.stop();  // drains every sample the loop pushed; rethrows a sculpt failure
     run.session_s = seconds_since(t_session);
@@ -87,7 +88,8 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     return run;
 }
 
-void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const SessionRun& run,
+void write_session_outputs(const OutputOptions& opt, const SessionSettings& settings, const Workpiece& wp,
+                           const SessionRun& run,
                            const haptics::HapticLoopConfig& cfg, const devices::DeviceProfile& profile,
                            Clock::time_point t_start) {
     // Both eyes through the off-axis PowerWall frusta, offscreen.
@@ -100,8 +102,15 @@ void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const 
     view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.show_workspace = true;
-    const Vec3 c = cfg.device_to_world.position;
-    view.workspace_m = Aabb{profile.workspace_m.lo * cfg.workspace_scale + c, profile.workspace_m.hi * cfg.workspace_scale + c};
+    const haptics::LoopView& lv = run.last_view;
+    if (lv.tick > 0) {  // the workspace where the loop left it (workspace moving shifts it)
+        view.workspace_m = Aabb{lv.box.position - lv.box_half_extents_m, lv.box.position + lv.box_half_extents_m};
+        view.bubble_centre_m = lv.bubble_centre_m;
+        view.bubble_radius_m = lv.bubble_radius_m;
+    } else {
+        const Vec3 c = cfg.device_to_world.position;
+        view.workspace_m = Aabb{profile.workspace_m.lo * cfg.workspace_scale + c, profile.workspace_m.hi * cfg.workspace_scale + c};
+    }
     Pose head;
     head.position = kHeadPosition;
     const auto t_render = Clock::now();
@@ -139,6 +148,8 @@ void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const 
     r.tool_radius_m = cfg.contact.tool_radius_m;
     r.stiffness_n_per_m = cfg.contact.stiffness_n_per_m;
     r.max_force_n = profile.max_force_n;
+    r.settings = &settings;
+    r.device_profile = profile.name;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages();

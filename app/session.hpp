@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/sculpt_thread.hpp"
+#include "app/session_settings.hpp"
 #include "compute/tridexel.hpp"
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
@@ -41,6 +42,7 @@ struct SessionRun {
     double session_s = 0.0;                    ///< wall time of the session, s
     double volume_after_m3 = 0.0;              ///< tri-dexel volume after the session
     TriMesh carved;                            ///< the contoured model after the session, world m
+    haptics::LoopView last_view;               ///< the loop's last published view (tool, workspace box, bubble)
 };
 
 /// Runs the haptic loop on `device` with `cfg` and the sculpt thread on wp.model, until the loop has
@@ -57,11 +59,12 @@ struct OutputOptions {
     bool validate = false;  ///< Vulkan validation layer
 };
 
-/// Renders both eyes of the carved workpiece (tool at its last position, the device workspace as a
-/// translucent box) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
+/// Renders both eyes of the carved workpiece (tool at its last position, the haptic workspace as a
+/// translucent box and, in bubble mode, the bubble) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
 /// into opt.out, then prints a summary. Throws tridex::Error when a file cannot be written or no Vulkan
 /// device is usable.
-void write_session_outputs(const OutputOptions& opt, const Workpiece& wp, const SessionRun& run,
+void write_session_outputs(const OutputOptions& opt, const SessionSettings& settings, const Workpiece& wp,
+                           const SessionRun& run,
                            const haptics::HapticLoopConfig& cfg, const devices::DeviceProfile& profile,
                            std::chrono::steady_clock::time_point t_start);
 

@@ -1,0 +1,17 @@
+// app/replay.hpp - `tridex replay FILE --out DIR`: sculpt a recorded session again.
+#pragma once
+
+#include <string>
+
+#include "app/session.hpp"
+
+namespace tridex::app {
+
+/// Reads the recording (devices/recording.hpp), rebuilds the recorded session's workpiece and haptic
+/// loop from the settings in its header, plays the recorded device samples back through a ReplayDevice
+/// (one per tick, at the recorded rate) and writes the same outputs as the demo into out.out. The tool
+/// sample stream, and so the sculpted model, equals the live session's. Throws tridex::Error naming the
+/// file on a bad recording or settings.
+void run_replay(const std::string& recording_path, const OutputOptions& out);
+
+}  // namespace tridex::app

@@ -1,0 +1,54 @@
+// app/session_recording.cpp - loop records -> recording file.
+#include "app/session_recording.hpp"
+
+#include <cmath>
+
+namespace tridex::app {
+
+devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points) {
+    devices::RecordedTick t;
+    const double dev_t = r.device.t_s;
+    t.t_s = (std::isfinite(dev_t) && dev_t > prev_t_s) ? dev_t : std::nextafter(prev_t_s, INFINITY) + 1e-9;
+    t.device = r.device;
+    t.wand_centre_m = r.tool_world.position;
+    devices::to_axis_angle(r.tool_world.orientation, t.rotation_axis, t.rotation_angle_rad);
+    const haptics::PointRecord& top = r.points[0];
+    // A single-point tool has no second point: the bottom repeats the top, free.
+    const haptics::PointRecord bottom =
+        tool_points >= 2 ? r.points[1] : haptics::PointRecord{top.world_m, top.world_m, Vec3(0.0), 0.0, -1};
+    t.top_m = top.world_m;
+    t.bottom_m = bottom.world_m;
+    t.top_contact_m = top.proxy_m;
+    t.bottom_contact_m = bottom.proxy_m;
+    t.top_deviation_m = top.depth_m;
+    t.bottom_deviation_m = bottom.depth_m;
+    t.top_force_n = top.force_n;
+    t.bottom_force_n = bottom.force_n;
+    t.force_n = r.force_n;
+    t.torque_nm = r.torque_nm;
+    t.top_collision_id = top.collision_id;
+    t.bottom_collision_id = bottom.collision_id;
+    t.buttons = r.device.buttons;
+    t.tool_mode = static_cast<std::uint8_t>(r.modelling_paused ? ToolOp::kNone : op);
+    t.valid = r.valid_sample ? 1 : 0;
+    return t;
+}
+
+void write_session_recording(const std::string& path, const SessionSettings& settings,
+                             const std::vector<haptics::TickRecord>& records) {
+    devices::RecordingHeader header;
+    header.device_name = device_profile(settings.device).name;
+    header.period_s = settings.period_s;
+    header.workspace_mode = settings.workspace_mode;
+    header.notes = settings_to_json(settings);
+    devices::RecordingWriter writer(path, header);
+    double prev = -INFINITY;
+    for (const haptics::TickRecord& r : records) {
+        const devices::RecordedTick t = to_recorded_tick(r, ToolOp::kSubtract, prev, settings.points);
+        writer.write(t);
+        prev = t.t_s;
+    }
+    writer.close();
+}
+
+}  // namespace tridex::app

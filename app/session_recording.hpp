@@ -1,0 +1,26 @@
+// app/session_recording.hpp - turning a session's haptic tick records into a recording file
+// (Singapogu's Table 3 fields, devices/recording.hpp) and back into a replayable session.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "app/session_settings.hpp"
+#include "devices/recording.hpp"
+#include "haptics/haptic_loop.hpp"
+
+namespace tridex::app {
+
+/// One recorded tick from a loop record: the raw device sample (the replay input), the tool pose as
+/// axis-angle, the top and bottom points (points 0 and 1; with tool_points == 1 the point is recorded as
+/// the top and a copy with no contact as the bottom), their collision points, deviations, forces and
+/// collision ids, the summed force and torque, buttons and the tool mode (ToolOp, kNone while modelling
+/// was paused). t_s is the device time when it advances past prev_t_s, else just after prev_t_s.
+devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points);
+
+/// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
+/// Throws tridex::Error "<path>: ..." when it cannot write.
+void write_session_recording(const std::string& path, const SessionSettings& settings,
+                             const std::vector<haptics::TickRecord>& records);
+
+}  // namespace tridex::app
