@@ -12,6 +12,7 @@
 #include "app/bench_haptics.hpp"
 #include "app/demo.hpp"
 #include "app/replay.hpp"
+#include "app/run_cli.hpp"
 #include "core/error.hpp"
 
 namespace {
@@ -77,6 +78,9 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
     bench_cmd->add_option("--ticks", hbench.ticks, "Timed ticks per row")->capture_default_str()->check(CLI::Range(100, 10000000));
 
+    tridex::app::RunOptions run;
+    CLI::App* run_cmd = tridex::app::add_run_command(cli, run);
+
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -89,6 +93,7 @@ int main(int argc, char** argv) {
             tridex::app::run_demo(demo);
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out);
+        if (*run_cmd) return tridex::app::run_command(run);
         if (*bench_cmd) {
             if (!bench_haptics) throw tridex::Error("bench: choose what to measure: --haptics");
             tridex::app::run_haptics_bench(hbench);

@@ -2,6 +2,7 @@
 #include "app/sculpt_thread.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 #include "compute/active_surface_publish.hpp"
@@ -54,6 +55,13 @@ void SculptThread::run() {
                 worked = true;
             }
         }
+        if (!failure_) {
+            try {
+                publish_mesh_if_due(stopping && !worked);  // the last state always reaches the renderer
+            } catch (...) {
+                failure_ = std::current_exception();
+            }
+        }
         if (stopping && !worked) return;  // the ring was drained after stop was asked
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -86,8 +94,37 @@ bool SculptThread::step() {
         const auto t2 = std::chrono::steady_clock::now();
         stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
         stats_.contour_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+        mesh_pending_ = mesh_out_ != nullptr;
     }
     return true;
+}
+
+void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s) {
+    if (thread_.joinable()) throw Error("SculptThread::publish_mesh_to: call it before start()");
+    if (!std::isfinite(min_interval_s) || min_interval_s < 0.0)
+        throw Error("SculptThread::publish_mesh_to: min_interval_s must be finite and >= 0, got " +
+                    std::to_string(min_interval_s));
+    mesh_out_ = &out;
+    mesh_interval_s_ = min_interval_s;
+    publish_mesh();
+}
+
+void SculptThread::publish_mesh() {
+    const auto t0 = std::chrono::steady_clock::now();
+    MeshFrame& slot = mesh_out_->back();
+    slot.mesh = contourer_.mesh();
+    slot.version = ++mesh_version_;
+    mesh_out_->publish();
+    mesh_pending_ = false;
+    mesh_last_ = std::chrono::steady_clock::now();
+    ++stats_.mesh_publishes;
+    stats_.mesh_publish_ms.push_back(std::chrono::duration<double, std::milli>(mesh_last_ - t0).count());
+}
+
+void SculptThread::publish_mesh_if_due(bool force) {
+    if (!mesh_pending_) return;
+    const double since_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_last_).count();
+    if (force || since_s >= mesh_interval_s_) publish_mesh();
 }
 
 void SculptThread::publish(const Vec3& centre_m) {

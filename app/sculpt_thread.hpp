@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <exception>
 #include <cstdint>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "core/active_surface.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
+#include "core/tri_mesh.hpp"
 #include "core/triple_buffer.hpp"
 
 namespace tridex::app {
@@ -27,6 +29,14 @@ struct SculptStats {
     std::uint64_t publishes = 0;         ///< active-surface snapshots published
     std::vector<double> boolean_ms;      ///< per changing step: Booleans + active-surface publish, ms
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
+    std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
+    std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
+};
+
+/// A contoured mesh handed from the sculpt thread to the renderer (SculptThread::publish_mesh_to).
+struct MeshFrame {
+    std::uint64_t version = 0;  ///< 1 for the first publish, +1 per publish; 0 = nothing published yet
+    TriMesh mesh;               ///< the whole contoured model, world m, CCW from outside
 };
 
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
@@ -52,10 +62,21 @@ public:
     /// Counters; call after stop().
     const SculptStats& stats() const { return stats_; }
 
+    /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
+    /// renderer is its one reader and takes the newest MeshFrame without waiting). Publishes the current
+    /// mesh at once (on the calling thread), then, on the sculpt thread, after re-contouring, at most once
+    /// per min_interval_s of wall time (s, >= 0; a change inside the interval is published when it
+    /// passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
+    /// the active surface is still published before contouring. `out` must outlive the thread. Call
+    /// before start(). Throws tridex::Error when the thread runs or min_interval_s is not finite and >= 0.
+    void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0);
+
 private:
     void run();
     bool step();  // one drain + apply + contour + publish; false when there was nothing to do
     void publish(const Vec3& centre_m);
+    void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
+    void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
 
     compute::TriDexel& model_;
     compute::Contourer& contourer_;
@@ -69,6 +90,11 @@ private:
     std::atomic<bool> stop_{false};
     std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
     std::thread thread_;
+    TripleBuffer<MeshFrame>* mesh_out_ = nullptr;  // renderer hand-off; nullptr = no mesh publishing
+    double mesh_interval_s_ = 0.0;
+    bool mesh_pending_ = false;                     // contoured since the last mesh publish
+    std::uint64_t mesh_version_ = 0;
+    std::chrono::steady_clock::time_point mesh_last_{};
 };
 
 }  // namespace tridex::app

@@ -3,8 +3,19 @@
 
 namespace tridex::renderer {
 
+DrawPhase phase_of(PipelineKind kind) {
+    switch (kind) {
+        case PipelineKind::kOpaque: return DrawPhase::kOpaque;
+        case PipelineKind::kTranslucentBack:
+        case PipelineKind::kTranslucentFront: return DrawPhase::kTranslucent;
+        case PipelineKind::kOverlay: return DrawPhase::kOverlay;
+    }
+    return DrawPhase::kOpaque;
+}
+
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
-                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4]) {
+                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
+                         const PhaseTimestamps& timestamps) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -12,8 +23,8 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     clears[1].depthStencil = {1.0f, 0};
     const VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
     const VkRect2D scissor{{0, 0}, {w, h}};
-    const bool per_eye = pipeline.strategy() == EyeStrategy::kPassPerEye;
-    const std::uint32_t instances = pipeline.strategy() == EyeStrategy::kInstancedLayer ? 2u : 1u;
+    const EyeStrategy strategy = pipeline.strategy();
+    const bool per_eye = strategy == EyeStrategy::kPassPerEye;
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
     const auto& framebuffers = target.framebuffers();
@@ -30,21 +41,36 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
         VkPipeline bound = VK_NULL_HANDLE;
-        for (const StereoDraw& d : draws) {
-            if (d.index_count == 0) continue;
-            const VkPipeline p = pipeline.pipeline(d.kind);
-            if (p != bound) {
-                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
-                bound = p;
+        for (int phase = 0; phase < kDrawPhaseCount; ++phase) {
+            if (timestamps.pool != VK_NULL_HANDLE)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                    timestamps.query(pass, phase));
+            for (const StereoDraw& d : draws) {
+                if (d.index_count == 0 || static_cast<int>(phase_of(d.kind)) != phase) continue;
+                const std::uint32_t mask = d.eye_mask & 0b11u;
+                if (mask == 0 || (per_eye && !(mask & (1u << pass)))) continue;
+                std::uint32_t instances = 1, first_instance = 0;
+                if (strategy == EyeStrategy::kInstancedLayer) {
+                    instances = mask == 0b11u ? 2u : 1u;
+                    first_instance = mask == 0b10u ? 1u : 0u;
+                }
+                const VkPipeline p = pipeline.pipeline(d.kind);
+                if (p != bound) {
+                    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+                    bound = p;
+                }
+                DrawConstants constants = d.constants;
+                constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
+                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                const VkDeviceSize offset = 0;
+                vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
+                vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
             }
-            DrawConstants constants = d.constants;
-            constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
-            vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
-            const VkDeviceSize offset = 0;
-            vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
-            vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
-            vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, 0);
         }
+        if (timestamps.pool != VK_NULL_HANDLE)
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                timestamps.query(pass, kDrawPhaseCount));
         vkCmdEndRenderPass(cmd);
     }
 

@@ -1,6 +1,7 @@
 // renderer/stereo_frame.hpp - recording one stereo frame's draws for any eye strategy.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -12,22 +13,52 @@
 
 namespace tridex::renderer {
 
-/// One indexed draw (uint32 indices, MeshVertex vertices) seen by both eyes.
+/// One indexed draw (uint32 indices, MeshVertex vertices) seen by the eyes in eye_mask.
 struct StereoDraw {
     PipelineKind kind = PipelineKind::kOpaque;
     VkBuffer vertices = VK_NULL_HANDLE;
     VkBuffer indices = VK_NULL_HANDLE;
     std::uint32_t index_count = 0;
     DrawConstants constants;  ///< `eye` is overwritten per pass for kPassPerEye
+    /// Eyes that draw it: bit 0 left, bit 1 right (0b11 both; 0 none). Pass-per-eye honours it per pass;
+    /// instanced-layer draws only the masked instances (first instance = eye); multiview cannot draw one
+    /// view only, so a non-zero mask draws in both views.
+    std::uint32_t eye_mask = 0b11;
+};
+
+/// The timed phases of a render pass instance, in drawing order: opaque (kOpaque), translucent
+/// (kTranslucentBack, kTranslucentFront), overlay (kOverlay).
+enum class DrawPhase { kOpaque = 0, kTranslucent = 1, kOverlay = 2 };
+constexpr int kDrawPhaseCount = 3;
+
+/// The phase a pipeline kind belongs to.
+DrawPhase phase_of(PipelineKind kind);
+
+/// Where record_stereo_frame() writes phase timestamps: in render pass instance p, boundary b (0 = before
+/// the opaque phase, 1 = before translucent, 2 = before overlay, 3 = after overlay) goes to query
+/// first_query + (p * 4 + b) * stride. stride is the number of queries one timestamp takes: 2 inside a
+/// multiview render pass (one per view, Vulkan spec vkCmdWriteTimestamp), else 1. The caller resets those
+/// queries before recording and reads them after the submission completes.
+struct PhaseTimestamps {
+    VkQueryPool pool = VK_NULL_HANDLE;
+    std::uint32_t first_query = 0;
+    std::uint32_t stride = 1;
+    /// Query index of boundary `boundary` (0..3) of render pass instance `pass`.
+    std::uint32_t query(std::size_t pass, int boundary) const {
+        return first_query + (static_cast<std::uint32_t>(pass) * 4u + static_cast<std::uint32_t>(boundary)) * stride;
+    }
 };
 
 /// Records into `cmd` (in the recording state): the strategy's render pass instance(s) over `target`
-/// clearing colour to `clear_rgba` (linear, 0..1) and depth to 1, `draws` in order for both eyes
-/// (pass-per-eye: each draw once per pass with constants.eye = pass; multiview: once, the view mask
-/// replicates it; instanced-layer: once with 2 instances), then the copy of both colour layers into the
-/// target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
-/// pipeline.set_layout() holding the EyesUniform.
+/// clearing colour to `clear_rgba` (linear, 0..1) and depth to 1, `draws` for both eyes grouped by phase
+/// (opaque, then translucent, then overlay; list order kept within a phase), each as its eye_mask allows
+/// (pass-per-eye: once per pass whose eye is in the mask, constants.eye = pass; multiview: once, the view
+/// mask replicates it; instanced-layer: instances for the masked eyes), then the copy of both colour layers
+/// into the target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
+/// pipeline.set_layout() holding the EyesUniform. With `timestamps` (pool not null) it writes a
+/// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps).
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
-                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4]);
+                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
+                         const PhaseTimestamps& timestamps = {});
 
 }  // namespace tridex::renderer

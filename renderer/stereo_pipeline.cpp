@@ -98,15 +98,16 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     stages[1].module = fs;
 
     const VkVertexInputBindingDescription binding{0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription attributes[2] = {
+    const VkVertexInputAttributeDescription attributes[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)},
+        {2, 0, VK_FORMAT_R32_UINT, offsetof(MeshVertex, material)},
     };
     VkPipelineVertexInputStateCreateInfo vertex_input{};
     vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
     vertex_input.vertexBindingDescriptionCount = 1;
     vertex_input.pVertexBindingDescriptions = &binding;
-    vertex_input.vertexAttributeDescriptionCount = 2;
+    vertex_input.vertexAttributeDescriptionCount = 3;
     vertex_input.pVertexAttributeDescriptions = attributes;
 
     VkPipelineInputAssemblyStateCreateInfo assembly{};
@@ -121,10 +122,13 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     viewport.scissorCount = 1;
 
     const bool opaque = kind == PipelineKind::kOpaque;
+    const bool overlay = kind == PipelineKind::kOverlay;
     VkPipelineRasterizationStateCreateInfo raster{};
     raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
     raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = kind == PipelineKind::kTranslucentBack ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
+    raster.cullMode = overlay                                  ? VK_CULL_MODE_NONE
+                      : kind == PipelineKind::kTranslucentBack ? VK_CULL_MODE_FRONT_BIT
+                                                               : VK_CULL_MODE_BACK_BIT;
     // Meshes are counter-clockwise seen from outside; the projection flips y so the image is upright,
     // which keeps the on-screen winding counter-clockwise in Vulkan's framebuffer convention.
     raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
@@ -138,7 +142,7 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     VkPipelineDepthStencilStateCreateInfo depth{};
 
     depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
-    depth.depthTestEnable = VK_TRUE;
+    depth.depthTestEnable = overlay ? VK_FALSE : VK_TRUE;
     depth.depthWriteEnable = opaque ? VK_TRUE : VK_FALSE;
     depth.depthCompareOp = VK_COMPARE_OP_LESS;
 
@@ -224,7 +228,8 @@ StereoPipeline StereoPipeline::create(const gpu::Context& context, EyeStrategy s
     const gpu::UniqueShaderModule vs =
         gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy)));
     const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("stereo_mesh_frag"));
-    for (PipelineKind kind : {PipelineKind::kOpaque, PipelineKind::kTranslucentBack, PipelineKind::kTranslucentFront})
+    for (PipelineKind kind : {PipelineKind::kOpaque, PipelineKind::kTranslucentBack, PipelineKind::kTranslucentFront,
+                              PipelineKind::kOverlay})
         p.pipelines_[static_cast<int>(kind)] =
             make_pipeline(device, p.render_pass_.get(), p.layout_.get(), vs.get(), fs.get(), kind);
     return p;

@@ -18,12 +18,17 @@ enum class PipelineKind {
     kOpaque,            ///< depth test + write, back faces culled, no blending
     kTranslucentBack,   ///< depth test, no depth write, front faces culled, alpha blending (draw first)
     kTranslucentFront,  ///< depth test, no depth write, back faces culled, alpha blending (draw second)
+    kOverlay,           ///< no depth test or write, no culling, alpha blending (screen-space overlay, drawn last)
 };
+
+/// Number of PipelineKind values.
+constexpr int kPipelineKindCount = 4;
 
 /// The GPU state shared by all frames of one eye strategy: a render pass (colour RGBA8 cleared and
 /// left in TRANSFER_SRC_OPTIMAL for readback, depth D32 cleared; with a view mask 0b11 for kMultiview),
 /// the descriptor set layout (set 0 binding 0: EyesUniform), a pipeline layout with the DrawConstants
-/// push range, and one pipeline per PipelineKind using shaders/stereo_mesh.* in the strategy's variant.
+/// push range, and one pipeline per PipelineKind using shaders/stereo_mesh.* in the strategy's variant
+/// (vertex input: MeshVertex, locations 0 position, 1 normal, 2 material id).
 /// Viewport and scissor are dynamic. Move-only; the Context must outlive it.
 class StereoPipeline {
 public:
@@ -43,7 +48,7 @@ private:
     gpu::UniqueRenderPass render_pass_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout layout_;
-    gpu::UniquePipeline pipelines_[3];
+    gpu::UniquePipeline pipelines_[kPipelineKindCount];
 };
 
 }  // namespace tridex::renderer

@@ -1,6 +1,7 @@
 // renderer/stereo_renderer.cpp - scene -> draws -> stereo frame, with the eye-strategy fallback.
 #include "renderer/stereo_renderer.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -8,25 +9,35 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "renderer/arrow_mesh.hpp"
 #include "renderer/eye_self_test.hpp"
 #include "renderer/eyes_binding.hpp"
+#include "renderer/force_arrow.hpp"
+#include "renderer/frame_timer.hpp"
 #include "renderer/gpu_mesh.hpp"
+#include "renderer/material_palette.hpp"
+#include "renderer/overlay_content.hpp"
+#include "renderer/overlay_text.hpp"
 #include "renderer/primitive_meshes.hpp"
 #include "renderer/stereo_frame.hpp"
 #include "renderer/stereo_pipeline.hpp"
 #include "renderer/stereo_target.hpp"
+#include "renderer/tile_culling.hpp"
 
 namespace tridex::renderer {
 namespace {
 
 // Scene colours (linear RGBA) and the light: from upper right, in front of the screen.
-const glm::vec4 kWorkpieceColour(0.80f, 0.62f, 0.45f, 1.0f);
 const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
+const glm::vec4 kProxyColour(1.00f, 0.85f, 0.20f, 0.45f);
+const glm::vec4 kForceColour(0.95f, 0.22f, 0.18f, 1.0f);
 const glm::vec4 kWorkspaceColour(0.30f, 0.85f, 0.40f, 0.18f);
 const glm::vec4 kBubbleColour(0.45f, 0.65f, 1.00f, 0.15f);
+const glm::vec4 kOverlayPanelColour(0.0f, 0.0f, 0.0f, 0.55f);
+const glm::vec4 kOverlayTextColour(0.95f, 0.95f, 0.80f, 1.0f);
 constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
 const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f));
-constexpr int kSphereRings = 24, kSphereSegments = 48;
+constexpr int kSphereRings = 24, kSphereSegments = 48, kArrowSegments = 16;
 
 glm::mat4 translate_scale(const Vec3& t, const Vec3& s) {
     glm::mat4 m(1.0f);
@@ -34,6 +45,16 @@ glm::mat4 translate_scale(const Vec3& t, const Vec3& s) {
     m[1][1] = static_cast<float>(s.y);
     m[2][2] = static_cast<float>(s.z);
     m[3] = glm::vec4(glm::vec3(t), 1.0f);
+    return m;
+}
+
+// Pixels (x right, y down) -> Vulkan clip space (x, y in -1..1, depth 0.5, w 1), the same for both eyes.
+glm::mat4 clip_from_pixel(int width, int height) {
+    glm::mat4 m(1.0f);
+    m[0][0] = 2.0f / static_cast<float>(width);
+    m[1][1] = 2.0f / static_cast<float>(height);
+    m[2][2] = 0.0f;
+    m[3] = glm::vec4(-1.0f, -1.0f, 0.5f, 1.0f);
     return m;
 }
 
@@ -45,11 +66,13 @@ struct OffscreenStereoRenderer::Impl {
     std::optional<StereoPipeline> pipeline;
     std::optional<StereoTarget> target;
     std::optional<EyesBinding> eyes;
-    GpuMesh workpiece, ball, cube;
-    gpu::UniqueQueryPool timestamps;  // 2 queries: top and bottom of a frame (empty without timestamp support)
-    std::uint64_t timestamp_mask = 0;  // timestampValidBits of the queue family as a mask
+    GpuMesh workpiece, ball, cube, cylinder, cone, overlay_panel, overlay_text;
+    TileMeshCache tiles;
+    FrameTimer timer;
+    bool use_timestamps = true;
     std::uint64_t frames = 0;
     double gpu_ms = -1.0;
+    FrameStats last;
 
     ~Impl() {
         try {
@@ -88,28 +111,14 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
     }
     impl->target.emplace(StereoTarget::create(context, *impl->pipeline, width, height));
     impl->eyes.emplace(EyesBinding::create(context, impl->pipeline->set_layout()));
-    TriMesh sphere = unit_sphere(kSphereRings, kSphereSegments);
-    impl->ball.assign(context, sphere);
+    impl->ball.assign(context, unit_sphere(kSphereRings, kSphereSegments));
     Aabb unit;
     unit.add(Vec3(0.0));
     unit.add(Vec3(1.0));
     impl->cube.assign(context, box_mesh(unit));
-
-    std::uint32_t families = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(context.physical_device(), &families, nullptr);
-    std::vector<VkQueueFamilyProperties> family_props(families);
-    vkGetPhysicalDeviceQueueFamilyProperties(context.physical_device(), &families, family_props.data());
-    const std::uint32_t valid_bits = family_props.at(context.queue_family()).timestampValidBits;
-    if (context.features().timestamps && valid_bits > 0) {
-        impl->timestamp_mask = valid_bits >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << valid_bits) - 1);
-        VkQueryPoolCreateInfo q{};
-        q.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
-        q.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        q.queryCount = 2;
-        VkQueryPool pool = VK_NULL_HANDLE;
-        gpu::check(vkCreateQueryPool(context.device(), &q, nullptr, &pool), "vkCreateQueryPool");
-        impl->timestamps = gpu::UniqueQueryPool(context.device(), pool);
-    }
+    impl->cylinder.assign(context, unit_cylinder(kArrowSegments));
+    impl->cone.assign(context, unit_cone(kArrowSegments));
+    impl->timer = FrameTimer::create(context, impl->pipeline->strategy());
     return OffscreenStereoRenderer(std::move(impl));
 }
 
@@ -125,28 +134,38 @@ int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
 VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
 double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
+const FrameStats& OffscreenStereoRenderer::last_frame_stats() const { return impl_->last; }
+bool OffscreenStereoRenderer::gpu_timestamps_available() const { return impl_->timer.available(); }
+void OffscreenStereoRenderer::set_gpu_timestamps(bool use) { impl_->use_timestamps = use; }
+std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_->tiles.uploads_total(); }
 
 StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
                                              double eye_separation_m, double near_m, double far_m) {
-    draw(scene, screen, head, eye_separation_m, near_m, far_m);
-    return StereoImages{impl_->target->read_layer(0), impl_->target->read_layer(1)};
+    FrameStats stats = draw(scene, screen, head, eye_separation_m, near_m, far_m);
+    return StereoImages{impl_->target->read_layer(0), impl_->target->read_layer(1), std::move(stats)};
 }
 
-void OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
-                                   double eye_separation_m, double near_m, double far_m) {
+FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
+                                         double eye_separation_m, double near_m, double far_m) {
     Impl& im = *impl_;
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
+    std::array<Frustum, 2> frusta;
     for (int e = 0; e < 2; ++e) {
         const EyeView v = off_axis_view(screen, eyes[e], near_m, far_m);
-        u.clip_from_world[e] = glm::mat4(v.projection * v.view);
+        const Mat4 clip_from_world = v.projection * v.view;
+        u.clip_from_world[e] = glm::mat4(clip_from_world);
         u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
+        frusta[e] = frustum_from_clip(clip_from_world);
     }
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
+    const auto& palette = material_palette();
+    for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
 
+    FrameStats stats;
     std::vector<StereoDraw> draws;
     const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
-                         bool lit) {
+                         bool lit) -> StereoDraw& {
         StereoDraw d;
         d.kind = kind;
         d.vertices = mesh.vertices();
@@ -156,10 +175,42 @@ void OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen,
         d.constants.colour = colour;
         d.constants.lit = lit ? 1u : 0u;
         draws.push_back(d);
+        return draws.back();
     };
+    const auto add_translucent = [&](const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit) {
+        add(PipelineKind::kTranslucentBack, mesh, model, colour, lit);
+        add(PipelineKind::kTranslucentFront, mesh, model, colour, lit);
+    };
+
+    // Opaque: workpiece (whole mesh), workpiece tiles (culled per eye), tool, force arrow.
     if (scene.workpiece && !scene.workpiece->triangles.empty()) {
-        im.workpiece.assign(*im.context, *scene.workpiece);
-        add(PipelineKind::kOpaque, im.workpiece, glm::mat4(1.0f), kWorkpieceColour, true);
+        std::span<const std::uint8_t> materials;
+        if (scene.workpiece_materials) materials = *scene.workpiece_materials;
+        try {
+            im.workpiece.assign(*im.context, *scene.workpiece, materials);
+        } catch (const Error& e) {
+            throw Error(std::string("SceneView.workpiece: ") + e.what());
+        }
+        // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
+        add(PipelineKind::kOpaque, im.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
+            scene.workpiece_materials ? 1u : 0u;
+    }
+    if (!scene.tiles.empty() || im.tiles.size() > 0) {
+        stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles);
+        for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
+            const GpuMesh& mesh = im.tiles.mesh(i);
+            if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
+            std::uint32_t mask = 0;
+            for (int e = 0; e < 2; ++e)
+                if (!scene.cull_tiles || may_be_visible(frusta[e], scene.tiles[i].bounds_m)) mask |= 1u << e;
+            // Multiview cannot draw one view only: a tile either eye sees is drawn in both.
+            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = 0b11;
+            for (int e = 0; e < 2; ++e) ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask == 0) continue;
+            StereoDraw& d = add(PipelineKind::kOpaque, mesh, glm::mat4(1.0f), palette[0], true);
+            d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
+            d.eye_mask = mask;
+        }
     }
     if (scene.tool_radius_m > 0.0) {
         if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
@@ -167,42 +218,77 @@ void OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen,
         add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
             kToolColour, true);
     }
+    const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
+    if (arrow.visible) {
+        add(PipelineKind::kOpaque, im.cylinder, glm::mat4(arrow.shaft), kForceColour, true);
+        add(PipelineKind::kOpaque, im.cone, glm::mat4(arrow.head), kForceColour, true);
+    }
+
+    // Translucent: proxy, workspace box, bubble (each back faces, then front faces).
+    if (scene.proxy_radius_m > 0.0) {
+        if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
+            throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");
+        add_translucent(im.ball, translate_scale(scene.proxy_m, Vec3(scene.proxy_radius_m)), kProxyColour, true);
+    }
     if (scene.show_workspace && !scene.workspace_m.empty()) {
         if (!is_finite(scene.workspace_m.lo) || !is_finite(scene.workspace_m.hi))
             throw Error("renderer: SceneView.workspace_m must be finite");
-        const glm::mat4 model = translate_scale(scene.workspace_m.lo, scene.workspace_m.size());
-        add(PipelineKind::kTranslucentBack, im.cube, model, kWorkspaceColour, false);
-        add(PipelineKind::kTranslucentFront, im.cube, model, kWorkspaceColour, false);
+        add_translucent(im.cube, translate_scale(scene.workspace_m.lo, scene.workspace_m.size()), kWorkspaceColour,
+                        false);
     }
-
     if (scene.bubble_radius_m > 0.0) {
         if (!is_finite(scene.bubble_centre_m) || !std::isfinite(scene.bubble_radius_m))
             throw Error("renderer: SceneView.bubble_centre_m / bubble_radius_m must be finite");
-        const glm::mat4 model = translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m));
-        add(PipelineKind::kTranslucentBack, im.ball, model, kBubbleColour, false);
-        add(PipelineKind::kTranslucentFront, im.ball, model, kBubbleColour, false);
+        add_translucent(im.ball, translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m)), kBubbleColour,
+                        false);
+    }
+
+    // Overlay: a panel and its text in pixels, on the screen plane (same clip position in both eyes).
+    if (scene.show_overlay) {
+        OverlayNumbers n;
+        n.haptic_rate_hz = scene.haptic_rate_hz;
+        n.sculpt_rate_hz = scene.sculpt_rate_hz;
+        n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : im.last.frame_ms;
+        n.has_tiles = !scene.tiles.empty();
+        n.tiles = stats.tiles;
+        const std::string text = overlay_content(n);
+        const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale
+                                                       : std::max(1.0, std::floor(height() / 360.0));
+        const TextExtent size = overlay_text_extent(text, scale);
+        const double margin = 6.0 * scale, pad = 3.0 * scale;
+        im.overlay_panel.assign(*im.context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
+                                                               margin + size.height_px + pad));
+        im.overlay_text.assign(*im.context, overlay_text_mesh(text, margin, margin, scale));
+        const glm::mat4 to_clip = clip_from_pixel(width(), height());
+        add(PipelineKind::kOverlay, im.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
+        add(PipelineKind::kOverlay, im.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
     }
 
     im.eyes->write(u);
-    const VkQueryPool pool = im.timestamps.get();
+    const bool gpu_timing = im.use_timestamps && im.timer.available();
+    const auto t0 = std::chrono::steady_clock::now();
     im.context->submit_and_wait([&](VkCommandBuffer cmd) {
-        if (pool != VK_NULL_HANDLE) {
-            vkCmdResetQueryPool(cmd, pool, 0, 2);
-            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
-        }
-        record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear);
-        if (pool != VK_NULL_HANDLE) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 1);
+        if (gpu_timing) im.timer.record_begin(cmd);
+        record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear,
+                            gpu_timing ? im.timer.phases() : PhaseTimestamps{});
+        if (gpu_timing) im.timer.record_end(cmd);
     });
+    const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ++im.frames;
-    if (pool != VK_NULL_HANDLE) {
-        std::uint64_t t[2] = {0, 0};
-        const VkResult r = vkGetQueryPoolResults(im.context->device(), pool, 0, 2, sizeof t, t, sizeof t[0],
-                                                 VK_QUERY_RESULT_64_BIT);
-        if (r == VK_SUCCESS) {
-            const std::uint64_t ticks = ((t[1] & im.timestamp_mask) - (t[0] & im.timestamp_mask)) & im.timestamp_mask;
-            im.gpu_ms = static_cast<double>(ticks) * im.context->properties().limits.timestampPeriod * 1e-6;
-        }
+    im.gpu_ms = -1.0;
+    if (gpu_timing && im.timer.read(*im.context, stats)) {
+        im.gpu_ms = stats.frame_ms;
+    } else {
+        stats.timing = TimingSource::kCpuClock;
+        stats.timing_note = !im.timer.available()
+                                ? "no timestamp queries on this queue family; CPU clock around submit + wait"
+                            : !im.use_timestamps ? "GPU timestamps switched off; CPU clock around submit + wait"
+                                                 : "timestamp results not available; CPU clock around submit + wait";
+        stats.frame_ms = cpu_ms;
+        stats.passes = {PassTime{"frame", -1, cpu_ms}};
     }
+    im.last = stats;
+    return stats;
 }
 
 }  // namespace tridex::renderer

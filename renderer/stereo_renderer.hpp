@@ -3,7 +3,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "core/aabb.hpp"
 #include "core/math.hpp"
@@ -11,8 +13,10 @@
 #include "core/tri_mesh.hpp"
 #include "gpu/context.hpp"
 #include "renderer/eye_strategy.hpp"
+#include "renderer/frame_stats.hpp"
 #include "renderer/image.hpp"
 #include "renderer/off_axis.hpp"
+#include "renderer/tile_mesh_cache.hpp"
 
 namespace tridex::renderer {
 
@@ -27,16 +31,47 @@ struct SceneView {
     /// rate control outside; drawn as a translucent sphere when bubble_radius_m > 0 (world m).
     Vec3 bubble_centre_m{0.0};
     double bubble_radius_m = 0.0;
+
+    // ---- Materials, proxy, force, tiles, overlay (issue 5). Defaults draw nothing new. ----
+    /// Per-vertex material ids of `workpiece` (size = workpiece->positions.size(), ids 0..kMaterialCount-1,
+    /// colours in material_palette()); nullptr = every vertex material 0 (clay).
+    const std::vector<std::uint8_t>* workpiece_materials = nullptr;
+    /// The proxy (god-object, Peng et al.: the IHIP held on the surface while the HIP goes inside), drawn as
+    /// a translucent lit sphere of proxy_radius_m at proxy_m (world m) when proxy_radius_m > 0.
+    Vec3 proxy_m{0.0};
+    double proxy_radius_m = 0.0;
+    /// Force on the user, N (world axes); drawn as an arrow from tool_centre_m along the force with length
+    /// force_m_per_newton * |force_N| (m per N; default 0.02 m/N: the 3.3 N peak of an Omni-class device is a
+    /// 6.6 cm arrow). No arrow when that length is below 1 um.
+    Vec3 force_N{0.0};
+    double force_m_per_newton = 0.02;
+    /// The workpiece as tiles (one mesh per 16^3-cell contouring tile, world bounds, version): drawn in
+    /// addition to `workpiece` (supply one or the other), each tile uploaded once and again only when its
+    /// version changes, and drawn only in the eyes whose off-axis frustum its bounds may touch.
+    std::span<const TileMesh> tiles{};
+    /// false: draw every tile in both eyes (for comparison; counts then show nothing skipped).
+    bool cull_tiles = true;
+    /// Draw the 2D overlay (top left, on the screen plane: identical in both eyes) with the rates below,
+    /// the frame time and, when there are tiles, the tiles drawn / skipped per eye.
+    bool show_overlay = false;
+    double haptic_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
+    double sculpt_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
+    double frame_time_ms = -1.0;   ///< shown in the overlay; < 0 = the renderer's previous FrameStats::frame_ms
+    double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = max(1, floor(height / 360))
 };
 
-/// The two eyes' images of one frame, each width x height RGBA.
+/// The two eyes' images of one frame, each width x height RGBA, and the frame's statistics.
 struct StereoImages {
     Image left, right;
+    FrameStats stats{};
 };
 
 /// Renders both eyes into one 2-layer colour image (+ depth) offscreen and reads them back: the workpiece
-/// lit (Blinn-Phong, one directional light) with per-vertex normals (core vertex_normals), the tool as a
-/// ball, the workspace as a translucent box (alpha-blended, drawn last: back faces, then front faces).
+/// (whole mesh and/or per-eye culled tiles) lit (Blinn-Phong, one directional light) with per-vertex
+/// normals (core vertex_normals) and per-material colours, the tool as a ball, the force arrow (shaft
+/// cylinder + cone head, opaque), then translucent: the proxy sphere, the workspace box and the bubble
+/// (alpha-blended: back faces, then front faces), then the screen-space overlay. Each render pass is
+/// timed per phase (opaque, translucent, overlay) with GPU timestamp queries when the queue has them.
 /// The eye strategy asked for is self-tested at creation (self_test_eye_strategy: each layer must
 /// receive its own eye's draws, read back and checked); if it is unsupported or fails (Mesa 22.3 lavapipe
 /// advertises multiview but draws view 1's clipped triangles into layer 0) the renderer falls back to
@@ -69,8 +104,9 @@ public:
                         double near_m = 0.05, double far_m = 20.0);
 
     /// As render(), but leaves the frame on the GPU only (no eye Images are built on the CPU): for presenting
-    /// through colour_image() with GPU blits. Same arguments and errors as render().
-    void draw(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
+    /// through colour_image() with GPU blits. Same arguments and errors as render(). Returns the frame's
+    /// statistics (tiles drawn / skipped per eye, uploads, per-pass times), also kept as last_frame_stats().
+    FrameStats draw(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
               double near_m = 0.05, double far_m = 20.0);
 
     /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
@@ -85,6 +121,15 @@ public:
     /// from timestamp queries at the top and bottom of the frame; negative when the device has no
     /// timestamps or no frame was rendered yet.
     double last_gpu_ms() const;
+    /// Statistics of the last frame (default-constructed before the first).
+    const FrameStats& last_frame_stats() const;
+    /// True when the queue family supports timestamp queries (timestampValidBits > 0 and the Context enabled them).
+    bool gpu_timestamps_available() const;
+    /// Use GPU timestamps when available (true, the default) or the CPU clock (false: FrameStats then holds
+    /// one "frame" time measured around submission + wait, and last_gpu_ms() is negative).
+    void set_gpu_timestamps(bool use);
+    /// Tile meshes uploaded since creation (see SceneView::tiles).
+    std::uint64_t tile_uploads_total() const;
 
     struct Impl;
 

@@ -1,6 +1,8 @@
 #version 450
 // shaders/stereo_mesh.frag - Blinn-Phong shading with a directional light, two-sided, per eye;
-// flat colour (with alpha, for the translucent workspace box) when draw.lit == 0.
+// flat colour (with alpha, for the translucent workspace box and the overlay) when draw.lit == 0.
+// The base colour is draw.colour, or the interpolated palette colour of the vertex materials when
+// draw.palette == 1 (per-material workpiece colours).
 #extension GL_GOOGLE_include_directive : require
 
 #include "stereo_interface.glsl"
@@ -8,12 +10,14 @@
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_world_normal;
 layout(location = 2) flat in uint in_eye;
+layout(location = 3) in vec4 in_palette_colour;
 
 layout(location = 0) out vec4 out_colour;
 
 void main() {
+    vec4 base = draw.palette != 0u ? in_palette_colour : draw.colour;
     if (draw.lit == 0u) {
-        out_colour = draw.colour;
+        out_colour = base;
         return;
     }
     vec3 n = normalize(in_world_normal);
@@ -23,6 +27,6 @@ void main() {
     vec3 h = normalize(l + v);
     float diffuse = max(dot(n, l), 0.0);
     float specular = diffuse > 0.0 ? pow(max(dot(n, h), 0.0), 48.0) : 0.0;
-    vec3 rgb = draw.colour.rgb * (0.2 + 0.75 * diffuse) + vec3(0.25 * specular);
-    out_colour = vec4(min(rgb, vec3(1.0)), draw.colour.a);
+    vec3 rgb = base.rgb * (0.2 + 0.75 * diffuse) + vec3(0.25 * specular);
+    out_colour = vec4(min(rgb, vec3(1.0)), base.a);
 }

@@ -4,6 +4,8 @@
 //   0 = one render pass per eye: eye index from the push constant;
 //   1 = multiview: eye = gl_ViewIndex (the view mask routes it to a layer);
 //   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.
+// Screen-space draws (draw.screen_space = 1, the overlay) skip the eye's matrix: both eyes get the
+// same clip position, i.e. zero disparity, as if drawn on the screen plane.
 #extension GL_GOOGLE_include_directive : require
 #if EYE_MODE == 1
 #extension GL_EXT_multiview : require
@@ -13,12 +15,14 @@
 
 #include "stereo_interface.glsl"
 
-layout(location = 0) in vec3 in_position;  // model space, m
+layout(location = 0) in vec3 in_position;  // model space, m (pixels for screen-space draws)
 layout(location = 1) in vec3 in_normal;    // model space, unit (ignored when unlit)
+layout(location = 2) in uint in_material;  // material id, 0..MATERIAL_COUNT-1
 
 layout(location = 0) out vec3 out_world_position;
 layout(location = 1) out vec3 out_world_normal;
 layout(location = 2) flat out uint out_eye;
+layout(location = 3) out vec4 out_palette_colour;  // palette[in_material] (only read when draw.palette == 1)
 
 void main() {
 #if EYE_MODE == 0
@@ -33,5 +37,6 @@ void main() {
     out_world_position = world.xyz;
     out_world_normal = mat3(draw.world_from_model) * in_normal;
     out_eye = eye;
-    gl_Position = eyes.clip_from_world[eye] * world;
+    out_palette_colour = eyes.palette[min(in_material, uint(MATERIAL_COUNT - 1))];
+    gl_Position = draw.screen_space != 0u ? world : eyes.clip_from_world[eye] * world;
 }

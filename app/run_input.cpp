@@ -1,0 +1,83 @@
+// app/run_input.cpp - keyboard and mouse to head and scene.
+#include "app/run_input.hpp"
+
+#include <cmath>
+
+namespace tridex::app {
+
+namespace {
+
+using renderer::InputAction;
+using renderer::InputType;
+using renderer::Key;
+using renderer::MoveKey;
+
+// The head motion a key stands for; false when the key moves nothing.
+bool move_key(Key k, MoveKey& out) {
+    switch (k) {
+        case Key::kW: case Key::kUp: out = MoveKey::kForward; return true;
+        case Key::kS: case Key::kDown: out = MoveKey::kBack; return true;
+        case Key::kA: case Key::kLeft: out = MoveKey::kLeft; return true;
+        case Key::kD: case Key::kRight: out = MoveKey::kRight; return true;
+        case Key::kR: out = MoveKey::kUp; return true;
+        case Key::kF: out = MoveKey::kDown; return true;
+        default: return false;
+    }
+}
+
+}  // namespace
+
+RunInput::RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation& nav,
+                   const renderer::MouseNavigation& mouse)
+    : head_(head), nav_(nav), mouse_(mouse) {}
+
+int RunInput::take_swap_toggles() {
+    const int n = swaps_;
+    swaps_ = 0;
+    return n;
+}
+
+void RunInput::handle(const renderer::InputEvent& e) {
+    switch (e.type) {
+        case InputType::kKey: {
+            if (e.key == Key::kLeftShift || e.key == Key::kRightShift) shift_ = e.action != InputAction::kRelease;
+            if (e.action == InputAction::kRepeat) return;
+            const bool pressed = e.action == InputAction::kPress;
+            MoveKey mk;
+            if (move_key(e.key, mk)) {
+                if (head_) head_->key(mk, pressed);
+            } else if (pressed && e.key == Key::kEscape) {
+                close_ = true;
+            } else if (pressed && e.key == Key::kTab) {
+                ++swaps_;
+            } else if (pressed && e.key == Key::kHome) {
+                if (head_) head_->reset();
+                nav_.reset();
+            }
+            return;
+        }
+        case InputType::kMouseButton: {
+            const bool down = e.action != InputAction::kRelease;
+            if (e.button == renderer::MouseButton::kLeft) left_ = down;
+            if (e.button == renderer::MouseButton::kRight) right_ = down;
+            if (e.button == renderer::MouseButton::kMiddle) middle_ = down;
+            shift_ = (e.modifiers & renderer::modifier::kShift) != 0;
+            return;
+        }
+        case InputType::kMouseMove: {
+            if (!std::isfinite(e.dx_px) || !std::isfinite(e.dy_px)) return;
+            if (middle_ || (left_ && shift_))
+                renderer::mouse_pan(nav_, mouse_, e.dx_px, e.dy_px);
+            else if (left_)
+                renderer::mouse_orbit(nav_, mouse_, e.dx_px, e.dy_px);
+            else if (right_ && head_)
+                head_->mouse_turn(e.dx_px, e.dy_px);
+            return;
+        }
+        case InputType::kScroll:
+            if (std::isfinite(e.dy_px) && e.dy_px != 0.0) renderer::mouse_zoom(nav_, mouse_, e.dy_px);
+            return;
+    }
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,39 @@
+// app/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
+#pragma once
+
+#include "renderer/head_pose.hpp"
+#include "renderer/scene_navigation.hpp"
+#include "renderer/window_input.hpp"
+
+namespace tridex::app {
+
+/// Maps window input events to the head and the scene (the paper's Wand, played by the mouse):
+/// - W / S or Up / Down: head forward / back; A / D or Left / Right: left / right; R / F: up / down (held keys,
+///   KeyboardMouseHead speed); right-button drag turns the head (only when a KeyboardMouseHead is given);
+/// - left-button drag orbits the scene about the pivot, Shift + left drag or middle drag pans it, the wheel
+///   scales it (renderer mouse_orbit / mouse_pan / mouse_zoom);
+/// - Home resets head and scene; Tab toggles swap eyes; Esc asks to close.
+/// One thread (the window's); the head and navigation must outlive it.
+class RunInput {
+public:
+    /// `head`: the keyboard-and-mouse head, or nullptr when a script or tracker drives the head (keys then
+    /// move nothing); `nav` and `mouse`: the scene navigation and its mouse gains/axes.
+    RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation& nav, const renderer::MouseNavigation& mouse);
+
+    /// Applies one event. Never throws for finite event values (non-finite deltas are ignored).
+    void handle(const renderer::InputEvent& event);
+    /// True once Esc was pressed.
+    bool close_requested() const { return close_; }
+    /// How many times Tab was pressed since the last call (the caller flips swap eyes that many times).
+    int take_swap_toggles();
+
+private:
+    renderer::KeyboardMouseHead* head_;
+    renderer::SceneNavigation& nav_;
+    renderer::MouseNavigation mouse_;
+    bool left_ = false, right_ = false, middle_ = false, shift_ = false;
+    bool close_ = false;
+    int swaps_ = 0;
+};
+
+}  // namespace tridex::app

@@ -1,0 +1,38 @@
+// app/run_options.hpp - the command-line options of `tridex run` (SI units; strings checked when the run starts).
+#pragma once
+
+#include <string>
+
+namespace tridex::app {
+
+/// Where a run shows its frames.
+enum class DisplayKind {
+    kWindow,      ///< [window] a GLFW window, vsync'd presentation
+    kFullscreen,  ///< [fullscreen] fullscreen on a chosen monitor, vsync'd presentation
+    kOffscreen,   ///< [offscreen] no window: the same passes, images and report written to --out
+};
+
+/// "window", "fullscreen" or "offscreen".
+const char* to_string(DisplayKind kind);
+/// Inverse of to_string; throws tridex::Error "--display: 'x' is not one of window, fullscreen, offscreen".
+DisplayKind parse_display_kind(const std::string& name);
+
+/// Options of `tridex run [SCENE]`. Empty strings and zero limits mean "as the scene says" / "no limit".
+struct RunOptions {
+    std::string scene;              ///< scene file (JSON, app/run_scene.hpp); empty = assets/default_scene.json
+    std::string display = "window"; ///< window | fullscreen | offscreen
+    std::string stereo;             ///< stereo output name (renderer parse_stereo_output); empty = the display config's
+    std::string monitor;            ///< fullscreen monitor: an index (digits) or part of its name; empty = primary
+    int frames = 0;                 ///< stop after this many stereo frames (>= 0; 0 = no frame limit)
+    std::string out = "out/run";    ///< output folder (created): report.json, and offscreen left/right/output.png
+    std::string display_config;     ///< display config file replacing the scene's display; empty = the scene's
+    std::string head;               ///< head provider fixed | scripted | tracker; empty = the scene's
+    bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
+    double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)
+    bool validate = false;          ///< Vulkan validation layer (also on with TRIDEX_VALIDATION=1)
+    /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
+    /// GPU renders; for benchmarks).
+    bool pace = true;
+};
+
+}  // namespace tridex::app

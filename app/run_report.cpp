@@ -1,0 +1,95 @@
+// app/run_report.cpp - report.json of `tridex run`.
+#include "app/run_report.hpp"
+
+#include <fstream>
+
+#include "app/stats.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using nlohmann::json;
+
+json summary_json(const std::vector<double>& v) {
+    const Summary s = summarize(v);
+    return json{{"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}};
+}
+
+json histogram_us(const haptics::Histogram& h) {
+    return json{{"median", 1e6 * h.quantile(0.5)}, {"p99", 1e6 * h.quantile(0.99)}, {"max", 1e6 * h.max_s}};
+}
+
+double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
+
+}  // namespace
+
+json run_report_json(const RunResult& r) {
+    const RunSetup& su = r.setup;
+    const RunScene& sc = su.scene;
+    json frames{{"count", r.frames},
+                {"presents", r.presents},
+                {"last_eye", r.last_eye},
+                {"render_s", r.render_s},
+                {"rate_hz", rate_hz(static_cast<double>(r.frames), r.render_s)},
+                {"frame_ms", r.frame_ms.to_json()},
+                {"interval_ms", r.interval_ms.to_json()},
+                {"gpu_ms", r.gpu_ms.to_json()}};
+    if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
+    return json{
+        {"scene", sc.source},
+        {"mesh", sc.mesh_path},
+        {"resolution", sc.resolution},
+        {"display", to_string(su.display)},
+        {"stereo", std::string(renderer::to_string(sc.display.stereo))},
+        {"swap_eyes", su.swap_eyes},
+        {"head", to_string(sc.head)},
+        {"eye_resolution", {sc.display.width_px, sc.display.height_px}},
+        {"refresh_hz", sc.display.refresh_hz},
+        {"eye_separation_m", sc.display.eye_separation_m},
+        {"device", r.device},
+        {"eye_strategy", r.eye_strategy},
+        {"present_mode", r.present_mode},
+        {"validation_messages", r.validation_messages},
+        {"frames", frames},
+        {"meshes",
+         {{"versions_drawn", r.mesh_versions_drawn},
+          {"last_version", r.last_mesh_version},
+          {"published", r.sculpt.mesh_publishes},
+          {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
+          {"triangles", r.triangles}}},
+        {"haptics",
+         {{"ticks", r.loop.ticks},
+          {"overruns", r.loop.overruns},
+          {"samples_dropped", r.loop.samples_dropped},
+          {"invalid_samples", r.loop.invalid_samples},
+          {"rate_hz", rate_hz(static_cast<double>(r.loop.ticks), r.session_s)},
+          {"realtime_scheduling", r.loop.realtime_scheduling},
+          {"period_us", histogram_us(r.loop.period_histogram)},
+          {"compute_us", histogram_us(r.loop.compute_histogram)}}},
+        {"sculpt",
+         {{"samples", r.sculpt.samples},
+          {"booleans", r.sculpt.booleans},
+          {"steps", r.sculpt.steps},
+          {"tiles_recontoured", r.sculpt.tiles_recontoured},
+          {"rate_hz", rate_hz(static_cast<double>(r.sculpt.steps), r.session_s)},
+          {"boolean_ms", summary_json(r.sculpt.boolean_ms)},
+          {"contour_ms", summary_json(r.sculpt.contour_ms)}}},
+        {"stroke_completed", r.stroke_completed},
+        {"session_s", r.session_s},
+        {"volume_before_m3", r.volume_before_m3},
+        {"volume_after_m3", r.volume_after_m3},
+        {"wall_s", r.wall_s},
+        {"notes", r.notes},
+        {"files", r.files}};
+}
+
+void write_run_report(const std::string& path, const RunResult& result) {
+    std::ofstream f(path);
+    if (!f) throw Error(path + ": cannot write");
+    f << run_report_json(result).dump(2) << "\n";
+    if (!f) throw Error(path + ": cannot write");
+}
+
+}  // namespace tridex::app

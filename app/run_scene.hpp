@@ -1,0 +1,85 @@
+// app/run_scene.hpp - the scene of `tridex run`: workpiece, tool, workspace, scripted stroke, display and head,
+// read from a JSON file with every field checked.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "app/stroke.hpp"
+#include "core/math.hpp"
+#include "core/pose.hpp"
+#include "haptics/workspace_mapping.hpp"
+#include "renderer/display_config.hpp"
+#include "renderer/head_pose.hpp"
+
+namespace tridex::app {
+
+/// Where the viewer's head pose comes from (renderer/head_pose.hpp).
+enum class HeadMode {
+    kFixed,     ///< [fixed] FixedHead at RunScene::head_pose (in a window: keyboard and mouse move it)
+    kScripted,  ///< [scripted] ScriptedHead through RunScene::head_waypoints
+    kTracker,   ///< [tracker] TrackerHead filled by a tracker driver; RunScene::head_pose until one pushes
+};
+
+/// "fixed", "scripted" or "tracker".
+const char* to_string(HeadMode mode);
+/// Inverse of to_string; throws tridex::Error "<what>: head provider 'x' is not one of fixed, scripted, tracker".
+HeadMode parse_head_mode(const std::string& name, const std::string& what);
+
+/// Everything a `tridex run` session shows and sculpts (SI units; world = tracker space, m, y up, the
+/// display's screen as given by its corners).
+///
+/// JSON form (every field optional, defaults as below; unknown fields are refused):
+/// ```
+/// { "workpiece": { "mesh": "bunny.off",          // relative to the scene file; default: the bundled bunny
+///                  "resolution": 128,             // lattice cells along the longest side, 8..4096
+///                  "stock_m": 0.12,               // longest side after scaling, m, (0, 10]
+///                  "centre_m": [0, 0, 0.05] },    // where its bounding box is centred, m
+///   "tool": { "radius_m": 0.006, "stiffness_n_per_m": 700, "damping_n_s_per_m": 0.5 },
+///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names
+///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
+///               "press_axis": "z" }  |  "none",              // app/stroke.hpp plan_stroke
+///   "display": "desktop" | "powerwall" | { display config, renderer/display_config.hpp },
+///   "head": { "provider": "fixed" | "scripted" | "tracker",
+///             "position_m": [x, y, z],                       // default: the display's default_head_m
+///             "waypoints": [ {"t_s": 0, "position_m": [x, y, z], "orientation_wxyz": [1, 0, 0, 0]}, ... ],
+///             "loop": false, "tracker_timeout_s": 0.1 } }
+/// ```
+struct RunScene {
+    std::string source = "<built-in>";  ///< the file it was read from (for messages and the report)
+    std::string mesh_path;              ///< workpiece mesh file, resolved (absolute or relative to the cwd)
+    int resolution = 128;               ///< lattice cells along the workpiece's longest side
+    double stock_m = 0.12;              ///< the workpiece's longest side, m
+    Vec3 centre_m{0.0, 0.0, 0.05};      ///< the workpiece's centre, world m
+    double tool_radius_m = 0.006;       ///< ball tool radius, m
+    double stiffness_n_per_m = 700.0;   ///< god-object contact stiffness kp, N/m
+    double damping_n_s_per_m = 0.5;     ///< contact damping kd, N*s/m
+    haptics::WorkspaceMode workspace_mode = haptics::WorkspaceMode::kPengMoving;  ///< workspace technique
+    double workspace_scale = 1.0;       ///< device m -> world m gain, > 0
+    bool has_stroke = true;             ///< false: the simulated hand holds still in front of the workpiece
+    StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
+    renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
+    HeadMode head = HeadMode::kFixed;   ///< head pose provider
+    Pose head_pose;                     ///< fixed head / tracker fallback pose (position default: display.default_head_m)
+    std::vector<renderer::HeadWaypoint> head_waypoints;  ///< the scripted head (kScripted; may be set for any mode)
+    bool head_loop = false;             ///< the scripted head repeats
+    double tracker_timeout_s = 0.1;     ///< a tracker pose older than this falls back to head_pose, s
+};
+
+/// Reads a scene from parsed JSON (form on RunScene). `source` names the file in messages; relative mesh
+/// paths are resolved against `base_dir`. Throws tridex::Error "<source>: field '<a.b>': <what is wrong>" for
+/// a wrong type, an out-of-range or non-finite value, an unknown name, an unknown field, or a mesh file that
+/// does not exist; display errors come from display_config_from_json with source "<source>: field 'display'".
+RunScene run_scene_from_json(const nlohmann::json& json, const std::string& source, const std::string& base_dir);
+
+/// Loads a scene file (JSON); an empty path loads default_scene_path(). Throws tridex::Error naming the file
+/// when it cannot be read or is not valid JSON, and as run_scene_from_json for bad fields.
+RunScene load_run_scene(const std::string& path);
+
+/// The bundled default scene (assets/default_scene.json): found through $TRIDEX_ASSETS, then ./assets, then
+/// the source tree's assets folder. Throws tridex::Error when it is missing.
+std::string default_scene_path();
+
+}  // namespace tridex::app

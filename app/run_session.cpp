@@ -1,0 +1,289 @@
+// app/run_session.cpp - `tridex run`: GPU and display set-up, the render loop, the outputs.
+#include "app/run_session.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "app/run_input.hpp"
+#include "app/run_report.hpp"
+#include "app/run_sculpt.hpp"
+#include "app/run_view.hpp"
+#include "compute/volume.hpp"
+#include "core/error.hpp"
+#include "gpu/context.hpp"
+#include "renderer/frame_sequencer.hpp"
+#include "renderer/head_pose.hpp"
+#include "renderer/image.hpp"
+#include "renderer/scene_navigation.hpp"
+#include "renderer/stereo_renderer.hpp"
+#include "renderer/window_glfw.hpp"
+#include "renderer/window_presenter.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using renderer::StereoOutput;
+
+double ms_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The head provider of the run: in a window a fixed head becomes a keyboard-and-mouse head (same home pose).
+std::unique_ptr<renderer::HeadPoseProvider> make_head(const RunScene& s, bool interactive,
+                                                     renderer::KeyboardMouseHead** km, renderer::TrackerHead** tracker) {
+    *km = nullptr;
+    *tracker = nullptr;
+    switch (s.head) {
+        case HeadMode::kScripted:
+            return std::make_unique<renderer::ScriptedHead>(s.head_waypoints, s.head_loop);
+        case HeadMode::kTracker: {
+            auto t = std::make_unique<renderer::TrackerHead>(s.head_pose, s.tracker_timeout_s);
+            *tracker = t.get();
+            return t;
+        }
+        case HeadMode::kFixed:
+            break;
+    }
+    if (interactive) {
+        auto k = std::make_unique<renderer::KeyboardMouseHead>(s.head_pose);
+        *km = k.get();
+        return k;
+    }
+    return std::make_unique<renderer::FixedHead>(s.head_pose);
+}
+
+}  // namespace
+
+RunSetup resolve_run(const RunOptions& o) {
+    RunSetup s;
+    s.display = parse_display_kind(o.display);
+    if (o.frames < 0) throw Error("--frames: must be >= 0, got " + std::to_string(o.frames));
+    if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 86400.0)
+        throw Error("--seconds: must be between 0 and 86400, got " + std::to_string(o.seconds));
+    s.frames = o.frames;
+    s.seconds = o.seconds;
+    s.out = o.out;
+    if (s.out.empty()) throw Error("--out: the output folder must not be empty");
+    s.validate = o.validate;
+    s.pace = o.pace;
+    s.scene = load_run_scene(o.scene);
+    if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
+    if (!o.stereo.empty()) {
+        try {
+            s.scene.display.stereo = renderer::parse_stereo_output(o.stereo);
+        } catch (const Error& e) {
+            throw Error(std::string("--stereo: ") + e.what());
+        }
+    }
+    if (!o.head.empty()) {
+        s.scene.head = parse_head_mode(o.head, "--head");
+        if (s.scene.head == HeadMode::kScripted && s.scene.head_waypoints.empty())
+            throw Error("--head scripted: the scene " + s.scene.source + " has no head.waypoints");
+    }
+    s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
+    if (!o.monitor.empty()) {
+        const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
+        if (digits && o.monitor.size() < 4)
+            s.monitor_index = std::stoi(o.monitor);
+        else
+            s.monitor_name = o.monitor;
+    }
+    if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke)
+        throw Error("--frames/--seconds: an offscreen run of a scene without a stroke needs --frames N or --seconds S");
+    return s;
+}
+
+RunResult run_stereo_session(const RunOptions& options) {
+    const auto t_start = Clock::now();
+    RunResult r;
+    r.setup = resolve_run(options);
+    const RunSetup& su = r.setup;
+    const RunScene& scene = su.scene;
+    const renderer::DisplayConfig& dc = scene.display;
+    const StereoOutput output = dc.stereo;
+    const bool offscreen = su.display == DisplayKind::kOffscreen;
+    const int eye_w = dc.width_px, eye_h = dc.height_px;
+
+    // 1. GPU, window and presenter: refuses what the display cannot show before any other work.
+    // The window opens before the Context: GLFW then stays initialised (one X connection) from the
+    // presentation-support query on. Terminating GLFW in between (window_context_options() with no window
+    // open) lets a new X connection reuse the old one's address, and Mesa's WSI, which caches per-connection
+    // state (the XFixes version handshake) by that address, then sends XFixes requests the server refuses.
+    std::optional<renderer::Window> window;  // none offscreen (the images are read back on the last frame)
+    if (!offscreen) {
+        renderer::WindowOptions wo;
+        wo.title = "tridex run - " + std::string(renderer::to_string(output));
+        const auto [w, h] = renderer::output_size(output, eye_w, eye_h);
+        wo.width = w;
+        wo.height = h;
+        wo.fullscreen = su.display == DisplayKind::kFullscreen;
+        wo.monitor_index = su.monitor_index;
+        wo.monitor_name = su.monitor_name;
+        window.emplace(renderer::Window::create(wo));
+    }
+    gpu::ContextOptions gopt;
+    gopt.validation = su.validate;
+    gpu::Context ctx = gpu::Context::create(offscreen ? gopt : renderer::window_context_options(gopt));
+    std::optional<renderer::WindowPresenter> presenter;  // destroyed before the Context
+    if (!offscreen) {
+        renderer::PresenterOptions po;
+        po.output = output;
+        po.vsync = true;
+        po.swap_eyes = su.swap_eyes;
+        po.refresh_hz = dc.refresh_hz;
+        presenter.emplace(renderer::WindowPresenter::create(ctx, *window, po));
+        r.present_mode = presenter->present_mode();
+    } else {
+        r.present_mode = "offscreen";
+        if (output == StereoOutput::kQuad)
+            r.notes.push_back("quad offscreen: the two layers are written as left.png (layer 0) and right.png "
+                              "(layer 1); output.png shows layer 0");
+    }
+    renderer::OffscreenStereoRenderer rend = renderer::OffscreenStereoRenderer::create(ctx, eye_w, eye_h);
+    r.device = ctx.device_name();
+    r.eye_strategy = rend.strategy_note();
+
+    // 2. Head, scene navigation, input.
+    renderer::KeyboardMouseHead* km = nullptr;
+    renderer::TrackerHead* tracker = nullptr;
+    const std::unique_ptr<renderer::HeadPoseProvider> head = make_head(scene, !offscreen, &km, &tracker);
+    renderer::SceneNavigation nav;
+    renderer::MouseNavigation mouse = renderer::MouseNavigation::for_screen(dc.screen, eye_w);
+    mouse.pivot_m = scene.centre_m;
+    RunInput input(km, nav, mouse);
+    renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
+
+    // 3. The sculpting threads.
+    SculptBackend backend(scene);
+    r.volume_before_m3 = backend.workpiece().volume_dexel_m3;
+    const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
+    backend.start();
+
+    // 4. The render loop, on this thread.
+    const bool both = renderer::needs_both_eyes(output);
+    const double sep = both ? dc.eye_separation_m : 0.0;
+    const double frame_period_s = (output == StereoOutput::kFrameSequential ? 2.0 : 1.0) / dc.refresh_hz;
+    renderer::StereoImages eyes;
+    bool swap = su.swap_eyes;
+    std::string ended = "the window was closed";
+    const auto t_render = Clock::now();
+    Clock::time_point prev_start{};
+    try {
+        for (std::uint64_t frame = 0;; ++frame) {
+            if (window) {
+                window->poll_events();
+                renderer::InputEvent e;
+                while (window->input().pop(e)) input.handle(e);
+                for (int k = input.take_swap_toggles(); k > 0; --k) swap = !swap;
+                presenter->set_swap_eyes(swap);
+                if (window->should_close() || input.close_requested()) break;
+            }
+            const double t = seconds_since(t_render);
+            bool last = false;
+            if (su.frames > 0 && frame + 1 >= static_cast<std::uint64_t>(su.frames)) {
+                last = true;
+                ended = "--frames " + std::to_string(su.frames) + " rendered";
+            } else if (su.seconds > 0.0 && t >= su.seconds) {
+                last = true;
+                ended = "--seconds " + std::to_string(su.seconds) + " passed";
+            } else if (offscreen && su.frames == 0 && su.seconds == 0.0 && backend.stroke_done()) {
+                last = true;
+                ended = "the stroke ended";
+            } else if (safety_s > 0.0 && offscreen && t >= safety_s) {
+                last = true;
+                ended = "the wall-time safety net (" + std::to_string(safety_s) + " s) stopped the run";
+            }
+
+            const MeshFrame& mesh = backend.latest_mesh();
+            if (mesh.version != r.last_mesh_version) {
+                ++r.mesh_versions_drawn;
+                r.last_mesh_version = mesh.version;
+            }
+            r.triangles = mesh.mesh.triangles.size();
+            const renderer::SceneView view = scene_view_from(backend.latest_view(), &mesh.mesh, scene.tool_radius_m,
+                                                             backend.start_tool_m(), backend.start_box_m());
+            const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), sep, nav);
+
+            const auto t0 = Clock::now();
+            if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
+            prev_start = t0;
+            if (offscreen) {
+                if (last)
+                    eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                else
+                    rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                if (output == StereoOutput::kFrameSequential) {
+                    for (int k = 0; k < 2; ++k) r.last_eye = sequencer.present();
+                    r.presents += 2;
+                } else {
+                    r.presents += 1;
+                }
+            } else if (output == StereoOutput::kAnaglyph) {
+                eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                renderer::ComposeOptions co;
+                co.swap_eyes = swap;
+                co.anaglyph = dc.anaglyph;
+                r.presents += presenter->present_composed(renderer::compose(output, eyes.left, eyes.right, co));
+            } else {
+                rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                r.presents += presenter->present(rend);
+                if (output == StereoOutput::kFrameSequential) r.last_eye = presenter->last_eye();
+            }
+            r.frame_ms.add(ms_between(t0, Clock::now()));
+            r.gpu_ms.add(rend.last_gpu_ms());
+            r.frames = frame + 1;
+            if (last) break;
+            if (offscreen && su.pace)
+                std::this_thread::sleep_until(t_render + std::chrono::duration_cast<Clock::duration>(
+                                                             std::chrono::duration<double>((frame + 1) * frame_period_s)));
+        }
+    } catch (...) {
+        try {
+            backend.stop();
+        } catch (...) {  // the render failure is the one to report
+        }
+        throw;
+    }
+    r.render_s = seconds_since(t_render);
+    r.stroke_completed = scene.has_stroke && backend.stroke_done() && backend.loop_stats().ticks >= backend.stroke_ticks();
+    backend.stop();
+    r.notes.insert(r.notes.begin(), "ended: " + ended);
+    if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
+    r.loop = backend.loop_stats();
+    r.sculpt = backend.sculpt_stats();
+    r.session_s = backend.session_s();
+    r.volume_after_m3 = compute::dexel_volume_m3(backend.workpiece().model);
+    if (presenter) r.present_timings = presenter->timings().to_json();
+
+    // 5. Outputs.
+    fs::create_directories(su.out);
+    const fs::path out(su.out);
+    if (offscreen) {
+        renderer::ComposeOptions co;
+        co.swap_eyes = su.swap_eyes;
+        co.anaglyph = dc.anaglyph;
+        if (output == StereoOutput::kFrameSequential)
+            co.eye_slot = sequencer.shutter_for_present(sequencer.presents() - 1);
+        const renderer::Image shown = renderer::compose(output, eyes.left, eyes.right, co);
+        for (const auto& [name, img] : {std::pair<const char*, const renderer::Image*>{"left.png", &eyes.left},
+                                        {"right.png", &eyes.right}, {"output.png", &shown}}) {
+            renderer::write_png((out / name).string(), *img);
+            r.files.push_back((out / name).string());
+        }
+    }
+    r.validation_messages = ctx.validation_messages();
+    r.wall_s = seconds_since(t_start);
+    r.files.push_back((out / "report.json").string());
+    write_run_report(r.files.back(), r);
+    return r;
+}
+
+}  // namespace tridex::app

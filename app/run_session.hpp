@@ -1,0 +1,80 @@
+// app/run_session.hpp - `tridex run`: one stereo session, one code path for a window, fullscreen or offscreen.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/run_options.hpp"
+#include "app/run_scene.hpp"
+#include "app/sculpt_thread.hpp"
+#include "haptics/haptic_loop.hpp"
+#include "renderer/stereo_output.hpp"
+#include "renderer/window_frame_timing.hpp"
+
+namespace tridex::app {
+
+/// RunOptions checked and merged with the scene they name.
+struct RunSetup {
+    DisplayKind display = DisplayKind::kWindow;
+    RunScene scene;                 ///< the scene, its display replaced by --display-config and --stereo applied
+    bool swap_eyes = false;         ///< --swap-eyes or the display config's swap_eyes
+    int frames = 0;                 ///< frame limit (0 = none)
+    double seconds = 0.0;           ///< wall-time limit, s (0 = none)
+    std::string out;                ///< output folder
+    int monitor_index = -1;         ///< fullscreen monitor by index, -1 = by name / primary
+    std::string monitor_name;       ///< fullscreen monitor by (part of its) name
+    bool validate = false;          ///< Vulkan validation layer
+    bool pace = true;               ///< offscreen: frames paced at the display's rate
+};
+
+/// Loads the scene and applies the options. Throws tridex::Error naming the option (--display, --stereo,
+/// --frames, --seconds, --head, --monitor) or the file (scene, display config) at fault; offscreen runs need a
+/// way to end: --frames, --seconds or a scene with a stroke (else "--frames/--seconds: ...").
+RunSetup resolve_run(const RunOptions& options);
+
+/// What a run did (SI units; histograms in ms).
+struct RunResult {
+    RunSetup setup;                              ///< what was run
+    std::uint64_t frames = 0;                    ///< stereo frames rendered
+    std::uint64_t presents = 0;                  ///< images shown (frame-sequential: 2 per frame)
+    int last_eye = -1;                           ///< frame-sequential / quad: the eye shown last (0/1); else -1
+    renderer::FrameTimeHistogram frame_ms;       ///< per frame: CPU wall time of draw + readback/present, ms
+    renderer::FrameTimeHistogram interval_ms;    ///< between successive frame starts (the display period), ms
+    renderer::FrameTimeHistogram gpu_ms;         ///< per frame: GPU time of the stereo render (timestamps), ms
+    nlohmann::json present_timings;              ///< window: WindowPresenter::timings().to_json(); null offscreen
+    std::uint64_t mesh_versions_drawn = 0;       ///< distinct MeshFrame versions the renderer drew
+    std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
+    bool stroke_completed = false;               ///< the haptic loop played the whole stroke before the end
+    double wall_s = 0.0;                         ///< whole run, s
+    double render_s = 0.0;                       ///< from the first frame to the end of the last, s
+    haptics::LoopStats loop{};                   ///< haptic loop counters
+    SculptStats sculpt;                          ///< sculpt thread counters (mesh publishes included)
+    double session_s = 0.0;                      ///< haptic + sculpt threads running, s
+    double volume_before_m3 = 0.0;               ///< tri-dexel volume after scan conversion, m^3
+    double volume_after_m3 = 0.0;                ///< tri-dexel volume at the end, m^3
+    std::size_t triangles = 0;                   ///< of the last mesh drawn
+    std::string device;                          ///< Vulkan device name
+    std::string eye_strategy;                    ///< the renderer's eye strategy note
+    std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"
+    std::uint32_t validation_messages = 0;       ///< Vulkan validation messages (0 expected)
+    std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
+    std::vector<std::string> files;              ///< files written, full paths
+};
+
+/// Runs the session: GPU (and window) first, so that an output the surface cannot show (quad with
+/// maxImageArrayLayers < 2) is refused before any work, then the workpiece, the haptic loop and sculpt thread
+/// (SculptBackend), and the render loop on the calling thread (GLFW needs the main thread) at the display's
+/// rate: per frame the newest mesh and LoopView, the head pose at session time, the navigated off-axis camera,
+/// and the stereo output (window: WindowPresenter, vsync; anaglyph composed on the CPU; offscreen: the same
+/// passes, frame-sequential eyes sequenced by a FrameSequencer). The loop ends on Esc / window close,
+/// --frames, --seconds, or (offscreen without limits) the end of the stroke. Writes report.json (run_report.hpp)
+/// into the output folder, and offscreen left.png, right.png (each eye's last frame; mono: the one view in both;
+/// quad: the two layers) and output.png (compose(): what the display shows; frame-sequential: the last
+/// presented eye; quad: layer 0). Throws tridex::Error on bad options or scene, no usable Vulkan device or
+/// display, an unsupported output, or a sculpt-thread failure.
+RunResult run_stereo_session(const RunOptions& options);
+
+}  // namespace tridex::app

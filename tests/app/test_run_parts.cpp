@@ -1,0 +1,322 @@
+// `tridex run` parts without a GPU: the scene file (defaults, bad fields named), options, the scene view from a
+// LoopView, the navigated camera (analytic: same projection as moving the scene), and keyboard/mouse controls.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include "app/run_cli.hpp"
+#include "app/run_input.hpp"
+#include "app/run_options.hpp"
+#include "app/run_scene.hpp"
+#include "app/run_session.hpp"
+#include "app/run_view.hpp"
+#include "core/error.hpp"
+#include "renderer/off_axis.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The message of the tridex::Error `f` throws ("" when it does not throw).
+template <class F>
+std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(RunScene, DefaultSceneLoadsWithDocumentedValues) {
+    const RunScene s = load_run_scene("");
+    EXPECT_NE(s.source.find("default_scene.json"), std::string::npos);
+    EXPECT_NE(s.mesh_path.find("bunny.off"), std::string::npos);
+    EXPECT_TRUE(fs::is_regular_file(s.mesh_path));
+    EXPECT_EQ(s.resolution, 128);
+    EXPECT_DOUBLE_EQ(s.stock_m, 0.12);
+    EXPECT_DOUBLE_EQ(s.tool_radius_m, 0.006);
+    EXPECT_TRUE(s.has_stroke);
+    EXPECT_DOUBLE_EQ(s.stroke.duration_s, 3.0);
+    EXPECT_DOUBLE_EQ(s.stroke.tool_radius_m, s.tool_radius_m);
+    EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kAnaglyph);
+    EXPECT_EQ(s.display.width_px, 960);
+    EXPECT_EQ(s.head, HeadMode::kFixed);
+    EXPECT_DOUBLE_EQ(s.head_pose.position.z, 0.6);
+}
+
+TEST(RunScene, ReadsEveryField) {
+    const json j = json::parse(R"({
+      "workpiece": {"resolution": 64, "stock_m": 0.2, "centre_m": [0.1, 0.2, 0.3]},
+      "tool": {"radius_m": 0.01, "stiffness_n_per_m": 500, "damping_n_s_per_m": 0.2},
+      "workspace": {"mode": "bubble", "scale": 2.0},
+      "stroke": "none",
+      "display": "powerwall",
+      "head": {"provider": "scripted", "loop": true,
+               "waypoints": [{"t_s": 0, "position_m": [0, 0, 2]},
+                             {"t_s": 1, "position_m": [0.5, 0, 2], "orientation_wxyz": [0, 0, 1, 0]}]}})");
+    const RunScene s = run_scene_from_json(j, "x.json", ".");
+    EXPECT_EQ(s.resolution, 64);
+    EXPECT_DOUBLE_EQ(s.centre_m.z, 0.3);
+    EXPECT_DOUBLE_EQ(s.tool_radius_m, 0.01);
+    EXPECT_EQ(s.workspace_mode, haptics::WorkspaceMode::kBubble);
+    EXPECT_DOUBLE_EQ(s.workspace_scale, 2.0);
+    EXPECT_FALSE(s.has_stroke);
+    EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kFrameSequential);
+    EXPECT_DOUBLE_EQ(s.display.refresh_hz, 120.0);
+    EXPECT_EQ(s.head, HeadMode::kScripted);
+    ASSERT_EQ(s.head_waypoints.size(), 2u);
+    EXPECT_DOUBLE_EQ(s.head_waypoints[1].pose.position.x, 0.5);
+    EXPECT_DOUBLE_EQ(s.head_waypoints[1].pose.orientation.y, 1.0);
+    EXPECT_TRUE(s.head_loop);
+    // Without a head position the display's default head is used.
+    EXPECT_DOUBLE_EQ(s.head_pose.position.z, renderer::DisplayConfig::powerwall().default_head_m.z);
+}
+
+TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
+    struct Case {
+        const char* json;
+        const char* field;
+    };
+    const Case cases[] = {
+        {R"({"workpiece": {"resolution": 3}})", "'workpiece.resolution'"},
+        {R"({"workpiece": {"resolution": 64.5}})", "'workpiece.resolution'"},
+        {R"({"workpiece": {"stock_m": -1}})", "'workpiece.stock_m'"},
+        {R"({"workpiece": {"mesh": "no_such_mesh.off"}})", "'workpiece.mesh'"},
+        {R"({"workpiece": {"centre_m": [0, 0]}})", "'workpiece.centre_m'"},
+        {R"({"tool": {"radius_m": 0.1}})", "'tool.radius_m'"},
+        {R"({"tool": {"colour": 1}})", "'tool.colour'"},
+        {R"({"workspace": {"mode": "teleport"}})", "'workspace.mode'"},
+        {R"({"stroke": "sometimes"})", "'stroke'"},
+        {R"({"stroke": {"press_axis": "x"}})", "'stroke.press_axis'"},
+        {R"({"stroke": {"duration_s": 0}})", "'stroke.duration_s'"},
+        {R"({"display": "cinema"})", "'display'"},
+        {R"({"display": {"stereo": "holographic"}})", "'display'"},
+        {R"({"head": {"provider": "psychic"}})", "'head.provider'"},
+        {R"({"head": {"provider": "scripted"}})", "'head.waypoints'"},
+        {R"({"head": {"waypoints": [{"t_s": 1, "position_m": [0,0,1]}, {"t_s": 1, "position_m": [0,0,1]}]}})",
+         "'head.waypoints[1].t_s'"},
+        {R"({"head": {"waypoints": [{"t_s": 0, "position_m": [0,0,1], "orientation_wxyz": [2,0,0,0]}]}})",
+         "'head.waypoints[0].orientation_wxyz'"},
+        {R"({"lights": 3})", "'lights'"},
+    };
+    for (const Case& c : cases) {
+        const std::string m = error_of([&] { (void)run_scene_from_json(json::parse(c.json), "scene.json", "."); });
+        EXPECT_NE(m.find("scene.json"), std::string::npos) << c.json << " -> " << m;
+        EXPECT_NE(m.find(c.field), std::string::npos) << c.json << " -> " << m;
+    }
+}
+
+TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {
+    const fs::path dir = fs::temp_directory_path() / ("tridex_run_parts_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string bad = (dir / "bad.json").string();
+    std::ofstream(bad) << "{ \"workpiece\": ";
+    EXPECT_NE(error_of([&] { (void)load_run_scene(bad); }).find(bad + ": not valid JSON"), std::string::npos);
+    const std::string missing = (dir / "missing.json").string();
+    EXPECT_NE(error_of([&] { (void)load_run_scene(missing); }).find(missing), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
+    RunOptions o;
+    o.display = "hologram";
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--display"), std::string::npos);
+    o = RunOptions{};
+    o.stereo = "wiggle";
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--stereo: unknown stereo output 'wiggle'"), std::string::npos);
+    o = RunOptions{};
+    o.frames = -1;
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--frames"), std::string::npos);
+    o = RunOptions{};
+    o.seconds = std::nan("");
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--seconds"), std::string::npos);
+    o = RunOptions{};
+    o.head = "scripted";  // the default scene has no waypoints
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--head scripted"), std::string::npos);
+    o = RunOptions{};
+    o.head = "psychic";
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--head"), std::string::npos);
+
+    o = RunOptions{};
+    o.display = "offscreen";
+    o.stereo = "top-bottom-half";
+    o.swap_eyes = true;
+    o.monitor = "2";
+    const RunSetup s = resolve_run(o);
+    EXPECT_EQ(s.display, DisplayKind::kOffscreen);
+    EXPECT_EQ(s.scene.display.stereo, renderer::StereoOutput::kTopBottomHalf);
+    EXPECT_TRUE(s.swap_eyes);
+    EXPECT_EQ(s.monitor_index, 2);
+    o.monitor = "HDMI";
+    EXPECT_EQ(resolve_run(o).monitor_name, "HDMI");
+}
+
+TEST(RunView, EnclosingBoxOfATurnedBox) {
+    // A 2 x 1 x 1 m box (half extents 1, 0.5, 0.5) turned 90 degrees about z at (1, 2, 3): x and y swap.
+    const Pose p{Vec3(1.0, 2.0, 3.0), glm::angleAxis(std::acos(-1.0) / 2.0, Vec3(0.0, 0.0, 1.0))};
+    const Aabb b = enclosing_box(p, Vec3(1.0, 0.5, 0.5));
+    EXPECT_NEAR(b.lo.x, 0.5, 1e-12);
+    EXPECT_NEAR(b.hi.x, 1.5, 1e-12);
+    EXPECT_NEAR(b.lo.y, 1.0, 1e-12);
+    EXPECT_NEAR(b.hi.y, 3.0, 1e-12);
+    EXPECT_NEAR(b.lo.z, 2.5, 1e-12);
+    EXPECT_NEAR(b.hi.z, 3.5, 1e-12);
+}
+
+TEST(RunView, SceneViewFollowsTheLoopView) {
+    const TriMesh mesh;
+    const Aabb fallback{Vec3(-1.0), Vec3(1.0)};
+    haptics::LoopView v;  // tick 0: nothing published yet
+    renderer::SceneView s = scene_view_from(v, &mesh, 0.01, Vec3(0.1, 0.2, 0.3), fallback);
+    EXPECT_EQ(s.workpiece, &mesh);
+    EXPECT_EQ(s.tool_centre_m, Vec3(0.1, 0.2, 0.3));
+    EXPECT_EQ(s.workspace_m.lo, fallback.lo);
+    EXPECT_DOUBLE_EQ(s.tool_radius_m, 0.01);
+    v.tick = 5;
+    v.tool_world.position = Vec3(0.0, 0.0, 0.5);
+    v.box.position = Vec3(0.0, 0.0, 0.4);
+    v.box_half_extents_m = Vec3(0.1, 0.05, 0.02);
+    v.bubble_centre_m = Vec3(0.0, 0.0, 0.4);
+    v.bubble_radius_m = 0.03;
+    s = scene_view_from(v, &mesh, 0.01, Vec3(0.1, 0.2, 0.3), fallback);
+    EXPECT_EQ(s.tool_centre_m, Vec3(0.0, 0.0, 0.5));
+    EXPECT_NEAR(s.workspace_m.lo.x, -0.1, 1e-15);
+    EXPECT_NEAR(s.workspace_m.hi.z, 0.42, 1e-15);
+    EXPECT_DOUBLE_EQ(s.bubble_radius_m, 0.03);
+}
+
+// Clip-space position of p through an eye's off-axis camera, divided by w: (x, y, depth).
+Vec3 ndc(const renderer::EyeView& e, const Vec3& p) {
+    const glm::dvec4 c = e.projection * e.view * glm::dvec4(p, 1.0);
+    return Vec3(c) / c.w;
+}
+
+TEST(RunView, NavigatedCameraEqualsMovingTheScene) {
+    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    const Pose head{Vec3(0.05, 0.1, 0.6), glm::angleAxis(0.1, glm::normalize(Vec3(0.2, 1.0, 0.1)))};
+    renderer::SceneNavigation nav;
+    nav.translate(Vec3(0.02, -0.01, 0.05));
+    nav.rotate(Vec3(0.3, 1.0, 0.2), 0.4, Vec3(0.0, 0.0, 0.1));
+    nav.scale(1.7, Vec3(0.01, 0.02, 0.0));
+    const double sep = 0.065, near_m = 0.05, far_m = 20.0;
+    const RunCamera cam = navigated_camera(screen, head, sep, nav, near_m, far_m);
+    EXPECT_NEAR(cam.eye_separation_m, sep / 1.7, 1e-15);
+    const auto eyes_world = renderer::eye_positions(head, sep);
+    const auto eyes_scene = renderer::eye_positions(cam.head, cam.eye_separation_m);
+    for (int e = 0; e < 2; ++e) {
+        const renderer::EyeView world_eye = renderer::off_axis_view(screen, eyes_world[e], near_m, far_m);
+        const renderer::EyeView scene_eye = renderer::off_axis_view(cam.screen, eyes_scene[e], cam.near_m, cam.far_m);
+        for (const Vec3& p : {Vec3(0.0), Vec3(0.03, -0.02, 0.04), Vec3(-0.1, 0.05, -0.2)}) {
+            const Vec3 a = ndc(world_eye, nav.to_world(p));  // the scene moved, real camera
+            const Vec3 b = ndc(scene_eye, p);                // the scene in place, navigated camera
+            EXPECT_NEAR(a.x, b.x, 1e-9) << "eye " << e;
+            EXPECT_NEAR(a.y, b.y, 1e-9) << "eye " << e;
+            EXPECT_NEAR(a.z, b.z, 1e-9) << "eye " << e;
+        }
+    }
+    // Without navigation the camera is the real one.
+    const RunCamera id = navigated_camera(screen, head, sep, renderer::SceneNavigation{});
+    EXPECT_NEAR(glm::length(id.screen.lower_right - screen.lower_right), 0.0, 1e-15);
+    EXPECT_NEAR(glm::length(id.head.position - head.position), 0.0, 1e-15);
+    EXPECT_DOUBLE_EQ(id.eye_separation_m, sep);
+}
+
+renderer::InputEvent key(renderer::Key k, renderer::InputAction a) {
+    renderer::InputEvent e;
+    e.type = renderer::InputType::kKey;
+    e.key = k;
+    e.action = a;
+    return e;
+}
+
+TEST(RunInput, KeysMoveTheHeadMouseMovesTheScene) {
+    renderer::KeyboardMouseHead head(Pose{Vec3(0.0, 0.0, 0.6), Quat(1.0, 0.0, 0.0, 0.0)}, 0.3);
+    renderer::SceneNavigation nav;
+    renderer::MouseNavigation mouse;
+    mouse.metres_per_pixel = 0.001;
+    RunInput in(&head, nav, mouse);
+    (void)head.head_at(0.0);
+    in.handle(key(renderer::Key::kW, renderer::InputAction::kPress));
+    EXPECT_NEAR(head.head_at(1.0).position.z, 0.3, 1e-12);  // 0.3 m/s forward (-z) for 1 s
+    in.handle(key(renderer::Key::kW, renderer::InputAction::kRelease));
+    in.handle(key(renderer::Key::kR, renderer::InputAction::kPress));
+    EXPECT_NEAR(head.head_at(1.5).position.y, 0.15, 1e-12);  // up for 0.5 s
+    in.handle(key(renderer::Key::kR, renderer::InputAction::kRelease));
+
+    // Shift + left drag pans by 0.001 m per pixel: 100 px right, 50 px down -> (+0.1, -0.05, 0).
+    renderer::InputEvent b;
+    b.type = renderer::InputType::kMouseButton;
+    b.button = renderer::MouseButton::kLeft;
+    b.action = renderer::InputAction::kPress;
+    b.modifiers = renderer::modifier::kShift;
+    in.handle(b);
+    renderer::InputEvent m;
+    m.type = renderer::InputType::kMouseMove;
+    m.dx_px = 100.0;
+    m.dy_px = 50.0;
+    in.handle(m);
+    EXPECT_NEAR(nav.to_world(Vec3(0.0)).x, 0.1, 1e-12);
+    EXPECT_NEAR(nav.to_world(Vec3(0.0)).y, -0.05, 1e-12);
+    b.action = renderer::InputAction::kRelease;
+    in.handle(b);
+    in.handle(m);  // no button: nothing moves
+    EXPECT_NEAR(nav.to_world(Vec3(0.0)).x, 0.1, 1e-12);
+
+    renderer::InputEvent s;
+    s.type = renderer::InputType::kScroll;
+    s.dy_px = 2.0;
+    in.handle(s);
+    EXPECT_NEAR(nav.scale(), 1.1 * 1.1, 1e-12);
+
+    EXPECT_FALSE(in.close_requested());
+    in.handle(key(renderer::Key::kTab, renderer::InputAction::kPress));
+    in.handle(key(renderer::Key::kTab, renderer::InputAction::kPress));
+    EXPECT_EQ(in.take_swap_toggles(), 2);
+    EXPECT_EQ(in.take_swap_toggles(), 0);
+    in.handle(key(renderer::Key::kHome, renderer::InputAction::kPress));
+    EXPECT_DOUBLE_EQ(nav.scale(), 1.0);
+    EXPECT_NEAR(head.head_at(2.0).position.z, 0.6, 1e-12);
+    in.handle(key(renderer::Key::kEscape, renderer::InputAction::kPress));
+    EXPECT_TRUE(in.close_requested());
+}
+
+TEST(RunCli, EveryFlagReachesTheOptions) {
+    CLI::App cli{"tridex"};
+    RunOptions o;
+    CLI::App* cmd = add_run_command(cli, o);
+    const char* argv[] = {"tridex", "run", "wall.json", "--display", "fullscreen", "--stereo", "frame-sequential",
+                          "--monitor", "DP-1", "--frames", "7", "--out", "o", "--display-config", "d.json",
+                          "--head", "tracker", "--swap-eyes", "--seconds", "2.5", "--validate", "--no-pace"};
+    cli.parse(static_cast<int>(std::size(argv)), argv);
+    EXPECT_TRUE(*cmd);
+    EXPECT_EQ(o.scene, "wall.json");
+    EXPECT_EQ(o.display, "fullscreen");
+    EXPECT_EQ(o.stereo, "frame-sequential");
+    EXPECT_EQ(o.monitor, "DP-1");
+    EXPECT_EQ(o.frames, 7);
+    EXPECT_EQ(o.out, "o");
+    EXPECT_EQ(o.display_config, "d.json");
+    EXPECT_EQ(o.head, "tracker");
+    EXPECT_TRUE(o.swap_eyes);
+    EXPECT_DOUBLE_EQ(o.seconds, 2.5);
+    EXPECT_TRUE(o.validate);
+    EXPECT_FALSE(o.pace);
+    // A user error comes back as exit code 2 (message on stderr), not as an exception.
+    RunOptions bad;
+    bad.display = "hologram";
+    EXPECT_EQ(run_command(bad), 2);
+}
+
+}  // namespace
+}  // namespace tridex::app
