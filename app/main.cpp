@@ -10,6 +10,7 @@
 #include <new>
 
 #include "app/bench_haptics.hpp"
+#include "app/bench_render.hpp"
 #include "app/demo.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
@@ -74,6 +75,12 @@ int main(int argc, char** argv) {
     CLI::App* bench_cmd = cli.add_subcommand("bench", "Benchmarks that print tables and write JSON (numbers, not pass/fail)");
     bench_cmd->add_flag("--haptics", bench_haptics,
                         "Haptic tick compute time against resolution (128..1024) and contact points (1, 2, 16, 64)");
+    bool bench_render = false;
+    tridex::app::RenderBenchOptions rbench;
+    bench_cmd->add_flag("--render", bench_render,
+                        "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, "
+                        "with and without tile culling");
+    bench_cmd->add_option("--frames", rbench.frames, "Timed frames per render row")->capture_default_str()->check(CLI::Range(1, 1000));
     bench_cmd->add_option("--out", hbench.out, "Output folder")->capture_default_str();
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
     bench_cmd->add_option("--ticks", hbench.ticks, "Timed ticks per row")->capture_default_str()->check(CLI::Range(100, 10000000));
@@ -95,8 +102,13 @@ int main(int argc, char** argv) {
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out);
         if (*run_cmd) return tridex::app::run_command(run);
         if (*bench_cmd) {
-            if (!bench_haptics) throw tridex::Error("bench: choose what to measure: --haptics");
-            tridex::app::run_haptics_bench(hbench);
+            if (!bench_haptics && !bench_render) throw tridex::Error("bench: choose what to measure: --haptics and/or --render");
+            if (bench_haptics) tridex::app::run_haptics_bench(hbench);
+            if (bench_render) {
+                rbench.out = hbench.out;
+                rbench.mesh = hbench.mesh;
+                tridex::app::run_render_bench(rbench);
+            }
         }
         return 0;
     } catch (const tridex::Error& e) {

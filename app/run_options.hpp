@@ -33,6 +33,14 @@ struct RunOptions {
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;
+    /// Draw the proxy, the force arrow and the overlay (haptic rate, sculpt rate, frame time, tiles drawn /
+    /// skipped); false: the workpiece, tool, workspace box and bubble only.
+    bool items = true;
+    /// The workpiece as per-tile meshes (only changed tiles re-uploaded, tiles culled per eye); false: the
+    /// whole mesh every publish (the fallback path).
+    bool tiles = true;
+    /// With tiles: draw only the tiles inside each eye's off-axis frustum (false: every tile in both eyes).
+    bool cull = true;
 };
 
 }  // namespace tridex::app

@@ -1,6 +1,7 @@
 // app/run_report.cpp - report.json of `tridex run`.
 #include "app/run_report.hpp"
 
+#include <array>
 #include <fstream>
 
 #include "app/stats.hpp"
@@ -23,7 +24,49 @@ json histogram_us(const haptics::Histogram& h) {
 
 double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
 
+json render_json(const RunResult& r) {
+    const RenderLog& log = r.render;
+    std::array<std::uint64_t, 2> drawn{}, skipped{};
+    json per_frame = json::array();
+    for (const auto& f : log.tiles) {
+        for (int e = 0; e < 2; ++e) {
+            drawn[e] += f[e].drawn;
+            skipped[e] += f[e].skipped;
+        }
+        per_frame.push_back({f[0].drawn, f[0].skipped, f[1].drawn, f[1].skipped});
+    }
+    json passes = json::object();
+    for (const auto& [name, ms] : log.pass_ms) {
+        double total = 0.0;
+        for (const double v : ms) total += v;
+        const Summary s = summarize(ms);
+        passes[name] = json{{"count", ms.size()}, {"total_ms", total}, {"median_ms", s.median}, {"p99_ms", s.p99},
+                            {"max_ms", s.max}};
+    }
+    return json{{"tiled", r.tiled},
+                {"tiles_last", r.tiles_last},
+                {"items", r.setup.items},
+                {"cull", r.setup.cull},
+                {"force_m_per_newton", r.force_m_per_newton},
+                {"timing", log.timing_note},
+                {"tiles",
+                 {{"per_frame_columns", {"left_drawn", "left_skipped", "right_drawn", "right_skipped"}},
+                  {"per_frame", per_frame},
+                  {"drawn_total", drawn},
+                  {"skipped_total", skipped},
+                  {"uploads_total", log.tile_uploads}}},
+                {"passes", passes}};
+}
+
 }  // namespace
+
+void RenderLog::add(const renderer::FrameStats& stats) {
+    tiles.push_back(stats.tiles);
+    tile_uploads += stats.tile_uploads;
+    for (const renderer::PassTime& p : stats.passes)
+        pass_ms[p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "")].push_back(p.ms);
+    timing_note = stats.timing_note;
+}
 
 json run_report_json(const RunResult& r) {
     const RunSetup& su = r.setup;
@@ -53,6 +96,7 @@ json run_report_json(const RunResult& r) {
         {"present_mode", r.present_mode},
         {"validation_messages", r.validation_messages},
         {"frames", frames},
+        {"render", render_json(r)},
         {"meshes",
          {{"versions_drawn", r.mesh_versions_drawn},
           {"last_version", r.last_mesh_version},

@@ -13,7 +13,7 @@ constexpr std::size_t kMaxRecords = 120000;            // per-tick records kept:
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
-SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s)
+SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form)
     : wp_(prepare_workpiece(scene.mesh_path, scene.resolution, scene.stock_m, scene.centre_m)),
       profile_(devices::DeviceProfile::phantom_omni()) {
     cfg_.period_s = 1e-3;
@@ -52,7 +52,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s)
     contour_s_ = seconds_since(t0);
     ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
     sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m_);
-    sculpt_->publish_mesh_to(meshes_, mesh_interval_s);
+    sculpt_->publish_mesh_to(meshes_, mesh_interval_s, form);
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
 }
 

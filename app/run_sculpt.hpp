@@ -30,7 +30,9 @@ public:
     /// Prepares everything (loads, scan-converts and contours the workpiece, plans the stroke, checks the loop
     /// configuration) without starting threads. Throws tridex::Error for a bad mesh, an impossible resolution,
     /// a stroke with no material under it or a bad loop configuration.
-    explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0);
+    /// `form`: how the contoured surface is handed over (MeshFrame: the whole mesh or per-tile meshes).
+    explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0,
+                           MeshForm form = MeshForm::kTiles);
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
     ~SculptBackend();
     SculptBackend(const SculptBackend&) = delete;

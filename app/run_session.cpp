@@ -34,6 +34,9 @@ using Clock = std::chrono::steady_clock;
 using renderer::StereoOutput;
 
 double ms_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+// Force arrow scale: 2 cm per N, so the 3.3 N peak of the simulated Omni-class device is a 6.6 cm arrow.
+constexpr double kForceMetresPerNewton = 0.02;
+
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // The head provider of the run: in a window a fixed head becomes a keyboard-and-mouse head (same home pose).
@@ -74,6 +77,9 @@ RunSetup resolve_run(const RunOptions& o) {
     if (s.out.empty()) throw Error("--out: the output folder must not be empty");
     s.validate = o.validate;
     s.pace = o.pace;
+    s.items = o.items;
+    s.tiles = o.tiles;
+    s.cull = o.cull;
     s.scene = load_run_scene(o.scene);
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
@@ -113,10 +119,13 @@ RunResult run_stereo_session(const RunOptions& options) {
     const int eye_w = dc.width_px, eye_h = dc.height_px;
 
     // 1. GPU, window and presenter: refuses what the display cannot show before any other work.
-    // The window opens before the Context: GLFW then stays initialised (one X connection) from the
-    // presentation-support query on. Terminating GLFW in between (window_context_options() with no window
-    // open) lets a new X connection reuse the old one's address, and Mesa's WSI, which caches per-connection
-    // state (the XFixes version handshake) by that address, then sends XFixes requests the server refuses.
+    // GLFW stays initialised from the first query (window_context_options) until `glfw_scope` ends, after
+    // the Context and the window: one X connection for every Vulkan instance that asked about it.
+    std::optional<renderer::WindowSystemScope> glfw_scope;
+    if (!offscreen) glfw_scope.emplace();
+    gpu::ContextOptions gopt;
+    gopt.validation = su.validate;
+    gpu::Context ctx = gpu::Context::create(offscreen ? gopt : renderer::window_context_options(gopt));
     std::optional<renderer::Window> window;  // none offscreen (the images are read back on the last frame)
     if (!offscreen) {
         renderer::WindowOptions wo;
@@ -129,9 +138,6 @@ RunResult run_stereo_session(const RunOptions& options) {
         wo.monitor_name = su.monitor_name;
         window.emplace(renderer::Window::create(wo));
     }
-    gpu::ContextOptions gopt;
-    gopt.validation = su.validate;
-    gpu::Context ctx = gpu::Context::create(offscreen ? gopt : renderer::window_context_options(gopt));
     std::optional<renderer::WindowPresenter> presenter;  // destroyed before the Context
     if (!offscreen) {
         renderer::PresenterOptions po;
@@ -162,7 +168,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
 
     // 3. The sculpting threads.
-    SculptBackend backend(scene);
+    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole);
     r.volume_before_m3 = backend.workpiece().volume_dexel_m3;
     const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
     backend.start();
@@ -173,6 +179,12 @@ RunResult run_stereo_session(const RunOptions& options) {
     const double frame_period_s = (output == StereoOutput::kFrameSequential ? 2.0 : 1.0) / dc.refresh_hz;
     renderer::StereoImages eyes;
     bool swap = su.swap_eyes;
+    // Overlay numbers: haptic ticks/s over the last second of loop time, sculpt steps/s over the last second
+    // of wall time (from the published frames), and the previous frame's wall time.
+    RateMeter haptic_rate(1.0), sculpt_rate(1.0);
+    double prev_frame_ms = -1.0;
+    std::vector<renderer::TileMesh> tiles;  // this frame's view of the published tiles
+    r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     std::string ended = "the window was closed";
     const auto t_render = Clock::now();
     Clock::time_point prev_start{};
@@ -207,9 +219,31 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ++r.mesh_versions_drawn;
                 r.last_mesh_version = mesh.version;
             }
-            r.triangles = mesh.mesh.triangles.size();
-            const renderer::SceneView view = scene_view_from(backend.latest_view(), &mesh.mesh, scene.tool_radius_m,
-                                                             backend.start_tool_m(), backend.start_box_m());
+            r.triangles = mesh.triangles;
+            r.tiled = mesh.tiled;
+            r.tiles_last = mesh.tiles.size();
+            tiles.clear();
+            for (const auto& tile : mesh.tiles) {
+                renderer::TileMesh tm;
+                tm.mesh = &tile->mesh;
+                tm.bounds_m = tile->bounds_m;
+                tm.version = tile->version;
+                tm.id = tile->id;
+                tiles.push_back(tm);
+            }
+            const haptics::LoopView& lv = backend.latest_view();
+            renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.tool_radius_m,
+                                                       backend.start_tool_m(), backend.start_box_m());
+            view.tiles = tiles;
+            view.cull_tiles = su.cull;
+            view.eye_count = both ? 2 : 1;
+            if (su.items) {
+                if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
+                sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
+                                mesh.sculpt_steps);
+                add_run_items(view, lv, scene.tool_radius_m, kForceMetresPerNewton,
+                              RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms});
+            }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), sep, nav);
 
             const auto t0 = Clock::now();
@@ -237,8 +271,10 @@ RunResult run_stereo_session(const RunOptions& options) {
                 r.presents += presenter->present(rend);
                 if (output == StereoOutput::kFrameSequential) r.last_eye = presenter->last_eye();
             }
-            r.frame_ms.add(ms_between(t0, Clock::now()));
+            prev_frame_ms = ms_between(t0, Clock::now());
+            r.frame_ms.add(prev_frame_ms);
             r.gpu_ms.add(rend.last_gpu_ms());
+            r.render.add(rend.last_frame_stats());
             r.frames = frame + 1;
             if (last) break;
             if (offscreen && su.pace)

@@ -1,7 +1,9 @@
 // app/run_session.hpp - `tridex run`: one stereo session, one code path for a window, fullscreen or offscreen.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,7 @@
 #include "app/run_scene.hpp"
 #include "app/sculpt_thread.hpp"
 #include "haptics/haptic_loop.hpp"
+#include "renderer/frame_stats.hpp"
 #include "renderer/stereo_output.hpp"
 #include "renderer/window_frame_timing.hpp"
 
@@ -28,6 +31,22 @@ struct RunSetup {
     std::string monitor_name;       ///< fullscreen monitor by (part of its) name
     bool validate = false;          ///< Vulkan validation layer
     bool pace = true;               ///< offscreen: frames paced at the display's rate
+    bool items = true;              ///< proxy, force arrow and overlay drawn
+    bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
+    bool cull = true;               ///< tiles culled per eye
+};
+
+/// The renderer's FrameStats of every frame of a run, kept for report.json.
+struct RenderLog {
+    /// Per frame, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
+    std::vector<std::array<renderer::EyeTileCounts, 2>> tiles;
+    std::uint64_t tile_uploads = 0;  ///< tile meshes uploaded, summed over frames
+    /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
+    /// "frame" (CPU clock): that pass's time in every frame, ms.
+    std::map<std::string, std::vector<double>> pass_ms;
+    std::string timing_note;         ///< the last frame's FrameStats::timing_note
+    /// Adds one frame's statistics.
+    void add(const renderer::FrameStats& stats);
 };
 
 /// Loads the scene and applies the options. Throws tridex::Error naming the option (--display, --stereo,
@@ -56,6 +75,10 @@ struct RunResult {
     double volume_before_m3 = 0.0;               ///< tri-dexel volume after scan conversion, m^3
     double volume_after_m3 = 0.0;                ///< tri-dexel volume at the end, m^3
     std::size_t triangles = 0;                   ///< of the last mesh drawn
+    bool tiled = false;                          ///< the workpiece was drawn as tiles (false: the whole mesh)
+    std::size_t tiles_last = 0;                  ///< tiles in the last mesh drawn (0 for the whole mesh)
+    RenderLog render;                            ///< per-frame tiles drawn / skipped and per-pass GPU times
+    double force_m_per_newton = 0.0;             ///< force arrow scale, m per N (0 without items)
     std::string device;                          ///< Vulkan device name
     std::string eye_strategy;                    ///< the renderer's eye strategy note
     std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"

@@ -32,6 +32,37 @@ renderer::SceneView scene_view_from(const haptics::LoopView& view, const TriMesh
     return s;
 }
 
+void add_run_items(renderer::SceneView& s, const haptics::LoopView& view, double proxy_radius_m,
+                   double force_m_per_newton, const RunOverlay& o) {
+    if (view.tick > 0) {
+        s.proxy_m = view.proxy_m;
+        s.proxy_radius_m = proxy_radius_m;
+        s.force_N = view.force_n;
+        s.force_m_per_newton = force_m_per_newton;
+    }
+    s.show_overlay = true;
+    s.haptic_rate_hz = o.haptic_rate_hz;
+    s.sculpt_rate_hz = o.sculpt_rate_hz;
+    s.frame_time_ms = o.frame_time_ms;
+}
+
+void RateMeter::add(double t_s, std::uint64_t count) {
+    if (!samples_.empty() && (t_s < samples_.back().first || count < samples_.back().second)) samples_.clear();
+    if (!samples_.empty() && t_s == samples_.back().first)
+        samples_.back().second = count;
+    else
+        samples_.emplace_back(t_s, count);
+    // Keep one sample at or before the window's start, so the span covers the whole window once it can.
+    while (samples_.size() > 2 && samples_[1].first <= t_s - window_s_) samples_.pop_front();
+}
+
+double RateMeter::rate_hz() const {
+    if (samples_.size() < 2) return -1.0;
+    const double dt = samples_.back().first - samples_.front().first;
+    if (dt <= 0.0) return -1.0;
+    return static_cast<double>(samples_.back().second - samples_.front().second) / dt;
+}
+
 RunCamera navigated_camera(const renderer::Screen& screen, const Pose& head, double eye_separation_m,
                            const renderer::SceneNavigation& nav, double near_m, double far_m) {
     const double s = nav.scale();

@@ -2,6 +2,10 @@
 // the newest mesh, and the camera through the navigated scene.
 #pragma once
 
+#include <cstdint>
+#include <deque>
+#include <utility>
+
 #include "core/aabb.hpp"
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
@@ -22,6 +26,39 @@ Aabb enclosing_box(const Pose& box, const Vec3& half_m);
 /// `fallback_box_m`. All positions world m.
 renderer::SceneView scene_view_from(const haptics::LoopView& view, const TriMesh* mesh, double tool_radius_m,
                                     const Vec3& fallback_tool_m, const Aabb& fallback_box_m);
+
+/// What the overlay of a run frame says.
+struct RunOverlay {
+    double haptic_rate_hz = -1.0;  ///< haptic ticks per second over the last second; < 0 = unknown
+    double sculpt_rate_hz = -1.0;  ///< sculpt steps per second over the last second; < 0 = unknown
+    double frame_time_ms = -1.0;   ///< the previous frame's wall time, ms; < 0 = the renderer's own
+};
+
+/// Adds the run's scene items to `s`: the proxy (view.proxy_m, a translucent sphere of `proxy_radius_m`, m,
+/// the tool's radius: the god-object of the ball tool's centre), the force arrow (view.force_n, N, drawn at
+/// `force_m_per_newton` m per N from the tool centre) and the overlay with `o`'s numbers. Before the loop's
+/// first tick (view.tick == 0) there is no proxy and no force. Nothing is checked here (the renderer checks
+/// finiteness when it draws).
+void add_run_items(renderer::SceneView& s, const haptics::LoopView& view, double proxy_radius_m,
+                   double force_m_per_newton, const RunOverlay& o);
+
+/// Events per second over a sliding window: fed (time, running count) samples, e.g. (LoopView.t_s,
+/// LoopView.tick) for the haptic rate or (wall time, SculptStats steps) for the sculpt rate.
+class RateMeter {
+public:
+    /// window_s: span the rate is measured over, s (> 0; else 1 s is used).
+    explicit RateMeter(double window_s = 1.0) : window_s_(window_s > 0.0 ? window_s : 1.0) {}
+    /// Adds a sample at t_s (s) with running count `count`. A time before the newest sample's, or a count
+    /// below its count (a restart), clears the history first; a sample at the newest time replaces it.
+    void add(double t_s, std::uint64_t count);
+    /// (newest count - oldest count) / (newest t - oldest t) over the samples of the last window_s (plus the
+    /// one just before it), per s; -1 with fewer than two samples or a zero time span.
+    double rate_hz() const;
+
+private:
+    double window_s_;
+    std::deque<std::pair<double, std::uint64_t>> samples_;
+};
 
 /// The arguments of OffscreenStereoRenderer::render() for one frame.
 struct RunCamera {

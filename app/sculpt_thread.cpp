@@ -99,20 +99,47 @@ bool SculptThread::step() {
     return true;
 }
 
-void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s) {
+void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {
     if (thread_.joinable()) throw Error("SculptThread::publish_mesh_to: call it before start()");
     if (!std::isfinite(min_interval_s) || min_interval_s < 0.0)
         throw Error("SculptThread::publish_mesh_to: min_interval_s must be finite and >= 0, got " +
                     std::to_string(min_interval_s));
     mesh_out_ = &out;
     mesh_interval_s_ = min_interval_s;
+    mesh_form_ = form;
     publish_mesh();
 }
 
 void SculptThread::publish_mesh() {
     const auto t0 = std::chrono::steady_clock::now();
     MeshFrame& slot = mesh_out_->back();
-    slot.mesh = contourer_.mesh();
+    if (mesh_form_ == MeshForm::kWhole) {
+        slot.mesh = contourer_.mesh();
+        slot.tiles.clear();
+        slot.tiled = false;
+        slot.triangles = slot.mesh.triangles.size();
+    } else {
+        tile_cache_.refresh(contourer_);
+        // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
+        std::vector<std::shared_ptr<const compute::TileSurface>> next;
+        next.reserve(tile_cache_.tiles().size());
+        std::size_t k = 0, triangles = 0;
+        for (const compute::TileSurface& t : tile_cache_.tiles()) {
+            while (k < shared_tiles_.size() && shared_tiles_[k]->id < t.id) ++k;
+            if (k < shared_tiles_.size() && shared_tiles_[k]->id == t.id && shared_tiles_[k]->version == t.version)
+                next.push_back(shared_tiles_[k]);
+            else
+                next.push_back(std::make_shared<const compute::TileSurface>(t));
+            triangles += t.mesh.triangles.size();
+        }
+        shared_tiles_ = std::move(next);
+        slot.mesh = TriMesh{};
+        slot.tiles = shared_tiles_;
+        slot.tiled = true;
+        slot.triangles = triangles;
+    }
+    slot.sculpt_steps = stats_.steps;
+    slot.published_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     slot.version = ++mesh_version_;
     mesh_out_->publish();
     mesh_pending_ = false;

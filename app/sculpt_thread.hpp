@@ -5,11 +5,13 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <memory>
 #include <cstdint>
 #include <thread>
 #include <vector>
 
 #include "compute/contour_dual.hpp"
+#include "compute/contour_tiles.hpp"
 #include "compute/tridexel.hpp"
 #include "core/active_surface.hpp"
 #include "core/spsc_ring.hpp"
@@ -33,10 +35,24 @@ struct SculptStats {
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
 };
 
+/// How the sculpt thread hands the contoured surface to the renderer.
+enum class MeshForm {
+    kWhole,  ///< MeshFrame::mesh: the whole mesh assembled and copied on every publish
+    kTiles,  ///< MeshFrame::tiles: per-tile meshes (TileSurfaceCache), only changed tiles rebuilt and copied
+};
+
 /// A contoured mesh handed from the sculpt thread to the renderer (SculptThread::publish_mesh_to).
 struct MeshFrame {
     std::uint64_t version = 0;  ///< 1 for the first publish, +1 per publish; 0 = nothing published yet
-    TriMesh mesh;               ///< the whole contoured model, world m, CCW from outside
+    TriMesh mesh;               ///< kWhole: the whole contoured model, world m, CCW from outside; kTiles: empty
+    /// kTiles: every non-empty tile, ordered by id (world m). A tile whose version did not change since the
+    /// previous publish is the same shared object (never modified after publishing), so publishing costs
+    /// O(changed tiles' triangles) and the renderer re-uploads only tiles whose version changed.
+    std::vector<std::shared_ptr<const compute::TileSurface>> tiles;
+    bool tiled = false;          ///< true when `tiles` holds the surface (MeshForm::kTiles)
+    std::size_t triangles = 0;   ///< triangles in mesh or summed over tiles
+    std::uint64_t sculpt_steps = 0;  ///< SculptStats::steps when published (for a sculpt rate, steps/s)
+    double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
 };
 
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
@@ -68,8 +84,10 @@ public:
     /// per min_interval_s of wall time (s, >= 0; a change inside the interval is published when it
     /// passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
     /// the active surface is still published before contouring. `out` must outlive the thread. Call
-    /// before start(). Throws tridex::Error when the thread runs or min_interval_s is not finite and >= 0.
-    void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0);
+    /// before start(). `form` chooses the whole mesh or per-tile meshes (MeshFrame). Throws tridex::Error
+    /// when the thread runs or min_interval_s is not finite and >= 0.
+    void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
+                         MeshForm form = MeshForm::kWhole);
 
 private:
     void run();
@@ -94,6 +112,9 @@ private:
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;
+    MeshForm mesh_form_ = MeshForm::kWhole;
+    compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
+    std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
     std::chrono::steady_clock::time_point mesh_last_{};
 };
 

@@ -2,12 +2,35 @@
 #include "compute/contour_dual.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
 #include <string>
 #include <sstream>
+#include <utility>
 
 #include "core/error.hpp"
 
 namespace tridex::compute {
+namespace {
+
+/// Next value of the process-wide tile version counter (never 0).
+std::uint64_t next_version() {
+    static std::atomic<std::uint64_t> counter{0};
+    return ++counter;
+}
+
+bool same_piece(const contour::TileMesh& a, const contour::TileMesh& b) {
+    return a.keys == b.keys && a.grid == b.grid && a.triangles == b.triangles && a.foreign == b.foreign;
+}
+
+/// Position of `key` in `piece`, or nullptr when the piece does not own it.
+const Vec3* find_in(const contour::TileMesh& piece, contour::VertexKey key) {
+    const auto it = std::lower_bound(piece.keys.begin(), piece.keys.end(), key);
+    if (it == piece.keys.end() || *it != key) return nullptr;
+    return &piece.grid[static_cast<std::size_t>(it - piece.keys.begin())];
+}
+
+}  // namespace
 
 Contourer::Contourer(const TriDexel& model) : lattice_(model.lattice), tiles_(model.tiles.tiles) {
     for (int a = 0; a < 3; ++a) {
@@ -15,6 +38,7 @@ Contourer::Contourer(const TriDexel& model) : lattice_(model.lattice), tiles_(mo
         codec_.tiles[a] = tiles_[a];
     }
     tile_meshes_.resize(static_cast<std::size_t>(tiles_[0]) * tiles_[1] * tiles_[2]);
+    versions_.assign(tile_meshes_.size(), 0);
 }
 
 void Contourer::check_model(const TriDexel& model) const {
@@ -38,19 +62,120 @@ void Contourer::check_model(const TriDexel& model) const {
 std::size_t Contourer::update(TriDexel& model) {
     check_model(model);
     std::size_t redone = 0, cells = 0;
+    // Tiles whose piece changed, with their previous piece (to tell which borrowed vertices moved).
+    std::vector<std::pair<std::size_t, contour::TileMesh>> changed;
     for (int tz = 0; tz < tiles_[2]; ++tz)
         for (int ty = 0; ty < tiles_[1]; ++ty)
             for (int tx = 0; tx < tiles_[0]; ++tx) {
                 const std::size_t idx = model.tiles.index(tx, ty, tz);
                 if (!model.tiles.dirty[idx]) continue;
+                contour::TileMesh previous = std::move(tile_meshes_[idx]);
                 worker_.run(model, {tx, ty, tz}, tile_meshes_[idx]);
                 cells += tile_meshes_[idx].cells_visited;
                 ++redone;
+                if (!same_piece(previous, tile_meshes_[idx])) changed.emplace_back(idx, std::move(previous));
             }
     model.clear_dirty();
+    bump_versions(changed);
     last_tiles_ = redone;
     last_cells_ = cells;
     return redone;
+}
+
+void Contourer::bump_versions(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed) {
+    if (changed.empty()) return;
+    const std::uint64_t v = next_version();
+    // Position in `changed` + 1 of each tile (0 = unchanged).
+    std::vector<std::uint32_t> slot(tile_meshes_.size(), 0);
+    for (std::size_t i = 0; i < changed.size(); ++i) slot[changed[i].first] = static_cast<std::uint32_t>(i + 1);
+    std::vector<std::size_t> bump;
+    std::vector<std::uint8_t> checked(tile_meshes_.size(), 0);
+    for (const auto& [idx, previous] : changed) {
+        bump.push_back(idx);
+        // A tile borrows only vertices anchored within one cell of it, so lenders are its 26 neighbours.
+        const int tx = static_cast<int>(idx % static_cast<std::size_t>(tiles_[0]));
+        const int ty = static_cast<int>(idx / static_cast<std::size_t>(tiles_[0]) % static_cast<std::size_t>(tiles_[1]));
+        const int tz = static_cast<int>(idx / (static_cast<std::size_t>(tiles_[0]) * static_cast<std::size_t>(tiles_[1])));
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = tx + dx, y = ty + dy, z = tz + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= tiles_[0] || y >= tiles_[1] || z >= tiles_[2]) continue;
+                    const std::size_t n = static_cast<std::size_t>(x) +
+                                          static_cast<std::size_t>(tiles_[0]) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(tiles_[1]) * static_cast<std::size_t>(z));
+                    if (slot[n] != 0 || checked[n]) continue;
+                    checked[n] = 1;
+                    for (const contour::VertexKey key : tile_meshes_[n].foreign) {
+                        const std::size_t owner = codec_.owner_tile(key);
+                        if (slot[owner] == 0) continue;
+                        const Vec3* now = find_in(tile_meshes_[owner], key);
+                        const Vec3* before = find_in(changed[slot[owner] - 1].second, key);
+                        if (now == nullptr || before == nullptr || *now != *before) {
+                            bump.push_back(n);
+                            break;
+                        }
+                    }
+                }
+    }
+    for (const std::size_t t : bump) versions_[t] = v;
+}
+
+void Contourer::check_tile(std::size_t tile) const {
+    if (tile >= tile_meshes_.size())
+        throw Error("contour: tile " + std::to_string(tile) + " out of range (the lattice has " +
+                    std::to_string(tile_meshes_.size()) + " tiles)");
+}
+
+std::size_t Contourer::tile_triangle_count(std::size_t tile) const {
+    check_tile(tile);
+    return tile_meshes_[tile].triangles.size();
+}
+
+std::uint64_t Contourer::tile_version(std::size_t tile) const {
+    check_tile(tile);
+    return versions_[tile];
+}
+
+const Vec3& Contourer::owned_vertex(contour::VertexKey key) const {
+    const std::size_t t = codec_.owner_tile(key);
+    const Vec3* p = find_in(tile_meshes_[t], key);
+    if (p == nullptr)
+        throw Error("contour: tile " + std::to_string(t) +
+                    " lacks a vertex its neighbour needs; the model changed without mark_dirty() covering the change");
+    return *p;
+}
+
+TriMesh Contourer::tile_mesh(std::size_t tile) const {
+    check_tile(tile);
+    const contour::TileMesh& tm = tile_meshes_[tile];
+    constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> local(tm.keys.size(), kUnused), foreign(tm.foreign.size(), kUnused);
+    TriMesh m;
+    m.triangles.reserve(tm.triangles.size());
+    // Own vertices first (in key order), then borrowed ones (in key order): a stable layout.
+    for (const auto& tri : tm.triangles)
+        for (const std::uint32_t r : tri)
+            if (r < contour::TileMesh::kForeign) local[r] = 0;
+    for (std::size_t i = 0; i < local.size(); ++i)
+        if (local[i] == 0) {
+            local[i] = static_cast<std::uint32_t>(m.positions.size());
+            m.positions.push_back(lattice_.to_world(tm.grid[i]));
+        }
+    for (const auto& tri : tm.triangles)
+        for (const std::uint32_t r : tri)
+            if (r >= contour::TileMesh::kForeign) foreign[r - contour::TileMesh::kForeign] = 0;
+    for (std::size_t i = 0; i < foreign.size(); ++i)
+        if (foreign[i] == 0) {
+            foreign[i] = static_cast<std::uint32_t>(m.positions.size());
+            m.positions.push_back(lattice_.to_world(owned_vertex(tm.foreign[i])));
+        }
+    for (const auto& tri : tm.triangles) {
+        std::array<std::uint32_t, 3> g{};
+        for (int v = 0; v < 3; ++v)
+            g[v] = tri[v] < contour::TileMesh::kForeign ? local[tri[v]] : foreign[tri[v] - contour::TileMesh::kForeign];
+        m.triangles.push_back(g);
+    }
+    return m;
 }
 
 TriMesh Contourer::mesh() const {

@@ -3,6 +3,8 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "compute/contour_tile.hpp"
@@ -52,8 +54,32 @@ public:
     /// Counters of the current mesh and of the last update().
     ContourStats stats() const;
 
+    // ---- Per-tile access (for renderers that draw and re-upload the surface tile by tile). ----
+
+    /// Number of tiles (= the model's TileGrid::count(); index order tx + tiles_x * (ty + tiles_y * tz)).
+    std::size_t tile_count() const { return tile_meshes_.size(); }
+    /// Triangles tile `tile` owns (0 = the tile holds no surface). Throws tridex::Error when tile >= tile_count().
+    std::size_t tile_triangle_count(std::size_t tile) const;
+    /// Content version of tile `tile`'s surface: changes after an update() exactly when the triangles the
+    /// tile owns changed, or a vertex they use that a neighbour tile owns moved or vanished; otherwise
+    /// unchanged (a dirty tile whose re-contour gave the same piece keeps its version). Values come from one
+    /// process-wide counter, so versions of different Contourers never coincide; 0 = never contoured.
+    /// Throws tridex::Error when tile >= tile_count().
+    std::uint64_t tile_version(std::size_t tile) const;
+    /// The triangles tile `tile` owns as a compact mesh, world metres, CCW from outside: its own vertices
+    /// that those triangles use, then the borrowed ones (owned by neighbour tiles), each once. The union of
+    /// all tiles' triangles is mesh()'s triangles (same positions, bit for bit). O(tile triangles x log).
+    /// Throws tridex::Error when tile >= tile_count(), or as mesh() when a borrowed vertex is missing.
+    TriMesh tile_mesh(std::size_t tile) const;
+
 private:
     void check_model(const TriDexel& model) const;
+    void check_tile(std::size_t tile) const;
+    /// Grid position of vertex `key` in the piece of its owner tile; throws as mesh() when that tile lacks it.
+    const Vec3& owned_vertex(contour::VertexKey key) const;
+    /// Gives a new version to each changed tile and to each tile borrowing a vertex of a changed tile
+    /// that moved or vanished (`changed`: tile index and its piece before the update).
+    void bump_versions(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed);
 
     Lattice lattice_;
     std::array<int, 3> tiles_{};
@@ -62,6 +88,7 @@ private:
     contour::TileContourer worker_;
     std::size_t last_tiles_ = 0;
     std::size_t last_cells_ = 0;
+    std::vector<std::uint64_t> versions_;  // per tile, see tile_version()
 };
 
 }  // namespace tridex::compute

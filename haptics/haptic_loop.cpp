@@ -292,6 +292,8 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.box_half_extents_m = wf.box_half_extents_m;
     v.bubble_centre_m = wf.bubble_centre_m;
     v.bubble_radius_m = wf.bubble_radius_m;
+    v.proxy_m = rec.proxy_m;
+    v.points_in_contact = rec.points_in_contact;
     view_.publish();
 }
 

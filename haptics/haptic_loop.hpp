@@ -111,6 +111,10 @@ struct LoopView {
     Vec3 box_half_extents_m{0.0};   ///< its half extents, m
     Vec3 bubble_centre_m{0.0};      ///< bubble centre, m (bubble mode)
     double bubble_radius_m = 0.0;   ///< bubble radius, m; 0 when not in bubble mode
+    /// The proxy (god-object of contact point 0, Peng et al.: held on the surface while the HIP goes
+    /// inside), world m; the tool centre when free.
+    Vec3 proxy_m{0.0};
+    int points_in_contact = 0;      ///< contact points touching material this tick
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines

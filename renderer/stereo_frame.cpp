@@ -15,7 +15,7 @@ DrawPhase phase_of(PipelineKind kind) {
 
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
-                         const PhaseTimestamps& timestamps) {
+                         const PhaseTimestamps& timestamps, int eye_count) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -27,8 +27,11 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     const bool per_eye = strategy == EyeStrategy::kPassPerEye;
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
+    const bool mono = eye_count == 1;
+    const std::uint32_t eyes_drawn = mono ? 0b01u : 0b11u;
     const auto& framebuffers = target.framebuffers();
-    for (std::size_t pass = 0; pass < framebuffers.size(); ++pass) {
+    const std::size_t passes = per_eye && mono ? 1 : framebuffers.size();
+    for (std::size_t pass = 0; pass < passes; ++pass) {
         VkRenderPassBeginInfo begin{};
         begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
         begin.renderPass = pipeline.render_pass();
@@ -47,7 +50,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                                     timestamps.query(pass, phase));
             for (const StereoDraw& d : draws) {
                 if (d.index_count == 0 || static_cast<int>(phase_of(d.kind)) != phase) continue;
-                const std::uint32_t mask = d.eye_mask & 0b11u;
+                const std::uint32_t mask = d.eye_mask & eyes_drawn;
                 if (mask == 0 || (per_eye && !(mask & (1u << pass)))) continue;
                 std::uint32_t instances = 1, first_instance = 0;
                 if (strategy == EyeStrategy::kInstancedLayer) {
@@ -73,11 +76,32 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                                 timestamps.query(pass, kDrawPhaseCount));
         vkCmdEndRenderPass(cmd);
     }
+    // Render pass instances not recorded (mono, pass-per-eye): their boundaries, zero duration; and their
+    // layers go to TRANSFER_SRC_OPTIMAL (contents undefined) as the render pass would have left them, after
+    // earlier submissions' transfer reads (an execution dependency suffices for that write-after-read).
+    for (std::size_t pass = passes; pass < framebuffers.size(); ++pass) {
+        if (timestamps.pool != VK_NULL_HANDLE)
+            for (int b = 0; b <= kDrawPhaseCount; ++b)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                    timestamps.query(pass, b));
+        VkImageMemoryBarrier layer{};
+        layer.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+        layer.srcAccessMask = 0;
+        layer.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        layer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        layer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        layer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        layer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        layer.image = target.colour_image();
+        layer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, static_cast<std::uint32_t>(pass), 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &layer);
+    }
 
-    // Both colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
+    // The drawn colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
     VkBufferImageCopy copy{};
     copy.bufferOffset = 0;
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, mono ? 1u : 2u};
     copy.imageExtent = {w, h, 1};
     vkCmdCopyImageToBuffer(cmd, target.colour_image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.readback_buffer(),
                            1, &copy);

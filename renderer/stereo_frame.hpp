@@ -57,8 +57,13 @@ struct PhaseTimestamps {
 /// into the target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
 /// pipeline.set_layout() holding the EyesUniform. With `timestamps` (pool not null) it writes a
 /// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps).
+/// `eye_count` 1 = mono, one eye's work only: only the left eye (layer 0) is drawn and copied back
+/// (pass-per-eye: the right eye's render pass is not recorded and its timestamps are written back to back,
+/// zero duration, so every query of the pool is available; instanced-layer: one instance per draw; multiview:
+/// its render pass always covers both views, so the right view is still drawn there); layer 1 keeps its old
+/// contents. Any other value than 1 draws both eyes.
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
-                         const PhaseTimestamps& timestamps = {});
+                         const PhaseTimestamps& timestamps = {}, int eye_count = 2);
 
 }  // namespace tridex::renderer

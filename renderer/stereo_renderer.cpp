@@ -142,12 +142,19 @@ std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_
 StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
                                              double eye_separation_m, double near_m, double far_m) {
     FrameStats stats = draw(scene, screen, head, eye_separation_m, near_m, far_m);
-    return StereoImages{impl_->target->read_layer(0), impl_->target->read_layer(1), std::move(stats)};
+    Image left = impl_->target->read_layer(0);
+    Image right = scene.eye_count == 1 ? left : impl_->target->read_layer(1);
+    return StereoImages{std::move(left), std::move(right), std::move(stats)};
 }
 
 FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
                                          double eye_separation_m, double near_m, double far_m) {
     Impl& im = *impl_;
+    if (scene.eye_count != 1 && scene.eye_count != 2)
+        throw Error("renderer: SceneView.eye_count must be 1 (mono) or 2 (stereo), got " +
+                    std::to_string(scene.eye_count));
+    const int eye_count = scene.eye_count;
+    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
     std::array<Frustum, 2> frusta;
@@ -201,11 +208,12 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             const GpuMesh& mesh = im.tiles.mesh(i);
             if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
             std::uint32_t mask = 0;
-            for (int e = 0; e < 2; ++e)
+            for (int e = 0; e < eye_count; ++e)
                 if (!scene.cull_tiles || may_be_visible(frusta[e], scene.tiles[i].bounds_m)) mask |= 1u << e;
             // Multiview cannot draw one view only: a tile either eye sees is drawn in both.
-            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = 0b11;
-            for (int e = 0; e < 2; ++e) ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+            for (int e = 0; e < eye_count; ++e)
+                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
             if (mask == 0) continue;
             StereoDraw& d = add(PipelineKind::kOpaque, mesh, glm::mat4(1.0f), palette[0], true);
             d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
@@ -270,7 +278,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     im.context->submit_and_wait([&](VkCommandBuffer cmd) {
         if (gpu_timing) im.timer.record_begin(cmd);
         record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear,
-                            gpu_timing ? im.timer.phases() : PhaseTimestamps{});
+                            gpu_timing ? im.timer.phases() : PhaseTimestamps{}, eye_count);
         if (gpu_timing) im.timer.record_end(cmd);
     });
     const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -278,6 +286,8 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     im.gpu_ms = -1.0;
     if (gpu_timing && im.timer.read(*im.context, stats)) {
         im.gpu_ms = stats.frame_ms;
+        if (eye_count == 1)  // the right eye's render pass was not recorded (its boundaries are zero-length)
+            std::erase_if(stats.passes, [](const PassTime& p) { return p.eye == 1; });
     } else {
         stats.timing = TimingSource::kCpuClock;
         stats.timing_note = !im.timer.available()

@@ -58,6 +58,12 @@ struct SceneView {
     double sculpt_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
     double frame_time_ms = -1.0;   ///< shown in the overlay; < 0 = the renderer's previous FrameStats::frame_ms
     double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = max(1, floor(height / 360))
+    /// Eyes to render: 2 = stereo; 1 = mono, one eye's work only: the left eye (at the head for a zero eye
+    /// separation) is drawn into layer 0 and nothing into layer 1 (pass-per-eye and instanced-layer skip the
+    /// right eye's pass / instances; multiview's render pass still covers both views). FrameStats then has
+    /// only eye-0 passes and eye-0 tile counts; render() returns the one eye as both left and right.
+    /// Other values throw tridex::Error.
+    int eye_count = 2;
 };
 
 /// The two eyes' images of one frame, each width x height RGBA, and the frame's statistics.

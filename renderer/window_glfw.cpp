@@ -4,6 +4,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include <cstdint>
 #include <mutex>
 #include <string>
 
@@ -16,7 +17,20 @@ namespace {
 // The text of the last GLFW error (GLFW reports errors through a callback, not return values).
 std::mutex g_mutex;
 std::string g_last_error;
-int g_users = 0;
+
+// GLFW's process-wide lifetime. GLFW (and with it its X connection) is initialised on first use and stays
+// initialised: a Vulkan instance that asked about presentation on that connection (Mesa's WSI caches
+// per-connection state keyed by the connection's address) must never meet a new connection at the same
+// address. It is terminated only when the last WindowSystemScope ends with no Window open (or, if windows
+// are still open then, when the last of them closes). Main thread only, as GLFW requires.
+struct GlfwState {
+    bool initialised = false;
+    int windows = 0;             // open Windows
+    int scopes = 0;              // live WindowSystemScopes
+    bool terminate_pending = false;  // the last scope ended while windows were open
+    std::uint64_t initialisations = 0;
+};
+GlfwState g_glfw;
 
 void on_glfw_error(int code, const char* text) {
     std::lock_guard<std::mutex> lock(g_mutex);
@@ -28,24 +42,54 @@ std::string last_error() {
     return g_last_error.empty() ? std::string("no GLFW error text") : g_last_error;
 }
 
-// One use of the GLFW library: glfwInit on the first, glfwTerminate when the last ends (GLFW may be
-// initialised again later). Main thread only, as GLFW requires.
-class GlfwUse {
+// Initialises GLFW unless it is already. Throws tridex::Error when it cannot.
+void ensure_glfw() {
+    if (g_glfw.initialised) return;
+    glfwSetErrorCallback(on_glfw_error);
+    if (glfwInit() != GLFW_TRUE)
+        throw Error("window: GLFW cannot initialise (is DISPLAY set to a running X server?): " + last_error());
+    g_glfw.initialised = true;
+    g_glfw.terminate_pending = false;
+    ++g_glfw.initialisations;
+}
+
+void terminate_glfw() {
+    if (!g_glfw.initialised) return;
+    glfwTerminate();
+    g_glfw.initialised = false;
+    g_glfw.terminate_pending = false;
+}
+
+// One open Window's claim on GLFW (initialises it; counts open windows).
+class WindowClaim {
 public:
-    GlfwUse() {
-        if (g_users == 0) {
-            glfwSetErrorCallback(on_glfw_error);
-            if (glfwInit() != GLFW_TRUE)
-                throw Error("window: GLFW cannot initialise (is DISPLAY set to a running X server?): " + last_error());
-        }
-        ++g_users;
+    WindowClaim() {
+        ensure_glfw();
+        ++g_glfw.windows;
     }
-    ~GlfwUse() {
-        if (--g_users == 0) glfwTerminate();
+    ~WindowClaim() {
+        if (--g_glfw.windows == 0 && g_glfw.terminate_pending) terminate_glfw();
     }
-    GlfwUse(const GlfwUse&) = delete;
-    GlfwUse& operator=(const GlfwUse&) = delete;
+    WindowClaim(const WindowClaim&) = delete;
+    WindowClaim& operator=(const WindowClaim&) = delete;
 };
+
+}  // namespace
+
+WindowSystemScope::WindowSystemScope() { ++g_glfw.scopes; }
+
+WindowSystemScope::~WindowSystemScope() {
+    if (--g_glfw.scopes > 0) return;
+    if (g_glfw.windows == 0)
+        terminate_glfw();
+    else
+        g_glfw.terminate_pending = g_glfw.initialised;
+}
+
+bool window_system_initialised() { return g_glfw.initialised; }
+std::uint64_t window_system_initialisations() { return g_glfw.initialisations; }
+
+namespace {
 
 MonitorInfo describe(GLFWmonitor* m, int index) {
     MonitorInfo info;
@@ -103,7 +147,7 @@ GLFWmonitor* choose_monitor(const WindowOptions& o, int& index) {
 }  // namespace
 
 struct Window::Impl {
-    GlfwUse use;
+    WindowClaim claim;
     GLFWwindow* window = nullptr;
     InputQueue input;
     int monitor = -1;
@@ -131,7 +175,7 @@ struct Window::Impl {
 };
 
 std::vector<MonitorInfo> list_monitors() {
-    GlfwUse use;
+    ensure_glfw();
     int n = 0;
     GLFWmonitor** monitors = glfwGetMonitors(&n);
     std::vector<MonitorInfo> out;
@@ -140,7 +184,7 @@ std::vector<MonitorInfo> list_monitors() {
 }
 
 std::vector<std::string> required_instance_extensions() {
-    GlfwUse use;
+    ensure_glfw();
     if (glfwVulkanSupported() != GLFW_TRUE)
         throw Error("window: GLFW finds no usable Vulkan loader: " + last_error());
     std::uint32_t n = 0;
@@ -157,9 +201,8 @@ gpu::ContextOptions window_context_options(gpu::ContextOptions base) {
         if (!listed) base.instance_extensions.push_back(e);
     }
     base.presentation = true;
-    // The filter keeps GLFW initialised for as long as it exists (Context::create calls it).
-    auto use = std::make_shared<GlfwUse>();
-    base.can_present = [use](VkInstance instance, VkPhysicalDevice device, std::uint32_t family) {
+    // GLFW stays initialised after this (see GlfwState), so the connection the query uses outlives the Context.
+    base.can_present = [](VkInstance instance, VkPhysicalDevice device, std::uint32_t family) {
         return glfwGetPhysicalDevicePresentationSupport(instance, device, family) == GLFW_TRUE;
     };
     return base;

@@ -1,6 +1,7 @@
 // renderer/window_glfw.hpp - a GLFW window or fullscreen on a chosen monitor, with a Vulkan surface and input.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,29 @@ struct MonitorInfo {
     int refresh_hz = 0;     ///< current video mode's refresh rate, Hz (0 when unknown)
     int width_mm = 0, height_mm = 0;  ///< physical size the monitor reports, mm (0 when unknown)
 };
+
+/// Bounds GLFW's process-wide lifetime. GLFW is initialised on first use (list_monitors,
+/// required_instance_extensions, window_context_options, Window::create) and then stays initialised, one X
+/// connection for the whole process: terminating it while a Vulkan instance that queried presentation
+/// support still exists lets a new connection reuse the old one's address, and Mesa's WSI (which caches
+/// per-connection state by that address) then sends requests the X server refuses, killing the process.
+/// A WindowSystemScope ends that lifetime: when the last live scope is destroyed, GLFW is terminated (at
+/// once if no Window is open, else when the last Window closes), and the next use initialises it again,
+/// on the then-current DISPLAY. Create one before the Context(s) and windows of a session (so it is
+/// destroyed after them), e.g. when the X server will go away (a test's Xvfb) or DISPLAY will change.
+/// Without any scope GLFW stays initialised until process exit. Main thread only. Never throws.
+class WindowSystemScope {
+public:
+    WindowSystemScope();
+    ~WindowSystemScope();
+    WindowSystemScope(const WindowSystemScope&) = delete;
+    WindowSystemScope& operator=(const WindowSystemScope&) = delete;
+};
+
+/// True while GLFW is initialised (see WindowSystemScope).
+bool window_system_initialised();
+/// How many times GLFW has been initialised in this process (for tests: 1 per WindowSystemScope lifetime).
+std::uint64_t window_system_initialisations();
 
 /// The connected monitors, primary first. Initialises GLFW if needed. Throws tridex::Error when GLFW
 /// cannot initialise (no display: DISPLAY / WAYLAND_DISPLAY unset or unreachable).
@@ -51,8 +75,8 @@ struct WindowOptions {
 
 /// A GLFW window (no client API: Vulkan draws into it), windowed or fullscreen on a chosen monitor. Its
 /// keyboard, mouse-button, cursor and scroll callbacks fill input() with abstract InputEvents; resizes
-/// are seen through framebuffer_size(). GLFW is initialised on first use and terminated when the last
-/// Window closes. GLFW rule: create, poll and destroy windows on the main thread only. Move-only.
+/// are seen through framebuffer_size(). GLFW is initialised on first use and stays initialised (see
+/// WindowSystemScope). GLFW rule: create, poll and destroy windows on the main thread only. Move-only.
 class Window {
 public:
     /// Opens the window. Throws tridex::Error when GLFW cannot initialise (no display), Vulkan is not

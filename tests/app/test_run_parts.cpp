@@ -196,6 +196,42 @@ TEST(RunView, SceneViewFollowsTheLoopView) {
     EXPECT_DOUBLE_EQ(s.bubble_radius_m, 0.03);
 }
 
+TEST(RunView, RunItemsShowProxyForceAndOverlay) {
+    haptics::LoopView v;  // tick 0: no proxy, no force yet; the overlay shows what it is given
+    renderer::SceneView s;
+    add_run_items(s, v, 0.006, 0.02, RunOverlay{-1.0, 12.0, 16.5});
+    EXPECT_DOUBLE_EQ(s.proxy_radius_m, 0.0);
+    EXPECT_EQ(s.force_N, Vec3(0.0));
+    EXPECT_TRUE(s.show_overlay);
+    EXPECT_DOUBLE_EQ(s.haptic_rate_hz, -1.0);
+    EXPECT_DOUBLE_EQ(s.sculpt_rate_hz, 12.0);
+    EXPECT_DOUBLE_EQ(s.frame_time_ms, 16.5);
+    v.tick = 3;
+    v.proxy_m = Vec3(0.01, 0.02, 0.03);
+    v.force_n = Vec3(0.0, 1.5, 0.0);
+    add_run_items(s, v, 0.006, 0.02, RunOverlay{1000.0, 12.0, 16.5});
+    EXPECT_EQ(s.proxy_m, Vec3(0.01, 0.02, 0.03));
+    EXPECT_DOUBLE_EQ(s.proxy_radius_m, 0.006);
+    EXPECT_EQ(s.force_N, Vec3(0.0, 1.5, 0.0));
+    EXPECT_DOUBLE_EQ(s.force_m_per_newton, 0.02);
+    EXPECT_DOUBLE_EQ(s.haptic_rate_hz, 1000.0);
+}
+
+TEST(RunView, RateMeterCountsOverTheLastSecond) {
+    RateMeter m(1.0);
+    EXPECT_DOUBLE_EQ(m.rate_hz(), -1.0);
+    m.add(0.0, 0);
+    EXPECT_DOUBLE_EQ(m.rate_hz(), -1.0);
+    for (int i = 1; i <= 20; ++i) m.add(0.1 * i, 100u * static_cast<std::uint64_t>(i));  // 1000 per s for 2 s
+    EXPECT_NEAR(m.rate_hz(), 1000.0, 1e-9);
+    for (int i = 21; i <= 40; ++i) m.add(0.1 * i, 2000u + 10u * static_cast<std::uint64_t>(i - 20));  // 100 per s
+    EXPECT_NEAR(m.rate_hz(), 100.0, 1e-9);  // only the last second counts
+    m.add(4.0, 5000);  // same time: replaces the newest count
+    EXPECT_GT(m.rate_hz(), 100.0);
+    m.add(1.0, 10);    // time went back: a restart clears the history
+    EXPECT_DOUBLE_EQ(m.rate_hz(), -1.0);
+}
+
 // Clip-space position of p through an eye's off-axis camera, divided by w: (x, y, depth).
 Vec3 ndc(const renderer::EyeView& e, const Vec3& p) {
     const glm::dvec4 c = e.projection * e.view * glm::dvec4(p, 1.0);
@@ -297,7 +333,8 @@ TEST(RunCli, EveryFlagReachesTheOptions) {
     CLI::App* cmd = add_run_command(cli, o);
     const char* argv[] = {"tridex", "run", "wall.json", "--display", "fullscreen", "--stereo", "frame-sequential",
                           "--monitor", "DP-1", "--frames", "7", "--out", "o", "--display-config", "d.json",
-                          "--head", "tracker", "--swap-eyes", "--seconds", "2.5", "--validate", "--no-pace"};
+                          "--head", "tracker", "--swap-eyes", "--seconds", "2.5", "--validate", "--no-pace",
+                          "--no-items", "--no-tiles", "--no-cull"};
     cli.parse(static_cast<int>(std::size(argv)), argv);
     EXPECT_TRUE(*cmd);
     EXPECT_EQ(o.scene, "wall.json");
@@ -312,6 +349,9 @@ TEST(RunCli, EveryFlagReachesTheOptions) {
     EXPECT_DOUBLE_EQ(o.seconds, 2.5);
     EXPECT_TRUE(o.validate);
     EXPECT_FALSE(o.pace);
+    EXPECT_FALSE(o.items);
+    EXPECT_FALSE(o.tiles);
+    EXPECT_FALSE(o.cull);
     // A user error comes back as exit code 2 (message on stderr), not as an exception.
     RunOptions bad;
     bad.display = "hologram";

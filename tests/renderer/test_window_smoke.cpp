@@ -58,6 +58,7 @@ void expect_rgb_near(const Image& got, const Image& want, int tolerance, const s
 
 TEST(WindowSmoke, ListsMonitorsAndRefusesBadChoices) {
     test::VirtualDisplay display(1280, 1024);
+    const WindowSystemScope glfw_scope;  // GLFW ends (after the Context and windows) before this Xvfb does
     const std::vector<MonitorInfo> monitors = list_monitors();
     ASSERT_GE(monitors.size(), 1u);
     EXPECT_EQ(monitors[0].index, 0);
@@ -97,6 +98,7 @@ TEST(WindowSmoke, ListsMonitorsAndRefusesBadChoices) {
 
 TEST(WindowSmoke, PresentsEveryWorkingOutputAndRefusesQuad) {
     test::VirtualDisplay display(1280, 1024);
+    const WindowSystemScope glfw_scope;  // GLFW ends (after the Context and windows) before this Xvfb does
     gpu::Context ctx = gpu::Context::create(window_context_options());
     ASSERT_TRUE(ctx.validation_enabled());
     ASSERT_TRUE(ctx.presentation_enabled());
@@ -215,6 +217,7 @@ TEST(WindowSmoke, PresentsEveryWorkingOutputAndRefusesQuad) {
 
 TEST(WindowSmoke, FollowsResizeAndReportsFrameTimes) {
     test::VirtualDisplay display(1280, 1024);
+    const WindowSystemScope glfw_scope;  // GLFW ends (after the Context and windows) before this Xvfb does
     gpu::Context ctx = gpu::Context::create(window_context_options());
     const TriMesh cube = test::test_cube();
     const SceneView scene = test::test_scene(cube);
