@@ -14,6 +14,7 @@
 #include "app/stats.hpp"
 #include "compute/active_surface_publish.hpp"
 #include "compute/probe.hpp"
+#include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "haptics/multipoint.hpp"
 
@@ -106,11 +107,8 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
     for (const auto& r : rows)
         j.push_back({{"n", r.n}, {"points", r.points}, {"median_us", r.median_us}, {"p99_us", r.p99_us},
                      {"max_us", r.max_us}, {"contact_fraction", r.contact_fraction}});
-    std::filesystem::create_directories(o.out);
     const std::string path = (std::filesystem::path(o.out) / "haptics_bench.json").string();
-    std::ofstream f(path);
-    if (!f) throw Error(path + ": cannot open for writing");
-    f << j.dump(2) << "\n";
+    write_json_file(path, j);
     std::printf("wrote %s\n", path.c_str());
     return rows;
 }

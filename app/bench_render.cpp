@@ -12,6 +12,7 @@
 #include "app/stats.hpp"
 #include "compute/contour_dual.hpp"
 #include "compute/contour_tiles.hpp"
+#include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "renderer/stereo_renderer.hpp"
@@ -137,11 +138,8 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                 o.frames);
     nlohmann::json j = nlohmann::json::array();
     for (const RenderBenchRow& r : rows) j.push_back(row_json(r));
-    std::filesystem::create_directories(o.out);
     const std::string path = (std::filesystem::path(o.out) / "render_bench.json").string();
-    std::ofstream f(path);
-    if (!f) throw Error(path + ": cannot open for writing");
-    f << j.dump(2) << "\n";
+    write_json_file(path, j);
     std::printf("wrote %s\n", path.c_str());
     return rows;
 }

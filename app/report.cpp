@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/stats.hpp"
+#include "app/json_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -108,10 +109,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                    {"validation_messages", r.validation_messages}, {"render_s", r.render_s}};
     j["timing_s"] = {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_s}, {"session", r.session_s}};
     j["wall_s"] = r.wall_s;
-    std::ofstream f(path);
-    if (!f) throw Error(path + ": cannot open for writing");
-    f << j.dump(2) << "\n";
-    if (!f) throw Error(path + ": write failed");
+    write_json_file(path, j);
 }
 
 void print_summary(const DemoReport& r, const std::string& out_dir) {

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "app/stats.hpp"
+#include "app/json_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -130,10 +131,7 @@ json run_report_json(const RunResult& r) {
 }
 
 void write_run_report(const std::string& path, const RunResult& result) {
-    std::ofstream f(path);
-    if (!f) throw Error(path + ": cannot write");
-    f << run_report_json(result).dump(2) << "\n";
-    if (!f) throw Error(path + ": cannot write");
+    write_json_file(path, run_report_json(result));
 }
 
 }  // namespace tridex::app

@@ -1,0 +1,13 @@
+// app/json_file.hpp - writing the reports and benchmark results as JSON files.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace tridex::app {
+
+/// Writes `j` to `path` (2-space indented, trailing newline), creating the parent folder. Throws
+/// tridex::Error "<path>: cannot open for writing" / "<path>: write failed".
+void write_json_file(const std::string& path, const nlohmann::json& j);
+
+}  // namespace tridex::app
