@@ -89,6 +89,7 @@ HapticLoop::~HapticLoop() { stop(); }
 void HapticLoop::begin_session() {
     records_.resize(cfg_.max_ticks);  // back to full size after a previous stop() trimmed it
     recorded_ = 0;
+    carve_gap_ = false;
     ticks_ = 0;
     overruns_ = 0;
     dropped_ = 0;
@@ -185,10 +186,12 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     const WatchdogStatus wd = watchdog_.update(now_s, state.t_s, finite);
     rec.watchdog = wd.causes;
     if (wd.tripped_now) trips_.store(watchdog_.trips(), std::memory_order_relaxed);
-    if (!finite) {
+    // An invalid sample: zero force, counted, nothing pushed to the sculpt thread, no carving across it.
+    const auto invalid_tick = [&] {
         device_.write(Vec3(0.0), Vec3(0.0));
         invalid_.fetch_add(1, std::memory_order_relaxed);
         safety_.hold();
+        carve_gap_ = true;
         rec.hip_m = last_tool_.position;
         rec.proxy_m = last_tool_.position;
         rec.tool_world = last_tool_;
@@ -198,7 +201,8 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         rec.modelling_paused = mapper_.frame().modelling_paused;
         rec.passivity_energy_j = safety_.passivity().energy_j();
         return true;
-    }
+    };
+    if (!finite) return invalid_tick();
 
     // Time step of the contact damping, the bubble drift and the energy books: the device's own clock,
     // else the nominal period; bounded to [period/10, 10*period] so a glitching clock cannot blow up.
@@ -208,6 +212,13 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     prev_device_t_ = state.t_s;
 
     const WorkspaceFrame& wf = mapper_.update(state, dt);
+    // A finite sample can still drive the mapping non-finite (a wild sample in bubble rate control):
+    // start the mapping over and treat the tick as invalid rather than carry inf into every later tick.
+    if (!is_finite(wf.tool_world.position)) {
+        mapper_.reset();
+        reset_contact();
+        return invalid_tick();
+    }
     if (wf.mapping_changed || !wf.coupled) reset_contact();
     ContactOut c;
     c.proxy_m = wf.tool_world.position;
@@ -241,7 +252,9 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     sample.position = wf.tool_world.position;
     sample.orientation = wf.tool_world.orientation;
     sample.radius_m = cfg_.contact.tool_radius_m;
-    sample.op = wf.modelling_paused ? ToolOp::kNone : cfg_.op;
+    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed;
+    sample.op = hold ? ToolOp::kNone : cfg_.op;
+    carve_gap_ = !wd.force_allowed || out.over_speed;
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
 

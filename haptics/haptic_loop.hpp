@@ -219,6 +219,9 @@ private:
     SafetyStage safety_;
     Quat world_to_device_;
     Pose last_tool_;
+    // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
+    // limit, so a gap never becomes one long swept capsule.
+    bool carve_gap_ = false;
     // Per-session tick state (loop thread only).
     double prev_now_s_ = 0.0;
     bool have_prev_now_ = false;
