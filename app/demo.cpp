@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "app/assets.hpp"
 #include "app/session.hpp"
 #include "app/session_recording.hpp"
 #include "app/session_settings.hpp"
@@ -13,10 +14,6 @@
 #include "core/error.hpp"
 #include "devices/simulated_device.hpp"
 #include "haptics/haptic_loop.hpp"
-
-#ifndef TRIDEX_SOURCE_ASSETS
-#define TRIDEX_SOURCE_ASSETS "assets"
-#endif
 
 namespace tridex::app {
 
@@ -31,15 +28,7 @@ const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
 
 }  // namespace
 
-std::string default_mesh_path() {
-    std::vector<fs::path> candidates;
-    if (const char* env = std::getenv("TRIDEX_ASSETS")) candidates.emplace_back(fs::path(env) / "bunny.off");
-    candidates.emplace_back(fs::path("assets") / "bunny.off");
-    candidates.emplace_back(fs::path(TRIDEX_SOURCE_ASSETS) / "bunny.off");
-    for (const fs::path& p : candidates)
-        if (fs::is_regular_file(p)) return p.string();
-    throw Error("assets/bunny.off: the bundled workpiece is missing; pass --mesh FILE");
-}
+std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece", "pass --mesh FILE"); }
 
 void run_demo(const DemoOptions& o) {
     const auto t_start = Clock::now();

@@ -9,12 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "core/error.hpp"
-
-#ifndef TRIDEX_SOURCE_ASSETS
-#define TRIDEX_SOURCE_ASSETS "assets"
-#endif
 
 namespace tridex::app {
 
@@ -294,14 +291,6 @@ RunScene load_run_scene(const std::string& path_in) {
     return run_scene_from_json(j, path, fs::path(path).parent_path().string());
 }
 
-std::string default_scene_path() {
-    std::vector<fs::path> candidates;
-    if (const char* env = std::getenv("TRIDEX_ASSETS")) candidates.emplace_back(fs::path(env) / "default_scene.json");
-    candidates.emplace_back(fs::path("assets") / "default_scene.json");
-    candidates.emplace_back(fs::path(TRIDEX_SOURCE_ASSETS) / "default_scene.json");
-    for (const fs::path& p : candidates)
-        if (fs::is_regular_file(p)) return p.string();
-    throw Error("assets/default_scene.json: the bundled scene is missing; pass a SCENE file");
-}
+std::string default_scene_path() { return bundled_asset("default_scene.json", "scene", "pass a SCENE file"); }
 
 }  // namespace tridex::app

@@ -10,11 +10,12 @@ namespace tridex {
 
 /// Fixed-capacity FIFO between exactly one producer thread and one consumer thread.
 /// All storage is allocated in the constructor; try_push / try_pop never allocate, lock or wait,
-/// so the producer may be the 1 kHz haptic thread. T must be copy-assignable.
+/// so the producer may be the 1 kHz haptic thread. T must be default-constructible and copy-assignable.
 template <class T>
 class SpscRing {
 public:
-    /// capacity: the number of elements the ring holds (rounded up to a power of two, >= 2).
+    /// capacity: the number of elements the ring holds (rounded up to a power of two, >= 2; at most
+    /// 2^62, far beyond memory: std::bad_alloc before that).
     explicit SpscRing(std::size_t capacity) {
         std::size_t n = 2;
         while (n < capacity) n <<= 1;

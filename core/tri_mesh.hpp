@@ -29,7 +29,9 @@ struct EdgeStats {
     std::size_t degenerate_triangles = 0;  ///< triangles with a repeated vertex index
 };
 
-/// Counts boundary, non-manifold and misoriented edges. O(T log T) for T triangles.
+/// Counts boundary, non-manifold and misoriented edges. O(T log T) for T triangles. Reads indices only,
+/// so out-of-range indices are counted like any others. The functions below that read positions require
+/// every index < positions.size() (meshes from compute::load_closed_mesh or the contourer satisfy it).
 EdgeStats edge_stats(const TriMesh& mesh);
 
 /// Signed volume enclosed by the mesh (divergence theorem, sum of signed tetrahedra), m^3.
