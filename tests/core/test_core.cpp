@@ -31,8 +31,11 @@ TEST(SpscRing, TwoThreadsLoseNothing) {
             if (ring.try_push(i)) ++i;
     });
     long expected = 0, v = 0;
-    while (expected < kCount)
-        if (ring.try_pop(v)) ASSERT_EQ(v, expected++);
+    while (expected < kCount) {
+        if (ring.try_pop(v)) {
+            ASSERT_EQ(v, expected++);
+        }
+    }
     producer.join();
 }
 
