@@ -76,4 +76,16 @@ bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, 
     return true;
 }
 
+bool cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float r, float& t0, float& t1) {
+    const float dd = dot3(d, d);
+    const float ee = dot3(e, e);
+    if (!(dd > 0.0f) || !(ee > 0.0f) || !(r > 0.0f)) return false;
+    float lo = INFINITY, hi = -INFINITY;
+    add_cylinder(o, d, a, e, ee, r, lo, hi);
+    if (!(lo <= hi)) return false;
+    t0 = lo;
+    t1 = hi;
+    return true;
+}
+
 }  // namespace tridex::compute

@@ -16,4 +16,10 @@ namespace tridex::compute {
 /// to keep float precision. Source: Peng et al., tri-dexel Booleans with a ball tool's sweep.
 bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, float& t0, float& t1);
 
+/// Chord of the line {o + t*d} with the solid finite cylinder of radius r whose axis runs from a to
+/// a + e, closed by flat caps at both ends (a flat-end mill: a is the centre of the flat end, e the
+/// shank). Same contract and arithmetic rules as capsule_chord; false when the line misses it, d or e
+/// is zero, or r <= 0 or NaN. The cylinder is convex, so the chord is one interval.
+bool cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float r, float& t0, float& t1);
+
 }  // namespace tridex::compute

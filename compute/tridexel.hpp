@@ -11,9 +11,13 @@
 namespace tridex::compute {
 
 /// One solid span [enter, exit] along a ray, in grid units from the lattice origin; enter < exit.
+/// Each end is a point of the surface and carries the material id painted there (0 = the
+/// workpiece's own material; ids index the renderer's palette and the haptic material table).
 struct Interval {
     float enter = 0.0f;
     float exit = 0.0f;
+    std::uint8_t enter_material = 0;  ///< material id of the surface point at `enter`
+    std::uint8_t exit_material = 0;   ///< material id of the surface point at `exit`
 };
 
 /// The rays parallel to one axis `axis`, one through every lattice node (u, v) of the two other

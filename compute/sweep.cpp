@@ -1,0 +1,139 @@
+// compute/sweep.cpp - swept-volume Booleans on the CPU (the reference for the GPU kernel).
+#include "compute/sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "compute/capsule.hpp"
+#include "compute/interval_ops.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+namespace {
+
+constexpr double kMaxGrid = 16777216.0;  // 2^24 cells: beyond this float depths lose whole cells
+
+std::int32_t clamp_node(double g) { return static_cast<std::int32_t>(std::clamp(g, -2.0, kMaxGrid)); }
+
+}  // namespace
+
+Aabb sweep_bounds(const Sweep& s) {
+    Aabb box;
+    box.add(s.path_m.a);
+    box.add(s.path_m.b);
+    if (s.tool.kind == ToolKind::kFlatEnd) {
+        const Vec3 shank = glm::normalize(s.axis) * s.tool.length_m;
+        box.add(s.path_m.a + shank);
+        box.add(s.path_m.b + shank);
+    }
+    return box.inflated(s.tool.radius_m);
+}
+
+GridSweep to_grid_sweep(const Lattice& L, const Sweep& s) {
+    if (!is_finite(s.path_m.a) || !is_finite(s.path_m.b)) throw Error("sweep: tool path (path_m) is not finite");
+    if (!std::isfinite(s.tool.radius_m) || !(s.tool.radius_m > 0.0))
+        throw Error("sweep: tool radius_m must be a positive number of metres, got " + std::to_string(s.tool.radius_m));
+    if (s.tool.kind != ToolKind::kBall && s.tool.kind != ToolKind::kFlatEnd) throw Error("sweep: unknown tool kind");
+    const bool flat = s.tool.kind == ToolKind::kFlatEnd;
+    if (flat) {
+        if (!std::isfinite(s.tool.length_m) || !(s.tool.length_m > 0.0))
+            throw Error("sweep: flat-end tool length_m must be a positive number of metres, got " + std::to_string(s.tool.length_m));
+        if (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)) throw Error("sweep: tool axis must be a finite, non-zero vector");
+    }
+    const Vec3 ga = L.to_grid(s.path_m.a), gb = L.to_grid(s.path_m.b);
+    const Aabb box = sweep_bounds(s);
+    const Vec3 glo = L.to_grid(box.lo), ghi = L.to_grid(box.hi);
+    for (int k = 0; k < 3; ++k)
+        if (std::fabs(glo[k]) > kMaxGrid || std::fabs(ghi[k]) > kMaxGrid)
+            throw Error("sweep: the tool is more than 2^24 cells from the workpiece's lattice");
+    GridSweep g{};
+    const double r = s.tool.radius_m / L.cell_m;
+    const Vec3 shank = flat ? glm::normalize(s.axis) * (s.tool.length_m / L.cell_m) : Vec3(0.0);
+    std::uint32_t stamps = 1;
+    if (flat) {
+        const double len = glm::length(gb - ga);
+        const double n = std::ceil(len / 0.5);  // poses at most half a cell apart
+        stamps = static_cast<std::uint32_t>(std::min(n, 1.0e7)) + 1u;
+    }
+    for (int k = 0; k < 3; ++k) {
+        g.lo[k] = clamp_node(std::ceil(glo[k]));
+        g.hi[k] = clamp_node(std::floor(ghi[k]));
+        const double o = std::floor(ga[k]);
+        g.origin[k] = static_cast<std::int32_t>(o);
+        g.start[k] = static_cast<float>(ga[k] - o);
+        g.delta[k] = static_cast<float>(gb[k] - ga[k]);
+        g.shank[k] = static_cast<float>(shank[k]);
+    }
+    g.radius = static_cast<float>(r);
+    g.stamps = stamps;
+    g.code = static_cast<std::uint32_t>(s.op) | (static_cast<std::uint32_t>(s.tool.kind) << 8) |
+             (static_cast<std::uint32_t>(s.material) << 16);
+    return g;
+}
+
+bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1) {
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    glm::vec3 o(0.0f), d(0.0f);
+    d[axis] = 1.0f;
+    o[ua] = static_cast<float>(u - s.origin[ua]) - s.start[ua];
+    o[va] = static_cast<float>(v - s.origin[va]) - s.start[va];
+    const glm::vec3 delta(s.delta[0], s.delta[1], s.delta[2]);
+    float t0, t1;
+    bool hit;
+    if (s.kind() == ToolKind::kBall) {
+        hit = capsule_chord(o, d, glm::vec3(0.0f), delta, s.radius, t0, t1);
+    } else {
+        const float f = s.stamps > 1 ? static_cast<float>(stamp) / static_cast<float>(s.stamps - 1) : 0.0f;
+        const glm::vec3 c = delta * f;
+        hit = cylinder_chord(o, d, c, glm::vec3(s.shank[0], s.shank[1], s.shank[2]), s.radius, t0, t1);
+    }
+    if (!hit) return false;
+    const float base = static_cast<float>(s.origin[axis]) + s.start[axis];
+    d0 = base + t0;
+    d1 = base + t1;
+    return true;
+}
+
+bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray) {
+    const ToolOp op = s.op();
+    if (op == ToolOp::kNone) return false;
+    bool changed = false;
+    for (std::uint32_t k = 0; k < s.stamps; ++k) {
+        float d0, d1;
+        if (!sweep_chord(s, axis, u, v, k, d0, d1)) continue;
+        if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
+        else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, d0, d1, s.material());
+        else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
+    }
+    return changed;
+}
+
+bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi, int& v_lo, int& v_hi) {
+    const int ua = (set.axis + 1) % 3, va = (set.axis + 2) % 3;
+    u_lo = std::max(0, s.lo[ua]);
+    u_hi = std::min(set.nu - 1, s.hi[ua]);
+    v_lo = std::max(0, s.lo[va]);
+    v_hi = std::min(set.nv - 1, s.hi[va]);
+    return u_lo <= u_hi && v_lo <= v_hi;
+}
+
+BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
+    BooleanStats stats;
+    if (sweep.op == ToolOp::kNone) return stats;
+    const GridSweep g = to_grid_sweep(model.lattice, sweep);
+    for (int ax = 0; ax < 3; ++ax) {
+        RaySet& set = model.sets[ax];
+        int u_lo, u_hi, v_lo, v_hi;
+        if (!sweep_footprint(g, set, u_lo, u_hi, v_lo, v_hi)) continue;
+        for (int v = v_lo; v <= v_hi; ++v)
+            for (int u = u_lo; u <= u_hi; ++u) {
+                ++stats.rays_visited;
+                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v))) ++stats.rays_changed;
+            }
+    }
+    if (stats.rays_changed > 0) model.mark_dirty(sweep_bounds(sweep));
+    return stats;
+}
+
+}  // namespace tridex::compute

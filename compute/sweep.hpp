@@ -1,0 +1,95 @@
+// compute/sweep.hpp - one swept-volume Boolean (tool, motion, operation) and its CPU reference.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "compute/boolean.hpp"
+#include "compute/tridexel.hpp"
+#include "core/segment.hpp"
+#include "core/tool_sample.hpp"
+
+namespace tridex::compute {
+
+/// The shape of the cutting tool.
+enum class ToolKind : std::uint8_t {
+    kBall = 0,     ///< a ball of radius_m (ball-end mill, sculpting ball); its sweep is a capsule
+    kFlatEnd = 1,  ///< a flat-end mill: solid cylinder of radius_m, flat end centred on the tool position,
+                   ///< shank of length_m along the tool axis
+};
+
+/// Tool shape and size, m.
+struct ToolShape {
+    ToolKind kind = ToolKind::kBall;
+    double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0)
+    double length_m = 0.0;  ///< kFlatEnd: cylinder length along the axis, m (> 0); ignored for kBall
+};
+
+/// One swept Boolean: the tool moved in a straight line from path_m.a to path_m.b (world m) with a fixed
+/// axis (unit world vector, the tool frame's +z; used by kFlatEnd), applying `op` to the swept volume.
+/// kSubtract removes it (new surface gets `material`), kUnion adds it as `material`, kPaint sets
+/// `material` on the surface points inside it. kNone does nothing.
+struct Sweep {
+    ToolOp op = ToolOp::kSubtract;
+    ToolShape tool{};
+    Segment path_m{};
+    Vec3 axis{0.0, 0.0, 1.0};
+    std::uint8_t material = 0;
+};
+
+/// A Sweep in grid units, the exact record the GPU kernel reads (std430, 96 bytes); the CPU reference
+/// reads the same fields, so both compute the same float chords. Tool coordinates are relative to
+/// the tool start A = origin + start (origin = floor(A), integer; start = A - origin, float), so
+/// float precision does not depend on where the workpiece sits or on the lattice size.
+struct GridSweep {
+    std::int32_t lo[3];      ///< first lattice node index inside the swept box, per axis (may be < 0)
+    std::uint32_t code;      ///< op | kind << 8 | material << 16
+    std::int32_t hi[3];      ///< last lattice node index inside the swept box, per axis (may be >= nodes)
+    std::uint32_t stamps;    ///< kFlatEnd: tool poses applied along the motion (spacing <= 0.5 cell); kBall: 1
+    std::int32_t origin[3];  ///< integer part of the tool start, grid units
+    float radius;            ///< tool radius, grid units
+    float start[3];          ///< fractional part of the tool start, grid units, in [0, 1)
+    float pad0;
+    float delta[3];          ///< motion B - A, grid units
+    float pad1;
+    float shank[3];          ///< kFlatEnd: axis * length, grid units (the cylinder runs from a pose to pose + shank)
+    float pad2;
+
+    ToolOp op() const { return static_cast<ToolOp>(code & 0xffu); }
+    ToolKind kind() const { return static_cast<ToolKind>((code >> 8) & 0xffu); }
+    std::uint8_t material() const { return static_cast<std::uint8_t>((code >> 16) & 0xffu); }
+};
+static_assert(sizeof(GridSweep) == 96, "GridSweep must match the std430 layout of shaders/dexel_sweep.comp");
+
+/// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius.
+Aabb sweep_bounds(const Sweep& sweep);
+
+/// Converts a Sweep to grid units on `lattice`. Throws tridex::Error naming the field when a position or
+/// the axis is not finite, the axis is zero, the radius (or kFlatEnd length) is not a positive number of
+/// metres, or the swept box is more than 2^24 cells from the lattice (float depths would lose cells).
+GridSweep to_grid_sweep(const Lattice& lattice, const Sweep& sweep);
+
+/// Depth range [d0, d1] (grid units along set `axis`) that stamp `stamp` (0..stamps-1) of the sweep
+/// covers on the ray of that set at lattice node (u, v); false when the ray misses it. The ray's line
+/// relative to the tool start is o + t*e_axis with o[axis] = 0, o[k] = float(node_k - origin_k) - start_k
+/// for the two other axes; depth = (float(origin[axis]) + start[axis]) + t. Ball: capsule_chord with the
+/// segment 0 -> delta. kFlatEnd: cylinder_chord of the cylinder at c = delta * (float(stamp) /
+/// float(stamps - 1)) (c = 0 when stamps == 1) with shank `shank`.
+bool sweep_chord(const GridSweep& sweep, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1);
+
+/// Applies the sweep to one ray (set `axis`, node (u, v)): for each stamp, its chord is subtracted,
+/// added or painted (interval_ops.hpp). Returns true when the ray changed.
+bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray);
+
+/// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
+/// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles
+/// around sweep_bounds when a ray changed. Cost: O(footprint rays x stamps x intervals per ray).
+/// Throws tridex::Error (model unchanged) on the bad input to_grid_sweep rejects.
+/// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
+BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep);
+
+/// Footprint of a sweep on ray set `axis`: the node range [u_lo, u_hi] x [v_lo, v_hi] clamped to the
+/// set; false when it is empty.
+bool sweep_footprint(const GridSweep& sweep, const RaySet& set, int& u_lo, int& u_hi, int& v_lo, int& v_hi);
+
+}  // namespace tridex::compute
