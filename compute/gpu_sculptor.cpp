@@ -1,0 +1,265 @@
+// compute/gpu_sculptor.cpp - batching sweeps into ray tiles, the compute dispatch, and the host's share
+// (retried rays, pool compaction, the CPU mirror).
+#include "compute/gpu_sculptor.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "gpu/check.hpp"
+#include "gpu/shader_module.hpp"
+#include "shaders/spirv.hpp"
+
+namespace tridex::compute {
+namespace {
+
+constexpr int kTileRays = 8;           // rays per tile side (the kernel's local size)
+constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
+constexpr int kBindings = 9;
+
+struct Push {
+    std::int32_t axis, nu, nv;
+    std::uint32_t tile_base, pool_chunks, retry_capacity;
+};
+
+struct TileEntry {
+    std::uint32_t tu, tv, first, count;
+};
+
+gpu::Buffer host_storage(const gpu::Context& c, std::size_t bytes) {
+    return gpu::Buffer::create(c, std::max<std::size_t>(bytes, 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryDomain::kHost);
+}
+
+}  // namespace
+
+GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
+    : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
+    const VkDevice dev = context.device();
+    VkDescriptorSetLayoutBinding b[kBindings]{};
+    for (int i = 0; i < kBindings; ++i) {
+        b[i].binding = static_cast<std::uint32_t>(i);
+        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[i].descriptorCount = 1;
+        b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo li{};
+    li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    li.bindingCount = kBindings;
+    li.pBindings = b;
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &layout), "vkCreateDescriptorSetLayout");
+    set_layout_ = gpu::UniqueDescriptorSetLayout(dev, layout);
+
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
+    VkPipelineLayoutCreateInfo pli{};
+    pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    pli.setLayoutCount = 1;
+    pli.pSetLayouts = &layout;
+    pli.pushConstantRangeCount = 1;
+    pli.pPushConstantRanges = &range;
+    VkPipelineLayout pl = VK_NULL_HANDLE;
+    gpu::check(vkCreatePipelineLayout(dev, &pli, nullptr, &pl), "vkCreatePipelineLayout");
+    pipeline_layout_ = gpu::UniquePipelineLayout(dev, pl);
+
+    const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
+    VkComputePipelineCreateInfo ci{};
+    ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module.get();
+    ci.stage.pName = "main";
+    ci.layout = pl;
+    VkPipeline pipe = VK_NULL_HANDLE;
+    gpu::check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), "vkCreateComputePipelines");
+    pipeline_ = gpu::UniquePipeline(dev, pipe);
+
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * kBindings};
+    VkDescriptorPoolCreateInfo pi{};
+    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    pi.maxSets = 3;
+    pi.poolSizeCount = 1;
+    pi.pPoolSizes = &size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool");
+    descriptor_pool_ = gpu::UniqueDescriptorPool(dev, pool);
+    VkDescriptorSetLayout layouts[3] = {layout, layout, layout};
+    VkDescriptorSetAllocateInfo ai{};
+    ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    ai.descriptorPool = pool;
+    ai.descriptorSetCount = 3;
+    ai.pSetLayouts = layouts;
+    gpu::check(vkAllocateDescriptorSets(dev, &ai, sets_), "vkAllocateDescriptorSets");
+
+    ensure_batch_capacity(64, 256, 1024, 256 * 64);
+}
+
+GpuSculptor::~GpuSculptor() = default;
+
+void GpuSculptor::ensure_batch_capacity(std::size_t sweeps, std::size_t tiles, std::size_t indices, std::size_t retry) {
+    bool rebind = sets_[0] != VK_NULL_HANDLE && sweeps_.handle() == VK_NULL_HANDLE;
+    auto grow = [&](gpu::Buffer& buf, std::size_t bytes) {
+        if (buf.handle() != VK_NULL_HANDLE && buf.size() >= bytes) return;
+        buf = host_storage(context_, std::max<std::size_t>(bytes, buf.size() * 2));
+        rebind = true;
+    };
+    grow(sweeps_, sweeps * sizeof(GridSweep));
+    grow(tiles_, tiles * sizeof(TileEntry));
+    grow(index_, indices * sizeof(std::uint32_t));
+    if (retry > retry_capacity_ || counters_[0].handle() == VK_NULL_HANDLE) {
+        retry_capacity_ = std::max(retry, retry_capacity_ * 2);
+        for (auto& c : counters_) c = host_storage(context_, 16 + 4 * retry_capacity_);
+        rebind = true;
+    }
+    if (rebind) bind_descriptors();
+}
+
+void GpuSculptor::bind_descriptors() {
+    for (int a = 0; a < 3; ++a) {
+        const gpu::Buffer* bufs[kBindings] = {&slabs_.buffer(a, 0), &slabs_.buffer(a, 1), &slabs_.buffer(a, 2),
+                                              &slabs_.buffer(a, 3), &slabs_.buffer(a, 4), &sweeps_,
+                                              &tiles_,              &index_,              &counters_[a]};
+        VkDescriptorBufferInfo info[kBindings];
+        VkWriteDescriptorSet w[kBindings]{};
+        for (int i = 0; i < kBindings; ++i) {
+            info[i] = VkDescriptorBufferInfo{bufs[i]->handle(), 0, VK_WHOLE_SIZE};
+            w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+            w[i].dstSet = sets_[a];
+            w[i].dstBinding = static_cast<std::uint32_t>(i);
+            w[i].descriptorCount = 1;
+            w[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[i].pBufferInfo = &info[i];
+        }
+        vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
+    }
+}
+
+std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps) {
+    std::size_t changed = 0;
+    const int nu = slabs_.nu(axis);
+    std::vector<Interval> ray;
+    for (const std::uint32_t id : rays) {
+        const int u = static_cast<int>(id % static_cast<std::uint32_t>(nu)), v = static_cast<int>(id / static_cast<std::uint32_t>(nu));
+        slabs_.read_ray(axis, u, v, ray);
+        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+        bool any = false;
+        for (const GridSweep& g : sweeps)
+            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray);
+        if (!any) continue;
+        ++changed;
+        if (!slabs_.write_ray(axis, u, v, ray)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, axis)) bind_descriptors();
+            if (!slabs_.write_ray(axis, u, v, ray)) throw Error("GPU tri-dexel: no pool room after compaction (internal error)");
+        }
+    }
+    return changed;
+}
+
+BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
+    BooleanStats stats;
+    std::vector<GridSweep> grid;
+    std::vector<std::size_t> source;  // index into batch of each grid sweep
+    grid.reserve(batch.size());
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+        if (batch[i].op == ToolOp::kNone) continue;
+        grid.push_back(to_grid_sweep(mirror_.lattice, batch[i]));  // throws before anything changes
+        source.push_back(i);
+    }
+    if (grid.empty()) return stats;
+
+    // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order.
+    std::vector<TileEntry> tiles;
+    std::vector<std::uint32_t> index;
+    std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs;
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = mirror_.sets[a];
+        const int tiles_u = (set.nu + kTileRays - 1) / kTileRays;
+        pairs.clear();
+        for (std::uint32_t s = 0; s < grid.size(); ++s) {
+            int u0, u1, v0, v1;
+            if (!sweep_footprint(grid[s], set, u0, u1, v0, v1)) continue;
+            stats.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
+            for (int tv = v0 / kTileRays; tv <= v1 / kTileRays; ++tv)
+                for (int tu = u0 / kTileRays; tu <= u1 / kTileRays; ++tu)
+                    pairs.emplace_back(static_cast<std::uint64_t>(tu) + static_cast<std::uint64_t>(tiles_u) * tv, s);
+        }
+        std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        base[a] = static_cast<std::uint32_t>(tiles.size());
+        for (std::size_t i = 0; i < pairs.size();) {
+            std::size_t j = i;
+            TileEntry t{static_cast<std::uint32_t>(pairs[i].first % tiles_u), static_cast<std::uint32_t>(pairs[i].first / tiles_u),
+                        static_cast<std::uint32_t>(index.size()), 0};
+            for (; j < pairs.size() && pairs[j].first == pairs[i].first; ++j) index.push_back(pairs[j].second);
+            t.count = static_cast<std::uint32_t>(j - i);
+            tiles.push_back(t);
+            i = j;
+        }
+        count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
+    }
+    if (tiles.empty()) return stats;
+    const std::uint32_t most = std::max({count[0], count[1], count[2]});
+    ensure_batch_capacity(grid.size(), tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileRays * kTileRays);
+    sweeps_.write(grid.data(), grid.size() * sizeof(GridSweep));
+    tiles_.write(tiles.data(), tiles.size() * sizeof(TileEntry));
+    index_.write(index.data(), index.size() * sizeof(std::uint32_t));
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t head[4] = {slabs_.pool_head(a), 0, 0, 0};
+        counters_[a].write(head, sizeof(head));
+    }
+
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+        for (int a = 0; a < 3; ++a) {
+            if (count[a] == 0) continue;
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);
+            for (std::uint32_t done = 0; done < count[a]; done += kMaxGroups) {
+                const Push push{a, slabs_.nu(a), slabs_.nv(a), base[a] + done, slabs_.pool_chunks(a),
+                                static_cast<std::uint32_t>(retry_capacity_)};
+                vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
+                vkCmdDispatch(cmd, std::min(kMaxGroups, count[a] - done), 1, 1);
+                ++stats_.dispatches;
+            }
+        }
+        // Make the kernel's writes visible to the host reads that follow the fence.
+        VkMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    });
+    ++stats_.batches;
+    stats_.sweeps += grid.size();
+    stats_.ray_tiles += tiles.size();
+
+    std::vector<std::uint32_t> retry;
+    for (int a = 0; a < 3; ++a) {
+        std::uint32_t head[4];
+        counters_[a].read(head, sizeof(head));
+        slabs_.pool_head(a) = head[0];
+        stats.rays_changed += head[2];
+        if (head[1] == 0) continue;
+        if (head[1] > retry_capacity_) throw Error("GPU tri-dexel: retry list overflow (internal error)");
+        retry.resize(head[1]);
+        counters_[a].read(retry.data(), retry.size() * 4, 16);
+        stats_.retried_rays += retry.size();
+        ++stats_.compactions;
+        if (slabs_.compact(context_, a)) bind_descriptors();
+        stats.rays_changed += redo_on_host(a, retry, grid);
+    }
+    // The mirror's footprint rays, then its dirty tiles.
+    for (int a = 0; a < 3; ++a) {
+        RaySet& set = mirror_.sets[a];
+        for (std::uint32_t t = base[a]; t < base[a] + count[a]; ++t) {
+            const int u0 = static_cast<int>(tiles[t].tu) * kTileRays, v0 = static_cast<int>(tiles[t].tv) * kTileRays;
+            for (int v = v0; v < std::min(v0 + kTileRays, set.nv); ++v)
+                for (int u = u0; u < std::min(u0 + kTileRays, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
+        }
+    }
+    if (stats.rays_changed > 0)
+        for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
+    return stats;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,285 @@
+// shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
+// One workgroup = one tile of 8 x 8 rays; each invocation loads its ray's intervals, applies the
+// batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
+// the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
+// compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
+// A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
+// and listed for the host (compute/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
+#version 450
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const uint MAXI = 64u;   // intervals a ray may hold in this kernel
+const uint INLINE = 2u;  // intervals stored in the ray's own slots
+
+struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
+    ivec3 lo; uint code;
+    ivec3 hi; uint stamps;
+    ivec3 origin; float radius;
+    vec3 start; float pad0;
+    vec3 delta; float pad1;
+    vec3 shank; float pad2;
+};
+
+layout(std430, set = 0, binding = 0) buffer Meta { uint meta[]; };          // count | cap_chunks << 7 | off_chunk << 11
+layout(std430, set = 0, binding = 1) buffer InlineDepth { vec4 inl[]; };    // enter0, exit0, enter1, exit1
+layout(std430, set = 0, binding = 2) buffer InlineMat { uint inl_mat[]; };  // bytes: enter0, exit0, enter1, exit1
+layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 pool[]; };     // (enter, exit) per interval
+layout(std430, set = 0, binding = 4) buffer PoolMat { uint pool_mat[]; };   // enter | exit << 8
+layout(std430, set = 0, binding = 5) readonly buffer Sweeps { GridSweep sweeps[]; };
+layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };  // tile u, tile v, first, count
+layout(std430, set = 0, binding = 7) readonly buffer SweepIndex { uint sweep_index[]; };
+layout(std430, set = 0, binding = 8) buffer Counters {
+    uint pool_head;      // chunks of 8 intervals handed out
+    uint retry_count;    // rays listed in retry[]
+    uint changed_rays;   // rays written back
+    uint pad;
+    uint retry[];
+};
+
+layout(push_constant) uniform Push {
+    int axis;
+    int nu;
+    int nv;
+    uint tile_base;
+    uint pool_chunks;  // chunks the pool holds
+    uint retry_capacity;
+} pc;
+
+float en[MAXI];
+float ex[MAXI];
+uint mt[MAXI];  // enter material | exit material << 8
+uint n;
+
+// ---- chords (compute/capsule.cpp) ----
+float dot3(vec3 p, vec3 q) { precise float r = p.x * q.x + p.y * q.y + p.z * q.z; return r; }
+vec3 cross3(vec3 p, vec3 q) {
+    precise vec3 r = vec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
+    return r;
+}
+
+void add_ball(vec3 o, vec3 d, float dd, vec3 c, float r, inout float lo, inout float hi) {
+    precise vec3 m = o - c;
+    vec3 md = cross3(m, d);
+    precise float disc = dd * (r * r) - dot3(md, md);
+    if (disc < 0.0) return;
+    precise float mid = -dot3(m, d) / dd;
+    precise float half_len = sqrt(disc) / dd;
+    precise float a = mid - half_len;
+    precise float b = mid + half_len;
+    lo = min(lo, a);
+    hi = max(hi, b);
+}
+
+void add_cylinder(vec3 o, vec3 d, vec3 a, vec3 e, float ee, float r, inout float lo, inout float hi) {
+    precise vec3 m = o - a;
+    vec3 me = cross3(m, e);
+    vec3 de = cross3(d, e);
+    float qa = dot3(de, de);
+    float qb = dot3(me, de);
+    precise float qc = dot3(me, me) - ee * (r * r);
+    float ms = dot3(m, e);
+    float ds = dot3(d, e);
+    precise float c0, c1;
+    if (qa > 0.0) {
+        precise float disc = qb * qb - qa * qc;
+        if (disc < 0.0) return;
+        precise float s = sqrt(disc);
+        c0 = (-qb - s) / qa;
+        c1 = (-qb + s) / qa;
+    } else {
+        if (qc > 0.0) return;
+        c0 = -1.0 / 0.0;
+        c1 = 1.0 / 0.0;
+    }
+    if (ds != 0.0) {
+        precise float ta = -ms / ds;
+        precise float tb = (ee - ms) / ds;
+        c0 = max(c0, min(ta, tb));
+        c1 = min(c1, max(ta, tb));
+    } else if (ms < 0.0 || ms > ee) {
+        return;
+    }
+    if (!(c0 <= c1)) return;
+    lo = min(lo, c0);
+    hi = max(hi, c1);
+}
+
+// compute/sweep.cpp sweep_chord
+bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float d1) {
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    vec3 o = vec3(0.0), d = vec3(0.0);
+    d[pc.axis] = 1.0;
+    precise float ou = float(u - s.origin[ua]) - s.start[ua];
+    precise float ov = float(v - s.origin[va]) - s.start[va];
+    o[ua] = ou;
+    o[va] = ov;
+    float lo = 1.0 / 0.0, hi = -1.0 / 0.0;
+    float dd = dot3(d, d);
+    uint kind = (s.code >> 8) & 0xffu;
+    if (kind == 0u) {
+        if (!(s.radius > 0.0)) return false;
+        add_ball(o, d, dd, vec3(0.0), s.radius, lo, hi);
+        float ee = dot3(s.delta, s.delta);
+        if (ee > 0.0) {
+            add_ball(o, d, dd, s.delta, s.radius, lo, hi);
+            add_cylinder(o, d, vec3(0.0), s.delta, ee, s.radius, lo, hi);
+        }
+    } else {
+        precise float f = s.stamps > 1u ? float(stamp) / float(s.stamps - 1u) : 0.0;
+        precise vec3 c = s.delta * f;
+        float ee = dot3(s.shank, s.shank);
+        if (!(ee > 0.0) || !(s.radius > 0.0)) return false;
+        add_cylinder(o, d, c, s.shank, ee, s.radius, lo, hi);
+    }
+    if (!(lo <= hi)) return false;
+    precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];
+    d0 = base + lo;
+    d1 = base + hi;
+    return true;
+}
+
+// ---- interval operations (compute/interval_ops.cpp) ----
+// Moves intervals [from, n) by `by` places (by may be negative) and sets n += by.
+void shift_tail(uint from, int by) {
+    if (by > 0) {
+        for (int i = int(n) - 1; i >= int(from); --i) {
+            en[i + by] = en[i]; ex[i + by] = ex[i]; mt[i + by] = mt[i];
+        }
+    } else if (by < 0) {
+        for (uint i = from; i < n; ++i) {
+            en[int(i) + by] = en[i]; ex[int(i) + by] = ex[i]; mt[int(i) + by] = mt[i];
+        }
+    }
+    n = uint(int(n) + by);
+}
+
+// Returns 0 = unchanged, 1 = changed, 2 = would exceed MAXI (ray left as it was).
+uint subtract_span(float t0, float t1, uint cut) {
+    if (!(t0 < t1)) return 0u;
+    uint first = 0u;
+    while (first < n && !(t0 < ex[first])) ++first;
+    uint last = first;
+    while (last < n && en[last] < t1) ++last;
+    if (first == last) return 0u;
+    float head_enter = en[first];
+    uint head_mat = (mt[first] & 0xffu) | (cut << 8);
+    float tail_exit = ex[last - 1u];
+    uint tail_mat = cut | (mt[last - 1u] & 0xff00u);
+    bool keep_head = head_enter < t0, keep_tail = t1 < tail_exit;
+    int pieces = (keep_head ? 1 : 0) + (keep_tail ? 1 : 0);
+    int by = pieces - int(last - first);
+    if (int(n) + by > int(MAXI)) return 2u;
+    shift_tail(last, by);
+    uint at = first;
+    if (keep_head) { en[at] = head_enter; ex[at] = t0; mt[at] = head_mat; ++at; }
+    if (keep_tail) { en[at] = t1; ex[at] = tail_exit; mt[at] = tail_mat; }
+    return 1u;
+}
+
+uint union_span(float t0, float t1, uint mat) {
+    if (!(t0 < t1)) return 0u;
+    uint first = 0u;
+    while (first < n && ex[first] < t0) ++first;
+    uint last = first;
+    while (last < n && !(t1 < en[last])) ++last;
+    if (first == last) {
+        if (n + 1u > MAXI) return 2u;
+        shift_tail(first, 1);
+        en[first] = t0; ex[first] = t1; mt[first] = mat | (mat << 8);
+        return 1u;
+    }
+    if (last == first + 1u && en[first] <= t0 && t1 <= ex[first]) return 0u;
+    float m_en = en[first], m_ex = ex[last - 1u];
+    uint m_enm = mt[first] & 0xffu, m_exm = mt[last - 1u] & 0xff00u;
+    if (t0 < m_en) { m_en = t0; m_enm = mat; }
+    if (t1 > m_ex) { m_ex = t1; m_exm = mat << 8; }
+    shift_tail(last, 1 - int(last - first));
+    en[first] = m_en; ex[first] = m_ex; mt[first] = m_enm | m_exm;
+    return 1u;
+}
+
+uint paint_span(float t0, float t1, uint mat) {
+    if (!(t0 <= t1)) return 0u;
+    uint changed = 0u;
+    uint i = 0u;
+    while (i < n && ex[i] < t0) ++i;
+    for (; i < n && en[i] <= t1; ++i) {
+        if (t0 <= en[i] && (mt[i] & 0xffu) != mat) { mt[i] = (mt[i] & 0xff00u) | mat; changed = 1u; }
+        if (ex[i] <= t1 && ((mt[i] >> 8) & 0xffu) != mat) { mt[i] = (mt[i] & 0xffu) | (mat << 8); changed = 1u; }
+    }
+    return changed;
+}
+
+void list_for_retry(uint ray) {
+    uint k = atomicAdd(retry_count, 1u);
+    if (k < pc.retry_capacity) retry[k] = ray;
+}
+
+void main() {
+    uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
+    int u = int(tile.x * 8u + gl_LocalInvocationID.x);
+    int v = int(tile.y * 8u + gl_LocalInvocationID.y);
+    if (u >= pc.nu || v >= pc.nv) return;
+    uint ray = uint(u) + uint(pc.nu) * uint(v);
+    uint m = meta[ray];
+    n = m & 127u;
+    if (n > MAXI) { list_for_retry(ray); return; }
+    if (n <= INLINE) {
+        vec4 d = inl[ray];
+        uint mm = inl_mat[ray];
+        en[0] = d.x; ex[0] = d.y; mt[0] = mm & 0xffffu;
+        en[1] = d.z; ex[1] = d.w; mt[1] = mm >> 16;
+    } else {
+        uint off = (m >> 11) * 8u;
+        for (uint i = 0u; i < n; ++i) {
+            vec2 p = pool[off + i];
+            en[i] = p.x; ex[i] = p.y; mt[i] = pool_mat[off + i];
+        }
+    }
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    bool changed = false;
+    for (uint k = 0u; k < tile.w; ++k) {
+        GridSweep s = sweeps[sweep_index[tile.z + k]];
+        if (u < s.lo[ua] || u > s.hi[ua] || v < s.lo[va] || v > s.hi[va]) continue;
+        uint op = s.code & 0xffu;
+        uint mat = (s.code >> 16) & 0xffu;
+        if (op == 0u) continue;
+        for (uint st = 0u; st < s.stamps; ++st) {
+            float d0, d1;
+            if (!sweep_chord(s, u, v, st, d0, d1)) continue;
+            uint r = 0u;
+            if (op == 1u) r = subtract_span(d0, d1, mat);
+            else if (op == 2u) r = union_span(d0, d1, mat);
+            else if (op == 3u) r = paint_span(d0, d1, mat);
+            if (r == 2u) { list_for_retry(ray); return; }
+            if (r == 1u) changed = true;
+        }
+    }
+    if (!changed) return;
+    uint cap = (m >> 7) & 15u;
+    uint off_chunk = m >> 11;
+    if (n <= INLINE) {
+        vec4 d = vec4(0.0);
+        uint mm = 0u;
+        if (n > 0u) { d.x = en[0]; d.y = ex[0]; mm = mt[0]; }
+        if (n > 1u) { d.z = en[1]; d.w = ex[1]; mm |= mt[1] << 16; }
+        inl[ray] = d;
+        inl_mat[ray] = mm;
+    } else {
+        if (cap * 8u < n) {  // a new pool region; the old one becomes garbage until the host compacts
+            uint need = (n + 7u) / 8u;
+            uint at = atomicAdd(pool_head, need);
+            if (at + need > pc.pool_chunks) { list_for_retry(ray); return; }
+            cap = need;
+            off_chunk = at;
+        }
+        uint off = off_chunk * 8u;
+        for (uint i = 0u; i < n; ++i) {
+            pool[off + i] = vec2(en[i], ex[i]);
+            pool_mat[off + i] = mt[i];
+        }
+    }
+    meta[ray] = n | (cap << 7) | (off_chunk << 11);
+    atomicAdd(changed_rays, 1u);
+}

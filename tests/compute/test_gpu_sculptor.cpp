@@ -1,0 +1,194 @@
+// tests/compute/test_gpu_sculptor.cpp - GPU Booleans (shaders/dexel_sweep.comp) against the CPU reference:
+// random stroke programs with every tool and operation give bit-identical rays; the spill pool compacts
+// and grows; rays beyond the kernel's 64 intervals are redone on the host; validation stays silent.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "compute/gpu_sculptor.hpp"
+#include "compute/scan_convert.hpp"
+#include "compute/sweep.hpp"
+#include "core/error.hpp"
+#include "core/primitives.hpp"
+#include "gpu/context.hpp"
+
+using namespace tridex;
+using namespace tridex::compute;
+
+namespace {
+
+TriDexel box_model(int cells, double lo, double hi) {
+    Lattice L;
+    L.origin_m = Vec3(-0.4, 0.25, 0.9);
+    L.cell_m = 0.001;
+    L.cells = {cells, cells, cells};
+    TriDexel m = TriDexel::empty(L, std::size_t{1} << 30);
+    if (hi > lo) scan_convert(box_mesh(Aabb{L.to_world(Vec3(lo)), L.to_world(Vec3(hi))}), m);
+    return m;
+}
+
+/// Number of rays that differ (bitwise, materials included) and the largest depth difference, cells.
+struct Diff {
+    std::size_t rays = 0;
+    double max_cells = 0.0;
+};
+
+Diff compare(const TriDexel& a, const TriDexel& b) {
+    Diff d;
+    for (int s = 0; s < 3; ++s)
+        for (std::size_t i = 0; i < a.sets[s].rays.size(); ++i) {
+            const auto& x = a.sets[s].rays[i];
+            const auto& y = b.sets[s].rays[i];
+            bool same = x.size() == y.size();
+            for (std::size_t k = 0; same && k < x.size(); ++k) {
+                same = std::memcmp(&x[k].enter, &y[k].enter, 4) == 0 && std::memcmp(&x[k].exit, &y[k].exit, 4) == 0 &&
+                       x[k].enter_material == y[k].enter_material && x[k].exit_material == y[k].exit_material;
+                d.max_cells = std::max({d.max_cells, std::fabs(double(x[k].enter) - y[k].enter), std::fabs(double(x[k].exit) - y[k].exit)});
+            }
+            if (!same) ++d.rays;
+        }
+    return d;
+}
+
+/// A random stroke program: strokes of a few segments each, every tool and operation, some positions
+/// snapped to lattice nodes and planes and radii to whole cells (rays grazing and tangent to the tool).
+std::vector<Sweep> random_program(const Lattice& L, int segments, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(6.0, L.cells[0] - 6.0), unit(0.0, 1.0);
+    std::vector<Sweep> out;
+    Vec3 p = L.to_world(Vec3(pos(rng), pos(rng), pos(rng)));
+    Sweep s;
+    while (static_cast<int>(out.size()) < segments) {
+        if (out.empty() || unit(rng) < 0.1) {  // a new stroke: tool, operation, material
+            const double pick = unit(rng);
+            s.op = pick < 0.5 ? ToolOp::kSubtract : pick < 0.8 ? ToolOp::kUnion : ToolOp::kPaint;
+            s.material = static_cast<std::uint8_t>(1 + rng() % 6);
+            const bool flat = unit(rng) < 0.35;
+            double r = 0.4 + 5.0 * unit(rng);
+            if (unit(rng) < 0.3) r = std::max(1.0, std::round(r));  // whole cells
+            s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L.cell_m, (2.0 + 6.0 * unit(rng)) * L.cell_m};
+            Vec3 axis(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
+            if (unit(rng) < 0.4) axis = Vec3(0.0, 0.0, 1.0);  // aligned with the lattice
+            s.axis = glm::length(axis) > 1e-3 ? axis : Vec3(1.0, 0.0, 0.0);
+            p = L.to_world(Vec3(pos(rng), pos(rng), pos(rng)));
+        }
+        Vec3 g = L.to_grid(p) + Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5) * 3.0;
+        if (unit(rng) < 0.25) g = glm::round(g);                 // on a lattice node
+        else if (unit(rng) < 0.25) g.x = std::round(g.x);        // on a lattice plane
+        g = glm::clamp(g, Vec3(2.0), Vec3(L.cells[0] - 2.0));
+        const Vec3 q = L.to_world(g);
+        s.path_m = Segment{p, unit(rng) < 0.05 ? p : q};  // some zero-length segments
+        out.push_back(s);
+        p = q;
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitForBit) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel cpu = box_model(64, 8.5, 55.5);
+        TriDexel gpu_model = box_model(64, 8.5, 55.5);
+        GpuSculptorOptions opt;
+        opt.initial_pool_chunks = 16;  // tiny: forces compaction and growth
+        GpuSculptor sculptor(ctx, gpu_model, opt);
+        const std::vector<Sweep> program = random_program(cpu.lattice, 3000, 7u);
+        std::mt19937 rng(11);
+        std::size_t done = 0, changed_cpu = 0, changed_gpu = 0;
+        while (done < program.size()) {
+            const std::size_t n = std::min<std::size_t>(program.size() - done, 1 + rng() % 200);
+            const std::span<const Sweep> batch(program.data() + done, n);
+            for (const Sweep& s : batch) changed_cpu += apply_sweep(cpu, s).rays_changed;
+            changed_gpu += sculptor.apply(batch).rays_changed;
+            done += n;
+        }
+        EXPECT_GT(changed_cpu, 10000u);
+        const Diff mirror = compare(cpu, gpu_model);
+        TriDexel downloaded = TriDexel::empty(cpu.lattice, std::size_t{1} << 30);
+        sculptor.slabs().download(downloaded);
+        const Diff gpu_side = compare(cpu, downloaded);
+        EXPECT_EQ(mirror.rays, 0u) << "max depth difference " << mirror.max_cells << " cells";
+        EXPECT_EQ(gpu_side.rays, 0u) << "max depth difference " << gpu_side.max_cells << " cells";
+        EXPECT_GT(sculptor.slabs().spilled_intervals(), 0u);
+        EXPECT_GT(sculptor.stats().compactions, 0u);
+        EXPECT_GT(sculptor.stats().retried_rays, 0u);
+        EXPECT_LT(sculptor.stats().dispatches, 3 * sculptor.stats().batches + 1);
+        std::cout << "segments " << program.size() << ", batches " << sculptor.stats().batches << ", ray tiles "
+                  << sculptor.stats().ray_tiles << ", rays retried on the host " << sculptor.stats().retried_rays
+                  << ", compactions " << sculptor.stats().compactions << ", spilled intervals "
+                  << sculptor.slabs().spilled_intervals() << ", rays changed cpu/gpu " << changed_cpu << "/" << changed_gpu << "\n";
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(GpuSculptor, RaysBeyondTheKernelsIntervalLimitAreRedoneOnTheHostAndTooManyThrow) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel cpu = box_model(200, 0.0, 0.0);  // empty
+        TriDexel gpu_model = box_model(200, 0.0, 0.0);
+        GpuSculptor sculptor(ctx, gpu_model);
+        // 90 small balls strung along the X ray through node (y, z) = (100, 100): 90 intervals on it.
+        std::vector<Sweep> batch;
+        for (int i = 0; i < 90; ++i) {
+            Sweep s;
+            s.op = ToolOp::kUnion;
+            s.material = 4;
+            s.tool = ToolShape{ToolKind::kBall, 0.6 * cpu.lattice.cell_m, 0.0};
+            const Vec3 c = cpu.lattice.to_world(Vec3(5.0 + 2.0 * i, 100.0, 100.0));
+            s.path_m = Segment{c, c};
+            batch.push_back(s);
+        }
+        for (const Sweep& s : batch) apply_sweep(cpu, s);
+        sculptor.apply(batch);
+        EXPECT_EQ(cpu.sets[0].ray(100, 100).size(), 90u);
+        EXPECT_EQ(compare(cpu, gpu_model).rays, 0u);
+        EXPECT_GE(sculptor.stats().retried_rays, 1u);
+        // A later batch touching that ray again also goes through the host, and still matches.
+        std::vector<Sweep> cut(batch.begin(), batch.begin() + 3);
+        for (Sweep& s : cut) s.op = ToolOp::kSubtract;
+        for (const Sweep& s : cut) apply_sweep(cpu, s);
+        sculptor.apply(cut);
+        EXPECT_EQ(compare(cpu, gpu_model).rays, 0u);
+        // More than the layout's 120 intervals on one ray is refused with a clear error.
+        std::vector<Sweep> many;
+        for (int i = 0; i < 60; ++i) {  // thinner balls in the gaps: 147 intervals on the ray
+            Sweep s = batch[0];
+            s.tool.radius_m = 0.3 * cpu.lattice.cell_m;
+            s.path_m.a = s.path_m.b = cpu.lattice.to_world(Vec3(6.0 + 2.0 * i, 100.0, 100.0));
+            many.push_back(s);
+        }
+        try {
+            sculptor.apply(many);
+            FAIL() << "expected an error for a ray over 120 intervals";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("120"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(GpuSculptor, InvalidSweepsAreRefusedBeforeAnythingChanges) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel m = box_model(32, 4.5, 27.5);
+        const std::size_t n = m.interval_count();
+        GpuSculptor sculptor(ctx, m);
+        std::vector<Sweep> batch(2);
+        batch[0].tool = ToolShape{ToolKind::kBall, 0.003, 0.0};
+        batch[0].path_m = Segment{m.lattice.to_world(Vec3(16.0)), m.lattice.to_world(Vec3(18.0))};
+        batch[1] = batch[0];
+        batch[1].tool.radius_m = NAN;
+        EXPECT_THROW(sculptor.apply(batch), Error);
+        EXPECT_EQ(m.interval_count(), n);
+        TriDexel d = TriDexel::empty(m.lattice, std::size_t{1} << 30);
+        sculptor.slabs().download(d);
+        EXPECT_EQ(d.interval_count(), n);
+        EXPECT_EQ(sculptor.stats().batches, 0u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
