@@ -27,6 +27,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double kStockM = 0.3;
 constexpr double kToolRadiusM = 0.008;
 constexpr double kWandHalfLengthM = 0.03;
+constexpr double kWalkRangeM = 0.003;  // the pose walk stays within +-3 mm of its centre along each axis
 
 haptics::ToolPoints tool_points(int count) {
     if (count == 1) return haptics::ToolPoints::single(kToolRadiusM);
@@ -46,9 +47,9 @@ struct PoseWalk {
     }
     Pose next(const Vec3& surface_m) {
         for (int a = 0; a < 3; ++a) offset[a] += (uniform() - 0.5) * 4e-4;  // 0.2 mm steps
-        offset.x = std::clamp(offset.x, -0.003, 0.003);
-        offset.y = std::clamp(offset.y, -0.003, 0.003);
-        offset.z = std::clamp(offset.z, -0.003, 0.001);
+        offset.x = std::clamp(offset.x, -kWalkRangeM, kWalkRangeM);
+        offset.y = std::clamp(offset.y, -kWalkRangeM, kWalkRangeM);
+        offset.z = std::clamp(offset.z, -kWalkRangeM, 0.001);
         const double tilt = (uniform() - 0.5) * 0.6;
         Pose p;
         p.position = surface_m + offset + Vec3(0.0, 0.0, kToolRadiusM - 0.001);
@@ -63,7 +64,7 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
     const std::string mesh = o.mesh.empty() ? default_mesh_path() : o.mesh;
     std::vector<HapticsBenchRow> rows;
     auto surface = std::make_unique<ActiveSurface>();  // ~100 KB: keep it off the stack
-    std::printf("%6s %7s %10s %10s %10s %9s\n", "N", "points", "median_us", "p99_us", "max_us", "contact");
+    std::printf("%6s %7s %7s %10s %10s %10s %9s\n", "N", "points", "stride", "median_us", "p99_us", "max_us", "contact");
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, Vec3(0.0, 0.0, 0.3));
         // The tool works on the flank facing the designer (+z), at the workpiece's middle.
@@ -71,9 +72,16 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
         const Vec3 c = wp.model.lattice.bounds().centre();
         if (!compute::probe_top(wp.model, 2, c, surface_m))
             throw Error(mesh + ": no surface under the workpiece's centre along z; cannot place the benchmark tool");
-        compute::extract_active_surface(wp.model, surface_m, 1, *surface);
+        // The walk's centre: where the sculpt thread would publish (the tool centre, not the surface).
+        const Vec3 centre_m = surface_m + Vec3(0.0, 0.0, kToolRadiusM - 0.001);
         for (int count : o.points) {
-            haptics::MultiPointRenderer renderer(tool_points(count), haptics::ContactParams{700.0, 0.5, 0.0});
+            const haptics::ToolPoints tool = tool_points(count);
+            // Window sized for the tool, with the walk's lateral range (+-3 mm) as the motion margin.
+            compute::extract_active_surface(wp.model, centre_m,
+                                            compute::tool_extent_m(haptics::max_point_distance_m(tool), tool.radius_m),
+                                            1, *surface, kWalkRangeM);
+            const int stride = surface->sets[2].stride;
+            haptics::MultiPointRenderer renderer(tool, haptics::ContactParams{700.0, 0.5, 0.0});
             PoseWalk walk;
             std::vector<double> us;
             us.reserve(o.ticks);
@@ -88,25 +96,29 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
                 contact += r.in_contact > 0 ? 1 : 0;
             }
             const Summary s = summarize(us);
-            rows.push_back({n, count, s.median, s.p99, s.max, static_cast<double>(contact) / o.ticks});
-            std::printf("%6d %7d %10.3f %10.3f %10.1f %8.1f%%\n", n, count, s.median, s.p99, s.max,
+            rows.push_back({n, count, s.median, s.p99, s.max, static_cast<double>(contact) / o.ticks, stride});
+            std::printf("%6d %7d %7d %10.3f %10.3f %10.1f %8.1f%%\n", n, count, stride, s.median, s.p99, s.max,
                         100.0 * rows.back().contact_fraction);
         }
     }
     // Flatness in N: slowest over fastest median per point count.
     for (int count : o.points) {
-        double lo = 1e300, hi = 0.0;
+        double lo = 1e300, hi = 0.0, first = 0.0, last = 0.0;
         for (const auto& r : rows)
             if (r.points == count) {
                 lo = std::min(lo, r.median_us);
                 hi = std::max(hi, r.median_us);
+                if (first == 0.0) first = r.median_us;
+                last = r.median_us;
             }
-        std::printf("points %2d: median slowest/fastest over N = %.2fx\n", count, lo > 0.0 ? hi / lo : 0.0);
+        std::printf("points %2d: median slowest/fastest over N = %.2fx, last N / first N = %.2fx\n", count,
+                    lo > 0.0 ? hi / lo : 0.0, first > 0.0 ? last / first : 0.0);
     }
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows)
         j.push_back({{"n", r.n}, {"points", r.points}, {"median_us", r.median_us}, {"p99_us", r.p99_us},
-                     {"max_us", r.max_us}, {"contact_fraction", r.contact_fraction}});
+                     {"max_us", r.max_us}, {"contact_fraction", r.contact_fraction},
+                     {"stride", r.stride}});
     const std::string path = (std::filesystem::path(o.out) / "haptics_bench.json").string();
     write_json_file(path, j);
     std::printf("wrote %s\n", path.c_str());

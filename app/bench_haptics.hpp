@@ -15,6 +15,7 @@ struct HapticsBenchRow {
     double p99_us = 0.0;
     double max_us = 0.0;
     double contact_fraction = 0.0;  ///< share of ticks with at least one point in contact
+    int stride = 1;                 ///< active-surface window stride chosen for the tool (lattice rays per window ray)
 };
 
 /// What to measure.
@@ -26,11 +27,12 @@ struct HapticsBenchOptions {
     std::string out = "out/bench";                     ///< folder for haptics_bench.json
 };
 
-/// For each N: scan-converts the workpiece (0.3 m stock), publishes the active surface at the tool's
-/// place on the surface, then times MultiPointRenderer::update (god-object per point, sum of forces and
+/// For each N: scan-converts the workpiece (0.3 m stock); for each tool, publishes the active surface
+/// centred on the walk's centre (the tool centre r - 1 mm above the surface) with the window sized for
+/// the tool (tool extent + the walk's +-3 mm), then times MultiPointRenderer::update (god-object per point, sum of forces and
 /// torques) over a fixed pseudo-random walk of tool poses that press into and slide over the surface, the
 /// same walk for every row. Writes haptics_bench.json (a list of rows) into options.out, prints a table
-/// with the ratio of the slowest to the fastest N per point count, and returns the rows.
+/// with the ratio of the slowest to the fastest N and of the last to the first N per point count, and returns the rows.
 /// Throws tridex::Error on a bad mesh or an unwritable folder.
 std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& options);
 

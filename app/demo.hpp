@@ -24,6 +24,7 @@ struct DemoOptions {
     double dynamic_friction = 0.15;
     bool cutting = true;           ///< cutting reaction force while carving
     std::string record;            ///< when set, the session is recorded to this file (TRDXREC)
+    bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
 };
 
 /// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json

@@ -11,6 +11,7 @@
 
 #include "app/bench_haptics.hpp"
 #include "app/bench_render.hpp"
+#include "app/bench_sculpt.hpp"
 #include "app/demo.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
     bool no_cutting = false;
     demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
     demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+    demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
 
     tridex::app::OutputOptions replay_out;
     replay_out.out = "out/replay";
@@ -69,6 +71,8 @@ int main(int argc, char** argv) {
     replay_cmd->add_option("--width", replay_out.width, "Per-eye image width, px")->capture_default_str();
     replay_cmd->add_option("--height", replay_out.height, "Per-eye image height, px")->capture_default_str();
     replay_cmd->add_flag("--validate", replay_out.validate, "Enable the Vulkan validation layer");
+    bool replay_cpu = false;
+    replay_cmd->add_flag("--cpu", replay_cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -80,6 +84,10 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--render", bench_render,
                         "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, "
                         "with and without tile culling");
+    bool bench_sculpt = false;
+    bench_cmd->add_flag("--sculpt", bench_sculpt,
+                        "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
+                        "N = 256, 512, 1024, tool radius 2 and 8 cells");
     bench_cmd->add_option("--frames", rbench.frames, "Timed frames per render row")->capture_default_str()->check(CLI::Range(1, 1000));
     bench_cmd->add_option("--out", hbench.out, "Output folder")->capture_default_str();
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
@@ -99,15 +107,21 @@ int main(int argc, char** argv) {
             demo.cutting = !no_cutting;
             tridex::app::run_demo(demo);
         }
-        if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out);
+        if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_cpu);
         if (*run_cmd) return tridex::app::run_command(run);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render) throw tridex::Error("bench: choose what to measure: --haptics and/or --render");
+            if (!bench_haptics && !bench_render && !bench_sculpt)
+                throw tridex::Error("bench: choose what to measure: --haptics, --render and/or --sculpt");
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;
                 rbench.mesh = hbench.mesh;
                 tridex::app::run_render_bench(rbench);
+            }
+            if (bench_sculpt) {
+                tridex::app::SculptBenchOptions sbench;
+                sbench.out = hbench.out;
+                tridex::app::run_sculpt_bench(sbench);
             }
         }
         return 0;

@@ -105,6 +105,12 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                    {"contour_ms", summary_json(summarize(r.sculpt->contour_ms), true)},
                    {"tiles_initial", r.tiles_initial},
                    {"tiles_total", r.tiles_total}};
+    j["sculpt_path"] = r.sculpt_path;
+    j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
+    if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
+    j["spilled_intervals"] = r.spilled_intervals;
+    j["model_bytes"] = {{"x", r.model_bytes[0]}, {"y", r.model_bytes[1]}, {"z", r.model_bytes[2]},
+                        {"total", r.model_bytes[0] + r.model_bytes[1] + r.model_bytes[2]}};
     j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},
                    {"validation_messages", r.validation_messages}, {"render_s", r.render_s}};
     j["timing_s"] = {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_s}, {"session", r.session_s}};
@@ -125,6 +131,8 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
                 (r.volume_dexel_m3 - r.volume_after_m3) * 1e6, r.volume_dexel_m3 * 1e6);
     std::printf("  mesh: %zu vertices, %zu triangles, %zu boundary edges, %zu non-manifold edges\n", r.vertices,
                 r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
+    std::printf("  sculpt path: %s%s%s\n", r.sculpt_path.c_str(), r.sculpt_path == "gpu" ? (" on " + r.sculpt_device).c_str() : "",
+                r.sculpt_path_reason.empty() ? "" : (" (" + r.sculpt_path_reason + ")").c_str());
     std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());
     std::printf("  wrote %s/{left,right,sbs}.png, sculpted.ply, haptics.csv, report.json in %.1f s\n", out_dir.c_str(),
                 r.wall_s);

@@ -1,6 +1,8 @@
 // app/report.hpp - the demo's outputs: report.json, haptics.csv and the printed summary.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,11 @@ struct DemoReport {
     std::uint32_t validation_messages = 0;    ///< Vulkan validation messages seen (0 expected)
     const SessionSettings* settings = nullptr;///< the session's settings; not owned, non-null
     std::string device_profile;               ///< haptic device profile name
+    std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
+    std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
+    std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")
+    std::uint64_t spilled_intervals = 0;      ///< intervals in the GPU spill pool at the end (0 on the CPU path)
+    std::array<std::size_t, 3> model_bytes{}; ///< bytes of the model per ray set (X, Y, Z) on the sculpting path
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,

@@ -30,6 +30,7 @@ struct RunOptions {
     bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
     double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)
     bool validate = false;          ///< Vulkan validation layer (also on with TRIDEX_VALIDATION=1)
+    bool cpu = false;               ///< sculpt on the CPU reference instead of the GPU (Vulkan compute)
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;

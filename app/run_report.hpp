@@ -20,6 +20,7 @@ namespace tridex::app {
 ///   "haptics": { "ticks", "overruns", "samples_dropped", "invalid_samples", "rate_hz", "realtime_scheduling",
 ///                "period_us": {median, p99, max}, "compute_us": {median, p99, max} },
 ///   "sculpt": { "samples", "booleans", "steps", "tiles_recontoured", "rate_hz", "boolean_ms": {...}, "contour_ms": {...} },
+///   "sculpt_path" ("gpu" | "cpu"), "sculpt_device", "spilled_intervals",
 ///   "stroke_completed", "session_s", "volume_before_m3", "volume_after_m3", "wall_s", "notes": [...], "files": [...] }
 nlohmann::json run_report_json(const RunResult& result);
 

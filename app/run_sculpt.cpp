@@ -1,6 +1,8 @@
 // app/run_sculpt.cpp - haptic loop + sculpt thread of a run.
 #include "app/run_sculpt.hpp"
 
+#include "haptics/tool_points.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -13,7 +15,7 @@ constexpr std::size_t kMaxRecords = 120000;            // per-tick records kept:
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
-SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form)
+SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans)
     : wp_(prepare_workpiece(scene.mesh_path, scene.resolution, scene.stock_m, scene.centre_m)),
       profile_(devices::DeviceProfile::phantom_omni()) {
     cfg_.period_s = 1e-3;
@@ -51,7 +53,10 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     tiles_initial_ = contourer_->update(wp_.model);
     contour_s_ = seconds_since(t0);
     ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
-    sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m_);
+    booleans_ = make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
+    sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m_, cfg_.contact.tool_radius_m,
+                                             haptics::max_point_distance_m(cfg_.tool_points));
+    sculpt_->use_backend(*booleans_.backend);
     sculpt_->publish_mesh_to(meshes_, mesh_interval_s, form);
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
 }

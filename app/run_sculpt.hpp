@@ -31,8 +31,9 @@ public:
     /// configuration) without starting threads. Throws tridex::Error for a bad mesh, an impossible resolution,
     /// a stroke with no material under it or a bad loop configuration.
     /// `form`: how the contoured surface is handed over (MeshFrame: the whole mesh or per-tile meshes).
+    /// `booleans`: where the swept Booleans run (the GPU by default when a Vulkan device exists; --cpu).
     explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0,
-                           MeshForm form = MeshForm::kTiles);
+                           MeshForm form = MeshForm::kTiles, const SculptOptions& booleans = {});
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
     ~SculptBackend();
     SculptBackend(const SculptBackend&) = delete;
@@ -58,6 +59,8 @@ public:
     Vec3 start_tool_m() const { return start_m_; }
     Aabb start_box_m() const;
 
+    /// Where the Booleans run (path, device, spill-pool use) and why.
+    const BackendChoice& booleans() const { return booleans_; }
     const Workpiece& workpiece() const { return wp_; }                 ///< the model (read after stop())
     const haptics::HapticLoopConfig& config() const { return cfg_; }  ///< the loop configuration
     const devices::DeviceProfile& profile() const { return profile_; } ///< the simulated device's profile
@@ -82,6 +85,7 @@ private:
     TripleBuffer<ActiveSurface> surface_;
     TripleBuffer<MeshFrame> meshes_;
     std::unique_ptr<devices::SimulatedDevice> device_;
+    BackendChoice booleans_;  // before sculpt_: the thread uses it
     std::unique_ptr<SculptThread> sculpt_;
     std::unique_ptr<haptics::HapticLoop> loop_;
 };

@@ -76,6 +76,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.out = o.out;
     if (s.out.empty()) throw Error("--out: the output folder must not be empty");
     s.validate = o.validate;
+    s.cpu = o.cpu;
     s.pace = o.pace;
     s.items = o.items;
     s.tiles = o.tiles;
@@ -168,7 +169,10 @@ RunResult run_stereo_session(const RunOptions& options) {
     renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
 
     // 3. The sculpting threads.
-    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole);
+    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, SculptOptions{su.cpu, su.validate});
+    r.sculpt_path = backend.booleans().backend->path();
+    r.sculpt_device = backend.booleans().backend->device();
+    if (!backend.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.booleans().reason);
     r.volume_before_m3 = backend.workpiece().volume_dexel_m3;
     const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
     backend.start();
@@ -294,6 +298,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.notes.insert(r.notes.begin(), "ended: " + ended);
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
     r.loop = backend.loop_stats();
+    r.spilled_intervals = backend.booleans().backend->spilled_intervals();
     r.sculpt = backend.sculpt_stats();
     r.session_s = backend.session_s();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.workpiece().model);

@@ -30,6 +30,7 @@ struct RunSetup {
     int monitor_index = -1;         ///< fullscreen monitor by index, -1 = by name / primary
     std::string monitor_name;       ///< fullscreen monitor by (part of its) name
     bool validate = false;          ///< Vulkan validation layer
+    bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
@@ -83,6 +84,9 @@ struct RunResult {
     std::string eye_strategy;                    ///< the renderer's eye strategy note
     std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"
     std::uint32_t validation_messages = 0;       ///< Vulkan validation messages (0 expected)
+    std::string sculpt_path;                     ///< "gpu" or "cpu": where the swept Booleans ran
+    std::string sculpt_device;                   ///< Vulkan device that sculpted ("" on the CPU path)
+    std::uint64_t spilled_intervals = 0;         ///< GPU spill-pool intervals at the end
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "compute/active_surface_publish.hpp"
-#include "compute/boolean.hpp"
+#include "compute/sweep.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -18,9 +18,15 @@ constexpr double kRecentreCells = 4.0;
 }  // namespace
 
 SculptThread::SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
-                           TripleBuffer<ActiveSurface>& surface, const Vec3& start_m)
-    : model_(model), contourer_(contourer), samples_(samples), surface_(surface), published_centre_m_(start_m) {
+                           TripleBuffer<ActiveSurface>& surface, const Vec3& start_m, double tool_radius_m,
+                           double tool_span_m)
+    : model_(model), own_backend_(make_cpu_backend(model)), backend_(own_backend_.get()), contourer_(contourer),
+      samples_(samples), surface_(surface), published_centre_m_(start_m) {
     if (!is_finite(start_m)) throw Error("SculptThread: start position is not finite");
+    if (!std::isfinite(tool_radius_m) || tool_radius_m < 0.0 || !std::isfinite(tool_span_m) || tool_span_m < 0.0)
+        throw Error("SculptThread: tool_radius_m and tool_span_m must be finite and >= 0");
+    tool_radius_m_ = tool_radius_m;
+    tool_span_m_ = tool_span_m;
     publish(start_m);
 }
 
@@ -30,6 +36,11 @@ SculptThread::~SculptThread() {
     } catch (...) {
         // A failure nobody collected with stop(): the thread is joined; a destructor must not throw.
     }
+}
+
+void SculptThread::use_backend(BooleanBackend& backend) {
+    if (thread_.joinable()) throw Error("SculptThread::use_backend: call it before start()");
+    backend_ = &backend;
 }
 
 void SculptThread::start() {
@@ -77,19 +88,28 @@ bool SculptThread::step() {
     const auto t0 = std::chrono::steady_clock::now();
     ToolSample s;
     bool any = false, changed = false;
+    batch_.clear();
     while (samples_.try_pop(s)) {
         any = true;
         ++stats_.samples;
-        if (have_prev_ && s.op == ToolOp::kSubtract && s.radius_m > 0.0) {
-            const compute::BooleanStats b = compute::subtract_capsule(model_, Segment{prev_.position, s.position}, s.radius_m);
-            ++stats_.booleans;
-            stats_.rays_changed += b.rays_changed;
-            changed = changed || b.rays_changed > 0;
+        if (have_prev_ && s.op != ToolOp::kNone && s.radius_m > 0.0) {
+            compute::Sweep sw;
+            sw.op = s.op;
+            sw.tool = compute::ToolShape{compute::ToolKind::kBall, s.radius_m, 0.0};
+            sw.path_m = Segment{prev_.position, s.position};
+            sw.material = s.op == ToolOp::kPaint ? kPaintMaterial : 0;
+            batch_.push_back(sw);
         }
         prev_ = s;
         have_prev_ = true;
     }
     if (!any) return false;
+    if (!batch_.empty()) {
+        const compute::BooleanStats b = backend_->apply(batch_);
+        stats_.booleans += batch_.size();
+        stats_.rays_changed += b.rays_changed;
+        changed = b.rays_changed > 0;
+    }
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     const double moved_cells = glm::length(prev_.position - published_centre_m_) / model_.lattice.cell_m;
     if (changed || moved_cells > kRecentreCells) publish(prev_.position);
@@ -161,7 +181,8 @@ void SculptThread::publish_mesh_if_due(bool force) {
 }
 
 void SculptThread::publish(const Vec3& centre_m) {
-    compute::extract_active_surface(model_, centre_m, ++sequence_, surface_.back());
+    const double extent_m = compute::tool_extent_m(tool_span_m_, have_prev_ ? prev_.radius_m : tool_radius_m_);
+    compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
     surface_.publish();
     published_centre_m_ = centre_m;
     ++stats_.publishes;

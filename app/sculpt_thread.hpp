@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/boolean_backend.hpp"
 #include "compute/contour_dual.hpp"
 #include "compute/contour_tiles.hpp"
 #include "compute/tridexel.hpp"
@@ -56,19 +57,32 @@ struct MeshFrame {
 };
 
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
-/// the ball tool) to the model, re-contours only the dirty tiles, and publishes the active surface
+/// the ball tool; the sample's op: subtract, union as material 0, or paint with kPaintMaterial) to the
+/// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),
+/// re-contours only the dirty tiles, and publishes the active surface
 /// around the newest tool position. The model is a pure function of the sample stream: batching
 /// changes only when work happens, not the result.
 class SculptThread {
 public:
     /// All references must outlive the thread. The initial snapshot is published centred on start_m
     /// (world m; throws tridex::Error when it is not finite).
+    /// tool_radius_m and tool_span_m (m, >= 0; the ball radius and the largest distance of a contact point
+    /// from the tool centre, haptics::max_point_distance_m) size the active-surface window so that it covers
+    /// the whole tool (compute::tool_extent_m); the radius of each sample replaces tool_radius_m once
+    /// samples arrive.
     SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
-                 TripleBuffer<ActiveSurface>& surface, const Vec3& start_m);
+                 TripleBuffer<ActiveSurface>& surface, const Vec3& start_m, double tool_radius_m = 0.0,
+                 double tool_span_m = 0.0);
     ~SculptThread();
     SculptThread(const SculptThread&) = delete;
     SculptThread& operator=(const SculptThread&) = delete;
 
+    /// Material id painted by ToolOp::kPaint samples (a palette colour of the renderer).
+    static constexpr std::uint8_t kPaintMaterial = 1;
+
+    /// Runs the Booleans on `backend` (built on the same model) instead of the built-in CPU reference.
+    /// `backend` must outlive the thread. Throws tridex::Error when the thread runs.
+    void use_backend(BooleanBackend& backend);
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
     /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
@@ -97,12 +111,17 @@ private:
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
 
     compute::TriDexel& model_;
+    std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called
+    BooleanBackend* backend_ = nullptr;
+    std::vector<compute::Sweep> batch_;           // reused between steps
     compute::Contourer& contourer_;
     SpscRing<ToolSample>& samples_;
     TripleBuffer<ActiveSurface>& surface_;
     bool have_prev_ = false;
     ToolSample prev_{};
     Vec3 published_centre_m_;
+    double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
+    double tool_span_m_ = 0.0;
     std::uint64_t sequence_ = 0;
     SculptStats stats_;
     std::atomic<bool> stop_{false};

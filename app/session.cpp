@@ -1,5 +1,6 @@
 // app/session.cpp - the session pipeline shared by demo and replay.
 #include "app/session.hpp"
+#include "haptics/tool_points.hpp"
 
 #include <filesystem>
 #include <thread>
@@ -59,8 +60,12 @@ Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double
 }
 
 SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
-                       std::size_t ticks, double timeout_s, const Vec3& start_m) {
+                       std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt_opt) {
     SessionRun run;
+    BackendChoice booleans = make_boolean_backend(wp.model, sculpt_opt.cpu, sculpt_opt.validate);
+    run.sculpt_path = booleans.backend->path();
+    run.sculpt_device = booleans.backend->device();
+    run.sculpt_path_reason = booleans.reason;
     compute::Contourer contourer(wp.model);
     const auto t_contour = Clock::now();
     run.tiles_initial = contourer.update(wp.model);
@@ -68,7 +73,9 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
 
     SpscRing<ToolSample> ring(kRingCapacity);
     TripleBuffer<ActiveSurface> surface;
-    SculptThread sculpt(wp.model, contourer, ring, surface, start_m);
+    SculptThread sculpt(wp.model, contourer, ring, surface, start_m, cfg.contact.tool_radius_m,
+                        haptics::max_point_distance_m(cfg.tool_points));
+    sculpt.use_backend(*booleans.backend);
     haptics::HapticLoop loop(device, surface, ring, cfg);
     const auto t_session = Clock::now();
     sculpt.start();
@@ -85,6 +92,8 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.sculpt = sculpt.stats();
     run.volume_after_m3 = compute::dexel_volume_m3(wp.model);
     run.carved = contourer.mesh();
+    run.spilled_intervals = booleans.backend->spilled_intervals();
+    run.model_bytes = booleans.backend->model_bytes();
     return run;
 }
 
@@ -150,6 +159,11 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     r.max_force_n = profile.max_force_n;
     r.settings = &settings;
     r.device_profile = profile.name;
+    r.sculpt_path = run.sculpt_path;
+    r.sculpt_device = run.sculpt_device;
+    r.sculpt_path_reason = run.sculpt_path_reason;
+    r.spilled_intervals = run.spilled_intervals;
+    r.model_bytes = run.model_bytes;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages();

@@ -2,7 +2,9 @@
 // workpiece, run the haptic loop and the sculpt thread with any HapticDevice, render, write outputs.
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -43,13 +45,26 @@ struct SessionRun {
     double volume_after_m3 = 0.0;              ///< tri-dexel volume after the session
     TriMesh carved;                            ///< the contoured model after the session, world m
     haptics::LoopView last_view;               ///< the loop's last published view (tool, workspace box, bubble)
+    std::string sculpt_path;                   ///< "gpu" or "cpu"
+    std::string sculpt_device;                 ///< Vulkan device name on the GPU path
+    std::string sculpt_path_reason;            ///< why the CPU path ran; "" on the GPU path
+    std::uint64_t spilled_intervals = 0;       ///< GPU spill-pool intervals at the end
+    std::array<std::size_t, 3> model_bytes{};  ///< model bytes per ray set on the sculpting path
+};
+
+/// Where a session sculpts.
+struct SculptOptions {
+    bool cpu = false;       ///< --cpu: the CPU reference even when a Vulkan device exists
+    bool validate = false;  ///< Vulkan validation on the sculpting device
 };
 
 /// Runs the haptic loop on `device` with `cfg` and the sculpt thread on wp.model, until the loop has
 /// ticked `ticks` times (0: until the device vanishes, e.g. a replay's end) or `timeout_s` of wall time
-/// passed; start_m (world m) centres the first active-surface snapshot. Rethrows a sculpt-thread failure.
+/// passed; start_m (world m) centres the first active-surface snapshot. The Booleans run on the GPU when a
+/// Vulkan device exists and sculpt.cpu is false, else on the CPU (make_boolean_backend). Rethrows a
+/// sculpt-thread failure; throws tridex::Error when the model does not fit the GPU.
 SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
-                       std::size_t ticks, double timeout_s, const Vec3& start_m);
+                       std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt = {});
 
 /// Where and how to write a session's outputs.
 struct OutputOptions {

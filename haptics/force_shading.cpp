@@ -10,7 +10,8 @@ namespace tridex::haptics {
 namespace {
 
 // Depth of the end of type `exit_end` on ray (iu, iv) nearest to d, if one lies within the step limit.
-bool neighbour_end(const ActiveSurface::Window& w, int iu, int iv, double d, bool exit_end, double& out) {
+bool neighbour_end(const ActiveSurface::Window& w, int iu, int iv, double d, bool exit_end, double max_step,
+                   double& out) {
     if (iu < 0 || iv < 0 || iu >= w.nu || iv >= w.nv) return false;
     const int c = std::min<int>(w.intervals(iu, iv), ActiveSurface::kMaxIntervals);
     double best = std::numeric_limits<double>::infinity();
@@ -18,16 +19,17 @@ bool neighbour_end(const ActiveSurface::Window& w, int iu, int iv, double d, boo
         const double e = exit_end ? w.exit(iu, iv, i) : w.enter(iu, iv, i);
         if (std::abs(e - d) < std::abs(best - d)) best = e;
     }
-    if (!(std::abs(best - d) <= kShadingMaxStepCells)) return false;
+    if (!(std::abs(best - d) <= max_step)) return false;
     out = best;
     return true;
 }
 
-// Slope of the height field at (iu, iv) along one lattice direction (du, dv), cells per cell.
-double slope(const ActiveSurface::Window& w, int iu, int iv, int du, int dv, double d, bool exit_end) {
+// Slope of the height field at (iu, iv) along one window direction (du, dv), grid units per window ray
+// spacing; max_step = the largest accepted depth step, grid units.
+double slope(const ActiveSurface::Window& w, int iu, int iv, int du, int dv, double d, bool exit_end, double max_step) {
     double lo = 0.0, hi = 0.0;
-    const bool has_lo = neighbour_end(w, iu - du, iv - dv, d, exit_end, lo);
-    const bool has_hi = neighbour_end(w, iu + du, iv + dv, d, exit_end, hi);
+    const bool has_lo = neighbour_end(w, iu - du, iv - dv, d, exit_end, max_step, lo);
+    const bool has_hi = neighbour_end(w, iu + du, iv + dv, d, exit_end, max_step, hi);
     if (has_lo && has_hi) return 0.5 * (hi - lo);
     if (has_hi) return hi - d;
     if (has_lo) return d - lo;
@@ -36,13 +38,16 @@ double slope(const ActiveSurface::Window& w, int iu, int iv, int du, int dv, dou
 
 }  // namespace
 
-Vec3 dexel_end_normal(const ActiveSurface::Window& w, int axis, int iu, int iv, double depth_cells, bool exit_end) {
+Vec3 dexel_end_normal(const ActiveSurface& surface, int axis, int iu, int iv, double depth_cells, bool exit_end) {
+    const ActiveSurface::Window& w = surface.sets[axis];
     const double s = exit_end ? 1.0 : -1.0;
     Vec3 n(0.0);
     n[axis] = s;
     if (iu < 0 || iv < 0 || iu >= w.nu || iv >= w.nv) return n;
-    const double gu = slope(w, iu, iv, 1, 0, depth_cells, exit_end);
-    const double gv = slope(w, iu, iv, 0, 1, depth_cells, exit_end);
+    const double spacing = surface.window_spacing_cells(axis);  // grid units between neighbouring window rays
+    const double max_step = kShadingMaxStepCells * spacing;
+    const double gu = slope(w, iu, iv, 1, 0, depth_cells, exit_end, max_step) / spacing;
+    const double gv = slope(w, iu, iv, 0, 1, depth_cells, exit_end, max_step) / spacing;
     n[(axis + 1) % 3] = -s * gu;
     n[(axis + 2) % 3] = -s * gv;
     return n / glm::length(n);  // length >= 1: the axis component is +-1

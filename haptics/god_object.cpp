@@ -56,7 +56,15 @@ void axis_order(const Vec3& dir, int fallback, int order[3]) {
 }
 
 bool window_ok(const ActiveSurface::Window& w) {
-    return w.nu >= 2 && w.nv >= 2 && w.nu <= ActiveSurface::kWindow && w.nv <= ActiveSurface::kWindow;
+    return w.nu >= 2 && w.nv >= 2 && w.nu <= ActiveSurface::kWindow && w.nv <= ActiveSurface::kWindow && w.stride >= 1;
+}
+
+// Largest window ray spacing over the usable windows of `s`, m: the lateral resolution of the snapshot.
+double spacing_m(const ActiveSurface& s) {
+    int cells = 1;
+    for (int a = 0; a < 3; ++a)
+        if (window_ok(s.sets[a])) cells = std::max(cells, s.window_spacing_cells(a));
+    return cells * s.cell_m;
 }
 
 // The active triangle on one ray set: three dexel ends (window-local ray indices, depth in grid units,
@@ -77,9 +85,9 @@ bool active_triangle(const ActiveSurface& s, int a, const Vec3& hip, const Vec3&
     const ActiveSurface::Window& w = s.sets[a];
     if (!window_ok(w)) return false;
     const int ua = (a + 1) % 3, va = (a + 2) % 3;
-    // HIP projection in window-local grid units (u, v).
-    const double fu = (hip[ua] - s.origin_m[ua]) / s.cell_m - w.u0;
-    const double fv = (hip[va] - s.origin_m[va]) / s.cell_m - w.v0;
+    // HIP projection in window-local ray units (u, v).
+    const ActiveSurface::WindowCoord c = s.to_window(a, hip);
+    const double fu = c.fu, fv = c.fv;
     if (!(fu >= 0.0 && fu <= w.nu - 1 && fv >= 0.0 && fv <= w.nv - 1)) return false;  // also rejects NaN
     const int iu = std::min(static_cast<int>(fu), w.nu - 2);
     const int iv = std::min(static_cast<int>(fv), w.nv - 2);
@@ -98,10 +106,12 @@ bool active_triangle(const ActiveSurface& s, int a, const Vec3& hip, const Vec3&
         t.w[1] = su;
         t.w[2] = sv - su;
     }
-    const double ref = (reference[a] - s.origin_m[a]) / s.cell_m;  // grid units along the axis
-    // Locality: every end must lie within reach of the reference along the axis (see kLocalityCells).
+    const double ref = s.to_window(a, reference).d;  // grid units along the axis
+    // Locality: every end must lie within reach of the reference along the axis (see kLocalityCells; the
+    // constant part scales with the window's ray spacing, as the ends lie up to a spacing from the HIP).
     const double du = (reference[ua] - hip[ua]) / s.cell_m, dv = (reference[va] - hip[va]) / s.cell_m;
-    const double reach = kLocalityCells + kLocalitySlope * std::sqrt(du * du + dv * dv) + extra_reach_cells;
+    const double reach = kLocalityCells * s.window_spacing_cells(a) + kLocalitySlope * std::sqrt(du * du + dv * dv) +
+                         extra_reach_cells;
     int exits = 0;
     for (int k = 0; k < 3; ++k) {
         const int c = std::min(w.intervals(cu[k], cv[k]), ActiveSurface::kMaxIntervals);
@@ -126,7 +136,7 @@ bool active_triangle(const ActiveSurface& s, int a, const Vec3& hip, const Vec3&
         if (!(best <= reach)) return false;
         t.iu[k] = cu[k];
         t.iv[k] = cv[k];
-        t.q[k] = s.point(a, w.u0 + cu[k], w.v0 + cv[k], t.depth[k]);
+        t.q[k] = s.window_point(a, cu[k], cv[k], t.depth[k]);
         exits += t.exit[k] ? 1 : 0;
     }
     Vec3 nn = glm::cross(t.q[1] - t.q[0], t.q[2] - t.q[0]);
@@ -149,16 +159,17 @@ double ray_signed_depth(const ActiveSurface::Window& w, int iu, int iv, double d
     return best;
 }
 
-// Two readings of how deep (grid units) p lies inside material, from the four rays around p's
-// projection in each ray set (their signed depths c00..c11 along the rays):
+// Two readings of how deep p lies inside material, in window ray spacings (grid units / the window's
+// stride: the snapshot's lateral resolution), from the four rays around p's projection in each ray set
+// (their signed depths c00..c11 along the rays):
 // - vouched: a set vouches for the smallest of its four depths (all four rays hold p that far inside);
 //   the largest depth any set vouches for. For a face square to a set it is the distance to the face;
-//   near edges and on faces at 45 degrees to every set it reads shallow by up to about a cell (a
+//   near edges and on faces at 45 degrees to every set it reads shallow by up to about a spacing (a
 //   corner ray sees another face), so it never calls a point of a face "inside".
 // - blended: the bilinear blend of the four depths, from each set whose four rays are non-empty and
-//   agree within kBlendSpreadCells (one surface sheet; exact for a plane: the distance along the set's
-//   axis); the shallowest over those sets (a distance along any axis bounds the distance to the surface
-//   from above). Accurate on smooth faces at any angle; silent near edges.
+//   agree within kBlendSpreadCells spacings (one surface sheet; exact for a plane: the distance along
+//   the set's axis); the shallowest over those sets (a distance along any axis bounds the distance to
+//   the surface from above). Accurate on smooth faces at any angle; silent near edges.
 // Both are -kEmpty when nothing is known (no window covers p, or no set qualifies).
 constexpr double kBlendSpreadCells = 2.0;
 struct DepthReading {
@@ -171,21 +182,21 @@ DepthReading read_depth(const ActiveSurface& s, const Vec3& p) {
     for (int a = 0; a < 3; ++a) {
         const ActiveSurface::Window& w = s.sets[a];
         if (!window_ok(w)) continue;
-        const int ua = (a + 1) % 3, va = (a + 2) % 3;
-        const double fu = (p[ua] - s.origin_m[ua]) / s.cell_m - w.u0;
-        const double fv = (p[va] - s.origin_m[va]) / s.cell_m - w.v0;
+        const ActiveSurface::WindowCoord c = s.to_window(a, p);
+        const double fu = c.fu, fv = c.fv;
         if (!(fu >= 0.0 && fu <= w.nu - 1 && fv >= 0.0 && fv <= w.nv - 1)) continue;
         const int iu = std::min(static_cast<int>(fu), w.nu - 2);
         const int iv = std::min(static_cast<int>(fv), w.nv - 2);
-        const double d = (p[a] - s.origin_m[a]) / s.cell_m;
-        const double c00 = ray_signed_depth(w, iu, iv, d), c10 = ray_signed_depth(w, iu + 1, iv, d);
-        const double c01 = ray_signed_depth(w, iu, iv + 1, d), c11 = ray_signed_depth(w, iu + 1, iv + 1, d);
+        const double c00 = ray_signed_depth(w, iu, iv, c.d), c10 = ray_signed_depth(w, iu + 1, iv, c.d);
+        const double c01 = ray_signed_depth(w, iu, iv + 1, c.d), c11 = ray_signed_depth(w, iu + 1, iv + 1, c.d);
         const double lo = std::min(std::min(c00, c10), std::min(c01, c11));
         const double hi = std::max(std::max(c00, c10), std::max(c01, c11));
-        r.vouched = std::max(r.vouched, lo);
-        if (lo <= -kEmpty || hi - lo > kBlendSpreadCells) continue;
+        if (lo <= -kEmpty) continue;  // an empty ray: this set vouches for nothing and does not blend
+        const double per = 1.0 / s.window_spacing_cells(a);  // grid units -> ray spacings
+        r.vouched = std::max(r.vouched, per * lo);
+        if (per * (hi - lo) > kBlendSpreadCells) continue;
         const double su = fu - iu, sv = fv - iv;
-        blended = std::min(blended, (1.0 - sv) * ((1.0 - su) * c00 + su * c10) + sv * ((1.0 - su) * c01 + su * c11));
+        blended = std::min(blended, per * ((1.0 - sv) * ((1.0 - su) * c00 + su * c10) + sv * ((1.0 - su) * c01 + su * c11)));
     }
     if (blended < kEmpty) r.blended = blended;
     return r;
@@ -198,10 +209,10 @@ bool inside_material(const ActiveSurface& s, const Vec3& p) {
 }
 
 // The largest fraction f in [0, 1] of the straight move a -> b (m) such that the move up to f stays out
-// of material, sampled every step_m (at least kGuardStepCells) and refined by bisection; `a` must be
-// outside material.
+// of material, sampled every step_m (at least kGuardStepCells window ray spacings) and refined by
+// bisection; `a` must be outside material.
 double free_fraction(const ActiveSurface& s, const Vec3& a, const Vec3& b, double step_m) {
-    const double cells = glm::length(b - a) / std::max(step_m, kGuardStepCells * s.cell_m) * kGuardStepCells;
+    const double cells = glm::length(b - a) / std::max(step_m, kGuardStepCells * spacing_m(s)) * kGuardStepCells;
     if (!(cells > 0.0)) return 1.0;
     const int n = std::clamp(static_cast<int>(std::ceil(cells / kGuardStepCells)), 1, kGuardMaxSamples);
     double lo = 0.0;
@@ -317,7 +328,7 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
                 if (!(depth > 0.0)) continue;
                 // Constraint test: the god-object must not already have been behind this plane.
                 const double proxy_depth = radius - glm::dot(proxy - tri.q[0], tri.n);
-                if (proxy_depth > kCrossingTolerance * surface.cell_m) continue;
+                if (proxy_depth > kCrossingTolerance * surface.window_spacing_cells(order[k]) * surface.cell_m) continue;
                 found = true;
                 r.axis = order[k];
             }
@@ -402,9 +413,8 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
         shaded = n;
         if (params_.force_shading && !kept) {
             Vec3 vn[3];
-            const ActiveSurface::Window& w = surface.sets[r.axis];
             for (int i = 0; i < 3; ++i)
-                vn[i] = dexel_end_normal(w, r.axis, tri.iu[i], tri.iv[i], tri.depth[i], tri.exit[i]);
+                vn[i] = dexel_end_normal(surface, r.axis, tri.iu[i], tri.iv[i], tri.depth[i], tri.exit[i]);
             const Vec3 b = blend_normals(vn, tri.w);
             // A blend that turns far from the plane means the vertex estimates are not of this face.
             if (glm::dot(b, n) > 0.5) {

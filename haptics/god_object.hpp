@@ -109,8 +109,12 @@ struct ContactResult {
 /// - The guard's quarter cell is measured along the rays; near edges it can read up to about a cell
 ///   shallow (random walks over a sphere, a slotted box and a thin plate: contact points at most
 ///   0.31 / 0.5 / 0.23 cell inside the exact solid, tests/haptics/test_contact_random_walk.cpp).
+/// Window stride (ActiveSurface::Window::stride): "cell" above means the window's ray spacing
+/// (stride x cell_m) for the lateral tolerances (locality 3 cells, crossing tolerance, guard margin and
+/// step, blend spread): a strided snapshot resolves no finer than its spacing; depths stay exact along rays.
 /// update() is allocation-free, lock-free and takes a few microseconds, whatever the model size (the
-/// guard reads 4 rays per set per sample).
+/// guard reads 4 rays per set per sample; its step is half a window spacing, which the publisher sizes by
+/// the tool's extent, so the sample count depends on the tool, not on the lattice).
 class GodObject {
 public:
     /// Throws tridex::Error naming the field when a parameter is negative or not finite, when

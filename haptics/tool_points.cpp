@@ -87,4 +87,10 @@ Quat rotation_from_axis_angle(const Vec3& axis, double angle_rad) {
 
 Vec3 tool_point_world(const Pose& tool, const Vec3& local_m) { return tool.orientation * local_m + tool.position; }
 
+double max_point_distance_m(const ToolPoints& points) {
+    double d = 0.0;
+    for (int i = 0; i < points.count && i < kMaxToolPoints; ++i) d = std::max(d, glm::length(points.local_m[i]));
+    return d;
+}
+
 }  // namespace tridex::haptics

@@ -50,4 +50,9 @@ Quat rotation_from_axis_angle(const Vec3& axis, double angle_rad);
 /// P_w = tool.position (Singapogu ch. 3). No checks (the caller passes finite values).
 Vec3 tool_point_world(const Pose& tool, const Vec3& local_m);
 
+/// Largest distance (m) of the used points T_i from the tool centre, max_i |T_i| (0 for no points). With
+/// ToolPoints::radius_m it sizes the active-surface window: the tool lies within that distance + radius_m
+/// of its centre in any pose.
+double max_point_distance_m(const ToolPoints& points);
+
 }  // namespace tridex::haptics

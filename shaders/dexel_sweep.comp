@@ -9,7 +9,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-const uint MAXI = 64u;   // intervals a ray may hold in this kernel
+const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays go to the host)
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
 
 struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes

@@ -70,6 +70,11 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_GT(j["haptics"]["contact_ticks"].get<int>(), 100);  // the tool pressed into the bunny
     EXPECT_LE(j["haptics"]["max_force_n"].get<double>(), j["haptics"]["device_max_force_n"].get<double>() + 1e-9);
     EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
+    // Sculpted on the GPU (lavapipe here), with the model's memory per ray set.
+    EXPECT_EQ(j["sculpt_path"], "gpu");
+    EXPECT_NE(j["device"].get<std::string>().find("llvmpipe"), std::string::npos) << j["device"];
+    EXPECT_GE(j["spilled_intervals"].get<long>(), 0);
+    EXPECT_GT(j["model_bytes"]["total"].get<double>(), 3.0 * 97 * 97 * 24);  // 24 B per ray at least
 
     // haptics.csv: a header and one row per tick.
     std::ifstream csv(out / "haptics.csv");
@@ -124,6 +129,17 @@ TEST(Replay, ARecordedSessionSculptsTheSameModel) {
     EXPECT_EQ(ja["ticks"], jb["ticks"]);
     EXPECT_EQ(jb["haptics"]["points"], 2);
     EXPECT_EQ(jb["haptics"]["device"], "Quanser 5-DOF Haptic Wand");
+    // The live session sculpted on the GPU; replayed on the CPU reference it gives the same mesh.
+    EXPECT_EQ(ja["sculpt_path"], "gpu");
+    const RunResult cpu = run_tridex("replay " + rec.string() + " --cpu --width 96 --height 72 --out " + (dir / "cpu").string(),
+                                     dir / "cpu");
+    ASSERT_EQ(cpu.exit_code, 0) << cpu.err;
+    std::ifstream rc(dir / "cpu" / "report.json");
+    const nlohmann::json jc = nlohmann::json::parse(rc);
+    EXPECT_EQ(jc["sculpt_path"], "cpu");
+    EXPECT_EQ(jc["sculpt_path_reason"], "--cpu given");
+    EXPECT_EQ(jc["spilled_intervals"], 0);
+    EXPECT_TRUE(file_bytes(dir / "cpu" / "sculpted.ply") == a) << "the CPU path sculpted a different model";
 
     // A damaged recording is refused with one line naming the file.
     std::string bytes = file_bytes(rec);

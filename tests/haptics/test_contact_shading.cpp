@@ -33,7 +33,7 @@ TEST(ForceShading, VertexNormalOfAPlaneIsExact) {
     const Vec3 exact = glm::normalize(Vec3(-0.5, 0.25, 1.0));
     const ActiveSurface::Window& w = s->sets[2];
     for (const auto& [iu, iv] : {std::pair{5, 7}, std::pair{0, 0}, std::pair{31, 31}, std::pair{0, 31}}) {
-        const Vec3 n = dexel_end_normal(w, 2, iu, iv, w.exit(iu, iv, 0), true);  // one-sided at the borders
+        const Vec3 n = dexel_end_normal(*s, 2, iu, iv, w.exit(iu, iv, 0), true);  // one-sided at the borders
         EXPECT_NEAR(n.x, exact.x, 1e-15);
         EXPECT_NEAR(n.y, exact.y, 1e-15);
         EXPECT_NEAR(n.z, exact.z, 1e-15);
@@ -41,12 +41,12 @@ TEST(ForceShading, VertexNormalOfAPlaneIsExact) {
     // The enter ends of the same rays (solid above the plane) face the other way.
     auto above = make_surface(kH);
     fill_set(*above, 2, 0, 0, [](int x, int y) { return Intervals{{10.0f + 0.5f * x - 0.25f * y, 60.0f}}; });
-    const Vec3 n = dexel_end_normal(above->sets[2], 2, 5, 7, above->sets[2].enter(5, 7, 0), false);
+    const Vec3 n = dexel_end_normal(*above, 2, 5, 7, above->sets[2].enter(5, 7, 0), false);
     EXPECT_NEAR(glm::length(n + exact), 0.0, 1e-15);
     // A step of more than kShadingMaxStepCells is another sheet: one-sided from the other neighbour.
     auto step = make_surface(kH);
     fill_set(*step, 2, 0, 0, [](int x, int) { return Intervals{{0.0f, x <= 10 ? 10.0f + 0.5f * x : 30.0f}}; });
-    const Vec3 m = dexel_end_normal(step->sets[2], 2, 10, 4, 15.0, true);
+    const Vec3 m = dexel_end_normal(*step, 2, 10, 4, 15.0, true);
     EXPECT_NEAR(m.x, glm::normalize(Vec3(-0.5, 0.0, 1.0)).x, 1e-15);
 }
 

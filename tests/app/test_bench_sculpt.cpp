@@ -1,0 +1,86 @@
+// Smoke test of `tridex bench --sculpt` (app/bench_sculpt): a tiny run writes sculpt_bench.json with the four
+// paths, sane (positive, finite) numbers and the memory record, and all paths end with identical models.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "app/bench_sculpt.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+namespace {
+
+TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
+    SculptBenchOptions o;
+    o.resolutions = {32};
+    o.radii_cells = {2.0};
+    o.batch = 16;
+    o.max_segments = 40;     // all paths carve the whole stroke: 40 segments (16 + 16 + 8 when batched)
+    o.min_boolean_s = 1e9;
+    o.max_row_s = 1e9;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SculptBenchRow> rows = run_sculpt_bench(o);
+    ASSERT_EQ(rows.size(), 4u);  // the test environment has lavapipe
+
+    std::ifstream f(std::filesystem::path(o.out) / "sculpt_bench.json");
+    ASSERT_TRUE(f.good());
+    const nlohmann::json j = nlohmann::json::parse(f);
+    ASSERT_TRUE(j.contains("rows"));
+    const nlohmann::json& jr = j["rows"];
+    ASSERT_EQ(jr.size(), 4u);
+    std::set<std::string> paths, hashes;
+    for (std::size_t i = 0; i < jr.size(); ++i) {
+        const nlohmann::json& r = jr[i];
+        for (const char* key : {"n", "radius_cells", "path", "segments_per_s", "rays_per_s", "tiles_contoured_per_s",
+                                "latency_ms", "rays_per_segment", "step_ms_median", "contour", "segments", "model_hash"})
+            ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
+        EXPECT_EQ(r["n"].get<int>(), 32);
+        EXPECT_EQ(r["radius_cells"].get<double>(), 2.0);
+        EXPECT_EQ(r["contour"].get<std::string>(), "cpu");
+        EXPECT_EQ(r["segments"].get<int>(), 40);
+        for (const char* key : {"segments_per_s", "rays_per_s", "tiles_contoured_per_s", "latency_ms", "rays_per_segment",
+                                "step_ms_median"}) {
+            const double v = r[key].get<double>();
+            EXPECT_TRUE(std::isfinite(v) && v > 0.0) << "row " << i << " " << key << " = " << v;
+        }
+        EXPECT_GE(r["latency_ms"].get<double>(), r["step_ms_median"].get<double>());
+        // A ball of radius 2 cells: a few dozen rays per set.
+        EXPECT_GT(r["rays_per_segment"].get<double>(), 30.0);
+        EXPECT_LT(r["rays_per_segment"].get<double>(), 400.0);
+        paths.insert(r["path"].get<std::string>());
+        hashes.insert(r["model_hash"].get<std::string>());
+    }
+    EXPECT_EQ(paths, (std::set<std::string>{"cpu-1t", "cpu", "gpu", "gpu-batched"}));
+    EXPECT_EQ(hashes.size(), 1u) << "the four paths must end with identical models";
+    EXPECT_EQ(rows[0].steps, 40u);  // cpu-1t: one segment per step
+    EXPECT_EQ(rows[1].steps, 3u);   // cpu: batches of 16
+
+    ASSERT_TRUE(j.contains("memory"));
+    const nlohmann::json& mem = j["memory"];
+    ASSERT_EQ(mem["gpu_slabs"].size(), 1u);
+    EXPECT_GT(mem["gpu_slabs"][0]["bytes_for_pool0"]["total"].get<double>(), 0.0);
+    EXPECT_GT(mem["gpu_slabs"][0]["bytes_after_run"]["total"].get<double>(), 0.0);
+    EXPECT_TRUE(mem["interval_storage_n1024"]["fits"].get<bool>());
+}
+
+TEST(BenchSculpt, RefusesBadOptions) {
+    SculptBenchOptions o;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt_bad").string();
+    o.resolutions = {8};
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+    o.resolutions = {64};
+    o.radii_cells = {0.0};
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+    o.radii_cells = {2.0};
+    o.batch = 0;
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+}
+
+}  // namespace
+}  // namespace tridex::app
