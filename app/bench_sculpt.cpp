@@ -309,18 +309,20 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                          {"tiles_contoured", r.tiles_contoured}, {"contour", "cpu"},
                          {"threads", r.path == "cpu" ? threads : 1}, {"model_hash", r.model_hash},
                          {"gpu_ray_tiles", r.gpu_ray_tiles}, {"gpu_retried_rays", r.gpu_retried_rays}});
+    // sculpt_bench.json is the list of rows (the format); the set-up and memory go beside it.
     nlohmann::json j = {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},
         {"stroke", "ball subtract, random-walk groove 3.37 cells deep into the top face, segments 0.5..1 cell"},
         {"gpu_device", ctx ? ctx->device_name() : std::string()},
-        {"rows", jrows},
         {"memory", {{"gpu_slabs", memory},
                     {"interval_storage_n1024", {{"bytes", inline_bytes}, {"mib", mib}, {"target_mib", 64},
                                                  {"fits", mib <= 64.0}, {"meta_bytes", meta_bytes},
                                                  {"layout", "per ray 2 inline (enter, exit) float pairs + 4 material bytes"}}}}}};
     const std::string path = (std::filesystem::path(o.out) / "sculpt_bench.json").string();
-    write_json_file(path, j);
-    std::printf("wrote %s\n", path.c_str());
+    const std::string info = (std::filesystem::path(o.out) / "sculpt_bench_setup.json").string();
+    write_json_file(path, jrows);
+    write_json_file(info, j);
+    std::printf("wrote %s and %s\n", path.c_str(), info.c_str());
     return rows;
 }
 

@@ -56,7 +56,8 @@ struct SculptBenchOptions {
 /// tiles are re-contoured on the CPU (Contourer; GPU contouring is not built yet: "contour": "cpu").
 /// GPU rows are skipped, with a printed reason, when no Vulkan device exists or options.gpu is false.
 /// Prints a table, the ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min, writes
-/// sculpt_bench.json ({"rows": [...], "memory": {...}}) into options.out and returns the rows.
+/// sculpt_bench.json (a list of rows) and sculpt_bench_setup.json (workpiece, stroke, device and a "memory"
+/// record: GPU slab bytes per set and N, interval storage at N = 1024) into options.out; returns the rows.
 /// Throws tridex::Error on bad options or an unwritable folder.
 std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& options);
 

@@ -233,11 +233,13 @@ RunResult run_stereo_session(const RunOptions& options) {
                 tm.bounds_m = tile->bounds_m;
                 tm.version = tile->version;
                 tm.id = tile->id;
+                tm.materials = &tile->materials;
                 tiles.push_back(tm);
             }
             const haptics::LoopView& lv = backend.latest_view();
             renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.tool_radius_m,
                                                        backend.start_tool_m(), backend.start_box_m());
+            if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
             view.tiles = tiles;
             view.cull_tiles = su.cull;
             view.eye_count = both ? 2 : 1;

@@ -141,6 +141,7 @@ void SculptThread::publish_mesh() {
     MeshFrame& slot = mesh_out_->back();
     if (mesh_form_ == MeshForm::kWhole) {
         slot.mesh = contourer_.mesh();
+        slot.materials = contourer_.mesh_materials();
         slot.tiles.clear();
         slot.tiled = false;
         slot.triangles = slot.mesh.triangles.size();
@@ -160,6 +161,7 @@ void SculptThread::publish_mesh() {
         }
         shared_tiles_ = std::move(next);
         slot.mesh = TriMesh{};
+        slot.materials.clear();
         slot.tiles = shared_tiles_;
         slot.tiled = true;
         slot.triangles = triangles;

@@ -46,6 +46,9 @@ enum class MeshForm {
 struct MeshFrame {
     std::uint64_t version = 0;  ///< 1 for the first publish, +1 per publish; 0 = nothing published yet
     TriMesh mesh;               ///< kWhole: the whole contoured model, world m, CCW from outside; kTiles: empty
+    /// kWhole: material id per mesh vertex (Contourer::mesh_materials, same order as mesh.positions);
+    /// kTiles: empty (each TileSurface carries its own materials).
+    std::vector<std::uint8_t> materials;
     /// kTiles: every non-empty tile, ordered by id (world m). A tile whose version did not change since the
     /// previous publish is the same shared object (never modified after publishing), so publishing costs
     /// O(changed tiles' triangles) and the renderer re-uploads only tiles whose version changed.

@@ -92,6 +92,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.sculpt = sculpt.stats();
     run.volume_after_m3 = compute::dexel_volume_m3(wp.model);
     run.carved = contourer.mesh();
+    run.carved_materials = contourer.mesh_materials();
     run.spilled_intervals = booleans.backend->spilled_intervals();
     run.model_bytes = booleans.backend->model_bytes();
     return run;
@@ -108,6 +109,7 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
     view.workpiece = &run.carved;
+    view.workpiece_materials = &run.carved_materials;
     view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.show_workspace = true;

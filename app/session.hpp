@@ -44,6 +44,7 @@ struct SessionRun {
     double session_s = 0.0;                    ///< wall time of the session, s
     double volume_after_m3 = 0.0;              ///< tri-dexel volume after the session
     TriMesh carved;                            ///< the contoured model after the session, world m
+    std::vector<std::uint8_t> carved_materials;  ///< material id per carved vertex (Contourer::mesh_materials)
     haptics::LoopView last_view;               ///< the loop's last published view (tool, workspace box, bubble)
     std::string sculpt_path;                   ///< "gpu" or "cpu"
     std::string sculpt_device;                 ///< Vulkan device name on the GPU path

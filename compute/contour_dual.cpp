@@ -20,14 +20,24 @@ std::uint64_t next_version() {
 }
 
 bool same_piece(const contour::TileMesh& a, const contour::TileMesh& b) {
-    return a.keys == b.keys && a.grid == b.grid && a.triangles == b.triangles && a.foreign == b.foreign;
+    return a.keys == b.keys && a.grid == b.grid && a.materials == b.materials && a.triangles == b.triangles &&
+           a.foreign == b.foreign;
 }
 
-/// Position of `key` in `piece`, or nullptr when the piece does not own it.
-const Vec3* find_in(const contour::TileMesh& piece, contour::VertexKey key) {
+constexpr std::size_t kAbsent = std::numeric_limits<std::size_t>::max();
+
+/// Index of `key` in `piece`, or kAbsent when the piece does not own it.
+std::size_t find_in(const contour::TileMesh& piece, contour::VertexKey key) {
     const auto it = std::lower_bound(piece.keys.begin(), piece.keys.end(), key);
-    if (it == piece.keys.end() || *it != key) return nullptr;
-    return &piece.grid[static_cast<std::size_t>(it - piece.keys.begin())];
+    if (it == piece.keys.end() || *it != key) return kAbsent;
+    return static_cast<std::size_t>(it - piece.keys.begin());
+}
+
+/// True when vertex `key` has the same position and material in both pieces (false when either lacks it).
+bool same_vertex(const contour::TileMesh& now, const contour::TileMesh& before, contour::VertexKey key) {
+    const std::size_t a = find_in(now, key), b = find_in(before, key);
+    if (a == kAbsent || b == kAbsent) return false;
+    return now.grid[a] == before.grid[b] && now.materials[a] == before.materials[b];
 }
 
 }  // namespace
@@ -108,9 +118,7 @@ void Contourer::bump_versions(const std::vector<std::pair<std::size_t, contour::
                     for (const contour::VertexKey key : tile_meshes_[n].foreign) {
                         const std::size_t owner = codec_.owner_tile(key);
                         if (slot[owner] == 0) continue;
-                        const Vec3* now = find_in(tile_meshes_[owner], key);
-                        const Vec3* before = find_in(changed[slot[owner] - 1].second, key);
-                        if (now == nullptr || before == nullptr || *now != *before) {
+                        if (!same_vertex(tile_meshes_[owner], changed[slot[owner] - 1].second, key)) {
                             bump.push_back(n);
                             break;
                         }
@@ -136,17 +144,23 @@ std::uint64_t Contourer::tile_version(std::size_t tile) const {
     return versions_[tile];
 }
 
-const Vec3& Contourer::owned_vertex(contour::VertexKey key) const {
+std::pair<std::size_t, std::size_t> Contourer::owned_vertex(contour::VertexKey key) const {
     const std::size_t t = codec_.owner_tile(key);
-    const Vec3* p = find_in(tile_meshes_[t], key);
-    if (p == nullptr)
+    const std::size_t i = find_in(tile_meshes_[t], key);
+    if (i == kAbsent)
         throw Error("contour: tile " + std::to_string(t) +
                     " lacks a vertex its neighbour needs; the model changed without mark_dirty() covering the change");
-    return *p;
+    return {t, i};
 }
 
 TriMesh Contourer::tile_mesh(std::size_t tile) const {
+    std::vector<std::uint8_t> materials;
+    return tile_mesh(tile, materials);
+}
+
+TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const {
     check_tile(tile);
+    materials.clear();
     const contour::TileMesh& tm = tile_meshes_[tile];
     constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> local(tm.keys.size(), kUnused), foreign(tm.foreign.size(), kUnused);
@@ -160,6 +174,7 @@ TriMesh Contourer::tile_mesh(std::size_t tile) const {
         if (local[i] == 0) {
             local[i] = static_cast<std::uint32_t>(m.positions.size());
             m.positions.push_back(lattice_.to_world(tm.grid[i]));
+            materials.push_back(tm.materials[i]);
         }
     for (const auto& tri : tm.triangles)
         for (const std::uint32_t r : tri)
@@ -167,7 +182,9 @@ TriMesh Contourer::tile_mesh(std::size_t tile) const {
     for (std::size_t i = 0; i < foreign.size(); ++i)
         if (foreign[i] == 0) {
             foreign[i] = static_cast<std::uint32_t>(m.positions.size());
-            m.positions.push_back(lattice_.to_world(owned_vertex(tm.foreign[i])));
+            const auto [owner, at] = owned_vertex(tm.foreign[i]);
+            m.positions.push_back(lattice_.to_world(tile_meshes_[owner].grid[at]));
+            materials.push_back(tile_meshes_[owner].materials[at]);
         }
     for (const auto& tri : tm.triangles) {
         std::array<std::uint32_t, 3> g{};
@@ -213,6 +230,15 @@ TriMesh Contourer::mesh() const {
         }
     }
     return m;
+}
+
+std::vector<std::uint8_t> Contourer::mesh_materials() const {
+    std::size_t n = 0;
+    for (const contour::TileMesh& tm : tile_meshes_) n += tm.materials.size();
+    std::vector<std::uint8_t> out;
+    out.reserve(n);
+    for (const contour::TileMesh& tm : tile_meshes_) out.insert(out.end(), tm.materials.begin(), tm.materials.end());
+    return out;
 }
 
 ContourStats Contourer::stats() const {

@@ -50,6 +50,11 @@ public:
     /// Throws tridex::Error when tiles reference vertices a stale neighbour tile lacks (the model was
     /// changed somewhere mark_dirty() did not cover, or the first update() did not see all tiles dirty).
     TriMesh mesh() const;
+    /// Per-vertex material ids of mesh(): one per mesh().positions entry, same order (the vertices are the
+    /// same, bit for bit). Rule: each vertex takes the material of the interval end of its nearest
+    /// generating edge crossing (contour::TileContourer, "vertex materials"); 0 = the workpiece's own.
+    /// O(V); no model access, never throws.
+    std::vector<std::uint8_t> mesh_materials() const;
 
     /// Counters of the current mesh and of the last update().
     ContourStats stats() const;
@@ -61,7 +66,9 @@ public:
     /// Triangles tile `tile` owns (0 = the tile holds no surface). Throws tridex::Error when tile >= tile_count().
     std::size_t tile_triangle_count(std::size_t tile) const;
     /// Content version of tile `tile`'s surface: changes after an update() exactly when the triangles the
-    /// tile owns changed, or a vertex they use that a neighbour tile owns moved or vanished; otherwise
+    /// tile owns or the positions or materials of its own vertices changed, or a vertex they use that a
+    /// neighbour tile owns moved, changed material or vanished (so a paint-only stroke, which moves no
+    /// vertex, still gives the painted tiles new versions); otherwise
     /// unchanged (a dirty tile whose re-contour gave the same piece keeps its version). Values come from one
     /// process-wide counter, so versions of different Contourers never coincide; 0 = never contoured.
     /// Throws tridex::Error when tile >= tile_count().
@@ -71,12 +78,16 @@ public:
     /// all tiles' triangles is mesh()'s triangles (same positions, bit for bit). O(tile triangles x log).
     /// Throws tridex::Error when tile >= tile_count(), or as mesh() when a borrowed vertex is missing.
     TriMesh tile_mesh(std::size_t tile) const;
+    /// As tile_mesh(tile), also filling `materials` with one material id per returned vertex (same order;
+    /// equal to mesh_materials() of the same vertices). Throws as tile_mesh() (`materials` then unspecified).
+    TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const;
 
 private:
     void check_model(const TriDexel& model) const;
     void check_tile(std::size_t tile) const;
-    /// Grid position of vertex `key` in the piece of its owner tile; throws as mesh() when that tile lacks it.
-    const Vec3& owned_vertex(contour::VertexKey key) const;
+    /// Index of vertex `key` in the piece of its owner tile (tile, index); throws as mesh() when that tile
+    /// lacks it.
+    std::pair<std::size_t, std::size_t> owned_vertex(contour::VertexKey key) const;
     /// Gives a new version to each changed tile and to each tile borrowing a vertex of a changed tile
     /// that moved or vanished (`changed`: tile index and its piece before the update).
     void bump_versions(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed);

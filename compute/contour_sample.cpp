@@ -51,33 +51,37 @@ EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool sta
     // Walk the interval ends in ascending order.
     bool found = false;
     double best = 0.0;
+    std::uint8_t best_mat = 0;
     for (const Interval& iv : ray) {
-        for (const float end : {iv.enter, iv.exit}) {
-            const double e = end;
+        for (int side = 0; side < 2; ++side) {
+            const double e = side == 0 ? iv.enter : iv.exit;
+            const std::uint8_t mat = side == 0 ? iv.enter_material : iv.exit_material;
             if (!std::isfinite(e) || e < lo) continue;
             if (e > hi) break;
-            if (start_inside) return {e, false};  // first end from the low (inside) node
-            best = e;                             // last end, first from the high (inside) node
+            if (start_inside) return {e, false, mat};  // first end from the low (inside) node
+            best = e;                                  // last end, first from the high (inside) node
+            best_mat = mat;
             found = true;
         }
         if (static_cast<double>(iv.exit) > hi) break;
     }
-    if (found) return {best, false};
+    if (found) return {best, false, best_mat};
     // The ray disagrees with the occupancy: nearest end within half a cell, clamped into the edge.
     double nearest_gap = 0.5;
     bool near = false;
     for (const Interval& iv : ray)
-        for (const float end : {iv.enter, iv.exit}) {
-            const double e = end;
+        for (int side = 0; side < 2; ++side) {
+            const double e = side == 0 ? iv.enter : iv.exit;
             if (!std::isfinite(e)) continue;
             const double gap = e < lo ? lo - e : e - hi;
             if (gap <= nearest_gap) {
                 nearest_gap = gap;
                 best = std::clamp(e, lo, hi);
+                best_mat = side == 0 ? iv.enter_material : iv.exit_material;
                 near = true;
             }
         }
-    return {near ? best : lo + 0.5, true};
+    return {near ? best : lo + 0.5, true, near ? best_mat : std::uint8_t{0}};
 }
 
 Vec3 crossing_point(const Node& n, int a, const EdgeCrossing& x) {

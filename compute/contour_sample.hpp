@@ -43,14 +43,17 @@ private:
 struct EdgeCrossing {
     double t = 0.0;         ///< coordinate along the edge's axis, grid units, within [n_a, n_a + 1]
     bool fallback = false;  ///< true when the edge's own ray had no interval end on the edge
+    /// Material id of the interval end the crossing was read from (Interval::enter_material or
+    /// exit_material); for a fallback, that of the nearest end used, or 0 when none was near.
+    std::uint8_t material = 0;
 };
 
 /// The crossing on the lattice edge from node n to n + e_a (a = 0, 1, 2), read from the ray of set a
 /// through n. `start_inside` is the occupancy of node n (the end node has the other occupancy). Takes
 /// the first interval end on the closed edge met walking from the inside node. When the ray has no end
 /// on the edge (the ray disagrees with the X-ray occupancy), falls back to the nearest end within half a
-/// cell of the edge clamped into it, else the edge midpoint, and sets `fallback`. Non-finite ends are
-/// ignored. O(intervals on ray).
+/// cell of the edge clamped into it, else the edge midpoint (material 0), and sets `fallback`. The
+/// crossing carries the material of the end it came from. Non-finite ends are ignored. O(intervals on ray).
 EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool start_inside);
 
 /// The crossing point of that edge in grid units (node n with coordinate a replaced by the crossing).

@@ -16,6 +16,22 @@ Node plus(Node n, int axis, int d) {
     return n;
 }
 
+/// Material of the crossing nearest to `p` among `n` crossings (points, materials); on an exact tie
+/// the larger material id (see TileContourer, "vertex materials").
+std::uint8_t nearest_material(const Vec3& p, const Vec3* points, const std::uint8_t* materials, int n) {
+    double best_d = 0.0;
+    std::uint8_t best = 0;
+    for (int i = 0; i < n; ++i) {
+        const Vec3 d = points[i] - p;
+        const double d2 = glm::dot(d, d);
+        if (i == 0 || d2 < best_d || (d2 == best_d && materials[i] > best)) {
+            best_d = d2;
+            best = materials[i];
+        }
+    }
+    return best;
+}
+
 [[noreturn]] void cannot_happen(const char* what) {
     std::fprintf(stderr, "contour_tile: internal error: %s\n", what);
     std::abort();
@@ -75,7 +91,9 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
                 const Node n{cache_lo_[0] + b, j, k};
                 ++out.cells_visited;
                 const CellCase& cc = cases[occ_.config(n)];
-                for (int comp = 0; comp < cc.components; ++comp) verts_.emplace_back(codec_.key(n, comp), vertex(n, comp));
+                const CellVertices& cv = cell_vertices(n);
+                for (int comp = 0; comp < cc.components; ++comp)
+                    verts_.push_back({codec_.key(n, comp), cv.pos[comp], cv.material[comp]});
                 const bool in = occ_.inside(n);
                 for (int a = 0; a < 3; ++a)
                     if (occ_.inside(plus(n, a, 1)) != in) emit_edge(n, a, out);
@@ -84,12 +102,14 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
             }
         }
     }
-    std::sort(verts_.begin(), verts_.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::sort(verts_.begin(), verts_.end(), [](const Vertex& x, const Vertex& y) { return x.key < y.key; });
     out.keys.reserve(verts_.size());
     out.grid.reserve(verts_.size());
-    for (const auto& [key, pos] : verts_) {
-        out.keys.push_back(key);
-        out.grid.push_back(pos);
+    out.materials.reserve(verts_.size());
+    for (const Vertex& v : verts_) {
+        out.keys.push_back(v.key);
+        out.grid.push_back(v.pos);
+        out.materials.push_back(v.material);
     }
     // Resolve keys: local vertices to their index, others (first numbered in order of use) to the sorted
     // list of foreign keys.
@@ -120,7 +140,7 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
                 r = TileMesh::kForeign + static_cast<std::uint32_t>(std::lower_bound(out.foreign.begin(), out.foreign.end(), used[r - TileMesh::kForeign]) - out.foreign.begin());
 }
 
-const Vec3& TileContourer::vertex(const Node& cell, int component) {
+const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell) {
     const std::size_t idx = static_cast<std::size_t>(cell[0] - cache_lo_[0]) +
                             kCacheSpan * (static_cast<std::size_t>(cell[1] - cache_lo_[1]) +
                                           kCacheSpan * static_cast<std::size_t>(cell[2] - cache_lo_[2]));
@@ -130,21 +150,41 @@ const Vec3& TileContourer::vertex(const Node& cell, int component) {
         const CellCase& cc = cell_cases()[cfg];
         std::array<Vec3, kMaxComponents> sum{};
         std::array<int, kMaxComponents> count{};
+        std::array<Vec3, 12> point{};
+        std::array<std::uint8_t, 12> mat{};
+        std::array<int, 12> owner{};
+        int crossings = 0;
         for (int e = 0; e < 12; ++e) {
             const int comp = cc.edge_component[e];
             if (comp < 0) continue;
             const int corner = edge_corners(e)[0], a = e / 4;
             const Node p{cell[0] + (corner & 1), cell[1] + ((corner >> 1) & 1), cell[2] + ((corner >> 2) & 1)};
             const EdgeCrossing x = edge_crossing(*model_, a, p, ((cfg >> corner) & 1) != 0);
-            sum[comp] += crossing_point(p, a, x);
+            point[crossings] = crossing_point(p, a, x);
+            mat[crossings] = x.material;
+            owner[crossings++] = comp;
+            sum[comp] += point[crossings - 1];
             ++count[comp];
         }
         const Vec3 lo(cell[0], cell[1], cell[2]);
-        for (int comp = 0; comp < cc.components; ++comp)
+        std::array<double, kMaxComponents> best_d2{};
+        for (int comp = 0; comp < cc.components; ++comp) {
             cv.pos[comp] = glm::clamp(sum[comp] / static_cast<double>(count[comp]), lo, lo + Vec3(1.0));
+            best_d2[comp] = -1.0;
+        }
+        // Nearest crossing of each component (see "vertex materials"; ties: the larger material id).
+        for (int i = 0; i < crossings; ++i) {
+            const int comp = owner[i];
+            const Vec3 d = point[i] - cv.pos[comp];
+            const double d2 = glm::dot(d, d);
+            if (best_d2[comp] < 0.0 || d2 < best_d2[comp] || (d2 == best_d2[comp] && mat[i] > cv.material[comp])) {
+                best_d2[comp] = d2;
+                cv.material[comp] = mat[i];
+            }
+        }
         cv.stamp = stamp_;
     }
-    return cv.pos[component];
+    return cv;
 }
 
 bool TileContourer::face_split(const Node& lower, int f) const {
@@ -203,7 +243,7 @@ void TileContourer::emit_edge(const Node& n, int a, TileMesh& out) {
     }
     if (!start_in) std::reverse(poly, poly + count);  // outward normal is -a
     const VertexKey centre = codec_.key(n, 4 + a);
-    verts_.emplace_back(centre, crossing_point(n, a, x));
+    verts_.push_back({centre, crossing_point(n, a, x), x.material});
     for (int i = 0; i < count; ++i) tri_keys_.push_back({centre, poly[i], poly[(i + 1) % count]});
 }
 
@@ -214,12 +254,19 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
         if (!occ_.inside(p)) continue;
         // The segment around inside corner p joins the crossings of the two face edges at p.
         Vec3 sum(0.0);
+        std::array<Vec3, 2> pts{};
+        std::array<std::uint8_t, 2> mats{};
+        int m = 0;
         for (const int g : {f1, f2}) {
             const int off = g == f1 ? (idx & 1) : ((idx >> 1) & 1);
             const Node s = plus(p, g, -off);  // edge start node
-            sum += crossing_point(s, g, edge_crossing(*model_, g, s, occ_.inside(s)));
+            const EdgeCrossing x = edge_crossing(*model_, g, s, occ_.inside(s));
+            pts[m] = crossing_point(s, g, x);
+            mats[m] = x.material;
+            sum += pts[m++];
         }
-        verts_.emplace_back(codec_.key(n, 8 + 4 * f + idx), 0.5 * sum);
+        const Vec3 pos = 0.5 * sum;
+        verts_.push_back({codec_.key(n, 8 + 4 * f + idx), pos, nearest_material(pos, pts.data(), mats.data(), 2)});
     }
     ++out.split_faces;
 }

@@ -40,6 +40,8 @@ struct KeyCodec {
 struct TileMesh {
     std::vector<VertexKey> keys;   ///< vertices this tile owns, sorted ascending
     std::vector<Vec3> grid;        ///< their positions, grid units, parallel to keys
+    /// Their material ids, parallel to keys (rule: see TileContourer, "vertex materials").
+    std::vector<std::uint8_t> materials;
     /// Triangles, CCW from outside. A reference r < kForeign is the local vertex r (index into keys);
     /// r >= kForeign is the vertex foreign[r - kForeign], owned by a neighbour tile and found by key at
     /// assembly (neighbours may be redone in between, so their indices are not kept).
@@ -66,6 +68,13 @@ struct TileMesh {
 ///    edges coincide. Such a face gets one vertex per segment (mean of the segment's two crossings), and
 ///    each edge polygon touching it becomes a fan around the edge's crossing point. Each dual vertex's
 ///    triangle fan stays a single cycle, so the mesh is a closed 2-manifold for any occupancy.
+///
+/// Vertex materials: every vertex takes the material of the interval end (EdgeCrossing::material) of the
+/// edge crossing nearest to it (Euclidean, grid units) among the crossings that generated it: a dual
+/// vertex among its component's crossings in its cell, a split-face vertex among its segment's two
+/// crossings, an edge-crossing vertex its own crossing. Tie-break on exactly equal distances: the larger
+/// material id (paint wins over clay 0 at a seam; it also makes the rule independent of visiting order).
+/// Computed while the vertex is placed, from the same crossings (no extra pass over the model).
 class TileContourer {
 public:
     /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 1
@@ -76,10 +85,17 @@ private:
     struct CellVertices {
         std::uint32_t stamp = 0;  // equals stamp_ when pos holds this run's positions
         std::array<Vec3, kMaxComponents> pos{};
+        std::array<std::uint8_t, kMaxComponents> material{};
+    };
+    struct Vertex {
+        VertexKey key;
+        Vec3 pos;
+        std::uint8_t material;
     };
     static constexpr int kCacheSpan = TileGrid::kTileCells + 1;  // cells t*16 - 1 .. t*16 + 15
 
-    const Vec3& vertex(const Node& cell, int component);
+    const CellVertices& cell_vertices(const Node& cell);
+    const Vec3& vertex(const Node& cell, int component) { return cell_vertices(cell).pos[component]; }
     void emit_edge(const Node& n, int a, TileMesh& out);
     void emit_split_face(const Node& n, int f, TileMesh& out);
     bool face_split(const Node& lower, int f) const;
@@ -90,7 +106,7 @@ private:
     Node cache_lo_{};
     std::vector<CellVertices> cache_;
     std::uint32_t stamp_ = 0;
-    std::vector<std::pair<VertexKey, Vec3>> verts_;
+    std::vector<Vertex> verts_;
     std::vector<std::array<VertexKey, 3>> tri_keys_;
 };
 

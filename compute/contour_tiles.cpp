@@ -26,7 +26,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         TileSurface s;
         s.id = t;
         s.version = version;
-        s.mesh = contourer.tile_mesh(t);
+        s.mesh = contourer.tile_mesh(t, s.materials);
         s.bounds_m = s.mesh.bounds();
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));

@@ -18,10 +18,12 @@ struct TileSurface {
     std::uint64_t version = 0;  ///< changes whenever this tile's mesh or a vertex it borrows from a neighbour changed
     Aabb bounds_m;              ///< box of mesh.positions, m
     TriMesh mesh;               ///< the tile's triangles (compact vertex list)
+    /// Material id per mesh vertex (size = mesh.positions.size(); Contourer::mesh_materials' rule).
+    std::vector<std::uint8_t> materials;
 };
 
 /// Keeps TileSurfaces for every non-empty tile of a Contourer, rebuilding only tiles whose contour changed
-/// (Contourer::tile_version). Versions are unique per process, so one cache may follow a new Contourer
+/// (Contourer::tile_version, which also changes when only materials changed). Versions are unique per process, so one cache may follow a new Contourer
 /// (e.g. after a reset): its tiles then all count as changed.
 class TileSurfaceCache {
 public:

@@ -24,8 +24,12 @@ void put_f32(std::vector<char>& out, float f) { put_u32(out, std::bit_cast<std::
 
 }  // namespace
 
-void write_ply(const std::string& path, const TriMesh& mesh) {
+void write_ply(const std::string& path, const TriMesh& mesh, std::span<const std::uint8_t> materials) {
     const std::size_t nv = mesh.positions.size();
+    if (!materials.empty() && materials.size() != nv)
+        throw Error(path + ": " + std::to_string(materials.size()) + " material ids for " + std::to_string(nv) +
+                    " vertices (need 0 or one per vertex)");
+    const bool with_materials = !materials.empty();
     if (nv > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
         throw Error(path + ": " + std::to_string(nv) + " vertices exceed the PLY int index range");
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -35,15 +39,18 @@ void write_ply(const std::string& path, const TriMesh& mesh) {
                             " of " + std::to_string(nv));
     const std::string header = "ply\nformat binary_little_endian 1.0\ncomment tridex mesh, metres\nelement vertex " +
                                std::to_string(nv) +
-                               "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                               "\nproperty float x\nproperty float y\nproperty float z\n" +
+                               (with_materials ? "property uchar material\n" : "") + "element face " +
                                std::to_string(mesh.triangles.size()) +
                                "\nproperty list uchar int vertex_indices\nend_header\n";
     std::vector<char> body;
-    body.reserve(nv * 12 + mesh.triangles.size() * 13);
-    for (const Vec3& p : mesh.positions) {
+    body.reserve(nv * (with_materials ? 13 : 12) + mesh.triangles.size() * 13);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Vec3& p = mesh.positions[v];
         put_f32(body, static_cast<float>(p.x));
         put_f32(body, static_cast<float>(p.y));
         put_f32(body, static_cast<float>(p.z));
+        if (with_materials) body.push_back(static_cast<char>(materials[v]));
     }
     for (const auto& t : mesh.triangles) {
         body.push_back(static_cast<char>(3));

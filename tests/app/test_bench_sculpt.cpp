@@ -30,9 +30,11 @@ TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
 
     std::ifstream f(std::filesystem::path(o.out) / "sculpt_bench.json");
     ASSERT_TRUE(f.good());
-    const nlohmann::json j = nlohmann::json::parse(f);
-    ASSERT_TRUE(j.contains("rows"));
-    const nlohmann::json& jr = j["rows"];
+    const nlohmann::json jr = nlohmann::json::parse(f);
+    ASSERT_TRUE(jr.is_array());
+    std::ifstream fs(std::filesystem::path(o.out) / "sculpt_bench_setup.json");
+    ASSERT_TRUE(fs.good());
+    const nlohmann::json j = nlohmann::json::parse(fs);
     ASSERT_EQ(jr.size(), 4u);
     std::set<std::string> paths, hashes;
     for (std::size_t i = 0; i < jr.size(); ++i) {
