@@ -51,6 +51,8 @@ void run_demo(const DemoOptions& o) {
     s.static_friction = o.static_friction;
     s.dynamic_friction = o.dynamic_friction;
     s.cutting = o.cutting;
+    s.op = o.op;
+    s.material = o.material;
     const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.

@@ -25,6 +25,8 @@ struct DemoOptions {
     bool cutting = true;           ///< cutting reaction force while carving
     std::string record;            ///< when set, the session is recorded to this file (TRDXREC)
     bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
+    std::string op = "subtract";   ///< what the tool does: subtract | union | paint
+    int material = 1;              ///< palette id (1..7) that union adds and paint sets
 };
 
 /// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json

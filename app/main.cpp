@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
     bool no_cutting = false;
     demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
     demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+    demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
+    demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
 
     tridex::app::OutputOptions replay_out;

@@ -1,6 +1,7 @@
 // app/report.cpp - report.json, haptics.csv and the summary lines of `tridex demo`.
 #include "app/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -125,10 +126,11 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
     std::printf("tridex demo: %s at %d cells (cell %.3f mm)\n", r.mesh_path.c_str(), r.resolution, r.lattice.cell_m * 1e3);
     std::printf("  haptic loop: %zu ticks, period median %.1f us, p99 %.1f us; tick compute median %.2f us, p99 %.2f us\n",
                 recs.size(), period.median, period.p99, compute.median, compute.p99);
-    std::printf("  sculpt: %llu Booleans, %llu tiles re-contoured; removed %.3f cm^3 of %.3f cm^3\n",
+    const double removed_cm3 = (r.volume_dexel_m3 - r.volume_after_m3) * 1e6;
+    std::printf("  sculpt: %llu Booleans, %llu tiles re-contoured; %s %.3f cm^3 (workpiece %.3f cm^3)\n",
                 static_cast<unsigned long long>(r.sculpt->booleans),
-                static_cast<unsigned long long>(r.sculpt->tiles_recontoured),
-                (r.volume_dexel_m3 - r.volume_after_m3) * 1e6, r.volume_dexel_m3 * 1e6);
+                static_cast<unsigned long long>(r.sculpt->tiles_recontoured), removed_cm3 < 0.0 ? "added" : "removed",
+                std::fabs(removed_cm3), r.volume_dexel_m3 * 1e6);
     std::printf("  mesh: %zu vertices, %zu triangles, %zu boundary edges, %zu non-manifold edges\n", r.vertices,
                 r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
     std::printf("  sculpt path: %s%s%s\n", r.sculpt_path.c_str(), r.sculpt_path == "gpu" ? (" on " + r.sculpt_device).c_str() : "",

@@ -97,7 +97,7 @@ bool SculptThread::step() {
             sw.op = s.op;
             sw.tool = compute::ToolShape{compute::ToolKind::kBall, s.radius_m, 0.0};
             sw.path_m = Segment{prev_.position, s.position};
-            sw.material = s.op == ToolOp::kPaint ? kPaintMaterial : 0;
+            sw.material = s.op == ToolOp::kSubtract ? 0 : s.material;  // a cut exposes the workpiece's own material
             batch_.push_back(sw);
         }
         prev_ = s;

@@ -60,7 +60,7 @@ struct MeshFrame {
 };
 
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
-/// the ball tool; the sample's op: subtract, union as material 0, or paint with kPaintMaterial) to the
+/// the ball tool; the sample's op: subtract, or union / paint with the sample's material) to the
 /// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),
 /// re-contours only the dirty tiles, and publishes the active surface
 /// around the newest tool position. The model is a pure function of the sample stream: batching
@@ -79,9 +79,6 @@ public:
     ~SculptThread();
     SculptThread(const SculptThread&) = delete;
     SculptThread& operator=(const SculptThread&) = delete;
-
-    /// Material id painted by ToolOp::kPaint samples (a palette colour of the renderer).
-    static constexpr std::uint8_t kPaintMaterial = 1;
 
     /// Runs the Booleans on `backend` (built on the same model) instead of the built-in CPU reference.
     /// `backend` must outlive the thread. Throws tridex::Error when the thread runs.

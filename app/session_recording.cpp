@@ -44,7 +44,7 @@ void write_session_recording(const std::string& path, const SessionSettings& set
     devices::RecordingWriter writer(path, header);
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {
-        const devices::RecordedTick t = to_recorded_tick(r, ToolOp::kSubtract, prev, settings.points);
+        const devices::RecordedTick t = to_recorded_tick(r, parse_tool_op(settings.op), prev, settings.points);
         writer.write(t);
         prev = t.t_s;
     }

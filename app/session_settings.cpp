@@ -17,7 +17,16 @@ devices::DeviceProfile device_profile(const std::string& name) {
     throw Error("--device: unknown device '" + name + "'; use omni, wand or 6dof");
 }
 
+ToolOp parse_tool_op(const std::string& name) {
+    if (name == "subtract") return ToolOp::kSubtract;
+    if (name == "union") return ToolOp::kUnion;
+    if (name == "paint") return ToolOp::kPaint;
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union or paint");
+}
+
 haptics::HapticLoopConfig loop_config(const SessionSettings& s, std::size_t max_ticks) {
+    if (s.material < 1 || s.material > 7)
+        throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
     if (s.points < 1 || s.points > haptics::kMaxToolPoints)
         throw Error("--points: must be between 1 and " + std::to_string(haptics::kMaxToolPoints) + ", got " +
                     std::to_string(s.points));
@@ -31,11 +40,12 @@ haptics::HapticLoopConfig loop_config(const SessionSettings& s, std::size_t max_
     cfg.contact.tool_radius_m = s.tool_radius_m;
     cfg.contact.static_friction = s.static_friction;
     cfg.contact.dynamic_friction = s.dynamic_friction;
-    cfg.contact.cutting = s.cutting;
+    cfg.contact.cutting = s.cutting && parse_tool_op(s.op) == ToolOp::kSubtract;  // only removal resists
     cfg.device_to_world.position = s.device_origin_m;
     cfg.workspace_scale = s.workspace_scale;
     cfg.workspace.mode = haptics::parse_workspace_mode(s.workspace_mode);
-    cfg.op = ToolOp::kSubtract;
+    cfg.op = parse_tool_op(s.op);
+    cfg.material = static_cast<std::uint8_t>(s.material);
     cfg.max_ticks = max_ticks;
     if (s.points == 1) {
         cfg.tool_points = haptics::ToolPoints::single(s.tool_radius_m);
@@ -72,6 +82,8 @@ std::string settings_to_json(const SessionSettings& s) {
                            {"static_friction", s.static_friction},
                            {"dynamic_friction", s.dynamic_friction},
                            {"cutting", s.cutting},
+                           {"op", s.op},
+                           {"material", s.material},
                            {"period_s", s.period_s}};
     return j.dump();
 }
@@ -118,6 +130,9 @@ SessionSettings settings_from_json(const std::string& text, const std::string& s
     get("dynamic_friction", s.dynamic_friction);
     get("cutting", s.cutting);
     get("period_s", s.period_s);
+    // Added later: recordings made before them sculpted with subtract.
+    if (j.contains("op")) get("op", s.op);
+    if (j.contains("material")) get("material", s.material);
     return s;
 }
 

@@ -29,14 +29,20 @@ struct SessionSettings {
     double dynamic_friction = 0.15;          ///< Coulomb dynamic coefficient (<= static)
     bool cutting = true;                     ///< reaction force against the tool's advance while carving
     double period_s = 1e-3;                  ///< haptic loop period, s
+    std::string op = "subtract";             ///< what the tool does: subtract | union | paint
+    int material = 1;                        ///< material id union adds and paint sets (1..7, the palette); cuts expose 0
 };
+
+/// The ToolOp named by `name` (subtract, union, paint); throws tridex::Error listing the names.
+ToolOp parse_tool_op(const std::string& name);
 
 /// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.
 devices::DeviceProfile device_profile(const std::string& name);
 
-/// The haptic loop configuration for these settings, with `max_ticks` records preallocated; op is
-/// ToolOp::kSubtract. The same settings always give the same configuration. Throws tridex::Error naming
-/// the field on an impossible value (points outside 1..64, friction order, unknown workspace mode).
+/// The haptic loop configuration for these settings, with `max_ticks` records preallocated (op and material
+/// from s.op, s.material). The same settings always give the same configuration. Throws tridex::Error
+/// naming the field on an impossible value (points outside 1..64, friction order, unknown workspace mode,
+/// unknown op, material outside 1..7).
 haptics::HapticLoopConfig loop_config(const SessionSettings& s, std::size_t max_ticks);
 
 /// Settings as one line of JSON (for a recording's header notes).

@@ -23,6 +23,7 @@ struct ToolSample {
     Quat orientation{1.0, 0.0, 0.0, 0.0};    ///< tool frame -> world
     double radius_m = 0.0;                   ///< ball radius, m
     ToolOp op = ToolOp::kNone;               ///< Boolean applied along the sweep ending here
+    std::uint8_t material = 0;               ///< material id the union adds or the paint sets (kUnion, kPaint)
     std::uint32_t buttons = 0;               ///< device button bits at the sample
 };
 

@@ -254,6 +254,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     sample.radius_m = cfg_.contact.tool_radius_m;
     const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed;
     sample.op = hold ? ToolOp::kNone : cfg_.op;
+    sample.material = cfg_.material;
     carve_gap_ = !wd.force_allowed || out.over_speed;
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);

@@ -36,6 +36,7 @@ struct HapticLoopConfig {
     double workspace_scale = 1.0;  ///< s > 0: world = R * (s * p) + offset, offset = device_to_world.position until the
                                    ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain
     ToolOp op = ToolOp::kSubtract; ///< Boolean carried by every ToolSample
+    std::uint8_t material = 0;     ///< material id carried by every ToolSample (what kUnion adds, kPaint sets)
     std::size_t max_ticks = 0;     ///< TickRecords preallocated (recording stops when full); 0 = none
     WorkspaceConfig workspace;     ///< workspace technique (WorkspaceMode) and its parameters
     SafetyConfig safety;           ///< velocity limit, ramp-in, watchdog and passivity-controller settings

@@ -1,6 +1,9 @@
-// Unit tests of the app's own logic: order statistics and the stroke planned on a model.
+// Unit tests of the app's own logic: order statistics, the stroke planned on a model, session settings.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
+#include "app/session_settings.hpp"
 #include "app/stats.hpp"
 #include "app/stroke.hpp"
 #include "compute/scan_convert.hpp"
@@ -64,6 +67,41 @@ TEST(PlanStroke, RefusesAnEmptyModelAndABadAxis) {
     StrokeParams bad;
     bad.press_axis = 0;
     EXPECT_THROW(plan_stroke(box_model(), bad), Error);
+}
+
+}  // namespace
+}  // namespace tridex::app
+
+namespace tridex::app {
+namespace {
+
+TEST(SessionSettings, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
+    SessionSettings s;
+    s.op = "paint";
+    s.material = 5;
+    const SessionSettings back = settings_from_json(settings_to_json(s), "test");
+    EXPECT_EQ(back.op, "paint");
+    EXPECT_EQ(back.material, 5);
+    const haptics::HapticLoopConfig cfg = loop_config(back, 10);
+    EXPECT_EQ(cfg.op, ToolOp::kPaint);
+    EXPECT_EQ(cfg.material, 5);
+    EXPECT_FALSE(cfg.contact.cutting);  // painting removes nothing, so nothing resists the advance
+    EXPECT_TRUE(loop_config(SessionSettings{}, 10).contact.cutting);
+    // A recording made before op/material existed still loads, as a subtract session.
+    nlohmann::json old = nlohmann::json::parse(settings_to_json(SessionSettings{}));
+    old.erase("op");
+    old.erase("material");
+    EXPECT_EQ(settings_from_json(old.dump(), "old").op, "subtract");
+    s.op = "drill";
+    EXPECT_THROW(loop_config(s, 10), Error);
+    s.op = "union";
+    s.material = 0;
+    try {
+        loop_config(s, 10);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--material"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
