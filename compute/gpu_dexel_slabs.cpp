@@ -52,34 +52,18 @@ void GpuDexelSlabs::create_pool(const gpu::Context& context, Set& set, std::uint
     set.buffers[4] = gpu::Buffer::create(context, slots * 4, kStorage, gpu::MemoryDomain::kHost);
 }
 
-GpuDexelSlabs GpuDexelSlabs::upload(const gpu::Context& context, const TriDexel& model, std::uint32_t pool_chunks) {
-    const Lattice& L = model.lattice;
-    // Pool demand of the initial model, per set.
-    std::array<std::uint32_t, 3> need{};
-    for (int a = 0; a < 3; ++a)
-        for (const auto& ray : model.sets[a].rays) {
-            if (ray.size() > static_cast<std::size_t>(kMaxRayIntervals)) {
-                std::ostringstream msg;
-                msg << "GPU tri-dexel: a ray of set " << "XYZ"[a] << " holds " << ray.size() << " intervals, more than the "
-                    << kMaxRayIntervals << " the GPU layout stores; use --cpu";
-                throw Error(msg.str());
-            }
-            if (ray.size() > static_cast<std::size_t>(kInline)) need[a] += chunks_for(ray.size());
-        }
+std::size_t GpuDexelSlabs::check_fits(const gpu::Context& context, const Lattice& L, const std::array<std::uint32_t, 3>& chunks) {
     const std::size_t range = context.properties().limits.maxStorageBufferRange;
     std::size_t total = 0;
-    std::array<std::uint32_t, 3> chunks{};
     for (int a = 0; a < 3; ++a) {
-        const std::uint32_t want = pool_chunks > 0 ? std::max(pool_chunks, need[a]) : std::max<std::uint32_t>(4096u, 2u * need[a]);
-        chunks[a] = std::min<std::uint32_t>(kMaxPoolChunks, want);
         const SlabBytes b = bytes_for(L, chunks[a])[a];
         total += b.total();
         if (b.inline_depth > range || static_cast<std::size_t>(chunks[a]) * kChunk * 8 > range) {
             std::ostringstream msg;
             msg << "GPU tri-dexel: resolution " << L.cells[0] << "x" << L.cells[1] << "x" << L.cells[2] << " needs a "
-                << b.inline_depth / (1024 * 1024) << " MiB buffer for ray set " << "XYZ"[a]
-                << ", more than the device's maxStorageBufferRange of " << range / (1024 * 1024)
-                << " MiB; lower --resolution or sculpt with --cpu";
+                << std::max(b.inline_depth, static_cast<std::size_t>(chunks[a]) * kChunk * 8) / (1024 * 1024)
+                << " MiB buffer for ray set " << "XYZ"[a] << ", more than the device's maxStorageBufferRange of "
+                << range / (1024 * 1024) << " MiB; lower --resolution or sculpt with --cpu";
             throw Error(msg.str());
         }
     }
@@ -91,6 +75,28 @@ GpuDexelSlabs GpuDexelSlabs::upload(const gpu::Context& context, const TriDexel&
             << " MiB heap; lower --resolution or sculpt with --cpu";
         throw Error(msg.str());
     }
+    return total;
+}
+
+GpuDexelSlabs GpuDexelSlabs::upload(const gpu::Context& context, const TriDexel& model, std::uint32_t pool_chunks) {
+    const Lattice& L = model.lattice;
+    // Pool demand of the initial model, per set.
+    std::array<std::uint32_t, 3> need{}, chunks{};
+    for (int a = 0; a < 3; ++a)
+        for (const auto& ray : model.sets[a].rays) {
+            if (ray.size() > static_cast<std::size_t>(kMaxRayIntervals)) {
+                std::ostringstream msg;
+                msg << "GPU tri-dexel: a ray of set " << "XYZ"[a] << " holds " << ray.size() << " intervals, more than the "
+                    << kMaxRayIntervals << " the GPU layout stores; use --cpu";
+                throw Error(msg.str());
+            }
+            if (ray.size() > static_cast<std::size_t>(kInline)) need[a] += chunks_for(ray.size());
+        }
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t want = pool_chunks > 0 ? std::max(pool_chunks, need[a]) : std::max<std::uint32_t>(4096u, 2u * need[a]);
+        chunks[a] = std::min<std::uint32_t>(kMaxPoolChunks, want);
+    }
+    check_fits(context, L, chunks);
     GpuDexelSlabs s;
     for (int a = 0; a < 3; ++a) {
         Set& set = s.sets_[a];

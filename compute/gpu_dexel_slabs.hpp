@@ -42,6 +42,12 @@ public:
     /// in size only for cubic lattices, so returned per set).
     static std::array<SlabBytes, 3> bytes_for(const Lattice& lattice, std::uint32_t pool_chunks);
 
+    /// Refuses, before anything is allocated, a lattice whose slabs would not fit `context`'s device: a ray
+    /// set's inline depth array or a pool of `pool_chunks` chunks over maxStorageBufferRange, or all slabs
+    /// together over half the largest memory heap. Throws tridex::Error with the resolution, both sizes in
+    /// MiB and the way out (--resolution, --cpu). Returns the total bytes otherwise.
+    static std::size_t check_fits(const gpu::Context& context, const Lattice& lattice, const std::array<std::uint32_t, 3>& pool_chunks);
+
     /// Uploads `model` into new slabs. Throws tridex::Error, before allocating, when one set's inline
     /// array would exceed the device's maxStorageBufferRange, or the whole model would exceed the
     /// largest device-local heap (the message names the resolution, both sizes, and suggests

@@ -20,7 +20,7 @@ struct GpuSculptStats {
     std::uint64_t sweeps = 0;        ///< sweeps applied
     std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per ray set touched per batch, or more for > 65535 tiles)
     std::uint64_t ray_tiles = 0;     ///< 8 x 8-ray tiles dispatched, summed over batches
-    std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 64 intervals), redone on the host
+    std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
 };
 
@@ -38,7 +38,7 @@ struct GpuSculptorOptions {
 /// the CPU reference (apply_sweep, same float arithmetic) ray for ray; the tests check it bit for bit.
 /// After the GPU finishes, the footprint rays are copied into the CPU `mirror` model (for contouring and
 /// the active surface) and the mirror's tiles under the sweeps are marked dirty.
-/// Spill pool: when the kernel finds no room for a ray (or the ray would exceed 64 intervals) it leaves
+/// Spill pool: when the kernel finds no room for a ray (or the ray would exceed the kernel's 16 intervals) it leaves
 /// the ray untouched and lists it; the host compacts (and if needed grows) the pool and redoes those rays
 /// with the CPU reference, so no interval is ever dropped. A ray needing more than 120 intervals throws.
 /// Not thread-safe: one thread calls apply(). The Context and the mirror must outlive the sculptor.

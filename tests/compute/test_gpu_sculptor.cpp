@@ -1,6 +1,6 @@
 // tests/compute/test_gpu_sculptor.cpp - GPU Booleans (shaders/dexel_sweep.comp) against the CPU reference:
 // random stroke programs with every tool and operation give bit-identical rays; the spill pool compacts
-// and grows; rays beyond the kernel's 64 intervals are redone on the host; validation stays silent.
+// and grows; rays beyond the kernel's 16 intervals are redone on the host; validation stays silent.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -189,6 +189,29 @@ TEST(GpuSculptor, InvalidSweepsAreRefusedBeforeAnythingChanges) {
         sculptor.slabs().download(d);
         EXPECT_EQ(d.interval_count(), n);
         EXPECT_EQ(sculptor.stats().batches, 0u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(GpuSculptor, ResolutionsThatDoNotFitTheDeviceAreRefusedUpFrontWithTheNumbers) {
+    gpu::Context ctx = gpu::Context::create({});
+    Lattice L;
+    L.cell_m = 1e-4;
+    L.cells = {1024, 1024, 1024};
+    const std::array<std::uint32_t, 3> pool{4096, 4096, 4096};
+    const std::size_t bytes = GpuDexelSlabs::check_fits(ctx, L, pool);
+    // 24 B per ray (meta, two inline intervals, their materials) on 3 x 1025^2 rays, plus three pools.
+    EXPECT_EQ(bytes, 3u * 1025u * 1025u * 24u + 3u * 4096u * 8u * 12u);
+    EXPECT_LT(3.0 * 1025 * 1025 * 20 / (1024.0 * 1024.0), 64.0);  // interval storage at N = 1024 fits 64 MiB
+    L.cells = {3000, 3000, 3000};  // 9 M rays per set: 144 MB of inline depths, over lavapipe's 128 MiB binding
+    try {
+        GpuDexelSlabs::check_fits(ctx, L, pool);
+        FAIL() << "expected a refusal";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("3000x3000x3000"), std::string::npos) << m;
+        EXPECT_NE(m.find("MiB"), std::string::npos) << m;
+        EXPECT_NE(m.find("--cpu"), std::string::npos) << m;
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
