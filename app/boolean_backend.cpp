@@ -15,7 +15,7 @@ class CpuBackend final : public BooleanBackend {
 public:
     explicit CpuBackend(compute::TriDexel& model) : model_(model) {}
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
-        for (const compute::Sweep& s : batch) compute::to_grid_sweep(model_.lattice, s);  // validate all first
+        compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
         compute::BooleanStats total;
         for (const compute::Sweep& s : batch) {
             const compute::BooleanStats b = compute::apply_sweep(model_, s);

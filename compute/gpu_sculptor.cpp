@@ -158,14 +158,9 @@ std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> r
 
 BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     BooleanStats stats;
-    std::vector<GridSweep> grid;
-    std::vector<std::size_t> source;  // index into batch of each grid sweep
-    grid.reserve(batch.size());
-    for (std::size_t i = 0; i < batch.size(); ++i) {
-        if (batch[i].op == ToolOp::kNone) continue;
-        grid.push_back(to_grid_sweep(mirror_.lattice, batch[i]));  // throws before anything changes
-        source.push_back(i);
-    }
+    const GridBatch converted = to_grid_batch(mirror_.lattice, batch);  // throws before anything changes
+    const std::vector<GridSweep>& grid = converted.sweeps;
+    const std::vector<std::size_t>& source = converted.source;
     if (grid.empty()) return stats;
 
     // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order.

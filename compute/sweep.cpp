@@ -72,6 +72,18 @@ GridSweep to_grid_sweep(const Lattice& L, const Sweep& s) {
     return g;
 }
 
+GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch) {
+    GridBatch g;
+    g.sweeps.reserve(batch.size());
+    g.source.reserve(batch.size());
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+        if (batch[i].op == ToolOp::kNone) continue;
+        g.sweeps.push_back(to_grid_sweep(lattice, batch[i]));
+        g.source.push_back(i);
+    }
+    return g;
+}
+
 bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1) {
     const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
     glm::vec3 o(0.0f), d(0.0f);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "compute/boolean.hpp"
@@ -60,6 +61,17 @@ struct GridSweep {
     std::uint8_t material() const { return static_cast<std::uint8_t>((code >> 16) & 0xffu); }
 };
 static_assert(sizeof(GridSweep) == 96, "GridSweep must match the std430 layout of shaders/dexel_sweep.comp");
+
+/// A batch of sweeps in grid units: the sweeps whose op is not kNone, in batch order, and for each its
+/// index in the batch.
+struct GridBatch {
+    std::vector<GridSweep> sweeps;
+    std::vector<std::size_t> source;
+};
+
+/// Converts every sweep of `batch` (skipping kNone) with to_grid_sweep, so a caller can validate a whole
+/// batch before changing anything. Throws tridex::Error as to_grid_sweep on the first bad sweep.
+GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch);
 
 /// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius.
 Aabb sweep_bounds(const Sweep& sweep);

@@ -67,14 +67,9 @@ void work(TriDexel& model, const std::vector<GridSweep>& grid, const std::vector
 
 BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch, int threads) {
     BooleanStats stats;
-    std::vector<GridSweep> grid;
-    std::vector<std::size_t> source;  // batch index of each grid sweep
-    grid.reserve(batch.size());
-    for (std::size_t i = 0; i < batch.size(); ++i) {
-        if (batch[i].op == ToolOp::kNone) continue;
-        grid.push_back(to_grid_sweep(model.lattice, batch[i]));  // throws before anything changes
-        source.push_back(i);
-    }
+    const GridBatch converted = to_grid_batch(model.lattice, batch);  // throws before anything changes
+    const std::vector<GridSweep>& grid = converted.sweeps;
+    const std::vector<std::size_t>& source = converted.source;
     if (grid.empty()) return stats;
 
     // Rows of each set's footprint union, each with the sweeps covering it in batch order.
