@@ -133,7 +133,7 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     renderer::write_png((out / "left.png").string(), eyes.left);
     renderer::write_png((out / "right.png").string(), eyes.right);
     renderer::write_png((out / "sbs.png").string(), renderer::side_by_side(eyes.left, eyes.right));
-    compute::write_ply((out / "sculpted.ply").string(), run.carved);
+    compute::write_ply((out / "sculpted.ply").string(), run.carved, run.carved_materials);
     write_haptics_csv((out / "haptics.csv").string(), run.records);
 
     DemoReport r;

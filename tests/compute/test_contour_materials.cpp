@@ -118,7 +118,9 @@ TEST(ContourMaterials, PaintedSpotAndUnionBumpGiveVertexMaterials) {
     for (std::size_t v = 0; v < b.positions.size(); ++v) {
         const std::array<double, 3> key{b.positions[v].x, b.positions[v].y, b.positions[v].z};
         const auto [it, fresh] = by_position.emplace(key, bmat[v]);
-        if (!fresh) EXPECT_EQ(it->second, bmat[v]) << "two vertices at one position with different materials";
+        if (!fresh) {
+            EXPECT_EQ(it->second, bmat[v]) << "two vertices at one position with different materials";
+        }
     }
     TileSurfaceCache cache;
     cache.refresh(c);
