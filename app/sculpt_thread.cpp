@@ -111,8 +111,13 @@ bool SculptThread::step() {
         changed = b.rays_changed > 0;
     }
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
-    const double moved_cells = glm::length(prev_.position - published_centre_m_) / model_.lattice.cell_m;
-    if (changed || moved_cells > kRecentreCells) publish(prev_.position);
+    // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
+    // material does not drag the window away from the proxy it constrains. (Widening the window to cover
+    // the HIP too was tried: the coarser stride then hides thin walls, and the proxy ends inside material
+    // far more often; tests/stress/test_stress_haptics.cpp measures both.)
+    const Vec3 centre = is_finite(prev_.surface_m) ? prev_.surface_m : prev_.position;
+    const double moved_cells = glm::length(centre - published_centre_m_) / model_.lattice.cell_m;
+    if (changed || moved_cells > kRecentreCells) publish(centre);
     if (changed) {
         const auto t1 = std::chrono::steady_clock::now();
         stats_.tiles_recontoured += contourer_.update(model_);

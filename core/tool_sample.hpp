@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "core/math.hpp"
 
@@ -20,6 +21,10 @@ enum class ToolOp : std::uint8_t {
 struct ToolSample {
     double t_s = 0.0;                        ///< loop time of the sample, s
     Vec3 position{0.0};                      ///< tool centre (HIP), world m
+    /// Where the active-surface window belongs, world m: the tool centre moved by contact point 0's
+    /// proxy offset (proxy - point), so the window follows the god-object on the surface even when the
+    /// hand pushes the HIP deep into material; = position when free. NaN (the default) = use position.
+    Vec3 surface_m{std::numeric_limits<double>::quiet_NaN()};
     Quat orientation{1.0, 0.0, 0.0, 0.0};    ///< tool frame -> world
     double radius_m = 0.0;                   ///< ball radius, m
     ToolOp op = ToolOp::kNone;               ///< Boolean applied along the sweep ending here

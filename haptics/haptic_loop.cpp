@@ -250,6 +250,10 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     ToolSample sample;
     sample.t_s = state.t_s;
     sample.position = wf.tool_world.position;
+    {
+        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m : c.proxy_m - wf.tool_world.position;
+        sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
+    }
     sample.orientation = wf.tool_world.orientation;
     sample.radius_m = cfg_.contact.tool_radius_m;
     const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed;

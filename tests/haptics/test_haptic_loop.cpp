@@ -243,6 +243,22 @@ TEST(HapticLoop, MapsDeviceToWorldAndRotatesForceBack) {
         }
     }
     EXPECT_GT(contacts, 100u);
+    // Each sample says where the active-surface window belongs: at the god-object, not at the HIP that
+    // went below the plane (one point: the tool centre moved by the proxy offset = the proxy).
+    ToolSample ts;
+    std::size_t k = 0, below = 0;
+    while (ring.try_pop(ts) && k < recs.size()) {
+        EXPECT_NEAR(glm::length(ts.surface_m - recs[k].proxy_m), 0.0, 1e-12) << k;
+        if (recs[k].contact) {
+            EXPECT_GE(ts.surface_m.z, 0.01025 - 1e-6) << k;  // never below the plane
+            if (ts.position.z < 0.01025) ++below;
+        } else {
+            EXPECT_EQ(ts.surface_m, ts.position) << k;
+        }
+        ++k;
+    }
+    EXPECT_EQ(k, recs.size());
+    EXPECT_GT(below, 50u);  // the HIP did go below the plane
 }
 
 TEST(HapticLoop, RestartClearsRecordsAndCounters) {
