@@ -60,6 +60,8 @@ struct PoseWalk {
 
 }  // namespace
 
+constexpr int kRepeats = 3;  // timed repeats per row; the best (lowest median) is reported
+
 std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
     const std::string mesh = o.mesh.empty() ? default_mesh_path() : o.mesh;
     std::vector<HapticsBenchRow> rows;
@@ -81,21 +83,29 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
                                             compute::tool_extent_m(haptics::max_point_distance_m(tool), tool.radius_m),
                                             1, *surface, kWalkRangeM);
             const int stride = surface->sets[2].stride;
-            haptics::MultiPointRenderer renderer(tool, haptics::ContactParams{700.0, 0.5, 0.0});
-            PoseWalk walk;
-            std::vector<double> us;
-            us.reserve(o.ticks);
+            // The same walk timed kRepeats times; the repeat with the lowest median is kept (best of n:
+            // another process taking the core during one repeat does not decide the row).
+            Summary s{};
             std::size_t contact = 0;
-            for (int t = 0; t < 1000 + o.ticks; ++t) {
-                const Pose pose = walk.next(surface_m);
-                const auto t0 = Clock::now();
-                const haptics::MultiPointResult& r = renderer.update(*surface, pose, 1e-3);
-                const auto t1 = Clock::now();
-                if (t < 1000) continue;  // warm-up
-                us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-                contact += r.in_contact > 0 ? 1 : 0;
+            for (int rep = 0; rep < kRepeats; ++rep) {
+                haptics::MultiPointRenderer renderer(tool, haptics::ContactParams{700.0, 0.5, 0.0});
+                PoseWalk walk;
+                std::vector<double> us;
+                us.reserve(o.ticks);
+                std::size_t in_contact = 0;
+                for (int t = 0; t < 1000 + o.ticks; ++t) {
+                    const Pose pose = walk.next(surface_m);
+                    const auto t0 = Clock::now();
+                    const haptics::MultiPointResult& r = renderer.update(*surface, pose, 1e-3);
+                    const auto t1 = Clock::now();
+                    if (t < 1000) continue;  // warm-up
+                    us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+                    in_contact += r.in_contact > 0 ? 1 : 0;
+                }
+                const Summary rs = summarize(us);
+                if (rep == 0 || rs.median < s.median) s = rs;
+                contact = in_contact;  // the walk is the same every repeat
             }
-            const Summary s = summarize(us);
             rows.push_back({n, count, s.median, s.p99, s.max, static_cast<double>(contact) / o.ticks, stride});
             std::printf("%6d %7d %7d %10.3f %10.3f %10.1f %8.1f%%\n", n, count, stride, s.median, s.p99, s.max,
                         100.0 * rows.back().contact_fraction);

@@ -11,7 +11,7 @@ namespace tridex::app {
 struct HapticsBenchRow {
     int n = 0;               ///< lattice cells along the workpiece's longest side
     int points = 0;          ///< contact points on the tool
-    double median_us = 0.0;  ///< per-tick compute time, us
+    double median_us = 0.0;  ///< per-tick compute time, us (of the best of 3 timed repeats of the same walk)
     double p99_us = 0.0;
     double max_us = 0.0;
     double contact_fraction = 0.0;  ///< share of ticks with at least one point in contact
