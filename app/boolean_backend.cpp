@@ -28,6 +28,7 @@ public:
     std::string device() const override { return ""; }
     std::uint64_t spilled_intervals() const override { return 0; }
     std::array<std::size_t, 3> model_bytes() const override { return cpu_model_bytes(model_); }
+    std::uint32_t validation_messages() const override { return 0; }
 
 private:
     compute::TriDexel& model_;
@@ -50,6 +51,7 @@ public:
         const auto b = sculptor_->slabs().bytes();
         return {b[0].total(), b[1].total(), b[2].total()};
     }
+    std::uint32_t validation_messages() const override { return context_.validation_messages(); }
 
 private:
     gpu::Context context_;

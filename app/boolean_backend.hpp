@@ -32,6 +32,8 @@ public:
     virtual std::uint64_t spilled_intervals() const = 0;
     /// Bytes of the model per ray set (X, Y, Z) on the path's storage: GPU slabs, or the CPU vectors.
     virtual std::array<std::size_t, 3> model_bytes() const = 0;
+    /// Vulkan validation messages on the sculpting device so far (0 on the CPU path or with validation off).
+    virtual std::uint32_t validation_messages() const = 0;
 };
 
 /// What make_boolean_backend chose, and why.

@@ -110,6 +110,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
     if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
     j["spilled_intervals"] = r.spilled_intervals;
+    j["sculpt_validation_messages"] = r.sculpt_validation_messages;
     j["model_bytes"] = {{"x", r.model_bytes[0]}, {"y", r.model_bytes[1]}, {"z", r.model_bytes[2]},
                         {"total", r.model_bytes[0] + r.model_bytes[1] + r.model_bytes[2]}};
     j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},

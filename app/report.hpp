@@ -45,6 +45,7 @@ struct DemoReport {
     std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")
     std::uint64_t spilled_intervals = 0;      ///< intervals in the GPU spill pool at the end (0 on the CPU path)
     std::array<std::size_t, 3> model_bytes{}; ///< bytes of the model per ray set (X, Y, Z) on the sculpting path
+    std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages on the sculpting device (0 expected)
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,

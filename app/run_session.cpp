@@ -322,7 +322,8 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.files.push_back((out / name).string());
         }
     }
-    r.validation_messages = ctx.validation_messages();
+    // The render context's messages plus the sculpting device's (its own context on the GPU path).
+    r.validation_messages = ctx.validation_messages() + backend.booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
     r.files.push_back((out / "report.json").string());
     write_run_report(r.files.back(), r);

@@ -95,6 +95,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.carved_materials = contourer.mesh_materials();
     run.spilled_intervals = booleans.backend->spilled_intervals();
     run.model_bytes = booleans.backend->model_bytes();
+    run.sculpt_validation_messages = booleans.backend->validation_messages();
     return run;
 }
 
@@ -166,6 +167,7 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     r.sculpt_path_reason = run.sculpt_path_reason;
     r.spilled_intervals = run.spilled_intervals;
     r.model_bytes = run.model_bytes;
+    r.sculpt_validation_messages = run.sculpt_validation_messages;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages();

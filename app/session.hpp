@@ -51,6 +51,7 @@ struct SessionRun {
     std::string sculpt_path_reason;            ///< why the CPU path ran; "" on the GPU path
     std::uint64_t spilled_intervals = 0;       ///< GPU spill-pool intervals at the end
     std::array<std::size_t, 3> model_bytes{};  ///< model bytes per ray set on the sculpting path
+    std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages on the sculpting device
 };
 
 /// Where a session sculpts.

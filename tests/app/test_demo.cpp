@@ -72,6 +72,7 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
     // Sculpted on the GPU (lavapipe here), with the model's memory per ray set.
     EXPECT_EQ(j["sculpt_path"], "gpu");
+    EXPECT_EQ(j["sculpt_validation_messages"].get<int>(), 0);  // validation is on in tests
     EXPECT_NE(j["device"].get<std::string>().find("llvmpipe"), std::string::npos) << j["device"];
     EXPECT_GE(j["spilled_intervals"].get<long>(), 0);
     EXPECT_GT(j["model_bytes"]["total"].get<double>(), 3.0 * 97 * 97 * 24);  // 24 B per ray at least
