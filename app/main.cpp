@@ -9,6 +9,7 @@
 #include <exception>
 #include <new>
 
+#include "app/bench_accuracy.hpp"
 #include "app/bench_haptics.hpp"
 #include "app/bench_render.hpp"
 #include "app/bench_sculpt.hpp"
@@ -90,6 +91,16 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
                         "N = 256, 512, 1024, tool radius 2 and 8 cells");
+    bool bench_accuracy = false;
+    bench_cmd->add_flag("--accuracy", bench_accuracy,
+                        "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
+                        "tridex CPU 1 thread and GPU, and an OpenVDB level-set peer when built in");
+    bool accuracy_512 = false;
+    bench_cmd->add_flag("--accuracy-512", accuracy_512, "With --accuracy: also N = 512 (slow)");
+    double accuracy_offset = 0.0;
+    bench_cmd->add_option("--accuracy-offset", accuracy_offset,
+                          "With --accuracy: lattice origin shift in cells, [0, 1) (0 = cube faces on lattice nodes)")
+        ->capture_default_str();
     bench_cmd->add_option("--frames", rbench.frames, "Timed frames per render row")->capture_default_str()->check(CLI::Range(1, 1000));
     bench_cmd->add_option("--out", hbench.out, "Output folder")->capture_default_str();
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
@@ -112,8 +123,8 @@ int main(int argc, char** argv) {
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_cpu);
         if (*run_cmd) return tridex::app::run_command(run);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render && !bench_sculpt)
-                throw tridex::Error("bench: choose what to measure: --haptics, --render and/or --sculpt");
+            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
+                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt and/or --accuracy");
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;
@@ -124,6 +135,13 @@ int main(int argc, char** argv) {
                 tridex::app::SculptBenchOptions sbench;
                 sbench.out = hbench.out;
                 tridex::app::run_sculpt_bench(sbench);
+            }
+            if (bench_accuracy) {
+                tridex::app::AccuracyBenchOptions abench;
+                abench.out = hbench.out;
+                if (accuracy_512) abench.resolutions.push_back(512);
+                abench.offset_cells = accuracy_offset;
+                tridex::app::run_accuracy_bench(abench);
             }
         }
         return 0;

@@ -17,6 +17,8 @@ PACKAGES=(
   xvfb xauth                                # a virtual X server for the window smoke test
   libgtest-dev libgmock-dev                 # tests
   libbenchmark-dev                          # benchmarks
+  libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy` (its headers use Boost)
+  gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
 )
 
 missing=()
