@@ -1,7 +1,6 @@
-// compute/boolean.cpp - interval subtraction and the capsule (swept ball) subtraction over ray sets.
+// compute/boolean.cpp - the capsule (swept ball) subtraction, a ball-tool Sweep on the CPU reference.
 #include "compute/boolean.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
