@@ -28,12 +28,14 @@ struct HapticsBenchOptions {
 };
 
 /// For each N: scan-converts the workpiece (0.3 m stock); for each tool, publishes the active surface
-/// centred on the walk's centre (the tool centre r - 1 mm above the surface) with the window sized for
-/// the tool (tool extent + the walk's +-3 mm), then times MultiPointRenderer::update (god-object per point, sum of forces and
-/// torques) over a fixed pseudo-random walk of tool poses that press into and slide over the surface, the
-/// same walk for every row. Writes haptics_bench.json (a list of rows) into options.out, prints a table
-/// with the ratio of the slowest to the fastest N and of the last to the first N per point count, and returns the rows.
-/// Throws tridex::Error on a bad mesh or an unwritable folder.
+/// centred on the walk's centre (balls: the tool centre r - 1 mm above the surface; the 2-point wand: held
+/// upright, its bottom tip 1 mm in) with the window sized for the tool (tool extent + the walk's +-3 mm),
+/// then times MultiPointRenderer::update (god-object per point, sum of forces and torques) over a fixed
+/// pseudo-random walk of tool poses that comes down from 10 mm above, presses into and slides over the
+/// surface while swinging +-0.3 rad at 1.5 Hz, the same walk for every row. Writes haptics_bench.json (a list
+/// of rows) into options.out, prints a table with the ratio of the slowest to the fastest N and of the last
+/// to the first N per point count, and returns the rows. Throws tridex::Error on a bad mesh, an unwritable
+/// folder, or bad options (empty lists, a resolution outside [16, 4096], points outside [1, 64], ticks < 100).
 std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& options);
 
 }  // namespace tridex::app
