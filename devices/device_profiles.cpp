@@ -15,9 +15,14 @@ constexpr const char* kWandName = "Quanser 5-DOF Haptic Wand";
 const Vec3 kWandForceN(2.3, 2.1, 3.0);
 const Vec3 kWandTorqueNm(0.230, 0.0, 0.250);  // 230 and 250 N*mm; y = roll, unactuated
 
-void require_limit(double v, const char* field) {
+void require_limit(const DeviceProfile& p, double v, const std::string& field) {
     if (!(std::isfinite(v) && v >= 0.0))
-        throw Error(std::string("DeviceProfile.") + field + " = " + std::to_string(v) + " must be finite and >= 0");
+        throw Error("DeviceProfile '" + p.name + "'." + field + " = " + std::to_string(v) + " must be finite and >= 0");
+}
+
+Vec3 checked_axes(const DeviceProfile& p, const Vec3& v, const char* field) {
+    for (int i = 0; i < 3; ++i) require_limit(p, v[i], std::string(field) + "[" + std::to_string(i) + "]");
+    return v;
 }
 
 }  // namespace
@@ -31,6 +36,8 @@ DeviceProfile quanser_wand_5dof() {
     p.max_stiffness_n_per_m = units::n_per_mm(0.7);
     p.dof_in = 5;
     p.dof_out = 5;
+    p.max_force_axis_n = kWandForceN;
+    p.max_torque_axis_nm = kWandTorqueNm;
     return p;
 }
 
@@ -47,17 +54,15 @@ DeviceProfile generic_6dof() {
 }
 
 AxisLimits axis_limits(const DeviceProfile& profile) {
-    require_limit(profile.max_force_n, "max_force_n");
-    require_limit(profile.max_torque_nm, "max_torque_nm");
+    require_limit(profile, profile.max_force_n, "max_force_n");
+    require_limit(profile, profile.max_torque_nm, "max_torque_nm");
     AxisLimits a;
-    if (profile.name == kWandName) {
-        a.max_force_n = kWandForceN;
-        a.max_torque_nm = kWandTorqueNm;
-        return a;
-    }
-    a.max_force_n = Vec3(profile.max_force_n);
+    a.max_force_n = profile.max_force_axis_n ? checked_axes(profile, *profile.max_force_axis_n, "max_force_axis_n")
+                                             : Vec3(profile.max_force_n);
     const double t = profile.max_torque_nm;
-    a.max_torque_nm = profile.dof_out >= 6 ? Vec3(t) : profile.dof_out == 5 ? Vec3(t, 0.0, t) : Vec3(0.0);
+    a.max_torque_nm = profile.max_torque_axis_nm
+                          ? checked_axes(profile, *profile.max_torque_axis_nm, "max_torque_axis_nm")
+                          : profile.dof_out >= 6 ? Vec3(t) : profile.dof_out == 5 ? Vec3(t, 0.0, t) : Vec3(0.0);
     return a;
 }
 

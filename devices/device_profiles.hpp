@@ -13,7 +13,8 @@ namespace tridex::devices {
 /// along device y in its home pose, so the torque axes are x (0.230 N*m) and z (0.250 N*m) and y is the
 /// unactuated roll axis. Since DeviceProfile holds one force and one torque limit, max_force_n is the
 /// magnitude with every axis at its limit, |(2.3, 2.1, 3.0)| = 4.33 N, and max_torque_nm =
-/// |(0.230, 0.250)| = 0.340 N*m: loose bounds, the per-axis limits of axis_limits() are the real ones.
+/// |(0.230, 0.250)| = 0.340 N*m: loose bounds; the per-axis fields max_force_axis_n = (2.3, 2.1, 3.0) N and
+/// max_torque_axis_nm = (0.230, 0, 0.250) N*m are the real ones.
 /// workspace_m (0.3 m cube) and max_stiffness_n_per_m (700 N/m, as the Omni) are assumptions, not from
 /// the thesis.
 DeviceProfile quanser_wand_5dof();
@@ -29,11 +30,10 @@ struct AxisLimits {
     Vec3 max_torque_nm{0.0};  ///< |tau_x|, |tau_y|, |tau_z| limits, N*m
 };
 
-/// The per-axis limits of a profile. DeviceProfile has no per-axis fields, so the Quanser wand is matched by
-/// its name (quanser_wand_5dof().name) and gets its thesis values (torque y = 0, the roll axis); any other
-/// profile gets its scalar force limit on every axis and its scalar torque limit on every axis for
+/// The per-axis limits of a profile: its max_force_axis_n / max_torque_axis_nm when set (the Quanser wand sets
+/// both); otherwise its scalar force limit on every axis and its scalar torque limit on every axis for
 /// dof_out >= 6, on x and z only for dof_out == 5 (y = the roll axis, as the wand), on none for dof_out < 5.
-/// Throws tridex::Error when a limit of the profile is negative or not finite.
+/// Throws tridex::Error naming the profile and field when a limit is negative or not finite.
 AxisLimits axis_limits(const DeviceProfile& profile);
 
 }  // namespace tridex::devices

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "core/aabb.hpp"
@@ -19,6 +20,12 @@ struct DeviceProfile {
     double max_stiffness_n_per_m = 0.0;  ///< highest virtual-wall stiffness that stays stable at 1 kHz, N/m
     int dof_in = 0;                      ///< sensed degrees of freedom (6 = position + orientation)
     int dof_out = 0;                     ///< actuated degrees of freedom (3 = force only)
+    /// Per-axis continuous force limits in the device frame, N (|F_x|, |F_y|, |F_z|); unset = max_force_n on
+    /// every axis. devices::axis_limits() reads it.
+    std::optional<Vec3> max_force_axis_n;
+    /// Per-axis continuous torque limits in the device frame, N*m; 0 on an axis = not actuated; unset =
+    /// derived from max_torque_nm and dof_out (devices::axis_limits()).
+    std::optional<Vec3> max_torque_axis_nm;
 
     /// SensAble (3D Systems) PHANTOM Omni, from its published specification sheet:
     /// workspace 160 x 120 x 70 mm (6.4 x 4.8 x 2.8 in, width x height x depth = device x, y, z),

@@ -246,6 +246,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     // What the device can render: 3-DOF drops torque, 5-DOF the roll axis; per-axis limits.
     const Wrench to_device = map_to_device(Wrench{out.force_n, out.torque_nm}, world_to_device_, output_);
     device_.write(to_device.force_n, to_device.torque_nm);
+    safety_.sent(r * to_device.force_n);  // the passivity books take what the device got (per-axis limits)
 
     ToolSample sample;
     sample.t_s = state.t_s;

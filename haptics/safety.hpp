@@ -26,7 +26,8 @@ struct SafetyOutput {
 /// 4. passivity controller (when enabled and the output is allowed): F - alpha * v, clamped again
 ///    (Hannaford & Ryu 2002, see PassivityObserver);
 /// 5. passivity observer: books the work of the force sent on the previous tick over the stylus
-///    displacement since then, E -= F(k-1).(x(k) - x(k-1)), then remembers this tick's force.
+///    displacement since then, E -= F(k-1).(x(k) - x(k-1)), then remembers this tick's force (or, when
+///    the caller reports it with sent(), the force the device really got after DOF mapping).
 /// F, tau, x and v must be in one frame with physical (unscaled) lengths: the loop uses the device's
 /// own position and velocity rotated into world axes (work is frame-independent).
 /// apply() is allocation-free and O(1).
@@ -40,6 +41,11 @@ public:
     /// the sample's device time (s) and time step dt_s (s), and the watchdog's verdict.
     SafetyOutput apply(const Vec3& force_n, const Vec3& torque_nm, const Vec3& position_m, const Vec3& velocity_m_s,
                        double device_t_s, double dt_s, bool watchdog_allows);
+    /// Tells the books what the device was actually sent this tick, in the frame of apply() (N): the force
+    /// after the device profile's DOF mapping and per-axis limits (map_to_device), rotated back. Call after
+    /// apply() on the same tick; the next tick books this force's work instead of apply()'s output.
+    /// A non-finite force counts as zero (map_to_device sends zero then).
+    void sent(const Vec3& force_n) { prev_force_ = is_finite(force_n) ? force_n : Vec3(0.0); }
     /// Marks a tick on which zero was sent without a valid sample: the ramp restarts afterwards and the
     /// books restart from the next valid position (the hold interval before this tick is not booked).
     void hold() {

@@ -104,6 +104,28 @@ TEST(SafetyStage, ClampsForceAndTorqueToTheProfile) {
     EXPECT_NEAR(o.force_n.z, 0.88, 1e-15);
 }
 
+TEST(SafetyStage, PassivityBooksTheForceTheDeviceWasSent) {
+    SafetyConfig cfg;
+    cfg.ramp_s = 0.0;
+    SafetyStage st(SafetyLimits::from(DeviceProfile::phantom_omni(), cfg), cfg, false);
+    // Without sent(): the next tick books apply()'s force, 0.5 N over 1 mm along it: E = -0.5 mJ.
+    st.apply(Vec3(0.5, 0.0, 0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0), 0.001, 1e-3, true);
+    st.apply(Vec3(0.0), Vec3(0.0), Vec3(0.001, 0.0, 0.0), Vec3(0.0), 0.002, 1e-3, true);
+    EXPECT_NEAR(st.passivity().energy_j(), -0.5e-3, 1e-15);
+    // With sent(): the device got only 0.2 N (per-axis limit), so the work is 0.2 mJ, not 0.5.
+    st.reset();
+    st.apply(Vec3(0.5, 0.0, 0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0), 0.001, 1e-3, true);
+    st.sent(Vec3(0.2, 0.0, 0.0));
+    st.apply(Vec3(0.0), Vec3(0.0), Vec3(0.001, 0.0, 0.0), Vec3(0.0), 0.002, 1e-3, true);
+    EXPECT_NEAR(st.passivity().energy_j(), -0.2e-3, 1e-15);
+    // A non-finite report counts as zero force: no work booked.
+    st.reset();
+    st.apply(Vec3(0.5, 0.0, 0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0), 0.001, 1e-3, true);
+    st.sent(Vec3(std::nan(""), 0.0, 0.0));
+    st.apply(Vec3(0.0), Vec3(0.0), Vec3(0.001, 0.0, 0.0), Vec3(0.0), 0.002, 1e-3, true);
+    EXPECT_EQ(st.passivity().energy_j(), 0.0);
+}
+
 TEST(SafetyStage, VelocityLimitCutsAndTheRampRestarts) {
     SafetyConfig cfg;
     cfg.ramp_s = 0.01;

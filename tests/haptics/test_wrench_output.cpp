@@ -42,6 +42,22 @@ TEST(DeviceProfiles, WandAndGeneric6Dof) {
     devices::DeviceProfile bad = g;
     bad.max_torque_nm = -1.0;
     EXPECT_THROW(devices::axis_limits(bad), Error);
+    // Per-axis fields decide, not the name: a renamed wand keeps its limits, and any profile can set them.
+    devices::DeviceProfile renamed = w;
+    renamed.name = "my wand";
+    expect_vec(devices::axis_limits(renamed).max_force_n, Vec3(2.3, 2.1, 3.0), 0.0);
+    expect_vec(devices::axis_limits(renamed).max_torque_nm, Vec3(0.230, 0.0, 0.250), 0.0);
+    devices::DeviceProfile custom = g;
+    custom.max_force_axis_n = Vec3(1.0, 2.0, 3.0);
+    expect_vec(devices::axis_limits(custom).max_force_n, Vec3(1.0, 2.0, 3.0), 0.0);
+    expect_vec(devices::axis_limits(custom).max_torque_nm, Vec3(0.3), 0.0);
+    custom.max_torque_axis_nm = Vec3(0.1, std::nan(""), 0.1);
+    try {
+        devices::axis_limits(custom);
+        ADD_FAILURE() << "a NaN per-axis torque limit was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("max_torque_axis_nm[1]"), std::string::npos) << e.what();
+    }
 }
 
 TEST(WrenchOutput, LimitsFromProfiles) {
