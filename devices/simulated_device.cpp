@@ -24,6 +24,9 @@ SimulatedDevice::SimulatedDevice(DeviceProfile profile, ScriptedPath path, Simul
             "hand.hand_stiffness_n_per_m", hand_.hand_stiffness_n_per_m, "must be finite and >= 0");
     require(std::isfinite(hand_.hand_damping_n_s_per_m) && hand_.hand_damping_n_s_per_m >= 0.0,
             "hand.hand_damping_n_s_per_m", hand_.hand_damping_n_s_per_m, "must be finite and >= 0");
+    require(std::isfinite(hand_.device_damping_n_s_per_m) && hand_.device_damping_n_s_per_m >= 0.0,
+            "hand.device_damping_n_s_per_m", hand_.device_damping_n_s_per_m, "must be finite and >= 0");
+    require(hand_.substeps >= 1 && hand_.substeps <= 1000, "hand.substeps", hand_.substeps, "must be in [1, 1000]");
     require(std::isfinite(dt_) && dt_ > 0.0 && dt_ <= 1.0, "dt_s", dt_, "must be in (0, 1] s");
     x_ = path_.position_at(0.0);
 }
@@ -42,10 +45,15 @@ bool SimulatedDevice::read(DeviceState& out) {
         return false;
     }
     const Vec3 target = path_.position_at(t_);
-    const Vec3 hand_force =
-        hand_.hand_stiffness_n_per_m * (target - x_) + hand_.hand_damping_n_s_per_m * (path_.velocity_at(t_) - v_);
-    v_ += (dt_ / hand_.mass_kg) * (hand_force + applied_force_);
-    x_ += dt_ * v_;
+    const double h = dt_ / hand_.substeps;
+    Vec3 hand_force(0.0);
+    for (int i = 0; i < hand_.substeps; ++i) {
+        const double t = t_ + i * h;
+        hand_force = hand_.hand_stiffness_n_per_m * (path_.position_at(t) - x_) +
+                     hand_.hand_damping_n_s_per_m * (path_.velocity_at(t) - v_);
+        v_ += (h / hand_.mass_kg) * (hand_force - hand_.device_damping_n_s_per_m * v_ + applied_force_);
+        x_ += h * v_;
+    }
     ++steps_;
     t_ = static_cast<double>(steps_) * dt_;  // no drift from summing dt
     if (trace_.size() < trace_capacity_) trace_.push_back({t_, x_, v_, target, applied_force_, hand_force});
@@ -59,6 +67,11 @@ bool SimulatedDevice::read(DeviceState& out) {
         reads_ - faults_.nan_first_read < faults_.nan_count)
         out.pose.position = Vec3(std::numeric_limits<double>::quiet_NaN());
     return true;
+}
+
+double SimulatedDevice::energy_j() const {
+    const Vec3 d = path_.position_at(t_) - x_;
+    return 0.5 * hand_.mass_kg * glm::dot(v_, v_) + 0.5 * hand_.hand_stiffness_n_per_m * glm::dot(d, d);
 }
 
 void SimulatedDevice::write(const Vec3& force_n, const Vec3& torque_nm) {

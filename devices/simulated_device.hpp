@@ -16,6 +16,13 @@ struct SimulatedHandParams {
     double mass_kg = 0.05;                 ///< moving mass of stylus + linkage, kg (> 0)
     double hand_stiffness_n_per_m = 300.0; ///< spring between the hand's target and the stylus, N/m (>= 0)
     double hand_damping_n_s_per_m = 4.0;   ///< damper on the target-minus-stylus velocity, N*s/m (>= 0)
+    /// The device's own viscous friction to the ground, N*s/m (>= 0): the physical damping b of Colgate and
+    /// Schenkel's sampled-wall analysis (a wall of stiffness K is passive when b > K*T/2).
+    double device_damping_n_s_per_m = 0.0;
+    /// Integration steps per read (1..1000), the written force held over all of them (zero-order hold).
+    /// 1 = one semi-implicit Euler step per loop period, which is symplectic for a sampled spring and so
+    /// hides the energy a sampled wall creates; 20-50 approximate the continuous plant.
+    int substeps = 1;
 };
 
 /// Faults a test can inject into a SimulatedDevice; 0 disables each one.
@@ -32,14 +39,15 @@ struct SimulatedTraceEntry {
     Vec3 velocity_m_s{0.0};     ///< stylus velocity after the step, m/s
     Vec3 target_m{0.0};         ///< hand target at the start of the step, m
     Vec3 device_force_n{0.0};   ///< force the device applied during the step (last write), N
-    Vec3 hand_force_n{0.0};     ///< force the hand applied during the step, N
+    Vec3 hand_force_n{0.0};     ///< force the hand applied during the step (its last sub-step), N
 };
 
 /// A virtual hand follows a ScriptedPath through a spring-damper (hand stiffness/damping) and pushes
 /// a device mass m; forces written by the haptic loop act on that same mass, so the loop is closed:
-///   m dv/dt = k_h (p_target(t) - x) + b_h (v_target(t) - v) + F_written.
-/// read() advances these dynamics by one fixed step dt (the loop period) with the force last
-/// written (semi-implicit Euler: v += dt a(x, v, t); x += dt v; t += dt) and returns the new pose and
+///   m dv/dt = k_h (p_target(t) - x) + b_h (v_target(t) - v) - b_d v + F_written.
+/// read() advances these dynamics by one period dt (the loop period) with the force last written, in
+/// hand.substeps semi-implicit Euler steps of h = dt / substeps (v += h a(x, v, t); x += h v; t += h),
+/// and returns the new pose and
 /// velocity, so a run is deterministic whatever the wall-clock timing. The stylus starts at rest on
 /// the path's position at t = 0; its orientation stays identity; the position is not limited to the
 /// profile's workspace. A non-finite written force is applied as zero.
@@ -80,6 +88,9 @@ public:
     const Vec3& position_m() const { return x_; }
     /// Current stylus velocity, m/s.
     const Vec3& velocity_m_s() const { return v_; }
+    /// Kinetic energy plus the hand spring's energy toward the current target, J (a wall's own spring
+    /// energy is the caller's to add).
+    double energy_j() const;
     /// The hand's target path.
     const ScriptedPath& path() const { return path_; }
     /// The hand parameters.

@@ -89,6 +89,30 @@ TEST(SimulatedDevice, FirstStepIsSemiImplicitEuler) {
     EXPECT_NEAR(s.velocity_m_s.y, -0.01 + 1e-3 * a1, 1e-15);
 }
 
+TEST(SimulatedDevice, SubstepsIntegrateTheHeldForceAndDeviceDampingBrakes) {
+    // Free mass (no hand), 0.5 N held for one 1 ms read in 4 sub-steps: v = F*dt/m exactly, and
+    // x = h^2 * F/m * (1 + 2 + 3 + 4) = 10 h^2 a (semi-implicit Euler per sub-step).
+    SimulatedHandParams hand{0.05, 0.0, 0.0, 0.0, 4};
+    SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)), hand, 1e-3);
+    dev.write(Vec3(0.5, 0.0, 0.0), Vec3(0.0));
+    DeviceState s;
+    ASSERT_TRUE(dev.read(s));
+    const double a = 0.5 / 0.05, h = 0.25e-3;
+    EXPECT_NEAR(s.velocity_m_s.x, a * 1e-3, 1e-15);
+    EXPECT_NEAR(s.pose.position.x, 10.0 * h * h * a, 1e-15);
+    EXPECT_EQ(s.t_s, 1e-3);
+    // Device damping to the ground: a coasting mass slows as exp(-b t / m) (b = 0.1, m = 0.05: e^-2 at 1 s).
+    SimulatedHandParams coast{0.05, 0.0, 0.0, 0.1, 20};
+    SimulatedDevice d2(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)), coast, 1e-3);
+    d2.write(Vec3(0.05, 0.0, 0.0), Vec3(0.0));  // 1 ms push: v = 1e-3 m/s
+    ASSERT_TRUE(d2.read(s));
+    d2.write(Vec3(0.0), Vec3(0.0));
+    const double v0 = s.velocity_m_s.x;
+    for (int i = 0; i < 1000; ++i) ASSERT_TRUE(d2.read(s));
+    EXPECT_NEAR(s.velocity_m_s.x / v0, std::exp(-2.0), 2e-4);
+    EXPECT_NEAR(d2.energy_j(), 0.5 * 0.05 * s.velocity_m_s.x * s.velocity_m_s.x, 1e-18);
+}
+
 TEST(SimulatedDevice, TraceRecordsStepsUpToItsCapacity) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
     dev.enable_trace(10);
@@ -156,6 +180,9 @@ TEST(SimulatedDevice, RejectsBadParameters) {
     EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{0.05, -1.0, 4.0}), Error);
     EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{0.05, 300.0, std::nan("")}), Error);
     EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{}, 0.0), Error);
+    EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{0.05, 300.0, 4.0, -0.1}), Error);
+    EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{0.05, 300.0, 4.0, 0.0, 0}), Error);
+    EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{0.05, 300.0, 4.0, 0.0, 1001}), Error);
     EXPECT_THROW(SimulatedDevice(p, path, SimulatedHandParams{}, -1e-3), Error);
     try {
         SimulatedDevice(p, path, SimulatedHandParams{-0.05, 300.0, 4.0});

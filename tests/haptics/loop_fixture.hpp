@@ -89,44 +89,4 @@ private:
     std::size_t reads_ = 0;
 };
 
-/// A stylus mass held by a virtual hand (a spring k_h to a fixed target and a damper b to the ground:
-/// b is the device's physical damping of Colgate & Schenkel's model) under the force the loop writes,
-/// integrated with `substeps` semi-implicit Euler steps per read while the written force is held: a
-/// continuous plant sampled at the loop rate through a zero-order hold. (SimulatedDevice takes one
-/// Euler step per read, which is symplectic for a sampled spring and so cannot show the energy the
-/// hold creates.) Time stamps advance by dt per read; orientation is identity.
-class ContinuousHandDevice : public devices::HapticDevice {
-public:
-    ContinuousHandDevice(devices::DeviceProfile profile, const Vec3& start_m, const Vec3& target_m, double mass_kg,
-                         double hand_stiffness_n_per_m, double damping_n_s_per_m, double dt_s, int substeps)
-        : profile_(std::move(profile)), x_(start_m), target_(target_m), m_(mass_kg), k_(hand_stiffness_n_per_m),
-          b_(damping_n_s_per_m), dt_(dt_s), n_(substeps) {}
-    const devices::DeviceProfile& profile() const override { return profile_; }
-    bool read(devices::DeviceState& out) override {
-        const double h = dt_ / n_;
-        for (int i = 0; i < n_; ++i) {
-            v_ += (h / m_) * (k_ * (target_ - x_) - b_ * v_ + force_);
-            x_ += h * v_;
-        }
-        ++steps_;
-        out.t_s = static_cast<double>(steps_) * dt_;
-        out.pose.position = x_;
-        out.velocity_m_s = v_;
-        return true;
-    }
-    void write(const Vec3& force_n, const Vec3&) override { force_ = is_finite(force_n) ? force_n : Vec3(0.0); }
-
-    const Vec3& position_m() const { return x_; }
-    const Vec3& velocity_m_s() const { return v_; }
-    /// Kinetic + hand-spring energy, J (add the wall's own spring energy yourself).
-    double energy_j() const { return 0.5 * m_ * glm::dot(v_, v_) + 0.5 * k_ * glm::dot(target_ - x_, target_ - x_); }
-
-private:
-    devices::DeviceProfile profile_;
-    Vec3 x_, v_{0.0}, target_, force_{0.0};
-    double m_, k_, b_, dt_;
-    int n_;
-    std::size_t steps_ = 0;
-};
-
 }  // namespace tridex::test

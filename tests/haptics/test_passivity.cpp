@@ -40,7 +40,10 @@ WallRun run_wall(double b, bool passivity_control, int ticks = 3000) {
     DeviceProfile profile = DeviceProfile::phantom_omni();
     profile.max_force_n = 5.0;
     const double mass = 0.05, k_hand = 300.0;
-    test::ContinuousHandDevice dev(profile, Vec3(0.0, 0.0, 0.002), Vec3(0.0, 0.0, -0.004), mass, k_hand, b, kT, 50);
+    // The hand's target jumps from the start to 4 mm inside the wall within the first sub-step.
+    devices::SimulatedHandParams hand{mass, k_hand, 0.0, b, 50};
+    devices::SimulatedDevice dev(profile, devices::ScriptedPath({0.0, 1e-6}, {Vec3(0.0, 0.0, 0.002), Vec3(0.0, 0.0, -0.004)}),
+                                 hand, kT);
     TripleBuffer<ActiveSurface> surface;
     test::publish(surface, *s);
     SpscRing<ToolSample> ring(8);  // nobody drains it; drops are fine here
