@@ -3,7 +3,9 @@
 // workpiece, and the multi-threaded path equal to the sequential one.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <iostream>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -163,6 +165,14 @@ TEST(MeshTool, ToolDexelsAreCachedPerOrientationAndCellSize) {
     }
     EXPECT_THROW(tool->dexels(Vec3(0, 0, 1), 0.0), Error);
     EXPECT_THROW(tool->dexels(Vec3(0.0), 0.001), Error);
+    // What a cache miss costs (a new orientation): a 5120-triangle ball of radius 8 cells at k = 4.
+    const auto ball = MeshTool::create(icosphere_mesh(Vec3(0.0), 0.008, 4));
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto d = ball->dexels(Vec3(0.1, 0.2, 1.0), 0.001);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::cout << "tool dexels of a 5120-triangle ball, radius 8 cells, k = 4: " << d->interval_count() << " intervals, "
+              << ms << " ms to build\n";
+    EXPECT_GT(d->interval_count(), 3000u);
 }
 
 TEST(MeshTool, SweepsNeedAMeshAndATable) {
