@@ -16,7 +16,8 @@ namespace {
 
 constexpr int kTileRays = 8;           // rays per tile side (the kernel's local size)
 constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
-constexpr int kBindings = 9;
+constexpr int kBindings = 10;
+constexpr std::size_t kMaxBinding = std::size_t{128} << 20;  // lavapipe's maxStorageBufferRange
 
 struct Push {
     std::int32_t axis, nu, nv;
@@ -29,6 +30,39 @@ struct TileEntry {
 
 gpu::Buffer host_storage(const gpu::Context& c, std::size_t bytes) {
     return gpu::Buffer::create(c, std::max<std::size_t>(bytes, 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryDomain::kHost);
+}
+
+std::uint32_t bits(float f) {
+    std::uint32_t b;
+    std::memcpy(&b, &f, 4);
+    return b;
+}
+
+/// The tools of a batch as the kernel's ToolData words: [t] = first word of tool t's block; a block is
+/// k (float bits), then per ray set a: nu, nv, ref_u, ref_v, word of its `first` offsets, word of its
+/// depths (float bits, 2 per interval); then those arrays.
+std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
+    std::vector<std::uint32_t> w(tools.size(), 0u);
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+        const ToolDexels& d = *tools[t];
+        w[t] = static_cast<std::uint32_t>(w.size());
+        const std::size_t head = w.size();
+        w.resize(head + 19, 0u);
+        w[head] = bits(static_cast<float>(d.k));
+        for (int a = 0; a < 3; ++a) {
+            const ToolDexelSet& s = d.sets[a];
+            std::uint32_t* h = &w[head + 1 + 6 * a];
+            h[0] = static_cast<std::uint32_t>(s.nu);
+            h[1] = static_cast<std::uint32_t>(s.nv);
+            h[2] = static_cast<std::uint32_t>(s.ref_u);
+            h[3] = static_cast<std::uint32_t>(s.ref_v);
+            h[4] = static_cast<std::uint32_t>(w.size());
+            w.insert(w.end(), s.first.begin(), s.first.end());
+            w[head + 1 + 6 * a + 5] = static_cast<std::uint32_t>(w.size());
+            for (const float f : s.depth) w.push_back(bits(f));
+        }
+    }
+    return w;
 }
 
 }  // namespace
@@ -91,7 +125,28 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     ai.pSetLayouts = layouts;
     gpu::check(vkAllocateDescriptorSets(dev, &ai, sets_), "vkAllocateDescriptorSets");
 
+    tools_ = host_storage(context_, 16);
     ensure_batch_capacity(64, 256, 1024, 256 * 64);
+}
+
+void GpuSculptor::upload_tools(const ToolTable& tools) {
+    if (tools.empty() || tools == uploaded_tools_) return;
+    const std::vector<std::uint32_t> words = pack_tools(tools);
+    const std::size_t bytes = words.size() * sizeof(std::uint32_t);
+    const std::size_t limit = std::min<std::size_t>(kMaxBinding, context_.properties().limits.maxStorageBufferRange);
+    if (bytes > limit) {
+        std::ostringstream m;
+        m << "GPU sculpt: the batch's mesh-tool dexels need " << (bytes >> 20) << " MiB, over the " << (limit >> 20)
+          << " MiB one storage binding may hold; use a smaller tool, fewer rays per cell (k), fewer distinct tool"
+             " orientations per batch, or --cpu";
+        throw Error(m.str());
+    }
+    if (tools_.size() < bytes) {
+        tools_ = host_storage(context_, std::max(bytes, std::min(limit, tools_.size() * 2)));
+        bind_descriptors();
+    }
+    tools_.write(words.data(), bytes);
+    uploaded_tools_ = tools;
 }
 
 GpuSculptor::~GpuSculptor() = default;
@@ -118,7 +173,8 @@ void GpuSculptor::bind_descriptors() {
     for (int a = 0; a < 3; ++a) {
         const gpu::Buffer* bufs[kBindings] = {&slabs_.buffer(a, 0), &slabs_.buffer(a, 1), &slabs_.buffer(a, 2),
                                               &slabs_.buffer(a, 3), &slabs_.buffer(a, 4), &sweeps_,
-                                              &tiles_,              &index_,              &counters_[a]};
+                                              &tiles_,              &index_,              &counters_[a],
+                                              &tools_};
         VkDescriptorBufferInfo info[kBindings];
         VkWriteDescriptorSet w[kBindings]{};
         for (int i = 0; i < kBindings; ++i) {
@@ -134,7 +190,8 @@ void GpuSculptor::bind_descriptors() {
     }
 }
 
-std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps) {
+std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps,
+                                      const ToolTable& tools) {
     std::size_t changed = 0;
     const int nu = slabs_.nu(axis);
     std::vector<Interval> ray;
@@ -144,7 +201,7 @@ std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> r
         const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
         bool any = false;
         for (const GridSweep& g : sweeps)
-            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray);
+            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray, tools);
         if (!any) continue;
         ++changed;
         if (!slabs_.write_ray(axis, u, v, ray)) {
@@ -162,6 +219,7 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     const std::vector<GridSweep>& grid = converted.sweeps;
     const std::vector<std::size_t>& source = converted.source;
     if (grid.empty()) return stats;
+    upload_tools(converted.tools);  // throws before anything changes when the tools do not fit
 
     // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order.
     std::vector<TileEntry> tiles;
@@ -241,7 +299,7 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
         stats_.retried_rays += retry.size();
         ++stats_.compactions;
         if (slabs_.compact(context_, a)) bind_descriptors();
-        stats.rays_changed += redo_on_host(a, retry, grid);
+        stats.rays_changed += redo_on_host(a, retry, grid, converted.tools);
     }
     // The mirror's footprint rays, then its dirty tiles.
     for (int a = 0; a < 3; ++a) {

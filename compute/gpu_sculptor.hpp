@@ -41,6 +41,9 @@ struct GpuSculptorOptions {
 /// Spill pool: when the kernel finds no room for a ray (or the ray would exceed the kernel's 16 intervals) it leaves
 /// the ray untouched and lists it; the host compacts (and if needed grows) the pool and redoes those rays
 /// with the CPU reference, so no interval is ever dropped. A ray needing more than 120 intervals throws.
+/// Mesh tools (ToolKind::kMesh): the batch's distinct tool dexels (GridBatch::tools) are packed into one
+/// storage buffer (binding 9, re-uploaded only when the batch's tool table changes); a batch whose tools
+/// need more than 128 MiB (or maxStorageBufferRange) is refused with tridex::Error before anything changes.
 /// Not thread-safe: one thread calls apply(). The Context and the mirror must outlive the sculptor.
 class GpuSculptor {
 public:
@@ -66,7 +69,8 @@ public:
 private:
     void ensure_batch_capacity(std::size_t sweeps, std::size_t tiles, std::size_t indices, std::size_t retry);
     void bind_descriptors();
-    std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps);
+    std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools);
+    void upload_tools(const ToolTable& tools);
 
     const gpu::Context& context_;
     TriDexel& mirror_;
@@ -79,6 +83,8 @@ private:
     VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     gpu::Buffer sweeps_, tiles_, index_;
     gpu::Buffer counters_[3];
+    gpu::Buffer tools_;            // the batch's mesh-tool dexels (pack_tools words), binding 9
+    ToolTable uploaded_tools_;     // what tools_ holds now
     std::size_t retry_capacity_ = 0;
 };
 

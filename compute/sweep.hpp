@@ -2,10 +2,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "compute/boolean.hpp"
+#include "compute/mesh_tool.hpp"
 #include "compute/tridexel.hpp"
 #include "core/segment.hpp"
 #include "core/tool_sample.hpp"
@@ -17,17 +19,22 @@ enum class ToolKind : std::uint8_t {
     kBall = 0,     ///< a ball of radius_m (ball-end mill, sculpting ball); its sweep is a capsule
     kFlatEnd = 1,  ///< a flat-end mill: solid cylinder of radius_m, flat end centred on the tool position,
                    ///< shank of length_m along the tool axis
+    kMesh = 2,     ///< any closed mesh (ToolShape::mesh, compute/mesh_tool.hpp), applied at poses <= 0.5 cell apart
 };
 
 /// Tool shape and size, m.
 struct ToolShape {
     ToolKind kind = ToolKind::kBall;
-    double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0)
-    double length_m = 0.0;  ///< kFlatEnd: cylinder length along the axis, m (> 0); ignored for kBall
+    double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0); ignored for kMesh
+    double length_m = 0.0;  ///< kFlatEnd: cylinder length along the axis, m (> 0); ignored otherwise
+    std::shared_ptr<const MeshTool> mesh{};  ///< kMesh: the tool (tool frame +z turned onto Sweep::axis); else unused
 };
 
+/// The mesh tools' dexels a batch of GridSweeps refers to (GridSweep::tool indexes it).
+using ToolTable = std::vector<std::shared_ptr<const ToolDexels>>;
+
 /// One swept Boolean: the tool moved in a straight line from path_m.a to path_m.b (world m) with a fixed
-/// axis (unit world vector, the tool frame's +z; used by kFlatEnd), applying `op` to the swept volume.
+/// axis (world vector, normalised on use; the tool frame's +z; used by kFlatEnd and kMesh), applying `op` to the swept volume.
 /// kSubtract removes it (new surface gets `material`), kUnion adds it as `material`, kPaint sets
 /// `material` on the surface points inside it. kNone does nothing.
 struct Sweep {
@@ -46,14 +53,14 @@ struct GridSweep {
     std::int32_t lo[3];      ///< first lattice node index inside the swept box, per axis (may be < 0)
     std::uint32_t code;      ///< op | kind << 8 | material << 16
     std::int32_t hi[3];      ///< last lattice node index inside the swept box, per axis (may be >= nodes)
-    std::uint32_t stamps;    ///< kFlatEnd: tool poses applied along the motion (spacing <= 0.5 cell); kBall: 1
+    std::uint32_t stamps;    ///< kFlatEnd, kMesh: tool poses applied along the motion (spacing <= 0.5 cell); kBall: 1
     std::int32_t origin[3];  ///< integer part of the tool start, grid units
-    float radius;            ///< tool radius, grid units
+    float radius;            ///< tool radius, grid units (kMesh: bounding radius, informative only)
     float start[3];          ///< fractional part of the tool start, grid units, in [0, 1)
-    float pad0;
+    std::uint32_t tool;      ///< kMesh: index of the tool's dexels in the batch's ToolTable; else 0
     float delta[3];          ///< motion B - A, grid units
     float pad1;
-    float shank[3];          ///< kFlatEnd: axis * length, grid units (the cylinder runs from a pose to pose + shank)
+    float shank[3];          ///< kFlatEnd: axis * length, grid units (the cylinder runs from a pose to pose + shank); else 0
     float pad2;
 
     ToolOp op() const { return static_cast<ToolOp>(code & 0xffu); }
@@ -63,35 +70,53 @@ struct GridSweep {
 static_assert(sizeof(GridSweep) == 96, "GridSweep must match the std430 layout of shaders/dexel_sweep.comp");
 
 /// A batch of sweeps in grid units: the sweeps whose op is not kNone, in batch order, and for each its
-/// index in the batch.
+/// index in the batch; `tools` holds the distinct mesh-tool dexels the kMesh sweeps index (GridSweep::tool).
 struct GridBatch {
     std::vector<GridSweep> sweeps;
     std::vector<std::size_t> source;
+    ToolTable tools;
 };
 
 /// Converts every sweep of `batch` (skipping kNone) with to_grid_sweep, so a caller can validate a whole
 /// batch before changing anything. Throws tridex::Error as to_grid_sweep on the first bad sweep.
 GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch);
 
-/// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius.
+/// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius (kMesh:
+/// the rotated mesh's exact bounds at both end poses; its nearest-ray reach of <= 0.5/k cell beyond them
+/// is covered by mark_dirty's one-cell margin).
 Aabb sweep_bounds(const Sweep& sweep);
 
 /// Converts a Sweep to grid units on `lattice`. Throws tridex::Error naming the field when a position or
 /// the axis is not finite, the axis is zero, the radius (or kFlatEnd length) is not a positive number of
-/// metres, or the swept box is more than 2^24 cells from the lattice (float depths would lose cells).
-GridSweep to_grid_sweep(const Lattice& lattice, const Sweep& sweep);
+/// metres, the swept box is more than 2^24 cells from the lattice (float depths would lose cells), or a
+/// kMesh sweep has no ToolShape::mesh. kMesh: the tool's dexels for (axis, cell size) are appended to
+/// `tools` (once per distinct ToolDexels) and GridSweep::tool indexes them; throws when `tools` is null.
+GridSweep to_grid_sweep(const Lattice& lattice, const Sweep& sweep, ToolTable* tools = nullptr);
 
 /// Depth range [d0, d1] (grid units along set `axis`) that stamp `stamp` (0..stamps-1) of the sweep
 /// covers on the ray of that set at lattice node (u, v); false when the ray misses it. The ray's line
 /// relative to the tool start is o + t*e_axis with o[axis] = 0, o[k] = float(node_k - origin_k) - start_k
 /// for the two other axes; depth = (float(origin[axis]) + start[axis]) + t. Ball: capsule_chord with the
 /// segment 0 -> delta. kFlatEnd: cylinder_chord of the cylinder at c = delta * (float(stamp) /
-/// float(stamps - 1)) (c = 0 when stamps == 1) with shank `shank`.
+/// float(stamps - 1)) (c = 0 when stamps == 1) with shank `shank`. kMesh: always false (mesh_stamp_spans).
 bool sweep_chord(const GridSweep& sweep, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1);
 
-/// Applies the sweep to one ray (set `axis`, node (u, v)): for each stamp, its chord is subtracted,
-/// added or painted (interval_ops.hpp). Returns true when the ray changed.
-bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray);
+/// kMesh: the tool intervals that stamp `stamp` puts on the ray of set `axis` at node (u, v), appended to
+/// `spans` as depth pairs (grid units). The pose is c = delta * (float(stamp) / float(stamps - 1)) (c = 0
+/// when stamps == 1) relative to the tool start; with the ray's lateral offsets o (as in sweep_chord),
+/// x_u = o[ua] - c[ua], the tool ray is i = int(floor(x_u * float(k) + 0.5f)) + ref_u (same for v), none
+/// when outside the tool's grid; each tool interval [z0, z1] gives [base + (c[axis] + z0),
+/// base + (c[axis] + z1)] with base = float(origin[axis]) + start[axis]. Float only, in this order (the
+/// GPU kernel repeats it). Returns the number of spans appended.
+std::size_t mesh_stamp_spans(const GridSweep& sweep, const ToolDexels& tool, int axis, int u, int v, std::uint32_t stamp,
+                             std::vector<float>& spans);
+
+/// Applies the sweep to one ray (set `axis`, node (u, v)): for each stamp, its chord (kMesh: each of its
+/// spans, mesh_stamp_spans, in depth order) is subtracted, added or painted (interval_ops.hpp). `tools`
+/// is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
+/// Returns true when the ray changed.
+bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray,
+                        std::span<const std::shared_ptr<const ToolDexels>> tools = {});
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
 /// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles

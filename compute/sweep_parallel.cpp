@@ -33,7 +33,7 @@ struct WorkerResult {
     std::exception_ptr error;
 };
 
-void work(TriDexel& model, const std::vector<GridSweep>& grid, const std::vector<Row>& rows,
+void work(TriDexel& model, const std::vector<GridSweep>& grid, const ToolTable& tools, const std::vector<Row>& rows,
           const std::vector<RowSweep>& spans, std::atomic<std::size_t>& next, WorkerResult& out) {
     // Counters stay local until the end: WorkerResults sit side by side (one cache line).
     std::size_t changed = 0;
@@ -48,7 +48,7 @@ void work(TriDexel& model, const std::vector<GridSweep>& grid, const std::vector
                 for (std::size_t k = r.first; k < r.first + r.count; ++k) {
                     const RowSweep& s = spans[k];
                     if (u < s.u_lo || u > s.u_hi) continue;
-                    if (apply_sweep_to_ray(grid[s.sweep], r.axis, u, r.v, ray)) {
+                    if (apply_sweep_to_ray(grid[s.sweep], r.axis, u, r.v, ray, tools)) {
                         ++changed;
                         sweep_changed[s.sweep] = 1;
                     }
@@ -115,13 +115,13 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
         pool.reserve(static_cast<std::size_t>(n - 1));
         for (int t = 1; t < n; ++t) {
             try {
-                pool.emplace_back(work, std::ref(model), std::cref(grid), std::cref(rows), std::cref(spans), std::ref(next),
+                pool.emplace_back(work, std::ref(model), std::cref(grid), std::cref(converted.tools), std::cref(rows), std::cref(spans), std::ref(next),
                                   std::ref(results[static_cast<std::size_t>(t)]));
             } catch (const std::system_error&) {
                 break;  // no more threads available: the ones started (and this one) do all rows
             }
         }
-        work(model, grid, rows, spans, next, results[0]);
+        work(model, grid, converted.tools, rows, spans, next, results[0]);
         for (std::thread& t : pool) t.join();
     }
     std::vector<std::uint8_t> changed(grid.size(), 0);

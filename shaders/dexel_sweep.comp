@@ -3,6 +3,8 @@
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
 // compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
+// Mesh tools (kind 2): at each pose the ray reads the nearest ray of the tool's own dexels (ToolData,
+// binding 9) and applies each of its intervals (compute/sweep.cpp mesh_stamp_spans).
 // A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
 // and listed for the host (compute/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
 #version 450
@@ -16,7 +18,7 @@ struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
     ivec3 lo; uint code;
     ivec3 hi; uint stamps;
     ivec3 origin; float radius;
-    vec3 start; float pad0;
+    vec3 start; uint tool;  // kMesh: index into the tool table (ToolData)
     vec3 delta; float pad1;
     vec3 shank; float pad2;
 };
@@ -36,6 +38,9 @@ layout(std430, set = 0, binding = 8) buffer Counters {
     uint pad;
     uint retry[];
 };
+// Mesh tools (compute/gpu_sculptor.cpp pack_tools): [t] = block of tool t; block: k (float bits), then per
+// ray set nu, nv, ref_u, ref_v, word of the `first` offsets, word of the depths (float bits, 2 per interval).
+layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]; };
 
 layout(push_constant) uniform Push {
     int axis;
@@ -154,6 +159,17 @@ void shift_tail(uint from, int by) {
     n = uint(int(n) + by);
 }
 
+// Applies one span with the sweep's op; 0 = unchanged, 1 = changed, 2 = would exceed MAXI.
+uint subtract_span(float t0, float t1, uint cut);
+uint union_span(float t0, float t1, uint mat);
+uint paint_span(float t0, float t1, uint mat);
+uint apply_op(uint op, float d0, float d1, uint mat) {
+    if (op == 1u) return subtract_span(d0, d1, mat);
+    if (op == 2u) return union_span(d0, d1, mat);
+    if (op == 3u) return paint_span(d0, d1, mat);
+    return 0u;
+}
+
 // Returns 0 = unchanged, 1 = changed, 2 = would exceed MAXI (ray left as it was).
 uint subtract_span(float t0, float t1, uint cut) {
     if (!(t0 < t1)) return 0u;
@@ -216,6 +232,47 @@ void list_for_retry(uint ray) {
     if (k < pc.retry_capacity) retry[k] = ray;
 }
 
+// compute/sweep.cpp mesh_stamp_spans + apply_sweep_to_ray for a kMesh sweep: every stamp's tool ray
+// intervals, in order. Returns 0 = unchanged, 1 = changed, 2 = would exceed MAXI.
+uint apply_mesh_sweep(GridSweep s, int u, int v, uint op, uint mat) {
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    uint tb = tool_data[s.tool];
+    float kf = uintBitsToFloat(tool_data[tb]);
+    uint hb = tb + 1u + 6u * uint(pc.axis);
+    int tnu = int(tool_data[hb]), tnv = int(tool_data[hb + 1u]);
+    int rfu = int(tool_data[hb + 2u]), rfv = int(tool_data[hb + 3u]);
+    uint fw = tool_data[hb + 4u], dw = tool_data[hb + 5u];
+    precise float ou = float(u - s.origin[ua]) - s.start[ua];
+    precise float ov = float(v - s.origin[va]) - s.start[va];
+    precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];
+    uint result = 0u;
+    for (uint st = 0u; st < s.stamps; ++st) {
+        precise float f = s.stamps > 1u ? float(st) / float(s.stamps - 1u) : 0.0;
+        precise vec3 c = s.delta * f;
+        precise float xu = ou - c[ua];
+        precise float xv = ov - c[va];
+        precise float su = xu * kf;
+        precise float sv = xv * kf;
+        precise float fu = floor(su + 0.5);
+        precise float fv = floor(sv + 0.5);
+        if (!(fu >= float(-rfu)) || !(fu < float(tnu - rfu))) continue;
+        if (!(fv >= float(-rfv)) || !(fv < float(tnv - rfv))) continue;
+        uint tr = uint(int(fu) + rfu) + uint(tnu) * uint(int(fv) + rfv);
+        uint q0 = tool_data[fw + tr], q1 = tool_data[fw + tr + 1u];
+        float ca = c[pc.axis];
+        for (uint q = q0; q < q1; ++q) {
+            precise float p0 = ca + uintBitsToFloat(tool_data[dw + 2u * q]);
+            precise float p1 = ca + uintBitsToFloat(tool_data[dw + 2u * q + 1u]);
+            precise float d0 = base + p0;
+            precise float d1 = base + p1;
+            uint r = apply_op(op, d0, d1, mat);
+            if (r == 2u) return 2u;
+            if (r == 1u) result = 1u;
+        }
+    }
+    return result;
+}
+
 void main() {
     uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
     int u = int(tile.x * 8u + gl_LocalInvocationID.x);
@@ -245,13 +302,16 @@ void main() {
         uint op = s.code & 0xffu;
         uint mat = (s.code >> 16) & 0xffu;
         if (op == 0u) continue;
+        if (((s.code >> 8) & 0xffu) == 2u) {
+            uint r = apply_mesh_sweep(s, u, v, op, mat);
+            if (r == 2u) { list_for_retry(ray); return; }
+            if (r == 1u) changed = true;
+            continue;
+        }
         for (uint st = 0u; st < s.stamps; ++st) {
             float d0, d1;
             if (!sweep_chord(s, u, v, st, d0, d1)) continue;
-            uint r = 0u;
-            if (op == 1u) r = subtract_span(d0, d1, mat);
-            else if (op == 2u) r = union_span(d0, d1, mat);
-            else if (op == 3u) r = paint_span(d0, d1, mat);
+            uint r = apply_op(op, d0, d1, mat);
             if (r == 2u) { list_for_retry(ray); return; }
             if (r == 1u) changed = true;
         }
