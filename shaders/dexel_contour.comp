@@ -4,9 +4,11 @@
 // (compute/contour_tile.cpp, contour_sample.cpp) step for step, in double precision with contraction
 // forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad diagonals agree:
 //  1. node occupancy of nodes c0-1 .. c0+17 from the X rays (enter <= x < exit; boundary nodes outside);
-//  2. per own cell: sign-change edges (counted: 2 triangles each) mark the 4 cells around them as used;
-//     a split face (contour_table.hpp merged_faces on both sides) near the tile flags it for the host;
-//  3. used cells (c0-1 .. c1-1) get vertex slots (one per surface component) by a shared counter;
+//  2. per row of own cells (32-bit masks skip uniform cells, as on the CPU): sign-change edges go to a
+//     shared edge list (2 triangles each) and mark the 4 cells around them as used; a split face
+//     (contour_table.hpp merged_faces on both sides) near the tile flags it for the host;
+//  3. used cells (c0-1 .. c1-1) get vertex slots (one per surface component) by a shared counter and go
+//     to a shared cell list (lists keep all 64 invocations busy in steps 4 and 5);
 //  4. if the tile's region is too small, the needs are reported and nothing is written (the old mesh
 //     stays drawable); otherwise each used component's vertex is placed at the mean of its crossings
 //     (clamped into the cell), with the material of the nearest crossing;
@@ -14,14 +16,16 @@
 // Tiles are self-contained: vertices owned by neighbour tiles are recomputed (same bits) into this tile's
 // region, so redoing one tile never invalidates another tile's indices.
 #version 450
+#extension GL_EXT_control_flow_attributes : require
 
 layout(local_size_x = 64) in;
 
 const int T = 16;     // cells per tile side (TileGrid::kTileCells)
 const int SPAN = 19;  // occupancy nodes per side (OccupancyBlock::kSpan)
 const int CS = 17;    // cached cells per side: c0-1 .. c0+15
-const uint NONE = 0xffffffffu;
-const uint MARK = 0xfffffffeu;
+const int CELLS = CS * CS * CS;
+const uint NONE16 = 0xffffu;          // vertex slot of an unused cell
+const uint EDGE_CAP = 5120u;          // shared edge list entries; more -> step 5 scans the cells instead
 
 // Ray sets X, Y, Z: meta, inline depths, inline materials, pool depths, pool materials (gpu_dexel_slabs.hpp).
 layout(std430, set = 0, binding = 0) readonly buffer M0 { uint meta0[]; };
@@ -56,9 +60,15 @@ layout(push_constant) uniform Push {
     uint job_base;
 } pc;
 
+// 32 KiB of shared memory (lavapipe's limit): 16-bit entries, two per uint.
 shared uint occ[SPAN * SPAN];
-shared uint vbase[CS * CS * CS];
-shared uint s_vcount, s_icount, s_flags, s_icursor;
+shared uint vslot[(CELLS + 1) / 2];     // per cached cell: first vertex slot, or NONE16 (step 2: 1 = used)
+shared uint cell_list[(CELLS + 1) / 2]; // used cached cells (index into the 17^3 cache)
+shared uint edge_list[EDGE_CAP / 2];    // own sign-change edges: local cell x + 16 y + 256 z | axis << 12
+shared uint s_vcount, s_icount, s_flags, s_icursor, s_cells, s_edges;
+
+uint get16(uint w, uint i) { return (w >> (16u * (i & 1u))) & 0xffffu; }
+uint vbase(uint i) { return get16(vslot[i >> 1], i); }
 
 ivec3 lo;   // node c0 - 1
 ivec3 c0;
@@ -166,63 +176,69 @@ bool face_split(ivec3 lower, int f) {
 }
 
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
+// Loops over the 12 edges and 4 components are unrolled so the per-edge arrays stay in registers; the
+// sums run in the CPU's order (ascending edge per component), so the doubles are the same.
 void place_vertices(ivec3 cell, uint base) {
     int cfg = config(cell);
-    dvec3 sum[4] = dvec3[4](dvec3(0.0lf), dvec3(0.0lf), dvec3(0.0lf), dvec3(0.0lf));
-    int count[4] = int[4](0, 0, 0, 0);
-    dvec3 point[12];
-    uint mat[12];
-    int owner[12];
-    int crossings = 0;
-    for (int e = 0; e < 12; ++e) {
-        int comp = edge_component(cfg, e);
-        if (comp < 0) continue;
-        int a = e / 4;
+    int comps = components(cfg);
+    double tq[12];
+    uint mq[12];
+    int cq[12];
+    [[unroll]] for (int e = 0; e < 12; ++e) {
+        cq[e] = edge_component(cfg, e);
+        tq[e] = 0.0lf;
+        mq[e] = 0u;
+        if (cq[e] < 0) continue;
+        const int a = e / 4;
         ivec3 off = ivec3(0);
         off[(a + 1) % 3] = e & 1;
         off[(a + 2) % 3] = (e >> 1) & 1;
-        int corner = off.x + 2 * off.y + 4 * off.z;
-        ivec3 p = cell + off;
+        const int corner = off.x + 2 * off.y + 4 * off.z;
         uint m;
-        double t = edge_crossing(a, p, ((cfg >> corner) & 1) != 0, m);
-        dvec3 q = dvec3(p);
-        q[a] = t;
-        point[crossings] = q;
-        mat[crossings] = m;
-        owner[crossings] = comp;
-        ++crossings;
-        precise dvec3 s = sum[comp] + q;
-        sum[comp] = s;
-        ++count[comp];
+        tq[e] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m);
+        mq[e] = m;
     }
     dvec3 clo = dvec3(cell);
-    int comps = components(cfg);
-    dvec3 pos[4];
-    uint best_mat[4];
-    double best_d2[4];
-    for (int c = 0; c < comps; ++c) {
-        precise dvec3 mean = sum[c] / double(count[c]);
-        pos[c] = min(max(mean, clo), clo + dvec3(1.0lf));
-        best_d2[c] = -1.0lf;
-        best_mat[c] = 0u;
-    }
-    for (int i = 0; i < crossings; ++i) {
-        int c = owner[i];
-        precise dvec3 d = point[i] - pos[c];
-        double d2 = dot3(d);
-        if (best_d2[c] < 0.0lf || d2 < best_d2[c] || (d2 == best_d2[c] && mat[i] > best_mat[c])) {
-            best_d2[c] = d2;
-            best_mat[c] = mat[i];
-        }
-    }
     uint voff = region[job_tile[pc.job_base + gl_WorkGroupID.x]].x;
-    for (int c = 0; c < comps; ++c) {
+    [[unroll]] for (int c = 0; c < 4; ++c) {
+        if (c >= comps) break;
+        dvec3 sum = dvec3(0.0lf);
+        int count = 0;
+        [[unroll]] for (int e = 0; e < 12; ++e) {
+            if (cq[e] != c) continue;
+            const int a = e / 4;
+            dvec3 q = clo;
+            q[(a + 1) % 3] += double(e & 1);
+            q[(a + 2) % 3] += double((e >> 1) & 1);
+            q[a] = tq[e];
+            precise dvec3 s = sum + q;
+            sum = s;
+            ++count;
+        }
+        precise dvec3 mean = sum / double(count);
+        dvec3 pos = min(max(mean, clo), clo + dvec3(1.0lf));
+        double best_d2 = -1.0lf;
+        uint best_mat = 0u;
+        [[unroll]] for (int e = 0; e < 12; ++e) {
+            if (cq[e] != c) continue;
+            const int a = e / 4;
+            dvec3 q = clo;
+            q[(a + 1) % 3] += double(e & 1);
+            q[(a + 2) % 3] += double((e >> 1) & 1);
+            q[a] = tq[e];
+            precise dvec3 d = q - pos;
+            double d2 = dot3(d);
+            if (best_d2 < 0.0lf || d2 < best_d2 || (d2 == best_d2 && mq[e] > best_mat)) {
+                best_d2 = d2;
+                best_mat = mq[e];
+            }
+        }
         uint v = voff + base + uint(c);
-        vtx[v].grid = vec3(pos[c]);
-        vtx[v].material = best_mat[c];
-        vd[3u * v] = pos[c].x;
-        vd[3u * v + 1u] = pos[c].y;
-        vd[3u * v + 2u] = pos[c].z;
+        vtx[v].grid = vec3(pos);
+        vtx[v].material = best_mat;
+        vd[3u * v] = pos.x;
+        vd[3u * v + 1u] = pos.y;
+        vd[3u * v + 2u] = pos.z;
     }
 }
 
@@ -247,6 +263,55 @@ bool own_cell(uint i, out ivec3 n) {
     return all(lessThan(n, c1));
 }
 
+// Step 2 for the sign-change edge from own node n along a: mark the cells around it, list it.
+void note_edge(ivec3 n, int a) {
+    int b = (a + 1) % 3, c = (a + 2) % 3;
+    ivec3 ring[4];
+    for (int r = 0; r < 4; ++r) {
+        ring[r] = ring_cell(n, a, r);
+        uint ci = cache_index(ring[r]);
+        atomicOr(vslot[ci >> 1], 1u << (16u * (ci & 1u)));
+    }
+    if (face_split(ring[0], b) || face_split(ring[1], c) || face_split(ring[3], b) || face_split(ring[0], c))
+        atomicOr(s_flags, 1u);
+    atomicAdd(s_icount, 6u);
+    uint at = atomicAdd(s_edges, 1u);
+    if (at < EDGE_CAP) {
+        ivec3 l = n - c0;
+        uint rec = uint(l.x + T * l.y + T * T * l.z) | (uint(a) << 12);
+        atomicOr(edge_list[at >> 1], rec << (16u * (at & 1u)));
+    }
+}
+
+// Step 5 for the sign-change edge from own node n along a (TileContourer::emit_edge without split faces).
+void emit_edge(ivec3 n, int a, uvec4 reg) {
+    bool in_n = inside(n);
+    uint v[4];
+    for (int r = 0; r < 4; ++r) {
+        ivec3 cell = ring_cell(n, a, r);
+        int comp = edge_component(config(cell), ring_local_edge(a, r));
+        v[r] = vbase(cache_index(cell)) + uint(comp);
+    }
+    uint o[4];
+    if (in_n) o = uint[4](v[0], v[1], v[2], v[3]);  // ring order has normal +a
+    else o = uint[4](v[0], v[3], v[2], v[1]);
+    dvec3 p[4];
+    for (int r = 0; r < 4; ++r) {
+        uint g = 3u * (reg.x + o[r]);
+        p[r] = dvec3(vd[g], vd[g + 1u], vd[g + 2u]);
+    }
+    precise dvec3 d02 = p[0] - p[2];
+    precise dvec3 d13 = p[1] - p[3];
+    uint at = reg.z + atomicAdd(s_icursor, 6u);
+    if (sqrt(dot3(d02)) <= sqrt(dot3(d13))) {
+        idx[at] = o[0]; idx[at + 1u] = o[1]; idx[at + 2u] = o[2];
+        idx[at + 3u] = o[0]; idx[at + 4u] = o[2]; idx[at + 5u] = o[3];
+    } else {
+        idx[at] = o[1]; idx[at + 1u] = o[2]; idx[at + 2u] = o[3];
+        idx[at + 3u] = o[1]; idx[at + 4u] = o[3]; idx[at + 5u] = o[0];
+    }
+}
+
 void main() {
     uint job = pc.job_base + gl_WorkGroupID.x;
     uint tile = job_tile[job];
@@ -256,7 +321,7 @@ void main() {
     c1 = min(c0 + ivec3(T), pc.cells.xyz);
     lo = c0 - ivec3(1);
     uint lid = gl_LocalInvocationIndex;
-    if (lid == 0u) { s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; }
+    if (lid == 0u) { s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_cells = 0u; s_edges = 0u; }
 
     // 1. occupancy (OccupancyBlock::fill)
     int i_lo = max(1, lo.x), i_hi = min(pc.cells.x - 1, lo.x + SPAN - 1);
@@ -282,90 +347,81 @@ void main() {
         }
         occ[w] = mask;
     }
-    for (uint w = lid; w < uint(CS * CS * CS); w += 64u) vbase[w] = NONE;
+    for (uint w = lid; w < uint((CELLS + 1) / 2); w += 64u) { vslot[w] = 0u; cell_list[w] = 0u; }
+    for (uint w = lid; w < EDGE_CAP / 2u; w += 64u) edge_list[w] = 0u;
     barrier();
 
-    // 2. sign-change edges of own cells: count, mark the cells around them, look for split faces
-    for (uint i = lid; i < uint(T * T * T); i += 64u) {
-        ivec3 n;
-        if (!own_cell(i, n)) continue;
-        int cfg = config(n);
-        if (cfg == 0 || cfg == 255) continue;
-        bool in_n = inside(n);
-        for (int f = 0; f < 3; ++f)
-            if (n[f] >= 1 && face_split(n - unit(f), f)) atomicOr(s_flags, 1u);
-        for (int a = 0; a < 3; ++a) {
-            if (inside(n + unit(a)) == in_n) continue;
-            int b = (a + 1) % 3, c = (a + 2) % 3;
-            ivec3 ring[4];
-            for (int r = 0; r < 4; ++r) {
-                ring[r] = ring_cell(n, a, r);
-                vbase[cache_index(ring[r])] = MARK;
-            }
-            if (face_split(ring[0], b) || face_split(ring[1], c) || face_split(ring[3], b) || face_split(ring[0], c))
-                atomicOr(s_flags, 1u);
-            atomicAdd(s_icount, 6u);
+    // 2. per row (j, k) of own cells, the non-uniform ones (TileContourer::run's row masks)
+    int nx = c1.x - c0.x;
+    uint range = nx > 0 ? ((1u << uint(nx)) - 1u) << 1 : 0u;  // bit b: the cell with min node lo.x + b
+    for (uint w = lid; w < uint(T * T); w += 64u) {
+        int j = c0.y + int(w) % T, k = c0.z + int(w) / T;
+        if (j >= c1.y || k >= c1.z) continue;
+        uint r0 = row(j, k), r1 = row(j + 1, k), r2 = row(j, k + 1), r3 = row(j + 1, k + 1);
+        uint any_in = r0 | r1 | r2 | r3, all_in = r0 & r1 & r2 & r3;
+        uint uniform_cells = (~any_in & ~(any_in >> 1)) | (all_in & (all_in >> 1));
+        uint todo = ~uniform_cells & range;
+        while (todo != 0u) {
+            int b = findLSB(todo);
+            todo &= todo - 1u;
+            ivec3 n = ivec3(lo.x + b, j, k);
+            for (int f = 0; f < 3; ++f)
+                if (n[f] >= 1 && face_split(n - unit(f), f)) atomicOr(s_flags, 1u);
+            bool in_n = inside(n);
+            for (int a = 0; a < 3; ++a)
+                if (inside(n + unit(a)) != in_n) note_edge(n, a);
         }
     }
     barrier();
 
-    // 3. vertex slots of the used cells
-    for (uint w = lid; w < uint(CS * CS * CS); w += 64u) {
-        if (vbase[w] != MARK) continue;
-        ivec3 cell = lo + ivec3(int(w) % CS, (int(w) / CS) % CS, int(w) / (CS * CS));
-        vbase[w] = atomicAdd(s_vcount, uint(components(config(cell))));
+    // 3. vertex slots and the list of the used cells (both halves of a word by one invocation)
+    for (uint w = lid; w < uint((CELLS + 1) / 2); w += 64u) {
+        uint word = vslot[w], out_word = 0u;
+        for (uint h = 0u; h < 2u; ++h) {
+            uint ci = 2u * w + h;
+            uint slot = NONE16;
+            if (ci < uint(CELLS) && get16(word, h) != 0u) {
+                ivec3 cell = lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS));
+                slot = atomicAdd(s_vcount, uint(components(config(cell))));
+                uint at = atomicAdd(s_cells, 1u);
+                atomicOr(cell_list[at >> 1], ci << (16u * (at & 1u)));
+            }
+            out_word |= slot << (16u * h);
+        }
+        vslot[w] = out_word;
     }
     barrier();
     uvec4 reg = region[tile];
-    uint flags = s_flags, vcount = s_vcount, icount = s_icount;
+    uint flags = s_flags, vcount = s_vcount, icount = s_icount, ncells = s_cells, nedges = s_edges;
     if (flags != 0u || vcount > reg.y || icount > reg.w) {
         if (lid == 0u) status[job] = uvec4(flags != 0u ? 2u : 1u, vcount, icount, 0u);
         return;
     }
 
-    // 4. vertices
-    for (uint w = lid; w < uint(CS * CS * CS); w += 64u) {
-        uint base = vbase[w];
-        if (base == NONE) continue;
-        place_vertices(lo + ivec3(int(w) % CS, (int(w) / CS) % CS, int(w) / (CS * CS)), base);
+    // 4. vertices of the used cells
+    for (uint i = lid; i < ncells; i += 64u) {
+        uint ci = get16(cell_list[i >> 1], i);
+        place_vertices(lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS)), vbase(ci));
     }
     memoryBarrierBuffer();
     barrier();
 
-    // 5. one quad per sign-change edge, split along the shorter diagonal, outward (TileContourer::emit_edge)
-    for (uint i = lid; i < uint(T * T * T); i += 64u) {
-        ivec3 n;
-        if (!own_cell(i, n)) continue;
-        int cfg = config(n);
-        if (cfg == 0 || cfg == 255) continue;
-        bool in_n = inside(n);
-        for (int a = 0; a < 3; ++a) {
-            if (inside(n + unit(a)) == in_n) continue;
-            uint v[4];
-            for (int r = 0; r < 4; ++r) {
-                ivec3 cell = ring_cell(n, a, r);
-                int comp = edge_component(config(cell), ring_local_edge(a, r));
-                v[r] = vbase[cache_index(cell)] + uint(comp);
-            }
-            uint o[4];
-            if (in_n) o = uint[4](v[0], v[1], v[2], v[3]);  // ring order has normal +a
-            else o = uint[4](v[0], v[3], v[2], v[1]);
-
-            dvec3 p[4];
-            for (int r = 0; r < 4; ++r) {
-                uint g = 3u * (reg.x + o[r]);
-                p[r] = dvec3(vd[g], vd[g + 1u], vd[g + 2u]);
-            }
-            precise dvec3 d02 = p[0] - p[2];
-            precise dvec3 d13 = p[1] - p[3];
-            uint at = reg.z + atomicAdd(s_icursor, 6u);
-            if (sqrt(dot3(d02)) <= sqrt(dot3(d13))) {
-                idx[at] = o[0]; idx[at + 1u] = o[1]; idx[at + 2u] = o[2];
-                idx[at + 3u] = o[0]; idx[at + 4u] = o[2]; idx[at + 5u] = o[3];
-            } else {
-                idx[at] = o[1]; idx[at + 1u] = o[2]; idx[at + 2u] = o[3];
-                idx[at + 3u] = o[1]; idx[at + 4u] = o[3]; idx[at + 5u] = o[0];
-            }
+    // 5. one quad per sign-change edge, split along the shorter diagonal, outward
+    if (nedges <= EDGE_CAP) {
+        for (uint i = lid; i < nedges; i += 64u) {
+            uint rec = get16(edge_list[i >> 1], i);
+            uint l = rec & 4095u;
+            emit_edge(c0 + ivec3(int(l) % T, (int(l) / T) % T, int(l) / (T * T)), int(rec >> 12), reg);
+        }
+    } else {  // the list overflowed: scan the own cells
+        for (uint i = lid; i < uint(T * T * T); i += 64u) {
+            ivec3 n;
+            if (!own_cell(i, n)) continue;
+            int cfg = config(n);
+            if (cfg == 0 || cfg == 255) continue;
+            bool in_n = inside(n);
+            for (int a = 0; a < 3; ++a)
+                if (inside(n + unit(a)) != in_n) emit_edge(n, a, reg);
         }
     }
     if (lid == 0u) {
