@@ -265,15 +265,12 @@ bool own_cell(uint i, out ivec3 n) {
 
 // Step 2 for the sign-change edge from own node n along a: mark the cells around it, list it.
 void note_edge(ivec3 n, int a) {
-    int b = (a + 1) % 3, c = (a + 2) % 3;
     ivec3 ring[4];
     for (int r = 0; r < 4; ++r) {
         ring[r] = ring_cell(n, a, r);
         uint ci = cache_index(ring[r]);
         atomicOr(vslot[ci >> 1], 1u << (16u * (ci & 1u)));
     }
-    if (face_split(ring[0], b) || face_split(ring[1], c) || face_split(ring[3], b) || face_split(ring[0], c))
-        atomicOr(s_flags, 1u);
     atomicAdd(s_icount, 6u);
     uint at = atomicAdd(s_edges, 1u);
     if (at < EDGE_CAP) {
@@ -351,22 +348,28 @@ void main() {
     for (uint w = lid; w < EDGE_CAP / 2u; w += 64u) edge_list[w] = 0u;
     barrier();
 
-    // 2. per row (j, k) of own cells, the non-uniform ones (TileContourer::run's row masks)
+    // 2. per row (j, k) of cached cells, the non-uniform ones (TileContourer::run's row masks): any split
+    // face between two cached cells flags the tile (a superset of the faces the CPU would split for this
+    // tile: its own cells' faces and the faces around its edges); own cells list their sign-change edges.
     int nx = c1.x - c0.x;
-    uint range = nx > 0 ? ((1u << uint(nx)) - 1u) << 1 : 0u;  // bit b: the cell with min node lo.x + b
-    for (uint w = lid; w < uint(T * T); w += 64u) {
-        int j = c0.y + int(w) % T, k = c0.z + int(w) / T;
+    uint range = (2u << uint(nx)) - 1u;  // bit b: the cell with min node lo.x + b, b = 0 .. nx
+    for (uint w = lid; w < uint(CS * CS); w += 64u) {
+        int j = lo.y + int(w) % CS, k = lo.z + int(w) / CS;
         if (j >= c1.y || k >= c1.z) continue;
         uint r0 = row(j, k), r1 = row(j + 1, k), r2 = row(j, k + 1), r3 = row(j + 1, k + 1);
         uint any_in = r0 | r1 | r2 | r3, all_in = r0 & r1 & r2 & r3;
         uint uniform_cells = (~any_in & ~(any_in >> 1)) | (all_in & (all_in >> 1));
         uint todo = ~uniform_cells & range;
+        bool own_row = j >= c0.y && k >= c0.z;
         while (todo != 0u) {
             int b = findLSB(todo);
             todo &= todo - 1u;
             ivec3 n = ivec3(lo.x + b, j, k);
-            for (int f = 0; f < 3; ++f)
-                if (n[f] >= 1 && face_split(n - unit(f), f)) atomicOr(s_flags, 1u);
+            uint m = merged(config(n));
+            if (m != 0u)
+                for (int f = 0; f < 3; ++f)
+                    if (((m >> uint(2 * f + 1)) & 1u) != 0u && n[f] + 1 < c1[f] && face_split(n, f)) atomicOr(s_flags, 1u);
+            if (!own_row || b == 0) continue;
             bool in_n = inside(n);
             for (int a = 0; a < 3; ++a)
                 if (inside(n + unit(a)) != in_n) note_edge(n, a);
