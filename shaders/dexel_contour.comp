@@ -65,7 +65,7 @@ shared uint occ[SPAN * SPAN];
 shared uint vslot[(CELLS + 1) / 2];     // per cached cell: first vertex slot, or NONE16 (step 2: 1 = used)
 shared uint cell_list[(CELLS + 1) / 2]; // used cached cells (index into the 17^3 cache)
 shared uint edge_list[EDGE_CAP / 2];    // own sign-change edges: local cell x + 16 y + 256 z | axis << 12
-shared uint s_vcount, s_icount, s_flags, s_icursor, s_cells, s_edges;
+shared uint s_vcount, s_icount, s_flags, s_icursor, s_edges;
 
 uint get16(uint w, uint i) { return (w >> (16u * (i & 1u))) & 0xffffu; }
 uint vbase(uint i) { return get16(vslot[i >> 1], i); }
@@ -318,7 +318,7 @@ void main() {
     c1 = min(c0 + ivec3(T), pc.cells.xyz);
     lo = c0 - ivec3(1);
     uint lid = gl_LocalInvocationIndex;
-    if (lid == 0u) { s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_cells = 0u; s_edges = 0u; }
+    if (lid == 0u) { s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_edges = 0u; }
 
     // 1. occupancy (OccupancyBlock::fill)
     int i_lo = max(1, lo.x), i_hi = min(pc.cells.x - 1, lo.x + SPAN - 1);
@@ -385,8 +385,10 @@ void main() {
             uint slot = NONE16;
             if (ci < uint(CELLS) && get16(word, h) != 0u) {
                 ivec3 cell = lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS));
-                slot = atomicAdd(s_vcount, uint(components(config(cell))));
-                uint at = atomicAdd(s_cells, 1u);
+                // One atomic for both counters: vertices in bits 0-15 (< 4 x 17^3), cells in bits 16-31.
+                uint both = atomicAdd(s_vcount, uint(components(config(cell))) | (1u << 16));
+                slot = both & 0xffffu;
+                uint at = both >> 16;
                 atomicOr(cell_list[at >> 1], ci << (16u * (at & 1u)));
             }
             out_word |= slot << (16u * h);
@@ -395,7 +397,7 @@ void main() {
     }
     barrier();
     uvec4 reg = region[tile];
-    uint flags = s_flags, vcount = s_vcount, icount = s_icount, ncells = s_cells, nedges = s_edges;
+    uint flags = s_flags, vcount = s_vcount & 0xffffu, icount = s_icount, ncells = s_vcount >> 16, nedges = s_edges;
     if (flags != 0u || vcount > reg.y || icount > reg.w) {
         if (lid == 0u) status[job] = uvec4(flags != 0u ? 2u : 1u, vcount, icount, 0u);
         return;
