@@ -4,9 +4,9 @@
 // (compute/contour_tile.cpp, contour_sample.cpp) step for step, in double precision with contraction
 // forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad diagonals agree:
 //  1. node occupancy of nodes c0-1 .. c0+17 from the X rays (enter <= x < exit; boundary nodes outside);
-//  2. per row of own cells (32-bit masks skip uniform cells, as on the CPU): sign-change edges go to a
-//     shared edge list (2 triangles each) and mark the 4 cells around them as used; a split face
-//     (contour_table.hpp merged_faces on both sides) near the tile flags it for the host;
+//  2. per row of cached cells (32-bit masks skip uniform cells, as on the CPU): a split face between two
+//     cached cells (contour_table.hpp merged_faces on both sides) flags the tile for the host; own cells'
+//     sign-change edges go to a shared edge list (2 triangles each) and mark the 4 cells around them used;
 //  3. used cells (c0-1 .. c1-1) get vertex slots (one per surface component) by a shared counter and go
 //     to a shared cell list (lists keep all 64 invocations busy in steps 4 and 5);
 //  4. if the tile's region is too small, the needs are reported and nothing is written (the old mesh

@@ -144,7 +144,9 @@ TEST(GpuContour, IncrementalUpdatesAfterGpuSculptingEqualTheCpuAndAFullRecontour
         Lattice L = cube_lattice(64);
         TriDexel mirror = TriDexel::empty(L, std::size_t{1} << 30);
         scan_convert(box_mesh(Aabb{L.to_world(Vec3(8.5)), L.to_world(Vec3(55.5))}), mirror);
-        GpuSculptor sculptor(ctx, mirror);
+        GpuSculptorOptions opt;
+        opt.initial_pool_chunks = 16;  // tiny spill pools: the sculptor replaces slab buffers (re-bound here)
+        GpuSculptor sculptor(ctx, mirror, opt);
         GpuContourer gpu(ctx, sculptor.slabs(), L, 512, 2048);
         Contourer cpu(mirror);
         gpu.update_dirty(mirror.tiles);
@@ -186,6 +188,7 @@ TEST(GpuContour, IncrementalUpdatesAfterGpuSculptingEqualTheCpuAndAFullRecontour
                   << gpu.stats().region_retries << " region retries, " << gpu.stats().pool_grows << " pool grows, "
                   << gpu.stats().tiles_cpu << " host tiles; final mesh " << d.gpu_triangles << " triangles\n";
         EXPECT_GT(gpu.stats().pool_grows, 0u);
+        EXPECT_GT(sculptor.stats().compactions, 0u);
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
