@@ -18,7 +18,8 @@
 #version 450
 #extension GL_EXT_control_flow_attributes : require
 
-layout(local_size_x = 64) in;
+const uint WG = 64u;  // invocations per workgroup
+layout(local_size_x = WG) in;
 
 const int T = 16;     // cells per tile side (TileGrid::kTileCells)
 const int SPAN = 19;  // occupancy nodes per side (OccupancyBlock::kSpan)
@@ -322,7 +323,7 @@ void main() {
 
     // 1. occupancy (OccupancyBlock::fill)
     int i_lo = max(1, lo.x), i_hi = min(pc.cells.x - 1, lo.x + SPAN - 1);
-    for (uint w = lid; w < uint(SPAN * SPAN); w += 64u) {
+    for (uint w = lid; w < uint(SPAN * SPAN); w += WG) {
         int j = lo.y + int(w) % SPAN, k = lo.z + int(w) / SPAN;
         uint mask = 0u;
         if (i_lo <= i_hi && j >= 1 && j <= pc.cells.y - 1 && k >= 1 && k <= pc.cells.z - 1) {
@@ -344,8 +345,8 @@ void main() {
         }
         occ[w] = mask;
     }
-    for (uint w = lid; w < uint((CELLS + 1) / 2); w += 64u) { vslot[w] = 0u; cell_list[w] = 0u; }
-    for (uint w = lid; w < EDGE_CAP / 2u; w += 64u) edge_list[w] = 0u;
+    for (uint w = lid; w < uint((CELLS + 1) / 2); w += WG) { vslot[w] = 0u; cell_list[w] = 0u; }
+    for (uint w = lid; w < EDGE_CAP / 2u; w += WG) edge_list[w] = 0u;
     barrier();
 
     // 2. per row (j, k) of cached cells, the non-uniform ones (TileContourer::run's row masks): any split
@@ -353,7 +354,7 @@ void main() {
     // tile: its own cells' faces and the faces around its edges); own cells list their sign-change edges.
     int nx = c1.x - c0.x;
     uint range = (2u << uint(nx)) - 1u;  // bit b: the cell with min node lo.x + b, b = 0 .. nx
-    for (uint w = lid; w < uint(CS * CS); w += 64u) {
+    for (uint w = lid; w < uint(CS * CS); w += WG) {
         int j = lo.y + int(w) % CS, k = lo.z + int(w) / CS;
         if (j >= c1.y || k >= c1.z) continue;
         uint r0 = row(j, k), r1 = row(j + 1, k), r2 = row(j, k + 1), r3 = row(j + 1, k + 1);
@@ -378,7 +379,7 @@ void main() {
     barrier();
 
     // 3. vertex slots and the list of the used cells (both halves of a word by one invocation)
-    for (uint w = lid; w < uint((CELLS + 1) / 2); w += 64u) {
+    for (uint w = lid; w < uint((CELLS + 1) / 2); w += WG) {
         uint word = vslot[w], out_word = 0u;
         for (uint h = 0u; h < 2u; ++h) {
             uint ci = 2u * w + h;
@@ -404,7 +405,7 @@ void main() {
     }
 
     // 4. vertices of the used cells
-    for (uint i = lid; i < ncells; i += 64u) {
+    for (uint i = lid; i < ncells; i += WG) {
         uint ci = get16(cell_list[i >> 1], i);
         place_vertices(lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS)), vbase(ci));
     }
@@ -413,13 +414,13 @@ void main() {
 
     // 5. one quad per sign-change edge, split along the shorter diagonal, outward
     if (nedges <= EDGE_CAP) {
-        for (uint i = lid; i < nedges; i += 64u) {
+        for (uint i = lid; i < nedges; i += WG) {
             uint rec = get16(edge_list[i >> 1], i);
             uint l = rec & 4095u;
             emit_edge(c0 + ivec3(int(l) % T, (int(l) / T) % T, int(l) / (T * T)), int(rec >> 12), reg);
         }
     } else {  // the list overflowed: scan the own cells
-        for (uint i = lid; i < uint(T * T * T); i += 64u) {
+        for (uint i = lid; i < uint(T * T * T); i += WG) {
             ivec3 n;
             if (!own_cell(i, n)) continue;
             int cfg = config(n);
