@@ -1,5 +1,5 @@
 // compute/gpu_contourer.cpp - the contouring pipeline, its descriptors, and update(): dispatch, read the
-// per-tile status, re-allocate and redispatch tiles whose region was too small, host-contour split tiles.
+// per-tile status, re-allocate and redispatch tiles whose region was too small, host-contour tiles the kernel hands back.
 #include "compute/gpu_contourer.hpp"
 
 #include <algorithm>
@@ -192,6 +192,7 @@ std::size_t GpuContourer::update(std::span<const std::uint32_t> tiles) {
             if (status[4 * j] == kOk) {
                 regions_[jobs[j]].vused = status[4 * j + 1];
                 regions_[jobs[j]].iused = status[4 * j + 2];
+                stats_.split_faces_gpu += status[4 * j + 3];
                 ++stats_.tiles_gpu;
             }
         for (std::size_t j = 0; j < jobs.size(); ++j) {

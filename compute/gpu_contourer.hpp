@@ -32,12 +32,13 @@ static_assert(sizeof(GpuContourVertex) == 16);
 struct GpuContourStats {
     std::uint64_t updates = 0;          ///< update() calls with at least one tile
     std::uint64_t tiles_gpu = 0;        ///< tile contours written by the GPU kernel
-    std::uint64_t tiles_cpu = 0;        ///< tiles with a split face (sub-cell tunnel), contoured on the host
+    std::uint64_t tiles_cpu = 0;        ///< tiles contoured on the host (> 128 split faces, or split faces and > 4096 edges)
+    std::uint64_t split_faces_gpu = 0;  ///< split faces (sub-cell tunnels) the kernel handled, summed over tile contours
     std::uint64_t region_retries = 0;   ///< tiles whose region was too small: re-allocated and redispatched
     std::uint64_t pool_grows = 0;       ///< vertex/index pools reallocated (compacted, usually grown)
     std::uint64_t dispatches = 0;       ///< vkCmdDispatch calls
     std::size_t last_tiles = 0;         ///< tiles redone by the last update()
-    std::size_t last_cpu_tiles = 0;     ///< of those, contoured on the host (split faces)
+    std::size_t last_cpu_tiles = 0;     ///< of those, contoured on the host
 };
 
 /// GPU manifold dual contouring of the tiles of a tri-dexel model held in GpuDexelSlabs.
@@ -47,9 +48,11 @@ struct GpuContourStats {
 /// its crossings clamped into the cell, one quad per sign-change edge split along the shorter diagonal),
 /// in shaders/dexel_contour.comp, one workgroup per tile, in double precision without contraction: vertex
 /// positions equal the CPU's doubles bit for bit (the float vertex buffer rounds them: |error| <= 2^-24 x
-/// |grid coordinate|), and the triangles are the same. Tiles where the CPU applies its face-split rule
-/// (a tunnel thinner than a cell; contour_tile.hpp) are detected on the GPU and contoured on the host with
-/// contour::TileContourer from rays read out of the slabs (counted in GpuContourStats::tiles_cpu).
+/// |grid coordinate|), and the triangles are the same, including the face-split rule for tunnels thinner
+/// than a cell (contour_tile.hpp: split-face vertices, fans around edge crossings). Tiles with more split
+/// faces or edges than the kernel's shared lists hold (> 128 split faces, or split faces and > 4096 edges;
+/// only dense random occupancy gets there) are contoured on the host with contour::TileContourer from
+/// rays read out of the slabs (counted in GpuContourStats::tiles_cpu).
 ///
 /// Buffers: tile t owns a vertex region and an index region inside shared pools; its indices are local
 /// to its vertex region, and its draw command (VkDrawIndexedIndirectCommand, 20 bytes, at t * 20 of
@@ -121,7 +124,7 @@ private:
     void reserve(std::uint32_t tile, std::uint32_t nv, std::uint32_t ni);
     void regrow(std::size_t extra_v, std::size_t extra_i);
     void write_command(std::uint32_t tile);
-    /// Contours `tile` on the host from the slabs (split-face tiles) and writes it into its region.
+    /// Contours `tile` on the host from the slabs (tiles the kernel hands back) and writes it into its region.
     void contour_on_host(std::uint32_t tile);
     const contour::TileMesh& host_piece(std::uint32_t tile);
     void fill_scratch_rays(std::uint32_t tile);

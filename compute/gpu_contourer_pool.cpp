@@ -1,5 +1,5 @@
 // compute/gpu_contourer_pool.cpp - the GPU contourer's per-tile regions (allocation, compaction, growth),
-// host contouring of split-face tiles from rays read out of the slabs, and read-back for tests.
+// host contouring of tiles beyond the kernel's lists from rays read out of the slabs, read-back for tests.
 #include "compute/gpu_contourer.hpp"
 
 #include <algorithm>

@@ -4,15 +4,19 @@
 // (compute/contour_tile.cpp, contour_sample.cpp) step for step, in double precision with contraction
 // forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad diagonals agree:
 //  1. node occupancy of nodes c0-1 .. c0+17 from the X rays (enter <= x < exit; boundary nodes outside);
-//  2. per row of cached cells (32-bit masks skip uniform cells, as on the CPU): a split face between two
-//     cached cells (contour_table.hpp merged_faces on both sides) flags the tile for the host; own cells'
-//     sign-change edges go to a shared edge list (2 triangles each) and mark the 4 cells around them used;
+//  2. per row of cached cells (32-bit masks skip uniform cells, as on the CPU): split faces between two
+//     cached cells (contour_table.hpp merged_faces on both sides: tunnels thinner than a cell) go to a
+//     face list; own cells' sign-change edges go to an edge list (2 triangles each) and mark the 4 cells
+//     around them used; edges with a split face around them become fans (2b). More than FACE_CAP split
+//     faces, or split faces with more than EDGE_CAP edges, flag the tile for the host (CPU contourer);
 //  3. used cells (c0-1 .. c1-1) get vertex slots (one per surface component) by a shared counter and go
 //     to a shared cell list (lists keep all 64 invocations busy in steps 4 and 5);
 //  4. if the tile's region is too small, the needs are reported and nothing is written (the old mesh
 //     stays drawable); otherwise each used component's vertex is placed at the mean of its crossings
 //     (clamped into the cell), with the material of the nearest crossing;
-//  5. each sign-change edge emits its quad, split along the shorter diagonal, with tile-local indices.
+//     split faces get one vertex per inside corner (mean of that corner's two face-edge crossings);
+//  5. each sign-change edge emits its quad, split along the shorter diagonal, or, next to a split face, a
+//     fan around its crossing point through the split faces' vertices; tile-local indices.
 // Tiles are self-contained: vertices owned by neighbour tiles are recomputed (same bits) into this tile's
 // region, so redoing one tile never invalidates another tile's indices.
 #version 450
@@ -26,7 +30,8 @@ const int SPAN = 19;  // occupancy nodes per side (OccupancyBlock::kSpan)
 const int CS = 17;    // cached cells per side: c0-1 .. c0+15
 const int CELLS = CS * CS * CS;
 const uint NONE16 = 0xffffu;          // vertex slot of an unused cell
-const uint EDGE_CAP = 5120u;          // shared edge list entries; more -> step 5 scans the cells instead
+const uint EDGE_CAP = 4096u;          // shared edge list entries; more -> step 5 scans the cells instead
+const uint FACE_CAP = 128u;           // split faces a tile may hold on the GPU; more -> contoured on the host
 
 // Ray sets X, Y, Z: meta, inline depths, inline materials, pool depths, pool materials (gpu_dexel_slabs.hpp).
 layout(std430, set = 0, binding = 0) readonly buffer M0 { uint meta0[]; };
@@ -48,7 +53,7 @@ layout(std430, set = 0, binding = 14) readonly buffer Q2 { uint pom2[]; };
 layout(std430, set = 0, binding = 15) readonly buffer Cases { uvec4 cases[]; };
 layout(std430, set = 0, binding = 16) readonly buffer Jobs { uint job_tile[]; };
 layout(std430, set = 0, binding = 17) readonly buffer Regions { uvec4 region[]; };  // voff, vcap, ioff, icap
-layout(std430, set = 0, binding = 18) writeonly buffer Status { uvec4 status[]; };  // state, vertices, indices, 0
+layout(std430, set = 0, binding = 18) writeonly buffer Status { uvec4 status[]; };  // state, vertices, indices, split faces
 struct Vertex { vec3 grid; uint material; };
 layout(std430, set = 0, binding = 19) writeonly buffer Vertices { Vertex vtx[]; };
 layout(std430, set = 0, binding = 20) coherent buffer VertexD { double vd[]; };     // 3 per vertex, grid units
@@ -65,8 +70,9 @@ layout(push_constant) uniform Push {
 shared uint occ[SPAN * SPAN];
 shared uint vslot[(CELLS + 1) / 2];     // per cached cell: first vertex slot, or NONE16 (step 2: 1 = used)
 shared uint cell_list[(CELLS + 1) / 2]; // used cached cells (index into the 17^3 cache)
-shared uint edge_list[EDGE_CAP / 2];    // own sign-change edges: local cell x + 16 y + 256 z | axis << 12
-shared uint s_vcount, s_icount, s_flags, s_icursor, s_edges;
+shared uint edge_list[EDGE_CAP / 2];    // own sign-change edges: local cell x + 16 y + 256 z | axis << 12 | fan << 15
+shared uint face_list[FACE_CAP];        // split faces between cached cells: lower cell's cache index | f << 13
+shared uint s_vcount, s_icount, s_flags, s_icursor, s_edges, s_faces, s_fans, s_face_base, s_fan_base, s_fan_cursor;
 
 uint get16(uint w, uint i) { return (w >> (16u * (i & 1u))) & 0xffffu; }
 uint vbase(uint i) { return get16(vslot[i >> 1], i); }
@@ -310,6 +316,112 @@ void emit_edge(ivec3 n, int a, uvec4 reg) {
     }
 }
 
+// The face around edge (n, a) between ring cells r and r + 1 (TileContourer::emit_edge): lower cell, axis.
+void ring_face(ivec3 n, int a, int r, out ivec3 lower, out int g) {
+    const int fr[4] = int[4](0, 1, 3, 0);
+    lower = ring_cell(n, a, fr[r]);
+    g = (r & 1) == 0 ? (a + 1) % 3 : (a + 2) % 3;
+}
+
+// Index of split face (lower, g) in the face list, or NONE16 when it is not split.
+uint face_index_of(ivec3 lower, int g) {
+    uint key = cache_index(lower) | (uint(g) << 13);
+    uint nfaces = min(s_faces, FACE_CAP);
+    for (uint i = 0u; i < nfaces; ++i)
+        if (face_list[i] == key) return i;
+    return NONE16;
+}
+
+// The segment vertices of split face i (TileContourer::emit_split_face): for each inside corner of the
+// face, the mean of the crossings on the face's two edges at that corner (material: the nearer crossing,
+// ties to the larger id). Outside corners' slots get the face centre (never referenced).
+void place_face_vertices(uint i, uint v0) {
+    uint key = face_list[i];
+    uint ci = key & 8191u;
+    int f = int(key >> 13), f1 = (f + 1) % 3, f2 = (f + 2) % 3;
+    ivec3 fmin = lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS)) + unit(f);
+    for (int idx = 0; idx < 4; ++idx) {
+        ivec3 p = fmin + (idx & 1) * unit(f1) + ((idx >> 1) & 1) * unit(f2);
+        dvec3 pos = dvec3(fmin);
+        pos[f1] += 0.5lf;
+        pos[f2] += 0.5lf;
+        uint mat = 0u;
+        if (inside(p)) {
+            dvec3 pts[2];
+            uint mats[2];
+            for (int m = 0; m < 2; ++m) {
+                int g = m == 0 ? f1 : f2;
+                int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
+                ivec3 s = p - off * unit(g);
+                uint em;
+                double t = edge_crossing(g, s, inside(s), em);
+                pts[m] = dvec3(s);
+                pts[m][g] = t;
+                mats[m] = em;
+            }
+            precise dvec3 sum = (dvec3(0.0lf) + pts[0]) + pts[1];
+            precise dvec3 half_sum = 0.5lf * sum;
+            pos = half_sum;
+            precise dvec3 d0 = pts[0] - pos;
+            precise dvec3 d1 = pts[1] - pos;
+            double e0 = dot3(d0), e1 = dot3(d1);
+            mat = mats[0];
+            if (e1 < e0 || (e1 == e0 && mats[1] > mat)) mat = mats[1];
+        }
+        uint v = v0 + uint(idx);
+        vtx[v].grid = vec3(pos);
+        vtx[v].material = mat;
+        vd[3u * v] = pos.x;
+        vd[3u * v + 1u] = pos.y;
+        vd[3u * v + 2u] = pos.z;
+    }
+}
+
+// Step 5 for an edge with split faces around it: a fan around the edge's crossing point through the ring
+// cells' vertices and the split faces' segment vertices at the edge's inside end (TileContourer::emit_edge).
+void emit_fan(ivec3 n, int a, uvec4 reg) {
+    bool start_in = inside(n);
+    ivec3 inside_end = start_in ? n : n + unit(a);
+    uint poly[8];
+    int count = 0;
+    for (int r = 0; r < 4; ++r) {
+        ivec3 cell = ring_cell(n, a, r);
+        poly[count++] = vbase(cache_index(cell)) + uint(edge_component(config(cell), ring_local_edge(a, r)));
+        ivec3 lower;
+        int g;
+        ring_face(n, a, r, lower, g);
+        uint fi = face_index_of(lower, g);
+        if (fi == NONE16) continue;
+        uint fs = s_face_base + 4u * fi;
+        ivec3 fmin = lower + unit(g);
+        int corner = (inside_end[(g + 1) % 3] - fmin[(g + 1) % 3]) + 2 * (inside_end[(g + 2) % 3] - fmin[(g + 2) % 3]);
+        poly[count++] = fs + uint(corner);
+    }
+    if (!start_in)  // outward normal is -a: reverse
+        for (int i = 0; i < count / 2; ++i) {
+            uint t = poly[i];
+            poly[i] = poly[count - 1 - i];
+            poly[count - 1 - i] = t;
+        }
+    uint centre = s_fan_base + atomicAdd(s_fan_cursor, 1u);
+    uint em;
+    double t = edge_crossing(a, n, start_in, em);
+    dvec3 pos = dvec3(n);
+    pos[a] = t;
+    uint v = reg.x + centre;
+    vtx[v].grid = vec3(pos);
+    vtx[v].material = em;
+    vd[3u * v] = pos.x;
+    vd[3u * v + 1u] = pos.y;
+    vd[3u * v + 2u] = pos.z;
+    uint at = reg.z + atomicAdd(s_icursor, 3u * uint(count));
+    for (int i = 0; i < count; ++i) {
+        idx[at + 3u * uint(i)] = centre;
+        idx[at + 3u * uint(i) + 1u] = poly[i];
+        idx[at + 3u * uint(i) + 2u] = poly[(i + 1) % count];
+    }
+}
+
 void main() {
     uint job = pc.job_base + gl_WorkGroupID.x;
     uint tile = job_tile[job];
@@ -319,7 +431,10 @@ void main() {
     c1 = min(c0 + ivec3(T), pc.cells.xyz);
     lo = c0 - ivec3(1);
     uint lid = gl_LocalInvocationIndex;
-    if (lid == 0u) { s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_edges = 0u; }
+    if (lid == 0u) {
+        s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_edges = 0u;
+        s_faces = 0u; s_fans = 0u; s_fan_cursor = 0u;
+    }
 
     // 1. occupancy (OccupancyBlock::fill)
     int i_lo = max(1, lo.x), i_hi = min(pc.cells.x - 1, lo.x + SPAN - 1);
@@ -369,11 +484,42 @@ void main() {
             uint m = merged(config(n));
             if (m != 0u)
                 for (int f = 0; f < 3; ++f)
-                    if (((m >> uint(2 * f + 1)) & 1u) != 0u && n[f] + 1 < c1[f] && face_split(n, f)) atomicOr(s_flags, 1u);
+                    if (((m >> uint(2 * f + 1)) & 1u) != 0u && n[f] + 1 < c1[f] && face_split(n, f)) {
+                        uint at = atomicAdd(s_faces, 1u);
+                        if (at < FACE_CAP) face_list[at] = cache_index(n) | (uint(f) << 13);
+                        else atomicOr(s_flags, 1u);
+                    }
             if (!own_row || b == 0) continue;
             bool in_n = inside(n);
             for (int a = 0; a < 3; ++a)
                 if (inside(n + unit(a)) != in_n) note_edge(n, a);
+        }
+    }
+    barrier();
+
+    // 2b. with split faces (tunnels thinner than a cell): an edge with a split face around it becomes a fan
+    // around its crossing point through the faces' segment vertices (TileContourer::emit_edge); count them.
+    uint nfaces = min(s_faces, FACE_CAP);
+    if (nfaces > 0u) {
+        if (s_edges > EDGE_CAP) {
+            if (lid == 0u) s_flags = 1u;  // no edge list to mark fans in: the host contours this tile
+        } else {
+            for (uint i = lid; i < s_edges; i += WG) {
+                uint rec = get16(edge_list[i >> 1], i), l = rec & 4095u;
+                ivec3 n = c0 + ivec3(int(l) % T, (int(l) / T) % T, int(l) / (T * T));
+                int a = int((rec >> 12) & 3u);
+                uint split = 0u;
+                for (int r = 0; r < 4; ++r) {
+                    ivec3 lower;
+                    int g;
+                    ring_face(n, a, r, lower, g);
+                    split += face_index_of(lower, g) != NONE16 ? 1u : 0u;
+                }
+                if (split == 0u) continue;
+                atomicOr(edge_list[i >> 1], 1u << (16u * (i & 1u) + 15u));
+                atomicAdd(s_fans, 1u);
+                atomicAdd(s_icount, 3u * (4u + split) - 6u);
+            }
         }
     }
     barrier();
@@ -396,6 +542,10 @@ void main() {
         }
         vslot[w] = out_word;
     }
+    if (lid == 0u) {  // 4 slots per split face (its inside corners' segment vertices), 1 per fan centre
+        s_face_base = atomicAdd(s_vcount, 4u * nfaces) & 0xffffu;
+        s_fan_base = atomicAdd(s_vcount, s_fans) & 0xffffu;
+    }
     barrier();
     uvec4 reg = region[tile];
     uint flags = s_flags, vcount = s_vcount & 0xffffu, icount = s_icount, ncells = s_vcount >> 16, nedges = s_edges;
@@ -409,6 +559,7 @@ void main() {
         uint ci = get16(cell_list[i >> 1], i);
         place_vertices(lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS)), vbase(ci));
     }
+    for (uint i = lid; i < nfaces; i += WG) place_face_vertices(i, reg.x + s_face_base + 4u * i);
     memoryBarrierBuffer();
     barrier();
 
@@ -417,7 +568,9 @@ void main() {
         for (uint i = lid; i < nedges; i += WG) {
             uint rec = get16(edge_list[i >> 1], i);
             uint l = rec & 4095u;
-            emit_edge(c0 + ivec3(int(l) % T, (int(l) / T) % T, int(l) / (T * T)), int(rec >> 12), reg);
+            ivec3 n = c0 + ivec3(int(l) % T, (int(l) / T) % T, int(l) / (T * T));
+            if ((rec >> 15) != 0u) emit_fan(n, int((rec >> 12) & 3u), reg);
+            else emit_edge(n, int((rec >> 12) & 3u), reg);
         }
     } else {  // the list overflowed: scan the own cells
         for (uint i = lid; i < uint(T * T * T); i += WG) {
@@ -436,6 +589,6 @@ void main() {
         cmd[5u * tile + 2u] = reg.z;
         cmd[5u * tile + 3u] = reg.x;  // vertexOffset (int32; regions stay below 2^31)
         cmd[5u * tile + 4u] = 0u;
-        status[job] = uvec4(0u, vcount, icount, 0u);
+        status[job] = uvec4(0u, vcount, icount, nfaces);
     }
 }

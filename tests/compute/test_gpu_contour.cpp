@@ -1,7 +1,7 @@
 // tests/compute/test_gpu_contour.cpp - GPU contouring (GpuContourer, shaders/dexel_contour.comp) against
 // the CPU Contourer: the same vertices (bit for bit as doubles; the drawn floats within 2^-24 relative),
 // the same oriented triangles, a closed 2-manifold, on scan-converted meshes, random occupancy (split
-// faces, contoured on the host), inconsistent rays, and after incremental GPU sculpting.
+// faces on the GPU; dense tiles on the host), inconsistent rays, and after incremental GPU sculpting.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -48,7 +48,7 @@ MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, const std
     else std::cout << "[ gpu contour ] " << label << ": " << cpu.stats().vertices - d.cpu_vertices
                    << " CPU vertices share a position with another; manifold check by position skipped\n";
     std::cout << "[ gpu contour ] " << label << ": " << d.gpu_triangles << " triangles, " << d.gpu_vertices
-              << " vertices, host-contoured (split-face) tiles " << gpu.stats().tiles_cpu << " of "
+              << " vertices, split faces on the GPU " << gpu.stats().split_faces_gpu << ", host-contoured tiles " << gpu.stats().tiles_cpu << " of "
               << gpu.stats().tiles_cpu + gpu.stats().tiles_gpu << ", region retries " << gpu.stats().region_retries
               << ", pool grows " << gpu.stats().pool_grows << ", max float error " << d.max_float_error << " cells\n";
     if (stats) *stats = gpu.stats();
@@ -101,16 +101,18 @@ TEST(GpuContour, ScanConvertedBoxSphereAndSharedMeshesGiveTheCpuMesh) {
 TEST(GpuContour, RandomOccupancyWithSplitFacesAndInconsistentRaysGiveTheCpuMesh) {
     gpu::Context ctx = gpu::Context::create({});
     {
-        std::uint64_t host_tiles = 0, gpu_tiles = 0;
+        std::uint64_t host_tiles = 0, gpu_tiles = 0, gpu_split_faces = 0;
         for (const double density : {0.1, 0.5, 0.85}) {
             TriDexel m = random_voxels(40, density, 3u);  // 3 x 3 x 3 tiles, the last ones partial
             GpuContourStats s;
             expect_same_contour(ctx, m, "random voxels density " + std::to_string(density), &s);
             host_tiles += s.tiles_cpu;
             gpu_tiles += s.tiles_gpu;
+            gpu_split_faces += s.split_faces_gpu;
         }
-        EXPECT_GT(host_tiles, 0u);  // split faces occur and take the host path
-        // Sparse random solids on a 5^3-tile lattice: most tiles without split faces run on the GPU.
+        EXPECT_GT(gpu_split_faces, 0u);  // the kernel's face-split rule runs
+        EXPECT_GT(host_tiles, 0u);       // dense random tiles overflow the kernel's lists: the host path runs
+        // Sparse random solids on a 5^3-tile lattice: every tile runs on the GPU.
         TriDexel sparse = random_voxels(80, 0.02, 5u);
         GpuContourStats s;
         expect_same_contour(ctx, sparse, "sparse random voxels", &s);

@@ -89,7 +89,7 @@ TEST(GpuContourBench, TilesContouredPerSecondAtN256) {
                   << "[ bench ] 8 strokes, " << stroke_tiles << " dirty tiles: gpu " << stroke_tiles / gpu_strokes
                   << " tiles_contoured_per_s (" << gpu_strokes * 1e3 / 8 << " ms per stroke), cpu-1t "
                   << stroke_tiles / cpu_strokes << " tiles_contoured_per_s (" << cpu_strokes * 1e3 / 8
-                  << " ms per stroke); host (split-face) tiles " << gpu.stats().tiles_cpu << "\n";
+                  << " ms per stroke); host-contoured tiles " << gpu.stats().tiles_cpu << "\n";
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
