@@ -21,6 +21,7 @@
 // region, so redoing one tile never invalidates another tile's indices.
 #version 450
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
 
 const uint WG = 64u;  // invocations per workgroup
 layout(local_size_x = WG) in;
@@ -33,22 +34,6 @@ const uint NONE16 = 0xffffu;          // vertex slot of an unused cell
 const uint EDGE_CAP = 4096u;          // shared edge list entries; more -> step 5 scans the cells instead
 const uint FACE_CAP = 128u;           // split faces a tile may hold on the GPU; more -> contoured on the host
 
-// Ray sets X, Y, Z: meta, inline depths, inline materials, pool depths, pool materials (gpu_dexel_slabs.hpp).
-layout(std430, set = 0, binding = 0) readonly buffer M0 { uint meta0[]; };
-layout(std430, set = 0, binding = 1) readonly buffer I0 { vec4 inl0[]; };
-layout(std430, set = 0, binding = 2) readonly buffer J0 { uint inm0[]; };
-layout(std430, set = 0, binding = 3) readonly buffer P0 { vec2 pool0[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Q0 { uint pom0[]; };
-layout(std430, set = 0, binding = 5) readonly buffer M1 { uint meta1[]; };
-layout(std430, set = 0, binding = 6) readonly buffer I1 { vec4 inl1[]; };
-layout(std430, set = 0, binding = 7) readonly buffer J1 { uint inm1[]; };
-layout(std430, set = 0, binding = 8) readonly buffer P1 { vec2 pool1[]; };
-layout(std430, set = 0, binding = 9) readonly buffer Q1 { uint pom1[]; };
-layout(std430, set = 0, binding = 10) readonly buffer M2 { uint meta2[]; };
-layout(std430, set = 0, binding = 11) readonly buffer I2 { vec4 inl2[]; };
-layout(std430, set = 0, binding = 12) readonly buffer J2 { uint inm2[]; };
-layout(std430, set = 0, binding = 13) readonly buffer P2 { vec2 pool2[]; };
-layout(std430, set = 0, binding = 14) readonly buffer Q2 { uint pom2[]; };
 // cell_cases(): x = components | merged_faces << 8; y = edges 0-7, z = edges 8-11, 4 bits each (component + 1).
 layout(std430, set = 0, binding = 15) readonly buffer Cases { uvec4 cases[]; };
 layout(std430, set = 0, binding = 16) readonly buffer Jobs { uint job_tile[]; };
@@ -100,79 +85,7 @@ int edge_component(int cfg, int e) {
 }
 uint cache_index(ivec3 cell) { ivec3 d = cell - lo; return uint(d.x + CS * (d.y + CS * d.z)); }
 
-uint ray_meta(int a, uint r) { return a == 0 ? meta0[r] : (a == 1 ? meta1[r] : meta2[r]); }
-// Interval i of ray r (meta m) of set a: depths and the end materials (enter | exit << 8).
-void ray_interval(int a, uint r, uint m, uint i, out float en, out float ex, out uint mat) {
-    uint n = m & 127u;
-    if (n <= 2u) {
-        vec4 d = a == 0 ? inl0[r] : (a == 1 ? inl1[r] : inl2[r]);
-        uint mm = a == 0 ? inm0[r] : (a == 1 ? inm1[r] : inm2[r]);
-        en = i == 0u ? d.x : d.z;
-        ex = i == 0u ? d.y : d.w;
-        mat = i == 0u ? (mm & 0xffffu) : (mm >> 16);
-    } else {
-        uint s = (m >> 11) * 8u + i;
-        vec2 d = a == 0 ? pool0[s] : (a == 1 ? pool1[s] : pool2[s]);
-        mat = a == 0 ? pom0[s] : (a == 1 ? pom1[s] : pom2[s]);
-        en = d.x;
-        ex = d.y;
-    }
-}
-
-bool finite(float x) { return !isinf(x) && !isnan(x); }
-
-// contour::edge_crossing: the crossing on the edge from node n along axis a, from that edge's own ray.
-double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
-    int ua = (a + 1) % 3, va = (a + 2) % 3;
-    uint r = uint(n[ua]) + uint(pc.cells[ua] + 1) * uint(n[va]);
-    uint m = ray_meta(a, r), cnt = m & 127u;
-    double lo_e = double(n[a]);
-    double hi_e = lo_e + 1.0lf;
-    bool found = false;
-    double best = 0.0lf;
-    uint best_mat = 0u;
-    for (uint i = 0u; i < cnt; ++i) {
-        float en, ex;
-        uint pair;
-        ray_interval(a, r, m, i, en, ex, pair);
-        for (int side = 0; side < 2; ++side) {
-            float ef = side == 0 ? en : ex;
-            uint em = side == 0 ? (pair & 255u) : ((pair >> 8) & 255u);
-            if (!finite(ef)) continue;
-            double e = double(ef);
-            if (e < lo_e) continue;
-            if (e > hi_e) break;
-            if (start_inside) { mat = em; return e; }
-            best = e;
-            best_mat = em;
-            found = true;
-        }
-        if (double(ex) > hi_e) break;
-    }
-    if (found) { mat = best_mat; return best; }
-    // The ray disagrees with the occupancy: nearest end within half a cell, clamped into the edge.
-    double nearest_gap = 0.5lf;
-    bool near = false;
-    for (uint i = 0u; i < cnt; ++i) {
-        float en, ex;
-        uint pair;
-        ray_interval(a, r, m, i, en, ex, pair);
-        for (int side = 0; side < 2; ++side) {
-            float ef = side == 0 ? en : ex;
-            if (!finite(ef)) continue;
-            double e = double(ef);
-            precise double gap = e < lo_e ? lo_e - e : e - hi_e;
-            if (gap <= nearest_gap) {
-                nearest_gap = gap;
-                best = e < lo_e ? lo_e : (hi_e < e ? hi_e : e);
-                best_mat = side == 0 ? (pair & 255u) : ((pair >> 8) & 255u);
-                near = true;
-            }
-        }
-    }
-    mat = near ? best_mat : 0u;
-    return near ? best : lo_e + 0.5lf;
-}
+#include "dexel_contour_rays.glsl"
 
 double dot3(dvec3 p) { precise double r = p.x * p.x + p.y * p.y + p.z * p.z; return r; }
 
@@ -182,72 +95,7 @@ bool face_split(ivec3 lower, int f) {
     return ((below & above) & 1u) != 0u;
 }
 
-// The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
-// Loops over the 12 edges and 4 components are unrolled so the per-edge arrays stay in registers; the
-// sums run in the CPU's order (ascending edge per component), so the doubles are the same.
-void place_vertices(ivec3 cell, uint base) {
-    int cfg = config(cell);
-    int comps = components(cfg);
-    double tq[12];
-    uint mq[12];
-    int cq[12];
-    [[unroll]] for (int e = 0; e < 12; ++e) {
-        cq[e] = edge_component(cfg, e);
-        tq[e] = 0.0lf;
-        mq[e] = 0u;
-        if (cq[e] < 0) continue;
-        const int a = e / 4;
-        ivec3 off = ivec3(0);
-        off[(a + 1) % 3] = e & 1;
-        off[(a + 2) % 3] = (e >> 1) & 1;
-        const int corner = off.x + 2 * off.y + 4 * off.z;
-        uint m;
-        tq[e] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m);
-        mq[e] = m;
-    }
-    dvec3 clo = dvec3(cell);
-    uint voff = region[job_tile[pc.job_base + gl_WorkGroupID.x]].x;
-    [[unroll]] for (int c = 0; c < 4; ++c) {
-        if (c >= comps) break;
-        dvec3 sum = dvec3(0.0lf);
-        int count = 0;
-        [[unroll]] for (int e = 0; e < 12; ++e) {
-            if (cq[e] != c) continue;
-            const int a = e / 4;
-            dvec3 q = clo;
-            q[(a + 1) % 3] += double(e & 1);
-            q[(a + 2) % 3] += double((e >> 1) & 1);
-            q[a] = tq[e];
-            precise dvec3 s = sum + q;
-            sum = s;
-            ++count;
-        }
-        precise dvec3 mean = sum / double(count);
-        dvec3 pos = min(max(mean, clo), clo + dvec3(1.0lf));
-        double best_d2 = -1.0lf;
-        uint best_mat = 0u;
-        [[unroll]] for (int e = 0; e < 12; ++e) {
-            if (cq[e] != c) continue;
-            const int a = e / 4;
-            dvec3 q = clo;
-            q[(a + 1) % 3] += double(e & 1);
-            q[(a + 2) % 3] += double((e >> 1) & 1);
-            q[a] = tq[e];
-            precise dvec3 d = q - pos;
-            double d2 = dot3(d);
-            if (best_d2 < 0.0lf || d2 < best_d2 || (d2 == best_d2 && mq[e] > best_mat)) {
-                best_d2 = d2;
-                best_mat = mq[e];
-            }
-        }
-        uint v = voff + base + uint(c);
-        vtx[v].grid = vec3(pos);
-        vtx[v].material = best_mat;
-        vd[3u * v] = pos.x;
-        vd[3u * v + 1u] = pos.y;
-        vd[3u * v + 2u] = pos.z;
-    }
-}
+#include "dexel_contour_vertices.glsl"
 
 // The 4 cells around the edge from n along a, counter-clockwise seen from +a (TileContourer::emit_edge).
 ivec3 ring_cell(ivec3 n, int a, int r) {
@@ -316,111 +164,7 @@ void emit_edge(ivec3 n, int a, uvec4 reg) {
     }
 }
 
-// The face around edge (n, a) between ring cells r and r + 1 (TileContourer::emit_edge): lower cell, axis.
-void ring_face(ivec3 n, int a, int r, out ivec3 lower, out int g) {
-    const int fr[4] = int[4](0, 1, 3, 0);
-    lower = ring_cell(n, a, fr[r]);
-    g = (r & 1) == 0 ? (a + 1) % 3 : (a + 2) % 3;
-}
-
-// Index of split face (lower, g) in the face list, or NONE16 when it is not split.
-uint face_index_of(ivec3 lower, int g) {
-    uint key = cache_index(lower) | (uint(g) << 13);
-    uint nfaces = min(s_faces, FACE_CAP);
-    for (uint i = 0u; i < nfaces; ++i)
-        if (face_list[i] == key) return i;
-    return NONE16;
-}
-
-// The segment vertices of split face i (TileContourer::emit_split_face): for each inside corner of the
-// face, the mean of the crossings on the face's two edges at that corner (material: the nearer crossing,
-// ties to the larger id). Outside corners' slots get the face centre (never referenced).
-void place_face_vertices(uint i, uint v0) {
-    uint key = face_list[i];
-    uint ci = key & 8191u;
-    int f = int(key >> 13), f1 = (f + 1) % 3, f2 = (f + 2) % 3;
-    ivec3 fmin = lo + ivec3(int(ci) % CS, (int(ci) / CS) % CS, int(ci) / (CS * CS)) + unit(f);
-    for (int idx = 0; idx < 4; ++idx) {
-        ivec3 p = fmin + (idx & 1) * unit(f1) + ((idx >> 1) & 1) * unit(f2);
-        dvec3 pos = dvec3(fmin);
-        pos[f1] += 0.5lf;
-        pos[f2] += 0.5lf;
-        uint mat = 0u;
-        if (inside(p)) {
-            dvec3 pts[2];
-            uint mats[2];
-            for (int m = 0; m < 2; ++m) {
-                int g = m == 0 ? f1 : f2;
-                int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
-                ivec3 s = p - off * unit(g);
-                uint em;
-                double t = edge_crossing(g, s, inside(s), em);
-                pts[m] = dvec3(s);
-                pts[m][g] = t;
-                mats[m] = em;
-            }
-            precise dvec3 sum = (dvec3(0.0lf) + pts[0]) + pts[1];
-            precise dvec3 half_sum = 0.5lf * sum;
-            pos = half_sum;
-            precise dvec3 d0 = pts[0] - pos;
-            precise dvec3 d1 = pts[1] - pos;
-            double e0 = dot3(d0), e1 = dot3(d1);
-            mat = mats[0];
-            if (e1 < e0 || (e1 == e0 && mats[1] > mat)) mat = mats[1];
-        }
-        uint v = v0 + uint(idx);
-        vtx[v].grid = vec3(pos);
-        vtx[v].material = mat;
-        vd[3u * v] = pos.x;
-        vd[3u * v + 1u] = pos.y;
-        vd[3u * v + 2u] = pos.z;
-    }
-}
-
-// Step 5 for an edge with split faces around it: a fan around the edge's crossing point through the ring
-// cells' vertices and the split faces' segment vertices at the edge's inside end (TileContourer::emit_edge).
-void emit_fan(ivec3 n, int a, uvec4 reg) {
-    bool start_in = inside(n);
-    ivec3 inside_end = start_in ? n : n + unit(a);
-    uint poly[8];
-    int count = 0;
-    for (int r = 0; r < 4; ++r) {
-        ivec3 cell = ring_cell(n, a, r);
-        poly[count++] = vbase(cache_index(cell)) + uint(edge_component(config(cell), ring_local_edge(a, r)));
-        ivec3 lower;
-        int g;
-        ring_face(n, a, r, lower, g);
-        uint fi = face_index_of(lower, g);
-        if (fi == NONE16) continue;
-        uint fs = s_face_base + 4u * fi;
-        ivec3 fmin = lower + unit(g);
-        int corner = (inside_end[(g + 1) % 3] - fmin[(g + 1) % 3]) + 2 * (inside_end[(g + 2) % 3] - fmin[(g + 2) % 3]);
-        poly[count++] = fs + uint(corner);
-    }
-    if (!start_in)  // outward normal is -a: reverse
-        for (int i = 0; i < count / 2; ++i) {
-            uint t = poly[i];
-            poly[i] = poly[count - 1 - i];
-            poly[count - 1 - i] = t;
-        }
-    uint centre = s_fan_base + atomicAdd(s_fan_cursor, 1u);
-    uint em;
-    double t = edge_crossing(a, n, start_in, em);
-    dvec3 pos = dvec3(n);
-    pos[a] = t;
-    uint v = reg.x + centre;
-    vtx[v].grid = vec3(pos);
-    vtx[v].material = em;
-    vd[3u * v] = pos.x;
-    vd[3u * v + 1u] = pos.y;
-    vd[3u * v + 2u] = pos.z;
-    uint at = reg.z + atomicAdd(s_icursor, 3u * uint(count));
-    for (int i = 0; i < count; ++i) {
-        idx[at + 3u * uint(i)] = centre;
-        idx[at + 3u * uint(i) + 1u] = poly[i];
-        idx[at + 3u * uint(i) + 2u] = poly[(i + 1) % count];
-    }
-}
+#include "dexel_contour_split.glsl"
 
 void main() {
     uint job = pc.job_base + gl_WorkGroupID.x;
