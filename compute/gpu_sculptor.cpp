@@ -22,6 +22,7 @@ constexpr std::size_t kMaxBinding = std::size_t{128} << 20;  // lavapipe's maxSt
 struct Push {
     std::int32_t axis, nu, nv;
     std::uint32_t tile_base, pool_chunks, retry_capacity;
+    float depth_cells;  // the lattice's cells along `axis`: union chords are clipped to [0, depth_cells]
 };
 
 struct TileEntry {
@@ -201,7 +202,7 @@ std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> r
         const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
         bool any = false;
         for (const GridSweep& g : sweeps)
-            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray, tools);
+            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray, static_cast<float>(mirror_.lattice.cells[axis]), tools);
         if (!any) continue;
         ++changed;
         if (!slabs_.write_ray(axis, u, v, ray)) {
@@ -269,7 +270,8 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);
             for (std::uint32_t done = 0; done < count[a]; done += kMaxGroups) {
                 const Push push{a, slabs_.nu(a), slabs_.nv(a), base[a] + done, slabs_.pool_chunks(a),
-                                static_cast<std::uint32_t>(retry_capacity_)};
+                                static_cast<std::uint32_t>(retry_capacity_),
+                                static_cast<float>(mirror_.lattice.cells[a])};
                 vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
                 vkCmdDispatch(cmd, std::min(kMaxGroups, count[a] - done), 1, 1);
                 ++stats_.dispatches;

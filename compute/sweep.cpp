@@ -185,7 +185,7 @@ std::size_t mesh_stamp_spans(const GridSweep& s, const ToolDexels& tool, int axi
     return set.first[ray + 1] - set.first[ray];
 }
 
-bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray,
+bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
                         std::span<const std::shared_ptr<const ToolDexels>> tools) {
     const ToolOp op = s.op();
     if (op == ToolOp::kNone) return false;
@@ -200,7 +200,7 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
             for (std::size_t i = 0; i < spans.size(); i += 2) {
                 const float d0 = spans[i], d1 = spans[i + 1];
                 if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
-                else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, d0, d1, s.material());
+                else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
                 else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
             }
         }
@@ -210,7 +210,7 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
         float d0, d1;
         if (!sweep_chord(s, axis, u, v, k, d0, d1)) continue;
         if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
-        else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, d0, d1, s.material());
+        else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
         else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
     }
     return changed;
@@ -237,7 +237,8 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
         for (int v = v_lo; v <= v_hi; ++v)
             for (int u = u_lo; u <= u_hi; ++u) {
                 ++stats.rays_visited;
-                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), tools)) ++stats.rays_changed;
+                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools))
+                    ++stats.rays_changed;
             }
     }
     if (stats.rays_changed > 0) model.mark_dirty(sweep_bounds(sweep));

@@ -112,10 +112,12 @@ std::size_t mesh_stamp_spans(const GridSweep& sweep, const ToolDexels& tool, int
                              std::vector<float>& spans);
 
 /// Applies the sweep to one ray (set `axis`, node (u, v)): for each stamp, its chord (kMesh: each of its
-/// spans, mesh_stamp_spans, in depth order) is subtracted, added or painted (interval_ops.hpp). `tools`
-/// is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
+/// spans, mesh_stamp_spans, in depth order) is subtracted, added or painted (interval_ops.hpp). A union
+/// chord is first clipped to the lattice's depth range [0, depth_cells] (depth_cells = the lattice's cells
+/// along `axis`), so no material is added where the lattice, the contour and the renderer cannot see it.
+/// `tools` is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
 /// Returns true when the ray changed.
-bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray,
+bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
                         std::span<const std::shared_ptr<const ToolDexels>> tools = {});
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets

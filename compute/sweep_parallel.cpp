@@ -48,7 +48,7 @@ void work(TriDexel& model, const std::vector<GridSweep>& grid, const ToolTable& 
                 for (std::size_t k = r.first; k < r.first + r.count; ++k) {
                     const RowSweep& s = spans[k];
                     if (u < s.u_lo || u > s.u_hi) continue;
-                    if (apply_sweep_to_ray(grid[s.sweep], r.axis, u, r.v, ray, tools)) {
+                    if (apply_sweep_to_ray(grid[s.sweep], r.axis, u, r.v, ray, static_cast<float>(model.lattice.cells[r.axis]), tools)) {
                         ++changed;
                         sweep_changed[s.sweep] = 1;
                     }

@@ -49,6 +49,7 @@ layout(push_constant) uniform Push {
     uint tile_base;
     uint pool_chunks;  // chunks the pool holds
     uint retry_capacity;
+    float depth_cells;  // lattice cells along the set's axis: union chords are clipped to [0, depth_cells]
 } pc;
 
 float en[MAXI];
@@ -165,7 +166,7 @@ uint union_span(float t0, float t1, uint mat);
 uint paint_span(float t0, float t1, uint mat);
 uint apply_op(uint op, float d0, float d1, uint mat) {
     if (op == 1u) return subtract_span(d0, d1, mat);
-    if (op == 2u) return union_span(d0, d1, mat);
+    if (op == 2u) return union_span(max(d0, 0.0), min(d1, pc.depth_cells), mat);
     if (op == 3u) return paint_span(d0, d1, mat);
     return 0u;
 }

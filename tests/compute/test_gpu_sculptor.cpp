@@ -126,6 +126,45 @@ TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitFo
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+// A union stroke across the lattice's corner adds material only inside the lattice's depth range
+// [0, cells] on every ray (CPU and GPU alike): nothing the contour cannot show or the volume should not count.
+TEST(GpuSculptor, UnionIsClippedToTheLattice) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel cpu = box_model(32, 0.0, 0.0);  // empty
+        TriDexel gpu_model = box_model(32, 0.0, 0.0);
+        GpuSculptor sculptor(ctx, gpu_model);
+        std::vector<Sweep> strokes;
+        for (int k = 0; k < 4; ++k) {
+            Sweep s;
+            s.op = ToolOp::kUnion;
+            s.material = 3;
+            s.tool = k % 2 ? ToolShape{ToolKind::kFlatEnd, 0.006, 0.02} : ToolShape{ToolKind::kBall, 0.006, 0.0};
+            s.axis = glm::normalize(Vec3(1.0, -0.5, 0.7));
+            const Vec3 a = cpu.lattice.to_world(Vec3(-3.0 + k, 2.0, 30.0)), b = cpu.lattice.to_world(Vec3(12.0, 35.0 - k, 1.0));
+            s.path_m = Segment{a, b};
+            strokes.push_back(s);
+        }
+        for (const Sweep& s : strokes) apply_sweep(cpu, s);
+        sculptor.apply(strokes);
+        std::size_t intervals = 0, clipped = 0;
+        for (int a = 0; a < 3; ++a)
+            for (const auto& ray : cpu.sets[a].rays)
+                for (const Interval& iv : ray) {
+                    ++intervals;
+                    EXPECT_GE(iv.enter, 0.0f);
+                    EXPECT_LE(iv.exit, static_cast<float>(cpu.lattice.cells[a]));
+                    clipped += iv.enter == 0.0f || iv.exit == static_cast<float>(cpu.lattice.cells[a]) ? 1 : 0;
+                }
+        EXPECT_GT(intervals, 100u);
+        EXPECT_GT(clipped, 10u);  // the strokes do reach past the lattice
+        const Diff d = compare(cpu, gpu_model);
+        EXPECT_EQ(d.rays, 0u) << "max depth difference " << d.max_cells << " cells";
+        std::cout << intervals << " intervals, " << clipped << " clipped at the lattice's ends\n";
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 TEST(GpuSculptor, RaysBeyondTheKernelsIntervalLimitAreRedoneOnTheHostAndTooManyThrow) {
     gpu::Context ctx = gpu::Context::create({});
     {
