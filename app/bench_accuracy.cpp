@@ -245,7 +245,8 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                                "flat-end segment = meshToLevelSet of its exact swept solid; volumeToMesh(isovalue 0) at the "
                                "end; volume by levelSetVolume; paint = no geometry change (0 s)"},
                      {"fairness", "same voxel size as the tridex lattice, narrow band 3 voxels (OpenVDB's default), "
-                                  "one thread for both (tbb::global_control), same segments, same error metrics"}}},
+                                  "one thread for both (tbb::global_control; compare openvdb with tridex cpu-1t, the tridex cpu row uses all "
+                                  "cores), same segments, same error metrics"}}},
         {"errors", "mean/max_error_m: |sdf| of the exact solid at mesh vertices (CSG max/min of exact primitive SDFs: "
                    "exact near faces, a lower bound near edges); surface_*: quasi-random points on the exact surface -> "
                    "nearest mesh triangle; hausdorff_m = max of both"},
