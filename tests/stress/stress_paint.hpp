@@ -119,7 +119,7 @@ struct PaintReport {
     std::size_t ends = 0;       ///< interval ends checked
     std::size_t painted = 0;    ///< ends inside some sweep by more than the margin (expected: the last such sweep's material)
     std::size_t kept = 0;       ///< ends outside every sweep by more than the margin (expected: the old material)
-    std::size_t undecided = 0;  ///< ends within the margin of a chord end of a sweep that decides them (not checked)
+    std::size_t undecided = 0;  ///< ends within the margin of the surface of a sweep that could decide them (not checked)
     std::size_t bad = 0;        ///< ends with another material, or rays whose depths or counts changed
     std::string first;          ///< what the first few bad ends were
 };
