@@ -18,6 +18,7 @@
 #include "compute/contour_dual.hpp"
 #include "compute/gpu_sculptor.hpp"
 #include "compute/scan_convert.hpp"
+#include "compute/sweep_parallel.hpp"
 #include "compute/sweep.hpp"
 #include "compute/volume.hpp"
 #include "core/error.hpp"
@@ -32,7 +33,7 @@ using namespace accuracy;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr int kGpuBatch = 64;
+constexpr int kGpuBatch = 64;  // segments per GpuSculptor::apply and per apply_sweeps_parallel call
 constexpr double kHalfWidthVoxels = 3.0;
 
 /// Bytes of the CPU model: the per-ray vectors and their interval storage.
@@ -170,15 +171,23 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
         const double v0 = compute::dexel_volume_m3(pristine);
         for (const Reference& ref : refs) {
             const std::vector<compute::Sweep> sweeps = ref.program.sweeps();
-            for (const char* path : {"cpu-1t", "gpu"}) {
+            for (const char* path : {"cpu-1t", "cpu", "gpu"}) {
                 const std::string p = path;
                 if (p == "gpu" && !ctx) continue;
+                if (p == "cpu" && !o.cpu_all_cores) continue;
                 AccuracyRow row{"tridex", p, n, kLatticeSideM / n, ref.program.name, sweeps.size()};
                 compute::TriDexel m = pristine;
                 compute::Contourer contourer = pristine_contour;
                 const auto t0 = Clock::now();
                 if (p == "cpu-1t") {
                     for (const compute::Sweep& s : sweeps) compute::apply_sweep(m, s);
+                    row.time_per_segment_s = since(t0) / static_cast<double>(sweeps.size());
+                    row.memory_bytes = model_bytes(m);
+                } else if (p == "cpu") {
+                    for (std::size_t i = 0; i < sweeps.size(); i += kGpuBatch)
+                        compute::apply_sweeps_parallel(
+                            m, std::span<const compute::Sweep>(sweeps).subspan(i, std::min<std::size_t>(kGpuBatch, sweeps.size() - i)),
+                            threads);
                     row.time_per_segment_s = since(t0) / static_cast<double>(sweeps.size());
                     row.memory_bytes = model_bytes(m);
                 } else {
@@ -225,7 +234,9 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
         {"workpiece", "0.1 m cube [0.014, 0.114]^3 m, lattice [0, 0.128]^3 m with N cells (cell_m = 0.128 / N), shifted by "
                       "-offset_cells cells (0: the cube's faces lie on lattice nodes at N = 64, 128, 256)"},
         {"offset_cells", o.offset_cells},
-        {"tridex", "cpu-1t: apply_sweep per segment, one thread; gpu: GpuSculptor::apply per 64 segments (incl. copy "
+        {"tridex_threads", threads},
+        {"tridex", "cpu-1t: apply_sweep per segment, one thread; cpu: apply_sweeps_parallel per 64 segments on "
+                   "tridex_threads threads (std::thread::hardware_concurrency); gpu: GpuSculptor::apply per 64 segments (incl. copy "
                    "to the CPU mirror); contour_s: Contourer::update of the dirty tiles after the program"},
         {"openvdb", {{"version", openvdb_version()}, {"threads", 1}, {"voxel", "voxel size = tridex cell_m"},
                      {"narrow_band_voxels", kHalfWidthVoxels},
@@ -234,7 +245,8 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                                "flat-end segment = meshToLevelSet of its exact swept solid; volumeToMesh(isovalue 0) at the "
                                "end; volume by levelSetVolume; paint = no geometry change (0 s)"},
                      {"fairness", "same voxel size as the tridex lattice, narrow band 3 voxels (OpenVDB's default), "
-                                  "one thread for both (tbb::global_control), same segments, same error metrics"}}},
+                                  "one thread for both (tbb::global_control; compare openvdb with tridex cpu-1t, the tridex cpu row uses all "
+                                  "cores), same segments, same error metrics"}}},
         {"errors", "mean/max_error_m: |sdf| of the exact solid at mesh vertices (CSG max/min of exact primitive SDFs: "
                    "exact near faces, a lower bound near edges); surface_*: quasi-random points on the exact surface -> "
                    "nearest mesh triangle; hausdorff_m = max of both"},

@@ -12,7 +12,7 @@ namespace tridex::app {
 /// One row: one method and path running one program at one resolution.
 struct AccuracyRow {
     std::string method;              ///< "tridex" or "openvdb"
-    std::string path;                ///< "cpu-1t", "gpu" (tridex) or "cpu-1t" (openvdb)
+    std::string path;                ///< "cpu-1t", "cpu" (all cores), "gpu" (tridex) or "cpu-1t" (openvdb)
     int n = 0;                       ///< cells (voxels) along the lattice side
     double cell_m = 0.0;             ///< lattice spacing or voxel size, m
     std::string program;             ///< program name (bench_accuracy_exact.hpp)
@@ -40,6 +40,7 @@ struct AccuracyRow {
 struct AccuracyBenchOptions {
     std::vector<int> resolutions{64, 128, 256};  ///< N values (>= 16)
     std::vector<std::string> programs;           ///< empty = all programs
+    bool cpu_all_cores = true;                   ///< run the "cpu" path (apply_sweeps_parallel on all cores, batches of 64)
     bool gpu = true;                             ///< run the "gpu" path (GpuSculptor, batches of 64) when Vulkan exists
     bool openvdb = true;                         ///< run the OpenVDB peer when built in
     bool short_programs = false;                 ///< only the first moves of each program (tests)
@@ -55,7 +56,9 @@ struct AccuracyBenchOptions {
 /// program, times the Booleans (per segment) and the re-contour of the dirty tiles, then measures the
 /// contoured mesh against the exact solid (ExactSolid): |sdf| at vertices, exact surface samples ->
 /// mesh, two-sided Hausdorff, and the dexel volume against the reference volume. Paths: tridex "cpu-1t"
-/// (apply_sweep, one thread), tridex "gpu" (GpuSculptor, batches of 64; skipped without Vulkan), and
+/// (apply_sweep, one thread), tridex "cpu" (apply_sweeps_parallel on std::thread::hardware_concurrency()
+/// threads, batches of 64; the same dexels as "cpu-1t" bit for bit), tridex "gpu" (GpuSculptor, batches
+/// of 64; skipped without Vulkan), and
 /// "openvdb" "cpu-1t" (bench_accuracy_openvdb.hpp) when built with OpenVDB. Prints a table (errors in
 /// metres and cells), writes bench.json ({"runs": [...], "setup": {...}}) into options.out and returns
 /// the rows; with options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). Throws tridex::Error on bad options or an unwritable folder.

@@ -8,6 +8,7 @@
 #include <string>
 #include <exception>
 #include <new>
+#include <vector>
 
 #include "app/bench_accuracy.hpp"
 #include "app/bench_haptics.hpp"
@@ -94,9 +95,12 @@ int main(int argc, char** argv) {
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
-                        "tridex CPU 1 thread and GPU, and an OpenVDB level-set peer when built in");
+                        "tridex CPU 1 thread, CPU all cores and GPU, and an OpenVDB level-set peer when built in");
     bool accuracy_512 = false;
     bench_cmd->add_flag("--accuracy-512", accuracy_512, "With --accuracy: also N = 512 (slow)");
+    std::vector<int> accuracy_n;
+    bench_cmd->add_option("--accuracy-n", accuracy_n,
+                          "With --accuracy: run only these N (16..1024), e.g. --accuracy-n 512; overrides --accuracy-512");
     double accuracy_offset = 0.0;
     bench_cmd->add_option("--accuracy-offset", accuracy_offset,
                           "With --accuracy: lattice origin shift in cells, [0, 1) (0 = cube faces on lattice nodes)")
@@ -140,6 +144,7 @@ int main(int argc, char** argv) {
                 tridex::app::AccuracyBenchOptions abench;
                 abench.out = hbench.out;
                 if (accuracy_512) abench.resolutions.push_back(512);
+                if (!accuracy_n.empty()) abench.resolutions = accuracy_n;
                 abench.offset_cells = accuracy_offset;
                 tridex::app::run_accuracy_bench(abench);
             }

@@ -1,5 +1,6 @@
 // Tests of `tridex bench --accuracy` (app/bench_accuracy*): the exact reference, the distance queries and a
-// tiny run (N = 32, short programs) that writes bench.json with sane errors.
+// tiny run (N = 32, short programs, tridex cpu-1t and cpu, OpenVDB when built in) that writes bench.json with
+// sane errors and an all-cores row equal to the one-thread row.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,7 +84,7 @@ TEST_P(BenchAccuracyTiny, WritesSaneJson) {
     const nlohmann::json j = nlohmann::json::parse(in);
     ASSERT_TRUE(j.contains("runs"));
     EXPECT_EQ(j["runs"].size(), rows.size());
-    EXPECT_EQ(rows.size(), program_names().size() * (o.openvdb ? 2u : 1u));
+    EXPECT_EQ(rows.size(), program_names().size() * (o.openvdb ? 3u : 2u));  // tridex cpu-1t, cpu (+ openvdb)
     for (const auto& r : j["runs"]) {
         for (const char* k : {"time_per_segment_s", "contour_s", "volume_error_rel", "mean_error_m", "max_error_m", "hausdorff_m"}) {
             ASSERT_TRUE(r.contains(k)) << k;
@@ -107,6 +108,27 @@ TEST_P(BenchAccuracyTiny, WritesSaneJson) {
         else if (r.program == "union") EXPECT_GT(r.volume_change_m3, 0.0);
         else EXPECT_LT(r.volume_change_m3, 0.0);
     }
+    // The all-cores row: one per program, and the same dexels (so the same volume and mesh) as cpu-1t.
+    for (const std::string& prog : program_names()) {
+        SCOPED_TRACE(prog);
+        const AccuracyRow *one = nullptr, *all = nullptr;
+        for (const AccuracyRow& r : rows)
+            if (r.method == "tridex" && r.program == prog) {
+                if (r.path == "cpu") all = &r;
+                if (r.path == "cpu-1t") one = &r;
+            }
+        ASSERT_NE(one, nullptr);
+        ASSERT_NE(all, nullptr);
+        EXPECT_EQ(all->segments, one->segments);
+        EXPECT_GT(all->time_per_segment_s, 0.0);
+        EXPECT_EQ(all->volume_m3, one->volume_m3);
+        EXPECT_EQ(all->vertices, one->vertices);
+        EXPECT_EQ(all->max_error_m, one->max_error_m);
+        EXPECT_EQ(all->hausdorff_m, one->hausdorff_m);
+    }
+    std::size_t cpu_rows = 0;
+    for (const auto& r : j["runs"]) cpu_rows += r["method"] == "tridex" && r["path"] == "cpu";
+    EXPECT_EQ(cpu_rows, program_names().size());
 }
 
 INSTANTIATE_TEST_SUITE_P(Offsets, BenchAccuracyTiny, ::testing::Values(0.0, 0.37));

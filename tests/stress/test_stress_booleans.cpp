@@ -9,13 +9,18 @@
 // rays every 25 batches and at the end): ends finite, enter < exit, sorted, disjoint, non-touching.
 // Per batch type: subtract-only -> each touched ray's new solid lies inside its old one and the volume
 // does not grow; union-only -> the old solid lies inside the new (no interval lost) and the volume does
-// not shrink; paint-only -> depths and interval counts identical, volume bit-identical.
+// not shrink; paint-only -> depths and interval counts identical, volume bit-identical, and every end's
+// material as the exact (double) chords say (stress_paint.hpp: inside some sweep's exact solid by more than
+// kPaintMargin = 1e-3 cells in 3D -> the material of the last such sweep in batch order; farther than that
+// from every sweep -> unchanged). Materials come from a sparse set of ids, and after every batch (any kind) every end of a
+// touched ray (every ray at the full checks) carries an id that was used (0 or a sweep's).
 // GpuVsCpu: 50k segments (1M in the long variant) of the same kind at N = 64 through GpuSculptor (small spill pool, so it
 // compacts and grows) and apply_sweep side by side: after each batch the mirror's touched rays equal
 // the CPU's bit for bit, every 20 batches (and at the end) the whole downloaded GPU model does.
 // Build with -DTRIDEX_LONG_TESTS=ON for the long variant (label "long"): 10x the segments, N up to 256.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <random>
@@ -28,6 +33,7 @@
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "stress_common.hpp"
+#include "stress_paint.hpp"
 
 using namespace tridex;
 using namespace tridex::compute;
@@ -44,6 +50,9 @@ constexpr std::size_t kGpuSegments = 50'000;
 const std::vector<int> kSizes = {64, 80, 100, 128};
 #endif
 constexpr int kFullCheckEvery = 25;
+constexpr double kPaintMargin = 1e-3;  // cells (3D): ends nearer than this to a sweep's exact surface are not judged
+// Sweep materials: a sparse set, so a wrong or garbage id is very likely not one of them.
+constexpr std::uint8_t kMaterialIds[8] = {3, 17, 42, 77, 128, 199, 231, 254};
 
 enum class BatchKind { kSubtract, kUnion, kPaint, kMixed };
 const char* kind_name(BatchKind k) {
@@ -64,7 +73,7 @@ public:
                : pick < 0.55                ? ToolOp::kSubtract
                : pick < 0.85                ? ToolOp::kUnion
                                             : ToolOp::kPaint;
-        s.material = static_cast<std::uint8_t>(rng_() % 8);
+        s.material = kMaterialIds[rng_() % 8];
         double r = std::exp(uni(std::log(0.3), std::log(8.0)));  // cells, log-uniform 0.3..8
         if (uni(0.0, 1.0) < 0.15) r = std::max(1.0, std::round(r));
         const bool flat = uni(0.0, 1.0) < 0.3;
@@ -135,12 +144,14 @@ private:
 };
 
 /// Checks the invariants on all rays; returns the number of bad rays (reports the first few).
-std::size_t check_all_rays(const TriDexel& m, const char* what, std::size_t& max_intervals) {
+/// With `used`, also that every end's material id is flagged there.
+std::size_t check_all_rays(const TriDexel& m, const char* what, std::size_t& max_intervals, const std::array<bool, 256>* used = nullptr) {
     std::size_t bad = 0;
     for (int a = 0; a < 3; ++a)
         for (std::size_t i = 0; i < m.sets[a].rays.size(); ++i) {
             max_intervals = std::max(max_intervals, m.sets[a].rays[i].size());
-            const std::string why = test::ray_violation(m.sets[a].rays[i]);
+            std::string why = test::ray_violation(m.sets[a].rays[i]);
+            if (why.empty() && used && test::unused_materials(m.sets[a].rays[i], *used) > 0) why = "a material id that no sweep used";
             if (!why.empty() && ++bad <= 3) ADD_FAILURE() << what << ": set " << a << " ray " << i << ": " << why;
         }
     return bad;
@@ -157,14 +168,17 @@ TEST_P(StressBooleans, CpuReferenceKeepsTheInvariantsOverRandomBatches) {
     std::vector<std::vector<Interval>> before;
     std::size_t done = 0, batches = 0, bad = 0, rays_checked = 0, visited = 0, changed = 0, max_intervals = 0;
     std::size_t kind_count[4] = {}, kind_bad[4] = {};
-    double apply_s = 0.0, check_s = 0.0;
+    std::array<bool, 256> used{};
+    used[0] = true;  // the workpiece's own material
+    test::PaintReport paint_total;
+    double apply_s = 0.0, check_s = 0.0, paint_s = 0.0;
     double volume = dexel_volume_m3(m);
     const double volume0 = volume;
     while (done < kSegmentsPerN) {
         const BatchKind kind = src.next_kind();
         const std::size_t count = std::min(kSegmentsPerN - done, src.next_batch_size(200, 2000));
         batch.clear();
-        for (std::size_t k = 0; k < count; ++k) batch.push_back(src.next(kind));
+        for (std::size_t k = 0; k < count; ++k) batch.push_back(src.next(kind)), used[batch.back().material] = true;
         const auto c0 = std::chrono::steady_clock::now();
         const auto& rays = touched.collect(m, batch);
         before.resize(rays.size());
@@ -190,17 +204,26 @@ TEST_P(StressBooleans, CpuReferenceKeepsTheInvariantsOverRandomBatches) {
                     same = now[j].enter == before[k][j].enter && now[j].exit == before[k][j].exit;
                 if (!same) why = "paint batch moved a depth";
             }
+            if (why.empty() && test::unused_materials(now, used) > 0) why = "a material id that no sweep used";
             if (!why.empty() && ++batch_bad <= 3)
                 ADD_FAILURE() << "N " << n << " batch " << batches << " (" << kind_name(kind) << "): set " << rays[k].first
                               << " ray " << rays[k].second << ": " << why;
         }
         rays_checked += rays.size();
+        if (kind == BatchKind::kPaint) {
+            const auto p0 = std::chrono::steady_clock::now();
+            const test::PaintReport p = test::check_paint_batch(m, batch, rays, before, kPaintMargin);
+            if (p.bad) batch_bad += p.bad, ADD_FAILURE() << "N " << n << " batch " << batches << " (paint): " << p.bad << " wrong ends:" << p.first;
+            paint_total.ends += p.ends, paint_total.painted += p.painted, paint_total.kept += p.kept;
+            paint_total.undecided += p.undecided, paint_total.bad += p.bad;
+            paint_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        }
         const double v = dexel_volume_m3(m);
         if (kind == BatchKind::kSubtract && v > volume) ++batch_bad, ADD_FAILURE() << "N " << n << " batch " << batches << ": subtract-only batch grew the volume " << volume << " -> " << v;
         if (kind == BatchKind::kUnion && v < volume) ++batch_bad, ADD_FAILURE() << "N " << n << " batch " << batches << ": union-only batch shrank the volume " << volume << " -> " << v;
         if (kind == BatchKind::kPaint && v != volume) ++batch_bad, ADD_FAILURE() << "N " << n << " batch " << batches << ": paint-only batch changed the volume " << volume << " -> " << v;
         volume = v;
-        if (++batches % kFullCheckEvery == 0) batch_bad += check_all_rays(m, "full check", max_intervals);
+        if (++batches % kFullCheckEvery == 0) batch_bad += check_all_rays(m, "full check", max_intervals, &used);
         ++kind_count[static_cast<int>(kind)];
         if (batch_bad) ++kind_bad[static_cast<int>(kind)];
         bad += batch_bad;
@@ -210,15 +233,22 @@ TEST_P(StressBooleans, CpuReferenceKeepsTheInvariantsOverRandomBatches) {
                    std::chrono::duration<double>(t0 - c0).count();
         if (bad > 20) break;
     }
-    bad += check_all_rays(m, "final check", max_intervals);
+    bad += check_all_rays(m, "final check", max_intervals, &used);
     std::printf("N %d: %zu segments in %zu batches (subtract %zu, union %zu, paint %zu, mixed %zu); %.2f us/segment "
                 "(apply %.1f s, checks %.1f s); rays visited/segment %.1f, changed/segment %.1f; %zu touched rays checked; "
                 "max intervals on a ray %zu; intervals now %zu; volume %.4g -> %.4g m^3; bad rays %zu (by kind %zu/%zu/%zu/%zu)\n",
                 n, done, batches, kind_count[0], kind_count[1], kind_count[2], kind_count[3], 1e6 * apply_s / done, apply_s,
                 check_s, double(visited) / done, double(changed) / done, rays_checked, max_intervals, m.interval_count(), volume0,
                 volume, bad, kind_bad[0], kind_bad[1], kind_bad[2], kind_bad[3]);
+    std::printf("N %d paint materials: %zu ends checked, %zu painted (last sweep's id), %zu kept, %zu undecided "
+                "(within %.0e cells of a sweep's surface, 3D), wrong %zu; material check %.1f s\n",
+                n, paint_total.ends, paint_total.painted, paint_total.kept, paint_total.undecided, kPaintMargin, paint_total.bad,
+                paint_s);
     EXPECT_EQ(done, kSegmentsPerN);
     EXPECT_EQ(bad, 0u);
+    EXPECT_EQ(paint_total.bad, 0u);
+    EXPECT_GT(paint_total.painted, 0u);
+    EXPECT_GT(paint_total.kept, 0u);
     EXPECT_GT(changed, done);  // the program really cut and added material
     EXPECT_GT(kind_count[0], 0u);
     EXPECT_GT(kind_count[1], 0u);
