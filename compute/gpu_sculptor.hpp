@@ -78,7 +78,8 @@ private:
     GpuSculptStats stats_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;
-    gpu::UniquePipeline pipeline_;
+    gpu::UniquePipeline pipeline_;       // kernel without the mesh-tool path (HAS_MESH = false)
+    gpu::UniquePipeline mesh_pipeline_;  // kernel with it, for batches holding kMesh sweeps
     gpu::UniqueDescriptorPool descriptor_pool_;
     VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     gpu::Buffer sweeps_, tiles_, index_;

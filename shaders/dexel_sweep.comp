@@ -42,6 +42,10 @@ layout(std430, set = 0, binding = 8) buffer Counters {
 // ray set nu, nv, ref_u, ref_v, word of the `first` offsets, word of the depths (float bits, 2 per interval).
 layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]; };
 
+// False compiles the mesh-tool path out (compute/gpu_sculptor.cpp uses that variant for batches without
+// kMesh sweeps; the result is the same, the kernel smaller).
+layout(constant_id = 0) const bool HAS_MESH = true;
+
 layout(push_constant) uniform Push {
     int axis;
     int nu;
@@ -233,45 +237,57 @@ void list_for_retry(uint ray) {
     if (k < pc.retry_capacity) retry[k] = ray;
 }
 
-// compute/sweep.cpp mesh_stamp_spans + apply_sweep_to_ray for a kMesh sweep: every stamp's tool ray
-// intervals, in order. Returns 0 = unchanged, 1 = changed, 2 = would exceed MAXI.
-uint apply_mesh_sweep(GridSweep s, int u, int v, uint op, uint mat) {
+// A kMesh sweep's lookup state for one ray: its tool's header for this ray set and the ray's offset from
+// the tool start (compute/sweep.cpp mesh_stamp_spans, step for step).
+struct MeshRay {
+    float kf, ou, ov, base;
+    int tnu, tnv, rfu, rfv;
+    uint fw, dw;
+};
+
+MeshRay mesh_ray(GridSweep s, int u, int v) {
     int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
     uint tb = tool_data[s.tool];
-    float kf = uintBitsToFloat(tool_data[tb]);
     uint hb = tb + 1u + 6u * uint(pc.axis);
-    int tnu = int(tool_data[hb]), tnv = int(tool_data[hb + 1u]);
-    int rfu = int(tool_data[hb + 2u]), rfv = int(tool_data[hb + 3u]);
-    uint fw = tool_data[hb + 4u], dw = tool_data[hb + 5u];
+    MeshRay r;
+    r.kf = uintBitsToFloat(tool_data[tb]);
+    r.tnu = int(tool_data[hb]);
+    r.tnv = int(tool_data[hb + 1u]);
+    r.rfu = int(tool_data[hb + 2u]);
+    r.rfv = int(tool_data[hb + 3u]);
+    r.fw = tool_data[hb + 4u];
+    r.dw = tool_data[hb + 5u];
     precise float ou = float(u - s.origin[ua]) - s.start[ua];
     precise float ov = float(v - s.origin[va]) - s.start[va];
     precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];
-    uint result = 0u;
-    for (uint st = 0u; st < s.stamps; ++st) {
-        precise float f = s.stamps > 1u ? float(st) / float(s.stamps - 1u) : 0.0;
-        precise vec3 c = s.delta * f;
-        precise float xu = ou - c[ua];
-        precise float xv = ov - c[va];
-        precise float su = xu * kf;
-        precise float sv = xv * kf;
-        precise float fu = floor(su + 0.5);
-        precise float fv = floor(sv + 0.5);
-        if (!(fu >= float(-rfu)) || !(fu < float(tnu - rfu))) continue;
-        if (!(fv >= float(-rfv)) || !(fv < float(tnv - rfv))) continue;
-        uint tr = uint(int(fu) + rfu) + uint(tnu) * uint(int(fv) + rfv);
-        uint q0 = tool_data[fw + tr], q1 = tool_data[fw + tr + 1u];
-        float ca = c[pc.axis];
-        for (uint q = q0; q < q1; ++q) {
-            precise float p0 = ca + uintBitsToFloat(tool_data[dw + 2u * q]);
-            precise float p1 = ca + uintBitsToFloat(tool_data[dw + 2u * q + 1u]);
-            precise float d0 = base + p0;
-            precise float d1 = base + p1;
-            uint r = apply_op(op, d0, d1, mat);
-            if (r == 2u) return 2u;
-            if (r == 1u) result = 1u;
-        }
-    }
-    return result;
+    r.ou = ou;
+    r.ov = ov;
+    r.base = base;
+    return r;
+}
+
+// The tool intervals [q0, q1) that stamp `st` of a kMesh sweep puts on the ray, and the stamp's depth
+// offset ca; false when the ray misses the tool's grid at that stamp.
+bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out float ca) {
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    q0 = 0u;
+    q1 = 0u;
+    ca = 0.0;
+    precise float f = s.stamps > 1u ? float(st) / float(s.stamps - 1u) : 0.0;
+    precise vec3 c = s.delta * f;
+    precise float xu = r.ou - c[ua];
+    precise float xv = r.ov - c[va];
+    precise float su = xu * r.kf;
+    precise float sv = xv * r.kf;
+    precise float fu = floor(su + 0.5);
+    precise float fv = floor(sv + 0.5);
+    if (!(fu >= float(-r.rfu)) || !(fu < float(r.tnu - r.rfu))) return false;
+    if (!(fv >= float(-r.rfv)) || !(fv < float(r.tnv - r.rfv))) return false;
+    uint tr = uint(int(fu) + r.rfu) + uint(r.tnu) * uint(int(fv) + r.rfv);
+    q0 = tool_data[r.fw + tr];
+    q1 = tool_data[r.fw + tr + 1u];
+    ca = c[pc.axis];
+    return true;
 }
 
 void main() {
@@ -303,18 +319,33 @@ void main() {
         uint op = s.code & 0xffu;
         uint mat = (s.code >> 16) & 0xffu;
         if (op == 0u) continue;
-        if (((s.code >> 8) & 0xffu) == 2u) {
-            uint r = apply_mesh_sweep(s, u, v, op, mat);
-            if (r == 2u) { list_for_retry(ray); return; }
-            if (r == 1u) changed = true;
-            continue;
-        }
+        // Every stamp gives spans: one analytic chord (ball, flat end) or the tool-ray intervals of a
+        // kMesh sweep, in order; one apply_op call site keeps the kernel small for llvmpipe.
+        bool mesh = HAS_MESH && ((s.code >> 8) & 0xffu) == 2u;
+        MeshRay mr;
+        if (mesh) mr = mesh_ray(s, u, v);
         for (uint st = 0u; st < s.stamps; ++st) {
-            float d0, d1;
-            if (!sweep_chord(s, u, v, st, d0, d1)) continue;
-            uint r = apply_op(op, d0, d1, mat);
-            if (r == 2u) { list_for_retry(ray); return; }
-            if (r == 1u) changed = true;
+            float c0 = 0.0, c1 = 0.0, ca = 0.0;
+            uint q = 0u, q1 = 1u;
+            if (mesh) {
+                if (!mesh_stamp(s, mr, st, q, q1, ca)) continue;
+            } else if (!sweep_chord(s, u, v, st, c0, c1)) {
+                continue;
+            }
+            for (; q < q1; ++q) {
+                float d0 = c0, d1 = c1;
+                if (mesh) {
+                    precise float p0 = ca + uintBitsToFloat(tool_data[mr.dw + 2u * q]);
+                    precise float p1 = ca + uintBitsToFloat(tool_data[mr.dw + 2u * q + 1u]);
+                    precise float e0 = mr.base + p0;
+                    precise float e1 = mr.base + p1;
+                    d0 = e0;
+                    d1 = e1;
+                }
+                uint r = apply_op(op, d0, d1, mat);
+                if (r == 2u) { list_for_retry(ray); return; }
+                if (r == 1u) changed = true;
+            }
         }
     }
     if (!changed) return;
