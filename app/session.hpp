@@ -58,6 +58,9 @@ struct SessionRun {
 struct SculptOptions {
     bool cpu = false;       ///< --cpu: the CPU reference even when a Vulkan device exists
     bool validate = false;  ///< Vulkan validation on the sculpting device
+    /// --cpu-contour: contour dirty tiles on the CPU even when the Booleans run on the GPU (where a session
+    /// supports GPU contouring: `tridex run`).
+    bool cpu_contour = false;
 };
 
 /// Runs the haptic loop on `device` with `cfg` and the sculpt thread on wp.model, until the loop has
