@@ -1,6 +1,8 @@
 // app/gpu_contour_share.cpp - the GPU contour shared by the sculpt and render threads.
 #include "app/gpu_contour_share.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <numeric>
 #include <vector>
 
@@ -21,7 +23,11 @@ std::size_t GpuContourShare::update_all() {
 }
 
 std::size_t GpuContourShare::update_dirty(const compute::TileGrid& grid) {
+    const auto t0 = std::chrono::steady_clock::now();
     std::lock_guard<std::mutex> lock(mutex_);
+    const double wait_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    wait_total_ms_ += wait_ms;
+    wait_max_ms_ = std::max(wait_max_ms_, wait_ms);
     const std::size_t n = contourer_->update_dirty(grid);
     if (n > 0) ++updates_;
     return n;
@@ -79,6 +85,16 @@ TriMesh GpuContourShare::download(std::vector<std::uint8_t>* materials) const {
 std::uint64_t GpuContourShare::updates() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return updates_;
+}
+
+double GpuContourShare::lock_wait_ms_total() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return wait_total_ms_;
+}
+
+double GpuContourShare::lock_wait_ms_max() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return wait_max_ms_;
 }
 
 }  // namespace tridex::app

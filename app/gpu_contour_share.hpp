@@ -45,6 +45,9 @@ public:
     TriMesh download(std::vector<std::uint8_t>* materials = nullptr) const;
     /// Number of updates so far (update_all / update_dirty calls that redid at least one tile).
     std::uint64_t updates() const;
+    /// Time update_dirty() waited for the lock (a frame being drawn), summed and the longest wait, ms.
+    double lock_wait_ms_total() const;
+    double lock_wait_ms_max() const;
 
 private:
     void rebuild_tiles();  // the non-empty tile list, under the lock
@@ -56,6 +59,7 @@ private:
     std::uint64_t updates_ = 0, listed_ = ~0ull;  // updates_ when `list_` was built
     std::vector<renderer::IndirectTile> list_;
     std::uint64_t triangles_ = 0;
+    double wait_total_ms_ = 0.0, wait_max_ms_ = 0.0;  // update_dirty's lock waits
 };
 
 }  // namespace tridex::app

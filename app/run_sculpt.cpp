@@ -54,6 +54,8 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
                                : make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
     if (booleans.cpu_contour)
         contour_reason_ = "--cpu-contour given";
+    else if (form == MeshForm::kWhole)
+        contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
     else if (!booleans_.backend->gpu_slabs())
         contour_reason_ = "the Booleans run on the CPU";
     else if (!render_context)

@@ -319,7 +319,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
     r.loop = backend.loop_stats();
     r.spilled_intervals = backend.booleans().backend->spilled_intervals();
-    if (gpu_contour) r.gpu_contour = gpu_contour->stats();
+    if (gpu_contour) {
+        r.gpu_contour = gpu_contour->stats();
+        r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
+        r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();
+    }
     r.sculpt = backend.sculpt_stats();
     r.session_s = backend.session_s();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.workpiece().model);

@@ -94,6 +94,9 @@ struct RunResult {
     double contour_initial_s = 0.0;              ///< wall time of that initial contouring, s
     /// GPU path: the GpuContourer's counters at the end (tiles on the GPU / host, pool grows, ...).
     compute::GpuContourStats gpu_contour{};
+    /// GPU path: time the sculpt thread waited for a frame to finish before re-contouring, summed / longest, ms
+    /// (included in SculptStats::contour_ms).
+    double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

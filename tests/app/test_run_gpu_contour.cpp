@@ -75,6 +75,7 @@ TEST(RunGpuContour, GpuSculptPathContoursOnTheGpuAndTheHapticLoopKeepsItsSurface
     EXPECT_EQ(rep["contour"]["gpu"]["tiles"].get<std::uint64_t>(), r.gpu_contour.tiles_gpu + r.gpu_contour.tiles_cpu);
     EXPECT_TRUE(rep["contour"]["gpu"].contains("host_fallback_tiles"));
     EXPECT_TRUE(rep["contour"]["gpu"].contains("pool_grows"));
+    EXPECT_TRUE(rep["contour"]["gpu"].contains("lock_wait_ms_max"));
     EXPECT_GT(rep["sculpt"]["contour_ms"]["median"].get<double>(), 0.0);
     fs::remove_all(dir);
 }
