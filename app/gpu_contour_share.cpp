@@ -4,14 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 namespace tridex::app {
 
 GpuContourShare::GpuContourShare(const gpu::Context& context, const compute::GpuDexelSlabs& slabs,
-                                 const compute::TriDexel& model)
+                                 const compute::TriDexel& model, std::size_t initial_vertices,
+                                 std::size_t initial_indices)
     : lattice_(model.lattice), tiles_(model.tiles.tiles),
-      contourer_(std::make_unique<compute::GpuContourer>(context, slabs, model.lattice)) {}
+      contourer_(std::make_unique<compute::GpuContourer>(context, slabs, model.lattice, initial_vertices,
+                                                         initial_indices)) {}
 
 std::size_t GpuContourShare::update_all() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -24,7 +27,9 @@ std::size_t GpuContourShare::update_all() {
 
 std::size_t GpuContourShare::update_dirty(const compute::TileGrid& grid) {
     const auto t0 = std::chrono::steady_clock::now();
+    updates_waiting_.fetch_add(1, std::memory_order_acq_rel);
     std::lock_guard<std::mutex> lock(mutex_);
+    updates_waiting_.fetch_sub(1, std::memory_order_acq_rel);
     const double wait_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     wait_total_ms_ += wait_ms;
     wait_max_ms_ = std::max(wait_max_ms_, wait_ms);
@@ -56,6 +61,7 @@ void GpuContourShare::rebuild_tiles() {
 }
 
 std::unique_lock<std::mutex> GpuContourShare::lock_frame(renderer::IndirectWorkpiece& out) {
+    while (updates_waiting_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
     std::unique_lock<std::mutex> lock(mutex_);
     if (listed_ != updates_) rebuild_tiles();
     out.vertices = contourer_->vertex_buffer().handle();

@@ -2,6 +2,7 @@
 // re-contours dirty tiles into it) and the render thread (which draws its buffers with indirect draws).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -23,8 +24,11 @@ namespace tridex::app {
 class GpuContourShare {
 public:
     /// Builds the contourer for `model` (its lattice and tile grid; the slabs hold the same model on the
-    /// GPU). Throws tridex::Error as GpuContourer's constructor (no shaderFloat64, lattice mismatch, Vulkan).
-    GpuContourShare(const gpu::Context& context, const compute::GpuDexelSlabs& slabs, const compute::TriDexel& model);
+    /// GPU). `initial_vertices` / `initial_indices` size its pools (0 = GpuContourer's defaults; small values
+    /// make pools grow, replacing the buffers: tests). Throws tridex::Error as GpuContourer's constructor (no
+    /// shaderFloat64, lattice mismatch, Vulkan).
+    GpuContourShare(const gpu::Context& context, const compute::GpuDexelSlabs& slabs, const compute::TriDexel& model,
+                    std::size_t initial_vertices = 0, std::size_t initial_indices = 0);
 
     /// Contours every tile (the first update must cover all tiles holding surface). Returns tiles redone.
     /// Throws as GpuContourer::update.
@@ -35,7 +39,10 @@ public:
 
     /// Locks the buffers for one frame and describes them in `out` (buffers, world_from_grid, the
     /// non-empty tiles with their world bounds: the tile's cells grown by one cell). Keep the returned lock
-    /// until the frame that draws `out` has finished on the GPU.
+    /// until the frame that draws `out` has finished on the GPU. A re-contouring that is waiting goes first
+    /// (the render thread yields to it): a render loop that locks again right after each frame would
+    /// otherwise starve the sculpt thread (std::mutex is not fair), so a waiting update is delayed by at
+    /// most the frame in flight.
     std::unique_lock<std::mutex> lock_frame(renderer::IndirectWorkpiece& out);
 
     /// The contourer's counters (locks).
@@ -53,6 +60,7 @@ private:
     void rebuild_tiles();  // the non-empty tile list, under the lock
 
     mutable std::mutex mutex_;
+    std::atomic<int> updates_waiting_{0};  // update_dirty() calls waiting for mutex_; lock_frame() yields to them
     compute::Lattice lattice_;
     std::array<int, 3> tiles_{};
     std::unique_ptr<compute::GpuContourer> contourer_;

@@ -50,17 +50,20 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     device_ = std::make_unique<devices::SimulatedDevice>(profile_, devices::ScriptedPath(t_s, path),
                                                          devices::SimulatedHandParams{}, cfg_.period_s);
 
-    booleans_ = render_context ? make_boolean_backend_on(wp_.model, booleans.cpu, *render_context)
-                               : make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
+    // The render Context is shared only for GPU contouring: on lavapipe one Context is one queue, so GPU
+    // Booleans on it wait behind the frame in flight; with CPU contouring they keep a Context of their own.
     if (booleans.cpu_contour)
         contour_reason_ = "--cpu-contour given";
     else if (form == MeshForm::kWhole)
         contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
-    else if (!booleans_.backend->gpu_slabs())
-        contour_reason_ = "the Booleans run on the CPU";
     else if (!render_context)
         contour_reason_ = "no render context shared with the sculpt thread";
-    else {
+    const bool share = contour_reason_.empty();
+    booleans_ = share ? make_boolean_backend_on(wp_.model, booleans.cpu, *render_context)
+                      : make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
+    if (share && !booleans_.backend->gpu_slabs()) {
+        contour_reason_ = "the Booleans run on the CPU";
+    } else if (share) {
         try {
             gpu_contour_ = std::make_unique<GpuContourShare>(*render_context, *booleans_.backend->gpu_slabs(), wp_.model);
         } catch (const Error& e) {

@@ -7,8 +7,11 @@
 
 #include <cstdio>
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <cmath>
 #include <cstdlib>
+#include <thread>
 #include <vector>
 
 #include "app/demo.hpp"
@@ -184,6 +187,122 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
     // Eyes differ (stereo) on both paths.
     EXPECT_GT(renderer::compare_images(gpu.left, gpu.right, 0).max_channel_diff, 0);
     EXPECT_EQ(share.stats().tiles_cpu, 0u);
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+
+// The session's synchronisation: a sculpt thread carves on the GPU and re-contours dirty tiles into a share
+// with tiny pools (so they grow and the buffers are replaced mid-session) while this thread draws frames
+// from the share as fast as it can. Validation must stay silent and the last frame must show the final
+// model as the CPU contour of the same model does.
+TEST(GpuContourDraw, FramesDrawnWhileTheSculptThreadRecontoursWithGrowingPools) {
+    gpu::ContextOptions opt;
+    opt.validation = true;
+    gpu::Context ctx = gpu::Context::create(opt);
+    Workpiece wp = prepare_workpiece(default_mesh_path(), 48, 0.12, Vec3(0.0, 0.0, 0.05));
+    StrokeParams sp;
+    sp.length_m = 0.08;
+    sp.depth_m = 0.006;
+    sp.tool_radius_m = 0.006;
+    const StrokePlan plan = plan_stroke(wp.model, sp);
+    compute::GpuSculptor sculptor(ctx, wp.model);
+    GpuContourShare share(ctx, sculptor.slabs(), wp.model, 512, 1024);
+    share.update_all();
+    wp.model.clear_dirty();
+    const std::uint64_t grows_initial = share.stats().pool_grows;
+
+    std::atomic<bool> done{false};
+    std::exception_ptr failure;
+    std::size_t steps = 0;
+    std::thread sculpt([&] {
+        try {
+            // The stroke in 8 pieces per waypoint interval; every third sweep carves a small void inside the
+            // workpiece instead (new, hidden surface: the pools must grow).
+            const Vec3 inside = wp.model.lattice.bounds().centre();
+            std::size_t k = 0;
+            for (std::size_t i = 1; i < plan.world_m.size(); ++i) {
+                for (int j = 0; j < 8; ++j, ++k) {
+                    const Vec3 d = plan.world_m[i] - plan.world_m[i - 1];
+                    compute::Sweep s;
+                    s.tool = compute::ToolShape{compute::ToolKind::kBall, 0.006, 0.0};
+                    s.path_m = Segment{plan.world_m[i - 1] + d * (j / 8.0), plan.world_m[i - 1] + d * ((j + 1) / 8.0)};
+                    if (k % 3 == 2) {
+                        const double v = static_cast<double>(k / 3);  // voids on a 5 x 4 x 3 grid, 12 mm apart
+                        const Vec3 c = inside + 0.012 * Vec3(std::fmod(v, 5.0) - 2.0, std::fmod(std::floor(v / 5.0), 4.0) - 1.5,
+                                                             std::fmod(std::floor(v / 20.0), 3.0) - 1.0);
+                        s.tool.radius_m = 0.005;
+                        s.path_m = Segment{c, c + Vec3(0.001, 0.0, 0.0)};
+                    }
+                    const compute::Sweep batch[1] = {s};
+                    if (sculptor.apply(batch).rays_changed == 0) continue;
+                    share.update_dirty(wp.model.tiles);
+                    wp.model.clear_dirty();
+                    ++steps;
+                }
+            }
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        done = true;
+    });
+    renderer::OffscreenStereoRenderer rend = renderer::OffscreenStereoRenderer::create(ctx, 160, 120);
+    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    Pose head;
+    head.position = Vec3(0.0, 0.05, 0.45);
+    std::size_t frames = 0;
+    renderer::IndirectWorkpiece iw;
+    std::vector<VkBuffer> vertex_buffers;  // distinct vertex buffers drawn (pool growth replaces them)
+    while (!done) {
+        auto lock = share.lock_frame(iw);
+        if (std::find(vertex_buffers.begin(), vertex_buffers.end(), iw.vertices) == vertex_buffers.end())
+            vertex_buffers.push_back(iw.vertices);
+        renderer::SceneView view;
+        view.indirect_workpiece = &iw;
+        view.show_workspace = false;
+        rend.draw(view, screen, head, 0.065);
+        ++frames;
+    }
+    sculpt.join();
+    if (failure) std::rethrow_exception(failure);
+    const compute::GpuContourStats st = share.stats();
+    std::printf("[gpu-contour sync] %zu sculpt steps, %zu frames drawn meanwhile, pool grows %llu (initial %llu), "
+                "%zu vertex buffers drawn, lock waits %.1f ms total, %.1f ms max\n",
+                steps, frames, static_cast<unsigned long long>(st.pool_grows),
+                static_cast<unsigned long long>(grows_initial), vertex_buffers.size(), share.lock_wait_ms_total(),
+                share.lock_wait_ms_max());
+    EXPECT_GT(steps, 20u);
+    EXPECT_GT(frames, 2u);
+    EXPECT_GT(st.pool_grows, grows_initial);  // the buffers were replaced during the session
+
+    // The last state: GPU contour drawn vs the CPU contour of the same (mirror) model.
+    std::fill(wp.model.tiles.dirty.begin(), wp.model.tiles.dirty.end(), std::uint8_t{1});
+    compute::Contourer contourer(wp.model);
+    contourer.update(wp.model);
+    compute::TileSurfaceCache cache;
+    cache.refresh(contourer);
+    std::vector<renderer::TileMesh> tiles;
+    for (const compute::TileSurface& t : cache.tiles())
+        tiles.push_back(renderer::TileMesh{&t.mesh, t.bounds_m, t.version, &t.materials, t.id});
+    renderer::SceneView cpu_view;
+    cpu_view.tiles = tiles;
+    cpu_view.show_workspace = false;
+    const renderer::StereoImages cpu = rend.render(cpu_view, screen, head, 0.065);
+    renderer::StereoImages gpu;
+    {
+        auto lock = share.lock_frame(iw);
+        renderer::SceneView view;
+        view.indirect_workpiece = &iw;
+        view.show_workspace = false;
+        gpu = rend.render(view, screen, head, 0.065);
+    }
+    EXPECT_EQ(iw.triangles, cache.triangle_count());
+    for (int eye = 0; eye < 2; ++eye) {
+        const Diff d = diff_images(eye ? gpu.right : gpu.left, eye ? cpu.right : cpu.left, 48);
+        std::printf("[gpu-contour sync] final eye %d: coverage mismatch %zu of %zu px, mean |diff| %.2f\n", eye,
+                    d.coverage_mismatch, d.covered, d.mean_abs);
+        EXPECT_LT(static_cast<double>(d.coverage_mismatch), 0.005 * d.covered + 1.0);
+        EXPECT_LT(d.mean_abs, 12.0);
+    }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
