@@ -11,6 +11,7 @@
 #include <exception>
 #include <cmath>
 #include <cstdlib>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -186,6 +187,30 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
     }
     // Eyes differ (stereo) on both paths.
     EXPECT_GT(renderer::compare_images(gpu.left, gpu.right, 0).max_channel_diff, 0);
+    // The other eye strategies draw the indirect tiles the same way (instanced-layer: one indirect draw per eye
+    // with the eye in the push constant; multiview: one draw for both views), where the device passes them.
+    for (renderer::EyeStrategy strategy : {renderer::EyeStrategy::kInstancedLayer, renderer::EyeStrategy::kMultiview}) {
+        renderer::OffscreenStereoRenderer other = renderer::OffscreenStereoRenderer::create(ctx, 320, 240, strategy);
+        if (other.strategy() != strategy) {
+            std::printf("[gpu-contour draw] %s: not used here (%s)\n", std::string(renderer::to_string(strategy)).c_str(),
+                        other.strategy_note().c_str());
+            continue;
+        }
+        renderer::StereoImages o;
+        {
+            auto lock = share.lock_frame(iw);
+            renderer::SceneView v;
+            v.indirect_workpiece = &iw;
+            v.show_workspace = false;
+            o = other.render(v, screen, head, sep);
+        }
+        const int dl = renderer::compare_images(o.left, gpu.left, 0).max_channel_diff;
+        const int dr = renderer::compare_images(o.right, gpu.right, 0).max_channel_diff;
+        std::printf("[gpu-contour draw] %s vs pass-per-eye: max channel diff left %d right %d\n",
+                    std::string(renderer::to_string(strategy)).c_str(), dl, dr);
+        EXPECT_LE(dl, 2) << renderer::to_string(strategy);
+        EXPECT_LE(dr, 2) << renderer::to_string(strategy);
+    }
     EXPECT_EQ(share.stats().tiles_cpu, 0u);
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
