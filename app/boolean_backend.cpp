@@ -36,11 +36,15 @@ private:
 
 class GpuBackend final : public BooleanBackend {
 public:
+    // Owning its Context.
     GpuBackend(gpu::Context context, compute::TriDexel& model)
-        : context_(std::move(context)), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+    // On a shared Context.
+    GpuBackend(const gpu::Context* shared, compute::TriDexel& model)
+        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
     ~GpuBackend() override {
         sculptor_.reset();  // GPU objects before the context
-        if (context_.validation_messages() > 0)
+        if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override { return sculptor_->apply(batch); }
@@ -51,10 +55,13 @@ public:
         const auto b = sculptor_->slabs().bytes();
         return {b[0].total(), b[1].total(), b[2].total()};
     }
-    std::uint32_t validation_messages() const override { return context_.validation_messages(); }
+    std::uint32_t validation_messages() const override { return own_ ? context_.validation_messages() : 0u; }
+    const compute::GpuDexelSlabs* gpu_slabs() const override { return &sculptor_->slabs(); }
+    const gpu::Context* gpu_context() const override { return &context_; }
 
 private:
-    gpu::Context context_;
+    std::optional<gpu::Context> own_;  // empty when sculpting on a shared Context
+    const gpu::Context& context_;
     std::unique_ptr<compute::GpuSculptor> sculptor_;
 };
 
@@ -90,6 +97,17 @@ BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool vali
         return choice;
     }
     choice.backend = std::make_unique<GpuBackend>(std::move(*context), model);
+    return choice;
+}
+
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared) {
+    BackendChoice choice;
+    if (cpu) {
+        choice.backend = make_cpu_backend(model);
+        choice.reason = "--cpu given";
+        return choice;
+    }
+    choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model);
     return choice;
 }
 

@@ -12,6 +12,7 @@
 #include "compute/gpu_dexel_slabs.hpp"
 #include "compute/sweep.hpp"
 #include "compute/tridexel.hpp"
+#include "gpu/context.hpp"
 
 namespace tridex::app {
 
@@ -32,8 +33,13 @@ public:
     virtual std::uint64_t spilled_intervals() const = 0;
     /// Bytes of the model per ray set (X, Y, Z) on the path's storage: GPU slabs, or the CPU vectors.
     virtual std::array<std::size_t, 3> model_bytes() const = 0;
-    /// Vulkan validation messages on the sculpting device so far (0 on the CPU path or with validation off).
+    /// Vulkan validation messages on the sculpting device so far (0 on the CPU path or with validation off,
+    /// and 0 when the backend sculpts on a Context it shares: its owner counts them).
     virtual std::uint32_t validation_messages() const = 0;
+    /// The GPU-resident model (GpuSculptor::slabs) on the "gpu" path; nullptr on the CPU path.
+    virtual const compute::GpuDexelSlabs* gpu_slabs() const { return nullptr; }
+    /// The Context the GPU path sculpts on (its own or the shared one); nullptr on the CPU path.
+    virtual const gpu::Context* gpu_context() const { return nullptr; }
 };
 
 /// What make_boolean_backend chose, and why.
@@ -49,6 +55,11 @@ std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model);
 /// `validate` or TRIDEX_VALIDATION=1), else the CPU path with the reason. A model that does not fit the
 /// device is refused with tridex::Error (the numbers in the message), not silently moved to the CPU.
 BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate);
+
+/// As above, but the GPU path sculpts on `shared` (e.g. the renderer's Context, so that the renderer can draw
+/// buffers the sculpt thread fills; submissions from both threads are serialised by the Context) instead of a
+/// Context of its own; `shared` must outlive the backend. With `cpu` the CPU path. Throws as above.
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared);
 
 /// Bytes the CPU reference model takes per ray set (vector headers plus interval storage).
 std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model);

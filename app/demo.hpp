@@ -25,6 +25,7 @@ struct DemoOptions {
     bool cutting = true;           ///< cutting reaction force while carving
     std::string record;            ///< when set, the session is recorded to this file (TRDXREC)
     bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
+    bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     std::string op = "subtract";   ///< what the tool does: subtract | union | paint
     int material = 1;              ///< palette id (1..7) that union adds and paint sets
 };

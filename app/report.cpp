@@ -111,6 +111,17 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
     j["spilled_intervals"] = r.spilled_intervals;
     j["sculpt_validation_messages"] = r.sculpt_validation_messages;
+    j["contour_path"] = r.contour_path;
+    if (!r.contour_reason.empty()) j["contour_path_reason"] = r.contour_reason;
+    j["contour"] = {{"path", r.contour_path},
+                    {"gpu",
+                     {{"updates", r.gpu_contour.updates},
+                      {"tiles", r.gpu_contour.tiles_gpu + r.gpu_contour.tiles_cpu},
+                      {"tiles_gpu", r.gpu_contour.tiles_gpu},
+                      {"host_fallback_tiles", r.gpu_contour.tiles_cpu},
+                      {"region_retries", r.gpu_contour.region_retries},
+                      {"pool_grows", r.gpu_contour.pool_grows},
+                      {"dispatches", r.gpu_contour.dispatches}}}};
     j["model_bytes"] = {{"x", r.model_bytes[0]}, {"y", r.model_bytes[1]}, {"z", r.model_bytes[2]},
                         {"total", r.model_bytes[0] + r.model_bytes[1] + r.model_bytes[2]}};
     j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},
@@ -136,6 +147,8 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
                 r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
     std::printf("  sculpt path: %s%s%s\n", r.sculpt_path.c_str(), r.sculpt_path == "gpu" ? (" on " + r.sculpt_device).c_str() : "",
                 r.sculpt_path_reason.empty() ? "" : (" (" + r.sculpt_path_reason + ")").c_str());
+    std::printf("  contour path: %s%s\n", r.contour_path.c_str(),
+                r.contour_reason.empty() ? "" : (" (" + r.contour_reason + ")").c_str());
     std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());
     std::printf("  wrote %s/{left,right,sbs}.png, sculpted.ply, haptics.csv, report.json in %.1f s\n", out_dir.c_str(),
                 r.wall_s);

@@ -8,6 +8,7 @@
 
 #include "app/sculpt_thread.hpp"
 #include "app/session_settings.hpp"
+#include "compute/gpu_contourer.hpp"
 #include "compute/lattice.hpp"
 #include "core/tri_mesh.hpp"
 #include "haptics/haptic_loop.hpp"
@@ -46,6 +47,9 @@ struct DemoReport {
     std::uint64_t spilled_intervals = 0;      ///< intervals in the GPU spill pool at the end (0 on the CPU path)
     std::array<std::size_t, 3> model_bytes{}; ///< bytes of the model per ray set (X, Y, Z) on the sculpting path
     std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages on the sculpting device (0 expected)
+    std::string contour_path;                 ///< "gpu" or "cpu": where dirty tiles were contoured during the session
+    std::string contour_reason;               ///< why contouring ran on the CPU ("" on the GPU path)
+    compute::GpuContourStats gpu_contour{};   ///< GPU path: the contourer's counters
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,

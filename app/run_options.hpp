@@ -31,6 +31,10 @@ struct RunOptions {
     double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)
     bool validate = false;          ///< Vulkan validation layer (also on with TRIDEX_VALIDATION=1)
     bool cpu = false;               ///< sculpt on the CPU reference instead of the GPU (Vulkan compute)
+    /// Contour dirty tiles on the CPU (per-tile meshes uploaded to the renderer) even when the Booleans run
+    /// on the GPU; by default a GPU sculpt path also contours on the GPU and the renderer draws its buffers
+    /// with indirect draws.
+    bool cpu_contour = false;
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;

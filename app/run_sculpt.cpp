@@ -1,6 +1,7 @@
 // app/run_sculpt.cpp - haptic loop + sculpt thread of a run.
 #include "app/run_sculpt.hpp"
 
+#include "core/error.hpp"
 #include "haptics/tool_points.hpp"
 
 #include <algorithm>
@@ -15,7 +16,8 @@ constexpr std::size_t kMaxRecords = 120000;            // per-tick records kept:
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
-SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans)
+SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
+                             gpu::Context* render_context)
     : wp_(prepare_workpiece(scene.mesh_path, scene.resolution, scene.stock_m, scene.centre_m)),
       profile_(devices::DeviceProfile::phantom_omni()) {
     cfg_.period_s = 1e-3;
@@ -48,15 +50,40 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     device_ = std::make_unique<devices::SimulatedDevice>(profile_, devices::ScriptedPath(t_s, path),
                                                          devices::SimulatedHandParams{}, cfg_.period_s);
 
+    // The render Context is shared only for GPU contouring: on lavapipe one Context is one queue, so GPU
+    // Booleans on it wait behind the frame in flight; with CPU contouring they keep a Context of their own.
+    if (booleans.cpu_contour)
+        contour_reason_ = "--cpu-contour given";
+    else if (form == MeshForm::kWhole)
+        contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
+    else if (!render_context)
+        contour_reason_ = "no render context shared with the sculpt thread";
+    const bool share = contour_reason_.empty();
+    booleans_ = share ? make_boolean_backend_on(wp_.model, booleans.cpu, *render_context)
+                      : make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
+    if (share && !booleans_.backend->gpu_slabs()) {
+        contour_reason_ = "the Booleans run on the CPU";
+    } else if (share) {
+        try {
+            gpu_contour_ = std::make_unique<GpuContourShare>(*render_context, *booleans_.backend->gpu_slabs(), wp_.model);
+        } catch (const Error& e) {
+            contour_reason_ = std::string("the device cannot contour: ") + e.what();
+        }
+    }
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     const auto t0 = Clock::now();
-    tiles_initial_ = contourer_->update(wp_.model);
+    if (gpu_contour_) {
+        tiles_initial_ = gpu_contour_->update_all();
+        wp_.model.clear_dirty();
+    } else {
+        tiles_initial_ = contourer_->update(wp_.model);
+    }
     contour_s_ = seconds_since(t0);
     ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
-    booleans_ = make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
     sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m_, cfg_.contact.tool_radius_m,
                                              haptics::max_point_distance_m(cfg_.tool_points));
     sculpt_->use_backend(*booleans_.backend);
+    if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
     sculpt_->publish_mesh_to(meshes_, mesh_interval_s, form);
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
 }

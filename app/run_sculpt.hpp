@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <memory>
 
+#include "app/gpu_contour_share.hpp"
 #include "app/run_scene.hpp"
 #include "app/sculpt_thread.hpp"
 #include "app/session.hpp"
@@ -32,8 +33,13 @@ public:
     /// a stroke with no material under it or a bad loop configuration.
     /// `form`: how the contoured surface is handed over (MeshFrame: the whole mesh or per-tile meshes).
     /// `booleans`: where the swept Booleans run (the GPU by default when a Vulkan device exists; --cpu).
+    /// `render_context`: the renderer's Context. When given and the Booleans run on the GPU, they run on it
+    /// (one Context for both threads), and, unless booleans.cpu_contour or `form` is kWhole, the dirty tiles are contoured on
+    /// the GPU into gpu_contour() for the renderer to draw (else, or when the device cannot contour, the CPU
+    /// Contourer with contour_reason() saying why).
     explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0,
-                           MeshForm form = MeshForm::kTiles, const SculptOptions& booleans = {});
+                           MeshForm form = MeshForm::kTiles, const SculptOptions& booleans = {},
+                           gpu::Context* render_context = nullptr);
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
     ~SculptBackend();
     SculptBackend(const SculptBackend&) = delete;
@@ -61,6 +67,12 @@ public:
 
     /// Where the Booleans run (path, device, spill-pool use) and why.
     const BackendChoice& booleans() const { return booleans_; }
+    /// The GPU contour the renderer draws (lock_frame), or nullptr when contouring runs on the CPU.
+    GpuContourShare* gpu_contour() { return gpu_contour_.get(); }
+    /// "gpu" or "cpu": where dirty tiles are contoured.
+    std::string contour_path() const { return gpu_contour_ ? "gpu" : "cpu"; }
+    /// Why contouring runs on the CPU ("" on the GPU path), e.g. "--cpu-contour given".
+    const std::string& contour_reason() const { return contour_reason_; }
     const Workpiece& workpiece() const { return wp_; }                 ///< the model (read after stop())
     const haptics::HapticLoopConfig& config() const { return cfg_; }  ///< the loop configuration
     const devices::DeviceProfile& profile() const { return profile_; } ///< the simulated device's profile
@@ -86,6 +98,8 @@ private:
     TripleBuffer<MeshFrame> meshes_;
     std::unique_ptr<devices::SimulatedDevice> device_;
     BackendChoice booleans_;  // before sculpt_: the thread uses it
+    std::unique_ptr<GpuContourShare> gpu_contour_;  // after booleans_ (its slabs), before sculpt_ (uses it)
+    std::string contour_reason_;
     std::unique_ptr<SculptThread> sculpt_;
     std::unique_ptr<haptics::HapticLoop> loop_;
 };

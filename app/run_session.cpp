@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -77,6 +78,7 @@ RunSetup resolve_run(const RunOptions& o) {
     if (s.out.empty()) throw Error("--out: the output folder must not be empty");
     s.validate = o.validate;
     s.cpu = o.cpu;
+    s.cpu_contour = o.cpu_contour;
     s.pace = o.pace;
     s.items = o.items;
     s.tiles = o.tiles;
@@ -169,10 +171,19 @@ RunResult run_stereo_session(const RunOptions& options) {
     renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
 
     // 3. The sculpting threads.
-    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, SculptOptions{su.cpu, su.validate});
+    // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
+    // thread draws (unless --cpu-contour).
+    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole,
+                          SculptOptions{su.cpu, su.validate, su.cpu_contour}, &ctx);
     r.sculpt_path = backend.booleans().backend->path();
     r.sculpt_device = backend.booleans().backend->device();
     if (!backend.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.booleans().reason);
+    r.contour_path = backend.contour_path();
+    r.contour_tiles_initial = backend.tiles_initial();
+    r.contour_initial_s = backend.contour_s();
+    if (!backend.contour_reason().empty()) r.notes.push_back("contour path cpu: " + backend.contour_reason());
+    GpuContourShare* const gpu_contour = backend.gpu_contour();
+    renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
     r.volume_before_m3 = backend.workpiece().volume_dexel_m3;
     const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
     backend.start();
@@ -223,9 +234,12 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ++r.mesh_versions_drawn;
                 r.last_mesh_version = mesh.version;
             }
-            r.triangles = mesh.triangles;
+            // GPU contour: the buffers stay locked (the sculpt thread cannot re-contour) until the frame is done.
+            std::unique_lock<std::mutex> contour_lock;
+            if (gpu_contour) contour_lock = gpu_contour->lock_frame(indirect);
+            r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
             r.tiled = mesh.tiled;
-            r.tiles_last = mesh.tiles.size();
+            r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
             tiles.clear();
             for (const auto& tile : mesh.tiles) {
                 renderer::TileMesh tm;
@@ -241,6 +255,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                                                        backend.start_tool_m(), backend.start_box_m());
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
             view.tiles = tiles;
+            if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;
             view.eye_count = both ? 2 : 1;
             if (su.items) {
@@ -260,6 +275,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                     eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
                 else
                     rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                if (contour_lock) contour_lock.unlock();
                 if (output == StereoOutput::kFrameSequential) {
                     for (int k = 0; k < 2; ++k) r.last_eye = sequencer.present();
                     r.presents += 2;
@@ -268,12 +284,14 @@ RunResult run_stereo_session(const RunOptions& options) {
                 }
             } else if (output == StereoOutput::kAnaglyph) {
                 eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                if (contour_lock) contour_lock.unlock();
                 renderer::ComposeOptions co;
                 co.swap_eyes = swap;
                 co.anaglyph = dc.anaglyph;
                 r.presents += presenter->present_composed(renderer::compose(output, eyes.left, eyes.right, co));
             } else {
                 rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
+                if (contour_lock) contour_lock.unlock();
                 r.presents += presenter->present(rend);
                 if (output == StereoOutput::kFrameSequential) r.last_eye = presenter->last_eye();
             }
@@ -301,6 +319,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
     r.loop = backend.loop_stats();
     r.spilled_intervals = backend.booleans().backend->spilled_intervals();
+    if (gpu_contour) {
+        r.gpu_contour = gpu_contour->stats();
+        r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
+        r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();
+    }
     r.sculpt = backend.sculpt_stats();
     r.session_s = backend.session_s();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.workpiece().model);

@@ -12,6 +12,7 @@
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
 #include "app/sculpt_thread.hpp"
+#include "compute/gpu_contourer.hpp"
 #include "haptics/haptic_loop.hpp"
 #include "renderer/frame_stats.hpp"
 #include "renderer/stereo_output.hpp"
@@ -31,6 +32,7 @@ struct RunSetup {
     std::string monitor_name;       ///< fullscreen monitor by (part of its) name
     bool validate = false;          ///< Vulkan validation layer
     bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
+    bool cpu_contour = false;       ///< contour on the CPU even when sculpting on the GPU (--cpu-contour)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
@@ -87,6 +89,14 @@ struct RunResult {
     std::string sculpt_path;                     ///< "gpu" or "cpu": where the swept Booleans ran
     std::string sculpt_device;                   ///< Vulkan device that sculpted ("" on the CPU path)
     std::uint64_t spilled_intervals = 0;         ///< GPU spill-pool intervals at the end
+    std::string contour_path;                    ///< "gpu" (GpuContourer, indirect draws) or "cpu" (tile meshes)
+    std::size_t contour_tiles_initial = 0;       ///< tiles contoured before the session
+    double contour_initial_s = 0.0;              ///< wall time of that initial contouring, s
+    /// GPU path: the GpuContourer's counters at the end (tiles on the GPU / host, pool grows, ...).
+    compute::GpuContourStats gpu_contour{};
+    /// GPU path: time the sculpt thread waited for a frame to finish before re-contouring, summed / longest, ms
+    /// (included in SculptStats::contour_ms).
+    double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

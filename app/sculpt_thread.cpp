@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "app/gpu_contour_share.hpp"
 #include "compute/active_surface_publish.hpp"
 #include "compute/sweep.hpp"
 #include "core/error.hpp"
@@ -41,6 +42,11 @@ SculptThread::~SculptThread() {
 void SculptThread::use_backend(BooleanBackend& backend) {
     if (thread_.joinable()) throw Error("SculptThread::use_backend: call it before start()");
     backend_ = &backend;
+}
+
+void SculptThread::use_gpu_contour(GpuContourShare& share) {
+    if (thread_.joinable()) throw Error("SculptThread::use_gpu_contour: call it before start()");
+    gpu_contour_ = &share;
 }
 
 void SculptThread::start() {
@@ -120,7 +126,12 @@ bool SculptThread::step() {
     if (changed || moved_cells > kRecentreCells) publish(centre);
     if (changed) {
         const auto t1 = std::chrono::steady_clock::now();
-        stats_.tiles_recontoured += contourer_.update(model_);
+        if (gpu_contour_) {
+            stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
+            model_.clear_dirty();
+        } else {
+            stats_.tiles_recontoured += contourer_.update(model_);
+        }
         ++stats_.steps;
         const auto t2 = std::chrono::steady_clock::now();
         stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
@@ -144,7 +155,14 @@ void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_inte
 void SculptThread::publish_mesh() {
     const auto t0 = std::chrono::steady_clock::now();
     MeshFrame& slot = mesh_out_->back();
-    if (mesh_form_ == MeshForm::kWhole) {
+    slot.gpu = gpu_contour_ != nullptr;
+    if (gpu_contour_) {  // the surface is in the GPU buffers: announce the change only
+        slot.mesh = TriMesh{};
+        slot.materials.clear();
+        slot.tiles.clear();
+        slot.tiled = true;
+        slot.triangles = 0;  // the render thread counts the GPU contour's triangles itself
+    } else if (mesh_form_ == MeshForm::kWhole) {
         slot.mesh = contourer_.mesh();
         slot.materials = contourer_.mesh_materials();
         slot.tiles.clear();

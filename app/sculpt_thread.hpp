@@ -36,6 +36,8 @@ struct SculptStats {
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
 };
 
+class GpuContourShare;
+
 /// How the sculpt thread hands the contoured surface to the renderer.
 enum class MeshForm {
     kWhole,  ///< MeshFrame::mesh: the whole mesh assembled and copied on every publish
@@ -54,6 +56,9 @@ struct MeshFrame {
     /// O(changed tiles' triangles) and the renderer re-uploads only tiles whose version changed.
     std::vector<std::shared_ptr<const compute::TileSurface>> tiles;
     bool tiled = false;          ///< true when `tiles` holds the surface (MeshForm::kTiles)
+    /// true: the surface lives in the GPU contour (SculptThread::use_gpu_contour); mesh and tiles are empty,
+    /// the renderer draws GpuContourShare's buffers, and this frame only announces that they changed.
+    bool gpu = false;
     std::size_t triangles = 0;   ///< triangles in mesh or summed over tiles
     std::uint64_t sculpt_steps = 0;  ///< SculptStats::steps when published (for a sculpt rate, steps/s)
     double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
@@ -83,6 +88,11 @@ public:
     /// Runs the Booleans on `backend` (built on the same model) instead of the built-in CPU reference.
     /// `backend` must outlive the thread. Throws tridex::Error when the thread runs.
     void use_backend(BooleanBackend& backend);
+    /// Re-contours dirty tiles into `share` (on the GPU, from the GPU backend's slabs) instead of the CPU
+    /// Contourer, which is then left untouched (its mesh stays the one it held). Still after the active
+    /// surface is published; mesh publishes then carry MeshFrame::gpu and no mesh. `share` must outlive the
+    /// thread and have contoured every tile already. Throws tridex::Error when the thread runs.
+    void use_gpu_contour(GpuContourShare& share);
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
     /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
@@ -115,6 +125,7 @@ private:
     BooleanBackend* backend_ = nullptr;
     std::vector<compute::Sweep> batch_;           // reused between steps
     compute::Contourer& contourer_;
+    GpuContourShare* gpu_contour_ = nullptr;  // set: contour on the GPU instead of contourer_
     SpscRing<ToolSample>& samples_;
     TripleBuffer<ActiveSurface>& surface_;
     bool have_prev_ = false;

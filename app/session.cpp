@@ -2,7 +2,10 @@
 #include "app/session.hpp"
 #include "haptics/tool_points.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 #include <thread>
 
 #include "app/memory.hpp"
@@ -62,13 +65,46 @@ Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double
 SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
                        std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt_opt) {
     SessionRun run;
-    BackendChoice booleans = make_boolean_backend(wp.model, sculpt_opt.cpu, sculpt_opt.validate);
+    // GPU contouring needs the Booleans, the contour and the final render on one Context: the session owns it.
+    std::shared_ptr<SessionGpu> g;
+    if (!sculpt_opt.cpu && !sculpt_opt.cpu_contour) {
+        gpu::ContextOptions gopt;
+        gopt.validation = sculpt_opt.validate;
+        try {
+            g = std::make_shared<SessionGpu>();
+            g->context.emplace(gpu::Context::create(gopt));
+        } catch (const Error&) {
+            g.reset();  // make_boolean_backend below says why on the CPU path
+        }
+    }
+    BackendChoice own_booleans;
+    if (g)
+        g->booleans = make_boolean_backend_on(wp.model, false, *g->context);
+    else
+        own_booleans = make_boolean_backend(wp.model, sculpt_opt.cpu, sculpt_opt.validate);
+    BackendChoice& booleans = g ? g->booleans : own_booleans;
     run.sculpt_path = booleans.backend->path();
     run.sculpt_device = booleans.backend->device();
     run.sculpt_path_reason = booleans.reason;
+    if (g) {
+        try {
+            g->contour = std::make_unique<GpuContourShare>(*g->context, *booleans.backend->gpu_slabs(), wp.model);
+        } catch (const Error& e) {
+            run.contour_reason = std::string("the device cannot contour: ") + e.what();
+        }
+    } else {
+        run.contour_reason = sculpt_opt.cpu_contour ? "--cpu-contour given" : "the Booleans run on the CPU";
+    }
+    GpuContourShare* const gpu_contour = g ? g->contour.get() : nullptr;
+    run.contour_path = gpu_contour ? "gpu" : "cpu";
     compute::Contourer contourer(wp.model);
     const auto t_contour = Clock::now();
-    run.tiles_initial = contourer.update(wp.model);
+    if (gpu_contour) {
+        run.tiles_initial = gpu_contour->update_all();
+        wp.model.clear_dirty();
+    } else {
+        run.tiles_initial = contourer.update(wp.model);
+    }
     run.contour_s = seconds_since(t_contour);
 
     SpscRing<ToolSample> ring(kRingCapacity);
@@ -76,6 +112,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     SculptThread sculpt(wp.model, contourer, ring, surface, start_m, cfg.contact.tool_radius_m,
                         haptics::max_point_distance_m(cfg.tool_points));
     sculpt.use_backend(*booleans.backend);
+    if (gpu_contour) sculpt.use_gpu_contour(*gpu_contour);
     haptics::HapticLoop loop(device, surface, ring, cfg);
     const auto t_session = Clock::now();
     sculpt.start();
@@ -86,7 +123,13 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     loop.stop();
     sculpt.stop();  // drains every sample the loop pushed; rethrows a sculpt failure
     run.session_s = seconds_since(t_session);
-    contourer.update(wp.model);  // anything still dirty (normally nothing)
+    // The exported mesh: the CPU Contourer's, of the whole final model on the GPU contour path (it did not
+    // follow the session), else of anything still dirty (normally nothing).
+    if (gpu_contour) {
+        std::fill(wp.model.tiles.dirty.begin(), wp.model.tiles.dirty.end(), std::uint8_t{1});
+        run.gpu_contour = gpu_contour->stats();
+    }
+    contourer.update(wp.model);
     run.records = loop.records();
     run.loop = loop.stats();
     run.sculpt = sculpt.stats();
@@ -96,6 +139,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.spilled_intervals = booleans.backend->spilled_intervals();
     run.model_bytes = booleans.backend->model_bytes();
     run.sculpt_validation_messages = booleans.backend->validation_messages();
+    run.gpu = gpu_contour ? g : nullptr;
     return run;
 }
 
@@ -104,13 +148,26 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
                            const haptics::HapticLoopConfig& cfg, const devices::DeviceProfile& profile,
                            Clock::time_point t_start) {
     // Both eyes through the off-axis PowerWall frusta, offscreen.
-    gpu::ContextOptions gopt;
-    gopt.validation = opt.validate;
-    gpu::Context gpu_ctx = gpu::Context::create(gopt);
+    // On the GPU contour path the workpiece is drawn from the contour buffers, on the session's Context.
+    GpuContourShare* const gpu_contour = run.gpu ? run.gpu->contour.get() : nullptr;
+    std::optional<gpu::Context> own_ctx;
+    if (!gpu_contour) {
+        gpu::ContextOptions gopt;
+        gopt.validation = opt.validate;
+        own_ctx.emplace(gpu::Context::create(gopt));
+    }
+    gpu::Context& gpu_ctx = gpu_contour ? *run.gpu->context : *own_ctx;
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
-    view.workpiece = &run.carved;
-    view.workpiece_materials = &run.carved_materials;
+    renderer::IndirectWorkpiece indirect;
+    std::unique_lock<std::mutex> contour_lock;
+    if (gpu_contour) {
+        contour_lock = gpu_contour->lock_frame(indirect);
+        view.indirect_workpiece = &indirect;
+    } else {
+        view.workpiece = &run.carved;
+        view.workpiece_materials = &run.carved_materials;
+    }
     view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.show_workspace = true;
@@ -128,6 +185,7 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     const auto t_render = Clock::now();
     const renderer::StereoImages eyes = renderer.render(view, renderer::Screen::powerwall(), head, kEyeSeparation);
     const double render_s = seconds_since(t_render);
+    if (contour_lock) contour_lock.unlock();
 
     fs::create_directories(opt.out);
     const fs::path out(opt.out);
@@ -168,6 +226,9 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     r.spilled_intervals = run.spilled_intervals;
     r.model_bytes = run.model_bytes;
     r.sculpt_validation_messages = run.sculpt_validation_messages;
+    r.contour_path = run.contour_path;
+    r.contour_reason = run.contour_reason;
+    r.gpu_contour = run.gpu_contour;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages();

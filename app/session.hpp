@@ -5,9 +5,13 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "app/boolean_backend.hpp"
+#include "app/gpu_contour_share.hpp"
 #include "app/sculpt_thread.hpp"
 #include "app/session_settings.hpp"
 #include "compute/tridexel.hpp"
@@ -34,6 +38,15 @@ struct Workpiece {
 /// bad file, an impossible resolution, or a model that would not fit in memory.
 Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m);
 
+/// The GPU side of a session that contours on the GPU (demo / replay): one Context for the Booleans, the
+/// GPU contour and the final render, so that the renderer draws the contour buffers directly. Members are
+/// destroyed in reverse order: the contour, then the Booleans, then the Context.
+struct SessionGpu {
+    std::optional<gpu::Context> context;
+    BackendChoice booleans;
+    std::unique_ptr<GpuContourShare> contour;  ///< null when the device cannot contour
+};
+
 /// What a session produced.
 struct SessionRun {
     std::vector<haptics::TickRecord> records;  ///< one per haptic tick
@@ -52,18 +65,29 @@ struct SessionRun {
     std::uint64_t spilled_intervals = 0;       ///< GPU spill-pool intervals at the end
     std::array<std::size_t, 3> model_bytes{};  ///< model bytes per ray set on the sculpting path
     std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages on the sculpting device
+    std::string contour_path;                  ///< "gpu" (dirty tiles contoured by GpuContourer) or "cpu"
+    std::string contour_reason;                ///< why contouring ran on the CPU; "" on the GPU path
+    compute::GpuContourStats gpu_contour{};    ///< GPU path: the contourer's counters at the end
+    /// GPU contour path: the Context, Booleans and contour buffers, kept for the final render; else null.
+    std::shared_ptr<SessionGpu> gpu;
 };
 
 /// Where a session sculpts.
 struct SculptOptions {
     bool cpu = false;       ///< --cpu: the CPU reference even when a Vulkan device exists
     bool validate = false;  ///< Vulkan validation on the sculpting device
+    /// --cpu-contour: contour dirty tiles on the CPU even when the Booleans run on the GPU (where a session
+    /// supports GPU contouring: `tridex run`).
+    bool cpu_contour = false;
 };
 
 /// Runs the haptic loop on `device` with `cfg` and the sculpt thread on wp.model, until the loop has
 /// ticked `ticks` times (0: until the device vanishes, e.g. a replay's end) or `timeout_s` of wall time
 /// passed; start_m (world m) centres the first active-surface snapshot. The Booleans run on the GPU when a
-/// Vulkan device exists and sculpt.cpu is false, else on the CPU (make_boolean_backend). Rethrows a
+/// Vulkan device exists and sculpt.cpu is false, else on the CPU (make_boolean_backend). On the GPU path the
+/// dirty tiles are contoured on the GPU too (after the active surface is published) unless sculpt.cpu_contour
+/// (SessionRun::gpu keeps the buffers for write_session_outputs); the exported mesh (SessionRun::carved) is
+/// always the CPU Contourer's, of the final model. Rethrows a
 /// sculpt-thread failure; throws tridex::Error when the model does not fit the GPU.
 SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
                        std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt = {});

@@ -5,7 +5,8 @@ namespace tridex::renderer {
 
 DrawPhase phase_of(PipelineKind kind) {
     switch (kind) {
-        case PipelineKind::kOpaque: return DrawPhase::kOpaque;
+        case PipelineKind::kOpaque:
+        case PipelineKind::kContour: return DrawPhase::kOpaque;
         case PipelineKind::kTranslucentBack:
         case PipelineKind::kTranslucentFront: return DrawPhase::kTranslucent;
         case PipelineKind::kOverlay: return DrawPhase::kOverlay;
@@ -64,11 +65,24 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                 }
                 DrawConstants constants = d.constants;
                 constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
-                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
                 const VkDeviceSize offset = 0;
                 vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
                 vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
-                vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
+                if (d.indirect != VK_NULL_HANDLE && strategy == EyeStrategy::kInstancedLayer) {
+                    // The command's instanceCount is 1: one draw per eye, the eye in the push constant.
+                    for (std::uint32_t e = 0; e < 2; ++e) {
+                        if (!(mask & (1u << e))) continue;
+                        constants.eye = e;
+                        vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                        vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
+                    }
+                    continue;
+                }
+                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                if (d.indirect != VK_NULL_HANDLE)
+                    vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
+                else
+                    vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
             }
         }
         if (timestamps.pool != VK_NULL_HANDLE)

@@ -24,12 +24,22 @@ struct StereoDraw {
     /// instanced-layer draws only the masked instances (first instance = eye); multiview cannot draw one
     /// view only, so a non-zero mask draws in both views.
     std::uint32_t eye_mask = 0b11;
+    /// Not null: draw with vkCmdDrawIndexedIndirect from the one VkDrawIndexedIndirectCommand at
+    /// indirect_offset (bytes) of this buffer (its instanceCount must be 1) instead of index_count indices
+    /// from index 0; index_count must then be non-zero (the command's count, or any non-zero value) or the
+    /// draw is skipped. Instanced-layer draws it once per masked eye with constants.eye set (shaders that
+    /// take the eye from the push constant: PipelineKind::kContour).
+    VkBuffer indirect = VK_NULL_HANDLE;
+    VkDeviceSize indirect_offset = 0;
 };
 
 /// The timed phases of a render pass instance, in drawing order: opaque (kOpaque), translucent
 /// (kTranslucentBack, kTranslucentFront), overlay (kOverlay).
 enum class DrawPhase { kOpaque = 0, kTranslucent = 1, kOverlay = 2 };
 constexpr int kDrawPhaseCount = 3;
+
+/// Stride of VkDrawIndexedIndirectCommand records, bytes.
+constexpr std::uint32_t kIndirectCommandBytes = 20;
 
 /// The phase a pipeline kind belongs to.
 DrawPhase phase_of(PipelineKind kind);

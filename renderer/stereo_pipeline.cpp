@@ -77,14 +77,17 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device, EyeStrategy strategy) {
     return gpu::UniqueRenderPass(device, pass);
 }
 
-const char* vertex_shader_name(EyeStrategy strategy) {
+const char* vertex_shader_name(EyeStrategy strategy, bool contour) {
     switch (strategy) {
-        case EyeStrategy::kPassPerEye: return "stereo_mesh_pass_vert";
-        case EyeStrategy::kMultiview: return "stereo_mesh_multiview_vert";
-        case EyeStrategy::kInstancedLayer: return "stereo_mesh_layer_vert";
+        case EyeStrategy::kPassPerEye: return contour ? "stereo_contour_pass_vert" : "stereo_mesh_pass_vert";
+        case EyeStrategy::kMultiview: return contour ? "stereo_contour_multiview_vert" : "stereo_mesh_multiview_vert";
+        case EyeStrategy::kInstancedLayer: return contour ? "stereo_contour_layer_vert" : "stereo_mesh_layer_vert";
     }
     return "";
 }
+
+// The GPU contour's vertex (compute/gpu_contourer.hpp GpuContourVertex): float grid[3], uint material.
+constexpr std::uint32_t kContourVertexBytes = 16;
 
 gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipelineLayout layout, VkShaderModule vs,
                                   VkShaderModule fs, PipelineKind kind) {
@@ -97,18 +100,24 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = fs;
 
-    const VkVertexInputBindingDescription binding{0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const bool contour = kind == PipelineKind::kContour;
+    const VkVertexInputBindingDescription binding{0, contour ? kContourVertexBytes : sizeof(MeshVertex),
+                                                  VK_VERTEX_INPUT_RATE_VERTEX};
     const VkVertexInputAttributeDescription attributes[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)},
         {2, 0, VK_FORMAT_R32_UINT, offsetof(MeshVertex, material)},
     };
+    const VkVertexInputAttributeDescription contour_attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+        {2, 0, VK_FORMAT_R32_UINT, 12},
+    };
     VkPipelineVertexInputStateCreateInfo vertex_input{};
     vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
     vertex_input.vertexBindingDescriptionCount = 1;
     vertex_input.pVertexBindingDescriptions = &binding;
-    vertex_input.vertexAttributeDescriptionCount = 3;
-    vertex_input.pVertexAttributeDescriptions = attributes;
+    vertex_input.vertexAttributeDescriptionCount = contour ? 2 : 3;
+    vertex_input.pVertexAttributeDescriptions = contour ? contour_attributes : attributes;
 
     VkPipelineInputAssemblyStateCreateInfo assembly{};
 
@@ -121,7 +130,7 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     viewport.viewportCount = 1;
     viewport.scissorCount = 1;
 
-    const bool opaque = kind == PipelineKind::kOpaque;
+    const bool opaque = kind == PipelineKind::kOpaque || contour;
     const bool overlay = kind == PipelineKind::kOverlay;
     VkPipelineRasterizationStateCreateInfo raster{};
     raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
@@ -226,12 +235,18 @@ StereoPipeline StereoPipeline::create(const gpu::Context& context, EyeStrategy s
     p.layout_ = gpu::UniquePipelineLayout(device, layout);
 
     const gpu::UniqueShaderModule vs =
-        gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy)));
+        gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy, false)));
     const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("stereo_mesh_frag"));
     for (PipelineKind kind : {PipelineKind::kOpaque, PipelineKind::kTranslucentBack, PipelineKind::kTranslucentFront,
                               PipelineKind::kOverlay})
         p.pipelines_[static_cast<int>(kind)] =
             make_pipeline(device, p.render_pass_.get(), p.layout_.get(), vs.get(), fs.get(), kind);
+    const gpu::UniqueShaderModule contour_vs =
+        gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy, true)));
+    const gpu::UniqueShaderModule contour_fs =
+        gpu::create_shader_module(context, shaders::spirv("stereo_contour_frag"));
+    p.pipelines_[static_cast<int>(PipelineKind::kContour)] = make_pipeline(
+        device, p.render_pass_.get(), p.layout_.get(), contour_vs.get(), contour_fs.get(), PipelineKind::kContour);
     return p;
 }
 

@@ -19,16 +19,20 @@ enum class PipelineKind {
     kTranslucentBack,   ///< depth test, no depth write, front faces culled, alpha blending (draw first)
     kTranslucentFront,  ///< depth test, no depth write, back faces culled, alpha blending (draw second)
     kOverlay,           ///< no depth test or write, no culling, alpha blending (screen-space overlay, drawn last)
+    /// As kOpaque, for the GPU contour's vertex buffers (ContourVertexInput: grid position + material, no
+    /// normal; shaders stereo_contour_*: flat shading from screen-space derivatives), drawn indirectly.
+    kContour,
 };
 
 /// Number of PipelineKind values.
-constexpr int kPipelineKindCount = 4;
+constexpr int kPipelineKindCount = 5;
 
 /// The GPU state shared by all frames of one eye strategy: a render pass (colour RGBA8 cleared and
 /// left in TRANSFER_SRC_OPTIMAL for readback, depth D32 cleared; with a view mask 0b11 for kMultiview),
 /// the descriptor set layout (set 0 binding 0: EyesUniform), a pipeline layout with the DrawConstants
 /// push range, and one pipeline per PipelineKind using shaders/stereo_mesh.* in the strategy's variant
-/// (vertex input: MeshVertex, locations 0 position, 1 normal, 2 material id).
+/// (vertex input: MeshVertex, locations 0 position, 1 normal, 2 material id; kContour: 16-byte vertices of
+/// the GPU contour, location 0 grid position, 2 material id, shaders stereo_contour_* in the same variant).
 /// Viewport and scissor are dynamic. Move-only; the Context must outlive it.
 class StereoPipeline {
 public:

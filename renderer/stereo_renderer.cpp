@@ -220,6 +220,33 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             d.eye_mask = mask;
         }
     }
+    if (const IndirectWorkpiece* iw = scene.indirect_workpiece; iw && !iw->tiles.empty()) {
+        if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
+            throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
+        for (const IndirectTile& t : iw->tiles) {
+            if (t.index_count == 0) continue;
+            std::uint32_t mask = 0;
+            for (int e = 0; e < eye_count; ++e)
+                if (!scene.cull_tiles || may_be_visible(frusta[e], t.bounds_m)) mask |= 1u << e;
+            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+            for (int e = 0; e < eye_count; ++e)
+                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask == 0) continue;
+            StereoDraw d;
+            d.kind = PipelineKind::kContour;
+            d.vertices = iw->vertices;
+            d.indices = iw->indices;
+            d.index_count = t.index_count;
+            d.indirect = iw->commands;
+            d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
+            d.constants.world_from_model = iw->world_from_grid;
+            d.constants.colour = palette[0];
+            d.constants.lit = 1u;
+            d.constants.palette = 1u;
+            d.eye_mask = mask;
+            draws.push_back(d);
+        }
+    }
     if (scene.tool_radius_m > 0.0) {
         if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
             throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
@@ -257,7 +284,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         n.haptic_rate_hz = scene.haptic_rate_hz;
         n.sculpt_rate_hz = scene.sculpt_rate_hz;
         n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : im.last.frame_ms;
-        n.has_tiles = !scene.tiles.empty();
+        n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
         n.tiles = stats.tiles;
         const std::string text = overlay_content(n);
         const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale

@@ -15,6 +15,7 @@
 #include "renderer/eye_strategy.hpp"
 #include "renderer/frame_stats.hpp"
 #include "renderer/image.hpp"
+#include "renderer/indirect_workpiece.hpp"
 #include "renderer/off_axis.hpp"
 #include "renderer/tile_mesh_cache.hpp"
 
@@ -51,6 +52,11 @@ struct SceneView {
     std::span<const TileMesh> tiles{};
     /// false: draw every tile in both eyes (for comparison; counts then show nothing skipped).
     bool cull_tiles = true;
+    /// The workpiece as GPU buffers (GPU contouring): each tile drawn with one vkCmdDrawIndexedIndirect in the
+    /// eyes whose frustum its bounds may touch (cull_tiles), lit like the tiles above with palette colours but
+    /// flat-shaded (facet normals from screen-space derivatives: the GPU contour has no normals). Counted in
+    /// FrameStats tiles like `tiles`. nullptr = none. Its buffers must not change until draw()/render() return.
+    const IndirectWorkpiece* indirect_workpiece = nullptr;
     /// Draw the 2D overlay (top left, on the screen plane: identical in both eyes) with the rates below,
     /// the frame time and, when there are tiles, the tiles drawn / skipped per eye.
     bool show_overlay = false;

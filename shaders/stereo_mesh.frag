@@ -3,9 +3,15 @@
 // flat colour (with alpha, for the translucent workspace box and the overlay) when draw.lit == 0.
 // The base colour is draw.colour, or the interpolated palette colour of the vertex materials when
 // draw.palette == 1 (per-material workpiece colours).
+// FLAT_NORMALS 1 (the GPU contour, which carries no normals): the facet normal from screen-space derivatives
+// of the world position, turned towards the eye (flat shading; the surface is closed and back faces are culled).
 #extension GL_GOOGLE_include_directive : require
 
 #include "stereo_interface.glsl"
+
+#ifndef FLAT_NORMALS
+#define FLAT_NORMALS 0
+#endif
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_world_normal;
@@ -20,10 +26,15 @@ void main() {
         out_colour = base;
         return;
     }
+    vec3 v = normalize(eyes.eye_position[in_eye].xyz - in_world_position);
+#if FLAT_NORMALS
+    vec3 n = normalize(cross(dFdx(in_world_position), dFdy(in_world_position)));
+    if (dot(n, v) < 0.0) n = -n;
+#else
     vec3 n = normalize(in_world_normal);
     if (!gl_FrontFacing) n = -n;
+#endif
     vec3 l = eyes.light_direction.xyz;
-    vec3 v = normalize(eyes.eye_position[in_eye].xyz - in_world_position);
     vec3 h = normalize(l + v);
     float diffuse = max(dot(n, l), 0.0);
     float specular = diffuse > 0.0 ? pow(max(dot(n, h), 0.0), 48.0) : 0.0;

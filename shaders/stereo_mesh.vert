@@ -6,6 +6,9 @@
 //   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.
 // Screen-space draws (draw.screen_space = 1, the overlay) skip the eye's matrix: both eyes get the
 // same clip position, i.e. zero disparity, as if drawn on the screen plane.
+// CONTOUR_INPUT 1: the GPU contour's vertices (compute/gpu_contourer.hpp GpuContourVertex, 16 bytes: grid
+// position + material, no normal; world_from_model = world_from_grid). Drawn with indirect draws whose
+// instance count is 1, so the instanced-layer variant takes the eye from the push constant (one draw per eye).
 #extension GL_GOOGLE_include_directive : require
 #if EYE_MODE == 1
 #extension GL_EXT_multiview : require
@@ -15,8 +18,16 @@
 
 #include "stereo_interface.glsl"
 
+#ifndef CONTOUR_INPUT
+#define CONTOUR_INPUT 0
+#endif
+
 layout(location = 0) in vec3 in_position;  // model space, m (pixels for screen-space draws)
+#if CONTOUR_INPUT
+const vec3 in_normal = vec3(0.0);          // no normal: the fragment shader derives the facet normal
+#else
 layout(location = 1) in vec3 in_normal;    // model space, unit (ignored when unlit)
+#endif
 layout(location = 2) in uint in_material;  // material id, 0..MATERIAL_COUNT-1
 
 layout(location = 0) out vec3 out_world_position;
@@ -29,6 +40,9 @@ void main() {
     uint eye = draw.eye;
 #elif EYE_MODE == 1
     uint eye = gl_ViewIndex;
+#elif CONTOUR_INPUT
+    uint eye = draw.eye;
+    gl_Layer = int(eye);
 #else
     uint eye = uint(gl_InstanceIndex) & 1u;
     gl_Layer = int(eye);

@@ -76,6 +76,10 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_NE(j["device"].get<std::string>().find("llvmpipe"), std::string::npos) << j["device"];
     EXPECT_GE(j["spilled_intervals"].get<long>(), 0);
     EXPECT_GT(j["model_bytes"]["total"].get<double>(), 3.0 * 97 * 97 * 24);  // 24 B per ray at least
+    // Contoured on the GPU too (the images drawn from its buffers), nothing handed to the host.
+    EXPECT_EQ(j["contour_path"], "gpu");
+    EXPECT_GT(j["contour"]["gpu"]["tiles_gpu"].get<long>(), 0);
+    EXPECT_EQ(j["contour"]["gpu"]["host_fallback_tiles"].get<long>(), 0);
 
     // haptics.csv: a header and one row per tick.
     std::ifstream csv(out / "haptics.csv");
@@ -98,6 +102,23 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_GT(differ, 200u);
     stbi_image_free(img[0]);
     stbi_image_free(img[1]);
+}
+
+TEST(Demo, CpuContourKeepsTheCpuMeshPath) {
+    const fs::path out = fs::temp_directory_path() / "tridex-test-demo-cpu-contour";
+    fs::remove_all(out);
+    const RunResult r = run_tridex("demo --resolution 64 --seconds 1 --width 160 --height 120 --validate --cpu-contour --out " +
+                                       out.string(), out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream rf(out / "report.json");
+    const nlohmann::json j = nlohmann::json::parse(rf);
+    EXPECT_EQ(j["sculpt_path"], "gpu");
+    EXPECT_EQ(j["contour_path"], "cpu");
+    EXPECT_EQ(j["contour_path_reason"], "--cpu-contour given");
+    EXPECT_EQ(j["contour"]["gpu"]["tiles"].get<long>(), 0);
+    EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
+    EXPECT_EQ(j["mesh"]["boundary_edges"].get<int>(), 0);
+    fs::remove_all(out);
 }
 
 std::string file_bytes(const fs::path& p) {

@@ -192,7 +192,10 @@ TEST(RunOffscreen, ItemsAndOverlayAreDrawnAndTheReportHasPassesAndTiles) {
         drawn += f[0].get<std::uint64_t>();
     }
     EXPECT_EQ(render["tiles"]["drawn_total"][0].get<std::uint64_t>(), drawn);
-    EXPECT_GE(render["tiles"]["uploads_total"].get<std::uint64_t>(), on.tiles_last);  // all uploaded once at least
+    if (on.contour_path == "cpu")  // tile meshes: all uploaded once at least
+        EXPECT_GE(render["tiles"]["uploads_total"].get<std::uint64_t>(), on.tiles_last);
+    else  // GPU contour: drawn from the contourer's buffers, nothing uploaded
+        EXPECT_EQ(render["tiles"]["uploads_total"].get<std::uint64_t>(), 0u);
     // Per-pass GPU times (pass-per-eye on lavapipe: every phase per eye), each with count, total, median, p99.
     const nlohmann::json& passes = render["passes"];
     ASSERT_FALSE(passes.empty());
@@ -235,6 +238,7 @@ TEST(RunOffscreen, CloseUpHeadSkipsTilesAndWholeMeshFallbackDraws) {
     // The whole-mesh fallback: no tiles, the same triangles.
     const RunResult whole = run_offscreen(scene, dir / "whole", "side-by-side", 3, true, false);
     EXPECT_FALSE(whole.tiled);
+    EXPECT_EQ(whole.contour_path, "cpu");  // the whole mesh comes from the CPU contourer
     EXPECT_EQ(whole.tiles_last, 0u);
     EXPECT_GT(whole.triangles, 0u);
     EXPECT_EQ(whole.render.tiles.back()[0].drawn + whole.render.tiles.back()[0].skipped, 0u);
