@@ -75,7 +75,7 @@ void run_demo(const DemoOptions& o) {
     // stroke; wall time is only a safety net.
     const std::size_t ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
     const SessionRun run = run_session(wp, device, cfg, ticks, 3.0 * o.seconds + 10.0, plan.world_m.front(),
-                                       SculptOptions{o.cpu, o.validate, o.cpu_contour});
+                                       SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour});
     if (!o.record.empty()) write_session_recording(o.record, s, run.records);
 
     // 4. Images, mesh, per-tick haptics and the report.

@@ -65,8 +65,12 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
-    demo_cmd->add_flag("--cpu-contour", demo.cpu_contour,
-                       "Contour on the CPU even when sculpting on the GPU (default: GPU contouring, drawn with indirect draws)");
+    auto* demo_cpu_contour = demo_cmd->add_flag("--cpu-contour", demo.cpu_contour,
+                       "Contour on the CPU even when sculpting on the GPU (default: GPU contouring, drawn with indirect "
+                       "draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
+    demo_cmd->add_flag("--gpu-contour", demo.gpu_contour,
+                       "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
+        ->excludes(demo_cpu_contour);
 
     tridex::app::OutputOptions replay_out;
     replay_out.out = "out/replay";

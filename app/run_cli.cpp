@@ -31,7 +31,9 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_flag("--cpu", o.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
     cmd->add_flag("--cpu-contour", o.cpu_contour,
                   "Contour on the CPU (tile meshes) even when sculpting on the GPU (default: GPU contouring, "
-                  "drawn with indirect draws)");
+                  "drawn with indirect draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
+    cmd->add_flag("--gpu-contour", o.gpu_contour,
+                  "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower");
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");

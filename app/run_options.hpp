@@ -35,6 +35,9 @@ struct RunOptions {
     /// on the GPU; by default a GPU sculpt path also contours on the GPU and the renderer draws its buffers
     /// with indirect draws.
     bool cpu_contour = false;
+    /// Contour on the GPU even on a CPU implementation of Vulkan (lavapipe), where CPU contouring is the
+    /// default because it is faster there (app/session.hpp gpu_contour_default).
+    bool gpu_contour = false;
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;

@@ -58,6 +58,10 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
     else if (!render_context)
         contour_reason_ = "no render context shared with the sculpt thread";
+    else if (!booleans.cpu && !booleans.gpu_contour) {
+        std::string why;  // a CPU implementation of Vulkan: the CPU contour is faster there
+        if (!gpu_contour_default(*render_context, why)) contour_reason_ = why;
+    }
     const bool share = contour_reason_.empty();
     booleans_ = share ? make_boolean_backend_on(wp_.model, booleans.cpu, *render_context)
                       : make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);

@@ -34,7 +34,8 @@ public:
     /// `form`: how the contoured surface is handed over (MeshFrame: the whole mesh or per-tile meshes).
     /// `booleans`: where the swept Booleans run (the GPU by default when a Vulkan device exists; --cpu).
     /// `render_context`: the renderer's Context. When given and the Booleans run on the GPU, they run on it
-    /// (one Context for both threads), and, unless booleans.cpu_contour or `form` is kWhole, the dirty tiles are contoured on
+    /// (one Context for both threads), and, unless booleans.cpu_contour, `form` is kWhole or the device is a CPU implementation of Vulkan
+    /// without booleans.gpu_contour (gpu_contour_default), the dirty tiles are contoured on
     /// the GPU into gpu_contour() for the renderer to draw (else, or when the device cannot contour, the CPU
     /// Contourer with contour_reason() saying why).
     explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0,

@@ -79,6 +79,8 @@ RunSetup resolve_run(const RunOptions& o) {
     s.validate = o.validate;
     s.cpu = o.cpu;
     s.cpu_contour = o.cpu_contour;
+    s.gpu_contour = o.gpu_contour;
+    if (s.cpu_contour && s.gpu_contour) throw Error("--cpu-contour, --gpu-contour: choose one");
     s.pace = o.pace;
     s.items = o.items;
     s.tiles = o.tiles;
@@ -174,7 +176,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
     // thread draws (unless --cpu-contour).
     SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole,
-                          SculptOptions{su.cpu, su.validate, su.cpu_contour}, &ctx);
+                          SculptOptions{su.cpu, su.validate, su.cpu_contour, su.gpu_contour}, &ctx);
     r.sculpt_path = backend.booleans().backend->path();
     r.sculpt_device = backend.booleans().backend->device();
     if (!backend.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.booleans().reason);

@@ -33,6 +33,7 @@ struct RunSetup {
     bool validate = false;          ///< Vulkan validation layer
     bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
     bool cpu_contour = false;       ///< contour on the CPU even when sculpting on the GPU (--cpu-contour)
+    bool gpu_contour = false;       ///< contour on the GPU even on a CPU Vulkan device (--gpu-contour)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)

@@ -62,17 +62,26 @@ Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double
     return wp;
 }
 
+bool gpu_contour_default(const gpu::Context& context, std::string& reason) {
+    if (context.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) return true;
+    reason = "the Vulkan device (" + context.device_name() +
+             ") is a CPU implementation, where the CPU contour is faster; --gpu-contour forces GPU contouring";
+    return false;
+}
+
 SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg,
                        std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt_opt) {
     SessionRun run;
     // GPU contouring needs the Booleans, the contour and the final render on one Context: the session owns it.
     std::shared_ptr<SessionGpu> g;
+    std::string device_reason;
     if (!sculpt_opt.cpu && !sculpt_opt.cpu_contour) {
         gpu::ContextOptions gopt;
         gopt.validation = sculpt_opt.validate;
         try {
             g = std::make_shared<SessionGpu>();
             g->context.emplace(gpu::Context::create(gopt));
+            if (!sculpt_opt.gpu_contour && !gpu_contour_default(*g->context, device_reason)) g.reset();
         } catch (const Error&) {
             g.reset();  // make_boolean_backend below says why on the CPU path
         }
@@ -93,7 +102,9 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
             run.contour_reason = std::string("the device cannot contour: ") + e.what();
         }
     } else {
-        run.contour_reason = sculpt_opt.cpu_contour ? "--cpu-contour given" : "the Booleans run on the CPU";
+        run.contour_reason = sculpt_opt.cpu_contour     ? "--cpu-contour given"
+                             : !device_reason.empty() ? device_reason
+                                                      : "the Booleans run on the CPU";
     }
     GpuContourShare* const gpu_contour = g ? g->contour.get() : nullptr;
     run.contour_path = gpu_contour ? "gpu" : "cpu";

@@ -101,7 +101,7 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
     stages[1].module = fs;
 
     const bool contour = kind == PipelineKind::kContour;
-    const VkVertexInputBindingDescription binding{0, contour ? kContourVertexBytes : sizeof(MeshVertex),
+    const VkVertexInputBindingDescription binding{0, contour ? kContourVertexBytes : static_cast<std::uint32_t>(sizeof(MeshVertex)),
                                                   VK_VERTEX_INPUT_RATE_VERTEX};
     const VkVertexInputAttributeDescription attributes[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},

@@ -34,6 +34,7 @@ RunResult run_stroke(const fs::path& dir, const std::string& name, bool cpu, boo
     o.out = (dir / name).string();  // until the stroke ends
     o.cpu = cpu;
     o.cpu_contour = cpu_contour;
+    o.gpu_contour = !cpu && !cpu_contour;  // lavapipe's default is the CPU contour
     return run_stereo_session(o);
 }
 
@@ -143,6 +144,7 @@ TEST(RunGpuContour, ImagesAgreeWithTheCpuContourPath) {
         o.items = false;
         o.pace = false;
         o.cpu_contour = k == 1;
+        o.gpu_contour = k == 0;
         o.out = (dir / (k ? "cpu" : "gpu")).string();
         const RunResult r = run_stereo_session(o);
         EXPECT_EQ(r.contour_path, k ? "cpu" : "gpu");
