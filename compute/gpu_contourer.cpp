@@ -8,6 +8,7 @@
 #include "compute/contour_table.hpp"
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/compute_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "shaders/spirv.hpp"
 
@@ -70,43 +71,12 @@ GpuContourer::~GpuContourer() = default;
 
 void GpuContourer::create_pipeline() {
     const VkDevice dev = context_.device();
-    VkDescriptorSetLayoutBinding b[kBindings]{};
-    for (int i = 0; i < kBindings; ++i) {
-        b[i].binding = static_cast<std::uint32_t>(i);
-        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        b[i].descriptorCount = 1;
-        b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    VkDescriptorSetLayoutCreateInfo li{};
-    li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    li.bindingCount = kBindings;
-    li.pBindings = b;
-    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &layout), "vkCreateDescriptorSetLayout");
-    set_layout_ = gpu::UniqueDescriptorSetLayout(dev, layout);
-
-    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
-    VkPipelineLayoutCreateInfo pli{};
-    pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-    pli.setLayoutCount = 1;
-    pli.pSetLayouts = &layout;
-    pli.pushConstantRangeCount = 1;
-    pli.pPushConstantRanges = &range;
-    VkPipelineLayout pl = VK_NULL_HANDLE;
-    gpu::check(vkCreatePipelineLayout(dev, &pli, nullptr, &pl), "vkCreatePipelineLayout");
-    pipeline_layout_ = gpu::UniquePipelineLayout(dev, pl);
-
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context_, kBindings, sizeof(Push));
+    const VkDescriptorSetLayout layout = cl.set_layout.get();
+    set_layout_ = std::move(cl.set_layout);
+    pipeline_layout_ = std::move(cl.pipeline_layout);
     const gpu::UniqueShaderModule module = gpu::create_shader_module(context_, shaders::spirv("dexel_contour_comp"));
-    VkComputePipelineCreateInfo ci{};
-    ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module.get();
-    ci.stage.pName = "main";
-    ci.layout = pl;
-    VkPipeline pipe = VK_NULL_HANDLE;
-    gpu::check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), "vkCreateComputePipelines");
-    pipeline_ = gpu::UniquePipeline(dev, pipe);
+    pipeline_ = gpu::create_compute_pipeline(context_, module.get(), pipeline_layout_.get());
 
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
     VkDescriptorPoolCreateInfo pi{};

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/compute_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "shaders/spirv.hpp"
 
@@ -87,31 +88,10 @@ std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
 GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
     : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
     const VkDevice dev = context.device();
-    VkDescriptorSetLayoutBinding b[kBindings]{};
-    for (int i = 0; i < kBindings; ++i) {
-        b[i].binding = static_cast<std::uint32_t>(i);
-        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        b[i].descriptorCount = 1;
-        b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    VkDescriptorSetLayoutCreateInfo li{};
-    li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    li.bindingCount = kBindings;
-    li.pBindings = b;
-    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &layout), "vkCreateDescriptorSetLayout");
-    set_layout_ = gpu::UniqueDescriptorSetLayout(dev, layout);
-
-    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
-    VkPipelineLayoutCreateInfo pli{};
-    pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-    pli.setLayoutCount = 1;
-    pli.pSetLayouts = &layout;
-    pli.pushConstantRangeCount = 1;
-    pli.pPushConstantRanges = &range;
-    VkPipelineLayout pl = VK_NULL_HANDLE;
-    gpu::check(vkCreatePipelineLayout(dev, &pli, nullptr, &pl), "vkCreatePipelineLayout");
-    pipeline_layout_ = gpu::UniquePipelineLayout(dev, pl);
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push));
+    const VkDescriptorSetLayout layout = cl.set_layout.get();
+    set_layout_ = std::move(cl.set_layout);
+    pipeline_layout_ = std::move(cl.pipeline_layout);
 
     // Two variants of the kernel: the specialisation constant HAS_MESH (constant_id 0) compiles the mesh-tool
     // path in or out, so batches without mesh tools run the smaller kernel (1.5x faster on llvmpipe).
@@ -124,17 +104,8 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
         spec.pMapEntries = &entry;
         spec.dataSize = sizeof(VkBool32);
         spec.pData = &has_mesh;
-        VkComputePipelineCreateInfo ci{};
-        ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        ci.stage.module = module.get();
-        ci.stage.pName = "main";
-        ci.stage.pSpecializationInfo = &spec;
-        ci.layout = pl;
-        VkPipeline pipe = VK_NULL_HANDLE;
-        gpu::check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), "vkCreateComputePipelines");
-        (variant == 1 ? mesh_pipeline_ : pipeline_) = gpu::UniquePipeline(dev, pipe);
+        (variant == 1 ? mesh_pipeline_ : pipeline_) =
+            gpu::create_compute_pipeline(context, module.get(), pipeline_layout_.get(), &spec);
     }
 
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * kBindings};

@@ -1,0 +1,27 @@
+// gpu/compute_pipeline.hpp - the layout and pipeline of a compute shader that reads and writes storage buffers.
+#pragma once
+
+#include <cstdint>
+
+#include "gpu/context.hpp"
+#include "gpu/unique_handle.hpp"
+
+namespace tridex::gpu {
+
+/// A descriptor-set layout of storage buffers and the pipeline layout built on it.
+struct ComputeLayout {
+    UniqueDescriptorSetLayout set_layout;   ///< bindings 0 .. storage_buffers-1, one storage buffer each
+    UniquePipelineLayout pipeline_layout;   ///< that set (set 0) plus the push-constant range
+};
+
+/// The layout of a compute shader whose set 0 holds `storage_buffers` storage buffers at bindings
+/// 0 .. storage_buffers-1 (compute stage) and which takes `push_bytes` bytes of push constants (0 = none).
+/// Throws tridex::Error naming the Vulkan call when the device refuses.
+ComputeLayout create_compute_layout(const Context& context, std::uint32_t storage_buffers, std::uint32_t push_bytes);
+
+/// A compute pipeline running `module`'s `main` with `layout`, specialised by `spec` (nullptr = none).
+/// Throws tridex::Error naming the Vulkan call when the device refuses.
+UniquePipeline create_compute_pipeline(const Context& context, VkShaderModule module, VkPipelineLayout layout,
+                                       const VkSpecializationInfo* spec = nullptr);
+
+}  // namespace tridex::gpu
