@@ -81,8 +81,13 @@ int main(int argc, char** argv) {
     replay_cmd->add_option("--width", replay_out.width, "Per-eye image width, px")->capture_default_str();
     replay_cmd->add_option("--height", replay_out.height, "Per-eye image height, px")->capture_default_str();
     replay_cmd->add_flag("--validate", replay_out.validate, "Enable the Vulkan validation layer");
-    bool replay_cpu = false;
-    replay_cmd->add_flag("--cpu", replay_cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    tridex::app::SculptOptions replay_sculpt;
+    replay_cmd->add_flag("--cpu", replay_sculpt.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    auto* replay_cpu_contour = replay_cmd->add_flag("--cpu-contour", replay_sculpt.cpu_contour,
+                                                    "Contour on the CPU even when sculpting on the GPU (as for demo)");
+    replay_cmd->add_flag("--gpu-contour", replay_sculpt.gpu_contour,
+                         "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
+        ->excludes(replay_cpu_contour);
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -130,7 +135,7 @@ int main(int argc, char** argv) {
             demo.cutting = !no_cutting;
             tridex::app::run_demo(demo);
         }
-        if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_cpu);
+        if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
         if (*run_cmd) return tridex::app::run_command(run);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)

@@ -9,7 +9,7 @@
 
 namespace tridex::app {
 
-void run_replay(const std::string& recording_path, const OutputOptions& out, bool cpu) {
+void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     const devices::Recording rec = devices::read_recording(recording_path);
@@ -21,7 +21,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, boo
     const Vec3 start = rec.ticks.empty() ? s.device_origin_m : rec.ticks.front().wand_centre_m;
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
-    const SessionRun run = run_session(wp, device, cfg, 0, timeout_s, start, SculptOptions{cpu, out.validate});
+    const SessionRun run = run_session(wp, device, cfg, 0, timeout_s, start, SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour});
     write_session_outputs(out, s, wp, run, cfg, profile, t_start);
 }
 

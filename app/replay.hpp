@@ -11,8 +11,8 @@ namespace tridex::app {
 /// loop from the settings in its header, plays the recorded device samples back through a ReplayDevice
 /// (one per tick, at the recorded rate) and writes the same outputs as the demo into out.out. The tool
 /// sample stream, and so the sculpted model, equals the live session's. Throws tridex::Error naming the
-/// file on a bad recording or settings. `cpu`: sculpt on the CPU reference (--cpu) instead of the GPU;
-/// both paths give the same model.
-void run_replay(const std::string& recording_path, const OutputOptions& out, bool cpu = false);
+/// file on a bad recording or settings. `sculpt`: where the Booleans and the contour run (--cpu,
+/// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model.
+void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {});
 
 }  // namespace tridex::app

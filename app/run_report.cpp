@@ -125,6 +125,7 @@ json run_report_json(const RunResult& r) {
         {"sculpt_device", r.sculpt_device},
         {"spilled_intervals", r.spilled_intervals},
         {"contour_path", r.contour_path},
+        {"contour_path_reason", r.contour_reason},
         {"contour",
          {{"path", r.contour_path},
           {"tiles_initial", r.contour_tiles_initial},

@@ -72,6 +72,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
             gpu_contour_ = std::make_unique<GpuContourShare>(*render_context, *booleans_.backend->gpu_slabs(), wp_.model);
         } catch (const Error& e) {
             contour_reason_ = std::string("the device cannot contour: ") + e.what();
+            // CPU contouring after all: the Booleans get a Context of their own again, so they do not wait
+            // behind the frames (nothing has been sculpted yet).
+            booleans_ = make_boolean_backend(wp_.model, booleans.cpu, booleans.validate);
         }
     }
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);

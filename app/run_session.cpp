@@ -183,7 +183,8 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.contour_path = backend.contour_path();
     r.contour_tiles_initial = backend.tiles_initial();
     r.contour_initial_s = backend.contour_s();
-    if (!backend.contour_reason().empty()) r.notes.push_back("contour path cpu: " + backend.contour_reason());
+    r.contour_reason = backend.contour_reason();
+    if (!r.contour_reason.empty()) r.notes.push_back("contour path cpu: " + r.contour_reason);
     GpuContourShare* const gpu_contour = backend.gpu_contour();
     renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
     r.volume_before_m3 = backend.workpiece().volume_dexel_m3;

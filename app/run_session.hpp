@@ -91,6 +91,7 @@ struct RunResult {
     std::string sculpt_device;                   ///< Vulkan device that sculpted ("" on the CPU path)
     std::uint64_t spilled_intervals = 0;         ///< GPU spill-pool intervals at the end
     std::string contour_path;                    ///< "gpu" (GpuContourer, indirect draws) or "cpu" (tile meshes)
+    std::string contour_reason;                  ///< why the contour ran on the CPU (empty on the GPU path)
     std::size_t contour_tiles_initial = 0;       ///< tiles contoured before the session
     double contour_initial_s = 0.0;              ///< wall time of that initial contouring, s
     /// GPU path: the GpuContourer's counters at the end (tiles on the GPU / host, pool grows, ...).

@@ -96,8 +96,10 @@ TEST(RunGpuContour, CpuContourAndCpuKeepTheTileMeshPath) {
         EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(),
                                 [&](const std::string& n) { return n.find(want) != std::string::npos; }))
             << want;
+        EXPECT_EQ(r.contour_reason, want);
         const nlohmann::json rep = read_json(dir / (cpu ? "cpu" : "cpu_contour") / "report.json");
         EXPECT_EQ(rep["contour_path"], "cpu");
+        EXPECT_EQ(rep["contour_path_reason"], want);
     }
     fs::remove_all(dir);
 }
