@@ -348,7 +348,10 @@ std::uint32_t Context::memory_type(std::uint32_t type_bits, VkMemoryPropertyFlag
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
     Impl& impl = *impl_;
-    std::lock_guard<std::mutex> lock(impl.queue_mutex);
+    // The lock guards the shared command pool and the queue: held to record and submit, released while
+    // waiting for the fence (so another thread's submission, e.g. a frame, is not held behind this one),
+    // taken again to free the command buffer.
+    std::unique_lock<std::mutex> lock(impl.queue_mutex);
     VkCommandBufferAllocateInfo alloc{};
     alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
     alloc.commandPool = impl.pool;
@@ -363,11 +366,13 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
         VkCommandPool pool;
         VkCommandBuffer& cmd;
         VkFence& fence;
+        std::unique_lock<std::mutex>& lock;
         ~Cleanup() {
+            if (!lock.owns_lock()) lock.lock();
             if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
             vkFreeCommandBuffers(device, pool, 1, &cmd);
         }
-    } cleanup{impl.device, impl.pool, cmd, fence};
+    } cleanup{impl.device, impl.pool, cmd, fence, lock};
 
     VkCommandBufferBeginInfo begin{};
 
@@ -386,8 +391,10 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cmd;
     check(vkQueueSubmit(impl.queue, 1, &submit, fence), "vkQueueSubmit");
+    lock.unlock();
     const VkResult r = check(vkWaitForFences(impl.device, 1, &fence, VK_TRUE, kSubmitTimeoutNs), "vkWaitForFences");
     if (r == VK_TIMEOUT) {
+        lock.lock();
         vkDeviceWaitIdle(impl.device);  // the command buffer must not be freed while pending
         throw Error("gpu: a submitted command buffer did not finish within 60 s");
     }

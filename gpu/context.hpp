@@ -48,7 +48,8 @@ struct DeviceFeatures {
 /// Move-only RAII: destroying it waits for the device to go idle and then destroys device, messenger
 /// and instance. Every object created from it must be destroyed first.
 /// Thread safety: the const accessors may be called from any thread; submit_and_wait() and
-/// queue_submit() lock an internal mutex, so several threads may share one Context for submissions.
+/// queue_submit() lock an internal mutex, so several threads may share one Context for submissions
+/// (submit_and_wait() holds it while recording and submitting, not while waiting for its fence).
 class Context {
 public:
     /// Creates instance, device and queue. Throws tridex::Error with a one-line reason when no
