@@ -39,6 +39,17 @@ void write_haptics_csv(const std::string& path, const std::vector<haptics::TickR
     if (std::fclose(f) != 0) throw Error(path + ": write failed");
 }
 
+nlohmann::json gpu_contour_json(const compute::GpuContourStats& s) {
+    return {{"updates", s.updates},
+            {"tiles", s.tiles_gpu + s.tiles_cpu},
+            {"tiles_gpu", s.tiles_gpu},
+            {"host_fallback_tiles", s.tiles_cpu},
+            {"split_faces", s.split_faces_gpu},
+            {"region_retries", s.region_retries},
+            {"pool_grows", s.pool_grows},
+            {"dispatches", s.dispatches}};
+}
+
 void write_report_json(const std::string& path, const DemoReport& r) {
     const auto& recs = *r.records;
     // The first period has no predecessor; skip it in the period statistics.
@@ -113,15 +124,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     j["sculpt_validation_messages"] = r.sculpt_validation_messages;
     j["contour_path"] = r.contour_path;
     if (!r.contour_reason.empty()) j["contour_path_reason"] = r.contour_reason;
-    j["contour"] = {{"path", r.contour_path},
-                    {"gpu",
-                     {{"updates", r.gpu_contour.updates},
-                      {"tiles", r.gpu_contour.tiles_gpu + r.gpu_contour.tiles_cpu},
-                      {"tiles_gpu", r.gpu_contour.tiles_gpu},
-                      {"host_fallback_tiles", r.gpu_contour.tiles_cpu},
-                      {"region_retries", r.gpu_contour.region_retries},
-                      {"pool_grows", r.gpu_contour.pool_grows},
-                      {"dispatches", r.gpu_contour.dispatches}}}};
+    j["contour"] = {{"path", r.contour_path}, {"gpu", gpu_contour_json(r.gpu_contour)}};
     j["model_bytes"] = {{"x", r.model_bytes[0]}, {"y", r.model_bytes[1]}, {"z", r.model_bytes[2]},
                         {"total", r.model_bytes[0] + r.model_bytes[1] + r.model_bytes[2]}};
     j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "app/sculpt_thread.hpp"
 #include "app/session_settings.hpp"
 #include "compute/gpu_contourer.hpp"
@@ -55,6 +57,10 @@ struct DemoReport {
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,
 /// contact (metres, newtons, 0/1). Throws tridex::Error "<path>: ..." when it cannot write.
 void write_haptics_csv(const std::string& path, const std::vector<haptics::TickRecord>& records);
+
+/// The GPU contour's counters as report.json writes them under `contour.gpu` (demo, replay and run):
+/// updates, tiles, tiles_gpu, host_fallback_tiles, split_faces, region_retries, pool_grows, dispatches.
+nlohmann::json gpu_contour_json(const compute::GpuContourStats& stats);
 
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);

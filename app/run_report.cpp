@@ -6,6 +6,7 @@
 
 #include "app/stats.hpp"
 #include "app/json_file.hpp"
+#include "app/report.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -72,6 +73,9 @@ void RenderLog::add(const renderer::FrameStats& stats) {
 json run_report_json(const RunResult& r) {
     const RunSetup& su = r.setup;
     const RunScene& sc = su.scene;
+    json gpu = gpu_contour_json(r.gpu_contour);
+    gpu["lock_wait_ms_total"] = r.contour_lock_wait_ms_total;
+    gpu["lock_wait_ms_max"] = r.contour_lock_wait_ms_max;
     json frames{{"count", r.frames},
                 {"presents", r.presents},
                 {"last_eye", r.last_eye},
@@ -130,17 +134,7 @@ json run_report_json(const RunResult& r) {
          {{"path", r.contour_path},
           {"tiles_initial", r.contour_tiles_initial},
           {"initial_s", r.contour_initial_s},
-          {"gpu",
-           {{"updates", r.gpu_contour.updates},
-            {"tiles", r.gpu_contour.tiles_gpu + r.gpu_contour.tiles_cpu},
-            {"tiles_gpu", r.gpu_contour.tiles_gpu},
-            {"host_fallback_tiles", r.gpu_contour.tiles_cpu},
-            {"split_faces", r.gpu_contour.split_faces_gpu},
-            {"region_retries", r.gpu_contour.region_retries},
-            {"pool_grows", r.gpu_contour.pool_grows},
-            {"dispatches", r.gpu_contour.dispatches},
-            {"lock_wait_ms_total", r.contour_lock_wait_ms_total},
-            {"lock_wait_ms_max", r.contour_lock_wait_ms_max}}}}},
+          {"gpu", gpu}}},
         {"stroke_completed", r.stroke_completed},
         {"session_s", r.session_s},
         {"volume_before_m3", r.volume_before_m3},

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <random>
 #include <vector>
 
 #include "compute/tridexel.hpp"
@@ -100,6 +101,22 @@ inline std::vector<Interval> voxel_ray(const std::function<bool(int, int, int)>&
                                static_cast<float>(t1 + jitter((base + t1) * 2 + 1))});
     }
     return ray;
+}
+
+/// Random voxel set on a cube lattice of `cells`: interior nodes (1 .. cells - 1) inside with probability
+/// `density` (seeded by `seed`); the rays of all three sets are built from it, so they agree on every node.
+inline TriDexel random_voxels(int cells, double density, unsigned seed) {
+    const int n = cells + 1;
+    std::vector<std::uint8_t> occ(static_cast<std::size_t>(n) * n * n, 0);
+    std::mt19937 rng(seed);
+    std::bernoulli_distribution coin(density);
+    for (int k = 1; k < cells; ++k)
+        for (int j = 1; j < cells; ++j)
+            for (int i = 1; i < cells; ++i) occ[i + n * (j + static_cast<std::size_t>(n) * k)] = coin(rng) ? 1 : 0;
+    const auto inside = [&](int i, int j, int k) { return occ[i + n * (j + static_cast<std::size_t>(n) * k)] != 0; };
+    TriDexel m = empty_model(cube_lattice(cells));
+    fill_rays(m, [&](int a, int u, int v) { return voxel_ray(inside, n, a, u, v); });
+    return m;
 }
 
 /// Lists for every vertex the directed link edges (b -> c for each triangle (v, b, c)) and checks they

@@ -67,19 +67,6 @@ TriDexel scan_model(const TriMesh& mesh, int resolution) {
     return m;
 }
 
-TriDexel random_voxels(int cells, double density, unsigned seed) {
-    const int n = cells + 1;
-    std::vector<std::uint8_t> occ(static_cast<std::size_t>(n) * n * n, 0);
-    std::mt19937 rng(seed);
-    std::bernoulli_distribution coin(density);
-    for (int k = 1; k < cells; ++k)
-        for (int j = 1; j < cells; ++j)
-            for (int i = 1; i < cells; ++i) occ[i + n * (j + static_cast<std::size_t>(n) * k)] = coin(rng) ? 1 : 0;
-    const auto inside = [&](int i, int j, int k) { return occ[i + n * (j + static_cast<std::size_t>(n) * k)] != 0; };
-    TriDexel m = empty_model(cube_lattice(cells));
-    fill_rays(m, [&](int a, int u, int v) { return voxel_ray(inside, n, a, u, v); });
-    return m;
-}
 
 }  // namespace
 
