@@ -30,8 +30,9 @@ struct ContourStats {
 /// Method: manifold dual contouring on the model's shared lattice (details in contour_tile.hpp and
 /// contour_table.hpp). Node occupancy comes from the X rays (enter <= x < exit; lattice-boundary nodes
 /// are outside, so the mesh is closed); each sign-change edge's crossing comes from its own ray (Peng et
-/// al., tri-dexel model: every lattice edge lies on one ray). One vertex per surface component of a cell
-/// at the mean of its crossings; one quad per sign-change edge, split along the shorter diagonal. For
+/// al., tri-dexel model: every lattice edge lies on one ray). One vertex per surface component of a cell,
+/// placed by the QEF of its crossings with normals estimated from neighbouring rays (sharp edges and
+/// corners kept; contour_qef.hpp); one quad per sign-change edge, split along the shorter diagonal. For
 /// any occupancy the result has no boundary, non-manifold or misoriented edge and no pinched vertex.
 /// Cost: proportional to the surface cells of the dirty tiles (uniform cells are skipped by bit masks)
 /// plus (kTileCells + 3)^2 ray reads per dirty tile.

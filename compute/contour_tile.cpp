@@ -1,6 +1,8 @@
 // compute/contour_tile.cpp - manifold dual contouring of one tile (see contour_tile.hpp for the method).
 #include "compute/contour_tile.hpp"
 
+#include "compute/contour_qef.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cstdio>
@@ -153,13 +155,17 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         std::array<Vec3, 12> point{};
         std::array<std::uint8_t, 12> mat{};
         std::array<int, 12> owner{};
+        std::array<Vec3, 12> normal{};
+        std::array<bool, 12> has_normal{};
         int crossings = 0;
         for (int e = 0; e < 12; ++e) {
             const int comp = cc.edge_component[e];
             if (comp < 0) continue;
             const int corner = edge_corners(e)[0], a = e / 4;
             const Node p{cell[0] + (corner & 1), cell[1] + ((corner >> 1) & 1), cell[2] + ((corner >> 2) & 1)};
-            const EdgeCrossing x = edge_crossing(*model_, a, p, ((cfg >> corner) & 1) != 0);
+            const bool start_in = ((cfg >> corner) & 1) != 0;
+            const EdgeCrossing x = edge_crossing(*model_, a, p, start_in);
+            has_normal[crossings] = !x.fallback && crossing_normal(*model_, a, p, start_in, x.t, normal[crossings]);
             point[crossings] = crossing_point(p, a, x);
             mat[crossings] = x.material;
             owner[crossings++] = comp;
@@ -169,7 +175,15 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         const Vec3 lo(cell[0], cell[1], cell[2]);
         std::array<double, kMaxComponents> best_d2{};
         for (int comp = 0; comp < cc.components; ++comp) {
-            cv.pos[comp] = glm::clamp(sum[comp] / static_cast<double>(count[comp]), lo, lo + Vec3(1.0));
+            // The component's crossings that have a normal, in ascending edge order.
+            std::array<Vec3, 12> qp{}, qn{};
+            int q = 0;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp && has_normal[i]) {
+                    qp[q] = point[i];
+                    qn[q++] = normal[i];
+                }
+            cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo);
             best_d2[comp] = -1.0;
         }
         // Nearest crossing of each component (see "vertex materials"; ties: the larger material id).

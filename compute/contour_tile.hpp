@@ -20,7 +20,9 @@ namespace tridex::compute::contour {
 ///                 for the segment around the face's inside corner `corner` (face_corners order).
 /// Every vertex, edge polygon and face belongs to the tile of the cell with the same index as its
 /// anchor node; it depends only on nodes n - 1 .. n + 1 on each axis and the edges between them (the
-/// cells n - 1 and n), which is what TriDexel::mark_dirty covers (cells within one cell of a change).
+/// cells n - 1 and n), and, through the crossing normals (contour_qef.hpp), on the rays one node beside
+/// those edges and their interval ends up to kNormalWindow cells along them; TriDexel::mark_dirty covers
+/// that (cells within three cells of a change).
 using VertexKey = std::uint64_t;
 
 /// Anchor node of a key and the tile owning it.
@@ -58,8 +60,10 @@ struct TileMesh {
 /// Method (manifold dual contouring on the shared tri-dexel lattice):
 ///  - node occupancy from the X rays (OccupancyBlock); cells whose 8 corners agree are skipped by
 ///    32-bit row masks, so the work per tile is proportional to its surface cells;
-///  - one dual vertex per surface component of a cell (cell_cases()), placed at the mass point (mean) of
-///    that component's edge crossings, clamped into the cell;
+///  - one dual vertex per surface component of a cell (cell_cases()), placed by the QEF of that
+///    component's edge crossings and their normals estimated from neighbouring rays (qef_vertex(),
+///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept), relative to and falling
+///    back on their mass point (mean), clamped into the cell;
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;
@@ -77,8 +81,8 @@ struct TileMesh {
 /// Computed while the vertex is placed, from the same crossings (no extra pass over the model).
 class TileContourer {
 public:
-    /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 1
-    /// .. t*16 + 17 of each axis. Does not touch the model's dirty flags.
+    /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 2
+    /// .. t*16 + 18 of each axis. Does not touch the model's dirty flags.
     void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out);
 
 private:

@@ -42,8 +42,11 @@ void TriDexel::mark_dirty(const Aabb& box_m) {
     const Vec3 glo = lattice.to_grid(box_m.lo), ghi = lattice.to_grid(box_m.hi);
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-        // Cells within one cell of the box; a cell c spans [c, c+1] in grid units.
-        const double l = std::floor(glo[a]) - 1.0, h = std::floor(ghi[a]) + 1.0;
+        // Cells whose dual vertices can read a changed ray: a vertex reads the crossings on its cell's
+        // edges and, for their normals, the rays one node beside them and interval ends up to
+        // contour::kNormalWindow (2) cells along them; so cells within 3 cells of the box.
+        // A cell c spans [c, c+1] in grid units.
+        const double l = std::floor(glo[a]) - 3.0, h = std::floor(ghi[a]) + 3.0;
         const int last_cell = lattice.cells[a] - 1;
         if (h < 0.0 || l > last_cell) return;
         lo[a] = static_cast<int>(std::max(0.0, l)) / TileGrid::kTileCells;

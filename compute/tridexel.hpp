@@ -57,7 +57,8 @@ struct TriDexel {
     /// An empty model (no material) on `lattice`, all tiles clean. Throws tridex::Error when the
     /// lattice would need more memory than `max_bytes` (the message gives both numbers).
     static TriDexel empty(const Lattice& lattice, std::size_t max_bytes);
-    /// Marks dirty every tile holding a cell within one cell of the world box `box_m`.
+    /// Marks dirty every tile holding a cell within three cells of the world box `box_m` (the reach of a
+    /// changed ray into the contour: crossings, their normals from neighbouring rays, contour_qef.hpp).
     void mark_dirty(const Aabb& box_m);
     /// Clears all dirty flags.
     void clear_dirty();

@@ -1,0 +1,49 @@
+// compute/contour_qef.hpp - sharp-feature vertex placement for dual contouring: surface normals estimated
+// at edge crossings from neighbouring rays, and the quadric error function (QEF) minimiser.
+#pragma once
+
+#include "compute/contour_sample.hpp"
+#include "compute/tridexel.hpp"
+
+namespace tridex::compute::contour {
+
+/// Largest depth difference (grid units) between a crossing and the matching interval end on a
+/// neighbouring ray for that end to count as the same surface (surface slopes up to 2 against the ray
+/// axis; steeper surfaces are seen by the other ray sets' crossings). TriDexel::mark_dirty widens the
+/// dirty region by this much, plus the one-cell reach of the neighbour rays.
+inline constexpr double kNormalWindow = 2.0;
+/// Two one-sided slopes that differ by at most this much are averaged (central difference); beyond it
+/// the ray sits at a crease and the flatter one-sided slope is used.
+inline constexpr double kCentralSlopeTol = 0.5;
+/// QEF eigenvalues below this fraction of the largest are treated as zero (the vertex then keeps the
+/// mass point's coordinate along that eigenvector), as in Ju, Losasso, Schaefer and Warren 2002 (their SVD truncation).
+inline constexpr double kQefTruncation = 0.1;
+/// Cyclic Jacobi sweeps of the 3x3 QEF matrix (quadratic convergence: 5 sweeps reach double precision).
+inline constexpr int kJacobiSweeps = 5;
+
+/// Estimates the outward unit surface normal at the crossing at depth `t` (grid units) on the lattice
+/// edge from node n along axis a, whose start node has occupancy `start_inside` (true: the crossing is
+/// where a ray of set a leaves material, an interval exit; false: an enter).
+///
+/// Method (a height field along the ray, finite differences): on the four neighbouring rays of set a
+/// (u +- 1, v +- 1, u/v as in RaySet) take the interval end of the same kind nearest to t, accepted
+/// within kNormalWindow; per direction, slopes of both sides that agree within kCentralSlopeTol are
+/// averaged, else the smaller one in magnitude is used (a crease: keep the side that the crossing lies
+/// on when it is the flatter one), else the one side present. Normal = sigma (1, -g_u, -g_v) in (a, u, v),
+/// sigma = +1 for an exit, -1 for an enter, normalised. Arithmetic in double in a fixed order (the GPU
+/// contourer repeats it bit for bit). Returns false (normal untouched) when a direction has no
+/// neighbour end, e.g. at the lattice border. O(intervals on 4 rays).
+bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal);
+
+/// Places a dual vertex by minimising the QEF sum_i (n_i . (x - p_i))^2 of the crossings that have a
+/// normal (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of Hermite Data", SIGGRAPH), solved
+/// relative to the mass point `mass` (mean of ALL the component's crossings, grid units) with a
+/// truncated eigen-decomposition (kJacobiSweeps cyclic Jacobi sweeps, eigenvalues below kQefTruncation
+/// times the largest dropped), so directions the normals do not constrain keep the mass point's
+/// coordinate. `points`/`normals`: `count` crossings (grid units) and unit normals. Result: clamped into
+/// the cell [cell_lo, cell_lo + 1]; when the minimiser lies more than half a cell outside the cell
+/// (normals that disagree with the crossings), the clamped mass point instead. count == 0 gives the
+/// clamped mass point. Deterministic double arithmetic in a fixed order (mirrored by the GPU contourer).
+Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo);
+
+}  // namespace tridex::compute::contour

@@ -1,0 +1,156 @@
+// Tests of compute/contour_qef: crossing normals estimated from neighbouring rays, and the QEF vertex.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "compute/contour_qef.hpp"
+#include "test_contour_models.hpp"
+
+namespace tridex::compute::contour {
+namespace {
+
+using namespace testing;
+
+/// Half-space below the plane n . p = d (grid units): chord of ray (u, v) of set a within [0, cells].
+std::vector<Interval> half_space_chord(const Vec3& n, double d, double cells, int a, int u, int v) {
+    const Vec3 p0 = ray_point(a, u, v, 0.0);
+    const double na = n[a], rest = glm::dot(n, p0);  // n . p(t) = rest + na * t
+    if (na == 0.0) return rest < d ? std::vector<Interval>{{0.0f, static_cast<float>(cells)}} : std::vector<Interval>{};
+    const double t = (d - rest) / na;
+    const double lo = na > 0.0 ? 0.0 : std::max(0.0, t), hi = na > 0.0 ? std::min(cells, t) : cells;
+    if (!(lo < hi)) return {};
+    return {Interval{static_cast<float>(lo), static_cast<float>(hi)}};
+}
+
+TEST(CrossingNormal, IsTheOutwardNormalOfATiltedPlaneOnEveryRaySet) {
+    const Vec3 n = glm::normalize(Vec3(0.3, -0.5, 0.8));
+    const double d = glm::dot(n, Vec3(20.2, 19.7, 20.4));
+    TriDexel model = empty_model(cube_lattice(40));
+    fill_rays(model, [&](int a, int u, int v) { return half_space_chord(n, d, 40.0, a, u, v); });
+    for (int a = 0; a < 3; ++a) {
+        // A ray of set a through the plane near the lattice centre: its crossing is an exit when n_a > 0.
+        Node node{20, 20, 20};
+        const auto& ray = model.sets[a].ray(node[(a + 1) % 3], node[(a + 2) % 3]);
+        ASSERT_EQ(ray.size(), 1u) << a;
+        const bool exit = n[a] > 0.0;
+        const double t = exit ? ray[0].exit : ray[0].enter;
+        node[a] = static_cast<int>(std::floor(t));
+        Vec3 got(0.0);
+        if (a == 0) {
+            // Seen from X rays the plane's slope along z is 0.8 / 0.3 = 2.7 > kNormalWindow: no normal.
+            EXPECT_FALSE(crossing_normal(model, a, node, exit, t, got));
+            continue;
+        }
+        ASSERT_TRUE(crossing_normal(model, a, node, exit, t, got)) << a;
+        // Central differences of float depths: the slopes are exact up to float rounding (~4e-6 cells).
+        EXPECT_NEAR(got.x, n.x, 1e-5) << a;
+        EXPECT_NEAR(got.y, n.y, 1e-5) << a;
+        EXPECT_NEAR(got.z, n.z, 1e-5) << a;
+        EXPECT_NEAR(glm::length(got), 1.0, 1e-12);
+        // Asked as the other kind of end (an enter where the ray exits), no neighbour end matches.
+        Vec3 none(7.0);
+        EXPECT_FALSE(crossing_normal(model, a, node, !exit, t, none)) << a;
+        EXPECT_EQ(none, Vec3(7.0));
+    }
+}
+
+TEST(CrossingNormal, KeepsTheFlatterSideAtACreaseAndNeedsBothDirections) {
+    // Z rays, a roof: exit depth 10 for x <= 12, rising with slope 1.5 for x > 12 (a crease at x = 12).
+    TriDexel model = empty_model(cube_lattice(24));
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2) return {};
+        const double top = u <= 12 ? 10.0 : 10.0 + 1.5 * (u - 12);
+        (void)v;
+        return {Interval{2.0f, static_cast<float>(top)}};
+    });
+    Vec3 nrm(0.0);
+    // At the crease ray x = 12: slopes 0 (left) and 1.5 (right) differ by more than kCentralSlopeTol.
+    ASSERT_TRUE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    EXPECT_NEAR(nrm.x, 0.0, 1e-12);
+    EXPECT_NEAR(nrm.z, 1.0, 1e-12);
+    // On the slope (x = 16, depth 16): both sides agree, central difference -> normal (-1.5, 0, 1)/|.|.
+    ASSERT_TRUE(crossing_normal(model, 2, Node{16, 5, 16}, true, 16.0, nrm));
+    EXPECT_NEAR(nrm.x, -1.5 / std::sqrt(3.25), 1e-12);
+    EXPECT_NEAR(nrm.z, 1.0 / std::sqrt(3.25), 1e-12);
+    // Slope steeper than kNormalWindow on one side only: that side is ignored.
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2) return {};
+        (void)v;
+        return {Interval{2.0f, u <= 12 ? 10.0f : 13.0f}};
+    });
+    ASSERT_TRUE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    EXPECT_NEAR(nrm.z, 1.0, 1e-12);
+    // A lone ray (no neighbour end within the window in u): no normal.
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2 || u != 12) return {};
+        (void)v;
+        return {Interval{2.0f, 10.0f}};
+    });
+    EXPECT_FALSE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    // At the lattice border (u = 0) the one side present is used.
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2) return {};
+        (void)v;
+        return {Interval{2.0f, static_cast<float>(10.0 + 0.5 * u)}};
+    });
+    ASSERT_TRUE(crossing_normal(model, 2, Node{0, 5, 10}, true, 10.0, nrm));
+    EXPECT_NEAR(nrm.x, -0.5 / std::sqrt(1.25), 1e-12);
+}
+
+TEST(QefVertex, FindsCornersAndEdgesAndKeepsTheMassPointAlongFreeDirections) {
+    const Vec3 lo(4.0, 5.0, 6.0);
+    // Three planes x = 4.9, y = 5.2, z = 6.7 meeting inside the cell: the corner.
+    const Vec3 p[3] = {Vec3(4.9, 5.0, 6.0), Vec3(4.0, 5.2, 6.0), Vec3(4.0, 5.0, 6.7)};
+    const Vec3 n[3] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    const Vec3 mass = (p[0] + p[1] + p[2]) / 3.0;
+    const Vec3 corner = qef_vertex(mass, p, n, 3, lo);
+    EXPECT_NEAR(glm::length(corner - Vec3(4.9, 5.2, 6.7)), 0.0, 1e-12);
+    // Two planes: the edge line x = 4.9, y = 5.2; z stays the mass point's.
+    const Vec3 edge = qef_vertex(mass, p, n, 2, lo);
+    EXPECT_NEAR(glm::length(edge - Vec3(4.9, 5.2, mass.z)), 0.0, 1e-12);
+    // Two nearly parallel normals (10 degrees apart): below the truncation, only their mean direction acts.
+    const double s = std::sin(0.0873), c = std::cos(0.0873);
+    const Vec3 pn[2] = {Vec3(4.5, 5.5, 6.5), Vec3(4.5, 5.5, 6.5)};
+    const Vec3 nn[2] = {Vec3(0, 0, 1), Vec3(s, 0, c)};
+    const Vec3 flat = qef_vertex(Vec3(4.5, 5.5, 6.2), pn, nn, 2, lo);
+    EXPECT_NEAR(flat.y, 5.5, 1e-12);
+    EXPECT_GT(flat.z, 6.2);
+    // A rotated corner: three orthonormal normals not aligned with the axes.
+    const Vec3 u = glm::normalize(Vec3(1, 1, 0)), v = glm::normalize(Vec3(-1, 1, 1)), w = glm::cross(u, v);
+    const Vec3 k(4.45, 5.55, 6.35);
+    const Vec3 rp[3] = {k + 0.2 * v, k + 0.3 * w, k - 0.25 * u};
+    const Vec3 rn[3] = {u, v, w};
+    EXPECT_NEAR(glm::length(qef_vertex(Vec3(4.5, 5.5, 6.5), rp, rn, 3, lo) - k), 0.0, 1e-12);
+}
+
+TEST(QefVertex, FallsBackToTheClampedMassPointOnBadInput) {
+    const Vec3 lo(0.0);
+    const Vec3 p[2] = {Vec3(0.5, 0.5, 0.2), Vec3(0.5, 0.5, 0.9)};
+    const Vec3 up[2] = {Vec3(0, 0, 1), Vec3(0, 0, 1)};
+    // No normals: the mass point, clamped into the cell.
+    EXPECT_EQ(qef_vertex(Vec3(0.5, 1.25, 0.5), p, up, 0, lo), Vec3(0.5, 1.0, 0.5));
+    // Parallel planes at z = 0.2 and 0.9: their least-squares plane z = 0.55.
+    EXPECT_NEAR(qef_vertex(Vec3(0.5, 0.5, 0.1), p, up, 2, lo).z, 0.55, 1e-12);
+    // Planes x = 0.5 and one 40 degrees from it: their line meets z = const at y = 1.57 when the second
+    // passes through (1.4, 0.5): more than half a cell outside, so the mass point; through (1.2, 0.5) at
+    // y = 1.33: clamped to the cell face y = 1.
+    const Vec3 tilt[2] = {Vec3(1, 0, 0), Vec3(std::cos(0.698132), std::sin(0.698132), 0.0)};
+    const Vec3 far_pts[2] = {Vec3(0.5, 0.5, 0.5), Vec3(1.4, 0.5, 0.5)};
+    const Vec3 near_pts[2] = {Vec3(0.5, 0.5, 0.5), Vec3(1.2, 0.5, 0.5)};
+    const Vec3 m(0.3, 0.4, 0.5);
+    EXPECT_EQ(qef_vertex(m, far_pts, tilt, 2, lo), m);
+    const Vec3 clamped = qef_vertex(m, near_pts, tilt, 2, lo);
+    EXPECT_NEAR(clamped.x, 0.5, 1e-12);
+    EXPECT_EQ(clamped.y, 1.0);
+    EXPECT_EQ(clamped.z, 0.5);
+    // NaN normals never leak a NaN vertex.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Vec3 bad[2] = {Vec3(nan, 0, 0), Vec3(0, 0, 1)};
+    const Vec3 r = qef_vertex(Vec3(0.5), p, bad, 2, lo);
+    EXPECT_TRUE(std::isfinite(r.x) && std::isfinite(r.y) && std::isfinite(r.z));
+    EXPECT_EQ(r, Vec3(0.5));
+}
+
+}  // namespace
+}  // namespace tridex::compute::contour
