@@ -36,10 +36,8 @@ bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, doub
     const bool has_p = w + 1 < limit && nearest_end(u_dir ? set.ray(u + 1, v) : set.ray(u, v + 1), exit_end, t, ep);
     const double dm = t - em, dp = ep - t;
     if (has_m && has_p) {
-        if (std::abs(dp - dm) <= kCentralSlopeTol)
-            g = (dm + dp) * 0.5;
-        else
-            g = std::abs(dp) < std::abs(dm) ? dp : dm;
+        if (!(std::abs(dp - dm) <= kCentralSlopeTol)) return false;  // a crease between the rays: no normal
+        g = (dm + dp) * 0.5;
         return true;
     }
     if (has_m) {

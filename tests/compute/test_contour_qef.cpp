@@ -55,7 +55,7 @@ TEST(CrossingNormal, IsTheOutwardNormalOfATiltedPlaneOnEveryRaySet) {
     }
 }
 
-TEST(CrossingNormal, KeepsTheFlatterSideAtACreaseAndNeedsBothDirections) {
+TEST(CrossingNormal, NoneAtACreaseOneSidedAtAnEdgeAndNeedsBothDirections) {
     // Z rays, a roof: exit depth 10 for x <= 12, rising with slope 1.5 for x > 12 (a crease at x = 12).
     TriDexel model = empty_model(cube_lattice(24));
     fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
@@ -66,14 +66,16 @@ TEST(CrossingNormal, KeepsTheFlatterSideAtACreaseAndNeedsBothDirections) {
     });
     Vec3 nrm(0.0);
     // At the crease ray x = 12: slopes 0 (left) and 1.5 (right) differ by more than kCentralSlopeTol.
-    ASSERT_TRUE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    EXPECT_FALSE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    // Beside it (x = 11) both sides are flat.
+    ASSERT_TRUE(crossing_normal(model, 2, Node{11, 5, 10}, true, 10.0, nrm));
     EXPECT_NEAR(nrm.x, 0.0, 1e-12);
     EXPECT_NEAR(nrm.z, 1.0, 1e-12);
     // On the slope (x = 16, depth 16): both sides agree, central difference -> normal (-1.5, 0, 1)/|.|.
     ASSERT_TRUE(crossing_normal(model, 2, Node{16, 5, 16}, true, 16.0, nrm));
     EXPECT_NEAR(nrm.x, -1.5 / std::sqrt(3.25), 1e-12);
     EXPECT_NEAR(nrm.z, 1.0 / std::sqrt(3.25), 1e-12);
-    // Slope steeper than kNormalWindow on one side only: that side is ignored.
+    // A step higher than kNormalWindow on one side only (a sharp edge): that side is ignored.
     fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
         if (a != 2) return {};
         (void)v;
