@@ -113,6 +113,10 @@ Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int c
     }
     double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
     for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        // Converged (off-diagonal negligible against the diagonal; at once for axis-aligned normals).
+        const double off = (std::abs(m[0][1]) + std::abs(m[0][2])) + std::abs(m[1][2]);
+        const double diag = (std::abs(m[0][0]) + std::abs(m[1][1])) + std::abs(m[2][2]);
+        if (off <= kJacobiTolerance * diag) break;
         rotate(m, v, 0, 1);
         rotate(m, v, 0, 2);
         rotate(m, v, 1, 2);

@@ -20,8 +20,11 @@ inline constexpr double kCentralSlopeTol = 0.5;
 /// QEF eigenvalues below this fraction of the largest are treated as zero (the vertex then keeps the
 /// mass point's coordinate along that eigenvector), as in Ju, Losasso, Schaefer and Warren 2002 (their SVD truncation).
 inline constexpr double kQefTruncation = 0.1;
-/// Cyclic Jacobi sweeps of the 3x3 QEF matrix (quadratic convergence: 5 sweeps reach double precision).
+/// Most cyclic Jacobi sweeps of the 3x3 QEF matrix (quadratic convergence: 5 sweeps reach double
+/// precision); sweeps stop earlier once the off-diagonal sum is at most kJacobiTolerance times the
+/// diagonal sum (before any sweep for axis-aligned normals).
 inline constexpr int kJacobiSweeps = 5;
+inline constexpr double kJacobiTolerance = 1e-15;
 
 /// Estimates the outward unit surface normal at the crossing at depth `t` (grid units) on the lattice
 /// edge from node n along axis a, whose start node has occupancy `start_inside` (true: the crossing is
@@ -40,7 +43,7 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
 /// Places a dual vertex by minimising the QEF sum_i (n_i . (x - p_i))^2 of the crossings that have a
 /// normal (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of Hermite Data", SIGGRAPH), solved
 /// relative to the mass point `mass` (mean of ALL the component's crossings, grid units) with a
-/// truncated eigen-decomposition (kJacobiSweeps cyclic Jacobi sweeps, eigenvalues below kQefTruncation
+/// truncated eigen-decomposition (up to kJacobiSweeps cyclic Jacobi sweeps, eigenvalues below kQefTruncation
 /// times the largest dropped), so directions the normals do not constrain keep the mass point's
 /// coordinate. `points`/`normals`: `count` crossings (grid units) and unit normals. Result: clamped into
 /// the cell [cell_lo, cell_lo + 1]; when the minimiser lies more than half a cell outside the cell

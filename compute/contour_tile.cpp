@@ -69,8 +69,10 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
     occ_.fill(model, cache_lo_);
     // Invalidate the vertex cache by stamp instead of clearing it (it is ~0.5 MB).
     if (cache_.empty()) cache_.resize(static_cast<std::size_t>(kCacheSpan) * kCacheSpan * kCacheSpan);
+    if (edges_.empty()) edges_.resize(3 * static_cast<std::size_t>(kEdgeSpan) * kEdgeSpan * kEdgeSpan);
     if (++stamp_ == 0) {
         for (CellVertices& cv : cache_) cv.stamp = 0;
+        for (EdgeSample& es : edges_) es.stamp = 0;
         stamp_ = 1;
     }
     out = TileMesh{};
@@ -163,9 +165,10 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             if (comp < 0) continue;
             const int corner = edge_corners(e)[0], a = e / 4;
             const Node p{cell[0] + (corner & 1), cell[1] + ((corner >> 1) & 1), cell[2] + ((corner >> 2) & 1)};
-            const bool start_in = ((cfg >> corner) & 1) != 0;
-            const EdgeCrossing x = edge_crossing(*model_, a, p, start_in);
-            has_normal[crossings] = !x.fallback && crossing_normal(*model_, a, p, start_in, x.t, normal[crossings]);
+            const EdgeSample& es = edge_sample(p, a, ((cfg >> corner) & 1) != 0);
+            const EdgeCrossing& x = es.crossing;
+            has_normal[crossings] = es.has_normal;
+            normal[crossings] = es.normal;
             point[crossings] = crossing_point(p, a, x);
             mat[crossings] = x.material;
             owner[crossings++] = comp;
@@ -199,6 +202,20 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         cv.stamp = stamp_;
     }
     return cv;
+}
+
+const TileContourer::EdgeSample& TileContourer::edge_sample(const Node& start, int a, bool start_inside) {
+    const std::size_t idx = static_cast<std::size_t>(a) +
+                            3 * (static_cast<std::size_t>(start[0] - cache_lo_[0]) +
+                                 kEdgeSpan * (static_cast<std::size_t>(start[1] - cache_lo_[1]) +
+                                              kEdgeSpan * static_cast<std::size_t>(start[2] - cache_lo_[2])));
+    EdgeSample& es = edges_[idx];
+    if (es.stamp != stamp_) {
+        es.crossing = edge_crossing(*model_, a, start, start_inside);
+        es.has_normal = !es.crossing.fallback && crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal);
+        es.stamp = stamp_;
+    }
+    return es;
 }
 
 bool TileContourer::face_split(const Node& lower, int f) const {

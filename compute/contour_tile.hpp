@@ -96,7 +96,17 @@ private:
         Vec3 pos;
         std::uint8_t material;
     };
+    /// A sign-change edge's crossing and normal, computed once per run for the up to 4 cells sharing it.
+    struct EdgeSample {
+        std::uint32_t stamp = 0;  // equals stamp_ when this run computed it
+        bool has_normal = false;
+        EdgeCrossing crossing;
+        Vec3 normal{0.0};
+    };
     static constexpr int kCacheSpan = TileGrid::kTileCells + 1;  // cells t*16 - 1 .. t*16 + 15
+    static constexpr int kEdgeSpan = kCacheSpan + 1;              // their edges' start nodes per axis
+
+    const EdgeSample& edge_sample(const Node& start, int a, bool start_inside);
 
     const CellVertices& cell_vertices(const Node& cell);
     const Vec3& vertex(const Node& cell, int component) { return cell_vertices(cell).pos[component]; }
@@ -109,6 +119,7 @@ private:
     OccupancyBlock occ_;
     Node cache_lo_{};
     std::vector<CellVertices> cache_;
+    std::vector<EdgeSample> edges_;  // 3 per node of the kEdgeSpan^3 block at cache_lo_
     std::uint32_t stamp_ = 0;
     std::vector<Vertex> verts_;
     std::vector<std::array<VertexKey, 3>> tri_keys_;
