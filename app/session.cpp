@@ -73,15 +73,19 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
                        std::size_t ticks, double timeout_s, const Vec3& start_m, const SculptOptions& sculpt_opt) {
     SessionRun run;
     // GPU contouring needs the Booleans, the contour and the final render on one Context: the session owns it.
+    // On a device where the CPU contour is the default (or with --cpu-contour) the Context still serves
+    // the Booleans and the final render: one Context per session, not one per use.
     std::shared_ptr<SessionGpu> g;
     std::string device_reason;
-    if (!sculpt_opt.cpu && !sculpt_opt.cpu_contour) {
+    bool want_gpu_contour = false;
+    if (!sculpt_opt.cpu) {
         gpu::ContextOptions gopt;
         gopt.validation = sculpt_opt.validate;
         try {
             g = std::make_shared<SessionGpu>();
             g->context.emplace(gpu::Context::create(gopt));
-            if (!sculpt_opt.gpu_contour && !gpu_contour_default(*g->context, device_reason)) g.reset();
+            want_gpu_contour = !sculpt_opt.cpu_contour &&
+                               (sculpt_opt.gpu_contour || gpu_contour_default(*g->context, device_reason));
         } catch (const Error&) {
             g.reset();  // make_boolean_backend below says why on the CPU path
         }
@@ -95,7 +99,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.sculpt_path = booleans.backend->path();
     run.sculpt_device = booleans.backend->device();
     run.sculpt_path_reason = booleans.reason;
-    if (g) {
+    if (g && want_gpu_contour && booleans.backend->gpu_slabs() != nullptr) {
         try {
             g->contour = std::make_unique<GpuContourShare>(*g->context, *booleans.backend->gpu_slabs(), wp.model);
         } catch (const Error& e) {
@@ -150,7 +154,7 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.spilled_intervals = booleans.backend->spilled_intervals();
     run.model_bytes = booleans.backend->model_bytes();
     run.sculpt_validation_messages = booleans.backend->validation_messages();
-    run.gpu = gpu_contour ? g : nullptr;
+    run.gpu = g;
     return run;
 }
 
@@ -162,12 +166,12 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     // On the GPU contour path the workpiece is drawn from the contour buffers, on the session's Context.
     GpuContourShare* const gpu_contour = run.gpu ? run.gpu->contour.get() : nullptr;
     std::optional<gpu::Context> own_ctx;
-    if (!gpu_contour) {
+    if (!run.gpu) {
         gpu::ContextOptions gopt;
         gopt.validation = opt.validate;
         own_ctx.emplace(gpu::Context::create(gopt));
     }
-    gpu::Context& gpu_ctx = gpu_contour ? *run.gpu->context : *own_ctx;
+    gpu::Context& gpu_ctx = run.gpu ? *run.gpu->context : *own_ctx;
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
     renderer::IndirectWorkpiece indirect;

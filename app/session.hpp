@@ -68,7 +68,8 @@ struct SessionRun {
     std::string contour_path;                  ///< "gpu" (dirty tiles contoured by GpuContourer) or "cpu"
     std::string contour_reason;                ///< why contouring ran on the CPU; "" on the GPU path
     compute::GpuContourStats gpu_contour{};    ///< GPU path: the contourer's counters at the end
-    /// GPU contour path: the Context, Booleans and contour buffers, kept for the final render; else null.
+    /// The session's Context with its Booleans and (GPU contour path) contour buffers, kept for the final
+    /// render; null when the Booleans ran on the CPU.
     std::shared_ptr<SessionGpu> gpu;
 };
 

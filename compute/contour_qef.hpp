@@ -24,7 +24,7 @@ inline constexpr double kQefTruncation = 0.1;
 /// precision); sweeps stop earlier once the off-diagonal sum is at most kJacobiTolerance times the
 /// diagonal sum (before any sweep for axis-aligned normals).
 inline constexpr int kJacobiSweeps = 5;
-inline constexpr double kJacobiTolerance = 1e-15;
+inline constexpr double kJacobiTolerance = 1e-9;
 
 /// Estimates the outward unit surface normal at the crossing at depth `t` (grid units) on the lattice
 /// edge from node n along axis a, whose start node has occupancy `start_inside` (true: the crossing is
