@@ -52,19 +52,29 @@ void place_vertices(ivec3 cell, uint base) {
         double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
         double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
         int normals = 0;
-        [[unroll]] for (int e = 0; e < 12; ++e) {
-            if (cq[e] != c || fq[e]) continue;
-            const int a = e / 4;
-            ivec3 off = ivec3(0);
-            off[(a + 1) % 3] = e & 1;
-            off[(a + 2) % 3] = (e >> 1) & 1;
-            const int corner = off.x + 2 * off.y + 4 * off.z;
-            dvec3 nn;
-            if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[e], nn)) continue;
-            dvec3 q = dvec3(cell + off);
-            q[a] = tq[e];
-            qef_add(qm, qr, nn, q, mean);
-            ++normals;
+        // Per axis a, a dynamic loop over this component's edges e = 4a + k that have a normal (ascending
+        // e, as the CPU sums): the invocations running together in SIMD lanes share the iterations instead
+        // of each paying for every edge that any of them crosses.
+        uint mine = 0u;
+        [[unroll]] for (int e = 0; e < 12; ++e)
+            if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
+        [[unroll]] for (int a = 0; a < 3; ++a) {
+            uint todo = (mine >> uint(4 * a)) & 15u;
+            while (todo != 0u) {
+                int k = findLSB(todo);
+                todo &= todo - 1u;
+                ivec3 off = ivec3(0);
+                off[(a + 1) % 3] = k & 1;
+                off[(a + 2) % 3] = (k >> 1) & 1;
+                const int corner = off.x + 2 * off.y + 4 * off.z;
+                double t = tq[4 * a + k];
+                dvec3 nn;
+                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, t, nn)) continue;
+                dvec3 q = dvec3(cell + off);
+                q[a] = t;
+                qef_add(qm, qr, nn, q, mean);
+                ++normals;
+            }
         }
         dvec3 pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
         double best_d2 = -1.0lf;
