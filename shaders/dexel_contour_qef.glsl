@@ -152,6 +152,8 @@ dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
     dvec3 fallback = min(max(mass, lo), hi);
     double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
     [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        // Once m is diagonal every further rotation returns at once (apq == 0): stop (axis-aligned faces).
+        if (m[1] == 0.0lf && m[2] == 0.0lf && m[5] == 0.0lf) break;
         qef_rotate(m, v, 0, 1);
         qef_rotate(m, v, 0, 2);
         qef_rotate(m, v, 1, 2);

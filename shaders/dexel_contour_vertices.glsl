@@ -13,22 +13,30 @@ void place_vertices(ivec3 cell, uint base) {
     uint mq[12];
     int cq[12];
     bool fq[12];
+    uint crossed = 0u;
     [[unroll]] for (int e = 0; e < 12; ++e) {
         cq[e] = edge_component(cfg, e);
         tq[e] = 0.0lf;
         mq[e] = 0u;
         fq[e] = true;
-        if (cq[e] < 0) continue;
-        const int a = e / 4;
-        ivec3 off = ivec3(0);
-        off[(a + 1) % 3] = e & 1;
-        off[(a + 2) % 3] = (e >> 1) & 1;
-        const int corner = off.x + 2 * off.y + 4 * off.z;
-        uint m;
-        bool fb;
-        tq[e] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m, fb);
-        mq[e] = m;
-        fq[e] = fb;
+        if (cq[e] >= 0) crossed |= 1u << uint(e);
+    }
+    // The crossings, per axis a dynamic loop over the crossed edges e = 4a + k (see the normals below).
+    [[unroll]] for (int a = 0; a < 3; ++a) {
+        uint todo = (crossed >> uint(4 * a)) & 15u;
+        while (todo != 0u) {
+            int k = findLSB(todo);
+            todo &= todo - 1u;
+            ivec3 off = ivec3(0);
+            off[(a + 1) % 3] = k & 1;
+            off[(a + 2) % 3] = (k >> 1) & 1;
+            const int corner = off.x + 2 * off.y + 4 * off.z;
+            uint m;
+            bool fb;
+            tq[4 * a + k] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m, fb);
+            mq[4 * a + k] = m;
+            fq[4 * a + k] = fb;
+        }
     }
     dvec3 clo = dvec3(cell);
     uint voff = region[job_tile[pc.job_base + gl_WorkGroupID.x]].x;
