@@ -3,9 +3,11 @@
 // to and falling back on their mean, clamped into the cell (dexel_contour_qef.glsl); nearest-crossing material).
 
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
-// Loops over the 12 edges are unrolled so the per-edge arrays stay in registers; the sums run in the CPU's
-// order (ascending edge per component), so the doubles are the same. Each edge belongs to one component,
-// so its normal is estimated once, in that component's pass.
+// The expensive per-edge work (crossings, normals) runs in per-axis dynamic loops over the edges this cell
+// needs, so SIMD lanes share iterations (llvmpipe runs 8 invocations per lane group); the cheap sums are
+// unrolled over the 12 edges. All sums run in the CPU's order (ascending edge per component), so the
+// doubles are the same. Each edge belongs to one component, so its normal is estimated once, in that
+// component's pass.
 void place_vertices(ivec3 cell, uint base) {
     int cfg = config(cell);
     int comps = components(cfg);
