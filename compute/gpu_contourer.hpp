@@ -44,9 +44,11 @@ struct GpuContourStats {
 /// GPU manifold dual contouring of the tiles of a tri-dexel model held in GpuDexelSlabs.
 ///
 /// Method: the CPU Contourer's (contour_tile.hpp: X-ray node occupancy with the half-open rule, crossings
-/// from each edge's own ray, one vertex per cell surface component from contour_table.hpp at the mean of
-/// its crossings clamped into the cell, one quad per sign-change edge split along the shorter diagonal),
-/// in shaders/dexel_contour.comp, one workgroup per tile, in double precision without contraction: vertex
+/// from each edge's own ray, one vertex per cell surface component from contour_table.hpp placed by the
+/// QEF of its crossings with normals estimated from the neighbouring rays, relative to and falling back on
+/// their mean, clamped into the cell (contour_qef.hpp: sharp edges and corners kept), one quad per
+/// sign-change edge split along the shorter diagonal), in shaders/dexel_contour.comp (the QEF part in
+/// dexel_contour_qef.glsl), one workgroup per tile, in double precision without contraction: vertex
 /// positions equal the CPU's doubles bit for bit (the float vertex buffer rounds them: |error| <= 2^-24 x
 /// |grid coordinate|), and the triangles are the same, including the face-split rule for tunnels thinner
 /// than a cell (contour_tile.hpp: split-face vertices, fans around edge crossings). Tiles with more split

@@ -91,12 +91,13 @@ void GpuContourer::fill_scratch_rays(std::uint32_t tile) {
     const int t[3] = {static_cast<int>(tile % static_cast<std::uint32_t>(tiles_[0])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0]) % static_cast<std::uint32_t>(tiles_[1])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0] * tiles_[1]))};
-    // TileContourer::run reads only the rays through nodes t*16 - 1 .. t*16 + 17 of each axis.
+    // TileContourer::run reads only the rays through nodes t*16 - 2 .. t*16 + 18 of each axis (crossings
+    // of nodes t*16 - 1 .. t*16 + 17, and the neighbour rays one node beside them for the normals).
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         RaySet& set = scratch_->sets[a];
-        for (int v = std::max(0, t[va] * kT - 1); v <= std::min(lattice_.cells[va], t[va] * kT + kT + 1); ++v)
-            for (int u = std::max(0, t[ua] * kT - 1); u <= std::min(lattice_.cells[ua], t[ua] * kT + kT + 1); ++u)
+        for (int v = std::max(0, t[va] * kT - 2); v <= std::min(lattice_.cells[va], t[va] * kT + kT + 2); ++v)
+            for (int u = std::max(0, t[ua] * kT - 2); u <= std::min(lattice_.cells[ua], t[ua] * kT + kT + 2); ++u)
                 slabs_.read_ray(a, u, v, set.ray(u, v));
     }
 }

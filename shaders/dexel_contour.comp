@@ -1,8 +1,9 @@
 // shaders/dexel_contour.comp - manifold dual contouring of dirty tiles, read from the GPU tri-dexel slabs,
 // into per-tile regions of vertex and index buffers plus one VkDrawIndexedIndirectCommand per tile.
 // One workgroup = one tile of 16^3 cells. The method and the arithmetic are the CPU contourer's
-// (compute/contour_tile.cpp, contour_sample.cpp) step for step, in double precision with contraction
-// forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad diagonals agree:
+// (compute/contour_tile.cpp, contour_sample.cpp, contour_qef.cpp) step for step, in double precision with
+// contraction forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad
+// diagonals agree:
 //  1. node occupancy of nodes c0-1 .. c0+17 from the X rays (enter <= x < exit; boundary nodes outside);
 //  2. per row of cached cells (32-bit masks skip uniform cells, as on the CPU): split faces between two
 //     cached cells (contour_table.hpp merged_faces on both sides: tunnels thinner than a cell) go to a
@@ -12,8 +13,10 @@
 //  3. used cells (c0-1 .. c1-1) get vertex slots (one per surface component) by a shared counter and go
 //     to a shared cell list (lists keep all 64 invocations busy in steps 4 and 5);
 //  4. if the tile's region is too small, the needs are reported and nothing is written (the old mesh
-//     stays drawable); otherwise each used component's vertex is placed at the mean of its crossings
-//     (clamped into the cell), with the material of the nearest crossing;
+//     stays drawable); otherwise each used component's vertex is placed by the QEF of its crossings and
+//     their normals from the neighbouring rays (dexel_contour_qef.glsl, contour_qef.cpp: relative to and
+//     falling back on the mean of its crossings; clamped into the cell), with the material of the nearest
+//     crossing; the normals read rays through nodes c0-2 .. c0+18 (bounds-checked, straight from the slabs);
 //     split faces get one vertex per inside corner (mean of that corner's two face-edge crossings);
 //  5. each sign-change edge emits its quad, split along the shorter diagonal, or, next to a split face, a
 //     fan around its crossing point through the split faces' vertices; tile-local indices.
@@ -95,6 +98,7 @@ bool face_split(ivec3 lower, int f) {
     return ((below & above) & 1u) != 0u;
 }
 
+#include "dexel_contour_qef.glsl"
 #include "dexel_contour_vertices.glsl"
 
 // The 4 cells around the edge from n along a, counter-clockwise seen from +a (TileContourer::emit_edge).

@@ -39,8 +39,10 @@ void ray_interval(int a, uint r, uint m, uint i, out float en, out float ex, out
 
 bool finite(float x) { return !isinf(x) && !isnan(x); }
 
-// contour::edge_crossing: the crossing on the edge from node n along axis a, from that edge's own ray.
-double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
+// contour::edge_crossing: the crossing on the edge from node n along axis a, from that edge's own ray;
+// `fallback` as EdgeCrossing::fallback (the ray has no end on the edge).
+double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool fallback) {
+    fallback = false;
     int ua = (a + 1) % 3, va = (a + 2) % 3;
     uint r = uint(n[ua]) + uint(pc.cells[ua] + 1) * uint(n[va]);
     uint m = ray_meta(a, r), cnt = m & 127u;
@@ -68,6 +70,7 @@ double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
         if (double(ex) > hi_e) break;
     }
     if (found) { mat = best_mat; return best; }
+    fallback = true;
     // The ray disagrees with the occupancy: nearest end within half a cell, clamped into the edge.
     double nearest_gap = 0.5lf;
     bool near = false;
@@ -92,3 +95,9 @@ double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
     return near ? best : lo_e + 0.5lf;
 }
 
+
+// The same without the fallback flag.
+double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
+    bool fallback;
+    return edge_crossing(a, n, start_inside, mat, fallback);
+}

@@ -1,32 +1,48 @@
 // shaders/dexel_contour_vertices.glsl - part of dexel_contour.comp: the dual vertices of one cell (one per
-// surface component, at the mean of its crossings, clamped into the cell; nearest-crossing material).
+// surface component, placed by the QEF of its crossings and their normals from neighbouring rays, relative
+// to and falling back on their mean, clamped into the cell (dexel_contour_qef.glsl); nearest-crossing material).
 
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
-// Loops over the 12 edges and 4 components are unrolled so the per-edge arrays stay in registers; the
-// sums run in the CPU's order (ascending edge per component), so the doubles are the same.
+// The expensive per-edge work (crossings, normals) runs in per-axis dynamic loops over the edges this cell
+// needs, so SIMD lanes share iterations (llvmpipe runs 8 invocations per lane group); the cheap sums are
+// unrolled over the 12 edges. All sums run in the CPU's order (ascending edge per component), so the
+// doubles are the same. Each edge belongs to one component, so its normal is estimated once, in that
+// component's pass.
 void place_vertices(ivec3 cell, uint base) {
     int cfg = config(cell);
     int comps = components(cfg);
     double tq[12];
     uint mq[12];
     int cq[12];
+    bool fq[12];
+    uint crossed = 0u;
     [[unroll]] for (int e = 0; e < 12; ++e) {
         cq[e] = edge_component(cfg, e);
         tq[e] = 0.0lf;
         mq[e] = 0u;
-        if (cq[e] < 0) continue;
-        const int a = e / 4;
-        ivec3 off = ivec3(0);
-        off[(a + 1) % 3] = e & 1;
-        off[(a + 2) % 3] = (e >> 1) & 1;
-        const int corner = off.x + 2 * off.y + 4 * off.z;
-        uint m;
-        tq[e] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m);
-        mq[e] = m;
+        fq[e] = true;
+        if (cq[e] >= 0) crossed |= 1u << uint(e);
+    }
+    // The crossings, per axis a dynamic loop over the crossed edges e = 4a + k (see the normals below).
+    [[unroll]] for (int a = 0; a < 3; ++a) {
+        uint todo = (crossed >> uint(4 * a)) & 15u;
+        while (todo != 0u) {
+            int k = findLSB(todo);
+            todo &= todo - 1u;
+            ivec3 off = ivec3(0);
+            off[(a + 1) % 3] = k & 1;
+            off[(a + 2) % 3] = (k >> 1) & 1;
+            const int corner = off.x + 2 * off.y + 4 * off.z;
+            uint m;
+            bool fb;
+            tq[4 * a + k] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m, fb);
+            mq[4 * a + k] = m;
+            fq[4 * a + k] = fb;
+        }
     }
     dvec3 clo = dvec3(cell);
     uint voff = region[job_tile[pc.job_base + gl_WorkGroupID.x]].x;
-    [[unroll]] for (int c = 0; c < 4; ++c) {
+    [[dont_unroll]] for (int c = 0; c < 4; ++c) {
         if (c >= comps) break;
         dvec3 sum = dvec3(0.0lf);
         int count = 0;
@@ -42,7 +58,35 @@ void place_vertices(ivec3 cell, uint base) {
             ++count;
         }
         precise dvec3 mean = sum / double(count);
-        dvec3 pos = min(max(mean, clo), clo + dvec3(1.0lf));
+        // The QEF of the component's crossings that have a normal (not fallbacks), ascending edge order.
+        double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+        double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+        int normals = 0;
+        // Per axis a, a dynamic loop over this component's edges e = 4a + k that have a normal (ascending
+        // e, as the CPU sums): the invocations running together in SIMD lanes share the iterations instead
+        // of each paying for every edge that any of them crosses.
+        uint mine = 0u;
+        [[unroll]] for (int e = 0; e < 12; ++e)
+            if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
+        [[unroll]] for (int a = 0; a < 3; ++a) {
+            uint todo = (mine >> uint(4 * a)) & 15u;
+            while (todo != 0u) {
+                int k = findLSB(todo);
+                todo &= todo - 1u;
+                ivec3 off = ivec3(0);
+                off[(a + 1) % 3] = k & 1;
+                off[(a + 2) % 3] = (k >> 1) & 1;
+                const int corner = off.x + 2 * off.y + 4 * off.z;
+                double t = tq[4 * a + k];
+                dvec3 nn;
+                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, t, nn)) continue;
+                dvec3 q = dvec3(cell + off);
+                q[a] = t;
+                qef_add(qm, qr, nn, q, mean);
+                ++normals;
+            }
+        }
+        dvec3 pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
         double best_d2 = -1.0lf;
         uint best_mat = 0u;
         [[unroll]] for (int e = 0; e < 12; ++e) {

@@ -1,0 +1,183 @@
+// shaders/dexel_contour_qef.glsl - part of dexel_contour.comp: sharp-feature vertex placement, i.e.
+// crossing normals estimated from neighbouring rays (contour::crossing_normal) and the QEF vertex
+// (contour::qef_vertex), compute/contour_qef.cpp mirrored operation for operation: the same association,
+// comparisons (incl. the !(x > y) forms), tie rules and constants, in double precision with `precise`
+// (no contraction into multiply-adds), so the results are the CPU's doubles bit for bit.
+// Needs dexel_contour_rays.glsl (ray_meta, ray_interval, finite) and pc.cells.
+
+const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
+const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
+const double kQefTruncation = 0.1lf;    // contour::kQefTruncation
+const int kJacobiSweeps = 5;            // contour::kJacobiSweeps
+
+// The end of kind `exit_end` on ray r of set a nearest to t within kNormalWindow (ties: the lower one).
+bool nearest_end(int a, uint r, bool exit_end, double t, inout double depth) {
+    uint m = ray_meta(a, r), cnt = m & 127u;
+    bool found = false;
+    double best = 0.0lf;
+    for (uint i = 0u; i < cnt; ++i) {
+        float en, ex;
+        uint pair;
+        ray_interval(a, r, m, i, en, ex, pair);
+        float ef = exit_end ? ex : en;
+        if (!finite(ef)) continue;
+        double e = double(ef);
+        precise double d = abs(e - t);
+        if (d <= kNormalWindow && (!found || d < best)) {
+            best = d;
+            depth = e;
+            found = true;
+        }
+    }
+    return found;
+}
+
+// Slope of the height field of set a along lattice direction `dir` at node n (contour slope()): the
+// neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1).
+bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
+    int ua = (a + 1) % 3, va = (a + 2) % 3;
+    int w = n[dir];
+    bool u_dir = dir == ua;
+    int limit = (u_dir ? pc.cells[ua] : pc.cells[va]) + 1;
+    uint stride = uint(pc.cells[ua] + 1);
+    int u = n[ua], v = n[va];
+    double em = 0.0lf, ep = 0.0lf;
+    bool has_m = false, has_p = false;
+    if (w - 1 >= 0)
+        has_m = nearest_end(a, u_dir ? uint(u - 1) + stride * uint(v) : uint(u) + stride * uint(v - 1), exit_end, t, em);
+    if (w + 1 < limit)
+        has_p = nearest_end(a, u_dir ? uint(u + 1) + stride * uint(v) : uint(u) + stride * uint(v + 1), exit_end, t, ep);
+    precise double dm = t - em;
+    precise double dp = ep - t;
+    g = 0.0lf;
+    if (has_m && has_p) {
+        precise double spread = dp - dm;
+        if (abs(spread) <= kCentralSlopeTol) {
+            precise double mid = (dm + dp) * 0.5lf;
+            g = mid;
+        } else {
+            g = abs(dp) < abs(dm) ? dp : dm;
+        }
+        return true;
+    }
+    if (has_m) {
+        g = dm;
+        return true;
+    }
+    if (has_p) {
+        g = dp;
+        return true;
+    }
+    return false;
+}
+
+// contour::crossing_normal: outward unit normal at the crossing at depth t on the edge from n along a
+// (start_inside: the crossing is an interval exit). False (normal = 0) without a neighbour end.
+bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 normal) {
+    int b = (a + 1) % 3, c = (a + 2) % 3;
+    double gb, gc;
+    normal = dvec3(0.0lf);
+    if (!slope(a, n, b, start_inside, t, gb)) return false;
+    if (!slope(a, n, c, start_inside, t, gc)) return false;
+    precise double len2 = (1.0lf + gb * gb) + gc * gc;
+    precise double len = sqrt(len2);
+    double sa = start_inside ? 1.0lf : -1.0lf;
+    double sb = start_inside ? -gb : gb;
+    double sc = start_inside ? -gc : gc;
+    precise double na = sa / len;
+    precise double nb = sb / len;
+    precise double nc = sc / len;
+    normal[a] = na;
+    normal[b] = nb;
+    normal[c] = nc;
+    return true;
+}
+
+// The QEF sums of qef_vertex for one more crossing p with normal nn, relative to `mass`: m (row-major
+// 3x3, j * 3 + k) += nn nn^T, r += nn (nn . (p - mass)). Called in ascending edge order, as the CPU sums.
+void qef_add(inout double m[9], inout double r[3], dvec3 nn, dvec3 p, dvec3 mass) {
+    precise double dx = p.x - mass.x;
+    precise double dy = p.y - mass.y;
+    precise double dz = p.z - mass.z;
+    precise double s = (nn.x * dx + nn.y * dy) + nn.z * dz;
+    [[unroll]] for (int j = 0; j < 3; ++j) {
+        [[unroll]] for (int k = 0; k < 3; ++k) {
+            precise double mjk = m[3 * j + k] + nn[j] * nn[k];
+            m[3 * j + k] = mjk;
+        }
+        precise double rj = r[j] + nn[j] * s;
+        r[j] = rj;
+    }
+}
+
+// One Jacobi rotation zeroing m[p][q] of the symmetric m, accumulated into the columns of v (row-major).
+void qef_rotate(inout double m[9], inout double v[9], int p, int q) {
+    double apq = m[3 * p + q];
+    if (apq == 0.0lf) return;
+    precise double theta = (m[3 * q + q] - m[3 * p + p]) / (2.0lf * apq);
+    precise double root = sqrt(theta * theta + 1.0lf);
+    precise double t = 1.0lf / (abs(theta) + root);
+    if (theta < 0.0lf) t = -t;
+    precise double croot = sqrt(t * t + 1.0lf);
+    precise double c = 1.0lf / croot;
+    precise double s = t * c;
+    int r = 3 - p - q;  // the third index
+    double arp = m[3 * r + p], arq = m[3 * r + q];
+    precise double mrp = c * arp - s * arq;
+    precise double mrq = s * arp + c * arq;
+    precise double mpp = m[3 * p + p] - t * apq;
+    precise double mqq = m[3 * q + q] + t * apq;
+    m[3 * r + p] = mrp;
+    m[3 * p + r] = mrp;
+    m[3 * r + q] = mrq;
+    m[3 * q + r] = mrq;
+    m[3 * p + p] = mpp;
+    m[3 * q + q] = mqq;
+    m[3 * p + q] = 0.0lf;
+    m[3 * q + p] = 0.0lf;
+    [[unroll]] for (int k = 0; k < 3; ++k) {
+        double vkp = v[3 * k + p], vkq = v[3 * k + q];
+        precise double nkp = c * vkp - s * vkq;
+        precise double nkq = s * vkp + c * vkq;
+        v[3 * k + p] = nkp;
+        v[3 * k + q] = nkq;
+    }
+}
+
+// contour::qef_vertex from the sums of qef_add (count > 0 crossings with a normal): the truncated
+// eigen-solve relative to `mass`, the result clamped into the cell [lo, lo + 1], or the clamped mass
+// point when the minimiser lies more than half a cell outside (or is NaN) or the matrix is zero.
+dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
+    precise dvec3 hi = lo + dvec3(1.0lf);
+    dvec3 fallback = min(max(mass, lo), hi);
+    double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
+    [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        // Once m is diagonal every further rotation returns at once (apq == 0): stop (axis-aligned faces).
+        if (m[1] == 0.0lf && m[2] == 0.0lf && m[5] == 0.0lf) break;
+        qef_rotate(m, v, 0, 1);
+        qef_rotate(m, v, 0, 2);
+        qef_rotate(m, v, 1, 2);
+    }
+    double top = m[0];
+    if (m[4] > top) top = m[4];
+    if (m[8] > top) top = m[8];
+    if (!(top > 0.0lf)) return fallback;
+    precise double floor_ = kQefTruncation * top;
+    double y[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+    [[unroll]] for (int k = 0; k < 3; ++k) {
+        double lambda = m[4 * k];
+        if (!(lambda > floor_)) continue;
+        precise double w = ((v[k] * r[0] + v[3 + k] * r[1]) + v[6 + k] * r[2]) / lambda;
+        [[unroll]] for (int j = 0; j < 3; ++j) {
+            precise double yj = y[j] + w * v[3 * j + k];
+            y[j] = yj;
+        }
+    }
+    precise dvec3 x = dvec3(mass.x + y[0], mass.y + y[1], mass.z + y[2]);
+    [[unroll]] for (int j = 0; j < 3; ++j) {
+        precise double below = lo[j] - 0.5lf;
+        precise double above = hi[j] + 0.5lf;
+        if (!(x[j] >= below && x[j] <= above)) return fallback;  // also catches NaN
+    }
+    return min(max(x, lo), hi);
+}
