@@ -35,7 +35,8 @@ struct ContourStats {
 /// corners kept; contour_qef.hpp); one quad per sign-change edge, split along the shorter diagonal. For
 /// any occupancy the result has no boundary, non-manifold or misoriented edge and no pinched vertex.
 /// Cost: proportional to the surface cells of the dirty tiles (uniform cells are skipped by bit masks)
-/// plus (kTileCells + 3)^2 ray reads per dirty tile.
+/// plus (kTileCells + 5)^2 ray reads per ray set and dirty tile (the crossing normals read the rays beside
+/// the tile's own).
 class Contourer {
 public:
     /// Binds to the model's lattice and tile grid (sizes only; no data read yet).

@@ -9,6 +9,7 @@ const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
 const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
 const double kQefTruncation = 0.1lf;    // contour::kQefTruncation
 const int kJacobiSweeps = 5;            // contour::kJacobiSweeps
+const double kJacobiTolerance = 1e-9lf; // contour::kJacobiTolerance
 
 // The end of kind `exit_end` on ray r of set a nearest to t within kNormalWindow (ties: the lower one).
 bool nearest_end(int a, uint r, bool exit_end, double t, inout double depth) {
@@ -52,12 +53,9 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
     g = 0.0lf;
     if (has_m && has_p) {
         precise double spread = dp - dm;
-        if (abs(spread) <= kCentralSlopeTol) {
-            precise double mid = (dm + dp) * 0.5lf;
-            g = mid;
-        } else {
-            g = abs(dp) < abs(dm) ? dp : dm;
-        }
+        if (!(abs(spread) <= kCentralSlopeTol)) return false;  // a crease between the rays: no normal
+        precise double mid = (dm + dp) * 0.5lf;
+        g = mid;
         return true;
     }
     if (has_m) {
@@ -152,8 +150,12 @@ dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
     dvec3 fallback = min(max(mass, lo), hi);
     double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
     [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
-        // Once m is diagonal every further rotation returns at once (apq == 0): stop (axis-aligned faces).
-        if (m[1] == 0.0lf && m[2] == 0.0lf && m[5] == 0.0lf) break;
+        // Converged: off-diagonal sum at most kJacobiTolerance times the diagonal sum (the CPU's test, in
+        // its order; true before any sweep for axis-aligned faces).
+        precise double off = (abs(m[1]) + abs(m[2])) + abs(m[5]);
+        precise double diag = (abs(m[0]) + abs(m[4])) + abs(m[8]);
+        precise double lim = kJacobiTolerance * diag;
+        if (off <= lim) break;
         qef_rotate(m, v, 0, 1);
         qef_rotate(m, v, 0, 2);
         qef_rotate(m, v, 1, 2);
