@@ -49,7 +49,7 @@ EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool sta
     const auto& ray = model.sets[a].ray(n[(a + 1) % 3], n[(a + 2) % 3]);
     const double lo = n[a], hi = lo + 1.0;
     // Walk the interval ends in ascending order.
-    bool found = false;
+    bool found = false, best_exit = false;
     double best = 0.0;
     std::uint8_t best_mat = 0;
     for (const Interval& iv : ray) {
@@ -58,14 +58,16 @@ EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool sta
             const std::uint8_t mat = side == 0 ? iv.enter_material : iv.exit_material;
             if (!std::isfinite(e) || e < lo) continue;
             if (e > hi) break;
-            if (start_inside) return {e, false, mat};  // first end from the low (inside) node
-            best = e;                                  // last end, first from the high (inside) node
+            if (start_inside && side == 0 && e == lo) continue;  // the inside node's own enter: not a crossing
+            if (start_inside) return {e, false, mat, side == 1};  // first end from the low (inside) node
+            best = e;                                             // last end, first from the high (inside) node
             best_mat = mat;
+            best_exit = side == 1;
             found = true;
         }
         if (static_cast<double>(iv.exit) > hi) break;
     }
-    if (found) return {best, false, best_mat};
+    if (found) return {best, false, best_mat, best_exit};
     // The ray disagrees with the occupancy: nearest end within half a cell, clamped into the edge.
     double nearest_gap = 0.5;
     bool near = false;
@@ -78,10 +80,11 @@ EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool sta
                 nearest_gap = gap;
                 best = std::clamp(e, lo, hi);
                 best_mat = side == 0 ? iv.enter_material : iv.exit_material;
+                best_exit = side == 1;
                 near = true;
             }
         }
-    return {near ? best : lo + 0.5, true, near ? best_mat : std::uint8_t{0}};
+    return {near ? best : lo + 0.5, true, near ? best_mat : std::uint8_t{0}, near && best_exit};
 }
 
 Vec3 crossing_point(const Node& n, int a, const EdgeCrossing& x) {

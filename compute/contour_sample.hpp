@@ -46,11 +46,17 @@ struct EdgeCrossing {
     /// Material id of the interval end the crossing was read from (Interval::enter_material or
     /// exit_material); for a fallback, that of the nearest end used, or 0 when none was near.
     std::uint8_t material = 0;
+    /// True when the crossing is an interval exit (leaving material going +axis), false for an enter;
+    /// for a fallback, the kind of the nearest end used (false when none). A crossing whose kind is not
+    /// the one the occupancy implies (exit when the start node is inside) gets no normal.
+    bool exit = false;
 };
 
 /// The crossing on the lattice edge from node n to n + e_a (a = 0, 1, 2), read from the ray of set a
 /// through n. `start_inside` is the occupancy of node n (the end node has the other occupancy). Takes
-/// the first interval end on the closed edge met walking from the inside node. When the ray has no end
+/// the first interval end on the closed edge met walking from the inside node, skipping an enter exactly
+/// on an inside start node (material touching the node: the crossing is that interval's exit, further
+/// on). When the ray has no end
 /// on the edge (the ray disagrees with the X-ray occupancy), falls back to the nearest end within half a
 /// cell of the edge clamped into it, else the edge midpoint (material 0), and sets `fallback`. The
 /// crossing carries the material of the end it came from. Non-finite ends are ignored. O(intervals on ray).

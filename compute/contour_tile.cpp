@@ -212,7 +212,8 @@ const TileContourer::EdgeSample& TileContourer::edge_sample(const Node& start, i
     EdgeSample& es = edges_[idx];
     if (es.stamp != stamp_) {
         es.crossing = edge_crossing(*model_, a, start, start_inside);
-        es.has_normal = !es.crossing.fallback && crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal);
+        es.has_normal = !es.crossing.fallback && es.crossing.exit == start_inside &&
+                        crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal);
         es.stamp = stamp_;
     }
     return es;

@@ -40,9 +40,10 @@ void ray_interval(int a, uint r, uint m, uint i, out float en, out float ex, out
 bool finite(float x) { return !isinf(x) && !isnan(x); }
 
 // contour::edge_crossing: the crossing on the edge from node n along axis a, from that edge's own ray;
-// `fallback` as EdgeCrossing::fallback (the ray has no end on the edge).
-double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool fallback) {
+// `fallback` as EdgeCrossing::fallback (the ray has no end on the edge), `exit_end` as EdgeCrossing::exit.
+double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool fallback, out bool exit_end) {
     fallback = false;
+    exit_end = false;
     int ua = (a + 1) % 3, va = (a + 2) % 3;
     uint r = uint(n[ua]) + uint(pc.cells[ua] + 1) * uint(n[va]);
     uint m = ray_meta(a, r), cnt = m & 127u;
@@ -62,15 +63,18 @@ double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool f
             double e = double(ef);
             if (e < lo_e) continue;
             if (e > hi_e) break;
-            if (start_inside) { mat = em; return e; }
+            if (start_inside && side == 0 && e == lo_e) continue;  // the inside node's own enter
+            if (start_inside) { mat = em; exit_end = side == 1; return e; }
             best = e;
             best_mat = em;
+            exit_end = side == 1;
             found = true;
         }
         if (double(ex) > hi_e) break;
     }
     if (found) { mat = best_mat; return best; }
     fallback = true;
+    exit_end = false;
     // The ray disagrees with the occupancy: nearest end within half a cell, clamped into the edge.
     double nearest_gap = 0.5lf;
     bool near = false;
@@ -87,6 +91,7 @@ double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool f
                 nearest_gap = gap;
                 best = e < lo_e ? lo_e : (hi_e < e ? hi_e : e);
                 best_mat = side == 0 ? (pair & 255u) : ((pair >> 8) & 255u);
+                exit_end = side == 1;
                 near = true;
             }
         }
@@ -96,8 +101,8 @@ double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat, out bool f
 }
 
 
-// The same without the fallback flag.
+// The same without the fallback and kind flags.
 double edge_crossing(int a, ivec3 n, bool start_inside, out uint mat) {
-    bool fallback;
-    return edge_crossing(a, n, start_inside, mat, fallback);
+    bool fallback, exit_end;
+    return edge_crossing(a, n, start_inside, mat, fallback, exit_end);
 }

@@ -34,10 +34,11 @@ void place_vertices(ivec3 cell, uint base) {
             off[(a + 2) % 3] = (k >> 1) & 1;
             const int corner = off.x + 2 * off.y + 4 * off.z;
             uint m;
-            bool fb;
-            tq[4 * a + k] = edge_crossing(a, cell + off, ((cfg >> corner) & 1) != 0, m, fb);
+            bool fb, ex;
+            const bool start_in = ((cfg >> corner) & 1) != 0;
+            tq[4 * a + k] = edge_crossing(a, cell + off, start_in, m, fb, ex);
             mq[4 * a + k] = m;
-            fq[4 * a + k] = fb;
+            fq[4 * a + k] = fb || ex != start_in;  // no normal: a fallback, or not the kind the occupancy implies
         }
     }
     dvec3 clo = dvec3(cell);
