@@ -154,6 +154,9 @@ SessionRun run_session(Workpiece& wp, devices::HapticDevice& device, const hapti
     run.spilled_intervals = booleans.backend->spilled_intervals();
     run.model_bytes = booleans.backend->model_bytes();
     run.sculpt_validation_messages = booleans.backend->validation_messages();
+    // The final render needs only the Context (and the contour buffers on the GPU contour path): free the
+    // GPU Booleans' slabs (host memory on lavapipe, large at N = 512 and 1024) before it.
+    if (g && !g->contour) g->booleans = {};
     run.gpu = g;
     return run;
 }
@@ -197,6 +200,8 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     }
     Pose head;
     head.position = kHeadPosition;
+    // Render-only count: on the session's Context the Booleans' messages came first (sculpt_validation_messages).
+    const std::uint32_t validation_before_render = run.gpu ? gpu_ctx.validation_messages() : 0u;
     const auto t_render = Clock::now();
     const renderer::StereoImages eyes = renderer.render(view, renderer::Screen::powerwall(), head, kEyeSeparation);
     const double render_s = seconds_since(t_render);
@@ -246,7 +251,7 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     r.gpu_contour = run.gpu_contour;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
-    r.validation_messages = gpu_ctx.validation_messages();
+    r.validation_messages = gpu_ctx.validation_messages() - validation_before_render;
     r.wall_s = seconds_since(t_start);
     write_report_json((out / "report.json").string(), r);
     print_summary(r, opt.out);

@@ -9,9 +9,10 @@ namespace tridex::compute::contour {
 
 /// Largest depth difference (grid units) between a crossing and the matching interval end on a
 /// neighbouring ray for that end to count as the same surface (surface slopes up to 2 against the ray
-/// axis; steeper surfaces are seen by the other ray sets' crossings). TriDexel::mark_dirty widens the
-/// dirty region by this much, plus the one-cell reach of the neighbour rays.
+/// axis; steeper surfaces are seen by the other ray sets' crossings). TriDexel::kDirtyReachCells (3)
+/// counts this window: a crossing in [c, c+1] reads ends in [c - 2, c + 3].
 inline constexpr double kNormalWindow = 2.0;
+static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty must cover the normals' window");
 /// Two one-sided slopes that differ by at most this much are averaged (central difference); beyond it
 /// the ray sits at a crease and its crossing gets no normal (choosing one side, e.g. the flatter one,
 /// often picks the face across the crease: in the accuracy bench that raised the max vertex error of the

@@ -229,7 +229,7 @@ bool TileContourer::face_split(const Node& lower, int f) const {
 void TileContourer::emit_edge(const Node& n, int a, TileMesh& out) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const bool start_in = occ_.inside(n);
-    const EdgeCrossing x = edge_crossing(*model_, a, n, start_in);
+    const EdgeCrossing x = edge_sample(n, a, start_in).crossing;
     if (x.fallback) ++out.fallbacks;
     // The 4 cells around the edge, counter-clockwise seen from +a (offsets along b, c).
     static constexpr int kDb[4] = {-1, 0, 0, -1}, kDc[4] = {-1, -1, 0, 0};
@@ -292,7 +292,7 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
         for (const int g : {f1, f2}) {
             const int off = g == f1 ? (idx & 1) : ((idx >> 1) & 1);
             const Node s = plus(p, g, -off);  // edge start node
-            const EdgeCrossing x = edge_crossing(*model_, g, s, occ_.inside(s));
+            const EdgeCrossing x = edge_sample(s, g, occ_.inside(s)).crossing;
             pts[m] = crossing_point(s, g, x);
             mats[m] = x.material;
             sum += pts[m++];

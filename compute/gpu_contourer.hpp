@@ -48,8 +48,11 @@ struct GpuContourStats {
 /// QEF of its crossings with normals estimated from the neighbouring rays, relative to and falling back on
 /// their mean, clamped into the cell (contour_qef.hpp: sharp edges and corners kept), one quad per
 /// sign-change edge split along the shorter diagonal), in shaders/dexel_contour.comp (the QEF part in
-/// dexel_contour_qef.glsl), one workgroup per tile, in double precision without contraction: vertex
-/// positions equal the CPU's doubles bit for bit (the float vertex buffer rounds them: |error| <= 2^-24 x
+/// dexel_contour_qef.glsl), one workgroup per tile, in double precision without contraction: on lavapipe
+/// (tested) vertex positions equal the CPU's doubles bit for bit (Vulkan does not require correctly rounded
+/// double sqrt and division or denormal preservation, so another device may differ in the last bits,
+/// which only the CPU-vs-GPU comparison tests would see; tiles sharing a vertex still compute it alike)
+/// (the float vertex buffer rounds them: |error| <= 2^-24 x
 /// |grid coordinate|), and the triangles are the same, including the face-split rule for tunnels thinner
 /// than a cell (contour_tile.hpp: split-face vertices, fans around edge crossings). Tiles with more split
 /// faces or edges than the kernel's shared lists hold (> 128 split faces, or split faces and > 4096 edges;

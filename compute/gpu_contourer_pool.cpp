@@ -91,8 +91,9 @@ void GpuContourer::fill_scratch_rays(std::uint32_t tile) {
     const int t[3] = {static_cast<int>(tile % static_cast<std::uint32_t>(tiles_[0])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0]) % static_cast<std::uint32_t>(tiles_[1])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0] * tiles_[1]))};
-    // TileContourer::run reads only the rays through nodes t*16 - 2 .. t*16 + 18 of each axis (crossings
-    // of nodes t*16 - 1 .. t*16 + 17, and the neighbour rays one node beside them for the normals).
+    // TileContourer::run reads rays through nodes t*16 - 2 .. t*16 + 17 of each axis (crossings on edges
+    // from nodes t*16 - 1 .. t*16 + 16, occupancy X rays up to t*16 + 17, the normals' neighbour rays one
+    // node beside the crossings); the copy takes one more node, to t*16 + 18.
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         RaySet& set = scratch_->sets[a];

@@ -83,7 +83,7 @@ GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch);
 
 /// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius (kMesh:
 /// the rotated mesh's exact bounds at both end poses; its nearest-ray reach of <= 0.5/k cell beyond them
-/// is covered by mark_dirty's one-cell margin).
+/// is covered by the spare cell of mark_dirty's margin across the rays).
 Aabb sweep_bounds(const Sweep& sweep);
 
 /// Converts a Sweep to grid units on `lattice`. Throws tridex::Error naming the field when a position or

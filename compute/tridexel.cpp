@@ -42,11 +42,10 @@ void TriDexel::mark_dirty(const Aabb& box_m) {
     const Vec3 glo = lattice.to_grid(box_m.lo), ghi = lattice.to_grid(box_m.hi);
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-        // Cells whose dual vertices can read a changed ray: a vertex reads the crossings on its cell's
-        // edges and, for their normals, the rays one node beside them and interval ends up to
-        // contour::kNormalWindow (2) cells along them; so cells within 3 cells of the box.
-        // A cell c spans [c, c+1] in grid units.
-        const double l = std::floor(glo[a]) - 3.0, h = std::floor(ghi[a]) + 3.0;
+        // Cells whose mesh items can read a changed ray (kDirtyReachCells). The box is widened by 1e-3
+        // cell first: Boolean chords are rounded to float, so a changed end may lie a few 1e-5 cells
+        // outside the double-precision box. A cell c spans [c, c+1] in grid units.
+        const double l = std::floor(glo[a] - 1e-3) - kDirtyReachCells, h = std::floor(ghi[a] + 1e-3) + kDirtyReachCells;
         const int last_cell = lattice.cells[a] - 1;
         if (h < 0.0 || l > last_cell) return;
         lo[a] = static_cast<int>(std::max(0.0, l)) / TileGrid::kTileCells;

@@ -57,8 +57,12 @@ struct TriDexel {
     /// An empty model (no material) on `lattice`, all tiles clean. Throws tridex::Error when the
     /// lattice would need more memory than `max_bytes` (the message gives both numbers).
     static TriDexel empty(const Lattice& lattice, std::size_t max_bytes);
-    /// Marks dirty every tile holding a cell within three cells of the world box `box_m` (the reach of a
-    /// changed ray into the contour: crossings, their normals from neighbouring rays, contour_qef.hpp).
+    /// How far (cells) a changed interval end reaches into the contour. Along a ray: a crossing in cell
+    /// [c, c+1] reads, for its normal, ends in [c - 2, c + 3] (contour::kNormalWindow = 2) and mesh items
+    /// anchored at node n read cells n - 1 and n, so 3. Across rays: the normals' neighbour ray (+1), the
+    /// crossing's cell (+1) and the anchor (+1), also 3 (contour_qef.hpp, contour_tile.hpp).
+    static constexpr int kDirtyReachCells = 3;
+    /// Marks dirty every tile holding a cell within kDirtyReachCells cells of the world box `box_m`.
     void mark_dirty(const Aabb& box_m);
     /// Clears all dirty flags.
     void clear_dirty();

@@ -2,7 +2,8 @@
 // crossing normals estimated from neighbouring rays (contour::crossing_normal) and the QEF vertex
 // (contour::qef_vertex), compute/contour_qef.cpp mirrored operation for operation: the same association,
 // comparisons (incl. the !(x > y) forms), tie rules and constants, in double precision with `precise`
-// (no contraction into multiply-adds), so the results are the CPU's doubles bit for bit.
+// (no contraction into multiply-adds), so the results are the CPU's doubles bit for bit on lavapipe
+// (Vulkan leaves double sqrt/division rounding and denormals to the device; see gpu_contourer.hpp).
 // Needs dexel_contour_rays.glsl (ray_meta, ray_interval, finite) and pc.cells.
 
 const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
