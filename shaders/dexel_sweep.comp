@@ -8,11 +8,16 @@
 // A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
 // and listed for the host (compute/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
 #version 450
+#extension GL_EXT_control_flow_attributes : require
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays go to the host)
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
+#ifndef FASTK
+#define FASTK 4u
+#endif
+const uint K = FASTK;    // intervals the register path holds (rays with more take the array path)
 
 struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
     ivec3 lo; uint code;
@@ -232,6 +237,95 @@ uint paint_span(float t0, float t1, uint mat) {
     return changed;
 }
 
+
+// ---- the register path: rays of at most K intervals ----
+// llvmpipe turns dynamically indexed private arrays into per-lane gathers and scatters; here every index
+// is a constant (unrolled loops, selects), so fe/fx/fm live in registers. Same comparisons and moves as
+// subtract_span / union_span / paint_span above, in one body: a span replaces intervals [first, last) by
+// `pieces` new ones (subtract: the kept head and tail; union: the merged or inserted interval).
+float fe[K];
+float fx[K];
+uint fm[K];
+uint fn;
+
+// Applies one span with op 1 (subtract), 2 (union, span already clipped) or 3 (paint); 0 = unchanged,
+// 1 = changed, 2 = the result needs more than K intervals (ray left as it was).
+uint fast_apply(uint op, float t0, float t1, uint mat) {
+    bool sub = op == 1u, pnt = op == 3u;
+    if (pnt ? !(t0 <= t1) : !(t0 < t1)) return 0u;
+    // subtract: first = intervals with exit <= t0, last = those with enter < t1;
+    // union, paint: first = intervals with exit < t0, last = those with enter <= t1.
+    uint first = 0u, lastc = 0u;
+    [[unroll]] for (uint i = 0u; i < K; ++i) {
+        bool a = sub ? !(t0 < fx[i]) : fx[i] < t0;
+        bool b = sub ? fe[i] < t1 : !(t1 < fe[i]);
+        if (i < fn && a) ++first;
+        if (i < fn && b) ++lastc;
+    }
+    uint last = max(first, lastc);
+    if (pnt) {
+        bool changed = false;
+        [[unroll]] for (uint i = 0u; i < K; ++i) {
+            uint m = fm[i];
+            if (i >= first && i < last) {
+                if (t0 <= fe[i] && (m & 0xffu) != mat) m = (m & 0xff00u) | mat;
+                if (fx[i] <= t1 && ((m >> 8) & 0xffu) != mat) m = (m & 0xffu) | (mat << 8);
+            }
+            changed = changed || m != fm[i];
+            fm[i] = m;
+        }
+        return changed ? 1u : 0u;
+    }
+    if (sub && first == last) return 0u;
+    float h_en = 0.0, h_ex = 0.0, t_ex = 0.0;
+    uint h_m = 0u, t_m = 0u;
+    [[unroll]] for (uint i = 0u; i < K; ++i) {
+        if (i == first) { h_en = fe[i]; h_ex = fx[i]; h_m = fm[i]; }
+        if (i + 1u == last) { t_ex = fx[i]; t_m = fm[i]; }
+    }
+    float p0e, p0x, p1e = t1, p1x = t_ex;
+    uint p0m, p1m = mat | (t_m & 0xff00u), pieces;
+    if (sub) {
+        bool keep_head = h_en < t0, keep_tail = t1 < t_ex;
+        pieces = (keep_head ? 1u : 0u) + (keep_tail ? 1u : 0u);
+        p0e = keep_head ? h_en : t1;
+        p0x = keep_head ? t0 : t_ex;
+        p0m = keep_head ? (h_m & 0xffu) | (mat << 8) : p1m;
+    } else if (first == last) {
+        pieces = 1u;
+        p0e = t0; p0x = t1; p0m = mat | (mat << 8);
+    } else {
+        if (last == first + 1u && h_en <= t0 && t1 <= h_ex) return 0u;
+        pieces = 1u;
+        p0e = h_en; p0x = t_ex; p0m = (h_m & 0xffu) | (t_m & 0xff00u);
+        if (t0 < p0e) { p0e = t0; p0m = (p0m & 0xff00u) | mat; }
+        if (t1 > p0x) { p0x = t1; p0m = (p0m & 0xffu) | (mat << 8); }
+    }
+    uint nn = fn - (last - first) + pieces;
+    if (nn > K) return 2u;
+    uint skip = last - first;  // slot j >= first + pieces takes old slot j - pieces + skip
+    float ne[K], nx[K];
+    uint nm[K];
+    [[unroll]] for (uint j = 0u; j < K; ++j) {
+        float e = fe[j], x = fx[j];
+        uint m = fm[j];
+        if (j >= first) {
+            if (j < first + pieces) {
+                bool p0 = j == first;
+                e = p0 ? p0e : p1e; x = p0 ? p0x : p1x; m = p0 ? p0m : p1m;
+            } else {
+                uint src = j + skip - pieces;
+                [[unroll]] for (uint i = 0u; i < K; ++i)
+                    if (i == src) { e = fe[i]; x = fx[i]; m = fm[i]; }
+            }
+        }
+        ne[j] = e; nx[j] = x; nm[j] = m;
+    }
+    [[unroll]] for (uint j = 0u; j < K; ++j) { fe[j] = ne[j]; fx[j] = nx[j]; fm[j] = nm[j]; }
+    fn = nn;
+    return 1u;
+}
+
 void list_for_retry(uint ray) {
     uint k = atomicAdd(retry_count, 1u);
     if (k < pc.retry_capacity) retry[k] = ray;
@@ -299,7 +393,46 @@ void main() {
     uint m = meta[ray];
     n = m & 127u;
     if (n > MAXI) { list_for_retry(ray); return; }
-    if (n <= INLINE) {
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    bool changed = false;
+    // The register path (batches without mesh tools, rays of at most K intervals): applies the tile's
+    // sweeps in order until done or until a span would need more than K intervals; the array path
+    // below goes on from that sweep and stamp (k0, st0), with the ray as the register path left it.
+    uint k0 = 0u, st0 = 0u;
+    if (!HAS_MESH && n <= K) {
+        fn = n;
+        if (n <= INLINE) {
+            vec4 d = inl[ray];
+            uint mm = inl_mat[ray];
+            fe[0] = d.x; fx[0] = d.y; fm[0] = mm & 0xffffu;
+            fe[1] = d.z; fx[1] = d.w; fm[1] = mm >> 16;
+        } else {
+            uint off = (m >> 11) * 8u;
+            [[unroll]] for (uint i = 0u; i < K; ++i) {
+                if (i < n) { vec2 p = pool[off + i]; fe[i] = p.x; fx[i] = p.y; fm[i] = pool_mat[off + i]; }
+            }
+        }
+        bool full = false;
+        for (; k0 < tile.w; ++k0) {
+            GridSweep s = sweeps[sweep_index[tile.z + k0]];
+            if (u < s.lo[ua] || u > s.hi[ua] || v < s.lo[va] || v > s.hi[va]) continue;
+            uint op = s.code & 0xffu;
+            uint mat = (s.code >> 16) & 0xffu;
+            if (op == 0u) continue;
+            for (st0 = 0u; st0 < s.stamps; ++st0) {
+                float d0, d1;
+                if (!sweep_chord(s, u, v, st0, d0, d1)) continue;
+                if (op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, pc.depth_cells); }
+                uint r = fast_apply(op, d0, d1, mat);
+                if (r == 2u) { full = true; break; }
+                if (r == 1u) changed = true;
+            }
+            if (full) break;
+        }
+        n = fn;
+        [[unroll]] for (uint i = 0u; i < K; ++i) { en[i] = fe[i]; ex[i] = fx[i]; mt[i] = fm[i]; }
+        if (!full) { k0 = tile.w; st0 = 0u; }
+    } else if (n <= INLINE) {
         vec4 d = inl[ray];
         uint mm = inl_mat[ray];
         en[0] = d.x; ex[0] = d.y; mt[0] = mm & 0xffffu;
@@ -311,9 +444,8 @@ void main() {
             en[i] = p.x; ex[i] = p.y; mt[i] = pool_mat[off + i];
         }
     }
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
-    bool changed = false;
-    for (uint k = 0u; k < tile.w; ++k) {
+    // The array path: every ray of a mesh-tool batch, rays over K intervals.
+    for (uint k = k0; k < tile.w; ++k) {
         GridSweep s = sweeps[sweep_index[tile.z + k]];
         if (u < s.lo[ua] || u > s.hi[ua] || v < s.lo[va] || v > s.hi[va]) continue;
         uint op = s.code & 0xffu;
@@ -324,7 +456,7 @@ void main() {
         bool mesh = HAS_MESH && ((s.code >> 8) & 0xffu) == 2u;
         MeshRay mr;
         if (mesh) mr = mesh_ray(s, u, v);
-        for (uint st = 0u; st < s.stamps; ++st) {
+        for (uint st = k == k0 ? st0 : 0u; st < s.stamps; ++st) {
             float c0 = 0.0, c1 = 0.0, ca = 0.0;
             uint q = 0u, q1 = 1u;
             if (mesh) {
