@@ -27,7 +27,7 @@ struct SculptBenchRow {
     double latency_ms = 0.0;              ///< median over steps: apply + re-contour of its dirty tiles, ms
     double step_ms_median = 0.0;          ///< median over steps: the apply call alone, ms
     double rays_per_segment = 0.0;        ///< median footprint rays of one segment (all three sets)
-    std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: 8 x 8-ray tiles dispatched (GpuSculptStats); 0 on CPU rows
+    std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: ray tiles dispatched (GpuSculptStats); 0 on CPU rows
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal

@@ -1,5 +1,5 @@
 // shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
-// One workgroup = one tile of 8 x 8 rays; each invocation loads its ray's intervals, applies the
+// One workgroup = one tile of 8 x TILE_V rays; each invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
 // compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
@@ -10,7 +10,10 @@
 #version 450
 #extension GL_EXT_control_flow_attributes : require
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// One workgroup = one tile of 8 x TILE_V rays (TILE_V: specialisation constant 1, compute/gpu_sculptor.cpp
+// kTileV). llvmpipe runs a workgroup as rows of 8 lanes that each loop over all the tile's sweeps, and a
+// lane outside a sweep's footprint costs as much as one inside, so short tiles waste less.
+layout(local_size_x = 8, local_size_y_id = 1) in;
 
 const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays go to the host)
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
@@ -33,7 +36,11 @@ layout(std430, set = 0, binding = 1) buffer InlineDepth { vec4 inl[]; };    // e
 layout(std430, set = 0, binding = 2) buffer InlineMat { uint inl_mat[]; };  // bytes: enter0, exit0, enter1, exit1
 layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 pool[]; };     // (enter, exit) per interval
 layout(std430, set = 0, binding = 4) buffer PoolMat { uint pool_mat[]; };   // enter | exit << 8
-layout(std430, set = 0, binding = 5) readonly buffer Sweeps { GridSweep sweeps[]; };
+// The batch's sweeps in a uniform buffer: llvmpipe loads uniform-buffer words with a vector gather, but
+// storage-buffer words one lane at a time (each with its own branch and bounds check), which cost more
+// than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu_sculptor.cpp max_sweeps_.
+layout(constant_id = 2) const uint MAX_SWEEPS = 682u;
+layout(std140, set = 0, binding = 5) uniform Sweeps { GridSweep sweeps[MAX_SWEEPS]; };
 layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };  // tile u, tile v, first, count
 layout(std430, set = 0, binding = 7) readonly buffer SweepIndex { uint sweep_index[]; };
 layout(std430, set = 0, binding = 8) buffer Counters {
@@ -387,7 +394,7 @@ bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out f
 void main() {
     uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
     int u = int(tile.x * 8u + gl_LocalInvocationID.x);
-    int v = int(tile.y * 8u + gl_LocalInvocationID.y);
+    int v = int(tile.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y);
     if (u >= pc.nu || v >= pc.nv) return;
     uint ray = uint(u) + uint(pc.nu) * uint(v);
     uint m = meta[ray];
