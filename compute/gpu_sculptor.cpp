@@ -97,24 +97,16 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     set_layout_ = std::move(cl.set_layout);
     pipeline_layout_ = std::move(cl.pipeline_layout);
 
-    // Two variants of the kernel: the specialisation constant HAS_MESH (constant_id 0) compiles the mesh-tool
-    // path in or out, so batches without mesh tools run the smaller kernel (1.5x faster on llvmpipe);
-    // constant_id 1 is the tile height kTileV (the local size y), constant_id 2 the sweeps per dispatch.
+    // Kernel variants by specialisation constants: HAS_MESH (constant_id 0) compiles the mesh-tool path in
+    // (mesh_pipeline_, all operations and tools) or out; OPS and KINDS (constant_id 3, 4) compile in only
+    // the batch's operations and tool kinds (pipeline_for; llvmpipe runs both sides of
+    // every branch, so absent code costs time: about 1.4x for subtract-only ball batches); constant_id 1
+    // is the tile height kTileV (the local size y), constant_id 2 the sweeps per dispatch.
     max_sweeps_ = std::min<std::size_t>(kSweepUniformBytes, context.properties().limits.maxUniformBufferRange) / sizeof(GridSweep);
-    const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
-    for (int variant = 0; variant < 2; ++variant) {
-        const std::uint32_t values[3] = {variant == 1 ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileV),
-                                         static_cast<std::uint32_t>(max_sweeps_)};
-        const VkSpecializationMapEntry entries[3] = {{0, 0, sizeof(VkBool32)}, {1, 4, sizeof(std::uint32_t)}, {2, 8, sizeof(std::uint32_t)}};
-        VkSpecializationInfo spec{};
-        spec.mapEntryCount = 3;
-        spec.pMapEntries = entries;
-        spec.dataSize = sizeof(values);
-        spec.pData = values;
-        (variant == 1 ? mesh_pipeline_ : pipeline_) =
-            gpu::create_compute_pipeline(context, module.get(), pipeline_layout_.get(), &spec);
-    }
-
+    module_ = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
+    mesh_pipeline_ = create_pipeline(true, 7u, 3u);
+    // Creating a variant takes tens of ms on lavapipe: the common one (ball, subtract) now, others on first use.
+    pipelines_[1][1] = create_pipeline(false, 1u, 1u);
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)},
                                            {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}};
     VkDescriptorPoolCreateInfo pi{};
@@ -136,6 +128,25 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     tools_ = host_storage(context_, 16);
     sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
     ensure_batch_capacity(256, 1024, 256 * 64);
+}
+
+gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
+    const std::uint32_t values[5] = {mesh ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileV), static_cast<std::uint32_t>(max_sweeps_),
+                                     ops, kinds};
+    VkSpecializationMapEntry entries[5];
+    for (std::uint32_t i = 0; i < 5; ++i) entries[i] = VkSpecializationMapEntry{i, 4 * i, 4};
+    VkSpecializationInfo spec{};
+    spec.mapEntryCount = 5;
+    spec.pMapEntries = entries;
+    spec.dataSize = sizeof(values);
+    spec.pData = values;
+    return gpu::create_compute_pipeline(context_, module_.get(), pipeline_layout_.get(), &spec);
+}
+
+VkPipeline GpuSculptor::pipeline_for(std::uint32_t ops, std::uint32_t kinds) {
+    gpu::UniquePipeline& p = pipelines_[ops & 7u][kinds & 3u];
+    if (p.get() == VK_NULL_HANDLE) p = create_pipeline(false, ops, kinds);
+    return p.get();
 }
 
 void GpuSculptor::upload_tools(const ToolTable& tools) {
@@ -301,8 +312,15 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         counters_[a].write(head, sizeof(head));
     }
 
+    // The kernel variant: the mesh-tool one, or one with only the chunk's operations and tool kinds.
+    std::uint32_t ops = 0, kinds = 0;
+    for (const GridSweep& g : grid) {
+        ops |= 1u << ((g.code & 0xffu) - 1u);  // kSubtract 1, kUnion 2, kPaint 3 (kNone never reaches here)
+        kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
+    }
+    const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tools.empty() ? pipeline_.get() : mesh_pipeline_.get());
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         for (int a = 0; a < 3; ++a) {
             if (count[a] == 0) continue;
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);

@@ -10,6 +10,7 @@
 #include "compute/tridexel.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/context.hpp"
+#include "gpu/shader_module.hpp"
 #include "gpu/unique_handle.hpp"
 
 namespace tridex::compute {
@@ -35,7 +36,10 @@ struct GpuSculptorOptions {
 /// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 8 x 2-ray tiles under some
 /// sweep's footprint are dispatched (one workgroup each, all tiles of a set in one dispatch); each
 /// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
-/// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order). The result equals
+/// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).
+/// The kernel is specialised to the operations and tool kinds a batch holds (one pipeline per pair; the
+/// ball-subtract one is made with the sculptor, others on their first batch, which then takes tens of
+/// ms longer on lavapipe). The result equals
 /// the CPU reference (apply_sweep, same float arithmetic) ray for ray; the tests check it bit for bit.
 /// After the GPU finishes, the footprint rays are copied into the CPU `mirror` model (for contouring and
 /// the active surface) and the mirror's tiles under the sweeps are marked dirty.
@@ -74,6 +78,8 @@ private:
     void bind_descriptors();
     std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools);
     void upload_tools(const ToolTable& tools);
+    gpu::UniquePipeline create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const;
+    VkPipeline pipeline_for(std::uint32_t ops, std::uint32_t kinds);
 
     const gpu::Context& context_;
     TriDexel& mirror_;
@@ -81,8 +87,9 @@ private:
     GpuSculptStats stats_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;
-    gpu::UniquePipeline pipeline_;       // kernel without the mesh-tool path (HAS_MESH = false)
-    gpu::UniquePipeline mesh_pipeline_;  // kernel with it, for batches holding kMesh sweeps
+    gpu::UniqueShaderModule module_;     // shaders/dexel_sweep.comp
+    gpu::UniquePipeline pipelines_[8][4];  // [OPS][KINDS]: kernels without the mesh-tool path, made on first use
+    gpu::UniquePipeline mesh_pipeline_;  // kernel with it (and every operation and tool), for batches holding kMesh sweeps
     gpu::UniqueDescriptorPool descriptor_pool_;
     VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     gpu::Buffer sweeps_, tiles_, index_;

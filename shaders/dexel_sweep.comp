@@ -57,6 +57,12 @@ layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]
 // False compiles the mesh-tool path out (compute/gpu_sculptor.cpp uses that variant for batches without
 // kMesh sweeps; the result is the same, the kernel smaller).
 layout(constant_id = 0) const bool HAS_MESH = true;
+// The operations and tool kinds the batch holds (compute/gpu_sculptor.cpp picks a pipeline per pair):
+// OPS bit 0 = subtract, 1 = union, 2 = paint; KINDS bit 0 = ball, 1 = flat end (kMesh: HAS_MESH, all
+// bits set). llvmpipe runs both sides of every branch, so code for absent operations and tools costs
+// time; with these constants it is compiled out.
+layout(constant_id = 3) const uint OPS = 7u;
+layout(constant_id = 4) const uint KINDS = 3u;
 
 layout(push_constant) uniform Push {
     int axis;
@@ -139,7 +145,7 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
     float lo = 1.0 / 0.0, hi = -1.0 / 0.0;
     float dd = dot3(d, d);
     uint kind = (s.code >> 8) & 0xffu;
-    if (kind == 0u) {
+    if (KINDS == 1u || (KINDS != 2u && kind == 0u)) {
         if (!(s.radius > 0.0)) return false;
         add_ball(o, d, dd, vec3(0.0), s.radius, lo, hi);
         float ee = dot3(s.delta, s.delta);
@@ -181,9 +187,9 @@ uint subtract_span(float t0, float t1, uint cut);
 uint union_span(float t0, float t1, uint mat);
 uint paint_span(float t0, float t1, uint mat);
 uint apply_op(uint op, float d0, float d1, uint mat) {
-    if (op == 1u) return subtract_span(d0, d1, mat);
-    if (op == 2u) return union_span(max(d0, 0.0), min(d1, pc.depth_cells), mat);
-    if (op == 3u) return paint_span(d0, d1, mat);
+    if ((OPS & 1u) != 0u && op == 1u) return subtract_span(d0, d1, mat);
+    if ((OPS & 2u) != 0u && op == 2u) return union_span(max(d0, 0.0), min(d1, pc.depth_cells), mat);
+    if ((OPS & 4u) != 0u && op == 3u) return paint_span(d0, d1, mat);
     return 0u;
 }
 
@@ -258,7 +264,8 @@ uint fn;
 // Applies one span with op 1 (subtract), 2 (union, span already clipped) or 3 (paint); 0 = unchanged,
 // 1 = changed, 2 = the result needs more than K intervals (ray left as it was).
 uint fast_apply(uint op, float t0, float t1, uint mat) {
-    bool sub = op == 1u, pnt = op == 3u;
+    bool sub = OPS == 1u || ((OPS & 1u) != 0u && op == 1u);
+    bool pnt = OPS == 4u || ((OPS & 4u) != 0u && op == 3u);
     if (pnt ? !(t0 <= t1) : !(t0 < t1)) return 0u;
     // subtract: first = intervals with exit <= t0, last = those with enter < t1;
     // union, paint: first = intervals with exit < t0, last = those with enter <= t1.
@@ -270,7 +277,7 @@ uint fast_apply(uint op, float t0, float t1, uint mat) {
         if (i < fn && b) ++lastc;
     }
     uint last = max(first, lastc);
-    if (pnt) {
+    if ((OPS & 4u) != 0u && pnt) {
         bool changed = false;
         [[unroll]] for (uint i = 0u; i < K; ++i) {
             uint m = fm[i];
@@ -298,6 +305,8 @@ uint fast_apply(uint op, float t0, float t1, uint mat) {
         p0e = keep_head ? h_en : t1;
         p0x = keep_head ? t0 : t_ex;
         p0m = keep_head ? (h_m & 0xffu) | (mat << 8) : p1m;
+    } else if ((OPS & 2u) == 0u) {
+        return 0u;  // not reached: with neither subtract nor union only paint spans come here
     } else if (first == last) {
         pieces = 1u;
         p0e = t0; p0x = t1; p0m = mat | (mat << 8);
@@ -429,7 +438,7 @@ void main() {
             for (st0 = 0u; st0 < s.stamps; ++st0) {
                 float d0, d1;
                 if (!sweep_chord(s, u, v, st0, d0, d1)) continue;
-                if (op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, pc.depth_cells); }
+                if ((OPS & 2u) != 0u && op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, pc.depth_cells); }
                 uint r = fast_apply(op, d0, d1, mat);
                 if (r == 2u) { full = true; break; }
                 if (r == 1u) changed = true;
