@@ -16,8 +16,10 @@
 namespace tridex::compute {
 namespace {
 
-constexpr int kTileU = 8;  // rays per tile along u (the kernel's local size x: one SIMD row of llvmpipe)
-constexpr int kTileV = 2;  // rays per tile along v (local size y, the kernel's specialisation constant 1)
+// A tile is one workgroup of 8 invocations, one SIMD row of llvmpipe, laid out as kTileU x kTileV rays:
+// 4 x 2 wastes fewer lanes at a footprint's edges than 8 x 1 (or 8 x 2 as two rows).
+constexpr int kTileU = 4;  // rays per tile along u (the kernel's specialisation constant 1, TILE_U)
+constexpr int kTileV = 8 / kTileU;
 constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
 constexpr int kBindings = 10;
 constexpr int kSweepBinding = 5;  // the batch's sweeps: a uniform buffer (llvmpipe gathers those as vectors)
@@ -101,7 +103,7 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     // (mesh_pipeline_, all operations and tools) or out; OPS and KINDS (constant_id 3, 4) compile in only
     // the batch's operations and tool kinds (pipeline_for; llvmpipe runs both sides of
     // every branch, so absent code costs time: about 1.4x for subtract-only ball batches); constant_id 1
-    // is the tile height kTileV (the local size y), constant_id 2 the sweeps per dispatch.
+    // is the tile width kTileU, constant_id 2 the sweeps per dispatch.
     max_sweeps_ = std::min<std::size_t>(kSweepUniformBytes, context.properties().limits.maxUniformBufferRange) / sizeof(GridSweep);
     module_ = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
     mesh_pipeline_ = create_pipeline(true, 7u, 3u);
@@ -131,7 +133,7 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
 }
 
 gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
-    const std::uint32_t values[5] = {mesh ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileV), static_cast<std::uint32_t>(max_sweeps_),
+    const std::uint32_t values[5] = {mesh ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileU), static_cast<std::uint32_t>(max_sweeps_),
                                      ops, kinds};
     VkSpecializationMapEntry entries[5];
     for (std::uint32_t i = 0; i < 5; ++i) entries[i] = VkSpecializationMapEntry{i, 4 * i, 4};

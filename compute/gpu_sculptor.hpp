@@ -20,7 +20,7 @@ struct GpuSculptStats {
     std::uint64_t batches = 0;       ///< submissions (one per apply() call, more for batches over 682 sweeps)
     std::uint64_t sweeps = 0;        ///< sweeps applied
     std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per ray set touched per batch, or more for > 65535 tiles)
-    std::uint64_t ray_tiles = 0;     ///< 8 x 2-ray tiles dispatched (one workgroup each), summed over batches
+    std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
     std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
 };
@@ -33,7 +33,7 @@ struct GpuSculptorOptions {
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
-/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 8 x 2-ray tiles under some
+/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 4 x 2-ray tiles under some
 /// sweep's footprint are dispatched (one workgroup each, all tiles of a set in one dispatch); each
 /// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
 /// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).

@@ -1,5 +1,5 @@
 // shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
-// One workgroup = one tile of 8 x TILE_V rays; each invocation loads its ray's intervals, applies the
+// One workgroup = one tile of TILE_U x TILE_V = 8 rays; each invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
 // compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
@@ -10,17 +10,16 @@
 #version 450
 #extension GL_EXT_control_flow_attributes : require
 
-// One workgroup = one tile of 8 x TILE_V rays (TILE_V: specialisation constant 1, compute/gpu_sculptor.cpp
-// kTileV). llvmpipe runs a workgroup as rows of 8 lanes that each loop over all the tile's sweeps, and a
-// lane outside a sweep's footprint costs as much as one inside, so short tiles waste less.
-layout(local_size_x = 8, local_size_y_id = 1) in;
+// One workgroup = one tile of TILE_U x TILE_V = 8 rays (TILE_U: specialisation constant 1,
+// compute/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
+// tile's sweeps and a lane outside a sweep's footprint costs as much as one inside, so tiles are small.
+layout(local_size_x = 8) in;
+layout(constant_id = 1) const uint TILE_U = 8u;
+const uint TILE_V = 8u / TILE_U;
 
 const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays go to the host)
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
-#ifndef FASTK
-#define FASTK 4u
-#endif
-const uint K = FASTK;    // intervals the register path holds (rays with more take the array path)
+const uint K = 3u;       // intervals the register path holds (rays with more take the array path)
 
 struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
     ivec3 lo; uint code;
@@ -402,8 +401,8 @@ bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out f
 
 void main() {
     uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
-    int u = int(tile.x * 8u + gl_LocalInvocationID.x);
-    int v = int(tile.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y);
+    int u = int(tile.x * TILE_U + gl_LocalInvocationID.x % TILE_U);
+    int v = int(tile.y * TILE_V + gl_LocalInvocationID.x / TILE_U);
     if (u >= pc.nu || v >= pc.nv) return;
     uint ray = uint(u) + uint(pc.nu) * uint(v);
     uint m = meta[ray];
