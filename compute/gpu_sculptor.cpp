@@ -357,8 +357,12 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         retry.resize(head[1]);
         counters_[a].read(retry.data(), retry.size() * 4, 16);
         stats_.retried_rays += retry.size();
-        ++stats_.compactions;
-        if (slabs_.compact(context_, a)) bind_descriptors();
+        // Compact only when the kernel ran out of pool (its head then points past the end); rays listed for
+        // having more than 16 intervals need none, and redo_on_host compacts when a write finds no room.
+        if (head[0] > slabs_.pool_chunks(a)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, a)) bind_descriptors();
+        }
         stats.rays_changed += redo_on_host(a, retry, grid, tools);
     }
     // The mirror's footprint rays, then its dirty tiles.
