@@ -38,6 +38,7 @@ using compute::TriDexel;
 constexpr double kStockM = 0.3;       // lattice side, m
 constexpr double kMarginCells = 4.0;  // the box covers grid [4, N-4]^3
 constexpr double kDepthCells = 3.37;  // groove depth below the top face (the ball's centre sits off the nodes)
+const std::string kPaths[] = {"cpu-1t", "cpu", "gpu", "gpu-batched"};  // in the order rows are run
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -170,6 +171,13 @@ void check_options(const SculptBenchOptions& o) {
             if (!(r > 0.0) || r > n / 8.0)
                 throw Error("bench --sculpt: tool radius must be in (0, N/8] cells, got " + std::to_string(r) + " at N = " + std::to_string(n));
     if (o.batch < 1 || o.max_segments < 1) throw Error("bench --sculpt: batch and max_segments must be >= 1");
+    if (o.paths.empty()) throw Error("bench --sculpt: no paths to run (--sculpt-paths)");
+    for (std::size_t i = 0; i < o.paths.size(); ++i) {
+        if (std::find(std::begin(kPaths), std::end(kPaths), o.paths[i]) == std::end(kPaths))
+            throw Error("bench --sculpt: unknown path '" + o.paths[i] + "' (--sculpt-paths: cpu-1t, cpu, gpu, gpu-batched)");
+        if (std::find(o.paths.begin(), o.paths.begin() + static_cast<std::ptrdiff_t>(i), o.paths[i]) != o.paths.begin() + static_cast<std::ptrdiff_t>(i))
+            throw Error("bench --sculpt: path '" + o.paths[i] + "' given twice (--sculpt-paths)");
+    }
 }
 
 std::size_t total(const std::array<compute::SlabBytes, 3>& b) { return b[0].total() + b[1].total() + b[2].total(); }
@@ -220,8 +228,8 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         for (const double r : o.radii_cells) {
             const std::vector<Sweep> stroke = groove_stroke(pristine_model.lattice, r, o.max_segments);
             const std::vector<double> rays_of = footprints(pristine_model, stroke);
-            for (const char* path : {"cpu-1t", "cpu", "gpu", "gpu-batched"}) {
-                const std::string p = path;
+            for (const std::string& p : kPaths) {
+                if (std::find(o.paths.begin(), o.paths.end(), p) == o.paths.end()) continue;
                 const bool gpu_path = p.rfind("gpu", 0) == 0;
                 if (gpu_path && !ctx) continue;
                 SculptBenchRow row;

@@ -27,7 +27,7 @@ struct SculptBenchRow {
     double latency_ms = 0.0;              ///< median over steps: apply + re-contour of its dirty tiles, ms
     double step_ms_median = 0.0;          ///< median over steps: the apply call alone, ms
     double rays_per_segment = 0.0;        ///< median footprint rays of one segment (all three sets)
-    std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: 8 x 8-ray tiles dispatched (GpuSculptStats); 0 on CPU rows
+    std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: ray tiles dispatched (GpuSculptStats); 0 on CPU rows
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal
@@ -43,6 +43,9 @@ struct SculptBenchOptions {
     double max_row_s = 4.0;         ///< ... or its wall time (with contouring) reaches this, s ...
     int max_segments = 65536;       ///< ... or the stroke (this many segments) is used up
     bool gpu = true;                ///< run the GPU rows when a Vulkan device exists
+    /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched" (each at most once); the ratio lines
+    /// need "cpu" and "gpu-batched".
+    std::vector<std::string> paths{"cpu-1t", "cpu", "gpu", "gpu-batched"};
     std::string out = "out/bench";  ///< folder for sculpt_bench.json
 };
 
@@ -58,7 +61,8 @@ struct SculptBenchOptions {
 /// Prints a table, the ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min, writes
 /// sculpt_bench.json (a list of rows) and sculpt_bench_setup.json (workpiece, stroke, device and a "memory"
 /// record: GPU slab bytes per set and N, interval storage at N = 1024) into options.out; returns the rows.
-/// Throws tridex::Error on bad options or an unwritable folder.
+/// Throws tridex::Error on bad options (resolutions, radii, batch, max_segments, paths: empty, out of range,
+/// unknown or repeated) or an unwritable folder.
 std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& options);
 
 }  // namespace tridex::app

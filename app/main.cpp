@@ -103,6 +103,17 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
                         "N = 256, 512, 1024, tool radius 2 and 8 cells");
+    std::vector<int> sculpt_n;
+    bench_cmd->add_option("--sculpt-n", sculpt_n, "With --sculpt: run only these N (24..2048), e.g. --sculpt-n 256,512")
+        ->delimiter(',');
+    std::vector<double> sculpt_radius;
+    bench_cmd->add_option("--sculpt-radius", sculpt_radius,
+                          "With --sculpt: run only these tool radii, cells ((0, N/8]), e.g. --sculpt-radius 8")
+        ->delimiter(',');
+    std::vector<std::string> sculpt_paths;
+    bench_cmd->add_option("--sculpt-paths", sculpt_paths,
+                          "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched), e.g. --sculpt-paths cpu,gpu-batched")
+        ->delimiter(',');
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -149,6 +160,9 @@ int main(int argc, char** argv) {
             if (bench_sculpt) {
                 tridex::app::SculptBenchOptions sbench;
                 sbench.out = hbench.out;
+                if (!sculpt_n.empty()) sbench.resolutions = sculpt_n;
+                if (!sculpt_radius.empty()) sbench.radii_cells = sculpt_radius;
+                if (!sculpt_paths.empty()) sbench.paths = sculpt_paths;
                 tridex::app::run_sculpt_bench(sbench);
             }
             if (bench_accuracy) {

@@ -3,6 +3,7 @@
 #include "compute/gpu_sculptor.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cstring>
 #include <sstream>
 
@@ -15,9 +16,14 @@
 namespace tridex::compute {
 namespace {
 
-constexpr int kTileRays = 8;           // rays per tile side (the kernel's local size)
+// A tile is one workgroup of 8 invocations, one SIMD row of llvmpipe, laid out as kTileU x kTileV rays:
+// 4 x 2 wastes fewer lanes at a footprint's edges than 8 x 1 (or 8 x 2 as two rows).
+constexpr int kTileU = 4;  // rays per tile along u (the kernel's specialisation constant 1, TILE_U)
+constexpr int kTileV = 8 / kTileU;
 constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
 constexpr int kBindings = 10;
+constexpr int kSweepBinding = 5;  // the batch's sweeps: a uniform buffer (llvmpipe gathers those as vectors)
+constexpr std::size_t kSweepUniformBytes = 65536;  // the Vulkan minimum of maxUniformBufferRange is 16384
 constexpr std::size_t kMaxBinding = std::size_t{128} << 20;  // lavapipe's maxStorageBufferRange
 
 struct Push {
@@ -88,32 +94,28 @@ std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
 GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
     : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
     const VkDevice dev = context.device();
-    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push));
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push), 1u << kSweepBinding);
     const VkDescriptorSetLayout layout = cl.set_layout.get();
     set_layout_ = std::move(cl.set_layout);
     pipeline_layout_ = std::move(cl.pipeline_layout);
 
-    // Two variants of the kernel: the specialisation constant HAS_MESH (constant_id 0) compiles the mesh-tool
-    // path in or out, so batches without mesh tools run the smaller kernel (1.5x faster on llvmpipe).
-    const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
-    for (int variant = 0; variant < 2; ++variant) {
-        const VkBool32 has_mesh = variant == 1 ? VK_TRUE : VK_FALSE;
-        const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
-        VkSpecializationInfo spec{};
-        spec.mapEntryCount = 1;
-        spec.pMapEntries = &entry;
-        spec.dataSize = sizeof(VkBool32);
-        spec.pData = &has_mesh;
-        (variant == 1 ? mesh_pipeline_ : pipeline_) =
-            gpu::create_compute_pipeline(context, module.get(), pipeline_layout_.get(), &spec);
-    }
-
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * kBindings};
+    // Kernel variants by specialisation constants: HAS_MESH (constant_id 0) compiles the mesh-tool path in
+    // (mesh_pipeline_, all operations and tools) or out; OPS and KINDS (constant_id 3, 4) compile in only
+    // the batch's operations and tool kinds (pipeline_for; llvmpipe runs both sides of
+    // every branch, so absent code costs time: about 1.4x for subtract-only ball batches); constant_id 1
+    // is the tile width kTileU, constant_id 2 the sweeps per dispatch.
+    max_sweeps_ = std::min<std::size_t>(kSweepUniformBytes, context.properties().limits.maxUniformBufferRange) / sizeof(GridSweep);
+    module_ = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
+    mesh_pipeline_ = create_pipeline(true, 7u, 3u);
+    // Creating a variant takes tens of ms on lavapipe: the common one (ball, subtract) now, others on first use.
+    pipelines_[1][1] = create_pipeline(false, 1u, 1u);
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)},
+                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}};
     VkDescriptorPoolCreateInfo pi{};
     pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     pi.maxSets = 3;
-    pi.poolSizeCount = 1;
-    pi.pPoolSizes = &size;
+    pi.poolSizeCount = 2;
+    pi.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     gpu::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool");
     descriptor_pool_ = gpu::UniqueDescriptorPool(dev, pool);
@@ -126,7 +128,27 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     gpu::check(vkAllocateDescriptorSets(dev, &ai, sets_), "vkAllocateDescriptorSets");
 
     tools_ = host_storage(context_, 16);
-    ensure_batch_capacity(64, 256, 1024, 256 * 64);
+    sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    ensure_batch_capacity(256, 1024, 256 * 64);
+}
+
+gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
+    const std::uint32_t values[5] = {mesh ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileU), static_cast<std::uint32_t>(max_sweeps_),
+                                     ops, kinds};
+    VkSpecializationMapEntry entries[5];
+    for (std::uint32_t i = 0; i < 5; ++i) entries[i] = VkSpecializationMapEntry{i, 4 * i, 4};
+    VkSpecializationInfo spec{};
+    spec.mapEntryCount = 5;
+    spec.pMapEntries = entries;
+    spec.dataSize = sizeof(values);
+    spec.pData = values;
+    return gpu::create_compute_pipeline(context_, module_.get(), pipeline_layout_.get(), &spec);
+}
+
+VkPipeline GpuSculptor::pipeline_for(std::uint32_t ops, std::uint32_t kinds) {
+    gpu::UniquePipeline& p = pipelines_[ops & 7u][kinds & 3u];
+    if (p.get() == VK_NULL_HANDLE) p = create_pipeline(false, ops, kinds);
+    return p.get();
 }
 
 void GpuSculptor::upload_tools(const ToolTable& tools) {
@@ -151,14 +173,13 @@ void GpuSculptor::upload_tools(const ToolTable& tools) {
 
 GpuSculptor::~GpuSculptor() = default;
 
-void GpuSculptor::ensure_batch_capacity(std::size_t sweeps, std::size_t tiles, std::size_t indices, std::size_t retry) {
-    bool rebind = sets_[0] != VK_NULL_HANDLE && sweeps_.handle() == VK_NULL_HANDLE;
+void GpuSculptor::ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry) {
+    bool rebind = sets_[0] != VK_NULL_HANDLE && tiles_.handle() == VK_NULL_HANDLE;
     auto grow = [&](gpu::Buffer& buf, std::size_t bytes) {
         if (buf.handle() != VK_NULL_HANDLE && buf.size() >= bytes) return;
         buf = host_storage(context_, std::max<std::size_t>(bytes, buf.size() * 2));
         rebind = true;
     };
-    grow(sweeps_, sweeps * sizeof(GridSweep));
     grow(tiles_, tiles * sizeof(TileEntry));
     grow(index_, indices * sizeof(std::uint32_t));
     if (retry > retry_capacity_ || counters_[0].handle() == VK_NULL_HANDLE) {
@@ -183,7 +204,7 @@ void GpuSculptor::bind_descriptors() {
             w[i].dstSet = sets_[a];
             w[i].dstBinding = static_cast<std::uint32_t>(i);
             w[i].descriptorCount = 1;
-            w[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[i].descriptorType = i == kSweepBinding ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
             w[i].pBufferInfo = &info[i];
         }
         vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
@@ -216,45 +237,75 @@ std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> r
 BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     BooleanStats stats;
     const GridBatch converted = to_grid_batch(mirror_.lattice, batch);  // throws before anything changes
-    const std::vector<GridSweep>& grid = converted.sweeps;
-    const std::vector<std::size_t>& source = converted.source;
-    if (grid.empty()) return stats;
+    if (converted.sweeps.empty()) return stats;
     upload_tools(converted.tools);  // throws before anything changes when the tools do not fit
+    // The sweeps go in a uniform buffer of max_sweeps_ entries: longer batches run as several, in order.
+    const std::span<const GridSweep> all(converted.sweeps);
+    const std::span<const std::size_t> sources(converted.source);
+    for (std::size_t at = 0; at < all.size(); at += max_sweeps_) {
+        const std::size_t n = std::min(max_sweeps_, all.size() - at);
+        const BooleanStats part = apply_grid(batch, all.subspan(at, n), sources.subspan(at, n), converted.tools);
+        stats.rays_visited += part.rays_visited;
+        stats.rays_changed += part.rays_changed;
+    }
+    return stats;
+}
 
-    // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order.
+BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
+                                     const ToolTable& tools) {
+    BooleanStats stats;
+
+    // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order (a
+    // counting sort over the batch's box of tiles: count, prefix sums, then fill in batch order).
     std::vector<TileEntry> tiles;
     std::vector<std::uint32_t> index;
     std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs;
+    struct Span {
+        std::uint32_t s;
+        int tu0, tu1, tv0, tv1;
+    };
+    std::vector<Span> spans;
+    std::vector<std::uint32_t> slot;
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = mirror_.sets[a];
-        const int tiles_u = (set.nu + kTileRays - 1) / kTileRays;
-        pairs.clear();
+        spans.clear();
+        int bu0 = INT32_MAX, bu1 = -1, bv0 = INT32_MAX, bv1 = -1;
         for (std::uint32_t s = 0; s < grid.size(); ++s) {
             int u0, u1, v0, v1;
             if (!sweep_footprint(grid[s], set, u0, u1, v0, v1)) continue;
             stats.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
-            for (int tv = v0 / kTileRays; tv <= v1 / kTileRays; ++tv)
-                for (int tu = u0 / kTileRays; tu <= u1 / kTileRays; ++tu)
-                    pairs.emplace_back(static_cast<std::uint64_t>(tu) + static_cast<std::uint64_t>(tiles_u) * tv, s);
+            const Span sp{s, u0 / kTileU, u1 / kTileU, v0 / kTileV, v1 / kTileV};
+            bu0 = std::min(bu0, sp.tu0);
+            bu1 = std::max(bu1, sp.tu1);
+            bv0 = std::min(bv0, sp.tv0);
+            bv1 = std::max(bv1, sp.tv1);
+            spans.push_back(sp);
         }
-        std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
         base[a] = static_cast<std::uint32_t>(tiles.size());
-        for (std::size_t i = 0; i < pairs.size();) {
-            std::size_t j = i;
-            TileEntry t{static_cast<std::uint32_t>(pairs[i].first % tiles_u), static_cast<std::uint32_t>(pairs[i].first / tiles_u),
-                        static_cast<std::uint32_t>(index.size()), 0};
-            for (; j < pairs.size() && pairs[j].first == pairs[i].first; ++j) index.push_back(pairs[j].second);
-            t.count = static_cast<std::uint32_t>(j - i);
+        if (spans.empty()) continue;
+        const std::size_t bw = static_cast<std::size_t>(bu1 - bu0 + 1);
+        slot.assign(bw * static_cast<std::size_t>(bv1 - bv0 + 1), 0u);
+        for (const Span& sp : spans)
+            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
+                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) ++slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)];
+        // slot[i]: the tile's count -> the index position where its next sweep goes.
+        for (std::size_t i = 0; i < slot.size(); ++i) {
+            if (slot[i] == 0) continue;
+            const TileEntry t{static_cast<std::uint32_t>(bu0 + static_cast<int>(i % bw)), static_cast<std::uint32_t>(bv0 + static_cast<int>(i / bw)),
+                              static_cast<std::uint32_t>(index.size()), slot[i]};
             tiles.push_back(t);
-            i = j;
+            slot[i] = t.first;
+            index.resize(index.size() + t.count);
         }
+        for (const Span& sp : spans)
+            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
+                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
         count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
         balance_tiles(tiles.begin() + base[a], tiles.end());
     }
     if (tiles.empty()) return stats;
     const std::uint32_t most = std::max({count[0], count[1], count[2]});
-    ensure_batch_capacity(grid.size(), tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileRays * kTileRays);
+    ensure_batch_capacity(tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileU * kTileV);
     sweeps_.write(grid.data(), grid.size() * sizeof(GridSweep));
     tiles_.write(tiles.data(), tiles.size() * sizeof(TileEntry));
     index_.write(index.data(), index.size() * sizeof(std::uint32_t));
@@ -263,8 +314,15 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
         counters_[a].write(head, sizeof(head));
     }
 
+    // The kernel variant: the mesh-tool one, or one with only the chunk's operations and tool kinds.
+    std::uint32_t ops = 0, kinds = 0;
+    for (const GridSweep& g : grid) {
+        ops |= 1u << ((g.code & 0xffu) - 1u);  // kSubtract 1, kUnion 2, kPaint 3 (kNone never reaches here)
+        kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
+    }
+    const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, converted.tools.empty() ? pipeline_.get() : mesh_pipeline_.get());
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         for (int a = 0; a < 3; ++a) {
             if (count[a] == 0) continue;
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);
@@ -299,17 +357,21 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
         retry.resize(head[1]);
         counters_[a].read(retry.data(), retry.size() * 4, 16);
         stats_.retried_rays += retry.size();
-        ++stats_.compactions;
-        if (slabs_.compact(context_, a)) bind_descriptors();
-        stats.rays_changed += redo_on_host(a, retry, grid, converted.tools);
+        // Compact only when the kernel ran out of pool (its head then points past the end); rays listed for
+        // having more than 16 intervals need none, and redo_on_host compacts when a write finds no room.
+        if (head[0] > slabs_.pool_chunks(a)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, a)) bind_descriptors();
+        }
+        stats.rays_changed += redo_on_host(a, retry, grid, tools);
     }
     // The mirror's footprint rays, then its dirty tiles.
     for (int a = 0; a < 3; ++a) {
         RaySet& set = mirror_.sets[a];
         for (std::uint32_t t = base[a]; t < base[a] + count[a]; ++t) {
-            const int u0 = static_cast<int>(tiles[t].tu) * kTileRays, v0 = static_cast<int>(tiles[t].tv) * kTileRays;
-            for (int v = v0; v < std::min(v0 + kTileRays, set.nv); ++v)
-                for (int u = u0; u < std::min(u0 + kTileRays, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
+            const int u0 = static_cast<int>(tiles[t].tu) * kTileU, v0 = static_cast<int>(tiles[t].tv) * kTileV;
+            for (int v = v0; v < std::min(v0 + kTileV, set.nv); ++v)
+                for (int u = u0; u < std::min(u0 + kTileU, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
         }
     }
     if (stats.rays_changed > 0)

@@ -10,16 +10,17 @@
 #include "compute/tridexel.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/context.hpp"
+#include "gpu/shader_module.hpp"
 #include "gpu/unique_handle.hpp"
 
 namespace tridex::compute {
 
 /// Counters of a GpuSculptor since it was created.
 struct GpuSculptStats {
-    std::uint64_t batches = 0;       ///< apply() calls that dispatched work
+    std::uint64_t batches = 0;       ///< submissions (one per apply() call, more for batches over 682 sweeps)
     std::uint64_t sweeps = 0;        ///< sweeps applied
     std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per ray set touched per batch, or more for > 65535 tiles)
-    std::uint64_t ray_tiles = 0;     ///< 8 x 8-ray tiles dispatched, summed over batches
+    std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
     std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
 };
@@ -32,9 +33,13 @@ struct GpuSculptorOptions {
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
-/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 8 x 8-ray tiles under some
+/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 4 x 2-ray tiles under some
 /// sweep's footprint are dispatched (one workgroup each, all tiles of a set in one dispatch); each
-/// invocation applies, in order, the batch's sweeps whose footprint holds its ray. The result equals
+/// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
+/// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).
+/// The kernel is specialised to the operations and tool kinds a batch holds (one pipeline per pair; the
+/// ball-subtract one is made with the sculptor, others on their first batch, which then takes tens of
+/// ms longer on lavapipe). The result equals
 /// the CPU reference (apply_sweep, same float arithmetic) ray for ray; the tests check it bit for bit.
 /// After the GPU finishes, the footprint rays are copied into the CPU `mirror` model (for contouring and
 /// the active surface) and the mirror's tiles under the sweeps are marked dirty.
@@ -67,10 +72,14 @@ public:
     const GpuSculptStats& stats() const { return stats_; }
 
 private:
-    void ensure_batch_capacity(std::size_t sweeps, std::size_t tiles, std::size_t indices, std::size_t retry);
+    void ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry);
+    BooleanStats apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
+                            const ToolTable& tools);
     void bind_descriptors();
     std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools);
     void upload_tools(const ToolTable& tools);
+    gpu::UniquePipeline create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const;
+    VkPipeline pipeline_for(std::uint32_t ops, std::uint32_t kinds);
 
     const gpu::Context& context_;
     TriDexel& mirror_;
@@ -78,8 +87,9 @@ private:
     GpuSculptStats stats_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;
-    gpu::UniquePipeline pipeline_;       // kernel without the mesh-tool path (HAS_MESH = false)
-    gpu::UniquePipeline mesh_pipeline_;  // kernel with it, for batches holding kMesh sweeps
+    gpu::UniqueShaderModule module_;     // shaders/dexel_sweep.comp
+    gpu::UniquePipeline pipelines_[8][4];  // [OPS][KINDS]: kernels without the mesh-tool path, made on first use
+    gpu::UniquePipeline mesh_pipeline_;  // kernel with it (and every operation and tool), for batches holding kMesh sweeps
     gpu::UniqueDescriptorPool descriptor_pool_;
     VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     gpu::Buffer sweeps_, tiles_, index_;
@@ -87,6 +97,7 @@ private:
     gpu::Buffer tools_;            // the batch's mesh-tool dexels (pack_tools words), binding 9
     ToolTable uploaded_tools_;     // what tools_ holds now
     std::size_t retry_capacity_ = 0;
+    std::size_t max_sweeps_ = 0;   // sweeps per dispatch: what the uniform buffer sweeps_ holds
 };
 
 }  // namespace tridex::compute

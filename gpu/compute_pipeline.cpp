@@ -1,4 +1,4 @@
-// gpu/compute_pipeline.cpp - storage-buffer descriptor layouts and compute pipelines.
+// gpu/compute_pipeline.cpp - storage/uniform-buffer descriptor layouts and compute pipelines.
 #include "gpu/compute_pipeline.hpp"
 
 #include <vector>
@@ -7,12 +7,13 @@
 
 namespace tridex::gpu {
 
-ComputeLayout create_compute_layout(const Context& context, std::uint32_t storage_buffers, std::uint32_t push_bytes) {
+ComputeLayout create_compute_layout(const Context& context, std::uint32_t storage_buffers, std::uint32_t push_bytes,
+                                    std::uint32_t uniform_bindings) {
     const VkDevice dev = context.device();
     std::vector<VkDescriptorSetLayoutBinding> b(storage_buffers);
     for (std::uint32_t i = 0; i < storage_buffers; ++i) {
         b[i].binding = i;
-        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[i].descriptorType = (uniform_bindings >> i) & 1u ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         b[i].descriptorCount = 1;
         b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }

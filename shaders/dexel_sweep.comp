@@ -1,5 +1,5 @@
 // shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
-// One workgroup = one tile of 8 x 8 rays; each invocation loads its ray's intervals, applies the
+// One workgroup = one tile of TILE_U x TILE_V = 8 rays; each invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
 // compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
@@ -8,11 +8,19 @@
 // A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
 // and listed for the host (compute/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
 #version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// One workgroup = one tile of TILE_U x TILE_V = 8 rays (TILE_U: specialisation constant 1,
+// compute/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
+// tile's sweeps and a lane outside a sweep's footprint costs as much as one inside, so tiles are small.
+layout(local_size_x = 8) in;
+layout(constant_id = 1) const uint TILE_U = 8u;
+const uint TILE_V = 8u / TILE_U;
 
 const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays go to the host)
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
+const uint K = 3u;       // intervals the register path holds (rays with more take the array path)
 
 struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
     ivec3 lo; uint code;
@@ -28,7 +36,11 @@ layout(std430, set = 0, binding = 1) buffer InlineDepth { vec4 inl[]; };    // e
 layout(std430, set = 0, binding = 2) buffer InlineMat { uint inl_mat[]; };  // bytes: enter0, exit0, enter1, exit1
 layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 pool[]; };     // (enter, exit) per interval
 layout(std430, set = 0, binding = 4) buffer PoolMat { uint pool_mat[]; };   // enter | exit << 8
-layout(std430, set = 0, binding = 5) readonly buffer Sweeps { GridSweep sweeps[]; };
+// The batch's sweeps in a uniform buffer: llvmpipe loads uniform-buffer words with a vector gather, but
+// storage-buffer words one lane at a time (each with its own branch and bounds check), which cost more
+// than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu_sculptor.cpp max_sweeps_.
+layout(constant_id = 2) const uint MAX_SWEEPS = 682u;
+layout(std140, set = 0, binding = 5) uniform Sweeps { GridSweep sweeps[MAX_SWEEPS]; };
 layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };  // tile u, tile v, first, count
 layout(std430, set = 0, binding = 7) readonly buffer SweepIndex { uint sweep_index[]; };
 layout(std430, set = 0, binding = 8) buffer Counters {
@@ -45,6 +57,12 @@ layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]
 // False compiles the mesh-tool path out (compute/gpu_sculptor.cpp uses that variant for batches without
 // kMesh sweeps; the result is the same, the kernel smaller).
 layout(constant_id = 0) const bool HAS_MESH = true;
+// The operations and tool kinds the batch holds (compute/gpu_sculptor.cpp picks a pipeline per pair):
+// OPS bit 0 = subtract, 1 = union, 2 = paint; KINDS bit 0 = ball, 1 = flat end (kMesh: HAS_MESH, all
+// bits set). llvmpipe runs both sides of every branch, so code for absent operations and tools costs
+// time; with these constants it is compiled out.
+layout(constant_id = 3) const uint OPS = 7u;
+layout(constant_id = 4) const uint KINDS = 3u;
 
 layout(push_constant) uniform Push {
     int axis;
@@ -127,7 +145,7 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
     float lo = 1.0 / 0.0, hi = -1.0 / 0.0;
     float dd = dot3(d, d);
     uint kind = (s.code >> 8) & 0xffu;
-    if (kind == 0u) {
+    if (KINDS == 1u || (KINDS != 2u && kind == 0u)) {
         if (!(s.radius > 0.0)) return false;
         add_ball(o, d, dd, vec3(0.0), s.radius, lo, hi);
         float ee = dot3(s.delta, s.delta);
@@ -149,88 +167,9 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
     return true;
 }
 
-// ---- interval operations (compute/interval_ops.cpp) ----
-// Moves intervals [from, n) by `by` places (by may be negative) and sets n += by.
-void shift_tail(uint from, int by) {
-    if (by > 0) {
-        for (int i = int(n) - 1; i >= int(from); --i) {
-            en[i + by] = en[i]; ex[i + by] = ex[i]; mt[i + by] = mt[i];
-        }
-    } else if (by < 0) {
-        for (uint i = from; i < n; ++i) {
-            en[int(i) + by] = en[i]; ex[int(i) + by] = ex[i]; mt[int(i) + by] = mt[i];
-        }
-    }
-    n = uint(int(n) + by);
-}
+#include "dexel_sweep_spans.glsl"
 
-// Applies one span with the sweep's op; 0 = unchanged, 1 = changed, 2 = would exceed MAXI.
-uint subtract_span(float t0, float t1, uint cut);
-uint union_span(float t0, float t1, uint mat);
-uint paint_span(float t0, float t1, uint mat);
-uint apply_op(uint op, float d0, float d1, uint mat) {
-    if (op == 1u) return subtract_span(d0, d1, mat);
-    if (op == 2u) return union_span(max(d0, 0.0), min(d1, pc.depth_cells), mat);
-    if (op == 3u) return paint_span(d0, d1, mat);
-    return 0u;
-}
-
-// Returns 0 = unchanged, 1 = changed, 2 = would exceed MAXI (ray left as it was).
-uint subtract_span(float t0, float t1, uint cut) {
-    if (!(t0 < t1)) return 0u;
-    uint first = 0u;
-    while (first < n && !(t0 < ex[first])) ++first;
-    uint last = first;
-    while (last < n && en[last] < t1) ++last;
-    if (first == last) return 0u;
-    float head_enter = en[first];
-    uint head_mat = (mt[first] & 0xffu) | (cut << 8);
-    float tail_exit = ex[last - 1u];
-    uint tail_mat = cut | (mt[last - 1u] & 0xff00u);
-    bool keep_head = head_enter < t0, keep_tail = t1 < tail_exit;
-    int pieces = (keep_head ? 1 : 0) + (keep_tail ? 1 : 0);
-    int by = pieces - int(last - first);
-    if (int(n) + by > int(MAXI)) return 2u;
-    shift_tail(last, by);
-    uint at = first;
-    if (keep_head) { en[at] = head_enter; ex[at] = t0; mt[at] = head_mat; ++at; }
-    if (keep_tail) { en[at] = t1; ex[at] = tail_exit; mt[at] = tail_mat; }
-    return 1u;
-}
-
-uint union_span(float t0, float t1, uint mat) {
-    if (!(t0 < t1)) return 0u;
-    uint first = 0u;
-    while (first < n && ex[first] < t0) ++first;
-    uint last = first;
-    while (last < n && !(t1 < en[last])) ++last;
-    if (first == last) {
-        if (n + 1u > MAXI) return 2u;
-        shift_tail(first, 1);
-        en[first] = t0; ex[first] = t1; mt[first] = mat | (mat << 8);
-        return 1u;
-    }
-    if (last == first + 1u && en[first] <= t0 && t1 <= ex[first]) return 0u;
-    float m_en = en[first], m_ex = ex[last - 1u];
-    uint m_enm = mt[first] & 0xffu, m_exm = mt[last - 1u] & 0xff00u;
-    if (t0 < m_en) { m_en = t0; m_enm = mat; }
-    if (t1 > m_ex) { m_ex = t1; m_exm = mat << 8; }
-    shift_tail(last, 1 - int(last - first));
-    en[first] = m_en; ex[first] = m_ex; mt[first] = m_enm | m_exm;
-    return 1u;
-}
-
-uint paint_span(float t0, float t1, uint mat) {
-    if (!(t0 <= t1)) return 0u;
-    uint changed = 0u;
-    uint i = 0u;
-    while (i < n && ex[i] < t0) ++i;
-    for (; i < n && en[i] <= t1; ++i) {
-        if (t0 <= en[i] && (mt[i] & 0xffu) != mat) { mt[i] = (mt[i] & 0xff00u) | mat; changed = 1u; }
-        if (ex[i] <= t1 && ((mt[i] >> 8) & 0xffu) != mat) { mt[i] = (mt[i] & 0xffu) | (mat << 8); changed = 1u; }
-    }
-    return changed;
-}
+#include "dexel_sweep_registers.glsl"
 
 void list_for_retry(uint ray) {
     uint k = atomicAdd(retry_count, 1u);
@@ -292,14 +231,53 @@ bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out f
 
 void main() {
     uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
-    int u = int(tile.x * 8u + gl_LocalInvocationID.x);
-    int v = int(tile.y * 8u + gl_LocalInvocationID.y);
+    int u = int(tile.x * TILE_U + gl_LocalInvocationID.x % TILE_U);
+    int v = int(tile.y * TILE_V + gl_LocalInvocationID.x / TILE_U);
     if (u >= pc.nu || v >= pc.nv) return;
     uint ray = uint(u) + uint(pc.nu) * uint(v);
     uint m = meta[ray];
     n = m & 127u;
     if (n > MAXI) { list_for_retry(ray); return; }
-    if (n <= INLINE) {
+    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    bool changed = false;
+    // The register path (batches without mesh tools, rays of at most K intervals): applies the tile's
+    // sweeps in order until done or until a span would need more than K intervals; the array path
+    // below goes on from that sweep and stamp (k0, st0), with the ray as the register path left it.
+    uint k0 = 0u, st0 = 0u;
+    if (!HAS_MESH && n <= K) {
+        fn = n;
+        if (n <= INLINE) {
+            vec4 d = inl[ray];
+            uint mm = inl_mat[ray];
+            fe[0] = d.x; fx[0] = d.y; fm[0] = mm & 0xffffu;
+            fe[1] = d.z; fx[1] = d.w; fm[1] = mm >> 16;
+        } else {
+            uint off = (m >> 11) * 8u;
+            [[unroll]] for (uint i = 0u; i < K; ++i) {
+                if (i < n) { vec2 p = pool[off + i]; fe[i] = p.x; fx[i] = p.y; fm[i] = pool_mat[off + i]; }
+            }
+        }
+        bool full = false;
+        for (; k0 < tile.w; ++k0) {
+            GridSweep s = sweeps[sweep_index[tile.z + k0]];
+            if (u < s.lo[ua] || u > s.hi[ua] || v < s.lo[va] || v > s.hi[va]) continue;
+            uint op = s.code & 0xffu;
+            uint mat = (s.code >> 16) & 0xffu;
+            if (op == 0u) continue;
+            for (st0 = 0u; st0 < s.stamps; ++st0) {
+                float d0, d1;
+                if (!sweep_chord(s, u, v, st0, d0, d1)) continue;
+                if ((OPS & 2u) != 0u && op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, pc.depth_cells); }
+                uint r = fast_apply(op, d0, d1, mat);
+                if (r == 2u) { full = true; break; }
+                if (r == 1u) changed = true;
+            }
+            if (full) break;
+        }
+        n = fn;
+        [[unroll]] for (uint i = 0u; i < K; ++i) { en[i] = fe[i]; ex[i] = fx[i]; mt[i] = fm[i]; }
+        if (!full) { k0 = tile.w; st0 = 0u; }
+    } else if (n <= INLINE) {
         vec4 d = inl[ray];
         uint mm = inl_mat[ray];
         en[0] = d.x; ex[0] = d.y; mt[0] = mm & 0xffffu;
@@ -311,9 +289,8 @@ void main() {
             en[i] = p.x; ex[i] = p.y; mt[i] = pool_mat[off + i];
         }
     }
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
-    bool changed = false;
-    for (uint k = 0u; k < tile.w; ++k) {
+    // The array path: every ray of a mesh-tool batch, rays over K intervals.
+    for (uint k = k0; k < tile.w; ++k) {
         GridSweep s = sweeps[sweep_index[tile.z + k]];
         if (u < s.lo[ua] || u > s.hi[ua] || v < s.lo[va] || v > s.hi[va]) continue;
         uint op = s.code & 0xffu;
@@ -324,7 +301,7 @@ void main() {
         bool mesh = HAS_MESH && ((s.code >> 8) & 0xffu) == 2u;
         MeshRay mr;
         if (mesh) mr = mesh_ray(s, u, v);
-        for (uint st = 0u; st < s.stamps; ++st) {
+        for (uint st = k == k0 ? st0 : 0u; st < s.stamps; ++st) {
             float c0 = 0.0, c1 = 0.0, ca = 0.0;
             uint q = 0u, q1 = 1u;
             if (mesh) {

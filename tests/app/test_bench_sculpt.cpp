@@ -82,6 +82,40 @@ TEST(BenchSculpt, RefusesBadOptions) {
     o.radii_cells = {2.0};
     o.batch = 0;
     EXPECT_THROW(run_sculpt_bench(o), Error);
+    o.batch = 16;
+    o.paths = {};
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+    o.paths = {"cpu", "gpu-fast"};
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+    o.paths = {"cpu", "gpu-batched", "cpu"};
+    EXPECT_THROW(run_sculpt_bench(o), Error);
+}
+
+TEST(BenchSculpt, RunsOnlyTheChosenPathsResolutionsAndRadii) {
+    SculptBenchOptions o;
+    o.resolutions = {32, 40};
+    o.radii_cells = {1.5, 3.0};
+    o.paths = {"gpu-batched", "cpu"};  // rows come in the bench's own order
+    o.batch = 8;
+    o.max_segments = 12;
+    o.min_boolean_s = 1e9;
+    o.max_row_s = 1e9;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt_paths").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SculptBenchRow> rows = run_sculpt_bench(o);
+    ASSERT_EQ(rows.size(), 8u);  // 2 N x 2 radii x 2 paths; the test environment has lavapipe
+    for (std::size_t i = 0; i < rows.size(); i += 2) {
+        EXPECT_EQ(rows[i].path, "cpu");
+        EXPECT_EQ(rows[i + 1].path, "gpu-batched");
+        EXPECT_EQ(rows[i].n, rows[i + 1].n);
+        EXPECT_EQ(rows[i].radius_cells, rows[i + 1].radius_cells);
+        EXPECT_EQ(rows[i].segments, 12u);
+        EXPECT_EQ(rows[i].model_hash, rows[i + 1].model_hash) << "N " << rows[i].n << " r " << rows[i].radius_cells;
+    }
+    EXPECT_EQ(rows[0].n, 32);
+    EXPECT_EQ(rows[0].radius_cells, 1.5);
+    EXPECT_EQ(rows[2].radius_cells, 3.0);
+    EXPECT_EQ(rows[4].n, 40);
 }
 
 }  // namespace

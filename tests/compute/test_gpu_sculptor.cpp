@@ -126,6 +126,31 @@ TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitFo
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+// A batch longer than the kernel's uniform buffer of sweeps (682) runs as several submissions, in order,
+// and still gives the CPU reference's rays bit for bit.
+TEST(GpuSculptor, BatchesLongerThanOneSweepBufferRunInOrderAndMatchTheCpu) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel cpu = box_model(48, 6.5, 41.5);
+        TriDexel gpu_model = box_model(48, 6.5, 41.5);
+        GpuSculptor sculptor(ctx, gpu_model);
+        const std::vector<Sweep> program = random_program(cpu.lattice, 1500, 23u);
+        std::size_t changed_cpu = 0;
+        for (const Sweep& s : program) changed_cpu += apply_sweep(cpu, s).rays_changed;
+        const BooleanStats st = sculptor.apply(program);
+        EXPECT_GT(changed_cpu, 1000u);
+        EXPECT_GT(st.rays_changed, 1000u);
+        EXPECT_EQ(sculptor.stats().batches, 3u);  // 682 + 682 + 136 sweeps
+        EXPECT_EQ(sculptor.stats().sweeps, 1500u);
+        const Diff d = compare(cpu, gpu_model);
+        EXPECT_EQ(d.rays, 0u) << "max depth difference " << d.max_cells << " cells";
+        TriDexel downloaded = TriDexel::empty(cpu.lattice, std::size_t{1} << 30);
+        sculptor.slabs().download(downloaded);
+        EXPECT_EQ(compare(cpu, downloaded).rays, 0u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 // A union stroke across the lattice's corner adds material only inside the lattice's depth range
 // [0, cells] on every ray (CPU and GPU alike): nothing the contour cannot show or the volume should not count.
 TEST(GpuSculptor, UnionIsClippedToTheLattice) {
