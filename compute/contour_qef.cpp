@@ -40,13 +40,14 @@ bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, doub
         g = (dm + dp) * 0.5;
         return true;
     }
+    // One side alone (a sharp edge): only a gentle slope, as a steep one may be another sheet's end.
     if (has_m) {
         g = dm;
-        return true;
+        return std::abs(dm) <= kOneSidedSlopeMax;
     }
     if (has_p) {
         g = dp;
-        return true;
+        return std::abs(dp) <= kOneSidedSlopeMax;
     }
     return false;
 }

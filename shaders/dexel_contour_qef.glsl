@@ -8,6 +8,7 @@
 
 const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
 const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
+const double kOneSidedSlopeMax = 1.0lf; // contour::kOneSidedSlopeMax
 const double kQefTruncation = 0.1lf;    // contour::kQefTruncation
 const int kJacobiSweeps = 5;            // contour::kJacobiSweeps
 const double kJacobiTolerance = 1e-9lf; // contour::kJacobiTolerance
@@ -59,13 +60,14 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
         g = mid;
         return true;
     }
+    // One side alone (a sharp edge): only a gentle slope (contour::kOneSidedSlopeMax).
     if (has_m) {
         g = dm;
-        return true;
+        return abs(dm) <= kOneSidedSlopeMax;
     }
     if (has_p) {
         g = dp;
-        return true;
+        return abs(dp) <= kOneSidedSlopeMax;
     }
     return false;
 }

@@ -98,6 +98,14 @@ TEST(CrossingNormal, NoneAtACreaseOneSidedAtAnEdgeAndNeedsBothDirections) {
     });
     ASSERT_TRUE(crossing_normal(model, 2, Node{0, 5, 10}, true, 10.0, nrm));
     EXPECT_NEAR(nrm.x, -0.5 / std::sqrt(1.25), 1e-12);
+    // ... but not a steep one (slope 1.5 > kOneSidedSlopeMax: it may be another sheet's end).
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2) return {};
+        (void)v;
+        return {Interval{2.0f, static_cast<float>(10.0 + 1.5 * u)}};
+    });
+    EXPECT_FALSE(crossing_normal(model, 2, Node{0, 5, 10}, true, 10.0, nrm));
+    ASSERT_TRUE(crossing_normal(model, 2, Node{1, 5, 11}, true, 11.5, nrm));  // both sides: fine
 }
 
 TEST(QefVertex, FindsCornersAndEdgesAndKeepsTheMassPointAlongFreeDirections) {
