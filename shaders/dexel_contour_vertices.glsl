@@ -2,6 +2,15 @@
 // surface component, placed by the QEF of its crossings and their normals from neighbouring rays, relative
 // to and falling back on their mean, clamped into the cell (dexel_contour_qef.glsl); nearest-crossing material).
 
+// Start node of the cell's edge e = 4a + k along axis a, as an offset from the cell's min node
+// (contour_table.hpp numbering: bit 0 of k steps along (a + 1) % 3, bit 1 along (a + 2) % 3).
+ivec3 edge_start_offset(int a, int k) {
+    ivec3 off = ivec3(0);
+    off[(a + 1) % 3] = k & 1;
+    off[(a + 2) % 3] = (k >> 1) & 1;
+    return off;
+}
+
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
 // The expensive per-edge work (crossings, normals) runs in per-axis dynamic loops over the edges this cell
 // needs, so SIMD lanes share iterations (llvmpipe runs 8 invocations per lane group); the cheap sums are
@@ -29,9 +38,7 @@ void place_vertices(ivec3 cell, uint base) {
         while (todo != 0u) {
             int k = findLSB(todo);
             todo &= todo - 1u;
-            ivec3 off = ivec3(0);
-            off[(a + 1) % 3] = k & 1;
-            off[(a + 2) % 3] = (k >> 1) & 1;
+            const ivec3 off = edge_start_offset(a, k);
             const int corner = off.x + 2 * off.y + 4 * off.z;
             uint m;
             bool fb, ex;
@@ -74,9 +81,7 @@ void place_vertices(ivec3 cell, uint base) {
             while (todo != 0u) {
                 int k = findLSB(todo);
                 todo &= todo - 1u;
-                ivec3 off = ivec3(0);
-                off[(a + 1) % 3] = k & 1;
-                off[(a + 2) % 3] = (k >> 1) & 1;
+                const ivec3 off = edge_start_offset(a, k);
                 const int corner = off.x + 2 * off.y + 4 * off.z;
                 double t = tq[4 * a + k];
                 dvec3 nn;
