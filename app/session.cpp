@@ -175,6 +175,9 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
         own_ctx.emplace(gpu::Context::create(gopt));
     }
     gpu::Context& gpu_ctx = run.gpu ? *run.gpu->context : *own_ctx;
+    // Render-only validation count: on the session's Context the Booleans' messages came first (they are
+    // sculpt_validation_messages), so count from here, renderer creation included, on either Context.
+    const std::uint32_t validation_before_render = gpu_ctx.validation_messages();
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
     renderer::IndirectWorkpiece indirect;
@@ -200,8 +203,6 @@ void write_session_outputs(const OutputOptions& opt, const SessionSettings& sett
     }
     Pose head;
     head.position = kHeadPosition;
-    // Render-only count: on the session's Context the Booleans' messages came first (sculpt_validation_messages).
-    const std::uint32_t validation_before_render = run.gpu ? gpu_ctx.validation_messages() : 0u;
     const auto t_render = Clock::now();
     const renderer::StereoImages eyes = renderer.render(view, renderer::Screen::powerwall(), head, kEyeSeparation);
     const double render_s = seconds_since(t_render);

@@ -28,8 +28,8 @@ bool nearest_end(const std::vector<Interval>& ray, bool exit_end, double t, doub
 /// Slope of the height field along one lattice direction at ray coordinate w (see crossing_normal).
 bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g) {
     const int w = n[dir];
-    const int limit = dir == (a + 1) % 3 ? set.nu : set.nv;
     const bool u_dir = dir == (a + 1) % 3;
+    const int limit = u_dir ? set.nu : set.nv;
     const int u = n[(a + 1) % 3], v = n[(a + 2) % 3];
     double em = 0.0, ep = 0.0;
     const bool has_m = w - 1 >= 0 && nearest_end(u_dir ? set.ray(u - 1, v) : set.ray(u, v - 1), exit_end, t, em);

@@ -157,8 +157,7 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         std::array<Vec3, 12> point{};
         std::array<std::uint8_t, 12> mat{};
         std::array<int, 12> owner{};
-        std::array<Vec3, 12> normal{};
-        std::array<bool, 12> has_normal{};
+        std::array<const EdgeSample*, 12> sample{};  // the crossing's cached sample (normal, has_normal)
         int crossings = 0;
         for (int e = 0; e < 12; ++e) {
             const int comp = cc.edge_component[e];
@@ -167,8 +166,7 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             const Node p{cell[0] + (corner & 1), cell[1] + ((corner >> 1) & 1), cell[2] + ((corner >> 2) & 1)};
             const EdgeSample& es = edge_sample(p, a, ((cfg >> corner) & 1) != 0);
             const EdgeCrossing& x = es.crossing;
-            has_normal[crossings] = es.has_normal;
-            normal[crossings] = es.normal;
+            sample[crossings] = &es;
             point[crossings] = crossing_point(p, a, x);
             mat[crossings] = x.material;
             owner[crossings++] = comp;
@@ -182,9 +180,9 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             std::array<Vec3, 12> qp{}, qn{};
             int q = 0;
             for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && has_normal[i]) {
+                if (owner[i] == comp && sample[i]->has_normal) {
                     qp[q] = point[i];
-                    qn[q++] = normal[i];
+                    qn[q++] = sample[i]->normal;
                 }
             cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo);
             best_d2[comp] = -1.0;
