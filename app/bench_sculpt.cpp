@@ -206,7 +206,8 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
     } else {
         try {
             ctx = std::make_unique<gpu::Context>(gpu::Context::create({}));
-            std::printf("gpu: %s (validation %s)\n", ctx->device_name().c_str(), ctx->validation_enabled() ? "on" : "off");
+            std::printf("gpu: %s (validation %s; %d driver worker threads pinned one per core)\n", ctx->device_name().c_str(),
+                        ctx->validation_enabled() ? "on" : "off", ctx->spread_driver_threads());
         } catch (const Error& e) {
             std::printf("gpu rows skipped: no usable Vulkan device (%s)\n", e.what());
         }

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/driver_threads.hpp"
 
 namespace tridex::gpu {
 
@@ -26,6 +27,7 @@ struct Context::Impl {
     DeviceFeatures features;
     bool validation = false;
     bool presentation = false;
+    int spread_threads = 0;  // driver worker threads pinned one per core (CPU devices)
     std::vector<std::string> instance_extensions;
     std::function<bool(VkInstance, VkPhysicalDevice, std::uint32_t)> can_present;
     std::atomic<std::uint32_t> messages{0};
@@ -77,6 +79,12 @@ VkDebugUtilsMessengerCreateInfoEXT messenger_info(Context::Impl* impl) {
 bool env_validation() {
     const char* v = std::getenv("TRIDEX_VALIDATION");
     return v && std::strcmp(v, "1") == 0;
+}
+
+// True when environment variable `name` is set to "0" (a switch turned off).
+bool env_off(const char* name) {
+    const char* v = std::getenv(name);
+    return v && std::strcmp(v, "0") == 0;
 }
 
 bool has_layer(const char* name) {
@@ -302,10 +310,17 @@ Context Context::create(const ContextOptions& options) {
     impl->presentation = options.presentation;
     impl->instance_extensions = options.instance_extensions;
     impl->can_present = options.can_present;
+    // Threads before and after: a CPU driver (lavapipe) starts its worker threads with the device.
+    const std::string creator = current_thread_name();
+    const std::vector<ProcessThread> before = process_threads();
     create_instance(*impl);
     select_physical_device(*impl);
     impl->can_present = nullptr;  // only needed for the selection; drop what it holds (e.g. a window library)
     create_device(*impl);
+    if (impl->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && options.spread_cpu_driver_threads && !env_off("TRIDEX_DRIVER_AFFINITY")) {
+        const std::vector<ProcessThread> after = process_threads();
+        impl->spread_threads = spread_over_cpus(new_worker_threads(before, after, creator));
+    }
     return Context(std::move(impl));
 }
 
@@ -318,6 +333,7 @@ std::string Context::device_name() const { return impl_->properties.deviceName; 
 std::uint32_t Context::validation_messages() const { return impl_->messages.load(std::memory_order_relaxed); }
 bool Context::validation_enabled() const { return impl_->validation; }
 bool Context::presentation_enabled() const { return impl_->presentation; }
+int Context::spread_driver_threads() const { return impl_->spread_threads; }
 VkInstance Context::instance() const { return impl_->instance; }
 VkPhysicalDevice Context::physical_device() const { return impl_->physical; }
 VkDevice Context::device() const { return impl_->device; }
