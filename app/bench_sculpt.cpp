@@ -323,6 +323,7 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},
         {"stroke", "ball subtract, random-walk groove 3.37 cells deep into the top face, segments 0.5..1 cell"},
         {"gpu_device", ctx ? ctx->device_name() : std::string()},
+        {"gpu_driver_threads_pinned", ctx ? ctx->spread_driver_threads() : 0},
         {"memory", {{"gpu_slabs", memory},
                     {"interval_storage_n1024", {{"bytes", inline_bytes}, {"mib", mib}, {"target_mib", 64},
                                                  {"fits", mib <= 64.0}, {"meta_bytes", meta_bytes},

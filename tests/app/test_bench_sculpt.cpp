@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sched.h>
 #include <set>
 #include <string>
 
@@ -63,6 +64,15 @@ TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
     EXPECT_EQ(rows[0].steps, 40u);  // cpu-1t: one segment per step
     EXPECT_EQ(rows[1].steps, 3u);   // cpu: batches of 16
 
+    // lavapipe on a machine with at least 2 usable cores: the Context pinned the driver's workers.
+    ASSERT_TRUE(j.contains("gpu_driver_threads_pinned"));
+    cpu_set_t usable;
+    CPU_ZERO(&usable);
+    ASSERT_EQ(sched_getaffinity(0, sizeof usable, &usable), 0);
+    if (CPU_COUNT(&usable) >= 2)
+        EXPECT_GT(j["gpu_driver_threads_pinned"].get<int>(), 0);
+    else
+        EXPECT_EQ(j["gpu_driver_threads_pinned"].get<int>(), 0);
     ASSERT_TRUE(j.contains("memory"));
     const nlohmann::json& mem = j["memory"];
     ASSERT_EQ(mem["gpu_slabs"].size(), 1u);
