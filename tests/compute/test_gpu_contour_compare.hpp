@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <string>
@@ -111,8 +112,10 @@ inline MeshDiff compare_meshes(const GpuContourer& gpu, const Contourer& cpu) {
 }
 
 /// Contours `model` (all dirty tiles) on both paths and expects the same closed 2-manifold mesh.
-/// Returns the comparison; `label` names the case in messages and the printed line.
-inline MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, const std::string& label, GpuContourStats* stats = nullptr) {
+/// Returns the comparison; `label` names the case in messages and the printed line. `inspect`, when
+/// given, is called with the GPU contourer afterwards (for checks of its mesh without contouring again).
+inline MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, const std::string& label, GpuContourStats* stats = nullptr,
+                                    const std::function<void(const GpuContourer&)>& inspect = {}) {
     const GpuDexelSlabs slabs = GpuDexelSlabs::upload(ctx, model);
     GpuContourer gpu(ctx, slabs, model.lattice, 256, 1024);  // small pools: the grow path runs
     gpu.update_dirty(model.tiles);
@@ -137,6 +140,7 @@ inline MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, co
               << gpu.stats().tiles_cpu + gpu.stats().tiles_gpu << ", region retries " << gpu.stats().region_retries
               << ", pool grows " << gpu.stats().pool_grows << ", max float error " << d.max_float_error << " cells\n";
     if (stats) *stats = gpu.stats();
+    if (inspect) inspect(gpu);
     return d;
 }
 
