@@ -251,6 +251,10 @@ ContourStats Contourer::stats() const {
         s.triangles += tm.triangles.size();
         s.fallbacks += tm.fallbacks;
         s.split_faces += tm.split_faces;
+        s.qef_vertices += tm.qef_vertices;
+        s.qef_truncated += tm.qef_truncated;
+        s.qef_rejected += tm.qef_rejected;
+        s.qef_clamped += tm.qef_clamped;
     }
     return s;
 }

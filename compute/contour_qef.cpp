@@ -96,10 +96,14 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
     return true;
 }
 
-Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo) {
+Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome) {
+    QefOutcome local;
+    QefOutcome& out = outcome ? *outcome : local;
+    out = QefOutcome{};
     const Vec3 hi = cell_lo + Vec3(1.0);
     const Vec3 fallback = glm::clamp(mass, cell_lo, hi);
     if (count <= 0) return fallback;
+    out.normals = count;
     // A = sum n n^T, r = sum n (n . (p - mass)).
     double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     double r[3] = {0.0, 0.0, 0.0};
@@ -125,19 +129,30 @@ Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int c
     double top = m[0][0];
     if (m[1][1] > top) top = m[1][1];
     if (m[2][2] > top) top = m[2][2];
-    if (!(top > 0.0)) return fallback;
+    if (!(top > 0.0)) {  // not reached for unit normals; NaN normals end here
+        out.rejected = true;
+        return fallback;
+    }
     const double floor = kQefTruncation * top;
     double y[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < 3; ++k) {
         const double lambda = m[k][k];
-        if (!(lambda > floor)) continue;
+        if (!(lambda > floor)) {
+            out.truncated = true;
+            continue;
+        }
         const double w = ((v[0][k] * r[0] + v[1][k] * r[1]) + v[2][k] * r[2]) / lambda;
         for (int j = 0; j < 3; ++j) y[j] = y[j] + w * v[j][k];
     }
     const Vec3 x(mass.x + y[0], mass.y + y[1], mass.z + y[2]);
     for (int j = 0; j < 3; ++j)
-        if (!(x[j] >= cell_lo[j] - 0.5 && x[j] <= hi[j] + 0.5)) return fallback;  // also catches NaN
-    return glm::clamp(x, cell_lo, hi);
+        if (!(x[j] >= cell_lo[j] - 0.5 && x[j] <= hi[j] + 0.5)) {  // also catches NaN
+            out.rejected = true;
+            return fallback;
+        }
+    const Vec3 inside = glm::clamp(x, cell_lo, hi);
+    out.clamped = inside != x;
+    return inside;
 }
 
 }  // namespace tridex::compute::contour

@@ -55,6 +55,15 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
 /// the cell [cell_lo, cell_lo + 1]; when the minimiser lies more than half a cell outside the cell
 /// (normals that disagree with the crossings), the clamped mass point instead. count == 0 gives the
 /// clamped mass point. Deterministic double arithmetic in a fixed order (mirrored by the GPU contourer).
-Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo);
+/// Which branches qef_vertex() took for one vertex (for statistics and tests).
+struct QefOutcome {
+    int normals = 0;         ///< crossings with a normal in the QEF (0: the clamped mass point)
+    bool truncated = false;  ///< at least one eigen-direction dropped (the normals span fewer than 3 directions)
+    bool rejected = false;   ///< the minimiser lay more than half a cell outside: the clamped mass point instead
+    bool clamped = false;    ///< the minimiser lay outside the cell, by at most half a cell, and was clamped
+};
+
+/// `outcome`, when given, receives the branches taken.
+Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome = nullptr);
 
 }  // namespace tridex::compute::contour

@@ -96,8 +96,17 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
                 ++out.cells_visited;
                 const CellCase& cc = cases[occ_.config(n)];
                 const CellVertices& cv = cell_vertices(n);
-                for (int comp = 0; comp < cc.components; ++comp)
+                for (int comp = 0; comp < cc.components; ++comp) {
                     verts_.push_back({codec_.key(n, comp), cv.pos[comp], cv.material[comp]});
+                    const unsigned how = cv.qef[comp];
+                    if ((how & 4u) != 0u) {
+                        ++out.qef_rejected;
+                    } else {
+                        if ((how & 1u) != 0u) ++out.qef_vertices;
+                        if ((how & 2u) != 0u) ++out.qef_truncated;
+                        if ((how & 8u) != 0u) ++out.qef_clamped;
+                    }
+                }
                 const bool in = occ_.inside(n);
                 for (int a = 0; a < 3; ++a)
                     if (occ_.inside(plus(n, a, 1)) != in) emit_edge(n, a, out);
@@ -184,7 +193,10 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                     qp[q] = point[i];
                     qn[q++] = sample[i]->normal;
                 }
-            cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo);
+            QefOutcome how;
+            cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo, &how);
+            cv.qef[comp] = static_cast<std::uint8_t>((how.normals > 0 ? 1 : 0) | (how.truncated ? 2 : 0) | (how.rejected ? 4 : 0) |
+                                                     (how.clamped ? 8 : 0));
             best_d2[comp] = -1.0;
         }
         // Nearest crossing of each component (see "vertex materials"; ties: the larger material id).

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "compute/contour_qef.hpp"
 #include "compute/contour_sample.hpp"
 #include "compute/contour_table.hpp"
 #include "compute/tridexel.hpp"
@@ -53,6 +54,11 @@ struct TileMesh {
     std::size_t cells_visited = 0; ///< non-uniform cells processed (uniform cells are skipped in bulk)
     std::size_t fallbacks = 0;     ///< owned sign-change edges whose ray had no end on the edge
     std::size_t split_faces = 0;   ///< owned faces split to keep the surface 2-manifold
+    // Owned vertices by the QEF branch that placed them (QefOutcome; a vertex may count in several):
+    std::size_t qef_vertices = 0;  ///< placed by a QEF of at least one crossing normal (else: the mass point)
+    std::size_t qef_truncated = 0; ///< ... with at least one eigen-direction dropped (a face or an edge, not a corner)
+    std::size_t qef_rejected = 0;  ///< ... whose minimiser lay over half a cell outside (the mass point instead)
+    std::size_t qef_clamped = 0;   ///< ... whose minimiser lay outside the cell by at most half a cell (clamped)
 };
 
 /// Contours single tiles; keeps scratch buffers between calls (not thread-safe, one per thread).
@@ -90,6 +96,8 @@ private:
         std::uint32_t stamp = 0;  // equals stamp_ when pos holds this run's positions
         std::array<Vec3, kMaxComponents> pos{};
         std::array<std::uint8_t, kMaxComponents> material{};
+        // How each vertex was placed (QefOutcome as bits: 1 normals, 2 truncated, 4 rejected, 8 clamped).
+        std::array<std::uint8_t, kMaxComponents> qef{};
     };
     struct Vertex {
         VertexKey key;

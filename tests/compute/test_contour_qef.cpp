@@ -162,5 +162,40 @@ TEST(QefVertex, FallsBackToTheClampedMassPointOnBadInput) {
     EXPECT_EQ(r, Vec3(0.5));
 }
 
+TEST(QefVertex, ReportsWhichBranchPlacedTheVertex) {
+    const Vec3 lo(4.0, 5.0, 6.0);
+    const Vec3 p[3] = {Vec3(4.9, 5.0, 6.0), Vec3(4.0, 5.2, 6.0), Vec3(4.0, 5.0, 6.7)};
+    const Vec3 n[3] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    const Vec3 mass = (p[0] + p[1] + p[2]) / 3.0;
+    QefOutcome o;
+    qef_vertex(mass, p, n, 3, lo, &o);  // a corner: all three directions, inside the cell
+    EXPECT_EQ(o.normals, 3);
+    EXPECT_FALSE(o.truncated || o.rejected || o.clamped);
+    qef_vertex(mass, p, n, 2, lo, &o);  // an edge: one direction dropped
+    EXPECT_EQ(o.normals, 2);
+    EXPECT_TRUE(o.truncated);
+    EXPECT_FALSE(o.rejected || o.clamped);
+    qef_vertex(mass, p, n, 0, lo, &o);  // no normal: the mass point
+    EXPECT_EQ(o.normals, 0);
+    EXPECT_FALSE(o.truncated || o.rejected || o.clamped);
+    // The 40-degree pair of FallsBackToTheClampedMassPointOnBadInput: rejected (1.57) and clamped (1.33).
+    const Vec3 cell(0.0);
+    const Vec3 tilt[2] = {Vec3(1, 0, 0), Vec3(std::cos(0.698132), std::sin(0.698132), 0.0)};
+    const Vec3 far_pts[2] = {Vec3(0.5, 0.5, 0.5), Vec3(1.4, 0.5, 0.5)};
+    const Vec3 near_pts[2] = {Vec3(0.5, 0.5, 0.5), Vec3(1.2, 0.5, 0.5)};
+    qef_vertex(Vec3(0.3, 0.4, 0.5), far_pts, tilt, 2, cell, &o);
+    EXPECT_TRUE(o.rejected);
+    EXPECT_FALSE(o.clamped);
+    qef_vertex(Vec3(0.3, 0.4, 0.5), near_pts, tilt, 2, cell, &o);
+    EXPECT_FALSE(o.rejected);
+    EXPECT_TRUE(o.clamped);
+    EXPECT_TRUE(o.truncated);  // z is free
+    // NaN normals: rejected, never a NaN vertex.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Vec3 bad[2] = {Vec3(nan, 0, 0), Vec3(0, 0, 1)};
+    qef_vertex(Vec3(0.5), far_pts, bad, 2, cell, &o);
+    EXPECT_TRUE(o.rejected);
+}
+
 }  // namespace
 }  // namespace tridex::compute::contour

@@ -134,6 +134,13 @@ void expect_sharp_box(TriDexel& model, const Vec3& lo, const Vec3& hi, double to
     EXPECT_LE(d.max_cells, tol);
     EXPECT_LE(corner_gap, tol);
     EXPECT_LT(std::abs(rel), 1e-6);
+    // Every vertex comes from a QEF (every crossing of a box has a normal); exactly the 8 corner vertices
+    // use all three directions, the face and edge vertices drop one or two; none is clamped or rejected.
+    const ContourStats st = contourer.stats();
+    EXPECT_EQ(st.qef_vertices, st.vertices);
+    EXPECT_EQ(st.qef_vertices - st.qef_truncated, 8u);
+    EXPECT_EQ(st.qef_clamped, 0u);
+    EXPECT_EQ(st.qef_rejected, 0u);
 }
 
 TEST(ContourBox, SharpEdgesAndCornersAreExact) {

@@ -59,6 +59,7 @@ struct MeshDiff {
     std::size_t triangles_only_one_side = 0;            ///< triangles (oriented, by positions) in one mesh only
     double max_float_error = 0.0;                       ///< |float - double| of drawn vertices, grid units
     double max_float_bound_ratio = 0.0;                 ///< that error over 2^-24 * |coordinate| (<= 1 expected)
+    ContourStats cpu_stats;                             ///< the CPU contourer's (expect_same_contour; QEF branches)
 };
 
 /// Compares the GPU contour with the CPU one: positions (and materials) as sets, exactly; triangles as
@@ -121,7 +122,8 @@ inline MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, co
     gpu.update_dirty(model.tiles);
     Contourer cpu(model);
     cpu.update(model);
-    const MeshDiff d = compare_meshes(gpu, cpu);
+    MeshDiff d = compare_meshes(gpu, cpu);
+    d.cpu_stats = cpu.stats();
     EXPECT_GT(d.cpu_triangles, 0u) << label;
     EXPECT_EQ(d.vertices_only_one_side, 0u) << label;
     EXPECT_EQ(d.triangles_only_one_side, 0u) << label;
@@ -138,7 +140,9 @@ inline MeshDiff expect_same_contour(const gpu::Context& ctx, TriDexel& model, co
     std::cout << "[ gpu contour ] " << label << ": " << d.gpu_triangles << " triangles, " << d.gpu_vertices
               << " vertices, split faces on the GPU " << gpu.stats().split_faces_gpu << ", host-contoured tiles " << gpu.stats().tiles_cpu << " of "
               << gpu.stats().tiles_cpu + gpu.stats().tiles_gpu << ", region retries " << gpu.stats().region_retries
-              << ", pool grows " << gpu.stats().pool_grows << ", max float error " << d.max_float_error << " cells\n";
+              << ", pool grows " << gpu.stats().pool_grows << ", max float error " << d.max_float_error << " cells; CPU QEF vertices "
+              << cpu.stats().qef_vertices << " (truncated " << cpu.stats().qef_truncated << ", clamped " << cpu.stats().qef_clamped
+              << ", rejected " << cpu.stats().qef_rejected << ")\n";
     if (stats) *stats = gpu.stats();
     if (inspect) inspect(gpu);
     return d;

@@ -105,6 +105,14 @@ TEST(GpuContourSharp, BoxSculptedByFlatEndAndBallToolsGivesTheCpuMesh) {
         std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
         const MeshDiff d = expect_same_contour(ctx, model, "sculpted box");
         EXPECT_GT(d.cpu_triangles, 10000u);
+        // The GPU matched the CPU on vertices from every QEF branch: corners (no direction dropped), faces
+        // and edges (truncated), minimisers clamped into their cell and ones rejected for the mass point.
+        const ContourStats& q = d.cpu_stats;
+        EXPECT_GT(q.qef_vertices - q.qef_truncated, 0u) << "no corner vertex";
+        EXPECT_GT(q.qef_truncated, 0u);
+        EXPECT_GT(q.qef_clamped, 0u);
+        EXPECT_GT(q.qef_rejected, 0u);
+        EXPECT_GT(q.vertices - q.qef_vertices - q.qef_rejected, 0u) << "no vertex without a normal (mass point)";
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
