@@ -9,6 +9,7 @@
 #include "compute/active_surface_publish.hpp"
 #include "compute/sweep.hpp"
 #include "core/error.hpp"
+#include "core/thread_name.hpp"
 
 namespace tridex::app {
 
@@ -53,7 +54,10 @@ void SculptThread::start() {
     if (thread_.joinable()) throw Error("SculptThread::start: already running");
     stop_.store(false);
     failure_ = nullptr;
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this] {
+        name_this_thread("tridex-sculpt");
+        run();
+    });
 }
 
 void SculptThread::stop() {

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/thread_name.hpp"
+
 namespace tridex::compute {
 namespace {
 
@@ -115,8 +117,10 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
         pool.reserve(static_cast<std::size_t>(n - 1));
         for (int t = 1; t < n; ++t) {
             try {
-                pool.emplace_back(work, std::ref(model), std::cref(grid), std::cref(converted.tools), std::cref(rows), std::cref(spans), std::ref(next),
-                                  std::ref(results[static_cast<std::size_t>(t)]));
+                pool.emplace_back([&, t] {
+                    name_this_thread("tridex-sweep");
+                    work(model, grid, converted.tools, rows, spans, next, results[static_cast<std::size_t>(t)]);
+                });
             } catch (const std::system_error&) {
                 break;  // no more threads available: the ones started (and this one) do all rows
             }

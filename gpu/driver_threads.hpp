@@ -21,7 +21,8 @@ std::vector<ProcessThread> process_threads();
 /// them) and whose name is `unnamed` (a thread that was never named keeps the name of the thread that
 /// started it) or begins with "llvmpipe-" (Mesa llvmpipe's rasteriser threads). These are the worker
 /// threads a driver started between the two listings; threads named otherwise (e.g. Mesa's "disk$0"
-/// shader-cache thread) are not workers. Returns them sorted by id.
+/// shader-cache thread, or tridex's own "tridex-..." threads, core/thread_name.hpp) are not workers.
+/// Returns them sorted by id.
 std::vector<ProcessThread> new_worker_threads(std::span<const ProcessThread> before, std::span<const ProcessThread> after,
                                               const std::string& unnamed);
 

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/thread_name.hpp"
 #include "haptics/force_clamp.hpp"
 #include "haptics/realtime.hpp"
 
@@ -352,6 +353,7 @@ TickRecord HapticLoop::step(double loop_time_s) {
 
 void HapticLoop::run() noexcept {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);  // wake within ~1 ns of the deadline, not the 50 us default
+    name_this_thread("tridex-haptics");
     if (cfg_.request_realtime) {
         const RealtimeStatus rt = request_realtime(cfg_.realtime_priority, cfg_.lock_memory);
         realtime_.store(rt.fifo, std::memory_order_relaxed);

@@ -1,14 +1,36 @@
 // Tests of core/: the lock-free hand-offs and the mesh topology checks.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <string>
 #include <thread>
 
 #include "core/spsc_ring.hpp"
+#include "core/thread_name.hpp"
 #include "core/tri_mesh.hpp"
 #include "core/triple_buffer.hpp"
 
 namespace tridex {
 namespace {
+
+TEST(ThreadName, NamesTheCallingThreadCutToFifteenBytes) {
+    std::string seen_short, seen_long;
+    std::thread t([&] {
+        auto comm = [] {
+            std::ifstream in("/proc/thread-self/comm");
+            std::string s;
+            std::getline(in, s);
+            return s;
+        };
+        name_this_thread("tridex-sculpt");
+        seen_short = comm();
+        name_this_thread("a-name-longer-than-fifteen-bytes");
+        seen_long = comm();
+    });
+    t.join();
+    EXPECT_EQ(seen_short, "tridex-sculpt");
+    EXPECT_EQ(seen_long, "a-name-longer-t");
+}
 
 TEST(SpscRing, KeepsOrderAndRefusesWhenFull) {
     SpscRing<int> ring(4);
