@@ -22,7 +22,8 @@ struct ContourStats {
     std::size_t triangles = 0;           ///< mesh triangles
     std::size_t fallbacks = 0;           ///< sign-change edges whose own ray had no interval end on them
     std::size_t split_faces = 0;         ///< faces split to keep the mesh 2-manifold (sub-cell tunnels)
-    // Mesh vertices by how the QEF placed them (contour_qef.hpp QefOutcome; the rest are mass points):
+    // Mesh vertices by how the QEF placed them (contour_qef.hpp QefOutcome; vertices - qef_vertices -
+    // qef_rejected had no crossing normal and sit at their mass point):
     std::size_t qef_vertices = 0;        ///< placed by a QEF of at least one crossing normal
     std::size_t qef_truncated = 0;       ///< ... with an eigen-direction dropped (on a face or an edge)
     std::size_t qef_rejected = 0;        ///< minimiser over half a cell outside: the mass point instead

@@ -46,6 +46,14 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// neighbour end or a crease. O(intervals on 4 rays).
 bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal);
 
+/// Which branches qef_vertex() took for one vertex (for statistics and tests).
+struct QefOutcome {
+    int normals = 0;         ///< crossings with a normal in the QEF (0: the clamped mass point)
+    bool truncated = false;  ///< at least one eigen-direction dropped (the normals span fewer than 3 directions)
+    bool rejected = false;   ///< the minimiser lay more than half a cell outside: the clamped mass point instead
+    bool clamped = false;    ///< the minimiser lay outside the cell, by at most half a cell, and was clamped
+};
+
 /// Places a dual vertex by minimising the QEF sum_i (n_i . (x - p_i))^2 of the crossings that have a
 /// normal (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of Hermite Data", SIGGRAPH), solved
 /// relative to the mass point `mass` (mean of ALL the component's crossings, grid units) with a
@@ -55,15 +63,7 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
 /// the cell [cell_lo, cell_lo + 1]; when the minimiser lies more than half a cell outside the cell
 /// (normals that disagree with the crossings), the clamped mass point instead. count == 0 gives the
 /// clamped mass point. Deterministic double arithmetic in a fixed order (mirrored by the GPU contourer).
-/// Which branches qef_vertex() took for one vertex (for statistics and tests).
-struct QefOutcome {
-    int normals = 0;         ///< crossings with a normal in the QEF (0: the clamped mass point)
-    bool truncated = false;  ///< at least one eigen-direction dropped (the normals span fewer than 3 directions)
-    bool rejected = false;   ///< the minimiser lay more than half a cell outside: the clamped mass point instead
-    bool clamped = false;    ///< the minimiser lay outside the cell, by at most half a cell, and was clamped
-};
-
-/// `outcome`, when given, receives the branches taken.
+/// `outcome`, when given, receives the branches taken (reset first); nullptr: not reported.
 Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome = nullptr);
 
 }  // namespace tridex::compute::contour

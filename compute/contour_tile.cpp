@@ -98,13 +98,13 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
                 const CellVertices& cv = cell_vertices(n);
                 for (int comp = 0; comp < cc.components; ++comp) {
                     verts_.push_back({codec_.key(n, comp), cv.pos[comp], cv.material[comp]});
-                    const unsigned how = cv.qef[comp];
-                    if ((how & 4u) != 0u) {
+                    const std::uint8_t how = cv.qef[comp];
+                    if (how & kQefRejected) {
                         ++out.qef_rejected;
                     } else {
-                        if ((how & 1u) != 0u) ++out.qef_vertices;
-                        if ((how & 2u) != 0u) ++out.qef_truncated;
-                        if ((how & 8u) != 0u) ++out.qef_clamped;
+                        if (how & kQefNormals) ++out.qef_vertices;
+                        if (how & kQefTruncated) ++out.qef_truncated;
+                        if (how & kQefClamped) ++out.qef_clamped;
                     }
                 }
                 const bool in = occ_.inside(n);
@@ -195,8 +195,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 }
             QefOutcome how;
             cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo, &how);
-            cv.qef[comp] = static_cast<std::uint8_t>((how.normals > 0 ? 1 : 0) | (how.truncated ? 2 : 0) | (how.rejected ? 4 : 0) |
-                                                     (how.clamped ? 8 : 0));
+            cv.qef[comp] = static_cast<std::uint8_t>((how.normals > 0 ? kQefNormals : 0) | (how.truncated ? kQefTruncated : 0) |
+                                                     (how.rejected ? kQefRejected : 0) | (how.clamped ? kQefClamped : 0));
             best_d2[comp] = -1.0;
         }
         // Nearest crossing of each component (see "vertex materials"; ties: the larger material id).

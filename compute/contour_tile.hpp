@@ -92,11 +92,12 @@ public:
     void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out);
 
 private:
+    static constexpr std::uint8_t kQefNormals = 1, kQefTruncated = 2, kQefRejected = 4, kQefClamped = 8;
     struct CellVertices {
         std::uint32_t stamp = 0;  // equals stamp_ when pos holds this run's positions
         std::array<Vec3, kMaxComponents> pos{};
         std::array<std::uint8_t, kMaxComponents> material{};
-        // How each vertex was placed (QefOutcome as bits: 1 normals, 2 truncated, 4 rejected, 8 clamped).
+        // How each vertex was placed: QefOutcome packed into kQef* bits (one byte keeps the cache small).
         std::array<std::uint8_t, kMaxComponents> qef{};
     };
     struct Vertex {

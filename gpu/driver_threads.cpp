@@ -7,7 +7,6 @@
 
 #ifdef __linux__
 #include <sched.h>
-#include <unistd.h>
 #endif
 
 namespace tridex::gpu {
