@@ -29,7 +29,7 @@ struct Move {
 struct Program {
     std::string name;                         ///< "pocket", "random_ball", "flat_random", "plunge", "union", "paint"
     ToolOp op = ToolOp::kSubtract;            ///< kSubtract, kUnion or kPaint
-    compute::ToolShape tool{};                ///< ball or flat-end (flat-end: axis +z, moves horizontal or along z)
+    compute::SweepTool tool{};                ///< ball or flat-end (flat-end: axis +z, moves horizontal or along z)
     std::uint8_t material = 1;                ///< material the op writes
     double segment_m = 0.001;                 ///< longest segment a move is split into, m
     std::vector<Move> moves;                  ///< exact moves, in order

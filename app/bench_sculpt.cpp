@@ -72,7 +72,7 @@ std::vector<Sweep> groove_stroke(const compute::Lattice& L, double radius_cells,
     out.reserve(static_cast<std::size_t>(segments));
     Sweep s;
     s.op = ToolOp::kSubtract;
-    s.tool = compute::ToolShape{compute::ToolKind::kBall, radius_cells * L.cell_m, 0.0};
+    s.tool = compute::SweepTool{compute::ToolKind::kBall, radius_cells * L.cell_m, 0.0};
     s.material = 1;
     for (int i = 0; i < segments; ++i) {
         heading += (uniform() - 0.5) * 0.6;

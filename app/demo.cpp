@@ -9,7 +9,7 @@
 #include "app/assets.hpp"
 #include "app/session.hpp"
 #include "app/session_recording.hpp"
-#include "app/session_settings.hpp"
+#include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "core/error.hpp"
 #include "devices/simulated_device.hpp"
@@ -39,12 +39,19 @@ void run_demo(const DemoOptions& o) {
                     std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_radius_m * 1e3));
     check_image_size(o.width, o.height);
 
-    SessionSettings s;
+    SessionSpec s;
     s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
     s.resolution = o.resolution;
     s.stock_m = o.stock_m;
     s.workpiece_centre_m = kWorkpieceCentre;
-    s.tool_radius_m = o.tool_radius_m;
+    s.tool = ToolShape{parse_tool_kind(o.tool, "--tool"), o.tool_radius_m, 0.0, 0};
+    if (s.tool.kind == ToolKind::kMesh) throw Error("--tool: mesh tools are not yet available in sessions; use ball or flat_end");
+    if (s.tool.kind == ToolKind::kFlatEnd) {
+        if (!(o.tool_length_m >= 0.0005 && o.tool_length_m <= o.stock_m))
+            throw Error("--tool-length-mm: must be between 0.5 mm and the stock (" + std::to_string(1e3 * o.stock_m) +
+                        " mm), got " + std::to_string(o.tool_length_m * 1e3));
+        s.tool.length_m = o.tool_length_m;
+    }
     s.points = o.points;
     s.device = o.device;
     s.workspace_mode = o.workspace;
@@ -64,22 +71,23 @@ void run_demo(const DemoOptions& o) {
     sp.tool_radius_m = o.tool_radius_m;
     const StrokePlan plan = plan_stroke(wp.model, sp);
     s.device_origin_m = plan.centre_m;
-    const haptics::HapticLoopConfig cfg = loop_config(s, static_cast<std::size_t>(o.seconds * 1500.0) + 1000);
+    const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // checks the spec before the device is made
     std::vector<Vec3> device_path;
     for (const Vec3& w : plan.world_m) device_path.push_back((w - plan.centre_m) / s.workspace_scale);
-    devices::SimulatedDevice device(profile, devices::ScriptedPath(plan.t_s, device_path), devices::SimulatedHandParams{},
-                                    cfg.period_s);
+    auto device = std::make_unique<devices::SimulatedDevice>(profile, devices::ScriptedPath(plan.t_s, device_path),
+                                                             devices::SimulatedHandParams{}, cfg.period_s);
 
     // 3. The haptic loop and the sculpt thread. The session lasts the stroke's length in device time
     // (one simulated step per tick), so an overloaded machine that skips deadlines still plays the whole
     // stroke; wall time is only a safety net.
     const std::size_t ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
-    const SessionRun run = run_session(wp, device, cfg, ticks, 3.0 * o.seconds + 10.0, plan.world_m.front(),
-                                       SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour});
+    const Vec3 start = plan.world_m.front();
+    SessionRun run = run_session(s, std::move(wp), std::move(device), ticks, static_cast<std::size_t>(o.seconds * 1500.0) + 1000,
+                                 3.0 * o.seconds + 10.0, start, SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour});
     if (!o.record.empty()) write_session_recording(o.record, s, run.records);
 
     // 4. Images, mesh, per-tick haptics and the report.
-    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, s, wp, run, cfg, profile, t_start);
+    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);
 }
 
 }  // namespace tridex::app

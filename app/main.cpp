@@ -50,7 +50,11 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--out", demo.out, "Output folder")->capture_default_str();
     demo_cmd->add_option("--width", demo.width, "Per-eye image width, px")->capture_default_str();
     demo_cmd->add_option("--height", demo.height, "Per-eye image height, px")->capture_default_str();
-    demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Ball tool radius, mm")->capture_default_str();
+    demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Tool radius (ball or flat-end mill), mm")->capture_default_str();
+    demo_cmd->add_option("--tool", demo.tool, "Tool shape: ball or flat_end (a flat-end mill, shank up the tool axis)")
+        ->capture_default_str();
+    double tool_length_mm = demo.tool_length_m * 1e3;
+    demo_cmd->add_option("--tool-length-mm", tool_length_mm, "flat_end: cylinder length, mm")->capture_default_str();
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
     demo_cmd->add_option("--points", demo.points, "Contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh")
         ->capture_default_str();
@@ -143,6 +147,7 @@ int main(int argc, char** argv) {
     try {
         if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
+            demo.tool_length_m = tool_length_mm * 1e-3;
             demo.cutting = !no_cutting;
             tridex::app::run_demo(demo);
         }

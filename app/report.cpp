@@ -50,17 +50,59 @@ nlohmann::json gpu_contour_json(const compute::GpuContourStats& s) {
             {"dispatches", s.dispatches}};
 }
 
+nlohmann::json tool_json(const SessionSpec& spec) {
+    nlohmann::json j{{"shape", to_string(spec.tool.kind)}, {"radius_m", spec.tool.radius_m}, {"points", spec.points}};
+    if (spec.tool.kind == ToolKind::kFlatEnd) j["length_m"] = spec.tool.length_m;
+    j["op"] = spec.op;
+    if (spec.op != "subtract") j["material"] = spec.material;
+    return j;
+}
+
+nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
+                                   const std::vector<haptics::TickRecord>& records, double session_s,
+                                   const std::string& device_profile, double device_max_force_n) {
+    double max_force = 0.0;
+    std::size_t contact_ticks = 0;
+    for (const auto& t : records) {
+        max_force = std::max(max_force, glm::length(t.force_n));
+        contact_ticks += t.contact ? 1 : 0;
+    }
+    auto histogram_us = [](const haptics::Histogram& h) {
+        return nlohmann::json{{"median", 1e6 * h.quantile(0.5)}, {"p99", 1e6 * h.quantile(0.99)}, {"max", 1e6 * h.max_s}};
+    };
+    return {{"workspace_mode", spec.workspace_mode},
+            {"points", spec.points},
+            {"device", device_profile},
+            {"device_driver", spec.device_driver},
+            {"ticks", loop.ticks},
+            {"rate_hz", session_s > 0.0 ? static_cast<double>(loop.ticks) / session_s : 0.0},
+            {"period_us", histogram_us(loop.period_histogram)},
+            {"compute_us", histogram_us(loop.compute_histogram)},
+            {"watchdog_trips", loop.watchdog_trips},
+            {"passivity_energy_j", loop.passivity_energy_j},
+            {"realtime_scheduling", loop.realtime_scheduling},
+            {"memory_locked", loop.memory_locked},
+            {"velocity_limit_ticks", loop.velocity_limit_ticks},
+            {"static_friction", spec.static_friction},
+            {"dynamic_friction", spec.dynamic_friction},
+            {"materials", spec.materials.size()},
+            {"cutting", spec.cutting},
+            {"contact_ticks", contact_ticks},
+            {"max_force_n", max_force},
+            {"device_max_force_n", device_max_force_n},
+            {"stiffness_n_per_m", spec.stiffness_n_per_m},
+            {"tool_radius_m", spec.tool.radius_m},
+            {"overruns", loop.overruns},
+            {"samples_dropped", loop.samples_dropped},
+            {"invalid_samples", loop.invalid_samples},
+            {"device_lost", loop.device_lost}};
+}
+
 void write_report_json(const std::string& path, const DemoReport& r) {
     const auto& recs = *r.records;
     // The first period has no predecessor; skip it in the period statistics.
     const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
     const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
-    double max_force = 0.0;
-    std::size_t contact_ticks = 0;
-    for (const auto& t : recs) {
-        max_force = std::max(max_force, glm::length(t.force_n));
-        contact_ticks += t.contact ? 1 : 0;
-    }
     nlohmann::json transform = nlohmann::json::array();
     for (int row = 0; row < 4; ++row) {
         nlohmann::json rj = nlohmann::json::array();
@@ -70,7 +112,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     const double cell = r.lattice.cell_m;
     nlohmann::json j;
     j["mesh_file"] = r.mesh_path;
-    j["settings"] = nlohmann::json::parse(settings_to_json(*r.settings));
+    j["settings"] = nlohmann::json::parse(spec_to_json(*r.settings));
     j["ticks"] = recs.size();
     j["period_us"] = summary_json(period, true);
     j["tick_compute_us"] = summary_json(compute, true);
@@ -90,25 +132,9 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                  {"boundary_edges", r.edges.boundary_edges},
                  {"nonmanifold_edges", r.edges.nonmanifold_edges},
                  {"misoriented_edges", r.edges.misoriented_edges}};
-    const SessionSettings& st = *r.settings;
-    j["haptics"] = {{"workspace_mode", st.workspace_mode},
-                    {"points", st.points},
-                    {"device", r.device_profile},
-                    {"watchdog_trips", r.loop.watchdog_trips},
-                    {"passivity_energy_j", r.loop.passivity_energy_j},
-                    {"realtime_scheduling", r.loop.realtime_scheduling},
-                    {"static_friction", st.static_friction},
-                    {"dynamic_friction", st.dynamic_friction},
-                    {"cutting", st.cutting},
-                    {"contact_ticks", contact_ticks},
-                    {"max_force_n", max_force},
-                    {"device_max_force_n", r.max_force_n},
-                    {"stiffness_n_per_m", r.stiffness_n_per_m},
-                    {"tool_radius_m", r.tool_radius_m},
-                    {"overruns", r.loop.overruns},
-                    {"samples_dropped", r.loop.samples_dropped},
-                    {"invalid_samples", r.loop.invalid_samples},
-                    {"device_lost", r.loop.device_lost}};
+    j["tool"] = tool_json(*r.settings);
+    j["haptics"] = haptics_report_json(*r.settings, r.loop, recs, r.session_s, r.device_profile, r.max_force_n);
+    j["haptics"]["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["sculpt"] = {{"samples", r.sculpt->samples},
                    {"steps", r.sculpt->steps},
                    {"rays_changed", r.sculpt->rays_changed},

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/sculpt_thread.hpp"
-#include "app/session_settings.hpp"
+#include "app/session_spec.hpp"
 #include "compute/gpu_contourer.hpp"
 #include "compute/lattice.hpp"
 #include "core/tri_mesh.hpp"
@@ -35,13 +35,12 @@ struct DemoReport {
     std::size_t tiles_initial = 0;            ///< tiles contoured after scan conversion
     std::size_t tiles_total = 0;              ///< tiles in the model's tile grid
     double scan_s = 0.0, contour_s = 0.0, session_s = 0.0, render_s = 0.0, wall_s = 0.0;  ///< wall times, s
-    double tool_radius_m = 0.0;               ///< ball radius, m
     double stiffness_n_per_m = 0.0;           ///< contact stiffness kp, N/m
     double max_force_n = 0.0;                 ///< the device profile's force limit, N
     std::string device;                       ///< Vulkan device name
     std::string eye_strategy;                 ///< which eye strategy rendered, and why (self-test result)
     std::uint32_t validation_messages = 0;    ///< Vulkan validation messages seen (0 expected)
-    const SessionSettings* settings = nullptr;///< the session's settings; not owned, non-null
+    const SessionSpec* settings = nullptr;///< the session's settings; not owned, non-null
     std::string device_profile;               ///< haptic device profile name
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
@@ -61,6 +60,18 @@ void write_haptics_csv(const std::string& path, const std::vector<haptics::TickR
 /// The GPU contour's counters as report.json writes them under `contour.gpu` (demo, replay and run):
 /// updates, tiles, tiles_gpu, host_fallback_tiles, split_faces, region_retries, pool_grows, dispatches.
 nlohmann::json gpu_contour_json(const compute::GpuContourStats& stats);
+
+/// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op and,
+/// for union and paint, material.
+nlohmann::json tool_json(const SessionSpec& spec);
+
+/// The `haptics` block of report.json, the same for demo, replay and run: the spec's workspace technique,
+/// points, device and friction; the loop's ticks, rate (ticks / session_s, Hz), period and compute-time
+/// quantiles (us), watchdog trips, passivity energy (J), real-time scheduling, drops and faults; contact
+/// ticks and the largest force sent (N) over `records`.
+nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
+                                   const std::vector<haptics::TickRecord>& records, double session_s,
+                                   const std::string& device_profile, double device_max_force_n);
 
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);

@@ -38,6 +38,7 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
+    cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
     return cmd;
 }
 

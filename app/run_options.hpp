@@ -49,6 +49,9 @@ struct RunOptions {
     bool tiles = true;
     /// With tiles: draw only the tiles inside each eye's off-axis frustum (false: every tile in both eyes).
     bool cull = true;
+    /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
+    /// session spec, so `tridex replay FILE` rebuilds the same model.
+    std::string record;
 };
 
 }  // namespace tridex::app

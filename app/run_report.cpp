@@ -20,10 +20,6 @@ json summary_json(const std::vector<double>& v) {
     return json{{"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}};
 }
 
-json histogram_us(const haptics::Histogram& h) {
-    return json{{"median", 1e6 * h.quantile(0.5)}, {"p99", 1e6 * h.quantile(0.99)}, {"max", 1e6 * h.max_s}};
-}
-
 double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
 
 json render_json(const RunResult& r) {
@@ -87,8 +83,10 @@ json run_report_json(const RunResult& r) {
     if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
     return json{
         {"scene", sc.source},
-        {"mesh", sc.mesh_path},
-        {"resolution", sc.resolution},
+        {"mesh", sc.spec.mesh_path},
+        {"resolution", sc.spec.resolution},
+        {"settings", json::parse(spec_to_json(r.spec))},
+        {"tool", r.tool},
         {"display", to_string(su.display)},
         {"stereo", std::string(renderer::to_string(sc.display.stereo))},
         {"swap_eyes", su.swap_eyes},
@@ -108,15 +106,7 @@ json run_report_json(const RunResult& r) {
           {"published", r.sculpt.mesh_publishes},
           {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
           {"triangles", r.triangles}}},
-        {"haptics",
-         {{"ticks", r.loop.ticks},
-          {"overruns", r.loop.overruns},
-          {"samples_dropped", r.loop.samples_dropped},
-          {"invalid_samples", r.loop.invalid_samples},
-          {"rate_hz", rate_hz(static_cast<double>(r.loop.ticks), r.session_s)},
-          {"realtime_scheduling", r.loop.realtime_scheduling},
-          {"period_us", histogram_us(r.loop.period_histogram)},
-          {"compute_us", histogram_us(r.loop.compute_histogram)}}},
+        {"haptics", r.haptics},
         {"sculpt",
          {{"samples", r.sculpt.samples},
           {"booleans", r.sculpt.booleans},

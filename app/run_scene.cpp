@@ -12,6 +12,7 @@
 #include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "core/error.hpp"
+#include "haptics/tool_points.hpp"
 
 namespace tridex::app {
 
@@ -124,36 +125,113 @@ Quat quat_of(const Fields& f, const json& v, const std::string& field) {
 }
 
 void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
+    SessionSpec& sp = s.spec;
     const json* w = top.get("workpiece");
     if (!w) {
-        s.mesh_path = default_mesh_path();
+        sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();
         return;
     }
     Fields f(*w, top.source(), "workpiece");
     const std::string mesh = f.text("mesh", "");
     if (mesh.empty()) {
-        s.mesh_path = default_mesh_path();
+        sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();
     } else {
         const fs::path p = fs::path(mesh).is_absolute() ? fs::path(mesh) : fs::path(base_dir) / mesh;
         if (!fs::is_regular_file(p)) f.fail("workpiece.mesh", "no such file: " + p.string());
-        s.mesh_path = p.string();
+        sp.mesh_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
     }
-    s.resolution = f.integer("resolution", s.resolution, 8, 4096);
-    s.stock_m = f.number("stock_m", s.stock_m, 0.0, 10.0, true);
-    s.centre_m = f.vec3("centre_m", s.centre_m);
+    sp.resolution = f.integer("resolution", sp.resolution, 8, 4096);
+    sp.stock_m = f.number("stock_m", sp.stock_m, 0.0, 10.0, true);
+    sp.workpiece_centre_m = f.vec3("centre_m", sp.workpiece_centre_m);
     f.finish();
 }
 
 void read_tool(Fields& top, RunScene& s) {
+    SessionSpec& sp = s.spec;
     const json* t = top.get("tool");
     if (t) {
         Fields f(*t, top.source(), "tool");
-        s.tool_radius_m = f.number("radius_m", s.tool_radius_m, 0.0005, 0.25 * s.stock_m);
-        s.stiffness_n_per_m = f.number("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);
-        s.damping_n_s_per_m = f.number("damping_n_s_per_m", s.damping_n_s_per_m, 0.0, 1e3);
+        const std::string shape = f.text("shape", to_string(sp.tool.kind));
+        if (shape == "mesh") f.fail("tool.shape", "mesh tools are not yet available in sessions; use ball or flat_end");
+        sp.tool.kind = parse_tool_kind(shape, top.source() + ": field 'tool.shape'");
+        sp.tool.radius_m = f.number("radius_m", sp.tool.radius_m, 0.0005, 0.25 * sp.stock_m);
+        if (sp.tool.kind == ToolKind::kFlatEnd)
+            sp.tool.length_m = f.number("length_m", 4.0 * sp.tool.radius_m, 0.0005, sp.stock_m);
+        else if (f.get("length_m"))
+            f.fail("tool.length_m", "only a flat_end tool has a length");
+        sp.stiffness_n_per_m = f.number("stiffness_n_per_m", sp.stiffness_n_per_m, 0.0, 1e5, true);
+        sp.damping_n_s_per_m = f.number("damping_n_s_per_m", sp.damping_n_s_per_m, 0.0, 1e3);
         f.finish();
-    } else if (s.tool_radius_m > 0.25 * s.stock_m) {
-        top.fail("tool.radius_m", "the default " + fmt(s.tool_radius_m) + " m exceeds a quarter of workpiece.stock_m");
+    } else if (sp.tool.radius_m > 0.25 * sp.stock_m) {
+        top.fail("tool.radius_m", "the default " + fmt(sp.tool.radius_m) + " m exceeds a quarter of workpiece.stock_m");
+    }
+}
+
+void read_device(Fields& top, RunScene& s) {
+    const json* d = top.get("device");
+    if (!d) return;
+    Fields f(*d, top.source(), "device");
+    s.spec.device_driver = f.text("driver", s.spec.device_driver);
+    if (s.spec.device_driver != "simulated")
+        f.fail("device.driver", "'" + s.spec.device_driver + "' is not a driver a scene can use; use simulated");
+    s.spec.device = f.text("profile", s.spec.device);
+    try {
+        (void)device_profile(s.spec.device);
+    } catch (const Error&) {
+        f.fail("device.profile", "'" + s.spec.device + "' is not one of omni, wand, 6dof");
+    }
+    f.finish();
+}
+
+void read_op(Fields& top, RunScene& s) {
+    s.spec.op = top.text("op", s.spec.op);
+    try {
+        (void)parse_tool_op(s.spec.op);
+    } catch (const Error&) {
+        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint");
+    }
+    s.spec.material = top.integer("material", s.spec.material, 1, 7);
+}
+
+void read_materials(Fields& top, RunScene& s) {
+    const json* m = top.get("materials");
+    if (!m) return;
+    if (!m->is_array()) top.fail("materials", "must be an array of {id, stiffness_n_per_m, damping_n_s_per_m, ...}");
+    std::set<int> seen;
+    for (std::size_t i = 0; i < m->size(); ++i) {
+        Fields f((*m)[i], top.source(), "materials[" + std::to_string(i) + "]");
+        MaterialEntry e;
+        if (!f.get("id")) f.fail(f.path("id"), "missing");
+        e.id = f.integer("id", 0, 0, 255);
+        if (!seen.insert(e.id).second) f.fail(f.path("id"), "material " + std::to_string(e.id) + " is listed twice");
+        e.material.stiffness_n_per_m = f.number("stiffness_n_per_m", s.spec.stiffness_n_per_m, 0.0, 1e5);
+        e.material.damping_n_s_per_m = f.number("damping_n_s_per_m", s.spec.damping_n_s_per_m, 0.0, 1e3);
+        e.material.static_friction = f.number("static_friction", 0.0, 0.0, 10.0);
+        e.material.dynamic_friction = f.number("dynamic_friction", 0.0, 0.0, 10.0);
+        if (e.material.dynamic_friction > e.material.static_friction)
+            f.fail(f.path("dynamic_friction"), "must not exceed static_friction (" + fmt(e.material.static_friction) + ")");
+        f.finish();
+        s.spec.materials.push_back(e);
+    }
+}
+
+void read_haptics(Fields& top, RunScene& s) {
+    SessionSpec& sp = s.spec;
+    const json* h = top.get("haptics");
+    if (h) {
+        Fields f(*h, top.source(), "haptics");
+        sp.points = f.integer("points", sp.points, 1, haptics::kMaxToolPoints);
+        sp.static_friction = f.number("static_friction", sp.static_friction, 0.0, 10.0);
+        sp.dynamic_friction = f.number("dynamic_friction", sp.dynamic_friction, 0.0, 10.0);
+        if (sp.dynamic_friction > sp.static_friction)
+            f.fail("haptics.dynamic_friction", "must not exceed static_friction (" + fmt(sp.static_friction) + ")");
+        sp.cutting = f.boolean("cutting_force", sp.cutting);
+        f.finish();
+    }
+    try {  // the points must exist on the tool
+        (void)haptics::tool_points_for(sp.tool, sp.points, "tool");
+    } catch (const Error& e) {
+        top.fail("haptics.points", e.what());
     }
 }
 
@@ -161,13 +239,14 @@ void read_workspace(Fields& top, RunScene& s) {
     const json* w = top.get("workspace");
     if (!w) return;
     Fields f(*w, top.source(), "workspace");
-    const std::string mode = f.text("mode", haptics::to_string(s.workspace_mode));
+    const std::string mode = f.text("mode", s.spec.workspace_mode);
     try {
-        s.workspace_mode = haptics::parse_workspace_mode(mode);
+        (void)haptics::parse_workspace_mode(mode);
     } catch (const Error& e) {
         f.fail("workspace.mode", e.what());
     }
-    s.workspace_scale = f.number("scale", s.workspace_scale, 0.0, 100.0, true);
+    s.spec.workspace_mode = mode;
+    s.spec.workspace_scale = f.number("scale", s.spec.workspace_scale, 0.0, 100.0, true);
     f.finish();
 }
 
@@ -195,7 +274,9 @@ void read_stroke(Fields& top, RunScene& s) {
         p.press_axis = axis == "y" ? 1 : 2;
         f.finish();
     }
-    p.tool_radius_m = s.tool_radius_m;
+    // The planner keeps the tool's lowest point along the press direction depth_m below the surface: a ball's
+    // lies a radius from its centre; a flat end pressed from above (its axis +y) is its own lowest point.
+    p.tool_radius_m = s.spec.tool.kind == ToolKind::kFlatEnd && p.press_axis == 1 ? 0.0 : s.spec.tool.radius_m;
 }
 
 void read_display(Fields& top, RunScene& s) {
@@ -264,12 +345,28 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what) {
     throw Error(what + ": head provider '" + name + "' is not one of fixed, scripted, tracker");
 }
 
+SessionSpec RunScene::default_spec() {
+    SessionSpec s;
+    s.resolution = 128;
+    s.stock_m = 0.12;
+    s.workpiece_centre_m = Vec3(0.0, 0.0, 0.05);
+    s.tool = ToolShape{ToolKind::kBall, 0.006, 0.0, 0};
+    s.static_friction = 0.0;  // a scene's contact has no friction and no cutting force unless it asks
+    s.dynamic_friction = 0.0;
+    s.cutting = false;
+    return s;
+}
+
 RunScene run_scene_from_json(const json& j, const std::string& source, const std::string& base_dir) {
     RunScene s;
     s.source = source;
     Fields top(j, source, "");
     read_workpiece(top, s, base_dir);
     read_tool(top, s);
+    read_device(top, s);
+    read_op(top, s);
+    read_materials(top, s);
+    read_haptics(top, s);
     read_workspace(top, s);
     read_stroke(top, s);
     read_display(top, s);

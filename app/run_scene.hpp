@@ -7,6 +7,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "core/math.hpp"
 #include "core/pose.hpp"
@@ -37,7 +38,14 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///                  "resolution": 128,             // lattice cells along the longest side, 8..4096
 ///                  "stock_m": 0.12,               // longest side after scaling, m, (0, 10]
 ///                  "centre_m": [0, 0, 0.05] },    // where its bounding box is centred, m
-///   "tool": { "radius_m": 0.006, "stiffness_n_per_m": 700, "damping_n_s_per_m": 0.5 },
+///   "tool": { "shape": "ball" | "flat_end",       // core/tool_shape.hpp
+///             "radius_m": 0.006, "length_m": 0.02,            // length_m: flat_end only (default 4 radii)
+///             "stiffness_n_per_m": 700, "damping_n_s_per_m": 0.5 },
+///   "device": { "driver": "simulated", "profile": "omni" | "wand" | "6dof" },
+///   "op": "subtract" | "union" | "paint",  "material": 1,       // what the tool does; palette id 1..7
+///   "materials": [ { "id": 0, "stiffness_n_per_m": 500, "damping_n_s_per_m": 0.4,
+///                    "static_friction": 0.3, "dynamic_friction": 0.2 }, ... ],   // contact per material id
+///   "haptics": { "points": 1, "static_friction": 0.2, "dynamic_friction": 0.15, "cutting_force": true },
 ///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names
 ///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
 ///               "press_axis": "z" }  |  "none",              // app/stroke.hpp plan_stroke
@@ -49,15 +57,12 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 /// ```
 struct RunScene {
     std::string source = "<built-in>";  ///< the file it was read from (for messages and the report)
-    std::string mesh_path;              ///< workpiece mesh file, resolved (absolute or relative to the cwd)
-    int resolution = 128;               ///< lattice cells along the workpiece's longest side
-    double stock_m = 0.12;              ///< the workpiece's longest side, m
-    Vec3 centre_m{0.0, 0.0, 0.05};      ///< the workpiece's centre, world m
-    double tool_radius_m = 0.006;       ///< ball tool radius, m
-    double stiffness_n_per_m = 700.0;   ///< god-object contact stiffness kp, N/m
-    double damping_n_s_per_m = 0.5;     ///< contact damping kd, N*s/m
-    haptics::WorkspaceMode workspace_mode = haptics::WorkspaceMode::kPengMoving;  ///< workspace technique
-    double workspace_scale = 1.0;       ///< device m -> world m gain, > 0
+    /// What decides the sculpted result (workpiece, tool, device, op, materials, haptics); device_origin_m is
+    /// set when the session is built (the stroke's centre). Scene defaults: resolution 128, stock 0.12 m
+    /// centred at (0, 0, 0.05) m, a 6 mm ball.
+    SessionSpec spec = default_spec();
+    /// The scene defaults of `spec`.
+    static SessionSpec default_spec();
     bool has_stroke = true;             ///< false: the simulated hand holds still in front of the workpiece
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate

@@ -15,6 +15,9 @@
 #include "app/run_report.hpp"
 #include "app/run_sculpt.hpp"
 #include "app/run_view.hpp"
+#include "app/report.hpp"
+#include "app/session_recording.hpp"
+#include "compute/mesh_export.hpp"
 #include "compute/volume.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
@@ -85,6 +88,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.items = o.items;
     s.tiles = o.tiles;
     s.cull = o.cull;
+    s.record = o.record;
     s.scene = load_run_scene(o.scene);
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
@@ -168,7 +172,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     const std::unique_ptr<renderer::HeadPoseProvider> head = make_head(scene, !offscreen, &km, &tracker);
     renderer::SceneNavigation nav;
     renderer::MouseNavigation mouse = renderer::MouseNavigation::for_screen(dc.screen, eye_w);
-    mouse.pivot_m = scene.centre_m;
+    mouse.pivot_m = scene.spec.workpiece_centre_m;
     RunInput input(km, nav, mouse);
     renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
 
@@ -177,19 +181,19 @@ RunResult run_stereo_session(const RunOptions& options) {
     // thread draws (unless --cpu-contour).
     SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole,
                           SculptOptions{su.cpu, su.validate, su.cpu_contour, su.gpu_contour}, &ctx);
-    r.sculpt_path = backend.booleans().backend->path();
-    r.sculpt_device = backend.booleans().backend->device();
-    if (!backend.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.booleans().reason);
-    r.contour_path = backend.contour_path();
-    r.contour_tiles_initial = backend.tiles_initial();
-    r.contour_initial_s = backend.contour_s();
-    r.contour_reason = backend.contour_reason();
+    r.sculpt_path = backend.runtime().booleans().backend->path();
+    r.sculpt_device = backend.runtime().booleans().backend->device();
+    if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
+    r.contour_path = backend.runtime().contour_path();
+    r.contour_tiles_initial = backend.runtime().tiles_initial();
+    r.contour_initial_s = backend.runtime().contour_s();
+    r.contour_reason = backend.runtime().contour_reason();
     if (!r.contour_reason.empty()) r.notes.push_back("contour path cpu: " + r.contour_reason);
-    GpuContourShare* const gpu_contour = backend.gpu_contour();
+    GpuContourShare* const gpu_contour = backend.runtime().gpu_contour();
     renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
-    r.volume_before_m3 = backend.workpiece().volume_dexel_m3;
+    r.volume_before_m3 = backend.runtime().workpiece().volume_dexel_m3;
     const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
-    backend.start();
+    backend.runtime().start();
 
     // 4. The render loop, on this thread.
     const bool both = renderer::needs_both_eyes(output);
@@ -232,7 +236,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ended = "the wall-time safety net (" + std::to_string(safety_s) + " s) stopped the run";
             }
 
-            const MeshFrame& mesh = backend.latest_mesh();
+            const MeshFrame& mesh = backend.runtime().latest_mesh();
             if (mesh.version != r.last_mesh_version) {
                 ++r.mesh_versions_drawn;
                 r.last_mesh_version = mesh.version;
@@ -253,9 +257,11 @@ RunResult run_stereo_session(const RunOptions& options) {
                 tm.materials = &tile->materials;
                 tiles.push_back(tm);
             }
-            const haptics::LoopView& lv = backend.latest_view();
-            renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.tool_radius_m,
+            const haptics::LoopView& lv = backend.runtime().latest_view();
+            renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.spec.tool.radius_m,
                                                        backend.start_tool_m(), backend.start_box_m());
+            view.tool_shape = scene.spec.tool;
+            view.tool_orientation = lv.tool_world.orientation;
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
             view.tiles = tiles;
             if (gpu_contour) view.indirect_workpiece = &indirect;
@@ -265,7 +271,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
                 sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
                                 mesh.sculpt_steps);
-                add_run_items(view, lv, scene.tool_radius_m, kForceMetresPerNewton,
+                add_run_items(view, lv, scene.spec.tool.radius_m, kForceMetresPerNewton,
                               RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms});
             }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), sep, nav);
@@ -310,27 +316,31 @@ RunResult run_stereo_session(const RunOptions& options) {
         }
     } catch (...) {
         try {
-            backend.stop();
+            backend.runtime().stop();
         } catch (...) {  // the render failure is the one to report
         }
         throw;
     }
     r.render_s = seconds_since(t_render);
-    r.stroke_completed = scene.has_stroke && backend.stroke_done() && backend.loop_stats().ticks >= backend.stroke_ticks();
-    backend.stop();
+    r.stroke_completed = scene.has_stroke && backend.stroke_done() && backend.runtime().loop_stats().ticks >= backend.stroke_ticks();
+    backend.runtime().stop();
     r.notes.insert(r.notes.begin(), "ended: " + ended);
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
-    r.loop = backend.loop_stats();
-    r.spilled_intervals = backend.booleans().backend->spilled_intervals();
+    r.loop = backend.runtime().loop_stats();
+    r.spilled_intervals = backend.runtime().booleans().backend->spilled_intervals();
     if (gpu_contour) {
         r.gpu_contour = gpu_contour->stats();
         r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
         r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();
     }
-    r.sculpt = backend.sculpt_stats();
-    r.session_s = backend.session_s();
-    r.volume_after_m3 = compute::dexel_volume_m3(backend.workpiece().model);
+    r.sculpt = backend.runtime().sculpt_stats();
+    r.session_s = backend.runtime().session_s();
+    r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     if (presenter) r.present_timings = presenter->timings().to_json();
+    r.spec = backend.runtime().spec();
+    r.tool = tool_json(r.spec);
+    r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
+                                    backend.runtime().profile().max_force_n);
 
     // 5. Outputs.
     fs::create_directories(su.out);
@@ -348,8 +358,22 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.files.push_back((out / name).string());
         }
     }
+    // The carved model as a closed mesh (the CPU contour of the final model, as demo and replay write it), and
+    // the recording.
+    {
+        const SessionRuntime::FinalMesh carved = backend.runtime().final_mesh();
+        compute::write_ply((out / "sculpted.ply").string(), carved.mesh, carved.materials);
+        r.files.push_back((out / "sculpted.ply").string());
+    }
+    if (!su.record.empty()) {
+        if (backend.runtime().records().size() < backend.runtime().loop_stats().ticks)
+            r.notes.push_back("record: only the first " + std::to_string(backend.runtime().records().size()) + " of " +
+                              std::to_string(backend.runtime().loop_stats().ticks) + " ticks were kept; a replay carves less");
+        write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records());
+        r.files.push_back(su.record);
+    }
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
-    r.validation_messages = ctx.validation_messages() + backend.booleans().backend->validation_messages();
+    r.validation_messages = ctx.validation_messages() + backend.runtime().booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
     r.files.push_back((out / "report.json").string());
     write_run_report(r.files.back(), r);

@@ -38,6 +38,7 @@ struct RunSetup {
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
+    std::string record;             ///< recording file ("" = none)
 };
 
 /// The renderer's FrameStats of every frame of a run, kept for report.json.
@@ -99,6 +100,9 @@ struct RunResult {
     /// GPU path: time the sculpt thread waited for a frame to finish before re-contouring, summed / longest, ms
     /// (included in SculptStats::contour_ms).
     double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
+    SessionSpec spec;                            ///< what decided the model (the scene's, device_origin_m set)
+    nlohmann::json tool;                         ///< report.json `tool` (tool_json of the session's spec)
+    nlohmann::json haptics;                      ///< report.json `haptics` (haptics_report_json, as the demo's)
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

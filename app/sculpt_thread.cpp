@@ -40,6 +40,18 @@ SculptThread::~SculptThread() {
     }
 }
 
+void SculptThread::use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools) {
+    if (thread_.joinable()) throw Error("SculptThread::use_mesh_tools: call it before start()");
+    mesh_tools_ = std::move(tools);
+}
+
+std::shared_ptr<const compute::MeshTool> SculptThread::mesh_tool(std::uint32_t id) const {
+    if (id >= mesh_tools_.size())
+        throw Error("tool sample: mesh tool " + std::to_string(id) + " is not in the session's table of " +
+                    std::to_string(mesh_tools_.size()));
+    return mesh_tools_[id];
+}
+
 void SculptThread::use_backend(BooleanBackend& backend) {
     if (thread_.joinable()) throw Error("SculptThread::use_backend: call it before start()");
     backend_ = &backend;
@@ -102,10 +114,11 @@ bool SculptThread::step() {
     while (samples_.try_pop(s)) {
         any = true;
         ++stats_.samples;
-        if (have_prev_ && s.op != ToolOp::kNone && s.radius_m > 0.0) {
+        if (have_prev_ && s.op != ToolOp::kNone && s.tool.radius_m > 0.0) {
             compute::Sweep sw;
             sw.op = s.op;
-            sw.tool = compute::ToolShape{compute::ToolKind::kBall, s.radius_m, 0.0};
+            sw.tool = compute::sweep_tool(s.tool, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr);
+            sw.axis = s.orientation * tool_axis_local();  // the sample's axis over its whole segment
             sw.path_m = Segment{prev_.position, s.position};
             sw.material = s.op == ToolOp::kSubtract ? 0 : s.material;  // a cut exposes the workpiece's own material
             batch_.push_back(sw);
@@ -210,7 +223,7 @@ void SculptThread::publish_mesh_if_due(bool force) {
 }
 
 void SculptThread::publish(const Vec3& centre_m) {
-    const double extent_m = compute::tool_extent_m(tool_span_m_, have_prev_ ? prev_.radius_m : tool_radius_m_);
+    const double extent_m = compute::tool_extent_m(tool_span_m_, have_prev_ ? tool_reach_m(prev_.tool) : tool_radius_m_);
     compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
     surface_.publish();
     published_centre_m_ = centre_m;

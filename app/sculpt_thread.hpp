@@ -13,6 +13,7 @@
 #include "app/boolean_backend.hpp"
 #include "compute/contour_dual.hpp"
 #include "compute/contour_tiles.hpp"
+#include "compute/mesh_tool.hpp"
 #include "compute/tridexel.hpp"
 #include "core/active_surface.hpp"
 #include "core/spsc_ring.hpp"
@@ -93,6 +94,10 @@ public:
     /// surface is published; mesh publishes then carry MeshFrame::gpu and no mesh. `share` must outlive the
     /// thread and have contoured every tile already. Throws tridex::Error when the thread runs.
     void use_gpu_contour(GpuContourShare& share);
+    /// The session's mesh tools: a sample whose tool is ToolKind::kMesh sweeps tools[tool.mesh_id] (a sample
+    /// naming an id outside the table fails the thread with tridex::Error). Throws tridex::Error when the
+    /// thread runs.
+    void use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools);
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
     /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
@@ -124,6 +129,8 @@ private:
     std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called
     BooleanBackend* backend_ = nullptr;
     std::vector<compute::Sweep> batch_;           // reused between steps
+    std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
+    std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
     compute::Contourer& contourer_;
     GpuContourShare* gpu_contour_ = nullptr;  // set: contour on the GPU instead of contourer_
     SpscRing<ToolSample>& samples_;

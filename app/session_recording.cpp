@@ -34,13 +34,13 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
     return t;
 }
 
-void write_session_recording(const std::string& path, const SessionSettings& settings,
+void write_session_recording(const std::string& path, const SessionSpec& settings,
                              const std::vector<haptics::TickRecord>& records) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
-    header.notes = settings_to_json(settings);
+    header.notes = spec_to_json(settings);
     devices::RecordingWriter writer(path, header);
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {

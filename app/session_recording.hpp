@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "app/session_settings.hpp"
+#include "app/session_spec.hpp"
 #include "devices/recording.hpp"
 #include "haptics/haptic_loop.hpp"
 
@@ -20,7 +20,7 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
 
 /// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
 /// Throws tridex::Error "<path>: ..." when it cannot write.
-void write_session_recording(const std::string& path, const SessionSettings& settings,
+void write_session_recording(const std::string& path, const SessionSpec& settings,
                              const std::vector<haptics::TickRecord>& records);
 
 }  // namespace tridex::app

@@ -13,7 +13,7 @@ struct StrokeParams {
     double duration_s = 4.0;      ///< whole script: approach, press, carve, lift
     double length_m = 0.12;       ///< length of the carving pass along world x, centred on the workpiece
     double depth_m = 0.006;       ///< how far the hand aims the ball's lowest point below the surface
-    double tool_radius_m = 0.008; ///< ball radius
+    double tool_radius_m = 0.008; ///< distance from the tool origin to its lowest point along the press direction, m (a ball: its radius)
     double clearance_m = 0.03;    ///< height above the surface where the stroke starts and ends
     int press_axis = 2;           ///< world axis the tool presses against: 2 = the side facing the viewer (+z), 1 = the top (+y)
 };

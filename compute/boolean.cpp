@@ -15,7 +15,7 @@ BooleanStats subtract_capsule(TriDexel& model, const Segment& seg_m, double radi
         throw Error("subtract_capsule: tool radius must be a positive number of metres, got " + std::to_string(radius_m));
     Sweep sweep;
     sweep.op = ToolOp::kSubtract;
-    sweep.tool = ToolShape{ToolKind::kBall, radius_m, 0.0};
+    sweep.tool = SweepTool{ToolKind::kBall, radius_m, 0.0};
     sweep.path_m = seg_m;
     return apply_sweep(model, sweep);
 }

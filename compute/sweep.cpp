@@ -35,7 +35,7 @@ void set_motion(GridSweep& g, const Vec3& ga, const Vec3& gb) {
 /// to_grid_sweep for kMesh: the footprint is the rotated tool's box at both ends, widened by 1/k cell
 /// (the nearest tool ray may lie up to 0.5/k cell beyond the exact bounds).
 GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
-    if (!s.tool.mesh) throw Error("sweep: a kMesh tool needs ToolShape::mesh");
+    if (!s.tool.mesh) throw Error("sweep: a kMesh tool needs SweepTool::mesh");
     if (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)) throw Error("sweep: tool axis must be a finite, non-zero vector");
     if (tools == nullptr) throw Error("sweep: a kMesh sweep needs a ToolTable (to_grid_batch, apply_sweep)");
     const Vec3 ga = L.to_grid(s.path_m.a), gb = L.to_grid(s.path_m.b);
@@ -64,6 +64,13 @@ GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools)
 }
 
 }  // namespace
+
+SweepTool sweep_tool(const ToolShape& shape, std::shared_ptr<const MeshTool> mesh) {
+    if (shape.kind == ToolKind::kMesh && !mesh)
+        throw Error("sweep_tool: a mesh tool (mesh_id " + std::to_string(shape.mesh_id) + ") needs its loaded mesh");
+    return SweepTool{shape.kind, shape.radius_m, shape.kind == ToolKind::kFlatEnd ? shape.length_m : 0.0,
+                     shape.kind == ToolKind::kMesh ? std::move(mesh) : nullptr};
+}
 
 Aabb sweep_bounds(const Sweep& s) {
     Aabb box;

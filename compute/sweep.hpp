@@ -11,24 +11,24 @@
 #include "compute/tridexel.hpp"
 #include "core/segment.hpp"
 #include "core/tool_sample.hpp"
+#include "core/tool_shape.hpp"
 
 namespace tridex::compute {
 
-/// The shape of the cutting tool.
-enum class ToolKind : std::uint8_t {
-    kBall = 0,     ///< a ball of radius_m (ball-end mill, sculpting ball); its sweep is a capsule
-    kFlatEnd = 1,  ///< a flat-end mill: solid cylinder of radius_m, flat end centred on the tool position,
-                   ///< shank of length_m along the tool axis
-    kMesh = 2,     ///< any closed mesh (ToolShape::mesh, compute/mesh_tool.hpp), applied at poses <= 0.5 cell apart
-};
+using tridex::ToolKind;  // the tool kinds are core vocabulary (core/tool_shape.hpp)
 
-/// Tool shape and size, m.
-struct ToolShape {
+/// The tool of one sweep: a core ToolShape's kind and sizes, with a kMesh tool's loaded mesh (the core type
+/// names it by index into a session's table; a sweep carries the mesh itself). Tool frame as ToolShape's,
+/// except that a kMesh tool's frame +z is turned onto Sweep::axis (compute/mesh_tool.hpp).
+struct SweepTool {
     ToolKind kind = ToolKind::kBall;
     double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0); ignored for kMesh
     double length_m = 0.0;  ///< kFlatEnd: cylinder length along the axis, m (> 0); ignored otherwise
     std::shared_ptr<const MeshTool> mesh{};  ///< kMesh: the tool (tool frame +z turned onto Sweep::axis); else unused
 };
+
+/// The SweepTool of a core ToolShape: its kind and sizes, and for kMesh `mesh` (which must then be set).
+SweepTool sweep_tool(const ToolShape& shape, std::shared_ptr<const MeshTool> mesh = {});
 
 /// The mesh tools' dexels a batch of GridSweeps refers to (GridSweep::tool indexes it).
 using ToolTable = std::vector<std::shared_ptr<const ToolDexels>>;
@@ -39,7 +39,7 @@ using ToolTable = std::vector<std::shared_ptr<const ToolDexels>>;
 /// `material` on the surface points inside it. kNone does nothing.
 struct Sweep {
     ToolOp op = ToolOp::kSubtract;
-    ToolShape tool{};
+    SweepTool tool{};
     Segment path_m{};
     Vec3 axis{0.0, 0.0, 1.0};
     std::uint8_t material = 0;
@@ -89,7 +89,7 @@ Aabb sweep_bounds(const Sweep& sweep);
 /// Converts a Sweep to grid units on `lattice`. Throws tridex::Error naming the field when a position or
 /// the axis is not finite, the axis is zero, the radius (or kFlatEnd length) is not a positive number of
 /// metres, the swept box is more than 2^24 cells from the lattice (float depths would lose cells), or a
-/// kMesh sweep has no ToolShape::mesh. kMesh: the tool's dexels for (axis, cell size) are appended to
+/// kMesh sweep has no SweepTool::mesh. kMesh: the tool's dexels for (axis, cell size) are appended to
 /// `tools` (once per distinct ToolDexels) and GridSweep::tool indexes them; throws when `tools` is null.
 GridSweep to_grid_sweep(const Lattice& lattice, const Sweep& sweep, ToolTable* tools = nullptr);
 

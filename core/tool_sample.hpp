@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/math.hpp"
+#include "core/tool_shape.hpp"
 
 namespace tridex {
 
@@ -26,7 +27,7 @@ struct ToolSample {
     /// hand pushes the HIP deep into material; = position when free. NaN (the default) = use position.
     Vec3 surface_m{std::numeric_limits<double>::quiet_NaN()};
     Quat orientation{1.0, 0.0, 0.0, 0.0};    ///< tool frame -> world
-    double radius_m = 0.0;                   ///< ball radius, m
+    ToolShape tool{};                        ///< the tool that cuts along the sweep ending here (tool frame: core/tool_shape.hpp)
     ToolOp op = ToolOp::kNone;               ///< Boolean applied along the sweep ending here
     std::uint8_t material = 0;               ///< material id the union adds or the paint sets (kUnion, kPaint)
     std::uint32_t buttons = 0;               ///< device button bits at the sample

@@ -58,6 +58,8 @@ HapticLoopConfig validated(HapticLoopConfig c) {
     const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     if (!(std::abs(qn - 1.0) <= 1e-6)) bad("device_to_world.orientation |q|", qn, "must be 1 (unit quaternion)");
     c.device_to_world.orientation = q / qn;
+    if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
+    if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
     return c;
 }
 
@@ -257,7 +259,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
     }
     sample.orientation = wf.tool_world.orientation;
-    sample.radius_m = cfg_.contact.tool_radius_m;
+    sample.tool = cfg_.tool;
     const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed;
     sample.op = hold ? ToolOp::kNone : cfg_.op;
     sample.material = cfg_.material;

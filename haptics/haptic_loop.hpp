@@ -13,6 +13,7 @@
 #include "core/pose.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
+#include "core/tool_shape.hpp"
 #include "core/triple_buffer.hpp"
 #include "devices/haptic_device.hpp"
 #include "haptics/ewma_filter.hpp"
@@ -35,6 +36,10 @@ struct HapticLoopConfig {
     Pose device_to_world;          ///< device frame -> world frame (unit quaternion): the initial workspace mapping
     double workspace_scale = 1.0;  ///< s > 0: world = R * (s * p) + offset, offset = device_to_world.position until the
                                    ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain
+    /// The tool carried by every ToolSample (what the sculpt thread sweeps). A ball of radius 0 (the default)
+    /// = a ball of contact.tool_radius_m. The contact points (tool_points) should cover this tool's surface
+    /// (haptics::tool_points_for) so that touch and cut agree.
+    ToolShape tool{};
     ToolOp op = ToolOp::kSubtract; ///< Boolean carried by every ToolSample
     std::uint8_t material = 0;     ///< material id carried by every ToolSample (what kUnion adds, kPaint sets)
     std::size_t max_ticks = 0;     ///< TickRecords preallocated (recording stops when full); 0 = none

@@ -59,6 +59,75 @@ ToolPoints ToolPoints::sphere_mesh(double radius_m, int count) {
     return p;
 }
 
+ToolPoints ToolPoints::flat_end(double radius_m, double length_m, int count) {
+    if (!(std::isfinite(radius_m) && radius_m > 0.0) || !(std::isfinite(length_m) && length_m > 0.0))
+        throw Error("ToolPoints::flat_end: radius_m = " + std::to_string(radius_m) + " and length_m = " +
+                    std::to_string(length_m) + " must be finite and > 0");
+    if (count < 8 || count > kMaxToolPoints)
+        throw Error("ToolPoints::flat_end: count = " + std::to_string(count) + " must be in [8, " +
+                    std::to_string(kMaxToolPoints) + "]");
+    ToolPoints p;
+    const int rest = count - 1;
+    const int face = std::max(2, static_cast<int>(std::lround(0.2 * rest)));
+    const int edge = std::max(3, static_cast<int>(std::lround(0.35 * rest)));
+    const int side = rest - face - edge;
+    const Vec3 down(0.0, -1.0, 0.0);
+    auto add = [&p](const Vec3& at, const Vec3& n) {
+        p.local_m[p.count] = at;
+        p.normal[p.count] = n / glm::length(n);
+        ++p.count;
+    };
+    double turn = 0.0;  // each ring turned half a step against the one before
+    auto ring = [&](int n, double rr, double y, bool face_normal, bool edge_normal) {
+        const double step = 2.0 * std::numbers::pi / n;
+        for (int i = 0; i < n; ++i) {
+            const double a = turn + step * i;
+            const Vec3 radial(std::cos(a), 0.0, std::sin(a));
+            add(Vec3(rr * radial.x, y, rr * radial.z), face_normal ? down : edge_normal ? radial + down : radial);
+        }
+        turn += 0.5 * step;
+    };
+    add(Vec3(0.0), down);
+    ring(face, 0.5 * radius_m, 0.0, true, false);
+    ring(edge, radius_m, 0.0, false, true);
+    const int side_rings = side > 0 ? std::max(1, static_cast<int>(std::lround(side / 8.0))) : 0;
+    for (int j = 0; j < side_rings; ++j) {
+        const int n = side / side_rings + (j < side % side_rings ? 1 : 0);
+        ring(n, radius_m, length_m * (j + 1) / side_rings, false, false);
+    }
+    return p;
+}
+
+ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what) {
+    validate_tool(tool, what);
+    switch (tool.kind) {
+        case ToolKind::kBall:
+            if (points == 1) return ToolPoints::single(tool.radius_m);
+            if (points >= 3 && points <= kMaxToolPoints) return ToolPoints::sphere_mesh(tool.radius_m, points);
+            throw Error("points: a ball tool takes 1 (its centre) or 3.." + std::to_string(kMaxToolPoints) +
+                        " (an interaction mesh over it), got " + std::to_string(points) +
+                        (points == 2 ? " (the wand's 2 points need a flat_end tool)" : ""));
+        case ToolKind::kFlatEnd: {
+            if (points == 2) {
+                ToolPoints p;
+                p.count = 2;
+                p.local_m[0] = Vec3(0.0, tool.length_m, 0.0);
+                p.normal[0] = Vec3(0.0, 1.0, 0.0);
+                p.local_m[1] = Vec3(0.0);
+                p.normal[1] = Vec3(0.0, -1.0, 0.0);
+                return p;
+            }
+            const int n = points == 1 ? 32 : points;
+            if (n < 8 || n > kMaxToolPoints)
+                throw Error("points: a flat_end tool takes 1 (32 points over it), 2 (the wand's ends) or 8.." +
+                            std::to_string(kMaxToolPoints) + ", got " + std::to_string(points));
+            return ToolPoints::flat_end(tool.radius_m, tool.length_m, n);
+        }
+        case ToolKind::kMesh: break;
+    }
+    throw Error(what + ": a mesh tool's contact points come from its mesh");
+}
+
 void validate(const ToolPoints& points, bool require_normals) {
     if (points.count < 1 || points.count > kMaxToolPoints)
         throw Error("ToolPoints.count = " + std::to_string(points.count) + " must be in [1, " +

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <array>
+#include <string>
 
 #include "core/math.hpp"
 #include "core/pose.hpp"
+#include "core/tool_shape.hpp"
 
 namespace tridex::haptics {
 
@@ -34,7 +36,28 @@ struct ToolPoints {
     /// phi_i = i * pi * (3 - sqrt 5), normals = unit positions, radius 0. Throws tridex::Error when
     /// radius_m is not finite and > 0 or count is not in [1, kMaxToolPoints].
     static ToolPoints sphere_mesh(double radius_m, int count);
+    /// A haptic interaction mesh over a flat-end mill's own surface (tool frame of core/tool_shape.hpp: the
+    /// flat end's centre at the origin, the shank along +y), `count` points in all, radius 0, every point on
+    /// the cylinder's surface: the end face's centre and a ring at half the radius (normal -y; about a fifth
+    /// of the points, at least 2 on the ring), the cutting edge (a ring on the end face's rim, normal
+    /// bisecting -y and the radial direction; about a third, at least 3) and the rest on side rings at even
+    /// heights up to length_m (radial normals), each ring turned half a step against the one before.
+    /// Throws tridex::Error when radius_m or length_m is not finite and > 0 or count is not in
+    /// [8, kMaxToolPoints]. Source: Popescu, Burdea, Bouzit 3.1 (interaction mesh over the tool's surface).
+    static ToolPoints flat_end(double radius_m, double length_m, int count);
 };
+
+/// Contact points for a session's tool, so that touch and cut agree (the points lie on the tool's own
+/// surface; Popescu, Burdea, Bouzit 3.1):
+/// - ball: points = 1 -> the single god-object of the ball's radius (the ball's exact contact);
+///   3..kMaxToolPoints -> sphere_mesh over the ball;
+/// - flat_end: points = 2 -> the thesis's wand (Singapogu 3.4.1): two points, the flat end's centre and the
+///   top of the shank, with outward normals -y and +y; otherwise flat_end(radius, length, n) with n = points,
+///   or 32 when points is 1 (the default);
+/// - mesh: the caller builds them from the mesh (not here: this module has no mesh tools).
+/// Throws tridex::Error naming `what` ("tool", "points") for a combination that has no such points (a ball
+/// with 2 points, a flat end with 3..7, a mesh tool) or a bad tool (validate_tool).
+ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what);
 
 /// Checks a ToolPoints: count in [1, kMaxToolPoints], finite positions, radius finite and >= 0, and every
 /// normal of the used points either zero or unit length (within 1e-9); when require_normals, every normal

@@ -7,6 +7,9 @@
 #include <optional>
 #include <vector>
 
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "core/error.hpp"
 #include "gpu/check.hpp"
 #include "renderer/arrow_mesh.hpp"
@@ -250,8 +253,17 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     if (scene.tool_radius_m > 0.0) {
         if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
             throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
-        add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
-            kToolColour, true);
+        const ToolShape& ts = scene.tool_shape;
+        if (ts.kind == ToolKind::kFlatEnd && ts.radius_m > 0.0 && ts.length_m > 0.0) {
+            // unit_cylinder runs along +z from 0 to 1; the tool's shank runs along its frame's +y.
+            const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation) *
+                                 glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
+                                 glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
+            add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
+        } else {
+            add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
+                kToolColour, true);
+        }
     }
     const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
     if (arrow.visible) {

@@ -17,6 +17,7 @@
 #include "renderer/image.hpp"
 #include "renderer/indirect_workpiece.hpp"
 #include "renderer/off_axis.hpp"
+#include "core/tool_shape.hpp"
 #include "renderer/tile_mesh_cache.hpp"
 
 namespace tridex::renderer {
@@ -26,6 +27,11 @@ struct SceneView {
     const TriMesh* workpiece = nullptr;  ///< the carved solid, world m; nullptr or empty = not drawn
     Vec3 tool_centre_m{0.0};             ///< centre of the ball tool, world m
     double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
+    /// The tool's shape: a ball draws a sphere of tool_radius_m at tool_centre_m; a flat-end mill draws its
+    /// cylinder (tool frame of core/tool_shape.hpp: flat end at tool_centre_m, shank along the tool axis +y
+    /// turned by tool_orientation) when tool_radius_m > 0.
+    ToolShape tool_shape{};
+    Quat tool_orientation{1.0, 0.0, 0.0, 0.0};  ///< tool frame -> world (unit quaternion)
     bool show_workspace = true;          ///< draw the haptic workspace as a translucent box
     Aabb workspace_m;                    ///< the workspace, world m (an empty box is not drawn)
     /// The bubble of the bubble workspace technique (Dominjon et al. 2005): position control inside,

@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session_settings.hpp"
+#include "app/session_spec.hpp"
 #include "app/stats.hpp"
 #include "app/stroke.hpp"
 #include "compute/scan_convert.hpp"
@@ -75,23 +75,23 @@ TEST(PlanStroke, RefusesAnEmptyModelAndABadAxis) {
 namespace tridex::app {
 namespace {
 
-TEST(SessionSettings, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
-    SessionSettings s;
+TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
+    SessionSpec s;
     s.op = "paint";
     s.material = 5;
-    const SessionSettings back = settings_from_json(settings_to_json(s), "test");
+    const SessionSpec back = spec_from_json(spec_to_json(s), "test");
     EXPECT_EQ(back.op, "paint");
     EXPECT_EQ(back.material, 5);
     const haptics::HapticLoopConfig cfg = loop_config(back, 10);
     EXPECT_EQ(cfg.op, ToolOp::kPaint);
     EXPECT_EQ(cfg.material, 5);
     EXPECT_FALSE(cfg.contact.cutting);  // painting removes nothing, so nothing resists the advance
-    EXPECT_TRUE(loop_config(SessionSettings{}, 10).contact.cutting);
+    EXPECT_TRUE(loop_config(SessionSpec{}, 10).contact.cutting);
     // A recording made before op/material existed still loads, as a subtract session.
-    nlohmann::json old = nlohmann::json::parse(settings_to_json(SessionSettings{}));
+    nlohmann::json old = nlohmann::json::parse(spec_to_json(SessionSpec{}));
     old.erase("op");
     old.erase("material");
-    EXPECT_EQ(settings_from_json(old.dump(), "old").op, "subtract");
+    EXPECT_EQ(spec_from_json(old.dump(), "old").op, "subtract");
     s.op = "drill";
     EXPECT_THROW(loop_config(s, 10), Error);
     s.op = "union";

@@ -138,8 +138,9 @@ TEST(Replay, ARecordedSessionSculptsTheSameModel) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-replay";
     fs::remove_all(dir);
     const fs::path rec = dir / "session.trdx";
-    // A wand (two points) on the 5-DOF profile, so torques and both points are recorded.
-    const RunResult live = run_tridex("demo --resolution 64 --seconds 1.5 --width 96 --height 72 --points 2 --device wand "
+    // A wand (a flat-end mill with two points at its ends) on the 5-DOF profile, so torques and both points are recorded.
+    const RunResult live = run_tridex("demo --resolution 64 --seconds 1.5 --width 96 --height 72 --tool flat_end "
+                                      "--tool-length-mm 20 --points 2 --device wand "
                                       "--record " + rec.string() + " --out " + (dir / "live").string(), dir / "live");
     ASSERT_EQ(live.exit_code, 0) << live.err;
     ASSERT_TRUE(fs::exists(rec));

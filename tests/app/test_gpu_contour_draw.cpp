@@ -93,19 +93,19 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
     for (std::size_t i = 1; i < plan.world_m.size(); ++i) {
         compute::Sweep s;
         s.op = ToolOp::kSubtract;
-        s.tool = compute::ToolShape{compute::ToolKind::kBall, 0.006, 0.0};
+        s.tool = compute::SweepTool{compute::ToolKind::kBall, 0.006, 0.0};
         s.path_m = Segment{plan.world_m[i - 1], plan.world_m[i]};
         batch.push_back(s);
     }
     compute::Sweep paint;
     paint.op = ToolOp::kPaint;
-    paint.tool = compute::ToolShape{compute::ToolKind::kBall, 0.012, 0.0};
+    paint.tool = compute::SweepTool{compute::ToolKind::kBall, 0.012, 0.0};
     paint.path_m = Segment{plan.centre_m + Vec3(-0.03, 0.015, 0.0), plan.centre_m + Vec3(0.03, 0.015, 0.0)};
     paint.material = 3;
     batch.push_back(paint);
     compute::Sweep add;
     add.op = ToolOp::kUnion;
-    add.tool = compute::ToolShape{compute::ToolKind::kBall, 0.008, 0.0};
+    add.tool = compute::SweepTool{compute::ToolKind::kBall, 0.008, 0.0};
     add.path_m = Segment{plan.centre_m + Vec3(0.0, -0.02, 0.006), plan.centre_m + Vec3(0.01, -0.02, 0.006)};
     add.material = 2;
     batch.push_back(add);
@@ -249,7 +249,7 @@ TEST(GpuContourDraw, FramesDrawnWhileTheSculptThreadRecontoursWithGrowingPools) 
                 for (int j = 0; j < 8; ++j, ++k) {
                     const Vec3 d = plan.world_m[i] - plan.world_m[i - 1];
                     compute::Sweep s;
-                    s.tool = compute::ToolShape{compute::ToolKind::kBall, 0.006, 0.0};
+                    s.tool = compute::SweepTool{compute::ToolKind::kBall, 0.006, 0.0};
                     s.path_m = Segment{plan.world_m[i - 1] + d * (j / 8.0), plan.world_m[i - 1] + d * ((j + 1) / 8.0)};
                     if (k % 3 == 2) {
                         const double v = static_cast<double>(k / 3);  // voids on a 5 x 4 x 3 grid, 12 mm apart

@@ -25,7 +25,7 @@ void push_groove(SpscRing<ToolSample>& ring) {
         ToolSample s;
         s.t_s = i * 1e-3;
         s.position = Vec3(-0.06 + 0.12 * i / 199.0, 0.0, 0.048);
-        s.radius_m = 0.008;
+        s.tool.radius_m = 0.008;
         s.op = ToolOp::kSubtract;
         ASSERT_TRUE(ring.try_push(s));
     }

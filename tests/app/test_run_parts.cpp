@@ -41,14 +41,14 @@ std::string error_of(F&& f) {
 TEST(RunScene, DefaultSceneLoadsWithDocumentedValues) {
     const RunScene s = load_run_scene("");
     EXPECT_NE(s.source.find("default_scene.json"), std::string::npos);
-    EXPECT_NE(s.mesh_path.find("bunny.off"), std::string::npos);
-    EXPECT_TRUE(fs::is_regular_file(s.mesh_path));
-    EXPECT_EQ(s.resolution, 128);
-    EXPECT_DOUBLE_EQ(s.stock_m, 0.12);
-    EXPECT_DOUBLE_EQ(s.tool_radius_m, 0.006);
+    EXPECT_NE(s.spec.mesh_path.find("bunny.off"), std::string::npos);
+    EXPECT_TRUE(fs::is_regular_file(s.spec.mesh_path));
+    EXPECT_EQ(s.spec.resolution, 128);
+    EXPECT_DOUBLE_EQ(s.spec.stock_m, 0.12);
+    EXPECT_DOUBLE_EQ(s.spec.tool.radius_m, 0.006);
     EXPECT_TRUE(s.has_stroke);
     EXPECT_DOUBLE_EQ(s.stroke.duration_s, 3.0);
-    EXPECT_DOUBLE_EQ(s.stroke.tool_radius_m, s.tool_radius_m);
+    EXPECT_DOUBLE_EQ(s.stroke.tool_radius_m, s.spec.tool.radius_m);
     EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kAnaglyph);
     EXPECT_EQ(s.display.width_px, 960);
     EXPECT_EQ(s.head, HeadMode::kFixed);
@@ -66,11 +66,11 @@ TEST(RunScene, ReadsEveryField) {
                "waypoints": [{"t_s": 0, "position_m": [0, 0, 2]},
                              {"t_s": 1, "position_m": [0.5, 0, 2], "orientation_wxyz": [0, 0, 1, 0]}]}})");
     const RunScene s = run_scene_from_json(j, "x.json", ".");
-    EXPECT_EQ(s.resolution, 64);
-    EXPECT_DOUBLE_EQ(s.centre_m.z, 0.3);
-    EXPECT_DOUBLE_EQ(s.tool_radius_m, 0.01);
-    EXPECT_EQ(s.workspace_mode, haptics::WorkspaceMode::kBubble);
-    EXPECT_DOUBLE_EQ(s.workspace_scale, 2.0);
+    EXPECT_EQ(s.spec.resolution, 64);
+    EXPECT_DOUBLE_EQ(s.spec.workpiece_centre_m.z, 0.3);
+    EXPECT_DOUBLE_EQ(s.spec.tool.radius_m, 0.01);
+    EXPECT_EQ(s.spec.workspace_mode, "bubble");
+    EXPECT_DOUBLE_EQ(s.spec.workspace_scale, 2.0);
     EXPECT_FALSE(s.has_stroke);
     EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kFrameSequential);
     EXPECT_DOUBLE_EQ(s.display.refresh_hz, 120.0);

@@ -27,7 +27,7 @@ std::vector<ToolSample> stream() {
         const double u = i / 399.0;
         s[i].t_s = i * 1e-3;
         s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u), 0.048 - 0.004 * std::sin(5.0 * u));
-        s[i].radius_m = 0.007;
+        s[i].tool.radius_m = 0.007;
         s[i].op = ToolOp::kSubtract;
     }
     return s;
@@ -91,7 +91,7 @@ TEST(SculptThread, AFailureOnTheThreadIsRethrownByStopAndTheRingStaysDrained) {
     SculptThread t(m, contourer, ring, surface, Vec3(0.0));
     ToolSample s;
     s.op = ToolOp::kSubtract;
-    s.radius_m = 0.005;
+    s.tool.radius_m = 0.005;
     ASSERT_TRUE(ring.try_push(s));
     s.position = Vec3(std::numeric_limits<double>::quiet_NaN());  // a corrupt sample: subtract_capsule throws
     ASSERT_TRUE(ring.try_push(s));

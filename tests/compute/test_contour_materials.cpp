@@ -42,7 +42,7 @@ TriDexel box_model() {
 Sweep ball_sweep(const Lattice& l, ToolOp op, const Vec3& a, const Vec3& b, double r_cells, std::uint8_t material) {
     Sweep s;
     s.op = op;
-    s.tool = ToolShape{ToolKind::kBall, r_cells * l.cell_m, 0.0};
+    s.tool = SweepTool{ToolKind::kBall, r_cells * l.cell_m, 0.0};
     s.path_m = Segment{l.to_world(a), l.to_world(b)};
     s.material = material;
     return s;

@@ -120,7 +120,7 @@ TEST(GpuContour, IncrementalUpdatesAfterGpuSculptingEqualTheCpuAndAFullRecontour
                 const double pick = unit(rng);
                 s.op = pick < 0.5 ? ToolOp::kSubtract : pick < 0.8 ? ToolOp::kUnion : ToolOp::kPaint;
                 s.material = static_cast<std::uint8_t>(1 + rng() % 6);
-                s.tool = ToolShape{unit(rng) < 0.3 ? ToolKind::kFlatEnd : ToolKind::kBall, (1.0 + 5.0 * unit(rng)) * L.cell_m, 4.0 * L.cell_m};
+                s.tool = SweepTool{unit(rng) < 0.3 ? ToolKind::kFlatEnd : ToolKind::kBall, (1.0 + 5.0 * unit(rng)) * L.cell_m, 4.0 * L.cell_m};
                 s.axis = Vec3(unit(rng) - 0.5, unit(rng) - 0.5, 0.7);
                 const Vec3 a = L.to_world(Vec3(pos(rng), pos(rng), pos(rng)));
                 s.path_m = Segment{a, a + (Vec3(unit(rng), unit(rng), unit(rng)) - 0.5) * (12.0 * L.cell_m)};

@@ -63,7 +63,7 @@ TEST(GpuContourBench, TilesContouredPerSecondAtN256) {
         for (int i = 0; i < 8; ++i) {
             Sweep s;
             s.op = i % 2 ? ToolOp::kUnion : ToolOp::kSubtract;
-            s.tool = ToolShape{ToolKind::kBall, 8.0 * L.cell_m, 0.0};
+            s.tool = SweepTool{ToolKind::kBall, 8.0 * L.cell_m, 0.0};
             const double ang = 0.7 * i;
             const Vec3 a = Vec3(std::cos(ang), std::sin(ang), 0.3) * 0.048;
             s.path_m = Segment{a, a + Vec3(-std::sin(ang), std::cos(ang), 0.2) * (24.0 * L.cell_m)};

@@ -95,7 +95,7 @@ TEST(GpuContourSharp, BoxSculptedByFlatEndAndBallToolsGivesTheCpuMesh) {
             s.op = pick < 0.6 ? ToolOp::kSubtract : pick < 0.85 ? ToolOp::kUnion : ToolOp::kPaint;
             s.material = static_cast<std::uint8_t>(1 + i % 5);
             const bool flat = i % 3 != 2;
-            s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (2.0 + 5.0 * unit(rng)) * L.cell_m, 6.0 * L.cell_m};
+            s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (2.0 + 5.0 * unit(rng)) * L.cell_m, 6.0 * L.cell_m};
             // Flat ends mostly along the lattice axes (axis-aligned floors and walls), some tilted.
             s.axis = i % 4 == 0 ? Vec3(unit(rng) - 0.5, unit(rng) - 0.5, 1.0) : Vec3(0.0, 0.0, 1.0);
             const Vec3 a = L.to_world(Vec3(pos(rng), pos(rng), i % 2 ? 44.0 - 2.0 * unit(rng) : pos(rng)));

@@ -81,9 +81,9 @@ std::vector<Sweep> random_program(const Lattice& L, int segments, std::uint32_t 
             s.op = pick < 0.45 ? ToolOp::kSubtract : pick < 0.8 ? ToolOp::kUnion : ToolOp::kPaint;
             s.material = static_cast<std::uint8_t>(1 + rng() % 6);
             const double kind = unit(rng);
-            if (kind < 0.2) s.tool = ToolShape{ToolKind::kBall, (0.5 + 4.0 * unit(rng)) * c, 0.0};
-            else if (kind < 0.35) s.tool = ToolShape{ToolKind::kFlatEnd, (0.5 + 3.0 * unit(rng)) * c, (2.0 + 5.0 * unit(rng)) * c};
-            else s.tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, tools[rng() % 3]};
+            if (kind < 0.2) s.tool = SweepTool{ToolKind::kBall, (0.5 + 4.0 * unit(rng)) * c, 0.0};
+            else if (kind < 0.35) s.tool = SweepTool{ToolKind::kFlatEnd, (0.5 + 3.0 * unit(rng)) * c, (2.0 + 5.0 * unit(rng)) * c};
+            else s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, tools[rng() % 3]};
             s.axis = axes[rng() % 4];
             p = L.to_world(Vec3(pos(rng), pos(rng), pos(rng)));
         }
@@ -155,7 +155,7 @@ TEST(GpuMeshTool, ToolLargerThanTheWorkpieceAndZeroLengthSegmentsMatchTheCpu) {
         const auto small = MeshTool::create(dumbbell(c));
         const auto huge = MeshTool::create(icosphere_mesh(Vec3(0.0), 40.0 * c, 3), 2);
         std::vector<Sweep> batch(3);
-        batch[0].tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, small};  // zero length: one stamp
+        batch[0].tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, small};  // zero length: one stamp
         batch[0].axis = Vec3(0.2, 0.9, -0.3);
         batch[0].path_m = Segment{cpu.lattice.to_world(Vec3(12.0, 11.5, 12.3)), cpu.lattice.to_world(Vec3(12.0, 11.5, 12.3))};
         batch[1] = batch[0];
@@ -186,7 +186,7 @@ TEST(GpuMeshTool, ToolsOverTheBindingLimitAreRefusedBeforeAnythingChanges) {
         const auto big = MeshTool::create(icosphere_mesh(Vec3(0.0), 20.0 * m.lattice.cell_m, 2), 16);
         std::vector<Sweep> batch(12);
         for (std::size_t i = 0; i < batch.size(); ++i) {
-            batch[i].tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, big};
+            batch[i].tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, big};
             batch[i].axis = Vec3(std::cos(0.4 * i), std::sin(0.4 * i), 0.5);
             batch[i].path_m = Segment{m.lattice.to_world(Vec3(16.0)), m.lattice.to_world(Vec3(16.0))};
         }

@@ -69,7 +69,7 @@ std::vector<Sweep> random_program(const Lattice& L, int segments, std::uint32_t 
             const bool flat = unit(rng) < 0.35;
             double r = 0.4 + 5.0 * unit(rng);
             if (unit(rng) < 0.3) r = std::max(1.0, std::round(r));  // whole cells
-            s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L.cell_m, (2.0 + 6.0 * unit(rng)) * L.cell_m};
+            s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L.cell_m, (2.0 + 6.0 * unit(rng)) * L.cell_m};
             Vec3 axis(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
             if (unit(rng) < 0.4) axis = Vec3(0.0, 0.0, 1.0);  // aligned with the lattice
             s.axis = glm::length(axis) > 1e-3 ? axis : Vec3(1.0, 0.0, 0.0);
@@ -164,7 +164,7 @@ TEST(GpuSculptor, UnionIsClippedToTheLattice) {
             Sweep s;
             s.op = ToolOp::kUnion;
             s.material = 3;
-            s.tool = k % 2 ? ToolShape{ToolKind::kFlatEnd, 0.006, 0.02} : ToolShape{ToolKind::kBall, 0.006, 0.0};
+            s.tool = k % 2 ? SweepTool{ToolKind::kFlatEnd, 0.006, 0.02} : SweepTool{ToolKind::kBall, 0.006, 0.0};
             s.axis = glm::normalize(Vec3(1.0, -0.5, 0.7));
             const Vec3 a = cpu.lattice.to_world(Vec3(-3.0 + k, 2.0, 30.0)), b = cpu.lattice.to_world(Vec3(12.0, 35.0 - k, 1.0));
             s.path_m = Segment{a, b};
@@ -202,7 +202,7 @@ TEST(GpuSculptor, RaysBeyondTheKernelsIntervalLimitAreRedoneOnTheHostAndTooManyT
             Sweep s;
             s.op = ToolOp::kUnion;
             s.material = 4;
-            s.tool = ToolShape{ToolKind::kBall, 0.6 * cpu.lattice.cell_m, 0.0};
+            s.tool = SweepTool{ToolKind::kBall, 0.6 * cpu.lattice.cell_m, 0.0};
             const Vec3 c = cpu.lattice.to_world(Vec3(5.0 + 2.0 * i, 100.0, 100.0));
             s.path_m = Segment{c, c};
             batch.push_back(s);
@@ -243,7 +243,7 @@ TEST(GpuSculptor, InvalidSweepsAreRefusedBeforeAnythingChanges) {
         const std::size_t n = m.interval_count();
         GpuSculptor sculptor(ctx, m);
         std::vector<Sweep> batch(2);
-        batch[0].tool = ToolShape{ToolKind::kBall, 0.003, 0.0};
+        batch[0].tool = SweepTool{ToolKind::kBall, 0.003, 0.0};
         batch[0].path_m = Segment{m.lattice.to_world(Vec3(16.0)), m.lattice.to_world(Vec3(18.0))};
         batch[1] = batch[0];
         batch[1].tool.radius_m = NAN;

@@ -255,8 +255,8 @@ TEST(MeshTool, ParallelPathEqualsSequentialForMixedTools) {
         Sweep s;
         s.op = i % 3 == 0 ? ToolOp::kUnion : i % 3 == 1 ? ToolOp::kSubtract : ToolOp::kPaint;
         s.material = static_cast<std::uint8_t>(1 + i % 5);
-        if (i % 4 == 3) s.tool = ToolShape{ToolKind::kBall, 2.2 * c, 0.0};
-        else s.tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, tool};
+        if (i % 4 == 3) s.tool = SweepTool{ToolKind::kBall, 2.2 * c, 0.0};
+        else s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, tool};
         s.axis = Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5 + (i % 2 ? 2.0 : 0.0));
         const Vec3 a(pos(rng), pos(rng), pos(rng));
         s.path_m = Segment{seq.lattice.to_world(a), seq.lattice.to_world(a + Vec3(unit(rng), unit(rng), unit(rng)) * 4.0)};

@@ -185,9 +185,9 @@ TEST(MeshToolAccuracy, IcosphereToolAgainstTheAnalyticBall) {
             s.op = ToolOp::kUnion;
             s.path_m = Segment{L.to_world(ga), L.to_world(gb)};
             s.axis = Vec3(0.2, 0.5, 0.8);
-            s.tool = ToolShape{ToolKind::kBall, r_cells * L.cell_m, 0.0};
+            s.tool = SweepTool{ToolKind::kBall, r_cells * L.cell_m, 0.0};
             apply_sweep(exact, s);
-            s.tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, MeshTool::create(sphere, k)};
+            s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, MeshTool::create(sphere, k)};
             apply_sweep(mesh, s);
             const Accuracy a = measure(exact, mesh, [&](const Vec3& p) { return segment_distance(p, ga, gb) - r_cells; });
             const double scallop = moving ? r_cells - std::sqrt(r_cells * r_cells - 0.0625) : 0.0;
@@ -219,7 +219,7 @@ TEST(MeshToolAccuracy, BoxMeshToolAgainstTheExactBoxSweep) {
             s.op = ToolOp::kUnion;
             s.path_m = Segment{L.to_world(c.ga), L.to_world(c.gb)};
             s.axis = c.axis;
-            s.tool = ToolShape{ToolKind::kMesh, 0.0, 0.0, MeshTool::create(box_mesh(Aabb{lo * L.cell_m, hi * L.cell_m}), k)};
+            s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, MeshTool::create(box_mesh(Aabb{lo * L.cell_m, hi * L.cell_m}), k)};
             apply_sweep(mesh, s);
             // The exact model: per ray, the chord of the swept box (exact_box_chord).
             const glm::dmat3 R = tool_rotation(c.axis);

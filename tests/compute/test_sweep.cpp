@@ -95,7 +95,7 @@ TEST(Sweep, FlatEndMillPlungeAndSideMoveRemoveTheAnalyticVolume) {
     const double r = 0.006, h = 0.012, D = 0.0157;  // radius, plunge depth, side move (m)
     Sweep s;
     s.op = ToolOp::kSubtract;
-    s.tool = ToolShape{ToolKind::kFlatEnd, r, 0.03};
+    s.tool = SweepTool{ToolKind::kFlatEnd, r, 0.03};
     s.axis = Vec3(0.0, 0.0, 1.0);
     const Vec3 top = L.to_world(Vec3(17.5, 20.5, 43.5));
     s.path_m = Segment{top, top - Vec3(0.0, 0.0, h)};  // plunge
@@ -120,7 +120,7 @@ TEST(Sweep, UnionOfABallIntoEmptySpaceHasTheBallsVolumeAndSubtractingItAgainLeav
     Sweep s;
     s.op = ToolOp::kUnion;
     s.material = 3;
-    s.tool = ToolShape{ToolKind::kBall, 0.0083, 0.0};
+    s.tool = SweepTool{ToolKind::kBall, 0.0083, 0.0};
     const Vec3 a = L.to_world(Vec3(14.2, 15.7, 16.1)), b = L.to_world(Vec3(25.9, 22.3, 20.4));
     s.path_m = Segment{a, b};
     const BooleanStats st = apply_sweep(m, s);
@@ -145,7 +145,7 @@ TEST(Sweep, PaintingTheTopFaceColoursOnlyTheSurfacePointsUnderTheBall) {
     Sweep s;
     s.op = ToolOp::kPaint;
     s.material = 2;
-    s.tool = ToolShape{ToolKind::kBall, 0.004, 0.0};
+    s.tool = SweepTool{ToolKind::kBall, 0.004, 0.0};
     const Vec3 c = L.to_world(Vec3(20.0, 20.0, 36.0));
     s.path_m = Segment{c, c};
     const double v0 = dexel_volume_m3(m);
@@ -171,7 +171,7 @@ TEST(Sweep, BadInputIsRefusedNamingTheFieldAndLeavesTheModelUnchanged) {
     TriDexel m = model_with_box(4.0, 36.0, 40);
     const std::size_t n = m.interval_count();
     Sweep s;
-    s.tool = ToolShape{ToolKind::kFlatEnd, 0.004, 0.0};
+    s.tool = SweepTool{ToolKind::kFlatEnd, 0.004, 0.0};
     s.path_m = Segment{Vec3(0.32, -0.18, 0.12), Vec3(0.32, -0.18, 0.12)};
     EXPECT_THROW(apply_sweep(m, s), Error);  // zero length
     s.tool.length_m = 0.01;

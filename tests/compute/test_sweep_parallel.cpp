@@ -62,7 +62,7 @@ std::vector<Sweep> random_batch(const Lattice& L, int count, std::mt19937& rng) 
             const bool flat = unit(rng) < 0.35;
             double r = 0.4 + 6.0 * unit(rng);
             if (unit(rng) < 0.3) r = std::max(1.0, std::round(r));
-            s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L.cell_m, (1.0 + 6.0 * unit(rng)) * L.cell_m};
+            s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L.cell_m, (1.0 + 6.0 * unit(rng)) * L.cell_m};
             Vec3 axis(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
             if (unit(rng) < 0.4) axis = Vec3(0.0, 0.0, 1.0);
             s.axis = glm::length(axis) > 1e-3 ? axis : Vec3(1.0, 0.0, 0.0);
@@ -116,7 +116,7 @@ TEST(SweepParallel, DefaultThreadCountAndEmptyBatches) {
     EXPECT_EQ(none.rays_visited, 0u);
     // A sweep entirely off the lattice visits nothing.
     Sweep far;
-    far.tool = ToolShape{ToolKind::kBall, 0.002, 0.0};
+    far.tool = SweepTool{ToolKind::kBall, 0.002, 0.0};
     far.path_m = Segment{par.lattice.to_world(Vec3(-50.0)), par.lattice.to_world(Vec3(-40.0))};
     EXPECT_EQ(apply_sweeps_parallel(par, std::span<const Sweep>(&far, 1), 2).rays_visited, 0u);
 }

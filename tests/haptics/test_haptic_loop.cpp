@@ -82,7 +82,7 @@ TEST(HapticLoop, RunsAtOneKilohertzAndRecordsEveryTick) {
         ASSERT_LT(n, recs.size());
         EXPECT_DOUBLE_EQ(ts.t_s, static_cast<double>(n + 1) * 1e-3);  // simulated device time
         EXPECT_EQ(ts.position, recs[n].hip_m);
-        EXPECT_EQ(ts.radius_m, 2e-3);
+        EXPECT_EQ(ts.tool.radius_m, 2e-3);
         EXPECT_EQ(ts.op, ToolOp::kUnion);
         ++n;
     }

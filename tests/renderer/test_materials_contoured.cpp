@@ -115,7 +115,7 @@ TEST(MaterialsContoured, PaintedSpotShowsItsPaletteColourWholeAndTiled) {
     contourer.update(model);
     compute::Sweep paint;
     paint.op = ToolOp::kPaint;
-    paint.tool = compute::ToolShape{compute::ToolKind::kBall, kSpotR * kCell, 0.0};
+    paint.tool = compute::SweepTool{compute::ToolKind::kBall, kSpotR * kCell, 0.0};
     paint.path_m = Segment{model.lattice.to_world(kSpotA), model.lattice.to_world(kSpotB)};
     paint.material = 2;
     ASSERT_GT(compute::apply_sweep(model, paint).rays_changed, 0u);

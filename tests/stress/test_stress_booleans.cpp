@@ -77,7 +77,7 @@ public:
         double r = std::exp(uni(std::log(0.3), std::log(8.0)));  // cells, log-uniform 0.3..8
         if (uni(0.0, 1.0) < 0.15) r = std::max(1.0, std::round(r));
         const bool flat = uni(0.0, 1.0) < 0.3;
-        s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L_.cell_m, uni(1.0, 12.0) * L_.cell_m};
+        s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, r * L_.cell_m, uni(1.0, 12.0) * L_.cell_m};
         s.axis = uni(0.0, 1.0) < 0.5 ? Vec3(0.0, 0.0, 1.0) : Vec3(uni(-1, 1), uni(-1, 1), uni(-1, 1));
         if (!(glm::length(s.axis) > 1e-3)) s.axis = Vec3(1.0, 0.0, 0.0);
         if (uni(0.0, 1.0) < 0.2) p_ = random_point();  // a new stroke

@@ -67,7 +67,7 @@ struct BallCut {
 Sweep ball_sweep(const Lattice& L, const BallCut& c, ToolOp op = ToolOp::kSubtract) {
     Sweep s;
     s.op = op;
-    s.tool = ToolShape{ToolKind::kBall, c.r * L.cell_m, 0.0};
+    s.tool = SweepTool{ToolKind::kBall, c.r * L.cell_m, 0.0};
     s.path_m = Segment{L.to_world(c.a), L.to_world(c.b)};
     return s;
 }
@@ -206,7 +206,7 @@ TEST(StressDegenerate, VeryLongAndTinyAndHugeTools) {
             TriDexel m = test::stress_box(64, 2.5, 61.5);
             Sweep s = ball_sweep(m.lattice, {Vec3(32.0), Vec3(40.0), 100.0});
             if (kind == 1) {
-                s.tool = ToolShape{ToolKind::kFlatEnd, 100.0 * m.lattice.cell_m, 200.0 * m.lattice.cell_m};
+                s.tool = SweepTool{ToolKind::kFlatEnd, 100.0 * m.lattice.cell_m, 200.0 * m.lattice.cell_m};
                 s.path_m = Segment{m.lattice.to_world(Vec3(32.0, 32.0, -10.0)), m.lattice.to_world(Vec3(32.0, 32.0, -5.0))};
             }
             apply_sweep(m, s);
@@ -282,7 +282,7 @@ TEST(StressDegenerate, RemovedVolumesMatchTheAnalyticSolids) {
     TriDexel m = test::stress_box(80, 2.5, 77.5);
     const double v0 = dexel_volume_m3(m);
     Sweep s;
-    s.tool = ToolShape{ToolKind::kFlatEnd, 9.3 * m.lattice.cell_m, 20.0 * m.lattice.cell_m};
+    s.tool = SweepTool{ToolKind::kFlatEnd, 9.3 * m.lattice.cell_m, 20.0 * m.lattice.cell_m};
     s.path_m = Segment{m.lattice.to_world(Vec3(40.2, 39.9, 30.1)), m.lattice.to_world(Vec3(40.2, 39.9, 30.1))};
     apply_sweep(m, s);
     const double removed = v0 - dexel_volume_m3(m), exact = pi * 9.3 * 9.3 * 20.0 * std::pow(m.lattice.cell_m, 3);
@@ -304,7 +304,7 @@ TEST(StressDegenerate, WorkpieceOneKilometreAwayGivesTheSameIntervals) {
             s.op = i % 7 == 3 ? ToolOp::kUnion : i % 11 == 5 ? ToolOp::kPaint : ToolOp::kSubtract;
             s.material = static_cast<std::uint8_t>(i % 5);
             const bool flat = unit(rng) < 0.3;
-            s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (0.3 + 6.0 * unit(rng)) * m.lattice.cell_m,
+            s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (0.3 + 6.0 * unit(rng)) * m.lattice.cell_m,
                                (1.0 + 8.0 * unit(rng)) * m.lattice.cell_m};
             s.axis = Vec3(unit(rng) - 0.5, unit(rng) - 0.5, 1.0);
             Vec3 a(pos(rng), pos(rng), pos(rng));

@@ -195,7 +195,7 @@ Result compare(const TriDexel& before, const TriDexel& m, const Prism& P, double
 Sweep to_sweep(const Lattice& L, const FlatCase& c) {
     Sweep s;
     s.op = ToolOp::kSubtract;
-    s.tool = ToolShape{ToolKind::kFlatEnd, c.r * L.cell_m, c.len * L.cell_m};
+    s.tool = SweepTool{ToolKind::kFlatEnd, c.r * L.cell_m, c.len * L.cell_m};
     s.axis = c.n;
     s.path_m = Segment{L.to_world(c.a), L.to_world(c.b)};
     return s;

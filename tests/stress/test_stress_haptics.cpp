@@ -86,7 +86,7 @@ TriDexel carved_model() {
         Sweep s;
         s.op = i % 10 == 9 ? ToolOp::kUnion : ToolOp::kSubtract;
         const bool flat = i % 4 == 0;
-        s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (1.5 + 4.0 * unit(rng)) * kH, 10.0 * kH};
+        s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, (1.5 + 4.0 * unit(rng)) * kH, 10.0 * kH};
         const Vec3 a(pos(rng), pos(rng), pos(rng));
         const Vec3 b = a + Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5) * 16.0;
         s.path_m = Segment{a * kH, b * kH};
@@ -231,7 +231,7 @@ TEST(StressHaptics, StepCostIsFlatInN) {
             if (q.x < 8 || q.y < 8 || q.x > n - 8 || q.y > n - 8) dir = -dir, q = p + dir;
             q.z = std::clamp(q.z, n - 9.0, n - 4.0);
             Sweep s;
-            s.tool = ToolShape{ToolKind::kBall, 3.0 * m.lattice.cell_m, 0.0};
+            s.tool = SweepTool{ToolKind::kBall, 3.0 * m.lattice.cell_m, 0.0};
             s.path_m = Segment{m.lattice.to_world(p), m.lattice.to_world(q)};
             m.clear_dirty();
             const auto t0 = std::chrono::steady_clock::now();

@@ -31,7 +31,7 @@ std::vector<Sweep> paint_batch(const Lattice& L, std::uint64_t seed, std::size_t
         s.op = ToolOp::kPaint;
         s.material = static_cast<std::uint8_t>(11 * (k % 20 + 1));
         const bool flat = k % 3 == 2;
-        s.tool = ToolShape{flat ? ToolKind::kFlatEnd : ToolKind::kBall, uni(1.5, 7.0) * L.cell_m, uni(2.0, 9.0) * L.cell_m};
+        s.tool = SweepTool{flat ? ToolKind::kFlatEnd : ToolKind::kBall, uni(1.5, 7.0) * L.cell_m, uni(2.0, 9.0) * L.cell_m};
         s.axis = k % 2 ? Vec3(0.0, 0.0, 1.0) : Vec3(uni(-1, 1), uni(-1, 1), 0.7);
         const Vec3 a(uni(2.0, 30.0), uni(2.0, 30.0), uni(2.0, 30.0));
         const Vec3 b = a + Vec3(uni(-8, 8), uni(-8, 8), uni(-8, 8));

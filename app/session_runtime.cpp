@@ -1,0 +1,154 @@
+// app/session_runtime.cpp - a session's threads from its spec.
+#include "app/session_runtime.hpp"
+
+#include <algorithm>
+
+#include "app/memory.hpp"
+#include "compute/mesh_io.hpp"
+#include "compute/scan_convert.hpp"
+#include "compute/volume.hpp"
+#include "compute/workpiece.hpp"
+#include "core/error.hpp"
+#include "gpu/context.hpp"
+#include "haptics/tool_points.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::size_t kRingCapacity = 1 << 16;  // tool samples: 65 s of ticks
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m) {
+    if (resolution < 8 || resolution > 4096)
+        throw Error("--resolution: must be between 8 and 4096 cells, got " + std::to_string(resolution));
+    const TriMesh input = compute::load_closed_mesh(mesh_path);
+    const Mat4 to_world = compute::fit_to_stock(input.bounds(), centre_m, stock_m);
+    const TriMesh world_mesh = compute::transformed(input, to_world);
+    const compute::Lattice lattice = compute::Lattice::around(world_mesh.bounds(), resolution);
+    Workpiece wp{mesh_path, resolution, to_world, signed_volume(world_mesh), 0.0, 0.0,
+                 compute::TriDexel::empty(lattice, model_memory_budget_bytes())};
+    const auto t_scan = Clock::now();
+    compute::scan_convert(world_mesh, wp.model);
+    wp.scan_s = seconds_since(t_scan);
+    wp.volume_dexel_m3 = compute::dexel_volume_m3(wp.model);
+    return wp;
+}
+
+bool gpu_contour_default(const gpu::Context& context, std::string& reason) {
+    if (context.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) return true;
+    reason = "the Vulkan device (" + context.device_name() +
+             ") is a CPU implementation, where the CPU contour is faster; --gpu-contour forces GPU contouring";
+    return false;
+}
+
+SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
+                               const Vec3& start_m, const RuntimeOptions& o)
+    : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)), cfg_(loop_config(spec, o.max_ticks)) {
+    if (!device_) throw Error("SessionRuntime: no haptic device");
+    choose_contour(o);
+    contourer_ = std::make_unique<compute::Contourer>(wp_.model);
+    const auto t0 = Clock::now();
+    if (gpu_contour_) {
+        tiles_initial_ = gpu_contour_->update_all();
+        wp_.model.clear_dirty();
+    } else {
+        tiles_initial_ = contourer_->update(wp_.model);
+    }
+    contour_s_ = seconds_since(t0);
+    ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
+    sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m, cfg_.contact.tool_radius_m,
+                                             haptics::max_point_distance_m(cfg_.tool_points));
+    sculpt_->use_backend(*booleans_.backend);
+    if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
+    if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
+    loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+}
+
+void SessionRuntime::choose_contour(const RuntimeOptions& o) {
+    const SculptOptions& s = o.sculpt;
+    gpu::Context* shared = o.render_context;
+    if (!shared && !s.cpu) {
+        // Demo and replay: one Context for the Booleans, the GPU contour and the final render.
+        gpu::ContextOptions gopt;
+        gopt.validation = s.validate;
+        try {
+            own_context_.emplace(gpu::Context::create(gopt));
+            shared = &*own_context_;
+        } catch (const Error&) {
+            // make_boolean_backend below says why the CPU runs
+        }
+    }
+    // A live renderer's Context is shared only for GPU contouring: on lavapipe one Context is one queue, so GPU
+    // Booleans on it would wait behind the frame in flight.
+    if (s.cpu_contour)
+        contour_reason_ = "--cpu-contour given";
+    else if (o.publish_meshes && o.mesh_form == MeshForm::kWhole)
+        contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
+    else if (!shared)
+        contour_reason_ = s.cpu ? "the Booleans run on the CPU" : "no Vulkan Context for the contour";
+    else if (!s.cpu && !s.gpu_contour) {
+        std::string why;  // a CPU implementation of Vulkan: the CPU contour is faster there
+        if (!gpu_contour_default(*shared, why)) contour_reason_ = why;
+    }
+    const bool share = shared && (own_context_ || contour_reason_.empty());
+    booleans_ = share ? make_boolean_backend_on(wp_.model, s.cpu, *shared) : make_boolean_backend(wp_.model, s.cpu, s.validate);
+    if (!contour_reason_.empty()) return;
+    if (!booleans_.backend->gpu_slabs()) {
+        contour_reason_ = "the Booleans run on the CPU";
+        return;
+    }
+    try {
+        gpu_contour_ = std::make_unique<GpuContourShare>(*shared, *booleans_.backend->gpu_slabs(), wp_.model);
+    } catch (const Error& e) {
+        contour_reason_ = std::string("the device cannot contour: ") + e.what();
+        // CPU contouring after all: with a live renderer the Booleans get a Context of their own again, so they
+        // do not wait behind the frames (nothing has been sculpted yet).
+        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, s.cpu, s.validate);
+    }
+}
+
+SessionRuntime::~SessionRuntime() {
+    try {
+        stop();
+    } catch (...) {  // a sculpt failure nobody asked about: the owner is going away
+    }
+}
+
+void SessionRuntime::start() {
+    if (started_) return;
+    started_ = true;
+    t_start_ = Clock::now();
+    sculpt_->start();
+    loop_->start();
+}
+
+void SessionRuntime::stop() {
+    if (!started_ || stopped_) return;
+    stopped_ = true;
+    loop_->stop();
+    session_s_ = seconds_since(t_start_);
+    sculpt_->stop();  // drains the ring, publishes the last surface; rethrows a failure
+}
+
+SessionRuntime::FinalMesh SessionRuntime::final_mesh() {
+    if (started_ && !stopped_) throw Error("SessionRuntime::final_mesh: call stop() first");
+    if (gpu_contour_) std::fill(wp_.model.tiles.dirty.begin(), wp_.model.tiles.dirty.end(), std::uint8_t{1});
+    contourer_->update(wp_.model);
+    return FinalMesh{contourer_->mesh(), contourer_->mesh_materials()};
+}
+
+void SessionRuntime::release_gpu_booleans() {
+    if (started_ && !stopped_) throw Error("SessionRuntime::release_gpu_booleans: call stop() first");
+    if (!gpu_contour_ && booleans_.backend && booleans_.backend->gpu_slabs()) booleans_.backend.reset();
+}
+
+std::uint32_t SessionRuntime::sculpt_validation_messages() const {
+    return booleans_.backend ? booleans_.backend->validation_messages() : 0u;
+}
+
+}  // namespace tridex::app

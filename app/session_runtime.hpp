@@ -1,0 +1,178 @@
+// app/session_runtime.hpp - one sculpting session's threads, built from one SessionSpec: the haptic loop on any
+// HapticDevice, the sculpt thread with its Boolean backend and contouring, and the hand-offs to a renderer
+// (DESIGN.md, "three threads, one direction of flow"). demo, replay and run all build their sessions here.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/boolean_backend.hpp"
+#include "app/gpu_contour_share.hpp"
+#include "app/sculpt_thread.hpp"
+#include "app/session_spec.hpp"
+#include "compute/contour_dual.hpp"
+#include "compute/tridexel.hpp"
+#include "core/active_surface.hpp"
+#include "core/spsc_ring.hpp"
+#include "core/tool_sample.hpp"
+#include "core/tri_mesh.hpp"
+#include "core/triple_buffer.hpp"
+#include "devices/haptic_device.hpp"
+#include "haptics/haptic_loop.hpp"
+
+namespace tridex::gpu {
+class Context;
+}
+
+namespace tridex::app {
+
+/// The placed, scan-converted workpiece.
+struct Workpiece {
+    std::string mesh_path;          ///< the file it came from
+    int resolution = 0;             ///< lattice cells along the longest side
+    Mat4 to_world{1.0};             ///< input mesh units -> world metres (uniform scale + translation)
+    double volume_mesh_m3 = 0.0;    ///< exact volume of the transformed input mesh
+    double volume_dexel_m3 = 0.0;   ///< tri-dexel volume right after scan conversion
+    double scan_s = 0.0;            ///< scan-conversion wall time, s
+    compute::TriDexel model;        ///< the tri-dexel solid (carved in place by the session)
+};
+
+/// Loads `mesh_path` (closed mesh), scales it so its longest side is stock_m and centres it on centre_m
+/// (world m), and scan-converts it at `resolution` cells along the longest side. Throws tridex::Error on a
+/// bad file, an impossible resolution, or a model that would not fit in memory.
+Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m);
+
+/// Where a session sculpts.
+struct SculptOptions {
+    bool cpu = false;       ///< --cpu: the CPU reference even when a Vulkan device exists
+    bool validate = false;  ///< Vulkan validation on the sculpting device
+    /// --cpu-contour: contour dirty tiles on the CPU even when the Booleans run on the GPU.
+    bool cpu_contour = false;
+    /// --gpu-contour: contour on the GPU even on a CPU Vulkan implementation (lavapipe), where the CPU
+    /// Contourer is faster and is the default (gpu_contour_default()).
+    bool gpu_contour = false;
+};
+
+/// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU
+/// implementation of Vulkan (VK_PHYSICAL_DEVICE_TYPE_CPU, e.g. Mesa lavapipe), where the GPU contour costs
+/// more than the CPU Contourer and, sharing one queue with the renderer, limits a live session to one sculpt
+/// step per frame. `reason` gets the why when false.
+bool gpu_contour_default(const gpu::Context& context, std::string& reason);
+
+/// How a SessionRuntime places its GPU work and hands its surface over.
+struct RuntimeOptions {
+    SculptOptions sculpt;  ///< CPU or GPU Booleans and contouring, validation
+    /// A live renderer's Context (tridex run). GPU contouring draws from buffers on it, so the Booleans run on
+    /// it when the dirty tiles are contoured on the GPU; otherwise they keep a Context of their own and do not
+    /// wait behind the frames. nullptr (demo, replay: the picture is drawn after the session): the runtime makes
+    /// one Context for the Booleans, the GPU contour and the final render (context()).
+    gpu::Context* render_context = nullptr;
+    /// Hand the contoured surface to a live renderer (latest_mesh()) at most once per mesh_interval_s (s), in
+    /// mesh_form; false: no mesh hand-off (the surface is read after stop(), final_mesh()).
+    bool publish_meshes = false;
+    MeshForm mesh_form = MeshForm::kTiles;
+    double mesh_interval_s = 1.0 / 60.0;
+    std::size_t max_ticks = 0;  ///< haptic tick records preallocated (recording stops when full)
+};
+
+/// One session's threads: the HapticLoop on `device` configured by loop_config(spec), the SculptThread applying
+/// the tool samples' swept volumes to the workpiece on the Boolean backend (GPU or CPU), publishing the active
+/// surface for the loop first and then re-contouring the dirty tiles (GPU or CPU), and the latest-value
+/// hand-offs a renderer reads. The model is a pure function of the device samples: the same samples give the
+/// same model whatever the backend and timing. Not movable (the threads hold references into it); one render
+/// thread may read latest_view() / latest_mesh().
+class SessionRuntime {
+public:
+    /// Prepares everything (backend and Contexts, the initial contour, the loop configuration) without starting
+    /// threads. `spec` must have device_origin_m set; start_m (world m) centres the first active-surface
+    /// snapshot. Throws tridex::Error for a bad spec (loop_config), a model that does not fit the GPU, or a
+    /// device whose profile the loop refuses.
+    SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
+                   const Vec3& start_m, const RuntimeOptions& options);
+    /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
+    ~SessionRuntime();
+    SessionRuntime(const SessionRuntime&) = delete;
+    SessionRuntime& operator=(const SessionRuntime&) = delete;
+
+    /// Starts the sculpt thread, then the haptic loop. Once only; later calls do nothing.
+    void start();
+    /// Stops the haptic loop (zero force to the device), then the sculpt thread, which drains every sample
+    /// and publishes the last surface. Rethrows a sculpt-thread failure. Idempotent.
+    void stop();
+    /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.
+    bool loop_running() const { return loop_->running(); }
+    /// True once start() was called.
+    bool started() const { return started_; }
+    /// The loop's counters (any time).
+    haptics::LoopStats loop_stats() const { return loop_->stats(); }
+    /// One record per tick (at most RuntimeOptions::max_ticks); valid after stop().
+    const std::vector<haptics::TickRecord>& records() const { return loop_->records(); }
+    /// The sculpt thread's counters; valid after stop().
+    const SculptStats& sculpt_stats() const { return sculpt_->stats(); }
+    /// The newest LoopView (one render thread).
+    const haptics::LoopView& latest_view() { return loop_->latest_view(); }
+    /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
+    const MeshFrame& latest_mesh() { return meshes_.latest(); }
+
+    /// The carved model as one closed mesh (world m) with a material id per vertex.
+    struct FinalMesh {
+        TriMesh mesh;
+        std::vector<std::uint8_t> materials;
+    };
+    /// After stop(): the CPU Contourer's mesh of the whole final model (on the GPU contour path every tile is
+    /// contoured again on the CPU), so demo, replay and run export the same bytes for the same model. Throws
+    /// tridex::Error while the threads run.
+    FinalMesh final_mesh();
+    /// After stop(), without a GPU contour: frees the GPU Booleans' model (large host memory on lavapipe) so a
+    /// final render on context() has room. Nothing changes on the GPU contour path.
+    void release_gpu_booleans();
+
+    const SessionSpec& spec() const { return spec_; }                     ///< what decides the model
+    const haptics::HapticLoopConfig& config() const { return cfg_; }      ///< loop_config(spec)
+    const devices::DeviceProfile& profile() const { return device_->profile(); }  ///< the device's
+    const Workpiece& workpiece() const { return wp_; }                    ///< the model (read after stop())
+    const BackendChoice& booleans() const { return booleans_; }           ///< where the Booleans run and why
+    /// The GPU contour a renderer draws (GpuContourShare::lock_frame), or nullptr when contouring on the CPU.
+    GpuContourShare* gpu_contour() { return gpu_contour_.get(); }
+    /// The Context the runtime made for the final render (render_context == nullptr and a Vulkan device);
+    /// nullptr otherwise.
+    gpu::Context* context() { return own_context_ ? &*own_context_ : nullptr; }
+    /// "gpu" or "cpu": where dirty tiles are contoured.
+    std::string contour_path() const { return gpu_contour_ ? "gpu" : "cpu"; }
+    /// Why contouring runs on the CPU ("" on the GPU path), e.g. "--cpu-contour given".
+    const std::string& contour_reason() const { return contour_reason_; }
+    std::size_t tiles_initial() const { return tiles_initial_; }  ///< tiles contoured before the session
+    double contour_s() const { return contour_s_; }               ///< initial contouring wall time, s
+    double session_s() const { return session_s_; }               ///< start() .. stop() wall time, s
+    /// Vulkan validation messages of the Booleans on a Context of their own (0 when they share one).
+    std::uint32_t sculpt_validation_messages() const;
+
+private:
+    void choose_contour(const RuntimeOptions& o);
+
+    SessionSpec spec_;
+    Workpiece wp_;
+    std::unique_ptr<devices::HapticDevice> device_;
+    haptics::HapticLoopConfig cfg_;
+    std::optional<gpu::Context> own_context_;  // before the Booleans and the contour: destroyed after them
+    BackendChoice booleans_;
+    std::unique_ptr<GpuContourShare> gpu_contour_;  // after booleans_ (its slabs), before sculpt_ (uses it)
+    std::string contour_reason_;
+    std::unique_ptr<compute::Contourer> contourer_;
+    std::unique_ptr<SpscRing<ToolSample>> ring_;
+    TripleBuffer<ActiveSurface> surface_;
+    TripleBuffer<MeshFrame> meshes_;
+    std::unique_ptr<SculptThread> sculpt_;
+    std::unique_ptr<haptics::HapticLoop> loop_;
+    std::size_t tiles_initial_ = 0;
+    double contour_s_ = 0.0, session_s_ = 0.0;
+    std::chrono::steady_clock::time_point t_start_{};
+    bool started_ = false, stopped_ = false;
+};
+
+}  // namespace tridex::app

@@ -1,0 +1,181 @@
+// app/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
+#include "app/session_spec.hpp"
+
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "devices/device_profiles.hpp"
+#include "haptics/tool_points.hpp"
+#include "haptics/workspace_mapping.hpp"
+
+namespace tridex::app {
+
+devices::DeviceProfile device_profile(const std::string& name) {
+    if (name == "omni") return devices::DeviceProfile::phantom_omni();
+    if (name == "wand") return devices::quanser_wand_5dof();
+    if (name == "6dof") return devices::generic_6dof();
+    throw Error("--device: unknown device '" + name + "'; use omni, wand or 6dof");
+}
+
+ToolOp parse_tool_op(const std::string& name) {
+    if (name == "subtract") return ToolOp::kSubtract;
+    if (name == "union") return ToolOp::kUnion;
+    if (name == "paint") return ToolOp::kPaint;
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union or paint");
+}
+
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks) {
+    if (s.material < 1 || s.material > 7)
+        throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
+    if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction))
+        throw Error("--friction: need 0 <= dynamic <= static, got static " + std::to_string(s.static_friction) +
+                    ", dynamic " + std::to_string(s.dynamic_friction));
+    if (s.tool.kind == ToolKind::kMesh)
+        throw Error("tool.shape: mesh tools are not yet available in sessions (only in the Boolean engine); use ball "
+                    "or flat_end");
+    haptics::HapticLoopConfig cfg;
+    cfg.period_s = s.period_s;
+    cfg.contact.stiffness_n_per_m = s.stiffness_n_per_m;
+    cfg.contact.damping_n_s_per_m = s.damping_n_s_per_m;
+    cfg.contact.tool_radius_m = s.tool.radius_m;
+    cfg.contact.static_friction = s.static_friction;
+    cfg.contact.dynamic_friction = s.dynamic_friction;
+    cfg.contact.cutting = s.cutting && parse_tool_op(s.op) == ToolOp::kSubtract;  // only removal resists
+    if (!s.materials.empty()) {
+        auto table = std::make_shared<haptics::MaterialTable>(haptics::Material{
+            s.stiffness_n_per_m, s.damping_n_s_per_m, s.static_friction, s.dynamic_friction});
+        for (std::size_t i = 0; i < s.materials.size(); ++i) {
+            const MaterialEntry& m = s.materials[i];
+            const std::string where = "materials[" + std::to_string(i) + "]";
+            if (m.id < 0 || m.id > 255) throw Error(where + ".id: must be 0..255, got " + std::to_string(m.id));
+            table->set(m.id, m.material);
+        }
+        cfg.contact.materials = std::move(table);
+    }
+    cfg.device_to_world.position = s.device_origin_m;
+    cfg.workspace_scale = s.workspace_scale;
+    cfg.workspace.mode = haptics::parse_workspace_mode(s.workspace_mode);
+    cfg.op = parse_tool_op(s.op);
+    cfg.material = static_cast<std::uint8_t>(s.material);
+    cfg.max_ticks = max_ticks;
+    cfg.tool = s.tool;
+    cfg.tool_points = haptics::tool_points_for(s.tool, s.points, "tool");
+    cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
+                                                 : haptics::MultiPointMode::kIndependentProxies;
+    return cfg;
+}
+
+namespace {
+
+using nlohmann::json;
+
+json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+std::string spec_to_json(const SessionSpec& s) {
+    json materials = json::array();
+    for (const MaterialEntry& m : s.materials)
+        materials.push_back({{"id", m.id},
+                             {"stiffness_n_per_m", m.material.stiffness_n_per_m},
+                             {"damping_n_s_per_m", m.material.damping_n_s_per_m},
+                             {"static_friction", m.material.static_friction},
+                             {"dynamic_friction", m.material.dynamic_friction}});
+    const json j{{"mesh_path", s.mesh_path},
+                 {"resolution", s.resolution},
+                 {"stock_m", s.stock_m},
+                 {"workpiece_centre_m", vec(s.workpiece_centre_m)},
+                 {"tool", {{"shape", to_string(s.tool.kind)}, {"radius_m", s.tool.radius_m}, {"length_m", s.tool.length_m}}},
+                 {"points", s.points},
+                 {"device_driver", s.device_driver},
+                 {"device", s.device},
+                 {"workspace_mode", s.workspace_mode},
+                 {"workspace_scale", s.workspace_scale},
+                 {"device_origin_m", vec(s.device_origin_m)},
+                 {"stiffness_n_per_m", s.stiffness_n_per_m},
+                 {"damping_n_s_per_m", s.damping_n_s_per_m},
+                 {"static_friction", s.static_friction},
+                 {"dynamic_friction", s.dynamic_friction},
+                 {"cutting", s.cutting},
+                 {"op", s.op},
+                 {"material", s.material},
+                 {"materials", materials},
+                 {"period_s", s.period_s}};
+    return j.dump();
+}
+
+SessionSpec spec_from_json(const std::string& text, const std::string& source) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw Error(source + ": settings are not JSON: " + e.what());
+    }
+    if (!j.is_object()) throw Error(source + ": settings must be a JSON object");
+    auto field = [&](const json& o, const std::string& name) -> const json& {
+        if (!o.is_object() || !o.contains(name)) throw Error(source + ": settings field '" + name + "' is missing");
+        return o.at(name);
+    };
+    auto get = [&](const json& o, const std::string& name, auto& out) {
+        try {
+            field(o, name).get_to(out);
+        } catch (const json::exception&) {
+            throw Error(source + ": settings field '" + name + "' has the wrong type");
+        }
+    };
+    auto get_vec = [&](const char* name, Vec3& out) {
+        const auto& a = field(j, name);
+        if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+            throw Error(source + ": settings field '" + name + "' must be [x, y, z]");
+        out = Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+    };
+    SessionSpec s;
+    get(j, "mesh_path", s.mesh_path);
+    get(j, "resolution", s.resolution);
+    get(j, "stock_m", s.stock_m);
+    get_vec("workpiece_centre_m", s.workpiece_centre_m);
+    if (j.contains("tool")) {
+        const json& t = j.at("tool");
+        std::string shape;
+        get(t, "shape", shape);
+        s.tool.kind = parse_tool_kind(shape, source + ": settings field 'tool.shape'");
+        get(t, "radius_m", s.tool.radius_m);
+        get(t, "length_m", s.tool.length_m);
+    } else {  // recordings made before tool shapes: a ball
+        s.tool = ToolShape{ToolKind::kBall, 0.0, 0.0, 0};
+        get(j, "tool_radius_m", s.tool.radius_m);
+    }
+    get(j, "points", s.points);
+    get(j, "device", s.device);
+    get(j, "workspace_mode", s.workspace_mode);
+    get(j, "workspace_scale", s.workspace_scale);
+    get_vec("device_origin_m", s.device_origin_m);
+    get(j, "stiffness_n_per_m", s.stiffness_n_per_m);
+    get(j, "damping_n_s_per_m", s.damping_n_s_per_m);
+    get(j, "static_friction", s.static_friction);
+    get(j, "dynamic_friction", s.dynamic_friction);
+    get(j, "cutting", s.cutting);
+    get(j, "period_s", s.period_s);
+    // Added later: recordings made before them sculpted with subtract, one material, the simulated driver.
+    if (j.contains("op")) get(j, "op", s.op);
+    if (j.contains("material")) get(j, "material", s.material);
+    if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
+    if (j.contains("materials")) {
+        const json& ms = j.at("materials");
+        if (!ms.is_array()) throw Error(source + ": settings field 'materials' must be an array");
+        for (const json& m : ms) {
+            MaterialEntry e;
+            get(m, "id", e.id);
+            get(m, "stiffness_n_per_m", e.material.stiffness_n_per_m);
+            get(m, "damping_n_s_per_m", e.material.damping_n_s_per_m);
+            get(m, "static_friction", e.material.static_friction);
+            get(m, "dynamic_friction", e.material.dynamic_friction);
+            s.materials.push_back(e);
+        }
+    }
+    return s;
+}
+
+}  // namespace tridex::app

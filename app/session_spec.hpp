@@ -1,0 +1,73 @@
+// app/session_spec.hpp - everything that decides a session's result, one type for every session: the
+// demo's flags and a scene file fill it, a recording carries it, and a replay rebuilds the same session.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "core/tool_shape.hpp"
+#include "devices/haptic_device.hpp"
+#include "haptics/haptic_loop.hpp"
+#include "haptics/materials.hpp"
+
+namespace tridex::app {
+
+/// One entry of a session's materials table: the contact parameters of a material id.
+struct MaterialEntry {
+    int id = 0;              ///< material id 0..255 (0 = the workpiece's own material; 1..7 the palette)
+    haptics::Material material;
+};
+
+/// Workpiece, tool, device and haptics settings of one session (SI units). The same spec always gives the
+/// same haptic loop configuration (loop_config) and, with the same device samples, the same model.
+struct SessionSpec {
+    std::string mesh_path;                   ///< workpiece file (absolute when recorded)
+    int resolution = 256;                    ///< lattice cells along the longest side
+    double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
+    Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m
+    /// The tool that cuts and touches (core/tool_shape.hpp); kMesh tools are not yet available in sessions.
+    ToolShape tool{ToolKind::kBall, 0.008, 0.0, 0};
+    /// Contact points over the tool (haptics::tool_points_for): ball 1 = its centre god-object, 3..64 an
+    /// interaction mesh; flat_end 1 = 32 points over it, 2 = the wand's two ends, 8..64 points over it.
+    int points = 1;
+    std::string device_driver = "simulated"; ///< device driver (simulated; replay when replaying)
+    std::string device = "omni";             ///< device profile: omni | wand | 6dof
+    std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
+    double workspace_scale = 1.0;            ///< device -> world gain
+    Vec3 device_origin_m{0.0};               ///< world position of the device workspace centre, m
+    double stiffness_n_per_m = 700.0;        ///< contact stiffness kp, N/m (0.7 N/mm, Omni-class)
+    double damping_n_s_per_m = 0.5;          ///< contact damping kd, N*s/m
+    double static_friction = 0.2;            ///< Coulomb static coefficient on the proxy
+    double dynamic_friction = 0.15;          ///< Coulomb dynamic coefficient (<= static)
+    bool cutting = true;                     ///< reaction force against the tool's advance while carving
+    double period_s = 1e-3;                  ///< haptic loop period, s
+    std::string op = "subtract";             ///< what the tool does: subtract | union | paint
+    int material = 1;                        ///< material id union adds and paint sets (1..7, the palette); cuts expose 0
+    /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
+    /// one material everywhere.
+    std::vector<MaterialEntry> materials;
+};
+
+/// The ToolOp named by `name` (subtract, union, paint); throws tridex::Error listing the names.
+ToolOp parse_tool_op(const std::string& name);
+
+/// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.
+devices::DeviceProfile device_profile(const std::string& name);
+
+/// The haptic loop configuration for this spec, with `max_ticks` records preallocated: contact from the
+/// stiffness, damping and friction (and the materials table when given), the tool and its contact points
+/// (haptics::tool_points_for; the interaction-mesh mode for more than two points), op and material. The
+/// same spec always gives the same configuration. Throws tridex::Error naming the field on an impossible
+/// value (points for the tool, friction order, unknown workspace mode, unknown op, material outside 1..7, a
+/// materials entry out of range).
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks);
+
+/// The spec as one line of JSON (for a recording's header notes).
+std::string spec_to_json(const SessionSpec& s);
+
+/// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
+/// materials); throws tridex::Error "<source>: settings field '<name>': ..." on a missing or ill-typed field.
+SessionSpec spec_from_json(const std::string& text, const std::string& source);
+
+}  // namespace tridex::app
