@@ -2,6 +2,8 @@
 PRESET ?= release
 BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
+# Extra cache settings for the configure step, e.g. CMAKE_ARGS=-DTRIDEX_WERROR=ON (what .ci/run uses).
+CMAKE_ARGS ?=
 
 .PHONY: all deps configure build demo test bench clean
 
@@ -12,12 +14,14 @@ deps:
 	bash scripts/install-deps.sh
 
 configure: deps
-	cmake --preset $(PRESET)
+	cmake --preset $(PRESET) $(CMAKE_ARGS)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo needs only the `tridex` binary (and the libraries it links), not the test programs.
+demo: configure
+	cmake --build $(BUILD) -j $(JOBS) --target tridex
 	$(BUILD)/app/tridex demo
 
 test: build

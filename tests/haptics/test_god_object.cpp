@@ -292,6 +292,9 @@ TEST(GodObject, RejectsBadParameters) {
 }
 
 TEST(GodObject, UpdateTakesMicroseconds) {
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "a microsecond bound means nothing in a sanitizer build (several times slower)";
+#endif
     const auto s = half_space_all_sets();
     for (const double r : {2e-3, 0.0}) {
         GodObject g(ContactParams{kKp, 0.5, r});

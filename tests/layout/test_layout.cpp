@@ -1,0 +1,154 @@
+// The module include rule of ../shared/DESIGN.md ("Includes point one way"), checked on every source file
+// of the module folders: an `#include "module/..."` the rule does not allow fails with file:line and the rule.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "tests/layout/include_rules.hpp"
+
+namespace tridex::layout {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The module folders scanned (DESIGN.md's top-level folders that hold code). bench/, when present, may
+// include what app/ may.
+const std::vector<std::string> kModuleFolders = {"core",     "gpu",     "devices", "haptics", "compute",
+                                                 "renderer", "shaders", "app",     "bench"};
+
+// Current breaks of the rule as written, kept so the test passes until the design or the code changes.
+// Each entry: file, included module, why. An entry that no longer occurs fails the test (remove it).
+struct Allowed {
+    const char* file;
+    const char* module;
+    const char* why;
+};
+const Allowed kAllowList[] = {
+    // shaders/ (embedded SPIR-V built from the GLSL) is not named in the rule; the Vulkan users fetch
+    // their SPIR-V modules from it through shaders/spirv.hpp.
+    {"compute/gpu_contourer.cpp", "shaders", "GPU contouring pipeline loads its SPIR-V (shaders/ not in the rule)"},
+    {"compute/gpu_sculptor.cpp", "shaders", "GPU Boolean pipeline loads its SPIR-V (shaders/ not in the rule)"},
+    {"renderer/stereo_pipeline.cpp", "shaders", "stereo pipelines load their SPIR-V (shaders/ not in the rule)"},
+};
+
+IncludeRules rules_for_tree() {
+    IncludeRules r = load_rules(TRIDEX_DESIGN_MD);
+    // bench/ may include what app/ may (it holds the benchmarks, beside the command line).
+    r.may["bench"] = r.may["app"];
+    r.never["bench"] = r.never["app"];
+    // core/ includes nothing but itself and its third-party vocabulary (GLM): no Vulkan, volk or GLFW
+    // either (core/CMakeLists.txt: "no Vulkan, no GLFW").
+    r.no_vulkan.insert("core");
+    return r;
+}
+
+bool is_source(const fs::path& p) {
+    static const std::set<std::string> ext = {".cpp",  ".hpp",  ".h",    ".cc",   ".inc",
+                                              ".glsl", ".comp", ".vert", ".frag", ".geom"};
+    return ext.count(p.extension().string()) > 0;
+}
+
+std::string read(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+const std::set<std::string> kModules(kModuleFolders.begin(), kModuleFolders.end());
+
+TEST(LayoutRule, ParsedFromTheDesignText) {
+    const IncludeRules r = load_rules(TRIDEX_DESIGN_MD);
+    std::cout << "include rule from: " << r.source << "\n" << r.rule_text << "\n";
+    RecordProperty("rule_source", r.source);
+    // The rule as written: app -> {renderer, compute, haptics, devices} -> {gpu, core};
+    // haptics -> devices -> core; haptics and devices never include gpu/ or Vulkan headers.
+    EXPECT_TRUE(r.allows("app", "renderer"));
+    EXPECT_TRUE(r.allows("app", "gpu"));
+    EXPECT_TRUE(r.allows("app", "core"));
+    EXPECT_TRUE(r.allows("compute", "gpu"));
+    EXPECT_TRUE(r.allows("renderer", "gpu"));
+    EXPECT_TRUE(r.allows("haptics", "devices"));
+    EXPECT_TRUE(r.allows("devices", "core"));
+    EXPECT_TRUE(r.allows("gpu", "core"));  // core/ is the vocabulary every module shares
+    EXPECT_FALSE(r.allows("core", "gpu"));
+    EXPECT_FALSE(r.allows("gpu", "compute"));
+    EXPECT_FALSE(r.allows("renderer", "compute"));
+    EXPECT_FALSE(r.allows("compute", "app"));
+    EXPECT_FALSE(r.allows("devices", "haptics"));
+    EXPECT_FALSE(r.allows("haptics", "gpu"));
+    EXPECT_FALSE(r.allows("devices", "gpu"));
+    EXPECT_TRUE(r.no_vulkan.count("haptics"));
+    EXPECT_TRUE(r.no_vulkan.count("devices"));
+}
+
+TEST(LayoutRule, FallbackCopyIsUsedOnlyWhenDesignIsAbsentAndSaysSo) {
+    const IncludeRules r = load_rules("/nonexistent/DESIGN.md");
+    EXPECT_NE(r.source.find("fallback"), std::string::npos) << r.source;
+    EXPECT_FALSE(r.allows("haptics", "gpu"));
+    EXPECT_TRUE(r.allows("app", "core"));
+    EXPECT_THROW(parse_rules("no rule here", "synthetic"), std::runtime_error);
+}
+
+TEST(LayoutRule, SyntheticViolatingIncludesAreRejected) {
+    const IncludeRules r = rules_for_tree();
+    const std::string text =
+        "// haptics must not see the GPU\n"
+        "#include \"core/units.hpp\"\n"
+        "#include \"devices/haptic_device.hpp\"\n"
+        "#include \"gpu/context.hpp\"\n"
+        "#  include <vulkan/vulkan.h>\n"
+        "#include \"app/session.hpp\"\n";
+    const auto v = check_source(r, "haptics", "haptics/synthetic.cpp", text, kModules);
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_EQ(v[0].line, 4);
+    EXPECT_EQ(v[0].module, "gpu");
+    EXPECT_NE(v[0].rule.find("never"), std::string::npos) << v[0].rule;
+    EXPECT_EQ(v[1].line, 5);
+    EXPECT_EQ(v[1].module, "vulkan");
+    EXPECT_EQ(v[2].line, 6);
+    EXPECT_EQ(v[2].module, "app");
+    // core includes nothing else; renderer may not include compute as the rule is written.
+    EXPECT_EQ(check_source(r, "core", "core/x.hpp", "#include \"gpu/context.hpp\"\n", kModules).size(), 1u);
+    EXPECT_EQ(check_source(r, "core", "core/x.hpp", "#include <GLFW/glfw3.h>\n", kModules).size(), 1u);
+    EXPECT_EQ(check_source(r, "renderer", "renderer/x.cpp", "#include \"compute/tridexel.hpp\"\n", kModules).size(),
+              1u);
+    EXPECT_TRUE(
+        check_source(r, "app", "app/x.cpp", "#include \"renderer/a.hpp\"\n#include \"gpu/b.hpp\"\n", kModules).empty());
+}
+
+TEST(LayoutRule, EverySourceFileFollowsTheIncludeRule) {
+    const IncludeRules r = rules_for_tree();
+    std::cout << "include rule from: " << r.source << "\n";
+    const fs::path root = TRIDEX_SOURCE_DIR;
+    std::map<std::pair<std::string, std::string>, int> allow_hits;
+    for (const auto& a : kAllowList) allow_hits[{a.file, a.module}] = 0;
+    int files = 0;
+    for (const auto& module : kModuleFolders) {
+        if (!fs::is_directory(root / module)) continue;
+        for (const auto& e : fs::recursive_directory_iterator(root / module)) {
+            if (!e.is_regular_file() || !is_source(e.path())) continue;
+            ++files;
+            const std::string rel = fs::relative(e.path(), root).generic_string();
+            for (const auto& v : check_source(r, module, rel, read(e.path()), kModules)) {
+                if (auto it = allow_hits.find({v.file, v.module}); it != allow_hits.end()) {
+                    ++it->second;
+                    std::cout << "allow-listed: " << v.file << ":" << v.line << ": #include \"" << v.included
+                              << "\" breaks " << v.rule << "\n";
+                    continue;
+                }
+                ADD_FAILURE() << v.file << ":" << v.line << ": #include \"" << v.included << "\" breaks " << v.rule;
+            }
+        }
+    }
+    EXPECT_GT(files, 50) << "scanned too few files under " << root;
+    for (const auto& [key, hits] : allow_hits)
+        EXPECT_GT(hits, 0) << "allow-list entry " << key.first << " -> " << key.second
+                           << " no longer occurs: remove it from tests/layout/test_layout.cpp";
+}
+
+}  // namespace
+}  // namespace tridex::layout
