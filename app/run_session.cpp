@@ -21,13 +21,13 @@
 #include "compute/volume.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/frame_sequencer.hpp"
 #include "renderer/head_pose.hpp"
-#include "renderer/image.hpp"
+#include "renderer/offscreen_sink.hpp"
 #include "renderer/scene_navigation.hpp"
 #include "renderer/stereo_renderer.hpp"
+#include "renderer/stereo_sink.hpp"
 #include "renderer/window_glfw.hpp"
-#include "renderer/window_presenter.hpp"
+#include "renderer/window_sink.hpp"
 
 namespace tridex::app {
 
@@ -127,7 +127,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     const bool offscreen = su.display == DisplayKind::kOffscreen;
     const int eye_w = dc.width_px, eye_h = dc.height_px;
 
-    // 1. GPU, window and presenter: refuses what the display cannot show before any other work.
+    // 1. GPU, window and stereo sink: refuses what the display cannot show before any other work.
     // GLFW stays initialised from the first query (window_context_options) until `glfw_scope` ends, after
     // the Context and the window: one X connection for every Vulkan instance that asked about it.
     std::optional<renderer::WindowSystemScope> glfw_scope;
@@ -147,21 +147,13 @@ RunResult run_stereo_session(const RunOptions& options) {
         wo.monitor_name = su.monitor_name;
         window.emplace(renderer::Window::create(wo));
     }
-    std::optional<renderer::WindowPresenter> presenter;  // destroyed before the Context
-    if (!offscreen) {
-        renderer::PresenterOptions po;
-        po.output = output;
-        po.vsync = true;
-        po.swap_eyes = su.swap_eyes;
-        po.refresh_hz = dc.refresh_hz;
-        presenter.emplace(renderer::WindowPresenter::create(ctx, *window, po));
-        r.present_mode = presenter->present_mode();
-    } else {
-        r.present_mode = "offscreen";
-        if (output == StereoOutput::kQuad)
-            r.notes.push_back("quad offscreen: the two layers are written as left.png (layer 0) and right.png "
-                              "(layer 1); output.png shows layer 0");
-    }
+    // The stereo output's policy (eyes, sequencing, composition, presents, files); destroyed before the Context.
+    const renderer::SinkOptions sink_options{output, su.swap_eyes, dc.anaglyph, dc.refresh_hz};
+    const std::unique_ptr<renderer::StereoSink> sink =
+        offscreen ? std::unique_ptr<renderer::StereoSink>(std::make_unique<renderer::OffscreenSink>(ctx, sink_options))
+                  : renderer::WindowSink::create(ctx, *window, sink_options);
+    r.present_mode = sink->present_mode();
+    for (const std::string& note : sink->notes()) r.notes.push_back(note);
     renderer::OffscreenStereoRenderer rend = renderer::OffscreenStereoRenderer::create(ctx, eye_w, eye_h);
     r.device = ctx.device_name();
     r.eye_strategy = rend.strategy_note();
@@ -174,7 +166,6 @@ RunResult run_stereo_session(const RunOptions& options) {
     renderer::MouseNavigation mouse = renderer::MouseNavigation::for_screen(dc.screen, eye_w);
     mouse.pivot_m = scene.spec.workpiece_centre_m;
     RunInput input(km, nav, mouse);
-    renderer::FrameSequencer sequencer(dc.refresh_hz, su.swap_eyes);  // offscreen frame-sequential
 
     // 3. The sculpting threads.
     // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
@@ -196,10 +187,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     backend.runtime().start();
 
     // 4. The render loop, on this thread.
-    const bool both = renderer::needs_both_eyes(output);
-    const double sep = both ? dc.eye_separation_m : 0.0;
-    const double frame_period_s = (output == StereoOutput::kFrameSequential ? 2.0 : 1.0) / dc.refresh_hz;
-    renderer::StereoImages eyes;
+    const double frame_period_s = sink->presents_per_frame() / dc.refresh_hz;
     bool swap = su.swap_eyes;
     // Overlay numbers: haptic ticks/s over the last second of loop time, sculpt steps/s over the last second
     // of wall time (from the published frames), and the previous frame's wall time.
@@ -217,7 +205,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 renderer::InputEvent e;
                 while (window->input().pop(e)) input.handle(e);
                 for (int k = input.take_swap_toggles(); k > 0; --k) swap = !swap;
-                presenter->set_swap_eyes(swap);
+                sink->set_swap_eyes(swap);
                 if (window->should_close() || input.close_requested()) break;
             }
             const double t = seconds_since(t_render);
@@ -266,7 +254,6 @@ RunResult run_stereo_session(const RunOptions& options) {
             view.tiles = tiles;
             if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;
-            view.eye_count = both ? 2 : 1;
             if (su.items) {
                 if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
                 sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
@@ -274,36 +261,16 @@ RunResult run_stereo_session(const RunOptions& options) {
                 add_run_items(view, lv, scene.spec.tool.radius_m, kForceMetresPerNewton,
                               RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms});
             }
-            const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), sep, nav);
+            const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);
 
             const auto t0 = Clock::now();
             if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
             prev_start = t0;
-            if (offscreen) {
-                if (last)
-                    eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
-                else
-                    rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
-                if (contour_lock) contour_lock.unlock();
-                if (output == StereoOutput::kFrameSequential) {
-                    for (int k = 0; k < 2; ++k) r.last_eye = sequencer.present();
-                    r.presents += 2;
-                } else {
-                    r.presents += 1;
-                }
-            } else if (output == StereoOutput::kAnaglyph) {
-                eyes = rend.render(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
-                if (contour_lock) contour_lock.unlock();
-                renderer::ComposeOptions co;
-                co.swap_eyes = swap;
-                co.anaglyph = dc.anaglyph;
-                r.presents += presenter->present_composed(renderer::compose(output, eyes.left, eyes.right, co));
-            } else {
-                rend.draw(view, cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m);
-                if (contour_lock) contour_lock.unlock();
-                r.presents += presenter->present(rend);
-                if (output == StereoOutput::kFrameSequential) r.last_eye = presenter->last_eye();
-            }
+            sink->draw(rend, view,
+                       renderer::StereoCamera{cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m});
+            if (contour_lock) contour_lock.unlock();
+            r.presents += sink->present(rend);
+            r.last_eye = sink->last_eye();
             prev_frame_ms = ms_between(t0, Clock::now());
             r.frame_ms.add(prev_frame_ms);
             r.gpu_ms.add(rend.last_gpu_ms());
@@ -336,7 +303,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.sculpt = backend.runtime().sculpt_stats();
     r.session_s = backend.runtime().session_s();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
-    if (presenter) r.present_timings = presenter->timings().to_json();
+    r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();
     r.tool = tool_json(r.spec);
     r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
@@ -345,19 +312,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // 5. Outputs.
     fs::create_directories(su.out);
     const fs::path out(su.out);
-    if (offscreen) {
-        renderer::ComposeOptions co;
-        co.swap_eyes = su.swap_eyes;
-        co.anaglyph = dc.anaglyph;
-        if (output == StereoOutput::kFrameSequential)
-            co.eye_slot = sequencer.shutter_for_present(sequencer.presents() - 1);
-        const renderer::Image shown = renderer::compose(output, eyes.left, eyes.right, co);
-        for (const auto& [name, img] : {std::pair<const char*, const renderer::Image*>{"left.png", &eyes.left},
-                                        {"right.png", &eyes.right}, {"output.png", &shown}}) {
-            renderer::write_png((out / name).string(), *img);
-            r.files.push_back((out / name).string());
-        }
-    }
+    for (std::string& file : sink->finish(rend, out.string())) r.files.push_back(std::move(file));
     // The carved model as a closed mesh (the CPU contour of the final model, as demo and replay write it), and
     // the recording.
     {

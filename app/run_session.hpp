@@ -111,12 +111,13 @@ struct RunResult {
 /// maxImageArrayLayers < 2) is refused before any work, then the workpiece, the haptic loop and sculpt thread
 /// (SculptBackend), and the render loop on the calling thread (GLFW needs the main thread) at the display's
 /// rate: per frame the newest mesh and LoopView, the head pose at session time, the navigated off-axis camera,
-/// and the stereo output (window: WindowPresenter, vsync; anaglyph composed on the CPU; offscreen: the same
-/// passes, frame-sequential eyes sequenced by a FrameSequencer). The loop ends on Esc / window close,
+/// and the stereo sink (renderer/stereo_sink.hpp), which owns the output's policy (window: WindowSink, vsync,
+/// anaglyph composed on the GPU; offscreen: OffscreenSink, the same passes, frame-sequential eyes sequenced by a
+/// FrameSequencer). The loop ends on Esc / window close,
 /// --frames, --seconds, or (offscreen without limits) the end of the stroke. Writes report.json (run_report.hpp)
 /// into the output folder, and offscreen left.png, right.png (each eye's last frame; mono: the one view in both;
-/// quad: the two layers) and output.png (compose(): what the display shows; frame-sequential: the last
-/// presented eye; quad: layer 0). Throws tridex::Error on bad options or scene, no usable Vulkan device or
+/// quad: the two layers) and output.png (what the display shows: compose(), anaglyph from the GPU pass;
+/// frame-sequential: the last presented eye; quad: layer 0). Throws tridex::Error on bad options or scene, no usable Vulkan device or
 /// display, an unsupported output, or a sculpt-thread failure.
 RunResult run_stereo_session(const RunOptions& options);
 

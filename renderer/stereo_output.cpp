@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "renderer/anaglyph_tables.hpp"
 
 namespace tridex::renderer {
 namespace {
@@ -74,53 +75,14 @@ BoxTaps box_taps(int from, int to) {
     return taps;
 }
 
-/// sRGB decoding (IEC 61966-2-1) of an 8-bit value, 0..1 linear light.
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-
-/// Lookup tables for the Dubois anaglyph, which mixes linear light: decoding of the 256 stored values; the 255
-/// linear-light thresholds between successive 8-bit codes, thresholds[k] = decode((k + 0.5) / 255), so that
-/// encoding with rounding, round(encode(v) * 255), is the number of thresholds <= v (encode is monotonic); and a
-/// 2^16-bin index giving that count at each bin's start. Thresholds are >= 3e-4 apart (the steepest part of the
-/// curve, slope 12.92 near 0) and a bin is 1.5e-5 wide, so a bin holds at most one threshold: one compare
-/// after the lookup gives the exact count.
-struct SrgbTables {
-    static constexpr int kBins = 1 << 16;
-    std::array<double, 256> to_linear{};
-    std::array<double, 255> thresholds{};
-    std::vector<std::uint8_t> code_at_bin;
-    SrgbTables() : code_at_bin(kBins + 1) {
-        for (int i = 0; i < 256; ++i) to_linear[i] = srgb_to_linear(i / 255.0);
-        for (int k = 0; k < 255; ++k) thresholds[k] = srgb_to_linear((k + 0.5) / 255.0);
-        for (int b = 0; b <= kBins; ++b)
-            code_at_bin[b] = static_cast<std::uint8_t>(
-                std::upper_bound(thresholds.begin(), thresholds.end(), static_cast<double>(b) / kBins) -
-                thresholds.begin());
-    }
-    /// round(encode(v) * 255) for linear v, clamped to 0..255 (v <= 0 -> 0, v >= 1 -> 255).
-    std::uint8_t encode(double v) const {
-        if (!(v > 0.0)) return 0;
-        if (v >= 1.0) return 255;
-        std::uint8_t code = code_at_bin[static_cast<int>(v * kBins)];
-        if (code < 255 && v >= thresholds[code]) ++code;
-        return code;
-    }
-};
-
-// Dubois red-cyan least-squares matrices (row = output channel r, g, b; column = input r, g, b).
-constexpr double kDuboisLeft[3][3] = {{0.456100, 0.500484, 0.176381},
-                                      {-0.0400822, -0.0378246, -0.0157589},
-                                      {-0.0152161, -0.0205971, -0.00546856}};
-constexpr double kDuboisRight[3][3] = {{-0.0434706, -0.0879388, -0.00155529},
-                                       {0.378476, 0.73364, -0.0184503},
-                                       {-0.0721527, -0.112961, 1.2264}};
-
 /// Rec. 601 luma of an 8-bit RGB pixel, rounded half up, in exact integer arithmetic.
 std::uint8_t luma601(const std::uint8_t* p) {
     return static_cast<std::uint8_t>((299 * p[0] + 587 * p[1] + 114 * p[2] + 500) / 1000);
 }
 
 Image anaglyph(const Image& left, const Image& right, AnaglyphMethod method) {
-    static const SrgbTables tables;
+    const SrgbCodeTables& tables = srgb_code_tables();
+    const AnaglyphMatrices& m = dubois_matrices();
     Image out = blank(left.width, left.height);
     const std::size_t n = out.rgba.size();
     const std::uint8_t* l = left.rgba.data();
@@ -133,8 +95,8 @@ Image anaglyph(const Image& left, const Image& right, AnaglyphMethod method) {
             const double rl[3] = {tables.to_linear[r[i]], tables.to_linear[r[i + 1]], tables.to_linear[r[i + 2]]};
             for (int c = 0; c < 3; ++c) {
                 double v = 0.0;
-                for (int k = 0; k < 3; ++k) v += kDuboisLeft[c][k] * ll[k] + kDuboisRight[c][k] * rl[k];
-                o[i + c] = tables.encode(v);  // below 0 -> 0, above 1 -> 255
+                for (int k = 0; k < 3; ++k) v += m.left[c][k] * ll[k] + m.right[c][k] * rl[k];
+                o[i + c] = srgb_encode_code(v);  // below 0 -> 0, above 1 -> 255
             }
             break;
         }

@@ -76,6 +76,7 @@ struct OffscreenStereoRenderer::Impl {
     std::uint64_t frames = 0;
     double gpu_ms = -1.0;
     FrameStats last;
+    int last_eye_count = 2;
 
     ~Impl() {
         try {
@@ -135,6 +136,7 @@ std::string OffscreenStereoRenderer::strategy_note() const { return impl_->note;
 int OffscreenStereoRenderer::width() const { return impl_->target->width(); }
 int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
 VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
+VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->target->colour_array_view(); }
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
 double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
 const FrameStats& OffscreenStereoRenderer::last_frame_stats() const { return impl_->last; }
@@ -144,10 +146,16 @@ std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_
 
 StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
                                              double eye_separation_m, double near_m, double far_m) {
-    FrameStats stats = draw(scene, screen, head, eye_separation_m, near_m, far_m);
-    Image left = impl_->target->read_layer(0);
-    Image right = scene.eye_count == 1 ? left : impl_->target->read_layer(1);
-    return StereoImages{std::move(left), std::move(right), std::move(stats)};
+    draw(scene, screen, head, eye_separation_m, near_m, far_m);
+    return last_images();
+}
+
+StereoImages OffscreenStereoRenderer::last_images() const {
+    const Impl& im = *impl_;
+    if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
+    Image left = im.target->read_layer(0);
+    Image right = im.last_eye_count == 1 ? left : im.target->read_layer(1);
+    return StereoImages{std::move(left), std::move(right), im.last};
 }
 
 FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
@@ -337,6 +345,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         stats.passes = {PassTime{"frame", -1, cpu_ms}};
     }
     im.last = stats;
+    im.last_eye_count = eye_count;
     return stats;
 }
 

@@ -128,11 +128,18 @@ public:
               double near_m = 0.05, double far_m = 20.0);
 
     /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
-    /// usage COLOR_ATTACHMENT | TRANSFER_SRC). After render()/draw() it holds the last frame in
+    /// usage COLOR_ATTACHMENT | TRANSFER_SRC | SAMPLED). After render()/draw() it holds the last frame in
     /// VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL and the GPU is done with it; callers may record transfer reads
     /// (blits, copies) of it in later submissions on the Context's queue, which the next frame's render pass
     /// waits for (its external subpass dependency covers transfer reads). Do not change its layout.
     VkImage colour_image() const;
+    /// A 2D_ARRAY view of colour_image()'s two layers (the image is also SAMPLED). To sample it, move the image
+    /// to SHADER_READ_ONLY_OPTIMAL and back to TRANSFER_SRC_OPTIMAL in the same submission (AnaglyphPass).
+    VkImageView colour_array_view() const;
+    /// The last frame's eyes as read back by its draw()/render() (every frame copies them to a host buffer),
+    /// as render() returns them (mono: the one eye as both) with last_frame_stats(). Throws tridex::Error
+    /// before the first frame.
+    StereoImages last_images() const;
     /// Frames rendered so far by render()/draw() (0: colour_image() holds no frame and is in UNDEFINED layout).
     std::uint64_t frames_rendered() const;
     /// GPU time of the last frame's recorded work (render passes of both eyes and the readback copy), ms,

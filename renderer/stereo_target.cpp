@@ -42,7 +42,7 @@ StereoTarget StereoTarget::create(const gpu::Context& context, const StereoPipel
     info.height = static_cast<std::uint32_t>(height);
     info.layers = 2;
     info.format = kStereoColourFormat;
-    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     info.aspect = VK_IMAGE_ASPECT_COLOR_BIT;
     t.colour_ = gpu::ImageArray::create(context, info);
     info.format = kStereoDepthFormat;

@@ -12,7 +12,7 @@
 
 namespace tridex::renderer {
 
-/// Colour (RGBA8, layer 0 = left eye, layer 1 = right eye) and depth (D32) 2-layer images of
+/// Colour (RGBA8, layer 0 = left eye, layer 1 = right eye; attachment, transfer source and sampled) and depth (D32) 2-layer images of
 /// width x height pixels, the framebuffers `pipeline`'s strategy needs (pass-per-eye: one per layer over
 /// single-layer views; multiview: one over the array views with 1 layer; instanced-layer: one over the
 /// array views with 2 layers), and a host buffer the colour layers are copied into for readback.
@@ -27,6 +27,8 @@ public:
     /// Framebuffers, in the order of the render pass instances of one frame (1 or 2).
     const std::vector<gpu::UniqueFramebuffer>& framebuffers() const { return framebuffers_; }
     VkImage colour_image() const { return colour_.handle(); }
+    /// A 2D_ARRAY view of both colour layers (for sampling the eyes, e.g. the anaglyph pass).
+    VkImageView colour_array_view() const { return colour_.array_view(); }
     VkBuffer readback_buffer() const { return readback_.handle(); }
     /// Layer `layer` (0 or 1) of the last frame copied to readback_buffer(), as an Image.
     /// Valid after the frame's submission has completed.

@@ -49,7 +49,8 @@ BlitPlan plan_blits(StereoOutput output, int width, int height, bool swap_eyes, 
         case StereoOutput::kAnaglyph: break;
     }
     throw Error("plan_blits: stereo output '" + std::string(to_string(output)) +
-                "' mixes pixels and has no blit plan; compose() it on the CPU and present the result");
+                "' mixes pixels and has no blit plan; compose it (AnaglyphPass on the GPU, compose() on the CPU) "
+                "and present the result");
 }
 
 std::pair<int, int> eye_size_for(StereoOutput output, int width, int height) {

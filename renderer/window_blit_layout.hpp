@@ -32,8 +32,8 @@ struct BlitPlan {
 /// - kFrameSequential: eye `frame_eye` (FrameSequencer::eye_for_present) over the whole image;
 /// - kMono: the left eye (the one rendered view) over the whole image.
 /// With swap_eyes the two eyes exchange places (not for kMono, and not for kFrameSequential, whose
-/// frame_eye already includes the swap). kAnaglyph has no blit plan (per-pixel mixing: compose() on the
-/// CPU, then WindowPresenter::present_composed). Throws tridex::Error for kAnaglyph, a size < 1 (or < 2 in
+/// frame_eye already includes the swap). kAnaglyph has no blit plan (per-pixel mixing: an AnaglyphPass
+/// with WindowPresenter::present_image, or compose() on the CPU with present_composed). Throws tridex::Error for kAnaglyph, a size < 1 (or < 2 in
 /// the split direction), or frame_eye not 0 or 1.
 BlitPlan plan_blits(StereoOutput output, int width, int height, bool swap_eyes = false, int frame_eye = 0);
 

@@ -330,8 +330,8 @@ WindowPresenter& WindowPresenter::operator=(WindowPresenter&&) noexcept = defaul
 int WindowPresenter::present(const OffscreenStereoRenderer& renderer) {
     Impl& im = *impl_;
     if (im.options.output == StereoOutput::kAnaglyph)
-        throw Error("window: the anaglyph output mixes pixels on the CPU: compose(StereoOutput::kAnaglyph, left, "
-                    "right) and call present_composed()");
+        throw Error("window: the anaglyph output mixes pixels: record an AnaglyphPass with present_image(), or "
+                    "compose(StereoOutput::kAnaglyph, left, right) on the CPU and call present_composed()");
     if (renderer.frames_rendered() == 0)
         throw Error("window: present() before the renderer has rendered a frame (call render() or draw() first)");
     im.timings.render_gpu_ms.add(renderer.last_gpu_ms());
@@ -397,21 +397,32 @@ int WindowPresenter::present_composed(const Image& image) {
     }
     im.staging.write(image.rgba.data(), bytes);
     const VkImage up = im.upload.handle();
+    return present_image(up, image.width, image.height, [&](VkCommandBuffer cmd) {
+        // Earlier blits from `up` are complete (each present waits for its command buffer), so its old
+        // contents may be discarded.
+        image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                      VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+        VkBufferImageCopy copy{};
+        copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        copy.imageExtent = {static_cast<std::uint32_t>(image.width), static_cast<std::uint32_t>(image.height), 1};
+        vkCmdCopyBufferToImage(cmd, im.staging.handle(), up, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+        image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT);
+    });
+}
+
+int WindowPresenter::present_image(VkImage image, int width, int height,
+                                   const std::function<void(VkCommandBuffer)>& record_first) {
+    Impl& im = *impl_;
+    if (image == VK_NULL_HANDLE || width < 1 || height < 1)
+        throw Error("window: present_image: the image is null or its size " + std::to_string(width) + "x" +
+                    std::to_string(height) + " is below 1x1");
     const bool shown = im.present_one(
         [&](VkCommandBuffer cmd, VkImage dst, VkExtent2D e) {
-            // Earlier blits from `up` are complete (each present waits for its command buffer), so its old
-            // contents may be discarded.
-            image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-            VkBufferImageCopy copy{};
-            copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            copy.imageExtent = {static_cast<std::uint32_t>(image.width), static_cast<std::uint32_t>(image.height), 1};
-            vkCmdCopyBufferToImage(cmd, im.staging.handle(), up, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-            image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_PIPELINE_STAGE_TRANSFER_BIT);
+            if (record_first) record_first(cmd);
             for (std::uint32_t layer = 0; layer < im.swapchain.layers(); ++layer)
-                blit(cmd, up, image.width, image.height, 0, dst, layer, 0, 0, static_cast<int>(e.width),
+                blit(cmd, image, width, height, 0, dst, layer, 0, 0, static_cast<int>(e.width),
                      static_cast<int>(e.height));
         },
         {});

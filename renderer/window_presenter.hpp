@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include <vulkan/vulkan.h>
@@ -35,8 +36,9 @@ struct PresenterOptions {
 /// quad = a 2-layer swapchain (only when the surface reports maxImageArrayLayers >= 2), frame-sequential =
 /// the two eyes on two successive presents (FrameSequencer: hook naming the shutter, swap-eyes switch),
 /// side-by-side / top-bottom (full or half) = two blits into halves (scaled with a linear filter when the
-/// sizes differ), mono = the left layer. Anaglyph mixes pixels: compose() it on the CPU and hand the result
-/// to present_composed(), which uploads and blits it (a GPU anaglyph pass is not implemented).
+/// sizes differ), mono = the left layer. Anaglyph mixes pixels: an AnaglyphPass recorded into the present
+/// (present_image() with record_first) composes it on the GPU; a CPU-composed image goes through
+/// present_composed(), which uploads and blits it.
 /// The swapchain is recreated when the window's framebuffer size changes or presentation reports it
 /// out of date; nothing is presented while the window is minimised (size 0).
 /// Each present is one command buffer (timestamped: blit_gpu_ms) submitted after the image is acquired;
@@ -65,6 +67,14 @@ public:
     /// (every layer; scaled with a linear filter when the sizes differ). Returns 1, or 0 while minimised.
     /// Throws tridex::Error for an empty or inconsistent image or on a Vulkan failure.
     int present_composed(const Image& image);
+    /// Blits `image` (single layer, width x height, RGBA8 UNORM, TRANSFER_SRC usage) over the whole swapchain
+    /// image (every layer; linear filter when the sizes differ). `record_first`, when set, is recorded into the
+    /// present's command buffer before the blit (outside a render pass) and must leave `image` written and in
+    /// TRANSFER_SRC_OPTIMAL (e.g. AnaglyphPass::record); without it `image` must already be so from a finished
+    /// submission. Returns 1, or 0 while minimised. Throws tridex::Error for a null image or a size < 1, or
+    /// on a Vulkan failure (and whatever record_first throws).
+    int present_image(VkImage image, int width, int height,
+                      const std::function<void(VkCommandBuffer)>& record_first = {});
 
     StereoOutput output() const;            ///< the output shown
     FrameSequencer& sequencer();            ///< frame-sequential eye order, emitter hook (on_eye) and swap switch

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "gpu/swapchain.hpp"
+#include "renderer/anaglyph_pass.hpp"
 #include "renderer/image_compare.hpp"
 #include "renderer/stereo_output.hpp"
 #include "renderer/stereo_renderer.hpp"
@@ -201,7 +202,7 @@ TEST(WindowSmoke, PresentsEveryWorkingOutputAndRefusesQuad) {
         EXPECT_EQ(p.presents(), 6u);
     }
 
-    // Anaglyph: composed on the CPU (compose), uploaded and blitted 1:1 - exact.
+    // Anaglyph: composed on the CPU (compose), uploaded and blitted 1:1 - exact; or on the GPU.
     {
         PresenterOptions po;
         po.output = StereoOutput::kAnaglyph;
@@ -211,6 +212,12 @@ TEST(WindowSmoke, PresentsEveryWorkingOutputAndRefusesQuad) {
         const Image composed = compose(StereoOutput::kAnaglyph, eyes.left, eyes.right);
         for (int i = 0; i < 2; ++i) EXPECT_EQ(p.present_composed(composed), 1);
         expect_rgb_near(p.last_capture(), composed, 0, "window_anaglyph");
+        // The GPU anaglyph pass recorded into the present's command buffer (as WindowSink does): within 1 code.
+        AnaglyphPass pass = AnaglyphPass::create(ctx, kEyeW, kEyeH);
+        const auto record = [&](VkCommandBuffer cmd) { pass.record(cmd, renderer, AnaglyphMethod::kDubois, false); };
+        for (int i = 0; i < 2; ++i) EXPECT_EQ(p.present_image(pass.image(), kEyeW, kEyeH, record), 1);
+        expect_rgb_near(p.last_capture(), composed, 1, "window_anaglyph_gpu");
+        EXPECT_THROW(p.present_image(VK_NULL_HANDLE, kEyeW, kEyeH), Error);
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }

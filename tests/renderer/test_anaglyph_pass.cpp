@@ -1,0 +1,70 @@
+// The GPU anaglyph (AnaglyphPass) against the CPU reference compose() on a rendered scene, every method, eyes
+// swapped or not, with Vulkan validation on; the renderer's image stays usable after the pass.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "gpu/context.hpp"
+#include "renderer/anaglyph_pass.hpp"
+#include "renderer/image_compare.hpp"
+#include "renderer/stereo_output.hpp"
+#include "renderer/stereo_renderer.hpp"
+#include "test_scene.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+TEST(AnaglyphPass, MatchesTheCpuComposeWithinOneCodePerChannel) {
+    gpu::Context ctx = gpu::Context::create();
+    constexpr int kW = 160, kH = 120;
+    OffscreenStereoRenderer renderer = OffscreenStereoRenderer::create(ctx, kW, kH);
+    const TriMesh cube = test::test_cube();
+    SceneView scene = test::test_scene(cube);
+    scene.proxy_m = Vec3(0.06, 0.03, 0.06);
+    scene.proxy_radius_m = 0.03;  // translucent over lit surfaces: many mixed colours
+    const StereoImages eyes = renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
+    ASSERT_GT(compare_images(eyes.left, eyes.right, 0).max_channel_diff, 0);
+
+    AnaglyphPass pass = AnaglyphPass::create(ctx, kW, kH);
+    for (const AnaglyphMethod method : {AnaglyphMethod::kDubois, AnaglyphMethod::kColour, AnaglyphMethod::kGray}) {
+        for (const bool swap : {false, true}) {
+            const std::string what = std::string(to_string(method)) + (swap ? " swapped" : "");
+            ComposeOptions co;
+            co.swap_eyes = swap;
+            co.anaglyph = method;
+            const Image cpu = compose(StereoOutput::kAnaglyph, eyes.left, eyes.right, co);
+            const Image gpu = pass.compose(renderer, method, swap);
+            ASSERT_EQ(gpu.width, kW) << what;
+            ASSERT_EQ(gpu.height, kH) << what;
+            const ImageComparison c = compare_images(gpu, cpu, 0);
+            // Dubois mixes in 32-bit floats on the GPU (doubles on the CPU): a value within float rounding of a
+            // code boundary may land on the neighbouring code. Colour and gray are integer arithmetic: exact.
+            EXPECT_LE(c.max_channel_diff, method == AnaglyphMethod::kDubois ? 1 : 0) << what;
+            std::printf("[anaglyph pass] %s: max channel diff %d\n", what.c_str(), c.max_channel_diff);
+        }
+    }
+    // The pass returned the renderer's image to its transfer layout: the next frame renders and reads back as before.
+    const StereoImages again = renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
+    EXPECT_EQ(compare_images(again.left, eyes.left, 0).max_channel_diff, 0);
+    EXPECT_EQ(compare_images(again.right, eyes.right, 0).max_channel_diff, 0);
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(AnaglyphPass, RefusesBadSizesAndARendererWithoutAFrame) {
+    gpu::Context ctx = gpu::Context::create();
+    EXPECT_THROW(AnaglyphPass::create(ctx, 0, 10), Error);
+    EXPECT_THROW(AnaglyphPass::create(ctx, 10, -1), Error);
+    OffscreenStereoRenderer renderer = OffscreenStereoRenderer::create(ctx, 32, 24);
+    AnaglyphPass pass = AnaglyphPass::create(ctx, 32, 24);
+    EXPECT_THROW(pass.compose(renderer, AnaglyphMethod::kDubois, false), Error);  // no frame yet
+    AnaglyphPass other = AnaglyphPass::create(ctx, 16, 24);
+    const TriMesh cube = test::test_cube();
+    (void)renderer.render(test::test_scene(cube), test::small_screen(), test::test_head(), 0.065);
+    EXPECT_THROW(other.compose(renderer, AnaglyphMethod::kDubois, false), Error);  // size differs
+    EXPECT_EQ(pass.compose(renderer, AnaglyphMethod::kGray, false).width, 32);
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+}  // namespace
+}  // namespace tridex::renderer
