@@ -12,7 +12,6 @@
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "core/error.hpp"
-#include "devices/simulated_device.hpp"
 #include "haptics/haptic_loop.hpp"
 
 namespace tridex::app {
@@ -60,7 +59,7 @@ void run_demo(const DemoOptions& o) {
     s.cutting = o.cutting;
     s.op = o.op;
     s.material = o.material;
-    const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
+    (void)device_profile(s.device);  // checks --device before the slow work
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
     Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
@@ -74,8 +73,10 @@ void run_demo(const DemoOptions& o) {
     const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // checks the spec before the device is made
     std::vector<Vec3> device_path;
     for (const Vec3& w : plan.world_m) device_path.push_back((w - plan.centre_m) / s.workspace_scale);
-    auto device = std::make_unique<devices::SimulatedDevice>(profile, devices::ScriptedPath(plan.t_s, device_path),
-                                                             devices::SimulatedHandParams{}, cfg.period_s);
+    devices::DeviceInputs inputs;
+    inputs.period_s = cfg.period_s;
+    inputs.hand_path.emplace(plan.t_s, device_path);
+    std::unique_ptr<devices::HapticDevice> device = make_device(s, inputs);
 
     // 3. The haptic loop and the sculpt thread. The session lasts the stroke's length in device time
     // (one simulated step per tick), so an overloaded machine that skips deadlines still plays the whole

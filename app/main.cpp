@@ -15,6 +15,7 @@
 #include "app/bench_render.hpp"
 #include "app/bench_sculpt.hpp"
 #include "app/demo.hpp"
+#include "app/devices_cmd.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "core/error.hpp"
@@ -136,6 +137,11 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
     bench_cmd->add_option("--ticks", hbench.ticks, "Timed ticks per row")->capture_default_str()->check(CLI::Range(100, 10000000));
 
+    bool devices_as_json = false;
+    CLI::App* devices_cmd =
+        cli.add_subcommand("devices", "List the haptic device drivers and the known hardware that is plugged in");
+    devices_cmd->add_flag("--json", devices_as_json, "Print a JSON list of objects (name, driver, dof, detected, ...)");
+
     tridex::app::RunOptions run;
     CLI::App* run_cmd = tridex::app::add_run_command(cli, run);
 
@@ -153,6 +159,7 @@ int main(int argc, char** argv) {
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
         if (*run_cmd) return tridex::app::run_command(run);
+        if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
                 throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt and/or --accuracy");

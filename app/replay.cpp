@@ -5,6 +5,7 @@
 
 #include "app/session_spec.hpp"
 #include "devices/recording.hpp"
+#include "devices/device_registry.hpp"
 #include "devices/replay_device.hpp"
 
 namespace tridex::app {
@@ -13,10 +14,15 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     const devices::Recording rec = devices::read_recording(recording_path);
-    const SessionSpec s = spec_from_json(rec.header.notes, recording_path);
-    const devices::DeviceProfile profile = device_profile(s.device);
+    SessionSpec s = spec_from_json(rec.header.notes, recording_path);
+    (void)device_profile(s.device);
     Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
-    auto device = std::make_unique<devices::ReplayDevice>(profile, devices::device_states(rec));
+    // The recorded samples played back through the registry's replay driver, with the recorded profile.
+    s.device_driver = "replay";
+    devices::DeviceInputs inputs;
+    inputs.period_s = s.period_s;
+    inputs.samples = devices::device_states(rec);
+    std::unique_ptr<devices::HapticDevice> device = make_device(s, inputs);
     const Vec3 start = rec.ticks.empty() ? s.device_origin_m : rec.ticks.front().wand_centre_m;
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;

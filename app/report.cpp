@@ -60,7 +60,8 @@ nlohmann::json tool_json(const SessionSpec& spec) {
 
 nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
                                    const std::vector<haptics::TickRecord>& records, double session_s,
-                                   const std::string& device_profile, double device_max_force_n) {
+                                   const std::string& device_profile, double device_max_force_n,
+                                   const devices::DeviceStatus& device_status) {
     double max_force = 0.0;
     std::size_t contact_ticks = 0;
     for (const auto& t : records) {
@@ -95,7 +96,13 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"overruns", loop.overruns},
             {"samples_dropped", loop.samples_dropped},
             {"invalid_samples", loop.invalid_samples},
-            {"device_lost", loop.device_lost}};
+            {"device_lost", loop.device_lost},
+            {"device_status",
+             {{"state", devices::to_string(device_status.state)},
+              {"faults", devices::fault_names(device_status.faults)},
+              {"writes", device_status.writes},
+              {"writes_suppressed", device_status.writes_suppressed},
+              {"writes_clamped", device_status.writes_clamped}}}};
 }
 
 void write_report_json(const std::string& path, const DemoReport& r) {
@@ -133,7 +140,8 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                  {"nonmanifold_edges", r.edges.nonmanifold_edges},
                  {"misoriented_edges", r.edges.misoriented_edges}};
     j["tool"] = tool_json(*r.settings);
-    j["haptics"] = haptics_report_json(*r.settings, r.loop, recs, r.session_s, r.device_profile, r.max_force_n);
+    j["haptics"] = haptics_report_json(*r.settings, r.loop, recs, r.session_s, r.device_profile, r.max_force_n,
+                                       r.device_status);
     j["haptics"]["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["sculpt"] = {{"samples", r.sculpt->samples},
                    {"steps", r.sculpt->steps},

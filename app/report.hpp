@@ -10,6 +10,7 @@
 
 #include "app/sculpt_thread.hpp"
 #include "app/session_spec.hpp"
+#include "devices/haptic_device.hpp"
 #include "compute/gpu_contourer.hpp"
 #include "compute/lattice.hpp"
 #include "core/tri_mesh.hpp"
@@ -42,6 +43,7 @@ struct DemoReport {
     std::uint32_t validation_messages = 0;    ///< Vulkan validation messages seen (0 expected)
     const SessionSpec* settings = nullptr;///< the session's settings; not owned, non-null
     std::string device_profile;               ///< haptic device profile name
+    devices::DeviceStatus device_status;      ///< the device's status channel at the end
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
     std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")
@@ -68,10 +70,12 @@ nlohmann::json tool_json(const SessionSpec& spec);
 /// The `haptics` block of report.json, the same for demo, replay and run: the spec's workspace technique,
 /// points, device and friction; the loop's ticks, rate (ticks / session_s, Hz), period and compute-time
 /// quantiles (us), watchdog trips, passivity energy (J), real-time scheduling, drops and faults; contact
-/// ticks and the largest force sent (N) over `records`.
+/// ticks and the largest force sent (N) over `records`; `device_status` {state, faults, writes,
+/// writes_suppressed, writes_clamped}: the device's status channel at the end (devices::DeviceStatus).
 nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
                                    const std::vector<haptics::TickRecord>& records, double session_s,
-                                   const std::string& device_profile, double device_max_force_n);
+                                   const std::string& device_profile, double device_max_force_n,
+                                   const devices::DeviceStatus& device_status);
 
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);

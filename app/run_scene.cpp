@@ -12,6 +12,7 @@
 #include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "core/error.hpp"
+#include "devices/device_registry.hpp"
 #include "haptics/tool_points.hpp"
 
 namespace tridex::app {
@@ -172,8 +173,23 @@ void read_device(Fields& top, RunScene& s) {
     if (!d) return;
     Fields f(*d, top.source(), "device");
     s.spec.device_driver = f.text("driver", s.spec.device_driver);
-    if (s.spec.device_driver != "simulated")
-        f.fail("device.driver", "'" + s.spec.device_driver + "' is not a driver a scene can use; use simulated");
+    // Drivers a scene can name: every available one of the registry but replay (which needs a recording).
+    std::string usable;
+    bool known = false, available = false;
+    for (const devices::DriverInfo& d : devices::builtin_registry().drivers()) {
+        if (d.name == "replay") continue;
+        if (d.available) usable += (usable.empty() ? "" : ", ") + d.name;
+        if (d.name == s.spec.device_driver) {
+            known = true;
+            available = d.available;
+        }
+    }
+    if (s.spec.device_driver == "replay")
+        f.fail("device.driver", "'replay' plays a recording: use `tridex replay FILE`; a scene can use " + usable);
+    else if (known && !available)
+        f.fail("device.driver", "'" + s.spec.device_driver + "' is known hardware without a driver in this build yet; use " + usable);
+    else if (!known)
+        f.fail("device.driver", "'" + s.spec.device_driver + "' is not a driver; use " + usable);
     s.spec.device = f.text("profile", s.spec.device);
     try {
         (void)device_profile(s.spec.device);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "devices/simulated_device.hpp"
+#include "devices/device_registry.hpp"
 
 namespace tridex::app {
 
@@ -17,7 +17,6 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
     Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
-    const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device workspace is centred on the stroke's middle), or,
     // without a stroke, a hand at rest a tool diameter plus a clearance in front of the workpiece (+z).
     std::vector<double> t_s;
@@ -38,8 +37,10 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         start_m_ = centre;
     }
     spec.device_origin_m = centre;
-    auto device = std::make_unique<devices::SimulatedDevice>(profile, devices::ScriptedPath(t_s, path),
-                                                             devices::SimulatedHandParams{}, spec.period_s);
+    devices::DeviceInputs inputs;
+    inputs.period_s = spec.period_s;
+    inputs.hand_path.emplace(t_s, path);
+    std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
     RuntimeOptions ro;
     ro.sculpt = booleans;
     ro.render_context = render_context;

@@ -307,7 +307,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.spec = backend.runtime().spec();
     r.tool = tool_json(r.spec);
     r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
-                                    backend.runtime().profile().max_force_n);
+                                    backend.runtime().profile().max_force_n, backend.runtime().device_status());
 
     // 5. Outputs.
     fs::create_directories(su.out);

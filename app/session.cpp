@@ -170,6 +170,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.max_force_n = profile.max_force_n;
     r.settings = &settings;
     r.device_profile = profile.name;
+    r.device_status = run.runtime->device_status();
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;

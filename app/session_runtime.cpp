@@ -50,6 +50,19 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
                                const Vec3& start_m, const RuntimeOptions& o)
     : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)), cfg_(loop_config(spec, o.max_ticks)) {
     if (!device_) throw Error("SessionRuntime: no haptic device");
+    // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
+    // enabled by the haptic loop when it starts and disabled when it stops.
+    device_->open();
+    try {
+        device_->home();
+        build(start_m, o);
+    } catch (...) {
+        device_->close();
+        throw;
+    }
+}
+
+void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     choose_contour(o);
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     const auto t0 = Clock::now();
@@ -117,6 +130,7 @@ SessionRuntime::~SessionRuntime() {
         stop();
     } catch (...) {  // a sculpt failure nobody asked about: the owner is going away
     }
+    if (device_) device_->close();  // never started: it was opened and homed by the constructor
 }
 
 void SessionRuntime::start() {
@@ -130,8 +144,9 @@ void SessionRuntime::start() {
 void SessionRuntime::stop() {
     if (!started_ || stopped_) return;
     stopped_ = true;
-    loop_->stop();
+    loop_->stop();  // zero force, device disabled
     session_s_ = seconds_since(t_start_);
+    device_->close();
     sculpt_->stop();  // drains the ring, publishes the last surface; rethrows a failure
 }
 

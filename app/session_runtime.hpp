@@ -89,9 +89,11 @@ struct RuntimeOptions {
 class SessionRuntime {
 public:
     /// Prepares everything (backend and Contexts, the initial contour, the loop configuration) without starting
-    /// threads. `spec` must have device_origin_m set; start_m (world m) centres the first active-surface
-    /// snapshot. Throws tridex::Error for a bad spec (loop_config), a model that does not fit the GPU, or a
-    /// device whose profile the loop refuses.
+    /// threads. Opens and homes `device` first (HapticDevice::open, home); the haptic loop enables its forces
+    /// while it runs, and stop() closes it. `spec` must have device_origin_m set; start_m (world m) centres the
+    /// first active-surface snapshot. Throws tridex::Error for a bad spec (loop_config), a device that cannot
+    /// open or home (closed again), a model that does not fit the GPU, or a device whose profile the loop
+    /// refuses.
     SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                    const Vec3& start_m, const RuntimeOptions& options);
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
@@ -101,8 +103,8 @@ public:
 
     /// Starts the sculpt thread, then the haptic loop. Once only; later calls do nothing.
     void start();
-    /// Stops the haptic loop (zero force to the device), then the sculpt thread, which drains every sample
-    /// and publishes the last surface. Rethrows a sculpt-thread failure. Idempotent.
+    /// Stops the haptic loop (zero force to the device, which is disabled and closed), then the sculpt thread,
+    /// which drains every sample and publishes the last surface. Rethrows a sculpt-thread failure. Idempotent.
     void stop();
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.
     bool loop_running() const { return loop_->running(); }
@@ -135,6 +137,8 @@ public:
     const SessionSpec& spec() const { return spec_; }                     ///< what decides the model
     const haptics::HapticLoopConfig& config() const { return cfg_; }      ///< loop_config(spec)
     const devices::DeviceProfile& profile() const { return device_->profile(); }  ///< the device's
+    /// The device's status channel (lifecycle state, faults, gated and clamped writes); any thread.
+    devices::DeviceStatus device_status() const { return device_->status(); }
     const Workpiece& workpiece() const { return wp_; }                    ///< the model (read after stop())
     const BackendChoice& booleans() const { return booleans_; }           ///< where the Booleans run and why
     /// The GPU contour a renderer draws (GpuContourShare::lock_frame), or nullptr when contouring on the CPU.
@@ -153,6 +157,7 @@ public:
     std::uint32_t sculpt_validation_messages() const;
 
 private:
+    void build(const Vec3& start_m, const RuntimeOptions& o);
     void choose_contour(const RuntimeOptions& o);
 
     SessionSpec spec_;

@@ -7,16 +7,25 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
+#include "devices/device_registry.hpp"
 #include "haptics/tool_points.hpp"
 #include "haptics/workspace_mapping.hpp"
 
 namespace tridex::app {
 
 devices::DeviceProfile device_profile(const std::string& name) {
-    if (name == "omni") return devices::DeviceProfile::phantom_omni();
-    if (name == "wand") return devices::quanser_wand_5dof();
-    if (name == "6dof") return devices::generic_6dof();
-    throw Error("--device: unknown device '" + name + "'; use omni, wand or 6dof");
+    try {
+        return devices::profile_by_name(name);
+    } catch (const Error&) {
+        throw Error("--device: unknown device '" + name + "'; use omni, wand or 6dof");
+    }
+}
+
+std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const devices::DeviceInputs& inputs) {
+    devices::DeviceSpec d;
+    d.driver = s.device_driver;
+    d.profile = s.device;
+    return devices::builtin_registry().create(d, inputs);
 }
 
 ToolOp parse_tool_op(const std::string& name) {

@@ -2,11 +2,13 @@
 // demo's flags and a scene file fill it, a recording carries it, and a replay rebuilds the same session.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/math.hpp"
 #include "core/tool_shape.hpp"
+#include "devices/device_registry.hpp"
 #include "devices/haptic_device.hpp"
 #include "haptics/haptic_loop.hpp"
 #include "haptics/materials.hpp"
@@ -31,7 +33,7 @@ struct SessionSpec {
     /// Contact points over the tool (haptics::tool_points_for): ball 1 = its centre god-object, 3..64 an
     /// interaction mesh; flat_end 1 = 32 points over it, 2 = the wand's two ends, 8..64 points over it.
     int points = 1;
-    std::string device_driver = "simulated"; ///< device driver (simulated; replay when replaying)
+    std::string device_driver = "simulated"; ///< device driver by registry name (simulated; replay when replaying)
     std::string device = "omni";             ///< device profile: omni | wand | 6dof
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
     double workspace_scale = 1.0;            ///< device -> world gain
@@ -54,6 +56,12 @@ ToolOp parse_tool_op(const std::string& name);
 
 /// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.
 devices::DeviceProfile device_profile(const std::string& name);
+
+/// The session's device, made by the device registry (devices::builtin_registry) from device_driver and the
+/// profile `device`, with `inputs` (the loop period; the simulated hand's path or the replayed samples). The
+/// device is closed: SessionRuntime opens and homes it. Throws tridex::Error naming device.driver or
+/// device.profile when the registry refuses them.
+std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const devices::DeviceInputs& inputs);
 
 /// The haptic loop configuration for this spec, with `max_ticks` records preallocated: contact from the
 /// stiffness, damping and friction (and the materials table when given), the tool and its contact points

@@ -1,6 +1,7 @@
 // devices/haptic_device.hpp - the abstract haptic device: what it can do, one sample, read and write.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -45,20 +46,122 @@ struct DeviceState {
     std::uint32_t buttons = 0;   ///< button bits, bit i = button i pressed
 };
 
+/// Where a device is in its life: closed -> open -> homed -> enabled (forces flow) -> homed -> closed.
+enum class DeviceLifecycle : std::uint8_t {
+    kClosed = 0,   ///< not connected (the initial state, and after close())
+    kOpen = 1,     ///< connected, sampling allowed; position not yet calibrated
+    kHomed = 2,    ///< calibrated (homed): read() gives poses in the device frame; forces still off
+    kEnabled = 3,  ///< forces are sent: write() reaches the device's motors
+};
+
+/// "closed", "open", "homed" or "enabled".
+const char* to_string(DeviceLifecycle state);
+
+/// Fault bits of a device's status channel (DeviceStatus::faults); several can be set at once.
+enum DeviceFault : std::uint32_t {
+    kFaultNone = 0,
+    kFaultNotHomed = 1u << 0,         ///< enable() was asked of a device that was never homed
+    kFaultOverTemperature = 1u << 1,  ///< the driver reported its motors too hot (forces cut by the device)
+    kFaultForceLimit = 1u << 2,       ///< a written force or torque exceeded the profile's limits and was cut
+    kFaultVanished = 1u << 3,         ///< read() failed: unplugged, powered off, end of a replay
+    kFaultNonFinite = 1u << 4,        ///< a non-finite force or torque was written (sent as zero)
+    kFaultIo = 1u << 5,               ///< a transport error (USB, network) that the driver survived
+};
+
+/// The fault bits of `faults` as words ("not_homed, force_limit"); "none" for 0.
+std::string fault_names(std::uint32_t faults);
+
+/// A snapshot of a device's status channel: its lifecycle state, the fault bits raised since open() (sticky
+/// until clear_faults()), and counts of what the lifecycle guard did to writes.
+struct DeviceStatus {
+    DeviceLifecycle state = DeviceLifecycle::kClosed;
+    std::uint32_t faults = kFaultNone;    ///< DeviceFault bits
+    std::uint64_t writes = 0;             ///< write() calls
+    std::uint64_t writes_suppressed = 0;  ///< writes sent as zero force because the device was not enabled
+    std::uint64_t writes_clamped = 0;     ///< writes cut to the profile's limits (or zeroed for non-finite values)
+};
+
 /// Abstract haptic device (CHAI3D/HAPI style: one interface for hardware, simulated and replayed devices).
-/// read() returns false when the device has vanished (unplugged, end of a replay); the caller then
-/// commands zero force and stops. write() sends force (N) and torque (N*m), both in the device frame.
-/// Implementations are driven from one thread (the haptic loop); read() and write() must not allocate,
-/// lock or block for longer than a fraction of the loop period.
+///
+/// Lifecycle (what real hardware needs): open() connects, home() calibrates the position sensors (a Falcon
+/// or an Omni needs its arm moved to a home pose once per power-up), enable() lets forces through, disable()
+/// sends zero force and stops them, close() disconnects. The base class enforces the order and the force
+/// rule: write() passes a force to the driver only while the device is enabled, sending zero force in every
+/// other state; every force that does pass is bounded by the profile's limits (a last resort: the haptic
+/// loop's safety stage clamps first) and a non-finite one is sent as zero. bring_up() runs whatever of
+/// open/home/enable is still due. status() is a lock-free snapshot any thread may read.
+///
+/// read() returns false when the device has vanished (unplugged, end of a replay): the fault kFaultVanished
+/// is raised and the caller commands zero force and stops. write() sends force (N) and torque (N*m), both
+/// in the device frame. read() and write() are driven from one thread (the haptic loop) and must not
+/// allocate, lock or block for longer than a fraction of the loop period; the lifecycle calls are made from
+/// the thread that owns the session, never concurrently with read()/write() of another thread except
+/// disable() racing nothing (the loop calls it itself when it stops).
+///
+/// Writing a driver: derive, return a DeviceProfile from profile(), implement do_read() and do_write(), and
+/// override the on_* hooks the hardware needs (they may throw tridex::Error with a message for the user);
+/// then register a factory (devices/device_registry.hpp).
 class HapticDevice {
 public:
     virtual ~HapticDevice();
     /// The device's capabilities; constant for the device's lifetime.
     virtual const DeviceProfile& profile() const = 0;
-    /// Fetches the newest sample into out. Returns false (out unspecified) when the device is gone.
-    virtual bool read(DeviceState& out) = 0;
-    /// Commands force_n (N) and torque_nm (N*m) in the device frame until the next write.
-    virtual void write(const Vec3& force_n, const Vec3& torque_nm) = 0;
+
+    /// Connects (closed -> open). Throws tridex::Error when the driver cannot (no such unit, permission);
+    /// does nothing when already open.
+    void open();
+    /// Calibrates (open -> homed); opens first when closed. Throws tridex::Error when the driver cannot home
+    /// (e.g. the arm is not at its home pose); does nothing when already homed or enabled.
+    void home();
+    /// Lets forces through (homed -> enabled). Throws tridex::Error and raises kFaultNotHomed when the device
+    /// was never homed; does nothing when already enabled.
+    void enable();
+    /// Sends zero force and stops forces (enabled -> homed). Never throws; does nothing unless enabled.
+    void disable() noexcept;
+    /// Disables, then disconnects (-> closed). Never throws (a driver error is raised as kFaultIo).
+    void close() noexcept;
+    /// open(), home() and enable(), whichever are still due. Throws as they do.
+    void bring_up();
+
+    /// Fetches the newest sample into out (in any lifecycle state: a driver that cannot sample before
+    /// open() returns false). Returns false (out unspecified) when the device is gone, raising kFaultVanished.
+    bool read(DeviceState& out);
+    /// Commands force_n (N) and torque_nm (N*m) in the device frame until the next write: zero unless the
+    /// device is enabled; cut to the profile's limits (max_force_n; max_torque_nm, or 0 for a device without
+    /// torque output) and zero for non-finite values, raising kFaultForceLimit / kFaultNonFinite.
+    void write(const Vec3& force_n, const Vec3& torque_nm);
+
+    /// The lifecycle state (any thread).
+    DeviceLifecycle state() const { return static_cast<DeviceLifecycle>(state_.load(std::memory_order_acquire)); }
+    /// A snapshot of the status channel (any thread, lock-free).
+    DeviceStatus status() const;
+    /// Raises fault bits (drivers report over-temperature, I/O errors and the like here; any thread).
+    void raise_fault(std::uint32_t faults) { faults_.fetch_or(faults, std::memory_order_acq_rel); }
+    /// Clears every fault bit (after the user has seen them).
+    void clear_faults() { faults_.store(kFaultNone, std::memory_order_release); }
+
+protected:
+    /// Driver hook of open(): connect. Throw tridex::Error naming the device on failure.
+    virtual void on_open() {}
+    /// Driver hook of home(): calibrate. Throw tridex::Error saying what the user must do on failure.
+    virtual void on_home() {}
+    /// Driver hook of enable(), after which forces flow (e.g. switch the amplifiers on).
+    virtual void on_enable() {}
+    /// Driver hook of disable(), after zero force was written (e.g. switch the amplifiers off). Must not throw.
+    virtual void on_disable() noexcept {}
+    /// Driver hook of close(): disconnect. Must not throw.
+    virtual void on_close() noexcept {}
+    /// The driver's sample read: as read(), without the lifecycle bookkeeping.
+    virtual bool do_read(DeviceState& out) = 0;
+    /// The driver's force write: already gated and bounded by write().
+    virtual void do_write(const Vec3& force_n, const Vec3& torque_nm) = 0;
+
+private:
+    void set_state(DeviceLifecycle s) { state_.store(static_cast<std::uint8_t>(s), std::memory_order_release); }
+
+    std::atomic<std::uint8_t> state_{static_cast<std::uint8_t>(DeviceLifecycle::kClosed)};
+    std::atomic<std::uint32_t> faults_{kFaultNone};
+    std::atomic<std::uint64_t> writes_{0}, suppressed_{0}, clamped_{0};
 };
 
 }  // namespace tridex::devices

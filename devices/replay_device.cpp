@@ -12,7 +12,7 @@ ReplayDevice::ReplayDevice(DeviceProfile profile, std::vector<DeviceState> sampl
     torques_.reserve(capacity_);
 }
 
-bool ReplayDevice::read(DeviceState& out) {
+bool ReplayDevice::do_read(DeviceState& out) {
     const std::size_t i = played_.load(std::memory_order_relaxed);
     if (i >= samples_.size()) {
         finished_.store(true, std::memory_order_release);
@@ -23,7 +23,7 @@ bool ReplayDevice::read(DeviceState& out) {
     return true;
 }
 
-void ReplayDevice::write(const Vec3& force_n, const Vec3& torque_nm) {
+void ReplayDevice::do_write(const Vec3& force_n, const Vec3& torque_nm) {
     if (forces_.size() < capacity_) {
         forces_.push_back(force_n);
         torques_.push_back(torque_nm);

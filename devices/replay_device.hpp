@@ -31,11 +31,14 @@ public:
     ReplayDevice(DeviceProfile profile, std::vector<DeviceState> samples);
 
     const DeviceProfile& profile() const override { return profile_; }
-    /// Copies the next recorded sample into out and returns true; false once all were played.
-    bool read(DeviceState& out) override;
-    /// Stores force_n (N) and torque_nm (N*m) as given (device frame), while capacity lasts.
-    void write(const Vec3& force_n, const Vec3& torque_nm) override;
 
+protected:
+    /// Copies the next recorded sample into out and returns true; false once all were played.
+    bool do_read(DeviceState& out) override;
+    /// Stores force_n (N) and torque_nm (N*m) as given (device frame), while capacity lasts.
+    void do_write(const Vec3& force_n, const Vec3& torque_nm) override;
+
+public:
     /// Samples handed out by read() so far (0 .. samples().size()).
     std::size_t played() const { return played_.load(std::memory_order_acquire); }
     /// True once a read() found no sample left.

@@ -37,7 +37,7 @@ void SimulatedDevice::enable_trace(std::size_t capacity) {
     trace_capacity_ = capacity;
 }
 
-bool SimulatedDevice::read(DeviceState& out) {
+bool SimulatedDevice::do_read(DeviceState& out) {
     ++reads_;
     if (vanished_) return false;
     if (faults_.vanish_after_reads > 0 && reads_ > faults_.vanish_after_reads) {
@@ -74,7 +74,7 @@ double SimulatedDevice::energy_j() const {
     return 0.5 * hand_.mass_kg * glm::dot(v_, v_) + 0.5 * hand_.hand_stiffness_n_per_m * glm::dot(d, d);
 }
 
-void SimulatedDevice::write(const Vec3& force_n, const Vec3& torque_nm) {
+void SimulatedDevice::do_write(const Vec3& force_n, const Vec3& torque_nm) {
     ++writes_;
     last_force_ = force_n;
     last_torque_ = torque_nm;

@@ -59,12 +59,15 @@ public:
     SimulatedDevice(DeviceProfile profile, ScriptedPath path, SimulatedHandParams hand = {}, double dt_s = 1e-3);
 
     const DeviceProfile& profile() const override { return profile_; }
+
+protected:
     /// Advances one step of dt and returns the new state; false once the injected vanish fault fired.
-    bool read(DeviceState& out) override;
+    bool do_read(DeviceState& out) override;
     /// Stores the force (N, device frame) applied during the following steps; torque is recorded but
     /// has no effect (3-DOF model).
-    void write(const Vec3& force_n, const Vec3& torque_nm) override;
+    void do_write(const Vec3& force_n, const Vec3& torque_nm) override;
 
+public:
     /// Replaces the injected faults (call before the loop starts).
     void set_faults(const SimulatedFaults& faults) { faults_ = faults; }
     /// Sets the button bits reported by later reads; safe from any thread.

@@ -122,6 +122,7 @@ void HapticLoop::start() {
     if (running()) return;
     if (thread_.joinable()) thread_.join();  // ended by itself (device lost)
     manual_session_ = false;                 // the thread takes over from step() mode
+    device_.bring_up();                      // forces flow only while the loop runs (throws before any thread)
     begin_session();
     stop_requested_.store(false, std::memory_order_relaxed);
     running_.store(true, std::memory_order_release);
@@ -133,10 +134,7 @@ void HapticLoop::stop() {
     if (thread_.joinable()) thread_.join();
     if (manual_session_) {
         manual_session_ = false;
-        try {
-            device_.write(Vec3(0.0), Vec3(0.0));
-        } catch (...) {
-        }
+        device_.disable();  // zero force, and none until the next session
     }
     records_.resize(recorded_);  // shrinking never reallocates; start() grows it back in place
 }
@@ -323,6 +321,7 @@ TickRecord HapticLoop::step(double loop_time_s) {
     if (running()) throw Error("HapticLoop::step: the loop thread is running; stop() it before stepping");
     if (!manual_session_) {
         if (thread_.joinable()) thread_.join();
+        device_.bring_up();
         begin_session();
         manual_session_ = true;
     }
@@ -382,10 +381,7 @@ void HapticLoop::run() noexcept {
         // A device driver failed: treat it as a lost device (the zero-force write below still runs).
         device_lost_.store(true, std::memory_order_relaxed);
     }
-    try {
-        device_.write(Vec3(0.0), Vec3(0.0));
-    } catch (...) {
-    }
+    device_.disable();  // zero force, and none until the next start()
     running_.store(false, std::memory_order_release);
 }
 

@@ -161,9 +161,12 @@ public:
     /// Starts the thread; a second call while it runs does nothing. Every start begins a session: it
     /// clears the records, counters and histograms, the filters, the god-object, the workspace mapping
     /// (back to device_to_world), the watchdog, the ramp (which restarts) and the passivity books.
+    /// Brings the device up first (HapticDevice::bring_up: whatever of open, home and enable is still due),
+    /// so forces reach it only while the loop runs; throws tridex::Error (no thread started) when it cannot.
     void start();
     /// Asks the thread to finish its tick, send zero force and exit, then joins; ends a step() session
-    /// with a zero-force write. Idempotent.
+    /// with a zero-force write. The device is disabled (HapticDevice::disable) when the loop ends, by stop()
+    /// or by itself. Idempotent.
     void stop();
     /// True from start() until the thread has exited (after stop(), or by itself on device loss).
     bool running() const { return running_.load(std::memory_order_acquire); }
@@ -177,7 +180,7 @@ public:
     /// Deterministic stepping: runs one tick on the calling thread with loop_time_s (s, increasing) as
     /// the loop clock instead of CLOCK_MONOTONIC, for tests and offline replays driven by simulated
     /// time. The first step() after construction or stop() starts a session exactly as start() does
-    /// (no real-time request). Returns the tick's record (also stored in records(), whose unfilled
+    /// (bringing the device up; no real-time request). Returns the tick's record (also stored in records(), whose unfilled
     /// tail is default records until stop()). When the device is lost it writes zero force, sets
     /// stats().device_lost and returns a record with valid_sample = false. stop() ends the session
     /// and writes zero force. Throws tridex::Error when the loop thread is running.

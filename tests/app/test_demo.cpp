@@ -37,6 +37,38 @@ RunResult run_tridex(const std::string& args, const fs::path& dir) {
     return r;
 }
 
+TEST(Devices, ListsDriversAsTextAndJson) {
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_devices";
+    RunResult r = run_tridex("devices", out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream tf(out / "stdout.txt");
+    std::stringstream text;
+    text << tf.rdbuf();
+    EXPECT_NE(text.str().find("simulated"), std::string::npos) << text.str();
+    EXPECT_NE(text.str().find("Novint Falcon"), std::string::npos) << text.str();
+    r = run_tridex("devices --json", out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream jf(out / "stdout.txt");
+    const nlohmann::json rows = nlohmann::json::parse(jf);
+    ASSERT_TRUE(rows.is_array());
+    ASSERT_GE(rows.size(), 4u);
+    bool wand = false;
+    for (const auto& row : rows) {
+        ASSERT_TRUE(row.contains("name") && row.contains("dof") && row.contains("detected")) << row.dump();
+        EXPECT_TRUE(row["dof"].is_number_integer());
+        EXPECT_TRUE(row["detected"].is_boolean());
+        if (row["driver"] == "simulated" && row["profile"] == "wand") {
+            wand = true;
+            EXPECT_EQ(row["dof"].get<int>(), 5);
+            EXPECT_TRUE(row["detected"].get<bool>());
+        }
+        if (row["driver"] == "falcon") {
+            EXPECT_FALSE(row["available"].get<bool>());
+        }
+    }
+    EXPECT_TRUE(wand);
+}
+
 // ctest sets TRIDEX_SHARED_DATA; run by hand, the test falls back to the source tree's neighbour.
 std::string data(const char* rel) {
     const char* env = std::getenv("TRIDEX_SHARED_DATA");
@@ -69,6 +101,12 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_GT(j["mesh"]["triangles"].get<int>(), 1000);
     EXPECT_GT(j["haptics"]["contact_ticks"].get<int>(), 100);  // the tool pressed into the bunny
     EXPECT_LE(j["haptics"]["max_force_n"].get<double>(), j["haptics"]["device_max_force_n"].get<double>() + 1e-9);
+    // The device went through its lifecycle: closed at the end, no faults, no force cut by the device seam.
+    const auto& ds = j["haptics"]["device_status"];
+    EXPECT_EQ(ds["state"], "closed");
+    EXPECT_EQ(ds["faults"], "none");
+    EXPECT_EQ(ds["writes_clamped"].get<int>(), 0);
+    EXPECT_GT(ds["writes"].get<int>(), 1000);
     EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
     // Sculpted on the GPU (lavapipe here), with the model's memory per ray set.
     EXPECT_EQ(j["sculpt_path"], "gpu");

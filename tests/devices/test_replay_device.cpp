@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "devices/device_profiles.hpp"
 #include "devices/recording.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
@@ -50,6 +51,7 @@ std::vector<DeviceState> samples(int n) {
 TEST(ReplayDevice, PlaysTheRecordedStatesInOrderThenVanishes) {
     const std::vector<DeviceState> src = samples(7);
     ReplayDevice dev(DeviceProfile::phantom_omni(), src);
+    dev.bring_up();  // forces pass only while enabled
     EXPECT_EQ(dev.profile().name, "PHANTOM Omni");
     DeviceState s;
     for (std::size_t i = 0; i < src.size(); ++i) {
@@ -70,6 +72,7 @@ TEST(ReplayDevice, PlaysTheRecordedStatesInOrderThenVanishes) {
 
 TEST(ReplayDevice, EmptyReplayVanishesAtOnce) {
     ReplayDevice dev(DeviceProfile::phantom_omni(), {});
+    dev.bring_up();  // forces pass only while enabled
     DeviceState s;
     EXPECT_FALSE(dev.read(s));
     EXPECT_TRUE(dev.finished());
@@ -80,23 +83,25 @@ TEST(ReplayDevice, EmptyReplayVanishesAtOnce) {
 
 TEST(ReplayDevice, WritesAreRecordedAndNeverChangeThePlayback) {
     const std::vector<DeviceState> src = samples(5);
-    ReplayDevice dev(DeviceProfile::phantom_omni(), src);
+    ReplayDevice dev(generic_6dof(), src);  // 3 N, 0.3 N*m
+    dev.bring_up();  // forces pass only while enabled
     DeviceState s;
     std::vector<Vec3> forces, torques;
     for (std::size_t i = 0; i < src.size(); ++i) {
         ASSERT_TRUE(dev.read(s));
         EXPECT_TRUE(same_state(s, src[i]));
-        // A huge force would move a real (or simulated) device; a replay ignores it.
-        const Vec3 f(100.0 * (i + 1), -1.0, i == 3 ? kNaN : 0.25);
+        // A force would move a real (or simulated) device; a replay ignores it.
+        const Vec3 f(0.5 * (i + 1), -1.0, i == 3 ? kNaN : 0.25);
         const Vec3 t(0.0, 0.01 * i, 0.0);
         dev.write(f, t);
-        forces.push_back(f);
-        torques.push_back(t);
+        // What reaches the driver: the device seam sends a non-finite force (and its torque) as zero.
+        forces.push_back(i == 3 ? Vec3(0.0) : f);
+        torques.push_back(i == 3 ? Vec3(0.0) : t);
     }
     ASSERT_EQ(dev.forces_written().size(), src.size());
     ASSERT_EQ(dev.torques_written().size(), src.size());
     for (std::size_t i = 0; i < src.size(); ++i) {
-        EXPECT_TRUE(same_bits(dev.forces_written()[i], forces[i])) << i;  // NaN stored as written
+        EXPECT_TRUE(same_bits(dev.forces_written()[i], forces[i])) << i;  // stored as the driver got them
         EXPECT_TRUE(same_bits(dev.torques_written()[i], torques[i])) << i;
     }
     // Beyond samples + kExtraWrites writes are counted but not stored (no allocation in the loop).
@@ -123,6 +128,7 @@ TEST(ReplayDevice, RecordedClosedLoopSessionReplaysIdentically) {
     const ScriptedPath path({0.0, 0.2, 0.4, 0.6}, {Vec3(0.0, 0.0, 0.01), Vec3(0.0, 0.0, -0.005),
                                                    Vec3(0.002, 0.0, -0.005), Vec3(0.0, 0.0, 0.01)});
     SimulatedDevice live(DeviceProfile::phantom_omni(), path);
+    live.bring_up();  // forces pass only while enabled
     SimulatedFaults faults;
     faults.nan_first_read = 300;  // 3 samples with a NaN position, while in contact
     faults.nan_count = 3;
@@ -139,7 +145,7 @@ TEST(ReplayDevice, RecordedClosedLoopSessionReplaysIdentically) {
     while (live.read(s)) {
         const Vec3 f = wall_force(s);
         live.write(f, Vec3(0.0));
-        live_forces.push_back(f);
+        live_forces.push_back(live.last_force_n());  // what the device got (bounded by its 0.88 N)
         RecordedTick t;
         t.t_s = s.t_s;
         t.device = s;
@@ -164,6 +170,7 @@ TEST(ReplayDevice, RecordedClosedLoopSessionReplaysIdentically) {
 
     // Replay: same controller, device samples from the file, until the device vanishes.
     ReplayDevice replay(DeviceProfile::phantom_omni(), device_states(back));
+    replay.bring_up();  // forces pass only while enabled
     ASSERT_EQ(replay.samples().size(), 700u);
     std::size_t ticks = 0;
     while (replay.read(s)) {

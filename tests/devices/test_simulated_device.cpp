@@ -40,6 +40,7 @@ ScriptedPath line(double v) {
 
 TEST(SimulatedDevice, FreeHandFollowsThePath) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), line(0.1));
+    dev.bring_up();  // forces pass only while enabled
     DeviceState s;
     double max_err_steady = 0.0, max_err_all = 0.0;
     for (int i = 0; i < 1000; ++i) {
@@ -62,6 +63,7 @@ TEST(SimulatedDevice, FreeHandFollowsThePath) {
 
 TEST(SimulatedDevice, WrittenForceDisplacesTheHandSpring) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    dev.bring_up();  // forces pass only while enabled
     dev.write(Vec3(0.0, 0.0, 0.3), Vec3(0.0));
     DeviceState s;
     for (int i = 0; i < 2000; ++i) ASSERT_TRUE(dev.read(s));
@@ -75,6 +77,7 @@ TEST(SimulatedDevice, WrittenForceDisplacesTheHandSpring) {
 TEST(SimulatedDevice, FirstStepIsSemiImplicitEuler) {
     SimulatedHandParams hand;  // m = 0.05 kg, k = 300 N/m, b = 4 N*s/m
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.01, 0.0, 0.0)), hand, 1e-3);
+    dev.bring_up();  // forces pass only while enabled
     // Starts at rest on the path (x = 0.01); push with 0.5 N along -y.
     dev.write(Vec3(0.0, -0.5, 0.0), Vec3(0.0));
     DeviceState s;
@@ -94,6 +97,7 @@ TEST(SimulatedDevice, SubstepsIntegrateTheHeldForceAndDeviceDampingBrakes) {
     // x = h^2 * F/m * (1 + 2 + 3 + 4) = 10 h^2 a (semi-implicit Euler per sub-step).
     SimulatedHandParams hand{0.05, 0.0, 0.0, 0.0, 4};
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)), hand, 1e-3);
+    dev.bring_up();  // forces pass only while enabled
     dev.write(Vec3(0.5, 0.0, 0.0), Vec3(0.0));
     DeviceState s;
     ASSERT_TRUE(dev.read(s));
@@ -104,6 +108,7 @@ TEST(SimulatedDevice, SubstepsIntegrateTheHeldForceAndDeviceDampingBrakes) {
     // Device damping to the ground: a coasting mass slows as exp(-b t / m) (b = 0.1, m = 0.05: e^-2 at 1 s).
     SimulatedHandParams coast{0.05, 0.0, 0.0, 0.1, 20};
     SimulatedDevice d2(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)), coast, 1e-3);
+    d2.bring_up();  // forces pass only while enabled
     d2.write(Vec3(0.05, 0.0, 0.0), Vec3(0.0));  // 1 ms push: v = 1e-3 m/s
     ASSERT_TRUE(d2.read(s));
     d2.write(Vec3(0.0), Vec3(0.0));
@@ -115,6 +120,7 @@ TEST(SimulatedDevice, SubstepsIntegrateTheHeldForceAndDeviceDampingBrakes) {
 
 TEST(SimulatedDevice, TraceRecordsStepsUpToItsCapacity) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    dev.bring_up();  // forces pass only while enabled
     dev.enable_trace(10);
     dev.write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
     DeviceState s;
@@ -127,6 +133,7 @@ TEST(SimulatedDevice, TraceRecordsStepsUpToItsCapacity) {
 
 TEST(SimulatedDevice, VanishFaultFiresAfterNReads) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    dev.bring_up();  // forces pass only while enabled
     SimulatedFaults f;
     f.vanish_after_reads = 5;
     dev.set_faults(f);
@@ -140,6 +147,7 @@ TEST(SimulatedDevice, VanishFaultFiresAfterNReads) {
 
 TEST(SimulatedDevice, NanFaultHitsExactlyTheRequestedReads) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), line(0.1));
+    dev.bring_up();  // forces pass only while enabled
     SimulatedFaults f;
     f.nan_first_read = 3;
     f.nan_count = 2;
@@ -155,8 +163,10 @@ TEST(SimulatedDevice, NanFaultHitsExactlyTheRequestedReads) {
 
 TEST(SimulatedDevice, NonFiniteWriteIsAppliedAsZero) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    dev.bring_up();  // forces pass only while enabled
     dev.write(Vec3(std::nan(""), 0.0, 0.0), Vec3(0.0));
-    EXPECT_TRUE(std::isnan(dev.last_force_n().x));
+    EXPECT_EQ(dev.last_force_n(), Vec3(0.0));  // the device seam sends a non-finite force as zero
+    EXPECT_TRUE(dev.status().faults & devices::kFaultNonFinite);
     DeviceState s;
     for (int i = 0; i < 10; ++i) ASSERT_TRUE(dev.read(s));
     EXPECT_EQ(s.pose.position, Vec3(0.0));
@@ -165,6 +175,7 @@ TEST(SimulatedDevice, NonFiniteWriteIsAppliedAsZero) {
 
 TEST(SimulatedDevice, ButtonsAreReported) {
     SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    dev.bring_up();  // forces pass only while enabled
     DeviceState s;
     ASSERT_TRUE(dev.read(s));
     EXPECT_EQ(s.buttons, 0u);

@@ -37,7 +37,11 @@ class ClockFaultDevice : public devices::HapticDevice {
 public:
     explicit ClockFaultDevice(devices::SimulatedDevice& inner) : inner_(inner) {}
     const devices::DeviceProfile& profile() const override { return inner_.profile(); }
-    bool read(devices::DeviceState& out) override {
+
+protected:
+    void on_enable() override { inner_.bring_up(); }
+    void on_disable() noexcept override { inner_.disable(); }
+    bool do_read(devices::DeviceState& out) override {
         ++reads_;
         if (stall_at > 0 && reads_ == stall_at)
             for (std::size_t i = 0; i < stall_steps; ++i)
@@ -49,8 +53,9 @@ public:
         out = last_;
         return true;
     }
-    void write(const Vec3& force_n, const Vec3& torque_nm) override { inner_.write(force_n, torque_nm); }
+    void do_write(const Vec3& force_n, const Vec3& torque_nm) override { inner_.write(force_n, torque_nm); }
 
+public:
     std::size_t freeze_from = 0, freeze_count = 0;  ///< stale-data fault (0 = off)
     std::size_t stall_at = 0, stall_steps = 0;      ///< stall fault (0 = off)
 
@@ -66,18 +71,21 @@ class PoseDevice : public devices::HapticDevice {
 public:
     explicit PoseDevice(devices::DeviceProfile profile, double dt_s = 1e-3) : profile_(std::move(profile)), dt_(dt_s) {}
     const devices::DeviceProfile& profile() const override { return profile_; }
-    bool read(devices::DeviceState& out) override {
+
+protected:
+    bool do_read(devices::DeviceState& out) override {
         ++reads_;
         state.t_s = static_cast<double>(reads_) * dt_;
         out = state;
         return true;
     }
-    void write(const Vec3& force_n, const Vec3& torque_nm) override {
+    void do_write(const Vec3& force_n, const Vec3& torque_nm) override {
         force = force_n;
         torque = torque_nm;
         ++writes;
     }
 
+public:
     devices::DeviceState state;  ///< the next sample (t_s is overwritten by read())
     Vec3 force{0.0};             ///< last force written, N
     Vec3 torque{0.0};            ///< last torque written, N*m

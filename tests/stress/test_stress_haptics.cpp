@@ -43,12 +43,16 @@ class SetDevice : public devices::HapticDevice {
 public:
     SetDevice() : profile_(devices::DeviceProfile::phantom_omni()) {}
     const devices::DeviceProfile& profile() const override { return profile_; }
-    bool read(devices::DeviceState& out) override {
+
+protected:
+    bool do_read(devices::DeviceState& out) override {
         state.t_s = static_cast<double>(++reads_) * 1e-3;
         out = state;
         return true;
     }
-    void write(const Vec3& f, const Vec3&) override { force = f; }
+    void do_write(const Vec3& f, const Vec3&) override { force = f; }
+
+public:
     devices::DeviceState state;
     Vec3 force{0.0};
 

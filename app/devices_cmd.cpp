@@ -1,0 +1,93 @@
+// app/devices_cmd.cpp - `tridex devices`.
+#include "app/devices_cmd.hpp"
+
+#include <cstdio>
+
+namespace tridex::app {
+
+namespace {
+
+nlohmann::json usb_list(const std::vector<devices::UsbId>& ids) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const devices::UsbId& id : ids) out.push_back(devices::usb_id_string(id));
+    return out;
+}
+
+}  // namespace
+
+nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string* usb_error) {
+    const std::vector<devices::DetectedDevice> seen = registry.detect(usb_error);
+    nlohmann::json rows = nlohmann::json::array();
+    for (const devices::DriverInfo& d : registry.drivers()) {
+        if (!d.hardware) {
+            for (const std::string& name : d.profiles) {
+                const devices::DeviceProfile p = devices::profile_by_name(name);
+                rows.push_back({{"name", p.name},
+                                {"driver", d.name},
+                                {"profile", name},
+                                {"dof", p.dof_out},
+                                {"dof_in", p.dof_in},
+                                {"dof_out", p.dof_out},
+                                {"hardware", false},
+                                {"available", d.available},
+                                {"detected", true},
+                                {"usb_ids", nlohmann::json::array()},
+                                {"locations", nlohmann::json::array()},
+                                {"summary", d.summary}});
+            }
+            continue;
+        }
+        nlohmann::json where = nlohmann::json::array();
+        for (const devices::DetectedDevice& s : seen)
+            if (s.driver == d.name) where.push_back(s.location + " (" + devices::usb_id_string(s.id) + ")");
+        rows.push_back({{"name", d.summary},
+                        {"driver", d.name},
+                        {"dof", d.dof_out},
+                        {"dof_in", d.dof_in},
+                        {"dof_out", d.dof_out},
+                        {"hardware", true},
+                        {"available", d.available},
+                        {"detected", !where.empty()},
+                        {"usb_ids", usb_list(d.usb_ids)},
+                        {"locations", where},
+                        {"summary", d.summary}});
+    }
+    return rows;
+}
+
+std::string devices_text(const nlohmann::json& rows, const std::string& usb_error) {
+    std::string out = "Devices a session can use (scene: \"device\": {\"driver\": ..., \"profile\": ...}):\n";
+    char line[512];
+    for (const nlohmann::json& r : rows) {
+        if (r["hardware"].get<bool>()) continue;
+        std::snprintf(line, sizeof line, "  %-10s %-8s %-28s %d-DOF in, %d-DOF force out\n",
+                      r["driver"].get<std::string>().c_str(), r["profile"].get<std::string>().c_str(),
+                      r["name"].get<std::string>().c_str(), r["dof_in"].get<int>(), r["dof_out"].get<int>());
+        out += line;
+    }
+    out += "Hardware:\n";
+    for (const nlohmann::json& r : rows) {
+        if (!r["hardware"].get<bool>()) continue;
+        std::string ids;
+        for (const auto& id : r["usb_ids"]) ids += (ids.empty() ? "" : ", ") + id.get<std::string>();
+        std::string state = r["detected"].get<bool>() ? "plugged in at " : "not plugged in";
+        for (std::size_t i = 0; i < r["locations"].size(); ++i)
+            state += (i ? ", " : "") + r["locations"][i].get<std::string>();
+        const std::string driver = r["available"].get<bool>() ? "driver '" + r["driver"].get<std::string>() + "'"
+                                                              : "no driver in this build yet";
+        std::snprintf(line, sizeof line, "  %-34s USB %s: %s; %s\n", r["name"].get<std::string>().c_str(), ids.c_str(),
+                      state.c_str(), driver.c_str());
+        out += line;
+    }
+    if (!usb_error.empty()) out += "  (USB devices could not be listed: " + usb_error + ")\n";
+    return out;
+}
+
+void run_devices(bool json) {
+    std::string usb_error;
+    const nlohmann::json rows = devices_json(devices::builtin_registry(), &usb_error);
+    const std::string text = json ? rows.dump(2) + "\n" : devices_text(rows, usb_error);
+    std::fputs(text.c_str(), stdout);
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,149 @@
+// devices/device_registry.cpp - the registry, the built-in drivers and USB detection.
+#include "devices/device_registry.hpp"
+
+#include <libusb-1.0/libusb.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+
+#include "core/error.hpp"
+#include "devices/device_profiles.hpp"
+#include "devices/replay_device.hpp"
+#include "devices/simulated_device.hpp"
+
+namespace tridex::devices {
+
+namespace {
+
+struct NamedProfile {
+    const char* name;
+    DeviceProfile (*make)();
+};
+const NamedProfile kProfiles[] = {
+    {"omni", &DeviceProfile::phantom_omni}, {"wand", &quanser_wand_5dof}, {"6dof", &generic_6dof}};
+
+std::string join(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+std::string hex4(std::uint16_t v) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%04x", v);
+    return buf;
+}
+
+}  // namespace
+
+DeviceProfile profile_by_name(const std::string& name) {
+    for (const NamedProfile& p : kProfiles)
+        if (name == p.name) return p.make();
+    throw Error("device.profile: unknown profile '" + name + "'; use omni, wand or 6dof");
+}
+
+std::string profile_name_of(const std::string& product) {
+    for (const NamedProfile& p : kProfiles)
+        if (p.make().name == product) return p.name;
+    return "";
+}
+
+std::vector<std::pair<UsbId, std::string>> usb_devices(std::string* error) {
+    std::vector<std::pair<UsbId, std::string>> out;
+    libusb_context* ctx = nullptr;
+    if (const int rc = libusb_init(&ctx); rc != 0) {
+        if (error) *error = std::string("libusb_init: ") + libusb_strerror(rc);
+        return out;
+    }
+    libusb_device** list = nullptr;
+    const ssize_t n = libusb_get_device_list(ctx, &list);
+    if (n < 0) {
+        if (error) *error = std::string("libusb_get_device_list: ") + libusb_strerror(static_cast<int>(n));
+    } else {
+        for (ssize_t i = 0; i < n; ++i) {
+            libusb_device_descriptor d{};
+            if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
+            std::string where = "bus " + std::to_string(libusb_get_bus_number(list[i])) + " port ";
+            std::uint8_t ports[8];
+            const int depth = libusb_get_port_numbers(list[i], ports, 8);
+            for (int k = 0; k < depth; ++k) where += (k ? "." : "") + std::to_string(ports[k]);
+            if (depth <= 0) where += "root";
+            out.push_back({UsbId{d.idVendor, d.idProduct}, where});
+        }
+        libusb_free_device_list(list, 1);
+    }
+    libusb_exit(ctx);
+    return out;
+}
+
+void DeviceRegistry::add(DriverInfo info, Factory factory) {
+    if (info.name.empty()) throw Error("DeviceRegistry::add: a driver needs a name");
+    for (const Entry& e : entries_)
+        if (e.info.name == info.name) throw Error("DeviceRegistry::add: driver '" + info.name + "' is registered twice");
+    entries_.push_back({std::move(info), std::move(factory)});
+}
+
+std::unique_ptr<HapticDevice> DeviceRegistry::create(const DeviceSpec& spec, const DeviceInputs& inputs) const {
+    std::vector<std::string> names;
+    for (const Entry& e : entries_) {
+        if (e.info.name == spec.driver) {
+            if (!e.info.available || !e.factory)
+                throw Error("device.driver: the '" + spec.driver + "' driver (" + e.info.summary +
+                            ") is not available in this build");
+            return e.factory(spec, inputs);
+        }
+        if (e.info.available) names.push_back(e.info.name);
+    }
+    throw Error("device.driver: unknown driver '" + spec.driver + "'; drivers: " + join(names));
+}
+
+std::vector<DriverInfo> DeviceRegistry::drivers() const {
+    std::vector<DriverInfo> out;
+    for (const Entry& e : entries_) out.push_back(e.info);
+    return out;
+}
+
+std::vector<DetectedDevice> DeviceRegistry::detect(std::string* error) const {
+    std::vector<DetectedDevice> found;
+    bool any_hardware = false;
+    for (const Entry& e : entries_) any_hardware = any_hardware || !e.info.usb_ids.empty();
+    if (!any_hardware) return found;
+    for (const auto& [id, where] : usb_devices(error))
+        for (const Entry& e : entries_)
+            for (const UsbId& want : e.info.usb_ids)
+                if (want.vendor == id.vendor && want.product == id.product)
+                    found.push_back({e.info.name, e.info.summary, id, where});
+    return found;
+}
+
+const DeviceRegistry& builtin_registry() {
+    static const DeviceRegistry registry = [] {
+        DeviceRegistry r;
+        DriverInfo sim{"simulated",
+                       "closed-loop virtual hand on a simulated device (profiles: omni = PHANTOM Omni, wand = Quanser "
+                       "5-DOF wand, 6dof = generic 6-DOF)",
+                       false, true, {"omni", "wand", "6dof"}, {}, 6, 3};
+        r.add(sim, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            DeviceProfile profile = profile_by_name(spec.profile);
+            ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
+            return std::make_unique<SimulatedDevice>(std::move(profile), std::move(path), SimulatedHandParams{},
+                                                     in.period_s);
+        });
+        DriverInfo replay{"replay", "plays a recording's device samples back (tridex replay)", false, true,
+                          {"omni", "wand", "6dof"}, {}, 6, 3};
+        r.add(replay, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            return std::make_unique<ReplayDevice>(profile_by_name(spec.profile), in.samples);
+        });
+        // Known hardware without a driver yet: listed so `tridex devices` tells the user it was seen. USB ids of
+        // the Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules).
+        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB)", true, false, {}, {{0x0403, 0xcb48}}, 3, 3};
+        r.add(falcon, nullptr);
+        return r;
+    }();
+    return registry;
+}
+
+std::string usb_id_string(const UsbId& id) { return hex4(id.vendor) + ":" + hex4(id.product); }
+
+}  // namespace tridex::devices

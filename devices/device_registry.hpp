@@ -1,0 +1,123 @@
+// devices/device_registry.hpp - creates a HapticDevice from a spec by driver name, and lists the drivers and
+// the hardware that is plugged in.
+//
+// How to add a driver (the style of CHAI3D's custom-device template):
+//   1. Write `devices/<name>_device.{hpp,cpp}`: a class deriving HapticDevice (devices/haptic_device.hpp).
+//      - profile(): a DeviceProfile with the product's published workspace, continuous force and torque limits,
+//        stable stiffness and DOF (cite the specification sheet in its docstring).
+//      - on_open() / on_close(): connect and disconnect (libusb-1.0 for USB devices; a transport belongs under
+//        the driver, never above it). Throw tridex::Error naming the unit and what the user can do.
+//      - on_home(): calibrate the encoders; throw tridex::Error saying how to home (e.g. "push the grip in").
+//      - on_enable() / on_disable(): amplifiers on and off, if the hardware has them.
+//      - do_read(): the newest sample in the device frame, SI units, with the device's own time stamp; false
+//        when the unit vanished. Never block longer than a fraction of a millisecond, never allocate.
+//      - do_write(): send the force (N) and torque (N*m); the base class has already gated it (enabled only),
+//        bounded it by the profile's limits and replaced non-finite values by zero.
+//      - Report over-temperature and transport errors through raise_fault().
+//   2. Register it in `builtin_registry()` (devices/device_registry.cpp): a DriverInfo (name, summary,
+//      hardware or not, the USB ids it drives), a factory from DeviceSpec + DeviceInputs, and, for hardware, its
+//      USB ids so `tridex devices` shows whether one is plugged in.
+//   3. Add a test in tests/devices/ driving it through the lifecycle against a fake transport.
+// Scene files then select it with "device": {"driver": "<name>", ...}.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "devices/haptic_device.hpp"
+#include "devices/scripted_path.hpp"
+
+namespace tridex::devices {
+
+/// Which device a session uses: what a scene's "device" object and the demo's --device flag give.
+struct DeviceSpec {
+    std::string driver = "simulated";  ///< a registered driver name (simulated, replay, ...)
+    std::string profile = "omni";      ///< device profile for drivers that take one (omni, wand, 6dof)
+    std::string serial;                ///< which unit of a hardware driver ("" = the first one found)
+};
+
+/// What a session hands a driver besides its spec: the loop period and, for the software drivers, their input.
+struct DeviceInputs {
+    double period_s = 1e-3;                 ///< haptic loop period, s
+    std::optional<ScriptedPath> hand_path;  ///< simulated: the virtual hand's target path, device frame (m)
+    std::vector<DeviceState> samples;       ///< replay: the recorded samples, in order
+};
+
+/// A USB vendor and product id pair.
+struct UsbId {
+    std::uint16_t vendor = 0;
+    std::uint16_t product = 0;
+};
+
+/// What `tridex devices` says of a driver.
+struct DriverInfo {
+    std::string name;                   ///< the driver name a spec uses
+    std::string summary;                ///< one line: what it drives
+    bool hardware = false;              ///< true for drivers of physical devices
+    bool available = true;              ///< false: known hardware that this build cannot drive yet
+    std::vector<std::string> profiles;  ///< profile names it accepts (empty: the hardware's own)
+    std::vector<UsbId> usb_ids;         ///< the USB ids of the hardware it drives
+    int dof_in = 0;                     ///< sensed DOF (of its default profile)
+    int dof_out = 0;                    ///< actuated DOF (of its default profile)
+};
+
+/// One plugged-in unit of known hardware.
+struct DetectedDevice {
+    std::string driver;    ///< the driver that handles it
+    std::string product;   ///< the product name (from the driver's summary)
+    UsbId id;              ///< its USB ids
+    std::string location;  ///< "bus B port P.Q" (libusb numbering)
+};
+
+/// "vvvv:pppp" in lower-case hex, as lsusb prints it.
+std::string usb_id_string(const UsbId& id);
+
+/// Lists the plugged-in USB devices' ids and locations (libusb-1.0). Returns an empty list when USB cannot be
+/// enumerated (no permission, no USB in a container) and puts the reason in `error` (may be null).
+std::vector<std::pair<UsbId, std::string>> usb_devices(std::string* error = nullptr);
+
+/// Driver name -> factory. Thread-compatible (fill it once, then read from any thread).
+class DeviceRegistry {
+public:
+    /// Makes a closed device from a spec; throws tridex::Error naming the field on a bad spec.
+    using Factory = std::function<std::unique_ptr<HapticDevice>(const DeviceSpec&, const DeviceInputs&)>;
+
+    /// Adds a driver; throws tridex::Error when the name is empty or taken.
+    void add(DriverInfo info, Factory factory);
+    /// A closed device (open(), home() and enable() are the caller's, see HapticDevice) from `spec`. Throws
+    /// tridex::Error "device.driver: unknown driver 'x'; drivers: a, b" for an unknown driver, "device.driver:
+    /// the '<name>' driver is not available in this build" for known hardware without a driver, and whatever the
+    /// factory throws for a bad profile or missing input.
+    std::unique_ptr<HapticDevice> create(const DeviceSpec& spec, const DeviceInputs& inputs) const;
+    /// Every registered driver, in registration order.
+    std::vector<DriverInfo> drivers() const;
+    /// The plugged-in units of the registered hardware drivers (USB ids matched against usb_devices()); `error`
+    /// (may be null) gets why USB could not be listed.
+    std::vector<DetectedDevice> detect(std::string* error = nullptr) const;
+
+private:
+    struct Entry {
+        DriverInfo info;
+        Factory factory;
+    };
+    std::vector<Entry> entries_;
+};
+
+/// The drivers this build has: `simulated` (the closed-loop virtual hand, profiles omni, wand, 6dof), `replay`
+/// (recorded samples) and the known hardware (Novint Falcon, USB 0403:cb48) listed as not yet available.
+const DeviceRegistry& builtin_registry();
+
+/// The profile named `name` (omni, wand, 6dof); throws tridex::Error "device.profile: unknown profile 'x'; use
+/// omni, wand or 6dof".
+DeviceProfile profile_by_name(const std::string& name);
+
+/// The profile name (omni, wand, 6dof) whose DeviceProfile::name is `product` (a recording's device_name), or
+/// "" when none is.
+std::string profile_name_of(const std::string& product);
+
+}  // namespace tridex::devices
