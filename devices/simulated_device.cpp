@@ -62,7 +62,7 @@ bool SimulatedDevice::read(DeviceState& out) {
     out.pose.position = x_;
     out.pose.orientation = Quat(1.0, 0.0, 0.0, 0.0);
     out.velocity_m_s = v_;
-    out.buttons = buttons_.load(std::memory_order_relaxed);
+    out.buttons = button_script_ ? button_script_->bits_at(t_) : buttons_.load(std::memory_order_relaxed);
     if (faults_.nan_first_read > 0 && reads_ >= faults_.nan_first_read &&
         reads_ - faults_.nan_first_read < faults_.nan_count)
         out.pose.position = Vec3(std::numeric_limits<double>::quiet_NaN());

@@ -4,8 +4,10 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "devices/button_script.hpp"
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
 
@@ -51,6 +53,7 @@ struct SimulatedTraceEntry {
 /// velocity, so a run is deterministic whatever the wall-clock timing. The stylus starts at rest on
 /// the path's position at t = 0; its orientation stays identity; the position is not limited to the
 /// profile's workspace. A non-finite written force is applied as zero.
+/// Buttons: set_buttons() (interactive), or a ButtonScript in device time that overrides it.
 /// Not thread-safe except set_buttons(): drive it from one thread, inspect it after that thread stopped.
 class SimulatedDevice : public HapticDevice {
 public:
@@ -67,8 +70,15 @@ public:
 
     /// Replaces the injected faults (call before the loop starts).
     void set_faults(const SimulatedFaults& faults) { faults_ = faults; }
-    /// Sets the button bits reported by later reads; safe from any thread.
+    /// Sets the button bits reported by later reads when no button script is set; safe from any thread.
     void set_buttons(std::uint32_t bits) { buttons_.store(bits, std::memory_order_relaxed); }
+    /// Scripts the buttons in device time: each read reports script.bits_at(t) at its own device time t
+    /// (the sample's t_s), overriding set_buttons(). Call before the loop starts (not thread-safe).
+    void set_button_script(ButtonScript script) { button_script_ = std::move(script); }
+    /// Removes the button script: set_buttons() decides again. Call while the loop is stopped.
+    void clear_button_script() { button_script_.reset(); }
+    /// The button script, if one is set.
+    const std::optional<ButtonScript>& button_script() const { return button_script_; }
     /// Keeps the first `capacity` steps in trace() (storage reserved here, so read() never allocates).
     void enable_trace(std::size_t capacity);
 
@@ -105,6 +115,7 @@ private:
     double dt_;
     SimulatedFaults faults_;
     std::atomic<std::uint32_t> buttons_{0};
+    std::optional<ButtonScript> button_script_;
     double t_ = 0.0;
     Vec3 x_{0.0}, v_{0.0};
     Vec3 last_force_{0.0}, last_torque_{0.0};
