@@ -90,9 +90,9 @@ struct WorkspaceFrame {
 /// - kScaling: the fixed map above; never paused. Forces computed in the world reach the device divided
 ///   by the gain (force_scale() = 1 / s), so the device shows the world's stiffness as authored: a world
 ///   spring k and a device displacement dp give a world penetration s * dp, a world force k * s * dp and
-///   a device force k * dp (CHAI3D's workspace scale factor: world stiffnesses are authored for the
-///   device and the world's larger motion is taken back out of the force). Why not s * F (which would
-///   conserve energy across the map, F_dev . dp = F_w . (s dp)): it shows k * s^2 at the hand, past the
+///   a device force k * dp (the scaling technique's rule: forces go to the device divided by the gain).
+///   Why not s * F (which would conserve energy across the map, F_dev . dp = F_w . (s dp))? It shows
+///   k * s^2 at the hand, past the
 ///   device's stable stiffness (Colgate: K < 2 b / T) for s > 1, while 1 / s keeps the authored stiffness
 ///   inside it whatever the gain; the map stays passive either way (device power = world power / s^2 >= 0
 ///   when the world's is), and the safety stage books the energy of the force actually sent over the
