@@ -12,6 +12,7 @@
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "core/error.hpp"
+#include "devices/device_profiles.hpp"
 #include "haptics/haptic_loop.hpp"
 
 namespace tridex::app {
@@ -59,7 +60,7 @@ void run_demo(const DemoOptions& o) {
     s.cutting = o.cutting;
     s.op = o.op;
     s.material = o.material;
-    (void)device_profile(s.device);  // checks --device before the slow work
+    const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
     Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
@@ -69,10 +70,12 @@ void run_demo(const DemoOptions& o) {
     sp.duration_s = o.seconds;
     sp.tool_radius_m = o.tool_radius_m;
     const StrokePlan plan = plan_stroke(wp.model, sp);
-    s.device_origin_m = plan.centre_m;
+    // The device's home (its workspace centre) sits on the stroke's centre.
+    const Vec3 home = devices::home_position_m(profile);
+    s.device_origin_m = plan.centre_m - s.workspace_scale * home;
     const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // checks the spec before the device is made
     std::vector<Vec3> device_path;
-    for (const Vec3& w : plan.world_m) device_path.push_back((w - plan.centre_m) / s.workspace_scale);
+    for (const Vec3& w : plan.world_m) device_path.push_back(home + (w - plan.centre_m) / s.workspace_scale);
     devices::DeviceInputs inputs;
     inputs.period_s = cfg.period_s;
     inputs.hand_path.emplace(plan.t_s, device_path);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
 
 namespace tridex::app {
@@ -17,8 +18,11 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
     Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
-    // The hand's path in device coordinates (the device workspace is centred on the stroke's middle), or,
-    // without a stroke, a hand at rest a tool diameter plus a clearance in front of the workpiece (+z).
+    const devices::DeviceProfile profile = device_profile(spec.device);
+    // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
+    // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of
+    // the workpiece (+z).
+    const Vec3 home = devices::home_position_m(profile);
     std::vector<double> t_s;
     std::vector<Vec3> path;
     Vec3 centre;
@@ -26,17 +30,17 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
         centre = plan.centre_m;
         t_s = plan.t_s;
-        for (const Vec3& w : plan.world_m) path.push_back((w - centre) / spec.workspace_scale);
+        for (const Vec3& w : plan.world_m) path.push_back(home + (w - centre) / spec.workspace_scale);
         start_m_ = plan.world_m.front();
         stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.duration_s / spec.period_s));
     } else {
         const Aabb box = wp.model.lattice.bounds();
         centre = Vec3(box.centre().x, box.centre().y, box.hi.z + 2.0 * tool_reach_m(spec.tool) + 0.01);
         t_s = {0.0};
-        path = {Vec3(0.0)};
+        path = {home};
         start_m_ = centre;
     }
-    spec.device_origin_m = centre;
+    spec.device_origin_m = centre - spec.workspace_scale * home;
     devices::DeviceInputs inputs;
     inputs.period_s = spec.period_s;
     inputs.hand_path.emplace(t_s, path);

@@ -37,7 +37,10 @@ struct SessionSpec {
     std::string device = "omni";             ///< device profile: omni | wand | 6dof
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
     double workspace_scale = 1.0;            ///< device -> world gain
-    Vec3 device_origin_m{0.0};               ///< world position of the device workspace centre, m
+    /// World position of the device frame's origin, m (the loop's device_to_world.position). Sessions put
+    /// the device's home (devices::home_position_m, its workspace centre) on the stroke's centre, so this is
+    /// centre - workspace_scale * home; = the workspace centre for a device whose workspace is centred.
+    Vec3 device_origin_m{0.0};
     double stiffness_n_per_m = 700.0;        ///< contact stiffness kp, N/m (0.7 N/mm, Omni-class)
     double damping_n_s_per_m = 0.5;          ///< contact damping kd, N*s/m
     double static_friction = 0.2;            ///< Coulomb static coefficient on the proxy

@@ -30,7 +30,7 @@ Vec3 checked_axes(const DeviceProfile& p, const Vec3& v, const char* field) {
 DeviceProfile quanser_wand_5dof() {
     DeviceProfile p;
     p.name = kWandName;
-    p.workspace_m = Aabb{Vec3(-0.15), Vec3(0.15)};
+    p.workspace_m = Aabb{Vec3(-0.240, 0.085, -0.215), Vec3(0.240, 0.335, 0.235)};  // Singapogu Table 1
     p.max_force_n = glm::length(kWandForceN);
     p.max_torque_nm = glm::length(kWandTorqueNm);
     p.max_stiffness_n_per_m = units::n_per_mm(0.7);
@@ -51,6 +51,10 @@ DeviceProfile generic_6dof() {
     p.dof_in = 6;
     p.dof_out = 6;
     return p;
+}
+
+Vec3 home_position_m(const DeviceProfile& profile) {
+    return profile.workspace_m.empty() ? Vec3(0.0) : profile.workspace_m.centre();
 }
 
 AxisLimits axis_limits(const DeviceProfile& profile) {

@@ -15,14 +15,22 @@ namespace tridex::devices {
 /// magnitude with every axis at its limit, |(2.3, 2.1, 3.0)| = 4.33 N, and max_torque_nm =
 /// |(0.230, 0.250)| = 0.340 N*m: loose bounds; the per-axis fields max_force_axis_n = (2.3, 2.1, 3.0) N and
 /// max_torque_axis_nm = (0.230, 0, 0.250) N*m are the real ones.
-/// workspace_m (0.3 m cube) and max_stiffness_n_per_m (700 N/m, as the Omni) are assumptions, not from
-/// the thesis.
+/// workspace_m: the thesis's Table 1 workspace about the wand's calibration point (the device origin):
+/// x in [-240, 240] mm, y in [85, 335] mm, z in [-215, 235] mm; so the box is not centred on the origin
+/// (home_position_m() gives its centre, (0, 210, 10) mm). rotation_range_rad is left unset: no source
+/// at hand gives the wand's rotation range. max_stiffness_n_per_m (700 N/m, as the Omni) is an
+/// assumption, not from the thesis.
 DeviceProfile quanser_wand_5dof();
 
 /// A neutral 6-DOF profile for simulation and tests, not a specific product: 0.2 m cube workspace centred
 /// on the device origin, 3.0 N and 0.3 N*m continuous limits on every axis and in magnitude, 1000 N/m
 /// stable stiffness, 6-DOF sensing and output.
 DeviceProfile generic_6dof();
+
+/// Where a device's stylus rests at home, device frame, m: the centre of profile.workspace_m (the device
+/// origin for an empty box). A scripted hand's path and the workspace mapping are placed around it, so a
+/// device whose workspace is not centred on its origin (the Quanser wand) starts inside its workspace.
+Vec3 home_position_m(const DeviceProfile& profile);
 
 /// Per-axis continuous limits in the device frame (N, N*m); 0 on an axis = that axis is not actuated.
 struct AxisLimits {

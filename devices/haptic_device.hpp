@@ -27,6 +27,9 @@ struct DeviceProfile {
     /// Per-axis continuous torque limits in the device frame, N*m; 0 on an axis = not actuated; unset =
     /// derived from max_torque_nm and dof_out (devices::axis_limits()).
     std::optional<Vec3> max_torque_axis_nm;
+    /// Per-axis range of the stylus orientation about its home orientation, rad: |angle| <= limit about
+    /// device x, y, z (e.g. the wand's pitch and yaw); unset = not known, no limit is modelled.
+    std::optional<Vec3> rotation_range_rad;
 
     /// SensAble (3D Systems) PHANTOM Omni, from its published specification sheet:
     /// workspace 160 x 120 x 70 mm (6.4 x 4.8 x 2.8 in, width x height x depth = device x, y, z),

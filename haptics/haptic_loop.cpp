@@ -226,8 +226,9 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     if (wf.coupled) c = contact(surface_.latest(), wf.tool_world, dt);
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
+    // The world's contact force reaches the device scaled by the mapping's force_scale() (1 / s in kScaling).
     const double fmax = limits_.max_force_n, tmax = limits_.max_torque_nm;
-    Vec3 f = clamp_force(filter_.apply(clamp_force(c.force_n + wf.force_n, fmax)), fmax);
+    Vec3 f = clamp_force(filter_.apply(clamp_force(mapper_.force_scale() * c.force_n + wf.force_n, fmax)), fmax);
     if (!is_finite(filter_.value())) {
         filter_.reset();
         f = Vec3(0.0);

@@ -35,7 +35,8 @@ struct HapticLoopConfig {
     double ewma_alpha = 0.9;       ///< force filter weight a, [0, 1) (Peng et al.)
     Pose device_to_world;          ///< device frame -> world frame (unit quaternion): the initial workspace mapping
     double workspace_scale = 1.0;  ///< s > 0: world = R * (s * p) + offset, offset = device_to_world.position until the
-                                   ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain
+                                   ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain, which also
+                                   ///< divides the world's contact force on its way to the device (force_scale())
     /// The tool carried by every ToolSample (what the sculpt thread sweeps). A ball of radius 0 (the default)
     /// = a ball of contact.tool_radius_m. The contact points (tool_points) should cover this tool's surface
     /// (haptics::tool_points_for) so that touch and cut agree.
@@ -133,8 +134,8 @@ struct LoopView {
 ///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest):
 ///   the MultiPointRenderer (one god-object per tool point, force sum and torque about the tool centre,
 ///   or the interaction mesh), whose damping dt is the step of the device's clock, t_s, or period_s when
-///   that does not advance -> + the mapper's force (bubble wall) -> clamp -> EwmaFilter (reset when
-///   non-finite) -> clamp to the profile's max force (torque: its own filter and max torque)
+///   that does not advance -> x the mapper's force_scale() (1 / s in kScaling) + its force (bubble wall)
+///   -> clamp -> EwmaFilter (reset when non-finite) -> clamp to the profile's max force (torque: its own filter and max torque)
 ///   -> SafetyStage (clamps, velocity limit and watchdog gate, ramp-in, passivity controller when
 ///   enabled, passivity observer) -> map_to_device (the device's DOF and per-axis limits: 3-DOF
 ///   drops torque, 5-DOF the roll axis) -> device.write(R^-1 * F_world, R^-1 * tau_world)

@@ -59,6 +59,7 @@ WorkspaceMapper::WorkspaceMapper(const WorkspaceConfig& cfg, const Pose& device_
             cfg_.bubble_stiffness_n_per_m, "must be in [0, 1e6] N/m");
     require(std::isfinite(cfg_.bubble_radius_m) && cfg_.bubble_radius_m >= 0.0, "bubble_radius_m",
             cfg_.bubble_radius_m, "must be finite and >= 0 (0 = default)");
+    if (cfg_.mode == WorkspaceMode::kScaling) force_scale_ = 1.0 / scale_;
     if (!device_workspace_m.empty()) {
         centre_d_ = device_workspace_m.centre();
         half_d_ = 0.5 * device_workspace_m.size();

@@ -15,7 +15,7 @@ namespace tridex::haptics {
 /// How the small device workspace reaches a large virtual environment; one per session.
 enum class WorkspaceMode : std::uint8_t {
     kPengMoving = 0,  ///< Peng et al., section 4.1: button press/hold/release moves the workspace box
-    kScaling = 1,     ///< fixed gain: world = R * (scale * p) + offset; buttons do nothing
+    kScaling = 1,     ///< fixed gain: world = R * (scale * p) + offset, world forces / scale at the device; no buttons
     kClutching = 2,   ///< button = declutch: the tool freezes, re-clutch continues from the frozen point
     kBubble = 3,      ///< Dominjon et al. 2005: position control inside a sphere, rate control outside
 };
@@ -87,7 +87,17 @@ struct WorkspaceFrame {
 ///   moves the workspace in steps of jump_gain * s * R * (p - c_d), i.e. in the direction the tool
 ///   moved from the workspace centre. Modelling is paused from the press through the release tick
 ///   (inclusive), so no swept segment spans the jump.
-/// - kScaling: the fixed map above; never paused.
+/// - kScaling: the fixed map above; never paused. Forces computed in the world reach the device divided
+///   by the gain (force_scale() = 1 / s), so the device shows the world's stiffness as authored: a world
+///   spring k and a device displacement dp give a world penetration s * dp, a world force k * s * dp and
+///   a device force k * dp (the scaling technique's rule: forces go to the device divided by the gain).
+///   Why not s * F (which would conserve energy across the map, F_dev . dp = F_w . (s dp))? It shows
+///   k * s^2 at the hand, past the
+///   device's stable stiffness (Colgate: K < 2 b / T) for s > 1, while 1 / s keeps the authored stiffness
+///   inside it whatever the gain; the map stays passive either way (device power = world power / s^2 >= 0
+///   when the world's is), and the safety stage books the energy of the force actually sent over the
+///   stylus's physical motion. Torque is not divided: the map does not scale angles, so a world torsion
+///   stiffness is shown as it is.
 /// - kClutching: a press declutches: the tool freezes at its pose, modelling pauses and the tool is
 ///   uncoupled (no contact force); the box shows where the workspace will be on re-clutch
 ///   (offset' = T_frozen - R * (s * p)). The release re-clutches with that offset: the tool continues
@@ -119,6 +129,10 @@ public:
     const Vec3& offset_m() const { return offset_; }
     /// Current world centre of the haptic workspace, m.
     Vec3 workspace_centre_m() const { return map(centre_d_); }
+    /// Factor applied to forces computed in the world (contact) before they go to the device: 1 / scale
+    /// in kScaling (see above), 1 in the other modes (1:1 position control within the workspace; their
+    /// own forces, the bubble wall, are computed in device units already).
+    double force_scale() const { return force_scale_; }
     /// Maps a device-frame point (m) with the current mapping, world m.
     Vec3 map(const Vec3& p_device) const { return rot_ * (scale_ * p_device) + offset_; }
 
@@ -128,6 +142,7 @@ private:
     WorkspaceConfig cfg_;
     Quat rot_;
     double scale_;
+    double force_scale_ = 1.0;
     Vec3 initial_offset_;
     Vec3 centre_d_{0.0};      // device workspace centre, device m
     Vec3 half_d_{0.0};        // device workspace half extents, device m
