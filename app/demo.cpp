@@ -69,13 +69,14 @@ void run_demo(const DemoOptions& o) {
     StrokeParams sp;
     sp.duration_s = o.seconds;
     sp.tool_radius_m = o.tool_radius_m;
+    sp.workspace_scale = s.workspace_scale;
     const StrokePlan plan = plan_stroke(wp.model, sp);
     // The device's home (its workspace centre) sits on the stroke's centre.
     const Vec3 home = devices::home_position_m(profile);
     s.device_origin_m = plan.centre_m - s.workspace_scale * home;
     const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // checks the spec before the device is made
     std::vector<Vec3> device_path;
-    for (const Vec3& w : plan.world_m) device_path.push_back(home + (w - plan.centre_m) / s.workspace_scale);
+    for (const Vec3& d : plan.device_offsets_m(s.workspace_scale)) device_path.push_back(home + d);
     devices::DeviceInputs inputs;
     inputs.period_s = cfg.period_s;
     inputs.hand_path.emplace(plan.t_s, device_path);

@@ -63,11 +63,22 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
                                    const std::string& device_profile, double device_max_force_n,
                                    const devices::DeviceStatus& device_status) {
     double max_force = 0.0;
-    std::size_t contact_ticks = 0;
+    std::size_t contact_ticks = 0, presses = 0, paused = 0;
+    Aabb tool_span, device_span;  // where the tool went in the world, and the stylus in the device
+    std::uint32_t prev_buttons = 0;
     for (const auto& t : records) {
         max_force = std::max(max_force, glm::length(t.force_n));
         contact_ticks += t.contact ? 1 : 0;
+        presses += (t.device.buttons & 1u) && !(prev_buttons & 1u) ? 1 : 0;
+        prev_buttons = t.device.buttons;
+        paused += t.modelling_paused ? 1 : 0;
+        if (!t.valid_sample) continue;
+        tool_span.add(t.tool_world.position);
+        device_span.add(t.device.pose.position);
     }
+    auto extent = [](const Aabb& b) {
+        return b.empty() ? nlohmann::json{0.0, 0.0, 0.0} : nlohmann::json{b.size().x, b.size().y, b.size().z};
+    };
     auto histogram_us = [](const haptics::Histogram& h) {
         return nlohmann::json{{"median", 1e6 * h.quantile(0.5)}, {"p99", 1e6 * h.quantile(0.99)}, {"max", 1e6 * h.max_s}};
     };
@@ -97,6 +108,10 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"samples_dropped", loop.samples_dropped},
             {"invalid_samples", loop.invalid_samples},
             {"device_lost", loop.device_lost},
+            {"button_presses", presses},
+            {"modelling_paused_ticks", paused},
+            {"tool_world_extent_m", extent(tool_span)},
+            {"device_extent_m", extent(device_span)},
             {"device_status",
              {{"state", devices::to_string(device_status.state)},
               {"faults", devices::fault_names(device_status.faults)},

@@ -288,6 +288,19 @@ void read_stroke(Fields& top, RunScene& s) {
         const std::string axis = f.text("press_axis", "z");
         if (axis != "y" && axis != "z") f.fail("stroke.press_axis", "must be \"z\" (from the viewer) or \"y\" (from above)");
         p.press_axis = axis == "y" ? 1 : 2;
+        p.passes = f.integer("passes", 1, 1, 16);
+        if (const json* mv = f.get("moves")) {
+            if (!mv->is_array()) f.fail("stroke.moves", "must be a list of \"jump\" and \"drag\"");
+            if (static_cast<int>(mv->size()) > p.passes - 1)
+                f.fail("stroke.moves", "has " + std::to_string(mv->size()) + " entries; " + std::to_string(p.passes) +
+                                           " passes have " + std::to_string(p.passes - 1) + " moves between them");
+            for (std::size_t i = 0; i < mv->size(); ++i) {
+                const json& m = (*mv)[i];
+                if (!m.is_string() || (m.get<std::string>() != "jump" && m.get<std::string>() != "drag"))
+                    f.fail("stroke.moves[" + std::to_string(i) + "]", "must be \"jump\" or \"drag\"");
+                p.moves.push_back(m.get<std::string>() == "jump" ? WorkspaceMove::kJump : WorkspaceMove::kDrag);
+            }
+        }
         f.finish();
     }
     // The planner keeps the tool's lowest point along the press direction depth_m below the surface: a ball's
@@ -388,6 +401,10 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_display(top, s);
     read_head(top, s);
     top.finish();
+    if (s.has_stroke && s.stroke.passes > 1 && s.spec.workspace_mode != "peng_moving")
+        top.fail("stroke.passes", "several passes move the workspace with Peng's technique: set workspace.mode to "
+                                  "\"peng_moving\" or use one pass");
+    s.stroke.workspace_scale = s.spec.workspace_scale;
     return s;
 }
 

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
+#include "core/error.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
 
@@ -12,6 +14,19 @@ namespace tridex::app {
 
 namespace {
 constexpr std::size_t kMaxRecords = 120000;  // per-tick records kept: 2 minutes at 1 kHz
+
+// A stroke of several passes is planned to stay within the device's reach: refuse one that would not.
+void check_reach(const std::vector<Vec3>& path, const devices::DeviceProfile& profile) {
+    constexpr double kSlack = 1e-6;  // m
+    const Aabb& w = profile.workspace_m;
+    for (const Vec3& p : path)
+        for (int a = 0; a < 3; ++a)
+            if (p[a] < w.lo[a] - kSlack || p[a] > w.hi[a] + kSlack)
+                throw Error("stroke: the hand would leave the " + profile.name + "'s workspace (axis " + "xyz"[a] +
+                            " reaches " + std::to_string(1e3 * p[a]) + " mm, the device reaches " +
+                            std::to_string(1e3 * w.lo[a]) + ".." + std::to_string(1e3 * w.hi[a]) +
+                            " mm); use a shorter stroke.length_m or a smaller clearance_m");
+}
 }  // namespace
 
 SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
@@ -25,12 +40,15 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     const Vec3 home = devices::home_position_m(profile);
     std::vector<double> t_s;
     std::vector<Vec3> path;
+    std::optional<devices::ButtonScript> buttons;
     Vec3 centre;
     if (scene.has_stroke) {
         const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
         centre = plan.centre_m;
         t_s = plan.t_s;
-        for (const Vec3& w : plan.world_m) path.push_back(home + (w - centre) / spec.workspace_scale);
+        for (const Vec3& d : plan.device_offsets_m(spec.workspace_scale)) path.push_back(home + d);
+        if (scene.stroke.passes > 1) check_reach(path, profile);
+        if (!plan.buttons.empty()) buttons.emplace(plan.buttons);
         start_m_ = plan.world_m.front();
         stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.duration_s / spec.period_s));
     } else {
@@ -44,6 +62,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     devices::DeviceInputs inputs;
     inputs.period_s = spec.period_s;
     inputs.hand_path.emplace(t_s, path);
+    inputs.buttons = buttons;
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
     RuntimeOptions ro;
     ro.sculpt = booleans;

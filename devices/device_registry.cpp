@@ -127,8 +127,10 @@ const DeviceRegistry& builtin_registry() {
         r.add(sim, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             DeviceProfile profile = profile_by_name(spec.profile);
             ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
-            return std::make_unique<SimulatedDevice>(std::move(profile), std::move(path), SimulatedHandParams{},
-                                                     in.period_s);
+            auto dev = std::make_unique<SimulatedDevice>(std::move(profile), std::move(path), SimulatedHandParams{},
+                                                         in.period_s);
+            if (in.buttons) dev->set_button_script(*in.buttons);
+            return dev;
         });
         DriverInfo replay{"replay", "plays a recording's device samples back (tridex replay)", false, true,
                           {"omni", "wand", "6dof"}, {}, 6, 3};

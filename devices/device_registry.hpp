@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "devices/button_script.hpp"
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
 
@@ -45,6 +46,7 @@ struct DeviceSpec {
 struct DeviceInputs {
     double period_s = 1e-3;                 ///< haptic loop period, s
     std::optional<ScriptedPath> hand_path;  ///< simulated: the virtual hand's target path, device frame (m)
+    std::optional<ButtonScript> buttons;    ///< simulated: the buttons the hand presses, in device time
     std::vector<DeviceState> samples;       ///< replay: the recorded samples, in order
 };
 
