@@ -18,6 +18,7 @@
 #include "app/devices_cmd.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
+#include "app/stop_signal.hpp"
 #include "core/error.hpp"
 
 namespace {
@@ -150,6 +151,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return cli.exit(e);
     }
+    tridex::app::install_stop_handlers();  // SIGINT/SIGTERM end a session cleanly, then exit 128 + signal
     try {
         if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
@@ -158,7 +160,10 @@ int main(int argc, char** argv) {
             tridex::app::run_demo(demo);
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
-        if (*run_cmd) return tridex::app::run_command(run);
+        if (*run_cmd) {
+            const int rc = tridex::app::run_command(run);
+            return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;
+        }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
@@ -186,7 +191,7 @@ int main(int argc, char** argv) {
                 tridex::app::run_accuracy_bench(abench);
             }
         }
-        return 0;
+        return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : 0;
     } catch (const tridex::Error& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
         return 2;

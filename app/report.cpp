@@ -166,6 +166,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                    {"contour_ms", summary_json(summarize(r.sculpt->contour_ms), true)},
                    {"tiles_initial", r.tiles_initial},
                    {"tiles_total", r.tiles_total}};
+    if (!r.stopped_by.empty()) j["stopped_by"] = r.stopped_by;
     j["sculpt_path"] = r.sculpt_path;
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
     if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
@@ -188,6 +189,8 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
     const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
     const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
     std::printf("tridex demo: %s at %d cells (cell %.3f mm)\n", r.mesh_path.c_str(), r.resolution, r.lattice.cell_m * 1e3);
+    if (!r.stopped_by.empty())
+        std::printf("  %s ended the session early; the outputs hold the model as it was then\n", r.stopped_by.c_str());
     std::printf("  haptic loop: %zu ticks, period median %.1f us, p99 %.1f us; tick compute median %.2f us, p99 %.2f us\n",
                 recs.size(), period.median, period.p99, compute.median, compute.p99);
     const double removed_cm3 = (r.volume_dexel_m3 - r.volume_after_m3) * 1e6;

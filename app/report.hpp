@@ -44,6 +44,7 @@ struct DemoReport {
     const SessionSpec* settings = nullptr;///< the session's settings; not owned, non-null
     std::string device_profile;               ///< haptic device profile name
     devices::DeviceStatus device_status;      ///< the device's status channel at the end
+    std::string stopped_by;                   ///< "SIGINT" / "SIGTERM" when a signal ended the session early
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
     std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")

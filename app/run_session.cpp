@@ -17,6 +17,7 @@
 #include "app/run_view.hpp"
 #include "app/report.hpp"
 #include "app/session_recording.hpp"
+#include "app/stop_signal.hpp"
 #include "compute/mesh_export.hpp"
 #include "compute/volume.hpp"
 #include "core/error.hpp"
@@ -219,7 +220,10 @@ RunResult run_stereo_session(const RunOptions& options) {
             } else if (offscreen && su.frames == 0 && su.seconds == 0.0 && backend.stroke_done()) {
                 last = true;
                 ended = "the stroke ended";
-            } else if (safety_s > 0.0 && offscreen && t >= safety_s) {
+            } else if (stop_requested()) {
+                last = true;
+                ended = std::string(stop_signal_name()) + " received";
+            } else if (safety_s > 0.0 && offscreen && su.frames == 0 && su.seconds == 0.0 && t >= safety_s) {
                 last = true;
                 ended = "the wall-time safety net (" + std::to_string(safety_s) + " s) stopped the run";
             }

@@ -1,5 +1,7 @@
 // app/session.cpp - the session pipeline shared by demo and replay.
 #include "app/session.hpp"
+
+#include "app/stop_signal.hpp"
 #include "haptics/tool_points.hpp"
 
 #include <algorithm>
@@ -65,8 +67,10 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
 
     const auto t_session = Clock::now();
     rt.start();
-    while (rt.loop_running() && (ticks == 0 || rt.loop_stats().ticks < ticks) && seconds_since(t_session) < timeout_s)
+    while (rt.loop_running() && (ticks == 0 || rt.loop_stats().ticks < ticks) && seconds_since(t_session) < timeout_s &&
+           !stop_requested())
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    run.stopped_by = stop_signal_name();
     run.last_view = rt.latest_view();  // this thread is the view's only reader
     rt.stop();  // drains every sample the loop pushed; rethrows a sculpt failure
     run.session_s = rt.session_s();
@@ -171,6 +175,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.settings = &settings;
     r.device_profile = profile.name;
     r.device_status = run.runtime->device_status();
+    r.stopped_by = run.stopped_by;
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;

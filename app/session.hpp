@@ -44,6 +44,8 @@ struct SessionRun {
     /// The session's threads, stopped: its Context (context()) and, on the GPU contour path, its contour
     /// buffers serve the final render.
     std::unique_ptr<SessionRuntime> runtime;
+    /// "SIGINT" or "SIGTERM" when a signal ended the session early (its outputs are still written), else "".
+    std::string stopped_by;
 };
 
 /// Runs the session of `spec` (device_origin_m set) on wp.model with `device`: builds a SessionRuntime (the

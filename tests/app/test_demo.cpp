@@ -37,6 +37,39 @@ RunResult run_tridex(const std::string& args, const fs::path& dir) {
     return r;
 }
 
+// A session ended by a signal stops its threads, writes every output and exits 128 + the signal number.
+TEST(Signals, SigtermEndsARunCleanlyAndSigintADemo) {
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_sigterm";
+    fs::remove_all(out);
+    // `timeout --preserve-status` sends the signal after 6 s and exits with the program's own status.
+    const std::string cmd = "timeout --preserve-status -s TERM 6 " + std::string(TRIDEX_EXE) +
+                            " run --display offscreen --frames 1000000 --out " + out.string() + " > /dev/null 2>&1";
+    int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 143);
+    for (const char* f : {"left.png", "right.png", "output.png", "sculpted.ply", "report.json"})
+        EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+    std::ifstream rf(out / "report.json");
+    const nlohmann::json rep = nlohmann::json::parse(rf);
+    EXPECT_EQ(rep["notes"][0], "ended: SIGTERM received");
+    EXPECT_EQ(rep["haptics"]["device_status"]["state"], "closed");
+
+    const fs::path dout = fs::path(testing::TempDir()) / "tridex_sigint";
+    fs::remove_all(dout);
+    const std::string dcmd = "timeout --preserve-status -s INT 5 " + std::string(TRIDEX_EXE) +
+                             " demo --seconds 60 --resolution 64 --width 64 --height 48 --out " + dout.string() +
+                             " > /dev/null 2>&1";
+    status = std::system(dcmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    std::ifstream df(dout / "report.json");
+    ASSERT_TRUE(df.good());
+    const nlohmann::json drep = nlohmann::json::parse(df);
+    EXPECT_EQ(drep["stopped_by"], "SIGINT");
+    EXPECT_LT(drep["ticks"].get<int>(), 60000);  // ended early
+    EXPECT_TRUE(fs::is_regular_file(dout / "sculpted.ply"));
+}
+
 TEST(Devices, ListsDriversAsTextAndJson) {
     const fs::path out = fs::path(testing::TempDir()) / "tridex_devices";
     RunResult r = run_tridex("devices", out);

@@ -1,0 +1,24 @@
+// app/stop_signal.hpp - SIGINT and SIGTERM end a session cleanly: the session loops poll a flag, stop their threads
+// (zero force to the device), write their outputs, and the program exits 128 + the signal number.
+#pragma once
+
+namespace tridex::app {
+
+/// Installs handlers for SIGINT and SIGTERM that only record the signal (async-signal-safe). The first signal asks
+/// the running session to end; a second one of either kind ends the program at once with the default action (as a
+/// user pressing Ctrl+C twice expects). Idempotent.
+void install_stop_handlers();
+
+/// True once SIGINT or SIGTERM arrived (any thread; lock-free).
+bool stop_requested();
+
+/// The signal that asked the session to end (SIGINT = 2, SIGTERM = 15), or 0.
+int stop_signal();
+
+/// "SIGINT" or "SIGTERM" for stop_signal(), "" when none arrived.
+const char* stop_signal_name();
+
+/// Forgets a received signal (tests).
+void reset_stop_request();
+
+}  // namespace tridex::app
