@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "app/assets.hpp"
+#include "app/output_dir.hpp"
 #include "app/session.hpp"
 #include "app/session_recording.hpp"
 #include "app/session_spec.hpp"
@@ -38,6 +39,8 @@ void run_demo(const DemoOptions& o) {
         throw Error("--tool-radius-mm: must be between 0.5 mm and a quarter of the stock (" +
                     std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_radius_m * 1e3));
     check_image_size(o.width, o.height);
+    prepare_output_dir(o.out, "--out");
+    if (!o.record.empty()) check_output_file(o.record, "--record");
 
     SessionSpec s;
     s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
@@ -89,10 +92,16 @@ void run_demo(const DemoOptions& o) {
     const Vec3 start = plan.world_m.front();
     SessionRun run = run_session(s, std::move(wp), std::move(device), ticks, static_cast<std::size_t>(o.seconds * 1500.0) + 1000,
                                  3.0 * o.seconds + 10.0, start, SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour});
-    if (!o.record.empty()) write_session_recording(o.record, s, run.records);
-
-    // 4. Images, mesh, per-tick haptics and the report.
+    // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
+    // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);
+    if (!o.record.empty()) {
+        try {
+            write_session_recording(o.record, s, run.records);
+        } catch (const Error& e) {
+            throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");
+        }
+    }
 }
 
 }  // namespace tridex::app

@@ -148,8 +148,15 @@ int main(int argc, char** argv) {
 
     try {
         cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return cli.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Every bad input exits 2 with one line (README): CLI11's message, and where to look.
+        std::fprintf(stderr, "tridex: %s (see tridex %s--help)\n", e.what(),
+                     cli.get_subcommands().empty() ? "" : (cli.get_subcommands().front()->get_name() + " ").c_str());
+        return 2;
     }
     tridex::app::install_stop_handlers();  // SIGINT/SIGTERM end a session cleanly, then exit 128 + signal
     try {

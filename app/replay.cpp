@@ -3,6 +3,7 @@
 
 #include <chrono>
 
+#include "app/output_dir.hpp"
 #include "app/session_spec.hpp"
 #include "devices/recording.hpp"
 #include "devices/device_registry.hpp"
@@ -13,6 +14,7 @@ namespace tridex::app {
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
+    prepare_output_dir(out.out, "--out");
     const devices::Recording rec = devices::read_recording(recording_path);
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
     (void)device_profile(s.device);

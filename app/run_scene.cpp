@@ -410,6 +410,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
 
 RunScene load_run_scene(const std::string& path_in) {
     const std::string path = path_in.empty() ? default_scene_path() : path_in;
+    if (fs::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
     std::ifstream in(path);
     if (!in) throw Error(path + ": cannot read the scene file");
     json j;

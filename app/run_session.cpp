@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "app/output_dir.hpp"
 #include "app/run_input.hpp"
 #include "app/run_report.hpp"
 #include "app/run_sculpt.hpp"
@@ -79,7 +80,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.frames = o.frames;
     s.seconds = o.seconds;
     s.out = o.out;
-    if (s.out.empty()) throw Error("--out: the output folder must not be empty");
+    prepare_output_dir(s.out, "--out");
     s.validate = o.validate;
     s.cpu = o.cpu;
     s.cpu_contour = o.cpu_contour;
@@ -90,6 +91,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.tiles = o.tiles;
     s.cull = o.cull;
     s.record = o.record;
+    if (!s.record.empty()) check_output_file(s.record, "--record");
     s.scene = load_run_scene(o.scene);
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
@@ -324,18 +326,25 @@ RunResult run_stereo_session(const RunOptions& options) {
         compute::write_ply((out / "sculpted.ply").string(), carved.mesh, carved.materials);
         r.files.push_back((out / "sculpted.ply").string());
     }
+    std::string record_error;  // a failed recording must not cost the other outputs: reported after them
     if (!su.record.empty()) {
         if (backend.runtime().records().size() < backend.runtime().loop_stats().ticks)
             r.notes.push_back("record: only the first " + std::to_string(backend.runtime().records().size()) + " of " +
                               std::to_string(backend.runtime().loop_stats().ticks) + " ticks were kept; a replay carves less");
-        write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records());
-        r.files.push_back(su.record);
+        try {
+            write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records());
+            r.files.push_back(su.record);
+        } catch (const Error& e) {
+            record_error = e.what();
+            r.notes.push_back(std::string("record failed: ") + e.what());
+        }
     }
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
     r.validation_messages = ctx.validation_messages() + backend.runtime().booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
     r.files.push_back((out / "report.json").string());
     write_run_report(r.files.back(), r);
+    if (!record_error.empty()) throw Error(record_error + " (the other outputs were written to " + su.out + ")");
     return r;
 }
 

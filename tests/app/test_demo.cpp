@@ -1,6 +1,7 @@
 // Integration test: `tridex demo` end to end on a short stroke, and refusal of bad meshes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -68,6 +69,30 @@ TEST(Signals, SigtermEndsARunCleanlyAndSigintADemo) {
     EXPECT_EQ(drep["stopped_by"], "SIGINT");
     EXPECT_LT(drep["ticks"].get<int>(), 60000);  // ended early
     EXPECT_TRUE(fs::is_regular_file(dout / "sculpted.ply"));
+}
+
+// Bad output locations and command lines are refused up front: exit 2, one line naming the flag.
+TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_bad_input";
+    fs::create_directories(dir);
+    std::ofstream(dir / "a_file") << "x";
+    const std::pair<std::string, std::string> cases[] = {
+        {"demo --out " + (dir / "a_file").string(), "--out"},
+        {"demo --out /dev/full", "--out /dev/full: not a folder"},
+        {"demo --record /dev/full --out " + (dir / "o").string(), "--record /dev/full: cannot write"},
+        {"demo --record " + dir.string() + " --out " + (dir / "o").string(), "is a folder"},
+        {"demo --resolution abc", "--resolution"},
+        {"demo --no-such-flag", "no-such-flag"},
+        {"run " + dir.string() + " --display offscreen --frames 1 --out " + (dir / "o").string(), "is a folder"},
+        {"replay " + (dir / "a_file").string() + " --out /dev/full", "--out /dev/full"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const RunResult r = run_tridex(args, dir / "run");
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+        EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+        EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    }
 }
 
 TEST(Devices, ListsDriversAsTextAndJson) {

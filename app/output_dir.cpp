@@ -1,0 +1,67 @@
+// app/output_dir.cpp - up-front checks of output locations.
+#include "app/output_dir.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes, flushes and removes a probe file in `dir`; "" on success, else the reason.
+std::string probe(const fs::path& dir) {
+    const fs::path p = dir / (".tridex-probe-" + std::to_string(::getpid()));
+    std::FILE* f = std::fopen(p.c_str(), "wb");
+    if (!f) return std::string("cannot write there: ") + std::strerror(errno);
+    const char bytes[64] = {};
+    bool ok = std::fwrite(bytes, 1, sizeof bytes, f) == sizeof bytes && std::fflush(f) == 0;
+    const int err = errno;
+    ok = std::fclose(f) == 0 && ok;
+    std::remove(p.c_str());
+    return ok ? "" : std::string("cannot write there: ") + std::strerror(err ? err : EIO);
+}
+
+}  // namespace
+
+void prepare_output_dir(const std::string& dir, const std::string& flag) {
+    if (dir.empty()) throw Error(flag + ": the output folder must not be empty");
+    const fs::path d(dir);
+    std::error_code ec;
+    if (fs::exists(d, ec) && !fs::is_directory(d, ec)) throw Error(flag + " " + dir + ": not a folder");
+    fs::create_directories(d, ec);
+    if (ec) throw Error(flag + " " + dir + ": cannot create the folder: " + ec.message());
+    const std::string why = probe(d);
+    if (!why.empty()) throw Error(flag + " " + dir + ": " + why);
+}
+
+void check_output_file(const std::string& path, const std::string& flag) {
+    if (path.empty()) throw Error(flag + ": the file name must not be empty");
+    const fs::path p(path);
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) throw Error(flag + " " + path + ": is a folder, not a file");
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) {
+        // A device such as /dev/full: try to write to it as the session would.
+        std::FILE* f = std::fopen(p.c_str(), "ab");
+        if (!f) throw Error(flag + " " + path + ": cannot write: " + std::strerror(errno));
+        const bool ok = std::fputc(0, f) != EOF && std::fflush(f) == 0;
+        const int err = errno;
+        std::fclose(f);
+        if (!ok) throw Error(flag + " " + path + ": cannot write: " + std::strerror(err ? err : EIO));
+        return;
+    }
+    const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    fs::create_directories(parent, ec);
+    if (ec) throw Error(flag + " " + path + ": cannot create its folder: " + ec.message());
+    const std::string why = probe(parent);
+    if (!why.empty()) throw Error(flag + " " + path + ": " + why);
+}
+
+}  // namespace tridex::app
