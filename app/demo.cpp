@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <tuple>
 
 #include "app/assets.hpp"
 #include "app/output_dir.hpp"
@@ -67,6 +68,7 @@ void run_demo(const DemoOptions& o) {
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
     Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+    std::tie(s.mesh_crc32, s.mesh_bytes) = file_crc32(s.mesh_path);  // a replay refuses a changed mesh
 
     // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;

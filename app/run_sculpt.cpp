@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "core/error.hpp"
@@ -33,6 +34,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
     Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
+    std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed mesh
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
     // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of

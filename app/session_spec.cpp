@@ -1,6 +1,8 @@
 // app/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
 #include "app/session_spec.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -8,6 +10,7 @@
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
+#include "devices/recording.hpp"
 #include "haptics/tool_points.hpp"
 #include "haptics/workspace_mapping.hpp"
 
@@ -84,6 +87,71 @@ json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 
 }  // namespace
 
+namespace {
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+}  // namespace
+
+void validate_spec(const SessionSpec& s, const std::string& source) {
+    auto fail = [&](const std::string& field, const std::string& rule, const std::string& got) {
+        throw Error(source + ": settings field '" + field + "': " + rule + ", got " + got);
+    };
+    auto range = [&](const std::string& field, double v, double lo, double hi, bool lo_open = false) {
+        if (!std::isfinite(v) || v > hi || (lo_open ? v <= lo : v < lo))
+            fail(field, "must be in " + std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + "]", num(v));
+    };
+    auto point = [&](const std::string& field, const Vec3& p) {
+        for (int a = 0; a < 3; ++a) range(field + "[" + std::to_string(a) + "]", p[a], -1e3, 1e3);
+    };
+    if (s.resolution < 8 || s.resolution > 4096) fail("resolution", "must be between 8 and 4096", std::to_string(s.resolution));
+    range("stock_m", s.stock_m, 1e-3, 100.0);
+    point("workpiece_centre_m", s.workpiece_centre_m);
+    point("device_origin_m", s.device_origin_m);
+    range("tool.radius_m", s.tool.radius_m, 5e-4, 0.25 * s.stock_m);
+    if (s.tool.kind == ToolKind::kFlatEnd) range("tool.length_m", s.tool.length_m, 5e-4, s.stock_m);
+    if (s.points < 1 || s.points > 64) fail("points", "must be between 1 and 64", std::to_string(s.points));
+    try {
+        (void)devices::profile_by_name(s.device);
+    } catch (const Error&) {
+        fail("device", "must be omni, wand or 6dof", "'" + s.device + "'");
+    }
+    range("workspace_scale", s.workspace_scale, 0.0, 100.0, true);
+    range("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);
+    range("damping_n_s_per_m", s.damping_n_s_per_m, 0.0, 1e3);
+    range("static_friction", s.static_friction, 0.0, 10.0);
+    range("dynamic_friction", s.dynamic_friction, 0.0, s.static_friction);
+    range("period_s", s.period_s, 1e-4, 1e-2);
+    try {
+        (void)parse_tool_op(s.op);
+        (void)haptics::parse_workspace_mode(s.workspace_mode);
+        (void)loop_config(s, 0);  // points for the tool, materials, material id
+    } catch (const Error& e) {
+        throw Error(source + ": settings: " + e.what());
+    }
+}
+
+std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Error(path + ": cannot read");
+    std::uint32_t crc = 0;
+    std::uint64_t bytes = 0;
+    char buf[1 << 16];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+        crc = devices::crc32_ieee(buf, n, crc);
+        bytes += n;
+    }
+    const bool bad = std::ferror(f) != 0;
+    std::fclose(f);
+    if (bad) throw Error(path + ": cannot read");
+    return {crc, bytes};
+}
+
 std::string spec_to_json(const SessionSpec& s) {
     json materials = json::array();
     for (const MaterialEntry& m : s.materials)
@@ -93,6 +161,8 @@ std::string spec_to_json(const SessionSpec& s) {
                              {"static_friction", m.material.static_friction},
                              {"dynamic_friction", m.material.dynamic_friction}});
     const json j{{"mesh_path", s.mesh_path},
+                 {"mesh_crc32", s.mesh_crc32},
+                 {"mesh_bytes", s.mesh_bytes},
                  {"resolution", s.resolution},
                  {"stock_m", s.stock_m},
                  {"workpiece_centre_m", vec(s.workpiece_centre_m)},
@@ -171,6 +241,8 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     if (j.contains("op")) get(j, "op", s.op);
     if (j.contains("material")) get(j, "material", s.material);
     if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
+    if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
+    if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
     if (j.contains("materials")) {
         const json& ms = j.at("materials");
         if (!ms.is_array()) throw Error(source + ": settings field 'materials' must be an array");

@@ -2,8 +2,10 @@
 // demo's flags and a scene file fill it, a recording carries it, and a replay rebuilds the same session.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.hpp"
@@ -25,6 +27,10 @@ struct MaterialEntry {
 /// same haptic loop configuration (loop_config) and, with the same device samples, the same model.
 struct SessionSpec {
     std::string mesh_path;                   ///< workpiece file (absolute when recorded)
+    /// CRC-32 (IEEE) and size of the workpiece file's bytes, so a replay refuses a mesh that changed; 0 = not known
+    /// (recordings made before it was stored).
+    std::uint32_t mesh_crc32 = 0;
+    std::uint64_t mesh_bytes = 0;
     int resolution = 256;                    ///< lattice cells along the longest side
     double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
     Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m
@@ -73,6 +79,17 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
 /// value (points for the tool, friction order, unknown workspace mode, unknown op, material outside 1..7, a
 /// materials entry out of range).
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks);
+
+/// Checks every field against the ranges a session accepts (what the demo's flags and a scene allow), so that a
+/// spec read from a file (a recording) is as trustworthy as one typed: resolution 8..4096, stock (1 mm..100 m],
+/// finite centres within 1 km, the tool's radius 0.5 mm..a quarter of the stock and a flat end's length 0.5 mm..the
+/// stock, points 1..64, a known device and profile, workspace scale (0, 100], stiffness (0, 1e5] N/m, damping
+/// [0, 1e3] N*s/m, friction 0 <= dynamic <= static <= 10, period [1e-4, 1e-2] s, op and material. Throws
+/// tridex::Error "<source>: settings field '<name>': <rule>, got <value>".
+void validate_spec(const SessionSpec& s, const std::string& source);
+
+/// CRC-32 (IEEE) and byte count of a file; throws tridex::Error "<path>: cannot read" when it cannot.
+std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 
 /// The spec as one line of JSON (for a recording's header notes).
 std::string spec_to_json(const SessionSpec& s);

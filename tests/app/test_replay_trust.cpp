@@ -1,0 +1,86 @@
+// `tridex replay` trusts nothing a recording says: settings out of range are refused naming the field, even in a
+// recording whose checksum is valid, and a workpiece mesh that changed since the recording is refused instead of
+// being replayed into a different model.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/demo.hpp"
+#include "app/replay.hpp"
+#include "app/session.hpp"
+#include "core/error.hpp"
+#include "devices/recording.hpp"
+#include "run_test_scene.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string refusal(const std::string& recording, const fs::path& out) {
+    OutputOptions o;
+    o.out = out.string();
+    o.width = 32;
+    o.height = 32;
+    try {
+        run_replay(recording, o, SculptOptions{true, false, false, false});
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ReplayTrust, RefusesOutOfRangeSettingsAndAChangedMesh) {
+    const fs::path dir = test::temp_dir("replay_trust");
+    const char* assets = std::getenv("TRIDEX_ASSETS");
+    const fs::path mesh = dir / "bunny.off";
+    fs::copy_file(fs::path(assets ? assets : "assets") / "bunny.off", mesh);
+
+    DemoOptions d;
+    d.mesh = mesh.string();
+    d.resolution = 32;
+    d.seconds = 0.5;
+    d.width = d.height = 32;
+    d.out = (dir / "demo").string();
+    d.record = (dir / "demo.trdx").string();
+    d.cpu = true;
+    run_demo(d);
+    EXPECT_EQ(refusal(d.record, dir / "ok"), "");  // the untouched recording replays
+
+    // Settings a demo would refuse, in a recording with a valid checksum (rewritten by the writer).
+    const devices::Recording rec = devices::read_recording(d.record);
+    auto tampered = [&](const char* field, const nlohmann::json& value) {
+        devices::Recording r = rec;
+        nlohmann::json notes = nlohmann::json::parse(r.header.notes);
+        if (std::string(field) == "tool.radius_m")
+            notes["tool"]["radius_m"] = value;
+        else
+            notes[field] = value;
+        r.header.notes = notes.dump();
+        const std::string path = (dir / "tampered.trdx").string();
+        devices::write_recording(path, r);
+        return refusal(path, dir / "bad");
+    };
+    const std::string radius = tampered("tool.radius_m", 10.0);
+    EXPECT_NE(radius.find("settings field 'tool.radius_m'"), std::string::npos) << radius;
+    const std::string stock = tampered("stock_m", 1e308);
+    EXPECT_NE(stock.find("settings field 'stock_m'"), std::string::npos) << stock;
+    const std::string res = tampered("resolution", 100000);
+    EXPECT_NE(res.find("settings field 'resolution'"), std::string::npos) << res;
+    const std::string period = tampered("period_s", 0.0);
+    EXPECT_NE(period.find("settings field 'period_s'"), std::string::npos) << period;
+
+    // The same mesh file with one byte more: refused, the recording named.
+    std::ofstream(mesh, std::ios::app) << "\n";
+    const std::string changed = refusal(d.record, dir / "changed");
+    EXPECT_NE(changed.find("changed since the recording"), std::string::npos) << changed;
+    EXPECT_NE(changed.find(d.record), std::string::npos) << changed;
+}
+
+}  // namespace
+}  // namespace tridex::app
