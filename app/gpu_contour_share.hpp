@@ -12,7 +12,7 @@
 #include "compute/tridexel.hpp"
 #include "core/tri_mesh.hpp"
 #include "gpu/context.hpp"
-#include "renderer/indirect_workpiece.hpp"
+#include "gpu/indirect_workpiece.hpp"
 
 namespace tridex::app {
 

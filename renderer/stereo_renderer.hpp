@@ -15,7 +15,7 @@
 #include "renderer/eye_strategy.hpp"
 #include "renderer/frame_stats.hpp"
 #include "renderer/image.hpp"
-#include "renderer/indirect_workpiece.hpp"
+#include "gpu/indirect_workpiece.hpp"
 #include "renderer/off_axis.hpp"
 #include "core/tool_shape.hpp"
 #include "renderer/tile_mesh_cache.hpp"

@@ -1,4 +1,4 @@
-// renderer/indirect_workpiece.hpp - a tiled workpiece surface that lives in GPU buffers (as
+// gpu/indirect_workpiece.hpp - a tiled workpiece surface that lives in GPU buffers (as
 // compute/gpu_contourer.hpp fills them), for the stereo renderer to draw with one indirect draw per tile.
 #pragma once
 
