@@ -33,13 +33,19 @@ const Allowed kAllowList[] = {
     {"compute/gpu_sculptor.cpp", "shaders", "GPU Boolean pipeline loads its SPIR-V (shaders/ not in the rule)"},
     {"renderer/stereo_pipeline.cpp", "shaders", "stereo pipelines load their SPIR-V (shaders/ not in the rule)"},
     {"renderer/anaglyph_pass.cpp", "shaders", "the anaglyph pass loads its SPIR-V (shaders/ not in the rule)"},
+    // app/ may not include bench/ (bench sits above app), except the executable's main.cpp, which
+    // dispatches `tridex bench ...`; it alone is compiled with tridex_bench (app/CMakeLists.txt).
+    {"app/main.cpp", "bench", "`tridex bench` is dispatched by main.cpp, linked with tridex_bench"},
 };
 
 IncludeRules rules_for_tree() {
     IncludeRules r = load_rules(TRIDEX_DESIGN_MD);
-    // bench/ may include what app/ may (it holds the benchmarks, beside the command line).
+    // bench/ sits above app/ (`bench -> app -> ...`): it may include app/ and what app/ may. DESIGN.md's
+    // module table names bench/ but its include paragraph does not, so that edge is encoded here.
     r.may["bench"] = r.may["app"];
+    r.may["bench"].insert("app");
     r.never["bench"] = r.never["app"];
+    r.modules.insert("bench");
     // core/ includes nothing but itself and its third-party vocabulary (GLM): no Vulkan, volk or GLFW
     // either (core/CMakeLists.txt: "no Vulkan, no GLFW").
     r.no_vulkan.insert("core");
@@ -119,6 +125,13 @@ TEST(LayoutRule, SyntheticViolatingIncludesAreRejected) {
               1u);
     EXPECT_TRUE(
         check_source(r, "app", "app/x.cpp", "#include \"renderer/a.hpp\"\n#include \"gpu/b.hpp\"\n", kModules).empty());
+    // bench/ sits above app/: it may include app/ and below; nothing below includes bench/.
+    EXPECT_TRUE(check_source(r, "bench", "bench/x.cpp", "#include \"app/stats.hpp\"\n#include \"compute/a.hpp\"\n",
+                             kModules)
+                    .empty());
+    EXPECT_EQ(check_source(r, "app", "app/x.cpp", "#include \"bench/bench_sculpt.hpp\"\n", kModules).size(), 1u);
+    EXPECT_EQ(check_source(r, "compute", "compute/x.cpp", "#include \"bench/bench_sculpt.hpp\"\n", kModules).size(),
+              1u);
 }
 
 TEST(LayoutRule, EverySourceFileFollowsTheIncludeRule) {

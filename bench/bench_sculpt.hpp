@@ -1,4 +1,4 @@
-// app/bench_sculpt.hpp - `tridex bench --sculpt`: swept-Boolean throughput and latency of the CPU (one
+// bench/bench_sculpt.hpp - `tridex bench --sculpt`: swept-Boolean throughput and latency of the CPU (one
 // thread, all cores) and GPU (per segment, batched) sculpting paths against resolution and tool size
 // (issue 3's benchmark).
 #pragma once

@@ -1,9 +1,9 @@
-// app/bench_accuracy_metrics.hpp - errors of a mesh against an exact solid (bench --accuracy).
+// bench/bench_accuracy_metrics.hpp - errors of a mesh against an exact solid (bench --accuracy).
 #pragma once
 
 #include <vector>
 
-#include "app/bench_accuracy_exact.hpp"
+#include "bench/bench_accuracy_exact.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::app::accuracy {

@@ -1,5 +1,5 @@
-// app/bench_accuracy.cpp - run time against error: tridex paths and the OpenVDB peer on exact programs.
-#include "app/bench_accuracy.hpp"
+// bench/bench_accuracy.cpp - run time against error: tridex paths and the OpenVDB peer on exact programs.
+#include "bench/bench_accuracy.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/bench_accuracy_exact.hpp"
-#include "app/bench_accuracy_metrics.hpp"
-#include "app/bench_accuracy_openvdb.hpp"
-#include "app/bench_accuracy_plot.hpp"
+#include "bench/bench_accuracy_exact.hpp"
+#include "bench/bench_accuracy_metrics.hpp"
+#include "bench/bench_accuracy_openvdb.hpp"
+#include "bench/bench_accuracy_plot.hpp"
 #include "app/json_file.hpp"
 #include "compute/contour_dual.hpp"
 #include "compute/gpu_sculptor.hpp"

@@ -1,5 +1,5 @@
-// app/bench_accuracy_plot.cpp - gnuplot scripts and PNGs for bench --accuracy.
-#include "app/bench_accuracy_plot.hpp"
+// bench/bench_accuracy_plot.cpp - gnuplot scripts and PNGs for bench --accuracy.
+#include "bench/bench_accuracy_plot.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// Smoke test of `tridex bench --haptics` (app/bench_haptics): a small run writes haptics_bench.json with one
+// Smoke test of `tridex bench --haptics` (bench/bench_haptics): a small run writes haptics_bench.json with one
 // row per (N, points), finite positive timings, and a walk that touches the surface the same way at every
 // resolution (the contact share may differ only by discretisation); bad options are refused.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/bench_haptics.hpp"
+#include "bench/bench_haptics.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

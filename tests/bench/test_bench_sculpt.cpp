@@ -1,4 +1,4 @@
-// Smoke test of `tridex bench --sculpt` (app/bench_sculpt): a tiny run writes sculpt_bench.json with the four
+// Smoke test of `tridex bench --sculpt` (bench/bench_sculpt): a tiny run writes sculpt_bench.json with the four
 // paths, sane (positive, finite) numbers and the memory record, and all paths end with identical models.
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <set>
 #include <string>
 
-#include "app/bench_sculpt.hpp"
+#include "bench/bench_sculpt.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

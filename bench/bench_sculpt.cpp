@@ -1,5 +1,5 @@
-// app/bench_sculpt.cpp - timing the sculpting paths (CPU one thread / all cores, GPU per segment / batched).
-#include "app/bench_sculpt.hpp"
+// bench/bench_sculpt.cpp - timing the sculpting paths (CPU one thread / all cores, GPU per segment / batched).
+#include "bench/bench_sculpt.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-// app/bench_render.hpp - `tridex bench --render`: offscreen stereo frame time of the contoured workpiece
+// bench/bench_render.hpp - `tridex bench --render`: offscreen stereo frame time of the contoured workpiece
 // drawn as per-tile meshes, with and without per-eye tile culling (issue 5's benchmark).
 #pragma once
 

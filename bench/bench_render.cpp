@@ -1,5 +1,5 @@
-// app/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, culling on and off.
-#include "app/bench_render.hpp"
+// bench/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, culling on and off.
+#include "bench/bench_render.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,5 +1,5 @@
-// app/bench_haptics.cpp - timing the haptic tick's contact computation.
-#include "app/bench_haptics.hpp"
+// bench/bench_haptics.cpp - timing the haptic tick's contact computation.
+#include "bench/bench_haptics.hpp"
 
 #include <algorithm>
 #include <chrono>

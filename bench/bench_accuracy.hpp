@@ -1,4 +1,4 @@
-// app/bench_accuracy.hpp - `tridex bench --accuracy`: run time against error of the sculpting paths
+// bench/bench_accuracy.hpp - `tridex bench --accuracy`: run time against error of the sculpting paths
 // (and of an OpenVDB level-set peer) on stroke programs with an exact answer (issue 6).
 #pragma once
 

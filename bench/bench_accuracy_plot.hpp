@@ -1,10 +1,10 @@
-// app/bench_accuracy_plot.hpp - PNG plots of `tridex bench --accuracy` through gnuplot (when installed).
+// bench/bench_accuracy_plot.hpp - PNG plots of `tridex bench --accuracy` through gnuplot (when installed).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "app/bench_accuracy.hpp"
+#include "bench/bench_accuracy.hpp"
 
 namespace tridex::app::accuracy {
 

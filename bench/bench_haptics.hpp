@@ -1,4 +1,4 @@
-// app/bench_haptics.hpp - `tridex bench --haptics`: haptic tick compute time against model
+// bench/bench_haptics.hpp - `tridex bench --haptics`: haptic tick compute time against model
 // resolution and number of contact points (issue 4's benchmark).
 #pragma once
 

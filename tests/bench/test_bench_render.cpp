@@ -1,4 +1,4 @@
-// Smoke test of `tridex bench --render` (app/bench_render): a tiny run writes render_bench.json with one
+// Smoke test of `tridex bench --render` (bench/bench_render): a tiny run writes render_bench.json with one
 // row per (N, size, view, culling) and the documented fields, with consistent tile counts.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <set>
 #include <string>
 
-#include "app/bench_render.hpp"
+#include "bench/bench_render.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
