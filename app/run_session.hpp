@@ -11,8 +11,8 @@
 
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
-#include "app/sculpt_thread.hpp"
-#include "compute/gpu_contourer.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
 #include "haptics/haptic_loop.hpp"
 #include "renderer/frame_stats.hpp"
 #include "renderer/stereo_output.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "compute/sweep.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/aabb.hpp"
 #include "core/math.hpp"
 

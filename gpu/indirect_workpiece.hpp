@@ -1,5 +1,5 @@
 // gpu/indirect_workpiece.hpp - a tiled workpiece surface that lives in GPU buffers (as
-// compute/gpu_contourer.hpp fills them), for the stereo renderer to draw with one indirect draw per tile.
+// compute/gpu/gpu_contourer.hpp fills them), for the stereo renderer to draw with one indirect draw per tile.
 #pragma once
 
 #include <cstdint>

@@ -86,7 +86,7 @@ const char* vertex_shader_name(EyeStrategy strategy, bool contour) {
     return "";
 }
 
-// The GPU contour's vertex (compute/gpu_contourer.hpp GpuContourVertex): float grid[3], uint material.
+// The GPU contour's vertex (compute/gpu/gpu_contourer.hpp GpuContourVertex): float grid[3], uint material.
 constexpr std::uint32_t kContourVertexBytes = 16;
 
 gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipelineLayout layout, VkShaderModule vs,

@@ -6,7 +6,7 @@
 //   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.
 // Screen-space draws (draw.screen_space = 1, the overlay) skip the eye's matrix: both eyes get the
 // same clip position, i.e. zero disparity, as if drawn on the screen plane.
-// CONTOUR_INPUT 1: the GPU contour's vertices (compute/gpu_contourer.hpp GpuContourVertex, 16 bytes: grid
+// CONTOUR_INPUT 1: the GPU contour's vertices (compute/gpu/gpu_contourer.hpp GpuContourVertex, 16 bytes: grid
 // position + material, no normal; world_from_model = world_from_grid). Drawn with indirect draws whose
 // instance count is 1, so the instanced-layer variant takes the eye from the push constant (one draw per eye).
 #extension GL_GOOGLE_include_directive : require

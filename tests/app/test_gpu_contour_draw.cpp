@@ -16,12 +16,12 @@
 #include <vector>
 
 #include "app/demo.hpp"
-#include "app/gpu_contour_share.hpp"
+#include "compute/runtime/gpu_contour_share.hpp"
 #include "app/session.hpp"
 #include "app/stroke.hpp"
-#include "compute/contour_dual.hpp"
-#include "compute/contour_tiles.hpp"
-#include "compute/gpu_sculptor.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
 #include "gpu/context.hpp"
 #include "renderer/image_compare.hpp"
 #include "renderer/material_palette.hpp"

@@ -29,8 +29,8 @@ struct Allowed {
 const Allowed kAllowList[] = {
     // shaders/ (embedded SPIR-V built from the GLSL) is not named in the rule; the Vulkan users fetch
     // their SPIR-V modules from it through shaders/spirv.hpp.
-    {"compute/gpu_contourer.cpp", "shaders", "GPU contouring pipeline loads its SPIR-V (shaders/ not in the rule)"},
-    {"compute/gpu_sculptor.cpp", "shaders", "GPU Boolean pipeline loads its SPIR-V (shaders/ not in the rule)"},
+    {"compute/gpu/gpu_contourer.cpp", "shaders", "GPU contouring pipeline loads its SPIR-V (shaders/ not in the rule)"},
+    {"compute/gpu/gpu_sculptor.cpp", "shaders", "GPU Boolean pipeline loads its SPIR-V (shaders/ not in the rule)"},
     {"renderer/stereo_pipeline.cpp", "shaders", "stereo pipelines load their SPIR-V (shaders/ not in the rule)"},
     {"renderer/anaglyph_pass.cpp", "shaders", "the anaglyph pass loads its SPIR-V (shaders/ not in the rule)"},
     // app/ may not include bench/ (bench sits above app), except the executable's main.cpp, which
@@ -121,8 +121,9 @@ TEST(LayoutRule, SyntheticViolatingIncludesAreRejected) {
     // core includes nothing else; renderer may not include compute as the rule is written.
     EXPECT_EQ(check_source(r, "core", "core/x.hpp", "#include \"gpu/context.hpp\"\n", kModules).size(), 1u);
     EXPECT_EQ(check_source(r, "core", "core/x.hpp", "#include <GLFW/glfw3.h>\n", kModules).size(), 1u);
-    EXPECT_EQ(check_source(r, "renderer", "renderer/x.cpp", "#include \"compute/tridexel.hpp\"\n", kModules).size(),
-              1u);
+    EXPECT_EQ(
+        check_source(r, "renderer", "renderer/x.cpp", "#include \"compute/model/tridexel.hpp\"\n", kModules).size(),
+        1u);
     EXPECT_TRUE(
         check_source(r, "app", "app/x.cpp", "#include \"renderer/a.hpp\"\n#include \"gpu/b.hpp\"\n", kModules).empty());
     // bench/ sits above app/: it may include app/ and below; nothing below includes bench/.
