@@ -21,13 +21,13 @@
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/head_pose.hpp"
-#include "renderer/offscreen_sink.hpp"
-#include "renderer/scene_navigation.hpp"
-#include "renderer/stereo_renderer.hpp"
-#include "renderer/stereo_sink.hpp"
-#include "renderer/window_glfw.hpp"
-#include "renderer/window_sink.hpp"
+#include "renderer/camera/head_pose.hpp"
+#include "renderer/output/offscreen_sink.hpp"
+#include "renderer/camera/scene_navigation.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
+#include "renderer/output/stereo_sink.hpp"
+#include "renderer/window/window_glfw.hpp"
+#include "renderer/window/window_sink.hpp"
 
 namespace tridex::app {
 

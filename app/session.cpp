@@ -18,9 +18,9 @@
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 

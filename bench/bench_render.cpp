@@ -15,7 +15,7 @@
 #include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 

@@ -1,6 +1,6 @@
 #version 450
 // shaders/stereo_mesh.vert - transforms a mesh vertex (model m) into one eye's clip space.
-// EYE_MODE selects how the eye is chosen (renderer/eye_strategy.hpp):
+// EYE_MODE selects how the eye is chosen (renderer/stereo/eye_strategy.hpp):
 //   0 = one render pass per eye: eye index from the push constant;
 //   1 = multiview: eye = gl_ViewIndex (the view mask routes it to a layer);
 //   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.

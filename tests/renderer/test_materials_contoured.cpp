@@ -16,9 +16,9 @@
 #include "compute/tools/sweep.hpp"
 #include "compute/model/tridexel.hpp"
 #include "gpu/context.hpp"
-#include "renderer/material_palette.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/scene/material_palette.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

@@ -18,8 +18,8 @@
 #include "compute/model/tridexel.hpp"
 #include "compute/model/workpiece.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::renderer {
 namespace {
