@@ -10,10 +10,10 @@
 #include <new>
 #include <vector>
 
-#include "app/bench_accuracy.hpp"
-#include "app/bench_haptics.hpp"
-#include "app/bench_render.hpp"
-#include "app/bench_sculpt.hpp"
+#include "bench/bench_accuracy.hpp"
+#include "bench/bench_haptics.hpp"
+#include "bench/bench_render.hpp"
+#include "bench/bench_sculpt.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/replay.hpp"

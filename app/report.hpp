@@ -8,11 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/sculpt_thread.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
 #include "app/session_spec.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
+#include "compute/model/lattice.hpp"
 #include "devices/haptic_device.hpp"
-#include "compute/gpu_contourer.hpp"
-#include "compute/lattice.hpp"
 #include "core/tri_mesh.hpp"
 #include "haptics/haptic_loop.hpp"
 

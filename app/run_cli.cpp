@@ -8,7 +8,7 @@
 
 #include "app/run_session.hpp"
 #include "core/error.hpp"
-#include "renderer/stereo_output.hpp"
+#include "renderer/output/stereo_output.hpp"
 
 namespace tridex::app {
 

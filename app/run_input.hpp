@@ -1,9 +1,9 @@
 // app/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
 #pragma once
 
-#include "renderer/head_pose.hpp"
-#include "renderer/scene_navigation.hpp"
-#include "renderer/window_input.hpp"
+#include "renderer/camera/head_pose.hpp"
+#include "renderer/camera/scene_navigation.hpp"
+#include "renderer/window/window_input.hpp"
 
 namespace tridex::app {
 

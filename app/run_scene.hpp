@@ -12,12 +12,12 @@
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "haptics/workspace_mapping.hpp"
-#include "renderer/display_config.hpp"
-#include "renderer/head_pose.hpp"
+#include "renderer/camera/display_config.hpp"
+#include "renderer/camera/head_pose.hpp"
 
 namespace tridex::app {
 
-/// Where the viewer's head pose comes from (renderer/head_pose.hpp).
+/// Where the viewer's head pose comes from (renderer/camera/head_pose.hpp).
 enum class HeadMode {
     kFixed,     ///< [fixed] FixedHead at RunScene::head_pose (in a window: keyboard and mouse move it)
     kScripted,  ///< [scripted] ScriptedHead through RunScene::head_waypoints
@@ -49,7 +49,7 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names
 ///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
 ///               "press_axis": "z" }  |  "none",              // app/stroke.hpp plan_stroke
-///   "display": "desktop" | "powerwall" | { display config, renderer/display_config.hpp },
+///   "display": "desktop" | "powerwall" | { display config, renderer/camera/display_config.hpp },
 ///   "head": { "provider": "fixed" | "scripted" | "tracker",
 ///             "position_m": [x, y, z],                       // default: the display's default_head_m
 ///             "waypoints": [ {"t_s": 0, "position_m": [x, y, z], "orientation_wxyz": [1, 0, 0, 0]}, ... ],

@@ -11,12 +11,12 @@
 
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
-#include "app/sculpt_thread.hpp"
-#include "compute/gpu_contourer.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
 #include "haptics/haptic_loop.hpp"
-#include "renderer/frame_stats.hpp"
-#include "renderer/stereo_output.hpp"
-#include "renderer/window_frame_timing.hpp"
+#include "renderer/timing/frame_stats.hpp"
+#include "renderer/output/stereo_output.hpp"
+#include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
 
@@ -111,7 +111,7 @@ struct RunResult {
 /// maxImageArrayLayers < 2) is refused before any work, then the workpiece, the haptic loop and sculpt thread
 /// (SculptBackend), and the render loop on the calling thread (GLFW needs the main thread) at the display's
 /// rate: per frame the newest mesh and LoopView, the head pose at session time, the navigated off-axis camera,
-/// and the stereo sink (renderer/stereo_sink.hpp), which owns the output's policy (window: WindowSink, vsync,
+/// and the stereo sink (renderer/output/stereo_sink.hpp), which owns the output's policy (window: WindowSink, vsync,
 /// anaglyph composed on the GPU; offscreen: OffscreenSink, the same passes, frame-sequential eyes sequenced by a
 /// FrameSequencer). The loop ends on Esc / window close,
 /// --frames, --seconds, or (offscreen without limits) the end of the stroke. Writes report.json (run_report.hpp)

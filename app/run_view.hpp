@@ -10,9 +10,9 @@
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
 #include "haptics/haptic_loop.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/scene_navigation.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/camera/scene_navigation.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 

@@ -12,17 +12,17 @@
 
 #include "app/memory.hpp"
 #include "app/report.hpp"
-#include "compute/contour_dual.hpp"
-#include "compute/mesh_export.hpp"
-#include "compute/mesh_io.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/volume.hpp"
-#include "compute/workpiece.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/mesh/mesh_export.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 

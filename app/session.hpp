@@ -12,7 +12,7 @@
 
 #include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
-#include "compute/tridexel.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
 #include "devices/haptic_device.hpp"

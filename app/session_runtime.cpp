@@ -4,10 +4,10 @@
 #include <algorithm>
 
 #include "app/memory.hpp"
-#include "compute/mesh_io.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/volume.hpp"
-#include "compute/workpiece.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "haptics/tool_points.hpp"

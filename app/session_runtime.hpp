@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "app/boolean_backend.hpp"
-#include "app/gpu_contour_share.hpp"
-#include "app/sculpt_thread.hpp"
+#include "compute/runtime/boolean_backend.hpp"
+#include "compute/runtime/gpu_contour_share.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
 #include "app/session_spec.hpp"
-#include "compute/contour_dual.hpp"
-#include "compute/tridexel.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/active_surface.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"

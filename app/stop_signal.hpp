@@ -5,8 +5,9 @@
 namespace tridex::app {
 
 /// Installs handlers for SIGINT and SIGTERM that only record the signal (async-signal-safe). The first signal asks
-/// the running session to end; a second one of either kind ends the program at once with the default action (as a
-/// user pressing Ctrl+C twice expects). Idempotent.
+/// the running session to end; another one of either kind a second or more later ends the program at once with the
+/// default action (as a user pressing Ctrl+C twice expects; one sooner is taken as the same event delivered twice,
+/// as `timeout` does to its child and the child's process group). Idempotent.
 void install_stop_handlers();
 
 /// True once SIGINT or SIGTERM arrived (any thread; lock-free).

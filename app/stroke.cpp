@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "compute/probe.hpp"
+#include "compute/model/probe.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

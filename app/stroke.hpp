@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "compute/tridexel.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/math.hpp"
 #include "devices/button_script.hpp"
 

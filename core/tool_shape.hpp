@@ -17,7 +17,7 @@ enum class ToolKind : std::uint8_t {
 };
 
 /// Shape and size of a tool, SI units, in the tool frame. Tool-frame convention shared by the haptic
-/// contact points (haptics/tool_points.hpp) and the swept Booleans (compute/sweep.hpp): the origin is the
+/// contact points (haptics/tool_points.hpp) and the swept Booleans (compute/tools/sweep.hpp): the origin is the
 /// tool's reference point (the HIP: a ball's centre, the centre of a flat-end mill's end face), the tool
 /// axis is +y, pointing from the cutting end toward the hand. Trivially copyable, so a ToolSample carrying
 /// it goes through the haptic thread's lock-free ring without allocating.

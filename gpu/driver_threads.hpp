@@ -30,7 +30,7 @@ std::vector<ProcessThread> new_worker_threads(std::span<const ProcessThread> bef
 /// the (i mod n)-th allowed CPU), so that the threads of one pool run on different cores. Why: Mesa
 /// llvmpipe (lavapipe) wakes all its compute threads at once for each dispatch, and Linux often queues two
 /// of them on the waker's core while another core idles; pinned, lavapipe's sweep dispatches ran about
-/// 1.6x faster on a 2-core machine (compute/gpu_sculptor.cpp; numbers in the README). Returns how many
+/// 1.6x faster on a 2-core machine (compute/gpu/gpu_sculptor.cpp; numbers in the README). Returns how many
 /// threads were pinned: 0 when fewer than 2 CPUs are allowed, on systems other than Linux, or for threads
 /// that have ended. Never throws.
 int spread_over_cpus(std::span<const ProcessThread> threads);

@@ -1,5 +1,5 @@
 // shaders/anaglyph.frag - the anaglyph of the two eye layers of a stereo colour image, one output pixel per
-// fragment, with the arithmetic of the CPU reference renderer::compose (renderer/stereo_output.cpp):
+// fragment, with the arithmetic of the CPU reference renderer::compose (renderer/output/stereo_output.cpp):
 //   method 0 (Dubois): 8-bit codes decoded through the sRGB table, mixed by the Dubois matrices in linear
 //                      light, re-encoded to the nearest code by counting the code thresholds <= the value;
 //   method 1 (colour): (L.r, R.g, R.b) of the stored codes;
@@ -9,7 +9,7 @@
 
 layout(set = 0, binding = 0) uniform sampler2DArray eyes;
 
-// renderer/anaglyph_pass.cpp AnaglyphUniform (std140).
+// renderer/output/anaglyph_pass.cpp AnaglyphUniform (std140).
 layout(set = 0, binding = 1, std140) uniform Tables {
     vec4 left_rows[3];     // Dubois M_L rows (xyz), output r, g, b
     vec4 right_rows[3];    // Dubois M_R rows (xyz)

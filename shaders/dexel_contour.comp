@@ -1,7 +1,7 @@
 // shaders/dexel_contour.comp - manifold dual contouring of dirty tiles, read from the GPU tri-dexel slabs,
 // into per-tile regions of vertex and index buffers plus one VkDrawIndexedIndirectCommand per tile.
 // One workgroup = one tile of 16^3 cells. The method and the arithmetic are the CPU contourer's
-// (compute/contour_tile.cpp, contour_sample.cpp, contour_qef.cpp) step for step, in double precision with
+// (compute/contour/contour_tile.cpp, contour_sample.cpp, contour_qef.cpp) step for step, in double precision with
 // contraction forbidden (precise), so vertex positions are bit for bit the CPU's doubles and the quad
 // diagonals agree:
 //  1. node occupancy of nodes c0-1 .. c0+17 from the X rays (enter <= x < exit; boundary nodes outside);

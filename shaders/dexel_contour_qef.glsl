@@ -1,6 +1,6 @@
 // shaders/dexel_contour_qef.glsl - part of dexel_contour.comp: sharp-feature vertex placement, i.e.
 // crossing normals estimated from neighbouring rays (contour::crossing_normal) and the QEF vertex
-// (contour::qef_vertex), compute/contour_qef.cpp mirrored operation for operation: the same association,
+// (contour::qef_vertex), compute/contour/contour_qef.cpp mirrored operation for operation: the same association,
 // comparisons (incl. the !(x > y) forms), tie rules and constants, in double precision with `precise`
 // (no contraction into multiply-adds), so the results are the CPU's doubles bit for bit on lavapipe
 // (Vulkan leaves double sqrt/division rounding and denormals to the device; see gpu_contourer.hpp).

@@ -1,5 +1,5 @@
 // shaders/dexel_contour_rays.glsl - part of dexel_contour.comp: the GPU tri-dexel slabs (bindings 0-14,
-// layout of compute/gpu_dexel_slabs.hpp) and reading edge crossings from them (contour::edge_crossing).
+// layout of compute/gpu/gpu_dexel_slabs.hpp) and reading edge crossings from them (contour::edge_crossing).
 // Needs pc.cells (the lattice's cells) declared by the including shader.
 
 // Ray sets X, Y, Z: meta, inline depths, inline materials, pool depths, pool materials (gpu_dexel_slabs.hpp).

@@ -1,5 +1,5 @@
 // shaders/dexel_contour_split.glsl - part of dexel_contour.comp: the face-split rule of the CPU
-// contourer (compute/contour_tile.hpp) for tunnels thinner than a cell: split-face vertices and the fans
+// contourer (compute/contour/contour_tile.hpp) for tunnels thinner than a cell: split-face vertices and the fans
 // around the crossing points of edges next to split faces. Uses the including shader's shared lists.
 
 // The face around edge (n, a) between ring cells r and r + 1 (TileContourer::emit_edge): lower cell, axis.

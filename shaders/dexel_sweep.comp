@@ -1,18 +1,18 @@
 // shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
 // One workgroup = one tile of TILE_U x TILE_V = 8 rays; each invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
-// the spill pool). The arithmetic is the CPU reference's (compute/sweep.cpp, compute/capsule.cpp,
-// compute/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
+// the spill pool). The arithmetic is the CPU reference's (compute/tools/sweep.cpp, compute/tools/capsule.cpp,
+// compute/model/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
 // Mesh tools (kind 2): at each pose the ray reads the nearest ray of the tool's own dexels (ToolData,
-// binding 9) and applies each of its intervals (compute/sweep.cpp mesh_stamp_spans).
+// binding 9) and applies each of its intervals (compute/tools/sweep.cpp mesh_stamp_spans).
 // A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
-// and listed for the host (compute/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
+// and listed for the host (compute/gpu/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
 // One workgroup = one tile of TILE_U x TILE_V = 8 rays (TILE_U: specialisation constant 1,
-// compute/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
+// compute/gpu/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
 // tile's sweeps and a lane outside a sweep's footprint costs as much as one inside, so tiles are small.
 layout(local_size_x = 8) in;
 layout(constant_id = 1) const uint TILE_U = 8u;
@@ -22,7 +22,7 @@ const uint MAXI = 16u;   // intervals a ray may hold in this kernel (longer rays
 const uint INLINE = 2u;  // intervals stored in the ray's own slots
 const uint K = 3u;       // intervals the register path holds (rays with more take the array path)
 
-struct GridSweep {       // compute/sweep.hpp GridSweep, 96 bytes
+struct GridSweep {       // compute/tools/sweep.hpp GridSweep, 96 bytes
     ivec3 lo; uint code;
     ivec3 hi; uint stamps;
     ivec3 origin; float radius;
@@ -38,7 +38,7 @@ layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 pool[]; };     // (
 layout(std430, set = 0, binding = 4) buffer PoolMat { uint pool_mat[]; };   // enter | exit << 8
 // The batch's sweeps in a uniform buffer: llvmpipe loads uniform-buffer words with a vector gather, but
 // storage-buffer words one lane at a time (each with its own branch and bounds check), which cost more
-// than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu_sculptor.cpp max_sweeps_.
+// than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu/gpu_sculptor.cpp max_sweeps_.
 layout(constant_id = 2) const uint MAX_SWEEPS = 682u;
 layout(std140, set = 0, binding = 5) uniform Sweeps { GridSweep sweeps[MAX_SWEEPS]; };
 layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };  // tile u, tile v, first, count
@@ -50,14 +50,14 @@ layout(std430, set = 0, binding = 8) buffer Counters {
     uint pad;
     uint retry[];
 };
-// Mesh tools (compute/gpu_sculptor.cpp pack_tools): [t] = block of tool t; block: k (float bits), then per
+// Mesh tools (compute/gpu/gpu_sculptor.cpp pack_tools): [t] = block of tool t; block: k (float bits), then per
 // ray set nu, nv, ref_u, ref_v, word of the `first` offsets, word of the depths (float bits, 2 per interval).
 layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]; };
 
-// False compiles the mesh-tool path out (compute/gpu_sculptor.cpp uses that variant for batches without
+// False compiles the mesh-tool path out (compute/gpu/gpu_sculptor.cpp uses that variant for batches without
 // kMesh sweeps; the result is the same, the kernel smaller).
 layout(constant_id = 0) const bool HAS_MESH = true;
-// The operations and tool kinds the batch holds (compute/gpu_sculptor.cpp picks a pipeline per pair):
+// The operations and tool kinds the batch holds (compute/gpu/gpu_sculptor.cpp picks a pipeline per pair):
 // OPS bit 0 = subtract, 1 = union, 2 = paint; KINDS bit 0 = ball, 1 = flat end (kMesh: HAS_MESH, all
 // bits set). llvmpipe runs both sides of every branch, so code for absent operations and tools costs
 // time; with these constants it is compiled out.
@@ -79,7 +79,7 @@ float ex[MAXI];
 uint mt[MAXI];  // enter material | exit material << 8
 uint n;
 
-// ---- chords (compute/capsule.cpp) ----
+// ---- chords (compute/tools/capsule.cpp) ----
 float dot3(vec3 p, vec3 q) { precise float r = p.x * q.x + p.y * q.y + p.z * q.z; return r; }
 vec3 cross3(vec3 p, vec3 q) {
     precise vec3 r = vec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
@@ -133,7 +133,7 @@ void add_cylinder(vec3 o, vec3 d, vec3 a, vec3 e, float ee, float r, inout float
     hi = max(hi, c1);
 }
 
-// compute/sweep.cpp sweep_chord
+// compute/tools/sweep.cpp sweep_chord
 bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float d1) {
     int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
     vec3 o = vec3(0.0), d = vec3(0.0);
@@ -177,7 +177,7 @@ void list_for_retry(uint ray) {
 }
 
 // A kMesh sweep's lookup state for one ray: its tool's header for this ray set and the ray's offset from
-// the tool start (compute/sweep.cpp mesh_stamp_spans, step for step).
+// the tool start (compute/tools/sweep.cpp mesh_stamp_spans, step for step).
 struct MeshRay {
     float kf, ou, ov, base;
     int tnu, tnv, rfu, rfv;

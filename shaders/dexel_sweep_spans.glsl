@@ -1,6 +1,6 @@
 // shaders/dexel_sweep_spans.glsl - included by dexel_sweep.comp: its array path's interval operations on
-// the ray held in the private arrays en/ex/mt (n intervals), step for step as compute/interval_ops.cpp.
-// ---- interval operations (compute/interval_ops.cpp) ----
+// the ray held in the private arrays en/ex/mt (n intervals), step for step as compute/model/interval_ops.cpp.
+// ---- interval operations (compute/model/interval_ops.cpp) ----
 // Moves intervals [from, n) by `by` places (by may be negative) and sets n += by.
 void shift_tail(uint from, int by) {
     if (by > 0) {

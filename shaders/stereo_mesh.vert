@@ -1,12 +1,12 @@
 #version 450
 // shaders/stereo_mesh.vert - transforms a mesh vertex (model m) into one eye's clip space.
-// EYE_MODE selects how the eye is chosen (renderer/eye_strategy.hpp):
+// EYE_MODE selects how the eye is chosen (renderer/stereo/eye_strategy.hpp):
 //   0 = one render pass per eye: eye index from the push constant;
 //   1 = multiview: eye = gl_ViewIndex (the view mask routes it to a layer);
 //   2 = instanced layered draw: eye = gl_InstanceIndex & 1, written to gl_Layer.
 // Screen-space draws (draw.screen_space = 1, the overlay) skip the eye's matrix: both eyes get the
 // same clip position, i.e. zero disparity, as if drawn on the screen plane.
-// CONTOUR_INPUT 1: the GPU contour's vertices (compute/gpu_contourer.hpp GpuContourVertex, 16 bytes: grid
+// CONTOUR_INPUT 1: the GPU contour's vertices (compute/gpu/gpu_contourer.hpp GpuContourVertex, 16 bytes: grid
 // position + material, no normal; world_from_model = world_from_grid). Drawn with indirect draws whose
 // instance count is 1, so the instanced-layer variant takes the eye from the push constant (one draw per eye).
 #extension GL_GOOGLE_include_directive : require

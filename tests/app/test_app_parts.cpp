@@ -6,7 +6,7 @@
 #include "app/session_spec.hpp"
 #include "app/stats.hpp"
 #include "app/stroke.hpp"
-#include "compute/scan_convert.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 

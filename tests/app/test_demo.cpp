@@ -44,7 +44,7 @@ TEST(Signals, SigtermEndsARunCleanlyAndSigintADemo) {
     fs::remove_all(out);
     // `timeout --preserve-status` sends the signal after 6 s and exits with the program's own status.
     const std::string cmd = "timeout --preserve-status -s TERM 6 " + std::string(TRIDEX_EXE) +
-                            " run --display offscreen --frames 1000000 --out " + out.string() + " > /dev/null 2>&1";
+                            " run --display offscreen --frames 1000000 --out " + out.string() + " > " + out.string() + ".log 2>&1";
     int status = std::system(cmd.c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 143);
@@ -59,7 +59,7 @@ TEST(Signals, SigtermEndsARunCleanlyAndSigintADemo) {
     fs::remove_all(dout);
     const std::string dcmd = "timeout --preserve-status -s INT 5 " + std::string(TRIDEX_EXE) +
                              " demo --seconds 60 --resolution 64 --width 64 --height 48 --out " + dout.string() +
-                             " > /dev/null 2>&1";
+                             " > " + dout.string() + ".log 2>&1";
     status = std::system(dcmd.c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 130);

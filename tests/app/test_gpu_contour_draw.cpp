@@ -16,21 +16,21 @@
 #include <vector>
 
 #include "app/demo.hpp"
-#include "app/gpu_contour_share.hpp"
+#include "compute/runtime/gpu_contour_share.hpp"
 #include "app/session.hpp"
 #include "app/stroke.hpp"
-#include "compute/contour_dual.hpp"
-#include "compute/contour_tiles.hpp"
-#include "compute/gpu_sculptor.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/material_palette.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/scene/material_palette.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 namespace {
 
-// The renderer's clear colour (renderer/stereo_renderer.cpp kClear) as RGBA8: background pixels.
+// The renderer's clear colour (renderer/stereo/stereo_renderer.cpp kClear) as RGBA8: background pixels.
 bool background(const renderer::Image& im, std::size_t p) {
     const std::uint8_t* c = &im.rgba[p * 4];
     return c[0] < 40 && c[1] < 40 && c[2] < 40;

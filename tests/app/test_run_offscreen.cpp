@@ -12,9 +12,9 @@
 
 #include "app/run_session.hpp"
 #include "core/error.hpp"
-#include "renderer/image.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/stereo_output.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/output/stereo_output.hpp"
 #include "run_test_scene.hpp"
 
 namespace tridex::app {

@@ -19,7 +19,7 @@
 #include "app/run_session.hpp"
 #include "app/run_view.hpp"
 #include "core/error.hpp"
-#include "renderer/off_axis.hpp"
+#include "renderer/camera/off_axis.hpp"
 
 namespace tridex::app {
 namespace {

@@ -14,7 +14,7 @@
 #include "app/replay.hpp"
 #include "app/run_session.hpp"
 #include "app/session.hpp"
-#include "compute/mesh_io.hpp"
+#include "compute/mesh/mesh_io.hpp"
 #include "core/error.hpp"
 #include "devices/haptic_device.hpp"
 #include "run_test_scene.hpp"

@@ -7,9 +7,9 @@
 #include <memory>
 #include <new>
 
-#include "compute/active_surface_publish.hpp"
+#include "compute/runtime/active_surface_publish.hpp"
 #include "core/primitives.hpp"
-#include "compute/scan_convert.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"
 
 // Counts every heap allocation of this test program, to prove the extraction allocates nothing.

@@ -7,10 +7,10 @@
 #include <iostream>
 #include <vector>
 
-#include "compute/boolean.hpp"
+#include "compute/tools/boolean.hpp"
 #include "core/primitives.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/volume.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
 #include "core/error.hpp"
 
 using namespace tridex;
@@ -157,7 +157,7 @@ double check_capsule(const CapsuleCase& c) {
     EXPECT_EQ(st.rays_changed, changed);
     // Dirty tiles: every tile the capsule's box touches, and with 16-cell tiles nothing beyond the tiles
     // holding cells within three cells of that box (a changed ray reaches vertices through the crossing
-    // normals of its neighbours, compute/contour_qef.hpp).
+    // normals of its neighbours, compute/contour/contour_qef.hpp).
     for (int z = 0; z < m.tiles.tiles[2]; ++z)
         for (int y = 0; y < m.tiles.tiles[1]; ++y)
             for (int x = 0; x < m.tiles.tiles[0]; ++x) {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "compute/capsule.hpp"
+#include "compute/tools/capsule.hpp"
 
 using tridex::compute::capsule_chord;
 

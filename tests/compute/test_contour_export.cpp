@@ -1,4 +1,4 @@
-// Tests of compute/mesh_export: binary PLY written by write_ply reads back with OpenMesh unchanged.
+// Tests of compute/mesh/mesh_export: binary PLY written by write_ply reads back with OpenMesh unchanged.
 #include <gtest/gtest.h>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "compute/contour_dual.hpp"
-#include "compute/mesh_export.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/mesh/mesh_export.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 

@@ -1,4 +1,4 @@
-// Tests of compute/contour_dual's tile cache: update() redoes dirty tiles only and the result equals a
+// Tests of compute/contour/contour_dual's tile cache: update() redoes dirty tiles only and the result equals a
 // from-scratch contour of the same model.
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <limits>
 #include <random>
 
-#include "compute/contour_dual.hpp"
+#include "compute/contour/contour_dual.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 

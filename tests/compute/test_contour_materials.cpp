@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "compute/contour_dual.hpp"
-#include "compute/contour_tiles.hpp"
-#include "compute/mesh_export.hpp"
-#include "compute/sweep.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/mesh/mesh_export.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 

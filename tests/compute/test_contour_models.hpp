@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "compute/tridexel.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::compute::testing {

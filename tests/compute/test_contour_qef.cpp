@@ -1,10 +1,10 @@
-// Tests of compute/contour_qef: crossing normals estimated from neighbouring rays, and the QEF vertex.
+// Tests of compute/contour/contour_qef: crossing normals estimated from neighbouring rays, and the QEF vertex.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "compute/contour_qef.hpp"
+#include "compute/contour/contour_qef.hpp"
 #include "test_contour_models.hpp"
 
 namespace tridex::compute::contour {

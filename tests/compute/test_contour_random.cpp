@@ -1,11 +1,11 @@
-// Tests of compute/contour_dual on random occupancy: the mesh must be a closed 2-manifold for any input.
+// Tests of compute/contour/contour_dual on random occupancy: the mesh must be a closed 2-manifold for any input.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <limits>
 #include <random>
 
-#include "compute/contour_dual.hpp"
+#include "compute/contour/contour_dual.hpp"
 #include "test_contour_models.hpp"
 
 namespace tridex::compute {

@@ -1,12 +1,12 @@
-// Tests of compute/contour_dual on analytic models: a sphere and a box with exact chords on every ray.
+// Tests of compute/contour/contour_dual on analytic models: a sphere and a box with exact chords on every ray.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 
-#include "compute/contour_dual.hpp"
-#include "compute/scan_convert.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/primitives.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"

@@ -1,9 +1,9 @@
-// Tests of compute/contour_table: the 256-entry cell component table of manifold dual contouring.
+// Tests of compute/contour/contour_table: the 256-entry cell component table of manifold dual contouring.
 #include <gtest/gtest.h>
 
 #include <bit>
 
-#include "compute/contour_table.hpp"
+#include "compute/contour/contour_table.hpp"
 
 namespace tridex::compute::contour {
 namespace {

@@ -1,4 +1,4 @@
-// Tests of compute/contour_tiles (TileSurfaceCache) and the Contourer's per-tile accessors: the tiles'
+// Tests of compute/contour/contour_tiles (TileSurfaceCache) and the Contourer's per-tile accessors: the tiles'
 // triangles together are exactly mesh()'s triangles, versions change exactly where the surface changed,
 // refresh() rebuilds only those tiles and drops tiles that became empty.
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <set>
 #include <vector>
 
-#include "compute/boolean.hpp"
-#include "compute/contour_dual.hpp"
-#include "compute/contour_tiles.hpp"
+#include "compute/tools/boolean.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 

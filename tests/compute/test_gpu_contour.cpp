@@ -9,10 +9,10 @@
 #include <random>
 #include <string>
 
-#include "compute/gpu_contourer.hpp"
-#include "compute/gpu_sculptor.hpp"
-#include "compute/mesh_io.hpp"
-#include "compute/scan_convert.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"

@@ -6,10 +6,10 @@
 #include <chrono>
 #include <iostream>
 
-#include "compute/contour_dual.hpp"
-#include "compute/gpu_contourer.hpp"
-#include "compute/gpu_sculptor.hpp"
-#include "compute/scan_convert.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
 

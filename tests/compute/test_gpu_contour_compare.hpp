@@ -15,8 +15,8 @@
 #include <tuple>
 #include <vector>
 
-#include "compute/contour_dual.hpp"
-#include "compute/gpu_contourer.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
 #include "core/tri_mesh.hpp"
 #include "gpu/context.hpp"
 #include "test_contour_models.hpp"

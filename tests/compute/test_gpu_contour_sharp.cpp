@@ -1,6 +1,6 @@
 // tests/compute/test_gpu_contour_sharp.cpp - sharp-feature vertex placement on the GPU (crossing normals
 // from neighbouring rays, QEF vertex: shaders/dexel_contour_qef.glsl) against the CPU contourer
-// (compute/contour_qef.cpp) bit for bit: boxes with faces on and off lattice nodes, whose edges and
+// (compute/contour/contour_qef.cpp) bit for bit: boxes with faces on and off lattice nodes, whose edges and
 // corners the QEF makes exact, and a box sculpted by flat-end and ball tools (creases and curved faces).
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <random>
 #include <string>
 
-#include "compute/gpu_contourer.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/sweep.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
 #include "test_contour_models.hpp"

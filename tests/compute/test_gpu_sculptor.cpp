@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "compute/gpu_sculptor.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/sweep.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"

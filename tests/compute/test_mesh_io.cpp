@@ -12,8 +12,8 @@
 #include <sstream>
 #include <string>
 
-#include "compute/mesh_io.hpp"
-#include "compute/mesh_weld.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/mesh_weld.hpp"
 #include "core/primitives.hpp"
 #include "core/error.hpp"
 

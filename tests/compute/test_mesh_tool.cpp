@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "compute/mesh_tool.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/sweep.hpp"
-#include "compute/sweep_parallel.hpp"
+#include "compute/tools/mesh_tool.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/tools/sweep_parallel.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 

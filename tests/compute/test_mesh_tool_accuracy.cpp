@@ -14,8 +14,8 @@
 #include <iostream>
 #include <vector>
 
-#include "compute/mesh_tool.hpp"
-#include "compute/sweep.hpp"
+#include "compute/tools/mesh_tool.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/primitives.hpp"
 
 using namespace tridex;

@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include "core/primitives.hpp"
-#include "compute/probe.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/volume.hpp"
+#include "compute/model/probe.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
 #include "core/error.hpp"
 
 using namespace tridex;

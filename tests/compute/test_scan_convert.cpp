@@ -12,11 +12,11 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "compute/mesh_io.hpp"
+#include "compute/mesh/mesh_io.hpp"
 #include "core/primitives.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/volume.hpp"
-#include "compute/workpiece.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 
 using namespace tridex;

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
-#include "compute/interval_ops.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/sweep.hpp"
-#include "compute/volume.hpp"
+#include "compute/model/interval_ops.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/volume.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 

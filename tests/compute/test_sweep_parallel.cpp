@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "compute/scan_convert.hpp"
-#include "compute/sweep.hpp"
-#include "compute/sweep_parallel.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/tools/sweep_parallel.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 

@@ -4,7 +4,7 @@
 #include <array>
 #include <string>
 
-#include "compute/tridexel.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {

@@ -5,7 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/primitives.hpp"
-#include "compute/workpiece.hpp"
+#include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 
 using namespace tridex;

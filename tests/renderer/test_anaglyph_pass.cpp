@@ -6,10 +6,10 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/anaglyph_pass.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/stereo_output.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/output/anaglyph_pass.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/output/stereo_output.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

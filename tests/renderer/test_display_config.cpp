@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "renderer/display_config.hpp"
+#include "renderer/camera/display_config.hpp"
 
 namespace tridex::renderer {
 namespace {

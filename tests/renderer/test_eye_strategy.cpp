@@ -5,10 +5,10 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/eye_self_test.hpp"
-#include "renderer/eye_strategy.hpp"
-#include "renderer/stereo_pipeline.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/stereo/eye_self_test.hpp"
+#include "renderer/stereo/eye_strategy.hpp"
+#include "renderer/stereo/stereo_pipeline.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::renderer {
 namespace {

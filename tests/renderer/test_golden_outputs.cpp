@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "gpu/context.hpp"
-#include "renderer/frame_sequencer.hpp"
-#include "renderer/image.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_output.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/output/frame_sequencer.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/output/stereo_output.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

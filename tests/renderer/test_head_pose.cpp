@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "core/error.hpp"
-#include "renderer/head_pose.hpp"
+#include "renderer/camera/head_pose.hpp"
 
 namespace tridex::renderer {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/scene_navigation.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/camera/scene_navigation.hpp"
 
 namespace tridex::renderer {
 namespace {

@@ -1,11 +1,11 @@
-// Tests of renderer/image and image_compare: PNG round trip, side-by-side, tolerant comparison.
+// Tests of renderer/image/image and image_compare: PNG round trip, side-by-side, tolerant comparison.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "core/error.hpp"
-#include "renderer/image.hpp"
-#include "renderer/image_compare.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/image/image_compare.hpp"
 
 namespace tridex::renderer {
 namespace {

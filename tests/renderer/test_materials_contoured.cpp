@@ -11,14 +11,14 @@
 #include <cstdlib>
 #include <vector>
 
-#include "compute/contour_dual.hpp"
-#include "compute/contour_tiles.hpp"
-#include "compute/sweep.hpp"
-#include "compute/tridexel.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/tridexel.hpp"
 #include "gpu/context.hpp"
-#include "renderer/material_palette.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/scene/material_palette.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

@@ -10,9 +10,9 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/primitive_meshes.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/scene/primitive_meshes.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

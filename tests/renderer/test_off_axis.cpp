@@ -1,11 +1,11 @@
-// Tests of renderer/off_axis: Kooima off-axis frusta in Vulkan clip conventions, and eye positions.
+// Tests of renderer/camera/off_axis: Kooima off-axis frusta in Vulkan clip conventions, and eye positions.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
 #include "core/error.hpp"
-#include "renderer/off_axis.hpp"
+#include "renderer/camera/off_axis.hpp"
 
 namespace tridex::renderer {
 namespace {

@@ -5,10 +5,10 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/overlay_content.hpp"
-#include "renderer/overlay_text.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/scene/overlay_content.hpp"
+#include "renderer/scene/overlay_text.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

@@ -1,4 +1,4 @@
-// Tests of renderer/primitive_meshes: closed, outward, analytic volumes.
+// Tests of renderer/scene/primitive_meshes: closed, outward, analytic volumes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/tri_mesh.hpp"
-#include "renderer/primitive_meshes.hpp"
+#include "renderer/scene/primitive_meshes.hpp"
 
 namespace tridex::renderer {
 namespace {

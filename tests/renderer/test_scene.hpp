@@ -6,9 +6,9 @@
 #include "core/aabb.hpp"
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/primitive_meshes.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/scene/primitive_meshes.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::renderer::test {
 

@@ -12,11 +12,11 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/arrow_mesh.hpp"
-#include "renderer/force_arrow.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/material_palette.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/scene/arrow_mesh.hpp"
+#include "renderer/scene/force_arrow.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/scene/material_palette.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "renderer/image.hpp"
-#include "renderer/stereo_output.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/output/stereo_output.hpp"
 
 namespace tridex::renderer {
 namespace {

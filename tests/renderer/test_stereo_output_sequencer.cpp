@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "renderer/frame_sequencer.hpp"
+#include "renderer/output/frame_sequencer.hpp"
 
 namespace tridex::renderer {
 namespace {

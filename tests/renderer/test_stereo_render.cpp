@@ -8,10 +8,10 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/eye_strategy.hpp"
-#include "renderer/image.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/stereo/eye_strategy.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

@@ -7,9 +7,9 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/offscreen_sink.hpp"
-#include "renderer/stereo_output.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/output/offscreen_sink.hpp"
+#include "renderer/output/stereo_output.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

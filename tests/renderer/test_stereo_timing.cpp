@@ -7,9 +7,9 @@
 #include <filesystem>
 
 #include "gpu/context.hpp"
-#include "renderer/image.hpp"
-#include "renderer/primitive_meshes.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/scene/primitive_meshes.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::renderer {
 namespace {

@@ -10,10 +10,10 @@
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/off_axis.hpp"
-#include "renderer/stereo_renderer.hpp"
-#include "renderer/tile_culling.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
+#include "renderer/scene/tile_culling.hpp"
 #include "test_scene.hpp"
 
 namespace tridex::renderer {

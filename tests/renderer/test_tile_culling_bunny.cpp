@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "compute/contour_dual.hpp"
-#include "compute/mesh_io.hpp"
-#include "compute/scan_convert.hpp"
-#include "compute/tridexel.hpp"
-#include "compute/workpiece.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tridexel.hpp"
+#include "compute/model/workpiece.hpp"
 #include "gpu/context.hpp"
-#include "renderer/image_compare.hpp"
-#include "renderer/stereo_renderer.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::renderer {
 namespace {

@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "gpu/swapchain.hpp"
-#include "renderer/window_glfw.hpp"
+#include "renderer/window/window_glfw.hpp"
 #include "test_window_xvfb.hpp"
 
 namespace tridex::renderer {

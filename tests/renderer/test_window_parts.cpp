@@ -10,9 +10,9 @@
 
 #include "core/error.hpp"
 #include "gpu/context.hpp"
-#include "renderer/window_blit_layout.hpp"
-#include "renderer/window_frame_timing.hpp"
-#include "renderer/window_input.hpp"
+#include "renderer/window/window_blit_layout.hpp"
+#include "renderer/window/window_frame_timing.hpp"
+#include "renderer/window/window_input.hpp"
 
 namespace tridex::renderer {
 namespace {

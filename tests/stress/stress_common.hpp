@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "compute/scan_convert.hpp"
-#include "compute/tridexel.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tridexel.hpp"
 #include "core/primitives.hpp"
 
 namespace tridex::test {

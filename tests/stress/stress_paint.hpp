@@ -15,8 +15,8 @@
 #include <utility>
 #include <vector>
 
-#include "compute/sweep.hpp"
-#include "compute/tridexel.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/tridexel.hpp"
 #include "stress_common.hpp"
 
 namespace tridex::test {

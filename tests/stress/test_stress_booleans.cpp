@@ -27,9 +27,9 @@
 #include <span>
 #include <vector>
 
-#include "compute/gpu_sculptor.hpp"
-#include "compute/sweep.hpp"
-#include "compute/volume.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/volume.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "stress_common.hpp"

@@ -14,8 +14,8 @@
 #include <tuple>
 #include <vector>
 
-#include "compute/sweep.hpp"
-#include "compute/volume.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/volume.hpp"
 #include "core/error.hpp"
 #include "stress_common.hpp"
 

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "compute/gpu_sculptor.hpp"
-#include "compute/sweep.hpp"
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/tools/sweep.hpp"
 #include "gpu/context.hpp"
 #include "stress_common.hpp"
 

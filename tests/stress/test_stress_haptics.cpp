@@ -23,8 +23,8 @@
 #include <limits>
 #include <random>
 
-#include "compute/active_surface_publish.hpp"
-#include "compute/sweep.hpp"
+#include "compute/runtime/active_surface_publish.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 #include "devices/haptic_device.hpp"
@@ -136,7 +136,7 @@ WalkResult walk(const TriDexel& m, double radius_cells, unsigned seed, int ticks
         }
         hip = glm::clamp(hip + Vec3(noise(rng), noise(rng), noise(rng)), Vec3(1.0), Vec3(63.0));
         if (t % 4 == 0) {  // the sculpt thread's publish, centred where the last sample says (at the proxy)
-            // As app/sculpt_thread.cpp: centred on the last sample's surface_m (the proxy).
+            // As compute/runtime/sculpt_thread.cpp: centred on the last sample's surface_m (the proxy).
             const Vec3 centre_cells = is_finite(drain.surface_m) ? drain.surface_m / kH : hip;
             extract_active_surface(m, centre_cells * kH, tool_extent_m(0.0, radius_cells * kH), ++seq, surface.back());
             published = centre_cells;

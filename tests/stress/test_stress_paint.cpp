@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "compute/sweep.hpp"
+#include "compute/tools/sweep.hpp"
 #include "stress_common.hpp"
 #include "stress_paint.hpp"
 

@@ -1,0 +1,49 @@
+// bench/bench_render.hpp - `tridex bench --render`: offscreen stereo frame time of the contoured workpiece
+// drawn as per-tile meshes, with and without per-eye tile culling (issue 5's benchmark).
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tridex::app {
+
+/// One benchmark row: `frames` stereo frames at one resolution, image size, view and culling setting.
+struct RenderBenchRow {
+    int n = 0;                   ///< lattice cells along the workpiece's longest side
+    int width = 0, height = 0;   ///< per-eye image size, px
+    std::string view;            ///< "whole" (the demo's head pose) or "close-up" (part outside the frusta)
+    bool culling = true;         ///< per-eye tile culling on
+    double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (submit + GPU + wait), ms
+    double frame_ms_p99 = 0;
+    double gpu_frame_ms_median = -1;        ///< FrameStats::frame_ms (GPU timestamps), ms; < 0 unavailable
+    std::map<std::string, double> passes;   ///< median ms per pass name ("opaque", ...), both eyes summed
+    std::size_t tiles_drawn_left = 0, tiles_drawn_right = 0;      ///< per eye, last frame
+    std::size_t tiles_skipped_left = 0, tiles_skipped_right = 0;  ///< per eye, last frame
+    std::size_t tiles = 0;       ///< non-empty tiles of the workpiece
+    std::size_t triangles = 0;   ///< workpiece triangles (all tiles)
+    double speedup = 0;          ///< culling rows: median frame ms without culling / with; 0 on the others
+};
+
+/// What to measure.
+struct RenderBenchOptions {
+    std::string mesh;                                              ///< workpiece; empty = the bundled bunny
+    std::vector<int> resolutions{256, 512};                        ///< N values
+    std::vector<std::pair<int, int>> sizes{{1280, 720}, {1920, 1080}};  ///< per-eye width x height, px
+    int frames = 10;                                               ///< timed frames per row (after 1 warm-up)
+    std::string out = "out/bench";                                 ///< folder for render_bench.json
+};
+
+/// For each N: prepares the workpiece as the demo does (prepare_workpiece: 0.3 m stock centred 0.3 m in
+/// front of the PowerWall), contours it and builds a compute::TileSurfaceCache; for each image size, view
+/// and culling setting renders one warm-up frame (tile uploads) and `frames` timed offscreen stereo frames
+/// (OffscreenStereoRenderer::draw, PowerWall screen, eye separation 0.064 m, overlay on, no tool or
+/// workspace). Views: "whole" = the demo's head (0, 0.15, 0.65) m; "close-up" = head (0.9, 0.7, 0.5) m,
+/// off to the upper right, so the workpiece's lower left lies outside the frusta. Validation follows
+/// TRIDEX_VALIDATION (off unless set). Prints a table (medians per pass) and the culling speed-ups, writes
+/// render_bench.json (a list of rows) into options.out and returns the rows.
+/// Throws tridex::Error on a bad mesh, resolution or size, frames < 1, an unwritable folder, or no Vulkan device.
+std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& options);
+
+}  // namespace tridex::app

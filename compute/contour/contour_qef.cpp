@@ -1,0 +1,158 @@
+// compute/contour/contour_qef.cpp - crossing normals from neighbouring rays and the QEF vertex (see the header).
+// Every expression is written in the order shaders/dexel_contour_qef.glsl evaluates it; build with
+// -ffp-contract=off so no multiply-add is fused.
+#include "compute/contour/contour_qef.hpp"
+
+#include <cmath>
+
+namespace tridex::compute::contour {
+namespace {
+
+/// The end of kind `exit_end` on `ray` nearest to t within kNormalWindow (ties: the lower one).
+bool nearest_end(const std::vector<Interval>& ray, bool exit_end, double t, double& depth) {
+    bool found = false;
+    double best = 0.0;
+    for (const Interval& iv : ray) {
+        const double e = exit_end ? static_cast<double>(iv.exit) : static_cast<double>(iv.enter);
+        if (!std::isfinite(e)) continue;
+        const double d = std::abs(e - t);
+        if (d <= kNormalWindow && (!found || d < best)) {
+            best = d;
+            depth = e;
+            found = true;
+        }
+    }
+    return found;
+}
+
+/// Slope of the height field along one lattice direction at ray coordinate w (see crossing_normal).
+bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g) {
+    const int w = n[dir];
+    const bool u_dir = dir == (a + 1) % 3;
+    const int limit = u_dir ? set.nu : set.nv;
+    const int u = n[(a + 1) % 3], v = n[(a + 2) % 3];
+    double em = 0.0, ep = 0.0;
+    const bool has_m = w - 1 >= 0 && nearest_end(u_dir ? set.ray(u - 1, v) : set.ray(u, v - 1), exit_end, t, em);
+    const bool has_p = w + 1 < limit && nearest_end(u_dir ? set.ray(u + 1, v) : set.ray(u, v + 1), exit_end, t, ep);
+    const double dm = t - em, dp = ep - t;
+    if (has_m && has_p) {
+        if (!(std::abs(dp - dm) <= kCentralSlopeTol)) return false;  // a crease between the rays: no normal
+        g = (dm + dp) * 0.5;
+        return true;
+    }
+    // One side alone (a sharp edge): only a gentle slope, as a steep one may be another sheet's end.
+    if (has_m) {
+        g = dm;
+        return std::abs(dm) <= kOneSidedSlopeMax;
+    }
+    if (has_p) {
+        g = dp;
+        return std::abs(dp) <= kOneSidedSlopeMax;
+    }
+    return false;
+}
+
+/// One Jacobi rotation zeroing m[p][q] of the symmetric 3x3 `m`, accumulated into the columns of `v`.
+void rotate(double m[3][3], double v[3][3], int p, int q) {
+    const double apq = m[p][q];
+    if (apq == 0.0) return;
+    const double theta = (m[q][q] - m[p][p]) / (2.0 * apq);
+    double t = 1.0 / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+    if (theta < 0.0) t = -t;
+    const double c = 1.0 / std::sqrt(t * t + 1.0);
+    const double s = t * c;
+    const int r = 3 - p - q;  // the third index
+    const double arp = m[r][p], arq = m[r][q];
+    m[r][p] = c * arp - s * arq;
+    m[p][r] = m[r][p];
+    m[r][q] = s * arp + c * arq;
+    m[q][r] = m[r][q];
+    m[p][p] = m[p][p] - t * apq;
+    m[q][q] = m[q][q] + t * apq;
+    m[p][q] = 0.0;
+    m[q][p] = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double vkp = v[k][p], vkq = v[k][q];
+        v[k][p] = c * vkp - s * vkq;
+        v[k][q] = s * vkp + c * vkq;
+    }
+}
+
+}  // namespace
+
+bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal) {
+    const RaySet& set = model.sets[a];
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    double gb = 0.0, gc = 0.0;
+    if (!slope(set, a, n, b, start_inside, t, gb)) return false;
+    if (!slope(set, a, n, c, start_inside, t, gc)) return false;
+    const double len = std::sqrt((1.0 + gb * gb) + gc * gc);
+    // Exit (material below along a): grad(a - d(u, v)) = (1, -g_u, -g_v); an enter is the opposite.
+    Vec3 out(0.0);
+    out[a] = (start_inside ? 1.0 : -1.0) / len;
+    out[b] = (start_inside ? -gb : gb) / len;
+    out[c] = (start_inside ? -gc : gc) / len;
+    normal = out;
+    return true;
+}
+
+Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome) {
+    QefOutcome local;
+    QefOutcome& out = outcome ? *outcome : local;
+    out = QefOutcome{};
+    const Vec3 hi = cell_lo + Vec3(1.0);
+    const Vec3 fallback = glm::clamp(mass, cell_lo, hi);
+    if (count <= 0) return fallback;
+    out.normals = count;
+    // A = sum n n^T, r = sum n (n . (p - mass)).
+    double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    double r[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < count; ++i) {
+        const Vec3& nn = normals[i];
+        const double dx = points[i].x - mass.x, dy = points[i].y - mass.y, dz = points[i].z - mass.z;
+        const double s = (nn.x * dx + nn.y * dy) + nn.z * dz;
+        for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) m[j][k] = m[j][k] + nn[j] * nn[k];
+            r[j] = r[j] + nn[j] * s;
+        }
+    }
+    double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+    for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        // Converged (off-diagonal negligible against the diagonal; at once for axis-aligned normals).
+        const double off = (std::abs(m[0][1]) + std::abs(m[0][2])) + std::abs(m[1][2]);
+        const double diag = (std::abs(m[0][0]) + std::abs(m[1][1])) + std::abs(m[2][2]);
+        if (off <= kJacobiTolerance * diag) break;
+        rotate(m, v, 0, 1);
+        rotate(m, v, 0, 2);
+        rotate(m, v, 1, 2);
+    }
+    double top = m[0][0];
+    if (m[1][1] > top) top = m[1][1];
+    if (m[2][2] > top) top = m[2][2];
+    if (!(top > 0.0)) {  // not reached for unit normals; NaN normals end here
+        out.rejected = true;
+        return fallback;
+    }
+    const double floor = kQefTruncation * top;
+    double y[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < 3; ++k) {
+        const double lambda = m[k][k];
+        if (!(lambda > floor)) {
+            out.truncated = true;
+            continue;
+        }
+        const double w = ((v[0][k] * r[0] + v[1][k] * r[1]) + v[2][k] * r[2]) / lambda;
+        for (int j = 0; j < 3; ++j) y[j] = y[j] + w * v[j][k];
+    }
+    const Vec3 x(mass.x + y[0], mass.y + y[1], mass.z + y[2]);
+    for (int j = 0; j < 3; ++j)
+        if (!(x[j] >= cell_lo[j] - 0.5 && x[j] <= hi[j] + 0.5)) {  // also catches NaN
+            out.rejected = true;
+            return fallback;
+        }
+    const Vec3 inside = glm::clamp(x, cell_lo, hi);
+    out.clamped = inside != x;
+    return inside;
+}
+
+}  // namespace tridex::compute::contour

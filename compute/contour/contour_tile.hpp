@@ -1,0 +1,137 @@
+// compute/contour/contour_tile.hpp - manifold dual contouring of one tile of cells into a cached piece of mesh.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "compute/contour/contour_qef.hpp"
+#include "compute/contour/contour_sample.hpp"
+#include "compute/contour/contour_table.hpp"
+#include "compute/model/tridexel.hpp"
+
+namespace tridex::compute::contour {
+
+/// Names a mesh vertex independently of the tile that stores it, so tiles can be redone one by one and
+/// stitched by key. key = node_linear_index(n) * 32 + slot, where n is the vertex's "anchor" node:
+///  - slot 0..3:   component `slot` of the cell with min node n (a dual vertex);
+///  - slot 4..6:   crossing point of the lattice edge from n along axis slot-4 (only for split edges);
+///  - slot 8..19:  8 + 4*f + corner: segment vertex of a split face perpendicular to f with min node n,
+///                 for the segment around the face's inside corner `corner` (face_corners order).
+/// Every vertex, edge polygon and face belongs to the tile of the cell with the same index as its
+/// anchor node; it depends only on nodes n - 1 .. n + 1 on each axis and the edges between them (the
+/// cells n - 1 and n), and, through the crossing normals (contour_qef.hpp), on the rays one node beside
+/// those edges and their interval ends up to kNormalWindow cells along them; TriDexel::mark_dirty covers
+/// that (cells within three cells of a change).
+using VertexKey = std::uint64_t;
+
+/// Anchor node of a key and the tile owning it.
+struct KeyCodec {
+    std::array<int, 3> nodes{};  ///< lattice nodes per axis (cells + 1)
+    std::array<int, 3> tiles{};  ///< tiles per axis
+
+    /// Key of slot `slot` at node n.
+    VertexKey key(const Node& n, int slot) const {
+        return ((static_cast<std::uint64_t>(n[2]) * nodes[1] + n[1]) * nodes[0] + n[0]) * 32u + static_cast<std::uint64_t>(slot);
+    }
+    /// Linear index (TileGrid::index order) of the tile that owns key k.
+    std::size_t owner_tile(VertexKey k) const;
+};
+
+/// The cached mesh piece of one tile, in grid units.
+struct TileMesh {
+    std::vector<VertexKey> keys;   ///< vertices this tile owns, sorted ascending
+    std::vector<Vec3> grid;        ///< their positions, grid units, parallel to keys
+    /// Their material ids, parallel to keys (rule: see TileContourer, "vertex materials").
+    std::vector<std::uint8_t> materials;
+    /// Triangles, CCW from outside. A reference r < kForeign is the local vertex r (index into keys);
+    /// r >= kForeign is the vertex foreign[r - kForeign], owned by a neighbour tile and found by key at
+    /// assembly (neighbours may be redone in between, so their indices are not kept).
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<VertexKey> foreign;  ///< sorted keys of vertices owned by other tiles
+    static constexpr std::uint32_t kForeign = 0x80000000u;
+    std::size_t cells_visited = 0; ///< non-uniform cells processed (uniform cells are skipped in bulk)
+    std::size_t fallbacks = 0;     ///< owned sign-change edges whose ray had no end on the edge
+    std::size_t split_faces = 0;   ///< owned faces split to keep the surface 2-manifold
+    // Owned vertices by the QEF branch that placed them (QefOutcome; a vertex may count in several):
+    std::size_t qef_vertices = 0;  ///< placed by a QEF of at least one crossing normal (else: the mass point)
+    std::size_t qef_truncated = 0; ///< ... with at least one eigen-direction dropped (a face or an edge, not a corner)
+    std::size_t qef_rejected = 0;  ///< ... whose minimiser lay over half a cell outside (the mass point instead)
+    std::size_t qef_clamped = 0;   ///< ... whose minimiser lay outside the cell by at most half a cell (clamped)
+};
+
+/// Contours single tiles; keeps scratch buffers between calls (not thread-safe, one per thread).
+///
+/// Method (manifold dual contouring on the shared tri-dexel lattice):
+///  - node occupancy from the X rays (OccupancyBlock); cells whose 8 corners agree are skipped by
+///    32-bit row masks, so the work per tile is proportional to its surface cells;
+///  - one dual vertex per surface component of a cell (cell_cases()), placed by the QEF of that
+///    component's edge crossings and their normals estimated from neighbouring rays (qef_vertex(),
+///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept), relative to and falling
+///    back on their mass point (mean), clamped into the cell;
+///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
+///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
+///    diagonal;
+///  - repair of the one case where that is not 2-manifold: a face whose two segments belong to one
+///    component in BOTH cells beside it (a tunnel thinner than a cell) would make two quads' shared
+///    edges coincide. Such a face gets one vertex per segment (mean of the segment's two crossings), and
+///    each edge polygon touching it becomes a fan around the edge's crossing point. Each dual vertex's
+///    triangle fan stays a single cycle, so the mesh is a closed 2-manifold for any occupancy.
+///
+/// Vertex materials: every vertex takes the material of the interval end (EdgeCrossing::material) of the
+/// edge crossing nearest to it (Euclidean, grid units) among the crossings that generated it: a dual
+/// vertex among its component's crossings in its cell, a split-face vertex among its segment's two
+/// crossings, an edge-crossing vertex its own crossing. Tie-break on exactly equal distances: the larger
+/// material id (paint wins over clay 0 at a seam; it also makes the rule independent of visiting order).
+/// Computed while the vertex is placed, from the same crossings (no extra pass over the model).
+class TileContourer {
+public:
+    /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 2
+    /// .. t*16 + 18 of each axis. Does not touch the model's dirty flags.
+    void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out);
+
+private:
+    static constexpr std::uint8_t kQefNormals = 1, kQefTruncated = 2, kQefRejected = 4, kQefClamped = 8;
+    struct CellVertices {
+        std::uint32_t stamp = 0;  // equals stamp_ when pos holds this run's positions
+        std::array<Vec3, kMaxComponents> pos{};
+        std::array<std::uint8_t, kMaxComponents> material{};
+        // How each vertex was placed: QefOutcome packed into kQef* bits (one byte keeps the cache small).
+        std::array<std::uint8_t, kMaxComponents> qef{};
+    };
+    struct Vertex {
+        VertexKey key;
+        Vec3 pos;
+        std::uint8_t material;
+    };
+    /// A sign-change edge's crossing and normal, computed once per run for the up to 4 cells sharing it.
+    struct EdgeSample {
+        std::uint32_t stamp = 0;  // equals stamp_ when this run computed it
+        bool has_normal = false;
+        EdgeCrossing crossing;
+        Vec3 normal{0.0};
+    };
+    static constexpr int kCacheSpan = TileGrid::kTileCells + 1;  // cells t*16 - 1 .. t*16 + 15
+    static constexpr int kEdgeSpan = kCacheSpan + 1;              // their edges' start nodes per axis
+
+    const EdgeSample& edge_sample(const Node& start, int a, bool start_inside);
+
+    const CellVertices& cell_vertices(const Node& cell);
+    const Vec3& vertex(const Node& cell, int component) { return cell_vertices(cell).pos[component]; }
+    void emit_edge(const Node& n, int a, TileMesh& out);
+    void emit_split_face(const Node& n, int f, TileMesh& out);
+    bool face_split(const Node& lower, int f) const;
+
+    const TriDexel* model_ = nullptr;
+    KeyCodec codec_;
+    OccupancyBlock occ_;
+    Node cache_lo_{};
+    std::vector<CellVertices> cache_;
+    std::vector<EdgeSample> edges_;  // 3 per node of the kEdgeSpan^3 block at cache_lo_
+    std::uint32_t stamp_ = 0;
+    std::vector<Vertex> verts_;
+    std::vector<std::array<VertexKey, 3>> tri_keys_;
+};
+
+}  // namespace tridex::compute::contour

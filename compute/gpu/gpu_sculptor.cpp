@@ -1,0 +1,382 @@
+// compute/gpu/gpu_sculptor.cpp - batching sweeps into ray tiles, the compute dispatch, and the host's share
+// (retried rays, pool compaction, the CPU mirror).
+#include "compute/gpu/gpu_sculptor.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstring>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "gpu/check.hpp"
+#include "gpu/compute_pipeline.hpp"
+#include "gpu/shader_module.hpp"
+#include "shaders/spirv.hpp"
+
+namespace tridex::compute {
+namespace {
+
+// A tile is one workgroup of 8 invocations, one SIMD row of llvmpipe, laid out as kTileU x kTileV rays:
+// 4 x 2 wastes fewer lanes at a footprint's edges than 8 x 1 (or 8 x 2 as two rows).
+constexpr int kTileU = 4;  // rays per tile along u (the kernel's specialisation constant 1, TILE_U)
+constexpr int kTileV = 8 / kTileU;
+constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
+constexpr int kBindings = 10;
+constexpr int kSweepBinding = 5;  // the batch's sweeps: a uniform buffer (llvmpipe gathers those as vectors)
+constexpr std::size_t kSweepUniformBytes = 65536;  // the Vulkan minimum of maxUniformBufferRange is 16384
+constexpr std::size_t kMaxBinding = std::size_t{128} << 20;  // lavapipe's maxStorageBufferRange
+
+struct Push {
+    std::int32_t axis, nu, nv;
+    std::uint32_t tile_base, pool_chunks, retry_capacity;
+    float depth_cells;  // the lattice's cells along `axis`: union chords are clipped to [0, depth_cells]
+};
+
+struct TileEntry {
+    std::uint32_t tu, tv, first, count;
+};
+
+// Orders one dispatch's tiles so that every contiguous 1/2, 1/4 or 1/8 of them carries about the same
+// work: sorted by sweep count (the work per ray), descending, then dealt by the bit-reversed residue of the
+// rank modulo 8 (ranks 0, 8, 16, ... first, then 4, 12, ..., then 2, 10, ...). llvmpipe (Mesa
+// lp_cs_tpool) gives each of its threads one contiguous block of workgroups, so the tiles' order decides
+// its balance; tiles are independent, so the order changes no result.
+void balance_tiles(std::vector<TileEntry>::iterator first, std::vector<TileEntry>::iterator last) {
+    std::stable_sort(first, last, [](const TileEntry& x, const TileEntry& y) { return x.count > y.count; });
+    static constexpr std::uint32_t kReverse3[8] = {0, 4, 2, 6, 1, 5, 3, 7};
+    const std::size_t n = static_cast<std::size_t>(last - first);
+    std::vector<std::pair<std::uint64_t, TileEntry>> keyed(n);
+    for (std::size_t i = 0; i < n; ++i)
+        keyed[i] = {static_cast<std::uint64_t>(kReverse3[i % 8]) << 40 | i, first[static_cast<std::ptrdiff_t>(i)]};
+    std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t i = 0; i < n; ++i) first[static_cast<std::ptrdiff_t>(i)] = keyed[i].second;
+}
+
+gpu::Buffer host_storage(const gpu::Context& c, std::size_t bytes) {
+    return gpu::Buffer::create(c, std::max<std::size_t>(bytes, 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryDomain::kHost);
+}
+
+std::uint32_t bits(float f) {
+    std::uint32_t b;
+    std::memcpy(&b, &f, 4);
+    return b;
+}
+
+/// The tools of a batch as the kernel's ToolData words: [t] = first word of tool t's block; a block is
+/// k (float bits), then per ray set a: nu, nv, ref_u, ref_v, word of its `first` offsets, word of its
+/// depths (float bits, 2 per interval); then those arrays.
+std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
+    std::vector<std::uint32_t> w(tools.size(), 0u);
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+        const ToolDexels& d = *tools[t];
+        w[t] = static_cast<std::uint32_t>(w.size());
+        const std::size_t head = w.size();
+        w.resize(head + 19, 0u);
+        w[head] = bits(static_cast<float>(d.k));
+        for (int a = 0; a < 3; ++a) {
+            const ToolDexelSet& s = d.sets[a];
+            std::uint32_t* h = &w[head + 1 + 6 * a];
+            h[0] = static_cast<std::uint32_t>(s.nu);
+            h[1] = static_cast<std::uint32_t>(s.nv);
+            h[2] = static_cast<std::uint32_t>(s.ref_u);
+            h[3] = static_cast<std::uint32_t>(s.ref_v);
+            h[4] = static_cast<std::uint32_t>(w.size());
+            w.insert(w.end(), s.first.begin(), s.first.end());
+            w[head + 1 + 6 * a + 5] = static_cast<std::uint32_t>(w.size());
+            for (const float f : s.depth) w.push_back(bits(f));
+        }
+    }
+    return w;
+}
+
+}  // namespace
+
+GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
+    : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
+    const VkDevice dev = context.device();
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push), 1u << kSweepBinding);
+    const VkDescriptorSetLayout layout = cl.set_layout.get();
+    set_layout_ = std::move(cl.set_layout);
+    pipeline_layout_ = std::move(cl.pipeline_layout);
+
+    // Kernel variants by specialisation constants: HAS_MESH (constant_id 0) compiles the mesh-tool path in
+    // (mesh_pipeline_, all operations and tools) or out; OPS and KINDS (constant_id 3, 4) compile in only
+    // the batch's operations and tool kinds (pipeline_for; llvmpipe runs both sides of
+    // every branch, so absent code costs time: about 1.4x for subtract-only ball batches); constant_id 1
+    // is the tile width kTileU, constant_id 2 the sweeps per dispatch.
+    max_sweeps_ = std::min<std::size_t>(kSweepUniformBytes, context.properties().limits.maxUniformBufferRange) / sizeof(GridSweep);
+    module_ = gpu::create_shader_module(context, shaders::spirv("dexel_sweep_comp"));
+    mesh_pipeline_ = create_pipeline(true, 7u, 3u);
+    // Creating a variant takes tens of ms on lavapipe: the common one (ball, subtract) now, others on first use.
+    pipelines_[1][1] = create_pipeline(false, 1u, 1u);
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)},
+                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}};
+    VkDescriptorPoolCreateInfo pi{};
+    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    pi.maxSets = 3;
+    pi.poolSizeCount = 2;
+    pi.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool");
+    descriptor_pool_ = gpu::UniqueDescriptorPool(dev, pool);
+    VkDescriptorSetLayout layouts[3] = {layout, layout, layout};
+    VkDescriptorSetAllocateInfo ai{};
+    ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    ai.descriptorPool = pool;
+    ai.descriptorSetCount = 3;
+    ai.pSetLayouts = layouts;
+    gpu::check(vkAllocateDescriptorSets(dev, &ai, sets_), "vkAllocateDescriptorSets");
+
+    tools_ = host_storage(context_, 16);
+    sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    ensure_batch_capacity(256, 1024, 256 * 64);
+}
+
+gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
+    const std::uint32_t values[5] = {mesh ? VK_TRUE : VK_FALSE, static_cast<std::uint32_t>(kTileU), static_cast<std::uint32_t>(max_sweeps_),
+                                     ops, kinds};
+    VkSpecializationMapEntry entries[5];
+    for (std::uint32_t i = 0; i < 5; ++i) entries[i] = VkSpecializationMapEntry{i, 4 * i, 4};
+    VkSpecializationInfo spec{};
+    spec.mapEntryCount = 5;
+    spec.pMapEntries = entries;
+    spec.dataSize = sizeof(values);
+    spec.pData = values;
+    return gpu::create_compute_pipeline(context_, module_.get(), pipeline_layout_.get(), &spec);
+}
+
+VkPipeline GpuSculptor::pipeline_for(std::uint32_t ops, std::uint32_t kinds) {
+    gpu::UniquePipeline& p = pipelines_[ops & 7u][kinds & 3u];
+    if (p.get() == VK_NULL_HANDLE) p = create_pipeline(false, ops, kinds);
+    return p.get();
+}
+
+void GpuSculptor::upload_tools(const ToolTable& tools) {
+    if (tools.empty() || tools == uploaded_tools_) return;
+    const std::vector<std::uint32_t> words = pack_tools(tools);
+    const std::size_t bytes = words.size() * sizeof(std::uint32_t);
+    const std::size_t limit = std::min<std::size_t>(kMaxBinding, context_.properties().limits.maxStorageBufferRange);
+    if (bytes > limit) {
+        std::ostringstream m;
+        m << "GPU sculpt: the batch's mesh-tool dexels need " << (bytes >> 20) << " MiB, over the " << (limit >> 20)
+          << " MiB one storage binding may hold; use a smaller tool, fewer rays per cell (k), fewer distinct tool"
+             " orientations per batch, or --cpu";
+        throw Error(m.str());
+    }
+    if (tools_.size() < bytes) {
+        tools_ = host_storage(context_, std::max(bytes, std::min(limit, tools_.size() * 2)));
+        bind_descriptors();
+    }
+    tools_.write(words.data(), bytes);
+    uploaded_tools_ = tools;
+}
+
+GpuSculptor::~GpuSculptor() = default;
+
+void GpuSculptor::ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry) {
+    bool rebind = sets_[0] != VK_NULL_HANDLE && tiles_.handle() == VK_NULL_HANDLE;
+    auto grow = [&](gpu::Buffer& buf, std::size_t bytes) {
+        if (buf.handle() != VK_NULL_HANDLE && buf.size() >= bytes) return;
+        buf = host_storage(context_, std::max<std::size_t>(bytes, buf.size() * 2));
+        rebind = true;
+    };
+    grow(tiles_, tiles * sizeof(TileEntry));
+    grow(index_, indices * sizeof(std::uint32_t));
+    if (retry > retry_capacity_ || counters_[0].handle() == VK_NULL_HANDLE) {
+        retry_capacity_ = std::max(retry, retry_capacity_ * 2);
+        for (auto& c : counters_) c = host_storage(context_, 16 + 4 * retry_capacity_);
+        rebind = true;
+    }
+    if (rebind) bind_descriptors();
+}
+
+void GpuSculptor::bind_descriptors() {
+    for (int a = 0; a < 3; ++a) {
+        const gpu::Buffer* bufs[kBindings] = {&slabs_.buffer(a, 0), &slabs_.buffer(a, 1), &slabs_.buffer(a, 2),
+                                              &slabs_.buffer(a, 3), &slabs_.buffer(a, 4), &sweeps_,
+                                              &tiles_,              &index_,              &counters_[a],
+                                              &tools_};
+        VkDescriptorBufferInfo info[kBindings];
+        VkWriteDescriptorSet w[kBindings]{};
+        for (int i = 0; i < kBindings; ++i) {
+            info[i] = VkDescriptorBufferInfo{bufs[i]->handle(), 0, VK_WHOLE_SIZE};
+            w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+            w[i].dstSet = sets_[a];
+            w[i].dstBinding = static_cast<std::uint32_t>(i);
+            w[i].descriptorCount = 1;
+            w[i].descriptorType = i == kSweepBinding ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[i].pBufferInfo = &info[i];
+        }
+        vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
+    }
+}
+
+std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps,
+                                      const ToolTable& tools) {
+    std::size_t changed = 0;
+    const int nu = slabs_.nu(axis);
+    std::vector<Interval> ray;
+    for (const std::uint32_t id : rays) {
+        const int u = static_cast<int>(id % static_cast<std::uint32_t>(nu)), v = static_cast<int>(id / static_cast<std::uint32_t>(nu));
+        slabs_.read_ray(axis, u, v, ray);
+        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+        bool any = false;
+        for (const GridSweep& g : sweeps)
+            if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray, static_cast<float>(mirror_.lattice.cells[axis]), tools);
+        if (!any) continue;
+        ++changed;
+        if (!slabs_.write_ray(axis, u, v, ray)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, axis)) bind_descriptors();
+            if (!slabs_.write_ray(axis, u, v, ray)) throw Error("GPU tri-dexel: no pool room after compaction (internal error)");
+        }
+    }
+    return changed;
+}
+
+BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
+    BooleanStats stats;
+    const GridBatch converted = to_grid_batch(mirror_.lattice, batch);  // throws before anything changes
+    if (converted.sweeps.empty()) return stats;
+    upload_tools(converted.tools);  // throws before anything changes when the tools do not fit
+    // The sweeps go in a uniform buffer of max_sweeps_ entries: longer batches run as several, in order.
+    const std::span<const GridSweep> all(converted.sweeps);
+    const std::span<const std::size_t> sources(converted.source);
+    for (std::size_t at = 0; at < all.size(); at += max_sweeps_) {
+        const std::size_t n = std::min(max_sweeps_, all.size() - at);
+        const BooleanStats part = apply_grid(batch, all.subspan(at, n), sources.subspan(at, n), converted.tools);
+        stats.rays_visited += part.rays_visited;
+        stats.rays_changed += part.rays_changed;
+    }
+    return stats;
+}
+
+BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
+                                     const ToolTable& tools) {
+    BooleanStats stats;
+
+    // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order (a
+    // counting sort over the batch's box of tiles: count, prefix sums, then fill in batch order).
+    std::vector<TileEntry> tiles;
+    std::vector<std::uint32_t> index;
+    std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+    struct Span {
+        std::uint32_t s;
+        int tu0, tu1, tv0, tv1;
+    };
+    std::vector<Span> spans;
+    std::vector<std::uint32_t> slot;
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = mirror_.sets[a];
+        spans.clear();
+        int bu0 = INT32_MAX, bu1 = -1, bv0 = INT32_MAX, bv1 = -1;
+        for (std::uint32_t s = 0; s < grid.size(); ++s) {
+            int u0, u1, v0, v1;
+            if (!sweep_footprint(grid[s], set, u0, u1, v0, v1)) continue;
+            stats.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
+            const Span sp{s, u0 / kTileU, u1 / kTileU, v0 / kTileV, v1 / kTileV};
+            bu0 = std::min(bu0, sp.tu0);
+            bu1 = std::max(bu1, sp.tu1);
+            bv0 = std::min(bv0, sp.tv0);
+            bv1 = std::max(bv1, sp.tv1);
+            spans.push_back(sp);
+        }
+        base[a] = static_cast<std::uint32_t>(tiles.size());
+        if (spans.empty()) continue;
+        const std::size_t bw = static_cast<std::size_t>(bu1 - bu0 + 1);
+        slot.assign(bw * static_cast<std::size_t>(bv1 - bv0 + 1), 0u);
+        for (const Span& sp : spans)
+            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
+                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) ++slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)];
+        // slot[i]: the tile's count -> the index position where its next sweep goes.
+        for (std::size_t i = 0; i < slot.size(); ++i) {
+            if (slot[i] == 0) continue;
+            const TileEntry t{static_cast<std::uint32_t>(bu0 + static_cast<int>(i % bw)), static_cast<std::uint32_t>(bv0 + static_cast<int>(i / bw)),
+                              static_cast<std::uint32_t>(index.size()), slot[i]};
+            tiles.push_back(t);
+            slot[i] = t.first;
+            index.resize(index.size() + t.count);
+        }
+        for (const Span& sp : spans)
+            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
+                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
+        count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
+        balance_tiles(tiles.begin() + base[a], tiles.end());
+    }
+    if (tiles.empty()) return stats;
+    const std::uint32_t most = std::max({count[0], count[1], count[2]});
+    ensure_batch_capacity(tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileU * kTileV);
+    sweeps_.write(grid.data(), grid.size() * sizeof(GridSweep));
+    tiles_.write(tiles.data(), tiles.size() * sizeof(TileEntry));
+    index_.write(index.data(), index.size() * sizeof(std::uint32_t));
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t head[4] = {slabs_.pool_head(a), 0, 0, 0};
+        counters_[a].write(head, sizeof(head));
+    }
+
+    // The kernel variant: the mesh-tool one, or one with only the chunk's operations and tool kinds.
+    std::uint32_t ops = 0, kinds = 0;
+    for (const GridSweep& g : grid) {
+        ops |= 1u << ((g.code & 0xffu) - 1u);  // kSubtract 1, kUnion 2, kPaint 3 (kNone never reaches here)
+        kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
+    }
+    const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        for (int a = 0; a < 3; ++a) {
+            if (count[a] == 0) continue;
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);
+            for (std::uint32_t done = 0; done < count[a]; done += kMaxGroups) {
+                const Push push{a, slabs_.nu(a), slabs_.nv(a), base[a] + done, slabs_.pool_chunks(a),
+                                static_cast<std::uint32_t>(retry_capacity_),
+                                static_cast<float>(mirror_.lattice.cells[a])};
+                vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
+                vkCmdDispatch(cmd, std::min(kMaxGroups, count[a] - done), 1, 1);
+                ++stats_.dispatches;
+            }
+        }
+        // Make the kernel's writes visible to the host reads that follow the fence.
+        VkMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    });
+    ++stats_.batches;
+    stats_.sweeps += grid.size();
+    stats_.ray_tiles += tiles.size();
+
+    std::vector<std::uint32_t> retry;
+    for (int a = 0; a < 3; ++a) {
+        std::uint32_t head[4];
+        counters_[a].read(head, sizeof(head));
+        slabs_.pool_head(a) = head[0];
+        stats.rays_changed += head[2];
+        if (head[1] == 0) continue;
+        if (head[1] > retry_capacity_) throw Error("GPU tri-dexel: retry list overflow (internal error)");
+        retry.resize(head[1]);
+        counters_[a].read(retry.data(), retry.size() * 4, 16);
+        stats_.retried_rays += retry.size();
+        // Compact only when the kernel ran out of pool (its head then points past the end); rays listed for
+        // having more than 16 intervals need none, and redo_on_host compacts when a write finds no room.
+        if (head[0] > slabs_.pool_chunks(a)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, a)) bind_descriptors();
+        }
+        stats.rays_changed += redo_on_host(a, retry, grid, tools);
+    }
+    // The mirror's footprint rays, then its dirty tiles.
+    for (int a = 0; a < 3; ++a) {
+        RaySet& set = mirror_.sets[a];
+        for (std::uint32_t t = base[a]; t < base[a] + count[a]; ++t) {
+            const int u0 = static_cast<int>(tiles[t].tu) * kTileU, v0 = static_cast<int>(tiles[t].tv) * kTileV;
+            for (int v = v0; v < std::min(v0 + kTileV, set.nv); ++v)
+                for (int u = u0; u < std::min(u0 + kTileU, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
+        }
+    }
+    if (stats.rays_changed > 0)
+        for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
+    return stats;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,103 @@
+// compute/gpu/gpu_sculptor.hpp - swept-volume Booleans on the GPU: batches of sweeps in one submission.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "compute/gpu/gpu_dexel_slabs.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/tridexel.hpp"
+#include "gpu/buffer.hpp"
+#include "gpu/context.hpp"
+#include "gpu/shader_module.hpp"
+#include "gpu/unique_handle.hpp"
+
+namespace tridex::compute {
+
+/// Counters of a GpuSculptor since it was created.
+struct GpuSculptStats {
+    std::uint64_t batches = 0;       ///< submissions (one per apply() call, more for batches over 682 sweeps)
+    std::uint64_t sweeps = 0;        ///< sweeps applied
+    std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per ray set touched per batch, or more for > 65535 tiles)
+    std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
+    std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
+    std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
+};
+
+/// Options of a GpuSculptor.
+struct GpuSculptorOptions {
+    /// Initial spill-pool size per ray set, chunks of 8 intervals; 0 = twice what the model needs, at
+    /// least 4096. Small values exercise compaction and growth (tests).
+    std::uint32_t initial_pool_chunks = 0;
+};
+
+/// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
+/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 4 x 2-ray tiles under some
+/// sweep's footprint are dispatched (one workgroup each, all tiles of a set in one dispatch); each
+/// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
+/// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).
+/// The kernel is specialised to the operations and tool kinds a batch holds (one pipeline per pair; the
+/// ball-subtract one is made with the sculptor, others on their first batch, which then takes tens of
+/// ms longer on lavapipe). The result equals
+/// the CPU reference (apply_sweep, same float arithmetic) ray for ray; the tests check it bit for bit.
+/// After the GPU finishes, the footprint rays are copied into the CPU `mirror` model (for contouring and
+/// the active surface) and the mirror's tiles under the sweeps are marked dirty.
+/// Spill pool: when the kernel finds no room for a ray (or the ray would exceed the kernel's 16 intervals) it leaves
+/// the ray untouched and lists it; the host compacts (and if needed grows) the pool and redoes those rays
+/// with the CPU reference, so no interval is ever dropped. A ray needing more than 120 intervals throws.
+/// Mesh tools (ToolKind::kMesh): the batch's distinct tool dexels (GridBatch::tools) are packed into one
+/// storage buffer (binding 9, re-uploaded only when the batch's tool table changes); a batch whose tools
+/// need more than 128 MiB (or maxStorageBufferRange) is refused with tridex::Error before anything changes.
+/// Not thread-safe: one thread calls apply(). The Context and the mirror must outlive the sculptor.
+class GpuSculptor {
+public:
+    /// Uploads `mirror` (the current model) to the GPU. Throws tridex::Error when the model does not fit
+    /// (GpuDexelSlabs::upload) or the pipeline cannot be created.
+    GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options = {});
+    ~GpuSculptor();
+    GpuSculptor(const GpuSculptor&) = delete;
+    GpuSculptor& operator=(const GpuSculptor&) = delete;
+
+    /// Applies `batch` in order (sweeps with op kNone are skipped) in one GPU submission and waits for it;
+    /// then updates the mirror's footprint rays and dirty tiles. Returns rays visited (footprint rays
+    /// summed over sweeps, as the CPU path counts them) and rays changed. Throws tridex::Error before
+    /// changing anything when a sweep is invalid (to_grid_sweep), and on a Vulkan failure or a ray over
+    /// 120 intervals (the model is then only partly updated; the caller should stop sculpting).
+    BooleanStats apply(std::span<const Sweep> batch);
+
+    /// The GPU-resident model.
+    const GpuDexelSlabs& slabs() const { return slabs_; }
+    /// Counters since creation.
+    const GpuSculptStats& stats() const { return stats_; }
+
+private:
+    void ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry);
+    BooleanStats apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
+                            const ToolTable& tools);
+    void bind_descriptors();
+    std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools);
+    void upload_tools(const ToolTable& tools);
+    gpu::UniquePipeline create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const;
+    VkPipeline pipeline_for(std::uint32_t ops, std::uint32_t kinds);
+
+    const gpu::Context& context_;
+    TriDexel& mirror_;
+    GpuDexelSlabs slabs_;
+    GpuSculptStats stats_;
+    gpu::UniqueDescriptorSetLayout set_layout_;
+    gpu::UniquePipelineLayout pipeline_layout_;
+    gpu::UniqueShaderModule module_;     // shaders/dexel_sweep.comp
+    gpu::UniquePipeline pipelines_[8][4];  // [OPS][KINDS]: kernels without the mesh-tool path, made on first use
+    gpu::UniquePipeline mesh_pipeline_;  // kernel with it (and every operation and tool), for batches holding kMesh sweeps
+    gpu::UniqueDescriptorPool descriptor_pool_;
+    VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+    gpu::Buffer sweeps_, tiles_, index_;
+    gpu::Buffer counters_[3];
+    gpu::Buffer tools_;            // the batch's mesh-tool dexels (pack_tools words), binding 9
+    ToolTable uploaded_tools_;     // what tools_ holds now
+    std::size_t retry_capacity_ = 0;
+    std::size_t max_sweeps_ = 0;   // sweeps per dispatch: what the uniform buffer sweeps_ holds
+};
+
+}  // namespace tridex::compute

@@ -1,0 +1,23 @@
+// compute/mesh/mesh_io.hpp - loading a closed workpiece mesh from OFF, OBJ, PLY or STL.
+#pragma once
+
+#include <string>
+
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// Loads a triangle mesh (OFF, OBJ, PLY, STL; by extension, case-insensitive) with OpenMesh,
+/// triangulates polygons (fan), welds exactly coincident vertex positions (a triangle soup such as
+/// Wuson.ply becomes closed), drops degenerate triangles, then requires a closed, consistently
+/// oriented 2-manifold; flips all triangles when the signed volume is negative. Positions are in the
+/// file's own units (scale them with fit_to_stock). The header and indices are checked first
+/// (precheck_mesh_file) so that OpenMesh never sees a file claiming absurd counts.
+/// Throws tridex::Error "<path>: <reason>" for: missing/unreadable file, unknown extension, empty
+/// file, header counts impossible for the file size, out-of-range or malformed face indices (OBJ,
+/// with the line number), no triangles, non-finite coordinates, open mesh ("mesh is not closed:
+/// N boundary edges"), non-manifold edges (count), inconsistent orientation (count), zero volume.
+/// OpenMesh's own messages (omerr/omlog/omout) are captured, never printed. Thread-safe (serialised).
+TriMesh load_closed_mesh(const std::string& path);
+
+}  // namespace tridex::compute

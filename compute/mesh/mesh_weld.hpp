@@ -1,0 +1,23 @@
+// compute/mesh/mesh_weld.hpp - turning a triangle soup into an indexed closed mesh, and checking it.
+#pragma once
+
+#include <string>
+
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// Merges vertices whose positions are exactly equal (bitwise, with -0 == +0), renumbers the
+/// triangles, drops triangles that then repeat a vertex index, and drops unused vertices.
+/// Keeps vertex order of first use. O(V + T) expected (hash map). No tolerance: nearly coincident
+/// vertices stay apart, so welding never changes geometry.
+TriMesh weld_exact(const TriMesh& soup);
+
+/// Requires `mesh` to be a closed, consistently oriented, edge-manifold triangle mesh enclosing a
+/// non-zero volume, then makes its triangles face outwards (flips every triangle when the signed
+/// volume is negative). `name` is used in messages. Throws tridex::Error "<name>: <reason>" for:
+/// no triangles, open mesh ("mesh is not closed: N boundary edges"), non-manifold edges (count),
+/// inconsistent orientation (count of edges used twice in the same direction), zero volume.
+void require_closed_outward(TriMesh& mesh, const std::string& name);
+
+}  // namespace tridex::compute

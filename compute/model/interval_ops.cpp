@@ -1,0 +1,73 @@
+// compute/model/interval_ops.cpp - subtract, union and paint on one ray's interval list.
+#include "compute/model/interval_ops.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+namespace tridex::compute {
+
+bool subtract_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t cut_material) {
+    if (!(t0 < t1)) return false;
+    // First interval whose exit is beyond t0, and first one (from there) whose entry is at or past t1.
+    auto first = std::upper_bound(ray.begin(), ray.end(), t0, [](float t, const Interval& iv) { return t < iv.exit; });
+    auto last = std::lower_bound(first, ray.end(), t1, [](const Interval& iv, float t) { return iv.enter < t; });
+    if (first == last) return false;  // no interval overlaps (t0, t1)
+    // Pieces that survive on either side of the cut.
+    const Interval head{first->enter, t0, first->enter_material, cut_material};
+    const Interval tail{t1, std::prev(last)->exit, cut_material, std::prev(last)->exit_material};
+    const bool keep_head = head.enter < head.exit, keep_tail = tail.enter < tail.exit;
+    const auto at = ray.erase(first, last) - ray.begin();
+    if (keep_tail) ray.insert(ray.begin() + at, tail);
+    if (keep_head) ray.insert(ray.begin() + at, head);
+    return true;
+}
+
+void subtract_interval(std::vector<Interval>& ray, float t0, float t1) { subtract_interval_changed(ray, t0, t1); }
+
+bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material) {
+    if (!(t0 < t1)) return false;
+    // Intervals overlapping or touching [t0, t1]: from the first whose exit >= t0 to before the first
+    // whose entry > t1.
+    auto first = std::lower_bound(ray.begin(), ray.end(), t0, [](const Interval& iv, float t) { return iv.exit < t; });
+    auto last = std::upper_bound(first, ray.end(), t1, [](float t, const Interval& iv) { return t < iv.enter; });
+    if (first == last) {
+        ray.insert(first, Interval{t0, t1, material, material});
+        return true;
+    }
+    const Interval& lo = *first;
+    const Interval& hi = *std::prev(last);
+    if (std::next(first) == last && lo.enter <= t0 && t1 <= lo.exit) return false;  // already solid
+    Interval merged = lo;
+    if (t0 < lo.enter) {
+        merged.enter = t0;
+        merged.enter_material = material;
+    }
+    merged.exit = hi.exit;
+    merged.exit_material = hi.exit_material;
+    if (t1 > hi.exit) {
+        merged.exit = t1;
+        merged.exit_material = material;
+    }
+    const auto at = ray.erase(first, last) - ray.begin();
+    ray.insert(ray.begin() + at, merged);
+    return true;
+}
+
+bool paint_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material) {
+    if (!(t0 <= t1)) return false;
+    bool changed = false;
+    auto it = std::lower_bound(ray.begin(), ray.end(), t0, [](const Interval& iv, float t) { return iv.exit < t; });
+    for (; it != ray.end() && it->enter <= t1; ++it) {
+        if (t0 <= it->enter && it->enter_material != material) {
+            it->enter_material = material;
+            changed = true;
+        }
+        if (it->exit <= t1 && it->exit_material != material) {
+            it->exit_material = material;
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+}  // namespace tridex::compute

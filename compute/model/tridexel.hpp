@@ -1,0 +1,73 @@
+// compute/model/tridexel.hpp - the tri-dexel solid: three ray sets of sorted, disjoint solid intervals.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "compute/model/lattice.hpp"
+
+namespace tridex::compute {
+
+/// One solid span [enter, exit] along a ray, in grid units from the lattice origin; enter < exit.
+/// Each end is a point of the surface and carries the material id painted there (0 = the
+/// workpiece's own material; ids index the renderer's palette and the haptic material table).
+struct Interval {
+    float enter = 0.0f;
+    float exit = 0.0f;
+    std::uint8_t enter_material = 0;  ///< material id of the surface point at `enter`
+    std::uint8_t exit_material = 0;   ///< material id of the surface point at `exit`
+};
+
+/// The rays parallel to one axis `axis`, one through every lattice node (u, v) of the two other
+/// axes: u runs along (axis+1)%3, v along (axis+2)%3 (X rays: u=y, v=z; Y: u=z, v=x; Z: u=x, v=y).
+/// Each ray holds sorted, disjoint, non-touching intervals (CPU reference layout: a vector per ray).
+struct RaySet {
+    int axis = 0;  ///< 0 = X rays, 1 = Y rays, 2 = Z rays
+    int nu = 0;    ///< rays along u (= lattice nodes along (axis+1)%3)
+    int nv = 0;    ///< rays along v (= lattice nodes along (axis+2)%3)
+    std::vector<std::vector<Interval>> rays;  ///< index u + nu * v
+
+    std::vector<Interval>& ray(int u, int v) { return rays[static_cast<std::size_t>(u) + static_cast<std::size_t>(nu) * v]; }
+    const std::vector<Interval>& ray(int u, int v) const { return rays[static_cast<std::size_t>(u) + static_cast<std::size_t>(nu) * v]; }
+};
+
+/// Cubic tiles of kTileCells^3 cells with a dirty flag each; Booleans mark the tiles their swept
+/// footprint touches, contouring redoes only those. Tile (tx, ty, tz) covers cells
+/// [tx*kTileCells, (tx+1)*kTileCells) along x, and so on.
+struct TileGrid {
+    static constexpr int kTileCells = 16;
+    std::array<int, 3> tiles{};        ///< tiles along x, y, z
+    std::vector<std::uint8_t> dirty;   ///< 1 = needs re-contouring; index tx + tiles[0]*(ty + tiles[1]*tz)
+
+    std::size_t index(int tx, int ty, int tz) const {
+        return static_cast<std::size_t>(tx) + static_cast<std::size_t>(tiles[0]) * (static_cast<std::size_t>(ty) + static_cast<std::size_t>(tiles[1]) * tz);
+    }
+    std::size_t count() const { return dirty.size(); }
+};
+
+/// A tri-dexel solid (Peng et al., tri-dexel model): three orthogonal ray sets on one lattice.
+/// Every lattice edge lies on exactly one ray, so contouring reads each edge crossing from its own ray.
+struct TriDexel {
+    Lattice lattice;
+    std::array<RaySet, 3> sets;
+    TileGrid tiles;
+
+    /// An empty model (no material) on `lattice`, all tiles clean. Throws tridex::Error when the
+    /// lattice would need more memory than `max_bytes` (the message gives both numbers).
+    static TriDexel empty(const Lattice& lattice, std::size_t max_bytes);
+    /// How far (cells) a changed interval end reaches into the contour. Along a ray: a crossing in cell
+    /// [c, c+1] reads, for its normal, ends in [c - 2, c + 3] (contour::kNormalWindow = 2) and mesh items
+    /// anchored at node n read cells n - 1 and n, so 3. Across rays: the normals' neighbour ray (+1), the
+    /// crossing's cell (+1) and the anchor (+1), also 3 (contour_qef.hpp, contour_tile.hpp).
+    static constexpr int kDirtyReachCells = 3;
+    /// Marks dirty every tile holding a cell within kDirtyReachCells cells of the world box `box_m`.
+    void mark_dirty(const Aabb& box_m);
+    /// Clears all dirty flags.
+    void clear_dirty();
+    /// Total number of intervals in all three sets.
+    std::size_t interval_count() const;
+};
+
+}  // namespace tridex::compute

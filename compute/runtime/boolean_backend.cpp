@@ -1,0 +1,114 @@
+// compute/runtime/boolean_backend.cpp - the CPU and GPU sculpting backends.
+#include "compute/runtime/boolean_backend.hpp"
+
+#include <cstdio>
+#include <optional>
+
+#include "compute/gpu/gpu_sculptor.hpp"
+#include "core/error.hpp"
+#include "gpu/context.hpp"
+
+namespace tridex::app {
+namespace {
+
+class CpuBackend final : public BooleanBackend {
+public:
+    explicit CpuBackend(compute::TriDexel& model) : model_(model) {}
+    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
+        compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
+        compute::BooleanStats total;
+        for (const compute::Sweep& s : batch) {
+            const compute::BooleanStats b = compute::apply_sweep(model_, s);
+            total.rays_visited += b.rays_visited;
+            total.rays_changed += b.rays_changed;
+        }
+        return total;
+    }
+    std::string path() const override { return "cpu"; }
+    std::string device() const override { return ""; }
+    std::uint64_t spilled_intervals() const override { return 0; }
+    std::array<std::size_t, 3> model_bytes() const override { return cpu_model_bytes(model_); }
+    std::uint32_t validation_messages() const override { return 0; }
+
+private:
+    compute::TriDexel& model_;
+};
+
+class GpuBackend final : public BooleanBackend {
+public:
+    // Owning its Context.
+    GpuBackend(gpu::Context context, compute::TriDexel& model)
+        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+    // On a shared Context.
+    GpuBackend(const gpu::Context* shared, compute::TriDexel& model)
+        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+    ~GpuBackend() override {
+        sculptor_.reset();  // GPU objects before the context
+        if (own_ && context_.validation_messages() > 0)
+            std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
+    }
+    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override { return sculptor_->apply(batch); }
+    std::string path() const override { return "gpu"; }
+    std::string device() const override { return context_.device_name(); }
+    std::uint64_t spilled_intervals() const override { return sculptor_->slabs().spilled_intervals(); }
+    std::array<std::size_t, 3> model_bytes() const override {
+        const auto b = sculptor_->slabs().bytes();
+        return {b[0].total(), b[1].total(), b[2].total()};
+    }
+    std::uint32_t validation_messages() const override { return own_ ? context_.validation_messages() : 0u; }
+    const compute::GpuDexelSlabs* gpu_slabs() const override { return &sculptor_->slabs(); }
+    const gpu::Context* gpu_context() const override { return &context_; }
+
+private:
+    std::optional<gpu::Context> own_;  // empty when sculpting on a shared Context
+    const gpu::Context& context_;
+    std::unique_ptr<compute::GpuSculptor> sculptor_;
+};
+
+}  // namespace
+
+std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model) {
+    std::array<std::size_t, 3> bytes{};
+    for (int a = 0; a < 3; ++a) {
+        std::size_t b = model.sets[a].rays.size() * sizeof(std::vector<compute::Interval>);
+        for (const auto& ray : model.sets[a].rays) b += ray.capacity() * sizeof(compute::Interval);
+        bytes[a] = b;
+    }
+    return bytes;
+}
+
+std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model) { return std::make_unique<CpuBackend>(model); }
+
+BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate) {
+    BackendChoice choice;
+    if (cpu) {
+        choice.backend = make_cpu_backend(model);
+        choice.reason = "--cpu given";
+        return choice;
+    }
+    gpu::ContextOptions opt;
+    opt.validation = validate;
+    std::optional<gpu::Context> context;
+    try {
+        context.emplace(gpu::Context::create(opt));
+    } catch (const Error& e) {
+        choice.backend = make_cpu_backend(model);
+        choice.reason = std::string("no usable Vulkan device: ") + e.what();
+        return choice;
+    }
+    choice.backend = std::make_unique<GpuBackend>(std::move(*context), model);
+    return choice;
+}
+
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared) {
+    BackendChoice choice;
+    if (cpu) {
+        choice.backend = make_cpu_backend(model);
+        choice.reason = "--cpu given";
+        return choice;
+    }
+    choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model);
+    return choice;
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,67 @@
+// compute/runtime/boolean_backend.hpp - where the sculpt thread's swept Booleans run: the GPU (Vulkan compute) or the
+// CPU reference.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "compute/tools/boolean.hpp"
+#include "compute/gpu/gpu_dexel_slabs.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/tridexel.hpp"
+#include "gpu/context.hpp"
+
+namespace tridex::app {
+
+/// Applies batches of sweeps to a tri-dexel model (the model the sculpt thread contours and publishes).
+/// Both implementations give the same model (tests/compute/test_gpu_sculptor.cpp). Not thread-safe:
+/// the sculpt thread is its one user.
+class BooleanBackend {
+public:
+    virtual ~BooleanBackend() = default;
+    /// Applies `batch` in order to the model and marks its dirty tiles. Throws tridex::Error on a bad sweep
+    /// (nothing changed) or a device failure.
+    virtual compute::BooleanStats apply(std::span<const compute::Sweep> batch) = 0;
+    /// "gpu" or "cpu" (report.json `sculpt_path`).
+    virtual std::string path() const = 0;
+    /// The Vulkan device name for "gpu"; "" for "cpu".
+    virtual std::string device() const = 0;
+    /// Intervals held in the GPU spill pool (report.json `spilled_intervals`); 0 for "cpu".
+    virtual std::uint64_t spilled_intervals() const = 0;
+    /// Bytes of the model per ray set (X, Y, Z) on the path's storage: GPU slabs, or the CPU vectors.
+    virtual std::array<std::size_t, 3> model_bytes() const = 0;
+    /// Vulkan validation messages on the sculpting device so far (0 on the CPU path or with validation off,
+    /// and 0 when the backend sculpts on a Context it shares: its owner counts them).
+    virtual std::uint32_t validation_messages() const = 0;
+    /// The GPU-resident model (GpuSculptor::slabs) on the "gpu" path; nullptr on the CPU path.
+    virtual const compute::GpuDexelSlabs* gpu_slabs() const { return nullptr; }
+    /// The Context the GPU path sculpts on (its own or the shared one); nullptr on the CPU path.
+    virtual const gpu::Context* gpu_context() const { return nullptr; }
+};
+
+/// What make_boolean_backend chose, and why.
+struct BackendChoice {
+    std::unique_ptr<BooleanBackend> backend;
+    std::string reason;  ///< e.g. "--cpu given", "no Vulkan device: <error>"; "" when the GPU was chosen
+};
+
+/// The CPU reference backend on `model` (compute::apply_sweep per sweep). `model` must outlive it.
+std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model);
+
+/// The GPU path when `cpu` is false and a Vulkan device can be created (its own Context, validation when
+/// `validate` or TRIDEX_VALIDATION=1), else the CPU path with the reason. A model that does not fit the
+/// device is refused with tridex::Error (the numbers in the message), not silently moved to the CPU.
+BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate);
+
+/// As above, but the GPU path sculpts on `shared` (e.g. the renderer's Context, so that the renderer can draw
+/// buffers the sculpt thread fills; submissions from both threads are serialised by the Context) instead of a
+/// Context of its own; `shared` must outlive the backend. With `cpu` the CPU path. Throws as above.
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared);
+
+/// Bytes the CPU reference model takes per ray set (vector headers plus interval storage).
+std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model);
+
+}  // namespace tridex::app

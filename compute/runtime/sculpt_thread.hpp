@@ -1,0 +1,158 @@
+// compute/runtime/sculpt_thread.hpp - the sculpt thread: tool samples in, Booleans, dirty-tile contouring,
+// active-surface snapshots out (DESIGN.md, "three threads").
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <memory>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include "compute/runtime/boolean_backend.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/tools/mesh_tool.hpp"
+#include "compute/model/tridexel.hpp"
+#include "core/active_surface.hpp"
+#include "core/spsc_ring.hpp"
+#include "core/tool_sample.hpp"
+#include "core/tri_mesh.hpp"
+#include "core/triple_buffer.hpp"
+
+namespace tridex::app {
+
+/// Counters of the sculpt thread, read after stop().
+struct SculptStats {
+    std::uint64_t samples = 0;           ///< tool samples drained from the ring
+    std::uint64_t booleans = 0;          ///< swept-volume Booleans applied (one per segment)
+    std::uint64_t rays_changed = 0;      ///< rays whose intervals changed, summed over Booleans
+    std::uint64_t steps = 0;             ///< sculpt steps that changed the model
+    std::uint64_t tiles_recontoured = 0; ///< dirty tiles re-contoured, summed over steps
+    std::uint64_t publishes = 0;         ///< active-surface snapshots published
+    std::vector<double> boolean_ms;      ///< per changing step: Booleans + active-surface publish, ms
+    std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
+    std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
+    std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
+};
+
+class GpuContourShare;
+
+/// How the sculpt thread hands the contoured surface to the renderer.
+enum class MeshForm {
+    kWhole,  ///< MeshFrame::mesh: the whole mesh assembled and copied on every publish
+    kTiles,  ///< MeshFrame::tiles: per-tile meshes (TileSurfaceCache), only changed tiles rebuilt and copied
+};
+
+/// A contoured mesh handed from the sculpt thread to the renderer (SculptThread::publish_mesh_to).
+struct MeshFrame {
+    std::uint64_t version = 0;  ///< 1 for the first publish, +1 per publish; 0 = nothing published yet
+    TriMesh mesh;               ///< kWhole: the whole contoured model, world m, CCW from outside; kTiles: empty
+    /// kWhole: material id per mesh vertex (Contourer::mesh_materials, same order as mesh.positions);
+    /// kTiles: empty (each TileSurface carries its own materials).
+    std::vector<std::uint8_t> materials;
+    /// kTiles: every non-empty tile, ordered by id (world m). A tile whose version did not change since the
+    /// previous publish is the same shared object (never modified after publishing), so publishing costs
+    /// O(changed tiles' triangles) and the renderer re-uploads only tiles whose version changed.
+    std::vector<std::shared_ptr<const compute::TileSurface>> tiles;
+    bool tiled = false;          ///< true when `tiles` holds the surface (MeshForm::kTiles)
+    /// true: the surface lives in the GPU contour (SculptThread::use_gpu_contour); mesh and tiles are empty,
+    /// the renderer draws GpuContourShare's buffers, and this frame only announces that they changed.
+    bool gpu = false;
+    std::size_t triangles = 0;   ///< triangles in mesh or summed over tiles
+    std::uint64_t sculpt_steps = 0;  ///< SculptStats::steps when published (for a sculpt rate, steps/s)
+    double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
+};
+
+/// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
+/// the ball tool; the sample's op: subtract, or union / paint with the sample's material) to the
+/// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),
+/// re-contours only the dirty tiles, and publishes the active surface
+/// around the newest tool position. The model is a pure function of the sample stream: batching
+/// changes only when work happens, not the result.
+class SculptThread {
+public:
+    /// All references must outlive the thread. The initial snapshot is published centred on start_m
+    /// (world m; throws tridex::Error when it is not finite).
+    /// tool_radius_m and tool_span_m (m, >= 0; the ball radius and the largest distance of a contact point
+    /// from the tool centre, haptics::max_point_distance_m) size the active-surface window so that it covers
+    /// the whole tool (compute::tool_extent_m); the radius of each sample replaces tool_radius_m once
+    /// samples arrive.
+    SculptThread(compute::TriDexel& model, compute::Contourer& contourer, SpscRing<ToolSample>& samples,
+                 TripleBuffer<ActiveSurface>& surface, const Vec3& start_m, double tool_radius_m = 0.0,
+                 double tool_span_m = 0.0);
+    ~SculptThread();
+    SculptThread(const SculptThread&) = delete;
+    SculptThread& operator=(const SculptThread&) = delete;
+
+    /// Runs the Booleans on `backend` (built on the same model) instead of the built-in CPU reference.
+    /// `backend` must outlive the thread. Throws tridex::Error when the thread runs.
+    void use_backend(BooleanBackend& backend);
+    /// Re-contours dirty tiles into `share` (on the GPU, from the GPU backend's slabs) instead of the CPU
+    /// Contourer, which is then left untouched (its mesh stays the one it held). Still after the active
+    /// surface is published; mesh publishes then carry MeshFrame::gpu and no mesh. `share` must outlive the
+    /// thread and have contoured every tile already. Throws tridex::Error when the thread runs.
+    void use_gpu_contour(GpuContourShare& share);
+    /// The session's mesh tools: a sample whose tool is ToolKind::kMesh sweeps tools[tool.mesh_id] (a sample
+    /// naming an id outside the table fails the thread with tridex::Error). Throws tridex::Error when the
+    /// thread runs.
+    void use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools);
+    /// Starts the thread. Throws tridex::Error when it is already running.
+    void start();
+    /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
+    /// loop) has stopped. Idempotent. Rethrows the first exception the thread hit (a bad sample, out
+    /// of memory); after such a failure the thread kept draining the ring without applying anything.
+    void stop();
+    /// Counters; call after stop().
+    const SculptStats& stats() const { return stats_; }
+
+    /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
+    /// renderer is its one reader and takes the newest MeshFrame without waiting). Publishes the current
+    /// mesh at once (on the calling thread), then, on the sculpt thread, after re-contouring, at most once
+    /// per min_interval_s of wall time (s, >= 0; a change inside the interval is published when it
+    /// passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
+    /// the active surface is still published before contouring. `out` must outlive the thread. Call
+    /// before start(). `form` chooses the whole mesh or per-tile meshes (MeshFrame). Throws tridex::Error
+    /// when the thread runs or min_interval_s is not finite and >= 0.
+    void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
+                         MeshForm form = MeshForm::kWhole);
+
+private:
+    void run();
+    bool step();  // one drain + apply + contour + publish; false when there was nothing to do
+    void publish(const Vec3& centre_m);
+    void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
+    void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
+
+    compute::TriDexel& model_;
+    std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called
+    BooleanBackend* backend_ = nullptr;
+    std::vector<compute::Sweep> batch_;           // reused between steps
+    std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
+    std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
+    compute::Contourer& contourer_;
+    GpuContourShare* gpu_contour_ = nullptr;  // set: contour on the GPU instead of contourer_
+    SpscRing<ToolSample>& samples_;
+    TripleBuffer<ActiveSurface>& surface_;
+    bool have_prev_ = false;
+    ToolSample prev_{};
+    Vec3 published_centre_m_;
+    double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
+    double tool_span_m_ = 0.0;
+    std::uint64_t sequence_ = 0;
+    SculptStats stats_;
+    std::atomic<bool> stop_{false};
+    std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
+    std::thread thread_;
+    TripleBuffer<MeshFrame>* mesh_out_ = nullptr;  // renderer hand-off; nullptr = no mesh publishing
+    double mesh_interval_s_ = 0.0;
+    bool mesh_pending_ = false;                     // contoured since the last mesh publish
+    std::uint64_t mesh_version_ = 0;
+    MeshForm mesh_form_ = MeshForm::kWhole;
+    compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
+    std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
+    std::chrono::steady_clock::time_point mesh_last_{};
+};
+
+}  // namespace tridex::app

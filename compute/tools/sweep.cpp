@@ -1,0 +1,255 @@
+// compute/tools/sweep.cpp - swept-volume Booleans on the CPU (the reference for the GPU kernel).
+#include "compute/tools/sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "compute/tools/capsule.hpp"
+#include "compute/model/interval_ops.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+namespace {
+
+constexpr double kMaxGrid = 16777216.0;  // 2^24 cells: beyond this float depths lose whole cells
+
+std::int32_t clamp_node(double g) { return static_cast<std::int32_t>(std::clamp(g, -2.0, kMaxGrid)); }
+
+/// Poses at most half a cell apart from grid start ga to end gb: ceil(|gb - ga| / 0.5) + 1 (at most 10^7 + 1).
+std::uint32_t half_cell_stamps(const Vec3& ga, const Vec3& gb) {
+    const double n = std::ceil(glm::length(gb - ga) / 0.5);
+    return static_cast<std::uint32_t>(std::min(n, 1.0e7)) + 1u;
+}
+
+/// Origin, start and delta of a GridSweep from the grid-unit motion ga -> gb.
+void set_motion(GridSweep& g, const Vec3& ga, const Vec3& gb) {
+    for (int k = 0; k < 3; ++k) {
+        const double o = std::floor(ga[k]);
+        g.origin[k] = static_cast<std::int32_t>(o);
+        g.start[k] = static_cast<float>(ga[k] - o);
+        g.delta[k] = static_cast<float>(gb[k] - ga[k]);
+    }
+}
+
+/// to_grid_sweep for kMesh: the footprint is the rotated tool's box at both ends, widened by 1/k cell
+/// (the nearest tool ray may lie up to 0.5/k cell beyond the exact bounds).
+GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
+    if (!s.tool.mesh) throw Error("sweep: a kMesh tool needs SweepTool::mesh");
+    if (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)) throw Error("sweep: tool axis must be a finite, non-zero vector");
+    if (tools == nullptr) throw Error("sweep: a kMesh sweep needs a ToolTable (to_grid_batch, apply_sweep)");
+    const Vec3 ga = L.to_grid(s.path_m.a), gb = L.to_grid(s.path_m.b);
+    const Aabb box = sweep_bounds(s);
+    const Vec3 glo = L.to_grid(box.lo), ghi = L.to_grid(box.hi);
+    for (int k = 0; k < 3; ++k)
+        if (std::fabs(glo[k]) > kMaxGrid || std::fabs(ghi[k]) > kMaxGrid)
+            throw Error("sweep: the tool is more than 2^24 cells from the workpiece's lattice");
+    const std::shared_ptr<const ToolDexels> dex = s.tool.mesh->dexels(s.axis, L.cell_m);
+    GridSweep g{};
+    const double reach = 1.0 / dex->k;
+    for (int k = 0; k < 3; ++k) {
+        g.lo[k] = clamp_node(std::ceil(glo[k] - reach));
+        g.hi[k] = clamp_node(std::floor(ghi[k] + reach));
+        g.shank[k] = 0.0f;
+    }
+    set_motion(g, ga, gb);
+    g.radius = static_cast<float>(s.tool.mesh->bounding_radius_m() / L.cell_m);
+    g.stamps = half_cell_stamps(ga, gb);
+    auto it = std::find(tools->begin(), tools->end(), dex);
+    g.tool = static_cast<std::uint32_t>(it - tools->begin());
+    if (it == tools->end()) tools->push_back(dex);
+    g.code = static_cast<std::uint32_t>(s.op) | (static_cast<std::uint32_t>(s.tool.kind) << 8) |
+             (static_cast<std::uint32_t>(s.material) << 16);
+    return g;
+}
+
+}  // namespace
+
+SweepTool sweep_tool(const ToolShape& shape, std::shared_ptr<const MeshTool> mesh) {
+    if (shape.kind == ToolKind::kMesh && !mesh)
+        throw Error("sweep_tool: a mesh tool (mesh_id " + std::to_string(shape.mesh_id) + ") needs its loaded mesh");
+    return SweepTool{shape.kind, shape.radius_m, shape.kind == ToolKind::kFlatEnd ? shape.length_m : 0.0,
+                     shape.kind == ToolKind::kMesh ? std::move(mesh) : nullptr};
+}
+
+Aabb sweep_bounds(const Sweep& s) {
+    Aabb box;
+    if (s.tool.kind == ToolKind::kMesh && s.tool.mesh) {
+        const Aabb t = s.tool.mesh->rotated_bounds(s.axis);
+        box.add(s.path_m.a + t.lo);
+        box.add(s.path_m.a + t.hi);
+        box.add(s.path_m.b + t.lo);
+        box.add(s.path_m.b + t.hi);
+        return box;
+    }
+    box.add(s.path_m.a);
+    box.add(s.path_m.b);
+    if (s.tool.kind == ToolKind::kFlatEnd) {
+        const Vec3 shank = glm::normalize(s.axis) * s.tool.length_m;
+        box.add(s.path_m.a + shank);
+        box.add(s.path_m.b + shank);
+    }
+    return box.inflated(s.tool.radius_m);
+}
+
+GridSweep to_grid_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
+    if (!is_finite(s.path_m.a) || !is_finite(s.path_m.b)) throw Error("sweep: tool path (path_m) is not finite");
+    if (s.tool.kind != ToolKind::kBall && s.tool.kind != ToolKind::kFlatEnd && s.tool.kind != ToolKind::kMesh)
+        throw Error("sweep: unknown tool kind");
+    const bool mesh = s.tool.kind == ToolKind::kMesh;
+    if (mesh) return to_grid_mesh_sweep(L, s, tools);
+    if (!std::isfinite(s.tool.radius_m) || !(s.tool.radius_m > 0.0))
+        throw Error("sweep: tool radius_m must be a positive number of metres, got " + std::to_string(s.tool.radius_m));
+    const bool flat = s.tool.kind == ToolKind::kFlatEnd;
+    if (flat) {
+        if (!std::isfinite(s.tool.length_m) || !(s.tool.length_m > 0.0))
+            throw Error("sweep: flat-end tool length_m must be a positive number of metres, got " + std::to_string(s.tool.length_m));
+        if (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)) throw Error("sweep: tool axis must be a finite, non-zero vector");
+    }
+    const Vec3 ga = L.to_grid(s.path_m.a), gb = L.to_grid(s.path_m.b);
+    const Aabb box = sweep_bounds(s);
+    const Vec3 glo = L.to_grid(box.lo), ghi = L.to_grid(box.hi);
+    for (int k = 0; k < 3; ++k)
+        if (std::fabs(glo[k]) > kMaxGrid || std::fabs(ghi[k]) > kMaxGrid)
+            throw Error("sweep: the tool is more than 2^24 cells from the workpiece's lattice");
+    GridSweep g{};
+    const double r = s.tool.radius_m / L.cell_m;
+    const Vec3 shank = flat ? glm::normalize(s.axis) * (s.tool.length_m / L.cell_m) : Vec3(0.0);
+    const std::uint32_t stamps = flat ? half_cell_stamps(ga, gb) : 1u;  // poses at most half a cell apart
+    for (int k = 0; k < 3; ++k) {
+        g.lo[k] = clamp_node(std::ceil(glo[k]));
+        g.hi[k] = clamp_node(std::floor(ghi[k]));
+        g.shank[k] = static_cast<float>(shank[k]);
+    }
+    set_motion(g, ga, gb);
+    g.radius = static_cast<float>(r);
+    g.stamps = stamps;
+    g.code = static_cast<std::uint32_t>(s.op) | (static_cast<std::uint32_t>(s.tool.kind) << 8) |
+             (static_cast<std::uint32_t>(s.material) << 16);
+    return g;
+}
+
+GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch) {
+    GridBatch g;
+    g.sweeps.reserve(batch.size());
+    g.source.reserve(batch.size());
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+        if (batch[i].op == ToolOp::kNone) continue;
+        g.sweeps.push_back(to_grid_sweep(lattice, batch[i], &g.tools));
+        g.source.push_back(i);
+    }
+    return g;
+}
+
+bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1) {
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    glm::vec3 o(0.0f), d(0.0f);
+    d[axis] = 1.0f;
+    o[ua] = static_cast<float>(u - s.origin[ua]) - s.start[ua];
+    o[va] = static_cast<float>(v - s.origin[va]) - s.start[va];
+    const glm::vec3 delta(s.delta[0], s.delta[1], s.delta[2]);
+    float t0, t1;
+    bool hit;
+    if (s.kind() == ToolKind::kMesh) return false;  // mesh tools give several spans: mesh_stamp_spans
+    if (s.kind() == ToolKind::kBall) {
+        hit = capsule_chord(o, d, glm::vec3(0.0f), delta, s.radius, t0, t1);
+    } else {
+        const float f = s.stamps > 1 ? static_cast<float>(stamp) / static_cast<float>(s.stamps - 1) : 0.0f;
+        const glm::vec3 c = delta * f;
+        hit = cylinder_chord(o, d, c, glm::vec3(s.shank[0], s.shank[1], s.shank[2]), s.radius, t0, t1);
+    }
+    if (!hit) return false;
+    const float base = static_cast<float>(s.origin[axis]) + s.start[axis];
+    d0 = base + t0;
+    d1 = base + t1;
+    return true;
+}
+
+std::size_t mesh_stamp_spans(const GridSweep& s, const ToolDexels& tool, int axis, int u, int v, std::uint32_t stamp,
+                             std::vector<float>& spans) {
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    const float f = s.stamps > 1 ? static_cast<float>(stamp) / static_cast<float>(s.stamps - 1) : 0.0f;
+    const glm::vec3 c = glm::vec3(s.delta[0], s.delta[1], s.delta[2]) * f;
+    const float ou = static_cast<float>(u - s.origin[ua]) - s.start[ua];
+    const float ov = static_cast<float>(v - s.origin[va]) - s.start[va];
+    const float kf = static_cast<float>(tool.k);
+    const float xu = ou - c[ua], xv = ov - c[va];
+    const float su = xu * kf, sv = xv * kf;
+    const ToolDexelSet& set = tool.sets[axis];
+    const float fu = std::floor(su + 0.5f), fv = std::floor(sv + 0.5f);
+    // Compare in float first: far rays must not overflow the int conversion.
+    if (!(fu >= static_cast<float>(-set.ref_u)) || !(fu < static_cast<float>(set.nu - set.ref_u))) return 0;
+    if (!(fv >= static_cast<float>(-set.ref_v)) || !(fv < static_cast<float>(set.nv - set.ref_v))) return 0;
+    const int iu = static_cast<int>(fu) + set.ref_u, iv = static_cast<int>(fv) + set.ref_v;
+    const std::size_t ray = static_cast<std::size_t>(iu) + static_cast<std::size_t>(set.nu) * static_cast<std::size_t>(iv);
+    const float base = static_cast<float>(s.origin[axis]) + s.start[axis];
+    const float ca = c[axis];
+    for (std::uint32_t q = set.first[ray]; q < set.first[ray + 1]; ++q) {
+        const float p0 = ca + set.depth[2 * q], p1 = ca + set.depth[2 * q + 1];
+        spans.push_back(base + p0);
+        spans.push_back(base + p1);
+    }
+    return set.first[ray + 1] - set.first[ray];
+}
+
+bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
+                        std::span<const std::shared_ptr<const ToolDexels>> tools) {
+    const ToolOp op = s.op();
+    if (op == ToolOp::kNone) return false;
+    bool changed = false;
+    if (s.kind() == ToolKind::kMesh) {
+        if (s.tool >= tools.size() || !tools[s.tool]) throw Error("sweep: mesh tool index not in the batch's ToolTable");
+        const ToolDexels& tool = *tools[s.tool];
+        thread_local std::vector<float> spans;
+        for (std::uint32_t k = 0; k < s.stamps; ++k) {
+            spans.clear();
+            mesh_stamp_spans(s, tool, axis, u, v, k, spans);
+            for (std::size_t i = 0; i < spans.size(); i += 2) {
+                const float d0 = spans[i], d1 = spans[i + 1];
+                if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
+                else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
+                else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
+            }
+        }
+        return changed;
+    }
+    for (std::uint32_t k = 0; k < s.stamps; ++k) {
+        float d0, d1;
+        if (!sweep_chord(s, axis, u, v, k, d0, d1)) continue;
+        if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
+        else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
+        else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
+    }
+    return changed;
+}
+
+bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi, int& v_lo, int& v_hi) {
+    const int ua = (set.axis + 1) % 3, va = (set.axis + 2) % 3;
+    u_lo = std::max(0, s.lo[ua]);
+    u_hi = std::min(set.nu - 1, s.hi[ua]);
+    v_lo = std::max(0, s.lo[va]);
+    v_hi = std::min(set.nv - 1, s.hi[va]);
+    return u_lo <= u_hi && v_lo <= v_hi;
+}
+
+BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
+    BooleanStats stats;
+    if (sweep.op == ToolOp::kNone) return stats;
+    ToolTable tools;
+    const GridSweep g = to_grid_sweep(model.lattice, sweep, &tools);
+    for (int ax = 0; ax < 3; ++ax) {
+        RaySet& set = model.sets[ax];
+        int u_lo, u_hi, v_lo, v_hi;
+        if (!sweep_footprint(g, set, u_lo, u_hi, v_lo, v_hi)) continue;
+        for (int v = v_lo; v <= v_hi; ++v)
+            for (int u = u_lo; u <= u_hi; ++u) {
+                ++stats.rays_visited;
+                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools))
+                    ++stats.rays_changed;
+            }
+    }
+    if (stats.rays_changed > 0) model.mark_dirty(sweep_bounds(sweep));
+    return stats;
+}
+
+}  // namespace tridex::compute

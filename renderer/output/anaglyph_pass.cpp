@@ -1,0 +1,398 @@
+// renderer/output/anaglyph_pass.cpp - render pass, pipeline and tables of the GPU anaglyph; recording and readback.
+#include "renderer/output/anaglyph_pass.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "core/error.hpp"
+#include "gpu/buffer.hpp"
+#include "gpu/check.hpp"
+#include "gpu/image_array.hpp"
+#include "gpu/shader_module.hpp"
+#include "gpu/unique_handle.hpp"
+#include "renderer/output/anaglyph_tables.hpp"
+#include "renderer/stereo/stereo_pipeline.hpp"
+#include "shaders/spirv.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+using UniqueSampler = gpu::UniqueHandle<VkSampler, vkDestroySampler>;
+
+/// shaders/anaglyph.frag `Tables` (std140: vec4 rows, float tables packed 4 to a vec4).
+struct AnaglyphUniform {
+    float left_rows[3][4];
+    float right_rows[3][4];
+    float to_linear[256];
+    float thresholds[256];  ///< 255 used; the last is padding
+};
+
+/// shaders/anaglyph.frag `Mix`.
+struct MixConstants {
+    std::int32_t method = 0;  ///< 0 Dubois, 1 colour, 2 gray
+    std::int32_t swap_eyes = 0;
+};
+
+std::int32_t method_index(AnaglyphMethod m) {
+    switch (m) {
+    case AnaglyphMethod::kDubois: return 0;
+    case AnaglyphMethod::kColour: return 1;
+    case AnaglyphMethod::kGray: return 2;
+    }
+    return 0;
+}
+
+AnaglyphUniform make_uniform() {
+    AnaglyphUniform u{};
+    const AnaglyphMatrices& m = dubois_matrices();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            u.left_rows[r][c] = static_cast<float>(m.left[r][c]);
+            u.right_rows[r][c] = static_cast<float>(m.right[r][c]);
+        }
+    const SrgbCodeTables& t = srgb_code_tables();
+    for (int i = 0; i < 256; ++i) u.to_linear[i] = static_cast<float>(t.to_linear[i]);
+    for (int k = 0; k < 255; ++k) u.thresholds[k] = static_cast<float>(t.thresholds[k]);
+    u.thresholds[255] = 2.0f;
+    return u;
+}
+
+void layout_barrier(VkCommandBuffer cmd, VkImage image, std::uint32_t layers, VkImageLayout from, VkImageLayout to,
+                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                    VkPipelineStageFlags dst_stage) {
+    VkImageMemoryBarrier b{};
+    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    b.srcAccessMask = src_access;
+    b.dstAccessMask = dst_access;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
+    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+gpu::UniqueRenderPass make_render_pass(VkDevice device) {
+    VkAttachmentDescription att{};
+    att.format = kStereoColourFormat;
+    att.samples = VK_SAMPLE_COUNT_1_BIT;
+    att.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // the triangle covers every pixel
+    att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    const VkAttachmentReference colour{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &colour;
+    // Before: earlier transfer reads of the image (blits, readback) finish. After: the writes are visible to
+    // transfer reads.
+    VkSubpassDependency deps[2]{};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].srcSubpass = 0;
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    info.attachmentCount = 1;
+    info.pAttachments = &att;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = deps;
+    VkRenderPass pass = VK_NULL_HANDLE;
+    gpu::check(vkCreateRenderPass(device, &info, nullptr, &pass), "vkCreateRenderPass");
+    return gpu::UniqueRenderPass(device, pass);
+}
+
+gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass, VkPipelineLayout layout, int width,
+                                  int height) {
+    const VkDevice device = context.device();
+    const gpu::UniqueShaderModule vs = gpu::create_shader_module(context, shaders::spirv("fullscreen_vert"));
+    const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("anaglyph_frag"));
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vs.get();
+    stages[0].pName = "main";
+    stages[1] = stages[0];
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fs.get();
+    VkPipelineVertexInputStateCreateInfo vertex_input{};
+    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
+    VkPipelineInputAssemblyStateCreateInfo assembly{};
+    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    const VkViewport vp{0.0f, 0.0f, static_cast<float>(width), static_cast<float>(height), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)}};
+    VkPipelineViewportStateCreateInfo viewport{};
+    viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
+    viewport.viewportCount = 1;
+    viewport.pViewports = &vp;
+    viewport.scissorCount = 1;
+    viewport.pScissors = &scissor;
+    VkPipelineRasterizationStateCreateInfo raster{};
+    raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{};
+    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineColorBlendAttachmentState blend{};
+    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                           VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo colour_blend{};
+    colour_blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
+    colour_blend.attachmentCount = 1;
+    colour_blend.pAttachments = &blend;
+    VkGraphicsPipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pColorBlendState = &colour_blend;
+    info.layout = layout;
+    info.renderPass = pass;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    gpu::check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+               "vkCreateGraphicsPipelines");
+    return gpu::UniquePipeline(device, pipeline);
+}
+
+}  // namespace
+
+struct AnaglyphPass::Impl {
+    gpu::Context* context = nullptr;
+    int width = 0, height = 0;
+    gpu::ImageArray output;
+    gpu::Buffer tables;    // AnaglyphUniform
+    gpu::Buffer readback;  // width * height * 4 bytes
+    UniqueSampler sampler;
+    gpu::UniqueDescriptorSetLayout set_layout;
+    gpu::UniqueDescriptorPool pool;
+    VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+    VkImageView bound_view = VK_NULL_HANDLE;
+    gpu::UniquePipelineLayout layout;
+    gpu::UniqueRenderPass render_pass;
+    gpu::UniqueFramebuffer framebuffer;
+    gpu::UniquePipeline pipeline;
+
+    ~Impl() {
+        try {
+            if (context) context->wait_idle();
+        } catch (const Error& e) {
+            std::fprintf(stderr, "anaglyph pass: %s\n", e.what());
+        }
+    }
+
+    void check_source(const OffscreenStereoRenderer& source) const {
+        if (source.width() != width || source.height() != height)
+            throw Error("anaglyph pass: the renderer's eye images are " + std::to_string(source.width()) + "x" +
+                        std::to_string(source.height()) + ", the pass was made for " + std::to_string(width) + "x" +
+                        std::to_string(height));
+        if (source.frames_rendered() == 0)
+            throw Error("anaglyph pass: the renderer has not rendered a frame yet (call render() or draw() first)");
+    }
+
+    void bind_source(VkImageView view) {
+        if (view == bound_view) return;
+        VkDescriptorImageInfo image{sampler.get(), view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet w{};
+        w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w.dstSet = set;
+        w.dstBinding = 0;
+        w.descriptorCount = 1;
+        w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w.pImageInfo = &image;
+        vkUpdateDescriptorSets(context->device(), 1, &w, 0, nullptr);
+        bound_view = view;
+    }
+};
+
+AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) {
+    const auto max_dim = static_cast<int>(std::min<std::uint32_t>(context.properties().limits.maxImageDimension2D,
+                                                                   context.properties().limits.maxFramebufferWidth));
+    if (width < 1 || height < 1 || width > max_dim || height > max_dim)
+        throw Error("anaglyph pass: size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " must be within 1.." + std::to_string(max_dim));
+    auto impl = std::make_unique<Impl>();
+    Impl& im = *impl;
+    im.context = &context;
+    im.width = width;
+    im.height = height;
+    const VkDevice device = context.device();
+
+    gpu::ImageArrayInfo info;
+    info.width = static_cast<std::uint32_t>(width);
+    info.height = static_cast<std::uint32_t>(height);
+    info.layers = 1;
+    info.format = kStereoColourFormat;
+    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    im.output = gpu::ImageArray::create(context, info);
+    const AnaglyphUniform u = make_uniform();
+    im.tables = gpu::Buffer::create(context, sizeof u, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    im.tables.write(&u, sizeof u);
+    im.readback = gpu::Buffer::create(context, static_cast<VkDeviceSize>(width) * height * 4,
+                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryDomain::kHost);
+
+    VkSamplerCreateInfo si{};
+    si.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    VkSampler sampler = VK_NULL_HANDLE;
+    gpu::check(vkCreateSampler(device, &si, nullptr, &sampler), "vkCreateSampler");
+    im.sampler = UniqueSampler(device, sampler);
+
+    VkDescriptorSetLayoutBinding bindings[2]{};
+    bindings[0].binding = 0;
+    bindings[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    bindings[0].descriptorCount = 1;
+    bindings[0].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    bindings[1] = bindings[0];
+    bindings[1].binding = 1;
+    bindings[1].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    VkDescriptorSetLayoutCreateInfo set_info{};
+    set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    set_info.bindingCount = 2;
+    set_info.pBindings = bindings;
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+    im.set_layout = gpu::UniqueDescriptorSetLayout(device, set_layout);
+
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
+    VkDescriptorPoolCreateInfo pool_info{};
+    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    pool_info.maxSets = 1;
+    pool_info.poolSizeCount = 2;
+    pool_info.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
+    im.pool = gpu::UniqueDescriptorPool(device, pool);
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &set_layout;
+    gpu::check(vkAllocateDescriptorSets(device, &alloc, &im.set), "vkAllocateDescriptorSets");
+    const VkDescriptorBufferInfo buffer{im.tables.handle(), 0, sizeof(AnaglyphUniform)};
+    VkWriteDescriptorSet w{};
+    w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    w.dstSet = im.set;
+    w.dstBinding = 1;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w.pBufferInfo = &buffer;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+
+    const VkPushConstantRange push{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(MixConstants)};
+    VkPipelineLayoutCreateInfo layout_info{};
+    layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &set_layout;
+    layout_info.pushConstantRangeCount = 1;
+    layout_info.pPushConstantRanges = &push;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    gpu::check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
+    im.layout = gpu::UniquePipelineLayout(device, layout);
+
+    im.render_pass = make_render_pass(device);
+    const VkImageView view = im.output.layer_view(0);
+    VkFramebufferCreateInfo fb{};
+    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    fb.renderPass = im.render_pass.get();
+    fb.attachmentCount = 1;
+    fb.pAttachments = &view;
+    fb.width = static_cast<std::uint32_t>(width);
+    fb.height = static_cast<std::uint32_t>(height);
+    fb.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    gpu::check(vkCreateFramebuffer(device, &fb, nullptr, &framebuffer), "vkCreateFramebuffer");
+    im.framebuffer = gpu::UniqueFramebuffer(device, framebuffer);
+    im.pipeline = make_pipeline(context, im.render_pass.get(), layout, width, height);
+    return AnaglyphPass(std::move(impl));
+}
+
+AnaglyphPass::AnaglyphPass(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+AnaglyphPass::~AnaglyphPass() = default;
+AnaglyphPass::AnaglyphPass(AnaglyphPass&&) noexcept = default;
+AnaglyphPass& AnaglyphPass::operator=(AnaglyphPass&&) noexcept = default;
+
+int AnaglyphPass::width() const { return impl_->width; }
+int AnaglyphPass::height() const { return impl_->height; }
+VkImage AnaglyphPass::image() const { return impl_->output.handle(); }
+
+void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& source, AnaglyphMethod method,
+                          bool swap_eyes, bool readback) {
+    Impl& im = *impl_;
+    im.check_source(source);
+    im.bind_source(source.colour_array_view());
+    const VkImage eyes = source.colour_image();
+    layout_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                   VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+    VkRenderPassBeginInfo begin{};
+    begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+    begin.renderPass = im.render_pass.get();
+    begin.framebuffer = im.framebuffer.get();
+    begin.renderArea = {{0, 0}, {static_cast<std::uint32_t>(im.width), static_cast<std::uint32_t>(im.height)}};
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.pipeline.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.layout.get(), 0, 1, &im.set, 0, nullptr);
+    const MixConstants mix{method_index(method), swap_eyes ? 1 : 0};
+    vkCmdPushConstants(cmd, im.layout.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof mix, &mix);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRenderPass(cmd);
+    // The renderer's image back to the layout it promises; its next render pass waits for transfer reads,
+    // which this barrier's reads chain into.
+    layout_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0,
+                   VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    if (!readback) return;
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {static_cast<std::uint32_t>(im.width), static_cast<std::uint32_t>(im.height), 1};
+    vkCmdCopyImageToBuffer(cmd, im.output.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, im.readback.handle(), 1,
+                           &copy);
+    VkMemoryBarrier host{};
+    host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                         nullptr);
+}
+
+Image AnaglyphPass::compose(const OffscreenStereoRenderer& source, AnaglyphMethod method, bool swap_eyes) {
+    impl_->check_source(source);
+    impl_->context->submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, source, method, swap_eyes, true); });
+    return read();
+}
+
+Image AnaglyphPass::read() const {
+    const Impl& im = *impl_;
+    const std::size_t bytes = static_cast<std::size_t>(im.width) * im.height * 4;
+    Image img{im.width, im.height, std::vector<std::uint8_t>(bytes)};
+    im.readback.read(img.rgba.data(), bytes);
+    return img;
+}
+
+}  // namespace tridex::renderer

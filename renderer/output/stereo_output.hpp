@@ -1,0 +1,113 @@
+// renderer/output/stereo_output.hpp - stereo output modes: what a display shows made from the two eye images.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "renderer/image/image.hpp"
+
+namespace tridex::renderer {
+
+/// How the two eye images reach the viewer's eyes. Names (parse_stereo_output / to_string) in brackets.
+enum class StereoOutput {
+    kQuad,             ///< [quad] one swapchain with 2 image layers (left = layer 0); needs maxImageArrayLayers >= 2
+    kFrameSequential,  ///< [frame-sequential] eyes alternate on successive presents; shutter glasses + emitter
+    kSideBySide,       ///< [side-by-side] left | right, each at full resolution (width 2w); dual passive projectors
+    kSideBySideHalf,   ///< [side-by-side-half] left | right, each squeezed to half width (width w); 3D-TV
+    kTopBottom,        ///< [top-bottom] left over right, each at full resolution (height 2h)
+    kTopBottomHalf,    ///< [top-bottom-half] left over right, each squeezed to half height (height h); 3D-TV
+    kAnaglyph,         ///< [anaglyph] red-cyan glasses: red from the left eye, green + blue from the right
+    kMono,             ///< [mono] one view only; the caller renders a single eye
+};
+
+/// How an anaglyph is mixed from the left (L) and right (R) eye colours. Each is a 3x3 matrix pair:
+/// out = M_L * L + M_R * R, clamped to 0..1.
+enum class AnaglyphMethod {
+    /// [dubois] Dubois' least-squares red-cyan matrices (E. Dubois, "A projection method to generate
+    /// anaglyph stereo images", ICASSP 2001), applied in linear light (sRGB decoded, mixed, re-encoded):
+    ///   M_L = [ 0.456  0.500  0.176; -0.040 -0.038 -0.016; -0.015 -0.021 -0.005]
+    ///   M_R = [-0.043 -0.088 -0.002;  0.378  0.734 -0.018; -0.072 -0.113  1.226]
+    /// The result is clamped to 0..1 and re-encoded with rounding to the nearest 8-bit code. Least ghosting
+    /// of the three; colours are shifted.
+    kDubois,
+    /// [colour] simple colour anaglyph on the stored 8-bit values: out = (L.r, R.g, R.b).
+    kColour,
+    /// [gray] grey anaglyph on the stored 8-bit values: out = (Y(L), Y(R), Y(R)) with the Rec. 601 luma
+    /// Y = 0.299 r + 0.587 g + 0.114 b, rounded to the nearest integer (exact integer arithmetic, halves up).
+    /// No colour, least rivalry.
+    kGray,
+};
+
+/// Options of compose().
+struct ComposeOptions {
+    /// Swap the eyes: the left eye's image goes where the right one would and vice versa (every output but
+    /// mono). Fixes glasses or projectors that are wired the wrong way round.
+    bool swap_eyes = false;
+    /// The anaglyph mixing (kAnaglyph only).
+    AnaglyphMethod anaglyph = AnaglyphMethod::kDubois;
+    /// The display's eye slot produced (kQuad: the swapchain layer; kFrameSequential: the shutter that is open
+    /// for this present, FrameSequencer::shutter_for_present): 0 = left, 1 = right. Ignored by other outputs.
+    int eye_slot = 0;
+};
+
+/// The name of an output, e.g. "side-by-side-half".
+std::string_view to_string(StereoOutput output);
+/// The name of an anaglyph method: "dubois", "colour", "gray".
+std::string_view to_string(AnaglyphMethod method);
+/// Every output, in the order of the enum.
+const std::vector<StereoOutput>& all_stereo_outputs();
+/// The names of all outputs joined with ", " (for messages and --help).
+std::string stereo_output_names();
+
+/// The output called `name` (exact, lower case, as listed in StereoOutput). Throws tridex::Error
+/// "unknown stereo output 'x'; valid outputs: quad, frame-sequential, ..." for any other string.
+StereoOutput parse_stereo_output(const std::string& name);
+/// The anaglyph method called `name` ("dubois", "colour" or "gray"). Throws tridex::Error listing the
+/// valid names for any other string.
+AnaglyphMethod parse_anaglyph_method(const std::string& name);
+
+/// False only for kMono: the caller renders one view (e.g. the head centre with eye separation 0) and
+/// skips the second eye's work.
+bool needs_both_eyes(StereoOutput output);
+
+/// Size (width, height) in pixels of one composed image for eye images of eye_width x eye_height:
+/// side-by-side (2w, h), top-bottom (w, 2h), the half-resolution variants, anaglyph, mono, quad (per layer)
+/// and frame-sequential (per present) (w, h). Throws tridex::Error when a size is < 1.
+std::pair<int, int> output_size(StereoOutput output, int eye_width, int eye_height);
+
+/// Whether a presentation surface can show `output`.
+struct OutputSupport {
+    bool supported = true;
+    std::string message;  ///< empty when supported; otherwise one line naming what is missing and the alternatives
+};
+
+/// The outputs a surface whose VkSurfaceCapabilitiesKHR reports `max_image_array_layers` can show: all of
+/// them when it is >= 2, all but kQuad otherwise.
+std::vector<StereoOutput> supported_outputs(std::uint32_t max_image_array_layers);
+/// Whether `output` works with `max_image_array_layers` (only kQuad needs >= 2 layers). When not, the
+/// message says "stereo output 'quad' needs a swapchain with 2 image layers but the surface reports
+/// maxImageArrayLayers = 1; outputs that will work: frame-sequential, ...".
+OutputSupport check_output_support(StereoOutput output, std::uint32_t max_image_array_layers);
+
+/// Resamples `image` to new_width x new_height with a box (area-average) filter on the stored 8-bit values,
+/// each output pixel the coverage-weighted mean of the source pixels under it, rounded to nearest (a 2:1
+/// squeeze averages pixel pairs: (a + b + 1) / 2 in integers). Used for the half-resolution outputs.
+/// Throws tridex::Error when the image is empty/inconsistent or a new size is < 1.
+Image resample_box(const Image& image, int new_width, int new_height);
+
+/// What the display shows for one frame of `output`, built from the two eye images (same size w x h):
+/// - kSideBySide / kTopBottom: the eyes next to / above each other at full size (left first, unless swapped);
+/// - kSideBySideHalf / kTopBottomHalf: each eye squeezed to half width / height (resample_box; for odd sizes
+///   the first half gets floor(w / 2) and the second the rest), total size w x h;
+/// - kAnaglyph: per pixel options.anaglyph (see AnaglyphMethod), alpha 255;
+/// - kQuad / kFrameSequential: the image for display slot options.eye_slot (left for slot 0, right for
+///   slot 1; the other way round when swap_eyes);
+/// - kMono: `left` (the one rendered view); `right` is ignored and may be empty.
+/// Throws tridex::Error when an image that is used is empty or inconsistent, the sizes differ, or
+/// eye_slot is not 0 or 1.
+Image compose(StereoOutput output, const Image& left, const Image& right, const ComposeOptions& options = {});
+
+}  // namespace tridex::renderer

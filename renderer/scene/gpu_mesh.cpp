@@ -1,0 +1,49 @@
+// renderer/scene/gpu_mesh.cpp - TriMesh -> vertex/index buffers.
+#include "renderer/scene/gpu_mesh.hpp"
+
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "renderer/stereo/stereo_uniforms.hpp"
+
+namespace tridex::renderer {
+
+void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials) {
+    const std::size_t nv = mesh.positions.size();
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (std::uint32_t i : mesh.triangles[t])
+            if (i >= nv)
+                throw Error("renderer: mesh triangle " + std::to_string(t) + " has vertex index " + std::to_string(i) +
+                            " >= vertex count " + std::to_string(nv));
+    for (std::size_t v = 0; v < nv; ++v)
+        if (!is_finite(mesh.positions[v]))
+            throw Error("renderer: mesh vertex " + std::to_string(v) + " is not finite");
+    if (!materials.empty() && materials.size() != nv)
+        throw Error("renderer: mesh materials has " + std::to_string(materials.size()) +
+                    " entries, expected 0 or one per vertex (" + std::to_string(nv) + ")");
+    for (std::size_t v = 0; v < materials.size(); ++v)
+        if (materials[v] >= kMaterialCount)
+            throw Error("renderer: mesh vertex " + std::to_string(v) + " has material id " +
+                        std::to_string(materials[v]) + " >= " + std::to_string(kMaterialCount));
+    index_count_ = 0;
+    if (mesh.triangles.empty()) return;
+
+    const std::vector<Vec3> normals = vertex_normals(mesh);
+    const VkDeviceSize vbytes = nv * sizeof(MeshVertex);
+    const VkDeviceSize ibytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
+    if (vertices_.size() < vbytes)
+        vertices_ = gpu::Buffer::create(context, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    if (indices_.size() < ibytes)
+        indices_ = gpu::Buffer::create(context, ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    auto* out = static_cast<MeshVertex*>(vertices_.mapped());
+    for (std::size_t v = 0; v < nv; ++v)
+        out[v] = MeshVertex{glm::vec3(mesh.positions[v]), glm::vec3(normals[v]),
+                            materials.empty() ? 0u : static_cast<std::uint32_t>(materials[v])};
+    auto* idx = static_cast<std::uint32_t*>(indices_.mapped());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) idx[t * 3 + k] = mesh.triangles[t][k];
+    index_count_ = static_cast<std::uint32_t>(mesh.triangles.size() * 3);
+}
+
+}  // namespace tridex::renderer

@@ -1,0 +1,37 @@
+// renderer/scene/gpu_mesh.hpp - a TriMesh's vertices (position + normal + material, float) and indices in
+// host-visible buffers.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "core/tri_mesh.hpp"
+#include "gpu/buffer.hpp"
+#include "gpu/context.hpp"
+
+namespace tridex::renderer {
+
+/// Vertex (MeshVertex: position m, area-weighted unit normal from core vertex_normals, material id) and
+/// uint32 index buffers of one mesh, in MemoryDomain::kHost so they can be refilled every frame. Buffers
+/// grow (never shrink) when a larger mesh is assigned. Move-only.
+class GpuMesh {
+public:
+    /// Copies `mesh` (positions converted to float) into the buffers, growing them when needed.
+    /// `materials` is empty (every vertex gets material 0) or holds one material id per vertex
+    /// (0..kMaterialCount-1, see material_palette.hpp). An empty mesh gives index_count() == 0.
+    /// Throws tridex::Error when a triangle index is out of range, a position is not finite (naming the
+    /// triangle / vertex), materials.size() is neither 0 nor the vertex count, or a material id is out of
+    /// range (naming the vertex), or on a Vulkan failure. Not safe while the GPU still reads the buffers
+    /// from an earlier submission.
+    void assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials = {});
+
+    VkBuffer vertices() const { return vertices_.handle(); }
+    VkBuffer indices() const { return indices_.handle(); }
+    std::uint32_t index_count() const { return index_count_; }
+
+private:
+    gpu::Buffer vertices_, indices_;
+    std::uint32_t index_count_ = 0;
+};
+
+}  // namespace tridex::renderer

@@ -1,0 +1,65 @@
+// renderer/scene/tile_mesh_cache.hpp - per-tile workpiece meshes on the GPU, re-uploaded only when they change.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "core/tri_mesh.hpp"
+#include "gpu/context.hpp"
+#include "renderer/scene/gpu_mesh.hpp"
+
+namespace tridex::renderer {
+
+/// One tile of the workpiece surface as the renderer draws it (the contouring works per 16^3-cell tile).
+struct TileMesh {
+    const TriMesh* mesh = nullptr;  ///< the tile's triangles, world m (nullptr or empty: nothing to draw)
+    Aabb bounds_m;                  ///< world box holding the tile's triangles, m (the culling test uses it)
+    /// Content version: the renderer re-uploads the tile only when this differs from the uploaded one, so
+    /// bump it whenever the mesh (or its materials) changes.
+    std::uint64_t version = 0;
+    /// Optional per-vertex material ids (size = mesh->positions.size(), values 0..kMaterialCount-1); nullptr = 0.
+    const std::vector<std::uint8_t>* materials = nullptr;
+    /// Stable identity of the tile across frames (e.g. its linear tile index in the lattice);
+    /// kIdFromPosition = its position in the list, which must then be the same every frame.
+    std::uint64_t id = kIdFromPosition;
+    static constexpr std::uint64_t kIdFromPosition = std::numeric_limits<std::uint64_t>::max();
+};
+
+/// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version
+/// changed and frees tiles no longer listed; unchanged tiles cost nothing. Each tile has its own host-
+/// visible GpuMesh (two buffers). Move-only; the Context must outlive it. Not safe while the GPU still
+/// reads an earlier frame (the renderer waits for every frame).
+class TileMeshCache {
+public:
+    /// Makes the cache hold exactly `tiles` (empty or null meshes included, as zero-index entries) and
+    /// returns how many were uploaded by this call. Throws tridex::Error when two tiles have the same id
+    /// (naming it), or GpuMesh::assign throws (bad indices, non-finite position, bad materials: naming the
+    /// tile); a tile that failed is left out of the cache, so the next sync() retries it.
+    std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles);
+
+    /// The GPU mesh of tiles[i] of the last sync(). Throws tridex::Error when i is out of range.
+    const GpuMesh& mesh(std::size_t i) const;
+    /// Tiles held (= the size of the last sync()'s list).
+    std::size_t size() const { return order_.size(); }
+    /// Uploads over the cache's lifetime.
+    std::uint64_t uploads_total() const { return uploads_total_; }
+
+private:
+    struct Entry {
+        GpuMesh mesh;
+        std::uint64_t version = 0;
+        std::uint64_t seen = 0;  // sync() call that listed it last
+    };
+    std::unordered_map<std::uint64_t, std::unique_ptr<Entry>> entries_;
+    std::vector<const Entry*> order_;
+    std::uint64_t syncs_ = 0;
+    std::uint64_t uploads_total_ = 0;
+};
+
+}  // namespace tridex::renderer

@@ -1,0 +1,130 @@
+// renderer/stereo/stereo_frame.cpp - command recording of a stereo frame.
+#include "renderer/stereo/stereo_frame.hpp"
+
+namespace tridex::renderer {
+
+DrawPhase phase_of(PipelineKind kind) {
+    switch (kind) {
+        case PipelineKind::kOpaque:
+        case PipelineKind::kContour: return DrawPhase::kOpaque;
+        case PipelineKind::kTranslucentBack:
+        case PipelineKind::kTranslucentFront: return DrawPhase::kTranslucent;
+        case PipelineKind::kOverlay: return DrawPhase::kOverlay;
+    }
+    return DrawPhase::kOpaque;
+}
+
+void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
+                         VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
+                         const PhaseTimestamps& timestamps, int eye_count) {
+    const auto w = static_cast<std::uint32_t>(target.width());
+    const auto h = static_cast<std::uint32_t>(target.height());
+    VkClearValue clears[2]{};
+    for (int c = 0; c < 4; ++c) clears[0].color.float32[c] = clear_rgba[c];
+    clears[1].depthStencil = {1.0f, 0};
+    const VkViewport viewport{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {w, h}};
+    const EyeStrategy strategy = pipeline.strategy();
+    const bool per_eye = strategy == EyeStrategy::kPassPerEye;
+    const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+
+    const bool mono = eye_count == 1;
+    const std::uint32_t eyes_drawn = mono ? 0b01u : 0b11u;
+    const auto& framebuffers = target.framebuffers();
+    const std::size_t passes = per_eye && mono ? 1 : framebuffers.size();
+    for (std::size_t pass = 0; pass < passes; ++pass) {
+        VkRenderPassBeginInfo begin{};
+        begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+        begin.renderPass = pipeline.render_pass();
+        begin.framebuffer = framebuffers[pass].get();
+        begin.renderArea = scissor;
+        begin.clearValueCount = 2;
+        begin.pClearValues = clears;
+        vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+        vkCmdSetViewport(cmd, 0, 1, &viewport);
+        vkCmdSetScissor(cmd, 0, 1, &scissor);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
+        VkPipeline bound = VK_NULL_HANDLE;
+        for (int phase = 0; phase < kDrawPhaseCount; ++phase) {
+            if (timestamps.pool != VK_NULL_HANDLE)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                    timestamps.query(pass, phase));
+            for (const StereoDraw& d : draws) {
+                if (d.index_count == 0 || static_cast<int>(phase_of(d.kind)) != phase) continue;
+                const std::uint32_t mask = d.eye_mask & eyes_drawn;
+                if (mask == 0 || (per_eye && !(mask & (1u << pass)))) continue;
+                std::uint32_t instances = 1, first_instance = 0;
+                if (strategy == EyeStrategy::kInstancedLayer) {
+                    instances = mask == 0b11u ? 2u : 1u;
+                    first_instance = mask == 0b10u ? 1u : 0u;
+                }
+                const VkPipeline p = pipeline.pipeline(d.kind);
+                if (p != bound) {
+                    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+                    bound = p;
+                }
+                DrawConstants constants = d.constants;
+                constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
+                const VkDeviceSize offset = 0;
+                vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
+                vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                if (d.indirect != VK_NULL_HANDLE && strategy == EyeStrategy::kInstancedLayer) {
+                    // The command's instanceCount is 1: one draw per eye, the eye in the push constant.
+                    for (std::uint32_t e = 0; e < 2; ++e) {
+                        if (!(mask & (1u << e))) continue;
+                        constants.eye = e;
+                        vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                        vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
+                    }
+                    continue;
+                }
+                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                if (d.indirect != VK_NULL_HANDLE)
+                    vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
+                else
+                    vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
+            }
+        }
+        if (timestamps.pool != VK_NULL_HANDLE)
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                timestamps.query(pass, kDrawPhaseCount));
+        vkCmdEndRenderPass(cmd);
+    }
+    // Render pass instances not recorded (mono, pass-per-eye): their boundaries, zero duration; and their
+    // layers go to TRANSFER_SRC_OPTIMAL (contents undefined) as the render pass would have left them, after
+    // earlier submissions' transfer reads (an execution dependency suffices for that write-after-read).
+    for (std::size_t pass = passes; pass < framebuffers.size(); ++pass) {
+        if (timestamps.pool != VK_NULL_HANDLE)
+            for (int b = 0; b <= kDrawPhaseCount; ++b)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
+                                    timestamps.query(pass, b));
+        VkImageMemoryBarrier layer{};
+        layer.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+        layer.srcAccessMask = 0;
+        layer.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        layer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        layer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        layer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        layer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        layer.image = target.colour_image();
+        layer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, static_cast<std::uint32_t>(pass), 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &layer);
+    }
+
+    // The drawn colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
+    VkBufferImageCopy copy{};
+    copy.bufferOffset = 0;
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, mono ? 1u : 2u};
+    copy.imageExtent = {w, h, 1};
+    vkCmdCopyImageToBuffer(cmd, target.colour_image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.readback_buffer(),
+                           1, &copy);
+    VkMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
+                         0, nullptr);
+}
+
+}  // namespace tridex::renderer

@@ -1,0 +1,253 @@
+// renderer/stereo/stereo_pipeline.cpp - render pass and pipeline creation per eye strategy.
+#include "renderer/stereo/stereo_pipeline.hpp"
+
+#include <string>
+
+#include "core/error.hpp"
+#include "gpu/check.hpp"
+#include "gpu/shader_module.hpp"
+#include "renderer/stereo/stereo_uniforms.hpp"
+#include "shaders/spirv.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+gpu::UniqueRenderPass make_render_pass(VkDevice device, EyeStrategy strategy) {
+    VkAttachmentDescription att[2]{};
+    att[0].format = kStereoColourFormat;
+    att[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    att[1] = att[0];
+    att[1].format = kStereoDepthFormat;
+    att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+
+    const VkAttachmentReference colour{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    const VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &colour;
+    subpass.pDepthStencilAttachment = &depth;
+
+    // Before: earlier readback copies of the colour image and earlier depth use finish first.
+    // After: the colour writes are visible to the readback copy.
+    VkSubpassDependency deps[2]{};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[1].srcSubpass = 0;
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+
+    VkRenderPassCreateInfo info{};
+
+    info.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    info.attachmentCount = 2;
+    info.pAttachments = att;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = deps;
+
+    // Multiview: both views (left = 0, right = 1) in the one subpass; they see the same geometry.
+    const std::uint32_t view_mask = 0b11, correlation = 0b11;
+    VkRenderPassMultiviewCreateInfo multiview{};
+    multiview.sType = VK_STRUCTURE_TYPE_RENDER_PASS_MULTIVIEW_CREATE_INFO;
+    multiview.subpassCount = 1;
+    multiview.pViewMasks = &view_mask;
+    multiview.correlationMaskCount = 1;
+    multiview.pCorrelationMasks = &correlation;
+    if (strategy == EyeStrategy::kMultiview) info.pNext = &multiview;
+
+    VkRenderPass pass = VK_NULL_HANDLE;
+    gpu::check(vkCreateRenderPass(device, &info, nullptr, &pass), "vkCreateRenderPass");
+    return gpu::UniqueRenderPass(device, pass);
+}
+
+const char* vertex_shader_name(EyeStrategy strategy, bool contour) {
+    switch (strategy) {
+        case EyeStrategy::kPassPerEye: return contour ? "stereo_contour_pass_vert" : "stereo_mesh_pass_vert";
+        case EyeStrategy::kMultiview: return contour ? "stereo_contour_multiview_vert" : "stereo_mesh_multiview_vert";
+        case EyeStrategy::kInstancedLayer: return contour ? "stereo_contour_layer_vert" : "stereo_mesh_layer_vert";
+    }
+    return "";
+}
+
+// The GPU contour's vertex (compute/gpu/gpu_contourer.hpp GpuContourVertex): float grid[3], uint material.
+constexpr std::uint32_t kContourVertexBytes = 16;
+
+gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipelineLayout layout, VkShaderModule vs,
+                                  VkShaderModule fs, PipelineKind kind) {
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vs;
+    stages[0].pName = "main";
+    stages[1] = stages[0];
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fs;
+
+    const bool contour = kind == PipelineKind::kContour;
+    const VkVertexInputBindingDescription binding{0, contour ? kContourVertexBytes : static_cast<std::uint32_t>(sizeof(MeshVertex)),
+                                                  VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[3] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)},
+        {2, 0, VK_FORMAT_R32_UINT, offsetof(MeshVertex, material)},
+    };
+    const VkVertexInputAttributeDescription contour_attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+        {2, 0, VK_FORMAT_R32_UINT, 12},
+    };
+    VkPipelineVertexInputStateCreateInfo vertex_input{};
+    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
+    vertex_input.vertexBindingDescriptionCount = 1;
+    vertex_input.pVertexBindingDescriptions = &binding;
+    vertex_input.vertexAttributeDescriptionCount = contour ? 2 : 3;
+    vertex_input.pVertexAttributeDescriptions = contour ? contour_attributes : attributes;
+
+    VkPipelineInputAssemblyStateCreateInfo assembly{};
+
+    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+
+    VkPipelineViewportStateCreateInfo viewport{};
+
+    viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+
+    const bool opaque = kind == PipelineKind::kOpaque || contour;
+    const bool overlay = kind == PipelineKind::kOverlay;
+    VkPipelineRasterizationStateCreateInfo raster{};
+    raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = overlay                                  ? VK_CULL_MODE_NONE
+                      : kind == PipelineKind::kTranslucentBack ? VK_CULL_MODE_FRONT_BIT
+                                                               : VK_CULL_MODE_BACK_BIT;
+    // Meshes are counter-clockwise seen from outside; the projection flips y so the image is upright,
+    // which keeps the on-screen winding counter-clockwise in Vulkan's framebuffer convention.
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+
+    VkPipelineMultisampleStateCreateInfo multisample{};
+
+    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+
+    VkPipelineDepthStencilStateCreateInfo depth{};
+
+    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
+    depth.depthTestEnable = overlay ? VK_FALSE : VK_TRUE;
+    depth.depthWriteEnable = opaque ? VK_TRUE : VK_FALSE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS;
+
+    VkPipelineColorBlendAttachmentState blend{};
+    blend.blendEnable = opaque ? VK_FALSE : VK_TRUE;
+    blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blend.colorBlendOp = VK_BLEND_OP_ADD;
+    blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blend.alphaBlendOp = VK_BLEND_OP_ADD;
+    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                           VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo colour_blend{};
+    colour_blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
+    colour_blend.attachmentCount = 1;
+    colour_blend.pAttachments = &blend;
+
+    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{};
+    dynamic.sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO;
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+
+    VkGraphicsPipelineCreateInfo info{};
+
+    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &colour_blend;
+    info.pDynamicState = &dynamic;
+    info.layout = layout;
+    info.renderPass = pass;
+    info.subpass = 0;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    gpu::check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+               "vkCreateGraphicsPipelines");
+    return gpu::UniquePipeline(device, pipeline);
+}
+
+}  // namespace
+
+StereoPipeline StereoPipeline::create(const gpu::Context& context, EyeStrategy strategy) {
+    if (!supported(context, strategy))
+        throw Error("renderer: eye strategy " + std::string(to_string(strategy)) +
+                    " is not supported by device " + context.device_name());
+    const VkDevice device = context.device();
+    StereoPipeline p;
+    p.strategy_ = strategy;
+    p.render_pass_ = make_render_pass(device, strategy);
+
+    VkDescriptorSetLayoutBinding binding{};
+    binding.binding = 0;
+    binding.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    binding.descriptorCount = 1;
+    binding.stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkDescriptorSetLayoutCreateInfo set_info{};
+    set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    set_info.bindingCount = 1;
+    set_info.pBindings = &binding;
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+    gpu::check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+    p.set_layout_ = gpu::UniqueDescriptorSetLayout(device, set_layout);
+
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                   sizeof(DrawConstants)};
+    VkPipelineLayoutCreateInfo layout_info{};
+    layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &set_layout;
+    layout_info.pushConstantRangeCount = 1;
+    layout_info.pPushConstantRanges = &push;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    gpu::check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
+    p.layout_ = gpu::UniquePipelineLayout(device, layout);
+
+    const gpu::UniqueShaderModule vs =
+        gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy, false)));
+    const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("stereo_mesh_frag"));
+    for (PipelineKind kind : {PipelineKind::kOpaque, PipelineKind::kTranslucentBack, PipelineKind::kTranslucentFront,
+                              PipelineKind::kOverlay})
+        p.pipelines_[static_cast<int>(kind)] =
+            make_pipeline(device, p.render_pass_.get(), p.layout_.get(), vs.get(), fs.get(), kind);
+    const gpu::UniqueShaderModule contour_vs =
+        gpu::create_shader_module(context, shaders::spirv(vertex_shader_name(strategy, true)));
+    const gpu::UniqueShaderModule contour_fs =
+        gpu::create_shader_module(context, shaders::spirv("stereo_contour_frag"));
+    p.pipelines_[static_cast<int>(PipelineKind::kContour)] = make_pipeline(
+        device, p.render_pass_.get(), p.layout_.get(), contour_vs.get(), contour_fs.get(), PipelineKind::kContour);
+    return p;
+}
+
+}  // namespace tridex::renderer

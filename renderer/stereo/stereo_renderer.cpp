@@ -1,0 +1,352 @@
+// renderer/stereo/stereo_renderer.cpp - scene -> draws -> stereo frame, with the eye-strategy fallback.
+#include "renderer/stereo/stereo_renderer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.hpp"
+#include "gpu/check.hpp"
+#include "renderer/scene/arrow_mesh.hpp"
+#include "renderer/stereo/eye_self_test.hpp"
+#include "renderer/stereo/eyes_binding.hpp"
+#include "renderer/scene/force_arrow.hpp"
+#include "renderer/timing/frame_timer.hpp"
+#include "renderer/scene/gpu_mesh.hpp"
+#include "renderer/scene/material_palette.hpp"
+#include "renderer/scene/overlay_content.hpp"
+#include "renderer/scene/overlay_text.hpp"
+#include "renderer/scene/primitive_meshes.hpp"
+#include "renderer/stereo/stereo_frame.hpp"
+#include "renderer/stereo/stereo_pipeline.hpp"
+#include "renderer/stereo/stereo_target.hpp"
+#include "renderer/scene/tile_culling.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+// Scene colours (linear RGBA) and the light: from upper right, in front of the screen.
+const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
+const glm::vec4 kProxyColour(1.00f, 0.85f, 0.20f, 0.45f);
+const glm::vec4 kForceColour(0.95f, 0.22f, 0.18f, 1.0f);
+const glm::vec4 kWorkspaceColour(0.30f, 0.85f, 0.40f, 0.18f);
+const glm::vec4 kBubbleColour(0.45f, 0.65f, 1.00f, 0.15f);
+const glm::vec4 kOverlayPanelColour(0.0f, 0.0f, 0.0f, 0.55f);
+const glm::vec4 kOverlayTextColour(0.95f, 0.95f, 0.80f, 1.0f);
+constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
+const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f));
+constexpr int kSphereRings = 24, kSphereSegments = 48, kArrowSegments = 16;
+
+glm::mat4 translate_scale(const Vec3& t, const Vec3& s) {
+    glm::mat4 m(1.0f);
+    m[0][0] = static_cast<float>(s.x);
+    m[1][1] = static_cast<float>(s.y);
+    m[2][2] = static_cast<float>(s.z);
+    m[3] = glm::vec4(glm::vec3(t), 1.0f);
+    return m;
+}
+
+// Pixels (x right, y down) -> Vulkan clip space (x, y in -1..1, depth 0.5, w 1), the same for both eyes.
+glm::mat4 clip_from_pixel(int width, int height) {
+    glm::mat4 m(1.0f);
+    m[0][0] = 2.0f / static_cast<float>(width);
+    m[1][1] = 2.0f / static_cast<float>(height);
+    m[2][2] = 0.0f;
+    m[3] = glm::vec4(-1.0f, -1.0f, 0.5f, 1.0f);
+    return m;
+}
+
+}  // namespace
+
+struct OffscreenStereoRenderer::Impl {
+    gpu::Context* context = nullptr;
+    std::string note;
+    std::optional<StereoPipeline> pipeline;
+    std::optional<StereoTarget> target;
+    std::optional<EyesBinding> eyes;
+    GpuMesh workpiece, ball, cube, cylinder, cone, overlay_panel, overlay_text;
+    TileMeshCache tiles;
+    FrameTimer timer;
+    bool use_timestamps = true;
+    std::uint64_t frames = 0;
+    double gpu_ms = -1.0;
+    FrameStats last;
+    int last_eye_count = 2;
+
+    ~Impl() {
+        try {
+            if (context) context->wait_idle();  // nothing should be pending: render() waits for its frame
+        } catch (const Error& e) {
+            std::fprintf(stderr, "renderer: %s\n", e.what());
+        }
+    }
+};
+
+OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, int width, int height,
+                                                        EyeStrategy preferred) {
+    auto impl = std::make_unique<Impl>();
+    impl->context = &context;
+    const std::string asked(to_string(preferred));
+    if (!supported(context, preferred)) {
+        impl->note = asked + " not supported by " + context.device_name() + "; using pass-per-eye";
+    } else {
+        StereoPipeline p = StereoPipeline::create(context, preferred);
+        const EyeSelfTest t = self_test_eye_strategy(context, p);
+        if (t.passed) {
+            impl->note = asked + " self-test passed (" + t.detail + ")";
+            impl->pipeline.emplace(std::move(p));
+        } else {
+            impl->note = asked + " self-test failed (" + t.detail + "); falling back to pass-per-eye";
+        }
+    }
+    if (!impl->pipeline) {
+        StereoPipeline p = StereoPipeline::create(context, EyeStrategy::kPassPerEye);
+        const EyeSelfTest t = self_test_eye_strategy(context, p);
+        if (!t.passed)
+            throw Error("renderer: even the pass-per-eye strategy failed its self-test on " + context.device_name() +
+                        " (" + t.detail + ")");
+        impl->note += " (pass-per-eye self-test passed)";
+        impl->pipeline.emplace(std::move(p));
+    }
+    impl->target.emplace(StereoTarget::create(context, *impl->pipeline, width, height));
+    impl->eyes.emplace(EyesBinding::create(context, impl->pipeline->set_layout()));
+    impl->ball.assign(context, unit_sphere(kSphereRings, kSphereSegments));
+    Aabb unit;
+    unit.add(Vec3(0.0));
+    unit.add(Vec3(1.0));
+    impl->cube.assign(context, box_mesh(unit));
+    impl->cylinder.assign(context, unit_cylinder(kArrowSegments));
+    impl->cone.assign(context, unit_cone(kArrowSegments));
+    impl->timer = FrameTimer::create(context, impl->pipeline->strategy());
+    return OffscreenStereoRenderer(std::move(impl));
+}
+
+OffscreenStereoRenderer::OffscreenStereoRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+OffscreenStereoRenderer::~OffscreenStereoRenderer() = default;
+OffscreenStereoRenderer::OffscreenStereoRenderer(OffscreenStereoRenderer&&) noexcept = default;
+OffscreenStereoRenderer& OffscreenStereoRenderer::operator=(OffscreenStereoRenderer&&) noexcept = default;
+
+EyeStrategy OffscreenStereoRenderer::strategy() const { return impl_->pipeline->strategy(); }
+std::string OffscreenStereoRenderer::strategy_note() const { return impl_->note; }
+int OffscreenStereoRenderer::width() const { return impl_->target->width(); }
+int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
+VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
+VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->target->colour_array_view(); }
+std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
+double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
+const FrameStats& OffscreenStereoRenderer::last_frame_stats() const { return impl_->last; }
+bool OffscreenStereoRenderer::gpu_timestamps_available() const { return impl_->timer.available(); }
+void OffscreenStereoRenderer::set_gpu_timestamps(bool use) { impl_->use_timestamps = use; }
+std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_->tiles.uploads_total(); }
+
+StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
+                                             double eye_separation_m, double near_m, double far_m) {
+    draw(scene, screen, head, eye_separation_m, near_m, far_m);
+    return last_images();
+}
+
+StereoImages OffscreenStereoRenderer::last_images() const {
+    const Impl& im = *impl_;
+    if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
+    Image left = im.target->read_layer(0);
+    Image right = im.last_eye_count == 1 ? left : im.target->read_layer(1);
+    return StereoImages{std::move(left), std::move(right), im.last};
+}
+
+FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
+                                         double eye_separation_m, double near_m, double far_m) {
+    Impl& im = *impl_;
+    if (scene.eye_count != 1 && scene.eye_count != 2)
+        throw Error("renderer: SceneView.eye_count must be 1 (mono) or 2 (stereo), got " +
+                    std::to_string(scene.eye_count));
+    const int eye_count = scene.eye_count;
+    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
+    const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
+    EyesUniform u{};
+    std::array<Frustum, 2> frusta;
+    for (int e = 0; e < 2; ++e) {
+        const EyeView v = off_axis_view(screen, eyes[e], near_m, far_m);
+        const Mat4 clip_from_world = v.projection * v.view;
+        u.clip_from_world[e] = glm::mat4(clip_from_world);
+        u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
+        frusta[e] = frustum_from_clip(clip_from_world);
+    }
+    u.light_direction = glm::vec4(kTowardsLight, 0.0f);
+    const auto& palette = material_palette();
+    for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
+
+    FrameStats stats;
+    std::vector<StereoDraw> draws;
+    const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
+                         bool lit) -> StereoDraw& {
+        StereoDraw d;
+        d.kind = kind;
+        d.vertices = mesh.vertices();
+        d.indices = mesh.indices();
+        d.index_count = mesh.index_count();
+        d.constants.world_from_model = model;
+        d.constants.colour = colour;
+        d.constants.lit = lit ? 1u : 0u;
+        draws.push_back(d);
+        return draws.back();
+    };
+    const auto add_translucent = [&](const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit) {
+        add(PipelineKind::kTranslucentBack, mesh, model, colour, lit);
+        add(PipelineKind::kTranslucentFront, mesh, model, colour, lit);
+    };
+
+    // Opaque: workpiece (whole mesh), workpiece tiles (culled per eye), tool, force arrow.
+    if (scene.workpiece && !scene.workpiece->triangles.empty()) {
+        std::span<const std::uint8_t> materials;
+        if (scene.workpiece_materials) materials = *scene.workpiece_materials;
+        try {
+            im.workpiece.assign(*im.context, *scene.workpiece, materials);
+        } catch (const Error& e) {
+            throw Error(std::string("SceneView.workpiece: ") + e.what());
+        }
+        // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
+        add(PipelineKind::kOpaque, im.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
+            scene.workpiece_materials ? 1u : 0u;
+    }
+    if (!scene.tiles.empty() || im.tiles.size() > 0) {
+        stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles);
+        for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
+            const GpuMesh& mesh = im.tiles.mesh(i);
+            if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
+            std::uint32_t mask = 0;
+            for (int e = 0; e < eye_count; ++e)
+                if (!scene.cull_tiles || may_be_visible(frusta[e], scene.tiles[i].bounds_m)) mask |= 1u << e;
+            // Multiview cannot draw one view only: a tile either eye sees is drawn in both.
+            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+            for (int e = 0; e < eye_count; ++e)
+                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask == 0) continue;
+            StereoDraw& d = add(PipelineKind::kOpaque, mesh, glm::mat4(1.0f), palette[0], true);
+            d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
+            d.eye_mask = mask;
+        }
+    }
+    if (const IndirectWorkpiece* iw = scene.indirect_workpiece; iw && !iw->tiles.empty()) {
+        if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
+            throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
+        for (const IndirectTile& t : iw->tiles) {
+            if (t.index_count == 0) continue;
+            std::uint32_t mask = 0;
+            for (int e = 0; e < eye_count; ++e)
+                if (!scene.cull_tiles || may_be_visible(frusta[e], t.bounds_m)) mask |= 1u << e;
+            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+            for (int e = 0; e < eye_count; ++e)
+                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask == 0) continue;
+            StereoDraw d;
+            d.kind = PipelineKind::kContour;
+            d.vertices = iw->vertices;
+            d.indices = iw->indices;
+            d.index_count = t.index_count;
+            d.indirect = iw->commands;
+            d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
+            d.constants.world_from_model = iw->world_from_grid;
+            d.constants.colour = palette[0];
+            d.constants.lit = 1u;
+            d.constants.palette = 1u;
+            d.eye_mask = mask;
+            draws.push_back(d);
+        }
+    }
+    if (scene.tool_radius_m > 0.0) {
+        if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
+            throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
+        const ToolShape& ts = scene.tool_shape;
+        if (ts.kind == ToolKind::kFlatEnd && ts.radius_m > 0.0 && ts.length_m > 0.0) {
+            // unit_cylinder runs along +z from 0 to 1; the tool's shank runs along its frame's +y.
+            const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation) *
+                                 glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
+                                 glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
+            add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
+        } else {
+            add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
+                kToolColour, true);
+        }
+    }
+    const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
+    if (arrow.visible) {
+        add(PipelineKind::kOpaque, im.cylinder, glm::mat4(arrow.shaft), kForceColour, true);
+        add(PipelineKind::kOpaque, im.cone, glm::mat4(arrow.head), kForceColour, true);
+    }
+
+    // Translucent: proxy, workspace box, bubble (each back faces, then front faces).
+    if (scene.proxy_radius_m > 0.0) {
+        if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
+            throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");
+        add_translucent(im.ball, translate_scale(scene.proxy_m, Vec3(scene.proxy_radius_m)), kProxyColour, true);
+    }
+    if (scene.show_workspace && !scene.workspace_m.empty()) {
+        if (!is_finite(scene.workspace_m.lo) || !is_finite(scene.workspace_m.hi))
+            throw Error("renderer: SceneView.workspace_m must be finite");
+        add_translucent(im.cube, translate_scale(scene.workspace_m.lo, scene.workspace_m.size()), kWorkspaceColour,
+                        false);
+    }
+    if (scene.bubble_radius_m > 0.0) {
+        if (!is_finite(scene.bubble_centre_m) || !std::isfinite(scene.bubble_radius_m))
+            throw Error("renderer: SceneView.bubble_centre_m / bubble_radius_m must be finite");
+        add_translucent(im.ball, translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m)), kBubbleColour,
+                        false);
+    }
+
+    // Overlay: a panel and its text in pixels, on the screen plane (same clip position in both eyes).
+    if (scene.show_overlay) {
+        OverlayNumbers n;
+        n.haptic_rate_hz = scene.haptic_rate_hz;
+        n.sculpt_rate_hz = scene.sculpt_rate_hz;
+        n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : im.last.frame_ms;
+        n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
+        n.tiles = stats.tiles;
+        const std::string text = overlay_content(n);
+        const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale
+                                                       : std::max(1.0, std::floor(height() / 360.0));
+        const TextExtent size = overlay_text_extent(text, scale);
+        const double margin = 6.0 * scale, pad = 3.0 * scale;
+        im.overlay_panel.assign(*im.context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
+                                                               margin + size.height_px + pad));
+        im.overlay_text.assign(*im.context, overlay_text_mesh(text, margin, margin, scale));
+        const glm::mat4 to_clip = clip_from_pixel(width(), height());
+        add(PipelineKind::kOverlay, im.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
+        add(PipelineKind::kOverlay, im.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
+    }
+
+    im.eyes->write(u);
+    const bool gpu_timing = im.use_timestamps && im.timer.available();
+    const auto t0 = std::chrono::steady_clock::now();
+    im.context->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (gpu_timing) im.timer.record_begin(cmd);
+        record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear,
+                            gpu_timing ? im.timer.phases() : PhaseTimestamps{}, eye_count);
+        if (gpu_timing) im.timer.record_end(cmd);
+    });
+    const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ++im.frames;
+    im.gpu_ms = -1.0;
+    if (gpu_timing && im.timer.read(*im.context, stats)) {
+        im.gpu_ms = stats.frame_ms;
+        if (eye_count == 1)  // the right eye's render pass was not recorded (its boundaries are zero-length)
+            std::erase_if(stats.passes, [](const PassTime& p) { return p.eye == 1; });
+    } else {
+        stats.timing = TimingSource::kCpuClock;
+        stats.timing_note = !im.timer.available()
+                                ? "no timestamp queries on this queue family; CPU clock around submit + wait"
+                            : !im.use_timestamps ? "GPU timestamps switched off; CPU clock around submit + wait"
+                                                 : "timestamp results not available; CPU clock around submit + wait";
+        stats.frame_ms = cpu_ms;
+        stats.passes = {PassTime{"frame", -1, cpu_ms}};
+    }
+    im.last = stats;
+    im.last_eye_count = eye_count;
+    return stats;
+}
+
+}  // namespace tridex::renderer

@@ -1,0 +1,166 @@
+// renderer/stereo/stereo_renderer.hpp - offscreen head-tracked stereo rendering of the sculpting scene.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "core/math.hpp"
+#include "core/pose.hpp"
+#include "core/tri_mesh.hpp"
+#include "gpu/context.hpp"
+#include "renderer/stereo/eye_strategy.hpp"
+#include "renderer/timing/frame_stats.hpp"
+#include "renderer/image/image.hpp"
+#include "gpu/indirect_workpiece.hpp"
+#include "renderer/camera/off_axis.hpp"
+#include "core/tool_shape.hpp"
+#include "renderer/scene/tile_mesh_cache.hpp"
+
+namespace tridex::renderer {
+
+/// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).
+struct SceneView {
+    const TriMesh* workpiece = nullptr;  ///< the carved solid, world m; nullptr or empty = not drawn
+    Vec3 tool_centre_m{0.0};             ///< centre of the ball tool, world m
+    double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
+    /// The tool's shape: a ball draws a sphere of tool_radius_m at tool_centre_m; a flat-end mill draws its
+    /// cylinder (tool frame of core/tool_shape.hpp: flat end at tool_centre_m, shank along the tool axis +y
+    /// turned by tool_orientation) when tool_radius_m > 0.
+    ToolShape tool_shape{};
+    Quat tool_orientation{1.0, 0.0, 0.0, 0.0};  ///< tool frame -> world (unit quaternion)
+    bool show_workspace = true;          ///< draw the haptic workspace as a translucent box
+    Aabb workspace_m;                    ///< the workspace, world m (an empty box is not drawn)
+    /// The bubble of the bubble workspace technique (Dominjon et al. 2005): position control inside,
+    /// rate control outside; drawn as a translucent sphere when bubble_radius_m > 0 (world m).
+    Vec3 bubble_centre_m{0.0};
+    double bubble_radius_m = 0.0;
+
+    // ---- Materials, proxy, force, tiles, overlay (issue 5). Defaults draw nothing new. ----
+    /// Per-vertex material ids of `workpiece` (size = workpiece->positions.size(), ids 0..kMaterialCount-1,
+    /// colours in material_palette()); nullptr = every vertex material 0 (clay).
+    const std::vector<std::uint8_t>* workpiece_materials = nullptr;
+    /// The proxy (god-object, Peng et al.: the IHIP held on the surface while the HIP goes inside), drawn as
+    /// a translucent lit sphere of proxy_radius_m at proxy_m (world m) when proxy_radius_m > 0.
+    Vec3 proxy_m{0.0};
+    double proxy_radius_m = 0.0;
+    /// Force on the user, N (world axes); drawn as an arrow from tool_centre_m along the force with length
+    /// force_m_per_newton * |force_N| (m per N; default 0.02 m/N: the 3.3 N peak of an Omni-class device is a
+    /// 6.6 cm arrow). No arrow when that length is below 1 um.
+    Vec3 force_N{0.0};
+    double force_m_per_newton = 0.02;
+    /// The workpiece as tiles (one mesh per 16^3-cell contouring tile, world bounds, version): drawn in
+    /// addition to `workpiece` (supply one or the other), each tile uploaded once and again only when its
+    /// version changes, and drawn only in the eyes whose off-axis frustum its bounds may touch.
+    std::span<const TileMesh> tiles{};
+    /// false: draw every tile in both eyes (for comparison; counts then show nothing skipped).
+    bool cull_tiles = true;
+    /// The workpiece as GPU buffers (GPU contouring): each tile drawn with one vkCmdDrawIndexedIndirect in the
+    /// eyes whose frustum its bounds may touch (cull_tiles), lit like the tiles above with palette colours but
+    /// flat-shaded (facet normals from screen-space derivatives: the GPU contour has no normals). Counted in
+    /// FrameStats tiles like `tiles`. nullptr = none. Its buffers must not change until draw()/render() return.
+    const IndirectWorkpiece* indirect_workpiece = nullptr;
+    /// Draw the 2D overlay (top left, on the screen plane: identical in both eyes) with the rates below,
+    /// the frame time and, when there are tiles, the tiles drawn / skipped per eye.
+    bool show_overlay = false;
+    double haptic_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
+    double sculpt_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
+    double frame_time_ms = -1.0;   ///< shown in the overlay; < 0 = the renderer's previous FrameStats::frame_ms
+    double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = max(1, floor(height / 360))
+    /// Eyes to render: 2 = stereo; 1 = mono, one eye's work only: the left eye (at the head for a zero eye
+    /// separation) is drawn into layer 0 and nothing into layer 1 (pass-per-eye and instanced-layer skip the
+    /// right eye's pass / instances; multiview's render pass still covers both views). FrameStats then has
+    /// only eye-0 passes and eye-0 tile counts; render() returns the one eye as both left and right.
+    /// Other values throw tridex::Error.
+    int eye_count = 2;
+};
+
+/// The two eyes' images of one frame, each width x height RGBA, and the frame's statistics.
+struct StereoImages {
+    Image left, right;
+    FrameStats stats{};
+};
+
+/// Renders both eyes into one 2-layer colour image (+ depth) offscreen and reads them back: the workpiece
+/// (whole mesh and/or per-eye culled tiles) lit (Blinn-Phong, one directional light) with per-vertex
+/// normals (core vertex_normals) and per-material colours, the tool as a ball, the force arrow (shaft
+/// cylinder + cone head, opaque), then translucent: the proxy sphere, the workspace box and the bubble
+/// (alpha-blended: back faces, then front faces), then the screen-space overlay. Each render pass is
+/// timed per phase (opaque, translucent, overlay) with GPU timestamp queries when the queue has them.
+/// The eye strategy asked for is self-tested at creation (self_test_eye_strategy: each layer must
+/// receive its own eye's draws, read back and checked); if it is unsupported or fails (Mesa 22.3 lavapipe
+/// advertises multiview but draws view 1's clipped triangles into layer 0) the renderer falls back to
+/// kPassPerEye and says so via strategy() / strategy_note(). Move-only (a moved-from renderer may only be
+/// destroyed or assigned); the Context must outlive it. One thread at a time; render() is synchronous.
+class OffscreenStereoRenderer {
+public:
+    /// Builds pipelines and a width x height stereo target, self-testing `preferred`.
+    /// Throws tridex::Error when width/height are outside 1..device limit, when even kPassPerEye fails
+    /// its self-test, or on a Vulkan failure.
+    static OffscreenStereoRenderer create(gpu::Context& context, int width, int height,
+                                          EyeStrategy preferred = EyeStrategy::kMultiview);
+
+    ~OffscreenStereoRenderer();
+    OffscreenStereoRenderer(OffscreenStereoRenderer&&) noexcept;
+    OffscreenStereoRenderer& operator=(OffscreenStereoRenderer&&) noexcept;
+
+    /// The strategy in use (after the self-test).
+    EyeStrategy strategy() const;
+    /// One line: what was asked for, what the self-test saw, what is used and why.
+    std::string strategy_note() const;
+    int width() const;   ///< image width, pixels
+    int height() const;  ///< image height, pixels
+
+    /// Renders one stereo frame: eyes at eye_positions(head, eye_separation_m), each with the off-axis
+    /// frustum through `screen` (off_axis_view, near_m/far_m in m); waits for the GPU and returns both images.
+    /// Throws tridex::Error on invalid input (eye on/behind the screen, bad near/far or separation, bad
+    /// mesh indices, non-finite tool or workspace) or on a Vulkan failure.
+    StereoImages render(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
+                        double near_m = 0.05, double far_m = 20.0);
+
+    /// As render(), but leaves the frame on the GPU only (no eye Images are built on the CPU): for presenting
+    /// through colour_image() with GPU blits. Same arguments and errors as render(). Returns the frame's
+    /// statistics (tiles drawn / skipped per eye, uploads, per-pass times), also kept as last_frame_stats().
+    FrameStats draw(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
+              double near_m = 0.05, double far_m = 20.0);
+
+    /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
+    /// usage COLOR_ATTACHMENT | TRANSFER_SRC | SAMPLED). After render()/draw() it holds the last frame in
+    /// VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL and the GPU is done with it; callers may record transfer reads
+    /// (blits, copies) of it in later submissions on the Context's queue, which the next frame's render pass
+    /// waits for (its external subpass dependency covers transfer reads). Do not change its layout.
+    VkImage colour_image() const;
+    /// A 2D_ARRAY view of colour_image()'s two layers (the image is also SAMPLED). To sample it, move the image
+    /// to SHADER_READ_ONLY_OPTIMAL and back to TRANSFER_SRC_OPTIMAL in the same submission (AnaglyphPass).
+    VkImageView colour_array_view() const;
+    /// The last frame's eyes as read back by its draw()/render() (every frame copies them to a host buffer),
+    /// as render() returns them (mono: the one eye as both) with last_frame_stats(). Throws tridex::Error
+    /// before the first frame.
+    StereoImages last_images() const;
+    /// Frames rendered so far by render()/draw() (0: colour_image() holds no frame and is in UNDEFINED layout).
+    std::uint64_t frames_rendered() const;
+    /// GPU time of the last frame's recorded work (render passes of both eyes and the readback copy), ms,
+    /// from timestamp queries at the top and bottom of the frame; negative when the device has no
+    /// timestamps or no frame was rendered yet.
+    double last_gpu_ms() const;
+    /// Statistics of the last frame (default-constructed before the first).
+    const FrameStats& last_frame_stats() const;
+    /// True when the queue family supports timestamp queries (timestampValidBits > 0 and the Context enabled them).
+    bool gpu_timestamps_available() const;
+    /// Use GPU timestamps when available (true, the default) or the CPU clock (false: FrameStats then holds
+    /// one "frame" time measured around submission + wait, and last_gpu_ms() is negative).
+    void set_gpu_timestamps(bool use);
+    /// Tile meshes uploaded since creation (see SceneView::tiles).
+    std::uint64_t tile_uploads_total() const;
+
+    struct Impl;
+
+private:
+    explicit OffscreenStereoRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tridex::renderer

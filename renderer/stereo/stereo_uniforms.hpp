@@ -1,0 +1,55 @@
+// renderer/stereo/stereo_uniforms.hpp - C++ mirrors of the shader interface in shaders/stereo_interface.glsl.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace tridex::renderer {
+
+/// Number of entries of the material palette (renderer/scene/material_palette.hpp); material ids are
+/// 0..kMaterialCount-1.
+constexpr int kMaterialCount = 8;
+
+/// Uniform block `Eyes` (std140), set 0 binding 0: per-eye clip-from-world matrices (float, world m),
+/// eye positions (w unused), the unit direction towards the directional light, and the material palette
+/// (linear RGBA per material id, used by draws with DrawConstants::palette = 1).
+struct EyesUniform {
+    glm::mat4 clip_from_world[2];
+    glm::vec4 eye_position[2];
+    glm::vec4 light_direction;
+    glm::vec4 palette[kMaterialCount];
+};
+static_assert(offsetof(EyesUniform, eye_position) == 128 && offsetof(EyesUniform, light_direction) == 160 &&
+              offsetof(EyesUniform, palette) == 176);
+static_assert(sizeof(EyesUniform) == 176 + 16 * kMaterialCount);
+
+/// Push-constant block `Draw` (std430): world-from-model (m), linear RGBA colour, eye index for the
+/// pass-per-eye strategy (0 left, 1 right), lit (1: Blinn-Phong shading; 0: flat colour), palette
+/// (1: the base colour is EyesUniform::palette[vertex material] instead of `colour`) and screen_space
+/// (1: world_from_model maps the vertex straight to clip space, the same for both eyes - overlays on the
+/// screen plane; 0: world_from_model then the eye's clip_from_world).
+struct DrawConstants {
+    glm::mat4 world_from_model{1.0f};
+    glm::vec4 colour{1.0f};
+    std::uint32_t eye = 0;
+    std::uint32_t lit = 1;
+    std::uint32_t palette = 0;
+    std::uint32_t screen_space = 0;
+};
+static_assert(offsetof(DrawConstants, colour) == 64 && offsetof(DrawConstants, eye) == 80 &&
+              offsetof(DrawConstants, lit) == 84 && offsetof(DrawConstants, palette) == 88 &&
+              offsetof(DrawConstants, screen_space) == 92);
+static_assert(sizeof(DrawConstants) == 96);
+
+/// Vertex layout of every stereo mesh draw: position (model m) and unit normal, 32-bit floats, and the
+/// material id (0..kMaterialCount-1; 0 for meshes without materials).
+struct MeshVertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    std::uint32_t material = 0;
+};
+static_assert(sizeof(MeshVertex) == 28 && offsetof(MeshVertex, material) == 24);
+
+}  // namespace tridex::renderer

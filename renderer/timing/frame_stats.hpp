@@ -1,0 +1,53 @@
+// renderer/timing/frame_stats.hpp - what one stereo frame cost and what it drew.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tridex::renderer {
+
+/// Workpiece tiles one eye drew and skipped (outside its frustum) in one frame.
+struct EyeTileCounts {
+    std::size_t drawn = 0;
+    std::size_t skipped = 0;
+};
+
+/// Where FrameStats times come from.
+enum class TimingSource {
+    kGpuTimestamps,  ///< timestamp queries on the queue (ticks * VkPhysicalDeviceLimits::timestampPeriod)
+    kCpuClock,       ///< steady_clock around the submission and its wait (no per-pass split)
+};
+
+/// Time of one pass of a frame: "opaque", "translucent" or "overlay" (or "frame" for CPU timing).
+struct PassTime {
+    std::string pass;
+    int eye = -1;      ///< 0 left, 1 right; -1 when one render pass serves both eyes (multiview, instanced-layer)
+    double ms = 0.0;   ///< milliseconds
+};
+
+/// Per-frame statistics returned by OffscreenStereoRenderer::draw() / render().
+struct FrameStats {
+    std::array<EyeTileCounts, 2> tiles{};  ///< per eye (0 left, 1 right); zeros when the scene has no tiles
+    std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
+    TimingSource timing = TimingSource::kGpuTimestamps;
+    std::string timing_note;               ///< one line: the timing source, and why when it is the CPU clock
+    std::vector<PassTime> passes;          ///< GPU: every phase of every render pass instance; CPU: one "frame"
+    double frame_ms = -1.0;                ///< whole frame incl. readback copy (GPU), or submit + wait (CPU)
+
+    /// Sum of `pass`'s times over the eyes/passes, ms; -1 when no entry has that name.
+    double pass_ms(std::string_view pass) const {
+        double sum = 0.0;
+        bool any = false;
+        for (const PassTime& p : passes)
+            if (p.pass == pass) {
+                sum += p.ms;
+                any = true;
+            }
+        return any ? sum : -1.0;
+    }
+};
+
+}  // namespace tridex::renderer

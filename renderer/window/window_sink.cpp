@@ -1,0 +1,48 @@
+// renderer/window/window_sink.cpp - window presentation of each stereo output; anaglyph through the GPU pass.
+#include "renderer/window/window_sink.hpp"
+
+#include "core/error.hpp"
+
+namespace tridex::renderer {
+
+std::unique_ptr<WindowSink> WindowSink::create(gpu::Context& context, Window& window, const SinkOptions& options,
+                                               bool vsync) {
+    PresenterOptions po;
+    po.output = options.output;
+    po.vsync = vsync;
+    po.swap_eyes = options.swap_eyes;
+    po.refresh_hz = options.refresh_hz;
+    return std::unique_ptr<WindowSink>(new WindowSink(context, WindowPresenter::create(context, window, po), options));
+}
+
+WindowSink::WindowSink(gpu::Context& context, WindowPresenter presenter, const SinkOptions& options)
+    : context_(&context), presenter_(std::move(presenter)), options_(options) {}
+
+StereoOutput WindowSink::output() const { return options_.output; }
+
+int WindowSink::present(const OffscreenStereoRenderer& renderer) {
+    if (options_.output != StereoOutput::kAnaglyph) return presenter_.present(renderer);
+    if (renderer.frames_rendered() == 0) throw Error("window sink: present() before the renderer's first frame");
+    if (!anaglyph_ || anaglyph_->width() != renderer.width() || anaglyph_->height() != renderer.height())
+        anaglyph_.emplace(AnaglyphPass::create(*context_, renderer.width(), renderer.height()));
+    AnaglyphPass& pass = *anaglyph_;
+    const bool swap = presenter_.swap_eyes();
+    return presenter_.present_image(pass.image(), pass.width(), pass.height(), [&](VkCommandBuffer cmd) {
+        pass.record(cmd, renderer, options_.anaglyph, swap);
+    });
+}
+
+void WindowSink::set_swap_eyes(bool swap) { presenter_.set_swap_eyes(swap); }
+std::uint64_t WindowSink::presents() const { return presenter_.presents(); }
+int WindowSink::last_eye() const {
+    return options_.output == StereoOutput::kFrameSequential ? presenter_.last_eye() : -1;
+}
+std::string WindowSink::present_mode() const { return presenter_.present_mode(); }
+std::vector<std::string> WindowSink::notes() const { return {}; }
+nlohmann::json WindowSink::present_timings() const { return presenter_.timings().to_json(); }
+
+std::vector<std::string> WindowSink::finish(const OffscreenStereoRenderer&, const std::string&) { return {}; }
+
+WindowPresenter& WindowSink::presenter() { return presenter_; }
+
+}  // namespace tridex::renderer

@@ -1,0 +1,148 @@
+// Tests of `tridex bench --accuracy` (bench/bench_accuracy*): the exact reference, the distance queries and a
+// tiny run (N = 32, short programs, tridex cpu-1t and cpu, OpenVDB when built in) that writes bench.json with
+// sane errors and an all-cores row equal to the one-thread row.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bench/bench_accuracy.hpp"
+#include "bench/bench_accuracy_exact.hpp"
+#include "bench/bench_accuracy_metrics.hpp"
+#include "bench/bench_accuracy_openvdb.hpp"
+#include "core/error.hpp"
+#include "core/primitives.hpp"
+
+namespace tridex::app {
+namespace {
+
+using namespace accuracy;
+
+TEST(BenchAccuracyExact, BoxAndToolsSdf) {
+    const ExactSolid paint(make_program("paint"));
+    const double c = 0.5 * (kBoxLoM + kBoxHiM);
+    EXPECT_NEAR(paint.sdf(Vec3(c)), -0.05, 1e-12);
+    EXPECT_NEAR(paint.sdf(Vec3(c, c, kBoxHiM + 0.01)), 0.01, 1e-12);
+    double sigma = 1.0;
+    EXPECT_DOUBLE_EQ(paint.volume_m3(1000, sigma), 1e-3);
+    EXPECT_EQ(sigma, 0.0);
+
+    Program pocket = make_program("pocket");
+    const ExactSolid exact(pocket);
+    // The ball centre of the first pass (2 mm above the top face) is removed; the box centre is kept.
+    EXPECT_GT(exact.sdf(pocket.moves.front().a), 0.0);
+    EXPECT_LT(exact.sdf(Vec3(c)), 0.0);
+    const double v = exact.volume_m3(200000, sigma);
+    EXPECT_LT(v, 1e-3);
+    EXPECT_GT(v, 0.9e-3);
+    EXPECT_LT(sigma, 1e-3 * 1e-3);
+    for (const Vec3& p : exact.surface_samples(2e5)) EXPECT_LT(std::abs(exact.sdf(p)), 1e-7);
+}
+
+TEST(BenchAccuracyExact, FlatEndStadiumAndSegments) {
+    Program p = make_program("plunge");
+    const ExactSolid exact(p);
+    const Move& m = p.moves.front();  // vertical plunge: cylinder of radius 5 mm from the bottom up
+    EXPECT_NEAR(exact.sdf(m.b + Vec3(0.0, 0.0, 0.003)), 0.003, 1e-9);  // 3 mm above the plunge's floor, inside the tool
+    EXPECT_NEAR(exact.sdf(m.b + Vec3(0.0, 0.0, -0.002)), -0.002, 1e-9);
+    for (const auto& s : p.sweeps()) EXPECT_LE(glm::length(s.path_m.b - s.path_m.a), p.segment_m + 1e-12);
+    EXPECT_THROW(make_program("nope"), Error);
+}
+
+TEST(BenchAccuracyMetrics, PointTriangleAndMeshDistance) {
+    const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+    EXPECT_NEAR(point_triangle_distance(Vec3(0.2, 0.2, 0.5), a, b, c), 0.5, 1e-12);
+    EXPECT_NEAR(point_triangle_distance(Vec3(-1, 0, 0), a, b, c), 1.0, 1e-12);
+    EXPECT_NEAR(point_triangle_distance(Vec3(1, 1, 0), a, b, c), std::sqrt(0.5), 1e-12);
+    const TriMesh box = box_mesh(Aabb{Vec3(0.0), Vec3(1.0)});
+    const MeshDistance md(box, 0.1);
+    EXPECT_NEAR(md.distance(Vec3(0.5, 0.5, 0.6)), 0.4, 1e-12);
+    EXPECT_NEAR(md.distance(Vec3(0.5, 0.5, 3.0)), 2.0, 1e-12);
+    EXPECT_NEAR(md.distance(Vec3(-1.0, 0.5, 0.5)), 1.0, 1e-12);
+}
+
+class BenchAccuracyTiny : public ::testing::TestWithParam<double> {};
+
+// offset 0: the cube's faces at 3.5 cells; 0.37: lattice shifted (checks the OpenVDB frame follows it).
+TEST_P(BenchAccuracyTiny, WritesSaneJson) {
+    AccuracyBenchOptions o;
+    o.offset_cells = GetParam();
+    o.resolutions = {32};
+    o.short_programs = true;
+    o.gpu = false;
+    o.openvdb = openvdb_available();
+    o.volume_samples = 200000;
+    o.plots = false;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_accuracy").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<AccuracyRow> rows = run_accuracy_bench(o);
+    std::ifstream in(std::filesystem::path(o.out) / "bench.json");
+    ASSERT_TRUE(in.good());
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_TRUE(j.contains("runs"));
+    EXPECT_EQ(j["runs"].size(), rows.size());
+    EXPECT_EQ(rows.size(), program_names().size() * (o.openvdb ? 3u : 2u));  // tridex cpu-1t, cpu (+ openvdb)
+    for (const auto& r : j["runs"]) {
+        for (const char* k : {"time_per_segment_s", "contour_s", "volume_error_rel", "mean_error_m", "max_error_m", "hausdorff_m"}) {
+            ASSERT_TRUE(r.contains(k)) << k;
+            EXPECT_TRUE(std::isfinite(r[k].get<double>())) << k;
+            EXPECT_GE(r[k].get<double>(), k == std::string("volume_error_rel") ? -1.0 : 0.0) << k;
+        }
+        EXPECT_EQ(r["n"], 32);
+        EXPECT_GT(r["memory_bytes"].get<double>(), 0.0);
+    }
+    for (const AccuracyRow& r : rows) {
+        SCOPED_TRACE(r.method + " " + r.program);
+        EXPECT_GT(r.segments, 0u);
+        EXPECT_GT(r.vertices, 0u);
+        EXPECT_GT(r.surface_samples, 0u);
+        EXPECT_LE(r.mean_error_m, r.max_error_m);
+        EXPECT_LT(std::abs(r.volume_error_rel), 0.05);
+        if (r.method != "tridex") continue;
+        EXPECT_LE(r.max_error_m, std::sqrt(3.0) * r.cell_m);
+        EXPECT_LE(r.hausdorff_m, 2.0 * r.cell_m);
+        if (r.program == "paint") EXPECT_EQ(r.volume_change_m3, 0.0);
+        else if (r.program == "union") EXPECT_GT(r.volume_change_m3, 0.0);
+        else EXPECT_LT(r.volume_change_m3, 0.0);
+    }
+    // The all-cores row: one per program, and the same dexels (so the same volume and mesh) as cpu-1t.
+    for (const std::string& prog : program_names()) {
+        SCOPED_TRACE(prog);
+        const AccuracyRow *one = nullptr, *all = nullptr;
+        for (const AccuracyRow& r : rows)
+            if (r.method == "tridex" && r.program == prog) {
+                if (r.path == "cpu") all = &r;
+                if (r.path == "cpu-1t") one = &r;
+            }
+        ASSERT_NE(one, nullptr);
+        ASSERT_NE(all, nullptr);
+        EXPECT_EQ(all->segments, one->segments);
+        EXPECT_GT(all->time_per_segment_s, 0.0);
+        EXPECT_EQ(all->volume_m3, one->volume_m3);
+        EXPECT_EQ(all->vertices, one->vertices);
+        EXPECT_EQ(all->max_error_m, one->max_error_m);
+        EXPECT_EQ(all->hausdorff_m, one->hausdorff_m);
+    }
+    std::size_t cpu_rows = 0;
+    for (const auto& r : j["runs"]) cpu_rows += r["method"] == "tridex" && r["path"] == "cpu";
+    EXPECT_EQ(cpu_rows, program_names().size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Offsets, BenchAccuracyTiny, ::testing::Values(0.0, 0.37));
+
+TEST(BenchAccuracy, RejectsBadOptions) {
+    AccuracyBenchOptions o;
+    o.resolutions = {8};
+    EXPECT_THROW(run_accuracy_bench(o), Error);
+    o.resolutions.clear();
+    EXPECT_THROW(run_accuracy_bench(o), Error);
+    o.resolutions = {32};
+    o.offset_cells = 1.0;
+    EXPECT_THROW(run_accuracy_bench(o), Error);
+}
+
+}  // namespace
+}  // namespace tridex::app

@@ -1,0 +1,96 @@
+// Smoke test of `tridex bench --render` (bench/bench_render): a tiny run writes render_bench.json with one
+// row per (N, size, view, culling) and the documented fields, with consistent tile counts.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "bench/bench_render.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+namespace {
+
+std::string bunny() {
+    const char* assets = std::getenv("TRIDEX_ASSETS");
+    return (std::filesystem::path(assets ? assets : "assets") / "bunny.off").string();
+}
+
+TEST(BenchRender, TinyRunWritesOneRowPerViewAndCullingWithAllFields) {
+    RenderBenchOptions o;
+    o.mesh = bunny();
+    o.resolutions = {48};
+    o.sizes = {{96, 72}};
+    o.frames = 2;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_render").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<RenderBenchRow> rows = run_render_bench(o);
+    ASSERT_EQ(rows.size(), 4u);
+
+    std::ifstream f(std::filesystem::path(o.out) / "render_bench.json");
+    ASSERT_TRUE(f.good());
+    const nlohmann::json j = nlohmann::json::parse(f);
+    ASSERT_TRUE(j.is_array());
+    ASSERT_EQ(j.size(), 4u);
+    std::set<std::pair<std::string, bool>> seen;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const nlohmann::json& r = j[i];
+        for (const char* key : {"n", "width", "height", "view", "culling", "frame_ms_median", "frame_ms_p99",
+                                "gpu_frame_ms_median", "passes", "tiles_drawn_left", "tiles_drawn_right",
+                                "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup"})
+            ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
+        EXPECT_EQ(r["n"].get<int>(), 48);
+        EXPECT_EQ(r["width"].get<int>(), 96);
+        EXPECT_EQ(r["height"].get<int>(), 72);
+        seen.insert({r["view"].get<std::string>(), r["culling"].get<bool>()});
+        EXPECT_GT(r["frame_ms_median"].get<double>(), 0.0);
+        EXPECT_GE(r["frame_ms_p99"].get<double>(), r["frame_ms_median"].get<double>());
+        const auto tiles = r["tiles"].get<std::size_t>();
+        EXPECT_GT(tiles, 0u);
+        EXPECT_EQ(tiles, rows[0].tiles);
+        EXPECT_EQ(r["triangles"].get<std::size_t>(), rows[0].triangles);
+        EXPECT_EQ(r["tiles_drawn_left"].get<std::size_t>() + r["tiles_skipped_left"].get<std::size_t>(), tiles);
+        EXPECT_EQ(r["tiles_drawn_right"].get<std::size_t>() + r["tiles_skipped_right"].get<std::size_t>(), tiles);
+        if (!r["culling"].get<bool>()) {
+            EXPECT_EQ(r["tiles_skipped_left"].get<std::size_t>() + r["tiles_skipped_right"].get<std::size_t>(), 0u);
+            EXPECT_EQ(r["speedup"].get<double>(), 0.0);
+        } else {
+            EXPECT_GT(r["speedup"].get<double>(), 0.0);
+        }
+        // Per-pass medians: the opaque pass always exists (GPU timestamps) or the CPU "frame" time does.
+        const nlohmann::json& passes = r["passes"];
+        ASSERT_TRUE(passes.is_object());
+        ASSERT_TRUE(passes.contains("opaque") || passes.contains("frame")) << passes.dump();
+        for (const auto& [name, ms] : passes.items()) EXPECT_GE(ms.get<double>(), 0.0) << name;
+    }
+    const std::set<std::pair<std::string, bool>> expected{{"whole", true}, {"whole", false}, {"close-up", true}, {"close-up", false}};
+    EXPECT_EQ(seen, expected);
+    // The whole view sees every tile; the close-up leaves some outside at least one eye's frustum.
+    for (const RenderBenchRow& r : rows) {
+        if (r.view == "whole") {
+            EXPECT_EQ(r.tiles_skipped_left + r.tiles_skipped_right, 0u);
+        }
+        if (r.view == "close-up" && r.culling) {
+            EXPECT_GT(r.tiles_skipped_left + r.tiles_skipped_right, 0u);
+            EXPECT_GT(r.tiles_drawn_left + r.tiles_drawn_right, 0u);
+        }
+    }
+}
+
+TEST(BenchRender, RejectsBadOptions) {
+    RenderBenchOptions o;
+    o.mesh = bunny();
+    o.resolutions = {48};
+    o.sizes = {{96, 72}};
+    o.frames = 0;
+    EXPECT_THROW(run_render_bench(o), Error);
+    o.frames = 1;
+    o.sizes = {{8, 72}};
+    EXPECT_THROW(run_render_bench(o), Error);
+}
+
+}  // namespace
+}  // namespace tridex::app

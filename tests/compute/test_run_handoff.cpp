@@ -1,0 +1,93 @@
+// The sculpt thread hands the contoured mesh to the renderer: at once, throttled while carving, and always the
+// final state at stop().
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "core/error.hpp"
+#include "core/primitives.hpp"
+
+namespace tridex::app {
+namespace {
+
+compute::TriDexel box_model() {
+    const Aabb box{Vec3(-0.05), Vec3(0.05)};
+    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 32), std::size_t(1) << 30);
+    compute::scan_convert(box_mesh(box), m);
+    return m;
+}
+
+// 200 samples carving a straight groove across the +z face.
+void push_groove(SpscRing<ToolSample>& ring) {
+    for (int i = 0; i < 200; ++i) {
+        ToolSample s;
+        s.t_s = i * 1e-3;
+        s.position = Vec3(-0.06 + 0.12 * i / 199.0, 0.0, 0.048);
+        s.tool.radius_m = 0.008;
+        s.op = ToolOp::kSubtract;
+        ASSERT_TRUE(ring.try_push(s));
+    }
+}
+
+TEST(RunHandoff, PublishesNowThenTheFinalMesh) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    const double v0 = signed_volume(contourer.mesh());
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    EXPECT_EQ(meshes.latest().version, 0u);
+    t.publish_mesh_to(meshes, 1000.0);  // an interval no test outlasts: only the first and the final publish
+    const MeshFrame& first = meshes.latest();
+    EXPECT_EQ(first.version, 1u);
+    EXPECT_NEAR(signed_volume(first.mesh), v0, 1e-12);
+    push_groove(ring);
+    t.start();
+    EXPECT_THROW(t.publish_mesh_to(meshes, 0.0), Error);  // not while running
+    t.stop();
+    const MeshFrame& last = meshes.latest();
+    EXPECT_EQ(last.version, 2u);
+    EXPECT_EQ(t.stats().mesh_publishes, 2u);
+    EXPECT_EQ(t.stats().mesh_publish_ms.size(), 2u);
+    const TriMesh now = contourer.mesh();
+    EXPECT_EQ(last.mesh.triangles.size(), now.triangles.size());
+    EXPECT_NEAR(signed_volume(last.mesh), signed_volume(now), 1e-15);
+    EXPECT_LT(signed_volume(last.mesh), v0 - 1e-6);  // the groove is in the published mesh
+}
+
+TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    t.publish_mesh_to(meshes, 0.0);
+    push_groove(ring);
+    t.start();
+    t.stop();
+    // One publish at hand-off plus one per changing step (steps that contoured).
+    EXPECT_EQ(t.stats().mesh_publishes, 1u + t.stats().steps);
+    EXPECT_EQ(meshes.latest().version, t.stats().mesh_publishes);
+}
+
+TEST(RunHandoff, BadIntervalIsRefused) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    EXPECT_THROW(t.publish_mesh_to(meshes, -1.0), Error);
+    EXPECT_THROW(t.publish_mesh_to(meshes, std::nan("")), Error);
+    EXPECT_EQ(meshes.latest().version, 0u);
+}
+
+}  // namespace
+}  // namespace tridex::app
