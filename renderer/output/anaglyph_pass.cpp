@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "gpu/barrier.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/check.hpp"
 #include "gpu/image_array.hpp"
@@ -56,22 +57,6 @@ AnaglyphUniform make_uniform() {
     for (int k = 0; k < 255; ++k) u.thresholds[k] = static_cast<float>(t.thresholds[k]);
     u.thresholds[255] = 2.0f;
     return u;
-}
-
-void layout_barrier(VkCommandBuffer cmd, VkImage image, std::uint32_t layers, VkImageLayout from, VkImageLayout to,
-                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
-                    VkPipelineStageFlags dst_stage) {
-    VkImageMemoryBarrier b{};
-    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.srcAccessMask = src_access;
-    b.dstAccessMask = dst_access;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
-    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
 }
 
 gpu::UniqueRenderPass make_render_pass(VkDevice device) {
@@ -347,7 +332,7 @@ void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& so
     im.check_source(source);
     im.bind_source(source.colour_array_view());
     const VkImage eyes = source.colour_image();
-    layout_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+    gpu::image_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                    VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
@@ -365,7 +350,7 @@ void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& so
     vkCmdEndRenderPass(cmd);
     // The renderer's image back to the layout it promises; its next render pass waits for transfer reads,
     // which this barrier's reads chain into.
-    layout_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0,
+    gpu::image_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0,
                    VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     if (!readback) return;
     VkBufferImageCopy copy{};
