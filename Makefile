@@ -29,7 +29,7 @@ test: build
 
 # Benchmarks print tables and write JSON under out/bench (numbers for notes, not pass/fail).
 bench: build
-	$(BUILD)/app/tridex bench --haptics --render --sculpt --accuracy --out out/bench
+	$(BUILD)/app/tridex bench --haptics --render --sculpt --session --accuracy --out out/bench
 
 clean:
 	rm -rf build out

@@ -14,6 +14,7 @@
 #include "bench/bench_haptics.hpp"
 #include "bench/bench_render.hpp"
 #include "bench/bench_sculpt.hpp"
+#include "bench/bench_session.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/replay.hpp"
@@ -120,6 +121,13 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--sculpt-paths", sculpt_paths,
                           "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched), e.g. --sculpt-paths cpu,gpu-batched")
         ->delimiter(',');
+    bool bench_session = false;
+    bench_cmd->add_flag("--session", bench_session,
+                        "Whole sessions through the session runtime (the demo's stroke on the bunny, N = 256 and 512, "
+                        "CPU and GPU paths): haptic period and tick time, sculpt step times");
+    std::vector<int> session_n;
+    bench_cmd->add_option("--session-n", session_n, "With --session: run only these N, e.g. --session-n 256")
+        ->delimiter(',');
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -173,8 +181,15 @@ int main(int argc, char** argv) {
         }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
-                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt and/or --accuracy");
+            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session)
+                throw tridex::Error(
+                    "bench: choose what to measure: --haptics, --render, --sculpt, --session and/or --accuracy");
+            if (bench_session) {
+                tridex::app::SessionBenchOptions sb;
+                sb.out = hbench.out;
+                if (!session_n.empty()) sb.resolutions = session_n;
+                tridex::app::run_session_bench(sb);
+            }
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;

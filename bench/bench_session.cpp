@@ -1,0 +1,81 @@
+// bench/bench_session.cpp - whole sessions through the runtime, timed from their reports.
+#include "bench/bench_session.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/demo.hpp"
+#include "app/json_file.hpp"
+#include "app/output_dir.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& o) {
+    if (o.resolutions.empty() || o.paths.empty()) throw Error("bench --session: nothing to run");
+    for (const std::string& p : o.paths)
+        if (p != "cpu" && p != "gpu") throw Error("bench --session: unknown path '" + p + "'; use cpu or gpu");
+    prepare_output_dir(o.out, "--out");
+    std::vector<SessionBenchRow> rows;
+    std::printf("session benchmark: the demo's %.1f s stroke on the bunny, through the session runtime\n", o.seconds);
+    std::printf("%6s %5s %7s %10s %10s %10s %10s %9s %10s %10s %10s %10s %8s\n", "N", "path", "ticks", "period50",
+                "period99", "tick50", "tick99", "booleans", "bool50", "bool99", "contour50", "contour99", "wall");
+    std::printf("%6s %5s %7s %10s %10s %10s %10s %9s %10s %10s %10s %10s %8s\n", "", "", "", "us", "us", "us", "us", "",
+                "ms", "ms", "ms", "ms", "s");
+    for (const int n : o.resolutions)
+        for (const std::string& path : o.paths) {
+            DemoOptions d;
+            d.resolution = n;
+            d.seconds = o.seconds;
+            d.width = 64;
+            d.height = 48;
+            d.cpu = path == "cpu";
+            d.out = (std::filesystem::path(o.out) / ("session_" + std::to_string(n) + "_" + path)).string();
+            run_demo(d);
+            std::ifstream in(std::filesystem::path(d.out) / "report.json");
+            const nlohmann::json j = nlohmann::json::parse(in);
+            SessionBenchRow r;
+            r.n = n;
+            r.path = j.at("sculpt_path").get<std::string>();
+            r.ticks = j.at("ticks").get<std::size_t>();
+            r.period_p50_us = j.at("period_us").at("median").get<double>();
+            r.period_p99_us = j.at("period_us").at("p99").get<double>();
+            r.compute_p50_us = j.at("tick_compute_us").at("median").get<double>();
+            r.compute_p99_us = j.at("tick_compute_us").at("p99").get<double>();
+            r.booleans = j.at("booleans").get<std::size_t>();
+            r.boolean_p50_ms = j.at("sculpt").at("boolean_ms").at("median").get<double>();
+            r.boolean_p99_ms = j.at("sculpt").at("boolean_ms").at("p99").get<double>();
+            r.contour_p50_ms = j.at("sculpt").at("contour_ms").at("median").get<double>();
+            r.contour_p99_ms = j.at("sculpt").at("contour_ms").at("p99").get<double>();
+            r.volume_removed_m3 = j.at("volume_removed_m3").get<double>();
+            r.wall_s = j.at("wall_s").get<double>();
+            std::printf("%6d %5s %7zu %10.1f %10.1f %10.2f %10.2f %9zu %10.3f %10.3f %10.3f %10.3f %8.2f\n", r.n,
+                        r.path.c_str(), r.ticks, r.period_p50_us, r.period_p99_us, r.compute_p50_us, r.compute_p99_us,
+                        r.booleans, r.boolean_p50_ms, r.boolean_p99_ms, r.contour_p50_ms, r.contour_p99_ms, r.wall_s);
+            std::fflush(stdout);
+            rows.push_back(r);
+        }
+    nlohmann::json out = nlohmann::json::array();
+    for (const SessionBenchRow& r : rows)
+        out.push_back({{"n", r.n},
+                       {"path", r.path},
+                       {"ticks", r.ticks},
+                       {"period_p50_us", r.period_p50_us},
+                       {"period_p99_us", r.period_p99_us},
+                       {"tick_compute_p50_us", r.compute_p50_us},
+                       {"tick_compute_p99_us", r.compute_p99_us},
+                       {"booleans", r.booleans},
+                       {"boolean_p50_ms", r.boolean_p50_ms},
+                       {"boolean_p99_ms", r.boolean_p99_ms},
+                       {"contour_p50_ms", r.contour_p50_ms},
+                       {"contour_p99_ms", r.contour_p99_ms},
+                       {"volume_removed_m3", r.volume_removed_m3},
+                       {"wall_s", r.wall_s}});
+    write_json_file((std::filesystem::path(o.out) / "session_bench.json").string(), out);
+    return rows;
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,38 @@
+// bench/bench_session.hpp - `tridex bench --session`: whole sessions built by the session runtime (the demo's
+// scripted stroke on the bundled bunny), timed end to end on each sculpting path.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tridex::app {
+
+/// One session: its path, resolution and what the haptic loop and the sculpt thread measured.
+struct SessionBenchRow {
+    int n = 0;                       ///< lattice cells along the longest side
+    std::string path;                ///< "cpu" or "gpu" (where the Booleans ran; the report's sculpt_path)
+    std::size_t ticks = 0;           ///< haptic ticks
+    double period_p50_us = 0.0, period_p99_us = 0.0;    ///< haptic loop period, us
+    double compute_p50_us = 0.0, compute_p99_us = 0.0;  ///< haptic tick compute time, us
+    std::size_t booleans = 0;        ///< swept Booleans applied
+    double boolean_p50_ms = 0.0, boolean_p99_ms = 0.0;  ///< per sculpt step: Booleans + surface publish, ms
+    double contour_p50_ms = 0.0, contour_p99_ms = 0.0;  ///< per sculpt step: dirty-tile re-contouring, ms
+    double volume_removed_m3 = 0.0;  ///< what the stroke carved
+    double wall_s = 0.0;             ///< the whole command (set-up, session, outputs), s
+};
+
+/// What to run.
+struct SessionBenchOptions {
+    std::vector<int> resolutions{256, 512};          ///< N values
+    std::vector<std::string> paths{"cpu", "gpu"};    ///< sculpting paths
+    double seconds = 4.0;                            ///< stroke length (device time), s
+    std::string out = "out/bench";                   ///< folder for session_bench.json and the sessions' outputs
+};
+
+/// Runs `tridex demo` sessions (app::run_demo: workpiece, SessionRuntime, scripted stroke, outputs at a small image
+/// size) for every resolution and path, reads each one's report.json, prints a table and writes
+/// session_bench.json (a list of rows) into options.out. Throws tridex::Error for bad options or an unwritable
+/// folder; a GPU row falls back to the CPU when there is no Vulkan device (its `path` then says "cpu").
+std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& options);
+
+}  // namespace tridex::app
