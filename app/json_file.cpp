@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -12,10 +13,7 @@ void write_json_file(const std::string& path, const nlohmann::json& j) {
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     std::error_code ec;
     if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    std::ofstream f(path);
-    if (!f) throw Error(path + ": cannot open for writing");
-    f << j.dump(2) << "\n";
-    if (!f) throw Error(path + ": write failed");
+    write_file_atomically(path, j.dump(2) + "\n");
 }
 
 }  // namespace tridex::app

@@ -8,6 +8,7 @@
 
 #include "app/stats.hpp"
 #include "app/json_file.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -30,13 +31,13 @@ std::vector<double> field(const std::vector<haptics::TickRecord>& recs, float ha
 }  // namespace
 
 void write_haptics_csv(const std::string& path, const std::vector<haptics::TickRecord>& records) {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw Error(path + ": cannot open for writing");
+    AtomicFile file(path);  // whole or not at all
+    std::FILE* f = file.stream();
     std::fprintf(f, "t_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact\n");
     for (const auto& r : records)
         std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%d\n", r.t_s, r.hip_m.x, r.hip_m.y, r.hip_m.z,
                      r.proxy_m.x, r.proxy_m.y, r.proxy_m.z, r.force_n.x, r.force_n.y, r.force_n.z, r.contact ? 1 : 0);
-    if (std::fclose(f) != 0) throw Error(path + ": write failed");
+    file.commit();
 }
 
 nlohmann::json gpu_contour_json(const compute::GpuContourStats& s) {

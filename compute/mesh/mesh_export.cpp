@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -56,12 +57,10 @@ void write_ply(const std::string& path, const TriMesh& mesh, std::span<const std
         body.push_back(static_cast<char>(3));
         for (const std::uint32_t v : t) put_u32(body, v);
     }
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    if (!f) throw Error(path + ": cannot open for writing: " + std::strerror(errno));
-    f.write(header.data(), static_cast<std::streamsize>(header.size()));
-    f.write(body.data(), static_cast<std::streamsize>(body.size()));
-    f.close();
-    if (!f) throw Error(path + ": write failed (disk full or I/O error)");
+    AtomicFile f(path);  // whole or not at all
+    f.write(header.data(), header.size());
+    f.write(body.data(), body.size());
+    f.commit();
 }
 
 }  // namespace tridex::compute

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 #define STB_IMAGE_WRITE_STATIC
@@ -40,8 +41,14 @@ void write_png(const std::string& path, const Image& image) {
     if (!consistent(image))
         throw Error(path + ": cannot write an empty or inconsistent image (" + std::to_string(image.width) + "x" +
                     std::to_string(image.height) + ", " + std::to_string(image.rgba.size()) + " bytes)");
-    if (stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4) == 0)
-        throw Error(path + ": could not write the PNG file");
+    // Encode in memory, then write the file whole (a full disk leaves no cut PNG behind and names this file).
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+    };
+    if (stbi_write_png_to_func(append, &bytes, image.width, image.height, 4, image.rgba.data(), image.width * 4) == 0)
+        throw Error(path + ": could not encode the PNG image");
+    write_file_atomically(path, bytes);
 }
 
 Image read_png(const std::string& path) {
