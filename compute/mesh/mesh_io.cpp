@@ -6,6 +6,8 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <iostream>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 #include <sstream>
 
@@ -142,6 +144,23 @@ private:
     std::vector<bool> detached_;  // per (stream, std stream) pair
 };
 
+// True when `path` is an ASCII OFF file with '#' comments; `text` then gets its content with every comment (from
+// '#' to the end of its line) removed.
+bool off_has_comments(const std::string& path, std::string& text) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (all.find('#') == std::string::npos || all.find("BINARY") != std::string::npos) return false;
+    text.clear();
+    text.reserve(all.size());
+    bool comment = false;
+    for (const char c : all) {
+        if (c == '#') comment = true;
+        if (c == '\n') comment = false;
+        if (!comment) text.push_back(c);
+    }
+    return true;
+}
+
 }  // namespace
 
 TriMesh load_closed_mesh(const std::string& path) {
@@ -153,7 +172,13 @@ TriMesh load_closed_mesh(const std::string& path) {
         std::lock_guard<std::mutex> lock(CaptureOpenMeshLog::mutex());
         CaptureOpenMeshLog capture;
         OM::IO::Options options;
-        const bool ok = OM::IO::IOManager().read(path, importer, options);
+        // OpenMesh's OFF reader takes a '#' comment line for data (the OFF format allows comments; the precheck
+        // skips them): an ASCII OFF with comments is read from a copy without them.
+        std::string text;
+        const bool strip = format == MeshFormat::kOff && off_has_comments(path, text);
+        std::istringstream stripped(text);
+        const bool ok = strip ? OM::IO::IOManager().read(stripped, ".off", importer, options)
+                              : OM::IO::IOManager().read(path, importer, options);
         if (!ok) {
             const std::string why = capture.first_line();
             throw Error(path + ": cannot parse mesh file" + (why.empty() ? std::string() : " (" + why + ")"));

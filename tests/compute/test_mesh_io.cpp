@@ -238,6 +238,16 @@ TEST(MeshIo, ObjQuadsAreTriangulatedAndInwardCubeIsFlipped) {
     EXPECT_DOUBLE_EQ(tridex::signed_volume(m), 1.0);
 }
 
+TEST(MeshIo, OffWithCommentLinesLoads) {
+    // The OFF format allows '#' comments anywhere; OpenMesh's reader does not, so they are stripped first.
+    const std::string path = write_temp("commented.off",
+                                        "OFF\n# a tetrahedron\n4 4 0  # counts\n0 0 0\n1 0 0 # x\n0 1 0\n0 0 1\n"
+                                        "# faces\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    const TriMesh m = load_closed_mesh(path);
+    EXPECT_EQ(m.triangles.size(), 4u);
+    EXPECT_DOUBLE_EQ(tridex::signed_volume(m), 1.0 / 6.0);
+}
+
 TEST(MeshIo, ObjRelativeIndicesAndAsciiStlLoad) {
     const std::string obj = write_temp("tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -2 -3\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     EXPECT_DOUBLE_EQ(tridex::signed_volume(load_closed_mesh(obj)), 1.0 / 6.0);
