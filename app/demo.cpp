@@ -14,6 +14,7 @@
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "haptics/haptic_loop.hpp"
 
@@ -35,10 +36,10 @@ std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece",
 void run_demo(const DemoOptions& o) {
     const auto t_start = Clock::now();
     if (!(o.seconds >= 0.5 && o.seconds <= 600.0))
-        throw Error("--seconds: must be between 0.5 and 600, got " + std::to_string(o.seconds));
+        throw Error("--seconds: must be between 0.5 and 600, got " + format_number(o.seconds));
     if (!(o.tool_radius_m >= 0.0005 && o.tool_radius_m <= 0.25 * o.stock_m))
         throw Error("--tool-radius-mm: must be between 0.5 mm and a quarter of the stock (" +
-                    std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_radius_m * 1e3));
+                    format_number(250.0 * o.stock_m) + " mm), got " + format_number(o.tool_radius_m * 1e3));
     check_image_size(o.width, o.height);
     prepare_output_dir(o.out, "--out");
     if (!o.record.empty()) check_output_file(o.record, "--record");
@@ -52,8 +53,8 @@ void run_demo(const DemoOptions& o) {
     if (s.tool.kind == ToolKind::kMesh) throw Error("--tool: mesh tools are not yet available in sessions; use ball or flat_end");
     if (s.tool.kind == ToolKind::kFlatEnd) {
         if (!(o.tool_length_m >= 0.0005 && o.tool_length_m <= o.stock_m))
-            throw Error("--tool-length-mm: must be between 0.5 mm and the stock (" + std::to_string(1e3 * o.stock_m) +
-                        " mm), got " + std::to_string(o.tool_length_m * 1e3));
+            throw Error("--tool-length-mm: must be between 0.5 mm and the stock (" + format_number(1e3 * o.stock_m) +
+                        " mm), got " + format_number(o.tool_length_m * 1e3));
         s.tool.length_m = o.tool_length_m;
     }
     s.points = o.points;

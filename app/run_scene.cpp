@@ -12,6 +12,7 @@
 #include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "devices/device_registry.hpp"
 #include "haptics/tool_points.hpp"
 
@@ -22,11 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string fmt(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
+std::string fmt(double v) { return format_number(v); }
 
 // The fields of one JSON object, read by name; finish() refuses the names nobody asked for.
 class Fields {
@@ -138,12 +135,17 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();
     } else {
         const fs::path p = fs::path(mesh).is_absolute() ? fs::path(mesh) : fs::path(base_dir) / mesh;
+        if (fs::is_directory(p)) f.fail("workpiece.mesh", "is a folder, not a mesh file: " + p.string());
         if (!fs::is_regular_file(p)) f.fail("workpiece.mesh", "no such file: " + p.string());
         sp.mesh_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
     }
     sp.resolution = f.integer("resolution", sp.resolution, 8, 4096);
     sp.stock_m = f.number("stock_m", sp.stock_m, 0.0, 10.0, true);
     sp.workpiece_centre_m = f.vec3("centre_m", sp.workpiece_centre_m);
+    for (int a = 0; a < 3; ++a)  // the lattice holds depths as floats from a local origin: stay within reach
+        if (!(std::abs(sp.workpiece_centre_m[a]) <= 1e3))
+            f.fail("workpiece.centre_m", "must lie within 1 km of the origin on every axis, got " +
+                                             format_number(sp.workpiece_centre_m[a]) + " m on axis " + "xyz"[a]);
     f.finish();
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
 
@@ -24,8 +25,8 @@ void check_reach(const std::vector<Vec3>& path, const devices::DeviceProfile& pr
         for (int a = 0; a < 3; ++a)
             if (p[a] < w.lo[a] - kSlack || p[a] > w.hi[a] + kSlack)
                 throw Error("stroke: the hand would leave the " + profile.name + "'s workspace (axis " + "xyz"[a] +
-                            " reaches " + std::to_string(1e3 * p[a]) + " mm, the device reaches " +
-                            std::to_string(1e3 * w.lo[a]) + ".." + std::to_string(1e3 * w.hi[a]) +
+                            " reaches " + format_number(1e3 * p[a]) + " mm, the device reaches " +
+                            format_number(1e3 * w.lo[a]) + ".." + format_number(1e3 * w.hi[a]) +
                             " mm); use a shorter stroke.length_m or a smaller clearance_m");
 }
 }  // namespace

@@ -22,6 +22,7 @@
 #include "compute/mesh/mesh_export.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "gpu/context.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/output/offscreen_sink.hpp"
@@ -76,7 +77,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.display = parse_display_kind(o.display);
     if (o.frames < 0) throw Error("--frames: must be >= 0, got " + std::to_string(o.frames));
     if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 86400.0)
-        throw Error("--seconds: must be between 0 and 86400, got " + std::to_string(o.seconds));
+        throw Error("--seconds: must be between 0 and 86400, got " + format_number(o.seconds));
     s.frames = o.frames;
     s.seconds = o.seconds;
     s.out = o.out;
@@ -218,7 +219,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ended = "--frames " + std::to_string(su.frames) + " rendered";
             } else if (su.seconds > 0.0 && t >= su.seconds) {
                 last = true;
-                ended = "--seconds " + std::to_string(su.seconds) + " passed";
+                ended = "--seconds " + format_number(su.seconds) + " passed";
             } else if (offscreen && su.frames == 0 && su.seconds == 0.0 && backend.stroke_done()) {
                 last = true;
                 ended = "the stroke ended";
@@ -227,7 +228,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ended = std::string(stop_signal_name()) + " received";
             } else if (safety_s > 0.0 && offscreen && su.frames == 0 && su.seconds == 0.0 && t >= safety_s) {
                 last = true;
-                ended = "the wall-time safety net (" + std::to_string(safety_s) + " s) stopped the run";
+                ended = "the wall-time safety net (" + format_number(safety_s) + " s) stopped the run";
             }
 
             const MeshFrame& mesh = backend.runtime().latest_mesh();

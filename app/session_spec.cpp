@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
 #include "devices/recording.hpp"
@@ -42,8 +43,8 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     if (s.material < 1 || s.material > 7)
         throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
     if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction))
-        throw Error("--friction: need 0 <= dynamic <= static, got static " + std::to_string(s.static_friction) +
-                    ", dynamic " + std::to_string(s.dynamic_friction));
+        throw Error("--friction: need 0 <= dynamic <= static, got static " + format_number(s.static_friction) +
+                    ", dynamic " + format_number(s.dynamic_friction));
     if (s.tool.kind == ToolKind::kMesh)
         throw Error("tool.shape: mesh tools are not yet available in sessions (only in the Boolean engine); use ball "
                     "or flat_end");
@@ -87,23 +88,13 @@ json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 
 }  // namespace
 
-namespace {
-
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
-
-}  // namespace
-
 void validate_spec(const SessionSpec& s, const std::string& source) {
     auto fail = [&](const std::string& field, const std::string& rule, const std::string& got) {
         throw Error(source + ": settings field '" + field + "': " + rule + ", got " + got);
     };
     auto range = [&](const std::string& field, double v, double lo, double hi, bool lo_open = false) {
         if (!std::isfinite(v) || v > hi || (lo_open ? v <= lo : v < lo))
-            fail(field, "must be in " + std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + "]", num(v));
+            fail(field, "must be in " + std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + "]", format_number(v));
     };
     auto point = [&](const std::string& field, const Vec3& p) {
         for (int a = 0; a < 3; ++a) range(field + "[" + std::to_string(a) + "]", p[a], -1e3, 1e3);

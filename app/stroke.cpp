@@ -8,6 +8,7 @@
 
 #include "compute/model/probe.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace tridex::app {
 
@@ -120,8 +121,8 @@ StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& p) {
         x_start = flattest_start(surf, box, length);
     } else {
         if (n * length > box.size().x)
-            throw Error("stroke: " + std::to_string(n) + " passes of " + std::to_string(length) +
-                        " m do not fit on the workpiece, " + std::to_string(box.size().x) + " m long along x");
+            throw Error("stroke: " + std::to_string(n) + " passes of " + format_number(length) +
+                        " m do not fit on the workpiece, " + format_number(box.size().x) + " m long along x");
         x_start = surf.c.x - 0.5 * n * length;
     }
     double moves_s = 0.0;
@@ -130,8 +131,8 @@ StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& p) {
     for (const WorkspaceMove m : moves) moves_s += workspace_move_s(m);
     const double T = (p.duration_s - moves_s) / n;  // one pass
     if (!(T >= 0.5))
-        throw Error("stroke.duration_s: " + std::to_string(p.duration_s) + " s leaves under 0.5 s per pass after " +
-                    std::to_string(moves_s) + " s of workspace moves; make it longer");
+        throw Error("stroke.duration_s: " + format_number(p.duration_s) + " s leaves under 0.5 s per pass after " +
+                    format_number(moves_s) + " s of workspace moves; make it longer");
 
     StrokePlan plan;
     Vec3 shift(0.0);  // how far the workspace has moved, world m

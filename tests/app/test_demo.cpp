@@ -85,6 +85,7 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"demo --no-such-flag", "no-such-flag"},
         {"run " + dir.string() + " --display offscreen --frames 1 --out " + (dir / "o").string(), "is a folder"},
         {"replay " + (dir / "a_file").string() + " --out /dev/full", "--out /dev/full"},
+        {"demo --tool-radius-mm 500 --out " + (dir / "o").string(), "(75 mm), got 500"},
     };
     for (const auto& [args, expect] : cases) {
         const RunResult r = run_tridex(args, dir / "run");
