@@ -1,0 +1,51 @@
+// core/atomic_file.hpp - writing a file so that a crash or a full disk never destroys the previous one: the
+// bytes go to "<path>.tmp-<pid>", are flushed and fsync'ed, then renamed over <path> and the folder fsync'ed.
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+namespace tridex {
+
+/// One file being written atomically. Construction creates the temporary file beside `path`; write() appends
+/// (every write checked); commit() makes it `path`. Destroying an uncommitted AtomicFile removes the temporary
+/// file and leaves `path` as it was. Move-only. Errors are tridex::Error "<path>: <what> (<strerror>)", e.g.
+/// "out/m.tdx: cannot write: No space left on device".
+class AtomicFile {
+public:
+    /// Creates "<path>.tmp-<pid>" for writing (truncating a stale one). Throws tridex::Error when it cannot.
+    explicit AtomicFile(std::string path);
+    ~AtomicFile();
+    AtomicFile(AtomicFile&& other) noexcept;
+    AtomicFile& operator=(AtomicFile&&) = delete;
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    /// Appends n bytes. Throws tridex::Error on a short write (full disk, file size limit, I/O error).
+    void write(const void* data, std::size_t n);
+    /// fflush + fsync + fclose, rename over path(), fsync of the folder. Throws tridex::Error on any failure
+    /// (the temporary file is then removed and path() untouched). Once only.
+    void commit();
+    /// The final path.
+    const std::string& path() const { return path_; }
+    /// The temporary path the bytes go to until commit().
+    const std::string& temp_path() const { return temp_; }
+
+private:
+    void discard() noexcept;
+
+    std::string path_, temp_;
+    std::FILE* file_ = nullptr;
+    bool committed_ = false;
+};
+
+/// "<path>.tmp-<pid>": where a writer that opens files itself (e.g. a mesh library) writes before
+/// commit_temp_file().
+std::string temp_path_for(const std::string& path);
+
+/// Makes the finished file `temp` (written and closed by someone else) `path`: fsync of temp, rename, fsync of
+/// the folder. Throws tridex::Error "<path>: ..." (temp removed) on failure.
+void commit_temp_file(const std::string& temp, const std::string& path);
+
+}  // namespace tridex
