@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
     double tool_radius_mm = demo.tool_radius_m * 1e3;
     CLI::App* demo_cmd = cli.add_subcommand(
         "demo", "Carve the workpiece with a scripted stroke under the 1 kHz haptic loop and write stereo frames");
-    demo_cmd->add_option("--mesh", demo.mesh, "Workpiece mesh (OFF, OBJ, PLY, STL; closed); default: the bundled bunny")
+    auto* demo_mesh = demo_cmd->add_option("--mesh", demo.mesh, "Workpiece mesh (OFF, OBJ, PLY, STL; closed); default: the bundled bunny")
         ->check(CLI::ExistingFile);
-    demo_cmd->add_option("--resolution", demo.resolution, "Lattice cells along the workpiece's longest side")
+    auto* demo_resolution = demo_cmd->add_option("--resolution", demo.resolution, "Lattice cells along the workpiece's longest side")
         ->capture_default_str();
     demo_cmd->add_option("--seconds", demo.seconds, "Length of the scripted stroke, s")->capture_default_str();
     demo_cmd->add_option("--out", demo.out, "Output folder")->capture_default_str();
@@ -68,6 +68,12 @@ int main(int argc, char** argv) {
     bool no_cutting = false;
     demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
     demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+    demo_cmd->add_option("--save", demo.save, "Save the final model to FILE.tdx (tri-dexel model file)");
+    demo_cmd->add_option("--workpiece", demo.workpiece,
+                         "Start from a saved model FILE.tdx (from --save) instead of a mesh; it decides the resolution")
+        ->check(CLI::ExistingFile)
+        ->excludes(demo_mesh)
+        ->excludes(demo_resolution);
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
