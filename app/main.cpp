@@ -16,6 +16,7 @@
 #include "bench/bench_sculpt.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
+#include "app/export_cmd.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "app/stop_signal.hpp"
@@ -101,6 +102,18 @@ int main(int argc, char** argv) {
                          "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(replay_cpu_contour);
 
+    tridex::app::ExportOptions export_opt;
+    CLI::App* export_cmd =
+        cli.add_subcommand("export", "Contour a saved model (.tdx) and write it as a closed mesh (STL, OBJ or PLY)");
+    export_cmd->add_option("MODEL", export_opt.model, "Saved model (tridex demo/run --save FILE.tdx)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    export_cmd->add_option("OUT", export_opt.out, "Mesh file: .stl (binary), .obj or .ply (binary, material colours)")
+        ->required();
+    export_cmd->add_option("--units", export_opt.units, "Units of the written coordinates: m or mm")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"m", "mm"}));
+
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
     CLI::App* bench_cmd = cli.add_subcommand("bench", "Benchmarks that print tables and write JSON (numbers, not pass/fail)");
@@ -178,6 +191,7 @@ int main(int argc, char** argv) {
             return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;
         }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
+        if (*export_cmd) tridex::app::run_export(export_opt);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
                 throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt and/or --accuracy");
