@@ -12,6 +12,7 @@
 
 #include "bench/bench_accuracy.hpp"
 #include "bench/bench_haptics.hpp"
+#include "bench/bench_persistence.hpp"
 #include "bench/bench_render.hpp"
 #include "bench/bench_sculpt.hpp"
 #include "app/demo.hpp"
@@ -139,6 +140,9 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--sculpt-paths", sculpt_paths,
                           "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched), e.g. --sculpt-paths cpu,gpu-batched")
         ->delimiter(',');
+    bool bench_persistence = false;
+    bench_cmd->add_flag("--persistence", bench_persistence,
+                        "Model file (.tdx) save and load time, file size against memory: bunny at N = 256 and 512, carved");
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -193,8 +197,9 @@ int main(int argc, char** argv) {
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*export_cmd) tridex::app::run_export(export_opt);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy)
-                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt and/or --accuracy");
+            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_persistence)
+                throw tridex::Error(
+                    "bench: choose what to measure: --haptics, --render, --sculpt, --accuracy and/or --persistence");
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;
@@ -208,6 +213,12 @@ int main(int argc, char** argv) {
                 if (!sculpt_radius.empty()) sbench.radii_cells = sculpt_radius;
                 if (!sculpt_paths.empty()) sbench.paths = sculpt_paths;
                 tridex::app::run_sculpt_bench(sbench);
+            }
+            if (bench_persistence) {
+                tridex::app::PersistenceBenchOptions pbench;
+                pbench.out = hbench.out;
+                pbench.mesh = hbench.mesh;
+                tridex::app::run_persistence_bench(pbench);
             }
             if (bench_accuracy) {
                 tridex::app::AccuracyBenchOptions abench;
