@@ -13,6 +13,7 @@
 #include "app/session_recording.hpp"
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
+#include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -43,9 +44,12 @@ void run_demo(const DemoOptions& o) {
     check_image_size(o.width, o.height);
     prepare_output_dir(o.out, "--out");
     if (!o.record.empty()) check_output_file(o.record, "--record");
+    if (!o.save.empty()) check_output_file(o.save, "--save");
+    if (!o.workpiece.empty() && !o.mesh.empty()) throw Error("--workpiece, --mesh: choose one");
 
     SessionSpec s;
-    s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
+    if (!o.workpiece.empty()) s.model_path = fs::absolute(o.workpiece).lexically_normal().string();
+    else s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
     s.resolution = o.resolution;
     s.stock_m = o.stock_m;
     s.workpiece_centre_m = kWorkpieceCentre;
@@ -67,9 +71,8 @@ void run_demo(const DemoOptions& o) {
     s.material = o.material;
     const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
 
-    // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model.
-    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
-    std::tie(s.mesh_crc32, s.mesh_bytes) = file_crc32(s.mesh_path);  // a replay refuses a changed mesh
+    // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model (or restore a saved model).
+    Workpiece wp = prepare_session_workpiece(s);  // checksums of the mesh or model for a replay
 
     // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;
@@ -98,12 +101,11 @@ void run_demo(const DemoOptions& o) {
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);
-    if (!o.record.empty()) {
-        try {
-            write_session_recording(o.record, s, run.records);
-        } catch (const Error& e) {
-            throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");
-        }
+    try {
+        if (!o.record.empty()) write_session_recording(o.record, s, run.records);
+        if (!o.save.empty()) save_session_model(o.save, run.runtime->workpiece(), s);
+    } catch (const Error& e) {
+        throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");
     }
 }
 

@@ -12,11 +12,13 @@
 
 #include "bench/bench_accuracy.hpp"
 #include "bench/bench_haptics.hpp"
+#include "bench/bench_persistence.hpp"
 #include "bench/bench_render.hpp"
 #include "bench/bench_sculpt.hpp"
 #include "bench/bench_session.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
+#include "app/export_cmd.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "app/stop_signal.hpp"
@@ -45,9 +47,9 @@ int main(int argc, char** argv) {
     double tool_radius_mm = demo.tool_radius_m * 1e3;
     CLI::App* demo_cmd = cli.add_subcommand(
         "demo", "Carve the workpiece with a scripted stroke under the 1 kHz haptic loop and write stereo frames");
-    demo_cmd->add_option("--mesh", demo.mesh, "Workpiece mesh (OFF, OBJ, PLY, STL; closed); default: the bundled bunny")
+    auto* demo_mesh = demo_cmd->add_option("--mesh", demo.mesh, "Workpiece mesh (OFF, OBJ, PLY, STL; closed); default: the bundled bunny")
         ->check(CLI::ExistingFile);
-    demo_cmd->add_option("--resolution", demo.resolution, "Lattice cells along the workpiece's longest side")
+    auto* demo_resolution = demo_cmd->add_option("--resolution", demo.resolution, "Lattice cells along the workpiece's longest side")
         ->capture_default_str();
     demo_cmd->add_option("--seconds", demo.seconds, "Length of the scripted stroke, s")->capture_default_str();
     demo_cmd->add_option("--out", demo.out, "Output folder")->capture_default_str();
@@ -69,6 +71,12 @@ int main(int argc, char** argv) {
     bool no_cutting = false;
     demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
     demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+    demo_cmd->add_option("--save", demo.save, "Save the final model to FILE.tdx (tri-dexel model file)");
+    demo_cmd->add_option("--workpiece", demo.workpiece,
+                         "Start from a saved model FILE.tdx (from --save) instead of a mesh; it decides the resolution")
+        ->check(CLI::ExistingFile)
+        ->excludes(demo_mesh)
+        ->excludes(demo_resolution);
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
@@ -95,6 +103,18 @@ int main(int argc, char** argv) {
     replay_cmd->add_flag("--gpu-contour", replay_sculpt.gpu_contour,
                          "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(replay_cpu_contour);
+
+    tridex::app::ExportOptions export_opt;
+    CLI::App* export_cmd =
+        cli.add_subcommand("export", "Contour a saved model (.tdx) and write it as a closed mesh (STL, OBJ or PLY)");
+    export_cmd->add_option("MODEL", export_opt.model, "Saved model (tridex demo/run --save FILE.tdx)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    export_cmd->add_option("OUT", export_opt.out, "Mesh file: .stl (binary), .obj or .ply (binary, material colours)")
+        ->required();
+    export_cmd->add_option("--units", export_opt.units, "Units of the written coordinates: m or mm")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"m", "mm"}));
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -128,6 +148,9 @@ int main(int argc, char** argv) {
     std::vector<int> session_n;
     bench_cmd->add_option("--session-n", session_n, "With --session: run only these N, e.g. --session-n 256")
         ->delimiter(',');
+    bool bench_persistence = false;
+    bench_cmd->add_flag("--persistence", bench_persistence,
+                        "Model file (.tdx) save and load time, file size against memory: bunny at N = 256 and 512, carved");
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -180,10 +203,11 @@ int main(int argc, char** argv) {
             return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;
         }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
+        if (*export_cmd) tridex::app::run_export(export_opt);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session)
-                throw tridex::Error(
-                    "bench: choose what to measure: --haptics, --render, --sculpt, --session and/or --accuracy");
+            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence)
+                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt, --session, --accuracy "
+                                    "and/or --persistence");
             if (bench_session) {
                 tridex::app::SessionBenchOptions sb;
                 sb.out = hbench.out;
@@ -203,6 +227,12 @@ int main(int argc, char** argv) {
                 if (!sculpt_radius.empty()) sbench.radii_cells = sculpt_radius;
                 if (!sculpt_paths.empty()) sbench.paths = sculpt_paths;
                 tridex::app::run_sculpt_bench(sbench);
+            }
+            if (bench_persistence) {
+                tridex::app::PersistenceBenchOptions pbench;
+                pbench.out = hbench.out;
+                pbench.mesh = hbench.mesh;
+                tridex::app::run_persistence_bench(pbench);
             }
             if (bench_accuracy) {
                 tridex::app::AccuracyBenchOptions abench;

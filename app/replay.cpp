@@ -5,6 +5,7 @@
 
 #include "app/output_dir.hpp"
 #include "app/session_spec.hpp"
+#include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "devices/device_registry.hpp"
@@ -19,13 +20,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const devices::Recording rec = devices::read_recording(recording_path);
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
     validate_spec(s, recording_path);
-    if (s.mesh_bytes > 0) {
-        const auto [crc, bytes] = file_crc32(s.mesh_path);
-        if (crc != s.mesh_crc32 || bytes != s.mesh_bytes)
-            throw Error(recording_path + ": the workpiece mesh " + s.mesh_path +
-                        " changed since the recording (its bytes differ); a replay would carve a different model");
-    }
-    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+    check_workpiece_unchanged(s, recording_path);
+    Workpiece wp = prepare_session_workpiece(s);
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
     devices::DeviceInputs inputs;

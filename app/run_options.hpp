@@ -52,6 +52,9 @@ struct RunOptions {
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;
+    /// When set, the final model is saved to this file (.tdx) after the session; `tridex demo --workpiece FILE` or
+    /// a scene's workpiece.model starts a session from it.
+    std::string save;
 };
 
 }  // namespace tridex::app

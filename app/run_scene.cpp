@@ -130,6 +130,18 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         return;
     }
     Fields f(*w, top.source(), "workpiece");
+    const std::string model = f.text("model", "");
+    if (!model.empty()) {  // a saved model decides the lattice, the placement and the resolution
+        for (const char* other : {"mesh", "resolution", "stock_m", "centre_m"})
+            if (f.get(other))
+                f.fail(std::string("workpiece.") + other, "not with workpiece.model (the saved model decides it)");
+        const fs::path p = fs::path(model).is_absolute() ? fs::path(model) : fs::path(base_dir) / model;
+        if (!fs::is_regular_file(p)) f.fail("workpiece.model", "no such file: " + p.string());
+        sp.model_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
+        sp.mesh_path.clear();
+        f.finish();
+        return;
+    }
     const std::string mesh = f.text("mesh", "");
     if (mesh.empty()) {
         sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();

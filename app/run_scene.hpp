@@ -35,6 +35,10 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 /// JSON form (every field optional, defaults as below; unknown fields are refused):
 /// ```
 /// { "workpiece": { "mesh": "bunny.off",          // relative to the scene file; default: the bundled bunny
+///                  "model": "carved.tdx",         // instead of mesh: start from a saved model (relative to the
+///                                                 // scene file; then no resolution, stock_m or centre_m: the
+///                                                 // model decides them; tool sizes are checked against the
+///                                                 // default stock_m)
 ///                  "resolution": 128,             // lattice cells along the longest side, 8..4096
 ///                  "stock_m": 0.12,               // longest side after scaling, m, (0, 10]
 ///                  "centre_m": [0, 0, 0.05] },    // where its bounding box is centred, m

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <vector>
 
+#include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -34,8 +35,7 @@ void check_reach(const std::vector<Vec3>& path, const devices::DeviceProfile& pr
 SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
-    Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
-    std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed mesh
+    Workpiece wp = prepare_session_workpiece(spec);  // a mesh or a saved model; checksums for a replay
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
     // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of

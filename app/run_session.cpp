@@ -18,6 +18,7 @@
 #include "app/run_view.hpp"
 #include "app/report.hpp"
 #include "app/session_recording.hpp"
+#include "app/workpiece_source.hpp"
 #include "app/stop_signal.hpp"
 #include "compute/mesh/mesh_export.hpp"
 #include "compute/model/volume.hpp"
@@ -93,6 +94,8 @@ RunSetup resolve_run(const RunOptions& o) {
     s.cull = o.cull;
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");
+    s.save = o.save;
+    if (!s.save.empty()) check_output_file(s.save, "--save");
     s.scene = load_run_scene(o.scene);
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
@@ -338,6 +341,15 @@ RunResult run_stereo_session(const RunOptions& options) {
         } catch (const Error& e) {
             record_error = e.what();
             r.notes.push_back(std::string("record failed: ") + e.what());
+        }
+    }
+    if (!su.save.empty()) {
+        try {
+            save_session_model(su.save, backend.runtime().workpiece(), backend.runtime().spec());
+            r.files.push_back(su.save);
+        } catch (const Error& e) {
+            if (record_error.empty()) record_error = e.what();
+            r.notes.push_back(std::string("save failed: ") + e.what());
         }
     }
     // The render context's messages plus the sculpting device's (its own context on the GPU path).

@@ -39,6 +39,7 @@ struct RunSetup {
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
     std::string record;             ///< recording file ("" = none)
+    std::string save;               ///< the final model's file (.tdx; "" = none)
 };
 
 /// The renderer's FrameStats of every frame of a run, kept for report.json.

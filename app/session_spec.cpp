@@ -7,11 +7,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/crc32.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
-#include "devices/recording.hpp"
 #include "haptics/tool_points.hpp"
 #include "haptics/workspace_mapping.hpp"
 
@@ -134,7 +134,7 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
     char buf[1 << 16];
     std::size_t n;
     while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
-        crc = devices::crc32_ieee(buf, n, crc);
+        crc = crc32_ieee(buf, n, crc);
         bytes += n;
     }
     const bool bad = std::ferror(f) != 0;
@@ -154,6 +154,9 @@ std::string spec_to_json(const SessionSpec& s) {
     const json j{{"mesh_path", s.mesh_path},
                  {"mesh_crc32", s.mesh_crc32},
                  {"mesh_bytes", s.mesh_bytes},
+                 {"model_path", s.model_path},
+                 {"model_crc32", s.model_crc32},
+                 {"model_bytes", s.model_bytes},
                  {"resolution", s.resolution},
                  {"stock_m", s.stock_m},
                  {"workpiece_centre_m", vec(s.workpiece_centre_m)},
@@ -234,6 +237,9 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
     if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
     if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
+    if (j.contains("model_path")) get(j, "model_path", s.model_path);
+    if (j.contains("model_crc32")) get(j, "model_crc32", s.model_crc32);
+    if (j.contains("model_bytes")) get(j, "model_bytes", s.model_bytes);
     if (j.contains("materials")) {
         const json& ms = j.at("materials");
         if (!ms.is_array()) throw Error(source + ": settings field 'materials' must be an array");

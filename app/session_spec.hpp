@@ -31,6 +31,13 @@ struct SessionSpec {
     /// (recordings made before it was stored).
     std::uint32_t mesh_crc32 = 0;
     std::uint64_t mesh_bytes = 0;
+    /// A saved model (.tdx, compute/model/tdx_file.hpp) the session starts from instead of the mesh (absolute when
+    /// recorded); empty = scan-convert mesh_path. With a model, resolution, stock_m and workpiece_centre_m are the
+    /// model's (set by prepare_session_workpiece) and mesh_path is unused.
+    std::string model_path;
+    /// CRC-32 (IEEE) and size of the model file, so a replay refuses a model that changed; 0 = not known.
+    std::uint32_t model_crc32 = 0;
+    std::uint64_t model_bytes = 0;
     int resolution = 256;                    ///< lattice cells along the longest side
     double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
     Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m

@@ -1,13 +1,12 @@
-// core/atomic_file.cpp - temporary file, checked writes, fsync, rename.
+// core/atomic_file.cpp - temporary file, fsync, rename, fsync of the folder (POSIX).
 #include "core/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -15,59 +14,103 @@ namespace tridex {
 
 namespace {
 
-std::atomic<unsigned> g_counter{0};
+std::string why(int err) { return std::strerror(err); }
 
-// fsync of the folder holding `path`, so the rename itself survives a power loss; best effort.
-void sync_folder(const std::string& path) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    const int fd = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY);
-    if (fd < 0) return;
-    (void)::fsync(fd);
+std::string folder_of(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    if (slash == std::string::npos) return ".";
+    if (slash == 0) return "/";
+    return path.substr(0, slash);
+}
+
+void fsync_path(const std::string& p, int flags, const std::string& name_for_error) {
+    const int fd = ::open(p.c_str(), flags | O_CLOEXEC);
+    if (fd < 0) throw Error(name_for_error + ": cannot open for fsync (" + why(errno) + ")");
+    const int rc = ::fsync(fd);
+    const int err = errno;
     ::close(fd);
+    // Some file systems cannot fsync a folder (EINVAL); the rename itself still happened.
+    if (rc != 0 && !(flags & O_DIRECTORY && (err == EINVAL || err == EROFS)))
+        throw Error(name_for_error + ": fsync failed (" + why(err) + ")");
 }
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-    tmp_ = path_ + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g_counter.fetch_add(1));
-    f_ = std::fopen(tmp_.c_str(), "wb");
-    if (!f_) throw Error(path_ + ": cannot create: " + std::strerror(errno));
+std::string temp_path_for(const std::string& path) { return path + ".tmp-" + std::to_string(::getpid()); }
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
+    file_ = std::fopen(temp_.c_str(), "wb");
+    if (!file_) throw Error(path_ + ": cannot create " + temp_ + " (" + why(errno) + ")");
 }
+
+AtomicFile::AtomicFile(AtomicFile&& o) noexcept
+    : path_(std::move(o.path_)), temp_(std::move(o.temp_)), file_(std::exchange(o.file_, nullptr)),
+      committed_(std::exchange(o.committed_, true)) {}
 
 AtomicFile::~AtomicFile() {
-    if (f_) std::fclose(f_);
-    if (!committed_) std::remove(tmp_.c_str());
+    if (!committed_) discard();
 }
 
-void AtomicFile::fail(const char* what, int err) {
-    throw Error(path_ + ": " + what + ": " + std::strerror(err ? err : EIO));
+void AtomicFile::discard() noexcept {
+    if (file_) std::fclose(file_);
+    file_ = nullptr;
+    if (!temp_.empty()) ::unlink(temp_.c_str());
 }
 
 void AtomicFile::write(const void* data, std::size_t n) {
-    if (committed_ || !f_) throw Error(path_ + ": write after commit");
+    if (!file_) throw Error(path_ + ": write after commit");
     if (n == 0) return;
     errno = 0;
-    if (std::fwrite(data, 1, n, f_) != n) fail("write failed", errno);
+    if (std::fwrite(data, 1, n, file_) != n) {
+        const int err = errno ? errno : EIO;
+        discard();
+        throw Error(path_ + ": cannot write (" + why(err) + "); the previous file, if any, is unchanged");
+    }
 }
 
 void AtomicFile::commit() {
-    if (committed_ || !f_) throw Error(path_ + ": committed twice");
+    if (!file_) throw Error(path_ + ": commit twice");
     errno = 0;
-    if (std::ferror(f_)) fail("write failed", errno);
-    if (std::fflush(f_) != 0) fail("write failed", errno);
-    if (::fsync(::fileno(f_)) != 0 && errno != EINVAL && errno != EROFS) fail("write failed", errno);
-    const int rc = std::fclose(f_);
-    f_ = nullptr;
-    if (rc != 0) fail("write failed", errno);
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("cannot replace", errno);
+    if (std::ferror(file_) || std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0) {
+        const int err = errno ? errno : EIO;
+        discard();
+        throw Error(path_ + ": cannot write (" + why(err) + "); the previous file, if any, is unchanged");
+    }
+    const int rc = std::fclose(file_);
+    file_ = nullptr;
+    if (rc != 0) {
+        const int err = errno;
+        discard();
+        throw Error(path_ + ": cannot write (" + why(err) + "); the previous file, if any, is unchanged");
+    }
+    if (::rename(temp_.c_str(), path_.c_str()) != 0) {
+        const int err = errno;
+        discard();
+        throw Error(path_ + ": cannot rename " + temp_ + " over it (" + why(err) + ")");
+    }
     committed_ = true;
-    sync_folder(path_);
+    fsync_path(folder_of(path_), O_RDONLY | O_DIRECTORY, path_ + " (folder)");
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {
     AtomicFile f(path);
     f.write(bytes);
     f.commit();
+}
+
+void commit_temp_file(const std::string& temp, const std::string& path) {
+    try {
+        fsync_path(temp, O_RDONLY, path);
+    } catch (...) {
+        ::unlink(temp.c_str());
+        throw;
+    }
+    if (::rename(temp.c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(temp.c_str());
+        throw Error(path + ": cannot rename " + temp + " over it (" + why(err) + ")");
+    }
+    fsync_path(folder_of(path), O_RDONLY | O_DIRECTORY, path + " (folder)");
 }
 
 }  // namespace tridex

@@ -1,5 +1,5 @@
-// core/atomic_file.hpp - files written whole or not at all: a temporary file beside the target, every write checked,
-// flushed to the disk, then renamed over the target.
+// core/atomic_file.hpp - writing a file so that a crash or a full disk never destroys the previous one: the
+// bytes go to "<path>.tmp-<pid>", are flushed and fsync'ed, then renamed over <path> and the folder fsync'ed.
 #pragma once
 
 #include <cstddef>
@@ -9,41 +9,52 @@
 
 namespace tridex {
 
-/// A file that replaces `path` only when commit() succeeds. The bytes go to a temporary file in the same folder
-/// ("<path>.tmp-<pid>-<n>"); commit() flushes it, fsyncs it, closes it (all checked), renames it over `path` and
-/// fsyncs the folder, so a crash, a full disk or an I/O error at any point leaves either the previous file or the
-/// complete new one, never a cut one. Without commit() (an exception, an early return) the destructor removes the
-/// temporary file. Not thread-safe; one writer per object.
+/// One file being written atomically. Construction creates the temporary file beside `path`; write() appends
+/// (every write checked); commit() makes it `path`. Destroying an uncommitted AtomicFile removes the temporary
+/// file and leaves `path` as it was. Move-only. Errors are tridex::Error "<path>: <what> (<strerror>)", e.g.
+/// "out/m.tdx: cannot write: No space left on device".
 class AtomicFile {
 public:
-    /// Creates the temporary file. Throws tridex::Error "<path>: cannot create: <reason>".
+    /// Creates "<path>.tmp-<pid>" for writing (truncating a stale one). Throws tridex::Error when it cannot.
     explicit AtomicFile(std::string path);
-    /// Removes the temporary file unless committed. Never throws.
     ~AtomicFile();
+    AtomicFile(AtomicFile&& other) noexcept;
+    AtomicFile& operator=(AtomicFile&&) = delete;
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
-    /// Appends `n` bytes. Throws tridex::Error "<path>: write failed: <reason>" (e.g. "No space left on device").
+    /// Appends n bytes. Throws tridex::Error on a short write (full disk, file size limit, I/O error).
     void write(const void* data, std::size_t n);
     /// Appends the bytes of `s`. Throws as write(data, n).
     void write(std::string_view s) { write(s.data(), s.size()); }
-    /// The open stream, for formatted output (std::fprintf); its errors are caught by commit().
-    std::FILE* stream() { return f_; }
-    /// Makes the new content the file at `path` (see the class comment). Throws tridex::Error "<path>: write failed:
-    /// <reason>" or "<path>: cannot replace: <reason>"; the previous file is then untouched. Once only.
+    /// The open stream, for formatted output (std::fprintf); its errors are caught by commit(). nullptr after
+    /// commit().
+    std::FILE* stream() { return file_; }
+    /// fflush + fsync + fclose, rename over path(), fsync of the folder. Throws tridex::Error on any failure
+    /// (the temporary file is then removed and path() untouched). Once only.
     void commit();
-    /// The target path.
+    /// The final path.
     const std::string& path() const { return path_; }
+    /// The temporary path the bytes go to until commit().
+    const std::string& temp_path() const { return temp_; }
 
 private:
-    [[noreturn]] void fail(const char* what, int err);
+    void discard() noexcept;
 
-    std::string path_, tmp_;
-    std::FILE* f_ = nullptr;
+    std::string path_, temp_;
+    std::FILE* file_ = nullptr;
     bool committed_ = false;
 };
 
 /// Writes `bytes` to `path` through an AtomicFile. Throws as AtomicFile.
 void write_file_atomically(const std::string& path, std::string_view bytes);
+
+/// "<path>.tmp-<pid>": where a writer that opens files itself (e.g. a mesh library) writes before
+/// commit_temp_file().
+std::string temp_path_for(const std::string& path);
+
+/// Makes the finished file `temp` (written and closed by someone else) `path`: fsync of temp, rename, fsync of
+/// the folder. Throws tridex::Error "<path>: ..." (temp removed) on failure.
+void commit_temp_file(const std::string& temp, const std::string& path);
 
 }  // namespace tridex

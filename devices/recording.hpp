@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/crc32.hpp"
 #include "core/math.hpp"
 #include "devices/haptic_device.hpp"
 
@@ -89,9 +90,8 @@ inline constexpr std::uint32_t kRecordingVersion = 1;        ///< the version th
 inline constexpr std::size_t kRecordingPreambleBytes = 32;   ///< bytes before the header text
 inline constexpr std::size_t kRecordedTickBytes = 378;       ///< bytes per tick record on disk
 
-/// CRC-32 (IEEE 802.3 polynomial 0x04C11DB7, reflected, initial and final XOR 0xFFFFFFFF) of n bytes,
-/// continuing from a previous result `crc` (0 to start). crc32_ieee("123456789") = 0xCBF43926.
-std::uint32_t crc32_ieee(const void* data, std::size_t n, std::uint32_t crc = 0);
+/// The recording's checksum: tridex::crc32_ieee (core/crc32.hpp), named here too for the recording's users.
+using tridex::crc32_ieee;
 
 /// Unit axis and angle (rad, in [0, pi]) of the rotation q (normalised first). The identity, or a
 /// rotation whose angle is below 1e-12 rad, gives axis +x and angle 0. Non-finite or zero q gives

@@ -3,7 +3,6 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <iostream>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "compute/mesh/mesh_precheck.hpp"
+#include "compute/mesh/openmesh_log.hpp"
 #include "compute/mesh/mesh_weld.hpp"
 #include "core/error.hpp"
 
@@ -91,57 +91,6 @@ private:
         soup.positions.push_back(p);
         return OM::VertexHandle(static_cast<int>(soup.positions.size() - 1));
     }
-};
-
-/// Routes OpenMesh's log streams (omerr, omout, omlog) into a string for the lifetime of the object:
-/// detaches the standard streams they were connected to and re-attaches exactly those afterwards.
-/// The streams are global, so callers hold `mutex()`.
-class CaptureOpenMeshLog {
-public:
-    CaptureOpenMeshLog() {
-        for (OM::mostream* s : streams_) {
-            was_enabled_.push_back(s->is_enabled());
-            for (std::ostream* std_stream : std_streams_) detached_.push_back(s->disconnect(*std_stream));
-            s->connect(text_);
-            s->enable();
-        }
-    }
-    ~CaptureOpenMeshLog() {
-        std::size_t k = 0;
-        for (std::size_t i = 0; i < streams_.size(); ++i) {
-            streams_[i]->flush();
-            streams_[i]->disconnect(text_);
-            for (std::ostream* std_stream : std_streams_)
-                if (detached_[k++]) streams_[i]->connect(*std_stream);
-            if (!was_enabled_[i]) streams_[i]->disable();
-        }
-    }
-    CaptureOpenMeshLog(const CaptureOpenMeshLog&) = delete;
-    CaptureOpenMeshLog& operator=(const CaptureOpenMeshLog&) = delete;
-
-    /// First non-blank line OpenMesh wrote, trimmed to 120 characters (empty if none).
-    std::string first_line() {
-        for (OM::mostream* s : streams_) s->flush();
-        std::istringstream in(text_.str());
-        std::string line;
-        while (std::getline(in, line)) {
-            const auto b = line.find_first_not_of(" \t\r");
-            if (b != std::string::npos) return line.substr(b, 120);
-        }
-        return {};
-    }
-    /// Serialises every use of OpenMesh's global streams by this module.
-    static std::mutex& mutex() {
-        static std::mutex m;
-        return m;
-    }
-
-private:
-    std::ostringstream text_;
-    std::vector<OM::mostream*> streams_{&::omerr(), &::omout(), &::omlog()};
-    std::vector<std::ostream*> std_streams_{&std::cout, &std::cerr, &std::clog};
-    std::vector<bool> was_enabled_;
-    std::vector<bool> detached_;  // per (stream, std stream) pair
 };
 
 // True when `path` is an ASCII OFF file with '#' comments; `text` then gets its content with every comment (from

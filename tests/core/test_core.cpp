@@ -5,6 +5,7 @@
 #include <string>
 #include <thread>
 
+#include "core/crc32.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/thread_name.hpp"
 #include "core/tri_mesh.hpp"
@@ -127,3 +128,20 @@ TEST(TriMesh, OpenAndNonManifoldEdgesAreCounted) {
 
 }  // namespace
 }  // namespace tridex
+
+// ---- CRC-32 (core/crc32.hpp) ----
+
+TEST(Crc32, KnownVectorsAndContinuation) {
+    EXPECT_EQ(tridex::crc32_ieee("123456789", 9), 0xCBF43926u);
+    EXPECT_EQ(tridex::crc32_ieee("6789", 4, tridex::crc32_ieee("12345", 5)), 0xCBF43926u);
+    EXPECT_EQ(tridex::crc32_ieee("", 0), 0u);
+    // The 4-byte fast path and the byte tail agree, whatever the split.
+    std::string text(1000, '\0');
+    for (std::size_t i = 0; i < text.size(); ++i) text[i] = static_cast<char>(i * 37 + 11);
+    const std::uint32_t whole = tridex::crc32_ieee(text.data(), text.size());
+    for (std::size_t split : {1u, 3u, 4u, 5u, 999u})
+        EXPECT_EQ(tridex::crc32_ieee(text.data() + split, text.size() - split, tridex::crc32_ieee(text.data(), split)), whole);
+    std::uint32_t bytewise = 0;
+    for (char c : text) bytewise = tridex::crc32_ieee(&c, 1, bytewise);
+    EXPECT_EQ(bytewise, whole);
+}

@@ -1,0 +1,65 @@
+// app/workpiece_source.cpp - mesh or saved model as a session's workpiece.
+#include "app/workpiece_source.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <tuple>
+
+#include "app/memory.hpp"
+#include "compute/model/tdx_file.hpp"
+#include "compute/model/volume.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+Workpiece workpiece_from_model(const std::string& tdx_path) {
+    const auto t0 = std::chrono::steady_clock::now();
+    compute::TdxModel saved = compute::load_tdx(tdx_path, model_memory_budget_bytes());
+    Workpiece wp;
+    wp.mesh_path = tdx_path;
+    const auto& cells = saved.model.lattice.cells;
+    wp.resolution = std::max({cells[0], cells[1], cells[2]});
+    wp.to_world = saved.to_world;
+    wp.model = std::move(saved.model);
+    std::fill(wp.model.tiles.dirty.begin(), wp.model.tiles.dirty.end(), std::uint8_t{1});
+    wp.volume_dexel_m3 = compute::dexel_volume_m3(wp.model);
+    wp.volume_mesh_m3 = wp.volume_dexel_m3;
+    wp.scan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return wp;
+}
+
+Workpiece prepare_session_workpiece(SessionSpec& spec) {
+    if (spec.model_path.empty()) {
+        Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
+        std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed mesh
+        return wp;
+    }
+    std::tie(spec.model_crc32, spec.model_bytes) = file_crc32(spec.model_path);  // a replay refuses a changed model
+    Workpiece wp = workpiece_from_model(spec.model_path);
+    const compute::Lattice& L = wp.model.lattice;
+    spec.resolution = wp.resolution;
+    spec.stock_m = std::max(1, wp.resolution - 4) * L.cell_m;  // Lattice::around's 2-cell margins on each end
+    spec.workpiece_centre_m = L.bounds().centre();
+    spec.mesh_path.clear();
+    spec.mesh_crc32 = 0;
+    spec.mesh_bytes = 0;
+    return wp;
+}
+
+void save_session_model(const std::string& path, const Workpiece& wp, const SessionSpec& spec) {
+    compute::save_tdx(path, wp.model, wp.to_world, spec_to_json(spec));
+}
+
+void check_workpiece_unchanged(const SessionSpec& s, const std::string& source) {
+    const bool model = !s.model_path.empty();
+    const std::string& path = model ? s.model_path : s.mesh_path;
+    const std::uint32_t want_crc = model ? s.model_crc32 : s.mesh_crc32;
+    const std::uint64_t want_bytes = model ? s.model_bytes : s.mesh_bytes;
+    if (want_bytes == 0) return;  // recorded before checksums were stored
+    const auto [crc, bytes] = file_crc32(path);
+    if (crc != want_crc || bytes != want_bytes)
+        throw Error(source + ": the workpiece " + (model ? "model " : "mesh ") + path +
+                    " changed since the recording (its bytes differ); a replay would carve a different model");
+}
+
+}  // namespace tridex::app

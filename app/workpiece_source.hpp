@@ -1,0 +1,34 @@
+// app/workpiece_source.hpp - where a session's workpiece comes from: a closed mesh scan-converted at a resolution,
+// or a saved model (.tdx) restored exactly; and the checks that let a replay trust the same source again.
+#pragma once
+
+#include <string>
+
+#include "app/session_runtime.hpp"
+#include "app/session_spec.hpp"
+
+namespace tridex::app {
+
+/// The workpiece of a saved model file (compute/model/tdx_file.hpp): the model bit for bit as saved (dirty
+/// flags set on every tile, so the first contour covers it all), its transform; mesh_path is the model file,
+/// resolution its longest lattice side (cells), volume_mesh_m3 = volume_dexel_m3 = its tri-dexel volume (the model
+/// is its own reference), scan_s the load time (s). The model may take at most model_memory_budget_bytes().
+/// Throws tridex::Error "<path>: ..." for a missing, damaged or too large file.
+Workpiece workpiece_from_model(const std::string& tdx_path);
+
+/// The session's workpiece for `spec`, and the spec completed: with spec.model_path, the saved model
+/// (workpiece_from_model), and resolution, stock_m (the longest side less the 2-cell margins, m) and
+/// workpiece_centre_m (the lattice's centre, world m) taken from it, model_crc32/model_bytes set; else the mesh
+/// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. Throws tridex::Error as those do.
+Workpiece prepare_session_workpiece(SessionSpec& spec);
+
+/// Writes the session's model after stop() (the CPU model, which mirrors the GPU's) with its transform and
+/// spec_to_json(spec) as the settings to `path` (.tdx, atomically: a failed save leaves an existing file as it
+/// was). Throws tridex::Error "<path>: ..." when it cannot be written.
+void save_session_model(const std::string& path, const Workpiece& workpiece, const SessionSpec& spec);
+
+/// Refuses (tridex::Error "<source>: the workpiece <mesh|model> <path> changed since ...") a recorded spec whose
+/// mesh or model file no longer has the recorded CRC-32 and size (when they were recorded).
+void check_workpiece_unchanged(const SessionSpec& spec, const std::string& source);
+
+}  // namespace tridex::app

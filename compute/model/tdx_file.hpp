@@ -1,0 +1,53 @@
+// compute/model/tdx_file.hpp - the model file (.tdx): the whole tri-dexel model, its workpiece transform and the
+// session settings that made it, saved and loaded bit for bit (DESIGN.md, persistence).
+//
+// Layout (little-endian):
+//   header, 40 bytes: magic "TDXMODEL", u32 format version, u32 flags (0), u32 section count, u32 0,
+//                     u64 file size, u32 CRC-32 of bytes 0..31, u32 0
+//   sections, in this order, each a 32-byte header - u32 id, u32 CRC-32 of the uncompressed payload,
+//   u64 uncompressed size, u64 compressed size, u32 CRC-32 of the compressed bytes, u32 CRC-32 of the header's
+//   bytes 0..27 - and its payload compressed as one zstd frame (the compressed bytes are checked before zstd
+//   reads them: a zstd frame can carry bits it ignores):
+//     1 meta      lattice, transform (input mesh units -> world m), intervals per ray set (tdx_codec.hpp)
+//     2 settings  the caller's JSON text (opaque here)
+//     3 rays.x, 4 rays.y, 5 rays.z   each ray set's interval counts, depths and materials
+//     6 tiles     the tile grid's dirty flags
+// The CPU TriDexel holds every interval (the GPU model's spill pool is copied back into it), so nothing else
+// is needed to restore a session's model.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "compute/model/tridexel.hpp"
+#include "core/math.hpp"
+
+namespace tridex::compute {
+
+inline constexpr char kTdxMagic[8] = {'T', 'D', 'X', 'M', 'O', 'D', 'E', 'L'};  ///< first 8 bytes of a .tdx
+inline constexpr std::uint32_t kTdxVersion = 1;  ///< the format version this build writes (and the newest it reads)
+
+/// A model file's contents.
+struct TdxModel {
+    TriDexel model;             ///< the tri-dexel solid, with its tile grid's dirty flags
+    Mat4 to_world{1.0};         ///< workpiece transform: input mesh units -> world m
+    std::string settings_json;  ///< the session settings given to save_tdx (opaque to compute)
+};
+
+/// Writes `model`, `to_world` and `settings_json` to `path` as a .tdx file: to "<path>.tmp-<pid>", flushed and
+/// fsync'ed, then renamed over `path` (core/atomic_file.hpp), so a crash or a full disk during a save leaves
+/// the previous file as it was. zstd level `level` (1..19). Throws tridex::Error "<path>: ..." on any failed
+/// write or a model whose interval counts exceed 2^32 - 1 per ray.
+void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_world, const std::string& settings_json,
+              int level = 3);
+
+/// Reads a .tdx file, checking everything before trusting it: magic, version (newer ones refused), flags, the
+/// header's and each section's CRC-32, sizes against the file size and against what the lattice allows (no
+/// allocation larger than the model the lattice can hold, and none above `max_bytes` for the model), the
+/// zstd frames, and every interval (finite, ordered, within the lattice). load_tdx(save_tdx(m)) equals m bit
+/// for bit. Throws tridex::Error "<path>: <what is wrong>" (e.g. "m.tdx: checksum mismatch in section
+/// 'rays.y'", "m.tdx: truncated: section 4 ('rays.y') needs 1200 bytes at offset 5000, the file has 5100").
+TdxModel load_tdx(const std::string& path, std::size_t max_bytes);
+
+}  // namespace tridex::compute
