@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/crc32.hpp"
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
@@ -143,7 +144,7 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
     char buf[1 << 16];
     std::size_t n;
     while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
-        crc = devices::crc32_ieee(buf, n, crc);
+        crc = crc32_ieee(buf, n, crc);
         bytes += n;
     }
     const bool bad = std::ferror(f) != 0;

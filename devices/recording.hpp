@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/crc32.hpp"
 #include "core/math.hpp"
 #include "devices/haptic_device.hpp"
 
@@ -88,10 +89,6 @@ inline constexpr char kRecordingMagic[8] = {'T', 'R', 'D', 'X', 'R', 'E', 'C', '
 inline constexpr std::uint32_t kRecordingVersion = 1;        ///< the version this build writes and reads
 inline constexpr std::size_t kRecordingPreambleBytes = 32;   ///< bytes before the header text
 inline constexpr std::size_t kRecordedTickBytes = 378;       ///< bytes per tick record on disk
-
-/// CRC-32 (IEEE 802.3 polynomial 0x04C11DB7, reflected, initial and final XOR 0xFFFFFFFF) of n bytes,
-/// continuing from a previous result `crc` (0 to start). crc32_ieee("123456789") = 0xCBF43926.
-std::uint32_t crc32_ieee(const void* data, std::size_t n, std::uint32_t crc = 0);
 
 /// Unit axis and angle (rad, in [0, pi]) of the rotation q (normalised first). The identity, or a
 /// rotation whose angle is below 1e-12 rad, gives axis +x and angle 0. Non-finite or zero q gives
