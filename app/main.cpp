@@ -16,6 +16,7 @@
 #include "bench/bench_sculpt.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
+#include "app/recover.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "app/stop_signal.hpp"
@@ -68,6 +69,9 @@ int main(int argc, char** argv) {
     bool no_cutting = false;
     demo_cmd->add_flag("--no-cutting-force", no_cutting, "No reaction force against the tool's advance while carving");
     demo_cmd->add_option("--record", demo.record, "Record the session to FILE (TRDXREC, thesis Table 3 fields)");
+    auto* demo_journal = demo_cmd->add_option("--journal", demo.journal,
+                                              "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");
+    demo_cmd->add_flag("--no-journal", demo.no_journal, "Write no session journal")->excludes(demo_journal);
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
@@ -94,6 +98,14 @@ int main(int argc, char** argv) {
     replay_cmd->add_flag("--gpu-contour", replay_sculpt.gpu_contour,
                          "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(replay_cpu_contour);
+
+    std::string recover_file, recover_out = "out/recover";
+    CLI::App* recover_cmd = cli.add_subcommand(
+        "recover", "Rebuild a session's model from its journal (after a crash or power loss): sculpted.ply, report.json");
+    recover_cmd->add_option("JOURNAL", recover_file, "Session journal (OUT/session.tdj of demo or run, or their --journal FILE)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    recover_cmd->add_option("--out", recover_out, "Output folder")->capture_default_str();
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -167,6 +179,7 @@ int main(int argc, char** argv) {
             tridex::app::run_demo(demo);
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
+        if (*recover_cmd) tridex::app::run_recover(recover_file, recover_out);
         if (*run_cmd) {
             const int rc = tridex::app::run_command(run);
             return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;

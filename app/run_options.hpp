@@ -52,6 +52,9 @@ struct RunOptions {
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;
+    /// The session journal (`tridex recover FILE` rebuilds the model from it); "" = <out>/session.tdj.
+    std::string journal;
+    bool no_journal = false;  ///< --no-journal: write no journal
 };
 
 }  // namespace tridex::app
