@@ -46,6 +46,9 @@ void run_demo(const DemoOptions& o) {
     if (!o.record.empty()) check_output_file(o.record, "--record");
     if (!o.save.empty()) check_output_file(o.save, "--save");
     if (!o.workpiece.empty() && !o.mesh.empty()) throw Error("--workpiece, --mesh: choose one");
+    const std::string journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(o.out) / "session.tdj").string() : o.journal;
+    if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
+    if (!o.journal.empty()) check_output_file(o.journal, "--journal");
 
     SessionSpec s;
     if (!o.workpiece.empty()) s.model_path = fs::absolute(o.workpiece).lexically_normal().string();
@@ -97,7 +100,8 @@ void run_demo(const DemoOptions& o) {
     const std::size_t ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
     const Vec3 start = plan.world_m.front();
     SessionRun run = run_session(s, std::move(wp), std::move(device), ticks, static_cast<std::size_t>(o.seconds * 1500.0) + 1000,
-                                 3.0 * o.seconds + 10.0, start, SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour});
+                                 3.0 * o.seconds + 10.0, start,
+                                 SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour, journal});
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);

@@ -28,6 +28,10 @@ struct DemoOptions {
     std::string record;            ///< when set, the session is recorded to this file (TRDXREC)
     std::string save;              ///< when set, the final model is saved to this file (.tdx)
     std::string workpiece;         ///< when set, the session starts from this saved model (.tdx) instead of a mesh
+    /// The session journal (compute/journal/journal_format.hpp; `tridex recover` rebuilds the model from it);
+    /// "" = <out>/session.tdj.
+    std::string journal;
+    bool no_journal = false;       ///< --no-journal: write no journal
     bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
     bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)
@@ -36,7 +40,7 @@ struct DemoOptions {
 };
 
 /// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
-/// into options.out (the session recording to options.record and the final model to options.save when set). Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
+/// into options.out (and, while it runs, the session journal, unless no_journal; the session recording to options.record and the final model to options.save when set). Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
 /// cannot be loaded or is not closed, an impossible resolution, no Vulkan device).
 void run_demo(const DemoOptions& options);
 

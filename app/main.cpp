@@ -19,6 +19,7 @@
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/export_cmd.hpp"
+#include "app/recover.hpp"
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "app/stop_signal.hpp"
@@ -77,6 +78,9 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile)
         ->excludes(demo_mesh)
         ->excludes(demo_resolution);
+    auto* demo_journal = demo_cmd->add_option("--journal", demo.journal,
+                                              "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");
+    demo_cmd->add_flag("--no-journal", demo.no_journal, "Write no session journal")->excludes(demo_journal);
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
@@ -115,6 +119,13 @@ int main(int argc, char** argv) {
     export_cmd->add_option("--units", export_opt.units, "Units of the written coordinates: m or mm")
         ->capture_default_str()
         ->check(CLI::IsMember({"m", "mm"}));
+    std::string recover_file, recover_out = "out/recover";
+    CLI::App* recover_cmd = cli.add_subcommand(
+        "recover", "Rebuild a session's model from its journal (after a crash or power loss): sculpted.ply, report.json");
+    recover_cmd->add_option("JOURNAL", recover_file, "Session journal (OUT/session.tdj of demo or run, or their --journal FILE)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    recover_cmd->add_option("--out", recover_out, "Output folder")->capture_default_str();
 
     tridex::app::HapticsBenchOptions hbench;
     bool bench_haptics = false;
@@ -198,6 +209,7 @@ int main(int argc, char** argv) {
             tridex::app::run_demo(demo);
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
+        if (*recover_cmd) tridex::app::run_recover(recover_file, recover_out);
         if (*run_cmd) {
             const int rc = tridex::app::run_command(run);
             return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;

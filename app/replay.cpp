@@ -32,7 +32,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
     SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start,
-                                 SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour});
+                                 SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""});
     write_session_outputs(out, run, t_start);
 }
 

@@ -59,6 +59,21 @@ nlohmann::json tool_json(const SessionSpec& spec) {
     return j;
 }
 
+nlohmann::json journal_report_json(const compute::JournalStats* journal, const SculptStats& sculpt, double session_s) {
+    if (!journal) return nullptr;
+    const compute::JournalStats& s = *journal;
+    return {{"path", s.path},
+            {"records", s.records},
+            {"samples", s.samples},
+            {"bytes", s.bytes},
+            {"bytes_per_min", session_s > 0.0 ? static_cast<double>(s.bytes) * 60.0 / session_s : 0.0},
+            {"flushes", s.flushes},
+            {"append_ms_total", s.append_ms_total},
+            {"flush_ms_total", s.flush_ms_total},
+            {"sculpt_busy_ms_total", sculpt.busy_ms},
+            {"error", s.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.error)}};
+}
+
 nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
                                    const std::vector<haptics::TickRecord>& records, double session_s,
                                    const std::string& device_profile, double device_max_force_n,
@@ -167,6 +182,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                    {"contour_ms", summary_json(summarize(r.sculpt->contour_ms), true)},
                    {"tiles_initial", r.tiles_initial},
                    {"tiles_total", r.tiles_total}};
+    j["journal"] = journal_report_json(r.journal, *r.sculpt, r.session_s);
     if (!r.stopped_by.empty()) j["stopped_by"] = r.stopped_by;
     j["sculpt_path"] = r.sculpt_path;
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;

@@ -54,6 +54,7 @@ struct DemoReport {
     std::string contour_path;                 ///< "gpu" or "cpu": where dirty tiles were contoured during the session
     std::string contour_reason;               ///< why contouring ran on the CPU ("" on the GPU path)
     compute::GpuContourStats gpu_contour{};   ///< GPU path: the contourer's counters
+    const compute::JournalStats* journal = nullptr;  ///< the session journal's counters; nullptr = no journal
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,
@@ -63,6 +64,13 @@ void write_haptics_csv(const std::string& path, const std::vector<haptics::TickR
 /// The GPU contour's counters as report.json writes them under `contour.gpu` (demo, replay and run):
 /// updates, tiles, tiles_gpu, host_fallback_tiles, split_faces, region_retries, pool_grows, dispatches.
 nlohmann::json gpu_contour_json(const compute::GpuContourStats& stats);
+
+/// The `journal` block of report.json (demo, run): null without a journal (`--no-journal`), else {path, records,
+/// samples, bytes (written to the file, header included), bytes_per_min (bytes per minute of the session's wall
+/// time session_s, s), flushes (write + fdatasync rounds), append_ms_total and flush_ms_total (sculpt-thread wall
+/// time encoding records and syncing, ms), sculpt_busy_ms_total (the sculpt thread's whole busy time, ms, for
+/// comparison), error (null, or why the journal stopped: the session went on)}.
+nlohmann::json journal_report_json(const compute::JournalStats* journal, const SculptStats& sculpt, double session_s);
 
 /// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op and,
 /// for union and paint, material.

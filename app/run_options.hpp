@@ -55,6 +55,9 @@ struct RunOptions {
     /// When set, the final model is saved to this file (.tdx) after the session; `tridex demo --workpiece FILE` or
     /// a scene's workpiece.model starts a session from it.
     std::string save;
+    /// The session journal (`tridex recover FILE` rebuilds the model from it); "" = <out>/session.tdj.
+    std::string journal;
+    bool no_journal = false;  ///< --no-journal: write no journal
 };
 
 }  // namespace tridex::app

@@ -107,6 +107,7 @@ json run_report_json(const RunResult& r) {
           {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
           {"triangles", r.triangles}}},
         {"haptics", r.haptics},
+        {"journal", r.journal},
         {"sculpt",
          {{"samples", r.sculpt.samples},
           {"booleans", r.sculpt.booleans},

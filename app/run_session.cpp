@@ -96,6 +96,9 @@ RunSetup resolve_run(const RunOptions& o) {
     if (!s.record.empty()) check_output_file(s.record, "--record");
     s.save = o.save;
     if (!s.save.empty()) check_output_file(s.save, "--save");
+    s.journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(s.out) / "session.tdj").string() : o.journal;
+    if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
+    if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
@@ -178,7 +181,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
     // thread draws (unless --cpu-contour).
     SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole,
-                          SculptOptions{su.cpu, su.validate, su.cpu_contour, su.gpu_contour}, &ctx);
+                          SculptOptions{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal}, &ctx);
     r.sculpt_path = backend.runtime().booleans().backend->path();
     r.sculpt_device = backend.runtime().booleans().backend->device();
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
@@ -311,6 +314,9 @@ RunResult run_stereo_session(const RunOptions& options) {
         r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();
     }
     r.sculpt = backend.runtime().sculpt_stats();
+    r.journal = journal_report_json(backend.runtime().journal_stats(), r.sculpt, backend.runtime().session_s());
+    if (const compute::JournalStats* j = backend.runtime().journal_stats(); j && !j->error.empty())
+        r.notes.push_back("journal stopped: " + j->error);
     r.session_s = backend.runtime().session_s();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     r.present_timings = sink->present_timings();

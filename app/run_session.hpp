@@ -40,6 +40,7 @@ struct RunSetup {
     bool cull = true;               ///< tiles culled per eye
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
+    std::string journal;            ///< session journal file ("" = none)
 };
 
 /// The renderer's FrameStats of every frame of a run, kept for report.json.
@@ -104,6 +105,7 @@ struct RunResult {
     SessionSpec spec;                            ///< what decided the model (the scene's, device_origin_m set)
     nlohmann::json tool;                         ///< report.json `tool` (tool_json of the session's spec)
     nlohmann::json haptics;                      ///< report.json `haptics` (haptics_report_json, as the demo's)
+    nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -5,6 +5,7 @@
 #include "haptics/tool_points.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -78,6 +79,7 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     run.records = rt.records();
     run.loop = rt.loop_stats();
     run.sculpt = rt.sculpt_stats();
+    if (const compute::JournalStats* j = rt.journal_stats()) run.journal = *j;
     run.volume_after_m3 = compute::dexel_volume_m3(rt.workpiece().model);
     SessionRuntime::FinalMesh carved = rt.final_mesh();
     run.carved = std::move(carved.mesh);
@@ -185,12 +187,16 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.contour_path = run.contour_path;
     r.contour_reason = run.contour_reason;
     r.gpu_contour = run.gpu_contour;
+    r.journal = run.journal ? &*run.journal : nullptr;
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages() - validation_before_render;
     r.wall_s = seconds_since(t_start);
     write_report_json((out / "report.json").string(), r);
     print_summary(r, opt.out);
+    if (run.journal && !run.journal->error.empty())
+        std::fprintf(stderr, "tridex: journal %s stopped: %s (the session went on; report.json journal.error)\n",
+                     run.journal->path.c_str(), run.journal->error.c_str());
 }
 
 }  // namespace tridex::app

@@ -41,6 +41,7 @@ struct SessionRun {
     std::string contour_path;                  ///< "gpu" (dirty tiles contoured by GpuContourer) or "cpu"
     std::string contour_reason;                ///< why contouring ran on the CPU; "" on the GPU path
     compute::GpuContourStats gpu_contour{};    ///< GPU path: the contourer's counters at the end
+    std::optional<compute::JournalStats> journal;  ///< the session journal's counters (SculptOptions::journal)
     /// The session's threads, stopped: its Context (context()) and, on the GPU contour path, its contour
     /// buffers serve the final render.
     std::unique_ptr<SessionRuntime> runtime;

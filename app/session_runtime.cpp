@@ -77,6 +77,10 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m, cfg_.contact.tool_radius_m,
                                              haptics::max_point_distance_m(cfg_.tool_points));
     sculpt_->use_backend(*booleans_.backend);
+    if (!o.sculpt.journal.empty()) {
+        journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));
+        sculpt_->use_journal(*journal_);
+    }
     if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
@@ -147,7 +151,13 @@ void SessionRuntime::stop() {
     loop_->stop();  // zero force, device disabled
     session_s_ = seconds_since(t_start_);
     device_->close();
-    sculpt_->stop();  // drains the ring, publishes the last surface; rethrows a failure
+    try {
+        sculpt_->stop();  // drains the ring, publishes the last surface, syncs the journal; rethrows a failure
+    } catch (...) {
+        if (journal_) journal_->close();
+        throw;
+    }
+    if (journal_) journal_->close();
 }
 
 SessionRuntime::FinalMesh SessionRuntime::final_mesh() {

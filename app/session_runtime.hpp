@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "compute/journal/journal_writer.hpp"
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -56,6 +57,9 @@ struct SculptOptions {
     /// --gpu-contour: contour on the GPU even on a CPU Vulkan implementation (lavapipe), where the CPU
     /// Contourer is faster and is the default (gpu_contour_default()).
     bool gpu_contour = false;
+    /// The session journal file (compute/journal/journal_format.hpp): the tool samples the sculpt thread applies,
+    /// with spec_to_json(spec) as the session identity; "" = no journal.
+    std::string journal;
 };
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU
@@ -104,7 +108,8 @@ public:
     /// Starts the sculpt thread, then the haptic loop. Once only; later calls do nothing.
     void start();
     /// Stops the haptic loop (zero force to the device, which is disabled and closed), then the sculpt thread,
-    /// which drains every sample and publishes the last surface. Rethrows a sculpt-thread failure. Idempotent.
+    /// which drains every sample, publishes the last surface and syncs the journal, which is then closed.
+    /// Rethrows a sculpt-thread failure. Idempotent.
     void stop();
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.
     bool loop_running() const { return loop_->running(); }
@@ -153,6 +158,8 @@ public:
     std::size_t tiles_initial() const { return tiles_initial_; }  ///< tiles contoured before the session
     double contour_s() const { return contour_s_; }               ///< initial contouring wall time, s
     double session_s() const { return session_s_; }               ///< start() .. stop() wall time, s
+    /// The journal's counters and error (SculptOptions::journal); nullptr without a journal. Read after stop().
+    const compute::JournalStats* journal_stats() const { return journal_ ? &journal_->stats() : nullptr; }
     /// Vulkan validation messages of the Booleans on a Context of their own (0 when they share one).
     std::uint32_t sculpt_validation_messages() const;
 
@@ -172,6 +179,7 @@ private:
     std::unique_ptr<SpscRing<ToolSample>> ring_;
     TripleBuffer<ActiveSurface> surface_;
     TripleBuffer<MeshFrame> meshes_;
+    std::unique_ptr<compute::JournalWriter> journal_;  // before sculpt_, which appends to it
     std::unique_ptr<SculptThread> sculpt_;
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;

@@ -7,6 +7,7 @@
 
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/active_surface_publish.hpp"
+#include "compute/tools/sample_sweep.hpp"
 #include "compute/tools/sweep.hpp"
 #include "core/error.hpp"
 #include "core/thread_name.hpp"
@@ -57,6 +58,12 @@ void SculptThread::use_backend(BooleanBackend& backend) {
     backend_ = &backend;
 }
 
+void SculptThread::use_journal(compute::JournalWriter& journal) {
+    if (thread_.joinable()) throw Error("SculptThread::use_journal: call it before start()");
+    journal_ = &journal;
+    drained_.reserve(samples_.capacity() + 1);
+}
+
 void SculptThread::use_gpu_contour(GpuContourShare& share) {
     if (thread_.joinable()) throw Error("SculptThread::use_gpu_contour: call it before start()");
     gpu_contour_ = &share;
@@ -88,7 +95,9 @@ void SculptThread::run() {
             while (samples_.try_pop(s)) worked = true;
         } else {
             try {
+                const auto t0 = std::chrono::steady_clock::now();
                 worked = step();
+                if (worked) stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             } catch (...) {
                 failure_ = std::current_exception();
                 worked = true;
@@ -101,6 +110,14 @@ void SculptThread::run() {
                 failure_ = std::current_exception();
             }
         }
+        if (journal_) {
+            const auto t0 = std::chrono::steady_clock::now();
+            if (stopping && !worked)
+                journal_->sync();  // everything applied is durable when the thread ends
+            else
+                journal_->sync_if_due();
+            stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        }
         if (stopping && !worked) return;  // the ring was drained after stop was asked
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -111,17 +128,15 @@ bool SculptThread::step() {
     ToolSample s;
     bool any = false, changed = false;
     batch_.clear();
+    drained_.clear();
     while (samples_.try_pop(s)) {
         any = true;
         ++stats_.samples;
+        if (journal_) drained_.push_back(s);
         if (have_prev_ && s.op != ToolOp::kNone && s.tool.radius_m > 0.0) {
             compute::Sweep sw;
-            sw.op = s.op;
-            sw.tool = compute::sweep_tool(s.tool, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr);
-            sw.axis = s.orientation * tool_axis_local();  // the sample's axis over its whole segment
-            sw.path_m = Segment{prev_.position, s.position};
-            sw.material = s.op == ToolOp::kSubtract ? 0 : s.material;  // a cut exposes the workpiece's own material
-            batch_.push_back(sw);
+            compute::sample_sweep(prev_, s, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr, sw);
+            batch_.push_back(std::move(sw));
         }
         prev_ = s;
         have_prev_ = true;
@@ -133,6 +148,7 @@ bool SculptThread::step() {
         stats_.rays_changed += b.rays_changed;
         changed = b.rays_changed > 0;
     }
+    if (journal_) journal_->append(drained_);  // what was applied, as one batch
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
     // material does not drag the window away from the proxy it constrains. (Widening the window to cover

@@ -13,6 +13,7 @@
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/journal/journal_writer.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/active_surface.hpp"
@@ -35,6 +36,8 @@ struct SculptStats {
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
+    /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
+    double busy_ms = 0.0;
 };
 
 class GpuContourShare;
@@ -98,6 +101,11 @@ public:
     /// naming an id outside the table fails the thread with tridex::Error). Throws tridex::Error when the
     /// thread runs.
     void use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools);
+    /// Appends every batch the thread applies to `journal` (one record per step, after the batch was applied;
+    /// nothing after a failure), syncs it when due while idle, and syncs it once more when the thread ends. The
+    /// journal's own errors never stop the thread (JournalWriter records them). `journal` must outlive the thread.
+    /// Throws tridex::Error when the thread runs.
+    void use_journal(compute::JournalWriter& journal);
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
     /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
@@ -129,6 +137,8 @@ private:
     std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called
     BooleanBackend* backend_ = nullptr;
     std::vector<compute::Sweep> batch_;           // reused between steps
+    std::vector<ToolSample> drained_;             // the step's samples, for the journal; reserved to the ring's capacity
+    compute::JournalWriter* journal_ = nullptr;
     std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
     std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
     compute::Contourer& contourer_;

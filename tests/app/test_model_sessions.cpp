@@ -43,7 +43,7 @@ std::string replay_error(const std::string& recording, const fs::path& out) {
     o.out = out.string();
     o.width = o.height = 32;
     try {
-        run_replay(recording, o, SculptOptions{true, false, false, false});
+        run_replay(recording, o, SculptOptions{true, false, false, false, ""});
     } catch (const Error& e) {
         return e.what();
     }

@@ -28,7 +28,7 @@ std::string refusal(const std::string& recording, const fs::path& out) {
     o.width = 32;
     o.height = 32;
     try {
-        run_replay(recording, o, SculptOptions{true, false, false, false});
+        run_replay(recording, o, SculptOptions{true, false, false, false, ""});
     } catch (const Error& e) {
         return e.what();
     }

@@ -89,7 +89,7 @@ TEST(RunPeng, FourPassesMoveTheWorkspaceAndCarveOneGrooveLongerThanTheDeviceReac
     out.out = (dir / "replay").string();
     out.width = 64;
     out.height = 48;
-    run_replay(o.record, out, SculptOptions{true, false, false, false});
+    run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
     EXPECT_TRUE(bytes_of(dir / "run" / "sculpted.ply") == bytes_of(dir / "replay" / "sculpted.ply"))
         << "the replay (buttons included) sculpted a different model";
 }

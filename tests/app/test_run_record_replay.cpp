@@ -79,7 +79,7 @@ TEST(RunRecordReplay, FlatEndWandSceneCarvesReportsAndReplaysByteForByte) {
     out.out = (dir / "replay").string();
     out.width = 64;
     out.height = 48;
-    run_replay(o.record, out, SculptOptions{true, false, false, false});
+    run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
     const std::string live = bytes_of(dir / "run" / "sculpted.ply");
     const std::string again = bytes_of(dir / "replay" / "sculpted.ply");
     EXPECT_FALSE(live.empty());

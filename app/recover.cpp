@@ -1,0 +1,96 @@
+// app/recover.cpp - `tridex recover`: a session's model from its journal.
+#include "app/recover.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "app/json_file.hpp"
+#include "app/output_dir.hpp"
+#include "app/session_runtime.hpp"
+#include "app/session_spec.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/journal/journal_reader.hpp"
+#include "compute/journal/journal_replay.hpp"
+#include "compute/mesh/mesh_export.hpp"
+#include "compute/model/volume.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string hex32(std::uint32_t v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "0x%08x", v);
+    return buf;
+}
+
+// Refuses a workpiece mesh that is missing or not the bytes the session carved.
+void check_mesh(const SessionSpec& s, const std::string& where) {
+    if (s.mesh_bytes == 0) return;  // not known (the spec predates the checksum)
+    std::uint32_t crc = 0;
+    std::uint64_t bytes = 0;
+    try {
+        std::tie(crc, bytes) = file_crc32(s.mesh_path);
+    } catch (const Error&) {
+        throw Error(where + ": the session's workpiece mesh " + s.mesh_path + " cannot be read");
+    }
+    if (crc != s.mesh_crc32 || bytes != s.mesh_bytes)
+        throw Error(where + ": the workpiece mesh " + s.mesh_path + " changed since the session (CRC-32 " + hex32(crc) +
+                    ", the journal says " + hex32(s.mesh_crc32) + "); recovery would carve a different model");
+}
+
+}  // namespace
+
+void run_recover(const std::string& journal_path, const std::string& out) {
+    const auto t0 = std::chrono::steady_clock::now();
+    prepare_output_dir(out, "--out");
+    const compute::Journal j = compute::read_journal(journal_path);
+    const SessionSpec s = spec_from_json(j.session, journal_path);
+    validate_spec(s, journal_path);
+    check_mesh(s, journal_path);
+    if (j.cut)
+        std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
+                     static_cast<unsigned long long>(j.cut->byte_offset), j.cut->reason.c_str());
+
+    // The workpiece as the session built it, contoured before carving as the session did, then every record.
+    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+    compute::Contourer contourer(wp.model);
+    contourer.update(wp.model);
+    const compute::JournalApplyStats applied = compute::journal_apply(wp.model, j.records);
+    contourer.update(wp.model);
+    const TriMesh mesh = contourer.mesh();
+    const fs::path dir(out);
+    compute::write_ply((dir / "sculpted.ply").string(), mesh, contourer.mesh_materials());
+
+    const double after = compute::dexel_volume_m3(wp.model);
+    nlohmann::json r;
+    r["journal"] = journal_path;
+    r["journal_version"] = j.version;
+    r["settings"] = nlohmann::json::parse(spec_to_json(s));
+    r["recovered_device_time_s"] = applied.last_t_s;
+    r["records"] = applied.records;
+    r["samples"] = applied.samples;
+    r["booleans"] = applied.booleans;
+    r["volume_dexel_m3"] = wp.volume_dexel_m3;
+    r["volume_after_m3"] = after;
+    r["volume_removed_m3"] = wp.volume_dexel_m3 - after;
+    r["truncated_at"] = j.cut ? nlohmann::json{{"record", j.cut->record},
+                                               {"byte_offset", j.cut->byte_offset},
+                                               {"reason", j.cut->reason}}
+                              : nlohmann::json(nullptr);
+    r["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
+    r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_json_file((dir / "report.json").string(), r);
+    std::printf("recovered %llu records (%llu samples, %.3f s of device time) from %s into %s\n",
+                static_cast<unsigned long long>(applied.records), static_cast<unsigned long long>(applied.samples),
+                applied.last_t_s, journal_path.c_str(), out.c_str());
+}
+
+}  // namespace tridex::app

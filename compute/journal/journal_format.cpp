@@ -1,0 +1,75 @@
+// compute/journal/journal_format.cpp - bit-exact ToolSample encoding of the session journal.
+#include "compute/journal/journal_format.hpp"
+
+#include <bit>
+
+namespace tridex::compute {
+
+namespace {
+
+void put_f64(unsigned char* p, double v) { put_u64(p, std::bit_cast<std::uint64_t>(v)); }
+double get_f64(const unsigned char* p) { return std::bit_cast<double>(get_u64(p)); }
+
+}  // namespace
+
+void put_u32(unsigned char* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+
+void put_u64(unsigned char* p, std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+
+std::uint32_t get_u32(const unsigned char* p) {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(p[i]) << (8 * i);
+    return v;
+}
+
+std::uint64_t get_u64(const unsigned char* p) {
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
+    return v;
+}
+
+void encode_sample(const ToolSample& s, unsigned char* out) {
+    put_f64(out + 0, s.t_s);
+    for (int k = 0; k < 3; ++k) put_f64(out + 8 + 8 * k, s.position[k]);
+    for (int k = 0; k < 3; ++k) put_f64(out + 32 + 8 * k, s.surface_m[k]);
+    put_f64(out + 56, s.orientation.w);
+    put_f64(out + 64, s.orientation.x);
+    put_f64(out + 72, s.orientation.y);
+    put_f64(out + 80, s.orientation.z);
+    put_f64(out + 88, s.tool.radius_m);
+    put_f64(out + 96, s.tool.length_m);
+    put_u32(out + 104, s.tool.mesh_id);
+    put_u32(out + 108, s.buttons);
+    out[112] = static_cast<unsigned char>(s.tool.kind);
+    out[113] = static_cast<unsigned char>(s.op);
+    out[114] = s.material;
+    out[115] = 0;
+    put_u32(out + 116, 0);
+}
+
+bool decode_sample(const unsigned char* in, ToolSample& s) {
+    if (in[112] > static_cast<unsigned char>(ToolKind::kMesh) || in[113] > static_cast<unsigned char>(ToolOp::kPaint) ||
+        in[115] != 0 || get_u32(in + 116) != 0)
+        return false;
+    s.t_s = get_f64(in + 0);
+    for (int k = 0; k < 3; ++k) s.position[k] = get_f64(in + 8 + 8 * k);
+    for (int k = 0; k < 3; ++k) s.surface_m[k] = get_f64(in + 32 + 8 * k);
+    s.orientation.w = get_f64(in + 56);
+    s.orientation.x = get_f64(in + 64);
+    s.orientation.y = get_f64(in + 72);
+    s.orientation.z = get_f64(in + 80);
+    s.tool.radius_m = get_f64(in + 88);
+    s.tool.length_m = get_f64(in + 96);
+    s.tool.mesh_id = get_u32(in + 104);
+    s.buttons = get_u32(in + 108);
+    s.tool.kind = static_cast<ToolKind>(in[112]);
+    s.op = static_cast<ToolOp>(in[113]);
+    s.material = in[114];
+    return true;
+}
+
+}  // namespace tridex::compute

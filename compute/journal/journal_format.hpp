@@ -1,0 +1,52 @@
+// compute/journal/journal_format.hpp - the session journal's binary format ("TRDXJNL"): constants and the
+// bit-exact encoding of one ToolSample. The journal is the ToolSample stream the sculpt thread applied, which
+// determines the model (DESIGN.md, persistence).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "core/tool_sample.hpp"
+
+namespace tridex::compute {
+
+// ---- File layout (all integers and floats little-endian; floats IEEE-754 binary64, copied bit for bit) -------
+// Header:
+//    0 magic "TRDXJNL\0" (8 bytes) | 8 version u32 | 12 sample bytes u32 (kJournalSampleBytes)
+//   16 session length L u32 | 20 session identity, L bytes (opaque to compute; the app's SessionSpec JSON)
+//   20+L CRC-32 (crc32_ieee) u32 of bytes [0, 20+L)
+// Then records, back to back, each:
+//    0 type u32 (kJournalBatch) | 4 payload length P u32 | 8 payload, P bytes | 8+P CRC-32 u32 of bytes [0, 8+P)
+// kJournalBatch payload: 0 record index u64 (0, 1, 2, ... in file order) | 8 sample count N u32 | 12 reserved u32 (0)
+//   | 16 N samples of kJournalSampleBytes each, in the order the sculpt thread drained and applied them, one
+//   record per sculpt step (the batch the step applied).
+// Sample (120 bytes): 0 t_s f64 | 8 position xyz f64 | 32 surface_m xyz f64 | 56 orientation w x y z f64
+//   | 88 tool.radius_m f64 | 96 tool.length_m f64 | 104 tool.mesh_id u32 | 108 buttons u32 | 112 tool.kind u8
+//   | 113 op u8 | 114 material u8 | 115 reserved u8 (0) | 116 reserved u32 (0)
+// ---------------------------------------------------------------------------------------------------------
+
+inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0'};  ///< first 8 bytes
+inline constexpr std::uint32_t kJournalVersion = 1;          ///< the version this build writes and reads
+inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
+inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity
+inline constexpr std::size_t kJournalRecordHeadBytes = 8;    ///< type + payload length
+inline constexpr std::size_t kJournalBatchHeadBytes = 16;    ///< record index + count + reserved
+inline constexpr std::uint32_t kJournalBatch = 1;            ///< record type: one sculpt step's batch of samples
+/// Largest session identity and record payload a reader accepts, bytes (a longer length field is damage).
+inline constexpr std::uint32_t kJournalMaxSessionBytes = 16u << 20;
+inline constexpr std::uint32_t kJournalMaxPayloadBytes = 256u << 20;
+
+/// Writes `s` into out[0, kJournalSampleBytes) in the layout above (bit-exact doubles).
+void encode_sample(const ToolSample& s, unsigned char* out);
+
+/// Reads a sample written by encode_sample from in[0, kJournalSampleBytes). False (out unspecified) when the
+/// tool kind, op or reserved bytes hold values encode_sample never writes.
+bool decode_sample(const unsigned char* in, ToolSample& out);
+
+/// Little-endian helpers for the journal's integers.
+void put_u32(unsigned char* p, std::uint32_t v);
+void put_u64(unsigned char* p, std::uint64_t v);
+std::uint32_t get_u32(const unsigned char* p);
+std::uint64_t get_u64(const unsigned char* p);
+
+}  // namespace tridex::compute

@@ -1,0 +1,141 @@
+// compute/journal/journal_writer.cpp - the session journal's writer (write(2) + fdatasync).
+#include "compute/journal/journal_writer.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "compute/journal/journal_format.hpp"
+#include "core/crc32.hpp"
+
+namespace tridex::compute {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+JournalWriter::JournalWriter(const std::string& path, const std::string& session, std::chrono::nanoseconds sync_interval,
+                             std::size_t buffer_bytes)
+    : cap_(std::max<std::size_t>(buffer_bytes, 4096)), interval_(sync_interval) {
+    stats_.path = path;
+    buf_.reserve(cap_);
+    if (session.size() > kJournalMaxSessionBytes) {
+        stats_.error = "the session identity is " + std::to_string(session.size()) + " bytes, more than the journal holds";
+        return;
+    }
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) {
+        fail("cannot create the journal", errno);
+        return;
+    }
+    unsigned char head[kJournalHeaderFixedBytes];
+    std::memcpy(head, kJournalMagic, 8);
+    put_u32(head + 8, kJournalVersion);
+    put_u32(head + 12, static_cast<std::uint32_t>(kJournalSampleBytes));
+    put_u32(head + 16, static_cast<std::uint32_t>(session.size()));
+    crc_ = 0;
+    put(head, sizeof head);
+    put(reinterpret_cast<const unsigned char*>(session.data()), session.size());
+    unsigned char crc[4];
+    put_u32(crc, crc_);
+    put(crc, 4);
+    sync();
+}
+
+JournalWriter::~JournalWriter() { close(); }
+
+void JournalWriter::fail(const std::string& what, int err) {
+    if (stats_.error.empty())
+        stats_.error = what + " after " + std::to_string(stats_.records) + " records (" + std::to_string(stats_.bytes) +
+                       " bytes): " + std::strerror(err);
+}
+
+void JournalWriter::put(const unsigned char* p, std::size_t n) {
+    crc_ = crc32_ieee(p, n, crc_);
+    while (n > 0 && ok()) {
+        if (buf_.size() == cap_ && !write_out()) return;
+        const std::size_t k = std::min(n, cap_ - buf_.size());
+        buf_.insert(buf_.end(), p, p + k);
+        p += k;
+        n -= k;
+    }
+}
+
+bool JournalWriter::write_out() {
+    const unsigned char* p = buf_.data();
+    std::size_t left = buf_.size();
+    while (left > 0) {
+        const ssize_t w = ::write(fd_, p, left);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            fail("write failed", errno);
+            buf_.clear();
+            return false;
+        }
+        p += w;
+        left -= static_cast<std::size_t>(w);
+        stats_.bytes += static_cast<std::uint64_t>(w);
+    }
+    buf_.clear();
+    return true;
+}
+
+void JournalWriter::append(std::span<const ToolSample> samples) {
+    if (!ok() || samples.empty()) return;
+    const auto t0 = Clock::now();
+    const std::size_t payload = kJournalBatchHeadBytes + samples.size() * kJournalSampleBytes;
+    unsigned char head[kJournalRecordHeadBytes + kJournalBatchHeadBytes];
+    put_u32(head, kJournalBatch);
+    put_u32(head + 4, static_cast<std::uint32_t>(payload));
+    put_u64(head + 8, stats_.records);
+    put_u32(head + 16, static_cast<std::uint32_t>(samples.size()));
+    put_u32(head + 20, 0);
+    crc_ = 0;
+    put(head, sizeof head);
+    unsigned char one[kJournalSampleBytes];
+    for (const ToolSample& s : samples) {
+        encode_sample(s, one);
+        put(one, sizeof one);
+    }
+    unsigned char crc[4];
+    put_u32(crc, crc_);
+    put(crc, 4);
+    if (!ok()) return;
+    ++stats_.records;
+    stats_.samples += samples.size();
+    unsynced_ = true;
+    stats_.append_ms_total += ms_since(t0);
+    sync_if_due();
+}
+
+void JournalWriter::sync_if_due() {
+    if (!unsynced_ || !ok()) return;
+    if (Clock::now() - last_sync_ >= interval_) sync();
+}
+
+void JournalWriter::sync() {
+    if (!ok()) return;
+    const auto t0 = Clock::now();
+    if (!buf_.empty() && !write_out()) return;
+    if (::fdatasync(fd_) != 0) {
+        fail("fdatasync failed", errno);
+        return;
+    }
+    unsynced_ = false;
+    ++stats_.flushes;
+    last_sync_ = Clock::now();
+    stats_.flush_ms_total += ms_since(t0);
+}
+
+void JournalWriter::close() {
+    if (fd_ < 0) return;
+    sync();
+    ::close(fd_);
+    fd_ = -1;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,20 @@
+// compute/tools/sample_sweep.cpp - the sweep between two tool samples.
+#include "compute/tools/sample_sweep.hpp"
+
+#include <utility>
+
+namespace tridex::compute {
+
+bool sample_sweep(const ToolSample& from, const ToolSample& to, std::shared_ptr<const MeshTool> mesh, Sweep& out) {
+    if (to.op == ToolOp::kNone || !(to.tool.radius_m > 0.0)) return false;
+    Sweep sw;
+    sw.op = to.op;
+    sw.tool = sweep_tool(to.tool, std::move(mesh));
+    sw.axis = to.orientation * tool_axis_local();
+    sw.path_m = Segment{from.position, to.position};
+    sw.material = to.op == ToolOp::kSubtract ? 0 : to.material;
+    out = std::move(sw);
+    return true;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,228 @@
+// `tridex recover`: a session's model rebuilt from its journal after a normal end, after SIGKILL at random moments,
+// from a torn tail, and refusals (a changed mesh, a file that is not a journal).
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session_runtime.hpp"
+#include "app/session_spec.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/journal/journal_reader.hpp"
+#include "compute/mesh/mesh_export.hpp"
+#include "compute/tools/sample_sweep.hpp"
+#include "compute/tools/sweep.hpp"
+
+extern char** environ;
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kDemoArgs{"demo", "--seconds", "3", "--resolution", "48", "--width", "32", "--height", "32", "--cpu"};
+
+struct Result {
+    int exit_code = -1;
+    std::string err;
+};
+
+// Runs tridex with `args` (shell words) and waits; captures stderr.
+Result run_tridex(const std::string& args, const fs::path& dir) {
+    fs::create_directories(dir);
+    const fs::path err = dir / "stderr.txt";
+    const std::string cmd = "timeout 300 " + std::string(TRIDEX_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
+                            " 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream f(err);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    r.err = ss.str();
+    return r;
+}
+
+std::string bytes_of(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+nlohmann::json json_of(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+// The journal's valid prefix applied independently of recover: the workpiece from the header's spec, every sweep
+// applied on its own (not in the journal's batches), a fresh contour of the result; written as PLY bytes.
+std::string independent_ply(const fs::path& journal, const fs::path& dir) {
+    const compute::Journal j = compute::read_journal(journal.string());
+    const SessionSpec s = spec_from_json(j.session, journal.string());
+    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+    ToolSample prev{};
+    bool have_prev = false;
+    for (const compute::JournalRecord& r : j.records)
+        for (const ToolSample& smp : r.samples) {
+            compute::Sweep sw;
+            if (have_prev && compute::sample_sweep(prev, smp, nullptr, sw)) compute::apply_sweep(wp.model, sw);
+            prev = smp;
+            have_prev = true;
+        }
+    compute::Contourer c(wp.model);
+    c.update(wp.model);
+    const fs::path ply = dir / "independent.ply";
+    compute::write_ply(ply.string(), c.mesh(), c.mesh_materials());
+    return bytes_of(ply);
+}
+
+TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_recover_normal";
+    fs::remove_all(dir);
+    std::string args;
+    for (const std::string& a : kDemoArgs) args += a + " ";
+    const Result demo = run_tridex(args + "--out " + (dir / "session").string(), dir / "demo");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    const nlohmann::json sr = json_of(dir / "session" / "report.json");
+    ASSERT_TRUE(sr["journal"].is_object());
+    EXPECT_TRUE(sr["journal"]["error"].is_null());
+    EXPECT_EQ(sr["journal"]["samples"], sr["sculpt"]["samples"]);
+    EXPECT_GT(sr["journal"]["flushes"].get<int>(), 1);
+
+    const Result rec = run_tridex("recover " + (dir / "session" / "session.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    EXPECT_EQ(rec.err, "");
+    EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), bytes_of(dir / "session" / "sculpted.ply"));
+    EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "session" / "session.tdj", dir));
+    const nlohmann::json rr = json_of(dir / "rec" / "report.json");
+    EXPECT_TRUE(rr["truncated_at"].is_null());
+    EXPECT_EQ(rr["samples"], sr["sculpt"]["samples"]);
+    EXPECT_EQ(rr["records"], sr["journal"]["records"]);
+    EXPECT_EQ(rr["volume_removed_m3"].get<double>(), sr["volume_removed_m3"].get<double>());
+    EXPECT_NEAR(rr["recovered_device_time_s"].get<double>(), 3.0, 0.01);
+
+    // A torn tail: cut inside the last record; one line on stderr says where.
+    const std::string all = bytes_of(dir / "session" / "session.tdj");
+    const compute::Journal j = compute::read_journal((dir / "session" / "session.tdj").string());
+    const std::uint64_t last = j.records.back().offset;
+    {
+        std::ofstream torn(dir / "torn.tdj", std::ios::binary);
+        torn.write(all.data(), static_cast<std::streamsize>(last + 7));
+    }
+    const Result cut = run_tridex("recover " + (dir / "torn.tdj").string() + " --out " + (dir / "torn").string(), dir / "tornl");
+    ASSERT_EQ(cut.exit_code, 0) << cut.err;
+    EXPECT_EQ(std::count(cut.err.begin(), cut.err.end(), '\n'), 1) << cut.err;
+    EXPECT_NE(cut.err.find("cut at record " + std::to_string(j.records.size() - 1) + " (byte offset " + std::to_string(last) + ")"),
+              std::string::npos)
+        << cut.err;
+    const nlohmann::json tr = json_of(dir / "torn" / "report.json");
+    EXPECT_EQ(tr["truncated_at"]["record"], j.records.size() - 1);
+    EXPECT_EQ(tr["truncated_at"]["byte_offset"], last);
+    EXPECT_EQ(bytes_of(dir / "torn" / "sculpted.ply"), independent_ply(dir / "torn.tdj", dir));
+}
+
+TEST(Recover, SessionsKilledAtRandomMomentsRecoverTheirJournalsValidPrefix) {
+    const unsigned seed = static_cast<unsigned>(std::chrono::steady_clock::now().time_since_epoch().count());
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> delay_ms(1500, 4000);
+    int recovered_mid_session = 0;
+    for (int round = 0; round < 3; ++round) {
+        const int delay = delay_ms(rng);
+        SCOPED_TRACE("seed " + std::to_string(seed) + ", round " + std::to_string(round) + ", SIGKILL after " +
+                     std::to_string(delay) + " ms");
+        const fs::path dir = fs::path(testing::TempDir()) / ("tridex_recover_kill_" + std::to_string(round));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        std::vector<std::string> args{TRIDEX_EXE};
+        args.insert(args.end(), kDemoArgs.begin(), kDemoArgs.end());
+        args.push_back("--out");
+        args.push_back((dir / "session").string());
+        std::vector<char*> argv;
+        for (std::string& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        posix_spawn_file_actions_t fa;
+        posix_spawn_file_actions_init(&fa);
+        posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+        pid_t pid = 0;
+        ASSERT_EQ(posix_spawn(&pid, TRIDEX_EXE, &fa, nullptr, argv.data(), environ), 0);
+        posix_spawn_file_actions_destroy(&fa);
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay));
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        const bool killed = WIFSIGNALED(status);
+        const fs::path journal = dir / "session" / "session.tdj";
+        if (!fs::exists(journal)) {  // killed before the session started: nothing to recover
+            EXPECT_TRUE(killed);
+            continue;
+        }
+        const Result rec = run_tridex("recover " + journal.string() + " --out " + (dir / "rec").string(), dir / "recl");
+        if (rec.exit_code != 0) {
+            // Only a header that never reached the disk may be refused.
+            EXPECT_NE(rec.err.find("header"), std::string::npos) << rec.err;
+            EXPECT_LT(fs::file_size(journal), 4096u);
+            continue;
+        }
+        EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(journal, dir));
+        if (killed)
+            ++recovered_mid_session;
+        else  // the session ended before the kill: recovery gives its own mesh
+            EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), bytes_of(dir / "session" / "sculpted.ply"));
+    }
+    std::printf("seed %u: %d of 3 sessions killed mid-way and recovered\n", seed, recovered_mid_session);
+}
+
+TEST(Recover, RefusesAChangedMeshAndFilesThatAreNotJournals) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_recover_refuse";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::copy_file(fs::path(std::getenv("TRIDEX_ASSETS")) / "bunny.off", dir / "bunny.off");
+    const Result demo = run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --mesh " +
+                                       (dir / "bunny.off").string() + " --journal " + (dir / "j.tdj").string() +
+                                       " --out " + (dir / "session").string(),
+                                   dir / "demo");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    EXPECT_FALSE(fs::exists(dir / "session" / "session.tdj"));
+    {
+        std::ofstream more(dir / "bunny.off", std::ios::app);
+        more << "\n";
+    }
+    const Result changed = run_tridex("recover " + (dir / "j.tdj").string() + " --out " + (dir / "rec").string(), dir / "r1");
+    EXPECT_EQ(changed.exit_code, 2);
+    EXPECT_EQ(std::count(changed.err.begin(), changed.err.end(), '\n'), 1) << changed.err;
+    EXPECT_NE(changed.err.find("changed since the session"), std::string::npos) << changed.err;
+
+    {
+        std::ofstream junk(dir / "junk.tdj");
+        junk << "not a journal at all\n";
+    }
+    const Result junk = run_tridex("recover " + (dir / "junk.tdj").string() + " --out " + (dir / "rec2").string(), dir / "r2");
+    EXPECT_EQ(junk.exit_code, 2);
+    EXPECT_EQ(junk.err, "tridex: " + (dir / "junk.tdj").string() + ": not a tridex session journal (no TRDXJNL header)\n");
+
+    const Result off = run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --no-journal --out " +
+                                      (dir / "nj").string(),
+                                  dir / "demo2");
+    ASSERT_EQ(off.exit_code, 0) << off.err;
+    EXPECT_FALSE(fs::exists(dir / "nj" / "session.tdj"));
+    EXPECT_TRUE(json_of(dir / "nj" / "report.json")["journal"].is_null());
+}
+
+}  // namespace
+}  // namespace tridex::app

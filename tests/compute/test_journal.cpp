@@ -1,0 +1,254 @@
+// The session journal's file format: bit-exact round trips, torn and corrupted tails cut at the last valid record,
+// refused headers, and a writer whose disk fails without stopping its caller.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+
+#include "compute/journal/journal_format.hpp"
+#include "compute/journal/journal_reader.hpp"
+#include "compute/journal/journal_writer.hpp"
+#include "core/crc32.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& name) {
+    return (fs::temp_directory_path() / ("tridex_journal_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+std::vector<unsigned char> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Samples with awkward doubles (NaN payloads, -0, denormals, infinities) and every field set.
+std::vector<ToolSample> odd_samples(std::size_t n, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<ToolSample> v(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        ToolSample& s = v[i];
+        s.t_s = 1e-3 * static_cast<double>(i) + u(rng) * 1e-9;
+        s.position = Vec3(u(rng), u(rng), u(rng));
+        s.surface_m = (i % 3 == 0) ? Vec3(std::numeric_limits<double>::quiet_NaN()) : Vec3(u(rng), -0.0, 5e-324);
+        if (i % 5 == 1) s.surface_m.x = std::bit_cast<double>(std::uint64_t{0x7ff8dead'beef0001});  // NaN payload
+        s.orientation = Quat(u(rng), u(rng), u(rng), u(rng));
+        s.tool.kind = static_cast<ToolKind>(i % 3);
+        s.tool.radius_m = i % 7 == 0 ? std::numeric_limits<double>::infinity() : 0.004 + 1e-3 * u(rng);
+        s.tool.length_m = 0.02 * u(rng);
+        s.tool.mesh_id = static_cast<std::uint32_t>(rng());
+        s.op = static_cast<ToolOp>(i % 4);
+        s.material = static_cast<std::uint8_t>(rng());
+        s.buttons = static_cast<std::uint32_t>(rng());
+    }
+    return v;
+}
+
+template <class T>
+bool same_bits(const T& a, const T& b) {
+    return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+void expect_same(const ToolSample& a, const ToolSample& b) {
+    EXPECT_TRUE(same_bits(a.t_s, b.t_s));
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_TRUE(same_bits(a.position[k], b.position[k]));
+        EXPECT_TRUE(same_bits(a.surface_m[k], b.surface_m[k]));
+    }
+    EXPECT_TRUE(same_bits(a.orientation.w, b.orientation.w) && same_bits(a.orientation.x, b.orientation.x) &&
+                same_bits(a.orientation.y, b.orientation.y) && same_bits(a.orientation.z, b.orientation.z));
+    EXPECT_EQ(a.tool.kind, b.tool.kind);
+    EXPECT_TRUE(same_bits(a.tool.radius_m, b.tool.radius_m));
+    EXPECT_TRUE(same_bits(a.tool.length_m, b.tool.length_m));
+    EXPECT_EQ(a.tool.mesh_id, b.tool.mesh_id);
+    EXPECT_EQ(a.op, b.op);
+    EXPECT_EQ(a.material, b.material);
+    EXPECT_EQ(a.buttons, b.buttons);
+}
+
+// Writes `batches` (sizes) of odd samples; returns the samples in order.
+std::vector<ToolSample> write_journal(const std::string& path, const std::vector<std::size_t>& batches,
+                                      std::size_t buffer_bytes = std::size_t{1} << 18) {
+    std::size_t total = 0;
+    for (std::size_t b : batches) total += b;
+    const std::vector<ToolSample> all = odd_samples(total, 7);
+    JournalWriter w(path, R"({"mesh_path":"x.off","mesh_crc32":1})", std::chrono::milliseconds(100), buffer_bytes);
+    std::size_t at = 0;
+    for (std::size_t b : batches) {
+        w.append(std::span<const ToolSample>(all).subspan(at, b));
+        at += b;
+    }
+    w.close();
+    EXPECT_EQ(w.stats().error, "");
+    EXPECT_EQ(w.stats().records, batches.size());
+    EXPECT_EQ(w.stats().samples, total);
+    EXPECT_EQ(w.stats().bytes, fs::file_size(path));
+    return all;
+}
+
+TEST(Journal, RoundTripsSamplesBitForBitInTheirBatches) {
+    const std::string path = temp_path("roundtrip.tdj");
+    const std::vector<std::size_t> batches{1, 3, 17, 1, 250, 2};
+    // A buffer smaller than the 250-sample record streams it through.
+    const std::vector<ToolSample> all = write_journal(path, batches, 4096);
+    const Journal j = read_journal(path);
+    EXPECT_EQ(j.version, kJournalVersion);
+    EXPECT_EQ(j.session, R"({"mesh_path":"x.off","mesh_crc32":1})");
+    EXPECT_FALSE(j.cut);
+    ASSERT_EQ(j.records.size(), batches.size());
+    std::size_t at = 0;
+    for (std::size_t r = 0; r < batches.size(); ++r) {
+        ASSERT_EQ(j.records[r].samples.size(), batches[r]);
+        for (const ToolSample& s : j.records[r].samples) expect_same(s, all[at++]);
+    }
+    EXPECT_EQ(j.samples, all.size());
+    fs::remove(path);
+}
+
+TEST(Journal, EmptyBatchesWriteNothing) {
+    const std::string path = temp_path("empty.tdj");
+    JournalWriter w(path, "{}");
+    w.append({});
+    w.close();
+    const Journal j = read_journal(path);
+    EXPECT_TRUE(j.records.empty());
+    EXPECT_FALSE(j.cut);
+    fs::remove(path);
+}
+
+TEST(Journal, TruncatedAtEveryByteOfTheLastRecordsIsCutAtTheLastValidRecord) {
+    const std::string path = temp_path("trunc.tdj");
+    write_journal(path, {2, 5, 1, 4, 3});
+    const std::vector<unsigned char> bytes = file_bytes(path);
+    const Journal full = parse_journal(bytes, "full");
+    ASSERT_EQ(full.records.size(), 5u);
+    std::vector<std::uint64_t> ends;  // end offset of each record
+    for (std::size_t r = 1; r < full.records.size(); ++r) ends.push_back(full.records[r].offset);
+    ends.push_back(bytes.size());
+    for (std::size_t len = full.records[2].offset; len < bytes.size(); ++len) {
+        const Journal j = parse_journal(std::span(bytes).first(len), "cut");
+        std::size_t complete = 0;
+        while (complete < ends.size() && ends[complete] <= len) ++complete;
+        ASSERT_EQ(j.records.size(), complete) << "length " << len;
+        const bool at_boundary = complete > 0 && ends[complete - 1] == len;
+        ASSERT_EQ(j.cut.has_value(), !at_boundary) << "length " << len;
+        if (j.cut) {
+            EXPECT_EQ(j.cut->record, complete);
+            EXPECT_EQ(j.cut->byte_offset, full.records[complete].offset);
+            EXPECT_NE(j.cut->reason.find("partial record"), std::string::npos) << j.cut->reason;
+        }
+    }
+    fs::remove(path);
+}
+
+TEST(Journal, BitFlipsInRecordsAreCutAtTheFlippedRecord) {
+    const std::string path = temp_path("flip.tdj");
+    write_journal(path, {2, 3, 1});
+    const std::vector<unsigned char> bytes = file_bytes(path);
+    const Journal full = parse_journal(bytes, "full");
+    for (std::size_t at = full.records[0].offset; at < bytes.size(); ++at) {
+        std::size_t hit = 0;  // the record holding byte `at`
+        while (hit + 1 < full.records.size() && full.records[hit + 1].offset <= at) ++hit;
+        for (int bit = 0; bit < 8; ++bit) {
+            std::vector<unsigned char> b = bytes;
+            b[at] ^= static_cast<unsigned char>(1u << bit);
+            const Journal j = parse_journal(b, "flip");
+            ASSERT_EQ(j.records.size(), hit) << "byte " << at << " bit " << bit;
+            ASSERT_TRUE(j.cut);
+            EXPECT_EQ(j.cut->record, hit);
+            EXPECT_EQ(j.cut->byte_offset, full.records[hit].offset);
+        }
+    }
+    fs::remove(path);
+}
+
+// The message of the Error parse_journal throws for `bytes`; "" when it does not throw.
+std::string refusal(const std::vector<unsigned char>& bytes) {
+    try {
+        parse_journal(bytes, "j.tdj");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
+    const std::string path = temp_path("hdr.tdj");
+    write_journal(path, {2});
+    const std::vector<unsigned char> bytes = file_bytes(path);
+    const std::uint32_t len = get_u32(bytes.data() + 16);
+
+    std::vector<unsigned char> v2 = bytes;  // version 2 with a valid header CRC
+    put_u32(v2.data() + 8, 2);
+    put_u32(v2.data() + kJournalHeaderFixedBytes + len, crc32_ieee(v2.data(), kJournalHeaderFixedBytes + len));
+    std::vector<unsigned char> damaged = bytes;
+    damaged[kJournalHeaderFixedBytes + 3] ^= 0x10;
+    const std::vector<unsigned char> garbage(200, 0xAB);
+    const std::vector<unsigned char> short_header(bytes.begin(), bytes.begin() + kJournalHeaderFixedBytes + 5);
+
+    const std::pair<std::vector<unsigned char>, std::string> cases[] = {
+        {v2, "j.tdj: journal version 2; this build reads version 1"},
+        {damaged, "j.tdj: the journal header is damaged (CRC mismatch)"},
+        {garbage, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
+        {{}, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
+        {short_header, "j.tdj: the journal header is truncated or damaged"},
+    };
+    for (const auto& [b, want] : cases) {
+        const std::string got = refusal(b);
+        EXPECT_EQ(got, want);
+        EXPECT_EQ(got.find('\n'), std::string::npos);
+    }
+    fs::remove(path);
+}
+
+TEST(Journal, AFailingDiskStopsTheJournalNotItsCaller) {
+    // /dev/full: every write fails with ENOSPC.
+    JournalWriter full("/dev/full", "{}");
+    EXPECT_FALSE(full.ok());
+    EXPECT_NE(full.stats().error.find("No space left on device"), std::string::npos) << full.stats().error;
+    const std::vector<ToolSample> s = odd_samples(10, 1);
+    EXPECT_NO_THROW(full.append(s));
+    EXPECT_NO_THROW(full.sync());
+    EXPECT_EQ(full.stats().records, 0u);
+
+    JournalWriter nowhere("/nonexistent-folder/x/session.tdj", "{}");
+    EXPECT_FALSE(nowhere.ok());
+    EXPECT_NE(nowhere.stats().error.find("cannot create the journal"), std::string::npos) << nowhere.stats().error;
+    EXPECT_NO_THROW(nowhere.append(s));
+}
+
+TEST(Journal, SyncsWhenTheIntervalPassed) {
+    const std::string path = temp_path("sync.tdj");
+    const std::vector<ToolSample> s = odd_samples(3, 2);
+    {
+        JournalWriter every(path, "{}", std::chrono::nanoseconds(0));
+        for (int i = 0; i < 5; ++i) every.append(s);
+        EXPECT_EQ(every.stats().flushes, 6u);  // the header, then each append
+        EXPECT_EQ(every.stats().bytes, fs::file_size(path));  // nothing waits in the buffer
+    }
+    {
+        JournalWriter rarely(path, "{}", std::chrono::hours(1));
+        for (int i = 0; i < 5; ++i) rarely.append(s);
+        rarely.sync_if_due();
+        EXPECT_EQ(rarely.stats().flushes, 1u);  // the header only
+        rarely.close();
+        EXPECT_EQ(rarely.stats().flushes, 2u);
+        EXPECT_EQ(read_journal(path).records.size(), 5u);
+    }
+    fs::remove(path);
+}
+
+}  // namespace
+}  // namespace tridex::compute

@@ -1,0 +1,128 @@
+// The sculpt thread's journal: it holds exactly the samples the thread applied, in its batches, and applying it
+// again (in those batches or any others) gives the same dexels.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include "compute/journal/journal_reader.hpp"
+#include "compute/journal/journal_replay.hpp"
+#include "compute/journal/journal_writer.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "core/primitives.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+compute::TriDexel box_model() {
+    const Aabb box{Vec3(-0.05), Vec3(0.05)};
+    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 40), std::size_t(1) << 30);
+    compute::scan_convert(box_mesh(box), m);
+    return m;
+}
+
+// A wavy path across the box's +z face: subtract, then a union pass and a paint pass.
+std::vector<ToolSample> stream() {
+    std::vector<ToolSample> s(450);
+    for (int i = 0; i < 450; ++i) {
+        const double u = (i % 150) / 149.0;
+        s[i].t_s = i * 1e-3;
+        s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u) + 0.01 * (i / 150), 0.048 - 0.004 * std::sin(5.0 * u));
+        s[i].tool.radius_m = 0.006;
+        s[i].op = i < 150 ? ToolOp::kSubtract : i < 300 ? ToolOp::kUnion : ToolOp::kPaint;
+        s[i].material = 3;
+    }
+    return s;
+}
+
+void expect_same_dexels(const compute::TriDexel& a, const compute::TriDexel& b) {
+    for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(a.sets[k].rays.size(), b.sets[k].rays.size());
+        for (std::size_t r = 0; r < a.sets[k].rays.size(); ++r) {
+            const auto& x = a.sets[k].rays[r];
+            const auto& y = b.sets[k].rays[r];
+            ASSERT_EQ(x.size(), y.size()) << "set " << k << " ray " << r;
+            for (std::size_t n = 0; n < x.size(); ++n) {
+                ASSERT_TRUE(std::memcmp(&x[n].enter, &y[n].enter, sizeof(float)) == 0 &&
+                            std::memcmp(&x[n].exit, &y[n].exit, sizeof(float)) == 0)
+                    << "set " << k << " ray " << r << " interval " << n;
+                ASSERT_EQ(x[n].enter_material, y[n].enter_material) << "set " << k << " ray " << r;
+                ASSERT_EQ(x[n].exit_material, y[n].exit_material) << "set " << k << " ray " << r;
+            }
+        }
+    }
+}
+
+TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
+    const std::string path = (fs::temp_directory_path() / ("tridex_journal_sculpt_" + std::to_string(::getpid()) + ".tdj")).string();
+    compute::TriDexel live = box_model();
+    compute::JournalStats stats;
+    {
+        compute::Contourer contourer(live);
+        contourer.update(live);
+        SpscRing<ToolSample> ring(256);
+        TripleBuffer<ActiveSurface> surface;
+        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
+        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+        t.use_journal(journal);
+        t.start();
+        const auto samples = stream();  // trickled: the batches depend on timing
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            while (!ring.try_push(samples[i])) std::this_thread::yield();
+            if (i % 11 == 0) std::this_thread::sleep_for(std::chrono::microseconds(400));
+        }
+        t.stop();
+        EXPECT_GT(t.stats().busy_ms, 0.0);
+        stats = journal.stats();
+    }
+    EXPECT_EQ(stats.error, "");
+    EXPECT_EQ(stats.samples, 450u);
+    EXPECT_GE(stats.flushes, 2u);  // the header, and the thread's last sync
+
+    const compute::Journal j = compute::read_journal(path);
+    EXPECT_FALSE(j.cut);
+    EXPECT_EQ(j.records.size(), stats.records);
+    const auto samples = stream();
+    std::size_t at = 0;
+    for (const compute::JournalRecord& r : j.records)
+        for (const ToolSample& s : r.samples) {
+            ASSERT_LT(at, samples.size());
+            EXPECT_EQ(std::memcmp(&s.position, &samples[at].position, sizeof s.position), 0);
+            EXPECT_EQ(s.op, samples[at].op);
+            ++at;
+        }
+    EXPECT_EQ(at, samples.size());
+
+    // In the thread's batches.
+    compute::TriDexel again = box_model();
+    const compute::JournalApplyStats st = compute::journal_apply(again, j.records);
+    EXPECT_EQ(st.records, j.records.size());
+    EXPECT_EQ(st.samples, 450u);
+    EXPECT_EQ(st.booleans, 449u);
+    EXPECT_DOUBLE_EQ(st.last_t_s, samples.back().t_s);
+    expect_same_dexels(live, again);
+
+    // One sample per batch, and everything in one batch: batching does not change the model.
+    std::vector<compute::JournalRecord> singles, one(1);
+    for (const ToolSample& s : samples) {
+        singles.push_back({});
+        singles.back().samples.push_back(s);
+        one[0].samples.push_back(s);
+    }
+    compute::TriDexel split = box_model(), whole = box_model();
+    compute::journal_apply(split, singles);
+    compute::journal_apply(whole, one);
+    expect_same_dexels(live, split);
+    expect_same_dexels(live, whole);
+    fs::remove(path);
+}
+
+}  // namespace
+}  // namespace tridex::app
