@@ -119,6 +119,7 @@ bool SculptThread::step() {
             sw.op = s.op;
             sw.tool = compute::sweep_tool(s.tool, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr);
             sw.axis = s.orientation * tool_axis_local();  // the sample's axis over its whole segment
+            if (s.tool.kind == ToolKind::kMesh) sw.orientation = s.orientation;  // the mesh turns with roll too
             sw.path_m = Segment{prev_.position, s.position};
             sw.material = s.op == ToolOp::kSubtract ? 0 : s.material;  // a cut exposes the workpiece's own material
             batch_.push_back(sw);

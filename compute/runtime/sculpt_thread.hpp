@@ -95,8 +95,9 @@ public:
     /// thread and have contoured every tile already. Throws tridex::Error when the thread runs.
     void use_gpu_contour(GpuContourShare& share);
     /// The session's mesh tools: a sample whose tool is ToolKind::kMesh sweeps tools[tool.mesh_id] (a sample
-    /// naming an id outside the table fails the thread with tridex::Error). Throws tridex::Error when the
-    /// thread runs.
+    /// naming an id outside the table fails the thread with tridex::Error), each mesh in the tool frame of
+    /// core/tool_shape.hpp (+y the tool axis) turned by the sample's full orientation (Sweep::orientation).
+    /// Throws tridex::Error when the thread runs.
     void use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools);
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
