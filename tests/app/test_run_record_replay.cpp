@@ -103,7 +103,7 @@ TEST(RunRecordReplay, SceneRefusesToolsAndPointsThatDoNotExist) {
         }
     };
     expect_refused(R"({"tool": {"shape": "cone"}})", "tool.shape");
-    expect_refused(R"({"tool": {"shape": "mesh"}})", "tool.shape");
+    expect_refused(R"({"tool": {"shape": "mesh"}})", "tool.mesh");
     expect_refused(R"({"tool": {"shape": "ball", "length_m": 0.01}})", "tool.length_m");
     expect_refused(R"({"haptics": {"points": 2}})", "haptics.points");  // the wand's two points need a flat end
     expect_refused(R"({"device": {"driver": "falcon"}})", "device.driver");
