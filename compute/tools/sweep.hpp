@@ -20,7 +20,8 @@ using tridex::ToolKind;  // the tool kinds are core vocabulary (core/tool_shape.
 
 /// The tool of one sweep: a core ToolShape's kind and sizes, with a kMesh tool's loaded mesh (the core type
 /// names it by index into a session's table; a sweep carries the mesh itself). Tool frame as ToolShape's,
-/// except that a kMesh tool's frame +z is turned onto Sweep::axis (compute/tools/mesh_tool.hpp).
+/// except that a kMesh tool's frame +z is turned onto Sweep::axis (compute/tools/mesh_tool.hpp) unless the sweep
+/// carries its full orientation (Sweep::orientation: then ToolShape's frame, turned by it).
 struct SweepTool {
     ToolKind kind = ToolKind::kBall;
     double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0); ignored for kMesh
