@@ -14,6 +14,7 @@
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
 #include "app/workpiece_source.hpp"
+#include "app/tool_mesh.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -57,7 +58,17 @@ void run_demo(const DemoOptions& o) {
     s.stock_m = o.stock_m;
     s.workpiece_centre_m = kWorkpieceCentre;
     s.tool = ToolShape{parse_tool_kind(o.tool, "--tool"), o.tool_radius_m, 0.0, 0};
-    if (s.tool.kind == ToolKind::kMesh) throw Error("--tool: mesh tools are not yet available in sessions; use ball or flat_end");
+    double press_reach_m = o.tool_radius_m;  // from the tool origin to its lowest point along the press direction (+z)
+    if (s.tool.kind == ToolKind::kMesh) {
+        if (o.tool_mesh.empty()) throw Error("--tool mesh: needs --tool-mesh FILE (a closed mesh)");
+        if (!(o.tool_size_m >= 0.001 && o.tool_size_m <= 0.25 * o.stock_m))
+            throw Error("--tool-size-mm: must be between 1 mm and a quarter of the stock (" +
+                        std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_size_m * 1e3));
+        set_tool_mesh(s, o.tool_mesh, o.tool_size_m, "--tool-mesh");
+        press_reach_m = tool_mesh_reach_m(load_tool_mesh(s.tool_mesh_path, s.tool_size_m), 2);
+    } else if (!o.tool_mesh.empty()) {
+        throw Error("--tool-mesh: only with --tool mesh");
+    }
     if (s.tool.kind == ToolKind::kFlatEnd) {
         if (!(o.tool_length_m >= 0.0005 && o.tool_length_m <= o.stock_m))
             throw Error("--tool-length-mm: must be between 0.5 mm and the stock (" + format_number(1e3 * o.stock_m) +
@@ -80,7 +91,7 @@ void run_demo(const DemoOptions& o) {
     // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;
     sp.duration_s = o.seconds;
-    sp.tool_radius_m = o.tool_radius_m;
+    sp.tool_radius_m = press_reach_m;
     sp.workspace_scale = s.workspace_scale;
     const StrokePlan plan = plan_stroke(wp.model, sp);
     // The device's home (its workspace centre) sits on the stroke's centre.

@@ -16,8 +16,10 @@ struct DemoOptions {
     int height = 960;              ///< per-eye image height, px
     double stock_m = 0.3;          ///< the workpiece is scaled so its longest side is this, m
     double tool_radius_m = 0.008;  ///< tool radius (ball or flat-end mill), m
-    std::string tool = "ball";     ///< tool shape: ball | flat_end (core/tool_shape.hpp)
+    std::string tool = "ball";     ///< tool shape: ball | flat_end | mesh (core/tool_shape.hpp)
     double tool_length_m = 0.02;   ///< flat_end: cylinder length along the tool axis, m
+    std::string tool_mesh;         ///< mesh: the tool's closed mesh file (app/tool_mesh.hpp places its tip on the HIP)
+    double tool_size_m = 0.012;    ///< mesh: longest side of the tool mesh's bounding box after scaling, m
     bool validate = false;         ///< enable VK_LAYER_KHRONOS_validation (also on with TRIDEX_VALIDATION=1)
     int points = 1;                ///< contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh
     std::string device = "omni";   ///< simulated device profile: omni | wand | 6dof

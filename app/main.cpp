@@ -57,10 +57,16 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--width", demo.width, "Per-eye image width, px")->capture_default_str();
     demo_cmd->add_option("--height", demo.height, "Per-eye image height, px")->capture_default_str();
     demo_cmd->add_option("--tool-radius-mm", tool_radius_mm, "Tool radius (ball or flat-end mill), mm")->capture_default_str();
-    demo_cmd->add_option("--tool", demo.tool, "Tool shape: ball or flat_end (a flat-end mill, shank up the tool axis)")
+    demo_cmd->add_option("--tool", demo.tool,
+                         "Tool shape: ball, flat_end (a flat-end mill, shank up the tool axis) or mesh (--tool-mesh)")
         ->capture_default_str();
     double tool_length_mm = demo.tool_length_m * 1e3;
     demo_cmd->add_option("--tool-length-mm", tool_length_mm, "flat_end: cylinder length, mm")->capture_default_str();
+    demo_cmd->add_option("--tool-mesh", demo.tool_mesh,
+                         "mesh: the tool's closed mesh file (+y its axis; its tip, the lowest point, is the HIP)");
+    double tool_size_mm = demo.tool_size_m * 1e3;
+    demo_cmd->add_option("--tool-size-mm", tool_size_mm, "mesh: longest side of the tool mesh after scaling, mm")
+        ->capture_default_str();
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
     demo_cmd->add_option("--points", demo.points, "Contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh")
         ->capture_default_str();
@@ -205,6 +211,7 @@ int main(int argc, char** argv) {
         if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
             demo.tool_length_m = tool_length_mm * 1e-3;
+            demo.tool_size_m = tool_size_mm * 1e-3;
             demo.cutting = !no_cutting;
             tridex::app::run_demo(demo);
         }

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_registry.hpp"
+#include "app/tool_mesh.hpp"
 #include "haptics/tool_points.hpp"
 
 namespace tridex::app {
@@ -161,18 +162,29 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
     f.finish();
 }
 
-void read_tool(Fields& top, RunScene& s) {
+void read_tool(Fields& top, RunScene& s, const std::string& base_dir) {
     SessionSpec& sp = s.spec;
     const json* t = top.get("tool");
     if (t) {
         Fields f(*t, top.source(), "tool");
         const std::string shape = f.text("shape", to_string(sp.tool.kind));
-        if (shape == "mesh") f.fail("tool.shape", "mesh tools are not yet available in sessions; use ball or flat_end");
         sp.tool.kind = parse_tool_kind(shape, top.source() + ": field 'tool.shape'");
-        sp.tool.radius_m = f.number("radius_m", sp.tool.radius_m, 0.0005, 0.25 * sp.stock_m);
+        if (sp.tool.kind == ToolKind::kMesh) {
+            // A closed mesh, its tip on the HIP and +y its axis (app/tool_mesh.hpp), longest side size_m.
+            const std::string mesh = f.text("mesh", "");
+            if (mesh.empty()) f.fail("tool.mesh", "a mesh tool needs its closed mesh file");
+            const double size_m = f.number("size_m", 0.012, 0.001, 0.25 * sp.stock_m);
+            const fs::path p = fs::path(mesh).is_absolute() ? fs::path(mesh) : fs::path(base_dir) / mesh;
+            if (!fs::is_regular_file(p)) f.fail("tool.mesh", "no such file: " + p.string());
+            for (const char* other : {"radius_m", "length_m"})
+                if (f.get(other)) f.fail(std::string("tool.") + other, "a mesh tool's size is size_m");
+            set_tool_mesh(sp, p.string(), size_m, top.source() + ": field 'tool.mesh'");
+        } else {
+            sp.tool.radius_m = f.number("radius_m", sp.tool.radius_m, 0.0005, 0.25 * sp.stock_m);
+        }
         if (sp.tool.kind == ToolKind::kFlatEnd)
             sp.tool.length_m = f.number("length_m", 4.0 * sp.tool.radius_m, 0.0005, sp.stock_m);
-        else if (f.get("length_m"))
+        else if (sp.tool.kind == ToolKind::kBall && f.get("length_m"))
             f.fail("tool.length_m", "only a flat_end tool has a length");
         sp.stiffness_n_per_m = f.number("stiffness_n_per_m", sp.stiffness_n_per_m, 0.0, 1e5, true);
         sp.damping_n_s_per_m = f.number("damping_n_s_per_m", sp.damping_n_s_per_m, 0.0, 1e3);
@@ -259,7 +271,8 @@ void read_haptics(Fields& top, RunScene& s) {
         f.finish();
     }
     try {  // the points must exist on the tool
-        (void)haptics::tool_points_for(sp.tool, sp.points, "tool");
+        const TriMesh tool_mesh = sp.tool.kind == ToolKind::kMesh ? load_tool_mesh(sp.tool_mesh_path, sp.tool_size_m) : TriMesh{};
+        (void)haptics::tool_points_for(sp.tool, sp.points, "tool", &tool_mesh);
     } catch (const Error& e) {
         top.fail("haptics.points", e.what());
     }
@@ -319,7 +332,11 @@ void read_stroke(Fields& top, RunScene& s) {
     }
     // The planner keeps the tool's lowest point along the press direction depth_m below the surface: a ball's
     // lies a radius from its centre; a flat end pressed from above (its axis +y) is its own lowest point.
-    p.tool_radius_m = s.spec.tool.kind == ToolKind::kFlatEnd && p.press_axis == 1 ? 0.0 : s.spec.tool.radius_m;
+    // A mesh tool reaches as far below its tip as its mesh does along -press_axis (0 from above: its tip).
+    p.tool_radius_m = s.spec.tool.kind == ToolKind::kMesh
+                          ? tool_mesh_reach_m(load_tool_mesh(s.spec.tool_mesh_path, s.spec.tool_size_m), p.press_axis)
+                      : s.spec.tool.kind == ToolKind::kFlatEnd && p.press_axis == 1 ? 0.0
+                                                                                     : s.spec.tool.radius_m;
 }
 
 void read_display(Fields& top, RunScene& s) {
@@ -405,7 +422,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     s.source = source;
     Fields top(j, source, "");
     read_workpiece(top, s, base_dir);
-    read_tool(top, s);
+    read_tool(top, s, base_dir);
     read_device(top, s);
     read_op(top, s);
     read_materials(top, s);

@@ -42,8 +42,11 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///                  "resolution": 128,             // lattice cells along the longest side, 8..4096
 ///                  "stock_m": 0.12,               // longest side after scaling, m, (0, 10]
 ///                  "centre_m": [0, 0, 0.05] },    // where its bounding box is centred, m
-///   "tool": { "shape": "ball" | "flat_end",       // core/tool_shape.hpp
+///   "tool": { "shape": "ball" | "flat_end" | "mesh",       // core/tool_shape.hpp
 ///             "radius_m": 0.006, "length_m": 0.02,            // length_m: flat_end only (default 4 radii)
+///             "mesh": "tool.off", "size_m": 0.012,            // mesh only (instead of radius_m): a closed mesh
+///                                                             // relative to the scene file, longest side size_m,
+///                                                             // +y its axis, its tip the HIP (app/tool_mesh.hpp)
 ///             "stiffness_n_per_m": 700, "damping_n_s_per_m": 0.5 },
 ///   "device": { "driver": "simulated", "profile": "omni" | "wand" | "6dof" },
 ///   "op": "subtract" | "union" | "paint",  "material": 1,       // what the tool does; palette id 1..7

@@ -262,6 +262,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.spec.tool.radius_m,
                                                        backend.start_tool_m(), backend.start_box_m());
             view.tool_shape = scene.spec.tool;
+            view.tool_mesh = backend.runtime().tool_mesh();
             view.tool_orientation = lv.tool_world.orientation;
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
             view.tiles = tiles;
@@ -271,7 +272,10 @@ RunResult run_stereo_session(const RunOptions& options) {
                 if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
                 sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
                                 mesh.sculpt_steps);
-                add_run_items(view, lv, scene.spec.tool.radius_m, kForceMetresPerNewton,
+                // The proxy of a mesh tool's tip: a marker a tenth of the tool's size, not its bounding sphere.
+                const double proxy_r =
+                    scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : scene.spec.tool.radius_m;
+                add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
                               RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms});
             }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);

@@ -126,6 +126,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.tool_shape = cfg.tool;
+    view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
     if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
     view.show_workspace = true;
     const haptics::LoopView& lv = run.last_view;

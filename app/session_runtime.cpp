@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "app/memory.hpp"
+#include "app/tool_mesh.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/volume.hpp"
@@ -48,7 +49,9 @@ bool gpu_contour_default(const gpu::Context& context, std::string& reason) {
 
 SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                                const Vec3& start_m, const RuntimeOptions& o)
-    : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)), cfg_(loop_config(spec, o.max_ticks)) {
+    : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)),
+      mesh_tool_(spec.tool.kind == ToolKind::kMesh ? make_session_mesh_tool(spec.tool_mesh_path, spec.tool_size_m) : nullptr),
+      cfg_(loop_config(spec, o.max_ticks, tool_mesh())) {
     if (!device_) throw Error("SessionRuntime: no haptic device");
     // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
     // enabled by the haptic loop when it starts and disabled when it stops.
@@ -81,6 +84,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));
         sculpt_->use_journal(*journal_);
     }
+    if (mesh_tool_) sculpt_->use_mesh_tools({mesh_tool_});  // ToolShape::mesh_id 0
     if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);

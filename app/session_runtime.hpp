@@ -17,6 +17,7 @@
 #include "compute/runtime/sculpt_thread.hpp"
 #include "app/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
+#include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/active_surface.hpp"
 #include "core/spsc_ring.hpp"
@@ -97,7 +98,8 @@ public:
     /// while it runs, and stop() closes it. `spec` must have device_origin_m set; start_m (world m) centres the
     /// first active-surface snapshot. Throws tridex::Error for a bad spec (loop_config), a device that cannot
     /// open or home (closed again), a model that does not fit the GPU, or a device whose profile the loop
-    /// refuses.
+    /// refuses. A mesh tool (spec.tool kMesh) is loaded from spec.tool_mesh_path (app/tool_mesh.hpp) and handed to
+    /// the sculpt thread (SculptThread::use_mesh_tools; the GPU backend takes its dexels with each batch).
     SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                    const Vec3& start_m, const RuntimeOptions& options);
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
@@ -141,6 +143,9 @@ public:
 
     const SessionSpec& spec() const { return spec_; }                     ///< what decides the model
     const haptics::HapticLoopConfig& config() const { return cfg_; }      ///< loop_config(spec)
+    /// A mesh tool's mesh in the tool frame (m; app/tool_mesh.hpp), the one the Booleans sweep and the contact
+    /// points lie on; nullptr for a ball or flat end.
+    const TriMesh* tool_mesh() const { return mesh_tool_ ? &mesh_tool_->mesh() : nullptr; }
     const devices::DeviceProfile& profile() const { return device_->profile(); }  ///< the device's
     /// The device's status channel (lifecycle state, faults, gated and clamped writes); any thread.
     devices::DeviceStatus device_status() const { return device_->status(); }
@@ -170,6 +175,7 @@ private:
     SessionSpec spec_;
     Workpiece wp_;
     std::unique_ptr<devices::HapticDevice> device_;
+    std::shared_ptr<const compute::MeshTool> mesh_tool_;  // kMesh: the session's one mesh tool (mesh_id 0); before cfg_
     haptics::HapticLoopConfig cfg_;
     std::optional<gpu::Context> own_context_;  // before the Booleans and the contour: destroyed after them
     BackendChoice booleans_;

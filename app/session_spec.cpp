@@ -1,13 +1,17 @@
 // app/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
 #include "app/session_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
 #include "core/crc32.hpp"
+#include "app/tool_mesh.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -39,20 +43,52 @@ ToolOp parse_tool_op(const std::string& name) {
     throw Error("--op: unknown operation '" + name + "'; use subtract, union or paint");
 }
 
-haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks) {
+namespace {
+
+double bounding_radius_m(const TriMesh& m) {
+    double r = 0.0;
+    for (const Vec3& p : m.positions) r = std::max(r, glm::length(p));
+    return r;
+}
+
+}  // namespace
+
+void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const std::string& what) {
+    try {
+        const std::string abs = std::filesystem::absolute(path).lexically_normal().string();
+        const std::shared_ptr<const compute::MeshTool> tool = make_session_mesh_tool(abs, size_m);
+        s.tool = ToolShape{ToolKind::kMesh, tool->bounding_radius_m(), 0.0, 0};
+        s.tool_mesh_path = abs;  // a recording replays from any folder
+        s.tool_size_m = size_m;
+        std::tie(s.tool_mesh_crc32, s.tool_mesh_bytes) = file_crc32(abs);
+    } catch (const Error& e) {
+        throw Error(what + ": " + e.what());
+    }
+}
+
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m) {
     if (s.material < 1 || s.material > 7)
         throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
     if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction))
         throw Error("--friction: need 0 <= dynamic <= static, got static " + format_number(s.static_friction) +
                     ", dynamic " + format_number(s.dynamic_friction));
-    if (s.tool.kind == ToolKind::kMesh)
-        throw Error("tool.shape: mesh tools are not yet available in sessions (only in the Boolean engine); use ball "
-                    "or flat_end");
+    std::shared_ptr<const compute::MeshTool> loaded;  // kMesh without a mesh given: its file, loaded again
+    ToolShape tool = s.tool;
+    if (s.tool.kind == ToolKind::kMesh) {
+        if (!tool_mesh_m) {
+            if (s.tool_mesh_path.empty()) throw Error("tool.mesh: a mesh tool needs its mesh file");
+            loaded = make_session_mesh_tool(s.tool_mesh_path, s.tool_size_m);
+            tool_mesh_m = &loaded->mesh();
+        }
+        tool.radius_m = bounding_radius_m(*tool_mesh_m);
+        tool.length_m = 0.0;
+        tool.mesh_id = 0;
+    }
     haptics::HapticLoopConfig cfg;
     cfg.period_s = s.period_s;
     cfg.contact.stiffness_n_per_m = s.stiffness_n_per_m;
     cfg.contact.damping_n_s_per_m = s.damping_n_s_per_m;
-    cfg.contact.tool_radius_m = s.tool.radius_m;
+    cfg.contact.tool_radius_m = tool.radius_m;
     cfg.contact.static_friction = s.static_friction;
     cfg.contact.dynamic_friction = s.dynamic_friction;
     cfg.contact.cutting = s.cutting && parse_tool_op(s.op) == ToolOp::kSubtract;  // only removal resists
@@ -73,8 +109,8 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.op = parse_tool_op(s.op);
     cfg.material = static_cast<std::uint8_t>(s.material);
     cfg.max_ticks = max_ticks;
-    cfg.tool = s.tool;
-    cfg.tool_points = haptics::tool_points_for(s.tool, s.points, "tool");
+    cfg.tool = tool;
+    cfg.tool_points = haptics::tool_points_for(tool, s.points, "tool", tool_mesh_m);
     cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
                                                  : haptics::MultiPointMode::kIndependentProxies;
     return cfg;
@@ -103,7 +139,13 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     range("stock_m", s.stock_m, 1e-3, 100.0);
     point("workpiece_centre_m", s.workpiece_centre_m);
     point("device_origin_m", s.device_origin_m);
-    range("tool.radius_m", s.tool.radius_m, 5e-4, 0.25 * s.stock_m);
+    if (s.tool.kind == ToolKind::kMesh) {
+        range("tool.size_m", s.tool_size_m, 1e-3, 0.25 * s.stock_m);
+        range("tool.radius_m", s.tool.radius_m, 5e-4, s.stock_m);
+        if (s.tool_mesh_path.empty()) fail("tool.mesh", "a mesh tool needs its mesh file", "none");
+    } else {
+        range("tool.radius_m", s.tool.radius_m, 5e-4, 0.25 * s.stock_m);
+    }
     if (s.tool.kind == ToolKind::kFlatEnd) range("tool.length_m", s.tool.length_m, 5e-4, s.stock_m);
     if (s.points < 1 || s.points > 64) fail("points", "must be between 1 and 64", std::to_string(s.points));
     try {
@@ -120,7 +162,10 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     try {
         (void)parse_tool_op(s.op);
         (void)haptics::parse_workspace_mode(s.workspace_mode);
-        (void)loop_config(s, 0);  // points for the tool, materials, material id
+        const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // points for the tool (its mesh), materials, material id
+        if (s.tool.kind == ToolKind::kMesh && std::abs(cfg.tool.radius_m - s.tool.radius_m) > 1e-9 * s.tool.radius_m)
+            throw Error("tool.radius_m: " + format_number(s.tool.radius_m) + " m is not the tool mesh's bounding radius " +
+                        format_number(cfg.tool.radius_m) + " m");
     } catch (const Error& e) {
         throw Error(source + ": settings: " + e.what());
     }
@@ -151,6 +196,13 @@ std::string spec_to_json(const SessionSpec& s) {
                              {"damping_n_s_per_m", m.material.damping_n_s_per_m},
                              {"static_friction", m.material.static_friction},
                              {"dynamic_friction", m.material.dynamic_friction}});
+    json tool{{"shape", to_string(s.tool.kind)}, {"radius_m", s.tool.radius_m}, {"length_m", s.tool.length_m}};
+    if (s.tool.kind == ToolKind::kMesh) {
+        tool["mesh"] = s.tool_mesh_path;
+        tool["size_m"] = s.tool_size_m;
+        tool["mesh_crc32"] = s.tool_mesh_crc32;
+        tool["mesh_bytes"] = s.tool_mesh_bytes;
+    }
     const json j{{"mesh_path", s.mesh_path},
                  {"mesh_crc32", s.mesh_crc32},
                  {"mesh_bytes", s.mesh_bytes},
@@ -160,7 +212,7 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"resolution", s.resolution},
                  {"stock_m", s.stock_m},
                  {"workpiece_centre_m", vec(s.workpiece_centre_m)},
-                 {"tool", {{"shape", to_string(s.tool.kind)}, {"radius_m", s.tool.radius_m}, {"length_m", s.tool.length_m}}},
+                 {"tool", tool},
                  {"points", s.points},
                  {"device_driver", s.device_driver},
                  {"device", s.device},
@@ -216,6 +268,12 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
         s.tool.kind = parse_tool_kind(shape, source + ": settings field 'tool.shape'");
         get(t, "radius_m", s.tool.radius_m);
         get(t, "length_m", s.tool.length_m);
+        if (s.tool.kind == ToolKind::kMesh) {
+            get(t, "mesh", s.tool_mesh_path);
+            get(t, "size_m", s.tool_size_m);
+            get(t, "mesh_crc32", s.tool_mesh_crc32);
+            get(t, "mesh_bytes", s.tool_mesh_bytes);
+        }
     } else {  // recordings made before tool shapes: a ball
         s.tool = ToolShape{ToolKind::kBall, 0.0, 0.0, 0};
         get(j, "tool_radius_m", s.tool.radius_m);

@@ -10,6 +10,7 @@
 
 #include "core/math.hpp"
 #include "core/tool_shape.hpp"
+#include "core/tri_mesh.hpp"
 #include "devices/device_registry.hpp"
 #include "devices/haptic_device.hpp"
 #include "haptics/haptic_loop.hpp"
@@ -41,10 +42,19 @@ struct SessionSpec {
     int resolution = 256;                    ///< lattice cells along the longest side
     double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
     Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m
-    /// The tool that cuts and touches (core/tool_shape.hpp); kMesh tools are not yet available in sessions.
+    /// The tool that cuts and touches (core/tool_shape.hpp). kMesh: radius_m is the placed mesh's bounding
+    /// radius about its tip (set_tool_mesh), mesh_id 0 (the session's one mesh tool).
     ToolShape tool{ToolKind::kBall, 0.008, 0.0, 0};
+    /// kMesh: the tool's closed mesh file (absolute when recorded), placed by app/tool_mesh.hpp load_tool_mesh
+    /// (tip at the tool origin, +y the axis) with the longest side of its bounding box tool_size_m (m); the
+    /// CRC-32 (IEEE) and size of the file's bytes, so a replay refuses a tool mesh that changed (0 = not known).
+    std::string tool_mesh_path;
+    double tool_size_m = 0.0;
+    std::uint32_t tool_mesh_crc32 = 0;
+    std::uint64_t tool_mesh_bytes = 0;
     /// Contact points over the tool (haptics::tool_points_for): ball 1 = its centre god-object, 3..64 an
-    /// interaction mesh; flat_end 1 = 32 points over it, 2 = the wand's two ends, 8..64 points over it.
+    /// interaction mesh; flat_end 1 = 32 points over it, 2 = the wand's two ends, 8..64 points over it; mesh
+    /// 1 = 32 points over its surface, 8..64 that many.
     int points = 1;
     std::string device_driver = "simulated"; ///< device driver by registry name (simulated; replay when replaying)
     std::string device = "omni";             ///< device profile: omni | wand | 6dof
@@ -85,12 +95,22 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
 /// same spec always gives the same configuration. Throws tridex::Error naming the field on an impossible
 /// value (points for the tool, friction order, unknown workspace mode, unknown op, material outside 1..7, a
 /// materials entry out of range).
-haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks);
+/// A kMesh tool's contact points come from `tool_mesh_m` (its mesh in the tool frame, m; SessionRuntime passes
+/// the one it sweeps) or, when null, from tool_mesh_path loaded again; cfg.tool.radius_m is then that mesh's
+/// bounding radius.
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
+
+/// Makes `s` use the closed mesh tool in `path` scaled to `size_m` (m): kind kMesh, the absolute path, the size,
+/// radius_m = the placed mesh's bounding radius, mesh_id 0, and the file's CRC-32 and byte count. `what` names
+/// the setting in messages ("<scene>: field 'tool.mesh'", "--tool-mesh"). Throws tridex::Error "<what>: <path>:
+/// ..." for a file that cannot be read or is not a closed mesh (app/tool_mesh.hpp).
+void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const std::string& what);
 
 /// Checks every field against the ranges a session accepts (what the demo's flags and a scene allow), so that a
 /// spec read from a file (a recording) is as trustworthy as one typed: resolution 8..4096, stock (1 mm..100 m],
 /// finite centres within 1 km, the tool's radius 0.5 mm..a quarter of the stock and a flat end's length 0.5 mm..the
-/// stock, points 1..64, a known device and profile, workspace scale (0, 100], stiffness (0, 1e5] N/m, damping
+/// stock, a mesh tool's size 1 mm..a quarter of the stock and a readable closed mesh whose bounding radius is
+/// tool.radius_m, points 1..64, a known device and profile, workspace scale (0, 100], stiffness (0, 1e5] N/m, damping
 /// [0, 1e3] N*s/m, friction 0 <= dynamic <= static <= 10, period [1e-4, 1e-2] s, op and material. Throws
 /// tridex::Error "<source>: settings field '<name>': <rule>, got <value>".
 void validate_spec(const SessionSpec& s, const std::string& source);

@@ -18,7 +18,8 @@ enum class ToolKind : std::uint8_t {
 
 /// Shape and size of a tool, SI units, in the tool frame. Tool-frame convention shared by the haptic
 /// contact points (haptics/tool_points.hpp) and the swept Booleans (compute/tools/sweep.hpp): the origin is the
-/// tool's reference point (the HIP: a ball's centre, the centre of a flat-end mill's end face), the tool
+/// tool's reference point (the HIP: a ball's centre, the centre of a flat-end mill's end face, a session mesh
+/// tool's tip: its bounding box's centre across the axis at its lowest point along it), the tool
 /// axis is +y, pointing from the cutting end toward the hand. Trivially copyable, so a ToolSample carrying
 /// it goes through the haptic thread's lock-free ring without allocating.
 struct ToolShape {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "haptics/mesh_tool_points.hpp"
 
 namespace tridex::haptics {
 
@@ -98,7 +99,7 @@ ToolPoints ToolPoints::flat_end(double radius_m, double length_m, int count) {
     return p;
 }
 
-ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what) {
+ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what, const TriMesh* mesh_m) {
     validate_tool(tool, what);
     switch (tool.kind) {
         case ToolKind::kBall:
@@ -123,9 +124,16 @@ ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string&
                             std::to_string(kMaxToolPoints) + ", got " + std::to_string(points));
             return ToolPoints::flat_end(tool.radius_m, tool.length_m, n);
         }
-        case ToolKind::kMesh: break;
+        case ToolKind::kMesh: {
+            if (!mesh_m) throw Error(what + ": a mesh tool's contact points come from its mesh, which was not given");
+            const int n = points == 1 ? 32 : points;
+            if (n < 8 || n > kMaxToolPoints)
+                throw Error("points: a mesh tool takes 1 (32 points over its surface) or 8.." +
+                            std::to_string(kMaxToolPoints) + ", got " + std::to_string(points));
+            return mesh_surface_points(*mesh_m, n);
+        }
     }
-    throw Error(what + ": a mesh tool's contact points come from its mesh");
+    throw Error(what + ": unknown tool kind");
 }
 
 void validate(const ToolPoints& points, bool require_normals) {

@@ -6,6 +6,7 @@
 
 #include "core/math.hpp"
 #include "core/pose.hpp"
+#include "core/tri_mesh.hpp"
 #include "core/tool_shape.hpp"
 
 namespace tridex::haptics {
@@ -54,10 +55,12 @@ struct ToolPoints {
 /// - flat_end: points = 2 -> the thesis's wand (Singapogu 3.4.1): two points, the flat end's centre and the
 ///   top of the shank, with outward normals -y and +y; otherwise flat_end(radius, length, n) with n = points,
 ///   or 32 when points is 1 (the default);
-/// - mesh: the caller builds them from the mesh (not here: this module has no mesh tools).
+/// - mesh: mesh_surface_points(*mesh_m, n) (haptics/mesh_tool_points.hpp) with n = points, or 32 when points
+///   is 1 (the default); 8..kMaxToolPoints. `mesh_m` is the tool's mesh in the tool frame, m, as data (this
+///   module has no mesh tools: the caller loads it); it must outlive the call only.
 /// Throws tridex::Error naming `what` ("tool", "points") for a combination that has no such points (a ball
-/// with 2 points, a flat end with 3..7, a mesh tool) or a bad tool (validate_tool).
-ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what);
+/// with 2 points, a flat end with 3..7, a mesh tool with 2..7 or without its mesh) or a bad tool (validate_tool).
+ToolPoints tool_points_for(const ToolShape& tool, int points, const std::string& what, const TriMesh* mesh_m = nullptr);
 
 /// Checks a ToolPoints: count in [1, kMaxToolPoints], finite positions, radius finite and >= 0, and every
 /// normal of the used points either zero or unit length (within 1e-9); when require_normals, every normal

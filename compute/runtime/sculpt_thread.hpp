@@ -98,8 +98,9 @@ public:
     /// thread and have contoured every tile already. Throws tridex::Error when the thread runs.
     void use_gpu_contour(GpuContourShare& share);
     /// The session's mesh tools: a sample whose tool is ToolKind::kMesh sweeps tools[tool.mesh_id] (a sample
-    /// naming an id outside the table fails the thread with tridex::Error). Throws tridex::Error when the
-    /// thread runs.
+    /// naming an id outside the table fails the thread with tridex::Error), each mesh in the tool frame of
+    /// core/tool_shape.hpp (+y the tool axis) turned by the sample's full orientation (Sweep::orientation).
+    /// Throws tridex::Error when the thread runs.
     void use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools);
     /// Appends every batch the thread applies to `journal` (one record per step, after the batch was applied;
     /// nothing after a failure), syncs it when due while idle, and syncs it once more when the thread ends. The

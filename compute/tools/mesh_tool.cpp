@@ -38,6 +38,11 @@ ToolDexelSet flatten(const RaySet& set, const std::array<int, 3>& ref, int k) {
     return out;
 }
 
+void check_rotation(const glm::dmat3& R, const std::string& name) {
+    for (int c = 0; c < 3; ++c)
+        if (!is_finite(R[c])) throw Error("mesh tool " + name + ": tool rotation is not finite");
+}
+
 }  // namespace
 
 std::size_t ToolDexels::interval_count() const {
@@ -55,6 +60,12 @@ glm::dmat3 tool_rotation(const Vec3& axis) {
     const glm::dmat3 vx(Vec3(0.0, v.z, -v.y), Vec3(-v.z, 0.0, v.x), Vec3(v.y, -v.x, 0.0));  // columns of [v]x
     // Rodrigues: I + [v]x + [v]x^2 (1 - c) / |v|^2 (= 1 / (1 + c), without its cancellation near -z).
     return glm::dmat3(1.0) + vx + (vx * vx) * ((1.0 - c) / vv);
+}
+
+glm::dmat3 tool_rotation(const Quat& q) {
+    const double len = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    if (!std::isfinite(len) || !(len > 0.0)) throw Error("mesh tool: tool orientation must be a finite, non-zero quaternion");
+    return glm::mat3_cast(q / len);
 }
 
 std::shared_ptr<const MeshTool> MeshTool::create(TriMesh tool_m, int k, const std::string& name) {
@@ -99,25 +110,30 @@ std::shared_ptr<const MeshTool> MeshTool::load(const std::string& path, double s
     return create(std::move(m), k, path);
 }
 
-Aabb MeshTool::rotated_bounds(const Vec3& axis) const {
-    const Vec3 n = unit_axis(axis);
+Aabb MeshTool::rotated_bounds(const Vec3& axis) const { return rotated_bounds(tool_rotation(axis)); }
+
+Aabb MeshTool::rotated_bounds(const glm::dmat3& R) const {
+    check_rotation(R, name_);
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!bounds_.empty() && bounds_axis_ == n) return bounds_;
-    const glm::dmat3 R = tool_rotation(n);
+    if (!bounds_.empty() && bounds_rotation_ == R) return bounds_;
     Aabb box;
     for (const Vec3& p : mesh_.positions) box.add(R * p);
-    bounds_axis_ = n;
+    bounds_rotation_ = R;
     bounds_ = box;
     return box;
 }
 
 std::shared_ptr<const ToolDexels> MeshTool::dexels(const Vec3& axis, double cell_m) const {
+    return dexels(tool_rotation(axis), cell_m);
+}
+
+std::shared_ptr<const ToolDexels> MeshTool::dexels(const glm::dmat3& R, double cell_m) const {
     if (!std::isfinite(cell_m) || !(cell_m > 0.0)) throw Error("mesh tool " + name_ + ": cell size must be a positive number of metres");
-    const Vec3 n = unit_axis(axis);
+    check_rotation(R, name_);
     {
         std::lock_guard<std::mutex> lock(mutex_);
         for (auto it = cache_.begin(); it != cache_.end(); ++it)
-            if ((*it)->axis == n && (*it)->cell_m == cell_m) {
+            if ((*it)->rotation == R && (*it)->cell_m == cell_m) {
                 std::shared_ptr<const ToolDexels> hit = *it;
                 cache_.erase(it);
                 cache_.push_back(hit);
@@ -125,7 +141,6 @@ std::shared_ptr<const ToolDexels> MeshTool::dexels(const Vec3& axis, double cell
             }
     }
     // Build outside the lock (two threads may build the same entry; both results are equal).
-    const glm::dmat3 R = tool_rotation(n);
     TriMesh turned = mesh_;
     Aabb box;
     for (Vec3& p : turned.positions) {
@@ -148,7 +163,8 @@ std::shared_ptr<const ToolDexels> MeshTool::dexels(const Vec3& axis, double cell
     auto out = std::make_shared<ToolDexels>();
     out->k = k_;
     out->cell_m = cell_m;
-    out->axis = n;
+    out->axis = R * Vec3(0.0, 0.0, 1.0);
+    out->rotation = R;
     out->lo_cells = box.lo / cell_m;
     out->hi_cells = box.hi / cell_m;
     for (int a = 0; a < 3; ++a) out->sets[a] = flatten(model.sets[a], ref, k_);

@@ -29,11 +29,12 @@ struct ToolDexelSet {
     std::vector<float> depth;          ///< 2 floats per interval (enter, exit), workpiece cells
 };
 
-/// A mesh tool's dexels for one orientation (axis) and one workpiece cell size. Immutable once built.
+/// A mesh tool's dexels for one orientation (a rotation) and one workpiece cell size. Immutable once built.
 struct ToolDexels {
     int k = 4;               ///< tool rays per workpiece cell (h = cell_m / k)
     double cell_m = 0.0;     ///< workpiece cell size it was built for, m
-    Vec3 axis{0.0, 0.0, 1.0};  ///< unit world direction the tool frame's +z was turned to
+    Vec3 axis{0.0, 0.0, 1.0};  ///< unit world direction the tool frame's +z was turned to (rotation * +z)
+    glm::dmat3 rotation{1.0};  ///< the rotation tool frame -> world it was built for (the cache key with cell_m)
     std::array<ToolDexelSet, 3> sets;  ///< X, Y, Z tool rays
     Vec3 lo_cells{0.0};      ///< bounds of the rotated tool relative to its reference point, workpiece cells
     Vec3 hi_cells{0.0};
@@ -49,9 +50,15 @@ struct ToolDexels {
 /// Throws tridex::Error when axis is not finite or is zero.
 glm::dmat3 tool_rotation(const Vec3& axis);
 
+/// The rotation matrix of the orientation `q` (tool frame -> world, any non-zero length: normalised here),
+/// roll about the tool axis included. Throws tridex::Error when q is not finite or is zero.
+glm::dmat3 tool_rotation(const Quat& q);
+
 /// Any closed mesh as a tool (issue 3). The mesh is given in the TOOL FRAME, metres: the origin is the
 /// tool's reference point (the point that follows the path, Sweep::path_m), +z is the tool axis (it is
-/// turned onto Sweep::axis by tool_rotation).
+/// turned onto Sweep::axis by tool_rotation) unless the sweep carries its full orientation
+/// (Sweep::orientation: the mesh is then in the frame of core/tool_shape.hpp, +y the tool axis, and is
+/// turned by that rotation, roll included).
 ///
 /// Method: per (orientation, workpiece cell size) the ROTATED mesh is scan-converted (scan_convert) into
 /// world-axis-aligned tool dexels at lateral spacing h = cell/k (ToolDexels, built once, cached: the last
@@ -85,12 +92,19 @@ public:
     static std::shared_ptr<const MeshTool> load(const std::string& path, double scale_m = 1.0, int k = kDefaultRaysPerCell);
 
     /// The tool's dexels for `axis` on a workpiece of cell size cell_m (m, > 0), built on first use and
-    /// cached. Cost of a build: O(triangles + tool rays + crossings) with (extent*k/cell)^2 rays per set.
-    /// Throws tridex::Error when cell_m or axis is not usable, or the model would need over kMaxToolBytes.
+    /// cached: dexels(tool_rotation(axis), cell_m). Cost of a build: O(triangles + tool rays + crossings)
+    /// with (extent*k/cell)^2 rays per set. Throws tridex::Error when cell_m or axis is not usable, or the
+    /// model would need over kMaxToolBytes.
     std::shared_ptr<const ToolDexels> dexels(const Vec3& axis, double cell_m) const;
+    /// The tool's dexels with the mesh turned by `rotation` (tool frame -> world, a proper rotation: the full
+    /// orientation, roll included), cached per (rotation, cell_m) exactly. Throws as above, and when the
+    /// rotation is not finite.
+    std::shared_ptr<const ToolDexels> dexels(const glm::dmat3& rotation, double cell_m) const;
 
     /// Bounds (m) of the tool turned onto `axis`, relative to the reference point (exact: rotated vertices).
     Aabb rotated_bounds(const Vec3& axis) const;
+    /// Bounds (m) of the tool turned by `rotation` (tool frame -> world), relative to the reference point.
+    Aabb rotated_bounds(const glm::dmat3& rotation) const;
 
     /// The checked mesh, tool frame, m.
     const TriMesh& mesh() const { return mesh_; }
@@ -107,7 +121,7 @@ private:
     std::string name_;
     mutable std::mutex mutex_;
     mutable std::vector<std::shared_ptr<const ToolDexels>> cache_;  // most recent last
-    mutable Vec3 bounds_axis_{0.0};
+    mutable glm::dmat3 bounds_rotation_{0.0};
     mutable Aabb bounds_;
 };
 

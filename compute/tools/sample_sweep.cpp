@@ -11,6 +11,7 @@ bool sample_sweep(const ToolSample& from, const ToolSample& to, std::shared_ptr<
     sw.op = to.op;
     sw.tool = sweep_tool(to.tool, std::move(mesh));
     sw.axis = to.orientation * tool_axis_local();
+    if (to.tool.kind == ToolKind::kMesh) sw.orientation = to.orientation;  // a mesh tool turns with its roll too
     sw.path_m = Segment{from.position, to.position};
     sw.material = to.op == ToolOp::kSubtract ? 0 : to.material;
     out = std::move(sw);

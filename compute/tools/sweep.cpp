@@ -36,7 +36,9 @@ void set_motion(GridSweep& g, const Vec3& ga, const Vec3& gb) {
 /// (the nearest tool ray may lie up to 0.5/k cell beyond the exact bounds).
 GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
     if (!s.tool.mesh) throw Error("sweep: a kMesh tool needs SweepTool::mesh");
-    if (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)) throw Error("sweep: tool axis must be a finite, non-zero vector");
+    if (!s.orientation && (!is_finite(s.axis) || !(glm::length(s.axis) > 0.0)))
+        throw Error("sweep: tool axis must be a finite, non-zero vector");
+    const glm::dmat3 R = mesh_sweep_rotation(s);
     if (tools == nullptr) throw Error("sweep: a kMesh sweep needs a ToolTable (to_grid_batch, apply_sweep)");
     const Vec3 ga = L.to_grid(s.path_m.a), gb = L.to_grid(s.path_m.b);
     const Aabb box = sweep_bounds(s);
@@ -44,7 +46,7 @@ GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools)
     for (int k = 0; k < 3; ++k)
         if (std::fabs(glo[k]) > kMaxGrid || std::fabs(ghi[k]) > kMaxGrid)
             throw Error("sweep: the tool is more than 2^24 cells from the workpiece's lattice");
-    const std::shared_ptr<const ToolDexels> dex = s.tool.mesh->dexels(s.axis, L.cell_m);
+    const std::shared_ptr<const ToolDexels> dex = s.tool.mesh->dexels(R, L.cell_m);
     GridSweep g{};
     const double reach = 1.0 / dex->k;
     for (int k = 0; k < 3; ++k) {
@@ -65,6 +67,16 @@ GridSweep to_grid_mesh_sweep(const Lattice& L, const Sweep& s, ToolTable* tools)
 
 }  // namespace
 
+glm::dmat3 mesh_sweep_rotation(const Sweep& s) {
+    if (s.orientation) {
+        const Quat& q = *s.orientation;
+        if (!std::isfinite(q.w) || !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+            throw Error("sweep: tool orientation is not finite");
+        return tool_rotation(q);
+    }
+    return tool_rotation(s.axis);
+}
+
 SweepTool sweep_tool(const ToolShape& shape, std::shared_ptr<const MeshTool> mesh) {
     if (shape.kind == ToolKind::kMesh && !mesh)
         throw Error("sweep_tool: a mesh tool (mesh_id " + std::to_string(shape.mesh_id) + ") needs its loaded mesh");
@@ -75,7 +87,7 @@ SweepTool sweep_tool(const ToolShape& shape, std::shared_ptr<const MeshTool> mes
 Aabb sweep_bounds(const Sweep& s) {
     Aabb box;
     if (s.tool.kind == ToolKind::kMesh && s.tool.mesh) {
-        const Aabb t = s.tool.mesh->rotated_bounds(s.axis);
+        const Aabb t = s.tool.mesh->rotated_bounds(mesh_sweep_rotation(s));
         box.add(s.path_m.a + t.lo);
         box.add(s.path_m.a + t.hi);
         box.add(s.path_m.b + t.lo);

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -19,7 +20,8 @@ using tridex::ToolKind;  // the tool kinds are core vocabulary (core/tool_shape.
 
 /// The tool of one sweep: a core ToolShape's kind and sizes, with a kMesh tool's loaded mesh (the core type
 /// names it by index into a session's table; a sweep carries the mesh itself). Tool frame as ToolShape's,
-/// except that a kMesh tool's frame +z is turned onto Sweep::axis (compute/tools/mesh_tool.hpp).
+/// except that a kMesh tool's frame +z is turned onto Sweep::axis (compute/tools/mesh_tool.hpp) unless the sweep
+/// carries its full orientation (Sweep::orientation: then ToolShape's frame, turned by it).
 struct SweepTool {
     ToolKind kind = ToolKind::kBall;
     double radius_m = 0.0;  ///< ball or cylinder radius, m (> 0); ignored for kMesh
@@ -35,6 +37,8 @@ using ToolTable = std::vector<std::shared_ptr<const ToolDexels>>;
 
 /// One swept Boolean: the tool moved in a straight line from path_m.a to path_m.b (world m) with a fixed
 /// axis (world vector, normalised on use; the tool frame's +z; used by kFlatEnd and kMesh), applying `op` to the swept volume.
+/// kMesh with `orientation` set: the mesh is turned by that full rotation (tool frame -> world, roll included;
+/// a session's ToolSample::orientation, whose tool axis is +y) and `axis` is not used.
 /// kSubtract removes it (new surface gets `material`), kUnion adds it as `material`, kPaint sets
 /// `material` on the surface points inside it. kNone does nothing.
 struct Sweep {
@@ -43,7 +47,12 @@ struct Sweep {
     Segment path_m{};
     Vec3 axis{0.0, 0.0, 1.0};
     std::uint8_t material = 0;
+    std::optional<Quat> orientation{};  ///< kMesh: full tool orientation (unit quaternion); unset = tool_rotation(axis)
 };
+
+/// The rotation (tool frame -> world) a kMesh sweep turns its mesh by: tool_rotation(*orientation) when set,
+/// else tool_rotation(axis). Throws tridex::Error when the one used is not finite or zero.
+glm::dmat3 mesh_sweep_rotation(const Sweep& sweep);
 
 /// A Sweep in grid units, the exact record the GPU kernel reads (std430, 96 bytes); the CPU reference
 /// reads the same fields, so both compute the same float chords. Tool coordinates are relative to

@@ -70,6 +70,9 @@ struct OffscreenStereoRenderer::Impl {
     std::optional<StereoTarget> target;
     std::optional<EyesBinding> eyes;
     GpuMesh workpiece, ball, cube, cylinder, cone, overlay_panel, overlay_text;
+    GpuMesh tool_mesh;                           // SceneView::tool_mesh, uploaded when it changes
+    const TriMesh* tool_mesh_source = nullptr;
+    std::size_t tool_mesh_triangles = 0;
     TileMeshCache tiles;
     FrameTimer timer;
     bool use_timestamps = true;
@@ -268,6 +271,14 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
                                  glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
                                  glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
             add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
+        } else if (ts.kind == ToolKind::kMesh && scene.tool_mesh && !scene.tool_mesh->triangles.empty()) {
+            if (scene.tool_mesh != im.tool_mesh_source || scene.tool_mesh->triangles.size() != im.tool_mesh_triangles) {
+                im.tool_mesh.assign(*im.context, *scene.tool_mesh);
+                im.tool_mesh_source = scene.tool_mesh;
+                im.tool_mesh_triangles = scene.tool_mesh->triangles.size();
+            }
+            const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation);
+            add(PipelineKind::kOpaque, im.tool_mesh, glm::mat4(m), kToolColour, true);
         } else {
             add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
                 kToolColour, true);

@@ -29,9 +29,14 @@ struct SceneView {
     double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
     /// The tool's shape: a ball draws a sphere of tool_radius_m at tool_centre_m; a flat-end mill draws its
     /// cylinder (tool frame of core/tool_shape.hpp: flat end at tool_centre_m, shank along the tool axis +y
-    /// turned by tool_orientation) when tool_radius_m > 0.
+    /// turned by tool_orientation) when tool_radius_m > 0; a mesh tool draws tool_mesh.
     ToolShape tool_shape{};
     Quat tool_orientation{1.0, 0.0, 0.0, 0.0};  ///< tool frame -> world (unit quaternion)
+    /// A mesh tool (tool_shape kMesh): its mesh in the tool frame (m, CCW from outside), drawn as it is, turned
+    /// by tool_orientation and placed at tool_centre_m (its reference point) when tool_radius_m > 0; uploaded
+    /// again only when the pointer or its size changes (keep it alive and unchanged while frames use it).
+    /// nullptr with kMesh: a ball of tool_radius_m (the mesh's bounding sphere) stands in.
+    const TriMesh* tool_mesh = nullptr;
     bool show_workspace = true;          ///< draw the haptic workspace as a translucent box
     Aabb workspace_m;                    ///< the workspace, world m (an empty box is not drawn)
     /// The bubble of the bubble workspace technique (Dominjon et al. 2005): position control inside,

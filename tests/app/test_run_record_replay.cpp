@@ -105,7 +105,7 @@ TEST(RunRecordReplay, SceneRefusesToolsAndPointsThatDoNotExist) {
     expect_refused(R"({"tool": {"shape": "cone"}})", "tool.shape");
     expect_refused(R"({"workpiece": {"centre_m": [1e300, 0, 0]}})", "workpiece.centre_m");
     expect_refused(R"({"workpiece": {"mesh": "/tmp"}})", "is a folder");
-    expect_refused(R"({"tool": {"shape": "mesh"}})", "tool.shape");
+    expect_refused(R"({"tool": {"shape": "mesh"}})", "tool.mesh");
     expect_refused(R"({"tool": {"shape": "ball", "length_m": 0.01}})", "tool.length_m");
     expect_refused(R"({"haptics": {"points": 2}})", "haptics.points");  // the wand's two points need a flat end
     expect_refused(R"({"device": {"driver": "falcon"}})", "device.driver");

@@ -207,3 +207,71 @@ TEST(GpuMeshTool, ToolsOverTheBindingLimitAreRefusedBeforeAnythingChanges) {
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
+
+TEST(GpuMeshTool, FullOrientationTurnsTheToolWithItsRollOnGpuAndCpuAlike) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        TriDexel cpu = box_model(40, 4.0, 36.0);
+        TriDexel gpu_model = box_model(40, 4.0, 36.0);
+        GpuSculptor sculptor(ctx, gpu_model);
+        const double c = cpu.lattice.cell_m;
+        // A blade: long along x, thin along z, its tip at the origin and its axis +y (core/tool_shape.hpp frame).
+        const auto blade = MeshTool::create(box_mesh(Aabb{Vec3(-6.0, 0.0, -1.0) * c, Vec3(6.0, 8.0, 1.0) * c}));
+        const Vec3 at = cpu.lattice.to_world(Vec3(20.3, 34.2, 20.1));  // 1.8 cells into the top face
+        auto plunge = [&](const Quat& q) {
+            Sweep s;
+            s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, blade};
+            s.orientation = q;
+            s.axis = Vec3(0.0);  // not used with an orientation
+            s.path_m = Segment{at, at};
+            return s;
+        };
+        // The same axis (+y) with a quarter-turn roll turns the blade's long side from x to z.
+        const double half = 0.5 * std::acos(-1.0);
+        const Sweep rolled = plunge(glm::angleAxis(half, Vec3(0.0, 1.0, 0.0)));
+        TriDexel a = box_model(40, 4.0, 36.0);
+        apply_sweep(a, plunge(Quat(1.0, 0.0, 0.0, 0.0)));
+        TriDexel b = box_model(40, 4.0, 36.0);
+        apply_sweep(b, rolled);
+        auto extent_of_change = [&](const TriDexel& m, int axis) {  // Y rays (through x, z) that lost material
+            const RaySet& y = m.sets[1];
+            const RaySet& y0 = cpu.sets[1];
+            int lo = 1 << 30, hi = -(1 << 30);
+            for (int v = 0; v < y.nv; ++v)
+                for (int u = 0; u < y.nu; ++u)
+                    if (y.ray(u, v).size() != y0.ray(u, v).size() ||
+                        (!y.ray(u, v).empty() && y.ray(u, v).back().exit != y0.ray(u, v).back().exit)) {
+                        const int k = axis == 0 ? v : u;  // Y rays: u along z, v along x
+                        lo = std::min(lo, k);
+                        hi = std::max(hi, k);
+                    }
+            return hi - lo;
+        };
+        EXPECT_GE(extent_of_change(a, 0), 11);  // along x: 12 cells
+        EXPECT_LE(extent_of_change(a, 2), 3);   // along z: 2 cells
+        EXPECT_LE(extent_of_change(b, 0), 3);
+        EXPECT_GE(extent_of_change(b, 2), 11);
+        // Random orientations (roll included) along strokes: GPU and CPU bit-identical.
+        std::mt19937 rng(9);
+        std::normal_distribution<double> g;
+        std::vector<Sweep> program;
+        Vec3 p = cpu.lattice.to_world(Vec3(20.0, 33.0, 20.0));
+        for (int i = 0; i < 60; ++i) {
+            Sweep s = plunge(glm::normalize(Quat(g(rng), g(rng), g(rng), g(rng))));
+            const Vec3 q = cpu.lattice.to_world(glm::clamp(cpu.lattice.to_grid(p) + Vec3(g(rng), g(rng), g(rng)) * 2.0,
+                                                           Vec3(8.0), Vec3(32.0)));
+            s.path_m = Segment{p, q};
+            s.op = i % 5 == 4 ? ToolOp::kUnion : ToolOp::kSubtract;
+            s.material = 3;
+            program.push_back(s);
+            p = q;
+        }
+        for (std::size_t i = 0; i < program.size(); i += 20) {
+            const std::span<const Sweep> batch(program.data() + i, 20);
+            for (const Sweep& s : batch) apply_sweep(cpu, s);
+            sculptor.apply(batch);
+        }
+        EXPECT_EQ(differing_rays(cpu, gpu_model), 0u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
