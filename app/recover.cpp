@@ -9,6 +9,7 @@
 
 #include "app/json_file.hpp"
 #include "app/output_dir.hpp"
+#include "app/workpiece_source.hpp"
 #include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
@@ -51,16 +52,19 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     const auto t0 = std::chrono::steady_clock::now();
     prepare_output_dir(out, "--out");
     const compute::Journal j = compute::read_journal(journal_path);
-    const SessionSpec s = spec_from_json(j.session, journal_path);
+    SessionSpec s = spec_from_json(j.session, journal_path);
     validate_spec(s, journal_path);
-    check_mesh(s, journal_path);
+    if (s.model_path.empty())
+        check_mesh(s, journal_path);
+    else
+        check_workpiece_unchanged(s, journal_path);  // a session that started from a saved model
     if (j.cut)
         std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
                      static_cast<unsigned long long>(j.cut->byte_offset), j.cut->reason.c_str());
 
     // The workpiece as the session built it, contoured before carving as the session did, then every record.
-    Workpiece wp = prepare_workpiece(s.mesh_path, s.resolution, s.stock_m, s.workpiece_centre_m);
+    Workpiece wp = prepare_session_workpiece(s);
     compute::Contourer contourer(wp.model);
     contourer.update(wp.model);
     const compute::JournalApplyStats applied = compute::journal_apply(wp.model, j.records);
@@ -68,6 +72,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     const TriMesh mesh = contourer.mesh();
     const fs::path dir(out);
     compute::write_ply((dir / "sculpted.ply").string(), mesh, contourer.mesh_materials());
+    save_session_model((dir / "model.tdx").string(), wp, s);  // a later session starts from it (--workpiece)
 
     const double after = compute::dexel_volume_m3(wp.model);
     nlohmann::json r;
@@ -86,6 +91,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                                                {"reason", j.cut->reason}}
                               : nlohmann::json(nullptr);
     r["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
+    r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
     r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_json_file((dir / "report.json").string(), r);
     std::printf("recovered %llu records (%llu samples, %.3f s of device time) from %s into %s\n",

@@ -27,6 +27,8 @@
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/mesh/mesh_export.hpp"
+#include "compute/model/tdx_file.hpp"
+#include "compute/model/volume.hpp"
 #include "compute/tools/sample_sweep.hpp"
 #include "compute/tools/sweep.hpp"
 
@@ -111,6 +113,9 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), bytes_of(dir / "session" / "sculpted.ply"));
     EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "session" / "session.tdj", dir));
     const nlohmann::json rr = json_of(dir / "rec" / "report.json");
+    // The recovered model is saved too, and holds the recovered volume.
+    const compute::TdxModel saved = compute::load_tdx((dir / "rec" / "model.tdx").string(), std::size_t{1} << 32);
+    EXPECT_DOUBLE_EQ(compute::dexel_volume_m3(saved.model), rr["volume_after_m3"].get<double>());
     EXPECT_TRUE(rr["truncated_at"].is_null());
     EXPECT_EQ(rr["samples"], sr["sculpt"]["samples"]);
     EXPECT_EQ(rr["records"], sr["journal"]["records"]);
