@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "test_files.hpp"
 #include <sstream>
 #include <string>
 
@@ -15,28 +17,10 @@
 
 namespace {
 
+using tridex::app::test::run_tridex;
+using RunResult = tridex::app::test::ExeResult;
+
 namespace fs = std::filesystem;
-
-struct RunResult {
-    int exit_code = -1;
-    std::string err;
-};
-
-// Runs tridex with args under a 300 s timeout; captures stderr.
-RunResult run_tridex(const std::string& args, const fs::path& dir) {
-    fs::create_directories(dir);
-    const fs::path err = dir / "stderr.txt";
-    const std::string cmd = "timeout 300 " + std::string(TRIDEX_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
-                            " 2> " + err.string();
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    r.err = ss.str();
-    return r;
-}
 
 // A session ended by a signal stops its threads, writes every output and exits 128 + the signal number.
 TEST(Signals, SigtermEndsARunCleanlyAndSigintADemo) {

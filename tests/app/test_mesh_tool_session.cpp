@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/replay.hpp"
 #include "app/run_scene.hpp"
 #include "app/run_session.hpp"
@@ -25,11 +26,6 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bytes_of(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
 
 std::string env_or(const char* name, const std::string& fallback) {
     const char* v = std::getenv(name);
@@ -151,9 +147,9 @@ TEST(MeshToolSession, RunCarvesRecordsAndReplaysByteForByteAndAChangedToolIsRefu
     out.width = 64;
     out.height = 48;
     run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
-    const std::string live = bytes_of(dir / "run" / "sculpted.ply");
+    const std::string live = test::bytes_of(dir / "run" / "sculpted.ply");
     EXPECT_FALSE(live.empty());
-    EXPECT_TRUE(live == bytes_of(dir / "replay" / "sculpted.ply")) << "the replay sculpted a different model";
+    EXPECT_TRUE(live == test::bytes_of(dir / "replay" / "sculpted.ply")) << "the replay sculpted a different model";
 
     std::ofstream(dir / "tool.off", std::ios::app) << "\n";  // the same mesh, other bytes
     out.out = (dir / "replay2").string();

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <string>
 
+#include "test_files.hpp"
 #include "app/demo.hpp"
 #include "app/replay.hpp"
 #include "app/run_scene.hpp"
@@ -22,11 +23,6 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bytes_of(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(f), {}};
-}
 
 DemoOptions small_demo(const fs::path& dir, const std::string& name) {
     DemoOptions d;
@@ -80,7 +76,7 @@ TEST(ModelSessions, SaveStartFromTheModelAndReplayFromIt) {
 
     // 3. Its replay rebuilds the workpiece from the same model: the same mesh byte for byte.
     EXPECT_EQ(replay_error(second.record, dir / "replay"), "");
-    EXPECT_EQ(bytes_of(dir / "replay" / "sculpted.ply"), bytes_of(dir / "second" / "sculpted.ply"));
+    EXPECT_EQ(test::bytes_of(dir / "replay" / "sculpted.ply"), test::bytes_of(dir / "second" / "sculpted.ply"));
 
     // 4. A model file that changed since the recording is refused.
     fs::copy_file(second.save, first.save, fs::copy_options::overwrite_existing);

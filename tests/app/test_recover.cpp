@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
@@ -40,37 +41,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::vector<std::string> kDemoArgs{"demo", "--seconds", "3", "--resolution", "48", "--width", "32", "--height", "32", "--cpu"};
-
-struct Result {
-    int exit_code = -1;
-    std::string err;
-};
-
-// Runs tridex with `args` (shell words) and waits; captures stderr.
-Result run_tridex(const std::string& args, const fs::path& dir) {
-    fs::create_directories(dir);
-    const fs::path err = dir / "stderr.txt";
-    const std::string cmd = "timeout 300 " + std::string(TRIDEX_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
-                            " 2> " + err.string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    r.err = ss.str();
-    return r;
-}
-
-std::string bytes_of(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json json_of(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
-}
 
 // The journal's valid prefix applied independently of recover: the workpiece from the header's spec, every sweep
 // applied on its own (not in the journal's batches), a fresh contour of the result; written as PLY bytes.
@@ -91,7 +61,7 @@ std::string independent_ply(const fs::path& journal, const fs::path& dir) {
     c.update(wp.model);
     const fs::path ply = dir / "independent.ply";
     compute::write_ply(ply.string(), c.mesh(), c.mesh_materials());
-    return bytes_of(ply);
+    return test::bytes_of(ply);
 }
 
 TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
@@ -99,20 +69,20 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     fs::remove_all(dir);
     std::string args;
     for (const std::string& a : kDemoArgs) args += a + " ";
-    const Result demo = run_tridex(args + "--out " + (dir / "session").string(), dir / "demo");
+    const test::ExeResult demo = test::run_tridex(args + "--out " + (dir / "session").string(), dir / "demo");
     ASSERT_EQ(demo.exit_code, 0) << demo.err;
-    const nlohmann::json sr = json_of(dir / "session" / "report.json");
+    const nlohmann::json sr = test::read_json(dir / "session" / "report.json");
     ASSERT_TRUE(sr["journal"].is_object());
     EXPECT_TRUE(sr["journal"]["error"].is_null());
     EXPECT_EQ(sr["journal"]["samples"], sr["sculpt"]["samples"]);
     EXPECT_GT(sr["journal"]["flushes"].get<int>(), 1);
 
-    const Result rec = run_tridex("recover " + (dir / "session" / "session.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
+    const test::ExeResult rec = test::run_tridex("recover " + (dir / "session" / "session.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
     EXPECT_EQ(rec.err, "");
-    EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), bytes_of(dir / "session" / "sculpted.ply"));
-    EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "session" / "session.tdj", dir));
-    const nlohmann::json rr = json_of(dir / "rec" / "report.json");
+    EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), test::bytes_of(dir / "session" / "sculpted.ply"));
+    EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "session" / "session.tdj", dir));
+    const nlohmann::json rr = test::read_json(dir / "rec" / "report.json");
     // The recovered model is saved too, and holds the recovered volume.
     const compute::TdxModel saved = compute::load_tdx((dir / "rec" / "model.tdx").string(), std::size_t{1} << 32);
     EXPECT_DOUBLE_EQ(compute::dexel_volume_m3(saved.model), rr["volume_after_m3"].get<double>());
@@ -123,23 +93,23 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     EXPECT_NEAR(rr["recovered_device_time_s"].get<double>(), 3.0, 0.01);
 
     // A torn tail: cut inside the last record; one line on stderr says where.
-    const std::string all = bytes_of(dir / "session" / "session.tdj");
+    const std::string all = test::bytes_of(dir / "session" / "session.tdj");
     const compute::Journal j = compute::read_journal((dir / "session" / "session.tdj").string());
     const std::uint64_t last = j.records.back().offset;
     {
         std::ofstream torn(dir / "torn.tdj", std::ios::binary);
         torn.write(all.data(), static_cast<std::streamsize>(last + 7));
     }
-    const Result cut = run_tridex("recover " + (dir / "torn.tdj").string() + " --out " + (dir / "torn").string(), dir / "tornl");
+    const test::ExeResult cut = test::run_tridex("recover " + (dir / "torn.tdj").string() + " --out " + (dir / "torn").string(), dir / "tornl");
     ASSERT_EQ(cut.exit_code, 0) << cut.err;
     EXPECT_EQ(std::count(cut.err.begin(), cut.err.end(), '\n'), 1) << cut.err;
     EXPECT_NE(cut.err.find("cut at record " + std::to_string(j.records.size() - 1) + " (byte offset " + std::to_string(last) + ")"),
               std::string::npos)
         << cut.err;
-    const nlohmann::json tr = json_of(dir / "torn" / "report.json");
+    const nlohmann::json tr = test::read_json(dir / "torn" / "report.json");
     EXPECT_EQ(tr["truncated_at"]["record"], j.records.size() - 1);
     EXPECT_EQ(tr["truncated_at"]["byte_offset"], last);
-    EXPECT_EQ(bytes_of(dir / "torn" / "sculpted.ply"), independent_ply(dir / "torn.tdj", dir));
+    EXPECT_EQ(test::bytes_of(dir / "torn" / "sculpted.ply"), independent_ply(dir / "torn.tdj", dir));
 }
 
 TEST(Recover, SessionsKilledAtRandomMomentsRecoverTheirJournalsValidPrefix) {
@@ -177,18 +147,18 @@ TEST(Recover, SessionsKilledAtRandomMomentsRecoverTheirJournalsValidPrefix) {
             EXPECT_TRUE(killed);
             continue;
         }
-        const Result rec = run_tridex("recover " + journal.string() + " --out " + (dir / "rec").string(), dir / "recl");
+        const test::ExeResult rec = test::run_tridex("recover " + journal.string() + " --out " + (dir / "rec").string(), dir / "recl");
         if (rec.exit_code != 0) {
             // Only a header that never reached the disk may be refused.
             EXPECT_NE(rec.err.find("header"), std::string::npos) << rec.err;
             EXPECT_LT(fs::file_size(journal), 4096u);
             continue;
         }
-        EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(journal, dir));
+        EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(journal, dir));
         if (killed)
             ++recovered_mid_session;
         else  // the session ended before the kill: recovery gives its own mesh
-            EXPECT_EQ(bytes_of(dir / "rec" / "sculpted.ply"), bytes_of(dir / "session" / "sculpted.ply"));
+            EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), test::bytes_of(dir / "session" / "sculpted.ply"));
     }
     std::printf("seed %u: %d of 3 sessions killed mid-way and recovered\n", seed, recovered_mid_session);
 }
@@ -198,7 +168,7 @@ TEST(Recover, RefusesAChangedMeshAndFilesThatAreNotJournals) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     fs::copy_file(fs::path(std::getenv("TRIDEX_ASSETS")) / "bunny.off", dir / "bunny.off");
-    const Result demo = run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --mesh " +
+    const test::ExeResult demo = test::run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --mesh " +
                                        (dir / "bunny.off").string() + " --journal " + (dir / "j.tdj").string() +
                                        " --out " + (dir / "session").string(),
                                    dir / "demo");
@@ -208,7 +178,7 @@ TEST(Recover, RefusesAChangedMeshAndFilesThatAreNotJournals) {
         std::ofstream more(dir / "bunny.off", std::ios::app);
         more << "\n";
     }
-    const Result changed = run_tridex("recover " + (dir / "j.tdj").string() + " --out " + (dir / "rec").string(), dir / "r1");
+    const test::ExeResult changed = test::run_tridex("recover " + (dir / "j.tdj").string() + " --out " + (dir / "rec").string(), dir / "r1");
     EXPECT_EQ(changed.exit_code, 2);
     EXPECT_EQ(std::count(changed.err.begin(), changed.err.end(), '\n'), 1) << changed.err;
     EXPECT_NE(changed.err.find("changed since the session"), std::string::npos) << changed.err;
@@ -217,16 +187,16 @@ TEST(Recover, RefusesAChangedMeshAndFilesThatAreNotJournals) {
         std::ofstream junk(dir / "junk.tdj");
         junk << "not a journal at all\n";
     }
-    const Result junk = run_tridex("recover " + (dir / "junk.tdj").string() + " --out " + (dir / "rec2").string(), dir / "r2");
+    const test::ExeResult junk = test::run_tridex("recover " + (dir / "junk.tdj").string() + " --out " + (dir / "rec2").string(), dir / "r2");
     EXPECT_EQ(junk.exit_code, 2);
     EXPECT_EQ(junk.err, "tridex: " + (dir / "junk.tdj").string() + ": not a tridex session journal (no TRDXJNL header)\n");
 
-    const Result off = run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --no-journal --out " +
+    const test::ExeResult off = test::run_tridex("demo --seconds 1 --resolution 32 --width 16 --height 16 --cpu --no-journal --out " +
                                       (dir / "nj").string(),
                                   dir / "demo2");
     ASSERT_EQ(off.exit_code, 0) << off.err;
     EXPECT_FALSE(fs::exists(dir / "nj" / "session.tdj"));
-    EXPECT_TRUE(json_of(dir / "nj" / "report.json")["journal"].is_null());
+    EXPECT_TRUE(test::read_json(dir / "nj" / "report.json")["journal"].is_null());
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/run_session.hpp"
 #include "renderer/image/image.hpp"
 #include "run_test_scene.hpp"
@@ -20,11 +21,6 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json read_json(const fs::path& p) {
-    std::ifstream f(p);
-    return nlohmann::json::parse(f);
-}
 
 RunResult run_stroke(const fs::path& dir, const std::string& name, bool cpu, bool cpu_contour) {
     RunOptions o;
@@ -71,7 +67,7 @@ TEST(RunGpuContour, GpuSculptPathContoursOnTheGpuAndTheHapticLoopKeepsItsSurface
     EXPECT_GT(r.triangles, 1000u);
     EXPECT_GE(r.mesh_versions_drawn, 2u);
     EXPECT_EQ(r.validation_messages, 0u);
-    const nlohmann::json rep = read_json(dir / "gpu" / "report.json");
+    const nlohmann::json rep = test::read_json(dir / "gpu" / "report.json");
     EXPECT_EQ(rep["contour_path"], "gpu");
     EXPECT_EQ(rep["contour"]["gpu"]["tiles"].get<std::uint64_t>(), r.gpu_contour.tiles_gpu + r.gpu_contour.tiles_cpu);
     EXPECT_TRUE(rep["contour"]["gpu"].contains("host_fallback_tiles"));
@@ -97,7 +93,7 @@ TEST(RunGpuContour, CpuContourAndCpuKeepTheTileMeshPath) {
                                 [&](const std::string& n) { return n.find(want) != std::string::npos; }))
             << want;
         EXPECT_EQ(r.contour_reason, want);
-        const nlohmann::json rep = read_json(dir / (cpu ? "cpu" : "cpu_contour") / "report.json");
+        const nlohmann::json rep = test::read_json(dir / (cpu ? "cpu" : "cpu_contour") / "report.json");
         EXPECT_EQ(rep["contour_path"], "cpu");
         EXPECT_EQ(rep["contour_path_reason"], want);
     }

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/run_session.hpp"
 #include "core/error.hpp"
 #include "renderer/image/image.hpp"
@@ -22,11 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using renderer::StereoOutput;
-
-nlohmann::json read_json(const fs::path& p) {
-    std::ifstream f(p);
-    return nlohmann::json::parse(f);
-}
 
 // Expects the images to differ by at most `tolerance` per channel (default: identical); writes a difference image
 // next to them when not.
@@ -86,7 +82,7 @@ TEST(RunOffscreen, EveryStereoOutputWritesItsFiles) {
             }
             if (output == StereoOutput::kQuad) expect_same(shown, left, dir, name + "_layer0");
 
-            const nlohmann::json rep = read_json(dir / name / "report.json");
+            const nlohmann::json rep = test::read_json(dir / name / "report.json");
             EXPECT_EQ(rep["stereo"], o.stereo) << name;
             EXPECT_EQ(rep["display"], "offscreen");
             EXPECT_EQ(rep["validation_messages"], 0);
@@ -125,7 +121,7 @@ TEST(RunOffscreen, WholeStrokeCarvesAndTheRendererTakesNewMeshes) {
     EXPECT_GT(r.frames, 10u);                          // ~60 Hz over 0.8 s
     EXPECT_EQ(r.validation_messages, 0u);
     EXPECT_NE(r.notes.front().find("the stroke ended"), std::string::npos);
-    const nlohmann::json rep = read_json(dir / "out" / "report.json");
+    const nlohmann::json rep = test::read_json(dir / "out" / "report.json");
     EXPECT_TRUE(rep["stroke_completed"].get<bool>());
     EXPECT_EQ(rep["frames"]["frame_ms"]["count"].get<std::uint64_t>(), r.frames);
     std::printf("[run] offscreen side-by-side 96x72, 0.8 s stroke: %llu frames, frame p50 %.2f ms p99 %.2f ms, GPU p50 "
@@ -186,7 +182,7 @@ TEST(RunOffscreen, ItemsAndOverlayAreDrawnAndTheReportHasPassesAndTiles) {
                 for (int c = 0; c < 3; ++c) differing += a.rgba[(y * a.width + x) * 4 + c] != b.rgba[(y * b.width + x) * 4 + c];
         EXPECT_GT(differing, 20) << eye;
     }
-    const nlohmann::json rep = read_json(dir / "on" / "report.json");
+    const nlohmann::json rep = test::read_json(dir / "on" / "report.json");
     const nlohmann::json& render = rep["render"];
     EXPECT_TRUE(render["tiled"].get<bool>());
     ASSERT_EQ(render["tiles"]["per_frame"].size(), 4u);
@@ -216,7 +212,7 @@ TEST(RunOffscreen, ItemsAndOverlayAreDrawnAndTheReportHasPassesAndTiles) {
         EXPECT_TRUE(passes.contains("opaque.right"));
         EXPECT_TRUE(passes.contains("overlay.right"));
     }
-    const nlohmann::json off_rep = read_json(dir / "off" / "report.json");
+    const nlohmann::json off_rep = test::read_json(dir / "off" / "report.json");
     EXPECT_FALSE(off_rep["render"]["items"].get<bool>());
     fs::remove_all(dir);
 }

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/replay.hpp"
 #include "app/run_session.hpp"
 #include "app/session.hpp"
@@ -23,11 +24,6 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bytes_of(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
 
 std::string asset(const char* name) {
     const char* env = std::getenv("TRIDEX_ASSETS");
@@ -90,7 +86,7 @@ TEST(RunPeng, FourPassesMoveTheWorkspaceAndCarveOneGrooveLongerThanTheDeviceReac
     out.width = 64;
     out.height = 48;
     run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
-    EXPECT_TRUE(bytes_of(dir / "run" / "sculpted.ply") == bytes_of(dir / "replay" / "sculpted.ply"))
+    EXPECT_TRUE(test::bytes_of(dir / "run" / "sculpted.ply") == test::bytes_of(dir / "replay" / "sculpted.ply"))
         << "the replay (buttons included) sculpted a different model";
 }
 

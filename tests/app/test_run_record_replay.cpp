@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.hpp"
 #include "app/replay.hpp"
 #include "app/run_session.hpp"
 #include "app/session.hpp"
@@ -20,16 +21,6 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bytes_of(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-nlohmann::json read_json(const fs::path& p) {
-    std::ifstream f(p);
-    return nlohmann::json::parse(f);
-}
 
 // The bunny at 48 cells, a flat-end mill pressed from above, the 5-DOF wand, one material with friction.
 std::string write_mill_scene(const fs::path& dir, int points) {
@@ -61,7 +52,7 @@ TEST(RunRecordReplay, FlatEndWandSceneCarvesReportsAndReplaysByteForByte) {
     EXPECT_TRUE(r.stroke_completed);
     EXPECT_LT(r.volume_after_m3, r.volume_before_m3) << "the mill carved nothing";
 
-    const nlohmann::json rep = read_json(dir / "run" / "report.json");
+    const nlohmann::json rep = test::read_json(dir / "run" / "report.json");
     EXPECT_EQ(rep["tool"]["shape"], "flat_end");
     EXPECT_DOUBLE_EQ(rep["tool"]["radius_m"].get<double>(), 0.004);
     EXPECT_DOUBLE_EQ(rep["tool"]["length_m"].get<double>(), 0.02);
@@ -80,11 +71,11 @@ TEST(RunRecordReplay, FlatEndWandSceneCarvesReportsAndReplaysByteForByte) {
     out.width = 64;
     out.height = 48;
     run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
-    const std::string live = bytes_of(dir / "run" / "sculpted.ply");
-    const std::string again = bytes_of(dir / "replay" / "sculpted.ply");
+    const std::string live = test::bytes_of(dir / "run" / "sculpted.ply");
+    const std::string again = test::bytes_of(dir / "replay" / "sculpted.ply");
     EXPECT_FALSE(live.empty());
     EXPECT_TRUE(live == again) << "the replay of the run's recording sculpted a different model";
-    const nlohmann::json rrep = read_json(dir / "replay" / "report.json");
+    const nlohmann::json rrep = test::read_json(dir / "replay" / "report.json");
     EXPECT_EQ(rrep["tool"]["shape"], "flat_end");
     EXPECT_DOUBLE_EQ(rrep["volume_removed_m3"].get<double>(), rep["volume_before_m3"].get<double>() -
                                                                  rep["volume_after_m3"].get<double>());
