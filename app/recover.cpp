@@ -21,43 +21,15 @@
 
 namespace tridex::app {
 
-namespace {
-
 namespace fs = std::filesystem;
-
-std::string hex32(std::uint32_t v) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%08x", v);
-    return buf;
-}
-
-// Refuses a workpiece mesh that is missing or not the bytes the session carved.
-void check_mesh(const SessionSpec& s, const std::string& where) {
-    if (s.mesh_bytes == 0) return;  // not known (the spec predates the checksum)
-    std::uint32_t crc = 0;
-    std::uint64_t bytes = 0;
-    try {
-        std::tie(crc, bytes) = file_crc32(s.mesh_path);
-    } catch (const Error&) {
-        throw Error(where + ": the session's workpiece mesh " + s.mesh_path + " cannot be read");
-    }
-    if (crc != s.mesh_crc32 || bytes != s.mesh_bytes)
-        throw Error(where + ": the workpiece mesh " + s.mesh_path + " changed since the session (CRC-32 " + hex32(crc) +
-                    ", the journal says " + hex32(s.mesh_crc32) + "); recovery would carve a different model");
-}
-
-}  // namespace
 
 void run_recover(const std::string& journal_path, const std::string& out) {
     const auto t0 = std::chrono::steady_clock::now();
     prepare_output_dir(out, "--out");
     const compute::Journal j = compute::read_journal(journal_path);
     SessionSpec s = spec_from_json(j.session, journal_path);
+    check_inputs_unchanged(s, journal_path, "the session");
     validate_spec(s, journal_path);
-    if (s.model_path.empty())
-        check_mesh(s, journal_path);
-    else
-        check_workpiece_unchanged(s, journal_path);  // a session that started from a saved model
     if (j.cut)
         std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),

@@ -19,15 +19,9 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     prepare_output_dir(out.out, "--out");
     const devices::Recording rec = devices::read_recording(recording_path);
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
-    // A changed tool mesh first: validating the spec loads it, and would fail less clearly.
-    if (s.tool.kind == ToolKind::kMesh && s.tool_mesh_bytes > 0) {
-        const auto [crc, bytes] = file_crc32(s.tool_mesh_path);
-        if (crc != s.tool_mesh_crc32 || bytes != s.tool_mesh_bytes)
-            throw Error(recording_path + ": the tool mesh " + s.tool_mesh_path +
-                        " changed since the recording (its bytes differ); a replay would carve with a different tool");
-    }
+    // Changed files first: validating the spec loads the tool mesh, and would fail less clearly.
+    check_inputs_unchanged(s, recording_path, "the recording");
     validate_spec(s, recording_path);
-    check_workpiece_unchanged(s, recording_path);
     Workpiece wp = prepare_session_workpiece(s);
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <tuple>
 
 #include "app/memory.hpp"
@@ -50,16 +51,39 @@ void save_session_model(const std::string& path, const Workpiece& wp, const Sess
     compute::save_tdx(path, wp.model, wp.to_world, spec_to_json(spec));
 }
 
-void check_workpiece_unchanged(const SessionSpec& s, const std::string& source) {
-    const bool model = !s.model_path.empty();
-    const std::string& path = model ? s.model_path : s.mesh_path;
-    const std::uint32_t want_crc = model ? s.model_crc32 : s.mesh_crc32;
-    const std::uint64_t want_bytes = model ? s.model_bytes : s.mesh_bytes;
-    if (want_bytes == 0) return;  // recorded before checksums were stored
-    const auto [crc, bytes] = file_crc32(path);
+namespace {
+
+std::string hex32(std::uint32_t v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "0x%08x", v);
+    return buf;
+}
+
+// One recorded file against its recorded CRC-32 and size (bytes 0: not recorded, accepted).
+void check_file(const std::string& what, const std::string& path, std::uint32_t want_crc, std::uint64_t want_bytes,
+                const std::string& source, const std::string& since) {
+    if (want_bytes == 0) return;
+    std::uint32_t crc = 0;
+    std::uint64_t bytes = 0;
+    try {
+        std::tie(crc, bytes) = file_crc32(path);
+    } catch (const Error&) {
+        throw Error(source + ": the " + what + " " + path + " cannot be read");
+    }
     if (crc != want_crc || bytes != want_bytes)
-        throw Error(source + ": the workpiece " + (model ? "model " : "mesh ") + path +
-                    " changed since the recording (its bytes differ); a replay would carve a different model");
+        throw Error(source + ": the " + what + " " + path + " changed since " + since + " (CRC-32 " + hex32(crc) +
+                    ", recorded " + hex32(want_crc) + "); it would carve a different model");
+}
+
+}  // namespace
+
+void check_inputs_unchanged(const SessionSpec& s, const std::string& source, const std::string& since) {
+    if (s.model_path.empty())
+        check_file("workpiece mesh", s.mesh_path, s.mesh_crc32, s.mesh_bytes, source, since);
+    else
+        check_file("workpiece model", s.model_path, s.model_crc32, s.model_bytes, source, since);
+    if (s.tool.kind == ToolKind::kMesh)
+        check_file("tool mesh", s.tool_mesh_path, s.tool_mesh_crc32, s.tool_mesh_bytes, source, since);
 }
 
 }  // namespace tridex::app
