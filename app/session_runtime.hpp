@@ -83,6 +83,9 @@ struct RuntimeOptions {
     MeshForm mesh_form = MeshForm::kTiles;
     double mesh_interval_s = 1.0 / 60.0;
     std::size_t max_ticks = 0;  ///< haptic tick records preallocated (recording stops when full)
+    /// With a journal: write a checkpoint model ("<journal file name>.checkpoint.tdx" next to it) after this much
+    /// wall time (s) of a changing model, between strokes (SculptThread::use_checkpoints); 0 = none.
+    double checkpoint_s = 120.0;
 };
 
 /// One session's threads: the HapticLoop on `device` configured by loop_config(spec), the SculptThread applying
@@ -113,6 +116,9 @@ public:
     /// which drains every sample, publishes the last surface and syncs the journal, which is then closed.
     /// Rethrows a sculpt-thread failure. Idempotent.
     void stop();
+    /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
+    /// window's) may call it. False when the request queue is full.
+    bool request(HistoryRequest r) { return sculpt_->request(r); }
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.
     bool loop_running() const { return loop_->running(); }
     /// True once start() was called.

@@ -159,6 +159,8 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     range("static_friction", s.static_friction, 0.0, 10.0);
     range("dynamic_friction", s.dynamic_friction, 0.0, s.static_friction);
     range("period_s", s.period_s, 1e-4, 1e-2);
+    if (s.history_budget_bytes < (std::size_t{1} << 20) || s.history_budget_bytes > (std::size_t{1} << 40))
+        fail("history_budget_bytes", "must be between 1 MiB and 1 TiB", std::to_string(s.history_budget_bytes));
     try {
         (void)parse_tool_op(s.op);
         (void)haptics::parse_workspace_mode(s.workspace_mode);
@@ -227,7 +229,8 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"op", s.op},
                  {"material", s.material},
                  {"materials", materials},
-                 {"period_s", s.period_s}};
+                 {"period_s", s.period_s},
+                 {"history_budget_bytes", s.history_budget_bytes}};
     return j.dump();
 }
 
@@ -293,6 +296,7 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     if (j.contains("op")) get(j, "op", s.op);
     if (j.contains("material")) get(j, "material", s.material);
     if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
+    if (j.contains("history_budget_bytes")) get(j, "history_budget_bytes", s.history_budget_bytes);
     if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
     if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
     if (j.contains("model_path")) get(j, "model_path", s.model_path);

@@ -49,6 +49,8 @@ public:
 
     /// Number of slots.
     std::size_t capacity() const { return mask_ + 1; }
+    /// Elements waiting, as seen by the calling thread (any thread; exact only when neither side is active).
+    std::size_t size() const { return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire); }
 
 private:
     static constexpr std::size_t kLine = 64;

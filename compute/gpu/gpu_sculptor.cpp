@@ -234,6 +234,23 @@ std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> r
     return changed;
 }
 
+void GpuSculptor::write_rays(std::span<const RayImage> rays, const Aabb& box_m) {
+    for (const RayImage& r : rays) {
+        if (r.axis > 2 || r.index >= mirror_.sets[r.axis].rays.size())
+            throw Error("GPU tri-dexel: ray image outside the model (axis " + std::to_string(r.axis) + ", ray " +
+                        std::to_string(r.index) + ")");
+        const int nu = slabs_.nu(r.axis);
+        const int u = static_cast<int>(r.index % static_cast<std::uint32_t>(nu)), v = static_cast<int>(r.index / static_cast<std::uint32_t>(nu));
+        if (!slabs_.write_ray(r.axis, u, v, r.intervals)) {
+            ++stats_.compactions;
+            if (slabs_.compact(context_, r.axis)) bind_descriptors();
+            if (!slabs_.write_ray(r.axis, u, v, r.intervals)) throw Error("GPU tri-dexel: no pool room after compaction (internal error)");
+        }
+        mirror_.sets[r.axis].rays[r.index] = r.intervals;
+    }
+    if (!rays.empty()) mirror_.mark_dirty(box_m);
+}
+
 BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     BooleanStats stats;
     const GridBatch converted = to_grid_batch(mirror_.lattice, batch);  // throws before anything changes

@@ -66,6 +66,12 @@ public:
     /// 120 intervals (the model is then only partly updated; the caller should stop sculpting).
     BooleanStats apply(std::span<const Sweep> batch);
 
+    /// Replaces whole rays (undo and redo): each image's intervals become its ray's in the slabs and the mirror,
+    /// and the mirror's tiles around `box_m` (world m) are marked dirty. Compacts a set's pool when a ray finds no
+    /// room. Throws tridex::Error on an image outside the model or over kMaxRayIntervals intervals, or when even
+    /// a compacted pool has no room (rays before it are then written).
+    void write_rays(std::span<const RayImage> rays, const Aabb& box_m);
+
     /// The GPU-resident model.
     const GpuDexelSlabs& slabs() const { return slabs_; }
     /// Counters since creation.

@@ -19,19 +19,33 @@ namespace tridex::compute {
 //    0 type u32 (kJournalBatch) | 4 payload length P u32 | 8 payload, P bytes | 8+P CRC-32 u32 of bytes [0, 8+P)
 // kJournalBatch payload: 0 record index u64 (0, 1, 2, ... in file order) | 8 sample count N u32 | 12 reserved u32 (0)
 //   | 16 N samples of kJournalSampleBytes each, in the order the sculpt thread drained and applied them, one
-//   record per sculpt step (the batch the step applied).
+//   record per application (the samples of one sculpt step, split where a stroke ends inside it).
+// kJournalStrokeEnd / kJournalUndo / kJournalRedo payload (marks): 0 record index u64 | 8 stroke serial u64
+//   | 16 rays u64 (undo, redo: rays written back; stroke end: 0). A stroke end closes the open stroke (its serial);
+//   an undo or redo closes it too, then restores or re-applies the stroke with that serial (UndoHistory).
+// kJournalCheckpoint payload: 0 record index u64 | 8 model bytes u64 | 16 model CRC-32 u32 | 20 name length N u32
+//   | 24 N bytes: the checkpoint model file (.tdx) next to the journal, by file name, holding the model after every
+//   record before this one.
 // Sample (120 bytes): 0 t_s f64 | 8 position xyz f64 | 32 surface_m xyz f64 | 56 orientation w x y z f64
 //   | 88 tool.radius_m f64 | 96 tool.length_m f64 | 104 tool.mesh_id u32 | 108 buttons u32 | 112 tool.kind u8
 //   | 113 op u8 | 114 material u8 | 115 reserved u8 (0) | 116 reserved u32 (0)
 // ---------------------------------------------------------------------------------------------------------
 
 inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0'};  ///< first 8 bytes
-inline constexpr std::uint32_t kJournalVersion = 1;          ///< the version this build writes and reads
+inline constexpr std::uint32_t kJournalVersion = 2;          ///< the version this build writes (and reads, with 1)
+inline constexpr std::uint32_t kJournalOldestVersion = 1;    ///< oldest version this build reads (batches only)
 inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
 inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity
 inline constexpr std::size_t kJournalRecordHeadBytes = 8;    ///< type + payload length
 inline constexpr std::size_t kJournalBatchHeadBytes = 16;    ///< record index + count + reserved
 inline constexpr std::uint32_t kJournalBatch = 1;            ///< record type: one sculpt step's batch of samples
+inline constexpr std::uint32_t kJournalStrokeEnd = 2;        ///< record type: the open stroke closed
+inline constexpr std::uint32_t kJournalUndo = 3;             ///< record type: a stroke undone
+inline constexpr std::uint32_t kJournalRedo = 4;             ///< record type: a stroke redone
+inline constexpr std::uint32_t kJournalCheckpoint = 5;       ///< record type: a checkpoint model was written
+inline constexpr std::size_t kJournalMarkBytes = 24;         ///< payload of a stroke-end, undo or redo record
+inline constexpr std::size_t kJournalCheckpointHeadBytes = 24;  ///< checkpoint payload before the file name
+inline constexpr std::uint32_t kJournalMaxNameBytes = 4096;  ///< longest checkpoint file name a reader accepts
 /// Largest session identity and record payload a reader accepts, bytes (a longer length field is damage).
 inline constexpr std::uint32_t kJournalMaxSessionBytes = 16u << 20;
 inline constexpr std::uint32_t kJournalMaxPayloadBytes = 256u << 20;

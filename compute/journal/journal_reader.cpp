@@ -14,8 +14,8 @@ namespace tridex::compute {
 namespace {
 
 // Checks the record at `off`; on success fills `rec` and returns "" and the record's total size in `size`.
-std::string check_record(std::span<const unsigned char> b, std::uint64_t off, std::uint64_t index, JournalRecord& rec,
-                         std::uint64_t& size) {
+std::string check_record(std::span<const unsigned char> b, std::uint64_t off, std::uint64_t index, std::uint32_t version,
+                         JournalRecord& rec, std::uint64_t& size) {
     const std::uint64_t left = b.size() - off;
     const unsigned char* p = b.data() + off;
     if (left < kJournalRecordHeadBytes)
@@ -26,15 +26,38 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (left < size) return "partial record: " + std::to_string(left) + " of " + std::to_string(size) + " bytes";
     if (crc32_ieee(p, kJournalRecordHeadBytes + payload) != get_u32(p + kJournalRecordHeadBytes + payload))
         return "CRC mismatch";
-    if (type != kJournalBatch) return "unknown record type " + std::to_string(type);
     const unsigned char* q = p + kJournalRecordHeadBytes;
+    if (type < kJournalBatch || type > kJournalCheckpoint || (version < 2 && type != kJournalBatch))
+        return "unknown record type " + std::to_string(type);
+    if (payload < 8) return "record too short";
+    if (get_u64(q) != index) return "record index " + std::to_string(get_u64(q)) + " where " + std::to_string(index) + " belongs";
+    rec.offset = off;
+    rec.kind = static_cast<JournalKind>(type);
+    if (type == kJournalStrokeEnd || type == kJournalUndo || type == kJournalRedo) {
+        if (payload != kJournalMarkBytes) return "mark record of " + std::to_string(payload) + " bytes";
+        rec.serial = get_u64(q + 8);
+        rec.rays = get_u64(q + 16);
+        if (rec.serial == 0) return "mark of stroke 0";
+        return "";
+    }
+    if (type == kJournalCheckpoint) {
+        if (payload < kJournalCheckpointHeadBytes) return "checkpoint record too short";
+        const std::uint32_t n = get_u32(q + 20);
+        if (n == 0 || n > kJournalMaxNameBytes || payload != kJournalCheckpointHeadBytes + std::uint64_t{n})
+            return "checkpoint name length " + std::to_string(n) + " does not fit the record";
+        rec.checkpoint_bytes = get_u64(q + 8);
+        rec.checkpoint_crc = get_u32(q + 16);
+        rec.checkpoint.assign(reinterpret_cast<const char*>(q + kJournalCheckpointHeadBytes), n);
+        if (rec.checkpoint.find('/') != std::string::npos || rec.checkpoint.find('\0') != std::string::npos ||
+            rec.checkpoint == "." || rec.checkpoint == "..")
+            return "checkpoint name is not a plain file name";
+        return "";
+    }
     if (payload < kJournalBatchHeadBytes) return "record too short for a batch";
     const std::uint32_t count = get_u32(q + 8);
     if (payload != kJournalBatchHeadBytes + std::uint64_t{count} * kJournalSampleBytes)
         return "batch length does not match its " + std::to_string(count) + " samples";
-    if (get_u64(q) != index) return "record index " + std::to_string(get_u64(q)) + " where " + std::to_string(index) + " belongs";
     if (get_u32(q + 12) != 0) return "reserved field set";
-    rec.offset = off;
     rec.samples.resize(count);
     for (std::uint32_t i = 0; i < count; ++i)
         if (!decode_sample(q + kJournalBatchHeadBytes + std::size_t{i} * kJournalSampleBytes, rec.samples[i]))
@@ -51,9 +74,9 @@ Journal parse_journal(std::span<const unsigned char> b, const std::string& where
         throw Error(where + ": not a tridex session journal (no TRDXJNL header)");
     if (b.size() < kJournalHeaderFixedBytes) throw Error(where + ": the journal header is truncated");
     j.version = get_u32(b.data() + 8);
-    if (j.version != kJournalVersion)
-        throw Error(where + ": journal version " + std::to_string(j.version) + "; this build reads version " +
-                    std::to_string(kJournalVersion));
+    if (j.version < kJournalOldestVersion || j.version > kJournalVersion)
+        throw Error(where + ": journal version " + std::to_string(j.version) + "; this build reads versions " +
+                    std::to_string(kJournalOldestVersion) + " to " + std::to_string(kJournalVersion));
     const std::uint32_t sample_bytes = get_u32(b.data() + 12), len = get_u32(b.data() + 16);
     if (len > kJournalMaxSessionBytes || b.size() < kJournalHeaderFixedBytes + std::uint64_t{len} + 4)
         throw Error(where + ": the journal header is truncated or damaged");
@@ -67,7 +90,7 @@ Journal parse_journal(std::span<const unsigned char> b, const std::string& where
     while (off < b.size()) {
         JournalRecord rec;
         std::uint64_t size = 0;
-        const std::string why = check_record(b, off, j.records.size(), rec, size);
+        const std::string why = check_record(b, off, j.records.size(), j.version, rec, size);
         if (!why.empty()) {
             j.cut = JournalCut{j.records.size(), off, why};
             break;

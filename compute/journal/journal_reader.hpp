@@ -12,10 +12,25 @@
 
 namespace tridex::compute {
 
-/// One valid record: the batch of samples one sculpt step applied.
+/// What a journal record is (journal_format.hpp's record types).
+enum class JournalKind : std::uint8_t {
+    kBatch = 1,       ///< samples applied as one batch
+    kStrokeEnd = 2,   ///< the open stroke closed
+    kUndo = 3,        ///< a stroke undone
+    kRedo = 4,        ///< a stroke redone
+    kCheckpoint = 5,  ///< a checkpoint model file holds the model as of this record
+};
+
+/// One valid record.
 struct JournalRecord {
+    JournalKind kind = JournalKind::kBatch;
     std::uint64_t offset = 0;         ///< byte offset of the record in the file
-    std::vector<ToolSample> samples;  ///< in the order they were applied
+    std::vector<ToolSample> samples;  ///< kBatch: in the order they were applied; else empty
+    std::uint64_t serial = 0;         ///< kStrokeEnd, kUndo, kRedo: the stroke's serial (UndoHistory)
+    std::uint64_t rays = 0;           ///< kUndo, kRedo: rays written back
+    std::string checkpoint;           ///< kCheckpoint: the model file's name (in the journal's folder)
+    std::uint64_t checkpoint_bytes = 0;  ///< kCheckpoint: its size, bytes
+    std::uint32_t checkpoint_crc = 0;    ///< kCheckpoint: its CRC-32 (crc32_ieee of the whole file)
 };
 
 /// Where a journal's valid prefix ends and why (a torn write, a bit flip).
@@ -27,7 +42,7 @@ struct JournalCut {
 
 /// A journal read back.
 struct Journal {
-    std::uint32_t version = 0;           ///< format version (kJournalVersion)
+    std::uint32_t version = 0;           ///< format version (kJournalOldestVersion..kJournalVersion)
     std::string session;                 ///< the session identity the writer was given
     std::vector<JournalRecord> records;  ///< every record before the first damaged one
     std::uint64_t samples = 0;           ///< samples in `records`
@@ -36,9 +51,10 @@ struct Journal {
 };
 
 /// Parses journal bytes. The header must be complete and intact: throws tridex::Error "<where>: <what>" when it
-/// is not a journal (magic), is another version ("journal version 2; this build reads version 1"), has another
+/// is not a journal (magic), is another version ("journal version 3; this build reads versions 1 to 2"), has another
 /// sample size, or is truncated or damaged (CRC). Records are kept up to the first that is incomplete, fails its
-/// CRC, has an unknown type, a wrong length or record index, or a sample field no writer writes; the rest is
+/// CRC, has an unknown type (or a mark in a version 1 journal), a wrong length or record index, a checkpoint name
+/// that is empty, too long or holds a '/', or a sample field no writer writes; the rest is
 /// reported in Journal::cut. O(file size).
 Journal parse_journal(std::span<const unsigned char> bytes, const std::string& where);
 

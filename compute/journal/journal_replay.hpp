@@ -1,9 +1,11 @@
 // compute/journal/journal_replay.hpp - applying a journal's records to a model, as the sculpt thread applied them.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "compute/history/undo_history.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/tridexel.hpp"
 
@@ -11,17 +13,35 @@ namespace tridex::compute {
 
 /// What journal_apply did.
 struct JournalApplyStats {
-    std::uint64_t records = 0;   ///< records applied
+    std::uint64_t records = 0;   ///< records applied (batches and marks)
     std::uint64_t samples = 0;   ///< samples read
     std::uint64_t booleans = 0;  ///< swept Booleans applied (one per consecutive pair with an op)
+    std::uint64_t strokes = 0;   ///< stroke-end marks replayed
+    std::uint64_t undos = 0;     ///< undo marks replayed
+    std::uint64_t redos = 0;     ///< redo marks replayed
     double last_t_s = 0.0;       ///< t_s of the last sample (device time, s); 0 without samples
 };
 
-/// Applies `records` in order to `model` through the CPU reference Booleans, one batch per record as the sculpt
-/// thread did (sample_sweep between consecutive samples, across record boundaries; each batch validated before
-/// any of it changes the model), marking dirty tiles. Sessions have no mesh tools: a kMesh sample throws.
-/// Throws tridex::Error naming the record on a sweep the Booleans refuse (the model then holds the records
-/// before it).
-JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records);
+/// Where journal_apply starts.
+struct JournalApplyFrom {
+    std::size_t record = 0;          ///< first record to apply (0: the start; after a checkpoint: the record after it)
+    std::uint64_t last_serial = 0;   ///< serial of the last stroke closed before that record (0 at the start)
+    /// The undo history's budget, bytes; at least the session's, so that every undo it journalled finds its stroke.
+    std::size_t history_budget_bytes = UndoHistory::kDefaultBudgetBytes;
+};
+
+/// Applies `records` from `from.record` on, in order, to `model` through the CPU reference Booleans, as the sculpt
+/// thread did: one batch per batch record (sample_sweep between consecutive samples, across record boundaries; each
+/// batch validated before any of it changes the model), strokes closed, undone and redone at their marks (through
+/// an UndoHistory; checkpoint records are skipped), marking dirty tiles. Sessions have no mesh tools: a kMesh
+/// sample throws. Throws tridex::Error naming the record on a sweep the Booleans refuse, or on a mark that does not
+/// match the replay (a stroke closed or undone under another serial, an undo with nothing to undo, another number
+/// of rays written back: a journal replayed from a state it was not written from); the model then holds the
+/// records before it.
+JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from = {});
+
+/// The serial of the last stroke closed in records [0, end) (the largest stroke-end serial), for
+/// JournalApplyFrom::last_serial.
+std::uint64_t journal_last_serial(std::span<const JournalRecord> records, std::size_t end);
 
 }  // namespace tridex::compute

@@ -112,6 +112,46 @@ void JournalWriter::append(std::span<const ToolSample> samples) {
     sync_if_due();
 }
 
+void JournalWriter::record(std::uint32_t type, const unsigned char* payload, std::size_t n) {
+    if (!ok()) return;
+    const auto t0 = Clock::now();
+    unsigned char head[kJournalRecordHeadBytes];
+    put_u32(head, type);
+    put_u32(head + 4, static_cast<std::uint32_t>(n));
+    crc_ = 0;
+    put(head, sizeof head);
+    put(payload, n);
+    unsigned char crc[4];
+    put_u32(crc, crc_);
+    put(crc, 4);
+    if (!ok()) return;
+    ++stats_.records;
+    unsynced_ = true;
+    stats_.append_ms_total += ms_since(t0);
+}
+
+void JournalWriter::mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
+    if (type != kJournalStrokeEnd && type != kJournalUndo && type != kJournalRedo) return;
+    unsigned char p[kJournalMarkBytes];
+    put_u64(p, stats_.records);
+    put_u64(p + 8, serial);
+    put_u64(p + 16, rays);
+    record(type, p, sizeof p);
+    sync_if_due();
+}
+
+void JournalWriter::checkpoint(const std::string& name, std::uint64_t bytes, std::uint32_t crc) {
+    if (name.empty() || name.size() > kJournalMaxNameBytes) return;
+    std::vector<unsigned char> p(kJournalCheckpointHeadBytes + name.size());
+    put_u64(p.data(), stats_.records);
+    put_u64(p.data() + 8, bytes);
+    put_u32(p.data() + 16, crc);
+    put_u32(p.data() + 20, static_cast<std::uint32_t>(name.size()));
+    std::memcpy(p.data() + kJournalCheckpointHeadBytes, name.data(), name.size());
+    record(kJournalCheckpoint, p.data(), p.size());
+    sync();
+}
+
 void JournalWriter::sync_if_due() {
     if (!unsynced_ || !ok()) return;
     if (Clock::now() - last_sync_ >= interval_) sync();

@@ -16,7 +16,7 @@ namespace tridex::compute {
 /// What a JournalWriter did (report.json `journal`).
 struct JournalStats {
     std::string path;              ///< the journal file
-    std::uint64_t records = 0;     ///< batch records appended (written to the file or still buffered)
+    std::uint64_t records = 0;     ///< records appended (written to the file or still buffered): batches and marks
     std::uint64_t samples = 0;     ///< tool samples in those records
     std::uint64_t bytes = 0;       ///< bytes handed to write(2) successfully, header included
     std::uint64_t flushes = 0;     ///< write + fdatasync rounds that succeeded
@@ -51,6 +51,12 @@ public:
     /// since the last sync has passed. Any batch size works: a record larger than the buffer is streamed
     /// through it.
     void append(std::span<const ToolSample> samples);
+    /// Appends a mark (journal_format.hpp): `type` kJournalStrokeEnd, kJournalUndo or kJournalRedo, the stroke's
+    /// serial and (undo, redo) the rays written back. Syncs when due. Other types are ignored.
+    void mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays = 0);
+    /// Appends a checkpoint record naming the model file `name` (a plain file name in the journal's folder; its
+    /// size and CRC-32) that holds the model after every record appended so far, and syncs at once.
+    void checkpoint(const std::string& name, std::uint64_t bytes, std::uint32_t crc);
     /// Writes and fdatasyncs the buffered bytes when the sync interval has passed since the last sync and
     /// something is unsynced.
     void sync_if_due();
@@ -64,6 +70,7 @@ public:
     const JournalStats& stats() const { return stats_; }
 
 private:
+    void record(std::uint32_t type, const unsigned char* payload, std::size_t n);  // one small record, whole
     void put(const unsigned char* p, std::size_t n);  // into the buffer, CRC updated; writes out when full
     bool write_out();                                  // buffer -> write(2); false on error (recorded)
     void fail(const std::string& what, int err);

@@ -33,6 +33,14 @@ struct RaySet {
     const std::vector<Interval>& ray(int u, int v) const { return rays[static_cast<std::size_t>(u) + static_cast<std::size_t>(nu) * v]; }
 };
 
+/// The whole content of one ray: set `axis` (0 X, 1 Y, 2 Z), index u + nu * v in RaySet::rays, and its
+/// intervals (undo and redo write rays back whole).
+struct RayImage {
+    std::uint8_t axis = 0;
+    std::uint32_t index = 0;
+    std::vector<Interval> intervals;
+};
+
 /// Cubic tiles of kTileCells^3 cells with a dirty flag each; Booleans mark the tiles their swept
 /// footprint touches, contouring redoes only those. Tile (tx, ty, tz) covers cells
 /// [tx*kTileCells, (tx+1)*kTileCells) along x, and so on.

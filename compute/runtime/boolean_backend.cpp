@@ -24,6 +24,15 @@ public:
         }
         return total;
     }
+    void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override {
+        for (const compute::RayImage& r : rays) {
+            if (r.axis > 2 || r.index >= model_.sets[r.axis].rays.size())
+                throw Error("tri-dexel: ray image outside the model (axis " + std::to_string(r.axis) + ", ray " +
+                            std::to_string(r.index) + ")");
+            model_.sets[r.axis].rays[r.index] = r.intervals;
+        }
+        if (!rays.empty()) model_.mark_dirty(box_m);
+    }
     std::string path() const override { return "cpu"; }
     std::string device() const override { return ""; }
     std::uint64_t spilled_intervals() const override { return 0; }
@@ -48,6 +57,7 @@ public:
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override { return sculptor_->apply(batch); }
+    void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override { sculptor_->write_rays(rays, box_m); }
     std::string path() const override { return "gpu"; }
     std::string device() const override { return context_.device_name(); }
     std::uint64_t spilled_intervals() const override { return sculptor_->slabs().spilled_intervals(); }

@@ -25,6 +25,10 @@ public:
     /// Applies `batch` in order to the model and marks its dirty tiles. Throws tridex::Error on a bad sweep
     /// (nothing changed) or a device failure.
     virtual compute::BooleanStats apply(std::span<const compute::Sweep> batch) = 0;
+    /// Replaces whole rays of the model (undo and redo) on this path's storage and in the CPU model, and marks
+    /// the model's tiles around `box_m` (world m) dirty. Throws tridex::Error on an image outside the model or a
+    /// device failure.
+    virtual void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) = 0;
     /// "gpu" or "cpu" (report.json `sculpt_path`).
     virtual std::string path() const = 0;
     /// The Vulkan device name for "gpu"; "" for "cpu".

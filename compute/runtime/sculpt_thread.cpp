@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "compute/journal/journal_format.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/active_surface_publish.hpp"
 #include "compute/tools/sample_sweep.hpp"
@@ -69,8 +70,26 @@ void SculptThread::use_gpu_contour(GpuContourShare& share) {
     gpu_contour_ = &share;
 }
 
+void SculptThread::set_history_budget(std::size_t bytes) {
+    if (thread_.joinable()) throw Error("SculptThread::set_history_budget: call it before start()");
+    if (bytes == 0) throw Error("SculptThread::set_history_budget: the budget must be > 0 bytes");
+    history_budget_ = bytes;
+}
+
+void SculptThread::use_checkpoints(std::function<CheckpointFile(const compute::TriDexel&)> write, double interval_s) {
+    if (thread_.joinable()) throw Error("SculptThread::use_checkpoints: call it before start()");
+    if (!std::isfinite(interval_s) || interval_s <= 0.0)
+        throw Error("SculptThread::use_checkpoints: interval_s must be finite and > 0, got " + std::to_string(interval_s));
+    checkpoint_write_ = std::move(write);
+    checkpoint_interval_s_ = interval_s;
+}
+
+bool SculptThread::request(HistoryRequest r) { return requests_.try_push(r); }
+
 void SculptThread::start() {
     if (thread_.joinable()) throw Error("SculptThread::start: already running");
+    history_ = std::make_unique<SculptHistory>(model_, *backend_, history_budget_);
+    checkpoint_last_ = std::chrono::steady_clock::now();
     stop_.store(false);
     failure_ = nullptr;
     thread_ = std::thread([this] {
@@ -110,6 +129,7 @@ void SculptThread::run() {
                 failure_ = std::current_exception();
             }
         }
+        if (checkpoint_write_ && !failure_) checkpoint_if_due();
         if (journal_) {
             const auto t0 = std::chrono::steady_clock::now();
             if (stopping && !worked)
@@ -118,37 +138,118 @@ void SculptThread::run() {
                 journal_->sync_if_due();
             stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         }
-        if (stopping && !worked) return;  // the ring was drained after stop was asked
+        if (stopping && !worked) {  // the ring was drained after stop was asked
+            if (!failure_) close_stroke();  // the last stroke is a step too
+            if (journal_) journal_->sync();
+            stats_.history = history_->stats();
+            return;
+        }
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
 }
 
+bool SculptThread::take_requests() {
+    HistoryRequest r;
+    bool any = false;
+    while (requests_.try_pop(r)) {
+        any = true;
+        if (r == HistoryRequest::kEndStroke) {
+            close_stroke();
+            continue;
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        close_stroke();  // journalled before the undo or redo that follows
+        const bool undo = r == HistoryRequest::kUndo;
+        ++(undo ? stats_.undo_requests : stats_.redo_requests);
+        const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
+        if (c.serial == 0) continue;  // nothing to undo / redo
+        if (journal_) journal_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
+        changed_since_checkpoint_ = true;
+        publish(published_centre_m_);  // the haptic window follows at once
+        const auto t1 = std::chrono::steady_clock::now();
+        contour_changed(t0, t1);
+        stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return any;
+}
+
+void SculptThread::close_stroke() {
+    const std::uint64_t serial = history_->end_stroke();
+    stroke_changed_ = false;
+    if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
+}
+
+void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
+    if (!batch_.empty()) {
+        if (!history_->stroke_open()) last_change_t_s_ = prev_.t_s;  // a stroke opens: its idle clock starts
+        const compute::BooleanStats b = history_->apply(batch_);
+        stats_.booleans += batch_.size();
+        stats_.rays_changed += b.rays_changed;
+        if (b.rays_changed > 0) {
+            changed = true;
+            stroke_changed_ = true;
+            changed_since_checkpoint_ = true;
+            last_change_t_s_ = prev_.t_s;
+        }
+        batch_.clear();
+    }
+    if (journal_ && end > begin) journal_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
+}
+
+void SculptThread::contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1) {
+    if (gpu_contour_) {
+        stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
+        model_.clear_dirty();
+    } else {
+        stats_.tiles_recontoured += contourer_.update(model_);
+    }
+    ++stats_.steps;
+    const auto t2 = std::chrono::steady_clock::now();
+    stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    stats_.contour_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    mesh_pending_ = mesh_out_ != nullptr;
+}
+
+namespace {
+bool same_tool(const ToolSample& a, const ToolSample& b) {
+    return a.op == b.op && a.material == b.material && a.tool.kind == b.tool.kind && a.tool.radius_m == b.tool.radius_m &&
+           a.tool.length_m == b.tool.length_m && a.tool.mesh_id == b.tool.mesh_id;
+}
+}  // namespace
+
 bool SculptThread::step() {
+    bool any = take_requests();
     const auto t0 = std::chrono::steady_clock::now();
     ToolSample s;
-    bool any = false, changed = false;
+    bool changed = false, sampled = false;
     batch_.clear();
     drained_.clear();
+    std::size_t begin = 0, n = 0;  // drained_[begin, n) not yet journalled
     while (samples_.try_pop(s)) {
-        any = true;
+        sampled = true;
         ++stats_.samples;
         if (journal_) drained_.push_back(s);
-        if (have_prev_ && s.op != ToolOp::kNone && s.tool.radius_m > 0.0) {
+        const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
+        // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then
+        // belongs to the next stroke.
+        if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && (!cuts || !same_tool(s, prev_))) {
+            flush(begin, n, changed);
+            begin = n;
+            close_stroke();
+        }
+        if (have_prev_ && cuts) {
             compute::Sweep sw;
             compute::sample_sweep(prev_, s, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr, sw);
             batch_.push_back(std::move(sw));
         }
         prev_ = s;
         have_prev_ = true;
+        ++n;
     }
-    if (!any) return false;
-    if (!batch_.empty()) {
-        const compute::BooleanStats b = backend_->apply(batch_);
-        stats_.booleans += batch_.size();
-        stats_.rays_changed += b.rays_changed;
-        changed = b.rays_changed > 0;
-    }
-    if (journal_) journal_->append(drained_);  // what was applied, as one batch
+    if (!sampled) return any;
+    flush(begin, n, changed);
+    // The tool left the material: nothing changed for kStrokeIdleS of device time.
+    if (history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS) close_stroke();
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
     // material does not drag the window away from the proxy it constrains. (Widening the window to cover
@@ -157,21 +258,26 @@ bool SculptThread::step() {
     const Vec3 centre = is_finite(prev_.surface_m) ? prev_.surface_m : prev_.position;
     const double moved_cells = glm::length(centre - published_centre_m_) / model_.lattice.cell_m;
     if (changed || moved_cells > kRecentreCells) publish(centre);
-    if (changed) {
-        const auto t1 = std::chrono::steady_clock::now();
-        if (gpu_contour_) {
-            stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
-            model_.clear_dirty();
-        } else {
-            stats_.tiles_recontoured += contourer_.update(model_);
-        }
-        ++stats_.steps;
-        const auto t2 = std::chrono::steady_clock::now();
-        stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-        stats_.contour_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-        mesh_pending_ = mesh_out_ != nullptr;
-    }
+    if (changed) contour_changed(t0, std::chrono::steady_clock::now());
     return true;
+}
+
+void SculptThread::checkpoint_if_due() {
+    if (!changed_since_checkpoint_ || !stats_.checkpoint_error.empty() || history_->stroke_open()) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - checkpoint_last_).count() < checkpoint_interval_s_) return;
+    checkpoint_last_ = now;
+    try {
+        const CheckpointFile f = checkpoint_write_(model_);
+        changed_since_checkpoint_ = false;
+        ++stats_.checkpoints;
+        if (journal_) journal_->checkpoint(f.name, f.bytes, f.crc);
+    } catch (const std::exception& e) {
+        stats_.checkpoint_error = e.what();
+    }
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - now).count();
+    stats_.checkpoint_ms_total += ms;
+    stats_.busy_ms += ms;
 }
 
 void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {

@@ -5,12 +5,16 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <functional>
+#include <string>
 #include <memory>
 #include <cstdint>
 #include <thread>
 #include <vector>
 
+#include "compute/history/undo_history.hpp"
 #include "compute/runtime/boolean_backend.hpp"
+#include "compute/runtime/sculpt_history.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/journal/journal_writer.hpp"
@@ -38,6 +42,30 @@ struct SculptStats {
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
+    /// Per undo or redo that changed the model: from taking the request to the active surface published and the
+    /// dirty tiles re-contoured (what a person waits for before the drawn model follows), ms.
+    std::vector<double> undo_ms;
+    std::uint64_t undo_requests = 0;   ///< undo requests taken (including those with nothing to undo)
+    std::uint64_t redo_requests = 0;   ///< redo requests taken
+    compute::HistoryStats history;     ///< the undo history at stop()
+    std::uint64_t checkpoints = 0;     ///< checkpoint models written
+    double checkpoint_ms_total = 0.0;  ///< wall time spent writing them, ms
+    std::string checkpoint_error;      ///< the first checkpoint failure ("" when none); sculpting went on
+};
+
+/// A request to the sculpt thread's undo history (SculptThread::request).
+enum class HistoryRequest : std::uint8_t {
+    kUndo,       ///< undo the newest stroke (the open one is closed first)
+    kRedo,       ///< redo the newest undone stroke
+    kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
+};
+
+/// What a checkpoint writer (SculptThread::use_checkpoints) wrote: the file's name in the journal's folder, its
+/// size and CRC-32.
+struct CheckpointFile {
+    std::string name;
+    std::uint64_t bytes = 0;
+    std::uint32_t crc = 0;
 };
 
 class GpuContourShare;
@@ -68,6 +96,12 @@ struct MeshFrame {
     double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
 };
 
+/// Strokes and undo: the samples' sweeps are applied stroke by stroke through a SculptHistory. A stroke closes at a
+/// sample with op kNone (the tool lifted, the workspace button held), at a change of op, material or tool, when
+/// its sweeps have changed nothing for kStrokeIdleS of device time after it changed the model (the tool left the
+/// material), and at a kEndStroke request; a drained batch is split where a stroke closes. Undo and redo requests
+/// are taken at the start of a step, before that step's samples. Every close, undo and redo is journalled as a
+/// mark between the batch records, so a journal replays the same strokes.
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
 /// the ball tool; the sample's op: subtract, or union / paint with the sample's material) to the
 /// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),
@@ -107,9 +141,26 @@ public:
     /// journal's own errors never stop the thread (JournalWriter records them). `journal` must outlive the thread.
     /// Throws tridex::Error when the thread runs.
     void use_journal(compute::JournalWriter& journal);
+    /// Sets the undo history's memory budget (bytes > 0; default compute::UndoHistory::kDefaultBudgetBytes).
+    /// Throws tridex::Error when the thread runs or the budget is 0.
+    void set_history_budget(std::size_t bytes);
+    /// Writes a checkpoint model with `write` (on the sculpt thread, never the haptic thread) when at least
+    /// `interval_s` (s, > 0) of wall time passed since the session started or the last checkpoint, the model changed
+    /// since, and no stroke is open; then appends a checkpoint record to the journal (use_journal) naming the file.
+    /// `write` gets the CPU model and returns the file it wrote (atomically: a failure leaves the previous one) or
+    /// throws tridex::Error; a failure is kept in stats().checkpoint_error and no more checkpoints are tried.
+    /// Throws tridex::Error when the thread runs or interval_s is not finite and > 0.
+    void use_checkpoints(std::function<CheckpointFile(const compute::TriDexel&)> write, double interval_s);
+    /// Queues an undo, redo or stroke-close request for the sculpt thread (taken at its next step, within about a
+    /// millisecond when idle). One thread may call it (a single-producer queue); false when 64 requests are
+    /// already waiting. Safe while the thread runs; requests queued before start() are taken at its first step.
+    bool request(HistoryRequest r);
+    /// Device time (s) without a change after which an open stroke closes.
+    static constexpr double kStrokeIdleS = 0.5;
+
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
-    /// Processes every sample still in the ring, then joins; call it after the producer (the haptic
+    /// Processes every sample still in the ring, closes the open stroke (journalled), then joins; call it after the producer (the haptic
     /// loop) has stopped. Idempotent. Rethrows the first exception the thread hit (a bad sample, out
     /// of memory); after such a failure the thread kept draining the ring without applying anything.
     void stop();
@@ -130,6 +181,11 @@ public:
 private:
     void run();
     bool step();  // one drain + apply + contour + publish; false when there was nothing to do
+    bool take_requests();                            // undo / redo / close requests; true when one was taken
+    void flush(std::size_t begin, std::size_t end, bool& changed);  // apply batch_, journal drained_[begin, end)
+    void close_stroke();                             // end the open stroke and journal it
+    void contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1);
+    void checkpoint_if_due();
     void publish(const Vec3& centre_m);
     void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
@@ -139,6 +195,15 @@ private:
     BooleanBackend* backend_ = nullptr;
     std::vector<compute::Sweep> batch_;           // reused between steps
     std::vector<ToolSample> drained_;             // the step's samples, for the journal; reserved to the ring's capacity
+    std::unique_ptr<SculptHistory> history_;       // made at start() on the chosen backend
+    std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
+    SpscRing<HistoryRequest> requests_{64};
+    double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
+    bool stroke_changed_ = false;                  // the open stroke changed the model
+    std::function<CheckpointFile(const compute::TriDexel&)> checkpoint_write_;
+    double checkpoint_interval_s_ = 0.0;
+    bool changed_since_checkpoint_ = false;
+    std::chrono::steady_clock::time_point checkpoint_last_{};
     compute::JournalWriter* journal_ = nullptr;
     std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
     std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;

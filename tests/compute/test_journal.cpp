@@ -190,8 +190,8 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> bytes = file_bytes(path);
     const std::uint32_t len = get_u32(bytes.data() + 16);
 
-    std::vector<unsigned char> v2 = bytes;  // version 2 with a valid header CRC
-    put_u32(v2.data() + 8, 2);
+    std::vector<unsigned char> v2 = bytes;  // version 3 with a valid header CRC
+    put_u32(v2.data() + 8, 3);
     put_u32(v2.data() + kJournalHeaderFixedBytes + len, crc32_ieee(v2.data(), kJournalHeaderFixedBytes + len));
     std::vector<unsigned char> damaged = bytes;
     damaged[kJournalHeaderFixedBytes + 3] ^= 0x10;
@@ -199,7 +199,7 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> short_header(bytes.begin(), bytes.begin() + kJournalHeaderFixedBytes + 5);
 
     const std::pair<std::vector<unsigned char>, std::string> cases[] = {
-        {v2, "j.tdj: journal version 2; this build reads version 1"},
+        {v2, "j.tdj: journal version 3; this build reads versions 1 to 2"},
         {damaged, "j.tdj: the journal header is damaged (CRC mismatch)"},
         {garbage, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
         {{}, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
@@ -247,6 +247,61 @@ TEST(Journal, SyncsWhenTheIntervalPassed) {
         EXPECT_EQ(rarely.stats().flushes, 2u);
         EXPECT_EQ(read_journal(path).records.size(), 5u);
     }
+    fs::remove(path);
+}
+
+// Stroke ends, undos, redos and checkpoints are records like batches: read back in order, with their serials, ray
+// counts and file names; a flipped bit cuts the journal there; a version 1 journal cannot hold them.
+TEST(Journal, MarksAndCheckpointsRoundTripAndAreCheckedLikeBatches) {
+    const std::string path = temp_path("marks.tdj");
+    const std::vector<ToolSample> s = odd_samples(6, 3);
+    {
+        JournalWriter w(path, "session");
+        w.append(std::span<const ToolSample>(s).first(3));
+        w.mark(kJournalStrokeEnd, 1);
+        w.mark(kJournalUndo, 1, 321);
+        w.mark(kJournalRedo, 1, 321);
+        w.checkpoint("s.tdj.checkpoint.tdx", 4096, 0xdeadbeefu);
+        w.append(std::span<const ToolSample>(s).subspan(3));
+        w.mark(99, 1);  // not a mark type: ignored
+        EXPECT_EQ(w.stats().records, 6u);
+        EXPECT_EQ(w.stats().error, "");
+    }
+    const std::vector<unsigned char> bytes = file_bytes(path);
+    const Journal j = parse_journal(bytes, "m.tdj");
+    EXPECT_FALSE(j.cut);
+    ASSERT_EQ(j.records.size(), 6u);
+    EXPECT_EQ(j.version, kJournalVersion);
+    EXPECT_EQ(j.records[0].kind, JournalKind::kBatch);
+    EXPECT_EQ(j.records[1].kind, JournalKind::kStrokeEnd);
+    EXPECT_EQ(j.records[1].serial, 1u);
+    EXPECT_EQ(j.records[2].kind, JournalKind::kUndo);
+    EXPECT_EQ(j.records[2].rays, 321u);
+    EXPECT_EQ(j.records[3].kind, JournalKind::kRedo);
+    EXPECT_EQ(j.records[4].kind, JournalKind::kCheckpoint);
+    EXPECT_EQ(j.records[4].checkpoint, "s.tdj.checkpoint.tdx");
+    EXPECT_EQ(j.records[4].checkpoint_bytes, 4096u);
+    EXPECT_EQ(j.records[4].checkpoint_crc, 0xdeadbeefu);
+    EXPECT_EQ(j.records[5].samples.size(), 3u);
+    EXPECT_EQ(j.samples, 6u);
+
+    // A bit flipped in the undo record's serial: cut there.
+    std::vector<unsigned char> flipped = bytes;
+    flipped[j.records[2].offset + kJournalRecordHeadBytes + 8] ^= 0x04;
+    const Journal f = parse_journal(flipped, "m.tdj");
+    ASSERT_TRUE(f.cut);
+    EXPECT_EQ(f.cut->record, 2u);
+    EXPECT_EQ(f.cut->reason, "CRC mismatch");
+
+    // The same bytes claiming version 1 (header CRC fixed): the stroke-end record is not a version 1 record.
+    std::vector<unsigned char> v1 = bytes;
+    const std::uint32_t len = get_u32(v1.data() + 16);
+    put_u32(v1.data() + 8, 1);
+    put_u32(v1.data() + kJournalHeaderFixedBytes + len, crc32_ieee(v1.data(), kJournalHeaderFixedBytes + len));
+    const Journal old = parse_journal(v1, "m.tdj");
+    ASSERT_TRUE(old.cut);
+    EXPECT_EQ(old.cut->record, 1u);
+    EXPECT_EQ(old.cut->reason, "unknown record type 2");
     fs::remove(path);
 }
 

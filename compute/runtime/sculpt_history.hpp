@@ -1,0 +1,51 @@
+// compute/runtime/sculpt_history.hpp - Booleans applied stroke by stroke with undo and redo, for the sculpt thread
+// and for replaying its journal.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "compute/history/undo_history.hpp"
+#include "compute/runtime/boolean_backend.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/model/tridexel.hpp"
+
+namespace tridex::app {
+
+/// A BooleanBackend's model with per-stroke undo and redo (compute::UndoHistory): apply() captures the rays a batch
+/// may change before applying it; undo() and redo() write rays back through the backend (its GPU slabs and the CPU
+/// model alike) and mark the tiles around the stroke dirty, so contouring and the active surface follow. The sculpt
+/// thread and journal replay both use it, so a replay closes, undoes and redoes the same strokes. Not thread-safe.
+class SculptHistory {
+public:
+    /// `model` and `backend` (built on that model) must outlive this. budget_bytes > 0 (UndoHistory); last_serial:
+    /// the serial of the last stroke closed before `model`'s state (0 for a fresh session). Throws tridex::Error
+    /// when the budget is 0.
+    SculptHistory(compute::TriDexel& model, BooleanBackend& backend,
+                  std::size_t budget_bytes = compute::UndoHistory::kDefaultBudgetBytes, std::uint64_t last_serial = 0);
+
+    /// Captures the rays `batch` may change (opening a stroke if none is open), then applies it. Throws what the
+    /// backend throws (nothing changed for a bad sweep).
+    compute::BooleanStats apply(std::span<const compute::Sweep> batch);
+    /// True while a stroke is open.
+    bool stroke_open() const { return history_.stroke_open(); }
+    /// Closes the open stroke; its serial, 0 when none was open.
+    std::uint64_t end_stroke() { return history_.end_stroke(model_); }
+    /// Undoes the newest stroke (closing the open one first); serial 0 when there was nothing to undo.
+    compute::UndoHistory::Change undo();
+    /// Redoes the newest undone stroke (closing the open one first); serial 0 when there was nothing to redo.
+    compute::UndoHistory::Change redo();
+    /// Serials undo() / redo() would take next (after closing the open stroke), 0 when none.
+    std::uint64_t next_undo_serial() const { return history_.next_undo_serial(); }
+    std::uint64_t next_redo_serial() const { return history_.next_redo_serial(); }
+    /// The history's counters and sizes.
+    compute::HistoryStats stats() const { return history_.stats(); }
+
+private:
+    compute::TriDexel& model_;
+    BooleanBackend& backend_;
+    compute::UndoHistory history_;
+};
+
+}  // namespace tridex::app
