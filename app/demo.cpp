@@ -50,12 +50,17 @@ void run_demo(const DemoOptions& o) {
     const std::string journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(o.out) / "session.tdj").string() : o.journal;
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
+    if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
+        throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
+    if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
+        throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
 
     SessionSpec s;
     if (!o.workpiece.empty()) s.model_path = fs::absolute(o.workpiece).lexically_normal().string();
     else s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
     s.resolution = o.resolution;
     s.stock_m = o.stock_m;
+    s.history_budget_bytes = static_cast<std::size_t>(o.history_mib * 1048576.0);
     s.workpiece_centre_m = kWorkpieceCentre;
     s.tool = ToolShape{parse_tool_kind(o.tool, "--tool"), o.tool_radius_m, 0.0, 0};
     double press_reach_m = o.tool_radius_m;  // from the tool origin to its lowest point along the press direction (+z)
@@ -110,9 +115,10 @@ void run_demo(const DemoOptions& o) {
     // stroke; wall time is only a safety net.
     const std::size_t ticks = static_cast<std::size_t>(std::llround(o.seconds / cfg.period_s));
     const Vec3 start = plan.world_m.front();
+    SculptOptions sculpt{o.cpu, o.validate, o.cpu_contour, o.gpu_contour, journal};
+    sculpt.checkpoint_s = o.checkpoint_s;
     SessionRun run = run_session(s, std::move(wp), std::move(device), ticks, static_cast<std::size_t>(o.seconds * 1500.0) + 1000,
-                                 3.0 * o.seconds + 10.0, start,
-                                 SculptOptions{o.cpu, o.validate, o.cpu_contour, o.gpu_contour, journal});
+                                 3.0 * o.seconds + 10.0, start, sculpt);
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);

@@ -87,6 +87,11 @@ int main(int argc, char** argv) {
     auto* demo_journal = demo_cmd->add_option("--journal", demo.journal,
                                               "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");
     demo_cmd->add_flag("--no-journal", demo.no_journal, "Write no session journal")->excludes(demo_journal);
+    demo_cmd->add_option("--checkpoint-s", demo.checkpoint_s,
+                         "Seconds between checkpoint models written next to the journal while sculpting (0 = none)")
+        ->capture_default_str();
+    demo_cmd->add_option("--history-mib", demo.history_mib, "Memory for undo, MiB (oldest strokes dropped first)")
+        ->capture_default_str();
     demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");

@@ -1,6 +1,7 @@
 // app/recover.cpp - `tridex recover`: a session's model from its journal.
 #include "app/recover.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/json_file.hpp"
+#include "app/memory.hpp"
 #include "app/output_dir.hpp"
 #include "app/workpiece_source.hpp"
 #include "app/session_runtime.hpp"
@@ -16,6 +18,7 @@
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/mesh/mesh_export.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
 
@@ -35,11 +38,43 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
                      static_cast<unsigned long long>(j.cut->byte_offset), j.cut->reason.c_str());
 
-    // The workpiece as the session built it, contoured before carving as the session did, then every record.
+    // The workpiece as the session built it; then the records after the newest checkpoint that is intact and
+    // replays, else every record from the start.
     Workpiece wp = prepare_session_workpiece(s);
+    const double volume_start = wp.volume_dexel_m3;
+    compute::JournalApplyStats applied;
+    std::string from = "the start";
+    bool done = false;
+    for (std::size_t k = j.records.size(); k-- > 0 && !done;) {
+        const compute::JournalRecord& rec = j.records[k];
+        if (rec.kind != compute::JournalKind::kCheckpoint) continue;
+        const std::string path = (fs::path(journal_path).parent_path() / rec.checkpoint).string();
+        try {
+            const auto [crc, bytes] = file_crc32(path);
+            if (crc != rec.checkpoint_crc || bytes != rec.checkpoint_bytes)
+                throw Error(path + ": not the checkpoint the journal names (another size or CRC-32)");
+            compute::TdxModel m = compute::load_tdx(path, model_memory_budget_bytes());
+            if (m.model.lattice.cells != wp.model.lattice.cells || m.model.lattice.cell_m != wp.model.lattice.cell_m ||
+                m.model.lattice.origin_m != wp.model.lattice.origin_m)
+                throw Error(path + ": its lattice is not the session's");
+            compute::TriDexel model = std::move(m.model);
+            std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // contoured whole below
+            compute::JournalApplyFrom start{k + 1, compute::journal_last_serial(j.records, k), s.history_budget_bytes};
+            applied = compute::journal_apply(model, j.records, start);
+            applied.records += k + 1;  // the records the checkpoint holds
+            wp.model = std::move(model);
+            from = "checkpoint " + rec.checkpoint + " (record " + std::to_string(k) + ")";
+            done = true;
+        } catch (const Error& e) {
+            std::fprintf(stderr, "tridex: %s: checkpoint at record %zu not used: %s\n", journal_path.c_str(), k, e.what());
+        }
+    }
+    if (!done) {
+        compute::JournalApplyFrom start;
+        start.history_budget_bytes = s.history_budget_bytes;
+        applied = compute::journal_apply(wp.model, j.records, start);
+    }
     compute::Contourer contourer(wp.model);
-    contourer.update(wp.model);
-    const compute::JournalApplyStats applied = compute::journal_apply(wp.model, j.records);
     contourer.update(wp.model);
     const TriMesh mesh = contourer.mesh();
     const fs::path dir(out);
@@ -55,9 +90,13 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["records"] = applied.records;
     r["samples"] = applied.samples;
     r["booleans"] = applied.booleans;
-    r["volume_dexel_m3"] = wp.volume_dexel_m3;
+    r["strokes"] = applied.strokes;
+    r["undos"] = applied.undos;
+    r["redos"] = applied.redos;
+    r["replayed_from"] = from;
+    r["volume_dexel_m3"] = volume_start;
     r["volume_after_m3"] = after;
-    r["volume_removed_m3"] = wp.volume_dexel_m3 - after;
+    r["volume_removed_m3"] = volume_start - after;
     r["truncated_at"] = j.cut ? nlohmann::json{{"record", j.cut->record},
                                                {"byte_offset", j.cut->byte_offset},
                                                {"reason", j.cut->reason}}
@@ -66,9 +105,9 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
     r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_json_file((dir / "report.json").string(), r);
-    std::printf("recovered %llu records (%llu samples, %.3f s of device time) from %s into %s\n",
+    std::printf("recovered %llu records (%llu samples, %.3f s of device time; from %s) from %s into %s\n",
                 static_cast<unsigned long long>(applied.records), static_cast<unsigned long long>(applied.samples),
-                applied.last_t_s, journal_path.c_str(), out.c_str());
+                applied.last_t_s, from.c_str(), journal_path.c_str(), out.c_str());
 }
 
 }  // namespace tridex::app

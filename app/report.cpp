@@ -71,7 +71,26 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
             {"append_ms_total", s.append_ms_total},
             {"flush_ms_total", s.flush_ms_total},
             {"sculpt_busy_ms_total", sculpt.busy_ms},
-            {"error", s.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.error)}};
+            {"error", s.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.error)},
+            {"checkpoints", sculpt.checkpoints},
+            {"checkpoint_ms_total", sculpt.checkpoint_ms_total},
+            {"checkpoint_error", sculpt.checkpoint_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(sculpt.checkpoint_error)}};
+}
+
+nlohmann::json history_report_json(const SculptStats& sculpt) {
+    const compute::HistoryStats& h = sculpt.history;
+    return {{"budget_bytes", h.budget_bytes},
+            {"bytes", h.bytes},
+            {"undo_steps", h.undo_steps},
+            {"redo_steps", h.redo_steps},
+            {"strokes", h.strokes},
+            {"dropped_steps", h.dropped_steps},
+            {"oversize_strokes", h.oversize_strokes},
+            {"undos", h.undos},
+            {"redos", h.redos},
+            {"undo_requests", sculpt.undo_requests},
+            {"redo_requests", sculpt.redo_requests},
+            {"undo_ms", summary_json(summarize(sculpt.undo_ms), true)}};
 }
 
 nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
@@ -183,6 +202,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                    {"tiles_initial", r.tiles_initial},
                    {"tiles_total", r.tiles_total}};
     j["journal"] = journal_report_json(r.journal, *r.sculpt, r.session_s);
+    j["history"] = history_report_json(*r.sculpt);
     if (!r.stopped_by.empty()) j["stopped_by"] = r.stopped_by;
     j["sculpt_path"] = r.sculpt_path;
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;

@@ -69,8 +69,17 @@ nlohmann::json gpu_contour_json(const compute::GpuContourStats& stats);
 /// samples, bytes (written to the file, header included), bytes_per_min (bytes per minute of the session's wall
 /// time session_s, s), flushes (write + fdatasync rounds), append_ms_total and flush_ms_total (sculpt-thread wall
 /// time encoding records and syncing, ms), sculpt_busy_ms_total (the sculpt thread's whole busy time, ms, for
-/// comparison), error (null, or why the journal stopped: the session went on)}.
+/// comparison), error (null, or why the journal stopped: the session went on), checkpoints (checkpoint models
+/// written), checkpoint_ms_total (sculpt-thread wall time writing them, ms), checkpoint_error (null, or why
+/// checkpoints stopped)}.
 nlohmann::json journal_report_json(const compute::JournalStats* journal, const SculptStats& sculpt, double session_s);
+
+/// The `history` block of report.json (demo, run): the undo history at the end {budget_bytes, bytes, undo_steps,
+/// redo_steps, strokes (strokes that changed the model), dropped_steps (oldest steps dropped for the budget),
+/// oversize_strokes (strokes larger than the budget: applied, not undoable), undos, redos, undo_requests,
+/// redo_requests, undo_ms (per undo or redo that changed the model: rays written back, active surface published,
+/// dirty tiles re-contoured; summary)}.
+nlohmann::json history_report_json(const SculptStats& sculpt);
 
 /// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op and,
 /// for union and paint, material.

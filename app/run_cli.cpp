@@ -43,6 +43,10 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     auto* journal = cmd->add_option("--journal", o.journal,
                                     "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");
     cmd->add_flag("--no-journal", o.no_journal, "Write no session journal")->excludes(journal);
+    cmd->add_option("--checkpoint-s", o.checkpoint_s,
+                    "Seconds between checkpoint models written next to the journal while sculpting (0 = none)")
+        ->capture_default_str();
+    cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
     return cmd;
 }
 

@@ -2,6 +2,7 @@
 #include "app/run_input.hpp"
 
 #include <cmath>
+#include <utility>
 
 namespace tridex::app {
 
@@ -31,6 +32,8 @@ RunInput::RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation&
                    const renderer::MouseNavigation& mouse)
     : head_(head), nav_(nav), mouse_(mouse) {}
 
+std::vector<SculptRequest> RunInput::take_requests() { return std::exchange(requests_, {}); }
+
 int RunInput::take_swap_toggles() {
     const int n = swaps_;
     swaps_ = 0;
@@ -41,6 +44,13 @@ void RunInput::handle(const renderer::InputEvent& e) {
     switch (e.type) {
         case InputType::kKey: {
             if (e.key == Key::kLeftShift || e.key == Key::kRightShift) shift_ = e.action != InputAction::kRelease;
+            if ((e.modifiers & renderer::modifier::kControl) != 0 && e.action != InputAction::kRelease) {
+                const bool with_shift = (e.modifiers & renderer::modifier::kShift) != 0;
+                if (e.key == Key::kZ) requests_.push_back(with_shift ? SculptRequest::kRedo : SculptRequest::kUndo);
+                else if (e.key == Key::kY) requests_.push_back(SculptRequest::kRedo);
+                else if (e.key == Key::kS && e.action == InputAction::kPress) requests_.push_back(SculptRequest::kSave);
+                if (e.key == Key::kZ || e.key == Key::kY || e.key == Key::kS) return;
+            }
             if (e.action == InputAction::kRepeat) return;
             const bool pressed = e.action == InputAction::kPress;
             MoveKey mk;

@@ -1,6 +1,9 @@
 // app/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
 #pragma once
 
+#include <vector>
+
+#include "compute/runtime/sculpt_thread.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/camera/scene_navigation.hpp"
 #include "renderer/window/window_input.hpp"
@@ -12,7 +15,9 @@ namespace tridex::app {
 ///   KeyboardMouseHead speed); right-button drag turns the head (only when a KeyboardMouseHead is given);
 /// - left-button drag orbits the scene about the pivot, Shift + left drag or middle drag pans it, the wheel
 ///   scales it (renderer mouse_orbit / mouse_pan / mouse_zoom);
-/// - Home resets head and scene; Tab toggles swap eyes; Esc asks to close.
+/// - Home resets head and scene; Tab toggles swap eyes; Esc asks to close;
+/// - Ctrl+Z undoes the last stroke, Ctrl+Shift+Z or Ctrl+Y redoes it, Ctrl+S saves the model (take_requests());
+///   with Ctrl held, the letter keys do not move the head.
 /// One thread (the window's); the head and navigation must outlive it.
 class RunInput {
 public:
@@ -26,6 +31,9 @@ public:
     bool close_requested() const { return close_; }
     /// How many times Tab was pressed since the last call (the caller flips swap eyes that many times).
     int take_swap_toggles();
+    /// The undo, redo and save requests since the last call, in the order the keys were pressed (auto-repeat
+    /// included, so holding Ctrl+Z undoes stroke after stroke).
+    std::vector<SculptRequest> take_requests();
 
 private:
     renderer::KeyboardMouseHead* head_;
@@ -34,6 +42,7 @@ private:
     bool left_ = false, right_ = false, middle_ = false, shift_ = false;
     bool close_ = false;
     int swaps_ = 0;
+    std::vector<SculptRequest> requests_;
 };
 
 }  // namespace tridex::app

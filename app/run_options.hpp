@@ -58,6 +58,10 @@ struct RunOptions {
     /// The session journal (`tridex recover FILE` rebuilds the model from it); "" = <out>/session.tdj.
     std::string journal;
     bool no_journal = false;  ///< --no-journal: write no journal
+    /// Wall time between checkpoint models written next to the journal while the model changes, s (0 = none).
+    double checkpoint_s = 120.0;
+    /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes); 0 = the scene's (256 MiB).
+    double history_mib = 0.0;
 };
 
 }  // namespace tridex::app

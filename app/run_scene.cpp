@@ -293,6 +293,27 @@ void read_workspace(Fields& top, RunScene& s) {
     f.finish();
 }
 
+void read_keys(Fields& top, RunScene& s) {
+    const json* keys = top.get("keys");
+    if (!keys) return;
+    if (!keys->is_array()) top.fail("keys", "must be a list of {\"t_s\": seconds, \"press\": \"ctrl+z\"}");
+    double prev = 0.0;
+    for (std::size_t i = 0; i < keys->size(); ++i) {
+        const std::string name = "keys[" + std::to_string(i) + "]";
+        Fields f((*keys)[i], top.source(), name);
+        ScriptedKey k;
+        k.t_s = f.number("t_s", -1.0, 0.0, 86400.0);
+        if (k.t_s < 0.0) f.fail(name + ".t_s", "is missing");
+        if (k.t_s < prev) f.fail(name + ".t_s", "must not be earlier than the key before it");
+        prev = k.t_s;
+        k.text = f.text("press", "");
+        if (k.text.empty()) f.fail(name + ".press", "is missing (e.g. \"ctrl+z\")");
+        k.chord = parse_key_chord(k.text, top.source() + ": field '" + name + ".press'");
+        f.finish();
+        s.keys.push_back(k);
+    }
+}
+
 void read_stroke(Fields& top, RunScene& s) {
     const json* st = top.get("stroke");
     if (st && st->is_string()) {
@@ -429,6 +450,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_haptics(top, s);
     read_workspace(top, s);
     read_stroke(top, s);
+    read_keys(top, s);
     read_display(top, s);
     read_head(top, s);
     top.finish();

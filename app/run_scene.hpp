@@ -12,6 +12,7 @@
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "haptics/workspace_mapping.hpp"
+#include "app/key_script.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/head_pose.hpp"
 
@@ -71,6 +72,9 @@ struct RunScene {
     /// The scene defaults of `spec`.
     static SessionSpec default_spec();
     bool has_stroke = true;             ///< false: the simulated hand holds still in front of the workpiece
+    /// Keys pressed at given device times ("keys": [{"t_s": 4.0, "press": "ctrl+z"}], in time order), handled
+    /// like a window's keys (undo, redo, save, ...), offscreen too.
+    std::vector<ScriptedKey> keys;
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
     HeadMode head = HeadMode::kFixed;   ///< head pose provider

@@ -47,6 +47,16 @@ constexpr double kForceMetresPerNewton = 0.02;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept.
+std::string saving_lines(const SaveStatus& s) {
+    std::string out;
+    auto line = [&out](const std::string& l) { out += (out.empty() ? "" : "\n") + l; };
+    if (!s.journal_error.empty()) line("NOT BEING SAVED: journal stopped: " + s.journal_error);
+    if (!s.checkpoint_error.empty()) line("checkpoints stopped: " + s.checkpoint_error);
+    if (!s.message.empty()) line(s.ok ? s.message : "save failed: " + s.message);
+    return out;
+}
+
 // The head provider of the run: in a window a fixed head becomes a keyboard-and-mouse head (same home pose).
 std::unique_ptr<renderer::HeadPoseProvider> make_head(const RunScene& s, bool interactive,
                                                      renderer::KeyboardMouseHead** km, renderer::TrackerHead** tracker) {
@@ -97,9 +107,17 @@ RunSetup resolve_run(const RunOptions& o) {
     s.save = o.save;
     if (!s.save.empty()) check_output_file(s.save, "--save");
     s.journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(s.out) / "session.tdj").string() : o.journal;
+    if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
+        throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
+    s.checkpoint_s = o.checkpoint_s;
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
+    if (o.history_mib != 0.0) {
+        if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
+            throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
+        s.scene.spec.history_budget_bytes = static_cast<std::size_t>(o.history_mib * 1048576.0);
+    }
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
         try {
@@ -180,8 +198,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     // 3. The sculpting threads.
     // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
     // thread draws (unless --cpu-contour).
-    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole,
-                          SculptOptions{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal}, &ctx);
+    SculptOptions sculpt_options{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal};
+    sculpt_options.checkpoint_s = su.checkpoint_s;
+    // Ctrl+S writes the --save file, or model.tdx in the output folder.
+    sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
+    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, sculpt_options, &ctx);
     r.sculpt_path = backend.runtime().booleans().backend->path();
     r.sculpt_device = backend.runtime().booleans().backend->device();
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
@@ -206,6 +227,8 @@ RunResult run_stereo_session(const RunOptions& options) {
     std::vector<renderer::TileMesh> tiles;  // this frame's view of the published tiles
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     std::string ended = "the window was closed";
+    std::size_t next_key = 0;     // scene.keys not yet pressed
+    bool journal_warned = false;  // said once that the journal stopped
     const auto t_render = Clock::now();
     Clock::time_point prev_start{};
     try {
@@ -214,6 +237,22 @@ RunResult run_stereo_session(const RunOptions& options) {
                 window->poll_events();
                 renderer::InputEvent e;
                 while (window->input().pop(e)) input.handle(e);
+            }
+            // The scene's scripted keys, at their device times, through the same handler as a window's.
+            for (const double t_dev = backend.runtime().latest_view().t_s;
+                 next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev; ++next_key)
+                for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input.handle(e);
+            for (const SculptRequest q : input.take_requests()) {
+                if (backend.runtime().request(q)) ++r.requests_sent;
+                else r.notes.push_back("a key's request was dropped: the sculpt thread's queue was full");
+            }
+            const SaveStatus saving = backend.runtime().save_status();
+            if (!saving.journal_error.empty() && !journal_warned) {
+                journal_warned = true;
+                std::fprintf(stderr, "tridex: this session is no longer being saved: journal: %s; the model stays in memory "
+                                     "(Ctrl+S or --save writes it elsewhere)\n", saving.journal_error.c_str());
+            }
+            if (window) {
                 for (int k = input.take_swap_toggles(); k > 0; --k) swap = !swap;
                 sink->set_swap_eyes(swap);
                 if (window->should_close() || input.close_requested()) break;
@@ -276,7 +315,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 const double proxy_r =
                     scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : scene.spec.tool.radius_m;
                 add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
-                              RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms});
+                              RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, saving_lines(saving)});
             }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);
 
@@ -319,6 +358,9 @@ RunResult run_stereo_session(const RunOptions& options) {
     }
     r.sculpt = backend.runtime().sculpt_stats();
     r.journal = journal_report_json(backend.runtime().journal_stats(), r.sculpt, backend.runtime().session_s());
+    r.saves = backend.runtime().save_status();
+    if (r.saves.failures > 0) r.notes.push_back("a save during the session failed: " + r.saves.message);
+    if (!r.saves.checkpoint_error.empty()) r.notes.push_back("checkpoints stopped: " + r.saves.checkpoint_error);
     if (const compute::JournalStats* j = backend.runtime().journal_stats(); j && !j->error.empty())
         r.notes.push_back("journal stopped: " + j->error);
     r.session_s = backend.runtime().session_s();
@@ -332,42 +374,50 @@ RunResult run_stereo_session(const RunOptions& options) {
     // 5. Outputs.
     fs::create_directories(su.out);
     const fs::path out(su.out);
-    for (std::string& file : sink->finish(rend, out.string())) r.files.push_back(std::move(file));
+    // Every output is tried, each failure noted; one that fails (a full disk) costs none of the others, and the
+    // report says which failed. The first failure is then the command's error.
+    std::vector<std::string> failed;
+    auto attempt = [&](const char* what, const auto& write) {
+        try {
+            write();
+        } catch (const Error& e) {
+            failed.push_back(e.what());
+            r.notes.push_back(std::string(what) + " failed: " + e.what());
+        }
+    };
+    attempt("images", [&] {
+        for (std::string& file : sink->finish(rend, out.string())) r.files.push_back(std::move(file));
+    });
     // The carved model as a closed mesh (the CPU contour of the final model, as demo and replay write it), and
     // the recording.
-    {
+    attempt("sculpted.ply", [&] {
         const SessionRuntime::FinalMesh carved = backend.runtime().final_mesh();
         compute::write_ply((out / "sculpted.ply").string(), carved.mesh, carved.materials);
         r.files.push_back((out / "sculpted.ply").string());
-    }
-    std::string record_error;  // a failed recording must not cost the other outputs: reported after them
+    });
     if (!su.record.empty()) {
         if (backend.runtime().records().size() < backend.runtime().loop_stats().ticks)
             r.notes.push_back("record: only the first " + std::to_string(backend.runtime().records().size()) + " of " +
                               std::to_string(backend.runtime().loop_stats().ticks) + " ticks were kept; a replay carves less");
-        try {
+        attempt("record", [&] {
             write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records());
             r.files.push_back(su.record);
-        } catch (const Error& e) {
-            record_error = e.what();
-            r.notes.push_back(std::string("record failed: ") + e.what());
-        }
+        });
     }
     if (!su.save.empty()) {
-        try {
+        attempt("save", [&] {
             save_session_model(su.save, backend.runtime().workpiece(), backend.runtime().spec());
             r.files.push_back(su.save);
-        } catch (const Error& e) {
-            if (record_error.empty()) record_error = e.what();
-            r.notes.push_back(std::string("save failed: ") + e.what());
-        }
+        });
     }
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
     r.validation_messages = ctx.validation_messages() + backend.runtime().booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
     r.files.push_back((out / "report.json").string());
     write_run_report(r.files.back(), r);
-    if (!record_error.empty()) throw Error(record_error + " (the other outputs were written to " + su.out + ")");
+    if (!failed.empty())
+        throw Error(failed.front() + (failed.size() > 1 ? " (and " + std::to_string(failed.size() - 1) + " more)" : std::string()) +
+                    "; the other outputs and report.json were written to " + su.out);
     return r;
 }
 

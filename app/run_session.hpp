@@ -41,6 +41,7 @@ struct RunSetup {
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)
+    double checkpoint_s = 120.0;    ///< wall time between checkpoint models, s (0 = none)
 };
 
 /// The renderer's FrameStats of every frame of a run, kept for report.json.
@@ -106,6 +107,8 @@ struct RunResult {
     nlohmann::json tool;                         ///< report.json `tool` (tool_json of the session's spec)
     nlohmann::json haptics;                      ///< report.json `haptics` (haptics_report_json, as the demo's)
     nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
+    std::uint64_t requests_sent = 0;             ///< undo / redo / save requests handed to the sculpt thread
+    SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

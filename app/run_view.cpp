@@ -44,6 +44,7 @@ void add_run_items(renderer::SceneView& s, const haptics::LoopView& view, double
     s.haptic_rate_hz = o.haptic_rate_hz;
     s.sculpt_rate_hz = o.sculpt_rate_hz;
     s.frame_time_ms = o.frame_time_ms;
+    s.overlay_status = o.status;
 }
 
 void RateMeter::add(double t_s, std::uint64_t count) {

@@ -85,7 +85,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (!o.sculpt.journal.empty()) {
         journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));
         sculpt_->use_journal(*journal_);
-        if (o.checkpoint_s > 0.0) {
+        if (o.sculpt.checkpoint_s > 0.0) {
             const std::filesystem::path jp(o.sculpt.journal);
             const std::string name = jp.filename().string() + ".checkpoint.tdx";
             const std::string path = (jp.parent_path() / name).string();
@@ -95,10 +95,16 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
                     const auto [crc, bytes] = file_crc32(path);
                     return CheckpointFile{name, bytes, crc};
                 },
-                o.checkpoint_s);
+                o.sculpt.checkpoint_s);
         }
     }
     sculpt_->set_history_budget(spec_.history_budget_bytes);
+    if (!o.sculpt.save_path.empty()) {
+        sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
+            compute::save_tdx(path, m, to_world, settings);
+            return "saved " + path;
+        });
+    }
     if (mesh_tool_) sculpt_->use_mesh_tools({mesh_tool_});  // ToolShape::mesh_id 0
     if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);

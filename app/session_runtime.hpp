@@ -61,6 +61,12 @@ struct SculptOptions {
     /// The session journal file (compute/journal/journal_format.hpp): the tool samples the sculpt thread applies,
     /// with spec_to_json(spec) as the session identity; "" = no journal.
     std::string journal;
+    /// With a journal: write a checkpoint model ("<journal file name>.checkpoint.tdx" next to it) after this much
+    /// wall time (s) of a changing model, between strokes (SculptThread::use_checkpoints); 0 = none.
+    double checkpoint_s = 120.0;
+    /// Where a save request (SculptRequest::kSave, Ctrl+S in a window) writes the model (.tdx, atomically, on the
+    /// sculpt thread); "" = such requests fail with "no save file".
+    std::string save_path{};
 };
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU
@@ -83,9 +89,6 @@ struct RuntimeOptions {
     MeshForm mesh_form = MeshForm::kTiles;
     double mesh_interval_s = 1.0 / 60.0;
     std::size_t max_ticks = 0;  ///< haptic tick records preallocated (recording stops when full)
-    /// With a journal: write a checkpoint model ("<journal file name>.checkpoint.tdx" next to it) after this much
-    /// wall time (s) of a changing model, between strokes (SculptThread::use_checkpoints); 0 = none.
-    double checkpoint_s = 120.0;
 };
 
 /// One session's threads: the HapticLoop on `device` configured by loop_config(spec), the SculptThread applying
@@ -118,7 +121,9 @@ public:
     void stop();
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
-    bool request(HistoryRequest r) { return sculpt_->request(r); }
+    bool request(SculptRequest r) { return sculpt_->request(r); }
+    /// Saves so far and whether the journal and checkpoints still work (SculptThread::save_status; any thread).
+    SaveStatus save_status() const { return sculpt_->save_status(); }
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.
     bool loop_running() const { return loop_->running(); }
     /// True once start() was called.

@@ -84,7 +84,17 @@ void SculptThread::use_checkpoints(std::function<CheckpointFile(const compute::T
     checkpoint_interval_s_ = interval_s;
 }
 
-bool SculptThread::request(HistoryRequest r) { return requests_.try_push(r); }
+bool SculptThread::request(SculptRequest r) { return requests_.try_push(r); }
+
+void SculptThread::use_saver(std::function<std::string(const compute::TriDexel&)> save) {
+    if (thread_.joinable()) throw Error("SculptThread::use_saver: call it before start()");
+    saver_ = std::move(save);
+}
+
+SaveStatus SculptThread::save_status() const {
+    std::lock_guard<std::mutex> lock(save_mutex_);
+    return save_status_;
+}
 
 void SculptThread::start() {
     if (thread_.joinable()) throw Error("SculptThread::start: already running");
@@ -130,6 +140,7 @@ void SculptThread::run() {
             }
         }
         if (checkpoint_write_ && !failure_) checkpoint_if_due();
+        note_persistence();
         if (journal_) {
             const auto t0 = std::chrono::steady_clock::now();
             if (stopping && !worked)
@@ -149,17 +160,35 @@ void SculptThread::run() {
 }
 
 bool SculptThread::take_requests() {
-    HistoryRequest r;
+    SculptRequest r;
     bool any = false;
     while (requests_.try_pop(r)) {
         any = true;
-        if (r == HistoryRequest::kEndStroke) {
+        if (r == SculptRequest::kEndStroke) {
             close_stroke();
+            continue;
+        }
+        if (r == SculptRequest::kSave) {
+            const auto t0 = std::chrono::steady_clock::now();
+            std::string line;
+            bool ok = false;
+            try {
+                if (!saver_) throw Error("no save file for this session");
+                line = saver_(model_);
+                ok = true;
+            } catch (const std::exception& e) {
+                line = e.what();
+            }
+            stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            std::lock_guard<std::mutex> lock(save_mutex_);
+            ++(ok ? save_status_.saves : save_status_.failures);
+            save_status_.message = line;
+            save_status_.ok = ok;
             continue;
         }
         const auto t0 = std::chrono::steady_clock::now();
         close_stroke();  // journalled before the undo or redo that follows
-        const bool undo = r == HistoryRequest::kUndo;
+        const bool undo = r == SculptRequest::kUndo;
         ++(undo ? stats_.undo_requests : stats_.redo_requests);
         const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
         if (c.serial == 0) continue;  // nothing to undo / redo
@@ -260,6 +289,17 @@ bool SculptThread::step() {
     if (changed || moved_cells > kRecentreCells) publish(centre);
     if (changed) contour_changed(t0, std::chrono::steady_clock::now());
     return true;
+}
+
+void SculptThread::note_persistence() {
+    const bool journal_failed = journal_ && !journal_->stats().error.empty();
+    const bool checkpoint_failed = !stats_.checkpoint_error.empty();
+    if (journal_failed == journal_noted_ && checkpoint_failed == checkpoint_noted_) return;
+    std::lock_guard<std::mutex> lock(save_mutex_);
+    if (journal_failed) save_status_.journal_error = journal_->stats().error;
+    if (checkpoint_failed) save_status_.checkpoint_error = stats_.checkpoint_error;
+    journal_noted_ = journal_failed;
+    checkpoint_noted_ = checkpoint_failed;
 }
 
 void SculptThread::checkpoint_if_due() {

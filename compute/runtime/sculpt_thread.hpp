@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 #include <memory>
+#include <mutex>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -53,11 +54,22 @@ struct SculptStats {
     std::string checkpoint_error;      ///< the first checkpoint failure ("" when none); sculpting went on
 };
 
-/// A request to the sculpt thread's undo history (SculptThread::request).
-enum class HistoryRequest : std::uint8_t {
+/// A request to the sculpt thread (SculptThread::request).
+enum class SculptRequest : std::uint8_t {
     kUndo,       ///< undo the newest stroke (the open one is closed first)
     kRedo,       ///< redo the newest undone stroke
     kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
+    kSave,       ///< save the model now with the saver (SculptThread::use_saver)
+};
+
+/// What the saver did so far (SculptThread::save_status; any thread).
+struct SaveStatus {
+    std::uint64_t saves = 0;     ///< saves that succeeded
+    std::uint64_t failures = 0;  ///< saves that failed
+    std::string message;         ///< the last save's line: what was written, or why it failed ("" before any)
+    bool ok = true;              ///< false when the last save failed
+    std::string journal_error;     ///< why the journal stopped ("" while it works or without one): work is not being kept
+    std::string checkpoint_error;  ///< why checkpoints stopped ("" while they work or without them)
 };
 
 /// What a checkpoint writer (SculptThread::use_checkpoints) wrote: the file's name in the journal's folder, its
@@ -151,10 +163,18 @@ public:
     /// throws tridex::Error; a failure is kept in stats().checkpoint_error and no more checkpoints are tried.
     /// Throws tridex::Error when the thread runs or interval_s is not finite and > 0.
     void use_checkpoints(std::function<CheckpointFile(const compute::TriDexel&)> write, double interval_s);
-    /// Queues an undo, redo or stroke-close request for the sculpt thread (taken at its next step, within about a
+    /// Saves the model on request (SculptRequest::kSave), on the sculpt thread between steps: `save` gets the CPU
+    /// model and returns a line saying what it wrote, or throws tridex::Error (kept in save_status(); sculpting goes
+    /// on). Without a saver a kSave request is counted as a failure ("no save file"). Throws tridex::Error when the
+    /// thread runs.
+    void use_saver(std::function<std::string(const compute::TriDexel&)> save);
+    /// The saves so far and whether the journal and checkpoints still work (any thread; takes a mutex the sculpt
+    /// thread holds only to update it).
+    SaveStatus save_status() const;
+    /// Queues an undo, redo, stroke-close or save request for the sculpt thread (taken at its next step, within about a
     /// millisecond when idle). One thread may call it (a single-producer queue); false when 64 requests are
     /// already waiting. Safe while the thread runs; requests queued before start() are taken at its first step.
-    bool request(HistoryRequest r);
+    bool request(SculptRequest r);
     /// Device time (s) without a change after which an open stroke closes.
     static constexpr double kStrokeIdleS = 0.5;
 
@@ -186,6 +206,7 @@ private:
     void close_stroke();                             // end the open stroke and journal it
     void contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1);
     void checkpoint_if_due();
+    void note_persistence();  // copies a new journal or checkpoint error into save_status_
     void publish(const Vec3& centre_m);
     void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
@@ -197,10 +218,14 @@ private:
     std::vector<ToolSample> drained_;             // the step's samples, for the journal; reserved to the ring's capacity
     std::unique_ptr<SculptHistory> history_;       // made at start() on the chosen backend
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
-    SpscRing<HistoryRequest> requests_{64};
+    SpscRing<SculptRequest> requests_{64};
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
     std::function<CheckpointFile(const compute::TriDexel&)> checkpoint_write_;
+    std::function<std::string(const compute::TriDexel&)> saver_;
+    mutable std::mutex save_mutex_;
+    SaveStatus save_status_;
+    bool journal_noted_ = false, checkpoint_noted_ = false;
     double checkpoint_interval_s_ = 0.0;
     bool changed_since_checkpoint_ = false;
     std::chrono::steady_clock::time_point checkpoint_last_{};

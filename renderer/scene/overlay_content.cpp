@@ -23,6 +23,7 @@ std::string overlay_content(const OverlayNumbers& n) {
         for (int e = 0; e < 2; ++e)
             s += std::string("\ntiles ") + (e == 0 ? "L " : "R ") + std::to_string(n.tiles[e].drawn) + " drawn " +
                  std::to_string(n.tiles[e].skipped) + " skipped";
+    if (!n.status.empty()) s += "\n" + n.status;
     return s;
 }
 

@@ -317,6 +317,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : im.last.frame_ms;
         n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
         n.tiles = stats.tiles;
+        n.status = scene.overlay_status;
         const std::string text = overlay_content(n);
         const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale
                                                        : std::max(1.0, std::floor(height() / 360.0));

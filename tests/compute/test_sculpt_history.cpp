@@ -264,15 +264,15 @@ TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexel
         push_all(ring, c);
         wait_drained(ring);
         const std::uint64_t seq = surface.latest().sequence;
-        EXPECT_TRUE(t.request(HistoryRequest::kUndo));  // stroke 3 (open) closes and is undone
-        EXPECT_TRUE(t.request(HistoryRequest::kUndo));  // stroke 2
-        EXPECT_TRUE(t.request(HistoryRequest::kRedo));  // stroke 2 again
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 3 (open) closes and is undone
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 2
+        EXPECT_TRUE(t.request(SculptRequest::kRedo));  // stroke 2 again
         wait_drained(ring);
         EXPECT_GT(surface.latest().sequence, seq) << "the active surface follows an undo at once";
         auto d = pass(0.015, 0.7, 150, ToolOp::kSubtract);  // stroke 4: the redo of stroke 3 is gone
         push_all(ring, d);
         wait_drained(ring);
-        EXPECT_TRUE(t.request(HistoryRequest::kRedo));  // nothing to redo
+        EXPECT_TRUE(t.request(SculptRequest::kRedo));  // nothing to redo
         t.stop();
         stats = t.stats();
         EXPECT_EQ(journal.stats().error, "");
@@ -364,7 +364,7 @@ TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContin
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         push_all(ring, pass(0.01, 0.3, 200, ToolOp::kSubtract));
         wait_drained(ring);
-        EXPECT_TRUE(t.request(HistoryRequest::kUndo));  // undoes the stroke after the first checkpoint
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // undoes the stroke after the first checkpoint
         wait_drained(ring);
         t.stop();
         stats = t.stats();
