@@ -57,9 +57,16 @@ int run_command(const RunOptions& options) {
                     to_string(r.setup.display), std::string(renderer::to_string(r.setup.scene.display.stereo)).c_str(),
                     static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.presents), r.render_s,
                     r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5));
-        std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.3g -> %.3g m^3\n",
+        std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.6g -> %.6g m^3 "
+                    "(%.4g cm^3 removed)\n",
                     r.loop.ticks, r.loop.overruns, static_cast<unsigned long long>(r.sculpt.steps),
-                    static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3);
+                    static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
+                    (r.volume_before_m3 - r.volume_after_m3) * 1e6);
+        if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
+            std::printf("  undo %llu, redo %llu (%zu strokes undoable), saves %llu\n",
+                        static_cast<unsigned long long>(r.sculpt.history.undos),
+                        static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
+                        static_cast<unsigned long long>(r.saves.saves));
         for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
         std::printf("  outputs: %s\n", r.setup.out.c_str());
         return 0;

@@ -33,7 +33,7 @@ struct RunOverlay {
     double haptic_rate_hz = -1.0;  ///< haptic ticks per second over the last second; < 0 = unknown
     double sculpt_rate_hz = -1.0;  ///< sculpt steps per second over the last second; < 0 = unknown
     double frame_time_ms = -1.0;   ///< the previous frame's wall time, ms; < 0 = the renderer's own
-    std::string status;            ///< further overlay lines (what was saved, what is not being saved)
+    std::string status{};          ///< further overlay lines (what was saved, what is not being saved)
 };
 
 /// Adds the run's scene items to `s`: the proxy (view.proxy_m, a translucent sphere of `proxy_radius_m`, m,

@@ -1,22 +1,12 @@
 // Per-stroke undo and redo (compute::UndoHistory through app::SculptHistory): sequences of strokes, undos, redos
 // and new strokes on the CPU and GPU paths give, bit for bit, the model rebuilt from scratch with the strokes that
-// remain; the memory budget drops the oldest steps; the sculpt thread's strokes, undos and redos replay from its
-// journal to the same dexels.
+// remain; the memory budget drops the oldest steps.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
-#include <chrono>
-#include <filesystem>
 #include <optional>
-#include <thread>
 
-#include "compute/journal/journal_reader.hpp"
-#include "compute/journal/journal_replay.hpp"
-#include "compute/journal/journal_writer.hpp"
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/sculpt_history.hpp"
-#include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "sweep_programs.hpp"
@@ -24,7 +14,6 @@
 namespace tridex::app {
 namespace {
 
-namespace fs = std::filesystem;
 using compute::Sweep;
 using compute::TriDexel;
 using compute::test::box_model;
@@ -211,182 +200,6 @@ TEST(SculptHistory, AStrokeLargerThanTheBudgetStaysAppliedAndEndsTheHistory) {
     EXPECT_EQ(st.bytes, 0u);
     EXPECT_EQ(h.undo().serial, 0u);
     expect_model(p, rebuilt(all, {0, 1, 2}), "nothing undone");
-}
-
-// ---- The sculpt thread: strokes from the samples, requests, and its journal ----------------------------------
-
-// A pass along x over the box's +z face at height y, `n` samples from t0_s at 1 kHz.
-std::vector<ToolSample> pass(double y, double t0_s, int n, ToolOp op) {
-    std::vector<ToolSample> s(static_cast<std::size_t>(n));
-    const TriDexel m = fresh();
-    const Vec3 top = m.lattice.to_world(Vec3(24.0, 24.0, 41.5));
-    for (int i = 0; i < n; ++i) {
-        const double u = i / (n - 1.0);
-        s[static_cast<std::size_t>(i)].t_s = t0_s + i * 1e-3;
-        s[static_cast<std::size_t>(i)].position = top + Vec3(-0.015 + 0.03 * u, y, -0.002);
-        s[static_cast<std::size_t>(i)].tool.radius_m = 0.004;
-        s[static_cast<std::size_t>(i)].op = op;
-        s[static_cast<std::size_t>(i)].material = 2;
-    }
-    return s;
-}
-
-void push_all(SpscRing<ToolSample>& ring, const std::vector<ToolSample>& s) {
-    for (const ToolSample& x : s)
-        while (!ring.try_push(x)) std::this_thread::yield();
-}
-
-void wait_drained(const SpscRing<ToolSample>& ring) {
-    while (ring.size() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the step that took the last samples finishes
-}
-
-TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexels) {
-    const std::string path = (fs::temp_directory_path() / ("tridex_history_" + std::to_string(::getpid()) + ".tdj")).string();
-    TriDexel live = fresh();
-    SculptStats stats;
-    {
-        compute::Contourer contourer(live);
-        contourer.update(live);
-        SpscRing<ToolSample> ring(4096);
-        TripleBuffer<ActiveSurface> surface;
-        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
-        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
-        t.use_journal(journal);
-        t.start();
-        auto a = pass(-0.01, 0.0, 200, ToolOp::kSubtract);   // stroke 1
-        auto lift = pass(-0.01, 0.2, 5, ToolOp::kNone);      // the tool lifted: stroke 1 closes
-        auto b = pass(0.0, 0.205, 200, ToolOp::kSubtract);   // stroke 2
-        auto c = pass(0.01, 0.405, 200, ToolOp::kUnion);     // an op change closes stroke 2; stroke 3
-        push_all(ring, a);
-        push_all(ring, lift);
-        push_all(ring, b);
-        push_all(ring, c);
-        wait_drained(ring);
-        const std::uint64_t seq = surface.latest().sequence;
-        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 3 (open) closes and is undone
-        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 2
-        EXPECT_TRUE(t.request(SculptRequest::kRedo));  // stroke 2 again
-        wait_drained(ring);
-        EXPECT_GT(surface.latest().sequence, seq) << "the active surface follows an undo at once";
-        auto d = pass(0.015, 0.7, 150, ToolOp::kSubtract);  // stroke 4: the redo of stroke 3 is gone
-        push_all(ring, d);
-        wait_drained(ring);
-        EXPECT_TRUE(t.request(SculptRequest::kRedo));  // nothing to redo
-        t.stop();
-        stats = t.stats();
-        EXPECT_EQ(journal.stats().error, "");
-    }
-    EXPECT_EQ(stats.undo_requests, 2u);
-    EXPECT_EQ(stats.redo_requests, 2u);
-    EXPECT_EQ(stats.undo_ms.size(), 3u);  // two undos and one redo changed the model
-    EXPECT_EQ(stats.history.undos, 2u);
-    EXPECT_EQ(stats.history.redos, 1u);
-    EXPECT_EQ(stats.history.strokes, 4u);
-    EXPECT_EQ(stats.history.undo_steps, 3u);
-    EXPECT_EQ(stats.history.redo_steps, 0u);
-
-    // The journal holds the closes, undos and redos between its batches; replaying it gives the same dexels.
-    const compute::Journal j = compute::read_journal(path);
-    EXPECT_FALSE(j.cut);
-    std::size_t ends = 0, undos = 0, redos = 0;
-    for (const auto& r : j.records) {
-        ends += r.kind == compute::JournalKind::kStrokeEnd;
-        undos += r.kind == compute::JournalKind::kUndo;
-        redos += r.kind == compute::JournalKind::kRedo;
-    }
-    EXPECT_GE(ends, 3u);
-    EXPECT_EQ(undos, 2u);
-    EXPECT_EQ(redos, 1u);
-    TriDexel again = fresh();
-    const compute::JournalApplyStats st = compute::journal_apply(again, j.records);
-    EXPECT_EQ(st.undos, 2u);
-    EXPECT_EQ(st.redos, 1u);
-    EXPECT_EQ(compare(live, again).rays, 0u);
-
-    // And it is strokes 1, 2 and 4: stroke 3's union is gone (stroke 4 begins with the sweep from stroke 3's last
-    // sample, which it carves).
-    std::vector<compute::JournalRecord> runs(1);
-    ToolSample c_last = pass(0.01, 0.405, 200, ToolOp::kNone).back();
-    for (const auto& part : {pass(-0.01, 0.0, 200, ToolOp::kSubtract), pass(-0.01, 0.2, 5, ToolOp::kNone),
-                             pass(0.0, 0.205, 200, ToolOp::kSubtract), std::vector<ToolSample>{c_last},
-                             pass(0.015, 0.7, 150, ToolOp::kSubtract)})
-        for (const ToolSample& x : part) runs[0].samples.push_back(x);
-    TriDexel expect = fresh();
-    compute::journal_apply(expect, runs);
-    EXPECT_EQ(compare(live, expect).rays, 0u);
-
-    // A replay that disagrees with a mark is refused, naming the record.
-    std::vector<compute::JournalRecord> wrong = j.records;
-    for (auto& r : wrong)
-        if (r.kind == compute::JournalKind::kUndo) {
-            r.serial += 7;
-            break;
-        }
-    TriDexel w = fresh();
-    try {
-        compute::journal_apply(w, wrong);
-        ADD_FAILURE() << "a wrong undo mark replayed";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("journal record "), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("undo of stroke"), std::string::npos) << e.what();
-    }
-    fs::remove(path);
-}
-
-// Checkpoints: written between strokes by the sculpt thread, named in the journal; replaying the records after the
-// last one onto it gives the live model.
-TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContinuesFromThem) {
-    const fs::path dir = fs::temp_directory_path() / ("tridex_ckpt_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const std::string path = (dir / "s.tdj").string();
-    TriDexel live = fresh();
-    std::vector<TriDexel> written;
-    SculptStats stats;
-    {
-        compute::Contourer contourer(live);
-        contourer.update(live);
-        SpscRing<ToolSample> ring(4096);
-        TripleBuffer<ActiveSurface> surface;
-        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
-        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
-        t.use_journal(journal);
-        t.use_checkpoints(
-            [&](const TriDexel& m) {
-                written.push_back(m);  // stands in for the .tdx file
-                return CheckpointFile{"ck" + std::to_string(written.size()) + ".tdx", 100, 7};
-            },
-            0.01);
-        t.start();
-        push_all(ring, pass(-0.01, 0.0, 200, ToolOp::kSubtract));
-        push_all(ring, pass(-0.01, 0.2, 3, ToolOp::kNone));
-        wait_drained(ring);
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        push_all(ring, pass(0.01, 0.3, 200, ToolOp::kSubtract));
-        wait_drained(ring);
-        EXPECT_TRUE(t.request(SculptRequest::kUndo));  // undoes the stroke after the first checkpoint
-        wait_drained(ring);
-        t.stop();
-        stats = t.stats();
-    }
-    EXPECT_EQ(stats.checkpoint_error, "");
-    ASSERT_GE(stats.checkpoints, 1u);
-    ASSERT_EQ(written.size(), stats.checkpoints);
-    const compute::Journal j = compute::read_journal(path);
-    std::size_t ck = j.records.size(), seen = 0;
-    for (std::size_t k = 0; k < j.records.size(); ++k)
-        if (j.records[k].kind == compute::JournalKind::kCheckpoint) {
-            ck = k;
-            ++seen;
-            EXPECT_EQ(j.records[k].checkpoint, "ck" + std::to_string(seen) + ".tdx");
-        }
-    ASSERT_EQ(seen, written.size());
-    TriDexel from = written.back();
-    compute::journal_apply(from, j.records, {ck + 1, compute::journal_last_serial(j.records, ck), compute::UndoHistory::kDefaultBudgetBytes});
-    EXPECT_EQ(compare(live, from).rays, 0u);
-    // The first checkpoint holds the first stroke only.
-    EXPECT_EQ(compare(written.front(), live).rays, 0u) << "the second stroke was undone";
-    fs::remove_all(dir);
 }
 
 }  // namespace
