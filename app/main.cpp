@@ -16,6 +16,7 @@
 #include "bench/bench_render.hpp"
 #include "bench/bench_sculpt.hpp"
 #include "bench/bench_session.hpp"
+#include "bench/bench_undo.hpp"
 #include "app/demo.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/export_cmd.hpp"
@@ -170,9 +171,20 @@ int main(int argc, char** argv) {
     std::vector<int> session_n;
     bench_cmd->add_option("--session-n", session_n, "With --session: run only these N, e.g. --session-n 256")
         ->delimiter(',');
+    bool session_journal_off = false;
+    bench_cmd->add_flag("--session-journal-off", session_journal_off,
+                        "With --session: also run each session without its journal (--no-journal), for comparison");
     bool bench_persistence = false;
     bench_cmd->add_flag("--persistence", bench_persistence,
                         "Model file (.tdx) save and load time, file size against memory: bunny at N = 256 and 512, carved");
+    bool bench_undo = false;
+    bench_cmd->add_flag("--undo", bench_undo,
+                        "Per-stroke undo and redo latency of the sculpt thread (write back, active surface, re-contour): "
+                        "bunny at N = 256 and 512, CPU and GPU paths");
+    std::vector<int> undo_n;
+    bench_cmd->add_option("--undo-n", undo_n, "With --undo: run only these N, e.g. --undo-n 256")->delimiter(',');
+    std::vector<std::string> undo_paths;
+    bench_cmd->add_option("--undo-paths", undo_paths, "With --undo: run only these paths (cpu, gpu)")->delimiter(',');
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -229,13 +241,15 @@ int main(int argc, char** argv) {
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*export_cmd) tridex::app::run_export(export_opt);
         if (*bench_cmd) {
-            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence)
-                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt, --session, --accuracy "
-                                    "and/or --persistence");
+            if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence &&
+                !bench_undo)
+                throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt, --session, --accuracy, "
+                                    "--persistence and/or --undo");
             if (bench_session) {
                 tridex::app::SessionBenchOptions sb;
                 sb.out = hbench.out;
                 if (!session_n.empty()) sb.resolutions = session_n;
+                if (session_journal_off) sb.journal = {true, false};
                 tridex::app::run_session_bench(sb);
             }
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
@@ -257,6 +271,14 @@ int main(int argc, char** argv) {
                 pbench.out = hbench.out;
                 pbench.mesh = hbench.mesh;
                 tridex::app::run_persistence_bench(pbench);
+            }
+            if (bench_undo) {
+                tridex::app::UndoBenchOptions ubench;
+                ubench.out = hbench.out;
+                ubench.mesh = hbench.mesh;
+                if (!undo_n.empty()) ubench.resolutions = undo_n;
+                if (!undo_paths.empty()) ubench.paths = undo_paths;
+                tridex::app::run_undo_bench(ubench);
             }
             if (bench_accuracy) {
                 tridex::app::AccuracyBenchOptions abench;

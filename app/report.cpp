@@ -70,6 +70,8 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
             {"flushes", s.flushes},
             {"append_ms_total", s.append_ms_total},
             {"flush_ms_total", s.flush_ms_total},
+            {"sync_thread_ms_total", s.sync_thread_ms_total},
+            {"synced_bytes", s.synced_bytes},
             {"sculpt_busy_ms_total", sculpt.busy_ms},
             {"error", s.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.error)},
             {"checkpoints", sculpt.checkpoints},

@@ -67,11 +67,13 @@ nlohmann::json gpu_contour_json(const compute::GpuContourStats& stats);
 
 /// The `journal` block of report.json (demo, run): null without a journal (`--no-journal`), else {path, records,
 /// samples, bytes (written to the file, header included), bytes_per_min (bytes per minute of the session's wall
-/// time session_s, s), flushes (write + fdatasync rounds), append_ms_total and flush_ms_total (sculpt-thread wall
-/// time encoding records and syncing, ms), sculpt_busy_ms_total (the sculpt thread's whole busy time, ms, for
-/// comparison), error (null, or why the journal stopped: the session went on), checkpoints (checkpoint models
-/// written), checkpoint_ms_total (sculpt-thread wall time writing them, ms), checkpoint_error (null, or why
-/// checkpoints stopped)}.
+/// time session_s, s), flushes (fdatasync rounds), append_ms_total and flush_ms_total (sculpt-thread wall time
+/// encoding records, writing them out and syncing: the journal's cost on the sculpt thread, ms),
+/// sync_thread_ms_total (the journal's syncing thread's fdatasync time, off the sculpt thread, ms), synced_bytes
+/// (bytes made durable), sculpt_busy_ms_total (the sculpt thread's whole busy time, ms, for comparison), error
+/// (null, or why the journal stopped: the session went on), checkpoints (checkpoint models written),
+/// checkpoint_ms_total (sculpt-thread wall time writing them, ms), checkpoint_error (null, or why checkpoints
+/// stopped)}.
 nlohmann::json journal_report_json(const compute::JournalStats* journal, const SculptStats& sculpt, double session_s);
 
 /// The `history` block of report.json (demo, run): the undo history at the end {budget_bytes, bytes, undo_steps,

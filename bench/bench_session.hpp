@@ -17,6 +17,11 @@ struct SessionBenchRow {
     std::size_t booleans = 0;        ///< swept Booleans applied
     double boolean_p50_ms = 0.0, boolean_p99_ms = 0.0;  ///< per sculpt step: Booleans + surface publish, ms
     double contour_p50_ms = 0.0, contour_p99_ms = 0.0;  ///< per sculpt step: dirty-tile re-contouring, ms
+    bool journal = true;             ///< the session wrote its journal (false: --no-journal)
+    double journal_ms = 0.0;         ///< journal time on the sculpt thread (append_ms_total + flush_ms_total), ms
+    double journal_sync_thread_ms = 0.0;  ///< the journal's syncing thread's fdatasync time, ms
+    double sculpt_busy_ms = 0.0;     ///< the sculpt thread's busy time (SculptStats::busy_ms), ms
+    double journal_share = 0.0;      ///< journal_ms / sculpt_busy_ms
     double volume_removed_m3 = 0.0;  ///< what the stroke carved
     double wall_s = 0.0;             ///< the whole command (set-up, session, outputs), s
 };
@@ -26,6 +31,7 @@ struct SessionBenchOptions {
     std::vector<int> resolutions{256, 512};          ///< N values
     std::vector<std::string> paths{"cpu", "gpu"};    ///< sculpting paths
     double seconds = 4.0;                            ///< stroke length (device time), s
+    std::vector<bool> journal{true};                 ///< journal on (true) and/or off (false, --no-journal) per N and path
     std::string out = "out/bench";                   ///< folder for session_bench.json and the sessions' outputs
 };
 

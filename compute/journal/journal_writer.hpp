@@ -1,12 +1,16 @@
 // compute/journal/journal_writer.hpp - appending the sculpt thread's batches of ToolSamples to a session journal
-// file (compute/journal/journal_format.hpp), made durable at least every sync interval.
+// file (compute/journal/journal_format.hpp), made durable at least every sync interval by a syncing thread of its own.
 #pragma once
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/tool_sample.hpp"
@@ -19,70 +23,98 @@ struct JournalStats {
     std::uint64_t records = 0;     ///< records appended (written to the file or still buffered): batches and marks
     std::uint64_t samples = 0;     ///< tool samples in those records
     std::uint64_t bytes = 0;       ///< bytes handed to write(2) successfully, header included
-    std::uint64_t flushes = 0;     ///< write + fdatasync rounds that succeeded
-    double append_ms_total = 0.0;  ///< wall time spent encoding records (and writing out a full buffer), ms
-    double flush_ms_total = 0.0;   ///< wall time spent in write + fdatasync at sync points, ms
+    std::uint64_t synced_bytes = 0;///< of those, bytes made durable by a successful fdatasync
+    std::uint64_t flushes = 0;     ///< fdatasync rounds that succeeded (the syncing thread's and sync()'s)
+    /// Caller's (the sculpt thread's) wall time encoding records (and writing out a full buffer), ms.
+    double append_ms_total = 0.0;
+    /// Caller's wall time at sync points: writing the buffer out and waking the syncing thread (sync_if_due), and
+    /// sync() / close(), which also wait for fdatasync, ms. append_ms_total + flush_ms_total is the journal's cost on
+    /// the caller's thread.
+    double flush_ms_total = 0.0;
+    /// Wall time the writer's own syncing thread spent in fdatasync, off the caller's thread, ms.
+    double sync_thread_ms_total = 0.0;
     /// Why the journal stopped ("" while it works): e.g. "write failed after 12 records: No space left on
     /// device". After an error nothing more is written; the session goes on.
     std::string error;
 };
 
 /// Writes a session journal: the header at construction, then one record per append() (one sculpt step's
-/// batch, in order), through a buffer of fixed size reserved up front (no allocation per batch), written with
-/// write(2) and made durable with fdatasync at least every `sync_interval` of wall time while appends come
-/// (append and sync_if_due check the clock; a caller that idles calls sync_if_due). Never throws after
-/// construction: a failed write or sync (disk full, read-only, I/O error) stops the journal and is recorded in
-/// stats().error. Not thread-safe: one thread (the sculpt thread) uses it.
+/// batch, in order), through a buffer of fixed size reserved up front (no allocation per batch). The caller's
+/// thread only encodes records and hands them to the kernel with write(2): when the buffer fills, and at sync points,
+/// at least every `sync_interval` of wall time while appends come (append, mark and sync_if_due check the clock; a
+/// caller that idles calls sync_if_due). fdatasync runs on a syncing thread the writer owns: woken at each sync
+/// point, and on its own at least every sync_interval (at most every second) while written bytes are not yet durable,
+/// so what was appended is durable within about one interval (plus the fdatasync) without the caller ever waiting
+/// for the disk. sync(), checkpoint() and close() sync on the caller's thread and return when the bytes are durable.
+/// Never throws after construction: a failed write or sync (disk full, read-only, I/O error), on either thread,
+/// stops the journal (nothing more is written; the session goes on) and is recorded in stats().error. Not
+/// thread-safe: one thread (the sculpt thread) calls it; the syncing thread is internal.
 class JournalWriter {
 public:
     /// Creates (or truncates) `path` and writes and syncs the header carrying `session` (the caller's identity
     /// of the session, e.g. its spec as JSON; at most kJournalMaxSessionBytes). buffer_bytes (>= 4096) is the
     /// write buffer reserved once. A file that cannot be created or a header that cannot be written does not
-    /// throw: the writer starts stopped, with stats().error saying why (ok() false).
+    /// throw: the writer starts stopped, with stats().error saying why (ok() false). Starts the syncing thread
+    /// when the header is durable.
     JournalWriter(const std::string& path, const std::string& session,
                   std::chrono::nanoseconds sync_interval = std::chrono::milliseconds(100),
                   std::size_t buffer_bytes = std::size_t{1} << 18);
-    /// Syncs what is buffered and closes the file (errors are recorded, never thrown).
+    /// close(): syncs what is buffered, ends the syncing thread and closes the file (errors are recorded, never thrown).
     ~JournalWriter();
     JournalWriter(const JournalWriter&) = delete;
     JournalWriter& operator=(const JournalWriter&) = delete;
 
-    /// Appends one record holding `samples` (may be empty: nothing is written), then syncs when the interval
-    /// since the last sync has passed. Any batch size works: a record larger than the buffer is streamed
-    /// through it.
+    /// Appends one record holding `samples` (may be empty: nothing is written), then sync_if_due(). Any batch size
+    /// works: a record larger than the buffer is streamed through it.
     void append(std::span<const ToolSample> samples);
     /// Appends a mark (journal_format.hpp): `type` kJournalStrokeEnd, kJournalUndo or kJournalRedo, the stroke's
-    /// serial and (undo, redo) the rays written back. Syncs when due. Other types are ignored.
+    /// serial and (undo, redo) the rays written back, then sync_if_due(). Other types are ignored.
     void mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays = 0);
     /// Appends a checkpoint record naming the model file `name` (a plain file name in the journal's folder; its
-    /// size and CRC-32) that holds the model after every record appended so far, and syncs at once.
+    /// size and CRC-32) that holds the model after every record appended so far, and syncs at once (sync()).
     void checkpoint(const std::string& name, std::uint64_t bytes, std::uint32_t crc);
-    /// Writes and fdatasyncs the buffered bytes when the sync interval has passed since the last sync and
-    /// something is unsynced.
+    /// When the sync interval has passed since the last sync point and something was appended since: writes the
+    /// buffered bytes out (write(2)) and wakes the syncing thread to fdatasync them. Never waits for the disk.
     void sync_if_due();
-    /// Writes and fdatasyncs the buffered bytes now (nothing when all is synced).
+    /// Writes the buffered bytes out and fdatasyncs them now, on the caller's thread (nothing when all is durable).
     void sync();
-    /// Final sync and close; later appends do nothing. Idempotent.
+    /// Ends the syncing thread, then a final sync and close; later appends do nothing. Idempotent.
     void close();
-    /// True while the journal is being written (no error, not closed).
-    bool ok() const { return fd_ >= 0 && stats_.error.empty(); }
-    /// Counters and the error, if any.
-    const JournalStats& stats() const { return stats_; }
+    /// True while the journal is being written (no error on either thread, not closed).
+    bool ok() const { return fd_ >= 0 && !failed_.load(std::memory_order_acquire); }
+    /// Counters and the error, if any (the syncing thread's counted as of this call).
+    const JournalStats& stats() const;
 
 private:
     void record(std::uint32_t type, const unsigned char* payload, std::size_t n);  // one small record, whole
     void put(const unsigned char* p, std::size_t n);  // into the buffer, CRC updated; writes out when full
     bool write_out();                                  // buffer -> write(2); false on error (recorded)
-    void fail(const std::string& what, int err);
+    void fail(const std::string& what, int err);       // either thread: record the first error, stop the journal
+    void run_syncer();                                 // the syncing thread
+    void stop_syncer();
 
+    // The caller's thread only:
     int fd_ = -1;
     std::vector<unsigned char> buf_;  // reserved once; size() = bytes pending
     std::size_t cap_ = 0;
     std::uint32_t crc_ = 0;           // running CRC of the record being put
-    bool unsynced_ = false;           // bytes written or buffered since the last fdatasync
+    bool unsynced_ = false;           // appended since the last sync point
     std::chrono::nanoseconds interval_;
     std::chrono::steady_clock::time_point last_sync_;
-    JournalStats stats_;
+    mutable JournalStats stats_;      // stats() adds the shared counters below
+
+    // Shared with the syncing thread, under mutex_:
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::uint64_t written_ = 0;       // bytes handed to write(2)
+    std::uint64_t synced_ = 0;        // of those, bytes made durable by a successful fdatasync
+    bool sync_asked_ = false;         // a sync point asked for an fdatasync
+    bool stop_ = false;               // close(): the syncing thread ends
+    std::uint64_t flushes_ = 0;
+    double sync_thread_ms_ = 0.0;
+    std::string error_;               // the first error, from either thread
+    std::atomic<bool> failed_{false}; // error_ is set
+    std::thread syncer_;
 };
 
 }  // namespace tridex::compute

@@ -198,6 +198,8 @@ bool SculptThread::take_requests() {
         const auto t1 = std::chrono::steady_clock::now();
         contour_changed(t0, t1);
         stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        stats_.undo_rays.push_back(c.rays);
+        stats_.undo_redo.push_back(undo ? 0 : 1);
     }
     return any;
 }

@@ -46,6 +46,10 @@ struct SculptStats {
     /// Per undo or redo that changed the model: from taking the request to the active surface published and the
     /// dirty tiles re-contoured (what a person waits for before the drawn model follows), ms.
     std::vector<double> undo_ms;
+    /// Per entry of undo_ms: rays the undo or redo wrote back (UndoHistory::Change::rays).
+    std::vector<std::size_t> undo_rays;
+    /// Per entry of undo_ms: 0 for an undo, 1 for a redo.
+    std::vector<std::uint8_t> undo_redo;
     std::uint64_t undo_requests = 0;   ///< undo requests taken (including those with nothing to undo)
     std::uint64_t redo_requests = 0;   ///< redo requests taken
     compute::HistoryStats history;     ///< the undo history at stop()

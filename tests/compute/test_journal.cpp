@@ -12,6 +12,7 @@
 #include <iterator>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "compute/journal/journal_format.hpp"
 #include "compute/journal/journal_reader.hpp"
@@ -229,24 +230,113 @@ TEST(Journal, AFailingDiskStopsTheJournalNotItsCaller) {
     EXPECT_NO_THROW(nowhere.append(s));
 }
 
+// Polls stats() until `done` holds or 5 s pass (the syncing thread works on its own clock).
+template <class F>
+bool eventually(const JournalWriter& w, F done) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (!done(w.stats())) {
+        if (std::chrono::steady_clock::now() > until) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return true;
+}
+
 TEST(Journal, SyncsWhenTheIntervalPassed) {
     const std::string path = temp_path("sync.tdj");
     const std::vector<ToolSample> s = odd_samples(3, 2);
     {
+        // Interval 0: every append is a sync point; the bytes are written at once and the syncing thread makes
+        // them durable without the caller calling sync().
         JournalWriter every(path, "{}", std::chrono::nanoseconds(0));
+        EXPECT_EQ(every.stats().flushes, 1u);  // the header, synced by the constructor
         for (int i = 0; i < 5; ++i) every.append(s);
-        EXPECT_EQ(every.stats().flushes, 6u);  // the header, then each append
         EXPECT_EQ(every.stats().bytes, fs::file_size(path));  // nothing waits in the buffer
+        EXPECT_TRUE(eventually(every, [&](const JournalStats& st) { return st.synced_bytes == fs::file_size(path); }));
+        EXPECT_GE(every.stats().flushes, 2u);
+        EXPECT_LE(every.stats().flushes, 6u);  // the syncing thread may make several appends durable at once
+        EXPECT_GT(every.stats().sync_thread_ms_total, 0.0);
     }
     {
         JournalWriter rarely(path, "{}", std::chrono::hours(1));
         for (int i = 0; i < 5; ++i) rarely.append(s);
         rarely.sync_if_due();
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
         EXPECT_EQ(rarely.stats().flushes, 1u);  // the header only
+        EXPECT_EQ(rarely.stats().synced_bytes, rarely.stats().bytes);  // the records wait in the buffer
         rarely.close();
         EXPECT_EQ(rarely.stats().flushes, 2u);
+        EXPECT_EQ(rarely.stats().synced_bytes, fs::file_size(path));
         EXPECT_EQ(read_journal(path).records.size(), 5u);
     }
+    fs::remove(path);
+}
+
+// A sync point only writes; the fdatasync happens on the writer's own thread, within about an interval.
+TEST(Journal, TheSyncingThreadMakesSyncPointsDurable) {
+    const std::string path = temp_path("syncer.tdj");
+    const std::vector<ToolSample> s = odd_samples(4, 5);
+    JournalWriter w(path, "{}", std::chrono::milliseconds(300));
+    const std::uint64_t header = w.stats().bytes;
+    w.append(s);  // inside the interval: buffered
+    EXPECT_EQ(w.stats().bytes, header);
+    std::this_thread::sleep_for(std::chrono::milliseconds(310));
+    w.sync_if_due();  // the interval passed: written out, the syncing thread woken
+    EXPECT_EQ(w.stats().bytes, fs::file_size(path));
+    EXPECT_GT(w.stats().bytes, header);
+    EXPECT_TRUE(eventually(w, [&](const JournalStats& st) { return st.synced_bytes == st.bytes; }));
+    EXPECT_EQ(w.stats().flushes, 2u);
+    EXPECT_EQ(w.stats().error, "");
+    EXPECT_GT(w.stats().flush_ms_total, 0.0);      // the caller's write(2)
+    EXPECT_GT(w.stats().sync_thread_ms_total, 0.0);  // the syncing thread's fdatasync
+    w.close();
+    fs::remove(path);
+}
+
+// Bytes written out because the buffer filled (no sync point since) are made durable by the syncing thread on its
+// own clock, while the caller never calls sync_if_due again.
+TEST(Journal, WrittenBytesBecomeDurableWithoutASyncPoint) {
+    const std::string path = temp_path("fullbuf.tdj");
+    const std::vector<ToolSample> s = odd_samples(100, 6);  // > 4096 bytes: the record streams through the buffer
+    JournalWriter w(path, "{}", std::chrono::hours(1), 4096);  // no sync point comes; the syncer wakes every 1 s
+    w.append(std::span<const ToolSample>(s).first(1));
+    w.append(s);
+    const std::uint64_t written = w.stats().bytes;
+    EXPECT_GT(written, 4096u);
+    EXPECT_TRUE(eventually(w, [&](const JournalStats& st) { return st.synced_bytes >= written; }));
+    w.close();
+    EXPECT_EQ(w.stats().synced_bytes, fs::file_size(path));
+    EXPECT_EQ(read_journal(path).records.size(), 2u);
+    fs::remove(path);
+}
+
+// Appends, sync points and stats() from one thread while the syncing thread runs (the ThreadSanitizer set runs this).
+TEST(Journal, ManyAppendsWhileTheSyncingThreadRuns) {
+    const std::string path = temp_path("many.tdj");
+    const std::vector<ToolSample> s = odd_samples(7, 8);
+    std::uint64_t appended = 0;
+    {
+        JournalWriter w(path, "{}", std::chrono::microseconds(300), 4096);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+        while (std::chrono::steady_clock::now() < until) {
+            w.append(s);
+            ++appended;
+            if (appended % 16 == 0) {
+                w.mark(kJournalStrokeEnd, appended);
+                ++appended;
+                EXPECT_TRUE(w.ok());
+                (void)w.stats().flushes;
+            }
+            std::this_thread::sleep_for(std::chrono::microseconds(50));
+        }
+        w.close();
+        EXPECT_EQ(w.stats().error, "");
+        EXPECT_EQ(w.stats().records, appended);
+        EXPECT_EQ(w.stats().synced_bytes, w.stats().bytes);
+        EXPECT_GE(w.stats().flushes, 3u);
+    }
+    const Journal j = read_journal(path);
+    EXPECT_FALSE(j.cut);
+    EXPECT_EQ(j.records.size(), appended);
     fs::remove(path);
 }
 
