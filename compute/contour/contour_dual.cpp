@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <exception>
 #include <limits>
 #include <string>
+#include <thread>
 #include <sstream>
 #include <utility>
 
@@ -72,19 +74,43 @@ void Contourer::check_model(const TriDexel& model) const {
 std::size_t Contourer::update(TriDexel& model) {
     check_model(model);
     std::size_t redone = 0, cells = 0;
-    // Tiles whose piece changed, with their previous piece (to tell which borrowed vertices moved).
-    std::vector<std::pair<std::size_t, contour::TileMesh>> changed;
+    std::vector<std::array<int, 3>> dirty;
     for (int tz = 0; tz < tiles_[2]; ++tz)
         for (int ty = 0; ty < tiles_[1]; ++ty)
-            for (int tx = 0; tx < tiles_[0]; ++tx) {
-                const std::size_t idx = model.tiles.index(tx, ty, tz);
-                if (!model.tiles.dirty[idx]) continue;
-                contour::TileMesh previous = std::move(tile_meshes_[idx]);
-                worker_.run(model, {tx, ty, tz}, tile_meshes_[idx]);
-                cells += tile_meshes_[idx].cells_visited;
-                ++redone;
-                if (!same_piece(previous, tile_meshes_[idx])) changed.emplace_back(idx, std::move(previous));
-            }
+            for (int tx = 0; tx < tiles_[0]; ++tx)
+                if (model.tiles.dirty[model.tiles.index(tx, ty, tz)]) dirty.push_back({tx, ty, tz});
+    // Tiles whose piece changed, with their previous piece (to tell which borrowed vertices moved); in tile order.
+    std::vector<std::pair<std::size_t, contour::TileMesh>> changed;
+    std::vector<contour::TileMesh> previous(dirty.size());
+    for (std::size_t i = 0; i < dirty.size(); ++i)
+        previous[i] = std::move(tile_meshes_[model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2])]);
+    // Tile k goes to worker k % workers: each reads the model only and writes its own tiles.
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t workers = dirty.size() >= kParallelTiles ? std::min<std::size_t>(cores, dirty.size() / 4) : 1;
+    if (helpers_.size() + 1 < workers) helpers_.resize(workers - 1);
+    std::vector<std::exception_ptr> failed(workers);
+    auto work = [&](std::size_t w) {
+        try {
+            contour::TileContourer& c = w == 0 ? worker_ : helpers_[w - 1];
+            for (std::size_t k = w; k < dirty.size(); k += workers)
+                c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])]);
+        } catch (...) {
+            failed[w] = std::current_exception();
+        }
+    };
+    {
+        std::vector<std::jthread> threads;
+        for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work, w);
+        work(0);
+    }
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+    for (std::size_t i = 0; i < dirty.size(); ++i) {
+        const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
+        cells += tile_meshes_[idx].cells_visited;
+        ++redone;
+        if (!same_piece(previous[i], tile_meshes_[idx])) changed.emplace_back(idx, std::move(previous[i]));
+    }
     model.clear_dirty();
     bump_versions(changed);
     last_tiles_ = redone;
