@@ -1,0 +1,28 @@
+// app/study/study_cli.cpp - the `tridex study` subcommands.
+#include "app/study/study_cli.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.hpp"
+
+namespace tridex::app::study {
+
+CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
+    CLI::App* study = cli.add_subcommand(
+        "study", "The training study of Singapogu's thesis (ch. 4): tube scenes, protocol, analysis, statistics");
+    study->require_subcommand(1);
+    cmd.stats_cmd = study->add_subcommand(
+        "stats", "Spearman's rho per group and Mann-Whitney U between groups over a per-trial CSV table");
+    cmd.stats_cmd->add_option("FILE", cmd.stats.csv, "Trial table (participant, group, trial, time_s, deviation_m, ...)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd.stats_cmd->add_option("--out", cmd.stats.out, "Output folder (study_stats.json, study_stats.txt)")
+        ->capture_default_str();
+    return study;
+}
+
+void run_study_command(const StudyCommand& cmd) {
+    if (*cmd.stats_cmd) run_study_stats(cmd.stats);
+}
+
+}  // namespace tridex::app::study
