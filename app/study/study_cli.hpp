@@ -1,6 +1,7 @@
 // app/study/study_cli.hpp - the `tridex study` subcommands (main.cpp adds them with two lines).
 #pragma once
 
+#include "app/study/study_analyze.hpp"
 #include "app/study/study_stats.hpp"
 
 namespace CLI {
@@ -13,9 +14,11 @@ namespace tridex::app::study {
 struct StudyCommand {
     StudyStatsOptions stats;
     CLI::App* stats_cmd = nullptr;
+    StudyAnalyzeOptions analyze;
+    CLI::App* analyze_cmd = nullptr;
 };
 
-/// Adds `study stats FILE.csv [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
+/// Adds `study stats FILE.csv [--out DIR]` and `study analyze DIR... [--scene FILE] [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
 /// Returns the `study` subcommand, so the caller can test `if (*study)` after parsing.
 CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd);
 
