@@ -26,12 +26,26 @@ CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
         ->check(CLI::ExistingFile);
     cmd.analyze_cmd->add_option("--out", cmd.analyze.out, "Output folder (study_trials.csv, deviation_<group>.png)")
         ->capture_default_str();
+    cmd.run_cmd = study->add_subcommand(
+        "run", "One participant through the protocol (training, then test trials recorded): OUT/<ID>/trial_<n>.trdx");
+    cmd.run_cmd->add_option("--participant", cmd.run.participant, "Participant ID (letters, digits, _ or -; no names)")
+        ->required();
+    cmd.run_cmd->add_option("--group", cmd.run.group, "Training group: haptic or visual")
+        ->required()
+        ->check(CLI::IsMember({"haptic", "visual"}));
+    cmd.run_cmd->add_flag("--simulated", cmd.run.simulated, "Play a scripted participant (no person, no device)");
+    cmd.run_cmd->add_option("--scene", cmd.run.scene, "Study scene (default: assets/study_tube_scene.json)")
+        ->check(CLI::ExistingFile);
+    cmd.run_cmd->add_option("--seed", cmd.run.seed, "Scripted participant's seed (0: from the ID)")->capture_default_str();
+    cmd.run_cmd->add_option("--out", cmd.run.out, "Study folder; the participant's files go to OUT/<ID>/")
+        ->capture_default_str();
     return study;
 }
 
 void run_study_command(const StudyCommand& cmd) {
     if (*cmd.stats_cmd) run_study_stats(cmd.stats);
     if (*cmd.analyze_cmd) run_study_analyze(cmd.analyze);
+    if (*cmd.run_cmd) run_study_protocol(cmd.run);
 }
 
 }  // namespace tridex::app::study

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "app/study/study_analyze.hpp"
+#include "app/study/study_run.hpp"
 #include "app/study/study_stats.hpp"
 
 namespace CLI {
@@ -16,9 +17,12 @@ struct StudyCommand {
     CLI::App* stats_cmd = nullptr;
     StudyAnalyzeOptions analyze;
     CLI::App* analyze_cmd = nullptr;
+    StudyRunOptions run;
+    CLI::App* run_cmd = nullptr;
 };
 
-/// Adds `study stats FILE.csv [--out DIR]` and `study analyze DIR... [--scene FILE] [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
+/// Adds `study stats FILE.csv [--out DIR]` `study analyze DIR... [--scene FILE] [--out DIR]` and
+/// `study run --participant ID --group haptic|visual [--simulated] [--scene FILE] [--seed N] [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
 /// Returns the `study` subcommand, so the caller can test `if (*study)` after parsing.
 CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd);
 

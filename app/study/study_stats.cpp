@@ -137,7 +137,8 @@ std::string study_stats_table(const nlohmann::json& stats) {
     for (const auto& [g, d] : stats["groups"].items())
         s += "  " + g + ": " + std::to_string(d["trials"].get<int>()) + " trials from " +
              std::to_string(d["participants"].get<int>()) + " participants, median time " +
-             fmt(d["median_time_s"], "%.2f") + " s, median deviation " + fmt(d["median_deviation_m"], "%.5f") + " m\n";
+             fmt(d["median_time_s"], "%.2f") + " s, median deviation " +
+             fmt(d["median_deviation_m"].is_null() ? d["median_deviation_m"] : nlohmann::json(d["median_deviation_m"].get<double>() * 1e3), "%.3f") + " mm\n";
     s += "\n" + section(stats, "per trial");
     s += "\n" + section(stats["per_participant"], "per-participant means");
     return s;
