@@ -119,7 +119,7 @@ std::vector<TrialAnalysis> run_study_analyze(const StudyAnalyzeOptions& options)
         std::vector<const TrialAnalysis*> mine;
         for (const TrialAnalysis& t : trials)
             if (t.row.group == g) mine.push_back(&t);
-        if (!mine.empty()) plot_group_deviation((out / ("deviation_" + g + ".png")).string(), g, mine);
+        if (!mine.empty()) plot_group_deviation((out / ("deviation_" + g + ".png")).string(), mine);
     }
     return trials;
 }

@@ -65,8 +65,7 @@ double nice_ceiling(double v) {
 
 }  // namespace
 
-void plot_group_deviation(const std::string& path, const std::string& group, const std::vector<const TrialAnalysis*>& trials) {
-    (void)group;
+void plot_group_deviation(const std::string& path, const std::vector<const TrialAnalysis*>& trials) {
     const int w = 800, h = 500, left = 70, right = 20, top = 20, bottom = 40;
     Image im = Image::filled(w, h, 255, 255, 255);
     double ymax = 0.0;
