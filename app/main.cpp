@@ -24,6 +24,7 @@
 #include "app/replay.hpp"
 #include "app/run_cli.hpp"
 #include "app/stop_signal.hpp"
+#include "app/study/study_cli.hpp"
 #include "core/error.hpp"
 
 namespace {
@@ -210,6 +211,8 @@ int main(int argc, char** argv) {
 
     tridex::app::RunOptions run;
     CLI::App* run_cmd = tridex::app::add_run_command(cli, run);
+    tridex::app::study::StudyCommand study;
+    CLI::App* study_cmd = tridex::app::study::add_study_command(cli, study);
 
     try {
         cli.parse(argc, argv);
@@ -240,6 +243,7 @@ int main(int argc, char** argv) {
         }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
         if (*export_cmd) tridex::app::run_export(export_opt);
+        if (*study_cmd) tridex::app::study::run_study_command(study);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence &&
                 !bench_undo)

@@ -19,7 +19,7 @@ PACKAGES=(
   xvfb xauth                                # a virtual X server for the window smoke test
   libgtest-dev libgmock-dev                 # tests
   libbenchmark-dev                          # benchmarks
-  libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy` (its headers use Boost)
+  libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy`; Boost.Math for `tridex study stats`
   gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
 )
 

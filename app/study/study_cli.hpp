@@ -1,0 +1,32 @@
+// app/study/study_cli.hpp - the `tridex study` subcommands (main.cpp adds them with two lines).
+#pragma once
+
+#include "app/study/study_analyze.hpp"
+#include "app/study/study_run.hpp"
+#include "app/study/study_stats.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace tridex::app::study {
+
+/// What the `study` subcommands parse into.
+struct StudyCommand {
+    StudyStatsOptions stats;
+    CLI::App* stats_cmd = nullptr;
+    StudyAnalyzeOptions analyze;
+    CLI::App* analyze_cmd = nullptr;
+    StudyRunOptions run;
+    CLI::App* run_cmd = nullptr;
+};
+
+/// Adds `study stats FILE.csv [--out DIR]` `study analyze DIR... [--scene FILE] [--out DIR]` and
+/// `study run --participant ID --group haptic|visual [--simulated] [--scene FILE] [--seed N] [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
+/// Returns the `study` subcommand, so the caller can test `if (*study)` after parsing.
+CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd);
+
+/// Runs the chosen study subcommand. Throws tridex::Error (one line) on bad input, as the subcommands do.
+void run_study_command(const StudyCommand& cmd);
+
+}  // namespace tridex::app::study
