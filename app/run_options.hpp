@@ -58,6 +58,9 @@ struct RunOptions {
     /// The session journal (`tridex recover FILE` rebuilds the model from it); "" = <out>/session.tdj.
     std::string journal;
     bool no_journal = false;  ///< --no-journal: write no journal
+    /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
+    /// Falcon has none running); "" = the scene's device.firmware.
+    std::string falcon_firmware;
 };
 
 }  // namespace tridex::app

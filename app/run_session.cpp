@@ -100,6 +100,7 @@ RunSetup resolve_run(const RunOptions& o) {
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
+    if (!o.falcon_firmware.empty()) s.scene.spec.device_firmware = o.falcon_firmware;
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
         try {
