@@ -222,11 +222,13 @@ void read_device(Fields& top, RunScene& s) {
         for (const devices::DetectedDevice& d : devices::builtin_registry().detect())
             plugged = plugged || d.driver == "falcon";
         if (!plugged)
-            f.fail("device.driver", "'falcon': no Novint Falcon is plugged in (USB 0403:cb48); use falcon-emulator to try "
-                                    "the driver without one, or one of " + usable);
-        s.spec.device = "falcon";
+            f.fail("device.driver",
+                   "'falcon': no Novint Falcon is plugged in (USB 0403:cb48; `tridex devices` lists "
+                   "what is); falcon-emulator runs the same driver without one");
     }
-    if (s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
+    s.spec.device = f.text("profile", s.spec.device);
+    // The Falcon drivers drive the Falcon's own profile, whatever the scene says.
+    if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
     s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
     try {
         (void)device_profile(s.spec.device);

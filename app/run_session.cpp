@@ -329,6 +329,8 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.tool = tool_json(r.spec);
     r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
                                     backend.runtime().profile().max_force_n, backend.runtime().device_status());
+    if (const devices::DeviceLinkStats link = backend.runtime().device_link(); link.exchanges > 0)
+        r.haptics["device_link"] = device_link_json(link);
 
     // 5. Outputs.
     fs::create_directories(su.out);

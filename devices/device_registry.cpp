@@ -24,8 +24,10 @@ struct NamedProfile {
     const char* name;
     DeviceProfile (*make)();
 };
-const NamedProfile kProfiles[] = {
-    {"omni", &DeviceProfile::phantom_omni}, {"wand", &quanser_wand_5dof}, {"6dof", &generic_6dof}, {"falcon", &novint_falcon}};
+const NamedProfile kProfiles[] = {{"omni", &DeviceProfile::phantom_omni},
+                                  {"wand", &quanser_wand_5dof},
+                                  {"6dof", &generic_6dof},
+                                  {"falcon", &novint_falcon}};
 
 std::string join(const std::vector<std::string>& names) {
     std::string out;
@@ -127,7 +129,12 @@ const DeviceRegistry& builtin_registry() {
         DriverInfo sim{"simulated",
                        "closed-loop virtual hand on a simulated device (profiles: omni = PHANTOM Omni, wand = Quanser "
                        "5-DOF wand, 6dof = generic 6-DOF, falcon = Novint Falcon)",
-                       false, true, {"omni", "wand", "6dof", "falcon"}, {}, 6, 3};
+                       false,
+                       true,
+                       {"omni", "wand", "6dof", "falcon"},
+                       {},
+                       6,
+                       3};
         r.add(sim, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             DeviceProfile profile = profile_by_name(spec.profile);
             ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
@@ -136,14 +143,20 @@ const DeviceRegistry& builtin_registry() {
             if (in.buttons) dev->set_button_script(*in.buttons);
             return dev;
         });
-        DriverInfo replay{"replay", "plays a recording's device samples back (tridex replay)", false, true,
-                          {"omni", "wand", "6dof", "falcon"}, {}, 6, 3};
+        DriverInfo replay{"replay",
+                          "plays a recording's device samples back (tridex replay)",
+                          false,
+                          true,
+                          {"omni", "wand", "6dof", "falcon"},
+                          {},
+                          6,
+                          3};
         r.add(replay, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             return std::make_unique<ReplayDevice>(profile_by_name(spec.profile), in.samples);
         });
         // The Novint Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules), over libusb-1.0.
-        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB; needs its firmware file: --falcon-firmware)", true,
-                          true, {}, {{falcon::kVendorId, falcon::kProductId}}, 3, 3};
+        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB)",        true, true,
+                          {},       {{falcon::kVendorId, falcon::kProductId}}, 3,    3};
         r.add(falcon, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             bool plugged = false;
             for (const auto& [id, where] : usb_devices())
@@ -158,10 +171,16 @@ const DeviceRegistry& builtin_registry() {
             o.period_s = in.period_s;
             return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconUsbTransport>(spec.serial), o);
         });
-        DriverInfo emulator{"falcon-emulator",
-                            "the Falcon driver over an emulated Falcon (protocol, firmware load, homing), its grip held by "
-                            "the simulated hand",
-                            false, true, {"falcon"}, {}, 3, 3};
+        DriverInfo emulator{
+            "falcon-emulator",
+            "the Falcon driver over an emulated Falcon (protocol, firmware load, homing), its grip held by "
+            "the simulated hand",
+            false,
+            true,
+            {"falcon"},
+            {},
+            3,
+            3};
         r.add(emulator, [](const DeviceSpec&, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             falcon::FalconEmulatorConfig c;
             c.hand_path = in.hand_path;

@@ -39,7 +39,7 @@ namespace tridex::devices {
 struct DeviceSpec {
     std::string driver = "simulated";  ///< a registered driver name (simulated, replay, ...)
     std::string profile = "omni";      ///< device profile for drivers that take one (omni, wand, 6dof, falcon)
-    std::string serial;                ///< which unit of a hardware driver ("" = the first one found; falcon: "bus B port P.Q")
+    std::string serial;  ///< which unit of a hardware driver ("" = the first one found; falcon: "bus B port P.Q")
 };
 
 /// What a session hands a driver besides its spec: the loop period and, for the software drivers, their input.

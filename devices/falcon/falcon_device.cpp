@@ -21,6 +21,19 @@ FalconDevice::FalconDevice(std::unique_ptr<FalconTransport> transport, FalconDev
 
 FalconDevice::~FalconDevice() { close(); }
 
+DeviceLinkStats FalconDevice::link_stats() const {
+    DeviceLinkStats l;
+    l.exchanges = stats_.exchanges;
+    l.missed_frames = stats_.missed_frames;
+    l.malformed_frames = stats_.malformed_frames;
+    l.zeroed_ticks = stats_.zeroed_ticks;
+    l.exchange_mean_s = stats_.exchange_mean_s;
+    l.exchange_max_s = stats_.exchange_max_s;
+    l.homed_at_s = stats_.homed_at_s;
+    l.firmware_attempts = stats_.firmware_attempts;
+    return l;
+}
+
 void FalconDevice::on_open() {
     transport_->open();
     framer_.reset();
@@ -51,7 +64,8 @@ void FalconDevice::on_open() {
     if (!r.ok || !firmware_running(*transport_)) {
         transport_->close();
         throw Error("Novint Falcon (" + transport_->describe() + "): the firmware did not load after " +
-                    std::to_string(r.attempts) + " attempts: " + (r.error.empty() ? "no state frames after the load" : r.error) +
+                    std::to_string(r.attempts) +
+                    " attempts: " + (r.error.empty() ? "no state frames after the load" : r.error) +
                     "; unplug the Falcon's power and USB, plug them back in and try again");
     }
 }
@@ -158,7 +172,8 @@ bool FalconDevice::do_read(DeviceState& out) {
         missed_run_ = 0;
         const Vec3 theta(kin_.encoder_to_theta(s->encoder[0]), kin_.encoder_to_theta(s->encoder[1]),
                          kin_.encoder_to_theta(s->encoder[2]));
-        const FalconKinematics::Forward fk = kin_.forward(theta, have_pos_ ? pos_ : FalconKinematics::home_m(), 1e-10, 20);
+        const FalconKinematics::Forward fk =
+            kin_.forward(theta, have_pos_ ? pos_ : FalconKinematics::home_m(), 1e-10, 20);
         if (fk.converged) {
             vel_ = have_pos_ ? (fk.position - pos_) / opt_.period_s : Vec3(0.0);
             pos_ = fk.position;
@@ -188,7 +203,8 @@ void FalconDevice::do_write(const Vec3& force_n, const Vec3&) {
     }
     if (state() != DeviceLifecycle::kEnabled || !have_pos_ || vanished_) return;
     ++ramp_ticks_;
-    const double ramp = opt_.ramp_s > 0.0 ? std::min(1.0, static_cast<double>(ramp_ticks_) * opt_.period_s / opt_.ramp_s) : 1.0;
+    const double ramp =
+        opt_.ramp_s > 0.0 ? std::min(1.0, static_cast<double>(ramp_ticks_) * opt_.period_s / opt_.ramp_s) : 1.0;
     const Vec3 f = force_n * ramp;
     if (f == Vec3(0.0)) return;
     const std::optional<Vec3> tau = kin_.force_to_torque(pos_, f);

@@ -21,28 +21,28 @@ struct FalconDeviceOptions {
     std::string firmware_path;
     /// An image to load instead of the file (the emulator's dummy image); empty = use firmware_path.
     std::vector<std::uint8_t> firmware_image;
-    int firmware_attempts = 3;         ///< whole firmware-load attempts
-    double period_s = 1e-3;            ///< the haptic loop period: device time per exchange, s
-    int exchange_timeout_us = 900;     ///< how long one exchange waits for its state frame, us
-    double ramp_s = 0.5;               ///< after homing (and after any fault) the force ramps from 0 to 1 over this, s
-    double homing_timeout_s = 30.0;    ///< home() gives up after this much device time, s
+    int firmware_attempts = 3;       ///< whole firmware-load attempts
+    double period_s = 1e-3;          ///< the haptic loop period: device time per exchange, s
+    int exchange_timeout_us = 900;   ///< how long one exchange waits for its state frame, us
+    double ramp_s = 0.5;             ///< after homing (and after any fault) the force ramps from 0 to 1 over this, s
+    double homing_timeout_s = 30.0;  ///< home() gives up after this much device time, s
     /// A stall this long (consecutive exchanges without a state frame, in device time) counts as a vanished device.
     double stall_vanish_s = 0.25;
 };
 
 /// What the driver measured on its link.
 struct FalconLinkStats {
-    std::uint64_t exchanges = 0;       ///< exchanges in the 1 kHz loop (after homing)
-    std::uint64_t missed_frames = 0;   ///< exchanges that brought no well-formed state frame (stalls, torn frames)
-    std::uint64_t malformed_frames = 0;///< frames with bad framing bytes or payload
-    std::uint64_t line_errors = 0;     ///< IN packets whose FTDI line status reported an error
-    std::uint64_t zeroed_ticks = 0;    ///< ticks whose command was forced to zero by a fault
-    std::uint64_t clamped_commands = 0;///< commands scaled down to the motor command limit
-    double exchange_mean_s = 0.0;      ///< exchange time (submit to state frame), mean and max, s
+    std::uint64_t exchanges = 0;         ///< exchanges in the 1 kHz loop (after homing)
+    std::uint64_t missed_frames = 0;     ///< exchanges that brought no well-formed state frame (stalls, torn frames)
+    std::uint64_t malformed_frames = 0;  ///< frames with bad framing bytes or payload
+    std::uint64_t line_errors = 0;       ///< IN packets whose FTDI line status reported an error
+    std::uint64_t zeroed_ticks = 0;      ///< ticks whose command was forced to zero by a fault
+    std::uint64_t clamped_commands = 0;  ///< commands scaled down to the motor command limit
+    double exchange_mean_s = 0.0;        ///< exchange time (submit to state frame), mean and max, s
     double exchange_max_s = 0.0;
-    double homed_at_s = -1.0;          ///< device time (s) from open() at which homing finished; -1 = not homed
-    int homing_exchanges = 0;          ///< exchanges home() took
-    int firmware_attempts = 0;         ///< firmware-load attempts at open() (0 = firmware was already running)
+    double homed_at_s = -1.0;   ///< device time (s) from open() at which homing finished; -1 = not homed
+    int homing_exchanges = 0;   ///< exchanges home() took
+    int firmware_attempts = 0;  ///< firmware-load attempts at open() (0 = firmware was already running)
 };
 
 /// The Falcon driver.
@@ -69,6 +69,7 @@ public:
 
     const DeviceProfile& profile() const override { return profile_; }
     const FalconLinkStats& stats() const { return stats_; }
+    DeviceLinkStats link_stats() const override;
     /// The transport (tests reach the emulator through it).
     FalconTransport& transport() { return *transport_; }
     /// The last command frame sent or queued.
@@ -99,10 +100,10 @@ private:
     Vec3 pos_{0.0}, vel_{0.0};
     bool have_pos_ = false;
     std::uint8_t grip_ = 0;
-    std::uint64_t ticks_ = 0;        // exchanges since open (device time = ticks_ * period)
-    std::uint64_t missed_run_ = 0;   // consecutive exchanges without a frame
-    bool fault_tick_ = false;        // this tick's frame was missed or malformed: the next command is zero
-    std::uint64_t ramp_ticks_ = 0;   // enabled ticks since the ramp (re)started
+    std::uint64_t ticks_ = 0;       // exchanges since open (device time = ticks_ * period)
+    std::uint64_t missed_run_ = 0;  // consecutive exchanges without a frame
+    bool fault_tick_ = false;       // this tick's frame was missed or malformed: the next command is zero
+    std::uint64_t ramp_ticks_ = 0;  // enabled ticks since the ramp (re)started
     bool vanished_ = false;
 };
 

@@ -82,7 +82,8 @@ TransferStatus FalconEmulator::bulk_out(std::span<const std::uint8_t> data, int,
     switch (mode_) {
         case Mode::kLoader: break;  // no loader session: bytes are lost
         case Mode::kHandshake:
-            if (baud_ == ftdi::kBaud9600 && std::equal(data.begin(), data.end(), kHandshakeQuery.begin(), kHandshakeQuery.end())) {
+            if (baud_ == ftdi::kBaud9600 &&
+                std::equal(data.begin(), data.end(), kHandshakeQuery.begin(), kHandshakeQuery.end())) {
                 if (silent_left_ > 0) {
                     --silent_left_;
                 } else {
@@ -113,8 +114,10 @@ TransferStatus FalconEmulator::bulk_out(std::span<const std::uint8_t> data, int,
                 if (partial_.empty() && b != kFrameStart) continue;
                 partial_.push_back(b);
                 if (partial_.size() < kFrameBytes) continue;
-                if (const auto c = decode_command(partial_)) on_command(*c);
-                else ++bad_commands_;
+                if (const auto c = decode_command(partial_))
+                    on_command(*c);
+                else
+                    ++bad_commands_;
                 partial_.clear();
             }
             break;
@@ -178,12 +181,14 @@ void FalconEmulator::on_command(const FalconCommand& c) {
         force_ = Vec3(0.0);
         if (c.homing_mode || pull_step_ > 0) {
             ++pull_step_;
-            const double phase = std::min(1.0, static_cast<double>(pull_step_) / std::max(1, cfg_.homing_pull_exchanges));
+            const double phase =
+                std::min(1.0, static_cast<double>(pull_step_) / std::max(1, cfg_.homing_pull_exchanges));
             const double out = cfg_.homing_pull_m * std::sin(kPi * phase);
             pos_ = home + Vec3(0.0, 0.0, out);
             // Motor i passes its index at (0.5 + 0.15 i) of the pull, on the way out.
             for (int i = 0; i < 3; ++i)
-                if (phase <= 0.5 && out >= (0.5 + 0.15 * i) * cfg_.homing_pull_m) homed_ |= static_cast<std::uint8_t>(1u << i);
+                if (phase <= 0.5 && out >= (0.5 + 0.15 * i) * cfg_.homing_pull_m)
+                    homed_ |= static_cast<std::uint8_t>(1u << i);
             // Once every index has passed, the hand lets go and the grip settles back at home; a pull that ends
             // without all three (a short pull) is repeated while the host asks for homing.
             if (homed_ == kAllHomed) {

@@ -28,14 +28,14 @@ namespace tridex::devices::falcon {
 /// Faults to inject; 0 disables each. Exchanges are counted from 1 over the whole life of the emulator (the
 /// driver's probes and homing count too: exchanges() says how many happened so far).
 struct FalconFaults {
-    int silent_handshakes = 0;   ///< the loader ignores this many handshake queries
-    int corrupt_echo_loads = 0;  ///< this many firmware loads get one echoed byte flipped
-    std::uint64_t torn_frame_at = 0;    ///< this exchange's state frame comes in two pieces: 7 bytes now, 9 next time
-    std::uint64_t bad_framing_at = 0;   ///< this exchange's state frame has its closing '>' replaced
-    std::uint64_t bad_payload_at = 0;   ///< this exchange's state frame has a payload byte out of range
-    std::uint64_t stall_at = 0;         ///< from this exchange on, stall_exchanges exchanges return no data (a stall)
+    int silent_handshakes = 0;         ///< the loader ignores this many handshake queries
+    int corrupt_echo_loads = 0;        ///< this many firmware loads get one echoed byte flipped
+    std::uint64_t torn_frame_at = 0;   ///< this exchange's state frame comes in two pieces: 7 bytes now, 9 next time
+    std::uint64_t bad_framing_at = 0;  ///< this exchange's state frame has its closing '>' replaced
+    std::uint64_t bad_payload_at = 0;  ///< this exchange's state frame has a payload byte out of range
+    std::uint64_t stall_at = 0;        ///< from this exchange on, stall_exchanges exchanges return no data (a stall)
     std::uint64_t stall_exchanges = 0;
-    std::uint64_t disconnect_at = 0;    ///< from this exchange on, the device is gone (unplugged mid-session)
+    std::uint64_t disconnect_at = 0;  ///< from this exchange on, the device is gone (unplugged mid-session)
 };
 
 /// The emulated unit.
@@ -47,8 +47,8 @@ struct FalconEmulatorConfig {
     double period_s = 1e-3;               ///< device time per command frame
     bool firmware_loaded = false;         ///< true: powered up with firmware running (as after an earlier session)
     std::array<std::int16_t, 3> power_on_offset{1234, -777, 321};  ///< encoder counts before homing, per motor
-    double homing_pull_m = 0.03;          ///< the scripted pull: out along +z by this much ...
-    int homing_pull_exchanges = 300;      ///< ... and back, over this many command frames
+    double homing_pull_m = 0.03;                                   ///< the scripted pull: out along +z by this much ...
+    int homing_pull_exchanges = 300;                               ///< ... and back, over this many command frames
     FalconFaults faults{};
 };
 
@@ -74,8 +74,8 @@ public:
     void unplug() { gone_ = true; }
 
     bool firmware_loaded() const { return mode_ == Mode::kRunning; }
-    int firmware_loads() const { return loads_; }          ///< firmware loads completed
-    std::size_t firmware_bytes() const { return fw_bytes_; } ///< bytes of the last load
+    int firmware_loads() const { return loads_; }             ///< firmware loads completed
+    std::size_t firmware_bytes() const { return fw_bytes_; }  ///< bytes of the last load
     std::uint64_t exchanges() const { return exchanges_; }
     std::uint64_t command_frames() const { return commands_; }
     std::uint64_t malformed_commands() const { return bad_commands_; }
@@ -106,8 +106,8 @@ private:
     bool corrupt_this_load_ = false;
     int loads_ = 0;
     std::size_t fw_bytes_ = 0;
-    std::deque<std::uint8_t> in_;       // data bytes waiting for the host
-    std::vector<std::uint8_t> partial_; // command bytes of a frame not complete yet
+    std::deque<std::uint8_t> in_;        // data bytes waiting for the host
+    std::vector<std::uint8_t> partial_;  // command bytes of a frame not complete yet
     std::uint64_t exchanges_ = 0, commands_ = 0, bad_commands_ = 0;
     std::uint64_t stall_left_ = 0;
     FalconCommand last_cmd_{};

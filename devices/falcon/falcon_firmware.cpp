@@ -30,7 +30,8 @@ Step write_all(FalconTransport& t, std::span<const std::uint8_t> data, int timeo
     std::size_t written = 0;
     const TransferStatus s = t.bulk_out(data, timeout_ms, written);
     if (s == TransferStatus::kNoDevice) return error = "the Falcon was unplugged", Step::kGone;
-    if (s != TransferStatus::kOk || written != data.size()) return error = std::string("bulk write ") + to_string(s), Step::kFailed;
+    if (s != TransferStatus::kOk || written != data.size())
+        return error = std::string("bulk write ") + to_string(s), Step::kFailed;
     return Step::kOk;
 }
 
@@ -44,7 +45,8 @@ Step read_data(FalconTransport& t, int timeout_ms, std::vector<std::uint8_t>& da
     if (s == TransferStatus::kTimeout) return Step::kOk;  // nothing came: the caller counts empty reads
     if (s != TransferStatus::kOk) return error = std::string("bulk read ") + to_string(s), Step::kFailed;
     std::span<const std::uint8_t> bytes;
-    if (split_in_packet(std::span<const std::uint8_t>(packet.data(), got), bytes)) data.assign(bytes.begin(), bytes.end());
+    if (split_in_packet(std::span<const std::uint8_t>(packet.data(), got), bytes))
+        data.assign(bytes.begin(), bytes.end());
     return Step::kOk;
 }
 
@@ -114,7 +116,8 @@ const char* to_string(TransferStatus s) {
     return "unknown";
 }
 
-FirmwareLoadReport load_firmware(FalconTransport& t, std::span<const std::uint8_t> image, const FirmwareLoadOptions& o) {
+FirmwareLoadReport load_firmware(FalconTransport& t, std::span<const std::uint8_t> image,
+                                 const FirmwareLoadOptions& o) {
     FirmwareLoadReport r;
     r.bytes = image.size();
     if (image.empty()) {
@@ -172,10 +175,14 @@ std::string firmware_missing_message() {
 std::vector<std::uint8_t> read_firmware_file(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
-        throw Error("--falcon-firmware: '" + path + "' is not a file (give the Falcon firmware from your own installation)");
+        throw Error("--falcon-firmware: '" + path +
+                    "' is not a file (give the Falcon firmware from your own installation)");
     const auto size = std::filesystem::file_size(path, ec);
     if (ec || size == 0 || size > 65536)
-        throw Error("--falcon-firmware: '" + path + "' is " + (ec ? "unreadable" : size == 0 ? "empty" : "larger than 64 KiB") +
+        throw Error("--falcon-firmware: '" + path + "' is " +
+                    (ec          ? "unreadable"
+                     : size == 0 ? "empty"
+                                 : "larger than 64 KiB") +
                     ": not a Falcon firmware image");
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
     std::ifstream in(path, std::ios::binary);

@@ -32,11 +32,11 @@ struct FirmwareLoadOptions {
 /// What a load did.
 struct FirmwareLoadReport {
     bool ok = false;
-    int attempts = 0;          ///< attempts made
-    int echo_mismatches = 0;   ///< attempts that failed the echo check
-    int handshake_failures = 0;///< attempts whose handshake never answered
-    std::size_t bytes = 0;     ///< image size
-    std::string error;         ///< why the last attempt failed ("" when ok)
+    int attempts = 0;            ///< attempts made
+    int echo_mismatches = 0;     ///< attempts that failed the echo check
+    int handshake_failures = 0;  ///< attempts whose handshake never answered
+    std::size_t bytes = 0;       ///< image size
+    std::string error;           ///< why the last attempt failed ("" when ok)
 };
 
 /// Loads `image` (never empty) through `transport` (open). Never throws; the report says what happened. A gone

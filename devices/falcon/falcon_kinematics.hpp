@@ -73,8 +73,8 @@ public:
 
     /// Result of forward kinematics.
     struct Forward {
-        Vec3 position{0.0};     ///< m
-        int iterations = 0;     ///< Newton steps taken
+        Vec3 position{0.0};         ///< m
+        int iterations = 0;         ///< Newton steps taken
         double residual_rad = 0.0;  ///< max |theta1(p) - theta1 wanted| at the end
         bool converged = false;
     };

@@ -31,9 +31,9 @@ bool framed(std::span<const std::uint8_t> f) {
 
 std::vector<FtdiRequest> firmware_mode_requests() {
     using namespace ftdi;
-    return {request(kReset, kPurgeRx),        request(kReset, kPurgeTx),     request(kLatencyTimer, kLatencyFirmware),
-            request(kBaudRate, kBaud9600),     request(kLineProps, kLine8N1), request(kFlowCtrl, 0),
-            request(kModemCtrl, kRtsLow),      request(kModemCtrl, kDtrLow),  request(kModemCtrl, kDtrHigh)};
+    return {request(kReset, kPurgeRx),     request(kReset, kPurgeTx),     request(kLatencyTimer, kLatencyFirmware),
+            request(kBaudRate, kBaud9600), request(kLineProps, kLine8N1), request(kFlowCtrl, 0),
+            request(kModemCtrl, kRtsLow),  request(kModemCtrl, kDtrLow),  request(kModemCtrl, kDtrHigh)};
 }
 
 std::vector<FtdiRequest> firmware_baud_requests() {
@@ -51,8 +51,8 @@ Frame encode_command(const FalconCommand& c) {
     Frame f{};
     f[0] = kFrameStart;
     for (int i = 0; i < 3; ++i) put_word(f, 1 + 4 * i, c.motor[i]);
-    f[13] = static_cast<std::uint8_t>(((c.leds & (kLedGreen | kLedBlue | kLedRed)) | (c.homing_mode ? kHomingModeBit : 0)) +
-                                      kNibbleBase);
+    f[13] = static_cast<std::uint8_t>(
+        ((c.leds & (kLedGreen | kLedBlue | kLedRed)) | (c.homing_mode ? kHomingModeBit : 0)) + kNibbleBase);
     f[14] = kNibbleBase;
     f[15] = kFrameEnd;
     return f;
@@ -98,15 +98,17 @@ std::optional<FalconState> StateFramer::feed(std::span<const std::uint8_t> data)
     std::optional<FalconState> newest;
     for (const std::uint8_t byte : data) {
         if (n_ == 0 && byte != kFrameStart) continue;  // skip to the next frame start
-        if (n_ > 0 && byte == kFrameStart) {         // a new frame starts inside a partial one: the partial is lost
+        if (n_ > 0 && byte == kFrameStart) {           // a new frame starts inside a partial one: the partial is lost
             ++malformed_;
             n_ = 0;
         }
         buf_[n_++] = byte;
         if (n_ < kFrameBytes && byte != kFrameEnd) continue;
         if (n_ == kFrameBytes) {
-            if (auto s = decode_state(buf_)) newest = s;
-            else ++malformed_;
+            if (auto s = decode_state(buf_))
+                newest = s;
+            else
+                ++malformed_;
         } else {
             ++malformed_;  // a '>' before 16 bytes: a short or corrupted frame
         }

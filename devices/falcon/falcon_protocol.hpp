@@ -41,12 +41,12 @@ struct FtdiRequest {
 
 /// The FTDI requests (libftdi's SIO_* numbering, as libnifalcon uses them).
 namespace ftdi {
-inline constexpr std::uint8_t kReset = 0;        ///< SIO_RESET: value 0 reset, 1 purge RX, 2 purge TX
-inline constexpr std::uint8_t kModemCtrl = 1;    ///< SIO_MODEM_CTRL: DTR/RTS
-inline constexpr std::uint8_t kFlowCtrl = 2;     ///< SIO_SET_FLOW_CTRL: 0 = none
-inline constexpr std::uint8_t kBaudRate = 3;     ///< SIO_SET_BAUD_RATE: value = divisor code
-inline constexpr std::uint8_t kLineProps = 4;    ///< SIO_SET_DATA: bits | parity << 8 | stop << 11
-inline constexpr std::uint8_t kLatencyTimer = 9; ///< latency timer, ms
+inline constexpr std::uint8_t kReset = 0;         ///< SIO_RESET: value 0 reset, 1 purge RX, 2 purge TX
+inline constexpr std::uint8_t kModemCtrl = 1;     ///< SIO_MODEM_CTRL: DTR/RTS
+inline constexpr std::uint8_t kFlowCtrl = 2;      ///< SIO_SET_FLOW_CTRL: 0 = none
+inline constexpr std::uint8_t kBaudRate = 3;      ///< SIO_SET_BAUD_RATE: value = divisor code
+inline constexpr std::uint8_t kLineProps = 4;     ///< SIO_SET_DATA: bits | parity << 8 | stop << 11
+inline constexpr std::uint8_t kLatencyTimer = 9;  ///< latency timer, ms
 
 inline constexpr std::uint16_t kResetSio = 0, kPurgeRx = 1, kPurgeTx = 2;
 /// Modem control values: the low byte sets the line, the high byte says which lines change.
@@ -83,7 +83,8 @@ inline constexpr int kHandshakeAttempts = 100;
 /// The two FTDI status bytes at the start of every IN packet.
 struct ModemStatus {
     std::uint8_t modem = 0;  ///< CTS 0x10, DSR 0x20, RI 0x40, DCD 0x80 (low nibble reserved)
-    std::uint8_t line = 0;   ///< line status: overrun 0x02, parity 0x04, framing 0x08, break 0x10, THRE 0x20, TEMT 0x40, FIFO error 0x80
+    std::uint8_t line =
+        0;  ///< line status: overrun 0x02, parity 0x04, framing 0x08, break 0x10, THRE 0x20, TEMT 0x40, FIFO error 0x80
     /// True when the line status reports a receive error (overrun, parity, framing, break or FIFO error).
     bool line_error() const { return (line & 0x9e) != 0; }
 };

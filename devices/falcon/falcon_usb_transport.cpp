@@ -15,7 +15,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-void LIBUSB_CALL transfer_cb(libusb_transfer* t) { static_cast<FalconUsbTransport*>(t->user_data)->on_transfer_done(t); }
+void LIBUSB_CALL transfer_cb(libusb_transfer* t) {
+    static_cast<FalconUsbTransport*>(t->user_data)->on_transfer_done(t);
+}
 
 int LIBUSB_CALL hotplug_cb(libusb_context*, libusb_device*, libusb_hotplug_event, void* user) {
     static_cast<FalconUsbTransport*>(user)->on_left();
@@ -37,7 +39,8 @@ const char* kUdevHint =
 
 }  // namespace
 
-FalconUsbTransport::FalconUsbTransport(std::string location, int index) : location_(std::move(location)), index_(index) {}
+FalconUsbTransport::FalconUsbTransport(std::string location, int index)
+    : location_(std::move(location)), index_(index) {}
 
 FalconUsbTransport::~FalconUsbTransport() { close(); }
 
@@ -157,8 +160,9 @@ TransferStatus FalconUsbTransport::bulk_in(std::span<std::uint8_t> packet, int t
     got = 0;
     if (!dev_) return TransferStatus::kError;
     int n = 0;
-    const int rc = libusb_bulk_transfer(dev_, kEndpointIn, packet.data(), static_cast<int>(std::min(packet.size(), kUsbPacketBytes)),
-                                        &n, static_cast<unsigned>(timeout_ms));
+    const int rc = libusb_bulk_transfer(dev_, kEndpointIn, packet.data(),
+                                        static_cast<int>(std::min(packet.size(), kUsbPacketBytes)), &n,
+                                        static_cast<unsigned>(timeout_ms));
     got = static_cast<std::size_t>(std::max(0, n));
     return map(rc);
 }
@@ -192,7 +196,8 @@ TransferStatus FalconUsbTransport::exchange(std::span<const std::uint8_t> out, s
     }
     // The IN read stays in flight across exchanges until it completes.
     if (!in_busy_ && !in_ready_) {
-        libusb_fill_bulk_transfer(in_, dev_, kEndpointIn, in_buf_, static_cast<int>(kUsbPacketBytes), transfer_cb, this, 0);
+        libusb_fill_bulk_transfer(in_, dev_, kEndpointIn, in_buf_, static_cast<int>(kUsbPacketBytes), transfer_cb, this,
+                                  0);
         const int rc = libusb_submit_transfer(in_);
         if (rc != 0) return map(rc);
         in_busy_ = true;
@@ -203,8 +208,10 @@ TransferStatus FalconUsbTransport::exchange(std::span<const std::uint8_t> out, s
         if (left <= 0) break;
         timeval tv{0, static_cast<suseconds_t>(left)};
         const int rc = libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
-        if (rc == LIBUSB_ERROR_NO_DEVICE) unplugged_ = true;
-        else if (rc != 0 && rc != LIBUSB_ERROR_INTERRUPTED) break;
+        if (rc == LIBUSB_ERROR_NO_DEVICE)
+            unplugged_ = true;
+        else if (rc != 0 && rc != LIBUSB_ERROR_INTERRUPTED)
+            break;
     }
     last_exchange_s_ = std::chrono::duration<double>(Clock::now() - t0).count();
     if (unplugged_) return TransferStatus::kNoDevice;

@@ -11,6 +11,7 @@
 #include "devices/falcon/falcon_device.hpp"
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"
+#include "devices/falcon/falcon_usb_transport.hpp"
 
 namespace tridex::devices::falcon {
 namespace {
@@ -55,7 +56,7 @@ TEST(FalconDevice, NoForceBeforeHomingAndLedsShowTheState) {
     ASSERT_TRUE(r.dev->read(s));
     EXPECT_EQ(r.emu->last_command().leds, kLedBlue);
     EXPECT_LT(glm::length(s.pose.position - FalconKinematics::home_m()), 1e-4);  // within an encoder count or two
-    r.dev->write(Vec3(0.0, 0.0, 3.0), Vec3(0.0));  // homed but not enabled: still zero
+    r.dev->write(Vec3(0.0, 0.0, 3.0), Vec3(0.0));                                // homed but not enabled: still zero
     ASSERT_TRUE(r.dev->read(s));
     EXPECT_TRUE(zero(r.emu->last_command()));
     r.dev->enable();
@@ -210,8 +211,20 @@ TEST(FalconDevice, RegistryMakesTheEmulatorAndRefusesAnAbsentFalcon) {
     DeviceState s;
     EXPECT_TRUE(dev->read(s));
     bool falcon_plugged = false;
-    for (const auto& [id, where] : usb_devices()) falcon_plugged = falcon_plugged || (id.vendor == 0x0403 && id.product == 0xcb48);
+    for (const auto& [id, where] : usb_devices())
+        falcon_plugged = falcon_plugged || (id.vendor == 0x0403 && id.product == 0xcb48);
     if (!falcon_plugged) {
+        // The libusb transport says in one line that none is there (or that USB cannot be used at all).
+        FalconUsbTransport usb;
+        try {
+            usb.open();
+            FAIL() << "opened a Falcon that is not plugged in";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("Novint Falcon"), std::string::npos) << e.what();
+        }
+        std::size_t got = 1;
+        EXPECT_EQ(usb.exchange({}, {}, 100, got), TransferStatus::kError);  // not open: refused, nothing read
+        EXPECT_EQ(got, 0u);
         try {
             (void)builtin_registry().create(DeviceSpec{"falcon", "falcon", ""}, in);
             FAIL() << "created a Falcon that is not plugged in";

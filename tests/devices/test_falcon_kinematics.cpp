@@ -19,8 +19,7 @@ void over_workspace(F&& f) {
     const int n = 10;
     for (int i = 0; i <= n; ++i)
         for (int j = 0; j <= n; ++j)
-            for (int k = 0; k <= n; ++k)
-                f(box.lo + (box.hi - box.lo) * Vec3(i, j, k) / double(n));
+            for (int k = 0; k <= n; ++k) f(box.lo + (box.hi - box.lo) * Vec3(i, j, k) / double(n));
 }
 
 Vec3 motor_angles(const FalconAngles& a) { return Vec3(a[0].theta1, a[1].theta1, a[2].theta1); }
@@ -37,8 +36,9 @@ TEST(FalconKinematics, ForwardOfInverseWithinAMicrometreOverTheWorkspace) {
         worst = std::max(worst, glm::length(fk.position - p));
         worst_it = std::max(worst_it, fk.iterations);
     });
-    std::printf("falcon kinematics: forward(inverse(p)) max error %.3g m over 1331 points, max %d Newton steps from home\n",
-                worst, worst_it);
+    std::printf(
+        "falcon kinematics: forward(inverse(p)) max error %.3g m over 1331 points, max %d Newton steps from home\n",
+        worst, worst_it);
     EXPECT_LT(worst, 1e-6);
 }
 
@@ -52,7 +52,8 @@ TEST(FalconKinematics, JacobianMatchesFiniteDifferences) {
             Vec3 e(0.0);
             e[d] = h;
             const Vec3 fd = (motor_angles(*k.inverse(p + e)) - motor_angles(*k.inverse(p - e))) / (2.0 * h);
-            for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(fd[i] - g[i][d]) / std::max(1.0, std::abs(g[i][d])));
+            for (int i = 0; i < 3; ++i)
+                worst = std::max(worst, std::abs(fd[i] - g[i][d]) / std::max(1.0, std::abs(g[i][d])));
         }
     });
     std::printf("falcon kinematics: Jacobian vs central differences (h = 1e-7 m), max relative error %.3g\n", worst);

@@ -18,7 +18,8 @@ TEST(FalconProtocol, CommandMatchesHandComputedBytes) {
     c.motor = {0x1234, -1, 0};
     c.leds = kLedGreen;
     c.homing_mode = true;
-    const std::vector<std::uint8_t> want{'<', 'E', 'D', 'C', 'B', 'P', 'P', 'P', 'P', 'A', 'A', 'A', 'A', 'D', 'A', '>'};
+    const std::vector<std::uint8_t> want{'<', 'E', 'D', 'C', 'B', 'P', 'P', 'P',
+                                         'P', 'A', 'A', 'A', 'A', 'D', 'A', '>'};
     EXPECT_EQ(bytes(encode_command(c)), want);
     const auto back = decode_command(want);
     ASSERT_TRUE(back);
@@ -27,14 +28,16 @@ TEST(FalconProtocol, CommandMatchesHandComputedBytes) {
     c = FalconCommand{{-32768, 32767, 1}, kLedRed | kLedBlue | kLedGreen, false};
     const Frame f = encode_command(c);
     EXPECT_EQ(f[13], 'O');
-    EXPECT_EQ((std::vector<std::uint8_t>(f.begin() + 1, f.begin() + 5)), (std::vector<std::uint8_t>{'A', 'A', 'A', 'I'}));  // 0x8000
+    EXPECT_EQ((std::vector<std::uint8_t>(f.begin() + 1, f.begin() + 5)),
+              (std::vector<std::uint8_t>{'A', 'A', 'A', 'I'}));  // 0x8000
     EXPECT_EQ(*decode_command(f), c);
 }
 
 TEST(FalconProtocol, StateMatchesHandComputedBytes) {
     // Encoders 0x00ff ('P','P','A','A'), -2 = 0xfffe ('O','P','P','P'), 0x0100 ('A','A','B','A'); homing 0b101,
     // grip 0b0011: byte 13 = 0x53 + 0x41 = 0x94.
-    const std::vector<std::uint8_t> wire{'<', 'P', 'P', 'A', 'A', 'O', 'P', 'P', 'P', 'A', 'A', 'B', 'A', 0x94, 'A', '>'};
+    const std::vector<std::uint8_t> wire{'<', 'P', 'P', 'A', 'A', 'O',  'P', 'P',
+                                         'P', 'A', 'A', 'B', 'A', 0x94, 'A', '>'};
     const auto s = decode_state(wire);
     ASSERT_TRUE(s);
     EXPECT_EQ(s->encoder[0], 0x00ff);
