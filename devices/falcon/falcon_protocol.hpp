@@ -132,7 +132,8 @@ Frame encode_state(const FalconState& s);
 std::optional<FalconState> decode_state(std::span<const std::uint8_t> frame);
 
 /// Reassembles state frames from the IN stream (data bytes after the modem bytes): bytes before a '<' are
-/// skipped, a '<' ... '>' of 16 bytes is a frame, anything else of that length is malformed. Holds at most one
+/// skipped, a '<' ... '>' of 16 bytes is a frame; a '>' too early, a '<' inside a frame (the partial one is
+/// dropped) or a bad payload byte makes a malformed frame. Holds at most one
 /// partial frame (a frame torn across two USB packets is completed by the next packet).
 class StateFramer {
 public:
