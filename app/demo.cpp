@@ -82,6 +82,11 @@ void run_demo(const DemoOptions& o) {
     }
     s.points = o.points;
     s.device = o.device;
+    if (o.device == "falcon" || o.device == "falcon-emulator") {  // the Falcon driver, real or over the emulator
+        s.device_driver = o.device;
+        s.device = "falcon";
+    }
+    s.device_firmware = o.falcon_firmware;
     s.workspace_mode = o.workspace;
     s.static_friction = o.static_friction;
     s.dynamic_friction = o.dynamic_friction;
@@ -89,6 +94,7 @@ void run_demo(const DemoOptions& o) {
     s.op = o.op;
     s.material = o.material;
     const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
+    if (s.device_driver == "falcon") (void)make_device(s, devices::DeviceInputs{});  // "none plugged in", at once
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model (or restore a saved model).
     Workpiece wp = prepare_session_workpiece(s);  // checksums of the mesh or model for a replay

@@ -22,7 +22,9 @@ struct DemoOptions {
     double tool_size_m = 0.012;    ///< mesh: longest side of the tool mesh's bounding box after scaling, m
     bool validate = false;         ///< enable VK_LAYER_KHRONOS_validation (also on with TRIDEX_VALIDATION=1)
     int points = 1;                ///< contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh
-    std::string device = "omni";   ///< simulated device profile: omni | wand | 6dof
+    /// simulated device profile: omni | wand | 6dof; or a Falcon: falcon (a real one over USB) | falcon-emulator
+    std::string device = "omni";
+    std::string falcon_firmware;  ///< --falcon-firmware: the Falcon firmware file from the user's own installation
     std::string workspace = "peng_moving";  ///< workspace technique: peng_moving | scaling | clutching | bubble
     double static_friction = 0.2;  ///< Coulomb friction on the proxy (static >= dynamic >= 0)
     double dynamic_friction = 0.15;

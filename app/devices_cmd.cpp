@@ -40,13 +40,15 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
         nlohmann::json where = nlohmann::json::array();
         for (const devices::DetectedDevice& s : seen)
             if (s.driver == d.name) where.push_back(s.location + " (" + devices::usb_id_string(s.id) + ")");
+        // A hardware driver is available only when this build has it and libusb finds a unit to drive.
         rows.push_back({{"name", d.summary},
                         {"driver", d.name},
                         {"dof", d.dof_out},
                         {"dof_in", d.dof_in},
                         {"dof_out", d.dof_out},
                         {"hardware", true},
-                        {"available", d.available},
+                        {"available", d.available && !where.empty()},
+                        {"driver_in_build", d.available},
                         {"detected", !where.empty()},
                         {"usb_ids", usb_list(d.usb_ids)},
                         {"locations", where},
@@ -60,7 +62,7 @@ std::string devices_text(const nlohmann::json& rows, const std::string& usb_erro
     char line[512];
     for (const nlohmann::json& r : rows) {
         if (r["hardware"].get<bool>()) continue;
-        std::snprintf(line, sizeof line, "  %-10s %-8s %-28s %d-DOF in, %d-DOF force out\n",
+        std::snprintf(line, sizeof line, "  %-16s %-8s %-28s %d-DOF in, %d-DOF force out\n",
                       r["driver"].get<std::string>().c_str(), r["profile"].get<std::string>().c_str(),
                       r["name"].get<std::string>().c_str(), r["dof_in"].get<int>(), r["dof_out"].get<int>());
         out += line;
@@ -73,8 +75,8 @@ std::string devices_text(const nlohmann::json& rows, const std::string& usb_erro
         std::string state = r["detected"].get<bool>() ? "plugged in at " : "not plugged in";
         for (std::size_t i = 0; i < r["locations"].size(); ++i)
             state += (i ? ", " : "") + r["locations"][i].get<std::string>();
-        const std::string driver = r["available"].get<bool>() ? "driver '" + r["driver"].get<std::string>() + "'"
-                                                              : "no driver in this build yet";
+        const std::string driver = r.value("driver_in_build", false) ? "driver '" + r["driver"].get<std::string>() + "'"
+                                                                     : "no driver in this build yet";
         std::snprintf(line, sizeof line, "  %-34s USB %s: %s; %s\n", r["name"].get<std::string>().c_str(), ids.c_str(),
                       state.c_str(), driver.c_str());
         out += line;

@@ -72,7 +72,14 @@ int main(int argc, char** argv) {
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
     demo_cmd->add_option("--points", demo.points, "Contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh")
         ->capture_default_str();
-    demo_cmd->add_option("--device", demo.device, "Simulated device profile: omni, wand (5-DOF) or 6dof")->capture_default_str();
+    demo_cmd
+        ->add_option("--device", demo.device,
+                     "Simulated device profile: omni, wand (5-DOF) or 6dof; or falcon (a Novint Falcon over USB) or "
+                     "falcon-emulator (the Falcon driver over an emulated Falcon)")
+        ->capture_default_str();
+    demo_cmd->add_option(
+        "--falcon-firmware", demo.falcon_firmware,
+        "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
     demo_cmd->add_option("--workspace", demo.workspace, "Workspace technique: peng_moving, scaling, clutching or bubble")
         ->capture_default_str();
     demo_cmd->add_option("--static-friction", demo.static_friction, "Coulomb static friction coefficient")->capture_default_str();

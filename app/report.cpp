@@ -157,6 +157,17 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
               {"writes_clamped", device_status.writes_clamped}}}};
 }
 
+nlohmann::json device_link_json(const devices::DeviceLinkStats& link) {
+    if (link.exchanges == 0) return nullptr;
+    return {{"exchanges", link.exchanges},
+            {"missed_frames", link.missed_frames},
+            {"malformed_frames", link.malformed_frames},
+            {"zeroed_ticks", link.zeroed_ticks},
+            {"exchange_us", {{"mean", 1e6 * link.exchange_mean_s}, {"max", 1e6 * link.exchange_max_s}}},
+            {"homed_at_s", link.homed_at_s},
+            {"firmware_attempts", link.firmware_attempts}};
+}
+
 void write_report_json(const std::string& path, const DemoReport& r) {
     const auto& recs = *r.records;
     // The first period has no predecessor; skip it in the period statistics.
@@ -195,6 +206,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     j["haptics"] = haptics_report_json(*r.settings, r.loop, recs, r.session_s, r.device_profile, r.max_force_n,
                                        r.device_status);
     j["haptics"]["stiffness_n_per_m"] = r.stiffness_n_per_m;
+    if (r.device_link.exchanges > 0) j["haptics"]["device_link"] = device_link_json(r.device_link);
     j["sculpt"] = {{"samples", r.sculpt->samples},
                    {"steps", r.sculpt->steps},
                    {"rays_changed", r.sculpt->rays_changed},
@@ -232,6 +244,13 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
         std::printf("  %s ended the session early; the outputs hold the model as it was then\n", r.stopped_by.c_str());
     std::printf("  haptic loop: %zu ticks, period median %.1f us, p99 %.1f us; tick compute median %.2f us, p99 %.2f us\n",
                 recs.size(), period.median, period.p99, compute.median, compute.p99);
+    if (r.device_link.exchanges > 0)
+        std::printf(
+            "  device link: homed at %.3f s; %llu exchanges, mean %.1f us, max %.1f us; %llu missed, %llu malformed\n",
+            r.device_link.homed_at_s, static_cast<unsigned long long>(r.device_link.exchanges),
+            1e6 * r.device_link.exchange_mean_s, 1e6 * r.device_link.exchange_max_s,
+            static_cast<unsigned long long>(r.device_link.missed_frames),
+            static_cast<unsigned long long>(r.device_link.malformed_frames));
     const double removed_cm3 = (r.volume_dexel_m3 - r.volume_after_m3) * 1e6;
     std::printf("  sculpt: %llu Booleans, %llu tiles re-contoured; %s %.3f cm^3 (workpiece %.3f cm^3)\n",
                 static_cast<unsigned long long>(r.sculpt->booleans),

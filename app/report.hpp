@@ -44,6 +44,7 @@ struct DemoReport {
     const SessionSpec* settings = nullptr;///< the session's settings; not owned, non-null
     std::string device_profile;               ///< haptic device profile name
     devices::DeviceStatus device_status;      ///< the device's status channel at the end
+    devices::DeviceLinkStats device_link;     ///< the driver's transport measurements (exchanges = 0: none)
     std::string stopped_by;                   ///< "SIGINT" / "SIGTERM" when a signal ended the session early
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
@@ -96,6 +97,11 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
                                    const std::vector<haptics::TickRecord>& records, double session_s,
                                    const std::string& device_profile, double device_max_force_n,
                                    const devices::DeviceStatus& device_status);
+
+/// The `haptics.device_link` block of report.json for a driver with a transport (the Falcon): {exchanges,
+/// missed_frames, malformed_frames, zeroed_ticks, exchange_us {mean, max}, homed_at_s, firmware_attempts}; null when
+/// the driver has none (link.exchanges == 0).
+nlohmann::json device_link_json(const devices::DeviceLinkStats& link);
 
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);

@@ -39,6 +39,9 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
+    cmd->add_option(
+        "--falcon-firmware", o.falcon_firmware,
+        "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
     cmd->add_option("--save", o.save, "Save the final model to FILE.tdx (a later session or `tridex export` starts from it)");
     auto* journal = cmd->add_option("--journal", o.journal,
                                     "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");

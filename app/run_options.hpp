@@ -62,6 +62,9 @@ struct RunOptions {
     double checkpoint_s = 120.0;
     /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes); 0 = the scene's (256 MiB).
     double history_mib = 0.0;
+    /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
+    /// Falcon has none running); "" = the scene's device.firmware.
+    std::string falcon_firmware;
 };
 
 }  // namespace tridex::app

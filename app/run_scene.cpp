@@ -216,11 +216,24 @@ void read_device(Fields& top, RunScene& s) {
         f.fail("device.driver", "'" + s.spec.device_driver + "' is known hardware without a driver in this build yet; use " + usable);
     else if (!known)
         f.fail("device.driver", "'" + s.spec.device_driver + "' is not a driver; use " + usable);
+    // Hardware: refuse at once, with one line, when none is plugged in (libusb enumeration).
+    if (known && available && s.spec.device_driver == "falcon") {
+        bool plugged = false;
+        for (const devices::DetectedDevice& d : devices::builtin_registry().detect())
+            plugged = plugged || d.driver == "falcon";
+        if (!plugged)
+            f.fail("device.driver",
+                   "'falcon': no Novint Falcon is plugged in (USB 0403:cb48; `tridex devices` lists "
+                   "what is); falcon-emulator runs the same driver without one");
+    }
     s.spec.device = f.text("profile", s.spec.device);
+    // The Falcon drivers drive the Falcon's own profile, whatever the scene says.
+    if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
+    s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
     try {
         (void)device_profile(s.spec.device);
     } catch (const Error&) {
-        f.fail("device.profile", "'" + s.spec.device + "' is not one of omni, wand, 6dof");
+        f.fail("device.profile", "'" + s.spec.device + "' is not one of omni, wand, 6dof, falcon");
     }
     f.finish();
 }

@@ -118,6 +118,7 @@ RunSetup resolve_run(const RunOptions& o) {
             throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
         s.scene.spec.history_budget_bytes = static_cast<std::size_t>(o.history_mib * 1048576.0);
     }
+    if (!o.falcon_firmware.empty()) s.scene.spec.device_firmware = o.falcon_firmware;
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {
         try {
@@ -370,6 +371,8 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.tool = tool_json(r.spec);
     r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
                                     backend.runtime().profile().max_force_n, backend.runtime().device_status());
+    if (const devices::DeviceLinkStats link = backend.runtime().device_link(); link.exchanges > 0)
+        r.haptics["device_link"] = device_link_json(link);
 
     // 5. Outputs.
     fs::create_directories(su.out);

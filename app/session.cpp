@@ -178,6 +178,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.settings = &settings;
     r.device_profile = profile.name;
     r.device_status = run.runtime->device_status();
+    r.device_link = run.runtime->device_link();
     r.stopped_by = run.stopped_by;
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;

@@ -160,6 +160,8 @@ public:
     const devices::DeviceProfile& profile() const { return device_->profile(); }  ///< the device's
     /// The device's status channel (lifecycle state, faults, gated and clamped writes); any thread.
     devices::DeviceStatus device_status() const { return device_->status(); }
+    /// The driver's transport measurements (read after stop()).
+    devices::DeviceLinkStats device_link() const { return device_->link_stats(); }
     const Workpiece& workpiece() const { return wp_; }                    ///< the model (read after stop())
     const BackendChoice& booleans() const { return booleans_; }           ///< where the Booleans run and why
     /// The GPU contour a renderer draws (GpuContourShare::lock_frame), or nullptr when contouring on the CPU.

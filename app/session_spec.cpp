@@ -25,7 +25,7 @@ devices::DeviceProfile device_profile(const std::string& name) {
     try {
         return devices::profile_by_name(name);
     } catch (const Error&) {
-        throw Error("--device: unknown device '" + name + "'; use omni, wand or 6dof");
+        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof or falcon");
     }
 }
 
@@ -33,7 +33,10 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
     devices::DeviceSpec d;
     d.driver = s.device_driver;
     d.profile = s.device;
-    return devices::builtin_registry().create(d, inputs);
+    if (s.device_firmware.empty()) return devices::builtin_registry().create(d, inputs);
+    devices::DeviceInputs in = inputs;
+    in.falcon_firmware = s.device_firmware;
+    return devices::builtin_registry().create(d, in);
 }
 
 ToolOp parse_tool_op(const std::string& name) {
@@ -151,7 +154,7 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     try {
         (void)devices::profile_by_name(s.device);
     } catch (const Error&) {
-        fail("device", "must be omni, wand or 6dof", "'" + s.device + "'");
+        fail("device", "must be omni, wand, 6dof or falcon", "'" + s.device + "'");
     }
     range("workspace_scale", s.workspace_scale, 0.0, 100.0, true);
     range("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);

@@ -57,7 +57,10 @@ struct SessionSpec {
     /// 1 = 32 points over its surface, 8..64 that many.
     int points = 1;
     std::string device_driver = "simulated"; ///< device driver by registry name (simulated; replay when replaying)
-    std::string device = "omni";             ///< device profile: omni | wand | 6dof
+    std::string device = "omni";             ///< device profile: omni | wand | 6dof | falcon
+    /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's device.firmware).
+    /// Where the firmware comes from does not decide the result, so it is not part of the spec's JSON.
+    std::string device_firmware;
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
     double workspace_scale = 1.0;            ///< device -> world gain
     /// World position of the device frame's origin, m (the loop's device_to_world.position). Sessions put

@@ -53,6 +53,18 @@ DeviceProfile generic_6dof() {
     return p;
 }
 
+DeviceProfile novint_falcon() {
+    DeviceProfile p;
+    p.name = "Novint Falcon";
+    p.workspace_m = Aabb{Vec3(-0.04, -0.04, 0.075), Vec3(0.04, 0.04, 0.155)};
+    p.max_force_n = 8.9;
+    p.max_torque_nm = 0.0;
+    p.max_stiffness_n_per_m = 1000.0;
+    p.dof_in = 3;
+    p.dof_out = 3;
+    return p;
+}
+
 Vec3 home_position_m(const DeviceProfile& profile) {
     return profile.workspace_m.empty() ? Vec3(0.0) : profile.workspace_m.centre();
 }

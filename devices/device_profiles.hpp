@@ -27,6 +27,16 @@ DeviceProfile quanser_wand_5dof();
 /// stable stiffness, 6-DOF sensing and output.
 DeviceProfile generic_6dof();
 
+/// Novint Falcon (3-DOF delta haptic device, USB; driven by devices/falcon/). Novint's published figures: a 4 x 4 x 4
+/// inch (0.1 m) workspace, force capabilities over 2 lbf (8.9 N), position resolution over 400 dpi. Device frame:
+/// libnifalcon's (devices/falcon/falcon_kinematics.hpp: x right, y up, z toward the user, origin at the base).
+/// workspace_m: the 80 mm cube x, y in [-0.04, 0.04], z in [0.075, 0.155] m around the grip's rest position
+/// (0, 0, 0.115): the corners of a 4-inch cube are out of the legs' reach, this cube is reachable with a
+/// well-conditioned Jacobian everywhere (checked in tests/devices/test_falcon_kinematics.cpp). max_force_n = 8.9 N
+/// (the published "over 2 lbf"; a peak figure: no continuous rating is published). max_stiffness_n_per_m = 1000 N/m is
+/// an assumption (no stiffness is published). Position sensing only (dof_in = 3), force output (dof_out = 3).
+DeviceProfile novint_falcon();
+
 /// Where a device's stylus rests at home, device frame, m: the centre of profile.workspace_m (the device
 /// origin for an empty box). A scripted hand's path and the workspace mapping are placed around it, so a
 /// device whose workspace is not centred on its origin (the Quanser wand) starts inside its workspace.

@@ -9,6 +9,10 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
+#include "devices/falcon/falcon_device.hpp"
+#include "devices/falcon/falcon_emulator.hpp"
+#include "devices/falcon/falcon_firmware.hpp"
+#include "devices/falcon/falcon_usb_transport.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 
@@ -20,8 +24,10 @@ struct NamedProfile {
     const char* name;
     DeviceProfile (*make)();
 };
-const NamedProfile kProfiles[] = {
-    {"omni", &DeviceProfile::phantom_omni}, {"wand", &quanser_wand_5dof}, {"6dof", &generic_6dof}};
+const NamedProfile kProfiles[] = {{"omni", &DeviceProfile::phantom_omni},
+                                  {"wand", &quanser_wand_5dof},
+                                  {"6dof", &generic_6dof},
+                                  {"falcon", &novint_falcon}};
 
 std::string join(const std::vector<std::string>& names) {
     std::string out;
@@ -40,7 +46,7 @@ std::string hex4(std::uint16_t v) {
 DeviceProfile profile_by_name(const std::string& name) {
     for (const NamedProfile& p : kProfiles)
         if (name == p.name) return p.make();
-    throw Error("device.profile: unknown profile '" + name + "'; use omni, wand or 6dof");
+    throw Error("device.profile: unknown profile '" + name + "'; use omni, wand, 6dof or falcon");
 }
 
 std::string profile_name_of(const std::string& product) {
@@ -122,8 +128,13 @@ const DeviceRegistry& builtin_registry() {
         DeviceRegistry r;
         DriverInfo sim{"simulated",
                        "closed-loop virtual hand on a simulated device (profiles: omni = PHANTOM Omni, wand = Quanser "
-                       "5-DOF wand, 6dof = generic 6-DOF)",
-                       false, true, {"omni", "wand", "6dof"}, {}, 6, 3};
+                       "5-DOF wand, 6dof = generic 6-DOF, falcon = Novint Falcon)",
+                       false,
+                       true,
+                       {"omni", "wand", "6dof", "falcon"},
+                       {},
+                       6,
+                       3};
         r.add(sim, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             DeviceProfile profile = profile_by_name(spec.profile);
             ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
@@ -132,15 +143,54 @@ const DeviceRegistry& builtin_registry() {
             if (in.buttons) dev->set_button_script(*in.buttons);
             return dev;
         });
-        DriverInfo replay{"replay", "plays a recording's device samples back (tridex replay)", false, true,
-                          {"omni", "wand", "6dof"}, {}, 6, 3};
+        DriverInfo replay{"replay",
+                          "plays a recording's device samples back (tridex replay)",
+                          false,
+                          true,
+                          {"omni", "wand", "6dof", "falcon"},
+                          {},
+                          6,
+                          3};
         r.add(replay, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             return std::make_unique<ReplayDevice>(profile_by_name(spec.profile), in.samples);
         });
-        // Known hardware without a driver yet: listed so `tridex devices` tells the user it was seen. USB ids of
-        // the Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules).
-        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB)", true, false, {}, {{0x0403, 0xcb48}}, 3, 3};
-        r.add(falcon, nullptr);
+        // The Novint Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules), over libusb-1.0.
+        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB)",        true, true,
+                          {},       {{falcon::kVendorId, falcon::kProductId}}, 3,    3};
+        r.add(falcon, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            bool plugged = false;
+            for (const auto& [id, where] : usb_devices())
+                plugged = plugged || (id.vendor == falcon::kVendorId && id.product == falcon::kProductId &&
+                                      (spec.serial.empty() || where == spec.serial));
+            if (!plugged)
+                throw Error("device.driver: no Novint Falcon is plugged in (USB 0403:cb48" +
+                            (spec.serial.empty() ? std::string() : " at " + spec.serial) +
+                            "); `tridex devices` lists what is; --device falcon-emulator runs without one");
+            falcon::FalconDeviceOptions o;
+            o.firmware_path = in.falcon_firmware;
+            o.period_s = in.period_s;
+            return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconUsbTransport>(spec.serial), o);
+        });
+        DriverInfo emulator{
+            "falcon-emulator",
+            "the Falcon driver over an emulated Falcon (protocol, firmware load, homing), its grip held by "
+            "the simulated hand",
+            false,
+            true,
+            {"falcon"},
+            {},
+            3,
+            3};
+        r.add(emulator, [](const DeviceSpec&, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            falcon::FalconEmulatorConfig c;
+            c.hand_path = in.hand_path;
+            c.buttons = in.buttons;
+            c.period_s = in.period_s;
+            falcon::FalconDeviceOptions o;
+            o.firmware_image = falcon::emulator_firmware_image();  // generated; never a vendor binary
+            o.period_s = in.period_s;
+            return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconEmulator>(std::move(c)), o);
+        });
         return r;
     }();
     return registry;

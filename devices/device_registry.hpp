@@ -38,8 +38,8 @@ namespace tridex::devices {
 /// Which device a session uses: what a scene's "device" object and the demo's --device flag give.
 struct DeviceSpec {
     std::string driver = "simulated";  ///< a registered driver name (simulated, replay, ...)
-    std::string profile = "omni";      ///< device profile for drivers that take one (omni, wand, 6dof)
-    std::string serial;                ///< which unit of a hardware driver ("" = the first one found)
+    std::string profile = "omni";      ///< device profile for drivers that take one (omni, wand, 6dof, falcon)
+    std::string serial;  ///< which unit of a hardware driver ("" = the first one found; falcon: "bus B port P.Q")
 };
 
 /// What a session hands a driver besides its spec: the loop period and, for the software drivers, their input.
@@ -48,6 +48,9 @@ struct DeviceInputs {
     std::optional<ScriptedPath> hand_path;  ///< simulated: the virtual hand's target path, device frame (m)
     std::optional<ButtonScript> buttons;    ///< simulated: the buttons the hand presses, in device time
     std::vector<DeviceState> samples;       ///< replay: the recorded samples, in order
+    /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's "device.firmware");
+    /// "" = none (the driver then says in one line what it needs when the Falcon has no firmware running).
+    std::string falcon_firmware;
 };
 
 /// A USB vendor and product id pair.
@@ -110,15 +113,17 @@ private:
     std::vector<Entry> entries_;
 };
 
-/// The drivers this build has: `simulated` (the closed-loop virtual hand, profiles omni, wand, 6dof), `replay`
-/// (recorded samples) and the known hardware (Novint Falcon, USB 0403:cb48) listed as not yet available.
+/// The drivers this build has: `simulated` (the closed-loop virtual hand, profiles omni, wand, 6dof, falcon),
+/// `replay` (recorded samples), `falcon` (a Novint Falcon over libusb-1.0, USB 0403:cb48: creating it throws
+/// "no Novint Falcon is plugged in" when libusb finds none) and `falcon-emulator` (the same driver over the in-memory
+/// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path).
 const DeviceRegistry& builtin_registry();
 
-/// The profile named `name` (omni, wand, 6dof); throws tridex::Error "device.profile: unknown profile 'x'; use
-/// omni, wand or 6dof".
+/// The profile named `name` (omni, wand, 6dof, falcon); throws tridex::Error "device.profile: unknown profile 'x'; use
+/// omni, wand, 6dof or falcon".
 DeviceProfile profile_by_name(const std::string& name);
 
-/// The profile name (omni, wand, 6dof) whose DeviceProfile::name is `product` (a recording's device_name), or
+/// The profile name (omni, wand, 6dof, falcon) whose DeviceProfile::name is `product` (a recording's device_name), or
 /// "" when none is.
 std::string profile_name_of(const std::string& product);
 

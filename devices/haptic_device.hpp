@@ -84,6 +84,18 @@ struct DeviceStatus {
     std::uint64_t writes_clamped = 0;     ///< writes cut to the profile's limits (or zeroed for non-finite values)
 };
 
+/// What a driver with a transport (USB, network) measured on it; drivers without one report exchanges = 0.
+struct DeviceLinkStats {
+    std::uint64_t exchanges = 0;         ///< exchanges (one per read) in the loop
+    std::uint64_t missed_frames = 0;     ///< exchanges that brought no well-formed sample
+    std::uint64_t malformed_frames = 0;  ///< frames refused as malformed
+    std::uint64_t zeroed_ticks = 0;      ///< ticks whose force was forced to zero by a link fault
+    double exchange_mean_s = 0.0;        ///< exchange time (send to sample), mean and max, s
+    double exchange_max_s = 0.0;
+    double homed_at_s = -1.0;   ///< device time from open() at which homing finished, s; -1 = none reported
+    int firmware_attempts = 0;  ///< firmware-load attempts at open() (0: none needed)
+};
+
 /// Abstract haptic device (CHAI3D/HAPI style: one interface for hardware, simulated and replayed devices).
 ///
 /// Lifecycle (what real hardware needs): open() connects, home() calibrates the position sensors (a Falcon
@@ -142,6 +154,8 @@ public:
     void raise_fault(std::uint32_t faults) { faults_.fetch_or(faults, std::memory_order_acq_rel); }
     /// Clears every fault bit (after the user has seen them).
     void clear_faults() { faults_.store(kFaultNone, std::memory_order_release); }
+    /// The driver's transport measurements (not thread-safe: read after the loop stopped); none by default.
+    virtual DeviceLinkStats link_stats() const { return {}; }
 
 protected:
     /// Driver hook of open(): connect. Throw tridex::Error naming the device on failure.

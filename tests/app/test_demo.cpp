@@ -208,6 +208,36 @@ TEST(Demo, LavapipeContoursOnTheCpuByDefault) {
     fs::remove_all(out);
 }
 
+// The Falcon driver end to end over its emulator: firmware load, homing, the 1 kHz exchange, a carved groove.
+TEST(Demo, FalconEmulatorRunsTheDemo) {
+    const fs::path out = fs::temp_directory_path() / "tridex-test-demo-falcon";
+    fs::remove_all(out);
+    const RunResult r = run_tridex(
+        "demo --device falcon-emulator --resolution 64 --seconds 1.5 --width 160 --height 120 "
+        "--validate --out " +
+            out.string(),
+        out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream rf(out / "report.json");
+    const nlohmann::json j = nlohmann::json::parse(rf);
+    const nlohmann::json& h = j["haptics"];
+    EXPECT_EQ(h["device"], "Novint Falcon");
+    EXPECT_EQ(h["device_driver"], "falcon-emulator");
+    EXPECT_EQ(h["device_status"]["faults"], "none");
+    EXPECT_GT(h["contact_ticks"].get<long>(), 0);
+    EXPECT_GT(h["device_link"]["homed_at_s"].get<double>(), 0.0);
+    EXPECT_EQ(h["device_link"]["missed_frames"].get<long>(), 0);
+    EXPECT_GT(j["volume_removed_m3"].get<double>(), 0.0);
+    EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
+    // Without a Falcon plugged in, --device falcon says so in one line.
+    const RunResult none = run_tridex("demo --device falcon --out " + out.string(), out);
+    if (none.exit_code != 0) {  // (a machine with a Falcon plugged in runs the demo on it instead)
+        EXPECT_EQ(none.exit_code, 2) << none.err;
+        EXPECT_NE(none.err.find("Novint Falcon"), std::string::npos) << none.err;
+    }
+    fs::remove_all(out);
+}
+
 std::string file_bytes(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     std::stringstream ss;

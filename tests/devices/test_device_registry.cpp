@@ -52,10 +52,20 @@ TEST(DeviceRegistry, RefusesUnknownDriversProfilesAndHardwareWithoutADriver) {
     const std::string unknown = message_of([&] { (void)r.create(DeviceSpec{"phantom", "omni", ""}, {}); });
     EXPECT_NE(unknown.find("device.driver: unknown driver 'phantom'"), std::string::npos) << unknown;
     EXPECT_NE(unknown.find("simulated, replay"), std::string::npos) << unknown;
-    const std::string profile = message_of([&] { (void)r.create(DeviceSpec{"simulated", "falcon", ""}, {}); });
-    EXPECT_NE(profile.find("device.profile: unknown profile 'falcon'"), std::string::npos) << profile;
-    const std::string falcon = message_of([&] { (void)r.create(DeviceSpec{"falcon", "", ""}, {}); });
-    EXPECT_NE(falcon.find("not available in this build"), std::string::npos) << falcon;
+    const std::string profile = message_of([&] { (void)r.create(DeviceSpec{"simulated", "premium", ""}, {}); });
+    EXPECT_NE(profile.find("device.profile: unknown profile 'premium'"), std::string::npos) << profile;
+    // Hardware with a driver but none plugged in (a container has no Falcon; skipped when one is plugged in).
+    bool plugged = false;
+    for (const auto& [id, where] : usb_devices()) plugged = plugged || usb_id_string(id) == "0403:cb48";
+    if (!plugged) {
+        const std::string falcon = message_of([&] { (void)r.create(DeviceSpec{"falcon", "", ""}, {}); });
+        EXPECT_NE(falcon.find("no Novint Falcon is plugged in"), std::string::npos) << falcon;
+    }
+    // Hardware without a driver in this build is refused by name.
+    DeviceRegistry mine;
+    mine.add(DriverInfo{"gadget", "a known gadget", true, false, {}, {{0x1234, 0x5678}}, 3, 3}, nullptr);
+    const std::string gadget = message_of([&] { (void)mine.create(DeviceSpec{"gadget", "", ""}, {}); });
+    EXPECT_NE(gadget.find("not available in this build"), std::string::npos) << gadget;
 }
 
 TEST(DeviceRegistry, ListsDriversAndRefusesDuplicates) {
