@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
+#include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 
@@ -136,6 +137,16 @@ const DeviceRegistry& builtin_registry() {
                           {"omni", "wand", "6dof"}, {}, 6, 3};
         r.add(replay, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             return std::make_unique<ReplayDevice>(profile_by_name(spec.profile), in.samples);
+        });
+        DriverInfo mouse{"mouse",
+                         "the desk mouse as a virtual stylus: the app sets the hand from the cursor (no forces; the "
+                         "profile's limits still bound what the loop sends)",
+                         false, true, {"omni", "wand", "6dof"}, {}, 3, 3};
+        r.add(mouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            DeviceProfile profile = profile_by_name(spec.profile);
+            profile.name = "mouse (" + profile.name + " limits)";
+            const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
+            return std::make_unique<MouseDevice>(std::move(profile), start, in.period_s);
         });
         // Known hardware without a driver yet: listed so `tridex devices` tells the user it was seen. USB ids of
         // the Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules).
