@@ -17,6 +17,10 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
         "run", "A stereo session: haptic loop + sculpt thread + rendering in a window, fullscreen or offscreen");
     cmd->add_option("scene", o.scene, "Scene file (JSON); default: assets/default_scene.json");
     cmd->add_option("--display", o.display, "window | fullscreen | offscreen")->capture_default_str();
+    cmd->add_option("--device", o.device,
+                    "Device driver replacing the scene's: simulated (the scripted hand) | mouse (the mouse is the "
+                    "stylus: left button carves, right = stylus button, wheel = depth, 1/2/3 = subtract/union/paint, "
+                    "Alt + mouse navigates)");
     cmd->add_option("--stereo", o.stereo, "Stereo output: " + renderer::stereo_output_names() +
                                               " (default: the display config's)");
     cmd->add_option("--monitor", o.monitor, "Fullscreen monitor: index or part of its name (default: primary)");

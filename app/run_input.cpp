@@ -44,6 +44,7 @@ void RunInput::handle(const renderer::InputEvent& e) {
     switch (e.type) {
         case InputType::kKey: {
             if (e.key == Key::kLeftShift || e.key == Key::kRightShift) shift_ = e.action != InputAction::kRelease;
+            if (e.key == Key::kLeftAlt || e.key == Key::kRightAlt) alt_ = e.action != InputAction::kRelease;
             if ((e.modifiers & renderer::modifier::kControl) != 0 && e.action != InputAction::kRelease) {
                 const bool with_shift = (e.modifiers & renderer::modifier::kShift) != 0;
                 if (e.key == Key::kZ) requests_.push_back(with_shift ? SculptRequest::kRedo : SculptRequest::kUndo);
@@ -53,6 +54,11 @@ void RunInput::handle(const renderer::InputEvent& e) {
             }
             if (e.action == InputAction::kRepeat) return;
             const bool pressed = e.action == InputAction::kPress;
+            if (stylus_ && pressed && e.modifiers == 0) {
+                if (e.key == Key::k1) return stylus_->set_op(ToolOp::kSubtract);
+                if (e.key == Key::k2) return stylus_->set_op(ToolOp::kUnion);
+                if (e.key == Key::k3) return stylus_->set_op(ToolOp::kPaint);
+            }
             MoveKey mk;
             if (move_key(e.key, mk)) {
                 if (head_) head_->key(mk, pressed);
@@ -68,6 +74,15 @@ void RunInput::handle(const renderer::InputEvent& e) {
         }
         case InputType::kMouseButton: {
             const bool down = e.action != InputAction::kRelease;
+            if (stylus_) {
+                stylus_->set_cursor(e.x_px, e.y_px);
+                const bool alt = (e.modifiers & renderer::modifier::kAlt) != 0;
+                alt_ = alt;
+                // A press goes to the stylus unless Alt is held; a release ends whichever it started.
+                if (e.button == renderer::MouseButton::kLeft && (!down || !alt)) stylus_->set_left(down);
+                if (e.button == renderer::MouseButton::kRight && (!down || !alt)) stylus_->set_right(down);
+                if (down && !alt && e.button != renderer::MouseButton::kMiddle) return;
+            }
             if (e.button == renderer::MouseButton::kLeft) left_ = down;
             if (e.button == renderer::MouseButton::kRight) right_ = down;
             if (e.button == renderer::MouseButton::kMiddle) middle_ = down;
@@ -75,6 +90,7 @@ void RunInput::handle(const renderer::InputEvent& e) {
             return;
         }
         case InputType::kMouseMove: {
+            if (stylus_) stylus_->set_cursor(e.x_px, e.y_px);
             if (!std::isfinite(e.dx_px) || !std::isfinite(e.dy_px)) return;
             if (middle_ || (left_ && shift_))
                 renderer::mouse_pan(nav_, mouse_, e.dx_px, e.dy_px);
@@ -85,6 +101,10 @@ void RunInput::handle(const renderer::InputEvent& e) {
             return;
         }
         case InputType::kScroll:
+            if (stylus_ && !alt_) {  // scroll events carry no modifiers: Alt as the key events left it
+                if (std::isfinite(e.dy_px)) stylus_->wheel(e.dy_px);
+                return;
+            }
             if (std::isfinite(e.dy_px) && e.dy_px != 0.0) renderer::mouse_zoom(nav_, mouse_, e.dy_px);
             return;
     }

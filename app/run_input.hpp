@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "app/mouse_stylus.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/camera/scene_navigation.hpp"
@@ -18,6 +19,10 @@ namespace tridex::app {
 /// - Home resets head and scene; Tab toggles swap eyes; Esc asks to close;
 /// - Ctrl+Z undoes the last stroke, Ctrl+Shift+Z or Ctrl+Y redoes it, Ctrl+S saves the model (take_requests());
 ///   with Ctrl held, the letter keys do not move the head.
+/// With a mouse stylus (use_stylus; `--device mouse`) the mouse is the tool instead: the left button engages it,
+/// the right button is the stylus button, the wheel sets the depth, 1 / 2 / 3 choose subtract / union / paint,
+/// and scene navigation moves to Alt: Alt + left drag orbits, Alt + Shift + left drag (or middle drag) pans,
+/// Alt + wheel zooms, Alt + right drag turns the head.
 /// One thread (the window's); the head and navigation must outlive it.
 class RunInput {
 public:
@@ -25,6 +30,8 @@ public:
     /// move nothing); `nav` and `mouse`: the scene navigation and its mouse gains/axes.
     RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation& nav, const renderer::MouseNavigation& mouse);
 
+    /// Makes the mouse the stylus (nullptr: the mouse navigates again); `stylus` must outlive this.
+    void use_stylus(MouseStylus* stylus) { stylus_ = stylus; }
     /// Applies one event. Never throws for finite event values (non-finite deltas are ignored).
     void handle(const renderer::InputEvent& event);
     /// True once Esc was pressed.
@@ -39,7 +46,8 @@ private:
     renderer::KeyboardMouseHead* head_;
     renderer::SceneNavigation& nav_;
     renderer::MouseNavigation mouse_;
-    bool left_ = false, right_ = false, middle_ = false, shift_ = false;
+    MouseStylus* stylus_ = nullptr;
+    bool left_ = false, right_ = false, middle_ = false, shift_ = false, alt_ = false;
     bool close_ = false;
     int swaps_ = 0;
     std::vector<SculptRequest> requests_;

@@ -108,6 +108,7 @@ json run_report_json(const RunResult& r) {
           {"triangles", r.triangles}}},
         {"haptics", r.haptics},
         {"journal", r.journal},
+        {"mouse", r.mouse},
         {"history", history_report_json(r.sculpt)},
         {"saves",
          {{"count", r.saves.saves},

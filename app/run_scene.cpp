@@ -327,6 +327,29 @@ void read_keys(Fields& top, RunScene& s) {
     }
 }
 
+void read_cursor(Fields& top, RunScene& s) {
+    const json* cur = top.get("cursor");
+    if (!cur) return;
+    if (!cur->is_array()) top.fail("cursor", "must be a list of {\"t_s\", \"x_px\", \"y_px\", \"buttons\"}");
+    double prev = 0.0;
+    for (std::size_t i = 0; i < cur->size(); ++i) {
+        const std::string name = "cursor[" + std::to_string(i) + "]";
+        Fields f((*cur)[i], top.source(), name);
+        CursorPoint p;
+        p.t_s = f.number("t_s", -1.0, 0.0, 86400.0);
+        if (p.t_s < 0.0) f.fail(name + ".t_s", "is missing");
+        if (p.t_s < prev) f.fail(name + ".t_s", "must not be earlier than the point before it");
+        prev = p.t_s;
+        p.x_px = f.number("x_px", 0.0, -1e5, 1e5);
+        p.y_px = f.number("y_px", 0.0, -1e5, 1e5);
+        p.buttons = static_cast<std::uint32_t>(f.integer("buttons", 0, 0, 3));
+        f.finish();
+        s.cursor.points.push_back(p);
+    }
+    if (!s.cursor.empty() && s.spec.device_driver != "mouse")
+        top.fail("cursor", "a scripted cursor drives the mouse stylus: set \"device\": {\"driver\": \"mouse\"}");
+}
+
 void read_stroke(Fields& top, RunScene& s) {
     const json* st = top.get("stroke");
     if (st && st->is_string()) {
@@ -464,6 +487,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_workspace(top, s);
     read_stroke(top, s);
     read_keys(top, s);
+    read_cursor(top, s);
     read_display(top, s);
     read_head(top, s);
     top.finish();

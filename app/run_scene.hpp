@@ -12,6 +12,7 @@
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "haptics/workspace_mapping.hpp"
+#include "app/cursor_script.hpp"
 #include "app/key_script.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/head_pose.hpp"
@@ -57,6 +58,8 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names
 ///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
 ///               "press_axis": "z" }  |  "none",              // app/stroke.hpp plan_stroke
+///   "cursor": [ {"t_s": 0.5, "x_px": 400, "y_px": 300, "buttons": 1}, ... ],  // device "mouse": the scripted
+///                                                 // cursor (pixels of one eye's image; buttons 1 left, 2 right)
 ///   "display": "desktop" | "powerwall" | { display config, renderer/camera/display_config.hpp },
 ///   "head": { "provider": "fixed" | "scripted" | "tracker",
 ///             "position_m": [x, y, z],                       // default: the display's default_head_m
@@ -75,6 +78,8 @@ struct RunScene {
     /// Keys pressed at given device times ("keys": [{"t_s": 4.0, "press": "ctrl+z"}], in time order), handled
     /// like a window's keys (undo, redo, save, ...), offscreen too.
     std::vector<ScriptedKey> keys;
+    /// The scripted mouse cursor of a mouse-stylus session ("cursor"; device "mouse"), in device time.
+    CursorScript cursor;
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
     HeadMode head = HeadMode::kFixed;   ///< head pose provider

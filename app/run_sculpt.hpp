@@ -7,13 +7,16 @@
 
 #include "app/run_scene.hpp"
 #include "app/session_runtime.hpp"
+#include "devices/mouse_device.hpp"
 
 namespace tridex::app {
 
 /// The sculpting side of a run: the scene's workpiece scan-converted and contoured, a simulated device (the
 /// scene's profile) whose virtual hand follows the scripted stroke (plan_stroke; or holds still in front of the
 /// workpiece when the scene has none), and the SessionRuntime of the scene's spec on it, handing the contoured
-/// surface to the renderer (throttled to mesh_interval_s). The render thread reads runtime().latest_view() and
+/// surface to the renderer (throttled to mesh_interval_s). With the scene's device driver "mouse" there is no
+/// scripted hand: a MouseDevice (mouse()) rests at the device's home in front of the workpiece until the app
+/// sets its hand. The render thread reads runtime().latest_view() and
 /// latest_mesh(): newest values, never waiting for either thread, and neither thread ever waits for it.
 class SculptBackend {
 public:
@@ -36,10 +39,13 @@ public:
     Vec3 start_tool_m() const { return start_m_; }
     Aabb start_box_m() const;
     std::size_t stroke_ticks() const { return stroke_ticks_; }  ///< ticks the stroke lasts; 0 without stroke
+    /// The mouse device (driver "mouse"), or nullptr; owned by runtime().
+    devices::MouseDevice* mouse() const { return mouse_; }
 
 private:
     Vec3 start_m_{0.0};
     std::size_t stroke_ticks_ = 0;
+    devices::MouseDevice* mouse_ = nullptr;
     std::unique_ptr<SessionRuntime> runtime_;
 };
 

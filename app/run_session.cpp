@@ -13,6 +13,7 @@
 
 #include "app/output_dir.hpp"
 #include "app/run_input.hpp"
+#include "app/run_mouse.hpp"
 #include "app/run_report.hpp"
 #include "app/run_sculpt.hpp"
 #include "app/run_view.hpp"
@@ -140,8 +141,16 @@ RunSetup resolve_run(const RunOptions& o) {
         else
             s.monitor_name = o.monitor;
     }
-    if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke)
-        throw Error("--frames/--seconds: an offscreen run of a scene without a stroke needs --frames N or --seconds S");
+    if (!o.device.empty()) {
+        if (o.device != "mouse" && o.device != "simulated")
+            throw Error("--device: '" + o.device + "' is not one of simulated, mouse");
+        s.scene.spec.device_driver = o.device;
+    }
+    if (s.scene.spec.device_driver == "mouse") s.scene.has_stroke = false;  // the mouse is the hand
+    if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
+        s.scene.cursor.empty())
+        throw Error("--frames/--seconds: an offscreen run of a scene without a stroke or a scripted cursor needs "
+                    "--frames N or --seconds S");
     return s;
 }
 
@@ -215,7 +224,19 @@ RunResult run_stereo_session(const RunOptions& options) {
     GpuContourShare* const gpu_contour = backend.runtime().gpu_contour();
     renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
     r.volume_before_m3 = backend.runtime().workpiece().volume_dexel_m3;
-    const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0 : 0.0;
+    // The mouse stylus (--device mouse): the cursor drives the device; navigation moves to Alt.
+    std::optional<RunMouse> mouse_stylus;
+    if (devices::MouseDevice* md = backend.mouse()) {
+        mouse_stylus.emplace(*md, backend.runtime(), scene.spec.tool.radius_m, backend.start_tool_m());
+        input.use_stylus(&mouse_stylus->stylus());
+    }
+    // Offscreen with a scripted cursor and no limits: the run ends half a second (device time) after the cursor
+    // script and the scripted keys.
+    const double script_end_s =
+        scene.cursor.empty() ? 0.0
+                             : std::max(scene.cursor.end_s(), scene.keys.empty() ? 0.0 : scene.keys.back().t_s) + 0.5;
+    const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0
+                            : script_end_s > 0.0 ? 3.0 * script_end_s + 10.0 : 0.0;
     backend.runtime().start();
 
     // 4. The render loop, on this thread.
@@ -269,6 +290,10 @@ RunResult run_stereo_session(const RunOptions& options) {
             } else if (offscreen && su.frames == 0 && su.seconds == 0.0 && backend.stroke_done()) {
                 last = true;
                 ended = "the stroke ended";
+            } else if (offscreen && su.frames == 0 && su.seconds == 0.0 && script_end_s > 0.0 &&
+                       backend.runtime().latest_view().t_s >= script_end_s) {
+                last = true;
+                ended = "the scripted cursor ended";
             } else if (stop_requested()) {
                 last = true;
                 ended = std::string(stop_signal_name()) + " received";
@@ -315,12 +340,26 @@ RunResult run_stereo_session(const RunOptions& options) {
                 // The proxy of a mesh tool's tip: a marker a tenth of the tool's size, not its bounding sphere.
                 const double proxy_r =
                     scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : scene.spec.tool.radius_m;
+                std::string status = saving_lines(saving);
+                if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
                 add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
-                              RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, saving_lines(saving)});
+                              RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status});
             }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);
 
             const auto t0 = Clock::now();
+            if (mouse_stylus) {
+                if (!window) mouse_stylus->apply_script(scene.cursor, lv.t_s);
+                // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
+                double w_px = eye_w, h_px = eye_h;
+                if (window) {
+                    const VkExtent2D fb = window->framebuffer_size();
+                    const auto [ow, oh] = renderer::output_size(output, eye_w, eye_h);
+                    w_px = static_cast<double>(fb.width) * eye_w / ow;
+                    h_px = static_cast<double>(fb.height) * eye_h / oh;
+                }
+                mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
+            }
             if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
             prev_start = t0;
             sink->draw(rend, view,
@@ -328,6 +367,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             if (contour_lock) contour_lock.unlock();
             r.presents += sink->present(rend);
             r.last_eye = sink->last_eye();
+            if (mouse_stylus) mouse_stylus->shown(lv, Clock::now());
             prev_frame_ms = ms_between(t0, Clock::now());
             r.frame_ms.add(prev_frame_ms);
             r.gpu_ms.add(rend.last_gpu_ms());
@@ -365,6 +405,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (const compute::JournalStats* j = backend.runtime().journal_stats(); j && !j->error.empty())
         r.notes.push_back("journal stopped: " + j->error);
     r.session_s = backend.runtime().session_s();
+    if (mouse_stylus) r.mouse = mouse_stylus->report_json();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();

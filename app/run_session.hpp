@@ -106,6 +106,7 @@ struct RunResult {
     SessionSpec spec;                            ///< what decided the model (the scene's, device_origin_m set)
     nlohmann::json tool;                         ///< report.json `tool` (tool_json of the session's spec)
     nlohmann::json haptics;                      ///< report.json `haptics` (haptics_report_json, as the demo's)
+    nlohmann::json mouse;                        ///< report.json `mouse` (RunMouse::report_json); null without
     nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
     std::uint64_t requests_sent = 0;             ///< undo / redo / save requests handed to the sculpt thread
     SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors

@@ -122,6 +122,9 @@ public:
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
     bool request(SculptRequest r) { return sculpt_->request(r); }
+    /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the spec's material); any
+    /// thread. The sculpt thread closes the stroke at the change.
+    void set_tool_op(ToolOp op) { loop_->set_tool_op(op, cfg_.material); }
     /// Saves so far and whether the journal and checkpoints still work (SculptThread::save_status; any thread).
     SaveStatus save_status() const { return sculpt_->save_status(); }
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.

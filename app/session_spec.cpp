@@ -1,6 +1,8 @@
 // app/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
 #include "app/session_spec.hpp"
 
+#include "devices/mouse_device.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -110,6 +112,7 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.workspace_scale = s.workspace_scale;
     cfg.workspace.mode = haptics::parse_workspace_mode(s.workspace_mode);
     cfg.op = parse_tool_op(s.op);
+    if (s.device_driver == "mouse") cfg.engage_mask = devices::mouse_buttons::kEngage;  // carve while the left button is held
     cfg.material = static_cast<std::uint8_t>(s.material);
     cfg.max_ticks = max_ticks;
     cfg.tool = tool;

@@ -13,6 +13,7 @@
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"
 #include "devices/falcon/falcon_usb_transport.hpp"
+#include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 
@@ -190,6 +191,16 @@ const DeviceRegistry& builtin_registry() {
             o.firmware_image = falcon::emulator_firmware_image();  // generated; never a vendor binary
             o.period_s = in.period_s;
             return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconEmulator>(std::move(c)), o);
+        });
+        DriverInfo mouse{"mouse",
+                         "the desk mouse as a virtual stylus: the app sets the hand from the cursor (no forces; the "
+                         "profile's limits still bound what the loop sends)",
+                         false, true, {"omni", "wand", "6dof"}, {}, 3, 3};
+        r.add(mouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            DeviceProfile profile = profile_by_name(spec.profile);
+            profile.name = "mouse (" + profile.name + " limits)";
+            const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
+            return std::make_unique<MouseDevice>(std::move(profile), start, in.period_s);
         });
         return r;
     }();

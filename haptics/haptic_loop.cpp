@@ -84,10 +84,15 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       period_hist_(cfg_.period_s / 50.0),
       compute_hist_(cfg_.period_s / 1000.0) {
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
+    set_tool_op(cfg_.op, cfg_.material);
     last_tool_ = mapper_.frame().tool_world;
 }
 
 HapticLoop::~HapticLoop() { stop(); }
+
+void HapticLoop::set_tool_op(ToolOp op, std::uint8_t material) {
+    op_.store(static_cast<std::uint16_t>(static_cast<std::uint16_t>(op) | (material << 8)), std::memory_order_relaxed);
+}
 
 void HapticLoop::begin_session() {
     records_.resize(cfg_.max_ticks);  // back to full size after a previous stop() trimmed it
@@ -259,9 +264,11 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     }
     sample.orientation = wf.tool_world.orientation;
     sample.tool = cfg_.tool;
-    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed;
-    sample.op = hold ? ToolOp::kNone : cfg_.op;
-    sample.material = cfg_.material;
+    const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
+    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged;
+    const std::uint16_t op = op_.load(std::memory_order_relaxed);
+    sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
+    sample.material = static_cast<std::uint8_t>(op >> 8);
     carve_gap_ = !wd.force_allowed || out.over_speed;
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);

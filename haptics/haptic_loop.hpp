@@ -43,6 +43,9 @@ struct HapticLoopConfig {
     ToolShape tool{};
     ToolOp op = ToolOp::kSubtract; ///< Boolean carried by every ToolSample
     std::uint8_t material = 0;     ///< material id carried by every ToolSample (what kUnion adds, kPaint sets)
+    /// Button bits (DeviceState::buttons) that engage the tool: nonzero = the samples carry op only while one of
+    /// them is held, kNone otherwise (the desk mouse's left button); 0 = always engaged.
+    std::uint32_t engage_mask = 0;
     std::size_t max_ticks = 0;     ///< TickRecords preallocated (recording stops when full); 0 = none
     WorkspaceConfig workspace;     ///< workspace technique (WorkspaceMode) and its parameters
     SafetyConfig safety;           ///< velocity limit, ramp-in, watchdog and passivity-controller settings
@@ -186,6 +189,11 @@ public:
     /// stats().device_lost and returns a record with valid_sample = false. stop() ends the session
     /// and writes zero force. Throws tridex::Error when the loop thread is running.
     TickRecord step(double loop_time_s);
+    /// Changes the Boolean and material the following ToolSamples carry (any thread, lock-free; the sculpt thread
+    /// closes the stroke at the change). Starts as cfg.op / cfg.material; start() keeps the last value set.
+    void set_tool_op(ToolOp op, std::uint8_t material);
+    /// The Boolean the samples carry now (any thread).
+    ToolOp tool_op() const { return static_cast<ToolOp>(op_.load(std::memory_order_relaxed) & 0xffu); }
     /// The newest LoopView (render thread; exactly one reader thread). Default LoopView before the
     /// first tick.
     const LoopView& latest_view() { return view_.latest(); }
@@ -248,6 +256,7 @@ private:
     std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
     std::atomic<double> energy_{0.0};
+    std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte
 };
 
 }  // namespace tridex::haptics

@@ -1,0 +1,79 @@
+// app/mouse_stylus.hpp - the desk mouse as a virtual stylus: cursor, buttons and wheel to a tool target on the
+// workpiece surface under the cursor.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "app/surface_pick.hpp"
+#include "core/tool_sample.hpp"
+#include "renderer/camera/off_axis.hpp"
+
+namespace tridex::app {
+
+/// What the stylus asks of the tool this frame (world m).
+struct StylusTarget {
+    Vec3 hip_m{0.0};             ///< where the tool centre (HIP) should be, world m
+    std::uint32_t buttons = 0;   ///< devices::mouse_buttons bits (kEngage: left held, kStylus: right held)
+    bool on_surface = false;     ///< the cursor ray met the surface (false: the tool hovers at the last depth)
+};
+
+/// The mouse stylus (one thread, the window's). The tool rides on the surface under the cursor: a ray from the
+/// eye through the cursor pixel (cursor_ray) meets the contoured surface (pick_surface) at P with normal n, and
+/// the tool centre goes to P + (r - d) n, with r the tool radius and d = 0 while the left button is up (the
+/// tool rests on the surface) and d = depth_m() while it is held (pressed in: a drag carves a groove of that
+/// depth along the cursor's path). While the left button is held the ray runs against the surface as it was
+/// when the button went down, so the groove follows the original surface instead of drilling into its own
+/// cut. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The right
+/// button is the stylus button (workspace techniques). The wheel sets the depth in steps of depth_step_m.
+class MouseStylus {
+public:
+    /// tool_radius_m: the ball's radius, m (> 0; the default depth); aim_m: where the tool hovers before
+    /// the first hit (world m, e.g. in front of the workpiece). Throws tridex::Error for a radius that is not
+    /// finite and positive, or a non-finite aim point.
+    MouseStylus(double tool_radius_m, const Vec3& aim_m);
+
+    /// The cursor position, pixels from the window's top-left; non-finite values are ignored.
+    void set_cursor(double x_px, double y_px);
+    /// The left button (engage) down or up.
+    void set_left(bool down) { left_ = down; }
+    /// The right button (stylus button) down or up.
+    void set_right(bool down) { right_ = down; }
+    /// Wheel steps (+ = away from the user = deeper); the depth stays in [0, 2 r]. Non-finite steps are ignored.
+    void wheel(double steps);
+    /// The Boolean the tool applies while engaged (subtract, union or paint; kNone is ignored).
+    void set_op(ToolOp op);
+
+    ToolOp op() const { return op_; }                 ///< the chosen Boolean
+    double depth_m() const { return depth_m_; }       ///< how deep the held tool presses in, m
+    double radius_m() const { return radius_m_; }     ///< the tool radius, m
+    bool left() const { return left_; }               ///< left button held
+    bool right() const { return right_; }             ///< right button held
+    bool has_cursor() const { return have_cursor_; }  ///< a cursor position was given
+    double depth_step_m() const { return depth_step_m_; }  ///< depth change per wheel step, m
+
+    /// This frame's target: the cursor's ray (cursor_ray from `eye_m` through `screen`, image width_px x
+    /// height_px) against `live` (the newest published surface; while the left button is held, the surface as
+    /// it was when it went down). Before any cursor position, the tool hovers at the aim point. Never throws;
+    /// the target is always finite.
+    StylusTarget update(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
+                        const PickSurface& live);
+
+    /// One overlay line: "mouse stylus: subtract, depth 6 mm, radius 6 mm[, engaged]".
+    std::string status() const;
+
+private:
+    double radius_m_;
+    double depth_m_;
+    double depth_step_m_;
+    Vec3 aim_m_;
+    double x_px_ = 0.0, y_px_ = 0.0;
+    bool have_cursor_ = false, left_ = false, right_ = false;
+    ToolOp op_ = ToolOp::kSubtract;
+    std::optional<PickSurface> pressed_;  // the surface when the left button went down
+    double last_distance_m_ = -1.0;       // the last hit's distance along its ray, m (< 0: none yet)
+    Vec3 last_hip_m_{0.0};
+};
+
+}  // namespace tridex::app

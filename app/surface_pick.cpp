@@ -1,0 +1,88 @@
+// app/surface_pick.cpp - cursor rays and ray-triangle picking on the contoured tiles.
+#include "app/surface_pick.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tridex::app {
+
+namespace {
+
+// The slab test: true when the ray meets `box` (inflated by eps) before t_max.
+bool meets_box(const Aabb& box, const Ray& ray, double t_max) {
+    double t0 = 0.0, t1 = t_max;
+    constexpr double kEps = 1e-6;  // m
+    for (int a = 0; a < 3; ++a) {
+        const double lo = box.lo[a] - kEps, hi = box.hi[a] + kEps;
+        if (std::abs(ray.dir[a]) < 1e-300) {
+            if (ray.origin_m[a] < lo || ray.origin_m[a] > hi) return false;
+            continue;
+        }
+        double ta = (lo - ray.origin_m[a]) / ray.dir[a], tb = (hi - ray.origin_m[a]) / ray.dir[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+// Nearest hit on `mesh` closer than best.distance_m (updated in place).
+void pick_mesh(const TriMesh& mesh, const Ray& ray, std::optional<SurfaceHit>& best) {
+    for (const auto& tri : mesh.triangles) {
+        if (tri[0] >= mesh.positions.size() || tri[1] >= mesh.positions.size() || tri[2] >= mesh.positions.size())
+            continue;
+        const Vec3& a = mesh.positions[tri[0]];
+        const Vec3 e1 = mesh.positions[tri[1]] - a, e2 = mesh.positions[tri[2]] - a;
+        const Vec3 p = glm::cross(ray.dir, e2);
+        const double det = glm::dot(e1, p);
+        if (std::abs(det) < 1e-18) continue;
+        const double inv = 1.0 / det;
+        const Vec3 s = ray.origin_m - a;
+        const double u = glm::dot(s, p) * inv;
+        if (u < 0.0 || u > 1.0) continue;
+        const Vec3 q = glm::cross(s, e1);
+        const double v = glm::dot(ray.dir, q) * inv;
+        if (v < 0.0 || u + v > 1.0) continue;
+        const double t = glm::dot(e2, q) * inv;
+        if (!(t > 0.0) || (best && t >= best->distance_m)) continue;
+        Vec3 n = glm::cross(e1, e2);
+        const double nl = glm::length(n);
+        if (!(nl > 0.0)) continue;
+        n /= nl;
+        if (glm::dot(n, ray.dir) > 0.0) n = -n;
+        best = SurfaceHit{ray.origin_m + t * ray.dir, n, t};
+    }
+}
+
+}  // namespace
+
+std::optional<Ray> cursor_ray(const renderer::Screen& screen, const Vec3& eye_m, double x_px, double y_px,
+                              double width_px, double height_px) {
+    if (!std::isfinite(x_px) || !std::isfinite(y_px) || !is_finite(eye_m) || !(width_px > 0.0) ||
+        !(height_px > 0.0) || !std::isfinite(width_px) || !std::isfinite(height_px))
+        return std::nullopt;
+    const double u = x_px / width_px, v = 1.0 - y_px / height_px;  // 0..1 from the lower-left corner
+    const Vec3 p = screen.lower_left + u * (screen.lower_right - screen.lower_left) +
+                   v * (screen.upper_left - screen.lower_left);
+    const Vec3 d = p - eye_m;
+    const double n = glm::length(d);
+    if (!(n > 0.0) || !std::isfinite(n)) return std::nullopt;
+    return Ray{eye_m, d / n};
+}
+
+std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ray) {
+    std::optional<SurfaceHit> best;
+    if (!is_finite(ray.origin_m) || !is_finite(ray.dir)) return best;
+    for (const auto& tile : surface.tiles) {
+        if (!tile) continue;
+        const double t_max = best ? best->distance_m : std::numeric_limits<double>::infinity();
+        if (!meets_box(tile->bounds_m, ray, t_max)) continue;
+        pick_mesh(tile->mesh, ray, best);
+    }
+    if (surface.whole) pick_mesh(*surface.whole, ray, best);
+    return best;
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,44 @@
+// app/surface_pick.hpp - a ray from the eye through a cursor pixel, and where it first meets the contoured surface.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "core/math.hpp"
+#include "core/tri_mesh.hpp"
+#include "renderer/camera/off_axis.hpp"
+
+namespace tridex::app {
+
+/// A ray: origin (m) and unit direction, in the frame of the screen and eye it was made from.
+struct Ray {
+    Vec3 origin_m{0.0};
+    Vec3 dir{0.0, 0.0, -1.0};
+};
+
+/// The ray from `eye_m` (m; the cyclopean eye for a stereo view) through the point of `screen` (m) under the
+/// cursor at (x_px, y_px) (pixels from the top-left of an image of width_px x height_px covering the whole
+/// screen). nullopt for a non-finite cursor or eye, a non-positive image size, or an eye on the screen point.
+std::optional<Ray> cursor_ray(const renderer::Screen& screen, const Vec3& eye_m, double x_px, double y_px,
+                              double width_px, double height_px);
+
+/// Where a ray meets a surface.
+struct SurfaceHit {
+    Vec3 point_m{0.0};   ///< the hit point, m
+    Vec3 normal{0.0};    ///< unit normal of the triangle hit, turned to face the ray's origin
+    double distance_m = 0.0;  ///< from the ray's origin, m
+};
+
+/// The surface a pick runs against: the published tiles (each with its bounds, culled first) or a whole mesh.
+struct PickSurface {
+    std::vector<std::shared_ptr<const compute::TileSurface>> tiles;  ///< the tiles (immutable once published)
+    std::shared_ptr<const TriMesh> whole;                              ///< or one mesh (may be null)
+};
+
+/// The nearest hit of `ray` on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets),
+/// or nullopt when it misses. Degenerate triangles are skipped; never throws.
+std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ray);
+
+}  // namespace tridex::app

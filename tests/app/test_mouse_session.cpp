@@ -1,0 +1,237 @@
+// The mouse as the stylus, offscreen with a scripted cursor: a drag carves a groove where the cursor went (and
+// nowhere else), a cursor without the left button carves nothing, Ctrl+Z takes the groove back; the input
+// mapping keeps navigation on Alt; cursor rays and picks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+
+#include "app/cursor_script.hpp"
+#include "app/mouse_stylus.hpp"
+#include "app/run_input.hpp"
+#include "app/run_session.hpp"
+#include "app/surface_pick.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "devices/mouse_device.hpp"
+#include "run_test_scene.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kW = 192, kH = 144;
+const Vec3 kEye(0.0, 0.05, 0.6);
+const renderer::Screen kScreen = renderer::Screen::desktop_monitor();
+
+// The pixel (of a kW x kH eye image) where the ray from kEye through world point p crosses the screen.
+std::pair<double, double> pixel_of(const Vec3& p) {
+    const Vec3 s = kEye + (p - kEye) * (kEye.z / (kEye.z - p.z));
+    const double u = (s.x - kScreen.lower_left.x) / kScreen.width();
+    const double v = (s.y - kScreen.lower_left.y) / kScreen.height();
+    return {u * kW, (1.0 - v) * kH};
+}
+
+// The drag: from world x = -25 mm to +25 mm at y = 0 on the workpiece's centre plane, projected.
+const Vec3 kFrom(-0.025, 0.0, 0.05), kTo(0.025, 0.0, 0.05);
+
+std::string write_mouse_scene(const fs::path& dir, int drag_buttons, bool undo) {
+    const auto [x0, y0] = pixel_of(kFrom);
+    const auto [x1, y1] = pixel_of(kTo);
+    const std::string path = (dir / "mouse_scene.json").string();
+    std::ofstream f(path);
+    f << R"({
+  "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+  "tool": { "radius_m": 0.006 },
+  "device": { "driver": "mouse" },
+  "stroke": "none",
+  "display": { "preset": "desktop", "resolution": [)" << kW << ", " << kH << R"(], "refresh_hz": 60 },
+  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] },
+  "cursor": [ {"t_s": 0.2, "x_px": )" << x0 << R"(, "y_px": )" << y0 << R"(, "buttons": 0},
+              {"t_s": 0.6, "x_px": )" << x0 << R"(, "y_px": )" << y0 << R"(, "buttons": )" << drag_buttons << R"(},
+              {"t_s": 1.8, "x_px": )" << x1 << R"(, "y_px": )" << y1 << R"(, "buttons": 0},
+              {"t_s": 2.0, "x_px": )" << x1 << R"(, "y_px": )" << y1 << R"(, "buttons": 0} ])";
+    if (undo) f << R"(,
+  "keys": [ {"t_s": 2.4, "press": "ctrl+z"} ])";
+    f << "\n}\n";
+    return path;
+}
+
+RunResult run_mouse(const fs::path& dir, const std::string& name, int drag_buttons, bool undo) {
+    RunOptions o;
+    o.scene = write_mouse_scene(dir, drag_buttons, undo);
+    o.display = "offscreen";
+    o.stereo = "mono";
+    o.out = (dir / name).string();  // no --frames / --seconds: until the scripted cursor ends
+    o.no_journal = true;
+    return run_stereo_session(o);
+}
+
+// How far the ray through the pixel of world point p travels before it meets the mesh, m (NaN: a miss).
+double ray_depth(const PickSurface& mesh, const Vec3& p, double dy_px = 0.0) {
+    const auto [x, y] = pixel_of(p);
+    const std::optional<Ray> ray = cursor_ray(kScreen, kEye, x, y + dy_px, kW, kH);
+    if (!ray) return std::numeric_limits<double>::quiet_NaN();
+    const std::optional<SurfaceHit> hit = pick_surface(mesh, *ray);
+    return hit ? hit->distance_m : std::numeric_limits<double>::quiet_NaN();
+}
+
+PickSurface load_surface(const fs::path& ply) {
+    PickSurface s;
+    s.whole = std::make_shared<const TriMesh>(compute::load_closed_mesh(ply.string()));
+    return s;
+}
+
+TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) {
+    const fs::path dir = test::temp_dir("mouse_groove");
+    const RunResult hover = run_mouse(dir, "hover", 0, false);
+    const RunResult drag = run_mouse(dir, "drag", cursor_buttons::kLeft, false);
+    EXPECT_EQ(hover.notes.front(), "ended: the scripted cursor ended");
+    EXPECT_EQ(hover.volume_before_m3 - hover.volume_after_m3, 0.0);  // the tool rested on the surface
+    const double removed = drag.volume_before_m3 - drag.volume_after_m3;
+    EXPECT_GT(removed, 1e-7);  // a 50 mm groove of a 6 mm ball pressed in 6 mm: about 3 cm^3
+    ASSERT_FALSE(drag.mouse.is_null());
+    EXPECT_GT(drag.mouse["latency_ms"]["count"].get<int>(), 0);
+    EXPECT_EQ(drag.loop.invalid_samples, 0u);
+
+    const PickSurface before = load_surface(dir / "hover" / "sculpted.ply");
+    const PickSurface after = load_surface(dir / "drag" / "sculpted.ply");
+    // Along the inner part of the path the surface under the cursor went deeper; 8 px (about 18 mm) below the
+    // path it did not.
+    int off_checked = 0;
+    for (double u = 0.15; u <= 0.85; u += 0.1) {
+        const Vec3 p = kFrom + u * (kTo - kFrom);
+        const double d0 = ray_depth(before, p), d1 = ray_depth(after, p);
+        ASSERT_TRUE(std::isfinite(d0) && std::isfinite(d1)) << u;
+        EXPECT_GT(d1 - d0, 0.002) << "no groove under the cursor at u = " << u;
+        const double off0 = ray_depth(before, p, 8.0), off1 = ray_depth(after, p, 8.0);
+        EXPECT_EQ(std::isfinite(off0), std::isfinite(off1)) << u;
+        if (!std::isfinite(off0) || !std::isfinite(off1)) continue;  // past the bunny's outline
+        ++off_checked;
+        EXPECT_LT(std::abs(off1 - off0), 5e-4) << "carved away from the cursor path at u = " << u;
+    }
+    EXPECT_GE(off_checked, 4);
+}
+
+TEST(MouseSession, CtrlZTakesTheGrooveBack) {
+    const fs::path dir = test::temp_dir("mouse_undo");
+    const RunResult r = run_mouse(dir, "undo", cursor_buttons::kLeft, true);
+    EXPECT_EQ(r.sculpt.history.undos, 1u);
+    EXPECT_GT(r.requests_sent, 0u);
+    EXPECT_EQ(r.volume_after_m3, r.volume_before_m3);
+}
+
+TEST(MouseStylus, RestsOnTheSurfaceAndPressesInWhileHeldAgainstTheSurfaceAtThePress) {
+    // One big triangle facing the eye in the z = 0.05 plane.
+    auto plane = std::make_shared<TriMesh>();
+    plane->positions = {Vec3(-1.0, -1.0, 0.05), Vec3(1.0, -1.0, 0.05), Vec3(0.0, 1.0, 0.05)};
+    plane->triangles = {{0, 1, 2}};
+    PickSurface s;
+    s.whole = plane;
+    MouseStylus m(0.006, Vec3(0.0, 0.0, 0.2));
+    EXPECT_EQ(m.update(kScreen, kEye, kW, kH, s).hip_m, Vec3(0.0, 0.0, 0.2));  // no cursor yet: the aim point
+    const auto [x, y] = pixel_of(Vec3(0.01, 0.0, 0.05));
+    m.set_cursor(x, y);
+    StylusTarget t = m.update(kScreen, kEye, kW, kH, s);
+    EXPECT_TRUE(t.on_surface);
+    EXPECT_NEAR(t.hip_m.z, 0.056, 1e-9);  // resting: a radius above the surface
+    EXPECT_EQ(t.buttons, 0u);
+    m.set_left(true);
+    t = m.update(kScreen, kEye, kW, kH, s);
+    EXPECT_NEAR(t.hip_m.z, 0.05, 1e-9);  // pressed in by the default depth, one radius
+    EXPECT_EQ(t.buttons, devices::mouse_buttons::kEngage);
+    // The surface under the cursor is carved meanwhile: the held tool keeps to the surface of the press.
+    auto carved = std::make_shared<TriMesh>(*plane);
+    for (Vec3& p : carved->positions) p.z = 0.044;
+    PickSurface s2;
+    s2.whole = carved;
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.05, 1e-9);
+    m.wheel(-5.0);  // half the radius shallower
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.053, 1e-9);
+    m.set_left(false);
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.05, 1e-9);  // released: rests on the new surface
+    // Off the model: hovers along the new ray; a NaN cursor changes nothing.
+    m.set_cursor(-1000.0, -1000.0);
+    EXPECT_FALSE(m.update(kScreen, kEye, kW, kH, PickSurface{}).on_surface);
+    m.set_cursor(std::numeric_limits<double>::quiet_NaN(), 0.0);
+    EXPECT_TRUE(is_finite(m.update(kScreen, kEye, kW, kH, s2).hip_m));
+}
+
+renderer::InputEvent button(renderer::MouseButton b, bool down, std::uint8_t mods = 0) {
+    renderer::InputEvent e;
+    e.type = renderer::InputType::kMouseButton;
+    e.button = b;
+    e.action = down ? renderer::InputAction::kPress : renderer::InputAction::kRelease;
+    e.modifiers = mods;
+    e.x_px = 10.0;
+    e.y_px = 20.0;
+    return e;
+}
+
+TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
+    renderer::SceneNavigation nav;
+    RunInput in(nullptr, nav, renderer::MouseNavigation{});
+    MouseStylus m(0.006, Vec3(0.0));
+    in.use_stylus(&m);
+    in.handle(button(renderer::MouseButton::kLeft, true));
+    EXPECT_TRUE(m.left());
+    renderer::InputEvent move;
+    move.type = renderer::InputType::kMouseMove;
+    move.x_px = 30.0;
+    move.y_px = 20.0;
+    move.dx_px = 20.0;
+    in.handle(move);
+    EXPECT_EQ(nav.to_world(Vec3(0.1, 0.0, 0.0)), Vec3(0.1, 0.0, 0.0));  // a stylus drag does not orbit
+    in.handle(button(renderer::MouseButton::kLeft, false));
+    EXPECT_FALSE(m.left());
+    in.handle(button(renderer::MouseButton::kRight, true));
+    EXPECT_TRUE(m.right());
+    in.handle(button(renderer::MouseButton::kRight, false));
+    // Alt + left drag orbits and leaves the tool alone.
+    in.handle(button(renderer::MouseButton::kLeft, true, renderer::modifier::kAlt));
+    EXPECT_FALSE(m.left());
+    in.handle(move);
+    EXPECT_NE(nav.to_world(Vec3(0.1, 0.0, 0.0)), Vec3(0.1, 0.0, 0.0));
+    in.handle(button(renderer::MouseButton::kLeft, false, renderer::modifier::kAlt));
+    renderer::InputEvent alt_up;
+    alt_up.type = renderer::InputType::kKey;
+    alt_up.key = renderer::Key::kLeftAlt;
+    alt_up.action = renderer::InputAction::kRelease;
+    in.handle(alt_up);  // wheel events carry no modifiers: Alt is known from the key events
+    // The wheel sets the depth; 1 / 2 / 3 choose the op.
+    renderer::InputEvent wheel;
+    wheel.type = renderer::InputType::kScroll;
+    wheel.dy_px = -2.0;
+    in.handle(wheel);
+    EXPECT_NEAR(m.depth_m(), 0.006 - 2.0 * m.depth_step_m(), 1e-12);
+    renderer::InputEvent key;
+    key.type = renderer::InputType::kKey;
+    key.key = renderer::Key::k2;
+    in.handle(key);
+    EXPECT_EQ(m.op(), ToolOp::kUnion);
+    key.key = renderer::Key::k3;
+    in.handle(key);
+    EXPECT_EQ(m.op(), ToolOp::kPaint);
+    key.key = renderer::Key::k1;
+    in.handle(key);
+    EXPECT_EQ(m.op(), ToolOp::kSubtract);
+}
+
+TEST(CursorScript, InterpolatesPositionAndHoldsButtons) {
+    CursorScript s;
+    s.points = {{1.0, 0.0, 0.0, 0}, {2.0, 10.0, 20.0, 1}, {3.0, 10.0, 20.0, 0}};
+    EXPECT_EQ(s.at(0.5).x_px, 0.0);
+    const CursorPoint p = s.at(1.5);
+    EXPECT_DOUBLE_EQ(p.x_px, 5.0);
+    EXPECT_DOUBLE_EQ(p.y_px, 10.0);
+    EXPECT_EQ(p.buttons, 0u);
+    EXPECT_EQ(s.at(2.5).buttons, 1u);
+    EXPECT_EQ(s.at(9.0).buttons, 0u);
+    EXPECT_DOUBLE_EQ(s.end_s(), 3.0);
+}
+
+}  // namespace
+}  // namespace tridex::app
