@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <thread>
 
@@ -171,6 +172,17 @@ TEST(DTrackHead, OptionAndSceneAndDisplayConfigAreChecked) {
             EXPECT_NE(std::string(e.what()).find("tracking"), std::string::npos) << e.what();
         }
     }
+}
+
+// The bundled example of a real wall (corners measured in tracker space) loads, and its corners were squared up.
+TEST(DTrackHead, ExampleWallDisplayConfigLoads) {
+    const char* assets = std::getenv("TRIDEX_ASSETS");
+    ASSERT_NE(assets, nullptr);
+    const renderer::DisplayConfig c = renderer::load_display_config(std::string(assets) + "/dtrack_powerwall_display.json");
+    EXPECT_NEAR(c.screen.width(), 3.048, 0.002);
+    EXPECT_NEAR(c.screen.height(), 2.286, 0.002);
+    EXPECT_NEAR(c.head_to_eyes.position.z, 0.03, 1e-15);
+    EXPECT_EQ(c.stereo, renderer::StereoOutput::kFrameSequential);
 }
 
 /// A UDP port that was free a moment ago.
