@@ -90,7 +90,7 @@ json run_report_json(const RunResult& r) {
         {"display", to_string(su.display)},
         {"stereo", std::string(renderer::to_string(sc.display.stereo))},
         {"swap_eyes", su.swap_eyes},
-        {"head", to_string(sc.head)},
+        {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
         {"eye_resolution", {sc.display.width_px, sc.display.height_px}},
         {"refresh_hz", sc.display.refresh_hz},
         {"eye_separation_m", sc.display.eye_separation_m},

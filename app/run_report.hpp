@@ -10,7 +10,8 @@
 namespace tridex::app {
 
 /// The report of a run (SI units; times in s unless named _ms / _us):
-/// { "scene", "display", "stereo", "swap_eyes", "head", "eye_resolution": [w, h], "refresh_hz", "device",
+/// { "scene", "display", "stereo", "swap_eyes", "head": {"provider", ... (DTrack: app/dtrack_head.hpp report_json)},
+///   "eye_resolution": [w, h], "refresh_hz", "device",
 ///   "eye_strategy", "present_mode", "validation_messages",
 ///   "frames": { "count", "presents", "last_eye", "render_s",
 ///               "frame_ms" | "interval_ms" | "gpu_ms": FrameTimeHistogram::to_json() (bins, p50/p95/p99, ...),

@@ -11,6 +11,7 @@
 
 #include "app/assets.hpp"
 #include "app/demo.hpp"
+#include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_registry.hpp"
@@ -423,6 +424,9 @@ void read_head(Fields& top, RunScene& s) {
     if (const json* o = f.get("orientation_wxyz")) s.head_pose.orientation = quat_of(f, *o, "head.orientation_wxyz");
     s.head_loop = f.boolean("loop", false);
     s.tracker_timeout_s = f.number("tracker_timeout_s", s.tracker_timeout_s, 0.0, 10.0, true);
+    s.dtrack_port = f.integer("port", s.dtrack_port, 1, 65535);
+    s.dtrack_body = f.integer("body", s.dtrack_body, 0, devices::kDTrackKeptBodies - 1);
+    s.dtrack_bind = f.text("bind_address", s.dtrack_bind);
     if (const json* w = f.get("waypoints")) {
         if (!w->is_array()) f.fail("head.waypoints", "must be an array of {t_s, position_m, orientation_wxyz}");
         for (std::size_t i = 0; i < w->size(); ++i) {
@@ -452,14 +456,15 @@ const char* to_string(HeadMode mode) {
         case HeadMode::kFixed: return "fixed";
         case HeadMode::kScripted: return "scripted";
         case HeadMode::kTracker: return "tracker";
+        case HeadMode::kDTrack: return "dtrack";
     }
     return "fixed";
 }
 
 HeadMode parse_head_mode(const std::string& name, const std::string& what) {
-    for (HeadMode m : {HeadMode::kFixed, HeadMode::kScripted, HeadMode::kTracker})
+    for (HeadMode m : {HeadMode::kFixed, HeadMode::kScripted, HeadMode::kTracker, HeadMode::kDTrack})
         if (name == to_string(m)) return m;
-    throw Error(what + ": head provider '" + name + "' is not one of fixed, scripted, tracker");
+    throw Error(what + ": head provider '" + name + "' is not one of fixed, scripted, tracker, dtrack");
 }
 
 SessionSpec RunScene::default_spec() {

@@ -24,11 +24,12 @@ enum class HeadMode {
     kFixed,     ///< [fixed] FixedHead at RunScene::head_pose (in a window: keyboard and mouse move it)
     kScripted,  ///< [scripted] ScriptedHead through RunScene::head_waypoints
     kTracker,   ///< [tracker] TrackerHead filled by a tracker driver; RunScene::head_pose until one pushes
+    kDTrack,    ///< [dtrack] ART DTrack over UDP (app/dtrack_head.hpp); RunScene::head_pose while untracked or stale
 };
 
-/// "fixed", "scripted" or "tracker".
+/// "fixed", "scripted", "tracker" or "dtrack".
 const char* to_string(HeadMode mode);
-/// Inverse of to_string; throws tridex::Error "<what>: head provider 'x' is not one of fixed, scripted, tracker".
+/// Inverse of to_string; throws tridex::Error "<what>: head provider 'x' is not one of fixed, scripted, tracker, dtrack".
 HeadMode parse_head_mode(const std::string& name, const std::string& what);
 
 /// Everything a `tridex run` session shows and sculpts (SI units; world = tracker space, m, y up, the
@@ -61,7 +62,8 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///   "cursor": [ {"t_s": 0.5, "x_px": 400, "y_px": 300, "buttons": 1}, ... ],  // device "mouse": the scripted
 ///                                                 // cursor (pixels of one eye's image; buttons 1 left, 2 right)
 ///   "display": "desktop" | "powerwall" | { display config, renderer/camera/display_config.hpp },
-///   "head": { "provider": "fixed" | "scripted" | "tracker",
+///   "head": { "provider": "fixed" | "scripted" | "tracker" | "dtrack",
+///             "port": 5000, "body": 0, "bind_address": "0.0.0.0",  // dtrack: UDP port, head body id, listen address
 ///             "position_m": [x, y, z],                       // default: the display's default_head_m
 ///             "waypoints": [ {"t_s": 0, "position_m": [x, y, z], "orientation_wxyz": [1, 0, 0, 0]}, ... ],
 ///             "loop": false, "tracker_timeout_s": 0.1 } }
@@ -87,6 +89,9 @@ struct RunScene {
     std::vector<renderer::HeadWaypoint> head_waypoints;  ///< the scripted head (kScripted; may be set for any mode)
     bool head_loop = false;             ///< the scripted head repeats
     double tracker_timeout_s = 0.1;     ///< a tracker pose older than this falls back to head_pose, s
+    int dtrack_port = 5000;             ///< kDTrack: UDP port DTrack sends to (1..65535)
+    int dtrack_body = 0;                ///< kDTrack: DTrack id of the head body (0..63)
+    std::string dtrack_bind = "0.0.0.0";  ///< kDTrack: local IPv4 address to listen on
 };
 
 /// Reads a scene from parsed JSON (form on RunScene). `source` names the file in messages; relative mesh

@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "app/dtrack_head.hpp"
 #include "app/output_dir.hpp"
 #include "app/run_input.hpp"
 #include "app/run_mouse.hpp"
@@ -60,10 +61,25 @@ std::string saving_lines(const SaveStatus& s) {
 
 // The head provider of the run: in a window a fixed head becomes a keyboard-and-mouse head (same home pose).
 std::unique_ptr<renderer::HeadPoseProvider> make_head(const RunScene& s, bool interactive,
-                                                     renderer::KeyboardMouseHead** km, renderer::TrackerHead** tracker) {
+                                                     renderer::KeyboardMouseHead** km, renderer::TrackerHead** tracker,
+                                                     DTrackHead** dtrack) {
     *km = nullptr;
     *tracker = nullptr;
+    *dtrack = nullptr;
     switch (s.head) {
+        case HeadMode::kDTrack: {
+            DTrackHeadSettings ds;
+            ds.port = s.dtrack_port;
+            ds.body = s.dtrack_body;
+            ds.bind_address = s.dtrack_bind;
+            ds.tracker_to_wall = s.display.tracker_to_wall;
+            ds.head_to_eyes = s.display.head_to_eyes;
+            ds.fallback = s.head_pose;
+            ds.timeout_s = s.tracker_timeout_s;
+            auto d = std::make_unique<DTrackHead>(ds);
+            *dtrack = d.get();
+            return d;
+        }
         case HeadMode::kScripted:
             return std::make_unique<renderer::ScriptedHead>(s.head_waypoints, s.head_loop);
         case HeadMode::kTracker: {
@@ -128,7 +144,10 @@ RunSetup resolve_run(const RunOptions& o) {
             throw Error(std::string("--stereo: ") + e.what());
         }
     }
-    if (!o.head.empty()) {
+    if (o.head.rfind("dtrack:", 0) == 0) {
+        s.scene.head = HeadMode::kDTrack;
+        parse_dtrack_head_option(o.head, s.scene.dtrack_port, s.scene.dtrack_body);
+    } else if (!o.head.empty()) {
         s.scene.head = parse_head_mode(o.head, "--head");
         if (s.scene.head == HeadMode::kScripted && s.scene.head_waypoints.empty())
             throw Error("--head scripted: the scene " + s.scene.source + " has no head.waypoints");
@@ -199,7 +218,8 @@ RunResult run_stereo_session(const RunOptions& options) {
     // 2. Head, scene navigation, input.
     renderer::KeyboardMouseHead* km = nullptr;
     renderer::TrackerHead* tracker = nullptr;
-    const std::unique_ptr<renderer::HeadPoseProvider> head = make_head(scene, !offscreen, &km, &tracker);
+    DTrackHead* dtrack = nullptr;
+    const std::unique_ptr<renderer::HeadPoseProvider> head = make_head(scene, !offscreen, &km, &tracker, &dtrack);
     renderer::SceneNavigation nav;
     renderer::MouseNavigation mouse = renderer::MouseNavigation::for_screen(dc.screen, eye_w);
     mouse.pivot_m = scene.spec.workpiece_centre_m;
@@ -252,6 +272,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     std::size_t next_key = 0;     // scene.keys not yet pressed
     bool journal_warned = false;  // said once that the journal stopped
     const auto t_render = Clock::now();
+    if (dtrack) dtrack->set_session_origin(t_render);
     Clock::time_point prev_start{};
     try {
         for (std::uint64_t frame = 0;; ++frame) {
@@ -390,6 +411,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     backend.runtime().stop();
     r.notes.insert(r.notes.begin(), "ended: " + ended);
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
+    r.head = nlohmann::json{{"provider", to_string(scene.head)}};
+    if (dtrack) {
+        r.head = dtrack->report_json();
+        r.notes.push_back("head: " + dtrack->note());
+    }
     r.loop = backend.runtime().loop_stats();
     r.spilled_intervals = backend.runtime().booleans().backend->spilled_intervals();
     if (gpu_contour) {

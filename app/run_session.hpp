@@ -110,6 +110,8 @@ struct RunResult {
     nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
     std::uint64_t requests_sent = 0;             ///< undo / redo / save requests handed to the sculpt thread
     SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
+    /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
+    nlohmann::json head;
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -70,6 +70,48 @@ double read_number(const json& j, const std::string& source, const std::string& 
     return j.get<double>();
 }
 
+void validate_pose(const Pose& p, const std::string& source, const std::string& field) {
+    if (!is_finite(p.position)) fail(source, field + ".position_m", "coordinates must be finite (m)");
+    const double n = glm::length(p.orientation);
+    if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6)
+        fail(source, field + ".orientation_wxyz", "must be a unit quaternion [w, x, y, z] (|q| = 1 within 1e-6)");
+}
+
+Pose read_pose(const json& j, const std::string& source, const std::string& field) {
+    if (!j.is_object()) fail(source, field, "expected an object with position_m and orientation_wxyz");
+    Pose p;
+    for (const auto& [key, value] : j.items()) {
+        if (key == "position_m") {
+            p.position = read_vec3(value, source, field + ".position_m");
+        } else if (key == "orientation_wxyz") {
+            const std::string f = field + ".orientation_wxyz";
+            if (!value.is_array() || value.size() != 4) fail(source, f, "expected an array of 4 numbers [w, x, y, z]");
+            double q[4];
+            for (int k = 0; k < 4; ++k) {
+                if (!value[k].is_number()) fail(source, f, "expected an array of 4 numbers [w, x, y, z]");
+                q[k] = value[k].get<double>();
+            }
+            p.orientation = Quat(q[0], q[1], q[2], q[3]);
+        } else {
+            fail(source, field + "." + key, "unknown field (valid: position_m, orientation_wxyz)");
+        }
+    }
+    validate_pose(p, source, field);
+    return p;
+}
+
+void read_tracking(const json& j, const std::string& source, DisplayConfig& c) {
+    if (!j.is_object()) fail(source, "tracking", "expected an object with tracker_to_wall and/or head_to_eyes");
+    for (const auto& [key, value] : j.items()) {
+        if (key == "tracker_to_wall")
+            c.tracker_to_wall = read_pose(value, source, "tracking.tracker_to_wall");
+        else if (key == "head_to_eyes")
+            c.head_to_eyes = read_pose(value, source, "tracking.head_to_eyes");
+        else
+            fail(source, "tracking." + key, "unknown field (valid: tracker_to_wall, head_to_eyes)");
+    }
+}
+
 std::string read_string(const json& j, const std::string& source, const std::string& field) {
     if (!j.is_string()) fail(source, field, "expected a string");
     return j.get<std::string>();
@@ -127,6 +169,8 @@ void validate_display_config(const DisplayConfig& c, const std::string& source) 
         fail(source, "resolution", "width and height must be in 1..16384 pixels (got " + std::to_string(c.width_px) +
                                        "x" + std::to_string(c.height_px) + ")");
     if (!is_finite(c.default_head_m)) fail(source, "default_head_m", "coordinates must be finite (m)");
+    validate_pose(c.tracker_to_wall, source, "tracking.tracker_to_wall");
+    validate_pose(c.head_to_eyes, source, "tracking.head_to_eyes");
     const Vec3 vr = glm::normalize(c.screen.lower_right - c.screen.lower_left);
     const Vec3 vu = glm::normalize(c.screen.upper_left - c.screen.lower_left);
     const double d = glm::dot(c.default_head_m - c.screen.lower_left, glm::normalize(glm::cross(vr, vu)));
@@ -138,14 +182,14 @@ void validate_display_config(const DisplayConfig& c, const std::string& source) 
 DisplayConfig display_config_from_json(const json& j, const std::string& source) {
     if (!j.is_object()) throw Error(source + ": a display config must be a JSON object");
     static const char* const kFields[] = {"preset",   "screen",     "stereo",     "anaglyph",      "eye_separation_m",
-                                          "swap_eyes", "refresh_hz", "resolution", "default_head_m"};
+                                          "swap_eyes", "refresh_hz", "resolution", "default_head_m", "tracking"};
     for (const auto& [key, value] : j.items()) {
         (void)value;
         bool known = false;
         for (const char* f : kFields) known = known || key == f;
         if (!known)
             fail(source, key, "unknown field (valid: preset, screen, stereo, anaglyph, eye_separation_m, swap_eyes, "
-                              "refresh_hz, resolution, default_head_m)");
+                              "refresh_hz, resolution, default_head_m, tracking)");
     }
     DisplayConfig c;
     if (j.contains("preset")) {
@@ -191,6 +235,7 @@ DisplayConfig display_config_from_json(const json& j, const std::string& source)
         c.height_px = static_cast<int>(h);
     }
     if (j.contains("default_head_m")) c.default_head_m = read_vec3(j.at("default_head_m"), source, "default_head_m");
+    if (j.contains("tracking")) read_tracking(j.at("tracking"), source, c);
     validate_display_config(c, source);
     return c;
 }
@@ -209,6 +254,11 @@ json display_config_to_json(const DisplayConfig& c) {
     j["refresh_hz"] = c.refresh_hz;
     j["resolution"] = json::array({c.width_px, c.height_px});
     j["default_head_m"] = v3(c.default_head_m);
+    const auto pose = [&v3](const Pose& p) {
+        const Quat& q = p.orientation;
+        return json{{"position_m", v3(p.position)}, {"orientation_wxyz", json::array({q.w, q.x, q.y, q.z})}};
+    };
+    j["tracking"] = {{"tracker_to_wall", pose(c.tracker_to_wall)}, {"head_to_eyes", pose(c.head_to_eyes)}};
     return j;
 }
 

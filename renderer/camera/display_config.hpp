@@ -6,6 +6,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "core/math.hpp"
+#include "core/pose.hpp"
 #include "renderer/camera/off_axis.hpp"
 #include "renderer/output/stereo_output.hpp"
 
@@ -25,8 +26,14 @@ namespace tridex::renderer {
 ///   "swap_eyes": false,
 ///   "refresh_hz": 120,
 ///   "resolution": [1280, 960],           // pixels, per eye image
-///   "default_head_m": [0, 0, 2] }        // head position when no tracker drives it, m
+///   "default_head_m": [0, 0, 2],         // head position when no tracker drives it, m
+///   "tracking": {                        // head tracking (e.g. ART DTrack); both transforms default to identity
+///     "tracker_to_wall": {"position_m": [x, y, z], "orientation_wxyz": [w, x, y, z]},
+///     "head_to_eyes":    {"position_m": [x, y, z], "orientation_wxyz": [w, x, y, z]} } }
 /// ```
+/// The world of a session is the frame the screen corners are given in ("wall" coordinates). With identity
+/// tracking transforms the corners are measured in tracker coordinates (e.g. by touching them with a tracked
+/// pointer); otherwise tracker_to_wall maps tracker coordinates into the corners' frame.
 struct DisplayConfig {
     Screen screen = Screen::desktop_monitor();      ///< corners in tracker space, m
     StereoOutput stereo = StereoOutput::kAnaglyph;   ///< how the two eyes reach the viewer
@@ -37,6 +44,12 @@ struct DisplayConfig {
     int width_px = 1920;                             ///< per-eye image width, pixels, 1..16384
     int height_px = 1080;                            ///< per-eye image height, pixels, 1..16384
     Vec3 default_head_m{0.0, 0.0, 0.6};              ///< head position without a tracker, m, in front of the screen
+    /// Rigid calibration from tracker coordinates (m) to the screen corners' frame: p_wall = apply(p_tracker).
+    Pose tracker_to_wall;
+    /// The tracked head body's frame -> the head frame the eyes use (origin midway between the eyes, +x to the
+    /// right eye, +y up, +z backwards): head = body * head_to_eyes. E.g. a glasses target 8 cm above and 2 cm in
+    /// front of the eyes, axes aligned: position_m (0, -0.08, 0.02).
+    Pose head_to_eyes;
 
     /// The paper's PowerWall: Screen::powerwall() (10 ft x 7.5 ft), frame-sequential at 120 Hz (60 Hz per eye),
     /// 1280 x 960 per eye (4:3 like the screen), eye separation 0.065 m, head 2 m in front of the centre.
@@ -48,7 +61,7 @@ struct DisplayConfig {
 
 /// Checks every field of `config` (the ranges documented on DisplayConfig; the screen corners must be finite,
 /// non-degenerate and at a right angle at lower_left within |cos| <= 1e-6; the default head must be in front
-/// of the screen). Throws tridex::Error "<source>: field '<name>': <what is wrong>" for the first bad field.
+/// of the screen; the tracking transforms finite with unit orientations within 1e-6). Throws tridex::Error "<source>: field '<name>': <what is wrong>" for the first bad field.
 void validate_display_config(const DisplayConfig& config, const std::string& source);
 
 /// Reads a DisplayConfig from parsed JSON (form above). Screen corners that are a little off a right angle

@@ -1,0 +1,89 @@
+// devices/tracking/dtrack_receiver.hpp - a thread that receives DTrack ASCII datagrams over UDP and keeps the
+// newest pose of every standard body with its receipt time.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <thread>
+
+#include "core/triple_buffer.hpp"
+#include "devices/tracking/dtrack_parser.hpp"
+
+namespace tridex::devices {
+
+/// Bodies the receiver keeps (DTrack ids 0..kDTrackKeptBodies-1; higher ids are parsed, counted and dropped).
+inline constexpr int kDTrackKeptBodies = 64;
+
+/// The newest sample of one standard body.
+struct DTrackBodySample {
+    bool seen = false;                ///< false until a datagram carried this body
+    DTrackBody body;                  ///< pose (tracker coordinates, m) and quality as DTrack sent it
+    std::uint32_t frame_counter = 0;  ///< the datagram's `fr` (0 when absent)
+    /// When the datagram arrived: std::chrono::steady_clock time since its epoch, ns.
+    std::int64_t receipt_ns = 0;
+    std::uint64_t datagram = 0;  ///< 1-based index of the accepted datagram that carried it
+};
+
+/// Every kept body's newest sample, as one snapshot.
+struct DTrackBodyTable {
+    std::array<DTrackBodySample, kDTrackKeptBodies> bodies{};
+    std::uint64_t accepted = 0;  ///< accepted datagrams so far
+};
+
+/// Counters of the receiver (any thread may read them).
+struct DTrackReceiverStats {
+    std::uint64_t datagrams = 0;  ///< datagrams received (accepted + rejected)
+    std::uint64_t accepted = 0;
+    std::uint64_t rejected = 0;
+    std::array<std::uint64_t, static_cast<std::size_t>(DTrackReject::kCount)> by_reason{};  ///< rejected, per reason
+    std::uint64_t bytes = 0;                                                                ///< payload bytes received
+    std::uint64_t bodies_dropped = 0;  ///< body samples with ids >= kDTrackKeptBodies
+    std::uint64_t socket_errors = 0;   ///< recv() failures other than "no data"
+};
+
+/// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
+/// not need one) and one thread. The thread waits in poll() (at most 20 ms, so stop() is prompt), then drains
+/// the socket without blocking (MSG_DONTWAIT), stamps each datagram with steady_clock on arrival, parses it
+/// (parse_dtrack_datagram), counts rejects by reason, and publishes the body table once per drain through a
+/// TripleBuffer: the reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive buffer,
+/// one reused DTrackFrame, three tables. Exactly one reader thread calls latest().
+class DTrackReceiver {
+public:
+    /// Binds UDP `port` (1..65535, or 0 for a free port chosen by the system: see port()) on `bind_address`
+    /// (dotted IPv4; "0.0.0.0" = every interface, which is what DTrack's sender needs; "127.0.0.1" for tests)
+    /// and starts the thread. Throws tridex::Error naming the port when the address is not IPv4 or the socket
+    /// cannot be created or bound (e.g. the port is in use).
+    explicit DTrackReceiver(int port, const std::string& bind_address = "0.0.0.0");
+    /// Stops the thread and closes the socket.
+    ~DTrackReceiver();
+    DTrackReceiver(const DTrackReceiver&) = delete;
+    DTrackReceiver& operator=(const DTrackReceiver&) = delete;
+
+    /// The bound UDP port.
+    int port() const { return port_; }
+    /// Reader side (one thread): the newest published table. Valid until this thread's next latest() call.
+    const DTrackBodyTable& latest() { return table_.latest(); }
+    /// Counters so far (any thread).
+    DTrackReceiverStats stats() const;
+    /// Stops the thread (idempotent); the last table stays readable.
+    void stop();
+
+private:
+    void run();
+    void handle(const char* data, std::size_t size, std::int64_t receipt_ns);
+
+    int fd_ = -1;
+    int port_ = 0;
+    std::atomic<bool> stop_{false};
+    TripleBuffer<DTrackBodyTable> table_;
+    DTrackBodyTable working_;  // receiver thread only
+    DTrackFrame frame_;        // receiver thread only
+    std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0};
+    std::array<std::atomic<std::uint64_t>, static_cast<std::size_t>(DTrackReject::kCount)> by_reason_{};
+    std::thread thread_;
+};
+
+}  // namespace tridex::devices
