@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/le_bytes.hpp"
 
 namespace tridex::devices {
 
@@ -28,10 +29,12 @@ public:
     explicit Encoder(unsigned char* p) : p_(p) {}
     void u8(std::uint8_t v) { *p_++ = v; }
     void u32(std::uint32_t v) {
-        for (int i = 0; i < 4; ++i) *p_++ = static_cast<unsigned char>(v >> (8 * i));
+        put_u32(p_, v);
+        p_ += 4;
     }
     void u64(std::uint64_t v) {
-        for (int i = 0; i < 8; ++i) *p_++ = static_cast<unsigned char>(v >> (8 * i));
+        put_u64(p_, v);
+        p_ += 8;
     }
     void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
     void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
@@ -46,13 +49,13 @@ public:
     explicit Decoder(const unsigned char* p) : p_(p) {}
     std::uint8_t u8() { return *p_++; }
     std::uint32_t u32() {
-        std::uint32_t v = 0;
-        for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(*p_++) << (8 * i);
+        const std::uint32_t v = get_u32(p_);
+        p_ += 4;
         return v;
     }
     std::uint64_t u64() {
-        std::uint64_t v = 0;
-        for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(*p_++) << (8 * i);
+        const std::uint64_t v = get_u64(p_);
+        p_ += 8;
         return v;
     }
     std::int32_t i32() { return static_cast<std::int32_t>(u32()); }

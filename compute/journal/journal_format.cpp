@@ -1,36 +1,7 @@
 // compute/journal/journal_format.cpp - bit-exact ToolSample encoding of the session journal.
 #include "compute/journal/journal_format.hpp"
 
-#include <bit>
-
 namespace tridex::compute {
-
-namespace {
-
-void put_f64(unsigned char* p, double v) { put_u64(p, std::bit_cast<std::uint64_t>(v)); }
-double get_f64(const unsigned char* p) { return std::bit_cast<double>(get_u64(p)); }
-
-}  // namespace
-
-void put_u32(unsigned char* p, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-
-void put_u64(unsigned char* p, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-
-std::uint32_t get_u32(const unsigned char* p) {
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(p[i]) << (8 * i);
-    return v;
-}
-
-std::uint64_t get_u64(const unsigned char* p) {
-    std::uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-    return v;
-}
 
 void encode_sample(const ToolSample& s, unsigned char* out) {
     put_f64(out + 0, s.t_s);

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/le_bytes.hpp"  // put_u32, get_u32, ... for the journal's integers
 #include "core/tool_sample.hpp"
 
 namespace tridex::compute {
@@ -56,11 +57,5 @@ void encode_sample(const ToolSample& s, unsigned char* out);
 /// Reads a sample written by encode_sample from in[0, kJournalSampleBytes). False (out unspecified) when the
 /// tool kind, op or reserved bytes hold values encode_sample never writes.
 bool decode_sample(const unsigned char* in, ToolSample& out);
-
-/// Little-endian helpers for the journal's integers.
-void put_u32(unsigned char* p, std::uint32_t v);
-void put_u64(unsigned char* p, std::uint64_t v);
-std::uint32_t get_u32(const unsigned char* p);
-std::uint64_t get_u64(const unsigned char* p);
 
 }  // namespace tridex::compute

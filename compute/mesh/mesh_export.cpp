@@ -12,13 +12,16 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/le_bytes.hpp"
 
 namespace tridex::compute {
 namespace {
 
 /// Appends the 4 bytes of v in little-endian order.
 void put_u32(std::vector<char>& out, std::uint32_t v) {
-    for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((v >> (8 * b)) & 0xffu));
+    unsigned char b[4];
+    tridex::put_u32(b, v);
+    out.insert(out.end(), b, b + 4);
 }
 
 void put_f32(std::vector<char>& out, float f) { put_u32(out, std::bit_cast<std::uint32_t>(f)); }
