@@ -21,6 +21,7 @@
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
+#include "renderer/camera/display_config.hpp"
 #include "renderer/image/image.hpp"
 #include "renderer/camera/off_axis.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
@@ -36,7 +37,7 @@ using Clock = std::chrono::steady_clock;
 // 0.3 m in front of the wall within arm's reach: the stroke carves the side facing the designer and
 // the whole workpiece stays inside the wall's frame.
 const Vec3 kHeadPosition{0.0, 0.15, 0.65};
-constexpr double kEyeSeparation = 0.064;        // m
+constexpr double kEyeSeparation = renderer::kDefaultEyeSeparationM;  // m
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 

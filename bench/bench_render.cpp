@@ -15,6 +15,7 @@
 #include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
+#include "renderer/camera/display_config.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
@@ -25,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kStockM = 0.3;
 const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
-constexpr double kEyeSeparationM = 0.064;
+constexpr double kEyeSeparationM = renderer::kDefaultEyeSeparationM;
 constexpr const char* kPasses[] = {"opaque", "translucent", "overlay"};
 
 struct BenchView {

@@ -22,7 +22,7 @@ namespace tridex::renderer {
 ///             {"lower_left": [x, y, z], "lower_right": [x, y, z], "upper_left": [x, y, z]},   // m
 ///   "stereo": "frame-sequential",        // a name of parse_stereo_output
 ///   "anaglyph": "dubois",                // "dubois" | "colour" | "gray"
-///   "eye_separation_m": 0.065,
+///   "eye_separation_m": 0.064,
 ///   "swap_eyes": false,
 ///   "refresh_hz": 120,
 ///   "resolution": [1280, 960],           // pixels, per eye image
@@ -34,11 +34,15 @@ namespace tridex::renderer {
 /// The world of a session is the frame the screen corners are given in ("wall" coordinates). With identity
 /// tracking transforms the corners are measured in tracker coordinates (e.g. by touching them with a tracked
 /// pointer); otherwise tracker_to_wall maps tracker coordinates into the corners' frame.
+/// The eye separation every tridex view uses unless a display config says otherwise, m: about the adult mean
+/// interpupillary distance (63-64 mm; Dodgson, "Variation and extrema of human interpupillary distance", 2004).
+inline constexpr double kDefaultEyeSeparationM = 0.064;
+
 struct DisplayConfig {
     Screen screen = Screen::desktop_monitor();      ///< corners in tracker space, m
     StereoOutput stereo = StereoOutput::kAnaglyph;   ///< how the two eyes reach the viewer
     AnaglyphMethod anaglyph = AnaglyphMethod::kDubois;  ///< mixing for StereoOutput::kAnaglyph
-    double eye_separation_m = 0.065;                 ///< interpupillary distance, m, 0..0.2
+    double eye_separation_m = kDefaultEyeSeparationM;  ///< interpupillary distance, m, 0..0.2
     bool swap_eyes = false;                          ///< exchange left and right on the display
     double refresh_hz = 60.0;                        ///< display refresh, Hz, (0, 1000]
     int width_px = 1920;                             ///< per-eye image width, pixels, 1..16384
@@ -52,10 +56,10 @@ struct DisplayConfig {
     Pose head_to_eyes;
 
     /// The paper's PowerWall: Screen::powerwall() (10 ft x 7.5 ft), frame-sequential at 120 Hz (60 Hz per eye),
-    /// 1280 x 960 per eye (4:3 like the screen), eye separation 0.065 m, head 2 m in front of the centre.
+    /// 1280 x 960 per eye (4:3 like the screen), eye separation kDefaultEyeSeparationM, head 2 m in front of the centre.
     static DisplayConfig powerwall();
     /// A desk: Screen::desktop_monitor() (0.53 m x 0.30 m), red-cyan anaglyph (Dubois), 60 Hz, 1920 x 1080,
-    /// eye separation 0.065 m, head 0.6 m in front of the centre. Same as a default-constructed DisplayConfig.
+    /// eye separation kDefaultEyeSeparationM, head 0.6 m in front of the centre. Same as a default-constructed DisplayConfig.
     static DisplayConfig desktop();
 };
 

@@ -96,7 +96,7 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
     impl->context = &context;
     const std::string asked(to_string(preferred));
     if (!supported(context, preferred)) {
-        impl->note = asked + " not supported by " + context.device_name() + "; using pass-per-eye";
+        impl->note = "eyes drawn pass per eye: " + asked + " is not supported by " + context.device_name();
     } else {
         StereoPipeline p = StereoPipeline::create(context, preferred);
         const EyeSelfTest t = self_test_eye_strategy(context, p);
@@ -104,7 +104,8 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
             impl->note = asked + " self-test passed (" + t.detail + ")";
             impl->pipeline.emplace(std::move(p));
         } else {
-            impl->note = asked + " self-test failed (" + t.detail + "); falling back to pass-per-eye";
+            impl->note = "eyes drawn pass per eye: " + asked + " (both eyes in one pass) drew wrong pixels in its start-up "
+                         "check on this device (" + t.detail + "), so it is not used; the picture is not affected";
         }
     }
     if (!impl->pipeline) {
@@ -113,7 +114,7 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
         if (!t.passed)
             throw Error("renderer: even the pass-per-eye strategy failed its self-test on " + context.device_name() +
                         " (" + t.detail + ")");
-        impl->note += " (pass-per-eye self-test passed)";
+        impl->note += " (the pass-per-eye check passed)";
         impl->pipeline.emplace(std::move(p));
     }
     impl->target.emplace(StereoTarget::create(context, *impl->pipeline, width, height));

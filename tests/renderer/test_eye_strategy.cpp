@@ -80,8 +80,9 @@ TEST(EyeStrategy, RendererUsesPreferredStrategyOnlyWhenItsSelfTestPasses) {
                     r.strategy_note().c_str());
         EXPECT_EQ(r.strategy(), passes ? s : EyeStrategy::kPassPerEye) << r.strategy_note();
         if (!passes) {
-            const bool explained = r.strategy_note().find("falling back") != std::string::npos ||
+            const bool explained = r.strategy_note().find("drew wrong pixels") != std::string::npos ||
                                    r.strategy_note().find("not supported") != std::string::npos;
+            EXPECT_EQ(r.strategy_note().find("failed"), std::string::npos) << "reads as an error: " << r.strategy_note();
             EXPECT_TRUE(explained) << r.strategy_note();
         }
     }
