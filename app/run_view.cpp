@@ -17,7 +17,8 @@ renderer::SceneView scene_view_from(const haptics::LoopView& view, const TriMesh
     renderer::SceneView s;
     s.workpiece = mesh;
     s.tool_radius_m = tool_radius_m;
-    s.show_workspace = true;
+    // As in Peng et al. (4.1): the workspace is drawn while its button is held (modelling paused), not always.
+    s.show_workspace = view.tick > 0 && view.modelling_paused;
     if (view.tick == 0) {
         s.tool_centre_m = fallback_tool_m;
         s.workspace_m = fallback_box_m;

@@ -22,7 +22,8 @@ namespace tridex::app {
 Aabb enclosing_box(const Pose& box, const Vec3& half_m);
 
 /// The SceneView of one frame: `mesh` as the workpiece (nullptr = none), the ball tool of `tool_radius_m` at the
-/// view's tool position, the workspace box (enclosing_box of the view's box) and the bubble (when its radius > 0).
+/// view's tool position, the workspace box (enclosing_box of the view's box; drawn only while the workspace button
+/// is held, view.modelling_paused, as Peng et al. 4.1 show it) and the bubble (when its radius > 0).
 /// Before the loop's first tick (view.tick == 0) the tool sits at `fallback_tool_m` and the box is
 /// `fallback_box_m`. All positions world m.
 renderer::SceneView scene_view_from(const haptics::LoopView& view, const TriMesh* mesh, double tool_radius_m,

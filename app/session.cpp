@@ -43,6 +43,35 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 }  // namespace
 
+renderer::Screen framing_screen(const renderer::Screen& wall, const Aabb& box_m, const Vec3& head_m, double aspect) {
+    const Vec3 o = wall.lower_left;
+    const Vec3 ex = glm::normalize(wall.lower_right - wall.lower_left);
+    const Vec3 ey = glm::normalize(wall.upper_left - wall.lower_left);
+    const Vec3 n = glm::normalize(glm::cross(ex, ey));
+    const double head_d = glm::dot(head_m - o, n);
+    if (box_m.empty() || !is_finite(box_m.lo) || !is_finite(box_m.hi) || !(head_d > 0.0) || !(aspect > 0.0)) return wall;
+    double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 c((k & 1) ? box_m.hi.x : box_m.lo.x, (k & 2) ? box_m.hi.y : box_m.lo.y, (k & 4) ? box_m.hi.z : box_m.lo.z);
+        const double cd = glm::dot(c - o, n);
+        if (!(cd < head_d)) return wall;  // a corner at or behind the head: no sensible crop
+        const Vec3 p = head_m + (c - head_m) * (head_d / (head_d - cd));  // the corner seen on the wall plane
+        u0 = std::min(u0, glm::dot(p - o, ex)), u1 = std::max(u1, glm::dot(p - o, ex));
+        v0 = std::min(v0, glm::dot(p - o, ey)), v1 = std::max(v1, glm::dot(p - o, ey));
+    }
+    // A margin of 10% on each side, widened to the image's aspect about the centre.
+    const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
+    double w = 1.2 * (u1 - u0), h = 1.2 * (v1 - v0);
+    if (w < h * aspect) w = h * aspect;
+    else h = w / aspect;
+    if (w >= wall.width() || h >= wall.height()) return wall;
+    renderer::Screen s;
+    s.lower_left = o + ex * (cu - 0.5 * w) + ey * (cv - 0.5 * h);
+    s.lower_right = s.lower_left + ex * w;
+    s.upper_left = s.lower_left + ey * h;
+    return s;
+}
+
 void check_image_size(int width, int height) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
         throw Error("--width/--height: must be between 16 and 8192 px, got " + std::to_string(width) + "x" +
@@ -129,7 +158,8 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     view.tool_shape = cfg.tool;
     view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
     if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
-    view.show_workspace = true;
+    // As in Peng et al. (4.1): the workspace box only while its button is held at the end.
+    view.show_workspace = run.last_view.tick > 0 && run.last_view.modelling_paused;
     const haptics::LoopView& lv = run.last_view;
     if (lv.tick > 0) {  // the workspace where the loop left it (workspace moving shifts it)
         view.workspace_m = Aabb{lv.box.position - lv.box_half_extents_m, lv.box.position + lv.box_half_extents_m};
@@ -142,7 +172,11 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     Pose head;
     head.position = kHeadPosition;
     const auto t_render = Clock::now();
-    const renderer::StereoImages eyes = renderer.render(view, renderer::Screen::powerwall(), head, kEyeSeparation);
+    // The part of the wall the workpiece is seen through from the head (same eyes, same geometry), so that the
+    // workpiece fills the images instead of a tenth of a 3 m wall.
+    const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(), wp.model.lattice.bounds(), head.position,
+                                                   static_cast<double>(opt.width) / opt.height);
+    const renderer::StereoImages eyes = renderer.render(view, screen, head, kEyeSeparation);
     const double render_s = seconds_since(t_render);
     if (contour_lock) contour_lock.unlock();
 

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/session.hpp"
 #include "app/session_spec.hpp"
 #include "app/stats.hpp"
 #include "app/stroke.hpp"
@@ -102,6 +103,37 @@ TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("--material"), std::string::npos) << e.what();
     }
+}
+
+// The demo's images look through the part of the wall around the workpiece: every corner of the box, seen from the
+// head, lands inside the crop, the crop has the image's aspect and lies in the wall's plane, and a degenerate input
+// keeps the whole wall.
+TEST(Framing, TheCropHoldsTheWorkpieceAsSeenFromTheHeadInTheImagesAspect) {
+    const renderer::Screen wall = renderer::Screen::powerwall();
+    const Aabb box{Vec3(-0.15, -0.12, 0.15), Vec3(0.15, 0.12, 0.45)};
+    const Vec3 head(0.0, 0.15, 0.65);
+    const renderer::Screen s = framing_screen(wall, box, head, 4.0 / 3.0);
+    EXPECT_NEAR(s.width() / s.height(), 4.0 / 3.0, 1e-12);
+    EXPECT_LT(s.width(), 0.5 * wall.width());
+    EXPECT_NEAR(s.lower_left.z, 0.0, 1e-12);
+    EXPECT_NEAR(s.upper_left.z, 0.0, 1e-12);
+    double umin = 1e9, umax = -1e9;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 c((k & 1) ? box.hi.x : box.lo.x, (k & 2) ? box.hi.y : box.lo.y, (k & 4) ? box.hi.z : box.lo.z);
+        const Vec3 p = head + (c - head) * (head.z / (head.z - c.z));  // onto z = 0
+        EXPECT_GT(p.x, s.lower_left.x);
+        EXPECT_LT(p.x, s.lower_right.x);
+        EXPECT_GT(p.y, s.lower_left.y);
+        EXPECT_LT(p.y, s.upper_left.y);
+        umin = std::min(umin, p.x), umax = std::max(umax, p.x);
+    }
+    // The margin is a tenth of the box's extent on each side (here the height decides, so check the width loosely).
+    EXPECT_GT(s.width(), 1.2 * (umax - umin) - 1e-9);
+    // Degenerate inputs: the whole wall.
+    const renderer::Screen same = framing_screen(wall, Aabb{}, head, 4.0 / 3.0);
+    EXPECT_EQ(same.lower_left, wall.lower_left);
+    const renderer::Screen behind = framing_screen(wall, Aabb{Vec3(0.0, 0.0, 0.7), Vec3(0.1, 0.1, 0.8)}, head, 1.0);
+    EXPECT_EQ(behind.upper_left, wall.upper_left);
 }
 
 }  // namespace
