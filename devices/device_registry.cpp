@@ -207,7 +207,7 @@ const DeviceRegistry& builtin_registry() {
         // A 6-DOF 3D mouse through spacenavd's socket: spec.serial, else $SPNAV_SOCKET (as libspnav), else the default.
         DriverInfo spacemouse{"spacemouse",
                               "a 6-DOF 3D mouse through spacenavd (rate control of the stylus pose; no forces)",
-                              true, true, {"omni", "wand", "6dof"}, {}, 6, 0};
+                              false, true, {"omni", "wand", "6dof"}, {}, 6, 0};  // no USB ids: spacenavd finds it
         r.add(spacemouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             DeviceProfile profile = profile_by_name(spec.profile);
             profile.name = "spacemouse (" + profile.name + " limits)";
