@@ -45,8 +45,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     std::vector<Vec3> path;
     std::optional<devices::ButtonScript> buttons;
     Vec3 centre;
-    const bool mouse = spec.device_driver == "mouse";  // the app moves the hand: no scripted stroke
-    if (scene.has_stroke && !mouse) {
+    // The app (mouse) or the person (spacemouse) moves the hand: no scripted stroke.
+    const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse";
+    if (scene.has_stroke && !live) {
         const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
         centre = plan.centre_m;
         t_s = plan.t_s;
@@ -68,14 +69,14 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     inputs.hand_path.emplace(t_s, path);
     inputs.buttons = buttons;
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
-    if (mouse) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
+    if (live) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
     RuntimeOptions ro;
     ro.sculpt = booleans;
     ro.render_context = render_context;
     ro.publish_meshes = true;
     ro.mesh_form = form;
     ro.mesh_interval_s = mesh_interval_s;
-    ro.max_ticks = mouse ? kMaxRecords : std::min(kMaxRecords, stroke_ticks_ + stroke_ticks_ / 2 + 1000);
+    ro.max_ticks = live ? kMaxRecords : std::min(kMaxRecords, stroke_ticks_ + stroke_ticks_ / 2 + 1000);
     if (!render_context && !booleans.cpu) ro.sculpt.cpu_contour = true;  // no renderer to draw GPU buffers
     runtime_ = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(device), start_m_, ro);
 }

@@ -161,11 +161,12 @@ RunSetup resolve_run(const RunOptions& o) {
             s.monitor_name = o.monitor;
     }
     if (!o.device.empty()) {
-        if (o.device != "mouse" && o.device != "simulated")
-            throw Error("--device: '" + o.device + "' is not one of simulated, mouse");
+        if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse")
+            throw Error("--device: '" + o.device + "' is not one of simulated, mouse, spacemouse");
         s.scene.spec.device_driver = o.device;
     }
-    if (s.scene.spec.device_driver == "mouse") s.scene.has_stroke = false;  // the mouse is the hand
+    const std::string& driver = s.scene.spec.device_driver;
+    if (driver == "mouse" || driver == "spacemouse") s.scene.has_stroke = false;  // the person is the hand
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
         s.scene.cursor.empty())
         throw Error("--frames/--seconds: an offscreen run of a scene without a stroke or a scripted cursor needs "

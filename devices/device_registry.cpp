@@ -4,6 +4,7 @@
 #include <libusb-1.0/libusb.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <utility>
 
@@ -16,6 +17,7 @@
 #include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
+#include "devices/spacemouse_device.hpp"
 
 namespace tridex::devices {
 
@@ -201,6 +203,19 @@ const DeviceRegistry& builtin_registry() {
             profile.name = "mouse (" + profile.name + " limits)";
             const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
             return std::make_unique<MouseDevice>(std::move(profile), start, in.period_s);
+        });
+        // A 6-DOF 3D mouse through spacenavd's socket: spec.serial, else $SPNAV_SOCKET (as libspnav), else the default.
+        DriverInfo spacemouse{"spacemouse",
+                              "a 6-DOF 3D mouse through spacenavd (rate control of the stylus pose; no forces)",
+                              false, true, {"omni", "wand", "6dof"}, {}, 6, 0};  // no USB ids: spacenavd finds it
+        r.add(spacemouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            DeviceProfile profile = profile_by_name(spec.profile);
+            profile.name = "spacemouse (" + profile.name + " limits)";
+            SpaceMouseParams p;
+            const char* env = std::getenv("SPNAV_SOCKET");
+            p.socket_path = !spec.serial.empty() ? spec.serial : (env && *env) ? env : kSpnavDefaultSocket;
+            const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
+            return std::make_unique<SpaceMouseDevice>(std::move(profile), start, in.period_s, std::move(p));
         });
         return r;
     }();

@@ -116,7 +116,9 @@ private:
 /// The drivers this build has: `simulated` (the closed-loop virtual hand, profiles omni, wand, 6dof, falcon),
 /// `replay` (recorded samples), `falcon` (a Novint Falcon over libusb-1.0, USB 0403:cb48: creating it throws
 /// "no Novint Falcon is plugged in" when libusb finds none) and `falcon-emulator` (the same driver over the in-memory
-/// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path).
+/// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path),
+/// `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
+/// $SPNAV_SOCKET, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 
 /// The profile named `name` (omni, wand, 6dof, falcon); throws tridex::Error "device.profile: unknown profile 'x'; use

@@ -1,0 +1,86 @@
+// devices/spacemouse_device.hpp - a 6-DOF 3D mouse through spacenavd: rate control of the stylus pose.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "devices/haptic_device.hpp"
+
+namespace tridex::devices {
+
+/// Where spacenavd listens by default (its AF_UNIX socket; libspnav's SPNAV_SOCK_PATH).
+inline constexpr const char* kSpnavDefaultSocket = "/var/run/spnav.sock";
+
+/// How a SpaceMouseDevice turns the puck's deflection into motion (SI units).
+struct SpaceMouseParams {
+    std::string socket_path = kSpnavDefaultSocket;  ///< spacenavd's AF_UNIX socket
+    double full_scale = 350.0;     ///< axis value at full deflection, device counts (> 0); larger values are clamped
+    double dead_zone = 0.05;       ///< fraction of full_scale below which an axis reads as zero, [0, 1)
+    double max_speed_m_s = 0.1;    ///< tip speed at full deflection of a translation axis, m/s (> 0)
+    double max_rate_rad_s = 1.5;   ///< angular rate at full deflection of a rotation axis, rad/s (> 0)
+};
+
+/// The spacenavd event stream decoded: one packet is 8 native int32 (spacenavd's proto_unix.c and libspnav's
+/// proto.h, protocol v0): [0] type (0 motion, 1 press, 2 release, 3 device, 4 config, 5 raw axis, 6 raw
+/// button); motion: [1..6] x, y, z, rx, ry, rz, [7] period (ms); press/release: [1] button number.
+struct SpnavPacket {
+    enum class Kind : std::uint8_t { kMotion, kPress, kRelease, kOther, kMalformed };
+    Kind kind = Kind::kMalformed;
+    std::array<int, 6> axes{};  ///< kMotion: x, y, z, rx, ry, rz, device counts
+    int button = 0;             ///< kPress / kRelease: button number, 0..31
+};
+
+/// Decodes one 32-byte packet; a type outside 0..6, a button outside 0..31 or an axis beyond +-32767 is
+/// kMalformed (dropped by the device). Never throws.
+SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& words);
+
+/// A HapticDevice reading a 3D mouse (SpaceNavigator, SpaceMouse) from spacenavd's AF_UNIX socket, speaking
+/// its event protocol directly (see SpnavPacket). Rate control: each read() (one loop period dt) drains the
+/// socket without blocking, then moves the tip at velocity = max_speed_m_s * a (a = the newest translation
+/// axes / full_scale, clamped to [-1, 1], dead zone removed and rescaled) and turns the stylus at angular rate
+/// max_rate_rad_s * the rotation axes likewise (device frame, axes as spacenavd reports them); the tip is
+/// clamped to the profile's workspace. Buttons: bit i = spacenavd button i (button 0 = the stylus button).
+/// Forces are ignored (a 3D mouse renders none; write() still gates and bounds them). A daemon that closes
+/// the socket raises kFaultVanished: the pose is held, the buttons released, and read() goes on returning it.
+class SpaceMouseDevice : public HapticDevice {
+public:
+    /// `profile`: the limits the loop applies (workspace, forces); `start_m`: the tip before any motion,
+    /// device frame, m; dt_s: the loop period, s. Throws tridex::Error when dt_s is not in (0, 1], start_m is
+    /// not finite or a parameter is out of range.
+    SpaceMouseDevice(DeviceProfile profile, const Vec3& start_m, double dt_s, SpaceMouseParams params = {});
+    ~SpaceMouseDevice() override;
+
+    const DeviceProfile& profile() const override { return profile_; }
+    /// exchanges = reads, missed_frames = reads after the daemon vanished, malformed_frames = dropped packets.
+    DeviceLinkStats link_stats() const override { return stats_; }
+
+protected:
+    /// Connects to the socket; throws tridex::Error "spacemouse: no spacenavd at PATH: is the daemon running?
+    /// (Debian package spacenavd)" when nothing listens there.
+    void on_open() override;
+    void on_close() noexcept override;
+    /// Drains pending packets (bounded), integrates one step of dt; true unless never opened.
+    bool do_read(DeviceState& out) override;
+    void do_write(const Vec3& force_n, const Vec3& torque_nm) override;
+
+private:
+    void drain();
+    void apply(const SpnavPacket& p);
+    double shaped(int counts) const;
+
+    DeviceProfile profile_;
+    double dt_;
+    SpaceMouseParams params_;
+    int fd_ = -1;
+    bool vanished_ = false;
+    std::array<unsigned char, 32> partial_{};
+    std::size_t have_ = 0;
+    std::array<int, 6> axes_{};
+    std::uint32_t buttons_ = 0;
+    Pose pose_;
+    std::uint64_t steps_ = 0;
+    DeviceLinkStats stats_;
+};
+
+}  // namespace tridex::devices
