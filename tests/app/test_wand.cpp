@@ -15,6 +15,7 @@
 #include "app/dtrack_head.hpp"
 #include "app/dtrack_wand.hpp"
 #include "app/run_options.hpp"
+#include "app/run_scene.hpp"
 #include "app/run_session.hpp"
 #include "app/wand_navigation.hpp"
 #include "core/error.hpp"
@@ -263,6 +264,20 @@ TEST(DTrackWand, OptionParsing) {
     DTrackWandSettings s;
     s.flystick = -1;
     EXPECT_THROW(DTrackWand{s}, Error);
+}
+
+TEST(DTrackWand, SceneWandBlockIsReadAndChecked) {
+    const RunScene s = run_scene_from_json(
+        nlohmann::json::parse(R"({"wand": {"provider": "dtrack", "port": 5005, "flystick": 2, "timeout_s": 0.2}})"),
+        "t.json", ".");
+    EXPECT_TRUE(s.wand_dtrack);
+    EXPECT_EQ(s.wand_port, 5005);
+    EXPECT_EQ(s.wand_flystick, 2);
+    EXPECT_DOUBLE_EQ(s.wand_timeout_s, 0.2);
+    EXPECT_FALSE(run_scene_from_json(nlohmann::json::object(), "t.json", ".").wand_dtrack);
+    for (const char* bad : {R"({"wand": {"provider": "vrpn"}})", R"({"wand": {"flystick": 16}})",
+                            R"({"wand": {"port": 0}})", R"({"wand": {"button": 1}})"})
+        EXPECT_THROW(run_scene_from_json(nlohmann::json::parse(bad), "t.json", "."), Error) << bad;
 }
 
 // Offscreen `tridex run --head dtrack:PORT:0 --wand dtrack:PORT:1` while a sender streams the head and a Flystick
