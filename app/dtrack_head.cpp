@@ -46,12 +46,12 @@ void parse_dtrack_head_option(const std::string& value, int& port, int& body) {
     }
 }
 
-DTrackHead::DTrackHead(const DTrackHeadSettings& s)
-    : settings_(s), tracker_(s.fallback, s.timeout_s), origin_ns_(steady_ns(std::chrono::steady_clock::now())) {
+DTrackHead::DTrackHead(const DTrackHeadSettings& s, std::shared_ptr<devices::DTrackReceiver> shared)
+    : settings_(s), receiver_(std::move(shared)), tracker_(s.fallback, s.timeout_s), origin_ns_(steady_ns(std::chrono::steady_clock::now())) {
     if (s.body < 0 || s.body >= devices::kDTrackKeptBodies)
         throw Error("DTrack head body " + std::to_string(s.body) + ": must be in 0.." +
                     std::to_string(devices::kDTrackKeptBodies - 1));
-    receiver_ = std::make_unique<devices::DTrackReceiver>(s.port, s.bind_address);
+    if (!receiver_) receiver_ = std::make_shared<devices::DTrackReceiver>(s.port, s.bind_address);
 }
 
 void DTrackHead::set_session_origin(std::chrono::steady_clock::time_point origin) { origin_ns_ = steady_ns(origin); }

@@ -35,9 +35,11 @@ struct DTrackHeadSettings {
 /// follows, exactly as TrackerHead falls back when samples stop. note() says which pose is used and why.
 class DTrackHead final : public renderer::HeadPoseProvider {
 public:
-    /// Opens the UDP receiver. Throws tridex::Error for a body outside 0..kDTrackKeptBodies-1, a bad fallback
+    /// Opens the UDP receiver (or uses `shared`, e.g. the wand's). Throws tridex::Error for a body outside 0..kDTrackKeptBodies-1, a bad fallback
     /// pose or timeout (TrackerHead's rules), or a port that cannot be bound (DTrackReceiver's message).
-    explicit DTrackHead(const DTrackHeadSettings& settings);
+    explicit DTrackHead(const DTrackHeadSettings& settings, std::shared_ptr<devices::DTrackReceiver> shared = nullptr);
+    /// The receiver, to share with a wand on the same port (one reader thread: the render thread).
+    std::shared_ptr<devices::DTrackReceiver> receiver() const { return receiver_; }
     /// Session time 0 (head_at's t_s is seconds since then); default: construction time.
     void set_session_origin(std::chrono::steady_clock::time_point origin);
     /// The head pose (wall coordinates, m) for the frame at session time t_s (s).
@@ -62,7 +64,7 @@ public:
 
 private:
     DTrackHeadSettings settings_;
-    std::unique_ptr<devices::DTrackReceiver> receiver_;
+    std::shared_ptr<devices::DTrackReceiver> receiver_;
     renderer::TrackerHead tracker_;
     std::int64_t origin_ns_ = 0;
     std::uint64_t last_datagram_ = 0;  // the newest datagram of the body already taken

@@ -29,6 +29,7 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_option("--out", o.out, "Output folder: report.json; offscreen also left/right/output.png")
         ->capture_default_str();
     cmd->add_option("--display-config", o.display_config, "Display config file (JSON) replacing the scene's display");
+    cmd->add_option("--wand", o.wand, "Scene navigation wand: none | dtrack:PORT[:FLYSTICK] (ART DTrack Flystick: hold the trigger to carry the scene, joystick up/down scales, button 1 resets; default: the scene's)");
     cmd->add_option("--head", o.head, "Head pose provider: fixed | scripted | tracker | dtrack:PORT[:BODY] (ART DTrack over UDP; default: the scene's)");
     cmd->add_flag("--swap-eyes", o.swap_eyes, "Exchange the eyes on the display");
     cmd->add_option("--seconds", o.seconds, "Stop after S seconds of wall time (0: no limit)")->capture_default_str();

@@ -90,6 +90,7 @@ json run_report_json(const RunResult& r) {
         {"display", to_string(su.display)},
         {"stereo", std::string(renderer::to_string(sc.display.stereo))},
         {"swap_eyes", su.swap_eyes},
+        {"wand", r.wand.is_null() ? nlohmann::json{{"provider", "none"}} : r.wand},
         {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
         {"eye_resolution", {sc.display.width_px, sc.display.height_px}},
         {"refresh_hz", sc.display.refresh_hz},

@@ -449,6 +449,20 @@ void read_head(Fields& top, RunScene& s) {
     f.finish();
 }
 
+void read_wand(Fields& top, RunScene& s) {
+    const json* w = top.get("wand");
+    if (!w) return;
+    Fields f(*w, top.source(), "wand");
+    const std::string provider = f.text("provider", "none");
+    if (provider != "none" && provider != "dtrack") f.fail("wand.provider", "'" + provider + "' is not one of none, dtrack");
+    s.wand_dtrack = provider == "dtrack";
+    s.wand_port = f.integer("port", s.wand_port, 1, 65535);
+    s.wand_flystick = f.integer("flystick", s.wand_flystick, 0, devices::kDTrackKeptFlysticks - 1);
+    s.wand_bind = f.text("bind_address", s.wand_bind);
+    s.wand_timeout_s = f.number("timeout_s", s.wand_timeout_s, 0.0, 10.0, true);
+    f.finish();
+}
+
 }  // namespace
 
 const char* to_string(HeadMode mode) {
@@ -495,6 +509,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_cursor(top, s);
     read_display(top, s);
     read_head(top, s);
+    read_wand(top, s);
     top.finish();
     if (s.has_stroke && s.stroke.passes > 1 && s.spec.workspace_mode != "peng_moving")
         top.fail("stroke.passes", "several passes move the workspace with Peng's technique: set workspace.mode to "

@@ -66,7 +66,9 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///             "port": 5000, "body": 0, "bind_address": "0.0.0.0",  // dtrack: UDP port, head body id, listen address
 ///             "position_m": [x, y, z],                       // default: the display's default_head_m
 ///             "waypoints": [ {"t_s": 0, "position_m": [x, y, z], "orientation_wxyz": [1, 0, 0, 0]}, ... ],
-///             "loop": false, "tracker_timeout_s": 0.1 } }
+///             "loop": false, "tracker_timeout_s": 0.1 },
+///   "wand": { "provider": "none" | "dtrack", "port": 5000, "flystick": 0,   // DTrack Flystick (`6df2`) id
+///             "bind_address": "0.0.0.0", "timeout_s": 0.1 } }
 /// ```
 struct RunScene {
     std::string source = "<built-in>";  ///< the file it was read from (for messages and the report)
@@ -92,6 +94,11 @@ struct RunScene {
     int dtrack_port = 5000;             ///< kDTrack: UDP port DTrack sends to (1..65535)
     int dtrack_body = 0;                ///< kDTrack: DTrack id of the head body (0..63)
     std::string dtrack_bind = "0.0.0.0";  ///< kDTrack: local IPv4 address to listen on
+    bool wand_dtrack = false;           ///< a DTrack Flystick navigates the scene (app/wand_navigation.hpp)
+    int wand_port = 5000;               ///< wand: UDP port (the head's receiver is shared when it is the same)
+    int wand_flystick = 0;              ///< wand: DTrack Flystick id (0..15)
+    std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on
+    double wand_timeout_s = 0.1;        ///< wand: a Flystick sample older than this stops navigation, s
 };
 
 /// Reads a scene from parsed JSON (form on RunScene). `source` names the file in messages; relative mesh

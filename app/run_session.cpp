@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/dtrack_head.hpp"
+#include "app/dtrack_wand.hpp"
 #include "app/output_dir.hpp"
 #include "app/run_input.hpp"
 #include "app/run_mouse.hpp"
@@ -152,6 +153,12 @@ RunSetup resolve_run(const RunOptions& o) {
         if (s.scene.head == HeadMode::kScripted && s.scene.head_waypoints.empty())
             throw Error("--head scripted: the scene " + s.scene.source + " has no head.waypoints");
     }
+    if (o.wand == "none") {
+        s.scene.wand_dtrack = false;
+    } else if (!o.wand.empty()) {
+        s.scene.wand_dtrack = true;
+        parse_dtrack_wand_option(o.wand, s.scene.wand_port, s.scene.wand_flystick);
+    }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
@@ -225,6 +232,18 @@ RunResult run_stereo_session(const RunOptions& options) {
     renderer::MouseNavigation mouse = renderer::MouseNavigation::for_screen(dc.screen, eye_w);
     mouse.pivot_m = scene.spec.workpiece_centre_m;
     RunInput input(km, nav, mouse);
+    std::unique_ptr<DTrackWand> wand;
+    std::optional<WandNavigator> wand_nav;
+    if (scene.wand_dtrack) {
+        const DTrackWandSettings ws{scene.wand_port, scene.wand_flystick, scene.wand_bind,
+                                    scene.display.tracker_to_wall, scene.wand_timeout_s};
+        const bool share = dtrack && scene.dtrack_port == scene.wand_port;
+        wand = std::make_unique<DTrackWand>(ws, share ? dtrack->receiver() : nullptr);
+        WandNavigationSettings wn;
+        wn.pivot_m = mouse.pivot_m;
+        wand_nav.emplace(wn);
+    }
+    double wand_prev_t = 0.0;
 
     // 3. The sculpting threads.
     // One Context for both threads: with a GPU sculpt path the sculpt thread contours into buffers this
@@ -367,6 +386,10 @@ RunResult run_stereo_session(const RunOptions& options) {
                 add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
                               RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status});
             }
+            if (wand) {
+                wand_nav->update(wand->sample(), t - wand_prev_t, nav);
+                wand_prev_t = t;
+            }
             const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);
 
             const auto t0 = Clock::now();
@@ -416,6 +439,10 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (dtrack) {
         r.head = dtrack->report_json();
         r.notes.push_back("head: " + dtrack->note());
+    }
+    if (wand) {
+        r.wand = wand_report_json(*wand, *wand_nav, nav);
+        r.notes.push_back("wand: " + wand->note());
     }
     r.loop = backend.runtime().loop_stats();
     r.spilled_intervals = backend.runtime().booleans().backend->spilled_intervals();

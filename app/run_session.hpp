@@ -112,6 +112,7 @@ struct RunResult {
     SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
     /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
     nlohmann::json head;
+    nlohmann::json wand;  ///< null without a wand; else app/dtrack_wand.hpp wand_report_json
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

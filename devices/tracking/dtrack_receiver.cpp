@@ -66,6 +66,7 @@ DTrackReceiverStats DTrackReceiver::stats() const {
     s.bytes = bytes_.load(std::memory_order_relaxed);
     s.bodies_dropped = dropped_.load(std::memory_order_relaxed);
     s.socket_errors = socket_errors_.load(std::memory_order_relaxed);
+    s.flysticks_dropped = flysticks_dropped_.load(std::memory_order_relaxed);
     for (std::size_t k = 0; k < s.by_reason.size(); ++k) s.by_reason[k] = by_reason_[k].load(std::memory_order_relaxed);
     return s;
 }
@@ -90,6 +91,18 @@ void DTrackReceiver::handle(const char* data, std::size_t size, std::int64_t rec
         DTrackBodySample& s = working_.bodies[static_cast<std::size_t>(b.id)];
         s.seen = true;
         s.body = b;
+        s.frame_counter = frame_.has_frame_counter ? frame_.frame_counter : 0;
+        s.receipt_ns = receipt_ns;
+        s.datagram = n;
+    }
+    for (const DTrackFlystick& f : frame_.flysticks) {
+        if (f.body.id >= kDTrackKeptFlysticks) {
+            flysticks_dropped_.fetch_add(1, std::memory_order_relaxed);
+            continue;
+        }
+        DTrackFlystickSample& s = working_.flysticks[static_cast<std::size_t>(f.body.id)];
+        s.seen = true;
+        s.flystick = f;
         s.frame_counter = frame_.has_frame_counter ? frame_.frame_counter : 0;
         s.receipt_ns = receipt_ns;
         s.datagram = n;

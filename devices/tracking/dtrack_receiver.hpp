@@ -1,5 +1,5 @@
 // devices/tracking/dtrack_receiver.hpp - a thread that receives DTrack ASCII datagrams over UDP and keeps the
-// newest pose of every standard body with its receipt time.
+// newest pose of every standard body and every Flystick (pose, buttons, controllers) with its receipt time.
 #pragma once
 
 #include <array>
@@ -27,9 +27,23 @@ struct DTrackBodySample {
     std::uint64_t datagram = 0;  ///< 1-based index of the accepted datagram that carried it
 };
 
-/// Every kept body's newest sample, as one snapshot.
+/// Flysticks the receiver keeps (DTrack Flystick ids 0..kDTrackKeptFlysticks-1; higher ids are counted, dropped).
+inline constexpr int kDTrackKeptFlysticks = 16;
+
+/// The newest sample of one Flystick (`6df2`): pose, quality, buttons and controllers as DTrack sent them.
+struct DTrackFlystickSample {
+    bool seen = false;                ///< false until a datagram carried this Flystick
+    DTrackFlystick flystick;          ///< pose (tracker coordinates, m), quality -1 when untracked, buttons, joystick
+    std::uint32_t frame_counter = 0;  ///< the datagram's `fr` (0 when absent)
+    /// When the datagram arrived: std::chrono::steady_clock time since its epoch, ns.
+    std::int64_t receipt_ns = 0;
+    std::uint64_t datagram = 0;  ///< 1-based index of the accepted datagram that carried it
+};
+
+/// Every kept body's and Flystick's newest sample, as one snapshot.
 struct DTrackBodyTable {
     std::array<DTrackBodySample, kDTrackKeptBodies> bodies{};
+    std::array<DTrackFlystickSample, kDTrackKeptFlysticks> flysticks{};
     std::uint64_t accepted = 0;  ///< accepted datagrams so far
 };
 
@@ -41,13 +55,14 @@ struct DTrackReceiverStats {
     std::array<std::uint64_t, static_cast<std::size_t>(DTrackReject::kCount)> by_reason{};  ///< rejected, per reason
     std::uint64_t bytes = 0;                                                                ///< payload bytes received
     std::uint64_t bodies_dropped = 0;  ///< body samples with ids >= kDTrackKeptBodies
+    std::uint64_t flysticks_dropped = 0;  ///< Flystick samples with ids >= kDTrackKeptFlysticks
     std::uint64_t socket_errors = 0;   ///< recv() failures other than "no data"
 };
 
 /// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
 /// not need one) and one thread. The thread waits in poll() (at most 20 ms, so stop() is prompt), then drains
 /// the socket without blocking (MSG_DONTWAIT), stamps each datagram with steady_clock on arrival, parses it
-/// (parse_dtrack_datagram), counts rejects by reason, and publishes the body table once per drain through a
+/// (parse_dtrack_datagram), counts rejects by reason, and publishes the body and Flystick table once per drain through a
 /// TripleBuffer: the reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive buffer,
 /// one reused DTrackFrame, three tables. Exactly one reader thread calls latest().
 class DTrackReceiver {
@@ -81,7 +96,8 @@ private:
     TripleBuffer<DTrackBodyTable> table_;
     DTrackBodyTable working_;  // receiver thread only
     DTrackFrame frame_;        // receiver thread only
-    std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0};
+    std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0},
+        flysticks_dropped_{0};
     std::array<std::atomic<std::uint64_t>, static_cast<std::size_t>(DTrackReject::kCount)> by_reason_{};
     std::thread thread_;
 };

@@ -53,6 +53,22 @@ inline std::string dtrack_datagram(unsigned fr, int id, const Vec3& position_mm,
     return buf;
 }
 
+/// A DTrack datagram with frame counter `fr` and one Flystick (`6df2`, `defined` Flysticks defined) with id `id`
+/// at `position_mm`, rotation `r` (written column-wise), 8 buttons (bit field `buttons`) and 2 controllers
+/// (joystick x, y in [-1, 1]); quality -1 when `tracked` is false.
+inline std::string dtrack_flystick_datagram(unsigned fr, int id, const Vec3& position_mm, const glm::dmat3& r,
+                                            unsigned buttons, double joy_x, double joy_y, bool tracked = true,
+                                            int defined = 0) {
+    char buf[640];
+    std::snprintf(buf, sizeof buf,
+                  "fr %u\r\nts %.6f\r\n6df2 %d 1 [%d %.3f 8 2][%.3f %.3f %.3f]"
+                  "[%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f][%u %.4f %.4f]\r\n",
+                  fr, fr / 60.0, defined > 0 ? defined : id + 1, id, tracked ? 1.0 : -1.0, position_mm.x,
+                  position_mm.y, position_mm.z, r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1],
+                  r[2][2], buttons, joy_x, joy_y);
+    return buf;
+}
+
 /// Rotation by `deg` degrees about +y.
 inline glm::dmat3 rotation_y_deg(double deg) {
     const double a = deg * M_PI / 180.0, c = std::cos(a), s = std::sin(a);

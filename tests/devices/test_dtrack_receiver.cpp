@@ -17,6 +17,7 @@ namespace tridex::devices {
 namespace {
 
 using test::dtrack_datagram;
+using test::dtrack_flystick_datagram;
 using test::DTrackSender;
 using test::rotation_y_deg;
 
@@ -77,6 +78,30 @@ TEST(DTrackReceiver, NewestPoseWinsAndOtherBodiesKeepTheirs) {
     EXPECT_EQ(t.bodies[1].frame_counter, 2u);
     EXPECT_EQ(t.bodies[0].datagram, 3u);
     EXPECT_LE(t.bodies[1].receipt_ns, t.bodies[0].receipt_ns);
+}
+
+TEST(DTrackReceiver, KeepsTheNewestFlystickWithButtonsAndJoystick) {
+    DTrackReceiver rx(0, "127.0.0.1");
+    DTrackSender tx(rx.port());
+    ASSERT_TRUE(tx.send(dtrack_flystick_datagram(1, 1, Vec3(100, 1200, 300), rotation_y_deg(30.0), 0x1, 0.0, 0.5)));
+    ASSERT_TRUE(tx.send(dtrack_flystick_datagram(2, 1, Vec3(150, 1200, 300), glm::dmat3(1.0), 0x5, -0.25, -1.0)));
+    const DTrackBodyTable& t = wait_table(rx, 2);
+    ASSERT_EQ(t.accepted, 2u);
+    EXPECT_FALSE(t.flysticks[0].seen);
+    const DTrackFlystickSample& f = t.flysticks[1];
+    ASSERT_TRUE(f.seen);
+    EXPECT_EQ(f.frame_counter, 2u);
+    EXPECT_EQ(f.datagram, 2u);
+    EXPECT_NEAR(f.flystick.body.position_m.x, 0.150, 1e-9);
+    EXPECT_EQ(f.flystick.buttons, 0x5u);
+    ASSERT_EQ(f.flystick.controller_count, 2);
+    EXPECT_DOUBLE_EQ(f.flystick.controllers[0], -0.25);
+    EXPECT_DOUBLE_EQ(f.flystick.controllers[1], -1.0);
+    EXPECT_FALSE(t.bodies[1].seen);  // a Flystick is not a standard body
+    // Ids past the kept range are counted and dropped.
+    ASSERT_TRUE(tx.send(dtrack_flystick_datagram(3, kDTrackKeptFlysticks, Vec3(0), glm::dmat3(1.0), 0, 0, 0)));
+    wait_table(rx, 3);
+    EXPECT_EQ(rx.stats().flysticks_dropped, 1u);
 }
 
 TEST(DTrackReceiver, BadDatagramsAreCountedAndDropped) {
