@@ -1,5 +1,5 @@
 // bench/bench_accuracy.hpp - `tridex bench --accuracy`: run time against error of the sculpting paths
-// (and of an OpenVDB level-set peer) on stroke programs with an exact answer (issue 6).
+// (and of an OpenVDB level-set peer) on stroke programs with an exact answer.
 #pragma once
 
 #include <array>

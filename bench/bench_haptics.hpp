@@ -1,5 +1,5 @@
 // bench/bench_haptics.hpp - `tridex bench --haptics`: haptic tick compute time against model
-// resolution and number of contact points (issue 4's benchmark).
+// resolution and number of contact points.
 #pragma once
 
 #include <string>

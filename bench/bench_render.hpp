@@ -1,5 +1,5 @@
 // bench/bench_render.hpp - `tridex bench --render`: offscreen stereo frame time of the contoured workpiece
-// drawn as per-tile meshes, with and without per-eye tile culling (issue 5's benchmark).
+// drawn as per-tile meshes, with and without per-eye tile culling.
 #pragma once
 
 #include <map>

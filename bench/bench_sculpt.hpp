@@ -1,6 +1,5 @@
 // bench/bench_sculpt.hpp - `tridex bench --sculpt`: swept-Boolean throughput and latency of the CPU (one
-// thread, all cores) and GPU (per segment, batched) sculpting paths against resolution and tool size
-// (issue 3's benchmark).
+// thread, all cores) and GPU (per segment, batched) sculpting paths against resolution and tool size.
 #pragma once
 
 #include <cstddef>

@@ -34,7 +34,7 @@ constexpr double kDepthM = 0.006;        // the demo's depth below the surface
 constexpr double kGrooveLengthM = 0.12;  // the demo's pass length, along world x
 constexpr double kGrooveSpacingM = 0.014;
 constexpr double kClearanceM = 0.03;     // tool lifted between grooves
-constexpr double kTargetMs = 16.0;       // one 60 Hz frame (issue 14), at N = 256
+constexpr double kTargetMs = 16.0;       // one 60 Hz frame, at N = 256
 
 // Nearest-rank percentile q in (0, 1].
 double percentile(std::vector<double> v, double q) {

@@ -59,7 +59,7 @@ void fill_window(const RaySet& set, const Vec3& g, ActiveSurface& out) {
             for (int n = 0; n < count; ++n) {
                 w.depth[(slot * kK + n) * 2] = ray[first + n].enter;
                 w.depth[(slot * kK + n) * 2 + 1] = ray[first + n].exit;
-                w.material[slot * kK + n] = 0;  // one material until painting exists (issue 3)
+                w.material[slot * kK + n] = 0;  // material 0 unless painted
             }
         }
     }

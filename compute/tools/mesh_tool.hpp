@@ -54,7 +54,7 @@ glm::dmat3 tool_rotation(const Vec3& axis);
 /// roll about the tool axis included. Throws tridex::Error when q is not finite or is zero.
 glm::dmat3 tool_rotation(const Quat& q);
 
-/// Any closed mesh as a tool (issue 3). The mesh is given in the TOOL FRAME, metres: the origin is the
+/// Any closed mesh as a tool. The mesh is given in the TOOL FRAME, metres: the origin is the
 /// tool's reference point (the point that follows the path, Sweep::path_m), +z is the tool axis (it is
 /// turned onto Sweep::axis by tool_rotation) unless the sweep carries its full orientation
 /// (Sweep::orientation: the mesh is then in the frame of core/tool_shape.hpp, +y the tool axis, and is

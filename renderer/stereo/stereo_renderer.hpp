@@ -44,7 +44,7 @@ struct SceneView {
     Vec3 bubble_centre_m{0.0};
     double bubble_radius_m = 0.0;
 
-    // ---- Materials, proxy, force, tiles, overlay (issue 5). Defaults draw nothing new. ----
+    // ---- Materials, proxy, force, tiles, overlay. Defaults draw nothing new. ----
     /// Per-vertex material ids of `workpiece` (size = workpiece->positions.size(), ids 0..kMaterialCount-1,
     /// colours in material_palette()); nullptr = every vertex material 0 (clay).
     const std::vector<std::uint8_t>* workpiece_materials = nullptr;

@@ -1,4 +1,4 @@
-// Tests of the strided active-surface window (issue 4): at N=1024 on a 0.3 m workpiece (cell 0.29 mm) a
+// Tests of the strided active-surface window: at N=1024 on a 0.3 m workpiece (cell 0.29 mm) a
 // window of ActiveSurface::kWindow rays at stride 1 spans only ~9 mm; sized by the tool's extent it must
 // let a 10 mm ball's edge points and a +-30 mm wand's points find contact, and on a smooth shape give the
 // same contact as stride 1 within a stated bound.

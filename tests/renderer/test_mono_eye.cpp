@@ -1,4 +1,4 @@
-// Mono = one eye's work only (issue 5): SceneView.eye_count = 1 draws the left eye into layer 0 and skips the
+// Mono = one eye's work only: SceneView.eye_count = 1 draws the left eye into layer 0 and skips the
 // right eye's pass; the image equals the left eye of a stereo frame with the same head and separation, the
 // FrameStats hold only eye-0 passes and tile counts, and the GPU time is about half a stereo frame's.
 #include <gtest/gtest.h>

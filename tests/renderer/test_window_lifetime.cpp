@@ -1,4 +1,4 @@
-// GLFW lifetime (issue 5, found by r4): querying the instance extensions with no window open, then a
+// GLFW lifetime: querying the instance extensions with no window open, then a
 // presentation-capable Context, then two windows one after the other (each with a surface and a swapchain
 // frame) must not crash. Before the fix GLFW was terminated after the query, the next window's new X
 // connection could land at the freed one's address, and Mesa's WSI cache sent refused XFixes requests.

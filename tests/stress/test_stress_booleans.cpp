@@ -1,5 +1,5 @@
 // tests/stress/test_stress_booleans.cpp - a million random swept Booleans on box workpieces, with the
-// model's invariants checked after every batch (issue 6, "Stress tests").
+// model's invariants checked after every batch.
 //
 // CpuReference (one test per N = 64, 80, 100, 128; 250k segments each = 1M by default, 10M in the long variant): random segments of mixed
 // operations (subtract, union, paint), ball and flat-end tools (radius 0.3..8 cells, log-uniform; some

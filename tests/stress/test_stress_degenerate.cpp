@@ -1,5 +1,5 @@
-// tests/stress/test_stress_degenerate.cpp - degenerate swept Booleans against the exact answer
-// (issue 6, "Stress tests"): every ball sweep is also applied in double precision, ray by ray, with the
+// tests/stress/test_stress_degenerate.cpp - degenerate swept Booleans against the exact answer:
+// every ball sweep is also applied in double precision, ray by ray, with the
 // exact ray-capsule chord (stress_common.hpp), and the model's rays are compared with that exact solid
 // (symmetric-difference length per ray, cells). Cases: rays tangent to the ball (whole-cell radius,
 // centre on a node), centre on a lattice line and on a lattice plane, zero-length segments, segments far

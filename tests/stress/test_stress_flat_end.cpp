@@ -1,5 +1,5 @@
 // tests/stress/test_stress_flat_end.cpp - flat-end mill sweeps against their exact swept solids, ray by
-// ray, in double precision (issue 6, "Stress tests"). Cases with an analytic swept volume:
+// ray, in double precision. Cases with an analytic swept volume:
 //   (a) plunge along an axis-aligned tool axis: the swept solid is a longer cylinder;
 //   (b) motion perpendicular to an axis-aligned tool axis: a stadium prism (cylinder at the start, cylinder
 //       at the end and the box between, extruded along the axis);

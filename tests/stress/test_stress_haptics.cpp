@@ -1,5 +1,5 @@
 // tests/stress/test_stress_haptics.cpp - the haptic loop over long noisy random paths on a carved
-// tri-dexel model, and the locality of a sculpt step (issue 6, "Stress tests").
+// tri-dexel model, and the locality of a sculpt step.
 //
 // ProxyRarelyEndsInsideMaterialWhenTheHandPushesThrough: a 64^3 box carved by random ball and flat-end sweeps (and a
 // few unions). A HapticLoop (deterministic step(), PoseDevice whose position the test sets: a HIP heading
