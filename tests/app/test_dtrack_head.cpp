@@ -28,14 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 using tridex::test::DTrackSender;
 using tridex::test::dtrack_datagram;
+using tridex::test::rigid;
 using tridex::test::rotation_y_deg;
-
-/// A 4x4 matrix from a rotation (columns) and a translation: the independent reference for the head chain.
-glm::dmat4 rigid(const glm::dmat3& r, const Vec3& t) {
-    glm::dmat4 m(r);
-    m[3] = glm::dvec4(t, 1.0);
-    return m;
-}
 
 /// Calls head_at until the head has taken datagram `n` of the receiver (or 5 s pass).
 Pose wait_pose(DTrackHead& h, std::uint64_t accepted, double t_s) {

@@ -27,14 +27,8 @@ namespace {
 using renderer::SceneNavigation;
 using tridex::test::dtrack_flystick_datagram;
 using tridex::test::DTrackSender;
+using tridex::test::rigid;
 using tridex::test::rotation_y_deg;
-
-/// A 4x4 matrix from a rotation (columns) and a translation: the independent reference.
-glm::dmat4 rigid(const glm::dmat3& r, const Vec3& t) {
-    glm::dmat4 m(r);
-    m[3] = glm::dvec4(t, 1.0);
-    return m;
-}
 
 void expect_mat_near(const glm::dmat4& a, const glm::dmat4& b, double tol) {
     for (int c = 0; c < 4; ++c)

@@ -78,4 +78,11 @@ inline glm::dmat3 rotation_y_deg(double deg) {
     return m;
 }
 
+/// A 4x4 matrix from a rotation (columns) and a translation (m): the tests' independent reference for pose chains.
+inline glm::dmat4 rigid(const glm::dmat3& r, const Vec3& t) {
+    glm::dmat4 m(r);
+    m[3] = glm::dvec4(t, 1.0);
+    return m;
+}
+
 }  // namespace tridex::test
