@@ -9,6 +9,7 @@
 #include "gpu/barrier.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/check.hpp"
+#include "gpu/graphics_pipeline.hpp"
 #include "gpu/image_array.hpp"
 #include "gpu/shader_module.hpp"
 #include "gpu/unique_handle.hpp"
@@ -104,62 +105,14 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device) {
 
 gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass, VkPipelineLayout layout, int width,
                                   int height) {
-    const VkDevice device = context.device();
     const gpu::UniqueShaderModule vs = gpu::create_shader_module(context, shaders::spirv("fullscreen_vert"));
     const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("anaglyph_frag"));
-    VkPipelineShaderStageCreateInfo stages[2]{};
-    stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vs.get();
-    stages[0].pName = "main";
-    stages[1] = stages[0];
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fs.get();
-    VkPipelineVertexInputStateCreateInfo vertex_input{};
-    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
-    VkPipelineInputAssemblyStateCreateInfo assembly{};
-    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    const VkViewport vp{0.0f, 0.0f, static_cast<float>(width), static_cast<float>(height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)}};
-    VkPipelineViewportStateCreateInfo viewport{};
-    viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
-    viewport.viewportCount = 1;
-    viewport.pViewports = &vp;
-    viewport.scissorCount = 1;
-    viewport.pScissors = &scissor;
-    VkPipelineRasterizationStateCreateInfo raster{};
-    raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{};
-    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineColorBlendAttachmentState blend{};
-    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo colour_blend{};
-    colour_blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
-    colour_blend.attachmentCount = 1;
-    colour_blend.pAttachments = &blend;
-    VkGraphicsPipelineCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-    info.stageCount = 2;
-    info.pStages = stages;
-    info.pVertexInputState = &vertex_input;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pColorBlendState = &colour_blend;
-    info.layout = layout;
-    info.renderPass = pass;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    gpu::check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-               "vkCreateGraphicsPipelines");
-    return gpu::UniquePipeline(device, pipeline);
+    gpu::GraphicsPipelineDesc d;  // a full-screen triangle: no vertex buffers, no depth, no blending
+    d.vertex = vs.get();
+    d.fragment = fs.get();
+    d.width = static_cast<std::uint32_t>(width);
+    d.height = static_cast<std::uint32_t>(height);
+    return gpu::create_graphics_pipeline(context.device(), pass, layout, d);
 }
 
 }  // namespace

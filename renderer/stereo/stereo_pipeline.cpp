@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/graphics_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "renderer/stereo/stereo_uniforms.hpp"
 #include "shaders/spirv.hpp"
@@ -91,15 +92,6 @@ constexpr std::uint32_t kContourVertexBytes = 16;
 
 gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipelineLayout layout, VkShaderModule vs,
                                   VkShaderModule fs, PipelineKind kind) {
-    VkPipelineShaderStageCreateInfo stages[2]{};
-    stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vs;
-    stages[0].pName = "main";
-    stages[1] = stages[0];
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fs;
-
     const bool contour = kind == PipelineKind::kContour;
     const VkVertexInputBindingDescription binding{0, contour ? kContourVertexBytes : static_cast<std::uint32_t>(sizeof(MeshVertex)),
                                                   VK_VERTEX_INPUT_RATE_VERTEX};
@@ -112,90 +104,24 @@ gpu::UniquePipeline make_pipeline(VkDevice device, VkRenderPass pass, VkPipeline
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
         {2, 0, VK_FORMAT_R32_UINT, 12},
     };
-    VkPipelineVertexInputStateCreateInfo vertex_input{};
-    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
-    vertex_input.vertexBindingDescriptionCount = 1;
-    vertex_input.pVertexBindingDescriptions = &binding;
-    vertex_input.vertexAttributeDescriptionCount = contour ? 2 : 3;
-    vertex_input.pVertexAttributeDescriptions = contour ? contour_attributes : attributes;
-
-    VkPipelineInputAssemblyStateCreateInfo assembly{};
-
-    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-
-    VkPipelineViewportStateCreateInfo viewport{};
-
-    viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-
     const bool opaque = kind == PipelineKind::kOpaque || contour;
     const bool overlay = kind == PipelineKind::kOverlay;
-    VkPipelineRasterizationStateCreateInfo raster{};
-    raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = overlay                                  ? VK_CULL_MODE_NONE
-                      : kind == PipelineKind::kTranslucentBack ? VK_CULL_MODE_FRONT_BIT
-                                                               : VK_CULL_MODE_BACK_BIT;
+    gpu::GraphicsPipelineDesc d;
+    d.vertex = vs;
+    d.fragment = fs;
+    d.bindings = std::span(&binding, 1);
+    d.attributes = contour ? std::span<const VkVertexInputAttributeDescription>(contour_attributes)
+                           : std::span<const VkVertexInputAttributeDescription>(attributes);
     // Meshes are counter-clockwise seen from outside; the projection flips y so the image is upright,
     // which keeps the on-screen winding counter-clockwise in Vulkan's framebuffer convention.
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-
-    VkPipelineMultisampleStateCreateInfo multisample{};
-
-    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-
-    VkPipelineDepthStencilStateCreateInfo depth{};
-
-    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
-    depth.depthTestEnable = overlay ? VK_FALSE : VK_TRUE;
-    depth.depthWriteEnable = opaque ? VK_TRUE : VK_FALSE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS;
-
-    VkPipelineColorBlendAttachmentState blend{};
-    blend.blendEnable = opaque ? VK_FALSE : VK_TRUE;
-    blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-    blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blend.colorBlendOp = VK_BLEND_OP_ADD;
-    blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blend.alphaBlendOp = VK_BLEND_OP_ADD;
-    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo colour_blend{};
-    colour_blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
-    colour_blend.attachmentCount = 1;
-    colour_blend.pAttachments = &blend;
-
-    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{};
-    dynamic.sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO;
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamic_states;
-
-    VkGraphicsPipelineCreateInfo info{};
-
-    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-    info.stageCount = 2;
-    info.pStages = stages;
-    info.pVertexInputState = &vertex_input;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &colour_blend;
-    info.pDynamicState = &dynamic;
-    info.layout = layout;
-    info.renderPass = pass;
-    info.subpass = 0;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    gpu::check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-               "vkCreateGraphicsPipelines");
-    return gpu::UniquePipeline(device, pipeline);
+    d.cull = overlay                                  ? VK_CULL_MODE_NONE
+             : kind == PipelineKind::kTranslucentBack ? VK_CULL_MODE_FRONT_BIT
+                                                      : VK_CULL_MODE_BACK_BIT;
+    d.depth = true;
+    d.depth_test = !overlay;
+    d.depth_write = opaque;
+    d.alpha_blend = !opaque;
+    return gpu::create_graphics_pipeline(device, pass, layout, d);  // viewport and scissor set per eye
 }
 
 }  // namespace
