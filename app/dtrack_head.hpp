@@ -46,7 +46,7 @@ public:
     Pose head_at(double t_s) override;
 
     int port() const { return receiver_->port(); }  ///< the bound UDP port
-    int body() const { return settings_.body; }
+    int body() const { return settings_.body; }  ///< the DTrack body id the head follows
     std::uint64_t frames_tracked() const { return frames_tracked_; }  ///< head_at() calls that used a fresh sample
     std::uint64_t frames_stale() const { return frames_stale_; }      ///< head_at() calls that used the fallback
     /// The last tracked position of the body in tracker coordinates (m, before calibration); none before one.

@@ -50,7 +50,7 @@ public:
     /// Builds the geometry; throws tridex::Error as parse_tube's rules for an invalid spec ("tube: ...").
     explicit Tube(TubeSpec spec);
 
-    const TubeSpec& spec() const { return spec_; }
+    const TubeSpec& spec() const { return spec_; }  ///< the spec it was built from (m)
     /// Arc length of the spine from its first to its last control point, m.
     double length_m() const { return length_m_; }
     /// The closest point of the extended spine to p.
