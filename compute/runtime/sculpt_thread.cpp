@@ -155,6 +155,7 @@ void SculptThread::run() {
             stats_.history = history_->stats();
             return;
         }
+        passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
 }

@@ -190,6 +190,10 @@ public:
     void stop();
     /// Counters; call after stop().
     const SculptStats& stats() const { return stats_; }
+    /// How many passes of the thread's loop have finished (any thread). A pass takes every queued request, drains
+    /// the ring, applies and publishes; so once two more passes finish after a caller queued requests and the ring
+    /// is empty, all of them have taken effect.
+    std::uint64_t passes() const { return passes_.load(std::memory_order_acquire); }
 
     /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
     /// renderer is its one reader and takes the newest MeshFrame without waiting). Publishes the current
@@ -248,6 +252,7 @@ private:
     std::uint64_t sequence_ = 0;
     SculptStats stats_;
     std::atomic<bool> stop_{false};
+    std::atomic<std::uint64_t> passes_{0};
     std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
     std::thread thread_;
     TripleBuffer<MeshFrame>* mesh_out_ = nullptr;  // renderer hand-off; nullptr = no mesh publishing

@@ -47,9 +47,17 @@ void push_all(SpscRing<ToolSample>& ring, const std::vector<ToolSample>& s) {
         while (!ring.try_push(x)) std::this_thread::yield();
 }
 
-void wait_drained(const SpscRing<ToolSample>& ring) {
-    while (ring.size() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the step that took the last samples finishes
+// Waits until every sample pushed and every request queued so far has taken effect: the ring is empty and two more
+// passes of the thread's loop finished (the first may have begun before; the second began after). Fails the test
+// after a minute instead of hanging.
+void wait_drained(const SpscRing<ToolSample>& ring, const SculptThread& t) {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (ring.size() > 0 && std::chrono::steady_clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const std::uint64_t k = t.passes();
+    while (t.passes() < k + 2 && std::chrono::steady_clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (std::chrono::steady_clock::now() >= limit) ADD_FAILURE() << "the sculpt thread did not settle within 60 s";
 }
 
 TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexels) {
@@ -73,16 +81,16 @@ TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexel
         push_all(ring, lift);
         push_all(ring, b);
         push_all(ring, c);
-        wait_drained(ring);
+        wait_drained(ring, t);
         const std::uint64_t seq = surface.latest().sequence;
         EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 3 (open) closes and is undone
         EXPECT_TRUE(t.request(SculptRequest::kUndo));  // stroke 2
         EXPECT_TRUE(t.request(SculptRequest::kRedo));  // stroke 2 again
-        wait_drained(ring);
+        wait_drained(ring, t);
         EXPECT_GT(surface.latest().sequence, seq) << "the active surface follows an undo at once";
         auto d = pass(0.015, 0.7, 150, ToolOp::kSubtract);  // stroke 4: the redo of stroke 3 is gone
         push_all(ring, d);
-        wait_drained(ring);
+        wait_drained(ring, t);
         EXPECT_TRUE(t.request(SculptRequest::kRedo));  // nothing to redo
         t.stop();
         stats = t.stats();
@@ -171,12 +179,13 @@ TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContin
         t.start();
         push_all(ring, pass(-0.01, 0.0, 200, ToolOp::kSubtract));
         push_all(ring, pass(-0.01, 0.2, 3, ToolOp::kNone));
-        wait_drained(ring);
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        wait_drained(ring, t);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the checkpoint interval passes
+        wait_drained(ring, t);                                        // and a pass has written the checkpoint
         push_all(ring, pass(0.01, 0.3, 200, ToolOp::kSubtract));
-        wait_drained(ring);
+        wait_drained(ring, t);
         EXPECT_TRUE(t.request(SculptRequest::kUndo));  // undoes the stroke after the first checkpoint
-        wait_drained(ring);
+        wait_drained(ring, t);
         t.stop();
         stats = t.stats();
     }
