@@ -39,6 +39,8 @@ public:
     WandSample sample();
 
     int port() const { return receiver_->port(); }  ///< the bound UDP port
+    /// The receiver's counters (any thread).
+    devices::DTrackReceiverStats receiver_stats() const { return receiver_->stats(); }
     std::uint64_t frames_tracked() const { return frames_tracked_; }  ///< sample() calls that were fresh
     std::uint64_t frames_stale() const { return frames_stale_; }      ///< sample() calls that were not
     /// One line: whether the last sample() was fresh and, if not, why.

@@ -66,6 +66,7 @@ DTrackReceiverStats DTrackReceiver::stats() const {
     s.bytes = bytes_.load(std::memory_order_relaxed);
     s.bodies_dropped = dropped_.load(std::memory_order_relaxed);
     s.socket_errors = socket_errors_.load(std::memory_order_relaxed);
+    s.published = published_.load(std::memory_order_acquire);
     s.flysticks_dropped = flysticks_dropped_.load(std::memory_order_relaxed);
     for (std::size_t k = 0; k < s.by_reason.size(); ++k) s.by_reason[k] = by_reason_[k].load(std::memory_order_relaxed);
     return s;
@@ -133,6 +134,7 @@ void DTrackReceiver::run() {
         if (changed) {
             table_.back() = working_;
             table_.publish();
+            published_.store(working_.accepted, std::memory_order_release);
         }
     }
 }

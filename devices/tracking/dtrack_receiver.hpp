@@ -57,6 +57,9 @@ struct DTrackReceiverStats {
     std::uint64_t bodies_dropped = 0;  ///< body samples with ids >= kDTrackKeptBodies
     std::uint64_t flysticks_dropped = 0;  ///< Flystick samples with ids >= kDTrackKeptFlysticks
     std::uint64_t socket_errors = 0;   ///< recv() failures other than "no data"
+    /// Accepted datagrams in the newest published table (latest()); trails `accepted` until the drain that took
+    /// them has published.
+    std::uint64_t published = 0;
 };
 
 /// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
@@ -97,7 +100,7 @@ private:
     DTrackBodyTable working_;  // receiver thread only
     DTrackFrame frame_;        // receiver thread only
     std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0},
-        flysticks_dropped_{0};
+        flysticks_dropped_{0}, published_{0};
     std::array<std::atomic<std::uint64_t>, static_cast<std::size_t>(DTrackReject::kCount)> by_reason_{};
     std::thread thread_;
 };

@@ -34,9 +34,8 @@ using tridex::test::rotation_y_deg;
 /// Calls head_at until the head has taken datagram `n` of the receiver (or 5 s pass).
 Pose wait_pose(DTrackHead& h, std::uint64_t accepted, double t_s) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    while (h.receiver_stats().accepted < accepted && std::chrono::steady_clock::now() < until)
+    while (h.receiver_stats().published < accepted && std::chrono::steady_clock::now() < until)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the receiver publishes after its drain
     return h.head_at(t_s);
 }
 

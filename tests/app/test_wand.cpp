@@ -159,8 +159,14 @@ TEST(WandNavigator, BadSettingsThrow) {
 
 /// Calls sample() until the receiver has accepted `n` datagrams and published them (or 5 s pass).
 WandSample wait_sample(DTrackWand& w, DTrackSender& tx, const std::string& datagram) {
+    const std::uint64_t before = w.receiver_stats().datagrams;
     EXPECT_TRUE(tx.send(datagram));
-    std::this_thread::sleep_for(std::chrono::milliseconds(40));  // the receiver publishes after its drain
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (std::chrono::steady_clock::now() < until) {
+        const devices::DTrackReceiverStats st = w.receiver_stats();
+        if (st.datagrams > before && st.published == st.accepted) break;  // taken, and published if accepted
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
     return w.sample();
 }
 
