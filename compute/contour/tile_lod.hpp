@@ -31,7 +31,7 @@ struct TileLodOptions {
     double cell_m = 0.0;  ///< lattice spacing, m (> 0): the unit of the error targets and of the sampling
     /// Error targets of the levels, cells, ascending: level k is simplified until meshoptimizer's error
     /// estimate would pass error_cells[k] (a geometric series: each level can be drawn twice as far off).
-    std::vector<double> error_cells{0.5, 1.0, 2.0, 4.0, 8.0};
+    std::vector<double> error_cells{0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
     /// A level is kept only when it has at most this fraction of the previous kept level's triangles
     /// (else its target is tried on with the next larger one).
     double keep_fraction = 0.8;
