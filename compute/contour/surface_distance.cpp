@@ -109,7 +109,14 @@ double TriangleGrid::distance(const Vec3& p) {
     std::array<int, 3> c{};
     for (int a = 0; a < 3; ++a)
         c[a] = std::clamp(static_cast<int>(std::floor((p[a] - lo_[a]) / bucket_)), 0, dims_[a] - 1);
+    // Start from the last query's nearest triangle: its distance bounds the search (the box test below).
     double best2 = std::numeric_limits<double>::infinity();
+    std::uint32_t best_i = hint_ < tris_.size() ? hint_ : 0;
+    {
+        const auto& t = tris_[best_i];
+        const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]);
+        best2 = glm::dot(p - q, p - q);
+    }
     // How far p lies inside its bucket from the bucket's nearest face (0 when p is outside the grid there).
     double inside = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
@@ -136,7 +143,11 @@ double TriangleGrid::distance(const Vec3& p) {
                         if (glm::dot(gap, gap) >= best2) continue;
                         const auto& t = tris_[i];
                         const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]);
-                        best2 = std::min(best2, glm::dot(p - q, p - q));
+                        const double d2 = glm::dot(p - q, p - q);
+                        if (d2 < best2) {
+                            best2 = d2;
+                            best_i = i;
+                        }
                     }
                 }
             }
@@ -146,17 +157,26 @@ double TriangleGrid::distance(const Vec3& p) {
         const double reach = static_cast<double>(r) * bucket_ + inside;
         if (best2 <= reach * reach) break;
     }
+    hint_ = best_i;
     return std::sqrt(best2);
 }
 
 std::vector<Vec3> surface_samples(const TriMesh& mesh, double spacing) {
     std::vector<Vec3> out;
+    std::vector<std::uint8_t> used(mesh.positions.size(), 0);
+    for (const auto& t : mesh.triangles)
+        for (std::uint32_t v : t)
+            if (!used[v]) {
+                used[v] = 1;
+                out.push_back(mesh.positions[v]);
+            }
     for (const auto& t : mesh.triangles) {
         const Vec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
         const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
         const int n = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, 4096);
         for (int i = 0; i <= n; ++i)
             for (int j = 0; i + j <= n; ++j) {
+                if ((i == 0 && j == 0) || i == n || j == n) continue;  // the corners: added once above
                 const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
                 out.push_back(a + u * (b - a) + v * (c - a));
             }

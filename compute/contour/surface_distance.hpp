@@ -39,11 +39,12 @@ private:
     std::vector<std::uint32_t> items_;  // triangle indices
     std::vector<std::uint32_t> seen_;   // per triangle: query stamp of its last visit
     std::uint32_t stamp_ = 0;
+    std::uint32_t hint_ = 0;  // the nearest triangle of the last query: queries come in nearby runs
 };
 
 /// Points spread over every triangle of `mesh`: the vertices of a regular subdivision of each triangle whose
-/// sub-edges are at most `spacing` long (spacing > 0, same units as the positions; the triangle's corners
-/// included). For a sampled distance between surfaces.
+/// sub-edges are at most `spacing` long (spacing > 0, same units as the positions), each mesh vertex once. For a
+/// sampled distance between surfaces.
 std::vector<Vec3> surface_samples(const TriMesh& mesh, double spacing);
 
 }  // namespace tridex::compute
