@@ -156,7 +156,11 @@ int main(int argc, char** argv) {
     tridex::app::RenderBenchOptions rbench;
     bench_cmd->add_flag("--render", bench_render,
                         "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, "
-                        "with and without tile culling");
+                        "with and without per-tile levels of detail and tile culling");
+    std::vector<int> render_n;
+    bench_cmd->add_option("--render-n", render_n, "With --render: run only these N (16..1024), e.g. --render-n 256")
+        ->delimiter(',')
+        ->check(CLI::Range(16, 1024));
     bool bench_sculpt = false;
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
@@ -267,6 +271,7 @@ int main(int argc, char** argv) {
             if (bench_render) {
                 rbench.out = hbench.out;
                 rbench.mesh = hbench.mesh;
+                if (!render_n.empty()) rbench.resolutions = render_n;
                 tridex::app::run_render_bench(rbench);
             }
             if (bench_sculpt) {

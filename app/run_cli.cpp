@@ -44,6 +44,10 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
+    cmd->add_option("--lod", o.lod,
+                    "on | off: tile levels of detail (built on the sculpt thread; each eye draws the coarsest level "
+                    "whose error projects to at most a pixel)")
+        ->capture_default_str();
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,

@@ -51,6 +51,9 @@ struct RunOptions {
     bool tiles = true;
     /// With tiles: draw only the tiles inside each eye's off-axis frustum (false: every tile in both eyes).
     bool cull = true;
+    /// With tiles contoured on the CPU: "on" builds each changed tile's levels of detail on the sculpt thread and
+    /// draws each tile per eye at the coarsest level whose error projects to at most a pixel; "off": full meshes.
+    std::string lod = "on";
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;

@@ -45,6 +45,13 @@ json render_json(const RunResult& r) {
                 {"tiles_last", r.tiles_last},
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
+                {"lod",
+                 {{"on", r.setup.lod},
+                  {"tiles_built", r.sculpt.lod_tiles_built},
+                  {"build_ms", r.sculpt.lod_build_ms},
+                  {"tile_triangles_per_frame",
+                   {log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[0]) / log.tiles.size(),
+                    log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[1]) / log.tiles.size()}}}},
                 {"force_m_per_newton", r.force_m_per_newton},
                 {"timing", log.timing_note},
                 {"tiles",
@@ -60,6 +67,7 @@ json render_json(const RunResult& r) {
 
 void RenderLog::add(const renderer::FrameStats& stats) {
     tiles.push_back(stats.tiles);
+    for (int e = 0; e < 2; ++e) tile_triangles[e] += stats.tile_triangles[e];
     tile_uploads += stats.tile_uploads;
     for (const renderer::PassTime& p : stats.passes)
         pass_ms[p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "")].push_back(p.ms);

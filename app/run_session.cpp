@@ -22,6 +22,7 @@
 #include "app/report.hpp"
 #include "app/session_recording.hpp"
 #include "app/workpiece_source.hpp"
+#include "app/tile_view.hpp"
 #include "app/stop_signal.hpp"
 #include "compute/mesh/mesh_export.hpp"
 #include "compute/model/volume.hpp"
@@ -120,6 +121,8 @@ RunSetup resolve_run(const RunOptions& o) {
     s.items = o.items;
     s.tiles = o.tiles;
     s.cull = o.cull;
+    if (o.lod != "on" && o.lod != "off") throw Error("--lod: must be on or off, got '" + o.lod + "'");
+    s.lod = o.lod == "on";
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");
     s.save = o.save;
@@ -250,6 +253,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // thread draws (unless --cpu-contour).
     SculptOptions sculpt_options{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal};
     sculpt_options.checkpoint_s = su.checkpoint_s;
+    sculpt_options.tile_lod = su.lod && su.tiles;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
     SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, sculpt_options, &ctx);
@@ -286,7 +290,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // of wall time (from the published frames), and the previous frame's wall time.
     RateMeter haptic_rate(1.0), sculpt_rate(1.0);
     double prev_frame_ms = -1.0;
-    std::vector<renderer::TileMesh> tiles;  // this frame's view of the published tiles
+    TileView tiles;  // this frame's view of the published tiles and their levels of detail
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     std::string ended = "the window was closed";
     std::size_t next_key = 0;     // scene.keys not yet pressed
@@ -354,16 +358,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
             r.tiled = mesh.tiled;
             r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
-            tiles.clear();
-            for (const auto& tile : mesh.tiles) {
-                renderer::TileMesh tm;
-                tm.mesh = &tile->mesh;
-                tm.bounds_m = tile->bounds_m;
-                tm.version = tile->version;
-                tm.id = tile->id;
-                tm.materials = &tile->materials;
-                tiles.push_back(tm);
-            }
+            tile_view_of(mesh.tiles, su.lod, tiles);
             const haptics::LoopView& lv = backend.runtime().latest_view();
             renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.spec.tool.radius_m,
                                                        backend.start_tool_m(), backend.start_box_m());
@@ -371,7 +366,8 @@ RunResult run_stereo_session(const RunOptions& options) {
             view.tool_mesh = backend.runtime().tool_mesh();
             view.tool_orientation = lv.tool_world.orientation;
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
-            view.tiles = tiles;
+            view.tiles = tiles.tiles;
+            view.lod = su.lod;
             if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;
             if (su.items) {

@@ -38,6 +38,7 @@ struct RunSetup {
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
+    bool lod = true;                ///< tile levels of detail (--lod on|off)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)
@@ -49,6 +50,8 @@ struct RenderLog {
     /// Per frame, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
     std::vector<std::array<renderer::EyeTileCounts, 2>> tiles;
     std::uint64_t tile_uploads = 0;  ///< tile meshes uploaded, summed over frames
+    /// Workpiece tile triangles drawn per eye (FrameStats::tile_triangles), summed over frames.
+    std::array<std::uint64_t, 2> tile_triangles{};
     /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
     /// "frame" (CPU clock): that pass's time in every frame, ms.
     std::map<std::string, std::vector<double>> pass_ms;

@@ -67,6 +67,9 @@ struct SculptOptions {
     /// Where a save request (SculptRequest::kSave, Ctrl+S in a window) writes the model (.tdx, atomically, on the
     /// sculpt thread); "" = such requests fail with "no save file".
     std::string save_path{};
+    /// With per-tile meshes published (RuntimeOptions::mesh_form kTiles, CPU contour): the sculpt thread also
+    /// builds each changed tile's levels of detail (SculptThread::use_tile_lod) for the renderer to choose from.
+    bool tile_lod = false;
 };
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU

@@ -1,8 +1,12 @@
-// bench/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, culling on and off.
+// bench/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, LOD and culling on and off.
 #include "bench/bench_render.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -10,12 +14,14 @@
 #include "app/demo.hpp"
 #include "app/session.hpp"
 #include "app/stats.hpp"
+#include "app/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "renderer/camera/display_config.hpp"
+#include "renderer/image/image.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
@@ -39,12 +45,49 @@ nlohmann::json row_json(const RenderBenchRow& r) {
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& [name, ms] : r.passes) passes[name] = ms;
     return {{"n", r.n}, {"width", r.width}, {"height", r.height}, {"view", r.view}, {"culling", r.culling},
-            {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
+            {"lod", r.lod ? "on" : "off"}, {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
             {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"passes", passes},
             {"tiles_drawn_left", r.tiles_drawn_left}, {"tiles_drawn_right", r.tiles_drawn_right},
             {"tiles_skipped_left", r.tiles_skipped_left}, {"tiles_skipped_right", r.tiles_skipped_right},
-            {"tiles", r.tiles}, {"triangles", r.triangles}, {"speedup", r.speedup}};
+            {"tiles", r.tiles}, {"triangles", r.triangles},
+            {"triangles_drawn", {r.triangles_drawn_left, r.triangles_drawn_right}},
+            {"speedup", r.speedup}, {"lod_speedup", r.lod_speedup},
+            {"silhouette_mismatch", r.silhouette_mismatch}, {"mean_abs_diff", r.mean_abs_diff}};
 }
+
+// Object/background classes and colour differences of two renders of the same frame (both eyes).
+struct ImageDiff {
+    double silhouette_mismatch = 0.0;
+    double mean_abs_diff = 0.0;
+};
+
+ImageDiff image_diff(const renderer::StereoImages& a, const renderer::StereoImages& b, const std::uint8_t* background) {
+    std::size_t pixels = 0, mismatched = 0;
+    double abs_sum = 0.0;
+    const auto one = [&](const renderer::Image& x, const renderer::Image& y) {
+        for (std::size_t p = 0; p + 3 < x.rgba.size() && p + 3 < y.rgba.size(); p += 4) {
+            const bool bx = std::equal(background, background + 3, x.rgba.data() + p);
+            const bool by = std::equal(background, background + 3, y.rgba.data() + p);
+            mismatched += bx != by ? 1 : 0;
+            for (int c = 0; c < 3; ++c) abs_sum += std::abs(int(x.rgba[p + c]) - int(y.rgba[p + c]));
+            ++pixels;
+        }
+    };
+    one(a.left, b.left);
+    one(a.right, b.right);
+    ImageDiff d;
+    if (pixels > 0) {
+        d.silhouette_mismatch = static_cast<double>(mismatched) / static_cast<double>(pixels);
+        d.mean_abs_diff = abs_sum / (3.0 * static_cast<double>(pixels));
+    }
+    return d;
+}
+
+struct Setting {
+    bool lod, cull;
+    const char* name;
+};
+constexpr Setting kSettings[] = {{true, true, "lod+cull"}, {false, true, "cull"}, {false, false, "none"}};
 
 }  // namespace
 
@@ -52,33 +95,73 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     if (o.frames < 1) throw Error("--frames: must be at least 1, got " + std::to_string(o.frames));
     for (const auto& [w, h] : o.sizes) check_image_size(w, h);
     const std::string mesh = o.mesh.empty() ? default_mesh_path() : o.mesh;
+    std::error_code made;
+    std::filesystem::create_directories(o.out, made);
+    if (made) throw Error("--out: cannot create " + o.out + ": " + made.message());
     gpu::Context ctx = gpu::Context::create({});
     std::vector<RenderBenchRow> rows;
+    std::vector<std::string> lod_lines;
     std::string timing_note;
-    std::printf("%5s %10s %9s %4s %9s %9s %8s %8s %8s %8s %13s %13s\n", "N", "size", "view", "cull", "frame_ms",
-                "p99_ms", "gpu_ms", "opaque", "transl", "overlay", "tiles L d/s", "tiles R d/s");
+    std::printf("%5s %10s %9s %8s %9s %9s %8s %8s %8s %13s %13s %10s\n", "N", "size", "view", "setting", "frame_ms",
+                "p99_ms", "gpu_ms", "opaque", "overlay", "tiles L d/s", "tiles R d/s", "tris L");
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, kWorkpieceCentre);
         compute::Contourer contourer(wp.model);
         contourer.update(wp.model);
+        compute::TileLodOptions lod_options;
+        lod_options.cell_m = wp.model.lattice.cell_m;
         compute::TileSurfaceCache cache;
+        cache.enable_lod(lod_options);
         cache.refresh(contourer);
-        std::vector<renderer::TileMesh> list;
-        list.reserve(cache.tiles().size());
-        for (const compute::TileSurface& s : cache.tiles())
-            list.push_back(renderer::TileMesh{&s.mesh, s.bounds_m, s.version, nullptr, s.id});
+        // One thread, a spread of tiles: what a dirty tile costs the sculpt thread.
+        std::vector<double> one_ms;
+        std::size_t levels = 0, lod_triangles = 0;
+        const auto& all = cache.tiles();
+        const std::size_t step = std::max<std::size_t>(1, all.size() / std::max<std::size_t>(1, o.lod_timed_tiles));
+        for (std::size_t i = 0; i < all.size(); i += step) {
+            const auto t0 = Clock::now();
+            const auto built = compute::build_tile_lod(all[i].mesh, all[i].materials, lod_options);
+            one_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        }
+        for (const compute::TileSurface& s : all) {
+            levels += s.lods.size();
+            if (!s.lods.empty()) lod_triangles += s.lods.back().mesh.triangles.size();
+            else lod_triangles += s.mesh.triangles.size();
+        }
+        const Summary lod_s = summarize(one_ms);
+        char line[320];
+        std::snprintf(line, sizeof line,
+                      "LOD build N=%d: %zu tiles in %.0f ms on %u cores (%.3f ms/tile); one thread, %zu tiles: median "
+                      "%.3f ms, p99 %.3f ms per tile; %.2f levels per tile; coarsest levels %zu of %zu triangles",
+                      n, cache.lod_tiles_built(), cache.lod_build_ms(), std::max(1u, std::thread::hardware_concurrency()),
+                      cache.lod_build_ms() / std::max<std::size_t>(1, cache.lod_tiles_built()), one_ms.size(),
+                      lod_s.median, lod_s.p99, static_cast<double>(levels) / std::max<std::size_t>(1, all.size()),
+                      lod_triangles, cache.triangle_count());
+        std::printf("%s\n", line);
+        lod_lines.push_back(line);
+        TileView view;
+        tile_view_of(cache.tiles(), true, view);
         const std::size_t triangles = cache.triangle_count();
-        for (const auto& [w, h] : o.sizes) {
+        for (std::size_t si = 0; si < o.sizes.size(); ++si) {
+            const auto [w, h] = o.sizes[si];
             renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
             renderer::SceneView scene;
             scene.show_workspace = false;
+            // The background colour: a frame with nothing in it.
+            scene.show_overlay = false;
+            Pose any_head;
+            any_head.position = kViews[0].head_m;
+            const renderer::StereoImages empty = r.render(scene, renderer::Screen::powerwall(), any_head, kEyeSeparationM);
+            const std::array<std::uint8_t, 3> background{empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
             scene.show_overlay = true;
-            scene.tiles = list;
+            scene.tiles = view.tiles;
             for (const BenchView& v : kViews) {
                 Pose head;
                 head.position = v.head_m;
-                for (int cull = 1; cull >= 0; --cull) {
-                    scene.cull_tiles = cull == 1;
+                const std::size_t first_row = rows.size();
+                for (const Setting& st : kSettings) {
+                    scene.cull_tiles = st.cull;
+                    scene.lod = st.lod;
                     r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);  // warm-up: uploads
                     std::vector<double> wall, gpu;
                     std::map<std::string, std::vector<double>> pass_ms;
@@ -97,7 +180,8 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.width = w;
                     row.height = h;
                     row.view = v.name;
-                    row.culling = cull == 1;
+                    row.culling = st.cull;
+                    row.lod = st.lod;
                     const Summary s = summarize(wall);
                     row.frame_ms_median = s.median;
                     row.frame_ms_p99 = s.p99;
@@ -107,7 +191,9 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.tiles_drawn_right = last.tiles[1].drawn;
                     row.tiles_skipped_left = last.tiles[0].skipped;
                     row.tiles_skipped_right = last.tiles[1].skipped;
-                    row.tiles = list.size();
+                    row.triangles_drawn_left = last.tile_triangles[0];
+                    row.triangles_drawn_right = last.tile_triangles[1];
+                    row.tiles = view.tiles.size();
                     row.triangles = triangles;
                     rows.push_back(row);
                     auto pass = [&](const char* name) {
@@ -118,22 +204,48 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     std::snprintf(size, sizeof size, "%dx%d", w, h);
                     std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
                     std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-                    std::printf("%5d %10s %9s %4s %9.2f %9.2f %8.2f %8.2f %8.2f %8.2f %13s %13s\n", n, size, v.name,
-                                cull ? "on" : "off", row.frame_ms_median, row.frame_ms_p99, row.gpu_frame_ms_median,
-                                pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[2]), left, right);
+                    std::printf("%5d %10s %9s %8s %9.2f %9.2f %8.2f %8.2f %8.2f %13s %13s %10zu\n", n, size, v.name,
+                                st.name, row.frame_ms_median, row.frame_ms_p99, row.gpu_frame_ms_median,
+                                pass(kPasses[0]), pass(kPasses[2]), left, right, row.triangles_drawn_left);
                 }
-                // The two rows just added: culling on, then off.
-                RenderBenchRow& on = rows[rows.size() - 2];
-                const RenderBenchRow& off = rows.back();
-                on.speedup = on.frame_ms_median > 0.0 ? off.frame_ms_median / on.frame_ms_median : 0.0;
+                // Rows just added: LOD + culling, culling, neither.
+                RenderBenchRow& lod = rows[first_row];
+                RenderBenchRow& cull = rows[first_row + 1];
+                const RenderBenchRow& none = rows[first_row + 2];
+                lod.lod_speedup = lod.frame_ms_median > 0.0 ? cull.frame_ms_median / lod.frame_ms_median : 0.0;
+                cull.speedup = cull.frame_ms_median > 0.0 ? none.frame_ms_median / cull.frame_ms_median : 0.0;
+                // The same frame with and without LOD, no overlay (it shows the frame time).
+                scene.show_overlay = false;
+                scene.cull_tiles = true;
+                scene.lod = true;
+                const renderer::StereoImages with = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                scene.lod = false;
+                const renderer::StereoImages without = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                scene.show_overlay = true;
+                const ImageDiff d = image_diff(with, without, background.data());
+                lod.silhouette_mismatch = d.silhouette_mismatch;
+                lod.mean_abs_diff = d.mean_abs_diff;
+                if (si == 0 && std::string(v.name) == "whole") {
+                    const std::filesystem::path dir(o.out);
+                    renderer::write_png((dir / ("render_n" + std::to_string(n) + "_lod_on.png")).string(), with.left);
+                    renderer::write_png((dir / ("render_n" + std::to_string(n) + "_lod_off.png")).string(), without.left);
+                }
             }
         }
-        std::printf("N=%d: %zu triangles in %zu non-empty tiles\n", n, triangles, list.size());
+        std::printf("N=%d: %zu triangles in %zu non-empty tiles\n", n, triangles, view.tiles.size());
     }
     for (const RenderBenchRow& r : rows)
-        if (r.culling)
+        if (r.lod)
+            std::printf("LOD N=%d %dx%d %s: %.2fx faster (frame %.2f ms with, %.2f ms without), triangles per eye "
+                        "%zu / %zu of %zu, silhouette mismatch %.4f%%, mean abs diff %.3f\n",
+                        r.n, r.width, r.height, r.view.c_str(), r.lod_speedup, r.frame_ms_median,
+                        r.frame_ms_median * r.lod_speedup, r.triangles_drawn_left, r.triangles_drawn_right, r.triangles,
+                        100.0 * r.silhouette_mismatch, r.mean_abs_diff);
+    for (const RenderBenchRow& r : rows)
+        if (r.culling && !r.lod)
             std::printf("culling speed-up N=%d %dx%d %s: %.2fx (frame %.2f ms with, %.2f ms without)\n", r.n, r.width,
                         r.height, r.view.c_str(), r.speedup, r.frame_ms_median, r.frame_ms_median * r.speedup);
+    for (const std::string& l : lod_lines) std::printf("%s\n", l.c_str());
     std::printf("frame_ms: wall clock around draw(); gpu_ms and passes: %s; validation %s; %d frames per row "
                 "(+1 warm-up)\n", timing_note.empty() ? "-" : timing_note.c_str(), ctx.validation_enabled() ? "on" : "off",
                 o.frames);

@@ -15,6 +15,7 @@ PACKAGES=(
   libcli11-dev                              # command line
   libglfw3-dev                              # windows and fullscreen on the wall (GLFW)
   libzstd-dev                               # zstd: compresses the sections of the .tdx model file
+  libmeshoptimizer-dev                      # meshoptimizer: simplified levels of detail of the tile meshes
   libusb-1.0-0-dev                          # USB: detecting (and later driving) haptic devices (libusb-1.0)
   xvfb xauth                                # a virtual X server for the window smoke test
   libgtest-dev libgmock-dev                 # tests

@@ -1,7 +1,16 @@
 // compute/contour/contour_tiles.cpp - per-tile surface cache over a Contourer.
 #include "compute/contour/contour_tiles.hpp"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <thread>
 #include <utility>
+
+#include "core/error.hpp"
 
 namespace tridex::compute {
 
@@ -31,11 +40,49 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
     }
+    if (lod_) build_lods(rebuilt);
     std::vector<TileSurface> next;
     next.reserve(order.size());
     for (const Step& st : order) next.push_back(std::move(st.fresh ? rebuilt[st.index] : tiles_[st.index]));
     tiles_ = std::move(next);
     return rebuilt.size();
+}
+
+void TileSurfaceCache::enable_lod(const TileLodOptions& options) {
+    if (!std::isfinite(options.cell_m) || !(options.cell_m > 0.0))
+        throw Error("TileSurfaceCache::enable_lod: cell_m must be finite and > 0, got " + std::to_string(options.cell_m));
+    lod_options_ = options;
+    lod_ = true;
+}
+
+void TileSurfaceCache::build_lods(std::vector<TileSurface>& rebuilt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto build = [&](TileSurface& s) { s.lods = build_tile_lod(s.mesh, s.materials, lod_options_); };
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    if (rebuilt.size() < kParallelLodTiles || cores == 1) {
+        for (TileSurface& s : rebuilt) build(s);
+    } else {
+        // Tiles handed out one at a time from a shared counter; the calling thread works too.
+        std::atomic<std::size_t> next{0};
+        std::exception_ptr failure;
+        std::atomic<bool> failed{false};
+        const auto work = [&] {
+            for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < rebuilt.size();) {
+                try {
+                    build(rebuilt[i]);
+                } catch (...) {
+                    if (!failed.exchange(true)) failure = std::current_exception();
+                }
+            }
+        };
+        std::vector<std::thread> threads;
+        for (unsigned c = 1; c < cores; ++c) threads.emplace_back(work);
+        work();
+        for (std::thread& t : threads) t.join();
+        if (failure) std::rethrow_exception(failure);
+    }
+    lod_tiles_built_ += rebuilt.size();
+    lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::size_t TileSurfaceCache::triangle_count() const {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
+#include "compute/contour/tile_lod.hpp"
 #include "core/aabb.hpp"
 #include "core/tri_mesh.hpp"
 
@@ -21,6 +22,8 @@ struct TileSurface {
     TriMesh mesh;               ///< the tile's triangles (compact vertex list)
     /// Material id per mesh vertex (size = mesh.positions.size(); Contourer::mesh_materials' rule).
     std::vector<std::uint8_t> materials;
+    /// Coarser levels of detail of mesh, finest first (build_tile_lod; empty unless the cache builds them).
+    std::vector<TileLodLevel> lods;
 };
 
 /// Keeps TileSurfaces for every non-empty tile of a Contourer, rebuilding only tiles whose contour changed
@@ -38,8 +41,27 @@ public:
     /// Total triangles over tiles().
     std::size_t triangle_count() const;
 
+    /// From the next refresh() on, builds the levels of detail (TileSurface::lods, build_tile_lod) of every
+    /// tile it rebuilds; call it before the first refresh() so that every tile has them. Large refreshes
+    /// (kParallelLodTiles tiles or more, e.g. the first) spread the builds over the machine's cores.
+    /// Throws tridex::Error when options.cell_m is not finite and > 0.
+    void enable_lod(const TileLodOptions& options);
+    /// True after enable_lod().
+    bool lod_enabled() const { return lod_; }
+    /// Tiles whose levels were built since construction, and the elapsed wall time of those builds, ms
+    /// (a build spread over several cores counts its elapsed time once).
+    std::size_t lod_tiles_built() const { return lod_tiles_built_; }
+    double lod_build_ms() const { return lod_build_ms_; }
+    /// Rebuilt tiles from which a refresh() builds the levels on every core.
+    static constexpr std::size_t kParallelLodTiles = 64;
+
 private:
+    void build_lods(std::vector<TileSurface>& rebuilt);
     std::vector<TileSurface> tiles_;
+    bool lod_ = false;
+    TileLodOptions lod_options_{};
+    std::size_t lod_tiles_built_ = 0;
+    double lod_build_ms_ = 0.0;
 };
 
 }  // namespace tridex::compute

@@ -323,6 +323,11 @@ void SculptThread::checkpoint_if_due() {
     stats_.busy_ms += ms;
 }
 
+void SculptThread::use_tile_lod(const compute::TileLodOptions& options) {
+    if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
+    tile_cache_.enable_lod(options);
+}
+
 void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {
     if (thread_.joinable()) throw Error("SculptThread::publish_mesh_to: call it before start()");
     if (!std::isfinite(min_interval_s) || min_interval_s < 0.0)
@@ -352,6 +357,8 @@ void SculptThread::publish_mesh() {
         slot.triangles = slot.mesh.triangles.size();
     } else {
         tile_cache_.refresh(contourer_);
+        stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
+        stats_.lod_build_ms = tile_cache_.lod_build_ms();
         // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
         std::vector<std::shared_ptr<const compute::TileSurface>> next;
         next.reserve(tile_cache_.tiles().size());

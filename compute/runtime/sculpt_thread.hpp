@@ -41,6 +41,10 @@ struct SculptStats {
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
+    /// use_tile_lod: tiles whose levels of detail were built (the first publish's included) and the elapsed
+    /// time of those builds, ms (part of mesh_publish_ms).
+    std::uint64_t lod_tiles_built = 0;
+    double lod_build_ms = 0.0;
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
     /// Per undo or redo that changed the model: from taking the request to the active surface published and the
@@ -205,6 +209,11 @@ public:
     /// when the thread runs or min_interval_s is not finite and >= 0.
     void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
                          MeshForm form = MeshForm::kWhole);
+    /// With MeshForm::kTiles: builds the levels of detail of every tile mesh it publishes (TileSurface::lods,
+    /// compute::build_tile_lod), on this thread after re-contouring and only for tiles whose version changed.
+    /// Call before publish_mesh_to() so the first publish has them. Throws tridex::Error when the thread runs
+    /// or options.cell_m is not finite and > 0.
+    void use_tile_lod(const compute::TileLodOptions& options);
 
 private:
     void run();

@@ -9,7 +9,8 @@
 
 namespace tridex::renderer {
 
-void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials) {
+void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials,
+                     std::span<const Vec3> given_normals) {
     const std::size_t nv = mesh.positions.size();
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (std::uint32_t i : mesh.triangles[t])
@@ -26,10 +27,16 @@ void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span
         if (materials[v] >= kMaterialCount)
             throw Error("renderer: mesh vertex " + std::to_string(v) + " has material id " +
                         std::to_string(materials[v]) + " >= " + std::to_string(kMaterialCount));
+    if (!given_normals.empty() && given_normals.size() != nv)
+        throw Error("renderer: mesh normals has " + std::to_string(given_normals.size()) +
+                    " entries, expected 0 or one per vertex (" + std::to_string(nv) + ")");
+    for (std::size_t v = 0; v < given_normals.size(); ++v)
+        if (!is_finite(given_normals[v])) throw Error("renderer: mesh normal " + std::to_string(v) + " is not finite");
     index_count_ = 0;
     if (mesh.triangles.empty()) return;
 
-    const std::vector<Vec3> normals = vertex_normals(mesh);
+    const std::vector<Vec3> normals =
+        given_normals.empty() ? vertex_normals(mesh) : std::vector<Vec3>(given_normals.begin(), given_normals.end());
     const VkDeviceSize vbytes = nv * sizeof(MeshVertex);
     const VkDeviceSize ibytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
     if (vertices_.size() < vbytes)

@@ -22,8 +22,11 @@ public:
     /// Throws tridex::Error when a triangle index is out of range, a position is not finite (naming the
     /// triangle / vertex), materials.size() is neither 0 nor the vertex count, or a material id is out of
     /// range (naming the vertex), or on a Vulkan failure. Not safe while the GPU still reads the buffers
-    /// from an earlier submission.
-    void assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials = {});
+    /// from an earlier submission. `normals` is empty (area-weighted normals of `mesh`) or one unit normal per
+    /// vertex to use instead (e.g. a simplified mesh shaded with its full mesh's normals); a wrong size or a
+    /// non-finite normal throws.
+    void assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials = {},
+                std::span<const Vec3> normals = {});
 
     VkBuffer vertices() const { return vertices_.handle(); }
     VkBuffer indices() const { return indices_.handle(); }

@@ -29,6 +29,19 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                 std::span<const std::uint8_t> materials;
                 if (t.materials) materials = *t.materials;
                 e.mesh.assign(context, mesh, materials);
+                e.levels.resize(t.levels.size());
+                for (std::size_t k = 0; k < t.levels.size(); ++k) {
+                    const TileMeshLevel& l = t.levels[k];
+                    std::span<const std::uint8_t> lm;
+                    std::span<const Vec3> ln;
+                    if (l.materials) lm = *l.materials;
+                    if (l.normals) ln = *l.normals;
+                    try {
+                        e.levels[k].assign(context, l.mesh ? *l.mesh : kEmpty, lm, ln);
+                    } catch (const Error& err) {
+                        throw Error("level " + std::to_string(k + 1) + ": " + err.what());
+                    }
+                }
             } catch (const Error& err) {
                 entries_.erase(it);
                 order_.clear();
@@ -44,10 +57,13 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
     return uploads;
 }
 
-const GpuMesh& TileMeshCache::mesh(std::size_t i) const {
+const GpuMesh& TileMeshCache::mesh(std::size_t i, std::size_t level) const {
     if (i >= order_.size())
         throw Error("TileMeshCache::mesh: index " + std::to_string(i) + " >= " + std::to_string(order_.size()));
-    return order_[i]->mesh;
+    if (level == 0) return order_[i]->mesh;
+    if (level > order_[i]->levels.size())
+        throw Error("TileMeshCache::mesh: tile " + std::to_string(i) + " has no level " + std::to_string(level));
+    return order_[i]->levels[level - 1];
 }
 
 }  // namespace tridex::renderer

@@ -13,6 +13,7 @@
 #include "core/tri_mesh.hpp"
 #include "gpu/context.hpp"
 #include "renderer/scene/gpu_mesh.hpp"
+#include "renderer/scene/tile_lod.hpp"
 
 namespace tridex::renderer {
 
@@ -29,6 +30,9 @@ struct TileMesh {
     /// kIdFromPosition = its position in the list, which must then be the same every frame.
     std::uint64_t id = kIdFromPosition;
     static constexpr std::uint64_t kIdFromPosition = std::numeric_limits<std::uint64_t>::max();
+    /// Coarser levels of detail of `mesh`, finest first (optional): uploaded with the tile (again when its
+    /// version changes), and each eye draws the coarsest whose error projects to at most SceneView::lod_max_px.
+    std::span<const TileMeshLevel> levels{};
 };
 
 /// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version
@@ -43,8 +47,9 @@ public:
     /// tile); a tile that failed is left out of the cache, so the next sync() retries it.
     std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles);
 
-    /// The GPU mesh of tiles[i] of the last sync(). Throws tridex::Error when i is out of range.
-    const GpuMesh& mesh(std::size_t i) const;
+    /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()).
+    /// Throws tridex::Error when i or level is out of range.
+    const GpuMesh& mesh(std::size_t i, std::size_t level = 0) const;
     /// Tiles held (= the size of the last sync()'s list).
     std::size_t size() const { return order_.size(); }
     /// Uploads over the cache's lifetime.
@@ -53,6 +58,7 @@ public:
 private:
     struct Entry {
         GpuMesh mesh;
+        std::vector<GpuMesh> levels;  // TileMesh::levels, finest first
         std::uint64_t version = 0;
         std::uint64_t seen = 0;  // sync() call that listed it last
     };

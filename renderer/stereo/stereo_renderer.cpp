@@ -26,6 +26,7 @@
 #include "renderer/stereo/stereo_pipeline.hpp"
 #include "renderer/stereo/stereo_target.hpp"
 #include "renderer/scene/tile_culling.hpp"
+#include "renderer/scene/tile_lod.hpp"
 
 namespace tridex::renderer {
 namespace {
@@ -173,12 +174,16 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
     std::array<Frustum, 2> frusta;
+    std::array<LodEye, 2> lod_eyes;
+    if (scene.lod && !(std::isfinite(scene.lod_max_px) && scene.lod_max_px > 0.0))
+        throw Error("renderer: SceneView.lod_max_px must be finite and > 0, got " + std::to_string(scene.lod_max_px));
     for (int e = 0; e < 2; ++e) {
         const EyeView v = off_axis_view(screen, eyes[e], near_m, far_m);
         const Mat4 clip_from_world = v.projection * v.view;
         u.clip_from_world[e] = glm::mat4(clip_from_world);
         u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
         frusta[e] = frustum_from_clip(clip_from_world);
+        lod_eyes[e] = lod_eye(screen, eyes[e], width(), height());
     }
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
     const auto& palette = material_palette();
@@ -230,9 +235,29 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             for (int e = 0; e < eye_count; ++e)
                 ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
             if (mask == 0) continue;
-            StereoDraw& d = add(PipelineKind::kOpaque, mesh, glm::mat4(1.0f), palette[0], true);
-            d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
-            d.eye_mask = mask;
+            // Level of detail per eye; multiview draws both eyes with one level (the finer).
+            std::array<std::size_t, 2> level{0, 0};
+            if (scene.lod && !scene.tiles[i].levels.empty()) {
+                for (int e = 0; e < eye_count; ++e)
+                    if (mask & (1u << e))
+                        level[e] = choose_level(scene.tiles[i].levels,
+                                                pixels_per_metre(lod_eyes[e], scene.tiles[i].bounds_m), scene.lod_max_px);
+                if (strategy() == EyeStrategy::kMultiview) level[0] = level[1] = std::min(level[0], level[1]);
+            }
+            const bool one_draw = mask != 0b11u || level[0] == level[1];
+            for (int e = 0; e < 2; ++e) {
+                const std::uint32_t eye_bit = 1u << e;
+                if (!(mask & eye_bit)) continue;
+                const GpuMesh& m = im.tiles.mesh(i, level[e]);
+                for (int f = 0; f < eye_count; ++f)
+                    if ((one_draw ? mask : eye_bit) & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
+                if (m.index_count() != 0) {
+                    StereoDraw& d = add(PipelineKind::kOpaque, m, glm::mat4(1.0f), palette[0], true);
+                    d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
+                    d.eye_mask = one_draw ? mask : eye_bit;
+                }
+                if (one_draw) break;
+            }
         }
     }
     if (const IndirectWorkpiece* iw = scene.indirect_workpiece; iw && !iw->tiles.empty()) {

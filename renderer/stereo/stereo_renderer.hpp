@@ -63,6 +63,11 @@ struct SceneView {
     std::span<const TileMesh> tiles{};
     /// false: draw every tile in both eyes (for comparison; counts then show nothing skipped).
     bool cull_tiles = true;
+    /// Draw each tile in each eye at the coarsest of its TileMesh::levels whose error projects (pixels_per_metre
+    /// of the tile's bounds in that eye's off-axis frustum and image) to at most lod_max_px pixels; false: always
+    /// the full mesh. Multiview draws both eyes at once, so there a tile gets the finer of the two eyes' levels.
+    bool lod = true;
+    double lod_max_px = 1.0;  ///< pixels (> 0 and finite)
     /// The workpiece as GPU buffers (GPU contouring): each tile drawn with one vkCmdDrawIndexedIndirect in the
     /// eyes whose frustum its bounds may touch (cull_tiles), lit like the tiles above with palette colours but
     /// flat-shaded (facet normals from screen-space derivatives: the GPU contour has no normals). Counted in

@@ -32,6 +32,8 @@ struct PassTime {
 struct FrameStats {
     std::array<EyeTileCounts, 2> tiles{};  ///< per eye (0 left, 1 right); zeros when the scene has no tiles
     std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
+    /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen.
+    std::array<std::size_t, 2> tile_triangles{};
     TimingSource timing = TimingSource::kGpuTimestamps;
     std::string timing_note;               ///< one line: the timing source, and why when it is the CPU clock
     std::vector<PassTime> passes;          ///< GPU: every phase of every render pass instance; CPU: one "frame"

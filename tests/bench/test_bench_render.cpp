@@ -1,5 +1,6 @@
 // Smoke test of `tridex bench --render` (bench/bench_render): a tiny run writes render_bench.json with one
-// row per (N, size, view, culling) and the documented fields, with consistent tile counts.
+// row per (N, size, view, setting: LOD + culling, culling, neither) and the documented fields, with consistent
+// tile and triangle counts, and the LOD comparison images.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include "bench/bench_render.hpp"
 #include "core/error.hpp"
@@ -19,7 +21,7 @@ std::string bunny() {
     return (std::filesystem::path(assets ? assets : "assets") / "bunny.off").string();
 }
 
-TEST(BenchRender, TinyRunWritesOneRowPerViewAndCullingWithAllFields) {
+TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
     RenderBenchOptions o;
     o.mesh = bunny();
     o.resolutions = {48};
@@ -28,24 +30,42 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndCullingWithAllFields) {
     o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_render").string();
     std::filesystem::remove_all(o.out);
     const std::vector<RenderBenchRow> rows = run_render_bench(o);
-    ASSERT_EQ(rows.size(), 4u);
+    ASSERT_EQ(rows.size(), 6u);
 
     std::ifstream f(std::filesystem::path(o.out) / "render_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
     ASSERT_TRUE(j.is_array());
-    ASSERT_EQ(j.size(), 4u);
-    std::set<std::pair<std::string, bool>> seen;
+    ASSERT_EQ(j.size(), 6u);
+    std::set<std::tuple<std::string, bool, std::string>> seen;
     for (std::size_t i = 0; i < j.size(); ++i) {
         const nlohmann::json& r = j[i];
         for (const char* key : {"n", "width", "height", "view", "culling", "frame_ms_median", "frame_ms_p99",
                                 "gpu_frame_ms_median", "passes", "tiles_drawn_left", "tiles_drawn_right",
-                                "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup"})
+                                "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup", "lod",
+                                "triangles_drawn", "lod_speedup", "silhouette_mismatch", "mean_abs_diff"})
             ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
         EXPECT_EQ(r["n"].get<int>(), 48);
         EXPECT_EQ(r["width"].get<int>(), 96);
         EXPECT_EQ(r["height"].get<int>(), 72);
-        seen.insert({r["view"].get<std::string>(), r["culling"].get<bool>()});
+        seen.insert({r["view"].get<std::string>(), r["culling"].get<bool>(), r["lod"].get<std::string>()});
+        const bool lod = r["lod"].get<std::string>() == "on";
+        // Triangles drawn per eye: all of them without LOD in the whole view, fewer with LOD (the bunny is far
+        // smaller than a pixel per cell at N = 48 in a 96x72 image).
+        const auto drawn_left = r["triangles_drawn"][0].get<std::size_t>();
+        if (r["view"] == "whole" && !lod) {
+            EXPECT_EQ(drawn_left, rows[0].triangles);
+        }
+        if (lod) {
+            EXPECT_LT(drawn_left, rows[0].triangles);
+            EXPECT_GT(r["lod_speedup"].get<double>(), 0.0);
+            EXPECT_GE(r["silhouette_mismatch"].get<double>(), 0.0);
+            EXPECT_LT(r["silhouette_mismatch"].get<double>(), 0.05);
+            EXPECT_GE(r["mean_abs_diff"].get<double>(), 0.0);
+        } else {
+            EXPECT_EQ(r["lod_speedup"].get<double>(), 0.0);
+            EXPECT_EQ(r["silhouette_mismatch"].get<double>(), -1.0);
+        }
         EXPECT_GT(r["frame_ms_median"].get<double>(), 0.0);
         EXPECT_GE(r["frame_ms_p99"].get<double>(), r["frame_ms_median"].get<double>());
         const auto tiles = r["tiles"].get<std::size_t>();
@@ -57,6 +77,8 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndCullingWithAllFields) {
         if (!r["culling"].get<bool>()) {
             EXPECT_EQ(r["tiles_skipped_left"].get<std::size_t>() + r["tiles_skipped_right"].get<std::size_t>(), 0u);
             EXPECT_EQ(r["speedup"].get<double>(), 0.0);
+        } else if (lod) {
+            EXPECT_EQ(r["speedup"].get<double>(), 0.0);
         } else {
             EXPECT_GT(r["speedup"].get<double>(), 0.0);
         }
@@ -66,8 +88,12 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndCullingWithAllFields) {
         ASSERT_TRUE(passes.contains("opaque") || passes.contains("frame")) << passes.dump();
         for (const auto& [name, ms] : passes.items()) EXPECT_GE(ms.get<double>(), 0.0) << name;
     }
-    const std::set<std::pair<std::string, bool>> expected{{"whole", true}, {"whole", false}, {"close-up", true}, {"close-up", false}};
+    const std::set<std::tuple<std::string, bool, std::string>> expected{
+        {"whole", true, "on"}, {"whole", true, "off"}, {"whole", false, "off"},
+        {"close-up", true, "on"}, {"close-up", true, "off"}, {"close-up", false, "off"}};
     EXPECT_EQ(seen, expected);
+    for (const char* png : {"render_n48_lod_on.png", "render_n48_lod_off.png"})
+        EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(o.out) / png)) << png;
     // The whole view sees every tile; the close-up leaves some outside at least one eye's frustum.
     for (const RenderBenchRow& r : rows) {
         if (r.view == "whole") {

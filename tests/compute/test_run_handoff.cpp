@@ -2,7 +2,10 @@
 // final state at stop().
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "compute/runtime/sculpt_thread.hpp"
 #include "compute/mesh/scan_convert.hpp"
@@ -74,6 +77,45 @@ TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
     // One publish at hand-off plus one per changing step (steps that contoured).
     EXPECT_EQ(t.stats().mesh_publishes, 1u + t.stats().steps);
     EXPECT_EQ(meshes.latest().version, t.stats().mesh_publishes);
+}
+
+TEST(RunHandoff, TilesCarryLevelsRebuiltOnlyWhereTheyChanged) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    compute::TileLodOptions lod;
+    lod.cell_m = m.lattice.cell_m;
+    t.use_tile_lod(lod);
+    t.publish_mesh_to(meshes, 1000.0, MeshForm::kTiles);
+    const std::vector<std::shared_ptr<const compute::TileSurface>> before = meshes.latest().tiles;
+    ASSERT_FALSE(before.empty());
+    std::size_t with_levels = 0;
+    for (const auto& tile : before) with_levels += tile->lods.empty() ? 0 : 1;
+    EXPECT_GT(with_levels, 0u);  // the box's faces simplify
+    EXPECT_EQ(t.stats().lod_tiles_built, before.size());
+    push_groove(ring);
+    t.start();
+    EXPECT_THROW(t.use_tile_lod(lod), Error);  // not while running
+    t.stop();
+    const std::vector<std::shared_ptr<const compute::TileSurface>>& after = meshes.latest().tiles;
+    // Levels were built again exactly for the tiles whose version changed; the others are the same objects.
+    std::size_t changed = 0;
+    for (const auto& tile : after) {
+        const auto old = std::find_if(before.begin(), before.end(), [&](const auto& b) { return b->id == tile->id; });
+        if (old != before.end() && (*old)->version == tile->version) {
+            EXPECT_EQ(old->get(), tile.get());
+        } else {
+            ++changed;
+        }
+    }
+    EXPECT_GT(changed, 0u);
+    EXPECT_LT(changed, after.size());
+    EXPECT_EQ(t.stats().lod_tiles_built, before.size() + changed);
+    EXPECT_GT(t.stats().lod_build_ms, 0.0);
 }
 
 TEST(RunHandoff, BadIntervalIsRefused) {

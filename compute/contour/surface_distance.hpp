@@ -1,0 +1,50 @@
+// compute/contour/surface_distance.hpp - unsigned distance from points to a triangle surface, and the sampled
+// two-sided distance between two surfaces (how far a simplified tile mesh strays from the full one).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.hpp"
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// Closest point to p on the triangle (a, b, c) (any shape; a degenerate triangle gives the closest point on
+/// its segments). Region tests on the barycentric coordinates (Ericson, "Real-Time Collision Detection",
+/// 2005, section 5.1.5). Units as the inputs.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// Nearest-triangle queries on one mesh: its triangles bucketed in a uniform grid of about `bucket` (same
+/// units as the positions) per side, searched in growing shells around the query until no unseen triangle
+/// can be nearer. Exact (up to double rounding) for any query point. Keeps a pointer to nothing: the
+/// triangles are copied. Not thread-safe (distance() keeps scratch state); one per thread.
+class TriangleGrid {
+public:
+    /// Buckets `mesh`'s triangles (indices must be < positions.size()). bucket <= 0 or not finite: one
+    /// bucket per side of a 16-bucket grid over the mesh's box. An empty mesh gives a grid whose distance()
+    /// is +infinity.
+    TriangleGrid(const TriMesh& mesh, double bucket);
+    /// Unsigned distance from p to the nearest triangle (+infinity when the mesh has none).
+    double distance(const Vec3& p);
+
+private:
+    std::vector<std::array<Vec3, 3>> tris_;
+    std::vector<std::array<Vec3, 2>> boxes_;  // per triangle: lo, hi
+    Vec3 lo_{0.0};
+    double bucket_ = 1.0;
+    std::array<int, 3> dims_{1, 1, 1};
+    std::vector<std::uint32_t> start_;  // per bucket: first entry in items_ (CSR, size buckets + 1)
+    std::vector<std::uint32_t> items_;  // triangle indices
+    std::vector<std::uint32_t> seen_;   // per triangle: query stamp of its last visit
+    std::uint32_t stamp_ = 0;
+    std::uint32_t hint_ = 0;  // the nearest triangle of the last query: queries come in nearby runs
+};
+
+/// Points spread over every triangle of `mesh`: the vertices of a regular subdivision of each triangle whose
+/// sub-edges are at most `spacing` long (spacing > 0, same units as the positions), each mesh vertex once. For a
+/// sampled distance between surfaces.
+std::vector<Vec3> surface_samples(const TriMesh& mesh, double spacing);
+
+}  // namespace tridex::compute

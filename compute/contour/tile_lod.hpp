@@ -1,0 +1,61 @@
+// compute/contour/tile_lod.hpp - coarser levels of detail of one tile's mesh, with their borders kept so
+// tiles at different levels still meet edge to edge.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/math.hpp"
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// One simplified level of a tile's mesh.
+struct TileLodLevel {
+    TriMesh mesh;                         ///< the level's triangles and only the vertices they use, world m, CCW from outside
+    std::vector<std::uint8_t> materials;  ///< per mesh vertex: the full mesh's material id (empty when it had none)
+    /// Per mesh vertex: the full mesh's area-weighted unit normal at that vertex (core vertex_normals), so a
+    /// level is shaded as the full mesh is.
+    std::vector<Vec3> normals;
+    /// Upper bound of the two-sided (Hausdorff) distance between this level and the full mesh, m: the largest
+    /// exact distance from samples of either surface to the other (surface_samples, spacing s = half a cell)
+    /// plus s / sqrt(3). Every point of a surface lies within s / sqrt(3) of one of its samples (no point of a
+    /// triangle is farther than its longest edge / sqrt(3) from a corner) and the distance to a surface
+    /// changes by at most the distance moved, so the bound holds for every point, not only the samples.
+    double error_m = 0.0;
+};
+
+/// How the levels are made.
+struct TileLodOptions {
+    double cell_m = 0.0;  ///< lattice spacing, m (> 0): the unit of the error targets and of the sampling
+    /// Error targets of the levels, cells, ascending: level k is simplified until meshoptimizer's error
+    /// estimate would pass error_cells[k] (a geometric series: each level can be drawn twice as far off).
+    std::vector<double> error_cells{0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+    /// A level is kept only when it has at most this fraction of the previous kept level's triangles
+    /// (else its target is tried on with the next larger one).
+    double keep_fraction = 0.8;
+    /// Meshes with fewer triangles get no levels.
+    std::size_t min_triangles = 16;
+};
+
+/// The coarser levels of `mesh` (one tile's triangles with the vertices they use, as
+/// compute::TileSurface::mesh), coarsest last; empty when the mesh is too small or does not simplify.
+/// Borders: the tile mesh's open border (its edges used by one of its triangles; the neighbouring tiles use
+/// them too) and the strip of triangles touching a border vertex are kept as they are; the rest is simplified
+/// by edge collapses (meshoptimizer's meshopt_simplify, quadric error metric after Garland and Heckbert,
+/// "Surface Simplification Using Quadric Error Metrics", 1997) with meshopt_SimplifyLockBorder on that rest,
+/// so the vertices where it meets the strip stay too. No border vertex gains or loses an edge, so any mix of
+/// levels across tiles meets along the full-resolution border edges: watertight, and manifold whenever this
+/// tile's level is (checked; a level that is not ends the list). (Locking only the border vertices is not
+/// enough: a collapse can join two border vertices by a new edge that a neighbour tile has too.)
+/// Each level is simplified from the previous one; vertices keep their positions (levels use a subset of the
+/// full mesh's vertices), so a flat face keeps only its border strip and the vertices next to it, at no error.
+/// `materials` is empty or one id per vertex. Throws tridex::Error when options.cell_m is not finite and > 0,
+/// error_cells is not ascending and positive, materials has the wrong size, or an index is out of range.
+/// Cost: O(T log T) per level for T triangles, plus the error bound (about 8 samples per cell of surface, each
+/// a nearest-triangle query in a bucket grid).
+std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const std::uint8_t> materials,
+                                         const TileLodOptions& options);
+
+}  // namespace tridex::compute

@@ -1,0 +1,75 @@
+// Tests of renderer/scene/tile_lod: the projected size of a metre in a tile's box for an off-axis eye, and the
+// level chosen from it (a far eye picks a coarser level than a near eye; never a level whose error exceeds the
+// pixel budget; the full mesh when the box reaches the eye's plane).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/error.hpp"
+#include "renderer/scene/tile_lod.hpp"
+
+namespace tridex::renderer {
+namespace {
+
+Aabb box_at(const Vec3& c, double half) { return Aabb{c - Vec3(half), c + Vec3(half)}; }
+
+TEST(TileLod, PixelsPerMetreMatchesTheScreenProjection) {
+    const Screen wall = Screen::powerwall();  // 3.048 m x 2.286 m in z = 0
+    const LodEye eye = lod_eye(wall, Vec3(0.0, 0.0, 1.0), 1280, 720);
+    EXPECT_NEAR(eye.screen_distance_m, 1.0, 1e-12);
+    EXPECT_NEAR(eye.pixels_per_screen_m, 1280 / 3.048, 1e-9);
+    // A point half way to the screen, straight ahead: lengths there appear twice as long on the screen.
+    EXPECT_NEAR(pixels_per_metre(eye, box_at(Vec3(0.0, 0.0, 0.5), 0.0)), 2.0 * 1280 / 3.048, 1e-6);
+    // Off to the side by as much as it is deep: the depth direction projects too (sqrt(2)).
+    EXPECT_NEAR(pixels_per_metre(eye, box_at(Vec3(0.5, 0.0, 0.5), 0.0)), 2.0 * std::sqrt(2.0) * 1280 / 3.048, 1e-6);
+    // The nearest corner of a box decides.
+    EXPECT_NEAR(pixels_per_metre(eye, Aabb{Vec3(0.0, 0.0, 0.2), Vec3(0.0, 0.0, 0.5)}), 2.0 * 1280 / 3.048, 1e-6);
+    // Reaching the eye's plane: unbounded; empty: zero; not finite: refused.
+    EXPECT_TRUE(std::isinf(pixels_per_metre(eye, Aabb{Vec3(0.0, 0.0, 0.5), Vec3(0.0, 0.0, 1.5)})));
+    EXPECT_EQ(pixels_per_metre(eye, Aabb{}), 0.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(pixels_per_metre(eye, Aabb{Vec3(0.0), Vec3(inf)}), Error);
+    EXPECT_THROW(lod_eye(wall, Vec3(0.0, 0.0, 1.0), 0, 720), Error);
+    EXPECT_THROW(lod_eye(wall, Vec3(0.0, 0.0, -1.0), 1280, 720), Error);
+}
+
+TEST(TileLod, FarEyePicksACoarserLevelThanNearEye) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}};
+    // Errors 0.5, 1, 2, 4 mm.
+    std::vector<TileMeshLevel> levels;
+    for (double e : {0.5e-3, 1e-3, 2e-3, 4e-3}) levels.push_back(TileMeshLevel{&tri, nullptr, nullptr, e});
+    const Screen wall = Screen::powerwall();
+    const Aabb tile = box_at(Vec3(0.0, 0.0, 0.3), 0.01);
+    std::size_t previous = 0;
+    for (double z : {0.4, 0.65, 1.5, 3.0, 8.0}) {
+        const LodEye eye = lod_eye(wall, Vec3(0.0, 0.1, z), 1280, 720);
+        const double ppm = pixels_per_metre(eye, tile);
+        const std::size_t k = choose_level(levels, ppm, 1.0);
+        EXPECT_GE(k, previous) << "eye at z = " << z;  // never finer when farther
+        if (k > 0) {
+            EXPECT_LE(levels[k - 1].error_m * ppm, 1.0);
+        }
+        if (k < levels.size()) {
+            EXPECT_GT(levels[k].error_m * ppm, 1.0);  // the next coarser one would not do
+        }
+        previous = k;
+    }
+    const LodEye near = lod_eye(wall, Vec3(0.0, 0.1, 0.4), 1280, 720), far = lod_eye(wall, Vec3(0.0, 0.1, 3.0), 1280, 720);
+    const std::size_t k_near = choose_level(levels, pixels_per_metre(near, tile), 1.0);
+    const std::size_t k_far = choose_level(levels, pixels_per_metre(far, tile), 1.0);
+    EXPECT_LT(k_near, k_far);
+    // A larger pixel budget allows coarser levels; a level without a mesh is never chosen.
+    EXPECT_GE(choose_level(levels, pixels_per_metre(near, tile), 4.0), k_near);
+    EXPECT_EQ(choose_level(levels, 1.0, 1e9), levels.size());
+    levels.back().mesh = nullptr;
+    EXPECT_EQ(choose_level(levels, 1.0, 1e9), levels.size() - 1);
+    EXPECT_EQ(choose_level(levels, std::numeric_limits<double>::infinity(), 1.0), 0u);
+    EXPECT_EQ(choose_level({}, 1.0, 1.0), 0u);
+}
+
+}  // namespace
+}  // namespace tridex::renderer
