@@ -14,7 +14,6 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <thread>
 
 #include "app/json_file.hpp"
 #include "app/stats.hpp"
@@ -23,6 +22,7 @@
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/tools/sweep.hpp"
+#include "compute/parallel/task_pool.hpp"
 #include "compute/tools/sweep_parallel.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
@@ -199,7 +199,7 @@ const SculptBenchRow* find(const std::vector<SculptBenchRow>& rows, int n, doubl
 
 std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
     check_options(o);
-    const int threads = o.threads > 0 ? o.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    const int threads = static_cast<int>(compute::pool_slots(o.threads));  // the task pool's threads
     std::unique_ptr<gpu::Context> ctx;
     if (!o.gpu) {
         std::printf("gpu rows skipped: disabled by the caller\n");
@@ -272,7 +272,15 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         memory.push_back(mem);
     }
 
-    // Targets: batched GPU vs all-cores CPU throughput; step cost flat in N.
+    // Targets: every parallel path against the single-thread CPU path; batched GPU vs all-cores CPU throughput;
+    // step cost flat in N.
+    std::printf("parallel path / cpu-1t segments_per_s (target cpu >= 1.7 on 2 cores):\n");
+    for (const auto& row : rows) {
+        if (row.path != "cpu" && row.path != "gpu-batched") continue;
+        const SculptBenchRow* one = find(rows, row.n, row.radius_cells, "cpu-1t");
+        if (!one || one->segments_per_s <= 0.0) continue;
+        std::printf("  N=%4d r=%2.0f %-11s: %.2f\n", row.n, row.radius_cells, row.path.c_str(), row.segments_per_s / one->segments_per_s);
+    }
     std::printf("gpu-batched / cpu segments_per_s (target >= 0.5 when a batch's footprint > 10,000 rays):\n");
     for (const auto& row : rows) {
         if (row.path != "cpu") continue;

@@ -37,7 +37,7 @@ struct SculptBenchOptions {
     std::vector<int> resolutions{256, 512, 1024};  ///< N values (cells per side, >= 24)
     std::vector<double> radii_cells{2.0, 8.0};     ///< ball radii, cells (> 0, <= N/8)
     int batch = 64;                 ///< segments per apply call of the "cpu" and "gpu-batched" paths
-    int threads = 0;                ///< "cpu" path threads; 0 = std::thread::hardware_concurrency()
+    int threads = 0;                ///< "cpu" path threads; 0 = every core (compute::pool_slots)
     double min_boolean_s = 0.5;     ///< a row runs until its apply calls took this long, s ...
     double max_row_s = 4.0;         ///< ... or its wall time (with contouring) reaches this, s ...
     int max_segments = 65536;       ///< ... or the stroke (this many segments) is used up

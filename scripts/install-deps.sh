@@ -14,6 +14,7 @@ PACKAGES=(
   nlohmann-json3-dev                        # report.json
   libcli11-dev                              # command line
   libglfw3-dev                              # windows and fullscreen on the wall (GLFW)
+  libtbb-dev                                # oneTBB: the persistent task scheduler of the CPU Booleans, contouring, scan conversion
   libzstd-dev                               # zstd: compresses the sections of the .tdx model file
   libmeshoptimizer-dev                      # meshoptimizer: simplified levels of detail of the tile meshes
   libusb-1.0-0-dev                          # USB: detecting (and later driving) haptic devices (libusb-1.0)

@@ -133,6 +133,120 @@ void add_cylinder(vec3 o, vec3 d, vec3 a, vec3 e, float ee, float r, inout float
     hi = max(hi, c1);
 }
 
+// compute/tools/capsule.cpp add_cap_path
+void add_cap_path(vec3 p, vec3 g, float rr, float tc, float k, inout float lo, inout float hi) {
+    float ga = dot3(g, g);
+    float gb = dot3(p, g);
+    precise float gc = dot3(p, p) - rr;
+    precise float l0 = 0.0, l1 = 1.0;
+    if (ga > 0.0) {
+        precise float disc = gb * gb - ga * gc;
+        if (!(disc >= 0.0)) return;
+        precise float s = sqrt(disc);
+        precise float r0 = (-gb - s) / ga;
+        precise float r1 = (-gb + s) / ga;
+        if (!(r0 <= 1.0 && r1 >= 0.0)) return;
+        l0 = max(l0, r0);
+        l1 = min(l1, r1);
+    } else if (!(gc <= 0.0)) {
+        return;
+    }
+    precise float ta = tc + l0 * k;
+    precise float tb = tc + l1 * k;
+    lo = min(lo, min(ta, tb));
+    hi = max(hi, max(ta, tb));
+}
+
+// compute/tools/capsule.cpp add_cap_line
+void add_cap_line(vec3 p, vec3 g, float rr, float lc, float kl, inout float lo, inout float hi) {
+    float ga = dot3(g, g);
+    float gb = dot3(p, g);
+    precise float gc = dot3(p, p) - rr;
+    precise float t0 = -1.0 / 0.0, t1 = 1.0 / 0.0;
+    if (ga > 0.0) {
+        precise float disc = gb * gb - ga * gc;
+        if (!(disc >= 0.0)) return;
+        precise float s = sqrt(disc);
+        t0 = (-gb - s) / ga;
+        t1 = (-gb + s) / ga;
+    } else if (!(gc <= 0.0)) {
+        return;
+    }
+    if (kl != 0.0) {
+        precise float ta = (0.0 - lc) / kl;
+        precise float tb = (1.0 - lc) / kl;
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
+    } else if (!(lc >= 0.0 && lc <= 1.0)) {
+        return;
+    }
+    if (!(t0 <= t1)) return;
+    lo = min(lo, t0);
+    hi = max(hi, t1);
+}
+
+// compute/tools/capsule.cpp add_cap
+void add_cap(vec3 A, vec3 B, vec3 C, float ms, float ds, float cs, float c, float rr, inout float lo, inout float hi) {
+    if (abs(ds) >= abs(cs)) {
+        if (ds == 0.0) return;
+        precise float tc = (c - ms) / ds;
+        precise float k = cs / ds;
+        precise vec3 p = A + B * tc;
+        precise vec3 g = B * k - C;
+        add_cap_path(p, g, rr, tc, k, lo, hi);
+    } else {
+        precise float lc = (ms - c) / cs;
+        precise float kl = ds / cs;
+        precise vec3 p = A - C * lc;
+        precise vec3 g = B - C * kl;
+        add_cap_line(p, g, rr, lc, kl, lo, hi);
+    }
+}
+
+// compute/tools/capsule.cpp swept_cylinder_chord (the extent in t, accumulated into lo, hi)
+void add_swept_cylinder(vec3 o, vec3 d, vec3 e, vec3 delta, float r, inout float lo, inout float hi) {
+    float dd = dot3(d, d);
+    float ee = dot3(e, e);
+    if (!(dd > 0.0) || !(ee > 0.0) || !(r > 0.0)) return;
+    precise float len = sqrt(ee);
+    precise vec3 n = e / len;
+    precise float rr = r * r;
+    vec3 A = cross3(o, n);
+    vec3 B = cross3(d, n);
+    vec3 C = cross3(delta, n);
+    float ms = dot3(o, n);
+    float ds = dot3(d, n);
+    float cs = dot3(delta, n);
+    if (ds == 0.0 && cs == 0.0 && (ms < 0.0 || ms > len)) return;
+    add_cylinder(o, d, vec3(0.0), e, ee, r, lo, hi);
+    add_cylinder(o, d, delta, e, ee, r, lo, hi);
+    add_cap(A, B, C, ms, ds, cs, 0.0, rr, lo, hi);
+    add_cap(A, B, C, ms, ds, cs, len, rr, lo, hi);
+    float cc = dot3(C, C);
+    vec3 U = cross3(A, C);
+    vec3 V = cross3(B, C);
+    float vv = dot3(V, V);
+    if (cc > 0.0 && vv > 0.0) {
+        float ub = dot3(U, V);
+        precise float uc = dot3(U, U) - cc * rr;
+        precise float disc = ub * ub - vv * uc;
+        if (disc >= 0.0) {
+            precise float s = sqrt(disc);
+            float ca = dot3(C, A);
+            float cb = dot3(C, B);
+            for (int side = 0; side < 2; ++side) {
+                precise float t = side == 0 ? (-ub - s) / vv : (-ub + s) / vv;
+                precise float l = (ca + t * cb) / cc;
+                precise float h = ms + t * ds - l * cs;
+                if (l >= 0.0 && l <= 1.0 && h >= 0.0 && h <= len) {
+                    lo = min(lo, t);
+                    hi = max(hi, t);
+                }
+            }
+        }
+    }
+}
+
 // compute/tools/sweep.cpp sweep_chord
 bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float d1) {
     int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
@@ -154,11 +268,7 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
             add_cylinder(o, d, vec3(0.0), s.delta, ee, s.radius, lo, hi);
         }
     } else {
-        precise float f = s.stamps > 1u ? float(stamp) / float(s.stamps - 1u) : 0.0;
-        precise vec3 c = s.delta * f;
-        float ee = dot3(s.shank, s.shank);
-        if (!(ee > 0.0) || !(s.radius > 0.0)) return false;
-        add_cylinder(o, d, c, s.shank, ee, s.radius, lo, hi);
+        add_swept_cylinder(o, d, s.shank, s.delta, s.radius, lo, hi);
     }
     if (!(lo <= hi)) return false;
     precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];

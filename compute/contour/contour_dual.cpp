@@ -6,10 +6,10 @@
 #include <exception>
 #include <limits>
 #include <string>
-#include <thread>
 #include <sstream>
 #include <utility>
 
+#include "compute/parallel/task_pool.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -84,27 +84,16 @@ std::size_t Contourer::update(TriDexel& model) {
     std::vector<contour::TileMesh> previous(dirty.size());
     for (std::size_t i = 0; i < dirty.size(); ++i)
         previous[i] = std::move(tile_meshes_[model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2])]);
-    // Tile k goes to worker k % workers: each reads the model only and writes its own tiles.
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t workers = dirty.size() >= kParallelTiles ? std::min<std::size_t>(cores, dirty.size() / 4) : 1;
-    if (helpers_.size() + 1 < workers) helpers_.resize(workers - 1);
-    std::vector<std::exception_ptr> failed(workers);
-    auto work = [&](std::size_t w) {
-        try {
-            contour::TileContourer& c = w == 0 ? worker_ : helpers_[w - 1];
-            for (std::size_t k = w; k < dirty.size(); k += workers)
-                c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])]);
-        } catch (...) {
-            failed[w] = std::current_exception();
-        }
-    };
-    {
-        std::vector<std::jthread> threads;
-        for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work, w);
-        work(0);
-    }
-    for (const std::exception_ptr& e : failed)
-        if (e) std::rethrow_exception(e);
+    // One task per dirty tile on the task pool: each reads the model only and writes its own tile, with the
+    // scratch contourer of its pool slot (a tile's result does not depend on which slot runs it).
+    const int threads = dirty.size() >= kParallelTiles ? 0 : 1;
+    const std::size_t slots = pool_slots(threads);
+    if (workers_.size() < slots) workers_.resize(slots);
+    pool_for(dirty.size(), 1, [&](const Chunk& chunk) {
+        contour::TileContourer& c = workers_[chunk.slot];
+        for (std::size_t k = chunk.first; k < chunk.last; ++k)
+            c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])]);
+    }, threads);
     for (std::size_t i = 0; i < dirty.size(); ++i) {
         const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
         cells += tile_meshes_[idx].cells_visited;

@@ -47,12 +47,13 @@ class Contourer {
 public:
     /// Binds to the model's lattice and tile grid (sizes only; no data read yet).
     explicit Contourer(const TriDexel& model);
-    /// Dirty tiles from which update() uses every core.
-    static constexpr std::size_t kParallelTiles = 8;
+    /// Dirty tiles from which update() uses every core (the task pool: no thread is started per update).
+    static constexpr std::size_t kParallelTiles = 2;
 
     /// Re-contours every dirty tile of `model`, then clears the model's dirty flags. Returns the number of
     /// tiles re-contoured. Large updates (kParallelTiles dirty tiles or more, e.g. an undo) are split over the
-    /// machine's cores (threads started for the update; each tile's result does not depend on the split). The first call must contour every dirty tile (scan conversion marks all tiles
+    /// machine's cores as one task per tile on the persistent task pool (compute/parallel/task_pool.hpp; each
+    /// tile's result does not depend on the split). The first call must contour every dirty tile (scan conversion marks all tiles
     /// holding surface dirty). Throws tridex::Error when `model` is not on the lattice this Contourer was
     /// built for, or its ray sets do not match that lattice (the model is then left unchanged).
     std::size_t update(TriDexel& model);
@@ -107,8 +108,7 @@ private:
     std::array<int, 3> tiles_{};
     contour::KeyCodec codec_;
     std::vector<contour::TileMesh> tile_meshes_;
-    contour::TileContourer worker_;
-    std::vector<contour::TileContourer> helpers_;  // extra workers for large updates, made on first use
+    std::vector<contour::TileContourer> workers_;  // scratch per task-pool slot, made on first use
     std::size_t last_tiles_ = 0;
     std::size_t last_cells_ = 0;
     std::vector<std::uint64_t> versions_;  // per tile, see tile_version()

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "compute/parallel/task_pool.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -44,11 +45,15 @@ struct Crossing {
     double depth;       // grid units along the ray axis
 };
 
-/// Collects the crossings of every triangle with the rays of set `ax`.
+constexpr std::size_t kTriangleChunk = 1024;  // triangles per scan-conversion task
+constexpr std::size_t kRayChunk = 4096;       // rays per interval-building task
+
+/// Collects the crossings of triangles [first, last) with the rays of set `ax`, in triangle order.
 void rasterise(const std::vector<Vec3>& g, const std::vector<std::array<i64, 3>>& q, const TriMesh& mesh,
-               const RaySet& set, std::vector<Crossing>& out) {
+               std::size_t first, std::size_t last, const RaySet& set, std::vector<Crossing>& out) {
     const int ax = set.axis, ua = (ax + 1) % 3, va = (ax + 2) % 3;
-    for (const auto& t : mesh.triangles) {
+    for (std::size_t ti = first; ti < last; ++ti) {
+        const auto& t = mesh.triangles[ti];
         const P2 a{q[t[0]][ua], q[t[0]][va]}, b{q[t[1]][ua], q[t[1]][va]}, c{q[t[2]][ua], q[t[2]][va]};
         const i128 area2 = orient(a, b, c);
         if (area2 == 0) continue;  // edge-on in this projection
@@ -139,31 +144,43 @@ void scan_convert(const TriMesh& mesh_m, TriDexel& model) {
             q[i][a] = std::llround(std::ldexp(g[i][a], kSnapBits));
         }
     }
-    std::vector<Crossing> crossings, sorted;
+    std::vector<std::vector<Crossing>> parts((mesh_m.triangles.size() + kTriangleChunk - 1) / kTriangleChunk);
+    std::vector<Crossing> sorted;
     std::vector<std::size_t> offset;
     for (int ax = 0; ax < 3; ++ax) {
         RaySet& set = model.sets[ax];
-        crossings.clear();
-        rasterise(g, q, mesh_m, set, crossings);
-        // Counting sort by ray, then a small sort by depth within each ray.
+        // Triangles in fixed chunks on the task pool; the chunks' crossings, taken in chunk order, are the
+        // triangle-ordered list a single thread would make.
+        pool_for(mesh_m.triangles.size(), kTriangleChunk, [&](const Chunk& c) {
+            std::vector<Crossing>& part = parts[c.first / kTriangleChunk];
+            part.clear();
+            rasterise(g, q, mesh_m, c.first, c.last, set, part);
+        });
+        // Counting sort by ray, then (per ray, on the task pool) a small sort by depth and the intervals.
         offset.assign(set.rays.size() + 1, 0);
-        for (const Crossing& c : crossings) ++offset[c.ray + 1];
+        for (const std::vector<Crossing>& part : parts)
+            for (const Crossing& c : part) ++offset[c.ray + 1];
         for (std::size_t r = 0; r < set.rays.size(); ++r) offset[r + 1] += offset[r];
-        sorted.resize(crossings.size());
+        sorted.resize(offset.back());
         {
             std::vector<std::size_t> fill(offset.begin(), offset.end() - 1);
-            for (const Crossing& c : crossings) sorted[fill[c.ray]++] = c;
+            for (const std::vector<Crossing>& part : parts)
+                for (const Crossing& c : part) sorted[fill[c.ray]++] = c;
         }
         const double length = L.cells[ax];
+        pool_for(set.rays.size(), kRayChunk, [&](const Chunk& c) {
+            for (std::size_t r = c.first; r < c.last; ++r) {
+                Crossing* first = sorted.data() + offset[r];
+                Crossing* last = sorted.data() + offset[r + 1];
+                if (first == last) continue;
+                std::sort(first, last, [](const Crossing& x, const Crossing& y) { return x.depth < y.depth; });
+                build_ray(first, last, length, set.rays[r]);
+            }
+        });
         for (std::size_t r = 0; r < set.rays.size(); ++r) {
-            Crossing* first = sorted.data() + offset[r];
-            Crossing* last = sorted.data() + offset[r + 1];
-            if (first == last) continue;
-            std::sort(first, last, [](const Crossing& x, const Crossing& y) { return x.depth < y.depth; });
-            auto& ray = set.rays[r];
-            build_ray(first, last, length, ray);
+            if (offset[r] == offset[r + 1]) continue;
             const int u = static_cast<int>(r % set.nu), v = static_cast<int>(r / set.nu);
-            for (const Interval& iv : ray) {
+            for (const Interval& iv : set.rays[r]) {
                 for (float d : {iv.enter, iv.exit}) {
                     Vec3 p;
                     p[ax] = d;

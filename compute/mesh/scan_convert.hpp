@@ -30,6 +30,8 @@ constexpr int kSnapBits = 16;
 ///
 /// Consequence: a ray at node (u, v) counts as inside a lattice-aligned face region [u0, u1) x [v0, v1),
 /// so a box whose faces lie on lattice nodes gets exactly its volume, ray by ray.
+/// Runs on every core (the task pool, compute/parallel/task_pool.hpp: triangles in fixed chunks, then rays in
+/// fixed chunks); the result does not depend on the number of threads.
 /// Complexity O(T + nodes covered by the triangles' projections + crossings) for T triangles.
 /// Throws tridex::Error when the model is not empty, a triangle index is out of range, a position is
 /// not finite, or the mesh lies more than 2^40 cells from the lattice origin.

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/tools/sweep_parallel.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 
@@ -14,15 +15,10 @@ namespace {
 class CpuBackend final : public BooleanBackend {
 public:
     explicit CpuBackend(compute::TriDexel& model) : model_(model) {}
+    // Every core, on the task pool (bit for bit apply_sweep one by one; validates the whole batch first, so a
+    // bad sweep changes nothing).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
-        compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
-        compute::BooleanStats total;
-        for (const compute::Sweep& s : batch) {
-            const compute::BooleanStats b = compute::apply_sweep(model_, s);
-            total.rays_visited += b.rays_visited;
-            total.rays_changed += b.rays_changed;
-        }
-        return total;
+        return compute::apply_sweeps_parallel(model_, batch, 0);
     }
     void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override {
         for (const compute::RayImage& r : rays) {

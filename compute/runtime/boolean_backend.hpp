@@ -1,5 +1,5 @@
 // compute/runtime/boolean_backend.hpp - where the sculpt thread's swept Booleans run: the GPU (Vulkan compute) or the
-// CPU reference.
+// CPU (all cores on the task pool).
 #pragma once
 
 #include <array>
@@ -52,7 +52,8 @@ struct BackendChoice {
     std::string reason;  ///< e.g. "--cpu given", "no Vulkan device: <error>"; "" when the GPU was chosen
 };
 
-/// The CPU reference backend on `model` (compute::apply_sweep per sweep). `model` must outlive it.
+/// The CPU backend on `model`: each batch on every core through the task pool (compute::apply_sweeps_parallel,
+/// bit for bit the CPU reference apply_sweep per sweep). `model` must outlive it.
 std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model);
 
 /// The GPU path when `cpu` is false and a Vulkan device can be created (its own Context, validation when

@@ -57,6 +57,72 @@ void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, 
     hi = std::fmax(hi, c1);
 }
 
+/// Extends [lo, hi] by t = tc + l*k over the l in [0, 1] where |p + l*g|^2 <= rr (a cap plane's path, |k| <= 1).
+void add_cap_path(glm::vec3 p, glm::vec3 g, float rr, float tc, float k, float& lo, float& hi) {
+    const float ga = dot3(g, g);
+    const float gb = dot3(p, g);
+    const float gc = dot3(p, p) - rr;
+    float l0 = 0.0f, l1 = 1.0f;
+    if (ga > 0.0f) {
+        const float disc = gb * gb - ga * gc;
+        if (!(disc >= 0.0f)) return;  // also NaN (overflow on a line nearly in the cap plane)
+        const float s = std::sqrt(disc);
+        const float r0 = (-gb - s) / ga, r1 = (-gb + s) / ga;
+        if (!(r0 <= 1.0f && r1 >= 0.0f)) return;
+        l0 = std::fmax(l0, r0);
+        l1 = std::fmin(l1, r1);
+    } else if (!(gc <= 0.0f)) {
+        return;
+    }
+    const float ta = tc + l0 * k, tb = tc + l1 * k;
+    lo = std::fmin(lo, std::fmin(ta, tb));
+    hi = std::fmax(hi, std::fmax(ta, tb));
+}
+
+/// Extends [lo, hi] by the t where |p + t*g|^2 <= rr and l = lc + t*kl lies in [0, 1] (a cap plane's path
+/// by t, |kl| < 1).
+void add_cap_line(glm::vec3 p, glm::vec3 g, float rr, float lc, float kl, float& lo, float& hi) {
+    const float ga = dot3(g, g);
+    const float gb = dot3(p, g);
+    const float gc = dot3(p, p) - rr;
+    float t0 = -INFINITY, t1 = INFINITY;
+    if (ga > 0.0f) {
+        const float disc = gb * gb - ga * gc;
+        if (!(disc >= 0.0f)) return;
+        const float s = std::sqrt(disc);
+        t0 = (-gb - s) / ga;
+        t1 = (-gb + s) / ga;
+    } else if (!(gc <= 0.0f)) {
+        return;
+    }
+    if (kl != 0.0f) {
+        const float ta = (0.0f - lc) / kl, tb = (1.0f - lc) / kl;
+        t0 = std::fmax(t0, std::fmin(ta, tb));
+        t1 = std::fmin(t1, std::fmax(ta, tb));
+    } else if (!(lc >= 0.0f && lc <= 1.0f)) {
+        return;
+    }
+    if (!(t0 <= t1)) return;
+    lo = std::fmin(lo, t0);
+    hi = std::fmax(hi, t1);
+}
+
+/// Extends [lo, hi] by where the line o + t*d crosses the cap plane h = c of the moving cylinder inside its
+/// disc (h = ms + t*ds - l*cs, across = A + t*B - l*C): parametrised by l when |ds| >= |cs|, else by t, so
+/// the slope of the parametrisation stays within [-1, 1] (a line nearly in the cap plane stays exact).
+void add_cap(glm::vec3 A, glm::vec3 B, glm::vec3 C, float ms, float ds, float cs, float c, float rr, float& lo, float& hi) {
+    if (std::fabs(ds) >= std::fabs(cs)) {
+        if (ds == 0.0f) return;  // ds == cs == 0: the line never crosses the plane
+        const float tc = (c - ms) / ds;
+        const float k = cs / ds;
+        add_cap_path(A + B * tc, B * k - C, rr, tc, k, lo, hi);
+    } else {
+        const float lc = (ms - c) / cs;
+        const float kl = ds / cs;
+        add_cap_line(A - C * lc, B - C * kl, rr, lc, kl, lo, hi);
+    }
+}
+
 }  // namespace
 
 bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, float& t0, float& t1) {
@@ -82,6 +148,53 @@ bool cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float r,
     if (!(dd > 0.0f) || !(ee > 0.0f) || !(r > 0.0f)) return false;
     float lo = INFINITY, hi = -INFINITY;
     add_cylinder(o, d, a, e, ee, r, lo, hi);
+    if (!(lo <= hi)) return false;
+    t0 = lo;
+    t1 = hi;
+    return true;
+}
+
+bool swept_cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 e, glm::vec3 delta, float r, float& t0, float& t1) {
+    const float dd = dot3(d, d);
+    const float ee = dot3(e, e);
+    if (!(dd > 0.0f) || !(ee > 0.0f) || !(r > 0.0f)) return false;
+    const float len = std::sqrt(ee);
+    const glm::vec3 n = e / len;  // unit axis: keeps the products below small enough for float
+    const float rr = r * r;
+    // Points o + t*d - l*delta with l in [0, 1] must lie in the cylinder at rest: axial h in [0, len] and
+    // |w|^2 <= rr across the axis, with h = ms + t*ds - l*cs and w = A + t*B - l*C.
+    const glm::vec3 A = cross3(o, n), B = cross3(d, n), C = cross3(delta, n);
+    const float ms = dot3(o, n), ds = dot3(d, n), cs = dot3(delta, n);
+    if (ds == 0.0f && cs == 0.0f && (ms < 0.0f || ms > len)) return false;  // the line never meets the slab
+    float lo = INFINITY, hi = -INFINITY;
+    // (1) the cylinder at both ends of the motion (l = 0, l = 1).
+    add_cylinder(o, d, glm::vec3(0.0f), e, ee, r, lo, hi);
+    add_cylinder(o, d, delta, e, ee, r, lo, hi);
+    // (2) the two cap planes (h = 0, h = len) while the tool moves.
+    add_cap(A, B, C, ms, ds, cs, 0.0f, rr, lo, hi);
+    add_cap(A, B, C, ms, ds, cs, len, rr, lo, hi);
+    // (3) the side walls: the t-extremes of the ellipse |w|^2 <= rr in (t, l), where l minimises |w|.
+    const float cc = dot3(C, C);
+    const glm::vec3 U = cross3(A, C), V = cross3(B, C);
+    const float vv = dot3(V, V);
+    if (cc > 0.0f && vv > 0.0f) {
+        const float ub = dot3(U, V);
+        const float uc = dot3(U, U) - cc * rr;
+        const float disc = ub * ub - vv * uc;
+        if (disc >= 0.0f) {
+            const float s = std::sqrt(disc);
+            const float ca = dot3(C, A), cb = dot3(C, B);
+            for (int side = 0; side < 2; ++side) {
+                const float t = side == 0 ? (-ub - s) / vv : (-ub + s) / vv;
+                const float l = (ca + t * cb) / cc;
+                const float h = ms + t * ds - l * cs;
+                if (l >= 0.0f && l <= 1.0f && h >= 0.0f && h <= len) {
+                    lo = std::fmin(lo, t);
+                    hi = std::fmax(hi, t);
+                }
+            }
+        }
+    }
     if (!(lo <= hi)) return false;
     t0 = lo;
     t1 = hi;

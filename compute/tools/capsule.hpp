@@ -22,4 +22,19 @@ bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, 
 /// is zero, or r <= 0 or NaN. The cylinder is convex, so the chord is one interval.
 bool cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float r, float& t0, float& t1);
 
+/// Chord of the line {o + t*d} with the volume swept by the flat-end cylinder of cylinder_chord (flat end
+/// centred at the origin, shank e, radius r) moved without turning from the origin to `delta`: the convex
+/// hull of the cylinder at both ends of the motion, so the chord is one interval. Closed form, exact up to
+/// float rounding for every motion (across, along or oblique to the axis): in the plane of parameters
+/// (t, l), l in [0, 1] the motion's fraction, the points with o + t*d - l*delta inside the resting cylinder
+/// form a convex region (an ellipse, or a strip, cut by the axial slab and 0 <= l <= 1); its t-extremes lie
+/// (1) on l = 0 or l = 1 (cylinder_chord at both ends), (2) on a cap plane (a quadratic in l along it) or
+/// (3) at the ellipse's own t-extremes (the flat side walls of the swept stadium). Arithmetic as
+/// capsule_chord (float, fixed order, no contraction; the axis is normalised first, n = e / sqrt(e.e), so
+/// products stay within float range); the GPU kernel (shaders/dexel_sweep.comp) repeats it step for step.
+/// False when the line misses the volume, d or e is zero, or r <= 0 or NaN. Source: the swept volume of a
+/// convex tool under translation is the Minkowski sum of the tool and the motion segment (the convex hull
+/// of its two end poses); the exact ray chord is our own derivation for the flat-end cylinder.
+bool swept_cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 e, glm::vec3 delta, float r, float& t0, float& t1);
+
 }  // namespace tridex::compute

@@ -127,7 +127,6 @@ GridSweep to_grid_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
     GridSweep g{};
     const double r = s.tool.radius_m / L.cell_m;
     const Vec3 shank = flat ? glm::normalize(s.axis) * (s.tool.length_m / L.cell_m) : Vec3(0.0);
-    const std::uint32_t stamps = flat ? half_cell_stamps(ga, gb) : 1u;  // poses at most half a cell apart
     for (int k = 0; k < 3; ++k) {
         g.lo[k] = clamp_node(std::ceil(glo[k]));
         g.hi[k] = clamp_node(std::floor(ghi[k]));
@@ -135,7 +134,7 @@ GridSweep to_grid_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
     }
     set_motion(g, ga, gb);
     g.radius = static_cast<float>(r);
-    g.stamps = stamps;
+    g.stamps = 1u;  // ball and flat end: one closed-form chord of the whole swept volume
     g.code = static_cast<std::uint32_t>(s.op) | (static_cast<std::uint32_t>(s.tool.kind) << 8) |
              (static_cast<std::uint32_t>(s.material) << 16);
     return g;
@@ -153,7 +152,7 @@ GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch) {
     return g;
 }
 
-bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1) {
+bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t /*stamp*/, float& d0, float& d1) {
     const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
     glm::vec3 o(0.0f), d(0.0f);
     d[axis] = 1.0f;
@@ -166,9 +165,7 @@ bool sweep_chord(const GridSweep& s, int axis, int u, int v, std::uint32_t stamp
     if (s.kind() == ToolKind::kBall) {
         hit = capsule_chord(o, d, glm::vec3(0.0f), delta, s.radius, t0, t1);
     } else {
-        const float f = s.stamps > 1 ? static_cast<float>(stamp) / static_cast<float>(s.stamps - 1) : 0.0f;
-        const glm::vec3 c = delta * f;
-        hit = cylinder_chord(o, d, c, glm::vec3(s.shank[0], s.shank[1], s.shank[2]), s.radius, t0, t1);
+        hit = swept_cylinder_chord(o, d, glm::vec3(s.shank[0], s.shank[1], s.shank[2]), delta, s.radius, t0, t1);
     }
     if (!hit) return false;
     const float base = static_cast<float>(s.origin[axis]) + s.start[axis];

@@ -62,7 +62,7 @@ struct GridSweep {
     std::int32_t lo[3];      ///< first lattice node index inside the swept box, per axis (may be < 0)
     std::uint32_t code;      ///< op | kind << 8 | material << 16
     std::int32_t hi[3];      ///< last lattice node index inside the swept box, per axis (may be >= nodes)
-    std::uint32_t stamps;    ///< kFlatEnd, kMesh: tool poses applied along the motion (spacing <= 0.5 cell); kBall: 1
+    std::uint32_t stamps;    ///< kMesh: tool poses applied along the motion (spacing <= 0.5 cell); kBall, kFlatEnd: 1
     std::int32_t origin[3];  ///< integer part of the tool start, grid units
     float radius;            ///< tool radius, grid units (kMesh: bounding radius, informative only)
     float start[3];          ///< fractional part of the tool start, grid units, in [0, 1)
@@ -106,8 +106,8 @@ GridSweep to_grid_sweep(const Lattice& lattice, const Sweep& sweep, ToolTable* t
 /// covers on the ray of that set at lattice node (u, v); false when the ray misses it. The ray's line
 /// relative to the tool start is o + t*e_axis with o[axis] = 0, o[k] = float(node_k - origin_k) - start_k
 /// for the two other axes; depth = (float(origin[axis]) + start[axis]) + t. Ball: capsule_chord with the
-/// segment 0 -> delta. kFlatEnd: cylinder_chord of the cylinder at c = delta * (float(stamp) /
-/// float(stamps - 1)) (c = 0 when stamps == 1) with shank `shank`. kMesh: always false (mesh_stamp_spans).
+/// segment 0 -> delta. kFlatEnd: swept_cylinder_chord of the cylinder with shank `shank` moved by delta
+/// (the whole swept volume in closed form; `stamp` is unused for both). kMesh: always false (mesh_stamp_spans).
 bool sweep_chord(const GridSweep& sweep, int axis, int u, int v, std::uint32_t stamp, float& d0, float& d1);
 
 /// kMesh: the tool intervals that stamp `stamp` puts on the ray of set `axis` at node (u, v), appended to

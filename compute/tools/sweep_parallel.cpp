@@ -1,69 +1,31 @@
-// compute/tools/sweep_parallel.cpp - rows of the batch's footprint shared out to std::threads.
+// compute/tools/sweep_parallel.cpp - ray tiles of the batch's footprint shared out on the task pool.
 #include "compute/tools/sweep_parallel.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <exception>
-#include <functional>
-#include <system_error>
-#include <thread>
 #include <utility>
 #include <vector>
 
-#include "core/thread_name.hpp"
+#include "compute/parallel/task_pool.hpp"
 
 namespace tridex::compute {
 namespace {
 
-/// One sweep's span on a row: sweep index (into the grid sweeps) and its u range there.
-struct RowSweep {
-    std::uint32_t sweep;
-    int u_lo, u_hi;
-};
+constexpr int kTileRays = 8;  // ray tiles are kTileRays x kTileRays rays of one set
 
-/// One row of a ray set's footprint union and its sweeps (in batch order) in the flat RowSweep list.
-struct Row {
-    int axis, v, u_lo, u_hi;
+/// One ray tile of a set's footprint union: its set and tile coordinates, and its sweeps (in batch order)
+/// as a range of the flat sweep-index list.
+struct RayTile {
+    int axis, tu, tv;
     std::size_t first, count;
 };
 
-/// What one worker did.
-struct WorkerResult {
-    std::size_t rays_changed = 0;
-    std::vector<std::uint8_t> sweep_changed;
-    std::exception_ptr error;
+/// A sweep's footprint on one ray set (node ranges, inclusive).
+struct Footprint {
+    bool any = false;
+    int u_lo = 0, u_hi = -1, v_lo = 0, v_hi = -1;
 };
-
-void work(TriDexel& model, const std::vector<GridSweep>& grid, const ToolTable& tools, const std::vector<Row>& rows,
-          const std::vector<RowSweep>& spans, std::atomic<std::size_t>& next, WorkerResult& out) {
-    // Counters stay local until the end: WorkerResults sit side by side (one cache line).
-    std::size_t changed = 0;
-    try {
-        std::vector<std::uint8_t> sweep_changed(grid.size(), 0);
-        for (std::size_t i = next.fetch_add(1, std::memory_order_relaxed); i < rows.size();
-             i = next.fetch_add(1, std::memory_order_relaxed)) {
-            const Row& r = rows[i];
-            RaySet& set = model.sets[r.axis];
-            for (int u = r.u_lo; u <= r.u_hi; ++u) {
-                std::vector<Interval>& ray = set.ray(u, r.v);
-                for (std::size_t k = r.first; k < r.first + r.count; ++k) {
-                    const RowSweep& s = spans[k];
-                    if (u < s.u_lo || u > s.u_hi) continue;
-                    if (apply_sweep_to_ray(grid[s.sweep], r.axis, u, r.v, ray, static_cast<float>(model.lattice.cells[r.axis]), tools)) {
-                        ++changed;
-                        sweep_changed[s.sweep] = 1;
-                    }
-                }
-            }
-        }
-        out.sweep_changed = std::move(sweep_changed);
-        out.rays_changed = changed;
-    } catch (...) {
-        out.error = std::current_exception();
-        next.store(rows.size(), std::memory_order_relaxed);  // stop the others early
-    }
-}
 
 }  // namespace
 
@@ -74,69 +36,78 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
     const std::vector<std::size_t>& source = converted.source;
     if (grid.empty()) return stats;
 
-    // Rows of each set's footprint union, each with the sweeps covering it in batch order.
-    std::vector<Row> rows;
-    std::vector<RowSweep> spans;
-    struct Footprint {
-        bool any;
-        int u_lo, u_hi, v_lo, v_hi;
-    };
-    std::vector<Footprint> fp(grid.size());
+    // Per set: the tiles the sweeps' footprints cover, each listing its sweeps in batch order (a dense
+    // per-set grid over the union's tile range collects them; sweeps are visited in order).
+    std::vector<RayTile> tiles;
+    std::vector<std::uint32_t> members;
+    std::vector<Footprint> fp(grid.size() * 3);
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
-        int v_min = set.nv, v_max = -1;
+        int tu0 = set.nu, tu1 = -1, tv0 = set.nv, tv1 = -1;
         for (std::size_t s = 0; s < grid.size(); ++s) {
-            Footprint& f = fp[s];
+            Footprint& f = fp[s * 3 + static_cast<std::size_t>(a)];
             f.any = sweep_footprint(grid[s], set, f.u_lo, f.u_hi, f.v_lo, f.v_hi);
             if (!f.any) continue;
             stats.rays_visited += static_cast<std::size_t>(f.u_hi - f.u_lo + 1) * static_cast<std::size_t>(f.v_hi - f.v_lo + 1);
-            v_min = std::min(v_min, f.v_lo);
-            v_max = std::max(v_max, f.v_hi);
+            tu0 = std::min(tu0, f.u_lo / kTileRays);
+            tu1 = std::max(tu1, f.u_hi / kTileRays);
+            tv0 = std::min(tv0, f.v_lo / kTileRays);
+            tv1 = std::max(tv1, f.v_hi / kTileRays);
         }
-        for (int v = v_min; v <= v_max; ++v) {
-            Row row{a, v, set.nu, -1, spans.size(), 0};
-            for (std::size_t s = 0; s < grid.size(); ++s) {
-                const Footprint& f = fp[s];
-                if (!f.any || v < f.v_lo || v > f.v_hi) continue;
-                spans.push_back({static_cast<std::uint32_t>(s), f.u_lo, f.u_hi});
-                row.u_lo = std::min(row.u_lo, f.u_lo);
-                row.u_hi = std::max(row.u_hi, f.u_hi);
+        if (tu1 < tu0) continue;
+        const int wu = tu1 - tu0 + 1, wv = tv1 - tv0 + 1;
+        std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(wu) * static_cast<std::size_t>(wv));
+        for (std::size_t s = 0; s < grid.size(); ++s) {
+            const Footprint& f = fp[s * 3 + static_cast<std::size_t>(a)];
+            if (!f.any) continue;
+            for (int tv = f.v_lo / kTileRays; tv <= f.v_hi / kTileRays; ++tv)
+                for (int tu = f.u_lo / kTileRays; tu <= f.u_hi / kTileRays; ++tu)
+                    lists[static_cast<std::size_t>(tu - tu0) + static_cast<std::size_t>(wu) * static_cast<std::size_t>(tv - tv0)]
+                        .push_back(static_cast<std::uint32_t>(s));
+        }
+        for (int tv = 0; tv < wv; ++tv)
+            for (int tu = 0; tu < wu; ++tu) {
+                const std::vector<std::uint32_t>& l = lists[static_cast<std::size_t>(tu) + static_cast<std::size_t>(wu) * static_cast<std::size_t>(tv)];
+                if (l.empty()) continue;
+                tiles.push_back({a, tu0 + tu, tv0 + tv, members.size(), l.size()});
+                members.insert(members.end(), l.begin(), l.end());
             }
-            row.count = spans.size() - row.first;
-            if (row.count > 0) rows.push_back(row);
-        }
     }
-    if (rows.empty()) return stats;
+    if (tiles.empty()) return stats;
 
-    int n = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
-    n = std::clamp(n, 1, static_cast<int>(std::min<std::size_t>(rows.size(), 1024)));
-    std::atomic<std::size_t> next{0};
-    std::vector<WorkerResult> results(static_cast<std::size_t>(n));
-    {
-        std::vector<std::thread> pool;
-        pool.reserve(static_cast<std::size_t>(n - 1));
-        for (int t = 1; t < n; ++t) {
-            try {
-                pool.emplace_back([&, t] {
-                    name_this_thread("tridex-sweep");
-                    work(model, grid, converted.tools, rows, spans, next, results[static_cast<std::size_t>(t)]);
-                });
-            } catch (const std::system_error&) {
-                break;  // no more threads available: the ones started (and this one) do all rows
-            }
+    // Each tile's rays get, in batch order, the sweeps whose footprint holds them: no two tasks touch the
+    // same ray, and every ray sees the operations of the sequential path in the same order.
+    std::vector<std::size_t> tile_changed(tiles.size(), 0);
+    std::vector<std::atomic<std::uint8_t>> sweep_changed(grid.size());
+    for (std::atomic<std::uint8_t>& c : sweep_changed) c.store(0, std::memory_order_relaxed);
+    pool_for(tiles.size(), 1, [&](const Chunk& chunk) {
+        for (std::size_t i = chunk.first; i < chunk.last; ++i) {
+            const RayTile& t = tiles[i];
+            RaySet& set = model.sets[t.axis];
+            const float depth_cells = static_cast<float>(model.lattice.cells[t.axis]);
+            const int u0 = t.tu * kTileRays, u1 = std::min(set.nu - 1, u0 + kTileRays - 1);
+            const int v0 = t.tv * kTileRays, v1 = std::min(set.nv - 1, v0 + kTileRays - 1);
+            std::size_t changed = 0;
+            for (int v = v0; v <= v1; ++v)
+                for (int u = u0; u <= u1; ++u) {
+                    std::vector<Interval>* ray = nullptr;
+                    for (std::size_t k = t.first; k < t.first + t.count; ++k) {
+                        const std::uint32_t s = members[k];
+                        const Footprint& f = fp[s * 3u + static_cast<std::size_t>(t.axis)];
+                        if (u < f.u_lo || u > f.u_hi || v < f.v_lo || v > f.v_hi) continue;
+                        if (ray == nullptr) ray = &set.ray(u, v);
+                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, *ray, depth_cells, converted.tools)) {
+                            ++changed;
+                            sweep_changed[s].store(1, std::memory_order_relaxed);
+                        }
+                    }
+                }
+            tile_changed[i] = changed;
         }
-        work(model, grid, converted.tools, rows, spans, next, results[0]);
-        for (std::thread& t : pool) t.join();
-    }
-    std::vector<std::uint8_t> changed(grid.size(), 0);
-    for (const WorkerResult& r : results) {
-        if (r.error) std::rethrow_exception(r.error);
-        stats.rays_changed += r.rays_changed;
-        if (r.sweep_changed.empty()) continue;  // a worker that was never started
-        for (std::size_t s = 0; s < grid.size(); ++s) changed[s] |= r.sweep_changed[s];
-    }
+    }, threads);
+    for (std::size_t c : tile_changed) stats.rays_changed += c;
     for (std::size_t s = 0; s < grid.size(); ++s)
-        if (changed[s]) model.mark_dirty(sweep_bounds(batch[source[s]]));
+        if (sweep_changed[s].load(std::memory_order_relaxed)) model.mark_dirty(sweep_bounds(batch[source[s]]));
     return stats;
 }
 

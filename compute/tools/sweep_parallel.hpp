@@ -1,4 +1,4 @@
-// compute/tools/sweep_parallel.hpp - a batch of swept Booleans on all CPU cores (the multi-threaded CPU path).
+// compute/tools/sweep_parallel.hpp - a batch of swept Booleans on all CPU cores on the task pool (the multi-threaded CPU path).
 #pragma once
 
 #include <span>
@@ -9,22 +9,25 @@
 
 namespace tridex::compute {
 
-/// Applies `batch` to `model` with `threads` std::threads (threads <= 0: std::thread::hardware_concurrency(),
-/// at least 1); the result equals applying the sweeps one by one with apply_sweep, bit for bit.
+/// Applies `batch` to `model` on the persistent task pool (compute/parallel/task_pool.hpp) with
+/// pool_slots(threads) threads (threads <= 0: every core); the result equals applying the sweeps one by one
+/// with apply_sweep, bit for bit, for every thread count.
 ///
 /// Method: every sweep is validated first (to_grid_sweep; sweeps with op kNone are skipped). Per ray set,
-/// the rows (v) of the union of the sweeps' footprints (sweep_footprint) are handed out to the threads
-/// (one row at a time from a shared counter; the calling thread works too). Each ray of a row gets, IN
-/// BATCH ORDER, the sweeps whose footprint holds it (apply_sweep_to_ray), so no two threads touch the
-/// same ray and each ray sees the same operations in the same order as the sequential path. Afterwards the
-/// tiles around sweep_bounds of each sweep that changed a ray are marked dirty (as apply_sweep does).
+/// the union of the sweeps' footprints (sweep_footprint) is cut into tiles of 8 x 8 rays, and each tile
+/// lists the sweeps whose footprint meets it, in batch order; the tiles are the tasks. Each ray of a tile
+/// gets, IN BATCH ORDER, the sweeps whose footprint holds it (apply_sweep_to_ray), so no two tasks touch
+/// the same ray and each ray sees the same operations in the same order as the sequential path. A batch of
+/// any size gives about (footprint rays / 64) tasks, so small tools and short batches use every core too.
+/// Afterwards the tiles around sweep_bounds of each sweep that changed a ray are marked dirty (as
+/// apply_sweep does).
 ///
 /// Returns the sums apply_sweep would return over the batch: rays_visited = footprint rays summed over
 /// sweeps, rays_changed = (ray, sweep) pairs where the sweep changed the ray.
-/// Cost: O(sum over sweeps of footprint rays x stamps x intervals per ray) / threads, plus
-/// O(rows x sweeps) to list each row's sweeps, plus starting threads - 1 std::threads (tens of us).
+/// Cost: O(sum over sweeps of footprint rays x stamps x intervals per ray) / threads, plus O(sum over sweeps
+/// of the ray tiles they meet) to list each tile's sweeps; no thread is started (the pool's workers persist).
 /// Throws tridex::Error (model unchanged) when a sweep is invalid (to_grid_sweep); an exception inside a
-/// worker (std::bad_alloc) is rethrown after all threads have joined (the model is then partly updated).
+/// task (std::bad_alloc) is rethrown after the running tasks end (the model is then partly updated).
 /// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
 BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch, int threads);
 

@@ -1,6 +1,5 @@
 // tests/stress/stress_paint.hpp - material checks of the stress tests: exact (double) per-ray chords of a
-// sweep (ball: capsule; flat-end: the union of its stamped cylinders, at the stamp positions the model
-// uses), the expected material of every interval end after a paint-only batch, and "every material id is
+// sweep (ball: capsule; flat-end: the swept cylinder), the expected material of every interval end after a paint-only batch, and "every material id is
 // one that was used".
 #pragma once
 
@@ -58,6 +57,64 @@ inline bool exact_cylinder_chord(const Vec3& o, int axis, const Vec3& a, const V
     return true;
 }
 
+/// Chord (double) of the ray of set `axis` through o with the volume swept by the flat-end cylinder at `a`
+/// (unit axis n, length len, radius r) moved by `m`: the extremes in t of the convex set of (t, l), l in
+/// [0, 1], with o + t e - l m inside the resting cylinder, taken over its boundary pieces (l = 0, l = 1,
+/// the two cap planes, the ellipse's own t-extremes), written with projections across the axis.
+inline bool exact_swept_cylinder_chord(const Vec3& o, int axis, const Vec3& a, const Vec3& n, double len, const Vec3& m,
+                                       double r, double& t0, double& t1) {
+    if (!(len > 0.0) || !(r > 0.0)) return false;
+    Vec3 e(0.0);
+    e[axis] = 1.0;
+    auto across = [&](const Vec3& x) { return x - n * glm::dot(x, n); };
+    const Vec3 w = o - a;
+    const Vec3 A = across(w), B = across(e), C = across(m);
+    const double ms = glm::dot(w, n), ds = glm::dot(e, n), cs = glm::dot(m, n), rr = r * r;
+    double lo = INFINITY, hi = -INFINITY;
+    auto take = [&](double t) { lo = std::min(lo, t), hi = std::max(hi, t); };
+    for (const double l : {0.0, 1.0})
+        if (exact_cylinder_chord(o, axis, a + m * l, n * len, r, t0, t1)) take(t0), take(t1);
+    auto roots = [](double qa, double qb, double qc, double& x0, double& x1) {  // qa x^2 + 2 qb x + qc <= 0
+        const double disc = qb * qb - qa * qc;
+        if (!(qa > 1e-300) || disc < 0.0) return false;
+        x0 = (-qb - std::sqrt(disc)) / qa, x1 = (-qb + std::sqrt(disc)) / qa;
+        return true;
+    };
+    for (const double c : {0.0, len}) {
+        if (std::abs(ds) > 1e-15) {  // on the cap plane: t = tc + l k
+            const double tc = (c - ms) / ds, k = cs / ds;
+            const Vec3 p = A + B * tc, g = B * k - C;
+            double l0 = 0.0, l1 = 1.0;
+            if (glm::dot(g, g) > 1e-300) {
+                double x0, x1;
+                if (!roots(glm::dot(g, g), glm::dot(p, g), glm::dot(p, p) - rr, x0, x1)) continue;
+                l0 = std::max(l0, x0), l1 = std::min(l1, x1);
+            } else if (glm::dot(p, p) > rr) {
+                continue;
+            }
+            if (l0 <= l1) take(tc + l0 * k), take(tc + l1 * k);
+        } else if (std::abs(cs) > 1e-15) {  // the ray lies in the cap plane of pose l
+            const double l = (ms - c) / cs;
+            double x0, x1;
+            if (l >= 0.0 && l <= 1.0 && roots(glm::dot(B, B), glm::dot(A - C * l, B), glm::dot(A - C * l, A - C * l) - rr, x0, x1))
+                take(x0), take(x1);
+        }
+    }
+    const double cc = glm::dot(C, C);
+    if (cc > 1e-300) {  // minimise |A + t B - l C| over l: the part of A + t B across C
+        const Vec3 Ap = A - C * (glm::dot(A, C) / cc), Bp = B - C * (glm::dot(B, C) / cc);
+        double x0, x1;
+        if (roots(glm::dot(Bp, Bp), glm::dot(Ap, Bp), glm::dot(Ap, Ap) - rr, x0, x1))
+            for (const double t : {x0, x1}) {
+                const double l = glm::dot(A + B * t, C) / cc, h = ms + t * ds - l * cs;
+                if (l >= 0.0 && l <= 1.0 && h >= 0.0 && h <= len) take(t);
+            }
+    }
+    if (!(lo <= hi)) return false;
+    t0 = lo, t1 = hi;
+    return true;
+}
+
 /// Sorts and merges overlapping or touching chords.
 inline Chords merge_chords(Chords c) {
     std::sort(c.begin(), c.end());
@@ -71,10 +128,10 @@ inline Chords merge_chords(Chords c) {
 
 /// The exact solid of `sweep`, grown by `grow` cells (negative: shrunk; every tool part's radius and, for a
 /// flat end, its length at both caps), on the ray of set `axis` at node (u, v), as merged depth intervals
-/// (grid units along the axis): ball -> the capsule chord; flat-end -> the union of the chords of its
-/// g.stamps cylinders at start + (end - start) * k / (stamps - 1), computed in double from the sweep's
-/// world positions (so within float rounding of what the model stamps).
-inline Chords exact_sweep_chords(const compute::Lattice& L, const compute::Sweep& s, const compute::GridSweep& g, int axis,
+/// (grid units along the axis): ball -> the capsule chord; flat-end -> the swept cylinder's chord
+/// (exact_swept_cylinder_chord), computed in double from the sweep's world positions (so within float
+/// rounding of what the model cuts).
+inline Chords exact_sweep_chords(const compute::Lattice& L, const compute::Sweep& s, const compute::GridSweep& /*g*/, int axis,
                                  int u, int v, double grow = 0.0) {
     Vec3 o(0.0);
     o[(axis + 1) % 3] = u;
@@ -91,11 +148,8 @@ inline Chords exact_sweep_chords(const compute::Lattice& L, const compute::Sweep
     const Vec3 n = glm::normalize(s.axis);
     const double len = s.tool.length_m / L.cell_m + 2.0 * grow;
     if (!(len > 0.0)) return c;
-    for (std::uint32_t k = 0; k < g.stamps; ++k) {
-        const double f = g.stamps > 1 ? double(k) / double(g.stamps - 1) : 0.0;
-        if (exact_cylinder_chord(o, axis, a + (b - a) * f - n * grow, n * len, r, t0, t1)) c.emplace_back(t0, t1);
-    }
-    return merge_chords(std::move(c));
+    if (exact_swept_cylinder_chord(o, axis, a - n * grow, n, len, b - a, r, t0, t1)) c.emplace_back(t0, t1);
+    return c;
 }
 
 /// One sweep's exact solid on a ray, shrunk and grown by the margin.
@@ -129,7 +183,7 @@ struct PaintReport {
 /// depths and counts bit-identical; an end that lies inside the exact solid of some sweep by more than
 /// `margin` (grid units, 3D: inside the solid shrunk by the margin) has the material of the LAST such sweep
 /// in batch order, unless a later sweep is within the margin of it (then undecided); an end farther than
-/// the margin from every sweep's solid keeps its old material. Cost: O(sum over sweeps of footprint rays x stamps + ends x sweeps on the ray).
+/// the margin from every sweep's solid keeps its old material. Cost: O(sum over sweeps of footprint rays + ends x sweeps on the ray).
 inline PaintReport check_paint_batch(const compute::TriDexel& m, std::span<const compute::Sweep> batch,
                                      const std::vector<std::pair<int, std::size_t>>& rays,
                                      const std::vector<std::vector<compute::Interval>>& before, double margin) {
