@@ -157,6 +157,9 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--render", bench_render,
                         "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, "
                         "with and without tile culling");
+    bench_cmd->add_option("--render-n", rbench.resolutions, "With --render: run only these N, e.g. --render-n 256")
+        ->delimiter(',')
+        ->check(CLI::Range(24, 2048));
     bool bench_sculpt = false;
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "

@@ -15,7 +15,7 @@ struct RenderBenchRow {
     int width = 0, height = 0;   ///< per-eye image size, px
     std::string view;            ///< "whole" (the demo's head pose) or "close-up" (part outside the frusta)
     bool culling = true;         ///< per-eye tile culling on
-    double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (submit + GPU + wait), ms
+    double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (two frames in flight), ms
     double frame_ms_p99 = 0;
     double gpu_frame_ms_median = -1;        ///< FrameStats::frame_ms (GPU timestamps), ms; < 0 unavailable
     std::map<std::string, double> passes;   ///< median ms per pass name ("opaque", ...), both eyes summed
@@ -24,6 +24,8 @@ struct RenderBenchRow {
     std::size_t tiles = 0;       ///< non-empty tiles of the workpiece
     std::size_t triangles = 0;   ///< workpiece triangles (all tiles)
     double speedup = 0;          ///< culling rows: median frame ms without culling / with; 0 on the others
+    std::size_t tile_buffers = 0;        ///< tile vertex + index buffers on the GPU (2 per non-empty tile)
+    std::size_t tile_memory_blocks = 0;  ///< VkDeviceMemory allocations holding them (the renderer's tile pool)
 };
 
 /// What to measure.

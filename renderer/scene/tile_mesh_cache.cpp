@@ -7,9 +7,11 @@
 
 namespace tridex::renderer {
 
-std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles) {
+std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles,
+                                std::vector<GpuMesh>* retired) {
     ++syncs_;
     order_.clear();
+    if (!pool_) pool_ = gpu::BufferPool::create(context);
     std::size_t uploads = 0;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileMesh& t = tiles[i];
@@ -28,7 +30,14 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                 const TriMesh& mesh = t.mesh ? *t.mesh : kEmpty;
                 std::span<const std::uint8_t> materials;
                 if (t.materials) materials = *t.materials;
-                e.mesh.assign(context, mesh, materials);
+                if (retired && !fresh) {  // new buffers: earlier frames may still read the old ones
+                    GpuMesh next;
+                    next.assign(context, mesh, materials, pool_.get());
+                    retired->push_back(std::move(e.mesh));
+                    e.mesh = std::move(next);
+                } else {
+                    e.mesh.assign(context, mesh, materials, pool_.get());
+                }
             } catch (const Error& err) {
                 entries_.erase(it);
                 order_.clear();
@@ -39,7 +48,11 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
         }
         order_.push_back(&e);
     }
-    std::erase_if(entries_, [&](const auto& kv) { return kv.second->seen != syncs_; });
+    std::erase_if(entries_, [&](const auto& kv) {
+        if (kv.second->seen == syncs_) return false;
+        if (retired) retired->push_back(std::move(kv.second->mesh));
+        return true;
+    });
     uploads_total_ += uploads;
     return uploads;
 }
