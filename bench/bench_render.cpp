@@ -75,6 +75,7 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
             scene.show_workspace = false;
             scene.show_overlay = true;
             scene.tiles = list;
+            scene.occlusion_strength = o.occlusion ? 1.0 : 0.0;
             for (const BenchView& v : kViews) {
                 Pose head;
                 head.position = v.head_m;
@@ -148,9 +149,10 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
         if (r.culling)
             std::printf("culling speed-up N=%d %dx%d %s: %.2fx (frame %.2f ms with, %.2f ms without)\n", r.n, r.width,
                         r.height, r.view.c_str(), r.speedup, r.frame_ms_median, r.frame_ms_median * r.speedup);
-    std::printf("frame_ms: wall clock around draw(); gpu_ms and passes: %s; validation %s; %d frames per row "
-                "(+1 warm-up)\n", timing_note.empty() ? "-" : timing_note.c_str(), ctx.validation_enabled() ? "on" : "off",
-                o.frames);
+    std::printf("frame_ms: wall clock around draw() (two frames in flight); gpu_ms and passes: %s; ambient occlusion "
+                "%s; validation %s; %d frames per row (+1 warm-up)\n",
+                timing_note.empty() ? "-" : timing_note.c_str(), o.occlusion ? "on" : "off",
+                ctx.validation_enabled() ? "on" : "off", o.frames);
     nlohmann::json j = nlohmann::json::array();
     for (const RenderBenchRow& r : rows) j.push_back(row_json(r));
     const std::string path = (std::filesystem::path(o.out) / "render_bench.json").string();

@@ -34,6 +34,7 @@ struct RenderBenchOptions {
     std::vector<int> resolutions{256, 512};                        ///< N values
     std::vector<std::pair<int, int>> sizes{{1280, 720}, {1920, 1080}};  ///< per-eye width x height, px
     int frames = 10;                                               ///< timed frames per row (after 1 warm-up)
+    bool occlusion = true;  ///< ambient occlusion on (SceneView::occlusion_strength 1) or off (0), for comparison
     std::string out = "out/bench";                                 ///< folder for render_bench.json
 };
 

@@ -11,6 +11,7 @@ namespace tridex::renderer {
 namespace {
 
 constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp
+constexpr std::uint32_t kBlock = 2;  // pixels per invocation along x and y (2x2 blocks)
 
 }  // namespace
 
@@ -106,8 +107,9 @@ void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, st
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
-    vkCmdDispatch(cmd, (static_cast<std::uint32_t>(width_) + kGroup - 1) / kGroup,
-                  (static_cast<std::uint32_t>(height_) + kGroup - 1) / kGroup, layer_count);
+    const std::uint32_t blocks_x = (static_cast<std::uint32_t>(width_) + kBlock - 1) / kBlock;
+    const std::uint32_t blocks_y = (static_cast<std::uint32_t>(height_) + kBlock - 1) / kBlock;
+    vkCmdDispatch(cmd, (blocks_x + kGroup - 1) / kGroup, (blocks_y + kGroup - 1) / kGroup, layer_count);
 }
 
 }  // namespace tridex::renderer
