@@ -1,10 +1,12 @@
 // renderer/stereo/stereo_renderer.cpp - scene -> draws -> stereo frame, with the eye-strategy fallback.
 #include "renderer/stereo/stereo_renderer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/constants.hpp>
@@ -99,6 +101,7 @@ struct OffscreenStereoRenderer::Impl {
     double gpu_ms = -1.0;               // GPU time of the latest finished frame
     FrameStats last;
     FrameStats finished;                // timings of the latest finished frame
+    std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
 
     // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
@@ -124,13 +127,17 @@ struct OffscreenStereoRenderer::Impl {
             gpu_ms = -1.0;
         }
         finished = stats;
+        finished_queue.push_back(stats);
         if (slot == last_slot && slots.frame_of(slot) == last_frame) last = stats;
     }
-    // Waits for the last frame drawn and takes its timings.
+    // Waits for the last frame drawn and takes the timings of every frame in flight, oldest first.
     void finish_last() {
         if (last_frame == 0) return;
         slots.wait(last_frame);
-        time_finished(last_slot);
+        std::vector<int> order(frame.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+        std::sort(order.begin(), order.end(), [&](int a, int b) { return slots.frame_of(a) < slots.frame_of(b); });
+        for (int slot : order) time_finished(slot);
     }
 
     ~Impl() {
@@ -212,6 +219,10 @@ StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Scree
     draw(scene, screen, head, eye_separation_m, near_m, far_m);
     impl_->finish_last();
     return last_images();
+}
+
+std::vector<FrameStats> OffscreenStereoRenderer::take_finished_frames() {
+    return std::exchange(impl_->finished_queue, {});
 }
 
 FrameStats OffscreenStereoRenderer::finish() {

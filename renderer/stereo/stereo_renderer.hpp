@@ -149,6 +149,9 @@ public:
     /// Waits for the last frame drawn and returns its statistics with its own timings (as last_frame_stats()
     /// then). Throws tridex::Error on a Vulkan failure or when the GPU takes over 10 s.
     FrameStats finish();
+    /// Statistics (with their own timings) of the frames seen finished since the last call, oldest first: every
+    /// frame appears once, after a later draw(), finish(), render() or last_images() saw it done.
+    std::vector<FrameStats> take_finished_frames();
 
     /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
     /// usage COLOR_ATTACHMENT | TRANSFER_SRC | SAMPLED). After render()/draw() it holds the last frame in

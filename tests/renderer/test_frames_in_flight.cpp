@@ -80,6 +80,13 @@ TEST(FramesInFlight, ReplacedBuffersOutliveTheirFramesAndTheLastFrameIsRight) {
         for (int f = 0; f < kFrames; ++f) uploads += r.draw(s.frame(f), test::small_screen(), head, 0.064).tile_uploads;
         EXPECT_EQ(uploads, static_cast<std::uint64_t>(kTiles + (kFrames - 1) * kTiles / 2));
         const FrameStats last = r.finish();
+        // Every frame's own statistics once, oldest first (the tile uploads add up as above).
+        const std::vector<FrameStats> done = r.take_finished_frames();
+        ASSERT_EQ(done.size(), static_cast<std::size_t>(kFrames));
+        std::uint64_t seen_uploads = 0;
+        for (const FrameStats& fs : done) seen_uploads += fs.tile_uploads;
+        EXPECT_EQ(seen_uploads, uploads);
+        EXPECT_TRUE(r.take_finished_frames().empty());
         EXPECT_EQ(r.frames_rendered(), static_cast<std::uint64_t>(kFrames));
         if (r.gpu_timestamps_available()) {
             EXPECT_GT(last.frame_ms, 0.0);
