@@ -161,6 +161,9 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--render-n", render_n, "With --render: run only these N (16..1024), e.g. --render-n 256")
         ->delimiter(',')
         ->check(CLI::Range(16, 1024));
+    bool render_no_occlusion = false;
+    bench_cmd->add_flag("--render-no-occlusion", render_no_occlusion,
+                        "With --render: ambient occlusion off (to see what it costs)");
     bool bench_sculpt = false;
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
@@ -270,6 +273,7 @@ int main(int argc, char** argv) {
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;
+                rbench.occlusion = !render_no_occlusion;
                 rbench.mesh = hbench.mesh;
                 if (!render_n.empty()) rbench.resolutions = render_n;
                 tridex::app::run_render_bench(rbench);

@@ -412,13 +412,15 @@ RunResult run_stereo_session(const RunOptions& options) {
             prev_frame_ms = ms_between(t0, Clock::now());
             r.frame_ms.add(prev_frame_ms);
             r.gpu_ms.add(rend.last_gpu_ms());
-            r.render.add(rend.last_frame_stats());
+            for (const renderer::FrameStats& fs : rend.take_finished_frames()) r.render.add(fs);
             r.frames = frame + 1;
             if (last) break;
             if (offscreen && su.pace)
                 std::this_thread::sleep_until(t_render + std::chrono::duration_cast<Clock::duration>(
                                                              std::chrono::duration<double>((frame + 1) * frame_period_s)));
         }
+        rend.finish();  // the frames still in flight
+        for (const renderer::FrameStats& fs : rend.take_finished_frames()) r.render.add(fs);
     } catch (...) {
         try {
             backend.runtime().stop();

@@ -16,7 +16,7 @@ struct RenderBenchRow {
     std::string view;            ///< "whole" (the demo's head pose) or "close-up" (part outside the frusta)
     bool culling = true;         ///< per-eye tile culling on
     bool lod = false;            ///< per-tile levels of detail on (SceneView::lod, 1 pixel)
-    double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (submit + GPU + wait), ms
+    double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (two frames in flight), ms
     double frame_ms_p99 = 0;
     double gpu_frame_ms_median = -1;        ///< FrameStats::frame_ms (GPU timestamps), ms; < 0 unavailable
     std::map<std::string, double> passes;   ///< median ms per pass name ("opaque", ...), both eyes summed
@@ -34,6 +34,8 @@ struct RenderBenchRow {
     double silhouette_mismatch = -1;
     /// LOD rows: mean absolute difference per colour channel from that full-resolution frame, 0..255; -1 on the others.
     double mean_abs_diff = -1;
+    std::size_t tile_buffers = 0;        ///< tile vertex + index buffers on the GPU (2 per non-empty tile and level)
+    std::size_t tile_memory_blocks = 0;  ///< VkDeviceMemory allocations holding them (the renderer's tile pool)
 };
 
 /// What to measure.
@@ -44,6 +46,7 @@ struct RenderBenchOptions {
     int frames = 10;                                               ///< timed frames per row (after 1 warm-up)
     /// Tiles per N whose level-of-detail build is timed alone on one thread (evenly spread over the tiles).
     std::size_t lod_timed_tiles = 200;
+    bool occlusion = true;  ///< ambient occlusion on (SceneView::occlusion_strength 1) or off (0), for comparison
     std::string out = "out/bench";                                 ///< folder for render_bench.json
 };
 

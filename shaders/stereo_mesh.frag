@@ -1,5 +1,6 @@
 #version 450
-// shaders/stereo_mesh.frag - Blinn-Phong shading with a directional light, two-sided, per eye;
+// shaders/stereo_mesh.frag - Blinn-Phong shading with a directional key light from above plus a soft
+// fill light from the eye (so faces turned from the key light keep their shape), two-sided, per eye;
 // flat colour (with alpha, for the translucent workspace box and the overlay) when draw.lit == 0.
 // The base colour is draw.colour, or the interpolated palette colour of the vertex materials when
 // draw.palette == 1 (per-material workpiece colours).
@@ -37,7 +38,8 @@ void main() {
     vec3 l = eyes.light_direction.xyz;
     vec3 h = normalize(l + v);
     float diffuse = max(dot(n, l), 0.0);
+    float fill = max(dot(n, v), 0.0);
     float specular = diffuse > 0.0 ? pow(max(dot(n, h), 0.0), 48.0) : 0.0;
-    vec3 rgb = base.rgb * (0.2 + 0.75 * diffuse) + vec3(0.25 * specular);
+    vec3 rgb = base.rgb * (0.2 + 0.6 * diffuse + 0.2 * fill) + vec3(0.2 * specular);
     out_colour = vec4(min(rgb, vec3(1.0)), base.a);
 }

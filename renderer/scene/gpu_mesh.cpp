@@ -10,7 +10,7 @@
 namespace tridex::renderer {
 
 void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials,
-                     std::span<const Vec3> given_normals) {
+                     std::span<const Vec3> given_normals, gpu::BufferPool* pool) {
     const std::size_t nv = mesh.positions.size();
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (std::uint32_t i : mesh.triangles[t])
@@ -39,15 +39,32 @@ void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span
         given_normals.empty() ? vertex_normals(mesh) : std::vector<Vec3>(given_normals.begin(), given_normals.end());
     const VkDeviceSize vbytes = nv * sizeof(MeshVertex);
     const VkDeviceSize ibytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
-    if (vertices_.size() < vbytes)
-        vertices_ = gpu::Buffer::create(context, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
-    if (indices_.size() < ibytes)
-        indices_ = gpu::Buffer::create(context, ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
-    auto* out = static_cast<MeshVertex*>(vertices_.mapped());
+    void* vmap = nullptr;
+    void* imap = nullptr;
+    if (pool) {
+        vertices_ = gpu::Buffer{};
+        indices_ = gpu::Buffer{};
+        if (pooled_vertices_.size() < vbytes)
+            pooled_vertices_ = pool->allocate(vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (pooled_indices_.size() < ibytes) pooled_indices_ = pool->allocate(ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+        vmap = pooled_vertices_.mapped();
+        imap = pooled_indices_.mapped();
+    } else {
+        pooled_vertices_ = gpu::PooledBuffer{};
+        pooled_indices_ = gpu::PooledBuffer{};
+        if (vertices_.size() < vbytes)
+            vertices_ =
+                gpu::Buffer::create(context, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
+        if (indices_.size() < ibytes)
+            indices_ = gpu::Buffer::create(context, ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, gpu::MemoryDomain::kHost);
+        vmap = vertices_.mapped();
+        imap = indices_.mapped();
+    }
+    auto* out = static_cast<MeshVertex*>(vmap);
     for (std::size_t v = 0; v < nv; ++v)
         out[v] = MeshVertex{glm::vec3(mesh.positions[v]), glm::vec3(normals[v]),
                             materials.empty() ? 0u : static_cast<std::uint32_t>(materials[v])};
-    auto* idx = static_cast<std::uint32_t*>(indices_.mapped());
+    auto* idx = static_cast<std::uint32_t*>(imap);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int k = 0; k < 3; ++k) idx[t * 3 + k] = mesh.triangles[t][k];
     index_count_ = static_cast<std::uint32_t>(mesh.triangles.size() * 3);

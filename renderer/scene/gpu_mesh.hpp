@@ -7,13 +7,16 @@
 
 #include "core/tri_mesh.hpp"
 #include "gpu/buffer.hpp"
+#include "gpu/buffer_pool.hpp"
 #include "gpu/context.hpp"
 
 namespace tridex::renderer {
 
 /// Vertex (MeshVertex: position m, area-weighted unit normal from core vertex_normals, material id) and
-/// uint32 index buffers of one mesh, in MemoryDomain::kHost so they can be refilled every frame. Buffers
-/// grow (never shrink) when a larger mesh is assigned. Move-only.
+/// uint32 index buffers of one mesh, host-visible so they can be refilled every frame: each buffer with its own
+/// memory (MemoryDomain::kHost), or sub-allocated from a gpu::BufferPool (per-tile meshes: thousands of them
+/// would exceed a real GPU's allocation limit). Buffers grow (never shrink) when a larger mesh is assigned.
+/// Move-only; a pool it was given must outlive it.
 class GpuMesh {
 public:
     /// Copies `mesh` (positions converted to float) into the buffers, growing them when needed.
@@ -24,16 +27,17 @@ public:
     /// range (naming the vertex), or on a Vulkan failure. Not safe while the GPU still reads the buffers
     /// from an earlier submission. `normals` is empty (area-weighted normals of `mesh`) or one unit normal per
     /// vertex to use instead (e.g. a simplified mesh shaded with its full mesh's normals); a wrong size or a
-    /// non-finite normal throws.
+    /// non-finite normal throws. With `pool`, new buffers come from it (sub-allocated) instead of their own memory.
     void assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials = {},
-                std::span<const Vec3> normals = {});
+                std::span<const Vec3> normals = {}, gpu::BufferPool* pool = nullptr);
 
-    VkBuffer vertices() const { return vertices_.handle(); }
-    VkBuffer indices() const { return indices_.handle(); }
+    VkBuffer vertices() const { return pooled_vertices_.handle() ? pooled_vertices_.handle() : vertices_.handle(); }
+    VkBuffer indices() const { return pooled_indices_.handle() ? pooled_indices_.handle() : indices_.handle(); }
     std::uint32_t index_count() const { return index_count_; }
 
 private:
     gpu::Buffer vertices_, indices_;
+    gpu::PooledBuffer pooled_vertices_, pooled_indices_;
     std::uint32_t index_count_ = 0;
 };
 

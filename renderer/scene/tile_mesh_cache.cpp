@@ -7,9 +7,11 @@
 
 namespace tridex::renderer {
 
-std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles) {
+std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles,
+                                std::vector<GpuMesh>* retired) {
     ++syncs_;
     order_.clear();
+    if (!pool_) pool_ = gpu::BufferPool::create(context);
     std::size_t uploads = 0;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileMesh& t = tiles[i];
@@ -28,7 +30,21 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                 const TriMesh& mesh = t.mesh ? *t.mesh : kEmpty;
                 std::span<const std::uint8_t> materials;
                 if (t.materials) materials = *t.materials;
-                e.mesh.assign(context, mesh, materials);
+                // Replaced buffers are retired, not overwritten: earlier frames in flight may still read them.
+                const auto upload = [&](GpuMesh& slot, const TriMesh& m, std::span<const std::uint8_t> mats,
+                                        std::span<const Vec3> normals) {
+                    if (retired && !fresh) {
+                        GpuMesh next;
+                        next.assign(context, m, mats, normals, pool_.get());
+                        retired->push_back(std::move(slot));
+                        slot = std::move(next);
+                    } else {
+                        slot.assign(context, m, mats, normals, pool_.get());
+                    }
+                };
+                upload(e.mesh, mesh, materials, {});
+                if (retired)
+                    for (std::size_t k = t.levels.size(); k < e.levels.size(); ++k) retired->push_back(std::move(e.levels[k]));
                 e.levels.resize(t.levels.size());
                 for (std::size_t k = 0; k < t.levels.size(); ++k) {
                     const TileMeshLevel& l = t.levels[k];
@@ -37,7 +53,7 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                     if (l.materials) lm = *l.materials;
                     if (l.normals) ln = *l.normals;
                     try {
-                        e.levels[k].assign(context, l.mesh ? *l.mesh : kEmpty, lm, ln);
+                        upload(e.levels[k], l.mesh ? *l.mesh : kEmpty, lm, ln);
                     } catch (const Error& err) {
                         throw Error("level " + std::to_string(k + 1) + ": " + err.what());
                     }
@@ -52,7 +68,14 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
         }
         order_.push_back(&e);
     }
-    std::erase_if(entries_, [&](const auto& kv) { return kv.second->seen != syncs_; });
+    std::erase_if(entries_, [&](const auto& kv) {
+        if (kv.second->seen == syncs_) return false;
+        if (retired) {
+            retired->push_back(std::move(kv.second->mesh));
+            for (GpuMesh& l : kv.second->levels) retired->push_back(std::move(l));
+        }
+        return true;
+    });
     uploads_total_ += uploads;
     return uploads;
 }

@@ -11,6 +11,7 @@
 
 #include "core/aabb.hpp"
 #include "core/tri_mesh.hpp"
+#include "gpu/buffer_pool.hpp"
 #include "gpu/context.hpp"
 #include "renderer/scene/gpu_mesh.hpp"
 #include "renderer/scene/tile_lod.hpp"
@@ -38,14 +39,17 @@ struct TileMesh {
 /// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version
 /// changed and frees tiles no longer listed; unchanged tiles cost nothing. Each tile has its own host-
 /// visible GpuMesh (two buffers). Move-only; the Context must outlive it. Not safe while the GPU still
-/// reads an earlier frame (the renderer waits for every frame).
+/// reads an earlier frame (the caller retires replaced meshes: sync()'s `retired`).
 class TileMeshCache {
 public:
     /// Makes the cache hold exactly `tiles` (empty or null meshes included, as zero-index entries) and
     /// returns how many were uploaded by this call. Throws tridex::Error when two tiles have the same id
     /// (naming it), or GpuMesh::assign throws (bad indices, non-finite position, bad materials: naming the
     /// tile); a tile that failed is left out of the cache, so the next sync() retries it.
-    std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles);
+    /// With `retired`, the GPU meshes of replaced and dropped tiles are moved there instead of being overwritten
+    /// or freed (for a caller whose earlier frames may still read them); changed tiles then get new buffers.
+    std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles,
+                     std::vector<GpuMesh>* retired = nullptr);
 
     /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()).
     /// Throws tridex::Error when i or level is out of range.
@@ -54,6 +58,10 @@ public:
     std::size_t size() const { return order_.size(); }
     /// Uploads over the cache's lifetime.
     std::uint64_t uploads_total() const { return uploads_total_; }
+    /// VkDeviceMemory allocations holding the tiles' buffers now (the pool's blocks; 0 before the first upload).
+    std::size_t memory_blocks() const { return pool_ ? pool_->blocks() : 0; }
+    /// Tile vertex and index buffers alive now.
+    std::size_t buffers() const { return pool_ ? pool_->live_buffers() : 0; }
 
 private:
     struct Entry {
@@ -62,6 +70,7 @@ private:
         std::uint64_t version = 0;
         std::uint64_t seen = 0;  // sync() call that listed it last
     };
+    std::unique_ptr<gpu::BufferPool> pool_;  // declared first: destroyed after the entries' buffers
     std::unordered_map<std::uint64_t, std::unique_ptr<Entry>> entries_;
     std::vector<const Entry*> order_;
     std::uint64_t syncs_ = 0;

@@ -20,6 +20,8 @@ public:
     /// Copies `eyes` into the uniform buffer.
     void write(const EyesUniform& eyes) { buffer_.write(&eyes, sizeof eyes); }
     VkDescriptorSet set() const { return set_; }
+    /// The uniform buffer (sizeof(EyesUniform) bytes), e.g. for another descriptor set that reads it.
+    VkBuffer buffer() const { return buffer_.handle(); }
 
 private:
     gpu::Buffer buffer_;

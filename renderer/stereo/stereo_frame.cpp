@@ -16,7 +16,7 @@ DrawPhase phase_of(PipelineKind kind) {
 
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
-                         const PhaseTimestamps& timestamps, int eye_count) {
+                         const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -32,20 +32,13 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     const std::uint32_t eyes_drawn = mono ? 0b01u : 0b11u;
     const auto& framebuffers = target.framebuffers();
     const std::size_t passes = per_eye && mono ? 1 : framebuffers.size();
-    for (std::size_t pass = 0; pass < passes; ++pass) {
-        VkRenderPassBeginInfo begin{};
-        begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
-        begin.renderPass = pipeline.render_pass();
-        begin.framebuffer = framebuffers[pass].get();
-        begin.renderArea = scissor;
-        begin.clearValueCount = 2;
-        begin.pClearValues = clears;
-        vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    // Draws of phases first..last of render pass instance `pass` (timestamps at their boundaries).
+    const auto record_phases = [&](std::size_t pass, int first, int last) {
         vkCmdSetViewport(cmd, 0, 1, &viewport);
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
         VkPipeline bound = VK_NULL_HANDLE;
-        for (int phase = 0; phase < kDrawPhaseCount; ++phase) {
+        for (int phase = first; phase <= last; ++phase) {
             if (timestamps.pool != VK_NULL_HANDLE)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
                                     timestamps.query(pass, phase));
@@ -85,6 +78,31 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                     vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
             }
         }
+    };
+    const auto begin_pass = [&](VkRenderPass render_pass, std::size_t pass) {
+        VkRenderPassBeginInfo begin{};
+        begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+        begin.renderPass = render_pass;
+        begin.framebuffer = framebuffers[pass].get();
+        begin.renderArea = scissor;
+        begin.clearValueCount = 2;
+        begin.pClearValues = clears;
+        vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    };
+    // Per render pass instance: the opaque phase, ambient occlusion of its layers, then translucent and overlay.
+    const auto opaque = static_cast<int>(DrawPhase::kOpaque);
+    for (std::size_t pass = 0; pass < passes; ++pass) {
+        begin_pass(pipeline.render_pass(), pass);
+        record_phases(pass, opaque, opaque);
+        vkCmdEndRenderPass(cmd);
+        if (occlusion != nullptr) {
+            if (per_eye)
+                occlusion->record(cmd, static_cast<std::uint32_t>(pass), 1);
+            else
+                occlusion->record(cmd, 0, mono ? 1u : 2u);
+        }
+        begin_pass(pipeline.resume_pass(), pass);
+        record_phases(pass, opaque + 1, kDrawPhaseCount - 1);
         if (timestamps.pool != VK_NULL_HANDLE)
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
                                 timestamps.query(pass, kDrawPhaseCount));

@@ -7,6 +7,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "renderer/stereo/ambient_occlusion.hpp"
 #include "renderer/stereo/stereo_pipeline.hpp"
 #include "renderer/stereo/stereo_target.hpp"
 #include "renderer/stereo/stereo_uniforms.hpp"
@@ -59,14 +60,17 @@ struct PhaseTimestamps {
     }
 };
 
-/// Records into `cmd` (in the recording state): the strategy's render pass instance(s) over `target`
-/// clearing colour to `clear_rgba` (linear, 0..1) and depth to 1, `draws` for both eyes grouped by phase
+/// Records into `cmd` (in the recording state): per render pass instance of the strategy over `target`, the
+/// opaque phase in pipeline.render_pass() (clearing colour to `clear_rgba` (linear, 0..1) and depth to 1), then
+/// `occlusion`'s dispatch over that instance's layers (none when `occlusion` is null), then the translucent and
+/// overlay phases in pipeline.resume_pass(); `draws` for both eyes grouped by phase
 /// (opaque, then translucent, then overlay; list order kept within a phase), each as its eye_mask allows
 /// (pass-per-eye: once per pass whose eye is in the mask, constants.eye = pass; multiview: once, the view
 /// mask replicates it; instanced-layer: instances for the masked eyes), then the copy of both colour layers
 /// into the target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
 /// pipeline.set_layout() holding the EyesUniform. With `timestamps` (pool not null) it writes a
-/// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps).
+/// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps; the
+/// opaque phase's time then includes the occlusion dispatch).
 /// `eye_count` 1 = mono, one eye's work only: only the left eye (layer 0) is drawn and copied back
 /// (pass-per-eye: the right eye's render pass is not recorded and its timestamps are written back to back,
 /// zero duration, so every query of the pool is available; instanced-layer: one instance per draw; multiview:
@@ -74,6 +78,7 @@ struct PhaseTimestamps {
 /// contents. Any other value than 1 draws both eyes.
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
-                         const PhaseTimestamps& timestamps = {}, int eye_count = 2);
+                         const PhaseTimestamps& timestamps = {}, int eye_count = 2,
+                         const AmbientOcclusion* occlusion = nullptr);
 
 }  // namespace tridex::renderer

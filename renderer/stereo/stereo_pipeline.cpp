@@ -13,20 +13,34 @@
 namespace tridex::renderer {
 namespace {
 
-gpu::UniqueRenderPass make_render_pass(VkDevice device, EyeStrategy strategy) {
+// The frame's two render passes, compatible with each other (same attachments and subpass), so the pipelines
+// and framebuffers made for the first serve both.
+// kOpaquePhase: colour and depth cleared and stored; colour left in GENERAL and depth in
+// DEPTH_STENCIL_READ_ONLY_OPTIMAL for the ambient-occlusion compute pass.
+// kResumePhase: both loaded (after the compute pass's colour writes), colour left in TRANSFER_SRC_OPTIMAL for
+// readback and blits.
+// Before either: earlier readback copies, sampling and compute use of the images and earlier attachment writes
+// finish first. After either: the attachment writes are visible to the compute pass, the next render pass and
+// transfer reads.
+enum class PassPhase { kOpaque, kResume };
+
+gpu::UniqueRenderPass make_render_pass(VkDevice device, EyeStrategy strategy, PassPhase phase) {
+    const bool opaque = phase == PassPhase::kOpaque;
     VkAttachmentDescription att[2]{};
     att[0].format = kStereoColourFormat;
     att[0].samples = VK_SAMPLE_COUNT_1_BIT;
-    att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[0].loadOp = opaque ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
     att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    att[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    att[0].initialLayout = opaque ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_GENERAL;
+    att[0].finalLayout = opaque ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     att[1] = att[0];
     att[1].format = kStereoDepthFormat;
-    att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    att[1].storeOp = opaque ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[1].initialLayout = opaque ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    att[1].finalLayout = opaque ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
+                                : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
 
     const VkAttachmentReference colour{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     const VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
@@ -36,22 +50,29 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device, EyeStrategy strategy) {
     subpass.pColorAttachments = &colour;
     subpass.pDepthStencilAttachment = &depth;
 
-    // Before: earlier readback copies of the colour image and earlier depth use finish first.
-    // After: the colour writes are visible to the readback copy.
+    constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                                       VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                                       VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    constexpr VkAccessFlags kAttachmentAccess =
+        VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    // The same dependencies in both passes (render pass compatibility, as the validation layer checks it).
     VkSubpassDependency deps[2]{};
     deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
     deps[0].dstSubpass = 0;
-    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kAttachmentStages;
+    deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                            VK_ACCESS_SHADER_WRITE_BIT;
+    deps[0].dstStageMask = kAttachmentStages;
+    deps[0].dstAccessMask = kAttachmentAccess;
     deps[1].srcSubpass = 0;
     deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    deps[1].srcStageMask = kAttachmentStages;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | kAttachmentStages;
+    deps[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                            kAttachmentAccess;
 
     VkRenderPassCreateInfo info{};
 
@@ -133,7 +154,8 @@ StereoPipeline StereoPipeline::create(const gpu::Context& context, EyeStrategy s
     const VkDevice device = context.device();
     StereoPipeline p;
     p.strategy_ = strategy;
-    p.render_pass_ = make_render_pass(device, strategy);
+    p.render_pass_ = make_render_pass(device, strategy, PassPhase::kOpaque);
+    p.resume_pass_ = make_render_pass(device, strategy, PassPhase::kResume);
 
     VkDescriptorSetLayoutBinding binding{};
     binding.binding = 0;

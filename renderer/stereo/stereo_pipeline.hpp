@@ -27,8 +27,11 @@ enum class PipelineKind {
 /// Number of PipelineKind values.
 constexpr int kPipelineKindCount = 5;
 
-/// The GPU state shared by all frames of one eye strategy: a render pass (colour RGBA8 cleared and
-/// left in TRANSFER_SRC_OPTIMAL for readback, depth D32 cleared; with a view mask 0b11 for kMultiview),
+/// The GPU state shared by all frames of one eye strategy: two compatible render passes (with a view mask 0b11
+/// for kMultiview): render_pass() for the opaque phase (colour RGBA8 and depth D32 cleared and stored, colour
+/// left in GENERAL and depth in DEPTH_STENCIL_READ_ONLY_OPTIMAL for the ambient-occlusion compute pass), and
+/// resume_pass() for the translucent and overlay phases (both loaded, colour left in TRANSFER_SRC_OPTIMAL for
+/// readback and blits); framebuffers and pipelines made with render_pass() serve both;
 /// the descriptor set layout (set 0 binding 0: EyesUniform), a pipeline layout with the DrawConstants
 /// push range, and one pipeline per PipelineKind using shaders/stereo_mesh.* in the strategy's variant
 /// (vertex input: MeshVertex, locations 0 position, 1 normal, 2 material id; kContour: 16-byte vertices of
@@ -41,7 +44,8 @@ public:
     static StereoPipeline create(const gpu::Context& context, EyeStrategy strategy);
 
     EyeStrategy strategy() const { return strategy_; }
-    VkRenderPass render_pass() const { return render_pass_.get(); }
+    VkRenderPass render_pass() const { return render_pass_.get(); }  ///< the opaque phase's render pass
+    VkRenderPass resume_pass() const { return resume_pass_.get(); }  ///< translucent + overlay phases
     VkDescriptorSetLayout set_layout() const { return set_layout_.get(); }
     VkPipelineLayout layout() const { return layout_.get(); }
     /// The pipeline for one kind of draw.
@@ -49,7 +53,7 @@ public:
 
 private:
     EyeStrategy strategy_ = EyeStrategy::kPassPerEye;
-    gpu::UniqueRenderPass render_pass_;
+    gpu::UniqueRenderPass render_pass_, resume_pass_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout layout_;
     gpu::UniquePipeline pipelines_[kPipelineKindCount];

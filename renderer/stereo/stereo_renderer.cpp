@@ -1,10 +1,12 @@
 // renderer/stereo/stereo_renderer.cpp - scene -> draws -> stereo frame, with the eye-strategy fallback.
 #include "renderer/stereo/stereo_renderer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/constants.hpp>
@@ -15,6 +17,7 @@
 #include "renderer/scene/arrow_mesh.hpp"
 #include "renderer/stereo/eye_self_test.hpp"
 #include "renderer/stereo/eyes_binding.hpp"
+#include "renderer/stereo/frame_slots.hpp"
 #include "renderer/scene/force_arrow.hpp"
 #include "renderer/timing/frame_timer.hpp"
 #include "renderer/scene/gpu_mesh.hpp"
@@ -31,7 +34,8 @@
 namespace tridex::renderer {
 namespace {
 
-// Scene colours (linear RGBA) and the light: from upper right, in front of the screen.
+// Scene colours (linear RGBA) and the key light: from above, a little to the right and in front of the screen
+// (light from above is how people read shape: a cut's upper wall falls into shade, its lower wall catches light).
 const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
 const glm::vec4 kProxyColour(1.00f, 0.85f, 0.20f, 0.45f);
 const glm::vec4 kForceColour(0.95f, 0.22f, 0.18f, 1.0f);
@@ -40,8 +44,9 @@ const glm::vec4 kBubbleColour(0.45f, 0.65f, 1.00f, 0.15f);
 const glm::vec4 kOverlayPanelColour(0.0f, 0.0f, 0.0f, 0.55f);
 const glm::vec4 kOverlayTextColour(0.95f, 0.95f, 0.80f, 1.0f);
 constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
-const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f));
+const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.25f, 1.0f, 0.6f));
 constexpr int kSphereRings = 24, kSphereSegments = 48, kArrowSegments = 16;
+constexpr int kFramesInFlight = 2;
 
 glm::mat4 translate_scale(const Vec3& t, const Vec3& s) {
     glm::mat4 m(1.0f);
@@ -64,27 +69,81 @@ glm::mat4 clip_from_pixel(int width, int height) {
 
 }  // namespace
 
+// What one frame in flight owns: the uniforms and descriptor sets it reads, its timestamp queries, the meshes
+// refilled every frame, and what is known of the frame drawn with it.
+struct FrameResources {
+    std::optional<EyesBinding> eyes;
+    AmbientOcclusion occlusion;
+    FrameTimer timer;
+    GpuMesh workpiece, overlay_panel, overlay_text;
+    FrameStats stats;         // counts at draw(); timings once the frame has finished
+    bool gpu_timing = false;  // its timestamps were recorded
+    bool timed = false;       // its timings are in `stats`
+    int eye_count = 2;
+    std::chrono::steady_clock::time_point submitted{};
+};
+
 struct OffscreenStereoRenderer::Impl {
     gpu::Context* context = nullptr;
     std::string note;
     std::optional<StereoPipeline> pipeline;
     std::optional<StereoTarget> target;
-    std::optional<EyesBinding> eyes;
-    GpuMesh workpiece, ball, cube, cylinder, cone, overlay_panel, overlay_text;
+    GpuMesh ball, cube, cylinder, cone;
     GpuMesh tool_mesh;                           // SceneView::tool_mesh, uploaded when it changes
     const TriMesh* tool_mesh_source = nullptr;
     std::size_t tool_mesh_triangles = 0;
     TileMeshCache tiles;
-    FrameTimer timer;
+    std::vector<FrameResources> frame;  // one per slot
+    FrameSlots slots;                   // after `tiles` and `frame`: destroyed (waiting for the GPU) before them
     bool use_timestamps = true;
     std::uint64_t frames = 0;
-    double gpu_ms = -1.0;
+    std::uint64_t last_frame = 0;       // FrameSlots number of the last frame drawn
+    int last_slot = 0;
+    double gpu_ms = -1.0;               // GPU time of the latest finished frame
     FrameStats last;
+    FrameStats finished;                // timings of the latest finished frame
+    std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
+
+    // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
+    void time_finished(int slot) {
+        FrameResources& f = frame[static_cast<std::size_t>(slot)];
+        if (f.timed || slots.frame_of(slot) == 0) return;
+        f.timed = true;
+        FrameStats& stats = f.stats;
+        if (f.gpu_timing && f.timer.read(*context, stats)) {
+            if (f.eye_count == 1)  // the right eye's render pass was not recorded (its boundaries are zero-length)
+                std::erase_if(stats.passes, [](const PassTime& p) { return p.eye == 1; });
+            gpu_ms = stats.frame_ms;
+        } else {
+            const double cpu_ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f.submitted).count();
+            stats.timing = TimingSource::kCpuClock;
+            stats.timing_note = !f.timer.available()
+                                    ? "no timestamp queries on this queue family; CPU clock from submit to finish seen"
+                                : !f.gpu_timing ? "GPU timestamps switched off; CPU clock from submit to finish seen"
+                                                : "timestamp results not available; CPU clock from submit to finish seen";
+            stats.frame_ms = cpu_ms;
+            stats.passes = {PassTime{"frame", -1, cpu_ms}};
+            gpu_ms = -1.0;
+        }
+        finished = stats;
+        finished_queue.push_back(stats);
+        if (slot == last_slot && slots.frame_of(slot) == last_frame) last = stats;
+    }
+    // Waits for the last frame drawn and takes the timings of every frame in flight, oldest first.
+    void finish_last() {
+        if (last_frame == 0) return;
+        slots.wait(last_frame);
+        std::vector<int> order(frame.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+        std::sort(order.begin(), order.end(), [&](int a, int b) { return slots.frame_of(a) < slots.frame_of(b); });
+        for (int slot : order) time_finished(slot);
+    }
 
     ~Impl() {
         try {
-            if (context) context->wait_idle();  // nothing should be pending: render() waits for its frame
+            if (context) context->wait_idle();
         } catch (const Error& e) {
             std::fprintf(stderr, "renderer: %s\n", e.what());
         }
@@ -119,7 +178,13 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
         impl->pipeline.emplace(std::move(p));
     }
     impl->target.emplace(StereoTarget::create(context, *impl->pipeline, width, height));
-    impl->eyes.emplace(EyesBinding::create(context, impl->pipeline->set_layout()));
+    impl->slots = FrameSlots::create(context, kFramesInFlight);
+    impl->frame.resize(kFramesInFlight);
+    for (FrameResources& f : impl->frame) {
+        f.eyes.emplace(EyesBinding::create(context, impl->pipeline->set_layout()));
+        f.occlusion = AmbientOcclusion::create(context, *impl->target, f.eyes->buffer());
+        f.timer = FrameTimer::create(context, impl->pipeline->strategy());
+    }
     impl->ball.assign(context, unit_sphere(kSphereRings, kSphereSegments));
     Aabb unit;
     unit.add(Vec3(0.0));
@@ -127,7 +192,6 @@ OffscreenStereoRenderer OffscreenStereoRenderer::create(gpu::Context& context, i
     impl->cube.assign(context, box_mesh(unit));
     impl->cylinder.assign(context, unit_cylinder(kArrowSegments));
     impl->cone.assign(context, unit_cone(kArrowSegments));
-    impl->timer = FrameTimer::create(context, impl->pipeline->strategy());
     return OffscreenStereoRenderer(std::move(impl));
 }
 
@@ -145,19 +209,32 @@ VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->t
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
 double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
 const FrameStats& OffscreenStereoRenderer::last_frame_stats() const { return impl_->last; }
-bool OffscreenStereoRenderer::gpu_timestamps_available() const { return impl_->timer.available(); }
+bool OffscreenStereoRenderer::gpu_timestamps_available() const { return impl_->frame.front().timer.available(); }
 void OffscreenStereoRenderer::set_gpu_timestamps(bool use) { impl_->use_timestamps = use; }
 std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_->tiles.uploads_total(); }
+std::size_t OffscreenStereoRenderer::tile_buffers() const { return impl_->tiles.buffers(); }
+std::size_t OffscreenStereoRenderer::tile_memory_blocks() const { return impl_->tiles.memory_blocks(); }
 
 StereoImages OffscreenStereoRenderer::render(const SceneView& scene, const Screen& screen, const Pose& head,
                                              double eye_separation_m, double near_m, double far_m) {
     draw(scene, screen, head, eye_separation_m, near_m, far_m);
+    impl_->finish_last();
     return last_images();
 }
 
+std::vector<FrameStats> OffscreenStereoRenderer::take_finished_frames() {
+    return std::exchange(impl_->finished_queue, {});
+}
+
+FrameStats OffscreenStereoRenderer::finish() {
+    impl_->finish_last();
+    return impl_->last;
+}
+
 StereoImages OffscreenStereoRenderer::last_images() const {
-    const Impl& im = *impl_;
+    Impl& im = *impl_;
     if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
+    im.finish_last();
     Image left = im.target->read_layer(0);
     Image right = im.last_eye_count == 1 ? left : im.target->read_layer(1);
     return StereoImages{std::move(left), std::move(right), im.last};
@@ -171,6 +248,10 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
                     std::to_string(scene.eye_count));
     const int eye_count = scene.eye_count;
     const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
+    if (!std::isfinite(scene.occlusion_radius_m) || !std::isfinite(scene.occlusion_strength) ||
+        scene.occlusion_radius_m < 0.0 || scene.occlusion_strength < 0.0)
+        throw Error("renderer: SceneView.occlusion_radius_m and occlusion_strength must be finite and >= 0");
+    const bool occlusion = scene.occlusion_radius_m > 0.0 && scene.occlusion_strength > 0.0;
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
     std::array<Frustum, 2> frusta;
@@ -182,13 +263,23 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         const Mat4 clip_from_world = v.projection * v.view;
         u.clip_from_world[e] = glm::mat4(clip_from_world);
         u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
+        u.view_from_clip[e] = glm::mat4(glm::inverse(v.projection));
+        u.pixels_per_metre[e] = glm::vec4(static_cast<float>(std::abs(v.projection[0][0]) * 0.5 * width()),
+                                          static_cast<float>(std::abs(v.projection[1][1]) * 0.5 * height()), 0.0f,
+                                          0.0f);
         frusta[e] = frustum_from_clip(clip_from_world);
         lod_eyes[e] = lod_eye(screen, eyes[e], width(), height());
     }
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
+    u.occlusion = glm::vec4(static_cast<float>(scene.occlusion_radius_m), static_cast<float>(scene.occlusion_strength),
+                            0.0f, 0.0f);
     const auto& palette = material_palette();
     for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
 
+    // This frame's slot: waits only for the frame that used it kFramesInFlight frames ago.
+    const int slot = im.slots.begin();
+    im.time_finished(slot);
+    FrameResources& fr = im.frame[static_cast<std::size_t>(slot)];
     FrameStats stats;
     std::vector<StereoDraw> draws;
     const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
@@ -214,16 +305,18 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         std::span<const std::uint8_t> materials;
         if (scene.workpiece_materials) materials = *scene.workpiece_materials;
         try {
-            im.workpiece.assign(*im.context, *scene.workpiece, materials);
+            fr.workpiece.assign(*im.context, *scene.workpiece, materials);
         } catch (const Error& e) {
             throw Error(std::string("SceneView.workpiece: ") + e.what());
         }
         // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
-        add(PipelineKind::kOpaque, im.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
+        add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
             scene.workpiece_materials ? 1u : 0u;
     }
     if (!scene.tiles.empty() || im.tiles.size() > 0) {
-        stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles);
+        std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
+        stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles, &retired);
+        for (GpuMesh& m : retired) im.slots.retire(std::move(m));
         for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
             const GpuMesh& mesh = im.tiles.mesh(i);
             if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
@@ -299,6 +392,8 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
         } else if (ts.kind == ToolKind::kMesh && scene.tool_mesh && !scene.tool_mesh->triangles.empty()) {
             if (scene.tool_mesh != im.tool_mesh_source || scene.tool_mesh->triangles.size() != im.tool_mesh_triangles) {
+                im.slots.retire(std::move(im.tool_mesh));  // earlier frames in flight may still read it
+                im.tool_mesh = GpuMesh{};
                 im.tool_mesh.assign(*im.context, *scene.tool_mesh);
                 im.tool_mesh_source = scene.tool_mesh;
                 im.tool_mesh_triangles = scene.tool_mesh->triangles.size();
@@ -349,38 +444,39 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
                                                        : std::max(1.0, std::floor(height() / 360.0));
         const TextExtent size = overlay_text_extent(text, scale);
         const double margin = 6.0 * scale, pad = 3.0 * scale;
-        im.overlay_panel.assign(*im.context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
+        fr.overlay_panel.assign(*im.context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
                                                                margin + size.height_px + pad));
-        im.overlay_text.assign(*im.context, overlay_text_mesh(text, margin, margin, scale));
+        fr.overlay_text.assign(*im.context, overlay_text_mesh(text, margin, margin, scale));
         const glm::mat4 to_clip = clip_from_pixel(width(), height());
-        add(PipelineKind::kOverlay, im.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
-        add(PipelineKind::kOverlay, im.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
+        add(PipelineKind::kOverlay, fr.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
+        add(PipelineKind::kOverlay, fr.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
     }
 
-    im.eyes->write(u);
-    const bool gpu_timing = im.use_timestamps && im.timer.available();
-    const auto t0 = std::chrono::steady_clock::now();
-    im.context->submit_and_wait([&](VkCommandBuffer cmd) {
-        if (gpu_timing) im.timer.record_begin(cmd);
-        record_stereo_frame(cmd, *im.pipeline, *im.target, im.eyes->set(), draws, kClear,
-                            gpu_timing ? im.timer.phases() : PhaseTimestamps{}, eye_count);
-        if (gpu_timing) im.timer.record_end(cmd);
-    });
-    const double cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    fr.eyes->write(u);
+    fr.gpu_timing = im.use_timestamps && fr.timer.available();
+    const VkCommandBuffer cmd = im.slots.command_buffer(slot);
+    if (fr.gpu_timing) fr.timer.record_begin(cmd);
+    record_stereo_frame(cmd, *im.pipeline, *im.target, fr.eyes->set(), draws, kClear,
+                        fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,
+                        occlusion ? &fr.occlusion : nullptr);
+    if (fr.gpu_timing) fr.timer.record_end(cmd);
+    fr.submitted = std::chrono::steady_clock::now();
+    fr.stats = stats;
+    fr.timed = false;
+    fr.eye_count = eye_count;
+    im.last_frame = im.slots.submit(slot);
+    im.last_slot = slot;
     ++im.frames;
-    im.gpu_ms = -1.0;
-    if (gpu_timing && im.timer.read(*im.context, stats)) {
-        im.gpu_ms = stats.frame_ms;
-        if (eye_count == 1)  // the right eye's render pass was not recorded (its boundaries are zero-length)
-            std::erase_if(stats.passes, [](const PassTime& p) { return p.eye == 1; });
-    } else {
-        stats.timing = TimingSource::kCpuClock;
-        stats.timing_note = !im.timer.available()
-                                ? "no timestamp queries on this queue family; CPU clock around submit + wait"
-                            : !im.use_timestamps ? "GPU timestamps switched off; CPU clock around submit + wait"
-                                                 : "timestamp results not available; CPU clock around submit + wait";
-        stats.frame_ms = cpu_ms;
-        stats.passes = {PassTime{"frame", -1, cpu_ms}};
+    // Until this frame finishes, its statistics carry the timings of the latest finished one.
+    stats.timing = im.finished.timing;
+    stats.timing_note = im.finished.timing_note;
+    stats.frame_ms = im.finished.frame_ms;
+    stats.passes = im.finished.passes;
+    if (scene.indirect_workpiece) {  // its buffers may change once draw() returns: finish the frame now
+        im.last = stats;
+        im.last_eye_count = eye_count;
+        im.finish_last();
+        return im.last;
     }
     im.last = stats;
     im.last_eye_count = eye_count;

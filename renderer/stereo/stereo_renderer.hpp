@@ -87,6 +87,12 @@ struct SceneView {
     /// only eye-0 passes and eye-0 tile counts; render() returns the one eye as both left and right.
     /// Other values throw tridex::Error.
     int eye_count = 2;
+    /// Ambient occlusion (volumetric obscurance over the opaque phase, renderer/stereo/ambient_occlusion.hpp):
+    /// the radius of the sphere around each surface point that is tested for solid, world m (about the size
+    /// of the cuts to bring out), and the strength (0 = off; 1 = a half-filled sphere keeps its colour, a fully
+    /// filled one is darkened to 0.3, an empty one brightened to 1.45). Non-finite or negative values throw.
+    double occlusion_radius_m = 0.012;
+    double occlusion_strength = 1.0;
 };
 
 /// The two eyes' images of one frame, each width x height RGBA, and the frame's statistics.
@@ -96,16 +102,21 @@ struct StereoImages {
 };
 
 /// Renders both eyes into one 2-layer colour image (+ depth) offscreen and reads them back: the workpiece
-/// (whole mesh and/or per-eye culled tiles) lit (Blinn-Phong, one directional light) with per-vertex
-/// normals (core vertex_normals) and per-material colours, the tool as a ball, the force arrow (shaft
-/// cylinder + cone head, opaque), then translucent: the proxy sphere, the workspace box and the bubble
+/// (whole mesh and/or per-eye culled tiles) lit (Blinn-Phong, a directional key light from above and a soft
+/// fill light from the eye) with per-vertex normals (core vertex_normals) and per-material colours, the tool
+/// as a ball, the force arrow (shaft cylinder + cone head, opaque), then screen-space ambient occlusion of
+/// that opaque picture (SceneView::occlusion_*: cuts darken, edges and crests brighten), then translucent: the proxy sphere, the workspace box and the bubble
 /// (alpha-blended: back faces, then front faces), then the screen-space overlay. Each render pass is
 /// timed per phase (opaque, translucent, overlay) with GPU timestamp queries when the queue has them.
 /// The eye strategy asked for is self-tested at creation (self_test_eye_strategy: each layer must
 /// receive its own eye's draws, read back and checked); if it is unsupported or fails (Mesa 22.3 lavapipe
 /// advertises multiview but draws view 1's clipped triangles into layer 0) the renderer falls back to
-/// kPassPerEye and says so via strategy() / strategy_note(). Move-only (a moved-from renderer may only be
-/// destroyed or assigned); the Context must outlive it. One thread at a time; render() is synchronous.
+/// kPassPerEye and says so via strategy() / strategy_note(). Two frames in flight: each has its own command
+/// buffer, fence, uniform buffer, descriptor sets, timestamp queries and per-frame meshes, so draw() records
+/// and submits a frame without waiting for it (only for the frame two before, whose resources it reuses), and
+/// tile or tool buffers that a change replaces are destroyed only once the frames that used them have finished.
+/// Move-only (a moved-from renderer may only be destroyed or assigned); the Context must outlive it. One thread
+/// at a time; render() is synchronous.
 class OffscreenStereoRenderer {
 public:
     /// Builds pipelines and a width x height stereo target, self-testing `preferred`.
@@ -132,15 +143,24 @@ public:
     StereoImages render(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
                         double near_m = 0.05, double far_m = 20.0);
 
-    /// As render(), but leaves the frame on the GPU only (no eye Images are built on the CPU): for presenting
-    /// through colour_image() with GPU blits. Same arguments and errors as render(). Returns the frame's
-    /// statistics (tiles drawn / skipped per eye, uploads, per-pass times), also kept as last_frame_stats().
+    /// As render(), but submits the frame without waiting for it (no eye Images are built on the CPU): for
+    /// presenting through colour_image() with GPU blits recorded in later submissions on the Context's queue.
+    /// Same arguments and errors as render(). Returns the frame's statistics (tiles drawn / skipped per eye,
+    /// uploads) with the timings (timing, frame_ms, passes) of the latest frame that has finished (none before
+    /// the first; finish() gives this frame's own); also kept as last_frame_stats(). With
+    /// SceneView::indirect_workpiece it waits for the frame (those buffers may change once it returns).
     FrameStats draw(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m,
               double near_m = 0.05, double far_m = 20.0);
+    /// Waits for the last frame drawn and returns its statistics with its own timings (as last_frame_stats()
+    /// then). Throws tridex::Error on a Vulkan failure or when the GPU takes over 10 s.
+    FrameStats finish();
+    /// Statistics (with their own timings) of the frames seen finished since the last call, oldest first: every
+    /// frame appears once, after a later draw(), finish(), render() or last_images() saw it done.
+    std::vector<FrameStats> take_finished_frames();
 
     /// The 2-layer colour image (R8G8B8A8_UNORM, width() x height(), layer 0 = left eye, layer 1 = right eye,
     /// usage COLOR_ATTACHMENT | TRANSFER_SRC | SAMPLED). After render()/draw() it holds the last frame in
-    /// VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL and the GPU is done with it; callers may record transfer reads
+    /// VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL once the frame's submission has run; callers may record transfer reads
     /// (blits, copies) of it in later submissions on the Context's queue, which the next frame's render pass
     /// waits for (its external subpass dependency covers transfer reads). Do not change its layout.
     VkImage colour_image() const;
@@ -148,24 +168,30 @@ public:
     /// to SHADER_READ_ONLY_OPTIMAL and back to TRANSFER_SRC_OPTIMAL in the same submission (AnaglyphPass).
     VkImageView colour_array_view() const;
     /// The last frame's eyes as read back by its draw()/render() (every frame copies them to a host buffer),
-    /// as render() returns them (mono: the one eye as both) with last_frame_stats(). Throws tridex::Error
-    /// before the first frame.
+    /// as render() returns them (mono: the one eye as both) with last_frame_stats(); waits for that frame first.
+    /// Throws tridex::Error before the first frame.
     StereoImages last_images() const;
     /// Frames rendered so far by render()/draw() (0: colour_image() holds no frame and is in UNDEFINED layout).
     std::uint64_t frames_rendered() const;
-    /// GPU time of the last frame's recorded work (render passes of both eyes and the readback copy), ms,
-    /// from timestamp queries at the top and bottom of the frame; negative when the device has no
-    /// timestamps or no frame was rendered yet.
+    /// GPU time of the latest finished frame's recorded work (render passes of both eyes and the readback copy),
+    /// ms, from timestamp queries at the top and bottom of the frame; negative when the device has no
+    /// timestamps or no frame has finished yet (render() and finish() wait for theirs).
     double last_gpu_ms() const;
-    /// Statistics of the last frame (default-constructed before the first).
+    /// Statistics of the last frame drawn (default-constructed before the first): its own timings once it has
+    /// finished and that was seen (render(), finish(), last_images()), else the latest finished frame's.
     const FrameStats& last_frame_stats() const;
     /// True when the queue family supports timestamp queries (timestampValidBits > 0 and the Context enabled them).
     bool gpu_timestamps_available() const;
     /// Use GPU timestamps when available (true, the default) or the CPU clock (false: FrameStats then holds
-    /// one "frame" time measured around submission + wait, and last_gpu_ms() is negative).
+    /// one "frame" time measured from submission until the renderer saw the frame finished, and last_gpu_ms() is
+    /// negative).
     void set_gpu_timestamps(bool use);
     /// Tile meshes uploaded since creation (see SceneView::tiles).
     std::uint64_t tile_uploads_total() const;
+    /// Tile vertex and index buffers alive now (2 per non-empty tile of the last frame).
+    std::size_t tile_buffers() const;
+    /// VkDeviceMemory allocations holding those buffers (blocks of the tile buffer pool, a few MiB each).
+    std::size_t tile_memory_blocks() const;
 
     struct Impl;
 

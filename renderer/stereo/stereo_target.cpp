@@ -26,6 +26,18 @@ gpu::UniqueFramebuffer make_framebuffer(VkDevice device, VkRenderPass pass, VkIm
     return gpu::UniqueFramebuffer(device, fb);
 }
 
+gpu::UniqueImageView layer_array_view(VkDevice device, const gpu::ImageArray& image, std::uint32_t layer) {
+    VkImageViewCreateInfo v{};
+    v.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+    v.image = image.handle();
+    v.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+    v.format = image.info().format;
+    v.subresourceRange = {image.info().aspect, 0, 1, layer, 1};
+    VkImageView view = VK_NULL_HANDLE;
+    gpu::check(vkCreateImageView(device, &v, nullptr, &view), "vkCreateImageView");
+    return gpu::UniqueImageView(device, view);
+}
+
 }  // namespace
 
 StereoTarget StereoTarget::create(const gpu::Context& context, const StereoPipeline& pipeline, int width, int height) {
@@ -42,15 +54,20 @@ StereoTarget StereoTarget::create(const gpu::Context& context, const StereoPipel
     info.height = static_cast<std::uint32_t>(height);
     info.layers = 2;
     info.format = kStereoColourFormat;
-    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                 VK_IMAGE_USAGE_STORAGE_BIT;
     info.aspect = VK_IMAGE_ASPECT_COLOR_BIT;
     t.colour_ = gpu::ImageArray::create(context, info);
     info.format = kStereoDepthFormat;
-    info.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    info.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     info.aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
     t.depth_ = gpu::ImageArray::create(context, info);
 
     const VkDevice device = context.device();
+    for (std::uint32_t layer = 0; layer < 2; ++layer) {
+        t.colour_layer_views_.push_back(layer_array_view(device, t.colour_, layer));
+        t.depth_layer_views_.push_back(layer_array_view(device, t.depth_, layer));
+    }
     const VkRenderPass pass = pipeline.render_pass();
     switch (pipeline.strategy()) {
         case EyeStrategy::kPassPerEye:

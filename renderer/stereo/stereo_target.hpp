@@ -12,7 +12,8 @@
 
 namespace tridex::renderer {
 
-/// Colour (RGBA8, layer 0 = left eye, layer 1 = right eye; attachment, transfer source and sampled) and depth (D32) 2-layer images of
+/// Colour (RGBA8, layer 0 = left eye, layer 1 = right eye; attachment, transfer source, sampled and storage) and
+/// depth (D32; attachment and sampled, for the ambient-occlusion pass) 2-layer images of
 /// width x height pixels, the framebuffers `pipeline`'s strategy needs (pass-per-eye: one per layer over
 /// single-layer views; multiview: one over the array views with 1 layer; instanced-layer: one over the
 /// array views with 2 layers), and a host buffer the colour layers are copied into for readback.
@@ -29,6 +30,12 @@ public:
     VkImage colour_image() const { return colour_.handle(); }
     /// A 2D_ARRAY view of both colour layers (for sampling the eyes, e.g. the anaglyph pass).
     VkImageView colour_array_view() const { return colour_.array_view(); }
+    /// A 2D_ARRAY view (depth aspect) of both depth layers, for sampling.
+    VkImageView depth_array_view() const { return depth_.array_view(); }
+    /// 2D_ARRAY views of one layer (0 or 1) of the colour / depth image: for passes that touch one eye's layer
+    /// while the other is in another layout (pass per eye).
+    VkImageView colour_layer_array_view(int layer) const { return colour_layer_views_.at(static_cast<std::size_t>(layer)).get(); }
+    VkImageView depth_layer_array_view(int layer) const { return depth_layer_views_.at(static_cast<std::size_t>(layer)).get(); }
     VkBuffer readback_buffer() const { return readback_.handle(); }
     /// Layer `layer` (0 or 1) of the last frame copied to readback_buffer(), as an Image.
     /// Valid after the frame's submission has completed.
@@ -37,6 +44,7 @@ public:
 private:
     int width_ = 0, height_ = 0;
     gpu::ImageArray colour_, depth_;
+    std::vector<gpu::UniqueImageView> colour_layer_views_, depth_layer_views_;
     std::vector<gpu::UniqueFramebuffer> framebuffers_;
     gpu::Buffer readback_;
 };

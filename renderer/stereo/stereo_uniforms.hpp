@@ -13,17 +13,25 @@ namespace tridex::renderer {
 constexpr int kMaterialCount = 8;
 
 /// Uniform block `Eyes` (std140), set 0 binding 0: per-eye clip-from-world matrices (float, world m),
-/// eye positions (w unused), the unit direction towards the directional light, and the material palette
-/// (linear RGBA per material id, used by draws with DrawConstants::palette = 1).
+/// eye positions (w unused), the unit direction towards the directional key light, the material palette
+/// (linear RGBA per material id, used by draws with DrawConstants::palette = 1), and for the ambient-occlusion
+/// pass (renderer/stereo/ambient_occlusion.hpp): per-eye view-from-clip matrices (inverse projections; eye
+/// space in m, the eye looking along -z), per-eye pixels per metre at 1 m from the eye (x, y; z, w unused) and
+/// `occlusion` = (sphere radius m, strength, unused, unused).
 struct EyesUniform {
     glm::mat4 clip_from_world[2];
     glm::vec4 eye_position[2];
     glm::vec4 light_direction;
     glm::vec4 palette[kMaterialCount];
+    glm::mat4 view_from_clip[2];
+    glm::vec4 pixels_per_metre[2];
+    glm::vec4 occlusion;
 };
 static_assert(offsetof(EyesUniform, eye_position) == 128 && offsetof(EyesUniform, light_direction) == 160 &&
               offsetof(EyesUniform, palette) == 176);
-static_assert(sizeof(EyesUniform) == 176 + 16 * kMaterialCount);
+static_assert(offsetof(EyesUniform, view_from_clip) == 176 + 16 * kMaterialCount &&
+              offsetof(EyesUniform, pixels_per_metre) == 304 + 128 && offsetof(EyesUniform, occlusion) == 464);
+static_assert(sizeof(EyesUniform) == 480);
 
 /// Push-constant block `Draw` (std430): world-from-model (m), linear RGBA colour, eye index for the
 /// pass-per-eye strategy (0 left, 1 right), lit (1: Blinn-Phong shading; 0: flat colour), palette

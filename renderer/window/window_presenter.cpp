@@ -1,6 +1,7 @@
 // renderer/window/window_presenter.cpp - acquire, blit eyes (or upload a composed image), capture, present.
 #include "renderer/window/window_presenter.hpp"
 
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <functional>
@@ -60,11 +61,18 @@ struct WindowPresenter::Impl {
     gpu::Surface surface;
     gpu::Swapchain swapchain;
     UniqueCommandPool pool;
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    gpu::UniqueFence fence;
-    UniqueSemaphore acquired;
+    // Two presents in flight: each slot's command buffer, fence, acquire semaphore and timestamp queries are
+    // reused only after the GPU has finished the present that last used them.
+    struct Slot {
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        gpu::UniqueFence fence;
+        UniqueSemaphore acquired;
+        gpu::UniqueQueryPool timestamps;  // 2 queries around the present pass (empty without timestamps)
+        bool pending = false;             // submitted, not yet seen finished
+    };
+    std::array<Slot, 2> slots;
+    std::size_t next_slot = 0;
     std::vector<UniqueSemaphore> ready;  // one per swapchain image: the present pass finished
-    gpu::UniqueQueryPool timestamps;     // 2 queries around the present pass (empty without timestamps)
     std::uint64_t timestamp_mask = 0;
     gpu::Buffer staging;                 // present_composed: the image's bytes
     gpu::ImageArray upload;              // present_composed: RGBA8 image blitted from
@@ -98,7 +106,22 @@ struct WindowPresenter::Impl {
         captures.assign(swapchain.layers(), Image{});
     }
 
+    // Waits for the slot's present pass (if any) and records its GPU time.
+    void finish(Slot& slot) {
+        if (!slot.pending) return;
+        const VkFence f = slot.fence.get();
+        if (gpu::check(vkWaitForFences(context->device(), 1, &f, VK_TRUE, kFenceTimeoutNs), "vkWaitForFences") ==
+            VK_TIMEOUT)
+            throw Error("window: the present pass did not finish within 10 s");
+        slot.pending = false;
+        timings.blit_gpu_ms.add(read_timestamps_ms(slot));
+    }
+    void finish_all() {
+        for (Slot& slot : slots) finish(slot);
+    }
+
     void recreate(VkExtent2D size) {
+        finish_all();
         swapchain.recreate(size.width, size.height);
         make_per_image_semaphores();
         make_capture_buffer();
@@ -115,10 +138,10 @@ struct WindowPresenter::Impl {
         return true;
     }
 
-    double read_timestamps_ms() const {
-        if (timestamps.get() == VK_NULL_HANDLE) return -1.0;
+    double read_timestamps_ms(const Slot& slot) const {
+        if (slot.timestamps.get() == VK_NULL_HANDLE) return -1.0;
         std::uint64_t t[2] = {0, 0};
-        if (vkGetQueryPoolResults(context->device(), timestamps.get(), 0, 2, sizeof t, t, sizeof t[0],
+        if (vkGetQueryPoolResults(context->device(), slot.timestamps.get(), 0, 2, sizeof t, t, sizeof t[0],
                                   VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
             return -1.0;
         const std::uint64_t ticks = ((t[1] & timestamp_mask) - (t[0] & timestamp_mask)) & timestamp_mask;
@@ -145,12 +168,16 @@ struct WindowPresenter::Impl {
     bool present_one(const std::function<void(VkCommandBuffer, VkImage, VkExtent2D)>& fill,
                      const std::function<void()>& before_present) {
         if (!fit_window()) return false;
+        Slot& slot = slots[next_slot];
+        finish(slot);  // the present two before this one
+        const VkCommandBuffer cmd = slot.cmd;
+        const gpu::UniqueQueryPool& timestamps = slot.timestamps;
         std::uint32_t index = 0;
-        gpu::SwapStatus s = swapchain.acquire(acquired.get(), index);
+        gpu::SwapStatus s = swapchain.acquire(slot.acquired.get(), index);
         if (s == gpu::SwapStatus::kOutOfDate) {
             stale = true;
             if (!fit_window()) return false;
-            s = swapchain.acquire(acquired.get(), index);
+            s = swapchain.acquire(slot.acquired.get(), index);
             if (s == gpu::SwapStatus::kOutOfDate) {
                 stale = true;
                 return false;
@@ -199,7 +226,7 @@ struct WindowPresenter::Impl {
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.get(), 1);
         gpu::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
 
-        const VkSemaphore wait = acquired.get();
+        const VkSemaphore wait = slot.acquired.get();
         const VkSemaphore signal = ready.at(index).get();
         const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
         VkSubmitInfo submit{};
@@ -211,14 +238,15 @@ struct WindowPresenter::Impl {
         submit.pCommandBuffers = &cmd;
         submit.signalSemaphoreCount = 1;
         submit.pSignalSemaphores = &signal;
-        const VkFence f = fence.get();
+        const VkFence f = slot.fence.get();
         gpu::check(vkResetFences(context->device(), 1, &f), "vkResetFences");
         context->queue_submit(submit, f);
-        if (gpu::check(vkWaitForFences(context->device(), 1, &f, VK_TRUE, kFenceTimeoutNs), "vkWaitForFences") ==
-            VK_TIMEOUT)
-            throw Error("window: the present pass did not finish within 10 s");
-        timings.blit_gpu_ms.add(read_timestamps_ms());
-        if (options.capture) read_captures();
+        slot.pending = true;
+        next_slot = (next_slot + 1) % slots.size();
+        if (options.capture) {  // the captured pixels are read now: wait for this present pass
+            finish(slot);
+            read_captures();
+        }
 
         if (before_present) before_present();
         const gpu::SwapStatus p = swapchain.present(index, signal);
@@ -279,13 +307,15 @@ WindowPresenter WindowPresenter::create(gpu::Context& context, Window& window, c
     alloc.commandPool = p;
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
-    gpu::check(vkAllocateCommandBuffers(device, &alloc, &impl->cmd), "vkAllocateCommandBuffers");
-    VkFenceCreateInfo fi{};
-    fi.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    VkFence f = VK_NULL_HANDLE;
-    gpu::check(vkCreateFence(device, &fi, nullptr, &f), "vkCreateFence");
-    impl->fence = gpu::UniqueFence(device, f);
-    impl->acquired = make_semaphore(device);
+    for (Impl::Slot& slot : impl->slots) {
+        gpu::check(vkAllocateCommandBuffers(device, &alloc, &slot.cmd), "vkAllocateCommandBuffers");
+        VkFenceCreateInfo fi{};
+        fi.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+        VkFence f = VK_NULL_HANDLE;
+        gpu::check(vkCreateFence(device, &fi, nullptr, &f), "vkCreateFence");
+        slot.fence = gpu::UniqueFence(device, f);
+        slot.acquired = make_semaphore(device);
+    }
     impl->make_per_image_semaphores();
     impl->make_capture_buffer();
 
@@ -300,9 +330,11 @@ WindowPresenter WindowPresenter::create(gpu::Context& context, Window& window, c
         q.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
         q.queryType = VK_QUERY_TYPE_TIMESTAMP;
         q.queryCount = 2;
-        VkQueryPool qp = VK_NULL_HANDLE;
-        gpu::check(vkCreateQueryPool(device, &q, nullptr, &qp), "vkCreateQueryPool");
-        impl->timestamps = gpu::UniqueQueryPool(device, qp);
+        for (Impl::Slot& slot : impl->slots) {
+            VkQueryPool qp = VK_NULL_HANDLE;
+            gpu::check(vkCreateQueryPool(device, &q, nullptr, &qp), "vkCreateQueryPool");
+            slot.timestamps = gpu::UniqueQueryPool(device, qp);
+        }
     }
     return WindowPresenter(std::move(impl));
 }
@@ -380,11 +412,11 @@ int WindowPresenter::present_composed(const Image& image) {
         info.usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         im.upload = gpu::ImageArray::create(*im.context, info);
     }
+    im.finish_all();  // earlier presents may still blit from `upload`, filled from `staging`
     im.staging.write(image.rgba.data(), bytes);
     const VkImage up = im.upload.handle();
     return present_image(up, image.width, image.height, [&](VkCommandBuffer cmd) {
-        // Earlier blits from `up` are complete (each present waits for its command buffer), so its old
-        // contents may be discarded.
+        // Earlier blits from `up` are complete (finish_all() above), so its old contents may be discarded.
         gpu::image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
         VkBufferImageCopy copy{};
@@ -427,6 +459,7 @@ std::uint64_t WindowPresenter::presents() const { return impl_->presents; }
 std::uint64_t WindowPresenter::recreations() const { return impl_->recreations; }
 int WindowPresenter::last_eye() const { return impl_->last_eye; }
 const FrameTimings& WindowPresenter::timings() const { return impl_->timings; }
+void WindowPresenter::finish() { impl_->finish_all(); }
 
 const Image& WindowPresenter::last_capture(int layer) const {
     static const Image empty;

@@ -41,8 +41,10 @@ struct PresenterOptions {
 /// present_composed(), which uploads and blits it.
 /// The swapchain is recreated when the window's framebuffer size changes or presentation reports it
 /// out of date; nothing is presented while the window is minimised (size 0).
-/// Each present is one command buffer (timestamped: blit_gpu_ms) submitted after the image is acquired;
-/// present calls wait for that command buffer, so the renderer may draw the next frame right after. With
+/// Each present is one command buffer (timestamped: blit_gpu_ms) submitted after the image is acquired; two
+/// presents are in flight (each with its own command buffer, fence, acquire semaphore and queries): a present
+/// waits only for the one two before it (and, with capture, for itself), so the renderer records the next frame
+/// while the GPU still draws and blits this one (one queue keeps them in order). With
 /// vsync, acquiring blocks while every swapchain image is queued for display: that is where the display's
 /// rate paces the caller. Move-only; the Context and the Window must outlive it and the Window must not be
 /// moved while it exists. Main thread only (GLFW windows).
@@ -88,7 +90,13 @@ public:
     std::uint64_t presents() const;         ///< images presented so far
     std::uint64_t recreations() const;      ///< swapchain recreations so far (resizes, out-of-date)
     int last_eye() const;                   ///< eye of the last single-eye present (0/1); -1 when both eyes were shown
-    const FrameTimings& timings() const;    ///< render / present-pass GPU times and present intervals, ms
+    /// Render / present-pass GPU times and present intervals, ms. render_gpu_ms holds the renderer's latest
+    /// finished frame at each present (none while no frame has finished); a present pass's blit_gpu_ms is added
+    /// once it is seen finished (finish() waits for those in flight).
+    const FrameTimings& timings() const;
+    /// Waits for the presents in flight and records their present-pass GPU times. Throws tridex::Error when the
+    /// GPU takes over 10 s.
+    void finish();
     /// The last presented image read back (RGBA, swapchain size) for swapchain layer `layer`; empty unless
     /// PresenterOptions::capture. Throws tridex::Error for a layer outside the swapchain's layers.
     const Image& last_capture(int layer = 0) const;

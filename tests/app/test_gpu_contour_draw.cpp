@@ -141,6 +141,7 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
     renderer::SceneView cpu_view;
     cpu_view.tiles = tiles;
     cpu_view.show_workspace = false;
+    cpu_view.occlusion_strength = 0.0;  // coverage is told by colour: occlusion may darken cuts to the clear colour
     const renderer::StereoImages cpu = rend.render(cpu_view, screen, head, sep);
 
     renderer::IndirectWorkpiece iw;
@@ -150,6 +151,7 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
         renderer::SceneView gpu_view;
         gpu_view.indirect_workpiece = &iw;
         gpu_view.show_workspace = false;
+        gpu_view.occlusion_strength = 0.0;
         gpu = rend.render(gpu_view, screen, head, sep);
     }
     EXPECT_EQ(iw.tiles.size(), cache.tiles().size());  // the same non-empty tiles
@@ -202,6 +204,7 @@ TEST(GpuContourDraw, IndirectDrawMatchesTheCpuTileMeshes) {
             renderer::SceneView v;
             v.indirect_workpiece = &iw;
             v.show_workspace = false;
+            v.occlusion_strength = 0.0;  // as the pass-per-eye picture above
             o = other.render(v, screen, head, sep);
         }
         const int dl = renderer::compare_images(o.left, gpu.left, 0).max_channel_diff;
@@ -311,6 +314,7 @@ TEST(GpuContourDraw, FramesDrawnWhileTheSculptThreadRecontoursWithGrowingPools) 
     renderer::SceneView cpu_view;
     cpu_view.tiles = tiles;
     cpu_view.show_workspace = false;
+    cpu_view.occlusion_strength = 0.0;  // coverage is told by colour: occlusion may darken cuts to the clear colour
     const renderer::StereoImages cpu = rend.render(cpu_view, screen, head, 0.065);
     renderer::StereoImages gpu;
     {
@@ -318,6 +322,7 @@ TEST(GpuContourDraw, FramesDrawnWhileTheSculptThreadRecontoursWithGrowingPools) 
         renderer::SceneView view;
         view.indirect_workpiece = &iw;
         view.show_workspace = false;
+        view.occlusion_strength = 0.0;
         gpu = rend.render(view, screen, head, 0.065);
     }
     EXPECT_EQ(iw.triangles, cache.triangle_count());

@@ -43,7 +43,8 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
         for (const char* key : {"n", "width", "height", "view", "culling", "frame_ms_median", "frame_ms_p99",
                                 "gpu_frame_ms_median", "passes", "tiles_drawn_left", "tiles_drawn_right",
                                 "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup", "lod",
-                                "triangles_drawn", "lod_speedup", "silhouette_mismatch", "mean_abs_diff"})
+                                "triangles_drawn", "lod_speedup", "silhouette_mismatch", "mean_abs_diff",
+                                "tile_buffers", "tile_memory_blocks"})
             ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
         EXPECT_EQ(r["n"].get<int>(), 48);
         EXPECT_EQ(r["width"].get<int>(), 96);
@@ -72,6 +73,11 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
         EXPECT_GT(tiles, 0u);
         EXPECT_EQ(tiles, rows[0].tiles);
         EXPECT_EQ(r["triangles"].get<std::size_t>(), rows[0].triangles);
+        // Vertices + indices per tile and per level of detail.
+        EXPECT_GE(r["tile_buffers"].get<std::size_t>(), 2 * tiles);
+        EXPECT_EQ(r["tile_buffers"].get<std::size_t>() % 2, 0u);
+        EXPECT_GE(r["tile_memory_blocks"].get<std::size_t>(), 1u);   // ... sub-allocated from one pool block
+        EXPECT_LE(r["tile_memory_blocks"].get<std::size_t>(), 2u);
         EXPECT_EQ(r["tiles_drawn_left"].get<std::size_t>() + r["tiles_skipped_left"].get<std::size_t>(), tiles);
         EXPECT_EQ(r["tiles_drawn_right"].get<std::size_t>() + r["tiles_skipped_right"].get<std::size_t>(), tiles);
         if (!r["culling"].get<bool>()) {

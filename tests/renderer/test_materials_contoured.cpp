@@ -60,19 +60,6 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
     return glm::length(p - (a + t * d));
 }
 
-// Colour the fragment shader gives a lit surface with normal +z at world point p seen from `eye`
-// (shaders/stereo_mesh.frag, as in test_scene_items.cpp), UNORM8.
-std::array<int, 3> lit_colour(const glm::vec4& base, const Vec3& p, const Vec3& eye) {
-    const Vec3 l = Vec3(glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f)));
-    const Vec3 n(0.0, 0.0, 1.0), v = glm::normalize(eye - p), h = glm::normalize(l + v);
-    const double diffuse = std::max(glm::dot(n, l), 0.0);
-    const double specular = diffuse > 0.0 ? std::pow(std::max(glm::dot(n, h), 0.0), 48.0) : 0.0;
-    std::array<int, 3> out{};
-    for (int c = 0; c < 3; ++c)
-        out[c] = static_cast<int>(std::lround(std::min(base[c] * (0.2 + 0.75 * diffuse) + 0.25 * specular, 1.0) * 255.0));
-    return out;
-}
-
 struct Counts {
     int spot = 0, clay = 0, worst = 0;
 };
@@ -96,7 +83,7 @@ Counts check(const StereoImages& e, const Pose& head, const compute::Lattice& l)
                 if (d >= kSpotR + 3.0) material = 0;
                 if (material < 0) continue;
                 ++(material == 2 ? n.spot : n.clay);
-                const auto want = lit_colour(material_palette()[static_cast<std::size_t>(material)], p, eyes[eye]);
+                const auto want = test::lit_colour(material_palette()[static_cast<std::size_t>(material)], p, eyes[eye]);
                 for (int c = 0; c < 3; ++c) {
                     const int diff = std::abs(img.at(x, y)[c] - want[c]);
                     if (diff > 3 && std::getenv("TRIDEX_DEBUG_MATERIALS"))
@@ -135,6 +122,7 @@ TEST(MaterialsContoured, PaintedSpotShowsItsPaletteColourWholeAndTiled) {
         SceneView v;
         v.show_workspace = false;
         v.tool_radius_m = 0.0;
+        v.occlusion_strength = 0.0;  // the colours are checked against the lighting formula alone
 
         v.workpiece = &mesh;
         v.workpiece_materials = &materials;

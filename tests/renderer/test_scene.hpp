@@ -1,6 +1,8 @@
 // tests/renderer/test_scene.hpp - the small scene the renderer tests draw (cube + ball + workspace box).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/aabb.hpp"
@@ -51,6 +53,21 @@ inline SceneView test_scene(const TriMesh& cube) {
     s.workspace_m.add(Vec3(-0.11, -0.08, -0.08));
     s.workspace_m.add(Vec3(0.11, 0.08, 0.1));
     return s;
+}
+
+/// Colour the fragment shader (shaders/stereo_mesh.frag) gives a lit surface with normal +z at world point p seen
+/// from `eye`, as UNORM8: the key light from above (towards (0.25, 1, 0.6), normalised), the fill light from the
+/// eye and the specular highlight, with the ambient occlusion off (SceneView::occlusion_strength = 0).
+inline std::array<int, 3> lit_colour(const glm::vec4& base, const Vec3& p, const Vec3& eye) {
+    const Vec3 l = Vec3(glm::normalize(glm::vec3(0.25f, 1.0f, 0.6f)));
+    const Vec3 n(0.0, 0.0, 1.0), v = glm::normalize(eye - p), h = glm::normalize(l + v);
+    const double diffuse = std::max(glm::dot(n, l), 0.0), fill = std::max(glm::dot(n, v), 0.0);
+    const double specular = diffuse > 0.0 ? std::pow(std::max(glm::dot(n, h), 0.0), 48.0) : 0.0;
+    std::array<int, 3> out{};
+    for (int c = 0; c < 3; ++c)
+        out[c] = static_cast<int>(
+            std::lround(std::min(base[c] * (0.2 + 0.6 * diffuse + 0.2 * fill) + 0.2 * specular, 1.0) * 255.0));
+    return out;
 }
 
 }  // namespace tridex::renderer::test

@@ -106,19 +106,6 @@ TEST(SceneItems, ForceArrowProjectedLengthIsScaleTimesForce) {
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
-// Colour the fragment shader gives a lit surface with normal +z at world point p seen from `eye`
-// (shaders/stereo_mesh.frag), as UNORM8.
-std::array<int, 3> lit_colour(const glm::vec4& base, const Vec3& p, const Vec3& eye) {
-    const Vec3 l = Vec3(glm::normalize(glm::vec3(0.35f, 0.6f, 1.0f)));
-    const Vec3 n(0.0, 0.0, 1.0), v = glm::normalize(eye - p), h = glm::normalize(l + v);
-    const double diffuse = std::max(glm::dot(n, l), 0.0);
-    const double specular = diffuse > 0.0 ? std::pow(std::max(glm::dot(n, h), 0.0), 48.0) : 0.0;
-    std::array<int, 3> out{};
-    for (int c = 0; c < 3; ++c)
-        out[c] = static_cast<int>(std::lround(std::min(base[c] * (0.2 + 0.75 * diffuse) + 0.25 * specular, 1.0) * 255.0));
-    return out;
-}
-
 TEST(SceneItems, PerVertexMaterialsGiveTheirPaletteColours) {
     gpu::Context ctx = gpu::Context::create({});
     {
@@ -136,6 +123,7 @@ TEST(SceneItems, PerVertexMaterialsGiveTheirPaletteColours) {
         const std::vector<std::uint8_t> materials = {0, 0, 0, 0, 1, 1, 1, 1};
         SceneView v;
         v.show_workspace = false;
+        v.occlusion_strength = 0.0;  // the colours are checked against the lighting formula alone
         v.workpiece = &m;
         v.workpiece_materials = &materials;
         const Pose head{Vec3(0.0, 0.0, 0.5)};
@@ -150,7 +138,7 @@ TEST(SceneItems, PerVertexMaterialsGiveTheirPaletteColours) {
                     const bool left = x >= 21 && x <= 70, right = x >= 89 && x <= 138;
                     if (!left && !right) continue;
                     const Vec3 p(-0.2 + (x + 0.5) / kW * 0.4, 0.15 - (y + 0.5) / kH * 0.3, 0.0);
-                    const auto want = lit_colour(material_palette()[left ? 0 : 1], p, eyes[eye]);
+                    const auto want = test::lit_colour(material_palette()[left ? 0 : 1], p, eyes[eye]);
                     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(img.at(x, y)[c] - want[c]));
                     ++checked;
                 }
@@ -218,7 +206,10 @@ TEST(SceneItems, PassTimesFromTimestampsOrTheCpuClock) {
         const TriMesh cube = test::test_cube();
         SceneView v = test::test_scene(cube);
         v.show_overlay = true;
-        const FrameStats s = r.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+        const FrameStats before = r.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+        EXPECT_LT(before.frame_ms, 0.0);  // no frame has finished yet: no timings
+        const FrameStats s = r.finish();  // this frame's own
+        EXPECT_EQ(s.tiles[0].drawn, before.tiles[0].drawn);
         if (r.gpu_timestamps_available()) {
             EXPECT_EQ(s.timing, TimingSource::kGpuTimestamps);
             ASSERT_EQ(s.passes.size(), 6u);  // 3 phases x 2 eyes (one render pass per eye)
@@ -240,13 +231,15 @@ TEST(SceneItems, PassTimesFromTimestampsOrTheCpuClock) {
         // One layered render pass for both eyes: one entry per phase, eye -1.
         OffscreenStereoRenderer layered = OffscreenStereoRenderer::create(ctx, 96, 72, EyeStrategy::kInstancedLayer);
         if (layered.strategy() == EyeStrategy::kInstancedLayer && layered.gpu_timestamps_available()) {
-            const FrameStats l = layered.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+            layered.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+            const FrameStats l = layered.finish();
             ASSERT_EQ(l.passes.size(), 3u);
             for (const PassTime& p : l.passes) EXPECT_EQ(p.eye, -1);
             EXPECT_EQ(l.passes[2].pass, "overlay");
         }
         r.set_gpu_timestamps(false);
-        const FrameStats c = r.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+        r.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
+        const FrameStats c = r.finish();
         EXPECT_EQ(c.timing, TimingSource::kCpuClock);
         ASSERT_EQ(c.passes.size(), 1u);
         EXPECT_EQ(c.passes[0].pass, "frame");

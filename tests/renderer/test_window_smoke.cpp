@@ -248,8 +248,10 @@ TEST(WindowSmoke, FollowsResizeAndReportsFrameTimes) {
         renderer.draw(scene, test::small_screen(), head, 0.065);
         ASSERT_EQ(p.present(renderer), 1);
     }
+    p.finish();  // the presents in flight
     const FrameTimings& t = p.timings();
-    EXPECT_EQ(t.render_gpu_ms.count(), static_cast<std::uint64_t>(kFrames));
+    // Frames in flight: at a present the renderer's latest finished frame is one or two before it (none at first).
+    EXPECT_GE(t.render_gpu_ms.count(), static_cast<std::uint64_t>(kFrames - 2));
     EXPECT_EQ(t.blit_gpu_ms.count(), static_cast<std::uint64_t>(kFrames));
     EXPECT_EQ(t.interval_ms.count(), static_cast<std::uint64_t>(kFrames - 1));
     EXPECT_GT(t.blit_gpu_ms.mean_ms(), 0.0);
