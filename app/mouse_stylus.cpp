@@ -30,6 +30,15 @@ MouseStylus::MouseStylus(const ToolShape& tool, const Vec3& aim_m)
     if (!is_finite(aim_m)) throw Error("MouseStylus: the aim point must be finite");
 }
 
+double MouseStylus::rest_height_m(const Vec3& normal) const {
+    if (tool_.kind != ToolKind::kFlatEnd) return radius_m_;  // a ball; a mesh tool: its bounding radius
+    // The flat end's support distance toward -normal: its end disc (radius r about the +y axis) and its shank
+    // (length L up the axis).
+    const Vec3 n = glm::length(normal) > 0.0 ? glm::normalize(normal) : Vec3(0.0, 0.0, 1.0);
+    const double c = std::clamp(-n.y, -1.0, 1.0);  // cos of the angle between the axis and -normal
+    return std::max(0.0, tool_.length_m * c) + radius_m_ * std::sqrt(std::max(0.0, 1.0 - c * c));
+}
+
 bool MouseStylus::resize(int steps) {
     if (base_.kind == ToolKind::kMesh || steps == 0) return false;
     const int k = std::clamp(size_steps_ + steps, -kMaxSizeSteps, kMaxSizeSteps);
@@ -80,15 +89,13 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
     Vec3 hip;
     if (hit) {
         const double d = left_ ? depth_m_ : 0.0;
-        const double rest = tool_.kind == ToolKind::kBall ? radius_m_ : 0.0;  // the HIP's height when resting
-        hip = hit->point_m + (rest - d) * hit->normal;
+        hip = hit->point_m + (rest_height_m(hit->normal) - d) * hit->normal;
         last_distance_m_ = hit->distance_m;
         out.on_surface = true;
     } else {
         // Off the model: hover at the last hit's distance (or the aim point's) along the new ray, a radius back.
         const double dist = last_distance_m_ > 0.0 ? last_distance_m_ : glm::length(aim_m_ - ray->origin_m);
-        const double rest = tool_.kind == ToolKind::kBall ? radius_m_ : 0.0;
-        hip = ray->origin_m + std::max(0.0, dist - rest) * ray->dir;
+        hip = ray->origin_m + std::max(0.0, dist - rest_height_m(-ray->dir)) * ray->dir;
     }
     if (is_finite(hip)) last_hip_m_ = hip;
     out.hip_m = last_hip_m_;

@@ -27,7 +27,8 @@ struct StylusTarget {
 /// when the button went down, so the groove follows the original surface instead of drilling into its own
 /// cut. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The right
 /// button is the stylus button (workspace techniques). The wheel sets the depth in steps of depth_step_m.
-/// For a flat end or a mesh tool, whose reference point is its tip, r above is 0 (the tip rests on the surface).
+/// For a flat end (its axis up, +y: the mouse turns no tool) r above is its support distance along -n, so its
+/// rim, end face or shank rests on the surface; for a mesh tool, its bounding radius.
 /// resize() scales the tool (ball or flat end; a mesh tool keeps its size) in steps of kSizeStep, from
 /// kSizeStep^-kMaxSizeSteps to kSizeStep^kMaxSizeSteps times the scene's tool; the depth scales with it.
 class MouseStylus {
@@ -90,6 +91,8 @@ private:
     double x_px_ = 0.0, y_px_ = 0.0;
     bool have_cursor_ = false, left_ = false, right_ = false;
     ToolOp op_ = ToolOp::kSubtract;
+    // The HIP's height above a surface of unit normal `normal` at which the resting tool touches it, m.
+    double rest_height_m(const Vec3& normal) const;
     std::optional<PickSurface> pressed_;  // the surface when the left button went down
     double last_distance_m_ = -1.0;       // the last hit's distance along its ray, m (< 0: none yet)
     Vec3 last_hip_m_{0.0};

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -114,6 +115,35 @@ TEST(MouseKeys, BracketsResizeTheToolWithinLimits) {
     EXPECT_EQ(parse_key_chord("[", "keys[0]").key, renderer::Key::kLeftBracket);
     EXPECT_EQ(parse_key_chord("]", "keys[0]").key, renderer::Key::kRightBracket);
     EXPECT_EQ(parse_key_chord("LeftBracket", "keys[0]").key, renderer::Key::kLeftBracket);
+}
+
+// A flat end (axis up) rests on its rim on a surface facing the eye and on its end face on a surface facing up.
+TEST(MouseKeys, FlatEndRestsOnItsRimOrItsEndFace) {
+    ToolShape flat;
+    flat.kind = ToolKind::kFlatEnd;
+    flat.radius_m = 0.004;
+    flat.length_m = 0.02;
+    const auto one_triangle = [](const Vec3& a, const Vec3& b, const Vec3& c) {
+        auto t = std::make_shared<TriMesh>();
+        t->positions = {a, b, c};
+        t->triangles = {{0, 1, 2}};
+        PickSurface s;
+        s.whole = t;
+        return s;
+    };
+    const PickSurface facing_eye = one_triangle(Vec3(-1.0, -1.0, 0.05), Vec3(1.0, -1.0, 0.05), Vec3(0.0, 1.0, 0.05));
+    const PickSurface facing_up = one_triangle(Vec3(-1.0, 0.0, 1.0), Vec3(0.0, 0.0, -1.0), Vec3(1.0, 0.0, 1.0));
+    MouseStylus m(flat, Vec3(0.0, 0.0, 0.2));
+    const auto [x, y] = pixel_of(Vec3(0.01, 0.0, 0.05));
+    m.set_cursor(x, y);
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, facing_eye).hip_m.z, 0.054, 1e-9);  // the rim: a radius off
+    const auto [ux, uy] = pixel_of(Vec3(0.01, 0.0, 0.0));
+    m.set_cursor(ux, uy);
+    const StylusTarget t = m.update(kScreen, kEye, kW, kH, facing_up);
+    ASSERT_TRUE(t.on_surface);
+    EXPECT_NEAR(t.hip_m.y, 0.0, 1e-9);  // the end face on the surface
+    m.set_left(true);
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, facing_up).hip_m.y, -0.004, 1e-9);  // pressed in by the depth
 }
 
 TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {

@@ -255,6 +255,7 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
     std::printf("[mouse xvfb] saves %d, cursor-to-tool latency median %.1f ms, p99 %.1f ms, workspace moved %.1f mm\n",
                 saves, rep["mouse"]["latency_ms"]["median"].get<double>(), rep["mouse"]["latency_ms"]["p99"].get<double>(),
                 1e3 * rep["mouse"]["workspace_moved_m"].get<double>());
+    if (!HasFailure()) fs::remove_all(dir);  // kept for a look when something failed
 }
 
 }  // namespace
