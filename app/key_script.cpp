@@ -17,6 +17,8 @@ std::string lower(std::string s) {
 
 renderer::Key key_named(const std::string& name) {
     if (name == "esc") return renderer::Key::kEscape;
+    if (name == "[") return renderer::Key::kLeftBracket;
+    if (name == "]") return renderer::Key::kRightBracket;
     const auto last = static_cast<std::uint16_t>(renderer::Key::kKeypadSubtract);
     for (std::uint16_t k = 1; k <= last; ++k) {
         const auto key = static_cast<renderer::Key>(k);

@@ -15,7 +15,7 @@ struct KeyChord {
     std::uint8_t modifiers = 0;
 };
 
-/// Parses "ctrl+shift+z", "Ctrl+S", "tab", "F1", "escape": modifiers ctrl / control, shift, alt, super (any case,
+/// Parses "ctrl+shift+z", "Ctrl+S", "tab", "F1", "escape", "[" / "]" (or "leftbracket" / "rightbracket"): modifiers ctrl / control, shift, alt, super (any case,
 /// any order, '+' between) and one key by its renderer::to_string name (any case; "esc" for Escape). Throws
 /// tridex::Error "<where>: ..." naming the unknown part.
 KeyChord parse_key_chord(const std::string& text, const std::string& where);

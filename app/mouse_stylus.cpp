@@ -10,12 +10,47 @@
 
 namespace tridex::app {
 
-MouseStylus::MouseStylus(double tool_radius_m, const Vec3& aim_m)
-    : radius_m_(tool_radius_m), depth_m_(tool_radius_m), depth_step_m_(0.1 * tool_radius_m), aim_m_(aim_m),
-      last_hip_m_(aim_m) {
-    if (!(std::isfinite(tool_radius_m) && tool_radius_m > 0.0))
-        throw Error("MouseStylus: the tool radius must be finite and > 0, got " + format_number(tool_radius_m));
+namespace {
+ToolShape ball(double radius_m) {
+    ToolShape t;
+    t.kind = ToolKind::kBall;
+    t.radius_m = radius_m;
+    return t;
+}
+}  // namespace
+
+MouseStylus::MouseStylus(double tool_radius_m, const Vec3& aim_m) : MouseStylus(ball(tool_radius_m), aim_m) {}
+
+MouseStylus::MouseStylus(const ToolShape& tool, const Vec3& aim_m)
+    : base_(tool), tool_(tool), radius_m_(tool.radius_m), depth_m_(tool.radius_m), depth_step_m_(0.1 * tool.radius_m),
+      aim_m_(aim_m), last_hip_m_(aim_m) {
+    if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0))
+        throw Error("MouseStylus: the tool radius must be finite and > 0, got " + format_number(tool.radius_m));
+    validate_tool(tool, "MouseStylus: tool");
     if (!is_finite(aim_m)) throw Error("MouseStylus: the aim point must be finite");
+}
+
+double MouseStylus::rest_height_m(const Vec3& normal) const {
+    if (tool_.kind != ToolKind::kFlatEnd) return radius_m_;  // a ball; a mesh tool: its bounding radius
+    // The flat end's support distance toward -normal: its end disc (radius r about the +y axis) and its shank
+    // (length L up the axis).
+    const Vec3 n = glm::length(normal) > 0.0 ? glm::normalize(normal) : Vec3(0.0, 0.0, 1.0);
+    const double c = std::clamp(-n.y, -1.0, 1.0);  // cos of the angle between the axis and -normal
+    return std::max(0.0, tool_.length_m * c) + radius_m_ * std::sqrt(std::max(0.0, 1.0 - c * c));
+}
+
+bool MouseStylus::resize(int steps) {
+    if (base_.kind == ToolKind::kMesh || steps == 0) return false;
+    const int k = std::clamp(size_steps_ + steps, -kMaxSizeSteps, kMaxSizeSteps);
+    if (k == size_steps_) return false;
+    const double f = std::pow(kSizeStep, k);
+    tool_.radius_m = base_.radius_m * f;
+    if (base_.kind == ToolKind::kFlatEnd) tool_.length_m = base_.length_m * f;
+    depth_m_ *= tool_.radius_m / radius_m_;
+    radius_m_ = tool_.radius_m;
+    depth_step_m_ = 0.1 * radius_m_;
+    size_steps_ = k;
+    return true;
 }
 
 void MouseStylus::set_cursor(double x_px, double y_px) {
@@ -54,13 +89,13 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
     Vec3 hip;
     if (hit) {
         const double d = left_ ? depth_m_ : 0.0;
-        hip = hit->point_m + (radius_m_ - d) * hit->normal;
+        hip = hit->point_m + (rest_height_m(hit->normal) - d) * hit->normal;
         last_distance_m_ = hit->distance_m;
         out.on_surface = true;
     } else {
         // Off the model: hover at the last hit's distance (or the aim point's) along the new ray, a radius back.
         const double dist = last_distance_m_ > 0.0 ? last_distance_m_ : glm::length(aim_m_ - ray->origin_m);
-        hip = ray->origin_m + std::max(0.0, dist - radius_m_) * ray->dir;
+        hip = ray->origin_m + std::max(0.0, dist - rest_height_m(-ray->dir)) * ray->dir;
     }
     if (is_finite(hip)) last_hip_m_ = hip;
     out.hip_m = last_hip_m_;
@@ -69,9 +104,11 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
 
 std::string MouseStylus::status() const {
     const char* name = op_ == ToolOp::kUnion ? "union" : op_ == ToolOp::kPaint ? "paint" : "subtract";
-    return std::string("mouse stylus: ") + name + " (1/2/3), depth " + format_number(1e3 * depth_m_) +
-           " mm (wheel), radius " + format_number(1e3 * radius_m_) + " mm" + (left_ ? ", engaged" : "") +
-           (right_ ? ", stylus button" : "");
+    const std::string size = tool_.kind == ToolKind::kMesh
+                                 ? "mesh tool (fixed size)"
+                                 : std::string(to_string(tool_.kind)) + " r " + format_number(1e3 * radius_m_) + " mm ([ ])";
+    return std::string("mouse stylus: ") + name + " (1/2/3), " + size + ", depth " + format_number(1e3 * depth_m_) +
+           " mm (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 
 }  // namespace tridex::app

@@ -27,12 +27,22 @@ struct StylusTarget {
 /// when the button went down, so the groove follows the original surface instead of drilling into its own
 /// cut. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The right
 /// button is the stylus button (workspace techniques). The wheel sets the depth in steps of depth_step_m.
+/// For a flat end (its axis up, +y: the mouse turns no tool) r above is its support distance along -n, so its
+/// rim, end face or shank rests on the surface; for a mesh tool, its bounding radius.
+/// resize() scales the tool (ball or flat end; a mesh tool keeps its size) in steps of kSizeStep, from
+/// kSizeStep^-kMaxSizeSteps to kSizeStep^kMaxSizeSteps times the scene's tool; the depth scales with it.
 class MouseStylus {
 public:
+    static constexpr double kSizeStep = 1.25;  ///< tool size factor per resize step
+    static constexpr int kMaxSizeSteps = 6;    ///< resize steps allowed each way from the scene's tool
+
     /// tool_radius_m: the ball's radius, m (> 0; the default depth); aim_m: where the tool hovers before
     /// the first hit (world m, e.g. in front of the workpiece). Throws tridex::Error for a radius that is not
     /// finite and positive, or a non-finite aim point.
     MouseStylus(double tool_radius_m, const Vec3& aim_m);
+    /// The same for the session's tool `tool` (core/tool_shape.hpp; radius_m > 0, the default depth). Throws
+    /// tridex::Error as validate_tool does, or for a non-finite aim point.
+    MouseStylus(const ToolShape& tool, const Vec3& aim_m);
 
     /// The cursor position, pixels from the window's top-left; non-finite values are ignored.
     void set_cursor(double x_px, double y_px);
@@ -44,6 +54,13 @@ public:
     void wheel(double steps);
     /// The Boolean the tool applies while engaged (subtract, union or paint; kNone is ignored).
     void set_op(ToolOp op);
+    /// Scales the tool by kSizeStep^steps (within the limits above). Returns false, changing nothing, for a
+    /// mesh tool or at the limit.
+    bool resize(int steps);
+    /// The tool in use (the scene's tool, scaled by resize()).
+    const ToolShape& tool() const { return tool_; }
+    /// resize() steps from the scene's tool, in [-kMaxSizeSteps, kMaxSizeSteps].
+    int size_steps() const { return size_steps_; }
 
     ToolOp op() const { return op_; }                 ///< the chosen Boolean
     double depth_m() const { return depth_m_; }       ///< how deep the held tool presses in, m
@@ -60,10 +77,13 @@ public:
     StylusTarget update(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
                         const PickSurface& live);
 
-    /// One overlay line: "mouse stylus: subtract, depth 6 mm, radius 6 mm[, engaged]".
+    /// One overlay line: "mouse stylus: subtract (1/2/3), ball r 6 mm ([ ]), depth 6 mm (wheel)[, engaged]".
     std::string status() const;
 
 private:
+    ToolShape base_;  // the scene's tool
+    ToolShape tool_;  // the tool in use
+    int size_steps_ = 0;
     double radius_m_;
     double depth_m_;
     double depth_step_m_;
@@ -71,6 +91,8 @@ private:
     double x_px_ = 0.0, y_px_ = 0.0;
     bool have_cursor_ = false, left_ = false, right_ = false;
     ToolOp op_ = ToolOp::kSubtract;
+    // The HIP's height above a surface of unit normal `normal` at which the resting tool touches it, m.
+    double rest_height_m(const Vec3& normal) const;
     std::optional<PickSurface> pressed_;  // the surface when the left button went down
     double last_distance_m_ = -1.0;       // the last hit's distance along its ray, m (< 0: none yet)
     Vec3 last_hip_m_{0.0};

@@ -4,11 +4,13 @@
 #include <chrono>
 
 #include "app/output_dir.hpp"
+#include "app/session_recording.hpp"
 #include "app/session_spec.hpp"
 #include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "devices/device_registry.hpp"
+#include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 
 namespace tridex::app {
@@ -23,6 +25,11 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     check_inputs_unchanged(s, recording_path, "the recording");
     validate_spec(s, recording_path);
     Workpiece wp = prepare_session_workpiece(s);
+    // The keys' op and tool changes at their ticks, and the mouse's engage button, so the replayed samples carry
+    // what the recorded ones carried.
+    LoopOverrides loop;
+    loop.tool_schedule = tool_schedule(rec, s);
+    if (s.device_driver == "mouse") loop.engage_mask = devices::mouse_buttons::kEngage;
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
     devices::DeviceInputs inputs;
@@ -33,7 +40,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
     SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start,
-                                 SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""});
+                                 SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""}, loop);
     write_session_outputs(out, run, t_start);
 }
 

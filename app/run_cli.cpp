@@ -20,7 +20,7 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_option("--device", o.device,
                     "Device driver replacing the scene's: simulated (the scripted hand) | mouse (the mouse is the "
                     "stylus: left button carves, right = stylus button, wheel = depth, 1/2/3 = subtract/union/paint, "
-                    "Alt + mouse navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
+                    "[ ] = tool size, Alt + mouse navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
                     "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock)");
     cmd->add_option("--stereo", o.stereo, "Stereo output: " + renderer::stereo_output_names() +
                                               " (default: the display config's)");

@@ -58,6 +58,14 @@ void RunInput::handle(const renderer::InputEvent& e) {
                 if (e.key == Key::k1) return stylus_->set_op(ToolOp::kSubtract);
                 if (e.key == Key::k2) return stylus_->set_op(ToolOp::kUnion);
                 if (e.key == Key::k3) return stylus_->set_op(ToolOp::kPaint);
+                if (e.key == Key::kLeftBracket) {
+                    stylus_->resize(-1);
+                    return;
+                }
+                if (e.key == Key::kRightBracket) {
+                    stylus_->resize(1);
+                    return;
+                }
             }
             MoveKey mk;
             if (move_key(e.key, mk)) {

@@ -13,9 +13,10 @@ constexpr double kMovedTolM = 1e-4;     // a target that moves less is not a new
 constexpr std::size_t kMaxPending = 256;
 }  // namespace
 
-RunMouse::RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, double tool_radius_m, const Vec3& aim_m)
-    : device_(device), runtime_(runtime), stylus_(tool_radius_m, aim_m), map_(runtime.config().device_to_world),
-      scale_(runtime.config().workspace_scale), centre_d_(runtime.profile().workspace_m.centre()) {
+RunMouse::RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, const ToolShape& tool, const Vec3& aim_m)
+    : device_(device), runtime_(runtime), stylus_(tool, aim_m), map_(runtime.config().device_to_world),
+      scale_(runtime.config().workspace_scale), centre_d_(runtime.profile().workspace_m.centre()), sent_tool_(tool) {
+    map_start_m_ = map_.position;
     sent_op_ = runtime.config().op == ToolOp::kNone ? ToolOp::kSubtract : runtime.config().op;
     stylus_.set_op(sent_op_);
 }
@@ -30,10 +31,23 @@ void RunMouse::apply_script(const CursorScript& script, double t_dev_s) {
 
 void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
                      const MeshFrame& mesh, const haptics::LoopView& lv, Clock::time_point now) {
+    PickSurface surface;
+    surface.tiles = mesh.tiles;
+    if (!mesh.tiled && !mesh.mesh.triangles.empty()) surface.whole = std::make_shared<const TriMesh>(mesh.mesh);
+    frame(screen, eye_m, width_px, height_px, surface, lv, now);
+}
+
+void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
+                     const PickSurface& surface, const haptics::LoopView& lv, Clock::time_point now) {
     ++frame_;
     if (stylus_.op() != sent_op_) {
         sent_op_ = stylus_.op();
         runtime_.set_tool_op(sent_op_);
+    }
+    const ToolShape& tool = stylus_.tool();
+    if (tool.radius_m != sent_tool_.radius_m || tool.length_m != sent_tool_.length_m) {
+        sent_tool_ = tool;
+        if (runtime_.set_tool(tool)) ++tool_changes_;
     }
     // The workspace box is the mapping while modelling runs (its centre is R (s c_d) + offset); while the
     // stylus button is held the box moves on its own, so the last mapping stays.
@@ -41,9 +55,6 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
         map_.orientation = lv.box.orientation;
         map_.position = lv.box.position - lv.box.orientation * (scale_ * centre_d_);
     }
-    PickSurface surface;
-    surface.tiles = mesh.tiles;
-    if (!mesh.tiled && !mesh.mesh.triangles.empty()) surface.whole = std::make_shared<const TriMesh>(mesh.mesh);
     const StylusTarget target = stylus_.update(screen, eye_m, width_px, height_px, surface);
     const Vec3 device_m = glm::conjugate(map_.orientation) * (target.hip_m - map_.position) / scale_;
     device_.set_hand(device_m, target.buttons);
@@ -83,7 +94,13 @@ nlohmann::json RunMouse::report_json() const {
                           {"unmatched", pending_.size()},
                           {"rejected_targets", device_.rejected_targets()},
                           {"op", op},
-                          {"depth_m", stylus_.depth_m()}};
+                          {"depth_m", stylus_.depth_m()},
+                          {"tool",
+                           {{"shape", to_string(sent_tool_.kind)},
+                            {"radius_m", sent_tool_.radius_m},
+                            {"length_m", sent_tool_.length_m}}},
+                          {"tool_changes", tool_changes_},
+                          {"workspace_moved_m", glm::length(map_.position - map_start_m_)}};
 }
 
 }  // namespace tridex::app

@@ -26,23 +26,27 @@ class RunMouse {
 public:
     using Clock = std::chrono::steady_clock;
 
-    /// `device` and `runtime` must outlive this; tool_radius_m (> 0) and aim_m (world m) as MouseStylus.
-    RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, double tool_radius_m, const Vec3& aim_m);
+    /// `device` and `runtime` must outlive this; `tool` (the session's) and aim_m (world m) as MouseStylus.
+    RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, const ToolShape& tool, const Vec3& aim_m);
 
     /// The stylus the window's input (RunInput::use_stylus) or a script drives.
     MouseStylus& stylus() { return stylus_; }
     /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons).
     void apply_script(const CursorScript& script, double t_dev_s);
-    /// Once per frame, before drawing: the target from the cursor's ray (`screen` and cyclopean `eye_m` in the
+    /// Once per frame, before drawing: hands a changed op or tool size to the loop, then the target from the cursor's ray (`screen` and cyclopean `eye_m` in the
     /// model's frame, the eye image width_px x height_px) against `mesh`, handed to the device; `lv` is the
     /// view this frame draws; `now` the frame's start.
     void frame(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
                const MeshFrame& mesh, const haptics::LoopView& lv, Clock::time_point now);
+    /// The same against `surface` (e.g. the GPU contour read back, when the sculpt thread publishes no CPU mesh).
+    void frame(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
+               const PickSurface& surface, const haptics::LoopView& lv, Clock::time_point now);
     /// After the frame that drew `lv` was shown (presented or read back) at `now`: matches it to the pending
     /// targets for the latency.
     void shown(const haptics::LoopView& lv, Clock::time_point now);
     /// report.json `mouse`: {targets, latency_ms {count, median, p99, max, mean}, superseded, rejected_targets,
-    /// op, depth_m}.
+    /// op, depth_m, tool {shape, radius_m, length_m}, tool_changes (sizes the loop took), workspace_moved_m (how far
+    /// the workspace mapping's origin moved in the world during the session, m: the right button's workspace moves)}.
     nlohmann::json report_json() const;
 
 private:
@@ -56,9 +60,12 @@ private:
     SessionRuntime& runtime_;
     MouseStylus stylus_;
     Pose map_;            // device -> world rotation and offset in use
+    Vec3 map_start_m_{0.0};  // map_.position at the start
     double scale_ = 1.0;  // workspace scale
     Vec3 centre_d_{0.0};  // device workspace centre, m
     ToolOp sent_op_ = ToolOp::kSubtract;
+    ToolShape sent_tool_{};
+    std::uint64_t tool_changes_ = 0;
     bool have_target_ = false;
     Vec3 last_target_{0.0};
     std::deque<Pending> pending_;

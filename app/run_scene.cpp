@@ -231,6 +231,13 @@ void read_device(Fields& top, RunScene& s) {
     // The Falcon drivers drive the Falcon's own profile, whatever the scene says.
     if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
     s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
+    if (s.spec.device_driver == "spacemouse") {  // other drivers refuse these fields as unknown
+        devices::SpaceMouseParams& p = s.spacemouse;
+        p.max_speed_m_s = f.number("max_speed_m_s", p.max_speed_m_s, 0.0, 2.0, true);
+        p.max_rate_rad_s = f.number("max_rate_rad_s", p.max_rate_rad_s, 0.0, 20.0, true);
+        p.dead_zone = f.number("dead_zone", p.dead_zone, 0.0, 0.9);
+        p.full_scale = f.number("full_scale", p.full_scale, 1.0, 32767.0);
+    }
     try {
         (void)device_profile(s.spec.device);
     } catch (const Error&) {

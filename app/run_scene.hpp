@@ -14,6 +14,7 @@
 #include "haptics/workspace_mapping.hpp"
 #include "app/cursor_script.hpp"
 #include "app/key_script.hpp"
+#include "devices/spacemouse_device.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/head_pose.hpp"
 
@@ -84,6 +85,9 @@ struct RunScene {
     std::vector<ScriptedKey> keys;
     /// The scripted mouse cursor of a mouse-stylus session ("cursor"; device "mouse"), in device time.
     CursorScript cursor;
+    /// device "spacemouse": its gains and dead zone ("device": {"max_speed_m_s", "max_rate_rad_s", "dead_zone",
+    /// "full_scale"}; defaults of SpaceMouseParams). They shape the hand, not the model: not in the spec.
+    devices::SpaceMouseParams spacemouse{};
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
     HeadMode head = HeadMode::kFixed;   ///< head pose provider

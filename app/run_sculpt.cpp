@@ -68,6 +68,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     inputs.period_s = spec.period_s;
     inputs.hand_path.emplace(t_s, path);
     inputs.buttons = buttons;
+    if (spec.device_driver == "spacemouse") inputs.spacemouse = scene.spacemouse;
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
     if (live) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
     RuntimeOptions ro;

@@ -271,9 +271,14 @@ RunResult run_stereo_session(const RunOptions& options) {
     // The mouse stylus (--device mouse): the cursor drives the device; navigation moves to Alt.
     std::optional<RunMouse> mouse_stylus;
     if (devices::MouseDevice* md = backend.mouse()) {
-        mouse_stylus.emplace(*md, backend.runtime(), scene.spec.tool.radius_m, backend.start_tool_m());
+        mouse_stylus.emplace(*md, backend.runtime(), scene.spec.tool, backend.start_tool_m());
         input.use_stylus(&mouse_stylus->stylus());
     }
+    PickSurface gpu_pick;                 // the GPU contour read back for the stylus's picks
+    std::uint64_t gpu_pick_updates = 0;   // gpu_contour->updates() when it was read
+    Clock::time_point gpu_pick_at{};
+    constexpr double kPickRefreshS = 0.1;
+    std::uint64_t gpu_pick_reads = 0;
     // Offscreen with a scripted cursor and no limits: the run ends half a second (device time) after the cursor
     // script and the scripted keys.
     const double script_end_s =
@@ -352,6 +357,19 @@ RunResult run_stereo_session(const RunOptions& options) {
                 ++r.mesh_versions_drawn;
                 r.last_mesh_version = mesh.version;
             }
+            // The mouse stylus picks on the CPU: with the GPU contour (no CPU meshes published) the contour is read
+            // back when it changed, at most every kPickRefreshS, and not while the left button holds the surface of
+            // the press anyway.
+            if (mouse_stylus && gpu_contour && !mouse_stylus->stylus().left()) {
+                const std::uint64_t updates = gpu_contour->updates();
+                const double since = seconds_since(gpu_pick_at);
+                if (!gpu_pick.whole || (updates != gpu_pick_updates && since >= kPickRefreshS)) {
+                    gpu_pick.whole = std::make_shared<const TriMesh>(gpu_contour->download());
+                    gpu_pick_updates = updates;
+                    gpu_pick_at = Clock::now();
+                    ++gpu_pick_reads;
+                }
+            }
             // GPU contour: the buffers stay locked (the sculpt thread cannot re-contour) until the frame is done.
             std::unique_lock<std::mutex> contour_lock;
             if (gpu_contour) contour_lock = gpu_contour->lock_frame(indirect);
@@ -360,9 +378,11 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
             tile_view_of(mesh.tiles, su.lod, tiles);
             const haptics::LoopView& lv = backend.runtime().latest_view();
-            renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, scene.spec.tool.radius_m,
+            // The tool the loop uses now (its size changes with [ and ] at the desk).
+            const ToolShape tool_now = lv.tool.radius_m > 0.0 ? lv.tool : scene.spec.tool;
+            renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, tool_now.radius_m,
                                                        backend.start_tool_m(), backend.start_box_m());
-            view.tool_shape = scene.spec.tool;
+            view.tool_shape = tool_now;
             view.tool_mesh = backend.runtime().tool_mesh();
             view.tool_orientation = lv.tool_world.orientation;
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
@@ -376,7 +396,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                                 mesh.sculpt_steps);
                 // The proxy of a mesh tool's tip: a marker a tenth of the tool's size, not its bounding sphere.
                 const double proxy_r =
-                    scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : scene.spec.tool.radius_m;
+                    scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : tool_now.radius_m;
                 std::string status = saving_lines(saving);
                 if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
                 add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
@@ -399,7 +419,8 @@ RunResult run_stereo_session(const RunOptions& options) {
                     w_px = static_cast<double>(fb.width) * eye_w / ow;
                     h_px = static_cast<double>(fb.height) * eye_h / oh;
                 }
-                mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
+                if (gpu_contour) mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
+                else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
             }
             if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
             prev_start = t0;
@@ -457,7 +478,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (const compute::JournalStats* j = backend.runtime().journal_stats(); j && !j->error.empty())
         r.notes.push_back("journal stopped: " + j->error);
     r.session_s = backend.runtime().session_s();
-    if (mouse_stylus) r.mouse = mouse_stylus->report_json();
+    if (mouse_stylus) {
+        r.mouse = mouse_stylus->report_json();
+        r.mouse["pick_surface"] = gpu_contour ? "gpu contour, read back" : "cpu contour";
+        r.mouse["pick_reads"] = gpu_pick_reads;
+    }
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();

@@ -80,10 +80,11 @@ void check_image_size(int width, int height) {
 
 SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<devices::HapticDevice> device,
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
-                       const SculptOptions& sculpt_opt) {
+                       const SculptOptions& sculpt_opt, const LoopOverrides& loop) {
     SessionRun run;
     RuntimeOptions ro;
     ro.sculpt = sculpt_opt;
+    ro.loop = loop;
     ro.max_ticks = max_records;
     run.runtime = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(device), start_m, ro);
     SessionRuntime& rt = *run.runtime;

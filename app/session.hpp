@@ -55,11 +55,12 @@ struct SessionRun {
 /// contoured on the GPU where that is the default or asked for), starts it, and stops it once the loop has
 /// ticked `ticks` times (0: until the device vanishes, e.g. a replay's end) or `timeout_s` of wall time
 /// passed, keeping at most `max_records` tick records; start_m (world m) centres the first active-surface snapshot. The exported mesh
-/// (SessionRun::carved) is always the CPU Contourer's, of the final model. Rethrows a sculpt-thread failure;
+/// (SessionRun::carved) is always the CPU Contourer's, of the final model. `loop`: a replay's additions to the
+/// loop configuration (RuntimeOptions::loop). Rethrows a sculpt-thread failure;
 /// throws tridex::Error when the model does not fit the GPU or the spec is refused.
 SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<devices::HapticDevice> device,
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
-                       const SculptOptions& sculpt = {});
+                       const SculptOptions& sculpt = {}, const LoopOverrides& loop = {});
 
 /// Where and how to write a session's outputs.
 struct OutputOptions {

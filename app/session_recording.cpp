@@ -29,9 +29,42 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
     t.top_collision_id = top.collision_id;
     t.bottom_collision_id = bottom.collision_id;
     t.buttons = r.device.buttons;
-    t.tool_mode = static_cast<std::uint8_t>(r.modelling_paused ? ToolOp::kNone : op);
+    const bool has_tool = r.valid_sample && r.tool.radius_m > 0.0;
+    const ToolOp used = has_tool ? r.op : op;
+    t.tool_mode = static_cast<std::uint8_t>(r.modelling_paused ? ToolOp::kNone : used);
     t.valid = r.valid_sample ? 1 : 0;
+    t.op = static_cast<std::uint8_t>(used);
+    if (has_tool) {
+        t.material = r.material;
+        t.tool = r.tool;
+        t.tool.mesh_id = 0;
+    }
     return t;
+}
+
+std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec) {
+    std::vector<haptics::ToolChange> out;
+    haptics::ToolChange now;
+    now.op = parse_tool_op(spec.op);
+    now.material = static_cast<std::uint8_t>(spec.material);
+    now.tool = spec.tool;
+    for (const devices::RecordedTick& t : rec.ticks) {
+        if (t.valid != 1 || !(t.tool.radius_m > 0.0)) continue;
+        haptics::ToolChange c = now;
+        c.device_t_s = t.device.t_s;
+        c.op = static_cast<ToolOp>(t.op);
+        c.material = t.material;
+        if (t.tool.kind == spec.tool.kind) {
+            c.tool.radius_m = t.tool.radius_m;
+            c.tool.length_m = t.tool.length_m;
+        }
+        if (c.op == now.op && c.material == now.material && c.tool.radius_m == now.tool.radius_m &&
+            c.tool.length_m == now.tool.length_m)
+            continue;
+        out.push_back(c);
+        now = c;
+    }
+    return out;
 }
 
 void write_session_recording(const std::string& path, const SessionSpec& settings,

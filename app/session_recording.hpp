@@ -14,9 +14,17 @@ namespace tridex::app {
 /// One recorded tick from a loop record: the raw device sample (the replay input), the tool pose as
 /// axis-angle, the top and bottom points (points 0 and 1; with tool_points == 1 the point is recorded as
 /// the top and a copy with no contact as the bottom), their collision points, deviations, forces and
-/// collision ids, the summed force and torque, buttons and the tool mode (ToolOp, kNone while modelling
-/// was paused). t_s is the device time when it advances past prev_t_s, else just after prev_t_s.
+/// collision ids, the summed force and torque, buttons, the op, material and tool the tick used (r.op,
+/// r.material, r.tool; on a tick without them, an invalid sample: `op` and no tool) and the tool mode (that op,
+/// kNone while modelling was paused). t_s is the device time when it advances past prev_t_s, else just after
+/// prev_t_s.
 devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points);
+
+/// The op, material and tool changes of a recorded session, for its replay (HapticLoopConfig::tool_schedule):
+/// one ToolChange at the device time of each valid tick whose op, material or tool differs from the valid tick
+/// before it (the first from `spec`'s op, material and tool). Ticks without a recorded tool (version 1 files,
+/// invalid ticks) change nothing; a recorded tool of another kind than spec.tool is ignored.
+std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec);
 
 /// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
 /// Throws tridex::Error "<path>: ..." when it cannot write.

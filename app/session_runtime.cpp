@@ -55,6 +55,8 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
       mesh_tool_(spec.tool.kind == ToolKind::kMesh ? make_session_mesh_tool(spec.tool_mesh_path, spec.tool_size_m) : nullptr),
       cfg_(loop_config(spec, o.max_ticks, tool_mesh())) {
     if (!device_) throw Error("SessionRuntime: no haptic device");
+    cfg_.tool_schedule = o.loop.tool_schedule;
+    cfg_.engage_mask |= o.loop.engage_mask;
     // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
     // enabled by the haptic loop when it starts and disabled when it stops.
     device_->open();

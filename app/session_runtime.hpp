@@ -78,6 +78,15 @@ struct SculptOptions {
 /// step per frame. `reason` gets the why when false.
 bool gpu_contour_default(const gpu::Context& context, std::string& reason);
 
+/// What a replay adds to loop_config(spec) so that its samples carry what the recorded session's carried.
+struct LoopOverrides {
+    /// The op, material and tool changes of the recorded ticks (keys at the desk), by device time.
+    std::vector<haptics::ToolChange> tool_schedule{};
+    /// Button bits that engage the tool, ORed into the loop's engage_mask (a recorded mouse session's left
+    /// button, mouse_buttons::kEngage, when the replay device stands in for the mouse).
+    std::uint32_t engage_mask = 0;
+};
+
 /// How a SessionRuntime places its GPU work and hands its surface over.
 struct RuntimeOptions {
     SculptOptions sculpt;  ///< CPU or GPU Booleans and contouring, validation
@@ -92,6 +101,7 @@ struct RuntimeOptions {
     MeshForm mesh_form = MeshForm::kTiles;
     double mesh_interval_s = 1.0 / 60.0;
     std::size_t max_ticks = 0;  ///< haptic tick records preallocated (recording stops when full)
+    LoopOverrides loop{};       ///< replay additions to the loop's configuration
 };
 
 /// One session's threads: the HapticLoop on `device` configured by loop_config(spec), the SculptThread applying
@@ -128,6 +138,9 @@ public:
     /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the spec's material); any
     /// thread. The sculpt thread closes the stroke at the change.
     void set_tool_op(ToolOp op) { loop_->set_tool_op(op, cfg_.material); }
+    /// Changes the tool's size from now on (HapticLoop::set_tool: the configured kind at another size; one
+    /// thread, the window's). False when the loop refuses it (another kind, a mesh tool, a bad size).
+    bool set_tool(const ToolShape& tool) { return loop_->set_tool(tool); }
     /// Saves so far and whether the journal and checkpoints still work (SculptThread::save_status; any thread).
     SaveStatus save_status() const { return sculpt_->save_status(); }
     /// False once the haptic loop ended by itself (device lost, replay over) or was stopped.

@@ -211,7 +211,7 @@ const DeviceRegistry& builtin_registry() {
         r.add(spacemouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
             DeviceProfile profile = profile_by_name(spec.profile);
             profile.name = "spacemouse (" + profile.name + " limits)";
-            SpaceMouseParams p;
+            SpaceMouseParams p = in.spacemouse.value_or(SpaceMouseParams{});
             const char* env = std::getenv("SPNAV_SOCKET");
             p.socket_path = !spec.serial.empty() ? spec.serial : (env && *env) ? env : kSpnavDefaultSocket;
             const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);

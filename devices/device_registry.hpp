@@ -32,6 +32,7 @@
 #include "devices/button_script.hpp"
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
+#include "devices/spacemouse_device.hpp"
 
 namespace tridex::devices {
 
@@ -51,6 +52,9 @@ struct DeviceInputs {
     /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's "device.firmware");
     /// "" = none (the driver then says in one line what it needs when the Falcon has no firmware running).
     std::string falcon_firmware;
+    /// spacemouse: the gains and dead zone (a scene's "device" block); its socket_path is ignored (spec.serial,
+    /// else $SPNAV_SOCKET, else spacenavd's default). nullopt = SpaceMouseParams' defaults.
+    std::optional<SpaceMouseParams> spacemouse{};
 };
 
 /// A USB vendor and product id pair.

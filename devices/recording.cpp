@@ -91,9 +91,14 @@ void encode_tick(const RecordedTick& t, unsigned char* out) {
     e.u32(t.buttons);
     e.u8(t.tool_mode);
     e.u8(t.valid);
+    e.u8(t.op);
+    e.u8(t.material);
+    e.u8(static_cast<std::uint8_t>(t.tool.kind));
+    e.f64(t.tool.radius_m);
+    e.f64(t.tool.length_m);
 }
 
-RecordedTick decode_tick(const unsigned char* in) {
+RecordedTick decode_tick(const unsigned char* in, std::uint32_t version) {
     Decoder d(in);
     RecordedTick t;
     t.t_s = d.f64();
@@ -123,6 +128,15 @@ RecordedTick decode_tick(const unsigned char* in) {
     t.buttons = d.u32();
     t.tool_mode = d.u8();
     t.valid = d.u8();
+    if (version < 2) {
+        t.op = t.tool_mode;
+        return t;
+    }
+    t.op = d.u8();
+    t.material = d.u8();
+    t.tool.kind = static_cast<ToolKind>(d.u8());
+    t.tool.radius_m = d.f64();
+    t.tool.length_m = d.f64();
     return t;
 }
 
@@ -210,6 +224,13 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
         return "t_s = " + num(t.t_s) + " does not increase (previous tick: " + num(previous_t_s) + ")";
     if (t.valid > 1) return "valid = " + std::to_string(t.valid) + " is not 0 or 1";
     if (t.tool_mode > 3) return "tool_mode = " + std::to_string(t.tool_mode) + " is not a ToolOp value (0..3)";
+    if (t.op > 3) return "op = " + std::to_string(t.op) + " is not a ToolOp value (0..3)";
+    if (static_cast<unsigned>(t.tool.kind) > 2)
+        return "tool.kind = " + std::to_string(static_cast<unsigned>(t.tool.kind)) + " is not a ToolKind value (0..2)";
+    if (!(std::isfinite(t.tool.radius_m) && t.tool.radius_m >= 0.0))
+        return "tool.radius_m = " + num(t.tool.radius_m) + " must be finite and >= 0";
+    if (!(std::isfinite(t.tool.length_m) && t.tool.length_m >= 0.0))
+        return "tool.length_m = " + num(t.tool.length_m) + " must be finite and >= 0";
     std::string e;
     if (t.valid == 1) {
         const Quat& q = t.device.pose.orientation;
@@ -344,12 +365,13 @@ Recording read_recording(const std::string& path) {
     const std::uint64_t count = d.u64();
     const std::uint32_t stored_crc = d.u32();
     const std::uint32_t header_len = d.u32();
-    if (version != kRecordingVersion)
-        throw Error(path + ": byte 8: unsupported version " + std::to_string(version) + " (this build reads version " +
+    if (version != 1 && version != kRecordingVersion)
+        throw Error(path + ": byte 8: unsupported version " + std::to_string(version) + " (this build reads versions 1 and " +
                     std::to_string(kRecordingVersion) + ")");
-    if (tick_bytes != kRecordedTickBytes)
+    const std::size_t tick_size = version == 1 ? kRecordedTickBytesV1 : kRecordedTickBytes;
+    if (tick_bytes != tick_size)
         throw Error(path + ": byte 12: tick record size " + std::to_string(tick_bytes) + ", expected " +
-                    std::to_string(kRecordedTickBytes));
+                    std::to_string(tick_size) + " for version " + std::to_string(version));
     if (count == kOpenCount)
         throw Error(path + ": byte 16: unfinished recording (the writer was never closed)");
     const std::uint64_t ticks_at = kRecordingPreambleBytes + std::uint64_t{header_len};
@@ -364,29 +386,29 @@ Recording read_recording(const std::string& path) {
     rec.header = parse_header(path, text);
 
     const std::uint64_t body = size - ticks_at;
-    const std::uint64_t whole = body / kRecordedTickBytes;
+    const std::uint64_t whole = body / tick_size;
     if (count > whole)
         throw Error(path + ": truncated: the preamble says " + std::to_string(count) + " ticks but the file holds " +
                     std::to_string(whole) + " whole ticks; tick " + std::to_string(whole) + " is cut at byte " +
                     std::to_string(size));
-    if (body != count * kRecordedTickBytes)
-        throw Error(path + ": " + std::to_string(body - count * kRecordedTickBytes) + " trailing byte(s) after tick " +
-                    std::to_string(count) + " at byte " + std::to_string(ticks_at + count * kRecordedTickBytes));
+    if (body != count * tick_size)
+        throw Error(path + ": " + std::to_string(body - count * tick_size) + " trailing byte(s) after tick " +
+                    std::to_string(count) + " at byte " + std::to_string(ticks_at + count * tick_size));
 
     rec.ticks.reserve(static_cast<std::size_t>(count));
     constexpr std::size_t kChunk = 1024;
-    std::vector<unsigned char> buf(kChunk * kRecordedTickBytes);
+    std::vector<unsigned char> buf(kChunk * tick_size);
     double previous = std::numeric_limits<double>::quiet_NaN();
     for (std::uint64_t first = 0; first < count; first += kChunk) {
         const std::size_t n = static_cast<std::size_t>(count - first < kChunk ? count - first : kChunk);
-        read_exact(buf.data(), n * kRecordedTickBytes, ticks_at + first * kRecordedTickBytes);
-        crc = crc32_ieee(buf.data(), n * kRecordedTickBytes, crc);
+        read_exact(buf.data(), n * tick_size, ticks_at + first * tick_size);
+        crc = crc32_ieee(buf.data(), n * tick_size, crc);
         for (std::size_t k = 0; k < n; ++k) {
-            const RecordedTick t = decode_tick(buf.data() + k * kRecordedTickBytes);
+            const RecordedTick t = decode_tick(buf.data() + k * tick_size, version);
             const std::string problem = check_tick(t, previous);
             if (!problem.empty())
                 throw Error(path + ": tick " + std::to_string(first + k) + " (byte " +
-                            std::to_string(ticks_at + (first + k) * kRecordedTickBytes) + "): " + problem);
+                            std::to_string(ticks_at + (first + k) * tick_size) + "): " + problem);
             previous = t.t_s;
             rec.ticks.push_back(t);
         }
@@ -423,7 +445,9 @@ const std::vector<std::string>& recording_csv_columns() {
         xyz("bottom_force", "_n");
         xyz("force", "_n");
         xyz("torque", "_nm");
-        for (const char* s : {"top_collision_id", "bottom_collision_id", "buttons", "tool_mode", "valid"}) c.push_back(s);
+        for (const char* s : {"top_collision_id", "bottom_collision_id", "buttons", "tool_mode", "valid", "op", "material",
+                              "tool_kind", "tool_radius_m", "tool_length_m"})
+            c.push_back(s);
         return c;
     }();
     return columns;
@@ -473,6 +497,8 @@ void write_recording_csv(const std::string& path, const Recording& recording) {
         put_vec(line, t.torque_nm);
         put_int(line, t.top_collision_id), put_int(line, t.bottom_collision_id);
         put_int(line, t.buttons), put_int(line, t.tool_mode), put_int(line, t.valid);
+        put_int(line, t.op), put_int(line, t.material), put_int(line, static_cast<int>(t.tool.kind));
+        put_num(line, t.tool.radius_m), put_num(line, t.tool.length_m);
         line += '\n';
         ok = std::fputs(line.c_str() + 1, f) >= 0;  // every field wrote a leading comma: skip the first
     }

@@ -10,6 +10,7 @@
 
 #include "core/crc32.hpp"
 #include "core/math.hpp"
+#include "core/tool_shape.hpp"
 #include "devices/haptic_device.hpp"
 
 namespace tridex::devices {
@@ -23,7 +24,8 @@ namespace tridex::devices {
 /// with zero deviation and force and bottom_collision_id = -1.
 /// Validity rules (RecordingWriter::write and read_recording enforce them, naming the field):
 ///   - t_s finite and strictly greater than the previous tick's t_s;
-///   - valid is 0 or 1; tool_mode is a ToolOp value (0..3);
+///   - valid is 0 or 1; tool_mode and op are ToolOp values (0..3); tool.kind is a ToolKind value (0..2),
+///     tool.radius_m and tool.length_m finite and >= 0;
 ///   - valid == 1: every field of `device` is finite; valid == 0: `device` is recorded as the device
 ///     gave it (it may hold NaN or infinity, that is why the loop flagged it);
 ///   - all other vectors and scalars finite; rotation_axis unit length (within 1e-6);
@@ -49,6 +51,13 @@ struct RecordedTick {
     std::uint32_t buttons = 0;           ///< device button bits at the tick
     std::uint8_t tool_mode = 0;          ///< the ToolOp value in effect (core/tool_sample.hpp)
     std::uint8_t valid = 1;              ///< 0 when the device sample was invalid (loop sent zero force)
+    /// The ToolOp selected at the tick (keys at the desk change it), before engagement and pauses; version 1
+    /// files: tool_mode.
+    std::uint8_t op = 0;
+    std::uint8_t material = 0;           ///< the material selected at the tick (what union adds, paint sets)
+    /// The tool the tick's sample carried (kind, radius_m, length_m; mesh_id is not stored): its size changes
+    /// with keys at the desk. radius_m 0 = not recorded (version 1 files, invalid ticks): the session's tool.
+    ToolShape tool{};
 };
 
 /// The session-wide part of a recording.
@@ -65,30 +74,32 @@ struct Recording {
     std::vector<RecordedTick> ticks;  ///< in time order
 };
 
-// ---- File format "TRDXREC", version 1 -------------------------------------------------------------
+// ---- File format "TRDXREC", version 2 (version 1 is still read) --------------------------------------
 // Every number is little-endian; doubles are IEEE-754 binary64, stored bit for bit.
 //   Preamble, 32 bytes:
 //     0  char[8]  magic "TRDXREC\0"
-//     8  u32      version (1)
-//    12  u32      bytes per tick record (378)
+//     8  u32      version (2; 1 in older files)
+//    12  u32      bytes per tick record (397; 378 in version 1)
 //    16  u64      tick count (0xFFFFFFFFFFFFFFFF while the writer is open: such a file is refused)
 //    24  u32      CRC-32 (IEEE 802.3, as zlib/PNG) of the header text followed by all tick records
 //    28  u32      header text length L, bytes
 //   Header text, L bytes at 32: UTF-8 JSON object {"device_name": string, "period_s": number,
 //     "workspace_mode": string, "notes": string} (other keys are ignored).
-//   Tick records, 378 bytes each, from byte 32 + L; offsets within a record:
+//   Tick records, 397 bytes each (version 1: 378, ending at `valid`), from byte 32 + L; offsets within a record:
 //       0 t_s f64 | 8 device.t_s f64 | 16 device position xyz f64 | 40 device orientation w,x,y,z f64
 //      72 device velocity xyz f64 | 96 device buttons u32 | 100 wand_centre xyz | 124 rotation_axis xyz
 //     148 rotation_angle f64 | 156 top xyz | 180 bottom xyz | 204 top_contact xyz | 228 bottom_contact xyz
 //     252 top_deviation f64 | 260 bottom_deviation f64 | 268 top_force xyz | 292 bottom_force xyz
 //     316 force xyz | 340 torque xyz | 364 top_collision_id i32 | 368 bottom_collision_id i32
 //     372 buttons u32 | 376 tool_mode u8 | 377 valid u8
+//     version 2 adds: 378 op u8 | 379 material u8 | 380 tool kind u8 | 381 tool radius f64 | 389 tool length f64
 // ----------------------------------------------------------------------------------------------------
 
 inline constexpr char kRecordingMagic[8] = {'T', 'R', 'D', 'X', 'R', 'E', 'C', '\0'};  ///< first 8 bytes
-inline constexpr std::uint32_t kRecordingVersion = 1;        ///< the version this build writes and reads
+inline constexpr std::uint32_t kRecordingVersion = 2;        ///< the version this build writes (it reads 1 and 2)
 inline constexpr std::size_t kRecordingPreambleBytes = 32;   ///< bytes before the header text
-inline constexpr std::size_t kRecordedTickBytes = 378;       ///< bytes per tick record on disk
+inline constexpr std::size_t kRecordedTickBytes = 397;       ///< bytes per tick record on disk (version 2)
+inline constexpr std::size_t kRecordedTickBytesV1 = 378;     ///< bytes per tick record of version 1 files
 
 /// The recording's checksum: tridex::crc32_ieee (core/crc32.hpp), named here too for the recording's users.
 using tridex::crc32_ieee;
@@ -140,7 +151,8 @@ private:
 /// Writes a whole recording with RecordingWriter (same errors).
 void write_recording(const std::string& path, const Recording& recording);
 
-/// Reads and validates a recording. Throws tridex::Error naming the path and, where it applies, the
+/// Reads and validates a recording (version 2, or version 1, whose ticks get op = tool_mode, material 0 and no
+/// tool). Throws tridex::Error naming the path and, where it applies, the
 /// byte offset or tick index: unreadable file, wrong magic, another version, another tick size,
 /// truncated or unfinished file, trailing bytes, bad header JSON or header field, a tick breaking a
 /// rule of RecordedTick (NaN where not allowed, time not increasing, ...), checksum mismatch.
@@ -153,7 +165,8 @@ Recording read_recording(const std::string& path);
 /// fields wand_centre_{x,y,z}_m, rotation_axis_{x,y,z}, rotation_angle_rad, top_{x,y,z}_m,
 /// bottom_{x,y,z}_m, top_collision_{x,y,z}_m, bottom_collision_{x,y,z}_m, top_deviation_m,
 /// bottom_deviation_m, top_force_{x,y,z}_n, bottom_force_{x,y,z}_n, force_{x,y,z}_n,
-/// torque_{x,y,z}_nm, top_collision_id, bottom_collision_id, then buttons, tool_mode, valid.
+/// torque_{x,y,z}_nm, top_collision_id, bottom_collision_id, then buttons, tool_mode, valid, op, material,
+/// tool_kind, tool_radius_m, tool_length_m.
 /// Throws tridex::Error "<path>: ..." when the file cannot be written.
 void write_recording_csv(const std::string& path, const Recording& recording);
 

@@ -273,6 +273,13 @@ const Material& GodObject::material(std::uint8_t id) const {
     return params_.materials ? (*params_.materials)[id] : uniform_;
 }
 
+bool GodObject::set_tool_radius(double radius_m) {
+    if (!(std::isfinite(radius_m) && radius_m >= 0.0)) return false;
+    params_.tool_radius_m = radius_m;
+    reset();
+    return true;
+}
+
 void GodObject::reset() {
     has_proxy_ = false;
     in_contact_ = false;

@@ -127,6 +127,9 @@ public:
     ContactResult update(const ActiveSurface& surface, const Vec3& hip_m, double dt_s);
     /// Forgets the proxy and contact history (the next update starts free, with the proxy on the HIP).
     void reset();
+    /// Changes the ball radius around the HIP (ContactParams::tool_radius_m, m) and resets the god-object.
+    /// Allocation-free. A radius that is negative or not finite is ignored (returns false).
+    bool set_tool_radius(double radius_m);
     /// The parameters.
     const ContactParams& params() const { return params_; }
 

@@ -84,6 +84,8 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       period_hist_(cfg_.period_s / 50.0),
       compute_hist_(cfg_.period_s / 1000.0) {
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
+    base_points_ = contact_.tool_points();
+    tool_ = cfg_.tool;
     set_tool_op(cfg_.op, cfg_.material);
     last_tool_ = mapper_.frame().tool_world;
 }
@@ -94,7 +96,45 @@ void HapticLoop::set_tool_op(ToolOp op, std::uint8_t material) {
     op_.store(static_cast<std::uint16_t>(static_cast<std::uint16_t>(op) | (material << 8)), std::memory_order_relaxed);
 }
 
+bool HapticLoop::set_tool(const ToolShape& tool) {
+    if (tool.kind != cfg_.tool.kind || tool.kind == ToolKind::kMesh || !(cfg_.tool.radius_m > 0.0)) return false;
+    if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0)) return false;
+    if (tool.kind == ToolKind::kFlatEnd && !(std::isfinite(tool.length_m) && tool.length_m > 0.0)) return false;
+    ToolUpdate& u = tool_updates_.back();
+    u.serial = ++tool_serial_sent_;
+    u.tool = tool;
+    tool_updates_.publish();
+    return true;
+}
+
+void HapticLoop::use_tool(const ToolShape& tool) {
+    const double s = tool.radius_m / cfg_.tool.radius_m;
+    ToolPoints p = base_points_;
+    for (int i = 0; i < p.count; ++i) p.local_m[static_cast<std::size_t>(i)] *= s;
+    p.radius_m *= s;
+    if (contact_.set_points(p)) tool_ = tool;
+    reset_contact();
+}
+
+void HapticLoop::apply_tool_changes(double device_t_s) {
+    const ToolUpdate& u = tool_updates_.latest();
+    if (u.serial != tool_serial_used_) {
+        tool_serial_used_ = u.serial;
+        use_tool(u.tool);
+    }
+    const std::vector<ToolChange>& sched = cfg_.tool_schedule;
+    for (; next_change_ < sched.size() && sched[next_change_].device_t_s <= device_t_s; ++next_change_) {
+        const ToolChange& c = sched[next_change_];
+        set_tool_op(c.op, c.material);
+        const bool usable = c.tool.kind == cfg_.tool.kind && c.tool.kind != ToolKind::kMesh &&
+                            std::isfinite(c.tool.radius_m) && c.tool.radius_m > 0.0 && std::isfinite(c.tool.length_m);
+        if (usable && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
+            use_tool(c.tool);
+    }
+}
+
 void HapticLoop::begin_session() {
+    next_change_ = 0;
     records_.resize(cfg_.max_ticks);  // back to full size after a previous stop() trimmed it
     recorded_ = 0;
     carve_gap_ = false;
@@ -209,6 +249,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         return true;
     };
     if (!finite) return invalid_tick();
+    apply_tool_changes(state.t_s);
 
     // Time step of the contact damping, the bubble drift and the energy books: the device's own clock,
     // else the nominal period; bounded to [period/10, 10*period] so a glitching clock cannot blow up.
@@ -263,12 +304,15 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
     }
     sample.orientation = wf.tool_world.orientation;
-    sample.tool = cfg_.tool;
+    sample.tool = tool_;
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
     const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged;
     const std::uint16_t op = op_.load(std::memory_order_relaxed);
     sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
     sample.material = static_cast<std::uint8_t>(op >> 8);
+    rec.op = static_cast<ToolOp>(op & 0xffu);
+    rec.material = sample.material;
+    rec.tool = tool_;
     carve_gap_ = !wd.force_allowed || out.over_speed;
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
@@ -322,6 +366,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.bubble_radius_m = wf.bubble_radius_m;
     v.proxy_m = rec.proxy_m;
     v.points_in_contact = rec.points_in_contact;
+    v.tool = tool_;
     view_.publish();
 }
 

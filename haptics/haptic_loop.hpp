@@ -28,6 +28,15 @@
 
 namespace tridex::haptics {
 
+/// A change of the Boolean, material or tool that a replay applies at a given device time (the recorded tick's
+/// device time), so the samples carry exactly what the recorded session's samples carried.
+struct ToolChange {
+    double device_t_s = 0.0;        ///< applied at the first valid device sample with t_s >= this, s
+    ToolOp op = ToolOp::kSubtract;  ///< the Boolean from then on
+    std::uint8_t material = 0;      ///< the material from then on
+    ToolShape tool{};               ///< the tool from then on (HapticLoop::set_tool's rules); radius_m 0 = unchanged
+};
+
 /// Settings of the haptic loop (SI units).
 struct HapticLoopConfig {
     double period_s = 1e-3;        ///< tick period, s (1 kHz), in [1e-5, 0.1]
@@ -58,6 +67,9 @@ struct HapticLoopConfig {
     ToolPoints tool_points{};
     /// Per-point god-objects (thesis) or the haptic interaction mesh (Popescu et al. 3.1-3.2).
     MultiPointMode contact_mode = MultiPointMode::kIndependentProxies;
+    /// Changes applied at device times (a replay of a session whose keys changed the op or the tool size), in
+    /// increasing device_t_s; empty for live sessions.
+    std::vector<ToolChange> tool_schedule{};
 };
 
 /// One contact point's state in a tick (world frame, SI units), for recordings.
@@ -91,6 +103,10 @@ struct TickRecord {
     /// single-point tool), world frame.
     std::array<PointRecord, 2> points{};
     int points_in_contact = 0;       ///< contact points touching material this tick
+    /// The Boolean selected this tick (before engagement and pauses; kNone on an invalid sample).
+    ToolOp op = ToolOp::kNone;
+    std::uint8_t material = 0;       ///< the material selected this tick
+    ToolShape tool{};                ///< the tool this tick's sample carries (radius_m 0 on an invalid sample)
 };
 
 /// Counters of the loop; readable while it runs.
@@ -125,6 +141,7 @@ struct LoopView {
     /// inside), world m; the tool centre when free.
     Vec3 proxy_m{0.0};
     int points_in_contact = 0;      ///< contact points touching material this tick
+    ToolShape tool{};               ///< the tool in use (HapticLoop::set_tool)
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
@@ -194,6 +211,12 @@ public:
     void set_tool_op(ToolOp op, std::uint8_t material);
     /// The Boolean the samples carry now (any thread).
     ToolOp tool_op() const { return static_cast<ToolOp>(op_.load(std::memory_order_relaxed) & 0xffu); }
+    /// Changes the tool the following ToolSamples carry to `tool`, the configured tool at another size: the
+    /// same kind (ball or flat end; a mesh tool keeps its size), radius_m (and length_m) finite and > 0. The
+    /// contact points are the configured ones scaled by tool.radius_m / config().tool.radius_m, so touch and
+    /// cut still agree. One writer thread (the window's); lock-free: the loop takes it at its next valid tick
+    /// (and resets the contact). Returns false, changing nothing, for another kind, a mesh tool or a bad size.
+    bool set_tool(const ToolShape& tool);
     /// The newest LoopView (render thread; exactly one reader thread). Default LoopView before the
     /// first tick.
     const LoopView& latest_view() { return view_.latest(); }
@@ -222,6 +245,15 @@ private:
     bool tick(double now_s, TickRecord& rec);
     // Counters, histograms, record storage and the view for a finished tick.
     void finish(TickRecord& rec, double compute_s);
+    // Takes a new tool from set_tool() and the schedule's changes due at device time t_s (loop thread).
+    void apply_tool_changes(double device_t_s);
+    // Switches to `tool` (already checked) with contact points scaled from the configured ones.
+    void use_tool(const ToolShape& tool);
+
+    struct ToolUpdate {
+        std::uint64_t serial = 0;  // 0 = none yet
+        ToolShape tool{};
+    };
 
     devices::HapticDevice& device_;
     TripleBuffer<ActiveSurface>& surface_;
@@ -257,6 +289,12 @@ private:
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
     std::atomic<double> energy_{0.0};
     std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte
+    ToolPoints base_points_{};           // the configured contact points (tool at cfg_.tool's size)
+    ToolShape tool_{};                   // the tool in use (loop thread)
+    TripleBuffer<ToolUpdate> tool_updates_;
+    std::uint64_t tool_serial_sent_ = 0; // writer side
+    std::uint64_t tool_serial_used_ = 0; // loop side
+    std::size_t next_change_ = 0;        // cfg_.tool_schedule entries applied
 };
 
 }  // namespace tridex::haptics

@@ -34,6 +34,16 @@ void MultiPointRenderer::reset() {
     result_ = MultiPointResult{};
 }
 
+bool MultiPointRenderer::set_points(const ToolPoints& points) {
+    if (points.count != points_.count || !(std::isfinite(points.radius_m) && points.radius_m >= 0.0)) return false;
+    for (int i = 0; i < points.count; ++i)
+        if (!is_finite(points.local_m[static_cast<std::size_t>(i)])) return false;
+    points_ = points;
+    for (GodObject& g : proxies_) g.set_tool_radius(points_.radius_m);
+    result_ = MultiPointResult{};
+    return true;
+}
+
 const MultiPointResult& MultiPointRenderer::update(const ActiveSurface& surface, const Pose& tool, double dt_s) {
     if (!finite_pose(tool)) {
         reset();

@@ -64,6 +64,10 @@ public:
     const MultiPointResult& update(const ActiveSurface& surface, const Pose& tool_world, double dt_s);
     /// Forgets every point's proxy and contact history and clears the result.
     void reset();
+    /// Replaces the points by `points` of the same count (e.g. the same tool at another size) and resets every
+    /// god-object. Allocation-free, so the haptic thread may call it. Returns false (nothing changes) when the
+    /// count differs or a position or the radius is not finite (radius < 0).
+    bool set_points(const ToolPoints& points);
     /// Number of tool points.
     int points() const { return points_.count; }
     /// The combination mode.

@@ -19,6 +19,7 @@ PACKAGES=(
   libmeshoptimizer-dev                      # meshoptimizer: simplified levels of detail of the tile meshes
   libusb-1.0-0-dev                          # USB: detecting (and later driving) haptic devices (libusb-1.0)
   xvfb xauth                                # a virtual X server for the window smoke test
+  xdotool                                   # real X mouse and key events (XTEST) for the mouse-stylus window test
   libgtest-dev libgmock-dev                 # tests
   libbenchmark-dev                          # benchmarks
   libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy`; Boost.Math for `tridex study stats`

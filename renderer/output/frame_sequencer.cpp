@@ -1,6 +1,7 @@
 // renderer/output/frame_sequencer.cpp - eye alternation, swap and emitter hook of frame-sequential stereo.
 #include "renderer/output/frame_sequencer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -25,11 +26,51 @@ bool FrameSequencer::swap_eyes() const { return swap_eyes_.load(std::memory_orde
 
 void FrameSequencer::on_eye(std::function<void(int eye, std::uint64_t present)> hook) { hook_ = std::move(hook); }
 
+int FrameSequencer::next_shutter() const { return static_cast<int>(next_refresh_ & 1u); }
+
+int FrameSequencer::next_eye() const { return next_shutter() ^ (swap_eyes_.load(std::memory_order_relaxed) ? 1 : 0); }
+
 int FrameSequencer::present() {
     const std::uint64_t n = presents_++;
-    const int eye = eye_for_present(n);
-    if (hook_) hook_(shutter_for_present(n), n);
+    const int shutter = next_shutter();
+    const int eye = next_eye();
+    if (hook_) hook_(shutter, n);
+    history_ = (history_ << 1) | static_cast<std::uint64_t>(shutter);
+    last_refresh_ = next_refresh_++;
     return eye;
+}
+
+void FrameSequencer::shown_late(std::uint64_t extra) {
+    if (extra == 0) return;
+    missed_ += extra;
+    ++late_;
+    last_refresh_ += extra;
+    next_refresh_ = last_refresh_ + 1;
+}
+
+bool FrameSequencer::presented(double t_s) {
+    if (!std::isfinite(t_s) || (have_t_ && t_s < last_t_s_)) return false;
+    if (!have_t_) {
+        have_t_ = true;
+        first_t_s_ = t_s;
+        first_refresh_ = last_refresh_;
+    } else {
+        // The refresh the display is at, from the time since the first present shown (no drift from summing
+        // intervals); later than the refresh this present was expected on = shown late.
+        const double at = std::round((t_s - first_t_s_) * refresh_hz_) + static_cast<double>(first_refresh_);
+        if (at > static_cast<double>(last_refresh_) && at < 1e18)
+            shown_late(static_cast<std::uint64_t>(at) - last_refresh_);
+    }
+    last_t_s_ = t_s;
+    return true;
+}
+
+bool FrameSequencer::presented_at_refresh(std::uint64_t refresh) {
+    if (have_counter_ && refresh <= last_counter_) return false;
+    if (have_counter_) shown_late(refresh - last_counter_ - 1);
+    have_counter_ = true;
+    last_counter_ = refresh;
+    return true;
 }
 
 std::uint64_t FrameSequencer::presents() const { return presents_; }

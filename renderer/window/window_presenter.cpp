@@ -375,7 +375,7 @@ int WindowPresenter::present(const OffscreenStereoRenderer& renderer) {
     }
     int shown = 0;
     for (int k = 0; k < 2; ++k) {
-        const int eye = im.sequencer->eye_for_present(im.sequencer->presents());
+        const int eye = im.sequencer->next_eye();  // the shutter open at the refresh this present is expected on
         const bool ok = im.present_one(
             [&](VkCommandBuffer cmd, VkImage dst, VkExtent2D e) {
                 blit_plan(plan_blits(StereoOutput::kFrameSequential, static_cast<int>(e.width),
@@ -384,6 +384,10 @@ int WindowPresenter::present(const OffscreenStereoRenderer& renderer) {
             },
             [&] { im.sequencer->present(); });
         if (!ok) break;
+        // When the present call returned (under vsync, the refresh it went out on): a late one moves the
+        // sequencer's refresh count on, so the next present shows the eye whose shutter is open then.
+        if (im.last_present)
+            im.sequencer->presented(std::chrono::duration<double>(im.last_present->time_since_epoch()).count());
         im.last_eye = eye;
         ++shown;
     }
@@ -449,6 +453,7 @@ int WindowPresenter::present_image(VkImage image, int width, int height,
 
 StereoOutput WindowPresenter::output() const { return impl_->options.output; }
 FrameSequencer& WindowPresenter::sequencer() { return *impl_->sequencer; }
+const FrameSequencer& WindowPresenter::sequencer() const { return *impl_->sequencer; }
 void WindowPresenter::set_swap_eyes(bool swap) { impl_->sequencer->set_swap_eyes(swap); }
 bool WindowPresenter::swap_eyes() const { return impl_->sequencer->swap_eyes(); }
 VkExtent2D WindowPresenter::extent() const { return impl_->swapchain.extent(); }

@@ -80,6 +80,7 @@ public:
 
     StereoOutput output() const;            ///< the output shown
     FrameSequencer& sequencer();            ///< frame-sequential eye order, emitter hook (on_eye) and swap switch
+    const FrameSequencer& sequencer() const;  ///< the same, read-only (missed refreshes, shown shutters)
     /// Exchanges the eyes from the next present on (same switch as sequencer().set_swap_eyes()).
     void set_swap_eyes(bool swap);
     bool swap_eyes() const;                 ///< true when the eyes are exchanged

@@ -39,7 +39,14 @@ int WindowSink::last_eye() const {
 }
 std::string WindowSink::present_mode() const { return presenter_.present_mode(); }
 std::vector<std::string> WindowSink::notes() const { return {}; }
-nlohmann::json WindowSink::present_timings() const { return presenter_.timings().to_json(); }
+nlohmann::json WindowSink::present_timings() const {
+    nlohmann::json j = presenter_.timings().to_json();
+    if (options_.output == StereoOutput::kFrameSequential) {
+        j["missed_refreshes"] = presenter_.sequencer().missed_refreshes();
+        j["late_presents"] = presenter_.sequencer().late_presents();
+    }
+    return j;
+}
 
 std::vector<std::string> WindowSink::finish(const OffscreenStereoRenderer&, const std::string&) { return {}; }
 

@@ -60,8 +60,10 @@ std::string write_mouse_scene(const fs::path& dir, int drag_buttons, bool undo) 
     return path;
 }
 
-RunResult run_mouse(const fs::path& dir, const std::string& name, int drag_buttons, bool undo) {
+RunResult run_mouse(const fs::path& dir, const std::string& name, int drag_buttons, bool undo,
+                    bool gpu_contour = false) {
     RunOptions o;
+    o.gpu_contour = gpu_contour;
     o.scene = write_mouse_scene(dir, drag_buttons, undo);
     o.display = "offscreen";
     o.stereo = "mono";
@@ -114,6 +116,27 @@ TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) 
         EXPECT_LT(std::abs(off1 - off0), 5e-4) << "carved away from the cursor path at u = " << u;
     }
     EXPECT_GE(off_checked, 4);
+}
+
+// With the contour on the GPU (no CPU meshes published) the stylus picks on the contour read back: the drag
+// still carves a groove under the cursor path.
+TEST(MouseSession, PicksWithTheGpuContour) {
+    const fs::path dir = test::temp_dir("mouse_gpu_contour");
+    const RunResult hover = run_mouse(dir, "hover", 0, false);
+    const RunResult drag = run_mouse(dir, "drag", cursor_buttons::kLeft, false, true);
+    ASSERT_EQ(drag.contour_path, "gpu") << drag.contour_reason;
+    ASSERT_FALSE(drag.mouse.is_null());
+    EXPECT_EQ(drag.mouse["pick_surface"], "gpu contour, read back");
+    EXPECT_GE(drag.mouse["pick_reads"].get<int>(), 1);
+    EXPECT_GT(drag.volume_before_m3 - drag.volume_after_m3, 1e-7) << "the drag carved nothing";
+    const PickSurface before = load_surface(dir / "hover" / "sculpted.ply");
+    const PickSurface after = load_surface(dir / "drag" / "sculpted.ply");
+    for (double u = 0.25; u <= 0.75; u += 0.25) {
+        const Vec3 p = kFrom + u * (kTo - kFrom);
+        const double d0 = ray_depth(before, p), d1 = ray_depth(after, p);
+        ASSERT_TRUE(std::isfinite(d0) && std::isfinite(d1)) << u;
+        EXPECT_GT(d1 - d0, 0.002) << "no groove under the cursor at u = " << u;
+    }
 }
 
 TEST(MouseSession, CtrlZTakesTheGrooveBack) {

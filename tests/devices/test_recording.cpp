@@ -96,6 +96,11 @@ Recording sample_recording(int n) {
         t.bottom_collision_id = i % 7 == 0 ? -1 : 2147483647 - i;
         t.buttons = 0x80000000u | static_cast<std::uint32_t>(i);
         t.tool_mode = static_cast<std::uint8_t>(i % 4);
+        t.op = static_cast<std::uint8_t>((i + 1) % 4);
+        t.material = static_cast<std::uint8_t>(i % 8);
+        t.tool.kind = i % 3 == 0 ? ToolKind::kFlatEnd : ToolKind::kBall;
+        t.tool.radius_m = 0.006 * std::pow(1.25, i % 5);
+        t.tool.length_m = t.tool.kind == ToolKind::kFlatEnd ? 0.02 / 3.0 : 0.0;
         t.valid = 1;
         if (i == n / 2) {  // a sample the loop flagged: the device gave NaN and infinity
             t.valid = 0;
@@ -139,6 +144,11 @@ void expect_identical(const RecordedTick& a, const RecordedTick& b, std::size_t 
     EXPECT_EQ(a.buttons, b.buttons);
     EXPECT_EQ(a.tool_mode, b.tool_mode);
     EXPECT_EQ(a.valid, b.valid);
+    EXPECT_EQ(a.op, b.op);
+    EXPECT_EQ(a.material, b.material);
+    EXPECT_EQ(a.tool.kind, b.tool.kind);
+    EXPECT_TRUE(same_bits(a.tool.radius_m, b.tool.radius_m));
+    EXPECT_TRUE(same_bits(a.tool.length_m, b.tool.length_m));
 }
 
 // Runs read_recording(path), expects a tridex::Error whose message starts with the path and holds
@@ -237,8 +247,8 @@ TEST(Recording, LayoutAndBytesPerTick) {
     const std::size_t header_len = get_u32(w.bytes, 28);
     EXPECT_EQ(w.bytes.size(), kRecordingPreambleBytes + header_len + n * kRecordedTickBytes);
     EXPECT_EQ(std::memcmp(w.bytes.data(), "TRDXREC\0", 8), 0);
-    EXPECT_EQ(get_u32(w.bytes, 8), 1u);
-    EXPECT_EQ(get_u32(w.bytes, 12), 378u);
+    EXPECT_EQ(get_u32(w.bytes, 8), 2u);
+    EXPECT_EQ(get_u32(w.bytes, 12), 397u);
     EXPECT_EQ(get_u32(w.bytes, 16), static_cast<std::uint32_t>(n));
     EXPECT_EQ(get_u32(w.bytes, 20), 0u);  // high half of the u64 tick count
     // The checksum covers the header text and the ticks.
@@ -253,6 +263,14 @@ TEST(Recording, LayoutAndBytesPerTick) {
     EXPECT_EQ(std::bit_cast<double>(u), src.ticks[0].t_s);
     EXPECT_EQ(w.bytes[w.ticks_at + 377], 1);
     EXPECT_EQ(w.bytes[w.ticks_at + 376], src.ticks[0].tool_mode);
+    // Version 2's fields: op at 378, material at 379, tool kind at 380, radius at 381, length at 389.
+    EXPECT_EQ(w.bytes[w.ticks_at + 378], src.ticks[0].op);
+    EXPECT_EQ(w.bytes[w.ticks_at + 379], src.ticks[0].material);
+    EXPECT_EQ(w.bytes[w.ticks_at + 380], static_cast<unsigned char>(src.ticks[0].tool.kind));
+    std::memcpy(&u, w.bytes.data() + w.ticks_at + 381, 8);
+    EXPECT_EQ(std::bit_cast<double>(u), src.ticks[0].tool.radius_m);
+    std::memcpy(&u, w.bytes.data() + w.ticks_at + 389, 8);
+    EXPECT_EQ(std::bit_cast<double>(u), src.ticks[0].tool.length_m);
     std::memcpy(&u, w.bytes.data() + w.ticks_at + kRecordedTickBytes + 316, 8);
     EXPECT_EQ(std::bit_cast<double>(u), src.ticks[1].force_n.x);
     // At 1 kHz: bytes per tick * 1000 ticks/s = that many kB/s (1 kB = 1000 bytes).
@@ -299,12 +317,43 @@ TEST(Recording, WrongMagicVersionSizeRefused) {
         return path;
     };
     expect_refused(variant("magic.trdxrec", 3, 'Y'), {"not a tridex recording", "magic"});
-    expect_refused(variant("version.trdxrec", 8, 2), {"byte 8", "unsupported version 2", "reads version 1"});
-    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 378"});
+    expect_refused(variant("version.trdxrec", 8, 3), {"byte 8", "unsupported version 3", "reads versions 1 and 2"});
+    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 397"});
+    // A version 1 preamble over version 2 ticks: the tick size is wrong for version 1.
+    expect_refused(variant("v1size.trdxrec", 8, 1), {"byte 12", "tick record size 397", "expected 378 for version 1"});
     // A text file is not a recording.
     const std::string text = temp_path("text.csv");
     std::ofstream(text) << "t_s,force_n\n0.001,0.5\n0.002,0.6\n";
     expect_refused(text, {"not a tridex recording"});
+}
+
+// Version 1 files (378-byte ticks ending at `valid`) are still read: op = tool_mode, no tool recorded.
+TEST(Recording, Version1FilesStillRead) {
+    const int n = 7;
+    const Written w = write_sample("v2.trdxrec", n);
+    std::vector<unsigned char> v1(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
+    for (int i = 0; i < n; ++i) {
+        const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
+        v1.insert(v1.end(), at, at + static_cast<long>(kRecordedTickBytesV1));
+    }
+    const auto put_u32 = [&v1](std::size_t at, std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) v1[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    };
+    put_u32(8, 1);
+    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV1));
+    put_u32(24, crc32_ieee(v1.data() + 32, v1.size() - 32));
+    const std::string path = temp_path("v1.trdxrec");
+    save(path, v1);
+    const Recording back = read_recording(path);
+    const Recording src = sample_recording(n);
+    ASSERT_EQ(back.ticks.size(), src.ticks.size());
+    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
+        RecordedTick expect = src.ticks[i];
+        expect.op = expect.tool_mode;
+        expect.material = 0;
+        expect.tool = ToolShape{};
+        expect_identical(expect, back.ticks[i], i);
+    }
 }
 
 TEST(Recording, TrailingBytesRefused) {
@@ -338,6 +387,8 @@ TEST(Recording, CorruptedValuesRefusedNamingTickAndField) {
     expect_refused(patched("same_t.trdxrec", 3, 0, src.ticks[2].t_s), {tick3, "does not increase"});
     expect_refused(patched("back_t.trdxrec", 3, 0, src.ticks[1].t_s), {tick3, "does not increase"});
     expect_refused(patched("nan_t.trdxrec", 3, 0, kNaN), {tick3, "t_s = nan is not finite"});
+    expect_refused(patched("radius.trdxrec", 3, 381, -0.004), {tick3, "tool.radius_m = -0.004"});
+    expect_refused(patched("length.trdxrec", 3, 389, kNaN), {tick3, "tool.length_m = nan"});
     // Flag bytes out of range.
     std::vector<unsigned char> b = w.bytes;
     b[w.ticks_at + 3 * kRecordedTickBytes + 377] = 2;
@@ -494,7 +545,7 @@ TEST(RecordingCsv, HeaderAndOneRowPerTick) {
     for (std::string l; std::getline(in, l);) lines.push_back(l);
     ASSERT_EQ(lines.size(), src.ticks.size() + 1);
     const std::vector<std::string>& cols = recording_csv_columns();
-    EXPECT_EQ(cols.size(), 51u);  // 13 device columns, 33 Table 3 columns, 5 more
+    EXPECT_EQ(cols.size(), 56u);  // 13 device columns, 33 Table 3 columns, 5 more, 5 of the tool in use
     EXPECT_EQ(fields(lines[0]), cols);
     const auto col = [&](const std::string& name) {
         for (std::size_t i = 0; i < cols.size(); ++i)
@@ -517,6 +568,8 @@ TEST(RecordingCsv, HeaderAndOneRowPerTick) {
         EXPECT_EQ(std::stoll(f[col("bottom_collision_id")]), t.bottom_collision_id);
         EXPECT_EQ(std::stoull(f[col("buttons")]), t.buttons);
         EXPECT_EQ(std::stoi(f[col("valid")]), t.valid);
+        EXPECT_EQ(std::stoi(f[col("op")]), t.op);
+        EXPECT_TRUE(same_bits(std::strtod(f[col("tool_radius_m")].c_str(), nullptr), t.tool.radius_m));
         if (t.valid == 0) {
             EXPECT_EQ(f[col("device_x_m")], "nan");
             EXPECT_EQ(f[col("device_z_m")], "inf");
