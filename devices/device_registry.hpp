@@ -51,6 +51,9 @@ struct DeviceInputs {
     /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's "device.firmware");
     /// "" = none (the driver then says in one line what it needs when the Falcon has no firmware running).
     std::string falcon_firmware;
+    /// net: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
+    /// devices/net/net_device.hpp.
+    std::string haptic_rendering = "distributed";
 };
 
 /// A USB vendor and product id pair.
@@ -117,7 +120,8 @@ private:
 /// `replay` (recorded samples), `falcon` (a Novint Falcon over libusb-1.0, USB 0403:cb48: creating it throws
 /// "no Novint Falcon is plugged in" when libusb finds none) and `falcon-emulator` (the same driver over the in-memory
 /// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path),
-/// `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
+/// `net` (a device served by `tridex device-server` at DeviceSpec::serial = "HOST:PORT": creating it waits up to 3 s
+/// for the server's welcome and throws when none answers or it refuses), `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
 /// $SPNAV_SOCKET, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 
