@@ -74,6 +74,7 @@ DeviceServerStats DeviceServer::stats() const {
     s.zeroed_ticks = zeroed_.load(std::memory_order_relaxed);
     s.stale_snapshots = stale_.load(std::memory_order_relaxed);
     s.snapshots = snapshots_.load(std::memory_order_relaxed);
+    s.force_updates = force_updates_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
     s.session = session_flag_.load(std::memory_order_relaxed);
     return s;
@@ -161,6 +162,7 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
             net::ForceMsg m;
             if ((r = net::decode(d.data(), d.size(), m)) != net::DropReason::kNone) return drop(r);
             force_ = m;
+            force_updates_.fetch_add(1, std::memory_order_relaxed);
             break;
         }
         case net::MsgType::kHeartbeat:
@@ -225,6 +227,13 @@ bool DeviceServer::tick(double now_s) {
     if (device_.state() != devices::DeviceLifecycle::kEnabled && !loop_) device_.bring_up();
     pump(now_s);
     ticks_.fetch_add(1, std::memory_order_relaxed);
+    if (!session_) {  // no session: the device rests at zero force and its clock is not run
+        if (served_) device_.write(Vec3(0.0), Vec3(0.0));
+        served_ = false;
+        silent_ = true;
+        return true;
+    }
+    served_ = true;
     const bool silent = !session_ || now_s - last_rx_s_ > cfg_.watchdog_s;
     if (silent && !silent_ && session_) {
         trips_.fetch_add(1, std::memory_order_relaxed);
@@ -235,6 +244,7 @@ bool DeviceServer::tick(double now_s) {
     if (!silent && mode_ == net::RenderingMode::kLocal && loop_) {
         loop_time_s_ = std::max(loop_time_s_ + 1e-9, now_s);
         const TickRecord rec = loop_->step(loop_time_s_);
+        force_updates_.fetch_add(1, std::memory_order_relaxed);
         ToolSample drained;
         while (samples_->try_pop(drained)) {
         }

@@ -47,6 +47,9 @@ struct DeviceServerStats {
     std::uint64_t zeroed_ticks = 0;     ///< ticks with the force held at zero by the watchdog or no session
     std::uint64_t stale_snapshots = 0;  ///< local mode: snapshots that arrived not covering the tool, or out of order
     std::uint64_t snapshots = 0;        ///< local mode: snapshots received
+    /// New force values that reached the device: kForce datagrams applied (distributed) or contact-loop ticks
+    /// (local); per second of serving, the rate at which the device's force is updated.
+    std::uint64_t force_updates = 0;
     bool device_lost = false;           ///< the device vanished (the server stopped serving)
     bool session = false;               ///< a session is connected and welcomed now
 };
@@ -61,7 +64,9 @@ struct DeviceServerStats {
 /// - local: the server runs a HapticLoop (god-object, EWMA filter, safety stages) next to the device, in step mode
 ///   on this thread, on the newest kSurface snapshot with the kContact parameters, and sends the device state
 ///   (from which the session's own loop derives the ToolSamples that sculpt, through the same workspace mapping).
-/// When no datagram came from the session for watchdog_s (or none is connected) the force is zero. Nothing is
+/// When no datagram came from the session for watchdog_s the force is zero; without a session the device is not
+/// exchanged with at all (zero force is written once when a session ends), so a simulated device's clock runs only
+/// while it is served. Nothing is
 /// allocated per tick except by the link and on a new snapshot or contact set.
 /// The device is brought up (open, home, enable) by the constructor's caller or by the first tick, and
 /// disabled by stop() / the destructor.
@@ -108,6 +113,7 @@ private:
     devices::net::RenderingMode mode_ = devices::net::RenderingMode::kDistributed;
     double last_rx_s_ = -1.0;
     bool silent_ = true;
+    bool served_ = false;  // the device was exchanged with on the previous tick
     std::uint64_t peer_sent_us_ = 0;
     std::uint32_t rx_seq_ = 0;
     bool rx_seq_valid_ = false;
@@ -124,7 +130,7 @@ private:
     double loop_time_s_ = 0.0;
     // Counters (read by stats() from any thread).
     std::atomic<std::uint64_t> ticks_{0}, sessions_{0}, refused_{0}, malformed_{0}, lost_{0}, trips_{0}, zeroed_{0},
-        stale_{0}, snapshots_{0};
+        stale_{0}, snapshots_{0}, force_updates_{0};
     std::atomic<bool> device_lost_{false}, session_flag_{false};
     mutable std::mutex drops_mutex_;
     devices::net::DropCounts drops_;
