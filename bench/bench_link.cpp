@@ -86,13 +86,17 @@ RunResult run_case(const LinkBenchOptions& bo, net::RenderingMode mode, double l
     const std::uint64_t updates0 = server.stats().force_updates;
     const std::size_t step0 = device.steps();
     ToolSample drained;
+    std::size_t iterations = 0;
     while (device.steps() - step0 < steps) {
+        if (++iterations > 4 * steps) throw Error("bench --link: the server stopped stepping its device");
         now += kDt;
         const Vec3 f_applied = device.last_force_n();  // acts during the step the server's read takes
+        const std::size_t before = device.steps();
         server.tick(now);
         loop.step(now);
         while (samples.try_pop(drained)) {
         }
+        if (device.steps() == before) continue;  // the server rested its device this tick (a silent link)
         const std::size_t k = device.steps() - step0 - 1;
         energy -= glm::dot(f_applied, device.velocity_m_s()) * kDt;
         depth = std::max(depth, -device.position_m().z);

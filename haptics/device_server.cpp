@@ -230,17 +230,22 @@ bool DeviceServer::tick(double now_s) {
     if (!session_) {  // no session: the device rests at zero force and its clock is not run
         if (served_) device_.write(Vec3(0.0), Vec3(0.0));
         served_ = false;
-        silent_ = true;
+        silent_ = false;
         return true;
     }
     served_ = true;
-    const bool silent = !session_ || now_s - last_rx_s_ > cfg_.watchdog_s;
-    if (silent && !silent_ && session_) {
+    const bool silent = now_s - last_rx_s_ > cfg_.watchdog_s;
+    if (silent && !silent_) {
         trips_.fetch_add(1, std::memory_order_relaxed);
         event("no datagram from the session for " + std::to_string(static_cast<int>(std::lround(cfg_.watchdog_s * 1e3))) +
               " ms: force zeroed");
     }
+    const bool went_silent = silent && !silent_;
     silent_ = silent;
+    if (silent && !went_silent) {  // a silent session: zero force was written, the device rests until it speaks again
+        zeroed_.fetch_add(1, std::memory_order_relaxed);
+        return true;
+    }
     if (!silent && mode_ == net::RenderingMode::kLocal && loop_) {
         loop_time_s_ = std::max(loop_time_s_ + 1e-9, now_s);
         const TickRecord rec = loop_->step(loop_time_s_);

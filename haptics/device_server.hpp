@@ -64,9 +64,11 @@ struct DeviceServerStats {
 /// - local: the server runs a HapticLoop (god-object, EWMA filter, safety stages) next to the device, in step mode
 ///   on this thread, on the newest kSurface snapshot with the kContact parameters, and sends the device state
 ///   (from which the session's own loop derives the ToolSamples that sculpt, through the same workspace mapping).
-/// When no datagram came from the session for watchdog_s the force is zero; without a session the device is not
-/// exchanged with at all (zero force is written once when a session ends), so a simulated device's clock runs only
-/// while it is served. Nothing is
+/// When no datagram came from the session for watchdog_s, zero force is written and the device rests (is not
+/// exchanged with, no states are sent) until the session speaks again; without a session likewise (zero force is
+/// written once when a session ends). So a simulated device's clock runs only while a live session is served (a
+/// session that connects, then spends seconds loading its workpiece, starts its stroke when its loop starts).
+/// Nothing is
 /// allocated per tick except by the link and on a new snapshot or contact set.
 /// The device is brought up (open, home, enable) by the constructor's caller or by the first tick, and
 /// disabled by stop() / the destructor.

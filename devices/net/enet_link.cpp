@@ -14,6 +14,7 @@ namespace tridex::devices::net {
 namespace {
 
 constexpr enet_uint8 kReliableChannel = 0, kUnreliableChannel = 1;
+constexpr double kTakeOverS = 0.5;
 
 void init_enet_once() {
     static std::once_flag once;
@@ -50,6 +51,7 @@ struct EnetLink::Impl {
     double peer_timeout_s = 1.0;
     double retry_s = 0.2;
     double next_retry_s = 0.0;
+    double last_rx_s = 0.0;  // when the peer last sent a datagram
 
     ~Impl() {
         if (peer && up) {
@@ -57,11 +59,22 @@ struct EnetLink::Impl {
         }
         if (host) enet_host_destroy(host);
     }
+    // Peer time-out, and no throttling: ENet's packet throttle drops unreliable datagrams when the round trip
+    // varies, which would thin the 1 kHz states on a busy machine; the link's own watchdogs handle a bad link.
+    void tune(ENetPeer* p) const {
+        const auto ms = static_cast<enet_uint32>(peer_timeout_s * 1000.0);
+        enet_peer_timeout(p, 32, ms, ms);
+    }
+    // On a connected peer: the throttle stays at its full scale (no unreliable datagram is dropped by it).
+    static void no_throttle(ENetPeer* p) {
+        p->packetThrottle = ENET_PEER_PACKET_THROTTLE_SCALE;
+        p->packetThrottleAcceleration = 0;
+        p->packetThrottleDeceleration = 0;
+    }
     void start_connect() {
         peer = enet_host_connect(host, &address, 2, 0);
         if (peer) {
-            const auto ms = static_cast<enet_uint32>(peer_timeout_s * 1000.0);
-            enet_peer_timeout(peer, 32, ms, ms);
+            tune(peer);
         }
         next_retry_s = now_s() + retry_s;
     }
@@ -115,16 +128,20 @@ bool EnetLink::poll(LinkEvent& ev) {
     while (enet_host_service(m.host, &e, 0) > 0) {
         switch (e.type) {
             case ENET_EVENT_TYPE_CONNECT:
-                if (m.server && m.up && e.peer != m.peer) {  // one session at a time
-                    enet_peer_disconnect_now(e.peer, 0);
-                    continue;
+                if (m.server && m.up && e.peer != m.peer) {
+                    // One session at a time: a newcomer is refused while the current peer speaks, and takes over from
+                    // one silent for kTakeOverS (a session that reconnected before ENet timed its old connection out).
+                    if (now_s() - m.last_rx_s < kTakeOverS) {
+                        enet_peer_disconnect_now(e.peer, 0);
+                        continue;
+                    }
+                    enet_peer_disconnect_now(m.peer, 0);
                 }
                 m.peer = e.peer;
                 m.up = true;
-                if (m.server) {
-                    const auto ms = static_cast<enet_uint32>(m.peer_timeout_s * 1000.0);
-                    enet_peer_timeout(e.peer, 32, ms, ms);
-                }
+                m.last_rx_s = now_s();
+                m.tune(e.peer);
+                Impl::no_throttle(e.peer);
                 ev.kind = LinkEvent::kConnected;
                 ev.data.clear();
                 return true;
@@ -139,6 +156,7 @@ bool EnetLink::poll(LinkEvent& ev) {
             case ENET_EVENT_TYPE_RECEIVE: {
                 const bool ours = e.peer == m.peer && m.up;
                 if (ours) {
+                    m.last_rx_s = now_s();
                     ev.kind = LinkEvent::kData;
                     ev.data.assign(e.packet->data, e.packet->data + e.packet->dataLength);
                 }

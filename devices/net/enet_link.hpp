@@ -19,8 +19,9 @@ void split_host_port(const std::string& s, const std::string& what, std::string&
 
 /// An ENet host serving one peer (listen) or connected to a server (connect). Not thread-safe: one thread
 /// sends and polls. A client whose connection drops (server gone or restarted) tries again every
-/// `retry_s` from poll(); a server takes the next peer after its peer left, and refuses a second peer
-/// while one is connected (the newcomer is disconnected at once).
+/// 0.2 s from poll(); a server takes the next peer after its peer left, refuses a second peer while the current
+/// one speaks (the newcomer is disconnected at once), and lets a newcomer take over from a peer silent for 0.5 s (a
+/// session that reconnected before ENet timed its old connection out).
 class EnetLink final : public DatagramLink {
 public:
     /// A server listening on host:port ("0.0.0.0" or "" = every interface). Throws tridex::Error

@@ -75,6 +75,10 @@ void NetDevice::set_contact(const ContactMsg& contact) {
 bool NetDevice::handshake() {
     pump();
     if (!refusal_.empty()) throw Error(refusal_);
+    if (welcomed_ && !have_state_) {  // the first state may have been lost: keep the server's watchdog fed until one comes
+        encode_heartbeat(header(++tx_seq_), out_);
+        link_->send(out_, false);
+    }
     return welcomed_ && have_state_;
 }
 
@@ -85,6 +89,13 @@ void NetDevice::wait_for_server(double timeout_s) {
             throw Error(std::string("net: no device server answered at ") + link_->where() + " within " +
                         std::to_string(static_cast<int>(std::ceil(timeout_s))) +
                         " s (is `tridex device-server --listen " + link_->where() + "` running there?)");
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    // Let the transport take the acknowledgements of what the handshake sent reliably (the contact parameters), so a
+    // session that then spends seconds loading does not find them unacknowledged and its connection timed out.
+    const double settle = steady_s() + 0.1;
+    while (steady_s() < settle) {
+        pump();
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
 }
@@ -178,13 +189,23 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
             state_.t_s += t_offset_s_;
             have_state_ = fresh_state_ = true;
             ++states_;
-            if (first_state_rx_s_ < 0.0) first_state_rx_s_ = now;
+            if (first_state_rx_s_ < 0.0) {
+                first_state_rx_s_ = now;
+                states_at_enable_ = 1;
+            }
             last_state_rx_s_ = now;
             return;
         }
         default: r = DropReason::kUnexpected; break;
     }
     drops_.add(r);
+}
+
+void NetDevice::on_enable() {
+    pump();
+    last_state_rx_s_ = std::max(last_state_rx_s_, opt_.clock());
+    first_state_rx_s_ = last_state_rx_s_;  // the rate counts from the loop's start, not from the handshake
+    states_at_enable_ = states_;
 }
 
 bool NetDevice::do_read(DeviceState& out) {
@@ -250,8 +271,8 @@ DeviceLinkStats NetDevice::link_stats() const {
         s.rtt_p99_us = v[std::min(n - 1, static_cast<std::size_t>(0.99 * static_cast<double>(n)))];
     }
     s.lost = lost_ + server_lost_base_ + server_.lost;
-    if (states_ > 1 && last_state_rx_s_ > first_state_rx_s_)
-        s.rate_hz = static_cast<double>(states_ - 1) / (last_state_rx_s_ - first_state_rx_s_);
+    if (states_ > states_at_enable_ && last_state_rx_s_ > first_state_rx_s_)
+        s.rate_hz = static_cast<double>(states_ - states_at_enable_) / (last_state_rx_s_ - first_state_rx_s_);
     s.stale_snapshots = server_stale_base_ + server_.stale_snapshots;
     s.link_outages = outages_;
     s.server_watchdog_trips = server_trips_base_ + server_.watchdog_trips;

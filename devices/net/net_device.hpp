@@ -71,6 +71,9 @@ public:
     RenderingMode mode() const { return opt_.mode; }
 
 protected:
+    /// The loop starts: the silence watchdog counts from now (the server rests its device while a session that
+    /// connected is still loading).
+    void on_enable() override;
     bool do_read(DeviceState& out) override;
     void do_write(const Vec3& force_n, const Vec3& torque_nm) override;
 
@@ -110,6 +113,7 @@ private:
     // Counters.
     DropCounts drops_;
     std::uint64_t states_ = 0, missed_ = 0, zeroed_ = 0, lost_ = 0, outages_ = 0;
+    std::uint64_t states_at_enable_ = 0;  // states received before the loop started (not in rate_hz)
     static constexpr std::size_t kRttSamples = 8192;
     std::array<float, kRttSamples> rtt_us_{};
     std::size_t rtt_count_ = 0;

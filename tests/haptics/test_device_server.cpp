@@ -268,3 +268,27 @@ TEST(SurfaceCodec, RoundTripAndRefusals) {
 
 }  // namespace
 }  // namespace tridex::haptics
+
+namespace tridex::haptics {
+namespace {
+
+TEST(DeviceServer, SessionThatLoadsForSecondsIsServedWhenItsLoopStarts) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    const std::size_t steps = rig.device.steps();
+    for (int i = 0; i < 2000; ++i) rig.server_tick();  // the session loads its workpiece; the device rests
+    EXPECT_LE(rig.device.steps(), steps + 11);  // until the watchdog's 9 ms of silence
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 50; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.0, 0.0, 0.25), Vec3(0.0));
+        rig.server_tick();
+    }
+    EXPECT_FALSE(rig.client->link_down());
+    EXPECT_NEAR(rig.device.last_force_n().z, 0.25, 1e-12);
+    EXPECT_EQ(rig.client->link_stats().link_outages, 0u);
+}
+
+}  // namespace
+}  // namespace tridex::haptics

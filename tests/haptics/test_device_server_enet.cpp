@@ -137,5 +137,34 @@ TEST(DeviceServerEnet, WatchdogDeadServerAndRestart) {
     rig.stop_server();
 }
 
+class SessionThatLoads : public ::testing::TestWithParam<net::RenderingMode> {};
+
+TEST_P(SessionThatLoads, ForSecondsIsServedWhenItsLoopStarts) {
+    EnetRig rig;
+    rig.start_server(false);
+    auto client = rig.client(GetParam());
+    client->set_contact(net::ContactMsg{});
+    // The session loads its workpiece without polling the link (a blocking set-up), longer than ENet's peer time-out.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+    for (int a = 0; a < 3; ++a)
+        test::fill_set(*wall, a, 0, 0, [](int, int) { return test::Intervals{{0.0f, 5.0f}, {6.0f, 7.0f}, {8.0f, 9.0f}}; });
+    std::uint64_t seq = 1;
+    ASSERT_TRUE(drive(
+        *client, Vec3(0.0, 0.0, 0.2), [&] { return client->link_stats().exchanges >= 300; },
+        [&] {
+            wall->sequence = ++seq / 20 + 1;  // a new snapshot every 20 ticks, as a sculpting session publishes
+            client->observe_surface(*wall);
+        }))
+        << client->link_stats().link_events;
+    // Either the connection survived the silence, or ENet timed it out and the session was welcomed again.
+    EXPECT_GE(rig.server->stats().sessions, 1u);
+    EXPECT_LE(rig.server->stats().sessions, 2u);
+    rig.stop_server();
+}
+
+INSTANTIATE_TEST_SUITE_P(DeviceServerEnet, SessionThatLoads,
+                         ::testing::Values(net::RenderingMode::kDistributed, net::RenderingMode::kLocal));
+
 }  // namespace
 }  // namespace tridex::haptics
