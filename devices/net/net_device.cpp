@@ -29,6 +29,9 @@ NetDevice::NetDevice(std::unique_ptr<DatagramLink> link, NetDeviceOptions option
     require_positive(opt_.period_s, "period_s");
     require_positive(opt_.watchdog_s, "watchdog_s");
     require_positive(opt_.give_up_s, "give_up_s");
+    if (!(std::isfinite(opt_.snapshot_interval_s) && opt_.snapshot_interval_s >= 0.0))
+        throw Error("NetDeviceOptions.snapshot_interval_s = " + std::to_string(opt_.snapshot_interval_s) +
+                    " must be finite and >= 0");
     if (!opt_.clock) opt_.clock = steady_s;
     profile_.name = "net (not connected)";
     out_.reserve(64 * 1024);
@@ -63,13 +66,12 @@ void NetDevice::send_hello() {
 }
 
 void NetDevice::set_contact(const ContactMsg& contact) {
+    const std::uint32_t revision = have_contact_ ? contact_.revision + 1 : contact.revision;
     contact_ = contact;
-    contact_.revision = have_contact_ ? contact_.revision + 1 : contact.revision;
+    contact_.revision = revision;
     have_contact_ = true;
-    if (welcomed_ && opt_.mode == RenderingMode::kLocal) {
-        encode(header(++tx_seq_), contact_, out_);
-        link_->send(out_, true);
-    }
+    contact_pending_ = true;  // sent when the loop starts (on_enable), so no reliable datagram waits unacknowledged
+                              // while the session finishes its set-up without polling the link
 }
 
 bool NetDevice::handshake() {
@@ -203,6 +205,11 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
 
 void NetDevice::on_enable() {
     pump();
+    if (contact_pending_ && welcomed_ && opt_.mode == RenderingMode::kLocal) {
+        encode(header(++tx_seq_), contact_, out_);
+        link_->send(out_, true);
+    }
+    contact_pending_ = false;
     last_state_rx_s_ = std::max(last_state_rx_s_, opt_.clock());
     first_state_rx_s_ = last_state_rx_s_;  // the rate counts from the loop's start, not from the handshake
     states_at_enable_ = states_;
@@ -251,9 +258,12 @@ void NetDevice::observe_surface(const ActiveSurface& surface) {
     if (opt_.mode != RenderingMode::kLocal || !welcomed_ || surface.sequence == 0 ||
         surface.sequence == sent_surface_seq_)
         return;
+    const double now = opt_.clock();
+    if (sent_surface_seq_ != 0 && now - sent_surface_s_ < opt_.snapshot_interval_s) return;
     encode_surface(header(++tx_seq_), surface, out_);
     link_->send(out_, true);
     sent_surface_seq_ = surface.sequence;
+    sent_surface_s_ = now;
 }
 
 DeviceLinkStats NetDevice::link_stats() const {

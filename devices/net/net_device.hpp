@@ -23,6 +23,9 @@ struct NetDeviceOptions {
     double give_up_s = 10.0;  ///< no device state for this long: read() reports the device gone, s
     std::function<double()> clock;  ///< seconds, non-decreasing; empty = std::chrono::steady_clock
     std::uint16_t version = kLinkVersion;  ///< link version spoken (tests set another to see the refusal)
+    /// Local mode: at most one snapshot per this interval, the newest (a sculpting session publishes far more often
+    /// than a link can carry ~100 KB snapshots reliably), s (>= 0; 0 = every new one).
+    double snapshot_interval_s = 0.02;
 };
 
 /// Client end of a device server (Popescu, Burdea, Bouzit section 2: local and distributed haptic rendering).
@@ -53,7 +56,7 @@ public:
     /// server answered at HOST:PORT within T s (is `tridex device-server` running there?)" or the refusal.
     void wait_for_server(double timeout_s);
     /// Local mode: the contact parameters and workspace mapping the server's loop uses (sent after each
-    /// welcome and now when already welcomed).
+    /// welcome, and when the loop starts if they changed since).
     void set_contact(const ContactMsg& contact);
 
     /// The served device's profile (from kWelcome); a placeholder named "net (not connected)" before.
@@ -61,7 +64,8 @@ public:
     /// Link measurements (exchanges = states received, missed_frames = reads without a new state,
     /// malformed_frames = datagrams dropped here, zeroed_ticks = reads with the link down) and the `link` fields.
     DeviceLinkStats link_stats() const override;
-    /// Local mode: sends a snapshot whose sequence differs from the last one sent.
+    /// Local mode: sends a snapshot whose sequence differs from the last one sent, at most one per
+    /// snapshot_interval_s.
     void observe_surface(const ActiveSurface& surface) override;
     /// Drops by reason, for messages.
     const DropCounts& drops() const { return drops_; }
@@ -109,7 +113,9 @@ private:
     // Local mode.
     ContactMsg contact_;
     bool have_contact_ = false;
+    bool contact_pending_ = false;  // set_contact() since the last send
     std::uint64_t sent_surface_seq_ = 0;
+    double sent_surface_s_ = -1e300;
     // Counters.
     DropCounts drops_;
     std::uint64_t states_ = 0, missed_ = 0, zeroed_ = 0, lost_ = 0, outages_ = 0;
