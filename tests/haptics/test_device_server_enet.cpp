@@ -105,10 +105,21 @@ TEST(DeviceServerEnet, LocalOverLoopbackGetsTheSnapshot) {
     rig.start_server(false);
     auto client = rig.client(net::RenderingMode::kLocal);
     client->set_contact(net::ContactMsg{});
+    // A full-size snapshot (every ray of the three windows with four intervals), a new one every tick as a busy
+    // sculpt thread publishes: the driver sends the newest at most every 20 ms, and states keep flowing.
     auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
-    test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
-    ASSERT_TRUE(drive(*client, Vec3(0.0), [&] { return rig.server->stats().snapshots >= 1; },
-                      [&] { client->observe_surface(*wall); }));
+    for (int a = 0; a < 3; ++a)
+        test::fill_set(*wall, a, 0, 0, [](int, int) {
+            return test::Intervals{{0.0f, 5.0f}, {6.0f, 7.0f}, {8.0f, 9.0f}, {10.0f, 20.0f}};
+        });
+    ASSERT_TRUE(drive(
+        *client, Vec3(0.0),
+        [&] { return rig.server->stats().snapshots >= 5 && client->link_stats().exchanges >= 300; },
+        [&] {
+            ++wall->sequence;
+            client->observe_surface(*wall);
+        }))
+        << client->link_stats().link_events;
     EXPECT_EQ(client->link_stats().link_mode, "local");
     EXPECT_EQ(rig.server->stats().malformed, 0u);
     rig.stop_server();
