@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <tuple>
 
 #include "app/assets.hpp"
@@ -35,27 +36,31 @@ const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
 
 std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece", "pass --mesh FILE"); }
 
-void run_demo(const DemoOptions& o) {
-    const auto t_start = Clock::now();
+namespace {
+
+// Everything a demo session is made of before its threads start.
+struct DemoPlan {
+    SessionSpec s;
+    std::optional<Workpiece> wp;
+    std::optional<StrokePlan> plan;
+    haptics::HapticLoopConfig cfg;
+    devices::DeviceInputs inputs;
+    std::unique_ptr<devices::HapticDevice> net_device;  // --device net:HOST:PORT, connected before the slow work
+};
+
+bool is_net_device(const std::string& device) { return device.rfind("net:", 0) == 0; }
+
+// Checks the options, loads the workpiece and plans the stroke; connect_net: connect to a device server when the
+// device is net:HOST:PORT (its profile decides the workspace mapping).
+DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
     if (!(o.seconds >= 0.5 && o.seconds <= 600.0))
         throw Error("--seconds: must be between 0.5 and 600, got " + format_number(o.seconds));
     if (!(o.tool_radius_m >= 0.0005 && o.tool_radius_m <= 0.25 * o.stock_m))
         throw Error("--tool-radius-mm: must be between 0.5 mm and a quarter of the stock (" +
                     format_number(250.0 * o.stock_m) + " mm), got " + format_number(o.tool_radius_m * 1e3));
-    check_image_size(o.width, o.height);
-    prepare_output_dir(o.out, "--out");
-    if (!o.record.empty()) check_output_file(o.record, "--record");
-    if (!o.save.empty()) check_output_file(o.save, "--save");
     if (!o.workpiece.empty() && !o.mesh.empty()) throw Error("--workpiece, --mesh: choose one");
-    const std::string journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(o.out) / "session.tdj").string() : o.journal;
-    if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
-    if (!o.journal.empty()) check_output_file(o.journal, "--journal");
-    if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
-        throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
-    if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
-        throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
-
-    SessionSpec s;
+    DemoPlan d;
+    SessionSpec& s = d.s;
     if (!o.workpiece.empty()) s.model_path = fs::absolute(o.workpiece).lexically_normal().string();
     else s.mesh_path = fs::absolute(o.mesh.empty() ? default_mesh_path() : o.mesh).lexically_normal().string();
     s.resolution = o.resolution;
@@ -86,6 +91,23 @@ void run_demo(const DemoOptions& o) {
         s.device_driver = o.device;
         s.device = "falcon";
     }
+    if (o.haptic_rendering != "distributed" && !is_net_device(o.device))
+        throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
+    if (is_net_device(o.device)) {
+        s.device_driver = "net";
+        s.device_serial = o.device.substr(4);
+        s.haptic_rendering = o.haptic_rendering;
+        s.device = "omni";
+        if (connect_net) {
+            devices::DeviceInputs in;
+            in.period_s = s.period_s;
+            d.net_device = make_device(s, in);
+            s.device = devices::profile_name_of(d.net_device->profile().name);
+            if (s.device.empty())
+                throw Error("--device " + o.device + ": the device server serves '" + d.net_device->profile().name +
+                            "', whose workspace tridex does not know (omni, wand, 6dof, falcon)");
+        }
+    }
     s.device_firmware = o.falcon_firmware;
     s.workspace_mode = o.workspace;
     s.static_friction = o.static_friction;
@@ -97,24 +119,56 @@ void run_demo(const DemoOptions& o) {
     if (s.device_driver == "falcon") (void)make_device(s, devices::DeviceInputs{});  // "none plugged in", at once
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model (or restore a saved model).
-    Workpiece wp = prepare_session_workpiece(s);  // checksums of the mesh or model for a replay
+    d.wp.emplace(prepare_session_workpiece(s));
+    Workpiece& wp = *d.wp;  // checksums of the mesh or model for a replay
 
     // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;
     sp.duration_s = o.seconds;
     sp.tool_radius_m = press_reach_m;
     sp.workspace_scale = s.workspace_scale;
-    const StrokePlan plan = plan_stroke(wp.model, sp);
+    d.plan.emplace(plan_stroke(wp.model, sp));
+    const StrokePlan& plan = *d.plan;
     // The device's home (its workspace centre) sits on the stroke's centre.
     const Vec3 home = devices::home_position_m(profile);
     s.device_origin_m = plan.centre_m - s.workspace_scale * home;
-    const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // checks the spec before the device is made
+    d.cfg = loop_config(s, 0);  // checks the spec before the device is made
+    const haptics::HapticLoopConfig& cfg = d.cfg;
     std::vector<Vec3> device_path;
-    for (const Vec3& d : plan.device_offsets_m(s.workspace_scale)) device_path.push_back(home + d);
-    devices::DeviceInputs inputs;
-    inputs.period_s = cfg.period_s;
-    inputs.hand_path.emplace(plan.t_s, device_path);
-    std::unique_ptr<devices::HapticDevice> device = make_device(s, inputs);
+    for (const Vec3& off : plan.device_offsets_m(s.workspace_scale)) device_path.push_back(home + off);
+    d.inputs.period_s = cfg.period_s;
+    d.inputs.hand_path.emplace(plan.t_s, device_path);
+    d.inputs.haptic_rendering = s.haptic_rendering;
+    return d;
+}
+
+}  // namespace
+
+devices::DeviceInputs demo_device_inputs(const DemoOptions& o) {
+    if (is_net_device(o.device)) throw Error("--device " + o.device + ": a device server serves a device, not a link");
+    return plan_demo(o, false).inputs;
+}
+
+void run_demo(const DemoOptions& o) {
+    const auto t_start = Clock::now();
+    check_image_size(o.width, o.height);
+    prepare_output_dir(o.out, "--out");
+    if (!o.record.empty()) check_output_file(o.record, "--record");
+    if (!o.save.empty()) check_output_file(o.save, "--save");
+    const std::string journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(o.out) / "session.tdj").string() : o.journal;
+    if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
+    if (!o.journal.empty()) check_output_file(o.journal, "--journal");
+    if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
+        throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
+    if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
+        throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
+    DemoPlan d = plan_demo(o, true);
+    const SessionSpec& s = d.s;
+    const haptics::HapticLoopConfig& cfg = d.cfg;
+    const StrokePlan& plan = *d.plan;
+    Workpiece wp = std::move(*d.wp);
+    std::unique_ptr<devices::HapticDevice> device = d.net_device ? std::move(d.net_device) : make_device(s, d.inputs);
+    configure_net_device(*device, cfg);
 
     // 3. The haptic loop and the sculpt thread. The session lasts the stroke's length in device time
     // (one simulated step per tick), so an overloaded machine that skips deadlines still plays the whole

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "devices/device_registry.hpp"
+
 namespace tridex::app {
 
 /// Options of `tridex demo` (command-line units converted to SI here).
@@ -24,6 +26,8 @@ struct DemoOptions {
     int points = 1;                ///< contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh
     /// simulated device profile: omni | wand | 6dof; or a Falcon: falcon (a real one over USB) | falcon-emulator
     std::string device = "omni";
+    /// --device net:HOST:PORT: where the contact loop runs, distributed (this session) or local (the device server)
+    std::string haptic_rendering = "distributed";
     std::string falcon_firmware;  ///< --falcon-firmware: the Falcon firmware file from the user's own installation
     std::string workspace = "peng_moving";  ///< workspace technique: peng_moving | scaling | clutching | bubble
     double static_friction = 0.2;  ///< Coulomb friction on the proxy (static >= dynamic >= 0)
@@ -49,6 +53,12 @@ struct DemoOptions {
 /// into options.out (and, while it runs, the session journal, unless no_journal; the session recording to options.record and the final model to options.save when set). Prints a short summary on stdout. Throws tridex::Error on bad input (a mesh that
 /// cannot be loaded or is not closed, an impossible resolution, no Vulkan device).
 void run_demo(const DemoOptions& options);
+
+/// What the demo's simulated hand does (its path in the device frame, its buttons, the period) for options o: the
+/// workpiece is loaded and the stroke planned as run_demo() does, so a device server whose simulated device gets
+/// these inputs plays the stroke a `tridex demo --device net:HOST:PORT` session with the same options expects.
+/// Throws tridex::Error as run_demo() does on bad options, and for a net device.
+devices::DeviceInputs demo_device_inputs(const DemoOptions& o);
 
 /// The bundled default workpiece (assets/bunny.off): found through $TRIDEX_ASSETS, then next to the
 /// executable's source tree (compile-time path). Throws tridex::Error when it is missing.

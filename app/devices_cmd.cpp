@@ -19,6 +19,21 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
     const std::vector<devices::DetectedDevice> seen = registry.detect(usb_error);
     nlohmann::json rows = nlohmann::json::array();
     for (const devices::DriverInfo& d : registry.drivers()) {
+        if (!d.hardware && d.profiles.empty()) {  // a driver whose profile comes from elsewhere (net: from its server)
+            rows.push_back({{"name", "(the served device's)"},
+                            {"driver", d.name},
+                            {"profile", "-"},
+                            {"dof", d.dof_out},
+                            {"dof_in", d.dof_in},
+                            {"dof_out", d.dof_out},
+                            {"hardware", false},
+                            {"available", d.available},
+                            {"detected", true},
+                            {"usb_ids", nlohmann::json::array()},
+                            {"locations", nlohmann::json::array()},
+                            {"summary", d.summary}});
+            continue;
+        }
         if (!d.hardware) {
             for (const std::string& name : d.profiles) {
                 const devices::DeviceProfile p = devices::profile_by_name(name);

@@ -11,13 +11,16 @@
 #include <vector>
 
 #include "bench/bench_accuracy.hpp"
+#include "bench/bench_filter.hpp"
 #include "bench/bench_haptics.hpp"
+#include "bench/bench_link.hpp"
 #include "bench/bench_persistence.hpp"
 #include "bench/bench_render.hpp"
 #include "bench/bench_sculpt.hpp"
 #include "bench/bench_session.hpp"
 #include "bench/bench_undo.hpp"
 #include "app/demo.hpp"
+#include "app/device_server_cmd.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/export_cmd.hpp"
 #include "app/recover.hpp"
@@ -75,8 +78,15 @@ int main(int argc, char** argv) {
     demo_cmd
         ->add_option("--device", demo.device,
                      "Simulated device profile: omni, wand (5-DOF) or 6dof; or falcon (a Novint Falcon over USB) or "
-                     "falcon-emulator (the Falcon driver over an emulated Falcon)")
+                     "falcon-emulator (the Falcon driver over an emulated Falcon); or net:HOST:PORT (a device served by "
+                     "`tridex device-server`)")
         ->capture_default_str();
+    demo_cmd
+        ->add_option("--haptic-rendering", demo.haptic_rendering,
+                     "With --device net:HOST:PORT: distributed (this session computes the force) or local (the device "
+                     "server runs the contact loop next to the device)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"distributed", "local"}));
     demo_cmd->add_option(
         "--falcon-firmware", demo.falcon_firmware,
         "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
@@ -200,6 +210,13 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--undo-n", undo_n, "With --undo: run only these N, e.g. --undo-n 256")->delimiter(',');
     std::vector<std::string> undo_paths;
     bench_cmd->add_option("--undo-paths", undo_paths, "With --undo: run only these paths (cpu, gpu)")->delimiter(',');
+    bool bench_link = false;
+    bench_cmd->add_flag("--link", bench_link,
+                        "Local vs distributed haptic rendering through an injected-latency, lossy link (link_bench.json)");
+    bool bench_filter = false;
+    bench_cmd->add_flag("--filter", bench_filter,
+                        "EWMA force filter constant: chatter amplitude vs lag with encoder quantisation and noise "
+                        "(filter_bench.json, filter_bench.png)");
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -222,6 +239,22 @@ int main(int argc, char** argv) {
     CLI::App* devices_cmd =
         cli.add_subcommand("devices", "List the haptic device drivers and the known hardware that is plugged in");
     devices_cmd->add_flag("--json", devices_as_json, "Print a JSON list of objects (name, driver, dof, detected, ...)");
+
+    tridex::app::DeviceServerOptions server;
+    CLI::App* server_cmd = cli.add_subcommand(
+        "device-server", "Own a haptic device on this machine and serve it to a session elsewhere (--device net:HOST:PORT)");
+    server_cmd->add_option("--device", server.device, "Driver of the served device: simulated, falcon, falcon-emulator")
+        ->capture_default_str();
+    server_cmd->add_option("--profile", server.profile, "simulated: device profile omni, wand, 6dof or falcon")->capture_default_str();
+    server_cmd->add_option("--listen", server.listen, "HOST:PORT to listen on (0.0.0.0:PORT = every interface)")
+        ->capture_default_str();
+    server_cmd->add_option("--seconds", server.seconds, "Stop after S seconds (0 = until Ctrl+C)")->capture_default_str();
+    server_cmd->add_flag("--once", server.once, "Stop when the first session ends");
+    server_cmd->add_option("--falcon-firmware", server.falcon_firmware, "falcon: the firmware FILE from your own installation");
+    server_cmd->add_option("--mesh", server.mesh, "simulated, falcon-emulator: the hand plays the demo stroke over this mesh")
+        ->check(CLI::ExistingFile);
+    server_cmd->add_option("--stroke-seconds", server.stroke_seconds, "simulated, falcon-emulator: the stroke's length (the session's --seconds)")
+        ->capture_default_str();
 
     tridex::app::RunOptions run;
     CLI::App* run_cmd = tridex::app::add_run_command(cli, run);
@@ -256,13 +289,24 @@ int main(int argc, char** argv) {
             return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : rc;
         }
         if (*devices_cmd) tridex::app::run_devices(devices_as_json);
+        if (*server_cmd) tridex::app::run_device_server(server);
         if (*export_cmd) tridex::app::run_export(export_opt);
         if (*study_cmd) tridex::app::study::run_study_command(study);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence &&
-                !bench_undo)
+                !bench_undo && !bench_link && !bench_filter)
                 throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt, --session, --accuracy, "
-                                    "--persistence and/or --undo");
+                                    "--persistence, --undo, --link and/or --filter");
+            if (bench_link) {
+                tridex::app::LinkBenchOptions lb;
+                lb.out = hbench.out;
+                tridex::app::run_link_bench(lb);
+            }
+            if (bench_filter) {
+                tridex::app::FilterBenchOptions fb;
+                fb.out = hbench.out;
+                tridex::app::run_filter_bench(fb);
+            }
             if (bench_session) {
                 tridex::app::SessionBenchOptions sb;
                 sb.out = hbench.out;

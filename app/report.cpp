@@ -168,6 +168,19 @@ nlohmann::json device_link_json(const devices::DeviceLinkStats& link) {
             {"firmware_attempts", link.firmware_attempts}};
 }
 
+nlohmann::json link_json(const devices::DeviceLinkStats& link) {
+    if (link.link_mode.empty()) return nullptr;
+    return {{"mode", link.link_mode},
+            {"rtt_us", {{"median", link.rtt_median_us}, {"p99", link.rtt_p99_us}}},
+            {"lost", link.lost},
+            {"rate_hz", link.rate_hz},
+            {"stale_snapshots", link.stale_snapshots},
+            {"outages", link.link_outages},
+            {"server_watchdog_trips", link.server_watchdog_trips},
+            {"malformed", link.malformed_frames},
+            {"events", link.link_events}};
+}
+
 void write_report_json(const std::string& path, const DemoReport& r) {
     const auto& recs = *r.records;
     // The first period has no predecessor; skip it in the period statistics.
@@ -207,6 +220,7 @@ void write_report_json(const std::string& path, const DemoReport& r) {
                                        r.device_status);
     j["haptics"]["stiffness_n_per_m"] = r.stiffness_n_per_m;
     if (r.device_link.exchanges > 0) j["haptics"]["device_link"] = device_link_json(r.device_link);
+    if (!r.device_link.link_mode.empty()) j["link"] = link_json(r.device_link);
     j["sculpt"] = {{"samples", r.sculpt->samples},
                    {"steps", r.sculpt->steps},
                    {"rays_changed", r.sculpt->rays_changed},
@@ -251,6 +265,14 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
             1e6 * r.device_link.exchange_mean_s, 1e6 * r.device_link.exchange_max_s,
             static_cast<unsigned long long>(r.device_link.missed_frames),
             static_cast<unsigned long long>(r.device_link.malformed_frames));
+    if (!r.device_link.link_mode.empty()) {
+        const devices::DeviceLinkStats& l = r.device_link;
+        std::printf("  link (%s haptic rendering): rtt median %.0f us, p99 %.0f us; %.0f states/s; %llu lost, %llu stale "
+                    "snapshots, %llu outages\n",
+                    l.link_mode.c_str(), l.rtt_median_us, l.rtt_p99_us, l.rate_hz, static_cast<unsigned long long>(l.lost),
+                    static_cast<unsigned long long>(l.stale_snapshots), static_cast<unsigned long long>(l.link_outages));
+        if (!l.link_events.empty()) std::printf("  link events: %s\n", l.link_events.c_str());
+    }
     const double removed_cm3 = (r.volume_dexel_m3 - r.volume_after_m3) * 1e6;
     std::printf("  sculpt: %llu Booleans, %llu tiles re-contoured; %s %.3f cm^3 (workpiece %.3f cm^3)\n",
                 static_cast<unsigned long long>(r.sculpt->booleans),

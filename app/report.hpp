@@ -102,6 +102,9 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
 /// missed_frames, malformed_frames, zeroed_ticks, exchange_us {mean, max}, homed_at_s, firmware_attempts}; null when
 /// the driver has none (link.exchanges == 0).
 nlohmann::json device_link_json(const devices::DeviceLinkStats& link);
+/// The `link` object of a networked device (net driver): {mode, rtt_us {median, p99}, lost, rate_hz,
+/// stale_snapshots, outages, server_watchdog_trips, malformed, events}; null for other drivers.
+nlohmann::json link_json(const devices::DeviceLinkStats& link);
 
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);

@@ -491,6 +491,8 @@ RunResult run_stereo_session(const RunOptions& options) {
                                     backend.runtime().profile().max_force_n, backend.runtime().device_status());
     if (const devices::DeviceLinkStats link = backend.runtime().device_link(); link.exchanges > 0)
         r.haptics["device_link"] = device_link_json(link);
+    if (const devices::DeviceLinkStats link = backend.runtime().device_link(); !link.link_mode.empty())
+        r.haptics["link"] = link_json(link);
 
     // 5. Outputs.
     fs::create_directories(su.out);

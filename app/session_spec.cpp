@@ -15,6 +15,7 @@
 #include "core/crc32.hpp"
 #include "app/tool_mesh.hpp"
 #include "core/error.hpp"
+#include "devices/net/net_device.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/device_registry.hpp"
@@ -35,10 +36,26 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
     devices::DeviceSpec d;
     d.driver = s.device_driver;
     d.profile = s.device;
-    if (s.device_firmware.empty()) return devices::builtin_registry().create(d, inputs);
+    d.serial = s.device_serial;
     devices::DeviceInputs in = inputs;
-    in.falcon_firmware = s.device_firmware;
+    if (!s.device_firmware.empty()) in.falcon_firmware = s.device_firmware;
+    in.haptic_rendering = s.haptic_rendering;
     return devices::builtin_registry().create(d, in);
+}
+
+void configure_net_device(devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg) {
+    auto* net = dynamic_cast<devices::net::NetDevice*>(&device);
+    if (!net || net->mode() != devices::net::RenderingMode::kLocal) return;
+    devices::net::ContactMsg c;
+    c.stiffness_n_per_m = cfg.contact.stiffness_n_per_m;
+    c.damping_n_s_per_m = cfg.contact.damping_n_s_per_m;
+    c.tool_radius_m = cfg.contact.tool_radius_m;
+    c.static_friction = cfg.contact.static_friction;
+    c.dynamic_friction = cfg.contact.dynamic_friction;
+    c.ewma_alpha = cfg.ewma_alpha;
+    c.device_to_world = cfg.device_to_world;
+    c.workspace_scale = cfg.workspace_scale;
+    net->set_contact(c);
 }
 
 ToolOp parse_tool_op(const std::string& name) {

@@ -61,6 +61,11 @@ struct SessionSpec {
     /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's device.firmware).
     /// Where the firmware comes from does not decide the result, so it is not part of the spec's JSON.
     std::string device_firmware;
+    /// net: the device server's "HOST:PORT" (not part of the spec's JSON: where a device is served does not decide the
+    /// result). Other drivers: the unit ("" = the first found).
+    std::string device_serial;
+    /// net: where the contact loop runs, "distributed" or "local" (devices/net/net_device.hpp).
+    std::string haptic_rendering = "distributed";
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
     double workspace_scale = 1.0;            ///< device -> world gain
     /// World position of the device frame's origin, m (the loop's device_to_world.position). Sessions put
@@ -94,6 +99,10 @@ devices::DeviceProfile device_profile(const std::string& name);
 /// device is closed: SessionRuntime opens and homes it. Throws tridex::Error naming device.driver or
 /// device.profile when the registry refuses them.
 std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const devices::DeviceInputs& inputs);
+
+/// A net device in local haptic rendering gets the loop's contact parameters and workspace mapping (the device
+/// server's god-object loop renders with them); any other device is left alone. Call before the loop starts.
+void configure_net_device(devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg);
 
 /// The haptic loop configuration for this spec, with `max_ticks` records preallocated: contact from the
 /// stiffness, damping and friction (and the materials table when given), the tool and its contact points

@@ -14,6 +14,8 @@
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"
 #include "devices/falcon/falcon_usb_transport.hpp"
+#include "devices/net/enet_link.hpp"
+#include "devices/net/net_device.hpp"
 #include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
@@ -193,6 +195,21 @@ const DeviceRegistry& builtin_registry() {
             o.firmware_image = falcon::emulator_firmware_image();  // generated; never a vendor binary
             o.period_s = in.period_s;
             return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconEmulator>(std::move(c)), o);
+        });
+        DriverInfo netinfo{"net",
+                           "a device on another machine served by `tridex device-server` (--device net:HOST:PORT; "
+                           "--haptic-rendering distributed or local)",
+                           false, true, {}, {}, 6, 3};
+        r.add(netinfo, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+            std::string host;
+            std::uint16_t port = 0;
+            net::split_host_port(spec.serial, "--device net:HOST:PORT", host, port);
+            net::NetDeviceOptions o;
+            o.mode = net::rendering_mode_from(in.haptic_rendering);
+            o.period_s = in.period_s;
+            auto dev = std::make_unique<net::NetDevice>(net::EnetLink::connect(host, port), o);
+            dev->wait_for_server(3.0);
+            return dev;
         });
         DriverInfo mouse{"mouse",
                          "the desk mouse as a virtual stylus: the app sets the hand from the cursor (no forces; the "

@@ -55,6 +55,9 @@ struct DeviceInputs {
     /// spacemouse: the gains and dead zone (a scene's "device" block); its socket_path is ignored (spec.serial,
     /// else $SPNAV_SOCKET, else spacenavd's default). nullopt = SpaceMouseParams' defaults.
     std::optional<SpaceMouseParams> spacemouse{};
+    /// net: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
+    /// devices/net/net_device.hpp.
+    std::string haptic_rendering = "distributed";
 };
 
 /// A USB vendor and product id pair.
@@ -121,7 +124,8 @@ private:
 /// `replay` (recorded samples), `falcon` (a Novint Falcon over libusb-1.0, USB 0403:cb48: creating it throws
 /// "no Novint Falcon is plugged in" when libusb finds none) and `falcon-emulator` (the same driver over the in-memory
 /// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path),
-/// `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
+/// `net` (a device served by `tridex device-server` at DeviceSpec::serial = "HOST:PORT": creating it waits up to 3 s
+/// for the server's welcome and throws when none answers or it refuses), `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
 /// $SPNAV_SOCKET, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 

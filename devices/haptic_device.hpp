@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/aabb.hpp"
+#include "core/active_surface.hpp"
 #include "core/math.hpp"
 #include "core/pose.hpp"
 
@@ -94,6 +95,16 @@ struct DeviceLinkStats {
     double exchange_max_s = 0.0;
     double homed_at_s = -1.0;   ///< device time from open() at which homing finished, s; -1 = none reported
     int firmware_attempts = 0;  ///< firmware-load attempts at open() (0: none needed)
+    /// Network drivers (net): "distributed" or "local" (where the contact loop runs); "" for other drivers.
+    std::string link_mode{};
+    double rtt_median_us = 0.0;          ///< round-trip time of the link, median, us
+    double rtt_p99_us = 0.0;             ///< round-trip time, 99th percentile, us
+    std::uint64_t lost = 0;              ///< datagrams lost (sequence gaps seen by either end)
+    double rate_hz = 0.0;                ///< device states received per second
+    std::uint64_t stale_snapshots = 0;   ///< local mode: snapshots that reached the server too old to cover the tool
+    std::uint64_t link_outages = 0;      ///< times the link went silent past the watchdog (force zeroed)
+    std::uint64_t server_watchdog_trips = 0;  ///< times the server's watchdog zeroed the force
+    std::string link_events{};           ///< what happened to the link, for the user ("" = nothing to say)
 };
 
 /// Abstract haptic device (CHAI3D/HAPI style: one interface for hardware, simulated and replayed devices).
@@ -156,6 +167,10 @@ public:
     void clear_faults() { faults_.store(kFaultNone, std::memory_order_release); }
     /// The driver's transport measurements (not thread-safe: read after the loop stopped); none by default.
     virtual DeviceLinkStats link_stats() const { return {}; }
+    /// Called by the haptic loop on every tick with the snapshot it renders against (haptic thread). Drivers that
+    /// render contact next to the device (net in local mode) forward a new snapshot; others ignore it. Must not
+    /// block or allocate.
+    virtual void observe_surface(const ActiveSurface& surface) { (void)surface; }
 
 protected:
     /// Driver hook of open(): connect. Throw tridex::Error naming the device on failure.

@@ -47,6 +47,17 @@ void SimulatedDevice::set_orientation_path(ScriptedOrientation path) {
     w_ = Vec3(0.0);
 }
 
+void SimulatedDevice::set_sensor(const SensorModel& sensor) {
+    require(std::isfinite(sensor.quantum_m) && sensor.quantum_m >= 0.0, "sensor.quantum_m", sensor.quantum_m,
+            "must be finite and >= 0");
+    require(std::isfinite(sensor.noise_std_m) && sensor.noise_std_m >= 0.0, "sensor.noise_std_m", sensor.noise_std_m,
+            "must be finite and >= 0");
+    sensor_ = sensor;
+    noise_rng_.seed(sensor.seed);
+    noise_.reset();
+    have_measured_ = false;
+}
+
 void SimulatedDevice::enable_trace(std::size_t capacity) {
     trace_.clear();
     trace_.reserve(capacity);
@@ -87,6 +98,17 @@ bool SimulatedDevice::do_read(DeviceState& out) {
     out.pose.position = x_;
     out.pose.orientation = q_;
     out.velocity_m_s = v_;
+    if (sensor_.active()) {
+        Vec3 m = x_;
+        for (int a = 0; a < 3; ++a) {
+            if (sensor_.noise_std_m > 0.0) m[a] += sensor_.noise_std_m * noise_(noise_rng_);
+            if (sensor_.quantum_m > 0.0) m[a] = sensor_.quantum_m * std::round(m[a] / sensor_.quantum_m);
+        }
+        if (sensor_.differentiate_velocity) out.velocity_m_s = have_measured_ ? (m - prev_measured_) / dt_ : Vec3(0.0);
+        prev_measured_ = m;
+        have_measured_ = true;
+        out.pose.position = m;
+    }
     out.buttons = button_script_ ? button_script_->bits_at(t_) : buttons_.load(std::memory_order_relaxed);
     if (faults_.nan_first_read > 0 && reads_ >= faults_.nan_first_read &&
         reads_ - faults_.nan_first_read < faults_.nan_count)

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <random>
 #include <vector>
 
 #include "devices/button_script.hpp"
@@ -45,6 +46,21 @@ struct SimulatedFaults {
     std::size_t vanish_after_reads = 0;  ///< reads 1..N succeed, every later read returns false
     std::size_t nan_first_read = 0;      ///< the sample of this read (1-based) has a NaN position ...
     std::size_t nan_count = 1;           ///< ... and so do the next nan_count - 1 reads
+};
+
+/// What the simulated device's position sensor does to the true stylus position (Peng et al. section 5, Fig. 7: the
+/// chattering the EWMA force filter removes comes from such measurement noise). Off by default (exact values).
+struct SensorModel {
+    /// Encoder step, m (> 0 quantises each axis to multiples of it; 0 = off). A PHANTOM Omni's specification sheet
+    /// gives a nominal position resolution of more than 450 dpi, about 0.055 mm.
+    double quantum_m = 0.0;
+    double noise_std_m = 0.0;  ///< standard deviation of white Gaussian noise added per axis before quantising, m (>= 0)
+    std::uint32_t seed = 1;    ///< seed of the noise (the same seed gives the same samples)
+    /// true: the reported velocity is the finite difference of successive measured positions (as a device without
+    /// a tachometer reports it); false: the true velocity. Only used when quantum_m or noise_std_m is set.
+    bool differentiate_velocity = true;
+    /// True when the model changes anything.
+    bool active() const { return quantum_m > 0.0 || noise_std_m > 0.0; }
 };
 
 /// One step of the simulation, kept when tracing is enabled.
@@ -96,6 +112,11 @@ protected:
     void do_write(const Vec3& force_n, const Vec3& torque_nm) override;
 
 public:
+    /// Sets the position sensor's quantisation and noise (call before the loop starts). Throws tridex::Error naming
+    /// the field when quantum_m or noise_std_m is negative or not finite.
+    void set_sensor(const SensorModel& sensor);
+    /// The sensor model.
+    const SensorModel& sensor() const { return sensor_; }
     /// Replaces the injected faults (call before the loop starts).
     void set_faults(const SimulatedFaults& faults) { faults_ = faults; }
     /// Sets the button bits reported by later reads when no button script is set; safe from any thread.
@@ -169,6 +190,11 @@ private:
     std::size_t steps_ = 0, reads_ = 0, writes_ = 0;
     bool vanished_ = false;
     std::vector<SimulatedTraceEntry> trace_;
+    SensorModel sensor_;
+    std::mt19937 noise_rng_{1};
+    std::normal_distribution<double> noise_{0.0, 1.0};
+    Vec3 prev_measured_{0.0};
+    bool have_measured_ = false;
     std::size_t trace_capacity_ = 0;
 };
 

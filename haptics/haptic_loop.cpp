@@ -269,7 +269,9 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     if (wf.mapping_changed || !wf.coupled) reset_contact();
     ContactOut c;
     c.proxy_m = wf.tool_world.position;
-    if (wf.coupled) c = contact(surface_.latest(), wf.tool_world, dt);
+    const ActiveSurface& snapshot = surface_.latest();
+    device_.observe_surface(snapshot);
+    if (wf.coupled) c = contact(snapshot, wf.tool_world, dt);
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
     // The world's contact force reaches the device scaled by the mapping's force_scale() (1 / s in kScaling).

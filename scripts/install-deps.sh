@@ -24,6 +24,7 @@ PACKAGES=(
   libbenchmark-dev                          # benchmarks
   libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy`; Boost.Math for `tridex study stats`
   gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
+  libenet-dev                               # device server link: ENet's reliable + unreliable channels over UDP, sequenced
 )
 
 missing=()

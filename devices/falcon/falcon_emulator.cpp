@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
+#include "core/error.hpp"
 #include "devices/device_profiles.hpp"
 
 namespace tridex::devices::falcon {
@@ -26,6 +28,10 @@ FalconEmulator::FalconEmulator(FalconEmulatorConfig config)
     silent_left_ = cfg_.faults.silent_handshakes;
     corrupt_left_ = cfg_.faults.corrupt_echo_loads;
     if (cfg_.firmware_loaded) mode_ = Mode::kRunning;
+    if (!(std::isfinite(cfg_.encoder_noise_counts) && cfg_.encoder_noise_counts >= 0.0))
+        throw Error("FalconEmulatorConfig.encoder_noise_counts = " + std::to_string(cfg_.encoder_noise_counts) +
+                    " must be finite and >= 0");
+    noise_rng_.seed(cfg_.noise_seed);
     pos_ = FalconKinematics::home_m();
     if (const auto a = kin_.inverse(pos_))
         for (int i = 0; i < 3; ++i)
@@ -213,7 +219,9 @@ void FalconEmulator::on_command(const FalconCommand& c) {
     if (const auto a = kin_.inverse(pos_))
         for (int i = 0; i < 3; ++i) {
             const int offset = (homed_ >> i) & 1 ? 0 : cfg_.power_on_offset[i];
-            encoder_[i] = static_cast<std::int16_t>(kin_.theta_to_encoder((*a)[i].theta1) + offset);
+            const int noise =
+                cfg_.encoder_noise_counts > 0.0 ? static_cast<int>(std::lround(cfg_.encoder_noise_counts * noise_(noise_rng_))) : 0;
+            encoder_[i] = static_cast<std::int16_t>(kin_.theta_to_encoder((*a)[i].theta1) + offset + noise);
         }
     queue_state();
 }

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,10 @@ struct FalconEmulatorConfig {
     double homing_pull_m = 0.03;                                   ///< the scripted pull: out along +z by this much ...
     int homing_pull_exchanges = 300;                               ///< ... and back, over this many command frames
     FalconFaults faults{};
+    /// Sensor noise: standard deviation of white Gaussian noise added to each encoder reading, counts (>= 0; 0 = off,
+    /// the default, so the encoders are exactly the inverse kinematics' quantised angles).
+    double encoder_noise_counts = 0.0;
+    std::uint32_t noise_seed = 1;  ///< seed of that noise
 };
 
 /// In-memory Falcon; single-threaded like every transport. Inspection accessors are for tests.
@@ -116,6 +121,8 @@ private:
     int pull_step_ = 0;
     Vec3 pos_{0.0}, force_{0.0};
     std::array<std::int16_t, 3> encoder_{0, 0, 0};
+    std::mt19937 noise_rng_{1};
+    std::normal_distribution<double> noise_{0.0, 1.0};
     std::uint8_t grip_ = 0;
     double last_exchange_s_ = 0.0;
 };

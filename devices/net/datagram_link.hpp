@@ -1,0 +1,39 @@
+// devices/net/datagram_link.hpp - the transport under the net driver and the device server: datagrams one
+// way or the other over a connection, reliable (ordered, retransmitted) or unreliable (newest wins).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace tridex::devices::net {
+
+/// What poll() found.
+struct LinkEvent {
+    enum Kind : std::uint8_t {
+        kConnected,     ///< a peer connected (server) or the connection was made (client)
+        kDisconnected,  ///< the peer went away or timed out
+        kData,          ///< a datagram arrived: `data`
+    };
+    Kind kind = kData;
+    std::vector<std::uint8_t> data;  ///< the datagram (kData); its capacity is reused between polls
+};
+
+/// One end of a datagram connection (ENet over UDP, or an in-process shim with injected latency and loss).
+/// Not thread-safe: one thread sends and polls.
+class DatagramLink {
+public:
+    virtual ~DatagramLink() = default;
+    /// Queues a datagram for the peer: reliable = delivered once, in order, retransmitted as needed (handshake,
+    /// snapshots, contact parameters); unreliable = may be lost, never retransmitted (states, forces,
+    /// heartbeats). Dropped silently while not connected.
+    virtual void send(const std::vector<std::uint8_t>& bytes, bool reliable) = 0;
+    /// The next event, without waiting; false when there is none. Also services the transport (sends what
+    /// was queued, reconnects a client whose connection dropped).
+    virtual bool poll(LinkEvent& ev) = 0;
+    /// True while a peer is connected.
+    virtual bool connected() const = 0;
+    /// "HOST:PORT" of the far end (client) or the listening address (server), for messages.
+    virtual const char* where() const = 0;
+};
+
+}  // namespace tridex::devices::net

@@ -1,0 +1,47 @@
+// devices/net/enet_link.hpp - DatagramLink over ENet (Debian libenet-dev): reliable datagrams on channel 0,
+// unreliable sequenced ones on channel 1, one peer at a time.
+//
+// Why ENet rather than Asio: the link needs exactly what ENet is, a connection over UDP with a reliable ordered
+// channel (handshake, snapshots) beside an unreliable one that drops late datagrams (1 kHz states and forces),
+// fragmentation of large reliable datagrams, and peer time-outs; over Asio each of these would be our code.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "devices/net/datagram_link.hpp"
+
+namespace tridex::devices::net {
+
+/// "HOST:PORT" split; throws tridex::Error "<what>: 'x' is not HOST:PORT (port 1..65535)" naming `what`.
+void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port);
+
+/// An ENet host serving one peer (listen) or connected to a server (connect). Not thread-safe: one thread
+/// sends and polls. A client whose connection drops (server gone or restarted) tries again every
+/// 0.2 s from poll(); a server takes the next peer after its peer left, refuses a second peer while the current
+/// one speaks (the newcomer is disconnected at once), and lets a newcomer take over from a peer silent for 0.5 s (a
+/// session that reconnected before ENet timed its old connection out).
+class EnetLink final : public DatagramLink {
+public:
+    /// A server listening on host:port ("0.0.0.0" or "" = every interface). Throws tridex::Error
+    /// "--listen HOST:PORT: cannot listen (address in use?)" when ENet cannot bind.
+    static std::unique_ptr<EnetLink> listen(const std::string& host, std::uint16_t port);
+    /// A client connecting to host:port (not waiting: poll() reports kConnected). Throws tridex::Error when the
+    /// host name does not resolve. peer_timeout_s: how long a silent peer is kept before kDisconnected.
+    static std::unique_ptr<EnetLink> connect(const std::string& host, std::uint16_t port, double peer_timeout_s = 1.0);
+    ~EnetLink() override;
+
+    void send(const std::vector<std::uint8_t>& bytes, bool reliable) override;
+    bool poll(LinkEvent& ev) override;
+    bool connected() const override;
+    const char* where() const override { return where_.c_str(); }
+
+private:
+    struct Impl;
+    explicit EnetLink(std::unique_ptr<Impl> impl, std::string where);
+    std::unique_ptr<Impl> impl_;
+    std::string where_;
+};
+
+}  // namespace tridex::devices::net

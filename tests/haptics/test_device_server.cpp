@@ -1,0 +1,294 @@
+// The device server and the net driver over the in-process link shim (simulated clock): the handshake, forces
+// through the link in distributed mode, the server's god-object in local mode, the watchdogs on both ends, a dead
+// and a restarted server, a peer of another link version, malformed datagrams.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "devices/net/surface_codec.hpp"
+#include "link_rig.hpp"
+#include "surfaces.hpp"
+
+namespace tridex::haptics {
+namespace {
+
+namespace net = devices::net;
+using devices::ScriptedPath;
+using test::LinkRig;
+
+TEST(DeviceServer, DistributedForceReachesTheDevice) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    EXPECT_EQ(rig.client->profile().name, devices::DeviceProfile::phantom_omni().name);
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 20; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.0, 0.0, 0.3), Vec3(0.0));
+        rig.server_tick();
+    }
+    EXPECT_NEAR(rig.device.last_force_n().z, 0.3, 1e-12);
+    const devices::DeviceLinkStats st = rig.client->link_stats();
+    EXPECT_EQ(st.link_mode, "distributed");
+    EXPECT_GT(st.exchanges, 15u);
+    EXPECT_EQ(st.lost, 0u);
+    EXPECT_EQ(st.link_outages, 0u);
+    EXPECT_EQ(rig.server->stats().sessions, 1u);
+}
+
+TEST(DeviceServer, LatencyShowsInTheRoundTrip) {
+    net::ShimConfig link;
+    link.latency_s = 0.005;
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)), link);
+    ASSERT_TRUE(rig.connect());
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 100; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.0), Vec3(0.0));
+        rig.server_tick();
+    }
+    const devices::DeviceLinkStats st = rig.client->link_stats();
+    // Two 5 ms legs plus at most a tick of holding on each side.
+    EXPECT_GE(st.rtt_median_us, 10000.0);
+    EXPECT_LE(st.rtt_median_us, 12500.0);
+    EXPECT_NEAR(st.rate_hz, 1000.0, 50.0);
+}
+
+TEST(DeviceServer, ServerWatchdogZeroesForceWithinTenMilliseconds) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 10; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.5, 0.0, 0.0), Vec3(0.0));
+        rig.server_tick();
+    }
+    ASSERT_NEAR(rig.device.last_force_n().x, 0.5, 1e-12);
+    const double last_send = rig.now;
+    // The session falls silent; the server keeps ticking.
+    while (rig.now - last_send < 0.0100 - 1e-9) rig.server_tick();
+    EXPECT_EQ(rig.device.last_force_n(), Vec3(0.0)) << "force still on 10 ms after the last datagram";
+    EXPECT_EQ(rig.server->stats().watchdog_trips, 1u);
+}
+
+TEST(DeviceServer, DeadServerClientZeroesForceAndSaysSo) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.2, 0.0, 0.0), Vec3(0.0));
+        rig.server_tick();
+    }
+    rig.kill_server();
+    ASSERT_TRUE(rig.client->read(s));  // the last state that was on its way
+    const double t_before = s.t_s;
+    bool down = false;
+    for (int i = 0; i < 20 && !down; ++i) {
+        rig.server_tick();
+        ASSERT_TRUE(rig.client->read(s));
+        EXPECT_EQ(s.t_s, t_before) << "a dead server's sample must not look fresh";
+        rig.client->write(Vec3(0.2, 0.0, 0.0), Vec3(0.0));
+        down = rig.client->link_down();
+    }
+    EXPECT_TRUE(down);
+    EXPECT_NE(rig.client->status().faults & devices::kFaultIo, 0u);
+    const devices::DeviceLinkStats st = rig.client->link_stats();
+    EXPECT_EQ(st.link_outages, 1u);
+    EXPECT_NE(st.link_events.find("force zeroed"), std::string::npos) << st.link_events;
+    // After give_up_s (0.5 s here) the device counts as gone.
+    bool gone = false;
+    for (int i = 0; i < 1000 && !gone; ++i) {
+        rig.server_tick();
+        gone = !rig.client->read(s);
+    }
+    EXPECT_TRUE(gone);
+}
+
+TEST(DeviceServer, ServerRestartedMidSessionIsRejoined) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 30; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
+        rig.server_tick();
+    }
+    rig.kill_server();
+    for (int i = 0; i < 30; ++i) {
+        rig.server_tick();
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
+    }
+    ASSERT_TRUE(rig.client->link_down());
+    const double t_down = s.t_s;
+    rig.start_server();  // the device was disabled by the old server; the new one brings it up again
+    bool up = false;
+    for (int i = 0; i < 100 && !up; ++i) {
+        rig.server_tick();
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
+        up = !rig.client->link_down();
+    }
+    ASSERT_TRUE(up);
+    EXPECT_GT(s.t_s, t_down) << "time stamps must keep increasing across a server restart";
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
+        rig.server_tick();
+    }
+    EXPECT_NEAR(rig.device.last_force_n().x, 0.1, 1e-12);
+    EXPECT_NE(rig.client->link_stats().link_events.find("welcomed this session again"), std::string::npos);
+}
+
+TEST(DeviceServer, OtherLinkVersionIsRefusedWithOneLine) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)), {}, net::kLinkVersion + 1);
+    try {
+        rig.connect();
+        FAIL() << "a client of another link version was welcomed";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("speaks link version " + std::to_string(net::kLinkVersion) + ", this session speaks " +
+                            std::to_string(net::kLinkVersion + 1)),
+                  std::string::npos)
+            << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos);
+    }
+    EXPECT_EQ(rig.server->stats().refused, 1u);
+    EXPECT_EQ(rig.server->stats().sessions, 0u);
+}
+
+TEST(DeviceServer, MalformedDatagramsAreCountedAndDropped) {
+    double now = 0.0;
+    net::LinkShim shim({}, [&] { return now; });
+    devices::SimulatedDevice device(devices::DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    auto server_link = shim.server_end();
+    DeviceServerConfig c;
+    c.clock = [&] { return now; };
+    DeviceServer server(device, *server_link, c);
+    auto peer = shim.client_end();
+    std::vector<std::uint8_t> d;
+    net::Header h;
+    const auto send = [&](const std::vector<std::uint8_t>& bytes) {
+        peer->send(bytes, false);
+        now += 1e-3;
+        server.tick(now);
+    };
+    send({1, 2, 3});  // shorter than a header
+    net::encode(h, net::ForceMsg{Vec3(1.0), Vec3(0.0)}, d);
+    d[0] ^= 0xff;
+    send(d);  // bad magic
+    net::encode(h, net::ForceMsg{Vec3(1.0), Vec3(0.0)}, d);
+    d[6] = 99;
+    send(d);  // unknown type
+    net::encode(h, net::ForceMsg{Vec3(1.0), Vec3(0.0)}, d);
+    send(d);  // well formed, but before any kHello
+    net::encode(h, net::Hello{}, d);
+    send(d);  // a session starts
+    h.seq = 1;
+    net::encode(h, net::ForceMsg{Vec3(1.0), Vec3(0.0)}, d);
+    d.pop_back();
+    send(d);  // torn
+    h.seq = 2;
+    net::encode(h, net::ForceMsg{Vec3(std::numeric_limits<double>::quiet_NaN()), Vec3(0.0)}, d);
+    send(d);  // non-finite force
+    h.seq = 3;
+    net::ContactMsg contact;
+    net::encode(h, contact, d);
+    send(d);  // a local-mode message in a distributed session
+    const net::DropCounts drops = server.drops();
+    EXPECT_EQ(drops.total(), 7u) << drops.summary();
+    EXPECT_EQ(server.stats().malformed, 7u);
+    for (net::DropReason r : {net::DropReason::kTooShort, net::DropReason::kBadMagic, net::DropReason::kUnknownType,
+                              net::DropReason::kBadLength, net::DropReason::kNonFinite})
+        EXPECT_EQ(drops.by_reason[static_cast<int>(r)], 1u) << net::to_string(r);
+    EXPECT_EQ(drops.by_reason[static_cast<int>(net::DropReason::kUnexpected)], 2u);
+    EXPECT_EQ(device.last_force_n(), Vec3(0.0));
+    EXPECT_NE(drops.summary().find("non-finite number: 1"), std::string::npos) << drops.summary();
+}
+
+TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
+    // The hand goes from 10 mm above a z = 0 wall to 3 mm into it; the server's god-object pushes back.
+    LinkRig rig(net::RenderingMode::kLocal,
+                ScriptedPath({0.0, 0.2}, {Vec3(0.0, 0.0, 0.010), Vec3(0.0, 0.0, -0.003)}));
+    net::ContactMsg contact;
+    contact.stiffness_n_per_m = 700.0;
+    contact.tool_radius_m = 0.0;
+    rig.client->set_contact(contact);
+    ASSERT_TRUE(rig.connect());
+    rig.client->bring_up();
+    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+    test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
+    wall->centre_m = Vec3(0.0);
+    devices::DeviceState s;
+    double min_z = 1.0;
+    for (int i = 0; i < 600; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->observe_surface(*wall);
+        rig.client->write(Vec3(0.0), Vec3(0.0));  // ignored in local mode
+        rig.server_tick();
+        min_z = std::min(min_z, rig.device.position_m().z);
+    }
+    EXPECT_GT(rig.device.last_force_n().z, 0.3) << "the wall does not push back";
+    EXPECT_GT(min_z, -0.003) << "the tool went as deep as the hand: no wall";
+    const DeviceServerStats st = rig.server->stats();
+    EXPECT_EQ(st.snapshots, 1u);
+    EXPECT_EQ(st.stale_snapshots, 0u);
+    EXPECT_EQ(rig.client->link_stats().link_mode, "local");
+}
+
+TEST(SurfaceCodec, RoundTripAndRefusals) {
+    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+    test::fill_set(*wall, 2, 0, 0, [](int u, int) { return test::Intervals{{0.0f, 20.0f + 0.1f * u}}; });
+    wall->sets[2].material[5 * ActiveSurface::kMaxIntervals] = 3;
+    std::vector<std::uint8_t> d;
+    net::encode_surface({}, *wall, d);
+    EXPECT_LT(d.size(), 20000u);
+    auto back = std::make_unique<ActiveSurface>();
+    ASSERT_EQ(net::decode_surface(d.data(), d.size(), *back), net::DropReason::kNone);
+    EXPECT_EQ(back->sequence, wall->sequence);
+    EXPECT_EQ(back->sets[2].nu, ActiveSurface::kWindow);
+    EXPECT_EQ(back->sets[2].exit(7, 3, 0), wall->sets[2].exit(7, 3, 0));
+    EXPECT_EQ(back->sets[2].material_of(5, 0, 0), 3);
+    EXPECT_EQ(back->sets[0].nu, 0);
+    std::vector<std::uint8_t> torn(d.begin(), d.end() - 1);
+    EXPECT_EQ(net::decode_surface(torn.data(), torn.size(), *back), net::DropReason::kBadLength);
+    wall->sets[1].nu = ActiveSurface::kWindow + 1;
+    net::encode_surface({}, *wall, d);
+    EXPECT_EQ(net::decode_surface(d.data(), d.size(), *back), net::DropReason::kOutOfRange);
+}
+
+}  // namespace
+}  // namespace tridex::haptics
+
+namespace tridex::haptics {
+namespace {
+
+TEST(DeviceServer, SessionThatLoadsForSecondsIsServedWhenItsLoopStarts) {
+    LinkRig rig(net::RenderingMode::kDistributed, ScriptedPath::hold(Vec3(0.0)));
+    ASSERT_TRUE(rig.connect());
+    const std::size_t steps = rig.device.steps();
+    for (int i = 0; i < 2000; ++i) rig.server_tick();  // the session loads its workpiece; the device rests
+    EXPECT_LE(rig.device.steps(), steps + 11);  // until the watchdog's 9 ms of silence
+    rig.client->bring_up();
+    devices::DeviceState s;
+    for (int i = 0; i < 50; ++i) {
+        ASSERT_TRUE(rig.client->read(s));
+        rig.client->write(Vec3(0.0, 0.0, 0.25), Vec3(0.0));
+        rig.server_tick();
+    }
+    EXPECT_FALSE(rig.client->link_down());
+    EXPECT_NEAR(rig.device.last_force_n().z, 0.25, 1e-12);
+    EXPECT_EQ(rig.client->link_stats().link_outages, 0u);
+}
+
+}  // namespace
+}  // namespace tridex::haptics
