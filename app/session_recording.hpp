@@ -18,9 +18,13 @@ namespace tridex::app {
 /// was paused). t_s is the device time when it advances past prev_t_s, else just after prev_t_s.
 devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points);
 
-/// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
-/// Throws tridex::Error "<path>: ..." when it cannot write.
+/// The session's records as a recording in memory (to_recorded_tick per record, the settings in the header
+/// notes), as write_session_recording writes it.
+devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records);
+
+/// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
+/// spec_to_json). Throws tridex::Error "<path>: ..." when it cannot write.
 void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records);
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes = "");
 
 }  // namespace tridex::app
