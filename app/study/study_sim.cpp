@@ -75,7 +75,7 @@ SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, s
         centre = r.hip_m;
         out.contact_ticks += r.points_in_contact > 0;
         out.max_force_n = std::max(out.max_force_n, glm::length(r.force_n));
-        out.tube_touch_ticks += study_contact(tube, r.points[0].world_m, r.points[1].world_m, scene.wand_radius_m).tube;
+        out.tube_touch_ticks += study_contact(tube, r.points[0].world_m, r.points[1].world_m, 0.0).tube;
     }
     loop.stop();
     out.ticks = std::min(ticks, loop.records().size());

@@ -15,7 +15,7 @@ const std::vector<renderer::SceneObject>& StudyView::frame(const haptics::LoopVi
     if (view.tick > 0) {
         const Vec3 bottom = view.tool_world.position;
         const Vec3 top = bottom + view.tool_world.orientation * Vec3(0.0, study_.scene.wand_length_m, 0.0);
-        contact_ = study_contact(tube_, top, bottom, study_.scene.wand_radius_m);
+        contact_ = study_contact(tube_, top, bottom, 0.0);  // the god-objects' points have no ball
         ++frames_;
         tube_frames_ += contact_.tube;
         funnel_frames_ += contact_.funnels;

@@ -15,7 +15,8 @@ namespace tridex::app::study {
 
 /// The render thread's side of a study run (RunStudy): builds the object meshes once, then per frame turns the
 /// haptic loop's newest tool pose into the wand's two points (bottom = the tool centre, the flat end; top =
-/// wand_length_m along the tool's +y), their contact (study_contact, with the wand's radius) and the objects'
+/// wand_length_m along the tool's +y), their contact (study_contact of the two points, as the god-objects and
+/// the analysis take them: without a ball) and the objects'
 /// colours. Counts frames with each contact and gates a test trial: it is done once both points touched the end
 /// cap after both touched the start cap. One thread.
 class StudyView {
