@@ -65,7 +65,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         for (const Vec3& c : pp.centre_m) reach.add(c - half);
         centre = reach.centre();
         start_m_ = pp.centre_m.front() - half;
-        if (live) {
+        if (spec.device_driver != "simulated") {  // a person's device (or hardware): no scripted hand
             t_s = {0.0};
             path = {home + (start_m_ - centre) / spec.workspace_scale};
         } else {

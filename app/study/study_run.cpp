@@ -73,8 +73,9 @@ nlohmann::json run_live_phase(const StudyRunOptions& o, const StudyScene& scene,
     const fs::path phases = dir / "phases";
     fs::create_directories(phases);
     const std::string device = !o.device.empty() ? o.device : o.display == "offscreen" ? "simulated" : "spacemouse";
+    // The scene's seed is 1..2^31-1: the participant's seed folded into that range.
     nlohmann::json sc = {
-        {"study", {{"scene", scene.path}, {"model", ph.model}, {"seed", seed}, {"trial", std::max(ph.trial, 1)},
+        {"study", {{"scene", scene.path}, {"model", ph.model}, {"seed", seed % 2147483647u + 1u}, {"trial", std::max(ph.trial, 1)},
                    {"end_at_end_cap", ph.trial > 0}, {"phase_line", ph.line}}},
         {"device", {{"driver", device}, {"profile", "wand"}}},
         {"display", {{"preset", "desktop"}, {"stereo", "mono"}, {"resolution", {800, 450}},

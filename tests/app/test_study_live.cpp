@@ -84,11 +84,12 @@ TEST(StudyLive, ProtocolPhasesInOrderWithTestTrialsGatedByTheEndCap) {
                          {"test_trials", 2}, {"trial_timeout_s", 120}};
     std::ofstream(dir / "short.json") << scene.dump();
     const std::string study = (dir / "study").string();
-    const auto r = run_tridex("study run --participant L1 --group visual --display offscreen --validate --scene " +
+    // W1: an ID whose derived seed is above 2^31 (the phase scenes must still take it).
+    const auto r = run_tridex("study run --participant W1 --group visual --display offscreen --validate --scene " +
                                   (dir / "short.json").string() + " --out " + study,
                               dir / "run");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const auto p = read_json(dir / "study" / "L1" / "protocol.json");
+    const auto p = read_json(dir / "study" / "W1" / "protocol.json");
     ASSERT_EQ(p["phases"].size(), 6u);
     const char* names[] = {"introduction", "presentation", "test_look", "training", "test", "test"};
     const char* models[] = {"visual_training", "visual_training", "test", "visual_training", "test", "test"};
@@ -109,7 +110,7 @@ TEST(StudyLive, ProtocolPhasesInOrderWithTestTrialsGatedByTheEndCap) {
     std::sort(recordings.begin(), recordings.end());
     EXPECT_EQ(recordings, (std::vector<std::string>{"trial_1.trdx", "trial_2.trdx"}));
     for (const char* ph : {"introduction", "training", "test_1"})
-        EXPECT_EQ(read_json(dir / "study" / "L1" / "phases" / ph / "report.json")["validation_messages"], 0);
+        EXPECT_EQ(read_json(dir / "study" / "W1" / "phases" / ph / "report.json")["validation_messages"], 0);
     // `study analyze` reads them as the participant's trials against the same tube.
     const auto a = run_tridex("study analyze " + study + " --scene " + (dir / "short.json").string() + " --out " +
                                   (dir / "analysis").string(),
@@ -120,8 +121,8 @@ TEST(StudyLive, ProtocolPhasesInOrderWithTestTrialsGatedByTheEndCap) {
     std::getline(csv, header);
     std::getline(csv, row1);
     std::getline(csv, row2);
-    EXPECT_EQ(row1.rfind("L1,visual,1,", 0), 0u) << row1;
-    EXPECT_EQ(row2.rfind("L1,visual,2,", 0), 0u) << row2;
+    EXPECT_EQ(row1.rfind("W1,visual,1,", 0), 0u) << row1;
+    EXPECT_EQ(row2.rfind("W1,visual,2,", 0), 0u) << row2;
 }
 
 }  // namespace
