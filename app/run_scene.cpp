@@ -1,6 +1,5 @@
 // app/run_scene.cpp - reading and checking the scene of `tridex run`.
 #include "app/run_scene.hpp"
-#include "app/study/trial_table.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -12,6 +11,7 @@
 
 #include "app/assets.hpp"
 #include "app/demo.hpp"
+#include "app/study/trial_table.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
