@@ -20,10 +20,11 @@
 
 namespace tridex::app::study {
 
-SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, std::uint32_t seed, int trial) {
+SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, std::uint32_t seed, int trial,
+                            const ParticipantPath* given) {
     const Tube tube(scene.tube);
     const Workpiece wp = felt_walls(tube, study_model(scene, model, "model"), scene.path);
-    const ParticipantPath pp = scripted_participant_path(scene, seed, trial);
+    const ParticipantPath pp = given ? *given : scripted_participant_path(scene, seed, trial);
 
     SessionSpec spec;
     spec.mesh_path = scene.path;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "app/study/study_participant.hpp"
 #include "app/study/study_scene.hpp"
 #include "devices/recording.hpp"
 
@@ -27,7 +28,9 @@ struct SimulatedPass {
 /// the path's centre, scale 1), and a HapticLoop with loop_config of the wand's spec (flat end of the wand's
 /// radius and length, two points, op none, no friction), stepped tick by tick in device time until the path's
 /// end plus 0.2 s. The result is the same for the same inputs. Throws tridex::Error for a bad scene or model,
-/// or when the path leaves the wand's workspace.
-SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, std::uint32_t seed, int trial);
+/// or when the path leaves the wand's workspace. `path`, when given, replaces the scripted participant's path
+/// (the wand centre's target, world m; seed and trial are then unused).
+SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, std::uint32_t seed, int trial,
+                            const ParticipantPath* path = nullptr);
 
 }  // namespace tridex::app::study

@@ -2,6 +2,7 @@
 // walls as a tri-dexel solid, and the scripted participant driven through the real haptic loop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "app/study/study_objects.hpp"
@@ -170,6 +171,39 @@ TEST(StudySim, FeltWallsHoldTheScriptedHandInsideTheTube) {
     const SimulatedPass again = simulate_pass(scene, "haptic_training", 11, 1);
     ASSERT_EQ(again.recording.ticks.size(), haptic.recording.ticks.size());
     EXPECT_EQ(again.recording.ticks.back().top_m, haptic.recording.ticks.back().top_m);
+}
+
+TEST(StudySim, TheTestModelsFunnelsAreFelt) {
+    const StudyScene scene = read_study_scene(default_study_scene_path());
+    const Tube tube(scene.tube);
+    // A hand that enters the entry funnel 25 mm off the spine and keeps that offset into the tube (radius 20 mm):
+    // the funnel's narrowing wall is in its way.
+    ParticipantPath p;
+    Vec3 u, v;
+    plane_axes(tube.tangent_at(0.0), u, v);
+    const double s0 = tube.start_cap_s_m(), s1 = 0.05;
+    for (int i = 0; i <= 100; ++i) {
+        const double f = i / 100.0, s = s0 + std::clamp(2.0 * f - 0.5, 0.0, 1.0) * (s1 - s0);
+        p.t_s.push_back(3.0 * f);
+        p.centre_m.push_back(tube.point_at(s) + 0.025 * u);
+    }
+    const SimulatedPass test = simulate_pass(scene, "test", 1, 1, &p);
+    const SimulatedPass visual = simulate_pass(scene, "visual_training", 1, 1, &p);
+    EXPECT_GT(test.contact_ticks, 100u);
+    EXPECT_GT(test.max_force_n, 1.0);
+    EXPECT_EQ(visual.contact_ticks, 0u);
+    // Held back by the funnel's wall: the points go less far through it than without walls.
+    auto max_funnel_dev = [&](const SimulatedPass& pass) {
+        double d = 0.0;
+        for (const auto& t : pass.recording.ticks)
+            for (const Vec3& q : {t.top_m, t.bottom_m}) {
+                const double s = tube.project(q).s_m;
+                if (s >= -scene.tube.funnel_length_m && s <= 0.0) d = std::max(d, tube.deviation_m(q));
+            }
+        return d;
+    };
+    EXPECT_GT(max_funnel_dev(visual), 0.003);
+    EXPECT_LT(max_funnel_dev(test), 0.6 * max_funnel_dev(visual));
 }
 
 }  // namespace
