@@ -118,6 +118,7 @@ json run_report_json(const RunResult& r) {
         {"haptics", r.haptics},
         {"journal", r.journal},
         {"mouse", r.mouse},
+        {"study", r.study},
         {"history", history_report_json(r.sculpt)},
         {"saves",
          {{"count", r.saves.saves},

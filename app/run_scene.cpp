@@ -11,6 +11,7 @@
 
 #include "app/assets.hpp"
 #include "app/demo.hpp"
+#include "app/study/trial_table.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -251,7 +252,7 @@ void read_op(Fields& top, RunScene& s) {
     try {
         (void)parse_tool_op(s.spec.op);
     } catch (const Error&) {
-        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint");
+        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, none");
     }
     s.spec.material = top.integer("material", s.spec.material, 1, 7);
 }
@@ -470,6 +471,44 @@ void read_wand(Fields& top, RunScene& s) {
     f.finish();
 }
 
+// A study scene: the wand as the tool, nothing carved; the workpiece, tool, op, haptics and stroke come from it.
+void read_study(Fields& top, const json& j, RunScene& s, const std::string& base_dir) {
+    const json* st = top.get("study");
+    if (!st) return;
+    for (const char* name : {"workpiece", "tool", "op", "material", "haptics", "stroke", "cursor"})
+        if (j.contains(name))
+            top.fail(name, "a study scene decides it (the wand, its felt walls, no carving); remove it or the \"study\" field");
+    Fields f(*st, top.source(), "study");
+    RunStudy& r = s.study;
+    r.enabled = true;
+    const json* file = f.get("scene");
+    if (!file || !file->is_string()) f.fail("study.scene", "must name a study scene file (JSON)");
+    fs::path p(file->get<std::string>());
+    if (p.is_relative()) p = fs::path(base_dir) / p;
+    r.scene = study::read_study_scene(p.string());
+    r.model = f.text("model", r.model);
+    if (r.model != "haptic_training" && r.model != "visual_training" && r.model != "test")
+        f.fail("study.model", "'" + r.model + "' is not one of haptic_training, visual_training, test");
+    r.seed = static_cast<std::uint32_t>(f.integer("seed", 1, 1, 2147483647));
+    r.trial = f.integer("trial", 1, 1, 1000);
+    r.end_at_end_cap = f.boolean("end_at_end_cap", false);
+    r.phase_line = f.text("phase_line", "");
+    r.participant = f.text("participant", "");
+    r.group = f.text("group", "");
+    if (!r.participant.empty() && !study::valid_participant_id(r.participant))
+        f.fail("study.participant", "an ID of 1..64 letters, digits, '_' or '-' (no names)");
+    if (!r.group.empty() && r.group != "haptic" && r.group != "visual") f.fail("study.group", "use haptic or visual");
+    if (r.participant.empty() != r.group.empty()) f.fail("study.group", "give participant and group together");
+    f.finish();
+    SessionSpec& sp = s.spec;
+    sp.tool = ToolShape{ToolKind::kFlatEnd, r.scene.wand_radius_m, r.scene.wand_length_m, 0};
+    sp.points = 2;
+    sp.op = "none";
+    sp.cutting = false;
+    sp.mesh_path = r.scene.path;
+    s.has_stroke = false;
+}
+
 }  // namespace
 
 const char* to_string(HeadMode mode) {
@@ -517,6 +556,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_display(top, s);
     read_head(top, s);
     read_wand(top, s);
+    read_study(top, j, s, base_dir);
     top.finish();
     if (s.has_stroke && s.stroke.passes > 1 && s.spec.workspace_mode != "peng_moving")
         top.fail("stroke.passes", "several passes move the workspace with Peng's technique: set workspace.mode to "

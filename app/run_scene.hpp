@@ -15,6 +15,7 @@
 #include "app/cursor_script.hpp"
 #include "app/key_script.hpp"
 #include "devices/spacemouse_device.hpp"
+#include "app/study/study_scene.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/head_pose.hpp"
 
@@ -32,6 +33,29 @@ enum class HeadMode {
 const char* to_string(HeadMode mode);
 /// Inverse of to_string; throws tridex::Error "<what>: head provider 'x' is not one of fixed, scripted, tracker, dtrack".
 HeadMode parse_head_mode(const std::string& name, const std::string& what);
+
+/// A study scene in a run (app/study/): the tube, funnels and caps shown and felt as one of the three models of
+/// Singapogu's thesis (4.3.2). The felt objects become the session's workpiece (app/study/study_walls.hpp: the
+/// multi-point god-object feels them), which is never drawn; the visible ones are drawn in their colours,
+/// changing on contact (app/study/study_objects.hpp). The tool is the wand: a flat end of the study scene's
+/// wand radius and length with its two contact points (bottom = the flat end, top), op "none" (nothing is
+/// carved). A simulated device's hand follows the scripted participant's path (app/study/study_participant.hpp)
+/// from the start cap to the end cap.
+struct RunStudy {
+    bool enabled = false;              ///< the scene has a "study" object
+    study::StudyScene scene;           ///< the study scene file's contents
+    std::string model = "test";        ///< haptic_training | visual_training | test
+    std::uint32_t seed = 1;            ///< the scripted participant's seed, >= 1
+    int trial = 1;                     ///< the scripted participant's trial number, >= 1
+    /// End the run once both wand points have touched the end cap after touching the start cap (a test trial
+    /// of the protocol, gated by the end cap).
+    bool end_at_end_cap = false;
+    std::string phase_line;            ///< an overlay line (the protocol's phase and what to do); "" = none
+    /// A protocol's test trial: --record tags the recording (app/study/study_recording.hpp) with this participant
+    /// ID, group ("haptic" | "visual") and trial, so `tridex study analyze` reads it; "" = an untagged recording.
+    std::string participant;
+    std::string group;
+};
 
 /// Everything a `tridex run` session shows and sculpts (SI units; world = tracker space, m, y up, the
 /// display's screen as given by its corners).
@@ -69,7 +93,11 @@ HeadMode parse_head_mode(const std::string& name, const std::string& what);
 ///             "waypoints": [ {"t_s": 0, "position_m": [x, y, z], "orientation_wxyz": [1, 0, 0, 0]}, ... ],
 ///             "loop": false, "tracker_timeout_s": 0.1 },
 ///   "wand": { "provider": "none" | "dtrack", "port": 5000, "flystick": 0,   // DTrack Flystick (`6df2`) id
-///             "bind_address": "0.0.0.0", "timeout_s": 0.1 } }
+///             "bind_address": "0.0.0.0", "timeout_s": 0.1 },
+///   "study": { "scene": "study_tube_scene.json",   // a study scene file (relative to the scene file), RunStudy;
+///              "model": "test", "seed": 1, "trial": 1,   // then no workpiece, tool, op, haptics or stroke fields
+///              "end_at_end_cap": false, "phase_line": "...",          // ... an overlay line
+///              "participant": "P01", "group": "haptic" } }             // tag a --record of a test trial
 /// ```
 struct RunScene {
     std::string source = "<built-in>";  ///< the file it was read from (for messages and the report)
@@ -103,6 +131,7 @@ struct RunScene {
     int wand_flystick = 0;              ///< wand: DTrack Flystick id (0..15)
     std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on
     double wand_timeout_s = 0.1;        ///< wand: a Flystick sample older than this stops navigation, s
+    RunStudy study;                     ///< a study scene's objects instead of a workpiece (study.enabled)
 };
 
 /// Reads a scene from parsed JSON (form on RunScene). `source` names the file in messages; relative mesh

@@ -7,6 +7,9 @@
 #include <tuple>
 #include <vector>
 
+#include "app/study/study_objects.hpp"
+#include "app/study/study_participant.hpp"
+#include "app/study/study_walls.hpp"
 #include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -35,7 +38,13 @@ void check_reach(const std::vector<Vec3>& path, const devices::DeviceProfile& pr
 SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
-    Workpiece wp = prepare_session_workpiece(spec);  // a mesh or a saved model; checksums for a replay
+    const RunStudy& study = scene.study;
+    std::optional<study::Tube> tube;
+    if (study.enabled) tube.emplace(study.scene.tube);
+    // A study scene's felt walls, or a mesh or a saved model (checksums for a replay).
+    Workpiece wp = study.enabled ? study::felt_walls(*tube, study::study_model(study.scene, study.model, "study.model"),
+                                                     study.scene.path)
+                                 : prepare_session_workpiece(spec);
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
     // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of
@@ -47,7 +56,30 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     Vec3 centre;
     // The app (mouse) or the person (spacemouse) moves the hand: no scripted stroke.
     const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse";
-    if (scene.has_stroke && !live) {
+    if (study.enabled) {
+        // The wand's flat end (its bottom point, the tool centre) half a wand length below the centre the scripted
+        // participant steers; a person's device starts there too, at the start cap.
+        const Vec3 half(0.0, 0.5 * study.scene.wand_length_m, 0.0);
+        const study::ParticipantPath pp = study::scripted_participant_path(study.scene, study.seed, study.trial);
+        Aabb reach;
+        for (const Vec3& c : pp.centre_m) reach.add(c - half);
+        centre = reach.centre();
+        start_m_ = pp.centre_m.front() - half;
+        if (spec.device_driver != "simulated") {  // a person's device (or hardware): no scripted hand
+            t_s = {0.0};
+            path = {home + (start_m_ - centre) / spec.workspace_scale};
+        } else {
+            t_s = pp.t_s;
+            for (const Vec3& c : pp.centre_m) path.push_back(home + (c - half - centre) / spec.workspace_scale);
+            try {
+                check_reach(path, profile);
+            } catch (const Error& e) {
+                throw Error(scene.source + ": field 'study': the scripted participant cannot reach the tube (" + e.what() +
+                            "); use the wand profile or a smaller tube");
+            }
+            stroke_ticks_ = static_cast<std::size_t>(std::llround(pp.t_s.back() / spec.period_s));
+        }
+    } else if (scene.has_stroke && !live) {
         const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
         centre = plan.centre_m;
         t_s = plan.t_s;
@@ -78,6 +110,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     ro.mesh_form = form;
     ro.mesh_interval_s = mesh_interval_s;
     ro.max_ticks = live ? kMaxRecords : std::min(kMaxRecords, stroke_ticks_ + stroke_ticks_ / 2 + 1000);
+    // A person's study trial is recorded whole, up to the protocol's trial timeout.
+    if (study.enabled && live)
+        ro.max_ticks = std::max(ro.max_ticks, static_cast<std::size_t>((study.scene.protocol.trial_timeout_s + 10.0) / spec.period_s));
     if (!render_context && !booleans.cpu) ro.sculpt.cpu_contour = true;  // no renderer to draw GPU buffers
     runtime_ = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(device), start_m_, ro);
 }

@@ -21,6 +21,8 @@
 #include "app/run_view.hpp"
 #include "app/report.hpp"
 #include "app/session_recording.hpp"
+#include "app/study/study_recording.hpp"
+#include "app/study/study_view.hpp"
 #include "app/workpiece_source.hpp"
 #include "app/tile_view.hpp"
 #include "app/stop_signal.hpp"
@@ -177,8 +179,9 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     const std::string& driver = s.scene.spec.device_driver;
     if (driver == "mouse" || driver == "spacemouse") s.scene.has_stroke = false;  // the person is the hand
+    const bool scripted_study = s.scene.study.enabled && driver == "simulated";  // the scripted participant's path
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
-        s.scene.cursor.empty())
+        s.scene.cursor.empty() && !scripted_study)
         throw Error("--frames/--seconds: an offscreen run of a scene without a stroke or a scripted cursor needs "
                     "--frames N or --seconds S");
     return s;
@@ -284,8 +287,13 @@ RunResult run_stereo_session(const RunOptions& options) {
     const double script_end_s =
         scene.cursor.empty() ? 0.0
                              : std::max(scene.cursor.end_s(), scene.keys.empty() ? 0.0 : scene.keys.back().t_s) + 0.5;
+    const double path_s = static_cast<double>(backend.stroke_ticks()) * scene.spec.period_s;  // a study's scripted path
     const double safety_s = scene.has_stroke ? 3.0 * scene.stroke.duration_s + 10.0
-                            : script_end_s > 0.0 ? 3.0 * script_end_s + 10.0 : 0.0;
+                            : script_end_s > 0.0 ? 3.0 * script_end_s + 10.0
+                            : path_s > 0.0 ? 3.0 * path_s + 10.0 : 0.0;
+    // A study scene: its objects are drawn instead of the workpiece (the felt walls stay invisible).
+    std::optional<study::StudyView> study_view;
+    if (scene.study.enabled) study_view.emplace(scene.study);
     backend.runtime().start();
 
     // 4. The render loop, on this thread.
@@ -344,6 +352,9 @@ RunResult run_stereo_session(const RunOptions& options) {
                        backend.runtime().latest_view().t_s >= script_end_s) {
                 last = true;
                 ended = "the scripted cursor ended";
+            } else if (study_view && scene.study.end_at_end_cap && study_view->trial_done()) {
+                last = true;
+                ended = "the wand reached the end cap";
             } else if (stop_requested()) {
                 last = true;
                 ended = std::string(stop_signal_name()) + " received";
@@ -390,6 +401,12 @@ RunResult run_stereo_session(const RunOptions& options) {
             view.lod = su.lod;
             if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;
+            if (study_view) {
+                view.workpiece = nullptr;
+                view.tiles = {};
+                view.indirect_workpiece = nullptr;
+                view.objects = study_view->frame(lv);
+            }
             if (su.items) {
                 if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
                 sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
@@ -399,6 +416,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                     scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : tool_now.radius_m;
                 std::string status = saving_lines(saving);
                 if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
+                if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
                 add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
                               RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status});
             }
@@ -483,6 +501,7 @@ RunResult run_stereo_session(const RunOptions& options) {
         r.mouse["pick_surface"] = gpu_contour ? "gpu contour, read back" : "cpu contour";
         r.mouse["pick_reads"] = gpu_pick_reads;
     }
+    if (study_view) r.study = study_view->report_json();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();
@@ -523,7 +542,12 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.notes.push_back("record: only the first " + std::to_string(backend.runtime().records().size()) + " of " +
                               std::to_string(backend.runtime().loop_stats().ticks) + " ticks were kept; a replay carves less");
         attempt("record", [&] {
-            write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records());
+            std::string notes;  // a protocol's test trial: tagged for `tridex study analyze`
+            if (const RunStudy& st = scene.study; st.enabled && !st.participant.empty())
+                notes = study::tag_notes(spec_to_json(backend.runtime().spec()),
+                                         study::StudyTag{st.participant, st.group, st.trial, st.model,
+                                                         st.scene.tube.name, study::tube_id(st.scene.tube)});
+            write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records(), notes);
             r.files.push_back(su.record);
         });
     }

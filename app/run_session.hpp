@@ -116,6 +116,7 @@ struct RunResult {
     /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
     nlohmann::json head;
     nlohmann::json wand;  ///< null without a wand; else app/dtrack_wand.hpp wand_report_json
+    nlohmann::json study; ///< null without a study scene; else app/study/study_view.hpp StudyView::report_json
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -67,13 +67,29 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     return out;
 }
 
+devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records) {
+    devices::Recording rec;
+    rec.header.device_name = device_profile(settings.device).name;
+    rec.header.period_s = settings.period_s;
+    rec.header.workspace_mode = settings.workspace_mode;
+    rec.header.notes = spec_to_json(settings);
+    rec.ticks.reserve(records.size());
+    double prev = -INFINITY;
+    const ToolOp op = parse_tool_op(settings.op);
+    for (const haptics::TickRecord& r : records) {
+        rec.ticks.push_back(to_recorded_tick(r, op, prev, settings.points));
+        prev = rec.ticks.back().t_s;
+    }
+    return rec;
+}
+
 void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records) {
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
-    header.notes = spec_to_json(settings);
+    header.notes = notes.empty() ? spec_to_json(settings) : notes;
     devices::RecordingWriter writer(path, header);
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {

@@ -28,7 +28,14 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
 
 /// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
 /// Throws tridex::Error "<path>: ..." when it cannot write.
+
+/// The session's records as a recording in memory (to_recorded_tick per record, the settings in the header
+/// notes), as write_session_recording writes it.
+devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records);
+
+/// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
+/// spec_to_json). Throws tridex::Error "<path>: ..." when it cannot write.
 void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records);
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes = "");
 
 }  // namespace tridex::app

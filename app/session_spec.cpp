@@ -62,7 +62,8 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "subtract") return ToolOp::kSubtract;
     if (name == "union") return ToolOp::kUnion;
     if (name == "paint") return ToolOp::kPaint;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union or paint");
+    if (name == "none") return ToolOp::kNone;
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint or none");
 }
 
 namespace {

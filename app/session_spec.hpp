@@ -88,7 +88,8 @@ struct SessionSpec {
     std::size_t history_budget_bytes = std::size_t{256} << 20;
 };
 
-/// The ToolOp named by `name` (subtract, union, paint); throws tridex::Error listing the names.
+/// The ToolOp named by `name` (subtract, union, paint, or none: the tool touches but never changes the model);
+/// throws tridex::Error listing the names.
 ToolOp parse_tool_op(const std::string& name);
 
 /// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.

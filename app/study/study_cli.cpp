@@ -33,7 +33,17 @@ CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
     cmd.run_cmd->add_option("--group", cmd.run.group, "Training group: haptic or visual")
         ->required()
         ->check(CLI::IsMember({"haptic", "visual"}));
-    cmd.run_cmd->add_flag("--simulated", cmd.run.simulated, "Play a scripted participant (no person, no device)");
+    cmd.run_cmd->add_flag("--simulated", cmd.run.simulated,
+                          "Play a scripted participant through the haptic loop (no person, no window)");
+    cmd.run_cmd->add_option("--display", cmd.run.display,
+                            "Live phases: window, fullscreen, or offscreen (the scripted participant on the simulated "
+                            "device, for tests)")
+        ->capture_default_str();
+    cmd.run_cmd->add_option("--device", cmd.run.device,
+                            "Live phases: the device driver (spacemouse, mouse, falcon, simulated; default spacemouse in a window)");
+    cmd.run_cmd->add_option("--display-config", cmd.run.display_config, "Live phases: a display config file")
+        ->check(CLI::ExistingFile);
+    cmd.run_cmd->add_flag("--validate", cmd.run.validate, "Live phases: Vulkan validation layer");
     cmd.run_cmd->add_option("--scene", cmd.run.scene, "Study scene (default: assets/study_tube_scene.json)")
         ->check(CLI::ExistingFile);
     cmd.run_cmd->add_option("--seed", cmd.run.seed, "Scripted participant's seed (0: from the ID)")->capture_default_str();

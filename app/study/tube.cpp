@@ -35,14 +35,13 @@ Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
                   (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
 }
 
-// Two unit vectors spanning the plane normal to t.
+}  // namespace
+
 void plane_axes(const Vec3& t, Vec3& u, Vec3& v) {
     const Vec3 up = std::fabs(t.y) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
     u = glm::normalize(glm::cross(t, up));
     v = glm::cross(u, t);
 }
-
-}  // namespace
 
 TubeSpec parse_tube(const nlohmann::json& j, const std::string& source, const std::string& prefix) {
     if (!j.is_object()) bad(source, prefix, "must be an object");

@@ -35,6 +35,11 @@ nlohmann::json tube_to_json(const TubeSpec& spec);
 /// An identifier of the tube's geometry: the CRC-32 (IEEE) of tube_to_json's compact text.
 std::uint32_t tube_id(const TubeSpec& spec);
 
+/// Two unit vectors u, v spanning the plane normal to the unit vector t: u = unit(t x up), v = u x t, with up =
+/// world +y (world +x when t is within about 25 degrees of +-y). The frame of the caps' squares and the funnels'
+/// square sections.
+void plane_axes(const Vec3& t, Vec3& u, Vec3& v);
+
 /// Where a point lies relative to the spine.
 struct SpineProjection {
     double s_m = 0.0;        ///< arc length of the closest spine point; < 0 in the entry funnel, > length in the exit

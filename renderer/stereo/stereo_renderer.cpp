@@ -92,6 +92,12 @@ struct OffscreenStereoRenderer::Impl {
     GpuMesh tool_mesh;                           // SceneView::tool_mesh, uploaded when it changes
     const TriMesh* tool_mesh_source = nullptr;
     std::size_t tool_mesh_triangles = 0;
+    struct ObjectMesh {                           // SceneView::objects[i], uploaded when it changes
+        GpuMesh mesh;
+        const TriMesh* source = nullptr;
+        std::size_t triangles = 0;
+    };
+    std::vector<ObjectMesh> objects;
     TileMeshCache tiles;
     std::vector<FrameResources> frame;  // one per slot
     FrameSlots slots;                   // after `tiles` and `frame`: destroyed (waiting for the GPU) before them
@@ -411,7 +417,34 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         add(PipelineKind::kOpaque, im.cone, glm::mat4(arrow.head), kForceColour, true);
     }
 
-    // Translucent: proxy, workspace box, bubble (each back faces, then front faces).
+    // Scene objects: opaque ones now, translucent ones first among the translucent items.
+    if (im.objects.size() < scene.objects.size()) im.objects.resize(scene.objects.size());
+    std::vector<std::size_t> translucent_objects;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& o = scene.objects[i];
+        if (!o.mesh || o.mesh->triangles.empty()) continue;
+        for (int c = 0; c < 4; ++c)
+            if (!(o.colour[c] >= 0.0f && o.colour[c] <= 1.0f))
+                throw Error("renderer: SceneView.objects[" + std::to_string(i) + "].colour must be in [0, 1]");
+        Impl::ObjectMesh& om = im.objects[i];
+        if (o.mesh != om.source || o.mesh->triangles.size() != om.triangles) {
+            try {
+                om.mesh.assign(*im.context, *o.mesh);
+            } catch (const Error& e) {
+                throw Error("SceneView.objects[" + std::to_string(i) + "]: " + e.what());
+            }
+            om.source = o.mesh;
+            om.triangles = o.mesh->triangles.size();
+        }
+        if (o.colour.a < 1.0f)
+            translucent_objects.push_back(i);
+        else
+            add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, true);
+    }
+
+    // Translucent: scene objects, proxy, workspace box, bubble (each back faces, then front faces).
+    for (const std::size_t i : translucent_objects)
+        add_translucent(im.objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, true);
     if (scene.proxy_radius_m > 0.0) {
         if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
             throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");

@@ -22,6 +22,15 @@
 
 namespace tridex::renderer {
 
+/// A scene object drawn in one colour (a study scene's tube, funnels and caps): its mesh in world m (CCW from
+/// outside) and its linear RGBA colour; alpha < 1 draws it translucent (back faces, then front faces, after the
+/// opaque items), alpha = 1 opaque. The mesh is uploaded again only when the pointer or its triangle count
+/// changes: keep it alive and unchanged while frames use it.
+struct SceneObject {
+    const TriMesh* mesh = nullptr;       ///< world m; nullptr or empty = not drawn
+    glm::vec4 colour{1.0f};              ///< linear RGBA, each in [0, 1]
+};
+
 /// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).
 struct SceneView {
     const TriMesh* workpiece = nullptr;  ///< the carved solid, world m; nullptr or empty = not drawn
@@ -61,6 +70,9 @@ struct SceneView {
     /// addition to `workpiece` (supply one or the other), each tile uploaded once and again only when its
     /// version changes, and drawn only in the eyes whose off-axis frustum its bounds may touch.
     std::span<const TileMesh> tiles{};
+    /// Further objects in their own colours (SceneObject), drawn with the tool and, when translucent, before
+    /// the proxy. Empty = none.
+    std::span<const SceneObject> objects{};
     /// false: draw every tile in both eyes (for comparison; counts then show nothing skipped).
     bool cull_tiles = true;
     /// Draw each tile in each eye at the coarsest of its TileMesh::levels whose error projects (pixels_per_metre

@@ -25,7 +25,9 @@ TEST(StudyRun, ScriptedParticipantStaysNearTheSpineAndTouchesBothCaps) {
     EXPECT_TRUE(tube.touches_start_cap(rec.ticks.front().top_m));
     EXPECT_TRUE(tube.touches_start_cap(rec.ticks.front().bottom_m));
     EXPECT_TRUE(tube.touches_end_cap(rec.ticks.back().bottom_m));
-    for (const auto& t : rec.ticks) EXPECT_LT(tube.project(t.wand_centre_m).distance_m, 0.021);
+    // Driven through the haptic loop by the virtual hand (the test model feels only the funnels): the wand's
+    // centre stays within the wander's largest amplitude of the spine.
+    for (const auto& t : rec.ticks) ASSERT_LT(tube.project(0.5 * (t.top_m + t.bottom_m)).distance_m, 0.025);
     // The same ID and trial give the same participant; another seed another one.
     EXPECT_EQ(simulated_test_trial(scene, "P01", "haptic", 1, 0).ticks.size(), rec.ticks.size());
     EXPECT_NE(simulated_test_trial(scene, "P01", "haptic", 1, 77).ticks.size(), rec.ticks.size());
