@@ -68,8 +68,8 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
 }
 
 std::string MouseStylus::status() const {
-    const char* name = op_ == ToolOp::kUnion ? "union" : op_ == ToolOp::kPaint ? "paint" : "subtract";
-    return std::string("mouse stylus: ") + name + " (1/2/3), depth " + format_number(1e3 * depth_m_) +
+    const char* name = tool_op_name(op_);
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5), depth " + format_number(1e3 * depth_m_) +
            " mm (wheel), radius " + format_number(1e3 * radius_m_) + " mm" + (left_ ? ", engaged" : "") +
            (right_ ? ", stylus button" : "");
 }

@@ -244,7 +244,7 @@ void read_op(Fields& top, RunScene& s) {
     try {
         (void)parse_tool_op(s.spec.op);
     } catch (const Error&) {
-        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint");
+        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, push, smooth");
     }
     s.spec.material = top.integer("material", s.spec.material, 1, 7);
 }

@@ -45,7 +45,9 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "subtract") return ToolOp::kSubtract;
     if (name == "union") return ToolOp::kUnion;
     if (name == "paint") return ToolOp::kPaint;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union or paint");
+    if (name == "push") return ToolOp::kPush;
+    if (name == "smooth") return ToolOp::kSmooth;
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push or smooth");
 }
 
 namespace {

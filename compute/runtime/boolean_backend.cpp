@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "compute/gpu/gpu_sculptor.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 
@@ -18,7 +19,8 @@ public:
         compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
         compute::BooleanStats total;
         for (const compute::Sweep& s : batch) {
-            const compute::BooleanStats b = compute::apply_sweep(model_, s);
+            const compute::BooleanStats b =
+                compute::is_clay_op(s.op) ? compute::apply_clay(model_, s).rays : compute::apply_sweep(model_, s);
             total.rays_visited += b.rays_visited;
             total.rays_changed += b.rays_changed;
         }
@@ -56,7 +58,34 @@ public:
         if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
-    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override { return sculptor_->apply(batch); }
+    /// Booleans run on the GPU kernel; a clay sweep (push, smooth) runs the CPU reference on the mirror model and
+    /// its changed rays are written to the slabs, in batch order (the clay ops have no Vulkan kernel yet).
+    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
+        compute::to_grid_batch(sculptor_->mirror().lattice, batch);  // validate all first: a bad sweep changes nothing
+        compute::BooleanStats total;
+        std::size_t i = 0;
+        while (i < batch.size()) {
+            std::size_t j = i;
+            while (j < batch.size() && !compute::is_clay_op(batch[j].op)) ++j;
+            if (j > i) {
+                const compute::BooleanStats b = sculptor_->apply(batch.subspan(i, j - i));
+                total.rays_visited += b.rays_visited;
+                total.rays_changed += b.rays_changed;
+            }
+            if (j < batch.size()) {
+                std::vector<compute::RayImage> before;
+                compute::TriDexel& m = sculptor_->mirror();
+                const compute::ClayStats c = compute::apply_clay(m, batch[j], &before);
+                for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
+                if (!before.empty()) sculptor_->write_rays(before, compute::clay_bounds(m.lattice, batch[j]));
+                total.rays_visited += c.rays.rays_visited;
+                total.rays_changed += c.rays.rays_changed;
+                ++j;
+            }
+            i = j;
+        }
+        return total;
+    }
     void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override { sculptor_->write_rays(rays, box_m); }
     std::string path() const override { return "gpu"; }
     std::string device() const override { return context_.device_name(); }

@@ -1,0 +1,36 @@
+// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth) as sweeps: validation, the box they
+// may change, and applying one to a tri-dexel model (the CPU reference).
+#pragma once
+
+#include <vector>
+
+#include "compute/model/tridexel.hpp"
+#include "compute/tools/clay_field.hpp"
+#include "compute/tools/sweep.hpp"
+#include "core/aabb.hpp"
+#include "core/tool_sample.hpp"
+
+namespace tridex::compute {
+
+/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth).
+inline bool is_clay_op(ToolOp op) { return op == ToolOp::kPush || op == ToolOp::kSmooth; }
+
+/// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push R*(kClayInfluence*(1 +
+/// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance.
+float clay_reach_cells(ToolOp op, float radius_cells);
+
+/// A clay sweep in grid units: the ball of radius sweep.tool.radius_m (kFlatEnd: its radius; kMesh: the mesh's
+/// bounding radius), origin/start/delta as to_grid_sweep, stamps at most half a cell apart (push) or 1 (smooth),
+/// lo..hi the node box it may change (clay_reach_cells and kClayMarginCells beyond the motion), clamped to the
+/// lattice. Throws tridex::Error as to_grid_sweep on bad input, and when op is not a clay op.
+GridSweep to_clay_grid_sweep(const Lattice& lattice, const Sweep& sweep);
+
+/// World box (m) a clay sweep may change: its node box lo..hi (not clamped) on `lattice`. Empty when the sweep is
+/// not finite (the clay ops refuse it).
+Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
+
+/// Applies one clay sweep (clay_push or clay_smooth) to `model`; appends the changed rays' old images to `before`
+/// when not null. Throws tridex::Error (model unchanged) on the input to_clay_grid_sweep refuses.
+ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr);
+
+}  // namespace tridex::compute
