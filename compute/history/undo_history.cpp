@@ -187,6 +187,12 @@ UndoHistory::Change UndoHistory::redo(const TriDexel& model, const RayWriter& wr
     return c;
 }
 
+bool UndoHistory::swap_open_images(TriDexel& model) {
+    if (!open_ || oversize_) return false;
+    for (RayImage& r : open_step_.rays) model.sets[r.axis].rays[r.index].swap(r.intervals);
+    return true;
+}
+
 HistoryStats UndoHistory::stats() const {
     HistoryStats s = counts_;
     s.budget_bytes = budget_;

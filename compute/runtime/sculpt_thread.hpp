@@ -229,6 +229,11 @@ private:
     SpscRing<SculptRequest> requests_{64};
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
+    // The open stroke pushes clay (ToolOp::kPush): the haptic loop feels the surface as it was when the stroke began
+    // (Popescu, Burdea, Bouzit 3.3: force from the undeformed reference; plastic, so the reference becomes the
+    // deformed surface when the stroke ends).
+    bool push_stroke_ = false;
+    bool holding_reference() const { return push_stroke_ && history_ && history_->stroke_open(); }
     std::function<CheckpointFile(const compute::TriDexel&)> checkpoint_write_;
     std::function<std::string(const compute::TriDexel&)> saver_;
     mutable std::mutex save_mutex_;

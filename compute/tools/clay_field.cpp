@@ -270,6 +270,45 @@ float clay_node_phi(const TriDexel& model, int i, int j, int k) {
     return votes >= 2 ? -mag : mag;
 }
 
+namespace {
+/// phi of `m` at grid point p, trilinear in the 8 nodes around it (clamped to the lattice).
+float phi_at_point(const TriDexel& m, const float p[3]) {
+    ClayField f;
+    for (int a = 0; a < 3; ++a) {
+        const int b = std::clamp(static_cast<int>(std::floor(p[a])), 0, std::max(m.lattice.cells[a] - 1, 0));
+        f.box.lo[a] = b;
+        f.box.hi[a] = std::min(b + 1, m.lattice.cells[a]);
+    }
+    clay_build_phi(m, f);
+    return clay_phi_at(f, p[0], p[1], p[2]);
+}
+
+double max_distance_of_ends(const TriDexel& from, const TriDexel& to) {
+    double worst = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = from.sets[a];
+        for (int v = 0; v < set.nv; ++v)
+            for (int u = 0; u < set.nu; ++u) {
+                const auto& ray = set.ray(u, v);
+                if (same_ray(ray, to.sets[a].ray(u, v))) continue;
+                for (const Interval& iv : ray)
+                    for (const float t : {iv.enter, iv.exit}) {
+                        float p[3];
+                        p[(a + 1) % 3] = static_cast<float>(u);
+                        p[(a + 2) % 3] = static_cast<float>(v);
+                        p[a] = t;
+                        worst = std::max(worst, static_cast<double>(std::fabs(phi_at_point(to, p))));
+                    }
+            }
+    }
+    return worst;
+}
+}  // namespace
+
+double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after) {
+    return std::max(max_distance_of_ends(after, before), max_distance_of_ends(before, after));
+}
+
 ClayBox clay_whole_box(const Lattice& L) {
     ClayBox b;
     for (int a = 0; a < 3; ++a) b.lo[a] = 0, b.hi[a] = L.cells[a];

@@ -98,6 +98,12 @@ ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_pre
 /// status the three rays through it do not all agree (each such node is one cell of disagreement).
 std::size_t clay_set_disagreement(const TriDexel& model, const ClayBox& box);
 
+/// How far (cells) the surface of `after` lies from the surface of `before` (two models on one lattice), the
+/// largest over every interval end of the rays that differ, both ways: |phi| of the other model at the end, phi
+/// trilinear in the 8 nodes around it (clay_node_phi), so at most kClaySearchCells. 0 when no ray differs. The
+/// `deformation.max_displacement_m` of a clay session's report (times the cell size). O(changed rays x intervals).
+double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after);
+
 /// The node box of the whole lattice.
 ClayBox clay_whole_box(const Lattice& lattice);
 
