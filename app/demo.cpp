@@ -14,9 +14,9 @@
 #include "app/session_recording.hpp"
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
+#include "app/tool_mesh.hpp"
 #include "app/workpiece_source.hpp"
 #include "compute/tools/clay_sweep.hpp"
-#include "app/tool_mesh.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -132,7 +132,8 @@ void run_demo(const DemoOptions& o) {
                                  3.0 * o.seconds + 10.0, start, sculpt);
     if (before) {
         const compute::TriDexel& after = run.runtime->workpiece().model;
-        run.deformation_max_displacement_m = compute::clay_max_displacement_cells(*before, after) * after.lattice.cell_m;
+        run.deformation_max_displacement_m =
+            compute::clay_max_displacement_cells(*before, after) * after.lattice.cell_m;
     }
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.

@@ -1,9 +1,9 @@
 // app/report.hpp - the demo's outputs: report.json, haptics.csv and the printed summary.
 #pragma once
 
-#include <optional>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 

@@ -15,7 +15,7 @@ enum class ToolOp : std::uint8_t {
     kSubtract = 1,  ///< carve: remove the swept volume
     kUnion = 2,     ///< add the swept volume as material
     kPaint = 3,     ///< set a material id where the tool touches
-    kPush = 4,      ///< clay: dent the surface the tool presses, the volume coming back as a rim (compute/tools/clay_push.hpp)
+    kPush = 4,      ///< clay: dent the pressed surface, its volume back as a rim (compute/tools/clay_push.hpp)
     kSmooth = 5,    ///< clay: relax the surface under the tool, keeping the volume (compute/tools/clay_smooth.hpp)
 };
 

@@ -1,6 +1,7 @@
 // compute/runtime/boolean_backend.cpp - the CPU and GPU sculpting backends.
 #include "compute/runtime/boolean_backend.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 
@@ -61,6 +62,8 @@ public:
     /// Booleans run on the GPU kernel; a clay sweep (push, smooth) runs the CPU reference on the mirror model and
     /// its changed rays are written to the slabs, in batch order (the clay ops have no Vulkan kernel yet).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
+        if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
+            return sculptor_->apply(batch);
         compute::to_grid_batch(sculptor_->mirror().lattice, batch);  // validate all first: a bad sweep changes nothing
         compute::BooleanStats total;
         std::size_t i = 0;

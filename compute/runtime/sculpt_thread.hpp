@@ -118,6 +118,9 @@ struct MeshFrame {
 /// material), and at a kEndStroke request; a drained batch is split where a stroke closes. Undo and redo requests
 /// are taken at the start of a step, before that step's samples. Every close, undo and redo is journalled as a
 /// mark between the batch records, so a journal replays the same strokes.
+/// Clay: while a push stroke (ToolOp::kPush) is open, the published active surface is the model as it was when the
+/// stroke began (SculptHistory::read_stroke_start), so the haptic force comes from the undeformed reference surface
+/// (Popescu, Burdea, Bouzit, section 3.3); the surface is published again, deformed, when the stroke closes (plastic).
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
 /// the ball tool; the sample's op: subtract, or union / paint with the sample's material) to the
 /// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),

@@ -46,8 +46,8 @@ TEST(ClaySession, PushDemoDeformsKeepsVolumeAndReplaysByteForByte) {
     std::printf("push demo: max displacement %.2f mm (%.1f cells), volume change %.4f%%\n", 1e3 * moved, moved / cell,
                 100.0 * (v1 - v0) / v0);
 
-    const auto again = run_tridex("replay " + rec.string() + " --cpu --width 64 --height 48 --out " + (dir / "replay").string(),
-                                  dir / "replay");
+    const auto again = run_tridex(
+        "replay " + rec.string() + " --cpu --width 64 --height 48 --out " + (dir / "replay").string(), dir / "replay");
     ASSERT_EQ(again.exit_code, 0) << again.err;
     const std::string a = bytes_of(dir / "live" / "sculpted.ply"), b = bytes_of(dir / "replay" / "sculpted.ply");
     ASSERT_GT(a.size(), 1000u);
@@ -57,9 +57,9 @@ TEST(ClaySession, PushDemoDeformsKeepsVolumeAndReplaysByteForByte) {
 TEST(ClaySession, SmoothDemoRunsAndReports) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-clay-smooth";
     fs::remove_all(dir);
-    const auto live = run_tridex("demo --op smooth --cpu --resolution 64 --seconds 1 --width 64 --height 48 --out " +
-                                     (dir / "live").string(),
-                                 dir / "live");
+    const auto live = run_tridex(
+        "demo --op smooth --cpu --resolution 64 --seconds 1 --width 64 --height 48 --out " + (dir / "live").string(),
+        dir / "live");
     ASSERT_EQ(live.exit_code, 0) << live.err;
     const nlohmann::json j = report(dir / "live");
     EXPECT_EQ(j["settings"]["op"], "smooth");

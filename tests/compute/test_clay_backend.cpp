@@ -70,7 +70,8 @@ TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
     for (const auto& b : batches()) {
         const compute::BooleanStats sc = hc.apply(b);
         const compute::BooleanStats sg = hg.apply(b);
-        EXPECT_EQ(sc.rays_changed > 0, sg.rays_changed > 0);  // the paths count a ray changed by several sweeps differently
+        EXPECT_EQ(sc.rays_changed > 0,
+                  sg.rays_changed > 0);  // the paths count a ray changed by several sweeps differently
         changed += sc.rays_changed;
     }
     EXPECT_GT(changed, 0u);
@@ -95,10 +96,8 @@ TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
     // Undo all strokes on both: back to the start exactly.
     hc.end_stroke();
     hg.end_stroke();
-    while (hc.undo().serial != 0) {
-    }
-    while (hg.undo().serial != 0) {
-    }
+    while (hc.undo().serial != 0) {}
+    while (hg.undo().serial != 0) {}
     expect_same(cpu_model, start);
     expect_same(gpu_model, start);
 }
