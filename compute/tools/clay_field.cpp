@@ -13,11 +13,11 @@ struct Crossing {
     std::uint8_t material;
 };
 
-/// Distance (cells) from `depth` to the ray's nearest interval end within kClaySearchCells, and whether the
+/// Distance (cells) from `depth` to the ray's nearest interval end within `search` cells, and whether the
 /// depth is inside (enter < depth <= exit).
-void ray_probe(const std::vector<Interval>& ray, float depth, bool& inside, float& dist) {
+void ray_probe(const std::vector<Interval>& ray, float depth, float search, bool& inside, float& dist) {
     inside = false;
-    dist = static_cast<float>(kClaySearchCells);
+    dist = search;
     for (const Interval& iv : ray) {
         if (iv.enter < depth && depth <= iv.exit) inside = true;
         dist = std::min(dist, std::fabs(iv.enter - depth));
@@ -174,11 +174,14 @@ double evaluate(TriDexel& model, const ClayField& f, const MovedRays& moved, flo
 float ramp(float p) { return std::clamp(0.5f - p, 0.0f, 1.0f); }
 
 /// beta so that the field's volume (sum of ramp over the moved nodes) is unchanged: bisection on the monotone,
-/// piecewise-linear change in [-8, 8] (s1 of one sign), 40 steps, float, in node order.
+/// piecewise-linear change in [-8, 8] (s1 of one sign), 26 steps, float, in node order.
 float solve_beta(const ClayField& f) {
+    // Nodes whose ramp can change for beta in [-8, 8]; the others add 0 to every sum.
     std::vector<std::size_t> moved;
     for (std::size_t i = 0; i < f.s0.size(); ++i)
-        if (f.s0[i] != 0.0f || f.s1[i] != 0.0f) moved.push_back(i);
+        if ((f.s0[i] != 0.0f || f.s1[i] != 0.0f) &&
+            std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i]))
+            moved.push_back(i);
     auto change = [&](float beta) {
         double dv = 0.0;
         for (const std::size_t i : moved)
@@ -189,7 +192,7 @@ float solve_beta(const ClayField& f) {
     const double flo = change(lo), fhi = change(hi);
     if (!(flo * fhi < 0.0)) return std::fabs(flo) < std::fabs(fhi) ? lo : hi;  // no root in range: the nearest end
     const bool rising = fhi > flo;
-    for (int k = 0; k < 40; ++k) {
+    for (int k = 0; k < 26; ++k) {  // 16 / 2^26: below a float's resolution of the offsets
         const float mid = 0.5f * (lo + hi);
         const double fm = change(mid);
         if (fm == 0.0) return mid;
@@ -201,38 +204,31 @@ float solve_beta(const ClayField& f) {
     return 0.5f * (lo + hi);
 }
 
-/// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box: from the field's
-/// estimate (solve_beta), a bracket on the measured change (monotone in beta), then regula falsi; at most 7 dry
-/// re-samplings; the beta with the smallest measured change wins. The measured change moves in steps where a node
-/// across a set's rays flips, so it is kept within about one such step, not exactly 0.
+/// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box: the field's
+/// estimate b1 (solve_beta), then up to two secant steps on the measured change, the first with the slope of the
+/// field's own (the ramp sum's change per unit beta, a central difference over 0.1), the second with the measured
+/// one; the beta with the smallest measured change wins. At most 3 dry re-samplings. The measured change moves in steps (a set's rays sample across them at whole
+/// nodes), so one operation keeps it within about one such step, not exactly 0.
 float solve_measured(TriDexel& model, const ClayField& f, const MovedRays& moved) {
-    const double dv0 = evaluate(model, f, moved, 0.0f, false, nullptr, nullptr);
-    if (dv0 == 0.0) return 0.0f;
-    float best = 0.0f;
-    double best_dv = dv0;
-    float b1 = solve_beta(f);
-    if (b1 == 0.0f) b1 = 1e-3f;
-    double dv1 = evaluate(model, f, moved, b1, false, nullptr, nullptr);
-    if (std::fabs(dv1) < std::fabs(best_dv)) best = b1, best_dv = dv1;
-    float a = 0.0f;
-    double da = dv0;
-    for (int k = 0; k < 3 && (dv1 < 0.0) == (da < 0.0) && dv1 != 0.0; ++k) {  // widen until the sign changes
-        a = b1;
-        da = dv1;
-        b1 = std::clamp(2.0f * b1, -8.0f, 8.0f);
-        dv1 = evaluate(model, f, moved, b1, false, nullptr, nullptr);
-        if (std::fabs(dv1) < std::fabs(best_dv)) best = b1, best_dv = dv1;
+    const float b1 = solve_beta(f);
+    double slope = 0.0;  // field volume change per unit beta
+    for (std::size_t i = 0; i < f.s0.size(); ++i) {
+        if (f.s1[i] == 0.0f) continue;
+        const float base = f.phi[i] + (f.s0[i] + b1 * f.s1[i]);
+        slope += (static_cast<double>(ramp(base + 0.05f * f.s1[i])) - ramp(base - 0.05f * f.s1[i])) / 0.1;
     }
-    if ((dv1 < 0.0) == (da < 0.0)) return best;  // no bracket: the best seen
-    for (int k = 0; k < 4 && best_dv != 0.0; ++k) {
-        float m = static_cast<float>(static_cast<double>(a) - da * static_cast<double>(b1 - a) / (dv1 - da));
-        if (!(m > std::min(a, b1) && m < std::max(a, b1))) m = 0.5f * (a + b1);
-        const double dm = evaluate(model, f, moved, m, false, nullptr, nullptr);
-        if (std::fabs(dm) < std::fabs(best_dv)) best = m, best_dv = dm;
-        if ((dm < 0.0) == (da < 0.0))
-            a = m, da = dm;
-        else
-            b1 = m, dv1 = dm;
+    float best = b1;
+    double best_dv = evaluate(model, f, moved, b1, false, nullptr, nullptr);
+    float b = b1;
+    double dv = best_dv;
+    for (int k = 0; k < 2 && dv != 0.0 && slope != 0.0; ++k) {
+        const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
+        if (nb == b) break;
+        const double ndv = evaluate(model, f, moved, nb, false, nullptr, nullptr);
+        if (std::fabs(ndv) < std::fabs(best_dv)) best = nb, best_dv = ndv;
+        if (ndv != dv) slope = (ndv - dv) / (static_cast<double>(nb) - static_cast<double>(b));  // measured from now on
+        b = nb;
+        dv = ndv;
     }
     return best;
 }
@@ -245,7 +241,7 @@ bool clay_ray_inside(const std::vector<Interval>& ray, float depth) {
     return false;
 }
 
-float clay_node_phi(const TriDexel& model, int i, int j, int k) {
+float clay_node_phi(const TriDexel& model, int i, int j, int k, float search) {
     const int n[3] = {i, j, k};
     int votes = 0;
     float inv = 0.0f;
@@ -254,14 +250,14 @@ float clay_node_phi(const TriDexel& model, int i, int j, int k) {
         const RaySet& set = model.sets[a];
         bool in;
         float d;
-        ray_probe(set.ray(n[(a + 1) % 3], n[(a + 2) % 3]), static_cast<float>(n[a]), in, d);
+        ray_probe(set.ray(n[(a + 1) % 3], n[(a + 2) % 3]), static_cast<float>(n[a]), search, in, d);
         votes += in ? 1 : 0;
         if (d == 0.0f)
             touching = true;
-        else if (d < static_cast<float>(kClaySearchCells))
+        else if (d < search)
             inv += 1.0f / (d * d);
     }
-    float mag = static_cast<float>(kClaySearchCells);
+    float mag = search;
     if (touching)
         mag = 0.0f;
     else if (inv > 0.0f)
@@ -274,6 +270,7 @@ namespace {
 /// phi of `m` at grid point p, trilinear in the 8 nodes around it (clamped to the lattice).
 float phi_at_point(const TriDexel& m, const float p[3]) {
     ClayField f;
+    f.search = 64.0f;  // a measure, not a field to offset: look far
     for (int a = 0; a < 3; ++a) {
         const int b = std::clamp(static_cast<int>(std::floor(p[a])), 0, std::max(m.lattice.cells[a] - 1, 0));
         f.box.lo[a] = b;
@@ -316,14 +313,52 @@ ClayBox clay_whole_box(const Lattice& L) {
 }
 
 void clay_build_phi(const TriDexel& model, ClayField& f) {
-    const std::size_t n = f.box.count();
+    // clay_node_phi at every node, one walk along each ray of each set instead of a scan per node: the same
+    // predicates and the same float operations in the same order (sets 0, 1, 2), so the same values.
+    const ClayBox& b = f.box;
+    const std::size_t n = b.count();
     f.phi.assign(n, 0.0f);
     f.s0.assign(n, 0.0f);
     f.s1.assign(n, 0.0f);
-    for (int k = f.box.lo[2]; k <= f.box.hi[2]; ++k)
-        for (int j = f.box.lo[1]; j <= f.box.hi[1]; ++j)
-            for (int i = f.box.lo[0]; i <= f.box.hi[0]; ++i)
-                f.phi[f.box.index(i, j, k)] = clay_node_phi(model, i, j, k);
+    thread_local std::vector<std::uint8_t> votes, touching;
+    votes.assign(n, 0);
+    touching.assign(n, 0);
+    std::vector<float>& inv = f.s1;  // scratch until the end
+    const float K = f.search;
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = model.sets[a];
+        const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        int nd[3];
+        for (int v = b.lo[va]; v <= b.hi[va]; ++v)
+            for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+                const std::vector<Interval>& ray = set.ray(u, v);
+                const std::size_t ne = 2 * ray.size();
+                auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
+                nd[ua] = u;
+                nd[va] = v;
+                std::size_t q = 0;  // first end >= depth
+                for (int d = b.lo[a]; d <= b.hi[a]; ++d) {
+                    const float depth = static_cast<float>(d);
+                    while (q < ne && end(q) < depth) ++q;
+                    float dist = K;
+                    if (q > 0) dist = std::min(dist, std::fabs(end(q - 1) - depth));
+                    if (q < ne) dist = std::min(dist, std::fabs(end(q) - depth));
+                    nd[a] = d;
+                    const std::size_t x = b.index(nd[0], nd[1], nd[2]);
+                    votes[x] = static_cast<std::uint8_t>(votes[x] + ((q & 1u) ? 1 : 0));
+                    if (dist == 0.0f) touching[x] = 1;
+                    else if (dist < K) inv[x] += 1.0f / (dist * dist);
+                }
+            }
+    }
+    for (std::size_t x = 0; x < n; ++x) {
+        float mag = K;
+        if (touching[x]) mag = 0.0f;
+        else if (inv[x] > 0.0f) mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
+        mag = std::max(mag, 1e-6f);
+        f.phi[x] = votes[x] >= 2 ? -mag : mag;
+        inv[x] = 0.0f;
+    }
 }
 
 float clay_phi_at(const ClayField& f, float px, float py, float pz) {

@@ -30,7 +30,9 @@ namespace tridex::compute {
 inline constexpr float kClayInfluence = 1.5f;
 /// Width of the push's rim beyond the radius of influence, as a multiple of r.
 inline constexpr float kClayRimWidth = 1.0f;
-/// How far (cells) the field looks along each ray for the nearest crossing; farther is clamped to this.
+/// How far (cells) the field looks along each ray for the nearest crossing; farther is clamped to this. Kept short so
+/// that the distance near a surface is not bent by another sheet farther away (a plane stays exactly linear); the
+/// contact of a large tool looks farther (ClayField::search).
 inline constexpr int kClaySearchCells = 6;
 /// Node layers around the displaced nodes that keep phi' == phi, so a ray's re-sampled part joins its old part.
 inline constexpr int kClayMarginCells = 2;
@@ -56,6 +58,7 @@ struct ClayBox {
 /// along the surface normal, > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves.
 struct ClayField {
     ClayBox box;
+    float search = static_cast<float>(kClaySearchCells);  ///< clamp of phi, cells (clay_node_phi)
     std::vector<float> phi;
     std::vector<float> s0;
     std::vector<float> s1;
@@ -65,9 +68,9 @@ struct ClayField {
 /// enter < depth <= exit (the parity of the ray's crossings below the node).
 bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
 
-/// phi at one lattice node (cells, < 0 inside; |phi| <= kClaySearchCells; never exactly 0), from the three rays
-/// through it (see above). O(intervals on the three rays).
-float clay_node_phi(const TriDexel& model, int i, int j, int k);
+/// phi at one lattice node (cells, < 0 inside; |phi| <= search; never exactly 0), from the three rays through it
+/// (see above), crossings farther than `search` cells along a ray ignored. O(intervals on the three rays).
+float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
 
 /// Fills field.phi on field.box (which must be inside the lattice) and zeroes s0 and s1.
 void clay_build_phi(const TriDexel& model, ClayField& field);
@@ -86,11 +89,11 @@ struct ClayStats {
 /// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
 /// the three sets' interval lengths, as dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
-/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then a bracket and regula falsi
+/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then up to two secant steps
 /// on the measured change. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
 /// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
-/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; at most 8 re-samplings (7 without writing).
+/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; at most 4 re-samplings (3 without writing).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 
@@ -100,7 +103,7 @@ std::size_t clay_set_disagreement(const TriDexel& model, const ClayBox& box);
 
 /// How far (cells) the surface of `after` lies from the surface of `before` (two models on one lattice), the
 /// largest over every interval end of the rays that differ, both ways: |phi| of the other model at the end, phi
-/// trilinear in the 8 nodes around it (clay_node_phi), so at most kClaySearchCells. 0 when no ray differs. The
+/// trilinear in the 8 nodes around it (clay_node_phi looking 64 cells along the rays), so at most 64. 0 when no ray differs. The
 /// `deformation.max_displacement_m` of a clay session's report (times the cell size). O(changed rays x intervals).
 double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after);
 

@@ -17,6 +17,7 @@ float rim_bump(float x) {
 
 struct Stamp {
     float p[3];   // contact point p*, grid units from the lattice origin
+    float n[3];   // outward normal at the contact
     float delta;  // surface displacement at p*, cells
 };
 
@@ -30,9 +31,10 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
         f.box.lo[a] = std::clamp(b - 1, 0, model.lattice.cells[a]);
         f.box.hi[a] = std::clamp(b + 2, 0, model.lattice.cells[a]);
     }
+    f.search = std::max(static_cast<float>(kClaySearchCells), r_cells + 2.0f);  // a large tool's contact lies far out
     ClayContact k;
     if (f.box.empty()) {
-        k.phi = static_cast<float>(kClaySearchCells);
+        k.phi = f.search;
         k.delta = r_cells - k.phi;
         for (int a = 0; a < 3; ++a) k.point[a] = c[a];
         return k;
@@ -49,7 +51,10 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
     }
     const float len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
     const float reach = std::max(k.phi, 0.0f);
-    for (int a = 0; a < 3; ++a) k.point[a] = len > 0.0f ? c[a] - reach * (g[a] / len) : c[a];
+    for (int a = 0; a < 3; ++a) {
+        k.normal[a] = len > 0.0f ? g[a] / len : 0.0f;
+        k.point[a] = c[a] - reach * k.normal[a];
+    }
     return k;
 }
 
@@ -64,7 +69,9 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
         for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
         const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
         if (!(ct.delta >= kClayMinStep)) continue;
-        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]}, std::min(ct.delta, kClayMaxStep)});
+        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
+                          {ct.normal[0], ct.normal[1], ct.normal[2]},
+                          std::min(ct.delta, kClayMaxStep)});
     }
     if (stamps.empty()) return {};
     ClayField field;
@@ -86,6 +93,8 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                 for (const Stamp& s : stamps) {
                     const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
                     const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+                    const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
+                    if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
                     if (d < r) {
                         const float x = d / r;
                         dent =

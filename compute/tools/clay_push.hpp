@@ -11,7 +11,7 @@
 namespace tridex::compute {
 
 /// Smallest penetration (cells) a push stamp acts on; shallower contacts wait until the tool goes deeper.
-inline constexpr float kClayMinStep = 0.05f;
+inline constexpr float kClayMinStep = 0.1f;
 /// Largest surface displacement (cells) one push stamp applies; a deeper press is followed over several segments.
 inline constexpr float kClayMaxStep = 1.0f;
 
@@ -22,7 +22,14 @@ struct ClayContact {
     float phi = 0.0f;
     float delta = 0.0f;
     float point[3] = {0.0f, 0.0f, 0.0f};
+    float normal[3] = {0.0f, 0.0f, 0.0f};  ///< grad(phi)/|grad(phi)| at the centre (outward); 0 when phi is flat there
 };
+
+/// How deep (cells, along -normal from the contact point) a node may lie and still be moved by a clay stamp that
+/// displaces the surface by `delta` at distance `d` from the contact point: delta + 2 cells + d/2 (the near sheet of
+/// a surface curving away with radius >= d). Deeper nodes belong to another sheet (the far side of a thin part) and
+/// keep their value, so a push does not thin a plate from behind.
+inline float clay_sheet_depth(float delta, float d) { return delta + 2.0f + 0.5f * d; }
 
 /// The contact of a ball (grid centre cx, cy, cz; radius r_cells) with `model`, from a 4 x 4 x 4 node field around
 /// the centre.

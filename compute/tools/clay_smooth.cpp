@@ -41,6 +41,8 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
                             dz = static_cast<float>(kz) - ct.point[2];
                 const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
                 if (!(d < r)) continue;
+                const float depth = -(dx * ct.normal[0] + dy * ct.normal[1] + dz * ct.normal[2]);
+                if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
                 const float x = d / r;
                 const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
                 const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
