@@ -141,31 +141,41 @@ MovedRays moved_rays(const ClayField& f) {
     return m;
 }
 
-double evaluate(TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, bool write,
-                BooleanStats* stats, std::vector<RayImage>* before) {
+/// The rays one re-sampling changed: (set, index in the set) and their new intervals, and the volume change.
+struct Resampled {
+    std::vector<std::pair<std::uint8_t, std::uint32_t>> where;
+    std::vector<std::vector<Interval>> rays;
+    double dv = 0.0;
+    std::size_t visited = 0;
+};
+
+/// Re-samples the moved rays at `beta` without writing: the volume change (cells^3, mean of the three sets) and,
+/// in `keep`, the changed rays' new intervals.
+void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, Resampled& keep) {
     double dv[3] = {0.0, 0.0, 0.0};
-    std::vector<Interval> out;
+    keep.where.clear();
+    keep.visited = 0;
+    std::size_t used = 0;
     for (int a = 0; a < 3; ++a) {
-        RaySet& set = model.sets[a];
+        const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         for (int v = f.box.lo[va]; v <= f.box.hi[va]; ++v)
             for (int u = f.box.lo[ua]; u <= f.box.hi[ua]; ++u) {
-                if (stats) ++stats->rays_visited;
+                ++keep.visited;
                 if (!moved[a][static_cast<std::size_t>(u - f.box.lo[ua]) +
                               static_cast<std::size_t>(f.box.n(ua)) * (v - f.box.lo[va])])
                     continue;
-                std::vector<Interval>& ray = set.ray(u, v);
+                const std::vector<Interval>& ray = set.ray(u, v);
+                if (used == keep.rays.size()) keep.rays.emplace_back();
+                std::vector<Interval>& out = keep.rays[used];
                 resample_ray(ray, f, a, u, v, beta, out);
                 if (same_ray(ray, out)) continue;
                 dv[a] += ray_length(out) - ray_length(ray);
-                if (!write) continue;
-                if (stats) ++stats->rays_changed;
-                if (before)
-                    before->push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v), ray});
-                ray.swap(out);
+                keep.where.push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v)});
+                ++used;
             }
     }
-    return (dv[0] + dv[1] + dv[2]) / 3.0;
+    keep.dv = (dv[0] + dv[1] + dv[2]) / 3.0;
 }
 
 /// The field's volume indicator at a node: the share (0..1) of the node's cell-sized column element that lies
@@ -205,32 +215,42 @@ float solve_beta(const ClayField& f) {
 }
 
 /// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box: the field's
-/// estimate b1 (solve_beta), then up to two secant steps on the measured change, the first with the slope of the
-/// field's own (the ramp sum's change per unit beta, a central difference over 0.1), the second with the measured
-/// one; the beta with the smallest measured change wins. At most 3 dry re-samplings. The measured change moves in steps (a set's rays sample across them at whole
-/// nodes), so one operation keeps it within about one such step, not exactly 0.
-float solve_measured(TriDexel& model, const ClayField& f, const MovedRays& moved) {
+/// estimate b1 (solve_beta), then, while the measured change exceeds 1% of what s0 moved (field measure), up to two
+/// secant steps, the first with the slope of the field's own (the ramp sum's change per unit beta, a central
+/// difference over 0.1), the second with the measured one; the beta with the smallest measured change wins and its
+/// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings. The measured
+/// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
+/// one such step, not exactly 0.
+float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays& moved, Resampled& best) {
     const float b1 = solve_beta(f);
-    double slope = 0.0;  // field volume change per unit beta
+    double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
     for (std::size_t i = 0; i < f.s0.size(); ++i) {
+        if (f.s0[i] != 0.0f) dent += static_cast<double>(ramp(f.phi[i] + f.s0[i])) - ramp(f.phi[i]);
         if (f.s1[i] == 0.0f) continue;
         const float base = f.phi[i] + (f.s0[i] + b1 * f.s1[i]);
         slope += (static_cast<double>(ramp(base + 0.05f * f.s1[i])) - ramp(base - 0.05f * f.s1[i])) / 0.1;
     }
-    float best = b1;
-    double best_dv = evaluate(model, f, moved, b1, false, nullptr, nullptr);
+    // Good enough: within 1% of what the dent (or the smoothing) moved, or of a hundredth of a cell^3.
+    const double tolerance = std::max(0.01 * std::fabs(dent), 0.01);
+    float best_beta = b1;
+    evaluate(model, f, moved, b1, best);
+    thread_local Resampled trial;
     float b = b1;
-    double dv = best_dv;
-    for (int k = 0; k < 2 && dv != 0.0 && slope != 0.0; ++k) {
+    double dv = best.dv;
+    for (int k = 0; k < 2 && std::fabs(dv) > tolerance && slope != 0.0; ++k) {
         const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
         if (nb == b) break;
-        const double ndv = evaluate(model, f, moved, nb, false, nullptr, nullptr);
-        if (std::fabs(ndv) < std::fabs(best_dv)) best = nb, best_dv = ndv;
+        evaluate(model, f, moved, nb, trial);
+        const double ndv = trial.dv;
+        if (std::fabs(ndv) < std::fabs(best.dv)) {
+            std::swap(best, trial);
+            best_beta = nb;
+        }
         if (ndv != dv) slope = (ndv - dv) / (static_cast<double>(nb) - static_cast<double>(b));  // measured from now on
         b = nb;
         dv = ndv;
     }
-    return best;
+    return best_beta;
 }
 
 }  // namespace
@@ -398,12 +418,21 @@ ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserv
     if (!any && !any1) return st;
     const MovedRays moved = moved_rays(f);
     float beta = 0.0f;
-    if (volume_preserving && any1) beta = solve_measured(model, f, moved);
+    thread_local Resampled result;
+    if (volume_preserving && any1) beta = solve_measured(model, f, moved, result);
+    else evaluate(model, f, moved, 0.0f, result);
     for (std::size_t i = 0; i < f.s0.size(); ++i)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));
     st.beta = beta;
-    st.volume_change_cells = evaluate(model, f, moved, beta, true, &st.rays, before);
+    st.volume_change_cells = result.dv;
+    st.rays.rays_visited = result.visited;
+    st.rays.rays_changed = result.where.size();
+    for (std::size_t k = 0; k < result.where.size(); ++k) {
+        std::vector<Interval>& ray = model.sets[result.where[k].first].rays[result.where[k].second];
+        if (before) before->push_back({result.where[k].first, result.where[k].second, ray});
+        ray.swap(result.rays[k]);
+    }
     if (st.rays.rays_changed > 0) {
         const Lattice& L = model.lattice;
         Aabb box;

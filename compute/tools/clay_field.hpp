@@ -29,7 +29,7 @@ namespace tridex::compute {
 /// Radius of influence r as a multiple of the tool radius R (Popescu, Burdea, Bouzit, section 3.3).
 inline constexpr float kClayInfluence = 1.5f;
 /// Width of the push's rim beyond the radius of influence, as a multiple of r.
-inline constexpr float kClayRimWidth = 1.0f;
+inline constexpr float kClayRimWidth = 0.5f;
 /// How far (cells) the field looks along each ray for the nearest crossing; farther is clamped to this. Kept short so
 /// that the distance near a surface is not bent by another sheet farther away (a plane stays exactly linear); the
 /// contact of a large tool looks farther (ClayField::search).
@@ -89,11 +89,11 @@ struct ClayStats {
 /// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
 /// the three sets' interval lengths, as dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
-/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then up to two secant steps
-/// on the measured change. The measured change moves in steps (a set's rays sample across them at whole nodes), so
+/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
+/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
 /// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
-/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; at most 4 re-samplings (3 without writing).
+/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 
