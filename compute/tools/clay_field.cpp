@@ -326,6 +326,17 @@ double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after
     return std::max(max_distance_of_ends(after, before), max_distance_of_ends(before, after));
 }
 
+ClayBox clay_support_box(const float lo[3], const float hi[3], float reach, const ClayBox& outer) {
+    ClayBox b;
+    for (int a = 0; a < 3; ++a) {
+        const float l = std::floor(lo[a] - reach) - static_cast<float>(kClayMarginCells);
+        const float h = std::ceil(hi[a] + reach) + static_cast<float>(kClayMarginCells);
+        b.lo[a] = l <= static_cast<float>(outer.lo[a]) ? outer.lo[a] : static_cast<int>(l);
+        b.hi[a] = h >= static_cast<float>(outer.hi[a]) ? outer.hi[a] : static_cast<int>(h);
+    }
+    return b;
+}
+
 ClayBox clay_whole_box(const Lattice& L) {
     ClayBox b;
     for (int a = 0; a < 3; ++a) b.lo[a] = 0, b.hi[a] = L.cells[a];

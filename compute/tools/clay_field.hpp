@@ -107,6 +107,9 @@ std::size_t clay_set_disagreement(const TriDexel& model, const ClayBox& box);
 /// `deformation.max_displacement_m` of a clay session's report (times the cell size). O(changed rays x intervals).
 double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after);
 
+/// The node box around grid points lo..hi (per axis) widened by `reach` cells and kClayMarginCells, inside `outer`.
+ClayBox clay_support_box(const float lo[3], const float hi[3], float reach, const ClayBox& outer);
+
 /// The node box of the whole lattice.
 ClayBox clay_whole_box(const Lattice& lattice);
 

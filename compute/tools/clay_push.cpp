@@ -75,7 +75,16 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
     }
     if (stamps.empty()) return {};
     ClayField field;
-    for (int a = 0; a < 3; ++a) field.box.lo[a] = g.lo[a], field.box.hi[a] = g.hi[a];
+    // The box around the contact points (the sweep's lo..hi allow for any contact within R + 0.5 of the centre).
+    ClayBox outer;
+    float plo[3], phi_[3];
+    for (int a = 0; a < 3; ++a) {
+        outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
+        plo[a] = stamps[0].p[a], phi_[a] = stamps[0].p[a];
+        for (const Stamp& s : stamps) plo[a] = std::min(plo[a], s.p[a]), phi_[a] = std::max(phi_[a], s.p[a]);
+    }
+    field.box = clay_support_box(plo, phi_, r + w, outer);
+    if (field.box.empty()) return {};
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)

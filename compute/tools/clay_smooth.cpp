@@ -22,7 +22,10 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
     if (!(ct.phi <= R + 0.5f)) return {};
     ClayField field;
-    for (int a = 0; a < 3; ++a) field.box.lo[a] = g.lo[a], field.box.hi[a] = g.hi[a];
+    ClayBox outer;
+    for (int a = 0; a < 3; ++a) outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
+    field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
+    if (field.box.empty()) return {};
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
