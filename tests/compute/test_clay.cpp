@@ -2,9 +2,11 @@
 // strokes, three-set agreement, smoothing a noisy sphere, a plane left alone, undo restoring exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <vector>
 
 #include "clay_test_models.hpp"
 #include "compute/history/undo_history.hpp"
@@ -163,6 +165,44 @@ TEST(ClaySmooth, PlaneIsLeftAlone) {
             worst = std::max(worst, std::fabs(static_cast<double>(top_of(m, i, j)) - top_of(before, i, j)));
     std::printf("smooth of a plane: largest crossing move %.2e cells\n", worst);
     EXPECT_LT(worst, 1e-3);
+}
+
+TEST(ClaySmooth, SawtoothFlattensPassByPass) {
+    // A slab whose top is a sawtooth along x (period 4 cells, 1.2 cells peak to peak); passes of the tool along x
+    // over the middle rows, the tool's centre riding 2.6 cells above the mean surface (R = 3).
+    const double z0 = 20.3, amp = 0.6;
+    auto saw = [&](double x) {
+        const double f = x / 4.0 - std::floor(x / 4.0);  // 0..1
+        return amp * (f < 0.5 ? 4.0 * f - 1.0 : 3.0 - 4.0 * f);
+    };
+    TriDexel m = from_implicit(cube_lattice(48), [&](double x, double y, double z) {
+        return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - (z0 + saw(x))});
+    });
+    auto spread = [&] {  // peak to peak of the Z rays' tops over the brushed middle
+        float lo = 1e30f, hi = -1e30f;
+        for (int j = 22; j <= 26; ++j)
+            for (int i = 18; i <= 30; ++i) lo = std::min(lo, top_of(m, i, j)), hi = std::max(hi, top_of(m, i, j));
+        return static_cast<double>(hi - lo);
+    };
+    const double v0 = volume_cells(m);
+    std::vector<double> s{spread()};
+    for (int pass = 0; pass < 6; ++pass) {
+        for (double y = 21.0; y <= 27.0; y += 1.0) {
+            Vec3 p(14.0, y, z0 + 2.6);
+            while (p.x < 34.0) {
+                const Vec3 q = p + Vec3(0.25, 0.0, 0.0);
+                apply_clay(m, clay_sweep(ToolOp::kSmooth, p, q, 3.0));
+                p = q;
+            }
+        }
+        s.push_back(spread());
+    }
+    std::printf("smooth of a sawtooth: peak to peak");
+    for (double x : s) std::printf(" %.3f", x);
+    std::printf(" cells; volume %.4f%%\n", 100.0 * (volume_cells(m) - v0) / v0);
+    EXPECT_LT(s.back(), 0.35 * s.front());
+    for (std::size_t k = 1; k < s.size(); ++k) EXPECT_LE(s[k], s[k - 1] + 0.02) << "pass " << k;
+    EXPECT_LT(std::fabs(volume_cells(m) - v0) / v0, 0.01);
 }
 
 TEST(ClaySmooth, NoisySphereGetsSmootherAndKeepsItsVolume) {
