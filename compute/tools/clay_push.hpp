@@ -11,7 +11,7 @@
 namespace tridex::compute {
 
 /// Smallest penetration (cells) a push stamp acts on; shallower contacts wait until the tool goes deeper.
-inline constexpr float kClayMinStep = 0.1f;
+inline constexpr float kClayMinStep = 0.25f;
 /// Largest surface displacement (cells) one push stamp applies; a deeper press is followed over several segments.
 inline constexpr float kClayMaxStep = 1.0f;
 
