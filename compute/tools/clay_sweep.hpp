@@ -29,8 +29,14 @@ GridSweep to_clay_grid_sweep(const Lattice& lattice, const Sweep& sweep);
 /// not finite (the clay ops refuse it).
 Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
 
-/// Applies one clay sweep (clay_push or clay_smooth) to `model`; appends the changed rays' old images to `before`
-/// when not null. Throws tridex::Error (model unchanged) on the input to_clay_grid_sweep refuses.
+/// Longest motion (cells) one push is applied over at once; a longer one is applied as that many equal pieces in
+/// order (apply_clay).
+inline constexpr double kClayPieceCells = 2.0;
+
+/// Applies one clay sweep (clay_push or clay_smooth) to `model`; a push moving more than kClayPieceCells goes in
+/// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
+/// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
+/// unchanged) on the input to_clay_grid_sweep refuses.
 ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr);
 
 }  // namespace tridex::compute
