@@ -77,7 +77,7 @@ void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis
         }
         const float p0 = f.phi[i0] + s0, p1 = f.phi[i1] + s1;
         // Status at each end: the field's where the node moved, the ray's own where it did not.
-        bool st0 = s0 != 0.0f ? p0 < 0.0f : status;
+        const bool st0 = s0 != 0.0f ? p0 < 0.0f : status;
         std::size_t q1 = q;
         while (q1 < nx && old_t(q1) < fd1) ++q1;
         const bool st1 = s1 != 0.0f ? p1 < 0.0f : (q1 & 1u) != 0;
@@ -118,7 +118,6 @@ bool same_ray(const std::vector<Interval>& a, const std::vector<Interval>& b) {
     return true;
 }
 
-/// Volume change (cells^3, mean of the three sets) of re-sampling at `beta`; with `write`, the rays are written.
 /// Per set, which rays of the box hold a node that moves (s0 or s1 != 0); index (u - lo) + n_u * (v - lo).
 using MovedRays = std::array<std::vector<std::uint8_t>, 3>;
 
@@ -377,15 +376,19 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                     nd[a] = d;
                     const std::size_t x = b.index(nd[0], nd[1], nd[2]);
                     votes[x] = static_cast<std::uint8_t>(votes[x] + ((q & 1u) ? 1 : 0));
-                    if (dist == 0.0f) touching[x] = 1;
-                    else if (dist < K) inv[x] += 1.0f / (dist * dist);
+                    if (dist == 0.0f)
+                        touching[x] = 1;
+                    else if (dist < K)
+                        inv[x] += 1.0f / (dist * dist);
                 }
             }
     }
     for (std::size_t x = 0; x < n; ++x) {
         float mag = K;
-        if (touching[x]) mag = 0.0f;
-        else if (inv[x] > 0.0f) mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
+        if (touching[x])
+            mag = 0.0f;
+        else if (inv[x] > 0.0f)
+            mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
         mag = std::max(mag, 1e-6f);
         f.phi[x] = votes[x] >= 2 ? -mag : mag;
         inv[x] = 0.0f;
@@ -430,8 +433,10 @@ ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserv
     const MovedRays moved = moved_rays(f);
     float beta = 0.0f;
     thread_local Resampled result;
-    if (volume_preserving && any1) beta = solve_measured(model, f, moved, result);
-    else evaluate(model, f, moved, 0.0f, result);
+    if (volume_preserving && any1)
+        beta = solve_measured(model, f, moved, result);
+    else
+        evaluate(model, f, moved, 0.0f, result);
     for (std::size_t i = 0; i < f.s0.size(); ++i)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));

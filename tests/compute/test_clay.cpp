@@ -300,7 +300,8 @@ TEST(ClaySweep, ALongPushGoesInPiecesAndStaysCheap) {
     const double z0 = 20.3;
     TriDexel m = from_implicit(cube_lattice(48), slab(z0));
     const double v0 = volume_cells(m);
-    const ClayStats st = apply_clay(m, clay_sweep(ToolOp::kPush, Vec3(9.0, 24.0, z0 + 2.0), Vec3(39.0, 24.0, z0 + 2.0), 3.0));
+    const ClayStats st =
+        apply_clay(m, clay_sweep(ToolOp::kPush, Vec3(9.0, 24.0, z0 + 2.0), Vec3(39.0, 24.0, z0 + 2.0), 3.0));
     EXPECT_GT(st.rays.rays_changed, 0u);
     EXPECT_LT(top_of(m, 24, 24), z0 - 0.5);  // dented along the path
     EXPECT_LT(std::fabs(volume_cells(m) - v0) / v0, 0.02);

@@ -36,8 +36,10 @@ double run(TriDexel& m, ToolOp op, double depth_cells, int segments) {
     for (int i = 0; i < segments; ++i) {
         const Vec3 q = p + Vec3(0.5, 0.0, 0.0);
         s.path_m = Segment{m.lattice.to_world(p), m.lattice.to_world(q)};
-        if (is_clay_op(op)) apply_clay(m, s);
-        else apply_sweep(m, s);
+        if (is_clay_op(op))
+            apply_clay(m, s);
+        else
+            apply_sweep(m, s);
         p = q;
     }
     return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / segments;
@@ -57,9 +59,10 @@ TEST(ClayCost, PerSegmentBesideSubtract) {
                 dv[k] = (dexel_volume_m3(m) - v0) / v0;
             }
         }
-        std::printf("N = %d: subtract %.1f us/segment, push %.1f (%.1fx), smooth %.1f (%.1fx); volume change subtract "
-                    "%.4f%%, push %.4f%%, smooth %.4f%%\n",
-                    n, us[0], us[1], us[1] / us[0], us[2], us[2] / us[0], 100.0 * dv[0], 100.0 * dv[1], 100.0 * dv[2]);
+        std::printf(
+            "N = %d: subtract %.1f us/segment, push %.1f (%.1fx), smooth %.1f (%.1fx); volume change subtract "
+            "%.4f%%, push %.4f%%, smooth %.4f%%\n",
+            n, us[0], us[1], us[1] / us[0], us[2], us[2] / us[0], 100.0 * dv[0], 100.0 * dv[1], 100.0 * dv[2]);
         EXPECT_LT(std::fabs(dv[1]), 0.02);
         EXPECT_LT(std::fabs(dv[2]), 0.01);
     }

@@ -72,9 +72,10 @@ TEST(StressClay, TenThousandRandomSegmentsKeepTheModelSound) {
     const double v1 = dexel_volume_m3(m);
     const std::size_t dis1 = clay_set_disagreement(m, clay_whole_box(L));
     const double drift = (v1 + removed - v0) / v0;
-    std::printf("10,000 clay segments: %zu ray changes, volume drift (subtracts excluded) %.4f%%, set disagreement %zu -> "
-                "%zu nodes of %d^3\n",
-                changed, 100.0 * drift, dis0, dis1, L.cells[0]);
+    std::printf(
+        "10,000 clay segments: %zu ray changes, volume drift (subtracts excluded) %.4f%%, set disagreement %zu -> "
+        "%zu nodes of %d^3\n",
+        changed, 100.0 * drift, dis0, dis1, L.cells[0]);
     EXPECT_GT(changed, 1000u);
     EXPECT_LT(std::fabs(drift), 0.02);
     EXPECT_LE(dis1, dis0 + 200);
