@@ -14,8 +14,9 @@
 #include "app/session_recording.hpp"
 #include "app/session_spec.hpp"
 #include "app/stroke.hpp"
-#include "app/workpiece_source.hpp"
 #include "app/tool_mesh.hpp"
+#include "app/workpiece_source.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -177,8 +178,16 @@ void run_demo(const DemoOptions& o) {
     const Vec3 start = plan.world_m.front();
     SculptOptions sculpt{o.cpu, o.validate, o.cpu_contour, o.gpu_contour, journal};
     sculpt.checkpoint_s = o.checkpoint_s;
+    // A clay session reports how far the surface moved: keep the model as it was.
+    std::optional<compute::TriDexel> before;
+    if (compute::is_clay_op(parse_tool_op(s.op))) before = wp.model;
     SessionRun run = run_session(s, std::move(wp), std::move(device), ticks, static_cast<std::size_t>(o.seconds * 1500.0) + 1000,
                                  3.0 * o.seconds + 10.0, start, sculpt);
+    if (before) {
+        const compute::TriDexel& after = run.runtime->workpiece().model;
+        run.deformation_max_displacement_m =
+            compute::clay_max_displacement_cells(*before, after) * after.lattice.cell_m;
+    }
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);

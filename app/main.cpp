@@ -111,7 +111,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     demo_cmd->add_option("--history-mib", demo.history_mib, "Memory for undo, MiB (oldest strokes dropped first)")
         ->capture_default_str();
-    demo_cmd->add_option("--op", demo.op, "What the tool does: subtract, union (add material) or paint")->capture_default_str();
+    demo_cmd
+        ->add_option("--op", demo.op,
+                     "What the tool does: subtract, union (add material), paint, push or smooth (clay: move material)")
+        ->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
     auto* demo_cpu_contour = demo_cmd->add_flag("--cpu-contour", demo.cpu_contour,

@@ -103,11 +103,11 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
 }
 
 std::string MouseStylus::status() const {
-    const char* name = op_ == ToolOp::kUnion ? "union" : op_ == ToolOp::kPaint ? "paint" : "subtract";
+    const char* name = tool_op_name(op_);
     const std::string size = tool_.kind == ToolKind::kMesh
                                  ? "mesh tool (fixed size)"
                                  : std::string(to_string(tool_.kind)) + " r " + format_number(1e3 * radius_m_) + " mm ([ ])";
-    return std::string("mouse stylus: ") + name + " (1/2/3), " + size + ", depth " + format_number(1e3 * depth_m_) +
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5), " + size + ", depth " + format_number(1e3 * depth_m_) +
            " mm (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 

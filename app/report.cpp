@@ -232,6 +232,8 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     j["journal"] = journal_report_json(r.journal, *r.sculpt, r.session_s);
     j["history"] = history_report_json(*r.sculpt);
     if (!r.stopped_by.empty()) j["stopped_by"] = r.stopped_by;
+    if (r.deformation_max_displacement_m)
+        j["deformation"] = {{"max_displacement_m", *r.deformation_max_displacement_m}};
     j["sculpt_path"] = r.sculpt_path;
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
     if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;

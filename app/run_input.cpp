@@ -58,6 +58,8 @@ void RunInput::handle(const renderer::InputEvent& e) {
                 if (e.key == Key::k1) return stylus_->set_op(ToolOp::kSubtract);
                 if (e.key == Key::k2) return stylus_->set_op(ToolOp::kUnion);
                 if (e.key == Key::k3) return stylus_->set_op(ToolOp::kPaint);
+                if (e.key == Key::k4) return stylus_->set_op(ToolOp::kPush);    // clay
+                if (e.key == Key::k5) return stylus_->set_op(ToolOp::kSmooth);  // clay
                 if (e.key == Key::kLeftBracket) {
                     stylus_->resize(-1);
                     return;

@@ -85,7 +85,7 @@ void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
 
 nlohmann::json RunMouse::report_json() const {
     const Summary s = summarize(latency_ms_);
-    const char* op = sent_op_ == ToolOp::kUnion ? "union" : sent_op_ == ToolOp::kPaint ? "paint" : "subtract";
+    const char* op = tool_op_name(sent_op_);
     return nlohmann::json{{"targets", targets_},
                           {"latency_ms",
                            {{"count", latency_ms_.size()}, {"median", s.median}, {"p99", s.p99}, {"max", s.max},

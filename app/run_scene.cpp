@@ -252,7 +252,7 @@ void read_op(Fields& top, RunScene& s) {
     try {
         (void)parse_tool_op(s.spec.op);
     } catch (const Error&) {
-        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, none");
+        top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, push, smooth, none");
     }
     s.spec.material = top.integer("material", s.spec.material, 1, 7);
 }

@@ -216,6 +216,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.device_status = run.runtime->device_status();
     r.device_link = run.runtime->device_link();
     r.stopped_by = run.stopped_by;
+    r.deformation_max_displacement_m = run.deformation_max_displacement_m;
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;

@@ -62,8 +62,10 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "subtract") return ToolOp::kSubtract;
     if (name == "union") return ToolOp::kUnion;
     if (name == "paint") return ToolOp::kPaint;
+    if (name == "push") return ToolOp::kPush;
+    if (name == "smooth") return ToolOp::kSmooth;
     if (name == "none") return ToolOp::kNone;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint or none");
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth or none");
 }
 
 namespace {

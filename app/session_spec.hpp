@@ -78,7 +78,7 @@ struct SessionSpec {
     double dynamic_friction = 0.15;          ///< Coulomb dynamic coefficient (<= static)
     bool cutting = true;                     ///< reaction force against the tool's advance while carving
     double period_s = 1e-3;                  ///< haptic loop period, s
-    std::string op = "subtract";             ///< what the tool does: subtract | union | paint
+    std::string op = "subtract";             ///< what the tool does: subtract | union | paint | push | smooth
     int material = 1;                        ///< material id union adds and paint sets (1..7, the palette); cuts expose 0
     /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
     /// one material everywhere.
@@ -88,8 +88,8 @@ struct SessionSpec {
     std::size_t history_budget_bytes = std::size_t{256} << 20;
 };
 
-/// The ToolOp named by `name` (subtract, union, paint, or none: the tool touches but never changes the model);
-/// throws tridex::Error listing the names.
+/// The ToolOp named by `name` (subtract, union, paint, push, smooth, or none: the tool touches but never changes
+/// the model); throws tridex::Error listing the names.
 ToolOp parse_tool_op(const std::string& name);
 
 /// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.

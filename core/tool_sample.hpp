@@ -15,7 +15,22 @@ enum class ToolOp : std::uint8_t {
     kSubtract = 1,  ///< carve: remove the swept volume
     kUnion = 2,     ///< add the swept volume as material
     kPaint = 3,     ///< set a material id where the tool touches
+    kPush = 4,      ///< clay: dent the pressed surface, its volume back as a rim (compute/tools/clay_push.hpp)
+    kSmooth = 5,    ///< clay: relax the surface under the tool, keeping the volume (compute/tools/clay_smooth.hpp)
 };
+
+/// The operation's name on the command line and in reports: "none", "subtract", "union", "paint", "push", "smooth".
+inline const char* tool_op_name(ToolOp op) {
+    switch (op) {
+        case ToolOp::kNone: return "none";
+        case ToolOp::kSubtract: return "subtract";
+        case ToolOp::kUnion: return "union";
+        case ToolOp::kPaint: return "paint";
+        case ToolOp::kPush: return "push";
+        case ToolOp::kSmooth: return "smooth";
+    }
+    return "unknown";
+}
 
 /// One tool pose in world space, pushed by the haptic loop through an SpscRing.
 /// Consecutive samples form the swept segments the sculpt thread applies, in order.
@@ -28,7 +43,7 @@ struct ToolSample {
     Vec3 surface_m{std::numeric_limits<double>::quiet_NaN()};
     Quat orientation{1.0, 0.0, 0.0, 0.0};    ///< tool frame -> world
     ToolShape tool{};                        ///< the tool that cuts along the sweep ending here (tool frame: core/tool_shape.hpp)
-    ToolOp op = ToolOp::kNone;               ///< Boolean applied along the sweep ending here
+    ToolOp op = ToolOp::kNone;               ///< Boolean (or clay operation) applied along the sweep ending here
     std::uint8_t material = 0;               ///< material id the union adds or the paint sets (kUnion, kPaint)
     std::uint32_t buttons = 0;               ///< device button bits at the sample
 };

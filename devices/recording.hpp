@@ -24,8 +24,8 @@ namespace tridex::devices {
 /// with zero deviation and force and bottom_collision_id = -1.
 /// Validity rules (RecordingWriter::write and read_recording enforce them, naming the field):
 ///   - t_s finite and strictly greater than the previous tick's t_s;
-///   - valid is 0 or 1; tool_mode and op are ToolOp values (0..3); tool.kind is a ToolKind value (0..2),
-///     tool.radius_m and tool.length_m finite and >= 0;
+///   - valid is 0 or 1; tool_mode and op are ToolOp values (0..5: kPush 4 and kSmooth 5 included);
+///     tool.kind is a ToolKind value (0..2), tool.radius_m and tool.length_m finite and >= 0;
 ///   - valid == 1: every field of `device` is finite; valid == 0: `device` is recorded as the device
 ///     gave it (it may hold NaN or infinity, that is why the loop flagged it);
 ///   - all other vectors and scalars finite; rotation_axis unit length (within 1e-6);

@@ -74,6 +74,8 @@ public:
 
     /// The GPU-resident model.
     const GpuDexelSlabs& slabs() const { return slabs_; }
+    /// The CPU mirror of the model (what the constructor was given).
+    TriDexel& mirror() { return mirror_; }
     /// Counters since creation.
     const GpuSculptStats& stats() const { return stats_; }
 

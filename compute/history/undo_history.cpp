@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "compute/tools/clay_sweep.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -69,7 +70,8 @@ void UndoHistory::capture(const TriDexel& model, std::span<const Sweep> batch) {
                 stamp_ = 1;
             }
         }
-        const Aabb box = sweep_bounds(s).inflated(lattice_.cell_m);
+        // A clay sweep (push, smooth) may change rays beyond its tool: the box of its radius of influence and rim.
+        const Aabb box = is_clay_op(s.op) ? clay_bounds(lattice_, s) : sweep_bounds(s).inflated(lattice_.cell_m);
         if (!is_finite(box.lo) || !is_finite(box.hi)) continue;
         open_step_.box_m.add(box.lo);
         open_step_.box_m.add(box.hi);
@@ -183,6 +185,12 @@ UndoHistory::Change UndoHistory::redo(const TriDexel& model, const RayWriter& wr
     undo_.push_back(std::move(step));
     ++counts_.redos;
     return c;
+}
+
+bool UndoHistory::swap_open_images(TriDexel& model) {
+    if (!open_ || oversize_) return false;
+    for (RayImage& r : open_step_.rays) model.sets[r.axis].rays[r.index].swap(r.intervals);
+    return true;
 }
 
 HistoryStats UndoHistory::stats() const {

@@ -83,6 +83,12 @@ public:
     std::uint64_t next_redo_serial() const { return redo_.empty() ? 0 : redo_.back().serial; }
     /// Counters and sizes.
     HistoryStats stats() const;
+    /// Swaps the open stroke's before-images with the model's rays: called once, the model shows the state before
+    /// the open stroke (every ray the stroke may have changed was captured before it changed); called again, it is
+    /// back. Only the CPU `model` changes (no RayWriter: nothing to mirror, for a reader that swaps back at once:
+    /// the clay push's haptic reference surface). Returns false, changing nothing, when no stroke is open or the
+    /// open one outgrew the budget (its images are gone).
+    bool swap_open_images(TriDexel& model);
 
 private:
     struct Step {

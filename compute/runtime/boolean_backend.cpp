@@ -1,11 +1,13 @@
 // compute/runtime/boolean_backend.cpp - the CPU and GPU sculpting backends.
 #include "compute/runtime/boolean_backend.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/tools/sweep_parallel.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 
@@ -15,10 +17,29 @@ namespace {
 class CpuBackend final : public BooleanBackend {
 public:
     explicit CpuBackend(compute::TriDexel& model) : model_(model) {}
-    // Every core, on the task pool (bit for bit apply_sweep one by one; validates the whole batch first, so a
-    // bad sweep changes nothing).
+    // Boolean sweeps on every core through the task pool (bit for bit apply_sweep one by one), clay sweeps one by
+    // one; validates the whole batch first, so a bad sweep changes nothing.
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
-        return compute::apply_sweeps_parallel(model_, batch, 0);
+        compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
+        compute::BooleanStats total;
+        const auto add = [&](const compute::BooleanStats& b) {
+            total.rays_visited += b.rays_visited;
+            total.rays_changed += b.rays_changed;
+        };
+        // Runs of Boolean sweeps go to the task pool together; clay sweeps apply one by one, in batch order.
+        std::size_t k = 0;
+        while (k < batch.size()) {
+            if (compute::is_clay_op(batch[k].op)) {
+                add(compute::apply_clay(model_, batch[k]).rays);
+                ++k;
+                continue;
+            }
+            std::size_t e = k;
+            while (e < batch.size() && !compute::is_clay_op(batch[e].op)) ++e;
+            add(compute::apply_sweeps_parallel(model_, batch.subspan(k, e - k), 0));
+            k = e;
+        }
+        return total;
     }
     void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override {
         for (const compute::RayImage& r : rays) {
@@ -52,7 +73,36 @@ public:
         if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
-    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override { return sculptor_->apply(batch); }
+    /// Booleans run on the GPU kernel; a clay sweep (push, smooth) runs the CPU reference on the mirror model and
+    /// its changed rays are written to the slabs, in batch order (the clay ops have no Vulkan kernel yet).
+    compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
+        if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
+            return sculptor_->apply(batch);
+        compute::to_grid_batch(sculptor_->mirror().lattice, batch);  // validate all first: a bad sweep changes nothing
+        compute::BooleanStats total;
+        std::size_t i = 0;
+        while (i < batch.size()) {
+            std::size_t j = i;
+            while (j < batch.size() && !compute::is_clay_op(batch[j].op)) ++j;
+            if (j > i) {
+                const compute::BooleanStats b = sculptor_->apply(batch.subspan(i, j - i));
+                total.rays_visited += b.rays_visited;
+                total.rays_changed += b.rays_changed;
+            }
+            if (j < batch.size()) {
+                std::vector<compute::RayImage> before;
+                compute::TriDexel& m = sculptor_->mirror();
+                const compute::ClayStats c = compute::apply_clay(m, batch[j], &before);
+                for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
+                if (!before.empty()) sculptor_->write_rays(before, compute::clay_bounds(m.lattice, batch[j]));
+                total.rays_visited += c.rays.rays_visited;
+                total.rays_changed += c.rays.rays_changed;
+                ++j;
+            }
+            i = j;
+        }
+        return total;
+    }
     void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override { sculptor_->write_rays(rays, box_m); }
     std::string path() const override { return "gpu"; }
     std::string device() const override { return context_.device_name(); }

@@ -22,7 +22,8 @@ namespace tridex::app {
 class BooleanBackend {
 public:
     virtual ~BooleanBackend() = default;
-    /// Applies `batch` in order to the model and marks its dirty tiles. Throws tridex::Error on a bad sweep
+    /// Applies `batch` in order to the model and marks its dirty tiles; clay sweeps (ToolOp kPush, kSmooth) run the
+    /// CPU reference (compute/tools/clay_sweep.hpp) on both paths. Throws tridex::Error on a bad sweep
     /// (nothing changed) or a device failure.
     virtual compute::BooleanStats apply(std::span<const compute::Sweep> batch) = 0;
     /// Replaces whole rays of the model (undo and redo) on this path's storage and in the CPU model, and marks

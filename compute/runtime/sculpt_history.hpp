@@ -41,6 +41,21 @@ public:
     std::uint64_t next_redo_serial() const { return history_.next_redo_serial(); }
     /// The history's counters and sizes.
     compute::HistoryStats stats() const { return history_.stats(); }
+    /// Calls `read` with the CPU model showing its state before the open stroke (UndoHistory::swap_open_images), then
+    /// restores it; with the current state when no stroke is open or its images are gone. `read` must not throw
+    /// past the restore: it is called inside a guard that swaps back.
+    template <class F>
+    void read_stroke_start(F&& read) {
+        const bool swapped = history_.swap_open_images(model_);
+        struct Back {
+            SculptHistory* h;
+            bool on;
+            ~Back() {
+                if (on) h->history_.swap_open_images(h->model_);
+            }
+        } back{this, swapped};
+        read(static_cast<const compute::TriDexel&>(model_));
+    }
 
 private:
     compute::TriDexel& model_;

@@ -206,14 +206,18 @@ bool SculptThread::take_requests() {
 }
 
 void SculptThread::close_stroke() {
+    const bool reference_moves = holding_reference() && stroke_changed_;
     const std::uint64_t serial = history_->end_stroke();
     stroke_changed_ = false;
+    push_stroke_ = false;
     if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
+    if (reference_moves) publish(published_centre_m_);  // plastic: the deformed surface is the new reference
 }
 
 void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
     if (!batch_.empty()) {
         if (!history_->stroke_open()) last_change_t_s_ = prev_.t_s;  // a stroke opens: its idle clock starts
+        push_stroke_ = batch_.back().op == ToolOp::kPush;  // a batch belongs to one stroke (step splits at closes)
         const compute::BooleanStats b = history_->apply(batch_);
         stats_.booleans += batch_.size();
         stats_.rays_changed += b.rays_changed;
@@ -289,7 +293,9 @@ bool SculptThread::step() {
     // far more often; tests/stress/test_stress_haptics.cpp measures both.)
     const Vec3 centre = is_finite(prev_.surface_m) ? prev_.surface_m : prev_.position;
     const double moved_cells = glm::length(centre - published_centre_m_) / model_.lattice.cell_m;
-    if (changed || moved_cells > kRecentreCells) publish(centre);
+    // A push stroke keeps the haptic surface of its start (holding_reference); it is re-extracted there only to follow
+    // the tool.
+    if ((changed && !holding_reference()) || moved_cells > kRecentreCells) publish(centre);
     if (changed) contour_changed(t0, std::chrono::steady_clock::now());
     return true;
 }
@@ -396,7 +402,12 @@ void SculptThread::publish_mesh_if_due(bool force) {
 
 void SculptThread::publish(const Vec3& centre_m) {
     const double extent_m = compute::tool_extent_m(tool_span_m_, have_prev_ ? tool_reach_m(prev_.tool) : tool_radius_m_);
-    compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
+    if (holding_reference())
+        history_->read_stroke_start([&](const compute::TriDexel& reference) {
+            compute::extract_active_surface(reference, centre_m, extent_m, ++sequence_, surface_.back());
+        });
+    else
+        compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
     surface_.publish();
     published_centre_m_ = centre_m;
     ++stats_.publishes;

@@ -122,6 +122,9 @@ struct MeshFrame {
 /// material), and at a kEndStroke request; a drained batch is split where a stroke closes. Undo and redo requests
 /// are taken at the start of a step, before that step's samples. Every close, undo and redo is journalled as a
 /// mark between the batch records, so a journal replays the same strokes.
+/// Clay: while a push stroke (ToolOp::kPush) is open, the published active surface is the model as it was when the
+/// stroke began (SculptHistory::read_stroke_start), so the haptic force comes from the undeformed reference surface
+/// (Popescu, Burdea, Bouzit, section 3.3); the surface is published again, deformed, when the stroke closes (plastic).
 /// Drains ToolSamples in order and applies the swept volume of each consecutive pair (a capsule for
 /// the ball tool; the sample's op: subtract, or union / paint with the sample's material) to the
 /// model, all samples drained in one step as one batch on the BooleanBackend (the GPU or the CPU),
@@ -238,6 +241,11 @@ private:
     SpscRing<SculptRequest> requests_{64};
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
+    // The open stroke pushes clay (ToolOp::kPush): the haptic loop feels the surface as it was when the stroke began
+    // (Popescu, Burdea, Bouzit 3.3: force from the undeformed reference; plastic, so the reference becomes the
+    // deformed surface when the stroke ends).
+    bool push_stroke_ = false;
+    bool holding_reference() const { return push_stroke_ && history_ && history_->stroke_open(); }
     std::function<CheckpointFile(const compute::TriDexel&)> checkpoint_write_;
     std::function<std::string(const compute::TriDexel&)> saver_;
     mutable std::mutex save_mutex_;

@@ -224,7 +224,7 @@ TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
     alt_up.key = renderer::Key::kLeftAlt;
     alt_up.action = renderer::InputAction::kRelease;
     in.handle(alt_up);  // wheel events carry no modifiers: Alt is known from the key events
-    // The wheel sets the depth; 1 / 2 / 3 choose the op.
+    // The wheel sets the depth; 1 / 2 / 3 / 4 / 5 choose the op.
     renderer::InputEvent wheel;
     wheel.type = renderer::InputType::kScroll;
     wheel.dy_px = -2.0;
@@ -241,6 +241,12 @@ TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
     key.key = renderer::Key::k1;
     in.handle(key);
     EXPECT_EQ(m.op(), ToolOp::kSubtract);
+    key.key = renderer::Key::k4;  // clay
+    in.handle(key);
+    EXPECT_EQ(m.op(), ToolOp::kPush);
+    key.key = renderer::Key::k5;
+    in.handle(key);
+    EXPECT_EQ(m.op(), ToolOp::kSmooth);
 }
 
 TEST(CursorScript, InterpolatesPositionAndHoldsButtons) {

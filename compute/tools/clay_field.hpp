@@ -1,0 +1,116 @@
+// compute/tools/clay_field.hpp - the implicit field behind the clay tools (push, smooth): one signed distance on the
+// lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "compute/model/tridexel.hpp"
+#include "compute/tools/boolean.hpp"
+
+namespace tridex::compute {
+
+/// How the clay tools keep the three ray sets describing one solid.
+///
+/// A clay operation never moves interval ends of one set on its own. It (1) builds one scalar field phi on the
+/// lattice nodes of the operation's box from all three sets (clay_build_phi: the sign is the majority of the three
+/// rays through the node, the magnitude the plane-exact distance 1 / sqrt(sum_a 1/d_a^2) from the axial distances
+/// d_a to the nearest crossing on each of the three rays), (2) offsets it by a displacement s >= or <= 0 per node
+/// (phi' = phi + s moves the surface along its normal by s cells: inward for s > 0), and (3) re-samples every ray
+/// of every set in the box from phi' (clay_resample): on a lattice edge whose two end nodes both kept phi' == phi
+/// the ray's old crossings are copied bit for bit, on every other edge the ray crosses where phi' changes sign
+/// (linear root), so all three sets take their node occupancy from the same field and their crossings from the same
+/// linear interpolant. The three sets can then only disagree where they already did (a node on whose status the
+/// old rays disagreed) and by the sub-cell rounding of the roots; clay_set_disagreement measures it in cells.
+/// All arithmetic on the field is in float (the sums of interval lengths in double), in a fixed order, so a GPU
+/// port compiled without fused multiply-add can repeat it bit for bit.
+
+/// Radius of influence r as a multiple of the tool radius R (Popescu, Burdea, Bouzit, section 3.3).
+inline constexpr float kClayInfluence = 1.5f;
+/// Width of the push's rim beyond the radius of influence, as a multiple of r.
+inline constexpr float kClayRimWidth = 0.5f;
+/// How far (cells) the field looks along each ray for the nearest crossing; farther is clamped to this. Kept short so
+/// that the distance near a surface is not bent by another sheet farther away (a plane stays exactly linear); the
+/// contact of a large tool looks farther (ClayField::search).
+inline constexpr int kClaySearchCells = 6;
+/// Node layers around the displaced nodes that keep phi' == phi, so a ray's re-sampled part joins its old part.
+inline constexpr int kClayMarginCells = 2;
+
+/// A box of lattice nodes [lo, hi] (inclusive), clamped to the lattice.
+struct ClayBox {
+    int lo[3] = {0, 0, 0};
+    int hi[3] = {-1, -1, -1};
+    bool empty() const { return hi[0] < lo[0] || hi[1] < lo[1] || hi[2] < lo[2]; }
+    int n(int a) const { return hi[a] - lo[a] + 1; }
+    std::size_t count() const { return empty() ? 0 : static_cast<std::size_t>(n(0)) * n(1) * n(2); }
+    std::size_t index(int i, int j, int k) const {
+        return static_cast<std::size_t>(i - lo[0]) +
+               static_cast<std::size_t>(n(0)) *
+                   (static_cast<std::size_t>(j - lo[1]) + static_cast<std::size_t>(n(1)) * (k - lo[2]));
+    }
+    bool contains(int i, int j, int k) const {
+        return i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2];
+    }
+};
+
+/// The signed distance phi (cells; < 0 inside) at every node of `box`, and the displacement s = s0 + beta * s1 (cells
+/// along the surface normal, > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves.
+struct ClayField {
+    ClayBox box;
+    float search = static_cast<float>(kClaySearchCells);  ///< clamp of phi, cells (clay_node_phi)
+    std::vector<float> phi;
+    std::vector<float> s0;
+    std::vector<float> s1;
+};
+
+/// True when node (i, j, k) of set `axis`'s ray through it lies inside material: some interval has
+/// enter < depth <= exit (the parity of the ray's crossings below the node).
+bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
+
+/// phi at one lattice node (cells, < 0 inside; |phi| <= search; never exactly 0), from the three rays through it
+/// (see above), crossings farther than `search` cells along a ray ignored. O(intervals on the three rays).
+float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
+
+/// Fills field.phi on field.box (which must be inside the lattice) and zeroes s0 and s1.
+void clay_build_phi(const TriDexel& model, ClayField& field);
+
+/// Trilinear phi at grid point p (cells from the lattice origin) from the nodes of field.box; p is clamped into the box.
+float clay_phi_at(const ClayField& field, float px, float py, float pz);
+
+/// What clay_resample did.
+struct ClayStats {
+    BooleanStats rays;                    ///< rays of the three sets in the box, and those whose intervals changed
+    double volume_change_cells = 0.0;     ///< volume after - before in the box, cells^3 (mean of the three sets)
+    double beta = 0.0;                    ///< the s1 weight used (volume_preserving: solved so the volume is kept)
+    double max_displacement_cells = 0.0;  ///< largest |s| at a node, cells
+};
+
+/// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
+/// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
+/// the three sets' interval lengths, as dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
+/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
+/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
+/// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
+/// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
+/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is written).
+ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
+                        std::vector<RayImage>* before = nullptr);
+
+/// Three-set disagreement of `model` within node box `box`: the number of lattice nodes on whose inside/outside
+/// status the three rays through it do not all agree (each such node is one cell of disagreement).
+std::size_t clay_set_disagreement(const TriDexel& model, const ClayBox& box);
+
+/// How far (cells) the surface of `after` lies from the surface of `before` (two models on one lattice), the
+/// largest over every interval end of the rays that differ, both ways: |phi| of the other model at the end, phi
+/// trilinear in the 8 nodes around it (clay_node_phi looking 64 cells along the rays), so at most 64. 0 when no ray differs. The
+/// `deformation.max_displacement_m` of a clay session's report (times the cell size). O(changed rays x intervals).
+double clay_max_displacement_cells(const TriDexel& before, const TriDexel& after);
+
+/// The node box around grid points lo..hi (per axis) widened by `reach` cells and kClayMarginCells, inside `outer`.
+ClayBox clay_support_box(const float lo[3], const float hi[3], float reach, const ClayBox& outer);
+
+/// The node box of the whole lattice.
+ClayBox clay_whole_box(const Lattice& lattice);
+
+}  // namespace tridex::compute

@@ -1,0 +1,126 @@
+// compute/tools/clay_push.cpp - plastic push with Popescu's radius of influence and a volume-preserving rim.
+#include "compute/tools/clay_push.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "compute/tools/clay_sweep.hpp"
+
+namespace tridex::compute {
+namespace {
+
+/// The rim's bump on x in [0, 1]: (4x(1-x))^2, 0 with zero slope at both ends, 1 at x = 1/2.
+float rim_bump(float x) {
+    const float b = 4.0f * x * (1.0f - x);
+    return b * b;
+}
+
+struct Stamp {
+    float p[3];   // contact point p*, grid units from the lattice origin
+    float n[3];   // outward normal at the contact
+    float delta;  // surface displacement at p*, cells
+};
+
+}  // namespace
+
+ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells) {
+    ClayField f;
+    const float c[3] = {cx, cy, cz};
+    for (int a = 0; a < 3; ++a) {
+        const int b = static_cast<int>(std::floor(c[a]));
+        f.box.lo[a] = std::clamp(b - 1, 0, model.lattice.cells[a]);
+        f.box.hi[a] = std::clamp(b + 2, 0, model.lattice.cells[a]);
+    }
+    f.search = std::max(static_cast<float>(kClaySearchCells), r_cells + 2.0f);  // a large tool's contact lies far out
+    ClayContact k;
+    if (f.box.empty()) {
+        k.phi = f.search;
+        k.delta = r_cells - k.phi;
+        for (int a = 0; a < 3; ++a) k.point[a] = c[a];
+        return k;
+    }
+    clay_build_phi(model, f);
+    k.phi = clay_phi_at(f, cx, cy, cz);
+    k.delta = r_cells - k.phi;
+    float g[3];
+    for (int a = 0; a < 3; ++a) {
+        float p1[3] = {cx, cy, cz}, p0[3] = {cx, cy, cz};
+        p1[a] += 0.5f;
+        p0[a] -= 0.5f;
+        g[a] = clay_phi_at(f, p1[0], p1[1], p1[2]) - clay_phi_at(f, p0[0], p0[1], p0[2]);
+    }
+    const float len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    const float reach = std::max(k.phi, 0.0f);
+    for (int a = 0; a < 3; ++a) {
+        k.normal[a] = len > 0.0f ? g[a] / len : 0.0f;
+        k.point[a] = c[a] - reach * k.normal[a];
+    }
+    return k;
+}
+
+ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+    const float R = g.radius, r = kClayInfluence * R, w = kClayRimWidth * r;
+    // The interaction points: the ball at each stamp, its contact and penetration.
+    std::vector<Stamp> stamps;
+    const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const float f = static_cast<float>(k + 1) / static_cast<float>(n);
+        float c[3];
+        for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
+        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
+        if (!(ct.delta >= kClayMinStep)) continue;
+        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
+                          {ct.normal[0], ct.normal[1], ct.normal[2]},
+                          std::min(ct.delta, kClayMaxStep)});
+    }
+    if (stamps.empty()) return {};
+    ClayField field;
+    // The box around the contact points (the sweep's lo..hi allow for any contact within R + 0.5 of the centre).
+    ClayBox outer;
+    float plo[3], phi_[3];
+    for (int a = 0; a < 3; ++a) {
+        outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
+        plo[a] = stamps[0].p[a], phi_[a] = stamps[0].p[a];
+        for (const Stamp& s : stamps) plo[a] = std::min(plo[a], s.p[a]), phi_[a] = std::max(phi_[a], s.p[a]);
+    }
+    field.box = clay_support_box(plo, phi_, r + w, outer);
+    if (field.box.empty()) return {};
+    clay_build_phi(model, field);
+    const ClayBox& b = field.box;
+    for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
+        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
+            for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
+                // The outer kClayMarginCells layers and the lattice's own boundary never move.
+                const int nd[3] = {ix, jy, kz};
+                bool edge = false;
+                for (int a = 0; a < 3; ++a)
+                    edge |= nd[a] - b.lo[a] < kClayMarginCells || b.hi[a] - nd[a] < kClayMarginCells || nd[a] == 0 ||
+                            nd[a] == model.lattice.cells[a];
+                if (edge) continue;
+                const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
+                float dent = 0.0f, rim = 0.0f;
+                for (const Stamp& s : stamps) {
+                    const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
+                    const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+                    const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
+                    if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
+                    if (d < r) {
+                        const float x = d / r;
+                        dent =
+                            std::max(dent, s.delta * (1.0f - x * x));  // Popescu 3.3: k = 1 - (d/r)^2, the largest wins
+                    } else if (d < r + w) {
+                        rim = std::max(rim, s.delta * rim_bump((d - r) / w));
+                    }
+                }
+                const std::size_t i = b.index(ix, jy, kz);
+                const float phi = field.phi[i];
+                if (dent > 0.0f) {
+                    if (std::fabs(phi) < dent + 2.0f) field.s0[i] = dent;
+                } else if (rim > 0.0f) {
+                    if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -rim;
+                }
+            }
+    return clay_resample(model, field, true, before);
+}
+
+}  // namespace tridex::compute

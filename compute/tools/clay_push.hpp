@@ -1,0 +1,51 @@
+// compute/tools/clay_push.hpp - plastic push: the tool dents the surface it presses, with Popescu's falloff within
+// a radius of influence, and the displaced volume comes back as a rim around the dent.
+#pragma once
+
+#include <vector>
+
+#include "compute/model/tridexel.hpp"
+#include "compute/tools/clay_field.hpp"
+#include "compute/tools/sweep.hpp"
+
+namespace tridex::compute {
+
+/// Smallest penetration (cells) a push stamp acts on; shallower contacts wait until the tool goes deeper.
+inline constexpr float kClayMinStep = 0.25f;
+/// Largest surface displacement (cells) one push stamp applies; a deeper press is followed over several segments.
+inline constexpr float kClayMaxStep = 1.0f;
+
+/// The contact of a ball of radius R (cells) centred at grid point c with the solid: phi(c) (cells from the
+/// surface, trilinear in the node field), the penetration delta = R - phi(c), and the contact point
+/// p* = c - max(phi(c), 0) * grad(phi)/|grad(phi)| (the surface point under the tool: Popescu's interaction point).
+struct ClayContact {
+    float phi = 0.0f;
+    float delta = 0.0f;
+    float point[3] = {0.0f, 0.0f, 0.0f};
+    float normal[3] = {0.0f, 0.0f, 0.0f};  ///< grad(phi)/|grad(phi)| at the centre (outward); 0 when phi is flat there
+};
+
+/// How deep (cells, along -normal from the contact point) a node may lie and still be moved by a clay stamp that
+/// displaces the surface by `delta` at distance `d` from the contact point: delta + 2 cells + d/2 (the near sheet of
+/// a surface curving away with radius >= d). Deeper nodes belong to another sheet (the far side of a thin part) and
+/// keep their value, so a push does not thin a plate from behind.
+inline float clay_sheet_depth(float delta, float d) { return delta + 2.0f + 0.5f * d; }
+
+/// The contact of a ball (grid centre cx, cy, cz; radius r_cells) with `model`, from a 4 x 4 x 4 node field around
+/// the centre.
+ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells);
+
+/// Plastic push of one clay sweep (to_clay_grid_sweep; the tool a ball of radius R = sweep.radius cells).
+/// Interaction points: the ball at stamps f = (k+1)/stamps of the motion (k = 0..stamps-1, at most half a cell
+/// apart). For each stamp m in contact, delta_m = min(R - phi(c_m), kClayMaxStep) (stamps with delta_m < kClayMinStep
+/// do nothing). Popescu, Burdea, Bouzit, "Virtual Reality Simulation Modeling for a Haptic Glove", section 3.3: a
+/// surface point at distance d from the interaction point p*_m moves by delta_m * k with k = 1 - (d/r)^2 within the
+/// radius of influence r = kClayInfluence * R, and where several interaction points act the largest displacement
+/// wins: s_dent(q) = max_m delta_m * (1 - (d_m/r)^2). The displaced volume reappears as a rim on the annulus
+/// r <= d_m <= r + w (w = kClayRimWidth * r): s_rim(q) = -beta * max_m delta_m * (4x(1-x))^2, x = (d_m - r)/w,
+/// at points no dent moves, with beta solved so that the box's volume is unchanged (clay_resample). The surface
+/// moves along its normal (phi' = phi + s, see clay_field.hpp for how the three sets stay one solid).
+/// Nodes with |phi| >= |s| + 2 cells keep their value (the surface cannot reach them).
+ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
+
+}  // namespace tridex::compute

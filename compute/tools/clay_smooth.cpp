@@ -1,0 +1,60 @@
+// compute/tools/clay_smooth.cpp - one volume-keeping step of the node field's Laplacian flow under the tool.
+#include "compute/tools/clay_smooth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "compute/tools/clay_push.hpp"
+
+namespace tridex::compute {
+
+ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+    const float R = g.radius, r = kClayInfluence * R;
+    // Once per half-cell plane crossed by the motion a -> b.
+    bool crosses = false;
+    float c[3];
+    for (int a = 0; a < 3; ++a) {
+        const float sa = g.start[a], sb = g.start[a] + g.delta[a];
+        crosses |= std::floor(2.0f * sa) != std::floor(2.0f * sb);
+        c[a] = static_cast<float>(g.origin[a]) + sb;
+    }
+    if (!crosses) return {};
+    const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
+    if (!(ct.phi <= R + 0.5f)) return {};
+    ClayField field;
+    ClayBox outer;
+    for (int a = 0; a < 3; ++a) outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
+    field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
+    if (field.box.empty()) return {};
+    clay_build_phi(model, field);
+    const ClayBox& b = field.box;
+    for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
+        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
+            for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
+                const int nd[3] = {ix, jy, kz};
+                bool edge = false;
+                for (int a = 0; a < 3; ++a)
+                    edge |= nd[a] - b.lo[a] < kClayMarginCells || b.hi[a] - nd[a] < kClayMarginCells || nd[a] == 0 ||
+                            nd[a] == model.lattice.cells[a];
+                if (edge) continue;
+                const std::size_t i = b.index(ix, jy, kz);
+                const float phi = field.phi[i];
+                if (!(std::fabs(phi) < 2.0f)) continue;
+                const float dx = static_cast<float>(ix) - ct.point[0], dy = static_cast<float>(jy) - ct.point[1],
+                            dz = static_cast<float>(kz) - ct.point[2];
+                const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+                if (!(d < r)) continue;
+                const float depth = -(dx * ct.normal[0] + dy * ct.normal[1] + dz * ct.normal[2]);
+                if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
+                const float x = d / r;
+                const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
+                const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
+                                  field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
+                                  field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
+                field.s0[i] = kClaySmoothRate * wgt * lap;
+                field.s1[i] = wgt;
+            }
+    return clay_resample(model, field, true, before);
+}
+
+}  // namespace tridex::compute

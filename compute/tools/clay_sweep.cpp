@@ -1,0 +1,101 @@
+// compute/tools/clay_sweep.cpp - clay sweeps: grid form, bounds, and the CPU reference dispatch.
+#include "compute/tools/clay_sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "compute/tools/clay_push.hpp"
+#include "compute/tools/clay_smooth.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+namespace {
+
+double ball_radius_m(const Sweep& s) {
+    if (s.tool.kind == ToolKind::kMesh) {
+        if (!s.tool.mesh) throw Error("sweep: a kMesh tool needs SweepTool::mesh");
+        return s.tool.mesh->bounding_radius_m();
+    }
+    return s.tool.radius_m;
+}
+
+}  // namespace
+
+float clay_reach_cells(ToolOp op, float radius_cells) {
+    const float r = kClayInfluence * radius_cells;
+    // The contact point lies at most R from the centre while in contact (phi <= R + 0.5).
+    const float contact = radius_cells + 0.5f;
+    return op == ToolOp::kPush ? contact + r * (1.0f + kClayRimWidth) : contact + r;
+}
+
+GridSweep to_clay_grid_sweep(const Lattice& L, const Sweep& s) {
+    if (!is_clay_op(s.op)) throw Error("clay sweep: the operation is not push or smooth");
+    Sweep ball = s;
+    ball.tool.kind = ToolKind::kBall;
+    ball.tool.radius_m = ball_radius_m(s);
+    ball.tool.length_m = 0.0;
+    ball.tool.mesh = nullptr;
+    GridSweep g = to_grid_sweep(L, ball);  // validates like a ball Boolean; origin, start, delta, radius
+    const float reach = clay_reach_cells(s.op, g.radius);
+    for (int a = 0; a < 3; ++a) {
+        const float s0 = g.start[a], s1 = g.start[a] + g.delta[a];
+        const double lo = std::floor(static_cast<double>(g.origin[a]) + std::min(s0, s1) - reach) - kClayMarginCells;
+        const double hi = std::ceil(static_cast<double>(g.origin[a]) + std::max(s0, s1) + reach) + kClayMarginCells;
+        g.lo[a] = static_cast<std::int32_t>(std::clamp(lo, 0.0, static_cast<double>(L.cells[a])));
+        g.hi[a] = static_cast<std::int32_t>(std::clamp(hi, 0.0, static_cast<double>(L.cells[a])));
+        if (hi < 0.0 || lo > L.cells[a]) g.hi[a] = g.lo[a] - 1;  // off the lattice: an empty box
+    }
+    if (s.op == ToolOp::kPush) {
+        const float len = std::sqrt(g.delta[0] * g.delta[0] + g.delta[1] * g.delta[1] + g.delta[2] * g.delta[2]);
+        g.stamps = static_cast<std::uint32_t>(std::min(std::ceil(len / 0.5f), 1.0e6f));
+        g.stamps = std::max<std::uint32_t>(g.stamps, 1u);
+    } else {
+        g.stamps = 1;
+    }
+    return g;
+}
+
+Aabb clay_bounds(const Lattice& L, const Sweep& s) {
+    Aabb box;
+    if (!is_finite(s.path_m.a) || !is_finite(s.path_m.b) || !(L.cell_m > 0.0)) return box;
+    double R = 0.0;
+    try {
+        R = ball_radius_m(s);
+    } catch (const Error&) {
+        return box;
+    }
+    if (!std::isfinite(R) || !(R > 0.0)) return box;
+    const double reach =
+        static_cast<double>(clay_reach_cells(s.op, static_cast<float>(R / L.cell_m))) + kClayMarginCells + 1.0;
+    box.add(s.path_m.a);
+    box.add(s.path_m.b);
+    return box.inflated(reach * L.cell_m);
+}
+
+ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* before) {
+    const GridSweep g = to_clay_grid_sweep(model.lattice, s);  // validates the whole sweep first
+    if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return {};
+    if (s.op == ToolOp::kSmooth) return clay_smooth(model, g, before);
+    // A long push (a jump of the workspace, a fast hand) in pieces of at most kClayPieceCells of motion, each with
+    // its own field box around its contacts, so the cost follows the path's length, not the volume of its box.
+    const double len = glm::length(s.path_m.b - s.path_m.a) / model.lattice.cell_m;
+    const int pieces = static_cast<int>(std::min(std::ceil(len / kClayPieceCells), 1.0e6));
+    if (pieces <= 1) return clay_push(model, g, before);
+    ClayStats total;
+    for (int k = 0; k < pieces; ++k) {
+        Sweep piece = s;
+        piece.path_m.a = s.path_m.a + (s.path_m.b - s.path_m.a) * (static_cast<double>(k) / pieces);
+        piece.path_m.b = s.path_m.a + (s.path_m.b - s.path_m.a) * (static_cast<double>(k + 1) / pieces);
+        const GridSweep pg = to_clay_grid_sweep(model.lattice, piece);
+        if (pg.hi[0] < pg.lo[0] || pg.hi[1] < pg.lo[1] || pg.hi[2] < pg.lo[2]) continue;
+        const ClayStats st = clay_push(model, pg, before);
+        total.rays.rays_visited += st.rays.rays_visited;
+        total.rays.rays_changed += st.rays.rays_changed;
+        total.volume_change_cells += st.volume_change_cells;
+        total.max_displacement_cells = std::max(total.max_displacement_cells, st.max_displacement_cells);
+        total.beta = st.beta;
+    }
+    return total;
+}
+
+}  // namespace tridex::compute

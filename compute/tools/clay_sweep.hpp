@@ -1,0 +1,42 @@
+// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth) as sweeps: validation, the box they
+// may change, and applying one to a tri-dexel model (the CPU reference).
+#pragma once
+
+#include <vector>
+
+#include "compute/model/tridexel.hpp"
+#include "compute/tools/clay_field.hpp"
+#include "compute/tools/sweep.hpp"
+#include "core/aabb.hpp"
+#include "core/tool_sample.hpp"
+
+namespace tridex::compute {
+
+/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth).
+inline bool is_clay_op(ToolOp op) { return op == ToolOp::kPush || op == ToolOp::kSmooth; }
+
+/// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push R*(kClayInfluence*(1 +
+/// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance.
+float clay_reach_cells(ToolOp op, float radius_cells);
+
+/// A clay sweep in grid units: the ball of radius sweep.tool.radius_m (kFlatEnd: its radius; kMesh: the mesh's
+/// bounding radius), origin/start/delta as to_grid_sweep, stamps at most half a cell apart (push) or 1 (smooth),
+/// lo..hi the node box it may change (clay_reach_cells and kClayMarginCells beyond the motion), clamped to the
+/// lattice. Throws tridex::Error as to_grid_sweep on bad input, and when op is not a clay op.
+GridSweep to_clay_grid_sweep(const Lattice& lattice, const Sweep& sweep);
+
+/// World box (m) a clay sweep may change: its node box lo..hi (not clamped) on `lattice`. Empty when the sweep is
+/// not finite (the clay ops refuse it).
+Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
+
+/// Longest motion (cells) one push is applied over at once; a longer one is applied as that many equal pieces in
+/// order (apply_clay).
+inline constexpr double kClayPieceCells = 2.0;
+
+/// Applies one clay sweep (clay_push or clay_smooth) to `model`; a push moving more than kClayPieceCells goes in
+/// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
+/// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
+/// unchanged) on the input to_clay_grid_sweep refuses.
+ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr);
+
+}  // namespace tridex::compute
