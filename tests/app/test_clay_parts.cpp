@@ -29,7 +29,7 @@ TEST(ClaySpec, PushAndSmoothReachTheLoopWithoutTheCuttingForce) {
         parse_tool_op("mould");
         FAIL() << "no error";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("push or smooth"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("push, smooth"), std::string::npos) << e.what();
     }
 }
 

@@ -1,6 +1,8 @@
 // Integration test: `tridex demo` end to end on a short stroke, and refusal of bad meshes.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -246,7 +248,7 @@ std::string file_bytes(const fs::path& p) {
 }
 
 TEST(Replay, ARecordedSessionSculptsTheSameModel) {
-    const fs::path dir = fs::temp_directory_path() / "tridex-test-replay";
+    const fs::path dir = fs::temp_directory_path() / ("tridex-test-replay-" + std::to_string(::getpid()));
     fs::remove_all(dir);
     const fs::path rec = dir / "session.trdx";
     // A wand (a flat-end mill with two points at its ends) on the 5-DOF profile, so torques and both points are recorded.
