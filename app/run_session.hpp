@@ -38,7 +38,7 @@ struct RunSetup {
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
-    bool lod = true;                ///< tile levels of detail (--lod on|off)
+    bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)

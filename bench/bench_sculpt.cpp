@@ -326,7 +326,7 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                          {"tiles_contoured", r.tiles_contoured}, {"contour", "cpu"},
                          {"threads", r.path == "cpu" ? threads : 1}, {"model_hash", r.model_hash},
                          {"gpu_ray_tiles", r.gpu_ray_tiles}, {"gpu_retried_rays", r.gpu_retried_rays}});
-    // sculpt_bench.json is the list of rows (the format); the set-up and memory go beside it.
+    // sculpt_bench.json is the list of rows (one object per path and size); the set-up and memory go beside it.
     nlohmann::json j = {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},
         {"stroke", "ball subtract, random-walk groove 3.37 cells deep into the top face, segments 0.5..1 cell"},

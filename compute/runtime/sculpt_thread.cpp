@@ -76,6 +76,11 @@ void SculptThread::set_history_budget(std::size_t bytes) {
     history_budget_ = bytes;
 }
 
+void SculptThread::close_strokes_when_idle(bool on) {
+    if (thread_.joinable()) throw Error("SculptThread::close_strokes_when_idle: call it before start()");
+    idle_close_ = on;
+}
+
 void SculptThread::use_checkpoints(std::function<CheckpointFile(const compute::TriDexel&)> write, double interval_s) {
     if (thread_.joinable()) throw Error("SculptThread::use_checkpoints: call it before start()");
     if (!std::isfinite(interval_s) || interval_s <= 0.0)
@@ -285,7 +290,7 @@ bool SculptThread::step() {
     if (!sampled) return any;
     flush(begin, n, changed);
     // The tool left the material: nothing changed for kStrokeIdleS of device time.
-    if (history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS) close_stroke();
+    if (idle_close_ && history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS) close_stroke();
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
     // material does not drag the window away from the proxy it constrains. (Widening the window to cover

@@ -167,6 +167,11 @@ public:
     /// Sets the undo history's memory budget (bytes > 0; default compute::UndoHistory::kDefaultBudgetBytes).
     /// Throws tridex::Error when the thread runs or the budget is 0.
     void set_history_budget(std::size_t bytes);
+    /// Whether an open stroke closes after kStrokeIdleS of device time without a change (default true: a force
+    /// device's stroke ends when the tool leaves the material). Off for input whose stroke is a held button (the
+    /// mouse stylus: its samples carry op none when the button is up, which closes the stroke), so that holding
+    /// still mid-drag does not split one stroke into several undo steps. Throws tridex::Error when the thread runs.
+    void close_strokes_when_idle(bool on);
     /// Writes a checkpoint model with `write` (on the sculpt thread, never the haptic thread) when at least
     /// `interval_s` (s, > 0) of wall time passed since the session started or the last checkpoint, the model changed
     /// since, and no stroke is open; then appends a checkpoint record to the journal (use_journal) naming the file.
@@ -239,6 +244,7 @@ private:
     std::unique_ptr<SculptHistory> history_;       // made at start() on the chosen backend
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};
+    bool idle_close_ = true;                         // close_strokes_when_idle
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
     // The open stroke pushes clay (ToolOp::kPush): the haptic loop feels the surface as it was when the stroke began

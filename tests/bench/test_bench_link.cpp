@@ -1,4 +1,4 @@
-// `tridex bench --link` and `--filter` on small runs: the target (at 10 ms, local rendering's penetration at
+// `tridex bench --link` and `--filter` on small runs: the link target (at 10 ms, local rendering's penetration at
 // most a third of distributed's and stable where distributed is not), rows and files written; the filter trades
 // chatter for lag.
 #include <gtest/gtest.h>

@@ -153,6 +153,40 @@ TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexel
     fs::remove(path);
 }
 
+// With idle closing off (the mouse stylus: a stroke is the held button), holding still mid-stroke for 0.7 s of device
+// time keeps the stroke one undo step.
+TEST(SculptThreadHistory, IdleClosingCanBeTurnedOffForHeldButtonStrokes) {
+    for (const bool idle_close : {false}) {
+        TriDexel live = fresh();
+        SculptStats stats;
+        {
+            compute::Contourer contourer(live);
+            contourer.update(live);
+            SpscRing<ToolSample> ring(4096);
+            TripleBuffer<ActiveSurface> surface;
+            SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+            t.close_strokes_when_idle(idle_close);
+            t.start();
+            auto a = pass(-0.01, 0.0, 200, ToolOp::kSubtract);
+            std::vector<ToolSample> hold(700, a.back());  // the tool held still where the pass ended
+            for (std::size_t i = 0; i < hold.size(); ++i) hold[i].t_s = a.back().t_s + 1e-3 * static_cast<double>(i + 1);
+            auto b = pass(0.0, hold.back().t_s + 1e-3, 200, ToolOp::kSubtract);
+            push_all(ring, a);
+            wait_drained(ring, t);
+            for (std::size_t k = 0; k < hold.size(); k += 100) {  // in batches, as samples arrive at 1 kHz
+                push_all(ring, std::vector<ToolSample>(hold.begin() + static_cast<std::ptrdiff_t>(k),
+                                                       hold.begin() + static_cast<std::ptrdiff_t>(k + 100)));
+                wait_drained(ring, t);
+            }
+            push_all(ring, b);
+            wait_drained(ring, t);
+            t.stop();
+            stats = t.stats();
+        }
+        EXPECT_EQ(stats.history.strokes, 1u) << "idle closing off";
+    }
+}
+
 // Checkpoints: written between strokes by the sculpt thread, named in the journal; replaying the records after the
 // last one onto it gives the live model.
 TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContinuesFromThem) {
