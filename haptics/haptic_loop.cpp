@@ -96,10 +96,14 @@ void HapticLoop::set_tool_op(ToolOp op, std::uint8_t material) {
     op_.store(static_cast<std::uint16_t>(static_cast<std::uint16_t>(op) | (material << 8)), std::memory_order_relaxed);
 }
 
-bool HapticLoop::set_tool(const ToolShape& tool) {
+bool HapticLoop::tool_change_allowed(const ToolShape& tool) const {
     if (tool.kind != cfg_.tool.kind || tool.kind == ToolKind::kMesh || !(cfg_.tool.radius_m > 0.0)) return false;
-    if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0)) return false;
-    if (tool.kind == ToolKind::kFlatEnd && !(std::isfinite(tool.length_m) && tool.length_m > 0.0)) return false;
+    if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0) || !std::isfinite(tool.length_m)) return false;
+    return tool.kind != ToolKind::kFlatEnd || tool.length_m > 0.0;
+}
+
+bool HapticLoop::set_tool(const ToolShape& tool) {
+    if (!tool_change_allowed(tool)) return false;
     ToolUpdate& u = tool_updates_.back();
     u.serial = ++tool_serial_sent_;
     u.tool = tool;
@@ -126,9 +130,7 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
     for (; next_change_ < sched.size() && sched[next_change_].device_t_s <= device_t_s; ++next_change_) {
         const ToolChange& c = sched[next_change_];
         set_tool_op(c.op, c.material);
-        const bool usable = c.tool.kind == cfg_.tool.kind && c.tool.kind != ToolKind::kMesh &&
-                            std::isfinite(c.tool.radius_m) && c.tool.radius_m > 0.0 && std::isfinite(c.tool.length_m);
-        if (usable && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
+        if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
             use_tool(c.tool);
     }
 }

@@ -249,6 +249,9 @@ private:
     void apply_tool_changes(double device_t_s);
     // Switches to `tool` (already checked) with contact points scaled from the configured ones.
     void use_tool(const ToolShape& tool);
+    // Whether `tool` may replace the configured tool: the same kind, not a mesh, a finite radius > 0, a finite length
+    // (> 0 for a flat end), and a configured radius > 0 to scale the contact points from.
+    bool tool_change_allowed(const ToolShape& tool) const;
 
     struct ToolUpdate {
         std::uint64_t serial = 0;  // 0 = none yet

@@ -113,4 +113,15 @@ ClayBox clay_support_box(const float lo[3], const float hi[3], float reach, cons
 /// The node box of the whole lattice.
 ClayBox clay_whole_box(const Lattice& lattice);
 
+/// True when node (ix, jy, kz) (lattice node indices) of `box` must keep its field value: it lies in the box's outer
+/// kClayMarginCells layers or on the lattice's own boundary. Push and smooth move only the other nodes.
+inline bool clay_node_fixed(const ClayBox& box, const Lattice& lattice, int ix, int jy, int kz) {
+    const int nd[3] = {ix, jy, kz};
+    for (int a = 0; a < 3; ++a)
+        if (nd[a] - box.lo[a] < kClayMarginCells || box.hi[a] - nd[a] < kClayMarginCells || nd[a] == 0 ||
+            nd[a] == lattice.cells[a])
+            return true;
+    return false;
+}
+
 }  // namespace tridex::compute

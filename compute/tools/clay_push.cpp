@@ -90,13 +90,7 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
         for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
             for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
-                // The outer kClayMarginCells layers and the lattice's own boundary never move.
-                const int nd[3] = {ix, jy, kz};
-                bool edge = false;
-                for (int a = 0; a < 3; ++a)
-                    edge |= nd[a] - b.lo[a] < kClayMarginCells || b.hi[a] - nd[a] < kClayMarginCells || nd[a] == 0 ||
-                            nd[a] == model.lattice.cells[a];
-                if (edge) continue;
+                if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
                 const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
                 float dent = 0.0f, rim = 0.0f;
                 for (const Stamp& s : stamps) {
