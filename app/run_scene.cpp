@@ -311,7 +311,13 @@ void read_workspace(Fields& top, RunScene& s) {
         f.fail("workspace.mode", e.what());
     }
     s.spec.workspace_mode = mode;
-    s.spec.workspace_scale = f.number("scale", s.spec.workspace_scale, 0.0, 100.0, true);
+    if (const json* scale = f.get("scale"); scale && scale->is_string()) {
+        if (scale->get<std::string>() != "fit")
+            f.fail("workspace.scale", "must be a number (device -> world gain) or \"fit\"");
+        s.workspace_fit = true;
+    } else {
+        s.spec.workspace_scale = f.number("scale", s.spec.workspace_scale, 0.0, 100.0, true);
+    }
     f.finish();
 }
 
@@ -506,6 +512,7 @@ void read_study(Fields& top, const json& j, RunScene& s, const std::string& base
     sp.op = "none";
     sp.cutting = false;
     sp.mesh_path = r.scene.path;
+    sp.study_model = r.model;
     s.has_stroke = false;
 }
 

@@ -35,16 +35,24 @@ void check_reach(const std::vector<Vec3>& path, const devices::DeviceProfile& pr
 }
 }  // namespace
 
+double fit_workspace_scale(const Aabb& reach_m, const devices::DeviceProfile& profile) {
+    constexpr double kUse = 0.9;  // of the workspace, leaving 5 % on each side
+    const Vec3 room = profile.workspace_m.hi - profile.workspace_m.lo;
+    if (!(room.x > 0.0 && room.y > 0.0 && room.z > 0.0))
+        throw Error("workspace.scale: \"fit\" needs a device with a workspace (the " + profile.name + " profile has none)");
+    if (reach_m.empty()) return 1.0;
+    const Vec3 need = reach_m.hi - reach_m.lo;
+    double s = 1.0;
+    for (int a = 0; a < 3; ++a) s = std::max(s, need[a] / (kUse * room[a]));
+    return s;
+}
+
 SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
                              gpu::Context* render_context) {
     SessionSpec spec = scene.spec;
     const RunStudy& study = scene.study;
-    std::optional<study::Tube> tube;
-    if (study.enabled) tube.emplace(study.scene.tube);
     // A study scene's felt walls, or a mesh or a saved model (checksums for a replay).
-    Workpiece wp = study.enabled ? study::felt_walls(*tube, study::study_model(study.scene, study.model, "study.model"),
-                                                     study.scene.path)
-                                 : prepare_session_workpiece(spec);
+    Workpiece wp = prepare_session_workpiece(spec);
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
     // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of
@@ -56,6 +64,10 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     Vec3 centre;
     // The app (mouse) or the person (spacemouse) moves the hand: no scripted stroke.
     const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse";
+    // A "fit" workspace scale for a device whose hand moves in its workspace (not a rate or cursor device).
+    auto fit_to = [&](Aabb reach) {
+        if (scene.workspace_fit && !live) spec.workspace_scale = fit_workspace_scale(reach, profile);
+    };
     if (study.enabled) {
         // The wand's flat end (its bottom point, the tool centre) half a wand length below the centre the scripted
         // participant steers; a person's device starts there too, at the start cap.
@@ -65,7 +77,11 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         for (const Vec3& c : pp.centre_m) reach.add(c - half);
         centre = reach.centre();
         start_m_ = pp.centre_m.front() - half;
-        if (spec.device_driver != "simulated") {  // a person's device (or hardware): no scripted hand
+        // A person must reach the whole passage, its mouths and the wand's top point too.
+        fit_to(reach.inflated(0.5 * study.scene.tube.funnel_mouth_m + study.scene.wand_length_m));
+        // The simulated hand (of the simulated device, or holding the emulated Falcon's grip) plays the scripted
+        // participant; a person's device (or hardware) has no scripted hand.
+        if (!scripted_hand_driver(spec.device_driver)) {
             t_s = {0.0};
             path = {home + (start_m_ - centre) / spec.workspace_scale};
         } else {
@@ -75,12 +91,15 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
                 check_reach(path, profile);
             } catch (const Error& e) {
                 throw Error(scene.source + ": field 'study': the scripted participant cannot reach the tube (" + e.what() +
-                            "); use the wand profile or a smaller tube");
+                            "); use the wand profile, a smaller tube or \"workspace\": {\"scale\": \"fit\"}");
             }
             stroke_ticks_ = static_cast<std::size_t>(std::llround(pp.t_s.back() / spec.period_s));
         }
     } else if (scene.has_stroke && !live) {
         const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
+        Aabb reach;
+        for (const Vec3& p : plan.world_m) reach.add(p);
+        fit_to(reach);
         centre = plan.centre_m;
         t_s = plan.t_s;
         for (const Vec3& d : plan.device_offsets_m(spec.workspace_scale)) path.push_back(home + d);
@@ -90,6 +109,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.duration_s / spec.period_s));
     } else {
         const Aabb box = wp.model.lattice.bounds();
+        fit_to(box);
         centre = Vec3(box.centre().x, box.centre().y, box.hi.z + 2.0 * tool_reach_m(spec.tool) + 0.01);
         t_s = {0.0};
         path = {home};

@@ -4,12 +4,25 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 
 #include "app/run_scene.hpp"
 #include "app/session_runtime.hpp"
 #include "devices/mouse_device.hpp"
 
 namespace tridex::app {
+
+/// The device -> world gain of a "fit" workspace (RunScene::workspace_fit): 1 when the world box `reach_m` (m)
+/// fits 90 % of the profile's workspace on every axis, else the smallest gain that makes it fit (the largest
+/// ratio of the box's extent to 90 % of the workspace's over the axes). An empty box gives 1. Throws
+/// tridex::Error "workspace.scale: ..." for a profile without a workspace.
+double fit_workspace_scale(const Aabb& reach_m, const devices::DeviceProfile& profile);
+
+/// Whether the device driver's hand is the simulated hand ("simulated", and "falcon-emulator" whose emulated grip
+/// it holds), which plays a scene's scripted path (a stroke, a study's scripted participant).
+inline bool scripted_hand_driver(const std::string& driver) {
+    return driver == "simulated" || driver == "falcon-emulator";
+}
 
 /// The sculpting side of a run: the scene's workpiece scan-converted and contoured, a simulated device (the
 /// scene's profile) whose virtual hand follows the scripted stroke (plan_stroke; or holds still in front of the

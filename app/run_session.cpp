@@ -179,7 +179,7 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     const std::string& driver = s.scene.spec.device_driver;
     if (driver == "mouse" || driver == "spacemouse") s.scene.has_stroke = false;  // the person is the hand
-    const bool scripted_study = s.scene.study.enabled && driver == "simulated";  // the scripted participant's path
+    const bool scripted_study = s.scene.study.enabled && scripted_hand_driver(driver);  // the scripted participant's path
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
         s.scene.cursor.empty() && !scripted_study)
         throw Error("--frames/--seconds: an offscreen run of a scene without a stroke or a scripted cursor needs "

@@ -237,6 +237,7 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"model_path", s.model_path},
                  {"model_crc32", s.model_crc32},
                  {"model_bytes", s.model_bytes},
+                 {"study_model", s.study_model},
                  {"resolution", s.resolution},
                  {"stock_m", s.stock_m},
                  {"workpiece_centre_m", vec(s.workpiece_centre_m)},
@@ -328,6 +329,7 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     if (j.contains("model_path")) get(j, "model_path", s.model_path);
     if (j.contains("model_crc32")) get(j, "model_crc32", s.model_crc32);
     if (j.contains("model_bytes")) get(j, "model_bytes", s.model_bytes);
+    if (j.contains("study_model")) get(j, "study_model", s.study_model);
     if (j.contains("materials")) {
         const json& ms = j.at("materials");
         if (!ms.is_array()) throw Error(source + ": settings field 'materials' must be an array");

@@ -39,6 +39,10 @@ struct SessionSpec {
     /// CRC-32 (IEEE) and size of the model file, so a replay refuses a model that changed; 0 = not known.
     std::uint32_t model_crc32 = 0;
     std::uint64_t model_bytes = 0;
+    /// A training-study model ("haptic_training" | "visual_training" | "test") whose felt walls
+    /// (app/study/study_walls.hpp) are the workpiece, built from the study scene file mesh_path (absolute when
+    /// recorded, its CRC-32 in mesh_crc32); "" = a mesh or saved-model workpiece.
+    std::string study_model;
     int resolution = 256;                    ///< lattice cells along the longest side
     double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
     Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m

@@ -7,6 +7,8 @@
 #include <tuple>
 
 #include "app/memory.hpp"
+#include "app/study/study_objects.hpp"
+#include "app/study/study_walls.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
@@ -30,6 +32,12 @@ Workpiece workpiece_from_model(const std::string& tdx_path) {
 }
 
 Workpiece prepare_session_workpiece(SessionSpec& spec) {
+    if (!spec.study_model.empty()) {
+        std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed scene
+        const study::StudyScene scene = study::read_study_scene(spec.mesh_path);
+        return study::felt_walls(study::Tube(scene.tube), study::study_model(scene, spec.study_model, "study.model"),
+                                 scene.path);
+    }
     if (spec.model_path.empty()) {
         Workpiece wp = prepare_workpiece(spec.mesh_path, spec.resolution, spec.stock_m, spec.workpiece_centre_m);
         std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed mesh
@@ -79,7 +87,7 @@ void check_file(const std::string& what, const std::string& path, std::uint32_t 
 
 void check_inputs_unchanged(const SessionSpec& s, const std::string& source, const std::string& since) {
     if (s.model_path.empty())
-        check_file("workpiece mesh", s.mesh_path, s.mesh_crc32, s.mesh_bytes, source, since);
+        check_file(s.study_model.empty() ? "workpiece mesh" : "study scene", s.mesh_path, s.mesh_crc32, s.mesh_bytes, source, since);
     else
         check_file("workpiece model", s.model_path, s.model_crc32, s.model_bytes, source, since);
     if (s.tool.kind == ToolKind::kMesh)

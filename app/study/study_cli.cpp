@@ -40,7 +40,7 @@ CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
                             "device, for tests)")
         ->capture_default_str();
     cmd.run_cmd->add_option("--device", cmd.run.device,
-                            "Live phases: the device driver (spacemouse, mouse, falcon, simulated; default spacemouse in a window)");
+                            "Live phases: the device driver (spacemouse, mouse, falcon, falcon-emulator, simulated; default spacemouse in a window)");
     cmd.run_cmd->add_option("--display-config", cmd.run.display_config, "Live phases: a display config file")
         ->check(CLI::ExistingFile);
     cmd.run_cmd->add_flag("--validate", cmd.run.validate, "Live phases: Vulkan validation layer");

@@ -77,7 +77,10 @@ nlohmann::json run_live_phase(const StudyRunOptions& o, const StudyScene& scene,
     nlohmann::json sc = {
         {"study", {{"scene", scene.path}, {"model", ph.model}, {"seed", seed % 2147483647u + 1u}, {"trial", std::max(ph.trial, 1)},
                    {"end_at_end_cap", ph.trial > 0}, {"phase_line", ph.line}}},
-        {"device", {{"driver", device}, {"profile", "wand"}}},
+        // The Falcon's own workspace; every device's gain fits the tube into its workspace, forces divided by it
+        // (the scaling technique), so the walls feel as stiff on a small device as on the wand.
+        {"device", {{"driver", device}, {"profile", device.rfind("falcon", 0) == 0 ? "falcon" : "wand"}}},
+        {"workspace", {{"mode", "scaling"}, {"scale", "fit"}}},
         {"display", {{"preset", "desktop"}, {"stereo", "mono"}, {"resolution", {800, 450}},
                      {"screen", {{"lower_left", {-0.4, -0.225, 0.0}}, {"lower_right", {0.4, -0.225, 0.0}},
                                  {"upper_left", {-0.4, 0.225, 0.0}}}}}},

@@ -31,6 +31,10 @@ const std::vector<renderer::SceneObject>& StudyView::frame(const haptics::LoopVi
 std::string StudyView::status() const {
     std::string s = study_.phase_line.empty() ? "" : study_.phase_line + "\n";
     s += "study model: " + study_.model;
+    // What to do next: the trial's clock runs from the start cap to the end cap, wherever the wand begins.
+    s += !started_ ? "  - move the wand onto the start cap (both points)"
+         : !done_  ? "  - guide the wand through to the end cap"
+                   : "  - end cap reached";
     if (contact_.tube) s += "  [tube touched]";
     if (contact_.funnels) s += "  [funnel touched]";
     if (contact_.start_cap) s += "  [start cap]";

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/crc32.hpp"
 #include "core/error.hpp"
@@ -35,12 +36,42 @@ Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
                   (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
 }
 
+// The control points around segment i (i..i+1) of the uniform Catmull-Rom spline, the ends reflected.
+void segment_points(const std::vector<Vec3>& c, std::size_t i, Vec3& p0, Vec3& p3) {
+    const std::size_t n = c.size();
+    p0 = i == 0 ? 2.0 * c[0] - c[1] : c[i - 1];
+    p3 = i + 2 == n ? 2.0 * c[n - 1] - c[n - 2] : c[i + 2];
+}
+
 }  // namespace
 
 void plane_axes(const Vec3& t, Vec3& u, Vec3& v) {
     const Vec3 up = std::fabs(t.y) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
     u = glm::normalize(glm::cross(t, up));
     v = glm::cross(u, t);
+}
+
+SpineBend tightest_bend(const std::vector<Vec3>& c) {
+    SpineBend best;
+    constexpr int kSamples = 256;
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+        Vec3 p0, p3;
+        segment_points(c, i, p0, p3);
+        const Vec3 p1 = c[i], p2 = c[i + 1];
+        // Derivatives of the cubic 0.5 (2 p1 + a t + b t^2 + d t^3).
+        const Vec3 a = -p0 + p2, b = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3, d = -p0 + 3.0 * p1 - 3.0 * p2 + p3;
+        for (int k = 0; k <= kSamples; ++k) {
+            const double t = static_cast<double>(k) / kSamples;
+            const Vec3 d1 = 0.5 * (a + 2.0 * t * b + 3.0 * t * t * d), d2 = 0.5 * (2.0 * b + 6.0 * t * d);
+            const double speed = glm::length(d1);
+            if (speed <= 0.0) continue;
+            const double turn = glm::length(glm::cross(d1, d2));
+            if (turn <= 0.0) continue;  // straight here
+            const double bend = speed * speed * speed / turn;
+            if (bend < best.radius_m) best = SpineBend{bend, i, t};
+        }
+    }
+    return best;
 }
 
 TubeSpec parse_tube(const nlohmann::json& j, const std::string& source, const std::string& prefix) {
@@ -83,6 +114,16 @@ TubeSpec parse_tube(const nlohmann::json& j, const std::string& source, const st
     s.cap_thickness_m = get_number(j, "cap_thickness_m", source, f + "cap_thickness_m", 0.0, 0.05, true, s.cap_thickness_m);
     s.touch_tolerance_m =
         get_number(j, "touch_tolerance_m", source, f + "touch_tolerance_m", 0.0, 0.05, false, s.touch_tolerance_m);
+    const SpineBend bend = tightest_bend(s.spine_m);
+    if (bend.radius_m < kMinBendRadii * s.radius_m) {
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "the spine bends with a radius of %.1f mm between control points %zu and %zu, under %.1f times "
+                      "the tube's radius (%.1f mm), so the tube's inner wall would fold; move the control points "
+                      "further apart or flatten the bend",
+                      bend.radius_m * 1e3, bend.segment, bend.segment + 1, kMinBendRadii, s.radius_m * 1e3);
+        bad(source, f + "spine_m", buf);
+    }
     return s;
 }
 
@@ -105,8 +146,8 @@ Tube::Tube(TubeSpec spec) : spec_(std::move(spec)) {
     const std::size_t n = c.size();
     std::vector<Vec3> curve;
     for (std::size_t i = 0; i + 1 < n; ++i) {
-        const Vec3 p0 = i == 0 ? 2.0 * c[0] - c[1] : c[i - 1];
-        const Vec3 p3 = i + 2 == n ? 2.0 * c[n - 1] - c[n - 2] : c[i + 2];
+        Vec3 p0, p3;
+        segment_points(c, i, p0, p3);
         for (int k = 0; k < spec_.samples_per_segment; ++k)
             curve.push_back(catmull_rom(p0, c[i], c[i + 1], p3, static_cast<double>(k) / spec_.samples_per_segment));
     }

@@ -3,6 +3,8 @@
 // point of a tool point (its god-object on the tube's inner wall) for the offline deviation analysis.
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,7 +17,9 @@ namespace tridex::app::study {
 /// The tube of a study scene, world metres.
 struct TubeSpec {
     std::string name = "tube";          ///< a name for messages and reports
-    std::vector<Vec3> spine_m;          ///< control points of the spine (>= 2; consecutive points >= 1 mm apart)
+    /// Control points of the spine (>= 2; consecutive points >= 1 mm apart; bends no tighter than kMinBendRadii
+    /// times radius_m).
+    std::vector<Vec3> spine_m;
     double radius_m = 0.02;             ///< inner radius of the circular section, (1 mm, 0.2 m]
     int samples_per_segment = 32;       ///< polyline samples per spline segment, 4..512
     double funnel_length_m = 0.04;      ///< length of each funnel along the spine's end tangent, [0, 0.5] m
@@ -24,6 +28,23 @@ struct TubeSpec {
     double cap_thickness_m = 0.004;     ///< thickness of a cap (a thin box), (0, 0.05] m
     double touch_tolerance_m = 0.003;   ///< how close a tool point must come to a cap to touch it, [0, 0.05] m
 };
+
+/// The tightest bend of a spine: where its radius of curvature is smallest.
+struct SpineBend {
+    double radius_m = INFINITY;  ///< the smallest radius of curvature, m (infinite for a straight spine)
+    std::size_t segment = 0;     ///< the spline segment it lies on: between control points segment and segment + 1
+    double t = 0.0;              ///< the segment's parameter there, [0, 1]
+};
+
+/// The tightest bend of the uniform Catmull-Rom spline through `spine_m` (>= 2 points, the end tangents as Tube
+/// builds them), from the spline's analytic first and second derivatives at 257 parameters per segment:
+/// radius = |c'|^3 / |c' x c''|.
+SpineBend tightest_bend(const std::vector<Vec3>& spine_m);
+
+/// A spine must bend no tighter than this many tube radii: a circular section swept along a bend tighter than
+/// its radius folds its inner wall over itself, and a point near the inner wall no longer has one closest
+/// spine point.
+inline constexpr double kMinBendRadii = 1.5;
 
 /// Reads a tube object (fields as TubeSpec; `spine_m` required, the rest optional). Throws tridex::Error
 /// "<source>: field '<prefix>.<name>': <rule>" for a missing, ill-typed or out-of-range field or an unknown one.

@@ -16,6 +16,7 @@
 #include "app/run_input.hpp"
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
+#include "app/run_sculpt.hpp"
 #include "app/run_session.hpp"
 #include "app/run_view.hpp"
 #include "core/error.hpp"
@@ -97,6 +98,7 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
         {R"({"tool": {"radius_m": 0.1}})", "'tool.radius_m'"},
         {R"({"tool": {"colour": 1}})", "'tool.colour'"},
         {R"({"workspace": {"mode": "teleport"}})", "'workspace.mode'"},
+        {R"({"workspace": {"scale": "huge"}})", "'workspace.scale'"},
         {R"({"stroke": "sometimes"})", "'stroke'"},
         {R"({"stroke": {"press_axis": "x"}})", "'stroke.press_axis'"},
         {R"({"stroke": {"duration_s": 0}})", "'stroke.duration_s'"},
@@ -115,6 +117,21 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
         EXPECT_NE(m.find("scene.json"), std::string::npos) << c.json << " -> " << m;
         EXPECT_NE(m.find(c.field), std::string::npos) << c.json << " -> " << m;
     }
+}
+
+// A "fit" workspace: the device -> world gain is 1 while the reach fits 90 % of the workspace, else the ratio of
+// the reach to 90 % of the workspace on the tightest axis.
+TEST(RunScene, FitWorkspaceScale) {
+    const RunScene s = run_scene_from_json(json::parse(R"({"workspace": {"scale": "fit"}})"), "scene.json", ".");
+    EXPECT_TRUE(s.workspace_fit);
+    devices::DeviceProfile p;
+    p.name = "test";
+    p.workspace_m = Aabb{Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05)};  // 100 mm: 90 mm usable
+    EXPECT_EQ(fit_workspace_scale(Aabb{Vec3(0.0), Vec3(0.09, 0.01, 0.01)}, p), 1.0);
+    EXPECT_NEAR(fit_workspace_scale(Aabb{Vec3(0.0), Vec3(0.09, 0.36, 0.18)}, p), 4.0, 1e-12);
+    EXPECT_EQ(fit_workspace_scale(Aabb{}, p), 1.0);
+    p.workspace_m = Aabb{};
+    EXPECT_THROW(fit_workspace_scale(Aabb{Vec3(0.0), Vec3(0.1)}, p), Error);
 }
 
 TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {

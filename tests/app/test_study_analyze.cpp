@@ -1,6 +1,8 @@
 // The study tube's geometry and `study analyze` on recordings whose answers are known by construction.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 
@@ -48,6 +50,16 @@ TEST(Tube, CurvedSpinePassesThroughItsControlPoints) {
     EXPECT_DOUBLE_EQ(t.deviation_m(t.point_at(0.1) + 0.019 * glm::normalize(glm::cross(t.tangent_at(0.1), Vec3(0, 1, 0)))), 0.0);
 }
 
+// The spline's curvature at its middle control point of three, (-a, 0), (0, h), (a, 0): c' = (a, 0) and
+// c'' = (0, -4h) there, so the radius is a^2 / (4h); a straight spine never bends.
+TEST(Tube, TightestBendOfASymmetricArc) {
+    const SpineBend b = tightest_bend({Vec3(-0.1, 0, 0), Vec3(0, 0.01, 0), Vec3(0.1, 0, 0)});
+    EXPECT_NEAR(b.radius_m, 0.1 * 0.1 / (4.0 * 0.01), 1e-9);
+    EXPECT_TRUE(std::isinf(tightest_bend({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.2, 0, 0)}).radius_m));
+    const StudyScene scene = read_study_scene(default_study_scene_path());
+    EXPECT_GE(tightest_bend(scene.tube.spine_m).radius_m, kMinBendRadii * scene.tube.radius_m);
+}
+
 TEST(StudyScene, RefusesBadFields) {
     const auto dir = std::filesystem::temp_directory_path() / "tridex_study_scene_test";
     std::filesystem::create_directories(dir);
@@ -64,6 +76,9 @@ TEST(StudyScene, RefusesBadFields) {
     refused(R"({"tube": {"spine_m": [[0,0,0]]}})", "field 'tube.spine_m'");
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]], "radius_m": -1}})", "field 'tube.radius_m': must be in");
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]], "colour": 1}})", "field 'tube.colour': unknown field");
+    // A bend tighter than 1.5 tube radii would fold the tube's inner wall.
+    refused(R"({"tube": {"spine_m": [[0,0,0],[0.03,0.03,0],[0.06,0,0]], "radius_m": 0.02}})",
+            "field 'tube.spine_m': the spine bends with a radius of");
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]]}, "protocol": {"test_trials": 1.5}})", "protocol.test_trials");
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]]}, "models": {"test": {"tube": {"felt": 1}}}})",
             "field 'models.test.tube.felt'");

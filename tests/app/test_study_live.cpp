@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include "renderer/image/image.hpp"
 #include "test_files.hpp"
 
@@ -71,6 +73,47 @@ TEST(StudyLive, ModelScenesShowTheTubeAndItsContactColour) {
                               dir / "bad_run");
     EXPECT_EQ(b.exit_code, 2);
     EXPECT_NE(b.err.find("field 'workpiece'"), std::string::npos) << b.err;
+}
+
+// The study on a small device: the emulated Falcon (its own 80 mm workspace) with a fitted device -> world gain
+// reaches the whole tube, feels its walls with forces divided by the gain, and a replay of the recording rebuilds
+// the felt walls from the study scene and feels the same contacts.
+TEST(StudyLive, TheFalconReachesTheTubeThroughAFittedGainAndAReplayFeelsTheSameWalls) {
+    const fs::path dir = fs::temp_directory_path() / ("tridex_study_falcon_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    nlohmann::json sc = read_json(kAssets / "study_haptic_training.json");
+    sc["study"]["scene"] = (kAssets / "study_tube_scene.json").string();
+    sc["device"] = {{"driver", "falcon-emulator"}, {"profile", "falcon"}};
+    sc["workspace"] = {{"mode", "scaling"}, {"scale", "fit"}};
+    std::ofstream(dir / "falcon.json") << sc.dump();
+    const auto r = run_tridex("run " + (dir / "falcon.json").string() + " --display offscreen --out " +
+                                  (dir / "out").string() + " --record " + (dir / "trial.trdx").string(),
+                              dir / "run");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto rep = read_json(dir / "out" / "report.json");
+    const double gain = rep["settings"]["workspace_scale"].get<double>();
+    EXPECT_GT(gain, 4.0);  // a tube of about 0.45 m in a workspace of 80 mm
+    EXPECT_TRUE(rep["study"]["trial_done"].get<bool>());
+    EXPECT_GT(rep["haptics"]["contact_ticks"].get<int>(), 0);
+    for (int a = 0; a < 3; ++a) EXPECT_LT(rep["haptics"]["device_extent_m"][a].get<double>(), 0.08) << a;
+    EXPECT_GT(rep["haptics"]["tool_world_extent_m"][0].get<double>(), 0.3);
+    // The replay rebuilds the walls from the recorded study scene and model.
+    const auto p = run_tridex("replay " + (dir / "trial.trdx").string() + " --out " + (dir / "replay").string(),
+                              dir / "replay_run");
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    const auto rp = read_json(dir / "replay" / "report.json");
+    EXPECT_EQ(rp["haptics"]["contact_ticks"], rep["haptics"]["contact_ticks"]);
+    EXPECT_EQ(rp["haptics"]["max_force_n"], rep["haptics"]["max_force_n"]);
+    // Without the fitted gain the scripted participant cannot reach the tube, and the message says what helps.
+    sc["workspace"] = {{"mode", "scaling"}, {"scale", 1.0}};
+    std::ofstream(dir / "unfit.json") << sc.dump();
+    const auto u = run_tridex("run " + (dir / "unfit.json").string() + " --display offscreen --out " +
+                                  (dir / "unfit").string(),
+                              dir / "unfit_run");
+    EXPECT_EQ(u.exit_code, 2);
+    EXPECT_NE(u.err.find("\"scale\": \"fit\""), std::string::npos) << u.err;
+    fs::remove_all(dir);
 }
 
 TEST(StudyLive, ProtocolPhasesInOrderWithTestTrialsGatedByTheEndCap) {
