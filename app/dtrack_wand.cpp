@@ -45,6 +45,33 @@ void parse_dtrack_wand_option(const std::string& value, int& port, int& flystick
     }
 }
 
+bool parse_tracked_tool_option(const std::string& value, std::string& driver, int& port, int& id) {
+    const std::string_view v(value);
+    std::string name;
+    for (const char* d : {"flystick", "tracked-body"})
+        if (v == d || v.rfind(std::string(d) + ":", 0) == 0) name = d;
+    if (name.empty()) return false;
+    const bool flystick = name == "flystick";
+    const int kept = flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies;
+    const std::string usage = " (expected " + name + "[:PORT[:ID]], e.g. " + name + ":5000:" + (flystick ? "0" : "2") + ")";
+    driver = name;
+    if (v.size() == name.size()) return true;
+    const std::string_view rest = v.substr(name.size() + 1);
+    const std::size_t colon = rest.find(':');
+    int p = 0;
+    if (!whole_number(rest.substr(0, colon), p) || p < 1 || p > 65535)
+        throw Error("--device: the DTrack UDP port must be a whole number in 1..65535" + usage);
+    port = p;
+    if (colon != std::string_view::npos) {
+        int i = 0;
+        if (!whole_number(rest.substr(colon + 1), i) || i < 0 || i >= kept)
+            throw Error(std::string("--device: the ") + (flystick ? "Flystick" : "body") +
+                        " id must be a whole number in 0.." + std::to_string(kept - 1) + usage);
+        id = i;
+    }
+    return true;
+}
+
 DTrackWand::DTrackWand(const DTrackWandSettings& s, std::shared_ptr<devices::DTrackReceiver> shared)
     : settings_(s), receiver_(std::move(shared)), shared_(receiver_ != nullptr) {
     if (s.flystick < 0 || s.flystick >= devices::kDTrackKeptFlysticks)

@@ -39,6 +39,8 @@ public:
     WandSample sample();
 
     int port() const { return receiver_->port(); }  ///< the bound UDP port
+    /// The receiver it reads (its kView reader), to share with a tracked tool on the same port.
+    std::shared_ptr<devices::DTrackReceiver> receiver() const { return receiver_; }
     /// The receiver's counters (any thread).
     devices::DTrackReceiverStats receiver_stats() const { return receiver_->stats(); }
     std::uint64_t frames_tracked() const { return frames_tracked_; }  ///< sample() calls that were fresh
@@ -65,5 +67,11 @@ nlohmann::json wand_report_json(const DTrackWand& wand, const WandNavigator& nav
 /// Parses `--wand dtrack:PORT:FLYSTICK` (PORT 1..65535, FLYSTICK 0..kDTrackKeptFlysticks-1; a missing FLYSTICK
 /// keeps `flystick`). Throws tridex::Error "--wand: ..." naming what is wrong.
 void parse_dtrack_wand_option(const std::string& value, int& port, int& flystick);
+
+/// Parses `--device flystick[:PORT[:ID]]` or `--device tracked-body[:PORT[:ID]]` (PORT 1..65535; ID a Flystick
+/// 0..kDTrackKeptFlysticks-1 or a body 0..kDTrackKeptBodies-1): sets `driver` and, when given, `port` and `id`,
+/// and returns true; returns false (nothing set) for any other device name. Throws tridex::Error "--device: ..."
+/// for a bad port or id.
+bool parse_tracked_tool_option(const std::string& value, std::string& driver, int& port, int& id);
 
 }  // namespace tridex::app

@@ -12,6 +12,7 @@
 
 #include "bench/bench_accuracy.hpp"
 #include "bench/bench_filter.hpp"
+#include "bench/bench_input.hpp"
 #include "bench/bench_haptics.hpp"
 #include "bench/bench_link.hpp"
 #include "bench/bench_persistence.hpp"
@@ -220,6 +221,10 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--filter", bench_filter,
                         "EWMA force filter constant: chatter amplitude vs lag with encoder quantisation and noise "
                         "(filter_bench.json, filter_bench.png)");
+    bool bench_input = false;
+    bench_cmd->add_flag("--input", bench_input,
+                        "Tracked input: DTrack ASCII parse cost per datagram and the receiver's hand-off latency over "
+                        "loopback (input_bench.json)");
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
                         "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
@@ -297,9 +302,10 @@ int main(int argc, char** argv) {
         if (*study_cmd) tridex::app::study::run_study_command(study);
         if (*bench_cmd) {
             if (!bench_haptics && !bench_render && !bench_sculpt && !bench_accuracy && !bench_session && !bench_persistence &&
-                !bench_undo && !bench_link && !bench_filter)
+                !bench_undo && !bench_link && !bench_filter && !bench_input)
                 throw tridex::Error("bench: choose what to measure: --haptics, --render, --sculpt, --session, --accuracy, "
-                                    "--persistence, --undo, --link and/or --filter");
+                                    "--persistence, --undo, --link, --filter and/or --input");
+            if (bench_input) tridex::app::run_input_bench(hbench.out);
             if (bench_link) {
                 tridex::app::LinkBenchOptions lb;
                 lb.out = hbench.out;

@@ -29,7 +29,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     // what the recorded ones carried.
     LoopOverrides loop;
     loop.tool_schedule = tool_schedule(rec, s);
-    if (s.device_driver == "mouse") loop.engage_mask = devices::mouse_buttons::kEngage;
+    loop.engage_mask = engage_mask_for(s.device_driver);
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
     devices::DeviceInputs inputs;

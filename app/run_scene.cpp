@@ -229,8 +229,16 @@ void read_device(Fields& top, RunScene& s) {
                    "what is); falcon-emulator runs the same driver without one");
     }
     s.spec.device = f.text("profile", s.spec.device);
-    // The Falcon drivers drive the Falcon's own profile, whatever the scene says.
+    // The Falcon drivers drive the Falcon's own profile, whatever the scene says; a tracked tool the "tracked" one.
     if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
+    if (s.spec.device_driver == "flystick" || s.spec.device_driver == "tracked-body") {
+        s.spec.device = "tracked";
+        const bool flystick = s.spec.device_driver == "flystick";
+        s.tracked_port = f.integer("port", s.tracked_port, 1, 65535);
+        s.tracked_id = f.integer("id", s.tracked_id, 0, (flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies) - 1);
+        s.tracked_bind = f.text("bind_address", s.tracked_bind);
+        s.tracked_timeout_s = f.number("timeout_s", s.tracked_timeout_s, 0.0, 10.0, true);
+    }
     s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
     if (s.spec.device_driver == "spacemouse") {  // other drivers refuse these fields as unknown
         devices::SpaceMouseParams& p = s.spacemouse;
@@ -242,7 +250,7 @@ void read_device(Fields& top, RunScene& s) {
     try {
         (void)device_profile(s.spec.device);
     } catch (const Error&) {
-        f.fail("device.profile", "'" + s.spec.device + "' is not one of omni, wand, 6dof, falcon");
+        f.fail("device.profile", "'" + s.spec.device + "' is not one of omni, wand, 6dof, falcon, tracked");
     }
     f.finish();
 }

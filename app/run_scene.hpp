@@ -137,6 +137,12 @@ struct RunScene {
     std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on
     double wand_timeout_s = 0.1;        ///< wand: a Flystick sample older than this stops navigation, s
     RunStudy study;                     ///< a study scene's objects instead of a workpiece (study.enabled)
+    /// The flystick / tracked-body drivers: the DTrack target that is the tool ("device": {"driver": "flystick",
+    /// "port": 5000, "id": 0, "bind_address": "0.0.0.0", "timeout_s": 0.1}; devices/tracking/tracked_tool_device.hpp).
+    int tracked_port = 5000;                 ///< UDP port (the head's or the wand's receiver is shared on the same port)
+    int tracked_id = 0;                      ///< DTrack Flystick id (0..15) or body id (0..63)
+    std::string tracked_bind = "0.0.0.0";    ///< local IPv4 address to listen on
+    double tracked_timeout_s = 0.1;          ///< a sample older than this disengages the tool, s
 };
 
 /// Reads a scene from parsed JSON (form on RunScene). `source` names the file in messages; relative mesh

@@ -48,7 +48,7 @@ double fit_workspace_scale(const Aabb& reach_m, const devices::DeviceProfile& pr
 }
 
 SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, MeshForm form, const SculptOptions& booleans,
-                             gpu::Context* render_context) {
+                             gpu::Context* render_context, std::shared_ptr<devices::DTrackReceiver> tool_dtrack) {
     SessionSpec spec = scene.spec;
     const RunStudy& study = scene.study;
     // A study scene's felt walls, or a mesh or a saved model (checksums for a replay).
@@ -63,7 +63,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     std::optional<devices::ButtonScript> buttons;
     Vec3 centre;
     // The app (mouse) or the person (spacemouse) moves the hand: no scripted stroke.
-    const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse";
+    // A tracked tool: its device frame is the world (the display's calibration maps tracker to wall = world).
+    const bool tracked = spec.device_driver == "flystick" || spec.device_driver == "tracked-body";
+    const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse" || tracked;
     // A "fit" workspace scale for a device whose hand moves in its workspace (not a rate or cursor device).
     auto fit_to = [&](Aabb reach) {
         if (scene.workspace_fit && !live) spec.workspace_scale = fit_workspace_scale(reach, profile);
@@ -115,12 +117,26 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         path = {home};
         start_m_ = centre;
     }
+    if (tracked) {  // world = device: gain 1, no offset; the tool is drawn at the workspace centre until tracked
+        spec.workspace_mode = "scaling";
+        spec.workspace_scale = 1.0;
+        centre = home;
+        start_m_ = home;
+    }
     spec.device_origin_m = centre - spec.workspace_scale * home;
     devices::DeviceInputs inputs;
     inputs.period_s = spec.period_s;
     inputs.hand_path.emplace(t_s, path);
     inputs.buttons = buttons;
     if (spec.device_driver == "spacemouse") inputs.spacemouse = scene.spacemouse;
+    if (tracked) {
+        inputs.dtrack = std::move(tool_dtrack);
+        inputs.dtrack_port = scene.tracked_port;
+        inputs.dtrack_bind = scene.tracked_bind;
+        inputs.tracked_tool.id = scene.tracked_id;
+        inputs.tracked_tool.timeout_s = scene.tracked_timeout_s;
+        inputs.tracked_tool.tracker_to_device = scene.display.tracker_to_wall;
+    }
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
     if (live) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
     RuntimeOptions ro;

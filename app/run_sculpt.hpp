@@ -38,9 +38,12 @@ public:
     /// a stroke with no material under it or a bad spec. `form`, `booleans` and `render_context`: as
     /// RuntimeOptions (the dirty tiles are contoured on the GPU into the render context's buffers where that is
     /// the default or asked for).
+    /// `tool_dtrack`: for the flystick and tracked-body drivers, the DTrack receiver to share (the head's or the
+    /// wand's on the same port); null = the driver opens its own on scene.tracked_port.
     explicit SculptBackend(const RunScene& scene, double mesh_interval_s = 1.0 / 60.0,
                            MeshForm form = MeshForm::kTiles, const SculptOptions& booleans = {},
-                           gpu::Context* render_context = nullptr);
+                           gpu::Context* render_context = nullptr,
+                           std::shared_ptr<devices::DTrackReceiver> tool_dtrack = nullptr);
 
     /// The session's threads (start, stop, latest_view, latest_mesh, records, final_mesh, ...).
     SessionRuntime& runtime() { return *runtime_; }

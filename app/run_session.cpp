@@ -173,12 +173,24 @@ RunSetup resolve_run(const RunOptions& o) {
             s.monitor_name = o.monitor;
     }
     if (!o.device.empty()) {
-        if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse")
-            throw Error("--device: '" + o.device + "' is not one of simulated, mouse, spacemouse");
-        s.scene.spec.device_driver = o.device;
+        std::string tracked;
+        if (parse_tracked_tool_option(o.device, tracked, s.scene.tracked_port, s.scene.tracked_id)) {
+            s.scene.spec.device_driver = tracked;
+            s.scene.spec.device = "tracked";
+        } else if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse") {
+            throw Error("--device: '" + o.device +
+                        "' is not one of simulated, mouse, spacemouse, flystick[:PORT[:ID]], tracked-body[:PORT[:ID]]");
+        } else {
+            s.scene.spec.device_driver = o.device;
+        }
     }
     const std::string& driver = s.scene.spec.device_driver;
-    if (driver == "mouse" || driver == "spacemouse") s.scene.has_stroke = false;  // the person is the hand
+    if (driver == "mouse" || driver == "spacemouse" || driver == "flystick" || driver == "tracked-body")
+        s.scene.has_stroke = false;  // the person is the hand
+    if (driver == "flystick" && s.scene.wand_dtrack && s.scene.wand_port == s.scene.tracked_port &&
+        s.scene.wand_flystick == s.scene.tracked_id)
+        throw Error("--device flystick: Flystick " + std::to_string(s.scene.tracked_id) +
+                    " navigates the scene already (--wand); give the tool another Flystick");
     const bool scripted_study = s.scene.study.enabled && scripted_hand_driver(driver);  // the scripted participant's path
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
         s.scene.cursor.empty() && !scripted_study)
@@ -259,7 +271,16 @@ RunResult run_stereo_session(const RunOptions& options) {
     sculpt_options.tile_lod = su.lod && su.tiles;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
-    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, sculpt_options, &ctx);
+    // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
+    std::shared_ptr<devices::DTrackReceiver> tool_dtrack;
+    if (scene.spec.device_driver == "flystick" || scene.spec.device_driver == "tracked-body") {
+        if (dtrack && scene.dtrack_port == scene.tracked_port)
+            tool_dtrack = dtrack->receiver();
+        else if (wand && scene.wand_port == scene.tracked_port)
+            tool_dtrack = wand->receiver();
+    }
+    SculptBackend backend(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, sculpt_options, &ctx,
+                          tool_dtrack);
     r.sculpt_path = backend.runtime().booleans().backend->path();
     r.sculpt_device = backend.runtime().booleans().backend->device();
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);

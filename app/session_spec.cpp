@@ -2,6 +2,7 @@
 #include "app/session_spec.hpp"
 
 #include "devices/mouse_device.hpp"
+#include "devices/tracking/tracked_tool_device.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,11 +25,17 @@
 
 namespace tridex::app {
 
+std::uint32_t engage_mask_for(const std::string& driver) {
+    static_assert(devices::mouse_buttons::kEngage == devices::tracked_tool_buttons::kEngage);
+    if (driver == "mouse" || driver == "flystick" || driver == "tracked-body") return devices::mouse_buttons::kEngage;
+    return 0;
+}
+
 devices::DeviceProfile device_profile(const std::string& name) {
     try {
         return devices::profile_by_name(name);
     } catch (const Error&) {
-        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof or falcon");
+        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof, falcon or tracked");
     }
 }
 
@@ -132,7 +139,7 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.workspace_scale = s.workspace_scale;
     cfg.workspace.mode = haptics::parse_workspace_mode(s.workspace_mode);
     cfg.op = parse_tool_op(s.op);
-    if (s.device_driver == "mouse") cfg.engage_mask = devices::mouse_buttons::kEngage;  // carve while the left button is held
+    cfg.engage_mask = engage_mask_for(s.device_driver);  // carve while the left button or the trigger is held
     cfg.material = static_cast<std::uint8_t>(s.material);
     cfg.max_ticks = max_ticks;
     cfg.tool = tool;
@@ -177,7 +184,7 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     try {
         (void)devices::profile_by_name(s.device);
     } catch (const Error&) {
-        fail("device", "must be omni, wand, 6dof or falcon", "'" + s.device + "'");
+        fail("device", "must be omni, wand, 6dof, falcon or tracked", "'" + s.device + "'");
     }
     range("workspace_scale", s.workspace_scale, 0.0, 100.0, true);
     range("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);

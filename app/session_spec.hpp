@@ -120,6 +120,11 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
 /// bounding radius.
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
 
+/// The button bits that engage the tool for a device driver: the desk mouse's left button and a tracked tool's
+/// trigger (mouse_buttons::kEngage, the same bit as tracked_tool_buttons::kEngage) for "mouse", "flystick" and
+/// "tracked-body"; 0 (always engaged) for the others.
+std::uint32_t engage_mask_for(const std::string& driver);
+
 /// Makes `s` use the closed mesh tool in `path` scaled to `size_m` (m): kind kMesh, the absolute path, the size,
 /// radius_m = the placed mesh's bounding radius, mesh_id 0, and the file's CRC-32 and byte count. `what` names
 /// the setting in messages ("<scene>: field 'tool.mesh'", "--tool-mesh"). Throws tridex::Error "<what>: <path>:

@@ -65,6 +65,18 @@ DeviceProfile novint_falcon() {
     return p;
 }
 
+DeviceProfile tracked_tool_profile() {
+    DeviceProfile p;
+    p.name = "Tracked tool";
+    p.workspace_m = Aabb{Vec3(-3.0, -0.5, -1.0), Vec3(3.0, 3.0, 4.0)};
+    p.max_force_n = 0.0;
+    p.max_torque_nm = 0.0;
+    p.max_stiffness_n_per_m = 0.0;
+    p.dof_in = 6;
+    p.dof_out = 3;  // the loop's force path, bounded to 0 N: nothing reaches a stick without motors
+    return p;
+}
+
 Vec3 home_position_m(const DeviceProfile& profile) {
     return profile.workspace_m.empty() ? Vec3(0.0) : profile.workspace_m.centre();
 }

@@ -40,6 +40,12 @@ DeviceProfile novint_falcon();
 /// Where a device's stylus rests at home, device frame, m: the centre of profile.workspace_m (the device
 /// origin for an empty box). A scripted hand's path and the workspace mapping are placed around it, so a
 /// device whose workspace is not centred on its origin (the Quanser wand) starts inside its workspace.
+/// A tracked stick or rigid body held in a PowerWall room, with no actuators (the "tracked" profile of the
+/// flystick and tracked-body drivers): its workspace is the tracked volume in front of the screen in the wall
+/// frame (the display config's tracker_to_wall; screen at z = 0, viewer at +z, y up), x -3..3 m, y -0.5..3 m,
+/// z -1..4 m; 6-DOF sensing; the loop's 3-DOF force path with limits of 0 N and 0 N m, so no force is sent.
+DeviceProfile tracked_tool_profile();
+
 Vec3 home_position_m(const DeviceProfile& profile);
 
 /// Per-axis continuous limits in the device frame (N, N*m); 0 on an axis = that axis is not actuated.

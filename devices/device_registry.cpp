@@ -20,6 +20,7 @@
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 #include "devices/spacemouse_device.hpp"
+#include "devices/tracking/tracked_tool_device.hpp"
 
 namespace tridex::devices {
 
@@ -32,7 +33,8 @@ struct NamedProfile {
 const NamedProfile kProfiles[] = {{"omni", &DeviceProfile::phantom_omni},
                                   {"wand", &quanser_wand_5dof},
                                   {"6dof", &generic_6dof},
-                                  {"falcon", &novint_falcon}};
+                                  {"falcon", &novint_falcon},
+                                  {"tracked", &tracked_tool_profile}};
 
 std::string join(const std::vector<std::string>& names) {
     std::string out;
@@ -51,7 +53,7 @@ std::string hex4(std::uint16_t v) {
 DeviceProfile profile_by_name(const std::string& name) {
     for (const NamedProfile& p : kProfiles)
         if (name == p.name) return p.make();
-    throw Error("device.profile: unknown profile '" + name + "'; use omni, wand, 6dof or falcon");
+    throw Error("device.profile: unknown profile '" + name + "'; use omni, wand, 6dof, falcon or tracked");
 }
 
 std::string profile_name_of(const std::string& product) {
@@ -234,6 +236,21 @@ const DeviceRegistry& builtin_registry() {
             const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
             return std::make_unique<SpaceMouseDevice>(std::move(profile), start, in.period_s, std::move(p));
         });
+        // A DTrack-tracked Flystick or standard body as the tool (no haptic device): the session's receiver
+        // (shared with the head or the wand on the same port), else one of its own.
+        for (const bool flystick : {true, false}) {
+            DriverInfo info{flystick ? "flystick" : "tracked-body",
+                            flystick ? "an ART DTrack Flystick as the tool (6df2; its trigger engages the tool; no forces)"
+                                     : "an ART DTrack standard body as the tool (6d; always engaged; no forces)",
+                            false, true, {"tracked"}, {}, 6, 0};
+            r.add(info, [flystick](const DeviceSpec&, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+                TrackedToolParams p = in.tracked_tool;
+                p.flystick = flystick;
+                std::shared_ptr<DTrackReceiver> rx =
+                    in.dtrack ? in.dtrack : std::make_shared<DTrackReceiver>(in.dtrack_port, in.dtrack_bind);
+                return std::make_unique<TrackedToolDevice>(tracked_tool_profile(), std::move(rx), p, in.period_s);
+            });
+        }
         return r;
     }();
     return registry;

@@ -33,6 +33,7 @@
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
 #include "devices/spacemouse_device.hpp"
+#include "devices/tracking/tracked_tool_device.hpp"
 
 namespace tridex::devices {
 
@@ -58,6 +59,13 @@ struct DeviceInputs {
     /// net: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
     /// devices/net/net_device.hpp.
     std::string haptic_rendering = "distributed";
+    /// flystick, tracked-body: the DTrack receiver to read (shared with the head or the wand on the same port);
+    /// null = the driver opens one on dtrack_port / dtrack_bind.
+    std::shared_ptr<DTrackReceiver> dtrack{};
+    int dtrack_port = 5000;                 ///< UDP port when the driver opens its own receiver (1..65535; 0 = any)
+    std::string dtrack_bind = "0.0.0.0";    ///< local IPv4 address it listens on
+    /// flystick, tracked-body: which target and how (its `flystick` flag is set by the driver's name).
+    TrackedToolParams tracked_tool{};
 };
 
 /// A USB vendor and product id pair.
@@ -129,8 +137,8 @@ private:
 /// $SPNAV_SOCKET, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 
-/// The profile named `name` (omni, wand, 6dof, falcon); throws tridex::Error "device.profile: unknown profile 'x'; use
-/// omni, wand, 6dof or falcon".
+/// The profile named `name` (omni, wand, 6dof, falcon, tracked); throws tridex::Error "device.profile: unknown
+/// profile 'x'; use omni, wand, 6dof, falcon or tracked".
 DeviceProfile profile_by_name(const std::string& name);
 
 /// The profile name (omni, wand, 6dof, falcon) whose DeviceProfile::name is `product` (a recording's device_name), or

@@ -132,8 +132,10 @@ void DTrackReceiver::run() {
             changed = true;
         }
         if (changed) {
-            table_.back() = working_;
-            table_.publish();
+            for (TripleBuffer<DTrackBodyTable>& table : tables_) {
+                table.back() = working_;
+                table.publish();
+            }
             published_.store(working_.accepted, std::memory_order_release);
         }
     }

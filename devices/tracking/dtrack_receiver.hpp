@@ -62,12 +62,16 @@ struct DTrackReceiverStats {
     std::uint64_t published = 0;
 };
 
+/// The receiver's readers: each is one thread. kView: the render thread (head, Wand navigation); kDevice: a
+/// tracked tool's haptic thread (devices/tracking/flystick_device.hpp).
+enum class DTrackReader : int { kView = 0, kDevice = 1 };
+
 /// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
 /// not need one) and one thread. The thread waits in poll() (at most 20 ms, so stop() is prompt), then drains
 /// the socket without blocking (MSG_DONTWAIT), stamps each datagram with steady_clock on arrival, parses it
 /// (parse_dtrack_datagram), counts rejects by reason, and publishes the body and Flystick table once per drain through a
-/// TripleBuffer: the reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive buffer,
-/// one reused DTrackFrame, three tables. Exactly one reader thread calls latest().
+/// TripleBuffer per reader: a reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive
+/// buffer, one reused DTrackFrame, three tables per reader. Exactly one thread reads as each DTrackReader.
 class DTrackReceiver {
 public:
     /// Binds UDP `port` (1..65535, or 0 for a free port chosen by the system: see port()) on `bind_address`
@@ -82,8 +86,11 @@ public:
 
     /// The bound UDP port.
     int port() const { return port_; }
-    /// Reader side (one thread): the newest published table. Valid until this thread's next latest() call.
-    const DTrackBodyTable& latest() { return table_.latest(); }
+    /// Reader side (one thread per DTrackReader): the newest published table. Valid until that reader's next
+    /// latest() call.
+    const DTrackBodyTable& latest(DTrackReader reader = DTrackReader::kView) {
+        return tables_[static_cast<std::size_t>(reader)].latest();
+    }
     /// Counters so far (any thread).
     DTrackReceiverStats stats() const;
     /// Stops the thread (idempotent); the last table stays readable.
@@ -96,7 +103,7 @@ private:
     int fd_ = -1;
     int port_ = 0;
     std::atomic<bool> stop_{false};
-    TripleBuffer<DTrackBodyTable> table_;
+    std::array<TripleBuffer<DTrackBodyTable>, 2> tables_;  // one per DTrackReader
     DTrackBodyTable working_;  // receiver thread only
     DTrackFrame frame_;        // receiver thread only
     std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0},

@@ -338,5 +338,77 @@ TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
     EXPECT_EQ(report.at("head").at("provider").get<std::string>(), "dtrack");
 }
 
+// Offscreen `tridex run --head dtrack:PORT:0 --device flystick:PORT:1`: the Flystick is the tool (no haptic
+// device), reading the head's receiver. Carried through the workpiece with the trigger held it carves; carried
+// the same way with the trigger released it carves nothing (the god-object still rests the proxy on the surface).
+TEST(DTrackTool, TheFlystickCarvesOnlyWhileItsTriggerIsHeld) {
+    namespace fs = std::filesystem;
+    const fs::path dir = test::temp_dir("flystick_tool");
+    const std::string scene = (dir / "scene.json").string();
+    std::ofstream(scene) << R"({
+  "workpiece": { "resolution": 32, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+  "tool": { "radius_m": 0.006 },
+  "display": { "preset": "desktop", "resolution": [64, 48], "refresh_hz": 60 }
+})";
+    int port = 0;
+    {
+        devices::DTrackReceiver probe(0, "127.0.0.1");
+        port = probe.port();
+    }
+    auto run = [&](unsigned buttons, const std::string& out) {
+        std::atomic<bool> stop{false};
+        std::thread sender([&] {
+            DTrackSender tx(port);
+            for (unsigned fr = 1; !stop.load(); ++fr) {
+                // Across the workpiece along x at its centre, 0.1 m/s, back and forth.
+                const double x_mm = -50.0 + std::fmod(0.5 * fr, 100.0);
+                tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
+                tx.send(dtrack_flystick_datagram(fr, 1, Vec3(x_mm, 0.0, 50.0), glm::dmat3(1.0), buttons, 0.0, 0.0));
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            }
+        });
+        RunOptions o;
+        o.scene = scene;
+        o.display = "offscreen";
+        o.stereo = "side-by-side";
+        o.seconds = 1.5;
+        o.out = (dir / out).string();
+        o.no_journal = true;
+        o.head = "dtrack:" + std::to_string(port) + ":0";
+        o.device = "flystick:" + std::to_string(port) + ":1";
+        try {
+            run_stereo_session(o);
+        } catch (...) {
+            stop = true;
+            sender.join();
+            throw;
+        }
+        stop = true;
+        sender.join();
+        return nlohmann::json::parse(std::ifstream(dir / out / "report.json"));
+    };
+    const nlohmann::json held = run(0x1, "held");
+    EXPECT_EQ(held.at("haptics").at("device_driver").get<std::string>(), "flystick");
+    EXPECT_GT(held.at("haptics").at("contact_ticks").get<int>(), 0) << held.at("haptics").dump();
+    EXPECT_LT(held.at("volume_after_m3").get<double>(), held.at("volume_before_m3").get<double>());
+    const nlohmann::json released = run(0x0, "released");
+    EXPECT_GT(released.at("haptics").at("contact_ticks").get<int>(), 0);
+    EXPECT_EQ(released.at("volume_after_m3").get<double>(), released.at("volume_before_m3").get<double>());
+    // The wand and the tool cannot be the same Flystick.
+    RunOptions same;
+    same.scene = scene;
+    same.display = "offscreen";
+    same.seconds = 0.1;
+    same.out = (dir / "same").string();
+    same.device = "flystick:" + std::to_string(port) + ":1";
+    same.wand = "dtrack:" + std::to_string(port) + ":1";
+    try {
+        run_stereo_session(same);
+        ADD_FAILURE() << "the wand's Flystick was accepted as the tool";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("navigates the scene already"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace tridex::app
