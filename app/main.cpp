@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     demo_cmd
         ->add_option("--op", demo.op,
-                     "What the tool does: subtract, union (add material), paint, push or smooth (clay: move material)")
+                     "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")
         ->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
