@@ -96,8 +96,9 @@ ElasticScene elastic_scene_from_json(const json& j, const std::string& source) {
     top.finish();
     const SceneSphere& target = s.objects[static_cast<std::size_t>(s.press.object)];
     if (!target.elastic)
-        top.fail("press.object", "objects[" + std::to_string(s.press.object) + "] ('" + target.name +
-                                     "') is not elastic; press an object with \"elastic\": true");
+        top.fail("press.object", "objects[" + std::to_string(s.press.object) + "]" +
+                                     (target.name.rfind("objects[", 0) == 0 ? "" : " ('" + target.name + "')") +
+                                     " is not elastic; press an object with \"elastic\": true");
     double last = 0.0;
     for (std::size_t i = 0; i < s.press.depths_m.size(); ++i) {
         const double d = s.press.depths_m[i];
