@@ -43,7 +43,7 @@ struct Phase {
     bool step = false;
 };
 
-std::vector<Phase> press_script(const ScenePress& press) {
+std::vector<Phase> press_script(const ScenePress& press, const std::string& source) {
     std::vector<Phase> phases;
     double p = -press.clearance_m;
     phases.push_back({kSettleS, p, p, false});
@@ -57,8 +57,8 @@ std::vector<Phase> press_script(const ScenePress& press) {
     double total = 0.0;
     for (const Phase& ph : phases) total += ph.duration_s;
     if (!(total <= kMaxScriptS))
-        throw Error("press: the script lasts " + format_number(total) + " s; at most " + format_number(kMaxScriptS) +
-                    " (fewer depths, a faster speed_m_s or a shorter hold_s)");
+        throw Error(source + ": field 'press': the press lasts " + format_number(total) + " s; at most " +
+                    format_number(kMaxScriptS) + " s (fewer depths, a faster speed_m_s or a shorter hold_s)");
     return phases;
 }
 
@@ -99,7 +99,7 @@ ElasticPressRun run_elastic_press(const ElasticScene& s) {
     if (s.objects.empty() || s.press.object < 0 || s.press.object >= static_cast<int>(s.objects.size()))
         throw Error(s.source + ": field 'press.object': no such object");
     const SceneSphere& target = s.objects[static_cast<std::size_t>(s.press.object)];
-    const std::vector<Phase> phases = press_script(s.press);
+    const std::vector<Phase> phases = press_script(s.press, s.source);
     const haptics::ToolPoints pts = tool_points(s);
     const TriMesh reference = icosphere_mesh(target.sphere.centre_m, target.sphere.radius_m, kSubdivisions);
     TriMesh drawn;
