@@ -118,8 +118,7 @@ bool same_ray(const std::vector<Interval>& a, const std::vector<Interval>& b) {
     return true;
 }
 
-/// Per set, which rays of the box hold a node that moves: 0 none, 1 only nodes with s1 == 0 (the ray's re-sampling
-/// does not depend on beta), 2 some node with s1 != 0; index (u - lo) + n_u * (v - lo).
+/// Per set, which rays of the box hold a node that moves (s0 or s1 != 0); index (u - lo) + n_u * (v - lo).
 using MovedRays = std::array<std::vector<std::uint8_t>, 3>;
 
 MovedRays moved_rays(const ClayField& f) {
@@ -132,12 +131,10 @@ MovedRays moved_rays(const ClayField& f) {
                 const std::size_t x = b.index(i, j, k);
                 if (f.s0[x] == 0.0f && f.s1[x] == 0.0f) continue;
                 const int n[3] = {i, j, k};
-                const std::uint8_t flag = f.s1[x] != 0.0f ? 2 : 1;
                 for (int a = 0; a < 3; ++a) {
                     const int ua = (a + 1) % 3, va = (a + 2) % 3;
-                    std::uint8_t& r = m[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
-                                           static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])];
-                    r = std::max(r, flag);
+                    m[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
+                         static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])] = 1;
                 }
             }
     return m;
@@ -151,13 +148,9 @@ struct Resampled {
     std::size_t visited = 0;
 };
 
-/// Which moved rays evaluate() re-samples: all of them, those that do not depend on beta, or those that do.
-enum class Rays { kAll, kFixed, kWithBeta };
-
-/// Re-samples the moved rays of kind `which` at `beta` without writing: the volume change (cells^3, mean of the three
-/// sets) and, in `keep`, the changed rays' new intervals. keep.visited counts every ray of the box.
-void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, Resampled& keep,
-              Rays which = Rays::kAll) {
+/// Re-samples the moved rays at `beta` without writing: the volume change (cells^3, mean of the three sets) and,
+/// in `keep`, the changed rays' new intervals.
+void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, Resampled& keep) {
     double dv[3] = {0.0, 0.0, 0.0};
     keep.where.clear();
     keep.visited = 0;
@@ -168,9 +161,8 @@ void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved,
         for (int v = f.box.lo[va]; v <= f.box.hi[va]; ++v)
             for (int u = f.box.lo[ua]; u <= f.box.hi[ua]; ++u) {
                 ++keep.visited;
-                const std::uint8_t flag = moved[a][static_cast<std::size_t>(u - f.box.lo[ua]) +
-                                                   static_cast<std::size_t>(f.box.n(ua)) * (v - f.box.lo[va])];
-                if (flag == 0 || (which == Rays::kFixed && flag != 1) || (which == Rays::kWithBeta && flag != 2))
+                if (!moved[a][static_cast<std::size_t>(u - f.box.lo[ua]) +
+                              static_cast<std::size_t>(f.box.n(ua)) * (v - f.box.lo[va])])
                     continue;
                 const std::vector<Interval>& ray = set.ray(u, v);
                 if (used == keep.rays.size()) keep.rays.emplace_back();
@@ -238,10 +230,8 @@ float solve_beta(const ClayField& f) {
 /// difference over 0.1), the second with the measured one; the beta with the smallest measured change wins and its
 /// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings. The measured
 /// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
-/// one such step, not exactly 0. The rays whose nodes all have s1 == 0 do not depend on beta: they are re-sampled
-/// once into `fixed`; only the others are re-sampled per trial beta, the best of them kept in `best`.
-float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays& moved, Resampled& fixed,
-                     Resampled& best) {
+/// one such step, not exactly 0.
+float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays& moved, Resampled& best) {
     const float b1 = solve_beta(f);
     double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
     for (std::size_t i = 0; i < f.s0.size(); ++i) {
@@ -253,18 +243,16 @@ float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays&
     // Good enough: within 1% of what the dent (or the smoothing) moved, or of a hundredth of a cell^3.
     const double tolerance = std::max(0.01 * std::fabs(dent), 0.01);
     float best_beta = b1;
-    evaluate(model, f, moved, b1, fixed, Rays::kFixed);
-    evaluate(model, f, moved, b1, best, Rays::kWithBeta);
+    evaluate(model, f, moved, b1, best);
     thread_local Resampled trial;
     float b = b1;
-    double dv = fixed.dv + best.dv, best_dv = dv;
+    double dv = best.dv;
     for (int k = 0; k < 2 && std::fabs(dv) > tolerance && slope != 0.0; ++k) {
         const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
         if (nb == b) break;
-        evaluate(model, f, moved, nb, trial, Rays::kWithBeta);
-        const double ndv = fixed.dv + trial.dv;
-        if (std::fabs(ndv) < std::fabs(best_dv)) {
-            best_dv = ndv;
+        evaluate(model, f, moved, nb, trial);
+        const double ndv = trial.dv;
+        if (std::fabs(ndv) < std::fabs(best.dv)) {
             std::swap(best, trial);
             best_beta = nb;
         }
@@ -455,27 +443,23 @@ ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserv
     if (!any && !any1) return st;
     const MovedRays moved = moved_rays(f);
     float beta = 0.0f;
-    thread_local Resampled fixed, result;
-    fixed.where.clear();
-    fixed.dv = 0.0;
-    if (volume_preserving && any1) {
-        beta = solve_measured(model, f, moved, fixed, result);
-    } else {
+    thread_local Resampled result;
+    if (volume_preserving && any1)
+        beta = solve_measured(model, f, moved, result);
+    else
         evaluate(model, f, moved, 0.0f, result);
-    }
     for (std::size_t i = 0; i < f.s0.size(); ++i)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));
     st.beta = beta;
-    st.volume_change_cells = fixed.dv + result.dv;
+    st.volume_change_cells = result.dv;
     st.rays.rays_visited = result.visited;
-    st.rays.rays_changed = fixed.where.size() + result.where.size();
-    for (Resampled* part : {&fixed, &result})
-        for (std::size_t k = 0; k < part->where.size(); ++k) {
-            std::vector<Interval>& ray = model.sets[part->where[k].first].rays[part->where[k].second];
-            if (before) before->push_back({part->where[k].first, part->where[k].second, ray});
-            ray.swap(part->rays[k]);
-        }
+    st.rays.rays_changed = result.where.size();
+    for (std::size_t k = 0; k < result.where.size(); ++k) {
+        std::vector<Interval>& ray = model.sets[result.where[k].first].rays[result.where[k].second];
+        if (before) before->push_back({result.where[k].first, result.where[k].second, ray});
+        ray.swap(result.rays[k]);
+    }
     if (st.rays.rays_changed > 0) {
         const Lattice& L = model.lattice;
         Aabb box;

@@ -93,8 +93,7 @@ struct ClayStats {
 /// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
 /// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
-/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is
-/// written), the second and third only of the rays that hold a node with s1 != 0.
+/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 
