@@ -23,6 +23,7 @@
 #include "app/demo.hpp"
 #include "app/device_server_cmd.hpp"
 #include "app/devices_cmd.hpp"
+#include "app/elastic_demo.hpp"
 #include "app/export_cmd.hpp"
 #include "app/recover.hpp"
 #include "app/replay.hpp"
@@ -114,7 +115,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     demo_cmd
         ->add_option("--op", demo.op,
-                     "What the tool does: subtract, union (add material), paint, push or smooth (clay: move material)")
+                     "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")
         ->capture_default_str();
     demo_cmd->add_option("--material", demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     demo_cmd->add_flag("--cpu", demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
@@ -124,6 +125,15 @@ int main(int argc, char** argv) {
     demo_cmd->add_flag("--gpu-contour", demo.gpu_contour,
                        "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(demo_cpu_contour);
+
+    bool demo_elastic = false;
+    std::string elastic_scene;
+    demo_cmd->add_flag("--elastic", demo_elastic,
+                       "Press an elastic object (a squeeze ball) in steps and let go: its drawn surface dents within the "
+                       "radius of influence and springs back; the force comes from the undeformed surface");
+    demo_cmd->add_option("--scene", elastic_scene,
+                         "--elastic: the scene file (objects, tool, press); default: assets/squeeze_ball_scene.json")
+        ->check(CLI::ExistingFile);
 
     tridex::app::OutputOptions replay_out;
     replay_out.out = "out/replay";
@@ -191,7 +201,8 @@ int main(int argc, char** argv) {
         ->delimiter(',');
     std::vector<std::string> sculpt_paths;
     bench_cmd->add_option("--sculpt-paths", sculpt_paths,
-                          "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched), e.g. --sculpt-paths cpu,gpu-batched")
+                          "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched; clay-push, clay-smooth only when named), "
+                          "e.g. --sculpt-paths cpu,gpu-batched")
         ->delimiter(',');
     bool bench_session = false;
     bench_cmd->add_flag("--session", bench_session,
@@ -283,7 +294,23 @@ int main(int argc, char** argv) {
     }
     tridex::app::install_stop_handlers();  // SIGINT/SIGTERM end a session cleanly, then exit 128 + signal
     try {
-        if (*demo_cmd) {
+        if (*demo_cmd && (demo_elastic || demo_cmd->count("--scene") > 0)) {
+            if (!demo_elastic) throw tridex::Error("--scene: only with --elastic");
+            for (const CLI::Option* opt : demo_cmd->get_options()) {
+                const std::string name = opt->get_name();
+                if (opt->count() > 0 && name != "--elastic" && name != "--scene" && name != "--out" &&
+                    name != "--width" && name != "--height" && name != "--validate" && name != "--help")
+                    throw tridex::Error("--elastic: " + name +
+                                        " does not apply (the scene file sets the objects, the tool and the press)");
+            }
+            tridex::app::ElasticDemoOptions elastic;
+            elastic.scene = elastic_scene;
+            if (demo_cmd->count("--out") > 0) elastic.out = demo.out;
+            elastic.width = demo.width;
+            elastic.height = demo.height;
+            elastic.validate = demo.validate;
+            tridex::app::run_elastic_demo(elastic);
+        } else if (*demo_cmd) {
             demo.tool_radius_m = tool_radius_mm * 1e-3;
             demo.tool_length_m = tool_length_mm * 1e-3;
             demo.tool_size_m = tool_size_mm * 1e-3;

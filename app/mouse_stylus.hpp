@@ -52,7 +52,7 @@ public:
     void set_right(bool down) { right_ = down; }
     /// Wheel steps (+ = away from the user = deeper); the depth stays in [0, 2 r]. Non-finite steps are ignored.
     void wheel(double steps);
-    /// What the tool applies while engaged (subtract, union, paint, push or smooth; kNone is ignored).
+    /// What the tool applies while engaged (subtract, union, paint, push, smooth or pull; kNone is ignored).
     void set_op(ToolOp op);
     /// Scales the tool by kSizeStep^steps (within the limits above). Returns false, changing nothing, for a
     /// mesh tool or at the limit.

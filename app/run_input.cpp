@@ -60,6 +60,7 @@ void RunInput::handle(const renderer::InputEvent& e) {
                 if (e.key == Key::k3) return stylus_->set_op(ToolOp::kPaint);
                 if (e.key == Key::k4) return stylus_->set_op(ToolOp::kPush);    // clay
                 if (e.key == Key::k5) return stylus_->set_op(ToolOp::kSmooth);  // clay
+                if (e.key == Key::k6) return stylus_->set_op(ToolOp::kPull);    // clay
                 if (e.key == Key::kLeftBracket) {
                     stylus_->resize(-1);
                     return;

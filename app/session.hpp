@@ -48,7 +48,7 @@ struct SessionRun {
     std::unique_ptr<SessionRuntime> runtime;
     /// "SIGINT" or "SIGTERM" when a signal ended the session early (its outputs are still written), else "".
     std::string stopped_by;
-    /// Clay sessions (op push or smooth): the largest distance between the surface before and after the session, m
+    /// Clay sessions (op push, smooth or pull): the largest distance between the surface before and after the session, m
     /// (compute::clay_max_displacement_cells); set by the caller that kept the model before.
     std::optional<double> deformation_max_displacement_m;
 };

@@ -71,8 +71,9 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "paint") return ToolOp::kPaint;
     if (name == "push") return ToolOp::kPush;
     if (name == "smooth") return ToolOp::kSmooth;
+    if (name == "pull") return ToolOp::kPull;
     if (name == "none") return ToolOp::kNone;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth or none");
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth, pull or none");
 }
 
 namespace {

@@ -92,7 +92,7 @@ struct SessionSpec {
     std::size_t history_budget_bytes = std::size_t{256} << 20;
 };
 
-/// The ToolOp named by `name` (subtract, union, paint, push, smooth, or none: the tool touches but never changes
+/// The ToolOp named by `name` (subtract, union, paint, push, smooth, pull, or none: the tool touches but never changes
 /// the model); throws tridex::Error listing the names.
 ToolOp parse_tool_op(const std::string& name);
 

@@ -21,6 +21,7 @@
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/parallel/task_pool.hpp"
 #include "compute/tools/sweep_parallel.hpp"
@@ -38,7 +39,7 @@ using compute::TriDexel;
 constexpr double kStockM = 0.3;       // lattice side, m
 constexpr double kMarginCells = 4.0;  // the box covers grid [4, N-4]^3
 constexpr double kDepthCells = 3.37;  // groove depth below the top face (the ball's centre sits off the nodes)
-const std::string kPaths[] = {"cpu-1t", "cpu", "gpu", "gpu-batched"};  // in the order rows are run
+const std::string kPaths[] = {"cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth"};  // in row order
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -174,7 +175,7 @@ void check_options(const SculptBenchOptions& o) {
     if (o.paths.empty()) throw Error("bench --sculpt: no paths to run (--sculpt-paths)");
     for (std::size_t i = 0; i < o.paths.size(); ++i) {
         if (std::find(std::begin(kPaths), std::end(kPaths), o.paths[i]) == std::end(kPaths))
-            throw Error("bench --sculpt: unknown path '" + o.paths[i] + "' (--sculpt-paths: cpu-1t, cpu, gpu, gpu-batched)");
+            throw Error("bench --sculpt: unknown path '" + o.paths[i] + "' (--sculpt-paths: cpu-1t, cpu, gpu, gpu-batched, clay-push, clay-smooth)");
         if (std::find(o.paths.begin(), o.paths.begin() + static_cast<std::ptrdiff_t>(i), o.paths[i]) != o.paths.begin() + static_cast<std::ptrdiff_t>(i))
             throw Error("bench --sculpt: path '" + o.paths[i] + "' given twice (--sculpt-paths)");
     }
@@ -248,6 +249,16 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                         for (const Sweep& s : b) rays += compute::apply_sweep(m, s).rays_visited;
                         return rays;
                     };
+                } else if (p == "clay-push" || p == "clay-smooth") {
+                    const ToolOp op = p == "clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
+                    step = [&m, op](std::span<const Sweep> b) {
+                        std::size_t rays = 0;
+                        for (Sweep s : b) {
+                            s.op = op;
+                            rays += compute::apply_clay(m, s).rays.rays_visited;
+                        }
+                        return rays;
+                    };
                 } else if (p == "cpu") {
                     step = [&m, threads](std::span<const Sweep> b) { return compute::apply_sweeps_parallel(m, b, threads).rays_visited; };
                 } else {
@@ -280,6 +291,14 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         const SculptBenchRow* one = find(rows, row.n, row.radius_cells, "cpu-1t");
         if (!one || one->segments_per_s <= 0.0) continue;
         std::printf("  N=%4d r=%2.0f %-11s: %.2f\n", row.n, row.radius_cells, row.path.c_str(), row.segments_per_s / one->segments_per_s);
+    }
+    std::printf("clay / cpu-1t step_ms_median, per segment on one thread (target <= 2):\n");
+    for (const auto& row : rows) {
+        if (row.path.rfind("clay-", 0) != 0) continue;
+        const SculptBenchRow* one = find(rows, row.n, row.radius_cells, "cpu-1t");
+        if (!one || one->step_ms_median <= 0.0) continue;
+        std::printf("  N=%4d r=%2.0f %-11s: %.1f  (%.3f ms against %.3f ms)\n", row.n, row.radius_cells, row.path.c_str(),
+                    row.step_ms_median / one->step_ms_median, row.step_ms_median, one->step_ms_median);
     }
     std::printf("gpu-batched / cpu segments_per_s (target >= 0.5 when a batch's footprint > 10,000 rays):\n");
     for (const auto& row : rows) {

@@ -17,9 +17,11 @@ enum class ToolOp : std::uint8_t {
     kPaint = 3,     ///< set a material id where the tool touches
     kPush = 4,      ///< clay: dent the pressed surface, its volume back as a rim (compute/tools/clay_push.hpp)
     kSmooth = 5,    ///< clay: relax the surface under the tool, keeping the volume (compute/tools/clay_smooth.hpp)
+    kPull = 6,      ///< clay: the touched surface follows the tool outward, its volume taken from a moat (clay_push.hpp)
 };
 
-/// The operation's name on the command line and in reports: "none", "subtract", "union", "paint", "push", "smooth".
+/// The operation's name on the command line and in reports: "none", "subtract", "union", "paint", "push", "smooth",
+/// "pull".
 inline const char* tool_op_name(ToolOp op) {
     switch (op) {
         case ToolOp::kNone: return "none";
@@ -28,6 +30,7 @@ inline const char* tool_op_name(ToolOp op) {
         case ToolOp::kPaint: return "paint";
         case ToolOp::kPush: return "push";
         case ToolOp::kSmooth: return "smooth";
+        case ToolOp::kPull: return "pull";
     }
     return "unknown";
 }

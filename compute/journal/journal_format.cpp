@@ -24,7 +24,7 @@ void encode_sample(const ToolSample& s, unsigned char* out) {
 
 bool decode_sample(const unsigned char* in, ToolSample& s) {
     if (in[112] > static_cast<unsigned char>(ToolKind::kMesh) ||
-        in[113] > static_cast<unsigned char>(ToolOp::kSmooth) || in[115] != 0 || get_u32(in + 116) != 0)
+        in[113] > static_cast<unsigned char>(ToolOp::kPull) || in[115] != 0 || get_u32(in + 116) != 0)
         return false;
     s.t_s = get_f64(in + 0);
     for (int k = 0; k < 3; ++k) s.position[k] = get_f64(in + 8 + 8 * k);

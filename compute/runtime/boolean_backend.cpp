@@ -73,7 +73,7 @@ public:
         if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
-    /// Booleans run on the GPU kernel; a clay sweep (push, smooth) runs the CPU reference on the mirror model and
+    /// Booleans run on the GPU kernel; a clay sweep (push, smooth, pull) runs the CPU reference on the mirror model and
     /// its changed rays are written to the slabs, in batch order (the clay ops have no Vulkan kernel yet).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))

@@ -1,4 +1,4 @@
-// compute/tools/clay_field.hpp - the implicit field behind the clay tools (push, smooth): one signed distance on the
+// compute/tools/clay_field.hpp - the implicit field behind the clay tools (push, smooth, pull): one signed distance on the
 // lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
 #pragma once
 

@@ -23,6 +23,34 @@ struct Stamp {
 
 }  // namespace
 
+float clay_surface_distance(const TriDexel& model, float cx, float cy, float cz, float search) {
+    const float c[3] = {cx, cy, cz};
+    float best2 = search * search;
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = model.sets[a];
+        const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        const int u0 = std::max(0, static_cast<int>(std::ceil(c[ua] - search)));
+        const int u1 = std::min(set.nu - 1, static_cast<int>(std::floor(c[ua] + search)));
+        const int v0 = std::max(0, static_cast<int>(std::ceil(c[va] - search)));
+        const int v1 = std::min(set.nv - 1, static_cast<int>(std::floor(c[va] + search)));
+        for (int v = v0; v <= v1; ++v) {
+            const float dv = static_cast<float>(v) - c[va];
+            for (int u = u0; u <= u1; ++u) {
+                const float du = static_cast<float>(u) - c[ua];
+                const float side2 = du * du + dv * dv;
+                if (!(side2 < best2)) continue;
+                for (const Interval& iv : set.ray(u, v)) {
+                    const float e = iv.enter - c[a], x = iv.exit - c[a];
+                    best2 = std::min(best2, side2 + e * e);
+                    best2 = std::min(best2, side2 + x * x);
+                    if (x > 0.0f && e > 0.0f) break;  // later crossings lie farther along the ray
+                }
+            }
+        }
+    }
+    return std::sqrt(best2);
+}
+
 ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells) {
     ClayField f;
     const float c[3] = {cx, cy, cz};
@@ -41,6 +69,9 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
     }
     clay_build_phi(model, f);
     k.phi = clay_phi_at(f, cx, cy, cz);
+    // Outside, the distance to the nearest crossing: the field's plane-exact distance mixes crossings of different
+    // surfaces (a rim beside a dent's floor) and would report the tool closer than it is.
+    if (k.phi > 0.0f) k.phi = clay_surface_distance(model, cx, cy, cz, f.search);
     k.delta = r_cells - k.phi;
     float g[3];
     for (int a = 0; a < 3; ++a) {
@@ -58,22 +89,15 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
     return k;
 }
 
-ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
-    const float R = g.radius, r = kClayInfluence * R, w = kClayRimWidth * r;
-    // The interaction points: the ball at each stamp, its contact and penetration.
-    std::vector<Stamp> stamps;
-    const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
-    for (std::uint32_t k = 0; k < n; ++k) {
-        const float f = static_cast<float>(k + 1) / static_cast<float>(n);
-        float c[3];
-        for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
-        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
-        if (!(ct.delta >= kClayMinStep)) continue;
-        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
-                          {ct.normal[0], ct.normal[1], ct.normal[2]},
-                          std::min(ct.delta, kClayMaxStep)});
-    }
+namespace {
+
+// The displacement field of a push (inward = true) or a pull (inward = false) from its interaction points, applied
+// with a volume-keeping rim (push) or moat (pull).
+ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<Stamp>& stamps, bool inward,
+                       std::vector<RayImage>* before) {
     if (stamps.empty()) return {};
+    const float R = g.radius, r = kClayInfluence * R, w = kClayRimWidth * r;
+    const float sign = inward ? 1.0f : -1.0f;
     ClayField field;
     // The box around the contact points (the sweep's lo..hi allow for any contact within R + 0.5 of the centre).
     ClayBox outer;
@@ -109,12 +133,58 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
                 if (dent > 0.0f) {
-                    if (std::fabs(phi) < dent + 2.0f) field.s0[i] = dent;
+                    if (std::fabs(phi) < dent + 2.0f) field.s0[i] = sign * dent;
                 } else if (rim > 0.0f) {
-                    if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -rim;
+                    if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
                 }
             }
     return clay_resample(model, field, true, before);
+}
+
+// The ball's centre (grid units) at stamp k of n along the sweep (k = 0: the motion's start).
+void stamp_centre(const GridSweep& g, std::uint32_t k, std::uint32_t n, float c[3]) {
+    const float f = static_cast<float>(k) / static_cast<float>(n);
+    for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
+}
+
+}  // namespace
+
+ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+    const float R = g.radius;
+    // The interaction points: the ball at each stamp, its contact and penetration.
+    std::vector<Stamp> stamps;
+    const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        float c[3];
+        stamp_centre(g, k + 1, n, c);
+        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
+        if (!(ct.delta >= kClayMinStep)) continue;
+        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
+                          {ct.normal[0], ct.normal[1], ct.normal[2]},
+                          std::min(ct.delta, kClayMaxStep)});
+    }
+    return apply_stamps(model, g, stamps, true, before);
+}
+
+ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+    const float R = g.radius;
+    const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
+    // Only a tool that touches the surface where the motion starts holds on to it.
+    float a[3];
+    stamp_centre(g, 0, n, a);
+    if (!(clay_contact(model, a[0], a[1], a[2], R).delta >= -kClayPullGrip)) return {};
+    std::vector<Stamp> stamps;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        float c[3];
+        stamp_centre(g, k + 1, n, c);
+        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
+        const float gap = -ct.delta;  // how far the tool has drawn away from the surface, cells
+        if (!(gap >= kClayMinStep)) continue;
+        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
+                          {ct.normal[0], ct.normal[1], ct.normal[2]},
+                          std::min(gap, kClayPullMaxStep)});
+    }
+    return apply_stamps(model, g, stamps, false, before);
 }
 
 }  // namespace tridex::compute

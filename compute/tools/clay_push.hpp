@@ -1,5 +1,6 @@
-// compute/tools/clay_push.hpp - plastic push: the tool dents the surface it presses, with Popescu's falloff within
-// a radius of influence, and the displaced volume comes back as a rim around the dent.
+// compute/tools/clay_push.hpp - plastic push and pull: the tool dents the surface it presses (push) or draws the
+// surface it touches out after it (pull), with Popescu's falloff within a radius of influence; the volume moved
+// comes back as a rim around the dent (push) or is taken from a moat around the bump (pull).
 #pragma once
 
 #include <vector>
@@ -12,11 +13,22 @@ namespace tridex::compute {
 
 /// Smallest penetration (cells) a push stamp acts on; shallower contacts wait until the tool goes deeper.
 inline constexpr float kClayMinStep = 0.25f;
+/// How close (cells) the tool must be to the surface where a pull's motion starts for the surface to follow it.
+inline constexpr float kClayPullGrip = 0.5f;
+/// Largest surface displacement (cells) one pull stamp applies: a whole piece of motion (kClayPieceCells), so that a
+/// fast hand does not outrun the surface and lose its grip.
+inline constexpr float kClayPullMaxStep = 2.0f;
 /// Largest surface displacement (cells) one push stamp applies; a deeper press is followed over several segments.
 inline constexpr float kClayMaxStep = 1.0f;
 
+/// Distance (cells) from grid point c to the nearest interval end of any ray of the three sets within `search` cells
+/// (`search` when there is none): the distance to the sampled surface, exact at the samples, so at most a few
+/// hundredths of a cell above the true distance for a tool a few cells away. O(rays within search x intervals).
+float clay_surface_distance(const TriDexel& model, float cx, float cy, float cz, float search);
+
 /// The contact of a ball of radius R (cells) centred at grid point c with the solid: phi(c) (cells from the
-/// surface, trilinear in the node field), the penetration delta = R - phi(c), and the contact point
+/// surface: inside, trilinear in the node field; outside, clay_surface_distance), the penetration delta = R - phi(c),
+/// and the contact point
 /// p* = c - max(phi(c), 0) * grad(phi)/|grad(phi)| (the surface point under the tool: Popescu's interaction point).
 struct ClayContact {
     float phi = 0.0f;
@@ -47,5 +59,17 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 /// moves along its normal (phi' = phi + s, see clay_field.hpp for how the three sets stay one solid).
 /// Nodes with |phi| >= |s| + 2 cells keep their value (the surface cannot reach them).
 ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
+
+/// Plastic pull of one clay sweep (ToolOp::kPull; the inverse of clay_push, as Freeform's tug or Blender's grab
+/// along the normal): the touched surface follows the tool as it draws away. Only when the ball touches the surface
+/// at the motion's start (R - phi(a) >= -kClayPullGrip), each stamp m (as clay_push) whose ball has drawn a gap
+/// g_m = phi(c_m) - R >= kClayMinStep away from the surface moves the surface under it outward by
+/// delta_m = min(g_m, kClayPullMaxStep) with the same falloff (Popescu 3.3: delta_m * (1 - (d_m/r)^2) within r =
+/// kClayInfluence * R, the largest winning), so the surface catches up with the ball and never passes it; the added
+/// volume is taken back from a moat on the annulus r..r + w (the rim's profile, inward), beta solved as in clay_push.
+/// A tool held still, moving along the surface or pressing into it changes nothing; a tool that lost contact does
+/// not grab again until it touches. Pushing a flat face in by D and pulling the same spot back out by D returns the
+/// face to within about a cell.
+ClayStats clay_pull(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
 
 }  // namespace tridex::compute

@@ -25,11 +25,11 @@ float clay_reach_cells(ToolOp op, float radius_cells) {
     const float r = kClayInfluence * radius_cells;
     // The contact point lies at most R from the centre while in contact (phi <= R + 0.5).
     const float contact = radius_cells + 0.5f;
-    return op == ToolOp::kPush ? contact + r * (1.0f + kClayRimWidth) : contact + r;
+    return op != ToolOp::kSmooth ? contact + r * (1.0f + kClayRimWidth) : contact + r;
 }
 
 GridSweep to_clay_grid_sweep(const Lattice& L, const Sweep& s) {
-    if (!is_clay_op(s.op)) throw Error("clay sweep: the operation is not push or smooth");
+    if (!is_clay_op(s.op)) throw Error("clay sweep: the operation is not push, smooth or pull");
     Sweep ball = s;
     ball.tool.kind = ToolKind::kBall;
     ball.tool.radius_m = ball_radius_m(s);
@@ -45,7 +45,7 @@ GridSweep to_clay_grid_sweep(const Lattice& L, const Sweep& s) {
         g.hi[a] = static_cast<std::int32_t>(std::clamp(hi, 0.0, static_cast<double>(L.cells[a])));
         if (hi < 0.0 || lo > L.cells[a]) g.hi[a] = g.lo[a] - 1;  // off the lattice: an empty box
     }
-    if (s.op == ToolOp::kPush) {
+    if (s.op != ToolOp::kSmooth) {
         const float len = std::sqrt(g.delta[0] * g.delta[0] + g.delta[1] * g.delta[1] + g.delta[2] * g.delta[2]);
         g.stamps = static_cast<std::uint32_t>(std::min(std::ceil(len / 0.5f), 1.0e6f));
         g.stamps = std::max<std::uint32_t>(g.stamps, 1u);
@@ -76,11 +76,12 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
     const GridSweep g = to_clay_grid_sweep(model.lattice, s);  // validates the whole sweep first
     if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return {};
     if (s.op == ToolOp::kSmooth) return clay_smooth(model, g, before);
-    // A long push (a jump of the workspace, a fast hand) in pieces of at most kClayPieceCells of motion, each with
+    const bool pull = s.op == ToolOp::kPull;
+    // A long push or pull (a jump of the workspace, a fast hand) in pieces of at most kClayPieceCells of motion, each with
     // its own field box around its contacts, so the cost follows the path's length, not the volume of its box.
     const double len = glm::length(s.path_m.b - s.path_m.a) / model.lattice.cell_m;
     const int pieces = static_cast<int>(std::min(std::ceil(len / kClayPieceCells), 1.0e6));
-    if (pieces <= 1) return clay_push(model, g, before);
+    if (pieces <= 1) return pull ? clay_pull(model, g, before) : clay_push(model, g, before);
     ClayStats total;
     for (int k = 0; k < pieces; ++k) {
         Sweep piece = s;
@@ -88,7 +89,7 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
         piece.path_m.b = s.path_m.a + (s.path_m.b - s.path_m.a) * (static_cast<double>(k + 1) / pieces);
         const GridSweep pg = to_clay_grid_sweep(model.lattice, piece);
         if (pg.hi[0] < pg.lo[0] || pg.hi[1] < pg.lo[1] || pg.hi[2] < pg.lo[2]) continue;
-        const ClayStats st = clay_push(model, pg, before);
+        const ClayStats st = pull ? clay_pull(model, pg, before) : clay_push(model, pg, before);
         total.rays.rays_visited += st.rays.rays_visited;
         total.rays.rays_changed += st.rays.rays_changed;
         total.volume_change_cells += st.volume_change_cells;

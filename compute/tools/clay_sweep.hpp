@@ -1,4 +1,4 @@
-// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth) as sweeps: validation, the box they
+// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth, kPull) as sweeps: validation, the box they
 // may change, and applying one to a tri-dexel model (the CPU reference).
 #pragma once
 
@@ -12,15 +12,15 @@
 
 namespace tridex::compute {
 
-/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth).
-inline bool is_clay_op(ToolOp op) { return op == ToolOp::kPush || op == ToolOp::kSmooth; }
+/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth, kPull).
+inline bool is_clay_op(ToolOp op) { return op == ToolOp::kPush || op == ToolOp::kSmooth || op == ToolOp::kPull; }
 
-/// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push R*(kClayInfluence*(1 +
+/// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push and pull R*(kClayInfluence*(1 +
 /// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance.
 float clay_reach_cells(ToolOp op, float radius_cells);
 
 /// A clay sweep in grid units: the ball of radius sweep.tool.radius_m (kFlatEnd: its radius; kMesh: the mesh's
-/// bounding radius), origin/start/delta as to_grid_sweep, stamps at most half a cell apart (push) or 1 (smooth),
+/// bounding radius), origin/start/delta as to_grid_sweep, stamps at most half a cell apart (push, pull) or 1 (smooth),
 /// lo..hi the node box it may change (clay_reach_cells and kClayMarginCells beyond the motion), clamped to the
 /// lattice. Throws tridex::Error as to_grid_sweep on bad input, and when op is not a clay op.
 GridSweep to_clay_grid_sweep(const Lattice& lattice, const Sweep& sweep);
@@ -33,7 +33,7 @@ Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
 /// order (apply_clay).
 inline constexpr double kClayPieceCells = 2.0;
 
-/// Applies one clay sweep (clay_push or clay_smooth) to `model`; a push moving more than kClayPieceCells goes in
+/// Applies one clay sweep (clay_push, clay_pull or clay_smooth) to `model`; a push or pull moving more than kClayPieceCells goes in
 /// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
 /// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
 /// unchanged) on the input to_clay_grid_sweep refuses.

@@ -1,4 +1,4 @@
-// `tridex demo --op push` and `--op smooth` end to end: the scripted stroke pushes (smooths) the bunny, the report
+// `tridex demo --op push`, `--op smooth` and `--op pull` end to end: the scripted stroke pushes (smooths) the bunny, the report
 // carries `deformation.max_displacement_m` and the volume within 2%, the recording replays byte for byte, and the
 // session journal names the op.
 #include <gtest/gtest.h>
@@ -67,6 +67,22 @@ TEST(ClaySession, SmoothDemoRunsAndReports) {
     const double v0 = j["workpiece"]["volume_dexel_m3"].get<double>(), v1 = j["volume_after_m3"].get<double>();
     EXPECT_LT(std::fabs(v1 - v0) / v0, 0.01);
     EXPECT_EQ(j["mesh"]["boundary_edges"], 0);
+}
+
+TEST(ClaySession, PullDemoRunsAndReports) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-clay-pull";
+    fs::remove_all(dir);
+    const auto live = run_tridex(
+        "demo --op pull --cpu --resolution 64 --seconds 1 --width 64 --height 48 --out " + (dir / "live").string(),
+        dir / "live");
+    ASSERT_EQ(live.exit_code, 0) << live.err;
+    const nlohmann::json j = report(dir / "live");
+    EXPECT_EQ(j["settings"]["op"], "pull");
+    ASSERT_TRUE(j.contains("deformation"));
+    const double v0 = j["workpiece"]["volume_dexel_m3"].get<double>(), v1 = j["volume_after_m3"].get<double>();
+    EXPECT_LT(std::fabs(v1 - v0) / v0, 0.02);
+    EXPECT_EQ(j["mesh"]["boundary_edges"], 0);
+    EXPECT_EQ(j["mesh"]["nonmanifold_edges"], 0);
 }
 
 }  // namespace

@@ -129,4 +129,31 @@ TEST(BenchSculpt, RunsOnlyTheChosenPathsResolutionsAndRadii) {
 }
 
 }  // namespace
+TEST(BenchSculpt, ClayPathsRunTheSameStrokeAsPushAndSmooth) {
+    SculptBenchOptions o;
+    o.resolutions = {32};
+    o.radii_cells = {3.0};
+    o.paths = {"clay-smooth", "cpu-1t", "clay-push"};  // rows come in the bench's own order
+    o.max_segments = 10;
+    o.min_boolean_s = 1e9;
+    o.max_row_s = 1e9;
+    o.gpu = false;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt_clay").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SculptBenchRow> rows = run_sculpt_bench(o);
+    ASSERT_EQ(rows.size(), 3u);
+    EXPECT_EQ(rows[0].path, "cpu-1t");
+    EXPECT_EQ(rows[1].path, "clay-push");
+    EXPECT_EQ(rows[2].path, "clay-smooth");
+    for (const SculptBenchRow& r : rows) {
+        EXPECT_EQ(r.segments, 10u) << r.path;
+        EXPECT_EQ(r.steps, 10u) << r.path;  // one segment per step
+        EXPECT_TRUE(std::isfinite(r.step_ms_median) && r.step_ms_median > 0.0) << r.path;
+    }
+    // Three different operations on the same stroke: three different models.
+    EXPECT_NE(rows[0].model_hash, rows[1].model_hash);
+    EXPECT_NE(rows[1].model_hash, rows[2].model_hash);
+    EXPECT_NE(rows[0].model_hash, rows[2].model_hash);
+}
+
 }  // namespace tridex::app

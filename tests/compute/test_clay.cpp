@@ -1,5 +1,5 @@
-// Tests of the clay tools (push, smooth) on the CPU reference: Popescu's dent and the rim on a plane, volume over
-// strokes, three-set agreement, smoothing a noisy sphere, a plane left alone, undo restoring exactly.
+// Tests of the clay tools (push, smooth, pull) on the CPU reference: Popescu's dent and the rim on a plane, pull as
+// push's inverse, volume over strokes, three-set agreement, smoothing a noisy sphere, a plane left alone, undo restoring exactly.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -147,6 +147,86 @@ TEST(ClayPush, StrokeKeepsVolumeAndTheSetsAgree) {
                     ASSERT_LT(ray[i - 1].exit, ray[i].enter);
                 }
             }
+}
+
+// Moves the tool from `p` to `to` in segments of `step` cells, applying `op` on each (a 1 kHz hand on 1 mm cells).
+void stroke_to(TriDexel& m, ToolOp op, Vec3& p, const Vec3& to, double R, double step = 0.05) {
+    const int n = std::max(1, static_cast<int>(std::ceil(glm::length(to - p) / step)));
+    for (int k = 1; k <= n; ++k) {
+        const Vec3 q = p + (to - p) * (static_cast<double>(k) / n);
+        apply_clay(m, clay_sweep(op, p, q, R));
+        p = q;
+    }
+}
+
+TEST(ClayPull, PushThenPullOfTheSameSpotReturnsNearTheStart) {
+    const double z0 = 20.3, R = 3.0, D = 2.0;
+    TriDexel m = from_implicit(cube_lattice(48), slab(z0));
+    const TriDexel start = m;
+    const double v0 = volume_cells(m);
+    // Press D cells into the face from touching, lift off (push does not pull), then touch the dent's floor and pull
+    // back out by D.
+    const Vec3 touch(24.2, 24.3, z0 + R);
+    Vec3 p = touch;
+    stroke_to(m, ToolOp::kPush, p, touch - Vec3(0.0, 0.0, D), R);
+    const double dent_top = top_of(m, 24, 24);
+    const double dent_moved = clay_max_displacement_cells(start, m);
+    stroke_to(m, ToolOp::kPush, p, touch + Vec3(0.0, 0.0, 2.0), R);
+    EXPECT_NEAR(top_of(m, 24, 24), dent_top, 1e-6);  // withdrawing a push leaves the dent
+    p = touch - Vec3(0.0, 0.0, D);
+    stroke_to(m, ToolOp::kPull, p, touch, R);
+    const double back = clay_max_displacement_cells(start, m);
+    const double dv = volume_cells(m) - v0;
+    double worst = 0.0;
+    for (int j = 6; j <= 42; ++j)
+        for (int i = 6; i <= 42; ++i)
+            worst = std::max(worst, std::fabs(static_cast<double>(top_of(m, i, j)) - top_of(start, i, j)));
+    std::printf("push %.1f cells then pull back: dent %.2f cells (surface moved %.2f), after the pull the surface is "
+                "within %.3f cells of the start (top crossings %.3f), volume change %.3f cells^3 (%.4f%%)\n",
+                D, z0 - dent_top, dent_moved, back, worst, dv, 100.0 * dv / v0);
+    EXPECT_NEAR(dent_top, z0 - D, 0.5);
+    EXPECT_LT(back, 1.0);
+    EXPECT_LT(worst, 1.0);
+    EXPECT_LT(std::fabs(dv), 0.25 * M_PI * R * R);  // within a quarter cell over the tool's footprint
+}
+
+TEST(ClayPull, TheSurfaceFollowsTheToolOutAndNeverPassesIt) {
+    const double z0 = 20.3, R = 3.0;
+    TriDexel m = from_implicit(cube_lattice(48), slab(z0));
+    const TriDexel start = m;
+    const double v0 = volume_cells(m);
+    const double r = kClayInfluence * R;
+    // Held still, pressed in, or slid along while touching: nothing moves.
+    Vec3 p(24.0, 24.0, z0 + R);
+    EXPECT_EQ(apply_clay(m, clay_sweep(ToolOp::kPull, p, p, R)).rays.rays_changed, 0u);
+    EXPECT_EQ(apply_clay(m, clay_sweep(ToolOp::kPull, p, p - Vec3(0.0, 0.0, 0.5), R)).rays.rays_changed, 0u);
+    EXPECT_EQ(apply_clay(m, clay_sweep(ToolOp::kPull, p, p + Vec3(1.0, 0.0, 0.0), R)).rays.rays_changed, 0u);
+    // Not touching where the motion starts: no grip.
+    const Vec3 above = p + Vec3(0.0, 0.0, 1.0);
+    EXPECT_EQ(apply_clay(m, clay_sweep(ToolOp::kPull, above, above + Vec3(0.0, 0.0, 1.0), R)).rays.rays_changed, 0u);
+    // Draw the tool 3 cells out: the face under it follows to the ball's bottom, with Popescu's falloff around it.
+    stroke_to(m, ToolOp::kPull, p, Vec3(24.0, 24.0, z0 + R + 3.0), R);
+    const double peak = top_of(m, 24, 24);
+    std::printf("pull 3 cells out: peak %.3f cells above the face (the ball's bottom at 3), volume %.4f%%\n",
+                peak - z0, 100.0 * (volume_cells(m) - v0) / v0);
+    EXPECT_NEAR(peak, z0 + 3.0, 0.5);
+    EXPECT_LE(peak, z0 + 3.0 + 0.05);  // never beyond the tool
+    for (int i = 14; i <= 34; ++i) {
+        const double d = std::fabs(i - 24.0);
+        const double bump = top_of(m, i, 24) - z0;
+        if (d < 0.5 * r) {
+            EXPECT_GT(bump, 0.5) << i;  // raised under the tool
+        }
+        if (d > r + kClayRimWidth * r + 1.0) {
+            EXPECT_NEAR(bump, 0.0, 1e-6) << i;  // untouched beyond the moat
+        }
+    }
+    EXPECT_LT(std::fabs(volume_cells(m) - v0) / v0, 0.002);
+    // A fast hand: 2 cells per segment still keeps the grip.
+    TriDexel f = start;
+    Vec3 q(24.0, 24.0, z0 + R);
+    stroke_to(f, ToolOp::kPull, q, Vec3(24.0, 24.0, z0 + R + 4.0), R, 2.0);
+    EXPECT_NEAR(top_of(f, 24, 24), z0 + 4.0, 0.6);
 }
 
 TEST(ClaySmooth, PlaneIsLeftAlone) {
