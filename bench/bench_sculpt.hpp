@@ -42,8 +42,8 @@ struct SculptBenchOptions {
     double max_row_s = 4.0;         ///< ... or its wall time (with contouring) reaches this, s ...
     int max_segments = 65536;       ///< ... or the stroke (this many segments) is used up
     bool gpu = true;                ///< run the GPU rows when a Vulkan device exists
-    /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched" (each at most once); the ratio lines
-    /// need "cpu" and "gpu-batched".
+    /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched" (each at most once); the parallel-path
+    /// lines need a single-thread path, the gpu-batched / cpu line "cpu" and "gpu-batched".
     std::vector<std::string> paths{"cpu-1t", "cpu", "gpu", "gpu-batched"};
     std::string out = "out/bench";  ///< folder for sculpt_bench.json
 };
@@ -57,7 +57,9 @@ struct SculptBenchOptions {
 /// GpuSculptor::apply per segment; "gpu-batched" = per `batch` segments. After each step the dirty
 /// tiles are re-contoured on the CPU (Contourer; GPU contouring is not built yet: "contour": "cpu").
 /// GPU rows are skipped, with a printed reason, when no Vulkan device exists or options.gpu is false.
-/// Prints a table, the ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min, writes
+/// Prints a table; each parallel path's ("cpu" on several threads, "gpu", "gpu-batched") segments_per_s
+/// against the best single-thread path's ("cpu-1t", or "cpu" on one thread) at the same N and radius; the
+/// ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min; writes
 /// sculpt_bench.json (a list of rows) and sculpt_bench_setup.json (workpiece, stroke, device and a "memory"
 /// record: GPU slab bytes per set and N, interval storage at N = 1024) into options.out; returns the rows.
 /// Throws tridex::Error on bad options (resolutions, radii, batch, max_segments, paths: empty, out of range,
