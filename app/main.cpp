@@ -1,5 +1,6 @@
 // app/main.cpp - the `tridex` command line.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -238,13 +239,19 @@ int main(int argc, char** argv) {
                         "loopback (input_bench.json)");
     bool bench_accuracy = false;
     bench_cmd->add_flag("--accuracy", bench_accuracy,
-                        "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256): "
-                        "tridex CPU 1 thread, CPU all cores and GPU, and an OpenVDB level-set peer when built in");
-    bool accuracy_512 = false;
-    bench_cmd->add_flag("--accuracy-512", accuracy_512, "With --accuracy: also N = 512 (slow)");
+                        "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256, 512): "
+                        "tridex CPU 1 thread, CPU all cores and GPU, and an OpenVDB level-set peer at the same N when built in");
     std::vector<int> accuracy_n;
-    bench_cmd->add_option("--accuracy-n", accuracy_n,
-                          "With --accuracy: run only these N (16..1024), e.g. --accuracy-n 512; overrides --accuracy-512");
+    bench_cmd->add_option("--accuracy-n", accuracy_n, "With --accuracy: run only these N (16..1024), e.g. --accuracy-n 64,256")
+        ->delimiter(',');
+    std::vector<std::string> accuracy_programs;
+    bench_cmd->add_option("--accuracy-programs", accuracy_programs,
+                          "With --accuracy: run only these programs (pocket, random_ball, flat_random, plunge, union, paint)")
+        ->delimiter(',');
+    std::vector<std::string> accuracy_paths;
+    bench_cmd->add_option("--accuracy-paths", accuracy_paths, "With --accuracy: run only these paths (cpu-1t, cpu, gpu, openvdb)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"cpu-1t", "cpu", "gpu", "openvdb"}));
     double accuracy_offset = 0.0;
     bench_cmd->add_option("--accuracy-offset", accuracy_offset,
                           "With --accuracy: lattice origin shift in cells, [0, 1) (0 = cube faces on lattice nodes)")
@@ -383,8 +390,15 @@ int main(int argc, char** argv) {
             if (bench_accuracy) {
                 tridex::app::AccuracyBenchOptions abench;
                 abench.out = hbench.out;
-                if (accuracy_512) abench.resolutions.push_back(512);
                 if (!accuracy_n.empty()) abench.resolutions = accuracy_n;
+                abench.programs = accuracy_programs;
+                if (!accuracy_paths.empty()) {
+                    const auto has = [&](const char* p) { return std::find(accuracy_paths.begin(), accuracy_paths.end(), p) != accuracy_paths.end(); };
+                    abench.cpu_one_thread = has("cpu-1t");
+                    abench.cpu_all_cores = has("cpu");
+                    abench.gpu = has("gpu");
+                    abench.openvdb = has("openvdb");
+                }
                 abench.offset_cells = accuracy_offset;
                 tridex::app::run_accuracy_bench(abench);
             }

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "bench/bench_accuracy_exact.hpp"
+#include "bench/bench_accuracy_match.hpp"
 #include "bench/bench_accuracy_metrics.hpp"
 #include "bench/bench_accuracy_openvdb.hpp"
 #include "bench/bench_accuracy_plot.hpp"
@@ -104,27 +105,18 @@ nlohmann::json row_json(const AccuracyRow& r) {
             {"worst_sample_cells", r.worst_sample_cells}, {"volume_change_m3", r.volume_change_m3}};
 }
 
-/// Targets: tridex cpu vs OpenVDB per-segment time at equal (or lower OpenVDB) max error; max vertex
-/// error within one cell diagonal; volume error < 0.5 % at N = 256.
+/// The accuracy targets of every tridex row: max vertex error <= kMaxErrorCells; |volume error| <
+/// kVolumeErrorMax at N = 256.
+constexpr double kMaxErrorCells = 0.45;
+constexpr double kVolumeErrorMax = 0.001;
+
 void print_targets(const std::vector<AccuracyRow>& rows) {
-    std::printf("targets: max vertex error <= sqrt(3) cells; |volume error| < 0.5%% at N=256; openvdb/tridex time per "
-                "segment >= 10 at equal max error (openvdb row: fastest with max error <= tridex's, else its most accurate)\n");
+    std::printf("targets: max vertex error <= %.2f cells; |volume error| < %.1f%% at N=256\n", kMaxErrorCells, 100.0 * kVolumeErrorMax);
     for (const AccuracyRow& t : rows) {
         if (t.method != "tridex") continue;
-        std::printf("  %-6s %4d %-11s diag %s", t.path.c_str(), t.n, t.program.c_str(),
-                    t.max_error_m <= std::sqrt(3.0) * t.cell_m ? "ok  " : "MISS");
-        if (t.n == 256) std::printf(" vol %s", std::abs(t.volume_error_rel) < 0.005 ? "ok  " : "MISS");
-        const AccuracyRow* best = nullptr;
-        for (const AccuracyRow& o : rows) {
-            if (o.method != "openvdb" || o.program != t.program || o.time_per_segment_s <= 0.0) continue;
-            const bool ok = o.max_error_m <= t.max_error_m;
-            if (!best || (ok && (best->max_error_m > t.max_error_m || o.time_per_segment_s < best->time_per_segment_s)) ||
-                (!ok && best->max_error_m > t.max_error_m && o.max_error_m < best->max_error_m))
-                best = &o;
-        }
-        if (best && t.time_per_segment_s > 0.0)
-            std::printf(" vs openvdb N=%d (max err %.3g mm%s): %.1fx", best->n, 1e3 * best->max_error_m,
-                        best->max_error_m <= t.max_error_m ? "" : ", larger", best->time_per_segment_s / t.time_per_segment_s);
+        std::printf("  %-6s %4d %-11s max %.3f c %s", t.path.c_str(), t.n, t.program.c_str(), t.max_error_m / t.cell_m,
+                    t.max_error_m <= kMaxErrorCells * t.cell_m ? "ok  " : "MISS");
+        if (t.n == 256) std::printf(" vol %.4f%% %s", 100.0 * t.volume_error_rel, std::abs(t.volume_error_rel) < kVolumeErrorMax ? "ok" : "MISS");
         std::printf("\n");
     }
 }
@@ -136,6 +128,9 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
     if (!(o.offset_cells >= 0.0 && o.offset_cells < 1.0)) throw Error("bench --accuracy: lattice offset must be in [0, 1) cells");
     for (const int n : o.resolutions)
         if (n < 16 || n > 1024) throw Error("bench --accuracy: resolution must be in 16..1024, got " + std::to_string(n));
+    const std::vector<std::string> known = program_names();
+    for (const std::string& name : o.programs)
+        if (std::find(known.begin(), known.end(), name) == known.end()) throw Error("bench --accuracy: unknown program '" + name + "'");
     const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     std::unique_ptr<gpu::Context> ctx;
     if (o.gpu) {
@@ -175,6 +170,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                 const std::string p = path;
                 if (p == "gpu" && !ctx) continue;
                 if (p == "cpu" && !o.cpu_all_cores) continue;
+                if (p == "cpu-1t" && !o.cpu_one_thread) continue;
                 AccuracyRow row{"tridex", p, n, kLatticeSideM / n, ref.program.name, sweeps.size()};
                 compute::TriDexel m = pristine;
                 compute::Contourer contourer = pristine_contour;
@@ -222,9 +218,17 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
         }
     }
     print_targets(rows);
+    const std::vector<MatchedRun> matched = match_openvdb(rows);
+    print_matched(matched);
 
     nlohmann::json runs = nlohmann::json::array();
     for (const AccuracyRow& r : rows) runs.push_back(row_json(r));
+    nlohmann::json jmatched = nlohmann::json::array();
+    for (const MatchedRun& m : matched)
+        jmatched.push_back({{"program", m.program}, {"path", m.path}, {"openvdb_n", m.openvdb_n},
+                            {"openvdb_max_error_m", m.openvdb_max_error_m}, {"openvdb_time_per_segment_s", m.openvdb_time_s},
+                            {"tridex_n", m.tridex_n}, {"tridex_max_error_m", m.tridex_max_error_m},
+                            {"tridex_time_per_segment_s", m.tridex_time_s}, {"ratio", m.ratio}});
     nlohmann::json programs = nlohmann::json::array();
     for (const Reference& r : refs)
         programs.push_back({{"name", r.program.name}, {"moves", r.program.moves.size()}, {"segment_m", r.program.segment_m},
@@ -254,7 +258,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                    "sampling (exact_volume_sigma_m3 = binomial standard error, conservative)"},
         {"programs", programs}};
     const std::string file = (std::filesystem::path(o.out) / "bench.json").string();
-    write_json_file(file, {{"runs", runs}, {"setup", setup}});
+    write_json_file(file, {{"runs", runs}, {"matched", jmatched}, {"setup", setup}});
     std::printf("wrote %s\n", file.c_str());
     if (o.plots)
         for (const std::string& png : write_accuracy_plots(rows, o.out)) std::printf("wrote %s\n", png.c_str());

@@ -38,8 +38,9 @@ struct AccuracyRow {
 
 /// What to run.
 struct AccuracyBenchOptions {
-    std::vector<int> resolutions{64, 128, 256};  ///< N values (>= 16)
-    std::vector<std::string> programs;           ///< empty = all programs
+    std::vector<int> resolutions{64, 128, 256, 512};  ///< N values (16..1024)
+    std::vector<std::string> programs;           ///< empty = all programs; else names from program_names()
+    bool cpu_one_thread = true;                  ///< run the "cpu-1t" path (apply_sweep, one thread)
     bool cpu_all_cores = true;                   ///< run the "cpu" path (apply_sweeps_parallel on all cores, batches of 64)
     bool gpu = true;                             ///< run the "gpu" path (GpuSculptor, batches of 64) when Vulkan exists
     bool openvdb = true;                         ///< run the OpenVDB peer when built in
@@ -59,9 +60,13 @@ struct AccuracyBenchOptions {
 /// (apply_sweep, one thread), tridex "cpu" (apply_sweeps_parallel on std::thread::hardware_concurrency()
 /// threads, batches of 64; the same dexels as "cpu-1t" bit for bit), tridex "gpu" (GpuSculptor, batches
 /// of 64; skipped without Vulkan), and
-/// "openvdb" "cpu-1t" (bench_accuracy_openvdb.hpp) when built with OpenVDB. Prints a table (errors in
-/// metres and cells), writes bench.json ({"runs": [...], "setup": {...}}) into options.out and returns
-/// the rows; with options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). Throws tridex::Error on bad options or an unwritable folder.
+/// "openvdb" "cpu-1t" (bench_accuracy_openvdb.hpp) when built with OpenVDB, at the same N. Prints a table
+/// (errors in metres and cells), the targets (max vertex error <= 0.45 cells; |volume error| < 0.1 % at
+/// N = 256) and, for every OpenVDB run, the fastest tridex run per path whose max error is at most
+/// OpenVDB's, with the worst such time ratio per program (bench_accuracy_match.hpp); writes bench.json
+/// ({"runs": [...], "matched": [...], "setup": {...}}) into options.out and returns the rows; with
+/// options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). Throws tridex::Error on bad
+/// options (resolutions, offset, unknown program) or an unwritable folder.
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
 
 }  // namespace tridex::app

@@ -43,7 +43,8 @@ struct SculptBenchOptions {
     int max_segments = 65536;       ///< ... or the stroke (this many segments) is used up
     bool gpu = true;                ///< run the GPU rows when a Vulkan device exists
     /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth" (each at most once;
-    /// the clay paths only when asked for); the ratio lines need "cpu" and "gpu-batched", the clay ratios "cpu-1t".
+    /// the clay paths only when asked for); the parallel-path lines need a single-thread path, the gpu-batched /
+    /// cpu line "cpu" and "gpu-batched", the clay ratios "cpu-1t".
     std::vector<std::string> paths{"cpu-1t", "cpu", "gpu", "gpu-batched"};
     std::string out = "out/bench";  ///< folder for sculpt_bench.json
 };
@@ -59,7 +60,9 @@ struct SculptBenchOptions {
 /// ball presses 3.37 cells in, so push dents at its 1-cell step). After each step the dirty
 /// tiles are re-contoured on the CPU (Contourer; GPU contouring is not built yet: "contour": "cpu").
 /// GPU rows are skipped, with a printed reason, when no Vulkan device exists or options.gpu is false.
-/// Prints a table, the ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min, writes
+/// Prints a table; each parallel path's ("cpu" on several threads, "gpu", "gpu-batched") segments_per_s
+/// against the best single-thread path's ("cpu-1t", or "cpu" on one thread) at the same N and radius; the
+/// ratios gpu-batched / cpu segments_per_s and step_ms_median N_max / N_min; writes
 /// sculpt_bench.json (a list of rows) and sculpt_bench_setup.json (workpiece, stroke, device and a "memory"
 /// record: GPU slab bytes per set and N, interval storage at N = 1024) into options.out; returns the rows.
 /// Throws tridex::Error on bad options (resolutions, radii, batch, max_segments, paths: empty, out of range,

@@ -14,10 +14,10 @@
 //     to a shared cell list (lists keep all 64 invocations busy in steps 4 and 5);
 //  4. if the tile's region is too small, the needs are reported and nothing is written (the old mesh
 //     stays drawable); otherwise each used component's vertex is placed by the QEF of its crossings and
-//     their normals from the neighbouring rays (dexel_contour_qef.glsl, contour_qef.cpp: relative to and
-//     falling back on the mean of its crossings; clamped into the cell), with the material of the nearest
-//     crossing; the normals read rays through nodes c0-2 .. c0+18 (bounds-checked, straight from the slabs);
-//     split faces get one vertex per inside corner (mean of that corner's two face-edge crossings);
+//     their normals from the neighbouring rays (dexel_contour_qef.glsl, contour_qef.cpp: relative to the
+//     mean of its crossings, minimised over the cell), with the material of the nearest crossing; the
+//     normals read rays through nodes c0-2 .. c0+18 (bounds-checked, straight from the slabs); split faces
+//     get one vertex per inside corner (the face QEF of that corner's two face-edge crossings, or their mean);
 //  5. each sign-change edge emits its quad, split along the shorter diagonal, or, next to a split face, a
 //     fan around its crossing point through the split faces' vertices; tile-local indices.
 // Tiles are self-contained: vertices owned by neighbour tiles are recomputed (same bits) into this tile's

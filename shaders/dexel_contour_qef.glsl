@@ -9,7 +9,7 @@
 const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
 const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
 const double kOneSidedSlopeMax = 1.0lf; // contour::kOneSidedSlopeMax
-const double kQefTruncation = 0.1lf;    // contour::kQefTruncation
+const double kQefTruncation = 0.05lf;   // contour::kQefTruncation
 const int kJacobiSweeps = 5;            // contour::kJacobiSweeps
 const double kJacobiTolerance = 1e-9lf; // contour::kJacobiTolerance
 
@@ -145,12 +145,10 @@ void qef_rotate(inout double m[9], inout double v[9], int p, int q) {
     }
 }
 
-// contour::qef_vertex from the sums of qef_add (count > 0 crossings with a normal): the truncated
-// eigen-solve relative to `mass`, the result clamped into the cell [lo, lo + 1], or the clamped mass
-// point when the minimiser lies more than half a cell outside (or is NaN) or the matrix is zero.
-dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
-    precise dvec3 hi = lo + dvec3(1.0lf);
-    dvec3 fallback = min(max(mass, lo), hi);
+// contour_qef.cpp truncated_solve: the minimum-norm least-squares step y of the QEF sums a (row-major,
+// by value: the Jacobi sweeps work on a copy) and r over the eigen-directions whose eigenvalue exceeds
+// floor_ (floor_ < 0: kQefTruncation times the largest). Returns the largest eigenvalue.
+double qef_truncated(double m[9], double r[3], double floor_, out double y[3]) {
     double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
     [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
         // Converged: off-diagonal sum at most kJacobiTolerance times the diagonal sum (the CPU's test, in
@@ -166,23 +164,60 @@ dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
     double top = m[0];
     if (m[4] > top) top = m[4];
     if (m[8] > top) top = m[8];
-    if (!(top > 0.0lf)) return fallback;
-    precise double floor_ = kQefTruncation * top;
-    double y[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+    precise double rel = kQefTruncation * top;
+    double fl = floor_ < 0.0lf ? rel : floor_;
+    y = double[3](0.0lf, 0.0lf, 0.0lf);
     [[unroll]] for (int k = 0; k < 3; ++k) {
         double lambda = m[4 * k];
-        if (!(lambda > floor_)) continue;
+        if (!(lambda > fl)) continue;
         precise double w = ((v[k] * r[0] + v[3 + k] * r[1]) + v[6 + k] * r[2]) / lambda;
         [[unroll]] for (int j = 0; j < 3; ++j) {
             precise double yj = y[j] + w * v[3 * j + k];
             y[j] = yj;
         }
     }
-    precise dvec3 x = dvec3(mass.x + y[0], mass.y + y[1], mass.z + y[2]);
-    [[unroll]] for (int j = 0; j < 3; ++j) {
-        precise double below = lo[j] - 0.5lf;
-        precise double above = hi[j] + 0.5lf;
-        if (!(x[j] >= below && x[j] <= above)) return fallback;  // also catches NaN
+    return top;
+}
+
+// contour::qef_vertex from the sums of qef_add (count > 0 crossings with a normal): the truncated
+// eigen-solve relative to `mass`; when outside the cell [lo, lo + 1], coordinates outside are fixed on the
+// nearer face and the rest re-solved (at most three times), then clamped; the clamped mass point when the
+// minimiser is not finite or the matrix is zero.
+dvec3 qef_solve(dvec3 mass, double m[9], double r[3], dvec3 lo) {
+    precise dvec3 hi = lo + dvec3(1.0lf);
+    dvec3 fallback = min(max(mass, lo), hi);
+    double y[3];
+    double top = qef_truncated(m, r, -1.0lf, y);
+    if (!(top > 0.0lf)) return fallback;
+    precise double floor_ = kQefTruncation * top;
+    double base[3] = double[3](mass.x, mass.y, mass.z);
+    bool held[3] = bool[3](false, false, false);
+    [[dont_unroll]] for (int round = 0; round < 3; ++round) {
+        bool moved = false;
+        [[unroll]] for (int j = 0; j < 3; ++j) {
+            if (held[j]) continue;
+            precise double x = base[j] + y[j];
+            if (isnan(x) || isinf(x)) return fallback;  // NaN normals or points
+            if (x < lo[j] || x > hi[j]) {
+                held[j] = true;
+                base[j] = x < lo[j] ? lo[j] : hi[j];
+                moved = true;
+            }
+        }
+        if (!moved) break;
+        // The sums over the free coordinates relative to the new base: fixed rows and columns zeroed,
+        // r' = r - A (base - mass).
+        precise double d0 = base[0] - mass.x;
+        precise double d1 = base[1] - mass.y;
+        precise double d2 = base[2] - mass.z;
+        double af[9], rf[3];
+        [[unroll]] for (int j = 0; j < 3; ++j) {
+            precise double rj = r[j] - ((m[3 * j] * d0 + m[3 * j + 1] * d1) + m[3 * j + 2] * d2);
+            rf[j] = held[j] ? 0.0lf : rj;
+            [[unroll]] for (int k = 0; k < 3; ++k) af[3 * j + k] = held[j] || held[k] ? 0.0lf : m[3 * j + k];
+        }
+        qef_truncated(af, rf, floor_, y);
     }
+    precise dvec3 x = dvec3(base[0] + y[0], base[1] + y[1], base[2] + y[2]);
     return min(max(x, lo), hi);
 }

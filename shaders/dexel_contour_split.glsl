@@ -18,9 +18,11 @@ uint face_index_of(ivec3 lower, int g) {
     return NONE16;
 }
 
-// The segment vertices of split face i (TileContourer::emit_split_face): for each inside corner of the
-// face, the mean of the crossings on the face's two edges at that corner (material: the nearer crossing,
-// ties to the larger id). Outside corners' slots get the face centre (never referenced).
+// The segment vertices of split face i (TileContourer::emit_split_face): for each inside corner p of the
+// face, the QEF of the crossings on the face's two edges at p that have a normal (components across the
+// face zeroed), minimised over the face square and clamped into the rectangle spanned by p and the two
+// crossings; the crossings' mean when neither has a normal (material: the nearer crossing, ties to the
+// larger id). Outside corners' slots get the face centre (never referenced).
 void place_face_vertices(uint i, uint v0) {
     uint key = face_list[i];
     uint ci = key & 8191u;
@@ -35,19 +37,44 @@ void place_face_vertices(uint i, uint v0) {
         if (inside(p)) {
             dvec3 pts[2];
             uint mats[2];
+            bool has_n[2];
             for (int m = 0; m < 2; ++m) {
                 int g = m == 0 ? f1 : f2;
                 int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
                 ivec3 s = p - off * unit(g);
                 uint em;
-                double t = edge_crossing(g, s, inside(s), em);
+                bool fb, ex;
+                bool s_in = inside(s);
+                double t = edge_crossing(g, s, s_in, em, fb, ex);
                 pts[m] = dvec3(s);
                 pts[m][g] = t;
                 mats[m] = em;
+                has_n[m] = !fb && ex == s_in;  // a normal is estimated only for these (as in place_vertices)
             }
             precise dvec3 sum = (dvec3(0.0lf) + pts[0]) + pts[1];
             precise dvec3 half_sum = 0.5lf * sum;
             pos = half_sum;
+            // The QEF of the crossings with a normal, in edge order f1, f2 (the CPU's order).
+            double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+            double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+            int normals = 0;
+            for (int m = 0; m < 2; ++m) {
+                if (!has_n[m]) continue;
+                int g = m == 0 ? f1 : f2;
+                int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
+                ivec3 s = p - off * unit(g);
+                dvec3 nn;
+                if (!crossing_normal(g, s, inside(s), pts[m][g], nn)) continue;
+                nn[f] = 0.0lf;
+                qef_add(qm, qr, nn, pts[m], half_sum);
+                ++normals;
+            }
+            if (normals > 0) {
+                dvec3 corner = dvec3(p);
+                dvec3 rlo = min(corner, min(pts[0], pts[1]));
+                dvec3 rhi = max(corner, max(pts[0], pts[1]));
+                pos = min(max(qef_solve(half_sum, qm, qr, dvec3(fmin)), rlo), rhi);
+            }
             precise dvec3 d0 = pts[0] - pos;
             precise dvec3 d1 = pts[1] - pos;
             double e0 = dot3(d0), e1 = dot3(d1);

@@ -26,8 +26,8 @@ struct ContourStats {
     // qef_rejected had no crossing normal and sit at their mass point):
     std::size_t qef_vertices = 0;        ///< placed by a QEF of at least one crossing normal
     std::size_t qef_truncated = 0;       ///< ... with an eigen-direction dropped (on a face or an edge)
-    std::size_t qef_rejected = 0;        ///< minimiser over half a cell outside: the mass point instead
-    std::size_t qef_clamped = 0;         ///< minimiser outside the cell by at most half a cell: clamped
+    std::size_t qef_rejected = 0;        ///< no finite minimiser (non-finite normals): the mass point instead
+    std::size_t qef_clamped = 0;         ///< free minimiser outside the cell: the QEF minimised on the cell's boundary
 };
 
 /// Contours a tri-dexel model into a closed, consistently oriented (outward) 2-manifold triangle mesh in

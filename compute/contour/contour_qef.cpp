@@ -96,26 +96,15 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
     return true;
 }
 
-Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome) {
-    QefOutcome local;
-    QefOutcome& out = outcome ? *outcome : local;
-    out = QefOutcome{};
-    const Vec3 hi = cell_lo + Vec3(1.0);
-    const Vec3 fallback = glm::clamp(mass, cell_lo, hi);
-    if (count <= 0) return fallback;
-    out.normals = count;
-    // A = sum n n^T, r = sum n (n . (p - mass)).
-    double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-    double r[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < count; ++i) {
-        const Vec3& nn = normals[i];
-        const double dx = points[i].x - mass.x, dy = points[i].y - mass.y, dz = points[i].z - mass.z;
-        const double s = (nn.x * dx + nn.y * dy) + nn.z * dz;
-        for (int j = 0; j < 3; ++j) {
-            for (int k = 0; k < 3; ++k) m[j][k] = m[j][k] + nn[j] * nn[k];
-            r[j] = r[j] + nn[j] * s;
-        }
-    }
+namespace {
+
+/// The truncated least-squares step of the QEF (see qef_vertex): for `a` = sum n n^T and `r` = sum n (n . (p -
+/// base)), the minimum-norm y minimising |A y - r| over the eigen-directions of A whose eigenvalue exceeds
+/// `floor`; floor < 0 means kQefTruncation times the largest eigenvalue. Returns that largest eigenvalue;
+/// `dropped` is set when an eigenvalue was at most the floor. Coordinates whose row and column of `a` and
+/// entry of `r` are zero get y = 0 exactly (no rotation mixes them in).
+double truncated_solve(const double a[3][3], const double r[3], double floor, double y[3], bool& dropped) {
+    double m[3][3] = {{a[0][0], a[0][1], a[0][2]}, {a[1][0], a[1][1], a[1][2]}, {a[2][0], a[2][1], a[2][2]}};
     double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
     for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
         // Converged (off-diagonal negligible against the diagonal; at once for axis-aligned normals).
@@ -129,30 +118,86 @@ Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int c
     double top = m[0][0];
     if (m[1][1] > top) top = m[1][1];
     if (m[2][2] > top) top = m[2][2];
-    if (!(top > 0.0)) {  // not reached for unit normals; NaN normals end here
-        out.rejected = true;
-        return fallback;
-    }
-    const double floor = kQefTruncation * top;
-    double y[3] = {0.0, 0.0, 0.0};
+    if (floor < 0.0) floor = kQefTruncation * top;
+    y[0] = 0.0;
+    y[1] = 0.0;
+    y[2] = 0.0;
     for (int k = 0; k < 3; ++k) {
         const double lambda = m[k][k];
         if (!(lambda > floor)) {
-            out.truncated = true;
+            dropped = true;
             continue;
         }
         const double w = ((v[0][k] * r[0] + v[1][k] * r[1]) + v[2][k] * r[2]) / lambda;
         for (int j = 0; j < 3; ++j) y[j] = y[j] + w * v[j][k];
     }
-    const Vec3 x(mass.x + y[0], mass.y + y[1], mass.z + y[2]);
-    for (int j = 0; j < 3; ++j)
-        if (!(x[j] >= cell_lo[j] - 0.5 && x[j] <= hi[j] + 0.5)) {  // also catches NaN
-            out.rejected = true;
-            return fallback;
+    return top;
+}
+
+}  // namespace
+
+Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome) {
+    QefOutcome local;
+    QefOutcome& out = outcome ? *outcome : local;
+    out = QefOutcome{};
+    const Vec3 hi = cell_lo + Vec3(1.0);
+    const Vec3 fallback = glm::clamp(mass, cell_lo, hi);
+    if (count <= 0) return fallback;
+    out.normals = count;
+    // A = sum n n^T, r = sum n (n . (p - mass)).
+    double a[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    double r[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < count; ++i) {
+        const Vec3& nn = normals[i];
+        const double dx = points[i].x - mass.x, dy = points[i].y - mass.y, dz = points[i].z - mass.z;
+        const double s = (nn.x * dx + nn.y * dy) + nn.z * dz;
+        for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) a[j][k] = a[j][k] + nn[j] * nn[k];
+            r[j] = r[j] + nn[j] * s;
         }
-    const Vec3 inside = glm::clamp(x, cell_lo, hi);
-    out.clamped = inside != x;
-    return inside;
+    }
+    double y[3];
+    const double top = truncated_solve(a, r, -1.0, y, out.truncated);
+    if (!(top > 0.0)) {  // not reached for unit normals; NaN normals end here
+        out.truncated = false;
+        out.rejected = true;
+        return fallback;
+    }
+    // Cell-constrained minimisation (active set, constraints only added): coordinates of the minimiser
+    // outside the cell are fixed on the nearer cell face and the QEF is minimised again over the free ones,
+    // until the minimiser lies in the cell (at most three re-solves).
+    double base[3] = {mass.x, mass.y, mass.z};
+    bool fixed[3] = {false, false, false};
+    for (int round = 0; round < 3; ++round) {
+        bool moved = false;
+        for (int j = 0; j < 3; ++j) {
+            if (fixed[j]) continue;
+            const double x = base[j] + y[j];
+            if (!std::isfinite(x)) {  // NaN normals or points
+                out.rejected = true;
+                return fallback;
+            }
+            if (x < cell_lo[j] || x > hi[j]) {
+                fixed[j] = true;
+                base[j] = x < cell_lo[j] ? cell_lo[j] : hi[j];
+                moved = true;
+            }
+        }
+        if (!moved) break;
+        out.clamped = true;
+        // The QEF over the free coordinates, relative to the new base: rows and columns of fixed ones zeroed,
+        // r' = r - A (base - mass).
+        const double d[3] = {base[0] - mass.x, base[1] - mass.y, base[2] - mass.z};
+        double af[3][3], rf[3];
+        for (int j = 0; j < 3; ++j) {
+            rf[j] = fixed[j] ? 0.0 : r[j] - ((a[j][0] * d[0] + a[j][1] * d[1]) + a[j][2] * d[2]);
+            for (int k = 0; k < 3; ++k) af[j][k] = fixed[j] || fixed[k] ? 0.0 : a[j][k];
+        }
+        bool ignored = false;
+        truncated_solve(af, rf, kQefTruncation * top, y, ignored);
+    }
+    Vec3 x(base[0] + y[0], base[1] + y[1], base[2] + y[2]);
+    return glm::clamp(x, cell_lo, hi);
 }
 
 }  // namespace tridex::compute::contour

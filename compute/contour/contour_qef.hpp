@@ -15,17 +15,18 @@ inline constexpr double kNormalWindow = 2.0;
 static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty must cover the normals' window");
 /// Two one-sided slopes that differ by at most this much are averaged (central difference); beyond it
 /// the ray sits at a crease and its crossing gets no normal (choosing one side, e.g. the flatter one,
-/// often picks the face across the crease: in the accuracy bench that raised the max vertex error of the
-/// random ball program at N = 64 from 0.56 to 0.94 cells).
+/// often picks the face across the crease and throws the vertex off).
 inline constexpr double kCentralSlopeTol = 0.5;
 /// Largest slope taken from one side alone (the other neighbour has no end within the window): a steeper
-/// one-sided difference may come from another sheet (a thin fin beside a plate). In the accuracy bench
-/// this cap lowered union's max vertex error at N = 64 from 0.59 to 0.23 cells, random_ball's at N = 256
-/// from 0.61 to 0.55.
+/// one-sided difference may come from another sheet (a thin fin beside a plate).
 inline constexpr double kOneSidedSlopeMax = 1.0;
-/// QEF eigenvalues below this fraction of the largest are treated as zero (the vertex then keeps the
-/// mass point's coordinate along that eigenvector), as in Ju, Losasso, Schaefer and Warren 2002 (their SVD truncation).
-inline constexpr double kQefTruncation = 0.1;
+/// QEF eigenvalues at most this fraction of the largest are treated as zero (the vertex then keeps the
+/// mass point's coordinate along that eigenvector), the SVD truncation of Ju, Losasso, Schaefer and Warren
+/// 2002. Lower than their 0.1 because the vertex is confined to its cell (qef_vertex), which bounds what a
+/// weakly constrained direction can do: two normals keep both directions when they are more than about 25
+/// degrees from parallel or antiparallel (eigenvalues 1 +- |cos|), so a sharp ridge or a thin fin between
+/// two cuts is placed on its edge rather than at the mass point.
+inline constexpr double kQefTruncation = 0.05;
 /// Most cyclic Jacobi sweeps of the 3x3 QEF matrix (quadratic convergence: 5 sweeps reach double
 /// precision); sweeps stop earlier once the off-diagonal sum is at most kJacobiTolerance times the
 /// diagonal sum (before any sweep for axis-aligned normals).
@@ -50,20 +51,28 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
 struct QefOutcome {
     int normals = 0;         ///< crossings with a normal in the QEF (0: the clamped mass point)
     bool truncated = false;  ///< at least one eigen-direction dropped (the normals span fewer than 3 directions)
-    bool rejected = false;   ///< the minimiser lay more than half a cell outside: the clamped mass point instead
-    bool clamped = false;    ///< the minimiser lay outside the cell, by at most half a cell, and was clamped
+    bool rejected = false;   ///< no finite minimiser (NaN normals or points): the clamped mass point instead
+    bool clamped = false;    ///< the free minimiser lay outside the cell: the vertex minimises the QEF on the cell's boundary
 };
 
 /// Places a dual vertex by minimising the QEF sum_i (n_i . (x - p_i))^2 of the crossings that have a
-/// normal (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of Hermite Data", SIGGRAPH), solved
-/// relative to the mass point `mass` (mean of ALL the component's crossings, grid units) with a
-/// truncated eigen-decomposition (up to kJacobiSweeps cyclic Jacobi sweeps, eigenvalues below kQefTruncation
-/// times the largest dropped), so directions the normals do not constrain keep the mass point's
-/// coordinate. `points`/`normals`: `count` crossings (grid units) and unit normals. Result: clamped into
-/// the cell [cell_lo, cell_lo + 1]; when the minimiser lies more than half a cell outside the cell
-/// (normals that disagree with the crossings), the clamped mass point instead. count == 0 gives the
-/// clamped mass point. Deterministic double arithmetic in a fixed order (mirrored by the GPU contourer).
-/// `outcome`, when given, receives the branches taken (reset first); nullptr: not reported.
+/// normal (Ju, Losasso, Schaefer, Warren 2002, "Dual Contouring of Hermite Data", SIGGRAPH) over the cell
+/// [cell_lo, cell_lo + 1]. `mass`: mean of ALL the component's crossings (grid units); `points`/`normals`:
+/// `count` crossings (grid units) and unit normals. Returns the vertex in grid units, inside the cell.
+///
+/// Method: the free minimiser relative to the mass point by a truncated eigen-decomposition of A = sum n n^T
+/// (up to kJacobiSweeps cyclic Jacobi sweeps; eigenvalues at most kQefTruncation times the largest dropped,
+/// so directions the normals do not constrain keep the mass point's coordinate). When it lies outside the
+/// cell, the active-set idea of bounded-variable least squares (Stark and Parker 1995, "Bounded-Variable
+/// Least-Squares: an Algorithm and Applications", Computational Statistics 10): each coordinate outside is fixed on
+/// the nearer cell face and the QEF is minimised again over the remaining coordinates (same truncation
+/// floor), until the minimiser lies in the cell (at most three re-solves; constraints are only added, so the
+/// result is a feasible point of low QEF, not always the exact constrained minimum). So a normal estimated
+/// across a nearby cut (a box edge beside a ball cut) or a sharp edge whose free intersection lies beyond
+/// the cell moves the vertex along the cell's boundary, never back to the mass point.
+/// count == 0 gives the clamped mass point; so do non-finite normals or points (`rejected`).
+/// Deterministic double arithmetic in a fixed order (mirrored by the GPU contourer). `outcome`, when given,
+/// receives the branches taken (reset first); nullptr: not reported.
 Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome = nullptr);
 
 }  // namespace tridex::compute::contour

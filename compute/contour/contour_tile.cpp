@@ -294,20 +294,33 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
     for (int idx = 0; idx < 4; ++idx) {
         const Node p = plus(plus(n, f1, idx & 1), f2, (idx >> 1) & 1);
         if (!occ_.inside(p)) continue;
-        // The segment around inside corner p joins the crossings of the two face edges at p.
+        // The segment around inside corner p joins the crossings of the two face edges at p. Its vertex: the
+        // QEF of those crossings whose normal is known, with the normals' components across the face dropped
+        // (the face's trace of each tangent plane), minimised in the rectangle spanned by p and the two
+        // crossings (which stays on p's side of the face); the crossings' mean without normals.
         Vec3 sum(0.0);
-        std::array<Vec3, 2> pts{};
+        std::array<Vec3, 2> pts{}, qp{}, qn{};
         std::array<std::uint8_t, 2> mats{};
-        int m = 0;
+        int m = 0, q = 0;
         for (const int g : {f1, f2}) {
             const int off = g == f1 ? (idx & 1) : ((idx >> 1) & 1);
             const Node s = plus(p, g, -off);  // edge start node
-            const EdgeCrossing x = edge_sample(s, g, occ_.inside(s)).crossing;
-            pts[m] = crossing_point(s, g, x);
-            mats[m] = x.material;
+            const EdgeSample& es = edge_sample(s, g, occ_.inside(s));
+            pts[m] = crossing_point(s, g, es.crossing);
+            mats[m] = es.crossing.material;
             sum += pts[m++];
+            if (es.has_normal) {
+                qp[q] = pts[m - 1];
+                qn[q] = es.normal;
+                qn[q++][f] = 0.0;
+            }
         }
-        const Vec3 pos = 0.5 * sum;
+        Vec3 pos = 0.5 * sum;
+        if (q > 0) {
+            const Vec3 corner(p[0], p[1], p[2]);
+            const Vec3 lo = glm::min(corner, glm::min(pts[0], pts[1])), hi = glm::max(corner, glm::max(pts[0], pts[1]));
+            pos = glm::clamp(qef_vertex(pos, qp.data(), qn.data(), q, Vec3(n[0], n[1], n[2])), lo, hi);
+        }
         verts_.push_back({codec_.key(n, 8 + 4 * f + idx), pos, nearest_material(pos, pts.data(), mats.data(), 2)});
     }
     ++out.split_faces;

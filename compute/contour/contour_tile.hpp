@@ -57,8 +57,8 @@ struct TileMesh {
     // Owned vertices by the QEF branch that placed them (QefOutcome; a vertex may count in several):
     std::size_t qef_vertices = 0;  ///< placed by a QEF of at least one crossing normal (else: the mass point)
     std::size_t qef_truncated = 0; ///< ... with at least one eigen-direction dropped (a face or an edge, not a corner)
-    std::size_t qef_rejected = 0;  ///< ... whose minimiser lay over half a cell outside (the mass point instead)
-    std::size_t qef_clamped = 0;   ///< ... whose minimiser lay outside the cell by at most half a cell (clamped)
+    std::size_t qef_rejected = 0;  ///< ... with no finite minimiser (non-finite normals: the mass point instead)
+    std::size_t qef_clamped = 0;   ///< ... whose free minimiser lay outside the cell (minimised on its boundary)
 };
 
 /// Contours single tiles; keeps scratch buffers between calls (not thread-safe, one per thread).
@@ -68,14 +68,16 @@ struct TileMesh {
 ///    32-bit row masks, so the work per tile is proportional to its surface cells;
 ///  - one dual vertex per surface component of a cell (cell_cases()), placed by the QEF of that
 ///    component's edge crossings and their normals estimated from neighbouring rays (qef_vertex(),
-///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept), relative to and falling
-///    back on their mass point (mean), clamped into the cell;
+///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept), relative to their mass
+///    point (mean) and minimised over the cell;
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;
 ///  - repair of the one case where that is not 2-manifold: a face whose two segments belong to one
 ///    component in BOTH cells beside it (a tunnel thinner than a cell) would make two quads' shared
-///    edges coincide. Such a face gets one vertex per segment (mean of the segment's two crossings), and
+///    edges coincide. Such a face gets one vertex per segment (the QEF of the segment's two crossings
+///    with their normals' in-face parts, kept in the rectangle spanned by the segment's inside corner and
+///    its crossings; their mean without normals), and
 ///    each edge polygon touching it becomes a fan around the edge's crossing point. Each dual vertex's
 ///    triangle fan stays a single cycle, so the mesh is a closed 2-manifold for any occupancy.
 ///

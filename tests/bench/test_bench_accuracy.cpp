@@ -11,6 +11,7 @@
 
 #include "bench/bench_accuracy.hpp"
 #include "bench/bench_accuracy_exact.hpp"
+#include "bench/bench_accuracy_match.hpp"
 #include "bench/bench_accuracy_metrics.hpp"
 #include "bench/bench_accuracy_openvdb.hpp"
 #include "core/error.hpp"
@@ -133,6 +134,42 @@ TEST_P(BenchAccuracyTiny, WritesSaneJson) {
 
 INSTANTIATE_TEST_SUITE_P(Offsets, BenchAccuracyTiny, ::testing::Values(0.0, 0.37));
 
+TEST(BenchAccuracy, MatchesEveryOpenVdbRunWithTheFastestAsAccurateTridexRun) {
+    const auto row = [](const char* method, const char* path, int n, const char* prog, double err, double t) {
+        AccuracyRow r;
+        r.method = method;
+        r.path = path;
+        r.n = n;
+        r.program = prog;
+        r.max_error_m = err;
+        r.time_per_segment_s = t;
+        return r;
+    };
+    const std::vector<AccuracyRow> rows{
+        row("tridex", "cpu-1t", 64, "a", 4.0, 1.0),  row("tridex", "cpu-1t", 128, "a", 2.0, 3.0),
+        row("tridex", "cpu-1t", 256, "a", 1.0, 9.0), row("tridex", "gpu", 64, "a", 4.0, 0.5),
+        row("openvdb", "cpu-1t", 64, "a", 2.5, 30.0), row("openvdb", "cpu-1t", 128, "a", 0.5, 90.0),
+        row("tridex", "cpu-1t", 64, "b", 1.0, 2.0),  row("openvdb", "cpu-1t", 64, "b", 1.0, 20.0)};
+    const std::vector<MatchedRun> m = match_openvdb(rows);
+    ASSERT_EQ(m.size(), 5u);  // a: 2 openvdb runs x 2 paths; b: 1 x 1
+    // openvdb N = 64 (2.5): cpu-1t's fastest run with error <= 2.5 is N = 128 (3 s): ratio 10.
+    EXPECT_EQ(m[0].path, "cpu-1t");
+    EXPECT_EQ(m[0].tridex_n, 128);
+    EXPECT_DOUBLE_EQ(m[0].ratio, 10.0);
+    // gpu has no run as accurate as 2.5: unmatched.
+    EXPECT_EQ(m[1].path, "gpu");
+    EXPECT_EQ(m[1].tridex_n, 0);
+    EXPECT_EQ(m[1].ratio, 0.0);
+    // openvdb N = 128 (0.5): no tridex run is as accurate.
+    EXPECT_EQ(m[2].tridex_n, 0);
+    // b: equal error counts as matched.
+    EXPECT_EQ(m[4].program, "b");
+    EXPECT_DOUBLE_EQ(m[4].ratio, 10.0);
+    EXPECT_EQ(worst_ratio(m, "a", "cpu-1t"), 0.0);
+    EXPECT_DOUBLE_EQ(worst_ratio(m, "b", "cpu-1t"), 10.0);
+    EXPECT_EQ(worst_ratio(m, "b", "gpu"), -1.0);
+}
+
 TEST(BenchAccuracy, RejectsBadOptions) {
     AccuracyBenchOptions o;
     o.resolutions = {8};
@@ -141,6 +178,9 @@ TEST(BenchAccuracy, RejectsBadOptions) {
     EXPECT_THROW(run_accuracy_bench(o), Error);
     o.resolutions = {32};
     o.offset_cells = 1.0;
+    EXPECT_THROW(run_accuracy_bench(o), Error);
+    o.offset_cells = 0.0;
+    o.programs = {"no_such_program"};
     EXPECT_THROW(run_accuracy_bench(o), Error);
 }
 
