@@ -48,6 +48,10 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
                     "on | off: tile levels of detail (built on the sculpt thread; each eye draws the coarsest level "
                     "whose error projects to at most a pixel)")
         ->capture_default_str();
+    cmd->add_option("--ao", o.ao,
+                    "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "
+                    "ambient_occlusion, on); key O toggles it in a window")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,

@@ -14,6 +14,18 @@ DrawPhase phase_of(PipelineKind kind) {
     return DrawPhase::kOpaque;
 }
 
+const char* timed_phase_name(int k) {
+    static const char* const kNames[kTimedPhaseCount] = {"opaque", "occlusion", "translucent", "overlay"};
+    return k >= 0 && k < kTimedPhaseCount ? kNames[k] : "";
+}
+
+namespace {
+
+// The timestamp boundary before draw phase `phase` (opaque 0; translucent and overlay after the occlusion part).
+int boundary_before(int phase) { return phase == 0 ? 0 : phase + 1; }
+
+}  // namespace
+
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion) {
@@ -41,7 +53,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         for (int phase = first; phase <= last; ++phase) {
             if (timestamps.pool != VK_NULL_HANDLE)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
-                                    timestamps.query(pass, phase));
+                                    timestamps.query(pass, boundary_before(phase)));
             for (const StereoDraw& d : draws) {
                 if (d.index_count == 0 || static_cast<int>(phase_of(d.kind)) != phase) continue;
                 const std::uint32_t mask = d.eye_mask & eyes_drawn;
@@ -94,6 +106,8 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     for (std::size_t pass = 0; pass < passes; ++pass) {
         begin_pass(pipeline.render_pass(), pass);
         record_phases(pass, opaque, opaque);
+        if (timestamps.pool != VK_NULL_HANDLE)
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool, timestamps.query(pass, 1));
         vkCmdEndRenderPass(cmd);
         if (occlusion != nullptr) {
             if (per_eye)
@@ -105,7 +119,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         record_phases(pass, opaque + 1, kDrawPhaseCount - 1);
         if (timestamps.pool != VK_NULL_HANDLE)
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
-                                timestamps.query(pass, kDrawPhaseCount));
+                                timestamps.query(pass, kTimedPhaseCount));
         vkCmdEndRenderPass(cmd);
     }
     // Render pass instances not recorded (mono, pass-per-eye): their boundaries, zero duration; and their
@@ -113,7 +127,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     // earlier submissions' transfer reads (an execution dependency suffices for that write-after-read).
     for (std::size_t pass = passes; pass < framebuffers.size(); ++pass) {
         if (timestamps.pool != VK_NULL_HANDLE)
-            for (int b = 0; b <= kDrawPhaseCount; ++b)
+            for (int b = 0; b <= kTimedPhaseCount; ++b)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
                                     timestamps.query(pass, b));
         VkImageMemoryBarrier layer{};

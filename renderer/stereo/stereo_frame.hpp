@@ -45,18 +45,28 @@ constexpr std::uint32_t kIndirectCommandBytes = 20;
 /// The phase a pipeline kind belongs to.
 DrawPhase phase_of(PipelineKind kind);
 
+/// The timed parts of a render pass instance, in order: the opaque draws, the ambient-occlusion dispatch that
+/// follows them (zero duration without it), the translucent draws and the overlay draws. Timed part k runs from
+/// boundary k to boundary k + 1 (PhaseTimestamps).
+constexpr int kTimedPhaseCount = 4;
+
+/// Name of timed part k (0..kTimedPhaseCount-1): "opaque", "occlusion", "translucent", "overlay".
+const char* timed_phase_name(int k);
+
 /// Where record_stereo_frame() writes phase timestamps: in render pass instance p, boundary b (0 = before
-/// the opaque phase, 1 = before translucent, 2 = before overlay, 3 = after overlay) goes to query
-/// first_query + (p * 4 + b) * stride. stride is the number of queries one timestamp takes: 2 inside a
-/// multiview render pass (one per view, Vulkan spec vkCmdWriteTimestamp), else 1. The caller resets those
-/// queries before recording and reads them after the submission completes.
+/// the opaque draws, 1 = after them, 2 = before translucent (after the ambient-occlusion dispatch), 3 = before
+/// overlay, 4 = after overlay) goes to query first_query + (p * (kTimedPhaseCount + 1) + b) * stride. stride is
+/// the number of queries one timestamp takes: 2 inside a multiview render pass (one per view, Vulkan spec
+/// vkCmdWriteTimestamp), else 1 (every boundary is written inside a render pass instance). The caller resets
+/// those queries before recording and reads them after the submission completes.
 struct PhaseTimestamps {
     VkQueryPool pool = VK_NULL_HANDLE;
     std::uint32_t first_query = 0;
     std::uint32_t stride = 1;
-    /// Query index of boundary `boundary` (0..3) of render pass instance `pass`.
+    /// Query index of boundary `boundary` (0..kTimedPhaseCount) of render pass instance `pass`.
     std::uint32_t query(std::size_t pass, int boundary) const {
-        return first_query + (static_cast<std::uint32_t>(pass) * 4u + static_cast<std::uint32_t>(boundary)) * stride;
+        return first_query + (static_cast<std::uint32_t>(pass) * (kTimedPhaseCount + 1u) +
+                              static_cast<std::uint32_t>(boundary)) * stride;
     }
 };
 
@@ -69,8 +79,7 @@ struct PhaseTimestamps {
 /// mask replicates it; instanced-layer: instances for the masked eyes), then the copy of both colour layers
 /// into the target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
 /// pipeline.set_layout() holding the EyesUniform. With `timestamps` (pool not null) it writes a
-/// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps; the
-/// opaque phase's time then includes the occlusion dispatch).
+/// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps).
 /// `eye_count` 1 = mono, one eye's work only: only the left eye (layer 0) is drawn and copied back
 /// (pass-per-eye: the right eye's render pass is not recorded and its timestamps are written back to back,
 /// zero duration, so every query of the pool is available; instanced-layer: one instance per draw; multiview:
