@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -72,7 +73,9 @@ struct PhaseTimestamps {
 
 /// Records into `cmd` (in the recording state): per render pass instance of the strategy over `target`, the
 /// opaque phase in pipeline.render_pass() (clearing colour to `clear_rgba` (linear, 0..1) and depth to 1), then
-/// `occlusion`'s dispatch over that instance's layers (none when `occlusion` is null), then the translucent and
+/// `occlusion`'s dispatches over that instance's layers (none when `occlusion` is null) within
+/// `occlusion_regions` (per eye, pixels that may hold opaque surface; an instance drawing both eyes uses the
+/// union of the two), then the translucent and
 /// overlay phases in pipeline.resume_pass(); `draws` for both eyes grouped by phase
 /// (opaque, then translucent, then overlay; list order kept within a phase), each as its eye_mask allows
 /// (pass-per-eye: once per pass whose eye is in the mask, constants.eye = pass; multiview: once, the view
@@ -88,6 +91,7 @@ struct PhaseTimestamps {
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps = {}, int eye_count = 2,
-                         const AmbientOcclusion* occlusion = nullptr);
+                         const AmbientOcclusion* occlusion = nullptr,
+                         const std::array<PixelRect, 2>& occlusion_regions = {});
 
 }  // namespace tridex::renderer
