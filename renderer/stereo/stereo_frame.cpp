@@ -29,7 +29,7 @@ int boundary_before(int phase) { return phase == 0 ? 0 : phase + 1; }
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion,
-                         const std::array<PixelRect, 2>& occlusion_regions) {
+                         const std::array<PixelRect, 2>& occlusion_regions, bool readback) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -146,10 +146,15 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                              nullptr, 1, &layer);
     }
 
-    // The drawn colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
+    if (readback) record_readback(cmd, target, eye_count);
+}
+
+void record_readback(VkCommandBuffer cmd, const StereoTarget& target, int eye_count) {
+    const auto w = static_cast<std::uint32_t>(target.width());
+    const auto h = static_cast<std::uint32_t>(target.height());
     VkBufferImageCopy copy{};
     copy.bufferOffset = 0;
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, mono ? 1u : 2u};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, eye_count == 1 ? 1u : 2u};
     copy.imageExtent = {w, h, 1};
     vkCmdCopyImageToBuffer(cmd, target.colour_image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.readback_buffer(),
                            1, &copy);

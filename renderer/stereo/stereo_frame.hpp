@@ -79,8 +79,8 @@ struct PhaseTimestamps {
 /// overlay phases in pipeline.resume_pass(); `draws` for both eyes grouped by phase
 /// (opaque, then translucent, then overlay; list order kept within a phase), each as its eye_mask allows
 /// (pass-per-eye: once per pass whose eye is in the mask, constants.eye = pass; multiview: once, the view
-/// mask replicates it; instanced-layer: instances for the masked eyes), then the copy of both colour layers
-/// into the target's readback buffer followed by a transfer -> host barrier. `eyes` is a descriptor set for
+/// mask replicates it; instanced-layer: instances for the masked eyes), then, when `readback`, the copy of the
+/// colour layers into the target's readback buffer followed by a transfer -> host barrier (record_readback). `eyes` is a descriptor set for
 /// pipeline.set_layout() holding the EyesUniform. With `timestamps` (pool not null) it writes a
 /// bottom-of-pipe timestamp at each phase boundary of every render pass instance (see PhaseTimestamps).
 /// `eye_count` 1 = mono, one eye's work only: only the left eye (layer 0) is drawn and copied back
@@ -92,6 +92,11 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps = {}, int eye_count = 2,
                          const AmbientOcclusion* occlusion = nullptr,
-                         const std::array<PixelRect, 2>& occlusion_regions = {});
+                         const std::array<PixelRect, 2>& occlusion_regions = {}, bool readback = true);
+
+/// Records the copy of the target's colour layers (layer 0 only when eye_count == 1; they must be in
+/// TRANSFER_SRC_OPTIMAL with the frame's writes visible to transfer reads, as record_stereo_frame leaves them)
+/// into its readback buffer, followed by a transfer -> host barrier (StereoTarget::read_layer afterwards).
+void record_readback(VkCommandBuffer cmd, const StereoTarget& target, int eye_count);
 
 }  // namespace tridex::renderer

@@ -111,6 +111,7 @@ struct OffscreenStereoRenderer::Impl {
     FrameStats finished;                // timings of the latest finished frame
     std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
+    bool last_read_back = false;  // the last frame's colour layers are in the target's readback buffer
 
     // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
     void time_finished(int slot) {
@@ -242,6 +243,11 @@ StereoImages OffscreenStereoRenderer::last_images() const {
     Impl& im = *impl_;
     if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
     im.finish_last();
+    if (!im.last_read_back) {  // frames are not copied back unless asked: a window presents by blits
+        im.context->submit_and_wait(
+            [&](VkCommandBuffer cmd) { record_readback(cmd, *im.target, im.last_eye_count); });
+        im.last_read_back = true;
+    }
     Image left = im.target->read_layer(0);
     Image right = im.last_eye_count == 1 ? left : im.target->read_layer(1);
     return StereoImages{std::move(left), std::move(right), im.last};
@@ -518,7 +524,8 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     if (fr.gpu_timing) fr.timer.record_begin(cmd);
     record_stereo_frame(cmd, *im.pipeline, *im.target, fr.eyes->set(), draws, kClear,
                         fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,
-                        occlusion ? &fr.occlusion : nullptr, opaque_region);
+                        occlusion ? &fr.occlusion : nullptr, opaque_region, false);
+    im.last_read_back = false;
     if (fr.gpu_timing) fr.timer.record_end(cmd);
     fr.submitted = std::chrono::steady_clock::now();
     fr.stats = stats;
