@@ -1,6 +1,8 @@
 // renderer/stereo/stereo_frame.cpp - command recording of a stereo frame.
 #include "renderer/stereo/stereo_frame.hpp"
 
+#include <cstring>
+
 namespace tridex::renderer {
 
 DrawPhase phase_of(PipelineKind kind) {
@@ -51,6 +53,17 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
         VkPipeline bound = VK_NULL_HANDLE;
+        // Push constants and buffers stay bound from draw to draw (every pipeline has the one layout): only
+        // changes are recorded, which spares a CPU implementation (lavapipe) state updates per tile draw.
+        DrawConstants pushed{};
+        bool any_pushed = false;
+        VkBuffer bound_vertices = VK_NULL_HANDLE, bound_indices = VK_NULL_HANDLE;
+        const auto push = [&](const DrawConstants& c) {
+            if (any_pushed && std::memcmp(&pushed, &c, sizeof c) == 0) return;
+            vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &c);
+            pushed = c;
+            any_pushed = true;
+        };
         for (int phase = first; phase <= last; ++phase) {
             if (timestamps.pool != VK_NULL_HANDLE)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
@@ -72,19 +85,25 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                 DrawConstants constants = d.constants;
                 constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
                 const VkDeviceSize offset = 0;
-                vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
-                vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                if (d.vertices != bound_vertices) {
+                    vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
+                    bound_vertices = d.vertices;
+                }
+                if (d.indices != bound_indices) {
+                    vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                    bound_indices = d.indices;
+                }
                 if (d.indirect != VK_NULL_HANDLE && strategy == EyeStrategy::kInstancedLayer) {
                     // The command's instanceCount is 1: one draw per eye, the eye in the push constant.
                     for (std::uint32_t e = 0; e < 2; ++e) {
                         if (!(mask & (1u << e))) continue;
                         constants.eye = e;
-                        vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                        push(constants);
                         vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
                     }
                     continue;
                 }
-                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                push(constants);
                 if (d.indirect != VK_NULL_HANDLE)
                     vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
                 else

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +19,7 @@
 #include "app/run_scene.hpp"
 #include "app/run_session.hpp"
 #include "app/run_view.hpp"
+#include "app/session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
 
@@ -166,6 +168,14 @@ TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
     EXPECT_FALSE(resolve_run(o).ao);
     o.ao = "maybe";
     EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--ao"), std::string::npos);
+}
+
+TEST(ImageSize, ParsesWidthByHeightAndRefusesTheRest) {
+    EXPECT_EQ(parse_image_size("1280x720", "--render-size"), (std::pair<int, int>{1280, 720}));
+    for (const char* bad : {"1280", "1280x", "x720", "1280*720", "1280x720p", "8x8", "99999x720", ""})
+        EXPECT_NE(error_of([&] { (void)parse_image_size(bad, "--render-size"); }).find("--render-size"),
+                  std::string::npos)
+            << bad;
 }
 
 TEST(RunView, EnclosingBoxOfATurnedBox) {
