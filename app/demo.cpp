@@ -190,7 +190,7 @@ void run_demo(const DemoOptions& o) {
     }
     // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
     // that filled) costs nothing else.
-    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate}, run, t_start);
+    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate, o.ao}, run, t_start);
     try {
         if (!o.record.empty()) write_session_recording(o.record, s, run.records);
         if (!o.save.empty()) save_session_model(o.save, run.runtime->workpiece(), s);

@@ -47,6 +47,7 @@ struct DemoOptions {
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)
     std::string op = "subtract";   ///< what the tool does: subtract | union | paint | push | smooth | pull
     int material = 1;              ///< palette id (1..7) that union adds and paint sets
+    bool ao = true;                ///< --ao on|off: ambient occlusion in the images (cuts darker, edges brighter)
 };
 
 /// Runs the demo and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json

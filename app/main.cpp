@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
     demo_cmd->add_option("--tool-size-mm", tool_size_mm, "mesh: longest side of the tool mesh after scaling, mm")
         ->capture_default_str();
     demo_cmd->add_flag("--validate", demo.validate, "Enable the Vulkan validation layer");
+    std::string demo_ao = "on";
+    demo_cmd->add_option("--ao", demo_ao, "on | off: ambient occlusion in the images (cuts darker, edges brighter)")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     demo_cmd->add_option("--points", demo.points, "Contact points: 1 ball HIP, 2 wand top/bottom, 3..64 interaction mesh")
         ->capture_default_str();
     demo_cmd
@@ -186,9 +190,15 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--render-n", render_n, "With --render: run only these N (16..1024), e.g. --render-n 256")
         ->delimiter(',')
         ->check(CLI::Range(16, 1024));
-    bool render_no_occlusion = false;
-    bench_cmd->add_flag("--render-no-occlusion", render_no_occlusion,
-                        "With --render: ambient occlusion off (to see what it costs)");
+    std::vector<std::string> render_ao;
+    bench_cmd->add_option("--render-ao", render_ao,
+                          "With --render: ambient occlusion settings to time, interleaved (default on,off)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"on", "off"}));
+    std::vector<std::string> render_size;
+    bench_cmd->add_option("--render-size", render_size,
+                          "With --render: per-eye image sizes WxH (default 1280x720,1920x1080)")
+        ->delimiter(',');
     bool bench_sculpt = false;
     bench_cmd->add_flag("--sculpt", bench_sculpt,
                         "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, "
@@ -322,6 +332,7 @@ int main(int argc, char** argv) {
             demo.tool_length_m = tool_length_mm * 1e-3;
             demo.tool_size_m = tool_size_mm * 1e-3;
             demo.cutting = !no_cutting;
+            demo.ao = demo_ao == "on";
             tridex::app::run_demo(demo);
         }
         if (*replay_cmd) tridex::app::run_replay(replay_file, replay_out, replay_sculpt);
@@ -360,7 +371,14 @@ int main(int argc, char** argv) {
             if (bench_haptics) tridex::app::run_haptics_bench(hbench);
             if (bench_render) {
                 rbench.out = hbench.out;
-                rbench.occlusion = !render_no_occlusion;
+                if (!render_ao.empty()) {
+                    rbench.occlusion.clear();
+                    for (const std::string& a : render_ao) rbench.occlusion.push_back(a == "on");
+                }
+                if (!render_size.empty()) {
+                    rbench.sizes.clear();
+                    for (const std::string& z : render_size) rbench.sizes.push_back(tridex::app::parse_image_size(z, "--render-size"));
+                }
                 rbench.mesh = hbench.mesh;
                 if (!render_n.empty()) rbench.resolutions = render_n;
                 tridex::app::run_render_bench(rbench);

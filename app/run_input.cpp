@@ -34,6 +34,8 @@ RunInput::RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation&
 
 std::vector<SculptRequest> RunInput::take_requests() { return std::exchange(requests_, {}); }
 
+int RunInput::take_occlusion_toggles() { return std::exchange(occlusion_toggles_, 0); }
+
 int RunInput::take_swap_toggles() {
     const int n = swaps_;
     swaps_ = 0;
@@ -77,6 +79,8 @@ void RunInput::handle(const renderer::InputEvent& e) {
                 close_ = true;
             } else if (pressed && e.key == Key::kTab) {
                 ++swaps_;
+            } else if (pressed && e.key == Key::kO && (e.modifiers & renderer::modifier::kControl) == 0) {
+                ++occlusion_toggles_;
             } else if (pressed && e.key == Key::kHome) {
                 if (head_) head_->reset();
                 nav_.reset();

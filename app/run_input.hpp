@@ -16,7 +16,7 @@ namespace tridex::app {
 ///   KeyboardMouseHead speed); right-button drag turns the head (only when a KeyboardMouseHead is given);
 /// - left-button drag orbits the scene about the pivot, Shift + left drag or middle drag pans it, the wheel
 ///   scales it (renderer mouse_orbit / mouse_pan / mouse_zoom);
-/// - Home resets head and scene; Tab toggles swap eyes; Esc asks to close;
+/// - Home resets head and scene; Tab toggles swap eyes; O toggles ambient occlusion; Esc asks to close;
 /// - Ctrl+Z undoes the last stroke, Ctrl+Shift+Z or Ctrl+Y redoes it, Ctrl+S saves the model (take_requests());
 ///   with Ctrl held, the letter keys do not move the head.
 /// With a mouse stylus (use_stylus; `--device mouse`) the mouse is the tool instead: the left button engages it,
@@ -39,6 +39,8 @@ public:
     bool close_requested() const { return close_; }
     /// How many times Tab was pressed since the last call (the caller flips swap eyes that many times).
     int take_swap_toggles();
+    /// How many times O was pressed since the last call (the caller flips ambient occlusion that many times).
+    int take_occlusion_toggles();
     /// The undo, redo and save requests since the last call, in the order the keys were pressed (auto-repeat
     /// included, so holding Ctrl+Z undoes stroke after stroke).
     std::vector<SculptRequest> take_requests();
@@ -51,6 +53,7 @@ private:
     bool left_ = false, right_ = false, middle_ = false, shift_ = false, alt_ = false;
     bool close_ = false;
     int swaps_ = 0;
+    int occlusion_toggles_ = 0;
     std::vector<SculptRequest> requests_;
 };
 

@@ -53,7 +53,10 @@ struct RunOptions {
     bool cull = true;
     /// With tiles contoured on the CPU: "on" builds each changed tile's levels of detail on the sculpt thread and
     /// draws each tile per eye at the coarsest level whose error projects to at most a pixel; "off": full meshes.
-    std::string lod = "on";
+    std::string lod = "off";
+    /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
+    /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
+    std::string ao;
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;

@@ -45,6 +45,7 @@ json render_json(const RunResult& r) {
                 {"tiles_last", r.tiles_last},
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
+                {"ambient_occlusion", r.setup.ao},
                 {"lod",
                  {{"on", r.setup.lod},
                   {"tiles_built", r.sculpt.lod_tiles_built},

@@ -125,6 +125,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.cull = o.cull;
     if (o.lod != "on" && o.lod != "off") throw Error("--lod: must be on or off, got '" + o.lod + "'");
     s.lod = o.lod == "on";
+    if (!o.ao.empty() && o.ao != "on" && o.ao != "off") throw Error("--ao: must be on or off, got '" + o.ao + "'");
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");
     s.save = o.save;
@@ -165,6 +166,7 @@ RunSetup resolve_run(const RunOptions& o) {
         parse_dtrack_wand_option(o.wand, s.scene.wand_port, s.scene.wand_flystick);
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
+    s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
         if (digits && o.monitor.size() < 4)
@@ -320,6 +322,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // 4. The render loop, on this thread.
     const double frame_period_s = sink->presents_per_frame() / dc.refresh_hz;
     bool swap = su.swap_eyes;
+    bool ao = su.ao;
     // Overlay numbers: haptic ticks/s over the last second of loop time, sculpt steps/s over the last second
     // of wall time (from the published frames), and the previous frame's wall time.
     RateMeter haptic_rate(1.0), sculpt_rate(1.0);
@@ -355,6 +358,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             }
             if (window) {
                 for (int k = input.take_swap_toggles(); k > 0; --k) swap = !swap;
+                for (int k = input.take_occlusion_toggles(); k > 0; --k) ao = !ao;
                 sink->set_swap_eyes(swap);
                 if (window->should_close() || input.close_requested()) break;
             }
@@ -422,6 +426,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             view.lod = su.lod;
             if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;
+            view.occlusion_strength = ao ? 1.0 : 0.0;
             if (study_view) {
                 view.workpiece = nullptr;
                 view.tiles = {};

@@ -39,6 +39,7 @@ struct RunSetup {
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
     bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)
+    bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)

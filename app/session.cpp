@@ -78,6 +78,20 @@ void check_image_size(int width, int height) {
                     std::to_string(height));
 }
 
+std::pair<int, int> parse_image_size(const std::string& text, const std::string& option) {
+    int w = 0, h = 0;
+    char x = 0;
+    std::size_t used = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%zn", &w, &x, &h, &used) != 3 || x != 'x' || used != text.size())
+        throw Error(option + ": '" + text + "' is not WIDTHxHEIGHT in pixels, e.g. 1280x720");
+    try {
+        check_image_size(w, h);
+    } catch (const Error&) {
+        throw Error(option + ": must be between 16 and 8192 px per side, got " + text);
+    }
+    return {w, h};
+}
+
 SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<devices::HapticDevice> device,
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
                        const SculptOptions& sculpt_opt, const LoopOverrides& loop) {
@@ -177,6 +191,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     // workpiece fills the images instead of a tenth of a 3 m wall.
     const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(), wp.model.lattice.bounds(), head.position,
                                                    static_cast<double>(opt.width) / opt.height);
+    view.occlusion_strength = opt.ao ? 1.0 : 0.0;
     const renderer::StereoImages eyes = renderer.render(view, screen, head, kEyeSeparation);
     const double render_s = seconds_since(t_render);
     if (contour_lock) contour_lock.unlock();

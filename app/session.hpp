@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/session_runtime.hpp"
@@ -71,6 +72,7 @@ struct OutputOptions {
     int width = 1280;       ///< per-eye image size, px
     int height = 960;
     bool validate = false;  ///< Vulkan validation layer
+    bool ao = true;         ///< ambient occlusion in the images (SceneView::occlusion_strength 1, else 0)
 };
 
 /// The part of `wall` (the same plane) through which the world box `box_m` is seen from head_m (m): the box's corners
@@ -89,5 +91,9 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, std::chron
 
 /// Checks the per-eye image size (16..8192 px); throws tridex::Error naming --width/--height.
 void check_image_size(int width, int height);
+
+/// Parses a per-eye image size "WxH" (pixels, e.g. "1280x720") and checks it as check_image_size does.
+/// Throws tridex::Error naming `option` when the text is not two positive integers joined by 'x' or is out of range.
+std::pair<int, int> parse_image_size(const std::string& text, const std::string& option);
 
 }  // namespace tridex::app

@@ -33,7 +33,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double kStockM = 0.3;
 const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
 constexpr double kEyeSeparationM = renderer::kDefaultEyeSeparationM;
-constexpr const char* kPasses[] = {"opaque", "translucent", "overlay"};
+constexpr const char* kPasses[] = {"opaque", "occlusion", "translucent", "overlay"};
 
 struct BenchView {
     const char* name;
@@ -45,7 +45,7 @@ nlohmann::json row_json(const RenderBenchRow& r) {
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& [name, ms] : r.passes) passes[name] = ms;
     return {{"n", r.n}, {"width", r.width}, {"height", r.height}, {"view", r.view}, {"culling", r.culling},
-            {"lod", r.lod ? "on" : "off"}, {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
+            {"lod", r.lod ? "on" : "off"}, {"ao", r.ao ? "on" : "off"}, {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
             {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"passes", passes},
             {"tiles_drawn_left", r.tiles_drawn_left}, {"tiles_drawn_right", r.tiles_drawn_right},
             {"tiles_skipped_left", r.tiles_skipped_left}, {"tiles_skipped_right", r.tiles_skipped_right},
@@ -85,10 +85,28 @@ ImageDiff image_diff(const renderer::StereoImages& a, const renderer::StereoImag
 }
 
 struct Setting {
-    bool lod, cull;
+    bool lod, cull, ao;
     const char* name;
 };
-constexpr Setting kSettings[] = {{true, true, "lod+cull"}, {false, true, "cull"}, {false, false, "none"}};
+
+// Each LOD row's LOD-off partner (same ambient occlusion) is the next setting, and each "cull" row with ambient
+// occlusion on is followed by its unculled partner.
+std::vector<Setting> bench_settings(const std::vector<bool>& occlusion) {
+    std::vector<Setting> s;
+    for (const bool ao : occlusion) {
+        s.push_back({true, true, ao, "lod+cull"});
+        s.push_back({false, true, ao, "cull"});
+        if (ao) s.push_back({false, false, ao, "none"});
+    }
+    return s;
+}
+
+// What one setting's timed frames gave.
+struct Samples {
+    std::vector<double> wall, gpu;
+    std::map<std::string, std::vector<double>> pass_ms;
+    renderer::FrameStats last;
+};
 
 }  // namespace
 
@@ -103,8 +121,10 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     std::vector<RenderBenchRow> rows;
     std::vector<std::string> lod_lines;
     std::string timing_note;
-    std::printf("%5s %10s %9s %8s %9s %9s %8s %8s %8s %13s %13s %10s\n", "N", "size", "view", "setting", "frame_ms",
-                "p99_ms", "gpu_ms", "opaque", "overlay", "tiles L d/s", "tiles R d/s", "tris L");
+    if (o.occlusion.empty()) throw Error("bench --render: no ambient occlusion setting to run");
+    const std::vector<Setting> settings = bench_settings(o.occlusion);
+    std::printf("%5s %10s %9s %8s %3s %9s %9s %8s %8s %9s %8s %13s %13s %10s\n", "N", "size", "view", "setting", "ao",
+                "frame_ms", "p99_ms", "gpu_ms", "opaque", "occlusion", "overlay", "tiles L d/s", "tiles R d/s", "tris L");
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, kWorkpieceCentre);
         compute::Contourer contourer(wp.model);
@@ -156,35 +176,49 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
             const std::array<std::uint8_t, 3> background{empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
             scene.show_overlay = true;
             scene.tiles = view.tiles;
-            scene.occlusion_strength = o.occlusion ? 1.0 : 0.0;
             for (const BenchView& v : kViews) {
                 Pose head;
                 head.position = v.head_m;
-                const std::size_t first_row = rows.size();
-                for (const Setting& st : kSettings) {
+                const auto apply = [&](const Setting& st) {
                     scene.cull_tiles = st.cull;
                     scene.lod = st.lod;
-                    r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);  // warm-up: uploads
-                    std::vector<double> wall, gpu;
-                    std::map<std::string, std::vector<double>> pass_ms;
-                    renderer::FrameStats last;
-                    for (int f = 0; f < o.frames; ++f) {
-                        const auto t0 = Clock::now();
-                        // Two frames in flight: draw() waits only for the frame before the last, so this is
-                        // the frame interval of a steady stream of frames (its timings: the latest finished).
-                        last = r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                        wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-                        if (last.frame_ms < 0.0) continue;
-                        gpu.push_back(last.frame_ms);
-                        for (const renderer::PassTime& p : last.passes) pass_ms[p.pass];  // every name seen
-                        for (auto& [name, values] : pass_ms) values.push_back(last.pass_ms(name));
+                    scene.occlusion_strength = st.ao ? 1.0 : 0.0;
+                };
+                for (const Setting& st : settings) {  // warm-up: uploads of every level
+                    apply(st);
+                    r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                }
+                r.finish();
+                r.take_finished_frames();
+                // Interleaved rounds: per setting kSettle frames that fill the two frame slots, then kTimed frames
+                // whose draw() waits for a frame of the same setting (the frame interval of a steady stream).
+                constexpr int kSettle = 2, kTimed = 2;
+                std::vector<Samples> got(settings.size());
+                while (static_cast<int>(got[0].wall.size()) < o.frames) {
+                    for (std::size_t k = 0; k < settings.size(); ++k) {
+                        apply(settings[k]);
+                        for (int f = 0; f < kSettle + kTimed; ++f) {
+                            const auto t0 = Clock::now();
+                            got[k].last = r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                            if (f >= kSettle) got[k].wall.push_back(ms);
+                        }
+                        r.finish();
+                        const std::vector<renderer::FrameStats> done = r.take_finished_frames();
+                        for (std::size_t i = done.size() >= kTimed ? done.size() - kTimed : 0; i < done.size(); ++i) {
+                            const renderer::FrameStats& fs = done[i];
+                            timing_note = fs.timing_note;
+                            if (fs.timing != renderer::TimingSource::kGpuTimestamps || fs.frame_ms < 0.0) continue;
+                            got[k].gpu.push_back(fs.frame_ms);
+                            for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
+                            for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
+                        }
                     }
-                    last = r.finish();
-                    if (gpu.empty() && last.frame_ms >= 0.0) {  // no frame had finished during the loop
-                        gpu.push_back(last.frame_ms);
-                        for (const renderer::PassTime& p : last.passes) pass_ms[p.pass].push_back(last.pass_ms(p.pass));
-                    }
-                    timing_note = last.timing_note;
+                }
+                const std::size_t first_row = rows.size();
+                for (std::size_t k = 0; k < settings.size(); ++k) {
+                    const Setting& st = settings[k];
+                    const Samples& g = got[k];
                     RenderBenchRow row;
                     row.n = n;
                     row.width = w;
@@ -192,19 +226,18 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.view = v.name;
                     row.culling = st.cull;
                     row.lod = st.lod;
-                    const Summary s = summarize(wall);
+                    row.ao = st.ao;
+                    const Summary s = summarize(g.wall);
                     row.frame_ms_median = s.median;
                     row.frame_ms_p99 = s.p99;
-                    row.gpu_frame_ms_median = last.timing == renderer::TimingSource::kGpuTimestamps && !gpu.empty()
-                                                  ? summarize(gpu).median
-                                                  : -1.0;
-                    for (const auto& [name, values] : pass_ms) row.passes[name] = summarize(values).median;
-                    row.tiles_drawn_left = last.tiles[0].drawn;
-                    row.tiles_drawn_right = last.tiles[1].drawn;
-                    row.tiles_skipped_left = last.tiles[0].skipped;
-                    row.tiles_skipped_right = last.tiles[1].skipped;
-                    row.triangles_drawn_left = last.tile_triangles[0];
-                    row.triangles_drawn_right = last.tile_triangles[1];
+                    row.gpu_frame_ms_median = g.gpu.empty() ? -1.0 : summarize(g.gpu).median;
+                    for (const auto& [name, values] : g.pass_ms) row.passes[name] = summarize(values).median;
+                    row.tiles_drawn_left = g.last.tiles[0].drawn;
+                    row.tiles_drawn_right = g.last.tiles[1].drawn;
+                    row.tiles_skipped_left = g.last.tiles[0].skipped;
+                    row.tiles_skipped_right = g.last.tiles[1].skipped;
+                    row.triangles_drawn_left = g.last.tile_triangles[0];
+                    row.triangles_drawn_right = g.last.tile_triangles[1];
                     row.tiles = view.tiles.size();
                     row.triangles = triangles;
                     row.tile_buffers = r.tile_buffers();
@@ -218,31 +251,38 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     std::snprintf(size, sizeof size, "%dx%d", w, h);
                     std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
                     std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-                    std::printf("%5d %10s %9s %8s %9.2f %9.2f %8.2f %8.2f %8.2f %13s %13s %10zu\n", n, size, v.name,
-                                st.name, row.frame_ms_median, row.frame_ms_p99, row.gpu_frame_ms_median,
-                                pass(kPasses[0]), pass(kPasses[2]), left, right, row.triangles_drawn_left);
+                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu\n", n, size,
+                                v.name, st.name, st.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
+                                row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left,
+                                right, row.triangles_drawn_left);
                 }
-                // Rows just added: LOD + culling, culling, neither.
-                RenderBenchRow& lod = rows[first_row];
-                RenderBenchRow& cull = rows[first_row + 1];
-                const RenderBenchRow& none = rows[first_row + 2];
-                lod.lod_speedup = lod.frame_ms_median > 0.0 ? cull.frame_ms_median / lod.frame_ms_median : 0.0;
-                cull.speedup = cull.frame_ms_median > 0.0 ? none.frame_ms_median / cull.frame_ms_median : 0.0;
-                // The same frame with and without LOD, no overlay (it shows the frame time).
-                scene.show_overlay = false;
-                scene.cull_tiles = true;
-                scene.lod = true;
-                const renderer::StereoImages with = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                scene.lod = false;
-                const renderer::StereoImages without = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                scene.show_overlay = true;
-                const ImageDiff d = image_diff(with, without, background.data());
-                lod.silhouette_mismatch = d.silhouette_mismatch;
-                lod.mean_abs_diff = d.mean_abs_diff;
-                if (si == 0 && std::string(v.name) == "whole") {
-                    const std::filesystem::path dir(o.out);
-                    renderer::write_png((dir / ("render_n" + std::to_string(n) + "_lod_on.png")).string(), with.left);
-                    renderer::write_png((dir / ("render_n" + std::to_string(n) + "_lod_off.png")).string(), without.left);
+                for (std::size_t k = 0; k < settings.size(); ++k) {
+                    RenderBenchRow& row = rows[first_row + k];
+                    const RenderBenchRow* next = k + 1 < settings.size() ? &rows[first_row + k + 1] : nullptr;
+                    if (row.lod && next && next->frame_ms_median > 0.0 && row.frame_ms_median > 0.0)
+                        row.lod_speedup = next->frame_ms_median / row.frame_ms_median;
+                    if (!row.lod && row.culling && next && !next->culling && row.frame_ms_median > 0.0)
+                        row.speedup = next->frame_ms_median / row.frame_ms_median;
+                    if (!row.lod) continue;
+                    // The same frame with and without LOD, no overlay (it shows the frame time).
+                    scene.show_overlay = false;
+                    scene.cull_tiles = true;
+                    scene.occlusion_strength = row.ao ? 1.0 : 0.0;
+                    scene.lod = true;
+                    const renderer::StereoImages with = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                    scene.lod = false;
+                    const renderer::StereoImages without = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                    scene.show_overlay = true;
+                    const ImageDiff d = image_diff(with, without, background.data());
+                    row.silhouette_mismatch = d.silhouette_mismatch;
+                    row.mean_abs_diff = d.mean_abs_diff;
+                    if (si == 0 && std::string(v.name) == "whole") {
+                        const std::filesystem::path dir(o.out);
+                        const std::string stem = "render_n" + std::to_string(n) + "_lod_";
+                        const std::string ao = row.ao ? "" : "_ao_off";
+                        renderer::write_png((dir / (stem + "on" + ao + ".png")).string(), with.left);
+                        renderer::write_png((dir / (stem + "off" + ao + ".png")).string(), without.left);
+                    }
                 }
             }
         }
@@ -251,20 +291,19 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     }
     for (const RenderBenchRow& r : rows)
         if (r.lod)
-            std::printf("LOD N=%d %dx%d %s: %.2fx faster (frame %.2f ms with, %.2f ms without), triangles per eye "
+            std::printf("LOD N=%d %dx%d %s AO %s: %.2fx faster (frame %.2f ms with, %.2f ms without), triangles per eye "
                         "%zu / %zu of %zu, silhouette mismatch %.4f%%, mean abs diff %.3f\n",
-                        r.n, r.width, r.height, r.view.c_str(), r.lod_speedup, r.frame_ms_median,
+                        r.n, r.width, r.height, r.view.c_str(), r.ao ? "on" : "off", r.lod_speedup, r.frame_ms_median,
                         r.frame_ms_median * r.lod_speedup, r.triangles_drawn_left, r.triangles_drawn_right, r.triangles,
                         100.0 * r.silhouette_mismatch, r.mean_abs_diff);
     for (const RenderBenchRow& r : rows)
-        if (r.culling && !r.lod)
+        if (r.culling && !r.lod && r.speedup > 0.0)
             std::printf("culling speed-up N=%d %dx%d %s: %.2fx (frame %.2f ms with, %.2f ms without)\n", r.n, r.width,
                         r.height, r.view.c_str(), r.speedup, r.frame_ms_median, r.frame_ms_median * r.speedup);
     for (const std::string& l : lod_lines) std::printf("%s\n", l.c_str());
-    std::printf("frame_ms: wall clock around draw() (two frames in flight); gpu_ms and passes: %s; ambient occlusion "
-                "%s; validation %s; %d frames per row (+1 warm-up)\n",
-                timing_note.empty() ? "-" : timing_note.c_str(), o.occlusion ? "on" : "off",
-                ctx.validation_enabled() ? "on" : "off", o.frames);
+    std::printf("frame_ms: wall clock around draw() (two frames in flight; settings interleaved); gpu_ms and passes: "
+                "%s; validation %s; %d timed frames per row\n",
+                timing_note.empty() ? "-" : timing_note.c_str(), ctx.validation_enabled() ? "on" : "off", o.frames);
     nlohmann::json j = nlohmann::json::array();
     for (const RenderBenchRow& r : rows) j.push_back(row_json(r));
     const std::string path = (std::filesystem::path(o.out) / "render_bench.json").string();

@@ -16,6 +16,7 @@ struct RenderBenchRow {
     std::string view;            ///< "whole" (the demo's head pose) or "close-up" (part outside the frusta)
     bool culling = true;         ///< per-eye tile culling on
     bool lod = false;            ///< per-tile levels of detail on (SceneView::lod, 1 pixel)
+    bool ao = true;              ///< ambient occlusion on (SceneView::occlusion_strength 1) or off (0)
     double frame_ms_median = 0;  ///< wall time of OffscreenStereoRenderer::draw() (two frames in flight), ms
     double frame_ms_p99 = 0;
     double gpu_frame_ms_median = -1;        ///< FrameStats::frame_ms (GPU timestamps), ms; < 0 unavailable
@@ -27,7 +28,7 @@ struct RenderBenchRow {
     std::size_t triangles_drawn_left = 0, triangles_drawn_right = 0;  ///< tile triangles drawn per eye, last frame
     /// Culling rows (LOD off): median frame ms without culling / with; 0 on the others.
     double speedup = 0;
-    /// LOD rows: median frame ms with LOD off / on (both culled); 0 on the others.
+    /// LOD rows: median frame ms with LOD off / on (both culled, same `ao`); 0 on the others.
     double lod_speedup = 0;
     /// LOD rows: fraction of pixels (both eyes, no overlay) whose object/background class differs from the
     /// full-resolution frame of the same view; -1 on the others.
@@ -46,18 +47,21 @@ struct RenderBenchOptions {
     int frames = 10;                                               ///< timed frames per row (after 1 warm-up)
     /// Tiles per N whose level-of-detail build is timed alone on one thread (evenly spread over the tiles).
     std::size_t lod_timed_tiles = 200;
-    bool occlusion = true;  ///< ambient occlusion on (SceneView::occlusion_strength 1) or off (0), for comparison
+    /// Ambient occlusion settings to run, each a full set of rows (true = on, false = off); default both, so that
+    /// its cost is measured in the same run (frames of all settings are interleaved).
+    std::vector<bool> occlusion{true, false};
     std::string out = "out/bench";                                 ///< folder for render_bench.json
 };
 
 /// For each N: prepares the workpiece as the demo does (prepare_workpiece: 0.3 m stock centred 0.3 m in
 /// front of the PowerWall), contours it and builds a compute::TileSurfaceCache with levels of detail
 /// (reporting their build time per tile: all tiles on every core, and lod_timed_tiles alone on one thread);
-/// for each image size, view and setting (LOD on + culling, LOD off + culling, LOD off without culling)
-/// renders one warm-up frame (tile uploads) and `frames` timed offscreen stereo frames
-/// (OffscreenStereoRenderer::draw, PowerWall screen, eye separation 0.064 m, overlay on, no tool or
-/// workspace), then, for the LOD row, one frame with and one without LOD without the overlay to compare
-/// (silhouette_mismatch, mean_abs_diff). Views: "whole" = the demo's head (0, 0.15, 0.65) m; "close-up" =
+/// for each image size and view, the settings (LOD on + culling, LOD off + culling, and with ambient occlusion on
+/// also LOD off without culling; each for every entry of `occlusion`) are timed interleaved: in rounds, each
+/// setting draws 2 settling frames and 2 timed offscreen stereo frames (OffscreenStereoRenderer::draw, two
+/// frames in flight, PowerWall screen, eye separation 0.064 m, overlay on, no tool or workspace) until it has
+/// `frames` timed frames, so that load changes on a shared machine hit all settings alike; then, for each LOD
+/// row, one frame with and one without LOD without the overlay to compare (silhouette_mismatch, mean_abs_diff). Views: "whole" = the demo's head (0, 0.15, 0.65) m; "close-up" =
 /// head (0.9, 0.7, 0.5) m, off to the upper right, so the workpiece's lower left lies outside the frusta.
 /// Writes the first size's whole-view left eye with and without LOD as render_n<N>_lod_{on,off}.png.
 /// Validation follows TRIDEX_VALIDATION (off unless set). Prints a table (medians per pass) and the LOD and

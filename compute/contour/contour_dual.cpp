@@ -13,13 +13,15 @@
 #include "core/error.hpp"
 
 namespace tridex::compute {
-namespace {
 
-/// Next value of the process-wide tile version counter (never 0).
-std::uint64_t next_version() {
+std::uint64_t fresh_tile_version() {
     static std::atomic<std::uint64_t> counter{0};
     return ++counter;
 }
+
+namespace {
+
+std::uint64_t next_version() { return fresh_tile_version(); }
 
 bool same_piece(const contour::TileMesh& a, const contour::TileMesh& b) {
     return a.keys == b.keys && a.grid == b.grid && a.materials == b.materials && a.triangles == b.triangles &&

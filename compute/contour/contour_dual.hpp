@@ -13,6 +13,11 @@
 
 namespace tridex::compute {
 
+/// Next value of the process-wide tile version counter that Contourer::tile_version() draws from (never 0,
+/// never repeated): for a tile whose published content changes without a re-contour (e.g. its levels of detail
+/// arrive later, TileSurfaceCache::build_pending_lods). Thread-safe.
+std::uint64_t fresh_tile_version();
+
 /// Counters of a Contourer (all for the current mesh unless marked "last update").
 struct ContourStats {
     std::size_t tiles = 0;               ///< tiles of the lattice

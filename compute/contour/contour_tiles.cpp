@@ -28,7 +28,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         while (old < tiles_.size() && tiles_[old].id < t) ++old;
         if (contourer.tile_triangle_count(t) == 0) continue;
         const std::uint64_t version = contourer.tile_version(t);
-        if (old < tiles_.size() && tiles_[old].id == t && tiles_[old].version == version) {
+        if (old < tiles_.size() && tiles_[old].id == t && contour_versions_[old] == version) {
             order.push_back({false, old});
             continue;
         }
@@ -40,11 +40,30 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
     }
-    if (lod_) build_lods(rebuilt);
+    const bool build_now = lod_ && !defer_;
+    if (build_now) {
+        std::vector<TileSurface*> all;
+        for (TileSurface& s : rebuilt) all.push_back(&s);
+        build_lods(all);
+    }
     std::vector<TileSurface> next;
+    std::vector<std::uint64_t> next_versions;
+    std::vector<bool> next_pending;
     next.reserve(order.size());
-    for (const Step& st : order) next.push_back(std::move(st.fresh ? rebuilt[st.index] : tiles_[st.index]));
+    for (const Step& st : order) {
+        if (st.fresh) {
+            next_versions.push_back(rebuilt[st.index].version);
+            next_pending.push_back(lod_ && !build_now);
+            next.push_back(std::move(rebuilt[st.index]));
+        } else {
+            next_versions.push_back(contour_versions_[st.index]);
+            next_pending.push_back(pending_[st.index]);
+            next.push_back(std::move(tiles_[st.index]));
+        }
+    }
     tiles_ = std::move(next);
+    contour_versions_ = std::move(next_versions);
+    pending_ = std::move(next_pending);
     return rebuilt.size();
 }
 
@@ -55,21 +74,44 @@ void TileSurfaceCache::enable_lod(const TileLodOptions& options) {
     lod_ = true;
 }
 
-void TileSurfaceCache::build_lods(std::vector<TileSurface>& rebuilt) {
+std::size_t TileSurfaceCache::lod_pending() const {
+    return static_cast<std::size_t>(std::count(pending_.begin(), pending_.end(), true));
+}
+
+std::size_t TileSurfaceCache::build_pending_lods(std::size_t max_tiles) {
+    std::vector<TileSurface*> batch;
+    std::vector<std::size_t> at;
+    for (std::size_t i = 0; i < tiles_.size() && batch.size() < max_tiles; ++i)
+        if (pending_[i]) {
+            batch.push_back(&tiles_[i]);
+            at.push_back(i);
+        }
+    if (batch.empty()) return 0;
+    build_lods(batch);
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+        batch[k]->version = fresh_tile_version();
+        pending_[at[k]] = false;
+    }
+    return batch.size();
+}
+
+void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto build = [&](TileSurface& s) { s.lods = build_tile_lod(s.mesh, s.materials, lod_options_); };
+    // Built aside first, so that an exception leaves every tile as it was.
+    std::vector<std::vector<TileLodLevel>> built(tiles.size());
+    const auto build = [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); };
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    if (rebuilt.size() < kParallelLodTiles || cores == 1) {
-        for (TileSurface& s : rebuilt) build(s);
+    if (tiles.size() < kParallelLodTiles || cores == 1) {
+        for (std::size_t i = 0; i < tiles.size(); ++i) build(i);
     } else {
         // Tiles handed out one at a time from a shared counter; the calling thread works too.
         std::atomic<std::size_t> next{0};
         std::exception_ptr failure;
         std::atomic<bool> failed{false};
         const auto work = [&] {
-            for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < rebuilt.size();) {
+            for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < tiles.size();) {
                 try {
-                    build(rebuilt[i]);
+                    build(i);
                 } catch (...) {
                     if (!failed.exchange(true)) failure = std::current_exception();
                 }
@@ -81,7 +123,8 @@ void TileSurfaceCache::build_lods(std::vector<TileSurface>& rebuilt) {
         for (std::thread& t : threads) t.join();
         if (failure) std::rethrow_exception(failure);
     }
-    lod_tiles_built_ += rebuilt.size();
+    for (std::size_t i = 0; i < tiles.size(); ++i) tiles[i]->lods = std::move(built[i]);
+    lod_tiles_built_ += tiles.size();
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 

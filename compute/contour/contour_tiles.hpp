@@ -55,9 +55,24 @@ public:
     /// Rebuilt tiles from which a refresh() builds the levels on every core.
     static constexpr std::size_t kParallelLodTiles = 64;
 
+    /// true: refresh() builds no levels; the tiles it rebuilds wait (full mesh only, TileSurface::lods empty)
+    /// until build_pending_lods() builds theirs, so that neither start-up nor a stroke's re-contour waits for
+    /// them. false (the default): refresh() builds them at once.
+    void defer_lods(bool on) { defer_ = on; }
+    /// Tiles whose levels wait for build_pending_lods() (0 unless defer_lods(true) and enable_lod()).
+    std::size_t lod_pending() const;
+    /// Builds the levels of up to max_tiles waiting tiles (in tile order; on every core from kParallelLodTiles
+    /// tiles), and gives each of them a new TileSurface::version (fresh_tile_version(): the published content
+    /// changed) while refresh() keeps comparing with the Contourer's version. Returns the tiles built.
+    /// Throws as build_tile_lod (those tiles then keep waiting).
+    std::size_t build_pending_lods(std::size_t max_tiles);
+
 private:
-    void build_lods(std::vector<TileSurface>& rebuilt);
+    void build_lods(const std::vector<TileSurface*>& tiles);
     std::vector<TileSurface> tiles_;
+    std::vector<std::uint64_t> contour_versions_;  // per tiles_ entry: the Contourer's version it was built from
+    std::vector<bool> pending_;                    // per tiles_ entry: levels wait for build_pending_lods()
+    bool defer_ = false;
     bool lod_ = false;
     TileLodOptions lod_options_{};
     std::size_t lod_tiles_built_ = 0;

@@ -144,6 +144,15 @@ void SculptThread::run() {
                 failure_ = std::current_exception();
             }
         }
+        if (!failure_ && !worked && !stopping && tile_cache_.lod_pending() > 0) {
+            try {  // idle: the next few tiles' levels of detail, published with the next mesh
+                const auto t0 = std::chrono::steady_clock::now();
+                if (tile_cache_.build_pending_lods(kLodTilesPerPass) > 0) mesh_pending_ = true;
+                stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            } catch (...) {
+                failure_ = std::current_exception();
+            }
+        }
         if (checkpoint_write_ && !failure_) checkpoint_if_due();
         note_persistence();
         if (journal_) {
@@ -160,6 +169,7 @@ void SculptThread::run() {
             stats_.history = history_->stats();
             return;
         }
+        lod_pending_.store(tile_cache_.lod_pending(), std::memory_order_release);
         passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -337,6 +347,7 @@ void SculptThread::checkpoint_if_due() {
 void SculptThread::use_tile_lod(const compute::TileLodOptions& options) {
     if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
     tile_cache_.enable_lod(options);
+    tile_cache_.defer_lods(true);
 }
 
 void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {

@@ -206,6 +206,8 @@ public:
     /// the ring, applies and publishes; so once two more passes finish after a caller queued requests and the ring
     /// is empty, all of them have taken effect.
     std::uint64_t passes() const { return passes_.load(std::memory_order_acquire); }
+    /// Tiles whose levels of detail wait for an idle pass (use_tile_lod), as of the thread's last pass. Any thread.
+    std::size_t lod_tiles_pending() const { return lod_pending_.load(std::memory_order_acquire); }
 
     /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
     /// renderer is its one reader and takes the newest MeshFrame without waiting). Publishes the current
@@ -217,11 +219,14 @@ public:
     /// when the thread runs or min_interval_s is not finite and >= 0.
     void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
                          MeshForm form = MeshForm::kWhole);
-    /// With MeshForm::kTiles: builds the levels of detail of every tile mesh it publishes (TileSurface::lods,
-    /// compute::build_tile_lod), on this thread after re-contouring and only for tiles whose version changed.
-    /// Call before publish_mesh_to() so the first publish has them. Throws tridex::Error when the thread runs
-    /// or options.cell_m is not finite and > 0.
+    /// With MeshForm::kTiles: builds the levels of detail of the tile meshes it publishes (TileSurface::lods,
+    /// compute::build_tile_lod) for tiles whose version changed, on this thread while it is idle (no tool
+    /// samples waiting), kLodTilesPerPass tiles per pass, so that neither start-up nor a stroke waits for them;
+    /// until then a tile is published with its full mesh only, then again with its levels and a new version.
+    /// Throws tridex::Error when the thread runs or options.cell_m is not finite and > 0.
     void use_tile_lod(const compute::TileLodOptions& options);
+    /// Tiles whose levels one idle pass builds (a few tens of ms on one core).
+    static constexpr std::size_t kLodTilesPerPass = 4;
 
 private:
     void run();
@@ -276,6 +281,7 @@ private:
     SculptStats stats_;
     std::atomic<bool> stop_{false};
     std::atomic<std::uint64_t> passes_{0};
+    std::atomic<std::size_t> lod_pending_{0};
     std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
     std::thread thread_;
     TripleBuffer<MeshFrame>* mesh_out_ = nullptr;  // renderer hand-off; nullptr = no mesh publishing

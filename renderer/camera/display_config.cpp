@@ -181,15 +181,16 @@ void validate_display_config(const DisplayConfig& c, const std::string& source) 
 
 DisplayConfig display_config_from_json(const json& j, const std::string& source) {
     if (!j.is_object()) throw Error(source + ": a display config must be a JSON object");
-    static const char* const kFields[] = {"preset",   "screen",     "stereo",     "anaglyph",      "eye_separation_m",
-                                          "swap_eyes", "refresh_hz", "resolution", "default_head_m", "tracking"};
+    static const char* const kFields[] = {"preset",     "screen",     "stereo",          "anaglyph",
+                                          "eye_separation_m", "swap_eyes", "ambient_occlusion", "refresh_hz",
+                                          "resolution", "default_head_m", "tracking"};
     for (const auto& [key, value] : j.items()) {
         (void)value;
         bool known = false;
         for (const char* f : kFields) known = known || key == f;
         if (!known)
             fail(source, key, "unknown field (valid: preset, screen, stereo, anaglyph, eye_separation_m, swap_eyes, "
-                              "refresh_hz, resolution, default_head_m, tracking)");
+                              "ambient_occlusion, refresh_hz, resolution, default_head_m, tracking)");
     }
     DisplayConfig c;
     if (j.contains("preset")) {
@@ -222,6 +223,10 @@ DisplayConfig display_config_from_json(const json& j, const std::string& source)
         if (!j.at("swap_eyes").is_boolean()) fail(source, "swap_eyes", "expected true or false");
         c.swap_eyes = j.at("swap_eyes").get<bool>();
     }
+    if (j.contains("ambient_occlusion")) {
+        if (!j.at("ambient_occlusion").is_boolean()) fail(source, "ambient_occlusion", "expected true or false");
+        c.ambient_occlusion = j.at("ambient_occlusion").get<bool>();
+    }
     if (j.contains("refresh_hz")) c.refresh_hz = read_number(j.at("refresh_hz"), source, "refresh_hz");
     if (j.contains("resolution")) {
         const json& r = j.at("resolution");
@@ -251,6 +256,7 @@ json display_config_to_json(const DisplayConfig& c) {
     j["anaglyph"] = std::string(to_string(c.anaglyph));
     j["eye_separation_m"] = c.eye_separation_m;
     j["swap_eyes"] = c.swap_eyes;
+    j["ambient_occlusion"] = c.ambient_occlusion;
     j["refresh_hz"] = c.refresh_hz;
     j["resolution"] = json::array({c.width_px, c.height_px});
     j["default_head_m"] = v3(c.default_head_m);

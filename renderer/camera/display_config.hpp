@@ -24,6 +24,7 @@ namespace tridex::renderer {
 ///   "anaglyph": "dubois",                // "dubois" | "colour" | "gray"
 ///   "eye_separation_m": 0.064,
 ///   "swap_eyes": false,
+///   "ambient_occlusion": true,           // shade cuts darker and edges brighter (SceneView::occlusion_strength)
 ///   "refresh_hz": 120,
 ///   "resolution": [1280, 960],           // pixels, per eye image
 ///   "default_head_m": [0, 0, 2],         // head position when no tracker drives it, m
@@ -44,6 +45,9 @@ struct DisplayConfig {
     AnaglyphMethod anaglyph = AnaglyphMethod::kDubois;  ///< mixing for StereoOutput::kAnaglyph
     double eye_separation_m = kDefaultEyeSeparationM;  ///< interpupillary distance, m, 0..0.2
     bool swap_eyes = false;                          ///< exchange left and right on the display
+    /// Screen-space ambient occlusion of the workpiece (renderer/stereo/ambient_occlusion.hpp): cuts darker, edges
+    /// brighter; false saves its cost on a slow device.
+    bool ambient_occlusion = true;
     double refresh_hz = 60.0;                        ///< display refresh, Hz, (0, 1000]
     int width_px = 1920;                             ///< per-eye image width, pixels, 1..16384
     int height_px = 1080;                            ///< per-eye image height, pixels, 1..16384

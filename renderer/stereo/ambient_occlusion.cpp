@@ -1,5 +1,7 @@
-// renderer/stereo/ambient_occlusion.cpp - pipeline, descriptors and dispatch of the volumetric obscurance pass.
+// renderer/stereo/ambient_occlusion.cpp - pipelines, descriptors and dispatches of the volumetric obscurance passes.
 #include "renderer/stereo/ambient_occlusion.hpp"
+
+#include <algorithm>
 
 #include "gpu/check.hpp"
 #include "gpu/compute_pipeline.hpp"
@@ -10,8 +12,9 @@
 namespace tridex::renderer {
 namespace {
 
-constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp
-constexpr std::uint32_t kBlock = 2;  // pixels per invocation along x and y (2x2 blocks)
+constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp and stereo_ao_apply.comp
+constexpr std::uint32_t kBlock = 2;  // pixels per invocation along x and y (2x2 blocks, one half-resolution texel)
+constexpr std::uint32_t kBindings = 4;
 
 }  // namespace
 
@@ -20,11 +23,19 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     AmbientOcclusion a;
     a.width_ = target.width();
     a.height_ = target.height();
+    gpu::ImageArrayInfo half_info;
+    half_info.width = (static_cast<std::uint32_t>(a.width_) + kBlock - 1) / kBlock;
+    half_info.height = (static_cast<std::uint32_t>(a.height_) + kBlock - 1) / kBlock;
+    half_info.layers = 2;
+    half_info.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    half_info.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    a.half_ = gpu::ImageArray::create(context, half_info);
 
-    VkDescriptorSetLayoutBinding bindings[3]{};
-    const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    for (std::uint32_t b = 0; b < 3; ++b) {
+    VkDescriptorSetLayoutBinding bindings[kBindings]{};
+    const VkDescriptorType types[kBindings] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    for (std::uint32_t b = 0; b < kBindings; ++b) {
         bindings[b].binding = b;
         bindings[b].descriptorType = types[b];
         bindings[b].descriptorCount = 1;
@@ -32,13 +43,13 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     }
     VkDescriptorSetLayoutCreateInfo set_info{};
     set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    set_info.bindingCount = 3;
+    set_info.bindingCount = kBindings;
     set_info.pBindings = bindings;
     VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
     gpu::check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
     a.set_layout_ = gpu::UniqueDescriptorSetLayout(device, set_layout);
 
-    const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(std::uint32_t)};
+    const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 4 * sizeof(std::uint32_t)};
     VkPipelineLayoutCreateInfo layout_info{};
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
@@ -50,6 +61,8 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     a.layout_ = gpu::UniquePipelineLayout(device, layout);
     const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv("stereo_ao_comp"));
     a.pipeline_ = gpu::create_compute_pipeline(context, module.get(), layout);
+    const gpu::UniqueShaderModule apply = gpu::create_shader_module(context, shaders::spirv("stereo_ao_apply_comp"));
+    a.apply_pipeline_ = gpu::create_compute_pipeline(context, apply.get(), layout);
 
     VkSamplerCreateInfo si{};
     si.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
@@ -60,7 +73,7 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     gpu::check(vkCreateSampler(device, &si, nullptr, &sampler), "vkCreateSampler");
     a.sampler_ = UniqueSampler(device, sampler);
 
-    const VkDescriptorPoolSize sizes[3] = {{types[0], 3}, {types[1], 3}, {types[2], 3}};
+    const VkDescriptorPoolSize sizes[3] = {{types[0], 3}, {types[1], 3}, {types[2], 6}};
     VkDescriptorPoolCreateInfo pool_info{};
     pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     pool_info.maxSets = 3;
@@ -83,8 +96,9 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
         const VkImageView colour_view = k == 0 ? target.colour_array_view() : target.colour_layer_array_view(k - 1);
         const VkDescriptorImageInfo depth{a.sampler_.get(), depth_view, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
         const VkDescriptorImageInfo colour{VK_NULL_HANDLE, colour_view, VK_IMAGE_LAYOUT_GENERAL};
-        VkWriteDescriptorSet writes[3]{};
-        for (std::uint32_t b = 0; b < 3; ++b) {
+        const VkDescriptorImageInfo half{VK_NULL_HANDLE, a.half_.array_view(), VK_IMAGE_LAYOUT_GENERAL};
+        VkWriteDescriptorSet writes[kBindings]{};
+        for (std::uint32_t b = 0; b < kBindings; ++b) {
             writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
             writes[b].dstSet = a.sets_[k];
             writes[b].dstBinding = b;
@@ -94,22 +108,60 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
         writes[0].pBufferInfo = &buffer;
         writes[1].pImageInfo = &depth;
         writes[2].pImageInfo = &colour;
-        vkUpdateDescriptorSets(device, 3, writes, 0, nullptr);
+        writes[3].pImageInfo = &half;
+        vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
     }
     return a;
 }
 
-void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count) const {
-    if (layer_count == 0) return;
+void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count,
+                              const PixelRect& region) const {
+    const PixelRect r = unite(PixelRect{}, PixelRect{std::max(region.x0, 0), std::max(region.y0, 0),
+                                                     std::min(region.x1, width_), std::min(region.y1, height_)});
+    if (layer_count == 0 || r.empty()) return;
     // One layer: its own views (texel layer 0 of the view); both: the views of both layers.
     const VkDescriptorSet set = layer_count == 1 ? sets_[1 + first_layer] : sets_[0];
-    const std::uint32_t push[2] = {first_layer, layer_count == 1 ? 0u : first_layer};  // eye, texel layer of z = 0
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+    // The region in blocks: [b0, b1) for the colour pass, one block wider on each side (clamped) for the
+    // half-resolution pass, whose values the colour pass reads around each block.
+    const int blocks_x = (width_ + static_cast<int>(kBlock) - 1) / static_cast<int>(kBlock);
+    const int blocks_y = (height_ + static_cast<int>(kBlock) - 1) / static_cast<int>(kBlock);
+    const int b0x = r.x0 / 2, b0y = r.y0 / 2, b1x = (r.x1 + 1) / 2, b1y = (r.y1 + 1) / 2;
+    const int h0x = std::max(b0x - 1, 0), h0y = std::max(b0y - 1, 0);
+    const int h1x = std::min(b1x + 1, blocks_x), h1y = std::min(b1y + 1, blocks_y);
+    const auto groups = [](int blocks) { return (static_cast<std::uint32_t>(blocks) + kGroup - 1) / kGroup; };
+    const std::uint32_t eye_texel[2] = {first_layer, layer_count == 1 ? 0u : first_layer};  // of invocation z = 0
+    // The half-resolution image (both layers, as the descriptors bind both): earlier dispatches (an earlier frame's
+    // or eye's, whose colour scaling is recorded already) are done with it; its contents are discarded (UNDEFINED)
+    // and the dispatched layers rewritten whole.
+    VkImageMemoryBarrier to_general{};
+    to_general.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    to_general.srcAccessMask = 0;
+    to_general.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    to_general.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    to_general.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+    to_general.srcQueueFamilyIndex = to_general.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_general.image = half_.handle();
+    to_general.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 2};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &to_general);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
-    const std::uint32_t blocks_x = (static_cast<std::uint32_t>(width_) + kBlock - 1) / kBlock;
-    const std::uint32_t blocks_y = (static_cast<std::uint32_t>(height_) + kBlock - 1) / kBlock;
-    vkCmdDispatch(cmd, (blocks_x + kGroup - 1) / kGroup, (blocks_y + kGroup - 1) / kGroup, layer_count);
+    const std::uint32_t half_push[4] = {eye_texel[0], eye_texel[1], static_cast<std::uint32_t>(h0x),
+                                        static_cast<std::uint32_t>(h0y)};
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof half_push, half_push);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+    vkCmdDispatch(cmd, groups(h1x - h0x), groups(h1y - h0y), layer_count);
+    // The half-resolution values -> the upsampling pass.
+    VkImageMemoryBarrier written = to_general;
+    written.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    written.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    written.oldLayout = written.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &written);
+    const std::uint32_t apply_push[4] = {eye_texel[0], eye_texel[1], static_cast<std::uint32_t>(b0x),
+                                         static_cast<std::uint32_t>(b0y)};
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof apply_push, apply_push);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, apply_pipeline_.get());
+    vkCmdDispatch(cmd, groups(b1x - b0x), groups(b1y - b0y), layer_count);
 }
 
 }  // namespace tridex::renderer

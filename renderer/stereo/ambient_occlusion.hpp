@@ -6,30 +6,39 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/context.hpp"
+#include "gpu/image_array.hpp"
 #include "gpu/unique_handle.hpp"
+#include "renderer/stereo/screen_region.hpp"
 #include "renderer/stereo/stereo_target.hpp"
 
 namespace tridex::renderer {
 
-/// The compute pass that shades a stereo target's colour layers by how enclosed each opaque pixel is, read from
-/// its depth layers (shaders/stereo_ao.comp; Loos and Sloan, "Volumetric Obscurance", I3D 2010): concave cuts
-/// (a groove's floor, the foot of a ridge) darken, convex edges and crests brighten, flat faces keep their
-/// colour. The sphere radius (m) and strength come from EyesUniform::occlusion, the eyes' inverse projections
-/// from EyesUniform::view_from_clip / pixels_per_metre. Bound to one StereoTarget and one EyesUniform buffer.
-/// Move-only; the Context, the target and the buffer must outlive it.
+/// The compute passes that shade a stereo target's colour layers by how enclosed each opaque pixel is, read from
+/// its depth layers (Loos and Sloan, "Volumetric Obscurance", I3D 2010): concave cuts (a groove's floor, the foot
+/// of a ridge) darken, convex edges and crests brighten, flat faces keep their colour. Two dispatches per record():
+/// shaders/stereo_ao.comp evaluates the obscurance once per 2x2 pixel block (8 line samples in 4 symmetric pairs)
+/// into a half-resolution image the pass owns, then shaders/stereo_ao_apply.comp scales every
+/// covered pixel by a depth-aware bilinear blend of the four values around it. The sphere radius (m) and strength
+/// come from EyesUniform::occlusion, the eyes' inverse projections from EyesUniform::view_from_clip /
+/// pixels_per_metre. Bound to one StereoTarget and one EyesUniform buffer; frames in flight may share it (record()
+/// orders its own image's reuse after earlier dispatches). Move-only; the Context, the target and the buffer must
+/// outlive it.
 class AmbientOcclusion {
 public:
     AmbientOcclusion() = default;
-    /// Builds the pipeline and a descriptor set over `target` (depth sampled, colour as storage image) and the
-    /// uniform buffer `eyes` (one EyesUniform). Throws tridex::Error on a Vulkan failure.
+    /// Builds the pipelines, the half-resolution image (RGBA16F, ceil(width / 2) x ceil(height / 2), 2 layers) and
+    /// descriptor sets over `target` (depth sampled, colour as storage image), that image and the uniform buffer
+    /// `eyes` (one EyesUniform). Throws tridex::Error on a Vulkan failure.
     static AmbientOcclusion create(const gpu::Context& context, const StereoTarget& target, VkBuffer eyes);
 
-    /// Records the dispatch over layers first_layer .. first_layer + layer_count - 1 (0..2; one layer is bound
+    /// Records the two dispatches over layers first_layer .. first_layer + layer_count - 1 (0..2; one layer is bound
     /// through single-layer views, so the other may be in any layout). Those colour layers
     /// must be in GENERAL and the depth layers in DEPTH_STENCIL_READ_ONLY_OPTIMAL with the depth writes made
     /// visible to compute reads; the caller makes the colour writes visible to what reads them next (the
-    /// stereo render passes' external dependencies do both).
-    void record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count) const;
+    /// stereo render passes' external dependencies do both). Only pixels inside `region` (clamped to the image)
+    /// are shaded: it must hold every opaque pixel of those layers (e.g. the union of project_box() of the
+    /// opaque draws' bounds); pixels outside keep their colour. Nothing is recorded for an empty region.
+    void record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count, const PixelRect& region) const;
 
     bool valid() const { return pipeline_.get() != VK_NULL_HANDLE; }  ///< false when default-constructed
 
@@ -38,7 +47,9 @@ private:
     int width_ = 0, height_ = 0;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout layout_;
-    gpu::UniquePipeline pipeline_;
+    gpu::UniquePipeline pipeline_;        // stereo_ao.comp: half-resolution obscurance
+    gpu::UniquePipeline apply_pipeline_;  // stereo_ao_apply.comp: upsample and scale the colour
+    gpu::ImageArray half_;                // RGBA16F, one layer per eye; its contents last one record()
     UniqueSampler sampler_;
     gpu::UniqueDescriptorPool pool_;
     VkDescriptorSet sets_[3] = {};  // both layers, layer 0 only, layer 1 only; freed with the pool

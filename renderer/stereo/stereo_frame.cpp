@@ -1,6 +1,8 @@
 // renderer/stereo/stereo_frame.cpp - command recording of a stereo frame.
 #include "renderer/stereo/stereo_frame.hpp"
 
+#include <cstring>
+
 namespace tridex::renderer {
 
 DrawPhase phase_of(PipelineKind kind) {
@@ -14,9 +16,22 @@ DrawPhase phase_of(PipelineKind kind) {
     return DrawPhase::kOpaque;
 }
 
+const char* timed_phase_name(int k) {
+    static const char* const kNames[kTimedPhaseCount] = {"opaque", "occlusion", "translucent", "overlay"};
+    return k >= 0 && k < kTimedPhaseCount ? kNames[k] : "";
+}
+
+namespace {
+
+// The timestamp boundary before draw phase `phase` (opaque 0; translucent and overlay after the occlusion part).
+int boundary_before(int phase) { return phase == 0 ? 0 : phase + 1; }
+
+}  // namespace
+
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
-                         const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion) {
+                         const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion,
+                         const std::array<PixelRect, 2>& occlusion_regions, bool readback) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -38,10 +53,21 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &eyes, 0, nullptr);
         VkPipeline bound = VK_NULL_HANDLE;
+        // Push constants and buffers stay bound from draw to draw (every pipeline has the one layout): only
+        // changes are recorded, which spares a CPU implementation (lavapipe) state updates per tile draw.
+        DrawConstants pushed{};
+        bool any_pushed = false;
+        VkBuffer bound_vertices = VK_NULL_HANDLE, bound_indices = VK_NULL_HANDLE;
+        const auto push = [&](const DrawConstants& c) {
+            if (any_pushed && std::memcmp(&pushed, &c, sizeof c) == 0) return;
+            vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &c);
+            pushed = c;
+            any_pushed = true;
+        };
         for (int phase = first; phase <= last; ++phase) {
             if (timestamps.pool != VK_NULL_HANDLE)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
-                                    timestamps.query(pass, phase));
+                                    timestamps.query(pass, boundary_before(phase)));
             for (const StereoDraw& d : draws) {
                 if (d.index_count == 0 || static_cast<int>(phase_of(d.kind)) != phase) continue;
                 const std::uint32_t mask = d.eye_mask & eyes_drawn;
@@ -59,19 +85,25 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                 DrawConstants constants = d.constants;
                 constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
                 const VkDeviceSize offset = 0;
-                vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
-                vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                if (d.vertices != bound_vertices) {
+                    vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);
+                    bound_vertices = d.vertices;
+                }
+                if (d.indices != bound_indices) {
+                    vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
+                    bound_indices = d.indices;
+                }
                 if (d.indirect != VK_NULL_HANDLE && strategy == EyeStrategy::kInstancedLayer) {
                     // The command's instanceCount is 1: one draw per eye, the eye in the push constant.
                     for (std::uint32_t e = 0; e < 2; ++e) {
                         if (!(mask & (1u << e))) continue;
                         constants.eye = e;
-                        vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                        push(constants);
                         vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
                     }
                     continue;
                 }
-                vkCmdPushConstants(cmd, pipeline.layout(), push_stages, 0, sizeof(DrawConstants), &constants);
+                push(constants);
                 if (d.indirect != VK_NULL_HANDLE)
                     vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
                 else
@@ -94,18 +126,21 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     for (std::size_t pass = 0; pass < passes; ++pass) {
         begin_pass(pipeline.render_pass(), pass);
         record_phases(pass, opaque, opaque);
+        if (timestamps.pool != VK_NULL_HANDLE)
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool, timestamps.query(pass, 1));
         vkCmdEndRenderPass(cmd);
         if (occlusion != nullptr) {
             if (per_eye)
-                occlusion->record(cmd, static_cast<std::uint32_t>(pass), 1);
+                occlusion->record(cmd, static_cast<std::uint32_t>(pass), 1, occlusion_regions[pass]);
             else
-                occlusion->record(cmd, 0, mono ? 1u : 2u);
+                occlusion->record(cmd, 0, mono ? 1u : 2u,
+                                  mono ? occlusion_regions[0] : unite(occlusion_regions[0], occlusion_regions[1]));
         }
         begin_pass(pipeline.resume_pass(), pass);
         record_phases(pass, opaque + 1, kDrawPhaseCount - 1);
         if (timestamps.pool != VK_NULL_HANDLE)
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
-                                timestamps.query(pass, kDrawPhaseCount));
+                                timestamps.query(pass, kTimedPhaseCount));
         vkCmdEndRenderPass(cmd);
     }
     // Render pass instances not recorded (mono, pass-per-eye): their boundaries, zero duration; and their
@@ -113,7 +148,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
     // earlier submissions' transfer reads (an execution dependency suffices for that write-after-read).
     for (std::size_t pass = passes; pass < framebuffers.size(); ++pass) {
         if (timestamps.pool != VK_NULL_HANDLE)
-            for (int b = 0; b <= kDrawPhaseCount; ++b)
+            for (int b = 0; b <= kTimedPhaseCount; ++b)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps.pool,
                                     timestamps.query(pass, b));
         VkImageMemoryBarrier layer{};
@@ -130,10 +165,15 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                              nullptr, 1, &layer);
     }
 
-    // The drawn colour layers (now TRANSFER_SRC_OPTIMAL, the render pass's final layout) -> readback buffer.
+    if (readback) record_readback(cmd, target, eye_count);
+}
+
+void record_readback(VkCommandBuffer cmd, const StereoTarget& target, int eye_count) {
+    const auto w = static_cast<std::uint32_t>(target.width());
+    const auto h = static_cast<std::uint32_t>(target.height());
     VkBufferImageCopy copy{};
     copy.bufferOffset = 0;
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, mono ? 1u : 2u};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, eye_count == 1 ? 1u : 2u};
     copy.imageExtent = {w, h, 1};
     vkCmdCopyImageToBuffer(cmd, target.colour_image(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.readback_buffer(),
                            1, &copy);

@@ -25,6 +25,7 @@
 #include "renderer/scene/overlay_content.hpp"
 #include "renderer/scene/overlay_text.hpp"
 #include "renderer/scene/primitive_meshes.hpp"
+#include "renderer/stereo/screen_region.hpp"
 #include "renderer/stereo/stereo_frame.hpp"
 #include "renderer/stereo/stereo_pipeline.hpp"
 #include "renderer/stereo/stereo_target.hpp"
@@ -110,6 +111,7 @@ struct OffscreenStereoRenderer::Impl {
     FrameStats finished;                // timings of the latest finished frame
     std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
+    bool last_read_back = false;  // the last frame's colour layers are in the target's readback buffer
 
     // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
     void time_finished(int slot) {
@@ -241,6 +243,11 @@ StereoImages OffscreenStereoRenderer::last_images() const {
     Impl& im = *impl_;
     if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
     im.finish_last();
+    if (!im.last_read_back) {  // frames are not copied back unless asked: a window presents by blits
+        im.context->submit_and_wait(
+            [&](VkCommandBuffer cmd) { record_readback(cmd, *im.target, im.last_eye_count); });
+        im.last_read_back = true;
+    }
     Image left = im.target->read_layer(0);
     Image right = im.last_eye_count == 1 ? left : im.target->read_layer(1);
     return StereoImages{std::move(left), std::move(right), im.last};
@@ -261,6 +268,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
     EyesUniform u{};
     std::array<Frustum, 2> frusta;
+    std::array<Mat4, 2> clip_from_world_of{};
     std::array<LodEye, 2> lod_eyes;
     if (scene.lod && !(std::isfinite(scene.lod_max_px) && scene.lod_max_px > 0.0))
         throw Error("renderer: SceneView.lod_max_px must be finite and > 0, got " + std::to_string(scene.lod_max_px));
@@ -274,6 +282,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
                                           static_cast<float>(std::abs(v.projection[1][1]) * 0.5 * height()), 0.0f,
                                           0.0f);
         frusta[e] = frustum_from_clip(clip_from_world);
+        clip_from_world_of[e] = clip_from_world;
         lod_eyes[e] = lod_eye(screen, eyes[e], width(), height());
     }
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
@@ -288,6 +297,15 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     FrameResources& fr = im.frame[static_cast<std::size_t>(slot)];
     FrameStats stats;
     std::vector<StereoDraw> draws;
+    // Per eye, the pixels the opaque draws may cover: where the ambient occlusion runs. Items without cheap
+    // bounds (the whole-mesh workpiece, a mesh tool, scene objects) widen it to the whole image.
+    std::array<PixelRect, 2> opaque_region{};
+    const auto cover = [&](std::uint32_t mask, const Aabb& box_m) {
+        for (int e = 0; e < 2; ++e)
+            if (mask & (1u << e))
+                opaque_region[e] = unite(opaque_region[e], project_box(clip_from_world_of[e], box_m, width(), height()));
+    };
+    const auto cover_all = [&] { opaque_region.fill(whole_image(width(), height())); };
     const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
                          bool lit) -> StereoDraw& {
         StereoDraw d;
@@ -315,6 +333,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         } catch (const Error& e) {
             throw Error(std::string("SceneView.workpiece: ") + e.what());
         }
+        cover_all();
         // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
         add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
             scene.workpiece_materials ? 1u : 0u;
@@ -334,6 +353,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             for (int e = 0; e < eye_count; ++e)
                 ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
             if (mask == 0) continue;
+            cover(mask, scene.tiles[i].bounds_m);
             // Level of detail per eye; multiview draws both eyes with one level (the finer).
             std::array<std::size_t, 2> level{0, 0};
             if (scene.lod && !scene.tiles[i].levels.empty()) {
@@ -371,6 +391,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             for (int e = 0; e < eye_count; ++e)
                 ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
             if (mask == 0) continue;
+            cover(mask, t.bounds_m);
             StereoDraw d;
             d.kind = PipelineKind::kContour;
             d.vertices = iw->vertices;
@@ -390,13 +411,16 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
             throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
         const ToolShape& ts = scene.tool_shape;
+        const auto cover_ball = [&](const Vec3& c, double r) { cover(0b11u, Aabb{c - Vec3(r), c + Vec3(r)}); };
         if (ts.kind == ToolKind::kFlatEnd && ts.radius_m > 0.0 && ts.length_m > 0.0) {
+            cover_ball(scene.tool_centre_m, ts.radius_m + ts.length_m);
             // unit_cylinder runs along +z from 0 to 1; the tool's shank runs along its frame's +y.
             const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation) *
                                  glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
                                  glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
             add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
         } else if (ts.kind == ToolKind::kMesh && scene.tool_mesh && !scene.tool_mesh->triangles.empty()) {
+            cover_all();
             if (scene.tool_mesh != im.tool_mesh_source || scene.tool_mesh->triangles.size() != im.tool_mesh_triangles) {
                 im.slots.retire(std::move(im.tool_mesh));  // earlier frames in flight may still read it
                 im.tool_mesh = GpuMesh{};
@@ -407,12 +431,19 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation);
             add(PipelineKind::kOpaque, im.tool_mesh, glm::mat4(m), kToolColour, true);
         } else {
+            cover_ball(scene.tool_centre_m, scene.tool_radius_m);
             add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
                 kToolColour, true);
         }
     }
     const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
     if (arrow.visible) {
+        // From the tool centre to the tip, widened by more than the head's radius.
+        const Vec3 tip = scene.tool_centre_m + scene.force_N * scene.force_m_per_newton;
+        Aabb box{glm::min(scene.tool_centre_m, tip), glm::max(scene.tool_centre_m, tip)};
+        box.lo -= Vec3(0.02);
+        box.hi += Vec3(0.02);
+        cover(0b11u, box);
         add(PipelineKind::kOpaque, im.cylinder, glm::mat4(arrow.shaft), kForceColour, true);
         add(PipelineKind::kOpaque, im.cone, glm::mat4(arrow.head), kForceColour, true);
     }
@@ -438,8 +469,10 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         }
         if (o.colour.a < 1.0f)
             translucent_objects.push_back(i);
-        else
+        else {
+            cover_all();
             add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, true);
+        }
     }
 
     // Translucent: scene objects, proxy, workspace box, bubble (each back faces, then front faces).
@@ -491,7 +524,8 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     if (fr.gpu_timing) fr.timer.record_begin(cmd);
     record_stereo_frame(cmd, *im.pipeline, *im.target, fr.eyes->set(), draws, kClear,
                         fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,
-                        occlusion ? &fr.occlusion : nullptr);
+                        occlusion ? &fr.occlusion : nullptr, opaque_region, false);
+    im.last_read_back = false;
     if (fr.gpu_timing) fr.timer.record_end(cmd);
     fr.submitted = std::chrono::steady_clock::now();
     fr.stats = stats;

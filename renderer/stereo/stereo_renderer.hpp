@@ -179,13 +179,13 @@ public:
     /// A 2D_ARRAY view of colour_image()'s two layers (the image is also SAMPLED). To sample it, move the image
     /// to SHADER_READ_ONLY_OPTIMAL and back to TRANSFER_SRC_OPTIMAL in the same submission (AnaglyphPass).
     VkImageView colour_array_view() const;
-    /// The last frame's eyes as read back by its draw()/render() (every frame copies them to a host buffer),
-    /// as render() returns them (mono: the one eye as both) with last_frame_stats(); waits for that frame first.
-    /// Throws tridex::Error before the first frame.
+    /// The last frame's eyes, as render() returns them (mono: the one eye as both) with last_frame_stats(): waits
+    /// for that frame, then copies its colour layers to a host buffer in a submission of its own (once per frame;
+    /// frames are not copied back otherwise). Throws tridex::Error before the first frame or on a Vulkan failure.
     StereoImages last_images() const;
     /// Frames rendered so far by render()/draw() (0: colour_image() holds no frame and is in UNDEFINED layout).
     std::uint64_t frames_rendered() const;
-    /// GPU time of the latest finished frame's recorded work (render passes of both eyes and the readback copy),
+    /// GPU time of the latest finished frame's recorded work (render passes and ambient occlusion of both eyes),
     /// ms, from timestamp queries at the top and bottom of the frame; negative when the device has no
     /// timestamps or no frame has finished yet (render() and finish() wait for theirs).
     double last_gpu_ms() const;

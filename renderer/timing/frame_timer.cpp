@@ -21,7 +21,7 @@ FrameTimer FrameTimer::create(const gpu::Context& context, EyeStrategy strategy)
     t.period_ns_ = context.properties().limits.timestampPeriod;
     t.passes_ = strategy == EyeStrategy::kPassPerEye ? 2u : 1u;
     t.stride_ = strategy == EyeStrategy::kMultiview ? 2u : 1u;
-    t.count_ = 2u + t.passes_ * (kDrawPhaseCount + 1) * t.stride_;
+    t.count_ = 2u + t.passes_ * (kTimedPhaseCount + 1) * t.stride_;
     VkQueryPoolCreateInfo q{};
     q.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
     q.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -52,7 +52,6 @@ bool FrameTimer::read(const gpu::Context& context, FrameStats& stats) const {
         const std::uint64_t ticks = ((t[b] & mask_) - (t[a] & mask_)) & mask_;
         return static_cast<double>(ticks) * period_ns_ * 1e-6;
     };
-    static const char* const kNames[kDrawPhaseCount] = {"opaque", "translucent", "overlay"};
     const PhaseTimestamps ph = phases();
     stats.timing = TimingSource::kGpuTimestamps;
     char note[96];
@@ -61,8 +60,8 @@ bool FrameTimer::read(const gpu::Context& context, FrameStats& stats) const {
     stats.frame_ms = ms(0, 1);
     stats.passes.clear();
     for (std::uint32_t p = 0; p < passes_; ++p)
-        for (int k = 0; k < kDrawPhaseCount; ++k)
-            stats.passes.push_back(PassTime{kNames[k], passes_ == 2 ? static_cast<int>(p) : -1,
+        for (int k = 0; k < kTimedPhaseCount; ++k)
+            stats.passes.push_back(PassTime{timed_phase_name(k), passes_ == 2 ? static_cast<int>(p) : -1,
                                             ms(ph.query(p, k), ph.query(p, k + 1))});
     return true;
 }

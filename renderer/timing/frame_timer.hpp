@@ -34,7 +34,7 @@ public:
     /// Records the frame's bottom-of-pipe timestamp.
     void record_end(VkCommandBuffer cmd) const;
     /// After the frame's submission completed: sets stats.timing = kGpuTimestamps, timing_note, frame_ms and
-    /// one PassTime per phase and render pass instance ("opaque", "translucent", "overlay"; eye = pass for
+    /// one PassTime per timed part and render pass instance ("opaque", "occlusion", "translucent", "overlay"; eye = pass for
     /// pass-per-eye, -1 otherwise). Returns false (stats untouched) when the results are not available.
     bool read(const gpu::Context& context, FrameStats& stats) const;
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,7 @@
 #include "app/run_sculpt.hpp"
 #include "app/run_session.hpp"
 #include "app/run_view.hpp"
+#include "app/session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
 
@@ -177,6 +179,20 @@ TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
     EXPECT_EQ(s.monitor_index, 2);
     o.monitor = "HDMI";
     EXPECT_EQ(resolve_run(o).monitor_name, "HDMI");
+    EXPECT_FALSE(s.lod);  // off unless --lod on (its build cost at start-up)
+    EXPECT_TRUE(s.ao);    // the display config's ambient_occlusion (on)
+    o.ao = "off";
+    EXPECT_FALSE(resolve_run(o).ao);
+    o.ao = "maybe";
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--ao"), std::string::npos);
+}
+
+TEST(ImageSize, ParsesWidthByHeightAndRefusesTheRest) {
+    EXPECT_EQ(parse_image_size("1280x720", "--render-size"), (std::pair<int, int>{1280, 720}));
+    for (const char* bad : {"1280", "1280x", "x720", "1280*720", "1280x720p", "8x8", "99999x720", ""})
+        EXPECT_NE(error_of([&] { (void)parse_image_size(bad, "--render-size"); }).find("--render-size"),
+                  std::string::npos)
+            << bad;
 }
 
 TEST(RunView, EnclosingBoxOfATurnedBox) {
@@ -337,6 +353,12 @@ TEST(RunInput, KeysMoveTheHeadMouseMovesTheScene) {
     in.handle(key(renderer::Key::kTab, renderer::InputAction::kPress));
     EXPECT_EQ(in.take_swap_toggles(), 2);
     EXPECT_EQ(in.take_swap_toggles(), 0);
+    // O toggles ambient occlusion: presses count, auto-repeat and releases do not.
+    in.handle(key(renderer::Key::kO, renderer::InputAction::kPress));
+    in.handle(key(renderer::Key::kO, renderer::InputAction::kRepeat));
+    in.handle(key(renderer::Key::kO, renderer::InputAction::kRelease));
+    EXPECT_EQ(in.take_occlusion_toggles(), 1);
+    EXPECT_EQ(in.take_occlusion_toggles(), 0);
     in.handle(key(renderer::Key::kHome, renderer::InputAction::kPress));
     EXPECT_DOUBLE_EQ(nav.scale(), 1.0);
     EXPECT_NEAR(head.head_at(2.0).position.z, 0.6, 1e-12);

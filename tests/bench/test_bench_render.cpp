@@ -1,6 +1,7 @@
 // Smoke test of `tridex bench --render` (bench/bench_render): a tiny run writes render_bench.json with one
-// row per (N, size, view, setting: LOD + culling, culling, neither) and the documented fields, with consistent
-// tile and triangle counts, and the LOD comparison images.
+// row per (N, size, view, setting: LOD + culling, culling, neither, each with ambient occlusion on, and LOD +
+// culling and culling with it off) and the documented fields, with consistent tile and triangle counts, and the
+// LOD comparison images.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -30,26 +31,27 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
     o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_render").string();
     std::filesystem::remove_all(o.out);
     const std::vector<RenderBenchRow> rows = run_render_bench(o);
-    ASSERT_EQ(rows.size(), 6u);
+    ASSERT_EQ(rows.size(), 10u);
 
     std::ifstream f(std::filesystem::path(o.out) / "render_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
     ASSERT_TRUE(j.is_array());
-    ASSERT_EQ(j.size(), 6u);
-    std::set<std::tuple<std::string, bool, std::string>> seen;
+    ASSERT_EQ(j.size(), 10u);
+    std::set<std::tuple<std::string, bool, std::string, std::string>> seen;
     for (std::size_t i = 0; i < j.size(); ++i) {
         const nlohmann::json& r = j[i];
         for (const char* key : {"n", "width", "height", "view", "culling", "frame_ms_median", "frame_ms_p99",
                                 "gpu_frame_ms_median", "passes", "tiles_drawn_left", "tiles_drawn_right",
                                 "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup", "lod",
                                 "triangles_drawn", "lod_speedup", "silhouette_mismatch", "mean_abs_diff",
-                                "tile_buffers", "tile_memory_blocks"})
+                                "tile_buffers", "tile_memory_blocks", "ao"})
             ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
         EXPECT_EQ(r["n"].get<int>(), 48);
         EXPECT_EQ(r["width"].get<int>(), 96);
         EXPECT_EQ(r["height"].get<int>(), 72);
-        seen.insert({r["view"].get<std::string>(), r["culling"].get<bool>(), r["lod"].get<std::string>()});
+        seen.insert({r["view"].get<std::string>(), r["culling"].get<bool>(), r["lod"].get<std::string>(),
+                     r["ao"].get<std::string>()});
         const bool lod = r["lod"].get<std::string>() == "on";
         // Triangles drawn per eye: all of them without LOD in the whole view, fewer with LOD (the bunny is far
         // smaller than a pixel per cell at N = 48 in a 96x72 image).
@@ -85,20 +87,31 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
             EXPECT_EQ(r["speedup"].get<double>(), 0.0);
         } else if (lod) {
             EXPECT_EQ(r["speedup"].get<double>(), 0.0);
-        } else {
+        } else if (r["ao"] == "on") {
             EXPECT_GT(r["speedup"].get<double>(), 0.0);
+        } else {
+            EXPECT_EQ(r["speedup"].get<double>(), 0.0);  // no unculled partner with the occlusion off
         }
         // Per-pass medians: the opaque pass always exists (GPU timestamps) or the CPU "frame" time does.
         const nlohmann::json& passes = r["passes"];
         ASSERT_TRUE(passes.is_object());
         ASSERT_TRUE(passes.contains("opaque") || passes.contains("frame")) << passes.dump();
+        if (passes.contains("opaque")) {
+            EXPECT_TRUE(passes.contains("occlusion")) << passes.dump();
+        }
         for (const auto& [name, ms] : passes.items()) EXPECT_GE(ms.get<double>(), 0.0) << name;
     }
-    const std::set<std::tuple<std::string, bool, std::string>> expected{
-        {"whole", true, "on"}, {"whole", true, "off"}, {"whole", false, "off"},
-        {"close-up", true, "on"}, {"close-up", true, "off"}, {"close-up", false, "off"}};
+    std::set<std::tuple<std::string, bool, std::string, std::string>> expected;
+    for (const char* view : {"whole", "close-up"}) {
+        for (const char* ao : {"on", "off"}) {
+            expected.insert({view, true, "on", ao});
+            expected.insert({view, true, "off", ao});
+        }
+        expected.insert({view, false, "off", "on"});
+    }
     EXPECT_EQ(seen, expected);
-    for (const char* png : {"render_n48_lod_on.png", "render_n48_lod_off.png"})
+    for (const char* png : {"render_n48_lod_on.png", "render_n48_lod_off.png", "render_n48_lod_on_ao_off.png",
+                            "render_n48_lod_off_ao_off.png"})
         EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(o.out) / png)) << png;
     // The whole view sees every tile; the close-up leaves some outside at least one eye's frustum.
     for (const RenderBenchRow& r : rows) {
@@ -121,6 +134,9 @@ TEST(BenchRender, RejectsBadOptions) {
     EXPECT_THROW(run_render_bench(o), Error);
     o.frames = 1;
     o.sizes = {{8, 72}};
+    EXPECT_THROW(run_render_bench(o), Error);
+    o.sizes = {{96, 72}};
+    o.occlusion = {};
     EXPECT_THROW(run_render_bench(o), Error);
 }
 

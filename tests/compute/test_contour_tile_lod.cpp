@@ -199,6 +199,48 @@ TEST(TileLod, FlatFacesCollapseToTheirBorder) {
     EXPECT_GE(planar, 6u);
 }
 
+TEST(TileLod, DeferredLevelsArriveWithNewVersionsAndMatchImmediateOnes) {
+    const Built now = box(40);
+    Built later{empty_model(cube_lattice(40)), {}};
+    const Vec3 lo(3.3, 4.4, 2.6), hi(40 - 3.7, 40 - 2.2, 40 - 4.1);
+    fill_rays(later.model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+    Contourer c(later.model);
+    c.update(later.model);
+    TileLodOptions o;
+    o.cell_m = later.model.lattice.cell_m;
+    later.cache.enable_lod(o);
+    later.cache.defer_lods(true);
+    later.cache.refresh(c);
+    const std::size_t n = later.cache.tiles().size();
+    ASSERT_GT(n, 3u);
+    EXPECT_EQ(later.cache.lod_pending(), n);
+    std::vector<std::uint64_t> versions;
+    for (const TileSurface& t : later.cache.tiles()) {
+        EXPECT_TRUE(t.lods.empty());
+        versions.push_back(t.version);
+    }
+    EXPECT_EQ(later.cache.build_pending_lods(3), 3u);
+    EXPECT_EQ(later.cache.lod_pending(), n - 3);
+    EXPECT_EQ(later.cache.lod_tiles_built(), 3u);
+    // A refresh without a contour change rebuilds nothing, whatever the new versions.
+    EXPECT_EQ(later.cache.refresh(c), 0u);
+    while (later.cache.build_pending_lods(1000) > 0) {
+    }
+    EXPECT_EQ(later.cache.lod_pending(), 0u);
+    EXPECT_EQ(later.cache.build_pending_lods(10), 0u);
+    ASSERT_EQ(now.cache.tiles().size(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const TileSurface& a = later.cache.tiles()[i];
+        const TileSurface& b = now.cache.tiles()[i];
+        EXPECT_NE(a.version, versions[i]);  // published again: its content (the levels) changed
+        ASSERT_EQ(a.lods.size(), b.lods.size());
+        for (std::size_t k = 0; k < a.lods.size(); ++k) {
+            EXPECT_EQ(a.lods[k].mesh.triangles, b.lods[k].mesh.triangles);
+            EXPECT_EQ(a.lods[k].error_m, b.lods[k].error_m);
+        }
+    }
+}
+
 TEST(TileLod, RefusesBadInput) {
     TriMesh m;
     m.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};

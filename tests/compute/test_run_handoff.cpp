@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "compute/runtime/sculpt_thread.hpp"
@@ -79,7 +81,7 @@ TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
     EXPECT_EQ(meshes.latest().version, t.stats().mesh_publishes);
 }
 
-TEST(RunHandoff, TilesCarryLevelsRebuiltOnlyWhereTheyChanged) {
+TEST(RunHandoff, TilesGetTheirLevelsWhenTheThreadIsIdle) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);
     contourer.update(m);
@@ -91,30 +93,33 @@ TEST(RunHandoff, TilesCarryLevelsRebuiltOnlyWhereTheyChanged) {
     lod.cell_m = m.lattice.cell_m;
     t.use_tile_lod(lod);
     t.publish_mesh_to(meshes, 1000.0, MeshForm::kTiles);
+    // The first publish does not wait for levels: full meshes only.
     const std::vector<std::shared_ptr<const compute::TileSurface>> before = meshes.latest().tiles;
     ASSERT_FALSE(before.empty());
-    std::size_t with_levels = 0;
-    for (const auto& tile : before) with_levels += tile->lods.empty() ? 0 : 1;
-    EXPECT_GT(with_levels, 0u);  // the box's faces simplify
-    EXPECT_EQ(t.stats().lod_tiles_built, before.size());
+    for (const auto& tile : before) EXPECT_TRUE(tile->lods.empty());
+    EXPECT_EQ(t.stats().lod_tiles_built, 0u);
+    // The groove's samples wait in the ring: the thread carves first, then builds levels while idle.
     push_groove(ring);
     t.start();
     EXPECT_THROW(t.use_tile_lod(lod), Error);  // not while running
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while ((t.passes() < 2 || t.lod_tiles_pending() > 0) && std::chrono::steady_clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_EQ(t.lod_tiles_pending(), 0u);
     t.stop();
     const std::vector<std::shared_ptr<const compute::TileSurface>>& after = meshes.latest().tiles;
-    // Levels were built again exactly for the tiles whose version changed; the others are the same objects.
-    std::size_t changed = 0;
+    // Every current tile was built once (the groove's tiles only after the groove), and was published again
+    // with a new version so that a renderer uploads its levels.
+    std::size_t with_levels = 0;
     for (const auto& tile : after) {
+        with_levels += tile->lods.empty() ? 0 : 1;
         const auto old = std::find_if(before.begin(), before.end(), [&](const auto& b) { return b->id == tile->id; });
-        if (old != before.end() && (*old)->version == tile->version) {
-            EXPECT_EQ(old->get(), tile.get());
-        } else {
-            ++changed;
+        if (old != before.end()) {
+            EXPECT_NE((*old)->version, tile->version);
         }
     }
-    EXPECT_GT(changed, 0u);
-    EXPECT_LT(changed, after.size());
-    EXPECT_EQ(t.stats().lod_tiles_built, before.size() + changed);
+    EXPECT_GT(with_levels, 0u);  // the box's faces simplify
+    EXPECT_EQ(t.stats().lod_tiles_built, after.size());
     EXPECT_GT(t.stats().lod_build_ms, 0.0);
 }
 

@@ -64,6 +64,7 @@ TEST(DisplayConfig, SaveLoadRoundTripIsExact) {
     c.anaglyph = AnaglyphMethod::kGray;
     c.eye_separation_m = 0.0632;
     c.swap_eyes = true;
+    c.ambient_occlusion = false;
     c.refresh_hz = 119.88;
     c.width_px = 1400;
     c.height_px = 1050;
@@ -78,6 +79,7 @@ TEST(DisplayConfig, SaveLoadRoundTripIsExact) {
     EXPECT_EQ(d.anaglyph, c.anaglyph);
     EXPECT_EQ(d.eye_separation_m, c.eye_separation_m);
     EXPECT_EQ(d.swap_eyes, c.swap_eyes);
+    EXPECT_EQ(d.ambient_occlusion, c.ambient_occlusion);
     EXPECT_EQ(d.refresh_hz, c.refresh_hz);
     EXPECT_EQ(d.width_px, c.width_px);
     EXPECT_EQ(d.height_px, c.height_px);
@@ -89,6 +91,7 @@ TEST(DisplayConfig, MissingFieldsComeFromThePresetAndScreenNamesWork) {
     const DisplayConfig c = load_display_config(path);
     EXPECT_EQ(c.stereo, StereoOutput::kFrameSequential);
     EXPECT_TRUE(c.swap_eyes);
+    EXPECT_TRUE(c.ambient_occlusion);  // on unless the file says otherwise
     EXPECT_EQ(c.screen.lower_left, Screen::powerwall().lower_left);
     const DisplayConfig d = display_config_from_json(nlohmann::json::parse(R"({"screen": "powerwall",
         "default_head_m": [0, 1.7, 3], "stereo": "side-by-side"})"), "inline");
@@ -144,6 +147,7 @@ TEST(DisplayConfig, EveryBadFieldIsNamedWithTheFile) {
         {R"({"eye_separation_m": 65})", "eye_separation_m"},
         {R"({"eye_separation_m": "65mm"})", "eye_separation_m"},
         {R"({"swap_eyes": 1})", "swap_eyes"},
+        {R"({"ambient_occlusion": "off"})", "ambient_occlusion"},
         {R"({"refresh_hz": 0})", "refresh_hz"},
         {R"({"refresh_hz": 5000})", "refresh_hz"},
         {R"({"resolution": [1920]})", "resolution"},

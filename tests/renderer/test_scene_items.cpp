@@ -212,30 +212,31 @@ TEST(SceneItems, PassTimesFromTimestampsOrTheCpuClock) {
         EXPECT_EQ(s.tiles[0].drawn, before.tiles[0].drawn);
         if (r.gpu_timestamps_available()) {
             EXPECT_EQ(s.timing, TimingSource::kGpuTimestamps);
-            ASSERT_EQ(s.passes.size(), 6u);  // 3 phases x 2 eyes (one render pass per eye)
-            const char* names[3] = {"opaque", "translucent", "overlay"};
+            ASSERT_EQ(s.passes.size(), 8u);  // 4 timed parts x 2 eyes (one render pass per eye)
+            const char* names[4] = {"opaque", "occlusion", "translucent", "overlay"};
             double sum = 0.0;
-            for (std::size_t i = 0; i < 6; ++i) {
-                EXPECT_EQ(s.passes[i].pass, names[i % 3]);
-                EXPECT_EQ(s.passes[i].eye, static_cast<int>(i / 3));
+            for (std::size_t i = 0; i < 8; ++i) {
+                EXPECT_EQ(s.passes[i].pass, names[i % 4]);
+                EXPECT_EQ(s.passes[i].eye, static_cast<int>(i / 4));
                 EXPECT_GE(s.passes[i].ms, 0.0);
                 sum += s.passes[i].ms;
             }
             EXPECT_LE(sum, s.frame_ms + 1e-6);  // the phases lie inside the frame
             EXPECT_GT(s.frame_ms, 0.0);
             EXPECT_EQ(r.last_gpu_ms(), s.frame_ms);
-            std::printf("[timing] %s: frame %.3f ms, opaque %.3f, translucent %.3f, overlay %.3f ms\n",
-                        s.timing_note.c_str(), s.frame_ms, s.pass_ms("opaque"), s.pass_ms("translucent"),
-                        s.pass_ms("overlay"));
+            std::printf("[timing] %s: frame %.3f ms, opaque %.3f, occlusion %.3f, translucent %.3f, overlay %.3f ms\n",
+                        s.timing_note.c_str(), s.frame_ms, s.pass_ms("opaque"), s.pass_ms("occlusion"),
+                        s.pass_ms("translucent"), s.pass_ms("overlay"));
         }
         // One layered render pass for both eyes: one entry per phase, eye -1.
         OffscreenStereoRenderer layered = OffscreenStereoRenderer::create(ctx, 96, 72, EyeStrategy::kInstancedLayer);
         if (layered.strategy() == EyeStrategy::kInstancedLayer && layered.gpu_timestamps_available()) {
             layered.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);
             const FrameStats l = layered.finish();
-            ASSERT_EQ(l.passes.size(), 3u);
+            ASSERT_EQ(l.passes.size(), 4u);
             for (const PassTime& p : l.passes) EXPECT_EQ(p.eye, -1);
-            EXPECT_EQ(l.passes[2].pass, "overlay");
+            EXPECT_EQ(l.passes[1].pass, "occlusion");
+            EXPECT_EQ(l.passes[3].pass, "overlay");
         }
         r.set_gpu_timestamps(false);
         r.draw(v, test::small_screen(), test::test_head(), kEyeSeparation);

@@ -1,0 +1,24 @@
+// shaders/stereo_ao_common.glsl - resources and helpers shared by stereo_ao.comp and stereo_ao_apply.comp
+// (renderer/stereo/ambient_occlusion.cpp binds them).
+#define NO_DRAW_CONSTANTS 1
+#include "stereo_interface.glsl"
+
+layout(set = 0, binding = 1) uniform sampler2DArray depth_layers;       // D32, DEPTH_STENCIL_READ_ONLY_OPTIMAL
+layout(set = 0, binding = 2, rgba8) uniform image2DArray colour_layers;  // GENERAL
+// Half resolution, one layer per eye (layer = eye), GENERAL: per 2x2 pixel block the colour scale of its nearest
+// surface point (x) and that point's distance in front of the eye, m (y; -1 where the block shows no surface).
+layout(set = 0, binding = 3, rgba16f) uniform image2DArray half_occlusion;
+
+layout(push_constant, std430) uniform Pass {
+    uint first_eye;    // eye (0 left, 1 right) of invocation z = 0
+    uint first_texel;  // its layer in the bound depth and colour views (0 when they hold that one layer only)
+    ivec2 origin;      // half-resolution texel (2x2 pixel block) of invocation (0, 0): the dispatch covers a region
+} pass;
+
+// Distance in front of the eye (m) of the surface with depth-buffer value `depth` in eye `layer`. The inverse of a
+// perspective (off-axis) projection maps clip z and w to eye z and w independently of clip x and y, so only its
+// third and fourth rows' z and w entries matter.
+float eye_distance(float depth, int layer) {
+    mat4 m = eyes.view_from_clip[layer];
+    return -(m[2][2] * depth + m[3][2]) / (m[2][3] * depth + m[3][3]);
+}
