@@ -12,6 +12,7 @@
 #include "compute/model/volume.hpp"
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
+#include "devices/net/net_device.hpp"
 #include "gpu/context.hpp"
 #include "haptics/tool_points.hpp"
 
@@ -117,6 +118,10 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         sculpt_->use_tile_lod(lod);
     }
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
+    // A device that renders contact next to itself (net, local rendering) gets each snapshot from the sculpt thread.
+    if (const auto* net = dynamic_cast<const devices::net::NetDevice*>(device_.get());
+        net && net->mode() == devices::net::RenderingMode::kLocal)
+        sculpt_->observe_surface([dev = device_.get()](const ActiveSurface& s) { dev->observe_surface(s); });
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
 }
 

@@ -167,9 +167,9 @@ public:
     void clear_faults() { faults_.store(kFaultNone, std::memory_order_release); }
     /// The driver's transport measurements (not thread-safe: read after the loop stopped); none by default.
     virtual DeviceLinkStats link_stats() const { return {}; }
-    /// Called by the haptic loop on every tick with the snapshot it renders against (haptic thread). Drivers that
-    /// render contact next to the device (net in local mode) forward a new snapshot; others ignore it. Must not
-    /// block or allocate.
+    /// Called by the thread that publishes active-surface snapshots (the sculpt thread; never the haptic thread)
+    /// with each new snapshot. Drivers that render contact next to the device (net in local mode) forward the
+    /// newest to it; others ignore it. May allocate and lock; must not wait on the haptic thread.
     virtual void observe_surface(const ActiveSurface& surface) { (void)surface; }
 
 protected:

@@ -108,7 +108,10 @@ void DeviceServer::build_loop() {
 void DeviceServer::pump(double now_s) {
     while (link_.poll(ev_)) {
         switch (ev_.kind) {
-            case net::LinkEvent::kConnected: event(std::string("a session connected from ") + link_.where()); break;
+            case net::LinkEvent::kConnected:
+                event(ev_.data.empty() ? std::string("a session connected")
+                                       : "a session connected from " + std::string(ev_.data.begin(), ev_.data.end()));
+                break;
             case net::LinkEvent::kDisconnected:
                 if (session_) event("the session disconnected: force zeroed");
                 session_ = false;
@@ -152,7 +155,7 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
     }
     if (!session_) return drop(net::DropReason::kUnexpected);
     peer_sent_us_ = h.sent_us;
-    // Force and heartbeat datagrams share one sequence with the snapshots and contact sets of the session.
+    // Force and heartbeat datagrams are one sequence (gaps are lost datagrams); snapshots and contact sets another.
     if (rx_seq_valid_ && static_cast<std::int32_t>(h.seq - rx_seq_) <= 0 && h.type != net::MsgType::kSurface &&
         h.type != net::MsgType::kContact)
         return;  // late: a newer one was applied

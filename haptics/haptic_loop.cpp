@@ -272,7 +272,6 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     ContactOut c;
     c.proxy_m = wf.tool_world.position;
     const ActiveSurface& snapshot = surface_.latest();
-    device_.observe_surface(snapshot);
     if (wf.coupled) c = contact(snapshot, wf.tool_world, dt);
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.

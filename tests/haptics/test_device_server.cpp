@@ -234,6 +234,7 @@ TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
         ASSERT_TRUE(rig.client->read(s));
         rig.client->observe_surface(*wall);
         rig.client->write(Vec3(0.0), Vec3(0.0));  // ignored in local mode
+        rig.client->service();
         rig.server_tick();
         min_z = std::min(min_z, rig.device.position_m().z);
     }
