@@ -211,10 +211,15 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
     last_rx_s_ = now_s;
 }
 
-void DeviceServer::send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed) {
+void DeviceServer::send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed,
+                              const devices::RemoteToolSample* tool) {
     if (!session_) return;
     net::StateMsg m;
     m.state = s;
+    if (tool) {
+        m.has_tool = true;
+        m.tool = *tool;
+    }
     m.applied_force_n = applied_device_n;
     m.watchdog_zeroed = zeroed;
     m.lost = static_cast<std::uint32_t>(lost_.load(std::memory_order_relaxed));
@@ -253,9 +258,10 @@ bool DeviceServer::tick(double now_s) {
         loop_time_s_ = std::max(loop_time_s_ + 1e-9, now_s);
         const TickRecord rec = loop_->step(loop_time_s_);
         force_updates_.fetch_add(1, std::memory_order_relaxed);
+        // The tool sample of this tick (none on an invalid sample: the tool holds where it was).
         ToolSample drained;
-        while (samples_->try_pop(drained)) {
-        }
+        bool sampled = false;
+        while (samples_->try_pop(drained)) sampled = true;
         if (loop_->stats().device_lost) {
             device_lost_.store(true, std::memory_order_relaxed);
             event("the device is gone: serving stopped");
@@ -263,7 +269,13 @@ bool DeviceServer::tick(double now_s) {
         }
         tool_world_m_ = rec.hip_m;
         const Vec3 applied = glm::conjugate(contact_.device_to_world.orientation) * rec.force_n;
-        send_state(rec.device, applied, false);
+        devices::RemoteToolSample tool;
+        tool.tool_world = sampled ? Pose{drained.position, drained.orientation} : rec.tool_world;
+        tool.proxy_m = sampled ? drained.surface_m : rec.proxy_m;
+        tool.force_n = rec.force_n;
+        tool.contact = rec.contact;
+        tool.hold = !sampled || drained.op == ToolOp::kNone;
+        send_state(rec.device, applied, false, &tool);
         return true;
     }
     devices::DeviceState s;

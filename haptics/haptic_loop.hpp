@@ -163,6 +163,9 @@ struct LoopView {
 ///   paused, buttons) to the ring (when full, count a drop and go on: the next successful push just
 ///   makes a longer segment) -> store a TickRecord into the preallocated array (until it is full)
 ///   -> publish a LoopView for the renderer.
+/// A device whose contact loop runs next to it (device.remote_tool(): the net driver in local haptic rendering,
+/// Popescu, Burdea, Bouzit section 2) replaces contact(): the HIP, proxy and hold of its tool sample go into the
+/// ToolSample and the TickRecord (with the force it rendered), and the session renders no contact force itself.
 /// Inside the loop nothing allocates, locks or waits on another thread. When device.read() returns
 /// false (or read/write throws), the loop writes zero force and ends by itself (device_lost). On every
 /// exit it writes zero force last. The loop is the only reader of `surface`, the only producer of

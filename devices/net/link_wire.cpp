@@ -124,7 +124,14 @@ void encode(Header h, const StateMsg& m, std::vector<std::uint8_t>& out) {
     Writer w(out);
     put_state(w, m.state);
     w.vec3(m.applied_force_n);
-    w.u8(m.watchdog_zeroed ? 1 : 0);
+    w.u8(static_cast<std::uint8_t>((m.watchdog_zeroed ? 1 : 0) | (m.has_tool ? 2 : 0) |
+                                   (m.has_tool && m.tool.contact ? 4 : 0) | (m.has_tool && m.tool.hold ? 8 : 0)));
+    if (m.has_tool) {
+        w.vec3(m.tool.tool_world.position);
+        w.quat(m.tool.tool_world.orientation);
+        w.vec3(m.tool.proxy_m);
+        w.vec3(m.tool.force_n);
+    }
     w.u32(m.lost);
     w.u32(m.malformed);
     w.u32(m.stale_snapshots);
@@ -206,12 +213,27 @@ DropReason decode(const std::uint8_t* p, std::size_t n, StateMsg& m) {
     m.applied_force_n = r.vec3();
     const std::uint8_t flags = r.u8();
     m.watchdog_zeroed = (flags & 1) != 0;
+    m.has_tool = (flags & 2) != 0;
+    m.tool = ToolPart{};
+    if (m.has_tool) {
+        m.tool.tool_world.position = r.vec3();
+        m.tool.tool_world.orientation = r.quat();
+        m.tool.proxy_m = r.vec3();
+        m.tool.force_n = r.vec3();
+        m.tool.contact = (flags & 4) != 0;
+        m.tool.hold = (flags & 8) != 0;
+    }
     m.lost = r.u32();
     m.malformed = r.u32();
     m.stale_snapshots = r.u32();
     m.watchdog_trips = r.u32();
     if (const DropReason d = finish(r); d != DropReason::kNone) return d;
-    return flags > 1 ? DropReason::kOutOfRange : DropReason::kNone;
+    if (flags > 15 || (!m.has_tool && (flags & 12) != 0)) return DropReason::kOutOfRange;
+    if (m.has_tool) {
+        const Quat& q = m.tool.tool_world.orientation;
+        if (std::abs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1.0) > 1e-3) return DropReason::kOutOfRange;
+    }
+    return DropReason::kNone;
 }
 
 DropReason decode(const std::uint8_t* p, std::size_t n, ForceMsg& m) {

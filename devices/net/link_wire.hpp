@@ -13,7 +13,8 @@
 namespace tridex::devices::net {
 
 /// Version of the datagram layout; a peer with another version is refused at the handshake.
-inline constexpr std::uint16_t kLinkVersion = 1;
+/// 2: kState carries the tool sample of the server's contact loop in local rendering.
+inline constexpr std::uint16_t kLinkVersion = 2;
 /// First four bytes of every datagram: "TDXL".
 inline constexpr std::uint32_t kLinkMagic = 0x4c584454u;
 /// Bytes of the header every datagram starts with.
@@ -37,7 +38,7 @@ enum class MsgType : std::uint8_t {
     kHello = 1,      ///< session -> server: mode and period; answered by kWelcome or kRefuse
     kWelcome = 2,    ///< server -> session: the device's profile
     kRefuse = 3,     ///< either way: one line saying why the peer is refused
-    kState = 4,      ///< server -> session: one device sample per server tick, with the server's counters
+    kState = 4,      ///< server -> session: one device sample per server tick, the server's counters and (local) the tool
     kForce = 5,      ///< session -> server (distributed): force and torque to send to the device
     kSurface = 6,    ///< session -> server (local): an ActiveSurface snapshot (devices/net/surface_codec.hpp)
     kContact = 7,    ///< session -> server (local): contact parameters and the workspace mapping
@@ -67,9 +68,15 @@ struct Welcome {
     std::uint8_t dof_in = 0, dof_out = 0;
 };
 
-/// kState payload: one device sample (device frame, SI) and the server's counters.
+/// The tool sample of the server's contact loop (local rendering), world frame, SI: what the session sculpts with.
+using ToolPart = RemoteToolSample;
+
+/// kState payload: one device sample (device frame, SI) and the server's counters; in local rendering also the
+/// tool sample of the server's contact loop for the same tick (the device state's time and buttons go with it).
 struct StateMsg {
     DeviceState state;
+    bool has_tool = false;           ///< `tool` is filled (local rendering with contact parameters set)
+    ToolPart tool;
     Vec3 applied_force_n{0.0};       ///< force the server sent to the device on this tick, N
     bool watchdog_zeroed = false;    ///< the server's watchdog held the force at zero (silent link)
     std::uint32_t lost = 0;          ///< datagrams from the session the server found missing (sequence gaps)

@@ -262,6 +262,8 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
             }
             server_ = m;
             state_ = m.state;
+            have_tool_ = opt_.mode == RenderingMode::kLocal && m.has_tool;
+            tool_ = m.tool;
             state_.t_s += t_offset_s_;
             have_state_ = fresh_state_ = true;
             ++states_;
@@ -346,6 +348,12 @@ void NetDevice::observe_surface(const ActiveSurface& surface) {
         offered_seq_ = surface.sequence;
     }
     snap_cv_.notify_one();
+}
+
+bool NetDevice::remote_tool(RemoteToolSample& out) const {
+    if (!have_tool_) return false;
+    out = tool_;
+    return true;
 }
 
 DeviceLinkStats NetDevice::link_stats() const {

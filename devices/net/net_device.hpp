@@ -84,6 +84,9 @@ public:
     /// session anew. Called by the thread that publishes snapshots, never the haptic thread (it allocates and locks).
     /// Distributed mode: nothing.
     void observe_surface(const ActiveSurface& surface) override;
+    /// Local mode: the tool sample the server's god-object loop computed with the newest state (what the session
+    /// sculpts with); false in distributed mode or before the contact parameters reached the server.
+    bool remote_tool(RemoteToolSample& out) const override;
     /// One round of the link thread's work: pumps the link while the haptic loop is not running, and sends the newest
     /// offered snapshot when due. Any thread except the haptic loop's; blocks on the link for at most one send.
     void service();
@@ -132,6 +135,8 @@ private:
     // The newest state and what it took to get it.
     DeviceState state_;
     bool have_state_ = false, fresh_state_ = false;
+    bool have_tool_ = false;  // state_ came with the server loop's tool sample tool_
+    RemoteToolSample tool_;
     std::uint32_t state_seq_ = 0;
     bool state_seq_valid_ = false;
     double t_offset_s_ = 0.0;     // added to server times so they continue across a server restart
