@@ -21,7 +21,11 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
                     "Device driver replacing the scene's: simulated (the scripted hand) | mouse (the mouse is the "
                     "stylus: left button carves, right = stylus button, wheel = depth, 1/2/3 = subtract/union/paint, "
                     "[ ] = tool size, Alt + mouse navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
-                    "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock)");
+                    "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock) | "
+                    "net:HOST:PORT (a device served by `tridex device-server` on HOST)");
+    cmd->add_option("--haptic-rendering", o.haptic_rendering,
+                    "With --device net:HOST:PORT: distributed (this session computes the force) or local (the device "
+                    "server runs the god-object loop next to the device on the active surface this session sends)");
     cmd->add_option("--stereo", o.stereo, "Stereo output: " + renderer::stereo_output_names() +
                                               " (default: the display config's)");
     cmd->add_option("--monitor", o.monitor, "Fullscreen monitor: index or part of its name (default: primary)");

@@ -12,6 +12,7 @@
 #include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "app/study/trial_table.hpp"
+#include "devices/net/enet_link.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -232,6 +233,19 @@ void read_device(Fields& top, RunScene& s) {
     // The Falcon drivers drive the Falcon's own profile, whatever the scene says.
     if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
     s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
+    if (s.spec.device_driver == "net") {  // a device served by `tridex device-server`
+        s.spec.device_serial = f.text("address", s.spec.device_serial);
+        try {
+            std::string host;
+            std::uint16_t port = 0;
+            devices::net::split_host_port(s.spec.device_serial, "address", host, port);
+        } catch (const Error& e) {
+            f.fail("device.address", std::string(e.what()) + " (the device server's --listen)");
+        }
+        s.spec.haptic_rendering = f.text("haptic_rendering", s.spec.haptic_rendering);
+        if (s.spec.haptic_rendering != "distributed" && s.spec.haptic_rendering != "local")
+            f.fail("device.haptic_rendering", "'" + s.spec.haptic_rendering + "' is not distributed or local");
+    }
     if (s.spec.device_driver == "spacemouse") {  // other drivers refuse these fields as unknown
         devices::SpaceMouseParams& p = s.spacemouse;
         p.max_speed_m_s = f.number("max_speed_m_s", p.max_speed_m_s, 0.0, 2.0, true);

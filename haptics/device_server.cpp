@@ -91,6 +91,21 @@ void DeviceServer::build_loop() {
     c.ewma_alpha = contact_.ewma_alpha;
     c.device_to_world = contact_.device_to_world;
     c.workspace_scale = contact_.workspace_scale;
+    // The session's workspace moving, so that the HIP this loop sends is the one the session would map.
+    if (contact_.workspace_mode > static_cast<std::uint8_t>(WorkspaceMode::kBubble)) {
+        event("local rendering: the session's workspace mode " + std::to_string(contact_.workspace_mode) +
+              " is not one this server knows; contact parameters refused");
+        loop_.reset();
+        return drop(net::DropReason::kOutOfRange);
+    }
+    c.workspace.mode = static_cast<WorkspaceMode>(contact_.workspace_mode);
+    c.workspace.button_mask = contact_.button_mask;
+    c.workspace.jump_gain = contact_.jump_gain;
+    c.workspace.drag_gain = contact_.drag_gain;
+    c.workspace.bubble_radius_m = contact_.bubble_radius_m;
+    c.workspace.bubble_rate_m_s = contact_.bubble_rate_m_s;
+    c.workspace.bubble_rate_exponent = contact_.bubble_rate_exponent;
+    c.workspace.bubble_stiffness_n_per_m = contact_.bubble_stiffness_n_per_m;
     c.request_realtime = false;
     if (!surface_) {
         surface_ = std::make_unique<TripleBuffer<ActiveSurface>>();

@@ -157,6 +157,11 @@ void encode(Header h, const ContactMsg& m, std::vector<std::uint8_t>& out) {
     w.vec3(m.device_to_world.position);
     w.quat(m.device_to_world.orientation);
     w.f64(m.workspace_scale);
+    w.u8(m.workspace_mode);
+    w.u32(m.button_mask);
+    for (double v : {m.jump_gain, m.drag_gain, m.bubble_radius_m, m.bubble_rate_m_s, m.bubble_rate_exponent,
+                     m.bubble_stiffness_n_per_m})
+        w.f64(v);
     w.u32(m.revision);
 }
 
@@ -254,6 +259,11 @@ DropReason decode(const std::uint8_t* p, std::size_t n, ContactMsg& m) {
     m.device_to_world.position = r.vec3();
     m.device_to_world.orientation = r.quat();
     m.workspace_scale = r.f64();
+    m.workspace_mode = r.u8();
+    m.button_mask = r.u32();
+    for (double* v : {&m.jump_gain, &m.drag_gain, &m.bubble_radius_m, &m.bubble_rate_m_s, &m.bubble_rate_exponent,
+                      &m.bubble_stiffness_n_per_m})
+        *v = r.f64();
     m.revision = r.u32();
     if (const DropReason d = finish(r); d != DropReason::kNone) return d;
     if (m.stiffness_n_per_m < 0.0 || m.damping_n_s_per_m < 0.0 || m.tool_radius_m < 0.0 || m.static_friction < 0.0 ||

@@ -101,6 +101,12 @@ struct ContactMsg {
     double ewma_alpha = 0.9;
     Pose device_to_world;          ///< device frame -> world
     double workspace_scale = 1.0;  ///< world = R * (s * p) + offset
+    /// Workspace moving (haptics::WorkspaceConfig, the same meaning and units): the technique as the value of
+    /// haptics::WorkspaceMode (0..255 on the wire; the server's loop refuses one it does not know) and its parameters.
+    std::uint8_t workspace_mode = 0;
+    std::uint32_t button_mask = 1u;
+    double jump_gain = 1.0, drag_gain = 1.0;
+    double bubble_radius_m = 0.0, bubble_rate_m_s = 0.5, bubble_rate_exponent = 3.0, bubble_stiffness_n_per_m = 50.0;
     std::uint32_t revision = 0;    ///< +1 whenever the session changes any of these
 };
 

@@ -11,8 +11,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -127,6 +129,49 @@ TEST_P(NetSession, DemoAgainstADeviceServerProcessCarvesAndReportsTheLink) {
     std::string sessions;
     EXPECT_TRUE(server.wait_for_line(std::regex(R"(device-server: ([0-9]+) sessions)"), 60.0, sessions)) << server.seen();
     EXPECT_GE(sessions, "1");
+}
+
+// `tridex run` with a served device: the scene's stroke is carved with the server's hand, the link reported.
+TEST(NetRun, OffscreenRunAgainstADeviceServerProcessInLocalRendering) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_net_run";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    Child server({TRIDEX_EXE, "device-server", "--device", "simulated", "--listen", "127.0.0.1:0", "--stroke-seconds",
+                  "3", "--once", "--seconds", "240"});
+    ASSERT_TRUE(server.started());
+    std::string port;
+    ASSERT_TRUE(server.wait_for_line(std::regex(R"(on 127\.0\.0\.1:([0-9]+);)"), 120.0, port)) << server.seen();
+    const auto r = run_tridex("run --display offscreen --device net:127.0.0.1:" + port +
+                                  " --haptic-rendering local --no-journal --out " + (dir / "out").string(),
+                              dir / "run");
+    ASSERT_EQ(r.exit_code, 0) << r.err << "\nserver:\n" << server.seen();
+    const nlohmann::json rep = read_json(dir / "out" / "report.json");
+    EXPECT_GT(rep["volume_before_m3"].get<double>() - rep["volume_after_m3"].get<double>(), 0.0) << "nothing carved";
+    const nlohmann::json& link = rep["haptics"]["link"];
+    ASSERT_TRUE(link.is_object()) << rep["haptics"].dump(1);
+    EXPECT_EQ(link["mode"], "local");
+    EXPECT_GT(link["rate_hz"].get<double>(), 200.0) << link.dump();
+    EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();
+}
+
+// What `run` refuses about served devices, in one line naming the flag or field.
+TEST(NetRun, BadNetOptionsAreRefusedWithOneLine) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_net_run_bad";
+    fs::create_directories(dir);
+    const fs::path scene = dir / "scene.json";
+    std::ofstream(scene) << R"({"device": {"driver": "net", "address": "nowhere"}})";
+    const std::pair<std::string, std::string> cases[] = {
+        {"run --display offscreen --haptic-rendering local --frames 1", "--haptic-rendering local: only with --device net"},
+        {"run --display offscreen --device net:127.0.0.1:99999 --frames 1", "is not HOST:PORT"},
+        {"run --display offscreen --device net:127.0.0.1:7 --haptic-rendering both --frames 1", "'both' is not distributed or local"},
+        {"run " + scene.string() + " --display offscreen --frames 1", "field 'device.address'"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const auto r = run_tridex(args, dir / "run");
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+        EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(BothModes, NetSession, ::testing::Values("distributed", "local"),
