@@ -45,7 +45,7 @@ bool finite_state(const devices::DeviceState& s) {
     throw Error("HapticLoopConfig." + field + " = " + std::to_string(value) + " " + rule);
 }
 
-HapticLoopConfig validated(HapticLoopConfig c) {
+HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& profile, bool& capped) {
     if (!(std::isfinite(c.period_s) && c.period_s >= 1e-5 && c.period_s <= 0.1))
         bad("period_s", c.period_s, "must be in [1e-5, 0.1] s");
     if (!(std::isfinite(c.ewma_alpha) && c.ewma_alpha >= 0.0 && c.ewma_alpha < 1.0))
@@ -60,6 +60,9 @@ HapticLoopConfig validated(HapticLoopConfig c) {
     c.device_to_world.orientation = q / qn;
     if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
+    // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
+    const double gain = c.workspace.mode == WorkspaceMode::kScaling ? 1.0 : c.workspace_scale;
+    capped = cap_contact_stiffness(c.contact, world_stiffness_cap_n_per_m(profile, gain));
     return c;
 }
 
@@ -70,7 +73,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     : device_(device),
       surface_(surface),
       samples_(samples),
-      cfg_(validated(cfg)),
+      cfg_(validated(cfg, device.profile(), stiffness_capped_)),
       limits_(SafetyLimits::from(device.profile(), cfg_.safety)),
       contact_(cfg_.tool_points.count > 0 ? cfg_.tool_points : ToolPoints::single(cfg_.contact.tool_radius_m),
                cfg_.contact, cfg_.contact_mode),

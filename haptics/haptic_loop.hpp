@@ -200,6 +200,9 @@ public:
     LoopStats stats() const;
     /// The configuration.
     const HapticLoopConfig& config() const { return cfg_; }
+    /// True when the contact stiffness (or a material's) was cut at construction to the device profile's
+    /// max_stiffness_n_per_m under the workspace gain (world_stiffness_cap_n_per_m); config() holds the cut values.
+    bool stiffness_capped() const { return stiffness_capped_; }
 
     /// Deterministic stepping: runs one tick on the calling thread with loop_time_s (s, increasing) as
     /// the loop clock instead of CLOCK_MONOTONIC, for tests and offline replays driven by simulated
@@ -264,6 +267,7 @@ private:
     devices::HapticDevice& device_;
     TripleBuffer<ActiveSurface>& surface_;
     SpscRing<ToolSample>& samples_;
+    bool stiffness_capped_ = false;  // declared before cfg_: set while cfg_ is built
     HapticLoopConfig cfg_;
     SafetyLimits limits_;
     MultiPointRenderer contact_;
