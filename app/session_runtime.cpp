@@ -2,6 +2,7 @@
 #include "app/session_runtime.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "app/memory.hpp"
@@ -124,6 +125,15 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         net && net->mode() == devices::net::RenderingMode::kLocal)
         sculpt_->observe_surface([dev = device_.get()](const ActiveSurface& s) { dev->observe_surface(s); });
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+    if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
+        std::fprintf(stderr,
+                     "tridex: contact stiffness cut to %.0f N/m (world): the %s renders at most %.0f N/m at a workspace "
+                     "gain of %g\n",
+                     loop_->config().contact.stiffness_n_per_m, device_->profile().name.c_str(),
+                     device_->profile().max_stiffness_n_per_m, cfg_.workspace_scale);
+        cfg_.contact.stiffness_n_per_m = loop_->config().contact.stiffness_n_per_m;
+        cfg_.contact.materials = loop_->config().contact.materials;
+    }
 }
 
 void SessionRuntime::choose_contour(const RuntimeOptions& o) {
