@@ -169,7 +169,6 @@ void run_demo(const DemoOptions& o) {
     const StrokePlan& plan = *d.plan;
     Workpiece wp = std::move(*d.wp);
     std::unique_ptr<devices::HapticDevice> device = d.net_device ? std::move(d.net_device) : make_device(s, d.inputs);
-    configure_net_device(*device, cfg);
 
     // 3. The haptic loop and the sculpt thread. The session lasts the stroke's length in device time
     // (one simulated step per tick), so an overloaded machine that skips deadlines still plays the whole

@@ -22,7 +22,7 @@ void run_device_server(const DeviceServerOptions& o) {
     if (o.device.rfind("net", 0) == 0) throw Error("--device " + o.device + ": a device server serves a device, not a link");
     std::string host;
     std::uint16_t port = 0;
-    devices::net::split_host_port(o.listen, "--listen", host, port);
+    devices::net::split_host_port(o.listen, "--listen", host, port, true);
 
     devices::DeviceSpec spec;
     spec.driver = o.device;
@@ -53,7 +53,7 @@ void run_device_server(const DeviceServerOptions& o) {
     install_stop_handlers();
     server.start();
     std::printf("device-server: serving '%s' (driver %s) on %s; sessions connect with --device net:%s\n",
-                device->profile().name.c_str(), o.device.c_str(), o.listen.c_str(), o.listen.c_str());
+                device->profile().name.c_str(), o.device.c_str(), link->where(), link->where());
     std::fflush(stdout);
     bool had_session = false;
     while (server.running() && !stop_requested()) {

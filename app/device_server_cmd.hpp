@@ -9,7 +9,7 @@ namespace tridex::app {
 struct DeviceServerOptions {
     std::string device = "simulated";     ///< registry driver of the served device (simulated, falcon, falcon-emulator, ...)
     std::string profile = "omni";         ///< simulated: the device profile (omni, wand, 6dof, falcon)
-    std::string listen = "127.0.0.1:7400";  ///< HOST:PORT to listen on (0.0.0.0 = every interface)
+    std::string listen = "127.0.0.1:7400";  ///< HOST:PORT to listen on (0.0.0.0 = every interface; port 0 = a free one)
     double seconds = 0.0;                 ///< stop after this long, s (0 = until Ctrl+C)
     bool once = false;                    ///< stop when the first session ends
     std::string falcon_firmware;          ///< falcon: the firmware file from the user's own installation

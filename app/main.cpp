@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
     server_cmd->add_option("--device", server.device, "Driver of the served device: simulated, falcon, falcon-emulator")
         ->capture_default_str();
     server_cmd->add_option("--profile", server.profile, "simulated: device profile omni, wand, 6dof or falcon")->capture_default_str();
-    server_cmd->add_option("--listen", server.listen, "HOST:PORT to listen on (0.0.0.0:PORT = every interface)")
+    server_cmd->add_option("--listen", server.listen, "HOST:PORT to listen on (0.0.0.0:PORT = every interface; port 0 = a free one, printed)")
         ->capture_default_str();
     server_cmd->add_option("--seconds", server.seconds, "Stop after S seconds (0 = until Ctrl+C)")->capture_default_str();
     server_cmd->add_flag("--once", server.once, "Stop when the first session ends");

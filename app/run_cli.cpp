@@ -23,7 +23,11 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
                     "[ ] = tool size, Alt + mouse navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
                     "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock) | "
                     "flystick[:PORT[:ID]] (an ART DTrack Flystick is the tool: trigger carves; default port 5000, id 0) | "
-                    "tracked-body[:PORT[:ID]] (a DTrack standard body is the tool, always engaged)");
+                    "tracked-body[:PORT[:ID]] (a DTrack standard body is the tool, always engaged) | "
+                    "net:HOST:PORT (a device served by `tridex device-server` on HOST)");
+    cmd->add_option("--haptic-rendering", o.haptic_rendering,
+                    "With --device net:HOST:PORT: distributed (this session computes the force) or local (the device "
+                    "server runs the god-object loop next to the device on the active surface this session sends)");
     cmd->add_option("--stereo", o.stereo, "Stereo output: " + renderer::stereo_output_names() +
                                               " (default: the display config's)");
     cmd->add_option("--monitor", o.monitor, "Fullscreen monitor: index or part of its name (default: primary)");

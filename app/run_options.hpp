@@ -21,7 +21,12 @@ DisplayKind parse_display_kind(const std::string& name);
 struct RunOptions {
     std::string scene;              ///< scene file (JSON, app/run_scene.hpp); empty = assets/default_scene.json
     std::string display = "window"; ///< window | fullscreen | offscreen
-    std::string device;             ///< device driver replacing the scene's (e.g. mouse); empty = the scene's
+    /// Device driver replacing the scene's (simulated, mouse, spacemouse, or net:HOST:PORT for a device served by
+    /// `tridex device-server`); empty = the scene's.
+    std::string device;
+    /// With a net device: distributed (this session renders the force) or local (the server renders contact next
+    /// to the device); empty = the scene's device.haptic_rendering (distributed).
+    std::string haptic_rendering;
     std::string stereo;             ///< stereo output name (renderer parse_stereo_output); empty = the display config's
     std::string monitor;            ///< fullscreen monitor: an index (digits) or part of its name; empty = primary
     int frames = 0;                 ///< stop after this many stereo frames (>= 0; 0 = no frame limit)

@@ -13,6 +13,7 @@
 #include "app/demo.hpp"
 #include "app/json_fields.hpp"
 #include "app/study/trial_table.hpp"
+#include "devices/net/enet_link.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -157,6 +158,19 @@ void read_device(Fields& top, RunScene& s) {
         s.tracked_timeout_s = f.number("timeout_s", s.tracked_timeout_s, 0.0, 10.0, true);
     }
     s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
+    if (s.spec.device_driver == "net") {  // a device served by `tridex device-server`
+        s.spec.device_serial = f.text("address", s.spec.device_serial);
+        try {
+            std::string host;
+            std::uint16_t port = 0;
+            devices::net::split_host_port(s.spec.device_serial, "address", host, port);
+        } catch (const Error& e) {
+            f.fail("device.address", std::string(e.what()) + " (the device server's --listen)");
+        }
+        s.spec.haptic_rendering = f.text("haptic_rendering", s.spec.haptic_rendering);
+        if (s.spec.haptic_rendering != "distributed" && s.spec.haptic_rendering != "local")
+            f.fail("device.haptic_rendering", "'" + s.spec.haptic_rendering + "' is not distributed or local");
+    }
     if (s.spec.device_driver == "spacemouse") {  // other drivers refuse these fields as unknown
         devices::SpaceMouseParams& p = s.spacemouse;
         p.max_speed_m_s = f.number("max_speed_m_s", p.max_speed_m_s, 0.0, 2.0, true);

@@ -138,6 +138,14 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         inputs.tracked_tool.tracker_to_device = scene.display.tracker_to_wall;
     }
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
+    // A served device maps through the scene's profile (its workspace): it must be the one the server serves.
+    if (spec.device_driver == "net" && device->profile().name != profile.name) {
+        const std::string served = devices::profile_name_of(device->profile().name);
+        throw Error("--device net:" + spec.device_serial + ": the device server serves '" + device->profile().name +
+                    "', the scene's device.profile is '" + spec.device + "' (" + profile.name + ")" +
+                    (served.empty() ? std::string("; tridex does not know its workspace")
+                                    : "; set device.profile to '" + served + "'"));
+    }
     if (live) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
     RuntimeOptions ro;
     ro.sculpt = booleans;

@@ -30,6 +30,8 @@
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "devices/net/enet_link.hpp"
+#include "devices/net/link_wire.hpp"
 #include "gpu/context.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/output/offscreen_sink.hpp"
@@ -174,17 +176,28 @@ RunSetup resolve_run(const RunOptions& o) {
         else
             s.monitor_name = o.monitor;
     }
-    if (!o.device.empty()) {
-        std::string tracked;
-        if (parse_tracked_tool_option(o.device, tracked, s.scene.tracked_port, s.scene.tracked_id)) {
-            s.scene.spec.device_driver = tracked;
-            s.scene.spec.device = "tracked";
-        } else if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse") {
+    std::string tracked;
+    if (o.device.rfind("net:", 0) == 0) {
+        std::string host;
+        std::uint16_t port = 0;
+        devices::net::split_host_port(o.device.substr(4), "--device " + o.device, host, port);
+        s.scene.spec.device_driver = "net";
+        s.scene.spec.device_serial = o.device.substr(4);
+    } else if (!o.device.empty() && parse_tracked_tool_option(o.device, tracked, s.scene.tracked_port, s.scene.tracked_id)) {
+        s.scene.spec.device_driver = tracked;
+        s.scene.spec.device = "tracked";
+    } else if (!o.device.empty()) {
+        if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse")
             throw Error("--device: '" + o.device +
-                        "' is not one of simulated, mouse, spacemouse, flystick[:PORT[:ID]], tracked-body[:PORT[:ID]]");
-        } else {
-            s.scene.spec.device_driver = o.device;
-        }
+                        "' is not one of simulated, mouse, spacemouse, flystick[:PORT[:ID]], tracked-body[:PORT[:ID]], "
+                        "net:HOST:PORT");
+        s.scene.spec.device_driver = o.device;
+    }
+    if (!o.haptic_rendering.empty()) {
+        if (s.scene.spec.device_driver != "net")
+            throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
+        (void)devices::net::rendering_mode_from(o.haptic_rendering);  // "... is not distributed or local"
+        s.scene.spec.haptic_rendering = o.haptic_rendering;
     }
     const std::string& driver = s.scene.spec.device_driver;
     if (driver == "mouse" || driver == "spacemouse" || driver == "flystick" || driver == "tracked-body")

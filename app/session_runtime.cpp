@@ -2,6 +2,7 @@
 #include "app/session_runtime.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "app/memory.hpp"
@@ -12,6 +13,7 @@
 #include "compute/model/volume.hpp"
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
+#include "devices/net/net_device.hpp"
 #include "gpu/context.hpp"
 #include "haptics/tool_points.hpp"
 
@@ -57,6 +59,7 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
     if (!device_) throw Error("SessionRuntime: no haptic device");
     cfg_.tool_schedule = o.loop.tool_schedule;
     cfg_.engage_mask |= o.loop.engage_mask;
+    configure_net_device(*device_, cfg_);  // local rendering: the server's loop gets the contact parameters
     // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
     // enabled by the haptic loop when it starts and disabled when it stops.
     device_->open();
@@ -117,7 +120,20 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         sculpt_->use_tile_lod(lod);
     }
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
+    // A device that renders contact next to itself (net, local rendering) gets each snapshot from the sculpt thread.
+    if (const auto* net = dynamic_cast<const devices::net::NetDevice*>(device_.get());
+        net && net->mode() == devices::net::RenderingMode::kLocal)
+        sculpt_->observe_surface([dev = device_.get()](const ActiveSurface& s) { dev->observe_surface(s); });
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+    if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
+        std::fprintf(stderr,
+                     "tridex: contact stiffness cut to %.0f N/m (world): the %s renders at most %.0f N/m at a workspace "
+                     "gain of %g\n",
+                     loop_->config().contact.stiffness_n_per_m, device_->profile().name.c_str(),
+                     device_->profile().max_stiffness_n_per_m, cfg_.workspace_scale);
+        cfg_.contact.stiffness_n_per_m = loop_->config().contact.stiffness_n_per_m;
+        cfg_.contact.materials = loop_->config().contact.materials;
+    }
 }
 
 void SessionRuntime::choose_contour(const RuntimeOptions& o) {

@@ -62,6 +62,15 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
     c.ewma_alpha = cfg.ewma_alpha;
     c.device_to_world = cfg.device_to_world;
     c.workspace_scale = cfg.workspace_scale;
+    const haptics::WorkspaceConfig& w = cfg.workspace;
+    c.workspace_mode = static_cast<std::uint8_t>(w.mode);
+    c.button_mask = w.button_mask;
+    c.jump_gain = w.jump_gain;
+    c.drag_gain = w.drag_gain;
+    c.bubble_radius_m = w.bubble_radius_m;
+    c.bubble_rate_m_s = w.bubble_rate_m_s;
+    c.bubble_rate_exponent = w.bubble_rate_exponent;
+    c.bubble_stiffness_n_per_m = w.bubble_stiffness_n_per_m;
     net->set_contact(c);
 }
 

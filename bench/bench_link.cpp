@@ -52,6 +52,7 @@ RunResult run_case(const LinkBenchOptions& bo, net::RenderingMode mode, double l
     net::NetDeviceOptions o;
     o.mode = mode;
     o.clock = clock;
+    o.link_thread = false;  // the simulated clock is this thread's: service() is called per tick below
     net::NetDevice client(shim.client_end(), o);
 
     haptics::HapticLoopConfig cfg;
@@ -73,6 +74,7 @@ RunResult run_case(const LinkBenchOptions& bo, net::RenderingMode mode, double l
     TripleBuffer<ActiveSurface> surface;
     surface.back() = *bench_wall_surface();
     surface.publish();
+    client.observe_surface(*bench_wall_surface());  // as the sculpt thread offers it
     SpscRing<ToolSample> samples(8192);
     haptics::HapticLoop loop(client, surface, samples, cfg);
 
@@ -94,6 +96,7 @@ RunResult run_case(const LinkBenchOptions& bo, net::RenderingMode mode, double l
         const std::size_t before = device.steps();
         server.tick(now);
         loop.step(now);
+        client.service();
         while (samples.try_pop(drained)) {
         }
         if (device.steps() == before) continue;  // the server rested its device this tick (a silent link)

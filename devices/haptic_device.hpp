@@ -50,6 +50,16 @@ struct DeviceState {
     std::uint32_t buttons = 0;   ///< button bits, bit i = button i pressed
 };
 
+/// A tool sample computed by a contact loop next to the device (the net driver in local haptic rendering: the
+/// device server's god-object loop), world frame, SI. The session sculpts with it instead of its own contact.
+struct RemoteToolSample {
+    Pose tool_world;       ///< the HIP: the stylus through the server's workspace mapping, world m
+    Vec3 proxy_m{0.0};     ///< the god-object (proxy) position, on the surface when in contact, world m
+    Vec3 force_n{0.0};     ///< force the server's loop rendered on this tick (after its safety stages), world N
+    bool contact = false;  ///< the god-object touched the surface
+    bool hold = false;     ///< the server's loop held carving on this tick (its watchdog, over speed, invalid sample)
+};
+
 /// Where a device is in its life: closed -> open -> homed -> enabled (forces flow) -> homed -> closed.
 enum class DeviceLifecycle : std::uint8_t {
     kClosed = 0,   ///< not connected (the initial state, and after close())
@@ -167,10 +177,17 @@ public:
     void clear_faults() { faults_.store(kFaultNone, std::memory_order_release); }
     /// The driver's transport measurements (not thread-safe: read after the loop stopped); none by default.
     virtual DeviceLinkStats link_stats() const { return {}; }
-    /// Called by the haptic loop on every tick with the snapshot it renders against (haptic thread). Drivers that
-    /// render contact next to the device (net in local mode) forward a new snapshot; others ignore it. Must not
-    /// block or allocate.
+    /// Called by the thread that publishes active-surface snapshots (the sculpt thread; never the haptic thread)
+    /// with each new snapshot. Drivers that render contact next to the device (net in local mode) forward the
+    /// newest to it; others ignore it. May allocate and lock; must not wait on the haptic thread.
     virtual void observe_surface(const ActiveSurface& surface) { (void)surface; }
+    /// The tool sample that a contact loop next to the device computed for the sample the last read() returned
+    /// (haptic thread, after read()); false when the device renders no contact itself (every local driver) or sent
+    /// none for it. Must not block or allocate.
+    virtual bool remote_tool(RemoteToolSample& out) const {
+        (void)out;
+        return false;
+    }
 
 protected:
     /// Driver hook of open(): connect. Throw tridex::Error naming the device on failure.

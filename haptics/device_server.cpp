@@ -91,6 +91,21 @@ void DeviceServer::build_loop() {
     c.ewma_alpha = contact_.ewma_alpha;
     c.device_to_world = contact_.device_to_world;
     c.workspace_scale = contact_.workspace_scale;
+    // The session's workspace moving, so that the HIP this loop sends is the one the session would map.
+    if (contact_.workspace_mode > static_cast<std::uint8_t>(WorkspaceMode::kBubble)) {
+        event("local rendering: the session's workspace mode " + std::to_string(contact_.workspace_mode) +
+              " is not one this server knows; contact parameters refused");
+        loop_.reset();
+        return drop(net::DropReason::kOutOfRange);
+    }
+    c.workspace.mode = static_cast<WorkspaceMode>(contact_.workspace_mode);
+    c.workspace.button_mask = contact_.button_mask;
+    c.workspace.jump_gain = contact_.jump_gain;
+    c.workspace.drag_gain = contact_.drag_gain;
+    c.workspace.bubble_radius_m = contact_.bubble_radius_m;
+    c.workspace.bubble_rate_m_s = contact_.bubble_rate_m_s;
+    c.workspace.bubble_rate_exponent = contact_.bubble_rate_exponent;
+    c.workspace.bubble_stiffness_n_per_m = contact_.bubble_stiffness_n_per_m;
     c.request_realtime = false;
     if (!surface_) {
         surface_ = std::make_unique<TripleBuffer<ActiveSurface>>();
@@ -108,7 +123,10 @@ void DeviceServer::build_loop() {
 void DeviceServer::pump(double now_s) {
     while (link_.poll(ev_)) {
         switch (ev_.kind) {
-            case net::LinkEvent::kConnected: event(std::string("a session connected from ") + link_.where()); break;
+            case net::LinkEvent::kConnected:
+                event(ev_.data.empty() ? std::string("a session connected")
+                                       : "a session connected from " + std::string(ev_.data.begin(), ev_.data.end()));
+                break;
             case net::LinkEvent::kDisconnected:
                 if (session_) event("the session disconnected: force zeroed");
                 session_ = false;
@@ -152,7 +170,7 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
     }
     if (!session_) return drop(net::DropReason::kUnexpected);
     peer_sent_us_ = h.sent_us;
-    // Force and heartbeat datagrams share one sequence with the snapshots and contact sets of the session.
+    // Force and heartbeat datagrams are one sequence (gaps are lost datagrams); snapshots and contact sets another.
     if (rx_seq_valid_ && static_cast<std::int32_t>(h.seq - rx_seq_) <= 0 && h.type != net::MsgType::kSurface &&
         h.type != net::MsgType::kContact)
         return;  // late: a newer one was applied
@@ -208,10 +226,15 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
     last_rx_s_ = now_s;
 }
 
-void DeviceServer::send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed) {
+void DeviceServer::send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed,
+                              const devices::RemoteToolSample* tool) {
     if (!session_) return;
     net::StateMsg m;
     m.state = s;
+    if (tool) {
+        m.has_tool = true;
+        m.tool = *tool;
+    }
     m.applied_force_n = applied_device_n;
     m.watchdog_zeroed = zeroed;
     m.lost = static_cast<std::uint32_t>(lost_.load(std::memory_order_relaxed));
@@ -250,9 +273,10 @@ bool DeviceServer::tick(double now_s) {
         loop_time_s_ = std::max(loop_time_s_ + 1e-9, now_s);
         const TickRecord rec = loop_->step(loop_time_s_);
         force_updates_.fetch_add(1, std::memory_order_relaxed);
+        // The tool sample of this tick (none on an invalid sample: the tool holds where it was).
         ToolSample drained;
-        while (samples_->try_pop(drained)) {
-        }
+        bool sampled = false;
+        while (samples_->try_pop(drained)) sampled = true;
         if (loop_->stats().device_lost) {
             device_lost_.store(true, std::memory_order_relaxed);
             event("the device is gone: serving stopped");
@@ -260,7 +284,13 @@ bool DeviceServer::tick(double now_s) {
         }
         tool_world_m_ = rec.hip_m;
         const Vec3 applied = glm::conjugate(contact_.device_to_world.orientation) * rec.force_n;
-        send_state(rec.device, applied, false);
+        devices::RemoteToolSample tool;
+        tool.tool_world = sampled ? Pose{drained.position, drained.orientation} : rec.tool_world;
+        tool.proxy_m = sampled ? drained.surface_m : rec.proxy_m;
+        tool.force_n = rec.force_n;
+        tool.contact = rec.contact;
+        tool.hold = !sampled || drained.op == ToolOp::kNone;
+        send_state(rec.device, applied, false, &tool);
         return true;
     }
     devices::DeviceState s;

@@ -62,8 +62,9 @@ struct DeviceServerStats {
 /// - distributed: the device is read, the newest kForce (by sequence number) is written to it, and the state goes
 ///   back as an unreliable kState;
 /// - local: the server runs a HapticLoop (god-object, EWMA filter, safety stages) next to the device, in step mode
-///   on this thread, on the newest kSurface snapshot with the kContact parameters, and sends the device state
-///   (from which the session's own loop derives the ToolSamples that sculpt, through the same workspace mapping).
+///   on this thread, on the newest kSurface snapshot with the kContact parameters, and sends the device state with
+///   the tool sample that loop computed (HIP pose, god-object proxy, rendered force, hold): the session sculpts
+///   with these. Until the contact parameters arrive the device is read at zero force and states go without a tool.
 /// When no datagram came from the session for watchdog_s, zero force is written and the device rests (is not
 /// exchanged with, no states are sent) until the session speaks again; without a session likewise (zero force is
 /// written once when a session ends). So a simulated device's clock runs only while a live session is served (a
@@ -100,7 +101,8 @@ private:
     void handle(const std::vector<std::uint8_t>& d, double now_s);
     void drop(devices::net::DropReason r);
     void event(const std::string& line);
-    void send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed);
+    void send_state(const devices::DeviceState& s, const Vec3& applied_device_n, bool zeroed,
+                    const devices::RemoteToolSample* tool = nullptr);
     devices::net::Header header(std::uint32_t seq) const;
     void build_loop();
     void run() noexcept;

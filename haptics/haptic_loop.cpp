@@ -45,7 +45,7 @@ bool finite_state(const devices::DeviceState& s) {
     throw Error("HapticLoopConfig." + field + " = " + std::to_string(value) + " " + rule);
 }
 
-HapticLoopConfig validated(HapticLoopConfig c) {
+HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& profile, bool& capped) {
     if (!(std::isfinite(c.period_s) && c.period_s >= 1e-5 && c.period_s <= 0.1))
         bad("period_s", c.period_s, "must be in [1e-5, 0.1] s");
     if (!(std::isfinite(c.ewma_alpha) && c.ewma_alpha >= 0.0 && c.ewma_alpha < 1.0))
@@ -60,6 +60,9 @@ HapticLoopConfig validated(HapticLoopConfig c) {
     c.device_to_world.orientation = q / qn;
     if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
+    // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
+    const double gain = c.workspace.mode == WorkspaceMode::kScaling ? 1.0 : c.workspace_scale;
+    capped = cap_contact_stiffness(c.contact, world_stiffness_cap_n_per_m(profile, gain));
     return c;
 }
 
@@ -70,7 +73,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     : device_(device),
       surface_(surface),
       samples_(samples),
-      cfg_(validated(cfg)),
+      cfg_(validated(cfg, device.profile(), stiffness_capped_)),
       limits_(SafetyLimits::from(device.profile(), cfg_.safety)),
       contact_(cfg_.tool_points.count > 0 ? cfg_.tool_points : ToolPoints::single(cfg_.contact.tool_radius_m),
                cfg_.contact, cfg_.contact_mode),
@@ -271,9 +274,19 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     if (wf.mapping_changed || !wf.coupled) reset_contact();
     ContactOut c;
     c.proxy_m = wf.tool_world.position;
-    const ActiveSurface& snapshot = surface_.latest();
-    device_.observe_surface(snapshot);
-    if (wf.coupled) c = contact(snapshot, wf.tool_world, dt);
+    // A device whose own contact loop runs next to it (net, local rendering) sent the tool sample that loop computed:
+    // the session sculpts with its HIP and proxy, and renders no contact force itself (the device ignores it).
+    devices::RemoteToolSample remote;
+    const bool remote_contact = device_.remote_tool(remote);
+    Pose tool_world = wf.tool_world;
+    if (remote_contact) {
+        tool_world = remote.tool_world;
+        c.proxy_m = remote.proxy_m;
+        c.contact = remote.contact;
+        c.in_contact = remote.contact ? 1 : 0;
+    } else if (wf.coupled) {
+        c = contact(surface_.latest(), wf.tool_world, dt);
+    }
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
     // The world's contact force reaches the device scaled by the mapping's force_scale() (1 / s in kScaling).
@@ -302,15 +315,16 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
 
     ToolSample sample;
     sample.t_s = state.t_s;
-    sample.position = wf.tool_world.position;
+    sample.position = tool_world.position;
     {
-        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m : c.proxy_m - wf.tool_world.position;
+        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m : c.proxy_m - tool_world.position;
         sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
     }
-    sample.orientation = wf.tool_world.orientation;
+    sample.orientation = tool_world.orientation;
     sample.tool = tool_;
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
-    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged;
+    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged ||
+                      (remote_contact && remote.hold);
     const std::uint16_t op = op_.load(std::memory_order_relaxed);
     sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
     sample.material = static_cast<std::uint8_t>(op >> 8);
@@ -321,10 +335,10 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     sample.buttons = state.buttons;
     if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
 
-    last_tool_ = wf.tool_world;
-    rec.hip_m = wf.tool_world.position;
+    last_tool_ = tool_world;
+    rec.hip_m = tool_world.position;
     rec.proxy_m = c.proxy_m;
-    rec.force_n = out.force_n;
+    rec.force_n = remote_contact ? remote.force_n : out.force_n;  // the force the device got
     rec.contact = c.contact;
     rec.points_in_contact = c.in_contact;
     if (c.points) {
@@ -339,7 +353,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
             pr.collision_id = !p.contact ? -1 : (an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2));
         }
     }
-    rec.tool_world = wf.tool_world;
+    rec.tool_world = tool_world;
     rec.torque_nm = out.torque_nm;
     rec.modelling_paused = wf.modelling_paused;
     rec.force_enabled = out.enabled;

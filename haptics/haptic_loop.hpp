@@ -163,6 +163,9 @@ struct LoopView {
 ///   paused, buttons) to the ring (when full, count a drop and go on: the next successful push just
 ///   makes a longer segment) -> store a TickRecord into the preallocated array (until it is full)
 ///   -> publish a LoopView for the renderer.
+/// A device whose contact loop runs next to it (device.remote_tool(): the net driver in local haptic rendering,
+/// Popescu, Burdea, Bouzit section 2) replaces contact(): the HIP, proxy and hold of its tool sample go into the
+/// ToolSample and the TickRecord (with the force it rendered), and the session renders no contact force itself.
 /// Inside the loop nothing allocates, locks or waits on another thread. When device.read() returns
 /// false (or read/write throws), the loop writes zero force and ends by itself (device_lost). On every
 /// exit it writes zero force last. The loop is the only reader of `surface`, the only producer of
@@ -197,6 +200,9 @@ public:
     LoopStats stats() const;
     /// The configuration.
     const HapticLoopConfig& config() const { return cfg_; }
+    /// True when the contact stiffness (or a material's) was cut at construction to the device profile's
+    /// max_stiffness_n_per_m under the workspace gain (world_stiffness_cap_n_per_m); config() holds the cut values.
+    bool stiffness_capped() const { return stiffness_capped_; }
 
     /// Deterministic stepping: runs one tick on the calling thread with loop_time_s (s, increasing) as
     /// the loop clock instead of CLOCK_MONOTONIC, for tests and offline replays driven by simulated
@@ -261,6 +267,7 @@ private:
     devices::HapticDevice& device_;
     TripleBuffer<ActiveSurface>& surface_;
     SpscRing<ToolSample>& samples_;
+    bool stiffness_capped_ = false;  // declared before cfg_: set while cfg_ is built
     HapticLoopConfig cfg_;
     SafetyLimits limits_;
     MultiPointRenderer contact_;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <string>
 
 #include "core/error.hpp"
@@ -44,6 +46,36 @@ SafetyLimits SafetyLimits::from(const devices::DeviceProfile& profile, const Saf
 bool SafetyLimits::over_speed(const Vec3& v) const {
     if (!is_finite(v)) return true;
     return glm::dot(v, v) > max_velocity_m_s * max_velocity_m_s;
+}
+
+double world_stiffness_cap_n_per_m(const devices::DeviceProfile& profile, double device_gain) {
+    const double k = profile.max_stiffness_n_per_m;
+    if (!(std::isfinite(k) && k > 0.0) || !(std::isfinite(device_gain) && device_gain > 0.0))
+        return std::numeric_limits<double>::infinity();
+    return k / device_gain;
+}
+
+bool cap_contact_stiffness(ContactParams& contact, double cap_n_per_m) {
+    bool cut = false;
+    if (contact.stiffness_n_per_m > cap_n_per_m) {
+        contact.stiffness_n_per_m = cap_n_per_m;
+        cut = true;
+    }
+    if (contact.materials) {
+        bool table_cut = false;
+        auto table = std::make_shared<MaterialTable>(*contact.materials);
+        for (int id = 0; id < MaterialTable::kSize; ++id) {
+            Material m = (*table)[static_cast<std::uint8_t>(id)];
+            if (m.stiffness_n_per_m > cap_n_per_m) {
+                m.stiffness_n_per_m = cap_n_per_m;
+                table->set(id, m);
+                table_cut = true;
+            }
+        }
+        if (table_cut) contact.materials = std::move(table);
+        cut = cut || table_cut;
+    }
+    return cut;
 }
 
 double ForceRamp::scale(double t_s) const {

@@ -3,6 +3,7 @@
 
 #include "core/math.hpp"
 #include "devices/haptic_device.hpp"
+#include "haptics/god_object.hpp"
 
 namespace tridex::haptics {
 
@@ -50,6 +51,18 @@ struct SafetyLimits {
     /// True when the speed |v| (m/s) exceeds max_velocity_m_s, or v is not finite.
     bool over_speed(const Vec3& velocity_m_s) const;
 };
+
+/// The device's stiffness limit as a world contact stiffness, N/m. The device feels a world stiffness k as
+/// k * device_gain (device_gain = workspace_scale * the mapping's force scale: 1 in kScaling, where forces are divided
+/// by the scale, and the scale itself in the other modes), so the cap is profile.max_stiffness_n_per_m / device_gain.
+/// The profile's value is the highest wall stiffness that stays stable at 1 kHz (Colgate's passivity bound
+/// b > K*T/2 + |B|, DESIGN.md). +infinity when the profile gives no limit (max_stiffness_n_per_m not finite and > 0)
+/// or device_gain is not finite and > 0.
+double world_stiffness_cap_n_per_m(const devices::DeviceProfile& profile, double device_gain);
+
+/// Cuts contact.stiffness_n_per_m and the stiffness of every entry of contact.materials (a new table; the old one
+/// is not modified) to at most cap_n_per_m (N/m). Returns true when anything was cut.
+bool cap_contact_stiffness(ContactParams& contact, double cap_n_per_m);
 
 /// Linear force ramp-in on the device clock: scale(t) = clamp((t - t0) / ramp_s, 0, 1) after
 /// restart(t0); 1 when ramp_s == 0; 0 before the first restart. Allocation-free.

@@ -96,6 +96,12 @@ void SculptThread::use_saver(std::function<std::string(const compute::TriDexel&)
     saver_ = std::move(save);
 }
 
+void SculptThread::observe_surface(std::function<void(const ActiveSurface&)> observer) {
+    if (thread_.joinable()) throw Error("SculptThread::observe_surface: call it before start()");
+    surface_observer_ = std::move(observer);
+    if (surface_observer_) publish(published_centre_m_);  // the observer starts from a snapshot of its own
+}
+
 SaveStatus SculptThread::save_status() const {
     std::lock_guard<std::mutex> lock(save_mutex_);
     return save_status_;
@@ -424,6 +430,7 @@ void SculptThread::publish(const Vec3& centre_m) {
         });
     else
         compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
+    if (surface_observer_) surface_observer_(surface_.back());
     surface_.publish();
     published_centre_m_ = centre_m;
     ++stats_.publishes;

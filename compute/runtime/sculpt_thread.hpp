@@ -164,6 +164,11 @@ public:
     /// journal's own errors never stop the thread (JournalWriter records them). `journal` must outlive the thread.
     /// Throws tridex::Error when the thread runs.
     void use_journal(compute::JournalWriter& journal);
+    /// Calls `observer` (on the sculpt thread, or here once at once with a fresh snapshot around the newest centre)
+    /// with every active-surface snapshot just before it is published: a device that renders contact next to
+    /// itself (net, local rendering) gets the surface without the haptic thread's help. Throws tridex::Error when
+    /// the thread runs.
+    void observe_surface(std::function<void(const ActiveSurface&)> observer);
     /// Sets the undo history's memory budget (bytes > 0; default compute::UndoHistory::kDefaultBudgetBytes).
     /// Throws tridex::Error when the thread runs or the budget is 0.
     void set_history_budget(std::size_t bytes);
@@ -259,6 +264,7 @@ private:
     bool holding_reference() const { return push_stroke_ && history_ && history_->stroke_open(); }
     std::function<CheckpointFile(const compute::TriDexel&)> checkpoint_write_;
     std::function<std::string(const compute::TriDexel&)> saver_;
+    std::function<void(const ActiveSurface&)> surface_observer_;
     mutable std::mutex save_mutex_;
     SaveStatus save_status_;
     bool journal_noted_ = false, checkpoint_noted_ = false;

@@ -15,7 +15,9 @@ struct LinkEvent {
         kData,          ///< a datagram arrived: `data`
     };
     Kind kind = kData;
-    std::vector<std::uint8_t> data;  ///< the datagram (kData); its capacity is reused between polls
+    /// kData: the datagram; kConnected: the peer's address as text ("HOST:PORT"), or empty. Its capacity is reused
+    /// between polls.
+    std::vector<std::uint8_t> data;
 };
 
 /// One end of a datagram connection (ENet over UDP, or an in-process shim with injected latency and loss).

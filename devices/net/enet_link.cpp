@@ -30,14 +30,17 @@ double now_s() {
 
 }  // namespace
 
-void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port) {
+void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port,
+                     bool allow_port_zero) {
     const auto colon = s.rfind(':');
-    const auto bad = [&] { return Error(what + ": '" + s + "' is not HOST:PORT (port 1..65535)"); };
+    const auto bad = [&] {
+        return Error(what + ": '" + s + "' is not HOST:PORT (port " + (allow_port_zero ? "0" : "1") + "..65535)");
+    };
     if (colon == std::string::npos || colon + 1 >= s.size()) throw bad();
     const std::string p = s.substr(colon + 1);
     if (p.find_first_not_of("0123456789") != std::string::npos || p.size() > 5) throw bad();
     const long v = std::strtol(p.c_str(), nullptr, 10);
-    if (v < 1 || v > 65535) throw bad();
+    if (v < (allow_port_zero ? 0 : 1) || v > 65535) throw bad();
     host = s.substr(0, colon);
     port = static_cast<std::uint16_t>(v);
 }
@@ -96,8 +99,11 @@ std::unique_ptr<EnetLink> EnetLink::listen(const std::string& host, std::uint16_
     impl->host = enet_host_create(&impl->address, 2, 2, 0, 0);
     if (!impl->host)
         throw Error("--listen " + host + ":" + std::to_string(port) + ": cannot listen there (address in use?)");
-    return std::unique_ptr<EnetLink>(new EnetLink(std::move(impl), host + ":" + std::to_string(port)));
+    const std::uint16_t bound = impl->host->address.port;  // ENet reads back the port the system gave
+    return std::unique_ptr<EnetLink>(new EnetLink(std::move(impl), host + ":" + std::to_string(bound)));
 }
+
+std::uint16_t EnetLink::port() const { return impl_->host->address.port; }
 
 std::unique_ptr<EnetLink> EnetLink::connect(const std::string& host, std::uint16_t port, double peer_timeout_s) {
     init_enet_once();
@@ -144,6 +150,10 @@ bool EnetLink::poll(LinkEvent& ev) {
                 Impl::no_throttle(e.peer);
                 ev.kind = LinkEvent::kConnected;
                 ev.data.clear();
+                if (char ip[64]; enet_address_get_host_ip(&e.peer->address, ip, sizeof ip) == 0) {
+                    const std::string who = std::string(ip) + ":" + std::to_string(e.peer->address.port);
+                    ev.data.assign(who.begin(), who.end());
+                }
                 return true;
             case ENET_EVENT_TYPE_DISCONNECT:
                 if (e.peer != m.peer) continue;

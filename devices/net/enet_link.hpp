@@ -15,7 +15,9 @@
 namespace tridex::devices::net {
 
 /// "HOST:PORT" split; throws tridex::Error "<what>: 'x' is not HOST:PORT (port 1..65535)" naming `what`.
-void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port);
+/// allow_port_zero: port 0 is accepted (a listener on a port the system picks).
+void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port,
+                     bool allow_port_zero = false);
 
 /// An ENet host serving one peer (listen) or connected to a server (connect). Not thread-safe: one thread
 /// sends and polls. A client whose connection drops (server gone or restarted) tries again every
@@ -24,8 +26,9 @@ void split_host_port(const std::string& s, const std::string& what, std::string&
 /// session that reconnected before ENet timed its old connection out).
 class EnetLink final : public DatagramLink {
 public:
-    /// A server listening on host:port ("0.0.0.0" or "" = every interface). Throws tridex::Error
-    /// "--listen HOST:PORT: cannot listen (address in use?)" when ENet cannot bind.
+    /// A server listening on host:port ("0.0.0.0" or "" = every interface; port 0 = a free port the system picks,
+    /// which where() and port() then name). Throws tridex::Error "--listen HOST:PORT: cannot listen (address in
+    /// use?)" when ENet cannot bind.
     static std::unique_ptr<EnetLink> listen(const std::string& host, std::uint16_t port);
     /// A client connecting to host:port (not waiting: poll() reports kConnected). Throws tridex::Error when the
     /// host name does not resolve. peer_timeout_s: how long a silent peer is kept before kDisconnected.
@@ -36,6 +39,8 @@ public:
     bool poll(LinkEvent& ev) override;
     bool connected() const override;
     const char* where() const override { return where_.c_str(); }
+    /// The local UDP port (a listener's, once bound).
+    std::uint16_t port() const;
 
 private:
     struct Impl;

@@ -124,7 +124,14 @@ void encode(Header h, const StateMsg& m, std::vector<std::uint8_t>& out) {
     Writer w(out);
     put_state(w, m.state);
     w.vec3(m.applied_force_n);
-    w.u8(m.watchdog_zeroed ? 1 : 0);
+    w.u8(static_cast<std::uint8_t>((m.watchdog_zeroed ? 1 : 0) | (m.has_tool ? 2 : 0) |
+                                   (m.has_tool && m.tool.contact ? 4 : 0) | (m.has_tool && m.tool.hold ? 8 : 0)));
+    if (m.has_tool) {
+        w.vec3(m.tool.tool_world.position);
+        w.quat(m.tool.tool_world.orientation);
+        w.vec3(m.tool.proxy_m);
+        w.vec3(m.tool.force_n);
+    }
     w.u32(m.lost);
     w.u32(m.malformed);
     w.u32(m.stale_snapshots);
@@ -150,6 +157,11 @@ void encode(Header h, const ContactMsg& m, std::vector<std::uint8_t>& out) {
     w.vec3(m.device_to_world.position);
     w.quat(m.device_to_world.orientation);
     w.f64(m.workspace_scale);
+    w.u8(m.workspace_mode);
+    w.u32(m.button_mask);
+    for (double v : {m.jump_gain, m.drag_gain, m.bubble_radius_m, m.bubble_rate_m_s, m.bubble_rate_exponent,
+                     m.bubble_stiffness_n_per_m})
+        w.f64(v);
     w.u32(m.revision);
 }
 
@@ -206,12 +218,27 @@ DropReason decode(const std::uint8_t* p, std::size_t n, StateMsg& m) {
     m.applied_force_n = r.vec3();
     const std::uint8_t flags = r.u8();
     m.watchdog_zeroed = (flags & 1) != 0;
+    m.has_tool = (flags & 2) != 0;
+    m.tool = ToolPart{};
+    if (m.has_tool) {
+        m.tool.tool_world.position = r.vec3();
+        m.tool.tool_world.orientation = r.quat();
+        m.tool.proxy_m = r.vec3();
+        m.tool.force_n = r.vec3();
+        m.tool.contact = (flags & 4) != 0;
+        m.tool.hold = (flags & 8) != 0;
+    }
     m.lost = r.u32();
     m.malformed = r.u32();
     m.stale_snapshots = r.u32();
     m.watchdog_trips = r.u32();
     if (const DropReason d = finish(r); d != DropReason::kNone) return d;
-    return flags > 1 ? DropReason::kOutOfRange : DropReason::kNone;
+    if (flags > 15 || (!m.has_tool && (flags & 12) != 0)) return DropReason::kOutOfRange;
+    if (m.has_tool) {
+        const Quat& q = m.tool.tool_world.orientation;
+        if (std::abs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1.0) > 1e-3) return DropReason::kOutOfRange;
+    }
+    return DropReason::kNone;
 }
 
 DropReason decode(const std::uint8_t* p, std::size_t n, ForceMsg& m) {
@@ -232,6 +259,11 @@ DropReason decode(const std::uint8_t* p, std::size_t n, ContactMsg& m) {
     m.device_to_world.position = r.vec3();
     m.device_to_world.orientation = r.quat();
     m.workspace_scale = r.f64();
+    m.workspace_mode = r.u8();
+    m.button_mask = r.u32();
+    for (double* v : {&m.jump_gain, &m.drag_gain, &m.bubble_radius_m, &m.bubble_rate_m_s, &m.bubble_rate_exponent,
+                      &m.bubble_stiffness_n_per_m})
+        *v = r.f64();
     m.revision = r.u32();
     if (const DropReason d = finish(r); d != DropReason::kNone) return d;
     if (m.stiffness_n_per_m < 0.0 || m.damping_n_s_per_m < 0.0 || m.tool_radius_m < 0.0 || m.static_friction < 0.0 ||

@@ -13,7 +13,8 @@
 namespace tridex::devices::net {
 
 /// Version of the datagram layout; a peer with another version is refused at the handshake.
-inline constexpr std::uint16_t kLinkVersion = 1;
+/// 2: kState carries the tool sample of the server's contact loop in local rendering.
+inline constexpr std::uint16_t kLinkVersion = 2;
 /// First four bytes of every datagram: "TDXL".
 inline constexpr std::uint32_t kLinkMagic = 0x4c584454u;
 /// Bytes of the header every datagram starts with.
@@ -37,7 +38,7 @@ enum class MsgType : std::uint8_t {
     kHello = 1,      ///< session -> server: mode and period; answered by kWelcome or kRefuse
     kWelcome = 2,    ///< server -> session: the device's profile
     kRefuse = 3,     ///< either way: one line saying why the peer is refused
-    kState = 4,      ///< server -> session: one device sample per server tick, with the server's counters
+    kState = 4,      ///< server -> session: one device sample per server tick, the server's counters and (local) the tool
     kForce = 5,      ///< session -> server (distributed): force and torque to send to the device
     kSurface = 6,    ///< session -> server (local): an ActiveSurface snapshot (devices/net/surface_codec.hpp)
     kContact = 7,    ///< session -> server (local): contact parameters and the workspace mapping
@@ -67,9 +68,15 @@ struct Welcome {
     std::uint8_t dof_in = 0, dof_out = 0;
 };
 
-/// kState payload: one device sample (device frame, SI) and the server's counters.
+/// The tool sample of the server's contact loop (local rendering), world frame, SI: what the session sculpts with.
+using ToolPart = RemoteToolSample;
+
+/// kState payload: one device sample (device frame, SI) and the server's counters; in local rendering also the
+/// tool sample of the server's contact loop for the same tick (the device state's time and buttons go with it).
 struct StateMsg {
     DeviceState state;
+    bool has_tool = false;           ///< `tool` is filled (local rendering with contact parameters set)
+    ToolPart tool;
     Vec3 applied_force_n{0.0};       ///< force the server sent to the device on this tick, N
     bool watchdog_zeroed = false;    ///< the server's watchdog held the force at zero (silent link)
     std::uint32_t lost = 0;          ///< datagrams from the session the server found missing (sequence gaps)
@@ -94,6 +101,12 @@ struct ContactMsg {
     double ewma_alpha = 0.9;
     Pose device_to_world;          ///< device frame -> world
     double workspace_scale = 1.0;  ///< world = R * (s * p) + offset
+    /// Workspace moving (haptics::WorkspaceConfig, the same meaning and units): the technique as the value of
+    /// haptics::WorkspaceMode (0..255 on the wire; the server's loop refuses one it does not know) and its parameters.
+    std::uint8_t workspace_mode = 0;
+    std::uint32_t button_mask = 1u;
+    double jump_gain = 1.0, drag_gain = 1.0;
+    double bubble_radius_m = 0.0, bubble_rate_m_s = 0.5, bubble_rate_exponent = 3.0, bubble_stiffness_n_per_m = 50.0;
     std::uint32_t revision = 0;    ///< +1 whenever the session changes any of these
 };
 

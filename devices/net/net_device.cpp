@@ -36,9 +36,78 @@ NetDevice::NetDevice(std::unique_ptr<DatagramLink> link, NetDeviceOptions option
     profile_.name = "net (not connected)";
     out_.reserve(64 * 1024);
     ev_.data.reserve(64 * 1024);
+    start_link_thread();
 }
 
-NetDevice::~NetDevice() = default;
+NetDevice::~NetDevice() { stop_link_thread(); }
+
+void NetDevice::start_link_thread() {
+    if (!opt_.link_thread || link_thread_.joinable()) return;
+    {
+        std::lock_guard lock(snap_mutex_);
+        stop_thread_ = false;
+    }
+    link_thread_ = std::thread(&NetDevice::link_thread_main, this);
+}
+
+void NetDevice::stop_link_thread() noexcept {
+    if (!link_thread_.joinable()) return;
+    {
+        std::lock_guard lock(snap_mutex_);
+        stop_thread_ = true;
+    }
+    snap_cv_.notify_one();
+    link_thread_.join();
+}
+
+void NetDevice::link_thread_main() {
+    std::unique_lock lock(snap_mutex_);
+    while (!stop_thread_) {
+        snap_cv_.wait_for(lock, std::chrono::milliseconds(2));
+        if (stop_thread_) break;
+        lock.unlock();
+        service();
+        lock.lock();
+    }
+}
+
+void NetDevice::service() {
+    std::lock_guard link(link_mutex_);
+    if (!loop_on_) pump();  // keep-alive: acknowledgements, pings, a welcome, a refusal
+    if (opt_.mode != RenderingMode::kLocal || !welcomed_) return;
+    const double now = opt_.clock();
+    bool send = false;
+    {
+        std::lock_guard snap(snap_mutex_);
+        const bool fresh = offered_seq_ != 0 && offered_seq_ != sent_surface_seq_;
+        if (fresh && (sent_surface_seq_ == 0 || resend_surface_ || now - sent_surface_s_ >= opt_.snapshot_interval_s)) {
+            sent_.swap(offered_);
+            sent_surface_seq_ = offered_seq_;
+            send = true;
+        }
+    }
+    send = send || (resend_surface_ && sent_surface_seq_ != 0);
+    if (!send) return;
+    // The header is written now: its sequence number, time stamp and echo are the link's at the moment of sending.
+    Header h = header(++reliable_seq_);
+    h.type = MsgType::kSurface;
+    std::vector<std::uint8_t> head;
+    encode_header(h, head);
+    std::copy(head.begin(), head.end(), sent_.begin());
+    link_->send(sent_, true);
+    sent_surface_s_ = now;
+    resend_surface_ = false;
+    ++snapshots_sent_;
+}
+
+void NetDevice::on_open() { start_link_thread(); }
+
+void NetDevice::on_close() noexcept { stop_link_thread(); }
+
+void NetDevice::on_disable() noexcept {
+    std::lock_guard link(link_mutex_);
+    loop_on_ = false;
+}
 
 std::uint64_t NetDevice::now_us() const { return static_cast<std::uint64_t>(std::llround(opt_.clock() * 1e6)) + 1; }
 
@@ -66,6 +135,7 @@ void NetDevice::send_hello() {
 }
 
 void NetDevice::set_contact(const ContactMsg& contact) {
+    std::lock_guard link(link_mutex_);
     const std::uint32_t revision = have_contact_ ? contact_.revision + 1 : contact.revision;
     contact_ = contact;
     contact_.revision = revision;
@@ -75,6 +145,7 @@ void NetDevice::set_contact(const ContactMsg& contact) {
 }
 
 bool NetDevice::handshake() {
+    std::lock_guard link(link_mutex_);
     pump();
     if (!refusal_.empty()) throw Error(refusal_);
     if (welcomed_ && !have_state_) {  // the first state may have been lost: keep the server's watchdog fed until one comes
@@ -97,7 +168,10 @@ void NetDevice::wait_for_server(double timeout_s) {
     // session that then spends seconds loading does not find them unacknowledged and its connection timed out.
     const double settle = steady_s() + 0.1;
     while (steady_s() < settle) {
-        pump();
+        {
+            std::lock_guard link(link_mutex_);
+            pump();
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
 }
@@ -154,10 +228,10 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
             rebase_time_ = have_state_;
             if (opt_.mode == RenderingMode::kLocal) {
                 if (have_contact_) {
-                    encode(header(++tx_seq_), contact_, out_);
+                    encode(header(++reliable_seq_), contact_, out_);
                     link_->send(out_, true);
                 }
-                sent_surface_seq_ = 0;  // a restarted server has no snapshot: send the newest again
+                resend_surface_ = true;  // a restarted server has no snapshot: send the newest again
             }
             return;
         }
@@ -188,6 +262,8 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
             }
             server_ = m;
             state_ = m.state;
+            have_tool_ = opt_.mode == RenderingMode::kLocal && m.has_tool;
+            tool_ = m.tool;
             state_.t_s += t_offset_s_;
             have_state_ = fresh_state_ = true;
             ++states_;
@@ -204,9 +280,11 @@ void NetDevice::handle(const std::vector<std::uint8_t>& d) {
 }
 
 void NetDevice::on_enable() {
+    std::lock_guard link(link_mutex_);
+    loop_on_ = true;
     pump();
     if (contact_pending_ && welcomed_ && opt_.mode == RenderingMode::kLocal) {
-        encode(header(++tx_seq_), contact_, out_);
+        encode(header(++reliable_seq_), contact_, out_);
         link_->send(out_, true);
     }
     contact_pending_ = false;
@@ -216,8 +294,14 @@ void NetDevice::on_enable() {
 }
 
 bool NetDevice::do_read(DeviceState& out) {
-    pump();
+    std::unique_lock link(link_mutex_, std::try_to_lock);
     if (!have_state_) return false;  // never connected: there is no sample to give
+    if (!link.owns_lock()) {  // the link thread is handing a snapshot to the transport: the previous state, no I/O
+        ++missed_;
+        out = state_;
+        return true;
+    }
+    pump();
     const double silent = opt_.clock() - last_state_rx_s_;
     if (silent > opt_.watchdog_s && !down_) {
         down_ = true;
@@ -241,7 +325,8 @@ bool NetDevice::do_read(DeviceState& out) {
 }
 
 void NetDevice::do_write(const Vec3& force_n, const Vec3& torque_nm) {
-    if (!welcomed_) return;
+    std::unique_lock link(link_mutex_, std::try_to_lock);
+    if (!link.owns_lock() || !welcomed_) return;  // a datagram skipped: the next tick's goes
     if (opt_.mode == RenderingMode::kDistributed) {
         ForceMsg m;
         // While the link is down the server holds zero force; a stale force must not reach it on the way back.
@@ -255,18 +340,24 @@ void NetDevice::do_write(const Vec3& force_n, const Vec3& torque_nm) {
 }
 
 void NetDevice::observe_surface(const ActiveSurface& surface) {
-    if (opt_.mode != RenderingMode::kLocal || !welcomed_ || surface.sequence == 0 ||
-        surface.sequence == sent_surface_seq_)
-        return;
-    const double now = opt_.clock();
-    if (sent_surface_seq_ != 0 && now - sent_surface_s_ < opt_.snapshot_interval_s) return;
-    encode_surface(header(++tx_seq_), surface, out_);
-    link_->send(out_, true);
-    sent_surface_seq_ = surface.sequence;
-    sent_surface_s_ = now;
+    if (opt_.mode != RenderingMode::kLocal || surface.sequence == 0) return;
+    {
+        std::lock_guard snap(snap_mutex_);
+        if (surface.sequence == offered_seq_) return;
+        encode_surface(Header{}, surface, offered_);  // the header is rewritten when sent
+        offered_seq_ = surface.sequence;
+    }
+    snap_cv_.notify_one();
+}
+
+bool NetDevice::remote_tool(RemoteToolSample& out) const {
+    if (!have_tool_) return false;
+    out = tool_;
+    return true;
 }
 
 DeviceLinkStats NetDevice::link_stats() const {
+    std::lock_guard link(link_mutex_);
     DeviceLinkStats s;
     s.exchanges = states_;
     s.missed_frames = missed_;

@@ -28,6 +28,7 @@ struct LinkRig {
         o.clock = [this] { return now; };
         o.version = client_version;
         o.give_up_s = 0.5;
+        o.link_thread = false;  // the simulated clock is the test thread's: it calls service() itself
         client = std::make_unique<devices::net::NetDevice>(shim.client_end(), o);
     }
     /// A (new) server on the shim's server end.

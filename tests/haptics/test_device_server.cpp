@@ -9,7 +9,10 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/spsc_ring.hpp"
+#include "core/triple_buffer.hpp"
 #include "devices/net/surface_codec.hpp"
+#include "haptics/haptic_loop.hpp"
 #include "link_rig.hpp"
 #include "surfaces.hpp"
 
@@ -234,6 +237,7 @@ TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
         ASSERT_TRUE(rig.client->read(s));
         rig.client->observe_surface(*wall);
         rig.client->write(Vec3(0.0), Vec3(0.0));  // ignored in local mode
+        rig.client->service();
         rig.server_tick();
         min_z = std::min(min_z, rig.device.position_m().z);
     }
@@ -243,6 +247,85 @@ TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
     EXPECT_EQ(st.snapshots, 1u);
     EXPECT_EQ(st.stale_snapshots, 0u);
     EXPECT_EQ(rig.client->link_stats().link_mode, "local");
+}
+
+TEST(DeviceServer, LocalRenderingSessionSculptsWithTheServersToolSamples) {
+    // The hand presses 3 mm into a z = 0 wall. The session's own snapshot is empty, so any proxy on the wall in its
+    // tool samples came from the server's god-object.
+    LinkRig rig(net::RenderingMode::kLocal,
+                ScriptedPath({0.0, 0.2}, {Vec3(0.0, 0.0, 0.010), Vec3(0.0, 0.0, -0.003)}));
+    HapticLoopConfig cfg;
+    cfg.contact.stiffness_n_per_m = 700.0;
+    cfg.contact.tool_radius_m = 0.0;
+    cfg.request_realtime = false;
+    net::ContactMsg contact;
+    contact.stiffness_n_per_m = cfg.contact.stiffness_n_per_m;
+    contact.tool_radius_m = 0.0;
+    rig.client->set_contact(contact);
+    ASSERT_TRUE(rig.connect());
+    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+    test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
+    wall->centre_m = Vec3(0.0);
+    TripleBuffer<ActiveSurface> session_surface;  // never published: no contact on the session's side
+    SpscRing<ToolSample> samples(4096);
+    HapticLoop loop(*rig.client, session_surface, samples, cfg);
+    ToolSample last{}, deepest{};
+    TickRecord rec;
+    int remote = 0;
+    for (int i = 0; i < 600; ++i) {
+        rig.client->observe_surface(*wall);  // as the sculpt thread offers it
+        rec = loop.step(rig.now);
+        rig.client->service();
+        rig.server_tick();
+        devices::RemoteToolSample t;
+        if (rig.client->remote_tool(t)) ++remote;
+        while (samples.try_pop(last))
+            if (last.position.z < deepest.position.z) deepest = last;
+    }
+    loop.stop();
+    EXPECT_GT(remote, 500) << "the states carried no tool sample";
+    // The server's god-object kept the proxy on the wall while the HIP went in, and the session sculpts with both.
+    EXPECT_LT(deepest.position.z, -0.0005);
+    EXPECT_GT(deepest.surface_m.z, -0.0002);
+    EXPECT_NEAR(last.position.z, rig.device.position_m().z, 0.002);
+    EXPECT_EQ(last.op, ToolOp::kSubtract);
+    EXPECT_GT(rec.force_n.z, 0.3) << "the record shows the force the server rendered";
+    EXPECT_GT(rec.proxy_m.z, -0.0002);
+}
+
+TEST(LinkWire, StateWithAToolSampleRoundTripsAndBadFlagsAreRefused) {
+    net::StateMsg m;
+    m.state.t_s = 1.5;
+    m.state.buttons = 3;
+    m.has_tool = true;
+    m.tool.tool_world.position = Vec3(0.01, -0.02, 0.3);
+    m.tool.proxy_m = Vec3(0.01, -0.02, 0.301);
+    m.tool.force_n = Vec3(0.0, 0.0, 0.7);
+    m.tool.contact = true;
+    m.tool.hold = false;
+    std::vector<std::uint8_t> d;
+    net::encode(net::Header{}, m, d);
+    net::Header h;
+    ASSERT_EQ(net::decode_header(d.data(), d.size(), h), net::DropReason::kNone);
+    net::StateMsg back;
+    ASSERT_EQ(net::decode(d.data(), d.size(), back), net::DropReason::kNone);
+    EXPECT_TRUE(back.has_tool);
+    EXPECT_EQ(back.tool.proxy_m, m.tool.proxy_m);
+    EXPECT_EQ(back.tool.tool_world.position, m.tool.tool_world.position);
+    EXPECT_TRUE(back.tool.contact);
+    EXPECT_FALSE(back.tool.hold);
+    EXPECT_EQ(back.state.buttons, 3u);
+    // Without the tool the datagram is shorter, and a contact bit without a tool is refused.
+    m.has_tool = false;
+    std::vector<std::uint8_t> plain;
+    net::encode(net::Header{}, m, plain);
+    EXPECT_LT(plain.size(), d.size());
+    const std::size_t flags_at = net::kHeaderBytes + 8 + 24 + 32 + 24 + 4 + 24;
+    plain[flags_at] = 4;
+    EXPECT_EQ(net::decode(plain.data(), plain.size(), back), net::DropReason::kOutOfRange);
+    // A tool bit on a datagram without the tool's bytes is a length error.
+    plain[flags_at] = 2;
+    EXPECT_EQ(net::decode(plain.data(), plain.size(), back), net::DropReason::kBadLength);
 }
 
 TEST(SurfaceCodec, RoundTripAndRefusals) {

@@ -1,0 +1,180 @@
+// `tridex device-server` and `tridex demo --device net:HOST:PORT` as two processes over ENet on loopback, as a user
+// runs them on two machines: the session carves in both rendering modes and reports the link. The server is a
+// child process on a port the kernel picks; the test waits for its "serving" line (never a fixed sleep) and always
+// kills it.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "test_files.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using tridex::app::test::read_json;
+using tridex::app::test::run_tridex;
+
+// A child process whose stdout the test reads line by line; killed (SIGKILL) and reaped when it goes out of scope.
+class Child {
+public:
+    explicit Child(const std::vector<std::string>& args) {
+        int fds[2];
+        if (pipe2(fds, O_CLOEXEC) != 0) return;
+        posix_spawn_file_actions_t fa;
+        posix_spawn_file_actions_init(&fa);
+        posix_spawn_file_actions_adddup2(&fa, fds[1], 1);
+        std::vector<char*> argv;
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        if (posix_spawn(&pid_, argv[0], &fa, nullptr, argv.data(), environ) != 0) pid_ = -1;
+        posix_spawn_file_actions_destroy(&fa);
+        close(fds[1]);
+        out_ = fds[0];
+    }
+    ~Child() {
+        if (pid_ > 0) {
+            kill(pid_, SIGKILL);
+            int status = 0;
+            waitpid(pid_, &status, 0);
+        }
+        if (out_ >= 0) close(out_);
+    }
+    Child(const Child&) = delete;
+    Child& operator=(const Child&) = delete;
+
+    bool started() const { return pid_ > 0 && out_ >= 0; }
+    // Reads stdout until a line matches `re` (its first group in `group`) or timeout_s passes; false on time-out or
+    // when the child closed its stdout (exited) first.
+    bool wait_for_line(const std::regex& re, double timeout_s, std::string& group) {
+        const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
+        while (Clock::now() < end) {
+            for (std::size_t nl; (nl = buffer_.find('\n')) != std::string::npos;) {
+                const std::string line = buffer_.substr(0, nl);
+                buffer_.erase(0, nl + 1);
+                seen_ += line + "\n";
+                std::smatch m;
+                if (std::regex_search(line, m, re)) {
+                    group = m.size() > 1 ? m[1].str() : "";
+                    return true;
+                }
+            }
+            pollfd p{out_, POLLIN, 0};
+            if (poll(&p, 1, 100) <= 0) continue;
+            char chunk[4096];
+            const ssize_t n = read(out_, chunk, sizeof chunk);
+            if (n <= 0) return false;  // the child is gone
+            buffer_.append(chunk, static_cast<std::size_t>(n));
+        }
+        return false;
+    }
+    // Everything read so far (for failure messages).
+    const std::string& seen() const { return seen_; }
+
+private:
+    pid_t pid_ = -1;
+    int out_ = -1;
+    std::string buffer_, seen_;
+};
+
+class NetSession : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(NetSession, DemoAgainstADeviceServerProcessCarvesAndReportsTheLink) {
+    const std::string mode = GetParam();
+    const fs::path dir = fs::path(testing::TempDir()) / ("tridex_net_session_" + mode);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // Port 0: the kernel picks a free one, which the server prints. --once: the server ends with the session, so a
+    // session whose connection the server timed out while it loaded (a 512-cell workpiece takes seconds) gets nothing.
+    Child server({TRIDEX_EXE, "device-server", "--device", "simulated", "--listen", "127.0.0.1:0", "--stroke-seconds",
+                  "2", "--once", "--seconds", "240"});
+    ASSERT_TRUE(server.started());
+    std::string port;
+    ASSERT_TRUE(server.wait_for_line(std::regex(R"(on 127\.0\.0\.1:([0-9]+);)"), 120.0, port)) << server.seen();
+
+    const auto r = run_tridex("demo --device net:127.0.0.1:" + port + " --haptic-rendering " + mode +
+                                  " --seconds 2 --resolution 512 --width 64 --height 48 --no-journal --out " + (dir / "out").string(),
+                              dir / "run");
+    ASSERT_EQ(r.exit_code, 0) << r.err << "\nserver:\n" << server.seen();
+    const nlohmann::json rep = read_json(dir / "out" / "report.json");
+    // The workpiece was carved: the stroke removed material.
+    const double before = rep["workpiece"]["volume_dexel_m3"].get<double>();
+    EXPECT_GT(rep["volume_removed_m3"].get<double>(), 1e-3 * before) << "no material removed in " << mode << " mode";
+    const nlohmann::json& link = rep["link"];
+    ASSERT_TRUE(link.is_object()) << rep.dump(1);
+    EXPECT_EQ(link["mode"], mode);
+    // States at (close to) the server's 1 kHz; a loaded machine may thin them, never to nothing.
+    EXPECT_GT(link["rate_hz"].get<double>(), 200.0) << link.dump();
+    EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();
+    EXPECT_GE(link["rtt_us"]["p99"].get<double>(), link["rtt_us"]["median"].get<double>());
+    EXPECT_GT(rep["haptics"]["device_link"]["exchanges"].get<long>(), 1000) << rep["haptics"].dump(1);
+    // The connection outlived the session's set-up: never dropped and welcomed again.
+    EXPECT_EQ(link["events"].get<std::string>().find("disconnected"), std::string::npos) << link.dump();
+    // The session's end ends the --once server, which says how many sessions it served.
+    std::string sessions;
+    EXPECT_TRUE(server.wait_for_line(std::regex(R"(device-server: ([0-9]+) sessions)"), 60.0, sessions)) << server.seen();
+    EXPECT_GE(sessions, "1");
+}
+
+// `tridex run` with a served device: the scene's stroke is carved with the server's hand, the link reported.
+TEST(NetRun, OffscreenRunAgainstADeviceServerProcessInLocalRendering) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_net_run";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    Child server({TRIDEX_EXE, "device-server", "--device", "simulated", "--listen", "127.0.0.1:0", "--stroke-seconds",
+                  "3", "--once", "--seconds", "240"});
+    ASSERT_TRUE(server.started());
+    std::string port;
+    ASSERT_TRUE(server.wait_for_line(std::regex(R"(on 127\.0\.0\.1:([0-9]+);)"), 120.0, port)) << server.seen();
+    const auto r = run_tridex("run --display offscreen --device net:127.0.0.1:" + port +
+                                  " --haptic-rendering local --no-journal --out " + (dir / "out").string(),
+                              dir / "run");
+    ASSERT_EQ(r.exit_code, 0) << r.err << "\nserver:\n" << server.seen();
+    const nlohmann::json rep = read_json(dir / "out" / "report.json");
+    EXPECT_GT(rep["volume_before_m3"].get<double>() - rep["volume_after_m3"].get<double>(), 0.0) << "nothing carved";
+    const nlohmann::json& link = rep["haptics"]["link"];
+    ASSERT_TRUE(link.is_object()) << rep["haptics"].dump(1);
+    EXPECT_EQ(link["mode"], "local");
+    EXPECT_GT(link["rate_hz"].get<double>(), 200.0) << link.dump();
+    EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();
+}
+
+// What `run` refuses about served devices, in one line naming the flag or field.
+TEST(NetRun, BadNetOptionsAreRefusedWithOneLine) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_net_run_bad";
+    fs::create_directories(dir);
+    const fs::path scene = dir / "scene.json";
+    std::ofstream(scene) << R"({"device": {"driver": "net", "address": "nowhere"}})";
+    const std::pair<std::string, std::string> cases[] = {
+        {"run --display offscreen --haptic-rendering local --frames 1", "--haptic-rendering local: only with --device net"},
+        {"run --display offscreen --device net:127.0.0.1:99999 --frames 1", "is not HOST:PORT"},
+        {"run --display offscreen --device net:127.0.0.1:7 --haptic-rendering both --frames 1", "'both' is not distributed or local"},
+        {"run " + scene.string() + " --display offscreen --frames 1", "field 'device.address'"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const auto r = run_tridex(args, dir / "run");
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+        EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothModes, NetSession, ::testing::Values("distributed", "local"),
+                         [](const ::testing::TestParamInfo<const char*>& i) { return std::string(i.param); });
+
+}  // namespace
