@@ -27,23 +27,27 @@ Pose compose(const Pose& a, const Pose& b) {
     return Pose{a.orientation * b.position + a.position, glm::normalize(a.orientation * b.orientation)};
 }
 
+void parse_port_and_id(std::string_view text, const std::string& option, const std::string& id_name, int id_count,
+                       const std::string& usage, int& port, int& id) {
+    const std::size_t colon = text.find(':');
+    int p = 0;
+    if (!whole_number(text.substr(0, colon), p) || p < 1 || p > 65535)
+        throw Error(option + ": the DTrack UDP port must be a whole number in 1..65535" + usage);
+    port = p;
+    if (colon != std::string_view::npos) {
+        int i = 0;
+        if (!whole_number(text.substr(colon + 1), i) || i < 0 || i >= id_count)
+            throw Error(option + ": the " + id_name + " must be a whole number in 0.." + std::to_string(id_count - 1) +
+                        usage);
+        id = i;
+    }
+}
+
 void parse_dtrack_head_option(const std::string& value, int& port, int& body) {
     const std::string_view v(value);
     const std::string usage = " (expected dtrack:PORT[:BODY], e.g. dtrack:5000:0)";
     if (v.rfind("dtrack:", 0) != 0) throw Error("--head: '" + value + "' is not dtrack:PORT[:BODY]" + usage);
-    const std::string_view rest = v.substr(7);
-    const std::size_t colon = rest.find(':');
-    int p = 0;
-    if (!whole_number(rest.substr(0, colon), p) || p < 1 || p > 65535)
-        throw Error("--head: the DTrack UDP port must be a whole number in 1..65535" + usage);
-    port = p;
-    if (colon != std::string_view::npos) {
-        int b = 0;
-        if (!whole_number(rest.substr(colon + 1), b) || b < 0 || b >= devices::kDTrackKeptBodies)
-            throw Error("--head: the DTrack body id must be a whole number in 0.." +
-                        std::to_string(devices::kDTrackKeptBodies - 1) + usage);
-        body = b;
-    }
+    parse_port_and_id(v.substr(7), "--head", "DTrack body id", devices::kDTrackKeptBodies, usage, port, body);
 }
 
 DTrackHead::DTrackHead(const DTrackHeadSettings& s, std::shared_ptr<devices::DTrackReceiver> shared)

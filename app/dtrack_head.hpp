@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -78,6 +79,12 @@ private:
 
 /// a * b: the transform that applies b, then a.
 Pose compose(const Pose& a, const Pose& b);
+
+/// Parses "PORT[:ID]" (`text`, what follows a prefix such as "dtrack:"): PORT, a whole number 1..65535, into
+/// `port`; an ID, when given, a whole number 0..id_count-1, into `id` (kept when absent). Throws tridex::Error
+/// "<option>: the DTrack UDP port must be ..." or "<option>: the <id_name> must be ..." followed by `usage`.
+void parse_port_and_id(std::string_view text, const std::string& option, const std::string& id_name, int id_count,
+                       const std::string& usage, int& port, int& id);
 
 /// Parses `--head dtrack:PORT[:BODY]` (PORT 1..65535, BODY 0..kDTrackKeptBodies-1; a missing BODY keeps
 /// `body`). Throws tridex::Error "--head: ..." naming what is wrong.

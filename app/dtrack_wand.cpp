@@ -1,8 +1,6 @@
 // app/dtrack_wand.cpp - DTrack Flystick as the Wand.
 #include "app/dtrack_wand.hpp"
 
-#include <charconv>
-#include <chrono>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -11,38 +9,12 @@
 #include "core/error.hpp"
 
 namespace tridex::app {
-namespace {
-
-bool whole_number(std::string_view s, int& out) {
-    if (s.empty()) return false;
-    const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
-    return ec == std::errc() && p == s.data() + s.size();
-}
-
-std::int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-}  // namespace
 
 void parse_dtrack_wand_option(const std::string& value, int& port, int& flystick) {
     const std::string_view v(value);
     const std::string usage = " (expected dtrack:PORT[:FLYSTICK], e.g. dtrack:5000:0)";
     if (v.rfind("dtrack:", 0) != 0) throw Error("--wand: '" + value + "' is not dtrack:PORT[:FLYSTICK]" + usage);
-    const std::string_view rest = v.substr(7);
-    const std::size_t colon = rest.find(':');
-    int p = 0;
-    if (!whole_number(rest.substr(0, colon), p) || p < 1 || p > 65535)
-        throw Error("--wand: the DTrack UDP port must be a whole number in 1..65535" + usage);
-    port = p;
-    if (colon != std::string_view::npos) {
-        int f = 0;
-        if (!whole_number(rest.substr(colon + 1), f) || f < 0 || f >= devices::kDTrackKeptFlysticks)
-            throw Error("--wand: the Flystick id must be a whole number in 0.." +
-                        std::to_string(devices::kDTrackKeptFlysticks - 1) + usage);
-        flystick = f;
-    }
+    parse_port_and_id(v.substr(7), "--wand", "Flystick id", devices::kDTrackKeptFlysticks, usage, port, flystick);
 }
 
 bool parse_tracked_tool_option(const std::string& value, std::string& driver, int& port, int& id) {
@@ -52,23 +24,11 @@ bool parse_tracked_tool_option(const std::string& value, std::string& driver, in
         if (v == d || v.rfind(std::string(d) + ":", 0) == 0) name = d;
     if (name.empty()) return false;
     const bool flystick = name == "flystick";
-    const int kept = flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies;
     const std::string usage = " (expected " + name + "[:PORT[:ID]], e.g. " + name + ":5000:" + (flystick ? "0" : "2") + ")";
     driver = name;
-    if (v.size() == name.size()) return true;
-    const std::string_view rest = v.substr(name.size() + 1);
-    const std::size_t colon = rest.find(':');
-    int p = 0;
-    if (!whole_number(rest.substr(0, colon), p) || p < 1 || p > 65535)
-        throw Error("--device: the DTrack UDP port must be a whole number in 1..65535" + usage);
-    port = p;
-    if (colon != std::string_view::npos) {
-        int i = 0;
-        if (!whole_number(rest.substr(colon + 1), i) || i < 0 || i >= kept)
-            throw Error(std::string("--device: the ") + (flystick ? "Flystick" : "body") +
-                        " id must be a whole number in 0.." + std::to_string(kept - 1) + usage);
-        id = i;
-    }
+    if (v.size() > name.size())
+        parse_port_and_id(v.substr(name.size() + 1), "--device", flystick ? "Flystick id" : "body id",
+                          flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies, usage, port, id);
     return true;
 }
 
@@ -89,7 +49,7 @@ WandSample DTrackWand::sample() {
         why_ = "no sample of this Flystick yet";
     } else if (!f.flystick.body.tracked()) {
         why_ = "not tracked (quality -1)";
-    } else if (static_cast<double>(now_ns() - f.receipt_ns) * 1e-9 > settings_.timeout_s) {
+    } else if (static_cast<double>(devices::dtrack_clock_ns() - f.receipt_ns) * 1e-9 > settings_.timeout_s) {
         why_ = "stale (no datagram for more than " + std::to_string(settings_.timeout_s) + " s)";
     } else {
         why_ = "tracked";

@@ -2,13 +2,12 @@
 #include "app/elastic_scene.hpp"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "app/assets.hpp"
 #include "app/json_fields.hpp"
+#include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 
@@ -114,16 +113,7 @@ ElasticScene elastic_scene_from_json(const json& j, const std::string& source) {
 ElasticScene load_elastic_scene(const std::string& path_in) {
     const std::string path =
         path_in.empty() ? bundled_asset("squeeze_ball_scene.json", "elastic scene", "pass --scene FILE") : path_in;
-    if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
-    std::ifstream in(path);
-    if (!in) throw Error(path + ": cannot read the scene file");
-    json j;
-    try {
-        in >> j;
-    } catch (const json::parse_error& e) {
-        throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
-    return elastic_scene_from_json(j, path);
+    return elastic_scene_from_json(read_scene_json(path), path);
 }
 
 }  // namespace tridex::app

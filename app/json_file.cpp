@@ -9,6 +9,19 @@
 
 namespace tridex::app {
 
+nlohmann::json read_scene_json(const std::string& path) {
+    if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
+    std::ifstream in(path);
+    if (!in) throw Error(path + ": cannot read the scene file");
+    nlohmann::json j;
+    try {
+        in >> j;
+    } catch (const nlohmann::json::parse_error& e) {
+        throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    }
+    return j;
+}
+
 void write_json_file(const std::string& path, const nlohmann::json& j) {
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     std::error_code ec;

@@ -10,4 +10,8 @@ namespace tridex::app {
 /// tridex::Error "<path>: cannot open for writing" / "<path>: write failed".
 void write_json_file(const std::string& path, const nlohmann::json& j);
 
+/// Reads a scene file `path` as JSON. Throws tridex::Error "<path>: is a folder; name a scene file (JSON)",
+/// "<path>: cannot read the scene file" or "<path>: not valid JSON (byte N)".
+nlohmann::json read_scene_json(const std::string& path);
+
 }  // namespace tridex::app

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +11,7 @@
 #include "app/assets.hpp"
 #include "app/demo.hpp"
 #include "app/json_fields.hpp"
+#include "app/json_file.hpp"
 #include "app/study/trial_table.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
@@ -513,16 +513,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
 
 RunScene load_run_scene(const std::string& path_in) {
     const std::string path = path_in.empty() ? default_scene_path() : path_in;
-    if (fs::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
-    std::ifstream in(path);
-    if (!in) throw Error(path + ": cannot read the scene file");
-    json j;
-    try {
-        in >> j;
-    } catch (const json::parse_error& e) {
-        throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
-    return run_scene_from_json(j, path, fs::path(path).parent_path().string());
+    return run_scene_from_json(read_scene_json(path), path, fs::path(path).parent_path().string());
 }
 
 std::string default_scene_path() { return bundled_asset("default_scene.json", "scene", "pass a SCENE file"); }

@@ -16,15 +16,6 @@
 #include "core/thread_name.hpp"
 
 namespace tridex::devices {
-namespace {
-
-std::int64_t steady_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-}  // namespace
-
 DTrackReceiver::DTrackReceiver(int port, const std::string& bind_address) {
     const std::string what = "DTrack UDP port " + std::to_string(port);
     if (port < 0 || port > 65535) throw Error(what + ": must be 1..65535 (0: any free port)");
@@ -121,7 +112,7 @@ void DTrackReceiver::run() {
         bool changed = false;
         for (;;) {
             const ssize_t got = ::recv(fd_, buf.data(), buf.size(), MSG_DONTWAIT | MSG_TRUNC);
-            const std::int64_t t = steady_ns();
+            const std::int64_t t = dtrack_clock_ns();
             if (got < 0) {
                 if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)
                     socket_errors_.fetch_add(1, std::memory_order_relaxed);

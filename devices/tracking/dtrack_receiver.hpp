@@ -62,6 +62,12 @@ struct DTrackReceiverStats {
     std::uint64_t published = 0;
 };
 
+/// Now on the clock of the samples' receipt_ns: std::chrono::steady_clock time since its epoch, ns.
+inline std::int64_t dtrack_clock_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
 /// The receiver's readers: each is one thread. kView: the render thread (head, Wand navigation); kDevice: a
 /// tracked tool's haptic thread (devices/tracking/flystick_device.hpp).
 enum class DTrackReader : int { kView = 0, kDevice = 1 };

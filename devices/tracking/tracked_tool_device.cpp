@@ -1,7 +1,6 @@
 // devices/tracking/tracked_tool_device.cpp - a DTrack-tracked Flystick or body as the tool.
 #include "devices/tracking/tracked_tool_device.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -9,15 +8,6 @@
 #include "core/error.hpp"
 
 namespace tridex::devices {
-
-namespace {
-
-std::int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-}  // namespace
 
 std::uint32_t tracked_tool_button_bits(std::uint64_t flystick_buttons) {
     std::uint32_t bits = (flystick_buttons & 1u) ? tracked_tool_buttons::kEngage : 0u;
@@ -62,7 +52,7 @@ bool TrackedToolDevice::do_read(DeviceState& out) {
         body = b.body;
     }
     const bool fresh = seen && body.tracked() &&
-                       static_cast<double>(now_ns() - receipt_ns) * 1e-9 <= params_.timeout_s;
+                       static_cast<double>(dtrack_clock_ns() - receipt_ns) * 1e-9 <= params_.timeout_s;
     const Pose& t = params_.tracker_to_device;
     const Pose p = body.pose();
     const Vec3 target = t.orientation * p.position + t.position;

@@ -280,6 +280,29 @@ TEST(DTrackWand, SceneWandBlockIsReadAndChecked) {
         EXPECT_THROW(run_scene_from_json(nlohmann::json::parse(bad), "t.json", "."), Error) << bad;
 }
 
+// Runs an offscreen session while a thread sends `frame(tx, fr)` (fr = 1, 2, ...) to 127.0.0.1:port every 5 ms;
+// the sender stops (and is joined) however the session ends.
+template <class Frame>
+void run_while_sending(const RunOptions& o, int port, Frame frame) {
+    std::atomic<bool> stop{false};
+    std::thread sender([&] {
+        DTrackSender tx(port);
+        for (unsigned fr = 1; !stop.load(); ++fr) {
+            frame(tx, fr);
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    });
+    try {
+        run_stereo_session(o);
+    } catch (...) {
+        stop = true;
+        sender.join();
+        throw;
+    }
+    stop = true;
+    sender.join();
+}
+
 // Offscreen `tridex run --head dtrack:PORT:0 --wand dtrack:PORT:1` while a sender streams the head and a Flystick
 // carried along +x with the trigger held: the wand shares the head's receiver and carries the scene along +x.
 TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
@@ -297,15 +320,6 @@ TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
         devices::DTrackReceiver probe(0, "127.0.0.1");
         port = probe.port();
     }
-    std::atomic<bool> stop{false};
-    std::thread sender([&] {
-        DTrackSender tx(port);
-        for (unsigned fr = 1; !stop.load(); ++fr) {
-            tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
-            tx.send(dtrack_flystick_datagram(fr, 1, Vec3(0.5 * fr, 0.0, 300.0), glm::dmat3(1.0), 0x1, 0.0, 0.0));
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
-    });
     RunOptions o;
     o.scene = scene;
     o.display = "offscreen";
@@ -316,15 +330,10 @@ TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
     o.items = false;
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.wand = "dtrack:" + std::to_string(port) + ":1";
-    try {
-        run_stereo_session(o);
-    } catch (...) {
-        stop = true;
-        sender.join();
-        throw;
-    }
-    stop = true;
-    sender.join();
+    run_while_sending(o, port, [](DTrackSender& tx, unsigned fr) {
+        tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
+        tx.send(dtrack_flystick_datagram(fr, 1, Vec3(0.5 * fr, 0.0, 300.0), glm::dmat3(1.0), 0x1, 0.0, 0.0));
+    });
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
     const nlohmann::json& w = report.at("wand");
     EXPECT_EQ(w.at("provider").get<std::string>(), "dtrack");
@@ -356,17 +365,6 @@ TEST(DTrackTool, TheFlystickCarvesOnlyWhileItsTriggerIsHeld) {
         port = probe.port();
     }
     auto run = [&](unsigned buttons, const std::string& out) {
-        std::atomic<bool> stop{false};
-        std::thread sender([&] {
-            DTrackSender tx(port);
-            for (unsigned fr = 1; !stop.load(); ++fr) {
-                // Across the workpiece along x at its centre, 0.1 m/s, back and forth.
-                const double x_mm = -50.0 + std::fmod(0.5 * fr, 100.0);
-                tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
-                tx.send(dtrack_flystick_datagram(fr, 1, Vec3(x_mm, 0.0, 50.0), glm::dmat3(1.0), buttons, 0.0, 0.0));
-                std::this_thread::sleep_for(std::chrono::milliseconds(5));
-            }
-        });
         RunOptions o;
         o.scene = scene;
         o.display = "offscreen";
@@ -376,15 +374,12 @@ TEST(DTrackTool, TheFlystickCarvesOnlyWhileItsTriggerIsHeld) {
         o.no_journal = true;
         o.head = "dtrack:" + std::to_string(port) + ":0";
         o.device = "flystick:" + std::to_string(port) + ":1";
-        try {
-            run_stereo_session(o);
-        } catch (...) {
-            stop = true;
-            sender.join();
-            throw;
-        }
-        stop = true;
-        sender.join();
+        run_while_sending(o, port, [buttons](DTrackSender& tx, unsigned fr) {
+            // Across the workpiece along x at its centre, 0.1 m/s, back and forth.
+            const double x_mm = -50.0 + std::fmod(0.5 * fr, 100.0);
+            tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
+            tx.send(dtrack_flystick_datagram(fr, 1, Vec3(x_mm, 0.0, 50.0), glm::dmat3(1.0), buttons, 0.0, 0.0));
+        });
         return nlohmann::json::parse(std::ifstream(dir / out / "report.json"));
     };
     const nlohmann::json held = run(0x1, "held");
