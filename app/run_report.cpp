@@ -90,7 +90,7 @@ json run_report_json(const RunResult& r) {
                 {"interval_ms", r.interval_ms.to_json()},
                 {"gpu_ms", r.gpu_ms.to_json()}};
     if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
-    return json{
+    json j{
         {"scene", sc.source},
         {"mesh", sc.spec.mesh_path},
         {"resolution", sc.spec.resolution},
@@ -151,6 +151,9 @@ json run_report_json(const RunResult& r) {
         {"wall_s", r.wall_s},
         {"notes", r.notes},
         {"files", r.files}};
+    // A served device's link, at the top level as the demo's report has it (and under haptics, as before).
+    if (r.haptics.is_object() && r.haptics.contains("link")) j["link"] = r.haptics["link"];
+    return j;
 }
 
 void write_run_report(const std::string& path, const RunResult& result) {
