@@ -71,6 +71,13 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
     c.bubble_rate_m_s = w.bubble_rate_m_s;
     c.bubble_rate_exponent = w.bubble_rate_exponent;
     c.bubble_stiffness_n_per_m = w.bubble_stiffness_n_per_m;
+    // The same contact points as this session's own loop would render with.
+    static_assert(devices::net::kMaxContactPoints == haptics::kMaxToolPoints);
+    const haptics::ToolPoints& tp = cfg.tool_points;
+    c.point_count = static_cast<std::uint8_t>(std::clamp(tp.count, 0, haptics::kMaxToolPoints));
+    c.point_radius_m = tp.radius_m;
+    c.point_local_m = tp.local_m;
+    c.point_normal = tp.normal;
     net->set_contact(c);
 }
 

@@ -106,6 +106,14 @@ void DeviceServer::build_loop() {
     c.workspace.bubble_rate_m_s = contact_.bubble_rate_m_s;
     c.workspace.bubble_rate_exponent = contact_.bubble_rate_exponent;
     c.workspace.bubble_stiffness_n_per_m = contact_.bubble_stiffness_n_per_m;
+    // The session's contact points (none: the single god-object of tool_radius_m), the wand's pair or an
+    // interaction mesh.
+    static_assert(net::kMaxContactPoints == kMaxToolPoints);
+    c.tool_points.count = contact_.point_count;
+    c.tool_points.radius_m = contact_.point_radius_m;
+    c.tool_points.local_m = contact_.point_local_m;
+    c.tool_points.normal = contact_.point_normal;
+    c.contact_mode = c.tool_points.count > 2 ? MultiPointMode::kInteractionMesh : MultiPointMode::kIndependentProxies;
     c.request_realtime = false;
     if (!surface_) {
         surface_ = std::make_unique<TripleBuffer<ActiveSurface>>();

@@ -1,6 +1,7 @@
 // devices/net/link_wire.cpp - encoding and checked decoding of the link datagrams.
 #include "devices/net/link_wire.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -163,6 +164,13 @@ void encode(Header h, const ContactMsg& m, std::vector<std::uint8_t>& out) {
                      m.bubble_stiffness_n_per_m})
         w.f64(v);
     w.u32(m.revision);
+    const int n = std::clamp<int>(m.point_count, 0, kMaxContactPoints);
+    w.u8(static_cast<std::uint8_t>(n));
+    w.f64(m.point_radius_m);
+    for (int i = 0; i < n; ++i) {
+        w.vec3(m.point_local_m[static_cast<std::size_t>(i)]);
+        w.vec3(m.point_normal[static_cast<std::size_t>(i)]);
+    }
 }
 
 void encode_heartbeat(Header h, std::vector<std::uint8_t>& out) { begin(h, MsgType::kHeartbeat, out); }
@@ -265,9 +273,18 @@ DropReason decode(const std::uint8_t* p, std::size_t n, ContactMsg& m) {
                       &m.bubble_stiffness_n_per_m})
         *v = r.f64();
     m.revision = r.u32();
+    m.point_count = r.u8();
+    m.point_radius_m = r.f64();
+    if (r.failed()) return DropReason::kBadLength;
+    if (m.point_count > kMaxContactPoints) return DropReason::kOutOfRange;
+    for (int i = 0; i < m.point_count; ++i) {
+        m.point_local_m[static_cast<std::size_t>(i)] = r.vec3();
+        m.point_normal[static_cast<std::size_t>(i)] = r.vec3();
+    }
     if (const DropReason d = finish(r); d != DropReason::kNone) return d;
     if (m.stiffness_n_per_m < 0.0 || m.damping_n_s_per_m < 0.0 || m.tool_radius_m < 0.0 || m.static_friction < 0.0 ||
-        m.dynamic_friction < 0.0 || m.ewma_alpha < 0.0 || m.ewma_alpha >= 1.0 || !(m.workspace_scale > 0.0))
+        m.dynamic_friction < 0.0 || m.ewma_alpha < 0.0 || m.ewma_alpha >= 1.0 || !(m.workspace_scale > 0.0) ||
+        m.point_radius_m < 0.0)
         return DropReason::kOutOfRange;
     return DropReason::kNone;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,7 +15,8 @@ namespace tridex::devices::net {
 
 /// Version of the datagram layout; a peer with another version is refused at the handshake.
 /// 2: kState carries the tool sample of the server's contact loop in local rendering.
-inline constexpr std::uint16_t kLinkVersion = 2;
+/// 3: kContact carries the tool's contact points (the interaction mesh), not only a radius.
+inline constexpr std::uint16_t kLinkVersion = 3;
 /// First four bytes of every datagram: "TDXL".
 inline constexpr std::uint32_t kLinkMagic = 0x4c584454u;
 /// Bytes of the header every datagram starts with.
@@ -91,6 +93,9 @@ struct ForceMsg {
     Vec3 torque_nm{0.0};
 };
 
+/// Most contact points a kContact message carries (haptics::kMaxToolPoints).
+inline constexpr int kMaxContactPoints = 64;
+
 /// kContact payload: what the server's god-object loop needs from the session (SI units).
 struct ContactMsg {
     double stiffness_n_per_m = 700.0;
@@ -108,6 +113,14 @@ struct ContactMsg {
     double jump_gain = 1.0, drag_gain = 1.0;
     double bubble_radius_m = 0.0, bubble_rate_m_s = 0.5, bubble_rate_exponent = 3.0, bubble_stiffness_n_per_m = 50.0;
     std::uint32_t revision = 0;    ///< +1 whenever the session changes any of these
+    /// The tool's contact points (haptics::ToolPoints: tool frame, m): how many, 0..kMaxContactPoints (0 = the
+    /// single god-object of tool_radius_m; two = the wand's pair, more = Popescu's haptic interaction mesh), the
+    /// ball radius around each (m, >= 0), their positions and outward unit normals (zero when none). Only
+    /// `point_count` of each go on the wire.
+    std::uint8_t point_count = 0;
+    double point_radius_m = 0.0;
+    std::array<Vec3, kMaxContactPoints> point_local_m{};
+    std::array<Vec3, kMaxContactPoints> point_normal{};
 };
 
 /// Appends a header to out (cleared first).

@@ -293,6 +293,79 @@ TEST(DeviceServer, LocalRenderingSessionSculptsWithTheServersToolSamples) {
     EXPECT_GT(rec.proxy_m.z, -0.0002);
 }
 
+// The session's contact points reach the server's loop: the hand stops 2 mm above a z = 0 wall, so a tool whose
+// contact point is its centre never touches it, while one whose contact point is 5 mm below the centre (its tip)
+// presses into it and is pushed back.
+TEST(DeviceServer, LocalRenderingUsesTheSessionsContactPoints) {
+    struct Outcome {
+        double force_z_n;
+        double min_z_m;
+    };
+    auto press = [](const net::ContactMsg& contact) {
+        LinkRig rig(net::RenderingMode::kLocal,
+                    ScriptedPath({0.0, 0.2}, {Vec3(0.0, 0.0, 0.015), Vec3(0.0, 0.0, 0.002)}));
+        rig.client->set_contact(contact);
+        EXPECT_TRUE(rig.connect());
+        rig.client->bring_up();
+        auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+        test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
+        wall->centre_m = Vec3(0.0);
+        devices::DeviceState s;
+        double min_z = 1.0;
+        for (int i = 0; i < 600; ++i) {
+            EXPECT_TRUE(rig.client->read(s));
+            rig.client->observe_surface(*wall);
+            rig.client->write(Vec3(0.0), Vec3(0.0));
+            rig.client->service();
+            rig.server_tick();
+            min_z = std::min(min_z, rig.device.position_m().z);
+        }
+        return Outcome{rig.device.last_force_n().z, min_z};
+    };
+    net::ContactMsg centre;
+    centre.stiffness_n_per_m = 700.0;
+    net::ContactMsg tip = centre;
+    tip.point_count = 1;
+    tip.point_local_m[0] = Vec3(0.0, 0.0, -0.005);
+    const Outcome c = press(centre), t = press(tip);
+    EXPECT_NEAR(c.force_z_n, 0.0, 1e-9) << "the centre never reaches the wall";
+    EXPECT_GT(t.force_z_n, 0.3) << "the tip presses into the wall and is pushed back";
+    EXPECT_GT(t.min_z_m, 0.002 + 0.0005) << "the wall holds the tool above the hand's target";
+}
+
+TEST(LinkWire, ContactPointsRoundTripAndTooManyAreRefused) {
+    net::ContactMsg m;
+    m.point_count = 3;
+    m.point_radius_m = 0.002;
+    for (int i = 0; i < 3; ++i) {
+        m.point_local_m[i] = Vec3(0.001 * i, -0.002, 0.003);
+        m.point_normal[i] = Vec3(0.0, 0.0, 1.0);
+    }
+    net::Header h;
+    std::vector<std::uint8_t> d;
+    net::encode(h, m, d);
+    net::Header hh;
+    ASSERT_EQ(net::decode_header(d.data(), d.size(), hh), net::DropReason::kNone);
+    net::ContactMsg back;
+    ASSERT_EQ(net::decode(d.data(), d.size(), back), net::DropReason::kNone);
+    EXPECT_EQ(back.point_count, 3);
+    EXPECT_EQ(back.point_radius_m, 0.002);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(back.point_local_m[i], m.point_local_m[i]);
+        EXPECT_EQ(back.point_normal[i], m.point_normal[i]);
+    }
+    d.pop_back();  // torn
+    EXPECT_EQ(net::decode(d.data(), d.size(), back), net::DropReason::kBadLength);
+    m.point_count = 0;  // no points: the single god-object, the shortest message
+    net::encode(h, m, d);
+    const std::size_t shortest = d.size();
+    ASSERT_EQ(net::decode(d.data(), d.size(), back), net::DropReason::kNone);
+    EXPECT_EQ(back.point_count, 0);
+    // A count byte above the limit (the count sits 9 bytes before the end of a point-less message).
+    d[shortest - 9] = static_cast<std::uint8_t>(net::kMaxContactPoints + 1);
+    EXPECT_EQ(net::decode(d.data(), d.size(), back), net::DropReason::kOutOfRange);
+}
+
 TEST(LinkWire, StateWithAToolSampleRoundTripsAndBadFlagsAreRefused) {
     net::StateMsg m;
     m.state.t_s = 1.5;
