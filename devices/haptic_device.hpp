@@ -181,6 +181,10 @@ public:
     /// with each new snapshot. Drivers that render contact next to the device (net in local mode) forward the
     /// newest to it; others ignore it. May allocate and lock; must not wait on the haptic thread.
     virtual void observe_surface(const ActiveSurface& surface) { (void)surface; }
+    /// Called by the haptic loop (haptic thread) when the tool is resized during a session: the contact points'
+    /// positions and radii are now `scale` (> 0) times those the session configured. Drivers that render contact
+    /// next to the device (net in local mode) forward it; others ignore it. Must not block, allocate or do I/O.
+    virtual void observe_tool_scale(double scale) { (void)scale; }
     /// The tool sample that a contact loop next to the device computed for the sample the last read() returned
     /// (haptic thread, after read()); false when the device renders no contact itself (every local driver) or sent
     /// none for it. Must not block or allocate.

@@ -119,7 +119,10 @@ void HapticLoop::use_tool(const ToolShape& tool) {
     ToolPoints p = base_points_;
     for (int i = 0; i < p.count; ++i) p.local_m[static_cast<std::size_t>(i)] *= s;
     p.radius_m *= s;
-    if (contact_.set_points(p)) tool_ = tool;
+    if (contact_.set_points(p)) {
+        tool_ = tool;
+        device_.observe_tool_scale(s);  // a contact loop next to the device touches with the same tool
+    }
     reset_contact();
 }
 

@@ -71,10 +71,31 @@ void NetDevice::link_thread_main() {
     }
 }
 
+void NetDevice::observe_tool_scale(double scale) {
+    if (opt_.mode == RenderingMode::kLocal && std::isfinite(scale) && scale > 0.0)
+        tool_scale_.store(scale, std::memory_order_relaxed);
+}
+
 void NetDevice::service() {
     std::lock_guard link(link_mutex_);
     if (!loop_on_) pump();  // keep-alive: acknowledgements, pings, a welcome, a refusal
     if (opt_.mode != RenderingMode::kLocal || !welcomed_) return;
+    // A resized tool: the server's loop gets the scaled contact points (a new revision).
+    if (const double s = tool_scale_.load(std::memory_order_relaxed); have_contact_ && s != sent_scale_) {
+        const std::uint32_t revision = contact_.revision + 1;
+        contact_ = contact_base_;
+        contact_.revision = revision;
+        contact_.tool_radius_m *= s;
+        contact_.point_radius_m *= s;
+        for (int i = 0; i < contact_.point_count; ++i) contact_.point_local_m[static_cast<std::size_t>(i)] *= s;
+        sent_scale_ = s;
+        if (loop_on_) {
+            encode(header(++reliable_seq_), contact_, out_);
+            link_->send(out_, true);
+        } else {
+            contact_pending_ = true;
+        }
+    }
     const double now = opt_.clock();
     bool send = false;
     {
@@ -139,6 +160,9 @@ void NetDevice::set_contact(const ContactMsg& contact) {
     const std::uint32_t revision = have_contact_ ? contact_.revision + 1 : contact.revision;
     contact_ = contact;
     contact_.revision = revision;
+    contact_base_ = contact;
+    sent_scale_ = 1.0;
+    tool_scale_.store(1.0, std::memory_order_relaxed);
     have_contact_ = true;
     contact_pending_ = true;  // sent when the loop starts (on_enable), so no reliable datagram waits unacknowledged
                               // while the session finishes its set-up without polling the link

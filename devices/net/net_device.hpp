@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -87,6 +88,9 @@ public:
     /// Local mode: the tool sample the server's god-object loop computed with the newest state (what the session
     /// sculpts with); false in distributed mode or before the contact parameters reached the server.
     bool remote_tool(RemoteToolSample& out) const override;
+    /// Local mode: the tool was resized to `scale` times the contact points set_contact() gave (haptic thread: one
+    /// atomic store); the link thread sends the scaled contact parameters. Distributed mode: nothing.
+    void observe_tool_scale(double scale) override;
     /// One round of the link thread's work: pumps the link while the haptic loop is not running, and sends the newest
     /// offered snapshot when due. Any thread except the haptic loop's; blocks on the link for at most one send.
     void service();
@@ -147,6 +151,9 @@ private:
     std::uint64_t server_lost_base_ = 0, server_trips_base_ = 0, server_stale_base_ = 0;  // totals of earlier servers
     // Local mode.
     ContactMsg contact_;
+    ContactMsg contact_base_;                 // as set_contact() gave it, before any tool scale
+    std::atomic<double> tool_scale_{1.0};     // the newest tool scale (haptic thread -> link thread)
+    double sent_scale_ = 1.0;                 // the scale contact_ carries (under link_mutex_)
     bool have_contact_ = false;
     bool contact_pending_ = false;  // set_contact() since the last send
     // Threads. link_mutex_ guards the link and everything pump() and handle() touch; the haptic thread only

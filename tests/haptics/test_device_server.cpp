@@ -333,6 +333,38 @@ TEST(DeviceServer, LocalRenderingUsesTheSessionsContactPoints) {
     EXPECT_GT(t.min_z_m, 0.002 + 0.0005) << "the wall holds the tool above the hand's target";
 }
 
+// A tool resized during the session reaches the server: a contact point 2 mm below the centre stays 1 mm above the
+// wall when the hand comes to rest 3 mm above it; resized to twice the size before the hand comes down, it ends
+// 1 mm in the wall, and the server pushes back.
+TEST(DeviceServer, LocalRenderingFollowsAResizedTool) {
+    auto final_force_z = [](double scale) {
+        LinkRig rig(net::RenderingMode::kLocal,
+                    ScriptedPath({0.0, 0.3, 0.5}, {Vec3(0.0, 0.0, 0.015), Vec3(0.0, 0.0, 0.015), Vec3(0.0, 0.0, 0.003)}));
+        net::ContactMsg contact;
+        contact.stiffness_n_per_m = 700.0;
+        contact.point_count = 1;
+        contact.point_local_m[0] = Vec3(0.0, 0.0, -0.002);
+        rig.client->set_contact(contact);
+        EXPECT_TRUE(rig.connect());
+        rig.client->bring_up();
+        auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+        test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
+        wall->centre_m = Vec3(0.0);
+        devices::DeviceState s;
+        for (int i = 0; i < 900; ++i) {
+            if (i == 100) rig.client->observe_tool_scale(scale);  // as the loop does when [ or ] resizes the tool
+            EXPECT_TRUE(rig.client->read(s));
+            rig.client->observe_surface(*wall);
+            rig.client->write(Vec3(0.0), Vec3(0.0));
+            rig.client->service();
+            rig.server_tick();
+        }
+        return rig.device.last_force_n().z;
+    };
+    EXPECT_NEAR(final_force_z(1.0), 0.0, 1e-9) << "the tool as configured does not reach the wall";
+    EXPECT_GT(final_force_z(2.0), 0.2) << "the resized tool presses into the wall";
+}
+
 TEST(LinkWire, ContactPointsRoundTripAndTooManyAreRefused) {
     net::ContactMsg m;
     m.point_count = 3;
