@@ -51,6 +51,7 @@ nlohmann::json row_json(const RenderBenchRow& r) {
             {"tiles_skipped_left", r.tiles_skipped_left}, {"tiles_skipped_right", r.tiles_skipped_right},
             {"tiles", r.tiles}, {"triangles", r.triangles},
             {"triangles_drawn", {r.triangles_drawn_left, r.triangles_drawn_right}},
+            {"draws", r.draws}, {"draws_merged", r.draws_merged},
             {"speedup", r.speedup}, {"lod_speedup", r.lod_speedup},
             {"silhouette_mismatch", r.silhouette_mismatch}, {"mean_abs_diff", r.mean_abs_diff},
             {"tile_buffers", r.tile_buffers}, {"tile_memory_blocks", r.tile_memory_blocks}};
@@ -238,6 +239,8 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.tiles_skipped_right = g.last.tiles[1].skipped;
                     row.triangles_drawn_left = g.last.tile_triangles[0];
                     row.triangles_drawn_right = g.last.tile_triangles[1];
+                    row.draws = g.last.draws;
+                    row.draws_merged = g.last.draws_merged;
                     row.tiles = view.tiles.size();
                     row.triangles = triangles;
                     row.tile_buffers = r.tile_buffers();

@@ -2,6 +2,7 @@
 #include "gpu/buffer_pool.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <string>
 #include <utility>
 
@@ -50,17 +51,26 @@ void PooledBuffer::release() {
     mapped_ = nullptr;
 }
 
-std::unique_ptr<BufferPool> BufferPool::create(const Context& context, VkDeviceSize block_bytes) {
+VkBuffer PooledBuffer::block_buffer() const { return pool_ ? pool_->blocks_[block_].whole : VK_NULL_HANDLE; }
+
+std::unique_ptr<BufferPool> BufferPool::create(const Context& context, VkDeviceSize block_bytes,
+                                               VkBufferUsageFlags block_usage) {
     if (block_bytes == 0) throw Error("gpu: BufferPool block size must be > 0");
     std::unique_ptr<BufferPool> p(new BufferPool());
     p->context_ = &context;
     p->block_bytes_ = block_bytes;
+    p->block_usage_ = block_usage;
     return p;
 }
 
 BufferPool::~BufferPool() {
-    for (Block& b : blocks_)
-        if (b.memory != VK_NULL_HANDLE) vkFreeMemory(context_->device(), b.memory, nullptr);  // also unmaps
+    for (Block& b : blocks_) free_block(b);
+}
+
+void BufferPool::free_block(Block& b) {
+    if (b.whole != VK_NULL_HANDLE) vkDestroyBuffer(context_->device(), b.whole, nullptr);
+    if (b.memory != VK_NULL_HANDLE) vkFreeMemory(context_->device(), b.memory, nullptr);  // also unmaps
+    b = Block{};
 }
 
 std::size_t BufferPool::blocks() const {
@@ -78,8 +88,9 @@ VkDeviceSize BufferPool::used_bytes() const {
     return used;
 }
 
-PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage) {
+PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage, VkDeviceSize alignment) {
     if (bytes == 0) throw Error("gpu: BufferPool::allocate with size 0");
+    if (alignment == 0) throw Error("gpu: BufferPool::allocate with alignment 0");
     const VkDevice device = context_->device();
     VkBufferCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
@@ -102,6 +113,7 @@ PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage) 
     } catch (const Error& e) {
         fail(e);
     }
+    const VkDeviceSize align = std::lcm(std::max<VkDeviceSize>(req.alignment, 1), alignment);
     // First fit in a block of that memory type; else a new block (in a freed block's slot when there is one).
     std::size_t block = blocks_.size();
     VkDeviceSize offset = 0, span = 0;
@@ -109,7 +121,7 @@ PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage) 
         Block& b = blocks_[i];
         if (b.memory == VK_NULL_HANDLE || b.type != type) continue;
         for (std::size_t k = 0; k < b.free.size(); ++k) {
-            const VkDeviceSize start = align_up(b.free[k].offset, req.alignment);
+            const VkDeviceSize start = align_up(b.free[k].offset, align);
             const VkDeviceSize end = b.free[k].offset + b.free[k].size;
             if (start + req.size > end) continue;
             block = i;
@@ -121,7 +133,7 @@ PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage) 
     if (block == blocks_.size()) {
         Block b;
         b.type = type;
-        b.size = std::max(block_bytes_, align_up(req.size, req.alignment));
+        b.size = std::max(block_bytes_, align_up(req.size, align));
         VkMemoryAllocateInfo alloc{};
         alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
         alloc.allocationSize = b.size;
@@ -133,6 +145,22 @@ PooledBuffer BufferPool::allocate(VkDeviceSize bytes, VkBufferUsageFlags usage) 
         if (vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped) != VK_SUCCESS) {
             vkFreeMemory(device, b.memory, nullptr);
             fail(Error("gpu: BufferPool could not map a block"));
+        }
+        if (block_usage_ != 0) {  // one buffer over the whole block, aliasing the sub-allocated ones
+            VkBufferCreateInfo whole = info;
+            whole.size = b.size;
+            whole.usage = block_usage_;
+            if (vkCreateBuffer(device, &whole, nullptr, &b.whole) == VK_SUCCESS) {
+                VkMemoryRequirements wreq;
+                vkGetBufferMemoryRequirements(device, b.whole, &wreq);
+                if (!(wreq.memoryTypeBits & (1u << type)) || wreq.size > b.size ||
+                    vkBindBufferMemory(device, b.whole, b.memory, 0) != VK_SUCCESS) {
+                    vkDestroyBuffer(device, b.whole, nullptr);
+                    b.whole = VK_NULL_HANDLE;
+                }
+            } else {
+                b.whole = VK_NULL_HANDLE;
+            }
         }
         b.free.push_back(Range{0, b.size});
         const auto empty = std::find_if(blocks_.begin(), blocks_.end(),
@@ -192,10 +220,7 @@ void BufferPool::give_back(std::size_t block, VkDeviceSize offset, VkDeviceSize 
         }
     }
     // An empty block goes back to the driver unless it is the only one.
-    if (b.free.size() == 1 && b.free[0].size == b.size && blocks() > 1) {
-        vkFreeMemory(context_->device(), b.memory, nullptr);
-        b = Block{};
-    }
+    if (b.free.size() == 1 && b.free[0].size == b.size && blocks() > 1) free_block(b);
 }
 
 }  // namespace tridex::gpu

@@ -29,6 +29,11 @@ public:
     VkBuffer handle() const { return buffer_; }  ///< the buffer (VK_NULL_HANDLE when empty)
     VkDeviceSize size() const { return size_; }  ///< bytes asked for
     void* mapped() const { return mapped_; }     ///< its first byte in the mapped block
+    /// A buffer spanning its whole block (usage: the pool's block_usage), so that draws of many PooledBuffers
+    /// of one block can share one binding; VK_NULL_HANDLE when the pool makes none (block_usage 0) or when empty.
+    VkBuffer block_buffer() const;
+    /// Where this buffer starts in block_buffer(), bytes (a multiple of the alignment asked of allocate()).
+    VkDeviceSize offset() const { return offset_; }
 
 private:
     friend class BufferPool;
@@ -49,16 +54,20 @@ private:
 /// its PooledBuffers.
 class BufferPool {
 public:
-    /// A pool making blocks of `block_bytes` (> 0; default 32 MiB). Allocates nothing yet.
-    /// Throws tridex::Error when block_bytes is 0.
-    static std::unique_ptr<BufferPool> create(const Context& context, VkDeviceSize block_bytes = VkDeviceSize{32} << 20);
+    /// A pool making blocks of `block_bytes` (> 0; default 32 MiB). Allocates nothing yet. With block_usage
+    /// non-zero, each block also gets one buffer of that usage over all of it (PooledBuffer::block_buffer; a
+    /// block whose memory type that buffer cannot use gets none). Throws tridex::Error when block_bytes is 0.
+    static std::unique_ptr<BufferPool> create(const Context& context, VkDeviceSize block_bytes = VkDeviceSize{32} << 20,
+                                              VkBufferUsageFlags block_usage = 0);
     ~BufferPool();
     BufferPool(const BufferPool&) = delete;
     BufferPool& operator=(const BufferPool&) = delete;
 
-    /// A buffer of `bytes` (> 0) with `usage`, bound to a range of a block (a new block when none has room).
-    /// Throws tridex::Error when bytes is 0 or on a Vulkan failure (out of memory, no host-visible type).
-    PooledBuffer allocate(VkDeviceSize bytes, VkBufferUsageFlags usage);
+    /// A buffer of `bytes` (> 0) with `usage`, bound to a range of a block (a new block when none has room) that
+    /// starts at a multiple of `alignment` bytes (>= 1; e.g. a vertex stride, so a draw sharing the block's
+    /// buffer can address it by vertexOffset) and of the buffer's own required alignment.
+    /// Throws tridex::Error when bytes or alignment is 0 or on a Vulkan failure (out of memory, no host-visible type).
+    PooledBuffer allocate(VkDeviceSize bytes, VkBufferUsageFlags usage, VkDeviceSize alignment = 1);
 
     std::size_t blocks() const;          ///< VkDeviceMemory allocations held now
     std::size_t live_buffers() const { return live_; }  ///< PooledBuffers not yet destroyed
@@ -75,12 +84,15 @@ private:
         std::uint32_t type = 0;
         VkDeviceSize size = 0;
         void* mapped = nullptr;
+        VkBuffer whole = VK_NULL_HANDLE;  // over the whole block (block_usage), or null
         std::vector<Range> free;  // sorted by offset, never adjacent
     };
     BufferPool() = default;
     void give_back(std::size_t block, VkDeviceSize offset, VkDeviceSize span);
+    void free_block(Block& b);
     const Context* context_ = nullptr;
     VkDeviceSize block_bytes_ = 0;
+    VkBufferUsageFlags block_usage_ = 0;
     std::vector<Block> blocks_;  // a freed block keeps its slot (memory null) so indices stay valid
     std::size_t live_ = 0;
 };

@@ -262,6 +262,9 @@ void create_device(Context::Impl& impl) {
     use.features.shaderInt64 = have.features.shaderInt64;
     use.features.shaderFloat64 = have.features.shaderFloat64;
     use.features.fragmentStoresAndAtomics = have.features.fragmentStoresAndAtomics;
+    // Enabled whenever offered (renderer::DrawBatcher relies on that): indirect multi-draws of per-tile meshes.
+    use.features.multiDrawIndirect = have.features.multiDrawIndirect;
+    use.features.drawIndirectFirstInstance = have.features.drawIndirectFirstInstance;
 
     DeviceFeatures& f = impl.features;
     f.multiview = use11.multiview;

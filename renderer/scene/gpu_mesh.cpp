@@ -45,8 +45,9 @@ void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span
         vertices_ = gpu::Buffer{};
         indices_ = gpu::Buffer{};
         if (pooled_vertices_.size() < vbytes)
-            pooled_vertices_ = pool->allocate(vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-        if (pooled_indices_.size() < ibytes) pooled_indices_ = pool->allocate(ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+            pooled_vertices_ = pool->allocate(vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, sizeof(MeshVertex));
+        if (pooled_indices_.size() < ibytes)
+            pooled_indices_ = pool->allocate(ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, sizeof(std::uint32_t));
         vmap = pooled_vertices_.mapped();
         imap = pooled_indices_.mapped();
     } else {
@@ -68,6 +69,20 @@ void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int k = 0; k < 3; ++k) idx[t * 3 + k] = mesh.triangles[t][k];
     index_count_ = static_cast<std::uint32_t>(mesh.triangles.size() * 3);
+}
+
+GpuMesh::DrawRange GpuMesh::draw_range() const {
+    DrawRange r{vertices(), indices(), 0, 0};
+    const VkBuffer shared_v = pooled_vertices_.block_buffer(), shared_i = pooled_indices_.block_buffer();
+    if (shared_v != VK_NULL_HANDLE && pooled_vertices_.offset() % sizeof(MeshVertex) == 0) {
+        r.vertices = shared_v;
+        r.vertex_offset = static_cast<std::int32_t>(pooled_vertices_.offset() / sizeof(MeshVertex));
+    }
+    if (shared_i != VK_NULL_HANDLE && pooled_indices_.offset() % sizeof(std::uint32_t) == 0) {
+        r.indices = shared_i;
+        r.first_index = static_cast<std::uint32_t>(pooled_indices_.offset() / sizeof(std::uint32_t));
+    }
+    return r;
 }
 
 }  // namespace tridex::renderer

@@ -35,6 +35,17 @@ public:
     VkBuffer indices() const { return pooled_indices_.handle() ? pooled_indices_.handle() : indices_.handle(); }
     std::uint32_t index_count() const { return index_count_; }
 
+    /// Where a draw finds this mesh: buffers to bind and the firstIndex / vertexOffset of vkCmdDrawIndexed.
+    /// Meshes from one pool block (a pool made with vertex and index block usage) share that block's buffer, so
+    /// consecutive draws of them bind nothing new; other meshes are their own buffers at offsets 0.
+    struct DrawRange {
+        VkBuffer vertices = VK_NULL_HANDLE;
+        VkBuffer indices = VK_NULL_HANDLE;
+        std::uint32_t first_index = 0;  ///< in indices
+        std::int32_t vertex_offset = 0;  ///< in vertices (MeshVertex)
+    };
+    DrawRange draw_range() const;
+
 private:
     gpu::Buffer vertices_, indices_;
     gpu::PooledBuffer pooled_vertices_, pooled_indices_;

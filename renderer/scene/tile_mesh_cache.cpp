@@ -11,7 +11,10 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                                 std::vector<GpuMesh>* retired) {
     ++syncs_;
     order_.clear();
-    if (!pool_) pool_ = gpu::BufferPool::create(context);
+    // Blocks with one vertex + index buffer over each: tile draws of one block share a binding.
+    if (!pool_)
+        pool_ = gpu::BufferPool::create(context, VkDeviceSize{32} << 20,
+                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
     std::size_t uploads = 0;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileMesh& t = tiles[i];

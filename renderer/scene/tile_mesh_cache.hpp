@@ -38,7 +38,8 @@ struct TileMesh {
 
 /// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version
 /// changed and frees tiles no longer listed; unchanged tiles cost nothing. Each tile has its own host-
-/// visible GpuMesh (two buffers). Move-only; the Context must outlive it. Not safe while the GPU still
+/// visible GpuMesh (two buffers) sub-allocated from a pool whose blocks each have one buffer over the whole
+/// block, so the draws of all tiles in a block bind one buffer (GpuMesh::draw_range). Move-only; the Context must outlive it. Not safe while the GPU still
 /// reads an earlier frame (the caller retires replaced meshes: sync()'s `retired`).
 class TileMeshCache {
 public:

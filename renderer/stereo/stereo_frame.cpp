@@ -93,6 +93,11 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                     vkCmdBindIndexBuffer(cmd, d.indices, 0, VK_INDEX_TYPE_UINT32);
                     bound_indices = d.indices;
                 }
+                if (d.indirect != VK_NULL_HANDLE && d.indirect_count > 0) {  // a run: the commands carry the eyes
+                    push(constants);
+                    vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, d.indirect_count, kIndirectCommandBytes);
+                    continue;
+                }
                 if (d.indirect != VK_NULL_HANDLE && strategy == EyeStrategy::kInstancedLayer) {
                     // The command's instanceCount is 1: one draw per eye, the eye in the push constant.
                     for (std::uint32_t e = 0; e < 2; ++e) {
@@ -107,7 +112,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                 if (d.indirect != VK_NULL_HANDLE)
                     vkCmdDrawIndexedIndirect(cmd, d.indirect, d.indirect_offset, 1, kIndirectCommandBytes);
                 else
-                    vkCmdDrawIndexed(cmd, d.index_count, instances, 0, 0, first_instance);
+                    vkCmdDrawIndexed(cmd, d.index_count, instances, d.first_index, d.vertex_offset, first_instance);
             }
         }
     };

@@ -21,6 +21,8 @@ struct StereoDraw {
     VkBuffer vertices = VK_NULL_HANDLE;
     VkBuffer indices = VK_NULL_HANDLE;
     std::uint32_t index_count = 0;
+    std::uint32_t first_index = 0;   ///< first index read from `indices` (vkCmdDrawIndexed firstIndex)
+    std::int32_t vertex_offset = 0;  ///< added to each index (vkCmdDrawIndexed vertexOffset)
     DrawConstants constants;  ///< `eye` is overwritten per pass for kPassPerEye
     /// Eyes that draw it: bit 0 left, bit 1 right (0b11 both; 0 none). Pass-per-eye honours it per pass;
     /// instanced-layer draws only the masked instances (first instance = eye); multiview cannot draw one
@@ -33,6 +35,11 @@ struct StereoDraw {
     /// take the eye from the push constant: PipelineKind::kContour).
     VkBuffer indirect = VK_NULL_HANDLE;
     VkDeviceSize indirect_offset = 0;
+    /// With `indirect`: 0 = the one-command convention above; n >= 1 = n consecutive commands drawn by one
+    /// vkCmdDrawIndexedIndirect, each carrying the instanceCount / firstInstance the strategy needs (DrawBatcher:
+    /// instanced-layer 2 from 0 for both eyes, 1 from the eye for one; others 1 from 0). Needs the device's
+    /// multiDrawIndirect (n > 1) and drawIndirectFirstInstance features.
+    std::uint32_t indirect_count = 0;
 };
 
 /// The timed phases of a render pass instance, in drawing order: opaque (kOpaque), translucent

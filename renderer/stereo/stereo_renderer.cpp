@@ -31,6 +31,7 @@
 #include "renderer/stereo/stereo_target.hpp"
 #include "renderer/scene/tile_culling.hpp"
 #include "renderer/scene/tile_lod.hpp"
+#include "renderer/stereo/draw_batching.hpp"
 
 namespace tridex::renderer {
 namespace {
@@ -77,6 +78,7 @@ struct FrameResources {
     AmbientOcclusion occlusion;
     FrameTimer timer;
     GpuMesh workpiece, overlay_panel, overlay_text;
+    DrawBatcher batcher;      // this frame's multi-draw commands
     FrameStats stats;         // counts at draw(); timings once the frame has finished
     bool gpu_timing = false;  // its timestamps were recorded
     bool timed = false;       // its timings are in `stats`
@@ -310,8 +312,11 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
                          bool lit) -> StereoDraw& {
         StereoDraw d;
         d.kind = kind;
-        d.vertices = mesh.vertices();
-        d.indices = mesh.indices();
+        const GpuMesh::DrawRange r = mesh.draw_range();
+        d.vertices = r.vertices;
+        d.indices = r.indices;
+        d.first_index = r.first_index;
+        d.vertex_offset = r.vertex_offset;
         d.index_count = mesh.index_count();
         d.constants.world_from_model = model;
         d.constants.colour = colour;
@@ -521,6 +526,8 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     fr.eyes->write(u);
     fr.gpu_timing = im.use_timestamps && fr.timer.available();
     const VkCommandBuffer cmd = im.slots.command_buffer(slot);
+    stats.draws_merged = fr.batcher.batch(*im.context, strategy(), eye_count, draws);
+    stats.draws = draws.size();
     if (fr.gpu_timing) fr.timer.record_begin(cmd);
     record_stereo_frame(cmd, *im.pipeline, *im.target, fr.eyes->set(), draws, kClear,
                         fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,

@@ -34,6 +34,10 @@ struct FrameStats {
     std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
     /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen.
     std::array<std::size_t, 2> tile_triangles{};
+    /// Draws recorded (each StereoDraw once, whatever the eyes), and how many more there were before runs of
+    /// like draws were merged into one multi-draw indirect command each (DrawBatcher; 0 without the feature).
+    std::size_t draws = 0;
+    std::size_t draws_merged = 0;
     TimingSource timing = TimingSource::kGpuTimestamps;
     std::string timing_note;               ///< one line: the timing source, and why when it is the CPU clock
     std::vector<PassTime> passes;          ///< GPU: every phase of every render pass instance; CPU: one "frame"

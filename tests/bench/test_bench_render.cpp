@@ -45,8 +45,12 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
                                 "gpu_frame_ms_median", "passes", "tiles_drawn_left", "tiles_drawn_right",
                                 "tiles_skipped_left", "tiles_skipped_right", "tiles", "triangles", "speedup", "lod",
                                 "triangles_drawn", "lod_speedup", "silhouette_mismatch", "mean_abs_diff",
-                                "tile_buffers", "tile_memory_blocks", "ao"})
+                                "tile_buffers", "tile_memory_blocks", "ao", "draws", "draws_merged"})
             ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
+        // Tiles drawn: at least one draw recorded, and the merged-away draws never exceed the tiles' draws.
+        EXPECT_GE(r["draws"].get<std::size_t>(), 1u);
+        EXPECT_LE(r["draws_merged"].get<std::size_t>(),
+                  r["tiles_drawn_left"].get<std::size_t>() + r["tiles_drawn_right"].get<std::size_t>());
         EXPECT_EQ(r["n"].get<int>(), 48);
         EXPECT_EQ(r["width"].get<int>(), 96);
         EXPECT_EQ(r["height"].get<int>(), 72);

@@ -60,5 +60,42 @@ TEST(BufferPool, ManyBuffersFewBlocksNoOverlap) {
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+// With a block usage, every buffer of a block is reachable through the block's shared buffer at offset(), which is
+// a multiple of the alignment asked for (e.g. a 28-byte vertex stride); without one there is no shared buffer.
+TEST(BufferPool, BlockBufferAndAlignment) {
+    Context ctx = Context::create({});
+    {
+        auto plain = BufferPool::create(ctx, VkDeviceSize{1} << 20);
+        const PooledBuffer p = plain->allocate(100, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 28);
+        EXPECT_EQ(p.block_buffer(), VkBuffer{VK_NULL_HANDLE});
+        EXPECT_EQ(p.offset() % 28, 0u);
+        EXPECT_THROW(plain->allocate(100, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 0), Error);
+
+        auto pool = BufferPool::create(ctx, VkDeviceSize{1} << 20,
+                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+        std::vector<PooledBuffer> buffers;
+        for (int i = 0; i < 400; ++i)  // about 1.2 MB: at least two blocks
+            buffers.push_back(pool->allocate(1000 + (i * 53) % 4000, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 28));
+        EXPECT_GE(pool->blocks(), 2u);
+        std::vector<VkBuffer> shared;
+        for (const PooledBuffer& b : buffers) {
+            ASSERT_NE(b.block_buffer(), VkBuffer{VK_NULL_HANDLE});
+            EXPECT_EQ(b.offset() % 28, 0u);
+            EXPECT_NE(b.block_buffer(), b.handle());
+            if (std::find(shared.begin(), shared.end(), b.block_buffer()) == shared.end()) shared.push_back(b.block_buffer());
+        }
+        EXPECT_EQ(shared.size(), pool->blocks());  // one shared buffer per block
+        // Buffers of one block sit at distinct offsets of its mapping: mapped() - offset() is the block's start.
+        for (const PooledBuffer& b : buffers)
+            for (const PooledBuffer& c : buffers) {
+                if (b.block_buffer() != c.block_buffer()) continue;
+                ASSERT_EQ(static_cast<std::uint8_t*>(b.mapped()) - b.offset(), static_cast<std::uint8_t*>(c.mapped()) - c.offset());
+            }
+        buffers.clear();
+        EXPECT_EQ(pool->blocks(), 1u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 }  // namespace
 }  // namespace tridex::gpu
