@@ -1,5 +1,5 @@
-// compute/model/volume.cpp - summing interval lengths of the ray sets, with the trapezoid rule on
-// lattice-plane faces.
+// compute/model/volume.cpp - summing interval lengths of the ray sets, with partial columns for
+// faces parallel to the rays.
 #include "compute/model/volume.hpp"
 
 #include <array>
@@ -27,12 +27,12 @@ bool covers(const TriDexel& m, int a, const std::array<int, 3>& n) {
     return false;
 }
 
-/// Whether the ray of set `e` through lattice node `n` has an interval end exactly at depth n[e].
-bool end_on_node(const TriDexel& m, int e, const std::array<int, 3>& n) {
+/// Whether the ray of set `e` through the lattice line of node `n` has an interval end exactly at depth t.
+bool end_at(const TriDexel& m, int e, const std::array<int, 3>& n, float t) {
     const RaySet& s = m.sets[e];
     const int u = n[(e + 1) % 3], v = n[(e + 2) % 3];
     if (u < 0 || v < 0 || u >= s.nu || v >= s.nv) return false;
-    const auto d = static_cast<float>(n[e]);
+    const float d = t;
     for (const Interval& iv : s.ray(u, v))
         if (iv.enter == d || iv.exit == d) return true;
     return false;
@@ -51,30 +51,35 @@ double ray_set_volume_m3(const TriDexel& model, int axis) {
 
 double lattice_face_correction_m3(const TriDexel& model, int axis) {
     check_axis(axis, "lattice_face_correction_m3");
-    double half_cells = 0.0;  // in units of h^3 / 2
+    double cells = 0.0;  // grid units^3
     for (int e = 0; e < 3; ++e) {
         if (e == axis) continue;
         const RaySet& s = model.sets[e];
+        const auto top = static_cast<double>(model.lattice.cells[e]);
         for (int v = 0; v < s.nv; ++v)
             for (int u = 0; u < s.nu; ++u)
                 for (const Interval& iv : s.ray(u, v))
-                    for (const float t : {iv.enter, iv.exit}) {
-                        if (!(t == std::floor(t)) || t < 0.0f || t > static_cast<float>(model.lattice.cells[e])) continue;
+                    for (const bool exit : {false, true}) {
+                        const float t = exit ? iv.exit : iv.enter;
+                        const double m = std::round(static_cast<double>(t));  // the node whose column holds t
+                        if (!(m >= 0.0 && m <= top)) continue;
                         std::array<int, 3> n{};
-                        n[e] = static_cast<int>(t);
+                        n[e] = static_cast<int>(m);
                         n[(e + 1) % 3] = u;
                         n[(e + 2) % 3] = v;
-                        // A face parallel to this set's rays continues to a neighbour node along them; a
-                        // surface that this set's ray crosses at the node (a sloped plane through nodes) does not.
+                        // A face parallel to this set's rays continues to a neighbour node along them at the
+                        // same depth; a sloped or curved surface does not.
                         std::array<int, 3> lo = n, hi = n;
                         --lo[axis];
                         ++hi[axis];
-                        if (!end_on_node(model, e, lo) && !end_on_node(model, e, hi)) continue;
-                        half_cells += covers(model, axis, n) ? -1.0 : 1.0;
+                        if (!end_at(model, e, lo, t) && !end_at(model, e, hi, t)) continue;
+                        // Share of node m's column [m - 1/2, m + 1/2] on the material side of the face.
+                        const double inside = exit ? static_cast<double>(t) - m + 0.5 : m + 0.5 - static_cast<double>(t);
+                        cells += inside - (covers(model, axis, n) ? 1.0 : 0.0);
                     }
     }
     const double h = model.lattice.cell_m;
-    return 0.5 * half_cells * h * h * h;
+    return cells * h * h * h;
 }
 
 double dexel_volume_m3(const TriDexel& model) {

@@ -6,9 +6,9 @@
 namespace tridex::compute {
 
 /// Volume of the solid, m^3: the three ray sets' estimates (ray_set_volume_m3 plus
-/// lattice_face_correction_m3 for each), averaged. Exact for solids whose faces are all lattice planes
-/// (boxes and unions of boxes with faces on or between nodes); otherwise a midpoint-rule estimate whose
-/// error shrinks as h^2 for smooth surfaces, including cuts into faces that lie on lattice nodes.
+/// lattice_face_correction_m3 for each), averaged. Exact for axis-aligned boxes anywhere on the
+/// lattice; otherwise a midpoint-rule estimate whose error shrinks as h^2 for smooth surfaces,
+/// including cuts into flat axis-aligned faces at any offset from the nodes.
 /// O(intervals). Never throws.
 double dexel_volume_m3(const TriDexel& model);
 
@@ -17,27 +17,26 @@ double dexel_volume_m3(const TriDexel& model);
 /// `axis` must be 0, 1 or 2, else throws tridex::Error.
 double ray_set_volume_m3(const TriDexel& model, int axis);
 
-/// Trapezoid-rule correction of ray_set_volume_m3(model, axis) for surfaces that lie in a lattice
-/// plane parallel to the rays, m^3 (add it to the raw volume).
+/// Correction of ray_set_volume_m3(model, axis) for flat faces parallel to the rays, m^3 (add it to the
+/// raw volume).
 ///
-/// Why: such a face (a workpiece face on nodes, the flat floor of a cut at a whole-cell depth) holds a
-/// row of rays exactly; scan conversion and the Booleans put each such ray wholly inside or outside,
-/// so the midpoint rule counts the face's column row as all or nothing and the set sees the face half
-/// a cell off. For a closed box the two opposite faces cancel; a cut that changes one face's
-/// area no longer cancels, and the raw volume is off by (area cut from the face) x h/2, an error of
-/// order h. The trapezoid rule gives such rays half weight instead.
+/// Why: a flat face parallel to this set's rays (a workpiece face, the flat floor of a cut) lies
+/// between two rows of rays, or on one. The midpoint rule counts the column of the row nearest the
+/// face as all material or none, so the set sees the face moved to the column's edge (up to half a
+/// cell; on a face through nodes the ties of scan conversion decide). For a closed box the opposite
+/// faces cancel; a cut that changes one face's area no longer cancels, and the raw volume is off by
+/// up to (area cut from the face) x h/2, an error of order h.
 ///
-/// Rule: a node n lies on such a face when the ray of another set e has an interval end exactly on it
-/// (a whole grid unit) and so does e's ray through a neighbour of n along this set's axis (the face
-/// continues along the rays; a sloped surface through nodes does not). Each such (node, other set)
-/// pair adds -h^3/2 when this set's ray covers the node (enter <= depth < exit) and +h^3/2 when it
-/// does not. For scan-converted solids bounded by lattice planes the entry and exit faces cancel
-/// exactly, so boxes keep their exact volume.
+/// Rule: where a ray of another set e has an interval end at depth t and so does e's ray through a
+/// neighbour node along this set's axis at exactly the same depth (the face continues along the rays;
+/// a sloped or curved surface does not), the column of node m = round(t) on this set's ray through it
+/// is given the share of it that lies on the material side of t (t - m + 1/2 at an exit, m + 1/2 - t
+/// at an entry) instead of the 0 or 1 that the ray's coverage of the node (enter <= m < exit) counts.
+/// Boxes on or between nodes keep their exact volume (the two opposite faces' corrections cancel).
 /// Limits: a node on an edge parallel to the rays, or on a lattice-diagonal plane that contains the
-/// rays, is seen by both other sets and gets the correction twice (exact for boxes, where the edges
-/// cancel; an error of h^3/2 per such node elsewhere); a face one node wide is not seen.
-/// O(intervals x intervals per ray at the ends that lie on nodes). `axis` must be 0, 1 or 2, else
-/// throws tridex::Error.
+/// rays, is seen by both other sets and corrected twice (exact for boxes, where the edges cancel;
+/// up to h^3/2 per such node elsewhere); a face one node wide is not seen.
+/// O(intervals x intervals per ray). `axis` must be 0, 1 or 2, else throws tridex::Error.
 double lattice_face_correction_m3(const TriDexel& model, int axis);
 
 }  // namespace tridex::compute

@@ -107,33 +107,50 @@ TEST(VolumeFaces, CapsuleAlongASideFaceOnNodesRemovesHalfACapsule) {
     EXPECT_GT(c.exact - c.raw, 0.25 * (2.0 * r * len + kPi * r * r));
 }
 
-// With every face between nodes no interval end lies on a node: the correction is exactly zero
-// and the plain midpoint rule is already unbiased.
-TEST(VolumeFaces, FacesBetweenNodesNeedNoCorrection) {
+// With every face half way between nodes the midpoint rule is already unbiased: the correction is
+// exactly zero.
+TEST(VolumeFaces, FacesHalfWayBetweenNodesNeedNoCorrection) {
     TriDexel m = box_on_nodes(0.5);
     const double r = 10.4;
     const Cut c = cut(m, Vec3(31.3, 32.7, kHi + 0.5), Vec3(31.3, 32.7, kHi + 0.5), r, 2.0 / 3.0 * kPi * r * r * r);
-    report("hemisphere r = 10.4 cells, top face between nodes", c);
+    report("hemisphere r = 10.4 cells, top face half way between nodes", c);
     for (int a = 0; a < 3; ++a) EXPECT_EQ(lattice_face_correction_m3(m, a), 0.0);
     EXPECT_LT(std::abs(c.dexel - c.exact), 0.004 * c.exact);
 }
 
-// Hand-built rays: three Z rays end exactly at z = 3 on nodes (1..3, 3, 3), a row of a face along x.
-// The X ray through that row covers only node x = 2: half weight there (-1/2 cell^3) and half weight
-// for the two uncovered face nodes (+1/2 each). The row has no neighbour along y, so Y is not
-// corrected, and the Z set is not corrected by its own ends.
-TEST(VolumeFaces, HandBuiltFaceRowGetsHalfWeight) {
+// Faces at another offset (0.37 cell above the nodes): the box stays exact, and a hemisphere cut into
+// the top face is measured without the order-h bias the plain rule has there.
+TEST(VolumeFaces, BallCutIntoTopFaceOffTheNodes) {
+    TriDexel m = box_on_nodes(0.37);
+    const double side = kHi - kLo;
+    EXPECT_NEAR(cells3(m, dexel_volume_m3(m)), side * side * side, 0.05);  // face depths rounded to float
+    const double r = 10.4;
+    const Cut c = cut(m, Vec3(31.3, 32.7, kHi + 0.37), Vec3(31.3, 32.7, kHi + 0.37), r, 2.0 / 3.0 * kPi * r * r * r);
+    report("hemisphere r = 10.4 cells, top face 0.37 cell above nodes", c);
+    EXPECT_LT(std::abs(c.dexel - c.exact), 0.004 * c.exact);
+    EXPECT_GT(c.raw - c.exact, 0.05 * kPi * r * r);  // the plain rule removes 0.13 cell x the face's cut area too much
+}
+
+// Hand-built rays: three Z rays end exactly at z = 3 on nodes (1..3, 3, 3), a row of a face along x
+// (their entries differ, so they form no face). The X ray through that row covers only node x = 2:
+// half weight there (-1/2 cell^3) and for the two uncovered face nodes (+1/2 each). The row has no
+// neighbour along y, so Y is not corrected, and the Z set is not corrected by its own ends.
+TEST(VolumeFaces, HandBuiltFaceRowGetsPartialColumns) {
     Lattice L;
     L.cell_m = 0.5;
     L.cells = {4, 5, 6};
     TriDexel m = TriDexel::empty(L, 1 << 20);
     const double h3 = 0.125;
-    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 3) = {{0.25f, 3.0f}};
+    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 3) = {{0.125f * static_cast<float>(x), 3.0f}};
     m.sets[0].ray(3, 3) = {{1.5f, 2.5f}};
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.5 * h3);
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 1), 0.0);
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 2), 0.0);
-    // A lone end on a node (no neighbour along the rays ends there too) is a surface crossing, not a face.
+    // The face at z = 2.75 instead: node 3's column [2.5, 3.5] holds a quarter of material, which the
+    // X ray at z = 3 counts as 0 at x = 1 and 3 (+1/4 each) and as 1 at x = 2, the node it covers (-3/4).
+    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 3) = {{0.125f * static_cast<float>(x), 2.75f}};
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), (0.25 + (0.25 - 1.0) + 0.25) * h3);
+    // A lone end (no neighbour along the rays ends at the same depth) is a surface crossing, not a face.
     m.sets[2].ray(1, 3).clear();
     m.sets[2].ray(3, 3).clear();
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.0);
