@@ -38,6 +38,14 @@ bool end_at(const TriDexel& m, int e, const std::array<int, 3>& n, float t) {
     return false;
 }
 
+/// Whether e's ray through a neighbour of node n along axis b (either side) ends at exactly depth t.
+bool face_continues(const TriDexel& m, int e, const std::array<int, 3>& n, int b, float t) {
+    std::array<int, 3> lo = n, hi = n;
+    --lo[b];
+    ++hi[b];
+    return end_at(m, e, lo, t) || end_at(m, e, hi, t);
+}
+
 }  // namespace
 
 double ray_set_volume_m3(const TriDexel& model, int axis) {
@@ -67,12 +75,10 @@ double lattice_face_correction_m3(const TriDexel& model, int axis) {
                         n[e] = static_cast<int>(m);
                         n[(e + 1) % 3] = u;
                         n[(e + 2) % 3] = v;
-                        // A face parallel to this set's rays continues to a neighbour node along them at the
-                        // same depth; a sloped or curved surface does not.
-                        std::array<int, 3> lo = n, hi = n;
-                        --lo[axis];
-                        ++hi[axis];
-                        if (!end_at(model, e, lo, t) && !end_at(model, e, hi, t)) continue;
+                        // A flat face perpendicular to e continues at the same depth to a neighbour node
+                        // along this set's rays and to one along the third axis; a sloped surface, or a
+                        // curved wall parallel to the rays (a cylinder's side), does not do both.
+                        if (!face_continues(model, e, n, axis, t) || !face_continues(model, e, n, 3 - e - axis, t)) continue;
                         // Share of node m's column [m - 1/2, m + 1/2] on the material side of the face.
                         const double inside = exit ? static_cast<double>(t) - m + 0.5 : m + 0.5 - static_cast<double>(t);
                         cells += inside - (covers(model, axis, n) ? 1.0 : 0.0);

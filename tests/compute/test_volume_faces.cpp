@@ -131,27 +131,34 @@ TEST(VolumeFaces, BallCutIntoTopFaceOffTheNodes) {
     EXPECT_GT(c.raw - c.exact, 0.05 * kPi * r * r);  // the plain rule removes 0.13 cell x the face's cut area too much
 }
 
-// Hand-built rays: three Z rays end exactly at z = 3 on nodes (1..3, 3, 3), a row of a face along x
-// (their entries differ, so they form no face). The X ray through that row covers only node x = 2:
-// half weight there (-1/2 cell^3) and for the two uncovered face nodes (+1/2 each). The row has no
-// neighbour along y, so Y is not corrected, and the Z set is not corrected by its own ends.
-TEST(VolumeFaces, HandBuiltFaceRowGetsPartialColumns) {
+// Hand-built rays: six Z rays end exactly at z = 3 on nodes (1..3, 3..4, 3), a patch of a flat face
+// (their entries differ, so they form no face). The X ray through row y = 3 covers only node x = 2:
+// half weight there (-1/2 cell^3) and for the uncovered face nodes (+1/2 each); the Y rays through the
+// patch are empty (+1/2 at each of the six nodes). The Z set is not corrected by its own ends.
+TEST(VolumeFaces, HandBuiltFacePatchGetsPartialColumns) {
     Lattice L;
     L.cell_m = 0.5;
     L.cells = {4, 5, 6};
     TriDexel m = TriDexel::empty(L, 1 << 20);
     const double h3 = 0.125;
-    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 3) = {{0.125f * static_cast<float>(x), 3.0f}};
+    auto face_at = [&m](float z) {
+        for (int y = 3; y <= 4; ++y)
+            for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, y) = {{0.125f * static_cast<float>(x + 3 * y), z}};
+    };
+    face_at(3.0f);
     m.sets[0].ray(3, 3) = {{1.5f, 2.5f}};
-    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.5 * h3);
-    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 1), 0.0);
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), (0.5 - 0.5 + 0.5 + 3 * 0.5) * h3);
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 1), 6 * 0.5 * h3);
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 2), 0.0);
     // The face at z = 2.75 instead: node 3's column [2.5, 3.5] holds a quarter of material, which the
-    // X ray at z = 3 counts as 0 at x = 1 and 3 (+1/4 each) and as 1 at x = 2, the node it covers (-3/4).
-    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 3) = {{0.125f * static_cast<float>(x), 2.75f}};
-    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), (0.25 + (0.25 - 1.0) + 0.25) * h3);
-    // A lone end (no neighbour along the rays ends at the same depth) is a surface crossing, not a face.
+    // X ray at (y = 3, z = 3) counts as 1 at x = 2 (-3/4) and the other face nodes count as 0 (+1/4).
+    face_at(2.75f);
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), (0.25 - 0.75 + 0.25 + 3 * 0.25) * h3);
+    // A single row: the face does not continue along y, so X sees a wall parallel to its rays, not a
+    // face, and leaves the plain midpoint rule alone; a lone end is a surface crossing for both.
+    for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 4).clear();
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.0);
     m.sets[2].ray(1, 3).clear();
     m.sets[2].ray(3, 3).clear();
-    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.0);
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 1), 0.0);
 }
