@@ -75,13 +75,15 @@ double lattice_face_correction_m3(const TriDexel& model, int axis) {
                         n[e] = static_cast<int>(m);
                         n[(e + 1) % 3] = u;
                         n[(e + 2) % 3] = v;
-                        // A flat face perpendicular to e continues at the same depth to a neighbour node
-                        // along this set's rays and to one along the third axis; a sloped surface, or a
-                        // curved wall parallel to the rays (a cylinder's side), does not do both.
-                        if (!face_continues(model, e, n, axis, t) || !face_continues(model, e, n, 3 - e - axis, t)) continue;
+                        // A surface parallel to this set's rays keeps its depth along them. A flat face
+                        // perpendicular to e also keeps it along the third axis b, whose rays lie in the
+                        // face: e alone sees it (full weight). A sloped or curved wall parallel to the rays
+                        // is crossed by e's and b's rays alike: each corrects the column half.
+                        if (!face_continues(model, e, n, axis, t)) continue;
+                        const double weight = face_continues(model, e, n, 3 - e - axis, t) ? 1.0 : 0.5;
                         // Share of node m's column [m - 1/2, m + 1/2] on the material side of the face.
                         const double inside = exit ? static_cast<double>(t) - m + 0.5 : m + 0.5 - static_cast<double>(t);
-                        cells += inside - (covers(model, axis, n) ? 1.0 : 0.0);
+                        cells += weight * (inside - (covers(model, axis, n) ? 1.0 : 0.0));
                     }
     }
     const double h = model.lattice.cell_m;

@@ -17,8 +17,8 @@ double dexel_volume_m3(const TriDexel& model);
 /// `axis` must be 0, 1 or 2, else throws tridex::Error.
 double ray_set_volume_m3(const TriDexel& model, int axis);
 
-/// Correction of ray_set_volume_m3(model, axis) for flat faces parallel to the rays, m^3 (add it to the
-/// raw volume).
+/// Correction of ray_set_volume_m3(model, axis) for faces and walls parallel to the rays, m^3 (add it
+/// to the raw volume).
 ///
 /// Why: a flat face parallel to this set's rays (a workpiece face, the flat floor of a cut) lies
 /// between two rows of rays, or on one. The midpoint rule counts the column of the row nearest the
@@ -27,17 +27,18 @@ double ray_set_volume_m3(const TriDexel& model, int axis);
 /// faces cancel; a cut that changes one face's area no longer cancels, and the raw volume is off by
 /// up to (area cut from the face) x h/2, an error of order h.
 ///
-/// Rule: where a ray of another set e has an interval end at depth t and so do e's rays through a
-/// neighbour node along this set's axis and through one along the third axis, at exactly the same
-/// depth (a flat face perpendicular to e continues both ways; a sloped surface, or a curved wall
-/// parallel to the rays such as a cylinder's side, does not), the column of node m = round(t) on this set's ray through it
-/// is given the share of it that lies on the material side of t (t - m + 1/2 at an exit, m + 1/2 - t
-/// at an entry) instead of the 0 or 1 that the ray's coverage of the node (enter <= m < exit) counts.
-/// Boxes on or between nodes keep their exact volume (the two opposite faces' corrections cancel).
-/// Limits: a node on an edge parallel to the rays, or on a lattice-diagonal plane that contains the
-/// rays, is seen by both other sets and corrected twice (exact for boxes, where the edges cancel;
-/// up to h^3/2 per such node elsewhere); a face one node wide is not seen; curved walls parallel to
-/// the rays keep the plain midpoint rule's error (not a bias: it averages out along the wall).
+/// Rule: where a ray of another set e has an interval end at depth t and e's ray through a neighbour
+/// node along this set's axis ends at exactly the same depth (a surface parallel to the rays; a
+/// sloped or curved surface crossing them does not do that), the column of node m = round(t) on this
+/// set's ray through it is given the share of it that lies on the material side of t (t - m + 1/2 at
+/// an exit, m + 1/2 - t at an entry) instead of the 0 or 1 that the ray's coverage of the node
+/// (enter <= m < exit) counts. Full weight when e's rays also keep the depth along the third axis b
+/// (a flat face perpendicular to e, which b's rays lie in); half weight otherwise (a sloped or curved
+/// wall parallel to the rays, which e's and b's rays both cross, so each corrects half).
+/// Axis-aligned boxes anywhere keep their exact volume (opposite faces' corrections cancel).
+/// Limits: a node on an edge parallel to the rays is seen by both other sets and corrected by each
+/// (exact for boxes, where the edges cancel; up to h^3/2 per such node elsewhere); a face or wall one node wide is not seen; on a curved wall
+/// the share along one axis stands for the column's area share (first order in h).
 /// O(intervals x intervals per ray). `axis` must be 0, 1 or 2, else throws tridex::Error.
 double lattice_face_correction_m3(const TriDexel& model, int axis);
 

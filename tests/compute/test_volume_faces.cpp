@@ -154,10 +154,11 @@ TEST(VolumeFaces, HandBuiltFacePatchGetsPartialColumns) {
     // X ray at (y = 3, z = 3) counts as 1 at x = 2 (-3/4) and the other face nodes count as 0 (+1/4).
     face_at(2.75f);
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), (0.25 - 0.75 + 0.25 + 3 * 0.25) * h3);
-    // A single row: the face does not continue along y, so X sees a wall parallel to its rays, not a
-    // face, and leaves the plain midpoint rule alone; a lone end is a surface crossing for both.
+    // A single row: the surface does not continue along y, so for X it is a wall parallel to its rays
+    // (which Y's rays would cross too) and Z's ends correct each column half; a lone end is a surface
+    // crossing, not a face or a wall.
     for (int x = 1; x <= 3; ++x) m.sets[2].ray(x, 4).clear();
-    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.0);
+    EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 0), 0.5 * (0.25 - 0.75 + 0.25) * h3);
     m.sets[2].ray(1, 3).clear();
     m.sets[2].ray(3, 3).clear();
     EXPECT_DOUBLE_EQ(lattice_face_correction_m3(m, 1), 0.0);
