@@ -88,7 +88,7 @@ struct ClayStats {
 
 /// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
-/// the three sets' interval lengths, as dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
+/// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
 /// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
 /// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.

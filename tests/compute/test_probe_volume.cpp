@@ -24,9 +24,10 @@ Lattice small_lattice() {
 
 TEST(DexelVolume, SumsIntervalLengthsTimesCellVolumeAveraged) {
     TriDexel m = TriDexel::empty(small_lattice(), 1 << 20);
-    m.sets[0].ray(1, 2) = {{0.5f, 1.5f}, {2.0f, 3.25f}};  // 2.25 cells
-    m.sets[1].ray(0, 0) = {{1.0f, 4.0f}};                 // 3 cells
-    m.sets[2].ray(3, 4) = {{0.0f, 0.75f}};                // 0.75 cells
+    // No end on a node, so the lattice-face correction is zero and only the sums count.
+    m.sets[0].ray(1, 2) = {{0.5f, 1.5f}, {2.25f, 3.5f}};  // 2.25 cells
+    m.sets[1].ray(0, 0) = {{1.25f, 4.25f}};               // 3 cells
+    m.sets[2].ray(3, 4) = {{0.125f, 0.875f}};             // 0.75 cells
     const double h3 = 0.125;
     EXPECT_DOUBLE_EQ(ray_set_volume_m3(m, 0), 2.25 * h3);
     EXPECT_DOUBLE_EQ(ray_set_volume_m3(m, 1), 3.0 * h3);
