@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace tridex::compute {
 namespace {
@@ -25,6 +26,26 @@ void ray_probe(const std::vector<Interval>& ray, float depth, float search, bool
     }
 }
 
+/// Depth nodes [lo, hi] of the ray of set a through (u, v) inside f.box that may lie in f.region: a superset by a
+/// cell each way (membership itself is ClayRegion::contains); lo > hi when the ray misses the region.
+void region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
+    lo = f.box.lo[a];
+    hi = f.box.hi[a];
+    const ClayRegion& g = f.region;
+    if (!std::isfinite(g.r)) return;
+    const int ua = (a + 1) % 3, va = (a + 2) % 3;
+    const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
+    const float side2 = du * du + dv * dv, r2 = g.r * g.r;
+    if (side2 > r2 * 1.0001f + 1e-4f) {
+        lo = 1;
+        hi = 0;
+        return;
+    }
+    const float h = std::sqrt(std::max(r2 - side2, 0.0f)) + 1.0f;
+    lo = std::max(lo, static_cast<int>(std::max(std::floor(g.c[a] - h), static_cast<float>(lo))));
+    hi = std::min(hi, static_cast<int>(std::min(std::ceil(g.c[a] + h), static_cast<float>(hi))));
+}
+
 double ray_length(const std::vector<Interval>& ray) {
     double s = 0.0;
     for (const Interval& iv : ray) s += static_cast<double>(iv.exit) - static_cast<double>(iv.enter);
@@ -43,12 +64,12 @@ std::uint8_t nearest_material(const std::vector<Interval>& ray, float t) {
     return m;
 }
 
-/// One ray (set `axis`, node (u, v)) re-sampled from the field over depth nodes [lo, hi] of the box; the rest of
+/// One ray (set `axis`, node (u, v)) re-sampled from the field over its edges that touch a moved node, which all
+/// lie between depth nodes [lo, hi] (the moved nodes' span widened by one node below, inside the box); the rest of
 /// the ray is kept. `out` gets the new intervals.
-void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis, int u, int v, float beta,
-                  std::vector<Interval>& out) {
+void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis, int u, int v, int lo, int hi,
+                  float beta, std::vector<Interval>& out) {
     const ClayBox& b = f.box;
-    const int lo = b.lo[axis], hi = b.hi[axis];
     int n[3];
     n[(axis + 1) % 3] = u;
     n[(axis + 2) % 3] = v;
@@ -118,13 +139,27 @@ bool same_ray(const std::vector<Interval>& a, const std::vector<Interval>& b) {
     return true;
 }
 
-/// Per set, which rays of the box hold a node that moves (s0 or s1 != 0); index (u - lo) + n_u * (v - lo).
-using MovedRays = std::array<std::vector<std::uint8_t>, 3>;
+/// A ray of the box that holds a moved node: its set, its index in the set, its (u, v), the depth nodes [lo, hi]
+/// its re-sampling walks (the moved nodes' span and one node below it), whether a node on it has s1 != 0 (else its
+/// re-sampling is the same for every beta), and its old length (cells).
+struct MovedRay {
+    std::uint8_t set;
+    std::uint32_t index;
+    int u, v, lo, hi;
+    bool varies;
+    double old_length;
+};
 
-MovedRays moved_rays(const ClayField& f) {
-    MovedRays m;
+/// The moved rays of the three sets, in the order set, v, u (the order their images are written).
+void moved_rays(const TriDexel& model, const ClayField& f, std::vector<MovedRay>& out) {
     const ClayBox& b = f.box;
-    for (int a = 0; a < 3; ++a) m[a].assign(static_cast<std::size_t>(b.n((a + 1) % 3)) * b.n((a + 2) % 3), 0);
+    struct Span {
+        int lo, hi;
+        bool varies;
+    };
+    thread_local std::array<std::vector<Span>, 3> span;
+    for (int a = 0; a < 3; ++a)
+        span[a].assign(static_cast<std::size_t>(b.n((a + 1) % 3)) * b.n((a + 2) % 3), Span{1, 0, false});
     for (int k = b.lo[2]; k <= b.hi[2]; ++k)
         for (int j = b.lo[1]; j <= b.hi[1]; ++j)
             for (int i = b.lo[0]; i <= b.hi[0]; ++i) {
@@ -133,48 +168,65 @@ MovedRays moved_rays(const ClayField& f) {
                 const int n[3] = {i, j, k};
                 for (int a = 0; a < 3; ++a) {
                     const int ua = (a + 1) % 3, va = (a + 2) % 3;
-                    m[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
-                         static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])] = 1;
+                    Span& sp = span[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
+                                       static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])];
+                    if (sp.lo > sp.hi) sp.lo = sp.hi = n[a];
+                    sp.lo = std::min(sp.lo, n[a]);
+                    sp.hi = std::max(sp.hi, n[a]);
+                    sp.varies |= f.s1[x] != 0.0f;
                 }
             }
-    return m;
-}
-
-/// The rays one re-sampling changed: (set, index in the set) and their new intervals, and the volume change.
-struct Resampled {
-    std::vector<std::pair<std::uint8_t, std::uint32_t>> where;
-    std::vector<std::vector<Interval>> rays;
-    double dv = 0.0;
-    std::size_t visited = 0;
-};
-
-/// Re-samples the moved rays at `beta` without writing: the volume change (cells^3, mean of the three sets) and,
-/// in `keep`, the changed rays' new intervals.
-void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, Resampled& keep) {
-    double dv[3] = {0.0, 0.0, 0.0};
-    keep.where.clear();
-    keep.visited = 0;
-    std::size_t used = 0;
+    out.clear();
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
-        for (int v = f.box.lo[va]; v <= f.box.hi[va]; ++v)
-            for (int u = f.box.lo[ua]; u <= f.box.hi[ua]; ++u) {
-                ++keep.visited;
-                if (!moved[a][static_cast<std::size_t>(u - f.box.lo[ua]) +
-                              static_cast<std::size_t>(f.box.n(ua)) * (v - f.box.lo[va])])
-                    continue;
-                const std::vector<Interval>& ray = set.ray(u, v);
-                if (used == keep.rays.size()) keep.rays.emplace_back();
-                std::vector<Interval>& out = keep.rays[used];
-                resample_ray(ray, f, a, u, v, beta, out);
-                if (same_ray(ray, out)) continue;
-                dv[a] += ray_length(out) - ray_length(ray);
-                keep.where.push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v)});
-                ++used;
+        for (int v = b.lo[va]; v <= b.hi[va]; ++v)
+            for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+                const Span& sp = span[a][static_cast<std::size_t>(u - b.lo[ua]) +
+                                         static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])];
+                if (sp.lo > sp.hi) continue;
+                // Edges [d, d + 1] with a moved end: d in [lo - 1, hi], within the box.
+                out.push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v), u, v,
+                               std::max(sp.lo - 1, b.lo[a]), std::min(sp.hi + 1, b.hi[a]), sp.varies,
+                               ray_length(set.ray(u, v))});
             }
     }
-    keep.dv = (dv[0] + dv[1] + dv[2]) / 3.0;
+}
+
+/// One re-sampling of some of the moved rays: per moved ray (same index), whether it changed, its new intervals
+/// and its length change (cells).
+struct Resampled {
+    std::vector<std::uint8_t> changed;
+    std::vector<std::vector<Interval>> rays;
+    std::vector<double> dlen;
+};
+
+/// Re-samples at `beta` the moved rays with varies == `varying` without writing, into the same slots of `out`.
+void evaluate(const TriDexel& model, const ClayField& f, const std::vector<MovedRay>& moved, bool varying, float beta,
+              Resampled& out) {
+    if (out.rays.size() < moved.size()) out.rays.resize(moved.size());
+    out.changed.resize(moved.size());
+    out.dlen.resize(moved.size());
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        const MovedRay& m = moved[k];
+        if (m.varies != varying) continue;
+        const std::vector<Interval>& ray = model.sets[m.set].rays[m.index];
+        std::vector<Interval>& nr = out.rays[k];
+        resample_ray(ray, f, m.set, m.u, m.v, m.lo, m.hi, beta, nr);
+        out.changed[k] = same_ray(ray, nr) ? 0 : 1;
+        out.dlen[k] = out.changed[k] ? ray_length(nr) - m.old_length : 0.0;
+    }
+}
+
+/// The volume change (cells^3, mean of the three sets) of the moved rays re-sampled as `fixed` (varies == false)
+/// and `var` (varies == true), summed per set in the rays' order.
+double volume_change(const std::vector<MovedRay>& moved, const Resampled& fixed, const Resampled& var) {
+    double dv[3] = {0.0, 0.0, 0.0};
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        const Resampled& r = moved[k].varies ? var : fixed;
+        if (r.changed[k]) dv[moved[k].set] += r.dlen[k];
+    }
+    return (dv[0] + dv[1] + dv[2]) / 3.0;
 }
 
 /// The field's volume indicator at a node: the share (0..1) of the node's cell-sized column element that lies
@@ -228,10 +280,12 @@ float solve_beta(const ClayField& f) {
 /// estimate b1 (solve_beta), then, while the measured change exceeds 1% of what s0 moved (field measure), up to two
 /// secant steps, the first with the slope of the field's own (the ramp sum's change per unit beta, a central
 /// difference over 0.1), the second with the measured one; the beta with the smallest measured change wins and its
-/// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings. The measured
+/// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings of the rays
+/// whose result depends on beta (`fixed` holds the others, re-sampled once by the caller). The measured
 /// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
 /// one such step, not exactly 0.
-float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays& moved, Resampled& best) {
+float solve_measured(const TriDexel& model, const ClayField& f, const std::vector<MovedRay>& moved,
+                     const Resampled& fixed, Resampled& best, double& best_dv) {
     const float b1 = solve_beta(f);
     double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
     for (std::size_t i = 0; i < f.s0.size(); ++i) {
@@ -243,18 +297,20 @@ float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays&
     // Good enough: within 1% of what the dent (or the smoothing) moved, or of a hundredth of a cell^3.
     const double tolerance = std::max(0.01 * std::fabs(dent), 0.01);
     float best_beta = b1;
-    evaluate(model, f, moved, b1, best);
+    evaluate(model, f, moved, true, b1, best);
+    best_dv = volume_change(moved, fixed, best);
     thread_local Resampled trial;
     float b = b1;
-    double dv = best.dv;
+    double dv = best_dv;
     for (int k = 0; k < 2 && std::fabs(dv) > tolerance && slope != 0.0; ++k) {
         const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
         if (nb == b) break;
-        evaluate(model, f, moved, nb, trial);
-        const double ndv = trial.dv;
-        if (std::fabs(ndv) < std::fabs(best.dv)) {
+        evaluate(model, f, moved, true, nb, trial);
+        const double ndv = volume_change(moved, fixed, trial);
+        if (std::fabs(ndv) < std::fabs(best_dv)) {
             std::swap(best, trial);
             best_beta = nb;
+            best_dv = ndv;
         }
         if (ndv != dv) slope = (ndv - dv) / (static_cast<double>(nb) - static_cast<double>(b));  // measured from now on
         b = nb;
@@ -354,11 +410,12 @@ ClayBox clay_whole_box(const Lattice& L) {
 }
 
 void clay_build_phi(const TriDexel& model, ClayField& f) {
-    // clay_node_phi at every node, one walk along each ray of each set instead of a scan per node: the same
-    // predicates and the same float operations in the same order (sets 0, 1, 2), so the same values.
+    // clay_node_phi at every node of the region, one walk along each ray of each set (over its chord through the
+    // region) instead of a scan per node: the same predicates and the same float operations in the same order
+    // (sets 0, 1, 2), so the same values.
     const ClayBox& b = f.box;
     const std::size_t n = b.count();
-    f.phi.assign(n, 0.0f);
+    f.phi.assign(n, std::numeric_limits<float>::quiet_NaN());
     f.s0.assign(n, 0.0f);
     f.s1.assign(n, 0.0f);
     thread_local std::vector<std::uint8_t> votes, touching;
@@ -366,25 +423,30 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     touching.assign(n, 0);
     std::vector<float>& inv = f.s1;  // scratch until the end
     const float K = f.search;
+    const bool whole = !std::isfinite(f.region.r);
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         int nd[3];
         for (int v = b.lo[va]; v <= b.hi[va]; ++v)
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+                int dlo, dhi;
+                region_chord(f, a, u, v, dlo, dhi);
+                if (dlo > dhi) continue;
                 const std::vector<Interval>& ray = set.ray(u, v);
                 const std::size_t ne = 2 * ray.size();
                 auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
                 nd[ua] = u;
                 nd[va] = v;
                 std::size_t q = 0;  // first end >= depth
-                for (int d = b.lo[a]; d <= b.hi[a]; ++d) {
+                for (int d = dlo; d <= dhi; ++d) {
+                    nd[a] = d;
+                    if (!whole && !f.region.contains(nd[0], nd[1], nd[2])) continue;
                     const float depth = static_cast<float>(d);
                     while (q < ne && end(q) < depth) ++q;
                     float dist = K;
                     if (q > 0) dist = std::min(dist, std::fabs(end(q - 1) - depth));
                     if (q < ne) dist = std::min(dist, std::fabs(end(q) - depth));
-                    nd[a] = d;
                     const std::size_t x = b.index(nd[0], nd[1], nd[2]);
                     votes[x] = static_cast<std::uint8_t>(votes[x] + ((q & 1u) ? 1 : 0));
                     if (dist == 0.0f)
@@ -394,16 +456,24 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                 }
             }
     }
-    for (std::size_t x = 0; x < n; ++x) {
-        float mag = K;
-        if (touching[x])
-            mag = 0.0f;
-        else if (inv[x] > 0.0f)
-            mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
-        mag = std::max(mag, 1e-6f);
-        f.phi[x] = votes[x] >= 2 ? -mag : mag;
-        inv[x] = 0.0f;
-    }
+    // The region's nodes, along the chords of set 0's rays.
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
+            int ilo, ihi;
+            region_chord(f, 0, j, k, ilo, ihi);
+            for (int i = ilo; i <= ihi; ++i) {
+                if (!whole && !f.region.contains(i, j, k)) continue;
+                const std::size_t x = b.index(i, j, k);
+                float mag = K;
+                if (touching[x])
+                    mag = 0.0f;
+                else if (inv[x] > 0.0f)
+                    mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
+                mag = std::max(mag, 1e-6f);
+                f.phi[x] = votes[x] >= 2 ? -mag : mag;
+                inv[x] = 0.0f;
+            }
+        }
 }
 
 float clay_phi_at(const ClayField& f, float px, float py, float pz) {
@@ -441,24 +511,32 @@ ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserv
         any1 |= f.s1[i] != 0.0f;
     }
     if (!any && !any1) return st;
-    const MovedRays moved = moved_rays(f);
+    thread_local std::vector<MovedRay> moved;
+    moved_rays(model, f, moved);
     float beta = 0.0f;
-    thread_local Resampled result;
-    if (volume_preserving && any1)
-        beta = solve_measured(model, f, moved, result);
-    else
-        evaluate(model, f, moved, 0.0f, result);
+    thread_local Resampled fixed, var;
+    evaluate(model, f, moved, false, 0.0f, fixed);  // the same at every beta
+    double dv = 0.0;
+    if (volume_preserving && any1) {
+        beta = solve_measured(model, f, moved, fixed, var, dv);
+    } else {
+        evaluate(model, f, moved, true, 0.0f, var);
+        dv = volume_change(moved, fixed, var);
+    }
     for (std::size_t i = 0; i < f.s0.size(); ++i)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));
     st.beta = beta;
-    st.volume_change_cells = result.dv;
-    st.rays.rays_visited = result.visited;
-    st.rays.rays_changed = result.where.size();
-    for (std::size_t k = 0; k < result.where.size(); ++k) {
-        std::vector<Interval>& ray = model.sets[result.where[k].first].rays[result.where[k].second];
-        if (before) before->push_back({result.where[k].first, result.where[k].second, ray});
-        ray.swap(result.rays[k]);
+    st.volume_change_cells = dv;
+    for (int a = 0; a < 3; ++a)
+        st.rays.rays_visited += static_cast<std::size_t>(f.box.n((a + 1) % 3)) * f.box.n((a + 2) % 3);
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        Resampled& r = moved[k].varies ? var : fixed;
+        if (!r.changed[k]) continue;
+        ++st.rays.rays_changed;
+        std::vector<Interval>& ray = model.sets[moved[k].set].rays[moved[k].index];
+        if (before) before->push_back({moved[k].set, moved[k].index, ray});
+        ray.swap(r.rays[k]);
     }
     if (st.rays.rays_changed > 0) {
         const Lattice& L = model.lattice;

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
@@ -54,10 +55,26 @@ struct ClayBox {
     }
 };
 
-/// The signed distance phi (cells; < 0 inside) at every node of `box`, and the displacement s = s0 + beta * s1 (cells
-/// along the surface normal, > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves.
+/// The ball of grid space (centre c in grid units from the lattice origin, radius r in cells) outside which a field's
+/// operation reads no node: its nodes are the narrow region clay_build_phi fills. r = infinity: the whole box.
+struct ClayRegion {
+    float c[3] = {0.0f, 0.0f, 0.0f};
+    float r = std::numeric_limits<float>::infinity();
+    /// True when lattice node (i, j, k) lies in the ball: (i-c0)^2 + (j-c1)^2 + (k-c2)^2 <= r^2, in float, in that
+    /// order (the same predicate wherever a node's membership is asked).
+    bool contains(int i, int j, int k) const {
+        const float dx = static_cast<float>(i) - c[0], dy = static_cast<float>(j) - c[1],
+                    dz = static_cast<float>(k) - c[2];
+        return dx * dx + dy * dy + dz * dz <= r * r;
+    }
+};
+
+/// The signed distance phi (cells; < 0 inside) at every node of `box` within `region` (NaN at the box's other nodes,
+/// which the operation must not read), and the displacement s = s0 + beta * s1 (cells along the surface normal,
+/// > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves (and everywhere outside `region`).
 struct ClayField {
     ClayBox box;
+    ClayRegion region;
     float search = static_cast<float>(kClaySearchCells);  ///< clamp of phi, cells (clay_node_phi)
     std::vector<float> phi;
     std::vector<float> s0;
@@ -72,7 +89,9 @@ bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
 /// (see above), crossings farther than `search` cells along a ray ignored. O(intervals on the three rays).
 float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
 
-/// Fills field.phi on field.box (which must be inside the lattice) and zeroes s0 and s1.
+/// Fills field.phi at the nodes of field.box (which must be inside the lattice) within field.region, NaN at the
+/// others, and zeroes s0 and s1. Each ray of the three sets through the box is walked only over its chord through
+/// the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
 
 /// Trilinear phi at grid point p (cells from the lattice origin) from the nodes of field.box; p is clamped into the box.

@@ -26,6 +26,9 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     for (int a = 0; a < 3; ++a) outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
     field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
     if (field.box.empty()) return {};
+    // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
+    for (int a = 0; a < 3; ++a) field.region.c[a] = ct.point[a];
+    field.region.r = r + 1.5f;
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
