@@ -26,26 +26,6 @@ void ray_probe(const std::vector<Interval>& ray, float depth, float search, bool
     }
 }
 
-/// Depth nodes [lo, hi] of the ray of set a through (u, v) inside f.box that may lie in f.region: a superset by a
-/// cell each way (membership itself is ClayRegion::contains); lo > hi when the ray misses the region.
-void region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
-    lo = f.box.lo[a];
-    hi = f.box.hi[a];
-    const ClayRegion& g = f.region;
-    if (!std::isfinite(g.r)) return;
-    const int ua = (a + 1) % 3, va = (a + 2) % 3;
-    const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
-    const float side2 = du * du + dv * dv, r2 = g.r * g.r;
-    if (side2 > r2 * 1.0001f + 1e-4f) {
-        lo = 1;
-        hi = 0;
-        return;
-    }
-    const float h = std::sqrt(std::max(r2 - side2, 0.0f)) + 1.0f;
-    lo = std::max(lo, static_cast<int>(std::max(std::floor(g.c[a] - h), static_cast<float>(lo))));
-    hi = std::min(hi, static_cast<int>(std::min(std::ceil(g.c[a] + h), static_cast<float>(hi))));
-}
-
 double ray_length(const std::vector<Interval>& ray) {
     double s = 0.0;
     for (const Interval& iv : ray) s += static_cast<double>(iv.exit) - static_cast<double>(iv.enter);
@@ -150,8 +130,30 @@ struct MovedRay {
     double old_length;
 };
 
+/// A node with s0 or s1 != 0: its index in the box and its lattice node indices.
+struct MovedNode {
+    std::uint32_t x;
+    int n[3];
+};
+
+/// The moved nodes of the field's region, in increasing box index (the order every sum over them takes).
+void moved_nodes(const ClayField& f, std::vector<MovedNode>& out) {
+    const ClayBox& b = f.box;
+    out.clear();
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
+            int ilo, ihi;
+            clay_region_chord(f, 0, j, k, ilo, ihi);
+            for (int i = ilo; i <= ihi; ++i) {
+                const std::size_t x = b.index(i, j, k);
+                if (f.s0[x] != 0.0f || f.s1[x] != 0.0f) out.push_back({static_cast<std::uint32_t>(x), {i, j, k}});
+            }
+        }
+}
+
 /// The moved rays of the three sets, in the order set, v, u (the order their images are written).
-void moved_rays(const TriDexel& model, const ClayField& f, std::vector<MovedRay>& out) {
+void moved_rays(const TriDexel& model, const ClayField& f, const std::vector<MovedNode>& nodes,
+                std::vector<MovedRay>& out) {
     const ClayBox& b = f.box;
     struct Span {
         int lo, hi;
@@ -160,22 +162,16 @@ void moved_rays(const TriDexel& model, const ClayField& f, std::vector<MovedRay>
     thread_local std::array<std::vector<Span>, 3> span;
     for (int a = 0; a < 3; ++a)
         span[a].assign(static_cast<std::size_t>(b.n((a + 1) % 3)) * b.n((a + 2) % 3), Span{1, 0, false});
-    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
-        for (int j = b.lo[1]; j <= b.hi[1]; ++j)
-            for (int i = b.lo[0]; i <= b.hi[0]; ++i) {
-                const std::size_t x = b.index(i, j, k);
-                if (f.s0[x] == 0.0f && f.s1[x] == 0.0f) continue;
-                const int n[3] = {i, j, k};
-                for (int a = 0; a < 3; ++a) {
-                    const int ua = (a + 1) % 3, va = (a + 2) % 3;
-                    Span& sp = span[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
-                                       static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])];
-                    if (sp.lo > sp.hi) sp.lo = sp.hi = n[a];
-                    sp.lo = std::min(sp.lo, n[a]);
-                    sp.hi = std::max(sp.hi, n[a]);
-                    sp.varies |= f.s1[x] != 0.0f;
-                }
-            }
+    for (const MovedNode& m : nodes)
+        for (int a = 0; a < 3; ++a) {
+            const int ua = (a + 1) % 3, va = (a + 2) % 3;
+            Span& sp = span[a][static_cast<std::size_t>(m.n[ua] - b.lo[ua]) +
+                               static_cast<std::size_t>(b.n(ua)) * (m.n[va] - b.lo[va])];
+            if (sp.lo > sp.hi) sp.lo = sp.hi = m.n[a];
+            sp.lo = std::min(sp.lo, m.n[a]);
+            sp.hi = std::max(sp.hi, m.n[a]);
+            sp.varies |= f.s1[m.x] != 0.0f;
+        }
     out.clear();
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
@@ -238,19 +234,20 @@ float ramp(float p) { return std::clamp(0.5f - p, 0.0f, 1.0f); }
 /// piecewise-linear change in [-8, 8] (s1 of one sign), 26 steps, float. The nodes that can change are gathered once
 /// into contiguous arrays (phi + s0, s1) with their ramp sum at rest, and each step sums four interleaved partial
 /// sums in a fixed order, so a step costs one pass over those nodes.
-float solve_beta(const ClayField& f) {
+float solve_beta(const ClayField& f, const std::vector<MovedNode>& nodes) {
     // Nodes whose ramp can change for beta in [-8, 8]; the others add 0 to every sum.
     thread_local std::vector<float> p0, p1;
     p0.clear();
     p1.clear();
     double rest = 0.0;
-    for (std::size_t i = 0; i < f.s0.size(); ++i)
-        if ((f.s0[i] != 0.0f || f.s1[i] != 0.0f) &&
-            std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i])) {
+    for (const MovedNode& m : nodes) {
+        const std::size_t i = m.x;
+        if (std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i])) {
             p0.push_back(f.phi[i] + f.s0[i]);
             p1.push_back(f.s1[i]);
             rest += static_cast<double>(ramp(f.phi[i]));
         }
+    }
     const std::size_t n = p0.size();
     auto change = [&](float beta) {
         double acc[4] = {0.0, 0.0, 0.0, 0.0};
@@ -284,11 +281,13 @@ float solve_beta(const ClayField& f) {
 /// whose result depends on beta (`fixed` holds the others, re-sampled once by the caller). The measured
 /// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
 /// one such step, not exactly 0.
-float solve_measured(const TriDexel& model, const ClayField& f, const std::vector<MovedRay>& moved,
+float solve_measured(const TriDexel& model, const ClayField& f, const std::vector<MovedNode>& nodes,
+                     const std::vector<MovedRay>& moved,
                      const Resampled& fixed, Resampled& best, double& best_dv) {
-    const float b1 = solve_beta(f);
+    const float b1 = solve_beta(f, nodes);
     double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
-    for (std::size_t i = 0; i < f.s0.size(); ++i) {
+    for (const MovedNode& m : nodes) {
+        const std::size_t i = m.x;
         if (f.s0[i] != 0.0f) dent += static_cast<double>(ramp(f.phi[i] + f.s0[i])) - ramp(f.phi[i]);
         if (f.s1[i] == 0.0f) continue;
         const float base = f.phi[i] + (f.s0[i] + b1 * f.s1[i]);
@@ -409,6 +408,35 @@ ClayBox clay_whole_box(const Lattice& L) {
     return b;
 }
 
+void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
+    lo = f.box.lo[a];
+    hi = f.box.hi[a];
+    const ClayRegion& g = f.region;
+    if (!std::isfinite(g.r)) return;
+    const int ua = (a + 1) % 3, va = (a + 2) % 3;
+    const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
+    const float side2 = du * du + dv * dv, r2 = g.r * g.r;
+    if (side2 > r2 * 1.0001f + 1e-4f) {
+        lo = 1;
+        hi = 0;
+        return;
+    }
+    // A chord a cell longer each way than the ball's, then trimmed to the nodes the predicate accepts (they form
+    // one run: the squared distance grows monotonically away from the centre).
+    const float h = std::sqrt(std::max(r2 - side2, 0.0f)) + 1.0f;
+    lo = static_cast<int>(std::max(std::floor(g.c[a] - h), static_cast<float>(lo)));
+    hi = static_cast<int>(std::min(std::ceil(g.c[a] + h), static_cast<float>(hi)));
+    int n[3];
+    n[ua] = u;
+    n[va] = v;
+    auto in = [&](int d) {
+        n[a] = d;
+        return g.contains(n[0], n[1], n[2]);
+    };
+    while (lo <= hi && !in(lo)) ++lo;
+    while (hi >= lo && !in(hi)) --hi;
+}
+
 void clay_build_phi(const TriDexel& model, ClayField& f) {
     // clay_node_phi at every node of the region, one walk along each ray of each set (over its chord through the
     // region) instead of a scan per node: the same predicates and the same float operations in the same order
@@ -423,7 +451,6 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     touching.assign(n, 0);
     std::vector<float>& inv = f.s1;  // scratch until the end
     const float K = f.search;
-    const bool whole = !std::isfinite(f.region.r);
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
@@ -431,7 +458,7 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
         for (int v = b.lo[va]; v <= b.hi[va]; ++v)
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
                 int dlo, dhi;
-                region_chord(f, a, u, v, dlo, dhi);
+                clay_region_chord(f, a, u, v, dlo, dhi);
                 if (dlo > dhi) continue;
                 const std::vector<Interval>& ray = set.ray(u, v);
                 const std::size_t ne = 2 * ray.size();
@@ -441,7 +468,6 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                 std::size_t q = 0;  // first end >= depth
                 for (int d = dlo; d <= dhi; ++d) {
                     nd[a] = d;
-                    if (!whole && !f.region.contains(nd[0], nd[1], nd[2])) continue;
                     const float depth = static_cast<float>(d);
                     while (q < ne && end(q) < depth) ++q;
                     float dist = K;
@@ -460,9 +486,8 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     for (int k = b.lo[2]; k <= b.hi[2]; ++k)
         for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
             int ilo, ihi;
-            region_chord(f, 0, j, k, ilo, ihi);
+            clay_region_chord(f, 0, j, k, ilo, ihi);
             for (int i = ilo; i <= ihi; ++i) {
-                if (!whole && !f.region.contains(i, j, k)) continue;
                 const std::size_t x = b.index(i, j, k);
                 float mag = K;
                 if (touching[x])
@@ -505,27 +530,26 @@ float clay_phi_at(const ClayField& f, float px, float py, float pz) {
 ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserving, std::vector<RayImage>* before) {
     ClayStats st;
     if (f.box.empty()) return st;
-    bool any = false, any1 = false;
-    for (std::size_t i = 0; i < f.s0.size(); ++i) {
-        any |= f.s0[i] != 0.0f;
-        any1 |= f.s1[i] != 0.0f;
-    }
-    if (!any && !any1) return st;
+    thread_local std::vector<MovedNode> nodes;
+    moved_nodes(f, nodes);
+    if (nodes.empty()) return st;
+    bool any1 = false;
+    for (const MovedNode& m : nodes) any1 |= f.s1[m.x] != 0.0f;
     thread_local std::vector<MovedRay> moved;
-    moved_rays(model, f, moved);
+    moved_rays(model, f, nodes, moved);
     float beta = 0.0f;
     thread_local Resampled fixed, var;
     evaluate(model, f, moved, false, 0.0f, fixed);  // the same at every beta
     double dv = 0.0;
     if (volume_preserving && any1) {
-        beta = solve_measured(model, f, moved, fixed, var, dv);
+        beta = solve_measured(model, f, nodes, moved, fixed, var, dv);
     } else {
         evaluate(model, f, moved, true, 0.0f, var);
         dv = volume_change(moved, fixed, var);
     }
-    for (std::size_t i = 0; i < f.s0.size(); ++i)
+    for (const MovedNode& m : nodes)
         st.max_displacement_cells =
-            std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));
+            std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[m.x] + beta * f.s1[m.x])));
     st.beta = beta;
     st.volume_change_cells = dv;
     for (int a = 0; a < 3; ++a)

@@ -94,6 +94,10 @@ float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = s
 /// the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
 
+/// The depth nodes [lo, hi] of the ray of set `axis` through (u, v) (its other two node indices) that lie both in
+/// field.box and in field.region (ClayRegion::contains, exactly); lo > hi when there are none. O(1).
+void clay_region_chord(const ClayField& field, int axis, int u, int v, int& lo, int& hi);
+
 /// Trilinear phi at grid point p (cells from the lattice origin) from the nodes of field.box; p is clamped into the box.
 float clay_phi_at(const ClayField& field, float px, float py, float pz);
 
@@ -111,8 +115,11 @@ struct ClayStats {
 /// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
 /// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
-/// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
-/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is written).
+/// Only nodes of field.region are read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their
+/// neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed box
+/// dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
+/// ray) per re-sampling; one to three re-samplings of the rays through nodes with s1 != 0, one of the others (the
+/// best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 

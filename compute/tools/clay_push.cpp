@@ -120,12 +120,13 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
     const float reach2 = (r + w) * (r + w) * 1.0001f;  // beyond it (with rounding to spare) no stamp moves a node
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
-        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
-            for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
+        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy) {
+            int ilo, ihi;
+            clay_region_chord(field, 0, jy, kz, ilo, ihi);
+            for (int ix = ilo; ix <= ihi; ++ix) {
                 if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
-                if (std::isnan(phi)) continue;  // outside the narrow region
                 const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
                 float dent = 0.0f, rim = 0.0f;
                 for (const Stamp& s : stamps) {
@@ -149,6 +150,7 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
                     if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
                 }
             }
+        }
     return clay_resample(model, field, true, before);
 }
 

@@ -32,8 +32,10 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
-        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
-            for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
+        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy) {
+            int ilo, ihi;
+            clay_region_chord(field, 0, jy, kz, ilo, ihi);
+            for (int ix = ilo; ix <= ihi; ++ix) {
                 if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
@@ -52,6 +54,7 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
                 field.s0[i] = kClaySmoothRate * wgt * lap;
                 field.s1[i] = wgt;
             }
+        }
     return clay_resample(model, field, true, before);
 }
 
