@@ -140,10 +140,11 @@ struct MovedNode {
 void moved_nodes(const ClayField& f, std::vector<MovedNode>& out) {
     const ClayBox& b = f.box;
     out.clear();
+    const bool built = f.chords[0].size() == static_cast<std::size_t>(b.n(1)) * b.n(2);  // else scan the whole box
     for (int k = b.lo[2]; k <= b.hi[2]; ++k)
         for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
-            int ilo, ihi;
-            clay_region_chord(f, 0, j, k, ilo, ihi);
+            int ilo = b.lo[0], ihi = b.hi[0];
+            if (built) ilo = f.chord(0, j, k)[0], ihi = f.chord(0, j, k)[1];
             for (int i = ilo; i <= ihi; ++i) {
                 const std::size_t x = b.index(i, j, k);
                 if (f.s0[x] != 0.0f || f.s1[x] != 0.0f) out.push_back({static_cast<std::uint32_t>(x), {i, j, k}});
@@ -451,15 +452,22 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     touching.assign(n, 0);
     std::vector<float>& inv = f.s1;  // scratch until the end
     const float K = f.search;
+    const bool whole = !std::isfinite(f.region.r);
+    const float r2 = f.region.r * f.region.r;
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
         int nd[3];
-        for (int v = b.lo[va]; v <= b.hi[va]; ++v)
+        for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
+            const float dv = static_cast<float>(v) - f.region.c[va];
+            if (!whole && dv * dv > r2 * 1.0001f + 1e-4f) continue;  // the row misses the region
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
                 int dlo, dhi;
                 clay_region_chord(f, a, u, v, dlo, dhi);
                 if (dlo > dhi) continue;
+                f.chords[a][static_cast<std::size_t>(u - b.lo[ua]) + static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])] =
+                    {dlo, dhi};
                 const std::vector<Interval>& ray = set.ray(u, v);
                 const std::size_t ne = 2 * ray.size();
                 auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
@@ -481,13 +489,13 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                         inv[x] += 1.0f / (dist * dist);
                 }
             }
+        }
     }
     // The region's nodes, along the chords of set 0's rays.
     for (int k = b.lo[2]; k <= b.hi[2]; ++k)
         for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
-            int ilo, ihi;
-            clay_region_chord(f, 0, j, k, ilo, ihi);
-            for (int i = ilo; i <= ihi; ++i) {
+            const std::array<int, 2>& run = f.chord(0, j, k);
+            for (int i = run[0]; i <= run[1]; ++i) {
                 const std::size_t x = b.index(i, j, k);
                 float mag = K;
                 if (touching[x])

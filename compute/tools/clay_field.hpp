@@ -2,6 +2,7 @@
 // lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -79,6 +80,15 @@ struct ClayField {
     std::vector<float> phi;
     std::vector<float> s0;
     std::vector<float> s1;
+    /// Filled by clay_build_phi: per set a, per ray of the box through (u, v) (its other two node indices), the run
+    /// [lo, hi] of its depth nodes in the region (clay_region_chord; lo > hi when none).
+    std::array<std::vector<std::array<int, 2>>, 3> chords;
+    /// The run of region nodes on the ray of set a through box nodes (u, v), from `chords`.
+    const std::array<int, 2>& chord(int a, int u, int v) const {
+        const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        return chords[a][static_cast<std::size_t>(u - box.lo[ua]) +
+                         static_cast<std::size_t>(box.n(ua)) * static_cast<std::size_t>(v - box.lo[va])];
+    }
 };
 
 /// True when node (i, j, k) of set `axis`'s ray through it lies inside material: some interval has
@@ -90,7 +100,7 @@ bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
 float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
 
 /// Fills field.phi at the nodes of field.box (which must be inside the lattice) within field.region, NaN at the
-/// others, and zeroes s0 and s1. Each ray of the three sets through the box is walked only over its chord through
+/// others, zeroes s0 and s1, and fills field.chords. Each ray of the three sets through the box is walked only over its chord through
 /// the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
 
@@ -115,7 +125,8 @@ struct ClayStats {
 /// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
 /// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
 /// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
-/// Only nodes of field.region are read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their
+/// Only nodes of field.region (field.chords as clay_build_phi fills them; the whole box when they are missing) are
+/// read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their
 /// neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed box
 /// dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
 /// ray) per re-sampling; one to three re-samplings of the rays through nodes with s1 != 0, one of the others (the

@@ -2,6 +2,7 @@
 #include "compute/tools/clay_smooth.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "compute/tools/clay_push.hpp"
@@ -33,9 +34,8 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     const ClayBox& b = field.box;
     for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
         for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy) {
-            int ilo, ihi;
-            clay_region_chord(field, 0, jy, kz, ilo, ihi);
-            for (int ix = ilo; ix <= ihi; ++ix) {
+            const std::array<int, 2>& run = field.chord(0, jy, kz);
+            for (int ix = run[0]; ix <= run[1]; ++ix) {
                 if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
