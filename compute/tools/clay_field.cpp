@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace tridex::compute {
@@ -53,10 +54,10 @@ void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis
     int n[3];
     n[(axis + 1) % 3] = u;
     n[(axis + 2) % 3] = v;
-    auto node = [&](int d) {
-        n[axis] = d;
-        return b.index(n[0], n[1], n[2]);
-    };
+    n[axis] = lo;
+    const std::size_t base = b.index(n[0], n[1], n[2]);
+    const std::size_t stride =
+        axis == 0 ? 1 : axis == 1 ? static_cast<std::size_t>(b.n(0)) : static_cast<std::size_t>(b.n(0)) * b.n(1);
     thread_local std::vector<Crossing> xs;
     xs.clear();
     std::size_t q = 0;  // next old crossing (2 per interval)
@@ -67,7 +68,7 @@ void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis
     while (q < nx && old_t(q) < flo) xs.push_back({old_t(q), old_m(q)}), ++q;
     bool status = (q & 1u) != 0;  // the ray's status just below node lo
     for (int d = lo; d < hi; ++d) {
-        const std::size_t i0 = node(d), i1 = node(d + 1);
+        const std::size_t i0 = base + static_cast<std::size_t>(d - lo) * stride, i1 = i0 + stride;
         const float s0 = f.s0[i0] + beta * f.s1[i0];
         const float s1 = f.s0[i1] + beta * f.s1[i1];
         const float fd1 = static_cast<float>(d + 1);
@@ -444,12 +445,14 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     // (sets 0, 1, 2), so the same values.
     const ClayBox& b = f.box;
     const std::size_t n = b.count();
-    f.phi.assign(n, std::numeric_limits<float>::quiet_NaN());
+    f.phi.resize(n);
+    std::memset(f.phi.data(), 0xff, n * sizeof(float));  // all ones: a NaN at every node until built
     f.s0.assign(n, 0.0f);
     f.s1.assign(n, 0.0f);
+    // Set 0 visits every node of the region first and so sets these; the other nodes are never read.
     thread_local std::vector<std::uint8_t> votes, touching;
-    votes.assign(n, 0);
-    touching.assign(n, 0);
+    votes.resize(n);
+    touching.resize(n);
     std::vector<float>& inv = f.s1;  // scratch until the end
     const float K = f.search;
     const bool whole = !std::isfinite(f.region.r);
@@ -458,6 +461,7 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
+        const std::size_t stride = a == 0 ? 1 : a == 1 ? static_cast<std::size_t>(b.n(0)) : static_cast<std::size_t>(b.n(0)) * b.n(1);
         int nd[3];
         for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
             const float dv = static_cast<float>(v) - f.region.c[va];
@@ -473,16 +477,18 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                 auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
                 nd[ua] = u;
                 nd[va] = v;
+                nd[a] = dlo;
+                std::size_t x = b.index(nd[0], nd[1], nd[2]);
                 std::size_t q = 0;  // first end >= depth
-                for (int d = dlo; d <= dhi; ++d) {
-                    nd[a] = d;
+                for (int d = dlo; d <= dhi; ++d, x += stride) {
                     const float depth = static_cast<float>(d);
                     while (q < ne && end(q) < depth) ++q;
                     float dist = K;
                     if (q > 0) dist = std::min(dist, std::fabs(end(q - 1) - depth));
                     if (q < ne) dist = std::min(dist, std::fabs(end(q) - depth));
-                    const std::size_t x = b.index(nd[0], nd[1], nd[2]);
-                    votes[x] = static_cast<std::uint8_t>(votes[x] + ((q & 1u) ? 1 : 0));
+                    const std::uint8_t in = (q & 1u) ? 1 : 0;
+                    votes[x] = a == 0 ? in : static_cast<std::uint8_t>(votes[x] + in);
+                    if (a == 0) touching[x] = 0;
                     if (dist == 0.0f)
                         touching[x] = 1;
                     else if (dist < K)
