@@ -2,6 +2,7 @@
 // lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -159,6 +160,13 @@ inline bool clay_node_fixed(const ClayBox& box, const Lattice& lattice, int ix, 
             nd[a] == lattice.cells[a])
             return true;
     return false;
+}
+
+/// The nodes along axis a that clay_node_fixed lets move (ignoring the other two axes): [lo, hi], lo > hi when none.
+/// A node moves exactly when each of its three indices lies in its axis' range.
+inline void clay_movable_range(const ClayBox& box, const Lattice& lattice, int a, int& lo, int& hi) {
+    lo = std::max(box.lo[a] + kClayMarginCells, 1);
+    hi = std::min(box.hi[a] - kClayMarginCells, lattice.cells[a] - 1);
 }
 
 }  // namespace tridex::compute

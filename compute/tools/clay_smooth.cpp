@@ -32,11 +32,12 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     field.region.r = r + 1.5f;
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
-    for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
-        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy) {
+    int mlo[3], mhi[3];  // the nodes clay_node_fixed lets move, per axis
+    for (int a = 0; a < 3; ++a) clay_movable_range(b, model.lattice, a, mlo[a], mhi[a]);
+    for (int kz = mlo[2]; kz <= mhi[2]; ++kz)
+        for (int jy = mlo[1]; jy <= mhi[1]; ++jy) {
             const std::array<int, 2>& run = field.chord(0, jy, kz);
-            for (int ix = run[0]; ix <= run[1]; ++ix) {
-                if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
+            for (int ix = std::max(run[0], mlo[0]); ix <= std::min(run[1], mhi[0]); ++ix) {
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
                 if (!(std::fabs(phi) < 2.0f)) continue;
