@@ -116,7 +116,7 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
         field.region.c[a] = 0.5f * (plo[a] + phi_[a]);
         half2 += 0.25f * (phi_[a] - plo[a]) * (phi_[a] - plo[a]);
     }
-    field.region.r = r + w + 1.5f + std::sqrt(half2);
+    field.region.r = r + w + 1.01f + std::sqrt(half2);  // a neighbour lies within 1 cell of a moved node
     clay_build_phi(model, field);
     const float reach2 = (r + w) * (r + w) * 1.0001f;  // beyond it (with rounding to spare) no stamp moves a node
     const ClayBox& b = field.box;

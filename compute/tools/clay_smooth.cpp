@@ -29,7 +29,7 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     if (field.box.empty()) return {};
     // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
     for (int a = 0; a < 3; ++a) field.region.c[a] = ct.point[a];
-    field.region.r = r + 1.5f;
+    field.region.r = r + 1.01f;  // a neighbour lies within 1 cell of a moved node
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
     int mlo[3], mhi[3];  // the nodes clay_node_fixed lets move, per axis
