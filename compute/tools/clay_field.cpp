@@ -56,8 +56,9 @@ void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis
     n[(axis + 2) % 3] = v;
     n[axis] = lo;
     const std::size_t base = b.index(n[0], n[1], n[2]);
-    const std::size_t stride =
-        axis == 0 ? 1 : axis == 1 ? static_cast<std::size_t>(b.n(0)) : static_cast<std::size_t>(b.n(0)) * b.n(1);
+    const std::size_t stride = axis == 0   ? 1
+                               : axis == 1 ? static_cast<std::size_t>(b.n(0))
+                                           : static_cast<std::size_t>(b.n(0)) * b.n(1);
     thread_local std::vector<Crossing> xs;
     xs.clear();
     std::size_t q = 0;  // next old crossing (2 per interval)
@@ -284,8 +285,7 @@ float solve_beta(const ClayField& f, const std::vector<MovedNode>& nodes) {
 /// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
 /// one such step, not exactly 0.
 float solve_measured(const TriDexel& model, const ClayField& f, const std::vector<MovedNode>& nodes,
-                     const std::vector<MovedRay>& moved,
-                     const Resampled& fixed, Resampled& best, double& best_dv) {
+                     const std::vector<MovedRay>& moved, const Resampled& fixed, Resampled& best, double& best_dv) {
     const float b1 = solve_beta(f, nodes);
     double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
     for (const MovedNode& m : nodes) {
@@ -461,7 +461,9 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
-        const std::size_t stride = a == 0 ? 1 : a == 1 ? static_cast<std::size_t>(b.n(0)) : static_cast<std::size_t>(b.n(0)) * b.n(1);
+        const std::size_t stride = a == 0   ? 1
+                                   : a == 1 ? static_cast<std::size_t>(b.n(0))
+                                            : static_cast<std::size_t>(b.n(0)) * b.n(1);
         int nd[3];
         for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
             const float dv = static_cast<float>(v) - f.region.c[va];
@@ -470,8 +472,8 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                 int dlo, dhi;
                 clay_region_chord(f, a, u, v, dlo, dhi);
                 if (dlo > dhi) continue;
-                f.chords[a][static_cast<std::size_t>(u - b.lo[ua]) + static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])] =
-                    {dlo, dhi};
+                f.chords[a][static_cast<std::size_t>(u - b.lo[ua]) +
+                            static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])] = {dlo, dhi};
                 const std::vector<Interval>& ray = set.ray(u, v);
                 const std::size_t ne = 2 * ray.size();
                 auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };

@@ -17,7 +17,8 @@ namespace tridex::compute {
 /// How the clay tools keep the three ray sets describing one solid.
 ///
 /// A clay operation never moves interval ends of one set on its own. It (1) builds one scalar field phi on the
-/// lattice nodes of the operation's box from all three sets (clay_build_phi: the sign is the majority of the three
+/// lattice nodes of the operation's region (a ball inside its box around the nodes it can move: a narrow region, not
+/// the whole box) from all three sets (clay_build_phi: the sign is the majority of the three
 /// rays through the node, the magnitude the plane-exact distance 1 / sqrt(sum_a 1/d_a^2) from the axial distances
 /// d_a to the nearest crossing on each of the three rays), (2) offsets it by a displacement s >= or <= 0 per node
 /// (phi' = phi + s moves the surface along its normal by s cells: inward for s > 0), and (3) re-samples every ray
@@ -101,8 +102,9 @@ bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
 float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
 
 /// Fills field.phi at the nodes of field.box (which must be inside the lattice) within field.region, NaN at the
-/// others, zeroes s0 and s1, and fills field.chords. Each ray of the three sets through the box is walked only over its chord through
-/// the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the box's arrays.
+/// others, zeroes s0 and s1, and fills field.chords. Each ray of the three sets through the box is walked only over
+/// its chord through the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the
+/// box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
 
 /// The depth nodes [lo, hi] of the ray of set `axis` through (u, v) (its other two node indices) that lie both in
@@ -124,12 +126,12 @@ struct ClayStats {
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
 /// the three sets' interval lengths, as dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
 /// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
-/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
-/// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
-/// Only nodes of field.region (field.chords as clay_build_phi fills them; the whole box when they are missing) are
-/// read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their
-/// neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed box
-/// dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
+/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays
+/// sample across them at whole nodes), so one operation keeps it within about one such step, and a stroke's steps do
+/// not add up to a drift. Else beta = 0. Only nodes of field.region (field.chords as clay_build_phi fills them; the
+/// whole box when they are missing) are read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and
+/// their neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed
+/// box dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
 /// ray) per re-sampling; one to three re-samplings of the rays through nodes with s1 != 0, one of the others (the
 /// best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
