@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace tridex::compute {
 namespace {
@@ -43,19 +45,20 @@ std::uint8_t nearest_material(const std::vector<Interval>& ray, float t) {
     return m;
 }
 
-/// One ray (set `axis`, node (u, v)) re-sampled from the field over depth nodes [lo, hi] of the box; the rest of
+/// One ray (set `axis`, node (u, v)) re-sampled from the field over its edges that touch a moved node, which all
+/// lie between depth nodes [lo, hi] (the moved nodes' span widened by one node below, inside the box); the rest of
 /// the ray is kept. `out` gets the new intervals.
-void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis, int u, int v, float beta,
-                  std::vector<Interval>& out) {
+void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis, int u, int v, int lo, int hi,
+                  float beta, std::vector<Interval>& out) {
     const ClayBox& b = f.box;
-    const int lo = b.lo[axis], hi = b.hi[axis];
     int n[3];
     n[(axis + 1) % 3] = u;
     n[(axis + 2) % 3] = v;
-    auto node = [&](int d) {
-        n[axis] = d;
-        return b.index(n[0], n[1], n[2]);
-    };
+    n[axis] = lo;
+    const std::size_t base = b.index(n[0], n[1], n[2]);
+    const std::size_t stride = axis == 0   ? 1
+                               : axis == 1 ? static_cast<std::size_t>(b.n(0))
+                                           : static_cast<std::size_t>(b.n(0)) * b.n(1);
     thread_local std::vector<Crossing> xs;
     xs.clear();
     std::size_t q = 0;  // next old crossing (2 per interval)
@@ -66,7 +69,7 @@ void resample_ray(const std::vector<Interval>& ray, const ClayField& f, int axis
     while (q < nx && old_t(q) < flo) xs.push_back({old_t(q), old_m(q)}), ++q;
     bool status = (q & 1u) != 0;  // the ray's status just below node lo
     for (int d = lo; d < hi; ++d) {
-        const std::size_t i0 = node(d), i1 = node(d + 1);
+        const std::size_t i0 = base + static_cast<std::size_t>(d - lo) * stride, i1 = i0 + stride;
         const float s0 = f.s0[i0] + beta * f.s1[i0];
         const float s1 = f.s0[i1] + beta * f.s1[i1];
         const float fd1 = static_cast<float>(d + 1);
@@ -118,63 +121,111 @@ bool same_ray(const std::vector<Interval>& a, const std::vector<Interval>& b) {
     return true;
 }
 
-/// Per set, which rays of the box hold a node that moves (s0 or s1 != 0); index (u - lo) + n_u * (v - lo).
-using MovedRays = std::array<std::vector<std::uint8_t>, 3>;
-
-MovedRays moved_rays(const ClayField& f) {
-    MovedRays m;
-    const ClayBox& b = f.box;
-    for (int a = 0; a < 3; ++a) m[a].assign(static_cast<std::size_t>(b.n((a + 1) % 3)) * b.n((a + 2) % 3), 0);
-    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
-        for (int j = b.lo[1]; j <= b.hi[1]; ++j)
-            for (int i = b.lo[0]; i <= b.hi[0]; ++i) {
-                const std::size_t x = b.index(i, j, k);
-                if (f.s0[x] == 0.0f && f.s1[x] == 0.0f) continue;
-                const int n[3] = {i, j, k};
-                for (int a = 0; a < 3; ++a) {
-                    const int ua = (a + 1) % 3, va = (a + 2) % 3;
-                    m[a][static_cast<std::size_t>(n[ua] - b.lo[ua]) +
-                         static_cast<std::size_t>(b.n(ua)) * (n[va] - b.lo[va])] = 1;
-                }
-            }
-    return m;
-}
-
-/// The rays one re-sampling changed: (set, index in the set) and their new intervals, and the volume change.
-struct Resampled {
-    std::vector<std::pair<std::uint8_t, std::uint32_t>> where;
-    std::vector<std::vector<Interval>> rays;
-    double dv = 0.0;
-    std::size_t visited = 0;
+/// A ray of the box that holds a moved node: its set, its index in the set, its (u, v), the depth nodes [lo, hi]
+/// its re-sampling walks (the moved nodes' span and one node below it), whether a node on it has s1 != 0 (else its
+/// re-sampling is the same for every beta), and its old length (cells).
+struct MovedRay {
+    std::uint8_t set;
+    std::uint32_t index;
+    int u, v, lo, hi;
+    bool varies;
+    double old_length;
 };
 
-/// Re-samples the moved rays at `beta` without writing: the volume change (cells^3, mean of the three sets) and,
-/// in `keep`, the changed rays' new intervals.
-void evaluate(const TriDexel& model, const ClayField& f, const MovedRays& moved, float beta, Resampled& keep) {
-    double dv[3] = {0.0, 0.0, 0.0};
-    keep.where.clear();
-    keep.visited = 0;
-    std::size_t used = 0;
+/// A node with s0 or s1 != 0: its index in the box and its lattice node indices.
+struct MovedNode {
+    std::uint32_t x;
+    int n[3];
+};
+
+/// The moved nodes of the field's region, in increasing box index (the order every sum over them takes).
+void moved_nodes(const ClayField& f, std::vector<MovedNode>& out) {
+    const ClayBox& b = f.box;
+    out.clear();
+    const bool built = f.chords[0].size() == static_cast<std::size_t>(b.n(1)) * b.n(2);  // else scan the whole box
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
+            int ilo = b.lo[0], ihi = b.hi[0];
+            if (built) ilo = f.chord(0, j, k)[0], ihi = f.chord(0, j, k)[1];
+            for (int i = ilo; i <= ihi; ++i) {
+                const std::size_t x = b.index(i, j, k);
+                if (f.s0[x] != 0.0f || f.s1[x] != 0.0f) out.push_back({static_cast<std::uint32_t>(x), {i, j, k}});
+            }
+        }
+}
+
+/// The moved rays of the three sets, in the order set, v, u (the order their images are written).
+void moved_rays(const TriDexel& model, const ClayField& f, const std::vector<MovedNode>& nodes,
+                std::vector<MovedRay>& out) {
+    const ClayBox& b = f.box;
+    struct Span {
+        int lo, hi;
+        bool varies;
+    };
+    thread_local std::array<std::vector<Span>, 3> span;
+    for (int a = 0; a < 3; ++a)
+        span[a].assign(static_cast<std::size_t>(b.n((a + 1) % 3)) * b.n((a + 2) % 3), Span{1, 0, false});
+    for (const MovedNode& m : nodes)
+        for (int a = 0; a < 3; ++a) {
+            const int ua = (a + 1) % 3, va = (a + 2) % 3;
+            Span& sp = span[a][static_cast<std::size_t>(m.n[ua] - b.lo[ua]) +
+                               static_cast<std::size_t>(b.n(ua)) * (m.n[va] - b.lo[va])];
+            if (sp.lo > sp.hi) sp.lo = sp.hi = m.n[a];
+            sp.lo = std::min(sp.lo, m.n[a]);
+            sp.hi = std::max(sp.hi, m.n[a]);
+            sp.varies |= f.s1[m.x] != 0.0f;
+        }
+    out.clear();
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
-        for (int v = f.box.lo[va]; v <= f.box.hi[va]; ++v)
-            for (int u = f.box.lo[ua]; u <= f.box.hi[ua]; ++u) {
-                ++keep.visited;
-                if (!moved[a][static_cast<std::size_t>(u - f.box.lo[ua]) +
-                              static_cast<std::size_t>(f.box.n(ua)) * (v - f.box.lo[va])])
-                    continue;
-                const std::vector<Interval>& ray = set.ray(u, v);
-                if (used == keep.rays.size()) keep.rays.emplace_back();
-                std::vector<Interval>& out = keep.rays[used];
-                resample_ray(ray, f, a, u, v, beta, out);
-                if (same_ray(ray, out)) continue;
-                dv[a] += ray_length(out) - ray_length(ray);
-                keep.where.push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v)});
-                ++used;
+        for (int v = b.lo[va]; v <= b.hi[va]; ++v)
+            for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+                const Span& sp = span[a][static_cast<std::size_t>(u - b.lo[ua]) +
+                                         static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])];
+                if (sp.lo > sp.hi) continue;
+                // Edges [d, d + 1] with a moved end: d in [lo - 1, hi], within the box.
+                out.push_back({static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(u + set.nu * v), u, v,
+                               std::max(sp.lo - 1, b.lo[a]), std::min(sp.hi + 1, b.hi[a]), sp.varies,
+                               ray_length(set.ray(u, v))});
             }
     }
-    keep.dv = (dv[0] + dv[1] + dv[2]) / 3.0;
+}
+
+/// One re-sampling of some of the moved rays: per moved ray (same index), whether it changed, its new intervals
+/// and its length change (cells).
+struct Resampled {
+    std::vector<std::uint8_t> changed;
+    std::vector<std::vector<Interval>> rays;
+    std::vector<double> dlen;
+};
+
+/// Re-samples at `beta` the moved rays with varies == `varying` without writing, into the same slots of `out`.
+void evaluate(const TriDexel& model, const ClayField& f, const std::vector<MovedRay>& moved, bool varying, float beta,
+              Resampled& out) {
+    if (out.rays.size() < moved.size()) out.rays.resize(moved.size());
+    out.changed.resize(moved.size());
+    out.dlen.resize(moved.size());
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        const MovedRay& m = moved[k];
+        if (m.varies != varying) continue;
+        const std::vector<Interval>& ray = model.sets[m.set].rays[m.index];
+        std::vector<Interval>& nr = out.rays[k];
+        resample_ray(ray, f, m.set, m.u, m.v, m.lo, m.hi, beta, nr);
+        out.changed[k] = same_ray(ray, nr) ? 0 : 1;
+        out.dlen[k] = out.changed[k] ? ray_length(nr) - m.old_length : 0.0;
+    }
+}
+
+/// The volume change (cells^3, mean of the three sets) of the moved rays re-sampled as `fixed` (varies == false)
+/// and `var` (varies == true), summed per set in the rays' order.
+double volume_change(const std::vector<MovedRay>& moved, const Resampled& fixed, const Resampled& var) {
+    double dv[3] = {0.0, 0.0, 0.0};
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        const Resampled& r = moved[k].varies ? var : fixed;
+        if (r.changed[k]) dv[moved[k].set] += r.dlen[k];
+    }
+    return (dv[0] + dv[1] + dv[2]) / 3.0;
 }
 
 /// The field's volume indicator at a node: the share (0..1) of the node's cell-sized column element that lies
@@ -186,19 +237,20 @@ float ramp(float p) { return std::clamp(0.5f - p, 0.0f, 1.0f); }
 /// piecewise-linear change in [-8, 8] (s1 of one sign), 26 steps, float. The nodes that can change are gathered once
 /// into contiguous arrays (phi + s0, s1) with their ramp sum at rest, and each step sums four interleaved partial
 /// sums in a fixed order, so a step costs one pass over those nodes.
-float solve_beta(const ClayField& f) {
+float solve_beta(const ClayField& f, const std::vector<MovedNode>& nodes) {
     // Nodes whose ramp can change for beta in [-8, 8]; the others add 0 to every sum.
     thread_local std::vector<float> p0, p1;
     p0.clear();
     p1.clear();
     double rest = 0.0;
-    for (std::size_t i = 0; i < f.s0.size(); ++i)
-        if ((f.s0[i] != 0.0f || f.s1[i] != 0.0f) &&
-            std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i])) {
+    for (const MovedNode& m : nodes) {
+        const std::size_t i = m.x;
+        if (std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i])) {
             p0.push_back(f.phi[i] + f.s0[i]);
             p1.push_back(f.s1[i]);
             rest += static_cast<double>(ramp(f.phi[i]));
         }
+    }
     const std::size_t n = p0.size();
     auto change = [&](float beta) {
         double acc[4] = {0.0, 0.0, 0.0, 0.0};
@@ -228,13 +280,16 @@ float solve_beta(const ClayField& f) {
 /// estimate b1 (solve_beta), then, while the measured change exceeds 1% of what s0 moved (field measure), up to two
 /// secant steps, the first with the slope of the field's own (the ramp sum's change per unit beta, a central
 /// difference over 0.1), the second with the measured one; the beta with the smallest measured change wins and its
-/// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings. The measured
+/// re-sampled rays are kept in `best` (written without re-sampling again). One to three re-samplings of the rays
+/// whose result depends on beta (`fixed` holds the others, re-sampled once by the caller). The measured
 /// change moves in steps (a set's rays sample across them at whole nodes), so one operation keeps it within about
 /// one such step, not exactly 0.
-float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays& moved, Resampled& best) {
-    const float b1 = solve_beta(f);
+float solve_measured(const TriDexel& model, const ClayField& f, const std::vector<MovedNode>& nodes,
+                     const std::vector<MovedRay>& moved, const Resampled& fixed, Resampled& best, double& best_dv) {
+    const float b1 = solve_beta(f, nodes);
     double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
-    for (std::size_t i = 0; i < f.s0.size(); ++i) {
+    for (const MovedNode& m : nodes) {
+        const std::size_t i = m.x;
         if (f.s0[i] != 0.0f) dent += static_cast<double>(ramp(f.phi[i] + f.s0[i])) - ramp(f.phi[i]);
         if (f.s1[i] == 0.0f) continue;
         const float base = f.phi[i] + (f.s0[i] + b1 * f.s1[i]);
@@ -243,18 +298,20 @@ float solve_measured(const TriDexel& model, const ClayField& f, const MovedRays&
     // Good enough: within 1% of what the dent (or the smoothing) moved, or of a hundredth of a cell^3.
     const double tolerance = std::max(0.01 * std::fabs(dent), 0.01);
     float best_beta = b1;
-    evaluate(model, f, moved, b1, best);
+    evaluate(model, f, moved, true, b1, best);
+    best_dv = volume_change(moved, fixed, best);
     thread_local Resampled trial;
     float b = b1;
-    double dv = best.dv;
+    double dv = best_dv;
     for (int k = 0; k < 2 && std::fabs(dv) > tolerance && slope != 0.0; ++k) {
         const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
         if (nb == b) break;
-        evaluate(model, f, moved, nb, trial);
-        const double ndv = trial.dv;
-        if (std::fabs(ndv) < std::fabs(best.dv)) {
+        evaluate(model, f, moved, true, nb, trial);
+        const double ndv = volume_change(moved, fixed, trial);
+        if (std::fabs(ndv) < std::fabs(best_dv)) {
             std::swap(best, trial);
             best_beta = nb;
+            best_dv = ndv;
         }
         if (ndv != dv) slope = (ndv - dv) / (static_cast<double>(nb) - static_cast<double>(b));  // measured from now on
         b = nb;
@@ -353,57 +410,111 @@ ClayBox clay_whole_box(const Lattice& L) {
     return b;
 }
 
+void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
+    lo = f.box.lo[a];
+    hi = f.box.hi[a];
+    const ClayRegion& g = f.region;
+    if (!std::isfinite(g.r)) return;
+    const int ua = (a + 1) % 3, va = (a + 2) % 3;
+    const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
+    const float side2 = du * du + dv * dv, r2 = g.r * g.r;
+    if (side2 > r2 * 1.0001f + 1e-4f) {
+        lo = 1;
+        hi = 0;
+        return;
+    }
+    // A chord a cell longer each way than the ball's, then trimmed to the nodes the predicate accepts (they form
+    // one run: the squared distance grows monotonically away from the centre).
+    const float h = std::sqrt(std::max(r2 - side2, 0.0f)) + 1.0f;
+    lo = static_cast<int>(std::max(std::floor(g.c[a] - h), static_cast<float>(lo)));
+    hi = static_cast<int>(std::min(std::ceil(g.c[a] + h), static_cast<float>(hi)));
+    int n[3];
+    n[ua] = u;
+    n[va] = v;
+    auto in = [&](int d) {
+        n[a] = d;
+        return g.contains(n[0], n[1], n[2]);
+    };
+    while (lo <= hi && !in(lo)) ++lo;
+    while (hi >= lo && !in(hi)) --hi;
+}
+
 void clay_build_phi(const TriDexel& model, ClayField& f) {
-    // clay_node_phi at every node, one walk along each ray of each set instead of a scan per node: the same
-    // predicates and the same float operations in the same order (sets 0, 1, 2), so the same values.
+    // clay_node_phi at every node of the region, one walk along each ray of each set (over its chord through the
+    // region) instead of a scan per node: the same predicates and the same float operations in the same order
+    // (sets 0, 1, 2), so the same values.
     const ClayBox& b = f.box;
     const std::size_t n = b.count();
-    f.phi.assign(n, 0.0f);
+    f.phi.resize(n);
+    std::memset(f.phi.data(), 0xff, n * sizeof(float));  // all ones: a NaN at every node until built
     f.s0.assign(n, 0.0f);
     f.s1.assign(n, 0.0f);
+    // Set 0 visits every node of the region first and so sets these; the other nodes are never read.
     thread_local std::vector<std::uint8_t> votes, touching;
-    votes.assign(n, 0);
-    touching.assign(n, 0);
+    votes.resize(n);
+    touching.resize(n);
     std::vector<float>& inv = f.s1;  // scratch until the end
     const float K = f.search;
+    const bool whole = !std::isfinite(f.region.r);
+    const float r2 = f.region.r * f.region.r;
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
+        const std::size_t stride = a == 0   ? 1
+                                   : a == 1 ? static_cast<std::size_t>(b.n(0))
+                                            : static_cast<std::size_t>(b.n(0)) * b.n(1);
         int nd[3];
-        for (int v = b.lo[va]; v <= b.hi[va]; ++v)
+        for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
+            const float dv = static_cast<float>(v) - f.region.c[va];
+            if (!whole && dv * dv > r2 * 1.0001f + 1e-4f) continue;  // the row misses the region
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+                int dlo, dhi;
+                clay_region_chord(f, a, u, v, dlo, dhi);
+                if (dlo > dhi) continue;
+                f.chords[a][static_cast<std::size_t>(u - b.lo[ua]) +
+                            static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])] = {dlo, dhi};
                 const std::vector<Interval>& ray = set.ray(u, v);
                 const std::size_t ne = 2 * ray.size();
                 auto end = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
                 nd[ua] = u;
                 nd[va] = v;
+                nd[a] = dlo;
+                std::size_t x = b.index(nd[0], nd[1], nd[2]);
                 std::size_t q = 0;  // first end >= depth
-                for (int d = b.lo[a]; d <= b.hi[a]; ++d) {
+                for (int d = dlo; d <= dhi; ++d, x += stride) {
                     const float depth = static_cast<float>(d);
                     while (q < ne && end(q) < depth) ++q;
                     float dist = K;
                     if (q > 0) dist = std::min(dist, std::fabs(end(q - 1) - depth));
                     if (q < ne) dist = std::min(dist, std::fabs(end(q) - depth));
-                    nd[a] = d;
-                    const std::size_t x = b.index(nd[0], nd[1], nd[2]);
-                    votes[x] = static_cast<std::uint8_t>(votes[x] + ((q & 1u) ? 1 : 0));
+                    const std::uint8_t in = (q & 1u) ? 1 : 0;
+                    votes[x] = a == 0 ? in : static_cast<std::uint8_t>(votes[x] + in);
+                    if (a == 0) touching[x] = 0;
                     if (dist == 0.0f)
                         touching[x] = 1;
                     else if (dist < K)
                         inv[x] += 1.0f / (dist * dist);
                 }
             }
+        }
     }
-    for (std::size_t x = 0; x < n; ++x) {
-        float mag = K;
-        if (touching[x])
-            mag = 0.0f;
-        else if (inv[x] > 0.0f)
-            mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
-        mag = std::max(mag, 1e-6f);
-        f.phi[x] = votes[x] >= 2 ? -mag : mag;
-        inv[x] = 0.0f;
-    }
+    // The region's nodes, along the chords of set 0's rays.
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
+            const std::array<int, 2>& run = f.chord(0, j, k);
+            for (int i = run[0]; i <= run[1]; ++i) {
+                const std::size_t x = b.index(i, j, k);
+                float mag = K;
+                if (touching[x])
+                    mag = 0.0f;
+                else if (inv[x] > 0.0f)
+                    mag = std::min(mag, 1.0f / std::sqrt(inv[x]));
+                mag = std::max(mag, 1e-6f);
+                f.phi[x] = votes[x] >= 2 ? -mag : mag;
+                inv[x] = 0.0f;
+            }
+        }
 }
 
 float clay_phi_at(const ClayField& f, float px, float py, float pz) {
@@ -435,30 +546,37 @@ float clay_phi_at(const ClayField& f, float px, float py, float pz) {
 ClayStats clay_resample(TriDexel& model, const ClayField& f, bool volume_preserving, std::vector<RayImage>* before) {
     ClayStats st;
     if (f.box.empty()) return st;
-    bool any = false, any1 = false;
-    for (std::size_t i = 0; i < f.s0.size(); ++i) {
-        any |= f.s0[i] != 0.0f;
-        any1 |= f.s1[i] != 0.0f;
-    }
-    if (!any && !any1) return st;
-    const MovedRays moved = moved_rays(f);
+    thread_local std::vector<MovedNode> nodes;
+    moved_nodes(f, nodes);
+    if (nodes.empty()) return st;
+    bool any1 = false;
+    for (const MovedNode& m : nodes) any1 |= f.s1[m.x] != 0.0f;
+    thread_local std::vector<MovedRay> moved;
+    moved_rays(model, f, nodes, moved);
     float beta = 0.0f;
-    thread_local Resampled result;
-    if (volume_preserving && any1)
-        beta = solve_measured(model, f, moved, result);
-    else
-        evaluate(model, f, moved, 0.0f, result);
-    for (std::size_t i = 0; i < f.s0.size(); ++i)
+    thread_local Resampled fixed, var;
+    evaluate(model, f, moved, false, 0.0f, fixed);  // the same at every beta
+    double dv = 0.0;
+    if (volume_preserving && any1) {
+        beta = solve_measured(model, f, nodes, moved, fixed, var, dv);
+    } else {
+        evaluate(model, f, moved, true, 0.0f, var);
+        dv = volume_change(moved, fixed, var);
+    }
+    for (const MovedNode& m : nodes)
         st.max_displacement_cells =
-            std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[i] + beta * f.s1[i])));
+            std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[m.x] + beta * f.s1[m.x])));
     st.beta = beta;
-    st.volume_change_cells = result.dv;
-    st.rays.rays_visited = result.visited;
-    st.rays.rays_changed = result.where.size();
-    for (std::size_t k = 0; k < result.where.size(); ++k) {
-        std::vector<Interval>& ray = model.sets[result.where[k].first].rays[result.where[k].second];
-        if (before) before->push_back({result.where[k].first, result.where[k].second, ray});
-        ray.swap(result.rays[k]);
+    st.volume_change_cells = dv;
+    for (int a = 0; a < 3; ++a)
+        st.rays.rays_visited += static_cast<std::size_t>(f.box.n((a + 1) % 3)) * f.box.n((a + 2) % 3);
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        Resampled& r = moved[k].varies ? var : fixed;
+        if (!r.changed[k]) continue;
+        ++st.rays.rays_changed;
+        std::vector<Interval>& ray = model.sets[moved[k].set].rays[moved[k].index];
+        if (before) before->push_back({moved[k].set, moved[k].index, ray});
+        ray.swap(r.rays[k]);
     }
     if (st.rays.rays_changed > 0) {
         const Lattice& L = model.lattice;

@@ -2,8 +2,11 @@
 // lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
@@ -14,7 +17,8 @@ namespace tridex::compute {
 /// How the clay tools keep the three ray sets describing one solid.
 ///
 /// A clay operation never moves interval ends of one set on its own. It (1) builds one scalar field phi on the
-/// lattice nodes of the operation's box from all three sets (clay_build_phi: the sign is the majority of the three
+/// lattice nodes of the operation's region (a ball inside its box around the nodes it can move: a narrow region, not
+/// the whole box) from all three sets (clay_build_phi: the sign is the majority of the three
 /// rays through the node, the magnitude the plane-exact distance 1 / sqrt(sum_a 1/d_a^2) from the axial distances
 /// d_a to the nearest crossing on each of the three rays), (2) offsets it by a displacement s >= or <= 0 per node
 /// (phi' = phi + s moves the surface along its normal by s cells: inward for s > 0), and (3) re-samples every ray
@@ -54,14 +58,39 @@ struct ClayBox {
     }
 };
 
-/// The signed distance phi (cells; < 0 inside) at every node of `box`, and the displacement s = s0 + beta * s1 (cells
-/// along the surface normal, > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves.
+/// The ball of grid space (centre c in grid units from the lattice origin, radius r in cells) outside which a field's
+/// operation reads no node: its nodes are the narrow region clay_build_phi fills. r = infinity: the whole box.
+struct ClayRegion {
+    float c[3] = {0.0f, 0.0f, 0.0f};
+    float r = std::numeric_limits<float>::infinity();
+    /// True when lattice node (i, j, k) lies in the ball: (i-c0)^2 + (j-c1)^2 + (k-c2)^2 <= r^2, in float, in that
+    /// order (the same predicate wherever a node's membership is asked).
+    bool contains(int i, int j, int k) const {
+        const float dx = static_cast<float>(i) - c[0], dy = static_cast<float>(j) - c[1],
+                    dz = static_cast<float>(k) - c[2];
+        return dx * dx + dy * dy + dz * dz <= r * r;
+    }
+};
+
+/// The signed distance phi (cells; < 0 inside) at every node of `box` within `region` (NaN at the box's other nodes,
+/// which the operation must not read), and the displacement s = s0 + beta * s1 (cells along the surface normal,
+/// > 0 inward) the operation applies there. s0, s1 are 0 where nothing moves (and everywhere outside `region`).
 struct ClayField {
     ClayBox box;
+    ClayRegion region;
     float search = static_cast<float>(kClaySearchCells);  ///< clamp of phi, cells (clay_node_phi)
     std::vector<float> phi;
     std::vector<float> s0;
     std::vector<float> s1;
+    /// Filled by clay_build_phi: per set a, per ray of the box through (u, v) (its other two node indices), the run
+    /// [lo, hi] of its depth nodes in the region (clay_region_chord; lo > hi when none).
+    std::array<std::vector<std::array<int, 2>>, 3> chords;
+    /// The run of region nodes on the ray of set a through box nodes (u, v), from `chords`.
+    const std::array<int, 2>& chord(int a, int u, int v) const {
+        const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        return chords[a][static_cast<std::size_t>(u - box.lo[ua]) +
+                         static_cast<std::size_t>(box.n(ua)) * static_cast<std::size_t>(v - box.lo[va])];
+    }
 };
 
 /// True when node (i, j, k) of set `axis`'s ray through it lies inside material: some interval has
@@ -72,8 +101,15 @@ bool clay_ray_inside(const std::vector<Interval>& ray, float depth);
 /// (see above), crossings farther than `search` cells along a ray ignored. O(intervals on the three rays).
 float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = static_cast<float>(kClaySearchCells));
 
-/// Fills field.phi on field.box (which must be inside the lattice) and zeroes s0 and s1.
+/// Fills field.phi at the nodes of field.box (which must be inside the lattice) within field.region, NaN at the
+/// others, zeroes s0 and s1, and fills field.chords. Each ray of the three sets through the box is walked only over
+/// its chord through the region, so the cost is O(nodes in the region + intervals on those rays), plus clearing the
+/// box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
+
+/// The depth nodes [lo, hi] of the ray of set `axis` through (u, v) (its other two node indices) that lie both in
+/// field.box and in field.region (ClayRegion::contains, exactly); lo > hi when there are none. O(1).
+void clay_region_chord(const ClayField& field, int axis, int u, int v, int& lo, int& hi);
 
 /// Trilinear phi at grid point p (cells from the lattice origin) from the nodes of field.box; p is clamped into the box.
 float clay_phi_at(const ClayField& field, float px, float py, float pz);
@@ -90,10 +126,14 @@ struct ClayStats {
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
 /// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
 /// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
-/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays sample across them at whole nodes), so
-/// one operation keeps it within about one such step, and a stroke's steps do not add up to a drift. Else beta = 0.
-/// Appends the changed rays' old images to `before` when not null. Marks the changed box dirty.
-/// Cost: O(moved rays x (nodes + intervals) per ray) per re-sampling; one to three re-samplings (the best one is written).
+/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays
+/// sample across them at whole nodes), so one operation keeps it within about one such step, and a stroke's steps do
+/// not add up to a drift. Else beta = 0. Only nodes of field.region (field.chords as clay_build_phi fills them; the
+/// whole box when they are missing) are read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and
+/// their neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed
+/// box dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
+/// ray) per re-sampling; one to three re-samplings of the rays through nodes with s1 != 0, one of the others (the
+/// best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 
@@ -122,6 +162,13 @@ inline bool clay_node_fixed(const ClayBox& box, const Lattice& lattice, int ix, 
             nd[a] == lattice.cells[a])
             return true;
     return false;
+}
+
+/// The nodes along axis a that clay_node_fixed lets move (ignoring the other two axes): [lo, hi], lo > hi when none.
+/// A node moves exactly when each of its three indices lies in its axis' range.
+inline void clay_movable_range(const ClayBox& box, const Lattice& lattice, int a, int& lo, int& hi) {
+    lo = std::max(box.lo[a] + kClayMarginCells, 1);
+    hi = std::min(box.hi[a] - kClayMarginCells, lattice.cells[a] - 1);
 }
 
 }  // namespace tridex::compute

@@ -2,6 +2,7 @@
 #include "compute/tools/clay_smooth.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "compute/tools/clay_push.hpp"
@@ -26,12 +27,17 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     for (int a = 0; a < 3; ++a) outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
     field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
     if (field.box.empty()) return {};
+    // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
+    for (int a = 0; a < 3; ++a) field.region.c[a] = ct.point[a];
+    field.region.r = r + 1.01f;  // a neighbour lies within 1 cell of a moved node
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
-    for (int kz = b.lo[2]; kz <= b.hi[2]; ++kz)
-        for (int jy = b.lo[1]; jy <= b.hi[1]; ++jy)
-            for (int ix = b.lo[0]; ix <= b.hi[0]; ++ix) {
-                if (clay_node_fixed(b, model.lattice, ix, jy, kz)) continue;
+    int mlo[3], mhi[3];  // the nodes clay_node_fixed lets move, per axis
+    for (int a = 0; a < 3; ++a) clay_movable_range(b, model.lattice, a, mlo[a], mhi[a]);
+    for (int kz = mlo[2]; kz <= mhi[2]; ++kz)
+        for (int jy = mlo[1]; jy <= mhi[1]; ++jy) {
+            const std::array<int, 2>& run = field.chord(0, jy, kz);
+            for (int ix = std::max(run[0], mlo[0]); ix <= std::min(run[1], mhi[0]); ++ix) {
                 const std::size_t i = b.index(ix, jy, kz);
                 const float phi = field.phi[i];
                 if (!(std::fabs(phi) < 2.0f)) continue;
@@ -49,6 +55,7 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
                 field.s0[i] = kClaySmoothRate * wgt * lap;
                 field.s1[i] = wgt;
             }
+        }
     return clay_resample(model, field, true, before);
 }
 
