@@ -218,6 +218,31 @@ TEST(DeviceServer, MalformedDatagramsAreCountedAndDropped) {
     EXPECT_NE(drops.summary().find("non-finite number: 1"), std::string::npos) << drops.summary();
 }
 
+// A local-rendering session over the shim whose hand follows `path` toward a z = 0 wall (solid below it): sets
+// `contact`, connects, brings the loop up, then runs `ticks` ticks offering the wall's snapshot; `before_tick(i)`
+// runs first in each. Returns the lowest device z reached (m); the rig keeps the last force.
+template <class BeforeTick>
+double press_wall(LinkRig& rig, const net::ContactMsg& contact, int ticks, BeforeTick before_tick) {
+    rig.client->set_contact(contact);
+    EXPECT_TRUE(rig.connect());
+    rig.client->bring_up();
+    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
+    test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
+    wall->centre_m = Vec3(0.0);
+    devices::DeviceState s;
+    double min_z = 1.0;
+    for (int i = 0; i < ticks; ++i) {
+        before_tick(i);
+        EXPECT_TRUE(rig.client->read(s));
+        rig.client->observe_surface(*wall);
+        rig.client->write(Vec3(0.0), Vec3(0.0));  // ignored in local mode
+        rig.client->service();
+        rig.server_tick();
+        min_z = std::min(min_z, rig.device.position_m().z);
+    }
+    return min_z;
+}
+
 TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
     // The hand goes from 10 mm above a z = 0 wall to 3 mm into it; the server's god-object pushes back.
     LinkRig rig(net::RenderingMode::kLocal,
@@ -225,22 +250,7 @@ TEST(DeviceServer, LocalRenderingPushesBackNextToTheDevice) {
     net::ContactMsg contact;
     contact.stiffness_n_per_m = 700.0;
     contact.tool_radius_m = 0.0;
-    rig.client->set_contact(contact);
-    ASSERT_TRUE(rig.connect());
-    rig.client->bring_up();
-    auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
-    test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
-    wall->centre_m = Vec3(0.0);
-    devices::DeviceState s;
-    double min_z = 1.0;
-    for (int i = 0; i < 600; ++i) {
-        ASSERT_TRUE(rig.client->read(s));
-        rig.client->observe_surface(*wall);
-        rig.client->write(Vec3(0.0), Vec3(0.0));  // ignored in local mode
-        rig.client->service();
-        rig.server_tick();
-        min_z = std::min(min_z, rig.device.position_m().z);
-    }
+    const double min_z = press_wall(rig, contact, 600, [](int) {});
     EXPECT_GT(rig.device.last_force_n().z, 0.3) << "the wall does not push back";
     EXPECT_GT(min_z, -0.003) << "the tool went as deep as the hand: no wall";
     const DeviceServerStats st = rig.server->stats();
@@ -304,22 +314,7 @@ TEST(DeviceServer, LocalRenderingUsesTheSessionsContactPoints) {
     auto press = [](const net::ContactMsg& contact) {
         LinkRig rig(net::RenderingMode::kLocal,
                     ScriptedPath({0.0, 0.2}, {Vec3(0.0, 0.0, 0.015), Vec3(0.0, 0.0, 0.002)}));
-        rig.client->set_contact(contact);
-        EXPECT_TRUE(rig.connect());
-        rig.client->bring_up();
-        auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
-        test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
-        wall->centre_m = Vec3(0.0);
-        devices::DeviceState s;
-        double min_z = 1.0;
-        for (int i = 0; i < 600; ++i) {
-            EXPECT_TRUE(rig.client->read(s));
-            rig.client->observe_surface(*wall);
-            rig.client->write(Vec3(0.0), Vec3(0.0));
-            rig.client->service();
-            rig.server_tick();
-            min_z = std::min(min_z, rig.device.position_m().z);
-        }
+        const double min_z = press_wall(rig, contact, 600, [](int) {});
         return Outcome{rig.device.last_force_n().z, min_z};
     };
     net::ContactMsg centre;
@@ -344,21 +339,9 @@ TEST(DeviceServer, LocalRenderingFollowsAResizedTool) {
         contact.stiffness_n_per_m = 700.0;
         contact.point_count = 1;
         contact.point_local_m[0] = Vec3(0.0, 0.0, -0.002);
-        rig.client->set_contact(contact);
-        EXPECT_TRUE(rig.connect());
-        rig.client->bring_up();
-        auto wall = test::make_surface(1e-3, Vec3(-0.016, -0.016, -0.020));
-        test::fill_set(*wall, 2, 0, 0, [](int, int) { return test::Intervals{{0.0f, 20.0f}}; });
-        wall->centre_m = Vec3(0.0);
-        devices::DeviceState s;
-        for (int i = 0; i < 900; ++i) {
+        press_wall(rig, contact, 900, [&](int i) {
             if (i == 100) rig.client->observe_tool_scale(scale);  // as the loop does when [ or ] resizes the tool
-            EXPECT_TRUE(rig.client->read(s));
-            rig.client->observe_surface(*wall);
-            rig.client->write(Vec3(0.0), Vec3(0.0));
-            rig.client->service();
-            rig.server_tick();
-        }
+        });
         return rig.device.last_force_n().z;
     };
     EXPECT_NEAR(final_force_z(1.0), 0.0, 1e-9) << "the tool as configured does not reach the wall";
