@@ -19,36 +19,30 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
     const std::vector<devices::DetectedDevice> seen = registry.detect(usb_error);
     nlohmann::json rows = nlohmann::json::array();
     for (const devices::DriverInfo& d : registry.drivers()) {
-        if (!d.hardware && d.profiles.empty()) {  // a driver whose profile comes from elsewhere (net: from its server)
-            rows.push_back({{"name", "(the served device's)"},
+        // A software driver's row per profile it takes (or one for a driver whose profile comes from elsewhere,
+        // net: from its server).
+        auto software_row = [&](const std::string& name, const std::string& profile, int dof_in, int dof_out) {
+            rows.push_back({{"name", name},
                             {"driver", d.name},
-                            {"profile", "-"},
-                            {"dof", d.dof_out},
-                            {"dof_in", d.dof_in},
-                            {"dof_out", d.dof_out},
+                            {"profile", profile},
+                            {"dof", dof_out},
+                            {"dof_in", dof_in},
+                            {"dof_out", dof_out},
                             {"hardware", false},
                             {"available", d.available},
                             {"detected", true},
                             {"usb_ids", nlohmann::json::array()},
                             {"locations", nlohmann::json::array()},
                             {"summary", d.summary}});
+        };
+        if (!d.hardware && d.profiles.empty()) {
+            software_row("(the served device's)", "-", d.dof_in, d.dof_out);
             continue;
         }
         if (!d.hardware) {
             for (const std::string& name : d.profiles) {
                 const devices::DeviceProfile p = devices::profile_by_name(name);
-                rows.push_back({{"name", p.name},
-                                {"driver", d.name},
-                                {"profile", name},
-                                {"dof", p.dof_out},
-                                {"dof_in", p.dof_in},
-                                {"dof_out", p.dof_out},
-                                {"hardware", false},
-                                {"available", d.available},
-                                {"detected", true},
-                                {"usb_ids", nlohmann::json::array()},
-                                {"locations", nlohmann::json::array()},
-                                {"summary", d.summary}});
+                software_row(p.name, name, p.dof_in, p.dof_out);
             }
             continue;
         }

@@ -171,4 +171,20 @@ inline void clay_movable_range(const ClayBox& box, const Lattice& lattice, int a
     hi = std::min(box.hi[a] - kClayMarginCells, lattice.cells[a] - 1);
 }
 
+/// Calls fn(ix, jy, kz, i) for every node of `field`'s region that clay_node_fixed lets move, in z, y, x order
+/// (grid indices; i = field.box.index(ix, jy, kz)), walking each x-row only over its region chord. The field's
+/// phi must be built (clay_build_phi). Never throws unless fn does.
+template <class Fn>
+void clay_for_each_movable_node(const TriDexel& model, const ClayField& field, Fn&& fn) {
+    const ClayBox& b = field.box;
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) clay_movable_range(b, model.lattice, a, lo[a], hi[a]);
+    for (int kz = lo[2]; kz <= hi[2]; ++kz)
+        for (int jy = lo[1]; jy <= hi[1]; ++jy) {
+            const std::array<int, 2>& run = field.chord(0, jy, kz);
+            for (int ix = std::max(run[0], lo[0]); ix <= std::min(run[1], hi[0]); ++ix)
+                fn(ix, jy, kz, b.index(ix, jy, kz));
+        }
+}
+
 }  // namespace tridex::compute

@@ -119,39 +119,30 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
     field.region.r = r + w + 1.01f + std::sqrt(half2);  // a neighbour lies within 1 cell of a moved node
     clay_build_phi(model, field);
     const float reach2 = (r + w) * (r + w) * 1.0001f;  // beyond it (with rounding to spare) no stamp moves a node
-    const ClayBox& b = field.box;
-    int mlo[3], mhi[3];  // the nodes clay_node_fixed lets move, per axis
-    for (int a = 0; a < 3; ++a) clay_movable_range(b, model.lattice, a, mlo[a], mhi[a]);
-    for (int kz = mlo[2]; kz <= mhi[2]; ++kz)
-        for (int jy = mlo[1]; jy <= mhi[1]; ++jy) {
-            const std::array<int, 2>& run = field.chord(0, jy, kz);
-            for (int ix = std::max(run[0], mlo[0]); ix <= std::min(run[1], mhi[0]); ++ix) {
-                const std::size_t i = b.index(ix, jy, kz);
-                const float phi = field.phi[i];
-                const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
-                float dent = 0.0f, rim = 0.0f;
-                for (const Stamp& s : stamps) {
-                    const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
-                    const float d2 = dx * dx + dy * dy + dz * dz;
-                    if (d2 > reach2) continue;
-                    const float d = std::sqrt(d2);
-                    const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
-                    if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
-                    if (d < r) {
-                        const float x = d / r;
-                        dent =
-                            std::max(dent, s.delta * (1.0f - x * x));  // Popescu 3.3: k = 1 - (d/r)^2, the largest wins
-                    } else if (d < r + w) {
-                        rim = std::max(rim, s.delta * rim_bump((d - r) / w));
-                    }
-                }
-                if (dent > 0.0f) {
-                    if (std::fabs(phi) < dent + 2.0f) field.s0[i] = sign * dent;
-                } else if (rim > 0.0f) {
-                    if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
-                }
+    clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
+        const float phi = field.phi[i];
+        const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
+        float dent = 0.0f, rim = 0.0f;
+        for (const Stamp& s : stamps) {
+            const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
+            const float d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 > reach2) continue;
+            const float d = std::sqrt(d2);
+            const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
+            if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
+            if (d < r) {
+                const float x = d / r;
+                dent = std::max(dent, s.delta * (1.0f - x * x));  // Popescu 3.3: k = 1 - (d/r)^2, the largest wins
+            } else if (d < r + w) {
+                rim = std::max(rim, s.delta * rim_bump((d - r) / w));
             }
         }
+        if (dent > 0.0f) {
+            if (std::fabs(phi) < dent + 2.0f) field.s0[i] = sign * dent;
+        } else if (rim > 0.0f) {
+            if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
+        }
+    });
     return clay_resample(model, field, true, before);
 }
 

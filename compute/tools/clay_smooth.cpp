@@ -32,30 +32,23 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     field.region.r = r + 1.01f;  // a neighbour lies within 1 cell of a moved node
     clay_build_phi(model, field);
     const ClayBox& b = field.box;
-    int mlo[3], mhi[3];  // the nodes clay_node_fixed lets move, per axis
-    for (int a = 0; a < 3; ++a) clay_movable_range(b, model.lattice, a, mlo[a], mhi[a]);
-    for (int kz = mlo[2]; kz <= mhi[2]; ++kz)
-        for (int jy = mlo[1]; jy <= mhi[1]; ++jy) {
-            const std::array<int, 2>& run = field.chord(0, jy, kz);
-            for (int ix = std::max(run[0], mlo[0]); ix <= std::min(run[1], mhi[0]); ++ix) {
-                const std::size_t i = b.index(ix, jy, kz);
-                const float phi = field.phi[i];
-                if (!(std::fabs(phi) < 2.0f)) continue;
-                const float dx = static_cast<float>(ix) - ct.point[0], dy = static_cast<float>(jy) - ct.point[1],
-                            dz = static_cast<float>(kz) - ct.point[2];
-                const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-                if (!(d < r)) continue;
-                const float depth = -(dx * ct.normal[0] + dy * ct.normal[1] + dz * ct.normal[2]);
-                if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
-                const float x = d / r;
-                const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
-                const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
-                                  field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
-                                  field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
-                field.s0[i] = kClaySmoothRate * wgt * lap;
-                field.s1[i] = wgt;
-            }
-        }
+    clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
+        const float phi = field.phi[i];
+        if (!(std::fabs(phi) < 2.0f)) return;
+        const float dx = static_cast<float>(ix) - ct.point[0], dy = static_cast<float>(jy) - ct.point[1],
+                    dz = static_cast<float>(kz) - ct.point[2];
+        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (!(d < r)) return;
+        const float depth = -(dx * ct.normal[0] + dy * ct.normal[1] + dz * ct.normal[2]);
+        if (depth > clay_sheet_depth(0.0f, d)) return;  // another sheet of the solid
+        const float x = d / r;
+        const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
+        const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
+                          field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
+                          field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
+        field.s0[i] = kClaySmoothRate * wgt * lap;
+        field.s1[i] = wgt;
+    });
     return clay_resample(model, field, true, before);
 }
 
