@@ -48,16 +48,22 @@ SceneSphere sphere_of(const json& j, const std::string& source, const std::strin
 
 }  // namespace
 
+std::vector<SceneSphere> scene_spheres_from_json(const json& objects, const std::string& source) {
+    if (!objects.is_array() || objects.empty() || objects.size() > 16)
+        throw Error(source + ": field 'objects': must be an array of 1 to 16 objects");
+    std::vector<SceneSphere> out;
+    for (std::size_t i = 0; i < objects.size(); ++i)
+        out.push_back(sphere_of(objects[i], source, "objects[" + std::to_string(i) + "]"));
+    return out;
+}
+
 ElasticScene elastic_scene_from_json(const json& j, const std::string& source) {
     ElasticScene s;
     s.source = source;
     Fields top(j, source, "");
     const json* objects = top.get("objects");
     if (!objects) top.fail("objects", "missing: the scene needs at least one object to press");
-    if (!objects->is_array() || objects->empty() || objects->size() > 16)
-        top.fail("objects", "must be an array of 1 to 16 objects");
-    for (std::size_t i = 0; i < objects->size(); ++i)
-        s.objects.push_back(sphere_of((*objects)[i], source, "objects[" + std::to_string(i) + "]"));
+    s.objects = scene_spheres_from_json(*objects, source);
     if (const json* t = top.get("tool")) {
         Fields f(*t, source, "tool");
         const std::string shape = f.text("shape", "ball");

@@ -59,6 +59,11 @@ struct ElasticScene {
     double max_force_n = 3.3;           ///< force limit, N (an Omni-class device)
 };
 
+/// Reads a scene's "objects" array (`objects`, the field's JSON; each entry in the form on ElasticScene) from `source`:
+/// 1 to 16 spheres. Throws tridex::Error "<source>: field 'objects[i].<name>': <what is wrong>" for a wrong type, an
+/// out-of-range or non-finite value, an unknown shape or field, or an empty or too long array.
+std::vector<SceneSphere> scene_spheres_from_json(const nlohmann::json& objects, const std::string& source);
+
 /// Reads the scene from parsed JSON (form on ElasticScene). Throws tridex::Error "<source>: field '<path>': <what is
 /// wrong>" for a wrong type, an out-of-range or non-finite value, an unknown name or field, a missing "objects", a
 /// pressed object that is not elastic, or depths that do not increase.

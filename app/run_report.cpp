@@ -120,6 +120,7 @@ json run_report_json(const RunResult& r) {
         {"journal", r.journal},
         {"mouse", r.mouse},
         {"study", r.study},
+        {"deformation", r.deformation},
         {"history", history_report_json(r.sculpt)},
         {"saves",
          {{"count", r.saves.saves},

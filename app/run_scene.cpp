@@ -420,7 +420,7 @@ void read_wand(Fields& top, RunScene& s) {
 void read_study(Fields& top, const json& j, RunScene& s, const std::string& base_dir) {
     const json* st = top.get("study");
     if (!st) return;
-    for (const char* name : {"workpiece", "tool", "op", "material", "haptics", "stroke", "cursor"})
+    for (const char* name : {"workpiece", "tool", "op", "material", "haptics", "stroke", "cursor", "objects"})
         if (j.contains(name))
             top.fail(name, "a study scene decides it (the wand, its felt walls, no carving); remove it or the \"study\" field");
     Fields f(*st, top.source(), "study");
@@ -453,6 +453,13 @@ void read_study(Fields& top, const json& j, RunScene& s, const std::string& base
     sp.mesh_path = r.scene.path;
     sp.study_model = r.model;
     s.has_stroke = false;
+}
+
+void read_objects(Fields& top, RunScene& s) {
+    const json* o = top.get("objects");
+    if (!o) return;
+    s.objects = scene_spheres_from_json(*o, top.source());
+    for (const SceneSphere& x : s.objects) s.spec.elastic_objects.push_back(x.sphere);
 }
 
 }  // namespace
@@ -502,6 +509,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_display(top, s);
     read_head(top, s);
     read_wand(top, s);
+    read_objects(top, s);
     read_study(top, j, s, base_dir);
     top.finish();
     if (s.has_stroke && s.stroke.passes > 1 && s.spec.workspace_mode != "peng_moving")

@@ -13,6 +13,7 @@
 #include "core/pose.hpp"
 #include "haptics/workspace_mapping.hpp"
 #include "app/cursor_script.hpp"
+#include "app/elastic_scene.hpp"
 #include "app/key_script.hpp"
 #include "devices/spacemouse_device.hpp"
 #include "app/study/study_scene.hpp"
@@ -95,6 +96,9 @@ struct RunStudy {
 ///             "loop": false, "tracker_timeout_s": 0.1 },
 ///   "wand": { "provider": "none" | "dtrack", "port": 5000, "flystick": 0,   // DTrack Flystick (`6df2`) id
 ///             "bind_address": "0.0.0.0", "timeout_s": 0.1 },
+///   "objects": [ { "name": "squeeze_ball", "shape": "sphere", "elastic": true, "centre_m": [x, y, z],
+///                  "radius_m": 0.03, "stiffness_n_per_m": 300, "influence_radius_m": 0.015,
+///                  "colour": [r, g, b, a] }, ... ],        // app/elastic_scene.hpp; felt and drawn beside the workpiece
 ///   "study": { "scene": "study_tube_scene.json",   // a study scene file (relative to the scene file), RunStudy;
 ///              "model": "test", "seed": 1, "trial": 1,   // then no workpiece, tool, op, haptics or stroke fields
 ///              "end_at_end_cap": false, "phase_line": "...",          // ... an overlay line
@@ -137,6 +141,9 @@ struct RunScene {
     std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on
     double wand_timeout_s = 0.1;        ///< wand: a Flystick sample older than this stops navigation, s
     RunStudy study;                     ///< a study scene's objects instead of a workpiece (study.enabled)
+    /// Spheres beside the workpiece ("objects"): felt through their undeformed surfaces (spec.elastic_objects) and
+    /// drawn, the elastic ones dented within their radius of influence while the tool presses them.
+    std::vector<SceneSphere> objects;
     /// The flystick / tracked-body drivers: the DTrack target that is the tool ("device": {"driver": "flystick",
     /// "port": 5000, "id": 0, "bind_address": "0.0.0.0", "timeout_s": 0.1}; devices/tracking/tracked_tool_device.hpp).
     int tracked_port = 5000;                 ///< UDP port (the head's or the wand's receiver is shared on the same port)

@@ -23,6 +23,7 @@
 #include "app/session_recording.hpp"
 #include "app/study/study_recording.hpp"
 #include "app/study/study_view.hpp"
+#include "app/elastic_view.hpp"
 #include "app/workpiece_source.hpp"
 #include "app/tile_view.hpp"
 #include "app/stop_signal.hpp"
@@ -200,6 +201,9 @@ RunSetup resolve_run(const RunOptions& o) {
         s.scene.spec.haptic_rendering = o.haptic_rendering;
     }
     const std::string& driver = s.scene.spec.device_driver;
+    if (driver == "net" && s.scene.spec.haptic_rendering == "local" && !s.scene.objects.empty())
+        throw Error(s.scene.source + ": field 'objects': scene objects are felt by the session's own contact loop; a "
+                    "device server renders only the workpiece in local haptic rendering: use distributed rendering");
     if (driver == "mouse" || driver == "spacemouse" || driver == "flystick" || driver == "tracked-body")
         s.scene.has_stroke = false;  // the person is the hand
     if (driver == "flystick" && s.scene.wand_dtrack && s.scene.wand_port == s.scene.tracked_port &&
@@ -330,6 +334,12 @@ RunResult run_stereo_session(const RunOptions& options) {
     // A study scene: its objects are drawn instead of the workpiece (the felt walls stay invisible).
     std::optional<study::StudyView> study_view;
     if (scene.study.enabled) study_view.emplace(scene.study);
+    // Scene objects: drawn beside the workpiece, the elastic ones dented where the loop feels them.
+    std::optional<ElasticView> elastic_view;
+    std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
+    if (!scene.objects.empty())
+        elastic_view.emplace(scene.objects, backend.runtime().config().tool_points,
+                             backend.runtime().config().tool.radius_m);
     backend.runtime().start();
 
     // 4. The render loop, on this thread.
@@ -446,6 +456,12 @@ RunResult run_stereo_session(const RunOptions& options) {
                 view.indirect_workpiece = nullptr;
                 view.objects = study_view->frame(lv);
             }
+            if (elastic_view) {
+                const std::vector<renderer::SceneObject>& o = elastic_view->frame(lv);
+                frame_objects.assign(view.objects.begin(), view.objects.end());
+                frame_objects.insert(frame_objects.end(), o.begin(), o.end());
+                view.objects = frame_objects;
+            }
             if (su.items) {
                 if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
                 sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
@@ -541,6 +557,7 @@ RunResult run_stereo_session(const RunOptions& options) {
         r.mouse["pick_reads"] = gpu_pick_reads;
     }
     if (study_view) r.study = study_view->report_json();
+    if (elastic_view) r.deformation = elastic_view->report_json();
     r.volume_after_m3 = compute::dexel_volume_m3(backend.runtime().workpiece().model);
     r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();

@@ -118,6 +118,8 @@ struct RunResult {
     nlohmann::json head;
     nlohmann::json wand;  ///< null without a wand; else app/dtrack_wand.hpp wand_report_json
     nlohmann::json study; ///< null without a study scene; else app/study/study_view.hpp StudyView::report_json
+    /// null without scene objects; else app/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
+    nlohmann::json deformation;
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -163,6 +163,7 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.tool_points = haptics::tool_points_for(tool, s.points, "tool", tool_mesh_m);
     cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
                                                  : haptics::MultiPointMode::kIndependentProxies;
+    cfg.elastic_objects = s.elastic_objects;
     return cfg;
 }
 
@@ -255,7 +256,13 @@ std::string spec_to_json(const SessionSpec& s) {
         tool["mesh_crc32"] = s.tool_mesh_crc32;
         tool["mesh_bytes"] = s.tool_mesh_bytes;
     }
-    const json j{{"mesh_path", s.mesh_path},
+    json elastic = json::array();
+    for (const haptics::ElasticSphere& e : s.elastic_objects)
+        elastic.push_back({{"centre_m", vec(e.centre_m)},
+                           {"radius_m", e.radius_m},
+                           {"stiffness_n_per_m", e.stiffness_n_per_m},
+                           {"influence_radius_m", e.influence_m}});
+    json j{{"mesh_path", s.mesh_path},
                  {"mesh_crc32", s.mesh_crc32},
                  {"mesh_bytes", s.mesh_bytes},
                  {"model_path", s.model_path},
@@ -282,6 +289,7 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"materials", materials},
                  {"period_s", s.period_s},
                  {"history_budget_bytes", s.history_budget_bytes}};
+    if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
     return j.dump();
 }
 
@@ -304,12 +312,13 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             throw Error(source + ": settings field '" + name + "' has the wrong type");
         }
     };
-    auto get_vec = [&](const char* name, Vec3& out) {
-        const auto& a = field(j, name);
+    auto get_vec_of = [&](const json& o, const char* name, Vec3& out) {
+        const auto& a = field(o, name);
         if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
             throw Error(source + ": settings field '" + name + "' must be [x, y, z]");
         out = Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
     };
+    auto get_vec = [&](const char* name, Vec3& out) { get_vec_of(j, name, out); };
     SessionSpec s;
     get(j, "mesh_path", s.mesh_path);
     get(j, "resolution", s.resolution);
@@ -365,6 +374,19 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             get(m, "static_friction", e.material.static_friction);
             get(m, "dynamic_friction", e.material.dynamic_friction);
             s.materials.push_back(e);
+        }
+    }
+    if (j.contains("elastic_objects")) {
+        const json& es = j.at("elastic_objects");
+        if (!es.is_array()) throw Error(source + ": settings field 'elastic_objects' must be an array");
+        for (std::size_t i = 0; i < es.size(); ++i) {
+            haptics::ElasticSphere e;
+            get_vec_of(es[i], "centre_m", e.centre_m);
+            get(es[i], "radius_m", e.radius_m);
+            get(es[i], "stiffness_n_per_m", e.stiffness_n_per_m);
+            get(es[i], "influence_radius_m", e.influence_m);
+            haptics::validate(e, source + ": settings field 'elastic_objects[" + std::to_string(i) + "]'");
+            s.elastic_objects.push_back(e);
         }
     }
     return s;

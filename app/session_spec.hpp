@@ -87,6 +87,9 @@ struct SessionSpec {
     /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
     /// one material everywhere.
     std::vector<MaterialEntry> materials;
+    /// Elastic (and rigid) spheres felt beside the workpiece (haptics::HapticLoopConfig::elastic_objects; a scene's
+    /// "objects"); empty = none.
+    std::vector<haptics::ElasticSphere> elastic_objects;
     /// Memory the undo history may keep, bytes (compute::UndoHistory; oldest strokes dropped first). It does not
     /// change the model, but a journal replays its undos with it.
     std::size_t history_budget_bytes = std::size_t{256} << 20;

@@ -62,7 +62,19 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
     const double gain = c.workspace.mode == WorkspaceMode::kScaling ? 1.0 : c.workspace_scale;
-    capped = cap_contact_stiffness(c.contact, world_stiffness_cap_n_per_m(profile, gain));
+    const double cap = world_stiffness_cap_n_per_m(profile, gain);
+    capped = cap_contact_stiffness(c.contact, cap);
+    if (c.elastic_objects.size() > kMaxElasticObjects)
+        throw Error("HapticLoopConfig.elastic_objects: " + std::to_string(c.elastic_objects.size()) + " objects; at most " +
+                    std::to_string(kMaxElasticObjects));
+    for (std::size_t i = 0; i < c.elastic_objects.size(); ++i) {
+        ElasticSphere& e = c.elastic_objects[i];
+        validate(e, "HapticLoopConfig.elastic_objects[" + std::to_string(i) + "]");
+        if (cap > 0.0 && e.stiffness_n_per_m > cap) {
+            e.stiffness_n_per_m = cap;
+            capped = true;
+        }
+    }
     return c;
 }
 
@@ -218,6 +230,14 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
     out.in_contact = r.in_contact;
     out.contact = r.in_contact > 0;
     out.points = &r;
+    // Elastic objects: each point's penetration of the undeformed spheres (no allocation: fixed-size contacts).
+    for (const ElasticSphere& e : cfg_.elastic_objects) {
+        const ElasticContacts ec = elastic_contacts(e, contact_.tool_points(), tool_world);
+        if (ec.count == 0) continue;
+        out.force_n += elastic_force(e, ec, limits_.max_force_n);
+        out.in_contact += ec.count;
+        out.contact = true;
+    }
     return out;
 }
 

@@ -16,6 +16,7 @@
 #include "core/tool_shape.hpp"
 #include "core/triple_buffer.hpp"
 #include "devices/haptic_device.hpp"
+#include "haptics/elastic_object.hpp"
 #include "haptics/ewma_filter.hpp"
 #include "haptics/god_object.hpp"
 #include "haptics/multipoint.hpp"
@@ -70,7 +71,14 @@ struct HapticLoopConfig {
     /// Changes applied at device times (a replay of a session whose keys changed the op or the tool size), in
     /// increasing device_t_s; empty for live sessions.
     std::vector<ToolChange> tool_schedule{};
+    /// Elastic (or rigid) spheres felt beside the workpiece, at most kMaxElasticObjects: each adds
+    /// elastic_force() of the tool's contact points against its undeformed sphere (Popescu, Burdea, Bouzit 3.3) to
+    /// the contact force. Their stiffness is capped like the contact's (the device profile's max stiffness).
+    std::vector<ElasticSphere> elastic_objects{};
 };
+
+/// Most elastic objects a haptic loop feels (HapticLoopConfig::elastic_objects).
+inline constexpr std::size_t kMaxElasticObjects = 16;
 
 /// One contact point's state in a tick (world frame, SI units), for recordings.
 struct PointRecord {

@@ -76,6 +76,34 @@ TEST(PlanStroke, RefusesAnEmptyModelAndABadAxis) {
 namespace tridex::app {
 namespace {
 
+TEST(SessionSpec, ElasticObjectsRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
+    SessionSpec s;
+    haptics::ElasticSphere e;
+    e.centre_m = Vec3(0.01, -0.02, 0.3);
+    e.radius_m = 0.025;
+    e.stiffness_n_per_m = 250.0;
+    e.influence_m = 0.01;
+    s.elastic_objects = {e, e};
+    s.elastic_objects[1].radius_m = 0.05;
+    const SessionSpec back = spec_from_json(spec_to_json(s), "test");
+    ASSERT_EQ(back.elastic_objects.size(), 2u);
+    EXPECT_EQ(back.elastic_objects[0].centre_m, e.centre_m);
+    EXPECT_EQ(back.elastic_objects[1].radius_m, 0.05);
+    EXPECT_EQ(back.elastic_objects[0].stiffness_n_per_m, 250.0);
+    EXPECT_EQ(back.elastic_objects[0].influence_m, 0.01);
+    EXPECT_EQ(loop_config(back, 10).elastic_objects.size(), 2u);
+    // Sessions without them write no field and read none; a bad one is refused naming it.
+    EXPECT_FALSE(nlohmann::json::parse(spec_to_json(SessionSpec{})).contains("elastic_objects"));
+    nlohmann::json bad = nlohmann::json::parse(spec_to_json(s));
+    bad["elastic_objects"][1]["influence_radius_m"] = 1.0;
+    try {
+        spec_from_json(bad.dump(), "rec.trdx");
+        FAIL() << "an influence radius larger than the sphere was accepted";
+    } catch (const Error& x) {
+        EXPECT_NE(std::string(x.what()).find("rec.trdx: settings field 'elastic_objects[1]'"), std::string::npos) << x.what();
+    }
+}
+
 TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
     SessionSpec s;
     s.op = "paint";

@@ -71,4 +71,79 @@ TEST(ElasticSession, RefusesBadFieldsAndOptionsThatDoNotApply) {
     EXPECT_NE(scene_only.err.find("--scene: only with --elastic"), std::string::npos) << scene_only.err;
 }
 
+// A `tridex run` scene with the bundled squeeze ball beside the bunny, on the scripted stroke's path, at 96 x 72 px per
+// eye; `elastic` false makes the ball rigid, no "objects" leaves it out.
+std::string write_ball_scene(const fs::path& dir, const char* objects) {
+    const std::string path = (dir / "scene.json").string();
+    std::ifstream in(std::string(TRIDEX_ASSETS_DIR) + "/squeeze_ball_run_scene.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["workpiece"]["mesh"] = std::string(TRIDEX_ASSETS_DIR) + "/bunny.off";
+    j["display"] = {{"preset", "desktop"}, {"resolution", {96, 72}}, {"refresh_hz", 60}};
+    if (objects) j["objects"] = nlohmann::json::parse(objects);
+    else j.erase("objects");
+    std::ofstream(path) << j.dump(1);
+    return path;
+}
+
+nlohmann::json read_report(const fs::path& dir) {
+    std::ifstream f(dir / "report.json");
+    return nlohmann::json::parse(f);
+}
+
+TEST(ElasticSession, ARunFeelsAndDrawsTheSceneBallAndItSpringsBackAfterTheStroke) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-elastic-run";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // Without the ball: the stroke only touches the bunny.
+    const std::string plain = write_ball_scene(dir, nullptr);
+    const auto r0 = run_tridex("run " + plain + " --display offscreen --validate --out " + (dir / "plain").string(), dir / "plain");
+    ASSERT_EQ(r0.exit_code, 0) << r0.err;
+    const nlohmann::json j0 = read_report(dir / "plain");
+    EXPECT_TRUE(j0["deformation"].is_null());
+    const double plain_force = j0["haptics"]["max_force_n"].get<double>();
+    // With the bundled elastic ball: felt (a larger force where the stroke passes through it), drawn dented while
+    // pressed, back to its reference once the tool has left; the recording carries it, so a replay feels it too.
+    std::ifstream in(std::string(TRIDEX_ASSETS_DIR) + "/squeeze_ball_run_scene.json");
+    const std::string ball = nlohmann::json::parse(in)["objects"].dump();
+    const std::string elastic = write_ball_scene(dir, ball.c_str());
+    const auto r1 = run_tridex("run " + elastic + " --display offscreen --validate --record " + (dir / "ball.trdx").string() +
+                                   " --out " + (dir / "ball").string(),
+                               dir / "ball");
+    ASSERT_EQ(r1.exit_code, 0) << r1.err;
+    const nlohmann::json j1 = read_report(dir / "ball");
+    ASSERT_TRUE(j1["deformation"].is_object()) << j1.dump();
+    const nlohmann::json& d = j1["deformation"];
+    EXPECT_GT(d["max_displacement_m"].get<double>(), 1e-3) << d.dump();
+    EXPECT_EQ(d["residual_displacement_m"].get<double>(), 0.0) << d.dump();
+    EXPECT_GE(d["objects"][0]["frames_pressed"].get<int>(), 1) << d.dump();
+    EXPECT_EQ(d["objects"][0]["name"], "squeeze_ball");
+    EXPECT_TRUE(j1["stroke_completed"].get<bool>());
+    EXPECT_EQ(j1["validation_messages"], 0);
+    const double ball_force = j1["haptics"]["max_force_n"].get<double>();
+    EXPECT_GT(ball_force, plain_force + 0.2) << "with the ball " << ball_force << " N, without " << plain_force << " N";
+    const auto rp = run_tridex("replay " + (dir / "ball.trdx").string() + " --out " + (dir / "replay").string(), dir / "replay");
+    ASSERT_EQ(rp.exit_code, 0) << rp.err;
+    EXPECT_NEAR(read_report(dir / "replay")["haptics"]["max_force_n"].get<double>(), ball_force, 0.1 * ball_force);
+    // A rigid ball: felt the same way, never drawn dented.
+    const std::string rigid = write_ball_scene(
+        dir, R"([{"name": "stone", "elastic": false, "centre_m": [-0.006, -0.011, 0.09], "radius_m": 0.012,
+                 "stiffness_n_per_m": 300, "influence_radius_m": 0.008}])");
+    const auto r2 = run_tridex("run " + rigid + " --display offscreen --out " + (dir / "rigid").string(), dir / "rigid");
+    ASSERT_EQ(r2.exit_code, 0) << r2.err;
+    const nlohmann::json j2 = read_report(dir / "rigid");
+    EXPECT_EQ(j2["deformation"]["max_displacement_m"].get<double>(), 0.0);
+    EXPECT_GE(j2["deformation"]["objects"][0]["frames_pressed"].get<int>(), 1);
+    EXPECT_GT(j2["haptics"]["max_force_n"].get<double>(), plain_force + 0.2);
+}
+
+TEST(ElasticSession, ARunSceneRefusesABadObjectNamingItsField) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-elastic-run-bad";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string scene = write_ball_scene(dir, R"([{"radius_m": -0.01}])");
+    const auto r = run_tridex("run " + scene + " --display offscreen --out " + (dir / "o").string(), dir / "o");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(scene + ": field 'objects[0].radius_m'"), std::string::npos) << r.err;
+}
+
 }  // namespace
