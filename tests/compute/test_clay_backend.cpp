@@ -1,5 +1,5 @@
-// Clay sweeps through the sculpting backends: the GPU path (Booleans in the Vulkan kernel, clay on the CPU reference
-// with its rays written to the slabs) gives the CPU path's model bit for bit, slabs included; undo restores exactly.
+// Clay sweeps through the sculpting backends: the GPU path (Booleans and clay in Vulkan compute: GpuSculptor and
+// GpuClay) gives the CPU path's model bit for bit, slabs included; undo restores exactly.
 #include <gtest/gtest.h>
 
 #include <cstdio>
