@@ -5,7 +5,7 @@
 //   1 stamps one invocation per node: a push's or pull's s0, s1 from the stamps (compute/tools/clay_push.cpp
 //            clay_stamp_offsets);
 //   2 smooth one invocation per node: a smooth's s0, s1 (compute/tools/clay_smooth.cpp clay_smooth_offsets);
-//   3 rays   one invocation per moved ray: the ray re-sampled at beta (compute/tools/clay_resample.cpp
+//   3 rays   one invocation per moved ray of one set (SET): the ray re-sampled at beta (compute/tools/clay_resample.cpp
 //            clay_resample_ray), written to the output list; a ray needing more than plan.counts.z intervals is
 //            marked for the host, which redoes it with the CPU reference.
 // Every float operation is the CPU reference's, in its order, with contraction forbidden (precise), and std::min,
@@ -16,6 +16,8 @@
 
 layout(constant_id = 0) const uint MODE = 0u;
 layout(local_size_x_id = 1) in;
+// MODE 3: the ray set of this pipeline's jobs (one pipeline per set, so the slab bindings are chosen at compile time).
+layout(constant_id = 2) const uint SET = 0u;
 
 // The model's slabs (compute/gpu/gpu_dexel_slabs.hpp), five bindings per ray set a at 5a .. 5a + 4.
 layout(std430, set = 0, binding = 0) readonly buffer Meta0 { uint meta0[]; };
@@ -37,23 +39,25 @@ layout(std430, set = 0, binding = 14) readonly buffer PoolMat2 { uint pool_mat2[
 layout(std430, set = 0, binding = 15) buffer Phi { uint phi_bits[]; };
 layout(std430, set = 0, binding = 16) buffer S0 { float s0v[]; };
 layout(std430, set = 0, binding = 17) buffer S1 { float s1v[]; };
-// The operation (compute/gpu/gpu_clay.cpp ClayPlanHeader), then words[]: per set a the chords (lo, hi) of the box's
-// rays (ClayField::chords order) from word chord_at[a], and the stamps (7 floats: p, n, delta) from chord_at.w.
-layout(std430, set = 0, binding = 18) readonly buffer Plan {
+// The operation (compute/gpu/gpu_clay.cpp GpuClay::Header) in a uniform buffer: llvmpipe loads uniform words once
+// for all lanes, storage words lane by lane with a bounds check each.
+layout(std140, set = 0, binding = 18) uniform Plan {
     ivec4 box_lo;
     ivec4 box_hi;
     ivec4 box_n;       // nodes per axis
     ivec4 move_lo;     // clay_movable_range per axis
     ivec4 move_hi;
     ivec4 ray_nu;      // RaySet::nu of sets 0, 1, 2
-    uvec4 chord_at;    // xyz: first word of each set's chords; w: first word of the stamps
+    uvec4 chord_at;    // xyz: first word of each set's chords in chord_words[]; w: first word of the stamps
     uvec4 counts;      // x: nodes of the box; y: stamps; z: most intervals a re-sampled ray may have here
     vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate
     vec4 stamp_par;    // ClayStampParams r, w, reach2, sign
     vec4 point;        // smooth: contact point xyz, w = r
     vec4 normal;       // smooth: outward normal xyz
-    uint words[];
 } plan;
+// Per set a the region chords (lo, hi) of the box's rays (ClayField::chords order) from word plan.chord_at[a]; then
+// the stamps, 8 words each (p, delta, n, 0; float bits) from word plan.chord_at.w.
+layout(std430, set = 0, binding = 21) readonly buffer Chords { uint chord_words[]; };
 // Moved rays to re-sample: per job 8 words (set, u, v, lo, hi, varies, first output word, unused).
 layout(std430, set = 0, binding = 19) readonly buffer Jobs { uint jobs[]; };
 // Per job from its first word: the interval count (0xffffffff: more than plan.counts.z, redo on the host), then
@@ -114,7 +118,7 @@ ivec3 box_node(uint x) {
 ivec2 chord(uint a, int u, int v) {
     const uint ua = (a + 1u) % 3u, va = (a + 2u) % 3u;
     const uint at = plan.chord_at[a] + 2u * (uint(u - plan.box_lo[ua]) + uint(plan.box_n[ua]) * uint(v - plan.box_lo[va]));
-    return ivec2(int(plan.words[at]), int(plan.words[at + 1u]));
+    return ivec2(int(chord_words[at]), int(chord_words[at + 1u]));
 }
 float phi_at(uint x) { return uintBitsToFloat(phi_bits[x]); }
 
@@ -177,23 +181,26 @@ bool movable(ivec3 nd) {
 }
 
 // ---- mode 1: a push's or pull's s0, s1 (clay_stamp_offsets) ----
-float stamp_word(uint s, uint c) { return uintBitsToFloat(plan.words[plan.chord_at.w + 7u * s + c]); }
 
 void stamp_offsets(uint x, ivec3 nd) {
     if (!movable(nd)) return;
     const float phi = phi_at(x);
     const vec3 q = vec3(nd);
     const float r = plan.stamp_par.x, w = plan.stamp_par.y, reach2 = plan.stamp_par.z, sgn = plan.stamp_par.w;
+    const uint stamps = plan.counts.y, first = plan.chord_at.w;
     float dent = 0.0, rim = 0.0;
-    for (uint s = 0u; s < plan.counts.y; ++s) {
-        precise float dx = q.x - stamp_word(s, 0u);
-        precise float dy = q.y - stamp_word(s, 1u);
-        precise float dz = q.z - stamp_word(s, 2u);
+    for (uint s = 0u; s < stamps; ++s) {
+        const uint at = first + 8u * s;
+        const vec4 sp = uintBitsToFloat(uvec4(chord_words[at], chord_words[at + 1u], chord_words[at + 2u], chord_words[at + 3u]));
+        const vec4 sn = uintBitsToFloat(uvec4(chord_words[at + 4u], chord_words[at + 5u], chord_words[at + 6u], 0u));
+        precise float dx = q.x - sp.x;
+        precise float dy = q.y - sp.y;
+        precise float dz = q.z - sp.z;
         precise float d2 = dx * dx + dy * dy + dz * dz;
         if (d2 > reach2) continue;
         precise float d = sqrt(d2);
-        precise float depth = -(dx * stamp_word(s, 3u) + dy * stamp_word(s, 4u) + dz * stamp_word(s, 5u));
-        const float delta = stamp_word(s, 6u);
+        precise float depth = -(dx * sn.x + dy * sn.y + dz * sn.z);
+        const float delta = sp.w;
         precise float sheet = delta + 2.0 + 0.5 * d;
         if (depth > sheet) continue;
         precise float rw = r + w;
@@ -310,7 +317,7 @@ uint nearest_material(uint a, uint ray, uint m, float t) {
 
 void resample(uint job) {
     const uint j = 8u * job;
-    const uint a = jobs[j];
+    const uint a = SET;  // jobs[j] holds it too
     const int u = int(jobs[j + 1u]), v = int(jobs[j + 2u]), lo = int(jobs[j + 3u]), hi = int(jobs[j + 4u]);
     const float beta = jobs[j + 5u] != 0u ? pc.beta : 0.0;
     out_at = jobs[j + 6u];

@@ -15,7 +15,7 @@
 
 namespace tridex::compute {
 
-/// The operation as shaders/clay_field.comp reads it (binding 18, std430), followed by its words.
+/// The operation as shaders/clay_field.comp reads it (binding 18, std140), followed by the stamps.
 struct GpuClay::Header {
     std::int32_t box_lo[4] = {0, 0, 0, 0};
     std::int32_t box_hi[4] = {0, 0, 0, 0};
@@ -33,7 +33,9 @@ struct GpuClay::Header {
 
 namespace {
 
-constexpr std::uint32_t kBindings = 21;
+constexpr std::uint32_t kBindings = 22;   // 21 storage buffers and the plan's uniform buffer
+constexpr std::uint32_t kPlanBinding = 18;
+constexpr std::size_t kPlanBytes = 192;
 constexpr std::uint32_t kNodeGroup = 64;  // invocations per workgroup of the node kernels (MODE 0-2)
 constexpr std::uint32_t kRayGroup = 8;    // ... of the ray kernel (MODE 3): one SIMD row of llvmpipe
 constexpr std::uint32_t kMaxGroups = 65535;
@@ -56,12 +58,6 @@ bool ensure(const gpu::Context& c, gpu::Buffer& buf, std::size_t bytes) {
     return true;
 }
 
-std::uint32_t bits(float f) {
-    std::uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return b;
-}
-
 void barrier(VkCommandBuffer cmd, VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {
     VkMemoryBarrier b{};
     b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
@@ -79,20 +75,24 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
         throw Error("GPU clay: max_kernel_intervals must be in 1.." + std::to_string(GpuDexelSlabs::kMaxRayIntervals) +
                     ", got " + std::to_string(options.max_kernel_intervals));
     const VkPhysicalDeviceLimits& lim = context.properties().limits;
-    if (lim.maxPerStageDescriptorStorageBuffers < kBindings || lim.maxDescriptorSetStorageBuffers < kBindings)
+    if (lim.maxPerStageDescriptorStorageBuffers < kBindings - 1 || lim.maxDescriptorSetStorageBuffers < kBindings - 1 ||
+        lim.maxUniformBufferRange < kPlanBytes)
         throw Error("GPU clay: the device binds " + std::to_string(lim.maxPerStageDescriptorStorageBuffers) +
-                    " storage buffers per stage, the clay kernel needs " + std::to_string(kBindings) + "; use --cpu");
-    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push));
+                    " storage buffers per stage and uniform buffers of " + std::to_string(lim.maxUniformBufferRange) +
+                    " bytes, the clay kernel needs " + std::to_string(kBindings - 1) + " and " + std::to_string(kPlanBytes) +
+                    "; use --cpu");
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push), 1u << kPlanBinding);
     const VkDescriptorSetLayout layout = cl.set_layout.get();
     set_layout_ = std::move(cl.set_layout);
     pipeline_layout_ = std::move(cl.pipeline_layout);
     module_ = gpu::create_shader_module(context, shaders::spirv("clay_field_comp"));
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1},
+                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
     VkDescriptorPoolCreateInfo pi{};
     pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     pi.maxSets = 1;
-    pi.poolSizeCount = 1;
-    pi.pPoolSizes = &size;
+    pi.poolSizeCount = 2;
+    pi.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     gpu::check(vkCreateDescriptorPool(context.device(), &pi, nullptr, &pool), "vkCreateDescriptorPool");
     descriptor_pool_ = gpu::UniqueDescriptorPool(context.device(), pool);
@@ -102,18 +102,22 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &layout;
     gpu::check(vkAllocateDescriptorSets(context.device(), &ai, &set_), "vkAllocateDescriptorSets");
-    for (gpu::Buffer* b : {&phi_, &s0_, &s1_, &plan_, &jobs_, &out_}) *b = host_storage(context_, 4096);
+    for (gpu::Buffer* b : {&phi_, &s0_, &s1_, &chords_, &jobs_, &out_}) *b = host_storage(context_, 4096);
+    // Every pipeline now (tens of ms each on lavapipe), so that no clay operation waits for one.
+    for (std::uint32_t mode = 0; mode < 3; ++mode) pipeline(mode);
+    for (std::uint32_t set = 0; set < 3; ++set) pipeline(3u, set);
+    plan_ = gpu::Buffer::create(context_, kPlanBytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
 }
 
 GpuClay::~GpuClay() = default;
 
-VkPipeline GpuClay::pipeline(std::uint32_t mode) {
-    gpu::UniquePipeline& p = pipelines_[mode];
+VkPipeline GpuClay::pipeline(std::uint32_t mode, std::uint32_t set) {
+    gpu::UniquePipeline& p = pipelines_[mode + set];
     if (p.get() != VK_NULL_HANDLE) return p.get();
-    const std::uint32_t values[2] = {mode, mode == 3 ? kRayGroup : kNodeGroup};
-    const VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
+    const std::uint32_t values[3] = {mode, mode == 3 ? kRayGroup : kNodeGroup, set};
+    const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
     VkSpecializationInfo spec{};
-    spec.mapEntryCount = 2;
+    spec.mapEntryCount = 3;
     spec.pMapEntries = entries;
     spec.dataSize = sizeof(values);
     spec.pData = values;
@@ -142,6 +146,7 @@ void GpuClay::bind() {
     bufs[18] = &plan_;
     bufs[19] = &jobs_;
     bufs[20] = &out_;
+    bufs[21] = &chords_;
     VkDescriptorBufferInfo info[kBindings];
     VkWriteDescriptorSet w[kBindings]{};
     for (std::uint32_t i = 0; i < kBindings; ++i) {
@@ -150,13 +155,13 @@ void GpuClay::bind() {
         w[i].dstSet = set_;
         w[i].dstBinding = i;
         w[i].descriptorCount = 1;
-        w[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        w[i].descriptorType = i == kPlanBinding ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         w[i].pBufferInfo = &info[i];
     }
     vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
 }
 
-void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span<const std::uint32_t> extra) {
+void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span<const float> stamps) {
     const TriDexel& model = sculptor_.mirror();
     const ClayBox& b = f.box;
     const std::size_t count = b.count();
@@ -169,8 +174,6 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
             words_.push_back(static_cast<std::uint32_t>(run[1]));
         }
     }
-    h.chord_at[3] = static_cast<std::uint32_t>(words_.size());
-    words_.insert(words_.end(), extra.begin(), extra.end());
     for (int a = 0; a < 3; ++a) {
         h.box_lo[a] = b.lo[a];
         h.box_hi[a] = b.hi[a];
@@ -186,9 +189,15 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     ensure(context_, phi_, count * 4);
     ensure(context_, s0_, count * 4);
     ensure(context_, s1_, count * 4);
-    ensure(context_, plan_, sizeof(Header) + words_.size() * 4);
+    h.chord_at[3] = static_cast<std::uint32_t>(words_.size());
+    for (const float v : stamps) {
+        std::uint32_t w;
+        std::memcpy(&w, &v, 4);
+        words_.push_back(w);
+    }
+    ensure(context_, chords_, words_.size() * 4);
     plan_.write(&h, sizeof(Header));
-    if (!words_.empty()) plan_.write(words_.data(), words_.size() * 4, sizeof(Header));
+    if (!words_.empty()) chords_.write(words_.data(), words_.size() * 4);
     bind();
     const VkPipeline kernels[2] = {pipeline(0u), pipeline(mode)};
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
@@ -236,10 +245,10 @@ void GpuClay::stamp_field(const TriDexel& model, ClayField& field, std::span<con
     h.stamp_par[1] = params.w;
     h.stamp_par[2] = params.reach2;
     h.stamp_par[3] = params.sign;
-    std::vector<std::uint32_t> words;
-    words.reserve(7 * stamps.size());
+    std::vector<float> words;  // per stamp: p, delta; n, 0
+    words.reserve(8 * stamps.size());
     for (const ClayStamp& s : stamps)
-        for (const float v : {s.p[0], s.p[1], s.p[2], s.n[0], s.n[1], s.n[2], s.delta}) words.push_back(bits(v));
+        for (const float v : {s.p[0], s.p[1], s.p[2], s.delta, s.n[0], s.n[1], s.n[2], 0.0f}) words.push_back(v);
     build_field(field, 1u, h, words);
 }
 
@@ -259,39 +268,47 @@ void GpuClay::smooth_field(const TriDexel& model, ClayField& field, const ClaySm
 
 void GpuClay::resample_rays(const TriDexel& model, const ClayField& f, std::span<const ClayMovedRay> moved,
                             float beta, ClayResampled* fixed, ClayResampled& var) {
-    // The jobs: every moved ray this call re-samples, in order.
+    // The jobs: every moved ray this call re-samples, grouped by set (one pipeline per set), in order within a set.
     job_words_.clear();
     const std::uint32_t stride = 1 + 3 * options_.max_kernel_intervals;
-    std::uint32_t jobs = 0;
-    for (std::size_t k = 0; k < moved.size(); ++k) {
-        const ClayMovedRay& m = moved[k];
-        if (!m.varies && !fixed) continue;
-        const std::uint32_t w[kJobWords] = {m.set,
-                                            static_cast<std::uint32_t>(m.u),
-                                            static_cast<std::uint32_t>(m.v),
-                                            static_cast<std::uint32_t>(m.lo),
-                                            static_cast<std::uint32_t>(m.hi),
-                                            m.varies ? 1u : 0u,
-                                            jobs * stride,
-                                            static_cast<std::uint32_t>(k)};
-        job_words_.insert(job_words_.end(), w, w + kJobWords);
-        ++jobs;
+    std::uint32_t jobs = 0, first[4] = {0, 0, 0, 0};
+    for (std::uint32_t a = 0; a < 3; ++a) {
+        first[a] = jobs;
+        for (std::size_t k = 0; k < moved.size(); ++k) {
+            const ClayMovedRay& m = moved[k];
+            if (m.set != a || (!m.varies && !fixed)) continue;
+            const std::uint32_t w[kJobWords] = {m.set,
+                                                static_cast<std::uint32_t>(m.u),
+                                                static_cast<std::uint32_t>(m.v),
+                                                static_cast<std::uint32_t>(m.lo),
+                                                static_cast<std::uint32_t>(m.hi),
+                                                m.varies ? 1u : 0u,
+                                                jobs * stride,
+                                                static_cast<std::uint32_t>(k)};
+            job_words_.insert(job_words_.end(), w, w + kJobWords);
+            ++jobs;
+        }
     }
+    first[3] = jobs;
     if (jobs == 0) return;
     ensure(context_, jobs_, job_words_.size() * 4);
     ensure(context_, out_, static_cast<std::size_t>(jobs) * stride * 4);
     jobs_.write(job_words_.data(), job_words_.size() * 4);
     bind();
-    const VkPipeline kernel = pipeline(3u);
+    VkPipeline kernels[3];
+    for (std::uint32_t a = 0; a < 3; ++a) kernels[a] = first[a + 1] > first[a] ? pipeline(3u, a) : VK_NULL_HANDLE;
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, kernel);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
-        const std::uint32_t per = kMaxGroups * kRayGroup;
-        for (std::uint32_t first = 0; first < jobs; first += per) {
-            const std::uint32_t n = std::min(per, jobs - first);
-            const Push push{first, n, beta};
-            vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
-            vkCmdDispatch(cmd, (n + kRayGroup - 1) / kRayGroup, 1, 1);
+        for (std::uint32_t a = 0; a < 3; ++a) {
+            if (kernels[a] == VK_NULL_HANDLE) continue;
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, kernels[a]);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
+            const std::uint32_t per = kMaxGroups * kRayGroup;
+            for (std::uint32_t at = first[a]; at < first[a + 1]; at += per) {
+                const std::uint32_t n = std::min(per, first[a + 1] - at);
+                const Push push{at, n, beta};
+                vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
+                vkCmdDispatch(cmd, (n + kRayGroup - 1) / kRayGroup, 1, 1);
+            }
         }
         barrier(cmd, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
     });

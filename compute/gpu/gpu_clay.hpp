@@ -54,8 +54,8 @@ struct GpuClayStats {
 /// sculptor must outlive it, and the model handed to its methods must be the sculptor's mirror.
 class GpuClay final : public ClayKernel {
 public:
-    /// Prepares shaders/clay_field.comp on `context` (the sculptor's); each of its four pipelines is made on its first
-    /// use (tens of ms on lavapipe). Throws tridex::Error when the device offers fewer than 21 storage buffers per
+    /// Makes the six pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe,
+    /// so that no clay operation waits for one). Throws tridex::Error when the device offers fewer than 21 storage buffers per
     /// stage, on a bad option, or on a Vulkan failure.
     GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuClayOptions& options = {});
     ~GpuClay() override;
@@ -77,11 +77,11 @@ private:
     struct Header;
     void check_model(const TriDexel& model) const;
     bool fits(const ClayField& field) const;
-    void build_field(ClayField& field, std::uint32_t mode, Header& header, std::span<const std::uint32_t> extra);
+    void build_field(ClayField& field, std::uint32_t mode, Header& header, std::span<const float> stamps);
     void resample_rays(const TriDexel& model, const ClayField& field, std::span<const ClayMovedRay> moved, float beta,
                        ClayResampled* fixed, ClayResampled& var);
     void bind();
-    VkPipeline pipeline(std::uint32_t mode);
+    VkPipeline pipeline(std::uint32_t mode, std::uint32_t set = 0);
 
     const gpu::Context& context_;
     GpuSculptor& sculptor_;
@@ -90,10 +90,11 @@ private:
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;
     gpu::UniqueShaderModule module_;
-    gpu::UniquePipeline pipelines_[4];  // MODE 0 phi, 1 stamps, 2 smooth, 3 rays; made on first use
+    gpu::UniquePipeline pipelines_[6];  // MODE 0 phi, 1 stamps, 2 smooth, 3 + set: rays of that set
     gpu::UniqueDescriptorPool descriptor_pool_;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
-    gpu::Buffer phi_, s0_, s1_, plan_, jobs_, out_;
+    gpu::Buffer phi_, s0_, s1_, chords_, jobs_, out_;
+    gpu::Buffer plan_;  // the Header: a uniform buffer
     bool host_field_ = false;  // the last field was built on the CPU reference (too big a box)
     std::vector<std::uint32_t> words_;
     std::vector<std::uint32_t> job_words_;
