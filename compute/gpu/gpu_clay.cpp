@@ -131,8 +131,9 @@ void GpuClay::check_model(const TriDexel& model) const {
 }
 
 bool GpuClay::fits(const ClayField& field) const {
-    const std::size_t limit = context_.properties().limits.maxStorageBufferRange;
-    return field.box.count() * sizeof(float) <= limit;
+    const std::size_t limit = context_.properties().limits.maxStorageBufferRange / sizeof(float);
+    const std::size_t most = options_.max_field_nodes > 0 ? std::min(options_.max_field_nodes, limit) : limit;
+    return field.box.count() <= most;
 }
 
 void GpuClay::bind() {

@@ -2,6 +2,7 @@
 // re-sampling of the rays in Vulkan compute (shaders/clay_field.comp), bit for bit the CPU reference.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -22,6 +23,10 @@ struct GpuClayOptions {
     /// re-sampled on the host with the CPU reference (clay_resample_ray) for that ray only. Small values exercise that
     /// path (tests).
     std::uint32_t max_kernel_intervals = 16;
+    /// Most nodes a field box may have on the GPU; 0 = what one storage binding holds (maxStorageBufferRange / 4).
+    /// A bigger box runs its field and re-sampling on the CPU reference (GpuClayStats::host_fields). Small values
+    /// exercise that path (tests).
+    std::size_t max_field_nodes = 0;
 };
 
 /// Counters of a GpuClay since it was created.
@@ -49,8 +54,8 @@ struct GpuClayStats {
 ///   (GpuSculptor::store_mirror_ray, compacting a full pool).
 /// The kernels repeat the CPU reference's float arithmetic in its order without contraction, so the model, the
 /// `before` images and the ClayStats equal the CPU reference's bit for bit (tests/compute/test_gpu_clay.cpp).
-/// A box over maxStorageBufferRange / 4 nodes (a tool of hundreds of cells) runs its field and re-sampling on the
-/// CPU reference instead (counted in host_fields), with the same result. Not thread-safe; the Context and the
+/// A box over maxStorageBufferRange / 4 nodes (a tool of hundreds of cells; or GpuClayOptions::max_field_nodes) runs
+/// its field and re-sampling on the CPU reference instead (counted in host_fields), with the same result. Not thread-safe; the Context and the
 /// sculptor must outlive it, and the model handed to its methods must be the sculptor's mirror.
 class GpuClay final : public ClayKernel {
 public:

@@ -115,6 +115,7 @@ public:
     std::uint32_t validation_messages() const override { return own_ ? context_.validation_messages() : 0u; }
     const compute::GpuDexelSlabs* gpu_slabs() const override { return &sculptor_->slabs(); }
     const gpu::Context* gpu_context() const override { return &context_; }
+    const compute::GpuClayStats* gpu_clay_stats() const override { return &clay_->stats(); }
 
 private:
     std::optional<gpu::Context> own_;  // empty when sculpting on a shared Context

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "compute/tools/boolean.hpp"
+#include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/model/tridexel.hpp"
@@ -46,6 +47,9 @@ public:
     virtual const compute::GpuDexelSlabs* gpu_slabs() const { return nullptr; }
     /// The Context the GPU path sculpts on (its own or the shared one); nullptr on the CPU path.
     virtual const gpu::Context* gpu_context() const { return nullptr; }
+    /// Counters of the GPU clay kernel (fields built, rays re-sampled on the GPU or handed back to the host) on the
+    /// "gpu" path; nullptr on the CPU path.
+    virtual const compute::GpuClayStats* gpu_clay_stats() const { return nullptr; }
 };
 
 /// What make_boolean_backend chose, and why.

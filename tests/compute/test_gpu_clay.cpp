@@ -313,5 +313,22 @@ TEST(GpuClay, RaysOverTheKernelsLimitAreRedoneOnTheHost) {
         Error);
 }
 
+TEST(GpuClay, BoxesOverTheGpuLimitRunOnTheCpuReferenceWithTheSameResult) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        const double c[3] = {16.2, 15.9, 16.1}, rho = 9.0;
+        GpuClayOptions co;
+        co.max_field_nodes = 4000;  // a 3-cell ball's push box holds more; its smooth box about as many
+        Pair p(ctx, sphere_model(32, c[0], c[1], c[2], rho), {}, co);
+        const std::vector<Sweep> stroke = random_sphere_stroke(c, rho, 3.0, 60, 11u);
+        for (std::size_t k = 0; k < stroke.size() && !testing::Test::HasFatalFailure(); ++k) p.apply(stroke[k], k);
+        EXPECT_GT(p.changed, 300u);
+        p.expect_equal();
+        EXPECT_GT(p.clay.stats().host_fields, 0u);
+        EXPECT_GT(p.clay.stats().fields, 0u);  // the smaller boxes still ran on the GPU
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 }  // namespace
 }  // namespace tridex::compute
