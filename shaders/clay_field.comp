@@ -2,8 +2,8 @@
 // model (compute/gpu/gpu_clay.cpp). One module, four kernels chosen by MODE (specialisation constant 0):
 //   0 phi    one invocation per node of the field's box: phi from the three rays through the node
 //            (compute/tools/clay_field.cpp clay_build_phi), NaN off the region, s0 = s1 = 0;
-//   1 stamps one invocation per node: a push's or pull's s0, s1 from the stamps (compute/tools/clay_push.cpp
-//            clay_stamp_offsets);
+//   1 stamps one invocation per node: phi as mode 0, then a push's or pull's s0, s1 from the stamps
+//            (compute/tools/clay_push.cpp clay_stamp_offsets), which read only the node's own phi;
 //   2 smooth one invocation per node: a smooth's s0, s1 (compute/tools/clay_smooth.cpp clay_smooth_offsets);
 //   3 rays   one invocation per moved ray of one set (SET): the ray re-sampled at beta (compute/tools/clay_resample.cpp
 //            clay_resample_ray), written to the output list; a ray needing more than plan.counts.z intervals is
@@ -391,10 +391,12 @@ void main() {
         return;
     }
     const ivec3 nd = box_node(g);
-    if (MODE == 0u)
+    if (MODE == 0u) {
         build_phi(g, nd);
-    else if (MODE == 1u)
+    } else if (MODE == 1u) {  // a node's stamp offsets read only its own phi: one kernel does both
+        build_phi(g, nd);
         stamp_offsets(g, nd);
-    else
+    } else {
         smooth_offsets(g, nd);
+    }
 }

@@ -200,10 +200,12 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     plan_.write(&h, sizeof(Header));
     if (!words_.empty()) chords_.write(words_.data(), words_.size() * 4);
     bind();
-    const VkPipeline kernels[2] = {pipeline(0u), pipeline(mode)};
+    // Stamps: one kernel (phi and the offsets per node). Smooth: phi, then the offsets (they read the neighbours').
+    std::vector<std::uint32_t> modes{mode};
+    if (mode == 2u) modes.insert(modes.begin(), 0u);
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        for (const std::uint32_t m : {0u, mode}) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, kernels[m == 0u ? 0 : 1]);
+        for (const std::uint32_t m : modes) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[m].get());
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
             const std::size_t per = static_cast<std::size_t>(kMaxGroups) * kNodeGroup;
             for (std::size_t first = 0; first < count; first += per) {
@@ -213,7 +215,7 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
                 vkCmdDispatch(cmd, (n + kNodeGroup - 1) / kNodeGroup, 1, 1);
             }
             // phi before the offsets read it (and s0, s1 written by both, in order); then the host's reads.
-            if (m == 0u)
+            if (m != modes.back())
                 barrier(cmd, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
             else
                 barrier(cmd, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
