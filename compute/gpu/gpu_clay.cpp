@@ -15,7 +15,8 @@
 
 namespace tridex::compute {
 
-/// The operation as shaders/clay_field.comp reads it (binding 18, std140), followed by the stamps.
+/// The operation as shaders/clay_field.comp reads it (binding 18, a std140 uniform buffer; the chords and the stamps go
+/// in binding 21).
 struct GpuClay::Header {
     std::int32_t box_lo[4] = {0, 0, 0, 0};
     std::int32_t box_hi[4] = {0, 0, 0, 0};
