@@ -104,10 +104,23 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
     ai.pSetLayouts = &layout;
     gpu::check(vkAllocateDescriptorSets(context.device(), &ai, &set_), "vkAllocateDescriptorSets");
     for (gpu::Buffer* b : {&phi_, &s0_, &s1_, &chords_, &jobs_, &out_}) *b = host_storage(context_, 4096);
-    // Every pipeline now (tens of ms each on lavapipe), so that no clay operation waits for one.
-    for (std::uint32_t mode = 0; mode < 3; ++mode) pipeline(mode);
-    for (std::uint32_t set = 0; set < 3; ++set) pipeline(3u, set);
     plan_ = gpu::Buffer::create(context_, kPlanBytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
+    // Every pipeline now (tens of ms each on lavapipe), and one empty dispatch of each (lavapipe finishes preparing a
+    // kernel on its first dispatch; without it a session's first clay operations stall), so that no clay operation
+    // waits for either.
+    VkPipeline all[6];
+    for (std::uint32_t mode = 0; mode < 3; ++mode) all[mode] = pipeline(mode);
+    for (std::uint32_t set = 0; set < 3; ++set) all[3 + set] = pipeline(3u, set);
+    bind();
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+        const Push none{0, 0, 0.0f};  // count 0: every invocation returns at once
+        for (const VkPipeline p : all) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
+            vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &none);
+            vkCmdDispatch(cmd, 1, 1, 1);
+        }
+    });
 }
 
 GpuClay::~GpuClay() = default;

@@ -59,8 +59,8 @@ struct GpuClayStats {
 /// sculptor must outlive it, and the model handed to its methods must be the sculptor's mirror.
 class GpuClay final : public ClayKernel {
 public:
-    /// Makes the six pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe,
-    /// so that no clay operation waits for one). Throws tridex::Error when the device offers fewer than 21 storage buffers per
+    /// Makes the six pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe)
+    /// and runs each once empty, so that no clay operation waits for a kernel to be prepared. Throws tridex::Error when the device offers fewer than 21 storage buffers per
     /// stage, on a bad option, or on a Vulkan failure.
     GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuClayOptions& options = {});
     ~GpuClay() override;
