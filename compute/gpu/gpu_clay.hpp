@@ -46,8 +46,9 @@ struct GpuClayStats {
 ///   crossing per stamp, a handful of values), the field's box, region and chords (O(rays through the box)), the
 ///   moved nodes and rays, the beta solve (the field's bisection and the secant on the measured volume: sums in
 ///   double over the moved rays, in the CPU's order) and the `before` images;
-/// - GPU, one submission: phi at every node of the box from the slabs (NaN off the region, as clay_build_phi), then
-///   s0 and s1 from the stamps or the smooth's Laplacian; the host copies phi, s0, s1 back (the beta solve reads them);
+/// - GPU, one submission: phi at every node of the box from the slabs (NaN off the region, as clay_build_phi) and
+///   s0, s1 from the stamps (one kernel), or phi and then the smooth's Laplacian (two); the host copies phi, s0, s1
+///   back (the beta solve reads them);
 /// - GPU, one submission per beta tried (one to three): every moved ray re-sampled from the slabs and the field into
 ///   an output list; the host compares it with the old ray and sums its length (clay_note_resampled);
 /// - host: the chosen rays into the mirror (dirty tiles marked there) and into the slabs
@@ -55,13 +56,14 @@ struct GpuClayStats {
 /// The kernels repeat the CPU reference's float arithmetic in its order without contraction, so the model, the
 /// `before` images and the ClayStats equal the CPU reference's bit for bit (tests/compute/test_gpu_clay.cpp).
 /// A box over maxStorageBufferRange / 4 nodes (a tool of hundreds of cells; or GpuClayOptions::max_field_nodes) runs
-/// its field and re-sampling on the CPU reference instead (counted in host_fields), with the same result. Not thread-safe; the Context and the
-/// sculptor must outlive it, and the model handed to its methods must be the sculptor's mirror.
+/// its field and re-sampling on the CPU reference instead (counted in host_fields), with the same result.
+/// Not thread-safe; the Context and the sculptor must outlive it, and the model handed to its methods must be the
+/// sculptor's mirror.
 class GpuClay final : public ClayKernel {
 public:
     /// Makes the six pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe)
-    /// and runs each once empty, so that no clay operation waits for a kernel to be prepared. Throws tridex::Error when the device offers fewer than 21 storage buffers per
-    /// stage, on a bad option, or on a Vulkan failure.
+    /// and runs each once empty, so that no clay operation waits for a kernel to be prepared. Throws tridex::Error
+    /// when the device offers fewer than 21 storage buffers per stage, on a bad option, or on a Vulkan failure.
     GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuClayOptions& options = {});
     ~GpuClay() override;
     GpuClay(const GpuClay&) = delete;
