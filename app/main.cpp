@@ -212,7 +212,8 @@ int main(int argc, char** argv) {
         ->delimiter(',');
     std::vector<std::string> sculpt_paths;
     bench_cmd->add_option("--sculpt-paths", sculpt_paths,
-                          "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched; clay-push, clay-smooth only when named), "
+                          "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched; clay-push, clay-smooth, gpu-clay-push, "
+                          "gpu-clay-smooth only when named), "
                           "e.g. --sculpt-paths cpu,gpu-batched")
         ->delimiter(',');
     bool bench_session = false;

@@ -18,6 +18,7 @@
 #include "app/json_file.hpp"
 #include "app/stats.hpp"
 #include "compute/contour/contour_dual.hpp"
+#include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"
@@ -39,7 +40,8 @@ using compute::TriDexel;
 constexpr double kStockM = 0.3;       // lattice side, m
 constexpr double kMarginCells = 4.0;  // the box covers grid [4, N-4]^3
 constexpr double kDepthCells = 3.37;  // groove depth below the top face (the ball's centre sits off the nodes)
-const std::string kPaths[] = {"cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth"};  // in row order
+const std::string kPaths[] = {"cpu-1t",    "cpu",         "gpu",           "gpu-batched",
+                               "clay-push", "clay-smooth", "gpu-clay-push", "gpu-clay-smooth"};  // in row order
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -175,7 +177,8 @@ void check_options(const SculptBenchOptions& o) {
     if (o.paths.empty()) throw Error("bench --sculpt: no paths to run (--sculpt-paths)");
     for (std::size_t i = 0; i < o.paths.size(); ++i) {
         if (std::find(std::begin(kPaths), std::end(kPaths), o.paths[i]) == std::end(kPaths))
-            throw Error("bench --sculpt: unknown path '" + o.paths[i] + "' (--sculpt-paths: cpu-1t, cpu, gpu, gpu-batched, clay-push, clay-smooth)");
+            throw Error("bench --sculpt: unknown path '" + o.paths[i] +
+                        "' (--sculpt-paths: cpu-1t, cpu, gpu, gpu-batched, clay-push, clay-smooth, gpu-clay-push, gpu-clay-smooth)");
         if (std::find(o.paths.begin(), o.paths.begin() + static_cast<std::ptrdiff_t>(i), o.paths[i]) != o.paths.begin() + static_cast<std::ptrdiff_t>(i))
             throw Error("bench --sculpt: path '" + o.paths[i] + "' given twice (--sculpt-paths)");
     }
@@ -242,6 +245,7 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                 TriDexel m = pristine_model;
                 compute::Contourer contourer = pristine_contour;
                 std::unique_ptr<compute::GpuSculptor> sculptor;
+                std::unique_ptr<compute::GpuClay> clay;
                 StepFn step;
                 if (p == "cpu-1t") {
                     step = [&m](std::span<const Sweep> b) {
@@ -256,6 +260,18 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                         for (Sweep s : b) {
                             s.op = op;
                             rays += compute::apply_clay(m, s).rays.rays_visited;
+                        }
+                        return rays;
+                    };
+                } else if (p == "gpu-clay-push" || p == "gpu-clay-smooth") {
+                    const ToolOp op = p == "gpu-clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
+                    sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
+                    clay = std::make_unique<compute::GpuClay>(*ctx, *sculptor);
+                    step = [&m, &clay, op](std::span<const Sweep> b) {
+                        std::size_t rays = 0;
+                        for (Sweep s : b) {
+                            s.op = op;
+                            rays += compute::apply_clay(m, s, nullptr, *clay).rays.rays_visited;
                         }
                         return rays;
                     };
@@ -303,9 +319,10 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         std::printf("  N=%4d r=%2.0f %-11s: %.2f  (vs %s)\n", row.n, row.radius_cells, row.path.c_str(),
                     row.segments_per_s / best->segments_per_s, best->path.c_str());
     }
-    std::printf("clay / cpu-1t step_ms_median, per segment on one thread (target <= 2):\n");
+    std::printf("clay / cpu-1t step_ms_median, clay per segment (clay-*: CPU reference, one thread; gpu-clay-*: Vulkan) "
+                "against one-thread subtract (target <= 2):\n");
     for (const auto& row : rows) {
-        if (row.path.rfind("clay-", 0) != 0) continue;
+        if (row.path.rfind("clay-", 0) != 0 && row.path.rfind("gpu-clay-", 0) != 0) continue;
         const SculptBenchRow* one = find(rows, row.n, row.radius_cells, "cpu-1t");
         if (!one || one->step_ms_median <= 0.0) continue;
         std::printf("  N=%4d r=%2.0f %-11s: %.1f  (%.3f ms against %.3f ms)\n", row.n, row.radius_cells, row.path.c_str(),

@@ -13,7 +13,7 @@ namespace tridex::app {
 struct SculptBenchRow {
     int n = 0;                  ///< lattice cells along each side
     double radius_cells = 0.0;  ///< ball radius, cells
-    std::string path;           ///< "cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push" or "clay-smooth"
+    std::string path;           ///< "cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth", "gpu-clay-push" or "gpu-clay-smooth"
     int batch = 1;              ///< segments per step (per apply call)
     std::size_t segments = 0;   ///< segments carved
     std::size_t steps = 0;      ///< apply calls
@@ -42,8 +42,8 @@ struct SculptBenchOptions {
     double max_row_s = 4.0;         ///< ... or its wall time (with contouring) reaches this, s ...
     int max_segments = 65536;       ///< ... or the stroke (this many segments) is used up
     bool gpu = true;                ///< run the GPU rows when a Vulkan device exists
-    /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth" (each at most once;
-    /// the clay paths only when asked for); the parallel-path lines need a single-thread path, the gpu-batched /
+    /// Paths to run, any of "cpu-1t", "cpu", "gpu", "gpu-batched", "clay-push", "clay-smooth", "gpu-clay-push",
+    /// "gpu-clay-smooth" (each at most once; the clay paths only when asked for); the parallel-path lines need a single-thread path, the gpu-batched /
     /// cpu line "cpu" and "gpu-batched", the clay ratios "cpu-1t".
     std::vector<std::string> paths{"cpu-1t", "cpu", "gpu", "gpu-batched"};
     std::string out = "out/bench";  ///< folder for sculpt_bench.json
@@ -57,7 +57,9 @@ struct SculptBenchOptions {
 /// "cpu-1t" = apply_sweep per segment; "cpu" = apply_sweeps_parallel per `batch` segments; "gpu" =
 /// GpuSculptor::apply per segment; "gpu-batched" = per `batch` segments; "clay-push" / "clay-smooth" = the same
 /// stroke as ToolOp::kPush / kSmooth through compute::apply_clay per segment (the CPU reference, one thread; the
-/// ball presses 3.37 cells in, so push dents at its 1-cell step). After each step the dirty
+/// ball presses 3.37 cells in, so push dents at its 1-cell step); "gpu-clay-push" / "gpu-clay-smooth" = the same
+/// through apply_clay on the GPU clay kernel (compute/gpu/gpu_clay.hpp: field and re-sampling in Vulkan compute,
+/// the same model bit for bit, so the same model_hash as the CPU clay row). After each step the dirty
 /// tiles are re-contoured on the CPU (Contourer; GPU contouring is not built yet: "contour": "cpu").
 /// GPU rows are skipped, with a printed reason, when no Vulkan device exists or options.gpu is false.
 /// Prints a table; each parallel path's ("cpu" on several threads, "gpu", "gpu-batched") segments_per_s

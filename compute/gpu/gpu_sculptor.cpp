@@ -251,6 +251,18 @@ void GpuSculptor::write_rays(std::span<const RayImage> rays, const Aabb& box_m) 
     if (!rays.empty()) mirror_.mark_dirty(box_m);
 }
 
+void GpuSculptor::store_mirror_ray(int axis, std::uint32_t index) {
+    if (axis < 0 || axis > 2 || index >= mirror_.sets[axis].rays.size())
+        throw Error("GPU tri-dexel: ray outside the model (axis " + std::to_string(axis) + ", ray " + std::to_string(index) + ")");
+    const int nu = slabs_.nu(axis);
+    const int u = static_cast<int>(index % static_cast<std::uint32_t>(nu)), v = static_cast<int>(index / static_cast<std::uint32_t>(nu));
+    const std::vector<Interval>& ray = mirror_.sets[axis].rays[index];
+    if (slabs_.write_ray(axis, u, v, ray)) return;
+    ++stats_.compactions;
+    if (slabs_.compact(context_, axis)) bind_descriptors();
+    if (!slabs_.write_ray(axis, u, v, ray)) throw Error("GPU tri-dexel: no pool room after compaction (internal error)");
+}
+
 BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     BooleanStats stats;
     const GridBatch converted = to_grid_batch(mirror_.lattice, batch);  // throws before anything changes

@@ -72,6 +72,11 @@ public:
     /// a compacted pool has no room (rays before it are then written).
     void write_rays(std::span<const RayImage> rays, const Aabb& box_m);
 
+    /// Copies ray `index` of set `axis` of the mirror into the slabs (after the host changed it in the mirror, e.g. a
+    /// clay operation's re-sampled ray), compacting the set's pool when it has no room. Marks nothing dirty. Throws
+    /// tridex::Error on a ray outside the model, over kMaxRayIntervals intervals, or with no room after compaction.
+    void store_mirror_ray(int axis, std::uint32_t index);
+
     /// The GPU-resident model.
     const GpuDexelSlabs& slabs() const { return slabs_; }
     /// The CPU mirror of the model (what the constructor was given).

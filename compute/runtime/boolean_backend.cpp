@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/tools/sweep_parallel.hpp"
 #include "compute/tools/clay_sweep.hpp"
@@ -64,17 +65,21 @@ class GpuBackend final : public BooleanBackend {
 public:
     // Owning its Context.
     GpuBackend(gpu::Context context, compute::TriDexel& model)
-        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)),
+          clay_(std::make_unique<compute::GpuClay>(context_, *sculptor_)) {}
     // On a shared Context.
     GpuBackend(const gpu::Context* shared, compute::TriDexel& model)
-        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {}
+        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)),
+          clay_(std::make_unique<compute::GpuClay>(context_, *sculptor_)) {}
     ~GpuBackend() override {
-        sculptor_.reset();  // GPU objects before the context
+        clay_.reset();  // GPU objects before the context
+        sculptor_.reset();
         if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
-    /// Booleans run on the GPU kernel; a clay sweep (push, smooth, pull) runs the CPU reference on the mirror model and
-    /// its changed rays are written to the slabs, in batch order (the clay ops have no Vulkan kernel yet).
+    /// Booleans run on the GPU kernel (GpuSculptor); a clay sweep (push, smooth, pull) runs on the GPU clay kernel
+    /// (GpuClay: field and re-sampling in Vulkan compute, contacts and the beta solve on the host), which writes the
+    /// changed rays to the mirror (marking its dirty tiles) and to the slabs; sweeps apply in batch order.
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
             return sculptor_->apply(batch);
@@ -90,11 +95,7 @@ public:
                 total.rays_changed += b.rays_changed;
             }
             if (j < batch.size()) {
-                std::vector<compute::RayImage> before;
-                compute::TriDexel& m = sculptor_->mirror();
-                const compute::ClayStats c = compute::apply_clay(m, batch[j], &before);
-                for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
-                if (!before.empty()) sculptor_->write_rays(before, compute::clay_bounds(m.lattice, batch[j]));
+                const compute::ClayStats c = compute::apply_clay(sculptor_->mirror(), batch[j], nullptr, *clay_);
                 total.rays_visited += c.rays.rays_visited;
                 total.rays_changed += c.rays.rays_changed;
                 ++j;
@@ -114,11 +115,13 @@ public:
     std::uint32_t validation_messages() const override { return own_ ? context_.validation_messages() : 0u; }
     const compute::GpuDexelSlabs* gpu_slabs() const override { return &sculptor_->slabs(); }
     const gpu::Context* gpu_context() const override { return &context_; }
+    const compute::GpuClayStats* gpu_clay_stats() const override { return &clay_->stats(); }
 
 private:
     std::optional<gpu::Context> own_;  // empty when sculpting on a shared Context
     const gpu::Context& context_;
     std::unique_ptr<compute::GpuSculptor> sculptor_;
+    std::unique_ptr<compute::GpuClay> clay_;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "compute/tools/boolean.hpp"
+#include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/model/tridexel.hpp"
@@ -22,9 +23,10 @@ namespace tridex::app {
 class BooleanBackend {
 public:
     virtual ~BooleanBackend() = default;
-    /// Applies `batch` in order to the model and marks its dirty tiles; clay sweeps (ToolOp kPush, kSmooth) run the
-    /// CPU reference (compute/tools/clay_sweep.hpp) on both paths. Throws tridex::Error on a bad sweep
-    /// (nothing changed) or a device failure.
+    /// Applies `batch` in order to the model and marks its dirty tiles; clay sweeps (ToolOp kPush, kSmooth, kPull) run
+    /// apply_clay (compute/tools/clay_sweep.hpp) on the CPU reference or, on the GPU path, on the GPU clay kernel
+    /// (compute/gpu/gpu_clay.hpp), with the same result bit for bit. Throws tridex::Error on a bad sweep (nothing
+    /// changed) or a device failure.
     virtual compute::BooleanStats apply(std::span<const compute::Sweep> batch) = 0;
     /// Replaces whole rays of the model (undo and redo) on this path's storage and in the CPU model, and marks
     /// the model's tiles around `box_m` (world m) dirty. Throws tridex::Error on an image outside the model or a
@@ -45,6 +47,9 @@ public:
     virtual const compute::GpuDexelSlabs* gpu_slabs() const { return nullptr; }
     /// The Context the GPU path sculpts on (its own or the shared one); nullptr on the CPU path.
     virtual const gpu::Context* gpu_context() const { return nullptr; }
+    /// Counters of the GPU clay kernel (fields built, rays re-sampled on the GPU or handed back to the host) on the
+    /// "gpu" path; nullptr on the CPU path.
+    virtual const compute::GpuClayStats* gpu_clay_stats() const { return nullptr; }
 };
 
 /// What make_boolean_backend chose, and why.

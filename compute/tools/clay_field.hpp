@@ -107,6 +107,11 @@ float clay_node_phi(const TriDexel& model, int i, int j, int k, float search = s
 /// box's arrays.
 void clay_build_phi(const TriDexel& model, ClayField& field);
 
+/// Fills field.chords (see ClayField::chords) from field.box and field.region alone (clay_region_chord per ray of
+/// each set through the box; rows that miss the region are skipped). clay_build_phi calls it; a GPU field build
+/// (compute/gpu/gpu_clay.hpp) calls it to know the region's nodes. O(rays of the three sets through the box).
+void clay_build_chords(ClayField& field);
+
 /// The depth nodes [lo, hi] of the ray of set `axis` through (u, v) (its other two node indices) that lie both in
 /// field.box and in field.region (ClayRegion::contains, exactly); lo > hi when there are none. O(1).
 void clay_region_chord(const ClayField& field, int axis, int u, int v, int& lo, int& hi);

@@ -16,12 +16,6 @@ float rim_bump(float x) {
     return b * b;
 }
 
-struct Stamp {
-    float p[3];   // contact point p*, grid units from the lattice origin
-    float n[3];   // outward normal at the contact
-    float delta;  // surface displacement at p*, cells
-};
-
 }  // namespace
 
 float clay_surface_distance(const TriDexel& model, float cx, float cy, float cz, float search) {
@@ -93,12 +87,16 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 namespace {
 
 // The displacement field of a push (inward = true) or a pull (inward = false) from its interaction points, applied
-// with a volume-keeping rim (push) or moat (pull).
-ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<Stamp>& stamps, bool inward,
-                       std::vector<RayImage>* before) {
+// with a volume-keeping rim (push) or moat (pull) by `kernel`.
+ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<ClayStamp>& stamps, bool inward,
+                       std::vector<RayImage>* before, ClayKernel& kernel) {
     if (stamps.empty()) return {};
-    const float R = g.radius, r = kClayInfluence * R, w = kClayRimWidth * r;
-    const float sign = inward ? 1.0f : -1.0f;
+    ClayStampParams params;
+    params.r = kClayInfluence * g.radius;
+    params.w = kClayRimWidth * params.r;
+    params.reach2 = (params.r + params.w) * (params.r + params.w) * 1.0001f;  // with rounding to spare
+    params.sign = inward ? 1.0f : -1.0f;
+    const float r = params.r, w = params.w;
     ClayField field;
     // The box around the contact points (the sweep's lo..hi allow for any contact within R + 0.5 of the centre).
     ClayBox outer;
@@ -106,7 +104,7 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
     for (int a = 0; a < 3; ++a) {
         outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
         plo[a] = stamps[0].p[a], phi_[a] = stamps[0].p[a];
-        for (const Stamp& s : stamps) plo[a] = std::min(plo[a], s.p[a]), phi_[a] = std::max(phi_[a], s.p[a]);
+        for (const ClayStamp& s : stamps) plo[a] = std::min(plo[a], s.p[a]), phi_[a] = std::max(phi_[a], s.p[a]);
     }
     field.box = clay_support_box(plo, phi_, r + w, outer);
     if (field.box.empty()) return {};
@@ -117,13 +115,26 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
         half2 += 0.25f * (phi_[a] - plo[a]) * (phi_[a] - plo[a]);
     }
     field.region.r = r + w + 1.01f + std::sqrt(half2);  // a neighbour lies within 1 cell of a moved node
-    clay_build_phi(model, field);
-    const float reach2 = (r + w) * (r + w) * 1.0001f;  // beyond it (with rounding to spare) no stamp moves a node
+    kernel.stamp_field(model, field, stamps, params);
+    return kernel.resample(model, field, before);
+}
+
+// The ball's centre (grid units) at stamp k of n along the sweep (k = 0: the motion's start).
+void stamp_centre(const GridSweep& g, std::uint32_t k, std::uint32_t n, float c[3]) {
+    const float f = static_cast<float>(k) / static_cast<float>(n);
+    for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
+}
+
+}  // namespace
+
+void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
+                        const ClayStampParams& p) {
+    const float r = p.r, w = p.w, reach2 = p.reach2, sign = p.sign;
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
         const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
         float dent = 0.0f, rim = 0.0f;
-        for (const Stamp& s : stamps) {
+        for (const ClayStamp& s : stamps) {
             const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
             const float d2 = dx * dx + dy * dy + dz * dz;
             if (d2 > reach2) continue;
@@ -143,21 +154,12 @@ ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<St
             if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
         }
     });
-    return clay_resample(model, field, true, before);
 }
 
-// The ball's centre (grid units) at stamp k of n along the sweep (k = 0: the motion's start).
-void stamp_centre(const GridSweep& g, std::uint32_t k, std::uint32_t n, float c[3]) {
-    const float f = static_cast<float>(k) / static_cast<float>(n);
-    for (int a = 0; a < 3; ++a) c[a] = static_cast<float>(g.origin[a]) + (g.start[a] + g.delta[a] * f);
-}
-
-}  // namespace
-
-ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
     const float R = g.radius;
     // The interaction points: the ball at each stamp, its contact and penetration.
-    std::vector<Stamp> stamps;
+    std::vector<ClayStamp> stamps;
     const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
     for (std::uint32_t k = 0; k < n; ++k) {
         float c[3];
@@ -168,17 +170,17 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(ct.delta, kClayMaxStep)});
     }
-    return apply_stamps(model, g, stamps, true, before);
+    return apply_stamps(model, g, stamps, true, before, kernel);
 }
 
-ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
     const float R = g.radius;
     const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
     // Only a tool that touches the surface where the motion starts holds on to it.
     float a[3];
     stamp_centre(g, 0, n, a);
     if (!(clay_contact(model, a[0], a[1], a[2], R).delta >= -kClayPullGrip)) return {};
-    std::vector<Stamp> stamps;
+    std::vector<ClayStamp> stamps;
     for (std::uint32_t k = 0; k < n; ++k) {
         float c[3];
         stamp_centre(g, k + 1, n, c);
@@ -189,7 +191,7 @@ ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(gap, kClayPullMaxStep)});
     }
-    return apply_stamps(model, g, stamps, false, before);
+    return apply_stamps(model, g, stamps, false, before, kernel);
 }
 
 }  // namespace tridex::compute

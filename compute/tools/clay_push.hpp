@@ -7,6 +7,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "compute/tools/clay_field.hpp"
+#include "compute/tools/clay_kernel.hpp"
 #include "compute/tools/sweep.hpp"
 
 namespace tridex::compute {
@@ -57,8 +58,11 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 /// r <= d_m <= r + w (w = kClayRimWidth * r): s_rim(q) = -beta * max_m delta_m * (4x(1-x))^2, x = (d_m - r)/w,
 /// at points no dent moves, with beta solved so that the box's volume is unchanged (clay_resample). The surface
 /// moves along its normal (phi' = phi + s, see clay_field.hpp for how the three sets stay one solid).
-/// Nodes with |phi| >= |s| + 2 cells keep their value (the surface cannot reach them).
-ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
+/// Nodes with |phi| >= |s| + 2 cells keep their value (the surface cannot reach them). The stamps, the field's box
+/// and region and the beta solve run on the host; the field and the re-sampling on `kernel` (the CPU reference by
+/// default; every kernel gives the same model bit for bit).
+ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
+                    ClayKernel& kernel = clay_cpu_kernel());
 
 /// Plastic pull of one clay sweep (ToolOp::kPull; the inverse of clay_push, as Freeform's tug or Blender's grab
 /// along the normal): the touched surface follows the tool as it draws away. Only when the ball touches the surface
@@ -69,7 +73,8 @@ ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImag
 /// volume is taken back from a moat on the annulus r..r + w (the rim's profile, inward), beta solved as in clay_push.
 /// A tool held still, moving along the surface or pressing into it changes nothing; a tool that lost contact does
 /// not grab again until it touches. Pushing a flat face in by D and pulling the same spot back out by D returns the
-/// face to within about a cell.
-ClayStats clay_pull(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
+/// face to within about a cell. Runs on `kernel` as clay_push.
+ClayStats clay_pull(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
+                    ClayKernel& kernel = clay_cpu_kernel());
 
 }  // namespace tridex::compute

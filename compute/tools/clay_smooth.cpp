@@ -9,7 +9,29 @@
 
 namespace tridex::compute {
 
-ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before) {
+void clay_smooth_offsets(const TriDexel& model, ClayField& field, const ClaySmoothParams& p) {
+    const ClayBox& b = field.box;
+    const float r = p.r;
+    clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
+        const float phi = field.phi[i];
+        if (!(std::fabs(phi) < 2.0f)) return;
+        const float dx = static_cast<float>(ix) - p.point[0], dy = static_cast<float>(jy) - p.point[1],
+                    dz = static_cast<float>(kz) - p.point[2];
+        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (!(d < r)) return;
+        const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
+        if (depth > clay_sheet_depth(0.0f, d)) return;  // another sheet of the solid
+        const float x = d / r;
+        const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
+        const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
+                          field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
+                          field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
+        field.s0[i] = kClaySmoothRate * wgt * lap;
+        field.s1[i] = wgt;
+    });
+}
+
+ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
     const float R = g.radius, r = kClayInfluence * R;
     // Once per half-cell plane crossed by the motion a -> b.
     bool crosses = false;
@@ -30,26 +52,11 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
     for (int a = 0; a < 3; ++a) field.region.c[a] = ct.point[a];
     field.region.r = r + 1.01f;  // a neighbour lies within 1 cell of a moved node
-    clay_build_phi(model, field);
-    const ClayBox& b = field.box;
-    clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
-        const float phi = field.phi[i];
-        if (!(std::fabs(phi) < 2.0f)) return;
-        const float dx = static_cast<float>(ix) - ct.point[0], dy = static_cast<float>(jy) - ct.point[1],
-                    dz = static_cast<float>(kz) - ct.point[2];
-        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (!(d < r)) return;
-        const float depth = -(dx * ct.normal[0] + dy * ct.normal[1] + dz * ct.normal[2]);
-        if (depth > clay_sheet_depth(0.0f, d)) return;  // another sheet of the solid
-        const float x = d / r;
-        const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
-        const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
-                          field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
-                          field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
-        field.s0[i] = kClaySmoothRate * wgt * lap;
-        field.s1[i] = wgt;
-    });
-    return clay_resample(model, field, true, before);
+    ClaySmoothParams params;
+    for (int a = 0; a < 3; ++a) params.point[a] = ct.point[a], params.normal[a] = ct.normal[a];
+    params.r = r;
+    kernel.smooth_field(model, field, params);
+    return kernel.resample(model, field, before);
 }
 
 }  // namespace tridex::compute

@@ -6,6 +6,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "compute/tools/clay_field.hpp"
+#include "compute/tools/clay_kernel.hpp"
 #include "compute/tools/sweep.hpp"
 
 namespace tridex::compute {
@@ -22,7 +23,10 @@ inline constexpr float kClaySmoothRate = 0.15f;
 /// weighted with Popescu's falloff w = 1 - (d/r)^2 of the distance d to the contact point within the radius of
 /// influence r = kClayInfluence * R (section 3.3), on nodes with |phi| < 2 cells. The volume is kept by an offset
 /// s1 = w on the same nodes, its weight beta solved (clay_resample). A plane (phi linear) has a zero Laplacian and
-/// stays where it is, up to float rounding of phi.
-ClayStats clay_smooth(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr);
+/// stays where it is, up to float rounding of phi. The contact, the field's box and region and the beta solve run on
+/// the host; the field and the re-sampling on `kernel` (the CPU reference by default; every kernel gives the same
+/// model bit for bit).
+ClayStats clay_smooth(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
+                      ClayKernel& kernel = clay_cpu_kernel());
 
 }  // namespace tridex::compute

@@ -72,16 +72,16 @@ Aabb clay_bounds(const Lattice& L, const Sweep& s) {
     return box.inflated(reach * L.cell_m);
 }
 
-ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* before) {
+ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* before, ClayKernel& kernel) {
     const GridSweep g = to_clay_grid_sweep(model.lattice, s);  // validates the whole sweep first
     if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return {};
-    if (s.op == ToolOp::kSmooth) return clay_smooth(model, g, before);
+    if (s.op == ToolOp::kSmooth) return clay_smooth(model, g, before, kernel);
     const bool pull = s.op == ToolOp::kPull;
     // A long push or pull (a jump of the workspace, a fast hand) in pieces of at most kClayPieceCells of motion, each with
     // its own field box around its contacts, so the cost follows the path's length, not the volume of its box.
     const double len = glm::length(s.path_m.b - s.path_m.a) / model.lattice.cell_m;
     const int pieces = static_cast<int>(std::min(std::ceil(len / kClayPieceCells), 1.0e6));
-    if (pieces <= 1) return pull ? clay_pull(model, g, before) : clay_push(model, g, before);
+    if (pieces <= 1) return pull ? clay_pull(model, g, before, kernel) : clay_push(model, g, before, kernel);
     ClayStats total;
     for (int k = 0; k < pieces; ++k) {
         Sweep piece = s;
@@ -89,7 +89,7 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
         piece.path_m.b = s.path_m.a + (s.path_m.b - s.path_m.a) * (static_cast<double>(k + 1) / pieces);
         const GridSweep pg = to_clay_grid_sweep(model.lattice, piece);
         if (pg.hi[0] < pg.lo[0] || pg.hi[1] < pg.lo[1] || pg.hi[2] < pg.lo[2]) continue;
-        const ClayStats st = pull ? clay_pull(model, pg, before) : clay_push(model, pg, before);
+        const ClayStats st = pull ? clay_pull(model, pg, before, kernel) : clay_push(model, pg, before, kernel);
         total.rays.rays_visited += st.rays.rays_visited;
         total.rays.rays_changed += st.rays.rays_changed;
         total.volume_change_cells += st.volume_change_cells;

@@ -6,6 +6,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "compute/tools/clay_field.hpp"
+#include "compute/tools/clay_kernel.hpp"
 #include "compute/tools/sweep.hpp"
 #include "core/aabb.hpp"
 #include "core/tool_sample.hpp"
@@ -36,7 +37,10 @@ inline constexpr double kClayPieceCells = 2.0;
 /// Applies one clay sweep (clay_push, clay_pull or clay_smooth) to `model`; a push or pull moving more than kClayPieceCells goes in
 /// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
 /// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
-/// unchanged) on the input to_clay_grid_sweep refuses.
-ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr);
+/// unchanged) on the input to_clay_grid_sweep refuses. The per-node and per-ray work runs on `kernel` (the CPU
+/// reference by default, or the GPU's compute/gpu/gpu_clay.hpp: the same model and ClayStats bit for bit); a
+/// kernel's device failure is thrown as tridex::Error after the pieces before it were written.
+ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr,
+                     ClayKernel& kernel = clay_cpu_kernel());
 
 }  // namespace tridex::compute

@@ -156,4 +156,30 @@ TEST(BenchSculpt, ClayPathsRunTheSameStrokeAsPushAndSmooth) {
     EXPECT_NE(rows[0].model_hash, rows[2].model_hash);
 }
 
+TEST(BenchSculpt, GpuClayPathsGiveTheCpuClayModels) {
+    SculptBenchOptions o;
+    o.resolutions = {32};
+    o.radii_cells = {3.0};
+    o.paths = {"gpu-clay-smooth", "clay-push", "gpu-clay-push", "clay-smooth"};
+    o.max_segments = 10;
+    o.min_boolean_s = 1e9;
+    o.max_row_s = 1e9;
+    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt_gpu_clay").string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SculptBenchRow> rows = run_sculpt_bench(o);
+    if (rows.size() == 2u) GTEST_SKIP() << "no Vulkan device: only the CPU clay rows ran";
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(rows[0].path, "clay-push");
+    EXPECT_EQ(rows[1].path, "clay-smooth");
+    EXPECT_EQ(rows[2].path, "gpu-clay-push");
+    EXPECT_EQ(rows[3].path, "gpu-clay-smooth");
+    for (const SculptBenchRow& r : rows) {
+        EXPECT_EQ(r.segments, 10u) << r.path;
+        EXPECT_TRUE(std::isfinite(r.step_ms_median) && r.step_ms_median > 0.0) << r.path;
+    }
+    EXPECT_EQ(rows[0].model_hash, rows[2].model_hash);  // the GPU kernel gives the CPU reference's model
+    EXPECT_EQ(rows[1].model_hash, rows[3].model_hash);
+    EXPECT_NE(rows[0].model_hash, rows[1].model_hash);
+}
+
 }  // namespace tridex::app

@@ -1,5 +1,5 @@
-// Clay sweeps through the sculpting backends: the GPU path (Booleans in the Vulkan kernel, clay on the CPU reference
-// with its rays written to the slabs) gives the CPU path's model bit for bit, slabs included; undo restores exactly.
+// Clay sweeps through the sculpting backends: the GPU path (Booleans and clay in Vulkan compute: GpuSculptor and
+// GpuClay) gives the CPU path's model bit for bit, slabs included; undo restores exactly.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -76,6 +76,13 @@ TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
     }
     EXPECT_GT(changed, 0u);
     expect_same(cpu_model, gpu_model);
+    // The GPU path's clay ran in the Vulkan kernel, not on the CPU reference.
+    EXPECT_EQ(cpu->gpu_clay_stats(), nullptr);
+    const compute::GpuClayStats* clay = gpu.backend->gpu_clay_stats();
+    ASSERT_NE(clay, nullptr);
+    EXPECT_GT(clay->fields, 10u);
+    EXPECT_GT(clay->rays_resampled, 100u);
+    EXPECT_EQ(clay->host_fields, 0u);
     // The slabs hold what the mirror holds.
     const compute::GpuDexelSlabs* slabs = gpu.backend->gpu_slabs();
     ASSERT_NE(slabs, nullptr);

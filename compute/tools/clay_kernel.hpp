@@ -1,0 +1,71 @@
+// compute/tools/clay_kernel.hpp - the per-node and per-ray work of a clay operation behind one interface, so that
+// the CPU reference and the GPU kernel (compute/gpu/gpu_clay.hpp) run the same operation from the same host steps.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "compute/model/tridexel.hpp"
+#include "compute/tools/clay_field.hpp"
+
+namespace tridex::compute {
+
+/// One interaction point of a push or pull (Popescu, Burdea, Bouzit, section 3.3): the contact point p* (grid units
+/// from the lattice origin), the outward surface normal there (unit, or 0), and the surface displacement at p*
+/// (cells, > 0).
+struct ClayStamp {
+    float p[3] = {0.0f, 0.0f, 0.0f};
+    float n[3] = {0.0f, 0.0f, 0.0f};
+    float delta = 0.0f;
+};
+
+/// The constants of a push's or pull's displacement field (cells): the radius of influence r = kClayInfluence * R,
+/// the rim width w = kClayRimWidth * r, reach2 = (r + w)^2 * 1.0001 (no stamp moves a node farther than that,
+/// squared) and sign = +1 (push: inward) or -1 (pull: outward). Computed once on the host, in float, and used as they
+/// are by every kernel, so every kernel sees the same bits.
+struct ClayStampParams {
+    float r = 0.0f;
+    float w = 0.0f;
+    float reach2 = 0.0f;
+    float sign = 1.0f;
+};
+
+/// The contact a smooth acts at: point and outward normal (grid units; ClayContact) and the radius of influence r
+/// (cells).
+struct ClaySmoothParams {
+    float point[3] = {0.0f, 0.0f, 0.0f};
+    float normal[3] = {0.0f, 0.0f, 0.0f};
+    float r = 0.0f;
+};
+
+/// Where a clay operation's heavy steps run. The host steps around them (stamps and contacts, the field's box and
+/// region, the beta solve, writing the rays, dirty tiles, `before` images) are the same for every kernel
+/// (clay_push, clay_pull, clay_smooth, apply_clay), so two kernels that fill the same field and re-sample the same
+/// rays bit for bit give the same model and the same ClayStats. Not thread-safe unless an implementation says so.
+class ClayKernel {
+public:
+    virtual ~ClayKernel() = default;
+    /// Fills `field` (box and region set by the caller, search as wanted) for a push or pull: phi, s0, s1 and chords
+    /// exactly as clay_build_phi followed by clay_stamp_offsets. Throws tridex::Error on a device failure.
+    virtual void stamp_field(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
+                             const ClayStampParams& params) = 0;
+    /// Fills `field` for a smooth: exactly clay_build_phi followed by clay_smooth_offsets. Throws as stamp_field.
+    virtual void smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) = 0;
+    /// Re-samples `field` into `model` exactly as clay_resample (volume-preserving) and writes the changed rays where
+    /// this kernel keeps its model too. Throws tridex::Error on a device failure.
+    virtual ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) = 0;
+};
+
+/// The CPU reference kernel (one thread; clay_build_phi, clay_stamp_offsets, clay_smooth_offsets, clay_resample).
+/// Stateless, so one shared instance serves every thread.
+ClayKernel& clay_cpu_kernel();
+
+/// The CPU reference of a push's or pull's s0 and s1 (clay_push.hpp describes the field): at every node of the
+/// field's region that clay_node_fixed lets move, in z, y, x order, over the stamps in order. field.phi must be built.
+void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
+                        const ClayStampParams& params);
+
+/// The CPU reference of a smooth's s0 and s1 (clay_smooth.hpp describes the field). field.phi must be built.
+void clay_smooth_offsets(const TriDexel& model, ClayField& field, const ClaySmoothParams& params);
+
+}  // namespace tridex::compute
