@@ -45,6 +45,7 @@ struct DemoOptions {
     bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
     bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)
+    bool gpu_clay = false;         ///< --gpu-clay: clay on the GPU kernel even on a CPU Vulkan device (lavapipe)
     std::string op = "subtract";   ///< what the tool does: subtract | union | paint | push | smooth | pull
     int material = 1;              ///< palette id (1..7) that union adds and paint sets
     bool ao = true;                ///< --ao on|off: ambient occlusion in the images (cuts darker, edges brighter)

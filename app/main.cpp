@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
     demo_cmd->add_flag("--gpu-contour", demo.gpu_contour,
                        "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(demo_cpu_contour);
+    demo_cmd->add_flag("--gpu-clay", demo.gpu_clay,
+                       "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), "
+                       "where the CPU reference is faster (same result bit for bit)");
 
     bool demo_elastic = false;
     std::string elastic_scene;
@@ -156,6 +159,8 @@ int main(int argc, char** argv) {
     replay_cmd->add_flag("--gpu-contour", replay_sculpt.gpu_contour,
                          "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
         ->excludes(replay_cpu_contour);
+    replay_cmd->add_flag("--gpu-clay", replay_sculpt.gpu_clay,
+                         "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe)");
 
     tridex::app::ExportOptions export_opt;
     CLI::App* export_cmd =

@@ -39,8 +39,9 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const Vec3 start = rec.ticks.empty() ? s.device_origin_m : rec.ticks.front().wand_centre_m;
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
-    SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start,
-                                 SculptOptions{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""}, loop);
+    SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""};
+    so.gpu_clay = sculpt.gpu_clay;
+    SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so, loop);
     write_session_outputs(out, run, t_start);
 }
 

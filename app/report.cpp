@@ -237,6 +237,8 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     j["sculpt_path"] = r.sculpt_path;
     j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
     if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
+    if (!r.clay_path.empty()) j["clay_path"] = r.clay_path;
+    if (!r.clay_path_reason.empty()) j["clay_path_reason"] = r.clay_path_reason;
     j["spilled_intervals"] = r.spilled_intervals;
     j["sculpt_validation_messages"] = r.sculpt_validation_messages;
     j["contour_path"] = r.contour_path;
@@ -284,6 +286,9 @@ void print_summary(const DemoReport& r, const std::string& out_dir) {
                 r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
     std::printf("  sculpt path: %s%s%s\n", r.sculpt_path.c_str(), r.sculpt_path == "gpu" ? (" on " + r.sculpt_device).c_str() : "",
                 r.sculpt_path_reason.empty() ? "" : (" (" + r.sculpt_path_reason + ")").c_str());
+    if (r.deformation_max_displacement_m)  // a clay session
+        std::printf("  clay path: %s%s\n", r.clay_path.c_str(),
+                    r.clay_path_reason.empty() ? "" : (" (" + r.clay_path_reason + ")").c_str());
     std::printf("  contour path: %s%s\n", r.contour_path.c_str(),
                 r.contour_reason.empty() ? "" : (" (" + r.contour_reason + ")").c_str());
     std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());

@@ -46,6 +46,9 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
                   "drawn with indirect draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
     cmd->add_flag("--gpu-contour", o.gpu_contour,
                   "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower");
+    cmd->add_flag("--gpu-clay", o.gpu_clay,
+                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where "
+                  "the CPU reference is faster (same result bit for bit)");
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");

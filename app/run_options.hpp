@@ -45,6 +45,8 @@ struct RunOptions {
     /// Contour on the GPU even on a CPU implementation of Vulkan (lavapipe), where CPU contouring is the
     /// default because it is faster there (app/session.hpp gpu_contour_default).
     bool gpu_contour = false;
+    /// --gpu-clay: clay sweeps on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe).
+    bool gpu_clay = false;
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;

@@ -137,6 +137,7 @@ json run_report_json(const RunResult& r) {
           {"contour_ms", summary_json(r.sculpt.contour_ms)}}},
         {"sculpt_path", r.sculpt_path},
         {"sculpt_device", r.sculpt_device},
+        {"clay_path", r.clay_path},
         {"spilled_intervals", r.spilled_intervals},
         {"contour_path", r.contour_path},
         {"contour_path_reason", r.contour_reason},

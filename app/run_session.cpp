@@ -121,6 +121,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.cpu = o.cpu;
     s.cpu_contour = o.cpu_contour;
     s.gpu_contour = o.gpu_contour;
+    s.gpu_clay = o.gpu_clay;
     if (s.cpu_contour && s.gpu_contour) throw Error("--cpu-contour, --gpu-contour: choose one");
     s.pace = o.pace;
     s.items = o.items;
@@ -288,6 +289,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     SculptOptions sculpt_options{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal};
     sculpt_options.checkpoint_s = su.checkpoint_s;
     sculpt_options.tile_lod = su.lod && su.tiles;
+    sculpt_options.gpu_clay = su.gpu_clay;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
     // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
@@ -302,6 +304,9 @@ RunResult run_stereo_session(const RunOptions& options) {
                           tool_dtrack);
     r.sculpt_path = backend.runtime().booleans().backend->path();
     r.sculpt_device = backend.runtime().booleans().backend->device();
+    r.clay_path = backend.runtime().booleans().backend->clay_path();
+    if (!backend.runtime().booleans().backend->clay_reason().empty())
+        r.notes.push_back("clay path cpu: " + backend.runtime().booleans().backend->clay_reason());
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
     r.contour_path = backend.runtime().contour_path();
     r.contour_tiles_initial = backend.runtime().tiles_initial();

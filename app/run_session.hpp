@@ -34,6 +34,7 @@ struct RunSetup {
     bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
     bool cpu_contour = false;       ///< contour on the CPU even when sculpting on the GPU (--cpu-contour)
     bool gpu_contour = false;       ///< contour on the GPU even on a CPU Vulkan device (--gpu-contour)
+    bool gpu_clay = false;          ///< clay on the GPU kernel even on a CPU Vulkan device (--gpu-clay)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
@@ -96,6 +97,7 @@ struct RunResult {
     std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"
     std::uint32_t validation_messages = 0;       ///< Vulkan validation messages (0 expected)
     std::string sculpt_path;                     ///< "gpu" or "cpu": where the swept Booleans ran
+    std::string clay_path;                       ///< "gpu" or "cpu": where push, smooth and pull ran
     std::string sculpt_device;                   ///< Vulkan device that sculpted ("" on the CPU path)
     std::uint64_t spilled_intervals = 0;         ///< GPU spill-pool intervals at the end
     std::string contour_path;                    ///< "gpu" (GpuContourer, indirect draws) or "cpu" (tile meshes)

@@ -106,6 +106,8 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     run.sculpt_path = booleans.backend->path();
     run.sculpt_device = booleans.backend->device();
     run.sculpt_path_reason = booleans.reason;
+    run.clay_path = booleans.backend->clay_path();
+    run.clay_path_reason = booleans.backend->clay_reason();
     run.contour_path = rt.contour_path();
     run.contour_reason = rt.contour_reason();
     run.tiles_initial = rt.tiles_initial();
@@ -235,6 +237,8 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;
+    r.clay_path = run.clay_path;
+    r.clay_path_reason = run.clay_path_reason;
     r.spilled_intervals = run.spilled_intervals;
     r.model_bytes = run.model_bytes;
     r.sculpt_validation_messages = run.sculpt_validation_messages;

@@ -37,6 +37,8 @@ struct SessionRun {
     std::string sculpt_path;                   ///< "gpu" or "cpu"
     std::string sculpt_device;                 ///< Vulkan device name on the GPU path
     std::string sculpt_path_reason;            ///< why the CPU path ran; "" on the GPU path
+    std::string clay_path;                     ///< "gpu" or "cpu": where clay sweeps ran (BooleanBackend::clay_path)
+    std::string clay_path_reason;              ///< why clay ran on the CPU on the GPU path; "" otherwise
     std::uint64_t spilled_intervals = 0;       ///< GPU spill-pool intervals at the end
     std::array<std::size_t, 3> model_bytes{};  ///< model bytes per ray set on the sculpting path
     std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages on the sculpting device

@@ -163,7 +163,8 @@ void SessionRuntime::choose_contour(const RuntimeOptions& o) {
         if (!gpu_contour_default(*shared, why)) contour_reason_ = why;
     }
     const bool share = shared && (own_context_ || contour_reason_.empty());
-    booleans_ = share ? make_boolean_backend_on(wp_.model, s.cpu, *shared) : make_boolean_backend(wp_.model, s.cpu, s.validate);
+    booleans_ = share ? make_boolean_backend_on(wp_.model, s.cpu, *shared, s.gpu_clay)
+                      : make_boolean_backend(wp_.model, s.cpu, s.validate, s.gpu_clay);
     if (!contour_reason_.empty()) return;
     if (!booleans_.backend->gpu_slabs()) {
         contour_reason_ = "the Booleans run on the CPU";
@@ -175,7 +176,7 @@ void SessionRuntime::choose_contour(const RuntimeOptions& o) {
         contour_reason_ = std::string("the device cannot contour: ") + e.what();
         // CPU contouring after all: with a live renderer the Booleans get a Context of their own again, so they
         // do not wait behind the frames (nothing has been sculpted yet).
-        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, s.cpu, s.validate);
+        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, s.cpu, s.validate, s.gpu_clay);
     }
 }
 

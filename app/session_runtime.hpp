@@ -70,6 +70,9 @@ struct SculptOptions {
     /// With per-tile meshes published (RuntimeOptions::mesh_form kTiles, CPU contour): the sculpt thread also
     /// builds each changed tile's levels of detail (SculptThread::use_tile_lod) for the renderer to choose from.
     bool tile_lod = false;
+    /// --gpu-clay: clay sweeps on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where the CPU
+    /// reference is faster and is the default (make_boolean_backend).
+    bool gpu_clay = false;
 };
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU

@@ -64,13 +64,15 @@ private:
 class GpuBackend final : public BooleanBackend {
 public:
     // Owning its Context.
-    GpuBackend(gpu::Context context, compute::TriDexel& model)
-        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)),
-          clay_(std::make_unique<compute::GpuClay>(context_, *sculptor_)) {}
+    GpuBackend(gpu::Context context, compute::TriDexel& model, bool gpu_clay)
+        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {
+        place_clay(gpu_clay);
+    }
     // On a shared Context.
-    GpuBackend(const gpu::Context* shared, compute::TriDexel& model)
-        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)),
-          clay_(std::make_unique<compute::GpuClay>(context_, *sculptor_)) {}
+    GpuBackend(const gpu::Context* shared, compute::TriDexel& model, bool gpu_clay)
+        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {
+        place_clay(gpu_clay);
+    }
     ~GpuBackend() override {
         clay_.reset();  // GPU objects before the context
         sculptor_.reset();
@@ -79,7 +81,8 @@ public:
     }
     /// Booleans run on the GPU kernel (GpuSculptor); a clay sweep (push, smooth, pull) runs on the GPU clay kernel
     /// (GpuClay: field and re-sampling in Vulkan compute, contacts and the beta solve on the host), which writes the
-    /// changed rays to the mirror (marking its dirty tiles) and to the slabs; sweeps apply in batch order.
+    /// changed rays to the mirror (marking its dirty tiles) and to the slabs, or, where the clay is placed on the CPU,
+    /// the CPU reference on the mirror with its changed rays written to the slabs; sweeps apply in batch order.
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
             return sculptor_->apply(batch);
@@ -95,7 +98,8 @@ public:
                 total.rays_changed += b.rays_changed;
             }
             if (j < batch.size()) {
-                const compute::ClayStats c = compute::apply_clay(sculptor_->mirror(), batch[j], nullptr, *clay_);
+                const compute::ClayStats c = clay_ ? compute::apply_clay(sculptor_->mirror(), batch[j], nullptr, *clay_)
+                                                   : clay_on_mirror(batch[j]);
                 total.rays_visited += c.rays.rays_visited;
                 total.rays_changed += c.rays.rays_changed;
                 ++j;
@@ -115,9 +119,32 @@ public:
     std::uint32_t validation_messages() const override { return own_ ? context_.validation_messages() : 0u; }
     const compute::GpuDexelSlabs* gpu_slabs() const override { return &sculptor_->slabs(); }
     const gpu::Context* gpu_context() const override { return &context_; }
-    const compute::GpuClayStats* gpu_clay_stats() const override { return &clay_->stats(); }
+    const compute::GpuClayStats* gpu_clay_stats() const override { return clay_ ? &clay_->stats() : nullptr; }
+    std::string clay_path() const override { return clay_ ? "gpu" : "cpu"; }
+    std::string clay_reason() const override { return clay_reason_; }
 
 private:
+    // The GPU clay kernel on a real GPU or when asked; the CPU reference on a CPU implementation of Vulkan.
+    void place_clay(bool gpu_clay) {
+        if (gpu_clay || context_.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) {
+            clay_ = std::make_unique<compute::GpuClay>(context_, *sculptor_);
+            return;
+        }
+        clay_reason_ = "the Vulkan device (" + context_.device_name() +
+                       ") is a CPU implementation, where the clay tools' CPU reference is faster; --gpu-clay forces "
+                       "the GPU clay kernel";
+    }
+    // The CPU reference on the mirror; its changed rays are written to the slabs.
+    compute::ClayStats clay_on_mirror(const compute::Sweep& s) {
+        std::vector<compute::RayImage> before;
+        compute::TriDexel& m = sculptor_->mirror();
+        const compute::ClayStats c = compute::apply_clay(m, s, &before);
+        for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
+        if (!before.empty()) sculptor_->write_rays(before, compute::clay_bounds(m.lattice, s));
+        return c;
+    }
+
+    std::string clay_reason_;
     std::optional<gpu::Context> own_;  // empty when sculpting on a shared Context
     const gpu::Context& context_;
     std::unique_ptr<compute::GpuSculptor> sculptor_;
@@ -138,7 +165,7 @@ std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model) {
 
 std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model) { return std::make_unique<CpuBackend>(model); }
 
-BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate) {
+BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate, bool gpu_clay) {
     BackendChoice choice;
     if (cpu) {
         choice.backend = make_cpu_backend(model);
@@ -155,18 +182,18 @@ BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool vali
         choice.reason = std::string("no usable Vulkan device: ") + e.what();
         return choice;
     }
-    choice.backend = std::make_unique<GpuBackend>(std::move(*context), model);
+    choice.backend = std::make_unique<GpuBackend>(std::move(*context), model, gpu_clay);
     return choice;
 }
 
-BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared) {
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared, bool gpu_clay) {
     BackendChoice choice;
     if (cpu) {
         choice.backend = make_cpu_backend(model);
         choice.reason = "--cpu given";
         return choice;
     }
-    choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model);
+    choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model, gpu_clay);
     return choice;
 }
 

@@ -50,6 +50,11 @@ public:
     /// Counters of the GPU clay kernel (fields built, rays re-sampled on the GPU or handed back to the host) on the
     /// "gpu" path; nullptr on the CPU path.
     virtual const compute::GpuClayStats* gpu_clay_stats() const { return nullptr; }
+    /// Where clay sweeps run: "gpu" (the GPU clay kernel) or "cpu" (the CPU reference; on the GPU path on the
+    /// mirror, its changed rays written to the slabs). Both give the same model bit for bit.
+    virtual std::string clay_path() const { return "cpu"; }
+    /// Why clay sweeps run on the CPU on the GPU path ("" otherwise), e.g. a CPU implementation of Vulkan.
+    virtual std::string clay_reason() const { return ""; }
 };
 
 /// What make_boolean_backend chose, and why.
@@ -65,12 +70,15 @@ std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model);
 /// The GPU path when `cpu` is false and a Vulkan device can be created (its own Context, validation when
 /// `validate` or TRIDEX_VALIDATION=1), else the CPU path with the reason. A model that does not fit the
 /// device is refused with tridex::Error (the numbers in the message), not silently moved to the CPU.
-BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate);
+/// On the GPU path clay sweeps run on the GPU clay kernel on a real GPU, and on the CPU reference (on the mirror,
+/// the changed rays written to the slabs) on a CPU implementation of Vulkan (lavapipe), where the kernel's
+/// submissions cost more than the reference; `gpu_clay` runs them on the kernel there too.
+BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate, bool gpu_clay = false);
 
 /// As above, but the GPU path sculpts on `shared` (e.g. the renderer's Context, so that the renderer can draw
 /// buffers the sculpt thread fills; submissions from both threads are serialised by the Context) instead of a
 /// Context of its own; `shared` must outlive the backend. With `cpu` the CPU path. Throws as above.
-BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared);
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared, bool gpu_clay = false);
 
 /// Bytes the CPU reference model takes per ray set (vector headers plus interval storage).
 std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model);

@@ -9,6 +9,7 @@
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "core/primitives.hpp"
+#include "gpu/context.hpp"
 
 namespace tridex::app {
 namespace {
@@ -58,13 +59,21 @@ void expect_same(const compute::TriDexel& a, const compute::TriDexel& b) {
         }
 }
 
-TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
+// The GPU path with its clay on the GPU clay kernel (`gpu_clay`: forced even on a CPU Vulkan implementation) or where
+// make_boolean_backend places it (the CPU reference on the mirror on lavapipe) gives the CPU path's model, and undo
+// restores the start on both.
+void check_gpu_path(bool gpu_clay) {
     compute::TriDexel cpu_model = box_model();
     const compute::TriDexel start = cpu_model;
     compute::TriDexel gpu_model = cpu_model;
     auto cpu = make_cpu_backend(cpu_model);
-    BackendChoice gpu = make_boolean_backend(gpu_model, false, false);
+    BackendChoice gpu = make_boolean_backend(gpu_model, false, false, gpu_clay);
     if (gpu.backend->path() != "gpu") GTEST_SKIP() << "no Vulkan device: " << gpu.reason;
+    const bool cpu_device = gpu.backend->gpu_context()->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    const bool on_kernel = gpu_clay || !cpu_device;
+    EXPECT_EQ(gpu.backend->clay_path(), on_kernel ? "gpu" : "cpu");
+    EXPECT_EQ(gpu.backend->clay_reason().empty(), on_kernel) << gpu.backend->clay_reason();
+    EXPECT_EQ(cpu->clay_path(), "cpu");
     SculptHistory hc(cpu_model, *cpu), hg(gpu_model, *gpu.backend);
     std::size_t changed = 0;
     for (const auto& b : batches()) {
@@ -76,13 +85,17 @@ TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
     }
     EXPECT_GT(changed, 0u);
     expect_same(cpu_model, gpu_model);
-    // The GPU path's clay ran in the Vulkan kernel, not on the CPU reference.
+    // Placed on the kernel, the GPU path's clay ran in Vulkan, not on the CPU reference.
     EXPECT_EQ(cpu->gpu_clay_stats(), nullptr);
     const compute::GpuClayStats* clay = gpu.backend->gpu_clay_stats();
-    ASSERT_NE(clay, nullptr);
-    EXPECT_GT(clay->fields, 10u);
-    EXPECT_GT(clay->rays_resampled, 100u);
-    EXPECT_EQ(clay->host_fields, 0u);
+    if (on_kernel) {
+        ASSERT_NE(clay, nullptr);
+        EXPECT_GT(clay->fields, 10u);
+        EXPECT_GT(clay->rays_resampled, 100u);
+        EXPECT_EQ(clay->host_fields, 0u);
+    } else {
+        EXPECT_EQ(clay, nullptr);
+    }
     // The slabs hold what the mirror holds.
     const compute::GpuDexelSlabs* slabs = gpu.backend->gpu_slabs();
     ASSERT_NE(slabs, nullptr);
@@ -108,6 +121,10 @@ TEST(ClayBackend, GpuPathEqualsCpuPathAndUndoRestores) {
     expect_same(cpu_model, start);
     expect_same(gpu_model, start);
 }
+
+TEST(ClayBackend, GpuPathWithTheClayKernelEqualsCpuPathAndUndoRestores) { check_gpu_path(true); }
+
+TEST(ClayBackend, GpuPathWithClayWhereTheDevicePlacesItEqualsCpuPath) { check_gpu_path(false); }
 
 }  // namespace
 }  // namespace tridex::app
