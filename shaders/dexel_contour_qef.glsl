@@ -9,6 +9,8 @@
 const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
 const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
 const double kOneSidedSlopeMax = 1.0lf; // contour::kOneSidedSlopeMax
+const double kFitPlaneRatio = 4.0lf;    // contour::kFitPlaneRatio
+const double kFitPlaneSpread = 1e-6lf;  // contour::kFitPlaneSpread
 const double kQefTruncation = 0.05lf;   // contour::kQefTruncation
 const int kJacobiSweeps = 5;            // contour::kJacobiSweeps
 const double kJacobiTolerance = 1e-9lf; // contour::kJacobiTolerance
@@ -143,6 +145,54 @@ void qef_rotate(inout double m[9], inout double v[9], int p, int q) {
         v[3 * k + p] = nkp;
         v[3 * k + q] = nkq;
     }
+}
+
+// contour::fit_normal: the outward unit normal of the plane fitted to `count` points (the eigenvector of the
+// smallest eigenvalue of their scatter matrix about `mass`), each with its edge axis and exit flag; false
+// when fewer than 3, not spanning a plane, or balanced. Points in ascending edge order, as the CPU's.
+bool fit_normal(dvec3 mass, dvec3 pts[12], int axes[12], bool exits[12], int count, out dvec3 normal) {
+    normal = dvec3(0.0lf);
+    if (count < 3) return false;
+    double m[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+    for (int i = 0; i < count; ++i) {
+        precise double dx = pts[i].x - mass.x;
+        precise double dy = pts[i].y - mass.y;
+        precise double dz = pts[i].z - mass.z;
+        double d[3] = double[3](dx, dy, dz);
+        [[unroll]] for (int j = 0; j < 3; ++j)
+            [[unroll]] for (int k = 0; k < 3; ++k) {
+                precise double mjk = m[3 * j + k] + d[j] * d[k];
+                m[3 * j + k] = mjk;
+            }
+    }
+    double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
+    [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        precise double off = (abs(m[1]) + abs(m[2])) + abs(m[5]);
+        precise double diag = (abs(m[0]) + abs(m[4])) + abs(m[8]);
+        precise double lim = kJacobiTolerance * diag;
+        if (off <= lim) break;
+        qef_rotate(m, v, 0, 1);
+        qef_rotate(m, v, 0, 2);
+        qef_rotate(m, v, 1, 2);
+    }
+    int lo = 0;
+    if (m[4] < m[4 * lo]) lo = 1;
+    if (m[8] < m[4 * lo]) lo = 2;
+    int mid = lo == 0 ? 1 : 0;
+    [[unroll]] for (int k = 0; k < 3; ++k)
+        if (k != lo && m[4 * k] < m[4 * mid]) mid = k;
+    precise double need = kFitPlaneRatio * m[4 * lo];
+    if (!(m[4 * mid] > need) || !(m[4 * mid] > kFitPlaneSpread)) return false;
+    dvec3 n = dvec3(v[lo], v[3 + lo], v[6 + lo]);
+    double side = 0.0lf;
+    for (int i = 0; i < count; ++i) {
+        double c = exits[i] ? n[axes[i]] : -n[axes[i]];
+        precise double sc = side + c;
+        side = sc;
+    }
+    if (!(side != 0.0lf)) return false;
+    normal = side > 0.0lf ? n : -n;
+    return true;
 }
 
 // contour_qef.cpp truncated_solve: the minimum-norm least-squares step y of the QEF sums a (row-major,

@@ -66,16 +66,20 @@ void place_vertices(ivec3 cell, uint base) {
             ++count;
         }
         precise dvec3 mean = sum / double(count);
-        // The QEF of the component's crossings that have a normal (not fallbacks), ascending edge order.
+        // The QEF of the component's crossings in ascending edge order with their own normals (not fallbacks);
+        // when only some have one, the others take the normal of the plane fitted to all (contour::fit_normal).
         double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
         double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
         int normals = 0;
-        // Per axis a, a dynamic loop over this component's edges e = 4a + k that have a normal (ascending
-        // e, as the CPU sums): the invocations running together in SIMD lanes share the iterations instead
-        // of each paying for every edge that any of them crosses.
+        // Per axis a, a dynamic loop over this component's edges e = 4a + k that may have a normal: the
+        // invocations running together in SIMD lanes share the iterations instead of each paying for every
+        // edge that any of them crosses.
         uint mine = 0u;
         [[unroll]] for (int e = 0; e < 12; ++e)
             if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
+        dvec3 nq[12];
+        [[unroll]] for (int e = 0; e < 12; ++e) nq[e] = dvec3(0.0lf);
+        uint has = 0u;
         [[unroll]] for (int a = 0; a < 3; ++a) {
             uint todo = (mine >> uint(4 * a)) & 15u;
             while (todo != 0u) {
@@ -83,14 +87,41 @@ void place_vertices(ivec3 cell, uint base) {
                 todo &= todo - 1u;
                 const ivec3 off = edge_start_offset(a, k);
                 const int corner = off.x + 2 * off.y + 4 * off.z;
-                double t = tq[4 * a + k];
                 dvec3 nn;
-                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, t, nn)) continue;
-                dvec3 q = dvec3(cell + off);
-                q[a] = t;
-                qef_add(qm, qr, nn, q, mean);
-                ++normals;
+                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[4 * a + k], nn)) continue;
+                nq[4 * a + k] = nn;
+                has |= 1u << uint(4 * a + k);
             }
+        }
+        // The component's crossings (ascending edge), for the fitted plane when only some have a normal.
+        dvec3 fpts[12];
+        int faxes[12];
+        bool fexits[12];
+        int nc = 0;
+        [[unroll]] for (int e = 0; e < 12; ++e) {
+            if (cq[e] != c) continue;
+            const int a = e / 4;
+            const ivec3 off = edge_start_offset(a, e & 3);
+            dvec3 q = dvec3(cell + off);
+            q[a] = tq[e];
+            fpts[nc] = q;
+            faxes[nc] = a;
+            fexits[nc] = ((cfg >> (off.x + 2 * off.y + 4 * off.z)) & 1) != 0;
+            ++nc;
+        }
+        int own = bitCount(has);
+        dvec3 fitted = dvec3(0.0lf);
+        bool fit = own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
+        [[unroll]] for (int e = 0; e < 12; ++e) {
+            if (cq[e] != c) continue;
+            bool mine_n = ((has >> uint(e)) & 1u) != 0u;
+            if (!mine_n && !fit) continue;
+            const int a = e / 4;
+            const ivec3 off = edge_start_offset(a, e & 3);
+            dvec3 q = dvec3(cell + off);
+            q[a] = tq[e];
+            qef_add(qm, qr, mine_n ? nq[e] : fitted, q, mean);
+            ++normals;
         }
         dvec3 pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
         double best_d2 = -1.0lf;

@@ -136,6 +136,41 @@ double truncated_solve(const double a[3][3], const double r[3], double floor, do
 
 }  // namespace
 
+bool fit_normal(const Vec3& mass, const Vec3* points, const int* axes, const bool* exits, int count, Vec3& normal) {
+    if (count < 3) return false;
+    // Scatter matrix of the points about their mean, in the QEF's summation order.
+    double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    for (int i = 0; i < count; ++i) {
+        const double d[3] = {points[i].x - mass.x, points[i].y - mass.y, points[i].z - mass.z};
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) m[j][k] = m[j][k] + d[j] * d[k];
+    }
+    double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+    for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        const double off = (std::abs(m[0][1]) + std::abs(m[0][2])) + std::abs(m[1][2]);
+        const double diag = (std::abs(m[0][0]) + std::abs(m[1][1])) + std::abs(m[2][2]);
+        if (off <= kJacobiTolerance * diag) break;
+        rotate(m, v, 0, 1);
+        rotate(m, v, 0, 2);
+        rotate(m, v, 1, 2);
+    }
+    // Smallest eigenvalue (first on ties) and the next one up.
+    int lo = 0;
+    if (m[1][1] < m[lo][lo]) lo = 1;
+    if (m[2][2] < m[lo][lo]) lo = 2;
+    int mid = lo == 0 ? 1 : 0;
+    for (int k = 0; k < 3; ++k)
+        if (k != lo && m[k][k] < m[mid][mid]) mid = k;
+    if (!(m[mid][mid] > kFitPlaneRatio * m[lo][lo]) || !(m[mid][mid] > kFitPlaneSpread)) return false;
+    const Vec3 n(v[0][lo], v[1][lo], v[2][lo]);
+    // Outward: along each crossing's axis towards its outside node (+ for an exit).
+    double side = 0.0;
+    for (int i = 0; i < count; ++i) side = side + (exits[i] ? n[axes[i]] : -n[axes[i]]);
+    if (!(side != 0.0)) return false;
+    normal = side > 0.0 ? n : -n;
+    return true;
+}
+
 Vec3 qef_vertex(const Vec3& mass, const Vec3* points, const Vec3* normals, int count, const Vec3& cell_lo, QefOutcome* outcome) {
     QefOutcome local;
     QefOutcome& out = outcome ? *outcome : local;

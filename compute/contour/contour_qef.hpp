@@ -17,6 +17,10 @@ static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty mus
 /// the ray sits at a crease and its crossing gets no normal (choosing one side, e.g. the flatter one,
 /// often picks the face across the crease and throws the vertex off).
 inline constexpr double kCentralSlopeTol = 0.5;
+/// fit_normal(): the crossings span a plane when the scatter matrix's second-smallest eigenvalue exceeds
+/// kFitPlaneRatio times the smallest and kFitPlaneSpread (grid units squared).
+inline constexpr double kFitPlaneRatio = 4.0;
+inline constexpr double kFitPlaneSpread = 1e-6;
 /// Largest slope taken from one side alone (the other neighbour has no end within the window): a steeper
 /// one-sided difference may come from another sheet (a thin fin beside a plate).
 inline constexpr double kOneSidedSlopeMax = 1.0;
@@ -46,6 +50,19 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// contourer repeats it bit for bit). Returns false (normal untouched) when a direction has no
 /// neighbour end or a crease. O(intervals on 4 rays).
 bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal);
+
+/// Stand-in normal for the crossings of a dual-contouring component that have none of their own (creases
+/// the height-field estimate cannot resolve, fallbacks): the outward unit normal of the least-squares plane
+/// through the component's `count` crossings `points` (grid units; `mass` = their mean), i.e. the
+/// eigenvector of the smallest eigenvalue of their scatter matrix (kJacobiSweeps cyclic Jacobi sweeps),
+/// oriented so that it points along each crossing's edge axis `axes[i]` towards the edge's outside node
+/// (+axis when `exits[i]`, the crossing leaves material going +axis) on balance. So a cell that knows the
+/// normal of one face but not of the surface its other crossings lie on is not pulled onto that face's
+/// extension. Returns false (normal untouched) for fewer than 3 points, points that do not span a plane
+/// (second-smallest eigenvalue at most kFitPlaneRatio times the smallest, or at most kFitPlaneSpread), or a
+/// plane parallel to the balance. Deterministic double arithmetic in a fixed order (mirrored by the GPU
+/// contourer). O(count).
+bool fit_normal(const Vec3& mass, const Vec3* points, const int* axes, const bool* exits, int count, Vec3& normal);
 
 /// Which branches qef_vertex() took for one vertex (for statistics and tests).
 struct QefOutcome {

@@ -165,7 +165,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         std::array<int, kMaxComponents> count{};
         std::array<Vec3, 12> point{};
         std::array<std::uint8_t, 12> mat{};
-        std::array<int, 12> owner{};
+        std::array<int, 12> owner{}, axis{};
+        std::array<bool, 12> exit{};  // the crossing's start node is inside (it leaves material going +axis)
         std::array<const EdgeSample*, 12> sample{};  // the crossing's cached sample (normal, has_normal)
         int crossings = 0;
         for (int e = 0; e < 12; ++e) {
@@ -178,6 +179,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             sample[crossings] = &es;
             point[crossings] = crossing_point(p, a, x);
             mat[crossings] = x.material;
+            axis[crossings] = a;
+            exit[crossings] = ((cfg >> corner) & 1) != 0;
             owner[crossings++] = comp;
             sum[comp] += point[crossings - 1];
             ++count[comp];
@@ -185,13 +188,27 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         const Vec3 lo(cell[0], cell[1], cell[2]);
         std::array<double, kMaxComponents> best_d2{};
         for (int comp = 0; comp < cc.components; ++comp) {
-            // The component's crossings that have a normal, in ascending edge order.
+            // The component's crossings in ascending edge order, with their normals; when some have a normal
+            // and others not, those others take the normal of the plane fitted to all of them (fit_normal).
+            std::array<Vec3, 12> cp{};
+            std::array<int, 12> ca{};
+            std::array<bool, 12> ce{};
+            int nc = 0, own = 0;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp) {
+                    cp[nc] = point[i];
+                    ca[nc] = axis[i];
+                    ce[nc++] = exit[i];
+                    if (sample[i]->has_normal) ++own;
+                }
+            Vec3 fitted(0.0);
+            const bool fit = own > 0 && own < nc && fit_normal(sum[comp] / static_cast<double>(count[comp]), cp.data(), ca.data(), ce.data(), nc, fitted);
             std::array<Vec3, 12> qp{}, qn{};
             int q = 0;
             for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && sample[i]->has_normal) {
+                if (owner[i] == comp && (sample[i]->has_normal || fit)) {
                     qp[q] = point[i];
-                    qn[q++] = sample[i]->normal;
+                    qn[q++] = sample[i]->has_normal ? sample[i]->normal : fitted;
                 }
             QefOutcome how;
             cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo, &how);

@@ -68,8 +68,9 @@ struct TileMesh {
 ///    32-bit row masks, so the work per tile is proportional to its surface cells;
 ///  - one dual vertex per surface component of a cell (cell_cases()), placed by the QEF of that
 ///    component's edge crossings and their normals estimated from neighbouring rays (qef_vertex(),
-///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept), relative to their mass
-///    point (mean) and minimised over the cell;
+///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept; when only some of them have
+///    one, the others take the normal of the plane fitted through all of them, fit_normal()), relative to
+///    their mass point (mean) and minimised over the cell;
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;
