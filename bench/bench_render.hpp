@@ -26,6 +26,7 @@ struct RenderBenchRow {
     std::size_t tiles = 0;       ///< non-empty tiles of the workpiece
     std::size_t triangles = 0;   ///< workpiece triangles (all tiles, full meshes)
     std::size_t triangles_drawn_left = 0, triangles_drawn_right = 0;  ///< tile triangles drawn per eye, last frame
+    std::size_t groups_drawn_left = 0, groups_drawn_right = 0;  ///< groups of tiles drawn per eye, last frame
     /// Draws recorded in the last frame and how many more there were before like draws merged into multi-draws
     /// (FrameStats::draws, draws_merged).
     std::size_t draws = 0, draws_merged = 0;

@@ -31,12 +31,15 @@ struct TileLodOptions {
     double cell_m = 0.0;  ///< lattice spacing, m (> 0): the unit of the error targets and of the sampling
     /// Error targets of the levels, cells, ascending: level k is simplified until meshoptimizer's error
     /// estimate would pass error_cells[k] (a geometric series: each level can be drawn twice as far off).
-    std::vector<double> error_cells{0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+    std::vector<double> error_cells{0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
     /// A level is kept only when it has at most this fraction of the previous kept level's triangles
     /// (else its target is tried on with the next larger one).
     double keep_fraction = 0.8;
     /// Meshes with fewer triangles get no levels.
     std::size_t min_triangles = 16;
+    /// Levels over groups of tiles (TileSurfaceCache, build_group_lod): groups of 2x2x2 tiles, groups of 2x2x2
+    /// of those, ... up to 2^group_depth tiles along each axis; 0 = levels per tile only.
+    int group_depth = 3;
 };
 
 /// The coarser levels of `mesh` (one tile's triangles with the vertices they use, as
@@ -57,5 +60,14 @@ struct TileLodOptions {
 /// a nearest-triangle query in a bucket grid).
 std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const std::uint8_t> materials,
                                          const TileLodOptions& options);
+
+/// build_tile_lod for a mesh that itself stands for a surface within base_error_m (m, >= 0; e.g. the coarser
+/// levels of several tiles merged into one group): the same levels, each with error_m = its bound to `mesh` +
+/// base_error_m (the triangle inequality of the Hausdorff distance), and shaded with `normals` (empty, or one
+/// unit normal per vertex; empty: vertex_normals(mesh)). Throws as build_tile_lod, and when normals has the
+/// wrong size or base_error_m is negative or not finite.
+std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const std::uint8_t> materials,
+                                           std::span<const Vec3> normals, double base_error_m,
+                                           const TileLodOptions& options);
 
 }  // namespace tridex::compute
