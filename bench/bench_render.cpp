@@ -46,7 +46,8 @@ nlohmann::json row_json(const RenderBenchRow& r) {
     for (const auto& [name, ms] : r.passes) passes[name] = ms;
     return {{"n", r.n}, {"width", r.width}, {"height", r.height}, {"view", r.view}, {"culling", r.culling},
             {"lod", r.lod ? "on" : "off"}, {"ao", r.ao ? "on" : "off"}, {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
-            {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"passes", passes},
+            {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"gpu_outside_passes_ms", r.gpu_outside_passes_ms},
+            {"passes", passes},
             {"tiles_drawn_left", r.tiles_drawn_left}, {"tiles_drawn_right", r.tiles_drawn_right},
             {"tiles_skipped_left", r.tiles_skipped_left}, {"tiles_skipped_right", r.tiles_skipped_right},
             {"tiles", r.tiles}, {"triangles", r.triangles},
@@ -105,7 +106,7 @@ std::vector<Setting> bench_settings(const std::vector<bool>& occlusion) {
 
 // What one setting's timed frames gave.
 struct Samples {
-    std::vector<double> wall, gpu;
+    std::vector<double> wall, gpu, outside;
     std::map<std::string, std::vector<double>> pass_ms;
     renderer::FrameStats last;
 };
@@ -125,9 +126,9 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     std::string timing_note;
     if (o.occlusion.empty()) throw Error("bench --render: no ambient occlusion setting to run");
     const std::vector<Setting> settings = bench_settings(o.occlusion);
-    std::printf("%5s %10s %9s %8s %3s %9s %9s %8s %8s %9s %8s %13s %13s %10s %8s\n", "N", "size", "view", "setting",
+    std::printf("%5s %10s %9s %8s %3s %9s %9s %8s %8s %9s %8s %13s %13s %10s %8s %8s\n", "N", "size", "view", "setting",
                 "ao", "frame_ms", "p99_ms", "gpu_ms", "opaque", "occlusion", "overlay", "tiles L d/s", "tiles R d/s",
-                "tris L", "groups L");
+                "tris L", "groups L", "outside");
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, kWorkpieceCentre);
         compute::Contourer contourer(wp.model);
@@ -225,6 +226,9 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                             timing_note = fs.timing_note;
                             if (fs.timing != renderer::TimingSource::kGpuTimestamps || fs.frame_ms < 0.0) continue;
                             got[k].gpu.push_back(fs.frame_ms);
+                            double in_passes = 0.0;
+                            for (const renderer::PassTime& p : fs.passes) in_passes += p.ms;
+                            got[k].outside.push_back(fs.frame_ms - in_passes);
                             for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
                             for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
                         }
@@ -246,6 +250,7 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.frame_ms_median = s.median;
                     row.frame_ms_p99 = s.p99;
                     row.gpu_frame_ms_median = g.gpu.empty() ? -1.0 : summarize(g.gpu).median;
+                    row.gpu_outside_passes_ms = g.outside.empty() ? -1.0 : summarize(g.outside).median;
                     for (const auto& [name, values] : g.pass_ms) row.passes[name] = summarize(values).median;
                     row.tiles_drawn_left = g.last.tiles[0].drawn;
                     row.tiles_drawn_right = g.last.tiles[1].drawn;
@@ -270,10 +275,10 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     std::snprintf(size, sizeof size, "%dx%d", w, h);
                     std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
                     std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu\n", n,
+                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu %8.2f\n", n,
                                 size, v.name, st.name, st.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
                                 row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left,
-                                right, row.triangles_drawn_left, row.groups_drawn_left);
+                                right, row.triangles_drawn_left, row.groups_drawn_left, row.gpu_outside_passes_ms);
                 }
                 for (std::size_t k = 0; k < settings.size(); ++k) {
                     RenderBenchRow& row = rows[first_row + k];

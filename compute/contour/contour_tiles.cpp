@@ -36,6 +36,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         s.id = t;
         s.version = version;
         s.mesh = contourer.tile_mesh(t, s.materials);
+        order_for_vertex_cache(s.mesh);
         s.bounds_m = s.mesh.bounds();
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));

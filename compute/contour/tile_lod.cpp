@@ -17,11 +17,12 @@
 namespace tridex::compute {
 namespace {
 
-constexpr double kSampleSpacingCells = 0.5;
-
-// The level's triangles (indices into the full mesh) as a compact mesh with the full mesh's attributes.
+// The level's triangles (indices into the full mesh) as a compact mesh with the full mesh's attributes: the
+// triangles in vertex-cache order, the vertices in order of first use.
 TileLodLevel compact_level(const TriMesh& full, std::span<const std::uint8_t> materials, const std::vector<Vec3>& normals,
-                           const std::vector<unsigned int>& indices) {
+                           const std::vector<unsigned int>& unordered) {
+    std::vector<unsigned int> indices(unordered.size());
+    meshopt_optimizeVertexCache(indices.data(), unordered.data(), unordered.size(), full.positions.size());
     TileLodLevel level;
     std::vector<std::uint32_t> remap(full.positions.size(), UINT32_MAX);
     level.mesh.triangles.reserve(indices.size() / 3);
@@ -167,6 +168,19 @@ double max_distance(std::span<const Vec3> points, TriangleGrid& surface) {
 
 }  // namespace
 
+void order_for_vertex_cache(TriMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<unsigned int> in, out(mesh.triangles.size() * 3);
+    in.reserve(out.size());
+    for (const auto& t : mesh.triangles)
+        for (const std::uint32_t v : t) {
+            if (v >= nv) throw Error("order_for_vertex_cache: vertex index " + std::to_string(v) + " >= " + std::to_string(nv));
+            in.push_back(v);
+        }
+    meshopt_optimizeVertexCache(out.data(), in.data(), in.size(), nv);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangles[t] = {out[3 * t], out[3 * t + 1], out[3 * t + 2]};
+}
+
 std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const std::uint8_t> materials,
                                          const TileLodOptions& o) {
     return build_lod_levels(mesh, materials, {}, 0.0, o);
@@ -180,6 +194,8 @@ std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const 
     for (std::size_t k = 0; k < o.error_cells.size(); ++k)
         if (!std::isfinite(o.error_cells[k]) || !(o.error_cells[k] > 0.0) || (k > 0 && !(o.error_cells[k] > o.error_cells[k - 1])))
             throw Error("build_tile_lod: error_cells must be positive and ascending (entry " + std::to_string(k) + ")");
+    if (!std::isfinite(o.sample_spacing_cells) || !(o.sample_spacing_cells > 0.0))
+        throw Error("build_tile_lod: sample_spacing_cells must be finite and > 0");
     if (!std::isfinite(base_error_m) || base_error_m < 0.0)
         throw Error("build_tile_lod: base_error_m must be finite and >= 0");
     const std::size_t nv = mesh.positions.size();
@@ -211,7 +227,7 @@ std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const 
 
     const std::vector<Vec3> normals =
         given_normals.empty() ? vertex_normals(mesh) : std::vector<Vec3>(given_normals.begin(), given_normals.end());
-    const double spacing = kSampleSpacingCells * o.cell_m;
+    const double spacing = o.sample_spacing_cells * o.cell_m;
     const double slack = spacing / std::sqrt(3.0);
     const std::vector<Vec3> full_samples = surface_samples(mesh, spacing);
     TriangleGrid full_grid(mesh, o.cell_m);

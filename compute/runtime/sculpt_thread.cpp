@@ -388,6 +388,7 @@ void SculptThread::publish_mesh() {
     } else {
         tile_cache_.refresh(contourer_);
         stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
+        stats_.lod_groups_built = tile_cache_.lod_groups_built();
         stats_.lod_build_ms = tile_cache_.lod_build_ms();
         // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
         std::vector<std::shared_ptr<const compute::TileSurface>> next;

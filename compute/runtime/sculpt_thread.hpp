@@ -41,9 +41,10 @@ struct SculptStats {
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
-    /// use_tile_lod: tiles whose levels of detail were built (the first publish's included) and the elapsed
-    /// time of those builds, ms (part of mesh_publish_ms).
+    /// use_tile_lod: tiles and groups of tiles whose levels of detail were built (the first publish's
+    /// included) and the elapsed time of those builds, ms (part of mesh_publish_ms).
     std::uint64_t lod_tiles_built = 0;
+    std::uint64_t lod_groups_built = 0;
     double lod_build_ms = 0.0;
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
