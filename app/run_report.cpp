@@ -49,6 +49,7 @@ json render_json(const RunResult& r) {
                 {"lod",
                  {{"on", r.setup.lod},
                   {"tiles_built", r.sculpt.lod_tiles_built},
+                  {"groups_built", r.sculpt.lod_groups_built},
                   {"build_ms", r.sculpt.lod_build_ms},
                   {"tile_triangles_per_frame",
                    {log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[0]) / log.tiles.size(),

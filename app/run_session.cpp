@@ -440,7 +440,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
             r.tiled = mesh.tiled;
             r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
-            tile_view_of(mesh.tiles, su.lod, tiles);
+            tile_view_of(mesh.tiles, mesh.groups, su.lod, tiles);
             const haptics::LoopView& lv = backend.runtime().latest_view();
             // The tool the loop uses now (its size changes with [ and ] at the desk).
             const ToolShape tool_now = lv.tool.radius_m > 0.0 ? lv.tool : scene.spec.tool;
@@ -451,6 +451,7 @@ RunResult run_stereo_session(const RunOptions& options) {
             view.tool_orientation = lv.tool_world.orientation;
             if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
             view.tiles = tiles.tiles;
+            view.tile_groups = tiles.groups;
             view.lod = su.lod;
             if (gpu_contour) view.indirect_workpiece = &indirect;
             view.cull_tiles = su.cull;

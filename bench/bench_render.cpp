@@ -46,11 +46,13 @@ nlohmann::json row_json(const RenderBenchRow& r) {
     for (const auto& [name, ms] : r.passes) passes[name] = ms;
     return {{"n", r.n}, {"width", r.width}, {"height", r.height}, {"view", r.view}, {"culling", r.culling},
             {"lod", r.lod ? "on" : "off"}, {"ao", r.ao ? "on" : "off"}, {"frame_ms_median", r.frame_ms_median}, {"frame_ms_p99", r.frame_ms_p99},
-            {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"passes", passes},
+            {"gpu_frame_ms_median", r.gpu_frame_ms_median}, {"gpu_outside_passes_ms", r.gpu_outside_passes_ms},
+            {"passes", passes},
             {"tiles_drawn_left", r.tiles_drawn_left}, {"tiles_drawn_right", r.tiles_drawn_right},
             {"tiles_skipped_left", r.tiles_skipped_left}, {"tiles_skipped_right", r.tiles_skipped_right},
             {"tiles", r.tiles}, {"triangles", r.triangles},
             {"triangles_drawn", {r.triangles_drawn_left, r.triangles_drawn_right}},
+            {"groups_drawn", {r.groups_drawn_left, r.groups_drawn_right}},
             {"draws", r.draws}, {"draws_merged", r.draws_merged},
             {"speedup", r.speedup}, {"lod_speedup", r.lod_speedup},
             {"silhouette_mismatch", r.silhouette_mismatch}, {"mean_abs_diff", r.mean_abs_diff},
@@ -104,7 +106,7 @@ std::vector<Setting> bench_settings(const std::vector<bool>& occlusion) {
 
 // What one setting's timed frames gave.
 struct Samples {
-    std::vector<double> wall, gpu;
+    std::vector<double> wall, gpu, outside;
     std::map<std::string, std::vector<double>> pass_ms;
     renderer::FrameStats last;
 };
@@ -124,8 +126,9 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     std::string timing_note;
     if (o.occlusion.empty()) throw Error("bench --render: no ambient occlusion setting to run");
     const std::vector<Setting> settings = bench_settings(o.occlusion);
-    std::printf("%5s %10s %9s %8s %3s %9s %9s %8s %8s %9s %8s %13s %13s %10s\n", "N", "size", "view", "setting", "ao",
-                "frame_ms", "p99_ms", "gpu_ms", "opaque", "occlusion", "overlay", "tiles L d/s", "tiles R d/s", "tris L");
+    std::printf("%5s %10s %9s %8s %3s %9s %9s %8s %8s %9s %8s %13s %13s %10s %8s %8s\n", "N", "size", "view", "setting",
+                "ao", "frame_ms", "p99_ms", "gpu_ms", "opaque", "occlusion", "overlay", "tiles L d/s", "tiles R d/s",
+                "tris L", "groups L", "outside");
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, kWorkpieceCentre);
         compute::Contourer contourer(wp.model);
@@ -150,19 +153,30 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
             if (!s.lods.empty()) lod_triangles += s.lods.back().mesh.triangles.size();
             else lod_triangles += s.mesh.triangles.size();
         }
+        // Groups: the coarsest level of each top-most group that has levels covers its tiles.
+        std::size_t group_levels = 0, top_triangles = 0;
+        int top_depth = 0;
+        for (const compute::TileGroupSurface& g : cache.groups()) {
+            group_levels += g.lods.size();
+            top_depth = std::max(top_depth, g.depth);
+        }
+        for (const compute::TileGroupSurface& g : cache.groups())
+            if (g.depth == top_depth) top_triangles += g.lods.empty() ? 0 : g.lods.back().mesh.triangles.size();
         const Summary lod_s = summarize(one_ms);
-        char line[320];
+        char line[480];
         std::snprintf(line, sizeof line,
-                      "LOD build N=%d: %zu tiles in %.0f ms on %u cores (%.3f ms/tile); one thread, %zu tiles: median "
-                      "%.3f ms, p99 %.3f ms per tile; %.2f levels per tile; coarsest levels %zu of %zu triangles",
-                      n, cache.lod_tiles_built(), cache.lod_build_ms(), std::max(1u, std::thread::hardware_concurrency()),
-                      cache.lod_build_ms() / std::max<std::size_t>(1, cache.lod_tiles_built()), one_ms.size(),
-                      lod_s.median, lod_s.p99, static_cast<double>(levels) / std::max<std::size_t>(1, all.size()),
-                      lod_triangles, cache.triangle_count());
+                      "LOD build N=%d: %zu tiles and %zu groups in %.0f ms on %u cores; one thread, %zu tiles: median "
+                      "%.3f ms, p99 %.3f ms per tile; %.2f levels per tile, %.2f per group; coarsest tile levels %zu, "
+                      "coarsest depth-%d group levels %zu of %zu triangles",
+                      n, cache.lod_tiles_built(), cache.lod_groups_built(), cache.lod_build_ms(),
+                      std::max(1u, std::thread::hardware_concurrency()), one_ms.size(), lod_s.median, lod_s.p99,
+                      static_cast<double>(levels) / std::max<std::size_t>(1, all.size()),
+                      static_cast<double>(group_levels) / std::max<std::size_t>(1, cache.groups().size()), lod_triangles,
+                      top_depth, top_triangles, cache.triangle_count());
         std::printf("%s\n", line);
         lod_lines.push_back(line);
         TileView view;
-        tile_view_of(cache.tiles(), true, view);
+        tile_view_of(cache.tiles(), cache.groups(), true, view);
         const std::size_t triangles = cache.triangle_count();
         for (std::size_t si = 0; si < o.sizes.size(); ++si) {
             const auto [w, h] = o.sizes[si];
@@ -177,6 +191,7 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
             const std::array<std::uint8_t, 3> background{empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
             scene.show_overlay = true;
             scene.tiles = view.tiles;
+            scene.tile_groups = view.groups;
             for (const BenchView& v : kViews) {
                 Pose head;
                 head.position = v.head_m;
@@ -211,6 +226,9 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                             timing_note = fs.timing_note;
                             if (fs.timing != renderer::TimingSource::kGpuTimestamps || fs.frame_ms < 0.0) continue;
                             got[k].gpu.push_back(fs.frame_ms);
+                            double in_passes = 0.0;
+                            for (const renderer::PassTime& p : fs.passes) in_passes += p.ms;
+                            got[k].outside.push_back(fs.frame_ms - in_passes);
                             for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
                             for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
                         }
@@ -232,6 +250,7 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.frame_ms_median = s.median;
                     row.frame_ms_p99 = s.p99;
                     row.gpu_frame_ms_median = g.gpu.empty() ? -1.0 : summarize(g.gpu).median;
+                    row.gpu_outside_passes_ms = g.outside.empty() ? -1.0 : summarize(g.outside).median;
                     for (const auto& [name, values] : g.pass_ms) row.passes[name] = summarize(values).median;
                     row.tiles_drawn_left = g.last.tiles[0].drawn;
                     row.tiles_drawn_right = g.last.tiles[1].drawn;
@@ -239,6 +258,8 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     row.tiles_skipped_right = g.last.tiles[1].skipped;
                     row.triangles_drawn_left = g.last.tile_triangles[0];
                     row.triangles_drawn_right = g.last.tile_triangles[1];
+                    row.groups_drawn_left = g.last.groups_drawn[0];
+                    row.groups_drawn_right = g.last.groups_drawn[1];
                     row.draws = g.last.draws;
                     row.draws_merged = g.last.draws_merged;
                     row.tiles = view.tiles.size();
@@ -254,10 +275,10 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
                     std::snprintf(size, sizeof size, "%dx%d", w, h);
                     std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
                     std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu\n", n, size,
-                                v.name, st.name, st.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
+                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu %8.2f\n", n,
+                                size, v.name, st.name, st.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
                                 row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left,
-                                right, row.triangles_drawn_left);
+                                right, row.triangles_drawn_left, row.groups_drawn_left, row.gpu_outside_passes_ms);
                 }
                 for (std::size_t k = 0; k < settings.size(); ++k) {
                     RenderBenchRow& row = rows[first_row + k];

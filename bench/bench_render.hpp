@@ -21,11 +21,17 @@ struct RenderBenchRow {
     double frame_ms_p99 = 0;
     double gpu_frame_ms_median = -1;        ///< FrameStats::frame_ms (GPU timestamps), ms; < 0 unavailable
     std::map<std::string, double> passes;   ///< median ms per pass name ("opaque", ...), both eyes summed
+    /// Median over frames of the GPU frame time outside the timed passes, ms (< 0 unavailable). On lavapipe
+    /// this is mostly vertex processing: llvmpipe stamps a timestamp when its rasteriser reaches it, after the
+    /// draws recorded after it have been transformed and binned, so a pass's vertex work lands before its
+    /// first boundary.
+    double gpu_outside_passes_ms = -1;
     std::size_t tiles_drawn_left = 0, tiles_drawn_right = 0;      ///< per eye, last frame
     std::size_t tiles_skipped_left = 0, tiles_skipped_right = 0;  ///< per eye, last frame
     std::size_t tiles = 0;       ///< non-empty tiles of the workpiece
     std::size_t triangles = 0;   ///< workpiece triangles (all tiles, full meshes)
     std::size_t triangles_drawn_left = 0, triangles_drawn_right = 0;  ///< tile triangles drawn per eye, last frame
+    std::size_t groups_drawn_left = 0, groups_drawn_right = 0;  ///< groups of tiles drawn per eye, last frame
     /// Draws recorded in the last frame and how many more there were before like draws merged into multi-draws
     /// (FrameStats::draws, draws_merged).
     std::size_t draws = 0, draws_merged = 0;

@@ -275,6 +275,8 @@ void create_device(Context::Impl& impl) {
     f.shader_float64 = use.features.shaderFloat64;
     f.fragment_stores_and_atomics = use.features.fragmentStoresAndAtomics;
     f.timestamps = impl.properties.limits.timestampComputeAndGraphics == VK_TRUE;
+    f.multi_draw_indirect = use.features.multiDrawIndirect == VK_TRUE;
+    f.draw_indirect_first_instance = use.features.drawIndirectFirstInstance == VK_TRUE;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queue{};

@@ -43,6 +43,8 @@ struct DeviceFeatures {
     bool shader_float64 = false;        ///< 64-bit floats in shaders
     bool fragment_stores_and_atomics = false;  ///< storage writes/atomics in fragment shaders
     bool timestamps = false;            ///< timestamp queries on graphics and compute queues
+    bool multi_draw_indirect = false;   ///< vkCmdDrawIndexedIndirect with drawCount > 1
+    bool draw_indirect_first_instance = false;  ///< indirect commands with firstInstance != 0
 };
 
 /// Vulkan 1.2+ instance, the first suitable physical device (prefers a discrete GPU, then integrated,

@@ -80,6 +80,8 @@ public:
 
     /// Number of tiles (= the model's TileGrid::count(); index order tx + tiles_x * (ty + tiles_y * tz)).
     std::size_t tile_count() const { return tile_meshes_.size(); }
+    /// Tiles along x, y and z (the model's TileGrid::tiles).
+    std::array<int, 3> tile_dims() const { return tiles_; }
     /// Triangles tile `tile` owns (0 = the tile holds no surface). Throws tridex::Error when tile >= tile_count().
     std::size_t tile_triangle_count(std::size_t tile) const;
     /// Content version of tile `tile`'s surface: changes after an update() exactly when the triangles the

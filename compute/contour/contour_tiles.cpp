@@ -36,6 +36,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         s.id = t;
         s.version = version;
         s.mesh = contourer.tile_mesh(t, s.materials);
+        order_for_vertex_cache(s.mesh);
         s.bounds_m = s.mesh.bounds();
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
@@ -45,6 +46,17 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         std::vector<TileSurface*> all;
         for (TileSurface& s : rebuilt) all.push_back(&s);
         build_lods(all);
+    }
+    // Tiles rebuilt or gone: the groups over them lose their levels.
+    std::vector<std::uint64_t> changed;
+    for (const TileSurface& s : rebuilt) changed.push_back(s.id);
+    {
+        std::size_t k = 0;
+        for (const TileSurface& t : tiles_) {
+            while (k < order.size() && (order[k].fresh ? rebuilt[order[k].index].id : tiles_[order[k].index].id) < t.id) ++k;
+            if (k == order.size() || (order[k].fresh ? rebuilt[order[k].index].id : tiles_[order[k].index].id) != t.id)
+                changed.push_back(t.id);
+        }
     }
     std::vector<TileSurface> next;
     std::vector<std::uint64_t> next_versions;
@@ -64,6 +76,17 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
     tiles_ = std::move(next);
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
+    update_groups(contourer.tile_dims(), changed);
+    if (build_now) {  // every group, finest depth first (a group is built from its children's levels)
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int d = 1; d <= lod_options_.group_depth; ++d) {
+            std::vector<std::size_t> at_depth;
+            for (std::size_t g = 0; g < groups_.size(); ++g)
+                if (group_pending_[g] && groups_[g].depth == d) at_depth.push_back(g);
+            build_group_lods(at_depth);
+        }
+        lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
     return rebuilt.size();
 }
 
@@ -75,7 +98,8 @@ void TileSurfaceCache::enable_lod(const TileLodOptions& options) {
 }
 
 std::size_t TileSurfaceCache::lod_pending() const {
-    return static_cast<std::size_t>(std::count(pending_.begin(), pending_.end(), true));
+    return static_cast<std::size_t>(std::count(pending_.begin(), pending_.end(), true) +
+                                    std::count(group_pending_.begin(), group_pending_.end(), true));
 }
 
 std::size_t TileSurfaceCache::build_pending_lods(std::size_t max_tiles) {
@@ -86,7 +110,16 @@ std::size_t TileSurfaceCache::build_pending_lods(std::size_t max_tiles) {
             batch.push_back(&tiles_[i]);
             at.push_back(i);
         }
-    if (batch.empty()) return 0;
+    if (batch.empty()) {  // no tile waits: one group whose children are built
+        for (std::size_t g = 0; g < groups_.size(); ++g)
+            if (group_pending_[g] && group_ready(g)) {
+                const auto t0 = std::chrono::steady_clock::now();
+                build_group_lods({g});
+                lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                return 1;
+            }
+        return 0;
+    }
     build_lods(batch);
     for (std::size_t k = 0; k < batch.size(); ++k) {
         batch[k]->version = fresh_tile_version();
@@ -99,33 +132,36 @@ void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     const auto t0 = std::chrono::steady_clock::now();
     // Built aside first, so that an exception leaves every tile as it was.
     std::vector<std::vector<TileLodLevel>> built(tiles.size());
-    const auto build = [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); };
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    if (tiles.size() < kParallelLodTiles || cores == 1) {
-        for (std::size_t i = 0; i < tiles.size(); ++i) build(i);
-    } else {
-        // Tiles handed out one at a time from a shared counter; the calling thread works too.
-        std::atomic<std::size_t> next{0};
-        std::exception_ptr failure;
-        std::atomic<bool> failed{false};
-        const auto work = [&] {
-            for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < tiles.size();) {
-                try {
-                    build(i);
-                } catch (...) {
-                    if (!failed.exchange(true)) failure = std::current_exception();
-                }
-            }
-        };
-        std::vector<std::thread> threads;
-        for (unsigned c = 1; c < cores; ++c) threads.emplace_back(work);
-        work();
-        for (std::thread& t : threads) t.join();
-        if (failure) std::rethrow_exception(failure);
-    }
+    run_lod_jobs(tiles.size(), [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); });
     for (std::size_t i = 0; i < tiles.size(); ++i) tiles[i]->lods = std::move(built[i]);
     lod_tiles_built_ += tiles.size();
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void TileSurfaceCache::run_lod_jobs(std::size_t count, const std::function<void(std::size_t)>& job) {
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    if (count < kParallelLodTiles || cores == 1) {
+        for (std::size_t i = 0; i < count; ++i) job(i);
+        return;
+    }
+    // Jobs handed out one at a time from a shared counter; the calling thread works too.
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::atomic<bool> failed{false};
+    const auto work = [&] {
+        for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < count;) {
+            try {
+                job(i);
+            } catch (...) {
+                if (!failed.exchange(true)) failure = std::current_exception();
+            }
+        }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned c = 1; c < cores; ++c) threads.emplace_back(work);
+    work();
+    for (std::thread& t : threads) t.join();
+    if (failure) std::rethrow_exception(failure);
 }
 
 std::size_t TileSurfaceCache::triangle_count() const {

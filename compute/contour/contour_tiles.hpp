@@ -2,7 +2,9 @@
 // where it changed.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <functional>
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +28,32 @@ struct TileSurface {
     std::vector<TileLodLevel> lods;
 };
 
+/// Levels of detail over a group of neighbouring tiles: 2^depth tiles along each axis, aligned to multiples
+/// of 2^depth (tile (tx, ty, tz) is in the depth-d group (tx >> d, ty >> d, tz >> d)). A renderer draws one of
+/// the group's levels instead of all its tiles when that level's error is small enough; its outer border is
+/// the tiles' full-resolution border (build_group_lod), so it meets any neighbour without cracks.
+struct TileGroupSurface {
+    static constexpr std::uint64_t kNone = ~std::uint64_t{0};
+    std::uint64_t id = 0;              ///< tile_group_id(depth, linear group index); unique among tile and group ids
+    int depth = 1;                     ///< 1: 2x2x2 tiles; d: 2^d tiles along each axis
+    std::array<int, 3> coords{};       ///< group coordinates at its depth
+    /// Changes whenever lods change (a tile under the group changed: the levels are dropped at once, then
+    /// rebuilt) or the group first appears. Values from fresh_tile_version().
+    std::uint64_t version = 0;
+    Aabb bounds_m;                     ///< box of the meshes of every tile under the group, m
+    std::vector<std::uint64_t> children;  ///< ascending: tile ids (depth 1) or group ids (depth > 1), non-empty only
+    std::uint64_t parent = kNone;      ///< id of the group one depth up, kNone at the deepest depth
+    /// Levels over the whole group, finest first (build_group_lod); empty: not built yet, or the group does
+    /// not simplify (its children are drawn instead).
+    std::vector<TileLodLevel> lods;
+};
+
+/// The id of the depth-d group with linear index `index` in that depth's group grid: the depth in the top
+/// byte, so group ids never equal tile ids and sort by depth first.
+constexpr std::uint64_t tile_group_id(int depth, std::uint64_t index) {
+    return (static_cast<std::uint64_t>(depth) << 56) | index;
+}
+
 /// Keeps TileSurfaces for every non-empty tile of a Contourer, rebuilding only tiles whose contour changed
 /// (Contourer::tile_version, which also changes when only materials changed). Versions are unique per process, so one cache may follow a new Contourer
 /// (e.g. after a reset): its tiles then all count as changed.
@@ -40,6 +68,11 @@ public:
     const std::vector<TileSurface>& tiles() const { return tiles_; }
     /// Total triangles over tiles().
     std::size_t triangle_count() const;
+    /// Groups over the current tiles (empty unless enable_lod() with TileLodOptions::group_depth > 0), ordered
+    /// by id (so by depth, finest first). Each refresh() keeps the groups none of whose tiles changed and drops
+    /// the levels of the others (new version); their levels are rebuilt where the tiles' are. References are
+    /// valid until the next refresh().
+    const std::vector<TileGroupSurface>& groups() const { return groups_; }
 
     /// From the next refresh() on, builds the levels of detail (TileSurface::lods, build_tile_lod) of every
     /// tile it rebuilds; call it before the first refresh() so that every tile has them. Large refreshes
@@ -52,6 +85,8 @@ public:
     /// (a build spread over several cores counts its elapsed time once).
     std::size_t lod_tiles_built() const { return lod_tiles_built_; }
     double lod_build_ms() const { return lod_build_ms_; }
+    /// Groups whose levels were built since construction (their time is in lod_build_ms()).
+    std::size_t lod_groups_built() const { return lod_groups_built_; }
     /// Rebuilt tiles from which a refresh() builds the levels on every core.
     static constexpr std::size_t kParallelLodTiles = 64;
 
@@ -59,16 +94,25 @@ public:
     /// until build_pending_lods() builds theirs, so that neither start-up nor a stroke's re-contour waits for
     /// them. false (the default): refresh() builds them at once.
     void defer_lods(bool on) { defer_ = on; }
-    /// Tiles whose levels wait for build_pending_lods() (0 unless defer_lods(true) and enable_lod()).
+    /// Tiles and groups whose levels wait for build_pending_lods() (0 unless defer_lods(true) and enable_lod()).
     std::size_t lod_pending() const;
     /// Builds the levels of up to max_tiles waiting tiles (in tile order; on every core from kParallelLodTiles
     /// tiles), and gives each of them a new TileSurface::version (fresh_tile_version(): the published content
-    /// changed) while refresh() keeps comparing with the Contourer's version. Returns the tiles built.
-    /// Throws as build_tile_lod (those tiles then keep waiting).
+    /// changed) while refresh() keeps comparing with the Contourer's version. When no tile waits, builds the
+    /// levels of one waiting group whose tiles and smaller groups are all built (finest depth first) and gives
+    /// it a new version. Returns the tiles and groups built.
+    /// Throws as build_tile_lod (those tiles or that group then keep waiting).
     std::size_t build_pending_lods(std::size_t max_tiles);
 
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
+    void update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles);
+    void build_group_lods(const std::vector<std::size_t>& groups);
+    // Runs job(0..count-1), on every core from kParallelLodTiles jobs; rethrows the first failure.
+    static void run_lod_jobs(std::size_t count, const std::function<void(std::size_t)>& job);
+    bool group_ready(std::size_t g) const;
+    std::vector<TileGroupSurface> groups_;
+    std::vector<bool> group_pending_;              // per groups_ entry: levels wait for build_pending_lods()
     std::vector<TileSurface> tiles_;
     std::vector<std::uint64_t> contour_versions_;  // per tiles_ entry: the Contourer's version it was built from
     std::vector<bool> pending_;                    // per tiles_ entry: levels wait for build_pending_lods()
@@ -76,6 +120,7 @@ private:
     bool lod_ = false;
     TileLodOptions lod_options_{};
     std::size_t lod_tiles_built_ = 0;
+    std::size_t lod_groups_built_ = 0;
     double lod_build_ms_ = 0.0;
 };
 

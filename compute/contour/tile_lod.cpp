@@ -17,11 +17,12 @@
 namespace tridex::compute {
 namespace {
 
-constexpr double kSampleSpacingCells = 0.5;
-
-// The level's triangles (indices into the full mesh) as a compact mesh with the full mesh's attributes.
+// The level's triangles (indices into the full mesh) as a compact mesh with the full mesh's attributes: the
+// triangles in vertex-cache order, the vertices in order of first use.
 TileLodLevel compact_level(const TriMesh& full, std::span<const std::uint8_t> materials, const std::vector<Vec3>& normals,
-                           const std::vector<unsigned int>& indices) {
+                           const std::vector<unsigned int>& unordered) {
+    std::vector<unsigned int> indices(unordered.size());
+    meshopt_optimizeVertexCache(indices.data(), unordered.data(), unordered.size(), full.positions.size());
     TileLodLevel level;
     std::vector<std::uint32_t> remap(full.positions.size(), UINT32_MAX);
     level.mesh.triangles.reserve(indices.size() / 3);
@@ -167,16 +168,42 @@ double max_distance(std::span<const Vec3> points, TriangleGrid& surface) {
 
 }  // namespace
 
+void order_for_vertex_cache(TriMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<unsigned int> in, out(mesh.triangles.size() * 3);
+    in.reserve(out.size());
+    for (const auto& t : mesh.triangles)
+        for (const std::uint32_t v : t) {
+            if (v >= nv) throw Error("order_for_vertex_cache: vertex index " + std::to_string(v) + " >= " + std::to_string(nv));
+            in.push_back(v);
+        }
+    meshopt_optimizeVertexCache(out.data(), in.data(), in.size(), nv);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangles[t] = {out[3 * t], out[3 * t + 1], out[3 * t + 2]};
+}
+
 std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const std::uint8_t> materials,
                                          const TileLodOptions& o) {
+    return build_lod_levels(mesh, materials, {}, 0.0, o);
+}
+
+std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const std::uint8_t> materials,
+                                           std::span<const Vec3> given_normals, double base_error_m,
+                                           const TileLodOptions& o) {
     if (!std::isfinite(o.cell_m) || !(o.cell_m > 0.0))
         throw Error("build_tile_lod: cell_m must be finite and > 0, got " + std::to_string(o.cell_m));
     for (std::size_t k = 0; k < o.error_cells.size(); ++k)
         if (!std::isfinite(o.error_cells[k]) || !(o.error_cells[k] > 0.0) || (k > 0 && !(o.error_cells[k] > o.error_cells[k - 1])))
             throw Error("build_tile_lod: error_cells must be positive and ascending (entry " + std::to_string(k) + ")");
+    if (!std::isfinite(o.sample_spacing_cells) || !(o.sample_spacing_cells > 0.0))
+        throw Error("build_tile_lod: sample_spacing_cells must be finite and > 0");
+    if (!std::isfinite(base_error_m) || base_error_m < 0.0)
+        throw Error("build_tile_lod: base_error_m must be finite and >= 0");
     const std::size_t nv = mesh.positions.size();
     if (!materials.empty() && materials.size() != nv)
         throw Error("build_tile_lod: " + std::to_string(materials.size()) + " materials for " + std::to_string(nv) +
+                    " vertices");
+    if (!given_normals.empty() && given_normals.size() != nv)
+        throw Error("build_tile_lod: " + std::to_string(given_normals.size()) + " normals for " + std::to_string(nv) +
                     " vertices");
     std::vector<unsigned int> indices;
     indices.reserve(mesh.triangles.size() * 3);
@@ -198,8 +225,9 @@ std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const st
     const float scale = meshopt_simplifyScale(xyz.data(), nv, sizeof(float) * 3);
     if (!(scale > 0.0f)) return levels;  // every vertex in one point
 
-    const std::vector<Vec3> normals = vertex_normals(mesh);
-    const double spacing = kSampleSpacingCells * o.cell_m;
+    const std::vector<Vec3> normals =
+        given_normals.empty() ? vertex_normals(mesh) : std::vector<Vec3>(given_normals.begin(), given_normals.end());
+    const double spacing = o.sample_spacing_cells * o.cell_m;
     const double slack = spacing / std::sqrt(3.0);
     const std::vector<Vec3> full_samples = surface_samples(mesh, spacing);
     TriangleGrid full_grid(mesh, o.cell_m);
@@ -225,7 +253,7 @@ std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const st
         TriangleGrid level_grid(level.mesh, o.cell_m);
         const double to_level = max_distance(full_samples, level_grid);
         const double to_full = max_distance(surface_samples(level.mesh, spacing), full_grid);
-        level.error_m = std::max(to_level, to_full) + slack;
+        level.error_m = std::max(to_level, to_full) + slack + base_error_m;
         levels.push_back(std::move(level));
         prev = all;
         prev_count = all.size();

@@ -19,7 +19,8 @@ struct TileLodLevel {
     /// level is shaded as the full mesh is.
     std::vector<Vec3> normals;
     /// Upper bound of the two-sided (Hausdorff) distance between this level and the full mesh, m: the largest
-    /// exact distance from samples of either surface to the other (surface_samples, spacing s = half a cell)
+    /// exact distance from samples of either surface to the other (surface_samples, spacing s =
+    /// TileLodOptions::sample_spacing_cells)
     /// plus s / sqrt(3). Every point of a surface lies within s / sqrt(3) of one of its samples (no point of a
     /// triangle is farther than its longest edge / sqrt(3) from a corner) and the distance to a surface
     /// changes by at most the distance moved, so the bound holds for every point, not only the samples.
@@ -31,12 +32,18 @@ struct TileLodOptions {
     double cell_m = 0.0;  ///< lattice spacing, m (> 0): the unit of the error targets and of the sampling
     /// Error targets of the levels, cells, ascending: level k is simplified until meshoptimizer's error
     /// estimate would pass error_cells[k] (a geometric series: each level can be drawn twice as far off).
-    std::vector<double> error_cells{0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+    std::vector<double> error_cells{0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
     /// A level is kept only when it has at most this fraction of the previous kept level's triangles
     /// (else its target is tried on with the next larger one).
     double keep_fraction = 0.8;
+    /// Spacing of the surface samples of the error bound, cells (> 0): each level's error_m includes
+    /// spacing / sqrt(3) for the points between samples, and the bound's cost grows as 1 / spacing^2.
+    double sample_spacing_cells = 0.3;
     /// Meshes with fewer triangles get no levels.
     std::size_t min_triangles = 16;
+    /// Levels over groups of tiles (TileSurfaceCache, build_group_lod): groups of 2x2x2 tiles, groups of 2x2x2
+    /// of those, ... up to 2^group_depth tiles along each axis; 0 = levels per tile only.
+    int group_depth = 3;
 };
 
 /// The coarser levels of `mesh` (one tile's triangles with the vertices they use, as
@@ -57,5 +64,21 @@ struct TileLodOptions {
 /// a nearest-triangle query in a bucket grid).
 std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const std::uint8_t> materials,
                                          const TileLodOptions& options);
+
+/// Reorders `mesh`'s triangles (each keeps its corners in order, so winding is kept; vertices are not moved) so
+/// that consecutive triangles share vertices (meshoptimizer's meshopt_optimizeVertexCache, after Forsyth's
+/// linear-speed vertex cache optimisation): a GPU that shades each vertex once per small window of indices
+/// (a post-transform cache, or a CPU Vulkan's de-duplication per batch of indices) shades fewer vertices.
+/// Throws tridex::Error when an index is out of range. O(T) for T triangles.
+void order_for_vertex_cache(TriMesh& mesh);
+
+/// build_tile_lod for a mesh that itself stands for a surface within base_error_m (m, >= 0; e.g. the coarser
+/// levels of several tiles merged into one group): the same levels, each with error_m = its bound to `mesh` +
+/// base_error_m (the triangle inequality of the Hausdorff distance), and shaded with `normals` (empty, or one
+/// unit normal per vertex; empty: vertex_normals(mesh)). Throws as build_tile_lod, and when normals has the
+/// wrong size or base_error_m is negative or not finite.
+std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const std::uint8_t> materials,
+                                           std::span<const Vec3> normals, double base_error_m,
+                                           const TileLodOptions& options);
 
 }  // namespace tridex::compute

@@ -375,17 +375,20 @@ void SculptThread::publish_mesh() {
         slot.mesh = TriMesh{};
         slot.materials.clear();
         slot.tiles.clear();
+        slot.groups.clear();
         slot.tiled = true;
         slot.triangles = 0;  // the render thread counts the GPU contour's triangles itself
     } else if (mesh_form_ == MeshForm::kWhole) {
         slot.mesh = contourer_.mesh();
         slot.materials = contourer_.mesh_materials();
         slot.tiles.clear();
+        slot.groups.clear();
         slot.tiled = false;
         slot.triangles = slot.mesh.triangles.size();
     } else {
         tile_cache_.refresh(contourer_);
         stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
+        stats_.lod_groups_built = tile_cache_.lod_groups_built();
         stats_.lod_build_ms = tile_cache_.lod_build_ms();
         // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
         std::vector<std::shared_ptr<const compute::TileSurface>> next;
@@ -400,6 +403,18 @@ void SculptThread::publish_mesh() {
             triangles += t.mesh.triangles.size();
         }
         shared_tiles_ = std::move(next);
+        std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
+        groups.reserve(tile_cache_.groups().size());
+        k = 0;
+        for (const compute::TileGroupSurface& g : tile_cache_.groups()) {
+            while (k < shared_groups_.size() && shared_groups_[k]->id < g.id) ++k;
+            if (k < shared_groups_.size() && shared_groups_[k]->id == g.id && shared_groups_[k]->version == g.version)
+                groups.push_back(shared_groups_[k]);
+            else
+                groups.push_back(std::make_shared<const compute::TileGroupSurface>(g));
+        }
+        shared_groups_ = std::move(groups);
+        slot.groups = shared_groups_;
         slot.mesh = TriMesh{};
         slot.materials.clear();
         slot.tiles = shared_tiles_;

@@ -41,9 +41,10 @@ struct SculptStats {
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
-    /// use_tile_lod: tiles whose levels of detail were built (the first publish's included) and the elapsed
-    /// time of those builds, ms (part of mesh_publish_ms).
+    /// use_tile_lod: tiles and groups of tiles whose levels of detail were built (the first publish's
+    /// included) and the elapsed time of those builds, ms (part of mesh_publish_ms).
     std::uint64_t lod_tiles_built = 0;
+    std::uint64_t lod_groups_built = 0;
     double lod_build_ms = 0.0;
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
@@ -107,6 +108,9 @@ struct MeshFrame {
     /// previous publish is the same shared object (never modified after publishing), so publishing costs
     /// O(changed tiles' triangles) and the renderer re-uploads only tiles whose version changed.
     std::vector<std::shared_ptr<const compute::TileSurface>> tiles;
+    /// kTiles with use_tile_lod: the groups of tiles with their levels of detail (TileSurfaceCache::groups),
+    /// ordered by id, shared as `tiles` are (an unchanged group is the same object); else empty.
+    std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
     bool tiled = false;          ///< true when `tiles` holds the surface (MeshForm::kTiles)
     /// true: the surface lives in the GPU contour (SculptThread::use_gpu_contour); mesh and tiles are empty,
     /// the renderer draws GpuContourShare's buffers, and this frame only announces that they changed.
@@ -225,9 +229,11 @@ public:
     void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
                          MeshForm form = MeshForm::kWhole);
     /// With MeshForm::kTiles: builds the levels of detail of the tile meshes it publishes (TileSurface::lods,
-    /// compute::build_tile_lod) for tiles whose version changed, on this thread while it is idle (no tool
-    /// samples waiting), kLodTilesPerPass tiles per pass, so that neither start-up nor a stroke waits for them;
-    /// until then a tile is published with its full mesh only, then again with its levels and a new version.
+    /// compute::build_tile_lod) for tiles whose version changed, and of the groups of tiles over them
+    /// (MeshFrame::groups, TileLodOptions::group_depth), on this thread while it is idle (no tool samples
+    /// waiting): kLodTilesPerPass tiles per pass, or one group once no tile waits, so that neither start-up nor
+    /// a stroke waits for them. Until then a tile is published with its full mesh only, then again with its
+    /// levels and a new version; a group whose tiles changed is published without levels until rebuilt.
     /// Throws tridex::Error when the thread runs or options.cell_m is not finite and > 0.
     void use_tile_lod(const compute::TileLodOptions& options);
     /// Tiles whose levels one idle pass builds (a few tens of ms on one core).
@@ -297,6 +303,7 @@ private:
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
+    std::vector<std::shared_ptr<const compute::TileGroupSurface>> shared_groups_;  // kTiles: last published, by id
     std::chrono::steady_clock::time_point mesh_last_{};
 };
 

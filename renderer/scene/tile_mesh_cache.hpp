@@ -34,6 +34,9 @@ struct TileMesh {
     /// Coarser levels of detail of `mesh`, finest first (optional): uploaded with the tile (again when its
     /// version changes), and each eye draws the coarsest whose error projects to at most SceneView::lod_max_px.
     std::span<const TileMeshLevel> levels{};
+    /// Index in SceneView::tile_groups of the smallest group holding this tile (TileGroup), or kNoGroup.
+    std::size_t group = kNoGroup;
+    static constexpr std::size_t kNoGroup = std::numeric_limits<std::size_t>::max();
 };
 
 /// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version

@@ -21,9 +21,7 @@ bool same_state(const StereoDraw& a, const StereoDraw& b, EyeStrategy strategy, 
 }  // namespace
 
 bool multi_draw_supported(const gpu::Context& context) {
-    VkPhysicalDeviceFeatures f{};
-    vkGetPhysicalDeviceFeatures(context.physical_device(), &f);
-    return f.multiDrawIndirect == VK_TRUE && f.drawIndirectFirstInstance == VK_TRUE;
+    return context.features().multi_draw_indirect && context.features().draw_indirect_first_instance;
 }
 
 std::size_t DrawBatcher::batch(const gpu::Context& context, EyeStrategy strategy, int eye_count,

@@ -32,6 +32,7 @@
 #include "renderer/scene/tile_culling.hpp"
 #include "renderer/scene/tile_lod.hpp"
 #include "renderer/stereo/draw_batching.hpp"
+#include "renderer/stereo/tile_draws.hpp"
 
 namespace tridex::renderer {
 namespace {
@@ -102,6 +103,7 @@ struct OffscreenStereoRenderer::Impl {
     };
     std::vector<ObjectMesh> objects;
     TileMeshCache tiles;
+    TileMeshCache groups;                // SceneView::tile_groups' levels
     std::vector<FrameResources> frame;  // one per slot
     FrameSlots slots;                   // after `tiles` and `frame`: destroyed (waiting for the GPU) before them
     bool use_timestamps = true;
@@ -347,42 +349,32 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
         stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles, &retired);
         for (GpuMesh& m : retired) im.slots.retire(std::move(m));
-        for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
-            const GpuMesh& mesh = im.tiles.mesh(i);
-            if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
-            std::uint32_t mask = 0;
-            for (int e = 0; e < eye_count; ++e)
-                if (!scene.cull_tiles || may_be_visible(frusta[e], scene.tiles[i].bounds_m)) mask |= 1u << e;
-            // Multiview cannot draw one view only: a tile either eye sees is drawn in both.
-            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
-            for (int e = 0; e < eye_count; ++e)
-                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
-            if (mask == 0) continue;
-            cover(mask, scene.tiles[i].bounds_m);
-            // Level of detail per eye; multiview draws both eyes with one level (the finer).
-            std::array<std::size_t, 2> level{0, 0};
-            if (scene.lod && !scene.tiles[i].levels.empty()) {
-                for (int e = 0; e < eye_count; ++e)
-                    if (mask & (1u << e))
-                        level[e] = choose_level(scene.tiles[i].levels,
-                                                pixels_per_metre(lod_eyes[e], scene.tiles[i].bounds_m), scene.lod_max_px);
-                if (strategy() == EyeStrategy::kMultiview) level[0] = level[1] = std::min(level[0], level[1]);
+        retired.clear();
+        if (!scene.tile_groups.empty() || im.groups.size() > 0) {
+            std::vector<TileMesh> group_meshes(scene.tile_groups.size());
+            for (std::size_t g = 0; g < scene.tile_groups.size(); ++g) {
+                const TileGroup& tg = scene.tile_groups[g];
+                group_meshes[g].bounds_m = tg.bounds_m;
+                group_meshes[g].version = tg.version;
+                group_meshes[g].id = tg.id;
+                group_meshes[g].levels = tg.levels;
             }
-            const bool one_draw = mask != 0b11u || level[0] == level[1];
-            for (int e = 0; e < 2; ++e) {
-                const std::uint32_t eye_bit = 1u << e;
-                if (!(mask & eye_bit)) continue;
-                const GpuMesh& m = im.tiles.mesh(i, level[e]);
-                for (int f = 0; f < eye_count; ++f)
-                    if ((one_draw ? mask : eye_bit) & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
-                if (m.index_count() != 0) {
-                    StereoDraw& d = add(PipelineKind::kOpaque, m, glm::mat4(1.0f), palette[0], true);
-                    d.constants.palette = scene.tiles[i].materials ? 1u : 0u;
-                    d.eye_mask = one_draw ? mask : eye_bit;
-                }
-                if (one_draw) break;
+            try {
+                stats.tile_uploads += im.groups.sync(*im.context, group_meshes, &retired);
+            } catch (const Error& e) {
+                throw Error(std::string("SceneView.tile_groups: ") + e.what());
             }
+            for (GpuMesh& m : retired) im.slots.retire(std::move(m));
         }
+        TileDrawEyes te;
+        te.strategy = strategy();
+        te.eye_count = eye_count;
+        te.frusta = frusta;
+        te.lod_eyes = lod_eyes;
+        add_tile_draws(
+            scene, te, im.tiles, im.groups,
+            [&](const GpuMesh& m) -> StereoDraw& { return add(PipelineKind::kOpaque, m, glm::mat4(1.0f), palette[0], true); },
+            cover, stats);
     }
     if (const IndirectWorkpiece* iw = scene.indirect_workpiece; iw && !iw->tiles.empty()) {
         if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)

@@ -18,6 +18,7 @@
 #include "gpu/indirect_workpiece.hpp"
 #include "renderer/camera/off_axis.hpp"
 #include "core/tool_shape.hpp"
+#include "renderer/scene/tile_group_lod.hpp"
 #include "renderer/scene/tile_mesh_cache.hpp"
 
 namespace tridex::renderer {
@@ -70,6 +71,11 @@ struct SceneView {
     /// addition to `workpiece` (supply one or the other), each tile uploaded once and again only when its
     /// version changes, and drawn only in the eyes whose off-axis frustum its bounds may touch.
     std::span<const TileMesh> tiles{};
+    /// Groups of neighbouring `tiles` with levels of detail over the whole group (TileGroup; each tile names
+    /// its smallest group in TileMesh::group, each group its enclosing one): with `lod`, an eye draws a group's
+    /// level instead of the tiles under it when that level's error projects to at most lod_max_px. Uploaded
+    /// like tiles (by id and version). Empty = per-tile levels only.
+    std::span<const TileGroup> tile_groups{};
     /// Further objects in their own colours (SceneObject), drawn with the tool and, when translucent, before
     /// the proxy. Empty = none.
     std::span<const SceneObject> objects{};

@@ -34,6 +34,8 @@ struct FrameStats {
     std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
     /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen.
     std::array<std::size_t, 2> tile_triangles{};
+    /// Groups of tiles (SceneView::tile_groups) drawn per eye at one of their levels in place of their tiles.
+    std::array<std::size_t, 2> groups_drawn{};
     /// Draws recorded (each StereoDraw once, whatever the eyes), and how many more there were before runs of
     /// like draws were merged into one multi-draw indirect command each (DrawBatcher; 0 without the feature).
     std::size_t draws = 0;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -119,6 +121,32 @@ TEST(RunHandoff, TilesGetTheirLevelsWhenTheThreadIsIdle) {
         }
     }
     EXPECT_GT(with_levels, 0u);  // the box's faces simplify
+    // The groups of tiles are published too. The final publish re-contoured the groove's tiles (their levels wait
+    // again): a group has levels unless a tile under it has none now.
+    const std::vector<std::shared_ptr<const compute::TileGroupSurface>>& groups = meshes.latest().groups;
+    ASSERT_FALSE(groups.empty());
+    std::map<std::uint64_t, const compute::TileGroupSurface*> by_id;
+    for (const auto& g : groups) by_id[g->id] = g.get();
+    std::map<std::uint64_t, const compute::TileSurface*> tile_by_id;
+    for (const auto& tile : after) tile_by_id[tile->id] = tile.get();
+    const std::function<bool(const compute::TileGroupSurface&)> waits = [&](const compute::TileGroupSurface& g) {
+        for (const std::uint64_t c : g.children)
+            if (g.depth == 1 ? tile_by_id.at(c)->lods.empty() && tile_by_id.at(c)->mesh.triangles.size() >= lod.min_triangles
+                             : waits(*by_id.at(c)))
+                return true;
+        return false;
+    };
+    std::size_t waiting = 0;
+    for (const auto& g : groups) {
+        if (g->depth == 1 && !waits(*g)) {
+            EXPECT_FALSE(g->lods.empty()) << "group " << g->id;
+        }
+        waiting += waits(*g) ? 1 : 0;
+        if (waits(*g)) {
+            EXPECT_TRUE(g->lods.empty()) << "group " << g->id;  // never the shape before the groove
+        }
+    }
+    EXPECT_GT(waiting, 0u);
     EXPECT_EQ(t.stats().lod_tiles_built, after.size());
     EXPECT_GT(t.stats().lod_build_ms, 0.0);
 }

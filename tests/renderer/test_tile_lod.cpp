@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "renderer/scene/tile_group_lod.hpp"
 #include "renderer/scene/tile_lod.hpp"
 
 namespace tridex::renderer {
@@ -69,6 +70,65 @@ TEST(TileLod, FarEyePicksACoarserLevelThanNearEye) {
     EXPECT_EQ(choose_level(levels, 1.0, 1e9), levels.size() - 1);
     EXPECT_EQ(choose_level(levels, std::numeric_limits<double>::infinity(), 1.0), 0u);
     EXPECT_EQ(choose_level({}, 1.0, 1.0), 0u);
+}
+
+// A tree of groups: root 0 over groups 1 and 2; group 3 under 1. Errors grow with size.
+TEST(TileGroupLod, GroupsObeyTheBoundAndCoverTheirChildrenOnce) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}};
+    const auto levels = [&](std::initializer_list<double> errors) {
+        std::vector<TileMeshLevel> l;
+        for (double e : errors) l.push_back(TileMeshLevel{&tri, nullptr, nullptr, e});
+        return l;
+    };
+    const std::vector<TileMeshLevel> root = levels({4e-3, 8e-3}), a = levels({2e-3, 4e-3}), b = levels({1e-3}),
+                                     c = levels({0.5e-3, 1e-3});
+    std::vector<TileGroup> groups(4);
+    groups[0].levels = root;
+    groups[1].levels = a;
+    groups[1].parent = 0;
+    groups[2].levels = b;
+    groups[2].parent = 0;
+    groups[3].levels = c;
+    groups[3].parent = 1;
+    std::vector<std::uint8_t> covered;
+    // Far: the root's coarsest level alone; everything under it is covered.
+    std::vector<std::size_t> k = choose_group_levels(groups, std::vector<double>(4, 100.0), 1.0, covered);
+    EXPECT_EQ(k, (std::vector<std::size_t>{2, 0, 0, 0}));
+    EXPECT_EQ(covered, (std::vector<std::uint8_t>{0, 1, 1, 1}));
+    // Nearer: the root is too coarse (4 mm * 400 px/m = 1.6 px); groups 1 (2 mm: 0.8 px) and 2 are drawn.
+    k = choose_group_levels(groups, std::vector<double>(4, 400.0), 1.0, covered);
+    EXPECT_EQ(k, (std::vector<std::size_t>{0, 1, 1, 0}));
+    EXPECT_EQ(covered, (std::vector<std::uint8_t>{0, 0, 0, 1}));
+    // Nearer still: only the smallest group fits; the others leave their tiles to themselves.
+    k = choose_group_levels(groups, std::vector<double>(4, 1500.0), 1.0, covered);
+    EXPECT_EQ(k, (std::vector<std::size_t>{0, 0, 0, 1}));
+    EXPECT_EQ(covered, (std::vector<std::uint8_t>{0, 0, 0, 0}));
+    // Whatever the scales, every chosen level is within the bound and no drawn group lies under another.
+    for (double s : {10.0, 150.0, 260.0, 900.0, 3000.0}) {
+        const std::vector<double> px{s, 1.3 * s, 0.7 * s, 2.0 * s};
+        k = choose_group_levels(groups, px, 1.0, covered);
+        for (std::size_t g = 0; g < groups.size(); ++g) {
+            if (k[g] > 0) {
+                EXPECT_LE(groups[g].levels[k[g] - 1].error_m * px[g], 1.0);
+                EXPECT_FALSE(covered[g]);
+                for (std::size_t p = groups[g].parent; p != TileGroup::kNone; p = groups[p].parent) EXPECT_EQ(k[p], 0u);
+            }
+            const std::size_t p = groups[g].parent;
+            EXPECT_EQ(covered[g] != 0, p != TileGroup::kNone && (covered[p] || k[p] > 0)) << "scale " << s;
+        }
+    }
+    // A group without levels is never drawn; bad input is refused.
+    groups[0].levels = {};
+    k = choose_group_levels(groups, std::vector<double>(4, 100.0), 1.0, covered);
+    EXPECT_EQ(k[0], 0u);
+    EXPECT_EQ(k[1], 2u);
+    EXPECT_THROW(choose_group_levels(groups, std::vector<double>(3, 1.0), 1.0, covered), Error);
+    groups[0].parent = 3;  // 0 -> 3 -> 1 -> 0
+    EXPECT_THROW(choose_group_levels(groups, std::vector<double>(4, 1.0), 1.0, covered), Error);
+    groups[0].parent = 9;
+    EXPECT_THROW(choose_group_levels(groups, std::vector<double>(4, 1.0), 1.0, covered), Error);
 }
 
 }  // namespace

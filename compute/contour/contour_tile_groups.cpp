@@ -1,0 +1,143 @@
+// compute/contour/contour_tile_groups.cpp - TileSurfaceCache's groups of tiles: which exist, which changed, and
+// building their levels of detail.
+#include <algorithm>
+#include <map>
+#include <unordered_set>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/tile_group_lod.hpp"
+
+namespace tridex::compute {
+namespace {
+
+struct GroupGrid {
+    std::array<int, 3> tiles{};
+
+    std::array<int, 3> dims(int depth) const {
+        std::array<int, 3> g{};
+        for (int a = 0; a < 3; ++a) g[a] = (tiles[a] + (1 << depth) - 1) >> depth;
+        return g;
+    }
+    std::array<int, 3> tile_coords(std::uint64_t tile) const {
+        const auto nx = static_cast<std::uint64_t>(tiles[0]), ny = static_cast<std::uint64_t>(tiles[1]);
+        return {static_cast<int>(tile % nx), static_cast<int>((tile / nx) % ny), static_cast<int>(tile / (nx * ny))};
+    }
+    std::uint64_t group_of(const std::array<int, 3>& t, int depth) const {
+        const std::array<int, 3> g = dims(depth);
+        const auto x = static_cast<std::uint64_t>(t[0] >> depth), y = static_cast<std::uint64_t>(t[1] >> depth),
+                   z = static_cast<std::uint64_t>(t[2] >> depth);
+        return tile_group_id(depth, x + static_cast<std::uint64_t>(g[0]) * (y + static_cast<std::uint64_t>(g[1]) * z));
+    }
+};
+
+template <typename T>
+const T* find_by_id(const std::vector<T>& sorted, std::uint64_t id) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), id, [](const T& x, std::uint64_t v) { return x.id < v; });
+    return it != sorted.end() && it->id == id ? &*it : nullptr;
+}
+
+}  // namespace
+
+void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles) {
+    const int depth_max = lod_ ? lod_options_.group_depth : 0;
+    if (depth_max <= 0) {
+        groups_.clear();
+        group_pending_.clear();
+        return;
+    }
+    const GroupGrid grid{dims};
+    std::unordered_set<std::uint64_t> stale;
+    for (const std::uint64_t t : changed_tiles)
+        for (int d = 1; d <= depth_max; ++d) stale.insert(grid.group_of(grid.tile_coords(t), d));
+    std::map<std::uint64_t, TileGroupSurface> next;
+    for (const TileSurface& tile : tiles_) {
+        const std::array<int, 3> tc = grid.tile_coords(tile.id);
+        std::uint64_t child = tile.id;
+        for (int d = 1; d <= depth_max; ++d) {
+            const std::uint64_t id = grid.group_of(tc, d);
+            TileGroupSurface& g = next[id];
+            if (g.children.empty()) {
+                g.id = id;
+                g.depth = d;
+                for (int a = 0; a < 3; ++a) g.coords[a] = tc[a] >> d;
+                g.parent = d < depth_max ? grid.group_of(tc, d + 1) : TileGroupSurface::kNone;
+            }
+            if (std::find(g.children.begin(), g.children.end(), child) == g.children.end()) g.children.push_back(child);
+            g.bounds_m.add(tile.bounds_m.lo);
+            g.bounds_m.add(tile.bounds_m.hi);
+            child = id;
+        }
+    }
+    std::vector<TileGroupSurface> groups;
+    std::vector<bool> pending;
+    groups.reserve(next.size());
+    for (auto& [id, g] : next) {
+        std::sort(g.children.begin(), g.children.end());
+        const auto old = std::lower_bound(groups_.begin(), groups_.end(), id,
+                                          [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
+        const bool found = old != groups_.end() && old->id == id;
+        if (found && !stale.count(id) && old->children == g.children) {
+            g.version = old->version;
+            g.lods = std::move(old->lods);
+            pending.push_back(group_pending_[static_cast<std::size_t>(old - groups_.begin())]);
+        } else {
+            g.version = fresh_tile_version();
+            pending.push_back(true);
+        }
+        groups.push_back(std::move(g));
+    }
+    groups_ = std::move(groups);
+    group_pending_ = std::move(pending);
+}
+
+bool TileSurfaceCache::group_ready(std::size_t g) const {
+    const TileGroupSurface& group = groups_[g];
+    for (const std::uint64_t c : group.children) {
+        if (group.depth == 1) {
+            const auto it = std::lower_bound(tiles_.begin(), tiles_.end(), c,
+                                             [](const TileSurface& x, std::uint64_t v) { return x.id < v; });
+            if (it != tiles_.end() && it->id == c && pending_[static_cast<std::size_t>(it - tiles_.begin())]) return false;
+        } else {
+            const auto it = std::lower_bound(groups_.begin(), groups_.end(), c,
+                                             [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
+            if (it != groups_.end() && it->id == c && group_pending_[static_cast<std::size_t>(it - groups_.begin())])
+                return false;
+        }
+    }
+    return true;
+}
+
+void TileSurfaceCache::build_group_lods(const std::vector<std::size_t>& which) {
+    // A group's pieces: the full meshes of every tile under it. Simplifying from the full surface (not from the
+    // smaller groups' levels) keeps each level's error that of one simplification, at any depth; the cost of a
+    // level is dominated by its error bound, which samples the same surface either way.
+    const auto gather = [&](const TileGroupSurface& root, std::vector<LodPart>& parts) {
+        std::vector<const TileGroupSurface*> todo{&root};
+        while (!todo.empty()) {
+            const TileGroupSurface& g = *todo.back();
+            todo.pop_back();
+            for (const std::uint64_t c : g.children) {
+                if (g.depth == 1) {
+                    if (const TileSurface* t = find_by_id(tiles_, c)) parts.push_back(LodPart{&t->mesh, t->materials, {}, 0.0});
+                } else if (const TileGroupSurface* child = find_by_id(groups_, c)) {
+                    todo.push_back(child);
+                }
+            }
+        }
+    };
+    std::vector<std::vector<TileLodLevel>> built(which.size());
+    run_lod_jobs(which.size(), [&](std::size_t i) {
+        std::vector<LodPart> parts;
+        gather(groups_[which[i]], parts);
+        built[i] = build_group_lod(parts, lod_options_);
+    });
+    for (std::size_t i = 0; i < which.size(); ++i) {
+        TileGroupSurface& g = groups_[which[i]];
+        g.lods = std::move(built[i]);
+        g.version = fresh_tile_version();
+        group_pending_[which[i]] = false;
+    }
+    lod_groups_built_ += which.size();
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,43 @@
+// renderer/scene/tile_group_lod.cpp - top-down choice of group levels per eye.
+#include "renderer/scene/tile_group_lod.hpp"
+
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tridex::renderer {
+
+std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
+                                             double max_px, std::vector<std::uint8_t>& covered) {
+    const std::size_t n = groups.size();
+    if (px_per_m.size() != n)
+        throw Error("choose_group_levels: " + std::to_string(px_per_m.size()) + " scales for " + std::to_string(n) + " groups");
+    std::vector<std::size_t> level(n, 0);
+    covered.assign(n, 0);
+    // 0 = unresolved, 1 = resolving, 2 = resolved.
+    std::vector<std::uint8_t> state(n, 0);
+    std::vector<std::size_t> chain;
+    for (std::size_t start = 0; start < n; ++start) {
+        // Walk up to the first resolved group (or a root), then resolve back down: parents first.
+        chain.clear();
+        for (std::size_t g = start; g != TileGroup::kNone; g = groups[g].parent) {
+            if (g >= n) throw Error("choose_group_levels: parent index " + std::to_string(g) + " out of range");
+            if (state[g] == 2) break;
+            if (state[g] == 1) throw Error("choose_group_levels: groups' parents form a cycle");
+            state[g] = 1;
+            chain.push_back(g);
+        }
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+            const std::size_t g = *it;
+            const std::size_t p = groups[g].parent;
+            if (p != TileGroup::kNone && (covered[p] || level[p] > 0))
+                covered[g] = 1;
+            else
+                level[g] = choose_level(groups[g].levels, px_per_m[g], max_px);
+            state[g] = 2;
+        }
+    }
+    return level;
+}
+
+}  // namespace tridex::renderer

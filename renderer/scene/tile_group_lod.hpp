@@ -1,0 +1,38 @@
+// renderer/scene/tile_group_lod.hpp - levels of detail over groups of workpiece tiles: which group each eye
+// draws in place of its tiles.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "renderer/scene/tile_lod.hpp"
+
+namespace tridex::renderer {
+
+/// A group of neighbouring tiles (e.g. compute::TileGroupSurface) with levels of detail over the whole group,
+/// whose outer border is its tiles' full-resolution border: one of its levels may be drawn instead of every
+/// tile (and smaller group) under it, without cracks against the neighbours.
+struct TileGroup {
+    static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+    std::uint64_t id = 0;       ///< stable identity across frames (distinct from every other group's)
+    Aabb bounds_m;              ///< world box holding every tile under the group, m
+    std::uint64_t version = 0;  ///< changes whenever its levels change (re-uploaded then)
+    std::span<const TileMeshLevel> levels{};  ///< finest first; empty: never drawn (its children are)
+    std::size_t parent = kNone;  ///< index of the enclosing group in the same list, or kNone
+};
+
+/// Per group, what an eye draws: 0 = not this group (an enclosing group is drawn, or none of its levels is
+/// within the bound and its children are considered), k >= 1 = its level k (1-based into levels).
+/// `covered` gets, per group, 1 when an enclosing group is drawn (the group and its tiles are then not drawn).
+/// A group is drawn at its coarsest level whose error_m * px_per_m[g] <= max_px, unless an enclosing group is
+/// drawn; so every tile is drawn at most once, by itself or by exactly one group. px_per_m: per group, the
+/// pixels_per_metre of its bounds in the eye (size = groups.size()). Throws tridex::Error when sizes differ or a
+/// parent index is out of range or parents form a cycle.
+std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
+                                             double max_px, std::vector<std::uint8_t>& covered);
+
+}  // namespace tridex::renderer

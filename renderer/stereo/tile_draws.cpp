@@ -1,0 +1,115 @@
+// renderer/stereo/tile_draws.cpp - per-eye tile and group draws at their levels of detail.
+#include "renderer/stereo/tile_draws.hpp"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "renderer/scene/tile_group_lod.hpp"
+
+namespace tridex::renderer {
+
+void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const TileMeshCache& tiles,
+                    const TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
+                    const std::function<void(std::uint32_t, const Aabb&)>& cover, FrameStats& stats) {
+    const int eye_count = eyes.eye_count;
+    const bool multiview = eyes.strategy == EyeStrategy::kMultiview;
+    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
+    const std::size_t ng = scene.tile_groups.size();
+    const bool use_groups = scene.lod && ng > 0;
+
+    // Per eye: the level of each group and whether an enclosing group covers it. Multiview draws both eyes
+    // with one choice: that of the larger projection (the finer level).
+    std::array<std::vector<std::size_t>, 2> group_level;
+    std::array<std::vector<std::uint8_t>, 2> group_covered;
+    if (use_groups) {
+        std::array<std::vector<double>, 2> px;
+        for (int e = 0; e < eye_count; ++e) {
+            px[e].resize(ng);
+            for (std::size_t g = 0; g < ng; ++g) px[e][g] = pixels_per_metre(eyes.lod_eyes[e], scene.tile_groups[g].bounds_m);
+        }
+        if (multiview && eye_count == 2)
+            for (std::size_t g = 0; g < ng; ++g) px[0][g] = px[1][g] = std::max(px[0][g], px[1][g]);
+        for (int e = 0; e < eye_count; ++e)
+            group_level[e] = choose_group_levels(scene.tile_groups, px[e], scene.lod_max_px, group_covered[e]);
+    }
+    const auto group_takes = [&](int e, std::size_t g) { return group_level[e][g] > 0 || group_covered[e][g] != 0; };
+
+    // Groups drawn in place of their tiles.
+    if (use_groups) {
+        for (std::size_t g = 0; g < ng; ++g) {
+            const TileGroup& group = scene.tile_groups[g];
+            std::uint32_t visible = 0;
+            for (int e = 0; e < eye_count; ++e)
+                if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], group.bounds_m)) visible |= 1u << e;
+            if (multiview && visible != 0) visible = eyes_drawn;
+            std::array<std::uint32_t, 2> mask{};  // per level drawn: the eyes drawing it
+            for (int e = 0; e < eye_count; ++e)
+                if ((visible & (1u << e)) && group_level[e][g] > 0) {
+                    ++stats.groups_drawn[e];
+                    mask[e] = 1u << e;
+                }
+            if (eye_count == 2 && mask[0] && mask[1] && group_level[0][g] == group_level[1][g]) {
+                mask[0] = 0b11u;
+                mask[1] = 0;
+            }
+            for (int e = 0; e < 2; ++e) {
+                if (mask[e] == 0) continue;
+                const GpuMesh& m = groups.mesh(g, group_level[e][g]);
+                for (int f = 0; f < eye_count; ++f)
+                    if (mask[e] & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
+                if (m.index_count() == 0) continue;
+                cover(mask[e], group.bounds_m);
+                StereoDraw& d = add(m);
+                d.constants.palette = 1u;
+                d.eye_mask = mask[e];
+            }
+        }
+    }
+
+    for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
+        const TileMesh& tile = scene.tiles[i];
+        const GpuMesh& mesh = tiles.mesh(i);
+        if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
+        std::uint32_t mask = 0;
+        for (int e = 0; e < eye_count; ++e)
+            if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], tile.bounds_m)) mask |= 1u << e;
+        // Multiview cannot draw one view only: a tile either eye sees is drawn in both.
+        if (multiview && mask != 0) mask = eyes_drawn;
+        for (int e = 0; e < eye_count; ++e) ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+        if (use_groups && tile.group != TileMesh::kNoGroup) {
+            if (tile.group >= ng)
+                throw Error("renderer: SceneView.tiles[" + std::to_string(i) + "].group " + std::to_string(tile.group) +
+                            " is not a tile_groups index");
+            for (int e = 0; e < eye_count; ++e)
+                if (group_takes(e, tile.group)) mask &= ~(1u << e);  // a group draws this tile's surface
+        }
+        if (mask == 0) continue;
+        cover(mask, tile.bounds_m);
+        // Level of detail per eye; multiview draws both eyes with one level (the finer).
+        std::array<std::size_t, 2> level{0, 0};
+        if (scene.lod && !tile.levels.empty()) {
+            for (int e = 0; e < eye_count; ++e)
+                if (mask & (1u << e))
+                    level[e] = choose_level(tile.levels, pixels_per_metre(eyes.lod_eyes[e], tile.bounds_m), scene.lod_max_px);
+            if (multiview) level[0] = level[1] = std::min(level[0], level[1]);
+        }
+        const bool one_draw = mask != 0b11u || level[0] == level[1];
+        for (int e = 0; e < 2; ++e) {
+            const std::uint32_t eye_bit = 1u << e;
+            if (!(mask & eye_bit)) continue;
+            const GpuMesh& m = tiles.mesh(i, level[e]);
+            for (int f = 0; f < eye_count; ++f)
+                if ((one_draw ? mask : eye_bit) & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
+            if (m.index_count() != 0) {
+                StereoDraw& d = add(m);
+                d.constants.palette = tile.materials ? 1u : 0u;
+                d.eye_mask = one_draw ? mask : eye_bit;
+            }
+            if (one_draw) break;
+        }
+    }
+}
+
+}  // namespace tridex::renderer
