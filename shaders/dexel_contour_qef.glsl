@@ -147,6 +147,22 @@ void qef_rotate(inout double m[9], inout double v[9], int p, int q) {
     }
 }
 
+// contour_qef.cpp jacobi_eigen: diagonalises the symmetric m (row-major) in place by cyclic Jacobi sweeps until the
+// off-diagonal sum is at most kJacobiTolerance times the diagonal sum (the CPU's test, in its order; true before any
+// sweep for axis-aligned faces); v gets the eigenvectors as columns.
+void qef_jacobi(inout double m[9], out double v[9]) {
+    v = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
+    [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+        precise double off = (abs(m[1]) + abs(m[2])) + abs(m[5]);
+        precise double diag = (abs(m[0]) + abs(m[4])) + abs(m[8]);
+        precise double lim = kJacobiTolerance * diag;
+        if (off <= lim) break;
+        qef_rotate(m, v, 0, 1);
+        qef_rotate(m, v, 0, 2);
+        qef_rotate(m, v, 1, 2);
+    }
+}
+
 // contour::fit_normal: the outward unit normal of the plane fitted to `count` points (the eigenvector of the
 // smallest eigenvalue of their scatter matrix about `mass`), each with its edge axis and exit flag; false
 // when fewer than 3, not spanning a plane, or balanced. Points in ascending edge order, as the CPU's.
@@ -165,16 +181,8 @@ bool fit_normal(dvec3 mass, dvec3 pts[12], int axes[12], bool exits[12], int cou
                 m[3 * j + k] = mjk;
             }
     }
-    double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
-    [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
-        precise double off = (abs(m[1]) + abs(m[2])) + abs(m[5]);
-        precise double diag = (abs(m[0]) + abs(m[4])) + abs(m[8]);
-        precise double lim = kJacobiTolerance * diag;
-        if (off <= lim) break;
-        qef_rotate(m, v, 0, 1);
-        qef_rotate(m, v, 0, 2);
-        qef_rotate(m, v, 1, 2);
-    }
+    double v[9];
+    qef_jacobi(m, v);
     int lo = 0;
     if (m[4] < m[4 * lo]) lo = 1;
     if (m[8] < m[4 * lo]) lo = 2;
@@ -199,18 +207,8 @@ bool fit_normal(dvec3 mass, dvec3 pts[12], int axes[12], bool exits[12], int cou
 // by value: the Jacobi sweeps work on a copy) and r over the eigen-directions whose eigenvalue exceeds
 // floor_ (floor_ < 0: kQefTruncation times the largest). Returns the largest eigenvalue.
 double qef_truncated(double m[9], double r[3], double floor_, out double y[3]) {
-    double v[9] = double[9](1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
-    [[dont_unroll]] for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
-        // Converged: off-diagonal sum at most kJacobiTolerance times the diagonal sum (the CPU's test, in
-        // its order; true before any sweep for axis-aligned faces).
-        precise double off = (abs(m[1]) + abs(m[2])) + abs(m[5]);
-        precise double diag = (abs(m[0]) + abs(m[4])) + abs(m[8]);
-        precise double lim = kJacobiTolerance * diag;
-        if (off <= lim) break;
-        qef_rotate(m, v, 0, 1);
-        qef_rotate(m, v, 0, 2);
-        qef_rotate(m, v, 1, 2);
-    }
+    double v[9];
+    qef_jacobi(m, v);
     double top = m[0];
     if (m[4] > top) top = m[4];
     if (m[8] > top) top = m[8];

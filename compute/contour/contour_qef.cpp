@@ -98,16 +98,13 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
 
 namespace {
 
-/// The truncated least-squares step of the QEF (see qef_vertex): for `a` = sum n n^T and `r` = sum n (n . (p -
-/// base)), the minimum-norm y minimising |A y - r| over the eigen-directions of A whose eigenvalue exceeds
-/// `floor`; floor < 0 means kQefTruncation times the largest eigenvalue. Returns that largest eigenvalue;
-/// `dropped` is set when an eigenvalue was at most the floor. Coordinates whose row and column of `a` and
-/// entry of `r` are zero get y = 0 exactly (no rotation mixes them in).
-double truncated_solve(const double a[3][3], const double r[3], double floor, double y[3], bool& dropped) {
-    double m[3][3] = {{a[0][0], a[0][1], a[0][2]}, {a[1][0], a[1][1], a[1][2]}, {a[2][0], a[2][1], a[2][2]}};
-    double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+/// Diagonalises the symmetric 3x3 `m` in place by cyclic Jacobi sweeps (at most kJacobiSweeps; stops once the
+/// off-diagonal sum is at most kJacobiTolerance times the diagonal sum, at once for axis-aligned normals); `v` gets
+/// the eigenvectors as columns, in the order of m's diagonal.
+void jacobi_eigen(double m[3][3], double v[3][3]) {
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) v[j][k] = j == k ? 1.0 : 0.0;
     for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
-        // Converged (off-diagonal negligible against the diagonal; at once for axis-aligned normals).
         const double off = (std::abs(m[0][1]) + std::abs(m[0][2])) + std::abs(m[1][2]);
         const double diag = (std::abs(m[0][0]) + std::abs(m[1][1])) + std::abs(m[2][2]);
         if (off <= kJacobiTolerance * diag) break;
@@ -115,6 +112,17 @@ double truncated_solve(const double a[3][3], const double r[3], double floor, do
         rotate(m, v, 0, 2);
         rotate(m, v, 1, 2);
     }
+}
+
+/// The truncated least-squares step of the QEF (see qef_vertex): for `a` = sum n n^T and `r` = sum n (n . (p -
+/// base)), the minimum-norm y minimising |A y - r| over the eigen-directions of A whose eigenvalue exceeds
+/// `floor`; floor < 0 means kQefTruncation times the largest eigenvalue. Returns that largest eigenvalue;
+/// `dropped` is set when an eigenvalue was at most the floor. Coordinates whose row and column of `a` and
+/// entry of `r` are zero get y = 0 exactly (no rotation mixes them in).
+double truncated_solve(const double a[3][3], const double r[3], double floor, double y[3], bool& dropped) {
+    double m[3][3] = {{a[0][0], a[0][1], a[0][2]}, {a[1][0], a[1][1], a[1][2]}, {a[2][0], a[2][1], a[2][2]}};
+    double v[3][3];
+    jacobi_eigen(m, v);
     double top = m[0][0];
     if (m[1][1] > top) top = m[1][1];
     if (m[2][2] > top) top = m[2][2];
@@ -145,15 +153,8 @@ bool fit_normal(const Vec3& mass, const Vec3* points, const int* axes, const boo
         for (int j = 0; j < 3; ++j)
             for (int k = 0; k < 3; ++k) m[j][k] = m[j][k] + d[j] * d[k];
     }
-    double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
-    for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
-        const double off = (std::abs(m[0][1]) + std::abs(m[0][2])) + std::abs(m[1][2]);
-        const double diag = (std::abs(m[0][0]) + std::abs(m[1][1])) + std::abs(m[2][2]);
-        if (off <= kJacobiTolerance * diag) break;
-        rotate(m, v, 0, 1);
-        rotate(m, v, 0, 2);
-        rotate(m, v, 1, 2);
-    }
+    double v[3][3];
+    jacobi_eigen(m, v);
     // Smallest eigenvalue (first on ties) and the next one up.
     int lo = 0;
     if (m[1][1] < m[lo][lo]) lo = 1;
