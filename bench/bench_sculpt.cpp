@@ -2,6 +2,7 @@
 #include "bench/bench_sculpt.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -152,6 +153,7 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
         row.boolean_s += b;
         row.contour_s += c;
         step_ms.push_back(1e3 * b);
+        row.step_s.push_back(b);
         latency_ms.push_back(1e3 * (b + c));
         row.segments += count;
         ++row.steps;
@@ -164,6 +166,18 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
     row.rays_per_segment = summarize(std::vector<double>(rays_of.begin(), rays_of.begin() + static_cast<std::ptrdiff_t>(row.segments))).median;
     row.model_hash = model_hash(m);
 }
+
+}  // namespace
+
+double seconds_for_segments(const SculptBenchRow& row, std::size_t segments) {
+    const std::size_t batch = static_cast<std::size_t>(std::max(row.batch, 1));
+    const std::size_t steps = std::min(row.step_s.size(), (segments + batch - 1) / batch);
+    double s = 0.0;
+    for (std::size_t i = 0; i < steps; ++i) s += row.step_s[i];
+    return s;
+}
+
+namespace {
 
 void check_options(const SculptBenchOptions& o) {
     if (o.resolutions.empty() || o.radii_cells.empty()) throw Error("bench --sculpt: no resolutions or radii to measure");
@@ -303,7 +317,8 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
     // step cost flat in N. Single-thread paths: "cpu-1t", and "cpu" when the pool has one thread; every other
     // path (the GPU ones, "cpu" on several threads) is parallel.
     const auto single_thread = [&](const std::string& path) { return path == "cpu-1t" || (path == "cpu" && threads == 1); };
-    std::printf("parallel path / best single-thread path segments_per_s (target cpu >= 1.7 on 2 cores):\n");
+    std::printf("parallel path / best single-thread path segments_per_s over the same first segments of the stroke "
+                "(target cpu >= 1.7 on 2 cores):\n");
     for (const auto& row : rows) {
         if (single_thread(row.path)) continue;
         const SculptBenchRow* best = nullptr;
@@ -316,8 +331,20 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                         row.path.c_str());
             continue;
         }
-        std::printf("  N=%4d r=%2.0f %-11s: %.2f  (vs %s)\n", row.n, row.radius_cells, row.path.c_str(),
-                    row.segments_per_s / best->segments_per_s, best->path.c_str());
+        // Both over the same segments: the rows run different lengths of the stroke, whose cost per segment varies
+        // along it (fresh material, crossings of its own groove).
+        const std::size_t lcm = std::lcm(static_cast<std::size_t>(std::max(row.batch, 1)),
+                                         static_cast<std::size_t>(std::max(best->batch, 1)));
+        const std::size_t common = std::min(row.segments, best->segments) / lcm * lcm;
+        const double t_row = seconds_for_segments(row, common), t_best = seconds_for_segments(*best, common);
+        if (common == 0 || !(t_row > 0.0) || !(t_best > 0.0)) {
+            std::printf("  N=%4d r=%2.0f %-11s: too few common segments to compare\n", row.n, row.radius_cells,
+                        row.path.c_str());
+            continue;
+        }
+        std::printf("  N=%4d r=%2.0f %-11s: %.2f  (vs %s, first %zu segments; whole rows %.2f)\n", row.n,
+                    row.radius_cells, row.path.c_str(), t_best / t_row, best->path.c_str(), common,
+                    row.segments_per_s / best->segments_per_s);
     }
     std::printf("clay / cpu-1t step_ms_median, clay per segment (clay-*: CPU reference, one thread; gpu-clay-*: Vulkan) "
                 "against one-thread subtract (target <= 2):\n");

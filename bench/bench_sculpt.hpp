@@ -30,7 +30,12 @@ struct SculptBenchRow {
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal
+    std::vector<double> step_s;           ///< each apply call's wall time, s, in stroke order (not in the JSON)
 };
+
+/// Wall time (s) `row` took for the stroke's first `segments` segments: its first ceil(segments / batch) apply
+/// calls; the whole row's boolean_s when it carved fewer.
+double seconds_for_segments(const SculptBenchRow& row, std::size_t segments);
 
 /// What to measure.
 struct SculptBenchOptions {

@@ -81,6 +81,21 @@ TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
     EXPECT_TRUE(mem["interval_storage_n1024"]["fits"].get<bool>());
 }
 
+TEST(BenchSculpt, ParallelRatiosCompareTheSameFirstSegments) {
+    SculptBenchRow one, batched;
+    one.batch = 1;
+    one.step_s = {1.0, 2.0, 3.0, 4.0, 5.0};
+    one.segments = 5;
+    batched.batch = 2;
+    batched.step_s = {10.0, 20.0, 30.0};
+    batched.segments = 6;
+    EXPECT_EQ(seconds_for_segments(one, 0), 0.0);
+    EXPECT_EQ(seconds_for_segments(one, 3), 6.0);
+    EXPECT_EQ(seconds_for_segments(batched, 4), 30.0);  // two calls of two segments
+    EXPECT_EQ(seconds_for_segments(batched, 3), 30.0);  // a started call counts whole
+    EXPECT_EQ(seconds_for_segments(one, 99), 15.0);     // no more than the row carved
+}
+
 TEST(BenchSculpt, RefusesBadOptions) {
     SculptBenchOptions o;
     o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_sculpt_bad").string();
