@@ -10,6 +10,7 @@
 #include "compute/tools/clay_smooth.hpp"
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
 #include "shaders/spirv.hpp"
 
@@ -87,22 +88,9 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
     set_layout_ = std::move(cl.set_layout);
     pipeline_layout_ = std::move(cl.pipeline_layout);
     module_ = gpu::create_shader_module(context, shaders::spirv("clay_field_comp"));
-    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1},
-                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
-    VkDescriptorPoolCreateInfo pi{};
-    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pi.maxSets = 1;
-    pi.poolSizeCount = 2;
-    pi.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(context.device(), &pi, nullptr, &pool), "vkCreateDescriptorPool");
-    descriptor_pool_ = gpu::UniqueDescriptorPool(context.device(), pool);
-    VkDescriptorSetAllocateInfo ai{};
-    ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    ai.descriptorPool = pool;
-    ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &layout;
-    gpu::check(vkAllocateDescriptorSets(context.device(), &ai, &set_), "vkAllocateDescriptorSets");
+    descriptor_pool_ = gpu::allocate_descriptor_sets(
+        context.device(), {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}},
+        layout, 1, &set_);
     for (gpu::Buffer* b : {&phi_, &s0_, &s1_, &chords_, &jobs_, &out_}) *b = host_storage(context_, 4096);
     plan_ = gpu::Buffer::create(context_, kPlanBytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
     // Every pipeline now (tens of ms each on lavapipe), and one empty dispatch of each (lavapipe finishes preparing a

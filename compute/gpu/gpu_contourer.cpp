@@ -8,6 +8,7 @@
 #include "compute/contour/contour_table.hpp"
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "shaders/spirv.hpp"
@@ -78,21 +79,7 @@ void GpuContourer::create_pipeline() {
     const gpu::UniqueShaderModule module = gpu::create_shader_module(context_, shaders::spirv("dexel_contour_comp"));
     pipeline_ = gpu::create_compute_pipeline(context_, module.get(), pipeline_layout_.get());
 
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
-    VkDescriptorPoolCreateInfo pi{};
-    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pi.maxSets = 1;
-    pi.poolSizeCount = 1;
-    pi.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool");
-    descriptor_pool_ = gpu::UniqueDescriptorPool(dev, pool);
-    VkDescriptorSetAllocateInfo ai{};
-    ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    ai.descriptorPool = pool;
-    ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &layout;
-    gpu::check(vkAllocateDescriptorSets(dev, &ai, &set_), "vkAllocateDescriptorSets");
+    descriptor_pool_ = gpu::allocate_descriptor_sets(dev, {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings}}, layout, 1, &set_);
 }
 
 void GpuContourer::bind_descriptors() {

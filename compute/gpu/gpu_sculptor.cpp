@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "shaders/spirv.hpp"
@@ -109,23 +110,9 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     mesh_pipeline_ = create_pipeline(true, 7u, 3u);
     // Creating a variant takes tens of ms on lavapipe: the common one (ball, subtract) now, others on first use.
     pipelines_[1][1] = create_pipeline(false, 1u, 1u);
-    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)},
-                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}};
-    VkDescriptorPoolCreateInfo pi{};
-    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pi.maxSets = 3;
-    pi.poolSizeCount = 2;
-    pi.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool");
-    descriptor_pool_ = gpu::UniqueDescriptorPool(dev, pool);
-    VkDescriptorSetLayout layouts[3] = {layout, layout, layout};
-    VkDescriptorSetAllocateInfo ai{};
-    ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    ai.descriptorPool = pool;
-    ai.descriptorSetCount = 3;
-    ai.pSetLayouts = layouts;
-    gpu::check(vkAllocateDescriptorSets(dev, &ai, sets_), "vkAllocateDescriptorSets");
+    descriptor_pool_ = gpu::allocate_descriptor_sets(
+        dev, {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}}, layout, 3,
+        sets_);
 
     tools_ = host_storage(context_, 16);
     sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);

@@ -9,6 +9,7 @@
 #include "gpu/barrier.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/graphics_pipeline.hpp"
 #include "gpu/image_array.hpp"
 #include "gpu/shader_module.hpp"
@@ -216,22 +217,9 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) 
     gpu::check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
     im.set_layout = gpu::UniqueDescriptorSetLayout(device, set_layout);
 
-    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
-                                           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
-    VkDescriptorPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 2;
-    pool_info.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
-    im.pool = gpu::UniqueDescriptorPool(device, pool);
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout;
-    gpu::check(vkAllocateDescriptorSets(device, &alloc, &im.set), "vkAllocateDescriptorSets");
+    im.pool = gpu::allocate_descriptor_sets(
+        device, {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}}, set_layout, 1,
+        &im.set);
     const VkDescriptorBufferInfo buffer{im.tables.handle(), 0, sizeof(AnaglyphUniform)};
     VkWriteDescriptorSet w{};
     w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;

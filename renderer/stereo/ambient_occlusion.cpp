@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
 #include "gpu/shader_module.hpp"
 #include "renderer/stereo/stereo_uniforms.hpp"
@@ -73,22 +74,7 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     gpu::check(vkCreateSampler(device, &si, nullptr, &sampler), "vkCreateSampler");
     a.sampler_ = UniqueSampler(device, sampler);
 
-    const VkDescriptorPoolSize sizes[3] = {{types[0], 3}, {types[1], 3}, {types[2], 6}};
-    VkDescriptorPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pool_info.maxSets = 3;
-    pool_info.poolSizeCount = 3;
-    pool_info.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
-    a.pool_ = gpu::UniqueDescriptorPool(device, pool);
-    const VkDescriptorSetLayout layouts[3] = {set_layout, set_layout, set_layout};
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 3;
-    alloc.pSetLayouts = layouts;
-    gpu::check(vkAllocateDescriptorSets(device, &alloc, a.sets_), "vkAllocateDescriptorSets");
+    a.pool_ = gpu::allocate_descriptor_sets(device, {{types[0], 3}, {types[1], 3}, {types[2], 6}}, set_layout, 3, a.sets_);
 
     const VkDescriptorBufferInfo buffer{eyes, 0, sizeof(EyesUniform)};
     for (int k = 0; k < 3; ++k) {

@@ -2,6 +2,7 @@
 #include "renderer/stereo/eyes_binding.hpp"
 
 #include "gpu/check.hpp"
+#include "gpu/descriptor_sets.hpp"
 
 namespace tridex::renderer {
 
@@ -10,23 +11,7 @@ EyesBinding EyesBinding::create(const gpu::Context& context, VkDescriptorSetLayo
     EyesBinding b;
     b.buffer_ = gpu::Buffer::create(context, sizeof(EyesUniform), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryDomain::kHost);
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1};
-    VkDescriptorPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    gpu::check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
-    b.pool_ = gpu::UniqueDescriptorPool(device, pool);
-
-    VkDescriptorSetAllocateInfo alloc{};
-
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout;
-    gpu::check(vkAllocateDescriptorSets(device, &alloc, &b.set_), "vkAllocateDescriptorSets");
+    b.pool_ = gpu::allocate_descriptor_sets(device, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}}, set_layout, 1, &b.set_);
 
     const VkDescriptorBufferInfo buffer_info{b.buffer_.handle(), 0, sizeof(EyesUniform)};
     VkWriteDescriptorSet write{};
