@@ -29,10 +29,7 @@ ElasticView::ElasticView(const std::vector<SceneSphere>& objects, const haptics:
 
 const std::vector<renderer::SceneObject>& ElasticView::frame(const haptics::LoopView& view) {
     // The loop's points for the tool in use now ([ and ] resize it about its centre).
-    haptics::ToolPoints pts = points_;
-    const double s = view.tool.radius_m > 0.0 ? view.tool.radius_m / tool_radius_m_ : 1.0;
-    for (int i = 0; i < pts.count; ++i) pts.local_m[static_cast<std::size_t>(i)] *= s;
-    pts.radius_m *= s;
+    const haptics::ToolPoints pts = points_.scaled(view.tool.radius_m > 0.0 ? view.tool.radius_m / tool_radius_m_ : 1.0);
     residual_m_ = 0.0;
     scene_.clear();
     for (std::size_t i = 0; i < objects_.size(); ++i) {

@@ -128,10 +128,7 @@ bool HapticLoop::set_tool(const ToolShape& tool) {
 
 void HapticLoop::use_tool(const ToolShape& tool) {
     const double s = tool.radius_m / cfg_.tool.radius_m;
-    ToolPoints p = base_points_;
-    for (int i = 0; i < p.count; ++i) p.local_m[static_cast<std::size_t>(i)] *= s;
-    p.radius_m *= s;
-    if (contact_.set_points(p)) {
+    if (contact_.set_points(base_points_.scaled(s))) {
         tool_ = tool;
         device_.observe_tool_scale(s);  // a contact loop next to the device touches with the same tool
     }

@@ -46,6 +46,16 @@ struct ToolPoints {
     /// Throws tridex::Error when radius_m or length_m is not finite and > 0 or count is not in
     /// [8, kMaxToolPoints]. Source: Popescu, Burdea, Bouzit 3.1 (interaction mesh over the tool's surface).
     static ToolPoints flat_end(double radius_m, double length_m, int count);
+
+    /// These points for the same tool scaled by s about the tool centre (a resized tool: [ and ] at the desk):
+    /// positions and the ball radius times s (m), normals and count unchanged. s must be finite and > 0 (not
+    /// checked: callers pass a ratio of two checked radii).
+    ToolPoints scaled(double s) const {
+        ToolPoints p = *this;
+        for (int i = 0; i < p.count; ++i) p.local_m[static_cast<std::size_t>(i)] *= s;
+        p.radius_m *= s;
+        return p;
+    }
 };
 
 /// Contact points for a session's tool, so that touch and cut agree (the points lie on the tool's own

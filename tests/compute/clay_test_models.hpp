@@ -9,6 +9,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "compute/tools/clay_field.hpp"
+#include "compute/tools/sweep.hpp"
 
 namespace tridex::compute::clay_test {
 
@@ -129,6 +130,17 @@ inline double normal_deviation_deg(const TriDexel& m, const double c[3], double 
                 ++n;
             }
     return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+/// A clay sweep (op push, smooth or pull) of a ball of radius_cells on cube_lattice, from a to b (grid units = mm).
+inline Sweep clay_sweep(ToolOp op, const Vec3& a_cells, const Vec3& b_cells, double radius_cells) {
+    constexpr double kCell = 1e-3;  // cube_lattice: 1 mm cells from the origin
+    Sweep s;
+    s.op = op;
+    s.tool.kind = ToolKind::kBall;
+    s.tool.radius_m = radius_cells * kCell;
+    s.path_m = Segment{a_cells * kCell, b_cells * kCell};
+    return s;
 }
 
 }  // namespace tridex::compute::clay_test

@@ -18,20 +18,12 @@
 namespace tridex::compute {
 namespace {
 
+using clay_test::clay_sweep;
 using clay_test::cube_lattice;
 using clay_test::from_implicit;
 using clay_test::volume_cells;
 
 constexpr double kCell = 1e-3;  // cube_lattice: 1 mm cells from the origin, so grid units = mm
-
-Sweep clay_sweep(ToolOp op, const Vec3& a_cells, const Vec3& b_cells, double radius_cells) {
-    Sweep s;
-    s.op = op;
-    s.tool.kind = ToolKind::kBall;
-    s.tool.radius_m = radius_cells * kCell;
-    s.path_m = Segment{a_cells * kCell, b_cells * kCell};
-    return s;
-}
 
 /// A slab: material in [4, 44] x [4, 44] x [4, z0] (grid units).
 clay_test::Implicit slab(double z0) {

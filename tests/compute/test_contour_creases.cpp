@@ -46,18 +46,9 @@ std::vector<Interval> pocket_chord(const Vec3& lo, const Vec3& hi, const std::ve
             e0 = mid - half;
             e1 = mid + half;
         }
-        std::vector<std::pair<double, double>> next;
-        for (const auto& [s0, s1] : spans) {
-            if (e0 > s0) next.push_back({s0, std::min(s1, e0)});
-            if (e1 < s1) next.push_back({std::max(s0, e1), s1});
-        }
-        spans.clear();
-        for (const auto& s : next)
-            if (s.first < s.second) spans.push_back(s);
+        subtract_span(spans, e0, e1);
     }
-    std::vector<Interval> out;
-    for (const auto& [s0, s1] : spans) out.push_back(Interval{static_cast<float>(s0), static_cast<float>(s1)});
-    return out;
+    return spans_to_intervals(spans);
 }
 
 /// Signed distance to the box minus the pockets (grid units): exact for each piece, CSG max of the box's

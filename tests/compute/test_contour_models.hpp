@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
@@ -163,6 +164,25 @@ inline void expect_closed_manifold(const TriMesh& m) {
     EXPECT_EQ(pinched_vertices(m), 0u);
     // Closed 2-manifold: every edge in exactly two triangles, so 3T = 2E.
     EXPECT_EQ(3 * m.triangles.size(), 2 * s.edges);
+}
+
+/// Removes the span [e0, e1] (grid units along a ray) from the sorted disjoint `spans`, dropping empty pieces.
+inline void subtract_span(std::vector<std::pair<double, double>>& spans, double e0, double e1) {
+    std::vector<std::pair<double, double>> next;
+    for (const auto& [s0, s1] : spans) {
+        if (e0 > s0) next.push_back({s0, std::min(s1, e0)});
+        if (e1 < s1) next.push_back({std::max(s0, e1), s1});
+    }
+    spans.clear();
+    for (const auto& s : next)
+        if (s.first < s.second) spans.push_back(s);
+}
+
+/// The spans as a ray's intervals (float grid units).
+inline std::vector<Interval> spans_to_intervals(const std::vector<std::pair<double, double>>& spans) {
+    std::vector<Interval> out;
+    for (const auto& [s0, s1] : spans) out.push_back(Interval{static_cast<float>(s0), static_cast<float>(s1)});
+    return out;
 }
 
 }  // namespace tridex::compute::testing

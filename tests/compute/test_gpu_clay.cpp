@@ -21,19 +21,10 @@
 namespace tridex::compute {
 namespace {
 
+using clay_test::clay_sweep;
 using clay_test::cube_lattice;
 using clay_test::from_implicit;
 
-constexpr double kCell = 1e-3;  // cube_lattice: grid units are mm
-
-Sweep clay_sweep(ToolOp op, const Vec3& a_cells, const Vec3& b_cells, double radius_cells) {
-    Sweep s;
-    s.op = op;
-    s.tool.kind = ToolKind::kBall;
-    s.tool.radius_m = radius_cells * kCell;
-    s.path_m = Segment{a_cells * kCell, b_cells * kCell};
-    return s;
-}
 
 TriDexel sphere_model(int cells, double cx, double cy, double cz, double rho) {
     return from_implicit(cube_lattice(cells), [=](double x, double y, double z) {
