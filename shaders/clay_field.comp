@@ -50,7 +50,7 @@ layout(std140, set = 0, binding = 18) uniform Plan {
     ivec4 ray_nu;      // RaySet::nu of sets 0, 1, 2
     uvec4 chord_at;    // xyz: first word of each set's chords in chord_words[]; w: first word of the stamps
     uvec4 counts;      // x: nodes of the box; y: stamps; z: most intervals a re-sampled ray may have here
-    vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate
+    vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate; w: kClayMaxBeta
     vec4 stamp_par;    // ClayStampParams r, w, reach2, sign
     vec4 point;        // smooth: contact point xyz, w = r
     vec4 normal;       // smooth: outward normal xyz
@@ -222,7 +222,7 @@ void stamp_offsets(uint x, ivec3 nd) {
             s0v[x] = s;
         }
     } else if (rim > 0.0) {
-        precise float lim = rim * 8.0 + 2.0;
+        precise float lim = rim * plan.consts.w + 2.0;
         if (abs(phi) < lim) {
             precise float s = -sgn * rim;
             s1v[x] = s;

@@ -189,6 +189,7 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     h.consts[0] = f.search;
     h.consts[1] = 1e-6f;  // clay_build_phi's floor of |phi|
     h.consts[2] = kClaySmoothRate;
+    h.consts[3] = kClayMaxBeta;
     ensure(context_, phi_, count * 4);
     ensure(context_, s0_, count * 4);
     ensure(context_, s1_, count * 4);

@@ -44,12 +44,12 @@ struct GpuClayStats {
 /// piece (apply_clay drives it):
 /// - host, on the sculptor's CPU mirror: the stamps' contacts (clay_contact: a 4 x 4 x 4 node field and the nearest
 ///   crossing per stamp, a handful of values), the field's box, region and chords (O(rays through the box)), the
-///   moved nodes and rays, the beta solve (the field's bisection and the secant on the measured volume: sums in
-///   double over the moved rays, in the CPU's order) and the `before` images;
+///   moved nodes and rays, the beta solve (ClayVolumeModel's prediction from the field and the mirror's rays, and the
+///   measured volume: sums in double over the moved rays, in the CPU's order) and the `before` images;
 /// - GPU, one submission: phi at every node of the box from the slabs (NaN off the region, as clay_build_phi) and
 ///   s0, s1 from the stamps (one kernel), or phi and then the smooth's Laplacian (two); the host copies phi, s0, s1
 ///   back (the beta solve reads them);
-/// - GPU, one submission per beta tried (one to three): every moved ray re-sampled from the slabs and the field into
+/// - GPU, one submission per beta tried (one to three; almost always one): every moved ray re-sampled from the slabs and the field into
 ///   an output list; the host compares it with the old ray and sums its length (clay_note_resampled);
 /// - host: the chosen rays into the mirror (dirty tiles marked there) and into the slabs
 ///   (GpuSculptor::store_mirror_ray, compacting a full pool).
@@ -77,6 +77,13 @@ public:
     void smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) override;
     ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) override;
 
+    /// This kernel's ClayResampleFn (clay_resample.hpp): the moved rays of `field` (built by this kernel's
+    /// stamp_field or smooth_field) re-sampled at beta on the GPU from the slabs, those with varies into `var`, the
+    /// others into `fixed` when it is not null; slots sized by the caller. Bit for bit clay_resample_on_cpu on the
+    /// mirror. Throws tridex::Error as resample.
+    void resample_rays(const TriDexel& model, const ClayField& field, std::span<const ClayMovedRay> moved, float beta,
+                       ClayResampled* fixed, ClayResampled& var);
+
     /// Counters since creation.
     const GpuClayStats& stats() const { return stats_; }
 
@@ -85,8 +92,6 @@ private:
     void check_model(const TriDexel& model) const;
     bool fits(const ClayField& field) const;
     void build_field(ClayField& field, std::uint32_t mode, Header& header, std::span<const float> stamps);
-    void resample_rays(const TriDexel& model, const ClayField& field, std::span<const ClayMovedRay> moved, float beta,
-                       ClayResampled* fixed, ClayResampled& var);
     void bind();
     VkPipeline pipeline(std::uint32_t mode, std::uint32_t set = 0);
 

@@ -89,6 +89,7 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
         }
         ++st.records;
     }
+    history.flush();  // a push group the journal's last batch left open (a session that ended without closing it)
     return st;
 }
 

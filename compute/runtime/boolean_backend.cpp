@@ -18,8 +18,8 @@ namespace {
 class CpuBackend final : public BooleanBackend {
 public:
     explicit CpuBackend(compute::TriDexel& model) : model_(model) {}
-    // Boolean sweeps on every core through the task pool (bit for bit apply_sweep one by one), clay sweeps one by
-    // one; validates the whole batch first, so a bad sweep changes nothing.
+    // Boolean sweeps on every core through the task pool (bit for bit apply_sweep one by one), clay sweeps through
+    // apply_clay_batch; validates the whole batch first, so a bad sweep changes nothing.
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         compute::to_grid_batch(model_.lattice, batch);  // validate all first: a bad sweep changes nothing
         compute::BooleanStats total;
@@ -27,17 +27,14 @@ public:
             total.rays_visited += b.rays_visited;
             total.rays_changed += b.rays_changed;
         };
-        // Runs of Boolean sweeps go to the task pool together; clay sweeps apply one by one, in batch order.
+        // Runs of Boolean sweeps go to the task pool together, runs of clay sweeps to apply_clay_batch, in batch order.
         std::size_t k = 0;
         while (k < batch.size()) {
-            if (compute::is_clay_op(batch[k].op)) {
-                add(compute::apply_clay(model_, batch[k]).rays);
-                ++k;
-                continue;
-            }
+            const bool clay = compute::is_clay_op(batch[k].op);
             std::size_t e = k;
-            while (e < batch.size() && !compute::is_clay_op(batch[e].op)) ++e;
-            add(compute::apply_sweeps_parallel(model_, batch.subspan(k, e - k), 0));
+            while (e < batch.size() && compute::is_clay_op(batch[e].op) == clay) ++e;
+            add(clay ? compute::apply_clay_batch(model_, batch.subspan(k, e - k))
+                     : compute::apply_sweeps_parallel(model_, batch.subspan(k, e - k), 0));
             k = e;
         }
         return total;
@@ -82,7 +79,8 @@ public:
     /// Booleans run on the GPU kernel (GpuSculptor); a clay sweep (push, smooth, pull) runs on the GPU clay kernel
     /// (GpuClay: field and re-sampling in Vulkan compute, contacts and the beta solve on the host), which writes the
     /// changed rays to the mirror (marking its dirty tiles) and to the slabs, or, where the clay is placed on the CPU,
-    /// the CPU reference on the mirror with its changed rays written to the slabs; sweeps apply in batch order.
+    /// the CPU reference on the mirror with its changed rays written to the slabs; sweeps apply in batch order, runs
+    /// of clay sweeps through apply_clay_batch (the same grouping as the CPU backend, so both give one model).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
             return sculptor_->apply(batch);
@@ -98,11 +96,13 @@ public:
                 total.rays_changed += b.rays_changed;
             }
             if (j < batch.size()) {
-                const compute::ClayStats c = clay_ ? compute::apply_clay(sculptor_->mirror(), batch[j], nullptr, *clay_)
-                                                   : clay_on_mirror(batch[j]);
-                total.rays_visited += c.rays.rays_visited;
-                total.rays_changed += c.rays.rays_changed;
-                ++j;
+                std::size_t e = j;
+                while (e < batch.size() && compute::is_clay_op(batch[e].op)) ++e;
+                const compute::BooleanStats c = clay_ ? compute::apply_clay_batch(sculptor_->mirror(), batch.subspan(j, e - j), nullptr, *clay_)
+                                                      : clay_on_mirror(batch.subspan(j, e - j));
+                total.rays_visited += c.rays_visited;
+                total.rays_changed += c.rays_changed;
+                j = e;
             }
             i = j;
         }
@@ -134,13 +134,20 @@ private:
                        ") is a CPU implementation, where the clay tools' CPU reference is faster; --gpu-clay forces "
                        "the GPU clay kernel";
     }
-    // The CPU reference on the mirror; its changed rays are written to the slabs.
-    compute::ClayStats clay_on_mirror(const compute::Sweep& s) {
+    // The CPU reference on the mirror (apply_clay_batch); its changed rays are written to the slabs.
+    compute::BooleanStats clay_on_mirror(std::span<const compute::Sweep> run) {
         std::vector<compute::RayImage> before;
         compute::TriDexel& m = sculptor_->mirror();
-        const compute::ClayStats c = compute::apply_clay(m, s, &before);
+        const compute::BooleanStats c = compute::apply_clay_batch(m, run, &before);
         for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
-        if (!before.empty()) sculptor_->write_rays(before, compute::clay_bounds(m.lattice, s));
+        if (!before.empty()) {
+            Aabb box;
+            for (const compute::Sweep& s : run) {
+                const Aabb b = compute::clay_bounds(m.lattice, s);
+                if (!b.empty()) box.add(b.lo), box.add(b.hi);
+            }
+            sculptor_->write_rays(before, box);
+        }
         return c;
     }
 

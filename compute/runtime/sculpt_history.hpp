@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "compute/history/undo_history.hpp"
 #include "compute/runtime/boolean_backend.hpp"
@@ -25,16 +26,27 @@ public:
     SculptHistory(compute::TriDexel& model, BooleanBackend& backend,
                   std::size_t budget_bytes = compute::UndoHistory::kDefaultBudgetBytes, std::uint64_t last_serial = 0);
 
-    /// Captures the rays `batch` may change (opening a stroke if none is open), then applies it. Throws what the
-    /// backend throws (nothing changed for a bad sweep).
+    /// Captures the rays `batch` may change (opening a stroke if none is open), then applies it after the sweeps
+    /// held back before it, except that a push group at its end that later sweeps could still join
+    /// (compute::clay_open_group) is held back until they cannot or the stroke ends: the backends group short push
+    /// sweeps (compute::apply_clay_batch), and this keeps the groups, and so the model, the same however the
+    /// stroke's samples were split into batches (a live session and its replay split them differently). Throws what
+    /// the backend throws (nothing changed for a bad sweep, held ones included).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch);
+    /// Applies the sweeps held back (apply); their stats (zero when none were held).
+    compute::BooleanStats flush();
+    /// Number of sweeps held back.
+    std::size_t held() const { return held_.size(); }
     /// True while a stroke is open.
     bool stroke_open() const { return history_.stroke_open(); }
-    /// Closes the open stroke; its serial, 0 when none was open.
-    std::uint64_t end_stroke() { return history_.end_stroke(model_); }
-    /// Undoes the newest stroke (closing the open one first); serial 0 when there was nothing to undo.
+    /// Applies the held sweeps (their stats into `flushed` when not null), then closes the open stroke; its serial,
+    /// 0 when none was open.
+    std::uint64_t end_stroke(compute::BooleanStats* flushed = nullptr);
+    /// Undoes the newest stroke (closing the open one first, held sweeps applied); serial 0 when there was nothing to
+    /// undo.
     compute::UndoHistory::Change undo();
-    /// Redoes the newest undone stroke (closing the open one first); serial 0 when there was nothing to redo.
+    /// Redoes the newest undone stroke (closing the open one first, held sweeps applied); serial 0 when there was
+    /// nothing to redo.
     compute::UndoHistory::Change redo();
     /// Serials undo() / redo() would take next (after closing the open stroke), 0 when none.
     std::uint64_t next_undo_serial() const { return history_.next_undo_serial(); }
@@ -61,6 +73,7 @@ private:
     compute::TriDexel& model_;
     BooleanBackend& backend_;
     compute::UndoHistory history_;
+    std::vector<compute::Sweep> held_;  // the open push group, not applied yet
 };
 
 }  // namespace tridex::app

@@ -227,12 +227,23 @@ bool SculptThread::take_requests() {
 }
 
 void SculptThread::close_stroke() {
-    const bool reference_moves = holding_reference() && stroke_changed_;
-    const std::uint64_t serial = history_->end_stroke();
+    const bool holding = holding_reference();
+    const auto t0 = std::chrono::steady_clock::now();
+    compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
+    const std::uint64_t serial = history_->end_stroke(&held);
+    if (held.rays_changed > 0) {
+        stats_.rays_changed += held.rays_changed;
+        stroke_changed_ = true;
+        changed_since_checkpoint_ = true;
+        last_change_t_s_ = prev_.t_s;
+    }
+    const bool reference_moves = holding && stroke_changed_;
     stroke_changed_ = false;
     push_stroke_ = false;
     if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
-    if (reference_moves) publish(published_centre_m_);  // plastic: the deformed surface is the new reference
+    // Plastic: the deformed surface is the new reference; and the haptic window shows the held group's change.
+    if (reference_moves || held.rays_changed > 0) publish(published_centre_m_);
+    if (held.rays_changed > 0) contour_changed(t0, std::chrono::steady_clock::now());
 }
 
 void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {

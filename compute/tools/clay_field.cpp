@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "compute/tools/capsule.hpp"
 #include "compute/tools/clay_resample.hpp"
 
 namespace tridex::compute {
@@ -114,29 +115,56 @@ ClayBox clay_whole_box(const Lattice& L) {
     return b;
 }
 
+namespace {
+
+/// True when the rays of set a in row v (node index along the set's second cross axis va) may meet the region: v
+/// lies within r (and a little) of the segment's extent along va.
+bool row_meets(const ClayRegion& g, int va, int v) {
+    const float lo = std::min(g.c[va], g.c1[va]), hi = std::max(g.c[va], g.c1[va]);
+    const float fv = static_cast<float>(v), slack = g.r * 1.0001f + 1e-2f;
+    return fv >= lo - slack && fv <= hi + slack;
+}
+
+}  // namespace
+
 void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
     lo = f.box.lo[a];
     hi = f.box.hi[a];
     const ClayRegion& g = f.region;
     if (!std::isfinite(g.r)) return;
     const int ua = (a + 1) % 3, va = (a + 2) % 3;
-    const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
-    const float side2 = du * du + dv * dv, r2 = g.r * g.r;
-    if (side2 > r2 * 1.0001f + 1e-4f) {
-        lo = 1;
-        hi = 0;
-        return;
+    // The line's chord through the capsule a cell longer each way, then trimmed to the nodes the predicate accepts
+    // (they form one run: the capsule is convex).
+    float t0, t1;
+    if (g.c1[0] == g.c[0] && g.c1[1] == g.c[1] && g.c1[2] == g.c[2]) {  // a ball: its chord in closed form
+        const float du = static_cast<float>(u) - g.c[ua], dv = static_cast<float>(v) - g.c[va];
+        const float side2 = du * du + dv * dv, r2 = g.r * g.r;
+        if (side2 > r2 * 1.0001f + 1e-4f) {
+            lo = 1;
+            hi = 0;
+            return;
+        }
+        t1 = std::sqrt(std::max(r2 - side2, 0.0f));
+        t0 = -t1;
+    } else {
+        glm::vec3 o(0.0f), d(0.0f), e(0.0f);
+        o[ua] = static_cast<float>(u) - g.c[ua];
+        o[va] = static_cast<float>(v) - g.c[va];
+        d[a] = 1.0f;
+        for (int k = 0; k < 3; ++k) e[k] = g.c1[k] - g.c[k];
+        if (!capsule_chord(o, d, glm::vec3(0.0f), e, g.r * 1.0001f + 1e-2f, t0, t1)) {
+            lo = 1;
+            hi = 0;
+            return;
+        }
     }
-    // A chord a cell longer each way than the ball's, then trimmed to the nodes the predicate accepts (they form
-    // one run: the squared distance grows monotonically away from the centre).
-    const float h = std::sqrt(std::max(r2 - side2, 0.0f)) + 1.0f;
-    lo = static_cast<int>(std::max(std::floor(g.c[a] - h), static_cast<float>(lo)));
-    hi = static_cast<int>(std::min(std::ceil(g.c[a] + h), static_cast<float>(hi)));
+    lo = static_cast<int>(std::max(std::floor(g.c[a] + t0 - 1.0f), static_cast<float>(lo)));
+    hi = static_cast<int>(std::min(std::ceil(g.c[a] + t1 + 1.0f), static_cast<float>(hi)));
     int n[3];
     n[ua] = u;
     n[va] = v;
-    auto in = [&](int d) {
-        n[a] = d;
+    auto in = [&](int dd) {
+        n[a] = dd;
         return g.contains(n[0], n[1], n[2]);
     };
     while (lo <= hi && !in(lo)) ++lo;
@@ -146,13 +174,11 @@ void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi
 void clay_build_chords(ClayField& f) {
     const ClayBox& b = f.box;
     const bool whole = !std::isfinite(f.region.r);
-    const float r2 = f.region.r * f.region.r;
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
         for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
-            const float dv = static_cast<float>(v) - f.region.c[va];
-            if (!whole && dv * dv > r2 * 1.0001f + 1e-4f) continue;  // the row misses the region
+            if (!whole && !row_meets(f.region, va, v)) continue;  // the row misses the region
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
                 int dlo, dhi;
                 clay_region_chord(f, a, u, v, dlo, dhi);

@@ -17,7 +17,7 @@ namespace tridex::compute {
 /// How the clay tools keep the three ray sets describing one solid.
 ///
 /// A clay operation never moves interval ends of one set on its own. It (1) builds one scalar field phi on the
-/// lattice nodes of the operation's region (a ball inside its box around the nodes it can move: a narrow region, not
+/// lattice nodes of the operation's region (a capsule inside its box around the nodes it can move: a narrow region, not
 /// the whole box) from all three sets (clay_build_phi: the sign is the majority of the three
 /// rays through the node, the magnitude the plane-exact distance 1 / sqrt(sum_a 1/d_a^2) from the axial distances
 /// d_a to the nearest crossing on each of the three rays), (2) offsets it by a displacement s >= or <= 0 per node
@@ -38,6 +38,9 @@ inline constexpr float kClayRimWidth = 0.5f;
 /// that the distance near a surface is not bent by another sheet farther away (a plane stays exactly linear); the
 /// contact of a large tool looks farther (ClayField::search).
 inline constexpr int kClaySearchCells = 6;
+/// Largest |beta| the volume solve may pick (clay_resample): the rim or moat of a push or pull rises at most this
+/// many times its stamp's displacement, so only nodes within kClayMaxBeta * |s1| + 2 cells of the surface need an s1.
+inline constexpr float kClayMaxBeta = 3.0f;
 /// Node layers around the displaced nodes that keep phi' == phi, so a ray's re-sampled part joins its old part.
 inline constexpr int kClayMarginCells = 2;
 
@@ -58,16 +61,28 @@ struct ClayBox {
     }
 };
 
-/// The ball of grid space (centre c in grid units from the lattice origin, radius r in cells) outside which a field's
-/// operation reads no node: its nodes are the narrow region clay_build_phi fills. r = infinity: the whole box.
+/// The capsule of grid space (the points within r cells of the segment c..c1, grid units from the lattice origin;
+/// c1 == c: a ball) outside which a field's operation reads no node: its nodes are the narrow region clay_build_phi
+/// fills. r = infinity: the whole box.
 struct ClayRegion {
     float c[3] = {0.0f, 0.0f, 0.0f};
+    float c1[3] = {0.0f, 0.0f, 0.0f};
     float r = std::numeric_limits<float>::infinity();
-    /// True when lattice node (i, j, k) lies in the ball: (i-c0)^2 + (j-c1)^2 + (k-c2)^2 <= r^2, in float, in that
-    /// order (the same predicate wherever a node's membership is asked).
+    /// A ball of radius r around c.
+    void ball(const float centre[3], float radius) {
+        for (int a = 0; a < 3; ++a) c[a] = c1[a] = centre[a];
+        r = radius;
+    }
+    /// True when lattice node (i, j, k) lies in the capsule: its squared distance to the segment (the nearest
+    /// point at parameter clamp(((q - c) . e) / (e . e), 0, 1), e = c1 - c; 0 when e = 0) is <= r^2, in float, in
+    /// that order (the same predicate wherever a node's membership is asked).
     bool contains(int i, int j, int k) const {
-        const float dx = static_cast<float>(i) - c[0], dy = static_cast<float>(j) - c[1],
-                    dz = static_cast<float>(k) - c[2];
+        const float q[3] = {static_cast<float>(i) - c[0], static_cast<float>(j) - c[1], static_cast<float>(k) - c[2]};
+        const float e[3] = {c1[0] - c[0], c1[1] - c[1], c1[2] - c[2]};
+        const float ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        float t = 0.0f;
+        if (ee > 0.0f) t = std::clamp((q[0] * e[0] + q[1] * e[1] + q[2] * e[2]) / ee, 0.0f, 1.0f);
+        const float dx = q[0] - t * e[0], dy = q[1] - t * e[1], dz = q[2] - t * e[2];
         return dx * dx + dy * dy + dz * dz <= r * r;
     }
 };
@@ -129,16 +144,15 @@ struct ClayStats {
 
 /// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
-/// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) is kept: a first guess from the field (the sum over the moved
-/// nodes of a one-cell linear ramp of phi', exact for a plane at any sub-cell offset), then, while the measured
-/// change exceeds 1% of what s0 moved, up to two secant steps on it. The measured change moves in steps (a set's rays
-/// sample across them at whole nodes), so one operation keeps it within about one such step, and a stroke's steps do
-/// not add up to a drift. Else beta = 0. Only nodes of field.region (field.chords as clay_build_phi fills them; the
-/// whole box when they are missing) are read (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and
-/// their neighbours along the rays. Appends the changed rays' old images to `before` when not null. Marks the changed
-/// box dirty. Cost: O(nodes in the region) to find the moved nodes, then O(moved rays x (moved span + intervals) per
-/// ray) per re-sampling; one to three re-samplings of the rays through nodes with s1 != 0, one of the others (the
-/// best one is written).
+/// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) is kept: on
+/// the edge-by-edge prediction of the change the re-sampling will measure (ClayVolumeModel,
+/// clay_volume_model.hpp), then, in the rare case the measured change still exceeds 1% of what s0 moved (or a
+/// hundredth of a cell^3), up to two more re-samplings with the prediction shifted by its error. Else beta = 0. Only
+/// nodes of field.region (field.chords as clay_build_phi fills them; the whole box when they are missing) are read
+/// (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their neighbours along the rays. Appends the
+/// changed rays' old images to `before` when not null. Marks the changed box dirty. Cost: O(nodes in the region) to
+/// find the moved nodes, O(moved rays x (moved span + intervals)) to build the prediction and per re-sampling, a few
+/// sums over the edges near the surface to solve it; usually one re-sampling (the best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,
                         std::vector<RayImage>* before = nullptr);
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "compute/tools/clay_sweep.hpp"
+#include "core/error.hpp"
 
 namespace tridex::compute {
 namespace {
@@ -87,36 +88,49 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 namespace {
 
 // The displacement field of a push (inward = true) or a pull (inward = false) from its interaction points, applied
-// with a volume-keeping rim (push) or moat (pull) by `kernel`.
-ClayStats apply_stamps(TriDexel& model, const GridSweep& g, const std::vector<ClayStamp>& stamps, bool inward,
-                       std::vector<RayImage>* before, ClayKernel& kernel) {
+// with a volume-keeping rim (push) or moat (pull) by `kernel`. `outer` bounds the nodes that may change (the union
+// of the sweeps' lo..hi); R is the ball's radius, cells.
+ClayStats apply_stamps(TriDexel& model, const ClayBox& outer, float R, const std::vector<ClayStamp>& stamps,
+                       bool inward, std::vector<RayImage>* before, ClayKernel& kernel) {
     if (stamps.empty()) return {};
     ClayStampParams params;
-    params.r = kClayInfluence * g.radius;
+    params.r = kClayInfluence * R;
     params.w = kClayRimWidth * params.r;
     params.reach2 = (params.r + params.w) * (params.r + params.w) * 1.0001f;  // with rounding to spare
     params.sign = inward ? 1.0f : -1.0f;
     const float r = params.r, w = params.w;
     ClayField field;
-    // The box around the contact points (the sweep's lo..hi allow for any contact within R + 0.5 of the centre).
-    ClayBox outer;
+    // The box around the contact points (the sweeps' lo..hi allow for any contact within R + 0.5 of the centre).
     float plo[3], phi_[3];
     for (int a = 0; a < 3; ++a) {
-        outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
         plo[a] = stamps[0].p[a], phi_[a] = stamps[0].p[a];
         for (const ClayStamp& s : stamps) plo[a] = std::min(plo[a], s.p[a]), phi_[a] = std::max(phi_[a], s.p[a]);
     }
     field.box = clay_support_box(plo, phi_, r + w, outer);
     if (field.box.empty()) return {};
-    // The narrow region: the nodes within r + w of a contact point (the only ones that move) and their neighbours.
-    float half2 = 0.0f;
-    for (int a = 0; a < 3; ++a) {
-        field.region.c[a] = 0.5f * (plo[a] + phi_[a]);
-        half2 += 0.25f * (phi_[a] - plo[a]) * (phi_[a] - plo[a]);
+    // The narrow region: the nodes within r + w of a contact point (the only ones that move) and their neighbours,
+    // as a capsule from the first contact point to the last, widened by the farthest point's distance from it.
+    const glm::vec3 a0(stamps.front().p[0], stamps.front().p[1], stamps.front().p[2]);
+    const glm::vec3 a1(stamps.back().p[0], stamps.back().p[1], stamps.back().p[2]);
+    const glm::vec3 e = a1 - a0;
+    const float ee = glm::dot(e, e);
+    float off = 0.0f;
+    for (const ClayStamp& s : stamps) {
+        const glm::vec3 q = glm::vec3(s.p[0], s.p[1], s.p[2]) - a0;
+        const float t = ee > 0.0f ? std::clamp(glm::dot(q, e) / ee, 0.0f, 1.0f) : 0.0f;
+        off = std::max(off, glm::length(q - t * e));
     }
-    field.region.r = r + w + 1.01f + std::sqrt(half2);  // a neighbour lies within 1 cell of a moved node
+    for (int a = 0; a < 3; ++a) field.region.c[a] = a0[a], field.region.c1[a] = a1[a];
+    field.region.r = r + w + 1.01f + off * 1.0001f + 1e-3f;  // a neighbour lies within 1 cell of a moved node
     kernel.stamp_field(model, field, stamps, params);
     return kernel.resample(model, field, before);
+}
+
+/// The node box lo..hi of a grid sweep.
+ClayBox sweep_box(const GridSweep& g) {
+    ClayBox b;
+    for (int a = 0; a < 3; ++a) b.lo[a] = g.lo[a], b.hi[a] = g.hi[a];
+    return b;
 }
 
 // The ball's centre (grid units) at stamp k of n along the sweep (k = 0: the motion's start).
@@ -130,8 +144,14 @@ void stamp_centre(const GridSweep& g, std::uint32_t k, std::uint32_t n, float c[
 void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                         const ClayStampParams& p) {
     const float r = p.r, w = p.w, reach2 = p.reach2, sign = p.sign;
+    // No node farther from the surface than this gets an offset (dent and rim are at most the largest delta), so
+    // the stamps need not be visited there.
+    float top = 0.0f;
+    for (const ClayStamp& s : stamps) top = std::max(top, s.delta);
+    const float far = top * std::max(1.0f, kClayMaxBeta) + 2.0f;
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
+        if (!(std::fabs(phi) < far)) return;
         const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
         float dent = 0.0f, rim = 0.0f;
         for (const ClayStamp& s : stamps) {
@@ -151,15 +171,16 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
         if (dent > 0.0f) {
             if (std::fabs(phi) < dent + 2.0f) field.s0[i] = sign * dent;
         } else if (rim > 0.0f) {
-            if (std::fabs(phi) < rim * 8.0f + 2.0f) field.s1[i] = -sign * rim;
+            if (std::fabs(phi) < rim * kClayMaxBeta + 2.0f) field.s1[i] = -sign * rim;
         }
     });
 }
 
-ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
+namespace {
+
+// Appends the interaction points of push sweep g (clay_push) found against `model`.
+void clay_push_stamps(const TriDexel& model, const GridSweep& g, std::vector<ClayStamp>& stamps) {
     const float R = g.radius;
-    // The interaction points: the ball at each stamp, its contact and penetration.
-    std::vector<ClayStamp> stamps;
     const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
     for (std::uint32_t k = 0; k < n; ++k) {
         float c[3];
@@ -170,7 +191,29 @@ ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(ct.delta, kClayMaxStep)});
     }
-    return apply_stamps(model, g, stamps, true, before, kernel);
+}
+
+}  // namespace
+
+ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
+    return clay_push_group(model, std::span<const GridSweep>(&g, 1), before, kernel);
+}
+
+ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, std::vector<RayImage>* before,
+                          ClayKernel& kernel) {
+    if (sweeps.empty()) return {};
+    // The interaction points: the ball at each stamp of every sweep, its contact and penetration, all against the
+    // model as it is before the group.
+    thread_local std::vector<ClayStamp> stamps;
+    stamps.clear();
+    ClayBox outer = sweep_box(sweeps[0]);
+    for (const GridSweep& g : sweeps) {
+        if (g.radius != sweeps[0].radius) throw Error("clay push group: the sweeps' tool radii differ");
+        clay_push_stamps(model, g, stamps);
+        const ClayBox b = sweep_box(g);
+        for (int a = 0; a < 3; ++a) outer.lo[a] = std::min(outer.lo[a], b.lo[a]), outer.hi[a] = std::max(outer.hi[a], b.hi[a]);
+    }
+    return apply_stamps(model, outer, sweeps[0].radius, stamps, true, before, kernel);
 }
 
 ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
@@ -191,7 +234,7 @@ ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(gap, kClayPullMaxStep)});
     }
-    return apply_stamps(model, g, stamps, false, before, kernel);
+    return apply_stamps(model, sweep_box(g), R, stamps, false, before, kernel);
 }
 
 }  // namespace tridex::compute

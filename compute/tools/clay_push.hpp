@@ -3,6 +3,7 @@
 // comes back as a rim around the dent (push) or is taken from a moat around the bump (pull).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
@@ -63,6 +64,17 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 /// default; every kernel gives the same model bit for bit).
 ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
                     ClayKernel& kernel = clay_cpu_kernel());
+
+/// Plastic push of several consecutive push sweeps of one ball as one operation: the interaction points of every
+/// sweep (as clay_push), their contacts all found against `model` as it is before the group, one displacement field
+/// (the largest displacement over all of them wins, as over one sweep's stamps: Popescu 3.3's several interaction
+/// points) and one rim with one beta. The field's box is limited to the union of the sweeps' lo..hi. Costs about as
+/// much as one clay_push over the group's extent, so a short group of short sweeps costs a fraction of pushing them
+/// one by one. The result differs from pushing them one by one (each sweep's contacts there see the dents of the
+/// ones before it), so a caller that must repeat a session groups the same sweeps the same way (apply_clay_batch).
+/// Throws tridex::Error when the sweeps' radii differ; an empty span changes nothing.
+ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, std::vector<RayImage>* before = nullptr,
+                          ClayKernel& kernel = clay_cpu_kernel());
 
 /// Plastic pull of one clay sweep (ToolOp::kPull; the inverse of clay_push, as Freeform's tug or Blender's grab
 /// along the normal): the touched surface follows the tool as it draws away. Only when the ball touches the surface

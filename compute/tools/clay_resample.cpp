@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "compute/tools/clay_volume_model.hpp"
+
 namespace tridex::compute {
 namespace {
 
@@ -196,79 +198,35 @@ double volume_change(std::span<const ClayMovedRay> moved, const ClayResampled& f
 }
 
 /// The field's volume indicator at a node: the share (0..1) of the node's cell-sized column element that lies
-/// inside for signed distance p, a linear ramp over one cell. Summed over the nodes, it measures a plane's position
-/// exactly at any sub-cell offset, which the three sets' nodal sampling across their rays does not.
+/// inside for signed distance p, a linear ramp over one cell (the size of what s0 moves, for the tolerance).
 float ramp(float p) { return std::clamp(0.5f - p, 0.0f, 1.0f); }
 
-/// beta so that the field's volume (sum of ramp over the moved nodes) is unchanged: bisection on the monotone,
-/// piecewise-linear change in [-8, 8] (s1 of one sign), 26 steps, float. The nodes that can change are gathered once
-/// into contiguous arrays (phi + s0, s1) with their ramp sum at rest, and each step sums four interleaved partial
-/// sums in a fixed order, so a step costs one pass over those nodes.
-float solve_beta(const ClayField& f, std::span<const ClayMovedNode> nodes) {
-    // Nodes whose ramp can change for beta in [-8, 8]; the others add 0 to every sum.
-    thread_local std::vector<float> p0, p1;
-    p0.clear();
-    p1.clear();
-    double rest = 0.0;
-    for (const ClayMovedNode& m : nodes) {
-        const std::size_t i = m.x;
-        if (std::fabs(f.phi[i]) < 0.5f + std::fabs(f.s0[i]) + 8.0f * std::fabs(f.s1[i])) {
-            p0.push_back(f.phi[i] + f.s0[i]);
-            p1.push_back(f.s1[i]);
-            rest += static_cast<double>(ramp(f.phi[i]));
-        }
-    }
-    const std::size_t n = p0.size();
-    auto change = [&](float beta) {
-        double acc[4] = {0.0, 0.0, 0.0, 0.0};
-        std::size_t i = 0;
-        for (; i + 4 <= n; i += 4)
-            for (std::size_t l = 0; l < 4; ++l) acc[l] += static_cast<double>(ramp(p0[i + l] + beta * p1[i + l]));
-        for (; i < n; ++i) acc[0] += static_cast<double>(ramp(p0[i] + beta * p1[i]));
-        return ((acc[0] + acc[1]) + (acc[2] + acc[3])) - rest;
-    };
-    float lo = -8.0f, hi = 8.0f;
-    const double flo = change(lo), fhi = change(hi);
-    if (!(flo * fhi < 0.0)) return std::fabs(flo) < std::fabs(fhi) ? lo : hi;  // no root in range: the nearest end
-    const bool rising = fhi > flo;
-    for (int k = 0; k < 26; ++k) {  // 16 / 2^26: below a float's resolution of the offsets
-        const float mid = 0.5f * (lo + hi);
-        const double fm = change(mid);
-        if (fm == 0.0) return mid;
-        if ((fm < 0.0) == rising)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return 0.5f * (lo + hi);
-}
-
-/// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box, from the field's
-/// estimate b1 (solve_beta) whose re-sampling `best` (and `fixed`) already holds with its change best_dv: while the
-/// measured change exceeds 1% of what s0 moved (field measure), up to two secant steps, the first with the slope of
-/// the field's own (the ramp sum's change per unit beta, a central difference over 0.1), the second with the measured
-/// one; the beta with the smallest measured change wins and its re-sampled rays are left in `best` (written without
-/// re-sampling again). The measured change moves in steps (a set's rays sample across them at whole nodes), so one
-/// operation keeps it within about one such step, not exactly 0.
-float solve_measured(const ClayField& f, std::span<const ClayMovedNode> nodes, std::span<const ClayMovedRay> moved,
-                     float b1, const ClayResampleFn& resample, const ClayResampled& fixed, ClayResampled& best,
-                     double& best_dv) {
-    double slope = 0.0, dent = 0.0;  // field volume change per unit beta; field volume change of s0 alone
+/// How close (cells^3) to no change the volume must come: 1% of what s0 moved (field measure) or a hundredth of a
+/// cell^3, whichever is larger.
+double volume_tolerance(const ClayField& f, std::span<const ClayMovedNode> nodes) {
+    double dent = 0.0;  // field volume change of s0 alone
     for (const ClayMovedNode& m : nodes) {
         const std::size_t i = m.x;
         if (f.s0[i] != 0.0f) dent += static_cast<double>(ramp(f.phi[i] + f.s0[i])) - ramp(f.phi[i]);
-        if (f.s1[i] == 0.0f) continue;
-        const float base = f.phi[i] + (f.s0[i] + b1 * f.s1[i]);
-        slope += (static_cast<double>(ramp(base + 0.05f * f.s1[i])) - ramp(base - 0.05f * f.s1[i])) / 0.1;
     }
-    // Good enough: within 1% of what the dent (or the smoothing) moved, or of a hundredth of a cell^3.
-    const double tolerance = std::max(0.01 * std::fabs(dent), 0.01);
+    return std::max(0.01 * std::fabs(dent), 0.01);
+}
+
+/// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box, from b1 (the
+/// volume model's solution) whose re-sampling `best` (and `fixed`) already holds with its measured change best_dv:
+/// while the measured change exceeds `tolerance` (volume_tolerance), up to two more
+/// re-samplings at the beta where the model, shifted by its error at the last beta tried, predicts no change; the
+/// beta with the smallest measured change wins and its re-sampled rays are left in `best` (written without
+/// re-sampling again).
+float solve_measured(std::span<const ClayMovedRay> moved,
+                     const ClayVolumeModel& vm, float b1, double tolerance, const ClayResampleFn& resample,
+                     const ClayResampled& fixed, ClayResampled& best, double& best_dv) {
     float best_beta = b1;
     thread_local ClayResampled trial;
     float b = b1;
     double dv = best_dv;
-    for (int k = 0; k < 2 && std::fabs(dv) > tolerance && slope != 0.0; ++k) {
-        const float nb = std::clamp(static_cast<float>(static_cast<double>(b) - dv / slope), -8.0f, 8.0f);
+    for (int k = 0; k < 2 && std::fabs(dv) > tolerance; ++k) {
+        const float nb = vm.solve(vm.change(b) - dv, 0.25 * tolerance);  // the model's error at b taken as constant
         if (nb == b) break;
         prepare(trial, moved.size());
         resample(moved, nb, nullptr, trial);
@@ -278,7 +236,6 @@ float solve_measured(const ClayField& f, std::span<const ClayMovedNode> nodes, s
             best_beta = nb;
             best_dv = ndv;
         }
-        if (ndv != dv) slope = (ndv - dv) / (static_cast<double>(nb) - static_cast<double>(b));  // measured from now on
         b = nb;
         dv = ndv;
     }
@@ -311,10 +268,17 @@ ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_pr
     prepare(fixed, moved.size());
     prepare(var, moved.size());
     // The rays that do not depend on beta once, with the first beta's re-sampling of the others.
-    float beta = volume_preserving && any1 ? solve_beta(f, nodes) : 0.0f;
+    float beta = 0.0f;
+    thread_local ClayVolumeModel vm;
+    double tolerance = 0.0;
+    if (volume_preserving && any1) {
+        tolerance = volume_tolerance(f, nodes);
+        vm.build(model, f, moved);
+        beta = vm.solve(0.0, 0.25 * tolerance);
+    }
     resample(moved, beta, &fixed, var);
     double dv = volume_change(moved, fixed, var);
-    if (volume_preserving && any1) beta = solve_measured(f, nodes, moved, beta, resample, fixed, var, dv);
+    if (volume_preserving && any1) beta = solve_measured(moved, vm, beta, tolerance, resample, fixed, var, dv);
     for (const ClayMovedNode& m : nodes)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[m.x] + beta * f.s1[m.x])));

@@ -79,10 +79,11 @@ void clay_resample_on_cpu(const TriDexel& model, const ClayField& f, std::span<c
                           ClayResampled* fixed, ClayResampled& var);
 
 /// clay_resample (clay_field.hpp) with the re-sampling done by `resample`: finds the moved nodes and rays on the
-/// host, solves beta (the field's first guess, then up to two secant steps on the measured volume change, each one
-/// call of `resample`), writes the changed rays into `model` in the order set, v, u, appends their old images to
-/// `before` and their references to `written` (each when not null), marks the box dirty, and returns the stats.
-/// One to three calls of `resample`, the first with `fixed` set. Throws what `resample` throws (the model is then
+/// host, solves beta (on ClayVolumeModel's prediction, then, when the measured change is still over tolerance, up to
+/// two more calls of `resample` with the prediction shifted by its error), writes the changed rays into `model` in
+/// the order set, v, u, appends their old images to `before` and their references to `written` (each when not
+/// null), marks the box dirty, and returns the stats. One to three calls of `resample` (almost always one), the
+/// first with `fixed` set. Throws what `resample` throws (the model is then
 /// unchanged).
 ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_preserving,
                              std::vector<RayImage>* before, const ClayResampleFn& resample,

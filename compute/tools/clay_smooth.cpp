@@ -50,8 +50,7 @@ ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>
     field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
     if (field.box.empty()) return {};
     // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
-    for (int a = 0; a < 3; ++a) field.region.c[a] = ct.point[a];
-    field.region.r = r + 1.01f;  // a neighbour lies within 1 cell of a moved node
+    field.region.ball(ct.point, r + 1.01f);  // a neighbour lies within 1 cell of a moved node
     ClaySmoothParams params;
     for (int a = 0; a < 3; ++a) params.point[a] = ct.point[a], params.normal[a] = ct.normal[a];
     params.r = r;

@@ -99,4 +99,98 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
     return total;
 }
 
+float clay_group_cells(float radius_cells) {
+    return std::max(4.0f, kClayGroupReach * radius_cells);
+}
+
+namespace {
+
+bool same_tool(const SweepTool& a, const SweepTool& b) {
+    return a.kind == b.kind && a.radius_m == b.radius_m && a.length_m == b.length_m && a.mesh == b.mesh;
+}
+
+// True when push sweep s may join a group: it moves at most kClayPieceCells and its box lies on the lattice.
+bool groupable(const Lattice& L, const Sweep& s, const GridSweep& g) {
+    if (s.op != ToolOp::kPush) return false;
+    if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return false;
+    return glm::length(s.path_m.b - s.path_m.a) / L.cell_m <= kClayPieceCells;
+}
+
+// One past the last sweep of the group apply_clay_batch starts at batch[i] (i + 1 for a sweep that goes alone).
+std::size_t clay_group_end(const Lattice& L, std::span<const Sweep> batch, std::span<const GridSweep> grid,
+                           std::size_t i) {
+    const Sweep& s = batch[i];
+    if (!groupable(L, s, grid[i])) return i + 1;
+    // The run of at most kClayGroupSweeps push sweeps of this tool whose centres' motion stays within
+    // clay_group_cells of R.
+    const double limit = clay_group_cells(grid[i].radius);
+    Vec3 lo = glm::min(s.path_m.a, s.path_m.b), hi = glm::max(s.path_m.a, s.path_m.b);
+    std::size_t j = i + 1;
+    while (j < batch.size() && j - i < kClayGroupSweeps && same_tool(batch[j].tool, s.tool) &&
+           groupable(L, batch[j], grid[j])) {
+        const Vec3 nlo = glm::min(lo, glm::min(batch[j].path_m.a, batch[j].path_m.b));
+        const Vec3 nhi = glm::max(hi, glm::max(batch[j].path_m.a, batch[j].path_m.b));
+        if (glm::length(nhi - nlo) / L.cell_m > limit) break;
+        lo = nlo, hi = nhi;
+        ++j;
+    }
+    return j;
+}
+
+// The clay sweeps of a batch in grid form (validated); other slots left default.
+std::vector<GridSweep> clay_batch_grid(const Lattice& L, std::span<const Sweep> batch) {
+    std::vector<GridSweep> grid(batch.size());
+    for (std::size_t i = 0; i < batch.size(); ++i)
+        if (is_clay_op(batch[i].op)) grid[i] = to_clay_grid_sweep(L, batch[i]);
+    return grid;
+}
+
+}  // namespace
+
+std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch) {
+    if (batch.empty() || batch.back().op != ToolOp::kPush) return batch.size();
+    // The trailing run of clay sweeps (a Boolean before it closes every group), grouped from its start.
+    std::size_t first = batch.size();
+    while (first > 0 && is_clay_op(batch[first - 1].op)) --first;
+    const std::span<const Sweep> run = batch.subspan(first);
+    const std::vector<GridSweep> grid = clay_batch_grid(L, run);
+    if (!groupable(L, run.back(), grid.back())) return batch.size();
+    std::size_t i = 0;
+    for (;;) {
+        const std::size_t j = clay_group_end(L, run, grid, i);
+        if (j == run.size()) return first + i;
+        i = j;
+    }
+}
+
+BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before,
+                              ClayKernel& kernel) {
+    const Lattice& L = model.lattice;
+    to_grid_batch(L, batch);  // validate the whole batch first: a bad sweep changes nothing
+    const std::vector<GridSweep> grid = clay_batch_grid(L, batch);
+    BooleanStats total;
+    const auto add = [&](const BooleanStats& b) {
+        total.rays_visited += b.rays_visited;
+        total.rays_changed += b.rays_changed;
+    };
+    std::size_t i = 0;
+    while (i < batch.size()) {
+        const Sweep& s = batch[i];
+        if (!is_clay_op(s.op)) {
+            add(apply_sweep(model, s));
+            ++i;
+            continue;
+        }
+        if (!groupable(L, s, grid[i])) {
+            add(apply_clay(model, s, before, kernel).rays);
+            ++i;
+            continue;
+        }
+        const std::size_t j = clay_group_end(L, batch, grid, i);
+        add(clay_push_group(model, std::span<const GridSweep>(grid).subspan(i, j - i), before, kernel).rays);
+        i = j;
+    }
+    return total;
+}
+
 }  // namespace tridex::compute

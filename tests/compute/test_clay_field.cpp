@@ -33,8 +33,8 @@ TEST(ClayField, RegionBuildEqualsWholeBoxBuildInsideTheBall) {
     const TriDexel m = noisy_sphere();
     ClayField whole, part;
     whole.box = part.box = box_around(12, 30);
-    part.region.c[0] = 20.3f, part.region.c[1] = 19.6f, part.region.c[2] = 25.2f;
-    part.region.r = 6.4f;
+    const float centre[3] = {20.3f, 19.6f, 25.2f};
+    part.region.ball(centre, 6.4f);
     clay_build_phi(m, whole);
     clay_build_phi(m, part);
     std::size_t inside = 0;
@@ -59,8 +59,8 @@ TEST(ClayField, ChordsAreExactlyTheRegionsNodesOnEachRay) {
     const TriDexel m = noisy_sphere();
     ClayField f;
     f.box = box_around(3, 28);
-    f.region.c[0] = 10.5f, f.region.c[1] = 27.0f, f.region.c[2] = 14.25f;  // partly outside the box
-    f.region.r = 7.0f;
+    const float centre[3] = {10.5f, 27.0f, 14.25f};  // partly outside the box
+    f.region.ball(centre, 7.0f);
     clay_build_phi(m, f);
     for (int a = 0; a < 3; ++a)
         for (int v = 3; v <= 28; ++v)

@@ -1,0 +1,159 @@
+// compute/tools/clay_volume_model.cpp - predicting a clay re-sampling's volume change per edge, and solving beta on it.
+#include "compute/tools/clay_volume_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tridex::compute {
+namespace {
+
+/// The inside length (cells, 0..1) clay_resample_ray leaves on an edge whose ends have offsets sa, sb (not both 0),
+/// field values phi + s, and old parities pa, pb (the ray's own status where an end keeps its value).
+float new_inside(float phia, float sa, bool pa, float phib, float sb, bool pb) {
+    const float p0 = phia + sa, p1 = phib + sb;
+    const bool st0 = sa != 0.0f ? p0 < 0.0f : pa;
+    const bool st1 = sb != 0.0f ? p1 < 0.0f : pb;
+    if (st0 == st1) return st0 ? 1.0f : 0.0f;
+    float t = 0.5f;  // the old ray disagreed with the field at its still end
+    if ((p0 < 0.0f) != (p1 < 0.0f)) t = std::clamp(p0 / (p0 - p1), 0.0f, 1.0f);
+    return st0 ? t : 1.0f - t;
+}
+
+/// True when a node with these values is moved for every beta in [-kClayMaxBeta, kClayMaxBeta] (s0 != 0 or
+/// s1 != 0; taken as moved) and its field keeps one sign over the range, with a margin for the float rounding of
+/// phi + s0 + beta * s1.
+bool fixed_status(float phi, float s0, float s1) {
+    if (s0 == 0.0f && s1 == 0.0f) return false;
+    const double p = static_cast<double>(phi) + s0, reach = kClayMaxBeta * std::fabs(static_cast<double>(s1)) + 1e-3;
+    return p > reach || p < -reach;
+}
+
+}  // namespace
+
+void ClayVolumeModel::build(const TriDexel& model, const ClayField& f, std::span<const ClayMovedRay> moved) {
+    edges_.clear();
+    constant_ = 0.0;
+    const ClayBox& b = f.box;
+    for (const ClayMovedRay& m : moved) {
+        const int axis = m.set;
+        const std::vector<Interval>& ray = model.sets[axis].rays[m.index];
+        int n[3];
+        n[(axis + 1) % 3] = m.u;
+        n[(axis + 2) % 3] = m.v;
+        n[axis] = m.lo;
+        const std::size_t base = b.index(n[0], n[1], n[2]);
+        const std::size_t stride = axis == 0   ? 1
+                                   : axis == 1 ? static_cast<std::size_t>(b.n(0))
+                                               : static_cast<std::size_t>(b.n(0)) * b.n(1);
+        const std::size_t nx = 2 * ray.size();
+        auto old_t = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
+        std::size_t q = 0;
+        const float flo = static_cast<float>(m.lo);
+        while (q < nx && old_t(q) < flo) ++q;
+        for (int d = m.lo; d < m.hi; ++d) {
+            const std::size_t i0 = base + static_cast<std::size_t>(d - m.lo) * stride, i1 = i0 + stride;
+            // The old ray on [d, d + 1): its parity at d, its inside length, its parity at d + 1.
+            const float fd = static_cast<float>(d), fd1 = static_cast<float>(d + 1);
+            const bool pa = (q & 1u) != 0;
+            bool inside = pa;
+            float prev = fd, old_in = 0.0f;
+            while (q < nx && old_t(q) < fd1) {
+                if (inside) old_in += old_t(q) - prev;
+                prev = old_t(q);
+                inside = !inside;
+                ++q;
+            }
+            if (inside) old_in += fd1 - prev;
+            const bool pb = inside;
+            const bool still0 = f.s0[i0] == 0.0f && f.s1[i0] == 0.0f, still1 = f.s0[i1] == 0.0f && f.s1[i1] == 0.0f;
+            if (still0 && still1) continue;  // old crossings kept
+            if ((f.s1[i0] == 0.0f && f.s1[i1] == 0.0f) ||
+                (fixed_status(f.phi[i0], f.s0[i0], f.s1[i0]) && fixed_status(f.phi[i1], f.s0[i1], f.s1[i1]) &&
+                 (f.phi[i0] + f.s0[i0] < 0.0f) == (f.phi[i1] + f.s0[i1] < 0.0f))) {
+                // No s1 end, or both ends moved and on one side of the surface for every beta: wholly in or out.
+                constant_ += static_cast<double>(new_inside(f.phi[i0], f.s0[i0], pa, f.phi[i1], f.s0[i1], pb)) - old_in;
+                continue;
+            }
+            edges_.push_back({f.phi[i0] + f.s0[i0], f.s1[i0], f.phi[i1] + f.s0[i1], f.s1[i1], old_in,
+                              static_cast<std::uint8_t>((still0 ? 0u : kMoved0) | (still1 ? 0u : kMoved1) |
+                                                        (pa ? kInside0 : 0u) | (pb ? kInside1 : 0u))});
+        }
+    }
+}
+
+double ClayVolumeModel::change(float beta, double* slope) const {
+    double sum = constant_, ds = 0.0;
+    for (const Edge& e : edges_) {
+        const float p0 = e.a0 + beta * e.b0, p1 = e.a1 + beta * e.b1;
+        const bool st0 = (e.flags & kMoved0) ? p0 < 0.0f : (e.flags & kInside0) != 0;
+        const bool st1 = (e.flags & kMoved1) ? p1 < 0.0f : (e.flags & kInside1) != 0;
+        float in = st0 ? 1.0f : 0.0f;
+        if (st0 != st1) {
+            float t = 0.5f;
+            if ((p0 < 0.0f) != (p1 < 0.0f)) {
+                const float w = p0 / (p0 - p1);
+                t = std::clamp(w, 0.0f, 1.0f);
+                if (slope && t == w) {  // d t / d beta of the linear root
+                    const double q = static_cast<double>(p0) - p1;
+                    const double dt = (static_cast<double>(p0) * e.b1 - static_cast<double>(p1) * e.b0) / (q * q);
+                    ds += st0 ? dt : -dt;
+                }
+            }
+            in = st0 ? t : 1.0f - t;
+        }
+        sum += static_cast<double>(in - e.old_inside);
+    }
+    if (slope) *slope = ds / 3.0;
+    return sum / 3.0;
+}
+
+float ClayVolumeModel::solve(double target, double tolerance) const {
+    // A Newton step from beta = 0 on the smooth part (the crossings sliding along their edges), widened until the
+    // change brackets the target; then regula falsi with the Illinois rule inside the bracket.
+    double slope = 0.0;
+    const double f0 = change(0.0f, &slope) - target;
+    float lo = 0.0f, hi = 0.0f;
+    double flo = f0, fhi = f0;
+    if (std::fabs(f0) <= tolerance) return 0.0f;
+    float step = slope != 0.0 ? static_cast<float>(-f0 / slope) : 1.0f;
+    if (!std::isfinite(step) || step == 0.0f) step = 1.0f;
+    step = std::clamp(step, -kClayMaxBeta, kClayMaxBeta);
+    float b = 0.0f;
+    double fb = f0;
+    for (int k = 0; k < 8; ++k) {  // walk outward until the sign changes or the range ends
+        const float nb = std::clamp(b + step, -kClayMaxBeta, kClayMaxBeta);
+        const double fn = change(nb) - target;
+        if (std::fabs(fn) <= tolerance) return nb;
+        if ((fn < 0.0) != (fb < 0.0)) {
+            lo = b, flo = fb, hi = nb, fhi = fn;
+            break;
+        }
+        if (nb == b || std::fabs(nb) >= kClayMaxBeta) {  // no root in range: the value nearest to the target
+            return std::fabs(fn) < std::fabs(f0) ? nb : 0.0f;
+        }
+        b = nb, fb = fn;
+        step *= 2.0f;
+    }
+    if (lo == hi) return std::fabs(fb) < std::fabs(f0) ? b : 0.0f;
+    if (lo > hi) std::swap(lo, hi), std::swap(flo, fhi);
+    int side = 0;  // which end stayed last time (Illinois: halve the other end's value when one end stays twice)
+    for (int k = 0; k < 40 && hi - lo > kClayBetaResolution; ++k) {
+        if (std::min(std::fabs(flo), std::fabs(fhi)) <= tolerance) break;
+        float mid = static_cast<float>((static_cast<double>(lo) * fhi - static_cast<double>(hi) * flo) / (fhi - flo));
+        if (!(mid > lo && mid < hi)) mid = 0.5f * (lo + hi);
+        const double fm = change(mid) - target;
+        if (fm == 0.0) return mid;
+        if ((fm < 0.0) == (flo < 0.0)) {
+            lo = mid, flo = fm;
+            if (side == -1) fhi *= 0.5;
+            side = -1;
+        } else {
+            hi = mid, fhi = fm;
+            if (side == 1) flo *= 0.5;
+            side = 1;
+        }
+    }
+    return std::fabs(flo) < std::fabs(fhi) ? lo : hi;
+}
+
+}  // namespace tridex::compute
