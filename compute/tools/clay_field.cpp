@@ -158,8 +158,13 @@ void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi
             return;
         }
     }
-    lo = static_cast<int>(std::max(std::floor(g.c[a] + t0 - 1.0f), static_cast<float>(lo)));
-    hi = static_cast<int>(std::min(std::ceil(g.c[a] + t1 + 1.0f), static_cast<float>(hi)));
+    const int blo = lo, bhi = hi;
+    const float flo = std::floor(g.c[a] + t0), fhi = std::ceil(g.c[a] + t1);
+    if (fhi < static_cast<float>(blo) - 1.0f || flo > static_cast<float>(bhi) + 1.0f) {
+        lo = 1;
+        hi = 0;
+        return;
+    }
     int n[3];
     n[ua] = u;
     n[va] = v;
@@ -167,8 +172,19 @@ void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi
         n[a] = dd;
         return g.contains(n[0], n[1], n[2]);
     };
-    while (lo <= hi && !in(lo)) ++lo;
-    while (hi >= lo && !in(hi)) --hi;
+    // Each end from the closed form's node: outward while the next node is in, inward while this one is out, within
+    // the estimate widened by a cell (the closed form is within a rounding of the predicate's boundary).
+    const int wlo = std::max(static_cast<int>(flo) - 1, blo), whi = std::min(static_cast<int>(fhi) + 1, bhi);
+    lo = std::clamp(static_cast<int>(flo), wlo, std::max(wlo, whi));
+    if (in(lo))
+        while (lo - 1 >= wlo && in(lo - 1)) --lo;
+    else
+        while (lo <= whi && !in(lo)) ++lo;
+    hi = std::clamp(static_cast<int>(fhi), std::min(wlo, whi), whi);
+    if (hi >= lo && in(hi))
+        while (hi + 1 <= whi && in(hi + 1)) ++hi;
+    else
+        while (hi >= lo && !in(hi)) --hi;
 }
 
 void clay_build_chords(ClayField& f) {

@@ -55,12 +55,8 @@ TEST(ClayField, RegionBuildEqualsWholeBoxBuildInsideTheBall) {
     EXPECT_GT(inside, 500u);  // the ball (about 1100 nodes) is clipped by the box
 }
 
-TEST(ClayField, ChordsAreExactlyTheRegionsNodesOnEachRay) {
-    const TriDexel m = noisy_sphere();
-    ClayField f;
-    f.box = box_around(3, 28);
-    const float centre[3] = {10.5f, 27.0f, 14.25f};  // partly outside the box
-    f.region.ball(centre, 7.0f);
+/// Every ray's chord equals the nodes `f.region` holds on it, exactly.
+void expect_exact_chords(const TriDexel& m, ClayField& f) {
     clay_build_phi(m, f);
     for (int a = 0; a < 3; ++a)
         for (int v = 3; v <= 28; ++v)
@@ -81,6 +77,26 @@ TEST(ClayField, ChordsAreExactlyTheRegionsNodesOnEachRay) {
                     EXPECT_EQ(f.region.contains(n[0], n[1], n[2]), lo <= d && d <= hi) << a << " " << u << " " << v;
                 }
             }
+}
+
+TEST(ClayField, ChordsAreExactlyTheRegionsNodesOnEachRay) {
+    const TriDexel m = noisy_sphere();
+    ClayField f;
+    f.box = box_around(3, 28);
+    const float centre[3] = {10.5f, 27.0f, 14.25f};  // partly outside the box
+    f.region.ball(centre, 7.0f);
+    expect_exact_chords(m, f);
+    // Capsules: along an axis, slanted, and with whole-node ends and radius (ties on the boundary).
+    const float caps[3][7] = {{12.3f, 15.0f, 16.1f, 20.9f, 15.0f, 16.1f, 5.5f},
+                              {9.7f, 11.2f, 22.4f, 21.3f, 18.8f, 12.6f, 4.25f},
+                              {10.0f, 12.0f, 14.0f, 18.0f, 12.0f, 20.0f, 5.0f}};
+    for (const auto& c : caps) {
+        ClayField g;
+        g.box = box_around(3, 28);
+        for (int a = 0; a < 3; ++a) g.region.c[a] = c[a], g.region.c1[a] = c[3 + a];
+        g.region.r = c[6];
+        expect_exact_chords(m, g);
+    }
 }
 
 }  // namespace
