@@ -149,12 +149,25 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
     float top = 0.0f;
     for (const ClayStamp& s : stamps) top = std::max(top, s.delta);
     const float far = top * std::max(1.0f, kClayMaxBeta) + 2.0f;
+    // Per x-row, the stamps within reach of the row's line: dy^2 + dz^2 <= reach2, which no node's dx^2 + dy^2 + dz^2
+    // can undercut in float (rounding is monotone), so the others would be skipped anyway.
+    thread_local std::vector<const ClayStamp*> near;
+    int row_j = -1, row_k = -1;
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
         if (!(std::fabs(phi) < far)) return;
         const float q[3] = {static_cast<float>(ix), static_cast<float>(jy), static_cast<float>(kz)};
+        if (jy != row_j || kz != row_k) {
+            row_j = jy, row_k = kz;
+            near.clear();
+            for (const ClayStamp& s : stamps) {
+                const float dy = q[1] - s.p[1], dz = q[2] - s.p[2];
+                if (!(dy * dy + dz * dz > reach2)) near.push_back(&s);
+            }
+        }
         float dent = 0.0f, rim = 0.0f;
-        for (const ClayStamp& s : stamps) {
+        for (const ClayStamp* sp : near) {
+            const ClayStamp& s = *sp;
             const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
             const float d2 = dx * dx + dy * dy + dz * dz;
             if (d2 > reach2) continue;

@@ -100,7 +100,7 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
 }
 
 float clay_group_cells(float radius_cells) {
-    return std::max(4.0f, kClayGroupReach * radius_cells);
+    return std::max(kClayGroupMinCells, kClayGroupReach * radius_cells);
 }
 
 namespace {

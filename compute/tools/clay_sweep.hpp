@@ -45,11 +45,14 @@ inline constexpr double kClayPieceCells = 2.0;
 ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr,
                      ClayKernel& kernel = clay_cpu_kernel());
 
+/// Group extent per cell of ball radius (clay_group_cells).
+inline constexpr float kClayGroupReach = 2.0f;
+/// Shortest group extent, cells: a small tool's operation costs mostly its fixed part, so its groups may run longer.
+inline constexpr float kClayGroupMinCells = 12.0f;
 /// Longest extent (cells) of the tool centres' motion that apply_clay_batch applies as one push, for a ball of
-/// radius R cells: the larger of kClayPieceCells and kClayGroupReach * R. An operation's cost grows with the cube
+/// radius R cells: the larger of kClayGroupMinCells and kClayGroupReach * R. An operation's cost grows with the cube
 /// of its region's radius, about (r + w) plus half the extent, so a group about as long as that radius costs the
 /// least per sweep.
-inline constexpr float kClayGroupReach = 2.0f;
 float clay_group_cells(float radius_cells);
 /// Most sweeps apply_clay_batch puts in one push group. A session makes a sweep per haptic tick, so this bounds how
 /// long a held group waits for its last sweep (SculptHistory) to this many ticks, however slowly the tool moves.

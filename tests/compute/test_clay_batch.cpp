@@ -28,11 +28,11 @@ TriDexel slab() {
     });
 }
 
-/// `n` push sweeps of a ball of radius R cells, 0.6 cell each along +x from x0, pressed `depth` cells into the top.
-std::vector<Sweep> groove(int n, double x0, double R, double depth) {
+/// `n` push sweeps of a ball of radius R cells, `step` cells each along +x from x0, pressed `depth` cells into the top.
+std::vector<Sweep> groove(int n, double x0, double R, double depth, double step = 0.6) {
     std::vector<Sweep> out;
     for (int k = 0; k < n; ++k) {
-        const Vec3 a(x0 + 0.6 * k, 24.2, kZ0 + R - depth), b(x0 + 0.6 * (k + 1), 24.2, kZ0 + R - depth);
+        const Vec3 a(x0 + step * k, 24.2, kZ0 + R - depth), b(x0 + step * (k + 1), 24.2, kZ0 + R - depth);
         out.push_back(clay_sweep(ToolOp::kPush, a, b, R));
     }
     return out;
@@ -61,9 +61,9 @@ float floor_of(const TriDexel& m, int x0, int x1) {
 
 TEST(ClayBatch, ShortPushesOfOneToolGoAsGroupsSplitAtTheGroupLength) {
     const double R = 2.0;
-    const std::vector<Sweep> batch = groove(12, 12.0, R, 1.0);  // 7.2 cells of motion
+    const std::vector<Sweep> batch = groove(16, 8.0, R, 1.0, 1.5);  // 24 cells of motion in 16 sweeps
     const float limit = clay_group_cells(static_cast<float>(R));
-    ASSERT_LT(limit, 7.2f) << "the groove must need more than one group";
+    ASSERT_LT(limit, 24.0f) << "the groove must need more than one group";
     TriDexel grouped = slab();
     apply_clay_batch(grouped, batch);
     // The same groups by hand: consecutive sweeps while their motion's box diagonal stays within the limit.
