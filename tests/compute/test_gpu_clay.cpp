@@ -5,6 +5,7 @@
 // validation silent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -300,6 +301,46 @@ TEST(GpuClay, GroupedPushBatchesOnASphereMatchTheCpuBitForBit) {
         // Grouped: fewer fields than sweeps.
         EXPECT_LT(p.clay.stats().fields - fields0, stroke.size() / 2);
         EXPECT_GT(p.clay.stats().fields - fields0, 5u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+TEST(GpuClay, ClayWritesThatFillTheSpillPoolCompactItAndMatchTheCpu) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        // A block with a slot down its middle: every X ray through the slotted part holds two intervals, all inline.
+        // A push groove along Y beside the slot splits the X rays just under the face into three, each then needing a
+        // pool chunk; the pool starts exactly as large as the model needs, so it fills, compacts and grows.
+        const TriDexel start = from_implicit(cube_lattice(40), [](double x, double y, double z) {
+            const double block = std::max({4.4 - x, x - 35.6, 4.4 - y, y - 35.6, 6.2 - z, z - 26.3});
+            const double slot = std::max({19.2 - x, x - 20.8, 12.1 - z});
+            return std::max(block, -slot);
+        });
+        GpuSculptorOptions so;
+        so.initial_pool_chunks = 16;
+        Pair p(ctx, start, so);
+        const double R = 3.0, z0 = 26.3;
+        Vec3 a(11.7, 8.3, z0 + R - 0.9);
+        std::vector<Sweep> stroke;
+        for (int k = 0; k < 24; ++k) {
+            const Vec3 b = a + Vec3(0.02, 0.8, 0.0);
+            stroke.push_back(clay_sweep(ToolOp::kPush, a, b, R));
+            a = b;
+        }
+        for (std::size_t k = 0; k < 12 && !testing::Test::HasFatalFailure(); ++k) p.apply(stroke[k], k);
+        p.apply_batch(std::span<const Sweep>(stroke).subspan(12), 12);
+        a = Vec3(12.1, 10.0, z0 + R - 0.2);
+        for (int k = 0; k < 12 && !testing::Test::HasFatalFailure(); ++k) {
+            const Vec3 b = a + Vec3(0.0, 0.45, 0.0);
+            p.apply(clay_sweep(ToolOp::kSmooth, a, b, R), 100 + k);
+            a = b;
+        }
+        p.expect_equal();
+        std::cout << "rays changed " << p.changed << ", compactions " << p.sculptor.stats().compactions
+                  << ", spilled intervals " << p.sculptor.slabs().spilled_intervals() << "\n";
+        EXPECT_GT(p.changed, 300u);
+        EXPECT_GT(p.sculptor.stats().compactions, 0u);
+        EXPECT_GT(p.sculptor.slabs().spilled_intervals(), 0u);
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
