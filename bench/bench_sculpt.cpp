@@ -352,9 +352,25 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         const std::size_t common = std::min(row.segments, one->segments) / b * b;
         const double t_row = seconds_for_segments(row, common), t_one = seconds_for_segments(*one, common);
         if (common == 0 || !(t_row > 0.0) || !(t_one > 0.0)) continue;
-        std::printf("  N=%4d r=%2.0f %-15s: %.1f  (%.4f ms against %.4f ms, first %zu segments)\n", row.n,
+        std::printf("  N=%4d r=%2.0f %-15s: %.1f  (%.4f ms against %.4f ms, first %zu segments)", row.n,
                     row.radius_cells, row.path.c_str(), t_row / t_one, 1e3 * t_row / static_cast<double>(common),
                     1e3 * t_one / static_cast<double>(common), common);
+        // A Vulkan clay row beside the Vulkan subtract on the same device too: batched as the clay rows are when
+        // that row ran, else per segment.
+        if (row.path.rfind("gpu-", 0) == 0) {
+            for (const char* g : {"gpu-batched", "gpu"}) {
+                const SculptBenchRow* sub = find(rows, row.n, row.radius_cells, g);
+                if (!sub) continue;
+                const std::size_t l = std::lcm(b, static_cast<std::size_t>(std::max(sub->batch, 1)));
+                const std::size_t c = std::min(row.segments, sub->segments) / l * l;
+                const double tr = seconds_for_segments(row, c), ts = seconds_for_segments(*sub, c);
+                if (c == 0 || !(tr > 0.0) || !(ts > 0.0)) continue;
+                std::printf("; %.1f against Vulkan subtract (%s, %.4f ms, first %zu segments)", tr / ts, g,
+                            1e3 * ts / static_cast<double>(c), c);
+                break;
+            }
+        }
+        std::printf("\n");
     }
     std::printf("gpu-batched / cpu segments_per_s (target >= 0.5 when a batch's footprint > 10,000 rays):\n");
     for (const auto& row : rows) {
