@@ -191,8 +191,9 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
 
 namespace {
 
-// Appends the interaction points of push sweep g (clay_push) found against `model`.
-void clay_push_stamps(const TriDexel& model, const GridSweep& g, std::vector<ClayStamp>& stamps) {
+// Appends the interaction points of push sweep g (clay_push) found against `model`, each moving the surface at most
+// max_step cells.
+void clay_push_stamps(const TriDexel& model, const GridSweep& g, float max_step, std::vector<ClayStamp>& stamps) {
     const float R = g.radius;
     const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
     for (std::uint32_t k = 0; k < n; ++k) {
@@ -202,7 +203,7 @@ void clay_push_stamps(const TriDexel& model, const GridSweep& g, std::vector<Cla
         if (!(ct.delta >= kClayMinStep)) continue;
         stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
-                          std::min(ct.delta, kClayMaxStep)});
+                          std::min(ct.delta, max_step)});
     }
 }
 
@@ -220,9 +221,11 @@ ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, st
     thread_local std::vector<ClayStamp> stamps;
     stamps.clear();
     ClayBox outer = sweep_box(sweeps[0]);
+    // Pushed one by one, a spot under the tool for n sweeps could sink by n steps; grouped, it sinks in one.
+    const float max_step = std::min(kClayMaxStep * static_cast<float>(sweeps.size()), kClayGroupMaxStep);
     for (const GridSweep& g : sweeps) {
         if (g.radius != sweeps[0].radius) throw Error("clay push group: the sweeps' tool radii differ");
-        clay_push_stamps(model, g, stamps);
+        clay_push_stamps(model, g, max_step, stamps);
         const ClayBox b = sweep_box(g);
         for (int a = 0; a < 3; ++a) outer.lo[a] = std::min(outer.lo[a], b.lo[a]), outer.hi[a] = std::max(outer.hi[a], b.hi[a]);
     }

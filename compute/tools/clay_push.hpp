@@ -22,6 +22,10 @@ inline constexpr float kClayPullGrip = 0.5f;
 inline constexpr float kClayPullMaxStep = 2.0f;
 /// Largest surface displacement (cells) one push stamp applies; a deeper press is followed over several segments.
 inline constexpr float kClayMaxStep = 1.0f;
+/// Largest surface displacement (cells) one stamp of a group of n push sweeps applies (clay_push_group): n
+/// kClayMaxStep, at most this, so that a spot the tool presses over several sweeps of a group sinks as far as it
+/// would pushed sweep by sweep, while the field's offset stays well inside its search distance.
+inline constexpr float kClayGroupMaxStep = 3.0f;
 
 /// Distance (cells) from grid point c to the nearest interval end of any ray of the three sets within `search` cells
 /// (`search` when there is none): the distance to the sampled surface, exact at the samples, so at most a few
@@ -68,7 +72,8 @@ ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImag
 /// Plastic push of several consecutive push sweeps of one ball as one operation: the interaction points of every
 /// sweep (as clay_push), their contacts all found against `model` as it is before the group, one displacement field
 /// (the largest displacement over all of them wins, as over one sweep's stamps: Popescu 3.3's several interaction
-/// points) and one rim with one beta. The field's box is limited to the union of the sweeps' lo..hi. Costs about as
+/// points; a stamp moves the surface at most min(n kClayMaxStep, kClayGroupMaxStep) for n sweeps) and one rim with
+/// one beta. The field's box is limited to the union of the sweeps' lo..hi. Costs about as
 /// much as one clay_push over the group's extent, so a short group of short sweeps costs a fraction of pushing them
 /// one by one. The result differs from pushing them one by one (each sweep's contacts there see the dents of the
 /// ones before it), so a caller that must repeat a session groups the same sweeps the same way (apply_clay_batch).
