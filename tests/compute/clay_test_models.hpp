@@ -69,6 +69,23 @@ inline TriDexel from_implicit(const Lattice& L, const Implicit& f) {
     return m;
 }
 
+/// A slab: material in [4.4, 43.6] x [4.4, 43.6] x [4.4, z0] (grid units; for cube_lattice(48)).
+inline Implicit slab(double z0) {
+    return [z0](double x, double y, double z) { return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - z0}); };
+}
+
+/// True when the two models (one lattice) hold the same interval ends on every ray, bit for bit.
+inline bool same_rays(const TriDexel& a, const TriDexel& b) {
+    for (int s = 0; s < 3; ++s)
+        for (std::size_t r = 0; r < a.sets[s].rays.size(); ++r) {
+            const auto &x = a.sets[s].rays[r], &y = b.sets[s].rays[r];
+            if (x.size() != y.size()) return false;
+            for (std::size_t i = 0; i < x.size(); ++i)
+                if (x[i].enter != y[i].enter || x[i].exit != y[i].exit) return false;
+        }
+    return true;
+}
+
 /// Sum of the three sets' interval lengths / 3, cells^3.
 inline double volume_cells(const TriDexel& m) {
     double v = 0.0;

@@ -21,16 +21,10 @@ namespace {
 using clay_test::clay_sweep;
 using clay_test::cube_lattice;
 using clay_test::from_implicit;
+using clay_test::slab;
 using clay_test::volume_cells;
 
 constexpr double kCell = 1e-3;  // cube_lattice: 1 mm cells from the origin, so grid units = mm
-
-/// A slab: material in [4, 44] x [4, 44] x [4, z0] (grid units).
-clay_test::Implicit slab(double z0) {
-    return [z0](double x, double y, double z) {
-        return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - z0});
-    };
-}
 
 /// Top crossing (cells) of the Z ray at node (i, j): the exit of its last interval.
 float top_of(const TriDexel& m, int i, int j) {

@@ -22,11 +22,7 @@ using clay_test::volume_cells;
 
 constexpr double kZ0 = 20.3;  // the slab's top face, grid units
 
-TriDexel slab() {
-    return from_implicit(cube_lattice(48), [](double x, double y, double z) {
-        return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - kZ0});
-    });
-}
+TriDexel slab() { return from_implicit(cube_lattice(48), clay_test::slab(kZ0)); }
 
 /// `n` push sweeps of a ball of radius R cells, `step` cells each along +x from x0, pressed `depth` cells into the top.
 std::vector<Sweep> groove(int n, double x0, double R, double depth, double step = 0.6) {
@@ -36,17 +32,6 @@ std::vector<Sweep> groove(int n, double x0, double R, double depth, double step 
         out.push_back(clay_sweep(ToolOp::kPush, a, b, R));
     }
     return out;
-}
-
-bool same_model(const TriDexel& a, const TriDexel& b) {
-    for (int s = 0; s < 3; ++s)
-        for (std::size_t r = 0; r < a.sets[s].rays.size(); ++r) {
-            const auto &x = a.sets[s].rays[r], &y = b.sets[s].rays[r];
-            if (x.size() != y.size()) return false;
-            for (std::size_t i = 0; i < x.size(); ++i)
-                if (x[i].enter != y[i].enter || x[i].exit != y[i].exit) return false;
-        }
-    return true;
 }
 
 /// Lowest top crossing (cells) of the Z rays along the groove's centre line, x in [x0, x1].
@@ -81,11 +66,11 @@ TEST(ClayBatch, ShortPushesOfOneToolGoAsGroupsSplitAtTheGroupLength) {
         i = j;
     }
     EXPECT_GE(groups, 2u);
-    EXPECT_TRUE(same_model(grouped, by_hand)) << "apply_clay_batch must group exactly so";
+    EXPECT_TRUE(clay_test::same_rays(grouped, by_hand)) << "apply_clay_batch must group exactly so";
     // Applying the batch again from the start gives the same model bit for bit.
     TriDexel again = slab();
     apply_clay_batch(again, batch);
-    EXPECT_TRUE(same_model(grouped, again));
+    EXPECT_TRUE(clay_test::same_rays(grouped, again));
 }
 
 TEST(ClayBatch, AGroupedGrooveFollowsTheBallAndKeepsTheVolume) {
@@ -132,7 +117,7 @@ TEST(ClayBatch, BooleansAndOtherClayOpsInTheBatchApplyAsOnTheirOwn) {
     apply_sweep(b, batch[4]);
     apply_clay(b, batch[5]);
     group(6, 3);
-    EXPECT_TRUE(same_model(a, b));
+    EXPECT_TRUE(clay_test::same_rays(a, b));
 }
 
 TEST(ClayBatch, ManySlowPushesGoInGroupsOfAtMostTheGroupsSweeps) {
@@ -150,7 +135,7 @@ TEST(ClayBatch, ManySlowPushesGoInGroupsOfAtMostTheGroupsSweeps) {
             g.push_back(to_clay_grid_sweep(b.lattice, batch[k]));
         clay_push_group(b, g);
     }
-    EXPECT_TRUE(same_model(a, b));
+    EXPECT_TRUE(clay_test::same_rays(a, b));
     EXPECT_EQ(clay_open_group(a.lattice, batch), 2 * kClayGroupSweeps);  // the last 8 sweeps: an open group
 }
 
@@ -162,7 +147,7 @@ TEST(ClayBatch, ABadSweepChangesNothing) {
     TriDexel m = slab();
     const TriDexel before = m;
     EXPECT_THROW(apply_clay_batch(m, batch), Error);
-    EXPECT_TRUE(same_model(m, before));
+    EXPECT_TRUE(clay_test::same_rays(m, before));
 }
 
 }  // namespace

@@ -22,22 +22,7 @@ using clay_test::from_implicit;
 
 constexpr double kZ0 = 20.3;  // the slab's top face, grid units
 
-TriDexel slab() {
-    return from_implicit(cube_lattice(48), [](double x, double y, double z) {
-        return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - kZ0});
-    });
-}
-
-bool same_model(const TriDexel& a, const TriDexel& b) {
-    for (int s = 0; s < 3; ++s)
-        for (std::size_t r = 0; r < a.sets[s].rays.size(); ++r) {
-            const auto &x = a.sets[s].rays[r], &y = b.sets[s].rays[r];
-            if (x.size() != y.size()) return false;
-            for (std::size_t i = 0; i < x.size(); ++i)
-                if (x[i].enter != y[i].enter || x[i].exit != y[i].exit) return false;
-        }
-    return true;
-}
+TriDexel slab() { return from_implicit(cube_lattice(48), clay_test::slab(kZ0)); }
 
 TEST(SculptHistoryClay, AStrokeGivesOneModelHoweverItsSweepsAreSplitIntoBatches) {
     // A wandering push stroke with a subtract in the middle, through SculptHistory as the sculpt thread and journal
@@ -69,7 +54,7 @@ TEST(SculptHistoryClay, AStrokeGivesOneModelHoweverItsSweepsAreSplitIntoBatches)
     }
     TriDexel whole = slab();
     apply_clay_batch(whole, stroke);
-    for (std::size_t k = 0; k < models.size(); ++k) EXPECT_TRUE(same_model(models[k], whole)) << "split " << k;
+    for (std::size_t k = 0; k < models.size(); ++k) EXPECT_TRUE(clay_test::same_rays(models[k], whole)) << "split " << k;
     // Undo restores the start exactly, held sweeps included.
     TriDexel m = slab();
     const TriDexel start = m;
@@ -78,7 +63,7 @@ TEST(SculptHistoryClay, AStrokeGivesOneModelHoweverItsSweepsAreSplitIntoBatches)
     history.apply(std::span<const Sweep>(stroke).first(45));
     ASSERT_GT(history.held(), 0u);
     EXPECT_NE(history.undo().serial, 0u);
-    EXPECT_TRUE(same_model(m, start));
+    EXPECT_TRUE(clay_test::same_rays(m, start));
 }
 
 }  // namespace
