@@ -49,7 +49,8 @@ layout(std140, set = 0, binding = 18) uniform Plan {
     ivec4 move_hi;
     ivec4 ray_nu;      // RaySet::nu of sets 0, 1, 2
     uvec4 chord_at;    // xyz: first word of each set's chords in chord_words[]; w: first word of the stamps
-    uvec4 counts;      // x: nodes of the box; y: stamps; z: most intervals a re-sampled ray may have here
+    uvec4 counts;      // x: nodes of the box; y: stamps; z: most intervals a re-sampled ray may have here;
+                       // w: ClayStampParams::rim_cap (float bits)
     vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate; w: kClayMaxBeta
     vec4 stamp_par;    // ClayStampParams r, w, reach2, sign
     vec4 point;        // smooth: contact point xyz, w = r
@@ -187,6 +188,7 @@ void stamp_offsets(uint x, ivec3 nd) {
     const float phi = phi_at(x);
     const vec3 q = vec3(nd);
     const float r = plan.stamp_par.x, w = plan.stamp_par.y, reach2 = plan.stamp_par.z, sgn = plan.stamp_par.w;
+    const float rim_cap = uintBitsToFloat(plan.counts.w);
     const uint stamps = plan.counts.y, first = plan.chord_at.w;
     float dent = 0.0, rim = 0.0;
     for (uint s = 0u; s < stamps; ++s) {
@@ -211,7 +213,7 @@ void stamp_offsets(uint x, ivec3 nd) {
         } else if (d < rw) {
             precise float xr = (d - r) / w;
             precise float b = 4.0 * xr * (1.0 - xr);
-            precise float k = delta * (b * b);
+            precise float k = cmin(delta, rim_cap) * (b * b);
             rim = cmax(rim, k);
         }
     }

@@ -251,6 +251,7 @@ void GpuClay::stamp_field(const TriDexel& model, ClayField& field, std::span<con
     h.stamp_par[1] = params.w;
     h.stamp_par[2] = params.reach2;
     h.stamp_par[3] = params.sign;
+    std::memcpy(&h.counts[3], &params.rim_cap, sizeof(float));  // the rim's cap, float bits
     std::vector<float> words;  // per stamp: p, delta; n, 0
     words.reserve(8 * stamps.size());
     for (const ClayStamp& s : stamps)

@@ -21,13 +21,16 @@ struct ClayStamp {
 
 /// The constants of a push's or pull's displacement field (cells): the radius of influence r = kClayInfluence * R,
 /// the rim width w = kClayRimWidth * r, reach2 = (r + w)^2 * 1.0001 (no stamp moves a node farther than that,
-/// squared) and sign = +1 (push: inward) or -1 (pull: outward). Computed once on the host, in float, and used as they
+/// squared), sign = +1 (push: inward) or -1 (pull: outward) and the rim's cap (kClayMaxStep). Computed once on the host, in float, and used as they
 /// are by every kernel, so every kernel sees the same bits.
 struct ClayStampParams {
     float r = 0.0f;
     float w = 0.0f;
     float reach2 = 0.0f;
     float sign = 1.0f;
+    /// The rim's weight at a node is min(delta, rim_cap) times its bump (cells): beta (at most kClayMaxBeta) scales
+    /// it, so the rim rises at most kClayMaxBeta * rim_cap and only nodes that near the surface need an s1.
+    float rim_cap = 1.0f;
 };
 
 /// The contact a smooth acts at: point and outward normal (grid units; ClayContact) and the radius of influence r

@@ -98,6 +98,7 @@ ClayStats apply_stamps(TriDexel& model, const ClayBox& outer, float R, const std
     params.w = kClayRimWidth * params.r;
     params.reach2 = (params.r + params.w) * (params.r + params.w) * 1.0001f;  // with rounding to spare
     params.sign = inward ? 1.0f : -1.0f;
+    params.rim_cap = kClayMaxStep;
     const float r = params.r, w = params.w;
     ClayField field;
     // The box around the contact points (the sweeps' lo..hi allow for any contact within R + 0.5 of the centre).
@@ -143,15 +144,16 @@ void stamp_centre(const GridSweep& g, std::uint32_t k, std::uint32_t n, float c[
 
 void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                         const ClayStampParams& p) {
-    const float r = p.r, w = p.w, reach2 = p.reach2, sign = p.sign;
-    // No node farther from the surface than this gets an offset (dent and rim are at most the largest delta), so
-    // the stamps need not be visited there.
+    const float r = p.r, w = p.w, reach2 = p.reach2, sign = p.sign, rim_cap = p.rim_cap;
+    // No node farther from the surface than this gets an offset (a dent is at most the largest delta, a rim's weight
+    // at most that and rim_cap), so the stamps need not be visited there.
     float top = 0.0f;
     for (const ClayStamp& s : stamps) top = std::max(top, s.delta);
-    const float far = top * std::max(1.0f, kClayMaxBeta) + 2.0f;
+    const float far = std::max(top, std::min(top, rim_cap) * kClayMaxBeta) + 2.0f;
     // Per x-row, the stamps within reach of the row's line: dy^2 + dz^2 <= reach2, which no node's dx^2 + dy^2 + dz^2
     // can undercut in float (rounding is monotone), so the others would be skipped anyway.
     thread_local std::vector<const ClayStamp*> near;
+    const float r2_out = r * r * 1.0001f;  // d2 above this: d >= r
     int row_j = -1, row_k = -1;
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
@@ -168,9 +170,12 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
         float dent = 0.0f, rim = 0.0f;
         for (const ClayStamp* sp : near) {
             const ClayStamp& s = *sp;
+            // Once a dent acts, the rim no longer counts: a stamp that cannot raise the dent changes nothing (its
+            // dent is at most its delta; beyond r, with a margin for rounding, it has none).
+            if (dent > 0.0f && s.delta <= dent) continue;
             const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
             const float d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 > reach2) continue;
+            if (d2 > reach2 || (dent > 0.0f && d2 > r2_out)) continue;
             const float d = std::sqrt(d2);
             const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
             if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
@@ -178,7 +183,7 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
                 const float x = d / r;
                 dent = std::max(dent, s.delta * (1.0f - x * x));  // Popescu 3.3: k = 1 - (d/r)^2, the largest wins
             } else if (d < r + w) {
-                rim = std::max(rim, s.delta * rim_bump((d - r) / w));
+                rim = std::max(rim, std::min(s.delta, rim_cap) * rim_bump((d - r) / w));
             }
         }
         if (dent > 0.0f) {

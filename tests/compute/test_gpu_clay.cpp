@@ -125,7 +125,7 @@ TEST(GpuClay, NodeFieldEqualsTheCpuReferenceBitForBit) {
         ASSERT_GT(ct.delta, 0.5f);
         // A push field: two stamps, box and region as a push builds them.
         const ClayStamp stamps[2] = {{{ct.point[0], ct.point[1], ct.point[2]}, {ct.normal[0], ct.normal[1], ct.normal[2]}, 0.8f},
-                                     {{ct.point[0] + 0.5f, ct.point[1], ct.point[2]}, {ct.normal[0], ct.normal[1], ct.normal[2]}, 0.6f}};
+                                     {{ct.point[0] + 0.5f, ct.point[1], ct.point[2]}, {ct.normal[0], ct.normal[1], ct.normal[2]}, 2.6f}};  // over the rim cap
         ClayStampParams p;
         p.r = kClayInfluence * R;
         p.w = kClayRimWidth * p.r;
