@@ -70,11 +70,12 @@ void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, co
             const Vec3 q = compute::contour::crossing_point(p, a, x);
             const Vec3 qw = L.to_world(q);
             Vec3 nn(0.0);
-            const bool has = !x.fallback && x.exit == in && compute::contour::crossing_normal(model, a, p, in, x.t, nn);
+            bool crease = false;
+            const bool has = !x.fallback && x.exit == in && compute::contour::crossing_normal(model, a, p, in, x.t, nn, &crease);
             const Vec3 xn = exact_normal(exact, qw, 1e-3 * h);
             std::printf("  edge %2d comp %d axis %d at (%.3f %.3f %.3f)%s sdf %+.3f c exact (%+.3f %+.3f %+.3f) est ", e,
                         cc.edge_component[e], a, q.x, q.y, q.z, x.fallback ? " FALLBACK" : "", exact.sdf(qw) / h, xn.x, xn.y, xn.z);
-            if (has) std::printf("(%+.3f %+.3f %+.3f)\n", nn.x, nn.y, nn.z);
+            if (has) std::printf("(%+.3f %+.3f %+.3f)%s\n", nn.x, nn.y, nn.z, crease ? " crease" : "");
             else std::printf("-\n");
         }
     }

@@ -12,7 +12,8 @@ namespace tridex::app::accuracy {
 /// `exact`, each with: its grid position and error (cells), the exact outward normal there (central difference
 /// of the SDF), and for the cell holding it (floor of the grid position) every sign-change edge with its
 /// crossing (grid units), whether the crossing came from a fallback, its estimated normal
-/// (contour::crossing_normal, "-" when none) and the exact normal and |sdf| (cells) at the crossing. Vertices
+/// (contour::crossing_normal, "-" when none, "crease" when a crease's flat side gave it) and the exact normal
+/// and signed distance (cells) at the crossing. Vertices
 /// closer than one cell to an already printed one are skipped. A diagnostic: O(V log V + k).
 void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, const ExactSolid& exact, int k);
 
