@@ -272,6 +272,11 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--accuracy-offset", accuracy_offset,
                           "With --accuracy: lattice origin shift in cells, [0, 1) (0 = cube faces on lattice nodes)")
         ->capture_default_str();
+    int accuracy_dump = 0;
+    bench_cmd->add_option("--accuracy-dump", accuracy_dump,
+                          "With --accuracy: print the K worst vertices of each tridex cpu-1t run with their cells' crossings and "
+                          "normals against the exact solid")
+        ->check(CLI::Range(0, 1000));
     bench_cmd->add_option("--frames", rbench.frames, "Timed frames per render row")->capture_default_str()->check(CLI::Range(1, 1000));
     bench_cmd->add_option("--out", hbench.out, "Output folder")->capture_default_str();
     bench_cmd->add_option("--mesh", hbench.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
@@ -424,6 +429,7 @@ int main(int argc, char** argv) {
                     abench.openvdb = has("openvdb");
                 }
                 abench.offset_cells = accuracy_offset;
+                abench.dump_worst = accuracy_dump;
                 tridex::app::run_accuracy_bench(abench);
             }
         }

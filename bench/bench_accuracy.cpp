@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bench/bench_accuracy_dump.hpp"
 #include "bench/bench_accuracy_exact.hpp"
 #include "bench/bench_accuracy_match.hpp"
 #include "bench/bench_accuracy_metrics.hpp"
@@ -199,8 +200,10 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                 row.contour_s = since(t2);
                 row.volume_m3 = compute::dexel_volume_m3(m);
                 row.volume_change_m3 = row.volume_m3 - v0;
-                fill_errors(row, contourer.mesh(), ref, m.lattice.origin_m, threads);
+                const TriMesh mesh = contourer.mesh();
+                fill_errors(row, mesh, ref, m.lattice.origin_m, threads);
                 print_row(row);
+                if (o.dump_worst > 0 && p == "cpu-1t") dump_worst_vertices(m, mesh, *ref.exact, o.dump_worst);
                 rows.push_back(row);
             }
             if (vdb) {

@@ -49,6 +49,8 @@ struct AccuracyBenchOptions {
     std::size_t volume_samples = 4000000;        ///< quasi-random points for the reference volume
     double offset_cells = 0.0;                   ///< lattice origin at -offset_cells cells ([0, 1)); 0 puts the cube's
                                                  ///< faces on lattice nodes at N = 64, 128, 256, 0.37 in general position
+    int dump_worst = 0;                          ///< > 0: print this many worst vertices of each tridex cpu-1t run
+                                                 ///< with their cells' crossings (bench_accuracy_dump.hpp)
     bool plots = true;                           ///< write accuracy_<program>.png via gnuplot when installed
     std::string out = "out/bench";               ///< folder for bench.json
 };

@@ -39,7 +39,7 @@ bool nearest_end(int a, uint r, bool exit_end, double t, inout double depth) {
 
 // Slope of the height field of set a along lattice direction `dir` at node n (contour slope()): the
 // neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1).
-bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
+bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout bool crease) {
     int ua = (a + 1) % 3, va = (a + 2) % 3;
     int w = n[dir];
     bool u_dir = dir == ua;
@@ -57,10 +57,17 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
     g = 0.0lf;
     if (has_m && has_p) {
         precise double spread = dp - dm;
-        if (!(abs(spread) <= kCentralSlopeTol)) return false;  // a crease between the rays: no normal
-        precise double mid = (dm + dp) * 0.5lf;
-        g = mid;
-        return true;
+        if (abs(spread) <= kCentralSlopeTol) {
+            precise double mid = (dm + dp) * 0.5lf;
+            g = mid;
+            return true;
+        }
+        // A crease between the rays: a side at exactly depth t is a flat face the crossing lies on.
+        if ((dm == 0.0lf) != (dp == 0.0lf)) {
+            crease = true;
+            return true;
+        }
+        return false;
     }
     // One side alone (a sharp edge): only a gentle slope (contour::kOneSidedSlopeMax).
     if (has_m) {
@@ -75,13 +82,15 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g) {
 }
 
 // contour::crossing_normal: outward unit normal at the crossing at depth t on the edge from n along a
-// (start_inside: the crossing is an interval exit). False (normal = 0) without a neighbour end.
-bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 normal) {
+// (start_inside: the crossing is an interval exit). False (normal = 0) without a neighbour end; `crease`:
+// a crease's flat side gave the normal.
+bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 normal, out bool crease) {
     int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb, gc;
     normal = dvec3(0.0lf);
-    if (!slope(a, n, b, start_inside, t, gb)) return false;
-    if (!slope(a, n, c, start_inside, t, gc)) return false;
+    crease = false;
+    if (!slope(a, n, b, start_inside, t, gb, crease)) return false;
+    if (!slope(a, n, c, start_inside, t, gc, crease)) return false;
     precise double len2 = (1.0lf + gb * gb) + gc * gc;
     precise double len = sqrt(len2);
     double sa = start_inside ? 1.0lf : -1.0lf;

@@ -64,7 +64,8 @@ void place_face_vertices(uint i, uint v0) {
                 int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
                 ivec3 s = p - off * unit(g);
                 dvec3 nn;
-                if (!crossing_normal(g, s, inside(s), pts[m][g], nn)) continue;
+                bool cr;
+                if (!crossing_normal(g, s, inside(s), pts[m][g], nn, cr) || cr) continue;  // a crease side: none here
                 nn[f] = 0.0lf;
                 qef_add(qm, qr, nn, pts[m], half_sum);
                 ++normals;

@@ -79,7 +79,7 @@ void place_vertices(ivec3 cell, uint base) {
             if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
         dvec3 nq[12];
         [[unroll]] for (int e = 0; e < 12; ++e) nq[e] = dvec3(0.0lf);
-        uint has = 0u;
+        uint has = 0u, creased = 0u;
         [[unroll]] for (int a = 0; a < 3; ++a) {
             uint todo = (mine >> uint(4 * a)) & 15u;
             while (todo != 0u) {
@@ -88,11 +88,15 @@ void place_vertices(ivec3 cell, uint base) {
                 const ivec3 off = edge_start_offset(a, k);
                 const int corner = off.x + 2 * off.y + 4 * off.z;
                 dvec3 nn;
-                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[4 * a + k], nn)) continue;
+                bool cr;
+                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[4 * a + k], nn, cr)) continue;
                 nq[4 * a + k] = nn;
                 has |= 1u << uint(4 * a + k);
+                if (cr) creased |= 1u << uint(4 * a + k);
             }
         }
+        // Normals from a crease's flat side count only where no crossing has a normal of its own kind.
+        if ((has & ~creased) != 0u) has &= ~creased;
         // The component's crossings (ascending edge), for the fitted plane when only some have a normal.
         dvec3 fpts[12];
         int faxes[12];

@@ -26,7 +26,7 @@ bool nearest_end(const std::vector<Interval>& ray, bool exit_end, double t, doub
 }
 
 /// Slope of the height field along one lattice direction at ray coordinate w (see crossing_normal).
-bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g) {
+bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease) {
     const int w = n[dir];
     const bool u_dir = dir == (a + 1) % 3;
     const int limit = u_dir ? set.nu : set.nv;
@@ -36,9 +36,18 @@ bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, doub
     const bool has_p = w + 1 < limit && nearest_end(u_dir ? set.ray(u + 1, v) : set.ray(u, v + 1), exit_end, t, ep);
     const double dm = t - em, dp = ep - t;
     if (has_m && has_p) {
-        if (!(std::abs(dp - dm) <= kCentralSlopeTol)) return false;  // a crease between the rays: no normal
-        g = (dm + dp) * 0.5;
-        return true;
+        if (std::abs(dp - dm) <= kCentralSlopeTol) {
+            g = (dm + dp) * 0.5;
+            return true;
+        }
+        // A crease between the rays: a side at exactly the crossing's depth is a flat face across the
+        // lattice axis (a box face, a flat floor) that the crossing lies on; else no normal.
+        if ((dm == 0.0) != (dp == 0.0)) {
+            g = 0.0;
+            crease = true;
+            return true;
+        }
+        return false;
     }
     // One side alone (a sharp edge): only a gentle slope, as a steep one may be another sheet's end.
     if (has_m) {
@@ -80,12 +89,14 @@ void rotate(double m[3][3], double v[3][3], int p, int q) {
 
 }  // namespace
 
-bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal) {
+bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal, bool* at_crease) {
     const RaySet& set = model.sets[a];
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb = 0.0, gc = 0.0;
-    if (!slope(set, a, n, b, start_inside, t, gb)) return false;
-    if (!slope(set, a, n, c, start_inside, t, gc)) return false;
+    bool crease = false;
+    if (!slope(set, a, n, b, start_inside, t, gb, crease)) return false;
+    if (!slope(set, a, n, c, start_inside, t, gc, crease)) return false;
+    if (at_crease) *at_crease = crease;
     const double len = std::sqrt((1.0 + gb * gb) + gc * gc);
     // Exit (material below along a): grad(a - d(u, v)) = (1, -g_u, -g_v); an enter is the opposite.
     Vec3 out(0.0);

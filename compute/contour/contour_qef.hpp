@@ -15,7 +15,8 @@ inline constexpr double kNormalWindow = 2.0;
 static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty must cover the normals' window");
 /// Two one-sided slopes that differ by at most this much are averaged (central difference); beyond it
 /// the ray sits at a crease and its crossing gets no normal (choosing one side, e.g. the flatter one,
-/// often picks the face across the crease and throws the vertex off).
+/// often picks the face across the crease and throws the vertex off), unless one side is exactly flat across
+/// the ray axis (crossing_normal: the crossing then lies on that face).
 inline constexpr double kCentralSlopeTol = 0.5;
 /// fit_normal(): the crossings span a plane when the scatter matrix's second-smallest eigenvalue exceeds
 /// kFitPlaneRatio times the smallest and kFitPlaneSpread (grid units squared).
@@ -44,12 +45,16 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// Method (a height field along the ray, finite differences): on the four neighbouring rays of set a
 /// (u +- 1, v +- 1, u/v as in RaySet) take the interval end of the same kind nearest to t, accepted
 /// within kNormalWindow; per direction, slopes of both sides that agree within kCentralSlopeTol are
-/// averaged, slopes that do not (a crease) give no normal, and one side present is used alone when its
+/// averaged; where they do not (a crease between the rays), a side whose end lies at exactly depth t (slope 0:
+/// a flat face across axis a, such as a box face or a flat-end floor, that the crossing lies on) gives slope 0
+/// and `*at_crease` is set (when not nullptr), otherwise no normal; one side present is used alone when its
 /// slope is at most kOneSidedSlopeMax (a sharp edge: the ray beyond it has no end within the window). Normal = sigma (1, -g_u, -g_v) in (a, u, v),
 /// sigma = +1 for an exit, -1 for an enter, normalised. Arithmetic in double in a fixed order (the GPU
-/// contourer repeats it bit for bit). Returns false (normal untouched) when a direction has no
-/// neighbour end or a crease. O(intervals on 4 rays).
-bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal);
+/// contourer repeats it bit for bit). Returns false (normal and *at_crease untouched) when a direction has no
+/// neighbour end or an unresolved crease; on true, *at_crease tells whether a crease side gave the normal.
+/// O(intervals on 4 rays).
+bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal,
+                     bool* at_crease = nullptr);
 
 /// Stand-in normal for the crossings of a dual-contouring component that have none of their own (creases
 /// the height-field estimate cannot resolve, fallbacks): the outward unit normal of the least-squares plane

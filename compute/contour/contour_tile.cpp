@@ -190,25 +190,32 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         for (int comp = 0; comp < cc.components; ++comp) {
             // The component's crossings in ascending edge order, with their normals; when some have a normal
             // and others not, those others take the normal of the plane fitted to all of them (fit_normal).
+            // A normal from the flat side of a crease counts only in a component where no crossing has a
+            // normal of its own kind: a crossing at a crease lies on both faces, and beside crossings on the
+            // other face its flat face's plane would pull the vertex onto that face's extension.
             std::array<Vec3, 12> cp{};
             std::array<int, 12> ca{};
             std::array<bool, 12> ce{};
-            int nc = 0, own = 0;
+            int nc = 0, own = 0, plain = 0;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp && sample[i]->has_normal && !sample[i]->crease) ++plain;
+            std::array<bool, 12> use{};
             for (int i = 0; i < crossings; ++i)
                 if (owner[i] == comp) {
                     cp[nc] = point[i];
                     ca[nc] = axis[i];
                     ce[nc++] = exit[i];
-                    if (sample[i]->has_normal) ++own;
+                    use[i] = sample[i]->has_normal && (plain == 0 || !sample[i]->crease);
+                    if (use[i]) ++own;
                 }
             Vec3 fitted(0.0);
             const bool fit = own > 0 && own < nc && fit_normal(sum[comp] / static_cast<double>(count[comp]), cp.data(), ca.data(), ce.data(), nc, fitted);
             std::array<Vec3, 12> qp{}, qn{};
             int q = 0;
             for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && (sample[i]->has_normal || fit)) {
+                if (owner[i] == comp && (use[i] || fit)) {
                     qp[q] = point[i];
-                    qn[q++] = sample[i]->has_normal ? sample[i]->normal : fitted;
+                    qn[q++] = use[i] ? sample[i]->normal : fitted;
                 }
             QefOutcome how;
             cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo, &how);
@@ -239,8 +246,9 @@ const TileContourer::EdgeSample& TileContourer::edge_sample(const Node& start, i
     EdgeSample& es = edges_[idx];
     if (es.stamp != stamp_) {
         es.crossing = edge_crossing(*model_, a, start, start_inside);
+        es.crease = false;
         es.has_normal = !es.crossing.fallback && es.crossing.exit == start_inside &&
-                        crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal);
+                        crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal, &es.crease);
         es.stamp = stamp_;
     }
     return es;
@@ -326,7 +334,7 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
             pts[m] = crossing_point(s, g, es.crossing);
             mats[m] = es.crossing.material;
             sum += pts[m++];
-            if (es.has_normal) {
+            if (es.has_normal && !es.crease) {  // a crease side's face may not be this segment's
                 qp[q] = pts[m - 1];
                 qn[q] = es.normal;
                 qn[q++][f] = 0.0;

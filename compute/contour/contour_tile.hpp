@@ -112,6 +112,7 @@ private:
     struct EdgeSample {
         std::uint32_t stamp = 0;  // equals stamp_ when this run computed it
         bool has_normal = false;
+        bool crease = false;  // the normal came from the flat side of a crease (contour::crossing_normal)
         EdgeCrossing crossing;
         Vec3 normal{0.0};
     };

@@ -65,16 +65,29 @@ TEST(CrossingNormal, NoneAtACreaseOneSidedAtAnEdgeAndNeedsBothDirections) {
         return {Interval{2.0f, static_cast<float>(top)}};
     });
     Vec3 nrm(0.0);
-    // At the crease ray x = 12: slopes 0 (left) and 1.5 (right) differ by more than kCentralSlopeTol.
-    EXPECT_FALSE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
+    // At the crease ray x = 12: slopes 0 (left) and 1.5 (right) differ by more than kCentralSlopeTol; the
+    // left side is exactly flat, so the crossing lies on that face: its normal, marked as a crease side.
+    bool crease = false;
+    ASSERT_TRUE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm, &crease));
+    EXPECT_TRUE(crease);
+    EXPECT_NEAR(nrm.x, 0.0, 1e-12);
+    EXPECT_NEAR(nrm.z, 1.0, 1e-12);
     // Beside it (x = 11) both sides are flat.
     ASSERT_TRUE(crossing_normal(model, 2, Node{11, 5, 10}, true, 10.0, nrm));
     EXPECT_NEAR(nrm.x, 0.0, 1e-12);
     EXPECT_NEAR(nrm.z, 1.0, 1e-12);
     // On the slope (x = 16, depth 16): both sides agree, central difference -> normal (-1.5, 0, 1)/|.|.
-    ASSERT_TRUE(crossing_normal(model, 2, Node{16, 5, 16}, true, 16.0, nrm));
+    ASSERT_TRUE(crossing_normal(model, 2, Node{16, 5, 16}, true, 16.0, nrm, &crease));
     EXPECT_NEAR(nrm.x, -1.5 / std::sqrt(3.25), 1e-12);
     EXPECT_NEAR(nrm.z, 1.0 / std::sqrt(3.25), 1e-12);
+    EXPECT_FALSE(crease);
+    // A roof with no flat side (slopes -0.75 and 1.5 meeting at x = 12): no normal at the crease.
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a != 2) return {};
+        (void)v;
+        return {Interval{2.0f, static_cast<float>(u <= 12 ? 10.0 + 0.75 * (u - 12) : 10.0 + 1.5 * (u - 12))}};
+    });
+    EXPECT_FALSE(crossing_normal(model, 2, Node{12, 5, 10}, true, 10.0, nrm));
     // A step higher than kNormalWindow on one side only (a sharp edge): that side is ignored.
     fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
         if (a != 2) return {};
