@@ -11,6 +11,10 @@ SculptHistory::SculptHistory(compute::TriDexel& model, BooleanBackend& backend, 
 
 compute::BooleanStats SculptHistory::apply(std::span<const compute::Sweep> batch) {
     if (batch.empty()) return {};
+    if (held_.empty() && batch.back().op != ToolOp::kPush) {  // nothing held, nothing to hold
+        history_.capture(model_, batch);
+        return backend_.apply(batch);
+    }
     // The held sweeps, then the batch; all of it valid before anything changes.
     std::vector<compute::Sweep> all;
     all.reserve(held_.size() + batch.size());

@@ -241,8 +241,8 @@ void SculptThread::close_stroke() {
     stroke_changed_ = false;
     push_stroke_ = false;
     if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
-    // Plastic: the deformed surface is the new reference; and the haptic window shows the held group's change.
-    if (reference_moves || held.rays_changed > 0) publish(published_centre_m_);
+    // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
+    if (reference_moves) publish(published_centre_m_);
     if (held.rays_changed > 0) contour_changed(t0, std::chrono::steady_clock::now());
 }
 

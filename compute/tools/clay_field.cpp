@@ -226,9 +226,7 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = model.sets[a];
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
-        const std::size_t stride = a == 0   ? 1
-                                   : a == 1 ? static_cast<std::size_t>(b.n(0))
-                                            : static_cast<std::size_t>(b.n(0)) * b.n(1);
+        const std::size_t stride = b.stride(a);
         int nd[3];
         for (int v = b.lo[va]; v <= b.hi[va]; ++v)
             for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {

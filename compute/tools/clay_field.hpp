@@ -56,6 +56,11 @@ struct ClayBox {
                static_cast<std::size_t>(n(0)) *
                    (static_cast<std::size_t>(j - lo[1]) + static_cast<std::size_t>(n(1)) * (k - lo[2]));
     }
+    /// Index step between neighbouring nodes along axis a (ClayBox::index order).
+    std::size_t stride(int a) const {
+        return a == 0 ? 1 : a == 1 ? static_cast<std::size_t>(n(0)) : static_cast<std::size_t>(n(0)) * n(1);
+    }
+    /// True when node (i, j, k) (lattice node indices) lies in the box.
     bool contains(int i, int j, int k) const {
         return i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2];
     }
@@ -73,17 +78,21 @@ struct ClayRegion {
         for (int a = 0; a < 3; ++a) c[a] = c1[a] = centre[a];
         r = radius;
     }
-    /// True when lattice node (i, j, k) lies in the capsule: its squared distance to the segment (the nearest
-    /// point at parameter clamp(((q - c) . e) / (e . e), 0, 1), e = c1 - c; 0 when e = 0) is <= r^2, in float, in
-    /// that order (the same predicate wherever a node's membership is asked).
-    bool contains(int i, int j, int k) const {
-        const float q[3] = {static_cast<float>(i) - c[0], static_cast<float>(j) - c[1], static_cast<float>(k) - c[2]};
+    /// Squared distance (cells^2) from grid point (x, y, z) to the segment c..c1: to its nearest point at parameter
+    /// clamp(((q - c) . e) / (e . e), 0, 1), e = c1 - c (0 when e = 0), in float, in that order.
+    float distance2(float x, float y, float z) const {
+        const float q[3] = {x - c[0], y - c[1], z - c[2]};
         const float e[3] = {c1[0] - c[0], c1[1] - c[1], c1[2] - c[2]};
         const float ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
         float t = 0.0f;
         if (ee > 0.0f) t = std::clamp((q[0] * e[0] + q[1] * e[1] + q[2] * e[2]) / ee, 0.0f, 1.0f);
         const float dx = q[0] - t * e[0], dy = q[1] - t * e[1], dz = q[2] - t * e[2];
-        return dx * dx + dy * dy + dz * dz <= r * r;
+        return dx * dx + dy * dy + dz * dz;
+    }
+    /// True when lattice node (i, j, k) lies in the capsule: distance2 <= r^2 (the same predicate wherever a node's
+    /// membership is asked).
+    bool contains(int i, int j, int k) const {
+        return distance2(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k)) <= r * r;
     }
 };
 

@@ -111,18 +111,10 @@ ClayStats apply_stamps(TriDexel& model, const ClayBox& outer, float R, const std
     if (field.box.empty()) return {};
     // The narrow region: the nodes within r + w of a contact point (the only ones that move) and their neighbours,
     // as a capsule from the first contact point to the last, widened by the farthest point's distance from it.
-    const glm::vec3 a0(stamps.front().p[0], stamps.front().p[1], stamps.front().p[2]);
-    const glm::vec3 a1(stamps.back().p[0], stamps.back().p[1], stamps.back().p[2]);
-    const glm::vec3 e = a1 - a0;
-    const float ee = glm::dot(e, e);
-    float off = 0.0f;
-    for (const ClayStamp& s : stamps) {
-        const glm::vec3 q = glm::vec3(s.p[0], s.p[1], s.p[2]) - a0;
-        const float t = ee > 0.0f ? std::clamp(glm::dot(q, e) / ee, 0.0f, 1.0f) : 0.0f;
-        off = std::max(off, glm::length(q - t * e));
-    }
-    for (int a = 0; a < 3; ++a) field.region.c[a] = a0[a], field.region.c1[a] = a1[a];
-    field.region.r = r + w + 1.01f + off * 1.0001f + 1e-3f;  // a neighbour lies within 1 cell of a moved node
+    for (int a = 0; a < 3; ++a) field.region.c[a] = stamps.front().p[a], field.region.c1[a] = stamps.back().p[a];
+    float off2 = 0.0f;
+    for (const ClayStamp& s : stamps) off2 = std::max(off2, field.region.distance2(s.p[0], s.p[1], s.p[2]));
+    field.region.r = r + w + 1.01f + std::sqrt(off2) * 1.0001f + 1e-3f;  // a neighbour lies within 1 cell of a moved node
     kernel.stamp_field(model, field, stamps, params);
     return kernel.resample(model, field, before);
 }
@@ -153,7 +145,6 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
     // Per x-row, the stamps within reach of the row's line: dy^2 + dz^2 <= reach2, which no node's dx^2 + dy^2 + dz^2
     // can undercut in float (rounding is monotone), so the others would be skipped anyway.
     thread_local std::vector<const ClayStamp*> near;
-    const float r2_out = r * r * 1.0001f;  // d2 above this: d >= r
     int row_j = -1, row_k = -1;
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
@@ -170,12 +161,9 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
         float dent = 0.0f, rim = 0.0f;
         for (const ClayStamp* sp : near) {
             const ClayStamp& s = *sp;
-            // Once a dent acts, the rim no longer counts: a stamp that cannot raise the dent changes nothing (its
-            // dent is at most its delta; beyond r, with a margin for rounding, it has none).
-            if (dent > 0.0f && s.delta <= dent) continue;
             const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
             const float d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 > reach2 || (dent > 0.0f && d2 > r2_out)) continue;
+            if (d2 > reach2) continue;
             const float d = std::sqrt(d2);
             const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
             if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid

@@ -37,9 +37,7 @@ void clay_resample_ray(const std::vector<Interval>& ray, const ClayField& f, int
     n[(axis + 2) % 3] = v;
     n[axis] = lo;
     const std::size_t base = b.index(n[0], n[1], n[2]);
-    const std::size_t stride = axis == 0   ? 1
-                               : axis == 1 ? static_cast<std::size_t>(b.n(0))
-                                           : static_cast<std::size_t>(b.n(0)) * b.n(1);
+    const std::size_t stride = b.stride(axis);
     thread_local std::vector<Crossing> xs;
     xs.clear();
     std::size_t q = 0;  // next old crossing (2 per interval)

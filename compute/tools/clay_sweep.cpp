@@ -137,11 +137,16 @@ std::size_t clay_group_end(const Lattice& L, std::span<const Sweep> batch, std::
     return j;
 }
 
-// The clay sweeps of a batch in grid form (validated); other slots left default.
+// The clay sweeps of a batch in grid form, other slots left default; every sweep validated (to_clay_grid_sweep or
+// to_grid_sweep), so a bad one throws before anything changes.
 std::vector<GridSweep> clay_batch_grid(const Lattice& L, std::span<const Sweep> batch) {
     std::vector<GridSweep> grid(batch.size());
+    ToolTable tools;
     for (std::size_t i = 0; i < batch.size(); ++i)
-        if (is_clay_op(batch[i].op)) grid[i] = to_clay_grid_sweep(L, batch[i]);
+        if (is_clay_op(batch[i].op))
+            grid[i] = to_clay_grid_sweep(L, batch[i]);
+        else if (batch[i].op != ToolOp::kNone)
+            to_grid_sweep(L, batch[i], &tools);
     return grid;
 }
 
@@ -166,8 +171,7 @@ std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch) {
 BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before,
                               ClayKernel& kernel) {
     const Lattice& L = model.lattice;
-    to_grid_batch(L, batch);  // validate the whole batch first: a bad sweep changes nothing
-    const std::vector<GridSweep> grid = clay_batch_grid(L, batch);
+    const std::vector<GridSweep> grid = clay_batch_grid(L, batch);  // validates the whole batch first
     BooleanStats total;
     const auto add = [&](const BooleanStats& b) {
         total.rays_visited += b.rays_visited;

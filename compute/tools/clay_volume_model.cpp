@@ -7,15 +7,22 @@
 namespace tridex::compute {
 namespace {
 
-/// The inside length (cells, 0..1) clay_resample_ray leaves on an edge whose ends have offsets sa, sb (not both 0),
-/// field values phi + s, and old parities pa, pb (the ray's own status where an end keeps its value).
-float new_inside(float phia, float sa, bool pa, float phib, float sb, bool pb) {
-    const float p0 = phia + sa, p1 = phib + sb;
-    const bool st0 = sa != 0.0f ? p0 < 0.0f : pa;
-    const bool st1 = sb != 0.0f ? p1 < 0.0f : pb;
+/// The inside length (cells, 0..1) clay_resample_ray leaves on an edge whose ends have field values p0, p1 and
+/// are moved (m0, m1: their status is the field's sign) or still (their status is the old ray's, pa, pb).
+/// `d_root`, when not null, gets the length's derivative in the linear root p0 / (p0 - p1): +1 or -1 where the edge
+/// is split strictly inside it, else 0.
+[[gnu::always_inline]] inline float inside_on_edge(float p0, bool m0, bool pa, float p1, bool m1, bool pb,
+                                                 float* d_root = nullptr) {
+    if (d_root) *d_root = 0.0f;
+    const bool st0 = m0 ? p0 < 0.0f : pa;
+    const bool st1 = m1 ? p1 < 0.0f : pb;
     if (st0 == st1) return st0 ? 1.0f : 0.0f;
     float t = 0.5f;  // the old ray disagreed with the field at its still end
-    if ((p0 < 0.0f) != (p1 < 0.0f)) t = std::clamp(p0 / (p0 - p1), 0.0f, 1.0f);
+    if ((p0 < 0.0f) != (p1 < 0.0f)) {
+        const float w = p0 / (p0 - p1);
+        t = std::clamp(w, 0.0f, 1.0f);
+        if (d_root && t == w) *d_root = st0 ? 1.0f : -1.0f;
+    }
     return st0 ? t : 1.0f - t;
 }
 
@@ -42,9 +49,7 @@ void ClayVolumeModel::build(const TriDexel& model, const ClayField& f, std::span
         n[(axis + 2) % 3] = m.v;
         n[axis] = m.lo;
         const std::size_t base = b.index(n[0], n[1], n[2]);
-        const std::size_t stride = axis == 0   ? 1
-                                   : axis == 1 ? static_cast<std::size_t>(b.n(0))
-                                               : static_cast<std::size_t>(b.n(0)) * b.n(1);
+        const std::size_t stride = b.stride(axis);
         const std::size_t nx = 2 * ray.size();
         auto old_t = [&](std::size_t k) { return (k & 1u) ? ray[k >> 1].exit : ray[k >> 1].enter; };
         std::size_t q = 0;
@@ -71,7 +76,8 @@ void ClayVolumeModel::build(const TriDexel& model, const ClayField& f, std::span
                 (fixed_status(f.phi[i0], f.s0[i0], f.s1[i0]) && fixed_status(f.phi[i1], f.s0[i1], f.s1[i1]) &&
                  (f.phi[i0] + f.s0[i0] < 0.0f) == (f.phi[i1] + f.s0[i1] < 0.0f))) {
                 // No s1 end, or both ends moved and on one side of the surface for every beta: wholly in or out.
-                constant_ += static_cast<double>(new_inside(f.phi[i0], f.s0[i0], pa, f.phi[i1], f.s0[i1], pb)) - old_in;
+                const float in = inside_on_edge(f.phi[i0] + f.s0[i0], !still0, pa, f.phi[i1] + f.s0[i1], !still1, pb);
+                constant_ += static_cast<double>(in) - old_in;
                 continue;
             }
             edges_.push_back({f.phi[i0] + f.s0[i0], f.s1[i0], f.phi[i1] + f.s0[i1], f.s1[i1], old_in,
@@ -85,21 +91,12 @@ double ClayVolumeModel::change(float beta, double* slope) const {
     double sum = constant_, ds = 0.0;
     for (const Edge& e : edges_) {
         const float p0 = e.a0 + beta * e.b0, p1 = e.a1 + beta * e.b1;
-        const bool st0 = (e.flags & kMoved0) ? p0 < 0.0f : (e.flags & kInside0) != 0;
-        const bool st1 = (e.flags & kMoved1) ? p1 < 0.0f : (e.flags & kInside1) != 0;
-        float in = st0 ? 1.0f : 0.0f;
-        if (st0 != st1) {
-            float t = 0.5f;
-            if ((p0 < 0.0f) != (p1 < 0.0f)) {
-                const float w = p0 / (p0 - p1);
-                t = std::clamp(w, 0.0f, 1.0f);
-                if (slope && t == w) {  // d t / d beta of the linear root
-                    const double q = static_cast<double>(p0) - p1;
-                    const double dt = (static_cast<double>(p0) * e.b1 - static_cast<double>(p1) * e.b0) / (q * q);
-                    ds += st0 ? dt : -dt;
-                }
-            }
-            in = st0 ? t : 1.0f - t;
+        float d_root;
+        const float in = inside_on_edge(p0, (e.flags & kMoved0) != 0, (e.flags & kInside0) != 0, p1,
+                                        (e.flags & kMoved1) != 0, (e.flags & kInside1) != 0, &d_root);
+        if (slope && d_root != 0.0f) {  // the crossing slides with the linear root: d root / d beta
+            const double q = static_cast<double>(p0) - p1;
+            ds += d_root * (static_cast<double>(p0) * e.b1 - static_cast<double>(p1) * e.b0) / (q * q);
         }
         sum += static_cast<double>(in - e.old_inside);
     }
