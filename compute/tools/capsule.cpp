@@ -6,6 +6,12 @@
 namespace tridex::compute {
 namespace {
 
+// std::fmin and std::fmax as the C library defines them (a NaN operand yields the other operand; otherwise the
+// smaller or larger, the second one on a tie), written inline: the compiler keeps the library calls, and these
+// run several times per ray of every sweep.
+inline float min_f(float a, float b) { return (a < b || b != b) ? a : b; }
+inline float max_f(float a, float b) { return (a > b || b != b) ? a : b; }
+
 // Written out so the evaluation order is fixed (a shader uses the same order).
 float dot3(glm::vec3 p, glm::vec3 q) { return p.x * q.x + p.y * q.y + p.z * q.z; }
 glm::vec3 cross3(glm::vec3 p, glm::vec3 q) {
@@ -20,8 +26,8 @@ void add_ball(glm::vec3 o, glm::vec3 d, float dd, glm::vec3 c, float r, float& l
     if (disc < 0.0f) return;
     const float mid = -dot3(m, d) / dd;
     const float half = std::sqrt(disc) / dd;
-    lo = std::fmin(lo, mid - half);
-    hi = std::fmax(hi, mid + half);
+    lo = min_f(lo, mid - half);
+    hi = max_f(hi, mid + half);
 }
 
 /// Extends [lo, hi] by the chord of the line with the finite cylinder (axis a -> a+e, radius r), ee = |e|^2 > 0.
@@ -47,14 +53,14 @@ void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, 
     }
     if (ds != 0.0f) {  // clip to the slab between the end caps
         const float ta = -ms / ds, tb = (ee - ms) / ds;
-        c0 = std::fmax(c0, std::fmin(ta, tb));
-        c1 = std::fmin(c1, std::fmax(ta, tb));
+        c0 = max_f(c0, min_f(ta, tb));
+        c1 = min_f(c1, max_f(ta, tb));
     } else if (ms < 0.0f || ms > ee) {
         return;
     }
     if (!(c0 <= c1)) return;
-    lo = std::fmin(lo, c0);
-    hi = std::fmax(hi, c1);
+    lo = min_f(lo, c0);
+    hi = max_f(hi, c1);
 }
 
 /// Extends [lo, hi] by t = tc + l*k over the l in [0, 1] where |p + l*g|^2 <= rr (a cap plane's path, |k| <= 1).
@@ -69,14 +75,14 @@ void add_cap_path(glm::vec3 p, glm::vec3 g, float rr, float tc, float k, float& 
         const float s = std::sqrt(disc);
         const float r0 = (-gb - s) / ga, r1 = (-gb + s) / ga;
         if (!(r0 <= 1.0f && r1 >= 0.0f)) return;
-        l0 = std::fmax(l0, r0);
-        l1 = std::fmin(l1, r1);
+        l0 = max_f(l0, r0);
+        l1 = min_f(l1, r1);
     } else if (!(gc <= 0.0f)) {
         return;
     }
     const float ta = tc + l0 * k, tb = tc + l1 * k;
-    lo = std::fmin(lo, std::fmin(ta, tb));
-    hi = std::fmax(hi, std::fmax(ta, tb));
+    lo = min_f(lo, min_f(ta, tb));
+    hi = max_f(hi, max_f(ta, tb));
 }
 
 /// Extends [lo, hi] by the t where |p + t*g|^2 <= rr and l = lc + t*kl lies in [0, 1] (a cap plane's path
@@ -97,14 +103,14 @@ void add_cap_line(glm::vec3 p, glm::vec3 g, float rr, float lc, float kl, float&
     }
     if (kl != 0.0f) {
         const float ta = (0.0f - lc) / kl, tb = (1.0f - lc) / kl;
-        t0 = std::fmax(t0, std::fmin(ta, tb));
-        t1 = std::fmin(t1, std::fmax(ta, tb));
+        t0 = max_f(t0, min_f(ta, tb));
+        t1 = min_f(t1, max_f(ta, tb));
     } else if (!(lc >= 0.0f && lc <= 1.0f)) {
         return;
     }
     if (!(t0 <= t1)) return;
-    lo = std::fmin(lo, t0);
-    hi = std::fmax(hi, t1);
+    lo = min_f(lo, t0);
+    hi = max_f(hi, t1);
 }
 
 /// Extends [lo, hi] by where the line o + t*d crosses the cap plane h = c of the moving cylinder inside its
@@ -135,6 +141,78 @@ bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, 
     if (ee > 0.0f) {
         add_ball(o, d, dd, b, r, lo, hi);
         add_cylinder(o, d, a, e, ee, r, lo, hi);
+    }
+    if (!(lo <= hi)) return false;
+    t0 = lo;
+    t1 = hi;
+    return true;
+}
+
+AxisCapsule::AxisCapsule(int axis, glm::vec3 e, float r)
+    : axis_(axis), ua_((axis + 1) % 3), va_((axis + 2) % 3), e_(e), r_(r), rr_(r * r), ee_(dot3(e, e)) {
+    glm::vec3 d(0.0f);
+    d[axis] = 1.0f;
+    de_ = cross3(d, e);
+    qa_ = dot3(de_, de_);
+    eerr_ = ee_ * (r * r);
+    ds_ = dot3(d, e);
+}
+
+bool AxisCapsule::chord(float ou, float ov, float& t0, float& t1) const {
+    if (!(r_ > 0.0f)) return false;
+    float lo = INFINITY, hi = -INFINITY;
+    // The end balls (add_ball with d = e_axis, |d|^2 = 1): |m x d|^2 is the sum of m's two lateral squares and
+    // m . d is m's axial component.
+    const auto ball = [&](float cu, float cv, float ca) {
+        const float mu = ou - cu, mv = ov - cv;
+        const float disc = rr_ - (mu * mu + mv * mv);
+        if (disc < 0.0f) return;
+        const float mid = -(0.0f - ca);
+        const float half = std::sqrt(disc);
+        lo = min_f(lo, mid - half);
+        hi = max_f(hi, mid + half);
+    };
+    ball(0.0f, 0.0f, 0.0f);
+    if (ee_ > 0.0f) {
+        ball(e_[ua_], e_[va_], e_[axis_]);
+        // The cylinder (add_cylinder with a = 0): m = o.
+        glm::vec3 m(0.0f);
+        m[ua_] = ou;
+        m[va_] = ov;
+        const glm::vec3 me = cross3(m, e_);
+        const float qb = dot3(me, de_);
+        const float qc = dot3(me, me) - eerr_;
+        const float ms = dot3(m, e_);
+        float c0 = 0.0f, c1 = 0.0f;
+        bool hit = true;
+        if (qa_ > 0.0f) {
+            const float disc = qb * qb - qa_ * qc;
+            if (disc < 0.0f) {
+                hit = false;
+            } else {
+                const float sq = std::sqrt(disc);
+                c0 = (-qb - sq) / qa_;
+                c1 = (-qb + sq) / qa_;
+            }
+        } else if (qc > 0.0f) {
+            hit = false;
+        } else {
+            c0 = -INFINITY;
+            c1 = INFINITY;
+        }
+        if (hit) {
+            if (ds_ != 0.0f) {
+                const float ta = -ms / ds_, tb = (ee_ - ms) / ds_;
+                c0 = max_f(c0, min_f(ta, tb));
+                c1 = min_f(c1, max_f(ta, tb));
+            } else if (ms < 0.0f || ms > ee_) {
+                hit = false;
+            }
+        }
+        if (hit && c0 <= c1) {
+            lo = min_f(lo, c0);
+            hi = max_f(hi, c1);
+        }
     }
     if (!(lo <= hi)) return false;
     t0 = lo;
@@ -189,8 +267,8 @@ bool swept_cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 e, glm::vec3 delta
                 const float l = (ca + t * cb) / cc;
                 const float h = ms + t * ds - l * cs;
                 if (l >= 0.0f && l <= 1.0f && h >= 0.0f && h <= len) {
-                    lo = std::fmin(lo, t);
-                    hi = std::fmax(hi, t);
+                    lo = min_f(lo, t);
+                    hi = max_f(hi, t);
                 }
             }
         }

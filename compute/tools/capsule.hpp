@@ -16,6 +16,24 @@ namespace tridex::compute {
 /// to keep float precision. Source: Peng et al., tri-dexel Booleans with a ball tool's sweep.
 bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, float& t0, float& t1);
 
+/// capsule_chord for the rays of one ray set: the lines o + t*e_axis (o[axis] = 0, o lateral = (ou, ov) on the set's
+/// two other axes (axis + 1) % 3 and (axis + 2) % 3) against the capsule from the origin to e, radius r. What does not
+/// depend on the ray (|d|^2 = 1, |e|^2, d x e, r^2, ...) is computed once. chord() gives what
+/// capsule_chord(o, e_axis, 0, e, r, t0, t1) gives, to the bit up to the sign of a zero t0 or t1: the products
+/// with d's components (exactly 0 and 1) are exact, so they are left out, and the sums of two squares commute.
+class AxisCapsule {
+public:
+    /// axis in 0..2 (throws nothing; other values are undefined); e and r as capsule_chord's b - a and r.
+    AxisCapsule(int axis, glm::vec3 e, float r);
+    /// The chord of the ray through lateral offsets (ou, ov); false when it misses (or r <= 0 or NaN).
+    bool chord(float ou, float ov, float& t0, float& t1) const;
+
+private:
+    int axis_ = 0, ua_ = 1, va_ = 2;
+    glm::vec3 e_{0.0f}, de_{0.0f};
+    float r_ = 0.0f, rr_ = 0.0f, ee_ = 0.0f, qa_ = 0.0f, eerr_ = 0.0f, ds_ = 0.0f;
+};
+
 /// Chord of the line {o + t*d} with the solid finite cylinder of radius r whose axis runs from a to
 /// a + e, closed by flat caps at both ends (a flat-end mill: a is the centre of the flat end, e the
 /// shank). Same contract and arithmetic rules as capsule_chord; false when the line misses it, d or e

@@ -201,8 +201,12 @@ std::size_t mesh_stamp_spans(const GridSweep& s, const ToolDexels& tool, int axi
     return set.first[ray + 1] - set.first[ray];
 }
 
+AxisCapsule sweep_axis_capsule(const GridSweep& s, int axis) {
+    return AxisCapsule(axis, glm::vec3(s.delta[0], s.delta[1], s.delta[2]), s.radius);
+}
+
 bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
-                        std::span<const std::shared_ptr<const ToolDexels>> tools) {
+                        std::span<const std::shared_ptr<const ToolDexels>> tools, const AxisCapsule* ball) {
     const ToolOp op = s.op();
     if (op == ToolOp::kNone) return false;
     bool changed = false;
@@ -224,7 +228,18 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
     }
     for (std::uint32_t k = 0; k < s.stamps; ++k) {
         float d0, d1;
-        if (!sweep_chord(s, axis, u, v, k, d0, d1)) continue;
+        if (ball != nullptr && s.kind() == ToolKind::kBall) {  // sweep_chord's arithmetic, ray-independent part once
+            const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+            const float ou = static_cast<float>(u - s.origin[ua]) - s.start[ua];
+            const float ov = static_cast<float>(v - s.origin[va]) - s.start[va];
+            float t0, t1;
+            if (!ball->chord(ou, ov, t0, t1)) continue;
+            const float base = static_cast<float>(s.origin[axis]) + s.start[axis];
+            d0 = base + t0;
+            d1 = base + t1;
+        } else if (!sweep_chord(s, axis, u, v, k, d0, d1)) {
+            continue;
+        }
         if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
         else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
         else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
@@ -241,6 +256,44 @@ bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi
     return u_lo <= u_hi && v_lo <= v_hi;
 }
 
+bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {
+    if (s.kind() != ToolKind::kBall || u_lo > u_hi) return u_lo <= u_hi;
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    const double du = s.delta[ua], dv = s.delta[va], R = s.radius;
+    const double ov = static_cast<double>(v - s.origin[va]) - s.start[va];
+    const double r = R + 1e-3 + 1e-5 * (R + std::fabs(du) + std::fabs(dv));  // float rounding stays far below
+    double lo = INFINITY, hi = -INFINITY;
+    for (int end = 0; end < 2; ++end) {  // the discs at both ends
+        const double cu = end ? du : 0.0, cv = end ? dv : 0.0;
+        const double h = r * r - (ov - cv) * (ov - cv);
+        if (h >= 0.0) lo = std::min(lo, cu - std::sqrt(h)), hi = std::max(hi, cu + std::sqrt(h));
+    }
+    const double ll = du * du + dv * dv;
+    if (ll > 0.0) {  // the band: within r of the motion's line, projecting inside the motion
+        double a = -INFINITY, b = INFINITY;
+        const double w = r * std::sqrt(ll);  // |x*dv - ov*du| <= r * |delta|
+        if (dv != 0.0) {
+            const double x1 = (ov * du - w) / dv, x2 = (ov * du + w) / dv;
+            a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
+        } else if (std::fabs(ov * du) > w) {
+            b = -INFINITY;
+        }
+        if (du != 0.0) {  // 0 <= x*du + ov*dv <= |delta|^2
+            const double x1 = -ov * dv / du, x2 = (ll - ov * dv) / du;
+            a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
+        } else if (ov * dv < 0.0 || ov * dv > ll) {
+            b = -INFINITY;
+        }
+        if (a <= b) lo = std::min(lo, a), hi = std::max(hi, b);
+    }
+    if (!(lo <= hi)) return false;
+    // Ray u lies at x = (u - origin) - start.
+    const double base = static_cast<double>(s.origin[ua]) + s.start[ua];
+    u_lo = static_cast<int>(std::max(static_cast<double>(u_lo), std::ceil(lo + base)));
+    u_hi = static_cast<int>(std::min(static_cast<double>(u_hi), std::floor(hi + base)));
+    return u_lo <= u_hi;
+}
+
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
     BooleanStats stats;
     if (sweep.op == ToolOp::kNone) return stats;
@@ -250,12 +303,16 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
         RaySet& set = model.sets[ax];
         int u_lo, u_hi, v_lo, v_hi;
         if (!sweep_footprint(g, set, u_lo, u_hi, v_lo, v_hi)) continue;
-        for (int v = v_lo; v <= v_hi; ++v)
-            for (int u = u_lo; u <= u_hi; ++u) {
-                ++stats.rays_visited;
-                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools))
+        const AxisCapsule ball = sweep_axis_capsule(g, ax);
+        for (int v = v_lo; v <= v_hi; ++v) {
+            stats.rays_visited += static_cast<std::size_t>(u_hi - u_lo + 1);
+            int a = u_lo, b = u_hi;
+            if (!sweep_row_span(g, ax, v, a, b)) continue;  // rays the swept volume cannot reach keep their intervals
+            for (int u = a; u <= b; ++u)
+                if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools,
+                                       &ball))
                     ++stats.rays_changed;
-            }
+        }
     }
     if (stats.rays_changed > 0) model.mark_dirty(sweep_bounds(sweep));
     return stats;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compute/tools/boolean.hpp"
+#include "compute/tools/capsule.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/segment.hpp"
@@ -126,8 +127,15 @@ std::size_t mesh_stamp_spans(const GridSweep& sweep, const ToolDexels& tool, int
 /// along `axis`), so no material is added where the lattice, the contour and the renderer cannot see it.
 /// `tools` is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
 /// Returns true when the ray changed.
+/// `ball` (optional, kBall only): the sweep's AxisCapsule for this set (sweep_axis_capsule), which gives the same
+/// chords as sweep_chord with less work per ray.
 bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
-                        std::span<const std::shared_ptr<const ToolDexels>> tools = {});
+                        std::span<const std::shared_ptr<const ToolDexels>> tools = {},
+                        const AxisCapsule* ball = nullptr);
+
+/// The AxisCapsule of a kBall sweep's rays on set `axis` (e = delta, r = radius): its chord(ou, ov) with sweep_chord's
+/// lateral offsets gives sweep_chord's t0, t1.
+AxisCapsule sweep_axis_capsule(const GridSweep& sweep, int axis);
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
 /// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles
@@ -135,6 +143,13 @@ bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vec
 /// Throws tridex::Error (model unchanged) on the bad input to_grid_sweep rejects.
 /// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep);
+
+/// Narrows [u_lo, u_hi] (nodes of one row of the footprint: set `axis`, node v along the set's second lateral axis)
+/// to the rays a ball sweep can reach: the row's section of the swept capsule's shadow along the axis (the 2D capsule
+/// of radius R around the projected motion 0 -> delta), computed in double and widened by a margin far beyond the
+/// float rounding of capsule_chord, so no ray whose chord is non-empty is left out and the result of the sweep is
+/// unchanged. Returns false when the row misses the shadow. Other tool kinds keep the range (returns u_lo <= u_hi).
+bool sweep_row_span(const GridSweep& sweep, int axis, int v, int& u_lo, int& u_hi);
 
 /// Footprint of a sweep on ray set `axis`: the node range [u_lo, u_hi] x [v_lo, v_hi] clamped to the
 /// set; false when it is empty.

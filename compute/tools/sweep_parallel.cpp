@@ -2,6 +2,7 @@
 #include "compute/tools/sweep_parallel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <utility>
@@ -88,20 +89,34 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
             const int u0 = t.tu * kTileRays, u1 = std::min(set.nu - 1, u0 + kTileRays - 1);
             const int v0 = t.tv * kTileRays, v1 = std::min(set.nv - 1, v0 + kTileRays - 1);
             std::size_t changed = 0;
-            for (int v = v0; v <= v1; ++v)
+            thread_local std::vector<std::array<int, 2>> row;  // per member sweep: the rays of row v it can reach
+            thread_local std::vector<AxisCapsule> caps;        // per member sweep: its chords on this set
+            row.resize(t.count);
+            caps.clear();
+            for (std::size_t k = 0; k < t.count; ++k) caps.push_back(sweep_axis_capsule(grid[members[t.first + k]], t.axis));
+            for (int v = v0; v <= v1; ++v) {
+                for (std::size_t k = 0; k < t.count; ++k) {
+                    const std::uint32_t s = members[t.first + k];
+                    const Footprint& f = fp[s * 3u + static_cast<std::size_t>(t.axis)];
+                    row[k] = {std::max(u0, f.u_lo), std::min(u1, f.u_hi)};
+                    if (v < f.v_lo || v > f.v_hi || !sweep_row_span(grid[s], t.axis, v, row[k][0], row[k][1]))
+                        row[k] = {1, 0};
+                }
                 for (int u = u0; u <= u1; ++u) {
                     std::vector<Interval>* ray = nullptr;
                     for (std::size_t k = t.first; k < t.first + t.count; ++k) {
                         const std::uint32_t s = members[k];
-                        const Footprint& f = fp[s * 3u + static_cast<std::size_t>(t.axis)];
-                        if (u < f.u_lo || u > f.u_hi || v < f.v_lo || v > f.v_hi) continue;
+                        const std::array<int, 2>& span = row[k - t.first];
+                        if (u < span[0] || u > span[1]) continue;
                         if (ray == nullptr) ray = &set.ray(u, v);
-                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, *ray, depth_cells, converted.tools)) {
+                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, *ray, depth_cells, converted.tools,
+                                               &caps[k - t.first])) {
                             ++changed;
                             sweep_changed[s].store(1, std::memory_order_relaxed);
                         }
                     }
                 }
+            }
             tile_changed[i] = changed;
         }
     }, threads);
