@@ -276,9 +276,9 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     std::vector<TileEntry> tiles;
     std::vector<std::uint32_t> index;
     std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
-    struct Span {
+    struct Span {  // the tiles of one row of tiles (tv) that sweep s reaches: tu0..tu1
         std::uint32_t s;
-        int tu0, tu1, tv0, tv1;
+        int tv, tu0, tu1;
     };
     std::vector<Span> spans;
     std::vector<std::uint32_t> slot;
@@ -290,20 +290,32 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
             int u0, u1, v0, v1;
             if (!sweep_footprint(grid[s], set, u0, u1, v0, v1)) continue;
             stats.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
-            const Span sp{s, u0 / kTileU, u1 / kTileU, v0 / kTileV, v1 / kTileV};
-            bu0 = std::min(bu0, sp.tu0);
-            bu1 = std::max(bu1, sp.tu1);
-            bv0 = std::min(bv0, sp.tv0);
-            bv1 = std::max(bv1, sp.tv1);
-            spans.push_back(sp);
+            // Only the tiles holding a ray of the swept volume's shadow (SweepShadow): the kernel would find no chord
+            // on the others.
+            const SweepShadow shadow(grid[s], a);
+            for (int tv = v0 / kTileV; tv <= v1 / kTileV; ++tv) {
+                int lo = INT32_MAX, hi = -1;
+                for (int v = std::max(v0, tv * kTileV); v <= std::min(v1, tv * kTileV + kTileV - 1); ++v) {
+                    int r0 = u0, r1 = u1;
+                    if (!shadow.row(v, r0, r1)) continue;
+                    lo = std::min(lo, r0);
+                    hi = std::max(hi, r1);
+                }
+                if (hi < lo) continue;
+                const Span sp{s, tv, lo / kTileU, hi / kTileU};
+                bu0 = std::min(bu0, sp.tu0);
+                bu1 = std::max(bu1, sp.tu1);
+                bv0 = std::min(bv0, sp.tv);
+                bv1 = std::max(bv1, sp.tv);
+                spans.push_back(sp);
+            }
         }
         base[a] = static_cast<std::uint32_t>(tiles.size());
         if (spans.empty()) continue;
         const std::size_t bw = static_cast<std::size_t>(bu1 - bu0 + 1);
         slot.assign(bw * static_cast<std::size_t>(bv1 - bv0 + 1), 0u);
         for (const Span& sp : spans)
-            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
-                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) ++slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)];
+            for (int tu = sp.tu0; tu <= sp.tu1; ++tu) ++slot[static_cast<std::size_t>(sp.tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)];
         // slot[i]: the tile's count -> the index position where its next sweep goes.
         for (std::size_t i = 0; i < slot.size(); ++i) {
             if (slot[i] == 0) continue;
@@ -314,8 +326,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
             index.resize(index.size() + t.count);
         }
         for (const Span& sp : spans)
-            for (int tv = sp.tv0; tv <= sp.tv1; ++tv)
-                for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
+            for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(sp.tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
         count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
         balance_tiles(tiles.begin() + base[a], tiles.end());
     }

@@ -23,6 +23,8 @@ bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, 
 /// with d's components (exactly 0 and 1) are exact, so they are left out, and the sums of two squares commute.
 class AxisCapsule {
 public:
+    /// A capsule no ray meets (r = 0).
+    AxisCapsule() = default;
     /// axis in 0..2 (throws nothing; other values are undefined); e and r as capsule_chord's b - a and r.
     AxisCapsule(int axis, glm::vec3 e, float r);
     /// The chord of the ray through lateral offsets (ou, ov); false when it misses (or r <= 0 or NaN).

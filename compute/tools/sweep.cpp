@@ -256,42 +256,56 @@ bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi
     return u_lo <= u_hi && v_lo <= v_hi;
 }
 
-bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {
-    if (s.kind() != ToolKind::kBall || u_lo > u_hi) return u_lo <= u_hi;
+SweepShadow::SweepShadow(const GridSweep& s, int axis) : ball_(s.kind() == ToolKind::kBall) {
+    if (!ball_) return;
     const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-    const double du = s.delta[ua], dv = s.delta[va], R = s.radius;
-    const double ov = static_cast<double>(v - s.origin[va]) - s.start[va];
-    const double r = R + 1e-3 + 1e-5 * (R + std::fabs(du) + std::fabs(dv));  // float rounding stays far below
+    du_ = s.delta[ua];
+    dv_ = s.delta[va];
+    const double R = s.radius;
+    r_ = R + 1e-3 + 1e-5 * (R + std::fabs(du_) + std::fabs(dv_));  // float rounding of the chords stays far below
+    rr_ = r_ * r_;
+    ll_ = du_ * du_ + dv_ * dv_;
+    w_ = r_ * std::sqrt(ll_);
+    v_base_ = static_cast<double>(s.origin[va]) + s.start[va];
+    u_base_ = static_cast<double>(s.origin[ua]) + s.start[ua];
+}
+
+bool SweepShadow::row(int v, int& u_lo, int& u_hi) const {
+    if (!ball_ || u_lo > u_hi) return u_lo <= u_hi;
+    const double ov = static_cast<double>(v) - v_base_;
     double lo = INFINITY, hi = -INFINITY;
-    for (int end = 0; end < 2; ++end) {  // the discs at both ends
-        const double cu = end ? du : 0.0, cv = end ? dv : 0.0;
-        const double h = r * r - (ov - cv) * (ov - cv);
-        if (h >= 0.0) lo = std::min(lo, cu - std::sqrt(h)), hi = std::max(hi, cu + std::sqrt(h));
+    const double h0 = rr_ - ov * ov;  // the discs at both ends
+    if (h0 >= 0.0) lo = -std::sqrt(h0), hi = -lo;
+    const double h1 = rr_ - (ov - dv_) * (ov - dv_);
+    if (h1 >= 0.0) {
+        const double q = std::sqrt(h1);
+        lo = std::min(lo, du_ - q), hi = std::max(hi, du_ + q);
     }
-    const double ll = du * du + dv * dv;
-    if (ll > 0.0) {  // the band: within r of the motion's line, projecting inside the motion
-        double a = -INFINITY, b = INFINITY;
-        const double w = r * std::sqrt(ll);  // |x*dv - ov*du| <= r * |delta|
-        if (dv != 0.0) {
-            const double x1 = (ov * du - w) / dv, x2 = (ov * du + w) / dv;
-            a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
-        } else if (std::fabs(ov * du) > w) {
+    if (ll_ > 0.0) {  // the band: within r of the motion's line (|x*dv - ov*du| <= r*|delta|), inside the motion
+        double a = -INFINITY, b = INFINITY;  // (0 <= x*du + ov*dv <= |delta|^2)
+        if (dv_ != 0.0) {
+            const double x1 = (ov * du_ - w_) / dv_, x2 = (ov * du_ + w_) / dv_;
+            a = std::min(x1, x2), b = std::max(x1, x2);
+        } else if (std::fabs(ov * du_) > w_) {
             b = -INFINITY;
         }
-        if (du != 0.0) {  // 0 <= x*du + ov*dv <= |delta|^2
-            const double x1 = -ov * dv / du, x2 = (ll - ov * dv) / du;
+        if (du_ != 0.0) {
+            const double x1 = -ov * dv_ / du_, x2 = (ll_ - ov * dv_) / du_;
             a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
-        } else if (ov * dv < 0.0 || ov * dv > ll) {
+        } else if (ov * dv_ < 0.0 || ov * dv_ > ll_) {
             b = -INFINITY;
         }
         if (a <= b) lo = std::min(lo, a), hi = std::max(hi, b);
     }
     if (!(lo <= hi)) return false;
-    // Ray u lies at x = (u - origin) - start.
-    const double base = static_cast<double>(s.origin[ua]) + s.start[ua];
-    u_lo = static_cast<int>(std::max(static_cast<double>(u_lo), std::ceil(lo + base)));
-    u_hi = static_cast<int>(std::min(static_cast<double>(u_hi), std::floor(hi + base)));
+    // Ray u lies at x = u - u_base.
+    u_lo = static_cast<int>(std::max(static_cast<double>(u_lo), std::ceil(lo + u_base_)));
+    u_hi = static_cast<int>(std::min(static_cast<double>(u_hi), std::floor(hi + u_base_)));
     return u_lo <= u_hi;
+}
+
+bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {
+    return SweepShadow(s, axis).row(v, u_lo, u_hi);
 }
 
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
@@ -304,10 +318,11 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
         int u_lo, u_hi, v_lo, v_hi;
         if (!sweep_footprint(g, set, u_lo, u_hi, v_lo, v_hi)) continue;
         const AxisCapsule ball = sweep_axis_capsule(g, ax);
+        const SweepShadow shadow(g, ax);
         for (int v = v_lo; v <= v_hi; ++v) {
             stats.rays_visited += static_cast<std::size_t>(u_hi - u_lo + 1);
             int a = u_lo, b = u_hi;
-            if (!sweep_row_span(g, ax, v, a, b)) continue;  // rays the swept volume cannot reach keep their intervals
+            if (!shadow.row(v, a, b)) continue;  // rays the swept volume cannot reach keep their intervals
             for (int u = a; u <= b; ++u)
                 if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools,
                                        &ball))

@@ -144,11 +144,23 @@ AxisCapsule sweep_axis_capsule(const GridSweep& sweep, int axis);
 /// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep);
 
-/// Narrows [u_lo, u_hi] (nodes of one row of the footprint: set `axis`, node v along the set's second lateral axis)
-/// to the rays a ball sweep can reach: the row's section of the swept capsule's shadow along the axis (the 2D capsule
-/// of radius R around the projected motion 0 -> delta), computed in double and widened by a margin far beyond the
-/// float rounding of capsule_chord, so no ray whose chord is non-empty is left out and the result of the sweep is
-/// unchanged. Returns false when the row misses the shadow. Other tool kinds keep the range (returns u_lo <= u_hi).
+/// The shadow of a ball sweep's swept capsule on the rays of one set (the 2D capsule of radius R around the motion
+/// 0 -> delta projected along the set's axis), row by row: row() narrows [u_lo, u_hi] (nodes of one row of the
+/// footprint, node v along the set's second lateral axis) to the row's section of the shadow, computed in double
+/// and widened by a margin far beyond the float rounding of capsule_chord, so no ray whose chord is non-empty is
+/// left out and the sweep's result is unchanged. Returns false when the row misses. Other tool kinds keep the range
+/// (row() returns u_lo <= u_hi).
+class SweepShadow {
+public:
+    SweepShadow(const GridSweep& sweep, int axis);
+    bool row(int v, int& u_lo, int& u_hi) const;
+
+private:
+    bool ball_ = false;
+    double du_ = 0.0, dv_ = 0.0, r_ = 0.0, rr_ = 0.0, ll_ = 0.0, w_ = 0.0, u_base_ = 0.0, v_base_ = 0.0;
+};
+
+/// SweepShadow(sweep, axis).row(v, u_lo, u_hi).
 bool sweep_row_span(const GridSweep& sweep, int axis, int v, int& u_lo, int& u_hi);
 
 /// Footprint of a sweep on ray set `axis`: the node range [u_lo, u_hi] x [v_lo, v_hi] clamped to the

@@ -42,37 +42,82 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
     std::vector<RayTile> tiles;
     std::vector<std::uint32_t> members;
     std::vector<Footprint> fp(grid.size() * 3);
-    for (int a = 0; a < 3; ++a) {
-        const RaySet& set = model.sets[a];
-        int tu0 = set.nu, tu1 = -1, tv0 = set.nv, tv1 = -1;
-        for (std::size_t s = 0; s < grid.size(); ++s) {
+    // Per sweep and set: its chords' constants, and per footprint row the rays it can reach (SweepShadow;
+    // rows[row_first[s * 3 + a] + v - v_lo], empty as {1, 0}), filled on the pool.
+    std::vector<std::size_t> row_first(grid.size() * 3, 0);
+    std::size_t row_count = 0;
+    for (std::size_t s = 0; s < grid.size(); ++s)
+        for (int a = 0; a < 3; ++a) {
             Footprint& f = fp[s * 3 + static_cast<std::size_t>(a)];
-            f.any = sweep_footprint(grid[s], set, f.u_lo, f.u_hi, f.v_lo, f.v_hi);
+            f.any = sweep_footprint(grid[s], model.sets[a], f.u_lo, f.u_hi, f.v_lo, f.v_hi);
             if (!f.any) continue;
             stats.rays_visited += static_cast<std::size_t>(f.u_hi - f.u_lo + 1) * static_cast<std::size_t>(f.v_hi - f.v_lo + 1);
+            row_first[s * 3 + static_cast<std::size_t>(a)] = row_count;
+            row_count += static_cast<std::size_t>(f.v_hi - f.v_lo + 1);
+        }
+    std::vector<AxisCapsule> caps(grid.size() * 3);
+    std::vector<std::array<int, 2>> rows(row_count);
+    pool_for(grid.size(), 4, [&](const Chunk& chunk) {
+        for (std::size_t s = chunk.first; s < chunk.last; ++s)
+            for (int a = 0; a < 3; ++a) {
+                const std::size_t fs = s * 3 + static_cast<std::size_t>(a);
+                caps[fs] = sweep_axis_capsule(grid[s], a);
+                const Footprint& f = fp[fs];
+                if (!f.any) continue;
+                const SweepShadow shadow(grid[s], a);
+                for (int v = f.v_lo; v <= f.v_hi; ++v) {
+                    std::array<int, 2> r{f.u_lo, f.u_hi};
+                    if (!shadow.row(v, r[0], r[1])) r = {1, 0};
+                    rows[row_first[fs] + static_cast<std::size_t>(v - f.v_lo)] = r;
+                }
+            }
+    }, threads);
+    struct Band {
+        std::uint32_t s;
+        int tv, tu0, tu1;  // tile row and tile columns, relative to the set's box of tiles
+    };
+    std::vector<Band> bands;
+    std::vector<std::size_t> slot;
+    for (int a = 0; a < 3; ++a) {
+        int tu0 = model.sets[a].nu, tu1 = -1, tv0 = model.sets[a].nv, tv1 = -1;
+        for (std::size_t s = 0; s < grid.size(); ++s) {
+            const Footprint& f = fp[s * 3 + static_cast<std::size_t>(a)];
+            if (!f.any) continue;
             tu0 = std::min(tu0, f.u_lo / kTileRays);
             tu1 = std::max(tu1, f.u_hi / kTileRays);
             tv0 = std::min(tv0, f.v_lo / kTileRays);
             tv1 = std::max(tv1, f.v_hi / kTileRays);
         }
         if (tu1 < tu0) continue;
-        const int wu = tu1 - tu0 + 1, wv = tv1 - tv0 + 1;
-        std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(wu) * static_cast<std::size_t>(wv));
+        // The tiles each sweep reaches, band of tile rows by band (bands[], in batch order), counted per tile, then
+        // listed per tile in batch order (a counting sort over the set's box of tiles).
+        bands.clear();
         for (std::size_t s = 0; s < grid.size(); ++s) {
             const Footprint& f = fp[s * 3 + static_cast<std::size_t>(a)];
             if (!f.any) continue;
-            for (int tv = f.v_lo / kTileRays; tv <= f.v_hi / kTileRays; ++tv)
-                for (int tu = f.u_lo / kTileRays; tu <= f.u_hi / kTileRays; ++tu)
-                    lists[static_cast<std::size_t>(tu - tu0) + static_cast<std::size_t>(wu) * static_cast<std::size_t>(tv - tv0)]
-                        .push_back(static_cast<std::uint32_t>(s));
-        }
-        for (int tv = 0; tv < wv; ++tv)
-            for (int tu = 0; tu < wu; ++tu) {
-                const std::vector<std::uint32_t>& l = lists[static_cast<std::size_t>(tu) + static_cast<std::size_t>(wu) * static_cast<std::size_t>(tv)];
-                if (l.empty()) continue;
-                tiles.push_back({a, tu0 + tu, tv0 + tv, members.size(), l.size()});
-                members.insert(members.end(), l.begin(), l.end());
+            for (int tv = f.v_lo / kTileRays; tv <= f.v_hi / kTileRays; ++tv) {
+                int lo = INT32_MAX, hi = -1;
+                for (int v = std::max(f.v_lo, tv * kTileRays); v <= std::min(f.v_hi, tv * kTileRays + kTileRays - 1); ++v) {
+                    const std::array<int, 2>& r = rows[row_first[s * 3 + static_cast<std::size_t>(a)] + static_cast<std::size_t>(v - f.v_lo)];
+                    if (r[0] > r[1]) continue;
+                    lo = std::min(lo, r[0]);
+                    hi = std::max(hi, r[1]);
+                }
+                if (lo <= hi) bands.push_back({static_cast<std::uint32_t>(s), tv - tv0, lo / kTileRays - tu0, hi / kTileRays - tu0});
             }
+        }
+        const std::size_t bw = static_cast<std::size_t>(tu1 - tu0 + 1);
+        slot.assign(bw * static_cast<std::size_t>(tv1 - tv0 + 1), 0u);
+        for (const Band& b : bands)
+            for (int tu = b.tu0; tu <= b.tu1; ++tu) ++slot[static_cast<std::size_t>(tu) + bw * static_cast<std::size_t>(b.tv)];
+        for (std::size_t i = 0; i < slot.size(); ++i) {  // slot[i]: the tile's count -> where its next sweep goes
+            if (slot[i] == 0) continue;
+            tiles.push_back({a, tu0 + static_cast<int>(i % bw), tv0 + static_cast<int>(i / bw), members.size(), slot[i]});
+            slot[i] = members.size();
+            members.resize(members.size() + tiles.back().count);
+        }
+        for (const Band& b : bands)
+            for (int tu = b.tu0; tu <= b.tu1; ++tu) members[slot[static_cast<std::size_t>(tu) + bw * static_cast<std::size_t>(b.tv)]++] = b.s;
     }
     if (tiles.empty()) return stats;
 
@@ -89,34 +134,23 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
             const int u0 = t.tu * kTileRays, u1 = std::min(set.nu - 1, u0 + kTileRays - 1);
             const int v0 = t.tv * kTileRays, v1 = std::min(set.nv - 1, v0 + kTileRays - 1);
             std::size_t changed = 0;
-            thread_local std::vector<std::array<int, 2>> row;  // per member sweep: the rays of row v it can reach
-            thread_local std::vector<AxisCapsule> caps;        // per member sweep: its chords on this set
-            row.resize(t.count);
-            caps.clear();
-            for (std::size_t k = 0; k < t.count; ++k) caps.push_back(sweep_axis_capsule(grid[members[t.first + k]], t.axis));
-            for (int v = v0; v <= v1; ++v) {
-                for (std::size_t k = 0; k < t.count; ++k) {
-                    const std::uint32_t s = members[t.first + k];
-                    const Footprint& f = fp[s * 3u + static_cast<std::size_t>(t.axis)];
-                    row[k] = {std::max(u0, f.u_lo), std::min(u1, f.u_hi)};
-                    if (v < f.v_lo || v > f.v_hi || !sweep_row_span(grid[s], t.axis, v, row[k][0], row[k][1]))
-                        row[k] = {1, 0};
-                }
-                for (int u = u0; u <= u1; ++u) {
-                    std::vector<Interval>* ray = nullptr;
-                    for (std::size_t k = t.first; k < t.first + t.count; ++k) {
-                        const std::uint32_t s = members[k];
-                        const std::array<int, 2>& span = row[k - t.first];
-                        if (u < span[0] || u > span[1]) continue;
-                        if (ray == nullptr) ray = &set.ray(u, v);
-                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, *ray, depth_cells, converted.tools,
-                                               &caps[k - t.first])) {
+            // Row by row, each member sweep over the rays of the row it can reach, in batch order: every ray still
+            // sees its sweeps in batch order, and rays are independent.
+            for (int v = v0; v <= v1; ++v)
+                for (std::size_t k = t.first; k < t.first + t.count; ++k) {
+                    const std::uint32_t s = members[k];
+                    const std::size_t fs = s * 3u + static_cast<std::size_t>(t.axis);
+                    const Footprint& f = fp[fs];
+                    if (v < f.v_lo || v > f.v_hi) continue;
+                    const std::array<int, 2>& r = rows[row_first[fs] + static_cast<std::size_t>(v - f.v_lo)];
+                    bool hit = false;
+                    for (int u = std::max(u0, r[0]); u <= std::min(u1, r[1]); ++u)
+                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, set.ray(u, v), depth_cells, converted.tools, &caps[fs])) {
                             ++changed;
-                            sweep_changed[s].store(1, std::memory_order_relaxed);
+                            hit = true;
                         }
-                    }
+                    if (hit) sweep_changed[s].store(1, std::memory_order_relaxed);
                 }
-            }
             tile_changed[i] = changed;
         }
     }, threads);
