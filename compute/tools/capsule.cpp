@@ -1,6 +1,7 @@
 // compute/tools/capsule.cpp - line/capsule chord in float arithmetic.
 #include "compute/tools/capsule.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tridex::compute {
@@ -218,6 +219,47 @@ bool AxisCapsule::chord(float ou, float ov, float& t0, float& t1) const {
     t0 = lo;
     t1 = hi;
     return true;
+}
+
+CapsuleShadow::CapsuleShadow(double du, double dv, double r, double u_base, double v_base)
+    : du_(du), dv_(dv), rr_(r * r), ll_(du * du + dv * dv), w_(r * std::sqrt(du * du + dv * dv)), u_base_(u_base),
+      v_base_(v_base) {
+    if (!(r >= 0.0)) rr_ = -1.0;
+}
+
+bool CapsuleShadow::row(int v, int& u_lo, int& u_hi) const {
+    if (u_lo > u_hi || !(rr_ >= 0.0)) return false;
+    const double ov = static_cast<double>(v) - v_base_;
+    double lo = INFINITY, hi = -INFINITY;
+    const double h0 = rr_ - ov * ov;  // the discs at both ends
+    if (h0 >= 0.0) lo = -std::sqrt(h0), hi = -lo;
+    const double h1 = rr_ - (ov - dv_) * (ov - dv_);
+    if (h1 >= 0.0) {
+        const double q = std::sqrt(h1);
+        lo = std::min(lo, du_ - q), hi = std::max(hi, du_ + q);
+    }
+    if (ll_ > 0.0) {  // the band: within r of the segment's line (|x*dv - ov*du| <= r*|d|), inside the segment
+        double a = -INFINITY, b = INFINITY;  // (0 <= x*du + ov*dv <= |d|^2)
+        if (dv_ != 0.0) {
+            const double x1 = (ov * du_ - w_) / dv_, x2 = (ov * du_ + w_) / dv_;
+            a = std::min(x1, x2), b = std::max(x1, x2);
+        } else if (std::fabs(ov * du_) > w_) {
+            b = -INFINITY;
+        }
+        if (du_ != 0.0) {
+            const double x1 = -ov * dv_ / du_, x2 = (ll_ - ov * dv_) / du_;
+            a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
+        } else if (ov * dv_ < 0.0 || ov * dv_ > ll_) {
+            b = -INFINITY;
+        }
+        if (a <= b) lo = std::min(lo, a), hi = std::max(hi, b);
+    }
+    if (!(lo <= hi)) return false;
+    // Node u lies at x = u - u_base; clamped into [u_lo - 1, u_hi + 1] before the conversion to int.
+    const double flo = static_cast<double>(u_lo), fhi = static_cast<double>(u_hi);
+    u_lo = static_cast<int>(std::clamp(std::ceil(lo + u_base_), flo, fhi + 1.0));
+    u_hi = static_cast<int>(std::clamp(std::floor(hi + u_base_), flo - 1.0, fhi));
+    return u_lo <= u_hi;
 }
 
 bool cylinder_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float r, float& t0, float& t1) {

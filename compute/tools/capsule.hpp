@@ -36,6 +36,21 @@ private:
     float r_ = 0.0f, rr_ = 0.0f, ee_ = 0.0f, qa_ = 0.0f, eerr_ = 0.0f, ds_ = 0.0f;
 };
 
+/// The shadow of a capsule on the rays of one set, row by row: the 2D capsule of radius r around the segment from
+/// (u_base, v_base) to (u_base + du, v_base + dv) (grid units on the set's two lateral axes; the capsule's projection
+/// along the set's axis). row(v) narrows [u_lo, u_hi] to the nodes u of row v inside it (in double; a caller that
+/// must not lose a ray passes r with a margin for its own rounding). Returns false when the row misses it (or the
+/// range is empty). Default: a shadow no row meets.
+class CapsuleShadow {
+public:
+    CapsuleShadow() = default;
+    CapsuleShadow(double du, double dv, double r, double u_base, double v_base);
+    bool row(int v, int& u_lo, int& u_hi) const;
+
+private:
+    double du_ = 0.0, dv_ = 0.0, rr_ = -1.0, ll_ = 0.0, w_ = 0.0, u_base_ = 0.0, v_base_ = 0.0;
+};
+
 /// Chord of the line {o + t*d} with the solid finite cylinder of radius r whose axis runs from a to
 /// a + e, closed by flat caps at both ends (a flat-end mill: a is the centre of the flat end, e the
 /// shank). Same contract and arithmetic rules as capsule_chord; false when the line misses it, d or e

@@ -115,18 +115,6 @@ ClayBox clay_whole_box(const Lattice& L) {
     return b;
 }
 
-namespace {
-
-/// True when the rays of set a in row v (node index along the set's second cross axis va) may meet the region: v
-/// lies within r (and a little) of the segment's extent along va.
-bool row_meets(const ClayRegion& g, int va, int v) {
-    const float lo = std::min(g.c[va], g.c1[va]), hi = std::max(g.c[va], g.c1[va]);
-    const float fv = static_cast<float>(v), slack = g.r * 1.0001f + 1e-2f;
-    return fv >= lo - slack && fv <= hi + slack;
-}
-
-}  // namespace
-
 void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
     lo = f.box.lo[a];
     hi = f.box.hi[a];
@@ -193,9 +181,16 @@ void clay_build_chords(ClayField& f) {
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
+        // The region's shadow on the set's rays, widened beyond clay_region_chord's own (r * 1.0001 + 0.01) and
+        // beyond float rounding: rays outside it have no chord.
+        const ClayRegion& g = f.region;
+        const double eu = g.c1[ua] - g.c[ua], ev = g.c1[va] - g.c[va];
+        const double margin = 2e-2 + 1e-5 * (g.r + std::fabs(eu) + std::fabs(ev) + std::fabs(g.c[ua]) + std::fabs(g.c[va]));
+        const CapsuleShadow shadow(eu, ev, whole ? 0.0 : g.r * 1.0001 + margin, g.c[ua], g.c[va]);
         for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
-            if (!whole && !row_meets(f.region, va, v)) continue;  // the row misses the region
-            for (int u = b.lo[ua]; u <= b.hi[ua]; ++u) {
+            int u_lo = b.lo[ua], u_hi = b.hi[ua];
+            if (!whole && !shadow.row(v, u_lo, u_hi)) continue;  // the row misses the region
+            for (int u = u_lo; u <= u_hi; ++u) {
                 int dlo, dhi;
                 clay_region_chord(f, a, u, v, dlo, dhi);
                 if (dlo > dhi) continue;

@@ -259,49 +259,15 @@ bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi
 SweepShadow::SweepShadow(const GridSweep& s, int axis) : ball_(s.kind() == ToolKind::kBall) {
     if (!ball_) return;
     const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-    du_ = s.delta[ua];
-    dv_ = s.delta[va];
-    const double R = s.radius;
-    r_ = R + 1e-3 + 1e-5 * (R + std::fabs(du_) + std::fabs(dv_));  // float rounding of the chords stays far below
-    rr_ = r_ * r_;
-    ll_ = du_ * du_ + dv_ * dv_;
-    w_ = r_ * std::sqrt(ll_);
-    v_base_ = static_cast<double>(s.origin[va]) + s.start[va];
-    u_base_ = static_cast<double>(s.origin[ua]) + s.start[ua];
+    const double du = s.delta[ua], dv = s.delta[va], R = s.radius;
+    // The margin keeps the float rounding of the chords far inside.
+    shadow_ = CapsuleShadow(du, dv, R + 1e-3 + 1e-5 * (R + std::fabs(du) + std::fabs(dv)),
+                            static_cast<double>(s.origin[ua]) + s.start[ua], static_cast<double>(s.origin[va]) + s.start[va]);
 }
 
 bool SweepShadow::row(int v, int& u_lo, int& u_hi) const {
-    if (!ball_ || u_lo > u_hi) return u_lo <= u_hi;
-    const double ov = static_cast<double>(v) - v_base_;
-    double lo = INFINITY, hi = -INFINITY;
-    const double h0 = rr_ - ov * ov;  // the discs at both ends
-    if (h0 >= 0.0) lo = -std::sqrt(h0), hi = -lo;
-    const double h1 = rr_ - (ov - dv_) * (ov - dv_);
-    if (h1 >= 0.0) {
-        const double q = std::sqrt(h1);
-        lo = std::min(lo, du_ - q), hi = std::max(hi, du_ + q);
-    }
-    if (ll_ > 0.0) {  // the band: within r of the motion's line (|x*dv - ov*du| <= r*|delta|), inside the motion
-        double a = -INFINITY, b = INFINITY;  // (0 <= x*du + ov*dv <= |delta|^2)
-        if (dv_ != 0.0) {
-            const double x1 = (ov * du_ - w_) / dv_, x2 = (ov * du_ + w_) / dv_;
-            a = std::min(x1, x2), b = std::max(x1, x2);
-        } else if (std::fabs(ov * du_) > w_) {
-            b = -INFINITY;
-        }
-        if (du_ != 0.0) {
-            const double x1 = -ov * dv_ / du_, x2 = (ll_ - ov * dv_) / du_;
-            a = std::max(a, std::min(x1, x2)), b = std::min(b, std::max(x1, x2));
-        } else if (ov * dv_ < 0.0 || ov * dv_ > ll_) {
-            b = -INFINITY;
-        }
-        if (a <= b) lo = std::min(lo, a), hi = std::max(hi, b);
-    }
-    if (!(lo <= hi)) return false;
-    // Ray u lies at x = u - u_base.
-    u_lo = static_cast<int>(std::max(static_cast<double>(u_lo), std::ceil(lo + u_base_)));
-    u_hi = static_cast<int>(std::min(static_cast<double>(u_hi), std::floor(hi + u_base_)));
-    return u_lo <= u_hi;
+    if (!ball_) return u_lo <= u_hi;
+    return shadow_.row(v, u_lo, u_hi);
 }
 
 bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {

@@ -157,7 +157,7 @@ public:
 
 private:
     bool ball_ = false;
-    double du_ = 0.0, dv_ = 0.0, r_ = 0.0, rr_ = 0.0, ll_ = 0.0, w_ = 0.0, u_base_ = 0.0, v_base_ = 0.0;
+    CapsuleShadow shadow_;
 };
 
 /// SweepShadow(sweep, axis).row(v, u_lo, u_hi).

@@ -97,6 +97,23 @@ TEST(ClayField, ChordsAreExactlyTheRegionsNodesOnEachRay) {
         g.region.r = c[6];
         expect_exact_chords(m, g);
     }
+    // Random capsules, some with ends on nodes and whole radii (rays tangent to the region's shadow).
+    std::uint32_t seed = 12345u;
+    const auto next = [&seed](float lo, float hi) {
+        seed = seed * 1664525u + 1013904223u;
+        return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
+    };
+    for (int k = 0; k < 12; ++k) {
+        ClayField g;
+        g.box = box_around(3, 28);
+        for (int a = 0; a < 3; ++a) g.region.c[a] = next(6.0f, 25.0f), g.region.c1[a] = g.region.c[a] + next(-4.0f, 4.0f);
+        g.region.r = next(1.0f, 8.0f);
+        if (k % 3 == 0)
+            for (int a = 0; a < 3; ++a)
+                g.region.c[a] = std::round(g.region.c[a]), g.region.c1[a] = std::round(g.region.c1[a]),
+                g.region.r = std::round(g.region.r);
+        expect_exact_chords(m, g);
+    }
 }
 
 }  // namespace
