@@ -227,10 +227,10 @@ CapsuleShadow::CapsuleShadow(double du, double dv, double r, double u_base, doub
     if (!(r >= 0.0)) rr_ = -1.0;
 }
 
-bool CapsuleShadow::row(int v, int& u_lo, int& u_hi) const {
-    if (u_lo > u_hi || !(rr_ >= 0.0)) return false;
+bool CapsuleShadow::section(int v, double& lo, double& hi) const {
+    if (!(rr_ >= 0.0)) return false;
     const double ov = static_cast<double>(v) - v_base_;
-    double lo = INFINITY, hi = -INFINITY;
+    lo = INFINITY, hi = -INFINITY;
     const double h0 = rr_ - ov * ov;  // the discs at both ends
     if (h0 >= 0.0) lo = -std::sqrt(h0), hi = -lo;
     const double h1 = rr_ - (ov - dv_) * (ov - dv_);
@@ -255,10 +255,23 @@ bool CapsuleShadow::row(int v, int& u_lo, int& u_hi) const {
         if (a <= b) lo = std::min(lo, a), hi = std::max(hi, b);
     }
     if (!(lo <= hi)) return false;
-    // Node u lies at x = u - u_base; clamped into [u_lo - 1, u_hi + 1] before the conversion to int.
+    lo += u_base_;  // node u lies at x = u - u_base
+    hi += u_base_;
+    return true;
+}
+
+bool CapsuleShadow::row(int v, int& u_lo, int& u_hi) const {
+    double lo, hi;
+    if (u_lo > u_hi || !section(v, lo, hi)) return false;
+    return shadow_nodes(lo, hi, u_lo, u_hi);
+}
+
+bool shadow_nodes(double lo, double hi, int& u_lo, int& u_hi) {
+    if (u_lo > u_hi || !(lo <= hi)) return false;
+    // Clamped into [u_lo - 1, u_hi + 1] before the conversion to int.
     const double flo = static_cast<double>(u_lo), fhi = static_cast<double>(u_hi);
-    u_lo = static_cast<int>(std::clamp(std::ceil(lo + u_base_), flo, fhi + 1.0));
-    u_hi = static_cast<int>(std::clamp(std::floor(hi + u_base_), flo - 1.0, fhi));
+    u_lo = static_cast<int>(std::clamp(std::ceil(lo), flo, fhi + 1.0));
+    u_hi = static_cast<int>(std::clamp(std::floor(hi), flo - 1.0, fhi));
     return u_lo <= u_hi;
 }
 

@@ -46,10 +46,15 @@ public:
     CapsuleShadow() = default;
     CapsuleShadow(double du, double dv, double r, double u_base, double v_base);
     bool row(int v, int& u_lo, int& u_hi) const;
+    /// The row's section [lo, hi] of the shadow, in node coordinates u (not rounded); false when the row misses.
+    bool section(int v, double& lo, double& hi) const;
 
 private:
     double du_ = 0.0, dv_ = 0.0, rr_ = -1.0, ll_ = 0.0, w_ = 0.0, u_base_ = 0.0, v_base_ = 0.0;
 };
+
+/// Narrows [u_lo, u_hi] to the nodes u with lo <= u <= hi; false when none is left (or lo > hi or NaN).
+bool shadow_nodes(double lo, double hi, int& u_lo, int& u_hi);
 
 /// Chord of the line {o + t*d} with the solid finite cylinder of radius r whose axis runs from a to
 /// a + e, closed by flat caps at both ends (a flat-end mill: a is the centre of the flat end, e the

@@ -256,18 +256,39 @@ bool sweep_footprint(const GridSweep& s, const RaySet& set, int& u_lo, int& u_hi
     return u_lo <= u_hi && v_lo <= v_hi;
 }
 
-SweepShadow::SweepShadow(const GridSweep& s, int axis) : ball_(s.kind() == ToolKind::kBall) {
-    if (!ball_) return;
+SweepShadow::SweepShadow(const GridSweep& s, int axis) {
+    const ToolKind kind = s.kind();
+    if (kind != ToolKind::kBall && kind != ToolKind::kFlatEnd) return;
     const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
     const double du = s.delta[ua], dv = s.delta[va], R = s.radius;
+    const double su = kind == ToolKind::kFlatEnd ? s.shank[ua] : 0.0, sv = kind == ToolKind::kFlatEnd ? s.shank[va] : 0.0;
     // The margin keeps the float rounding of the chords far inside.
-    shadow_ = CapsuleShadow(du, dv, R + 1e-3 + 1e-5 * (R + std::fabs(du) + std::fabs(dv)),
-                            static_cast<double>(s.origin[ua]) + s.start[ua], static_cast<double>(s.origin[va]) + s.start[va]);
+    const double r = R + 1e-3 + 1e-5 * (R + std::fabs(du) + std::fabs(dv) + std::fabs(su) + std::fabs(sv));
+    const double bu = static_cast<double>(s.origin[ua]) + s.start[ua], bv = static_cast<double>(s.origin[va]) + s.start[va];
+    if (kind == ToolKind::kBall) {
+        parts_[0] = CapsuleShadow(du, dv, r, bu, bv);
+        count_ = 1;
+        return;
+    }
+    // The flat end lies within the capsule around its axis, so its swept volume's shadow lies within the
+    // parallelogram of the projected shank and motion widened by r: the hull of the capsules around its four edges.
+    parts_[0] = CapsuleShadow(su, sv, r, bu, bv);
+    parts_[1] = CapsuleShadow(su, sv, r, bu + du, bv + dv);
+    parts_[2] = CapsuleShadow(du, dv, r, bu, bv);
+    parts_[3] = CapsuleShadow(du, dv, r, bu + su, bv + sv);
+    count_ = 4;
 }
 
 bool SweepShadow::row(int v, int& u_lo, int& u_hi) const {
-    if (!ball_) return u_lo <= u_hi;
-    return shadow_.row(v, u_lo, u_hi);
+    if (count_ == 0) return u_lo <= u_hi;
+    double lo = INFINITY, hi = -INFINITY;  // the hull of the parts' sections (the shadow is convex)
+    for (int k = 0; k < count_; ++k) {
+        double a, b;
+        if (!parts_[k].section(v, a, b)) continue;
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+    }
+    return shadow_nodes(lo, hi, u_lo, u_hi);
 }
 
 bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {

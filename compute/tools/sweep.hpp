@@ -144,20 +144,21 @@ AxisCapsule sweep_axis_capsule(const GridSweep& sweep, int axis);
 /// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep);
 
-/// The shadow of a ball sweep's swept capsule on the rays of one set (the 2D capsule of radius R around the motion
-/// 0 -> delta projected along the set's axis), row by row: row() narrows [u_lo, u_hi] (nodes of one row of the
-/// footprint, node v along the set's second lateral axis) to the row's section of the shadow, computed in double
-/// and widened by a margin far beyond the float rounding of capsule_chord, so no ray whose chord is non-empty is
-/// left out and the sweep's result is unchanged. Returns false when the row misses. Other tool kinds keep the range
-/// (row() returns u_lo <= u_hi).
+/// The shadow of a ball or flat-end sweep's swept volume on the rays of one set, row by row: row() narrows
+/// [u_lo, u_hi] (nodes of one row of the footprint, node v along the set's second lateral axis) to the row's section
+/// of the shadow, computed in double and widened by a margin far beyond the float rounding of the chords, so no ray
+/// whose chord is non-empty is left out and the sweep's result is unchanged. Ball: the 2D capsule of radius R around
+/// the motion 0 -> delta projected along the set's axis (exact). Flat end: the projected parallelogram of shank and
+/// motion widened by R (it holds the swept cylinder's projection, since the cylinder lies within the capsule around
+/// its axis). Returns false when the row misses. Mesh tools keep the range (row() returns u_lo <= u_hi).
 class SweepShadow {
 public:
     SweepShadow(const GridSweep& sweep, int axis);
     bool row(int v, int& u_lo, int& u_hi) const;
 
 private:
-    bool ball_ = false;
-    CapsuleShadow shadow_;
+    CapsuleShadow parts_[4];  // the shadow is the hull of their rows
+    int count_ = 0;           // 0: no shadow known (mesh tools)
 };
 
 /// SweepShadow(sweep, axis).row(v, u_lo, u_hi).

@@ -58,69 +58,71 @@ TEST(AxisCapsule, GivesCapsuleChordsForEveryRayOfEverySet) {
     EXPECT_GT(hits, n / 5);  // the draw reaches the capsules often enough to mean something
 }
 
-// A ball sweep between two random points (some on lattice nodes, planes and whole-cell radii).
-Sweep random_ball(std::mt19937& rng, const Lattice& L) {
-    std::uniform_real_distribution<double> pos(4.0, L.cells[0] - 4.0), len(0.0, 6.0), rad(0.3, 5.0);
+// A ball or flat-end sweep between two random points (some on lattice nodes, planes and whole-cell radii).
+Sweep random_sweep(std::mt19937& rng, const Lattice& L, bool flat) {
+    std::uniform_real_distribution<double> pos(4.0, L.cells[0] - 4.0), len(0.0, 6.0), rad(0.3, 5.0), unit(-1.0, 1.0);
     Vec3 a(pos(rng), pos(rng), pos(rng));
     Vec3 b = a + Vec3(len(rng) - 3.0, len(rng) - 3.0, len(rng) - 3.0);
     double r = rad(rng);
     switch (rng() % 4) {
         case 0: a = glm::round(a), b = glm::round(b), r = std::round(r) + 1.0; break;
         case 1: b = a + Vec3(0.0, 0.0, len(rng)); break;  // along one set's rays
-        case 2: b = a; break;                              // a ball at rest
+        case 2: b = a; break;                              // a tool at rest
         default: break;
     }
     Sweep s;
     s.op = ToolOp::kSubtract;
-    s.tool.kind = ToolKind::kBall;
+    s.tool.kind = flat ? ToolKind::kFlatEnd : ToolKind::kBall;
     s.tool.radius_m = r * L.cell_m;
+    s.tool.length_m = (1.0 + len(rng)) * L.cell_m;
+    s.axis = rng() % 3 == 0 ? Vec3(0.0, 0.0, 1.0) : Vec3(unit(rng), unit(rng), unit(rng) + 1.5);
     s.path_m = Segment{L.to_world(a), L.to_world(b)};
     return s;
 }
 
-TEST(SweepRowSpan, KeepsEveryRayTheSweptBallReaches) {
+TEST(SweepRowSpan, KeepsEveryRayTheSweptToolReaches) {
     const TriDexel m = test::box_model(40, 0.0, 0.0);
     std::mt19937 rng(11);
-    std::size_t kept = 0, footprint = 0, reached = 0;
-    for (int trial = 0; trial < 600; ++trial) {
-        const GridSweep g = to_grid_sweep(m.lattice, random_ball(rng, m.lattice));
-        for (int axis = 0; axis < 3; ++axis) {
-            int u_lo, u_hi, v_lo, v_hi;
-            if (!sweep_footprint(g, m.sets[axis], u_lo, u_hi, v_lo, v_hi)) continue;
-            for (int v = v_lo; v <= v_hi; ++v) {
-                int a = u_lo, b = u_hi;
-                const bool row = sweep_row_span(g, axis, v, a, b);
-                footprint += static_cast<std::size_t>(u_hi - u_lo + 1);
-                if (row) kept += static_cast<std::size_t>(b - a + 1);
-                for (int u = u_lo; u <= u_hi; ++u) {
-                    float d0, d1;
-                    if (!sweep_chord(g, axis, u, v, 0, d0, d1)) continue;
-                    ++reached;
-                    ASSERT_TRUE(row && u >= a && u <= b) << "trial " << trial << " axis " << axis << " ray " << u << "," << v;
+    for (const bool flat : {false, true}) {
+        std::size_t kept = 0, footprint = 0, reached = 0;
+        for (int trial = 0; trial < 600; ++trial) {
+            const GridSweep g = to_grid_sweep(m.lattice, random_sweep(rng, m.lattice, flat));
+            for (int axis = 0; axis < 3; ++axis) {
+                int u_lo, u_hi, v_lo, v_hi;
+                if (!sweep_footprint(g, m.sets[axis], u_lo, u_hi, v_lo, v_hi)) continue;
+                for (int v = v_lo; v <= v_hi; ++v) {
+                    int a = u_lo, b = u_hi;
+                    const bool row = sweep_row_span(g, axis, v, a, b);
+                    footprint += static_cast<std::size_t>(u_hi - u_lo + 1);
+                    if (row) kept += static_cast<std::size_t>(b - a + 1);
+                    for (int u = u_lo; u <= u_hi; ++u) {
+                        float d0, d1;
+                        if (!sweep_chord(g, axis, u, v, 0, d0, d1)) continue;
+                        ++reached;
+                        ASSERT_TRUE(row && u >= a && u <= b)
+                            << (flat ? "flat end" : "ball") << " trial " << trial << " axis " << axis << " ray " << u << "," << v;
+                    }
                 }
             }
         }
+        EXPECT_LE(kept, footprint * 9 / 10) << flat;  // it does leave out rays of the footprint
+        EXPECT_GE(kept, reached);
     }
-    EXPECT_LE(kept, footprint * 9 / 10);  // it does leave out the box's corners
-    EXPECT_GE(kept, reached);
 }
 
-TEST(SweepRowSpan, OtherToolKindsKeepTheFootprint) {
-    const TriDexel m = test::box_model(40, 0.0, 0.0);
-    Sweep s;
-    s.op = ToolOp::kSubtract;
-    s.tool = {ToolKind::kFlatEnd, 3.0 * m.lattice.cell_m, 10.0 * m.lattice.cell_m};
-    s.axis = Vec3(0.0, 0.0, 1.0);
-    s.path_m = Segment{m.lattice.to_world(Vec3(20.0)), m.lattice.to_world(Vec3(24.0, 20.0, 20.0))};
-    const GridSweep g = to_grid_sweep(m.lattice, s);
+TEST(SweepRowSpan, MeshToolsKeepTheFootprint) {
+    GridSweep g{};
+    g.code = static_cast<std::uint32_t>(ToolOp::kSubtract) | (static_cast<std::uint32_t>(ToolKind::kMesh) << 8);
+    g.radius = 1.0f;
     int a = 3, b = 30;
-    EXPECT_TRUE(sweep_row_span(g, 2, 0, a, b));
+    EXPECT_TRUE(sweep_row_span(g, 2, 100, a, b));
     EXPECT_EQ(a, 3);
     EXPECT_EQ(b, 30);
 }
 
-// apply_sweep and apply_sweeps_parallel against the plain reference: every ray of the footprint through sweep_chord.
-TEST(SweepRays, BallBooleansMatchTheRayByRayReferenceBitForBit) {
+// apply_sweep and apply_sweeps_parallel (ball, flat end, every operation) against the plain reference: every ray of
+// the footprint through sweep_chord.
+TEST(SweepRays, BooleansMatchTheRayByRayReferenceBitForBit) {
     TriDexel fast = test::box_model(48, 6.3, 41.7), parallel = fast, ref = fast;
     const std::vector<Sweep> program = test::random_program(fast.lattice, 400, 5);
     std::size_t balls = 0;
