@@ -134,9 +134,44 @@ void place_vertices(ivec3 cell, uint base) {
             double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
             double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
             int normals = 0;
+            // Two facing walls of a sheet thinner than the cell (a normal pair's dot below kOpposedNormalCos): only
+            // the normals of the wall with more of them (ties: the first's), and no fitted plane.
+            bool sheet = false;
+            uint ui = use;
+            while (ui != 0u) {
+                int e = findLSB(ui);
+                ui &= ui - 1u;
+                uint uj = ui;
+                while (uj != 0u) {
+                    int f = findLSB(uj);
+                    uj &= uj - 1u;
+                    precise double d = (nq[e].x * nq[f].x + nq[e].y * nq[f].y) + nq[e].z * nq[f].z;
+                    if (d < kOpposedNormalCos) sheet = true;
+                }
+            }
+            if (sheet) {
+                int first = findLSB(use);
+                int same = 0, other = 0;
+                uint uk = use;
+                while (uk != 0u) {
+                    int e = findLSB(uk);
+                    uk &= uk - 1u;
+                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    if (d >= 0.0lf) ++same;
+                    else ++other;
+                }
+                bool keep_first = same >= other;
+                uk = use;
+                while (uk != 0u) {
+                    int e = findLSB(uk);
+                    uk &= uk - 1u;
+                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    if ((d >= 0.0lf) != keep_first) use &= ~(1u << uint(e));
+                }
+            }
             int own = bitCount(use);
             dvec3 fitted = dvec3(0.0lf);
-            bool fit = own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
+            bool fit = !sheet && own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
             [[unroll]] for (int e = 0; e < 12; ++e) {
                 if (cq[e] != c) continue;
                 bool mine_n = ((use >> uint(e)) & 1u) != 0u;

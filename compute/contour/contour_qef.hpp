@@ -24,6 +24,10 @@ inline constexpr double kCentralSlopeTol = 0.5;
 /// the cut's planes there; a flat face that only touches the cell at its corner is not, and its plane would carry
 /// the vertex across the cut.
 inline constexpr double kCreaseResidual = 0.25;
+/// Two crossing normals of one cell component whose dot product is below this are the facing walls of a sheet
+/// thinner than the cell (about 143 degrees apart or more); the vertex then takes the normals of one wall only
+/// (TileContourer).
+inline constexpr double kOpposedNormalCos = -0.8;
 /// fit_normal(): the crossings span a plane when the scatter matrix's second-smallest eigenvalue exceeds
 /// kFitPlaneRatio times the smallest and kFitPlaneSpread (grid units squared).
 inline constexpr double kFitPlaneRatio = 4.0;

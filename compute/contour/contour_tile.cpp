@@ -37,10 +37,10 @@ std::uint8_t nearest_material(const Vec3& p, const Vec3* points, const std::uint
 /// True when a crease normal `crease` (the flat side's, contour::crossing_normal) may stand beside the ordinary
 /// normal `plain` in one cell component: they make an acute angle (dot product > 0, summed in a fixed order
 /// that the GPU contourer repeats).
-bool crease_normal_fits(const Vec3& crease, const Vec3& plain) {
-    const double d = (crease.x * plain.x + crease.y * plain.y) + crease.z * plain.z;
-    return d > 0.0;
-}
+/// Dot product of two normals, summed in a fixed order (the GPU contourer repeats it).
+double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+
+bool crease_normal_fits(const Vec3& crease, const Vec3& plain) { return normal_dot(crease, plain) > 0.0; }
 
 [[noreturn]] void cannot_happen(const char* what) {
     std::fprintf(stderr, "contour_tile: internal error: %s\n", what);
@@ -230,14 +230,33 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             // The QEF vertex with or without the crease normals (see above).
             auto place = [&](bool with_crease, QefOutcome& how) {
                 std::array<bool, 12> use{};
-                int own = 0;
+                int own = 0, first = -1;
                 for (int i = 0; i < crossings; ++i)
                     if (owner[i] == comp) {
                         use[i] = sample[i]->has_normal && (with_crease || !sample[i]->crease);
-                        if (use[i]) ++own;
+                        if (use[i] && first < 0) first = i;
                     }
+                // Two facing walls of a sheet thinner than the cell (normals nearly opposite): one vertex cannot
+                // lie on both, so it lies on the wall with more normals (ties: the first crossing's wall).
+                bool sheet = false;
+                for (int i = 0; i < crossings; ++i)
+                    for (int j = i + 1; j < crossings; ++j)
+                        if (owner[i] == comp && owner[j] == comp && use[i] && use[j] &&
+                            normal_dot(sample[i]->normal, sample[j]->normal) < kOpposedNormalCos)
+                            sheet = true;
+                if (sheet) {
+                    int same = 0, other = 0;
+                    for (int i = 0; i < crossings; ++i)
+                        if (owner[i] == comp && use[i]) ++(normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0 ? same : other);
+                    const bool keep_first = same >= other;
+                    for (int i = 0; i < crossings; ++i)
+                        if (owner[i] == comp && use[i] && (normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0) != keep_first)
+                            use[i] = false;
+                }
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp && use[i]) ++own;
                 Vec3 fitted(0.0);
-                const bool fit = own > 0 && own < nc && fit_normal(mass, cp.data(), ca.data(), ce.data(), nc, fitted);
+                const bool fit = !sheet && own > 0 && own < nc && fit_normal(mass, cp.data(), ca.data(), ce.data(), nc, fitted);
                 std::array<Vec3, 12> qp{}, qn{};
                 int q = 0;
                 for (int i = 0; i < crossings; ++i)
