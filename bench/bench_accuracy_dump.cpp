@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <vector>
 
 #include "compute/contour/contour_qef.hpp"
 #include "compute/contour/contour_sample.hpp"
@@ -75,26 +76,14 @@ void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, co
         const Vec3 en = exact_normal(exact, mesh.positions[i], 1e-3 * h);
         std::printf("vertex (%.3f %.3f %.3f) err %.3f c sdf %+.3f c, exact normal (%+.3f %+.3f %+.3f)\n", g.x, g.y, g.z, err[i],
                     exact.sdf(mesh.positions[i]) / h, en.x, en.y, en.z);
-        compute::contour::Node cell{static_cast<int>(std::floor(g.x)), static_cast<int>(std::floor(g.y)),
-                                    static_cast<int>(std::floor(g.z))};
+        const compute::contour::Node base{static_cast<int>(std::floor(g.x)), static_cast<int>(std::floor(g.y)),
+                                          static_cast<int>(std::floor(g.z))};
         auto config = [&](const compute::contour::Node& n) {
             int bits = 0;
             for (int c = 0; c < 8; ++c)
                 if (node_inside(model, {n[0] + (c & 1), n[1] + ((c >> 1) & 1), n[2] + ((c >> 2) & 1)})) bits |= 1 << c;
             return bits;
         };
-        int cfg = config(cell);
-        // A vertex clamped onto a cell face may belong to the cell below it along that axis.
-        for (int a = 0; a < 3 && compute::contour::cell_cases()[cfg].components == 0; ++a) {
-            if (g[a] != std::floor(g[a])) continue;
-            compute::contour::Node below = cell;
-            --below[a];
-            if (compute::contour::cell_cases()[config(below)].components == 0) continue;
-            cell = below;
-            cfg = config(cell);
-        }
-        const compute::contour::CellCase& cc = compute::contour::cell_cases()[cfg];
-        std::printf("  cell (%d %d %d) config 0x%02x, %d component(s)\n", cell[0], cell[1], cell[2], cfg, cc.components);
         // A vertex on a lattice line (an edge crossing or a split-face vertex): the ends of that line's ray.
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -107,6 +96,19 @@ void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, co
                     std::printf(" [%.3f %.3f]", static_cast<double>(iv.enter), static_cast<double>(iv.exit));
             std::printf("\n");
         }
+        // The cell holding the vertex, and for a vertex on a cell face (clamped there) the cell below that face.
+        std::vector<compute::contour::Node> cells{base};
+        for (int a = 0; a < 3; ++a)
+            if (g[a] == std::floor(g[a])) {
+                compute::contour::Node below = base;
+                --below[a];
+                cells.push_back(below);
+            }
+        for (const compute::contour::Node& cell : cells) {
+        const int cfg = config(cell);
+        const compute::contour::CellCase& cc = compute::contour::cell_cases()[cfg];
+        if (cc.components == 0 && &cell != &cells.front()) continue;
+        std::printf("  cell (%d %d %d) config 0x%02x, %d component(s)\n", cell[0], cell[1], cell[2], cfg, cc.components);
         for (int e = 0; e < 12; ++e) {
             if (cc.edge_component[e] < 0) continue;
             const int corner = compute::contour::edge_corners(e)[0], a = e / 4;
@@ -124,6 +126,7 @@ void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, co
             if (has) std::printf("(%+.3f %+.3f %+.3f)%s\n", nn.x, nn.y, nn.z, crease ? " crease" : "");
             else std::printf("-\n");
             print_neighbour_ends(model, a, p, x.t);
+        }
         }
     }
 }
