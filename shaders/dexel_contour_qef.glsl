@@ -9,6 +9,8 @@
 const double kNormalWindow = 2.0lf;     // contour::kNormalWindow, grid units
 const double kCentralSlopeTol = 0.5lf;  // contour::kCentralSlopeTol
 const double kOneSidedSlopeMax = 1.0lf; // contour::kOneSidedSlopeMax
+const double kCreaseResidual = 0.25lf; // contour::kCreaseResidual
+const double kOpposedNormalCos = -0.8lf; // contour::kOpposedNormalCos
 const double kFitPlaneRatio = 4.0lf;    // contour::kFitPlaneRatio
 const double kFitPlaneSpread = 1e-6lf;  // contour::kFitPlaneSpread
 const double kQefTruncation = 0.05lf;   // contour::kQefTruncation

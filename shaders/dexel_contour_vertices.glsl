@@ -68,9 +68,6 @@ void place_vertices(ivec3 cell, uint base) {
         precise dvec3 mean = sum / double(count);
         // The QEF of the component's crossings in ascending edge order with their own normals (not fallbacks);
         // when only some have one, the others take the normal of the plane fitted to all (contour::fit_normal).
-        double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
-        double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
-        int normals = 0;
         // Per axis a, a dynamic loop over this component's edges e = 4a + k that may have a normal: the
         // invocations running together in SIMD lanes share the iterations instead of each paying for every
         // edge that any of them crosses.
@@ -95,8 +92,25 @@ void place_vertices(ivec3 cell, uint base) {
                 if (cr) creased |= 1u << uint(4 * a + k);
             }
         }
-        // Normals from a crease's flat side count only where no crossing has a normal of its own kind.
-        if ((has & ~creased) != 0u) has &= ~creased;
+        // Normals from a crease's flat side count where no crossing has a normal of its own kind; beside such
+        // normals only when each makes an acute angle with every one of them (contour_tile.cpp crease_normal_fits:
+        // dot > 0, same order) and the vertex placed with them lies within kCreaseResidual of each of their
+        // tangent planes; else the vertex is placed again without them (TileContourer::cell_vertices).
+        uint plain = has & ~creased;
+        bool agree = true;
+        uint ci = creased;
+        while (ci != 0u) {
+            int e = findLSB(ci);
+            ci &= ci - 1u;
+            uint pj = plain;
+            while (pj != 0u) {
+                int f = findLSB(pj);
+                pj &= pj - 1u;
+                precise double d = (nq[e].x * nq[f].x + nq[e].y * nq[f].y) + nq[e].z * nq[f].z;
+                if (!(d > 0.0lf)) agree = false;
+            }
+        }
+        bool try_crease = plain != 0u && creased != 0u && agree;
         // The component's crossings (ascending edge), for the fitted plane when only some have a normal.
         dvec3 fpts[12];
         int faxes[12];
@@ -113,21 +127,80 @@ void place_vertices(ivec3 cell, uint base) {
             fexits[nc] = ((cfg >> (off.x + 2 * off.y + 4 * off.z)) & 1) != 0;
             ++nc;
         }
-        int own = bitCount(has);
-        dvec3 fitted = dvec3(0.0lf);
-        bool fit = own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
-        [[unroll]] for (int e = 0; e < 12; ++e) {
-            if (cq[e] != c) continue;
-            bool mine_n = ((has >> uint(e)) & 1u) != 0u;
-            if (!mine_n && !fit) continue;
-            const int a = e / 4;
-            const ivec3 off = edge_start_offset(a, e & 3);
-            dvec3 q = dvec3(cell + off);
-            q[a] = tq[e];
-            qef_add(qm, qr, mine_n ? nq[e] : fitted, q, mean);
-            ++normals;
+        dvec3 pos = dvec3(0.0lf);
+        [[dont_unroll]] for (int pass = 0; pass < 2; ++pass) {
+            // Pass 0: with the crease normals when try_crease, else the final choice; pass 1: without them.
+            uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain : has));
+            double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+            double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+            int normals = 0;
+            // Two facing walls of a sheet thinner than the cell (a normal pair's dot below kOpposedNormalCos): only
+            // the normals of the wall with more of them (ties: the first's), and no fitted plane.
+            bool sheet = false;
+            uint ui = use;
+            while (ui != 0u) {
+                int e = findLSB(ui);
+                ui &= ui - 1u;
+                uint uj = ui;
+                while (uj != 0u) {
+                    int f = findLSB(uj);
+                    uj &= uj - 1u;
+                    precise double d = (nq[e].x * nq[f].x + nq[e].y * nq[f].y) + nq[e].z * nq[f].z;
+                    if (d < kOpposedNormalCos) sheet = true;
+                }
+            }
+            if (sheet) {
+                int first = findLSB(use);
+                int same = 0, other = 0;
+                uint uk = use;
+                while (uk != 0u) {
+                    int e = findLSB(uk);
+                    uk &= uk - 1u;
+                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    if (d >= 0.0lf) ++same;
+                    else ++other;
+                }
+                bool keep_first = same >= other;
+                uk = use;
+                while (uk != 0u) {
+                    int e = findLSB(uk);
+                    uk &= uk - 1u;
+                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    if ((d >= 0.0lf) != keep_first) use &= ~(1u << uint(e));
+                }
+            }
+            int own = bitCount(use);
+            dvec3 fitted = dvec3(0.0lf);
+            bool fit = !sheet && own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
+            [[unroll]] for (int e = 0; e < 12; ++e) {
+                if (cq[e] != c) continue;
+                bool mine_n = ((use >> uint(e)) & 1u) != 0u;
+                if (!mine_n && !fit) continue;
+                const int a = e / 4;
+                const ivec3 off = edge_start_offset(a, e & 3);
+                dvec3 q = dvec3(cell + off);
+                q[a] = tq[e];
+                qef_add(qm, qr, mine_n ? nq[e] : fitted, q, mean);
+                ++normals;
+            }
+            pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
+            if (pass == 1 || !try_crease) break;
+            // The crease normals stay when the vertex is within kCreaseResidual of every ordinary normal's plane.
+            double worst = 0.0lf;
+            uint pk = plain;
+            while (pk != 0u) {
+                int e = findLSB(pk);
+                pk &= pk - 1u;
+                const int a = e / 4;
+                const ivec3 off = edge_start_offset(a, e & 3);
+                dvec3 q = dvec3(cell + off);
+                q[a] = tq[e];
+                precise dvec3 d = pos - q;
+                precise double r = abs((nq[e].x * d.x + nq[e].y * d.y) + nq[e].z * d.z);
+                if (r > worst) worst = r;
+            }
+            if (worst <= kCreaseResidual) break;
         }
-        dvec3 pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
         double best_d2 = -1.0lf;
         uint best_mat = 0u;
         [[unroll]] for (int e = 0; e < 12; ++e) {

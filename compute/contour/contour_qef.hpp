@@ -18,6 +18,16 @@ static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty mus
 /// often picks the face across the crease and throws the vertex off), unless one side is exactly flat across
 /// the ray axis (crossing_normal: the crossing then lies on that face).
 inline constexpr double kCentralSlopeTol = 0.5;
+/// A cell component that has both ordinary crossing normals and crease normals (crossing_normal's flat side) takes
+/// the crease normals only when its QEF vertex with them lies within this distance (grid units) of every ordinary
+/// crossing's tangent plane (TileContourer): a flat face meeting a cut at a rim inside the cell is consistent with
+/// the cut's planes there; a flat face that only touches the cell at its corner is not, and its plane would carry
+/// the vertex across the cut.
+inline constexpr double kCreaseResidual = 0.25;
+/// Two crossing normals of one cell component whose dot product is below this are the facing walls of a sheet
+/// thinner than the cell (about 143 degrees apart or more); the vertex then takes the normals of one wall only
+/// (TileContourer).
+inline constexpr double kOpposedNormalCos = -0.8;
 /// fit_normal(): the crossings span a plane when the scatter matrix's second-smallest eigenvalue exceeds
 /// kFitPlaneRatio times the smallest and kFitPlaneSpread (grid units squared).
 inline constexpr double kFitPlaneRatio = 4.0;

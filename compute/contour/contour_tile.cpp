@@ -34,6 +34,14 @@ std::uint8_t nearest_material(const Vec3& p, const Vec3* points, const std::uint
     return best;
 }
 
+/// True when a crease normal `crease` (the flat side's, contour::crossing_normal) may stand beside the ordinary
+/// normal `plain` in one cell component: they make an acute angle (dot product > 0, summed in a fixed order
+/// that the GPU contourer repeats).
+/// Dot product of two normals, summed in a fixed order (the GPU contourer repeats it).
+double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+
+bool crease_normal_fits(const Vec3& crease, const Vec3& plain) { return normal_dot(crease, plain) > 0.0; }
+
 [[noreturn]] void cannot_happen(const char* what) {
     std::fprintf(stderr, "contour_tile: internal error: %s\n", what);
     std::abort();
@@ -190,35 +198,90 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         for (int comp = 0; comp < cc.components; ++comp) {
             // The component's crossings in ascending edge order, with their normals; when some have a normal
             // and others not, those others take the normal of the plane fitted to all of them (fit_normal).
-            // A normal from the flat side of a crease counts only in a component where no crossing has a
-            // normal of its own kind: a crossing at a crease lies on both faces, and beside crossings on the
-            // other face its flat face's plane would pull the vertex onto that face's extension.
+            // A normal from the flat side of a crease counts in a component where no crossing has a normal of
+            // its own kind. Beside such ordinary normals it counts only when it makes an acute angle with each of
+            // them (crease_normal_fits) and the vertex placed with it stays within kCreaseResidual of each of their
+            // tangent planes; else the vertex is placed without the crease normals. A crossing at a crease lies
+            // on both faces: beside a cut meeting the flat face at a rim in the cell, the flat face's plane keeps
+            // the vertex on the rim; beside a cut that undercuts the flat face, normals read across the flat
+            // face's edge, or a flat face that only touches the cell, it would carry the vertex across the cut.
             std::array<Vec3, 12> cp{};
             std::array<int, 12> ca{};
             std::array<bool, 12> ce{};
-            int nc = 0, own = 0, plain = 0;
+            int nc = 0, plain = 0;
             for (int i = 0; i < crossings; ++i)
                 if (owner[i] == comp && sample[i]->has_normal && !sample[i]->crease) ++plain;
-            std::array<bool, 12> use{};
+            bool agree = true;
+            for (int i = 0; i < crossings; ++i)
+                for (int j = 0; j < crossings; ++j)
+                    if (owner[i] == comp && owner[j] == comp && sample[i]->has_normal && sample[i]->crease &&
+                        sample[j]->has_normal && !sample[j]->crease && !crease_normal_fits(sample[i]->normal, sample[j]->normal))
+                        agree = false;
+            int creased = 0;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp && sample[i]->has_normal && sample[i]->crease) ++creased;
             for (int i = 0; i < crossings; ++i)
                 if (owner[i] == comp) {
                     cp[nc] = point[i];
                     ca[nc] = axis[i];
                     ce[nc++] = exit[i];
-                    use[i] = sample[i]->has_normal && (plain == 0 || !sample[i]->crease);
-                    if (use[i]) ++own;
                 }
-            Vec3 fitted(0.0);
-            const bool fit = own > 0 && own < nc && fit_normal(sum[comp] / static_cast<double>(count[comp]), cp.data(), ca.data(), ce.data(), nc, fitted);
-            std::array<Vec3, 12> qp{}, qn{};
-            int q = 0;
-            for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && (use[i] || fit)) {
-                    qp[q] = point[i];
-                    qn[q++] = use[i] ? sample[i]->normal : fitted;
+            const Vec3 mass = sum[comp] / static_cast<double>(count[comp]);
+            // The QEF vertex with or without the crease normals (see above).
+            auto place = [&](bool with_crease, QefOutcome& how) {
+                std::array<bool, 12> use{};
+                int own = 0, first = -1;
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp) {
+                        use[i] = sample[i]->has_normal && (with_crease || !sample[i]->crease);
+                        if (use[i] && first < 0) first = i;
+                    }
+                // Two facing walls of a sheet thinner than the cell (normals nearly opposite): one vertex cannot
+                // lie on both, so it lies on the wall with more normals (ties: the first crossing's wall).
+                bool sheet = false;
+                for (int i = 0; i < crossings; ++i)
+                    for (int j = i + 1; j < crossings; ++j)
+                        if (owner[i] == comp && owner[j] == comp && use[i] && use[j] &&
+                            normal_dot(sample[i]->normal, sample[j]->normal) < kOpposedNormalCos)
+                            sheet = true;
+                if (sheet) {
+                    int same = 0, other = 0;
+                    for (int i = 0; i < crossings; ++i)
+                        if (owner[i] == comp && use[i]) ++(normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0 ? same : other);
+                    const bool keep_first = same >= other;
+                    for (int i = 0; i < crossings; ++i)
+                        if (owner[i] == comp && use[i] && (normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0) != keep_first)
+                            use[i] = false;
                 }
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp && use[i]) ++own;
+                Vec3 fitted(0.0);
+                const bool fit = !sheet && own > 0 && own < nc && fit_normal(mass, cp.data(), ca.data(), ce.data(), nc, fitted);
+                std::array<Vec3, 12> qp{}, qn{};
+                int q = 0;
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp && (use[i] || fit)) {
+                        qp[q] = point[i];
+                        qn[q++] = use[i] ? sample[i]->normal : fitted;
+                    }
+                return qef_vertex(mass, qp.data(), qn.data(), q, lo, &how);
+            };
             QefOutcome how;
-            cv.pos[comp] = qef_vertex(sum[comp] / static_cast<double>(count[comp]), qp.data(), qn.data(), q, lo, &how);
+            Vec3 pos(0.0);
+            bool done = false;
+            if (plain > 0 && creased > 0 && agree) {
+                pos = place(true, how);
+                double worst = 0.0;
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp && sample[i]->has_normal && !sample[i]->crease) {
+                        const Vec3 d = pos - point[i];
+                        const double r = std::abs((sample[i]->normal.x * d.x + sample[i]->normal.y * d.y) + sample[i]->normal.z * d.z);
+                        if (r > worst) worst = r;
+                    }
+                done = worst <= kCreaseResidual;
+            }
+            if (!done) pos = place(plain == 0, how);
+            cv.pos[comp] = pos;
             cv.qef[comp] = static_cast<std::uint8_t>((how.normals > 0 ? kQefNormals : 0) | (how.truncated ? kQefTruncated : 0) |
                                                      (how.rejected ? kQefRejected : 0) | (how.clamped ? kQefClamped : 0));
             best_d2[comp] = -1.0;

@@ -70,7 +70,10 @@ struct TileMesh {
 ///    component's edge crossings and their normals estimated from neighbouring rays (qef_vertex(),
 ///    crossing_normal() in contour_qef.hpp: sharp edges and corners are kept; when only some of them have
 ///    one, the others take the normal of the plane fitted through all of them, fit_normal()), relative to
-///    their mass point (mean) and minimised over the cell;
+///    their mass point (mean) and minimised over the cell. Normals from a crease's flat side join ordinary
+///    ones only when consistent with them (acute angles, vertex within kCreaseResidual of their planes);
+///    a component whose normals include a nearly opposite pair (kOpposedNormalCos: the two walls of a sheet
+///    thinner than the cell) keeps only the normals of the wall with more of them and fits no plane;
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;

@@ -192,6 +192,32 @@ TEST(BenchAccuracy, PocketRimVerticesStayOnTheTopFaceCrease) {
     std::filesystem::remove_all(o.out);
 }
 
+TEST(BenchAccuracy, PocketRimAtN64MixesCreaseAndWallNormals) {
+    // The ball-raster pocket at N = 64 (ball radius 3 cells, centre one cell above the top face): the rim cells
+    // around the passes' ends hold top-face crossings with normals from the crease's flat side beside wall
+    // crossings with ordinary normals that make an acute angle with them. Placed with both (the vertex stays
+    // within kCreaseResidual of the wall planes), the rim vertices sit on the rim, with the top face on lattice
+    // nodes (offset 0) and half a cell off them (offset 0.5).
+    for (const double offset : {0.0, 0.5}) {
+        AccuracyBenchOptions o;
+        o.resolutions = {64};
+        o.programs = {"pocket"};
+        o.cpu_all_cores = false;
+        o.gpu = false;
+        o.openvdb = false;
+        o.volume_samples = 100000;
+        o.samples_per_cell2 = 0.05;
+        o.offset_cells = offset;
+        o.plots = false;
+        o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_accuracy_pocket64").string();
+        std::filesystem::remove_all(o.out);
+        const std::vector<AccuracyRow> rows = run_accuracy_bench(o);
+        ASSERT_EQ(rows.size(), 1u);
+        EXPECT_LE(rows[0].max_error_m / rows[0].cell_m, offset == 0.0 ? 0.1 : 0.15) << "offset " << offset;
+        std::filesystem::remove_all(o.out);
+    }
+}
+
 TEST(BenchAccuracy, RejectsBadOptions) {
     AccuracyBenchOptions o;
     o.resolutions = {8};

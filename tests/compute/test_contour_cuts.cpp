@@ -89,5 +89,23 @@ TEST(ContourCuts, BoxEdgeBesideABallCutKeepsItsVertices) {
     EXPECT_LE(worst, 0.25);
 }
 
+TEST(ContourCuts, SheetThinnerThanACellKeepsItsVerticesOnAWall) {
+    // Two large balls (radius 60 cells) cut a box from both sides and leave a sheet 0.5 to 0.9 cells thick
+    // between their nearly flat, facing walls (tilted against the lattice, eight lattice phases). A cell
+    // component holding crossings on both walls has nearly opposite normals: its one vertex cannot lie on
+    // both walls, and it lies on one of them instead of between them.
+    double worst = 0.0;
+    for (const double w : {0.5, 0.7, 0.9})
+        for (int i = 0; i < 8; ++i) {
+            const double s = 0.137 * i;
+            const Vec3 c(24.0 + s, 24.0 + 0.6 * s, 24.0 + 0.3 * s);
+            const Vec3 n = glm::normalize(Vec3(1.0, 0.35, 0.2));
+            const std::vector<Ball> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
+            worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, c, 4.0));
+        }
+    std::printf("sheet thinner than a cell: max vertex error %.3f cells\n", worst);
+    EXPECT_LE(worst, 0.15);
+}
+
 }  // namespace
 }  // namespace tridex::compute
