@@ -47,7 +47,7 @@ std::vector<std::string> write_accuracy_plots(const std::vector<AccuracyRow>& ro
             }
         }
         g << "set terminal pngcairo size 800,560\nset output '" << png << "'\n"
-          << "set title 'bench --accuracy: " << prog << " (labels: N)'\nset logscale xy\n"
+          << "set title 'bench --accuracy: " << prog << " (labels: N)' noenhanced\nset logscale xy\n"
           << "set xlabel 'max vertex error, m'\nset ylabel 'time per segment, s'\nset key outside bottom center horizontal\n"
           << "set grid\nplot ";
         for (std::size_t i = 0; i < used.size(); ++i)
