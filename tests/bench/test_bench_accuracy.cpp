@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 #include "bench/bench_accuracy.hpp"
 #include "bench/bench_accuracy_exact.hpp"
@@ -65,6 +66,11 @@ TEST(BenchAccuracyMetrics, PointTriangleAndMeshDistance) {
     EXPECT_NEAR(md.distance(Vec3(-1.0, 0.5, 0.5)), 1.0, 1e-12);
 }
 
+/// A fresh output folder of this test process under the temp folder: ctest runs tests of this file side by side.
+std::string test_out(const std::string& stem) {
+    return (std::filesystem::temp_directory_path() / (stem + "_" + std::to_string(::getpid()))).string();
+}
+
 class BenchAccuracyTiny : public ::testing::TestWithParam<double> {};
 
 // offset 0: the cube's faces at 3.5 cells; 0.37: lattice shifted (checks the OpenVDB frame follows it).
@@ -77,7 +83,7 @@ TEST_P(BenchAccuracyTiny, WritesSaneJson) {
     o.openvdb = openvdb_available();
     o.volume_samples = 200000;
     o.plots = false;
-    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_accuracy").string();
+    o.out = test_out("tridex_test_bench_accuracy");
     std::filesystem::remove_all(o.out);
     const std::vector<AccuracyRow> rows = run_accuracy_bench(o);
     std::ifstream in(std::filesystem::path(o.out) / "bench.json");
@@ -183,7 +189,7 @@ double pocket_max_error_cells(int n, double offset) {
     o.samples_per_cell2 = 0.05;
     o.offset_cells = offset;
     o.plots = false;
-    o.out = (std::filesystem::temp_directory_path() / "tridex_test_bench_accuracy_pocket").string();
+    o.out = test_out("tridex_test_bench_accuracy_pocket");
     std::filesystem::remove_all(o.out);
     const std::vector<AccuracyRow> rows = run_accuracy_bench(o);
     std::filesystem::remove_all(o.out);
