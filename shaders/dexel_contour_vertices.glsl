@@ -11,6 +11,12 @@ ivec3 edge_start_offset(int a, int k) {
     return off;
 }
 
+// Dot product of two normals, summed in the CPU's order (contour_tile.cpp normal_dot).
+double normal_dot(dvec3 a, dvec3 b) {
+    precise double d = (a.x * b.x + a.y * b.y) + a.z * b.z;
+    return d;
+}
+
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
 // The expensive per-edge work (crossings, normals) runs in per-axis dynamic loops over the edges this cell
 // needs, so SIMD lanes share iterations (llvmpipe runs 8 invocations per lane group); the cheap sums are
@@ -106,7 +112,7 @@ void place_vertices(ivec3 cell, uint base) {
             while (pj != 0u) {
                 int f = findLSB(pj);
                 pj &= pj - 1u;
-                precise double d = (nq[e].x * nq[f].x + nq[e].y * nq[f].y) + nq[e].z * nq[f].z;
+                double d = normal_dot(nq[e], nq[f]);
                 if (!(d > 0.0lf)) agree = false;
             }
         }
@@ -145,7 +151,7 @@ void place_vertices(ivec3 cell, uint base) {
                 while (uj != 0u) {
                     int f = findLSB(uj);
                     uj &= uj - 1u;
-                    precise double d = (nq[e].x * nq[f].x + nq[e].y * nq[f].y) + nq[e].z * nq[f].z;
+                    double d = normal_dot(nq[e], nq[f]);
                     if (d < kOpposedNormalCos) sheet = true;
                 }
             }
@@ -156,7 +162,7 @@ void place_vertices(ivec3 cell, uint base) {
                 while (uk != 0u) {
                     int e = findLSB(uk);
                     uk &= uk - 1u;
-                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    double d = normal_dot(nq[e], nq[first]);
                     if (d >= 0.0lf) ++same;
                     else ++other;
                 }
@@ -165,7 +171,7 @@ void place_vertices(ivec3 cell, uint base) {
                 while (uk != 0u) {
                     int e = findLSB(uk);
                     uk &= uk - 1u;
-                    precise double d = (nq[e].x * nq[first].x + nq[e].y * nq[first].y) + nq[e].z * nq[first].z;
+                    double d = normal_dot(nq[e], nq[first]);
                     if ((d >= 0.0lf) != keep_first) use &= ~(1u << uint(e));
                 }
             }

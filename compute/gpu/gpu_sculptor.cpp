@@ -294,14 +294,8 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
             // on the others.
             const SweepShadow shadow(grid[s], a);
             for (int tv = v0 / kTileV; tv <= v1 / kTileV; ++tv) {
-                int lo = INT32_MAX, hi = -1;
-                for (int v = std::max(v0, tv * kTileV); v <= std::min(v1, tv * kTileV + kTileV - 1); ++v) {
-                    int r0 = u0, r1 = u1;
-                    if (!shadow.row(v, r0, r1)) continue;
-                    lo = std::min(lo, r0);
-                    hi = std::max(hi, r1);
-                }
-                if (hi < lo) continue;
+                int lo = u0, hi = u1;
+                if (!shadow.band(std::max(v0, tv * kTileV), std::min(v1, tv * kTileV + kTileV - 1), lo, hi)) continue;
                 const Span sp{s, tv, lo / kTileU, hi / kTileU};
                 bu0 = std::min(bu0, sp.tu0);
                 bu1 = std::max(bu1, sp.tu1);

@@ -31,15 +31,15 @@ void add_ball(glm::vec3 o, glm::vec3 d, float dd, glm::vec3 c, float r, float& l
     hi = max_f(hi, mid + half);
 }
 
-/// Extends [lo, hi] by the chord of the line with the finite cylinder (axis a -> a+e, radius r), ee = |e|^2 > 0.
-void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, float r, float& lo, float& hi) {
-    const glm::vec3 m = o - a;
+/// Extends [lo, hi] by the chord of the line o + t*d with the finite cylinder (axis a -> a + e, radius r), given
+/// m = o - a, e, ee = |e|^2 > 0 and the terms that do not depend on o: de = d x e, qa = |de|^2, eerr = ee * r^2 and
+/// ds = d . e.
+[[gnu::always_inline]] inline void add_cylinder_from(glm::vec3 m, glm::vec3 e, float ee, glm::vec3 de, float qa,
+                                                     float eerr, float ds, float& lo, float& hi) {
     const glm::vec3 me = cross3(m, e);
-    const glm::vec3 de = cross3(d, e);
-    const float qa = dot3(de, de);                 // |d x e|^2 = ee*dd - (d.e)^2
-    const float qb = dot3(me, de);                 // (m x e).(d x e) = ee*(m.d) - (m.e)*(d.e)
-    const float qc = dot3(me, me) - ee * (r * r);  // ee * (squared distance of o from the axis - r^2)
-    const float ms = dot3(m, e), ds = dot3(d, e);  // axial position: s(t) = (ms + t*ds) / ee in [0, 1]
+    const float qb = dot3(me, de);         // (m x e).(d x e) = ee*(m.d) - (m.e)*(d.e); qa = ee*dd - (d.e)^2
+    const float qc = dot3(me, me) - eerr;  // ee * (squared distance of o from the axis - r^2)
+    const float ms = dot3(m, e);           // axial position: s(t) = (ms + t*ds) / ee in [0, 1]
     float c0, c1;
     if (qa > 0.0f) {
         const float disc = qb * qb - qa * qc;
@@ -62,6 +62,12 @@ void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, 
     if (!(c0 <= c1)) return;
     lo = min_f(lo, c0);
     hi = max_f(hi, c1);
+}
+
+/// Extends [lo, hi] by the chord of the line with the finite cylinder (axis a -> a+e, radius r), ee = |e|^2 > 0.
+void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, float r, float& lo, float& hi) {
+    const glm::vec3 de = cross3(d, e);
+    add_cylinder_from(o - a, e, ee, de, dot3(de, de), ee * (r * r), dot3(d, e), lo, hi);
 }
 
 /// Extends [lo, hi] by t = tc + l*k over the l in [0, 1] where |p + l*g|^2 <= rr (a cap plane's path, |k| <= 1).
@@ -176,44 +182,10 @@ bool AxisCapsule::chord(float ou, float ov, float& t0, float& t1) const {
     ball(0.0f, 0.0f, 0.0f);
     if (ee_ > 0.0f) {
         ball(e_[ua_], e_[va_], e_[axis_]);
-        // The cylinder (add_cylinder with a = 0): m = o.
-        glm::vec3 m(0.0f);
+        glm::vec3 m(0.0f);  // the cylinder (add_cylinder with a = 0): m = o
         m[ua_] = ou;
         m[va_] = ov;
-        const glm::vec3 me = cross3(m, e_);
-        const float qb = dot3(me, de_);
-        const float qc = dot3(me, me) - eerr_;
-        const float ms = dot3(m, e_);
-        float c0 = 0.0f, c1 = 0.0f;
-        bool hit = true;
-        if (qa_ > 0.0f) {
-            const float disc = qb * qb - qa_ * qc;
-            if (disc < 0.0f) {
-                hit = false;
-            } else {
-                const float sq = std::sqrt(disc);
-                c0 = (-qb - sq) / qa_;
-                c1 = (-qb + sq) / qa_;
-            }
-        } else if (qc > 0.0f) {
-            hit = false;
-        } else {
-            c0 = -INFINITY;
-            c1 = INFINITY;
-        }
-        if (hit) {
-            if (ds_ != 0.0f) {
-                const float ta = -ms / ds_, tb = (ee_ - ms) / ds_;
-                c0 = max_f(c0, min_f(ta, tb));
-                c1 = min_f(c1, max_f(ta, tb));
-            } else if (ms < 0.0f || ms > ee_) {
-                hit = false;
-            }
-        }
-        if (hit && c0 <= c1) {
-            lo = min_f(lo, c0);
-            hi = max_f(hi, c1);
-        }
+        add_cylinder_from(m, e_, ee_, de_, qa_, eerr_, ds_, lo, hi);
     }
     if (!(lo <= hi)) return false;
     t0 = lo;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "compute/tools/capsule.hpp"
@@ -201,12 +202,16 @@ std::size_t mesh_stamp_spans(const GridSweep& s, const ToolDexels& tool, int axi
     return set.first[ray + 1] - set.first[ray];
 }
 
-AxisCapsule sweep_axis_capsule(const GridSweep& s, int axis) {
-    return AxisCapsule(axis, glm::vec3(s.delta[0], s.delta[1], s.delta[2]), s.radius);
-}
+SweepBallRays::SweepBallRays(const GridSweep& s, int axis)
+    : capsule_(axis, glm::vec3(s.delta[0], s.delta[1], s.delta[2]), s.radius),
+      origin_u_(s.origin[(axis + 1) % 3]),
+      origin_v_(s.origin[(axis + 2) % 3]),
+      start_u_(s.start[(axis + 1) % 3]),
+      start_v_(s.start[(axis + 2) % 3]),
+      base_(static_cast<float>(s.origin[axis]) + s.start[axis]) {}
 
 bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
-                        std::span<const std::shared_ptr<const ToolDexels>> tools, const AxisCapsule* ball) {
+                        std::span<const std::shared_ptr<const ToolDexels>> tools, const SweepBallRays* ball) {
     const ToolOp op = s.op();
     if (op == ToolOp::kNone) return false;
     bool changed = false;
@@ -228,18 +233,9 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
     }
     for (std::uint32_t k = 0; k < s.stamps; ++k) {
         float d0, d1;
-        if (ball != nullptr && s.kind() == ToolKind::kBall) {  // sweep_chord's arithmetic, ray-independent part once
-            const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-            const float ou = static_cast<float>(u - s.origin[ua]) - s.start[ua];
-            const float ov = static_cast<float>(v - s.origin[va]) - s.start[va];
-            float t0, t1;
-            if (!ball->chord(ou, ov, t0, t1)) continue;
-            const float base = static_cast<float>(s.origin[axis]) + s.start[axis];
-            d0 = base + t0;
-            d1 = base + t1;
-        } else if (!sweep_chord(s, axis, u, v, k, d0, d1)) {
-            continue;
-        }
+        const bool hit = ball != nullptr && s.kind() == ToolKind::kBall ? ball->chord(u, v, d0, d1)
+                                                                         : sweep_chord(s, axis, u, v, k, d0, d1);
+        if (!hit) continue;
         if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
         else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
         else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
@@ -291,8 +287,18 @@ bool SweepShadow::row(int v, int& u_lo, int& u_hi) const {
     return shadow_nodes(lo, hi, u_lo, u_hi);
 }
 
-bool sweep_row_span(const GridSweep& s, int axis, int v, int& u_lo, int& u_hi) {
-    return SweepShadow(s, axis).row(v, u_lo, u_hi);
+bool SweepShadow::band(int v_first, int v_last, int& u_lo, int& u_hi) const {
+    int lo = INT32_MAX, hi = INT32_MIN;
+    for (int v = v_first; v <= v_last; ++v) {
+        int a = u_lo, b = u_hi;
+        if (!row(v, a, b)) continue;
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+    }
+    if (lo > hi) return false;
+    u_lo = lo;
+    u_hi = hi;
+    return true;
 }
 
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
@@ -304,7 +310,7 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
         RaySet& set = model.sets[ax];
         int u_lo, u_hi, v_lo, v_hi;
         if (!sweep_footprint(g, set, u_lo, u_hi, v_lo, v_hi)) continue;
-        const AxisCapsule ball = sweep_axis_capsule(g, ax);
+        const SweepBallRays ball(g, ax);
         const SweepShadow shadow(g, ax);
         for (int v = v_lo; v <= v_hi; ++v) {
             stats.rays_visited += static_cast<std::size_t>(u_hi - u_lo + 1);

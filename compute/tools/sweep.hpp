@@ -121,21 +121,41 @@ bool sweep_chord(const GridSweep& sweep, int axis, int u, int v, std::uint32_t s
 std::size_t mesh_stamp_spans(const GridSweep& sweep, const ToolDexels& tool, int axis, int u, int v, std::uint32_t stamp,
                              std::vector<float>& spans);
 
+/// A kBall sweep's chords on the rays of one set with everything that does not depend on the ray computed once
+/// (AxisCapsule with e = delta, r = radius, and the offsets of sweep_chord): chord(u, v) gives sweep_chord's d0, d1
+/// (grid units along the set) for the ray at node (u, v), bit for bit up to the sign of a zero. Default: no ray hits.
+class SweepBallRays {
+public:
+    SweepBallRays() = default;
+    SweepBallRays(const GridSweep& sweep, int axis);
+    bool chord(int u, int v, float& d0, float& d1) const {
+        const float ou = static_cast<float>(u - origin_u_) - start_u_;
+        const float ov = static_cast<float>(v - origin_v_) - start_v_;
+        float t0, t1;
+        if (!capsule_.chord(ou, ov, t0, t1)) return false;
+        d0 = base_ + t0;
+        d1 = base_ + t1;
+        return true;
+    }
+
+private:
+    AxisCapsule capsule_;
+    int origin_u_ = 0, origin_v_ = 0;
+    float start_u_ = 0.0f, start_v_ = 0.0f, base_ = 0.0f;
+};
+
 /// Applies the sweep to one ray (set `axis`, node (u, v)): for each stamp, its chord (kMesh: each of its
 /// spans, mesh_stamp_spans, in depth order) is subtracted, added or painted (interval_ops.hpp). A union
 /// chord is first clipped to the lattice's depth range [0, depth_cells] (depth_cells = the lattice's cells
 /// along `axis`), so no material is added where the lattice, the contour and the renderer cannot see it.
 /// `tools` is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
 /// Returns true when the ray changed.
-/// `ball` (optional, kBall only): the sweep's AxisCapsule for this set (sweep_axis_capsule), which gives the same
-/// chords as sweep_chord with less work per ray.
+/// `ball` (optional, kBall only): the sweep's SweepBallRays for this set, which gives the same chords as
+/// sweep_chord with less work per ray.
 bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
                         std::span<const std::shared_ptr<const ToolDexels>> tools = {},
-                        const AxisCapsule* ball = nullptr);
+                        const SweepBallRays* ball = nullptr);
 
-/// The AxisCapsule of a kBall sweep's rays on set `axis` (e = delta, r = radius): its chord(ou, ov) with sweep_chord's
-/// lateral offsets gives sweep_chord's t0, t1.
-AxisCapsule sweep_axis_capsule(const GridSweep& sweep, int axis);
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
 /// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles
@@ -155,14 +175,14 @@ class SweepShadow {
 public:
     SweepShadow(const GridSweep& sweep, int axis);
     bool row(int v, int& u_lo, int& u_hi) const;
+    /// The union of row() over the rows v_first..v_last: [u_lo, u_hi] narrowed to the nodes some of those rows
+    /// reach; false when none does.
+    bool band(int v_first, int v_last, int& u_lo, int& u_hi) const;
 
 private:
     CapsuleShadow parts_[4];  // the shadow is the hull of their rows
     int count_ = 0;           // 0: no shadow known (mesh tools)
 };
-
-/// SweepShadow(sweep, axis).row(v, u_lo, u_hi).
-bool sweep_row_span(const GridSweep& sweep, int axis, int v, int& u_lo, int& u_hi);
 
 /// Footprint of a sweep on ray set `axis`: the node range [u_lo, u_hi] x [v_lo, v_hi] clamped to the
 /// set; false when it is empty.

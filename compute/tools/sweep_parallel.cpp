@@ -55,13 +55,13 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
             row_first[s * 3 + static_cast<std::size_t>(a)] = row_count;
             row_count += static_cast<std::size_t>(f.v_hi - f.v_lo + 1);
         }
-    std::vector<AxisCapsule> caps(grid.size() * 3);
+    std::vector<SweepBallRays> caps(grid.size() * 3);
     std::vector<std::array<int, 2>> rows(row_count);
     pool_for(grid.size(), 4, [&](const Chunk& chunk) {
         for (std::size_t s = chunk.first; s < chunk.last; ++s)
             for (int a = 0; a < 3; ++a) {
                 const std::size_t fs = s * 3 + static_cast<std::size_t>(a);
-                caps[fs] = sweep_axis_capsule(grid[s], a);
+                caps[fs] = SweepBallRays(grid[s], a);
                 const Footprint& f = fp[fs];
                 if (!f.any) continue;
                 const SweepShadow shadow(grid[s], a);

@@ -1,4 +1,4 @@
-// tests/compute/test_sweep_rays.cpp - the per-set shortcuts of the ball Boolean (AxisCapsule, sweep_row_span) give
+// tests/compute/test_sweep_rays.cpp - the per-set shortcuts of the ball Boolean (AxisCapsule, SweepShadow) give
 // exactly what the generic per-ray chord gives: same chords, no reachable ray left out, same models.
 #include <gtest/gtest.h>
 
@@ -92,7 +92,7 @@ TEST(SweepRowSpan, KeepsEveryRayTheSweptToolReaches) {
                 if (!sweep_footprint(g, m.sets[axis], u_lo, u_hi, v_lo, v_hi)) continue;
                 for (int v = v_lo; v <= v_hi; ++v) {
                     int a = u_lo, b = u_hi;
-                    const bool row = sweep_row_span(g, axis, v, a, b);
+                    const bool row = SweepShadow(g, axis).row(v, a, b);
                     footprint += static_cast<std::size_t>(u_hi - u_lo + 1);
                     if (row) kept += static_cast<std::size_t>(b - a + 1);
                     for (int u = u_lo; u <= u_hi; ++u) {
@@ -115,7 +115,7 @@ TEST(SweepRowSpan, MeshToolsKeepTheFootprint) {
     g.code = static_cast<std::uint32_t>(ToolOp::kSubtract) | (static_cast<std::uint32_t>(ToolKind::kMesh) << 8);
     g.radius = 1.0f;
     int a = 3, b = 30;
-    EXPECT_TRUE(sweep_row_span(g, 2, 100, a, b));
+    EXPECT_TRUE(SweepShadow(g, 2).row(100, a, b));
     EXPECT_EQ(a, 3);
     EXPECT_EQ(b, 30);
 }
