@@ -4,7 +4,8 @@
 //            (compute/tools/clay_field.cpp clay_build_phi), NaN off the region, s0 = s1 = 0;
 //   1 stamps one invocation per node: phi as mode 0, then a push's or pull's s0, s1 from the stamps
 //            (compute/tools/clay_push.cpp clay_stamp_offsets), which read only the node's own phi;
-//   2 smooth one invocation per node: a smooth's s0, s1 (compute/tools/clay_smooth.cpp clay_smooth_offsets);
+//   2 smooth one invocation per node, one dispatch per act: the act's step of a smooth's s0, s1
+//            (compute/tools/clay_smooth.cpp clay_smooth_offsets);
 //   3 rays   one invocation per moved ray of one set (SET): the ray re-sampled at beta (compute/tools/clay_resample.cpp
 //            clay_resample_ray), written to the output list; a ray needing more than plan.counts.z intervals is
 //            marked for the host, which redoes it with the CPU reference.
@@ -35,7 +36,9 @@ layout(std430, set = 0, binding = 11) readonly buffer Inl2 { vec4 inl2[]; };
 layout(std430, set = 0, binding = 12) readonly buffer InlMat2 { uint inl_mat2[]; };
 layout(std430, set = 0, binding = 13) readonly buffer Pool2 { vec2 pool2[]; };
 layout(std430, set = 0, binding = 14) readonly buffer PoolMat2 { uint pool_mat2[]; };
-// The field at the box's nodes (ClayBox::index order): phi as float bits (NaN off the region), s0, s1.
+// The field at the box's nodes (ClayBox::index order): phi as float bits (NaN off the region), s0, s1. s0 has two
+// halves of plan.counts.x floats: a smooth's acts step from one into the other, the last act into the first (the
+// one the host reads and MODE 3 re-samples).
 layout(std430, set = 0, binding = 15) buffer Phi { uint phi_bits[]; };
 layout(std430, set = 0, binding = 16) buffer S0 { float s0v[]; };
 layout(std430, set = 0, binding = 17) buffer S1 { float s1v[]; };
@@ -49,15 +52,14 @@ layout(std140, set = 0, binding = 18) uniform Plan {
     ivec4 move_hi;
     ivec4 ray_nu;      // RaySet::nu of sets 0, 1, 2
     uvec4 chord_at;    // xyz: first word of each set's chords in chord_words[]; w: first word of the stamps
-    uvec4 counts;      // x: nodes of the box; y: stamps; z: most intervals a re-sampled ray may have here;
+    uvec4 counts;      // x: nodes of the box; y: stamps (smooth: acts); z: most intervals a re-sampled ray may have here;
                        // w: ClayStampParams::rim_cap (float bits)
     vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate; w: kClayMaxBeta
     vec4 stamp_par;    // ClayStampParams r, w, reach2, sign
-    vec4 point;        // smooth: contact point xyz, w = r
-    vec4 normal;       // smooth: outward normal xyz
 } plan;
 // Per set a the region chords (lo, hi) of the box's rays (ClayField::chords order) from word plan.chord_at[a]; then
-// the stamps, 8 words each (p, delta, n, 0; float bits) from word plan.chord_at.w.
+// the stamps, 8 words each (p, delta, n, 0; float bits), or a smooth's acts, 8 words each (contact point, r, outward
+// normal, 0; float bits), from word plan.chord_at.w.
 layout(std430, set = 0, binding = 21) readonly buffer Chords { uint chord_words[]; };
 // Moved rays to re-sample: per job 8 words (set, u, v, lo, hi, varies, first output word, unused).
 layout(std430, set = 0, binding = 19) readonly buffer Jobs { uint jobs[]; };
@@ -69,6 +71,7 @@ layout(push_constant) uniform Push {
     uint first;   // first node (modes 0-2) or job (mode 3) of this dispatch
     uint count;   // nodes or jobs in this dispatch
     float beta;   // mode 3: the s1 weight for rays with varies set
+    uint act;     // mode 2: the act of this dispatch
 } pc;
 
 // std::min(a, b), std::max(a, b), std::clamp(x, lo, hi) with their comparisons.
@@ -126,6 +129,7 @@ float phi_at(uint x) { return uintBitsToFloat(phi_bits[x]); }
 // ---- mode 0: phi (clay_build_phi) ----
 void build_phi(uint x, ivec3 nd) {
     s0v[x] = 0.0;
+    s0v[plan.counts.x + x] = 0.0;
     s1v[x] = 0.0;
     const ivec2 run0 = chord(0u, nd.y, nd.z);
     if (nd.x < run0.x || nd.x > run0.y) {
@@ -232,28 +236,46 @@ void stamp_offsets(uint x, ivec3 nd) {
     }
 }
 
-// ---- mode 2: a smooth's s0, s1 (clay_smooth_offsets) ----
+// ---- mode 2: one act's step of a smooth's s0, s1 (clay_smooth_offsets) ----
+// Act k of K reads s0 from half (K - k) & 1 and writes half (K - k - 1) & 1 at every node (its old value where the act
+// does not move it), so the last act writes half 0; MODE 0 zeroes both.
 void smooth_offsets(uint x, ivec3 nd) {
+    const uint n = plan.counts.x, acts = plan.counts.y;
+    const uint src = ((acts - pc.act) & 1u) * n, dst = ((acts - pc.act - 1u) & 1u) * n;
+    const float old = s0v[src + x];
+    s0v[dst + x] = old;
     if (!movable(nd)) return;
     const float phi = phi_at(x);
     if (!(abs(phi) < 2.0)) return;
-    const float r = plan.point.w;
-    precise float dx = float(nd.x) - plan.point.x;
-    precise float dy = float(nd.y) - plan.point.y;
-    precise float dz = float(nd.z) - plan.point.z;
+    const uint at = plan.chord_at.w + 8u * pc.act;
+    const vec3 point = vec3(uintBitsToFloat(chord_words[at]), uintBitsToFloat(chord_words[at + 1u]),
+                            uintBitsToFloat(chord_words[at + 2u]));
+    const float r = uintBitsToFloat(chord_words[at + 3u]);
+    const vec3 normal = vec3(uintBitsToFloat(chord_words[at + 4u]), uintBitsToFloat(chord_words[at + 5u]),
+                             uintBitsToFloat(chord_words[at + 6u]));
+    precise float dx = float(nd.x) - point.x;
+    precise float dy = float(nd.y) - point.y;
+    precise float dz = float(nd.z) - point.z;
     precise float d = sqrt(dx * dx + dy * dy + dz * dz);
     if (!(d < r)) return;
-    precise float depth = -(dx * plan.normal.x + dy * plan.normal.y + dz * plan.normal.z);
+    precise float depth = -(dx * normal.x + dy * normal.y + dz * normal.z);
     precise float sheet = 0.0 + 2.0 + 0.5 * d;
     if (depth > sheet) return;
     precise float xr = d / r;
     precise float wgt = 1.0 - xr * xr;
     const uint sy = uint(plan.box_n.x), sz = uint(plan.box_n.x) * uint(plan.box_n.y);
-    precise float lap = phi_at(x - 1u) + phi_at(x + 1u) + phi_at(x - sy) + phi_at(x + sy) + phi_at(x - sz) +
-                        phi_at(x + sz) - 6.0 * phi;
+    precise float pxm = phi_at(x - 1u) + s0v[src + x - 1u];
+    precise float pxp = phi_at(x + 1u) + s0v[src + x + 1u];
+    precise float pym = phi_at(x - sy) + s0v[src + x - sy];
+    precise float pyp = phi_at(x + sy) + s0v[src + x + sy];
+    precise float pzm = phi_at(x - sz) + s0v[src + x - sz];
+    precise float pzp = phi_at(x + sz) + s0v[src + x + sz];
+    precise float pc0 = phi + old;
+    precise float lap = pxm + pxp + pym + pyp + pzm + pzp - 6.0 * pc0;
     precise float s = plan.consts.z * wgt * lap;
-    s0v[x] = s;
-    s1v[x] = wgt;
+    precise float nw = old + s;
+    s0v[dst + x] = nw;
+    s1v[x] = cmax(s1v[x], wgt);
 }
 
 // ---- mode 3: one moved ray re-sampled (clay_resample_ray) ----

@@ -29,15 +29,13 @@ struct GpuClay::Header {
     std::uint32_t counts[4] = {0, 0, 0, 0};
     float consts[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     float stamp_par[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    float point[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    float normal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
 };
 
 namespace {
 
 constexpr std::uint32_t kBindings = 22;   // 21 storage buffers and the plan's uniform buffer
 constexpr std::uint32_t kPlanBinding = 18;
-constexpr std::size_t kPlanBytes = 192;
+constexpr std::size_t kPlanBytes = 160;
 constexpr std::uint32_t kNodeGroup = 64;  // invocations per workgroup of the node kernels (MODE 0-2)
 constexpr std::uint32_t kRayGroup = 8;    // ... of the ray kernel (MODE 3): one SIMD row of llvmpipe
 constexpr std::uint32_t kMaxGroups = 65535;
@@ -47,6 +45,7 @@ constexpr std::uint32_t kOverflow = 0xffffffffu;
 struct Push {
     std::uint32_t first, count;
     float beta;
+    std::uint32_t act;  // MODE 2: the smooth act of this dispatch
 };
 
 gpu::Buffer host_storage(const gpu::Context& c, std::size_t bytes) {
@@ -72,7 +71,7 @@ void barrier(VkCommandBuffer cmd, VkAccessFlags dst_access, VkPipelineStageFlags
 
 GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuClayOptions& options)
     : context_(context), sculptor_(sculptor), options_(options) {
-    static_assert(sizeof(Header) == 192, "Header must match shaders/clay_field.comp's Plan");
+    static_assert(sizeof(Header) == kPlanBytes, "Header must match shaders/clay_field.comp's Plan");
     if (options.max_kernel_intervals < 1 || options.max_kernel_intervals > GpuDexelSlabs::kMaxRayIntervals)
         throw Error("GPU clay: max_kernel_intervals must be in 1.." + std::to_string(GpuDexelSlabs::kMaxRayIntervals) +
                     ", got " + std::to_string(options.max_kernel_intervals));
@@ -101,7 +100,7 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
     for (std::uint32_t set = 0; set < 3; ++set) all[3 + set] = pipeline(3u, set);
     bind();
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        const Push none{0, 0, 0.0f};  // count 0: every invocation returns at once
+        const Push none{0, 0, 0.0f, 0};  // count 0: every invocation returns at once
         for (const VkPipeline p : all) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
@@ -133,7 +132,8 @@ void GpuClay::check_model(const TriDexel& model) const {
 }
 
 bool GpuClay::fits(const ClayField& field) const {
-    const std::size_t limit = context_.properties().limits.maxStorageBufferRange / sizeof(float);
+    // s0 holds two floats per node (a smooth's acts step between its halves).
+    const std::size_t limit = context_.properties().limits.maxStorageBufferRange / (2 * sizeof(float));
     const std::size_t most = options_.max_field_nodes > 0 ? std::min(options_.max_field_nodes, limit) : limit;
     return field.box.count() <= most;
 }
@@ -191,7 +191,7 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     h.consts[2] = kClaySmoothRate;
     h.consts[3] = kClayMaxBeta;
     ensure(context_, phi_, count * 4);
-    ensure(context_, s0_, count * 4);
+    ensure(context_, s0_, count * 8);  // two halves: a smooth's acts step from one into the other
     ensure(context_, s1_, count * 4);
     h.chord_at[3] = static_cast<std::uint32_t>(words_.size());
     for (const float v : stamps) {
@@ -203,22 +203,27 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     plan_.write(&h, sizeof(Header));
     if (!words_.empty()) chords_.write(words_.data(), words_.size() * 4);
     bind();
-    // Stamps: one kernel (phi and the offsets per node). Smooth: phi, then the offsets (they read the neighbours').
-    std::vector<std::uint32_t> modes{mode};
-    if (mode == 2u) modes.insert(modes.begin(), 0u);
+    // Stamps: one kernel (phi and the offsets per node). Smooth: phi, then one kernel per act (each reads the
+    // neighbours' values the act before it left).
+    std::vector<std::array<std::uint32_t, 2>> passes{{mode, 0u}};  // mode, act
+    if (mode == 2u) {
+        passes.assign(1, {0u, 0u});
+        for (std::uint32_t k = 0; k < h.counts[1]; ++k) passes.push_back({2u, k});
+    }
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
-        for (const std::uint32_t m : modes) {
+        for (std::size_t pass = 0; pass < passes.size(); ++pass) {
+            const std::uint32_t m = passes[pass][0];
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[m].get());
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
             const std::size_t per = static_cast<std::size_t>(kMaxGroups) * kNodeGroup;
             for (std::size_t first = 0; first < count; first += per) {
                 const std::uint32_t n = static_cast<std::uint32_t>(std::min(per, count - first));
-                const Push push{static_cast<std::uint32_t>(first), n, 0.0f};
+                const Push push{static_cast<std::uint32_t>(first), n, 0.0f, passes[pass][1]};
                 vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
                 vkCmdDispatch(cmd, (n + kNodeGroup - 1) / kNodeGroup, 1, 1);
             }
             // phi before the offsets read it (and s0, s1 written by both, in order); then the host's reads.
-            if (m != modes.back())
+            if (pass + 1 != passes.size())
                 barrier(cmd, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
             else
                 barrier(cmd, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
@@ -259,18 +264,22 @@ void GpuClay::stamp_field(const TriDexel& model, ClayField& field, std::span<con
     build_field(field, 1u, h, words);
 }
 
-void GpuClay::smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) {
+void GpuClay::smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) {
     check_model(model);
     host_field_ = !fits(field);
     if (host_field_) {
         ++stats_.host_fields;
-        clay_cpu_kernel().smooth_field(model, field, params);
+        clay_cpu_kernel().smooth_field(model, field, acts);
         return;
     }
     Header h;
-    for (int a = 0; a < 3; ++a) h.point[a] = params.point[a], h.normal[a] = params.normal[a];
-    h.point[3] = params.r;
-    build_field(field, 2u, h, {});
+    h.counts[1] = static_cast<std::uint32_t>(acts.size());
+    std::vector<float> words;  // per act: point, r; normal, 0
+    words.reserve(8 * acts.size());
+    for (const ClaySmoothParams& p : acts)
+        for (const float v : {p.point[0], p.point[1], p.point[2], p.r, p.normal[0], p.normal[1], p.normal[2], 0.0f})
+            words.push_back(v);
+    build_field(field, 2u, h, words);
 }
 
 void GpuClay::resample_rays(const TriDexel& model, const ClayField& f, std::span<const ClayMovedRay> moved,
@@ -312,7 +321,7 @@ void GpuClay::resample_rays(const TriDexel& model, const ClayField& f, std::span
             const std::uint32_t per = kMaxGroups * kRayGroup;
             for (std::uint32_t at = first[a]; at < first[a + 1]; at += per) {
                 const std::uint32_t n = std::min(per, first[a + 1] - at);
-                const Push push{at, n, beta};
+                const Push push{at, n, beta, 0};
                 vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
                 vkCmdDispatch(cmd, (n + kRayGroup - 1) / kRayGroup, 1, 1);
             }

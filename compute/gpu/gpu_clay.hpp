@@ -74,7 +74,7 @@ public:
     /// the slabs and the caller should stop sculpting).
     void stamp_field(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                      const ClayStampParams& params) override;
-    void smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) override;
+    void smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) override;
     ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) override;
 
     /// This kernel's ClayResampleFn (clay_resample.hpp): the moved rays of `field` (built by this kernel's

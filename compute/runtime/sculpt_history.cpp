@@ -11,7 +11,7 @@ SculptHistory::SculptHistory(compute::TriDexel& model, BooleanBackend& backend, 
 
 compute::BooleanStats SculptHistory::apply(std::span<const compute::Sweep> batch) {
     if (batch.empty()) return {};
-    if (held_.empty() && batch.back().op != ToolOp::kPush) {  // nothing held, nothing to hold
+    if (held_.empty() && batch.back().op != ToolOp::kPush && batch.back().op != ToolOp::kSmooth) {  // nothing to hold
         history_.capture(model_, batch);
         return backend_.apply(batch);
     }

@@ -11,9 +11,9 @@ public:
         clay_build_phi(model, field);
         clay_stamp_offsets(model, field, stamps, params);
     }
-    void smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) override {
+    void smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) override {
         clay_build_phi(model, field);
-        clay_smooth_offsets(model, field, params);
+        clay_smooth_offsets(model, field, acts);
     }
     ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) override {
         return clay_resample(model, field, true, before);

@@ -52,8 +52,9 @@ public:
     /// exactly as clay_build_phi followed by clay_stamp_offsets. Throws tridex::Error on a device failure.
     virtual void stamp_field(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                              const ClayStampParams& params) = 0;
-    /// Fills `field` for a smooth: exactly clay_build_phi followed by clay_smooth_offsets. Throws as stamp_field.
-    virtual void smooth_field(const TriDexel& model, ClayField& field, const ClaySmoothParams& params) = 0;
+    /// Fills `field` for a smooth of one or more acts (in order): exactly clay_build_phi followed by
+    /// clay_smooth_offsets. Throws as stamp_field.
+    virtual void smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) = 0;
     /// Re-samples `field` into `model` exactly as clay_resample (volume-preserving) and writes the changed rays where
     /// this kernel keeps its model too. Throws tridex::Error on a device failure.
     virtual ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) = 0;
@@ -68,7 +69,10 @@ ClayKernel& clay_cpu_kernel();
 void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                         const ClayStampParams& params);
 
-/// The CPU reference of a smooth's s0 and s1 (clay_smooth.hpp describes the field). field.phi must be built.
-void clay_smooth_offsets(const TriDexel& model, ClayField& field, const ClaySmoothParams& params);
+/// The CPU reference of a smooth's s0 and s1 for its acts in order (clay_smooth.hpp describes the field): act k takes
+/// one Laplacian step of psi = phi + s0 as the acts before it left s0 (every node's step from the same psi, then
+/// added to s0: s0 = s0 + step), and s1 = max(s1, w_k). One act gives s0 = its step of phi, s1 = its falloff.
+/// field.phi must be built, with every neighbour of a node an act may move inside field.region.
+void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts);
 
 }  // namespace tridex::compute

@@ -1,60 +1,118 @@
-// compute/tools/clay_smooth.cpp - one volume-keeping step of the node field's Laplacian flow under the tool.
+// compute/tools/clay_smooth.cpp - volume-keeping steps of the node field's Laplacian flow under the tool.
 #include "compute/tools/clay_smooth.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "compute/tools/clay_push.hpp"
+#include "core/error.hpp"
 
 namespace tridex::compute {
 
-void clay_smooth_offsets(const TriDexel& model, ClayField& field, const ClaySmoothParams& p) {
+void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) {
     const ClayBox& b = field.box;
-    const float r = p.r;
+    // The nodes any act may move: movable, in the region, within 2 cells of the surface (phi, not psi, so the band
+    // is the same for every act). Each act visits only these.
+    thread_local std::vector<std::array<int, 3>> band;
+    thread_local std::vector<std::size_t> band_at;
+    band.clear();
+    band_at.clear();
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
-        const float phi = field.phi[i];
-        if (!(std::fabs(phi) < 2.0f)) return;
-        const float dx = static_cast<float>(ix) - p.point[0], dy = static_cast<float>(jy) - p.point[1],
-                    dz = static_cast<float>(kz) - p.point[2];
-        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (!(d < r)) return;
-        const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
-        if (depth > clay_sheet_depth(0.0f, d)) return;  // another sheet of the solid
-        const float x = d / r;
-        const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
-        const float lap = field.phi[b.index(ix - 1, jy, kz)] + field.phi[b.index(ix + 1, jy, kz)] +
-                          field.phi[b.index(ix, jy - 1, kz)] + field.phi[b.index(ix, jy + 1, kz)] +
-                          field.phi[b.index(ix, jy, kz - 1)] + field.phi[b.index(ix, jy, kz + 1)] - 6.0f * phi;
-        field.s0[i] = kClaySmoothRate * wgt * lap;
-        field.s1[i] = wgt;
+        if (!(std::fabs(field.phi[i]) < 2.0f)) return;
+        band.push_back({ix, jy, kz});
+        band_at.push_back(i);
     });
+    const std::size_t sy = b.stride(1), sz = b.stride(2);
+    const auto psi = [&](std::size_t x) { return field.phi[x] + field.s0[x]; };
+    thread_local std::vector<std::pair<std::size_t, float>> step;
+    for (const ClaySmoothParams& p : acts) {
+        const float r = p.r;
+        step.clear();
+        for (std::size_t k = 0; k < band.size(); ++k) {
+            const std::size_t i = band_at[k];
+            const float dx = static_cast<float>(band[k][0]) - p.point[0],
+                        dy = static_cast<float>(band[k][1]) - p.point[1],
+                        dz = static_cast<float>(band[k][2]) - p.point[2];
+            const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+            if (!(d < r)) continue;
+            const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
+            if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
+            const float x = d / r;
+            const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
+            const float lap = psi(i - 1) + psi(i + 1) + psi(i - sy) + psi(i + sy) + psi(i - sz) + psi(i + sz) -
+                              6.0f * psi(i);
+            step.emplace_back(i, kClaySmoothRate * wgt * lap);
+            field.s1[i] = std::max(field.s1[i], wgt);
+        }
+        for (const auto& [i, s] : step) field.s0[i] = field.s0[i] + s;
+    }
 }
 
+namespace {
+
+/// The node box lo..hi of a grid sweep.
+ClayBox sweep_box(const GridSweep& g) {
+    ClayBox b;
+    for (int a = 0; a < 3; ++a) b.lo[a] = g.lo[a], b.hi[a] = g.hi[a];
+    return b;
+}
+
+}  // namespace
+
 ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
-    const float R = g.radius, r = kClayInfluence * R;
-    // Once per half-cell plane crossed by the motion a -> b.
-    bool crosses = false;
-    float c[3];
-    for (int a = 0; a < 3; ++a) {
-        const float sa = g.start[a], sb = g.start[a] + g.delta[a];
-        crosses |= std::floor(2.0f * sa) != std::floor(2.0f * sb);
-        c[a] = static_cast<float>(g.origin[a]) + sb;
+    return clay_smooth_group(model, std::span<const GridSweep>(&g, 1), before, kernel);
+}
+
+ClayStats clay_smooth_group(TriDexel& model, std::span<const GridSweep> sweeps, std::vector<RayImage>* before,
+                            ClayKernel& kernel) {
+    if (sweeps.empty()) return {};
+    const float R = sweeps[0].radius, r = kClayInfluence * R;
+    thread_local std::vector<ClaySmoothParams> acts;
+    acts.clear();
+    ClayBox outer = sweep_box(sweeps[0]);
+    for (const GridSweep& g : sweeps) {
+        if (g.radius != R) throw Error("clay smooth group: the sweeps' tool radii differ");
+        const ClayBox sb = sweep_box(g);
+        for (int a = 0; a < 3; ++a) outer.lo[a] = std::min(outer.lo[a], sb.lo[a]), outer.hi[a] = std::max(outer.hi[a], sb.hi[a]);
+        // Once per half-cell plane crossed by the motion a -> b.
+        bool crosses = false;
+        float c[3];
+        for (int a = 0; a < 3; ++a) {
+            const float sa = g.start[a], se = g.start[a] + g.delta[a];
+            crosses |= std::floor(2.0f * sa) != std::floor(2.0f * se);
+            c[a] = static_cast<float>(g.origin[a]) + se;
+        }
+        if (!crosses) continue;
+        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);  // against the model before the group
+        if (!(ct.phi <= R + 0.5f)) continue;
+        ClaySmoothParams p;
+        for (int a = 0; a < 3; ++a) p.point[a] = ct.point[a], p.normal[a] = ct.normal[a];
+        p.r = r;
+        acts.push_back(p);
     }
-    if (!crosses) return {};
-    const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
-    if (!(ct.phi <= R + 0.5f)) return {};
+    if (acts.empty()) return {};
     ClayField field;
-    ClayBox outer;
-    for (int a = 0; a < 3; ++a) outer.lo[a] = g.lo[a], outer.hi[a] = g.hi[a];
-    field.box = clay_support_box(ct.point, ct.point, r, outer);  // around the contact point
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = hi[a] = acts[0].point[a];
+        for (const ClaySmoothParams& p : acts) lo[a] = std::min(lo[a], p.point[a]), hi[a] = std::max(hi[a], p.point[a]);
+    }
+    field.box = clay_support_box(lo, hi, r, outer);  // around the contact points
     if (field.box.empty()) return {};
-    // The narrow region: the nodes within r of the contact point (the only ones that move) and their neighbours.
-    field.region.ball(ct.point, r + 1.01f);  // a neighbour lies within 1 cell of a moved node
-    ClaySmoothParams params;
-    for (int a = 0; a < 3; ++a) params.point[a] = ct.point[a], params.normal[a] = ct.normal[a];
-    params.r = r;
-    kernel.smooth_field(model, field, params);
+    // The narrow region: the nodes within r of a contact point (the only ones that move) and their neighbours; for
+    // several acts a capsule from the first contact point to the last, widened by the farthest point's distance.
+    if (acts.size() == 1) {
+        field.region.ball(acts[0].point, r + 1.01f);  // a neighbour lies within 1 cell of a moved node
+    } else {
+        for (int a = 0; a < 3; ++a) field.region.c[a] = acts.front().point[a], field.region.c1[a] = acts.back().point[a];
+        float off2 = 0.0f;
+        for (const ClaySmoothParams& p : acts)
+            off2 = std::max(off2, field.region.distance2(p.point[0], p.point[1], p.point[2]));
+        field.region.r = r + 1.01f + std::sqrt(off2) * 1.0001f + 1e-3f;
+    }
+    kernel.smooth_field(model, field, acts);
     return kernel.resample(model, field, before);
 }
 

@@ -2,6 +2,7 @@
 // field, keeping the volume.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
@@ -28,5 +29,17 @@ inline constexpr float kClaySmoothRate = 0.15f;
 /// model bit for bit).
 ClayStats clay_smooth(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
                       ClayKernel& kernel = clay_cpu_kernel());
+
+/// Smooth of several consecutive smooth sweeps of one ball as one operation: each sweep's act (as clay_smooth:
+/// once per half-cell plane crossed, while touching), its contact found against `model` as it is before the group;
+/// the node field built once over a capsule around the contact points, the acts' Laplacian steps taken one after
+/// another on that field (act k steps psi = phi + s0 as the acts before it left it: the same flow as acting sweep
+/// by sweep, without re-sampling the rays and rebuilding phi between the acts), one volume offset s1 = the largest
+/// falloff and one beta, one re-sampling. One sweep gives clay_smooth's result bit for bit. The result differs
+/// slightly from smoothing sweep by sweep (there phi is rebuilt from the re-sampled rays and the volume kept per
+/// act), so a caller that must repeat a session groups the same sweeps the same way (apply_clay_batch). Throws
+/// tridex::Error when the sweeps' radii differ; an empty span, or acts that all miss the surface, change nothing.
+ClayStats clay_smooth_group(TriDexel& model, std::span<const GridSweep> sweeps, std::vector<RayImage>* before = nullptr,
+                            ClayKernel& kernel = clay_cpu_kernel());
 
 }  // namespace tridex::compute

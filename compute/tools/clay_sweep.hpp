@@ -49,18 +49,19 @@ ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>*
 inline constexpr float kClayGroupReach = 2.0f;
 /// Shortest group extent, cells: a small tool's operation costs mostly its fixed part, so its groups may run longer.
 inline constexpr float kClayGroupMinCells = 12.0f;
-/// Longest extent (cells) of the tool centres' motion that apply_clay_batch applies as one push, for a ball of
+/// Longest extent (cells) of the tool centres' motion that apply_clay_batch applies as one push or smooth, for a ball of
 /// radius R cells: the larger of kClayGroupMinCells and kClayGroupReach * R. An operation's cost grows with the cube
 /// of its region's radius, about (r + w) plus half the extent, so a group about as long as that radius costs the
 /// least per sweep.
 float clay_group_cells(float radius_cells);
-/// Most sweeps apply_clay_batch puts in one push group. A session makes a sweep per haptic tick, so this bounds how
+/// Most sweeps apply_clay_batch puts in one push or smooth group. A session makes a sweep per haptic tick, so this bounds how
 /// long a held group waits for its last sweep (SculptHistory) to this many ticks, however slowly the tool moves.
 inline constexpr std::size_t kClayGroupSweeps = 16;
 
 /// Applies a batch of sweeps in order: Boolean sweeps with apply_sweep, clay sweeps with apply_clay, except that
-/// runs of at most kClayGroupSweeps consecutive push sweeps of one tool, each moving at most kClayPieceCells, whose
-/// motion spans at most clay_group_cells(R) together, go as one clay_push_group. The grouping depends only on the sweeps, so the same
+/// runs of at most kClayGroupSweeps consecutive push sweeps (or smooth sweeps) of one tool, each moving at most
+/// kClayPieceCells, whose motion spans at most clay_group_cells(R) together, go as one clay_push_group (or
+/// clay_smooth_group). The grouping depends only on the sweeps, so the same
 /// batch gives the same model bit for bit (a session journal records its batches). Validates the whole batch first
 /// (tridex::Error, model unchanged). Appends old ray images to `before` (clay sweeps only) when not null; returns
 /// the summed ray counts. Clay work runs on `kernel`; Booleans on the CPU (callers with a faster Boolean path split
@@ -68,8 +69,8 @@ inline constexpr std::size_t kClayGroupSweeps = 16;
 BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before = nullptr,
                               ClayKernel& kernel = clay_cpu_kernel());
 
-/// Where the last group of `batch` starts, when apply_clay_batch would end the batch with a push group that later
-/// sweeps of the same stroke could still join (its last sweep a groupable push): the index of that group's first
+/// Where the last group of `batch` starts, when apply_clay_batch would end the batch with a push or smooth group that
+/// later sweeps of the same stroke could still join (its last sweep a groupable push or smooth): the index of that group's first
 /// sweep; batch.size() when the batch ends with anything else. Grouping is greedy from the start of each run of clay
 /// sweeps, so applying batch[0, k) now and batch[k, n) with whatever follows gives the same groups, and the same
 /// model, however a stroke's sweeps are split into batches (SculptHistory holds that open group back). Throws

@@ -233,9 +233,18 @@ TEST(ClaySmooth, PlaneIsLeftAlone) {
     EXPECT_LT(worst, 1e-3);
 }
 
-TEST(ClaySmooth, SawtoothFlattensPassByPass) {
-    // A slab whose top is a sawtooth along x (period 4 cells, 1.2 cells peak to peak); passes of the tool along x
-    // over the middle rows, the tool's centre riding 2.6 cells above the mean surface (R = 3).
+/// Applies one row of smooth sweeps: sweep by sweep (apply_clay) or in groups (apply_clay_batch, clay_smooth_group).
+void smooth_row(TriDexel& m, const std::vector<Sweep>& row, bool grouped) {
+    if (grouped) {
+        apply_clay_batch(m, row);
+        return;
+    }
+    for (const Sweep& s : row) apply_clay(m, s);
+}
+
+// A slab whose top is a sawtooth along x (period 4 cells, 1.2 cells peak to peak); passes of the tool along x
+// over the middle rows, the tool's centre riding 2.6 cells above the mean surface (R = 3).
+void sawtooth_flattens(bool grouped) {
     const double z0 = 20.3, amp = 0.6;
     auto saw = [&](double x) {
         const double f = x / 4.0 - std::floor(x / 4.0);  // 0..1
@@ -255,15 +264,17 @@ TEST(ClaySmooth, SawtoothFlattensPassByPass) {
     for (int pass = 0; pass < 6; ++pass) {
         for (double y = 21.0; y <= 27.0; y += 1.0) {
             Vec3 p(14.0, y, z0 + 2.6);
+            std::vector<Sweep> row;
             while (p.x < 34.0) {
                 const Vec3 q = p + Vec3(0.25, 0.0, 0.0);
-                apply_clay(m, clay_sweep(ToolOp::kSmooth, p, q, 3.0));
+                row.push_back(clay_sweep(ToolOp::kSmooth, p, q, 3.0));
                 p = q;
             }
+            smooth_row(m, row, grouped);
         }
         s.push_back(spread());
     }
-    std::printf("smooth of a sawtooth: peak to peak");
+    std::printf("smooth of a sawtooth (%s): peak to peak", grouped ? "grouped" : "sweep by sweep");
     for (double x : s) std::printf(" %.3f", x);
     std::printf(" cells; volume %.4f%%\n", 100.0 * (volume_cells(m) - v0) / v0);
     EXPECT_LT(s.back(), 0.35 * s.front());
@@ -271,7 +282,10 @@ TEST(ClaySmooth, SawtoothFlattensPassByPass) {
     EXPECT_LT(std::fabs(volume_cells(m) - v0) / v0, 0.01);
 }
 
-TEST(ClaySmooth, NoisySphereGetsSmootherAndKeepsItsVolume) {
+TEST(ClaySmooth, SawtoothFlattensPassByPass) { sawtooth_flattens(false); }
+TEST(ClaySmooth, SawtoothFlattensPassByPassGrouped) { sawtooth_flattens(true); }
+
+void noisy_sphere_gets_smoother(bool grouped) {
     const double c[3] = {24.0, 24.0, 24.0}, rho = 15.0, amp = 0.7;
     TriDexel m = from_implicit(cube_lattice(48), [&](double x, double y, double z) {
         const double dx = x - c[0], dy = y - c[1], dz = z - c[2];
@@ -294,26 +308,32 @@ TEST(ClaySmooth, NoisySphereGetsSmootherAndKeepsItsVolume) {
                 return c[2] + std::sqrt(std::max(h2, 0.0)) + R - 0.3;
             };
             p.z = height(p.x);
+            std::vector<Sweep> row;
             while (p.x < 32.0) {
                 Vec3 q(p.x + 0.25, y, 0.0);
                 q.z = height(q.x);
-                apply_clay(m, clay_sweep(ToolOp::kSmooth, p, q, R));
+                row.push_back(clay_sweep(ToolOp::kSmooth, p, q, R));
                 p = q;
             }
+            smooth_row(m, row, grouped);
             worst_stroke = std::max(worst_stroke, std::fabs(volume_cells(m) - vs) / vs);
         }
     const double v1 = volume_cells(m);
     const double rms1 = clay_test::radial_rms(m, c, rho, 3.0, 0.6), ang1 = clay_test::normal_deviation_deg(m, c, 0.6);
     const std::size_t disagree1 = clay_set_disagreement(m, clay_whole_box(m.lattice));
     std::printf(
-        "smooth of a noisy sphere: radial rms %.3f -> %.3f cells, normal deviation %.2f -> %.2f deg, volume "
+        "smooth of a noisy sphere (%s): radial rms %.3f -> %.3f cells, normal deviation %.2f -> %.2f deg, volume "
         "%.3f%% (worst stroke %.3f%%), set disagreement %zu -> %zu nodes\n",
-        rms0, rms1, ang0, ang1, 100.0 * (v1 - v0) / v0, 100.0 * worst_stroke, disagree0, disagree1);
+        grouped ? "grouped" : "sweep by sweep", rms0, rms1, ang0, ang1, 100.0 * (v1 - v0) / v0, 100.0 * worst_stroke,
+        disagree0, disagree1);
     EXPECT_LT(worst_stroke, 0.01);
     EXPECT_LT(ang1, 0.85 * ang0);
     EXPECT_LT(rms1, rms0);
     EXPECT_LE(disagree1, disagree0 + 16);
 }
+
+TEST(ClaySmooth, NoisySphereGetsSmootherAndKeepsItsVolume) { noisy_sphere_gets_smoother(false); }
+TEST(ClaySmooth, NoisySphereGetsSmootherAndKeepsItsVolumeGrouped) { noisy_sphere_gets_smoother(true); }
 
 TEST(ClaySweep, BoundsCoverTheChangedRaysAndUndoRestoresExactly) {
     const double ctr[3] = {24.0, 24.0, 24.0}, rho = 14.0;

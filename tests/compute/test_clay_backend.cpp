@@ -90,7 +90,7 @@ void check_gpu_path(bool gpu_clay) {
     const compute::GpuClayStats* clay = gpu.backend->gpu_clay_stats();
     if (on_kernel) {
         ASSERT_NE(clay, nullptr);
-        EXPECT_GT(clay->fields, 10u);
+        EXPECT_GE(clay->fields, 3u);  // the push groups and at least one smooth group (smooth sweeps go in groups too)
         EXPECT_GT(clay->rays_resampled, 100u);
         EXPECT_EQ(clay->host_fields, 0u);
     } else {

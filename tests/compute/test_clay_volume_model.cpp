@@ -72,7 +72,7 @@ ClayField smooth_field(const TriDexel& m) {
     ClayField f;
     f.box = clay_support_box(ct.point, ct.point, p.r, clay_whole_box(m.lattice));
     f.region.ball(ct.point, p.r + 1.01f);
-    clay_cpu_kernel().smooth_field(m, f, p);
+    clay_cpu_kernel().smooth_field(m, f, std::span<const ClaySmoothParams>(&p, 1));
     return f;
 }
 

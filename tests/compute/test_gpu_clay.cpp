@@ -181,8 +181,8 @@ TEST(GpuClay, NodeFieldEqualsTheCpuReferenceBitForBit) {
         for (int a = 0; a < 3; ++a) sp.point[a] = ct.point[a], sp.normal[a] = ct.normal[a];
         sp.r = kClayInfluence * R;
         ClayField gc = fc, gg = fc;
-        clay_cpu_kernel().smooth_field(m, gc, sp);
-        clay.smooth_field(m, gg, sp);
+        clay_cpu_kernel().smooth_field(m, gc, std::span<const ClaySmoothParams>(&sp, 1));
+        clay.smooth_field(m, gg, std::span<const ClaySmoothParams>(&sp, 1));
         moved = 0;
         for (std::size_t i = 0; i < gc.phi.size(); ++i) {
             ASSERT_TRUE(same_bits(gc.phi[i], gg.phi[i])) << "phi at " << i;
@@ -191,7 +191,24 @@ TEST(GpuClay, NodeFieldEqualsTheCpuReferenceBitForBit) {
             moved += gc.s1[i] != 0.0f;
         }
         EXPECT_GT(moved, 50u);
-        EXPECT_EQ(clay.stats().fields, 2u);
+        // Three acts in a row (an odd and an even number of steps through s0's two halves): each steps the field
+        // the acts before it left, so the second differs from one act's result.
+        std::vector<ClaySmoothParams> acts(3, sp);
+        acts[1].point[0] += 0.3f;
+        acts[2].point[1] -= 0.3f;
+        for (const std::size_t n : {std::size_t{2}, std::size_t{3}}) {
+            ClayField hc = fc, hg = fc;
+            clay_cpu_kernel().smooth_field(m, hc, std::span<const ClaySmoothParams>(acts).first(n));
+            clay.smooth_field(m, hg, std::span<const ClaySmoothParams>(acts).first(n));
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < hc.phi.size(); ++i) {
+                ASSERT_TRUE(same_bits(hc.s0[i], hg.s0[i])) << n << " acts: s0 at " << i << ": " << hc.s0[i] << " vs " << hg.s0[i];
+                ASSERT_TRUE(same_bits(hc.s1[i], hg.s1[i])) << n << " acts: s1 at " << i;
+                differ += !same_bits(hc.s0[i], gc.s0[i]);
+            }
+            EXPECT_GT(differ, 50u) << n << " acts";
+        }
+        EXPECT_EQ(clay.stats().fields, 4u);
         EXPECT_EQ(clay.stats().host_fields, 0u);
         // Another model than the sculptor's mirror is refused.
         TriDexel other = m;

@@ -1,4 +1,4 @@
-// SculptHistory with the clay tools: a push stroke's groups (apply_clay_batch) held back at the end of a batch so
+// SculptHistory with the clay tools: a push or smooth stroke's groups (apply_clay_batch) held back at the end of a batch so
 // that the model does not depend on how the stroke's samples were split into batches, and undo with held sweeps.
 #include <gtest/gtest.h>
 
@@ -25,13 +25,13 @@ constexpr double kZ0 = 20.3;  // the slab's top face, grid units
 TriDexel slab() { return from_implicit(cube_lattice(48), clay_test::slab(kZ0)); }
 
 TEST(SculptHistoryClay, AStrokeGivesOneModelHoweverItsSweepsAreSplitIntoBatches) {
-    // A wandering push stroke with a subtract in the middle, through SculptHistory as the sculpt thread and journal
-    // replay use it, split into batches of 1, 3, 7 and all at once.
+    // A wandering push stroke with a subtract in the middle that goes on as a smooth, through SculptHistory as the
+    // sculpt thread and journal replay use it, split into batches of 1, 3, 7 and all at once.
     std::vector<Sweep> stroke;
     Vec3 p(14.0, 20.0, kZ0 + 2.0 - 0.8);
     for (int k = 0; k < 90; ++k) {
         const Vec3 q = p + Vec3(0.31 + 0.2 * std::sin(0.3 * k), 0.25 * std::cos(0.2 * k), 0.0);
-        stroke.push_back(clay_sweep(ToolOp::kPush, p, q, 2.0));
+        stroke.push_back(clay_sweep(k < 60 ? ToolOp::kPush : ToolOp::kSmooth, p, q, 2.0));
         p = q;
     }
     stroke[45].op = ToolOp::kSubtract;
