@@ -143,9 +143,14 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
     for (const ClayStamp& s : stamps) top = std::max(top, s.delta);
     const float far = std::max(top, std::min(top, rim_cap) * kClayMaxBeta) + 2.0f;
     // Per x-row, the stamps within reach of the row's line: dy^2 + dz^2 <= reach2, which no node's dx^2 + dy^2 + dz^2
-    // can undercut in float (rounding is monotone), so the others would be skipped anyway.
-    thread_local std::vector<const ClayStamp*> near;
+    // can undercut in float (rounding is monotone), so the others would be skipped anyway. The row's terms of each
+    // (dy^2, dz^2, dy n_y, dz n_z) are the same floats the per-node sums below would compute.
+    struct Near {
+        float px, nx, dy2, dz2, dyn, dzn, delta;
+    };
+    thread_local std::vector<Near> near;
     int row_j = -1, row_k = -1;
+    const float dent_band = top + 2.0f;  // no node this far from the surface takes a dent's s0
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         const float phi = field.phi[i];
         if (!(std::fabs(phi) < far)) return;
@@ -155,21 +160,25 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
             near.clear();
             for (const ClayStamp& s : stamps) {
                 const float dy = q[1] - s.p[1], dz = q[2] - s.p[2];
-                if (!(dy * dy + dz * dz > reach2)) near.push_back(&s);
+                if (!(dy * dy + dz * dz > reach2))
+                    near.push_back({s.p[0], s.n[0], dy * dy, dz * dz, dy * s.n[1], dz * s.n[2], s.delta});
             }
         }
+        // A node outside the dent band changes only when no stamp dents it (then the rim may): it stops at the
+        // first stamp that does.
+        const bool dent_only_blocks = !(std::fabs(phi) < dent_band);
         float dent = 0.0f, rim = 0.0f;
-        for (const ClayStamp* sp : near) {
-            const ClayStamp& s = *sp;
-            const float dx = q[0] - s.p[0], dy = q[1] - s.p[1], dz = q[2] - s.p[2];
-            const float d2 = dx * dx + dy * dy + dz * dz;
+        for (const Near& s : near) {
+            const float dx = q[0] - s.px;
+            const float d2 = dx * dx + s.dy2 + s.dz2;
             if (d2 > reach2) continue;
             const float d = std::sqrt(d2);
-            const float depth = -(dx * s.n[0] + dy * s.n[1] + dz * s.n[2]);
+            const float depth = -(dx * s.nx + s.dyn + s.dzn);
             if (depth > clay_sheet_depth(s.delta, d)) continue;  // another sheet of the solid
             if (d < r) {
                 const float x = d / r;
                 dent = std::max(dent, s.delta * (1.0f - x * x));  // Popescu 3.3: k = 1 - (d/r)^2, the largest wins
+                if (dent_only_blocks && dent > 0.0f) return;
             } else if (d < r + w) {
                 rim = std::max(rim, std::min(s.delta, rim_cap) * rim_bump((d - r) / w));
             }
