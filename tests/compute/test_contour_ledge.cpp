@@ -27,7 +27,6 @@ constexpr double kLo = 8.0, kHi = 40.0;
 
 /// Exact chords of ray (u, v) of set a (grid units).
 std::vector<Interval> ledge_chord(const Ledge& l, int a, int u, int v) {
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
     if (u < kLo || u > kHi || v < kLo || v > kHi) return {};
     std::vector<std::pair<double, double>> spans{{kLo, kHi}};
     const double shallow = l.deep + l.step;
@@ -49,8 +48,6 @@ std::vector<Interval> ledge_chord(const Ledge& l, int a, int u, int v) {
         const double y_lo = l.y0 + l.s * x, y_hi = y_lo + l.width;
         subtract_span(spans, y_lo, z > shallow ? kHi + 1.0 : y_hi);
     }
-    (void)b;
-    (void)c;
     return spans_to_intervals(spans);
 }
 
