@@ -39,9 +39,23 @@ bool nearest_end(int a, uint r, bool exit_end, double t, inout double depth) {
     return found;
 }
 
+// True when depth t lies inside an interval of ray r of set a (enter <= t < exit; contour inside_at()).
+bool inside_at(int a, uint r, double t) {
+    uint m = ray_meta(a, r), cnt = m & 127u;
+    for (uint i = 0u; i < cnt; ++i) {
+        float en, ex;
+        uint pair;
+        ray_interval(a, r, m, i, en, ex, pair);
+        if (double(en) <= t && t < double(ex)) return true;
+    }
+    return false;
+}
+
 // Slope of the height field of set a along lattice direction `dir` at node n (contour slope()): the
-// neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1).
-bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout bool crease) {
+// neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1). `is_flat`: a neighbour
+// end at exactly depth t; `extremum`: one side alone, the other side's surface beyond the window the other way
+// (a trough or ridge one ray wide; the other ray's occupancy at depth t tells which way).
+bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout bool crease, out bool is_flat, out bool extremum) {
     int ua = (a + 1) % 3, va = (a + 2) % 3;
     int w = n[dir];
     bool u_dir = dir == ua;
@@ -57,6 +71,19 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout
     precise double dm = t - em;
     precise double dp = ep - t;
     g = 0.0lf;
+    is_flat = (has_m && dm == 0.0lf) || (has_p && dp == 0.0lf);
+    extremum = false;
+    if (has_m != has_p) {
+        bool other_exists = has_m ? w + 1 < limit : w - 1 >= 0;
+        if (other_exists) {
+            uint ro = has_m ? (u_dir ? uint(u + 1) + stride * uint(v) : uint(u) + stride * uint(v + 1))
+                            : (u_dir ? uint(u - 1) + stride * uint(v) : uint(u) + stride * uint(v - 1));
+            bool higher = inside_at(a, ro, t) == exit_end;
+            bool other_rises = has_m ? higher : !higher;
+            double d = has_m ? dm : dp;
+            extremum = d != 0.0lf && (d > 0.0lf) != other_rises;
+        }
+    }
     if (has_m && has_p) {
         precise double spread = dp - dm;
         if (abs(spread) <= kCentralSlopeTol) {
@@ -91,8 +118,22 @@ bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 norm
     double gb, gc;
     normal = dvec3(0.0lf);
     crease = false;
-    if (!slope(a, n, b, start_inside, t, gb, crease)) return false;
-    if (!slope(a, n, c, start_inside, t, gc, crease)) return false;
+    bool flat_b, flat_c, ext_b, ext_c;
+    bool ok_b = slope(a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
+    bool ok_c = slope(a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
+    // A trough or ridge one ray wide on a face flat along the other direction: slope 0 (contour crossing_normal).
+    if (ext_b && flat_c) {
+        gb = 0.0lf;
+        ok_b = true;
+    }
+    if (ext_c && flat_b) {
+        gc = 0.0lf;
+        ok_c = true;
+    }
+    if (!ok_b || !ok_c) {
+        crease = false;
+        return false;
+    }
     precise double len2 = (1.0lf + gb * gb) + gc * gc;
     precise double len = sqrt(len2);
     double sa = start_inside ? 1.0lf : -1.0lf;

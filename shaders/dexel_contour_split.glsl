@@ -22,7 +22,8 @@ uint face_index_of(ivec3 lower, int g) {
 // face, the QEF of the crossings on the face's two edges at p that have a normal (components across the
 // face zeroed), minimised over the face square and clamped into the rectangle spanned by p and the two
 // crossings; the crossings' mean when neither has a normal (material: the nearer crossing, ties to the
-// larger id). Outside corners' slots get the face centre (never referenced).
+// larger id); of two nearly opposite normals (a sheet's facing walls) only the first. Outside corners' slots get
+// the face centre (never referenced).
 void place_face_vertices(uint i, uint v0) {
     uint key = face_list[i];
     uint ci = key & 8191u;
@@ -58,6 +59,7 @@ void place_face_vertices(uint i, uint v0) {
             double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
             double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
             int normals = 0;
+            dvec3 first = dvec3(0.0lf);  // the first kept normal, before its component across the face is zeroed
             for (int m = 0; m < 2; ++m) {
                 if (!has_n[m]) continue;
                 int g = m == 0 ? f1 : f2;
@@ -66,6 +68,9 @@ void place_face_vertices(uint i, uint v0) {
                 dvec3 nn;
                 bool cr;
                 if (!crossing_normal(g, s, inside(s), pts[m][g], nn, cr) || cr) continue;  // a crease side: none here
+                // The second of two nearly opposite normals: a sheet's other wall (TileContourer::emit_split_face).
+                if (normals == 1 && normal_dot(first, nn) < kOpposedNormalCos) continue;
+                if (normals == 0) first = nn;
                 nn[f] = 0.0lf;
                 qef_add(qm, qr, nn, pts[m], half_sum);
                 ++normals;

@@ -25,8 +25,20 @@ bool nearest_end(const std::vector<Interval>& ray, bool exit_end, double t, doub
     return found;
 }
 
+/// True when depth t lies inside an interval of `ray` (enter <= t < exit).
+bool inside_at(const std::vector<Interval>& ray, double t) {
+    for (const Interval& iv : ray)
+        if (static_cast<double>(iv.enter) <= t && t < static_cast<double>(iv.exit)) return true;
+    return false;
+}
+
 /// Slope of the height field along one lattice direction at ray coordinate w (see crossing_normal).
-bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease) {
+/// `flat` is set when a neighbour end lies at exactly depth t (the crossing lies on a face flat along `dir`);
+/// `extremum` when only one side has an end within the window and the other side's surface lies beyond the
+/// window on the same side of t as that end (the crossing is the bottom of a trough or the top of a ridge one ray
+/// wide along `dir`; the other side's occupancy at depth t tells on which side its surface lies).
+bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease, bool& flat,
+           bool& extremum) {
     const int w = n[dir];
     const bool u_dir = dir == (a + 1) % 3;
     const int limit = u_dir ? set.nu : set.nv;
@@ -35,6 +47,20 @@ bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, doub
     const bool has_m = w - 1 >= 0 && nearest_end(u_dir ? set.ray(u - 1, v) : set.ray(u, v - 1), exit_end, t, em);
     const bool has_p = w + 1 < limit && nearest_end(u_dir ? set.ray(u + 1, v) : set.ray(u, v + 1), exit_end, t, ep);
     const double dm = t - em, dp = ep - t;
+    flat = (has_m && dm == 0.0) || (has_p && dp == 0.0);
+    if (has_m != has_p) {
+        // The missing side's surface: beyond t + window (its height above t) when that ray is inside at depth t
+        // for an exit (material below the surface), outside for an enter; else below t - window.
+        const bool other_exists = has_m ? w + 1 < limit : w - 1 >= 0;
+        if (other_exists) {
+            const bool in = inside_at(has_m ? (u_dir ? set.ray(u + 1, v) : set.ray(u, v + 1)) : (u_dir ? set.ray(u - 1, v) : set.ray(u, v - 1)), t);
+            const bool higher = in == exit_end;
+            // Along +dir: the missing side rises (higher on p, lower on m) or falls; the present side likewise.
+            const bool other_rises = has_m ? higher : !higher;
+            const double d = has_m ? dm : dp;
+            extremum = d != 0.0 && (d > 0.0) != other_rises;
+        }
+    }
     if (has_m && has_p) {
         if (std::abs(dp - dm) <= kCentralSlopeTol) {
             g = (dm + dp) * 0.5;
@@ -93,9 +119,22 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
     const RaySet& set = model.sets[a];
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb = 0.0, gc = 0.0;
-    bool crease = false;
-    if (!slope(set, a, n, b, start_inside, t, gb, crease)) return false;
-    if (!slope(set, a, n, c, start_inside, t, gc, crease)) return false;
+    bool crease = false, flat_b = false, flat_c = false, ext_b = false, ext_c = false;
+    bool ok_b = slope(set, a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
+    bool ok_c = slope(set, a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
+    // A trough or ridge one ray wide along one direction (one-sided slope, the other side beyond the window
+    // the other way) on a face flat along the other direction (a neighbour end at exactly depth t): a ledge of a
+    // face flat across the ray axis (a flat-end floor between a deeper cut and a shallower floor), whose one
+    // side is another face beyond its edge, so the slope there is 0.
+    if (ext_b && flat_c) {
+        gb = 0.0;
+        ok_b = true;
+    }
+    if (ext_c && flat_b) {
+        gc = 0.0;
+        ok_c = true;
+    }
+    if (!ok_b || !ok_c) return false;
     if (at_crease) *at_crease = crease;
     const double len = std::sqrt((1.0 + gb * gb) + gc * gc);
     // Exit (material below along a): grad(a - d(u, v)) = (1, -g_u, -g_v); an enter is the opposite.

@@ -58,7 +58,11 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// averaged; where they do not (a crease between the rays), a side whose end lies at exactly depth t (slope 0:
 /// a flat face across axis a, such as a box face or a flat-end floor, that the crossing lies on) gives slope 0
 /// and `*at_crease` is set (when not nullptr), otherwise no normal; one side present is used alone when its
-/// slope is at most kOneSidedSlopeMax (a sharp edge: the ray beyond it has no end within the window). Normal = sigma (1, -g_u, -g_v) in (a, u, v),
+/// slope is at most kOneSidedSlopeMax (a sharp edge: the ray beyond it has no end within the window), except
+/// that a trough or ridge one ray wide (the other side's surface lies beyond the window the other way, told by
+/// that ray's occupancy at depth t) gets slope 0 when the other direction has a neighbour end at exactly depth t
+/// (a ledge of a face flat across axis a, e.g. a flat-end floor between a deeper cut and a shallower floor, whose
+/// one side reads the other floor). Normal = sigma (1, -g_u, -g_v) in (a, u, v),
 /// sigma = +1 for an exit, -1 for an enter, normalised. Arithmetic in double in a fixed order (the GPU
 /// contourer repeats it bit for bit). Returns false (normal and *at_crease untouched) when a direction has no
 /// neighbour end or an unresolved crease; on true, *at_crease tells whether a crease side gave the normal.

@@ -385,10 +385,13 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
         // The segment around inside corner p joins the crossings of the two face edges at p. Its vertex: the
         // QEF of those crossings whose normal is known, with the normals' components across the face dropped
         // (the face's trace of each tangent plane), minimised in the rectangle spanned by p and the two
-        // crossings (which stays on p's side of the face); the crossings' mean without normals.
+        // crossings (which stays on p's side of the face); the crossings' mean without normals. When the two
+        // crossings lie on the facing walls of a sheet thinner than the cell (nearly opposite normals), only the
+        // first crossing's normal counts, so the vertex lies on that wall instead of inside the sheet.
         Vec3 sum(0.0);
         std::array<Vec3, 2> pts{}, qp{}, qn{};
         std::array<std::uint8_t, 2> mats{};
+        Vec3 first(0.0);  // the first kept normal, before its component across the face is dropped
         int m = 0, q = 0;
         for (const int g : {f1, f2}) {
             const int off = g == f1 ? (idx & 1) : ((idx >> 1) & 1);
@@ -397,7 +400,10 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
             pts[m] = crossing_point(s, g, es.crossing);
             mats[m] = es.crossing.material;
             sum += pts[m++];
-            if (es.has_normal && !es.crease) {  // a crease side's face may not be this segment's
+            // A crease side's face may not be this segment's; the second of two nearly opposite normals is a
+            // sheet's other wall (as in cell_vertices), whose trace would cross the first's far outside.
+            if (es.has_normal && !es.crease && !(q == 1 && normal_dot(first, es.normal) < kOpposedNormalCos)) {
+                if (q == 0) first = es.normal;
                 qp[q] = pts[m - 1];
                 qn[q] = es.normal;
                 qn[q++][f] = 0.0;

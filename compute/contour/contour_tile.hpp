@@ -81,7 +81,8 @@ struct TileMesh {
 ///    component in BOTH cells beside it (a tunnel thinner than a cell) would make two quads' shared
 ///    edges coincide. Such a face gets one vertex per segment (the QEF of the segment's two crossings
 ///    with their normals' in-face parts, kept in the rectangle spanned by the segment's inside corner and
-///    its crossings; their mean without normals), and
+///    its crossings; their mean without normals; of two nearly opposite normals, a sheet's facing walls, only
+///    the first's), and
 ///    each edge polygon touching it becomes a fan around the edge's crossing point. Each dual vertex's
 ///    triangle fan stays a single cycle, so the mesh is a closed 2-manifold for any occupancy.
 ///

@@ -44,12 +44,15 @@ double carved_sdf(const Vec3& lo, const Vec3& hi, const std::vector<Ball>& balls
     return d;
 }
 
-/// Largest |sdf| (cells) of the contour's vertices within `near` cells of point `at`.
-double max_vertex_error(const Vec3& lo, const Vec3& hi, const std::vector<Ball>& balls, const Vec3& at, double near) {
+/// Largest |sdf| (cells) of the contour's vertices within `near` cells of point `at`; `split_faces`, when given,
+/// receives the number of faces the contour split (sub-cell tunnels).
+double max_vertex_error(const Vec3& lo, const Vec3& hi, const std::vector<Ball>& balls, const Vec3& at, double near,
+                        std::size_t* split_faces = nullptr) {
     TriDexel model = empty_model(cube_lattice(48));
     fill_rays(model, [&](int a, int u, int v) { return carved_chord(lo, hi, balls, a, u, v); });
     Contourer contourer(model);
     contourer.update(model);
+    if (split_faces) *split_faces = contourer.stats().split_faces;
     const TriMesh m = contourer.mesh();
     double worst = 0.0;
     for (const Vec3& w : m.positions) {
@@ -105,6 +108,29 @@ TEST(ContourCuts, SheetThinnerThanACellKeepsItsVerticesOnAWall) {
         }
     std::printf("sheet thinner than a cell: max vertex error %.3f cells\n", worst);
     EXPECT_LE(worst, 0.15);
+}
+
+TEST(ContourCuts, SplitFaceInASheetLiesOnAWall) {
+    // A sheet 0.6 to 0.95 cells thick between two large balls (radius 60 cells), its walls about 45 degrees to
+    // the x and y axes: a z face whose two diagonal corners along the sheet are inside and whose other two lie
+    // beyond either wall is ambiguous, and where the cells above and below both keep its inside corners apart the
+    // face is split (the tunnel repair). Each split segment joins a crossing on one wall (along x) to one on the
+    // other wall (along y); its vertex lies on one wall, not inside the sheet between them (half its thickness).
+    double worst = 0.0;
+    std::size_t splits = 0;
+    for (const double w : {0.6, 0.75, 0.95})
+        for (int i = 0; i < 8; ++i) {
+            const double s = 0.137 * i;
+            const Vec3 c(24.0 + s, 24.0 + 0.6 * s, 24.0 + 0.3 * s);
+            const Vec3 n = glm::normalize(Vec3(1.0, 0.8 + 0.05 * i, 0.1));
+            const std::vector<Ball> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
+            std::size_t split = 0;
+            worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, c, 8.0, &split));
+            splits += split;
+        }
+    std::printf("split faces in a sheet: %zu, max vertex error %.3f cells\n", splits, worst);
+    EXPECT_GT(splits, 0u);  // the configuration exercises the tunnel repair
+    EXPECT_LE(worst, 0.25);
 }
 
 }  // namespace

@@ -116,3 +116,37 @@ TEST(GpuContourSharp, BoxSculptedByFlatEndAndBallToolsGivesTheCpuMesh) {
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
+
+TEST(GpuContourSharp, SplitFacesInASheetBetweenTwoBallCutsGiveTheCpuMesh) {
+    // A box carved by two large balls (radius 60 cells) that leave a sheet 0.6 to 0.95 cells thick at about 45
+    // degrees to x and y (ContourCuts.SplitFaceInASheetLiesOnAWall's models): split faces whose segments join
+    // crossings on the sheet's two walls (nearly opposite normals). Lattice phases until some face is split.
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        std::size_t splits = 0;
+        for (int k = 0; k < 24 && splits == 0; ++k) {
+            const int i = k % 8;
+            const double w = k < 8 ? 0.95 : k < 16 ? 0.75 : 0.6, s = 0.137 * i;
+            const Vec3 lo(8.0), hi(40.0), c(24.0 + s, 24.0 + 0.6 * s, 24.0 + 0.3 * s);
+            const Vec3 n = glm::normalize(Vec3(1.0, 0.8 + 0.05 * i, 0.1));
+            const Vec3 centres[2] = {c - (60.0 + 0.5 * w) * n, c + (60.0 + 0.5 * w) * n};
+            TriDexel model = empty_model(cube_lattice(48));
+            fill_rays(model, [&](int a, int u, int v) {
+                const int b = (a + 1) % 3, cc = (a + 2) % 3;
+                if (u < lo[b] || u > hi[b] || v < lo[cc] || v > hi[cc]) return std::vector<Interval>{};
+                std::vector<std::pair<double, double>> spans{{lo[a], hi[a]}};
+                for (const Vec3& q : centres) {
+                    const double du = u - q[b], dv = v - q[cc], d2 = du * du + dv * dv;
+                    if (d2 >= 3600.0) continue;
+                    const double half = std::sqrt(3600.0 - d2);
+                    subtract_span(spans, q[a] - half, q[a] + half);
+                }
+                return spans_to_intervals(spans);
+            });
+            const MeshDiff d = expect_same_contour(ctx, model, "sheet between two ball cuts " + std::to_string(k));
+            splits += d.cpu_stats.split_faces;
+        }
+        EXPECT_GT(splits, 0u) << "no split face in the sheets";
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
