@@ -8,13 +8,14 @@
 namespace tridex::gpu {
 
 ComputeLayout create_compute_layout(const Context& context, std::uint32_t storage_buffers, std::uint32_t push_bytes,
-                                    std::uint32_t uniform_bindings) {
+                                    std::uint32_t uniform_bindings, std::uint32_t array_bindings,
+                                    std::uint32_t array_size) {
     const VkDevice dev = context.device();
     std::vector<VkDescriptorSetLayoutBinding> b(storage_buffers);
     for (std::uint32_t i = 0; i < storage_buffers; ++i) {
         b[i].binding = i;
         b[i].descriptorType = (uniform_bindings >> i) & 1u ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        b[i].descriptorCount = 1;
+        b[i].descriptorCount = (array_bindings >> i) & 1u ? array_size : 1u;
         b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
     VkDescriptorSetLayoutCreateInfo li{};

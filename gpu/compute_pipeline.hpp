@@ -18,9 +18,12 @@ struct ComputeLayout {
 /// 0 .. storage_buffers-1 (compute stage) and which takes `push_bytes` bytes of push constants (0 = none).
 /// Bindings whose bit is set in `uniform_bindings` (bit i = binding i) are uniform buffers instead
 /// (llvmpipe loads those with vector gathers, storage buffers one lane at a time).
+/// Bindings whose bit is set in `array_bindings` hold `array_size` descriptors (an array of buffers), the
+/// others one.
 /// Throws tridex::Error naming the Vulkan call when the device refuses.
 ComputeLayout create_compute_layout(const Context& context, std::uint32_t storage_buffers, std::uint32_t push_bytes,
-                                    std::uint32_t uniform_bindings = 0);
+                                    std::uint32_t uniform_bindings = 0, std::uint32_t array_bindings = 0,
+                                    std::uint32_t array_size = 1);
 
 /// A compute pipeline running `module`'s `main` with `layout`, specialised by `spec` (nullptr = none).
 /// Throws tridex::Error naming the Vulkan call when the device refuses.

@@ -265,6 +265,8 @@ void create_device(Context::Impl& impl) {
     // Enabled whenever offered (renderer::DrawBatcher relies on that): indirect multi-draws of per-tile meshes.
     use.features.multiDrawIndirect = have.features.multiDrawIndirect;
     use.features.drawIndirectFirstInstance = have.features.drawIndirectFirstInstance;
+    // Enabled whenever offered (compute::GpuSculptor relies on that): one dispatch reaches all three ray sets' slabs.
+    use.features.shaderStorageBufferArrayDynamicIndexing = have.features.shaderStorageBufferArrayDynamicIndexing;
 
     DeviceFeatures& f = impl.features;
     f.multiview = use11.multiview;
@@ -277,6 +279,7 @@ void create_device(Context::Impl& impl) {
     f.timestamps = impl.properties.limits.timestampComputeAndGraphics == VK_TRUE;
     f.multi_draw_indirect = use.features.multiDrawIndirect == VK_TRUE;
     f.draw_indirect_first_instance = use.features.drawIndirectFirstInstance == VK_TRUE;
+    f.storage_buffer_array_dynamic_indexing = use.features.shaderStorageBufferArrayDynamicIndexing == VK_TRUE;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queue{};

@@ -45,6 +45,7 @@ struct DeviceFeatures {
     bool timestamps = false;            ///< timestamp queries on graphics and compute queues
     bool multi_draw_indirect = false;   ///< vkCmdDrawIndexedIndirect with drawCount > 1
     bool draw_indirect_first_instance = false;  ///< indirect commands with firstInstance != 0
+    bool storage_buffer_array_dynamic_indexing = false;  ///< shaders index arrays of storage buffers at run time
 };
 
 /// Vulkan 1.2+ instance, the first suitable physical device (prefers a discrete GPU, then integrated,

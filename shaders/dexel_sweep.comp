@@ -1,5 +1,5 @@
-// shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on one tri-dexel ray set.
-// One workgroup = one tile of TILE_U x TILE_V = 8 rays; each invocation loads its ray's intervals, applies the
+// shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on the three tri-dexel ray sets.
+// One workgroup = one tile of TILE_U x TILE_V = 8 rays of one ray set (its tile entry names it); each invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/tools/sweep.cpp, compute/tools/capsule.cpp,
 // compute/model/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
@@ -31,25 +31,28 @@ struct GridSweep {       // compute/tools/sweep.hpp GridSweep, 96 bytes
     vec3 shank; float pad2;
 };
 
-layout(std430, set = 0, binding = 0) buffer Meta { uint meta[]; };          // count | cap_chunks << 7 | off_chunk << 11
-layout(std430, set = 0, binding = 1) buffer InlineDepth { vec4 inl[]; };    // enter0, exit0, enter1, exit1
-layout(std430, set = 0, binding = 2) buffer InlineMat { uint inl_mat[]; };  // bytes: enter0, exit0, enter1, exit1
-layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 pool[]; };     // (enter, exit) per interval
-layout(std430, set = 0, binding = 4) buffer PoolMat { uint pool_mat[]; };   // enter | exit << 8
+// The three ray sets' slabs (compute/gpu/gpu_dexel_slabs.hpp), as arrays of 3 bindings indexed by the
+// workgroup's ray set AX (the same for every invocation of a workgroup, so dynamically uniform).
+layout(std430, set = 0, binding = 0) buffer Meta { uint v[]; } slab_meta[3];          // count | cap_chunks << 7 | off_chunk << 11
+layout(std430, set = 0, binding = 1) buffer InlineDepth { vec4 v[]; } slab_inl[3];    // enter0, exit0, enter1, exit1
+layout(std430, set = 0, binding = 2) buffer InlineMat { uint v[]; } slab_inl_mat[3];  // bytes: enter0, exit0, enter1, exit1
+layout(std430, set = 0, binding = 3) buffer PoolDepth { vec2 v[]; } slab_pool[3];     // (enter, exit) per interval
+layout(std430, set = 0, binding = 4) buffer PoolMat { uint v[]; } slab_pool_mat[3];   // enter | exit << 8
 // The batch's sweeps in a uniform buffer: llvmpipe loads uniform-buffer words with a vector gather, but
 // storage-buffer words one lane at a time (each with its own branch and bounds check), which cost more
 // than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu/gpu_sculptor.cpp max_sweeps_.
 layout(constant_id = 2) const uint MAX_SWEEPS = 682u;
 layout(std140, set = 0, binding = 5) uniform Sweeps { GridSweep sweeps[MAX_SWEEPS]; };
-layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };  // tile u, tile v, first, count
+// Tile u | ray set << 30, tile v, first, count: the batch's tiles of all three sets, in one dispatch.
+layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };
 layout(std430, set = 0, binding = 7) readonly buffer SweepIndex { uint sweep_index[]; };
-layout(std430, set = 0, binding = 8) buffer Counters {
+layout(std430, set = 0, binding = 8) buffer Counters {  // one per ray set
     uint pool_head;      // chunks of 8 intervals handed out
     uint retry_count;    // rays listed in retry[]
     uint changed_rays;   // rays written back
     uint pad;
     uint retry[];
-};
+} counters[3];
 // Mesh tools (compute/gpu/gpu_sculptor.cpp pack_tools): [t] = block of tool t; block: k (float bits), then per
 // ray set nu, nv, ref_u, ref_v, word of the `first` offsets, word of the depths (float bits, 2 per interval).
 layout(std430, set = 0, binding = 9) readonly buffer ToolData { uint tool_data[]; };
@@ -64,15 +67,26 @@ layout(constant_id = 0) const bool HAS_MESH = true;
 layout(constant_id = 3) const uint OPS = 7u;
 layout(constant_id = 4) const uint KINDS = 3u;
 
-layout(push_constant) uniform Push {
-    int axis;
+// Per ray set: rays along u and v, pool capacity (chunks) and the lattice's cells along the set's axis
+// (union chords are clipped to [0, depth_cells]); compute/gpu/gpu_sculptor.cpp SetPush.
+struct SetConstants {
     int nu;
     int nv;
-    uint tile_base;
-    uint pool_chunks;  // chunks the pool holds
-    uint retry_capacity;
-    float depth_cells;  // lattice cells along the set's axis: union chords are clipped to [0, depth_cells]
+    uint pool_chunks;
+    float depth_cells;
+};
+layout(push_constant) uniform Push {
+    SetConstants sets[3];
+    uint tile_base;       // this dispatch's first entry of tiles[]
+    uint retry_capacity;  // entries of each set's retry[]
 } pc;
+
+// The workgroup's ray set (its tile's) and that set's constants, set first thing in main().
+int AX;
+int NU;
+int NV;
+uint POOL_CHUNKS;
+float DEPTH_CELLS;
 
 float en[MAXI];
 float ex[MAXI];
@@ -249,9 +263,9 @@ void add_swept_cylinder(vec3 o, vec3 d, vec3 e, vec3 delta, float r, inout float
 
 // compute/tools/sweep.cpp sweep_chord
 bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float d1) {
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    int ua = (AX + 1) % 3, va = (AX + 2) % 3;
     vec3 o = vec3(0.0), d = vec3(0.0);
-    d[pc.axis] = 1.0;
+    d[AX] = 1.0;
     precise float ou = float(u - s.origin[ua]) - s.start[ua];
     precise float ov = float(v - s.origin[va]) - s.start[va];
     o[ua] = ou;
@@ -271,7 +285,7 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
         add_swept_cylinder(o, d, s.shank, s.delta, s.radius, lo, hi);
     }
     if (!(lo <= hi)) return false;
-    precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];
+    precise float base = float(s.origin[AX]) + s.start[AX];
     d0 = base + lo;
     d1 = base + hi;
     return true;
@@ -282,8 +296,8 @@ bool sweep_chord(GridSweep s, int u, int v, uint stamp, out float d0, out float 
 #include "dexel_sweep_registers.glsl"
 
 void list_for_retry(uint ray) {
-    uint k = atomicAdd(retry_count, 1u);
-    if (k < pc.retry_capacity) retry[k] = ray;
+    uint k = atomicAdd(counters[AX].retry_count, 1u);
+    if (k < pc.retry_capacity) counters[AX].retry[k] = ray;
 }
 
 // A kMesh sweep's lookup state for one ray: its tool's header for this ray set and the ray's offset from
@@ -295,9 +309,9 @@ struct MeshRay {
 };
 
 MeshRay mesh_ray(GridSweep s, int u, int v) {
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    int ua = (AX + 1) % 3, va = (AX + 2) % 3;
     uint tb = tool_data[s.tool];
-    uint hb = tb + 1u + 6u * uint(pc.axis);
+    uint hb = tb + 1u + 6u * uint(AX);
     MeshRay r;
     r.kf = uintBitsToFloat(tool_data[tb]);
     r.tnu = int(tool_data[hb]);
@@ -308,7 +322,7 @@ MeshRay mesh_ray(GridSweep s, int u, int v) {
     r.dw = tool_data[hb + 5u];
     precise float ou = float(u - s.origin[ua]) - s.start[ua];
     precise float ov = float(v - s.origin[va]) - s.start[va];
-    precise float base = float(s.origin[pc.axis]) + s.start[pc.axis];
+    precise float base = float(s.origin[AX]) + s.start[AX];
     r.ou = ou;
     r.ov = ov;
     r.base = base;
@@ -318,7 +332,7 @@ MeshRay mesh_ray(GridSweep s, int u, int v) {
 // The tool intervals [q0, q1) that stamp `st` of a kMesh sweep puts on the ray, and the stamp's depth
 // offset ca; false when the ray misses the tool's grid at that stamp.
 bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out float ca) {
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    int ua = (AX + 1) % 3, va = (AX + 2) % 3;
     q0 = 0u;
     q1 = 0u;
     ca = 0.0;
@@ -335,20 +349,26 @@ bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out f
     uint tr = uint(int(fu) + r.rfu) + uint(r.tnu) * uint(int(fv) + r.rfv);
     q0 = tool_data[r.fw + tr];
     q1 = tool_data[r.fw + tr + 1u];
-    ca = c[pc.axis];
+    ca = c[AX];
     return true;
 }
 
 void main() {
     uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
+    AX = int(tile.x >> 30);
+    tile.x &= 0x3fffffffu;
+    NU = pc.sets[AX].nu;
+    NV = pc.sets[AX].nv;
+    POOL_CHUNKS = pc.sets[AX].pool_chunks;
+    DEPTH_CELLS = pc.sets[AX].depth_cells;
     int u = int(tile.x * TILE_U + gl_LocalInvocationID.x % TILE_U);
     int v = int(tile.y * TILE_V + gl_LocalInvocationID.x / TILE_U);
-    if (u >= pc.nu || v >= pc.nv) return;
-    uint ray = uint(u) + uint(pc.nu) * uint(v);
-    uint m = meta[ray];
+    if (u >= NU || v >= NV) return;
+    uint ray = uint(u) + uint(NU) * uint(v);
+    uint m = slab_meta[AX].v[ray];
     n = m & 127u;
     if (n > MAXI) { list_for_retry(ray); return; }
-    int ua = (pc.axis + 1) % 3, va = (pc.axis + 2) % 3;
+    int ua = (AX + 1) % 3, va = (AX + 2) % 3;
     bool changed = false;
     // The register path (batches without mesh tools, rays of at most K intervals): applies the tile's
     // sweeps in order until done or until a span would need more than K intervals; the array path
@@ -357,14 +377,14 @@ void main() {
     if (!HAS_MESH && n <= K) {
         fn = n;
         if (n <= INLINE) {
-            vec4 d = inl[ray];
-            uint mm = inl_mat[ray];
+            vec4 d = slab_inl[AX].v[ray];
+            uint mm = slab_inl_mat[AX].v[ray];
             fe[0] = d.x; fx[0] = d.y; fm[0] = mm & 0xffffu;
             fe[1] = d.z; fx[1] = d.w; fm[1] = mm >> 16;
         } else {
             uint off = (m >> 11) * 8u;
             [[unroll]] for (uint i = 0u; i < K; ++i) {
-                if (i < n) { vec2 p = pool[off + i]; fe[i] = p.x; fx[i] = p.y; fm[i] = pool_mat[off + i]; }
+                if (i < n) { vec2 p = slab_pool[AX].v[off + i]; fe[i] = p.x; fx[i] = p.y; fm[i] = slab_pool_mat[AX].v[off + i]; }
             }
         }
         bool full = false;
@@ -377,7 +397,7 @@ void main() {
             for (st0 = 0u; st0 < s.stamps; ++st0) {
                 float d0, d1;
                 if (!sweep_chord(s, u, v, st0, d0, d1)) continue;
-                if ((OPS & 2u) != 0u && op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, pc.depth_cells); }
+                if ((OPS & 2u) != 0u && op == 2u) { d0 = max(d0, 0.0); d1 = min(d1, DEPTH_CELLS); }
                 uint r = fast_apply(op, d0, d1, mat);
                 if (r == 2u) { full = true; break; }
                 if (r == 1u) changed = true;
@@ -388,15 +408,15 @@ void main() {
         [[unroll]] for (uint i = 0u; i < K; ++i) { en[i] = fe[i]; ex[i] = fx[i]; mt[i] = fm[i]; }
         if (!full) { k0 = tile.w; st0 = 0u; }
     } else if (n <= INLINE) {
-        vec4 d = inl[ray];
-        uint mm = inl_mat[ray];
+        vec4 d = slab_inl[AX].v[ray];
+        uint mm = slab_inl_mat[AX].v[ray];
         en[0] = d.x; ex[0] = d.y; mt[0] = mm & 0xffffu;
         en[1] = d.z; ex[1] = d.w; mt[1] = mm >> 16;
     } else {
         uint off = (m >> 11) * 8u;
         for (uint i = 0u; i < n; ++i) {
-            vec2 p = pool[off + i];
-            en[i] = p.x; ex[i] = p.y; mt[i] = pool_mat[off + i];
+            vec2 p = slab_pool[AX].v[off + i];
+            en[i] = p.x; ex[i] = p.y; mt[i] = slab_pool_mat[AX].v[off + i];
         }
     }
     // The array path: every ray of a mesh-tool batch, rays over K intervals.
@@ -443,22 +463,22 @@ void main() {
         uint mm = 0u;
         if (n > 0u) { d.x = en[0]; d.y = ex[0]; mm = mt[0]; }
         if (n > 1u) { d.z = en[1]; d.w = ex[1]; mm |= mt[1] << 16; }
-        inl[ray] = d;
-        inl_mat[ray] = mm;
+        slab_inl[AX].v[ray] = d;
+        slab_inl_mat[AX].v[ray] = mm;
     } else {
         if (cap * 8u < n) {  // a new pool region; the old one becomes garbage until the host compacts
             uint need = (n + 7u) / 8u;
-            uint at = atomicAdd(pool_head, need);
-            if (at + need > pc.pool_chunks) { list_for_retry(ray); return; }
+            uint at = atomicAdd(counters[AX].pool_head, need);
+            if (at + need > POOL_CHUNKS) { list_for_retry(ray); return; }
             cap = need;
             off_chunk = at;
         }
         uint off = off_chunk * 8u;
         for (uint i = 0u; i < n; ++i) {
-            pool[off + i] = vec2(en[i], ex[i]);
-            pool_mat[off + i] = mt[i];
+            slab_pool[AX].v[off + i] = vec2(en[i], ex[i]);
+            slab_pool_mat[AX].v[off + i] = mt[i];
         }
     }
-    meta[ray] = n | (cap << 7) | (off_chunk << 11);
-    atomicAdd(changed_rays, 1u);
+    slab_meta[AX].v[ray] = n | (cap << 7) | (off_chunk << 11);
+    atomicAdd(counters[AX].changed_rays, 1u);
 }

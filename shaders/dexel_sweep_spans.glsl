@@ -21,7 +21,7 @@ uint union_span(float t0, float t1, uint mat);
 uint paint_span(float t0, float t1, uint mat);
 uint apply_op(uint op, float d0, float d1, uint mat) {
     if ((OPS & 1u) != 0u && op == 1u) return subtract_span(d0, d1, mat);
-    if ((OPS & 2u) != 0u && op == 2u) return union_span(max(d0, 0.0), min(d1, pc.depth_cells), mat);
+    if ((OPS & 2u) != 0u && op == 2u) return union_span(max(d0, 0.0), min(d1, DEPTH_CELLS), mat);
     if ((OPS & 4u) != 0u && op == 3u) return paint_span(d0, d1, mat);
     return 0u;
 }

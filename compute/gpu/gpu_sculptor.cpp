@@ -23,19 +23,29 @@ constexpr int kTileU = 4;  // rays per tile along u (the kernel's specialisation
 constexpr int kTileV = 8 / kTileU;
 constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
 constexpr int kBindings = 10;
+constexpr std::uint32_t kPerSetBindings = 0x11fu;  // bindings 0-4 (slabs) and 8 (counters): arrays of one buffer per ray set
 constexpr int kSweepBinding = 5;  // the batch's sweeps: a uniform buffer (llvmpipe gathers those as vectors)
 constexpr std::size_t kSweepUniformBytes = 65536;  // the Vulkan minimum of maxUniformBufferRange is 16384
 constexpr std::size_t kMaxBinding = std::size_t{128} << 20;  // lavapipe's maxStorageBufferRange
 
-struct Push {
-    std::int32_t axis, nu, nv;
-    std::uint32_t tile_base, pool_chunks, retry_capacity;
-    float depth_cells;  // the lattice's cells along `axis`: union chords are clipped to [0, depth_cells]
+// One ray set's constants (the kernel's SetConstants).
+struct SetPush {
+    std::int32_t nu = 0, nv = 0;
+    std::uint32_t pool_chunks = 0;
+    float depth_cells = 0.0f;  // the lattice's cells along the set's axis: union chords are clipped to [0, depth_cells]
 };
 
+struct Push {
+    SetPush sets[3];
+    std::uint32_t tile_base = 0, retry_capacity = 0;
+};
+
+// tu carries the tile's ray set in its top two bits (kSetShift): one dispatch covers all three sets.
 struct TileEntry {
     std::uint32_t tu, tv, first, count;
 };
+constexpr int kSetShift = 30;
+constexpr std::uint32_t kTileMask = (1u << kSetShift) - 1u;
 
 // Orders one dispatch's tiles so that every contiguous 1/2, 1/4 or 1/8 of them carries about the same
 // work: sorted by sweep count (the work per ray), descending, then dealt by the bit-reversed residue of the
@@ -95,7 +105,10 @@ std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
 GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
     : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
     const VkDevice dev = context.device();
-    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push), 1u << kSweepBinding);
+    if (!context.features().storage_buffer_array_dynamic_indexing)
+        throw Error("GPU sculpt: the Vulkan device cannot index arrays of storage buffers in shaders "
+                    "(shaderStorageBufferArrayDynamicIndexing); use --cpu");
+    gpu::ComputeLayout cl = gpu::create_compute_layout(context, kBindings, sizeof(Push), 1u << kSweepBinding, kPerSetBindings, 3);
     const VkDescriptorSetLayout layout = cl.set_layout.get();
     set_layout_ = std::move(cl.set_layout);
     pipeline_layout_ = std::move(cl.pipeline_layout);
@@ -111,8 +124,7 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     // Creating a variant takes tens of ms on lavapipe: the common one (ball, subtract) now, others on first use.
     pipelines_[1][1] = create_pipeline(false, 1u, 1u);
     descriptor_pool_ = gpu::allocate_descriptor_sets(
-        dev, {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * (kBindings - 1)}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3}}, layout, 3,
-        sets_);
+        dev, {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * 6 + 3}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}}, layout, 1, &set_);
 
     tools_ = host_storage(context_, 16);
     sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
@@ -161,7 +173,7 @@ void GpuSculptor::upload_tools(const ToolTable& tools) {
 GpuSculptor::~GpuSculptor() = default;
 
 void GpuSculptor::ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry) {
-    bool rebind = sets_[0] != VK_NULL_HANDLE && tiles_.handle() == VK_NULL_HANDLE;
+    bool rebind = set_ != VK_NULL_HANDLE && tiles_.handle() == VK_NULL_HANDLE;
     auto grow = [&](gpu::Buffer& buf, std::size_t bytes) {
         if (buf.handle() != VK_NULL_HANDLE && buf.size() >= bytes) return;
         buf = host_storage(context_, std::max<std::size_t>(bytes, buf.size() * 2));
@@ -178,24 +190,28 @@ void GpuSculptor::ensure_batch_capacity(std::size_t tiles, std::size_t indices, 
 }
 
 void GpuSculptor::bind_descriptors() {
-    for (int a = 0; a < 3; ++a) {
-        const gpu::Buffer* bufs[kBindings] = {&slabs_.buffer(a, 0), &slabs_.buffer(a, 1), &slabs_.buffer(a, 2),
-                                              &slabs_.buffer(a, 3), &slabs_.buffer(a, 4), &sweeps_,
-                                              &tiles_,              &index_,              &counters_[a],
-                                              &tools_};
-        VkDescriptorBufferInfo info[kBindings];
-        VkWriteDescriptorSet w[kBindings]{};
-        for (int i = 0; i < kBindings; ++i) {
-            info[i] = VkDescriptorBufferInfo{bufs[i]->handle(), 0, VK_WHOLE_SIZE};
-            w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            w[i].dstSet = sets_[a];
-            w[i].dstBinding = static_cast<std::uint32_t>(i);
-            w[i].descriptorCount = 1;
-            w[i].descriptorType = i == kSweepBinding ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[i].pBufferInfo = &info[i];
+    // Bindings 0-4 and 8 hold one buffer per ray set (array element = axis), the others one buffer.
+    VkDescriptorBufferInfo info[kBindings][3];
+    VkWriteDescriptorSet w[kBindings]{};
+    for (int i = 0; i < kBindings; ++i) {
+        const bool per_set = ((kPerSetBindings >> i) & 1u) != 0;
+        for (int a = 0; a < 3; ++a) {
+            const gpu::Buffer* buf = i < 5             ? &slabs_.buffer(a, i)
+                                     : i == kSweepBinding ? &sweeps_
+                                     : i == 6             ? &tiles_
+                                     : i == 7             ? &index_
+                                     : i == 8             ? &counters_[a]
+                                                          : &tools_;
+            info[i][a] = VkDescriptorBufferInfo{buf->handle(), 0, VK_WHOLE_SIZE};
         }
-        vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
+        w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[i].dstSet = set_;
+        w[i].dstBinding = static_cast<std::uint32_t>(i);
+        w[i].descriptorCount = per_set ? 3u : 1u;
+        w[i].descriptorType = i == kSweepBinding ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        w[i].pBufferInfo = info[i];
     }
+    vkUpdateDescriptorSets(context_.device(), kBindings, w, 0, nullptr);
 }
 
 std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps,
@@ -313,7 +329,8 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         // slot[i]: the tile's count -> the index position where its next sweep goes.
         for (std::size_t i = 0; i < slot.size(); ++i) {
             if (slot[i] == 0) continue;
-            const TileEntry t{static_cast<std::uint32_t>(bu0 + static_cast<int>(i % bw)), static_cast<std::uint32_t>(bv0 + static_cast<int>(i / bw)),
+            const TileEntry t{static_cast<std::uint32_t>(bu0 + static_cast<int>(i % bw)) | static_cast<std::uint32_t>(a) << kSetShift,
+                              static_cast<std::uint32_t>(bv0 + static_cast<int>(i / bw)),
                               static_cast<std::uint32_t>(index.size()), slot[i]};
             tiles.push_back(t);
             slot[i] = t.first;
@@ -322,13 +339,12 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         for (const Span& sp : spans)
             for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(sp.tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
         count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
-        balance_tiles(tiles.begin() + base[a], tiles.end());
     }
     if (tiles.empty()) return stats;
+    const std::size_t listed = tiles.size();
     const std::uint32_t most = std::max({count[0], count[1], count[2]});
     ensure_batch_capacity(tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileU * kTileV);
     sweeps_.write(grid.data(), grid.size() * sizeof(GridSweep));
-    tiles_.write(tiles.data(), tiles.size() * sizeof(TileEntry));
     index_.write(index.data(), index.size() * sizeof(std::uint32_t));
     for (int a = 0; a < 3; ++a) {
         const std::uint32_t head[4] = {slabs_.pool_head(a), 0, 0, 0};
@@ -342,23 +358,28 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
     }
     const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
+    // One dispatch for all three sets (more only past kMaxGroups tiles): the sets write disjoint buffers and
+    // each set's pool head is advanced atomically, so the dispatches need no barrier between them. The tiles
+    // are ordered over the whole list (balance_tiles) after the host kept each set's range for the mirror.
+    std::vector<TileEntry> order(tiles);
+    balance_tiles(order.begin(), order.end());
+    tiles_.write(order.data(), order.size() * sizeof(TileEntry));
+    Push push{};
+    for (int a = 0; a < 3; ++a)
+        push.sets[a] = SetPush{slabs_.nu(a), slabs_.nv(a), slabs_.pool_chunks(a), static_cast<float>(mirror_.lattice.cells[a])};
+    push.retry_capacity = static_cast<std::uint32_t>(retry_capacity_);
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-        for (int a = 0; a < 3; ++a) {
-            if (count[a] == 0) continue;
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &sets_[a], 0, nullptr);
-            for (std::uint32_t done = 0; done < count[a]; done += kMaxGroups) {
-                const Push push{a, slabs_.nu(a), slabs_.nv(a), base[a] + done, slabs_.pool_chunks(a),
-                                static_cast<std::uint32_t>(retry_capacity_),
-                                static_cast<float>(mirror_.lattice.cells[a])};
-                vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
-                vkCmdDispatch(cmd, std::min(kMaxGroups, count[a] - done), 1, 1);
-                ++stats_.dispatches;
-            }
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
+        for (std::uint32_t done = 0; done < listed; done += kMaxGroups) {
+            push.tile_base = done;
+            vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
+            vkCmdDispatch(cmd, std::min<std::uint32_t>(kMaxGroups, static_cast<std::uint32_t>(listed) - done), 1, 1);
+            ++stats_.dispatches;
         }
         // Make the kernel's writes visible to the host reads that follow the fence.
         VkMemoryBarrier barrier{};
-    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
         barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
         barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
@@ -390,7 +411,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     for (int a = 0; a < 3; ++a) {
         RaySet& set = mirror_.sets[a];
         for (std::uint32_t t = base[a]; t < base[a] + count[a]; ++t) {
-            const int u0 = static_cast<int>(tiles[t].tu) * kTileU, v0 = static_cast<int>(tiles[t].tv) * kTileV;
+            const int u0 = static_cast<int>(tiles[t].tu & kTileMask) * kTileU, v0 = static_cast<int>(tiles[t].tv) * kTileV;
             for (int v = v0; v < std::min(v0 + kTileV, set.nv); ++v)
                 for (int u = u0; u < std::min(u0 + kTileU, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
         }

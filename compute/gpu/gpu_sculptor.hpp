@@ -19,7 +19,7 @@ namespace tridex::compute {
 struct GpuSculptStats {
     std::uint64_t batches = 0;       ///< submissions (one per apply() call, more for batches over 682 sweeps)
     std::uint64_t sweeps = 0;        ///< sweeps applied
-    std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per ray set touched per batch, or more for > 65535 tiles)
+    std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per batch for all three ray sets, more for > 65535 tiles)
     std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
     std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
@@ -33,8 +33,9 @@ struct GpuSculptorOptions {
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
-/// sweeps with shaders/dexel_sweep.comp. Per batch and ray set, only the 4 x 2-ray tiles under some
-/// sweep's footprint are dispatched (one workgroup each, all tiles of a set in one dispatch); each
+/// sweeps with shaders/dexel_sweep.comp. Per batch, only the 4 x 2-ray tiles of each ray set under some
+/// sweep's footprint are dispatched (one workgroup each, the tiles of all three sets in one dispatch; the
+/// device must offer shaderStorageBufferArrayDynamicIndexing, else the constructor throws); each
 /// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
 /// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).
 /// The kernel is specialised to the operations and tool kinds a batch holds (one pipeline per pair; the
@@ -104,7 +105,7 @@ private:
     gpu::UniquePipeline pipelines_[8][4];  // [OPS][KINDS]: kernels without the mesh-tool path, made on first use
     gpu::UniquePipeline mesh_pipeline_;  // kernel with it (and every operation and tool), for batches holding kMesh sweeps
     gpu::UniqueDescriptorPool descriptor_pool_;
-    VkDescriptorSet sets_[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkDescriptorSet set_ = VK_NULL_HANDLE;  // bindings 0-4 and 8 are arrays of one buffer per ray set
     gpu::Buffer sweeps_, tiles_, index_;
     gpu::Buffer counters_[3];
     gpu::Buffer tools_;            // the batch's mesh-tool dexels (pack_tools words), binding 9
