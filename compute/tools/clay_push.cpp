@@ -47,6 +47,16 @@ float clay_surface_distance(const TriDexel& model, float cx, float cy, float cz,
     return std::sqrt(best2);
 }
 
+ClayBox clay_sweeps_box(std::span<const GridSweep> sweeps) {
+    ClayBox b;
+    for (std::size_t k = 0; k < sweeps.size(); ++k)
+        for (int a = 0; a < 3; ++a) {
+            b.lo[a] = k == 0 ? sweeps[k].lo[a] : std::min(b.lo[a], sweeps[k].lo[a]);
+            b.hi[a] = k == 0 ? sweeps[k].hi[a] : std::max(b.hi[a], sweeps[k].hi[a]);
+        }
+    return b;
+}
+
 ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells) {
     ClayField f;
     const float c[3] = {cx, cy, cz};
@@ -117,13 +127,6 @@ ClayStats apply_stamps(TriDexel& model, const ClayBox& outer, float R, const std
     field.region.r = r + w + 1.01f + std::sqrt(off2) * 1.0001f + 1e-3f;  // a neighbour lies within 1 cell of a moved node
     kernel.stamp_field(model, field, stamps, params);
     return kernel.resample(model, field, before);
-}
-
-/// The node box lo..hi of a grid sweep.
-ClayBox sweep_box(const GridSweep& g) {
-    ClayBox b;
-    for (int a = 0; a < 3; ++a) b.lo[a] = g.lo[a], b.hi[a] = g.hi[a];
-    return b;
 }
 
 // The ball's centre (grid units) at stamp k of n along the sweep (k = 0: the motion's start).
@@ -222,16 +225,13 @@ ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, st
     // model as it is before the group.
     thread_local std::vector<ClayStamp> stamps;
     stamps.clear();
-    ClayBox outer = sweep_box(sweeps[0]);
     // Pushed one by one, a spot under the tool for n sweeps could sink by n steps; grouped, it sinks in one.
     const float max_step = std::min(kClayMaxStep * static_cast<float>(sweeps.size()), kClayGroupMaxStep);
     for (const GridSweep& g : sweeps) {
         if (g.radius != sweeps[0].radius) throw Error("clay push group: the sweeps' tool radii differ");
         clay_push_stamps(model, g, max_step, stamps);
-        const ClayBox b = sweep_box(g);
-        for (int a = 0; a < 3; ++a) outer.lo[a] = std::min(outer.lo[a], b.lo[a]), outer.hi[a] = std::max(outer.hi[a], b.hi[a]);
     }
-    return apply_stamps(model, outer, sweeps[0].radius, stamps, true, before, kernel);
+    return apply_stamps(model, clay_sweeps_box(sweeps), sweeps[0].radius, stamps, true, before, kernel);
 }
 
 ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
@@ -252,7 +252,7 @@ ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(gap, kClayPullMaxStep)});
     }
-    return apply_stamps(model, sweep_box(g), R, stamps, false, before, kernel);
+    return apply_stamps(model, clay_sweeps_box(std::span<const GridSweep>(&g, 1)), R, stamps, false, before, kernel);
 }
 
 }  // namespace tridex::compute

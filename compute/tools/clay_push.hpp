@@ -49,6 +49,10 @@ struct ClayContact {
 /// keep their value, so a push does not thin a plate from behind.
 inline float clay_sheet_depth(float delta, float d) { return delta + 2.0f + 0.5f * d; }
 
+/// The node box of clay sweeps: the union of their grid boxes lo..hi (GridSweep::lo, hi from to_clay_grid_sweep),
+/// inside which their operation may change nodes. An empty span gives an empty box.
+ClayBox clay_sweeps_box(std::span<const GridSweep> sweeps);
+
 /// The contact of a ball (grid centre cx, cy, cz; radius r_cells) with `model`, from a 4 x 4 x 4 node field around
 /// the centre.
 ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells);

@@ -50,17 +50,6 @@ void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<cons
     }
 }
 
-namespace {
-
-/// The node box lo..hi of a grid sweep.
-ClayBox sweep_box(const GridSweep& g) {
-    ClayBox b;
-    for (int a = 0; a < 3; ++a) b.lo[a] = g.lo[a], b.hi[a] = g.hi[a];
-    return b;
-}
-
-}  // namespace
-
 ClayStats clay_smooth(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
     return clay_smooth_group(model, std::span<const GridSweep>(&g, 1), before, kernel);
 }
@@ -71,11 +60,8 @@ ClayStats clay_smooth_group(TriDexel& model, std::span<const GridSweep> sweeps, 
     const float R = sweeps[0].radius, r = kClayInfluence * R;
     thread_local std::vector<ClaySmoothParams> acts;
     acts.clear();
-    ClayBox outer = sweep_box(sweeps[0]);
     for (const GridSweep& g : sweeps) {
         if (g.radius != R) throw Error("clay smooth group: the sweeps' tool radii differ");
-        const ClayBox sb = sweep_box(g);
-        for (int a = 0; a < 3; ++a) outer.lo[a] = std::min(outer.lo[a], sb.lo[a]), outer.hi[a] = std::max(outer.hi[a], sb.hi[a]);
         // Once per half-cell plane crossed by the motion a -> b.
         bool crosses = false;
         float c[3];
@@ -99,7 +85,7 @@ ClayStats clay_smooth_group(TriDexel& model, std::span<const GridSweep> sweeps, 
         lo[a] = hi[a] = acts[0].point[a];
         for (const ClaySmoothParams& p : acts) lo[a] = std::min(lo[a], p.point[a]), hi[a] = std::max(hi[a], p.point[a]);
     }
-    field.box = clay_support_box(lo, hi, r, outer);  // around the contact points
+    field.box = clay_support_box(lo, hi, r, clay_sweeps_box(sweeps));  // around the contact points
     if (field.box.empty()) return {};
     // The narrow region: the nodes within r of a contact point (the only ones that move) and their neighbours; for
     // several acts a capsule from the first contact point to the last, widened by the farthest point's distance.
