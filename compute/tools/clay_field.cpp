@@ -236,7 +236,8 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                 nd[a] = dlo;
                 std::size_t x = b.index(nd[0], nd[1], nd[2]);
                 std::size_t q = 0;  // first end >= depth
-                for (int d = dlo; d <= dhi; ++d, x += stride) {
+                int d = dlo;
+                while (d <= dhi) {
                     const float depth = static_cast<float>(d);
                     while (q < ne && end(q) < depth) ++q;
                     float dist = K;
@@ -249,6 +250,24 @@ void clay_build_phi(const TriDexel& model, ClayField& f) {
                         touching[x] = 1;
                     else if (dist < K)
                         inv[x] += 1.0f / (dist * dist);
+                    ++d, x += stride;
+                    if (dist < K) continue;
+                    // Past the last end's reach: every node before the one within K of the next end (or the chord's
+                    // end) has dist == K and the same parity, so it only votes.
+                    int stop = dhi + 1;
+                    if (q < ne) {
+                        const float e = end(q);
+                        const float first = std::ceil(e - K);  // no node below this lies within K of e
+                        if (first <= static_cast<float>(dhi)) stop = std::max(d, static_cast<int>(first) - 1);
+                    }
+                    if (a == 0) {
+                        for (; d < stop; ++d, x += stride) votes[x] = in, touching[x] = 0;
+                    } else if (in) {
+                        for (; d < stop; ++d, x += stride) ++votes[x];
+                    } else {
+                        x += static_cast<std::size_t>(stop - d) * stride;
+                        d = stop;
+                    }
                 }
             }
     }

@@ -196,23 +196,35 @@ void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const
 
 namespace {
 
-// Appends the interaction points of push sweep g (clay_push) found against `model`, each moving the surface at most
-// max_step cells.
-void clay_push_stamps(const TriDexel& model, const GridSweep& g, float max_step, std::vector<ClayStamp>& stamps) {
-    const float R = g.radius;
-    const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
-    for (std::uint32_t k = 0; k < n; ++k) {
-        float c[3];
-        stamp_centre(g, k + 1, n, c);
-        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
-        if (!(ct.delta >= kClayMinStep)) continue;
-        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
-                          {ct.normal[0], ct.normal[1], ct.normal[2]},
-                          std::min(ct.delta, max_step)});
+// The ball centres (grid units) at which a push group takes its contacts: the end of every half-cell sub-step of
+// every sweep (GridSweep::stamps), thinned along the path to one per clay_stamp_spacing(R) of motion, the group's last
+// centre always kept (the tool's latest pose).
+void clay_push_centres(std::span<const GridSweep> sweeps, std::vector<std::array<float, 3>>& centres) {
+    centres.clear();
+    const float h = clay_stamp_spacing(sweeps[0].radius);
+    float run = 0.0f;  // motion since the last centre kept, cells
+    for (std::size_t s = 0; s < sweeps.size(); ++s) {
+        const GridSweep& g = sweeps[s];
+        const std::uint32_t n = std::max<std::uint32_t>(g.stamps, 1u);
+        float prev[3];
+        stamp_centre(g, 0, n, prev);
+        for (std::uint32_t k = 0; k < n; ++k) {
+            float c[3];
+            stamp_centre(g, k + 1, n, c);
+            const float dx = c[0] - prev[0], dy = c[1] - prev[1], dz = c[2] - prev[2];
+            run += std::sqrt(dx * dx + dy * dy + dz * dz);
+            prev[0] = c[0], prev[1] = c[1], prev[2] = c[2];
+            const bool last = s + 1 == sweeps.size() && k + 1 == n;
+            if (run < h && !last) continue;
+            centres.push_back({c[0], c[1], c[2]});
+            run = 0.0f;
+        }
     }
 }
 
 }  // namespace
+
+float clay_stamp_spacing(float radius_cells) { return std::max(0.5f, kClayStampSpacing * radius_cells); }
 
 ClayStats clay_push(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {
     return clay_push_group(model, std::span<const GridSweep>(&g, 1), before, kernel);
@@ -227,9 +239,17 @@ ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, st
     stamps.clear();
     // Pushed one by one, a spot under the tool for n sweeps could sink by n steps; grouped, it sinks in one.
     const float max_step = std::min(kClayMaxStep * static_cast<float>(sweeps.size()), kClayGroupMaxStep);
-    for (const GridSweep& g : sweeps) {
+    for (const GridSweep& g : sweeps)
         if (g.radius != sweeps[0].radius) throw Error("clay push group: the sweeps' tool radii differ");
-        clay_push_stamps(model, g, max_step, stamps);
+    const float R = sweeps[0].radius;
+    thread_local std::vector<std::array<float, 3>> centres;
+    clay_push_centres(sweeps, centres);
+    for (const std::array<float, 3>& c : centres) {
+        const ClayContact ct = clay_contact(model, c[0], c[1], c[2], R);
+        if (!(ct.delta >= kClayMinStep)) continue;
+        stamps.push_back({{ct.point[0], ct.point[1], ct.point[2]},
+                          {ct.normal[0], ct.normal[1], ct.normal[2]},
+                          std::min(ct.delta, max_step)});
     }
     return apply_stamps(model, clay_sweeps_box(sweeps), sweeps[0].radius, stamps, true, before, kernel);
 }

@@ -27,6 +27,14 @@ inline constexpr float kClayMaxStep = 1.0f;
 /// would pushed sweep by sweep, while the field's offset stays well inside its search distance.
 inline constexpr float kClayGroupMaxStep = 3.0f;
 
+/// Spacing of a push group's contacts along the tool's path, as a multiple of the tool radius R: between two contacts
+/// h apart the dent's envelope sags by at most delta * (h / 2r)^2 (r = kClayInfluence * R), well under a cell.
+inline constexpr float kClayStampSpacing = 0.25f;
+
+/// Spacing (cells) of a push group's contacts along the tool's path for a ball of radius R cells:
+/// max(0.5, kClayStampSpacing * R).
+float clay_stamp_spacing(float radius_cells);
+
 /// Distance (cells) from grid point c to the nearest interval end of any ray of the three sets within `search` cells
 /// (`search` when there is none): the distance to the sampled surface, exact at the samples, so at most a few
 /// hundredths of a cell above the true distance for a tool a few cells away. O(rays within search x intervals).
@@ -59,7 +67,7 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 
 /// Plastic push of one clay sweep (to_clay_grid_sweep; the tool a ball of radius R = sweep.radius cells).
 /// Interaction points: the ball at stamps f = (k+1)/stamps of the motion (k = 0..stamps-1, at most half a cell
-/// apart). For each stamp m in contact, delta_m = min(R - phi(c_m), kClayMaxStep) (stamps with delta_m < kClayMinStep
+/// apart), thinned to one per clay_stamp_spacing(R) of motion (the last always kept). For each stamp m in contact, delta_m = min(R - phi(c_m), kClayMaxStep) (stamps with delta_m < kClayMinStep
 /// do nothing). Popescu, Burdea, Bouzit, "Virtual Reality Simulation Modeling for a Haptic Glove", section 3.3: a
 /// surface point at distance d from the interaction point p*_m moves by delta_m * k with k = 1 - (d/r)^2 within the
 /// radius of influence r = kClayInfluence * R, and where several interaction points act the largest displacement
@@ -73,8 +81,9 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 ClayStats clay_push(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
                     ClayKernel& kernel = clay_cpu_kernel());
 
-/// Plastic push of several consecutive push sweeps of one ball as one operation: the interaction points of every
-/// sweep (as clay_push), their contacts all found against `model` as it is before the group, one displacement field
+/// Plastic push of several consecutive push sweeps of one ball as one operation: the interaction points along all
+/// the sweeps' motion (their stamps in order, thinned to one per clay_stamp_spacing(R) of motion, the group's last
+/// stamp always kept), their contacts all found against `model` as it is before the group, one displacement field
 /// (the largest displacement over all of them wins, as over one sweep's stamps: Popescu 3.3's several interaction
 /// points; a stamp moves the surface at most min(n kClayMaxStep, kClayGroupMaxStep) for n sweeps) and one rim with
 /// one beta. The field's box is limited to the union of the sweeps' lo..hi. Costs about as
