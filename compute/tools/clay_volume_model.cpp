@@ -96,7 +96,11 @@ double ClayVolumeModel::change(float beta, double* slope) const {
                                         (e.flags & kMoved1) != 0, (e.flags & kInside1) != 0, &d_root);
         if (slope && d_root != 0.0f) {  // the crossing slides with the linear root: d root / d beta
             const double q = static_cast<double>(p0) - p1;
-            ds += d_root * (static_cast<double>(p0) * e.b1 - static_cast<double>(p1) * e.b0) / (q * q);
+            const double dr = (static_cast<double>(p0) * e.b1 - static_cast<double>(p1) * e.b0) / (q * q);
+            // An edge's length changes by at most a cell over the whole range: a root that races across its edge (ends
+            // both near the surface) would let one edge swamp the slope, so its rate is capped at a cell per
+            // kClaySlopeSpan of beta.
+            ds += d_root * std::clamp(dr, -1.0 / kClaySlopeSpan, 1.0 / kClaySlopeSpan);
         }
         sum += static_cast<double>(in - e.old_inside);
     }
@@ -105,19 +109,19 @@ double ClayVolumeModel::change(float beta, double* slope) const {
 }
 
 float ClayVolumeModel::solve(double target, double tolerance) const {
-    // A Newton step from beta = 0 on the smooth part (the crossings sliding along their edges), widened until the
-    // change brackets the target; then regula falsi with the Illinois rule inside the bracket.
+    // A Newton step from beta = 0 on the smooth part (the crossings sliding along their edges); then outward along
+    // the secant through the last two values, at least doubling the distance from 0 each time, until the change
+    // brackets the target or the range ends; then regula falsi with the Illinois rule inside the bracket, bisecting
+    // whenever two steps in a row did not halve it.
     double slope = 0.0;
     const double f0 = change(0.0f, &slope) - target;
-    float lo = 0.0f, hi = 0.0f;
-    double flo = f0, fhi = f0;
     if (std::fabs(f0) <= tolerance) return 0.0f;
     float step = slope != 0.0 ? static_cast<float>(-f0 / slope) : 1.0f;
     if (!std::isfinite(step) || step == 0.0f) step = 1.0f;
     step = std::clamp(step, -kClayMaxBeta, kClayMaxBeta);
-    float b = 0.0f;
-    double fb = f0;
-    for (int k = 0; k < 8; ++k) {  // walk outward until the sign changes or the range ends
+    float b = 0.0f, lo = 0.0f, hi = 0.0f;
+    double fb = f0, flo = f0, fhi = f0;
+    for (int k = 0; k < 24; ++k) {  // walk outward until the sign changes or the range ends
         const float nb = std::clamp(b + step, -kClayMaxBeta, kClayMaxBeta);
         const double fn = change(nb) - target;
         if (std::fabs(fn) <= tolerance) return nb;
@@ -125,18 +129,31 @@ float ClayVolumeModel::solve(double target, double tolerance) const {
             lo = b, flo = fb, hi = nb, fhi = fn;
             break;
         }
-        if (nb == b || std::fabs(nb) >= kClayMaxBeta) {  // no root in range: the value nearest to the target
+        if (nb == b || std::fabs(nb) >= kClayMaxBeta)  // no root in range: the value nearest to the target
             return std::fabs(fn) < std::fabs(f0) ? nb : 0.0f;
+        // The secant's root a quarter beyond, but at least twice as far from 0 as nb.
+        const double secant = (fn - fb) / (static_cast<double>(nb) - b);
+        double next = 2.0 * nb;
+        if (secant != 0.0 && std::isfinite(secant)) {
+            const double root = nb - fn / secant;
+            if ((root - nb) * nb > 0.0) next = nb + 1.25 * (root - nb);
+            if (std::fabs(next) < 2.0 * std::fabs(nb)) next = 2.0 * nb;
         }
         b = nb, fb = fn;
-        step *= 2.0f;
+        step = static_cast<float>(std::clamp(next, -static_cast<double>(kClayMaxBeta), static_cast<double>(kClayMaxBeta))) - b;
+        if (step == 0.0f) return std::fabs(fb) < std::fabs(f0) ? b : 0.0f;
     }
     if (lo == hi) return std::fabs(fb) < std::fabs(f0) ? b : 0.0f;
     if (lo > hi) std::swap(lo, hi), std::swap(flo, fhi);
     int side = 0;  // which end stayed last time (Illinois: halve the other end's value when one end stays twice)
+    float width2 = hi - lo;  // the bracket's width two steps ago
     for (int k = 0; k < 40 && hi - lo > kClayBetaResolution; ++k) {
         if (std::min(std::fabs(flo), std::fabs(fhi)) <= tolerance) break;
         float mid = static_cast<float>((static_cast<double>(lo) * fhi - static_cast<double>(hi) * flo) / (fhi - flo));
+        if (k % 2 == 0) {
+            if (k > 0 && hi - lo > 0.5f * width2) mid = 0.5f * (lo + hi);  // regula falsi stalled: bisect
+            width2 = hi - lo;
+        }
         if (!(mid > lo && mid < hi)) mid = 0.5f * (lo + hi);
         const double fm = change(mid) - target;
         if (fm == 0.0) return mid;

@@ -17,6 +17,10 @@ namespace tridex::compute {
 /// status flips) cannot be split finer anyway.
 inline constexpr float kClayBetaResolution = 1e-3f;
 
+/// Span of beta (cells of s1) over which the Newton slope of ClayVolumeModel::solve lets one edge's length change by
+/// a whole cell at most.
+inline constexpr double kClaySlopeSpan = 0.25;
+
 /// The model's volume change (cells^3, the mean of the three sets' interval lengths, as clay_resample measures it)
 /// that re-sampling field `f` at beta gives, predicted per lattice edge.
 ///
@@ -36,12 +40,14 @@ public:
     /// intervals)).
     void build(const TriDexel& model, const ClayField& f, std::span<const ClayMovedRay> moved);
     /// The predicted volume change at beta, cells^3, and when `slope` is not null its derivative in beta over the
-    /// crossings that slide along their edges (the jumps where a node's status flips left out), cells^3 per unit
-    /// beta. O(edges that depend on beta).
+    /// crossings that slide along their edges (the jumps where a node's status flips left out; each edge's rate
+    /// capped at 1 / kClaySlopeSpan), cells^3 per unit beta. O(edges that depend on beta).
     double change(float beta, double* slope = nullptr) const;
     /// beta in [-kClayMaxBeta, kClayMaxBeta] where change(beta) = target (cells^3): a Newton step from 0 with the
-    /// slope of change, doubled until the change brackets the target, then regula falsi with the Illinois rule on
-    /// the bracket (the change is monotone in beta up to the jumps where a node's status flips),
+    /// slope of change (each edge's rate capped, kClaySlopeSpan), then outward along the secant (at least doubling)
+    /// until the change brackets the target or the range ends, then regula falsi with the Illinois rule on the
+    /// bracket, bisecting when two steps did not halve it (the change is monotone in beta up to the jumps where a
+    /// node's status flips),
     /// until a bracket end lies within `tolerance` (cells^3) of the target, the bracket is narrower than
     /// kClayBetaResolution, or 40 steps, returning the end nearer to the target (the range's end nearer to it when the
     /// target lies outside the range's values).
