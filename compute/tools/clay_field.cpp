@@ -115,7 +115,17 @@ ClayBox clay_whole_box(const Lattice& L) {
     return b;
 }
 
-void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
+namespace {
+
+/// The capsule region's chords along set a's rays (clay_region_chord's estimate), its ray-independent terms once.
+AxisCapsule region_capsule(const ClayRegion& g, int a) {
+    glm::vec3 e(0.0f);
+    for (int k = 0; k < 3; ++k) e[k] = g.c1[k] - g.c[k];
+    return AxisCapsule(a, e, g.r * 1.0001f + 1e-2f);
+}
+
+/// clay_region_chord with the region's capsule along set a (region_capsule) given.
+void region_chord(const ClayField& f, const AxisCapsule& cap, int a, int u, int v, int& lo, int& hi) {
     lo = f.box.lo[a];
     hi = f.box.hi[a];
     const ClayRegion& g = f.region;
@@ -135,12 +145,7 @@ void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi
         t1 = std::sqrt(std::max(r2 - side2, 0.0f));
         t0 = -t1;
     } else {
-        glm::vec3 o(0.0f), d(0.0f), e(0.0f);
-        o[ua] = static_cast<float>(u) - g.c[ua];
-        o[va] = static_cast<float>(v) - g.c[va];
-        d[a] = 1.0f;
-        for (int k = 0; k < 3; ++k) e[k] = g.c1[k] - g.c[k];
-        if (!capsule_chord(o, d, glm::vec3(0.0f), e, g.r * 1.0001f + 1e-2f, t0, t1)) {
+        if (!cap.chord(static_cast<float>(u) - g.c[ua], static_cast<float>(v) - g.c[va], t0, t1)) {
             lo = 1;
             hi = 0;
             return;
@@ -175,6 +180,12 @@ void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi
         while (hi >= lo && !in(hi)) --hi;
 }
 
+}  // namespace
+
+void clay_region_chord(const ClayField& f, int a, int u, int v, int& lo, int& hi) {
+    region_chord(f, region_capsule(f.region, a), a, u, v, lo, hi);
+}
+
 void clay_build_chords(ClayField& f) {
     const ClayBox& b = f.box;
     const bool whole = !std::isfinite(f.region.r);
@@ -187,12 +198,13 @@ void clay_build_chords(ClayField& f) {
         const double eu = g.c1[ua] - g.c[ua], ev = g.c1[va] - g.c[va];
         const double margin = 2e-2 + 1e-5 * (g.r + std::fabs(eu) + std::fabs(ev) + std::fabs(g.c[ua]) + std::fabs(g.c[va]));
         const CapsuleShadow shadow(eu, ev, whole ? 0.0 : g.r * 1.0001 + margin, g.c[ua], g.c[va]);
+        const AxisCapsule cap = whole ? AxisCapsule() : region_capsule(g, a);
         for (int v = b.lo[va]; v <= b.hi[va]; ++v) {
             int u_lo = b.lo[ua], u_hi = b.hi[ua];
             if (!whole && !shadow.row(v, u_lo, u_hi)) continue;  // the row misses the region
             for (int u = u_lo; u <= u_hi; ++u) {
                 int dlo, dhi;
-                clay_region_chord(f, a, u, v, dlo, dhi);
+                region_chord(f, cap, a, u, v, dlo, dhi);
                 if (dlo > dhi) continue;
                 f.chords[a][static_cast<std::size_t>(u - b.lo[ua]) +
                             static_cast<std::size_t>(b.n(ua)) * (v - b.lo[va])] = {dlo, dhi};
