@@ -23,6 +23,8 @@
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/tools/clay_push.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/parallel/task_pool.hpp"
@@ -169,6 +171,37 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
 
 }  // namespace
 
+namespace {
+
+/// The model's own volume, m^3: the mean of the three sets' interval lengths (ray_set_volume_m3), the measure the
+/// clay tools keep. dexel_volume_m3's face correction is left out: it changes wherever a clay tool bends a face that
+/// lies on the lattice's nodes (the bench's workpiece), by up to half a cell times the area bent.
+double raw_volume_m3(const TriDexel& m) {
+    return (compute::ray_set_volume_m3(m, 0) + compute::ray_set_volume_m3(m, 1) + compute::ray_set_volume_m3(m, 2)) / 3.0;
+}
+
+/// The clay row's volume drift and three-set disagreement (SculptBenchRow): `before` is the workpiece the row
+/// started from, `after` the model it left, `volume0` the workpiece's volume in cells^3.
+void clay_row_checks(const TriDexel& before, const TriDexel& after, std::span<const Sweep> stroke, double volume0,
+                     SculptBenchRow& row) {
+    const double cell3 = std::pow(after.lattice.cell_m, 3.0);
+    row.volume_before_cells3 = volume0;
+    row.volume_change_cells3 = raw_volume_m3(after) / cell3 - volume0;
+    row.volume_drift_per_1000_cells3 =
+        row.segments > 0 ? row.volume_change_cells3 * 1000.0 / static_cast<double>(row.segments) : 0.0;
+    std::vector<compute::GridSweep> grid;
+    for (std::size_t k = 0; k < row.segments; ++k) {
+        Sweep s = stroke[k];
+        s.op = ToolOp::kPush;  // the larger reach of push and smooth
+        grid.push_back(compute::to_clay_grid_sweep(after.lattice, s));
+    }
+    const compute::ClayBox box = compute::clay_sweeps_box(grid);
+    row.disagreement_before = compute::clay_set_disagreement(before, box);
+    row.disagreement_after = compute::clay_set_disagreement(after, box);
+}
+
+}  // namespace
+
 double seconds_for_segments(const SculptBenchRow& row, std::size_t segments) {
     const std::size_t batch = static_cast<std::size_t>(std::max(row.batch, 1));
     const std::size_t steps = std::min(row.step_s.size(), (segments + batch - 1) / batch);
@@ -289,7 +322,10 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                     sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
                     step = [&sculptor](std::span<const Sweep> b) { return sculptor->apply(b).rays_visited; };
                 }
+                const double cell3 = std::pow(m.lattice.cell_m, 3.0);
+                const double volume0 = p.find("clay") != std::string::npos ? raw_volume_m3(m) / cell3 : 0.0;
                 run_row(o, m, contourer, stroke, rays_of, step, row);
+                if (p.find("clay") != std::string::npos) clay_row_checks(pristine_model, m, stroke, volume0, row);
                 if (sculptor) {
                     after = sculptor->slabs().bytes();
                     row.gpu_ray_tiles = sculptor->stats().ray_tiles;
@@ -372,6 +408,16 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         }
         std::printf("\n");
     }
+    std::printf("clay rows: the model's volume change (the three sets' mean interval length) over the row and per 1,000 segments, and the "
+                "three-set disagreement (nodes) in the sweeps' box before -> after:\n");
+    for (const auto& row : rows) {
+        if (!is_clay(row.path)) continue;
+        std::printf("  N=%4d r=%2.0f %-15s: %+.3g cells^3 over %zu segments (%+.3g%% of %.4g); %+.3g cells^3 per 1,000; "
+                    "disagreement %zu -> %zu\n", row.n, row.radius_cells, row.path.c_str(), row.volume_change_cells3,
+                    row.segments, 100.0 * row.volume_change_cells3 / std::max(row.volume_before_cells3, 1e-30),
+                    row.volume_before_cells3, row.volume_drift_per_1000_cells3, row.disagreement_before,
+                    row.disagreement_after);
+    }
     std::printf("gpu-batched / cpu segments_per_s (target >= 0.5 when a batch's footprint > 10,000 rays):\n");
     for (const auto& row : rows) {
         if (row.path != "cpu") continue;
@@ -416,7 +462,10 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                          {"rays_per_segment", r.rays_per_segment}, {"boolean_s", r.boolean_s}, {"contour_s", r.contour_s},
                          {"tiles_contoured", r.tiles_contoured}, {"contour", "cpu"},
                          {"threads", r.path == "cpu" ? threads : 1}, {"model_hash", r.model_hash},
-                         {"gpu_ray_tiles", r.gpu_ray_tiles}, {"gpu_retried_rays", r.gpu_retried_rays}});
+                         {"gpu_ray_tiles", r.gpu_ray_tiles}, {"gpu_retried_rays", r.gpu_retried_rays},
+                         {"volume_change_cells3", r.volume_change_cells3},
+                         {"volume_drift_per_1000_cells3", r.volume_drift_per_1000_cells3},
+                         {"disagreement_before", r.disagreement_before}, {"disagreement_after", r.disagreement_after}});
     // sculpt_bench.json is the list of rows (one object per path and size); the set-up and memory go beside it.
     nlohmann::json j = {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},

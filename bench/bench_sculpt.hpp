@@ -28,6 +28,15 @@ struct SculptBenchRow {
     double rays_per_segment = 0.0;        ///< median footprint rays of one segment (all three sets)
     std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: ray tiles dispatched (GpuSculptStats); 0 on CPU rows
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)
+    /// Clay rows: the model's volume (the mean of the three sets' interval lengths, the measure the clay tools
+    /// keep) after the row less before, cells^3, and that per 1,000 segments; 0 on the other rows.
+    double volume_change_cells3 = 0.0;
+    double volume_drift_per_1000_cells3 = 0.0;
+    double volume_before_cells3 = 0.0;  ///< clay rows: the workpiece's volume before the row, cells^3
+    /// Clay rows: lattice nodes on whose inside/outside status the three ray sets disagree (clay_set_disagreement)
+    /// in the node box of the row's sweeps, before and after the row; 0 on the other rows.
+    std::size_t disagreement_before = 0;
+    std::size_t disagreement_after = 0;
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal
     std::vector<double> step_s;           ///< each apply call's wall time, s, in stroke order (not in the JSON)

@@ -94,6 +94,36 @@ TEST(ClayBatch, AGroupedGrooveFollowsTheBallAndKeepsTheVolume) {
     }
 }
 
+TEST(ClayBatch, DeepPressesIntoAFaceOnTheNodesKeepTheVolumeGroupByGroup) {
+    // A face through the lattice's nodes and a ball pressed well past the push's step: the edges at the face carry
+    // both ends near the surface, whose crossings race across their edges as the rim's weight changes. Every
+    // group's rim must still be solved to keep the volume.
+    const double z0 = 20.0, depth = 3.37;
+    const TriDexel start = from_implicit(cube_lattice(48), clay_test::slab(z0));
+    for (const double R : {2.0, 4.0}) {
+        TriDexel m = start;
+        const double v0 = volume_cells(m);
+        double worst = 0.0;
+        std::size_t changed = 0;
+        for (int b = 0; b < 4; ++b) {
+            std::vector<Sweep> batch;
+            for (int k = 0; k < 16; ++k) {
+                const double x = 14.0 + 0.45 * (16 * b + k), y = 24.3 + 2.0 * std::sin(0.1 * (16 * b + k));
+                const double x1 = x + 0.45, y1 = 24.3 + 2.0 * std::sin(0.1 * (16 * b + k + 1));
+                batch.push_back(clay_sweep(ToolOp::kPush, Vec3(x, y, z0 + R - depth), Vec3(x1, y1, z0 + R - depth), R));
+            }
+            const double before = volume_cells(m);
+            changed += apply_clay_batch(m, batch).rays_changed;
+            const double dv = volume_cells(m) - before;
+            worst = std::max(worst, std::fabs(dv));
+        }
+        std::printf("R = %.0f cells, face on the nodes, pressed %.2f cells: largest volume change of a batch %.4f "
+                    "cells^3, over the stroke %.4f of %.0f\n", R, depth, worst, volume_cells(m) - v0, v0);
+        EXPECT_GT(changed, 0u) << "the stroke must push";
+        EXPECT_LT(worst, 0.5) << "a batch's rim left volume unaccounted";
+    }
+}
+
 TEST(ClayBatch, BooleansAndOtherClayOpsInTheBatchApplyAsOnTheirOwn) {
     std::vector<Sweep> batch = groove(4, 12.0, 2.0, 1.0);
     Sweep cut;
