@@ -224,7 +224,11 @@ float solve_measured(std::span<const ClayMovedRay> moved,
     float b = b1;
     double dv = best_dv;
     for (int k = 0; k < 2 && std::fabs(dv) > tolerance; ++k) {
-        const float nb = vm.solve(vm.change(b) - dv, 0.25 * tolerance);  // the model's error at b taken as constant
+        const double error = vm.change(b) - dv;  // the model's error at b, taken as constant
+        // A model this close already put beta where it predicts the least change: the miss is a jump (a node's
+        // status flipping) that no beta within the resolution avoids.
+        if (std::fabs(error) <= 0.25 * tolerance) break;
+        const float nb = vm.solve(error, 0.25 * tolerance);
         if (nb == b) break;
         prepare(trial, moved.size());
         resample(moved, nb, nullptr, trial);

@@ -111,8 +111,8 @@ double ClayVolumeModel::change(float beta, double* slope) const {
 float ClayVolumeModel::solve(double target, double tolerance) const {
     // A Newton step from beta = 0 on the smooth part (the crossings sliding along their edges); then outward along
     // the secant through the last two values, at least doubling the distance from 0 each time, until the change
-    // brackets the target or the range ends; then regula falsi with the Illinois rule inside the bracket, bisecting
-    // whenever two steps in a row did not halve it.
+    // brackets the target or the range ends; then regula falsi with the Anderson-Bjorck rule inside the bracket,
+    // bisecting whenever two steps in a row did not halve it.
     double slope = 0.0;
     const double f0 = change(0.0f, &slope) - target;
     if (std::fabs(f0) <= tolerance) return 0.0f;
@@ -145,7 +145,7 @@ float ClayVolumeModel::solve(double target, double tolerance) const {
     }
     if (lo == hi) return std::fabs(fb) < std::fabs(f0) ? b : 0.0f;
     if (lo > hi) std::swap(lo, hi), std::swap(flo, fhi);
-    int side = 0;  // which end stayed last time (Illinois: halve the other end's value when one end stays twice)
+    int side = 0;  // which end was replaced last time
     float width2 = hi - lo;  // the bracket's width two steps ago
     for (int k = 0; k < 40 && hi - lo > kClayBetaResolution; ++k) {
         if (std::min(std::fabs(flo), std::fabs(fhi)) <= tolerance) break;
@@ -157,13 +157,21 @@ float ClayVolumeModel::solve(double target, double tolerance) const {
         if (!(mid > lo && mid < hi)) mid = 0.5f * (lo + hi);
         const double fm = change(mid) - target;
         if (fm == 0.0) return mid;
+        // Anderson-Bjorck: when the same end is replaced twice running, the kept end's value is scaled by
+        // 1 - fm / f(replaced end) (by 1/2 when that is not positive), so the next secant reaches past the root.
         if ((fm < 0.0) == (flo < 0.0)) {
+            if (side == -1) {
+                const double g = 1.0 - fm / flo;
+                fhi *= g > 0.0 ? g : 0.5;
+            }
             lo = mid, flo = fm;
-            if (side == -1) fhi *= 0.5;
             side = -1;
         } else {
+            if (side == 1) {
+                const double g = 1.0 - fm / fhi;
+                flo *= g > 0.0 ? g : 0.5;
+            }
             hi = mid, fhi = fm;
-            if (side == 1) flo *= 0.5;
             side = 1;
         }
     }

@@ -45,8 +45,8 @@ public:
     double change(float beta, double* slope = nullptr) const;
     /// beta in [-kClayMaxBeta, kClayMaxBeta] where change(beta) = target (cells^3): a Newton step from 0 with the
     /// slope of change (each edge's rate capped, kClaySlopeSpan), then outward along the secant (at least doubling)
-    /// until the change brackets the target or the range ends, then regula falsi with the Illinois rule on the
-    /// bracket, bisecting when two steps did not halve it (the change is monotone in beta up to the jumps where a
+    /// until the change brackets the target or the range ends, then regula falsi with the Anderson-Bjorck rule on
+    /// the bracket, bisecting when two steps did not halve it (the change is monotone in beta up to the jumps where a
     /// node's status flips),
     /// until a bracket end lies within `tolerance` (cells^3) of the target, the bracket is narrower than
     /// kClayBetaResolution, or 40 steps, returning the end nearer to the target (the range's end nearer to it when the
