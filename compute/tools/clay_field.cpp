@@ -192,6 +192,7 @@ void clay_build_chords(ClayField& f) {
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         f.chords[a].assign(static_cast<std::size_t>(b.n(ua)) * b.n(va), std::array<int, 2>{1, 0});
+        if (a > 0 && !whole) continue;  // read off set 0's chords below
         // The region's shadow on the set's rays, widened beyond clay_region_chord's own (r * 1.0001 + 0.01) and
         // beyond float rounding: rays outside it have no chord.
         const ClayRegion& g = f.region;
@@ -211,6 +212,23 @@ void clay_build_chords(ClayField& f) {
             }
         }
     }
+    if (whole) return;
+    // Sets 1 and 2: the region's nodes are those of set 0's chords (the same predicate), and the capsule is convex,
+    // so each of their rays meets them in one run, from its first node to its last in the walk below (k outer, j
+    // inner: along a set 1 ray j grows, along a set 2 ray k grows).
+    const std::size_t n0 = static_cast<std::size_t>(b.n(0)), n2 = static_cast<std::size_t>(b.n(2));
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j) {
+            const std::array<int, 2>& run = f.chord(0, j, k);
+            for (int i = run[0]; i <= run[1]; ++i) {
+                std::array<int, 2>& c1 = f.chords[1][static_cast<std::size_t>(k - b.lo[2]) + n2 * (i - b.lo[0])];
+                if (c1[0] > c1[1]) c1[0] = j;
+                c1[1] = j;
+                std::array<int, 2>& c2 = f.chords[2][static_cast<std::size_t>(i - b.lo[0]) + n0 * (j - b.lo[1])];
+                if (c2[0] > c2[1]) c2[0] = k;
+                c2[1] = k;
+            }
+        }
 }
 
 void clay_build_phi(const TriDexel& model, ClayField& f) {
