@@ -58,7 +58,7 @@ ClayBox clay_sweeps_box(std::span<const GridSweep> sweeps) {
 }
 
 ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, float r_cells) {
-    ClayField f;
+    thread_local ClayField f;  // its arrays' storage kept from call to call
     const float c[3] = {cx, cy, cz};
     for (int a = 0; a < 3; ++a) {
         const int b = static_cast<int>(std::floor(c[a]));
@@ -73,7 +73,12 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
         for (int a = 0; a < 3; ++a) k.point[a] = c[a];
         return k;
     }
-    clay_build_phi(model, f);
+    // phi at the box's few nodes one by one (clay_node_phi: the values clay_build_phi gives, without its set-up).
+    f.phi.resize(f.box.count());
+    for (int kz = f.box.lo[2]; kz <= f.box.hi[2]; ++kz)
+        for (int jy = f.box.lo[1]; jy <= f.box.hi[1]; ++jy)
+            for (int ix = f.box.lo[0]; ix <= f.box.hi[0]; ++ix)
+                f.phi[f.box.index(ix, jy, kz)] = clay_node_phi(model, ix, jy, kz, f.search);
     k.phi = clay_phi_at(f, cx, cy, cz);
     // Outside, the distance to the nearest crossing: the field's plane-exact distance mixes crossings of different
     // surfaces (a rim beside a dent's floor) and would report the tool closer than it is.
