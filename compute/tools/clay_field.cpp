@@ -20,6 +20,9 @@ void ray_probe(const std::vector<Interval>& ray, float depth, float search, bool
     inside = false;
     dist = search;
     for (const Interval& iv : ray) {
+        // The intervals are sorted: once one starts `dist` or more past the depth, no later end is nearer and none
+        // holds the depth.
+        if (iv.enter - depth >= dist) break;
         if (iv.enter < depth && depth <= iv.exit) inside = true;
         dist = std::min(dist, std::fabs(iv.enter - depth));
         dist = std::min(dist, std::fabs(iv.exit - depth));
