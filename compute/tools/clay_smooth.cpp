@@ -29,13 +29,18 @@ void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<cons
     thread_local std::vector<std::pair<std::size_t, float>> step;
     for (const ClaySmoothParams& p : acts) {
         const float r = p.r;
+        // No node with d^2 at or above this has sqrt(d^2) < r in float (r^2 rounded up with room to spare): the
+        // square root is skipped there with the same outcome.
+        const float r2_far = r * r * 1.001f;
         step.clear();
         for (std::size_t k = 0; k < band.size(); ++k) {
             const std::size_t i = band_at[k];
             const float dx = static_cast<float>(band[k][0]) - p.point[0],
                         dy = static_cast<float>(band[k][1]) - p.point[1],
                         dz = static_cast<float>(band[k][2]) - p.point[2];
-            const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+            const float d2 = dx * dx + dy * dy + dz * dz;
+            if (!(d2 < r2_far)) continue;
+            const float d = std::sqrt(d2);
             if (!(d < r)) continue;
             const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
             if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
