@@ -28,6 +28,9 @@ struct SculptBenchRow {
     double rays_per_segment = 0.0;        ///< median footprint rays of one segment (all three sets)
     std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: ray tiles dispatched (GpuSculptStats); 0 on CPU rows
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)
+    /// GPU sculpt rows: mean ms per submission (GpuSculptStats) spent before submitting, from recording until the
+    /// fence signalled, and after it; 0 on other rows.
+    double gpu_prepare_ms = 0.0, gpu_submit_ms = 0.0, gpu_finish_ms = 0.0;
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal
     std::vector<double> step_s;           ///< each apply call's wall time, s, in stroke order (not in the JSON)
