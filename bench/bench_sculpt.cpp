@@ -330,10 +330,19 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                     after = sculptor->slabs().bytes();
                     row.gpu_ray_tiles = sculptor->stats().ray_tiles;
                     row.gpu_retried_rays = sculptor->stats().retried_rays;
+                    const compute::GpuSculptStats& st = sculptor->stats();
+                    const double per = st.batches > 0 ? 1e3 / static_cast<double>(st.batches) : 0.0;
+                    row.gpu_prepare_ms = st.prepare_s * per;
+                    row.gpu_submit_ms = st.submit_s * per;
+                    row.gpu_finish_ms = st.finish_s * per;
                 }
                 std::printf("%5d %4.0f %-11s %7zu %10.0f %11.3g %9.0f %9.3f %9.3f %8.0f\n", n, r, p.c_str(), row.segments,
                             row.segments_per_s, row.rays_per_s, row.tiles_contoured_per_s, row.step_ms_median, row.latency_ms,
                             row.rays_per_segment);
+                if (sculptor && sculptor->stats().batches > 0)
+                    std::printf("%5s %4s   mean per submission: host before %.3f ms, submit to fence %.3f ms, host after %.3f ms, "
+                                "%.0f ray tiles\n", "", "", row.gpu_prepare_ms, row.gpu_submit_ms, row.gpu_finish_ms,
+                                static_cast<double>(row.gpu_ray_tiles) / static_cast<double>(sculptor->stats().batches));
                 std::fflush(stdout);
                 rows.push_back(row);
             }
@@ -465,7 +474,8 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                          {"gpu_ray_tiles", r.gpu_ray_tiles}, {"gpu_retried_rays", r.gpu_retried_rays},
                          {"volume_change_cells3", r.volume_change_cells3},
                          {"volume_drift_per_1000_cells3", r.volume_drift_per_1000_cells3},
-                         {"disagreement_before", r.disagreement_before}, {"disagreement_after", r.disagreement_after}});
+                         {"disagreement_before", r.disagreement_before}, {"disagreement_after", r.disagreement_after},
+                         {"gpu_prepare_ms", r.gpu_prepare_ms}, {"gpu_submit_ms", r.gpu_submit_ms}, {"gpu_finish_ms", r.gpu_finish_ms}});
     // sculpt_bench.json is the list of rows (one object per path and size); the set-up and memory go beside it.
     nlohmann::json j = {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},

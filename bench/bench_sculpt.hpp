@@ -37,6 +37,9 @@ struct SculptBenchRow {
     /// in the node box of the row's sweeps, before and after the row; 0 on the other rows.
     std::size_t disagreement_before = 0;
     std::size_t disagreement_after = 0;
+    /// GPU sculpt rows: mean ms per submission (GpuSculptStats) spent before submitting, from recording until the
+    /// fence signalled, and after it; 0 on other rows.
+    double gpu_prepare_ms = 0.0, gpu_submit_ms = 0.0, gpu_finish_ms = 0.0;
     std::string model_hash;               ///< FNV-1a 64 of every interval after the row (hex); equal
                                           ///< hashes = identical models when `segments` are equal
     std::vector<double> step_s;           ///< each apply call's wall time, s, in stroke order (not in the JSON)

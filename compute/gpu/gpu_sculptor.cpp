@@ -3,6 +3,7 @@
 #include "compute/gpu/gpu_sculptor.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cstring>
 #include <sstream>
@@ -103,7 +104,8 @@ std::vector<std::uint32_t> pack_tools(const ToolTable& tools) {
 }  // namespace
 
 GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const GpuSculptorOptions& options)
-    : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)) {
+    : context_(context), mirror_(mirror), slabs_(GpuDexelSlabs::upload(context, mirror, options.initial_pool_chunks)),
+      submitter_(context, options.fence_wait) {
     const VkDevice dev = context.device();
     if (!context.features().storage_buffer_array_dynamic_indexing)
         throw Error("GPU sculpt: the Vulkan device cannot index arrays of storage buffers in shaders "
@@ -286,6 +288,8 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
 BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
                                      const ToolTable& tools) {
     BooleanStats stats;
+    using Clock = std::chrono::steady_clock;
+    const auto t_start = Clock::now();
 
     // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order (a
     // counting sort over the batch's box of tiles: count, prefix sums, then fill in batch order).
@@ -368,7 +372,8 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     for (int a = 0; a < 3; ++a)
         push.sets[a] = SetPush{slabs_.nu(a), slabs_.nv(a), slabs_.pool_chunks(a), static_cast<float>(mirror_.lattice.cells[a])};
     push.retry_capacity = static_cast<std::uint32_t>(retry_capacity_);
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    const auto t_submit = Clock::now();
+    submitter_.run([&](VkCommandBuffer cmd) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
         for (std::uint32_t done = 0; done < listed; done += kMaxGroups) {
@@ -384,6 +389,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
     });
+    const auto t_done = Clock::now();
     ++stats_.batches;
     stats_.sweeps += grid.size();
     stats_.ray_tiles += tiles.size();
@@ -418,6 +424,9 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     }
     if (stats.rays_changed > 0)
         for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
+    stats_.prepare_s += std::chrono::duration<double>(t_submit - t_start).count();
+    stats_.submit_s += std::chrono::duration<double>(t_done - t_submit).count();
+    stats_.finish_s += std::chrono::duration<double>(Clock::now() - t_done).count();
     return stats;
 }
 

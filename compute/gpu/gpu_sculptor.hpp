@@ -10,6 +10,7 @@
 #include "compute/model/tridexel.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/context.hpp"
+#include "gpu/repeat_submit.hpp"
 #include "gpu/shader_module.hpp"
 #include "gpu/unique_handle.hpp"
 
@@ -23,6 +24,9 @@ struct GpuSculptStats {
     std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
     std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
+    double prepare_s = 0.0;  ///< host time before submitting (tile lists, uploads), s, summed over batches
+    double submit_s = 0.0;   ///< time from recording the command buffer until its fence signalled, s, summed
+    double finish_s = 0.0;   ///< host time after the fence (retried rays, the mirror's rays), s, summed
 };
 
 /// Options of a GpuSculptor.
@@ -30,6 +34,8 @@ struct GpuSculptorOptions {
     /// Initial spill-pool size per ray set, chunks of 8 intervals; 0 = twice what the model needs, at
     /// least 4096. Small values exercise compaction and growth (tests).
     std::uint32_t initial_pool_chunks = 0;
+    /// How apply() waits for a batch's fence (gpu::FenceWait).
+    gpu::FenceWait fence_wait = gpu::FenceWait::kBlock;
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
@@ -98,6 +104,7 @@ private:
     const gpu::Context& context_;
     TriDexel& mirror_;
     GpuDexelSlabs slabs_;
+    gpu::RepeatSubmitter submitter_;  // one command buffer and fence for every batch
     GpuSculptStats stats_;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;

@@ -28,6 +28,7 @@ TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitFo
         TriDexel gpu_model = box_model(64, 8.5, 55.5);
         GpuSculptorOptions opt;
         opt.initial_pool_chunks = 16;  // tiny: forces compaction and growth
+        opt.fence_wait = gpu::FenceWait::kPoll;  // the other tests wait with kBlock
         GpuSculptor sculptor(ctx, gpu_model, opt);
         const std::vector<Sweep> program = random_program(cpu.lattice, 3000, 7u);
         std::mt19937 rng(11);
@@ -50,6 +51,9 @@ TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitFo
         EXPECT_GT(sculptor.stats().compactions, 0u);
         EXPECT_GT(sculptor.stats().retried_rays, 0u);
         EXPECT_EQ(sculptor.stats().dispatches, sculptor.stats().batches);  // all three ray sets in one dispatch
+        EXPECT_GT(sculptor.stats().prepare_s, 0.0);
+        EXPECT_GT(sculptor.stats().submit_s, 0.0);
+        EXPECT_GT(sculptor.stats().finish_s, 0.0);
         std::cout << "segments " << program.size() << ", batches " << sculptor.stats().batches << ", ray tiles "
                   << sculptor.stats().ray_tiles << ", rays retried on the host " << sculptor.stats().retried_rays
                   << ", compactions " << sculptor.stats().compactions << ", spilled intervals "
