@@ -14,16 +14,10 @@ constexpr std::uint64_t kTimeoutNs = 60'000'000'000ull;
 
 RepeatSubmitter::RepeatSubmitter(const Context& context, FenceWait wait) : context_(context), wait_(wait) {
     const VkDevice dev = context.device();
-    VkCommandPoolCreateInfo pool{};
-    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool.queueFamilyIndex = context.queue_family();
-    VkCommandPool p = VK_NULL_HANDLE;
-    check(vkCreateCommandPool(dev, &pool, nullptr, &p), "vkCreateCommandPool");
-    pool_ = UniqueCommandPool(dev, p);
+    pool_ = make_command_pool(context, VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT);
     VkCommandBufferAllocateInfo alloc{};
     alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    alloc.commandPool = p;
+    alloc.commandPool = pool_.get();
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
     check(vkAllocateCommandBuffers(dev, &alloc, &cmd_), "vkAllocateCommandBuffers");

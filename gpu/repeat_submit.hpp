@@ -6,12 +6,12 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/command_pool.hpp"
 #include "gpu/context.hpp"
 #include "gpu/unique_handle.hpp"
 
 namespace tridex::gpu {
 
-using UniqueCommandPool = UniqueHandle<VkCommandPool, vkDestroyCommandPool>;
 
 /// How RepeatSubmitter::run waits for its fence.
 enum class FenceWait : std::uint8_t {

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/command_pool.hpp"
 
 namespace tridex::renderer {
 namespace {
@@ -23,13 +24,8 @@ FrameSlots FrameSlots::create(const gpu::Context& context, int count) {
     f.context_ = &context;
     f.slots_.resize(static_cast<std::size_t>(count));
     for (Slot& s : f.slots_) {
-        VkCommandPoolCreateInfo pool_info{};
-        pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-        pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-        pool_info.queueFamilyIndex = context.queue_family();
-        VkCommandPool pool = VK_NULL_HANDLE;
-        gpu::check(vkCreateCommandPool(device, &pool_info, nullptr, &pool), "vkCreateCommandPool");
-        s.pool = gpu::UniqueHandle<VkCommandPool, vkDestroyCommandPool>(device, pool);
+        s.pool = gpu::make_command_pool(context, VK_COMMAND_POOL_CREATE_TRANSIENT_BIT);
+        const VkCommandPool pool = s.pool.get();
         VkCommandBufferAllocateInfo alloc{};
         alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
         alloc.commandPool = pool;

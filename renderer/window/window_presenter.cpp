@@ -13,6 +13,7 @@
 #include "gpu/barrier.hpp"
 #include "gpu/buffer.hpp"
 #include "gpu/check.hpp"
+#include "gpu/command_pool.hpp"
 #include "gpu/image_array.hpp"
 #include "gpu/swapchain.hpp"
 #include "gpu/unique_handle.hpp"
@@ -23,7 +24,7 @@ namespace tridex::renderer {
 namespace {
 
 using UniqueSemaphore = gpu::UniqueHandle<VkSemaphore, vkDestroySemaphore>;
-using UniqueCommandPool = gpu::UniqueHandle<VkCommandPool, vkDestroyCommandPool>;
+using gpu::UniqueCommandPool;
 constexpr std::uint64_t kFenceTimeoutNs = 10'000'000'000ull;
 
 UniqueSemaphore make_semaphore(VkDevice device) {
@@ -295,13 +296,8 @@ WindowPresenter WindowPresenter::create(gpu::Context& context, Window& window, c
         throw Error("window: " + context.device_name() + " cannot blit the RGBA8 eye images with a linear filter");
 
     const VkDevice device = context.device();
-    VkCommandPoolCreateInfo pool{};
-    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool.queueFamilyIndex = context.queue_family();
-    VkCommandPool p = VK_NULL_HANDLE;
-    gpu::check(vkCreateCommandPool(device, &pool, nullptr, &p), "vkCreateCommandPool");
-    impl->pool = UniqueCommandPool(device, p);
+    impl->pool = gpu::make_command_pool(context, VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT);
+    const VkCommandPool p = impl->pool.get();
     VkCommandBufferAllocateInfo alloc{};
     alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
     alloc.commandPool = p;
