@@ -17,13 +17,19 @@ void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<cons
     // is the same for every act). Each act visits only these.
     thread_local std::vector<std::array<int, 3>> band;
     thread_local std::vector<std::size_t> band_at;
+    // The band's x-rows in order: (jy, kz, first band index); one past the last row closes the list.
+    thread_local std::vector<std::array<int, 3>> rows;
     band.clear();
     band_at.clear();
+    rows.clear();
     clay_for_each_movable_node(model, field, [&](int ix, int jy, int kz, std::size_t i) {
         if (!(std::fabs(field.phi[i]) < 2.0f)) return;
+        if (rows.empty() || rows.back()[0] != jy || rows.back()[1] != kz)
+            rows.push_back({jy, kz, static_cast<int>(band.size())});
         band.push_back({ix, jy, kz});
         band_at.push_back(i);
     });
+    rows.push_back({0, 0, static_cast<int>(band.size())});
     const std::size_t sy = b.stride(1), sz = b.stride(2);
     const auto psi = [&](std::size_t x) { return field.phi[x] + field.s0[x]; };
     thread_local std::vector<std::pair<std::size_t, float>> step;
@@ -33,23 +39,31 @@ void clay_smooth_offsets(const TriDexel& model, ClayField& field, std::span<cons
         // square root is skipped there with the same outcome.
         const float r2_far = r * r * 1.001f;
         step.clear();
-        for (std::size_t k = 0; k < band.size(); ++k) {
-            const std::size_t i = band_at[k];
-            const float dx = static_cast<float>(band[k][0]) - p.point[0],
-                        dy = static_cast<float>(band[k][1]) - p.point[1],
-                        dz = static_cast<float>(band[k][2]) - p.point[2];
-            const float d2 = dx * dx + dy * dy + dz * dz;
-            if (!(d2 < r2_far)) continue;
-            const float d = std::sqrt(d2);
-            if (!(d < r)) continue;
-            const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
-            if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
-            const float x = d / r;
-            const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
-            const float lap = psi(i - 1) + psi(i + 1) + psi(i - sy) + psi(i + sy) + psi(i - sz) + psi(i + sz) -
-                              6.0f * psi(i);
-            step.emplace_back(i, kClaySmoothRate * wgt * lap);
-            field.s1[i] = std::max(field.s1[i], wgt);
+        for (std::size_t row = 0; row + 1 < rows.size(); ++row) {
+            // A row whose line passes r or more from the act's point has no node within reach: skipped whole (the
+            // per-node test below would reject each of its nodes the same way).
+            const float ry = static_cast<float>(rows[row][0]) - p.point[1],
+                        rz = static_cast<float>(rows[row][1]) - p.point[2];
+            if (!(ry * ry + rz * rz < r2_far)) continue;
+            const std::size_t k0 = static_cast<std::size_t>(rows[row][2]), k1 = static_cast<std::size_t>(rows[row + 1][2]);
+            for (std::size_t k = k0; k < k1; ++k) {
+                const std::size_t i = band_at[k];
+                const float dx = static_cast<float>(band[k][0]) - p.point[0],
+                            dy = static_cast<float>(band[k][1]) - p.point[1],
+                            dz = static_cast<float>(band[k][2]) - p.point[2];
+                const float d2 = dx * dx + dy * dy + dz * dz;
+                if (!(d2 < r2_far)) continue;
+                const float d = std::sqrt(d2);
+                if (!(d < r)) continue;
+                const float depth = -(dx * p.normal[0] + dy * p.normal[1] + dz * p.normal[2]);
+                if (depth > clay_sheet_depth(0.0f, d)) continue;  // another sheet of the solid
+                const float x = d / r;
+                const float wgt = 1.0f - x * x;  // Popescu 3.3 falloff within the radius of influence
+                const float lap = psi(i - 1) + psi(i + 1) + psi(i - sy) + psi(i + sy) + psi(i - sz) + psi(i + sz) -
+                                  6.0f * psi(i);
+                step.emplace_back(i, kClaySmoothRate * wgt * lap);
+                field.s1[i] = std::max(field.s1[i], wgt);
+            }
         }
         for (const auto& [i, s] : step) field.s0[i] = field.s0[i] + s;
     }
