@@ -169,10 +169,6 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
     row.model_hash = model_hash(m);
 }
 
-}  // namespace
-
-namespace {
-
 /// The model's own volume, m^3: the mean of the three sets' interval lengths (ray_set_volume_m3), the measure the
 /// clay tools keep. dexel_volume_m3's face correction is left out: it changes wherever a clay tool bends a face that
 /// lies on the lattice's nodes (the bench's workpiece), by up to half a cell times the area bent.
@@ -181,12 +177,11 @@ double raw_volume_m3(const TriDexel& m) {
 }
 
 /// The clay row's volume drift and three-set disagreement (SculptBenchRow): `before` is the workpiece the row
-/// started from, `after` the model it left, `volume0` the workpiece's volume in cells^3.
-void clay_row_checks(const TriDexel& before, const TriDexel& after, std::span<const Sweep> stroke, double volume0,
-                     SculptBenchRow& row) {
+/// started from, `after` the model it left.
+void clay_row_checks(const TriDexel& before, const TriDexel& after, std::span<const Sweep> stroke, SculptBenchRow& row) {
     const double cell3 = std::pow(after.lattice.cell_m, 3.0);
-    row.volume_before_cells3 = volume0;
-    row.volume_change_cells3 = raw_volume_m3(after) / cell3 - volume0;
+    row.volume_before_cells3 = raw_volume_m3(before) / cell3;
+    row.volume_change_cells3 = raw_volume_m3(after) / cell3 - row.volume_before_cells3;
     row.volume_drift_per_1000_cells3 =
         row.segments > 0 ? row.volume_change_cells3 * 1000.0 / static_cast<double>(row.segments) : 0.0;
     std::vector<compute::GridSweep> grid;
@@ -322,15 +317,14 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                     sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
                     step = [&sculptor](std::span<const Sweep> b) { return sculptor->apply(b).rays_visited; };
                 }
-                const double cell3 = std::pow(m.lattice.cell_m, 3.0);
-                const double volume0 = p.find("clay") != std::string::npos ? raw_volume_m3(m) / cell3 : 0.0;
+                const bool clay_row = p.find("clay") != std::string::npos;
                 run_row(o, m, contourer, stroke, rays_of, step, row);
-                if (p.find("clay") != std::string::npos) clay_row_checks(pristine_model, m, stroke, volume0, row);
+                if (clay_row) clay_row_checks(pristine_model, m, stroke, row);
                 if (sculptor) {
                     after = sculptor->slabs().bytes();
-                    row.gpu_ray_tiles = sculptor->stats().ray_tiles;
-                    row.gpu_retried_rays = sculptor->stats().retried_rays;
                     const compute::GpuSculptStats& st = sculptor->stats();
+                    row.gpu_ray_tiles = st.ray_tiles;
+                    row.gpu_retried_rays = st.retried_rays;
                     const double per = st.batches > 0 ? 1e3 / static_cast<double>(st.batches) : 0.0;
                     row.gpu_prepare_ms = st.prepare_s * per;
                     row.gpu_submit_ms = st.submit_s * per;

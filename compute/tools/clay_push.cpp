@@ -256,7 +256,7 @@ ClayStats clay_push_group(TriDexel& model, std::span<const GridSweep> sweeps, st
                           {ct.normal[0], ct.normal[1], ct.normal[2]},
                           std::min(ct.delta, max_step)});
     }
-    return apply_stamps(model, clay_sweeps_box(sweeps), sweeps[0].radius, stamps, true, before, kernel);
+    return apply_stamps(model, clay_sweeps_box(sweeps), R, stamps, true, before, kernel);
 }
 
 ClayStats clay_pull(TriDexel& model, const GridSweep& g, std::vector<RayImage>* before, ClayKernel& kernel) {

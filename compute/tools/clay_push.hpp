@@ -67,8 +67,8 @@ ClayContact clay_contact(const TriDexel& model, float cx, float cy, float cz, fl
 
 /// Plastic push of one clay sweep (to_clay_grid_sweep; the tool a ball of radius R = sweep.radius cells).
 /// Interaction points: the ball at stamps f = (k+1)/stamps of the motion (k = 0..stamps-1, at most half a cell
-/// apart), thinned to one per clay_stamp_spacing(R) of motion (the last always kept). For each stamp m in contact, delta_m = min(R - phi(c_m), kClayMaxStep) (stamps with delta_m < kClayMinStep
-/// do nothing). Popescu, Burdea, Bouzit, "Virtual Reality Simulation Modeling for a Haptic Glove", section 3.3: a
+/// apart), thinned to one per clay_stamp_spacing(R) of motion (the last always kept). For each stamp m in contact,
+/// delta_m = min(R - phi(c_m), kClayMaxStep) (stamps with delta_m < kClayMinStep do nothing). Popescu, Burdea, Bouzit, "Virtual Reality Simulation Modeling for a Haptic Glove", section 3.3: a
 /// surface point at distance d from the interaction point p*_m moves by delta_m * k with k = 1 - (d/r)^2 within the
 /// radius of influence r = kClayInfluence * R, and where several interaction points act the largest displacement
 /// wins: s_dent(q) = max_m delta_m * (1 - (d_m/r)^2). The displaced volume reappears as a rim on the annulus
