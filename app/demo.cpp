@@ -192,7 +192,7 @@ void run_demo(const DemoOptions& o) {
     // that filled) costs nothing else.
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate, o.ao}, run, t_start);
     try {
-        if (!o.record.empty()) write_session_recording(o.record, s, run.records);
+        if (!o.record.empty()) write_session_recording(o.record, s, run.records, "", run.sculpt.marks);
         if (!o.save.empty()) save_session_model(o.save, run.runtime->workpiece(), s);
     } catch (const Error& e) {
         throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");

@@ -41,6 +41,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
     SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""};
     so.gpu_clay = sculpt.gpu_clay;
+    // The live session's undos, redos and stroke closes where its sculpt thread took them.
+    so.follow_marks = sculpt_marks(rec.header);
     SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so, loop);
     write_session_outputs(out, run, t_start);
 }

@@ -609,7 +609,7 @@ RunResult run_stereo_session(const RunOptions& options) {
                 notes = study::tag_notes(spec_to_json(backend.runtime().spec()),
                                          study::StudyTag{st.participant, st.group, st.trial, st.model,
                                                          st.scene.tube.name, study::tube_id(st.scene.tube)});
-            write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records(), notes);
+            write_session_recording(su.record, backend.runtime().spec(), backend.runtime().records(), notes, r.sculpt.marks);
             r.files.push_back(su.record);
         });
     }

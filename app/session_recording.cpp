@@ -67,6 +67,31 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     return out;
 }
 
+std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks) {
+    std::vector<devices::RecordedMark> out;
+    out.reserve(marks.size());
+    for (const SculptMark& m : marks) {
+        const char* kind = m.request == SculptRequest::kUndo   ? "undo"
+                           : m.request == SculptRequest::kRedo ? "redo"
+                                                               : "end_stroke";
+        out.push_back({m.after_samples, kind});
+    }
+    return out;
+}
+
+std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header) {
+    if (!header.marks) return std::nullopt;
+    std::vector<SculptMark> out;
+    out.reserve(header.marks->size());
+    for (const devices::RecordedMark& m : *header.marks) {
+        const SculptRequest r = m.kind == "undo"   ? SculptRequest::kUndo
+                                : m.kind == "redo" ? SculptRequest::kRedo
+                                                   : SculptRequest::kEndStroke;
+        out.push_back({m.after_samples, r});
+    }
+    return out;
+}
+
 devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records) {
     devices::Recording rec;
     rec.header.device_name = device_profile(settings.device).name;
@@ -84,12 +109,14 @@ devices::Recording session_recording(const SessionSpec& settings, const std::vec
 }
 
 void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records, const std::string& notes) {
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes,
+                             std::span<const SculptMark> marks) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
     header.notes = notes.empty() ? spec_to_json(settings) : notes;
+    header.marks = recorded_marks(marks);
     devices::RecordingWriter writer(path, header);
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {

@@ -2,10 +2,13 @@
 // (Singapogu's Table 3 fields, devices/recording.hpp) and back into a replayable session.
 #pragma once
 
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "app/session_spec.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
 #include "devices/recording.hpp"
 #include "haptics/haptic_loop.hpp"
 
@@ -26,16 +29,22 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
 /// invalid ticks) change nothing; a recorded tool of another kind than spec.tool is ignored.
 std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec);
 
-/// Writes the session's records to `path` (TRDXREC format) with the settings in the header notes.
-/// Throws tridex::Error "<path>: ..." when it cannot write.
+/// The sculpt thread's marks (SculptStats::marks: undos, redos, stroke closes) as a recording header keeps them.
+std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks);
 
-/// The session's records as a recording in memory (to_recorded_tick per record, the settings in the header
-/// notes), as write_session_recording writes it.
+/// The marks a replay follows (SculptThread::follow_marks), from a recording's header; nullopt when the file has
+/// none recorded (written before marks were kept). The header's marks were checked when it was read.
+std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header);
+
+/// The records of a session without a sculpt thread (a simulated participant) as a recording in memory
+/// (to_recorded_tick per record, the settings in the header notes, no marks), as write_session_recording writes it.
 devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records);
 
 /// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
-/// spec_to_json). Throws tridex::Error "<path>: ..." when it cannot write.
+/// spec_to_json) and the sculpt thread's `marks` (SculptStats::marks), so that a replay repeats its undos, redos
+/// and strokes. Throws tridex::Error "<path>: ..." when it cannot write.
 void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records, const std::string& notes = "");
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes = "",
+                             std::span<const SculptMark> marks = {});
 
 }  // namespace tridex::app

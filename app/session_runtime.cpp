@@ -106,6 +106,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     sculpt_->set_history_budget(spec_.history_budget_bytes);
     // The mouse stylus's stroke is its left button held; holding still mid-drag must not split it.
     if (spec_.device_driver == "mouse" || spec_.device_driver == "flystick") sculpt_->close_strokes_when_idle(false);
+    if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
     if (!o.sculpt.save_path.empty()) {
         sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
             compute::save_tdx(path, m, to_world, settings);

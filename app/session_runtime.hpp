@@ -73,6 +73,9 @@ struct SculptOptions {
     /// --gpu-clay: clay sweeps on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where the CPU
     /// reference is faster and is the default (make_boolean_backend).
     bool gpu_clay = false;
+    /// A replay: the recorded session's undos, redos and stroke closes at their places in the sample stream
+    /// (SculptThread::follow_marks); nullopt (live sessions, recordings without marks) = taken as they come.
+    std::optional<std::vector<SculptMark>> follow_marks{};
 };
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU

@@ -155,13 +155,28 @@ std::string check_finite(const char* field, const Vec3& v) {
     return is_finite(v) ? std::string() : std::string(field) + " = " + vec_str(v) + " is not finite";
 }
 
+bool recorded_mark_kind(const std::string& k) { return k == "undo" || k == "redo" || k == "end_stroke"; }
+
 std::string header_json(const std::string& path, const RecordingHeader& h) {
     if (!std::isfinite(h.period_s) || h.period_s <= 0.0)
         throw Error(path + ": header.period_s = " + num(h.period_s) + " must be finite and > 0");
-    const nlohmann::json j = {{"device_name", h.device_name},
-                              {"period_s", h.period_s},
-                              {"workspace_mode", h.workspace_mode},
-                              {"notes", h.notes}};
+    nlohmann::json j = {{"device_name", h.device_name},
+                        {"period_s", h.period_s},
+                        {"workspace_mode", h.workspace_mode},
+                        {"notes", h.notes}};
+    if (h.marks) {
+        nlohmann::json marks = nlohmann::json::array();
+        for (std::size_t k = 0; k < h.marks->size(); ++k) {
+            const RecordedMark& m = (*h.marks)[k];
+            if (!recorded_mark_kind(m.kind))
+                throw Error(path + ": header.marks[" + std::to_string(k) + "].kind = \"" + m.kind +
+                            "\" is not undo, redo or end_stroke");
+            if (k > 0 && m.after_samples < (*h.marks)[k - 1].after_samples)
+                throw Error(path + ": header.marks[" + std::to_string(k) + "].after_samples decreases");
+            marks.push_back({{"after_samples", m.after_samples}, {"kind", m.kind}});
+        }
+        j["marks"] = std::move(marks);
+    }
     try {
         return j.dump();
     } catch (const nlohmann::json::exception& e) {
@@ -192,6 +207,25 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
     h.period_s = it->get<double>();
     if (!std::isfinite(h.period_s) || h.period_s <= 0.0)
         throw Error(where + ": period_s = " + num(h.period_s) + " must be finite and > 0");
+    if (const auto m = j.find("marks"); m != j.end()) {
+        if (!m->is_array()) throw Error(where + ": \"marks\" is not an array");
+        h.marks.emplace();
+        for (std::size_t k = 0; k < m->size(); ++k) {
+            const nlohmann::json& e = (*m)[k];
+            const std::string at = where + ": marks[" + std::to_string(k) + "]";
+            if (!e.is_object()) throw Error(at + " is not an object");
+            const auto n = e.find("after_samples"), kind = e.find("kind");
+            if (n == e.end() || !n->is_number_unsigned())
+                throw Error(at + ".after_samples missing or not an integer >= 0");
+            if (kind == e.end() || !kind->is_string() || !recorded_mark_kind(kind->get<std::string>()))
+                throw Error(at + ".kind missing or not \"undo\", \"redo\" or \"end_stroke\"");
+            RecordedMark r{n->get<std::uint64_t>(), kind->get<std::string>()};
+            if (!h.marks->empty() && r.after_samples < h.marks->back().after_samples)
+                throw Error(at + ".after_samples = " + std::to_string(r.after_samples) + " is less than the mark before it (" +
+                            std::to_string(h.marks->back().after_samples) + ")");
+            h.marks->push_back(std::move(r));
+        }
+    }
     return h;
 }
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,12 +61,22 @@ struct RecordedTick {
     ToolShape tool{};
 };
 
+/// A point in a recorded session's stream of tool samples where the sculpt thread took a request whose timing the
+/// samples do not carry: an undo, a redo or a stroke close (the sculpt thread's SculptMark).
+struct RecordedMark {
+    std::uint64_t after_samples = 0;  ///< tool samples the sculpt thread had taken before it
+    std::string kind;                 ///< "undo", "redo" or "end_stroke"
+};
+
 /// The session-wide part of a recording.
 struct RecordingHeader {
     std::string device_name;     ///< DeviceProfile::name of the recorded device (the replay picks its profile)
     double period_s = 1e-3;      ///< haptic loop period, s (finite, > 0)
     std::string workspace_mode;  ///< workspace technique of the session ("moving", "scaling", "clutching", "bubble", ...)
     std::string notes;           ///< free text the app fills (mesh, resolution, tool radius, ...); any UTF-8
+    /// The session's undos, redos and stroke closes in order (after_samples never decreasing); absent in files
+    /// written before they were recorded (a replay then closes strokes by itself and undoes nothing).
+    std::optional<std::vector<RecordedMark>> marks;
 };
 
 /// A recording in memory.
@@ -84,7 +95,8 @@ struct Recording {
 //    24  u32      CRC-32 (IEEE 802.3, as zlib/PNG) of the header text followed by all tick records
 //    28  u32      header text length L, bytes
 //   Header text, L bytes at 32: UTF-8 JSON object {"device_name": string, "period_s": number,
-//     "workspace_mode": string, "notes": string} (other keys are ignored).
+//     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
+//     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing)} (other keys are ignored).
 //   Tick records, 397 bytes each (version 1: 378, ending at `valid`), from byte 32 + L; offsets within a record:
 //       0 t_s f64 | 8 device.t_s f64 | 16 device position xyz f64 | 40 device orientation w,x,y,z f64
 //      72 device velocity xyz f64 | 96 device buttons u32 | 100 wand_centre xyz | 124 rotation_axis xyz

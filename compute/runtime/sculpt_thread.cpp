@@ -91,6 +91,21 @@ void SculptThread::use_checkpoints(std::function<CheckpointFile(const compute::T
 
 bool SculptThread::request(SculptRequest r) { return requests_.try_push(r); }
 
+void SculptThread::follow_marks(std::vector<SculptMark> marks) {
+    if (thread_.joinable()) throw Error("SculptThread::follow_marks: call it before start()");
+    for (std::size_t k = 0; k < marks.size(); ++k) {
+        if (marks[k].request == SculptRequest::kSave)
+            throw Error("SculptThread::follow_marks: mark " + std::to_string(k) + " is a save, which changes no stroke");
+        if (k > 0 && marks[k].after_samples < marks[k - 1].after_samples)
+            throw Error("SculptThread::follow_marks: mark " + std::to_string(k) + " comes after " +
+                        std::to_string(marks[k].after_samples) + " samples, before the mark ahead of it (" +
+                        std::to_string(marks[k - 1].after_samples) + ")");
+    }
+    follow_ = std::move(marks);
+    next_mark_ = 0;
+    following_ = true;
+}
+
 void SculptThread::use_saver(std::function<std::string(const compute::TriDexel&)> save) {
     if (thread_.joinable()) throw Error("SculptThread::use_saver: call it before start()");
     saver_ = std::move(save);
@@ -186,44 +201,58 @@ bool SculptThread::take_requests() {
     bool any = false;
     while (requests_.try_pop(r)) {
         any = true;
-        if (r == SculptRequest::kEndStroke) {
-            close_stroke();
-            continue;
-        }
-        if (r == SculptRequest::kSave) {
-            const auto t0 = std::chrono::steady_clock::now();
-            std::string line;
-            bool ok = false;
-            try {
-                if (!saver_) throw Error("no save file for this session");
-                line = saver_(model_);
-                ok = true;
-            } catch (const std::exception& e) {
-                line = e.what();
-            }
-            stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            std::lock_guard<std::mutex> lock(save_mutex_);
-            ++(ok ? save_status_.saves : save_status_.failures);
-            save_status_.message = line;
-            save_status_.ok = ok;
-            continue;
-        }
-        const auto t0 = std::chrono::steady_clock::now();
-        close_stroke();  // journalled before the undo or redo that follows
-        const bool undo = r == SculptRequest::kUndo;
-        ++(undo ? stats_.undo_requests : stats_.redo_requests);
-        const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
-        if (c.serial == 0) continue;  // nothing to undo / redo
-        if (journal_) journal_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
-        changed_since_checkpoint_ = true;
-        publish(published_centre_m_);  // the haptic window follows at once
-        const auto t1 = std::chrono::steady_clock::now();
-        contour_changed(t0, t1);
-        stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        stats_.undo_rays.push_back(c.rays);
-        stats_.undo_redo.push_back(undo ? 0 : 1);
+        take(r);
     }
     return any;
+}
+
+void SculptThread::take(SculptRequest r) {
+    if (r == SculptRequest::kSave) {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::string line;
+        bool ok = false;
+        try {
+            if (!saver_) throw Error("no save file for this session");
+            line = saver_(model_);
+            ok = true;
+        } catch (const std::exception& e) {
+            line = e.what();
+        }
+        stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        std::lock_guard<std::mutex> lock(save_mutex_);
+        ++(ok ? save_status_.saves : save_status_.failures);
+        save_status_.message = line;
+        save_status_.ok = ok;
+        return;
+    }
+    stats_.marks.push_back({stats_.samples, r});
+    if (r == SculptRequest::kEndStroke) {
+        close_stroke();
+        return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    close_stroke();  // journalled before the undo or redo that follows
+    const bool undo = r == SculptRequest::kUndo;
+    ++(undo ? stats_.undo_requests : stats_.redo_requests);
+    const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
+    if (c.serial == 0) return;  // nothing to undo / redo
+    if (journal_) journal_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
+    changed_since_checkpoint_ = true;
+    publish(published_centre_m_);  // the haptic window follows at once
+    const auto t1 = std::chrono::steady_clock::now();
+    contour_changed(t0, t1);
+    stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    stats_.undo_rays.push_back(c.rays);
+    stats_.undo_redo.push_back(undo ? 0 : 1);
+}
+
+bool SculptThread::take_marks(bool& changed, std::size_t& begin, std::size_t n) {
+    if (next_mark_ >= follow_.size() || follow_[next_mark_].after_samples > stats_.samples) return false;
+    flush(begin, n, changed);  // the sweeps before the mark go first, as they did live
+    begin = n;
+    while (next_mark_ < follow_.size() && follow_[next_mark_].after_samples <= stats_.samples)
+        take(follow_[next_mark_++].request);
+    return true;
 }
 
 void SculptThread::close_stroke() {
@@ -293,7 +322,9 @@ bool SculptThread::step() {
     batch_.clear();
     drained_.clear();
     std::size_t begin = 0, n = 0;  // drained_[begin, n) not yet journalled
+    any |= take_marks(changed, begin, n);
     while (samples_.try_pop(s)) {
+        take_marks(changed, begin, n);  // a recorded request that came after the samples drained so far
         sampled = true;
         ++stats_.samples;
         if (journal_) drained_.push_back(s);
@@ -317,7 +348,8 @@ bool SculptThread::step() {
     if (!sampled) return any;
     flush(begin, n, changed);
     // The tool left the material: nothing changed for kStrokeIdleS of device time.
-    if (idle_close_ && history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS) close_stroke();
+    if (idle_close_ && !following_ && history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS)
+        take(SculptRequest::kEndStroke);  // recorded: when it happens depends on how the samples were batched
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
     // material does not drag the window away from the proxy it constrains. (Widening the window to cover

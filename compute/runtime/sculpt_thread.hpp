@@ -29,6 +29,21 @@
 
 namespace tridex::app {
 
+/// A request to the sculpt thread (SculptThread::request).
+enum class SculptRequest : std::uint8_t {
+    kUndo,       ///< undo the newest stroke (the open one is closed first)
+    kRedo,       ///< redo the newest undone stroke
+    kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
+    kSave,       ///< save the model now with the saver (SculptThread::use_saver)
+};
+
+/// A point of the sculpt thread's sample stream where it took a request that depends on when it came (an undo, a
+/// redo, a stroke close asked for or made because the tool idled), as SculptStats::marks lists them.
+struct SculptMark {
+    std::uint64_t after_samples = 0;                     ///< samples drained before it (SculptStats::samples then)
+    SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo or kEndStroke
+};
+
 /// Counters of the sculpt thread, read after stop().
 struct SculptStats {
     std::uint64_t samples = 0;           ///< tool samples drained from the ring
@@ -61,14 +76,10 @@ struct SculptStats {
     std::uint64_t checkpoints = 0;     ///< checkpoint models written
     double checkpoint_ms_total = 0.0;  ///< wall time spent writing them, ms
     std::string checkpoint_error;      ///< the first checkpoint failure ("" when none); sculpting went on
-};
-
-/// A request to the sculpt thread (SculptThread::request).
-enum class SculptRequest : std::uint8_t {
-    kUndo,       ///< undo the newest stroke (the open one is closed first)
-    kRedo,       ///< redo the newest undone stroke
-    kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
-    kSave,       ///< save the model now with the saver (SculptThread::use_saver)
+    /// Where in the sample stream the thread took each undo, redo and stroke-close request and closed an idle stroke,
+    /// in order (SculptMark): what a replay of the same samples needs to repeat the session's strokes
+    /// (SculptThread::follow_marks).
+    std::vector<SculptMark> marks;
 };
 
 /// What the saver did so far (SculptThread::save_status; any thread).
@@ -181,6 +192,13 @@ public:
     /// mouse stylus: its samples carry op none when the button is up, which closes the stroke), so that holding
     /// still mid-drag does not split one stroke into several undo steps. Throws tridex::Error when the thread runs.
     void close_strokes_when_idle(bool on);
+    /// Replays a recorded session's marks (SculptStats::marks of the live session, in order): the thread takes each
+    /// as a request once it has drained exactly mark.after_samples samples (splitting a step's batch there, so the
+    /// sweeps before and after it fall as they did live), and closes no stroke for idling (the live closes are among
+    /// the marks; so also with no marks). With the live session's samples, the strokes, undos and redos, and so the model, are the live
+    /// session's. Throws tridex::Error when the thread runs, when after_samples decreases from one mark to the next,
+    /// or when a mark's request is kSave.
+    void follow_marks(std::vector<SculptMark> marks);
     /// Writes a checkpoint model with `write` (on the sculpt thread, never the haptic thread) when at least
     /// `interval_s` (s, > 0) of wall time passed since the session started or the last checkpoint, the model changed
     /// since, and no stroke is open; then appends a checkpoint record to the journal (use_journal) naming the file.
@@ -243,6 +261,8 @@ private:
     void run();
     bool step();  // one drain + apply + contour + publish; false when there was nothing to do
     bool take_requests();                            // undo / redo / close requests; true when one was taken
+    void take(SculptRequest r);                      // one request, recorded in stats_.marks unless kSave
+    bool take_marks(bool& changed, std::size_t& begin, std::size_t n);  // follow_marks due now; flushes first
     void flush(std::size_t begin, std::size_t end, bool& changed);  // apply batch_, journal drained_[begin, end)
     void close_stroke();                             // end the open stroke and journal it
     void contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1);
@@ -261,6 +281,9 @@ private:
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};
     bool idle_close_ = true;                         // close_strokes_when_idle
+    std::vector<SculptMark> follow_;                 // follow_marks
+    std::size_t next_mark_ = 0;                      // the first of follow_ not yet taken
+    bool following_ = false;                         // follow_marks was called (even with no marks)
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
     // The open stroke pushes clay (ToolOp::kPush): the haptic loop feels the surface as it was when the stroke began

@@ -45,9 +45,10 @@ renderer::InputEvent key_press(renderer::Key k) {
     return e;
 }
 
-// Three drags: along y = +10 mm with the scene's 6 mm ball (subtract), "]" twice, along y = -10 mm with the
+// Three drags (the keys pressed between them by default): along y = +10 mm with the scene's 6 mm ball (subtract), "]" twice, along y = -10 mm with the
 // larger ball, "3" (paint), then along y = +10 mm again.
-std::string write_scene(const fs::path& dir) {
+std::string write_scene(const fs::path& dir,
+                        const std::string& keys = R"({"t_s": 1.15, "press": "]"}, {"t_s": 1.2, "press": "rightbracket"}, {"t_s": 2.2, "press": "3"})") {
     const auto px = [](double x, double y) { return pixel_of(Vec3(x, y, 0.05)); };
     const auto [a0x, a0y] = px(-0.02, 0.01);
     const auto [a1x, a1y] = px(0.02, 0.01);
@@ -70,7 +71,7 @@ std::string write_scene(const fs::path& dir) {
       << ", " << point(1.3, b0x, b0y, 0) << ", " << point(1.5, b0x, b0y, 1) << ", " << point(2.1, b1x, b1y, 0)
       << ", " << point(2.3, a0x, a0y, 0) << ", " << point(2.5, a0x, a0y, 1) << ", " << point(3.1, a1x, a1y, 0)
       << ", " << point(3.3, a1x, a1y, 0) << R"( ],
-  "keys": [ {"t_s": 1.15, "press": "]"}, {"t_s": 1.2, "press": "rightbracket"}, {"t_s": 2.2, "press": "3"} ]
+  "keys": [ )" << keys << R"( ]
 }
 )";
     return path;
@@ -197,6 +198,62 @@ TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {
     run_replay(stripped, out, SculptOptions{true, false, false, false, ""});
     EXPECT_FALSE(live == test::bytes_of(dir / "stripped" / "sculpted.ply"))
         << "a replay without the key changes sculpted the same model";
+}
+
+// Ctrl+Z and Ctrl+Shift+Z during a mouse session replay: the recording keeps where the sculpt thread took them
+// (header marks), so `tridex replay` undoes and redoes the same strokes and sculpts the same sculpted.ply byte for
+// byte; the same samples without the marks keep every drag.
+TEST(MouseKeys, RecordedUndoAndRedoReplayByteForByte) {
+    const fs::path dir = test::temp_dir("mouse_undo_replay");
+    RunOptions o;
+    // The second drag (along y = -10 mm) undone; the last undone and redone.
+    o.scene = write_scene(dir, R"({"t_s": 2.2, "press": "ctrl+z"}, {"t_s": 3.2, "press": "ctrl+z"}, {"t_s": 3.25, "press": "ctrl+shift+z"})");
+    o.display = "offscreen";
+    o.stereo = "mono";
+    o.out = (dir / "run").string();
+    o.record = (dir / "run.trdx").string();
+    o.no_journal = true;
+    o.cpu = true;
+    const RunResult r = run_stereo_session(o);
+    EXPECT_EQ(r.sculpt.undo_requests, 2u);
+    EXPECT_EQ(r.sculpt.redo_requests, 1u);
+    EXPECT_GT(r.volume_before_m3 - r.volume_after_m3, 1e-7) << "nothing is left carved";
+
+    devices::Recording rec = devices::read_recording(o.record);
+    ASSERT_TRUE(rec.header.marks.has_value());
+    std::size_t undos = 0, redos = 0;
+    for (const devices::RecordedMark& m : *rec.header.marks) {
+        undos += m.kind == "undo";
+        redos += m.kind == "redo";
+    }
+    EXPECT_EQ(undos, 2u);
+    EXPECT_EQ(redos, 1u);
+
+    OutputOptions out;
+    out.out = (dir / "replay").string();
+    out.width = 64;
+    out.height = 48;
+    run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
+    const std::string live = test::bytes_of(dir / "run" / "sculpted.ply");
+    EXPECT_FALSE(live.empty());
+    EXPECT_TRUE(live == test::bytes_of(dir / "replay" / "sculpted.ply"))
+        << "the replay of a session with Ctrl+Z and Ctrl+Shift+Z sculpted a different model";
+    const nlohmann::json report = test::read_json(dir / "replay" / "report.json");
+    ASSERT_TRUE(report.contains("history")) << report.dump();
+    EXPECT_EQ(report["history"]["undos"], 2);
+    EXPECT_EQ(report["history"]["redos"], 1);
+
+    // Without the marks (as a file from before they were kept) the second drag stays carved.
+    rec.header.marks.reset();
+    const std::string stripped = (dir / "stripped.trdx").string();
+    devices::write_recording(stripped, rec);
+    out.out = (dir / "stripped").string();
+    run_replay(stripped, out, SculptOptions{true, false, false, false, ""});
+    EXPECT_FALSE(live == test::bytes_of(dir / "stripped" / "sculpted.ply"))
+        << "a replay without the marks sculpted the same model";
+    const double kept = test::read_json(dir / "replay" / "report.json")["volume_removed_m3"].get<double>();
+    const double all = test::read_json(dir / "stripped" / "report.json")["volume_removed_m3"].get<double>();
+    EXPECT_GT(all - kept, 0.3 * kept) << "the undone drag's groove is missing from the replay without marks";
 }
 
 }  // namespace

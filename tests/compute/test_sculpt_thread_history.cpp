@@ -187,6 +187,105 @@ TEST(SculptThreadHistory, IdleClosingCanBeTurnedOffForHeldButtonStrokes) {
     }
 }
 
+// A replay of the same samples that follows the live thread's marks (SculptStats::marks) repeats its undos, redos and
+// stroke closes where the live thread took them, however differently its samples are batched: the same dexels bit for
+// bit. Without the marks the same samples give another model (the check can fail).
+TEST(SculptThreadHistory, ReplayFollowingTheMarksRepeatsUndosRedosAndIdleClosesExactly) {
+    auto a = pass(-0.01, 0.0, 200, ToolOp::kSubtract);  // stroke 1, undone mid-drag
+    auto b = pass(0.0, 0.2, 200, ToolOp::kSubtract);    // stroke 2 (the drag goes on), closed by a request
+    auto c = pass(0.01, 0.4, 200, ToolOp::kUnion);      // stroke 3, closed for idling in the air
+    std::vector<ToolSample> air = pass(0.01, 0.6, 700, ToolOp::kUnion);
+    for (ToolSample& x : air) x.position.z += 0.03;     // well above the box: changes nothing
+    auto e = pass(0.015, 1.3, 200, ToolOp::kUnion);     // stroke 4, undone and redone
+    std::vector<ToolSample> all;
+    for (const auto* part : {&a, &b, &c, &air, &e}) all.insert(all.end(), part->begin(), part->end());
+    TriDexel live = fresh();
+    SculptStats stats;
+    {
+        compute::Contourer contourer(live);
+        contourer.update(live);
+        SpscRing<ToolSample> ring(4096);
+        TripleBuffer<ActiveSurface> surface;
+        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+        t.start();
+        push_all(ring, a);
+        wait_drained(ring, t);
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));
+        push_all(ring, b);
+        wait_drained(ring, t);
+        EXPECT_TRUE(t.request(SculptRequest::kEndStroke));
+        push_all(ring, c);
+        wait_drained(ring, t);
+        for (std::size_t k = 0; k < air.size(); k += 100) {  // as samples arrive at 1 kHz: the idle close falls between
+            push_all(ring, std::vector<ToolSample>(air.begin() + static_cast<std::ptrdiff_t>(k),
+                                                   air.begin() + static_cast<std::ptrdiff_t>(std::min(k + 100, air.size()))));
+            wait_drained(ring, t);
+        }
+        push_all(ring, e);
+        wait_drained(ring, t);
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));
+        EXPECT_TRUE(t.request(SculptRequest::kRedo));
+        wait_drained(ring, t);
+        t.stop();
+        stats = t.stats();
+    }
+    // The requests lie where the samples stood when they were taken; the idle close inside the air pass.
+    ASSERT_EQ(stats.marks.size(), 5u);
+    EXPECT_EQ(stats.marks[0].request, SculptRequest::kUndo);
+    EXPECT_EQ(stats.marks[0].after_samples, 200u);
+    EXPECT_EQ(stats.marks[1].request, SculptRequest::kEndStroke);
+    EXPECT_EQ(stats.marks[1].after_samples, 400u);
+    EXPECT_EQ(stats.marks[2].request, SculptRequest::kEndStroke);
+    EXPECT_GT(stats.marks[2].after_samples, 600u + 500u);
+    EXPECT_LE(stats.marks[2].after_samples, 600u + 700u);
+    EXPECT_EQ(stats.marks[3].request, SculptRequest::kUndo);
+    EXPECT_EQ(stats.marks[4].request, SculptRequest::kRedo);
+    EXPECT_EQ(stats.marks[3].after_samples, all.size());
+    EXPECT_EQ(stats.marks[4].after_samples, all.size());
+    EXPECT_EQ(stats.history.undos, 2u);
+    EXPECT_EQ(stats.history.redos, 1u);
+
+    // All samples in one go (one batch): following the marks gives the live dexels; without them, not.
+    for (const bool follow : {true, false}) {
+        TriDexel again = fresh();
+        SculptStats st;
+        {
+            compute::Contourer contourer(again);
+            contourer.update(again);
+            SpscRing<ToolSample> ring(4096);
+            TripleBuffer<ActiveSurface> surface;
+            SculptThread t(again, contourer, ring, surface, Vec3(0.0));
+            if (follow) t.follow_marks(stats.marks);
+            push_all(ring, all);
+            t.start();
+            wait_drained(ring, t);
+            t.stop();
+            st = t.stats();
+        }
+        if (follow) {
+            EXPECT_EQ(compare(live, again).rays, 0u) << "the replay that follows the marks differs";
+            EXPECT_EQ(st.history.undos, 2u);
+            EXPECT_EQ(st.history.redos, 1u);
+            ASSERT_EQ(st.marks.size(), stats.marks.size());  // a replay keeps them too (a recording of it repeats them)
+            for (std::size_t k = 0; k < st.marks.size(); ++k) {
+                EXPECT_EQ(st.marks[k].after_samples, stats.marks[k].after_samples) << k;
+                EXPECT_EQ(st.marks[k].request, stats.marks[k].request) << k;
+            }
+        } else {
+            EXPECT_GT(compare(live, again).rays, 0u) << "without the marks the same samples gave the same model";
+        }
+    }
+
+    // Marks out of order, or a save among them, are refused before the thread starts.
+    TriDexel m = fresh();
+    compute::Contourer contourer(m);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    EXPECT_THROW(t.follow_marks({{10, SculptRequest::kUndo}, {9, SculptRequest::kRedo}}), Error);
+    EXPECT_THROW(t.follow_marks({{10, SculptRequest::kSave}}), Error);
+}
+
 // Checkpoints: written between strokes by the sculpt thread, named in the journal; replaying the records after the
 // last one onto it gives the live model.
 TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContinuesFromThem) {

@@ -450,6 +450,51 @@ TEST(Recording, BadHeaderTextRefused) {
     expect_refused(path, {"header text", "period_s = -1"});
 }
 
+TEST(Recording, MarksRoundTripAndBadMarksAreRefused) {
+    Recording src = sample_recording(3);
+    src.header.marks = std::vector<RecordedMark>{{0, "end_stroke"}, {2, "undo"}, {2, "redo"}};
+    std::string path = temp_path("marks.trdxrec");
+    write_recording(path, src);
+    Recording back = read_recording(path);
+    ASSERT_TRUE(back.header.marks.has_value());
+    ASSERT_EQ(back.header.marks->size(), 3u);
+    EXPECT_EQ((*back.header.marks)[1].after_samples, 2u);
+    EXPECT_EQ((*back.header.marks)[1].kind, "undo");
+    EXPECT_EQ((*back.header.marks)[2].kind, "redo");
+    // No marks (a file from before they were kept) reads as none, not as an empty list.
+    src.header.marks.reset();
+    write_recording(path, src);
+    EXPECT_FALSE(read_recording(path).header.marks.has_value());
+    // The writer refuses what the reader would.
+    src.header.marks = std::vector<RecordedMark>{{5, "undo"}, {4, "redo"}};
+    EXPECT_THROW(write_recording(temp_path("w.trdxrec"), src), Error);
+    src.header.marks = std::vector<RecordedMark>{{5, "save"}};
+    EXPECT_THROW(write_recording(temp_path("w.trdxrec"), src), Error);
+
+    // Hand-written headers with bad marks: each refused naming the mark and the field.
+    const Written w = write_sample("good.trdxrec", 2);
+    const auto with_header = [&](const std::string& name, const std::string& text) {
+        std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + 32);
+        b[28] = static_cast<unsigned char>(text.size()), b[29] = b[30] = b[31] = 0;
+        b[16] = 0;  // zero ticks
+        b.insert(b.end(), text.begin(), text.end());
+        const std::uint32_t crc = crc32_ieee(text.data(), text.size());
+        for (int i = 0; i < 4; ++i) b[24 + i] = static_cast<unsigned char>(crc >> (8 * i));
+        const std::string p = temp_path(name);
+        save(p, b);
+        return p;
+    };
+    const std::string head = R"({"device_name":"x","period_s":0.001,"workspace_mode":"m","notes":"","marks":)";
+    expect_refused(with_header("m1.trdxrec", head + R"({"a":1}})"), {"\"marks\" is not an array"});
+    expect_refused(with_header("m2.trdxrec", head + R"([{"after_samples":3,"kind":"undo"},{"after_samples":2,"kind":"redo"}]})"),
+                   {"marks[1].after_samples = 2", "less than the mark before it (3)"});
+    expect_refused(with_header("m3.trdxrec", head + R"([{"after_samples":-1,"kind":"undo"}]})"),
+                   {"marks[0].after_samples missing or not an integer >= 0"});
+    expect_refused(with_header("m4.trdxrec", head + R"([{"after_samples":1,"kind":"save"}]})"),
+                   {"marks[0].kind missing or not"});
+    expect_refused(with_header("m5.trdxrec", head + R"([7]})"), {"marks[0] is not an object"});
+}
+
 TEST(RecordingWriter, RefusesBadTicksAndKeepsTheFileValid) {
     const std::string path = temp_path("w.trdxrec");
     Recording src = sample_recording(4);
