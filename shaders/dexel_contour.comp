@@ -16,7 +16,8 @@
 //     stays drawable); otherwise each used component's vertex is placed by the QEF of its crossings and
 //     their normals from the neighbouring rays (dexel_contour_qef.glsl, contour_qef.cpp: relative to the
 //     mean of its crossings, minimised over the cell), with the material of the nearest crossing; the
-//     normals read rays through nodes c0-2 .. c0+18 (bounds-checked, straight from the slabs); split faces
+//     normals read rays through nodes c0-2 .. c0+18, and the one-sided slopes' gap check lines of the other ray
+//     sets up to 3 nodes beyond a crossing's edge along its ray (bounds-checked, straight from the slabs); split faces
 //     get one vertex per inside corner (the face QEF of that corner's two face-edge crossings, or their mean);
 //  5. each sign-change edge emits its quad, split along the shorter diagonal, or, next to a split face, a
 //     fan around its crossing point through the split faces' vertices; tile-local indices.
@@ -61,6 +62,22 @@ shared uint cell_list[(CELLS + 1) / 2]; // used cached cells (index into the 17^
 shared uint edge_list[EDGE_CAP / 2];    // own sign-change edges: local cell x + 16 y + 256 z | axis << 12 | fan << 15
 shared uint face_list[FACE_CAP];        // split faces between cached cells: lower cell's cache index | f << 13
 shared uint s_vcount, s_icount, s_flags, s_icursor, s_edges, s_faces, s_fans, s_face_base, s_fan_base, s_fan_cursor;
+shared uint s_two;  // 2, read from shared memory so that no compiler unrolls probe_loop_cap's loop
+
+// s_flags bits: 1 = the tile holds more split faces (or edges beside them) than the lists do; 2 = the loop cap hit.
+const uint FLAG_LISTS = 1u, FLAG_LOOP_CAP = 2u;
+
+// llvmpipe (lavapipe) ends every loop after its first pass once a SIMD group of invocations has taken 65535 loop
+// iterations in one run of the shader, summed over all its loops (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, a guard
+// against endless loops); the rest of the tile's work is then silently skipped (vertices and indices left
+// unwritten). Dense tiles get there (every crossing's normal loops over the intervals of four neighbour rays). The
+// budget only shrinks, so a loop of two iterations run after the work tells whether it ran out: then it runs once.
+// Flags the tile for the host (FLAG_LOOP_CAP).
+void probe_loop_cap() {
+    uint trips = 0u;
+    [[dont_unroll]] for (uint i = 0u; i < s_two; ++i) trips += 1u;
+    if (trips != s_two) atomicOr(s_flags, FLAG_LOOP_CAP);
+}
 
 uint get16(uint w, uint i) { return (w >> (16u * (i & 1u))) & 0xffffu; }
 uint vbase(uint i) { return get16(vslot[i >> 1], i); }
@@ -181,7 +198,7 @@ void main() {
     uint lid = gl_LocalInvocationIndex;
     if (lid == 0u) {
         s_vcount = 0u; s_icount = 0u; s_flags = 0u; s_icursor = 0u; s_edges = 0u;
-        s_faces = 0u; s_fans = 0u; s_fan_cursor = 0u;
+        s_faces = 0u; s_fans = 0u; s_fan_cursor = 0u; s_two = 2u;
     }
 
     // 1. occupancy (OccupancyBlock::fill)
@@ -235,7 +252,7 @@ void main() {
                     if (((m >> uint(2 * f + 1)) & 1u) != 0u && n[f] + 1 < c1[f] && face_split(n, f)) {
                         uint at = atomicAdd(s_faces, 1u);
                         if (at < FACE_CAP) face_list[at] = cache_index(n) | (uint(f) << 13);
-                        else atomicOr(s_flags, 1u);
+                        else atomicOr(s_flags, FLAG_LISTS);
                     }
             if (!own_row || b == 0) continue;
             bool in_n = inside(n);
@@ -250,7 +267,7 @@ void main() {
     uint nfaces = min(s_faces, FACE_CAP);
     if (nfaces > 0u) {
         if (s_edges > EDGE_CAP) {
-            if (lid == 0u) s_flags = 1u;  // no edge list to mark fans in: the host contours this tile
+            if (lid == 0u) atomicOr(s_flags, FLAG_LISTS);  // no edge list to mark fans in: the host contours this tile
         } else {
             for (uint i = lid; i < s_edges; i += WG) {
                 uint rec = get16(edge_list[i >> 1], i), l = rec & 4095u;
@@ -294,11 +311,14 @@ void main() {
         s_face_base = atomicAdd(s_vcount, 4u * nfaces) & 0xffffu;
         s_fan_base = atomicAdd(s_vcount, s_fans) & 0xffffu;
     }
+    probe_loop_cap();  // the counts above are complete only if no loop was cut short
     barrier();
     uvec4 reg = region[tile];
     uint flags = s_flags, vcount = s_vcount & 0xffffu, icount = s_icount, ncells = s_vcount >> 16, nedges = s_edges;
     if (flags != 0u || vcount > reg.y || icount > reg.w) {
-        if (lid == 0u) status[job] = uvec4(flags != 0u ? 2u : 1u, vcount, icount, 0u);
+        // State 1: the region is too small; 2: the host contours the tile (lists full); 3: the same (loop cap).
+        uint state = (flags & FLAG_LOOP_CAP) != 0u ? 3u : (flags != 0u ? 2u : 1u);
+        if (lid == 0u) status[job] = uvec4(state, vcount, icount, 0u);
         return;
     }
 
@@ -331,7 +351,10 @@ void main() {
                 if (inside(n + unit(a)) != in_n) emit_edge(n, a, reg);
         }
     }
-    if (lid == 0u) {
+    probe_loop_cap();  // every vertex and index was written only if no loop was cut short
+    barrier();
+    if (lid == 0u && (s_flags & FLAG_LOOP_CAP) != 0u) status[job] = uvec4(3u, vcount, icount, 0u);
+    if (lid == 0u && (s_flags & FLAG_LOOP_CAP) == 0u) {
         cmd[5u * tile] = icount;
         cmd[5u * tile + 1u] = 1u;
         cmd[5u * tile + 2u] = reg.z;

@@ -51,6 +51,37 @@ bool inside_at(int a, uint r, double t) {
     return false;
 }
 
+// contour_qef.cpp gap_between: the ray of set `dir` through node n with its a coordinate at node depth s has an
+// interval end strictly between n[dir] and w2 (false when s lies outside the lattice).
+bool gap_between(int a, ivec3 n, int dir, int w2, double s) {
+    bool cut = false;
+    if (s >= 0.0lf && s <= double(pc.cells[a])) {
+        ivec3 p = n;
+        p[a] = int(s);
+        int du = (dir + 1) % 3, dv = (dir + 2) % 3;
+        uint r = uint(p[du]) + uint(pc.cells[du] + 1) * uint(p[dv]);
+        double lo_w = double(min(n[dir], w2)), hi_w = double(max(n[dir], w2));
+        uint m = ray_meta(dir, r), cnt = m & 127u;
+        for (uint i = 0u; i < cnt && !cut; ++i) {
+            float en, ex;
+            uint pair;
+            ray_interval(dir, r, m, i, en, ex, pair);
+            double den = double(en), dex = double(ex);
+            bool in_en = finite(en) && lo_w < den && den < hi_w;
+            bool in_ex = finite(ex) && lo_w < dex && dex < hi_w;
+            cut = cut || in_en || in_ex;
+        }
+    }
+    return cut;
+}
+
+// contour_qef.cpp same_surface: a one-sided slope to the end at depth e on the ray at w2 reads the crossing's surface
+// unless the lattice line along `dir` at the node on the material side of both ends is cut between the rays.
+bool same_surface(int a, ivec3 n, int dir, int w2, bool exit_end, double t, double e) {
+    double s = exit_end ? ceil(min(t, e)) - 1.0lf : ceil(max(t, e));
+    return !gap_between(a, n, dir, w2, s);
+}
+
 // Slope of the height field of set a along lattice direction `dir` at node n (contour slope()): the
 // neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1). `is_flat`: a neighbour
 // end at exactly depth t; `extremum`: one side alone, the other side's surface beyond the window the other way
@@ -98,14 +129,14 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout
         }
         return false;
     }
-    // One side alone (a sharp edge): only a gentle slope (contour::kOneSidedSlopeMax).
+    // One side alone (a sharp edge): only a gentle slope (contour::kOneSidedSlopeMax), with no gap between the rays.
     if (has_m) {
         g = dm;
-        return abs(dm) <= kOneSidedSlopeMax;
+        return abs(dm) <= kOneSidedSlopeMax && same_surface(a, n, dir, w - 1, exit_end, t, em);
     }
     if (has_p) {
         g = dp;
-        return abs(dp) <= kOneSidedSlopeMax;
+        return abs(dp) <= kOneSidedSlopeMax && same_surface(a, n, dir, w + 1, exit_end, t, ep);
     }
     return false;
 }

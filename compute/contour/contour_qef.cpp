@@ -3,6 +3,7 @@
 // -ffp-contract=off so no multiply-add is fused.
 #include "compute/contour/contour_qef.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tridex::compute::contour {
@@ -32,13 +33,41 @@ bool inside_at(const std::vector<Interval>& ray, double t) {
     return false;
 }
 
+/// True when the ray of set `dir` through the crossing's ray at node depth `s` along a (the lattice line joining the
+/// crossing's ray, at coordinate n[dir], to its neighbour at `w2`) has an interval end strictly between the two rays:
+/// the material between them is cut at that depth. False when depth s lies outside the lattice.
+bool gap_between(const TriDexel& model, int a, const Node& n, int dir, int w2, double s) {
+    if (!(s >= 0.0) || s > static_cast<double>(model.lattice.cells[a])) return false;
+    Node p = n;
+    p[a] = static_cast<int>(s);
+    const RaySet& line = model.sets[dir];
+    const double lo = std::min(n[dir], w2), hi = std::max(n[dir], w2);
+    for (const Interval& iv : line.ray(p[(dir + 1) % 3], p[(dir + 2) % 3])) {
+        const double en = static_cast<double>(iv.enter), ex = static_cast<double>(iv.exit);
+        if (std::isfinite(en) && lo < en && en < hi) return true;
+        if (std::isfinite(ex) && lo < ex && ex < hi) return true;
+    }
+    return false;
+}
+
+/// Whether a one-sided slope from the neighbour end at depth `e` (on the ray at w2 along `dir`) reads the same
+/// surface as the crossing at depth t: false when the lattice line along `dir` at the node depth on the material
+/// side of both ends (the node below the lower exit, or at or above the higher enter: half-open occupancy) is cut
+/// between the two rays (the neighbour's end then lies on another face across a gap narrower than a cell: the far
+/// wall of an air valley, the far face of a spike).
+bool same_surface(const TriDexel& model, int a, const Node& n, int dir, int w2, bool exit_end, double t, double e) {
+    const double s = exit_end ? std::ceil(std::min(t, e)) - 1.0 : std::ceil(std::max(t, e));
+    return !gap_between(model, a, n, dir, w2, s);
+}
+
 /// Slope of the height field along one lattice direction at ray coordinate w (see crossing_normal).
 /// `flat` is set when a neighbour end lies at exactly depth t (the crossing lies on a face flat along `dir`);
 /// `extremum` when only one side has an end within the window and the other side's surface lies beyond the
 /// window on the same side of t as that end (the crossing is the bottom of a trough or the top of a ridge one ray
 /// wide along `dir`; the other side's occupancy at depth t tells on which side its surface lies).
-bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease, bool& flat,
+bool slope(const TriDexel& model, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease, bool& flat,
            bool& extremum) {
+    const RaySet& set = model.sets[a];
     const int w = n[dir];
     const bool u_dir = dir == (a + 1) % 3;
     const int limit = u_dir ? set.nu : set.nv;
@@ -75,14 +104,15 @@ bool slope(const RaySet& set, int a, const Node& n, int dir, bool exit_end, doub
         }
         return false;
     }
-    // One side alone (a sharp edge): only a gentle slope, as a steep one may be another sheet's end.
+    // One side alone (a sharp edge): only a gentle slope, as a steep one may be another sheet's end, and only
+    // when no gap lies between the two rays on the material side (same_surface).
     if (has_m) {
         g = dm;
-        return std::abs(dm) <= kOneSidedSlopeMax;
+        return std::abs(dm) <= kOneSidedSlopeMax && same_surface(model, a, n, dir, w - 1, exit_end, t, em);
     }
     if (has_p) {
         g = dp;
-        return std::abs(dp) <= kOneSidedSlopeMax;
+        return std::abs(dp) <= kOneSidedSlopeMax && same_surface(model, a, n, dir, w + 1, exit_end, t, ep);
     }
     return false;
 }
@@ -116,12 +146,11 @@ void rotate(double m[3][3], double v[3][3], int p, int q) {
 }  // namespace
 
 bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal, bool* at_crease) {
-    const RaySet& set = model.sets[a];
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb = 0.0, gc = 0.0;
     bool crease = false, flat_b = false, flat_c = false, ext_b = false, ext_c = false;
-    bool ok_b = slope(set, a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
-    bool ok_c = slope(set, a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
+    bool ok_b = slope(model, a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
+    bool ok_c = slope(model, a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
     // A trough or ridge one ray wide along one direction (one-sided slope, the other side beyond the window
     // the other way) on a face flat along the other direction (a neighbour end at exactly depth t): a ledge of a
     // face flat across the ray axis (a flat-end floor between a deeper cut and a shallower floor), whose one

@@ -58,7 +58,11 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// averaged; where they do not (a crease between the rays), a side whose end lies at exactly depth t (slope 0:
 /// a flat face across axis a, such as a box face or a flat-end floor, that the crossing lies on) gives slope 0
 /// and `*at_crease` is set (when not nullptr), otherwise no normal; one side present is used alone when its
-/// slope is at most kOneSidedSlopeMax (a sharp edge: the ray beyond it has no end within the window), except
+/// slope is at most kOneSidedSlopeMax (a sharp edge: the ray beyond it has no end within the window) and the
+/// lattice line of the ray set along that direction, joining the two rays on the material side of both ends (the node below the lower
+/// exit, or the node at or above the higher enter) has no interval end strictly between them (else the neighbour's
+/// end lies on another face across a gap narrower than a cell: the far wall of an air valley, the far face of a
+/// spike; that line lies up to kNormalWindow + 1 nodes from the crossing's edge node along a), except
 /// that a trough or ridge one ray wide (the other side's surface lies beyond the window the other way, told by
 /// that ray's occupancy at depth t) gets slope 0 when the other direction has a neighbour end at exactly depth t
 /// (a ledge of a face flat across axis a, e.g. a flat-end floor between a deeper cut and a shallower floor, whose
@@ -66,7 +70,7 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// sigma = +1 for an exit, -1 for an enter, normalised. Arithmetic in double in a fixed order (the GPU
 /// contourer repeats it bit for bit). Returns false (normal and *at_crease untouched) when a direction has no
 /// neighbour end or an unresolved crease; on true, *at_crease tells whether a crease side gave the normal.
-/// O(intervals on 4 rays).
+/// O(intervals on 6 rays).
 bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal,
                      bool* at_crease = nullptr);
 

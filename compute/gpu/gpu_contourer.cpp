@@ -18,7 +18,8 @@ namespace {
 
 constexpr int kBindings = 23;
 constexpr std::uint32_t kMaxGroups = 65535;
-constexpr std::uint32_t kOk = 0, kOverflow = 1, kSplit = 2;
+// Tile states the kernel reports: done; region too small; contour on the host (lists full; the device's loop cap hit).
+constexpr std::uint32_t kOk = 0, kOverflow = 1, kSplit = 2, kLoopCap = 3;
 
 struct Push {
     std::int32_t cells[4];
@@ -155,8 +156,9 @@ std::size_t GpuContourer::update(std::span<const std::uint32_t> tiles) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             const std::uint32_t t = jobs[j], state = status[4 * j], nv = status[4 * j + 1], ni = status[4 * j + 2];
             if (state == kOk) continue;
-            if (state == kSplit) {
+            if (state == kSplit || state == kLoopCap) {
                 host.push_back(t);
+                if (state == kLoopCap) ++stats_.tiles_loop_capped;
             } else if (state == kOverflow && round == 0) {
                 reserve(t, nv, ni);
                 retry.push_back(t);

@@ -32,7 +32,8 @@ static_assert(sizeof(GpuContourVertex) == 16);
 struct GpuContourStats {
     std::uint64_t updates = 0;          ///< update() calls with at least one tile
     std::uint64_t tiles_gpu = 0;        ///< tile contours written by the GPU kernel
-    std::uint64_t tiles_cpu = 0;        ///< tiles contoured on the host (> 128 split faces, or split faces and > 4096 edges)
+    std::uint64_t tiles_cpu = 0;        ///< tiles contoured on the host (> 128 split faces, or split faces and > 4096 edges, or loop-capped)
+    std::uint64_t tiles_loop_capped = 0; ///< of those, tiles the kernel could not finish under the device's loop cap (llvmpipe)
     std::uint64_t split_faces_gpu = 0;  ///< split faces (sub-cell tunnels) the kernel handled, summed over tile contours
     std::uint64_t region_retries = 0;   ///< tiles whose region was too small: re-allocated and redispatched
     std::uint64_t pool_grows = 0;       ///< vertex/index pools reallocated (compacted, usually grown)
@@ -57,7 +58,10 @@ struct GpuContourStats {
 /// than a cell (contour_tile.hpp: split-face vertices, fans around edge crossings). Tiles with more split
 /// faces or edges than the kernel's shared lists hold (> 128 split faces, or split faces and > 4096 edges;
 /// only dense random occupancy gets there) are contoured on the host with contour::TileContourer from
-/// rays read out of the slabs (counted in GpuContourStats::tiles_cpu).
+/// rays read out of the slabs (counted in GpuContourStats::tiles_cpu); so are tiles whose work a device's
+/// shader loop cap cut short (llvmpipe stops every loop after 65535 iterations per SIMD group and run of the
+/// kernel, summed over its loops; the kernel probes for it after its counting and after its writes, and
+/// reports the tile; GpuContourStats::tiles_loop_capped).
 ///
 /// Buffers: tile t owns a vertex region and an index region inside shared pools; its indices are local
 /// to its vertex region, and its draw command (VkDrawIndexedIndirectCommand, 20 bytes, at t * 20 of

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "compute/contour/contour_qef.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -91,14 +92,18 @@ void GpuContourer::fill_scratch_rays(std::uint32_t tile) {
     const int t[3] = {static_cast<int>(tile % static_cast<std::uint32_t>(tiles_[0])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0]) % static_cast<std::uint32_t>(tiles_[1])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0] * tiles_[1]))};
-    // TileContourer::run reads rays through nodes t*16 - 2 .. t*16 + 17 of each axis (crossings on edges
-    // from nodes t*16 - 1 .. t*16 + 16, occupancy X rays up to t*16 + 17, the normals' neighbour rays one
-    // node beside the crossings); the copy takes one more node, to t*16 + 18.
+    // TileContourer::run reads rays through nodes t*16 - 4 .. t*16 + 20 of each axis: crossings on edges from
+    // nodes t*16 - 1 .. t*16 + 16, occupancy X rays up to t*16 + 17, the normals' neighbour rays one node beside
+    // the crossings, and the lines between a crossing's ray and its neighbour that the one-sided slope's gap check
+    // reads (contour_qef.cpp same_surface) at up to kNormalWindow + 1 nodes from the crossing's edge node along
+    // the ray axis (t*16 - 4 .. t*16 + 19); the copy takes one more node, to t*16 + 20.
+    constexpr int kReach = 4;
+    static_assert(kReach >= 1 + static_cast<int>(contour::kNormalWindow) + 1, "the copy must reach the gap check's lines");
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         RaySet& set = scratch_->sets[a];
-        for (int v = std::max(0, t[va] * kT - 2); v <= std::min(lattice_.cells[va], t[va] * kT + kT + 2); ++v)
-            for (int u = std::max(0, t[ua] * kT - 2); u <= std::min(lattice_.cells[ua], t[ua] * kT + kT + 2); ++u)
+        for (int v = std::max(0, t[va] * kT - kReach); v <= std::min(lattice_.cells[va], t[va] * kT + kT + kReach); ++v)
+            for (int u = std::max(0, t[ua] * kT - kReach); u <= std::min(lattice_.cells[ua], t[ua] * kT + kT + kReach); ++u)
                 slabs_.read_ray(a, u, v, set.ray(u, v));
     }
 }

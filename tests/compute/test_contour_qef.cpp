@@ -121,6 +121,61 @@ TEST(CrossingNormal, NoneAtACreaseOneSidedAtAnEdgeAndNeedsBothDirections) {
     ASSERT_TRUE(crossing_normal(model, 2, Node{1, 5, 11}, true, 11.5, nrm));  // both sides: fine
 }
 
+TEST(CrossingNormal, DropsAOneSidedSlopeReadAcrossAGapBetweenTheRays) {
+    // Z rays: the crossing's ray x = 12 exits at depth 10, air at x < 12 (a cliff beyond the window), the ray x = 13
+    // and beyond exit at 10.8 (a one-sided slope 0.8 <= kOneSidedSlopeMax); flat along y. The X ray through
+    // (y = 5, z = 9), the lattice line below both exits, either runs solid from x = 12 to 13 (the same surface) or
+    // has an air gap between them (a valley narrower than a cell: x = 13 reads the valley's far wall).
+    TriDexel model = empty_model(cube_lattice(24));
+    const auto fill = [&](double gap_lo, double gap_hi, bool mirrored) {
+        fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+            const int x = mirrored ? 24 - u : u;  // mirrored: the crossing reads its neighbour on the -x side
+            if (a == 2) {
+                if (x < 12) return {};
+                return {Interval{2.0f, x == 12 ? 10.0f : 10.8f}};
+            }
+            if (a == 0 && u == 5 && v == 9) {
+                if (!(gap_lo < gap_hi)) return {Interval{0.0f, 24.0f}};
+                const double lo = mirrored ? 24.0 - gap_hi : gap_lo, hi = mirrored ? 24.0 - gap_lo : gap_hi;
+                return {Interval{0.0f, static_cast<float>(lo)}, Interval{static_cast<float>(hi), 24.0f}};
+            }
+            return {};
+        });
+    };
+    for (const bool mirrored : {false, true}) {
+        const Node n{12, 5, 10};
+        const double sx = mirrored ? 0.8 : -0.8;  // outward normal's x over its z
+        Vec3 nrm(0.0);
+        fill(0.0, 0.0, mirrored);  // solid between the rays: the slope stands
+        ASSERT_TRUE(crossing_normal(model, 2, n, true, 10.0, nrm)) << mirrored;
+        EXPECT_NEAR(nrm.x / nrm.z, sx, 1e-6) << mirrored;
+        EXPECT_EQ(nrm.y, 0.0) << mirrored;
+        fill(12.3, 12.7, mirrored);  // an air valley between them: the far wall's end is not this surface's
+        Vec3 none(7.0);
+        EXPECT_FALSE(crossing_normal(model, 2, n, true, 10.0, none)) << mirrored;
+        EXPECT_EQ(none, Vec3(7.0)) << mirrored;
+        fill(11.2, 12.0, mirrored);  // ends at the rays themselves or beyond them do not cut the line between them
+        ASSERT_TRUE(crossing_normal(model, 2, n, true, 10.0, nrm)) << mirrored;
+        EXPECT_NEAR(nrm.x / nrm.z, sx, 1e-6) << mirrored;
+    }
+    // Enters (material above): the line is the node at or above the higher enter (half-open occupancy: a node at
+    // an enter is inside). A spike hanging down: the ray x = 12 enters at 14, x = 13 at 13.4 (slope -0.6), x < 12
+    // air; the X ray through (y = 5, z = 14) decides, the one through z = 15 is not read.
+    fill_rays(model, [&](int a, int u, int v) -> std::vector<Interval> {
+        if (a == 2) return u < 12 ? std::vector<Interval>{} : std::vector<Interval>{{u == 12 ? 14.0f : 13.4f, 22.0f}};
+        if (a == 0 && u == 5 && v == 14) return {Interval{0.0f, 12.5f}, Interval{12.6f, 24.0f}};
+        return {};
+    });
+    Vec3 none(7.0);
+    EXPECT_FALSE(crossing_normal(model, 2, Node{12, 5, 14}, false, 14.0, none));
+    model.sets[0].ray(5, 14) = {Interval{0.0f, 24.0f}};
+    model.sets[0].ray(5, 15) = {Interval{0.0f, 12.5f}, Interval{12.6f, 24.0f}};
+    Vec3 nrm(0.0);
+    ASSERT_TRUE(crossing_normal(model, 2, Node{12, 5, 14}, false, 14.0, nrm));
+    EXPECT_NEAR(nrm.x / nrm.z, 0.6, 1e-6);  // outward (-0.6, 0, -1) / |.|
+    EXPECT_LT(nrm.z, 0.0);
+}
+
 TEST(QefVertex, FindsCornersAndEdgesAndKeepsTheMassPointAlongFreeDirections) {
     const Vec3 lo(4.0, 5.0, 6.0);
     // Three planes x = 4.9, y = 5.2, z = 6.7 meeting inside the cell: the corner.

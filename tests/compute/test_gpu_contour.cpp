@@ -97,6 +97,40 @@ TEST(GpuContour, RandomOccupancyWithSplitFacesAndInconsistentRaysGiveTheCpuMesh)
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+TEST(GpuContour, TilesWhoseLoopsExceedTheDevicesCapGiveTheCpuMesh) {
+    // Plates across X one node thick (x in [2k + 0.8, 2k + 1.2]) with slivers between them that hold no node
+    // (6 per gap, 0.05 cells wide): every cell has four crossings, and each crossing's normal loops over the
+    // ~84 intervals of four neighbour X rays, far beyond llvmpipe's 65535 loop iterations per SIMD group and
+    // run of the kernel. Tiles the kernel cannot finish must come out as the CPU's (contoured on the host), not
+    // with vertices and indices left unwritten.
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        const int cells = 32;
+        TriDexel m = empty_model(cube_lattice(cells));
+        fill_rays(m, [&](int a, int u, int v) {
+            std::vector<Interval> ray;
+            if (u < 1 || v < 1 || u > cells - 1 || v > cells - 1) return ray;
+            if (a == 0) {
+                for (int k = 1; 2 * k + 1 < cells; ++k) {
+                    ray.push_back({static_cast<float>(2 * k + 0.8), static_cast<float>(2 * k + 1.2), 1, 1});
+                    for (int j = 0; j < 6 && 2 * k + 2.8 < cells; ++j)
+                        ray.push_back({static_cast<float>(2 * k + 1.3 + 0.2 * j), static_cast<float>(2 * k + 1.35 + 0.2 * j), 2, 2});
+                }
+                return ray;
+            }
+            const int x = a == 1 ? v : u;  // Y rays (u, v) = (z, x), Z rays (x, y)
+            if (x % 2 == 1 && x >= 3 && x <= cells - 3) ray.push_back({1.0f, static_cast<float>(cells - 1), 1, 1});
+            return ray;
+        });
+        GpuContourStats s;
+        expect_same_contour(ctx, m, "plates with slivers", &s);
+        if (ctx.device_name().find("llvmpipe") != std::string::npos) {
+            EXPECT_GT(s.tiles_loop_capped, 0u);  // the probe found the cut tiles
+        }
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 TEST(GpuContour, IncrementalUpdatesAfterGpuSculptingEqualTheCpuAndAFullRecontour) {
     gpu::Context ctx = gpu::Context::create({});
     {
