@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -143,12 +144,20 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
              const std::vector<double>& rays_of, const StepFn& step, SculptBenchRow& row) {
     std::vector<double> step_ms, latency_ms;
     std::size_t rays = 0;
+    double cpu_s = 0.0;
+    const auto process_cpu_s = [] {
+        timespec t{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    };
     const auto wall0 = Clock::now();
     while (row.segments < stroke.size() && row.boolean_s < o.min_boolean_s && seconds_since(wall0) < o.max_row_s) {
         const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(row.batch), stroke.size() - row.segments);
+        const double c0 = process_cpu_s();
         const auto t0 = Clock::now();
         rays += step(stroke.subspan(row.segments, count));
         const auto t1 = Clock::now();
+        cpu_s += process_cpu_s() - c0;
         row.tiles_contoured += contourer.update(m);
         const auto t2 = Clock::now();
         const double b = std::chrono::duration<double>(t1 - t0).count(), c = std::chrono::duration<double>(t2 - t1).count();
@@ -164,6 +173,7 @@ void run_row(const SculptBenchOptions& o, TriDexel& m, compute::Contourer& conto
     row.rays_per_s = row.boolean_s > 0.0 ? static_cast<double>(rays) / row.boolean_s : 0.0;
     row.tiles_contoured_per_s = row.contour_s > 0.0 ? static_cast<double>(row.tiles_contoured) / row.contour_s : 0.0;
     row.step_ms_median = summarize(step_ms).median;
+    row.step_cpu_ms = row.steps > 0 ? 1e3 * cpu_s / static_cast<double>(row.steps) : 0.0;
     row.latency_ms = summarize(latency_ms).median;
     row.rays_per_segment = summarize(std::vector<double>(rays_of.begin(), rays_of.begin() + static_cast<std::ptrdiff_t>(row.segments))).median;
     row.model_hash = model_hash(m);
@@ -333,10 +343,15 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                 std::printf("%5d %4.0f %-11s %7zu %10.0f %11.3g %9.0f %9.3f %9.3f %8.0f\n", n, r, p.c_str(), row.segments,
                             row.segments_per_s, row.rays_per_s, row.tiles_contoured_per_s, row.step_ms_median, row.latency_ms,
                             row.rays_per_segment);
-                if (sculptor && sculptor->stats().batches > 0)
-                    std::printf("%5s %4s   mean per submission: host before %.3f ms, submit to fence %.3f ms, host after %.3f ms, "
-                                "%.0f ray tiles\n", "", "", row.gpu_prepare_ms, row.gpu_submit_ms, row.gpu_finish_ms,
-                                static_cast<double>(row.gpu_ray_tiles) / static_cast<double>(sculptor->stats().batches));
+                std::printf("%5s %4s   process CPU time per apply call %.3f ms (all threads)", "", "", row.step_cpu_ms);
+                if (sculptor && sculptor->stats().batches > 0) {
+                    const double batches = static_cast<double>(sculptor->stats().batches);
+                    std::printf("; mean per submission: host before %.3f ms, submit to fence %.3f ms, host after %.3f ms, "
+                                "%.0f ray tiles, %.0f workgroups", row.gpu_prepare_ms, row.gpu_submit_ms, row.gpu_finish_ms,
+                                static_cast<double>(row.gpu_ray_tiles) / batches,
+                                static_cast<double>(sculptor->stats().workgroups) / batches);
+                }
+                std::printf("\n");
                 std::fflush(stdout);
                 rows.push_back(row);
             }
@@ -461,7 +476,7 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         jrows.push_back({{"n", r.n}, {"radius_cells", r.radius_cells}, {"path", r.path}, {"batch", r.batch},
                          {"segments", r.segments}, {"steps", r.steps}, {"segments_per_s", r.segments_per_s},
                          {"rays_per_s", r.rays_per_s}, {"tiles_contoured_per_s", r.tiles_contoured_per_s},
-                         {"latency_ms", r.latency_ms}, {"step_ms_median", r.step_ms_median},
+                         {"latency_ms", r.latency_ms}, {"step_ms_median", r.step_ms_median}, {"step_cpu_ms", r.step_cpu_ms},
                          {"rays_per_segment", r.rays_per_segment}, {"boolean_s", r.boolean_s}, {"contour_s", r.contour_s},
                          {"tiles_contoured", r.tiles_contoured}, {"contour", "cpu"},
                          {"threads", r.path == "cpu" ? threads : 1}, {"model_hash", r.model_hash},

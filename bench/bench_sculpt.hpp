@@ -25,6 +25,9 @@ struct SculptBenchRow {
     double tiles_contoured_per_s = 0.0;   ///< tiles_contoured / contour_s
     double latency_ms = 0.0;              ///< median over steps: apply + re-contour of its dirty tiles, ms
     double step_ms_median = 0.0;          ///< median over steps: the apply call alone, ms
+    /// Mean over steps: the process's CPU time (every thread's, the task pool's and the Vulkan driver's workers'
+    /// too) during the apply call, ms; less sensitive to other processes' load than the wall times.
+    double step_cpu_ms = 0.0;
     double rays_per_segment = 0.0;        ///< median footprint rays of one segment (all three sets)
     std::uint64_t gpu_ray_tiles = 0;      ///< GPU rows: ray tiles dispatched (GpuSculptStats); 0 on CPU rows
     std::uint64_t gpu_retried_rays = 0;   ///< GPU rows: rays redone on the host (spill pool full / long rays)

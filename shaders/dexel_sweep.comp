@@ -1,5 +1,7 @@
 // shaders/dexel_sweep.comp - swept-volume Booleans (subtract, union, paint) on the three tri-dexel ray sets.
-// One workgroup = one tile of TILE_U x TILE_V = 8 rays of one ray set (its tile entry names it); each invocation loads its ray's intervals, applies the
+// A tile is TILE_U x TILE_V = 8 rays of one ray set (its tile entry names it); a workgroup of 8 invocations
+// takes the dispatch's tiles in turn (tiles gl_WorkGroupID.x, + gl_NumWorkGroups.x, ...), and for each tile
+// every invocation loads its ray's intervals, applies the
 // batch's sweeps that cover its node, in order, and writes the ray back (inline slots, or a region of
 // the spill pool). The arithmetic is the CPU reference's (compute/tools/sweep.cpp, compute/tools/capsule.cpp,
 // compute/model/interval_ops.cpp) step for step, with contraction forbidden (precise), so results match.
@@ -11,9 +13,11 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
-// One workgroup = one tile of TILE_U x TILE_V = 8 rays (TILE_U: specialisation constant 1,
-// compute/gpu/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
-// tile's sweeps and a lane outside a sweep's footprint costs as much as one inside, so tiles are small.
+// One workgroup = 8 invocations = one tile of TILE_U x TILE_V rays at a time (TILE_U: specialisation constant
+// 1, compute/gpu/gpu_sculptor.cpp kTileU), one SIMD row of llvmpipe. Each row of 8 lanes loops over all the
+// tile's sweeps and a lane outside a sweep's footprint costs as much as one inside, so tiles are small. A
+// workgroup loops over many tiles: llvmpipe pays a fixed cost to enter and leave each workgroup, so the host
+// dispatches a few workgroups per driver thread rather than one per tile.
 layout(local_size_x = 8) in;
 layout(constant_id = 1) const uint TILE_U = 8u;
 const uint TILE_V = 8u / TILE_U;
@@ -77,7 +81,7 @@ struct SetConstants {
 };
 layout(push_constant) uniform Push {
     SetConstants sets[3];
-    uint tile_base;       // this dispatch's first entry of tiles[]
+    uint tile_count;      // entries of tiles[]: workgroup w takes tiles w, w + gl_NumWorkGroups.x, ...
     uint retry_capacity;  // entries of each set's retry[]
 } pc;
 
@@ -353,8 +357,10 @@ bool mesh_stamp(GridSweep s, MeshRay r, uint st, out uint q0, out uint q1, out f
     return true;
 }
 
-void main() {
-    uvec4 tile = tiles[pc.tile_base + gl_WorkGroupID.x];
+// Applies the batch's sweeps to this invocation's ray of tile entry `t`, writes it back and counts it (or
+// lists it for the host).
+void sculpt_tile(uint t) {
+    uvec4 tile = tiles[t];
     AX = int(tile.x >> 30);
     tile.x &= 0x3fffffffu;
     NU = pc.sets[AX].nu;
@@ -481,4 +487,8 @@ void main() {
     }
     slab_meta[AX].v[ray] = n | (cap << 7) | (off_chunk << 11);
     atomicAdd(counters[AX].changed_rays, 1u);
+}
+
+void main() {
+    for (uint t = gl_WorkGroupID.x; t < pc.tile_count; t += gl_NumWorkGroups.x) sculpt_tile(t);
 }

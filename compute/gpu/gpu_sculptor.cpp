@@ -7,6 +7,7 @@
 #include <climits>
 #include <cstring>
 #include <sstream>
+#include <thread>
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
@@ -18,11 +19,12 @@
 namespace tridex::compute {
 namespace {
 
-// A tile is one workgroup of 8 invocations, one SIMD row of llvmpipe, laid out as kTileU x kTileV rays:
+// A tile is 8 rays, one for each of a workgroup's 8 invocations (one SIMD row of llvmpipe), laid out as kTileU x kTileV:
 // 4 x 2 wastes fewer lanes at a footprint's edges than 8 x 1 (or 8 x 2 as two rows).
 constexpr int kTileU = 4;  // rays per tile along u (the kernel's specialisation constant 1, TILE_U)
 constexpr int kTileV = 8 / kTileU;
 constexpr std::uint32_t kMaxGroups = 65535;  // workgroups per dispatch we rely on (the Vulkan minimum)
+constexpr std::uint32_t kGroupsPerCpuThread = 2;  // workgroups per driver thread on a CPU device (GpuSculptorOptions::workgroups)
 constexpr int kBindings = 10;
 constexpr std::uint32_t kPerSetBindings = 0x11fu;  // bindings 0-4 (slabs) and 8 (counters): arrays of one buffer per ray set
 constexpr int kSweepBinding = 5;  // the batch's sweeps: a uniform buffer (llvmpipe gathers those as vectors)
@@ -38,7 +40,7 @@ struct SetPush {
 
 struct Push {
     SetPush sets[3];
-    std::uint32_t tile_base = 0, retry_capacity = 0;
+    std::uint32_t tile_count = 0, retry_capacity = 0;
 };
 
 // tu carries the tile's ray set in its top two bits (kSetShift): one dispatch covers all three sets.
@@ -50,9 +52,10 @@ constexpr std::uint32_t kTileMask = (1u << kSetShift) - 1u;
 
 // Orders one dispatch's tiles so that every contiguous 1/2, 1/4 or 1/8 of them carries about the same
 // work: sorted by sweep count (the work per ray), descending, then dealt by the bit-reversed residue of the
-// rank modulo 8 (ranks 0, 8, 16, ... first, then 4, 12, ..., then 2, 10, ...). llvmpipe (Mesa
-// lp_cs_tpool) gives each of its threads one contiguous block of workgroups, so the tiles' order decides
-// its balance; tiles are independent, so the order changes no result.
+// rank modulo 8 (ranks 0, 8, 16, ... first, then 4, 12, ..., then 2, 10, ...). The workgroups take the
+// tiles in turn (w, w + groups, ...), so each gets about the same share of large and small tiles; with one
+// workgroup per tile, llvmpipe (Mesa lp_cs_tpool) gives each of its threads one contiguous block of them.
+// Tiles are independent, so the order changes no result.
 void balance_tiles(std::vector<TileEntry>::iterator first, std::vector<TileEntry>::iterator last) {
     std::stable_sort(first, last, [](const TileEntry& x, const TileEntry& y) { return x.count > y.count; });
     static constexpr std::uint32_t kReverse3[8] = {0, 4, 2, 6, 1, 5, 3, 7};
@@ -62,6 +65,48 @@ void balance_tiles(std::vector<TileEntry>::iterator first, std::vector<TileEntry
         keyed[i] = {static_cast<std::uint64_t>(kReverse3[i % 8]) << 40 | i, first[static_cast<std::ptrdiff_t>(i)]};
     std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     for (std::size_t i = 0; i < n; ++i) first[static_cast<std::ptrdiff_t>(i)] = keyed[i].second;
+}
+
+// Mesa llvmpipe ends every loop of a shader invocation once the invocation's loops have run 65,535 iterations
+// in all (gallivm LP_MAX_TGSI_LOOP_ITERATIONS, one budget shared by every loop), silently. A workgroup that takes
+// several tiles must stay within it, counted as an upper bound over the kernel's loops (shaders/dexel_sweep.comp;
+// a loop of k turns counts k + 1, its last test included): per tile, its turn of the tile loop, loading and
+// writing back at most 16 intervals and the two sweep loops' last tests (kTileIterations); per sweep listed in the
+// tile, its turns in the register and array paths' sweep loops and their stamp loops' last tests
+// (kSweepIterations); per stamp, its turns in the two stamp loops, the flat end's two sides and the span loop's last
+// test (kStampIterations); per span (one per stamp, or one per interval of a mesh tool's ray), its turn of the span
+// loop and the interval operation's at most three passes over 16 intervals (kSpanIterations). kLoopBudget keeps
+// a margin below the limit.
+constexpr std::uint64_t kLoopBudget = 60000;
+constexpr std::uint64_t kTileIterations = 40, kSweepIterations = 4, kStampIterations = 6, kSpanIterations = 52;
+
+// The most intervals one ray of any of `tools` holds (1 when there are none: an analytic tool's one chord).
+std::uint64_t spans_per_stamp(const ToolTable& tools) {
+    std::uint64_t most = 1;
+    for (const auto& t : tools)
+        for (const ToolDexelSet& s : t->sets)
+            for (std::size_t r = 0; r + 1 < s.first.size(); ++r) most = std::max<std::uint64_t>(most, s.first[r + 1] - s.first[r]);
+    return most;
+}
+
+// Workgroups for a dispatch of `order`'s tiles (each listing its sweeps in `index`): `wanted` (at most one per
+// tile), doubled until every workgroup's tiles (w, w + groups, ...) stay within kLoopBudget loop iterations, or
+// one per tile.
+std::uint32_t groups_within_loop_budget(const std::vector<TileEntry>& order, const std::vector<std::uint32_t>& index,
+                                        std::span<const GridSweep> grid, const ToolTable& tools, std::uint32_t wanted) {
+    const std::uint32_t tiles = static_cast<std::uint32_t>(order.size());
+    const std::uint64_t spans = spans_per_stamp(tools);
+    std::vector<std::uint64_t> cost(order.size(), kTileIterations), load;
+    for (std::size_t t = 0; t < order.size(); ++t)
+        for (std::uint32_t j = 0; j < order[t].count; ++j)
+            cost[t] += kSweepIterations + std::uint64_t{grid[index[order[t].first + j]].stamps} * (kStampIterations + spans * kSpanIterations);
+    std::uint32_t groups = std::max(1u, std::min(tiles, wanted));
+    for (;;) {
+        load.assign(groups, 0);
+        for (std::size_t t = 0; t < order.size(); ++t) load[t % groups] += cost[t];
+        if (groups == tiles || *std::max_element(load.begin(), load.end()) <= kLoopBudget) return groups;
+        groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(tiles, std::uint64_t{groups} * 2));
+    }
 }
 
 gpu::Buffer host_storage(const gpu::Context& c, std::size_t bytes) {
@@ -131,6 +176,15 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
     tools_ = host_storage(context_, 16);
     sweeps_ = gpu::Buffer::create(context_, max_sweeps_ * sizeof(GridSweep), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
     ensure_batch_capacity(256, 1024, 256 * 64);
+    workgroups_ = options.workgroups;
+    if (workgroups_ == 0) {
+        // A CPU device runs a dispatch's workgroups on its worker threads (Mesa llvmpipe: one per core by
+        // default), each entered and left at a fixed cost: a few per thread keep every thread busy to the end.
+        // Elsewhere one workgroup per tile, as many as a dispatch is sure to take.
+        const bool cpu = context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        workgroups_ = cpu ? kGroupsPerCpuThread * std::max(1u, std::thread::hardware_concurrency()) : kMaxGroups;
+    }
+    workgroups_ = std::min(workgroups_, kMaxGroups);
 }
 
 gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
@@ -362,9 +416,10 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
     }
     const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
-    // One dispatch for all three sets (more only past kMaxGroups tiles): the sets write disjoint buffers and
-    // each set's pool head is advanced atomically, so the dispatches need no barrier between them. The tiles
-    // are ordered over the whole list (balance_tiles) after the host kept each set's range for the mirror.
+    // One dispatch for all three sets: the sets write disjoint buffers and each set's pool head is advanced
+    // atomically. Its workgroups_ workgroups (at most one per tile, more when llvmpipe's loop budget needs them:
+    // groups_within_loop_budget) take the tiles in turn (workgroup w: tiles w, w + groups, ...). The tiles are
+    // ordered over the whole list (balance_tiles) after the host kept each set's range for the mirror.
     std::vector<TileEntry> order(tiles);
     balance_tiles(order.begin(), order.end());
     tiles_.write(order.data(), order.size() * sizeof(TileEntry));
@@ -372,16 +427,16 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     for (int a = 0; a < 3; ++a)
         push.sets[a] = SetPush{slabs_.nu(a), slabs_.nv(a), slabs_.pool_chunks(a), static_cast<float>(mirror_.lattice.cells[a])};
     push.retry_capacity = static_cast<std::uint32_t>(retry_capacity_);
+    push.tile_count = static_cast<std::uint32_t>(listed);
+    const std::uint32_t groups = groups_within_loop_budget(order, index, grid, tools, workgroups_);
     const auto t_submit = Clock::now();
     submitter_.run([&](VkCommandBuffer cmd) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
-        for (std::uint32_t done = 0; done < listed; done += kMaxGroups) {
-            push.tile_base = done;
-            vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
-            vkCmdDispatch(cmd, std::min<std::uint32_t>(kMaxGroups, static_cast<std::uint32_t>(listed) - done), 1, 1);
-            ++stats_.dispatches;
-        }
+        vkCmdPushConstants(cmd, pipeline_layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &push);
+        vkCmdDispatch(cmd, groups, 1, 1);
+        ++stats_.dispatches;
+        stats_.workgroups += groups;
         // Make the kernel's writes visible to the host reads that follow the fence.
         VkMemoryBarrier barrier{};
         barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;

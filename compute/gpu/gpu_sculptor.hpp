@@ -20,8 +20,9 @@ namespace tridex::compute {
 struct GpuSculptStats {
     std::uint64_t batches = 0;       ///< submissions (one per apply() call, more for batches over 682 sweeps)
     std::uint64_t sweeps = 0;        ///< sweeps applied
-    std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per batch for all three ray sets, more for > 65535 tiles)
-    std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched (one workgroup each), summed over batches
+    std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per batch, for all three ray sets)
+    std::uint64_t workgroups = 0;    ///< workgroups dispatched (each takes several tiles in turn), summed over batches
+    std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched, summed over batches
     std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
     double prepare_s = 0.0;  ///< host time before submitting (tile lists, uploads), s, summed over batches
@@ -36,11 +37,18 @@ struct GpuSculptorOptions {
     std::uint32_t initial_pool_chunks = 0;
     /// How apply() waits for a batch's fence (gpu::FenceWait).
     gpu::FenceWait fence_wait = gpu::FenceWait::kBlock;
+    /// Workgroups per dispatch asked for, at most 65535 (each takes the batch's ray tiles in turn: w, w +
+    /// workgroups, ...). A batch gets fewer when it has fewer tiles, and more (up to one per tile) when a
+    /// workgroup's tiles could run more loop iterations than llvmpipe allows one shader invocation (65,535 in
+    /// all loops). 0 = 2 per hardware thread on a CPU device (Mesa lavapipe, where each workgroup costs a fixed
+    /// entry and exit), else 65535. The result does not depend on it.
+    std::uint32_t workgroups = 0;
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
 /// sweeps with shaders/dexel_sweep.comp. Per batch, only the 4 x 2-ray tiles of each ray set under some
-/// sweep's footprint are dispatched (one workgroup each, the tiles of all three sets in one dispatch; the
+/// sweep's footprint are dispatched (the tiles of all three sets in one dispatch, whose workgroups take them in
+/// turn, GpuSculptorOptions::workgroups; the
 /// device must offer shaderStorageBufferArrayDynamicIndexing, else the constructor throws); each
 /// invocation applies, in order, the batch's sweeps whose footprint holds its tile. The sweeps go in a
 /// 64 KiB uniform buffer (682 sweeps; a longer batch runs as several submissions, in order).
@@ -119,6 +127,7 @@ private:
     ToolTable uploaded_tools_;     // what tools_ holds now
     std::size_t retry_capacity_ = 0;
     std::size_t max_sweeps_ = 0;   // sweeps per dispatch: what the uniform buffer sweeps_ holds
+    std::uint32_t workgroups_ = 0;  // workgroups per dispatch (GpuSculptorOptions::workgroups, resolved)
 };
 
 }  // namespace tridex::compute

@@ -41,14 +41,14 @@ TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
     for (std::size_t i = 0; i < jr.size(); ++i) {
         const nlohmann::json& r = jr[i];
         for (const char* key : {"n", "radius_cells", "path", "segments_per_s", "rays_per_s", "tiles_contoured_per_s",
-                                "latency_ms", "rays_per_segment", "step_ms_median", "contour", "segments", "model_hash"})
+                                "latency_ms", "rays_per_segment", "step_ms_median", "step_cpu_ms", "contour", "segments", "model_hash"})
             ASSERT_TRUE(r.contains(key)) << "row " << i << " lacks " << key;
         EXPECT_EQ(r["n"].get<int>(), 32);
         EXPECT_EQ(r["radius_cells"].get<double>(), 2.0);
         EXPECT_EQ(r["contour"].get<std::string>(), "cpu");
         EXPECT_EQ(r["segments"].get<int>(), 40);
         for (const char* key : {"segments_per_s", "rays_per_s", "tiles_contoured_per_s", "latency_ms", "rays_per_segment",
-                                "step_ms_median"}) {
+                                "step_ms_median", "step_cpu_ms"}) {
             const double v = r[key].get<double>();
             EXPECT_TRUE(std::isfinite(v) && v > 0.0) << "row " << i << " " << key << " = " << v;
         }

@@ -51,6 +51,9 @@ TEST(GpuSculptor, RandomProgramsOfEveryToolAndOperationMatchTheCpuReferenceBitFo
         EXPECT_GT(sculptor.stats().compactions, 0u);
         EXPECT_GT(sculptor.stats().retried_rays, 0u);
         EXPECT_EQ(sculptor.stats().dispatches, sculptor.stats().batches);  // all three ray sets in one dispatch
+        if (ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {  // a few workgroups per driver thread
+            EXPECT_LT(sculptor.stats().workgroups, sculptor.stats().ray_tiles);
+        }
         EXPECT_GT(sculptor.stats().prepare_s, 0.0);
         EXPECT_GT(sculptor.stats().submit_s, 0.0);
         EXPECT_GT(sculptor.stats().finish_s, 0.0);
@@ -127,13 +130,17 @@ TEST(GpuSculptor, NonCubicLatticesAndBatchesReachingOneRaySetMatchTheCpu) {
 }
 
 // A batch longer than the kernel's uniform buffer of sweeps (682) runs as several submissions, in order,
-// and still gives the CPU reference's rays bit for bit.
+// and still gives the CPU reference's rays bit for bit: with the default workgroups, and with one asked for,
+// where the tiles' hundreds of sweeps each exceed what one workgroup's loops may run on llvmpipe (more are
+// dispatched then).
 TEST(GpuSculptor, BatchesLongerThanOneSweepBufferRunInOrderAndMatchTheCpu) {
     gpu::Context ctx = gpu::Context::create({});
-    {
+    for (const std::uint32_t groups : {0u, 1u}) {
         TriDexel cpu = box_model(48, 6.5, 41.5);
         TriDexel gpu_model = box_model(48, 6.5, 41.5);
-        GpuSculptor sculptor(ctx, gpu_model);
+        GpuSculptorOptions opt;
+        opt.workgroups = groups;
+        GpuSculptor sculptor(ctx, gpu_model, opt);
         const std::vector<Sweep> program = random_program(cpu.lattice, 1500, 23u);
         std::size_t changed_cpu = 0;
         for (const Sweep& s : program) changed_cpu += apply_sweep(cpu, s).rays_changed;
@@ -142,11 +149,50 @@ TEST(GpuSculptor, BatchesLongerThanOneSweepBufferRunInOrderAndMatchTheCpu) {
         EXPECT_GT(st.rays_changed, 1000u);
         EXPECT_EQ(sculptor.stats().batches, 3u);  // 682 + 682 + 136 sweeps
         EXPECT_EQ(sculptor.stats().sweeps, 1500u);
+        if (groups == 1u) {
+            EXPECT_GT(sculptor.stats().workgroups, 3u);
+        }
         const Diff d = compare(cpu, gpu_model);
-        EXPECT_EQ(d.rays, 0u) << "max depth difference " << d.max_cells << " cells";
+        EXPECT_EQ(d.rays, 0u) << groups << " workgroups asked for: max depth difference " << d.max_cells << " cells";
         TriDexel downloaded = TriDexel::empty(cpu.lattice, std::size_t{1} << 30);
         sculptor.slabs().download(downloaded);
         EXPECT_EQ(compare(cpu, downloaded).rays, 0u);
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+// The kernel's workgroups take a batch's ray tiles in turn (w, w + workgroups, ...): with one workgroup, and with
+// three, asked for the hundreds of tiles of each batch, random programs of every tool and operation still give the
+// CPU reference's rays bit for bit; each batch dispatches at least that many workgroups (more where llvmpipe's loop
+// budget needs them), each taking many tiles.
+TEST(GpuSculptor, FewWorkgroupsTakingManyTilesInTurnMatchTheCpu) {
+    gpu::Context ctx = gpu::Context::create({});
+    for (const std::uint32_t groups : {1u, 3u}) {
+        TriDexel cpu = box_model(48, 6.5, 41.5);
+        TriDexel gpu_model = box_model(48, 6.5, 41.5);
+        GpuSculptorOptions opt;
+        opt.workgroups = groups;
+        GpuSculptor sculptor(ctx, gpu_model, opt);
+        const std::vector<Sweep> program = random_program(cpu.lattice, 800, 41u + groups);
+        std::size_t changed_cpu = 0, changed_gpu = 0;
+        for (std::size_t done = 0; done < program.size(); done += 40) {
+            const std::span<const Sweep> batch(program.data() + done, std::min<std::size_t>(40, program.size() - done));
+            for (const Sweep& s : batch) changed_cpu += apply_sweep(cpu, s).rays_changed;
+            changed_gpu += sculptor.apply(batch).rays_changed;
+        }
+        const GpuSculptStats& st = sculptor.stats();
+        EXPECT_GT(changed_cpu, 1000u) << groups << " workgroups";
+        EXPECT_GT(changed_gpu, 1000u) << groups << " workgroups";
+        EXPECT_GE(st.workgroups, groups * st.batches);
+        EXPECT_GT(st.ray_tiles, 20 * st.workgroups);  // each workgroup took many tiles
+        std::cout << groups << " workgroups asked for: batches " << st.batches << ", workgroups " << st.workgroups
+                  << ", ray tiles " << st.ray_tiles << "\n";
+        const Diff mirror = compare(cpu, gpu_model);
+        EXPECT_EQ(mirror.rays, 0u) << groups << " workgroups: max depth difference " << mirror.max_cells << " cells";
+        TriDexel downloaded = TriDexel::empty(cpu.lattice, std::size_t{1} << 30);
+        sculptor.slabs().download(downloaded);
+        const Diff gpu_side = compare(cpu, downloaded);
+        EXPECT_EQ(gpu_side.rays, 0u) << groups << " workgroups: max depth difference " << gpu_side.max_cells << " cells";
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
