@@ -77,6 +77,29 @@ std::string write_scene(const fs::path& dir,
     return path;
 }
 
+// Options of a recorded offscreen mono run of `scene` into dir/run (CPU path, no journal), recorded to dir/run.trdx.
+RunOptions recorded_run(const fs::path& dir, const std::string& scene) {
+    RunOptions o;
+    o.scene = scene;
+    o.display = "offscreen";
+    o.stereo = "mono";
+    o.out = (dir / "run").string();
+    o.record = (dir / "run.trdx").string();
+    o.no_journal = true;
+    o.cpu = true;  // the CPU reference: bit-identical to the GPU path, faster to set up in a test
+    return o;
+}
+
+// Replays `recording` on the CPU into dir/name with small images; returns the replay's sculpted.ply bytes.
+std::string replay_to(const std::string& recording, const fs::path& dir, const std::string& name) {
+    OutputOptions out;
+    out.out = (dir / name).string();
+    out.width = 64;
+    out.height = 48;
+    run_replay(recording, out, SculptOptions{true, false, false, false, ""});
+    return test::bytes_of(dir / name / "sculpted.ply");
+}
+
 TEST(MouseKeys, BracketsResizeTheToolWithinLimits) {
     renderer::SceneNavigation nav;
     RunInput in(nullptr, nav, renderer::MouseNavigation{});
@@ -149,14 +172,7 @@ TEST(MouseKeys, FlatEndRestsOnItsRimOrItsEndFace) {
 
 TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {
     const fs::path dir = test::temp_dir("mouse_keys_replay");
-    RunOptions o;
-    o.scene = write_scene(dir);
-    o.display = "offscreen";
-    o.stereo = "mono";
-    o.out = (dir / "run").string();
-    o.record = (dir / "run.trdx").string();
-    o.no_journal = true;
-    o.cpu = true;  // the CPU reference: bit-identical to the GPU path, faster to set up in a test
+    const RunOptions o = recorded_run(dir, write_scene(dir));
     const RunResult r = run_stereo_session(o);
     EXPECT_EQ(r.notes.front(), "ended: the scripted cursor ended");
     EXPECT_GT(r.volume_before_m3 - r.volume_after_m3, 1e-7) << "the drags carved nothing";
@@ -175,14 +191,9 @@ TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {
     EXPECT_GT(big, 500u);
     EXPECT_GT(painted, 500u);
 
-    OutputOptions out;
-    out.out = (dir / "replay").string();
-    out.width = 64;
-    out.height = 48;
-    run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
     const std::string live = test::bytes_of(dir / "run" / "sculpted.ply");
     EXPECT_FALSE(live.empty());
-    EXPECT_TRUE(live == test::bytes_of(dir / "replay" / "sculpted.ply"))
+    EXPECT_TRUE(live == replay_to(o.record, dir, "replay"))
         << "the replay of the mouse session's recording sculpted a different model";
 
     // The same device samples without the recorded changes (as a version 1 recording has none) carve
@@ -194,9 +205,7 @@ TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {
     }
     const std::string stripped = (dir / "stripped.trdx").string();
     devices::write_recording(stripped, rec);
-    out.out = (dir / "stripped").string();
-    run_replay(stripped, out, SculptOptions{true, false, false, false, ""});
-    EXPECT_FALSE(live == test::bytes_of(dir / "stripped" / "sculpted.ply"))
+    EXPECT_FALSE(live == replay_to(stripped, dir, "stripped"))
         << "a replay without the key changes sculpted the same model";
 }
 
@@ -205,15 +214,9 @@ TEST(MouseKeys, RecordedKeyChangesReplayByteForByte) {
 // byte; the same samples without the marks keep every drag.
 TEST(MouseKeys, RecordedUndoAndRedoReplayByteForByte) {
     const fs::path dir = test::temp_dir("mouse_undo_replay");
-    RunOptions o;
     // The second drag (along y = -10 mm) undone; the last undone and redone.
-    o.scene = write_scene(dir, R"({"t_s": 2.2, "press": "ctrl+z"}, {"t_s": 3.2, "press": "ctrl+z"}, {"t_s": 3.25, "press": "ctrl+shift+z"})");
-    o.display = "offscreen";
-    o.stereo = "mono";
-    o.out = (dir / "run").string();
-    o.record = (dir / "run.trdx").string();
-    o.no_journal = true;
-    o.cpu = true;
+    const RunOptions o = recorded_run(
+        dir, write_scene(dir, R"({"t_s": 2.2, "press": "ctrl+z"}, {"t_s": 3.2, "press": "ctrl+z"}, {"t_s": 3.25, "press": "ctrl+shift+z"})"));
     const RunResult r = run_stereo_session(o);
     EXPECT_EQ(r.sculpt.undo_requests, 2u);
     EXPECT_EQ(r.sculpt.redo_requests, 1u);
@@ -229,14 +232,9 @@ TEST(MouseKeys, RecordedUndoAndRedoReplayByteForByte) {
     EXPECT_EQ(undos, 2u);
     EXPECT_EQ(redos, 1u);
 
-    OutputOptions out;
-    out.out = (dir / "replay").string();
-    out.width = 64;
-    out.height = 48;
-    run_replay(o.record, out, SculptOptions{true, false, false, false, ""});
     const std::string live = test::bytes_of(dir / "run" / "sculpted.ply");
     EXPECT_FALSE(live.empty());
-    EXPECT_TRUE(live == test::bytes_of(dir / "replay" / "sculpted.ply"))
+    EXPECT_TRUE(live == replay_to(o.record, dir, "replay"))
         << "the replay of a session with Ctrl+Z and Ctrl+Shift+Z sculpted a different model";
     const nlohmann::json report = test::read_json(dir / "replay" / "report.json");
     ASSERT_TRUE(report.contains("history")) << report.dump();
@@ -247,10 +245,7 @@ TEST(MouseKeys, RecordedUndoAndRedoReplayByteForByte) {
     rec.header.marks.reset();
     const std::string stripped = (dir / "stripped.trdx").string();
     devices::write_recording(stripped, rec);
-    out.out = (dir / "stripped").string();
-    run_replay(stripped, out, SculptOptions{true, false, false, false, ""});
-    EXPECT_FALSE(live == test::bytes_of(dir / "stripped" / "sculpted.ply"))
-        << "a replay without the marks sculpted the same model";
+    EXPECT_FALSE(live == replay_to(stripped, dir, "stripped")) << "a replay without the marks sculpted the same model";
     const double kept = test::read_json(dir / "replay" / "report.json")["volume_removed_m3"].get<double>();
     const double all = test::read_json(dir / "stripped" / "report.json")["volume_removed_m3"].get<double>();
     EXPECT_GT(all - kept, 0.3 * kept) << "the undone drag's groove is missing from the replay without marks";

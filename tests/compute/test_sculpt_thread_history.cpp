@@ -60,6 +60,17 @@ void wait_drained(const SpscRing<ToolSample>& ring, const SculptThread& t) {
     if (std::chrono::steady_clock::now() >= limit) ADD_FAILURE() << "the sculpt thread did not settle within 60 s";
 }
 
+// A sculpt thread on `model` with its contourer (contoured once), a ring of 4096 samples and a surface hand-off.
+struct Rig {
+    explicit Rig(TriDexel& model) : contourer(model), contoured((contourer.update(model), true)),
+                                    thread(model, contourer, ring, surface, Vec3(0.0)) {}
+    compute::Contourer contourer;
+    bool contoured;
+    SpscRing<ToolSample> ring{4096};
+    TripleBuffer<ActiveSurface> surface;
+    SculptThread thread;
+};
+
 TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexels) {
     const std::string path = (fs::temp_directory_path() / ("tridex_history_" + std::to_string(::getpid()) + ".tdj")).string();
     TriDexel live = fresh();
@@ -160,11 +171,9 @@ TEST(SculptThreadHistory, IdleClosingCanBeTurnedOffForHeldButtonStrokes) {
         TriDexel live = fresh();
         SculptStats stats;
         {
-            compute::Contourer contourer(live);
-            contourer.update(live);
-            SpscRing<ToolSample> ring(4096);
-            TripleBuffer<ActiveSurface> surface;
-            SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+            Rig rig(live);
+            SpscRing<ToolSample>& ring = rig.ring;
+            SculptThread& t = rig.thread;
             t.close_strokes_when_idle(idle_close);
             t.start();
             auto a = pass(-0.01, 0.0, 200, ToolOp::kSubtract);
@@ -202,11 +211,9 @@ TEST(SculptThreadHistory, ReplayFollowingTheMarksRepeatsUndosRedosAndIdleClosesE
     TriDexel live = fresh();
     SculptStats stats;
     {
-        compute::Contourer contourer(live);
-        contourer.update(live);
-        SpscRing<ToolSample> ring(4096);
-        TripleBuffer<ActiveSurface> surface;
-        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+        Rig rig(live);
+        SpscRing<ToolSample>& ring = rig.ring;
+        SculptThread& t = rig.thread;
         t.start();
         push_all(ring, a);
         wait_drained(ring, t);
@@ -250,17 +257,13 @@ TEST(SculptThreadHistory, ReplayFollowingTheMarksRepeatsUndosRedosAndIdleClosesE
         TriDexel again = fresh();
         SculptStats st;
         {
-            compute::Contourer contourer(again);
-            contourer.update(again);
-            SpscRing<ToolSample> ring(4096);
-            TripleBuffer<ActiveSurface> surface;
-            SculptThread t(again, contourer, ring, surface, Vec3(0.0));
-            if (follow) t.follow_marks(stats.marks);
-            push_all(ring, all);
-            t.start();
-            wait_drained(ring, t);
-            t.stop();
-            st = t.stats();
+            Rig rig(again);
+            if (follow) rig.thread.follow_marks(stats.marks);
+            push_all(rig.ring, all);
+            rig.thread.start();
+            wait_drained(rig.ring, rig.thread);
+            rig.thread.stop();
+            st = rig.thread.stats();
         }
         if (follow) {
             EXPECT_EQ(compare(live, again).rays, 0u) << "the replay that follows the marks differs";
@@ -278,12 +281,9 @@ TEST(SculptThreadHistory, ReplayFollowingTheMarksRepeatsUndosRedosAndIdleClosesE
 
     // Marks out of order, or a save among them, are refused before the thread starts.
     TriDexel m = fresh();
-    compute::Contourer contourer(m);
-    SpscRing<ToolSample> ring(16);
-    TripleBuffer<ActiveSurface> surface;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
-    EXPECT_THROW(t.follow_marks({{10, SculptRequest::kUndo}, {9, SculptRequest::kRedo}}), Error);
-    EXPECT_THROW(t.follow_marks({{10, SculptRequest::kSave}}), Error);
+    Rig rig(m);
+    EXPECT_THROW(rig.thread.follow_marks({{10, SculptRequest::kUndo}, {9, SculptRequest::kRedo}}), Error);
+    EXPECT_THROW(rig.thread.follow_marks({{10, SculptRequest::kSave}}), Error);
 }
 
 // Checkpoints: written between strokes by the sculpt thread, named in the journal; replaying the records after the
