@@ -91,21 +91,22 @@ std::uint64_t spans_per_stamp(const ToolTable& tools) {
 
 // Workgroups for a dispatch of `order`'s tiles (each listing its sweeps in `index`): `wanted` (at most one per
 // tile), doubled until every workgroup's tiles (w, w + groups, ...) stay within kLoopBudget loop iterations, or
-// one per tile.
+// one per tile, never more than kMaxGroups (a dispatch's limit; past it a workgroup takes more than one tile even
+// when that exceeds the budget, as one tile alone may).
 std::uint32_t groups_within_loop_budget(const std::vector<TileEntry>& order, const std::vector<std::uint32_t>& index,
                                         std::span<const GridSweep> grid, const ToolTable& tools, std::uint32_t wanted) {
-    const std::uint32_t tiles = static_cast<std::uint32_t>(order.size());
+    const std::uint32_t most = static_cast<std::uint32_t>(std::min<std::size_t>(order.size(), kMaxGroups));
     const std::uint64_t spans = spans_per_stamp(tools);
     std::vector<std::uint64_t> cost(order.size(), kTileIterations), load;
     for (std::size_t t = 0; t < order.size(); ++t)
         for (std::uint32_t j = 0; j < order[t].count; ++j)
             cost[t] += kSweepIterations + std::uint64_t{grid[index[order[t].first + j]].stamps} * (kStampIterations + spans * kSpanIterations);
-    std::uint32_t groups = std::max(1u, std::min(tiles, wanted));
+    std::uint32_t groups = std::max(1u, std::min(most, wanted));
     for (;;) {
         load.assign(groups, 0);
         for (std::size_t t = 0; t < order.size(); ++t) load[t % groups] += cost[t];
-        if (groups == tiles || *std::max_element(load.begin(), load.end()) <= kLoopBudget) return groups;
-        groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(tiles, std::uint64_t{groups} * 2));
+        if (groups >= most || *std::max_element(load.begin(), load.end()) <= kLoopBudget) return groups;
+        groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(most, std::uint64_t{groups} * 2));
     }
 }
 

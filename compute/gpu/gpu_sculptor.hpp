@@ -38,7 +38,7 @@ struct GpuSculptorOptions {
     /// How apply() waits for a batch's fence (gpu::FenceWait).
     gpu::FenceWait fence_wait = gpu::FenceWait::kBlock;
     /// Workgroups per dispatch asked for, at most 65535 (each takes the batch's ray tiles in turn: w, w +
-    /// workgroups, ...). A batch gets fewer when it has fewer tiles, and more (up to one per tile) when a
+    /// workgroups, ...). A batch gets fewer when it has fewer tiles, and more (up to one per tile, at most 65535) when a
     /// workgroup's tiles could run more loop iterations than llvmpipe allows one shader invocation (65,535 in
     /// all loops). 0 = 2 per hardware thread on a CPU device (Mesa lavapipe, where each workgroup costs a fixed
     /// entry and exit), else 65535. The result does not depend on it.

@@ -194,10 +194,10 @@ public:
     void close_strokes_when_idle(bool on);
     /// Replays a recorded session's marks (SculptStats::marks of the live session, in order): the thread takes each
     /// as a request once it has drained exactly mark.after_samples samples (splitting a step's batch there, so the
-    /// sweeps before and after it fall as they did live), and closes no stroke for idling (the live closes are among
-    /// the marks; so also with no marks). With the live session's samples, the strokes, undos and redos, and so the model, are the live
-    /// session's. Throws tridex::Error when the thread runs, when after_samples decreases from one mark to the next,
-    /// or when a mark's request is kSave.
+    /// sweeps before and after it fall as they did live), and closes no stroke for idling, even with no marks (the
+    /// live idle closes are among them). With the live session's samples, the strokes, undos and redos, and so the
+    /// model, are the live session's. Throws tridex::Error when the thread runs, when after_samples decreases from
+    /// one mark to the next, or when a mark's request is kSave.
     void follow_marks(std::vector<SculptMark> marks);
     /// Writes a checkpoint model with `write` (on the sculpt thread, never the haptic thread) when at least
     /// `interval_s` (s, > 0) of wall time passed since the session started or the last checkpoint, the model changed
