@@ -51,7 +51,7 @@ void DTrackReceiver::stop() {
 
 DTrackReceiverStats DTrackReceiver::stats() const {
     DTrackReceiverStats s;
-    s.datagrams = datagrams_.load(std::memory_order_relaxed);
+    s.datagrams = datagrams_.load(std::memory_order_acquire);  // first: the counts below include these datagrams
     s.accepted = accepted_.load(std::memory_order_relaxed);
     s.rejected = rejected_.load(std::memory_order_relaxed);
     s.bytes = bytes_.load(std::memory_order_relaxed);
@@ -64,8 +64,15 @@ DTrackReceiverStats DTrackReceiver::stats() const {
 }
 
 void DTrackReceiver::handle(const char* data, std::size_t size, std::int64_t receipt_ns) {
-    datagrams_.fetch_add(1, std::memory_order_relaxed);
-    bytes_.fetch_add(size, std::memory_order_relaxed);
+    // A datagram is counted once it is accepted or rejected (release: a reader that sees the count sees those too).
+    struct Count {
+        DTrackReceiver& rx;
+        std::size_t bytes;
+        ~Count() {
+            rx.bytes_.fetch_add(bytes, std::memory_order_relaxed);
+            rx.datagrams_.fetch_add(1, std::memory_order_release);
+        }
+    } count{*this, size};
     const DTrackParseResult r = size > kDTrackMaxDatagram ? DTrackParseResult{DTrackReject::kTooLarge, 0}
                                                           : parse_dtrack_datagram(std::string_view(data, size), frame_);
     if (!r.ok()) {

@@ -49,7 +49,7 @@ struct DTrackBodyTable {
 
 /// Counters of the receiver (any thread may read them).
 struct DTrackReceiverStats {
-    std::uint64_t datagrams = 0;  ///< datagrams received (accepted + rejected)
+    std::uint64_t datagrams = 0;  ///< datagrams received and parsed (accepted + rejected; counted after those)
     std::uint64_t accepted = 0;
     std::uint64_t rejected = 0;
     std::array<std::uint64_t, static_cast<std::size_t>(DTrackReject::kCount)> by_reason{};  ///< rejected, per reason

@@ -157,14 +157,16 @@ TEST(WandNavigator, BadSettingsThrow) {
     EXPECT_THROW(WandNavigator{s}, Error);
 }
 
-/// Calls sample() until the receiver has accepted `n` datagrams and published them (or 5 s pass).
+/// Sends `datagram`, waits until the receiver has parsed it and published it if it accepted it (at most 5 s), and
+/// returns sample().
 WandSample wait_sample(DTrackWand& w, DTrackSender& tx, const std::string& datagram) {
     const std::uint64_t before = w.receiver_stats().datagrams;
     EXPECT_TRUE(tx.send(datagram));
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
     while (std::chrono::steady_clock::now() < until) {
         const devices::DTrackReceiverStats st = w.receiver_stats();
-        if (st.datagrams > before && st.published == st.accepted) break;  // taken, and published if accepted
+        // Parsed (the receiver counts a datagram before it parses it), and published if accepted.
+        if (st.accepted + st.rejected > before && st.published == st.accepted) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     return w.sample();
