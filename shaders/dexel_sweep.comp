@@ -9,6 +9,9 @@
 // binding 9) and applies each of its intervals (compute/tools/sweep.cpp mesh_stamp_spans).
 // A ray that needs more than MAXI intervals, or a pool region when the pool is full, is left unwritten
 // and listed for the host (compute/gpu/gpu_sculptor.cpp), which compacts or grows the pool and redoes it.
+// So is a ray whose loops the device cut short (llvmpipe's loop cap, below; listed with RETRY_LOOP_CAP), and the
+// tiles a workgroup never reached (no mark in the done words after the tile entries); the host redoes those from
+// its copy of the model as it was before the batch.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -47,8 +50,10 @@ layout(std430, set = 0, binding = 4) buffer PoolMat { uint v[]; } slab_pool_mat[
 // than all the chord arithmetic. MAX_SWEEPS (specialisation constant 2) = compute/gpu/gpu_sculptor.cpp max_sweeps_.
 layout(constant_id = 2) const uint MAX_SWEEPS = 682u;
 layout(std140, set = 0, binding = 5) uniform Sweeps { GridSweep sweeps[MAX_SWEEPS]; };
-// Tile u | ray set << 30, tile v, first, count: the batch's tiles of all three sets, in one dispatch.
-layout(std430, set = 0, binding = 6) readonly buffer Tiles { uvec4 tiles[]; };
+// Tile u | ray set << 30, tile v, first, count: the batch's tiles of all three sets, in one dispatch
+// (tiles[0, tile_count)); then one done word per tile, four to an entry (tile t: tiles[tile_count + t / 4][t % 4]),
+// zero on entry, set to 1 once the tile's workgroup has finished it.
+layout(std430, set = 0, binding = 6) buffer Tiles { uvec4 tiles[]; };
 layout(std430, set = 0, binding = 7) readonly buffer SweepIndex { uint sweep_index[]; };
 layout(std430, set = 0, binding = 8) buffer Counters {  // one per ray set
     uint pool_head;      // chunks of 8 intervals handed out
@@ -83,7 +88,23 @@ layout(push_constant) uniform Push {
     SetConstants sets[3];
     uint tile_count;      // entries of tiles[]: workgroup w takes tiles w, w + gl_NumWorkGroups.x, ...
     uint retry_capacity;  // entries of each set's retry[]
+    uint two;             // 2: probe_loop_cap's trip count, unknown to the compiler so that it stays a loop
 } pc;
+
+// Retry entries: the ray's index in its set, with this bit set when the loop cap cut its loops short.
+const uint RETRY_LOOP_CAP = 0x80000000u;
+
+// llvmpipe (lavapipe) ends every loop after its first pass once a SIMD group of invocations has taken 65535 loop
+// iterations in one run of the shader, summed over all its loops (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, a guard
+// against endless loops), without any error: a ray's sweeps would be skipped or its write-back cut. The host keeps
+// each workgroup's tiles under that count by its own bound (compute/gpu/gpu_sculptor.cpp), but a single tile of
+// many long sweeps can exceed it. The budget only shrinks, so a loop of two iterations run after the work tells
+// whether it ran out: then it runs once. True when it did.
+bool loop_cap_spent() {
+    uint trips = 0u;
+    [[dont_unroll]] for (uint i = 0u; i < pc.two; ++i) trips += 1u;
+    return trips != pc.two;
+}
 
 // The workgroup's ray set (its tile's) and that set's constants, set first thing in main().
 int AX;
@@ -461,6 +482,8 @@ void sculpt_tile(uint t) {
             }
         }
     }
+    // The ray's sweeps are complete only if no loop was cut short; then the write-back below must be too.
+    if (loop_cap_spent()) { list_for_retry(ray | RETRY_LOOP_CAP); return; }
     if (!changed) return;
     uint cap = (m >> 7) & 15u;
     uint off_chunk = m >> 11;
@@ -485,10 +508,15 @@ void sculpt_tile(uint t) {
             slab_pool_mat[AX].v[off + i] = mt[i];
         }
     }
+    if (loop_cap_spent()) { list_for_retry(ray | RETRY_LOOP_CAP); return; }  // written in part: the host rewrites it
     slab_meta[AX].v[ray] = n | (cap << 7) | (off_chunk << 11);
     atomicAdd(counters[AX].changed_rays, 1u);
 }
 
 void main() {
-    for (uint t = gl_WorkGroupID.x; t < pc.tile_count; t += gl_NumWorkGroups.x) sculpt_tile(t);
+    // Once the loop cap is spent this loop ends too: the tiles after the current one keep no done mark.
+    for (uint t = gl_WorkGroupID.x; t < pc.tile_count; t += gl_NumWorkGroups.x) {
+        sculpt_tile(t);
+        if (gl_LocalInvocationID.x == 0u) tiles[pc.tile_count + t / 4u][t % 4u] = 1u;
+    }
 }

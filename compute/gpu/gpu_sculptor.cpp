@@ -41,7 +41,11 @@ struct SetPush {
 struct Push {
     SetPush sets[3];
     std::uint32_t tile_count = 0, retry_capacity = 0;
+    std::uint32_t two = 2;  // the kernel's loop-cap probe's trip count
 };
+
+// A retry entry's flag: the kernel's loops were cut short by the device's loop cap (shaders/dexel_sweep.comp).
+constexpr std::uint32_t kRetryLoopCap = 0x80000000u;
 
 // tu carries the tile's ray set in its top two bits (kSetShift): one dispatch covers all three sets.
 struct TileEntry {
@@ -69,16 +73,16 @@ void balance_tiles(std::vector<TileEntry>::iterator first, std::vector<TileEntry
 
 // Mesa llvmpipe ends every loop of a shader invocation once the invocation's loops have run 65,535 iterations
 // in all (gallivm LP_MAX_TGSI_LOOP_ITERATIONS, one budget shared by every loop), silently. A workgroup that takes
-// several tiles must stay within it, counted as an upper bound over the kernel's loops (shaders/dexel_sweep.comp;
-// a loop of k turns counts k + 1, its last test included): per tile, its turn of the tile loop, loading and
-// writing back at most 16 intervals and the two sweep loops' last tests (kTileIterations); per sweep listed in the
-// tile, its turns in the register and array paths' sweep loops and their stamp loops' last tests
+// several tiles should stay within it (the kernel notices when one did not, and the host then redoes that work:
+// slower, but right), counted as an upper bound over the kernel's loops (shaders/dexel_sweep.comp; a loop of k
+// turns counts k + 1, its last test included): per tile, its turn of the tile loop, loading and writing back at
+// most 16 intervals, the two sweep loops' last tests and the two loop-cap probes (kTileIterations); per sweep
+// listed in the tile, its turns in the register and array paths' sweep loops and their stamp loops' last tests
 // (kSweepIterations); per stamp, its turns in the two stamp loops, the flat end's two sides and the span loop's last
 // test (kStampIterations); per span (one per stamp, or one per interval of a mesh tool's ray), its turn of the span
 // loop and the interval operation's at most three passes over 16 intervals (kSpanIterations). kLoopBudget keeps
-// a margin below the limit.
-constexpr std::uint64_t kLoopBudget = 60000;
-constexpr std::uint64_t kTileIterations = 40, kSweepIterations = 4, kStampIterations = 6, kSpanIterations = 52;
+// a margin below the limit (GpuSculptorOptions::loop_budget).
+constexpr std::uint64_t kTileIterations = 46, kSweepIterations = 4, kStampIterations = 6, kSpanIterations = 52;
 
 // The most intervals one ray of any of `tools` holds (1 when there are none: an analytic tool's one chord).
 std::uint64_t spans_per_stamp(const ToolTable& tools) {
@@ -90,11 +94,12 @@ std::uint64_t spans_per_stamp(const ToolTable& tools) {
 }
 
 // Workgroups for a dispatch of `order`'s tiles (each listing its sweeps in `index`): `wanted` (at most one per
-// tile), doubled until every workgroup's tiles (w, w + groups, ...) stay within kLoopBudget loop iterations, or
-// one per tile, never more than kMaxGroups (a dispatch's limit; past it a workgroup takes more than one tile even
-// when that exceeds the budget, as one tile alone may).
+// tile), doubled until every workgroup's tiles (w, w + groups, ...) stay within `budget` loop iterations (0: no
+// bound), or one per tile, never more than kMaxGroups (a dispatch's limit; past it a workgroup takes more than one
+// tile even when that exceeds the budget, as one tile alone may).
 std::uint32_t groups_within_loop_budget(const std::vector<TileEntry>& order, const std::vector<std::uint32_t>& index,
-                                        std::span<const GridSweep> grid, const ToolTable& tools, std::uint32_t wanted) {
+                                        std::span<const GridSweep> grid, const ToolTable& tools, std::uint32_t wanted,
+                                        std::uint64_t budget) {
     const std::uint32_t most = static_cast<std::uint32_t>(std::min<std::size_t>(order.size(), kMaxGroups));
     const std::uint64_t spans = spans_per_stamp(tools);
     std::vector<std::uint64_t> cost(order.size(), kTileIterations), load;
@@ -105,7 +110,7 @@ std::uint32_t groups_within_loop_budget(const std::vector<TileEntry>& order, con
     for (;;) {
         load.assign(groups, 0);
         for (std::size_t t = 0; t < order.size(); ++t) load[t % groups] += cost[t];
-        if (groups >= most || *std::max_element(load.begin(), load.end()) <= kLoopBudget) return groups;
+        if (budget == 0 || groups >= most || *std::max_element(load.begin(), load.end()) <= budget) return groups;
         groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(most, std::uint64_t{groups} * 2));
     }
 }
@@ -186,6 +191,7 @@ GpuSculptor::GpuSculptor(const gpu::Context& context, TriDexel& mirror, const Gp
         workgroups_ = cpu ? kGroupsPerCpuThread * std::max(1u, std::thread::hardware_concurrency()) : kMaxGroups;
     }
     workgroups_ = std::min(workgroups_, kMaxGroups);
+    loop_budget_ = options.loop_budget;
 }
 
 gpu::UniquePipeline GpuSculptor::create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const {
@@ -236,7 +242,7 @@ void GpuSculptor::ensure_batch_capacity(std::size_t tiles, std::size_t indices, 
         buf = host_storage(context_, std::max<std::size_t>(bytes, buf.size() * 2));
         rebind = true;
     };
-    grow(tiles_, tiles * sizeof(TileEntry));
+    grow(tiles_, (tiles + (tiles + 3) / 4) * sizeof(TileEntry));  // the entries, then a done word per tile
     grow(index_, indices * sizeof(std::uint32_t));
     if (retry > retry_capacity_ || counters_[0].handle() == VK_NULL_HANDLE) {
         retry_capacity_ = std::max(retry, retry_capacity_ * 2);
@@ -272,19 +278,19 @@ void GpuSculptor::bind_descriptors() {
 }
 
 std::size_t GpuSculptor::redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps,
-                                      const ToolTable& tools) {
+                                      const ToolTable& tools, bool rewrite) {
     std::size_t changed = 0;
     const int nu = slabs_.nu(axis);
     std::vector<Interval> ray;
     for (const std::uint32_t id : rays) {
         const int u = static_cast<int>(id % static_cast<std::uint32_t>(nu)), v = static_cast<int>(id / static_cast<std::uint32_t>(nu));
-        slabs_.read_ray(axis, u, v, ray);
+        ray = mirror_.sets[axis].rays[id];  // the ray before the batch (the slabs' copy may be written in part)
         const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
         bool any = false;
         for (const GridSweep& g : sweeps)
             if (u >= g.lo[ua] && u <= g.hi[ua] && v >= g.lo[va] && v <= g.hi[va]) any |= apply_sweep_to_ray(g, axis, u, v, ray, static_cast<float>(mirror_.lattice.cells[axis]), tools);
-        if (!any) continue;
-        ++changed;
+        changed += any;
+        if (!any && !rewrite) continue;
         if (!slabs_.write_ray(axis, u, v, ray)) {
             ++stats_.compactions;
             if (slabs_.compact(context_, axis)) bind_descriptors();
@@ -423,13 +429,14 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     // ordered over the whole list (balance_tiles) after the host kept each set's range for the mirror.
     std::vector<TileEntry> order(tiles);
     balance_tiles(order.begin(), order.end());
+    const std::uint32_t groups = groups_within_loop_budget(order, index, grid, tools, workgroups_, loop_budget_);
+    order.resize(listed + (listed + 3) / 4, TileEntry{0, 0, 0, 0});  // the done words, all 0
     tiles_.write(order.data(), order.size() * sizeof(TileEntry));
     Push push{};
     for (int a = 0; a < 3; ++a)
         push.sets[a] = SetPush{slabs_.nu(a), slabs_.nv(a), slabs_.pool_chunks(a), static_cast<float>(mirror_.lattice.cells[a])};
     push.retry_capacity = static_cast<std::uint32_t>(retry_capacity_);
     push.tile_count = static_cast<std::uint32_t>(listed);
-    const std::uint32_t groups = groups_within_loop_budget(order, index, grid, tools, workgroups_);
     const auto t_submit = Clock::now();
     submitter_.run([&](VkCommandBuffer cmd) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
@@ -450,24 +457,39 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     stats_.sweeps += grid.size();
     stats_.ray_tiles += tiles.size();
 
-    std::vector<std::uint32_t> retry;
+    // The rays the kernel handed back, and those it may have left half done (the loop cap): the rays it listed with
+    // kRetryLoopCap and every ray of the tiles a workgroup never reached (no done word).
+    std::vector<std::uint32_t> retry, capped[3], done((listed + 3) / 4 * 4);
+    tiles_.read(done.data(), done.size() * 4, listed * sizeof(TileEntry));
+    for (std::size_t t = 0; t < listed; ++t) {
+        if (done[t] != 0) continue;
+        const int a = static_cast<int>(order[t].tu >> kSetShift), nu = slabs_.nu(a), nv = slabs_.nv(a);
+        const int u0 = static_cast<int>(order[t].tu & kTileMask) * kTileU, v0 = static_cast<int>(order[t].tv) * kTileV;
+        for (int v = v0; v < std::min(v0 + kTileV, nv); ++v)
+            for (int u = u0; u < std::min(u0 + kTileU, nu); ++u) capped[a].push_back(static_cast<std::uint32_t>(u + nu * v));
+    }
     for (int a = 0; a < 3; ++a) {
         std::uint32_t head[4];
         counters_[a].read(head, sizeof(head));
         slabs_.pool_head(a) = head[0];
         stats.rays_changed += head[2];
-        if (head[1] == 0) continue;
         if (head[1] > retry_capacity_) throw Error("GPU tri-dexel: retry list overflow (internal error)");
         retry.resize(head[1]);
-        counters_[a].read(retry.data(), retry.size() * 4, 16);
-        stats_.retried_rays += retry.size();
+        if (!retry.empty()) counters_[a].read(retry.data(), retry.size() * 4, 16);
+        const auto cap_end = std::partition(retry.begin(), retry.end(), [](std::uint32_t r) { return (r & kRetryLoopCap) != 0; });
+        for (auto it = retry.begin(); it != cap_end; ++it) capped[a].push_back(*it & ~kRetryLoopCap);
+        retry.erase(retry.begin(), cap_end);
+        stats_.retried_rays += retry.size() + capped[a].size();
+        stats_.loop_capped_rays += capped[a].size();
+        if (retry.empty() && capped[a].empty()) continue;
         // Compact only when the kernel ran out of pool (its head then points past the end); rays listed for
         // having more than 16 intervals need none, and redo_on_host compacts when a write finds no room.
         if (head[0] > slabs_.pool_chunks(a)) {
             ++stats_.compactions;
             if (slabs_.compact(context_, a)) bind_descriptors();
         }
-        stats.rays_changed += redo_on_host(a, retry, grid, tools);
+        stats.rays_changed += redo_on_host(a, retry, grid, tools, false);
+        stats.rays_changed += redo_on_host(a, capped[a], grid, tools, true);
     }
     // The mirror's footprint rays, then its dirty tiles.
     for (int a = 0; a < 3; ++a) {

@@ -23,7 +23,11 @@ struct GpuSculptStats {
     std::uint64_t dispatches = 0;    ///< vkCmdDispatch calls (one per batch, for all three ray sets)
     std::uint64_t workgroups = 0;    ///< workgroups dispatched (each takes several tiles in turn), summed over batches
     std::uint64_t ray_tiles = 0;     ///< 4 x 2-ray tiles dispatched, summed over batches
-    std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, or > 16 intervals), redone on the host
+    std::uint64_t retried_rays = 0;  ///< rays the kernel handed back (pool full, > 16 intervals, loop cap), redone on the host
+    /// Of those, rays whose loops the device cut short or whose tile it never reached: llvmpipe stops every loop of
+    /// a shader run once its SIMD group has taken 65,535 loop iterations (a tile under hundreds of long mesh-tool
+    /// sweeps can); the host redoes them from the mirror.
+    std::uint64_t loop_capped_rays = 0;
     std::uint64_t compactions = 0;   ///< spill-pool compactions (each may grow the pool)
     double prepare_s = 0.0;  ///< host time before submitting (tile lists, uploads), s, summed over batches
     double submit_s = 0.0;   ///< time from recording the command buffer until its fence signalled, s, summed
@@ -43,6 +47,11 @@ struct GpuSculptorOptions {
     /// all loops). 0 = 2 per hardware thread on a CPU device (Mesa lavapipe, where each workgroup costs a fixed
     /// entry and exit), else 65535. The result does not depend on it.
     std::uint32_t workgroups = 0;
+    /// Loop iterations one workgroup may take, as the host bounds them, before it gets more workgroups (llvmpipe
+    /// stops every loop of a shader run past 65,535 in all; the default keeps a margin). 0 = no bound: `workgroups`
+    /// are dispatched as asked, and the kernel's own check of the spent budget (the host then redoes the rays it
+    /// could not finish) is all that keeps the result right. The result does not depend on it.
+    std::uint64_t loop_budget = 60000;
 };
 
 /// The GPU path of the sculpt thread: holds the tri-dexel model in GpuDexelSlabs and applies batches of
@@ -104,7 +113,11 @@ private:
     BooleanStats apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
                             const ToolTable& tools);
     void bind_descriptors();
-    std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools);
+    // Applies `sweeps` (in order, those whose footprint holds the ray) to rays `rays` (indices in set `axis`) as the
+    // mirror holds them (the model before the batch), and writes each that changed, or each when `rewrite` (the
+    // slabs' copy may be half written), to the slabs; returns how many changed.
+    std::size_t redo_on_host(int axis, std::span<const std::uint32_t> rays, std::span<const GridSweep> sweeps, const ToolTable& tools,
+                             bool rewrite);
     void upload_tools(const ToolTable& tools);
     gpu::UniquePipeline create_pipeline(bool mesh, std::uint32_t ops, std::uint32_t kinds) const;
     VkPipeline pipeline_for(std::uint32_t ops, std::uint32_t kinds);
@@ -128,6 +141,7 @@ private:
     std::size_t retry_capacity_ = 0;
     std::size_t max_sweeps_ = 0;   // sweeps per dispatch: what the uniform buffer sweeps_ holds
     std::uint32_t workgroups_ = 0;  // workgroups per dispatch (GpuSculptorOptions::workgroups, resolved)
+    std::uint64_t loop_budget_ = 0;  // GpuSculptorOptions::loop_budget
 };
 
 }  // namespace tridex::compute

@@ -175,6 +175,63 @@ TEST(GpuMeshTool, ToolLargerThanTheWorkpieceAndZeroLengthSegmentsMatchTheCpu) {
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+// A batch whose sweeps all run along one line, each taking a mesh tool through dozens of stamps, gives every ray
+// tile under it more loop iterations than llvmpipe lets one SIMD group run in a shader (65,535, all loops summed;
+// past it every loop stops after one pass, silently). No choice of workgroups helps when a single tile is over it:
+// the kernel notices the spent budget (a probe loop cut to one pass) and lists the tile's rays, and the workgroup's
+// later tiles (which it never reaches) keep no done mark; the host redoes both from the model as it was before the
+// batch. With the host's workgroup planning, and with one workgroup taking every tile, the result is the CPU
+// reference's, bit for bit.
+TEST(GpuMeshTool, TilesOverTheDevicesLoopCapAreRedoneOnTheHost) {
+    gpu::Context ctx = gpu::Context::create({});
+    const bool llvmpipe = ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    for (const bool one_group : {false, true}) {
+        TriDexel cpu = box_model(40, 4.5, 35.5);
+        TriDexel gpu_model = box_model(40, 4.5, 35.5);
+        GpuSculptorOptions opt;
+        if (one_group) {
+            opt.workgroups = 1;
+            opt.loop_budget = 0;
+        }
+        GpuSculptor sculptor(ctx, gpu_model, opt);
+        const double c = cpu.lattice.cell_m;
+        const auto bar = MeshTool::create(dumbbell(0.6 * c));
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> jitter(-1.5, 1.5);
+        std::vector<Sweep> batch(400);
+        for (std::size_t i = 0; i < batch.size(); ++i) {
+            Sweep& s = batch[i];
+            s.op = i % 3 == 2 ? ToolOp::kUnion : ToolOp::kSubtract;
+            s.material = static_cast<std::uint8_t>(1 + i % 5);
+            s.tool = SweepTool{ToolKind::kMesh, 0.0, 0.0, bar};
+            s.axis = Vec3(jitter(rng), jitter(rng), 2.0);
+            const double y = 20.0 + jitter(rng), z = 30.0 + jitter(rng);
+            s.path_m = Segment{cpu.lattice.to_world(Vec3(3.0, y, z)), cpu.lattice.to_world(Vec3(37.0, y + jitter(rng), z))};
+        }
+        std::size_t changed_cpu = 0;
+        for (const Sweep& s : batch) changed_cpu += apply_sweep(cpu, s).rays_changed;
+        const std::size_t changed_gpu = sculptor.apply(batch).rays_changed;
+        EXPECT_GT(changed_cpu, 500u);
+        EXPECT_GT(changed_gpu, 500u);
+        EXPECT_EQ(differing_rays(cpu, gpu_model), 0u) << (one_group ? "one workgroup" : "planned workgroups");
+        TriDexel downloaded = TriDexel::empty(cpu.lattice, std::size_t{1} << 30);
+        sculptor.slabs().download(downloaded);
+        EXPECT_EQ(differing_rays(cpu, downloaded), 0u) << (one_group ? "one workgroup" : "planned workgroups");
+        const GpuSculptStats& st = sculptor.stats();
+        if (llvmpipe) {
+            EXPECT_GT(st.loop_capped_rays, 100u);
+            // One workgroup stops after the first tile over the cap: every later tile is the host's.
+            if (one_group) {
+                EXPECT_GT(st.loop_capped_rays, 4 * st.ray_tiles);
+            }
+        }
+        std::cout << (one_group ? "one workgroup: " : "planned workgroups: ") << "ray tiles " << st.ray_tiles
+                  << ", workgroups " << st.workgroups << ", rays retried " << st.retried_rays << ", of them loop-capped "
+                  << st.loop_capped_rays << "\n";
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 TEST(GpuMeshTool, ToolsOverTheBindingLimitAreRefusedBeforeAnythingChanges) {
     gpu::Context ctx = gpu::Context::create({});
     {
