@@ -99,13 +99,16 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
                                    const std::vector<haptics::TickRecord>& records, double session_s,
                                    const std::string& device_profile, double device_max_force_n,
                                    const devices::DeviceStatus& device_status) {
-    double max_force = 0.0;
-    std::size_t contact_ticks = 0, presses = 0, paused = 0;
+    double max_force = 0.0, max_object_force = 0.0;
+    std::size_t contact_ticks = 0, object_ticks = 0, presses = 0, paused = 0;
     Aabb tool_span, device_span;  // where the tool went in the world, and the stylus in the device
     std::uint32_t prev_buttons = 0;
     for (const auto& t : records) {
         max_force = std::max(max_force, glm::length(t.force_n));
         contact_ticks += t.contact ? 1 : 0;
+        const double object_force = glm::length(t.object_force_n);
+        max_object_force = std::max(max_object_force, object_force);
+        object_ticks += object_force > 0.0 ? 1 : 0;
         presses += (t.device.buttons & 1u) && !(prev_buttons & 1u) ? 1 : 0;
         prev_buttons = t.device.buttons;
         paused += t.modelling_paused ? 1 : 0;
@@ -138,6 +141,8 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"cutting", spec.cutting},
             {"contact_ticks", contact_ticks},
             {"max_force_n", max_force},
+            {"object_contact_ticks", object_ticks},
+            {"max_object_force_n", max_object_force},
             {"device_max_force_n", device_max_force_n},
             {"stiffness_n_per_m", spec.stiffness_n_per_m},
             {"tool_radius_m", spec.tool.radius_m},

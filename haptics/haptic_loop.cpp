@@ -231,7 +231,9 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
     for (const ElasticSphere& e : cfg_.elastic_objects) {
         const ElasticContacts ec = elastic_contacts(e, contact_.tool_points(), tool_world);
         if (ec.count == 0) continue;
-        out.force_n += elastic_force(e, ec, limits_.max_force_n);
+        const Vec3 f = elastic_force(e, ec, limits_.max_force_n);
+        out.force_n += f;
+        out.object_force_n += f;
         out.in_contact += ec.count;
         out.contact = true;
     }
@@ -360,6 +362,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.proxy_m = c.proxy_m;
     rec.force_n = remote_contact ? remote.force_n : out.force_n;  // the force the device got
     rec.contact = c.contact;
+    rec.object_force_n = c.object_force_n;
     rec.points_in_contact = c.in_contact;
     if (c.points) {
         for (int k = 0; k < 2 && k < c.points->points; ++k) {

@@ -96,6 +96,10 @@ struct TickRecord {
     Vec3 proxy_m{0.0};         ///< god-object position, m
     Vec3 force_n{0.0};         ///< force sent to the device (after filter and the safety stage), world frame, N
     bool contact = false;      ///< the contact stage (god-object) was in contact
+    /// The elastic objects' part of the contact force (HapticLoopConfig::elastic_objects, against their undeformed
+    /// spheres), world frame, N, before the workspace mapping's force scale, the filter and the safety stage; 0 when
+    /// the tool touches none.
+    Vec3 object_force_n{0.0};
     float period_us = 0.0f;    ///< time since the previous tick's start, us (0 on the first tick)
     float compute_us = 0.0f;   ///< time from this tick's start to the end of its work, us
     bool valid_sample = true;  ///< false when the device sample had a non-finite value (zero force sent)
@@ -242,6 +246,7 @@ private:
         Vec3 force_n{0.0};    // N
         Vec3 torque_nm{0.0};  // N*m, about the tool centre
         Vec3 proxy_m{0.0};    // god-object of point 0 (or the tool centre when free), m
+        Vec3 object_force_n{0.0};  // of it, the elastic objects' part, N
         bool contact = false;
         int in_contact = 0;   // points in contact
         const MultiPointResult* points = nullptr;  // per-point detail of this tick (owned by contact_)

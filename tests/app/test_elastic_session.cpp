@@ -100,7 +100,6 @@ TEST(ElasticSession, ARunFeelsAndDrawsTheSceneBallAndItSpringsBackAfterTheStroke
     ASSERT_EQ(r0.exit_code, 0) << r0.err;
     const nlohmann::json j0 = read_report(dir / "plain");
     EXPECT_TRUE(j0["deformation"].is_null());
-    const double plain_force = j0["haptics"]["max_force_n"].get<double>();
     // With the bundled elastic ball: felt (a larger force where the stroke passes through it), drawn dented while
     // pressed, back to its reference once the tool has left; the recording carries it, so a replay feels it too.
     std::ifstream in(std::string(TRIDEX_ASSETS_DIR) + "/squeeze_ball_run_scene.json");
@@ -119,8 +118,13 @@ TEST(ElasticSession, ARunFeelsAndDrawsTheSceneBallAndItSpringsBackAfterTheStroke
     EXPECT_EQ(d["objects"][0]["name"], "squeeze_ball");
     EXPECT_TRUE(j1["stroke_completed"].get<bool>());
     EXPECT_EQ(j1["validation_messages"], 0);
+    // Felt: the ball's own part of the contact force (the total is capped at the Omni's 0.88 N, which the bunny's
+    // contact alone can reach on a loaded machine).
+    EXPECT_EQ(j0["haptics"]["object_contact_ticks"], 0);
+    EXPECT_EQ(j0["haptics"]["max_object_force_n"].get<double>(), 0.0);
+    EXPECT_GT(j1["haptics"]["object_contact_ticks"].get<int>(), 10) << j1["haptics"].dump();
+    EXPECT_GT(j1["haptics"]["max_object_force_n"].get<double>(), 0.2) << j1["haptics"].dump();
     const double ball_force = j1["haptics"]["max_force_n"].get<double>();
-    EXPECT_GT(ball_force, plain_force + 0.2) << "with the ball " << ball_force << " N, without " << plain_force << " N";
     const auto rp = run_tridex("replay " + (dir / "ball.trdx").string() + " --out " + (dir / "replay").string(), dir / "replay");
     ASSERT_EQ(rp.exit_code, 0) << rp.err;
     EXPECT_NEAR(read_report(dir / "replay")["haptics"]["max_force_n"].get<double>(), ball_force, 0.1 * ball_force);
@@ -133,7 +137,8 @@ TEST(ElasticSession, ARunFeelsAndDrawsTheSceneBallAndItSpringsBackAfterTheStroke
     const nlohmann::json j2 = read_report(dir / "rigid");
     EXPECT_EQ(j2["deformation"]["max_displacement_m"].get<double>(), 0.0);
     EXPECT_GE(j2["deformation"]["objects"][0]["frames_pressed"].get<int>(), 1);
-    EXPECT_GT(j2["haptics"]["max_force_n"].get<double>(), plain_force + 0.2);
+    EXPECT_GT(j2["haptics"]["object_contact_ticks"].get<int>(), 10) << j2["haptics"].dump();
+    EXPECT_GT(j2["haptics"]["max_object_force_n"].get<double>(), 0.2) << j2["haptics"].dump();
 }
 
 TEST(ElasticSession, ARunSceneRefusesABadObjectNamingItsField) {
