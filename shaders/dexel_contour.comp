@@ -16,7 +16,8 @@
 //     stays drawable); otherwise each used component's vertex is placed by the QEF of its crossings and
 //     their normals from the neighbouring rays (dexel_contour_qef.glsl, contour_qef.cpp: relative to the
 //     mean of its crossings, minimised over the cell), with the material of the nearest crossing; the
-//     normals read rays through nodes c0-2 .. c0+18, and the one-sided slopes' gap check lines of the other ray
+//     normals read rays through nodes c0-2 .. c0+18 (c0-3 .. c0+19 for the corner fill's face-adjacent cells,
+//     whose node occupancy is read from the X rays), and the one-sided slopes' gap check lines of the other ray
 //     sets up to 3 nodes beyond a crossing's edge along its ray (bounds-checked, straight from the slabs); split faces
 //     get one vertex per inside corner (the face QEF of that corner's two face-edge crossings, or their mean);
 //  5. each sign-change edge emits its quad, split along the shorter diagonal, or, next to a split face, a

@@ -17,6 +17,79 @@ double normal_dot(dvec3 a, dvec3 b) {
     return d;
 }
 
+// contour_tile.cpp node_inside: occupancy of node n read from its X ray (enter <= x < exit; boundary and outside
+// nodes outside), for nodes beyond the tile's occupancy block.
+bool node_inside_ray(ivec3 n) {
+    if (any(lessThan(n, ivec3(1))) || any(greaterThan(n, pc.cells.xyz - ivec3(1)))) return false;
+    uint r = uint(n.y) + uint(pc.cells.y + 1) * uint(n.z);
+    uint m = ray_meta(0, r), cnt = m & 127u;
+    double x = double(n.x);
+    for (uint i = 0u; i < cnt; ++i) {
+        float en, ex;
+        uint pair;
+        ray_interval(0, r, m, i, en, ex, pair);
+        if (!(en <= ex)) continue;
+        if (double(en) <= x && x < double(ex)) return true;
+    }
+    return false;
+}
+
+// contour_tile.cpp corner_fill_plane: among the ordinary-normal crossings of the edges of the 6 face-adjacent cells
+// off the shared faces (face f, side -1 then +1, edges ascending) whose normal's dot product with each normal
+// nq[e] of `own` (edge bits) exceeds kCornerFillCos and whose plane has `mass` in front or at most kCornerFillFront
+// behind, the tangent plane `pos` lies deepest behind (first on ties); true with its point and normal when deeper
+// than kCornerFillDepth.
+bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own, out dvec3 point, out dvec3 normal) {
+    bool found = false;
+    double deepest = 0.0lf;
+    point = dvec3(0.0lf);
+    normal = dvec3(0.0lf);
+    [[dont_unroll]] for (int f = 0; f < 3; ++f) {
+        [[dont_unroll]] for (int side = -1; side <= 1; side += 2) {
+            ivec3 nb = cell;
+            nb[f] += side;
+            int face = side > 0 ? cell[f] + 1 : cell[f];
+            [[dont_unroll]] for (int e = 0; e < 12; ++e) {
+                const int a = e / 4;
+                ivec3 p = nb + edge_start_offset(a, e & 3);
+                if (a != f && p[f] == face) continue;
+                ivec3 q = p + unit(a);
+                if (any(lessThan(p, ivec3(0))) || any(greaterThan(q, pc.cells.xyz))) continue;
+                bool pin = node_inside_ray(p);
+                if (pin == node_inside_ray(q)) continue;
+                uint mat;
+                bool fb, ex;
+                double t = edge_crossing(a, p, pin, mat, fb, ex);
+                if (fb || ex != pin) continue;
+                dvec3 nn;
+                bool cr;
+                if (!crossing_normal(a, p, pin, t, nn, cr) || cr) continue;
+                bool fits = true;
+                uint om = own;
+                while (om != 0u) {
+                    int i = findLSB(om);
+                    om &= om - 1u;
+                    if (!(normal_dot(nn, nq[i]) > kCornerFillCos)) fits = false;
+                }
+                if (!fits) continue;
+                dvec3 cp = dvec3(p);
+                cp[a] = t;
+                precise dvec3 dm = mass - cp;
+                if (!(normal_dot(nn, dm) >= -kCornerFillFront)) continue;
+                precise dvec3 d = pos - cp;
+                precise double depth = -((nn.x * d.x + nn.y * d.y) + nn.z * d.z);
+                if (!found || depth > deepest) {
+                    found = true;
+                    deepest = depth;
+                    point = cp;
+                    normal = nn;
+                }
+            }
+        }
+    }
+    return found && deepest > kCornerFillDepth;
+}
+
 // The vertices of used cell `cell` (TileContourer::cell_vertices) into slots base .. base + components - 1.
 // The expensive per-edge work (crossings, normals) runs in per-axis dynamic loops over the edges this cell
 // needs, so SIMD lanes share iterations (llvmpipe runs 8 invocations per lane group); the cheap sums are
@@ -134,11 +207,13 @@ void place_vertices(ivec3 cell, uint base) {
             ++nc;
         }
         dvec3 pos = dvec3(0.0lf);
+        double qm[9];
+        double qr[3];
         [[dont_unroll]] for (int pass = 0; pass < 2; ++pass) {
             // Pass 0: with the crease normals when try_crease, else the final choice; pass 1: without them.
             uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain : has));
-            double qm[9] = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
-            double qr[3] = double[3](0.0lf, 0.0lf, 0.0lf);
+            qm = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+            qr = double[3](0.0lf, 0.0lf, 0.0lf);
             int normals = 0;
             // Two facing walls of a sheet thinner than the cell (a normal pair's dot below kOpposedNormalCos): only
             // the normals of the wall with more of them (ties: the first's), and no fitted plane.
@@ -206,6 +281,25 @@ void place_vertices(ivec3 cell, uint base) {
                 if (r > worst) worst = r;
             }
             if (worst <= kCreaseResidual) break;
+        }
+        if (bitCount(plain) >= 2) {
+            // Corner fill (contour::kCornerFillReach): a concave crease vertex far behind its crossings' mass point,
+            // cut off by a neighbouring cell's tangent plane, is placed again with that plane (TileContourer).
+            precise dvec3 nsum = dvec3(0.0lf);
+            uint hk = has;
+            while (hk != 0u) {
+                int e = findLSB(hk);
+                hk &= hk - 1u;
+                precise dvec3 ns = nsum + nq[e];
+                nsum = ns;
+            }
+            precise dvec3 off = pos - mean;
+            dvec3 cut_p, cut_n;
+            if (normal_dot(off, off) > kCornerFillReach * kCornerFillReach && normal_dot(nsum, off) < 0.0lf &&
+                corner_fill_plane(cell, pos, mean, nq, has, cut_p, cut_n)) {
+                qef_add(qm, qr, cut_n, cut_p, mean);
+                pos = qef_solve(mean, qm, qr, clo);
+            }
         }
         double best_d2 = -1.0lf;
         uint best_mat = 0u;

@@ -9,10 +9,10 @@ namespace tridex::compute::contour {
 
 /// Largest depth difference (grid units) between a crossing and the matching interval end on a
 /// neighbouring ray for that end to count as the same surface (surface slopes up to 2 against the ray
-/// axis; steeper surfaces are seen by the other ray sets' crossings). TriDexel::kDirtyReachCells (3)
+/// axis; steeper surfaces are seen by the other ray sets' crossings). TriDexel::kDirtyReachCells (4)
 /// counts this window: a crossing in [c, c+1] reads ends in [c - 2, c + 3].
 inline constexpr double kNormalWindow = 2.0;
-static_assert(kNormalWindow + 1.0 <= TriDexel::kDirtyReachCells, "mark_dirty must cover the normals' window");
+static_assert(kNormalWindow + 2.0 <= TriDexel::kDirtyReachCells, "mark_dirty must cover the normals' window");
 /// Two one-sided slopes that differ by at most this much are averaged (central difference); beyond it
 /// the ray sits at a crease and its crossing gets no normal (choosing one side, e.g. the flatter one,
 /// often picks the face across the crease and throws the vertex off), unless one side is exactly flat across
@@ -24,6 +24,19 @@ inline constexpr double kCentralSlopeTol = 0.5;
 /// the cut's planes there; a flat face that only touches the cell at its corner is not, and its plane would carry
 /// the vertex across the cut.
 inline constexpr double kCreaseResidual = 0.25;
+/// Corner fill (TileContourer): a cell component with at least two ordinary crossing normals whose QEF vertex lies
+/// more than kCornerFillReach (grid units) from its crossings' mass point, behind it (on the material side along the
+/// sum of its crossing normals: a concave crease), may sit inside a third surface that fills the crease's corner
+/// inside the cell without crossing the cell's edges (a third ball between two, a ball on a box face). The ordinary
+/// crossing normals of the 6 face-adjacent cells' edges off the shared faces, each making a dot product above
+/// kCornerFillCos with every normal of the component (not a sheet's other wall) and with the mass point in front of
+/// its tangent plane or at most kCornerFillFront behind it (the plane separates the vertex from the crossings), are
+/// then checked: the tangent plane the vertex lies deepest behind, when deeper than kCornerFillDepth (beyond a smooth
+/// surface's bend over a cell or two), joins the QEF and the vertex is placed again.
+inline constexpr double kCornerFillReach = 0.5;
+inline constexpr double kCornerFillDepth = 0.3;
+inline constexpr double kCornerFillCos = -0.5;
+inline constexpr double kCornerFillFront = 0.1;
 /// Two crossing normals of one cell component whose dot product is below this are the facing walls of a sheet
 /// thinner than the cell (about 143 degrees apart or more); the vertex then takes the normals of one wall only
 /// (TileContourer).

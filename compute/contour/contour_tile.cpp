@@ -42,6 +42,71 @@ double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y)
 
 bool crease_normal_fits(const Vec3& crease, const Vec3& plain) { return normal_dot(crease, plain) > 0.0; }
 
+/// Occupancy of lattice node n read from its X ray (OccupancyBlock's definition: enter <= x < exit, boundary
+/// and outside nodes outside), for nodes beyond a tile's occupancy block.
+bool node_inside(const TriDexel& model, const Node& n) {
+    for (int a = 0; a < 3; ++a)
+        if (n[a] < 1 || n[a] > model.lattice.cells[a] - 1) return false;
+    const double x = n[0];
+    for (const Interval& iv : model.sets[0].ray(n[1], n[2])) {
+        if (!(iv.enter <= iv.exit)) continue;
+        if (static_cast<double>(iv.enter) <= x && x < static_cast<double>(iv.exit)) return true;
+    }
+    return false;
+}
+
+/// The corner-fill plane of a cell component (see kCornerFillReach): among the crossings with an ordinary normal
+/// (not a crease side's) on the edges of the 6 cells face-adjacent to `cell` that do not lie on the shared faces
+/// (face f = 0..2, side -1 then +1, cell edges 4a + k ascending), whose normal has a dot product above
+/// kCornerFillCos with each of the `count` normals `own` and whose tangent plane has the crossings' mass point
+/// `mass` in front of it or at most kCornerFillFront behind, the one whose tangent plane `pos` lies deepest behind
+/// (first on ties). Returns true with its point and normal when that depth exceeds kCornerFillDepth. Reads the
+/// rays directly (those cells lie up to a cell beyond a tile's caches); arithmetic in the order the GPU
+/// contourer repeats. O(48 edges x crossing_normal).
+bool corner_fill_plane(const TriDexel& model, const Node& cell, const Vec3& pos, const Vec3& mass, const Vec3* own, int count, Vec3& point,
+                       Vec3& normal) {
+    bool found = false;
+    double deepest = 0.0;
+    for (int f = 0; f < 3; ++f)
+        for (int side = -1; side <= 1; side += 2) {
+            Node nb = cell;
+            nb[f] += side;
+            const int shared = side > 0 ? cell[f] + 1 : cell[f];
+            for (int e = 0; e < 12; ++e) {
+                const int a = e / 4, k = e & 3;
+                Node p = nb;
+                p[(a + 1) % 3] += k & 1;
+                p[(a + 2) % 3] += (k >> 1) & 1;
+                if (a != f && p[f] == shared) continue;
+                bool in_lattice = true;
+                for (int j = 0; j < 3; ++j)
+                    if (p[j] < 0 || p[j] + (j == a ? 1 : 0) > model.lattice.cells[j]) in_lattice = false;
+                if (!in_lattice) continue;
+                const bool in = node_inside(model, p);
+                if (in == node_inside(model, plus(p, a, 1))) continue;
+                const EdgeCrossing x = edge_crossing(model, a, p, in);
+                if (x.fallback || x.exit != in) continue;
+                Vec3 nn(0.0);
+                bool crease = false;
+                if (!crossing_normal(model, a, p, in, x.t, nn, &crease) || crease) continue;
+                bool fits = true;
+                for (int i = 0; i < count; ++i)
+                    if (!(normal_dot(nn, own[i]) > kCornerFillCos)) fits = false;
+                if (!fits) continue;
+                const Vec3 q = crossing_point(p, a, x);
+                if (!(normal_dot(nn, mass - q) >= -kCornerFillFront)) continue;
+                const double depth = -normal_dot(nn, pos - q);
+                if (!found || depth > deepest) {
+                    found = true;
+                    deepest = depth;
+                    point = q;
+                    normal = nn;
+                }
+            }
+        }
+    return found && deepest > kCornerFillDepth;
+}
+
 [[noreturn]] void cannot_happen(const char* what) {
     std::fprintf(stderr, "contour_tile: internal error: %s\n", what);
     std::abort();
@@ -228,7 +293,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 }
             const Vec3 mass = sum[comp] / static_cast<double>(count[comp]);
             // The QEF vertex with or without the crease normals (see above).
-            auto place = [&](bool with_crease, QefOutcome& how) {
+            // `extra`: one more plane (point, normal) after the component's, or nullptr.
+            auto place = [&](bool with_crease, QefOutcome& how, const Vec3* extra = nullptr) {
                 std::array<bool, 12> use{};
                 int own = 0, first = -1;
                 for (int i = 0; i < crossings; ++i)
@@ -257,13 +323,17 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                     if (owner[i] == comp && use[i]) ++own;
                 Vec3 fitted(0.0);
                 const bool fit = !sheet && own > 0 && own < nc && fit_normal(mass, cp.data(), ca.data(), ce.data(), nc, fitted);
-                std::array<Vec3, 12> qp{}, qn{};
+                std::array<Vec3, 13> qp{}, qn{};
                 int q = 0;
                 for (int i = 0; i < crossings; ++i)
                     if (owner[i] == comp && (use[i] || fit)) {
                         qp[q] = point[i];
                         qn[q++] = use[i] ? sample[i]->normal : fitted;
                     }
+                if (extra) {
+                    qp[q] = extra[0];
+                    qn[q++] = extra[1];
+                }
                 return qef_vertex(mass, qp.data(), qn.data(), q, lo, &how);
             };
             QefOutcome how;
@@ -281,6 +351,23 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 done = worst <= kCreaseResidual;
             }
             if (!done) pos = place(plain == 0, how);
+            if (plain >= 2) {
+                // Corner fill (kCornerFillReach): a concave crease vertex far behind its crossings' mass point, cut
+                // off by a neighbouring cell's tangent plane, is placed again with that plane.
+                std::array<Vec3, 12> own{};
+                int nown = 0;
+                Vec3 nsum(0.0);
+                for (int i = 0; i < crossings; ++i)
+                    if (owner[i] == comp && sample[i]->has_normal) {
+                        own[nown++] = sample[i]->normal;
+                        nsum = nsum + sample[i]->normal;
+                    }
+                const Vec3 off = pos - mass;
+                std::array<Vec3, 2> plane{};
+                if (normal_dot(off, off) > kCornerFillReach * kCornerFillReach && normal_dot(nsum, off) < 0.0 &&
+                    corner_fill_plane(*model_, cell, pos, mass, own.data(), nown, plane[0], plane[1]))
+                    pos = place(done, how, plane.data());
+            }
             cv.pos[comp] = pos;
             cv.qef[comp] = static_cast<std::uint8_t>((how.normals > 0 ? kQefNormals : 0) | (how.truncated ? kQefTruncated : 0) |
                                                      (how.rejected ? kQefRejected : 0) | (how.clamped ? kQefClamped : 0));

@@ -21,9 +21,10 @@ namespace tridex::compute::contour {
 ///                 for the segment around the face's inside corner `corner` (face_corners order).
 /// Every vertex, edge polygon and face belongs to the tile of the cell with the same index as its
 /// anchor node; it depends only on nodes n - 1 .. n + 1 on each axis and the edges between them (the
-/// cells n - 1 and n), and, through the crossing normals (contour_qef.hpp), on the rays one node beside
-/// those edges and their interval ends up to kNormalWindow cells along them; TriDexel::mark_dirty covers
-/// that (cells within three cells of a change).
+/// cells n - 1 and n), through the corner fill (contour::kCornerFillReach) on the edges of those cells'
+/// face-adjacent cells (nodes n - 2 .. n + 2), and, through the crossing normals (contour_qef.hpp), on the
+/// rays one node beside those edges and their interval ends up to kNormalWindow cells along them;
+/// TriDexel::mark_dirty covers that (cells within four cells of a change).
 using VertexKey = std::uint64_t;
 
 /// Anchor node of a key and the tile owning it.
@@ -73,7 +74,9 @@ struct TileMesh {
 ///    their mass point (mean) and minimised over the cell. Normals from a crease's flat side join ordinary
 ///    ones only when consistent with them (acute angles, vertex within kCreaseResidual of their planes);
 ///    a component whose normals include a nearly opposite pair (kOpposedNormalCos: the two walls of a sheet
-///    thinner than the cell) keeps only the normals of the wall with more of them and fits no plane;
+///    thinner than the cell) keeps only the normals of the wall with more of them and fits no plane; a
+///    concave crease vertex far behind its crossings and cut off by a face-adjacent cell's tangent plane
+///    takes that plane too (the corner fill, kCornerFillReach: a third surface filling the crease's corner);
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;
@@ -94,8 +97,8 @@ struct TileMesh {
 /// Computed while the vertex is placed, from the same crossings (no extra pass over the model).
 class TileContourer {
 public:
-    /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 2
-    /// .. t*16 + 18 of each axis. Does not touch the model's dirty flags.
+    /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 5
+    /// .. t*16 + 20 of each axis (GpuContourer::fill_scratch_rays lists what reads them). Does not touch the model's dirty flags.
     void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out);
 
 private:

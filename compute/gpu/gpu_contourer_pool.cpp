@@ -92,13 +92,14 @@ void GpuContourer::fill_scratch_rays(std::uint32_t tile) {
     const int t[3] = {static_cast<int>(tile % static_cast<std::uint32_t>(tiles_[0])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0]) % static_cast<std::uint32_t>(tiles_[1])),
                       static_cast<int>(tile / static_cast<std::uint32_t>(tiles_[0] * tiles_[1]))};
-    // TileContourer::run reads rays through nodes t*16 - 4 .. t*16 + 20 of each axis: crossings on edges from
-    // nodes t*16 - 1 .. t*16 + 16, occupancy X rays up to t*16 + 17, the normals' neighbour rays one node beside
-    // the crossings, and the lines between a crossing's ray and its neighbour that the one-sided slope's gap check
+    // TileContourer::run reads rays through nodes t*16 - 5 .. t*16 + 21 of each axis: crossings on edges from
+    // nodes t*16 - 2 .. t*16 + 17 (the cached cells' edges and, for the corner fill, those of their face-adjacent
+    // cells), occupancy X rays from t*16 - 2 up to t*16 + 18, the normals' neighbour rays one node beside the
+    // crossings, and the lines between a crossing's ray and its neighbour that the one-sided slope's gap check
     // reads (contour_qef.cpp same_surface) at up to kNormalWindow + 1 nodes from the crossing's edge node along
-    // the ray axis (t*16 - 4 .. t*16 + 19); the copy takes one more node, to t*16 + 20.
-    constexpr int kReach = 4;
-    static_assert(kReach >= 1 + static_cast<int>(contour::kNormalWindow) + 1, "the copy must reach the gap check's lines");
+    // the ray axis (t*16 - 5 .. t*16 + 20); the copy takes one more node, to t*16 + 21.
+    constexpr int kReach = 5;
+    static_assert(kReach >= 2 + static_cast<int>(contour::kNormalWindow) + 1, "the copy must reach the gap check's lines");
     for (int a = 0; a < 3; ++a) {
         const int ua = (a + 1) % 3, va = (a + 2) % 3;
         RaySet& set = scratch_->sets[a];

@@ -66,10 +66,12 @@ struct TriDexel {
     /// lattice would need more memory than `max_bytes` (the message gives both numbers).
     static TriDexel empty(const Lattice& lattice, std::size_t max_bytes);
     /// How far (cells) a changed interval end reaches into the contour. Along a ray: a crossing in cell
-    /// [c, c+1] reads, for its normal, ends in [c - 2, c + 3] (contour::kNormalWindow = 2) and mesh items
-    /// anchored at node n read cells n - 1 and n, so 3. Across rays: the normals' neighbour ray (+1), the
-    /// crossing's cell (+1) and the anchor (+1), also 3 (contour_qef.hpp, contour_tile.hpp).
-    static constexpr int kDirtyReachCells = 3;
+    /// [c, c+1] reads, for its normal, ends in [c - 2, c + 3] (contour::kNormalWindow = 2), a cell's vertex
+    /// reads the crossings of its face-adjacent cells too (contour::kCornerFillReach), and mesh items
+    /// anchored at node n read cells n - 1 and n, so 4. Across rays: the normals' neighbour ray (+1), the
+    /// crossing's cell (+1), the face-adjacent cell (+1) and the anchor (+1), also 4 (contour_qef.hpp,
+    /// contour_tile.hpp).
+    static constexpr int kDirtyReachCells = 4;
     /// Marks dirty every tile holding a cell within kDirtyReachCells cells of the world box `box_m`.
     void mark_dirty(const Aabb& box_m);
     /// Clears all dirty flags.

@@ -156,16 +156,16 @@ double check_capsule(const CapsuleCase& c) {
     EXPECT_EQ(st.rays_visited, in_box);
     EXPECT_EQ(st.rays_changed, changed);
     // Dirty tiles: every tile the capsule's box touches, and with 16-cell tiles nothing beyond the tiles
-    // holding cells within three cells of that box (a changed ray reaches vertices through the crossing
-    // normals of its neighbours, compute/contour/contour_qef.hpp).
+    // holding cells within TriDexel::kDirtyReachCells (4) cells of that box (a changed ray reaches vertices through
+    // the crossing normals of its neighbours and the corner fill, compute/contour/contour_qef.hpp).
     for (int z = 0; z < m.tiles.tiles[2]; ++z)
         for (int y = 0; y < m.tiles.tiles[1]; ++y)
             for (int x = 0; x < m.tiles.tiles[0]; ++x) {
                 const int t[3] = {x, y, z};
                 bool near = true;
                 for (int k = 0; k < 3; ++k) {
-                    const int first = std::max(0, static_cast<int>(std::floor(lo[k])) - 3) / 16;
-                    const int last = std::min(39, static_cast<int>(std::floor(hi[k])) + 3) / 16;
+                    const int first = std::max(0, static_cast<int>(std::floor(lo[k])) - TriDexel::kDirtyReachCells) / 16;
+                    const int last = std::min(39, static_cast<int>(std::floor(hi[k])) + TriDexel::kDirtyReachCells) / 16;
                     near = near && t[k] >= first && t[k] <= last;
                 }
                 EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)], near ? 1 : 0) << x << "," << y << "," << z;

@@ -133,5 +133,34 @@ TEST(ContourCuts, SplitFaceInASheetLiesOnAWall) {
     EXPECT_LE(worst, 0.25);
 }
 
+/// Signed distance to the box plus the balls (grid units): CSG min of the pieces' distances (exact outside the
+/// solid, a bound of |distance| inside where the pieces meet).
+double added_sdf(const Vec3& lo, const Vec3& hi, const std::vector<AddedBall>& balls, const Vec3& p) {
+    const Vec3 q = glm::max(lo - p, p - hi);
+    double d = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0) + glm::length(glm::max(q, Vec3(0.0)));
+    for (const AddedBall& ball : balls) d = std::min(d, glm::length(p - ball.c) - ball.r);
+    return d;
+}
+
+TEST(ContourCuts, ThirdBallFillingACreaseCornerKeepsTheVertexOnIt) {
+    // Three balls added onto a box's top face (top off the nodes): two of them, or one and the top face, meet in a
+    // concave crease, and the third fills its corner inside a cell without crossing that cell's edges, so the
+    // cell's own tangent planes meet about half a cell inside the third ball. A face-adjacent cell's crossing on the
+    // third ball cuts that crease point off, and its plane joins the QEF.
+    double worst = 0.0;
+    for (const BallsOnABox& k : balls_filling_crease_corners()) {
+        const Vec3 lo(6.0), hi(42.0, 42.0, k.top);
+        TriDexel model = empty_model(cube_lattice(48));
+        fill_rays(model, [&](int a, int u, int v) { return box_plus_balls_chord(lo, hi, k.balls, a, u, v); });
+        Contourer contourer(model);
+        contourer.update(model);
+        const TriMesh m = contourer.mesh();
+        expect_closed_manifold(m);
+        for (const Vec3& w : m.positions) worst = std::max(worst, std::abs(added_sdf(lo, hi, k.balls, model.lattice.to_grid(w))));
+    }
+    std::printf("third ball in a crease corner: max vertex error %.3f cells\n", worst);
+    EXPECT_LE(worst, 0.3);
+}
+
 }  // namespace
 }  // namespace tridex::compute

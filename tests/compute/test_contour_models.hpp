@@ -185,4 +185,47 @@ inline std::vector<Interval> spans_to_intervals(const std::vector<std::pair<doub
     return out;
 }
 
+/// A ball added onto a box (grid units).
+struct AddedBall {
+    Vec3 c;
+    double r;
+};
+
+/// Exact chords of ray (u, v) of set a through the box [lo, hi] plus the balls (grid units).
+inline std::vector<Interval> box_plus_balls_chord(const Vec3& lo, const Vec3& hi, const std::vector<AddedBall>& balls, int a, int u,
+                                                  int v) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    std::vector<std::pair<double, double>> spans;
+    if (u >= lo[b] && u <= hi[b] && v >= lo[c] && v <= hi[c]) spans.push_back({lo[a], hi[a]});
+    for (const AddedBall& ball : balls) {
+        const double du = u - ball.c[b], dv = v - ball.c[c], d2 = du * du + dv * dv;
+        if (d2 >= ball.r * ball.r) continue;
+        const double half = std::sqrt(ball.r * ball.r - d2);
+        spans.push_back({ball.c[a] - half, ball.c[a] + half});
+    }
+    std::sort(spans.begin(), spans.end());
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& s : spans) {
+        if (!merged.empty() && s.first <= merged.back().second) merged.back().second = std::max(merged.back().second, s.second);
+        else merged.push_back(s);
+    }
+    return spans_to_intervals(merged);
+}
+
+/// Three balls added onto the top face z = top (off the nodes) of the box [6, 42]^2 x [6, top] on a 48^3 lattice.
+struct BallsOnABox {
+    double top;
+    std::vector<AddedBall> balls;
+};
+
+/// Models where two of the balls, or one and the top face, meet in a concave crease and the third fills its
+/// corner inside a cell without crossing that cell's edges (contour::kCornerFillReach; found by a random search).
+inline std::vector<BallsOnABox> balls_filling_crease_corners() {
+    return {
+        {30.378, {{Vec3(29.9687, 27.0992, 32.5305), 6.1777}, {Vec3(23.3871, 17.6775, 31.7476), 6.1777}, {Vec3(22.9934, 22.1674, 30.4572), 5.5600}}},
+        {30.311, {{Vec3(28.8136, 19.5199, 33.0826), 6.5884}, {Vec3(20.8737, 18.9724, 33.2803), 6.5884}, {Vec3(25.1646, 25.0812, 30.1605), 5.9295}}},
+        {30.364, {{Vec3(17.6564, 27.7456, 32.9512), 7.0645}, {Vec3(28.0577, 30.1186, 32.7098), 7.0645}, {Vec3(22.4928, 22.9814, 30.7144), 6.3581}}},
+    };
+}
+
 }  // namespace tridex::compute::testing

@@ -150,3 +150,16 @@ TEST(GpuContourSharp, SplitFacesInASheetBetweenTwoBallCutsGiveTheCpuMesh) {
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
+
+TEST(GpuContourSharp, ThirdBallFillingACreaseCornerGivesTheCpuMesh) {
+    // ContourCuts.ThirdBallFillingACreaseCornerKeepsTheVertexOnIt's models: crease vertices placed again with a
+    // face-adjacent cell's tangent plane (the corner fill), which reads rays beyond the tile's occupancy block.
+    gpu::Context ctx = gpu::Context::create({});
+    for (const BallsOnABox& k : balls_filling_crease_corners()) {
+        const Vec3 lo(6.0), hi(42.0, 42.0, k.top);
+        TriDexel model = empty_model(cube_lattice(48));
+        fill_rays(model, [&](int a, int u, int v) { return box_plus_balls_chord(lo, hi, k.balls, a, u, v); });
+        expect_same_contour(ctx, model, "balls on a box, top " + std::to_string(k.top));
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}

@@ -70,31 +70,31 @@ void expect_marked_tiles(TriDexel& m, const Vec3& lo, const Vec3& hi, std::array
             }
 }
 
-TEST(TriDexel, MarkDirtyCoversExactlyThreeCellsAroundTheBox) {
-    // Cells floor(lo) - 3 .. floor(hi) + 3 per axis (clamped to the lattice) are covered; tiles are 16
-    // cells. Every case below gives a different tile set for a margin of 2 cells or of 4 (noted per axis),
+TEST(TriDexel, MarkDirtyCoversExactlyFourCellsAroundTheBox) {
+    // Cells floor(lo) - 4 .. floor(hi) + 4 per axis (clamped to the lattice) are covered; tiles are 16
+    // cells. Every case below gives a different tile set for a margin of 3 cells or of 5 (noted per axis),
     // so both a too small and a too large reach fail.
     const Lattice l = Lattice::around(Aabb{Vec3(0.0), Vec3(1.0)}, 68, 2);  // 68 cells: tiles 0..4 per axis
     TriDexel m = TriDexel::empty(l, std::size_t(1) << 30);
     ASSERT_EQ(m.tiles.tiles[0], 5);
     ASSERT_EQ(m.lattice.cells[0], 68);
-    // x [18.5, 19.5]: cells 15..22 -> tiles 0..1 (margin 1 or 2: cells from 17 or 16 -> tile 1 only);
-    // y [12.5, 12.9]: cells 9..15 -> tile 0 (margin 4: up to cell 16 -> tiles 0..1);
-    // z [28.5, 28.9]: cells 25..31 -> tile 1 (margin 4: up to cell 32 -> tiles 1..2).
-    expect_marked_tiles(m, Vec3(18.5, 12.5, 28.5), Vec3(19.5, 12.9, 28.9), {0, 0, 1}, {1, 0, 1});
-    // x [34.5, 35.5]: cells 31..38 -> tiles 1..2 (margin 2: from cell 32 -> tile 2 only);
-    // y [44.5, 44.9]: cells 41..47 -> tile 2 (margin 4: up to cell 48 -> tiles 2..3);
-    // z [60.2, 60.4]: cells 57..63 -> tile 3 (margin 4: up to cell 64 -> tiles 3..4).
-    expect_marked_tiles(m, Vec3(34.5, 44.5, 60.2), Vec3(35.5, 44.9, 60.4), {1, 2, 3}, {2, 2, 3});
-    // Clamping at the lattice ends: x [-2.5, -1.5] -> cells -6..1 -> tile 0; y [66.5, 69.5] -> cells
-    // 63..72, clamped to 63..67 -> tiles 3..4; z [0.5, 0.7] -> cells -3..3 -> tile 0.
+    // x [19.5, 20.5]: cells 15..24 -> tiles 0..1 (margin 3: from cell 16 -> tile 1 only);
+    // y [11.5, 11.9]: cells 7..15 -> tile 0 (margin 5: up to cell 16 -> tiles 0..1);
+    // z [27.5, 27.9]: cells 23..31 -> tile 1 (margin 5: up to cell 32 -> tiles 1..2).
+    expect_marked_tiles(m, Vec3(19.5, 11.5, 27.5), Vec3(20.5, 11.9, 27.9), {0, 0, 1}, {1, 0, 1});
+    // x [35.5, 36.5]: cells 31..40 -> tiles 1..2 (margin 3: from cell 32 -> tile 2 only);
+    // y [43.5, 43.9]: cells 39..47 -> tile 2 (margin 5: up to cell 48 -> tiles 2..3);
+    // z [59.2, 59.4]: cells 55..63 -> tile 3 (margin 5: up to cell 64 -> tiles 3..4).
+    expect_marked_tiles(m, Vec3(35.5, 43.5, 59.2), Vec3(36.5, 43.9, 59.4), {1, 2, 3}, {2, 2, 3});
+    // Clamping at the lattice ends: x [-2.5, -1.5] -> cells -7..2 -> tile 0; y [66.5, 69.5] -> cells
+    // 62..73, clamped to 62..67 -> tiles 3..4; z [0.5, 0.7] -> cells -4..4 -> tile 0.
     expect_marked_tiles(m, Vec3(-2.5, 66.5, 0.5), Vec3(-1.5, 69.5, 0.7), {0, 3, 0}, {0, 4, 0});
-    // Just within reach outside the lattice: x [-10, -3.5] reaches cell floor(-3.5) + 3 = -1, no cell
-    // (margin 4: cell 0 -> tile 0); x [70.5, 80] reaches down to cell 67 -> tile 4; x [71.5, 80]
-    // reaches down to cell 68, no cell (margin 4: cell 67 -> tile 4).
-    expect_marked_tiles(m, Vec3(-10.0, 20.5, 20.5), Vec3(-3.5, 21.5, 21.5), {1, 0, 0}, {0, 0, 0});
+    // Just within reach outside the lattice: x [-10, -4.5] reaches cell floor(-4.5) + 4 = -1, no cell
+    // (margin 5: cell 0 -> tile 0); x [70.5, 80] reaches down to cell 66 -> tile 4; x [72.5, 80]
+    // reaches down to cell 68, no cell (margin 5: cell 67 -> tile 4).
+    expect_marked_tiles(m, Vec3(-10.0, 20.5, 20.5), Vec3(-4.5, 21.5, 21.5), {1, 0, 0}, {0, 0, 0});
     expect_marked_tiles(m, Vec3(70.5, 20.5, 20.5), Vec3(80.0, 21.5, 21.5), {4, 1, 1}, {4, 1, 1});
-    expect_marked_tiles(m, Vec3(71.5, 20.5, 20.5), Vec3(80.0, 21.5, 21.5), {1, 0, 0}, {0, 0, 0});
+    expect_marked_tiles(m, Vec3(72.5, 20.5, 20.5), Vec3(80.0, 21.5, 21.5), {1, 0, 0}, {0, 0, 0});
     // Far outside, and an empty box: nothing.
     expect_marked_tiles(m, Vec3(-50.0), Vec3(-40.0), {1, 0, 0}, {0, 0, 0});
     m.clear_dirty();
@@ -105,8 +105,8 @@ TEST(TriDexel, MarkDirtyCoversExactlyThreeCellsAroundTheBox) {
 TEST(TriDexel, MarkDirtyAddsToFlagsAlreadySet) {
     const Lattice l = Lattice::around(Aabb{Vec3(0.0), Vec3(1.0)}, 68, 2);
     TriDexel m = TriDexel::empty(l, std::size_t(1) << 30);
-    m.mark_dirty(Aabb{l.to_world(Vec3(8.5)), l.to_world(Vec3(9.5))});    // cells 5..12: tile (0, 0, 0)
-    m.mark_dirty(Aabb{l.to_world(Vec3(56.5)), l.to_world(Vec3(57.5))});  // cells 53..60: tile (3, 3, 3)
+    m.mark_dirty(Aabb{l.to_world(Vec3(8.5)), l.to_world(Vec3(9.5))});    // cells 4..13: tile (0, 0, 0)
+    m.mark_dirty(Aabb{l.to_world(Vec3(56.5)), l.to_world(Vec3(57.5))});  // cells 52..61: tile (3, 3, 3)
     std::size_t n = 0;
     for (auto d : m.tiles.dirty) n += d;
     EXPECT_EQ(n, 2u);
