@@ -131,7 +131,7 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     std::ifstream rf(out / "report.json");
     const nlohmann::json j = nlohmann::json::parse(rf);
     const int ticks = j["ticks"];
-    EXPECT_GT(ticks, 1500);  // 2 s at 1 kHz, with slack for a shared machine
+    EXPECT_GT(ticks, 1000);  // 2 s at 1 kHz; a loaded machine skips missed deadlines (the median period is the rate)
     EXPECT_LT(ticks, 2600);
     EXPECT_GT(j["period_us"]["median"].get<double>(), 900.0);
     EXPECT_LT(j["period_us"]["median"].get<double>(), 1100.0);

@@ -218,7 +218,10 @@ TEST(UndoSession, AJournalThatFillsTheDiskStopsWithOneLineAndTheSessionGoesOn) {
     // The report is written whatever else failed, and says the journal stopped.
     const nlohmann::json r = test::read_json(out / "report.json");
     EXPECT_NE(r["journal"]["error"].get<std::string>().find("File too large"), std::string::npos);
-    EXPECT_GT(r["haptics"]["ticks"].get<int>(), 3900) << "the session went on to the end";
+    // The session went on to the end (4 s; the loop's tick count depends on the machine's load: missed deadlines
+    // are skipped).
+    EXPECT_GT(r["session_s"].get<double>(), 3.9) << "the session went on to the end";
+    EXPECT_GT(r["haptics"]["ticks"].get<int>(), 2000) << "the haptic loop went on";
     EXPECT_EQ(r["saves"]["count"], 1) << r["saves"].dump();
     EXPECT_NO_THROW(compute::load_tdx((out / "model.tdx").string(), std::size_t{1} << 32));
     // Exit 0 when every final output fitted, else 2 with the failure named and the rest written.
