@@ -26,13 +26,6 @@ bool nearest_end(const std::vector<Interval>& ray, bool exit_end, double t, doub
     return found;
 }
 
-/// True when depth t lies inside an interval of `ray` (enter <= t < exit).
-bool inside_at(const std::vector<Interval>& ray, double t) {
-    for (const Interval& iv : ray)
-        if (static_cast<double>(iv.enter) <= t && t < static_cast<double>(iv.exit)) return true;
-    return false;
-}
-
 /// True when the ray of set `dir` through the crossing's ray at node depth `s` along a (the lattice line joining the
 /// crossing's ray, at coordinate n[dir], to its neighbour at `w2`) has an interval end strictly between the two rays:
 /// the material between them is cut at that depth. False when depth s lies outside the lattice.

@@ -87,6 +87,18 @@ EdgeCrossing edge_crossing(const TriDexel& model, int a, const Node& n, bool sta
     return {near ? best : lo + 0.5, true, near ? best_mat : std::uint8_t{0}, near && best_exit};
 }
 
+bool inside_at(const std::vector<Interval>& ray, double t) {
+    for (const Interval& iv : ray)
+        if (static_cast<double>(iv.enter) <= t && t < static_cast<double>(iv.exit)) return true;
+    return false;
+}
+
+bool node_inside(const TriDexel& model, const Node& n) {
+    for (int a = 0; a < 3; ++a)
+        if (n[a] < 1 || n[a] > model.lattice.cells[a] - 1) return false;
+    return inside_at(model.sets[0].ray(n[1], n[2]), static_cast<double>(n[0]));
+}
+
 Vec3 crossing_point(const Node& n, int a, const EdgeCrossing& x) {
     Vec3 p(n[0], n[1], n[2]);
     p[a] = x.t;

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "compute/model/tridexel.hpp"
 
@@ -38,6 +39,14 @@ private:
     Node lo_{};
     std::array<std::uint32_t, kSpan * kSpan> rows_{};
 };
+
+/// True when depth t (grid units along the ray's axis) lies in an interval of `ray` (enter <= t < exit, the
+/// half-open rule of OccupancyBlock); NaN or reversed intervals never hold it. O(intervals).
+bool inside_at(const std::vector<Interval>& ray, double t);
+
+/// Occupancy of one lattice node n by OccupancyBlock's definition (read from its X ray; nodes on or beyond the
+/// lattice boundary are outside), for nodes beyond a block. O(intervals on the X ray).
+bool node_inside(const TriDexel& model, const Node& n);
 
 /// A surface crossing on one lattice edge.
 struct EdgeCrossing {

@@ -42,19 +42,6 @@ double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y)
 
 bool crease_normal_fits(const Vec3& crease, const Vec3& plain) { return normal_dot(crease, plain) > 0.0; }
 
-/// Occupancy of lattice node n read from its X ray (OccupancyBlock's definition: enter <= x < exit, boundary
-/// and outside nodes outside), for nodes beyond a tile's occupancy block.
-bool node_inside(const TriDexel& model, const Node& n) {
-    for (int a = 0; a < 3; ++a)
-        if (n[a] < 1 || n[a] > model.lattice.cells[a] - 1) return false;
-    const double x = n[0];
-    for (const Interval& iv : model.sets[0].ray(n[1], n[2])) {
-        if (!(iv.enter <= iv.exit)) continue;
-        if (static_cast<double>(iv.enter) <= x && x < static_cast<double>(iv.exit)) return true;
-    }
-    return false;
-}
-
 /// The corner-fill plane of a cell component (see kCornerFillReach): among the crossings with an ordinary normal
 /// (not a crease side's) on the edges of the 6 cells face-adjacent to `cell` that do not lie on the shared faces
 /// (face f = 0..2, side -1 then +1, cell edges 4a + k ascending), whose normal has a dot product above
@@ -351,7 +338,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 done = worst <= kCreaseResidual;
             }
             if (!done) pos = place(plain == 0, how);
-            if (plain >= 2) {
+            const Vec3 off = pos - mass;
+            if (plain >= 2 && normal_dot(off, off) > kCornerFillReach * kCornerFillReach) {
                 // Corner fill (kCornerFillReach): a concave crease vertex far behind its crossings' mass point, cut
                 // off by a neighbouring cell's tangent plane, is placed again with that plane.
                 std::array<Vec3, 12> own{};
@@ -362,10 +350,8 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                         own[nown++] = sample[i]->normal;
                         nsum = nsum + sample[i]->normal;
                     }
-                const Vec3 off = pos - mass;
                 std::array<Vec3, 2> plane{};
-                if (normal_dot(off, off) > kCornerFillReach * kCornerFillReach && normal_dot(nsum, off) < 0.0 &&
-                    corner_fill_plane(*model_, cell, pos, mass, own.data(), nown, plane[0], plane[1]))
+                if (normal_dot(nsum, off) < 0.0 && corner_fill_plane(*model_, cell, pos, mass, own.data(), nown, plane[0], plane[1]))
                     pos = place(done, how, plane.data());
             }
             cv.pos[comp] = pos;
