@@ -100,7 +100,7 @@ TriangleGrid::TriangleGrid(const TriMesh& mesh, double bucket) {
     seen_.assign(tris_.size(), 0);
 }
 
-double TriangleGrid::distance(const Vec3& p) {
+double TriangleGrid::distance(const Vec3& p, double enough) {
     if (tris_.empty()) return std::numeric_limits<double>::infinity();
     if (++stamp_ == 0) {  // wrapped: forget every visit
         std::fill(seen_.begin(), seen_.end(), 0u);
@@ -117,6 +117,8 @@ double TriangleGrid::distance(const Vec3& p) {
         const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]);
         best2 = glm::dot(p - q, p - q);
     }
+    const double enough2 = enough > 0.0 ? enough * enough : -1.0;
+    if (best2 <= enough2) return std::sqrt(best2);
     // How far p lies inside its bucket from the bucket's nearest face (0 when p is outside the grid there).
     double inside = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
@@ -147,6 +149,10 @@ double TriangleGrid::distance(const Vec3& p) {
                         if (d2 < best2) {
                             best2 = d2;
                             best_i = i;
+                            if (best2 <= enough2) {
+                                hint_ = best_i;
+                                return std::sqrt(best2);
+                            }
                         }
                     }
                 }
@@ -159,6 +165,12 @@ double TriangleGrid::distance(const Vec3& p) {
     }
     hint_ = best_i;
     return std::sqrt(best2);
+}
+
+double max_distance(std::span<const Vec3> points, TriangleGrid& surface) {
+    double d = 0.0;
+    for (const Vec3& p : points) d = std::max(d, surface.distance(p, d));
+    return d;
 }
 
 std::vector<Vec3> surface_samples(const TriMesh& mesh, double spacing) {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/math.hpp"
@@ -26,8 +27,10 @@ public:
     /// bucket per side of a 16-bucket grid over the mesh's box. An empty mesh gives a grid whose distance()
     /// is +infinity.
     TriangleGrid(const TriMesh& mesh, double bucket);
-    /// Unsigned distance from p to the nearest triangle (+infinity when the mesh has none).
-    double distance(const Vec3& p);
+    /// Unsigned distance from p to the nearest triangle (+infinity when the mesh has none). With enough > 0 the
+    /// search stops at the first triangle no farther than `enough` and returns that triangle's distance (at most
+    /// `enough`, not necessarily the nearest); the result is exact whenever it exceeds `enough`.
+    double distance(const Vec3& p, double enough = 0.0);
 
 private:
     std::vector<std::array<Vec3, 3>> tris_;
@@ -41,6 +44,11 @@ private:
     std::uint32_t stamp_ = 0;
     std::uint32_t hint_ = 0;  // the nearest triangle of the last query: queries come in nearby runs
 };
+
+/// Largest distance from any of `points` to `surface`'s triangles (0 for no points, +infinity when the surface
+/// has no triangles and there are points). Exact: each point's search stops as soon as it cannot raise the
+/// largest distance found so far.
+double max_distance(std::span<const Vec3> points, TriangleGrid& surface);
 
 /// Points spread over every triangle of `mesh`: the vertices of a regular subdivision of each triangle whose
 /// sub-edges are at most `spacing` long (spacing > 0, same units as the positions), each mesh vertex once. For a

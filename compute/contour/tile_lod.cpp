@@ -159,13 +159,6 @@ std::vector<unsigned int> simplify_cut(const std::vector<unsigned int>& prev, co
     return out;
 }
 
-// Largest exact distance from `points` to `surface`.
-double max_distance(std::span<const Vec3> points, TriangleGrid& surface) {
-    double d = 0.0;
-    for (const Vec3& p : points) d = std::max(d, surface.distance(p));
-    return d;
-}
-
 }  // namespace
 
 void order_for_vertex_cache(TriMesh& mesh) {

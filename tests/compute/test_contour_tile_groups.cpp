@@ -217,9 +217,8 @@ TEST(TileGroupLod, LevelsLieWithinTheirStoredErrorOfTheFullSurface) {
         TriangleGrid to_full(full, 0.0);
         for (const TileLodLevel& l : g.lods) {
             TriangleGrid to_level(l.mesh, 0.0);
-            double d = 0.0;
-            for (const Vec3& p : surface_samples(l.mesh, 0.2 * cell)) d = std::max(d, to_full.distance(p));
-            for (const Vec3& p : surface_samples(full, 0.2 * cell)) d = std::max(d, to_level.distance(p));
+            const double d = std::max(max_distance(surface_samples(l.mesh, 0.2 * cell), to_full),
+                                      max_distance(surface_samples(full, 0.2 * cell), to_level));
             EXPECT_LE(d, l.error_m) << "group " << g.id;
             ++checked;
         }

@@ -109,9 +109,7 @@ TEST(TileLod, MixedLevelsStayClosedManifold) {
 // Largest distance from points spread at `spacing` over `from` to the surface `to`.
 double sampled_distance(const TriMesh& from, const TriMesh& to, double spacing) {
     TriangleGrid grid(to, 0.0);
-    double d = 0.0;
-    for (const Vec3& p : surface_samples(from, spacing)) d = std::max(d, grid.distance(p));
-    return d;
+    return max_distance(surface_samples(from, spacing), grid);
 }
 
 TEST(TileLod, LevelsLieWithinTheirStoredError) {
@@ -280,8 +278,11 @@ TEST(SurfaceDistance, ClosestPointAndGridMatchBruteForce) {
     m.positions.push_back(Vec3(0.3, 0.3, 0.3));
     m.triangles.push_back({180, 181, 182});
     TriangleGrid grid(m, 0.1);
+    std::vector<Vec3> queries;
+    double largest = 0.0;
     for (int q = 0; q < 300; ++q) {
         const Vec3 p = 1.5 * Vec3(u(rng), u(rng), u(rng));
+        queries.push_back(p);
         double brute = 1e30;
         for (const auto& t : m.triangles) {
             const Vec3 c = closest_point_on_triangle(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
@@ -295,7 +296,18 @@ TEST(SurfaceDistance, ClosestPointAndGridMatchBruteForce) {
                 }
         }
         EXPECT_NEAR(grid.distance(p), brute, 1e-12);
+        largest = std::max(largest, brute);
+        // A search that may stop early: at most `enough` when stopped, else the exact distance.
+        const double enough = 0.5 * brute + 0.05 * (q % 3);
+        const double early = grid.distance(p, enough);
+        if (brute > enough) EXPECT_NEAR(early, brute, 1e-12);
+        else {
+            EXPECT_LE(early, enough);
+            EXPECT_GE(early, brute - 1e-12);
+        }
     }
+    EXPECT_NEAR(max_distance(queries, grid), largest, 1e-12);
+    EXPECT_EQ(max_distance({}, grid), 0.0);
     EXPECT_TRUE(std::isinf(TriangleGrid(TriMesh{}, 1.0).distance(Vec3(0.0))));
 }
 
