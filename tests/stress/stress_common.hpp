@@ -34,15 +34,19 @@ inline compute::TriDexel stress_box(int n, double lo, double hi, const Vec3& ori
 inline std::string ray_violation(const std::vector<compute::Interval>& ray) {
     for (std::size_t k = 0; k < ray.size(); ++k) {
         const compute::Interval& iv = ray[k];
-        std::ostringstream why;
-        if (!std::isfinite(iv.enter) || !std::isfinite(iv.exit) || std::fabs(iv.enter) > 16777216.0f ||
-            std::fabs(iv.exit) > 16777216.0f)
+        const bool finite = std::isfinite(iv.enter) && std::isfinite(iv.exit) && std::fabs(iv.enter) <= 16777216.0f &&
+                            std::fabs(iv.exit) <= 16777216.0f;
+        const bool ordered = iv.enter < iv.exit;
+        const bool apart = k == 0 || ray[k - 1].exit < iv.enter;
+        if (finite && ordered && apart) continue;
+        std::ostringstream why;  // built only for a broken ray: the checks above run on millions of rays
+        if (!finite)
             why << "interval " << k << " not finite or beyond 2^24: [" << iv.enter << ", " << iv.exit << "]";
-        else if (!(iv.enter < iv.exit))
+        else if (!ordered)
             why << "interval " << k << " has enter >= exit: [" << iv.enter << ", " << iv.exit << "]";
-        else if (k > 0 && !(ray[k - 1].exit < iv.enter))
+        else
             why << "intervals " << k - 1 << ", " << k << " overlap or touch: exit " << ray[k - 1].exit << " enter " << iv.enter;
-        if (!why.str().empty()) return why.str();
+        return why.str();
     }
     return {};
 }
