@@ -34,16 +34,40 @@ bool node_inside_ray(ivec3 n) {
     return false;
 }
 
-// contour_tile.cpp corner_fill_plane: among the ordinary-normal crossings of the edges of the 6 face-adjacent cells
-// off the shared faces (face f, side -1 then +1, edges ascending) whose normal's dot product with each normal
-// nq[e] of `own` (edge bits) exceeds kCornerFillCos and whose plane has `mass` in front or at most kCornerFillFront
-// behind, the tangent plane `pos` lies deepest behind (first on ties); true with its point and normal when deeper
-// than kCornerFillDepth.
-bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own, out dvec3 point, out dvec3 normal) {
+// Node occupancy for neighbour_planes: from the tile's occupancy block where it holds n (no loop, so dense tiles stay
+// within llvmpipe's loop cap), else node_inside_ray (the same definition).
+bool node_inside_near(ivec3 n) {
+    ivec3 d = n - lo;
+    if (all(greaterThanEqual(d, ivec3(0))) && all(lessThan(d, ivec3(SPAN)))) return inside(n);
+    return node_inside_ray(n);
+}
+
+// place_vertices' crossing depths and normals per cell edge, invocation-private globals so that neighbour_planes
+// reads and writes them in place (as array parameters they were copied at every call, which slowed the whole
+// kernel).
+double tq[12];
+dvec3 nq[12];
+
+// The crossings with an ordinary normal on the edges of the 6 cells face-adjacent to `cell` off the shared faces
+// (face f, side -1 then +1, edges ascending), for two rules that share this one loop (one call site in
+// place_vertices; a component needs at most one of them):
+// - borrow (contour_tile.cpp borrowed_normals): for each edge e of `own` (the component's edges; crossing at tq[e],
+//   leaving material going +axis when cfg's start corner is inside), among the normals pointing out of the material
+//   along e's axis, the one whose tangent plane passes nearest to the crossing (first on ties), within kBorrowReach:
+//   into nq[e], its bit into `got`; returns false;
+// - corner fill (contour_tile.cpp corner_fill_plane): among those whose normal's dot product with each normal nq[e]
+//   of `own` (edge bits) exceeds kCornerFillCos and whose plane has `mass` in front or at most kCornerFillFront behind,
+//   the tangent plane `pos` lies deepest behind (first on ties); true with its point and normal when deeper than
+//   kCornerFillDepth.
+bool neighbour_planes(ivec3 cell, bool borrow, int cfg, uint own, dvec3 pos, dvec3 mass, out dvec3 point, out dvec3 normal,
+                      out uint got) {
     bool found = false;
     double deepest = 0.0lf;
     point = dvec3(0.0lf);
     normal = dvec3(0.0lf);
+    got = 0u;
+    double best[12];
+    [[unroll]] for (int e = 0; e < 12; ++e) best[e] = 0.0lf;
     [[dont_unroll]] for (int f = 0; f < 3; ++f) {
         [[dont_unroll]] for (int side = -1; side <= 1; side += 2) {
             ivec3 nb = cell;
@@ -55,8 +79,8 @@ bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own
                 if (a != f && p[f] == face) continue;
                 ivec3 q = p + unit(a);
                 if (any(lessThan(p, ivec3(0))) || any(greaterThan(q, pc.cells.xyz))) continue;
-                bool pin = node_inside_ray(p);
-                if (pin == node_inside_ray(q)) continue;
+                bool pin = node_inside_near(p);
+                if (pin == node_inside_near(q)) continue;
                 uint mat;
                 bool fb, ex;
                 double t = edge_crossing(a, p, pin, mat, fb, ex);
@@ -64,6 +88,31 @@ bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own
                 dvec3 nn;
                 bool cr;
                 if (!crossing_normal(a, p, pin, t, nn, cr) || cr) continue;
+                dvec3 cp = dvec3(p);
+                cp[a] = t;
+                if (borrow) {
+                    uint om = own;
+                    while (om != 0u) {
+                        int i = findLSB(om);
+                        om &= om - 1u;
+                        const int ia = i / 4;
+                        const ivec3 off = edge_start_offset(ia, i & 3);
+                        const bool exits = ((cfg >> (off.x + 2 * off.y + 4 * off.z)) & 1) != 0;
+                        double along = nn[ia];
+                        if (!(exits ? along > 0.0lf : along < 0.0lf)) continue;
+                        dvec3 x = dvec3(cell + off);
+                        x[ia] = tq[i];
+                        precise dvec3 d = x - cp;
+                        double r = abs(normal_dot(nn, d));
+                        if (!(r <= kBorrowReach)) continue;
+                        if (((got >> uint(i)) & 1u) == 0u || r < best[i]) {
+                            got |= 1u << uint(i);
+                            best[i] = r;
+                            nq[i] = nn;
+                        }
+                    }
+                    continue;
+                }
                 bool fits = true;
                 uint om = own;
                 while (om != 0u) {
@@ -72,8 +121,6 @@ bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own
                     if (!(normal_dot(nn, nq[i]) > kCornerFillCos)) fits = false;
                 }
                 if (!fits) continue;
-                dvec3 cp = dvec3(p);
-                cp[a] = t;
                 precise dvec3 dm = mass - cp;
                 if (!(normal_dot(nn, dm) >= -kCornerFillFront)) continue;
                 precise dvec3 d = pos - cp;
@@ -99,7 +146,6 @@ bool corner_fill_plane(ivec3 cell, dvec3 pos, dvec3 mass, dvec3 nq[12], uint own
 void place_vertices(ivec3 cell, uint base) {
     int cfg = config(cell);
     int comps = components(cfg);
-    double tq[12];
     uint mq[12];
     int cq[12];
     bool fq[12];
@@ -153,7 +199,6 @@ void place_vertices(ivec3 cell, uint base) {
         uint mine = 0u;
         [[unroll]] for (int e = 0; e < 12; ++e)
             if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
-        dvec3 nq[12];
         [[unroll]] for (int e = 0; e < 12; ++e) nq[e] = dvec3(0.0lf);
         uint has = 0u, creased = 0u;
         [[unroll]] for (int a = 0; a < 3; ++a) {
@@ -209,97 +254,118 @@ void place_vertices(ivec3 cell, uint base) {
         dvec3 pos = dvec3(0.0lf);
         double qm[9];
         double qr[3];
-        [[dont_unroll]] for (int pass = 0; pass < 2; ++pass) {
-            // Pass 0: with the crease normals when try_crease, else the final choice; pass 1: without them.
-            uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain : has));
-            qm = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
-            qr = double[3](0.0lf, 0.0lf, 0.0lf);
-            int normals = 0;
-            // Two facing walls of a sheet thinner than the cell (a normal pair's dot below kOpposedNormalCos): only
-            // the normals of the wall with more of them (ties: the first's), and no fitted plane.
-            bool sheet = false;
-            uint ui = use;
-            while (ui != 0u) {
-                int e = findLSB(ui);
-                ui &= ui - 1u;
-                uint uj = ui;
-                while (uj != 0u) {
-                    int f = findLSB(uj);
-                    uj &= uj - 1u;
-                    double d = normal_dot(nq[e], nq[f]);
-                    if (d < kOpposedNormalCos) sheet = true;
-                }
-            }
-            if (sheet) {
-                int first = findLSB(use);
-                int same = 0, other = 0;
-                uint uk = use;
-                while (uk != 0u) {
-                    int e = findLSB(uk);
-                    uk &= uk - 1u;
-                    double d = normal_dot(nq[e], nq[first]);
-                    if (d >= 0.0lf) ++same;
-                    else ++other;
-                }
-                bool keep_first = same >= other;
-                uk = use;
-                while (uk != 0u) {
-                    int e = findLSB(uk);
-                    uk &= uk - 1u;
-                    double d = normal_dot(nq[e], nq[first]);
-                    if ((d >= 0.0lf) != keep_first) use &= ~(1u << uint(e));
-                }
-            }
-            int own = bitCount(use);
-            dvec3 fitted = dvec3(0.0lf);
-            bool fit = !sheet && own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
-            [[unroll]] for (int e = 0; e < 12; ++e) {
-                if (cq[e] != c) continue;
-                bool mine_n = ((use >> uint(e)) & 1u) != 0u;
-                if (!mine_n && !fit) continue;
-                const int a = e / 4;
-                const ivec3 off = edge_start_offset(a, e & 3);
-                dvec3 q = dvec3(cell + off);
-                q[a] = tq[e];
-                qef_add(qm, qr, mine_n ? nq[e] : fitted, q, mean);
-                ++normals;
-            }
-            pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
-            if (pass == 1 || !try_crease) break;
-            // The crease normals stay when the vertex is within kCreaseResidual of every ordinary normal's plane.
-            double worst = 0.0lf;
-            uint pk = plain;
-            while (pk != 0u) {
-                int e = findLSB(pk);
-                pk &= pk - 1u;
-                const int a = e / 4;
-                const ivec3 off = edge_start_offset(a, e & 3);
-                dvec3 q = dvec3(cell + off);
-                q[a] = tq[e];
-                precise dvec3 d = pos - q;
-                precise double r = abs((nq[e].x * d.x + nq[e].y * d.y) + nq[e].z * d.z);
-                if (r > worst) worst = r;
-            }
-            if (worst <= kCreaseResidual) break;
-        }
-        if (bitCount(plain) >= 2) {
-            // Corner fill (contour::kCornerFillReach): a concave crease vertex far behind its crossings' mass point,
-            // cut off by a neighbouring cell's tangent plane, is placed again with that plane (TileContourer).
-            precise dvec3 nsum = dvec3(0.0lf);
-            uint hk = has;
-            while (hk != 0u) {
-                int e = findLSB(hk);
-                hk &= hk - 1u;
-                precise dvec3 ns = nsum + nq[e];
-                nsum = ns;
-            }
-            precise dvec3 off = pos - mean;
+        // Round 0: a component without any normal borrows the face-adjacent cells' (contour::kBorrowReach), then the
+        // vertex is placed; round 1 (only when some invocation needs it): the corner fill (contour::kCornerFillReach),
+        // a concave crease vertex far behind its crossings' mass point, cut off by a neighbouring cell's tangent plane,
+        // is placed again with that plane (TileContourer). Both rules read the neighbours through neighbour_planes.
+        const bool need_borrow = has == 0u;
+        uint cmask = 0u;
+        [[unroll]] for (int e = 0; e < 12; ++e)
+            if (cq[e] == c) cmask |= 1u << uint(e);
+        bool fill = false;
+        [[dont_unroll]] for (int round = 0; round < 2; ++round) {
             dvec3 cut_p, cut_n;
-            if (normal_dot(off, off) > kCornerFillReach * kCornerFillReach && normal_dot(nsum, off) < 0.0lf &&
-                corner_fill_plane(cell, pos, mean, nq, has, cut_p, cut_n)) {
-                qef_add(qm, qr, cut_n, cut_p, mean);
-                pos = qef_solve(mean, qm, qr, clo);
+            uint got = 0u;
+            bool cut = false;
+            if (round == 0 ? need_borrow : fill)
+                cut = neighbour_planes(cell, round == 0, cfg, round == 0 ? cmask : has, pos, mean, cut_p, cut_n, got);
+            if (round == 1) {
+                if (cut) {
+                    qef_add(qm, qr, cut_n, cut_p, mean);
+                    pos = qef_solve(mean, qm, qr, clo);
+                }
+                break;
             }
+            // Borrowed normals may come from both walls of a gap narrower than the cell: of each pair at an obtuse
+            // angle, only the wall with more of them is kept (contour::kBorrowSheetCos).
+            if (need_borrow) has = got;
+            const double sheet_cos = need_borrow && got != 0u ? kBorrowSheetCos : kOpposedNormalCos;
+            [[dont_unroll]] for (int pass = 0; pass < 2; ++pass) {
+                // Pass 0: with the crease normals when try_crease, else the final choice; pass 1: without them.
+                uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain : has));
+                qm = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
+                qr = double[3](0.0lf, 0.0lf, 0.0lf);
+                int normals = 0;
+                // Two facing walls of a sheet thinner than the cell (a normal pair's dot below kOpposedNormalCos): only
+                // the normals of the wall with more of them (ties: the first's), and no fitted plane.
+                bool sheet = false;
+                uint ui = use;
+                while (ui != 0u) {
+                    int e = findLSB(ui);
+                    ui &= ui - 1u;
+                    uint uj = ui;
+                    while (uj != 0u) {
+                        int f = findLSB(uj);
+                        uj &= uj - 1u;
+                        double d = normal_dot(nq[e], nq[f]);
+                        if (d < sheet_cos) sheet = true;
+                    }
+                }
+                if (sheet) {
+                    int first = findLSB(use);
+                    int same = 0, other = 0;
+                    uint uk = use;
+                    while (uk != 0u) {
+                        int e = findLSB(uk);
+                        uk &= uk - 1u;
+                        double d = normal_dot(nq[e], nq[first]);
+                        if (d >= 0.0lf) ++same;
+                        else ++other;
+                    }
+                    bool keep_first = same >= other;
+                    uk = use;
+                    while (uk != 0u) {
+                        int e = findLSB(uk);
+                        uk &= uk - 1u;
+                        double d = normal_dot(nq[e], nq[first]);
+                        if ((d >= 0.0lf) != keep_first) use &= ~(1u << uint(e));
+                    }
+                }
+                int own = bitCount(use);
+                dvec3 fitted = dvec3(0.0lf);
+                bool fit = !sheet && own > 0 && own < nc && fit_normal(mean, fpts, faxes, fexits, nc, fitted);
+                [[unroll]] for (int e = 0; e < 12; ++e) {
+                    if (cq[e] != c) continue;
+                    bool mine_n = ((use >> uint(e)) & 1u) != 0u;
+                    if (!mine_n && !fit) continue;
+                    const int a = e / 4;
+                    const ivec3 off = edge_start_offset(a, e & 3);
+                    dvec3 q = dvec3(cell + off);
+                    q[a] = tq[e];
+                    qef_add(qm, qr, mine_n ? nq[e] : fitted, q, mean);
+                    ++normals;
+                }
+                pos = normals > 0 ? qef_solve(mean, qm, qr, clo) : min(max(mean, clo), clo + dvec3(1.0lf));
+                if (pass == 1 || !try_crease) break;
+                // The crease normals stay when the vertex is within kCreaseResidual of every ordinary normal's plane.
+                double worst = 0.0lf;
+                uint pk = plain;
+                while (pk != 0u) {
+                    int e = findLSB(pk);
+                    pk &= pk - 1u;
+                    const int a = e / 4;
+                    const ivec3 off = edge_start_offset(a, e & 3);
+                    dvec3 q = dvec3(cell + off);
+                    q[a] = tq[e];
+                    precise dvec3 d = pos - q;
+                    precise double r = abs((nq[e].x * d.x + nq[e].y * d.y) + nq[e].z * d.z);
+                    if (r > worst) worst = r;
+                }
+                if (worst <= kCreaseResidual) break;
+            }
+            if (bitCount(plain) >= 2) {
+                precise dvec3 nsum = dvec3(0.0lf);
+                uint hk = has;
+                while (hk != 0u) {
+                    int e = findLSB(hk);
+                    hk &= hk - 1u;
+                    precise dvec3 ns = nsum + nq[e];
+                    nsum = ns;
+                }
+                precise dvec3 off = pos - mean;
+                fill = normal_dot(off, off) > kCornerFillReach * kCornerFillReach && normal_dot(nsum, off) < 0.0lf;
+            }
+            if (!fill) break;
         }
         double best_d2 = -1.0lf;
         uint best_mat = 0u;

@@ -37,6 +37,15 @@ inline constexpr double kCornerFillReach = 0.5;
 inline constexpr double kCornerFillDepth = 0.3;
 inline constexpr double kCornerFillCos = -0.5;
 inline constexpr double kCornerFillFront = 0.1;
+/// Borrowed normals (TileContourer): a cell component none of whose crossings has a normal (an air gap narrower than
+/// a cell whose crossings each read the other wall beside them, a crease between two balls) takes, for each crossing,
+/// the ordinary normal of a crossing on the edges of the 6 face-adjacent cells off the shared faces that points out of
+/// the material along the crossing's edge and whose tangent plane passes nearest to the crossing, within kBorrowReach
+/// (grid units). Borrowed normals may belong to both walls of a gap, whose planes meet far from the cell: of normals
+/// with a dot product below kBorrowSheetCos (an obtuse angle), only the wall with more of them is kept, as in a
+/// sheet (kOpposedNormalCos), so the vertex lies on one wall.
+inline constexpr double kBorrowReach = 0.25;
+inline constexpr double kBorrowSheetCos = 0.0;
 /// Two crossing normals of one cell component whose dot product is below this are the facing walls of a sheet
 /// thinner than the cell (about 143 degrees apart or more); the vertex then takes the normals of one wall only
 /// (TileContourer).

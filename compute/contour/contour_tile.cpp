@@ -94,6 +94,58 @@ bool corner_fill_plane(const TriDexel& model, const Node& cell, const Vec3& pos,
     return found && deepest > kCornerFillDepth;
 }
 
+/// Borrowed normals of a cell component none of whose `count` crossings has a normal (see kBorrowReach): the
+/// crossings with an ordinary normal on the edges of the 6 cells face-adjacent to `cell` off the shared faces (order
+/// as in corner_fill_plane) are matched to each own crossing `points[i]` (on an edge along `axes[i]`, leaving material
+/// going +axis when `exits[i]`): among those whose normal points out of the material along that edge (component along
+/// the axis > 0 for an exit, < 0 for an enter), the one whose tangent plane passes nearest to the point (first on
+/// ties), taken when within kBorrowReach. Sets `got[i]` and `normals[i]` for the matched crossings; returns their
+/// number. Reads the rays directly; arithmetic in the order the GPU contourer repeats. O(48 edges x crossing_normal).
+int borrowed_normals(const TriDexel& model, const Node& cell, const Vec3* points, const int* axes, const bool* exits, int count,
+                     Vec3* normals, bool* got) {
+    std::array<double, 12> best{};
+    for (int i = 0; i < count; ++i) got[i] = false;
+    for (int f = 0; f < 3; ++f)
+        for (int side = -1; side <= 1; side += 2) {
+            Node nb = cell;
+            nb[f] += side;
+            const int shared = side > 0 ? cell[f] + 1 : cell[f];
+            for (int e = 0; e < 12; ++e) {
+                const int a = e / 4, k = e & 3;
+                Node p = nb;
+                p[(a + 1) % 3] += k & 1;
+                p[(a + 2) % 3] += (k >> 1) & 1;
+                if (a != f && p[f] == shared) continue;
+                bool in_lattice = true;
+                for (int j = 0; j < 3; ++j)
+                    if (p[j] < 0 || p[j] + (j == a ? 1 : 0) > model.lattice.cells[j]) in_lattice = false;
+                if (!in_lattice) continue;
+                const bool in = node_inside(model, p);
+                if (in == node_inside(model, plus(p, a, 1))) continue;
+                const EdgeCrossing x = edge_crossing(model, a, p, in);
+                if (x.fallback || x.exit != in) continue;
+                Vec3 nn(0.0);
+                bool crease = false;
+                if (!crossing_normal(model, a, p, in, x.t, nn, &crease) || crease) continue;
+                const Vec3 q = crossing_point(p, a, x);
+                for (int i = 0; i < count; ++i) {
+                    if (!(exits[i] ? nn[axes[i]] > 0.0 : nn[axes[i]] < 0.0)) continue;
+                    const double r = std::abs(normal_dot(nn, points[i] - q));
+                    if (!(r <= kBorrowReach)) continue;
+                    if (!got[i] || r < best[i]) {
+                        got[i] = true;
+                        best[i] = r;
+                        normals[i] = nn;
+                    }
+                }
+            }
+        }
+    int matched = 0;
+    for (int i = 0; i < count; ++i)
+        if (got[i]) ++matched;
+    return matched;
+}
+
 [[noreturn]] void cannot_happen(const char* what) {
     std::fprintf(stderr, "contour_tile: internal error: %s\n", what);
     std::abort();
@@ -247,6 +299,14 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         }
         const Vec3 lo(cell[0], cell[1], cell[2]);
         std::array<double, kMaxComponents> best_d2{};
+        // Per crossing: has a normal, from a crease's flat side, the normal (a component without any may borrow some).
+        std::array<bool, 12> hn{}, cr{};
+        std::array<Vec3, 12> nv{};
+        for (int i = 0; i < crossings; ++i) {
+            hn[i] = sample[i]->has_normal;
+            cr[i] = sample[i]->crease;
+            nv[i] = sample[i]->normal;
+        }
         for (int comp = 0; comp < cc.components; ++comp) {
             // The component's crossings in ascending edge order, with their normals; when some have a normal
             // and others not, those others take the normal of the plane fitted to all of them (fit_normal).
@@ -262,16 +322,16 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             std::array<bool, 12> ce{};
             int nc = 0, plain = 0;
             for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && sample[i]->has_normal && !sample[i]->crease) ++plain;
+                if (owner[i] == comp && hn[i] && !cr[i]) ++plain;
             bool agree = true;
             for (int i = 0; i < crossings; ++i)
                 for (int j = 0; j < crossings; ++j)
-                    if (owner[i] == comp && owner[j] == comp && sample[i]->has_normal && sample[i]->crease &&
-                        sample[j]->has_normal && !sample[j]->crease && !crease_normal_fits(sample[i]->normal, sample[j]->normal))
+                    if (owner[i] == comp && owner[j] == comp && hn[i] && cr[i] &&
+                        hn[j] && !cr[j] && !crease_normal_fits(nv[i], nv[j]))
                         agree = false;
             int creased = 0;
             for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && sample[i]->has_normal && sample[i]->crease) ++creased;
+                if (owner[i] == comp && hn[i] && cr[i]) ++creased;
             for (int i = 0; i < crossings; ++i)
                 if (owner[i] == comp) {
                     cp[nc] = point[i];
@@ -279,14 +339,28 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                     ce[nc++] = exit[i];
                 }
             const Vec3 mass = sum[comp] / static_cast<double>(count[comp]);
+            // No normal at all (kBorrowReach): the face-adjacent cells' crossing normals, matched per crossing.
+            bool borrowed = false;
+            if (plain == 0 && creased == 0) {
+                std::array<Vec3, 12> bn{};
+                std::array<bool, 12> bg{};
+                if (borrowed_normals(*model_, cell, cp.data(), ca.data(), ce.data(), nc, bn.data(), bg.data()) > 0) {
+                    borrowed = true;
+                    for (int i = 0, m = 0; i < crossings; ++i)
+                        if (owner[i] == comp) {
+                            hn[i] = bg[m];
+                            nv[i] = bn[m++];
+                        }
+                }
+            }
             // The QEF vertex with or without the crease normals (see above).
             // `extra`: one more plane (point, normal) after the component's, or nullptr.
-            auto place = [&](bool with_crease, QefOutcome& how, const Vec3* extra = nullptr) {
+            auto place = [&](bool with_crease, QefOutcome& how, const Vec3* extra = nullptr, double sheet_cos = kOpposedNormalCos) {
                 std::array<bool, 12> use{};
                 int own = 0, first = -1;
                 for (int i = 0; i < crossings; ++i)
                     if (owner[i] == comp) {
-                        use[i] = sample[i]->has_normal && (with_crease || !sample[i]->crease);
+                        use[i] = hn[i] && (with_crease || !cr[i]);
                         if (use[i] && first < 0) first = i;
                     }
                 // Two facing walls of a sheet thinner than the cell (normals nearly opposite): one vertex cannot
@@ -295,15 +369,15 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 for (int i = 0; i < crossings; ++i)
                     for (int j = i + 1; j < crossings; ++j)
                         if (owner[i] == comp && owner[j] == comp && use[i] && use[j] &&
-                            normal_dot(sample[i]->normal, sample[j]->normal) < kOpposedNormalCos)
+                            normal_dot(nv[i], nv[j]) < sheet_cos)
                             sheet = true;
                 if (sheet) {
                     int same = 0, other = 0;
                     for (int i = 0; i < crossings; ++i)
-                        if (owner[i] == comp && use[i]) ++(normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0 ? same : other);
+                        if (owner[i] == comp && use[i]) ++(normal_dot(nv[i], nv[first]) >= 0.0 ? same : other);
                     const bool keep_first = same >= other;
                     for (int i = 0; i < crossings; ++i)
-                        if (owner[i] == comp && use[i] && (normal_dot(sample[i]->normal, sample[first]->normal) >= 0.0) != keep_first)
+                        if (owner[i] == comp && use[i] && (normal_dot(nv[i], nv[first]) >= 0.0) != keep_first)
                             use[i] = false;
                 }
                 for (int i = 0; i < crossings; ++i)
@@ -315,7 +389,7 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 for (int i = 0; i < crossings; ++i)
                     if (owner[i] == comp && (use[i] || fit)) {
                         qp[q] = point[i];
-                        qn[q++] = use[i] ? sample[i]->normal : fitted;
+                        qn[q++] = use[i] ? nv[i] : fitted;
                     }
                 if (extra) {
                     qp[q] = extra[0];
@@ -330,14 +404,16 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 pos = place(true, how);
                 double worst = 0.0;
                 for (int i = 0; i < crossings; ++i)
-                    if (owner[i] == comp && sample[i]->has_normal && !sample[i]->crease) {
+                    if (owner[i] == comp && hn[i] && !cr[i]) {
                         const Vec3 d = pos - point[i];
-                        const double r = std::abs((sample[i]->normal.x * d.x + sample[i]->normal.y * d.y) + sample[i]->normal.z * d.z);
+                        const double r = std::abs((nv[i].x * d.x + nv[i].y * d.y) + nv[i].z * d.z);
                         if (r > worst) worst = r;
                     }
                 done = worst <= kCreaseResidual;
             }
-            if (!done) pos = place(plain == 0, how);
+            // Borrowed normals may come from both walls of a gap narrower than the cell: of each pair at an obtuse
+            // angle, only the wall with more of them is kept (kBorrowSheetCos).
+            if (!done) pos = place(plain == 0, how, nullptr, borrowed ? kBorrowSheetCos : kOpposedNormalCos);
             const Vec3 off = pos - mass;
             if (plain >= 2 && normal_dot(off, off) > kCornerFillReach * kCornerFillReach) {
                 // Corner fill (kCornerFillReach): a concave crease vertex far behind its crossings' mass point, cut
@@ -346,9 +422,9 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 int nown = 0;
                 Vec3 nsum(0.0);
                 for (int i = 0; i < crossings; ++i)
-                    if (owner[i] == comp && sample[i]->has_normal) {
-                        own[nown++] = sample[i]->normal;
-                        nsum = nsum + sample[i]->normal;
+                    if (owner[i] == comp && hn[i]) {
+                        own[nown++] = nv[i];
+                        nsum = nsum + nv[i];
                     }
                 std::array<Vec3, 2> plane{};
                 if (normal_dot(nsum, off) < 0.0 && corner_fill_plane(*model_, cell, pos, mass, own.data(), nown, plane[0], plane[1]))

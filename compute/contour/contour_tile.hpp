@@ -76,7 +76,10 @@ struct TileMesh {
 ///    a component whose normals include a nearly opposite pair (kOpposedNormalCos: the two walls of a sheet
 ///    thinner than the cell) keeps only the normals of the wall with more of them and fits no plane; a
 ///    concave crease vertex far behind its crossings and cut off by a face-adjacent cell's tangent plane
-///    takes that plane too (the corner fill, kCornerFillReach: a third surface filling the crease's corner);
+///    takes that plane too (the corner fill, kCornerFillReach: a third surface filling the crease's corner); a
+///    component none of whose crossings has a normal borrows, per crossing, the nearest tangent plane's normal from
+///    the face-adjacent cells' crossings and keeps one wall of an obtuse pair (kBorrowReach: an air gap narrower
+///    than the cell);
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;

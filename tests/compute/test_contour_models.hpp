@@ -228,4 +228,34 @@ inline std::vector<BallsOnABox> balls_filling_crease_corners() {
     };
 }
 
+/// Two balls added onto the top face of the box [6, 42]^2 x [6, top] (48^3 lattice) with an air gap of 0.23 to 0.73
+/// cells between them, narrowest at `mid` (found by a random search over radii, gaps and directions): where the gap
+/// runs through a cell, each of its crossings reads the other wall on a neighbouring ray and gets no normal
+/// (contour::kBorrowReach).
+struct AirGapModel {
+    BallsOnABox model;
+    Vec3 mid;  ///< the gap's narrowest point, grid units
+};
+
+/// The air-gap models (see AirGapModel).
+inline std::vector<AirGapModel> air_gaps_between_added_balls() {
+    struct Gap {
+        double r, g;
+        Vec3 dir, mid;
+        double top;
+    };
+    const Gap gaps[] = {
+        {6.6890, 0.2333, Vec3(0.0487, -0.9988, 0.0080), Vec3(24.9396, 24.3920, 30.1784), 28.2129},
+        {4.7165, 0.4403, Vec3(-0.9970, -0.0247, 0.0738), Vec3(24.4052, 24.2591, 30.6570), 28.6673},
+        {4.9483, 0.7295, Vec3(0.9878, 0.0652, -0.1416), Vec3(24.6757, 24.9375, 30.7522), 28.4985},
+        {3.6103, 0.6317, Vec3(-0.2001, 0.9775, 0.0660), Vec3(24.6508, 24.6336, 30.4429), 28.2497},
+    };
+    std::vector<AirGapModel> out;
+    for (const Gap& k : gaps) {
+        const Vec3 d = glm::normalize(k.dir);
+        out.push_back({{k.top, {{k.mid - (k.r + 0.5 * k.g) * d, k.r}, {k.mid + (k.r + 0.5 * k.g) * d, k.r}}}, k.mid});
+    }
+    return out;
+}
+
 }  // namespace tridex::compute::testing

@@ -163,3 +163,16 @@ TEST(GpuContourSharp, ThirdBallFillingACreaseCornerGivesTheCpuMesh) {
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
+
+TEST(GpuContourSharp, AirGapBetweenTwoAddedBallsGivesTheCpuMesh) {
+    // ContourCuts.AirGapBetweenTwoAddedBallsKeepsItsVertexOnAWall's models: components without a normal borrow the
+    // face-adjacent cells' crossing normals (contour::kBorrowReach) and keep one wall's.
+    gpu::Context ctx = gpu::Context::create({});
+    for (const AirGapModel& k : air_gaps_between_added_balls()) {
+        const Vec3 lo(6.0), hi(42.0, 42.0, k.model.top);
+        TriDexel model = empty_model(cube_lattice(48));
+        fill_rays(model, [&](int a, int u, int v) { return box_plus_balls_chord(lo, hi, k.model.balls, a, u, v); });
+        expect_same_contour(ctx, model, "air gap, top " + std::to_string(k.model.top));
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
