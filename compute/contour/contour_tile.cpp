@@ -42,104 +42,85 @@ double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y)
 
 bool crease_normal_fits(const Vec3& crease, const Vec3& plain) { return normal_dot(crease, plain) > 0.0; }
 
-/// The corner-fill plane of a cell component (see kCornerFillReach): among the crossings with an ordinary normal
-/// (not a crease side's) on the edges of the 6 cells face-adjacent to `cell` that do not lie on the shared faces
-/// (face f = 0..2, side -1 then +1, cell edges 4a + k ascending), whose normal has a dot product above
-/// kCornerFillCos with each of the `count` normals `own` and whose tangent plane has the crossings' mass point
-/// `mass` in front of it or at most kCornerFillFront behind, the one whose tangent plane `pos` lies deepest behind
-/// (first on ties). Returns true with its point and normal when that depth exceeds kCornerFillDepth. Reads the
-/// rays directly (those cells lie up to a cell beyond a tile's caches); arithmetic in the order the GPU
-/// contourer repeats. O(48 edges x crossing_normal).
+/// Calls fn(q, n) for every crossing with an ordinary normal (not a crease side's) on the edges of the 6 cells
+/// face-adjacent to `cell` that do not lie on the shared faces (face f = 0..2, side -1 then +1, cell edges 4a + k
+/// ascending): q its point, n its normal (lattice units). Reads the rays directly (those cells lie up to a cell beyond
+/// a tile's caches); the GPU contourer visits them in the same order. O(48 edges x crossing_normal).
+template <typename Fn>
+void for_each_neighbour_plane(const TriDexel& model, const Node& cell, Fn&& fn) {
+    for (int f = 0; f < 3; ++f)
+        for (int side = -1; side <= 1; side += 2) {
+            Node nb = cell;
+            nb[f] += side;
+            const int shared = side > 0 ? cell[f] + 1 : cell[f];
+            for (int e = 0; e < 12; ++e) {
+                const int a = e / 4, k = e & 3;
+                Node p = nb;
+                p[(a + 1) % 3] += k & 1;
+                p[(a + 2) % 3] += (k >> 1) & 1;
+                if (a != f && p[f] == shared) continue;
+                bool in_lattice = true;
+                for (int j = 0; j < 3; ++j)
+                    if (p[j] < 0 || p[j] + (j == a ? 1 : 0) > model.lattice.cells[j]) in_lattice = false;
+                if (!in_lattice) continue;
+                const bool in = node_inside(model, p);
+                if (in == node_inside(model, plus(p, a, 1))) continue;
+                const EdgeCrossing x = edge_crossing(model, a, p, in);
+                if (x.fallback || x.exit != in) continue;
+                Vec3 nn(0.0);
+                bool crease = false;
+                if (!crossing_normal(model, a, p, in, x.t, nn, &crease) || crease) continue;
+                fn(crossing_point(p, a, x), nn);
+            }
+        }
+}
+
+/// The corner-fill plane of a cell component (see kCornerFillReach): among the neighbour planes
+/// (for_each_neighbour_plane) whose normal has a dot product above kCornerFillCos with each of the `count` normals
+/// `own` and whose tangent plane has the crossings' mass point `mass` in front of it or at most kCornerFillFront
+/// behind, the one whose tangent plane `pos` lies deepest behind (first on ties). Returns true with its point and
+/// normal when that depth exceeds kCornerFillDepth. Arithmetic in the order the GPU contourer repeats.
 bool corner_fill_plane(const TriDexel& model, const Node& cell, const Vec3& pos, const Vec3& mass, const Vec3* own, int count, Vec3& point,
                        Vec3& normal) {
     bool found = false;
     double deepest = 0.0;
-    for (int f = 0; f < 3; ++f)
-        for (int side = -1; side <= 1; side += 2) {
-            Node nb = cell;
-            nb[f] += side;
-            const int shared = side > 0 ? cell[f] + 1 : cell[f];
-            for (int e = 0; e < 12; ++e) {
-                const int a = e / 4, k = e & 3;
-                Node p = nb;
-                p[(a + 1) % 3] += k & 1;
-                p[(a + 2) % 3] += (k >> 1) & 1;
-                if (a != f && p[f] == shared) continue;
-                bool in_lattice = true;
-                for (int j = 0; j < 3; ++j)
-                    if (p[j] < 0 || p[j] + (j == a ? 1 : 0) > model.lattice.cells[j]) in_lattice = false;
-                if (!in_lattice) continue;
-                const bool in = node_inside(model, p);
-                if (in == node_inside(model, plus(p, a, 1))) continue;
-                const EdgeCrossing x = edge_crossing(model, a, p, in);
-                if (x.fallback || x.exit != in) continue;
-                Vec3 nn(0.0);
-                bool crease = false;
-                if (!crossing_normal(model, a, p, in, x.t, nn, &crease) || crease) continue;
-                bool fits = true;
-                for (int i = 0; i < count; ++i)
-                    if (!(normal_dot(nn, own[i]) > kCornerFillCos)) fits = false;
-                if (!fits) continue;
-                const Vec3 q = crossing_point(p, a, x);
-                if (!(normal_dot(nn, mass - q) >= -kCornerFillFront)) continue;
-                const double depth = -normal_dot(nn, pos - q);
-                if (!found || depth > deepest) {
-                    found = true;
-                    deepest = depth;
-                    point = q;
-                    normal = nn;
-                }
-            }
+    for_each_neighbour_plane(model, cell, [&](const Vec3& q, const Vec3& nn) {
+        for (int i = 0; i < count; ++i)
+            if (!(normal_dot(nn, own[i]) > kCornerFillCos)) return;
+        if (!(normal_dot(nn, mass - q) >= -kCornerFillFront)) return;
+        const double depth = -normal_dot(nn, pos - q);
+        if (!found || depth > deepest) {
+            found = true;
+            deepest = depth;
+            point = q;
+            normal = nn;
         }
+    });
     return found && deepest > kCornerFillDepth;
 }
 
 /// Borrowed normals of a cell component none of whose `count` crossings has a normal (see kBorrowReach): the
-/// crossings with an ordinary normal on the edges of the 6 cells face-adjacent to `cell` off the shared faces (order
-/// as in corner_fill_plane) are matched to each own crossing `points[i]` (on an edge along `axes[i]`, leaving material
-/// going +axis when `exits[i]`): among those whose normal points out of the material along that edge (component along
-/// the axis > 0 for an exit, < 0 for an enter), the one whose tangent plane passes nearest to the point (first on
-/// ties), taken when within kBorrowReach. Sets `got[i]` and `normals[i]` for the matched crossings; returns their
-/// number. Reads the rays directly; arithmetic in the order the GPU contourer repeats. O(48 edges x crossing_normal).
+/// neighbour planes (for_each_neighbour_plane) are matched to each own crossing `points[i]` (on an edge along
+/// `axes[i]`, leaving material going +axis when `exits[i]`): among those whose normal points out of the material
+/// along that edge (component along the axis > 0 for an exit, < 0 for an enter), the one whose tangent plane passes
+/// nearest to the point (first on ties), taken when within kBorrowReach. Sets `got[i]` and `normals[i]` for the
+/// matched crossings; returns their number. Arithmetic in the order the GPU contourer repeats.
 int borrowed_normals(const TriDexel& model, const Node& cell, const Vec3* points, const int* axes, const bool* exits, int count,
                      Vec3* normals, bool* got) {
     std::array<double, 12> best{};
     for (int i = 0; i < count; ++i) got[i] = false;
-    for (int f = 0; f < 3; ++f)
-        for (int side = -1; side <= 1; side += 2) {
-            Node nb = cell;
-            nb[f] += side;
-            const int shared = side > 0 ? cell[f] + 1 : cell[f];
-            for (int e = 0; e < 12; ++e) {
-                const int a = e / 4, k = e & 3;
-                Node p = nb;
-                p[(a + 1) % 3] += k & 1;
-                p[(a + 2) % 3] += (k >> 1) & 1;
-                if (a != f && p[f] == shared) continue;
-                bool in_lattice = true;
-                for (int j = 0; j < 3; ++j)
-                    if (p[j] < 0 || p[j] + (j == a ? 1 : 0) > model.lattice.cells[j]) in_lattice = false;
-                if (!in_lattice) continue;
-                const bool in = node_inside(model, p);
-                if (in == node_inside(model, plus(p, a, 1))) continue;
-                const EdgeCrossing x = edge_crossing(model, a, p, in);
-                if (x.fallback || x.exit != in) continue;
-                Vec3 nn(0.0);
-                bool crease = false;
-                if (!crossing_normal(model, a, p, in, x.t, nn, &crease) || crease) continue;
-                const Vec3 q = crossing_point(p, a, x);
-                for (int i = 0; i < count; ++i) {
-                    if (!(exits[i] ? nn[axes[i]] > 0.0 : nn[axes[i]] < 0.0)) continue;
-                    const double r = std::abs(normal_dot(nn, points[i] - q));
-                    if (!(r <= kBorrowReach)) continue;
-                    if (!got[i] || r < best[i]) {
-                        got[i] = true;
-                        best[i] = r;
-                        normals[i] = nn;
-                    }
-                }
+    for_each_neighbour_plane(model, cell, [&](const Vec3& q, const Vec3& nn) {
+        for (int i = 0; i < count; ++i) {
+            if (!(exits[i] ? nn[axes[i]] > 0.0 : nn[axes[i]] < 0.0)) continue;
+            const double r = std::abs(normal_dot(nn, points[i] - q));
+            if (!(r <= kBorrowReach)) continue;
+            if (!got[i] || r < best[i]) {
+                got[i] = true;
+                best[i] = r;
+                normals[i] = nn;
             }
         }
+    });
     int matched = 0;
     for (int i = 0; i < count; ++i)
         if (got[i]) ++matched;
