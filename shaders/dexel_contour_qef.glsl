@@ -17,6 +17,7 @@ const double kCornerFillCos = -0.5lf;   // contour::kCornerFillCos
 const double kCornerFillFront = 0.1lf;  // contour::kCornerFillFront
 const double kBorrowReach = 0.25lf;     // contour::kBorrowReach
 const double kBorrowSheetCos = 0.0lf;   // contour::kBorrowSheetCos
+const double kBorrowWrongCos = 0.7lf;   // contour::kBorrowWrongCos
 const double kFitPlaneRatio = 4.0lf;    // contour::kFitPlaneRatio
 const double kFitPlaneSpread = 1e-6lf;  // contour::kFitPlaneSpread
 const double kQefTruncation = 0.05lf;   // contour::kQefTruncation
@@ -91,8 +92,10 @@ bool same_surface(int a, ivec3 n, int dir, int w2, bool exit_end, double t, doub
 // Slope of the height field of set a along lattice direction `dir` at node n (contour slope()): the
 // neighbour rays u -+ 1 or v -+ 1, bounds-checked against the set's nu / nv (= cells + 1). `is_flat`: a neighbour
 // end at exactly depth t; `extremum`: one side alone, the other side's surface beyond the window the other way
-// (a trough or ridge one ray wide; the other ray's occupancy at depth t tells which way).
-bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout bool crease, out bool is_flat, out bool extremum) {
+// (a trough or ridge one ray wide; the other ray's occupancy at depth t tells which way); `lone`: one side alone
+// gives a slope other than 0.
+bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout bool crease, out bool is_flat, out bool extremum,
+           out bool lone) {
     int ua = (a + 1) % 3, va = (a + 2) % 3;
     int w = n[dir];
     bool u_dir = dir == ua;
@@ -110,6 +113,7 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout
     g = 0.0lf;
     is_flat = (has_m && dm == 0.0lf) || (has_p && dp == 0.0lf);
     extremum = false;
+    lone = false;
     if (has_m != has_p) {
         bool other_exists = has_m ? w + 1 < limit : w - 1 >= 0;
         if (other_exists) {
@@ -138,10 +142,12 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout
     // One side alone (a sharp edge): only a gentle slope (contour::kOneSidedSlopeMax), with no gap between the rays.
     if (has_m) {
         g = dm;
+        lone = dm != 0.0lf;
         return abs(dm) <= kOneSidedSlopeMax && same_surface(a, n, dir, w - 1, exit_end, t, em);
     }
     if (has_p) {
         g = dp;
+        lone = dp != 0.0lf;
         return abs(dp) <= kOneSidedSlopeMax && same_surface(a, n, dir, w + 1, exit_end, t, ep);
     }
     return false;
@@ -149,26 +155,30 @@ bool slope(int a, ivec3 n, int dir, bool exit_end, double t, out double g, inout
 
 // contour::crossing_normal: outward unit normal at the crossing at depth t on the edge from n along a
 // (start_inside: the crossing is an interval exit). False (normal = 0) without a neighbour end; `crease`:
-// a crease's flat side gave the normal.
-bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 normal, out bool crease) {
+// a crease's flat side gave the normal; `one_sided`: a slope other than 0 came from one side alone.
+bool crossing_normal(int a, ivec3 n, bool start_inside, double t, out dvec3 normal, out bool crease, out bool one_sided) {
     int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb, gc;
     normal = dvec3(0.0lf);
     crease = false;
-    bool flat_b, flat_c, ext_b, ext_c;
-    bool ok_b = slope(a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
-    bool ok_c = slope(a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
+    bool flat_b, flat_c, ext_b, ext_c, lone_b, lone_c;
+    bool ok_b = slope(a, n, b, start_inside, t, gb, crease, flat_b, ext_b, lone_b);
+    bool ok_c = slope(a, n, c, start_inside, t, gc, crease, flat_c, ext_c, lone_c);
     // A trough or ridge one ray wide on a face flat along the other direction: slope 0 (contour crossing_normal).
     if (ext_b && flat_c) {
         gb = 0.0lf;
         ok_b = true;
+        lone_b = false;
     }
     if (ext_c && flat_b) {
         gc = 0.0lf;
         ok_c = true;
+        lone_c = false;
     }
+    one_sided = lone_b || lone_c;
     if (!ok_b || !ok_c) {
         crease = false;
+        one_sided = false;
         return false;
     }
     precise double len2 = (1.0lf + gb * gb) + gc * gc;

@@ -66,8 +66,8 @@ void place_face_vertices(uint i, uint v0) {
                 int off = m == 0 ? (idx & 1) : ((idx >> 1) & 1);
                 ivec3 s = p - off * unit(g);
                 dvec3 nn;
-                bool cr;
-                if (!crossing_normal(g, s, inside(s), pts[m][g], nn, cr) || cr) continue;  // a crease side: none here
+                bool cr, os;
+                if (!crossing_normal(g, s, inside(s), pts[m][g], nn, cr, os) || cr) continue;  // a crease side: none here
                 // The second of two nearly opposite normals: a sheet's other wall (TileContourer::emit_split_face).
                 if (normals == 1 && normal_dot(first, nn) < kOpposedNormalCos) continue;
                 if (normals == 0) first = nn;

@@ -54,18 +54,20 @@ dvec3 nq[12];
 // - borrow (contour_tile.cpp borrowed_normals): for each edge e of `own` (the component's edges; crossing at tq[e],
 //   leaving material going +axis when cfg's start corner is inside), among the normals pointing out of the material
 //   along e's axis, the one whose tangent plane passes nearest to the crossing (first on ties), within kBorrowReach:
-//   into nq[e], its bit into `got`; returns false;
+//   into nq[e], its bit into `got`; for an edge of `kept` (its own normal in nq[e] stays) only its bit into `got`,
+//   and into `against` whether that normal makes a dot product below kBorrowWrongCos with the own one; returns false;
 // - corner fill (contour_tile.cpp corner_fill_plane): among those whose normal's dot product with each normal nq[e]
 //   of `own` (edge bits) exceeds kCornerFillCos and whose plane has `mass` in front or at most kCornerFillFront behind,
 //   the tangent plane `pos` lies deepest behind (first on ties); true with its point and normal when deeper than
 //   kCornerFillDepth.
-bool neighbour_planes(ivec3 cell, bool borrow, int cfg, uint own, dvec3 pos, dvec3 mass, out dvec3 point, out dvec3 normal,
-                      out uint got) {
+bool neighbour_planes(ivec3 cell, bool borrow, int cfg, uint own, uint kept, dvec3 pos, dvec3 mass, out dvec3 point,
+                      out dvec3 normal, out uint got, out uint against) {
     bool found = false;
     double deepest = 0.0lf;
     point = dvec3(0.0lf);
     normal = dvec3(0.0lf);
     got = 0u;
+    against = 0u;
     double best[12];
     [[unroll]] for (int e = 0; e < 12; ++e) best[e] = 0.0lf;
     [[dont_unroll]] for (int f = 0; f < 3; ++f) {
@@ -86,8 +88,8 @@ bool neighbour_planes(ivec3 cell, bool borrow, int cfg, uint own, dvec3 pos, dve
                 double t = edge_crossing(a, p, pin, mat, fb, ex);
                 if (fb || ex != pin) continue;
                 dvec3 nn;
-                bool cr;
-                if (!crossing_normal(a, p, pin, t, nn, cr) || cr) continue;
+                bool cr, os;
+                if (!crossing_normal(a, p, pin, t, nn, cr, os) || cr) continue;
                 dvec3 cp = dvec3(p);
                 cp[a] = t;
                 if (borrow) {
@@ -108,7 +110,12 @@ bool neighbour_planes(ivec3 cell, bool borrow, int cfg, uint own, dvec3 pos, dve
                         if (((got >> uint(i)) & 1u) == 0u || r < best[i]) {
                             got |= 1u << uint(i);
                             best[i] = r;
-                            nq[i] = nn;
+                            if (((kept >> uint(i)) & 1u) == 0u)
+                                nq[i] = nn;
+                            else if (normal_dot(nn, nq[i]) < kBorrowWrongCos)
+                                against |= 1u << uint(i);
+                            else
+                                against &= ~(1u << uint(i));
                         }
                     }
                     continue;
@@ -200,7 +207,7 @@ void place_vertices(ivec3 cell, uint base) {
         [[unroll]] for (int e = 0; e < 12; ++e)
             if (cq[e] == c && !fq[e]) mine |= 1u << uint(e);
         [[unroll]] for (int e = 0; e < 12; ++e) nq[e] = dvec3(0.0lf);
-        uint has = 0u, creased = 0u;
+        uint has = 0u, creased = 0u, lone = 0u;
         [[unroll]] for (int a = 0; a < 3; ++a) {
             uint todo = (mine >> uint(4 * a)) & 15u;
             while (todo != 0u) {
@@ -209,11 +216,12 @@ void place_vertices(ivec3 cell, uint base) {
                 const ivec3 off = edge_start_offset(a, k);
                 const int corner = off.x + 2 * off.y + 4 * off.z;
                 dvec3 nn;
-                bool cr;
-                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[4 * a + k], nn, cr)) continue;
+                bool cr, os;
+                if (!crossing_normal(a, cell + off, ((cfg >> corner) & 1) != 0, tq[4 * a + k], nn, cr, os)) continue;
                 nq[4 * a + k] = nn;
                 has |= 1u << uint(4 * a + k);
                 if (cr) creased |= 1u << uint(4 * a + k);
+                if (os) lone |= 1u << uint(4 * a + k);
             }
         }
         // Normals from a crease's flat side count where no crossing has a normal of its own kind; beside such
@@ -254,21 +262,36 @@ void place_vertices(ivec3 cell, uint base) {
         dvec3 pos = dvec3(0.0lf);
         double qm[9];
         double qr[3];
-        // Round 0: a component without any normal borrows the face-adjacent cells' (contour::kBorrowReach), then the
-        // vertex is placed; round 1 (only when some invocation needs it): the corner fill (contour::kCornerFillReach),
-        // a concave crease vertex far behind its crossings' mass point, cut off by a neighbouring cell's tangent plane,
-        // is placed again with that plane (TileContourer). Both rules read the neighbours through neighbour_planes.
-        const bool need_borrow = has == 0u;
+        // Round 0: a component without any normal borrows the face-adjacent cells' (contour::kBorrowReach); one whose
+        // normals all took a slope from one side alone, a single normal or, without crease normals, one beside a
+        // crossing without one on a parallel edge of the cell, only when the normal borrowed for one of its own crossings disagrees with that crossing's
+        // (contour::kBorrowWrongCos; the own normals are kept); then the vertex is placed. Round 1 (only when some
+        // invocation needs it): the corner fill (contour::kCornerFillReach), a concave crease vertex far behind its
+        // crossings' mass point, cut off by a neighbouring cell's tangent plane, is placed again with that plane
+        // (TileContourer). Both rules read the neighbours through neighbour_planes.
         uint cmask = 0u;
         [[unroll]] for (int e = 0; e < 12; ++e)
             if (cq[e] == c) cmask |= 1u << uint(e);
+        // A crossing without a normal on a parallel edge of the cell beside an own normal's (TileContourer).
+        bool beside = false;
+        uint hb = has;
+        while (hb != 0u) {
+            const int e = findLSB(hb);
+            hb &= hb - 1u;
+            const int a = e / 4, k = e & 3;
+            const uint adjacent = (1u << uint(4 * a + (k ^ 1))) | (1u << uint(4 * a + (k ^ 2)));
+            if ((cmask & ~has & adjacent) != 0u) beside = true;
+        }
+        const bool all_lone = (has & ~lone) == 0u;
+        const bool need_borrow = has == 0u || (all_lone && (bitCount(has) == 1 || (creased == 0u && beside)));
         bool fill = false;
         [[dont_unroll]] for (int round = 0; round < 2; ++round) {
             dvec3 cut_p, cut_n;
-            uint got = 0u;
+            uint got = 0u, against = 0u;
             bool cut = false;
             if (round == 0 ? need_borrow : fill)
-                cut = neighbour_planes(cell, round == 0, cfg, round == 0 ? cmask : has, pos, mean, cut_p, cut_n, got);
+                cut = neighbour_planes(cell, round == 0, cfg, round == 0 ? cmask : has, round == 0 ? has : 0u, pos, mean, cut_p,
+                                       cut_n, got, against);
             if (round == 1) {
                 if (cut) {
                     qef_add(qm, qr, cut_n, cut_p, mean);
@@ -276,13 +299,18 @@ void place_vertices(ivec3 cell, uint base) {
                 }
                 break;
             }
+            // The own normals stay; a borrowed one that contradicts one of them lets the others borrow.
+            uint lent = 0u;
+            if (need_borrow && (has == 0u || against != 0u)) {
+                lent = got & ~has;
+                has |= lent;
+            }
             // Borrowed normals may come from both walls of a gap narrower than the cell: of each pair at an obtuse
             // angle, only the wall with more of them is kept (contour::kBorrowSheetCos).
-            if (need_borrow) has = got;
-            const double sheet_cos = need_borrow && got != 0u ? kBorrowSheetCos : kOpposedNormalCos;
+            const double sheet_cos = lent != 0u ? kBorrowSheetCos : kOpposedNormalCos;
             [[dont_unroll]] for (int pass = 0; pass < 2; ++pass) {
                 // Pass 0: with the crease normals when try_crease, else the final choice; pass 1: without them.
-                uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain : has));
+                uint use = pass == 1 ? plain : (try_crease ? has : (plain != 0u ? plain | lent : has));
                 qm = double[9](0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
                 qr = double[3](0.0lf, 0.0lf, 0.0lf);
                 int normals = 0;

@@ -57,9 +57,10 @@ bool same_surface(const TriDexel& model, int a, const Node& n, int dir, int w2, 
 /// `flat` is set when a neighbour end lies at exactly depth t (the crossing lies on a face flat along `dir`);
 /// `extremum` when only one side has an end within the window and the other side's surface lies beyond the
 /// window on the same side of t as that end (the crossing is the bottom of a trough or the top of a ridge one ray
-/// wide along `dir`; the other side's occupancy at depth t tells on which side its surface lies).
-bool slope(const TriDexel& model, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease, bool& flat,
-           bool& extremum) {
+/// wide along `dir`; the other side's occupancy at depth t tells on which side its surface lies); `lone` (set only,
+/// never cleared) when one side alone gives a slope other than 0 (not the edge of a face flat across the ray axis).
+bool slope(const TriDexel& model, int a, const Node& n, int dir, bool exit_end, double t, double& g, bool& crease,
+           bool& flat, bool& extremum, bool& lone) {
     const RaySet& set = model.sets[a];
     const int w = n[dir];
     const bool u_dir = dir == (a + 1) % 3;
@@ -101,10 +102,12 @@ bool slope(const TriDexel& model, int a, const Node& n, int dir, bool exit_end, 
     // when no gap lies between the two rays on the material side (same_surface).
     if (has_m) {
         g = dm;
+        lone = dm != 0.0;
         return std::abs(dm) <= kOneSidedSlopeMax && same_surface(model, a, n, dir, w - 1, exit_end, t, em);
     }
     if (has_p) {
         g = dp;
+        lone = dp != 0.0;
         return std::abs(dp) <= kOneSidedSlopeMax && same_surface(model, a, n, dir, w + 1, exit_end, t, ep);
     }
     return false;
@@ -138,12 +141,13 @@ void rotate(double m[3][3], double v[3][3], int p, int q) {
 
 }  // namespace
 
-bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal, bool* at_crease) {
+bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal,
+                     bool* at_crease, bool* one_sided) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     double gb = 0.0, gc = 0.0;
-    bool crease = false, flat_b = false, flat_c = false, ext_b = false, ext_c = false;
-    bool ok_b = slope(model, a, n, b, start_inside, t, gb, crease, flat_b, ext_b);
-    bool ok_c = slope(model, a, n, c, start_inside, t, gc, crease, flat_c, ext_c);
+    bool crease = false, flat_b = false, flat_c = false, ext_b = false, ext_c = false, lone_b = false, lone_c = false;
+    bool ok_b = slope(model, a, n, b, start_inside, t, gb, crease, flat_b, ext_b, lone_b);
+    bool ok_c = slope(model, a, n, c, start_inside, t, gc, crease, flat_c, ext_c, lone_c);
     // A trough or ridge one ray wide along one direction (one-sided slope, the other side beyond the window
     // the other way) on a face flat along the other direction (a neighbour end at exactly depth t): a ledge of a
     // face flat across the ray axis (a flat-end floor between a deeper cut and a shallower floor), whose one
@@ -151,13 +155,16 @@ bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_ins
     if (ext_b && flat_c) {
         gb = 0.0;
         ok_b = true;
+        lone_b = false;
     }
     if (ext_c && flat_b) {
         gc = 0.0;
         ok_c = true;
+        lone_c = false;
     }
     if (!ok_b || !ok_c) return false;
     if (at_crease) *at_crease = crease;
+    if (one_sided) *one_sided = lone_b || lone_c;
     const double len = std::sqrt((1.0 + gb * gb) + gc * gc);
     // Exit (material below along a): grad(a - d(u, v)) = (1, -g_u, -g_v); an enter is the opposite.
     Vec3 out(0.0);

@@ -46,6 +46,16 @@ inline constexpr double kCornerFillFront = 0.1;
 /// sheet (kOpposedNormalCos), so the vertex lies on one wall.
 inline constexpr double kBorrowReach = 0.25;
 inline constexpr double kBorrowSheetCos = 0.0;
+/// Wrong normals at a crest (TileContourer): at the crest of a fin or ridge thinner than a cell, a crossing's
+/// neighbouring ray on one side reads the other wall and the ray on the far side has no end within the window, so
+/// the one-sided slope (crossing_normal's `one_sided`) gives a normal between the two walls. A cell component whose
+/// normals all took such a slope, either a single normal or several (none from a crease's flat side) of which one
+/// lies beside a crossing without a normal on a parallel edge of the cell (the neighbouring ray the slope read),
+/// borrows as above for its crossings without a normal when the normal borrowed for one of its own normals'
+/// crossings makes a dot product below kBorrowWrongCos with that crossing's own normal; its own normals are kept.
+/// Slopes of 0 (the edge of a face flat across the ray axis, such as a box face or the rim of a cut in one) do not
+/// count; with the parallel-edge condition this keeps most rims and box edges out of the 48-edge scan.
+inline constexpr double kBorrowWrongCos = 0.7;
 /// Two crossing normals of one cell component whose dot product is below this are the facing walls of a sheet
 /// thinner than the cell (about 143 degrees apart or more); the vertex then takes the normals of one wall only
 /// (TileContourer).
@@ -90,11 +100,13 @@ inline constexpr double kJacobiTolerance = 1e-9;
 /// (a ledge of a face flat across axis a, e.g. a flat-end floor between a deeper cut and a shallower floor, whose
 /// one side reads the other floor). Normal = sigma (1, -g_u, -g_v) in (a, u, v),
 /// sigma = +1 for an exit, -1 for an enter, normalised. Arithmetic in double in a fixed order (the GPU
-/// contourer repeats it bit for bit). Returns false (normal and *at_crease untouched) when a direction has no
-/// neighbour end or an unresolved crease; on true, *at_crease tells whether a crease side gave the normal.
-/// O(intervals on 6 rays).
+/// contourer repeats it bit for bit). Returns false (normal, *at_crease and *one_sided untouched) when a direction
+/// has no neighbour end or an unresolved crease; on true, *at_crease tells whether a crease side gave the normal and
+/// *one_sided whether a direction's slope other than 0 came from one side alone (a sharp edge of a sloped face, or a
+/// crest or fin thinner than a cell whose one neighbour end lies on its other face; not a flat face's edge). Either
+/// pointer may be nullptr. O(intervals on 6 rays).
 bool crossing_normal(const TriDexel& model, int a, const Node& n, bool start_inside, double t, Vec3& normal,
-                     bool* at_crease = nullptr);
+                     bool* at_crease = nullptr, bool* one_sided = nullptr);
 
 /// Stand-in normal for the crossings of a dual-contouring component that have none of their own (creases
 /// the height-field estimate cannot resolve, fallbacks): the outward unit normal of the least-squares plane

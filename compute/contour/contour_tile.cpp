@@ -99,12 +99,12 @@ bool corner_fill_plane(const TriDexel& model, const Node& cell, const Vec3& pos,
     return found && deepest > kCornerFillDepth;
 }
 
-/// Borrowed normals of a cell component none of whose `count` crossings has a normal (see kBorrowReach): the
-/// neighbour planes (for_each_neighbour_plane) are matched to each own crossing `points[i]` (on an edge along
-/// `axes[i]`, leaving material going +axis when `exits[i]`): among those whose normal points out of the material
-/// along that edge (component along the axis > 0 for an exit, < 0 for an enter), the one whose tangent plane passes
-/// nearest to the point (first on ties), taken when within kBorrowReach. Sets `got[i]` and `normals[i]` for the
-/// matched crossings; returns their number. Arithmetic in the order the GPU contourer repeats.
+/// Borrowed normals for the `count` crossings of a cell component (see kBorrowReach, kBorrowWrongCos): the neighbour
+/// planes (for_each_neighbour_plane) are matched to each own crossing `points[i]` (on an edge along `axes[i]`, leaving
+/// material going +axis when `exits[i]`): among those whose normal points out of the material along that edge
+/// (component along the axis > 0 for an exit, < 0 for an enter), the one whose tangent plane passes nearest to the
+/// point (first on ties), taken when within kBorrowReach. Sets `got[i]` and `normals[i]` for the matched crossings;
+/// returns their number. Arithmetic in the order the GPU contourer repeats.
 int borrowed_normals(const TriDexel& model, const Node& cell, const Vec3* points, const int* axes, const bool* exits, int count,
                      Vec3* normals, bool* got) {
     std::array<double, 12> best{};
@@ -258,7 +258,7 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         std::array<int, kMaxComponents> count{};
         std::array<Vec3, 12> point{};
         std::array<std::uint8_t, 12> mat{};
-        std::array<int, 12> owner{}, axis{};
+        std::array<int, 12> owner{}, axis{}, edge{};
         std::array<bool, 12> exit{};  // the crossing's start node is inside (it leaves material going +axis)
         std::array<const EdgeSample*, 12> sample{};  // the crossing's cached sample (normal, has_normal)
         int crossings = 0;
@@ -273,6 +273,7 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             point[crossings] = crossing_point(p, a, x);
             mat[crossings] = x.material;
             axis[crossings] = a;
+            edge[crossings] = e;
             exit[crossings] = ((cfg >> corner) & 1) != 0;
             owner[crossings++] = comp;
             sum[comp] += point[crossings - 1];
@@ -281,11 +282,12 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
         const Vec3 lo(cell[0], cell[1], cell[2]);
         std::array<double, kMaxComponents> best_d2{};
         // Per crossing: has a normal, from a crease's flat side, the normal (a component without any may borrow some).
-        std::array<bool, 12> hn{}, cr{};
+        std::array<bool, 12> hn{}, cr{}, lone{};
         std::array<Vec3, 12> nv{};
         for (int i = 0; i < crossings; ++i) {
             hn[i] = sample[i]->has_normal;
             cr[i] = sample[i]->crease;
+            lone[i] = sample[i]->one_sided;
             nv[i] = sample[i]->normal;
         }
         for (int comp = 0; comp < cc.components; ++comp) {
@@ -321,16 +323,48 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
                 }
             const Vec3 mass = sum[comp] / static_cast<double>(count[comp]);
             // No normal at all (kBorrowReach): the face-adjacent cells' crossing normals, matched per crossing.
+            // Normals that all took a slope from one side alone, a single one or, without crease normals, one beside a
+            // crossing without a normal on a parallel edge of the cell (kBorrowWrongCos): the crossings without one
+            // borrow when the normal borrowed for one of the own normals' crossings disagrees with it; the own normals
+            // are kept.
             bool borrowed = false;
-            if (plain == 0 && creased == 0) {
+            bool all_lone = true;
+            unsigned own_edges = 0, with_normal = 0;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp) {
+                    if (hn[i] && !lone[i]) all_lone = false;
+                    own_edges |= 1u << edge[i];
+                    if (hn[i]) with_normal |= 1u << edge[i];
+                }
+            // A crossing without a normal on a parallel edge of the cell beside an own normal's (the fin's other wall).
+            bool beside = false;
+            for (int i = 0; i < crossings; ++i)
+                if (owner[i] == comp && hn[i]) {
+                    const int a = edge[i] / 4, k = edge[i] & 3;
+                    const unsigned adjacent = (1u << (4 * a + (k ^ 1))) | (1u << (4 * a + (k ^ 2)));
+                    if ((own_edges & ~with_normal & adjacent) != 0) beside = true;
+                }
+            const bool suspect =
+                plain + creased == 0 || (all_lone && (plain + creased == 1 || (creased == 0 && beside)));
+            if (suspect) {
                 std::array<Vec3, 12> bn{};
                 std::array<bool, 12> bg{};
                 if (borrowed_normals(*model_, cell, cp.data(), ca.data(), ce.data(), nc, bn.data(), bg.data()) > 0) {
-                    borrowed = true;
+                    bool wrong = plain + creased == 0;
                     for (int i = 0, m = 0; i < crossings; ++i)
                         if (owner[i] == comp) {
-                            hn[i] = bg[m];
-                            nv[i] = bn[m++];
+                            if (hn[i] && bg[m] && normal_dot(bn[m], nv[i]) < kBorrowWrongCos) wrong = true;
+                            ++m;
+                        }
+                    for (int i = 0, m = 0; wrong && i < crossings; ++i)
+                        if (owner[i] == comp) {
+                            if (!hn[i] && bg[m]) {
+                                hn[i] = true;
+                                cr[i] = false;
+                                nv[i] = bn[m];
+                                borrowed = true;
+                            }
+                            ++m;
                         }
                 }
             }
@@ -440,8 +474,10 @@ const TileContourer::EdgeSample& TileContourer::edge_sample(const Node& start, i
     if (es.stamp != stamp_) {
         es.crossing = edge_crossing(*model_, a, start, start_inside);
         es.crease = false;
-        es.has_normal = !es.crossing.fallback && es.crossing.exit == start_inside &&
-                        crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal, &es.crease);
+        es.one_sided = false;
+        es.has_normal =
+            !es.crossing.fallback && es.crossing.exit == start_inside &&
+            crossing_normal(*model_, a, start, start_inside, es.crossing.t, es.normal, &es.crease, &es.one_sided);
         es.stamp = stamp_;
     }
     return es;

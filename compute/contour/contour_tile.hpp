@@ -79,7 +79,8 @@ struct TileMesh {
 ///    takes that plane too (the corner fill, kCornerFillReach: a third surface filling the crease's corner); a
 ///    component none of whose crossings has a normal borrows, per crossing, the nearest tangent plane's normal from
 ///    the face-adjacent cells' crossings and keeps one wall of an obtuse pair (kBorrowReach: an air gap narrower
-///    than the cell);
+///    than the cell), and so do the crossings without one of a component whose normals all came from one-sided
+///    slopes when a borrowed normal contradicts its own (kBorrowWrongCos: the crest of a fin thinner than the cell);
 ///  - every sign-change lattice edge emits the quad of the components containing it in its 4 cells,
 ///    oriented from the edge's inside end to its outside end (outward normals), split along the shorter
 ///    diagonal;
@@ -122,7 +123,8 @@ private:
     struct EdgeSample {
         std::uint32_t stamp = 0;  // equals stamp_ when this run computed it
         bool has_normal = false;
-        bool crease = false;  // the normal came from the flat side of a crease (contour::crossing_normal)
+        bool crease = false;     // the normal came from the flat side of a crease (contour::crossing_normal)
+        bool one_sided = false;  // a slope other than 0 came from one side alone (contour::crossing_normal)
         EdgeCrossing crossing;
         Vec3 normal{0.0};
     };

@@ -185,6 +185,63 @@ inline std::vector<Interval> spans_to_intervals(const std::vector<std::pair<doub
     return out;
 }
 
+/// A ball cut out of a box (grid units).
+struct CutBall {
+    Vec3 c;
+    double r;
+};
+
+/// Exact chords of ray (u, v) of set a through the box [lo, hi] minus the balls (grid units).
+inline std::vector<Interval> box_minus_balls_chord(const Vec3& lo, const Vec3& hi, const std::vector<CutBall>& balls,
+                                                   int a, int u, int v) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    if (u < lo[b] || u > hi[b] || v < lo[c] || v > hi[c]) return {};
+    std::vector<std::pair<double, double>> spans{{lo[a], hi[a]}};
+    for (const CutBall& ball : balls) {
+        const double du = u - ball.c[b], dv = v - ball.c[c], d2 = du * du + dv * dv;
+        if (d2 >= ball.r * ball.r) continue;
+        const double half = std::sqrt(ball.r * ball.r - d2);
+        subtract_span(spans, ball.c[a] - half, ball.c[a] + half);
+    }
+    return spans_to_intervals(spans);
+}
+
+/// Two balls cut out of the box [8, 40]^2 x [8, top] on a 48^3 lattice, their centres above the top face z = top
+/// (off the nodes) on either side of the line y = crest.y, leaving a fin between them along x whose top is thinner
+/// than a cell (0.2-0.7 cells), its walls tilted 10-40 degrees from the vertical.
+struct FinCrestModel {
+    double top;
+    std::vector<CutBall> balls;
+    Vec3 crest;  ///< a point of the fin's top, grid units
+};
+
+/// Fin crests where a crossing's one-sided normal reads the fin's other wall (contour::kBorrowWrongCos; found by a
+/// random search).
+inline std::vector<FinCrestModel> fin_crests_between_ball_cuts() {
+    struct Fin {
+        double top, r1, r2, h1, h2, w, x, y, tilt;
+    };
+    const Fin fins[] = {
+        {34.971, 6.161, 3.591, 0.993, 2.145, 0.527, 20.635, 24.538, -0.715},
+        {34.059, 5.870, 9.948, 0.899, 6.654, 0.589, 20.707, 24.439, -0.976},
+        {34.717, 6.253, 5.264, 1.364, 2.324, 0.550, 20.637, 24.472, 0.740},
+        {34.192, 6.983, 5.282, 1.278, 1.717, 0.681, 20.546, 24.458, 0.125},
+        {34.889, 8.462, 4.429, 2.059, 1.539, 0.341, 20.048, 24.396, -0.580},
+        {34.803, 8.536, 6.226, 2.112, 1.347, 0.502, 20.991, 24.536, 0.885},
+        {34.721, 8.315, 9.197, 3.881, 1.431, 0.639, 20.502, 24.611, -0.269},
+    };
+    std::vector<FinCrestModel> out;
+    for (const Fin& f : fins) {
+        // Each ball's rim at z = top lies w / 2 from the line y = f.y.
+        const double a1 = std::sqrt(f.r1 * f.r1 - f.h1 * f.h1), a2 = std::sqrt(f.r2 * f.r2 - f.h2 * f.h2);
+        out.push_back({f.top,
+                       {{Vec3(f.x, f.y - a1 - 0.5 * f.w, f.top + f.h1), f.r1},
+                        {Vec3(f.x + f.tilt, f.y + a2 + 0.5 * f.w, f.top + f.h2), f.r2}},
+                       Vec3(f.x, f.y, f.top)});
+    }
+    return out;
+}
+
 /// A ball added onto a box (grid units).
 struct AddedBall {
     Vec3 c;

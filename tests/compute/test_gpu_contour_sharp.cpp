@@ -164,6 +164,19 @@ TEST(GpuContourSharp, ThirdBallFillingACreaseCornerGivesTheCpuMesh) {
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+TEST(GpuContourSharp, FinCrestThinnerThanACellGivesTheCpuMesh) {
+    // ContourCuts.FinCrestThinnerThanACellKeepsItsVertexOnAWall's models: components whose normals all came from
+    // one-sided slopes borrow when a face-adjacent cell's normal contradicts their own (contour::kBorrowWrongCos).
+    gpu::Context ctx = gpu::Context::create({});
+    for (const FinCrestModel& k : fin_crests_between_ball_cuts()) {
+        const Vec3 lo(8.0), hi(40.0, 40.0, k.top);
+        TriDexel model = empty_model(cube_lattice(48));
+        fill_rays(model, [&](int a, int u, int v) { return box_minus_balls_chord(lo, hi, k.balls, a, u, v); });
+        expect_same_contour(ctx, model, "fin crest, top " + std::to_string(k.top));
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 TEST(GpuContourSharp, AirGapBetweenTwoAddedBallsGivesTheCpuMesh) {
     // ContourCuts.AirGapBetweenTwoAddedBallsKeepsItsVertexOnAWall's models: components without a normal borrow the
     // face-adjacent cells' crossing normals (contour::kBorrowReach) and keep one wall's.
