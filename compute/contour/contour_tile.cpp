@@ -328,22 +328,23 @@ const TileContourer::CellVertices& TileContourer::cell_vertices(const Node& cell
             // borrow when the normal borrowed for one of the own normals' crossings disagrees with it; the own normals
             // are kept.
             bool borrowed = false;
-            bool all_lone = true;
-            unsigned own_edges = 0, with_normal = 0;
+            // Edge bit masks of the component's crossings, those with a normal and those with a one-sided one; a
+            // crossing without a normal on a parallel edge of the cell beside an own normal's (the fin's other wall)
+            // is `beside` (edges 4a + k and 4a + (k ^ 1), 4a + (k ^ 2)).
+            unsigned own_edges = 0, with_normal = 0, one_sided = 0;
             for (int i = 0; i < crossings; ++i)
                 if (owner[i] == comp) {
-                    if (hn[i] && !lone[i]) all_lone = false;
                     own_edges |= 1u << edge[i];
                     if (hn[i]) with_normal |= 1u << edge[i];
+                    if (hn[i] && lone[i]) one_sided |= 1u << edge[i];
                 }
-            // A crossing without a normal on a parallel edge of the cell beside an own normal's (the fin's other wall).
             bool beside = false;
-            for (int i = 0; i < crossings; ++i)
-                if (owner[i] == comp && hn[i]) {
-                    const int a = edge[i] / 4, k = edge[i] & 3;
-                    const unsigned adjacent = (1u << (4 * a + (k ^ 1))) | (1u << (4 * a + (k ^ 2)));
-                    if ((own_edges & ~with_normal & adjacent) != 0) beside = true;
-                }
+            for (unsigned rest = with_normal; rest != 0; rest &= rest - 1) {
+                const int e = std::countr_zero(rest), a = e / 4, k = e & 3;
+                const unsigned adjacent = (1u << (4 * a + (k ^ 1))) | (1u << (4 * a + (k ^ 2)));
+                if ((own_edges & ~with_normal & adjacent) != 0) beside = true;
+            }
+            const bool all_lone = one_sided == with_normal;
             const bool suspect =
                 plain + creased == 0 || (all_lone && (plain + creased == 1 || (creased == 0 && beside)));
             if (suspect) {

@@ -16,21 +16,19 @@ namespace {
 
 using namespace testing;
 
-using Ball = CutBall;
-
 /// Signed distance to the box minus the balls (grid units): CSG max of the box's and the balls' negated
 /// distances (exact away from where the pieces meet, a lower bound of |distance| there).
-double carved_sdf(const Vec3& lo, const Vec3& hi, const std::vector<Ball>& balls, const Vec3& p) {
+double carved_sdf(const Vec3& lo, const Vec3& hi, const std::vector<CutBall>& balls, const Vec3& p) {
     const Vec3 q = glm::max(lo - p, p - hi);
     const double box = std::min(std::max(q.x, std::max(q.y, q.z)), 0.0) + glm::length(glm::max(q, Vec3(0.0)));
     double d = box;
-    for (const Ball& ball : balls) d = std::max(d, ball.r - glm::length(p - ball.c));
+    for (const CutBall& ball : balls) d = std::max(d, ball.r - glm::length(p - ball.c));
     return d;
 }
 
 /// Largest |sdf| (cells) of the contour's vertices within `near` cells of point `at`; `split_faces`, when given,
 /// receives the number of faces the contour split (sub-cell tunnels).
-double max_vertex_error(const Vec3& lo, const Vec3& hi, const std::vector<Ball>& balls, const Vec3& at, double near,
+double max_vertex_error(const Vec3& lo, const Vec3& hi, const std::vector<CutBall>& balls, const Vec3& at, double near,
                         std::size_t* split_faces = nullptr) {
     TriDexel model = empty_model(cube_lattice(48));
     fill_rays(model, [&](int a, int u, int v) { return box_minus_balls_chord(lo, hi, balls, a, u, v); });
@@ -54,7 +52,7 @@ TEST(ContourCuts, ThinFinBetweenTwoBallCutsStaysWithinTheBound) {
     double worst = 0.0;
     for (int i = 0; i < 8; ++i) {
         const double s = 0.137 * i, t = 0.091 * i;
-        const std::vector<Ball> balls{{Vec3(18.0 + s, 24.0 + t, 41.0), 6.0}, {Vec3(29.0 + s, 24.0 + t, 41.0), 6.0}};
+        const std::vector<CutBall> balls{{Vec3(18.0 + s, 24.0 + t, 41.0), 6.0}, {Vec3(29.0 + s, 24.0 + t, 41.0), 6.0}};
         worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, Vec3(23.5 + s, 24.0 + t, 38.6), 8.0));
     }
     std::printf("thin fin: max vertex error %.3f cells\n", worst);
@@ -69,7 +67,7 @@ TEST(ContourCuts, BoxEdgeBesideABallCutKeepsItsVertices) {
     for (const double r : {3.0, 4.0})
         for (int i = 0; i < 8; ++i) {
             const double s = 0.113 * i;
-            const std::vector<Ball> balls{{Vec3(24.0 + s, 41.0 - 0.3 * s, r == 3.0 ? 41.0 + 0.2 * s : 42.0 + 0.2 * s), r}};
+            const std::vector<CutBall> balls{{Vec3(24.0 + s, 41.0 - 0.3 * s, r == 3.0 ? 41.0 + 0.2 * s : 42.0 + 0.2 * s), r}};
             worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, Vec3(24.0 + s, 40.0, 40.0), 9.0));
         }
     std::printf("box edge beside a cut: max vertex error %.3f cells\n", worst);
@@ -87,7 +85,7 @@ TEST(ContourCuts, SheetThinnerThanACellKeepsItsVerticesOnAWall) {
             const double s = 0.137 * i;
             const Vec3 c(24.0 + s, 24.0 + 0.6 * s, 24.0 + 0.3 * s);
             const Vec3 n = glm::normalize(Vec3(1.0, 0.35, 0.2));
-            const std::vector<Ball> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
+            const std::vector<CutBall> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
             worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, c, 4.0));
         }
     std::printf("sheet thinner than a cell: max vertex error %.3f cells\n", worst);
@@ -107,7 +105,7 @@ TEST(ContourCuts, SplitFaceInASheetLiesOnAWall) {
             const double s = 0.137 * i;
             const Vec3 c(24.0 + s, 24.0 + 0.6 * s, 24.0 + 0.3 * s);
             const Vec3 n = glm::normalize(Vec3(1.0, 0.8 + 0.05 * i, 0.1));
-            const std::vector<Ball> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
+            const std::vector<CutBall> balls{{c - (60.0 + 0.5 * w) * n, 60.0}, {c + (60.0 + 0.5 * w) * n, 60.0}};
             std::size_t split = 0;
             worst = std::max(worst, max_vertex_error(Vec3(8.0), Vec3(40.0), balls, c, 8.0, &split));
             splits += split;
