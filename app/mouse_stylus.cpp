@@ -22,7 +22,7 @@ ToolShape ball(double radius_m) {
 MouseStylus::MouseStylus(double tool_radius_m, const Vec3& aim_m) : MouseStylus(ball(tool_radius_m), aim_m) {}
 
 MouseStylus::MouseStylus(const ToolShape& tool, const Vec3& aim_m)
-    : base_(tool), tool_(tool), radius_m_(tool.radius_m), depth_m_(tool.radius_m), depth_step_m_(0.1 * tool.radius_m),
+    : base_(tool), tool_(tool), radius_m_(tool.radius_m), depth_step_m_(0.1 * tool.radius_m),
       aim_m_(aim_m), last_hip_m_(aim_m) {
     if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0))
         throw Error("MouseStylus: the tool radius must be finite and > 0, got " + format_number(tool.radius_m));
@@ -46,9 +46,8 @@ bool MouseStylus::resize(int steps) {
     const double f = std::pow(kSizeStep, k);
     tool_.radius_m = base_.radius_m * f;
     if (base_.kind == ToolKind::kFlatEnd) tool_.length_m = base_.length_m * f;
-    depth_m_ *= tool_.radius_m / radius_m_;
     radius_m_ = tool_.radius_m;
-    depth_step_m_ = 0.1 * radius_m_;
+    depth_step_m_ = 0.1 * radius_m_;  // the depth keeps its wheel steps, so its share of the radius
     size_steps_ = k;
     return true;
 }
@@ -62,7 +61,10 @@ void MouseStylus::set_cursor(double x_px, double y_px) {
 
 void MouseStylus::wheel(double steps) {
     if (!std::isfinite(steps)) return;
-    depth_m_ = std::clamp(depth_m_ + steps * depth_step_m_, 0.0, 2.0 * radius_m_);
+    const double total = wheel_rest_ + std::clamp(steps, -4.0 * kMaxDepthSteps, 4.0 * kMaxDepthSteps);
+    const double whole = std::trunc(total);
+    wheel_rest_ = total - whole;
+    depth_steps_ = std::clamp(depth_steps_ + static_cast<int>(whole), -kMaxDepthSteps, kMaxDepthSteps);
 }
 
 void MouseStylus::set_op(ToolOp op) {
@@ -88,7 +90,7 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
     const std::optional<SurfaceHit> hit = pick_surface(pressed_ ? *pressed_ : live, *ray);
     Vec3 hip;
     if (hit) {
-        const double d = left_ ? depth_m_ : 0.0;
+        const double d = left_ ? depth_m() : 0.0;
         hip = hit->point_m + (rest_height_m(hit->normal) - d) * hit->normal;
         last_distance_m_ = hit->distance_m;
         out.on_surface = true;
@@ -107,7 +109,7 @@ std::string MouseStylus::status() const {
     const std::string size = tool_.kind == ToolKind::kMesh
                                  ? "mesh tool (fixed size)"
                                  : std::string(to_string(tool_.kind)) + " r " + format_number(1e3 * radius_m_) + " mm ([ ])";
-    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6), " + size + ", depth " + format_number(1e3 * depth_m_) +
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6), " + size + ", depth " + format_number(1e3 * depth_m()) +
            " mm (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 

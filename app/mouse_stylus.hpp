@@ -23,10 +23,13 @@ struct StylusTarget {
 /// eye through the cursor pixel (cursor_ray) meets the contoured surface (pick_surface) at P with normal n, and
 /// the tool centre goes to P + (r - d) n, with r the tool radius and d = 0 while the left button is up (the
 /// tool rests on the surface) and d = depth_m() while it is held (pressed in: a drag carves a groove of that
-/// depth along the cursor's path). While the left button is held the ray runs against the surface as it was
-/// when the button went down, so the groove follows the original surface instead of drilling into its own
-/// cut. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The right
-/// button is the stylus button (workspace techniques). The wheel sets the depth in steps of depth_step_m.
+/// depth along the cursor's path; a negative depth holds the tool off the surface, so that turning the wheel
+/// toward the user while the button is held draws the tool out, and pull draws the surface out after it). While
+/// the left button is held the ray runs against the surface as it was when the button went down, so the groove
+/// follows the original surface instead of drilling into its own cut, and a pulled surface does not carry the
+/// tool with it. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The
+/// right button is the stylus button (workspace techniques). The wheel sets the depth in whole steps of
+/// depth_step_m (a tenth of the radius), from -kMaxDepthSteps to kMaxDepthSteps.
 /// For a flat end (its axis up, +y: the mouse turns no tool) r above is its support distance along -n, so its
 /// rim, end face or shank rests on the surface; for a mesh tool, its bounding radius.
 /// resize() scales the tool (ball or flat end; a mesh tool keeps its size) in steps of kSizeStep, from
@@ -35,8 +38,9 @@ class MouseStylus {
 public:
     static constexpr double kSizeStep = 1.25;  ///< tool size factor per resize step
     static constexpr int kMaxSizeSteps = 6;    ///< resize steps allowed each way from the scene's tool
+    static constexpr int kMaxDepthSteps = 20;  ///< wheel steps allowed each way from the surface (two radii)
 
-    /// tool_radius_m: the ball's radius, m (> 0; the default depth); aim_m: where the tool hovers before
+    /// tool_radius_m: the ball's radius, m (> 0; the default depth, ten wheel steps); aim_m: where the tool hovers before
     /// the first hit (world m, e.g. in front of the workpiece). Throws tridex::Error for a radius that is not
     /// finite and positive, or a non-finite aim point.
     MouseStylus(double tool_radius_m, const Vec3& aim_m);
@@ -50,7 +54,8 @@ public:
     void set_left(bool down) { left_ = down; }
     /// The right button (stylus button) down or up.
     void set_right(bool down) { right_ = down; }
-    /// Wheel steps (+ = away from the user = deeper); the depth stays in [0, 2 r]. Non-finite steps are ignored.
+    /// Wheel steps (+ = away from the user = deeper, - = out of the surface), summed and taken in whole steps (a
+    /// touchpad's fractions add up); the depth stays in [-2 r, 2 r]. Non-finite steps are ignored.
     void wheel(double steps);
     /// What the tool applies while engaged (subtract, union, paint, push, smooth or pull; kNone is ignored).
     void set_op(ToolOp op);
@@ -63,7 +68,7 @@ public:
     int size_steps() const { return size_steps_; }
 
     ToolOp op() const { return op_; }                 ///< the chosen Boolean
-    double depth_m() const { return depth_m_; }       ///< how deep the held tool presses in, m
+    double depth_m() const { return depth_steps_ * depth_step_m_; }  ///< how deep the held tool presses in, m (< 0: off)
     double radius_m() const { return radius_m_; }     ///< the tool radius, m
     bool left() const { return left_; }               ///< left button held
     bool right() const { return right_; }             ///< right button held
@@ -85,7 +90,8 @@ private:
     ToolShape tool_;  // the tool in use
     int size_steps_ = 0;
     double radius_m_;
-    double depth_m_;
+    int depth_steps_ = 10;     // the depth in wheel steps (tenths of the radius)
+    double wheel_rest_ = 0.0;  // wheel steps not yet taken (fractions)
     double depth_step_m_;
     Vec3 aim_m_;
     double x_px_ = 0.0, y_px_ = 0.0;

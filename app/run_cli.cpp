@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <new>
 
@@ -19,8 +20,9 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
     cmd->add_option("--display", o.display, "window | fullscreen | offscreen")->capture_default_str();
     cmd->add_option("--device", o.device,
                     "Device driver replacing the scene's: simulated (the scripted hand) | mouse (the mouse is the "
-                    "stylus: left button carves, right = stylus button, wheel = depth, 1/2/3 = subtract/union/paint, "
-                    "[ ] = tool size, Alt + mouse navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
+                    "stylus: left button carves, right = stylus button, wheel = depth (toward you: out of the surface), "
+                    "1/2/3 = subtract/union/paint, 4/5/6 = push/smooth/pull (clay), [ ] = tool size, Alt + mouse "
+                    "navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
                     "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock) | "
                     "flystick[:PORT[:ID]] (an ART DTrack Flystick is the tool: trigger carves; default port 5000, id 0) | "
                     "tracked-body[:PORT[:ID]] (a DTrack standard body is the tool, always engaged) | "
@@ -84,10 +86,11 @@ int run_command(const RunOptions& options) {
                     static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.presents), r.render_s,
                     r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5));
         std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.6g -> %.6g m^3 "
-                    "(%.4g cm^3 removed)\n",
+                    "(%.4g cm^3 %s)\n",
                     r.loop.ticks, r.loop.overruns, static_cast<unsigned long long>(r.sculpt.steps),
                     static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
-                    (r.volume_before_m3 - r.volume_after_m3) * 1e6);
+                    std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
+                    r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
         if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
             std::printf("  undo %llu, redo %llu (%zu strokes undoable), saves %llu\n",
                         static_cast<unsigned long long>(r.sculpt.history.undos),

@@ -21,6 +21,7 @@ namespace tridex::app {
 ///   with Ctrl held, the letter keys do not move the head.
 /// With a mouse stylus (use_stylus; `--device mouse`) the mouse is the tool instead: the left button engages it,
 /// the right button is the stylus button, the wheel sets the depth, 1 / 2 / 3 choose subtract / union / paint,
+/// 4 / 5 / 6 push / smooth / pull (clay),
 /// [ / ] make the tool smaller / larger (MouseStylus::resize),
 /// and scene navigation moves to Alt: Alt + left drag orbits, Alt + Shift + left drag (or middle drag) pans,
 /// Alt + wheel zooms, Alt + right drag turns the head.

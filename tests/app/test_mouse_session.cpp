@@ -174,6 +174,19 @@ TEST(MouseStylus, RestsOnTheSurfaceAndPressesInWhileHeldAgainstTheSurfaceAtThePr
     EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.05, 1e-9);
     m.wheel(-5.0);  // half the radius shallower
     EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.053, 1e-9);
+    m.wheel(-5.0);  // at the surface of the press: exactly 0, however the steps add up
+    EXPECT_EQ(m.depth_m(), 0.0);
+    m.wheel(-0.5);  // a touchpad's half steps add up to whole ones
+    EXPECT_EQ(m.depth_m(), 0.0);
+    m.wheel(-0.5);
+    EXPECT_NEAR(m.depth_m(), -0.0006, 1e-12);
+    m.wheel(-4.0);  // held off the surface of the press by half a radius: drawn out (pull follows it)
+    EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.059, 1e-9);
+    m.wheel(-100.0);  // at most two radii out
+    EXPECT_NEAR(m.depth_m(), -0.012, 1e-12);
+    EXPECT_NE(m.status().find("depth -12 mm"), std::string::npos) << m.status();
+    m.wheel(30.0);  // back to one radius in
+    EXPECT_NEAR(m.depth_m(), 0.006, 1e-12);
     m.set_left(false);
     EXPECT_NEAR(m.update(kScreen, kEye, kW, kH, s2).hip_m.z, 0.05, 1e-9);  // released: rests on the new surface
     // Off the model: hovers along the new ray; a NaN cursor changes nothing.
