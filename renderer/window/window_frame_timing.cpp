@@ -8,11 +8,20 @@
 
 namespace tridex::renderer {
 
-FrameTimeHistogram::FrameTimeHistogram(double bin_width_ms, std::size_t bins) : width_(bin_width_ms) {
+FrameTimeHistogram::FrameTimeHistogram(double bin_width_ms, std::size_t bins, std::size_t coarse_bins,
+                                       double coarse_factor)
+    : width_(bin_width_ms), fine_(bins), coarse_width_(coarse_factor * bin_width_ms) {
     if (!std::isfinite(bin_width_ms) || bin_width_ms <= 0.0)
         throw Error("FrameTimeHistogram: bin_width_ms must be a finite number > 0");
     if (bins == 0) throw Error("FrameTimeHistogram: bins must be >= 1");
-    bins_.assign(bins, 0);
+    if (!std::isfinite(coarse_factor) || coarse_factor < 1.0)
+        throw Error("FrameTimeHistogram: coarse_factor must be a finite number >= 1");
+    bins_.assign(bins + coarse_bins, 0);
+}
+
+double FrameTimeHistogram::bin_lower_ms(std::size_t k) const {
+    if (k < fine_) return static_cast<double>(k) * width_;
+    return static_cast<double>(fine_) * width_ + static_cast<double>(k - fine_) * coarse_width_;
 }
 
 void FrameTimeHistogram::add(double ms) {
@@ -21,10 +30,15 @@ void FrameTimeHistogram::add(double ms) {
         return;
     }
     const double k = std::floor(ms / width_);
-    if (k >= static_cast<double>(bins_.size()))
-        ++overflow_;
-    else
+    if (k < static_cast<double>(fine_)) {
         ++bins_[static_cast<std::size_t>(k)];
+    } else {
+        const double j = std::floor((ms - static_cast<double>(fine_) * width_) / coarse_width_);
+        if (j < static_cast<double>(bins_.size() - fine_))
+            ++bins_[fine_ + static_cast<std::size_t>(std::max(j, 0.0))];
+        else
+            ++overflow_;
+    }
     min_ = count_ == 0 ? ms : std::min(min_, ms);
     max_ = count_ == 0 ? ms : std::max(max_, ms);
     sum_ += ms;
@@ -48,7 +62,7 @@ double FrameTimeHistogram::percentile_ms(double p) const {
     std::uint64_t seen = 0;
     for (std::size_t k = 0; k < bins_.size(); ++k) {
         seen += bins_[k];
-        if (seen >= rank) return static_cast<double>(k + 1) * width_;
+        if (seen >= rank) return k < fine_ ? static_cast<double>(k + 1) * width_ : bin_lower_ms(k) + coarse_width_;
     }
     return max_;
 }
@@ -56,7 +70,7 @@ double FrameTimeHistogram::percentile_ms(double p) const {
 nlohmann::json FrameTimeHistogram::to_json() const {
     nlohmann::json bins = nlohmann::json::array();
     for (std::size_t k = 0; k < bins_.size(); ++k)
-        if (bins_[k]) bins.push_back({static_cast<double>(k) * width_, bins_[k]});
+        if (bins_[k]) bins.push_back({bin_lower_ms(k), bins_[k]});
     return {{"bin_width_ms", width_}, {"count", count_},          {"overflow", overflow_},
             {"rejected", rejected_},  {"min_ms", min_ms()},       {"max_ms", max_ms()},
             {"mean_ms", mean_ms()},   {"p50_ms", percentile_ms(0.5)}, {"p95_ms", percentile_ms(0.95)},

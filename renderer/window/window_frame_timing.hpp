@@ -9,15 +9,19 @@
 
 namespace tridex::renderer {
 
-/// A histogram of durations in milliseconds with `bins` equal bins of `bin_width_ms` starting at 0, plus
-/// an overflow count for samples >= bins * bin_width_ms. All storage is allocated at construction: add()
+/// A histogram of durations in milliseconds: `bins` fine bins of `bin_width_ms` from 0, then `coarse_bins` bins
+/// `coarse_factor` times as wide (slow frames, such as a CPU Vulkan implementation's, still get percentiles), plus
+/// an overflow count for samples beyond both. All storage is allocated at construction: add()
 /// never allocates, so it may run on a render thread every frame. Not thread-safe (one writer; read it
 /// between frames or from the same thread).
 class FrameTimeHistogram {
 public:
-    /// Bins [k * w, (k + 1) * w) ms for k = 0 .. bins - 1. Throws tridex::Error when bin_width_ms is not a
-    /// finite number > 0 or bins == 0. Default: 0.25 ms bins up to 100 ms.
-    explicit FrameTimeHistogram(double bin_width_ms = 0.25, std::size_t bins = 400);
+    /// Bins [k * w, (k + 1) * w) ms for k = 0 .. bins - 1, then [F + j * c, F + (j + 1) * c) for j = 0 ..
+    /// coarse_bins - 1 (F = bins * w, c = coarse_factor * w). Throws tridex::Error when bin_width_ms is not a
+    /// finite number > 0, bins == 0, or coarse_factor is not a finite number >= 1. Default: 0.25 ms bins up to
+    /// 100 ms, then 5 ms bins up to 2.1 s.
+    explicit FrameTimeHistogram(double bin_width_ms = 0.25, std::size_t bins = 400, std::size_t coarse_bins = 400,
+                                double coarse_factor = 20.0);
 
     /// Records one duration, ms. Negative or non-finite values are not binned; they are counted in rejected().
     void add(double ms);
@@ -25,15 +29,18 @@ public:
     void clear();
 
     std::uint64_t count() const { return count_; }        ///< samples binned (including overflow)
-    std::uint64_t overflow() const { return overflow_; }  ///< samples >= the histogram's range
+    std::uint64_t overflow() const { return overflow_; }  ///< samples beyond the histogram's range (fine and coarse)
     std::uint64_t rejected() const { return rejected_; }  ///< negative or non-finite samples refused
-    double bin_width_ms() const { return width_; }        ///< width of one bin, ms
-    const std::vector<std::uint64_t>& bins() const { return bins_; }  ///< counts per bin
+    double bin_width_ms() const { return width_; }        ///< width of one fine bin, ms
+    /// Counts per bin: the fine bins, then the coarse ones.
+    const std::vector<std::uint64_t>& bins() const { return bins_; }
+    /// The lower edge of bin k (an index into bins()), ms.
+    double bin_lower_ms(std::size_t k) const;
     double min_ms() const;   ///< smallest sample, ms (0 when empty)
     double max_ms() const;   ///< largest sample, ms (0 when empty)
     double mean_ms() const;  ///< arithmetic mean of the samples, ms (0 when empty)
     /// The upper edge (ms) of the bin holding the sample of rank ceil(p * count) (p in [0, 1]; p = 0 gives the
-    /// first sample's bin): an upper bound on the p-quantile, exact to one bin width. Overflowed samples report
+    /// first sample's bin): an upper bound on the p-quantile, exact to one bin's width. Overflowed samples report
     /// max_ms(). Returns 0 when empty; throws tridex::Error when p is outside [0, 1].
     double percentile_ms(double p) const;
 
@@ -43,6 +50,8 @@ public:
 
 private:
     double width_;
+    std::size_t fine_;       // fine bins: the first fine_ entries of bins_
+    double coarse_width_;    // width of a coarse bin, ms
     std::vector<std::uint64_t> bins_;
     std::uint64_t count_ = 0, overflow_ = 0, rejected_ = 0;
     double sum_ = 0, min_ = 0, max_ = 0;

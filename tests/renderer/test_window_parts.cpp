@@ -165,7 +165,7 @@ TEST(WindowBlitLayout, SplitsAndPlacesEyesPerOutput) {
 }
 
 TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
-    FrameTimeHistogram h(1.0, 10);  // [0,1) .. [9,10) ms, then overflow
+    FrameTimeHistogram h(1.0, 10, 0);  // [0,1) .. [9,10) ms, then overflow
     EXPECT_EQ(h.percentile_ms(0.5), 0.0);
     for (double ms : {0.5, 1.0, 1.5, 2.2, 16.0, 3.0, 3.9, 9.99}) h.add(ms);
     h.add(-1.0);
@@ -200,6 +200,22 @@ TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
     EXPECT_EQ(h.bins().size(), 10u);
     EXPECT_THROW(FrameTimeHistogram(0.0, 10), Error);
     EXPECT_THROW(FrameTimeHistogram(1.0, 0), Error);
+    EXPECT_THROW(FrameTimeHistogram(1.0, 10, 10, 0.5), Error);
+    // Coarse bins above the fine ones: slow frames (a CPU Vulkan implementation's 100-500 ms) keep their percentiles.
+    FrameTimeHistogram slow;  // 0.25 ms bins to 100 ms, then 5 ms bins to 2.1 s
+    for (int i = 0; i < 10; ++i) slow.add(10.0);
+    for (int i = 0; i < 20; ++i) slow.add(112.0);
+    slow.add(513.8);
+    slow.add(5000.0);
+    EXPECT_EQ(slow.overflow(), 1u);
+    EXPECT_EQ(slow.percentile_ms(0.25), 10.25);  // rank 8: a fine bin [10, 10.25)
+    EXPECT_EQ(slow.percentile_ms(0.5), 115.0);   // rank 16: 112 in the coarse bin [110, 115)
+    EXPECT_EQ(slow.percentile_ms(31.0 / 32.0), 515.0);
+    EXPECT_EQ(slow.percentile_ms(1.0), 5000.0);  // overflowed: the largest sample
+    const nlohmann::json sj = slow.to_json();
+    ASSERT_EQ(sj["bins"].size(), 3u);
+    EXPECT_EQ(sj["bins"][1][0], 110.0);
+    EXPECT_EQ(sj["bins"][2][0], 510.0);
     FrameTimings t;
     t.interval_ms.add(16.7);
     EXPECT_EQ(t.to_json()["interval_ms"]["count"], 1);
