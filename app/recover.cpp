@@ -105,9 +105,11 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
     r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_json_file((dir / "report.json").string(), r);
-    std::printf("recovered %llu records (%llu samples, %.3f s of device time; from %s) from %s into %s\n",
-                static_cast<unsigned long long>(applied.records), static_cast<unsigned long long>(applied.samples),
-                applied.last_t_s, from.c_str(), journal_path.c_str(), out.c_str());
+    // From a checkpoint, the samples are only those replayed after it; the records count the whole journal.
+    const std::string start_from = done ? from + ", then " : "from the start, ";
+    std::printf("recovered %llu records (%s%llu samples replayed, to %.3f s of device time) from %s into %s\n",
+                static_cast<unsigned long long>(applied.records), start_from.c_str(),
+                static_cast<unsigned long long>(applied.samples), applied.last_t_s, journal_path.c_str(), out.c_str());
 }
 
 }  // namespace tridex::app

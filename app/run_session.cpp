@@ -375,8 +375,10 @@ RunResult run_stereo_session(const RunOptions& options) {
                  next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev; ++next_key)
                 for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input.handle(e);
             for (const SculptRequest q : input.take_requests()) {
-                if (backend.runtime().request(q)) ++r.requests_sent;
-                else r.notes.push_back("a key's request was dropped: the sculpt thread's queue was full");
+                if (backend.runtime().request(q)) {
+                    ++r.requests_sent;
+                    if (q == SculptRequest::kSave) ++r.save_requests_sent;
+                } else r.notes.push_back("a key's request was dropped: the sculpt thread's queue was full");
             }
             const SaveStatus saving = backend.runtime().save_status();
             if (!saving.journal_error.empty() && !journal_warned) {

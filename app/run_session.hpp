@@ -115,6 +115,7 @@ struct RunResult {
     nlohmann::json mouse;                        ///< report.json `mouse` (RunMouse::report_json); null without
     nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
     std::uint64_t requests_sent = 0;             ///< undo / redo / save requests handed to the sculpt thread
+    std::uint64_t save_requests_sent = 0;        ///< of those, save requests (Ctrl+S)
     SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
     /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
     nlohmann::json head;
