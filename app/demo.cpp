@@ -159,6 +159,15 @@ void run_demo(const DemoOptions& o) {
     const std::string journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(o.out) / "session.tdj").string() : o.journal;
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
+    {
+        std::vector<NamedFile> outputs;
+        for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+            outputs.push_back({std::string("--out's ") + name, (fs::path(o.out) / name).string()});
+        outputs.push_back({"--record", o.record});
+        outputs.push_back({"--save", o.save});
+        outputs.push_back({o.journal.empty() ? "the journal (--out's session.tdj)" : "--journal", journal});
+        check_distinct_files(outputs, {{"--workpiece", o.workpiece}, {"--mesh", o.mesh}, {"--tool-mesh", o.tool_mesh}});
+    }
     if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
         throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
     if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))

@@ -29,7 +29,31 @@ std::string probe(const fs::path& dir) {
     return ok ? "" : std::string("cannot write there: ") + std::strerror(err ? err : EIO);
 }
 
+// The path as check_distinct_files compares it.
+fs::path comparable(const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::absolute(fs::path(path), ec), ec);
+    return ec ? fs::absolute(fs::path(path)).lexically_normal() : p;
+}
+
 }  // namespace
+
+void check_distinct_files(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs) {
+    std::vector<std::pair<fs::path, const NamedFile*>> seen;
+    for (const NamedFile& f : inputs)
+        if (!f.path.empty()) seen.emplace_back(comparable(f.path), &f);
+    const std::size_t n_inputs = seen.size();
+    for (const NamedFile& f : outputs) {
+        if (f.path.empty()) continue;
+        const fs::path p = comparable(f.path);
+        for (std::size_t k = 0; k < seen.size(); ++k)
+            if (seen[k].first == p)
+                throw Error(f.what + " " + f.path + ": is also " + seen[k].second->what +
+                            (k < n_inputs ? ", which the session reads: writing it would lose it; name another file"
+                                          : "; each output needs its own file"));
+        seen.emplace_back(p, &f);
+    }
+}
 
 void prepare_output_dir(const std::string& dir, const std::string& flag) {
     if (dir.empty()) throw Error(flag + ": the output folder must not be empty");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace tridex::app {
 
@@ -13,5 +14,18 @@ void prepare_output_dir(const std::string& dir, const std::string& flag);
 /// Checks that a file can be created at `path` (its folder exists or can be made, and a probe file can be written
 /// beside it; the file itself is not created). Throws tridex::Error "<flag> <path>: <reason>".
 void check_output_file(const std::string& path, const std::string& flag);
+
+/// A file a command reads or writes, and what names it ("--save", "--out's report.json").
+struct NamedFile {
+    std::string what;
+    std::string path;
+};
+
+/// Refuses a command whose outputs would overwrite each other or one of its inputs: two `outputs` naming the same
+/// file, or an output naming one of `inputs` (a session that saves over the model it started from also leaves its
+/// journal and recording unusable, since they name that model by its bytes). Paths are compared after
+/// std::filesystem::weakly_canonical, so "out/../a.tdx" and "a.tdx" match; entries with an empty path are skipped.
+/// Throws tridex::Error "<what> <path>: is also <other's what>; ...".
+void check_distinct_files(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs = {});
 
 }  // namespace tridex::app

@@ -33,6 +33,17 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     SessionSpec s = spec_from_json(j.session, journal_path);
     check_inputs_unchanged(s, journal_path, "the session");
     validate_spec(s, journal_path);
+    {
+        std::vector<NamedFile> inputs = {{"the journal", journal_path}, {"the session's workpiece model", s.model_path}};
+        for (const compute::JournalRecord& rec : j.records)
+            if (rec.kind == compute::JournalKind::kCheckpoint)
+                inputs.push_back({"a checkpoint of the journal",
+                                  (fs::path(journal_path).parent_path() / rec.checkpoint).string()});
+        check_distinct_files({{"--out's sculpted.ply", (fs::path(out) / "sculpted.ply").string()},
+                              {"--out's model.tdx", (fs::path(out) / "model.tdx").string()},
+                              {"--out's report.json", (fs::path(out) / "report.json").string()}},
+                             inputs);
+    }
     if (j.cut)
         std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),

@@ -141,6 +141,15 @@ RunSetup resolve_run(const RunOptions& o) {
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
+    check_distinct_files({{"--out's sculpted.ply", (fs::path(s.out) / "sculpted.ply").string()},
+                          {"--out's report.json", (fs::path(s.out) / "report.json").string()},
+                          {s.save.empty() ? "the Ctrl+S model (--out's model.tdx)" : "--save",
+                           s.save.empty() ? (fs::path(s.out) / "model.tdx").string() : s.save},
+                          {"--record", s.record},
+                          {o.journal.empty() ? "the journal (--out's session.tdj)" : "--journal", s.journal}},
+                         {{"the scene", o.scene},
+                          {"the scene's workpiece model", s.scene.spec.model_path},
+                          {"the scene's workpiece mesh", s.scene.spec.model_path.empty() ? s.scene.spec.mesh_path : ""}});
     if (o.history_mib != 0.0) {
         if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
             throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));

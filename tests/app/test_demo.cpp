@@ -72,6 +72,20 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"run " + dir.string() + " --display offscreen --frames 1 --out " + (dir / "o").string(), "is a folder"},
         {"replay " + (dir / "a_file").string() + " --out /dev/full", "--out /dev/full"},
         {"demo --tool-radius-mm 500 --out " + (dir / "o").string(), "(75 mm), got 500"},
+        // Outputs that would overwrite each other, or the model the session starts from.
+        {"demo --out " + (dir / "o").string() + " --save " + (dir / "o" / "report.json").string(),
+         "is also --out's report.json"},
+        {"demo --out " + (dir / "o").string() + " --save " + (dir / "same").string() + " --record " +
+             (dir / "o" / ".." / "same").string(),
+         "--save " + (dir / "same").string() + ": is also --record"},
+        {"demo --out " + (dir / "o").string() + " --journal " + (dir / "o" / "sculpted.ply").string(),
+         "--journal " + (dir / "o" / "sculpted.ply").string() + ": is also --out's sculpted.ply"},
+        {"demo --out " + (dir / "o").string() + " --workpiece " + (dir / "a_file").string() + " --save " +
+             (dir / "a_file").string(),
+         "is also --workpiece, which the session reads"},
+        {"run --display offscreen --frames 1 --out " + (dir / "o").string() + " --record " +
+             (dir / "o" / "model.tdx").string(),
+         "is also the Ctrl+S model (--out's model.tdx)"},
     };
     for (const auto& [args, expect] : cases) {
         const RunResult r = run_tridex(args, dir / "run");
