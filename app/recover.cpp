@@ -12,6 +12,7 @@
 #include "app/memory.hpp"
 #include "app/output_dir.hpp"
 #include "app/workpiece_source.hpp"
+#include "app/session_recording.hpp"
 #include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
@@ -29,10 +30,22 @@ namespace fs = std::filesystem;
 void run_recover(const std::string& journal_path, const std::string& out) {
     const auto t0 = std::chrono::steady_clock::now();
     prepare_output_dir(out, "--out");
-    const compute::Journal j = compute::read_journal(journal_path);
+    compute::Journal j = compute::read_journal(journal_path);
     SessionSpec s = spec_from_json(j.session, journal_path);
     check_inputs_unchanged(s, journal_path, "the session");
     validate_spec(s, journal_path);
+    // A sample with a tool no session of this spec uses is damage as much as a CRC mismatch: cut there.
+    for (std::size_t k = 0; k < j.records.size(); ++k) {
+        std::string bad;
+        for (std::size_t i = 0; i < j.records[k].samples.size() && bad.empty(); ++i) {
+            bad = recorded_tool_problem(s.tool, j.records[k].samples[i].tool);
+            if (!bad.empty()) bad = "sample " + std::to_string(i) + ": " + bad;
+        }
+        if (bad.empty()) continue;
+        j.cut = compute::JournalCut{k, j.records[k].offset, bad};
+        j.records.resize(k);
+        break;
+    }
     {
         std::vector<NamedFile> inputs = {{"the journal", journal_path}, {"the session's workpiece model", s.model_path}};
         for (const compute::JournalRecord& rec : j.records)
@@ -83,7 +96,11 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     if (!done) {
         compute::JournalApplyFrom start;
         start.history_budget_bytes = s.history_budget_bytes;
-        applied = compute::journal_apply(wp.model, j.records, start);
+        try {
+            applied = compute::journal_apply(wp.model, j.records, start);
+        } catch (const Error& e) {
+            throw Error(journal_path + ": " + e.what());
+        }
     }
     compute::Contourer contourer(wp.model);
     contourer.update(wp.model);

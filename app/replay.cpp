@@ -2,6 +2,7 @@
 #include "app/replay.hpp"
 
 #include <chrono>
+#include <optional>
 
 #include "app/output_dir.hpp"
 #include "app/session_recording.hpp"
@@ -28,7 +29,11 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     // The keys' op and tool changes at their ticks, and the mouse's engage button, so the replayed samples carry
     // what the recorded ones carried.
     LoopOverrides loop;
-    loop.tool_schedule = tool_schedule(rec, s);
+    try {
+        loop.tool_schedule = tool_schedule(rec, s);
+    } catch (const Error& e) {
+        throw Error(recording_path + ": " + e.what());
+    }
     loop.engage_mask = engage_mask_for(s.device_driver);
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
@@ -43,8 +48,14 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     so.gpu_clay = sculpt.gpu_clay;
     // The live session's undos, redos and stroke closes where its sculpt thread took them.
     so.follow_marks = sculpt_marks(rec.header);
-    SessionRun run = run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so, loop);
-    write_session_outputs(out, run, t_start);
+    std::optional<SessionRun> run;
+    try {
+        run.emplace(run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so,
+                                loop));
+    } catch (const Error& e) {  // what the recorded samples asked for (a sweep too far away, ...): name the file
+        throw Error(recording_path + ": " + e.what());
+    }
+    write_session_outputs(out, *run, t_start);
 }
 
 }  // namespace tridex::app

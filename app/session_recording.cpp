@@ -2,8 +2,27 @@
 #include "app/session_recording.hpp"
 
 #include <cmath>
+#include <cstdio>
+
+#include "app/mouse_stylus.hpp"
+#include "core/error.hpp"
 
 namespace tridex::app {
+
+std::string recorded_tool_problem(const ToolShape& session_tool, const ToolShape& used) {
+    if (used.kind != session_tool.kind || !(used.radius_m > 0.0)) return "";
+    const double k = std::pow(MouseStylus::kSizeStep, MouseStylus::kMaxSizeSteps) * (1.0 + 1e-9);
+    const auto outside = [&](const char* field, double v, double base) -> std::string {
+        if (used.kind == ToolKind::kMesh || (v >= base / k && v <= base * k)) return "";
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "tool.%s = %.9g m is outside what the session's tool takes (%.9g to %.9g m)",
+                      field, v, base / k, base * k);
+        return buf;
+    };
+    std::string e = outside("radius_m", used.radius_m, session_tool.radius_m);
+    if (e.empty() && used.kind == ToolKind::kFlatEnd) e = outside("length_m", used.length_m, session_tool.length_m);
+    return e;
+}
 
 devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points) {
     devices::RecordedTick t;
@@ -48,8 +67,11 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     now.op = parse_tool_op(spec.op);
     now.material = static_cast<std::uint8_t>(spec.material);
     now.tool = spec.tool;
-    for (const devices::RecordedTick& t : rec.ticks) {
+    for (std::size_t i = 0; i < rec.ticks.size(); ++i) {
+        const devices::RecordedTick& t = rec.ticks[i];
         if (t.valid != 1 || !(t.tool.radius_m > 0.0)) continue;
+        const std::string bad = recorded_tool_problem(spec.tool, t.tool);
+        if (!bad.empty()) throw Error("tick " + std::to_string(i) + ": " + bad);
         haptics::ToolChange c = now;
         c.device_t_s = t.device.t_s;
         c.op = static_cast<ToolOp>(t.op);

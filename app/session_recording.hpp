@@ -23,10 +23,18 @@ namespace tridex::app {
 /// prev_t_s.
 devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, double prev_t_s, int tool_points);
 
+/// What is wrong with a tool a recording or journal says the session used ("" when nothing). Only the mouse
+/// stylus's [ ] keys change a session's tool, by at most MouseStylus::kSizeStep^MouseStylus::kMaxSizeSteps either way
+/// from the session's tool `session_tool`, so a tool of that kind whose radius (a flat end: or length) lies outside
+/// that range (beyond a relative 1e-9) was not written by a session. A tool of another kind or of radius 0 (a
+/// sample without a tool) is not checked.
+std::string recorded_tool_problem(const ToolShape& session_tool, const ToolShape& used);
+
 /// The op, material and tool changes of a recorded session, for its replay (HapticLoopConfig::tool_schedule):
 /// one ToolChange at the device time of each valid tick whose op, material or tool differs from the valid tick
 /// before it (the first from `spec`'s op, material and tool). Ticks without a recorded tool (version 1 files,
-/// invalid ticks) change nothing; a recorded tool of another kind than spec.tool is ignored.
+/// invalid ticks) change nothing; a recorded tool of another kind than spec.tool is ignored. Throws tridex::Error
+/// "tick K: <what>" for a tool no session of `spec` uses (recorded_tool_problem).
 std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec);
 
 /// The sculpt thread's marks (SculptStats::marks: undos, redos, stroke closes) as a recording header keeps them.

@@ -35,6 +35,10 @@ inline const char* tool_op_name(ToolOp op) {
     return "unknown";
 }
 
+/// Largest material id: 0 is the workpiece's own material, 1..kMaxMaterialId the palette that union adds and paint
+/// sets (renderer/scene/material_palette.hpp draws ids 0..kMaxMaterialId).
+inline constexpr std::uint8_t kMaxMaterialId = 7;
+
 /// One tool pose in world space, pushed by the haptic loop through an SpscRing.
 /// Consecutive samples form the swept segments the sculpt thread applies, in order.
 struct ToolSample {

@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/le_bytes.hpp"
+#include "core/tool_sample.hpp"
 
 namespace tridex::devices {
 
@@ -261,6 +262,9 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
     if (t.op > 6) return "op = " + std::to_string(t.op) + " is not a ToolOp value (0..6)";
     if (static_cast<unsigned>(t.tool.kind) > 2)
         return "tool.kind = " + std::to_string(static_cast<unsigned>(t.tool.kind)) + " is not a ToolKind value (0..2)";
+    if (t.material > kMaxMaterialId)
+        return "material = " + std::to_string(t.material) + " is not a material id (0.." +
+               std::to_string(kMaxMaterialId) + ")";
     if (!(std::isfinite(t.tool.radius_m) && t.tool.radius_m >= 0.0))
         return "tool.radius_m = " + num(t.tool.radius_m) + " must be finite and >= 0";
     if (!(std::isfinite(t.tool.length_m) && t.tool.length_m >= 0.0))

@@ -1,6 +1,8 @@
 // compute/journal/journal_reader.cpp - the session journal's validating reader.
 #include "compute/journal/journal_reader.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -12,6 +14,30 @@
 namespace tridex::compute {
 
 namespace {
+
+std::string number(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+// What is wrong with a decoded sample that a session could not have written ("" when nothing): non-finite time,
+// pose or tool size, a negative tool size, or a material outside the palette.
+std::string sample_problem(const ToolSample& s) {
+    if (!std::isfinite(s.t_s)) return "t_s = " + number(s.t_s) + " is not finite";
+    if (!is_finite(s.position)) return "position is not finite";
+    const Quat& q = s.orientation;
+    if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z)))
+        return "orientation is not finite";
+    if (!(std::isfinite(s.tool.radius_m) && s.tool.radius_m >= 0.0))
+        return "tool.radius_m = " + number(s.tool.radius_m) + " must be finite and >= 0";
+    if (!(std::isfinite(s.tool.length_m) && s.tool.length_m >= 0.0))
+        return "tool.length_m = " + number(s.tool.length_m) + " must be finite and >= 0";
+    if (s.material > kMaxMaterialId)
+        return "material = " + std::to_string(s.material) + " is not a material id (0.." +
+               std::to_string(kMaxMaterialId) + ")";
+    return "";
+}
 
 // Checks the record at `off`; on success fills `rec` and returns "" and the record's total size in `size`.
 std::string check_record(std::span<const unsigned char> b, std::uint64_t off, std::uint64_t index, std::uint32_t version,
@@ -60,8 +86,12 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (get_u32(q + 12) != 0) return "reserved field set";
     rec.samples.resize(count);
     for (std::uint32_t i = 0; i < count; ++i)
+    {
         if (!decode_sample(q + kJournalBatchHeadBytes + std::size_t{i} * kJournalSampleBytes, rec.samples[i]))
             return "sample " + std::to_string(i) + " holds an impossible tool kind or op";
+        const std::string bad = sample_problem(rec.samples[i]);
+        if (!bad.empty()) return "sample " + std::to_string(i) + ": " + bad;
+    }
     return "";
 }
 

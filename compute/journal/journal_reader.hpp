@@ -54,7 +54,8 @@ struct Journal {
 /// is not a journal (magic), is another version ("journal version 3; this build reads versions 1 to 2"), has another
 /// sample size, or is truncated or damaged (CRC). Records are kept up to the first that is incomplete, fails its
 /// CRC, has an unknown type (or a mark in a version 1 journal), a wrong length or record index, a checkpoint name
-/// that is empty, too long or holds a '/', or a sample field no writer writes; the rest is
+/// that is empty, too long or holds a '/', or a sample field no writer writes (an impossible tool kind or op, a
+/// non-finite time, pose or tool size, a negative tool size, a material id over kMaxMaterialId); the rest is
 /// reported in Journal::cut. O(file size).
 Journal parse_journal(std::span<const unsigned char> bytes, const std::string& where);
 

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "core/tool_sample.hpp"
 
 namespace tridex::compute::tdx {
 
@@ -171,6 +172,13 @@ void decode_rays(const unsigned char* data, std::size_t size, std::uint64_t n, i
                 throw Error(where + ": ray (" + std::to_string(u) + ", " + std::to_string(v) + ") interval " +
                             std::to_string(k) + ": depths [" + std::to_string(iv.enter) + ", " + std::to_string(iv.exit) +
                             "] are not finite, ordered, after the previous interval and within 0.." + std::to_string(cells));
+            }
+            if (iv.enter_material > kMaxMaterialId || iv.exit_material > kMaxMaterialId) {
+                const std::uint64_t u = r % static_cast<std::uint64_t>(set.nu), v = r / static_cast<std::uint64_t>(set.nu);
+                throw Error(where + ": ray (" + std::to_string(u) + ", " + std::to_string(v) + ") interval " +
+                            std::to_string(k) + ": material ids " + std::to_string(iv.enter_material) + ", " +
+                            std::to_string(iv.exit_material) + " are not both material ids (0.." +
+                            std::to_string(kMaxMaterialId) + ")");
             }
             prev_exit = iv.exit;
         }

@@ -75,6 +75,35 @@ TEST(ReplayTrust, RefusesOutOfRangeSettingsAndAChangedMesh) {
     const std::string period = tampered("period_s", 0.0);
     EXPECT_NE(period.find("settings field 'period_s'"), std::string::npos) << period;
 
+    // A tick whose tool no session of these settings takes (only the mouse's [ ] keys resize it, 1.25^6 at most),
+    // and one whose material is past the palette: refused naming the file and the tick.
+    auto tampered_tick = [&](void (*spoil)(devices::RecordedTick&)) {
+        devices::Recording r = rec;
+        for (devices::RecordedTick& t : r.ticks)
+            if (t.valid == 1 && t.tool.radius_m > 0.0) {
+                spoil(t);
+                break;
+            }
+        const std::string path = (dir / "tampered_tick.trdx").string();
+        devices::write_recording(path, r);
+        return refusal(path, dir / "bad");
+    };
+    const std::string huge = tampered_tick([](devices::RecordedTick& t) { t.tool.radius_m = 5.0; });
+    EXPECT_NE(huge.find("tampered_tick.trdx: tick "), std::string::npos) << huge;
+    EXPECT_NE(huge.find("tool.radius_m = 5 m is outside what the session's tool takes"), std::string::npos) << huge;
+    const std::string resized = tampered_tick([](devices::RecordedTick& t) { t.tool.radius_m *= 3.8; });
+    EXPECT_EQ(resized, "");  // within what the [ ] keys reach: replays
+    // A material past the palette: the tick check that reading runs refuses it (the writer runs the same check).
+    devices::Recording bad_material = rec;
+    bad_material.ticks.front().material = 250;
+    try {
+        devices::write_recording((dir / "material.trdx").string(), bad_material);
+        ADD_FAILURE() << "a tick with material 250 was written";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("tick 0: material = 250 is not a material id (0..7)"), std::string::npos)
+            << e.what();
+    }
+
     // The same mesh file with one byte more: refused, the recording named.
     std::ofstream(mesh, std::ios::app) << "\n";
     const std::string changed = refusal(d.record, dir / "changed");

@@ -34,7 +34,8 @@ std::vector<unsigned char> file_bytes(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Samples with awkward doubles (NaN payloads, -0, denormals, infinities) and every field set.
+// Samples with awkward doubles (NaN payloads where a NaN is allowed, -0, denormals) and every field set, all within
+// what the reader accepts (finite pose and time, tool sizes >= 0, material ids 0..kMaxMaterialId).
 std::vector<ToolSample> odd_samples(std::size_t n, unsigned seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -47,11 +48,11 @@ std::vector<ToolSample> odd_samples(std::size_t n, unsigned seed) {
         if (i % 5 == 1) s.surface_m.x = std::bit_cast<double>(std::uint64_t{0x7ff8dead'beef0001});  // NaN payload
         s.orientation = Quat(u(rng), u(rng), u(rng), u(rng));
         s.tool.kind = static_cast<ToolKind>(i % 3);
-        s.tool.radius_m = i % 7 == 0 ? std::numeric_limits<double>::infinity() : 0.004 + 1e-3 * u(rng);
-        s.tool.length_m = 0.02 * u(rng);
+        s.tool.radius_m = i % 7 == 0 ? 5e-324 : 0.004 + 1e-3 * u(rng);
+        s.tool.length_m = i % 11 == 0 ? -0.0 : 0.02 * std::fabs(u(rng));
         s.tool.mesh_id = static_cast<std::uint32_t>(rng());
         s.op = static_cast<ToolOp>(i % 4);
-        s.material = static_cast<std::uint8_t>(rng());
+        s.material = static_cast<std::uint8_t>(rng() % (kMaxMaterialId + 1u));
         s.buttons = static_cast<std::uint32_t>(rng());
     }
     return v;
@@ -116,6 +117,42 @@ TEST(Journal, RoundTripsSamplesBitForBitInTheirBatches) {
     }
     EXPECT_EQ(j.samples, all.size());
     fs::remove(path);
+}
+
+// Samples no session writes (a non-finite time, pose or tool size, a negative tool size, a material past the
+// palette) are damage: the journal is cut at their record, the reason naming the sample and the field.
+TEST(Journal, SamplesNoSessionWritesAreCutAtTheirRecord) {
+    struct Case {
+        const char* what;
+        void (*spoil)(ToolSample&);
+        const char* reason;
+    };
+    const Case cases[] = {
+        {"nan time", [](ToolSample& s) { s.t_s = std::nan(""); }, "sample 1: t_s = nan is not finite"},
+        {"inf position", [](ToolSample& s) { s.position.y = INFINITY; }, "sample 1: position is not finite"},
+        {"nan orientation", [](ToolSample& s) { s.orientation.x = std::nan(""); }, "sample 1: orientation is not finite"},
+        {"nan radius", [](ToolSample& s) { s.tool.radius_m = std::nan(""); }, "sample 1: tool.radius_m = nan"},
+        {"negative radius", [](ToolSample& s) { s.tool.radius_m = -1.0; }, "sample 1: tool.radius_m = -1 must be"},
+        {"inf length", [](ToolSample& s) { s.tool.length_m = INFINITY; }, "sample 1: tool.length_m = inf"},
+        {"material 250", [](ToolSample& s) { s.material = 250; }, "sample 1: material = 250 is not a material id"},
+    };
+    for (const Case& c : cases) {
+        const std::string path = temp_path("spoiled.tdj");
+        std::vector<ToolSample> v = odd_samples(6, 3);
+        c.spoil(v[4]);  // the second sample of the second batch
+        {
+            JournalWriter w(path, "{}");
+            w.append(std::span<const ToolSample>(v).subspan(0, 3));
+            w.append(std::span<const ToolSample>(v).subspan(3, 3));
+            w.close();
+        }
+        const Journal j = read_journal(path);
+        ASSERT_EQ(j.records.size(), 1u) << c.what;
+        ASSERT_TRUE(j.cut) << c.what;
+        EXPECT_EQ(j.cut->record, 1u) << c.what;
+        EXPECT_NE(j.cut->reason.find(c.reason), std::string::npos) << c.what << ": " << j.cut->reason;
+        fs::remove(path);
+    }
 }
 
 TEST(Journal, EmptyBatchesWriteNothing) {

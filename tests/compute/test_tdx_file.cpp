@@ -267,4 +267,8 @@ TEST(TdxFile, NonFiniteOrUnorderedDepthsAreRefusedNamingTheRay) {
         const std::string msg = bad_after(change);
         EXPECT_NE(msg.find("section 'rays.y': ray ("), std::string::npos) << msg;
     }
+    // A material id past the palette, which no session writes and the renderer cannot draw.
+    const std::string mat = bad_after([](std::vector<Interval>& r) { r[0].exit_material = 250; });
+    EXPECT_NE(mat.find("section 'rays.y': ray ("), std::string::npos) << mat;
+    EXPECT_NE(mat.find("material ids 0, 250 are not both material ids (0..7)"), std::string::npos) << mat;
 }
