@@ -74,7 +74,7 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
         if (o.tool_mesh.empty()) throw Error("--tool mesh: needs --tool-mesh FILE (a closed mesh)");
         if (!(o.tool_size_m >= 0.001 && o.tool_size_m <= 0.25 * o.stock_m))
             throw Error("--tool-size-mm: must be between 1 mm and a quarter of the stock (" +
-                        std::to_string(250.0 * o.stock_m) + " mm), got " + std::to_string(o.tool_size_m * 1e3));
+                        format_number(250.0 * o.stock_m) + " mm), got " + format_number(o.tool_size_m * 1e3));
         set_tool_mesh(s, o.tool_mesh, o.tool_size_m, "--tool-mesh");
         press_reach_m = tool_mesh_reach_m(load_tool_mesh(s.tool_mesh_path, s.tool_size_m), 2);
     } else if (!o.tool_mesh.empty()) {

@@ -20,6 +20,15 @@ void run_device_server(const DeviceServerOptions& o) {
     if (!(o.seconds >= 0.0 && o.seconds <= 1e6))
         throw Error("--seconds: must be between 0 (until Ctrl+C) and 1e6, got " + format_number(o.seconds));
     if (o.device.rfind("net", 0) == 0) throw Error("--device " + o.device + ": a device server serves a device, not a link");
+    if (o.device != "simulated" && o.device != "falcon" && o.device != "falcon-emulator")
+        throw Error("--device: a device server serves simulated, falcon or falcon-emulator, got '" + o.device + "'");
+    if (o.device == "simulated") {
+        try {
+            (void)devices::profile_by_name(o.profile);
+        } catch (const Error&) {
+            throw Error("--profile: unknown profile '" + o.profile + "'; use omni, wand, 6dof or falcon");
+        }
+    }
     std::string host;
     std::uint16_t port = 0;
     devices::net::split_host_port(o.listen, "--listen", host, port, true);
@@ -35,7 +44,13 @@ void run_device_server(const DeviceServerOptions& o) {
         d.mesh = o.mesh;
         d.seconds = o.stroke_seconds;
         d.device = spec.profile;
-        inputs = demo_device_inputs(d);
+        try {
+            inputs = demo_device_inputs(d);
+        } catch (const Error& e) {  // the stroke's options have this command's names
+            std::string what = e.what();
+            if (what.rfind("--seconds", 0) == 0) what = "--stroke-seconds" + what.substr(9);
+            throw Error(what);
+        }
     }
     inputs.falcon_firmware = o.falcon_firmware;
     std::unique_ptr<devices::HapticDevice> device = devices::builtin_registry().create(spec, inputs);

@@ -308,11 +308,28 @@ int main(int argc, char** argv) {
     tridex::app::study::StudyCommand study;
     CLI::App* study_cmd = tridex::app::study::add_study_command(cli, study);
 
+    // A first word that names no command: say so and list the commands (CLI11 would only ask for a subcommand).
+    if (argc >= 2 && argv[1][0] != '-') {
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : cli.get_subcommands([](CLI::App*) { return true; })) {
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+            known = known || sub->get_name() == argv[1];
+        }
+        if (!known) {
+            std::fprintf(stderr, "tridex: unknown command '%s'; the commands are %s (see tridex --help)\n", argv[1],
+                         names.c_str());
+            return 2;
+        }
+    }
+    cli.set_version_flag("--version", "tridex " TRIDEX_VERSION);
     try {
         cli.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return cli.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return cli.exit(e);
     } catch (const CLI::ParseError& e) {
         // Every bad input exits 2 with one line (README): CLI11's message, and where to look.

@@ -55,7 +55,9 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     } catch (const Error& e) {  // what the recorded samples asked for (a sweep too far away, ...): name the file
         throw Error(recording_path + ": " + e.what());
     }
-    write_session_outputs(out, *run, t_start);
+    OutputOptions named = out;
+    named.command = "replay";
+    write_session_outputs(named, *run, t_start);
 }
 
 }  // namespace tridex::app

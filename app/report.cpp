@@ -258,11 +258,12 @@ void write_report_json(const std::string& path, const DemoReport& r) {
     write_json_file(path, j);
 }
 
-void print_summary(const DemoReport& r, const std::string& out_dir) {
+void print_summary(const DemoReport& r, const std::string& out_dir, const std::string& command) {
     const auto& recs = *r.records;
     const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
     const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
-    std::printf("tridex demo: %s at %d cells (cell %.3f mm)\n", r.mesh_path.c_str(), r.resolution, r.lattice.cell_m * 1e3);
+    std::printf("tridex %s: %s at %d cells (cell %.3f mm)\n", command.c_str(), r.mesh_path.c_str(), r.resolution,
+                r.lattice.cell_m * 1e3);
     if (!r.stopped_by.empty())
         std::printf("  %s ended the session early; the outputs hold the model as it was then\n", r.stopped_by.c_str());
     std::printf("  haptic loop: %zu ticks, period median %.1f us, p99 %.1f us; tick compute median %.2f us, p99 %.2f us\n",

@@ -115,6 +115,6 @@ nlohmann::json link_json(const devices::DeviceLinkStats& link);
 void write_report_json(const std::string& path, const DemoReport& report);
 
 /// Prints a few lines: where the outputs went and the headline numbers.
-void print_summary(const DemoReport& report, const std::string& out_dir);
+void print_summary(const DemoReport& report, const std::string& out_dir, const std::string& command = "demo");
 
 }  // namespace tridex::app

@@ -251,7 +251,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.validation_messages = gpu_ctx.validation_messages() - validation_before_render;
     r.wall_s = seconds_since(t_start);
     write_report_json((out / "report.json").string(), r);
-    print_summary(r, opt.out);
+    print_summary(r, opt.out, opt.command);
     if (run.journal && !run.journal->error.empty())
         std::fprintf(stderr, "tridex: journal %s stopped: %s (the session went on; report.json journal.error)\n",
                      run.journal->path.c_str(), run.journal->error.c_str());

@@ -75,6 +75,7 @@ struct OutputOptions {
     int height = 960;
     bool validate = false;  ///< Vulkan validation layer
     bool ao = true;         ///< ambient occlusion in the images (SceneView::occlusion_strength 1, else 0)
+    std::string command = "demo";  ///< the command that ran, for the summary's first line ("tridex demo: ...")
 };
 
 /// The part of `wall` (the same plane) through which the world box `box_m` is seen from head_m (m): the box's corners

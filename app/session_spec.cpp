@@ -35,7 +35,7 @@ devices::DeviceProfile device_profile(const std::string& name) {
     try {
         return devices::profile_by_name(name);
     } catch (const Error&) {
-        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof, falcon or tracked");
+        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof, falcon, falcon-emulator or net:HOST:PORT");
     }
 }
 

@@ -39,6 +39,7 @@ MeshFileFormat mesh_file_format(const std::string& path) {
     if (ext == "stl") return MeshFileFormat::kStl;
     if (ext == "obj") return MeshFileFormat::kObj;
     if (ext == "ply") return MeshFileFormat::kPly;
+    if (ext.empty()) throw Error(path + ": no file extension to tell the mesh format; use .stl, .obj or .ply");
     throw Error(path + ": unknown mesh format '." + ext + "'; use .stl, .obj or .ply");
 }
 

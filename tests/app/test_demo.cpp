@@ -72,6 +72,11 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"run " + dir.string() + " --display offscreen --frames 1 --out " + (dir / "o").string(), "is a folder"},
         {"replay " + (dir / "a_file").string() + " --out /dev/full", "--out /dev/full"},
         {"demo --tool-radius-mm 500 --out " + (dir / "o").string(), "(75 mm), got 500"},
+        {"bogus", "unknown command 'bogus'; the commands are demo, "},
+        {"demo --device foo", "use omni, wand, 6dof, falcon, falcon-emulator or net:HOST:PORT"},
+        {"device-server --device replay", "--device: a device server serves simulated, falcon or falcon-emulator"},
+        {"device-server --profile foo", "--profile: unknown profile 'foo'"},
+        {"device-server --stroke-seconds -1", "--stroke-seconds: must be between 0.5 and 600"},
         // Outputs that would overwrite each other, or the model the session starts from.
         {"demo --out " + (dir / "o").string() + " --save " + (dir / "o" / "report.json").string(),
          "is also --out's report.json"},
