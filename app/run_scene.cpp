@@ -374,6 +374,15 @@ void read_head(Fields& top, RunScene& s) {
     Fields f(*h, top.source(), "head");
     s.head = parse_head_mode(f.text("provider", "fixed"), top.source() + ": field 'head.provider'");
     s.head_pose.position = f.vec3("position_m", s.head_pose.position);
+    if (s.head == HeadMode::kFixed && f.get("position_m")) {
+        // The fixed head must see the screen from in front (the off-axis frustum needs the eye before its plane).
+        const renderer::Screen& sc = s.display.screen;
+        const Vec3 n = glm::cross(sc.lower_right - sc.lower_left, sc.upper_left - sc.lower_left);
+        const double d = glm::length(n) > 0.0 ? glm::dot(s.head_pose.position - sc.lower_left, glm::normalize(n)) : 1.0;
+        if (!(d > 0.0))
+            f.fail("head.position_m", "must be in front of the display's screen, got " + fmt(d) +
+                                          " m along the screen's normal");
+    }
     if (const json* o = f.get("orientation_wxyz")) s.head_pose.orientation = quat_of(f, *o, "head.orientation_wxyz");
     s.head_loop = f.boolean("loop", false);
     s.tracker_timeout_s = f.number("tracker_timeout_s", s.tracker_timeout_s, 0.0, 10.0, true);

@@ -98,7 +98,12 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
             stroke_ticks_ = static_cast<std::size_t>(std::llround(pp.t_s.back() / spec.period_s));
         }
     } else if (scene.has_stroke && !live) {
-        const StrokePlan plan = plan_stroke(wp.model, scene.stroke);
+        StrokePlan plan;
+        try {
+            plan = plan_stroke(wp.model, scene.stroke);
+        } catch (const Error& e) {  // "stroke.duration_s: ...": the scene's field
+            throw Error(scene.source + ": " + e.what());
+        }
         Aabb reach;
         for (const Vec3& p : plan.world_m) reach.add(p);
         fit_to(reach);

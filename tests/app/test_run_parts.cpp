@@ -107,6 +107,7 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
         {R"({"display": "cinema"})", "'display'"},
         {R"({"display": {"stereo": "holographic"}})", "'display'"},
         {R"({"head": {"provider": "psychic"}})", "'head.provider'"},
+        {R"({"head": {"position_m": [0, 0.05, -0.2]}})", "'head.position_m': must be in front of the display's screen"},
         {R"({"head": {"provider": "scripted"}})", "'head.waypoints'"},
         {R"({"head": {"waypoints": [{"t_s": 1, "position_m": [0,0,1]}, {"t_s": 1, "position_m": [0,0,1]}]}})",
          "'head.waypoints[1].t_s'"},
