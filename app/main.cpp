@@ -309,7 +309,13 @@ int main(int argc, char** argv) {
     CLI::App* study_cmd = tridex::app::study::add_study_command(cli, study);
 
     // A first word that names no command: say so and list the commands (CLI11 would only ask for a subcommand).
-    if (argc >= 2 && argv[1][0] != '-') {
+    if (argc >= 2 && argv[1][0] == '-') {
+        const std::string first = argv[1];
+        if (first != "-h" && first != "--help" && first != "--help-all" && first != "--version") {
+            std::fprintf(stderr, "tridex: unknown option '%s': a command comes first (see tridex --help)\n", argv[1]);
+            return 2;
+        }
+    } else if (argc >= 2) {
         std::string names;
         bool known = false;
         for (const CLI::App* sub : cli.get_subcommands([](CLI::App*) { return true; })) {

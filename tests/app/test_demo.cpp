@@ -73,6 +73,7 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"replay " + (dir / "a_file").string() + " --out /dev/full", "--out /dev/full"},
         {"demo --tool-radius-mm 500 --out " + (dir / "o").string(), "(75 mm), got 500"},
         {"bogus", "unknown command 'bogus'; the commands are demo, "},
+        {"--versions", "--versions"},
         {"demo --device foo", "use omni, wand, 6dof, falcon, falcon-emulator or net:HOST:PORT"},
         {"device-server --device replay", "--device: a device server serves simulated, falcon or falcon-emulator"},
         {"device-server --profile foo", "--profile: unknown profile 'foo'"},
@@ -99,6 +100,16 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
         EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     }
+}
+
+TEST(Version, PrintsTheVersionAndExitsZero) {
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_version";
+    const RunResult r = run_tridex("--version", out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream f(out / "stdout.txt");
+    std::stringstream text;
+    text << f.rdbuf();
+    EXPECT_EQ(text.str().rfind("tridex ", 0), 0u) << text.str();
 }
 
 TEST(Devices, ListsDriversAsTextAndJson) {

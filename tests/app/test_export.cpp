@@ -90,6 +90,8 @@ TEST(Export, BadInputsAreRefusedAndLeaveNoFile) {
         return std::string();
     };
     EXPECT_NE(refusal(model_path, (dir / "x.xyz").string()).find("unknown mesh format '.xyz'"), std::string::npos);
+    EXPECT_NE(refusal(model_path, (dir / "noext").string()).find("no file extension to tell the mesh format"),
+              std::string::npos);
     EXPECT_NE(refusal(model_path, (dir / "x.stl").string(), "km").find("--units"), std::string::npos);
     std::ofstream(dir / "junk.tdx") << "junk";
     EXPECT_NE(refusal((dir / "junk.tdx").string(), (dir / "x.stl").string()).find("bad magic"), std::string::npos);

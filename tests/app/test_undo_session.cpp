@@ -120,6 +120,8 @@ TEST(UndoSession, ScriptedKeysUndoRedoAndSaveAndRecoverRebuildsThatModel) {
     EXPECT_EQ(h["budget_bytes"], 256 << 20);
     EXPECT_GT(h["undo_ms"]["max"].get<double>(), 0.0);
     EXPECT_EQ(r["saves"]["count"], 1);
+    EXPECT_EQ(r["saves"]["requests"], 1);     // Ctrl+S only
+    EXPECT_EQ(r["key_requests_sent"], 4);     // two undos, a redo and the save
     // The saved model is the model after the keys: the first pass only.
     const compute::TdxModel saved = compute::load_tdx((dir / "out" / "model.tdx").string(), std::size_t{1} << 32);
     const double removed = r["volume_before_m3"].get<double>() - r["volume_after_m3"].get<double>();
