@@ -25,6 +25,7 @@
 #include "app/study/study_view.hpp"
 #include "app/elastic_view.hpp"
 #include "app/workpiece_source.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "app/tile_view.hpp"
 #include "app/stop_signal.hpp"
 #include "compute/mesh/mesh_export.hpp"
@@ -314,7 +315,9 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.sculpt_path = backend.runtime().booleans().backend->path();
     r.sculpt_device = backend.runtime().booleans().backend->device();
     r.clay_path = backend.runtime().booleans().backend->clay_path();
-    if (!backend.runtime().booleans().backend->clay_reason().empty())
+    // Where clay would run only matters to a session that can use it: a clay op, or the mouse's keys 4, 5, 6.
+    const bool clay_possible = compute::is_clay_op(parse_tool_op(scene.spec.op)) || scene.spec.device_driver == "mouse";
+    if (clay_possible && !backend.runtime().booleans().backend->clay_reason().empty())
         r.notes.push_back("clay path cpu: " + backend.runtime().booleans().backend->clay_reason());
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
     r.contour_path = backend.runtime().contour_path();
