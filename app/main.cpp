@@ -362,6 +362,11 @@ int main(int argc, char** argv) {
             elastic.validate = demo.validate;
             tridex::app::run_elastic_demo(elastic);
         } else if (*demo_cmd) {
+            // Options that only one tool or device reads are refused with the others rather than ignored.
+            if (demo_cmd->count("--tool-length-mm") > 0 && demo.tool != "flat_end")
+                throw tridex::Error("--tool-length-mm: only with --tool flat_end");
+            if (!demo.falcon_firmware.empty() && demo.device != "falcon" && demo.device != "falcon-emulator")
+                throw tridex::Error("--falcon-firmware: only with --device falcon or falcon-emulator");
             demo.tool_radius_m = tool_radius_mm * 1e-3;
             demo.tool_length_m = tool_length_mm * 1e-3;
             demo.tool_size_m = tool_size_mm * 1e-3;
