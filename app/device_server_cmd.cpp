@@ -44,13 +44,9 @@ void run_device_server(const DeviceServerOptions& o) {
         d.mesh = o.mesh;
         d.seconds = o.stroke_seconds;
         d.device = spec.profile;
-        try {
-            inputs = demo_device_inputs(d);
-        } catch (const Error& e) {  // the stroke's options have this command's names
-            std::string what = e.what();
-            if (what.rfind("--seconds", 0) == 0) what = "--stroke-seconds" + what.substr(9);
-            throw Error(what);
-        }
+        if (!(o.stroke_seconds >= 0.5 && o.stroke_seconds <= 600.0))  // the demo's --seconds range
+            throw Error("--stroke-seconds: must be between 0.5 and 600, got " + format_number(o.stroke_seconds));
+        inputs = demo_device_inputs(d);
     }
     inputs.falcon_firmware = o.falcon_firmware;
     std::unique_ptr<devices::HapticDevice> device = devices::builtin_registry().create(spec, inputs);

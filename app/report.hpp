@@ -114,7 +114,8 @@ nlohmann::json link_json(const devices::DeviceLinkStats& link);
 /// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);
 
-/// Prints a few lines: where the outputs went and the headline numbers.
+/// Prints a few lines: where the outputs went and the headline numbers, the first naming `command` ("tridex
+/// demo: ...", "tridex replay: ...").
 void print_summary(const DemoReport& report, const std::string& out_dir, const std::string& command = "demo");
 
 }  // namespace tridex::app

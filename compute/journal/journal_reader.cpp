@@ -2,7 +2,6 @@
 #include "compute/journal/journal_reader.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -10,29 +9,24 @@
 #include "compute/journal/journal_format.hpp"
 #include "core/crc32.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace tridex::compute {
 
 namespace {
 
-std::string number(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
-
 // What is wrong with a decoded sample that a session could not have written ("" when nothing): non-finite time,
 // pose or tool size, a negative tool size, or a material outside the palette.
 std::string sample_problem(const ToolSample& s) {
-    if (!std::isfinite(s.t_s)) return "t_s = " + number(s.t_s) + " is not finite";
+    if (!std::isfinite(s.t_s)) return "t_s = " + format_number(s.t_s) + " is not finite";
     if (!is_finite(s.position)) return "position is not finite";
     const Quat& q = s.orientation;
     if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z)))
         return "orientation is not finite";
     if (!(std::isfinite(s.tool.radius_m) && s.tool.radius_m >= 0.0))
-        return "tool.radius_m = " + number(s.tool.radius_m) + " must be finite and >= 0";
+        return "tool.radius_m = " + format_number(s.tool.radius_m) + " must be finite and >= 0";
     if (!(std::isfinite(s.tool.length_m) && s.tool.length_m >= 0.0))
-        return "tool.length_m = " + number(s.tool.length_m) + " must be finite and >= 0";
+        return "tool.length_m = " + format_number(s.tool.length_m) + " must be finite and >= 0";
     if (s.material > kMaxMaterialId)
         return "material = " + std::to_string(s.material) + " is not a material id (0.." +
                std::to_string(kMaxMaterialId) + ")";

@@ -62,7 +62,7 @@ double FrameTimeHistogram::percentile_ms(double p) const {
     std::uint64_t seen = 0;
     for (std::size_t k = 0; k < bins_.size(); ++k) {
         seen += bins_[k];
-        if (seen >= rank) return k < fine_ ? static_cast<double>(k + 1) * width_ : bin_lower_ms(k) + coarse_width_;
+        if (seen >= rank) return bin_lower_ms(k + 1);  // the bin's upper edge
     }
     return max_;
 }
