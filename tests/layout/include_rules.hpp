@@ -30,7 +30,8 @@ namespace tridex::layout {
 inline constexpr const char* kFallbackDesign = R"(
 core/      vocabulary every module shares: SI units (m, N, s, N*m), Pose, Aabb, Segment,
 
-Includes point one way: `app -> {renderer, compute, haptics, devices} -> {gpu, core}`;
+Includes point one way: `bench -> app -> {renderer, compute, haptics, devices} -> {gpu, core}`,
+`{renderer, compute} -> shaders` (embedded SPIR-V); nothing includes `bench/`;
 `haptics -> devices -> core`; `haptics` and `devices` never include `gpu/` or Vulkan
 headers. The active-surface cache type lives in `core/` (compute writes it, haptics reads it).
 )";

@@ -30,15 +30,6 @@ struct Allowed {
     const char* why;
 };
 const Allowed kAllowList[] = {
-    // shaders/ (embedded SPIR-V built from the GLSL) is not named in the rule; the Vulkan users fetch
-    // their SPIR-V modules from it through shaders/spirv.hpp.
-    {"compute/gpu/gpu_contourer.cpp", "shaders", "GPU contouring pipeline loads its SPIR-V (shaders/ not in the rule)"},
-    {"compute/gpu/gpu_sculptor.cpp", "shaders", "GPU Boolean pipeline loads its SPIR-V (shaders/ not in the rule)"},
-    {"compute/gpu/gpu_clay.cpp", "shaders", "GPU clay pipelines load their SPIR-V (shaders/ not in the rule)"},
-    {"renderer/stereo/stereo_pipeline.cpp", "shaders", "stereo pipelines load their SPIR-V (shaders/ not in the rule)"},
-    {"renderer/output/anaglyph_pass.cpp", "shaders", "the anaglyph pass loads its SPIR-V (shaders/ not in the rule)"},
-    {"renderer/stereo/ambient_occlusion.cpp", "shaders",
-     "the ambient-occlusion pass loads its SPIR-V (shaders/ not in the rule)"},
     // app/ may not include bench/ (bench sits above app), except the executable's main.cpp, which
     // dispatches `tridex bench ...`; it alone is compiled with tridex_bench (app/CMakeLists.txt).
     {"app/main.cpp", "bench", "`tridex bench` is dispatched by main.cpp, linked with tridex_bench"},
