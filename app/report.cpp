@@ -8,6 +8,7 @@
 
 #include "app/stats.hpp"
 #include "app/json_file.hpp"
+#include "app/session_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
@@ -186,77 +187,85 @@ nlohmann::json link_json(const devices::DeviceLinkStats& link) {
             {"events", link.link_events}};
 }
 
-void write_report_json(const std::string& path, const DemoReport& r) {
+nlohmann::json demo_report_json(const DemoReport& r) {
     const auto& recs = *r.records;
-    // The first period has no predecessor; skip it in the period statistics.
-    const Summary period = summarize(field(recs, &haptics::TickRecord::period_us, 1));
-    const Summary compute = summarize(field(recs, &haptics::TickRecord::compute_us, 0));
-    nlohmann::json transform = nlohmann::json::array();
-    for (int row = 0; row < 4; ++row) {
-        nlohmann::json rj = nlohmann::json::array();
-        for (int col = 0; col < 4; ++col) rj.push_back(r.transform[col][row]);  // row-major in the file
-        transform.push_back(rj);
-    }
-    const double cell = r.lattice.cell_m;
+    const auto [period, compute] = tick_summary_json(recs);
     nlohmann::json j;
+    j["command"] = r.command;
+    j["scene"] = nullptr;
     j["mesh_file"] = r.mesh_path;
+    j["resolution"] = r.resolution;
     j["settings"] = nlohmann::json::parse(spec_to_json(*r.settings));
-    j["ticks"] = recs.size();
-    j["period_us"] = summary_json(period, true);
-    j["tick_compute_us"] = summary_json(compute, true);
-    j["booleans"] = r.sculpt->booleans;
-    j["tiles_recontoured"] = r.sculpt->tiles_recontoured;
-    j["workpiece"] = {{"transform", transform},
-                      {"volume_mesh_m3", r.volume_mesh_m3},
-                      {"volume_dexel_m3", r.volume_dexel_m3},
-                      {"volume_dexel_error_rel", (r.volume_dexel_m3 - r.volume_mesh_m3) / r.volume_mesh_m3},
-                      {"resolution", r.resolution},
-                      {"cell_m", cell},
-                      {"cells", r.lattice.cells}};
-    j["volume_removed_m3"] = r.volume_dexel_m3 - r.volume_after_m3;
+    j["tool"] = tool_json(*r.settings);
+    j["workpiece"] = workpiece_report_json(*r.workpiece);
+    j["volume_before_m3"] = r.volume_dexel_m3;
     j["volume_after_m3"] = r.volume_after_m3;
+    j["volume_removed_m3"] = r.volume_dexel_m3 - r.volume_after_m3;
     j["mesh"] = {{"vertices", r.vertices},
                  {"triangles", r.triangles},
                  {"boundary_edges", r.edges.boundary_edges},
                  {"nonmanifold_edges", r.edges.nonmanifold_edges},
                  {"misoriented_edges", r.edges.misoriented_edges}};
-    j["tool"] = tool_json(*r.settings);
+    j["ticks"] = recs.size();
+    j["period_us"] = period;
+    j["tick_compute_us"] = compute;
+    j["booleans"] = r.sculpt->booleans;
+    j["tiles_recontoured"] = r.sculpt->tiles_recontoured;
     j["haptics"] = haptics_report_json(*r.settings, r.loop, recs, r.session_s, r.device_profile, r.max_force_n,
                                        r.device_status);
     j["haptics"]["stiffness_n_per_m"] = r.stiffness_n_per_m;
-    if (r.device_link.exchanges > 0) j["haptics"]["device_link"] = device_link_json(r.device_link);
-    if (!r.device_link.link_mode.empty()) j["link"] = link_json(r.device_link);
-    j["sculpt"] = {{"samples", r.sculpt->samples},
-                   {"steps", r.sculpt->steps},
-                   {"rays_changed", r.sculpt->rays_changed},
-                   {"publishes", r.sculpt->publishes},
-                   {"boolean_ms", summary_json(summarize(r.sculpt->boolean_ms), true)},
-                   {"contour_ms", summary_json(summarize(r.sculpt->contour_ms), true)},
-                   {"tiles_initial", r.tiles_initial},
-                   {"tiles_total", r.tiles_total}};
+    j["haptics"]["device_link"] = device_link_json(r.device_link);
+    j["haptics"]["link"] = link_json(r.device_link);
+    j["link"] = link_json(r.device_link);
+    j["sculpt"] = sculpt_report_json(*r.sculpt, r.tiles_initial, r.tiles_total, r.session_s);
     j["journal"] = journal_report_json(r.journal, *r.sculpt, r.session_s);
     j["history"] = history_report_json(*r.sculpt);
-    if (!r.stopped_by.empty()) j["stopped_by"] = r.stopped_by;
+    j["key_requests_sent"] = 0;
+    j["stopped_by"] = string_or_null(r.stopped_by);
     if (r.deformation_max_displacement_m)
         j["deformation"] = {{"max_displacement_m", *r.deformation_max_displacement_m}};
     j["sculpt_path"] = r.sculpt_path;
-    j["device"] = r.sculpt_path == "gpu" ? r.sculpt_device : r.device;
-    if (!r.sculpt_path_reason.empty()) j["sculpt_path_reason"] = r.sculpt_path_reason;
-    if (!r.clay_path.empty()) j["clay_path"] = r.clay_path;
-    if (!r.clay_path_reason.empty()) j["clay_path_reason"] = r.clay_path_reason;
+    j["sculpt_path_reason"] = string_or_null(r.sculpt_path_reason);
+    j["sculpt_device"] = r.sculpt_device;
+    j["clay_path"] = r.clay_path;
+    j["clay_path_reason"] = string_or_null(r.clay_path_reason);
     j["spilled_intervals"] = r.spilled_intervals;
     j["sculpt_validation_messages"] = r.sculpt_validation_messages;
+    j["model_bytes"] = model_bytes_json(r.model_bytes);
     j["contour_path"] = r.contour_path;
-    if (!r.contour_reason.empty()) j["contour_path_reason"] = r.contour_reason;
-    j["contour"] = {{"path", r.contour_path}, {"gpu", gpu_contour_json(r.gpu_contour)}};
-    j["model_bytes"] = {{"x", r.model_bytes[0]}, {"y", r.model_bytes[1]}, {"z", r.model_bytes[2]},
-                        {"total", r.model_bytes[0] + r.model_bytes[1] + r.model_bytes[2]}};
-    j["render"] = {{"device", r.device}, {"eye_strategy", r.eye_strategy},
-                   {"validation_messages", r.validation_messages}, {"render_s", r.render_s}};
+    j["contour_path_reason"] = string_or_null(r.contour_reason);
+    j["contour"] = {{"path", r.contour_path},
+                    {"tiles_initial", r.tiles_initial},
+                    {"initial_s", r.contour_s},
+                    {"gpu", gpu_contour_json(r.gpu_contour)}};
+    j["contour"]["gpu"]["lock_wait_ms_total"] = r.contour_lock_wait_ms_total;
+    j["contour"]["gpu"]["lock_wait_ms_max"] = r.contour_lock_wait_ms_max;
+    j["device"] = r.device;
+    j["eye_strategy"] = r.eye_strategy;
+    j["validation_messages"] = r.validation_messages;
+    j["display"] = "offscreen";
+    j["stereo"] = "side_by_side";
+    j["swap_eyes"] = false;
+    j["eye_resolution"] = {r.eye_width, r.eye_height};
+    j["eye_separation_m"] = r.eye_separation_m;
+    j["present_mode"] = "offscreen";
+    j["head"] = {{"provider", "fixed"}};
+    j["wand"] = {{"provider", "none"}};
+    j["render"] = {{"device", r.device},
+                   {"eye_strategy", r.eye_strategy},
+                   {"validation_messages", r.validation_messages},
+                   {"render_s", r.render_s},
+                   {"ambient_occlusion", r.ambient_occlusion}};
     j["timing_s"] = {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_s}, {"session", r.session_s}};
+    j["session_s"] = r.session_s;
     j["wall_s"] = r.wall_s;
-    write_json_file(path, j);
+    j["notes"] = r.notes;
+    j["files"] = r.files;
+    conform_report(j);
+    return j;
 }
+
+void write_report_json(const std::string& path, const DemoReport& r) { write_json_file(path, demo_report_json(r)); }
 
 void print_summary(const DemoReport& r, const std::string& out_dir, const std::string& command) {
     const auto& recs = *r.records;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compute/runtime/sculpt_thread.hpp"
+#include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
 #include "compute/gpu/gpu_contourer.hpp"
 #include "compute/model/lattice.hpp"
@@ -60,7 +61,16 @@ struct DemoReport {
     std::string contour_path;                 ///< "gpu" or "cpu": where dirty tiles were contoured during the session
     std::string contour_reason;               ///< why contouring ran on the CPU ("" on the GPU path)
     compute::GpuContourStats gpu_contour{};   ///< GPU path: the contourer's counters
+    /// GPU contour path: time the sculpt thread waited for a frame before re-contouring, summed / longest, ms.
+    double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
     const compute::JournalStats* journal = nullptr;  ///< the session journal's counters; nullptr = no journal
+    const Workpiece* workpiece = nullptr;     ///< the session's workpiece (report.json `workpiece`); not owned, non-null
+    std::string command = "demo";             ///< the command that ran the session: demo or replay
+    int eye_width = 0, eye_height = 0;        ///< per-eye image size, px
+    double eye_separation_m = 0.0;            ///< distance between the eyes, m
+    bool ambient_occlusion = true;            ///< ambient occlusion in the images
+    std::vector<std::string> files;           ///< the files written, full paths (report.json last)
+    std::vector<std::string> notes;           ///< one line each: which paths ran on the CPU and why, failures
 };
 
 /// Writes one row per haptic tick: t_s, hip_x, hip_y, hip_z, proxy_x, proxy_y, proxy_z, fx, fy, fz,
@@ -111,7 +121,11 @@ nlohmann::json device_link_json(const devices::DeviceLinkStats& link);
 /// stale_snapshots, outages, server_watchdog_trips, malformed, events}; null for other drivers.
 nlohmann::json link_json(const devices::DeviceLinkStats& link);
 
-/// Writes report.json (fields documented in README.md). Throws tridex::Error when it cannot write.
+/// The report.json of a demo or replay session, in the schema every session writes (app/session_report.hpp,
+/// docs/report.md): the keys a demo has no value for (frames, meshes, saves, ...) are null.
+nlohmann::json demo_report_json(const DemoReport& report);
+
+/// Writes demo_report_json(report) to `path`. Throws tridex::Error when it cannot write.
 void write_report_json(const std::string& path, const DemoReport& report);
 
 /// Prints a few lines: where the outputs went and the headline numbers, the first naming `command` ("tridex

@@ -7,6 +7,7 @@
 #include "app/stats.hpp"
 #include "app/json_file.hpp"
 #include "app/report.hpp"
+#include "app/session_report.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -41,7 +42,11 @@ json render_json(const RunResult& r) {
         passes[name] = json{{"count", ms.size()}, {"total_ms", total}, {"median_ms", s.median}, {"p99_ms", s.p99},
                             {"max_ms", s.max}};
     }
-    return json{{"tiled", r.tiled},
+    return json{{"device", r.device},
+                {"eye_strategy", r.eye_strategy},
+                {"validation_messages", r.validation_messages},
+                {"render_s", r.render_s},
+                {"tiled", r.tiled},
                 {"tiles_last", r.tiles_last},
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
@@ -91,24 +96,70 @@ json run_report_json(const RunResult& r) {
                 {"interval_ms", r.interval_ms.to_json()},
                 {"gpu_ms", r.gpu_ms.to_json()}};
     if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
+    json haptics = r.haptics;
+    if (haptics.is_object()) {
+        if (!haptics.contains("device_link")) haptics["device_link"] = nullptr;
+        if (!haptics.contains("link")) haptics["link"] = nullptr;
+    }
+    json sculpt = sculpt_report_json(r.sculpt, r.contour_tiles_initial, r.tiles_total, r.session_s);
     json j{
+        {"command", "run"},
         {"scene", sc.source},
-        {"mesh", sc.spec.mesh_path},
+        {"mesh_file", sc.spec.model_path.empty() ? sc.spec.mesh_path : sc.spec.model_path},
         {"resolution", sc.spec.resolution},
         {"settings", json::parse(spec_to_json(r.spec))},
         {"tool", r.tool},
+        {"workpiece", r.workpiece},
+        {"volume_before_m3", r.volume_before_m3},
+        {"volume_after_m3", r.volume_after_m3},
+        {"volume_removed_m3", r.volume_before_m3 - r.volume_after_m3},
+        {"mesh", r.carved_mesh},
+        {"ticks", r.ticks},
+        {"period_us", r.period_us},
+        {"tick_compute_us", r.tick_compute_us},
+        {"booleans", r.sculpt.booleans},
+        {"tiles_recontoured", r.sculpt.tiles_recontoured},
+        {"haptics", haptics},
+        {"link", haptics.is_object() ? haptics["link"] : json(nullptr)},
+        {"sculpt", sculpt},
+        {"journal", r.journal},
+        {"history", history_report_json(r.sculpt)},
+        {"saves",
+         {{"count", r.saves.saves},
+          {"failures", r.saves.failures},
+          {"last", r.saves.message.empty() ? json(nullptr) : json(r.saves.message)},
+          {"requests", r.save_requests_sent}}},
+        {"key_requests_sent", r.requests_sent},
+        {"stopped_by", string_or_null(r.stopped_by)},
+        {"stroke_completed", r.stroke_completed},
+        {"deformation", r.deformation},
+        {"sculpt_path", r.sculpt_path},
+        {"sculpt_path_reason", string_or_null(r.sculpt_path_reason)},
+        {"sculpt_device", r.sculpt_device},
+        {"clay_path", r.clay_path},
+        {"clay_path_reason", string_or_null(r.clay_path_reason)},
+        {"spilled_intervals", r.spilled_intervals},
+        {"sculpt_validation_messages", r.sculpt_validation_messages},
+        {"model_bytes", model_bytes_json(r.model_bytes)},
+        {"contour_path", r.contour_path},
+        {"contour_path_reason", string_or_null(r.contour_reason)},
+        {"contour",
+         {{"path", r.contour_path},
+          {"tiles_initial", r.contour_tiles_initial},
+          {"initial_s", r.contour_initial_s},
+          {"gpu", gpu}}},
+        {"device", r.device},
+        {"eye_strategy", r.eye_strategy},
+        {"validation_messages", r.validation_messages},
         {"display", to_string(su.display)},
         {"stereo", std::string(renderer::to_string(sc.display.stereo))},
         {"swap_eyes", su.swap_eyes},
-        {"wand", r.wand.is_null() ? nlohmann::json{{"provider", "none"}} : r.wand},
-        {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
         {"eye_resolution", {sc.display.width_px, sc.display.height_px}},
         {"refresh_hz", sc.display.refresh_hz},
         {"eye_separation_m", sc.display.eye_separation_m},
-        {"device", r.device},
-        {"eye_strategy", r.eye_strategy},
         {"present_mode", r.present_mode},
-        {"validation_messages", r.validation_messages},
+        {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
+        {"wand", r.wand.is_null() ? nlohmann::json{{"provider", "none"}} : r.wand},
         {"frames", frames},
         {"render", render_json(r)},
         {"meshes",
@@ -117,46 +168,14 @@ json run_report_json(const RunResult& r) {
           {"published", r.sculpt.mesh_publishes},
           {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
           {"triangles", r.triangles}}},
-        {"haptics", r.haptics},
-        {"journal", r.journal},
         {"mouse", r.mouse},
         {"study", r.study},
-        {"deformation", r.deformation},
-        {"history", history_report_json(r.sculpt)},
-        {"saves",
-         {{"count", r.saves.saves},
-          {"failures", r.saves.failures},
-          {"last", r.saves.message.empty() ? json(nullptr) : json(r.saves.message)},
-          {"requests", r.save_requests_sent}}},
-        {"key_requests_sent", r.requests_sent},
-        {"sculpt",
-         {{"samples", r.sculpt.samples},
-          {"booleans", r.sculpt.booleans},
-          {"steps", r.sculpt.steps},
-          {"tiles_recontoured", r.sculpt.tiles_recontoured},
-          {"rate_hz", rate_hz(static_cast<double>(r.sculpt.steps), r.session_s)},
-          {"boolean_ms", summary_json(r.sculpt.boolean_ms)},
-          {"contour_ms", summary_json(r.sculpt.contour_ms)}}},
-        {"sculpt_path", r.sculpt_path},
-        {"sculpt_device", r.sculpt_device},
-        {"clay_path", r.clay_path},
-        {"spilled_intervals", r.spilled_intervals},
-        {"contour_path", r.contour_path},
-        {"contour_path_reason", r.contour_reason},
-        {"contour",
-         {{"path", r.contour_path},
-          {"tiles_initial", r.contour_tiles_initial},
-          {"initial_s", r.contour_initial_s},
-          {"gpu", gpu}}},
-        {"stroke_completed", r.stroke_completed},
+        {"timing_s", {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_initial_s}, {"session", r.session_s}}},
         {"session_s", r.session_s},
-        {"volume_before_m3", r.volume_before_m3},
-        {"volume_after_m3", r.volume_after_m3},
         {"wall_s", r.wall_s},
         {"notes", r.notes},
         {"files", r.files}};
-    // A served device's link, at the top level as the demo's report has it (and under haptics, as before).
-    if (r.haptics.is_object() && r.haptics.contains("link")) j["link"] = r.haptics["link"];
+    conform_report(j);
     return j;
 }
 

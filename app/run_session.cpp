@@ -20,6 +20,7 @@
 #include "app/run_sculpt.hpp"
 #include "app/run_view.hpp"
 #include "app/report.hpp"
+#include "app/session_report.hpp"
 #include "app/session_recording.hpp"
 #include "app/study/study_recording.hpp"
 #include "app/study/study_view.hpp"
@@ -320,6 +321,11 @@ RunResult run_stereo_session(const RunOptions& options) {
     if (clay_possible && !backend.runtime().booleans().backend->clay_reason().empty())
         r.notes.push_back("clay path cpu: " + backend.runtime().booleans().backend->clay_reason());
     if (!backend.runtime().booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + backend.runtime().booleans().reason);
+    r.sculpt_path_reason = backend.runtime().booleans().reason;
+    r.clay_path_reason = backend.runtime().booleans().backend->clay_reason();
+    r.workpiece = workpiece_report_json(backend.runtime().workpiece());
+    r.scan_s = backend.runtime().workpiece().scan_s;
+    r.tiles_total = backend.runtime().workpiece().model.tiles.count();
     r.contour_path = backend.runtime().contour_path();
     r.contour_tiles_initial = backend.runtime().tiles_initial();
     r.contour_initial_s = backend.runtime().contour_s();
@@ -558,6 +564,9 @@ RunResult run_stereo_session(const RunOptions& options) {
     }
     r.loop = backend.runtime().loop_stats();
     r.spilled_intervals = backend.runtime().booleans().backend->spilled_intervals();
+    r.model_bytes = backend.runtime().booleans().backend->model_bytes();
+    r.sculpt_validation_messages = backend.runtime().booleans().backend->validation_messages();
+    if (stop_requested()) r.stopped_by = stop_signal_name();
     if (gpu_contour) {
         r.gpu_contour = gpu_contour->stats();
         r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
@@ -582,12 +591,15 @@ RunResult run_stereo_session(const RunOptions& options) {
     r.present_timings = sink->present_timings();
     r.spec = backend.runtime().spec();
     r.tool = tool_json(r.spec);
+    r.ticks = backend.runtime().records().size();
+    const std::array<nlohmann::json, 2> tick_summaries = tick_summary_json(backend.runtime().records());
+    r.period_us = tick_summaries[0];
+    r.tick_compute_us = tick_summaries[1];
     r.haptics = haptics_report_json(backend.runtime().spec(), r.loop, backend.runtime().records(), r.session_s, backend.runtime().profile().name,
                                     backend.runtime().profile().max_force_n, backend.runtime().device_status());
-    if (const devices::DeviceLinkStats link = backend.runtime().device_link(); link.exchanges > 0)
-        r.haptics["device_link"] = device_link_json(link);
-    if (const devices::DeviceLinkStats link = backend.runtime().device_link(); !link.link_mode.empty())
-        r.haptics["link"] = link_json(link);
+    r.haptics["stiffness_n_per_m"] = backend.runtime().config().contact.stiffness_n_per_m;
+    r.haptics["device_link"] = device_link_json(backend.runtime().device_link());
+    r.haptics["link"] = link_json(backend.runtime().device_link());
 
     // 5. Outputs.
     fs::create_directories(su.out);
@@ -610,6 +622,7 @@ RunResult run_stereo_session(const RunOptions& options) {
     // the recording.
     attempt("sculpted.ply", [&] {
         const SessionRuntime::FinalMesh carved = backend.runtime().final_mesh();
+        r.carved_mesh = carved_mesh_report_json(carved.mesh);
         compute::write_ply((out / "sculpted.ply").string(), carved.mesh, carved.materials);
         r.files.push_back((out / "sculpted.ply").string());
     });

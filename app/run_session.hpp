@@ -123,6 +123,18 @@ struct RunResult {
     nlohmann::json study; ///< null without a study scene; else app/study/study_view.hpp StudyView::report_json
     /// null without scene objects; else app/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
     nlohmann::json deformation;
+    std::size_t ticks = 0;                       ///< haptic tick records kept
+    nlohmann::json period_us;                    ///< report.json `period_us` (tick_summary_json)
+    nlohmann::json tick_compute_us;              ///< report.json `tick_compute_us` (tick_summary_json)
+    nlohmann::json workpiece;                    ///< report.json `workpiece` (workpiece_report_json)
+    nlohmann::json carved_mesh;                  ///< report.json `mesh` (carved_mesh_report_json); null if not written
+    std::string sculpt_path_reason;              ///< why the Booleans ran on the CPU ("" on the GPU path)
+    std::string clay_path_reason;                ///< why clay ran on the CPU on the GPU path ("" otherwise)
+    std::array<std::size_t, 3> model_bytes{};    ///< model bytes per ray set on the sculpting path
+    std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages of the sculpting backend
+    std::string stopped_by;                      ///< "SIGINT" / "SIGTERM" when a signal ended the run, else ""
+    double scan_s = 0.0;                         ///< scan conversion (or model loading) wall time, s
+    std::size_t tiles_total = 0;                 ///< tiles in the model's tile grid
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
     std::vector<std::string> files;              ///< files written, full paths
 };

@@ -249,6 +249,24 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.device = gpu_ctx.device_name();
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages() - validation_before_render;
+    r.workpiece = &wp;
+    if (gpu_contour) {
+        r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
+        r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();
+    }
+    r.command = opt.command;
+    r.eye_width = opt.width;
+    r.eye_height = opt.height;
+    r.eye_separation_m = kEyeSeparation;
+    r.ambient_occlusion = opt.ao;
+    for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+        r.files.push_back((out / name).string());
+    if (!run.sculpt_path_reason.empty()) r.notes.push_back("sculpt path cpu: " + run.sculpt_path_reason);
+    if (!run.contour_reason.empty()) r.notes.push_back("contour path cpu: " + run.contour_reason);
+    if (run.journal && !run.journal->error.empty()) r.notes.push_back("journal stopped: " + run.journal->error);
+    r.notes.insert(r.notes.begin(), "ended: " + (!run.stopped_by.empty() ? run.stopped_by + " received"
+                                                 : opt.command == "replay" ? std::string("the recording ended")
+                                                                           : std::string("the stroke ended")));
     r.wall_s = seconds_since(t_start);
     write_report_json((out / "report.json").string(), r);
     print_summary(r, opt.out, opt.command);

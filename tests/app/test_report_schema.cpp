@@ -1,0 +1,129 @@
+// One report.json schema for every session: `tridex demo`, `tridex replay` and `tridex run --display offscreen` write
+// the same keys (app/session_report.cpp's schema, null where a session has no value), and docs/report.md documents
+// every one of them.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session_report.hpp"
+#include "test_files.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The keys in which two reports differ: at every level where both hold an object, a key one has and the other
+// lacks. A null on one side and an object on the other is the same key without a value, not a difference.
+void key_differences(const json& a, const json& b, const std::string& at, std::vector<std::string>& out) {
+    if (!a.is_object() || !b.is_object()) return;
+    for (const auto& [k, v] : a.items()) {
+        const std::string path = at.empty() ? k : at + "." + k;
+        if (!b.contains(k)) {
+            out.push_back(path + " (only in the first)");
+            continue;
+        }
+        key_differences(v, b.at(k), path, out);
+    }
+    for (const auto& [k, v] : b.items())
+        if (!a.contains(k)) out.push_back((at.empty() ? k : at + "." + k) + " (only in the second)");
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& x : v) s += "\n  " + x;
+    return s;
+}
+
+TEST(ReportSchema, ConformFillsEveryKeyAndViolationsNameTheRest) {
+    json j = json::object();
+    EXPECT_FALSE(report_schema_violations(j).empty()) << "an empty report lacks every key";
+    conform_report(j);
+    EXPECT_TRUE(report_schema_violations(j).empty()) << joined(report_schema_violations(j));
+    EXPECT_TRUE(j.at("frames").is_null());
+
+    json k = json::object();
+    k["sculpt"] = {{"samples", 3}};
+    k["surprise"] = 1;
+    conform_report(k);
+    EXPECT_EQ(k["sculpt"]["samples"], 3);
+    EXPECT_TRUE(k["sculpt"].contains("rate_hz")) << "a closed object is completed too";
+    const std::vector<std::string> v = report_schema_violations(k);
+    ASSERT_EQ(v.size(), 1u) << joined(v);
+    EXPECT_NE(v[0].find("surprise"), std::string::npos) << v[0];
+
+    k["sculpt"]["extra_counter"] = 0;
+    EXPECT_EQ(report_schema_violations(k).size(), 2u) << "an extra key in a closed object breaks the schema";
+    k.erase("command");
+    EXPECT_EQ(report_schema_violations(k).size(), 3u);
+}
+
+TEST(ReportSchema, EveryKeyIsDocumentedInTheReference) {
+    std::ifstream in(fs::path(TRIDEX_SOURCE_DIR) / "docs" / "report.md");
+    ASSERT_TRUE(in.good()) << "docs/report.md is missing";
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string doc = ss.str();
+    for (const ReportField& f : report_schema())
+        EXPECT_NE(doc.find(std::string("`") + f.path + "`"), std::string::npos)
+            << "docs/report.md does not document `" << f.path << "` (" << f.meaning << ")";
+}
+
+TEST(ReportSchema, DemoReplayAndRunWriteTheSameKeys) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_report_schema";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string images = " --width 64 --height 48 --cpu ";
+    const auto demo = test::run_tridex("demo --seconds 1 --resolution 48" + images + "--out " + (dir / "demo").string() +
+                                           " --record " + (dir / "demo.trdx").string(),
+                                       dir / "demo_log");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    const auto replay = test::run_tridex("replay " + (dir / "demo.trdx").string() + images + "--out " +
+                                             (dir / "replay").string(),
+                                         dir / "replay_log");
+    ASSERT_EQ(replay.exit_code, 0) << replay.err;
+    const std::string scene = (dir / "scene.json").string();
+    std::ofstream(scene) << R"({
+  "workpiece": { "mesh": ")" << TRIDEX_ASSETS_DIR << R"(/bunny.off", "resolution": 48, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+  "tool": { "radius_m": 0.006 },
+  "stroke": { "duration_s": 0.6, "length_m": 0.04, "depth_m": 0.003, "press_axis": "z" },
+  "display": { "preset": "desktop", "stereo": "mono", "resolution": [64, 48] },
+  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] }
+})";
+    const auto run = test::run_tridex("run " + scene + " --display offscreen --cpu --out " + (dir / "run").string(),
+                                      dir / "run_log");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+
+    const json d = test::read_json(dir / "demo" / "report.json");
+    const json p = test::read_json(dir / "replay" / "report.json");
+    const json r = test::read_json(dir / "run" / "report.json");
+    EXPECT_EQ(d["command"], "demo");
+    EXPECT_EQ(p["command"], "replay");
+    EXPECT_EQ(r["command"], "run");
+    for (const json* j : {&d, &p, &r})
+        EXPECT_TRUE(report_schema_violations(*j).empty()) << (*j)["command"] << ":" << joined(report_schema_violations(*j));
+    std::vector<std::string> diff;
+    key_differences(d, r, "", diff);
+    EXPECT_TRUE(diff.empty()) << "demo and run reports differ in keys:" << joined(diff);
+    diff.clear();
+    key_differences(d, p, "", diff);
+    EXPECT_TRUE(diff.empty()) << "demo and replay reports differ in keys:" << joined(diff);
+    // The same quantities under the same names: the volumes add up in every report.
+    for (const json* j : {&d, &p, &r})
+        EXPECT_NEAR((*j)["volume_removed_m3"].get<double>(),
+                    (*j)["volume_before_m3"].get<double>() - (*j)["volume_after_m3"].get<double>(), 1e-15);
+    EXPECT_GT(r["volume_removed_m3"].get<double>(), 0.0) << "the run's stroke carved nothing";
+    EXPECT_EQ(d["mesh"]["boundary_edges"], 0);
+    EXPECT_EQ(r["mesh"]["boundary_edges"], 0);
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tridex::app
