@@ -139,7 +139,7 @@ struct RunResult {
     std::vector<std::string> files;              ///< files written, full paths
 };
 
-/// Runs the session: GPU (and window) first, so that an output the surface cannot show (quad with
+/// Runs the session (app/run_pipeline.hpp, RunPipeline): GPU (and window) first, so that an output the surface cannot show (quad with
 /// maxImageArrayLayers < 2) is refused before any work, then the workpiece, the haptic loop and sculpt thread
 /// (SculptBackend), and the render loop on the calling thread (GLFW needs the main thread) at the display's
 /// rate: per frame the newest mesh and LoopView, the head pose at session time, the navigated off-axis camera,
