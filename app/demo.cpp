@@ -17,6 +17,7 @@
 #include "app/tool_mesh.hpp"
 #include "app/workpiece_source.hpp"
 #include "compute/tools/clay_sweep.hpp"
+#include "app/device_lost.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
@@ -205,6 +206,15 @@ void run_demo(const DemoOptions& o) {
         if (!o.save.empty()) save_session_model(o.save, run.runtime->workpiece(), s);
     } catch (const Error& e) {
         throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");
+    }
+    if (run.device_lost_at_s) {
+        std::string kept = o.out + " (images, sculpted.ply, haptics.csv, report.json)";
+        if (!journal.empty()) kept += ", the journal " + journal;
+        if (!o.record.empty()) kept += ", the recording " + o.record;
+        if (!o.save.empty()) kept += ", the model " + o.save;
+        throw DeviceLostError("--device " + o.device + ": the " + run.runtime->profile().name + " was lost " +
+                              format_number(*run.device_lost_at_s) +
+                              " s into the session; the session ended there and kept its work: " + kept);
     }
 }
 

@@ -22,6 +22,7 @@
 #include "bench/bench_session.hpp"
 #include "bench/bench_undo.hpp"
 #include "app/demo.hpp"
+#include "app/device_lost.hpp"
 #include "app/device_server_cmd.hpp"
 #include "app/devices_cmd.hpp"
 #include "app/elastic_demo.hpp"
@@ -462,6 +463,9 @@ int main(int argc, char** argv) {
             }
         }
         return tridex::app::stop_signal() ? 128 + tridex::app::stop_signal() : 0;
+    } catch (const tridex::app::DeviceLostError& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 4;
     } catch (const tridex::Error& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
         return 2;

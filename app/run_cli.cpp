@@ -8,6 +8,7 @@
 #include <new>
 
 #include "app/run_session.hpp"
+#include "app/device_lost.hpp"
 #include "core/error.hpp"
 #include "renderer/output/stereo_output.hpp"
 
@@ -99,6 +100,9 @@ int run_command(const RunOptions& options) {
         for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
         std::printf("  outputs: %s\n", r.setup.out.c_str());
         return 0;
+    } catch (const DeviceLostError& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 4;
     } catch (const Error& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
         return 2;

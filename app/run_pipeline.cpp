@@ -28,6 +28,7 @@
 #include "compute/mesh/mesh_export.hpp"
 #include "compute/model/volume.hpp"
 #include "compute/tools/clay_sweep.hpp"
+#include "app/device_lost.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "gpu/context.hpp"
@@ -301,6 +302,8 @@ bool RunPipeline::Parts::end_of_run(std::uint64_t frame) {
         ended = "the wand reached the end cap";
     else if (stop_requested())
         ended = std::string(stop_signal_name()) + " received";
+    else if (backend->runtime().loop_stats().device_lost)
+        ended = "the device was lost";
     else if (safety_s > 0.0 && offscreen && unlimited && t >= safety_s)
         ended = "the wall-time safety net (" + format_number(safety_s) + " s) stopped the run";
     else
@@ -450,6 +453,11 @@ void RunPipeline::Parts::collect() {
     r.render_s = seconds_since(t_render);
     r.stroke_completed = scene.has_stroke && backend->stroke_done() && rt.loop_stats().ticks >= backend->stroke_ticks();
     rt.stop();
+    r.loop = rt.loop_stats();
+    if (r.loop.device_lost && !stop_requested()) {
+        r.device_lost_at_s = rt.records().empty() ? 0.0 : rt.records().back().t_s;
+        ended = "the device was lost at " + format_number(*r.device_lost_at_s) + " s";
+    }
     r.notes.insert(r.notes.begin(), "ended: " + ended);
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
     r.head = nlohmann::json{{"provider", to_string(scene.head)}};
@@ -461,7 +469,6 @@ void RunPipeline::Parts::collect() {
         r.wand = wand_report_json(*wand, *wand_nav, nav);
         r.notes.push_back("wand: " + wand->note());
     }
-    r.loop = rt.loop_stats();
     r.spilled_intervals = rt.booleans().backend->spilled_intervals();
     r.model_bytes = rt.booleans().backend->model_bytes();
     r.sculpt_validation_messages = rt.booleans().backend->validation_messages();
@@ -576,6 +583,17 @@ RunResult RunPipeline::run() {
     }
     p.collect();
     p.write_outputs();
+    if (p.r.device_lost_at_s) {
+        const RunSetup& su = p.r.setup;
+        std::string kept = su.out + " (images, sculpted.ply, report.json)";
+        if (!su.journal.empty()) kept += ", the journal " + su.journal;
+        if (!su.record.empty()) kept += ", the recording " + su.record;
+        if (!su.save.empty()) kept += ", the model " + su.save;
+        throw DeviceLostError("device '" + su.scene.spec.device_driver + "': the " +
+                              p.backend->runtime().profile().name + " was lost " +
+                              format_number(*p.r.device_lost_at_s) +
+                              " s into the session; the session ended there and kept its work: " + kept);
+    }
     return p.r;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -133,6 +134,8 @@ struct RunResult {
     std::array<std::size_t, 3> model_bytes{};    ///< model bytes per ray set on the sculpting path
     std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages of the sculpting backend
     std::string stopped_by;                      ///< "SIGINT" / "SIGTERM" when a signal ended the run, else ""
+    /// When the device went away during the run (its read failed): the device time of its last good tick, s.
+    std::optional<double> device_lost_at_s;
     double scan_s = 0.0;                         ///< scan conversion (or model loading) wall time, s
     std::size_t tiles_total = 0;                 ///< tiles in the model's tile grid
     std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state

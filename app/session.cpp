@@ -18,6 +18,7 @@
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/volume.hpp"
+#include "core/format.hpp"
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
@@ -125,6 +126,8 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     if (GpuContourShare* g = rt.gpu_contour()) run.gpu_contour = g->stats();
     run.records = rt.records();
     run.loop = rt.loop_stats();
+    if (run.loop.device_lost && ticks > 0 && run.loop.ticks < ticks && run.stopped_by.empty())
+        run.device_lost_at_s = run.records.empty() ? 0.0 : run.records.back().t_s;
     run.sculpt = rt.sculpt_stats();
     if (const compute::JournalStats* j = rt.journal_stats()) run.journal = *j;
     run.volume_after_m3 = compute::dexel_volume_m3(rt.workpiece().model);
@@ -265,6 +268,8 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     if (!run.contour_reason.empty()) r.notes.push_back("contour path cpu: " + run.contour_reason);
     if (run.journal && !run.journal->error.empty()) r.notes.push_back("journal stopped: " + run.journal->error);
     r.notes.insert(r.notes.begin(), "ended: " + (!run.stopped_by.empty() ? run.stopped_by + " received"
+                                                 : run.device_lost_at_s ? "the device was lost at " +
+                                                                              format_number(*run.device_lost_at_s) + " s"
                                                  : opt.command == "replay" ? std::string("the recording ended")
                                                                            : std::string("the stroke ended")));
     r.wall_s = seconds_since(t_start);

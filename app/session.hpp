@@ -51,6 +51,9 @@ struct SessionRun {
     std::unique_ptr<SessionRuntime> runtime;
     /// "SIGINT" or "SIGTERM" when a signal ended the session early (its outputs are still written), else "".
     std::string stopped_by;
+    /// When the device went away before the session's end (its read failed while ticks were still due): the device
+    /// time of the last good tick, s. Unset otherwise (a replay's recording running out is its normal end).
+    std::optional<double> device_lost_at_s;
     /// Clay sessions (op push, smooth or pull): the largest distance between the surface before and after the session, m
     /// (compute::clay_max_displacement_cells); set by the caller that kept the model before.
     std::optional<double> deformation_max_displacement_m;

@@ -155,6 +155,41 @@ TEST(NetRun, OffscreenRunAgainstADeviceServerProcessInLocalRendering) {
     EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();
 }
 
+// A device that goes away mid-session (here its device server stops) ends the session: its outputs are written, one
+// line on stderr names the device, when it was lost and what was kept, and the command exits 4.
+TEST(DeviceLost, AServerThatStopsEndsDemoAndRunWithExit4AndKeepsTheirWork) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_device_lost";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const std::string command : {"demo", "run"}) {
+        Child server({TRIDEX_EXE, "device-server", "--device", "simulated", "--listen", "127.0.0.1:0", "--stroke-seconds",
+                      "60", "--seconds", "6"});
+        ASSERT_TRUE(server.started());
+        std::string port;
+        ASSERT_TRUE(server.wait_for_line(std::regex(R"(on 127\.0\.0\.1:([0-9]+);)"), 120.0, port)) << server.seen();
+        const fs::path out = dir / command;
+        const std::string args =
+            command == "demo" ? "demo --seconds 60 --resolution 48 --width 64 --height 48 --save " + (dir / "demo.tdx").string()
+                              : "run --display offscreen --seconds 60 --save " + (dir / "run.tdx").string();
+        const auto t0 = Clock::now();
+        const auto r = run_tridex(args + " --device net:127.0.0.1:" + port + " --out " + out.string(), dir / (command + "_log"));
+        const double took_s = std::chrono::duration<double>(Clock::now() - t0).count();
+        EXPECT_EQ(r.exit_code, 4) << command << ": " << r.err << "\nserver:\n" << server.seen();
+        EXPECT_LT(took_s, 45.0) << command << ": the session went on long after its device was gone";
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find("was lost"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("net"), std::string::npos) << "names the device: " << r.err;
+        EXPECT_NE(r.err.find(out.string()), std::string::npos) << "says what was kept: " << r.err;
+        for (const char* f : {"sculpted.ply", "report.json", "session.tdj"})
+            EXPECT_TRUE(fs::is_regular_file(out / f)) << command << ": " << f;
+        EXPECT_TRUE(fs::is_regular_file(dir / (command + ".tdx"))) << command << ": --save was not written";
+        const nlohmann::json rep = read_json(out / "report.json");
+        EXPECT_EQ(rep["notes"][0].get<std::string>().rfind("ended: the device was lost at", 0), 0u) << rep["notes"];
+        EXPECT_TRUE(rep["haptics"]["device_lost"].get<bool>());
+    }
+    fs::remove_all(dir);
+}
+
 // What `run` refuses about served devices, in one line naming the flag or field.
 TEST(NetRun, BadNetOptionsAreRefusedWithOneLine) {
     const fs::path dir = fs::path(testing::TempDir()) / "tridex_net_run_bad";
