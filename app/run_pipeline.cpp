@@ -125,6 +125,8 @@ struct RunPipeline::Parts {
     std::size_t next_key = 0;     // scene.keys not yet pressed
     bool journal_warned = false;  // said once that the journal stopped
     Clock::time_point t_render{}, prev_start{};
+    std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
+    std::uint64_t head_frames_held = 0;   // frames drawn from last_good_head instead of the head provider's pose
 
     explicit Parts(const RunOptions& options)
         : r(result_for(resolve_run(options))),
@@ -365,7 +367,16 @@ void RunPipeline::Parts::draw(std::uint64_t frame, const MeshFrame& mesh, const 
         wand_nav->update(wand->sample(), t - wand_prev_t, nav);
         wand_prev_t = t;
     }
-    const RunCamera cam = navigated_camera(dc.screen, head->head_at(t), dc.eye_separation_m, nav);
+    // A head the eyes cannot be drawn from (a tracker glitch: at or behind the screen, or not finite) holds the last
+    // good head pose for this frame, counted, instead of ending the session.
+    const Pose head_pose = head->head_at(t);
+    RunCamera cam = navigated_camera(dc.screen, head_pose, dc.eye_separation_m, nav);
+    if (eyes_see_screen(cam)) {
+        last_good_head = head_pose;
+    } else {
+        ++head_frames_held;
+        cam = navigated_camera(dc.screen, last_good_head.value_or(scene.head_pose), dc.eye_separation_m, nav);
+    }
     const auto t0 = Clock::now();
     if (mouse_stylus) {
         if (!window) mouse_stylus->apply_script(scene.cursor, lv.t_s);
@@ -465,6 +476,10 @@ void RunPipeline::Parts::collect() {
         r.head = dtrack->report_json();
         r.notes.push_back("head: " + dtrack->note());
     }
+    r.head["frames_held"] = head_frames_held;
+    if (head_frames_held > 0)
+        r.notes.push_back("head: " + std::to_string(head_frames_held) +
+                          " frames held the last good head pose (the head was at or behind the screen, or not finite)");
     if (wand) {
         r.wand = wand_report_json(*wand, *wand_nav, nav);
         r.notes.push_back("wand: " + wand->note());

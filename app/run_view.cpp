@@ -1,6 +1,8 @@
 // app/run_view.cpp - scene view and navigated camera of one frame.
 #include "app/run_view.hpp"
 
+#include <cmath>
+
 namespace tridex::app {
 
 Aabb enclosing_box(const Pose& box, const Vec3& half_m) {
@@ -77,6 +79,23 @@ RunCamera navigated_camera(const renderer::Screen& screen, const Pose& head, dou
     c.near_m = near_m / s;
     c.far_m = far_m / s;
     return c;
+}
+
+bool eyes_see_screen(const RunCamera& c) {
+    const Pose& h = c.head;
+    const bool finite = std::isfinite(h.position.x) && std::isfinite(h.position.y) && std::isfinite(h.position.z) &&
+                        std::isfinite(h.orientation.w) && std::isfinite(h.orientation.x) &&
+                        std::isfinite(h.orientation.y) && std::isfinite(h.orientation.z) &&
+                        std::isfinite(c.eye_separation_m);
+    if (!finite) return false;
+    const Vec3 right = c.screen.lower_right - c.screen.lower_left, up = c.screen.upper_left - c.screen.lower_left;
+    const Vec3 n = glm::cross(right, up);
+    const double len = glm::length(n);
+    if (!(len > 0.0)) return false;
+    constexpr double kMinEyeDistanceM = 1e-4;
+    for (const Vec3& eye : renderer::eye_positions(h, c.eye_separation_m))
+        if (!(glm::dot(eye - c.screen.lower_left, n / len) > kMinEyeDistanceM)) return false;
+    return true;
 }
 
 }  // namespace tridex::app

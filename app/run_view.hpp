@@ -81,4 +81,9 @@ struct RunCamera {
 RunCamera navigated_camera(const renderer::Screen& screen, const Pose& head, double eye_separation_m,
                            const renderer::SceneNavigation& nav, double near_m = 0.05, double far_m = 20.0);
 
+/// True when the camera can be drawn: the head pose is finite and both eyes (renderer::eye_positions) are in front
+/// of the screen's plane by more than a tenth of a millimetre (off_axis_view refuses an eye on or behind it). A
+/// tracker glitch (a head reported at or behind the wall, or NaN) makes it false.
+bool eyes_see_screen(const RunCamera& camera);
+
 }  // namespace tridex::app

@@ -268,5 +268,42 @@ TEST(DTrackHead, OffscreenRunDrawsTheTrackedEyes) {
     EXPECT_GT(renderer::compare_images(a, c, 0).max_channel_diff, 8);
 }
 
+// A tracker glitch never ends a session: a head tracked at or behind the screen plane (or anywhere the eyes cannot
+// see the screen from) holds the last good head pose, here the scene's own, and is counted in report.json.
+TEST(DTrackHead, AHeadBehindTheScreenIsHeldNotFatal) {
+    const fs::path dir = test::temp_dir("dtrack_behind");
+    const std::string scene = write_still_scene(dir);
+    const int port = free_port();
+    std::atomic<bool> stop{false};
+    std::thread sender([&] {  // 100 mm behind the wall (identity calibration: tracker = wall coordinates)
+        DTrackSender tx(port);
+        for (unsigned fr = 1; !stop.load(); ++fr) {
+            tx.send(dtrack_datagram(fr, 0, Vec3(0.0, 0.0, -100.0), glm::dmat3(1.0)));
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    });
+    RunResult behind;
+    try {
+        behind = run(scene, dir / "behind", "dtrack:" + std::to_string(port) + ":0", 6);
+    } catch (...) {
+        stop = true;
+        sender.join();
+        throw;
+    }
+    stop = true;
+    sender.join();
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "behind" / "report.json"));
+    const nlohmann::json& h = report.at("head");
+    EXPECT_GE(h.at("frames_tracked").get<int>(), 1) << h.dump();
+    EXPECT_EQ(h.at("frames_held").get<int>(), h.at("frames_tracked").get<int>()) << h.dump();
+    EXPECT_TRUE(std::any_of(behind.notes.begin(), behind.notes.end(),
+                            [](const std::string& n) { return n.find("held the last good head pose") != std::string::npos; }));
+    // The held frames were drawn from the scene's head: the same image as a run that never tracked the head.
+    run(scene, dir / "fixed", "", 6);
+    const renderer::Image a = renderer::read_png((dir / "behind" / "left.png").string());
+    const renderer::Image b = renderer::read_png((dir / "fixed" / "left.png").string());
+    EXPECT_LE(renderer::compare_images(a, b, 0).max_channel_diff, 1);
+}
+
 }  // namespace
 }  // namespace tridex::app
