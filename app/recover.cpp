@@ -57,6 +57,19 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                               {"--out's report.json", (fs::path(out) / "report.json").string()}},
                              inputs);
     }
+    std::uint64_t damaged_records = 0, skipped_bytes = 0, samples_lost = 0;
+    for (const compute::JournalDamage& d : j.damage) {
+        damaged_records += d.records_lost;
+        skipped_bytes += d.bytes;
+        samples_lost += d.samples_lost;
+        std::fprintf(stderr,
+                     "tridex: %s: skipped %llu damaged record%s (%llu bytes at offset %llu; about %llu samples): %s; "
+                     "resumed at the next intact one\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(d.records_lost),
+                     d.records_lost == 1 ? "" : "s",
+                     static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.byte_offset),
+                     static_cast<unsigned long long>(d.samples_lost), d.reason.c_str());
+    }
     if (j.cut)
         std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
@@ -129,12 +142,19 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                                                {"byte_offset", j.cut->byte_offset},
                                                {"reason", j.cut->reason}}
                               : nlohmann::json(nullptr);
+    r["journal_damage"] = {{"damaged_records", damaged_records},
+                           {"skipped_bytes", skipped_bytes},
+                           {"samples_lost", samples_lost},
+                           {"marks_skipped", applied.marks_skipped}};
     r["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
     r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
     r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_json_file((dir / "report.json").string(), r);
     // From a checkpoint, the samples are only those replayed after it; the records count the whole journal.
     const std::string start_from = done ? from + ", then " : "from the start, ";
+    if (applied.marks_skipped > 0)
+        std::fprintf(stderr, "tridex: %s: %llu stroke marks after the damage no longer matched the replay and were skipped\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(applied.marks_skipped));
     std::printf("recovered %llu records (%s%llu samples replayed, to %.3f s of device time) from %s into %s\n",
                 static_cast<unsigned long long>(applied.records), start_from.c_str(),
                 static_cast<unsigned long long>(applied.samples), applied.last_t_s, journal_path.c_str(), out.c_str());

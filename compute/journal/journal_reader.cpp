@@ -1,6 +1,7 @@
 // compute/journal/journal_reader.cpp - the session journal's validating reader.
 #include "compute/journal/journal_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -34,8 +35,9 @@ std::string sample_problem(const ToolSample& s) {
 }
 
 // Checks the record at `off`; on success fills `rec` and returns "" and the record's total size in `size`.
+// `index` is the record index expected; any index in [index, last_index] passes too (after a damaged stretch).
 std::string check_record(std::span<const unsigned char> b, std::uint64_t off, std::uint64_t index, std::uint32_t version,
-                         JournalRecord& rec, std::uint64_t& size) {
+                         JournalRecord& rec, std::uint64_t& size, std::uint64_t last_index = 0) {
     const std::uint64_t left = b.size() - off;
     const unsigned char* p = b.data() + off;
     if (left < kJournalRecordHeadBytes)
@@ -50,8 +52,10 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (type < kJournalBatch || type > kJournalCheckpoint || (version < 2 && type != kJournalBatch))
         return "unknown record type " + std::to_string(type);
     if (payload < 8) return "record too short";
-    if (get_u64(q) != index) return "record index " + std::to_string(get_u64(q)) + " where " + std::to_string(index) + " belongs";
+    if (get_u64(q) < index || get_u64(q) > std::max(index, last_index))
+        return "record index " + std::to_string(get_u64(q)) + " where " + std::to_string(index) + " belongs";
     rec.offset = off;
+    rec.index = get_u64(q);
     rec.kind = static_cast<JournalKind>(type);
     if (type == kJournalStrokeEnd || type == kJournalUndo || type == kJournalRedo) {
         if (payload != kJournalMarkBytes) return "mark record of " + std::to_string(payload) + " bytes";
@@ -111,14 +115,40 @@ Journal parse_journal(std::span<const unsigned char> b, const std::string& where
                     std::to_string(kJournalSampleBytes));
     j.session.assign(reinterpret_cast<const char*>(b.data() + kJournalHeaderFixedBytes), len);
     std::uint64_t off = kJournalHeaderFixedBytes + std::uint64_t{len} + 4;
+    std::uint64_t index = 0;  // the record index the next record carries
+    // The smallest record on disk (an empty batch), bounding how many records a damaged stretch can hold.
+    constexpr std::uint64_t kMinRecord = kJournalRecordHeadBytes + kJournalBatchHeadBytes + 4;
     while (off < b.size()) {
         JournalRecord rec;
         std::uint64_t size = 0;
-        const std::string why = check_record(b, off, j.records.size(), j.version, rec, size);
+        const std::string why = check_record(b, off, index, j.version, rec, size);
         if (!why.empty()) {
-            j.cut = JournalCut{j.records.size(), off, why};
-            break;
+            // Resynchronise: the next offset whose bytes hold an intact record with a later index.
+            std::uint64_t next = off + 1;
+            for (; next + kJournalRecordHeadBytes <= b.size(); ++next) {
+                const unsigned char* p = b.data() + next;
+                if (p[0] < kJournalBatch || p[0] > kJournalCheckpoint || p[1] != 0 || p[2] != 0 || p[3] != 0) continue;
+                JournalRecord probe;
+                std::uint64_t probe_size = 0;
+                const std::uint64_t last = index + (next - off) / kMinRecord;
+                // Cheap tests first (the index must fit the gap), the CRC over the payload only then.
+                if (next + kJournalRecordHeadBytes + 8 > b.size()) continue;
+                const std::uint64_t at = get_u64(p + kJournalRecordHeadBytes);
+                if (at < index || at > last) continue;
+                if (check_record(b, next, index, j.version, probe, probe_size, last).empty()) break;
+            }
+            if (next + kJournalRecordHeadBytes > b.size()) {
+                j.cut = JournalCut{index, off, why};
+                break;
+            }
+            const std::uint64_t found = get_u64(b.data() + next + kJournalRecordHeadBytes);
+            j.damage.push_back(
+                JournalDamage{index, off, next - off, found - index, (next - off) / kJournalSampleBytes, why});
+            index = found;
+            off = next;
+            continue;
         }
+        ++index;
         j.samples += rec.samples.size();
         j.records.push_back(std::move(rec));
         off += size;

@@ -1,5 +1,5 @@
 // compute/journal/journal_reader.hpp - reading a session journal (compute/journal/journal_format.hpp): the header
-// is validated strictly, the records up to the first damaged one are kept.
+// is validated strictly; a damaged record is skipped and reading resumes at the next intact one.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +25,7 @@ enum class JournalKind : std::uint8_t {
 struct JournalRecord {
     JournalKind kind = JournalKind::kBatch;
     std::uint64_t offset = 0;         ///< byte offset of the record in the file
+    std::uint64_t index = 0;          ///< its record index (0, 1, ...; a gap before it: damaged records skipped)
     std::vector<ToolSample> samples;  ///< kBatch: in the order they were applied; else empty
     std::uint64_t serial = 0;         ///< kStrokeEnd, kUndo, kRedo: the stroke's serial (UndoHistory)
     std::uint64_t rays = 0;           ///< kUndo, kRedo: rays written back
@@ -35,19 +36,30 @@ struct JournalRecord {
 
 /// Where a journal's valid prefix ends and why (a torn write, a bit flip).
 struct JournalCut {
-    std::uint64_t record = 0;       ///< index of the first record not kept (= the number of records kept)
+    std::uint64_t record = 0;       ///< record index of the first record not kept
     std::uint64_t byte_offset = 0;  ///< its byte offset (= the length of the valid prefix)
     std::string reason;             ///< e.g. "partial record: 96 of 1232 bytes", "CRC mismatch"
+};
+
+/// A damaged stretch the reader skipped before resynchronising at the next intact record.
+struct JournalDamage {
+    std::uint64_t record = 0;       ///< index of the first record lost (= the records kept before it)
+    std::uint64_t byte_offset = 0;  ///< where the damaged stretch starts
+    std::uint64_t bytes = 0;        ///< its length, bytes
+    std::uint64_t records_lost = 0; ///< records it held, from the gap in record indices
+    std::uint64_t samples_lost = 0; ///< samples it held, estimated as bytes / kJournalSampleBytes
+    std::string reason;             ///< why its first record was refused, as in JournalCut::reason
 };
 
 /// A journal read back.
 struct Journal {
     std::uint32_t version = 0;           ///< format version (kJournalOldestVersion..kJournalVersion)
     std::string session;                 ///< the session identity the writer was given
-    std::vector<JournalRecord> records;  ///< every record before the first damaged one
+    std::vector<JournalRecord> records;  ///< every intact record, in file order
     std::uint64_t samples = 0;           ///< samples in `records`
     std::uint64_t file_bytes = 0;        ///< size of the input
-    std::optional<JournalCut> cut;       ///< set when bytes after the last valid record were dropped
+    std::optional<JournalCut> cut;       ///< set when the file ends in damage no intact record follows
+    std::vector<JournalDamage> damage;   ///< damaged stretches followed by an intact record, in file order
 };
 
 /// Parses journal bytes. The header must be complete and intact: throws tridex::Error "<where>: <what>" when it
@@ -55,8 +67,12 @@ struct Journal {
 /// sample size, or is truncated or damaged (CRC). Records are kept up to the first that is incomplete, fails its
 /// CRC, has an unknown type (or a mark in a version 1 journal), a wrong length or record index, a checkpoint name
 /// that is empty, too long or holds a '/', or a sample field no writer writes (an impossible tool kind or op, a
-/// non-finite time, pose or tool size, a negative tool size, a material id over kMaxMaterialId); the rest is
-/// reported in Journal::cut. O(file size).
+/// non-finite time, pose or tool size, a negative tool size, a material id over kMaxMaterialId). Such a record
+/// is skipped: the reader scans forward byte by byte for the next offset holding a record that passes every check
+/// above with a record index above the last kept one (type, length and index are the sync pattern, the CRC-32
+/// confirms it), resumes there and reports the skipped stretch in Journal::damage; with no intact record after
+/// it, the rest is reported in Journal::cut. O(file size) for a clean journal; a damaged stretch costs one CRC per
+/// candidate offset whose head looks like a record's.
 Journal parse_journal(std::span<const unsigned char> bytes, const std::string& where);
 
 /// Reads and parses the journal file at `path` (parse_journal). Throws tridex::Error "<path>: cannot read" too.

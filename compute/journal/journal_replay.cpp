@@ -36,13 +36,22 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
             have_prev = true;
         }
     }
+    bool damaged = false;     // a gap in the record indices lies before record k: marks are matched leniently
+    std::int64_t shift = 0;   // journal serial - replay serial, relearnt at each stroke end after a gap
     for (std::size_t k = from.record; k < records.size(); ++k) {
         const JournalRecord& r = records[k];
+        if (r.index != (k == 0 ? 0 : records[k - 1].index + 1)) damaged = true;
         switch (r.kind) {
             case JournalKind::kCheckpoint:
                 break;
             case JournalKind::kStrokeEnd: {
                 const std::uint64_t serial = history.end_stroke();
+                if (damaged && serial != r.serial) {
+                    if (serial != 0) shift = static_cast<std::int64_t>(r.serial) - static_cast<std::int64_t>(serial);
+                    else ++st.marks_skipped;
+                    if (serial != 0) ++st.strokes;
+                    break;
+                }
                 if (serial != r.serial)
                     throw at(k, "the journal closes stroke " + std::to_string(r.serial) + " where the replay " +
                                     (serial == 0 ? std::string("has no stroke open") : "closes stroke " + std::to_string(serial)));
@@ -54,6 +63,15 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
                 const bool undo = r.kind == JournalKind::kUndo;
                 history.end_stroke();
                 const std::uint64_t next = undo ? history.next_undo_serial() : history.next_redo_serial();
+                if (damaged) {
+                    if (next == 0 || static_cast<std::int64_t>(next) + shift != static_cast<std::int64_t>(r.serial)) {
+                        ++st.marks_skipped;
+                        break;
+                    }
+                    (void)(undo ? history.undo() : history.redo());
+                    ++(undo ? st.undos : st.redos);
+                    break;
+                }
                 if (next != r.serial)
                     throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) +
                                     ", but the replay's next is " + (next == 0 ? std::string("none") : "stroke " + std::to_string(next)));

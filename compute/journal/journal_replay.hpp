@@ -19,6 +19,7 @@ struct JournalApplyStats {
     std::uint64_t strokes = 0;   ///< stroke-end marks replayed
     std::uint64_t undos = 0;     ///< undo marks replayed
     std::uint64_t redos = 0;     ///< redo marks replayed
+    std::uint64_t marks_skipped = 0;  ///< marks after a gap in record indices that no longer matched the replay
     double last_t_s = 0.0;       ///< t_s of the last sample (device time, s); 0 without samples
 };
 
@@ -37,7 +38,10 @@ struct JournalApplyFrom {
 /// sample throws. Throws tridex::Error naming the record on a sweep the Booleans refuse, or on a mark that does not
 /// match the replay (a stroke closed or undone under another serial, an undo with nothing to undo, another number
 /// of rays written back: a journal replayed from a state it was not written from); the model then holds the
-/// records before it.
+/// records before it. After a gap in the record indices (damaged records the reader skipped), marks are matched
+/// leniently: a stroke end closes the open stroke and relearns the offset between the journal's serials and the
+/// replay's (a lost stroke end merges two strokes), an undo or redo whose stroke is not the replay's next is skipped
+/// and counted in marks_skipped, and another number of rays written back is accepted (lost samples change it).
 JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from = {});
 
 /// The serial of the last stroke closed in records [0, end) (the largest stroke-end serial), for

@@ -112,6 +112,46 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     EXPECT_EQ(test::bytes_of(dir / "torn" / "sculpted.ply"), independent_ply(dir / "torn.tdj", dir));
 }
 
+// One bit flipped in a batch record in the middle of the journal: recover skips that record only, says so in one line
+// on stderr and in report.json, and its model is the one the remaining samples make.
+TEST(Recover, ABitFlipCostsOnlyTheDamagedRecord) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_recover_flip";
+    fs::remove_all(dir);
+    std::string args;
+    for (const std::string& a : kDemoArgs) args += a + " ";
+    const test::ExeResult demo = test::run_tridex(args + "--out " + (dir / "session").string(), dir / "demo");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    const fs::path journal = dir / "session" / "session.tdj";
+    const compute::Journal j = compute::read_journal(journal.string());
+    std::size_t hit = j.records.size() / 2;
+    while (hit + 1 < j.records.size() && (j.records[hit].kind != compute::JournalKind::kBatch || j.records[hit].samples.empty()))
+        ++hit;
+    ASSERT_LT(hit + 1, j.records.size());
+    const std::uint64_t size = j.records[hit + 1].offset - j.records[hit].offset;
+    std::string bytes = test::bytes_of(journal);
+    bytes[j.records[hit].offset + size / 2] ^= 0x10;
+    {
+        std::ofstream out(dir / "flipped.tdj", std::ios::binary);
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    }
+    const test::ExeResult rec = test::run_tridex("recover " + (dir / "flipped.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    EXPECT_EQ(std::count(rec.err.begin(), rec.err.end(), '\n'), 1) << rec.err;
+    EXPECT_NE(rec.err.find("skipped 1 damaged record (" + std::to_string(size) + " bytes at offset " +
+                           std::to_string(j.records[hit].offset) + ";"),
+              std::string::npos)
+        << rec.err;
+    EXPECT_NE(rec.err.find("resumed at the next intact one"), std::string::npos) << rec.err;
+    const nlohmann::json rr = test::read_json(dir / "rec" / "report.json");
+    EXPECT_TRUE(rr["truncated_at"].is_null());
+    EXPECT_EQ(rr["journal_damage"]["damaged_records"], 1);
+    EXPECT_EQ(rr["journal_damage"]["skipped_bytes"], size);
+    EXPECT_EQ(rr["journal_damage"]["samples_lost"], j.records[hit].samples.size());
+    EXPECT_EQ(rr["journal_damage"]["marks_skipped"], 0);
+    EXPECT_EQ(rr["samples"].get<std::uint64_t>(), j.samples - j.records[hit].samples.size());
+    EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "flipped.tdj", dir));
+}
+
 TEST(Recover, SessionsKilledAtRandomMomentsRecoverTheirJournalsValidPrefix) {
     const unsigned seed = static_cast<unsigned>(std::chrono::steady_clock::now().time_since_epoch().count());
     std::mt19937 rng(seed);

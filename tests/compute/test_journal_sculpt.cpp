@@ -14,6 +14,7 @@
 #include "compute/journal/journal_writer.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
+#include "core/error.hpp"
 #include "core/primitives.hpp"
 
 namespace tridex::app {
@@ -122,6 +123,45 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
     expect_same_dexels(live, split);
     expect_same_dexels(live, whole);
     fs::remove(path);
+}
+
+
+// Records as the reader returns them after skipping damage: a gap in the record indices. Stroke 1's end mark was lost,
+// so the replay merges strokes 1 and 2; the stroke end the journal calls 2 closes the merged stroke, and the undo
+// of stroke 2 then undoes it whole, back to the untouched box. An undo of a stroke the replay does not have is
+// skipped and counted, not fatal.
+TEST(JournalSculpt, MarksAfterALostStrokeEndAreMatchedLeniently) {
+    const std::vector<ToolSample> samples = stream();
+    std::vector<compute::JournalRecord> r(5);
+    r[0].index = 0;  // stroke 1's samples; index 1 (its end mark) is missing
+    r[0].samples.assign(samples.begin(), samples.begin() + 150);
+    r[1].index = 2;  // stroke 2's samples
+    r[1].samples.assign(samples.begin() + 150, samples.begin() + 300);
+    r[2].index = 3;
+    r[2].kind = compute::JournalKind::kStrokeEnd;
+    r[2].serial = 2;
+    r[3].index = 4;
+    r[3].kind = compute::JournalKind::kUndo;
+    r[3].serial = 2;
+    r[4].index = 5;
+    r[4].kind = compute::JournalKind::kUndo;
+    r[4].serial = 9;
+    const compute::TriDexel box = box_model();
+    compute::TriDexel m = box_model();
+    const compute::JournalApplyStats st = compute::journal_apply(m, r);
+    EXPECT_EQ(st.strokes, 1u);
+    EXPECT_EQ(st.undos, 1u);
+    EXPECT_EQ(st.marks_skipped, 1u);
+    EXPECT_EQ(st.samples, 300u);
+    expect_same_dexels(box, m);
+
+    // Without the gap the same records are a replay that disagrees with the journal: refused.
+    r[1].index = 1;
+    r[2].index = 2;
+    r[3].index = 3;
+    r[4].index = 4;
+    compute::TriDexel strict = box_model();
+    EXPECT_THROW(compute::journal_apply(strict, r), Error);
 }
 
 }  // namespace
