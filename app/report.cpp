@@ -249,7 +249,7 @@ nlohmann::json demo_report_json(const DemoReport& r) {
     j["eye_resolution"] = {r.eye_width, r.eye_height};
     j["eye_separation_m"] = r.eye_separation_m;
     j["present_mode"] = "offscreen";
-    j["head"] = {{"provider", "fixed"}};
+    j["head"] = {{"provider", "fixed"}, {"frames_held", 0}};
     j["wand"] = {{"provider", "none"}};
     j["render"] = {{"device", r.device},
                    {"eye_strategy", r.eye_strategy},

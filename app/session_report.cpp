@@ -152,7 +152,8 @@ const std::vector<ReportField>& report_schema() {
         {"refresh_hz", "the display's refresh rate, Hz; null for demo and replay (one frame at the end)"},
         {"eye_separation_m", "distance between the eyes, m"},
         {"present_mode", "window: the swap chain's present mode; offscreen: offscreen"},
-        {"head", "where the head pose came from: {provider, ...} (DTrack: frames tracked, stale, latency)"},
+        {"head", "where the head pose came from: {provider, frames_held (frames drawn from the last good head pose: the "
+                 "head was at or behind the screen, or not finite), ...} (DTrack: frames tracked, stale, latency)"},
         {"wand", "the navigation wand: {provider: none} or the DTrack wand's report"},
         {"frames", "run: frames rendered, presents, frame_ms, interval_ms, gpu_ms histograms; null for demo and "
                    "replay"},
