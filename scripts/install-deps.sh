@@ -25,6 +25,7 @@ PACKAGES=(
   libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy`; Boost.Math for `tridex study stats`
   gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
   libenet-dev                               # device server link: ENet's reliable + unreliable channels over UDP, sequenced
+  universal-ctags                           # the layout test that measures function lengths (tests/layout/test_house_rules.cpp)
 )
 
 missing=()

@@ -1,0 +1,197 @@
+// The house rules on the source tree (label `layout`): no function over 150 lines outside tests (measured with
+// universal-ctags, as the before-stop hook does), no source file over 600 lines unless its first comment says why,
+// no string comparison with a driver's name outside devices/ (read the driver's capabilities instead). Each rule
+// has an allow-list of today's breaches that may only shrink: an entry that no longer occurs fails the test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kRoot = TRIDEX_SOURCE_DIR;
+const std::vector<std::string> kCodeFolders = {"app", "bench", "compute", "renderer", "haptics", "devices", "core", "gpu"};
+
+std::string read(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+bool is_source(const fs::path& p) {
+    const std::string e = p.extension().string();
+    return e == ".cpp" || e == ".hpp" || e == ".h" || e == ".cc";
+}
+
+// Every source file under `folders` of `root`, as paths relative to root.
+std::vector<std::string> sources(const fs::path& root, const std::vector<std::string>& folders) {
+    std::vector<std::string> out;
+    for (const std::string& f : folders) {
+        if (!fs::is_directory(root / f)) continue;
+        for (const auto& e : fs::recursive_directory_iterator(root / f))
+            if (e.is_regular_file() && is_source(e.path())) out.push_back(fs::relative(e.path(), root).generic_string());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+struct LongFunction {
+    std::string file, name;
+    int lines = 0;
+};
+
+// Functions over `limit` lines under `folders` of `root`, from universal-ctags' line and end fields.
+std::vector<LongFunction> long_functions(const fs::path& root, const std::vector<std::string>& folders, int limit) {
+    std::string cmd = "cd '" + root.string() + "' && ctags -R --languages=C++ --kinds-C++=f --fields=+ne -f -";
+    for (const std::string& f : folders)
+        if (fs::is_directory(root / f)) cmd += " " + f;
+    cmd += " 2>/dev/null";
+    std::vector<LongFunction> out;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) {
+        ADD_FAILURE() << "cannot run ctags (universal-ctags, scripts/install-deps.sh)";
+        return out;
+    }
+    char buf[4096];
+    std::string text;
+    while (std::fgets(buf, sizeof buf, pipe)) text += buf;
+    const int status = pclose(pipe);
+    EXPECT_EQ(status, 0) << "ctags failed: is universal-ctags installed (scripts/install-deps.sh)?";
+    std::stringstream ss(text);
+    for (std::string line; std::getline(ss, line);) {
+        std::vector<std::string> cols;
+        std::stringstream ls(line);
+        for (std::string c; std::getline(ls, c, '\t');) cols.push_back(c);
+        if (cols.size() < 4) continue;
+        int begin = 0, end = 0;
+        for (std::size_t i = 3; i < cols.size(); ++i) {
+            if (cols[i].rfind("line:", 0) == 0) begin = std::stoi(cols[i].substr(5));
+            if (cols[i].rfind("end:", 0) == 0) end = std::stoi(cols[i].substr(4));
+        }
+        if (begin > 0 && end >= begin && end - begin + 1 > limit) out.push_back({cols[1], cols[0], end - begin + 1});
+    }
+    return out;
+}
+
+// Today's functions over 150 lines, each to be split by step; the list may only shrink.
+const std::set<std::pair<std::string, std::string>> kLongFunctionsAllowed = {
+    {"app/main.cpp", "main"},
+    {"bench/bench_render.cpp", "run_render_bench"},
+    {"bench/bench_sculpt.cpp", "run_sculpt_bench"},
+    {"compute/contour/contour_tile.cpp", "cell_vertices"},
+    {"compute/gpu/gpu_sculptor.cpp", "apply_grid"},
+    {"haptics/god_object.cpp", "update"},
+    {"renderer/stereo/stereo_renderer.cpp", "draw"},
+};
+
+TEST(HouseRules, LongFunctionsAreFoundInASyntheticTree) {
+    const fs::path root = fs::path(::testing::TempDir()) / "tridex_house_rules_fn";
+    fs::remove_all(root);
+    fs::create_directories(root / "app");
+    std::ofstream out(root / "app" / "x.cpp");
+    out << "int short_one() { return 1; }\n\nint long_one(int a) {\n";
+    for (int i = 0; i < 160; ++i) out << "    a += " << i << ";\n";
+    out << "    return a;\n}\n";
+    out.close();
+    const std::vector<LongFunction> v = long_functions(root, {"app"}, 150);
+    fs::remove_all(root);
+    ASSERT_EQ(v.size(), 1u);
+    EXPECT_EQ(v[0].name, "long_one");
+    EXPECT_EQ(v[0].file, "app/x.cpp");
+    EXPECT_GT(v[0].lines, 150);
+}
+
+TEST(HouseRules, NoFunctionOver150LinesOutsideTests) {
+    std::set<std::pair<std::string, std::string>> seen;
+    for (const LongFunction& f : long_functions(kRoot, kCodeFolders, 150)) {
+        if (kLongFunctionsAllowed.count({f.file, f.name})) {
+            seen.insert({f.file, f.name});
+            std::printf("allow-listed: %s: %s (%d lines)\n", f.file.c_str(), f.name.c_str(), f.lines);
+            continue;
+        }
+        ADD_FAILURE() << f.file << ": " << f.name << " is " << f.lines << " lines (over 150: split it by step)";
+    }
+    for (const auto& a : kLongFunctionsAllowed)
+        EXPECT_TRUE(seen.count(a)) << a.first << ": " << a.second
+                                   << " is no longer over 150 lines: remove it from tests/layout/test_house_rules.cpp";
+}
+
+TEST(HouseRules, NoFileOver600LinesWithoutAReasonInItsFirstComment) {
+    std::vector<std::string> folders = kCodeFolders;
+    folders.push_back("tests");
+    int checked = 0;
+    for (const std::string& rel : sources(kRoot, folders)) {
+        const std::string text = read(kRoot / rel);
+        ++checked;
+        if (std::count(text.begin(), text.end(), '\n') <= 600) continue;
+        // The first comment: the leading lines that start with "//".
+        std::string first;
+        std::stringstream ss(text);
+        for (std::string line; std::getline(ss, line) && line.rfind("//", 0) == 0;) first += line + "\n";
+        EXPECT_NE(first.find("over 600 lines because"), std::string::npos)
+            << rel << " is over 600 lines: split it by idea, or say why in its first comment (\"over 600 lines because "
+            << "...\")";
+    }
+    EXPECT_GT(checked, 100);
+}
+
+// A driver's name compared as a string: `== "falcon"`, `"mouse" !=`, a "net:" prefix test.
+const std::regex kDriverNameCompare(
+    R"re((==|!=)\s*"(mouse|spacemouse|falcon|falcon-emulator|flystick|tracked-body|net|simulated|omni|wand|6dof|replay|gamepad)"|"(mouse|spacemouse|falcon|falcon-emulator|flystick|tracked-body|net|simulated|omni|wand|6dof|replay|gamepad)"\s*(==|!=)|(starts_with|rfind)\("net:")re");
+
+int driver_name_compares(const std::string& text) {
+    int n = 0;
+    std::stringstream ss(text);
+    for (std::string line; std::getline(ss, line);)
+        if (std::regex_search(line, kDriverNameCompare)) ++n;
+    return n;
+}
+
+// Today's places outside devices/ that compare a driver's name (file -> lines that do); they move to driver
+// capabilities read from the registry, and the counts may only fall.
+const std::map<std::string, int> kDriverComparesAllowed = {
+    {"app/demo.cpp", 3},         {"app/device_server_cmd.cpp", 4}, {"app/dtrack_wand.cpp", 1},
+    {"app/main.cpp", 1},         {"app/run_pipeline.cpp", 2},
+    {"app/run_scene.cpp", 10},   {"app/run_sculpt.cpp", 4},        {"app/run_sculpt.hpp", 1},
+    {"app/run_session.cpp", 6},  {"app/session.cpp", 1},           {"app/session_runtime.cpp", 1},
+    {"app/session_spec.cpp", 1},
+};
+
+TEST(HouseRules, DriverNameComparisonsAreFoundInText) {
+    EXPECT_EQ(driver_name_compares("if (driver == \"falcon\") x();\n"), 1);
+    EXPECT_EQ(driver_name_compares("bool n = d.rfind(\"net:\", 0) == 0;\nif (\"mouse\" != d) y();\n"), 2);
+    EXPECT_EQ(driver_name_compares("const char* name = \"falcon\";  // a name, not a comparison\n"), 0);
+}
+
+TEST(HouseRules, NoNewDriverNameComparisonOutsideDevices) {
+    std::vector<std::string> folders;
+    for (const std::string& f : kCodeFolders)
+        if (f != "devices") folders.push_back(f);
+    std::map<std::string, int> seen;
+    for (const std::string& rel : sources(kRoot, folders)) {
+        const int n = driver_name_compares(read(kRoot / rel));
+        if (n == 0) continue;
+        seen[rel] = n;
+        const auto it = kDriverComparesAllowed.find(rel);
+        const int allowed = it == kDriverComparesAllowed.end() ? 0 : it->second;
+        EXPECT_LE(n, allowed) << rel << " compares a driver's name as a string " << n << " times (allowed " << allowed
+                              << "): read the driver's capabilities from the registry (devices/device_registry.hpp)";
+    }
+    for (const auto& [file, allowed] : kDriverComparesAllowed) {
+        EXPECT_EQ(seen[file], allowed) << file << ": fewer driver-name comparisons than allowed (" << allowed
+                                       << "): lower its entry in tests/layout/test_house_rules.cpp";
+    }
+}
+
+}  // namespace
