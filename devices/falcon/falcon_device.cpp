@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -120,6 +121,15 @@ void FalconDevice::send_zero() noexcept {
     }
 }
 
+namespace {
+
+// std::chrono::steady_clock now, s.
+double steady_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
 TransferStatus FalconDevice::exchange(std::optional<FalconState>& state) {
     const Frame out = encode_command(cmd_);
     std::array<std::uint8_t, kUsbPacketBytes> packet{};
@@ -175,8 +185,14 @@ bool FalconDevice::do_read(DeviceState& out) {
         const FalconKinematics::Forward fk =
             kin_.forward(theta, have_pos_ ? pos_ : FalconKinematics::home_m(), 1e-10, 20);
         if (fk.converged) {
-            vel_ = have_pos_ ? (fk.position - pos_) / opt_.period_s : Vec3(0.0);
+            // The interval that really passed since the last measured position: missed frames in between count
+            // (device time), and so does a loop that ran late (the monotonic clock); the larger of the two.
+            const double now_s = opt_.clock_s ? opt_.clock_s() : steady_seconds();
+            const double elapsed_s = std::max(static_cast<double>(ticks_ - pos_tick_) * opt_.period_s, now_s - pos_clock_s_);
+            vel_ = have_pos_ && elapsed_s > 0.0 ? (fk.position - pos_) / elapsed_s : Vec3(0.0);
             pos_ = fk.position;
+            pos_tick_ = ticks_;
+            pos_clock_s_ = now_s;
             have_pos_ = true;
         } else {
             fault_tick_ = true;  // encoders no pose fits: treat as a malformed frame

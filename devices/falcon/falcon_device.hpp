@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ struct FalconDeviceOptions {
     double homing_timeout_s = 30.0;  ///< home() gives up after this much device time, s
     /// A stall this long (consecutive exchanges without a state frame, in device time) counts as a vanished device.
     double stall_vanish_s = 0.25;
+    /// The monotonic clock the velocity estimate measures intervals with, s; empty = std::chrono::steady_clock.
+    /// Tests inject one to model a loop that ran late.
+    std::function<double()> clock_s;
 };
 
 /// What the driver measured on its link.
@@ -99,6 +103,8 @@ private:
     FalconLinkStats stats_;
     Vec3 pos_{0.0}, vel_{0.0};
     bool have_pos_ = false;
+    std::uint64_t pos_tick_ = 0;     // ticks_ when pos_ was measured
+    double pos_clock_s_ = 0.0;       // the clock when pos_ was measured, s
     std::uint8_t grip_ = 0;
     std::uint64_t ticks_ = 0;       // exchanges since open (device time = ticks_ * period)
     std::uint64_t missed_run_ = 0;  // consecutive exchanges without a frame

@@ -164,6 +164,60 @@ TEST(FalconDevice, EveryInjectedFaultEndsInZeroForceWithinOneTick) {
     }
 }
 
+// The velocity estimate divides by the time that really passed: after missed frames (a stall) the device time of the
+// exchanges in between, after a late loop the monotonic clock's interval, never one period regardless.
+TEST(FalconDevice, VelocityAfterMissedFramesAndALateLoopUsesTheTimeThatPassed) {
+    FalconEmulatorConfig c;
+    const Vec3 h = FalconKinematics::home_m();
+    const double speed = 0.04;  // m/s along x, 40 mm over the path's second
+    c.hand_path.emplace(std::vector<double>{0.0, 1.0}, std::vector<Vec3>{h, h + Vec3(speed, 0.0, 0.0)});
+    auto emu = std::make_unique<FalconEmulator>(std::move(c));
+    FalconEmulator* e = emu.get();
+    double clock = 0.0;  // an on-time 1 kHz loop unless the test makes it late
+    FalconDeviceOptions o;
+    o.firmware_image = emulator_firmware_image();
+    o.clock_s = [&clock] { return clock; };
+    FalconDevice dev(std::move(emu), o);
+    dev.bring_up();
+    DeviceState s;
+    auto tick = [&](double late_s = 0.0) {
+        clock += o.period_s + late_s;
+        const bool ok = dev.read(s);
+        dev.write(Vec3(0.0), Vec3(0.0));
+        return ok;
+    };
+    for (int i = 0; i < 300; ++i) ASSERT_TRUE(tick());
+    // Averaged over 20 on-time ticks the estimate is the grip's true speed (encoder quantisation averages out).
+    Vec3 true_before = e->position_m();
+    double sum = 0.0;
+    for (int i = 0; i < 20; ++i) {
+        ASSERT_TRUE(tick());
+        sum += s.velocity_m_s.x;
+    }
+    const double true_vx = (e->position_m().x - true_before.x) / (20 * o.period_s);
+    EXPECT_GT(true_vx, 0.5 * speed);
+    EXPECT_NEAR(sum / 20, true_vx, 0.25 * true_vx);
+
+    // A stall of 20 exchanges: the first frame after it moved 21 periods' worth, over 21 periods.
+    FalconFaults f;
+    f.stall_at = e->exchanges() + 1;
+    f.stall_exchanges = 20;
+    e->set_faults(f);
+    true_before = e->position_m();
+    for (int i = 0; i < 20; ++i) tick();
+    ASSERT_TRUE(tick());
+    const double true_stall_vx = (e->position_m().x - true_before.x) / (21 * o.period_s);
+    EXPECT_NEAR(s.velocity_m_s.x, true_stall_vx, 0.3 * true_stall_vx) << "divided by one period instead of 21";
+
+    // A loop 9 ms late on one tick: the emulator's hand moved one period's worth, over 10 ms of clock.
+    for (int i = 0; i < 50; ++i) ASSERT_TRUE(tick());
+    const Vec3 before = s.pose.position;
+    ASSERT_TRUE(tick(9e-3));
+    const double expect = (s.pose.position.x - before.x) / 10e-3;
+    EXPECT_NEAR(s.velocity_m_s.x, expect, 1e-9) << "the clock's interval was not used";
+    EXPECT_LT(std::abs(s.velocity_m_s.x), 0.5 * true_vx);
+}
+
 TEST(FalconDevice, UnplugAndLongStallsVanishWithZeroForce) {
     {
         Rig r = make({}, 0.05);
