@@ -185,6 +185,11 @@ public:
     /// positions and radii are now `scale` (> 0) times those the session configured. Drivers that render contact
     /// next to the device (net in local mode) forward it; others ignore it. Must not block, allocate or do I/O.
     virtual void observe_tool_scale(double scale) { (void)scale; }
+    /// Called once per displayed frame by the session's frame loop on the thread that owns the window (GLFW's main
+    /// thread), while the haptic thread may be in read(). Drivers whose input API must run there (GLFW's joystick
+    /// and gamepad functions) poll it here and hand the result to read() through a lock-free snapshot; others
+    /// ignore it. Must not block for long (a frame's budget) and must not throw.
+    virtual void poll_on_main_thread() noexcept {}
     /// The tool sample that a contact loop next to the device computed for the sample the last read() returned
     /// (haptic thread, after read()); false when the device renders no contact itself (every local driver) or sent
     /// none for it. Must not block or allocate.

@@ -1,0 +1,59 @@
+// devices/driver_capabilities.hpp - what a driver says of itself, so that sessions, the overlay, the study, the
+// device server and `tridex devices` read capabilities instead of comparing driver names.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tridex::devices {
+
+/// Where a driver's hand pose comes from.
+enum class InputKind : std::uint8_t {
+    kScripted,  ///< a simulated hand follows a scripted path (DeviceInputs::hand_path): tests, demos
+    kRecorded,  ///< recorded samples played back (tridex replay only)
+    kPointer,   ///< the desk pointer: the session sets the hand from the cursor every frame
+    kRate,      ///< rate control: deflection sets the tool's velocity (3D mouse, game controller)
+    kTracked,   ///< an optical tracker's target (DTrack): its device frame is the world
+    kHardware,  ///< a haptic device that the person's hand moves (position control)
+    kRemote,    ///< a device on another machine, served by `tridex device-server`
+};
+
+/// "scripted", "recorded", "pointer", "rate", "tracked", "hardware" or "remote".
+std::string_view to_string(InputKind kind);
+
+/// A numeric option a driver reads from a scene's "device" block (SI units), declared by the driver so that the
+/// scene reader checks its range and names it in errors without knowing the driver.
+struct DriverOption {
+    std::string name;  ///< the field name in the scene's "device" object, e.g. "max_speed_m_s"
+    double fallback = 0.0;      ///< value when the scene does not set it
+    double min = 0.0, max = 0.0;  ///< accepted range (inclusive, except min when min_exclusive)
+    bool min_exclusive = false;   ///< the value must be > min
+    std::string doc;  ///< one line for docs/devices and error messages
+};
+
+/// What a driver can do and needs. The workspace button follows Peng's workspace-moving technique (4.1): holding
+/// it engages the tool (and, with clutching, moves the workspace); without it the tool floats.
+struct DriverCapabilities {
+    InputKind input = InputKind::kScripted;
+    int dof_in = 0;                ///< sensed DOF of its default profile
+    int dof_out = 0;               ///< actuated DOF of its default profile (0: renders no force)
+    bool renders_forces = false;   ///< the device pushes back on the hand
+    int workspace_button = 0;      ///< the button bit that engages the tool (DeviceState::buttons), -1: none
+    bool servable = false;         ///< `tridex device-server` can serve it to another machine
+    bool strokes_end_on_release = false;  ///< a stroke ends when the engage button is released, not when idle
+    bool switches_op = false;      ///< the person switches the tool's operation during the session (keys, buttons)
+    bool takes_firmware = false;   ///< reads a firmware file from the user's installation (DeviceInputs::firmware)
+    bool takes_address = false;    ///< DeviceSpec::serial is a "HOST:PORT" address (--device NAME:HOST:PORT)
+    std::string fixed_profile;     ///< the profile it always drives ("falcon", "tracked"); "" = the spec's
+    std::vector<DriverOption> options;  ///< numeric options of a scene's "device" block it reads
+};
+
+/// True when a person moves the hand continuously outside any script (pointer, rate, tracked): such a session has
+/// no scripted stroke and no "fit" workspace scale.
+inline bool person_moves_hand(InputKind kind) {
+    return kind == InputKind::kPointer || kind == InputKind::kRate || kind == InputKind::kTracked;
+}
+
+}  // namespace tridex::devices
