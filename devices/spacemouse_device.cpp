@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <fstream>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -21,6 +22,28 @@ namespace {
 constexpr int kMaxPacketsPerRead = 256;  // a flood is read over several ticks, never in one
 constexpr int kAxisLimit = 32767;
 }  // namespace
+
+std::string spnav_socket_from_config(const std::string& config_path) {
+    std::ifstream in(config_path);
+    for (std::string line; in && std::getline(in, line);) {
+        const std::size_t b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos || line[b] == '#' || line.compare(b, 6, "socket") != 0) continue;
+        const std::size_t eq = line.find('=', b + 6);
+        if (eq == std::string::npos || line.find_first_not_of(" \t", b + 6) != eq) continue;
+        const std::size_t v = line.find_first_not_of(" \t", eq + 1);
+        if (v == std::string::npos) continue;
+        const std::size_t e = line.find_last_not_of(" \t\r");
+        return line.substr(v, e - v + 1);
+    }
+    return "";
+}
+
+std::string spnav_socket_path(const std::string& serial, const std::string& env, const std::string& config_path) {
+    if (!serial.empty()) return serial;
+    if (!env.empty()) return env;
+    const std::string rc = spnav_socket_from_config(config_path);
+    return rc.empty() ? std::string(kSpnavDefaultSocket) : rc;
+}
 
 SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& w) {
     SpnavPacket p;

@@ -11,6 +11,18 @@ namespace tridex::devices {
 
 /// Where spacenavd listens by default (its AF_UNIX socket; libspnav's SPNAV_SOCK_PATH).
 inline constexpr const char* kSpnavDefaultSocket = "/var/run/spnav.sock";
+/// spacenavd's configuration file, where a user may move its socket (`socket = PATH`).
+inline constexpr const char* kSpnavConfigFile = "/etc/spnavrc";
+
+/// The socket path a spacenavd configuration file sets: the value of its first `socket = PATH` line (leading and
+/// trailing blanks dropped; blank lines and lines starting with '#' skipped), as libspnav's spnav_open reads
+/// /etc/spnavrc (FreeSpacenav/libspnav, src/spnav.c, 2022). "" when the file cannot be read or sets none.
+std::string spnav_socket_from_config(const std::string& config_path);
+
+/// Where the spacemouse driver connects, in libspnav's order: `serial` (a scene's device.serial) when not empty,
+/// else `env` ($SPNAV_SOCKET) when not empty, else the `socket` of the configuration file at `config_path`, else
+/// spacenavd's default kSpnavDefaultSocket.
+std::string spnav_socket_path(const std::string& serial, const std::string& env, const std::string& config_path);
 
 /// How a SpaceMouseDevice turns the puck's deflection into motion (SI units).
 struct SpaceMouseParams {

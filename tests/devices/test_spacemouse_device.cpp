@@ -1,6 +1,9 @@
 // The 3D-mouse driver against a stand-in spacenavd: rate control, buttons, garbage, a vanished daemon.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -156,6 +159,29 @@ TEST(SpaceMouseDevice, TheRegistryDriverUsesTheSerialAsSocketPath) {
     ASSERT_TRUE(dev->read(s));
     EXPECT_NEAR(s.pose.position.z, 1e-4, 1e-12);
     EXPECT_EQ(dev->profile().name, "spacemouse (" + DeviceProfile::phantom_omni().name + " limits)");
+}
+
+// The socket as libspnav finds it: the scene's serial, else $SPNAV_SOCKET, else /etc/spnavrc's `socket = PATH`,
+// else spacenavd's default.
+TEST(SpaceMouseDevice, TheSocketPathFollowsLibspnavsOrderAndReadsSpnavrc) {
+    const std::string rc = ::testing::TempDir() + "/tridex_spnavrc";
+    {
+        std::ofstream out(rc);
+        out << "# spacenavd configuration\n\nsensitivity = 2.0\nsocketx = /nope\n   socket =  /run/user/spnav.sock  \n"
+               "socket = /second\n";
+    }
+    EXPECT_EQ(spnav_socket_from_config(rc), "/run/user/spnav.sock");
+    EXPECT_EQ(spnav_socket_path("", "", rc), "/run/user/spnav.sock");
+    EXPECT_EQ(spnav_socket_path("", "/env.sock", rc), "/env.sock");
+    EXPECT_EQ(spnav_socket_path("/serial.sock", "/env.sock", rc), "/serial.sock");
+    {
+        std::ofstream out(rc);
+        out << "# socket = /commented\nsocket =\n";
+    }
+    EXPECT_EQ(spnav_socket_from_config(rc), "");
+    EXPECT_EQ(spnav_socket_path("", "", rc), kSpnavDefaultSocket);
+    EXPECT_EQ(spnav_socket_path("", "", rc + ".absent"), kSpnavDefaultSocket);
+    std::remove(rc.c_str());
 }
 
 }  // namespace
