@@ -40,6 +40,31 @@ std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece",
 
 namespace {
 
+// The drivers whose hand a demo can drive: every one a person does not move.
+bool demo_can_drive(const devices::DriverInfo& d) { return !devices::person_moves_hand(d.caps.input); }
+
+// --device for the demo: a profile of the simulated hand, a driver a script can drive, or NAME:ADDRESS.
+devices::DeviceChoice choose_demo_device(const std::string& text) {
+    const devices::DeviceRegistry& registry = devices::builtin_registry();
+    try {
+        return registry.choose(text, "--device", demo_can_drive);
+    } catch (const Error& e) {
+        const devices::DriverInfo* d = registry.find(text.substr(0, text.find(':')));
+        if (d && !demo_can_drive(*d))
+            throw Error("--device " + text + ": a person moves this device; the demo plays a scripted stroke (use `tridex "
+                        "run --device " + text + "`)");
+        throw;
+    }
+}
+
+// The drivers that load a firmware file.
+std::vector<std::string> firmware_drivers() {
+    std::vector<std::string> names;
+    for (const devices::DriverInfo& d : devices::builtin_registry().drivers())
+        if (d.available && d.caps.takes_firmware) names.push_back(d.name);
+    return names;
+}
+
 // Everything a demo session is made of before its threads start.
 struct DemoPlan {
     SessionSpec s;
@@ -50,11 +75,10 @@ struct DemoPlan {
     std::unique_ptr<devices::HapticDevice> net_device;  // --device net:HOST:PORT, connected before the slow work
 };
 
-bool is_net_device(const std::string& device) { return device.rfind("net:", 0) == 0; }
-
 // Checks the options, loads the workpiece and plans the stroke; connect_net: connect to a device server when the
-// device is net:HOST:PORT (its profile decides the workspace mapping).
-DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
+// device is net:HOST:PORT (its profile decides the workspace mapping); chosen: the driver and profile to use instead
+// of o.device (a device server's).
+DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::DeviceChoice* chosen = nullptr) {
     if (!(o.seconds >= 0.5 && o.seconds <= 600.0))
         throw Error("--seconds: must be between 0.5 and 600, got " + format_number(o.seconds));
     if (!(o.tool_radius_m >= 0.0005 && o.tool_radius_m <= 0.25 * o.stock_m))
@@ -88,16 +112,17 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
         s.tool.length_m = o.tool_length_m;
     }
     s.points = o.points;
-    s.device = o.device;
-    if (o.device == "falcon" || o.device == "falcon-emulator") {  // the Falcon driver, real or over the emulator
-        s.device_driver = o.device;
-        s.device = "falcon";
-    }
-    if (o.haptic_rendering != "distributed" && !is_net_device(o.device))
+    // The demo's hand plays a scripted stroke: a driver a person moves (the mouse, a 3D mouse, a tracked tool) has no
+    // place here (`tridex run`).
+    const devices::DeviceChoice choice = chosen ? *chosen : choose_demo_device(o.device);
+    const devices::DriverCapabilities& caps = devices::builtin_registry().info(choice.driver).caps;
+    s.device_driver = choice.driver;
+    s.device = choice.profile.empty() ? DemoOptions{}.device : choice.profile;
+    const bool remote = caps.input == devices::InputKind::kRemote;
+    if (o.haptic_rendering != "distributed" && !remote)
         throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
-    if (is_net_device(o.device)) {
-        s.device_driver = "net";
-        s.device_serial = o.device.substr(4);
+    if (remote) {
+        s.device_serial = choice.address;
         s.haptic_rendering = o.haptic_rendering;
         s.device = "omni";
         if (connect_net) {
@@ -110,6 +135,8 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
                             "', whose workspace tridex does not know (omni, wand, 6dof, falcon)");
         }
     }
+    if (!o.falcon_firmware.empty() && !caps.takes_firmware)
+        throw Error("--falcon-firmware: only with --device " + devices::join_or(firmware_drivers()));
     s.device_firmware = o.falcon_firmware;
     s.workspace_mode = o.workspace;
     s.static_friction = o.static_friction;
@@ -118,7 +145,8 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
     s.op = o.op;
     s.material = o.material;
     const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
-    if (s.device_driver == "falcon") (void)make_device(s, devices::DeviceInputs{});  // "none plugged in", at once
+    // Hardware: "none plugged in", at once, before the slow work.
+    if (caps.input == devices::InputKind::kHardware) (void)make_device(s, devices::DeviceInputs{});
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model (or restore a saved model).
     d.wp.emplace(prepare_session_workpiece(s));
@@ -146,9 +174,10 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net) {
 
 }  // namespace
 
-devices::DeviceInputs demo_device_inputs(const DemoOptions& o) {
-    if (is_net_device(o.device)) throw Error("--device " + o.device + ": a device server serves a device, not a link");
-    return plan_demo(o, false).inputs;
+devices::DeviceInputs demo_device_inputs(const DemoOptions& o, const devices::DeviceChoice& device) {
+    if (devices::builtin_registry().info(device.driver).caps.input != devices::InputKind::kScripted)
+        throw Error("--device " + device.driver + ": its hand is not scripted; only a scripted hand plays the stroke");
+    return plan_demo(o, false, &device).inputs;
 }
 
 void run_demo(const DemoOptions& o) {

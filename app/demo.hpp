@@ -59,8 +59,9 @@ void run_demo(const DemoOptions& options);
 /// What the demo's simulated hand does (its path in the device frame, its buttons, the period) for options o: the
 /// workpiece is loaded and the stroke planned as run_demo() does, so a device server whose simulated device gets
 /// these inputs plays the stroke a `tridex demo --device net:HOST:PORT` session with the same options expects.
-/// Throws tridex::Error as run_demo() does on bad options, and for a net device.
-devices::DeviceInputs demo_device_inputs(const DemoOptions& o);
+/// `device` is the served driver and profile (o.device is not read). Throws tridex::Error as run_demo() does on bad
+/// options, and for a driver whose hand is not scripted (a remote one, hardware, a person's).
+devices::DeviceInputs demo_device_inputs(const DemoOptions& o, const devices::DeviceChoice& device);
 
 /// The bundled default workpiece (assets/bunny.off): found through $TRIDEX_ASSETS, then next to the
 /// executable's source tree (compile-time path). Throws tridex::Error when it is missing.

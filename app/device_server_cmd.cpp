@@ -1,6 +1,7 @@
 // app/device_server_cmd.cpp - `tridex device-server`: a device, an ENet listener and the serving thread.
 #include "app/device_server_cmd.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,15 +20,19 @@ namespace tridex::app {
 void run_device_server(const DeviceServerOptions& o) {
     if (!(o.seconds >= 0.0 && o.seconds <= 1e6))
         throw Error("--seconds: must be between 0 (until Ctrl+C) and 1e6, got " + format_number(o.seconds));
-    if (o.device.rfind("net", 0) == 0) throw Error("--device " + o.device + ": a device server serves a device, not a link");
-    if (o.device != "simulated" && o.device != "falcon" && o.device != "falcon-emulator")
-        throw Error("--device: a device server serves simulated, falcon or falcon-emulator, got '" + o.device + "'");
-    if (o.device == "simulated") {
-        try {
-            (void)devices::profile_by_name(o.profile);
-        } catch (const Error&) {
-            throw Error("--profile: unknown profile '" + o.profile + "'; use omni, wand, 6dof or falcon");
-        }
+    const devices::DeviceRegistry& registry = devices::builtin_registry();
+    std::vector<std::string> servable;
+    for (const devices::DriverInfo& d : registry.drivers())
+        if (d.available && d.caps.servable) servable.push_back(d.name);
+    const devices::DriverInfo* driver = registry.find(o.device.substr(0, o.device.find(':')));
+    if (driver && driver->caps.input == devices::InputKind::kRemote)
+        throw Error("--device " + o.device + ": a device server serves a device, not a link");
+    if (!driver || !driver->available || !driver->caps.servable)
+        throw Error("--device: a device server serves " + devices::join_or(servable) + ", got '" + o.device + "'");
+    const devices::DriverCapabilities& caps = driver->caps;
+    if (caps.fixed_profile.empty()) {
+        const bool known = std::find(driver->profiles.begin(), driver->profiles.end(), o.profile) != driver->profiles.end();
+        if (!known) throw Error("--profile: unknown profile '" + o.profile + "'; use " + devices::join_or(driver->profiles));
     }
     std::string host;
     std::uint16_t port = 0;
@@ -35,20 +40,22 @@ void run_device_server(const DeviceServerOptions& o) {
 
     devices::DeviceSpec spec;
     spec.driver = o.device;
-    spec.profile = o.device == "falcon-emulator" || o.device == "falcon" ? "falcon" : o.profile;
+    spec.profile = caps.fixed_profile.empty() ? o.profile : caps.fixed_profile;
     devices::DeviceInputs inputs;
-    if (o.device == "simulated" || o.device == "falcon-emulator") {
+    if (caps.input == devices::InputKind::kScripted) {  // the simulated hand plays the demo's stroke
         std::printf("device-server: planning the demo stroke the simulated hand plays...\n");
         std::fflush(stdout);
         DemoOptions d;
         d.mesh = o.mesh;
         d.seconds = o.stroke_seconds;
-        d.device = spec.profile;
+
         if (!(o.stroke_seconds >= 0.5 && o.stroke_seconds <= 600.0))  // the demo's --seconds range
             throw Error("--stroke-seconds: must be between 0.5 and 600, got " + format_number(o.stroke_seconds));
-        inputs = demo_device_inputs(d);
+        inputs = demo_device_inputs(d, {spec.driver, spec.profile, ""});
     }
-    inputs.falcon_firmware = o.falcon_firmware;
+    if (!o.falcon_firmware.empty() && !caps.takes_firmware)
+        throw Error("--falcon-firmware: the '" + driver->name + "' driver loads no firmware");
+    inputs.firmware = o.falcon_firmware;
     std::unique_ptr<devices::HapticDevice> device = devices::builtin_registry().create(spec, inputs);
     std::unique_ptr<devices::net::EnetLink> link = devices::net::EnetLink::listen(host, port);
 

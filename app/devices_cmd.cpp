@@ -7,6 +7,28 @@ namespace tridex::app {
 
 namespace {
 
+// What a driver says of itself (DriverCapabilities), as `tridex devices --json` prints it.
+nlohmann::json capabilities_json(const devices::DriverCapabilities& c) {
+    nlohmann::json options = nlohmann::json::array();
+    for (const devices::DriverOption& o : c.options)
+        options.push_back({{"name", o.name}, {"default", o.fallback}, {"min", o.min}, {"max", o.max},
+                           {"min_exclusive", o.min_exclusive}, {"doc", o.doc}});
+    return {{"input", std::string(devices::to_string(c.input))},
+            {"dof_in", c.dof_in},
+            {"dof_out", c.dof_out},
+            {"renders_forces", c.renders_forces},
+            {"workspace_button", c.workspace_button},
+            {"engage_button", c.engage_button},
+            {"next_op_button", c.next_op_button},
+            {"servable", c.servable},
+            {"strokes_end_on_release", c.strokes_end_on_release},
+            {"switches_op", c.switches_op},
+            {"takes_firmware", c.takes_firmware},
+            {"address", c.address_form},
+            {"fixed_profile", c.fixed_profile},
+            {"options", options}};
+}
+
 nlohmann::json usb_list(const std::vector<devices::UsbId>& ids) {
     nlohmann::json out = nlohmann::json::array();
     for (const devices::UsbId& id : ids) out.push_back(devices::usb_id_string(id));
@@ -33,10 +55,11 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
                             {"detected", true},
                             {"usb_ids", nlohmann::json::array()},
                             {"locations", nlohmann::json::array()},
-                            {"summary", d.summary}});
+                            {"summary", d.summary},
+                            {"capabilities", capabilities_json(d.caps)}});
         };
         if (!d.hardware && d.profiles.empty()) {
-            software_row("(the served device's)", "-", d.dof_in, d.dof_out);
+            software_row("(the served device's)", "-", d.caps.dof_in, d.caps.dof_out);
             continue;
         }
         if (!d.hardware) {
@@ -52,16 +75,17 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
         // A hardware driver is available only when this build has it and libusb finds a unit to drive.
         rows.push_back({{"name", d.summary},
                         {"driver", d.name},
-                        {"dof", d.dof_out},
-                        {"dof_in", d.dof_in},
-                        {"dof_out", d.dof_out},
+                        {"dof", d.caps.dof_out},
+                        {"dof_in", d.caps.dof_in},
+                        {"dof_out", d.caps.dof_out},
                         {"hardware", true},
                         {"available", d.available && !where.empty()},
                         {"driver_in_build", d.available},
                         {"detected", !where.empty()},
                         {"usb_ids", usb_list(d.usb_ids)},
                         {"locations", where},
-                        {"summary", d.summary}});
+                        {"summary", d.summary},
+                        {"capabilities", capabilities_json(d.caps)}});
     }
     return rows;
 }
@@ -71,9 +95,12 @@ std::string devices_text(const nlohmann::json& rows, const std::string& usb_erro
     char line[512];
     for (const nlohmann::json& r : rows) {
         if (r["hardware"].get<bool>()) continue;
-        std::snprintf(line, sizeof line, "  %-16s %-8s %-28s %d-DOF in, %d-DOF force out\n",
-                      r["driver"].get<std::string>().c_str(), r["profile"].get<std::string>().c_str(),
-                      r["name"].get<std::string>().c_str(), r["dof_in"].get<int>(), r["dof_out"].get<int>());
+        // A driver that renders no force runs under the profile's limits only: say so rather than the profile's DOF.
+        const bool forces = r["capabilities"]["renders_forces"].get<bool>();
+        const std::string out_dof = forces ? std::to_string(r["dof_out"].get<int>()) + "-DOF force out" : "no force";
+        std::snprintf(line, sizeof line, "  %-16s %-8s %-28s %-9s %d-DOF in, %s\n", r["driver"].get<std::string>().c_str(),
+                      r["profile"].get<std::string>().c_str(), r["name"].get<std::string>().c_str(),
+                      r["capabilities"]["input"].get<std::string>().c_str(), r["dof_in"].get<int>(), out_dof.c_str());
         out += line;
     }
     out += "Hardware:\n";

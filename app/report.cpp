@@ -6,7 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "app/json_file.hpp"
 #include "app/session_report.hpp"
 #include "core/atomic_file.hpp"

@@ -9,25 +9,26 @@
 
 #include "app/run_session.hpp"
 #include "app/device_lost.hpp"
+#include "devices/device_registry.hpp"
 #include "core/error.hpp"
 #include "renderer/output/stereo_output.hpp"
 
 namespace tridex::app {
 
-CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
-    CLI::App* cmd = cli.add_subcommand(
-        "run", "A stereo session: haptic loop + sculpt thread + rendering in a window, fullscreen or offscreen");
+std::string device_option_help() {
+    std::string help = "Device replacing the scene's: a driver of `tridex devices`, or a profile of the simulated hand:";
+    for (const std::string& c : devices::builtin_registry().choices()) {
+        const devices::DriverInfo* d = devices::builtin_registry().find(c.substr(0, c.find_first_of(":[")));
+        help += " | " + c + (d ? " (" + d->summary + ")" : "");
+    }
+    return help + ". Keys and buttons of each: docs/devices/";
+}
+
+void add_run_options(CLI::App& run, RunOptions& o) {
+    CLI::App* cmd = &run;
     cmd->add_option("scene", o.scene, "Scene file (JSON); default: assets/default_scene.json");
     cmd->add_option("--display", o.display, "window | fullscreen | offscreen")->capture_default_str();
-    cmd->add_option("--device", o.device,
-                    "Device driver replacing the scene's: simulated (the scripted hand) | mouse (the mouse is the "
-                    "stylus: left button carves, right = stylus button, wheel = depth (toward you: out of the surface), "
-                    "1/2/3 = subtract/union/paint, 4/5/6 = push/smooth/pull (clay), [ ] = tool size, Alt + mouse "
-                    "navigates) | spacemouse (a 3D mouse through spacenavd: rate control of the tool's position "
-                    "and orientation, button 0 = stylus button; socket $SPNAV_SOCKET or /var/run/spnav.sock) | "
-                    "flystick[:PORT[:ID]] (an ART DTrack Flystick is the tool: trigger carves; default port 5000, id 0) | "
-                    "tracked-body[:PORT[:ID]] (a DTrack standard body is the tool, always engaged) | "
-                    "net:HOST:PORT (a device served by `tridex device-server` on HOST)");
+    cmd->add_option("--device", o.device, device_option_help());
     cmd->add_option("--haptic-rendering", o.haptic_rendering,
                     "With --device net:HOST:PORT: distributed (this session computes the force) or local (the device "
                     "server runs the god-object loop next to the device on the active surface this session sends)");
@@ -76,7 +77,6 @@ CLI::App* add_run_command(CLI::App& cli, RunOptions& o) {
                     "Seconds between checkpoint models written next to the journal while sculpting (0 = none)")
         ->capture_default_str();
     cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
-    return cmd;
 }
 
 int run_command(const RunOptions& options) {

@@ -1,5 +1,7 @@
-// app/run_cli.hpp - the `tridex run` subcommand (main.cpp adds it with two lines).
+// app/run_cli.hpp - the `tridex run` subcommand (app/commands/run_command.cpp registers it).
 #pragma once
+
+#include <string>
 
 #include "app/run_options.hpp"
 
@@ -9,11 +11,14 @@ class App;
 
 namespace tridex::app {
 
-/// Adds `run [SCENE] --display window|fullscreen|offscreen --stereo MODE [--monitor N|NAME] [--frames N]
+/// Declares `run [SCENE] --display window|fullscreen|offscreen --stereo MODE [--monitor N|NAME] [--frames N]
 /// [--out DIR] [--display-config FILE] [--head fixed|scripted|tracker] [--swap-eyes] [--seconds S] [--validate]
-/// [--no-pace]` to `cli`, parsing into `options` (which must outlive the parse). Returns the subcommand, so the
-/// caller can test `if (*cmd)` after parsing.
-CLI::App* add_run_command(CLI::App& cli, RunOptions& options);
+/// [--no-pace] ...` to the `run` subcommand `cmd`, parsing into `options` (which must outlive the parse).
+void add_run_options(CLI::App& cmd, RunOptions& options);
+
+/// The help of `run --device`, from the device registry: every driver a session can use with its summary, and
+/// the simulated hand's profiles.
+std::string device_option_help();
 
 /// Runs the session (run_stereo_session) and prints a short summary on stdout. Returns 0 on success, 2 after
 /// printing "tridex: <message>" to stderr for a tridex::Error (a bad option, scene or display config field, an

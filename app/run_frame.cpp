@@ -34,6 +34,8 @@ void RunPipeline::Parts::take_input() {
         renderer::InputEvent e;
         while (window->input().pop(e)) input->handle(e);
     }
+    // Devices whose input API runs on this thread poll it; a press of the device's operation button switches ops.
+    (void)rt.poll_device_frame();
     for (const double t_dev = rt.latest_view().t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
          ++next_key)
         for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input->handle(e);

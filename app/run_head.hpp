@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "app/dtrack_head.hpp"
+#include "app/input/dtrack_head.hpp"
 #include "app/run_scene.hpp"
 #include "renderer/camera/head_pose.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 
 namespace tridex::app {
 

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/cursor_script.hpp"
-#include "app/mouse_stylus.hpp"
+#include "app/input/cursor_script.hpp"
+#include "app/input/mouse_stylus.hpp"
 #include "app/session_runtime.hpp"
 #include "devices/mouse_device.hpp"
 

@@ -71,7 +71,7 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
     // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
     std::shared_ptr<devices::DTrackReceiver> tool_dtrack;
-    if (scene.spec.device_driver == "flystick" || scene.spec.device_driver == "tracked-body") {
+    if (driver_caps(scene.spec.device_driver).input == devices::InputKind::kTracked) {
         if (dtrack && scene.dtrack_port == scene.tracked_port)
             tool_dtrack = dtrack->receiver();
         else if (wand && scene.wand_port == scene.tracked_port)
@@ -83,8 +83,10 @@ void RunPipeline::Parts::open_backend() {
     r.sculpt_path = rt.booleans().backend->path();
     r.sculpt_device = rt.booleans().backend->device();
     r.clay_path = rt.booleans().backend->clay_path();
-    // Where clay would run only matters to a session that can use it: a clay op, or the mouse's keys 4, 5, 6.
-    const bool clay_possible = compute::is_clay_op(parse_tool_op(scene.spec.op)) || scene.spec.device_driver == "mouse";
+    // Where clay would run only matters to a session that can use it: a clay op, or a device that switches ops
+    // (the mouse's keys 4, 5, 6).
+    const bool clay_possible =
+        compute::is_clay_op(parse_tool_op(scene.spec.op)) || driver_caps(scene.spec.device_driver).switches_op;
     if (clay_possible && !rt.booleans().backend->clay_reason().empty())
         r.notes.push_back("clay path cpu: " + rt.booleans().backend->clay_reason());
     if (!rt.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + rt.booleans().reason);

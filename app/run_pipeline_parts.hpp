@@ -11,12 +11,12 @@
 #include <optional>
 #include <thread>
 
-#include "app/dtrack_head.hpp"
-#include "app/dtrack_wand.hpp"
+#include "app/input/dtrack_head.hpp"
+#include "app/input/dtrack_wand.hpp"
 #include "app/elastic_view.hpp"
 #include "app/report.hpp"
 #include "app/run_head.hpp"
-#include "app/run_input.hpp"
+#include "app/input/run_input.hpp"
 #include "app/run_mouse.hpp"
 #include "app/run_report.hpp"
 #include "app/run_sculpt.hpp"

@@ -4,7 +4,7 @@
 #include <array>
 #include <fstream>
 
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "app/json_file.hpp"
 #include "app/report.hpp"
 #include "app/session_report.hpp"

@@ -10,8 +10,8 @@
 namespace tridex::app {
 
 /// The report of a run (SI units; times in s unless named _ms / _us):
-/// { "scene", "display", "stereo", "swap_eyes", "head": {"provider", ... (DTrack: app/dtrack_head.hpp report_json)},
-///   "wand": {"provider": "none"} or app/dtrack_wand.hpp wand_report_json,
+/// { "scene", "display", "stereo", "swap_eyes", "head": {"provider", ... (DTrack: app/input/dtrack_head.hpp report_json)},
+///   "wand": {"provider": "none"} or app/input/dtrack_wand.hpp wand_report_json,
 ///   "eye_resolution": [w, h], "refresh_hz", "device",
 ///   "eye_strategy", "present_mode", "validation_messages",
 ///   "frames": { "count", "presents", "last_eye", "render_s",

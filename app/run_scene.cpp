@@ -14,6 +14,7 @@
 #include "app/json_file.hpp"
 #include "app/study/trial_table.hpp"
 #include "devices/net/enet_link.hpp"
+#include "devices/net/link_wire.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -114,51 +115,48 @@ void read_tool(Fields& top, RunScene& s, const std::string& base_dir) {
     }
 }
 
+// The scene's "device" block: the driver and what its capabilities say it reads (profile, firmware, address,
+// tracked target, its own numeric options). Fields a driver does not read are refused as unknown.
 void read_device(Fields& top, RunScene& s) {
     const json* d = top.get("device");
     if (!d) return;
     Fields f(*d, top.source(), "device");
+    const devices::DeviceRegistry& registry = devices::builtin_registry();
     s.spec.device_driver = f.text("driver", s.spec.device_driver);
-    // Drivers a scene can name: every available one of the registry but replay (which needs a recording).
+    // Drivers a scene can name: every available one of the registry but the recorded input (a recording's).
     std::string usable;
-    bool known = false, available = false;
-    for (const devices::DriverInfo& d : devices::builtin_registry().drivers()) {
-        if (d.name == "replay") continue;
-        if (d.available) usable += (usable.empty() ? "" : ", ") + d.name;
-        if (d.name == s.spec.device_driver) {
-            known = true;
-            available = d.available;
-        }
-    }
-    if (s.spec.device_driver == "replay")
-        f.fail("device.driver", "'replay' plays a recording: use `tridex replay FILE`; a scene can use " + usable);
-    else if (known && !available)
-        f.fail("device.driver", "'" + s.spec.device_driver + "' is known hardware without a driver in this build yet; use " + usable);
-    else if (!known)
+    for (const devices::DriverInfo& i : registry.drivers())
+        if (i.available && i.caps.input != devices::InputKind::kRecorded) usable += (usable.empty() ? "" : ", ") + i.name;
+    const devices::DriverInfo* driver = registry.find(s.spec.device_driver);
+    if (!driver)
         f.fail("device.driver", "'" + s.spec.device_driver + "' is not a driver; use " + usable);
+    else if (driver->caps.input == devices::InputKind::kRecorded)
+        f.fail("device.driver", "'" + driver->name + "' plays a recording: use `tridex replay FILE`; a scene can use " + usable);
+    else if (!driver->available)
+        f.fail("device.driver", "'" + driver->name + "' is known hardware without a driver in this build yet; use " + usable);
+    const devices::DriverCapabilities& caps = driver->caps;
     // Hardware: refuse at once, with one line, when none is plugged in (libusb enumeration).
-    if (known && available && s.spec.device_driver == "falcon") {
+    if (!driver->usb_ids.empty()) {
         bool plugged = false;
-        for (const devices::DetectedDevice& d : devices::builtin_registry().detect())
-            plugged = plugged || d.driver == "falcon";
+        for (const devices::DetectedDevice& u : registry.detect()) plugged = plugged || u.driver == driver->name;
         if (!plugged)
-            f.fail("device.driver",
-                   "'falcon': no Novint Falcon is plugged in (USB 0403:cb48; `tridex devices` lists "
-                   "what is); falcon-emulator runs the same driver without one");
+            f.fail("device.driver", "'" + driver->name + "': no " + driver->product + " is plugged in (USB " +
+                                        devices::usb_id_string(driver->usb_ids.front()) +
+                                        "; `tridex devices` lists what is)" +
+                                        (driver->stand_in.empty() ? std::string()
+                                                                  : "; " + driver->stand_in + " runs the same driver without one"));
     }
     s.spec.device = f.text("profile", s.spec.device);
-    // The Falcon drivers drive the Falcon's own profile, whatever the scene says; a tracked tool the "tracked" one.
-    if (s.spec.device_driver == "falcon" || s.spec.device_driver == "falcon-emulator") s.spec.device = "falcon";
-    if (s.spec.device_driver == "flystick" || s.spec.device_driver == "tracked-body") {
-        s.spec.device = "tracked";
-        const bool flystick = s.spec.device_driver == "flystick";
+    // A driver of one product drives its own profile, whatever the scene says (the Falcon's; a tracked tool's).
+    if (!caps.fixed_profile.empty()) s.spec.device = caps.fixed_profile;
+    if (caps.input == devices::InputKind::kTracked) {
         s.tracked_port = f.integer("port", s.tracked_port, 1, 65535);
-        s.tracked_id = f.integer("id", s.tracked_id, 0, (flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies) - 1);
+        s.tracked_id = f.integer("id", s.tracked_id, 0, caps.target_ids - 1);
         s.tracked_bind = f.text("bind_address", s.tracked_bind);
         s.tracked_timeout_s = f.number("timeout_s", s.tracked_timeout_s, 0.0, 10.0, true);
     }
-    s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
-    if (s.spec.device_driver == "net") {  // a device served by `tridex device-server`
+    if (caps.takes_firmware) s.spec.device_firmware = f.text("firmware", s.spec.device_firmware);
+    if (caps.input == devices::InputKind::kRemote) {  // a device served by `tridex device-server`
         s.spec.device_serial = f.text("address", s.spec.device_serial);
         try {
             std::string host;
@@ -168,16 +166,14 @@ void read_device(Fields& top, RunScene& s) {
             f.fail("device.address", std::string(e.what()) + " (the device server's --listen)");
         }
         s.spec.haptic_rendering = f.text("haptic_rendering", s.spec.haptic_rendering);
-        if (s.spec.haptic_rendering != "distributed" && s.spec.haptic_rendering != "local")
+        try {
+            (void)devices::net::rendering_mode_from(s.spec.haptic_rendering);
+        } catch (const Error&) {
             f.fail("device.haptic_rendering", "'" + s.spec.haptic_rendering + "' is not distributed or local");
+        }
     }
-    if (s.spec.device_driver == "spacemouse") {  // other drivers refuse these fields as unknown
-        devices::SpaceMouseParams& p = s.spacemouse;
-        p.max_speed_m_s = f.number("max_speed_m_s", p.max_speed_m_s, 0.0, 2.0, true);
-        p.max_rate_rad_s = f.number("max_rate_rad_s", p.max_rate_rad_s, 0.0, 20.0, true);
-        p.dead_zone = f.number("dead_zone", p.dead_zone, 0.0, 0.9);
-        p.full_scale = f.number("full_scale", p.full_scale, 1.0, 32767.0);
-    }
+    for (const devices::DriverOption& o : caps.options)  // other drivers refuse these fields as unknown
+        if (f.get(o.name)) s.device_options[o.name] = f.number(o.name, o.fallback, o.min, o.max, o.min_exclusive);
     try {
         (void)device_profile(s.spec.device);
     } catch (const Error&) {
@@ -300,7 +296,8 @@ void read_cursor(Fields& top, RunScene& s) {
         f.finish();
         s.cursor.points.push_back(p);
     }
-    if (!s.cursor.empty() && s.spec.device_driver != "mouse")
+    const devices::DriverInfo* driver = devices::builtin_registry().find(s.spec.device_driver);
+    if (!s.cursor.empty() && !(driver && driver->caps.app_sets_hand))
         top.fail("cursor", "a scripted cursor drives the mouse stylus: set \"device\": {\"driver\": \"mouse\"}");
 }
 

@@ -2,6 +2,7 @@
 // read from a JSON file with every field checked.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -12,10 +13,9 @@
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "haptics/workspace_mapping.hpp"
-#include "app/cursor_script.hpp"
+#include "app/input/cursor_script.hpp"
 #include "app/elastic_scene.hpp"
-#include "app/key_script.hpp"
-#include "devices/spacemouse_device.hpp"
+#include "app/input/key_script.hpp"
 #include "app/study/study_scene.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/head_pose.hpp"
@@ -27,7 +27,7 @@ enum class HeadMode {
     kFixed,     ///< [fixed] FixedHead at RunScene::head_pose (in a window: keyboard and mouse move it)
     kScripted,  ///< [scripted] ScriptedHead through RunScene::head_waypoints
     kTracker,   ///< [tracker] TrackerHead filled by a tracker driver; RunScene::head_pose until one pushes
-    kDTrack,    ///< [dtrack] ART DTrack over UDP (app/dtrack_head.hpp); RunScene::head_pose while untracked or stale
+    kDTrack,    ///< [dtrack] ART DTrack over UDP (app/input/dtrack_head.hpp); RunScene::head_pose while untracked or stale
 };
 
 /// "fixed", "scripted", "tracker" or "dtrack".
@@ -122,9 +122,10 @@ struct RunScene {
     std::vector<ScriptedKey> keys;
     /// The scripted mouse cursor of a mouse-stylus session ("cursor"; device "mouse"), in device time.
     CursorScript cursor;
-    /// device "spacemouse": its gains and dead zone ("device": {"max_speed_m_s", "max_rate_rad_s", "dead_zone",
-    /// "full_scale"}; defaults of SpaceMouseParams). They shape the hand, not the model: not in the spec.
-    devices::SpaceMouseParams spacemouse{};
+    /// The driver's own numeric options that the scene's "device" block set (DriverCapabilities::options: the 3D
+    /// mouse's gains and dead zone, ...), by name, SI units, checked against the driver's ranges. They shape the
+    /// hand, not the model: not in the spec.
+    std::map<std::string, double> device_options;
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
     HeadMode head = HeadMode::kFixed;   ///< head pose provider
@@ -135,7 +136,7 @@ struct RunScene {
     int dtrack_port = 5000;             ///< kDTrack: UDP port DTrack sends to (1..65535)
     int dtrack_body = 0;                ///< kDTrack: DTrack id of the head body (0..63)
     std::string dtrack_bind = "0.0.0.0";  ///< kDTrack: local IPv4 address to listen on
-    bool wand_dtrack = false;           ///< a DTrack Flystick navigates the scene (app/wand_navigation.hpp)
+    bool wand_dtrack = false;           ///< a DTrack Flystick navigates the scene (app/input/wand_navigation.hpp)
     int wand_port = 5000;               ///< wand: UDP port (the head's receiver is shared when it is the same)
     int wand_flystick = 0;              ///< wand: DTrack Flystick id (0..15)
     std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on

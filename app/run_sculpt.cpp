@@ -62,10 +62,11 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     std::vector<Vec3> path;
     std::optional<devices::ButtonScript> buttons;
     Vec3 centre;
-    // The app (mouse) or the person (spacemouse) moves the hand: no scripted stroke.
+    // A person moves the hand (a pointer, a rate device, a tracked tool): no scripted stroke.
     // A tracked tool: its device frame is the world (the display's calibration maps tracker to wall = world).
-    const bool tracked = spec.device_driver == "flystick" || spec.device_driver == "tracked-body";
-    const bool live = spec.device_driver == "mouse" || spec.device_driver == "spacemouse" || tracked;
+    const devices::DriverCapabilities& caps = driver_caps(spec.device_driver);
+    const bool tracked = caps.input == devices::InputKind::kTracked;
+    const bool live = devices::person_moves_hand(caps.input);
     // A "fit" workspace scale for a device whose hand moves in its workspace (not a rate or cursor device).
     auto fit_to = [&](Aabb reach) {
         if (scene.workspace_fit && !live) spec.workspace_scale = fit_workspace_scale(reach, profile);
@@ -83,7 +84,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         fit_to(reach.inflated(0.5 * study.scene.tube.funnel_mouth_m + study.scene.wand_length_m));
         // The simulated hand (of the simulated device, or holding the emulated Falcon's grip) plays the scripted
         // participant; a person's device (or hardware) has no scripted hand.
-        if (!scripted_hand_driver(spec.device_driver)) {
+        if (caps.input != devices::InputKind::kScripted) {
             t_s = {0.0};
             path = {home + (start_m_ - centre) / spec.workspace_scale};
         } else {
@@ -133,7 +134,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     inputs.period_s = spec.period_s;
     inputs.hand_path.emplace(t_s, path);
     inputs.buttons = buttons;
-    if (spec.device_driver == "spacemouse") inputs.spacemouse = scene.spacemouse;
+    inputs.options = scene.device_options;
     if (tracked) {
         inputs.dtrack = std::move(tool_dtrack);
         inputs.dtrack_port = scene.tracked_port;
@@ -144,14 +145,14 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     }
     std::unique_ptr<devices::HapticDevice> device = make_device(spec, inputs);
     // A served device maps through the scene's profile (its workspace): it must be the one the server serves.
-    if (spec.device_driver == "net" && device->profile().name != profile.name) {
+    if (caps.input == devices::InputKind::kRemote && device->profile().name != profile.name) {
         const std::string served = devices::profile_name_of(device->profile().name);
         throw Error("--device net:" + spec.device_serial + ": the device server serves '" + device->profile().name +
                     "', the scene's device.profile is '" + spec.device + "' (" + profile.name + ")" +
                     (served.empty() ? std::string("; tridex does not know its workspace")
                                     : "; set device.profile to '" + served + "'"));
     }
-    if (live) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
+    if (caps.app_sets_hand) mouse_ = dynamic_cast<devices::MouseDevice*>(device.get());
     RuntimeOptions ro;
     ro.sculpt = booleans;
     ro.render_context = render_context;

@@ -18,10 +18,10 @@ namespace tridex::app {
 /// tridex::Error "workspace.scale: ..." for a profile without a workspace.
 double fit_workspace_scale(const Aabb& reach_m, const devices::DeviceProfile& profile);
 
-/// Whether the device driver's hand is the simulated hand ("simulated", and "falcon-emulator" whose emulated grip
-/// it holds), which plays a scene's scripted path (a stroke, a study's scripted participant).
+/// Whether the device driver's hand is the simulated hand (scripted input: the simulated device, and the emulated
+/// Falcon whose grip it holds), which plays a scene's scripted path (a stroke, a study's scripted participant).
 inline bool scripted_hand_driver(const std::string& driver) {
-    return driver == "simulated" || driver == "falcon-emulator";
+    return driver_caps(driver).input == devices::InputKind::kScripted;
 }
 
 /// The sculpting side of a run: the scene's workpiece scan-converted and contoured, a simulated device (the

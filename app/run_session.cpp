@@ -7,8 +7,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/dtrack_head.hpp"
-#include "app/dtrack_wand.hpp"
+#include "app/input/dtrack_head.hpp"
+#include "app/input/dtrack_wand.hpp"
 #include "app/output_dir.hpp"
 #include "app/run_sculpt.hpp"
 #include "core/error.hpp"
@@ -22,6 +22,23 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+// `--device TEXT` over the scene's device: a driver (NAME, NAME:ADDRESS) or a profile of the simulated hand.
+void apply_device_option(const std::string& text, RunScene& scene) {
+    const devices::DeviceRegistry& registry = devices::builtin_registry();
+    const devices::DeviceChoice c = registry.choose(text, "--device");
+    const devices::DriverInfo& d = registry.info(c.driver);
+    scene.spec.device_driver = c.driver;
+    if (!c.profile.empty()) scene.spec.device = c.profile;
+    if (d.caps.input == devices::InputKind::kRemote) {
+        std::string host;
+        std::uint16_t port = 0;
+        devices::net::split_host_port(c.address, "--device " + text, host, port);
+        scene.spec.device_serial = c.address;
+    } else if (d.caps.input == devices::InputKind::kTracked) {
+        parse_tracked_tool_address(d, c.address, scene.tracked_port, scene.tracked_id);
+    }
+}
 
 }  // namespace
 
@@ -105,40 +122,26 @@ RunSetup resolve_run(const RunOptions& o) {
         else
             s.monitor_name = o.monitor;
     }
-    std::string tracked;
-    if (o.device.rfind("net:", 0) == 0) {
-        std::string host;
-        std::uint16_t port = 0;
-        devices::net::split_host_port(o.device.substr(4), "--device " + o.device, host, port);
-        s.scene.spec.device_driver = "net";
-        s.scene.spec.device_serial = o.device.substr(4);
-    } else if (!o.device.empty() && parse_tracked_tool_option(o.device, tracked, s.scene.tracked_port, s.scene.tracked_id)) {
-        s.scene.spec.device_driver = tracked;
-        s.scene.spec.device = "tracked";
-    } else if (!o.device.empty()) {
-        if (o.device != "mouse" && o.device != "simulated" && o.device != "spacemouse")
-            throw Error("--device: '" + o.device +
-                        "' is not one of simulated, mouse, spacemouse, flystick[:PORT[:ID]], tracked-body[:PORT[:ID]], "
-                        "net:HOST:PORT");
-        s.scene.spec.device_driver = o.device;
-    }
+    if (!o.device.empty()) apply_device_option(o.device, s.scene);
+    const devices::DriverInfo& driver_info = devices::builtin_registry().info(s.scene.spec.device_driver);
+    const devices::DriverCapabilities& caps = driver_info.caps;
     if (!o.haptic_rendering.empty()) {
-        if (s.scene.spec.device_driver != "net")
+        if (caps.input != devices::InputKind::kRemote)
             throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
         (void)devices::net::rendering_mode_from(o.haptic_rendering);  // "... is not distributed or local"
         s.scene.spec.haptic_rendering = o.haptic_rendering;
     }
-    const std::string& driver = s.scene.spec.device_driver;
-    if (driver == "net" && s.scene.spec.haptic_rendering == "local" && !s.scene.objects.empty())
+    if (caps.input == devices::InputKind::kRemote && s.scene.spec.haptic_rendering == "local" && !s.scene.objects.empty())
         throw Error(s.scene.source + ": field 'objects': scene objects are felt by the session's own contact loop; a "
                     "device server renders only the workpiece in local haptic rendering: use distributed rendering");
-    if (driver == "mouse" || driver == "spacemouse" || driver == "flystick" || driver == "tracked-body")
-        s.scene.has_stroke = false;  // the person is the hand
-    if (driver == "flystick" && s.scene.wand_dtrack && s.scene.wand_port == s.scene.tracked_port &&
-        s.scene.wand_flystick == s.scene.tracked_id)
-        throw Error("--device flystick: Flystick " + std::to_string(s.scene.tracked_id) +
+    if (devices::person_moves_hand(caps.input)) s.scene.has_stroke = false;  // the person is the hand
+    // The wand is a Flystick: a tracked tool may not be the same one.
+    if (caps.input == devices::InputKind::kTracked && caps.target_kind == "Flystick" && s.scene.wand_dtrack &&
+        s.scene.wand_port == s.scene.tracked_port && s.scene.wand_flystick == s.scene.tracked_id)
+        throw Error("--device " + driver_info.name + ": Flystick " + std::to_string(s.scene.tracked_id) +
                     " navigates the scene already (--wand); give the tool another Flystick");
-    const bool scripted_study = s.scene.study.enabled && scripted_hand_driver(driver);  // the scripted participant's path
+    // The scripted participant's path.
+    const bool scripted_study = s.scene.study.enabled && caps.input == devices::InputKind::kScripted;
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&
         s.scene.cursor.empty() && !scripted_study)
         throw Error("--frames/--seconds: an offscreen run of a scene without a stroke or a scripted cursor needs "

@@ -120,7 +120,7 @@ struct RunResult {
     SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
     /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
     nlohmann::json head;
-    nlohmann::json wand;  ///< null without a wand; else app/dtrack_wand.hpp wand_report_json
+    nlohmann::json wand;  ///< null without a wand; else app/input/dtrack_wand.hpp wand_report_json
     nlohmann::json study; ///< null without a study scene; else app/study/study_view.hpp StudyView::report_json
     /// null without scene objects; else app/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
     nlohmann::json deformation;

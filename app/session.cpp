@@ -270,7 +270,8 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.notes.insert(r.notes.begin(), "ended: " + (!run.stopped_by.empty() ? run.stopped_by + " received"
                                                  : run.device_lost_at_s ? "the device was lost at " +
                                                                               format_number(*run.device_lost_at_s) + " s"
-                                                 : opt.command == "replay" ? std::string("the recording ended")
+                                                 : driver_caps(settings.device_driver).input == devices::InputKind::kRecorded
+                                                     ? std::string("the recording ended")
                                                                            : std::string("the stroke ended")));
     r.wall_s = seconds_since(t_start);
     write_report_json((out / "report.json").string(), r);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/mouse_stylus.hpp"
+#include "app/input/mouse_stylus.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

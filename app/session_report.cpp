@@ -4,7 +4,7 @@
 #include <set>
 #include <string_view>
 
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::app {

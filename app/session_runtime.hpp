@@ -161,6 +161,11 @@ public:
     const SculptStats& sculpt_stats() const { return sculpt_->stats(); }
     /// The newest LoopView (one render thread).
     const haptics::LoopView& latest_view() { return loop_->latest_view(); }
+    /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
+    /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads), then the operation button's presses (the
+    /// driver's DriverCapabilities::next_op_button) switch the tool to the next operation (subtract, union, paint,
+    /// push, smooth, pull). Returns the operation a press switched to, or ToolOp::kNone when none did.
+    ToolOp poll_device_frame();
     /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
 
@@ -228,6 +233,9 @@ private:
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;
     double contour_s_ = 0.0, session_s_ = 0.0;
+    std::uint32_t op_buttons_seen_ = 0;  // poll_device_frame(): the operation button's last state
+    std::uint64_t op_button_tick_ = 0;   // ... and the tick it was read on
+    ToolOp op_switched_ = ToolOp::kNone; // the operation the button switched to (kNone: still cfg_.op)
     std::chrono::steady_clock::time_point t_start_{};
     bool started_ = false, stopped_ = false;
 };

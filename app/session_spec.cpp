@@ -25,10 +25,13 @@
 
 namespace tridex::app {
 
+const devices::DriverCapabilities& driver_caps(const std::string& driver) {
+    return devices::builtin_registry().info(driver).caps;
+}
+
 std::uint32_t engage_mask_for(const std::string& driver) {
-    static_assert(devices::mouse_buttons::kEngage == devices::tracked_tool_buttons::kEngage);
-    if (driver == "mouse" || driver == "flystick" || driver == "tracked-body") return devices::mouse_buttons::kEngage;
-    return 0;
+    const int button = driver_caps(driver).engage_button;
+    return button >= 0 && button < 32 ? 1u << button : 0u;
 }
 
 devices::DeviceProfile device_profile(const std::string& name) {
@@ -45,7 +48,7 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
     d.profile = s.device;
     d.serial = s.device_serial;
     devices::DeviceInputs in = inputs;
-    if (!s.device_firmware.empty()) in.falcon_firmware = s.device_firmware;
+    if (!s.device_firmware.empty()) in.firmware = s.device_firmware;
     in.haptic_rendering = s.haptic_rendering;
     return devices::builtin_registry().create(d, in);
 }

@@ -123,10 +123,14 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
 /// bounding radius.
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
 
-/// The button bits that engage the tool for a device driver: the desk mouse's left button and a tracked tool's
-/// trigger (mouse_buttons::kEngage, the same bit as tracked_tool_buttons::kEngage) for "mouse", "flystick" and
-/// "tracked-body"; 0 (always engaged) for the others.
+/// The button bits that engage the tool for a device driver, from its capabilities (DriverCapabilities::
+/// engage_button: the desk mouse's left button, a Flystick's trigger); 0 (always engaged) for drivers without one.
+/// Throws tridex::Error "device.driver: unknown driver ..." for a driver the registry does not have.
 std::uint32_t engage_mask_for(const std::string& driver);
+
+/// The registered capabilities of `driver` (devices::builtin_registry); throws tridex::Error "device.driver:
+/// unknown driver ..." for a name the registry does not have.
+const devices::DriverCapabilities& driver_caps(const std::string& driver);
 
 /// Makes `s` use the closed mesh tool in `path` scaled to `size_m` (m): kind kMesh, the absolute path, the size,
 /// radius_m = the placed mesh's bounding radius, mesh_id 0, and the file's CRC-32 and byte count. `what` names

@@ -1,5 +1,8 @@
 // bench/bench_accuracy.cpp - run time against error: tridex paths and the OpenVDB peer on exact programs.
 #include "bench/bench_accuracy.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -27,7 +30,8 @@
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -268,4 +272,52 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+struct AccuracyBenchCli {
+    AccuracyBenchOptions options;
+    std::vector<int> n;
+    std::vector<std::string> paths;
+};
+
+BenchRun setup_accuracy_bench(CLI::App& bench) {
+    auto o = std::make_shared<AccuracyBenchCli>();
+    bench.add_option("--accuracy-n", o->n, "With --accuracy: run only these N (16..1024), e.g. --accuracy-n 64,256")
+        ->delimiter(',');
+    bench.add_option("--accuracy-programs", o->options.programs,
+                     "With --accuracy: run only these programs (pocket, random_ball, flat_random, plunge, union, paint)")
+        ->delimiter(',');
+    bench.add_option("--accuracy-paths", o->paths, "With --accuracy: run only these paths (cpu-1t, cpu, gpu, openvdb)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"cpu-1t", "cpu", "gpu", "openvdb"}));
+    bench.add_option("--accuracy-offset", o->options.offset_cells,
+                     "With --accuracy: lattice origin shift in cells, [0, 1) (0 = cube faces on lattice nodes)")
+        ->capture_default_str();
+    bench.add_option("--accuracy-dump", o->options.dump_worst,
+                     "With --accuracy: print the K worst vertices of each tridex cpu-1t run with their cells' crossings "
+                     "and normals against the exact solid")
+        ->check(CLI::Range(0, 1000));
+    return [o](const BenchCommon& c) {
+        AccuracyBenchOptions a = o->options;
+        a.out = c.out;
+        if (!o->n.empty()) a.resolutions = o->n;
+        if (!o->paths.empty()) {
+            const auto has = [&](const char* p) { return std::find(o->paths.begin(), o->paths.end(), p) != o->paths.end(); };
+            a.cpu_one_thread = has("cpu-1t");
+            a.cpu_all_cores = has("cpu");
+            a.gpu = has("gpu");
+            a.openvdb = has("openvdb");
+        }
+        run_accuracy_bench(a);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"accuracy",
+     "Run time against error on stroke programs with an exact answer (box workpiece, N = 64, 128, 256, 512): "
+     "tridex CPU 1 thread, CPU all cores and GPU, and an OpenVDB level-set peer at the same N when built in",
+     100, setup_accuracy_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

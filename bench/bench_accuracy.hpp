@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One row: one method and path running one program at one resolution.
 struct AccuracyRow {
@@ -71,4 +71,4 @@ struct AccuracyBenchOptions {
 /// options (resolutions, offset, unknown program) or an unwritable folder.
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

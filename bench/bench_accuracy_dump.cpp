@@ -11,7 +11,7 @@
 #include "compute/contour/contour_sample.hpp"
 #include "compute/contour/contour_table.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 namespace {
 
 /// Node occupancy by the contouring rule (contour_sample.hpp): X ray interval with enter <= i < exit; boundary
@@ -131,4 +131,4 @@ void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, co
     }
 }
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -6,7 +6,7 @@
 #include "compute/model/tridexel.hpp"
 #include "core/tri_mesh.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// Prints to stdout the `k` mesh vertices of `mesh` (world m, contoured from `model`) with the largest |sdf| of
 /// `exact`, each with: its grid position and error (cells), the exact outward normal there (central difference
@@ -20,4 +20,4 @@ namespace tridex::app::accuracy {
 /// closer than one cell to an already printed one are skipped. A diagnostic: O(V log V + k).
 void dump_worst_vertices(const compute::TriDexel& model, const TriMesh& mesh, const ExactSolid& exact, int k);
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -300,4 +300,4 @@ double ExactSolid::volume_m3(std::size_t samples, double& sigma_m3) const {
     return op_ == ToolOp::kSubtract ? vbox - f * vr : vbox + f * vr;
 }
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -10,7 +10,7 @@
 #include "core/aabb.hpp"
 #include "core/math.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// Lattice side, m: the lattice is [0, kLatticeSideM]^3 with N cells per side (cell = kLatticeSideM / N).
 constexpr double kLatticeSideM = 0.128;
@@ -88,4 +88,4 @@ private:
     std::vector<Prim> prims_;
 };
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

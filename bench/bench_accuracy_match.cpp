@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 std::vector<MatchedRun> match_openvdb(const std::vector<AccuracyRow>& rows) {
     std::vector<MatchedRun> out;
@@ -67,4 +67,4 @@ void print_matched(const std::vector<MatchedRun>& matched) {
     }
 }
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -6,7 +6,7 @@
 
 #include "bench/bench_accuracy.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// One OpenVDB run and, for one tridex path, the fastest tridex run of the same program (any N) whose
 /// maximum vertex error is at most the OpenVDB run's.
@@ -35,4 +35,4 @@ double worst_ratio(const std::vector<MatchedRun>& matched, const std::string& pr
 /// Prints the matched runs and the worst ratio per program and path.
 void print_matched(const std::vector<MatchedRun>& matched);
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -6,7 +6,7 @@
 #include <limits>
 #include <thread>
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 ab = b - a, ac = c - a, ap = p - a;
@@ -143,4 +143,4 @@ SurfaceErrors surface_errors(const TriMesh& mesh, const ExactSolid& exact, const
     return e;
 }
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -6,7 +6,7 @@
 #include "bench/bench_accuracy_exact.hpp"
 #include "core/tri_mesh.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// Surface errors of a mesh against the exact solid, m.
 struct SurfaceErrors {
@@ -48,4 +48,4 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
 SurfaceErrors surface_errors(const TriMesh& mesh, const ExactSolid& exact, const std::vector<Vec3>& samples,
                              double grid_cell_m, int threads);
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

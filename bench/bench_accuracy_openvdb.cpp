@@ -16,7 +16,7 @@
 #include <cmath>
 #endif
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 #ifndef TRIDEX_HAVE_OPENVDB
 
@@ -127,4 +127,4 @@ PeerRun run_openvdb(const Program& program, double voxel_m, double half_width, c
 
 #endif
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -7,7 +7,7 @@
 #include "bench/bench_accuracy_exact.hpp"
 #include "core/tri_mesh.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// Result of one OpenVDB run of a program.
 struct PeerRun {
@@ -36,4 +36,4 @@ std::string openvdb_version();
 /// OpenVDB is not built in.
 PeerRun run_openvdb(const Program& program, double voxel_m, double half_width, const Vec3& origin_m);
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

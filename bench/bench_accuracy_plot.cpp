@@ -9,7 +9,7 @@
 
 #include "core/error.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 std::vector<std::string> write_accuracy_plots(const std::vector<AccuracyRow>& rows, const std::string& out) {
     std::vector<std::string> pngs;
@@ -64,4 +64,4 @@ std::vector<std::string> write_accuracy_plots(const std::vector<AccuracyRow>& ro
     return pngs;
 }
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

@@ -6,7 +6,7 @@
 
 #include "bench/bench_accuracy.hpp"
 
-namespace tridex::app::accuracy {
+namespace tridex::bench::accuracy {
 
 /// For each program with geometry change (not paint): writes accuracy_<program>.dat (one block per
 /// method/path: max_error_m, time_per_segment_s, n) and accuracy_<program>.gp into `out`, and runs
@@ -15,4 +15,4 @@ namespace tridex::app::accuracy {
 /// gnuplot is not on PATH or fails. Throws tridex::Error when a data file cannot be written.
 std::vector<std::string> write_accuracy_plots(const std::vector<AccuracyRow>& rows, const std::string& out);
 
-}  // namespace tridex::app::accuracy
+}  // namespace tridex::bench::accuracy

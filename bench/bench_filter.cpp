@@ -1,5 +1,8 @@
 // bench/bench_filter.cpp - a noisy press into the wall per filter constant; chatter and lag from the tick records.
 #include "bench/bench_filter.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -17,7 +20,8 @@
 #include "devices/simulated_device.hpp"
 #include "haptics/haptic_loop.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -154,4 +158,22 @@ std::vector<FilterBenchRow> run_filter_bench(const FilterBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_filter_bench(CLI::App&) {
+    return [](const BenchCommon& c) {
+        FilterBenchOptions o;
+        o.out = c.out;
+        run_filter_bench(o);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"filter",
+     "EWMA force filter constant: chatter amplitude vs lag with encoder quantisation and noise (filter_bench.json, "
+     "filter_bench.png)",
+     30, setup_filter_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One filter constant.
 struct FilterBenchRow {
@@ -33,4 +33,4 @@ struct FilterBenchOptions {
 /// tridex::Error on a constant outside [0, 1), a negative quantum or noise, or an unwritable folder.
 std::vector<FilterBenchRow> run_filter_bench(const FilterBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

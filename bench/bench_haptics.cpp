@@ -1,5 +1,8 @@
 // bench/bench_haptics.cpp - timing the haptic tick's contact computation.
 #include "bench/bench_haptics.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -13,14 +16,15 @@
 
 #include "app/demo.hpp"
 #include "app/session.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "compute/runtime/active_surface_publish.hpp"
 #include "compute/model/probe.hpp"
 #include "app/json_file.hpp"
 #include "core/error.hpp"
 #include "haptics/multipoint.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -169,4 +173,26 @@ std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_haptics_bench(CLI::App& bench) {
+    auto o = std::make_shared<HapticsBenchOptions>();
+    bench.add_option("--ticks", o->ticks, "With --haptics: timed ticks per row")
+        ->capture_default_str()
+        ->check(CLI::Range(100, 10000000));
+    return [o](const BenchCommon& c) {
+        HapticsBenchOptions h = *o;
+        h.out = c.out;
+        h.mesh = c.mesh;
+        run_haptics_bench(h);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"haptics",
+     "Haptic tick compute time against resolution (128..1024) and contact points (1, 2, 16, 64)",
+     50, setup_haptics_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

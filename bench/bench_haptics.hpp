@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One benchmark row: per-tick contact computation at one resolution and point count.
 struct HapticsBenchRow {
@@ -38,4 +38,4 @@ struct HapticsBenchOptions {
 /// folder, or bad options (empty lists, a resolution outside [16, 4096], points outside [1, 64], ticks < 100).
 std::vector<HapticsBenchRow> run_haptics_bench(const HapticsBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

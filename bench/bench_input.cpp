@@ -1,5 +1,8 @@
 // bench/bench_input.cpp - DTrack parse cost and receiver hand-off latency.
 #include "bench/bench_input.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -14,12 +17,13 @@
 #include <thread>
 
 #include "app/json_file.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "core/error.hpp"
 #include "devices/tracking/dtrack_parser.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -134,4 +138,18 @@ InputBenchResult run_input_bench(const std::string& out) {
     return r;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_input_bench(CLI::App&) {
+    return [](const BenchCommon& c) { run_input_bench(c.out); };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"input",
+     "Tracked input: DTrack ASCII parse cost per datagram and the receiver's hand-off latency over loopback "
+     "(input_bench.json)",
+     10, setup_input_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

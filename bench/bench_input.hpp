@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One parse row: a kind of datagram parsed many times.
 struct InputParseRow {
@@ -36,4 +36,4 @@ struct InputBenchResult {
 /// cannot be written.
 InputBenchResult run_input_bench(const std::string& out);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

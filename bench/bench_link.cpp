@@ -1,5 +1,8 @@
 // bench/bench_link.cpp - the wall through the link shim, every mode x latency x loss, on one simulated clock.
 #include "bench/bench_link.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +22,8 @@
 #include "haptics/device_server.hpp"
 #include "haptics/haptic_loop.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -177,4 +181,21 @@ std::vector<LinkBenchRow> run_link_bench(const LinkBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_link_bench(CLI::App&) {
+    return [](const BenchCommon& c) {
+        LinkBenchOptions o;
+        o.out = c.out;
+        run_link_bench(o);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"link",
+     "Local vs distributed haptic rendering through an injected-latency, lossy link (link_bench.json)",
+     20, setup_link_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

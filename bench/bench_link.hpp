@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One run: a rendering mode through a link of one latency and loss.
 struct LinkBenchRow {
@@ -42,4 +42,4 @@ struct LinkBenchOptions {
 /// options.out, prints the table and returns the rows. Throws tridex::Error on bad options or an unwritable folder.
 std::vector<LinkBenchRow> run_link_bench(const LinkBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

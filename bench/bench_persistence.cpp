@@ -1,5 +1,8 @@
 // bench/bench_persistence.cpp - save / load times and sizes of the .tdx model file.
 #include "bench/bench_persistence.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -16,7 +19,8 @@
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/tools/sweep.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -103,4 +107,22 @@ std::vector<PersistenceBenchRow> run_persistence_bench(const PersistenceBenchOpt
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_persistence_bench(CLI::App&) {
+    return [](const BenchCommon& c) {
+        PersistenceBenchOptions p;
+        p.out = c.out;
+        p.mesh = c.mesh;
+        run_persistence_bench(p);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"persistence",
+     "Model file (.tdx) save and load time, file size against memory: bunny at N = 256 and 512, carved",
+     80, setup_persistence_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

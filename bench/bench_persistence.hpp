@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One row: one resolution, saved and loaded once (after a warm-up save).
 struct PersistenceBenchRow {
@@ -34,4 +34,4 @@ struct PersistenceBenchOptions {
 /// and writes <out>/persistence_bench.json ({"rows": [...], "setup": {...}}). Throws tridex::Error on bad input.
 std::vector<PersistenceBenchRow> run_persistence_bench(const PersistenceBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

@@ -1,5 +1,8 @@
 // bench/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, LOD and culling on and off.
 #include "bench/bench_render.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <array>
@@ -13,7 +16,7 @@
 
 #include "app/demo.hpp"
 #include "app/session.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "app/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
@@ -24,7 +27,8 @@
 #include "renderer/image/image.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -336,4 +340,51 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+struct RenderBenchCli {
+    RenderBenchOptions options;
+    std::vector<int> n;
+    std::vector<std::string> ao;
+    std::vector<std::string> size;
+};
+
+BenchRun setup_render_bench(CLI::App& bench) {
+    auto o = std::make_shared<RenderBenchCli>();
+    bench.add_option("--render-n", o->n, "With --render: run only these N (16..1024), e.g. --render-n 256")
+        ->delimiter(',')
+        ->check(CLI::Range(16, 1024));
+    bench.add_option("--render-ao", o->ao, "With --render: ambient occlusion settings to time, interleaved (default on,off)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"on", "off"}));
+    bench.add_option("--render-size", o->size, "With --render: per-eye image sizes WxH (default 1280x720,1920x1080)")
+        ->delimiter(',');
+    bench.add_option("--frames", o->options.frames, "With --render: timed frames per row")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
+    return [o](const BenchCommon& c) {
+        RenderBenchOptions r = o->options;
+        r.out = c.out;
+        r.mesh = c.mesh;
+        if (!o->ao.empty()) {
+            r.occlusion.clear();
+            for (const std::string& a : o->ao) r.occlusion.push_back(a == "on");
+        }
+        if (!o->size.empty()) {
+            r.sizes.clear();
+            for (const std::string& z : o->size) r.sizes.push_back(parse_image_size(z, "--render-size"));
+        }
+        if (!o->n.empty()) r.resolutions = o->n;
+        run_render_bench(r);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"render",
+     "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, with and without "
+     "per-tile levels of detail and tile culling",
+     60, setup_render_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One benchmark row: `frames` stereo frames at one resolution, image size, view, LOD and culling setting.
 struct RenderBenchRow {
@@ -78,4 +78,4 @@ struct RenderBenchOptions {
 /// Throws tridex::Error on a bad mesh, resolution or size, frames < 1, an unwritable folder, or no Vulkan device.
 std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

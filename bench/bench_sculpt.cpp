@@ -1,5 +1,8 @@
 // bench/bench_sculpt.cpp - timing the sculpting paths (CPU one thread / all cores, GPU per segment / batched).
 #include "bench/bench_sculpt.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <numeric>
@@ -18,7 +21,7 @@
 #include <string>
 
 #include "app/json_file.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
@@ -34,7 +37,8 @@
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -503,4 +507,37 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+BenchRun setup_sculpt_bench(CLI::App& bench) {
+    auto o = std::make_shared<SculptBenchOptions>();
+    auto n = std::make_shared<std::vector<int>>();
+    auto radii = std::make_shared<std::vector<double>>();
+    auto paths = std::make_shared<std::vector<std::string>>();
+    bench.add_option("--sculpt-n", *n, "With --sculpt: run only these N (24..2048), e.g. --sculpt-n 256,512")->delimiter(',');
+    bench.add_option("--sculpt-radius", *radii,
+                     "With --sculpt: run only these tool radii, cells ((0, N/8]), e.g. --sculpt-radius 8")
+        ->delimiter(',');
+    bench.add_option("--sculpt-paths", *paths,
+                     "With --sculpt: run only these paths (cpu-1t, cpu, gpu, gpu-batched; clay-push, clay-smooth, "
+                     "gpu-clay-push, gpu-clay-smooth only when named), e.g. --sculpt-paths cpu,gpu-batched")
+        ->delimiter(',');
+    return [o, n, radii, paths](const BenchCommon& c) {
+        SculptBenchOptions s = *o;
+        s.out = c.out;
+        if (!n->empty()) s.resolutions = *n;
+        if (!radii->empty()) s.radii_cells = *radii;
+        if (!paths->empty()) s.paths = *paths;
+        run_sculpt_bench(s);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"sculpt",
+     "Swept-Boolean throughput and latency: CPU 1 thread / all cores, GPU per segment / batched, N = 256, 512, "
+     "1024, tool radius 2 and 8 cells",
+     70, setup_sculpt_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One benchmark row: one path carving one stroke prefix at one resolution and tool radius.
 struct SculptBenchRow {
@@ -91,4 +91,4 @@ struct SculptBenchOptions {
 /// unknown or repeated) or an unwritable folder.
 std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

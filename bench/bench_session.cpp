@@ -1,5 +1,8 @@
 // bench/bench_session.cpp - whole sessions through the runtime, timed from their reports.
 #include "bench/bench_session.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +15,8 @@
 #include "app/output_dir.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& o) {
     if (o.resolutions.empty() || o.paths.empty() || o.journal.empty()) throw Error("bench --session: nothing to run");
@@ -97,4 +101,33 @@ std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+struct SessionBenchCli {
+    std::vector<int> n;
+    bool journal_off = false;
+};
+
+BenchRun setup_session_bench(CLI::App& bench) {
+    auto o = std::make_shared<SessionBenchCli>();
+    bench.add_option("--session-n", o->n, "With --session: run only these N, e.g. --session-n 256")->delimiter(',');
+    bench.add_flag("--session-journal-off", o->journal_off,
+                   "With --session: also run each session without its journal (--no-journal), for comparison");
+    return [o](const BenchCommon& c) {
+        SessionBenchOptions sb;
+        sb.out = c.out;
+        if (!o->n.empty()) sb.resolutions = o->n;
+        if (o->journal_off) sb.journal = {true, false};
+        run_session_bench(sb);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"session",
+     "Whole sessions through the session runtime (the demo's stroke on the bunny, N = 256 and 512, CPU and GPU "
+     "paths): haptic period and tick time, sculpt step times",
+     40, setup_session_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

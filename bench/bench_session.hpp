@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One session: its path, resolution and what the haptic loop and the sculpt thread measured.
 struct SessionBenchRow {
@@ -41,4 +41,4 @@ struct SessionBenchOptions {
 /// folder; a GPU row falls back to the CPU when there is no Vulkan device (its `path` then says "cpu").
 std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

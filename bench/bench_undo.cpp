@@ -1,5 +1,8 @@
 // bench/bench_undo.cpp - undo and redo latency of a real sculpt thread, per stroke.
 #include "bench/bench_undo.hpp"
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -13,7 +16,7 @@
 #include "app/demo.hpp"
 #include "app/json_file.hpp"
 #include "app/session_runtime.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/probe.hpp"
 #include "compute/runtime/boolean_backend.hpp"
@@ -23,7 +26,8 @@
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions, stats and JSON files
 
 namespace {
 
@@ -198,4 +202,33 @@ std::vector<UndoBenchRow> run_undo_bench(const UndoBenchOptions& o) {
     return rows;
 }
 
-}  // namespace tridex::app
+namespace {
+
+struct UndoBenchCli {
+    std::vector<int> n;
+    std::vector<std::string> paths;
+};
+
+BenchRun setup_undo_bench(CLI::App& bench) {
+    auto o = std::make_shared<UndoBenchCli>();
+    bench.add_option("--undo-n", o->n, "With --undo: run only these N, e.g. --undo-n 256")->delimiter(',');
+    bench.add_option("--undo-paths", o->paths, "With --undo: run only these paths (cpu, gpu)")->delimiter(',');
+    return [o](const BenchCommon& c) {
+        UndoBenchOptions u;
+        u.out = c.out;
+        u.mesh = c.mesh;
+        if (!o->n.empty()) u.resolutions = o->n;
+        if (!o->paths.empty()) u.paths = o->paths;
+        run_undo_bench(u);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"undo",
+     "Per-stroke undo and redo latency of the sculpt thread (write back, active surface, re-contour): bunny at N = "
+     "256 and 512, CPU and GPU paths",
+     90, setup_undo_bench}};
+
+}  // namespace
+
+}  // namespace tridex::bench

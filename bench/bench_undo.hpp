@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// One row: one resolution on one sculpting path, `strokes` grooves carved, then each undone and redone once.
 struct UndoBenchRow {
@@ -44,4 +44,4 @@ struct UndoBenchOptions {
 /// Throws tridex::Error on bad options.
 std::vector<UndoBenchRow> run_undo_bench(const UndoBenchOptions& options);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

@@ -1,7 +1,7 @@
 // bench/bench_wall.cpp - a half-space snapshot and a press-hold-release path.
 #include "bench/bench_wall.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 
 std::unique_ptr<ActiveSurface> bench_wall_surface() {
     auto s = std::make_unique<ActiveSurface>();
@@ -26,4 +26,4 @@ devices::ScriptedPath bench_wall_press(double depth_m) {
     return devices::ScriptedPath({0.0, 0.3, 0.4, 1.4, 1.5, 1.8, 2.5}, {up, in, in, in, in, up, up});
 }
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

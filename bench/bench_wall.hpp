@@ -6,7 +6,7 @@
 #include "core/active_surface.hpp"
 #include "devices/scripted_path.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 
 /// The half-space z < 0 (world m) as the Z rays see it: 1 mm cells, lattice origin (-16, -16, -20) mm, the window over
 /// x, y in [-16, 15] mm, every ray solid from 20 mm below the wall up to z = 0. Sequence 1, centred on the origin.
@@ -17,4 +17,4 @@ std::unique_ptr<ActiveSurface> bench_wall_surface();
 /// hand (300 N/m) settles where its spring balances the wall's: 300 * (depth - p) = K * p.
 devices::ScriptedPath bench_wall_press(double depth_m);
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

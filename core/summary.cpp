@@ -1,11 +1,11 @@
-// app/stats.cpp - nearest-rank order statistics.
-#include "app/stats.hpp"
+// core/summary.cpp - nearest-rank order statistics.
+#include "core/summary.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-namespace tridex::app {
+namespace tridex {
 
 Summary summarize(std::vector<double> v) {
     Summary s;
@@ -22,4 +22,4 @@ Summary summarize(std::vector<double> v) {
     return s;
 }
 
-}  // namespace tridex::app
+}  // namespace tridex

@@ -1,9 +1,9 @@
-// app/stats.hpp - order statistics of timing samples for reports.
+// core/summary.hpp - order statistics of timing samples for reports and benchmarks.
 #pragma once
 
 #include <vector>
 
-namespace tridex::app {
+namespace tridex {
 
 /// Median, 99th percentile, maximum and mean of a sample (nearest-rank percentiles); zeros when empty.
 struct Summary {
@@ -17,4 +17,4 @@ struct Summary {
 /// be finite (timings are); a NaN makes the order, and so the result, unspecified.
 Summary summarize(std::vector<double> values);
 
-}  // namespace tridex::app
+}  // namespace tridex

@@ -1,4 +1,4 @@
-// devices/device_registry.cpp - the registry, the built-in drivers and USB detection.
+// devices/device_registry.cpp - the registry, choosing a driver from a command line, and USB detection.
 #include "devices/device_registry.hpp"
 
 #include <libusb-1.0/libusb.h>
@@ -10,17 +10,6 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
-#include "devices/falcon/falcon_device.hpp"
-#include "devices/falcon/falcon_emulator.hpp"
-#include "devices/falcon/falcon_firmware.hpp"
-#include "devices/falcon/falcon_usb_transport.hpp"
-#include "devices/net/enet_link.hpp"
-#include "devices/net/net_device.hpp"
-#include "devices/mouse_device.hpp"
-#include "devices/replay_device.hpp"
-#include "devices/simulated_device.hpp"
-#include "devices/spacemouse_device.hpp"
-#include "devices/tracking/tracked_tool_device.hpp"
 
 namespace tridex::devices {
 
@@ -49,6 +38,13 @@ std::string hex4(std::uint16_t v) {
 }
 
 }  // namespace
+
+std::string join_or(const std::vector<std::string>& names) {
+    std::string out;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return out;
+}
 
 DeviceProfile profile_by_name(const std::string& name) {
     for (const NamedProfile& p : kProfiles)
@@ -117,6 +113,70 @@ std::vector<DriverInfo> DeviceRegistry::drivers() const {
     return out;
 }
 
+const DriverInfo* DeviceRegistry::find(const std::string& name) const {
+    for (const Entry& e : entries_)
+        if (e.info.name == name) return &e.info;
+    return nullptr;
+}
+
+const DriverInfo& DeviceRegistry::info(const std::string& name, const std::string& field) const {
+    if (const DriverInfo* d = find(name)) return *d;
+    std::vector<std::string> names;
+    for (const Entry& e : entries_)
+        if (e.info.available) names.push_back(e.info.name);
+    throw Error(field + ": unknown driver '" + name + "'; drivers: " + join(names));
+}
+
+namespace {
+
+// The default driver: the first scripted driver with profiles (the simulated hand), or null.
+const DriverInfo* default_driver(const std::vector<DriverInfo>& all) {
+    for (const DriverInfo& d : all)
+        if (d.caps.input == InputKind::kScripted && !d.profiles.empty()) return &d;
+    return nullptr;
+}
+
+bool accepts(const DeviceRegistry::DriverFilter& usable, const DriverInfo& d) {
+    return d.available && d.caps.input != InputKind::kRecorded && (!usable || usable(d));
+}
+
+}  // namespace
+
+std::vector<std::string> DeviceRegistry::choices(const DriverFilter& usable) const {
+    const std::vector<DriverInfo> all = drivers();
+    const DriverInfo* def = default_driver(all);
+    std::vector<std::string> out;
+    if (def && accepts(usable, *def))
+        for (const std::string& p : def->profiles)
+            if (!find(p)) out.push_back(p);
+    for (const DriverInfo& d : all) {
+        if (&d == def || !accepts(usable, d)) continue;
+        const std::string& form = d.caps.address_form;
+        out.push_back(form.empty() ? d.name : d.caps.address_required ? d.name + ":" + form : d.name + "[:" + form + "]");
+    }
+    return out;
+}
+
+DeviceChoice DeviceRegistry::choose(const std::string& text, const std::string& option, const DriverFilter& usable) const {
+    const std::size_t colon = text.find(':');
+    const std::string name = text.substr(0, colon);
+    const std::string address = colon == std::string::npos ? std::string() : text.substr(colon + 1);
+    const DriverInfo* d = find(name);
+    if (d && accepts(usable, *d)) {
+        if (colon != std::string::npos && d->caps.address_form.empty())
+            throw Error(option + ": the '" + name + "' driver takes nothing after its name (\"" + text + "\")");
+        if (address.empty() && d->caps.address_required)
+            throw Error(option + ": " + name + ":" + d->caps.address_form + ", got '" + text + "'");
+        return {d->name, d->caps.fixed_profile, address};
+    }
+    const std::vector<DriverInfo> all = drivers();
+    const DriverInfo* def = default_driver(all);
+    if (!d && def && accepts(usable, *def) && colon == std::string::npos)
+        for (const std::string& p : def->profiles)
+            if (p == text) return {def->name, p, ""};
+    throw Error(option + ": unknown device '" + text + "'; use " + join_or(choices(usable)));
+}
+
 std::vector<DetectedDevice> DeviceRegistry::detect(std::string* error) const {
     std::vector<DetectedDevice> found;
     bool any_hardware = false;
@@ -130,130 +190,17 @@ std::vector<DetectedDevice> DeviceRegistry::detect(std::string* error) const {
     return found;
 }
 
-const DeviceRegistry& builtin_registry() {
-    static const DeviceRegistry registry = [] {
-        DeviceRegistry r;
-        DriverInfo sim{"simulated",
-                       "closed-loop virtual hand on a simulated device (profiles: omni = PHANTOM Omni, wand = Quanser "
-                       "5-DOF wand, 6dof = generic 6-DOF, falcon = Novint Falcon)",
-                       false,
-                       true,
-                       {"omni", "wand", "6dof", "falcon"},
-                       {},
-                       6,
-                       3};
-        r.add(sim, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            DeviceProfile profile = profile_by_name(spec.profile);
-            ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
-            auto dev = std::make_unique<SimulatedDevice>(std::move(profile), std::move(path), SimulatedHandParams{},
-                                                         in.period_s);
-            if (in.buttons) dev->set_button_script(*in.buttons);
-            return dev;
-        });
-        DriverInfo replay{"replay",
-                          "plays a recording's device samples back (tridex replay)",
-                          false,
-                          true,
-                          {"omni", "wand", "6dof", "falcon"},
-                          {},
-                          6,
-                          3};
-        r.add(replay, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            return std::make_unique<ReplayDevice>(profile_by_name(spec.profile), in.samples);
-        });
-        // The Novint Falcon: FTDI vendor 0x0403, Novint product 0xcb48 (libnifalcon's udev rules), over libusb-1.0.
-        DriverInfo falcon{"falcon", "Novint Falcon (3-DOF force, USB)",        true, true,
-                          {},       {{falcon::kVendorId, falcon::kProductId}}, 3,    3};
-        r.add(falcon, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            bool plugged = false;
-            for (const auto& [id, where] : usb_devices())
-                plugged = plugged || (id.vendor == falcon::kVendorId && id.product == falcon::kProductId &&
-                                      (spec.serial.empty() || where == spec.serial));
-            if (!plugged)
-                throw Error("device.driver: no Novint Falcon is plugged in (USB 0403:cb48" +
-                            (spec.serial.empty() ? std::string() : " at " + spec.serial) +
-                            "); `tridex devices` lists what is; --device falcon-emulator runs without one");
-            falcon::FalconDeviceOptions o;
-            o.firmware_path = in.falcon_firmware;
-            o.period_s = in.period_s;
-            return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconUsbTransport>(spec.serial), o);
-        });
-        DriverInfo emulator{
-            "falcon-emulator",
-            "the Falcon driver over an emulated Falcon (protocol, firmware load, homing), its grip held by "
-            "the simulated hand",
-            false,
-            true,
-            {"falcon"},
-            {},
-            3,
-            3};
-        r.add(emulator, [](const DeviceSpec&, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            falcon::FalconEmulatorConfig c;
-            c.hand_path = in.hand_path;
-            c.buttons = in.buttons;
-            c.period_s = in.period_s;
-            falcon::FalconDeviceOptions o;
-            o.firmware_image = falcon::emulator_firmware_image();  // generated; never a vendor binary
-            o.period_s = in.period_s;
-            return std::make_unique<falcon::FalconDevice>(std::make_unique<falcon::FalconEmulator>(std::move(c)), o);
-        });
-        DriverInfo netinfo{"net",
-                           "a device on another machine served by `tridex device-server` (--device net:HOST:PORT; "
-                           "--haptic-rendering distributed or local)",
-                           false, true, {}, {}, 6, 3};
-        r.add(netinfo, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            std::string host;
-            std::uint16_t port = 0;
-            net::split_host_port(spec.serial, "--device net:HOST:PORT", host, port);
-            net::NetDeviceOptions o;
-            o.mode = net::rendering_mode_from(in.haptic_rendering);
-            o.period_s = in.period_s;
-            auto dev = std::make_unique<net::NetDevice>(net::EnetLink::connect(host, port), o);
-            dev->wait_for_server(3.0);
-            return dev;
-        });
-        DriverInfo mouse{"mouse",
-                         "the desk mouse as a virtual stylus: the app sets the hand from the cursor (no forces; the "
-                         "profile's limits still bound what the loop sends)",
-                         false, true, {"omni", "wand", "6dof"}, {}, 3, 3};
-        r.add(mouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            DeviceProfile profile = profile_by_name(spec.profile);
-            profile.name = "mouse (" + profile.name + " limits)";
-            const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
-            return std::make_unique<MouseDevice>(std::move(profile), start, in.period_s);
-        });
-        // A 6-DOF 3D mouse through spacenavd's socket: spec.serial, else $SPNAV_SOCKET (as libspnav), else the default.
-        DriverInfo spacemouse{"spacemouse",
-                              "a 6-DOF 3D mouse through spacenavd (rate control of the stylus pose; no forces)",
-                              false, true, {"omni", "wand", "6dof"}, {}, 6, 0};  // no USB ids: spacenavd finds it
-        r.add(spacemouse, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-            DeviceProfile profile = profile_by_name(spec.profile);
-            profile.name = "spacemouse (" + profile.name + " limits)";
-            SpaceMouseParams p = in.spacemouse.value_or(SpaceMouseParams{});
-            const char* env = std::getenv("SPNAV_SOCKET");
-            p.socket_path = !spec.serial.empty() ? spec.serial : (env && *env) ? env : kSpnavDefaultSocket;
-            const Vec3 start = in.hand_path ? in.hand_path->position_at(0.0) : Vec3(0.0);
-            return std::make_unique<SpaceMouseDevice>(std::move(profile), start, in.period_s, std::move(p));
-        });
-        // A DTrack-tracked Flystick or standard body as the tool (no haptic device): the session's receiver
-        // (shared with the head or the wand on the same port), else one of its own.
-        for (const bool flystick : {true, false}) {
-            DriverInfo info{flystick ? "flystick" : "tracked-body",
-                            flystick ? "an ART DTrack Flystick as the tool (6df2; its trigger engages the tool; no forces)"
-                                     : "an ART DTrack standard body as the tool (6d; always engaged; no forces)",
-                            false, true, {"tracked"}, {}, 6, 0};
-            r.add(info, [flystick](const DeviceSpec&, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
-                TrackedToolParams p = in.tracked_tool;
-                p.flystick = flystick;
-                std::shared_ptr<DTrackReceiver> rx =
-                    in.dtrack ? in.dtrack : std::make_shared<DTrackReceiver>(in.dtrack_port, in.dtrack_bind);
-                return std::make_unique<TrackedToolDevice>(tracked_tool_profile(), std::move(rx), p, in.period_s);
-            });
-        }
-        return r;
-    }();
-    return registry;
+std::string_view to_string(InputKind kind) {
+    switch (kind) {
+        case InputKind::kScripted: return "scripted";
+        case InputKind::kRecorded: return "recorded";
+        case InputKind::kPointer: return "pointer";
+        case InputKind::kRate: return "rate";
+        case InputKind::kTracked: return "tracked";
+        case InputKind::kHardware: return "hardware";
+        case InputKind::kRemote: return "remote";
+    }
+    return "unknown";
 }
 
 std::string usb_id_string(const UsbId& id) { return hex4(id.vendor) + ":" + hex4(id.product); }

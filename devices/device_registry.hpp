@@ -14,15 +14,18 @@
 //      - do_write(): send the force (N) and torque (N*m); the base class has already gated it (enabled only),
 //        bounded it by the profile's limits and replaced non-finite values by zero.
 //      - Report over-temperature and transport errors through raise_fault().
-//   2. Register it in `builtin_registry()` (devices/device_registry.cpp): a DriverInfo (name, summary,
-//      hardware or not, the USB ids it drives), a factory from DeviceSpec + DeviceInputs, and, for hardware, its
-//      USB ids so `tridex devices` shows whether one is plugged in.
+//   2. Register it in `builtin_registry()` (devices/builtin_drivers.cpp): a DriverInfo (name, summary,
+//      hardware or not, the USB ids it drives so that `tridex devices` shows whether one is plugged in, and its
+//      DriverCapabilities: input kind, DOF, forces, engage button, servable, the scene options it reads), and a
+//      factory from DeviceSpec + DeviceInputs. Sessions, the overlay, the study and the device server read the
+//      capabilities; nothing outside devices/ compares a driver's name.
 //   3. Add a test in tests/devices/ driving it through the lifecycle against a fake transport.
 // Scene files then select it with "device": {"driver": "<name>", ...}.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,9 +33,9 @@
 #include <vector>
 
 #include "devices/button_script.hpp"
+#include "devices/driver_capabilities.hpp"
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
-#include "devices/spacemouse_device.hpp"
 #include "devices/tracking/tracked_tool_device.hpp"
 
 namespace tridex::devices {
@@ -47,24 +50,25 @@ struct DeviceSpec {
 /// What a session hands a driver besides its spec: the loop period and, for the software drivers, their input.
 struct DeviceInputs {
     double period_s = 1e-3;                 ///< haptic loop period, s
-    std::optional<ScriptedPath> hand_path;  ///< simulated: the virtual hand's target path, device frame (m)
-    std::optional<ButtonScript> buttons;    ///< simulated: the buttons the hand presses, in device time
-    std::vector<DeviceState> samples;       ///< replay: the recorded samples, in order
-    /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's "device.firmware");
-    /// "" = none (the driver then says in one line what it needs when the Falcon has no firmware running).
-    std::string falcon_firmware;
-    /// spacemouse: the gains and dead zone (a scene's "device" block); its socket_path is ignored (spec.serial,
-    /// else $SPNAV_SOCKET, else spacenavd's default). nullopt = SpaceMouseParams' defaults.
-    std::optional<SpaceMouseParams> spacemouse{};
-    /// net: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
+    std::optional<ScriptedPath> hand_path;  ///< scripted input: the virtual hand's target path, device frame (m); others
+                                            ///< take its start as the tip's first position
+    std::optional<ButtonScript> buttons;    ///< scripted input: the buttons the hand presses, in device time
+    std::vector<DeviceState> samples;       ///< recorded input: the samples, in order
+    /// Drivers that take firmware (DriverCapabilities::takes_firmware): the file from the user's own installation
+    /// (--falcon-firmware, a scene's "device.firmware"); "" = none (the driver then says in one line what it needs).
+    std::string firmware;
+    /// The driver's own numeric options (DriverCapabilities::options) that the scene set, by name, SI units; an
+    /// option not here takes its fallback. The driver checks names and ranges again (throws tridex::Error).
+    std::map<std::string, double> options;
+    /// remote drivers: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
     /// devices/net/net_device.hpp.
     std::string haptic_rendering = "distributed";
-    /// flystick, tracked-body: the DTrack receiver to read (shared with the head or the wand on the same port);
-    /// null = the driver opens one on dtrack_port / dtrack_bind.
+    /// tracked drivers: the DTrack receiver to read (shared with the head or the wand on the same port); null = the
+    /// driver opens one on dtrack_port / dtrack_bind.
     std::shared_ptr<DTrackReceiver> dtrack{};
     int dtrack_port = 5000;                 ///< UDP port when the driver opens its own receiver (1..65535; 0 = any)
     std::string dtrack_bind = "0.0.0.0";    ///< local IPv4 address it listens on
-    /// flystick, tracked-body: which target and how (its `flystick` flag is set by the driver's name).
+    /// tracked drivers: which target and how (its `flystick` flag is set by the driver).
     TrackedToolParams tracked_tool{};
 };
 
@@ -74,7 +78,7 @@ struct UsbId {
     std::uint16_t product = 0;
 };
 
-/// What `tridex devices` says of a driver.
+/// What a driver says of itself: `tridex devices` lists it, sessions read its capabilities.
 struct DriverInfo {
     std::string name;                   ///< the driver name a spec uses
     std::string summary;                ///< one line: what it drives
@@ -82,8 +86,16 @@ struct DriverInfo {
     bool available = true;              ///< false: known hardware that this build cannot drive yet
     std::vector<std::string> profiles;  ///< profile names it accepts (empty: the hardware's own)
     std::vector<UsbId> usb_ids;         ///< the USB ids of the hardware it drives
-    int dof_in = 0;                     ///< sensed DOF (of its default profile)
-    int dof_out = 0;                    ///< actuated DOF (of its default profile)
+    DriverCapabilities caps;            ///< input kind, DOF, forces, engage button, servable, options
+    std::string product;                ///< hardware: the product's name for messages ("Novint Falcon")
+    std::string stand_in;               ///< hardware: a driver that runs the same without the hardware, or ""
+};
+
+/// A driver chosen on a command line (`--device TEXT`): its name, profile and address.
+struct DeviceChoice {
+    std::string driver;   ///< a registered driver name
+    std::string profile;  ///< the profile to use ("" = the scene's or the driver's own)
+    std::string address;  ///< what followed "NAME:" (HOST:PORT for remote drivers, PORT[:ID] for tracked ones), or ""
 };
 
 /// One plugged-in unit of known hardware.
@@ -93,6 +105,9 @@ struct DetectedDevice {
     UsbId id;              ///< its USB ids
     std::string location;  ///< "bus B port P.Q" (libusb numbering)
 };
+
+/// "a, b or c" (one name: itself; none: "").
+std::string join_or(const std::vector<std::string>& names);
 
 /// "vvvv:pppp" in lower-case hex, as lsusb prints it.
 std::string usb_id_string(const UsbId& id);
@@ -116,6 +131,22 @@ public:
     std::unique_ptr<HapticDevice> create(const DeviceSpec& spec, const DeviceInputs& inputs) const;
     /// Every registered driver, in registration order.
     std::vector<DriverInfo> drivers() const;
+    /// The driver named `name`, or null.
+    const DriverInfo* find(const std::string& name) const;
+    /// The driver named `name`; throws tridex::Error "FIELD: unknown driver 'x'; drivers: a, b" (FIELD = `field`).
+    const DriverInfo& info(const std::string& name, const std::string& field = "device.driver") const;
+    /// Which drivers a command accepts (null = every available one but the recorded).
+    using DriverFilter = std::function<bool(const DriverInfo&)>;
+    /// Reads a command line's `--device TEXT`: a profile of the default driver (the first scripted driver with
+    /// profiles, the simulated hand: "omni", "wand", "6dof"), a driver name ("falcon", "mouse"), or NAME:ADDRESS
+    /// for a driver with an address form ("net:HOST:PORT", "flystick:5000:1"). A name that is both a driver and a
+    /// profile ("falcon") is the driver. Throws tridex::Error "OPTION: unknown device 'x'; use a, b or c" (OPTION =
+    /// `option`, the list from choices(usable)) for a name that is neither or a driver `usable` refuses, and names
+    /// the driver when its address is missing or it takes none.
+    DeviceChoice choose(const std::string& text, const std::string& option, const DriverFilter& usable = {}) const;
+    /// What choose() accepts, for help and error texts: the default driver's profiles (when usable and not also a
+    /// driver's name), then each usable driver but the default as NAME, NAME:FORM or NAME[:FORM].
+    std::vector<std::string> choices(const DriverFilter& usable = {}) const;
     /// The plugged-in units of the registered hardware drivers (USB ids matched against usb_devices()); `error`
     /// (may be null) gets why USB could not be listed.
     std::vector<DetectedDevice> detect(std::string* error = nullptr) const;
@@ -134,7 +165,7 @@ private:
 /// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path),
 /// `net` (a device served by `tridex device-server` at DeviceSpec::serial = "HOST:PORT": creating it waits up to 3 s
 /// for the server's welcome and throws when none answers or it refuses), `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
-/// $SPNAV_SOCKET, else /var/run/spnav.sock; opening it throws when no daemon listens there).
+/// $SPNAV_SOCKET, else /etc/spnavrc's `socket`, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 
 /// The profile named `name` (omni, wand, 6dof, falcon, tracked); throws tridex::Error "device.profile: unknown

@@ -33,19 +33,28 @@ struct DriverOption {
     std::string doc;  ///< one line for docs/devices and error messages
 };
 
-/// What a driver can do and needs. The workspace button follows Peng's workspace-moving technique (4.1): holding
-/// it engages the tool (and, with clutching, moves the workspace); without it the tool floats.
+/// What a driver can do and needs. Buttons are bit indices of DeviceState::buttons. The workspace button is the
+/// stylus button that the workspace techniques read (Peng's workspace moving, 4.1: held, the workspace follows the
+/// hand; clutching: held, the hand moves without the tool).
 struct DriverCapabilities {
     InputKind input = InputKind::kScripted;
     int dof_in = 0;                ///< sensed DOF of its default profile
     int dof_out = 0;               ///< actuated DOF of its default profile (0: renders no force)
     bool renders_forces = false;   ///< the device pushes back on the hand
-    int workspace_button = 0;      ///< the button bit that engages the tool (DeviceState::buttons), -1: none
+    int workspace_button = 0;      ///< the stylus button the workspace techniques read, -1: none
+    int engage_button = -1;        ///< the button that must be held for the tool to carve, -1: it always carves
+    int next_op_button = -1;       ///< a press switches to the next operation (subtract, union, paint, push, ...), -1: none
     bool servable = false;         ///< `tridex device-server` can serve it to another machine
     bool strokes_end_on_release = false;  ///< a stroke ends when the engage button is released, not when idle
     bool switches_op = false;      ///< the person switches the tool's operation during the session (keys, buttons)
+    bool app_sets_hand = false;    ///< the session sets the hand every frame (the pointer: MouseDevice::set_hand)
     bool takes_firmware = false;   ///< reads a firmware file from the user's installation (DeviceInputs::firmware)
-    bool takes_address = false;    ///< DeviceSpec::serial is a "HOST:PORT" address (--device NAME:HOST:PORT)
+    /// What may follow "NAME:" on a command line (--device NAME:ADDRESS), for help texts: "HOST:PORT" (remote),
+    /// "PORT[:ID]" (tracked); "" = nothing. The driver or the session reads it (DeviceSpec::serial for remote).
+    std::string address_form;
+    bool address_required = false;  ///< the driver needs the address (net:HOST:PORT)
+    int target_ids = 0;            ///< tracked: IDs 0..target_ids-1 of its kind of target (ADDRESS's ID)
+    std::string target_kind;       ///< tracked: the kind of target its ID numbers ("Flystick", "body")
     std::string fixed_profile;     ///< the profile it always drives ("falcon", "tracked"); "" = the spec's
     std::vector<DriverOption> options;  ///< numeric options of a scene's "device" block it reads
 };

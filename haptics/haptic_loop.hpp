@@ -145,6 +145,7 @@ struct LoopView {
     Vec3 force_n{0.0};              ///< force sent, N
     bool contact = false;           ///< the tool touches material
     bool modelling_paused = false;  ///< workspace button held (draw the transparent box)
+    std::uint32_t buttons = 0;      ///< the device's button bits on that tick (DeviceState::buttons)
     Pose box;                       ///< workspace box centre (m) and orientation
     Vec3 box_half_extents_m{0.0};   ///< its half extents, m
     Vec3 bubble_centre_m{0.0};      ///< bubble centre, m (bubble mode)

@@ -1,5 +1,5 @@
-// app/cursor_script.cpp - linear interpolation of a scripted cursor.
-#include "app/cursor_script.hpp"
+// app/input/cursor_script.cpp - linear interpolation of a scripted cursor.
+#include "app/input/cursor_script.hpp"
 
 #include <algorithm>
 

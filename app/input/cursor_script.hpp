@@ -1,4 +1,4 @@
-// app/cursor_script.hpp - a scene's scripted mouse cursor, for mouse-stylus sessions without a window.
+// app/input/cursor_script.hpp - a scene's scripted mouse cursor, for mouse-stylus sessions without a window.
 #pragma once
 
 #include <cstdint>

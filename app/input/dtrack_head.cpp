@@ -1,11 +1,11 @@
-// app/dtrack_head.cpp - DTrack head provider and its report.
-#include "app/dtrack_head.hpp"
+// app/input/dtrack_head.cpp - DTrack head provider and its report.
+#include "app/input/dtrack_head.hpp"
 
 #include <charconv>
 
 #include <nlohmann/json.hpp>
 
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

@@ -1,4 +1,4 @@
-// app/dtrack_head.hpp - the viewer's head from ART DTrack: a tracked body through the display's calibration into
+// app/input/dtrack_head.hpp - the viewer's head from ART DTrack: a tracked body through the display's calibration into
 // the off-axis eyes, with TrackerHead's fallback and the numbers report.json shows.
 #pragma once
 

@@ -1,11 +1,12 @@
-// app/dtrack_wand.cpp - DTrack Flystick as the Wand.
-#include "app/dtrack_wand.hpp"
+// app/input/dtrack_wand.cpp - DTrack Flystick as the Wand.
+#include "app/input/dtrack_wand.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
 
-#include "app/dtrack_head.hpp"
+#include "app/input/dtrack_head.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -17,19 +18,12 @@ void parse_dtrack_wand_option(const std::string& value, int& port, int& flystick
     parse_port_and_id(v.substr(7), "--wand", "Flystick id", devices::kDTrackKeptFlysticks, usage, port, flystick);
 }
 
-bool parse_tracked_tool_option(const std::string& value, std::string& driver, int& port, int& id) {
-    const std::string_view v(value);
-    std::string name;
-    for (const char* d : {"flystick", "tracked-body"})
-        if (v == d || v.rfind(std::string(d) + ":", 0) == 0) name = d;
-    if (name.empty()) return false;
-    const bool flystick = name == "flystick";
-    const std::string usage = " (expected " + name + "[:PORT[:ID]], e.g. " + name + ":5000:" + (flystick ? "0" : "2") + ")";
-    driver = name;
-    if (v.size() > name.size())
-        parse_port_and_id(v.substr(name.size() + 1), "--device", flystick ? "Flystick id" : "body id",
-                          flystick ? devices::kDTrackKeptFlysticks : devices::kDTrackKeptBodies, usage, port, id);
-    return true;
+void parse_tracked_tool_address(const devices::DriverInfo& driver, const std::string& address, int& port, int& id) {
+    const std::string& name = driver.name;
+    const std::string usage = " (expected " + name + "[:PORT[:ID]], e.g. " + name + ":5000:" +
+                              std::to_string(std::min(2, driver.caps.target_ids - 1)) + ")";
+    if (!address.empty())
+        parse_port_and_id(address, "--device", driver.caps.target_kind + " id", driver.caps.target_ids, usage, port, id);
 }
 
 DTrackWand::DTrackWand(const DTrackWandSettings& s, std::shared_ptr<devices::DTrackReceiver> shared)

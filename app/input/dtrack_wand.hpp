@@ -1,4 +1,4 @@
-// app/dtrack_wand.hpp - the Wand from ART DTrack: a Flystick's pose (through the display's calibration), buttons
+// app/input/dtrack_wand.hpp - the Wand from ART DTrack: a Flystick's pose (through the display's calibration), buttons
 // and joystick, checked for staleness, as WandSamples, with the numbers report.json shows.
 #pragma once
 
@@ -8,8 +8,9 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "app/wand_navigation.hpp"
+#include "app/input/wand_navigation.hpp"
 #include "core/pose.hpp"
+#include "devices/device_registry.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 
 namespace tridex::app {
@@ -68,10 +69,9 @@ nlohmann::json wand_report_json(const DTrackWand& wand, const WandNavigator& nav
 /// keeps `flystick`). Throws tridex::Error "--wand: ..." naming what is wrong.
 void parse_dtrack_wand_option(const std::string& value, int& port, int& flystick);
 
-/// Parses `--device flystick[:PORT[:ID]]` or `--device tracked-body[:PORT[:ID]]` (PORT 1..65535; ID a Flystick
-/// 0..kDTrackKeptFlysticks-1 or a body 0..kDTrackKeptBodies-1): sets `driver` and, when given, `port` and `id`,
-/// and returns true; returns false (nothing set) for any other device name. Throws tridex::Error "--device: ..."
-/// for a bad port or id.
-bool parse_tracked_tool_option(const std::string& value, std::string& driver, int& port, int& id);
+/// Parses the ADDRESS of `--device NAME:ADDRESS` for a tracked driver (DriverCapabilities: PORT[:ID], PORT
+/// 1..65535, ID 0..target_ids-1 of the driver's kind of target): sets `port` and, when given, `id`; an empty address
+/// sets nothing. Throws tridex::Error "--device: ..." for a bad port or id.
+void parse_tracked_tool_address(const devices::DriverInfo& driver, const std::string& address, int& port, int& id);
 
 }  // namespace tridex::app

@@ -1,5 +1,5 @@
-// app/key_script.cpp - key chords by name.
-#include "app/key_script.hpp"
+// app/input/key_script.cpp - key chords by name.
+#include "app/input/key_script.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-// app/key_script.hpp - key chords ("ctrl+z") by name, and a scene's timed key presses for scripted sessions.
+// app/input/key_script.hpp - key chords ("ctrl+z") by name, and a scene's timed key presses for scripted sessions.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
-// app/mouse_stylus.cpp - cursor to tool target: pick, rest on the surface, press in while held.
-#include "app/mouse_stylus.hpp"
+// app/input/mouse_stylus.cpp - cursor to tool target: pick, rest on the surface, press in while held.
+#include "app/input/mouse_stylus.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// app/mouse_stylus.hpp - the desk mouse as a virtual stylus: cursor, buttons and wheel to a tool target on the
+// app/input/mouse_stylus.hpp - the desk mouse as a virtual stylus: cursor, buttons and wheel to a tool target on the
 // workpiece surface under the cursor.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "app/surface_pick.hpp"
+#include "app/input/surface_pick.hpp"
 #include "core/tool_sample.hpp"
 #include "renderer/camera/off_axis.hpp"
 

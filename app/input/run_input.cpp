@@ -1,5 +1,5 @@
-// app/run_input.cpp - keyboard and mouse to head and scene.
-#include "app/run_input.hpp"
+// app/input/run_input.cpp - keyboard and mouse to head and scene.
+#include "app/input/run_input.hpp"
 
 #include <cmath>
 #include <utility>

@@ -1,9 +1,9 @@
-// app/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
+// app/input/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
 #pragma once
 
 #include <vector>
 
-#include "app/mouse_stylus.hpp"
+#include "app/input/mouse_stylus.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/camera/scene_navigation.hpp"

@@ -1,5 +1,5 @@
-// app/surface_pick.cpp - cursor rays and ray-triangle picking on the contoured tiles.
-#include "app/surface_pick.hpp"
+// app/input/surface_pick.cpp - cursor rays and ray-triangle picking on the contoured tiles.
+#include "app/input/surface_pick.hpp"
 
 #include <algorithm>
 #include <cmath>

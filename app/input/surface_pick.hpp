@@ -1,4 +1,4 @@
-// app/surface_pick.hpp - a ray from the eye through a cursor pixel, and where it first meets the contoured surface.
+// app/input/surface_pick.hpp - a ray from the eye through a cursor pixel, and where it first meets the contoured surface.
 #pragma once
 
 #include <memory>

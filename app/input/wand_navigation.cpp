@@ -1,5 +1,5 @@
-// app/wand_navigation.cpp - the Wand's grab, scale and reset.
-#include "app/wand_navigation.hpp"
+// app/input/wand_navigation.cpp - the Wand's grab, scale and reset.
+#include "app/input/wand_navigation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// app/wand_navigation.hpp - the paper's Wand: grab-and-move, joystick scaling and reset of the scene from a
+// app/input/wand_navigation.hpp - the paper's Wand: grab-and-move, joystick scaling and reset of the scene from a
 // tracked wand (a DTrack Flystick) with buttons.
 #pragma once
 

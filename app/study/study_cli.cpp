@@ -7,9 +7,8 @@
 
 namespace tridex::app::study {
 
-CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
-    CLI::App* study = cli.add_subcommand(
-        "study", "The training study of Singapogu's thesis (ch. 4): tube scenes, protocol, analysis, statistics");
+void add_study_options(CLI::App& study_cmd, StudyCommand& cmd) {
+    CLI::App* study = &study_cmd;
     study->require_subcommand(1);
     cmd.stats_cmd = study->add_subcommand(
         "stats", "Spearman's rho per group and Mann-Whitney U between groups over a per-trial CSV table");
@@ -49,7 +48,6 @@ CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd) {
     cmd.run_cmd->add_option("--seed", cmd.run.seed, "Scripted participant's seed (0: from the ID)")->capture_default_str();
     cmd.run_cmd->add_option("--out", cmd.run.out, "Study folder; the participant's files go to OUT/<ID>/")
         ->capture_default_str();
-    return study;
 }
 
 void run_study_command(const StudyCommand& cmd) {

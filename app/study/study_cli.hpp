@@ -1,4 +1,4 @@
-// app/study/study_cli.hpp - the `tridex study` subcommands (main.cpp adds them with two lines).
+// app/study/study_cli.hpp - the `tridex study` subcommands (app/commands/study_command.cpp registers them).
 #pragma once
 
 #include "app/study/study_analyze.hpp"
@@ -21,10 +21,9 @@ struct StudyCommand {
     CLI::App* run_cmd = nullptr;
 };
 
-/// Adds `study stats FILE.csv [--out DIR]` `study analyze DIR... [--scene FILE] [--out DIR]` and
-/// `study run --participant ID --group haptic|visual [--simulated] [--scene FILE] [--seed N] [--out DIR]` to `cli`, parsing into `cmd` (which must outlive the parse).
-/// Returns the `study` subcommand, so the caller can test `if (*study)` after parsing.
-CLI::App* add_study_command(CLI::App& cli, StudyCommand& cmd);
+/// Declares `study stats FILE.csv [--out DIR]` `study analyze DIR... [--scene FILE] [--out DIR]` and
+/// `study run --participant ID --group haptic|visual [--simulated] [--scene FILE] [--seed N] [--out DIR]` on the `study` subcommand `study`, parsing into `cmd` (which must outlive the parse).
+void add_study_options(CLI::App& study, StudyCommand& cmd);
 
 /// Runs the chosen study subcommand. Throws tridex::Error (one line) on bad input, as the subcommands do.
 void run_study_command(const StudyCommand& cmd);

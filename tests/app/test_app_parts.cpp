@@ -5,7 +5,7 @@
 
 #include "app/session.hpp"
 #include "app/session_spec.hpp"
-#include "app/stats.hpp"
+#include "core/summary.hpp"
 #include "app/stroke.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"

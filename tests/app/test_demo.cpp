@@ -115,6 +115,27 @@ TEST(Version, PrintsTheVersionAndExitsZero) {
     EXPECT_EQ(text.str().rfind("tridex ", 0), 0u) << text.str();
 }
 
+// The command table: `tridex --help` lists every command, and each answers its own --help.
+TEST(Commands, HelpListsEveryCommandAndEachAnswersItsOwnHelp) {
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_help";
+    const auto stdout_of = [](const fs::path& dir) {
+        std::ifstream f(dir / "stdout.txt");
+        std::stringstream text;
+        text << f.rdbuf();
+        return text.str();
+    };
+    const RunResult r = run_tridex("--help", out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string help = stdout_of(out);
+    for (const char* cmd : {"demo", "run", "replay", "recover", "export", "devices", "device-server", "study", "bench"}) {
+        EXPECT_NE(help.find(std::string("\n  ") + cmd + " "), std::string::npos) << cmd << " missing from:\n" << help;
+        const fs::path dir = out / cmd;
+        const RunResult c = run_tridex(std::string(cmd) + " --help", dir);
+        EXPECT_EQ(c.exit_code, 0) << cmd << ": " << c.err;
+        EXPECT_NE(stdout_of(dir).find("Usage:"), std::string::npos) << cmd;
+    }
+}
+
 TEST(Devices, ListsDriversAsTextAndJson) {
     const fs::path out = fs::path(testing::TempDir()) / "tridex_devices";
     RunResult r = run_tridex("devices", out);
@@ -124,6 +145,7 @@ TEST(Devices, ListsDriversAsTextAndJson) {
     text << tf.rdbuf();
     EXPECT_NE(text.str().find("simulated"), std::string::npos) << text.str();
     EXPECT_NE(text.str().find("Novint Falcon"), std::string::npos) << text.str();
+    EXPECT_NE(text.str().find("pointer"), std::string::npos) << text.str();  // the mouse's input kind
     r = run_tridex("devices --json", out);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream jf(out / "stdout.txt");
@@ -135,6 +157,17 @@ TEST(Devices, ListsDriversAsTextAndJson) {
         ASSERT_TRUE(row.contains("name") && row.contains("dof") && row.contains("detected")) << row.dump();
         EXPECT_TRUE(row["dof"].is_number_integer());
         EXPECT_TRUE(row["detected"].is_boolean());
+        // Every driver describes itself: its input kind and what it can do.
+        ASSERT_TRUE(row.contains("capabilities")) << row.dump();
+        const nlohmann::json& caps = row["capabilities"];
+        EXPECT_TRUE(caps["input"].is_string() && caps["renders_forces"].is_boolean() && caps["servable"].is_boolean())
+            << row.dump();
+        if (row["driver"] == "mouse") {
+            EXPECT_EQ(caps["input"], "pointer");
+        }
+        if (row["driver"] == "spacemouse") {
+            EXPECT_EQ(caps["options"].size(), 4u);
+        }
         if (row["driver"] == "simulated" && row["profile"] == "wand") {
             wand = true;
             EXPECT_EQ(row["dof"].get<int>(), 5);

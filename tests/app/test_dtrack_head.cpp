@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../devices/dtrack_sender.hpp"
-#include "app/dtrack_head.hpp"
+#include "app/input/dtrack_head.hpp"
 #include "app/run_session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/display_config.hpp"

@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/key_script.hpp"
-#include "app/mouse_stylus.hpp"
+#include "app/input/key_script.hpp"
+#include "app/input/mouse_stylus.hpp"
 #include "app/replay.hpp"
-#include "app/run_input.hpp"
+#include "app/input/run_input.hpp"
 #include "app/run_session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"

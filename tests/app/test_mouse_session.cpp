@@ -9,11 +9,11 @@
 #include <limits>
 #include <memory>
 
-#include "app/cursor_script.hpp"
-#include "app/mouse_stylus.hpp"
-#include "app/run_input.hpp"
+#include "app/input/cursor_script.hpp"
+#include "app/input/mouse_stylus.hpp"
+#include "app/input/run_input.hpp"
 #include "app/run_session.hpp"
-#include "app/surface_pick.hpp"
+#include "app/input/surface_pick.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "devices/mouse_device.hpp"
 #include "run_test_scene.hpp"

@@ -26,7 +26,7 @@
 
 #include "../renderer/test_window_xvfb.hpp"
 #include "app/memory.hpp"
-#include "app/surface_pick.hpp"
+#include "app/input/surface_pick.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

@@ -14,7 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/run_cli.hpp"
-#include "app/run_input.hpp"
+#include "app/input/run_input.hpp"
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
 #include "app/run_sculpt.hpp"
@@ -370,7 +370,8 @@ TEST(RunInput, KeysMoveTheHeadMouseMovesTheScene) {
 TEST(RunCli, EveryFlagReachesTheOptions) {
     CLI::App cli{"tridex"};
     RunOptions o;
-    CLI::App* cmd = add_run_command(cli, o);
+    CLI::App* cmd = cli.add_subcommand("run");
+    add_run_options(*cmd, o);
     const char* argv[] = {"tridex", "run", "wall.json", "--display", "fullscreen", "--stereo", "frame-sequential",
                           "--monitor", "DP-1", "--frames", "7", "--out", "o", "--display-config", "d.json",
                           "--head", "tracker", "--swap-eyes", "--seconds", "2.5", "--validate", "--no-pace",

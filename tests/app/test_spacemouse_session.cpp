@@ -95,10 +95,10 @@ TEST(SpaceMouseSession, SceneGainsAreReadAndCheckedByName) {
     const fs::path dir = test::temp_dir("spacemouse_scene");
     const RunScene s = load_run_scene(
         write_scene(dir, R"(, "max_speed_m_s": 0.05, "max_rate_rad_s": 0.75, "dead_zone": 0.2, "full_scale": 500)"));
-    EXPECT_EQ(s.spacemouse.max_speed_m_s, 0.05);
-    EXPECT_EQ(s.spacemouse.max_rate_rad_s, 0.75);
-    EXPECT_EQ(s.spacemouse.dead_zone, 0.2);
-    EXPECT_EQ(s.spacemouse.full_scale, 500.0);
+    EXPECT_EQ(s.device_options.at("max_speed_m_s"), 0.05);
+    EXPECT_EQ(s.device_options.at("max_rate_rad_s"), 0.75);
+    EXPECT_EQ(s.device_options.at("dead_zone"), 0.2);
+    EXPECT_EQ(s.device_options.at("full_scale"), 500.0);
     const auto refused = [&](const std::string& extra, const std::string& field) {
         try {
             (void)load_run_scene(write_scene(dir, extra));

@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/key_script.hpp"
-#include "app/run_input.hpp"
+#include "app/input/key_script.hpp"
+#include "app/input/run_input.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "core/error.hpp"

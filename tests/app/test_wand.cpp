@@ -12,12 +12,12 @@
 #include <nlohmann/json.hpp>
 
 #include "../devices/dtrack_sender.hpp"
-#include "app/dtrack_head.hpp"
-#include "app/dtrack_wand.hpp"
+#include "app/input/dtrack_head.hpp"
+#include "app/input/dtrack_wand.hpp"
 #include "app/run_options.hpp"
 #include "app/run_scene.hpp"
 #include "app/run_session.hpp"
-#include "app/wand_navigation.hpp"
+#include "app/input/wand_navigation.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 

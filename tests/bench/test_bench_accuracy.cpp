@@ -18,7 +18,7 @@
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 using namespace accuracy;
@@ -230,4 +230,4 @@ TEST(BenchAccuracy, RejectsBadOptions) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

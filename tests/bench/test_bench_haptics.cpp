@@ -11,7 +11,7 @@
 #include "bench/bench_haptics.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchHaptics, SmallRunTouchesAlikeAtEveryResolutionAndWritesRows) {
@@ -63,4 +63,4 @@ TEST(BenchHaptics, RefusesBadOptions) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

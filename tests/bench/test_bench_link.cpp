@@ -12,7 +12,7 @@
 #include "bench/bench_link.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchLink, LocalRenderingHoldsTheWallWhereDistributedDoesNot) {
@@ -63,4 +63,4 @@ TEST(BenchFilter, MoreFilteringLessChatterMoreLag) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

@@ -9,7 +9,7 @@
 
 #include "bench/bench_persistence.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchPersistence, TinyRunWritesRowsWithSaneNumbersAndIdenticalModels) {
@@ -40,4 +40,4 @@ TEST(BenchPersistence, TinyRunWritesRowsWithSaneNumbersAndIdenticalModels) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

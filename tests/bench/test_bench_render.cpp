@@ -14,7 +14,7 @@
 #include "bench/bench_render.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 std::string bunny() {
@@ -145,4 +145,4 @@ TEST(BenchRender, RejectsBadOptions) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

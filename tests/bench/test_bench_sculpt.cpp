@@ -13,7 +13,7 @@
 #include "bench/bench_sculpt.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchSculpt, TinyRunWritesFourPathsWithSaneNumbersAndIdenticalModels) {
@@ -198,4 +198,4 @@ TEST(BenchSculpt, GpuClayPathsGiveTheCpuClayModels) {
     EXPECT_NE(rows[0].model_hash, rows[1].model_hash);
 }
 
-}  // namespace tridex::app
+}  // namespace tridex::bench

@@ -9,7 +9,7 @@
 #include "bench/bench_session.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
@@ -41,4 +41,4 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

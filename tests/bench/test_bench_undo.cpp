@@ -12,7 +12,7 @@
 #include "bench/bench_undo.hpp"
 #include "core/error.hpp"
 
-namespace tridex::app {
+namespace tridex::bench {
 namespace {
 
 TEST(BenchUndo, TinyRunUndoesAndRedoesEveryStroke) {
@@ -49,4 +49,4 @@ TEST(BenchUndo, TinyRunUndoesAndRedoesEveryStroke) {
 }
 
 }  // namespace
-}  // namespace tridex::app
+}  // namespace tridex::bench

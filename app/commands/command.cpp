@@ -1,0 +1,130 @@
+// app/commands/command.cpp - the command table and the `tridex` command line built from it.
+#include "app/commands/command.hpp"
+
+#include <CLI/CLI.hpp>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "app/device_lost.hpp"
+#include "app/stop_signal.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+namespace {
+
+std::vector<Command>& table() {
+    static std::vector<Command> commands;
+    return commands;
+}
+
+// Mesa's Vulkan drivers (lavapipe) want XDG_RUNTIME_DIR; when the session has none (a plain ssh or CI shell), give
+// them a private 0700 folder of this user's instead of letting them warn or fail.
+void ensure_runtime_dir() {
+    if (std::getenv("XDG_RUNTIME_DIR")) return;
+    const std::string dir = "/tmp/tridex-runtime-" + std::to_string(getuid());
+    struct stat st {};
+    if (mkdir(dir.c_str(), 0700) == 0 || (stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode) && st.st_uid == getuid()))
+        setenv("XDG_RUNTIME_DIR", dir.c_str(), 0);
+}
+
+// A first word that names no command: say so and list the commands (CLI11 would only ask for a subcommand).
+// Returns 0 when argv may go to the parser, else the exit code.
+int check_first_word(int argc, char** argv, const std::vector<Command>& commands) {
+    if (argc < 2) return 0;
+    const std::string first = argv[1];
+    if (first[0] == '-') {
+        if (first == "-h" || first == "--help" || first == "--help-all" || first == "--version") return 0;
+        std::fprintf(stderr, "tridex: unknown option '%s': a command comes first (see tridex --help)\n", argv[1]);
+        return 2;
+    }
+    std::string names;
+    for (const Command& c : commands) {
+        if (c.name == first) return 0;
+        names += (names.empty() ? "" : ", ") + c.name;
+    }
+    std::fprintf(stderr, "tridex: unknown command '%s'; the commands are %s (see tridex --help)\n", argv[1],
+                 names.c_str());
+    return 2;
+}
+
+// Runs the chosen command's action and maps what it throws to an exit code.
+int run_action(const CommandAction& action) {
+    try {
+        const int rc = action();
+        return stop_signal() ? 128 + stop_signal() : rc;
+    } catch (const DeviceLostError& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 4;
+    } catch (const Error& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "tridex: out of memory; lower --resolution\n");
+        return 3;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "tridex: internal error: %s\n", e.what());
+        return 1;
+    }
+}
+
+}  // namespace
+
+void register_command(Command command) {
+    if (command.name.empty() || !command.setup) throw std::logic_error("register_command: a command needs a name and a setup");
+    for (const Command& c : table())
+        if (c.name == command.name) throw std::logic_error("register_command: '" + command.name + "' registered twice");
+    table().push_back(std::move(command));
+}
+
+std::vector<Command> registered_commands() {
+    std::vector<Command> commands = table();
+    std::stable_sort(commands.begin(), commands.end(), [](const Command& a, const Command& b) {
+        return a.rank != b.rank ? a.rank < b.rank : a.name < b.name;
+    });
+    return commands;
+}
+
+CommandRegistration::CommandRegistration(Command command) { register_command(std::move(command)); }
+
+int run_command_line(int argc, char** argv) {
+    ensure_runtime_dir();
+    const std::vector<Command> commands = registered_commands();
+    CLI::App cli{"tridex: immersive virtual sculpting with force feedback on a tri-dexel workpiece"};
+    cli.require_subcommand(1);
+    cli.set_version_flag("--version", "tridex " TRIDEX_VERSION);
+    std::vector<std::pair<CLI::App*, CommandAction>> actions;
+    for (const Command& c : commands) {
+        CLI::App* sub = cli.add_subcommand(c.name, c.summary);
+        actions.emplace_back(sub, c.setup(*sub));
+    }
+    if (const int rc = check_first_word(argc, argv, commands)) return rc;
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Every bad input exits 2 with one line: CLI11's message, and where to look.
+        std::fprintf(stderr, "tridex: %s (see tridex %s--help)\n", e.what(),
+                     cli.get_subcommands().empty() ? "" : (cli.get_subcommands().front()->get_name() + " ").c_str());
+        return 2;
+    }
+    install_stop_handlers();  // SIGINT/SIGTERM end a session cleanly, then exit 128 + signal
+    for (const auto& [sub, action] : actions)
+        if (*sub) return run_action(action);
+    return 2;  // require_subcommand(1) makes this unreachable
+}
+
+}  // namespace tridex::app
