@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 
 namespace tridex::app {
 

@@ -11,7 +11,7 @@
 #include "app/stop_signal.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/net/enet_link.hpp"
 #include "haptics/device_server.hpp"
 

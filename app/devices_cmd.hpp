@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 
 namespace tridex::app {
 

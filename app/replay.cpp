@@ -10,7 +10,7 @@
 #include "app/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/mouse_device.hpp"
 #include "devices/replay_device.hpp"
 

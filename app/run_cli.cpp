@@ -9,17 +9,18 @@
 
 #include "app/run_session.hpp"
 #include "app/device_lost.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "core/error.hpp"
 #include "renderer/output/stereo_output.hpp"
 
 namespace tridex::app {
 
 std::string device_option_help() {
-    std::string help = "Device replacing the scene's: a driver of `tridex devices`, or a profile of the simulated hand:";
-    for (const std::string& c : devices::builtin_registry().choices()) {
-        const devices::DriverInfo* d = devices::builtin_registry().find(c.substr(0, c.find_first_of(":[")));
-        help += " | " + c + (d ? " (" + d->summary + ")" : "");
+    std::string help = "Device replacing the scene's: a profile of the simulated hand or a driver of `tridex devices`: ";
+    const std::vector<std::string> choices = devices::builtin_registry().choices();
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+        const devices::DriverInfo* d = devices::builtin_registry().find(choices[i].substr(0, choices[i].find_first_of(":[")));
+        help += (i == 0 ? "" : " | ") + choices[i] + (d ? " (" + d->summary + ")" : "");
     }
     return help + ". Keys and buttons of each: docs/devices/";
 }

@@ -18,7 +18,7 @@
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "app/tool_mesh.hpp"
 #include "haptics/tool_points.hpp"
 

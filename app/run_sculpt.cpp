@@ -14,7 +14,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 
 namespace tridex::app {
 

@@ -18,8 +18,9 @@
 #include "core/error.hpp"
 #include "devices/net/net_device.hpp"
 #include "core/format.hpp"
+#include "app/input/glfw_device_host.hpp"
 #include "devices/device_profiles.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "haptics/tool_points.hpp"
 #include "haptics/workspace_mapping.hpp"
 
@@ -49,6 +50,7 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
     d.serial = s.device_serial;
     devices::DeviceInputs in = inputs;
     if (!s.device_firmware.empty()) in.firmware = s.device_firmware;
+    if (!in.host) in.host = &glfw_device_host();  // the window system's input (game controllers)
     in.haptic_rendering = s.haptic_rendering;
     return devices::builtin_registry().create(d, in);
 }

@@ -136,7 +136,7 @@ struct DeviceLinkStats {
 ///
 /// Writing a driver: derive, return a DeviceProfile from profile(), implement do_read() and do_write(), and
 /// override the on_* hooks the hardware needs (they may throw tridex::Error with a message for the user);
-/// then register a factory (devices/device_registry.hpp).
+/// then register a factory (devices/registry/device_registry.hpp).
 class HapticDevice {
 public:
     virtual ~HapticDevice();

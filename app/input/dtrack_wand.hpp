@@ -10,7 +10,7 @@
 
 #include "app/input/wand_navigation.hpp"
 #include "core/pose.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 
 namespace tridex::app {

@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 

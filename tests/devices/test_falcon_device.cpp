@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "core/error.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/falcon/falcon_device.hpp"
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"

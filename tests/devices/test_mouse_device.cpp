@@ -5,7 +5,7 @@
 #include <thread>
 
 #include "core/error.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/mouse_device.hpp"
 
 namespace tridex::devices {

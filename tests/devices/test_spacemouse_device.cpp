@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "core/error.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/spacemouse_device.hpp"
 #include "spnav_standin.hpp"
 

@@ -1,4 +1,4 @@
-// devices/device_registry.hpp - creates a HapticDevice from a spec by driver name, and lists the drivers and
+// devices/registry/device_registry.hpp - creates a HapticDevice from a spec by driver name, and lists the drivers and
 // the hardware that is plugged in.
 //
 // How to add a driver (the style of CHAI3D's custom-device template):
@@ -14,7 +14,7 @@
 //      - do_write(): send the force (N) and torque (N*m); the base class has already gated it (enabled only),
 //        bounded it by the profile's limits and replaced non-finite values by zero.
 //      - Report over-temperature and transport errors through raise_fault().
-//   2. Register it in `builtin_registry()` (devices/builtin_drivers.cpp): a DriverInfo (name, summary,
+//   2. Register it in `builtin_registry()` (devices/registry/builtin_drivers.cpp): a DriverInfo (name, summary,
 //      hardware or not, the USB ids it drives so that `tridex devices` shows whether one is plugged in, and its
 //      DriverCapabilities: input kind, DOF, forces, engage button, servable, the scene options it reads), and a
 //      factory from DeviceSpec + DeviceInputs. Sessions, the overlay, the study and the device server read the
@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "devices/button_script.hpp"
+#include "devices/device_host.hpp"
 #include "devices/driver_capabilities.hpp"
 #include "devices/haptic_device.hpp"
 #include "devices/scripted_path.hpp"
@@ -70,6 +71,9 @@ struct DeviceInputs {
     std::string dtrack_bind = "0.0.0.0";    ///< local IPv4 address it listens on
     /// tracked drivers: which target and how (its `flystick` flag is set by the driver).
     TrackedToolParams tracked_tool{};
+    /// The session's window-system input (game controllers), for drivers that read it; null = the session offers
+    /// none (such a driver then says so when it is created).
+    DeviceHost* host = nullptr;
 };
 
 /// A USB vendor and product id pair.

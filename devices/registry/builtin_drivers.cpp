@@ -1,4 +1,4 @@
-// devices/builtin_drivers.cpp - the drivers this build has, each with what it says of itself.
+// devices/registry/builtin_drivers.cpp - the drivers this build has, each with what it says of itself.
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "devices/device_profiles.hpp"
-#include "devices/device_registry.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "devices/falcon/falcon_device.hpp"
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"

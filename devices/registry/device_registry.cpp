@@ -1,5 +1,5 @@
-// devices/device_registry.cpp - the registry, choosing a driver from a command line, and USB detection.
-#include "devices/device_registry.hpp"
+// devices/registry/device_registry.cpp - the registry, choosing a driver from a command line, and USB detection.
+#include "devices/registry/device_registry.hpp"
 
 #include <libusb-1.0/libusb.h>
 
