@@ -11,6 +11,7 @@
 #include "devices/falcon/falcon_emulator.hpp"
 #include "devices/falcon/falcon_firmware.hpp"
 #include "devices/falcon/falcon_usb_transport.hpp"
+#include "devices/gamepad/gamepad_device.hpp"
 #include "devices/mouse_device.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/net/net_device.hpp"
@@ -213,6 +214,39 @@ void add_tracked(DeviceRegistry& r) {
     }
 }
 
+// A game controller through GLFW's gamepad API: rate control like the 3D mouse; A is the stylus button, Y switches
+// the operation.
+void add_gamepad(DeviceRegistry& r) {
+    DriverInfo info = named("gamepad",
+                            "a game controller through GLFW (sticks and triggers: rate control of the stylus pose; A = "
+                            "stylus button, Y = next operation; no forces)");
+    info.profiles = kHandProfiles;
+    info.caps.input = InputKind::kRate;
+    info.caps.dof_in = 6;
+    info.caps.dof_out = 0;
+    info.caps.workspace_button = 0;
+    info.caps.next_op_button = 2;  // gamepad_device_buttons::kNextOp
+    info.caps.switches_op = true;
+    const GamepadParams d;
+    info.caps.options = {
+        {"max_speed_m_s", d.max_speed_m_s, 0.0, 2.0, true, "tip speed at full deflection of a stick or trigger, m/s"},
+        {"max_rate_rad_s", d.max_rate_rad_s, 0.0, 20.0, true, "angular rate at full deflection, rad/s"},
+        {"dead_zone", d.dead_zone, 0.0, 0.9, false, "fraction of full deflection below which an axis reads as zero"},
+        {"joystick", 0.0, 0.0, 16.0, false, "GLFW joystick slot 1..16 to read; 0 = the first gamepad found"}};
+    r.add(info, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
+        DeviceProfile profile = profile_by_name(spec.profile);
+        profile.name = "gamepad (" + profile.name + " limits)";
+        GamepadParams p;
+        p.max_speed_m_s = option_or(in, "max_speed_m_s", p.max_speed_m_s);
+        p.max_rate_rad_s = option_or(in, "max_rate_rad_s", p.max_rate_rad_s);
+        p.dead_zone = option_or(in, "dead_zone", p.dead_zone);
+        const int joystick = static_cast<int>(option_or(in, "joystick", 0.0)) - 1;
+        if (!in.host) throw Error("gamepad: this session reads no game controllers (it has no window system host)");
+        return std::make_unique<GamepadDevice>(std::move(profile), start_of(in), in.period_s, p,
+                                               std::make_unique<HostGamepadSource>(*in.host, joystick));
+    });
+}
+
 }  // namespace
 
 const DeviceRegistry& builtin_registry() {
@@ -225,6 +259,7 @@ const DeviceRegistry& builtin_registry() {
         add_mouse(r);
         add_spacemouse(r);
         add_tracked(r);
+        add_gamepad(r);
         return r;
     }();
     return registry;
