@@ -158,8 +158,10 @@ bool SpaceMouseDevice::do_read(DeviceState& out) {
     if (vanished_) ++stats_.missed_frames;
     const Vec3 before = pose_.position;
     if (fd_ >= 0) {
-        const Vec3 v(shaped(axes_[0]), shaped(axes_[1]), shaped(axes_[2]));
-        const Vec3 w(shaped(axes_[3]), shaped(axes_[4]), shaped(axes_[5]));
+        // spacenavd's frame is left-handed (z into the screen); the device frame is right-handed (z toward the
+        // viewer): z and rz change sign, as libspnav's own spnav_posrot_moveobj does.
+        const Vec3 v(shaped(axes_[0]), shaped(axes_[1]), -shaped(axes_[2]));
+        const Vec3 w(shaped(axes_[3]), shaped(axes_[4]), -shaped(axes_[5]));
         pose_.position = glm::clamp(pose_.position + v * (params_.max_speed_m_s * dt_), profile_.workspace_m.lo,
                                     profile_.workspace_m.hi);
         if (w != Vec3(0.0))

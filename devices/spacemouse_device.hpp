@@ -51,7 +51,9 @@ SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& words);
 /// its event protocol directly (see SpnavPacket). Rate control: each read() (one loop period dt) drains the
 /// socket without blocking, then moves the tip at velocity = max_speed_m_s * a (a = the newest translation
 /// axes / full_scale, clamped to [-1, 1], dead zone removed and rescaled) and turns the stylus at angular rate
-/// max_rate_rad_s * the rotation axes likewise (device frame, axes as spacenavd reports them); the tip is
+/// max_rate_rad_s * the rotation axes likewise (device frame: spacenavd's x, y, rx, ry as reported, its z and rz
+/// negated, since spacenavd's frame is left-handed with z into the screen and the device frame is right-handed
+/// with z toward the viewer, as libspnav's spnav_posrot_moveobj converts them, src/util.c); the tip is
 /// clamped to the profile's workspace. Buttons: bit i = spacenavd button i (button 0 = the stylus button).
 /// Forces are ignored (a 3D mouse renders none; write() still gates and bounds them). A daemon that closes
 /// the socket raises kFaultVanished: the pose is held, the buttons released, and read() goes on returning it.

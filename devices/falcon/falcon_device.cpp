@@ -44,6 +44,12 @@ void FalconDevice::on_open() {
     stats_ = FalconLinkStats{};
     leds_ = kLedRed;
     cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    // The bridge in normal mode first (libnifalcon's open), so that firmware already running can answer the probe.
+    if (std::string error; !set_normal_mode(*transport_, 1000, error)) {
+        transport_->close();
+        throw Error("Novint Falcon (" + transport_->describe() + "): its USB bridge did not take normal mode: " + error +
+                    "; unplug the Falcon's USB, plug it back in and try again");
+    }
     if (firmware_running(*transport_)) return;
     std::vector<std::uint8_t> image = opt_.firmware_image;
     if (image.empty()) {

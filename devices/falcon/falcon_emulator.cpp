@@ -116,6 +116,7 @@ TransferStatus FalconEmulator::bulk_out(std::span<const std::uint8_t> data, int,
             }
             break;
         case Mode::kRunning:
+            if (baud_ != ftdi::kBaudNormal) break;  // at another baud rate the firmware reads noise: no answer
             for (const std::uint8_t b : data) {
                 if (partial_.empty() && b != kFrameStart) continue;
                 partial_.push_back(b);

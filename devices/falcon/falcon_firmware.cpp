@@ -150,6 +150,10 @@ FirmwareLoadReport load_firmware(FalconTransport& t, std::span<const std::uint8_
     return r;
 }
 
+bool set_normal_mode(FalconTransport& t, int timeout_ms, std::string& error) {
+    return requests(t, normal_mode_requests(), timeout_ms, error) == Step::kOk;
+}
+
 bool firmware_running(FalconTransport& t, int tries, int timeout_us) {
     const Frame zero = encode_command(FalconCommand{});
     std::array<std::uint8_t, kUsbPacketBytes> packet{};

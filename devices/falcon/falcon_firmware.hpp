@@ -44,8 +44,13 @@ struct FirmwareLoadReport {
 FirmwareLoadReport load_firmware(FalconTransport& transport, std::span<const std::uint8_t> image,
                                  const FirmwareLoadOptions& options = {});
 
+/// Puts the FTDI bridge in normal mode (normal_mode_requests: latency 1 ms, the fast baud rate, purge), as
+/// libnifalcon's FalconCommLibUSB::open does before anything is asked of the firmware. False with `error` set when
+/// a request fails or the Falcon is gone. Never throws.
+bool set_normal_mode(FalconTransport& transport, int timeout_ms, std::string& error);
+
 /// True when firmware answers: up to `tries` exchanges of a zero command, each returning a well-formed state frame
-/// counted (libnifalcon's isFirmwareLoaded).
+/// counted (libnifalcon's isFirmwareLoaded). The bridge must be in normal mode (set_normal_mode).
 bool firmware_running(FalconTransport& transport, int tries = 10, int timeout_us = 20000);
 
 /// The one line a user sees when the firmware is needed and not given.

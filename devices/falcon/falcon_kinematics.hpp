@@ -25,16 +25,17 @@
 
 namespace tridex::devices::falcon {
 
-/// The Falcon's mechanical constants (libnifalcon FalconGeometry.h), metres and radians.
+/// The Falcon's mechanical constants, metres and radians: libnifalcon's current include/falcon/core/FalconGeometry.h
+/// (libnifalcon/libnifalcon at f7c727a; r and s as corrected in its commit 935a31e, c = 0.01443).
 struct FalconGeometry {
-    double a = 0.060;         ///< thigh: leg base to knee, m
-    double b = 0.1025;        ///< shin parallelogram side, m
-    double c = 0.014;         ///< shin joint to end-effector centre, u component, m
-    double d = 0.01125;       ///< shin to end-effector joint, m
-    double e = 0.01125;       ///< knee to shin joint, m
-    double f = -0.025;        ///< shin joint to end-effector centre, v component, m
-    double r = 0.037233758;   ///< frame origin to leg base, u component, m
-    double s = -0.027330909;  ///< frame origin to leg base, v component, m
+    double a = 0.060;     ///< thigh: leg base to knee, m
+    double b = 0.1025;    ///< shin parallelogram side, m
+    double c = 0.01443;   ///< shin joint to end-effector centre, u component, m
+    double d = 0.01125;   ///< shin to end-effector joint, m
+    double e = 0.01125;   ///< knee to shin joint, m
+    double f = -0.025;    ///< shin joint to end-effector centre, v component, m
+    double r = 0.0400;    ///< frame origin to leg base, u component, m
+    double s = -0.02309;  ///< frame origin to leg base, v component, m
     /// Leg angles about z: 90, -30 and -150 degrees, each plus the 15 degree tilt of the axes from the desk.
     std::array<double, 3> phi{glm::radians(90.0 + 15.0), glm::radians(-30.0 + 15.0), glm::radians(-150.0 + 15.0)};
     /// Encoder: 320 slots, x4 quadrature = 1280 counts per motor turn; capstan 14.25 mm driving a 110 mm arm

@@ -133,6 +133,22 @@ DTrackReject count(Fields& f, int& n) {
     return DTrackReject::kNone;
 }
 
+/// Most extra values an id block may carry after the ones tridex reads.
+constexpr int kMaxExtraValues = 16;
+
+/// The rest of an id block after the values tridex reads: finite numbers a later DTrack may add (ART's SDK ignores
+/// additional data inside a block), counted in out.extra_values, then ']'.
+DTrackReject extra_block_values(Fields& f, DTrackFrame& out) {
+    for (int k = 0; !f.closing(); ++k) {
+        if (f.at_end()) return DTrackReject::kTruncated;
+        if (k == kMaxExtraValues || f.opening()) return DTrackReject::kSyntax;
+        double v = 0.0;
+        TRIDEX_TRY(f.number(v));
+        ++out.extra_values;
+    }
+    return f.expect(']');
+}
+
 /// After the declared blocks: nothing, or the line carries more blocks than it declared.
 DTrackReject line_end(Fields& f) {
     if (f.at_end()) return DTrackReject::kNone;
@@ -154,8 +170,7 @@ DTrackReject parse_6d(Fields& f, DTrackFrame& out) {
         TRIDEX_TRY(check_id(id));
         TRIDEX_TRY(f.number(b.quality));
         TRIDEX_TRY(check_quality(b.quality));
-        if (!f.closing()) return f.at_end() ? DTrackReject::kTruncated : DTrackReject::kSyntax;
-        TRIDEX_TRY(f.expect(']'));
+        TRIDEX_TRY(extra_block_values(f, out));
         b.id = static_cast<int>(id);
         TRIDEX_TRY(pose_blocks(f, b, true));
         if (out.body(b.id)) return DTrackReject::kDuplicate;
@@ -184,8 +199,7 @@ DTrackReject parse_6df2(Fields& f, DTrackFrame& out) {
         TRIDEX_TRY(f.integer(nct));
         if (nbt < 0 || nbt > kDTrackMaxButtons || nct < 0 || nct > kDTrackMaxControllers)
             return DTrackReject::kOutOfRange;
-        if (!f.closing()) return f.at_end() ? DTrackReject::kTruncated : DTrackReject::kSyntax;
-        TRIDEX_TRY(f.expect(']'));
+        TRIDEX_TRY(extra_block_values(f, out));
         fs.body.id = static_cast<int>(id);
         fs.button_count = static_cast<int>(nbt);
         fs.controller_count = static_cast<int>(nct);
@@ -214,7 +228,30 @@ DTrackReject parse_6df2(Fields& f, DTrackFrame& out) {
 }
 
 /// Line types this parser reads; a second line of the same type is a duplicate.
-enum LineType { kFr, kTs, k6dcal, k6d, k6df2, kLineTypes };
+enum LineType { kFr, kTs, kTs2, k6dcal, k6d, k6df2, kLineTypes };
+
+/// A DTrack line identifier: lower-case letters and digits ("fr", "6df2", "ts2"); anything else is not DTrack output.
+bool dtrack_identifier(std::string_view id) {
+    if (id.empty() || id.size() > 16) return false;
+    for (const char c : id)
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) return false;
+    return true;
+}
+
+/// `ts2 <s> <us> <latency us>` (DTRACK3's extended timestamp, as ART's DTrackSDK reads it): seconds since 1970
+/// (reduced to the time of day, as `ts`), microseconds, and the tracker's latency in microseconds.
+DTrackReject parse_ts2(Fields& f, DTrackFrame& out) {
+    long long sec = 0, usec = 0, latency = 0;
+    TRIDEX_TRY(f.integer(sec));
+    TRIDEX_TRY(f.integer(usec));
+    TRIDEX_TRY(f.integer(latency));
+    if (sec < 0 || usec < 0 || usec >= 1000000 || latency < 0 || latency > 10000000) return DTrackReject::kOutOfRange;
+    out.has_timestamp = true;
+    out.timestamp_s = static_cast<double>(sec % 86400) + static_cast<double>(usec) * 1e-6;
+    out.has_latency = true;
+    out.latency_s = static_cast<double>(latency) * 1e-6;
+    return DTrackReject::kNone;
+}
 
 /// DTrack line types that are valid but not used here.
 bool ignored_type(std::string_view id) {
@@ -233,14 +270,20 @@ DTrackReject parse_line(std::string_view line, DTrackFrame& out, bool (&seen)[kL
         type = kFr;
     else if (id == "ts")
         type = kTs;
+    else if (id == "ts2")
+        type = kTs2;
     else if (id == "6dcal")
         type = k6dcal;
     else if (id == "6d")
         type = k6d;
     else if (id == "6df2")
         type = k6df2;
-    else if (ignored_type(id)) {
-        ++out.ignored_lines;
+    else if (ignored_type(id) || dtrack_identifier(id)) {
+        // Every DTrack line carries values after its identifier: a bare known one is a datagram cut short, a bare
+        // unknown one is not DTrack output (or a datagram cut inside an identifier).
+        if (f.at_end()) return ignored_type(id) ? DTrackReject::kTruncated : DTrackReject::kUnknownLine;
+        // Types tridex does not read, and those of a later DTrack, are skipped as ART's SDK does.
+        ++(ignored_type(id) ? out.ignored_lines : out.unknown_lines);
         return DTrackReject::kNone;
     } else {
         return DTrackReject::kUnknownLine;
@@ -257,9 +300,15 @@ DTrackReject parse_line(std::string_view line, DTrackFrame& out, bool (&seen)[kL
             break;
         }
         case kTs: {
+            if (seen[kTs2]) return DTrackReject::kDuplicate;
             TRIDEX_TRY(f.number(out.timestamp_s));
             if (out.timestamp_s < 0.0) return DTrackReject::kOutOfRange;
             out.has_timestamp = true;
+            break;
+        }
+        case kTs2: {
+            if (seen[kTs]) return DTrackReject::kDuplicate;
+            TRIDEX_TRY(parse_ts2(f, out));
             break;
         }
         case k6dcal: {
@@ -313,7 +362,9 @@ void DTrackFrame::clear() {
     calibrated_bodies = flysticks_defined = -1;
     bodies.clear();
     flysticks.clear();
-    ignored_lines = 0;
+    ignored_lines = unknown_lines = extra_values = 0;
+    has_latency = false;
+    latency_s = 0.0;
 }
 
 const DTrackBody* DTrackFrame::body(int id) const {
@@ -325,6 +376,7 @@ const DTrackBody* DTrackFrame::body(int id) const {
 DTrackParseResult parse_dtrack_datagram(std::string_view d, DTrackFrame& out) {
     out.clear();
     if (d.size() > kDTrackMaxDatagram) return {DTrackReject::kTooLarge, 0};
+    while (!d.empty() && d.back() == '\0') d.remove_suffix(1);  // a C string's terminator sent along
     for (const char c : d)
         if (!text_byte(static_cast<unsigned char>(c))) return {DTrackReject::kNotText, 0};
     bool seen[kLineTypes] = {};
@@ -343,6 +395,7 @@ DTrackParseResult parse_dtrack_datagram(std::string_view d, DTrackFrame& out) {
         if (const DTrackReject r = parse_line(line, out, seen); r != DTrackReject::kNone) return {r, line_no};
     }
     if (lines == 0) return {DTrackReject::kEmpty, 0};
+    if (out.unknown_lines == lines) return {DTrackReject::kUnknownLine, 1};  // nothing DTrack says that tridex reads
     if (out.calibrated_bodies >= 0) {
         if (static_cast<int>(out.bodies.size()) > out.calibrated_bodies) return {DTrackReject::kBodyCount, 0};
         for (const DTrackBody& b : out.bodies)

@@ -27,7 +27,8 @@ enum class DTrackReject : std::uint8_t {
     kEmpty,        ///< no line at all
     kTooLarge,     ///< longer than kDTrackMaxDatagram (or cut by the receive buffer)
     kNotText,      ///< a byte outside printable ASCII, tab, CR and LF (binary junk)
-    kUnknownLine,  ///< a line whose identifier is not a DTrack line type
+    kUnknownLine,  ///< an identifier that is not DTrack's (not lower-case letters and digits, or no values after it),
+                   ///< or a datagram of unknown lines only
     kTruncated,    ///< a line ends in the middle of a value list or block
     kNotNumeric,   ///< a field that should be a number is not one
     kNotFinite,    ///< a number is NaN or infinite
@@ -67,12 +68,18 @@ struct DTrackFrame {
     bool has_frame_counter = false;
     std::uint32_t frame_counter = 0;  ///< `fr`: DTrack's frame counter
     bool has_timestamp = false;
-    double timestamp_s = 0.0;               ///< `ts`: seconds since 00:00 UTC (DTrack's clock, us resolution)
+    double timestamp_s = 0.0;               ///< `ts` or `ts2`: seconds since 00:00 UTC (DTrack's clock, us resolution)
+    bool has_latency = false;
+    double latency_s = 0.0;                 ///< `ts2`: the tracker's own latency for this frame, s
     int calibrated_bodies = -1;             ///< `6dcal`: number of calibrated standard bodies; -1 when absent
     std::vector<DTrackBody> bodies;         ///< `6d`, in line order (untracked ones included when DTrack sends them)
     int flysticks_defined = -1;             ///< `6df2`: number of defined Flysticks; -1 when absent
     std::vector<DTrackFlystick> flysticks;  ///< `6df2`, in line order
     int ignored_lines = 0;                  ///< lines of other DTrack types (3d, gl, 6dmt, 6di, 6dj, st, ...) skipped
+    /// Lines of a type tridex does not know (a later DTrack's), skipped as ART's DTrackSDK skips them.
+    int unknown_lines = 0;
+    /// Values after the ones tridex reads in id blocks ([id qu ...]), which a later DTrack may add; skipped.
+    int extra_values = 0;
     /// Back to the empty frame; keeps the vectors' capacity (no allocation in steady state).
     void clear();
     /// The body with DTrack id `id`, or nullptr.
@@ -92,6 +99,7 @@ struct DTrackParseResult {
 /// DTrackSDK (DTrackParser.cpp):
 ///   fr <frame counter>
 ///   ts <timestamp, s since 00:00 UTC>
+///   ts2 <s since 1970> <us> <latency us>   (DTRACK3's extended timestamp; DTrackSDK's parseLine_ts2)
 ///   6dcal <number of calibrated standard bodies>
 ///   6d <n> [id qu][sx sy sz eta theta phi][b0 b1 b2 b3 b4 b5 b6 b7 b8] ... (n blocks; the location block may
 ///        carry only sx sy sz; eta theta phi, Euler angles in degrees, are checked but not used)
@@ -99,9 +107,13 @@ struct DTrackParseResult {
 ///        32-bit bit fields, then nct controller values in [-1, 1])
 /// Lines end with LF or CR LF; positions are mm (converted to m here); b0..b8 is the body -> tracker rotation
 /// matrix column by column; quality -1 means "not tracked" (its pose is not checked). Other DTrack line
-/// types (3d, 6dcov, 6df, 6di, 6dj, 6dmt, 6dmt2, 6dmtr, gl, glcal, st) are skipped and counted.
-/// Strict: any fault rejects the whole datagram (returns its reason; `out` is then unspecified). Never throws
-/// for any input, never reads outside `datagram`. Cost: linear in the datagram's length.
+/// types (3d, 6dcov, 6df, 6di, 6dj, 6dmt, 6dmt2, 6dmtr, gl, glcal, st) are skipped and counted, and so are line
+/// types tridex does not know whose identifier is DTrack-like (lower-case letters and digits: a later DTrack's),
+/// as the SDK skips them; extra finite values at the end of an id block are skipped and counted too (the SDK
+/// ignores additional data inside a block). Trailing NUL bytes (a C string's terminator) are dropped.
+/// Otherwise strict: any fault rejects the whole datagram (returns its reason; `out` is then unspecified), and so
+/// does a datagram of unknown lines only. Never throws for any input, never reads outside `datagram`. Cost:
+/// linear in the datagram's length.
 DTrackParseResult parse_dtrack_datagram(std::string_view datagram, DTrackFrame& out);
 
 }  // namespace tridex::devices

@@ -92,7 +92,7 @@ TEST(DTrackParser, ParsingAgainReusesTheFrame) {
 }
 
 struct Bad {
-    const char* datagram;
+    std::string datagram;
     DTrackReject reason;
 };
 
@@ -129,7 +129,12 @@ INSTANTIATE_TEST_SUITE_P(
         // syntax
         Bad{"6d 1 (0 1.0)[1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
         Bad{"6d 1 [0 1.0][1 2 3 4][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
-        Bad{"6d 1 [0 1.0 7][1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
+        Bad{"6d 1 [0 1.0 7 x][1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kNotNumeric},
+        Bad{"6d 1 [0 1.0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17][1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
+        Bad{"fr 1\r\nts 10.5\r\nts2 1700000000 250000 1200\r\n", DTrackReject::kDuplicate},
+        Bad{"ts2 1700000000 1000000 0\r\n", DTrackReject::kOutOfRange},
+        Bad{"ts2 1700000000 250000\r\n", DTrackReject::kTruncated},
+        Bad{std::string("fr 1\r\n\0\r\n6d 0\r\n", 12), DTrackReject::kNotText},  // a NUL before the end
         Bad{"6d 1 [0 1.0][1 2 3][1 0 0 0 1 0 0 0 1 0]", DTrackReject::kSyntax},
         Bad{"fr 1 2\r\n", DTrackReject::kSyntax},
         Bad{"6d 1 [0 1.0][1 2 3][1 0 0 0 1 0 0 0 1] x", DTrackReject::kSyntax},
@@ -227,4 +232,35 @@ TEST(DTrackParser, ParseCostPerDatagram) {
 }
 
 }  // namespace
+// Later DTracks: an extended timestamp, line types tridex does not know, and more values in an id block are read
+// as ART's DTrackSDK reads them (it skips unknown lines and extra data in a block); a trailing NUL is dropped.
+TEST(DTrackParser, ReadsWhatLaterDTracksSendAndSkipsWhatItDoesNotKnow) {
+    DTrackFrame f;
+    DTrackParseResult r = parse_dtrack_datagram("fr 7\r\nts2 1700000000 250000 1200\r\n6d 0\r\n", f);
+    ASSERT_TRUE(r.ok()) << to_string(r.reason) << " line " << r.line;
+    EXPECT_TRUE(f.has_timestamp);
+    EXPECT_NEAR(f.timestamp_s, 1700000000 % 86400 + 0.25, 1e-9);
+    EXPECT_TRUE(f.has_latency);
+    EXPECT_NEAR(f.latency_s, 0.0012, 1e-12);
+    r = parse_dtrack_datagram("fr 8\r\n6dx9 2 [1 2][3 4]\r\nhand 1\r\n6d 1 [0 1.0][1 2 3][1 0 0 0 1 0 0 0 1]\r\n", f);
+    ASSERT_TRUE(r.ok()) << to_string(r.reason) << " line " << r.line;
+    EXPECT_EQ(f.unknown_lines, 2);
+    ASSERT_EQ(f.bodies.size(), 1u);
+    r = parse_dtrack_datagram(
+        "6d 1 [0 1.0 0.25 3][1 2 3][1 0 0 0 1 0 0 0 1]\r\n6df2 1 1 [0 1.0 8 2 9][0 0 0][1 0 0 0 1 0 0 0 1][5 0.5 -1]", f);
+    ASSERT_TRUE(r.ok()) << to_string(r.reason) << " line " << r.line;
+    EXPECT_EQ(f.extra_values, 3);
+    ASSERT_EQ(f.bodies.size(), 1u);
+    EXPECT_DOUBLE_EQ(f.bodies[0].quality, 1.0);
+    ASSERT_EQ(f.flysticks.size(), 1u);
+    EXPECT_EQ(f.flysticks[0].buttons, 5u);
+    const std::string with_nul("fr 9\r\n6d 0\r\n\0", 14);
+    r = parse_dtrack_datagram(with_nul, f);
+    ASSERT_TRUE(r.ok()) << to_string(r.reason);
+    EXPECT_EQ(f.frame_counter, 9u);
+    // Only unknown lines: nothing tridex reads, refused with its reason.
+    r = parse_dtrack_datagram("hand 1\r\nglove 2\r\n", f);
+    EXPECT_EQ(r.reason, DTrackReject::kUnknownLine);
+}
+
 }  // namespace tridex::devices

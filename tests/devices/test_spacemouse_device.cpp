@@ -71,21 +71,22 @@ TEST(SpaceMouseDevice, TranslationIsRateControlled) {
 
 TEST(SpaceMouseDevice, RotationIsRateControlled) {
     Rig r;
-    r.daemon.motion(0, 0, 0, 0, 0, 700);  // beyond full scale: clamped to 1.5 rad/s about z
+    r.daemon.motion(0, 0, 0, 0, 0, 700);  // beyond full scale: clamped to 1.5 rad/s about spacenavd's +rz
     DeviceState s;
     for (int i = 0; i < 100; ++i) s = r.read();
     EXPECT_NEAR(glm::angle(s.pose.orientation), 0.15, 1e-9);
-    EXPECT_NEAR(glm::axis(s.pose.orientation).z, 1.0, 1e-9);
+    // spacenavd's +rz is the right-handed frame's -z (libspnav src/util.c, spnav_posrot_moveobj negates rz).
+    EXPECT_NEAR(glm::axis(s.pose.orientation).z, -1.0, 1e-9);
     EXPECT_EQ(s.pose.position, Vec3(0.0));
 }
 
 TEST(SpaceMouseDevice, TheTipStaysInTheWorkspace) {
     Rig r;
-    r.daemon.motion(350, 350, -350, 0, 0, 0);
+    r.daemon.motion(350, 350, -350, 0, 0, 0);  // spacenavd's -z: toward the viewer, +z in the device frame
     DeviceState s;
     for (int i = 0; i < 2000; ++i) s = r.read();  // 0.2 m of travel asked for
     const Aabb ws = DeviceProfile::phantom_omni().workspace_m;
-    EXPECT_EQ(s.pose.position, Vec3(ws.hi.x, ws.hi.y, ws.lo.z));
+    EXPECT_EQ(s.pose.position, Vec3(ws.hi.x, ws.hi.y, ws.hi.z));
     EXPECT_EQ(s.velocity_m_s, Vec3(0.0));
 }
 
@@ -154,10 +155,10 @@ TEST(SpaceMouseDevice, TheRegistryDriverUsesTheSerialAsSocketPath) {
     auto dev = builtin_registry().create(spec, DeviceInputs{});
     dev->bring_up();
     daemon.wait_client();
-    daemon.motion(0, 0, 350, 0, 0, 0);
+    daemon.motion(0, 0, 350, 0, 0, 0);  // pushing the cap away from the user: spacenavd's +z, into the screen
     DeviceState s;
     ASSERT_TRUE(dev->read(s));
-    EXPECT_NEAR(s.pose.position.z, 1e-4, 1e-12);
+    EXPECT_NEAR(s.pose.position.z, -1e-4, 1e-12);  // the right-handed device frame's -z
     EXPECT_EQ(dev->profile().name, "spacemouse (" + DeviceProfile::phantom_omni().name + " limits)");
 }
 
