@@ -173,6 +173,8 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
         net::encode(header(++tx_seq_), net::welcome_from(device_.profile()), out_);
         link_.send(out_, true);
         sessions_.fetch_add(1, std::memory_order_relaxed);
+        session_base_ = {lost_.load(std::memory_order_relaxed), malformed_.load(std::memory_order_relaxed),
+                         stale_.load(std::memory_order_relaxed), trips_.load(std::memory_order_relaxed)};
         event(std::string("serving '") + device_.profile().name + "' in " + net::to_string(mode_) + " haptic rendering");
         return;
     }
@@ -245,10 +247,11 @@ void DeviceServer::send_state(const devices::DeviceState& s, const Vec3& applied
     }
     m.applied_force_n = applied_device_n;
     m.watchdog_zeroed = zeroed;
-    m.lost = static_cast<std::uint32_t>(lost_.load(std::memory_order_relaxed));
-    m.malformed = static_cast<std::uint32_t>(malformed_.load(std::memory_order_relaxed));
-    m.stale_snapshots = static_cast<std::uint32_t>(stale_.load(std::memory_order_relaxed));
-    m.watchdog_trips = static_cast<std::uint32_t>(trips_.load(std::memory_order_relaxed));
+    // This session's counts: since its kHello.
+    m.lost = static_cast<std::uint32_t>(lost_.load(std::memory_order_relaxed) - session_base_.lost);
+    m.malformed = static_cast<std::uint32_t>(malformed_.load(std::memory_order_relaxed) - session_base_.malformed);
+    m.stale_snapshots = static_cast<std::uint32_t>(stale_.load(std::memory_order_relaxed) - session_base_.stale);
+    m.watchdog_trips = static_cast<std::uint32_t>(trips_.load(std::memory_order_relaxed) - session_base_.trips);
     net::encode(header(++tx_seq_), m, out_);
     link_.send(out_, false);
 }

@@ -136,6 +136,11 @@ private:
     std::atomic<std::uint64_t> ticks_{0}, sessions_{0}, refused_{0}, malformed_{0}, lost_{0}, trips_{0}, zeroed_{0},
         stale_{0}, snapshots_{0}, force_updates_{0};
     std::atomic<bool> device_lost_{false}, session_flag_{false};
+    // The counters at the start of the session being served (serving thread only): what a session is told counts
+    // from its own start, whatever earlier sessions saw.
+    struct SessionBase {
+        std::uint64_t lost = 0, malformed = 0, stale = 0, trips = 0;
+    } session_base_;
     mutable std::mutex drops_mutex_;
     devices::net::DropCounts drops_;
     std::thread thread_;

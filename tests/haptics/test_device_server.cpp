@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -216,6 +217,59 @@ TEST(DeviceServer, MalformedDatagramsAreCountedAndDropped) {
     EXPECT_EQ(drops.by_reason[static_cast<int>(net::DropReason::kUnexpected)], 2u);
     EXPECT_EQ(device.last_force_n(), Vec3(0.0));
     EXPECT_NE(drops.summary().find("non-finite number: 1"), std::string::npos) << drops.summary();
+}
+
+// What the server tells a session counts from that session's start: a second session on the same server does not
+// inherit the first one's malformed datagrams.
+TEST(DeviceServer, EachSessionIsToldItsOwnCounts) {
+    double now = 0.0;
+    net::LinkShim shim({}, [&] { return now; });
+    devices::SimulatedDevice device(devices::DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    auto server_link = shim.server_end();
+    DeviceServerConfig c;
+    c.clock = [&] { return now; };
+    DeviceServer server(device, *server_link, c);
+    auto peer = shim.client_end();
+    std::vector<std::uint8_t> d;
+    net::Header h;
+    // The newest state message the server sent the peer (its counters), after one tick.
+    const auto tick_and_read_state = [&](const std::vector<std::uint8_t>* send) {
+        if (send) peer->send(*send, false);
+        now += 1e-3;
+        server.tick(now);
+        net::LinkEvent ev;
+        std::optional<net::StateMsg> last;
+        while (peer->poll(ev)) {
+            net::Header rh;
+            net::StateMsg m;
+            if (ev.kind == net::LinkEvent::kData &&
+                net::decode_header(ev.data.data(), ev.data.size(), rh) == net::DropReason::kNone &&
+                rh.type == net::MsgType::kState && net::decode(ev.data.data(), ev.data.size(), m) == net::DropReason::kNone)
+                last = m;
+        }
+        return last;
+    };
+    net::encode(h, net::Hello{}, d);
+    tick_and_read_state(&d);  // the first session
+    for (std::uint32_t seq = 1; seq <= 3; ++seq) {
+        h.seq = seq;
+        net::encode(h, net::ForceMsg{Vec3(0.0), Vec3(0.0)}, d);
+        d.pop_back();  // torn: malformed
+        tick_and_read_state(&d);
+    }
+    std::optional<net::StateMsg> first;
+    for (int i = 0; i < 5 && !first; ++i) first = tick_and_read_state(nullptr);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->malformed, 3u);
+    h.seq = 0;
+    net::encode(h, net::Hello{}, d);
+    tick_and_read_state(&d);  // a second session on the same server
+    std::optional<net::StateMsg> second;
+    for (int i = 0; i < 5 && !second; ++i) second = tick_and_read_state(nullptr);
+    ASSERT_TRUE(second);
+    EXPECT_EQ(second->malformed, 0u);
+    EXPECT_EQ(server.stats().malformed, 3u);  // the server's own total keeps every session's
+    EXPECT_EQ(server.stats().sessions, 2u);
 }
 
 // A local-rendering session over the shim whose hand follows `path` toward a z = 0 wall (solid below it): sets
