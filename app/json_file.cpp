@@ -9,6 +9,12 @@
 
 namespace tridex::app {
 
+std::string json_reason(const nlohmann::json::exception& e) {
+    const std::string what = e.what();
+    const std::size_t end = what.rfind("] ");
+    return end == std::string::npos ? what : what.substr(end + 2);
+}
+
 nlohmann::json read_scene_json(const std::string& path) {
     if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
     std::ifstream in(path);
@@ -18,6 +24,8 @@ nlohmann::json read_scene_json(const std::string& path) {
         in >> j;
     } catch (const nlohmann::json::parse_error& e) {
         throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    } catch (const nlohmann::json::exception& e) {  // a number beyond double's range (1e400), ...
+        throw Error(path + ": not valid JSON: " + json_reason(e));
     }
     return j;
 }

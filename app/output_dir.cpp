@@ -1,6 +1,7 @@
 // app/output_dir.cpp - up-front checks of output locations.
 #include "app/output_dir.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -55,6 +56,24 @@ void check_distinct_files(const std::vector<NamedFile>& outputs, const std::vect
     }
 }
 
+std::size_t remove_stale_temp_files(const std::string& dir) {
+    std::size_t removed = 0;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const std::size_t at = name.rfind(".tmp-");
+        if (at == std::string::npos || at == 0 || at + 5 >= name.size()) continue;
+        const std::string pid_text = name.substr(at + 5);
+        if (pid_text.size() > 9 || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+        const long pid = std::stol(pid_text);
+        std::error_code e2;
+        if (pid <= 0 || !it->is_regular_file(e2)) continue;
+        if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // still running (or not ours)
+        if (fs::remove(it->path(), e2)) ++removed;
+    }
+    return removed;
+}
+
 void prepare_output_dir(const std::string& dir, const std::string& flag) {
     if (dir.empty()) throw Error(flag + ": the output folder must not be empty");
     const fs::path d(dir);
@@ -64,6 +83,7 @@ void prepare_output_dir(const std::string& dir, const std::string& flag) {
     if (ec) throw Error(flag + " " + dir + ": cannot create the folder: " + ec.message());
     const std::string why = probe(d);
     if (!why.empty()) throw Error(flag + " " + dir + ": " + why);
+    (void)remove_stale_temp_files(dir);
 }
 
 void check_output_file(const std::string& path, const std::string& flag) {

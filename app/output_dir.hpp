@@ -9,7 +9,13 @@ namespace tridex::app {
 /// Creates `dir` (and its parents) when missing and proves it writable by creating and removing a small probe
 /// file in it. Throws tridex::Error "<flag> <dir>: <reason>" (e.g. "--out /dev/full: not a folder", "--out /ro:
 /// cannot write there: Read-only file system") so that a bad output location is refused before the session runs.
+/// Removes the temporary files that writers killed in an earlier run left there (remove_stale_temp_files).
 void prepare_output_dir(const std::string& dir, const std::string& flag);
+
+/// Removes, from `dir` (not its sub-folders), the regular files named "<name>.tmp-<pid>" (core/atomic_file.hpp's
+/// temporary files) whose process no longer runs (kill(pid, 0) fails with ESRCH): what a run killed while writing
+/// left behind. Files of running processes and other names are kept. Returns how many were removed; never throws.
+std::size_t remove_stale_temp_files(const std::string& dir);
 
 /// Checks that a file can be created at `path` (its folder exists or can be made, and a probe file can be written
 /// beside it; the file itself is not created). Throws tridex::Error "<flag> <path>: <reason>".

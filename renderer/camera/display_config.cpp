@@ -276,6 +276,10 @@ DisplayConfig load_display_config(const std::string& path) {
         j = json::parse(in);
     } catch (const json::parse_error& e) {
         throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    } catch (const json::exception& e) {  // a number beyond a double's range (1e400), ...
+        const std::string what = e.what();
+        const std::size_t end = what.rfind("] ");
+        throw Error(path + ": not valid JSON: " + (end == std::string::npos ? what : what.substr(end + 2)));
     }
     return display_config_from_json(j, path);
 }

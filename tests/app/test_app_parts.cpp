@@ -1,8 +1,12 @@
 // Unit tests of the app's own logic: order statistics, the stroke planned on a model, session settings.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "app/output_dir.hpp"
 #include "app/session.hpp"
 #include "app/session_spec.hpp"
 #include "core/summary.hpp"
@@ -32,6 +36,31 @@ compute::TriDexel box_model() {
     compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 64), std::size_t(1) << 30);
     compute::scan_convert(box_mesh(box), m);
     return m;
+}
+
+// A run killed while writing leaves "<name>.tmp-<pid>" behind; the next run in that folder removes those of
+// processes that are gone, and keeps its own and other files.
+TEST(OutputDir, TemporaryFilesOfDeadWritersAreRemovedAtTheNextStart) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("tridex_stale_tmp_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto touch = [&](const std::string& name) { std::ofstream(dir / name) << "x"; };
+    touch("report.json.tmp-999999999");  // no process can have this PID (the kernel's limit is 4194304)
+    touch("model.tdx.tmp-999999998");
+    touch("left.png.tmp-" + std::to_string(::getpid()));  // this process: a write in progress
+    touch("notes.tmp-abc");                                // not a PID
+    touch("report.json");
+    prepare_output_dir(dir.string(), "--out");
+    EXPECT_FALSE(fs::exists(dir / "report.json.tmp-999999999"));
+    EXPECT_FALSE(fs::exists(dir / "model.tdx.tmp-999999998"));
+    EXPECT_TRUE(fs::exists(dir / ("left.png.tmp-" + std::to_string(::getpid()))));
+    EXPECT_TRUE(fs::exists(dir / "notes.tmp-abc"));
+    EXPECT_TRUE(fs::exists(dir / "report.json"));
+    touch("again.tmp-999999997");
+    EXPECT_EQ(remove_stale_temp_files(dir.string()), 1u);
+    EXPECT_EQ(remove_stale_temp_files((dir / "none").string()), 0u);  // a missing folder: nothing, no throw
+    fs::remove_all(dir);
 }
 
 TEST(PlanStroke, FollowsTheFacingSideAtTheRequestedDepth) {

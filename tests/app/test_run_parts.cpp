@@ -143,6 +143,12 @@ TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {
     const std::string bad = (dir / "bad.json").string();
     std::ofstream(bad) << "{ \"workpiece\": ";
     EXPECT_NE(error_of([&] { (void)load_run_scene(bad); }).find(bad + ": not valid JSON"), std::string::npos);
+    // A number beyond a double's range is a bad file, named with the number, not an internal error.
+    const std::string huge = (dir / "huge.json").string();
+    std::ofstream(huge) << "{ \"workpiece\": { \"resolution\": 1e400 } }";
+    EXPECT_NE(error_of([&] { (void)load_run_scene(huge); }).find(huge + ": not valid JSON: number overflow parsing '1e400'"),
+              std::string::npos)
+        << error_of([&] { (void)load_run_scene(huge); });
     const std::string missing = (dir / "missing.json").string();
     EXPECT_NE(error_of([&] { (void)load_run_scene(missing); }).find(missing), std::string::npos);
     fs::remove_all(dir);
