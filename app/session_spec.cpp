@@ -123,8 +123,10 @@ void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m) {
     if (s.material < 1 || s.material > 7)
         throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
-    if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction))
-        throw Error("--friction: need 0 <= dynamic <= static, got static " + format_number(s.static_friction) +
+    // The scene's range for the same coefficients (haptics.static_friction, [0, 10]).
+    if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction &&
+          s.static_friction <= 10.0))
+        throw Error("--friction: need 0 <= dynamic <= static <= 10, got static " + format_number(s.static_friction) +
                     ", dynamic " + format_number(s.dynamic_friction));
     std::shared_ptr<const compute::MeshTool> loaded;  // kMesh without a mesh given: its file, loaded again
     ToolShape tool = s.tool;

@@ -6,10 +6,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <new>
+#include <regex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -54,6 +56,28 @@ int check_first_word(int argc, char** argv, const std::vector<Command>& commands
     std::fprintf(stderr, "tridex: unknown command '%s'; the commands are %s (see tridex --help)\n", argv[1],
                  names.c_str());
     return 2;
+}
+
+// One rule for numbers on the command line: decimal text only (no 0x10, no inf or nan), the whole word, finite.
+// Ranges stay with each option. Applied to every option CLI11 reads as a number, in every (sub)command.
+void require_decimal_numbers(CLI::App& app) {
+    static const std::regex integer(R"([+-]?[0-9]+)");
+    static const std::regex real(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
+    for (CLI::Option* o : app.get_options()) {
+        const std::string type = o->get_type_name();
+        const bool is_int = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0;
+        const bool is_real = type.rfind("FLOAT", 0) == 0 || type.rfind("NUMBER", 0) == 0;
+        if (!is_int && !is_real) continue;
+        o->check(CLI::Validator(
+            [is_int](std::string& text) -> std::string {
+                if (!std::regex_match(text, is_int ? integer : real))
+                    return "'" + text + "' is not a decimal number" + (is_int ? " (a whole number)" : "");
+                if (!std::isfinite(std::strtod(text.c_str(), nullptr))) return "'" + text + "' is out of range";
+                return "";
+            },
+            "", "decimal"));
+    }
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) require_decimal_numbers(*sub);
 }
 
 // Runs the chosen command's action and maps what it throws to an exit code.
@@ -106,6 +130,7 @@ int run_command_line(int argc, char** argv) {
         CLI::App* sub = cli.add_subcommand(c.name, c.summary);
         actions.emplace_back(sub, c.setup(*sub));
     }
+    require_decimal_numbers(cli);
     if (const int rc = check_first_word(argc, argv, commands)) return rc;
     try {
         cli.parse(argc, argv);

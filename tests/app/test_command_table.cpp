@@ -20,6 +20,8 @@ namespace {
 struct Probe {
     std::string what = "ok";
     int runs = 0;
+    double length_m = 0.0;
+    int count = 0;
 };
 
 Probe& probe() {
@@ -29,6 +31,8 @@ Probe& probe() {
 
 const CommandRegistration kProbe{{"probe", "a test command", 5, [](CLI::App& cmd) -> CommandAction {
                                       cmd.add_option("--what", probe().what, "ok, error, lost, memory or internal");
+                                      cmd.add_option("--length-m", probe().length_m, "a length, m");
+                                      cmd.add_option("--count", probe().count, "a count");
                                       return [] {
                                           ++probe().runs;
                                           const std::string& w = probe().what;
@@ -74,6 +78,18 @@ TEST(CommandTable, BadCommandLinesExitTwoWithoutRunning) {
     EXPECT_EQ(probe().runs, 0);
     EXPECT_EQ(run({"probe", "--help"}), 0);
     EXPECT_EQ(probe().runs, 0);
+}
+
+// Numbers on the command line are decimal, whole and finite, for every command's options.
+TEST(CommandTable, NumbersAreDecimalWholeAndFinite) {
+    probe() = Probe{};
+    EXPECT_EQ(run({"probe", "--length-m", "2.5e-3", "--count", "-7"}), 7);
+    EXPECT_DOUBLE_EQ(probe().length_m, 2.5e-3);
+    EXPECT_EQ(probe().count, -7);
+    for (const char* bad : {"0x10", "inf", "nan", "1e400", "12abc", "1,5", ""})
+        EXPECT_EQ(run({"probe", "--length-m", bad}), 2) << bad;
+    for (const char* bad : {"0x10", "1.5", "1e3"}) EXPECT_EQ(run({"probe", "--count", bad}), 2) << bad;
+    EXPECT_EQ(probe().runs, 1);
 }
 
 TEST(CommandTable, ListsByRankAndRefusesDuplicatesAndBlanks) {

@@ -95,6 +95,10 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"run --display offscreen --frames 1 --out " + (dir / "o").string() + " --record " +
              (dir / "o" / "model.tdx").string(),
          "is also the Ctrl+S model (--out's model.tdx)"},
+        // Numbers: decimal, whole, finite, in range.
+        {"demo --seconds 0x10 --out " + (dir / "o").string(), "--seconds: '0x10' is not a decimal number"},
+        {"demo --seconds inf --out " + (dir / "o").string(), "--seconds: 'inf' is not a decimal number"},
+        {"demo --static-friction 1e308 --out " + (dir / "o").string(), "--friction: need 0 <= dynamic <= static <= 10"},
     };
     for (const auto& [args, expect] : cases) {
         const RunResult r = run_tridex(args, dir / "run");
