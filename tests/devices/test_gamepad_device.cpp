@@ -1,14 +1,16 @@
 // tests/devices/test_gamepad_device.cpp - the game-controller driver against a scripted source: rate control, dead
-// zone, triggers, turning, clamping, buttons, a disconnect, malformed axes, and the main-thread to haptic-thread
-// hand-off under concurrent polling.
+// zone, triggers (and a pad without them), turning, clamping, buttons, a disconnect, malformed axes, and the
+// main-thread to haptic-thread hand-off under concurrent polling.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -198,33 +200,87 @@ TEST(GamepadDevice, BadParametersAndNoControllerAreRefusedByName) {
     }
 }
 
-// The window's thread polls while the haptic thread reads: every read sees one whole published state. Each state
-// has all four stick axes equal; a torn read would mix two of them (checked through the motion it produces).
+// GLFW reports an axis a controller lacks as 0.0 (glfwGetGamepadState): a pad without analog triggers reads both
+// triggers half pressed, and the two cancel, so the tool does not drift up or down.
+TEST(GamepadDevice, AControllerWithoutAnalogTriggersDoesNotDrift) {
+    GamepadState s = at_rest();
+    s.axes[gamepad_axis::kLeftTrigger] = s.axes[gamepad_axis::kRightTrigger] = 0.0f;
+    Rig rig({at_rest(), s});
+    EXPECT_EQ(rig.frame(100).pose.position, rig.start);
+}
+
+// Plays `states` round and round, for as many polls as a test needs (ScriptedGamepadSource repeats its last state).
+// Polled from one thread at a time.
+class CyclingGamepadSource : public GamepadSource {
+public:
+    explicit CyclingGamepadSource(std::vector<GamepadState> states) : states_(std::move(states)) {}
+    bool poll(GamepadState& out) noexcept override {
+        out = states_[next_++ % states_.size()];
+        return true;
+    }
+    std::string describe() const override { return "a cycling scripted controller"; }
+
+private:
+    std::vector<GamepadState> states_;
+    std::size_t next_ = 0;
+};
+
+// The window's thread polls while the haptic thread reads: every read sees one whole published state. State k has
+// all four stick axes at one value v_k, A pressed when v_k > 0 and B when v_k < 0. A read that mixed two states would
+// move x and z at different speeds, turn about an axis off the x = y diagonal, or report a button that does not match
+// the motion. The workspace is far larger than any motion here, so clamping never tells x from z. After each publish
+// the polling thread waits for a read that began after it, so every state is read (and the next one is written
+// while the reader is at work).
 TEST(GamepadDevice, ConcurrentPollingHandsOverWholeStates) {
-    std::vector<GamepadState> states{at_rest()};
-    for (int i = 0; i < 400; ++i) {
-        const float v = (i % 2 == 0) ? 1.0f : -1.0f;
+    using namespace gamepad_axis;
+    std::vector<GamepadState> states;
+    for (const float v : {1.0f, -0.6f, 0.8f, -1.0f, 0.4f, -0.8f}) {  // beyond the dead zone; neighbours differ
         GamepadState s = at_rest();
-        s.axes[gamepad_axis::kLeftX] = s.axes[gamepad_axis::kLeftY] = v;
+        s.axes[kLeftX] = s.axes[kLeftY] = s.axes[kRightX] = s.axes[kRightY] = v;
+        s.buttons = 1u << (v > 0.0f ? gamepad_button::kA : gamepad_button::kB);
         states.push_back(s);
     }
-    Rig rig(states);
-    std::atomic<bool> done{false};
-    std::thread main_thread([&] {
-        for (int i = 0; i < 400; ++i) rig.dev->poll_on_main_thread();
-        done = true;
-    });
-    int torn = 0, reads = 0;
+    DeviceProfile profile = DeviceProfile::phantom_omni();
+    profile.workspace_m = Aabb{Vec3(-1e6), Vec3(1e6)};
+    GamepadDevice dev(profile, Vec3(0.0), kDt, {}, std::make_unique<CyclingGamepadSource>(states));
+    dev.bring_up();  // open() polls once, on this thread, before the polling thread starts
     DeviceState s;
-    while (!done.load() || reads < 10) {
-        ASSERT_TRUE(rig.dev->read(s));
-        ++reads;
-        // x and z move together (both +v or both -v): a read mixing two states would move them apart.
-        if (std::fabs(s.velocity_m_s.x - s.velocity_m_s.z) > 1e-9) ++torn;
+    ASSERT_TRUE(dev.read(s));  // nothing published yet: at rest
+    Quat last_q = s.pose.orientation;
+    constexpr int kPolls = 2000;
+    std::atomic<std::uint64_t> reads{0};
+    std::atomic<bool> done{false};
+    std::thread window_thread([&] {
+        for (int i = 0; i < kPolls; ++i) {
+            dev.poll_on_main_thread();
+            // reads + 1 may have fetched its state before the publish; reads + 2 began after it.
+            const std::uint64_t target = reads.load(std::memory_order_acquire) + 2;
+            while (reads.load(std::memory_order_acquire) < target) std::this_thread::yield();
+        }
+        done.store(true, std::memory_order_release);
+    });
+    int torn = 0, failed_reads = 0, changes = 0;
+    double last_vx = 0.0;
+    while (!done.load(std::memory_order_acquire)) {
+        if (!dev.read(s)) ++failed_reads;
+        reads.fetch_add(1, std::memory_order_acq_rel);
+        const double vx = s.velocity_m_s.x;
+        const Quat turn = s.pose.orientation * glm::conjugate(last_q);  // this read's turn, about (v, v, 0)
+        const bool a = (s.buttons & gamepad_device_buttons::kStylus) != 0;
+        const bool b = (s.buttons & gamepad_device_buttons::kSecond) != 0;
+        if (std::fabs(vx - s.velocity_m_s.z) > 1e-9 || std::fabs(turn.x - turn.y) > 1e-9 || a != (vx > 0.0) ||
+            b != (vx < 0.0))
+            ++torn;
+        if (vx != last_vx) ++changes;
+        last_vx = vx;
+        last_q = s.pose.orientation;
+        std::this_thread::yield();  // on one core, lets the polling thread run
     }
-    main_thread.join();
+    window_thread.join();
+    EXPECT_EQ(failed_reads, 0);
     EXPECT_EQ(torn, 0);
-    EXPECT_GT(reads, 0);
+    EXPECT_GE(changes, kPolls - 1);  // every published state was read: neighbours differ in speed
+    EXPECT_EQ(dev.link_stats().malformed_frames, 0u);
 }
 
 }  // namespace
