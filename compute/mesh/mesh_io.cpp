@@ -1,19 +1,19 @@
-// compute/mesh/mesh_io.cpp - OpenMesh reading into a plain polygon soup, then weld and check.
+// compute/mesh/mesh_io.cpp - a polygon soup from our OFF and PLY readers or OpenMesh (OBJ, STL), then weld and check.
 #include "compute/mesh/mesh_io.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 
-#include <iostream>
-#include <fstream>
-#include <iterator>
 #include <mutex>
-#include <sstream>
 
 #include "compute/mesh/mesh_precheck.hpp"
+#include "compute/mesh/mesh_text.hpp"
+#include "compute/mesh/off_reader.hpp"
+#include "compute/mesh/ply_reader.hpp"
 #include "compute/mesh/openmesh_log.hpp"
 #include "compute/mesh/mesh_weld.hpp"
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace tridex::compute {
 namespace {
@@ -93,21 +93,20 @@ private:
     }
 };
 
-// True when `path` is an ASCII OFF file with '#' comments; `text` then gets its content with every comment (from
-// '#' to the end of its line) removed.
-bool off_has_comments(const std::string& path, std::string& text) {
-    std::ifstream in(path, std::ios::binary);
-    const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (all.find('#') == std::string::npos || all.find("BINARY") != std::string::npos) return false;
-    text.clear();
-    text.reserve(all.size());
-    bool comment = false;
-    for (const char c : all) {
-        if (c == '#') comment = true;
-        if (c == '\n') comment = false;
-        if (!comment) text.push_back(c);
+/// The polygon soup of an OBJ or STL file, read by OpenMesh (the file already prechecked).
+TriMesh read_with_openmesh(const std::string& path) {
+    SoupImporter importer;
+    std::lock_guard<std::mutex> lock(CaptureOpenMeshLog::mutex());
+    CaptureOpenMeshLog capture;
+    OM::IO::Options options;
+    if (!OM::IO::IOManager().read(path, importer, options)) {
+        const std::string why = capture.first_line();
+        throw Error(path + ": cannot parse mesh file" + (why.empty() ? std::string() : " (" + printable(why, 200) + ")"));
     }
-    return true;
+    if (importer.bad_faces > 0)
+        throw Error(path + ": " + std::to_string(importer.bad_faces) +
+                    " faces with fewer than 3 vertices or out-of-range vertex indices");
+    return std::move(importer.soup);
 }
 
 }  // namespace
@@ -116,32 +115,19 @@ TriMesh load_closed_mesh(const std::string& path) {
     const MeshFormat format = mesh_format_of(path);
     precheck_mesh_file(path, format);
 
-    SoupImporter importer;
-    {
-        std::lock_guard<std::mutex> lock(CaptureOpenMeshLog::mutex());
-        CaptureOpenMeshLog capture;
-        OM::IO::Options options;
-        // OpenMesh's OFF reader takes a '#' comment line for data (the OFF format allows comments; the precheck
-        // skips them): an ASCII OFF with comments is read from a copy without them.
-        std::string text;
-        const bool strip = format == MeshFormat::kOff && off_has_comments(path, text);
-        std::istringstream stripped(text);
-        const bool ok = strip ? OM::IO::IOManager().read(stripped, ".off", importer, options)
-                              : OM::IO::IOManager().read(path, importer, options);
-        if (!ok) {
-            const std::string why = capture.first_line();
-            throw Error(path + ": cannot parse mesh file" + (why.empty() ? std::string() : " (" + why + ")"));
-        }
+    TriMesh soup;
+    if (format == MeshFormat::kOff || format == MeshFormat::kPly) {
+        const std::string bytes = read_file_bytes(path);
+        soup = format == MeshFormat::kOff ? read_off(path, bytes) : read_ply(path, bytes);
+    } else {
+        soup = read_with_openmesh(path);
     }
-    if (importer.bad_faces > 0)
-        throw Error(path + ": " + std::to_string(importer.bad_faces) +
-                    " faces with fewer than 3 vertices or out-of-range vertex indices");
-    for (std::size_t i = 0; i < importer.soup.positions.size(); ++i)
-        if (!is_finite(importer.soup.positions[i]))
+    for (std::size_t i = 0; i < soup.positions.size(); ++i)
+        if (!is_finite(soup.positions[i]))
             throw Error(path + ": vertex " + std::to_string(i) + " has a non-finite coordinate");
-    if (importer.soup.triangles.empty()) throw Error(path + ": no triangles");
+    if (soup.triangles.empty()) throw Error(path + ": no triangles");
 
-    TriMesh mesh = weld_exact(importer.soup);
+    TriMesh mesh = weld_exact(soup);
     require_closed_outward(mesh, path);
     return mesh;
 }
