@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/memory.hpp"
+#include "app/stop_signal.hpp"
 #include "app/tool_mesh.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/mesh/mesh_io.hpp"
@@ -76,11 +77,14 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     choose_contour(o);
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     const auto t0 = Clock::now();
-    if (gpu_contour_) {
-        tiles_initial_ = gpu_contour_->update_all();
-        wp_.model.clear_dirty();
-    } else {
-        tiles_initial_ = contourer_->update(wp_.model);
+    {
+        const StopEndsSetUp set_up("contouring the workpiece");  // no force sent, no work to keep yet
+        if (gpu_contour_) {
+            tiles_initial_ = gpu_contour_->update_all();
+            wp_.model.clear_dirty();
+        } else {
+            tiles_initial_ = contourer_->update(wp_.model);
+        }
     }
     contour_s_ = seconds_since(t0);
     ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);

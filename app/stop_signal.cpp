@@ -3,7 +3,10 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <ctime>
+#include <unistd.h>
 
 namespace tridex::app {
 
@@ -11,6 +14,8 @@ namespace {
 
 std::atomic<int> g_signal{0};
 std::atomic<long long> g_first_ns{0};  // CLOCK_MONOTONIC time of the first signal
+std::atomic<const char*> g_set_up_phase{nullptr};  // non-null inside a StopEndsSetUp scope
+static_assert(std::atomic<const char*>::is_always_lock_free, "the phase must be lock-free to be read from a handler");
 static_assert(std::atomic<int>::is_always_lock_free, "the signal flag must be lock-free to be set from a handler");
 static_assert(std::atomic<long long>::is_always_lock_free, "the signal time must be lock-free to be set from a handler");
 
@@ -24,7 +29,20 @@ long long now_ns() {
     return static_cast<long long>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+const char* signal_name(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal"; }
+
+// Says which phase the signal stopped and ends the process: async-signal-safe (write and _exit only).
+[[noreturn]] void end_set_up(int sig, const char* phase) {
+    const char* parts[] = {"tridex: ", signal_name(sig), " while ", phase, ": nothing to keep, stopped\n"};
+    for (const char* p : parts) {
+        const ssize_t ignored = ::write(STDERR_FILENO, p, std::strlen(p));
+        (void)ignored;
+    }
+    ::_exit(128 + sig);
+}
+
 extern "C" void on_stop_signal(int sig) {
+    if (const char* phase = g_set_up_phase.load(std::memory_order_acquire)) end_set_up(sig, phase);
     int expected = 0;
     if (g_signal.compare_exchange_strong(expected, sig)) {
         g_first_ns.store(now_ns(), std::memory_order_release);
@@ -58,6 +76,15 @@ const char* stop_signal_name() {
         default: return "";
     }
 }
+
+StopEndsSetUp::StopEndsSetUp(const char* phase) : previous_(g_set_up_phase.exchange(phase, std::memory_order_acq_rel)) {
+    if (const int sig = stop_signal()) {
+        std::fflush(stdout);
+        end_set_up(sig, phase);
+    }
+}
+
+StopEndsSetUp::~StopEndsSetUp() { g_set_up_phase.store(previous_, std::memory_order_release); }
 
 void reset_stop_request() { g_signal.store(0, std::memory_order_release); }
 

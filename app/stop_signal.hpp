@@ -19,6 +19,22 @@ int stop_signal();
 /// "SIGINT" or "SIGTERM" for stop_signal(), "" when none arrived.
 const char* stop_signal_name();
 
+/// While one is alive, SIGINT or SIGTERM ends the program at once with exit status 128 + the signal number, after
+/// one line on stderr naming the phase ("tridex: SIGTERM while loading the workpiece: nothing to keep, stopped"):
+/// for a session's set-up (reading files, scan conversion, the first contouring), which has no work to keep and
+/// cannot poll stop_requested(). A signal that arrived before the scope began ends the program when it begins.
+/// Scopes nest (the innermost phase is named); `phase` must outlive the scope (a string literal).
+class StopEndsSetUp {
+public:
+    explicit StopEndsSetUp(const char* phase);
+    ~StopEndsSetUp();
+    StopEndsSetUp(const StopEndsSetUp&) = delete;
+    StopEndsSetUp& operator=(const StopEndsSetUp&) = delete;
+
+private:
+    const char* previous_;
+};
+
 /// Forgets a received signal (tests).
 void reset_stop_request();
 

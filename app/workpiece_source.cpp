@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "app/memory.hpp"
+#include "app/stop_signal.hpp"
 #include "app/study/study_objects.hpp"
 #include "app/study/study_walls.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -32,6 +33,7 @@ Workpiece workpiece_from_model(const std::string& tdx_path) {
 }
 
 Workpiece prepare_session_workpiece(SessionSpec& spec) {
+    const StopEndsSetUp set_up("loading the workpiece");  // nothing to keep yet: a signal stops at once
     if (!spec.study_model.empty()) {
         std::tie(spec.mesh_crc32, spec.mesh_bytes) = file_crc32(spec.mesh_path);  // a replay refuses a changed scene
         const study::StudyScene scene = study::read_study_scene(spec.mesh_path);

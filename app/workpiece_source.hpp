@@ -19,7 +19,8 @@ Workpiece workpiece_from_model(const std::string& tdx_path);
 /// The session's workpiece for `spec`, and the spec completed: with spec.model_path, the saved model
 /// (workpiece_from_model), and resolution, stock_m (the longest side less the 2-cell margins, m) and
 /// workpiece_centre_m (the lattice's centre, world m) taken from it, model_crc32/model_bytes set; else the mesh
-/// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. Throws tridex::Error as those do.
+/// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. SIGINT or SIGTERM meanwhile ends the program
+/// at once (StopEndsSetUp): there is nothing to keep yet. Throws tridex::Error as those do.
 Workpiece prepare_session_workpiece(SessionSpec& spec);
 
 /// Writes the session's model after stop() (the CPU model, which mirrors the GPU's) with its transform and
