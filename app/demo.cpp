@@ -227,24 +227,23 @@ void run_demo(const DemoOptions& o) {
         run.deformation_max_displacement_m =
             compute::clay_max_displacement_cells(*before, after) * after.lattice.cell_m;
     }
-    // 4. Images, mesh, per-tick haptics and the report; then the recording, so that a recording that fails (a disk
-    // that filled) costs nothing else.
-    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate, o.ao}, run, t_start);
-    try {
-        if (!o.record.empty()) write_session_recording(o.record, s, run.records, "", run.sculpt.marks);
-        if (!o.save.empty()) save_session_model(o.save, run.runtime->workpiece(), s);
-    } catch (const Error& e) {
-        throw Error(std::string(e.what()) + " (the other outputs were written to " + o.out + ")");
-    }
+    // 4. Images, mesh, per-tick haptics and the report; then the recording and the model. Each is written on its own:
+    // one that fails (a disk that filled) is said at once and costs none of the others.
+    OutputWrites writes;
+    write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate, o.ao}, run, t_start, writes);
+    if (!o.record.empty())
+        writes.attempt(o.record, [&] { write_session_recording(o.record, s, run.records, "", run.sculpt.marks); });
+    if (!o.save.empty()) writes.attempt(o.save, [&] { save_session_model(o.save, run.runtime->workpiece(), s); });
     if (run.device_lost_at_s) {
-        std::string kept = o.out + " (images, sculpted.ply, haptics.csv, report.json)";
-        if (!journal.empty()) kept += ", the journal " + journal;
-        if (!o.record.empty()) kept += ", the recording " + o.record;
-        if (!o.save.empty()) kept += ", the model " + o.save;
+        std::string kept;
+        for (const std::string& f : writes.written()) kept += (kept.empty() ? "" : ", ") + f;
+        if (!journal.empty()) kept += (kept.empty() ? "the journal " : ", the journal ") + journal;
         throw DeviceLostError("--device " + o.device + ": the " + run.runtime->profile().name + " was lost " +
                               format_number(*run.device_lost_at_s) +
-                              " s into the session; the session ended there and kept its work: " + kept);
+                              " s into the session; the session ended there and kept its work: " +
+                              (kept.empty() ? std::string("nothing could be written") : kept));
     }
+    writes.finish(o.out);
 }
 
 }  // namespace tridex::app

@@ -108,4 +108,32 @@ void check_output_file(const std::string& path, const std::string& flag) {
     if (!why.empty()) throw Error(flag + " " + path + ": " + why);
 }
 
+bool OutputWrites::attempt(const std::string& path, const std::function<void()>& write) {
+    try {
+        write();
+    } catch (const Error& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        failures_.push_back(e.what());
+        return false;
+    }
+    written_.push_back(path);
+    return true;
+}
+
+void OutputWrites::finish(const std::string& out_dir) const {
+    if (failures_.empty()) return;
+    std::fflush(stdout);  // the session's summary first, then this line
+    std::string written;
+    bool report = false;
+    for (const std::string& w : written_) {
+        written += (written.empty() ? "" : ", ") + w;
+        report = report || std::filesystem::path(w).filename() == "report.json";
+    }
+    const std::string n = std::to_string(failures_.size()) + " of " + std::to_string(failures_.size() + written_.size());
+    throw Error(n + " outputs were not written (each said above); " +
+                (written.empty() ? std::string("nothing was written")
+                                 : std::string("the other outputs") + (report ? " and report.json" : "") +
+                                       " were written to " + out_dir + ": " + written));
+}
+
 }  // namespace tridex::app

@@ -1,6 +1,7 @@
 // app/output_dir.hpp - checking an output folder before a session spends any time on it.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,5 +34,25 @@ struct NamedFile {
 /// std::filesystem::weakly_canonical, so "out/../a.tdx" and "a.tdx" match; entries with an empty path are skipped.
 /// Throws tridex::Error "<what> <path>: is also <other's what>; ...".
 void check_distinct_files(const std::vector<NamedFile>& outputs, const std::vector<NamedFile>& inputs = {});
+
+/// A session's outputs written each on its own, so that one that fails (a full disk, a removed folder) costs no
+/// other: a failed write is said at once on stderr in one line ("tridex: <its error>") and the next is still tried.
+class OutputWrites {
+public:
+    /// Runs `write`, which writes the file `path` and throws tridex::Error naming it on failure; true when it wrote.
+    /// Errors other than tridex::Error propagate.
+    bool attempt(const std::string& path, const std::function<void()>& write);
+    /// The files written so far, in order.
+    const std::vector<std::string>& written() const { return written_; }
+    /// The errors of the writes that failed, in order.
+    const std::vector<std::string>& failures() const { return failures_; }
+    /// Throws tridex::Error "N of M outputs were not written (each said above); the other outputs and report.json
+    /// were written to <out_dir>: a, b" (or "nothing was written") when any write failed.
+    void finish(const std::string& out_dir) const;
+
+private:
+    std::vector<std::string> written_;
+    std::vector<std::string> failures_;
+};
 
 }  // namespace tridex::app

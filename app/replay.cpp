@@ -57,7 +57,9 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     }
     OutputOptions named = out;
     named.command = "replay";
-    write_session_outputs(named, *run, t_start);
+    OutputWrites writes;
+    write_session_outputs(named, *run, t_start, writes);
+    writes.finish(out.out);
 }
 
 }  // namespace tridex::app

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -307,8 +308,9 @@ void print_summary(const DemoReport& r, const std::string& out_dir, const std::s
     std::printf("  contour path: %s%s\n", r.contour_path.c_str(),
                 r.contour_reason.empty() ? "" : (" (" + r.contour_reason + ")").c_str());
     std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());
-    std::printf("  wrote %s/{left,right,sbs}.png, sculpted.ply, haptics.csv, report.json in %.1f s\n", out_dir.c_str(),
-                r.wall_s);
+    std::string names;
+    for (const std::string& f : r.files) names += (names.empty() ? "" : ", ") + std::filesystem::path(f).filename().string();
+    std::printf("  wrote %s/: %s in %.1f s\n", out_dir.c_str(), names.empty() ? "nothing" : names.c_str(), r.wall_s);
 }
 
 }  // namespace tridex::app

@@ -1,6 +1,7 @@
 // app/run_pipeline.cpp - `tridex run`: the session's parts opened in order, collected after the frames, and the
 // outputs (the frame loop: app/run_frame.cpp).
 #include "app/run_pipeline.hpp"
+#include "app/output_dir.hpp"
 
 #include "app/run_pipeline_parts.hpp"
 
@@ -193,55 +194,43 @@ void RunPipeline::Parts::write_outputs() {
     SessionRuntime& rt = backend->runtime();
     fs::create_directories(su.out);
     const fs::path out(su.out);
-    std::vector<std::string> failed;
-    auto attempt = [&](const char* what, const auto& write) {
-        try {
-            write();
-        } catch (const Error& e) {
-            failed.push_back(e.what());
-            r.notes.push_back(std::string(what) + " failed: " + e.what());
-        }
-    };
-    attempt("images", [&] {
+    OutputWrites writes;  // each on its own: one that fails is said at once and costs no other
+    writes.attempt("the images", [&] {
         for (std::string& file : sink->finish(*rend, out.string())) r.files.push_back(std::move(file));
     });
     // The carved model as a closed mesh (the CPU contour of the final model, as demo and replay write it), and
     // the recording.
-    attempt("sculpted.ply", [&] {
-        const SessionRuntime::FinalMesh carved = rt.final_mesh();
-        r.carved_mesh = carved_mesh_report_json(carved.mesh);
-        compute::write_ply((out / "sculpted.ply").string(), carved.mesh, carved.materials);
-        r.files.push_back((out / "sculpted.ply").string());
-    });
+    const std::string ply = (out / "sculpted.ply").string();
+    if (writes.attempt(ply, [&] {
+            const SessionRuntime::FinalMesh carved = rt.final_mesh();
+            r.carved_mesh = carved_mesh_report_json(carved.mesh);
+            compute::write_ply(ply, carved.mesh, carved.materials);
+        }))
+        r.files.push_back(ply);
     if (!su.record.empty()) {
         if (rt.records().size() < rt.loop_stats().ticks)
             r.notes.push_back("record: only the first " + std::to_string(rt.records().size()) + " of " +
                               std::to_string(rt.loop_stats().ticks) + " ticks were kept; a replay carves less");
-        attempt("record", [&] {
-            std::string notes;  // a protocol's test trial: tagged for `tridex study analyze`
-            if (const RunStudy& st = scene.study; st.enabled && !st.participant.empty())
-                notes = study::tag_notes(spec_to_json(rt.spec()),
-                                         study::StudyTag{st.participant, st.group, st.trial, st.model,
-                                                         st.scene.tube.name, study::tube_id(st.scene.tube)});
-            write_session_recording(su.record, rt.spec(), rt.records(), notes, r.sculpt.marks);
+        if (writes.attempt(su.record, [&] {
+                std::string notes;  // a protocol's test trial: tagged for `tridex study analyze`
+                if (const RunStudy& st = scene.study; st.enabled && !st.participant.empty())
+                    notes = study::tag_notes(spec_to_json(rt.spec()),
+                                             study::StudyTag{st.participant, st.group, st.trial, st.model,
+                                                             st.scene.tube.name, study::tube_id(st.scene.tube)});
+                write_session_recording(su.record, rt.spec(), rt.records(), notes, r.sculpt.marks);
+            }))
             r.files.push_back(su.record);
-        });
     }
-    if (!su.save.empty()) {
-        attempt("save", [&] {
-            save_session_model(su.save, rt.workpiece(), rt.spec());
-            r.files.push_back(su.save);
-        });
-    }
+    if (!su.save.empty() && writes.attempt(su.save, [&] { save_session_model(su.save, rt.workpiece(), rt.spec()); }))
+        r.files.push_back(su.save);
+    for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
     r.validation_messages = ctx->validation_messages() + rt.booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
-    r.files.push_back((out / "report.json").string());
-    write_run_report(r.files.back(), r);
-    if (!failed.empty())
-        throw Error(failed.front() +
-                    (failed.size() > 1 ? " (and " + std::to_string(failed.size() - 1) + " more)" : std::string()) +
-                    "; the other outputs and report.json were written to " + su.out);
+    const std::string report = (out / "report.json").string();
+    r.files.push_back(report);
+    writes.attempt(report, [&] { write_run_report(report, r); });
+    writes.finish(su.out);
 }
 
 RunPipeline::RunPipeline(const RunOptions& options) : p_(std::make_unique<Parts>(options)) {}

@@ -143,7 +143,7 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     return run;
 }
 
-void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::time_point t_start) {
+void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::time_point t_start, OutputWrites& writes) {
     SessionRuntime& rt = *run.runtime;
     const SessionSpec& settings = rt.spec();
     const Workpiece& wp = rt.workpiece();
@@ -203,11 +203,12 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
 
     fs::create_directories(opt.out);
     const fs::path out(opt.out);
-    renderer::write_png((out / "left.png").string(), eyes.left);
-    renderer::write_png((out / "right.png").string(), eyes.right);
-    renderer::write_png((out / "sbs.png").string(), renderer::side_by_side(eyes.left, eyes.right));
-    compute::write_ply((out / "sculpted.ply").string(), run.carved, run.carved_materials);
-    write_haptics_csv((out / "haptics.csv").string(), run.records);
+    const auto file = [&](const char* name) { return (out / name).string(); };
+    writes.attempt(file("left.png"), [&] { renderer::write_png(file("left.png"), eyes.left); });
+    writes.attempt(file("right.png"), [&] { renderer::write_png(file("right.png"), eyes.right); });
+    writes.attempt(file("sbs.png"), [&] { renderer::write_png(file("sbs.png"), renderer::side_by_side(eyes.left, eyes.right)); });
+    writes.attempt(file("sculpted.ply"), [&] { compute::write_ply(file("sculpted.ply"), run.carved, run.carved_materials); });
+    writes.attempt(file("haptics.csv"), [&] { write_haptics_csv(file("haptics.csv"), run.records); });
 
     DemoReport r;
     r.mesh_path = wp.mesh_path;
@@ -262,11 +263,13 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.eye_height = opt.height;
     r.eye_separation_m = kEyeSeparation;
     r.ambient_occlusion = opt.ao;
-    for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
-        r.files.push_back((out / name).string());
+    r.files = writes.written();
+    r.files.push_back(file("report.json"));
+    for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);
     if (!run.sculpt_path_reason.empty()) r.notes.push_back("sculpt path cpu: " + run.sculpt_path_reason);
     if (!run.contour_reason.empty()) r.notes.push_back("contour path cpu: " + run.contour_reason);
     if (run.journal && !run.journal->error.empty()) r.notes.push_back("journal stopped: " + run.journal->error);
+    if (!run.sculpt.checkpoint_error.empty()) r.notes.push_back("checkpoints stopped: " + run.sculpt.checkpoint_error);
     r.notes.insert(r.notes.begin(), "ended: " + (!run.stopped_by.empty() ? run.stopped_by + " received"
                                                  : run.device_lost_at_s ? "the device was lost at " +
                                                                               format_number(*run.device_lost_at_s) + " s"
@@ -274,11 +277,14 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
                                                      ? std::string("the recording ended")
                                                                            : std::string("the stroke ended")));
     r.wall_s = seconds_since(t_start);
-    write_report_json((out / "report.json").string(), r);
+    if (!writes.attempt(file("report.json"), [&] { write_report_json(file("report.json"), r); })) r.files.pop_back();
     print_summary(r, opt.out, opt.command);
     if (run.journal && !run.journal->error.empty())
         std::fprintf(stderr, "tridex: journal %s stopped: %s (the session went on; report.json journal.error)\n",
                      run.journal->path.c_str(), run.journal->error.c_str());
+    if (!run.sculpt.checkpoint_error.empty())
+        std::fprintf(stderr, "tridex: checkpoints stopped: %s (the session went on; report.json journal.checkpoint_error)\n",
+                     run.sculpt.checkpoint_error.c_str());
 }
 
 }  // namespace tridex::app

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/output_dir.hpp"
 #include "app/session_runtime.hpp"
 #include "app/session_spec.hpp"
 #include "compute/model/tridexel.hpp"
@@ -90,10 +91,12 @@ renderer::Screen framing_screen(const renderer::Screen& wall, const Aabb& box_m,
 
 /// Renders both eyes of the carved workpiece, framed by framing_screen (tool at its last position, the haptic
 /// workspace as a translucent box and, in bubble mode, the bubble) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
-/// into opt.out, then prints a summary. Throws tridex::Error when a file cannot be written or no Vulkan
-/// device is usable.
+/// into opt.out, each through `writes` (a file that cannot be written is said at once and costs no other; the
+/// report lists the files written and notes the others), then prints a summary. The caller writes its other outputs
+/// through `writes` too and then calls writes.finish(). Throws tridex::Error when no Vulkan device is usable.
 /// The session's spec, workpiece, loop configuration and device profile come from run.runtime.
-void write_session_outputs(const OutputOptions& opt, SessionRun& run, std::chrono::steady_clock::time_point t_start);
+void write_session_outputs(const OutputOptions& opt, SessionRun& run, std::chrono::steady_clock::time_point t_start,
+                           OutputWrites& writes);
 
 /// Checks the per-eye image size (16..8192 px); throws tridex::Error naming --width/--height.
 void check_image_size(int width, int height);

@@ -380,4 +380,59 @@ INSTANTIATE_TEST_SUITE_P(SharedBadData, BadMesh,
                          testing::Values("bad/OutOfMemory.off", "bad/empty.obj", "bad/empty.off", "bad/empty.ply",
                                          "bad/malformed.obj", "bad/malformed2.obj", "meshes/elephant-with-holes.off"));
 
+// Malformed meshes that once crashed, hung or exhausted memory in the reader: each is refused in one printable line
+// that names the file and the line.
+TEST(MalformedMesh, IsRefusedNotCrashedOn) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-malformed-meshes";
+    fs::create_directories(dir);
+    const std::string tet = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const std::string props = "property float x\nproperty float y\nproperty float z\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"order.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 4\nproperty float y\nproperty float z\n"
+                      "element face 4\nproperty list uchar int vertex_indices\nend_header\n" + tet},
+        {"format.ply", "ply\nformat binary_little_endian\nelement vertex 4\n" + props +
+                           "element face 4\nproperty list uchar int vertex_indices\nend_header\n" + tet},
+        {"absurd.ply", "ply\nformat ascii 1.0\nelement vertex 4\n" + props +
+                           "element face 4\nproperty list uint int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                           "3000000000 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
+        {"absurd.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3000000000 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
+        {"escape.ply", "ply\nformat ascii 1.0\nelement vertex 4\n" + props +
+                           "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 \x1b[31m0\n0 0 1\n"
+                           "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
+    };
+    for (const auto& [name, text] : cases) {
+        SCOPED_TRACE(name);
+        const fs::path file = dir / name;
+        std::ofstream(file, std::ios::binary) << text;
+        const fs::path out = dir / ("out-" + name);
+        const RunResult r = run_tridex("demo --resolution 32 --seconds 1 --out " + out.string() + " --mesh " + file.string(), out);
+        EXPECT_EQ(r.exit_code, 2) << r.err;
+        EXPECT_EQ(r.err.rfind("tridex: " + file.string() + ":", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        for (const char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
+    }
+}
+
+// An output that cannot be written (here left.png, a folder in the way) is said at once and costs no other: the
+// report (which notes it), the recording and the model are still written, and the exit status says it.
+TEST(Outputs, AFailedOutputCostsNoOther) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_failed_output";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out" / "left.png" / "in_the_way");
+    const RunResult r = run_tridex("demo --resolution 32 --seconds 1 --out " + (dir / "out").string() + " --save " +
+                                       (dir / "m.tdx").string() + " --record " + (dir / "r.trdx").string(),
+                                   dir / "log");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("left.png"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("1 of 8 outputs were not written"), std::string::npos) << r.err;
+    for (const char* f : {"out/right.png", "out/sbs.png", "out/sculpted.ply", "out/haptics.csv", "out/report.json", "m.tdx", "r.trdx"})
+        EXPECT_TRUE(fs::is_regular_file(dir / f)) << f;
+    std::ifstream rf(dir / "out" / "report.json");
+    const nlohmann::json rep = nlohmann::json::parse(rf);
+    bool noted = false;
+    for (const auto& n : rep["notes"]) noted = noted || n.get<std::string>().rfind("not written: ", 0) == 0;
+    EXPECT_TRUE(noted) << rep["notes"];
+    for (const auto& f : rep["files"]) EXPECT_EQ(f.get<std::string>().find("left.png"), std::string::npos) << f;
+}
+
 }  // namespace
