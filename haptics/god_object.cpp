@@ -23,6 +23,10 @@ constexpr double kCrossingTolerance = 0.25;
 // spanning a concave edge reach half a cell, so a quarter lets the proxy ride the triangles while
 // stopping it before it sinks into material.
 constexpr double kGuardMarginCells = 0.25;
+// A tool is clearly free when every ray around each of its test points has the point more than this many window
+// spacings outside material: then the proxy joins the HIP (clearly_outside). A spacing keeps the chord sag and
+// the guard's margin of a surface the tool still touches well inside it.
+constexpr double kFreeMarginCells = 1.0;
 // Locality of an active triangle: each of its three ends must lie within kLocalityCells plus
 // kLocalitySlope times the lateral distance between the HIP and the reference (cells) of the reference
 // along the ray. A triangle whose rays straddle a feature (a ray passing under a slot's floor next to
@@ -256,6 +260,37 @@ double guarded_fraction(const ActiveSurface& s, const Vec3& at, const Vec3& move
     return f;
 }
 
+// True when p is clearly out of material: at least one ray set's window covers it, and in every set that does, each
+// of the four rays around its projection has it more than kFreeMarginCells window spacings outside its intervals.
+bool clearly_outside(const ActiveSurface& s, const Vec3& p) {
+    bool covered = false;
+    for (int a = 0; a < 3; ++a) {
+        const ActiveSurface::Window& w = s.sets[a];
+        if (!window_ok(w)) continue;
+        const ActiveSurface::WindowCoord c = s.to_window(a, p);
+        if (!(c.fu >= 0.0 && c.fu <= w.nu - 1 && c.fv >= 0.0 && c.fv <= w.nv - 1)) continue;
+        const int iu = std::min(static_cast<int>(c.fu), w.nu - 2);
+        const int iv = std::min(static_cast<int>(c.fv), w.nv - 2);
+        const double limit = -kFreeMarginCells * s.window_spacing_cells(a);
+        for (int k = 0; k < 4; ++k)
+            if (ray_signed_depth(w, iu + (k & 1), iv + (k >> 1), c.d) > limit) return false;
+        covered = true;
+    }
+    return covered;
+}
+
+// True when the tool at `at` is clearly out of material (clearly_outside): its centre and, for a ball, its six
+// points at +-radius along the axes.
+bool tool_clearly_free(const ActiveSurface& s, const Vec3& at, double radius) {
+    if (!clearly_outside(s, at)) return false;
+    for (int i = 0; i < 6 && radius > 0.0; ++i) {
+        Vec3 p = at;
+        p[i >> 1] += (i & 1) ? -radius : radius;
+        if (!clearly_outside(s, p)) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 GodObject::GodObject(ContactParams params) : params_(std::move(params)) {
@@ -353,6 +388,16 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
             }
         }
     }
+    // A tool clearly out of material takes the proxy with it at once, whatever lies between them: a plane whose
+    // HIP and deepest tool point (along -n) are both clearly outside is one the hand went through to free space (a
+    // thin wall, the far side of a deep cut), and with no plane a free tool is not held back by the guard.
+    bool released = false;
+    if (found && usable && has_proxy_ && clearly_outside(surface, hip) && clearly_outside(surface, hip - radius * tri.n)) {
+        found = kept = false;
+        depth = 0.0;
+        released = true;
+    }
+    const bool hip_free = released || (usable && has_proxy_ && !found && tool_clearly_free(surface, hip, radius));
     // Material of the touched interval: the vertex with the largest barycentric weight.
     std::uint8_t mat_id = material_;
     if (found && !kept) {
@@ -379,7 +424,7 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     const Vec3 offset = radius * n_c;
     bool held = false;
     Vec3 next = proposal;
-    if (usable && has_proxy_) {
+    if (usable && has_proxy_ && !hip_free) {
         const bool with_contact = in_contact_ || found;
         const Vec3 move = proposal - proxy;
         const double f = guarded_fraction(surface, proxy, move, radius, offset, with_contact);

@@ -97,11 +97,17 @@ struct ContactResult {
 ///    force_shading is off), plus the tangential friction spring kp*(proxy - frictionless proxy)
 ///    rotated into the shaded frame, plus, when cutting, the specific-cutting-force reaction
 ///    (cutting_force.hpp) against the HIP's velocity. depth_prev = 0 on the first tick of a contact.
+/// 9. Release: a plane whose HIP and deepest tool point (hip - r*n) are both clearly out of material (every ray
+///    around each, in every set whose window covers it, has it more than a window spacing outside), or no plane
+///    and a tool clearly out of material at its centre and six axis points, gives no contact and no guard: the
+///    proxy joins the HIP in that tick, whatever lies between them. A hand that jumped across a thin wall or left
+///    the far side of a deep cut is never left behind (a mouse or tracker has no force to stop it).
 /// Otherwise (no contact, or no usable snapshot) proxy = hip and the force is zero.
 /// With r = 0 this is the point god-object. Behaviour to know:
 /// - A HIP that goes through a slab thinner than its penetration (even in one tick) stays in contact
-///   with the side it entered: the proxy stays on that side and the force keeps growing as kp*depth
-///   (the loop clamps it) until the HIP comes back out that side.
+///   with the side it entered while the tool overlaps the slab or lies within a window spacing beyond it:
+///   the proxy stays on that side and the force grows as kp*depth (the loop clamps it); once the tool is
+///   clear of the far side by more than that, the contact is released (step 9).
 /// - One plane at a time: at a concave corner the second face is felt through the guard (the proxy
 ///   stops at it, the spring pulls the HIP back), not as a second plane it slides along.
 /// - At a convex edge under a penetration deeper than a cell the proxy stays on the first face until

@@ -172,31 +172,98 @@ TEST(GodObject, NoForceInFreeSpaceOrWithoutData) {
     EXPECT_FALSE(g.update(*s, Vec3(std::nan("")), kDt).contact);
 }
 
-// A slab 0.5 cell thick (0.5 mm) with its top at c; the HIP goes down to 3 mm below the top.
-TEST(GodObject, ThinSlabDoesNotPopThrough) {
+// A slab 0.5 cell thick (0.5 mm) with its top at c; the HIP goes down to 3 mm below the top. While the tool
+// overlaps the slab or lies within a cell under it, the god-object rests on the top (no pop-through); once the
+// tool is clear of the far side by more than a cell, the proxy joins the HIP (it is never left behind).
+TEST(GodObject, ThinSlabHoldsUntilTheToolIsClearOfItsFarSide) {
     auto s = make_surface(kH);
     fill_set(*s, 2, 0, 0, [](int, int) { return Intervals{{kC - 0.5f, kC}}; });
     for (double r : {0.0, 1e-3}) {
         GodObject g(ContactParams{kKp, 0.0, r});
+        int held = 0, released = 0;
         for (int k = 0; k <= 40; ++k) {
             const double z = 11.25 + r * 1e3 - 0.1 * k;  // from 1 mm above contact, 0.1 mm per tick
             const ContactResult c = g.update(*s, mm(9.3, 9.6, z), kDt);
             const double depth = r + (10.25 - z) * 1e-3;
             if (depth <= 1e-9) continue;  // not touching yet
-            ASSERT_TRUE(c.contact) << "r " << r << " z " << z;
-            // Below the slab's bottom (z < 9.75 mm) the god-object still rests on the top.
-            EXPECT_NEAR(c.proxy_m.z, 10.25e-3 + r, kTolM);
-            expect_vec(c.force_n, Vec3(0, 0, kKp * depth), kTolN);
+            if (z > 8.8) {  // the tool overlaps the slab, or is within a cell under its bottom (9.75 mm)
+                ASSERT_TRUE(c.contact) << "r " << r << " z " << z;
+                EXPECT_NEAR(c.proxy_m.z, 10.25e-3 + r, kTolM);
+                expect_vec(c.force_n, Vec3(0, 0, kKp * depth), kTolN);
+                ++held;
+            } else if (z < 8.7) {  // clear of the far side by more than a cell
+                EXPECT_FALSE(c.contact) << "r " << r << " z " << z;
+                expect_vec(c.proxy_m, mm(9.3, 9.6, z), 0.0);
+                expect_vec(c.force_n, Vec3(0.0), 0.0);
+                ++released;
+            }
         }
+        EXPECT_GT(held, 5);
+        EXPECT_GE(released, 5);
     }
-    // The same in one tick: from 1 mm above to 3 mm below the top (2.5 mm below the bottom).
+    // In one tick from 1 mm above to 0.75 mm under the top (inside the cell under the bottom): held on the top.
     GodObject g(ContactParams{kKp, 0.0, 0.0});
     g.update(*s, mm(9.3, 9.6, 11.25), kDt);
-    const ContactResult c = g.update(*s, mm(9.3, 9.6, 7.25), kDt);
+    const ContactResult c = g.update(*s, mm(9.3, 9.6, 9.5), kDt);
     ASSERT_TRUE(c.contact);
-    expect_vec(c.force_n, Vec3(0, 0, 2.1), kTolN);
-    // Coming back up out of the top releases it.
-    EXPECT_FALSE(g.update(*s, mm(9.3, 9.6, 10.4), kDt).contact);
+    expect_vec(c.force_n, Vec3(0, 0, kKp * 0.75e-3), kTolN);
+    // In one tick to 3 mm under the top: the hand went through, the proxy is with it.
+    const ContactResult through = g.update(*s, mm(9.3, 9.6, 7.25), kDt);
+    EXPECT_FALSE(through.contact);
+    expect_vec(through.proxy_m, mm(9.3, 9.6, 7.25), 0.0);
+    // Coming back up to well above the top in one tick: free again (just above it, the slab would hold it from below).
+    EXPECT_FALSE(g.update(*s, mm(9.3, 9.6, 11.5), kDt).contact);
+}
+
+// Mouse-like input at 1 kHz: random jumps of up to 12 mm per tick and fast sweeps through a slab 0.5 cell
+// thick, for a point and a 1.5 mm ball. Whenever the tool is clear of the slab by more than a cell and a
+// tolerance (exact: the slab is infinite in the window), the proxy is on the HIP and there is no force; in
+// contact, the proxy is never inside the slab.
+TEST(GodObject, ProxyIsNeverLeftBehindAFreeToolOnJumpsAndSweeps) {
+    auto s = make_surface(kH);
+    fill_set(*s, 2, 0, 0, [](int, int) { return Intervals{{kC - 0.5f, kC}}; });
+    const double top = kC * kH, bottom = (kC - 0.5) * kH;
+    std::uint64_t state = 12345;
+    auto uniform = [&state](double lo, double hi) {  // a fixed LCG: the same walk on every machine
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    for (double r : {0.0, 1.5e-3}) {
+        GodObject g(ContactParams{kKp, 0.5, r});
+        double worst_free_m = 0.0, deepest_proxy_m = 0.0;
+        int free_ticks = 0, contact_ticks = 0;
+        Vec3 hip = mm(16, 16, 14);
+        for (int t = 0; t < 20000; ++t) {
+            if (t % 200 < 100) {
+                hip = mm(uniform(6, 26), uniform(6, 26), uniform(4, 16));  // jumps anywhere
+            } else {  // sweeps down and up through the slab, 1.2 mm per tick
+                const double phase = (t % 100) / 50.0;
+                hip = mm(10 + 0.05 * (t % 100), 16, phase < 1.0 ? 16 - 12 * phase : 4 + 12 * (phase - 1.0));
+            }
+            const ContactResult c = g.update(*s, hip, kDt);
+            const double margin = kH + 1e-9;
+            const bool clear = hip.z - r > top + margin || hip.z + r < bottom - margin;
+            if (clear) {
+                ++free_ticks;
+                worst_free_m = std::max(worst_free_m, glm::length(c.proxy_m - hip));
+                EXPECT_FALSE(c.contact) << "tick " << t;
+                EXPECT_EQ(c.force_n, Vec3(0.0)) << "tick " << t;
+            }
+            if (c.contact) {
+                ++contact_ticks;
+                const double pz = c.proxy_m.z;  // the ball's centre: its surface is r from it
+                if (pz - r < top && pz + r > bottom)
+                    deepest_proxy_m = std::max(deepest_proxy_m, std::min(top - (pz - r), (pz + r) - bottom));
+            }
+        }
+        std::printf("[ proxy    ] r %.1f mm: %d free ticks, largest proxy-to-HIP distance %.3g m; %d contact ticks, "
+                    "proxy at most %.3g m inside the slab\n",
+                    r * 1e3, free_ticks, worst_free_m, contact_ticks, deepest_proxy_m);
+        EXPECT_GT(free_ticks, 5000);
+        EXPECT_GT(contact_ticks, 500);
+        EXPECT_EQ(worst_free_m, 0.0);
+        EXPECT_LE(deepest_proxy_m, 0.25 * kH + 1e-9);  // the guard's quarter cell
+    }
 }
 
 TEST(GodObject, StartingInsideMaterialFeelsNothing) {
