@@ -2,6 +2,7 @@
 #include "app/report.hpp"
 
 #include <cmath>
+#include <bit>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -111,7 +112,7 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
         const double object_force = glm::length(t.object_force_n);
         max_object_force = std::max(max_object_force, object_force);
         object_ticks += object_force > 0.0 ? 1 : 0;
-        presses += (t.device.buttons & 1u) && !(prev_buttons & 1u) ? 1 : 0;
+        presses += static_cast<std::size_t>(std::popcount(t.device.buttons & ~prev_buttons));  // any button going down
         prev_buttons = t.device.buttons;
         paused += t.modelling_paused ? 1 : 0;
         if (!t.valid_sample) continue;

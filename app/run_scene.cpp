@@ -120,6 +120,7 @@ void read_tool(Fields& top, RunScene& s, const std::string& base_dir) {
 void read_device(Fields& top, RunScene& s) {
     const json* d = top.get("device");
     if (!d) return;
+    s.device_named = true;
     Fields f(*d, top.source(), "device");
     const devices::DeviceRegistry& registry = devices::builtin_registry();
     s.spec.device_driver = f.text("driver", s.spec.device_driver);

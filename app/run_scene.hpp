@@ -113,6 +113,7 @@ struct RunScene {
     /// The scene defaults of `spec`.
     static SessionSpec default_spec();
     bool has_stroke = true;             ///< false: the simulated hand holds still in front of the workpiece
+    bool device_named = false;          ///< the scene has a "device" block (else a window session uses the mouse)
     /// "workspace": {"scale": "fit"}: the session picks the device -> world gain so that what the hand must reach
     /// (a study's tube from cap to cap, a stroke's path, else the workpiece) fits the device's workspace: 1 when
     /// it fits already, else the smallest gain that makes it fit (app/run_sculpt.hpp fit_workspace_scale).

@@ -122,7 +122,9 @@ RunSetup resolve_run(const RunOptions& o) {
         else
             s.monitor_name = o.monitor;
     }
+    // The hand at a window is the person's: with no device named, the mouse (the scripted hand is --device simulated).
     if (!o.device.empty()) apply_device_option(o.device, s.scene);
+    else if (!s.scene.device_named && s.display != DisplayKind::kOffscreen) apply_device_option("mouse", s.scene);
     const devices::DriverInfo& driver_info = devices::builtin_registry().info(s.scene.spec.device_driver);
     const devices::DriverCapabilities& caps = driver_info.caps;
     if (!o.haptic_rendering.empty()) {

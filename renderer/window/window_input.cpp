@@ -1,6 +1,8 @@
 // renderer/window/window_input.cpp - GLFW codes -> abstract input events, and the event ring.
 #include "renderer/window/window_input.hpp"
 
+#include <limits>
+
 #include <array>
 
 #include <GLFW/glfw3.h>
@@ -167,13 +169,14 @@ void InputQueue::on_cursor(double x_px, double y_px, double time_s) {
     have_cursor_ = true;
     cursor_x_ = x_px;
     cursor_y_ = y_px;
-    if (!had || (dx == 0.0 && dy == 0.0)) return;
+    if (had && dx == 0.0 && dy == 0.0) return;
     InputEvent e;
     e.type = InputType::kMouseMove;
     e.x_px = x_px;
     e.y_px = y_px;
-    e.dx_px = dx;
-    e.dy_px = dy;
+    // The first position has no motion to give: NaN deltas (a view ignores them; a stylus takes the position).
+    e.dx_px = had ? dx : std::numeric_limits<double>::quiet_NaN();
+    e.dy_px = had ? dy : std::numeric_limits<double>::quiet_NaN();
     e.time_s = time_s;
     push(e);
 }

@@ -38,7 +38,7 @@ inline constexpr std::uint8_t kShift = 1, kControl = 2, kAlt = 4, kSuper = 8;
 enum class InputType : std::uint8_t {
     kKey,          ///< key, action, modifiers
     kMouseButton,  ///< button, action, modifiers, x_px/y_px = cursor position
-    kMouseMove,    ///< dx_px/dy_px = cursor motion since the previous position (x right, y down), x_px/y_px = new position
+    kMouseMove,    ///< dx_px/dy_px = cursor motion since the previous position (x right, y down; NaN for the first position), x_px/y_px = new position
     kScroll,       ///< dx_px/dy_px = scroll offsets (wheel steps; +dy = away from the user)
 };
 
@@ -80,9 +80,9 @@ public:
     void on_key(int glfw_key, int glfw_action, int glfw_mods, double time_s);
     /// A mouse button callback at cursor position (x_px, y_px).
     void on_mouse_button(int glfw_button, int glfw_action, int glfw_mods, double x_px, double y_px, double time_s);
-    /// A cursor position callback: the first position after construction or reset_cursor() only records
-    /// the position (no event: a delta from nowhere would jump the view); later ones push kMouseMove with
-    /// the delta, unless it is zero.
+    /// A cursor position callback: pushes kMouseMove with the new position and the delta from the last one
+    /// (none when it is zero); the first position after construction or reset_cursor() has NaN deltas (a delta
+    /// from nowhere would jump the view; the position still places a stylus).
     void on_cursor(double x_px, double y_px, double time_s);
     /// A scroll callback with offsets (dx, dy) in wheel steps.
     void on_scroll(double dx, double dy, double x_px, double y_px, double time_s);

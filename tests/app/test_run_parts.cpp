@@ -407,3 +407,35 @@ TEST(RunCli, EveryFlagReachesTheOptions) {
 
 }  // namespace
 }  // namespace tridex::app
+
+namespace tridex::app {
+namespace {
+
+// With no --device and a scene without a device block, a window session's hand is the mouse and an offscreen one's
+// the scripted hand; --device and the scene's block choose otherwise.
+TEST(RunOptions, AWindowWithNoDeviceNamedUsesTheMouse) {
+    const fs::path dir = fs::temp_directory_path() / ("tridex_run_default_device_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string bare = (dir / "bare.json").string();
+    std::ofstream(bare) << "{ \"workpiece\": { \"resolution\": 32 } }";
+    const std::string named = (dir / "named.json").string();
+    std::ofstream(named) << "{ \"workpiece\": { \"resolution\": 32 }, \"device\": { \"driver\": \"simulated\" } }";
+    auto driver = [&](const std::string& scene, const std::string& display, const std::string& device) {
+        RunOptions o;
+        o.scene = scene;
+        o.display = display;
+        o.device = device;
+        o.frames = 1;
+        o.out = (dir / "out").string();
+        return resolve_run(o).scene.spec.device_driver;
+    };
+    EXPECT_EQ(driver(bare, "window", ""), "mouse");
+    EXPECT_EQ(driver(bare, "fullscreen", ""), "mouse");
+    EXPECT_EQ(driver(bare, "offscreen", ""), "simulated");
+    EXPECT_EQ(driver(bare, "window", "simulated"), "simulated");
+    EXPECT_EQ(driver(named, "window", ""), "simulated");
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tridex::app

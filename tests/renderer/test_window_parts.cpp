@@ -44,8 +44,16 @@ TEST(WindowInput, TranslatesGlfwKeysButtonsAndModifiers) {
 
 TEST(WindowInput, QueueProducesEventsWithDeltasInOrder) {
     InputQueue q(16);
-    q.on_cursor(100.0, 50.0, 0.1);  // first position: recorded, no event
-    EXPECT_EQ(q.size(), 0u);
+    q.on_cursor(100.0, 50.0, 0.1);  // first position: an event with the position and no delta
+    ASSERT_EQ(q.size(), 1u);
+    {
+        InputEvent first;
+        ASSERT_TRUE(q.pop(first));
+        EXPECT_EQ(first.type, InputType::kMouseMove);
+        EXPECT_EQ(first.x_px, 100.0);
+        EXPECT_EQ(first.y_px, 50.0);
+        EXPECT_TRUE(std::isnan(first.dx_px) && std::isnan(first.dy_px));
+    }
     q.on_cursor(103.5, 48.0, 0.2);
     q.on_cursor(103.5, 48.0, 0.25);  // no motion: no event
     q.on_key(GLFW_KEY_W, GLFW_PRESS, GLFW_MOD_SHIFT, 0.3);
@@ -85,10 +93,12 @@ TEST(WindowInput, QueueProducesEventsWithDeltasInOrder) {
     EXPECT_FALSE(q.pop(e));
     EXPECT_EQ(q.dropped(), 0u);
 
-    // After reset_cursor() the next position is a new origin: no jump.
+    // After reset_cursor() the next position is a new origin: its event has no delta (no jump).
     q.reset_cursor();
     q.on_cursor(10.0, 10.0, 1.0);
-    EXPECT_EQ(q.size(), 0u);
+    ASSERT_EQ(q.size(), 1u);
+    ASSERT_TRUE(q.pop(e));
+    EXPECT_TRUE(std::isnan(e.dx_px));
     q.on_cursor(11.0, 9.0, 1.1);
     ASSERT_TRUE(q.pop(e));
     EXPECT_EQ(e.dx_px, 1.0);
