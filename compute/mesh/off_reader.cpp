@@ -126,6 +126,14 @@ bool position(const double* c, const OffHeader& h, Vec3& out) {
     return true;
 }
 
+/// Adds vertex `v` from its coordinates; `where()` names the place in a refusal (a homogeneous coordinate of 0).
+template <class Where>
+void add_vertex(TriMesh& soup, const double* c, const OffHeader& h, std::int64_t v, const Where& where) {
+    Vec3 p;
+    if (!position(c, h, p)) fail(where(), "vertex " + std::to_string(v) + " has a homogeneous coordinate of 0");
+    soup.positions.push_back(p);
+}
+
 void read_ascii(const std::string& path, std::string_view bytes, const OffHeader& h, TriMesh& soup) {
     TextScanner s(bytes, h.body, true);
     auto at = [&] { return path + ":" + std::to_string(s.line()); };
@@ -141,9 +149,7 @@ void read_ascii(const std::string& path, std::string_view bytes, const OffHeader
             if (!number) fail(at(), "vertex " + std::to_string(v) + " value " + quoted(tok) + " is not a number");
             if (k < h.coords) c[k] = x;
         }
-        Vec3 p;
-        if (!position(c, h, p)) fail(at(), "vertex " + std::to_string(v) + " has a homogeneous coordinate of 0");
-        soup.positions.push_back(p);
+        add_vertex(soup, c, h, v, at);
     }
     std::vector<std::uint32_t> ids;
     for (std::int64_t f = 0; f < h.faces; ++f) {
@@ -186,9 +192,7 @@ void read_binary(const std::string& path, std::string_view bytes, const OffHeade
             const float x = std::bit_cast<float>(word("a vertex"));
             if (k < h.coords) c[k] = x;
         }
-        Vec3 p;
-        if (!position(c, h, p)) fail(at(), "vertex " + std::to_string(v) + " has a homogeneous coordinate of 0");
-        soup.positions.push_back(p);
+        add_vertex(soup, c, h, v, at);
     }
     std::vector<std::uint32_t> ids;
     for (std::int64_t f = 0; f < h.faces; ++f) {
