@@ -291,6 +291,91 @@ bool tool_clearly_free(const ActiveSurface& s, const Vec3& at, double radius) {
     return true;
 }
 
+/// What the god-object kept from its last update that the plane search reads.
+struct LastContact {
+    bool in_contact;
+    Vec3 normal;         // contact normal
+    Vec3 contact_point;  // the last contact point, m
+    int axis;            // ray set of the last contact
+    bool has_plane;      // the last contact came from a plane (plane_q, plane_n, plane_axis)
+    Vec3 plane_q, plane_n;
+    int plane_axis;
+};
+
+/// The constraint plane of this update (steps 1-4 of the class comment): found, its triangle, the HIP's depth
+/// behind it, its ray set; kept when it is last tick's plane (no triangle of its own).
+struct PlaneSearch {
+    Triangle tri{};
+    bool found = false, kept = false;
+    double depth = 0.0;
+    int axis = -1;
+};
+
+PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, double radius,
+                         const LastContact& last) {
+    PlaneSearch p;
+    const Vec3 dir = last.in_contact ? last.normal : hip - proxy;
+    const Vec3 reference = last.in_contact ? last.contact_point : proxy;  // last tick's contact point
+    int order[3];
+    axis_order(dir, last.axis, order);
+    // The triangle under the HIP first; while in contact, then the one under the proxy's contact
+    // point when the HIP is inside material (a HIP deep under a curved surface has no face of the
+    // proxy's side above it).
+    const int passes = last.in_contact && inside_material(surface, hip) ? 2 : 1;
+    for (int pass = 0; pass < passes && !p.found; ++pass) {
+        const Vec3& at = pass == 0 ? hip : reference;
+        for (int k = 0; k < 3 && !p.found; ++k) {
+            // While free the reference is the last HIP, up to a tick's motion (and a ball's radius)
+            // away from the surface it crossed; in contact it is on the surface.
+            const double extra =
+                last.in_contact ? 0.0 : (std::abs(hip[order[k]] - reference[order[k]]) + radius) / surface.cell_m;
+            if (!active_triangle(surface, order[k], at, reference, extra, p.tri)) continue;
+            p.depth = radius - glm::dot(hip - p.tri.q[0], p.tri.n);
+            if (!(p.depth > 0.0)) continue;
+            // Constraint test: the god-object must not already have been behind this plane.
+            const double proxy_depth = radius - glm::dot(proxy - p.tri.q[0], p.tri.n);
+            if (proxy_depth > kCrossingTolerance * surface.window_spacing_cells(order[k]) * surface.cell_m) continue;
+            p.found = true;
+            p.axis = order[k];
+        }
+    }
+    // No triangle, but the HIP is still inside material and behind the last plane: keep that plane.
+    // A face's band between its last complete triangle and its edge (up to a cell wide) has no
+    // triangle of its own; without this the proxy would fall off the face there.
+    if (!p.found && last.in_contact && last.has_plane && read_depth(surface, hip).vouched > 0.0) {
+        p.depth = radius - glm::dot(hip - last.plane_q, last.plane_n);
+        if (p.depth > 0.0) {
+            p.found = p.kept = true;
+            p.tri.q[0] = p.tri.q[1] = p.tri.q[2] = last.plane_q;
+            p.tri.n = last.plane_n;
+            p.axis = last.plane_axis;
+        }
+    }
+    return p;
+}
+
+/// The guard (step 7 of the class comment): the proxy moved from `proxy` towards `proposal` (m) without entering
+/// material; when the straight move is cut, the rest is tried one axis at a time (largest first), each step guarded,
+/// so the proxy runs along a wall or into a concave corner instead of stopping dead, and `held` is set.
+Vec3 guarded_move(const ActiveSurface& surface, const Vec3& proxy, const Vec3& proposal, double radius, const Vec3& offset,
+                  bool with_contact, bool& held) {
+    const Vec3 move = proposal - proxy;
+    const double f = guarded_fraction(surface, proxy, move, radius, offset, with_contact);
+    if (f >= 1.0) return proposal;
+    held = true;
+    Vec3 next = proxy + f * move;
+    const Vec3 rest = (1.0 - f) * move;
+    int order[3];
+    axis_order(rest, 0, order);
+    for (int i = 0; i < 3; ++i) {
+        Vec3 step(0.0);
+        step[order[i]] = rest[order[i]];
+        if (step == Vec3(0.0)) continue;
+        next += guarded_fraction(surface, next, step, radius, offset, with_contact) * step;
+    }
+    return next;
+}
+
 }  // namespace
 
 GodObject::GodObject(ContactParams params) : params_(std::move(params)) {
@@ -345,49 +430,17 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     const Vec3 proxy = has_proxy_ ? proxy_ : hip;
     const bool dt_ok = dt_s > 0.0 && std::isfinite(dt_s);
     const bool usable = surface.sequence != 0 && std::isfinite(surface.cell_m) && surface.cell_m > 0.0;
-    Triangle tri{};
-    bool found = false, kept = false;
-    double depth = 0.0;
     Vec3 frictionless(0.0);
-    if (usable) {
-        const Vec3 dir = in_contact_ ? normal_ : hip - proxy;
-        const Vec3 reference = in_contact_ ? contact_point_ : proxy;  // last tick's contact point
-        int order[3];
-        axis_order(dir, last_axis_, order);
-        // The triangle under the HIP first; while in contact, then the one under the proxy's contact
-        // point when the HIP is inside material (a HIP deep under a curved surface has no face of the
-        // proxy's side above it).
-        const int passes = in_contact_ && inside_material(surface, hip) ? 2 : 1;
-        for (int pass = 0; pass < passes && !found; ++pass) {
-            const Vec3& at = pass == 0 ? hip : reference;
-            for (int k = 0; k < 3 && !found; ++k) {
-                // While free the reference is the last HIP, up to a tick's motion (and a ball's radius)
-                // away from the surface it crossed; in contact it is on the surface.
-                const double extra =
-                    in_contact_ ? 0.0 : (std::abs(hip[order[k]] - reference[order[k]]) + radius) / surface.cell_m;
-                if (!active_triangle(surface, order[k], at, reference, extra, tri)) continue;
-                depth = radius - glm::dot(hip - tri.q[0], tri.n);
-                if (!(depth > 0.0)) continue;
-                // Constraint test: the god-object must not already have been behind this plane.
-                const double proxy_depth = radius - glm::dot(proxy - tri.q[0], tri.n);
-                if (proxy_depth > kCrossingTolerance * surface.window_spacing_cells(order[k]) * surface.cell_m) continue;
-                found = true;
-                r.axis = order[k];
-            }
-        }
-        // No triangle, but the HIP is still inside material and behind the last plane: keep that plane.
-        // A face's band between its last complete triangle and its edge (up to a cell wide) has no
-        // triangle of its own; without this the proxy would fall off the face there.
-        if (!found && in_contact_ && has_plane_ && read_depth(surface, hip).vouched > 0.0) {
-            depth = radius - glm::dot(hip - plane_q_, plane_n_);
-            if (depth > 0.0) {
-                found = kept = true;
-                tri.q[0] = tri.q[1] = tri.q[2] = plane_q_;
-                tri.n = plane_n_;
-                r.axis = plane_axis_;
-            }
-        }
-    }
+    PlaneSearch plane;
+    if (usable)
+        plane = search_plane(surface, hip, proxy, radius,
+                             LastContact{in_contact_, normal_, contact_point_, last_axis_, has_plane_, plane_q_, plane_n_,
+                                         plane_axis_});
+    Triangle& tri = plane.tri;
+    bool& found = plane.found;
+    bool& kept = plane.kept;
+    double& depth = plane.depth;
+    if (plane.found) r.axis = plane.axis;
     // A tool clearly out of material takes the proxy with it at once, whatever lies between them: a plane whose
     // HIP and deepest tool point (along -n) are both clearly outside is one the hand went through to free space (a
     // thin wall, the far side of a deep cut), and with no plane a free tool is not held back by the guard.
@@ -424,26 +477,7 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     const Vec3 offset = radius * n_c;
     bool held = false;
     Vec3 next = proposal;
-    if (usable && has_proxy_ && !hip_free) {
-        const bool with_contact = in_contact_ || found;
-        const Vec3 move = proposal - proxy;
-        const double f = guarded_fraction(surface, proxy, move, radius, offset, with_contact);
-        if (f < 1.0) {
-            // Blocked: slide on with the rest of the move one axis at a time (largest first), each step
-            // guarded, so the proxy runs along a wall or into a concave corner instead of stopping dead.
-            held = true;
-            next = proxy + f * move;
-            const Vec3 rest = (1.0 - f) * move;
-            int order[3];
-            axis_order(rest, 0, order);
-            for (int i = 0; i < 3; ++i) {
-                Vec3 step(0.0);
-                step[order[i]] = rest[order[i]];
-                if (step == Vec3(0.0)) continue;
-                next += guarded_fraction(surface, next, step, radius, offset, with_contact) * step;
-            }
-        }
-    }
+    if (usable && has_proxy_ && !hip_free) next = guarded_move(surface, proxy, proposal, radius, offset, in_contact_ || found, held);
     // Force.
     const double previous_depth = in_contact_ ? depth_ : 0.0;
     const double k = mat.stiffness_n_per_m;

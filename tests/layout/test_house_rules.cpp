@@ -91,7 +91,6 @@ const std::set<std::pair<std::string, std::string>> kLongFunctionsAllowed = {
     {"bench/bench_sculpt.cpp", "run_sculpt_bench"},
     {"compute/contour/contour_tile.cpp", "cell_vertices"},
     {"compute/gpu/gpu_sculptor.cpp", "apply_grid"},
-    {"haptics/god_object.cpp", "update"},
     {"renderer/stereo/stereo_renderer.cpp", "draw"},
 };
 
