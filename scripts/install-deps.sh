@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config git      # toolchain
+  ccache                                    # compiler cache: rebuilds in CI and across git worktrees reuse objects
   libglm-dev                                # math (GLM)
   libopenmesh-dev                           # mesh I/O and half-edge checks (OpenMesh)
   libvulkan-dev vulkan-validationlayers     # Vulkan loader, headers, validation layer
