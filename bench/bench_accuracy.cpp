@@ -19,7 +19,7 @@
 #include "bench/bench_accuracy_metrics.hpp"
 #include "bench/bench_accuracy_openvdb.hpp"
 #include "bench/bench_accuracy_plot.hpp"
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"

@@ -14,12 +14,12 @@
 #include <numbers>
 #include <nlohmann/json.hpp>
 
-#include "app/demo.hpp"
-#include "app/session.hpp"
+#include "app/commands/demo.hpp"
+#include "app/session/session.hpp"
 #include "core/summary.hpp"
 #include "compute/runtime/active_surface_publish.hpp"
 #include "compute/model/probe.hpp"
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "core/error.hpp"
 #include "haptics/multipoint.hpp"
 

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "core/summary.hpp"
 #include "core/error.hpp"
 #include "devices/tracking/dtrack_parser.hpp"

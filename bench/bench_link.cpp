@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "bench/bench_wall.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"

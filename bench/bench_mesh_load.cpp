@@ -18,8 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/assets.hpp"
-#include "app/json_file.hpp"
+#include "app/support/assets.hpp"
+#include "app/support/json_file.hpp"
 #include "compute/mesh/mesh_text.hpp"
 #include "compute/mesh/off_reader.hpp"
 #include "compute/mesh/openmesh_log.hpp"

@@ -10,10 +10,10 @@
 #include <filesystem>
 #include <numeric>
 
-#include "app/demo.hpp"
-#include "app/json_file.hpp"
-#include "app/session_runtime.hpp"
-#include "app/stroke.hpp"
+#include "app/commands/demo.hpp"
+#include "app/support/json_file.hpp"
+#include "app/session/session_runtime.hpp"
+#include "app/scene/stroke.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "compute/runtime/boolean_backend.hpp"

@@ -14,13 +14,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/demo.hpp"
-#include "app/session.hpp"
+#include "app/commands/demo.hpp"
+#include "app/session/session.hpp"
 #include "core/summary.hpp"
-#include "app/tile_view.hpp"
+#include "app/session/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "renderer/camera/display_config.hpp"

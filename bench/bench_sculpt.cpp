@@ -20,7 +20,7 @@
 #include <span>
 #include <string>
 
-#include "app/json_file.hpp"
+#include "app/support/json_file.hpp"
 #include "core/summary.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/gpu/gpu_clay.hpp"

@@ -10,9 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/demo.hpp"
-#include "app/json_file.hpp"
-#include "app/output_dir.hpp"
+#include "app/commands/demo.hpp"
+#include "app/support/json_file.hpp"
+#include "app/support/output_dir.hpp"
 #include "core/error.hpp"
 
 namespace tridex::bench {

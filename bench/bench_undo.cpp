@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/demo.hpp"
-#include "app/json_file.hpp"
-#include "app/session_runtime.hpp"
+#include "app/commands/demo.hpp"
+#include "app/support/json_file.hpp"
+#include "app/session/session_runtime.hpp"
 #include "core/summary.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/probe.hpp"

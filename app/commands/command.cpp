@@ -16,8 +16,8 @@
 #include <string>
 #include <utility>
 
-#include "app/device_lost.hpp"
-#include "app/stop_signal.hpp"
+#include "app/support/device_lost.hpp"
+#include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

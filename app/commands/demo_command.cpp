@@ -5,8 +5,8 @@
 #include <string>
 
 #include "app/commands/command.hpp"
-#include "app/demo.hpp"
-#include "app/elastic_demo.hpp"
+#include "app/commands/demo.hpp"
+#include "app/commands/elastic_demo.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

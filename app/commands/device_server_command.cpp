@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/device_server_cmd.hpp"
+#include "app/commands/device_server_cmd.hpp"
 
 namespace tridex::app {
 namespace {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/devices_cmd.hpp"
+#include "app/commands/devices_cmd.hpp"
 
 namespace tridex::app {
 namespace {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/export_cmd.hpp"
+#include "app/commands/export_cmd.hpp"
 
 namespace tridex::app {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/commands/command.hpp"
-#include "app/recover.hpp"
+#include "app/commands/recover.hpp"
 
 namespace tridex::app {
 namespace {

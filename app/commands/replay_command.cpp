@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/commands/command.hpp"
-#include "app/replay.hpp"
+#include "app/commands/replay.hpp"
 
 namespace tridex::app {
 namespace {
@@ -14,6 +14,7 @@ struct ReplayCli {
     std::string file;
     OutputOptions out;
     SculptOptions sculpt;
+    std::string save;
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -32,8 +33,9 @@ CommandAction setup_replay(CLI::App& cmd) {
         ->excludes(cpu_contour);
     cmd.add_flag("--gpu-clay", o->sculpt.gpu_clay,
                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe)");
+    cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");
     return [o] {
-        run_replay(o->file, o->out, o->sculpt);
+        run_replay(o->file, o->out, o->sculpt, o->save);
         return 0;
     };
 }

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/run_cli.hpp"
+#include "app/commands/run_cli.hpp"
 
 namespace tridex::app {
 namespace {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/study/study_cli.hpp"
+#include "app/commands/study/study_cli.hpp"
 
 namespace tridex::app {
 namespace {

@@ -6,11 +6,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/output_dir.hpp"
-#include "app/session.hpp"
-#include "app/session_spec.hpp"
+#include "app/support/output_dir.hpp"
+#include "app/session/session.hpp"
+#include "app/scene/session_spec.hpp"
 #include "core/summary.hpp"
-#include "app/stroke.hpp"
+#include "app/scene/stroke.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "app/session_spec.hpp"
+#include "app/scene/session_spec.hpp"
 #include "core/error.hpp"
 #include "core/tool_sample.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/commands/command.hpp"
-#include "app/device_lost.hpp"
+#include "app/support/device_lost.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

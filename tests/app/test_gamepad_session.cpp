@@ -8,9 +8,9 @@
 #include <thread>
 #include <vector>
 
-#include "app/demo.hpp"
-#include "app/session_runtime.hpp"
-#include "app/workpiece_source.hpp"
+#include "app/commands/demo.hpp"
+#include "app/session/session_runtime.hpp"
+#include "app/scene/workpiece_source.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/gamepad/gamepad_device.hpp"
 

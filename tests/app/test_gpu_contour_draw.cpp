@@ -15,10 +15,10 @@
 #include <thread>
 #include <vector>
 
-#include "app/demo.hpp"
+#include "app/commands/demo.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
-#include "app/session.hpp"
-#include "app/stroke.hpp"
+#include "app/session/session.hpp"
+#include "app/scene/stroke.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"

@@ -13,12 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/replay.hpp"
-#include "app/run_scene.hpp"
-#include "app/run_session.hpp"
-#include "app/session.hpp"
-#include "app/session_spec.hpp"
-#include "app/tool_mesh.hpp"
+#include "app/commands/replay.hpp"
+#include "app/scene/run_scene.hpp"
+#include "app/session/run_session.hpp"
+#include "app/session/session.hpp"
+#include "app/scene/session_spec.hpp"
+#include "app/scene/tool_mesh.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 

@@ -9,11 +9,11 @@
 #include <string>
 
 #include "test_files.hpp"
-#include "app/demo.hpp"
-#include "app/replay.hpp"
-#include "app/run_scene.hpp"
-#include "app/session.hpp"
-#include "app/session_spec.hpp"
+#include "app/commands/demo.hpp"
+#include "app/commands/replay.hpp"
+#include "app/scene/run_scene.hpp"
+#include "app/session/session.hpp"
+#include "app/scene/session_spec.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"

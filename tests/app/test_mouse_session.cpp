@@ -12,7 +12,7 @@
 #include "app/input/cursor_script.hpp"
 #include "app/input/mouse_stylus.hpp"
 #include "app/input/run_input.hpp"
-#include "app/run_session.hpp"
+#include "app/session/run_session.hpp"
 #include "app/input/surface_pick.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "devices/mouse_device.hpp"

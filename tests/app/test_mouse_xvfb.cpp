@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../renderer/test_window_xvfb.hpp"
-#include "app/memory.hpp"
+#include "app/support/memory.hpp"
 #include "app/input/surface_pick.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"

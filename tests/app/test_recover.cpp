@@ -23,8 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/session_runtime.hpp"
-#include "app/session_spec.hpp"
+#include "app/session/session_runtime.hpp"
+#include "app/scene/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/mesh/mesh_export.hpp"

@@ -1,8 +1,10 @@
-// One report.json schema for every session: `tridex demo`, `tridex replay` and `tridex run --display offscreen` write
-// the same keys (app/session_report.cpp's schema, null where a session has no value), and docs/report.md documents
-// every one of them.
+// One session pipeline: `tridex demo`, `tridex replay` and `tridex run --display offscreen` carve the same model bit
+// for bit from the same scripted stroke, and write one report.json schema (app/session/session_report.cpp's, null where
+// a session has no value) whose every key docs/report.md documents.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,7 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session_report.hpp"
+#include "app/session/session_report.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "test_files.hpp"
 
 namespace tridex::app {
@@ -122,6 +125,72 @@ TEST(ReportSchema, DemoReplayAndRunWriteTheSameKeys) {
     EXPECT_GT(r["volume_removed_m3"].get<double>(), 0.0) << "the run's stroke carved nothing";
     EXPECT_EQ(d["mesh"]["boundary_edges"], 0);
     EXPECT_EQ(r["mesh"]["boundary_edges"], 0);
+    fs::remove_all(dir);
+}
+
+
+// The model a .tdx file holds, as canonical bytes: saved again with no settings and every tile clean, so two sessions
+// that differ only in what they recorded about themselves compare equal exactly when their dexels do.
+std::string model_bytes(const fs::path& tdx, const fs::path& scratch) {
+    compute::TdxModel m = compute::load_tdx(tdx.string(), std::size_t{1} << 30);
+    std::fill(m.model.tiles.dirty.begin(), m.model.tiles.dirty.end(), std::uint8_t{0});
+    compute::save_tdx(scratch.string(), m.model, m.to_world, "");
+    return test::bytes_of(scratch);
+}
+
+// A scripted stroke carved through `demo` and through `run --display offscreen`, and each session replayed: every
+// session's tool-sample stream gives the same model bit for bit in the other pipeline. (Two live sessions of one stroke
+// need not agree with each other: the simulated hand feels the contact forces, which depend on when the sculpt thread
+// published the surface, so their sample streams differ in the last bits; the model is a function of the stream.)
+TEST(SessionPipeline, DemoRunOffscreenAndReplayCarveTheSameModelBitForBit) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_one_pipeline";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string images = " --width 64 --height 48 --cpu ";
+    const auto path = [&](const std::string& name) { return (dir / name).string(); };
+    // The demo's stroke at its defaults (an 8 mm ball, a 0.12 m pass 6 mm deep on the bunny's viewer side, stock
+    // 0.3 m centred 0.3 m in front of the wall), 1 s long.
+    const auto demo = test::run_tridex("demo --seconds 1 --resolution 48" + images + "--out " + path("demo") +
+                                           " --record " + path("demo.trdx") + " --save " + path("demo.tdx"),
+                                       dir / "demo_log");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    // The same stroke and contact written as a scene, run offscreen.
+    std::ofstream(path("scene.json")) << R"({
+  "workpiece": { "mesh": ")" << TRIDEX_ASSETS_DIR << R"(/bunny.off", "resolution": 48, "stock_m": 0.3, "centre_m": [0.0, 0.0, 0.3] },
+  "tool": { "radius_m": 0.008 },
+  "haptics": { "static_friction": 0.2, "dynamic_friction": 0.15, "cutting_force": true },
+  "stroke": { "duration_s": 1.0, "length_m": 0.12, "depth_m": 0.006, "clearance_m": 0.03, "press_axis": "z" },
+  "display": { "preset": "desktop", "stereo": "mono", "resolution": [64, 48] },
+  "head": { "provider": "fixed", "position_m": [0.0, 0.15, 0.95] }
+})";
+    const auto run = test::run_tridex("run " + path("scene.json") + " --display offscreen --device simulated --cpu " +
+                                          "--no-journal --out " + path("run") + " --record " + path("run.trdx") +
+                                          " --save " + path("run.tdx"),
+                                      dir / "run_log");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    for (const char* rec : {"demo", "run"}) {
+        const std::string name = std::string(rec) + "_replayed";
+        const auto replay = test::run_tridex("replay " + path(std::string(rec) + ".trdx") + images + "--out " + path(name) +
+                                                 " --save " + path(name + ".tdx"),
+                                             dir / (name + "_log"));
+        ASSERT_EQ(replay.exit_code, 0) << rec << ": " << replay.err;
+    }
+    const std::string d = model_bytes(dir / "demo.tdx", dir / "demo.canonical.tdx");
+    const std::string r = model_bytes(dir / "run.tdx", dir / "run.canonical.tdx");
+    ASSERT_FALSE(d.empty());
+    ASSERT_FALSE(r.empty());
+    EXPECT_TRUE(d == model_bytes(dir / "demo_replayed.tdx", dir / "demo_replayed.canonical.tdx"))
+        << "replay carved another model than the demo it replays";
+    EXPECT_TRUE(r == model_bytes(dir / "run_replayed.tdx", dir / "run_replayed.canonical.tdx"))
+        << "replay carved another model than the offscreen run it replays";
+    // The exported meshes, contoured from those models, are the same bytes too.
+    EXPECT_TRUE(test::bytes_of(dir / "demo" / "sculpted.ply") == test::bytes_of(dir / "demo_replayed" / "sculpted.ply"));
+    EXPECT_TRUE(test::bytes_of(dir / "run" / "sculpted.ply") == test::bytes_of(dir / "run_replayed" / "sculpted.ply"));
+    // Both live sessions carved the stroke, and carved about the same: one stroke, one pipeline.
+    const double removed_demo = test::read_json(dir / "demo" / "report.json")["volume_removed_m3"].get<double>();
+    const double removed_run = test::read_json(dir / "run" / "report.json")["volume_removed_m3"].get<double>();
+    EXPECT_GT(removed_demo, 0.0);
+    EXPECT_NEAR(removed_run, removed_demo, 0.1 * removed_demo);
     fs::remove_all(dir);
 }
 

@@ -13,14 +13,14 @@
 
 #include <CLI/CLI.hpp>
 
-#include "app/run_cli.hpp"
+#include "app/commands/run_cli.hpp"
 #include "app/input/run_input.hpp"
-#include "app/run_options.hpp"
-#include "app/run_scene.hpp"
-#include "app/run_sculpt.hpp"
-#include "app/run_session.hpp"
-#include "app/run_view.hpp"
-#include "app/session.hpp"
+#include "app/session/run_options.hpp"
+#include "app/scene/run_scene.hpp"
+#include "app/session/run_sculpt.hpp"
+#include "app/session/run_session.hpp"
+#include "app/session/run_view.hpp"
+#include "app/session/session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/run_session.hpp"
+#include "app/session/run_session.hpp"
 #include "core/error.hpp"
 #include "../renderer/test_window_xvfb.hpp"
 #include "run_test_scene.hpp"

@@ -15,8 +15,8 @@
 #include <thread>
 
 #include "../devices/spnav_standin.hpp"
-#include "app/run_scene.hpp"
-#include "app/run_session.hpp"
+#include "app/scene/run_scene.hpp"
+#include "app/session/run_session.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <csignal>
 
-#include "app/stop_signal.hpp"
+#include "app/support/stop_signal.hpp"
 
 using namespace tridex::app;
 

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/study/study_analyze.hpp"
-#include "app/study/study_recording.hpp"
-#include "app/study/study_scene.hpp"
-#include "app/study/tube.hpp"
+#include "app/commands/study/study_analyze.hpp"
+#include "app/scene/study_recording.hpp"
+#include "app/scene/study_scene.hpp"
+#include "app/scene/tube.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "renderer/image/image.hpp"

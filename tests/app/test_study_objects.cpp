@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "app/study/study_objects.hpp"
-#include "app/study/study_participant.hpp"
-#include "app/study/study_scene.hpp"
-#include "app/study/study_sim.hpp"
-#include "app/study/study_walls.hpp"
-#include "app/study/tube.hpp"
+#include "app/scene/study_objects.hpp"
+#include "app/scene/study_participant.hpp"
+#include "app/scene/study_scene.hpp"
+#include "app/commands/study/study_sim.hpp"
+#include "app/scene/study_walls.hpp"
+#include "app/scene/tube.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app::study {

@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/study/study_run.hpp"
-#include "app/study/study_scene.hpp"
-#include "app/study/tube.hpp"
+#include "app/commands/study/study_run.hpp"
+#include "app/scene/study_scene.hpp"
+#include "app/scene/tube.hpp"
 #include "test_files.hpp"
 
 namespace tridex::app::study {

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "app/study/rank_tests.hpp"
-#include "app/study/study_stats.hpp"
-#include "app/study/trial_table.hpp"
+#include "app/commands/study/rank_tests.hpp"
+#include "app/commands/study/study_stats.hpp"
+#include "app/scene/trial_table.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app::study {

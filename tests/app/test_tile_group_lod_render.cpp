@@ -8,9 +8,9 @@
 #include <map>
 #include <utility>
 
-#include "app/demo.hpp"
-#include "app/session_runtime.hpp"
-#include "app/tile_view.hpp"
+#include "app/commands/demo.hpp"
+#include "app/session/session_runtime.hpp"
+#include "app/session/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "gpu/context.hpp"

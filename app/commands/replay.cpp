@@ -1,0 +1,76 @@
+// app/commands/replay.cpp - replaying a recorded session.
+#include "app/commands/replay.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <vector>
+#include <optional>
+
+#include "app/support/output_dir.hpp"
+#include "app/session/session_recording.hpp"
+#include "app/scene/session_spec.hpp"
+#include "app/scene/workpiece_source.hpp"
+#include "core/error.hpp"
+#include "devices/recording.hpp"
+#include "devices/registry/device_registry.hpp"
+#include "devices/mouse_device.hpp"
+#include "devices/replay_device.hpp"
+
+namespace tridex::app {
+
+void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt,
+                const std::string& save) {
+    const auto t_start = std::chrono::steady_clock::now();
+    check_image_size(out.width, out.height);
+    prepare_output_dir(out.out, "--out");
+    if (!save.empty()) check_output_file(save, "--save");
+    const devices::Recording rec = devices::read_recording(recording_path);
+    SessionSpec s = spec_from_json(rec.header.notes, recording_path);
+    if (!save.empty()) {
+        std::vector<NamedFile> outputs{{"--save", save}};
+        for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+            outputs.push_back({std::string("--out's ") + name, (std::filesystem::path(out.out) / name).string()});
+        check_distinct_files(outputs, {{"the recording", recording_path}, {"the workpiece", s.model_path.empty() ? s.mesh_path : s.model_path}});
+    }
+    // Changed files first: validating the spec loads the tool mesh, and would fail less clearly.
+    check_inputs_unchanged(s, recording_path, "the recording");
+    validate_spec(s, recording_path);
+    Workpiece wp = prepare_session_workpiece(s);
+    // The keys' op and tool changes at their ticks, and the mouse's engage button, so the replayed samples carry
+    // what the recorded ones carried.
+    LoopOverrides loop;
+    try {
+        loop.tool_schedule = tool_schedule(rec, s);
+    } catch (const Error& e) {
+        throw Error(recording_path + ": " + e.what());
+    }
+    loop.engage_mask = engage_mask_for(s.device_driver);
+    // The recorded samples played back through the registry's replay driver, with the recorded profile.
+    s.device_driver = "replay";
+    devices::DeviceInputs inputs;
+    inputs.period_s = s.period_s;
+    inputs.samples = devices::device_states(rec);
+    std::unique_ptr<devices::HapticDevice> device = make_device(s, inputs);
+    const Vec3 start = rec.ticks.empty() ? s.device_origin_m : rec.ticks.front().wand_centre_m;
+    // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
+    const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
+    SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""};
+    so.gpu_clay = sculpt.gpu_clay;
+    // The live session's undos, redos and stroke closes where its sculpt thread took them.
+    so.follow_marks = sculpt_marks(rec.header);
+    std::optional<SessionRun> run;
+    try {
+        run.emplace(run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so,
+                                loop));
+    } catch (const Error& e) {  // what the recorded samples asked for (a sweep too far away, ...): name the file
+        throw Error(recording_path + ": " + e.what());
+    }
+    OutputOptions named = out;
+    named.command = "replay";
+    OutputWrites writes;
+    write_session_outputs(named, *run, t_start, writes);
+    if (!save.empty()) writes.attempt(save, [&] { save_session_model(save, run->runtime->workpiece(), run->runtime->spec()); });
+    writes.finish(out.out);
+}
+
+}  // namespace tridex::app

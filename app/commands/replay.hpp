@@ -1,0 +1,21 @@
+// app/commands/replay.hpp - `tridex replay FILE --out DIR`: sculpt a recorded session again.
+#pragma once
+
+#include <string>
+
+#include "app/session/session.hpp"
+
+namespace tridex::app {
+
+/// Reads the recording (devices/recording.hpp), rebuilds the recorded session's workpiece and haptic
+/// loop from the settings in its header, plays the recorded device samples back through a ReplayDevice
+/// (one per tick, at the recorded rate) and writes the same outputs as the demo into out.out. The tool
+/// sample stream, and so the sculpted model, equals the live session's. Throws tridex::Error naming the
+/// file on a bad recording or settings. `sculpt`: where the Booleans and the contour run (--cpu,
+/// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model. `save`: where the final model is
+/// written (.tdx, as `demo --save`; "" = not saved); refused up front when it names the recording, the workpiece or
+/// one of --out's files.
+void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {},
+                const std::string& save = "");
+
+}  // namespace tridex::app

@@ -1,0 +1,116 @@
+// app/commands/run_cli.cpp - `tridex run` options and entry point.
+#include "app/commands/run_cli.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <new>
+
+#include "app/session/run_session.hpp"
+#include "app/support/device_lost.hpp"
+#include "devices/registry/device_registry.hpp"
+#include "core/error.hpp"
+#include "renderer/output/stereo_output.hpp"
+
+namespace tridex::app {
+
+std::string device_option_help() {
+    std::string help = "Device replacing the scene's: a profile of the simulated hand or a driver of `tridex devices`: ";
+    const std::vector<std::string> choices = devices::builtin_registry().choices();
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+        const devices::DriverInfo* d = devices::builtin_registry().find(choices[i].substr(0, choices[i].find_first_of(":[")));
+        help += (i == 0 ? "" : " | ") + choices[i] + (d ? " (" + d->summary + ")" : "");
+    }
+    return help + ". Keys and buttons of each: docs/devices/";
+}
+
+void add_run_options(CLI::App& run, RunOptions& o) {
+    CLI::App* cmd = &run;
+    cmd->add_option("scene", o.scene, "Scene file (JSON); default: assets/default_scene.json");
+    cmd->add_option("--display", o.display, "window | fullscreen | offscreen")->capture_default_str();
+    cmd->add_option("--device", o.device, device_option_help());
+    cmd->add_option("--haptic-rendering", o.haptic_rendering,
+                    "With --device net:HOST:PORT: distributed (this session computes the force) or local (the device "
+                    "server runs the god-object loop next to the device on the active surface this session sends)");
+    cmd->add_option("--stereo", o.stereo, "Stereo output: " + renderer::stereo_output_names() +
+                                              " (default: the display config's)");
+    cmd->add_option("--monitor", o.monitor, "Fullscreen monitor: index or part of its name (default: primary)");
+    cmd->add_option("--frames", o.frames, "Stop after N stereo frames (0: no limit)")->capture_default_str();
+    cmd->add_option("--out", o.out, "Output folder: report.json; offscreen also left/right/output.png")
+        ->capture_default_str();
+    cmd->add_option("--display-config", o.display_config, "Display config file (JSON) replacing the scene's display");
+    cmd->add_option("--wand", o.wand, "Scene navigation wand: none | dtrack:PORT[:FLYSTICK] (ART DTrack Flystick: hold the trigger to carry the scene, joystick up/down scales, button 1 resets; default: the scene's)");
+    cmd->add_option("--head", o.head, "Head pose provider: fixed | scripted | tracker | dtrack:PORT[:BODY] (ART DTrack over UDP; default: the scene's)");
+    cmd->add_flag("--swap-eyes", o.swap_eyes, "Exchange the eyes on the display");
+    cmd->add_option("--seconds", o.seconds, "Stop after S seconds of wall time (0: no limit)")->capture_default_str();
+    cmd->add_flag("--validate", o.validate, "Enable the Vulkan validation layer");
+    cmd->add_flag("--cpu", o.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    cmd->add_flag("--cpu-contour", o.cpu_contour,
+                  "Contour on the CPU (tile meshes) even when sculpting on the GPU (default: GPU contouring, "
+                  "drawn with indirect draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
+    cmd->add_flag("--gpu-contour", o.gpu_contour,
+                  "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower");
+    cmd->add_flag("--gpu-clay", o.gpu_clay,
+                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where "
+                  "the CPU reference is faster (same result bit for bit)");
+    cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
+    cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
+    cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
+    cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
+    cmd->add_option("--lod", o.lod,
+                    "on | off: tile levels of detail (built on the sculpt thread while it is idle, tiles drawn at full "
+                    "resolution until then; each eye draws the coarsest level whose error projects to at most a pixel)")
+        ->capture_default_str();
+    cmd->add_option("--ao", o.ao,
+                    "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "
+                    "ambient_occlusion, on); key O toggles it in a window")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
+    cmd->add_option(
+        "--falcon-firmware", o.falcon_firmware,
+        "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
+    cmd->add_option("--save", o.save, "Save the final model to FILE.tdx (a later session or `tridex export` starts from it)");
+    auto* journal = cmd->add_option("--journal", o.journal,
+                                    "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");
+    cmd->add_flag("--no-journal", o.no_journal, "Write no session journal")->excludes(journal);
+    cmd->add_option("--checkpoint-s", o.checkpoint_s,
+                    "Seconds between checkpoint models written next to the journal while sculpting (0 = none)")
+        ->capture_default_str();
+    cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
+}
+
+int run_command(const RunOptions& options) {
+    try {
+        const RunResult r = run_stereo_session(options);
+        std::printf("tridex run: %s %s, %llu frames (%llu presents) in %.2f s, frame p50 %.2f ms, GPU p50 %.2f ms\n",
+                    to_string(r.setup.display), std::string(renderer::to_string(r.setup.scene.display.stereo)).c_str(),
+                    static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.presents), r.render_s,
+                    r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5));
+        std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.6g -> %.6g m^3 "
+                    "(%.4g cm^3 %s)\n",
+                    r.loop.ticks, r.loop.overruns, static_cast<unsigned long long>(r.sculpt.steps),
+                    static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
+                    std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
+                    r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
+        if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
+            std::printf("  undo %llu, redo %llu (%zu strokes undoable), saves %llu\n",
+                        static_cast<unsigned long long>(r.sculpt.history.undos),
+                        static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
+                        static_cast<unsigned long long>(r.saves.saves));
+        for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
+        std::printf("  outputs: %s\n", r.setup.out.c_str());
+        return 0;
+    } catch (const DeviceLostError& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 4;
+    } catch (const Error& e) {
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "tridex: out of memory; lower workpiece.resolution\n");
+        return 3;
+    }
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,402 @@
+// app/scene/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
+#include "app/scene/session_spec.hpp"
+
+#include "devices/mouse_device.hpp"
+#include "devices/tracking/tracked_tool_device.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include "core/crc32.hpp"
+#include "app/scene/tool_mesh.hpp"
+#include "core/error.hpp"
+#include "devices/net/net_device.hpp"
+#include "core/format.hpp"
+#include "app/input/glfw_device_host.hpp"
+#include "devices/device_profiles.hpp"
+#include "devices/registry/device_registry.hpp"
+#include "haptics/tool_points.hpp"
+#include "haptics/workspace_mapping.hpp"
+
+namespace tridex::app {
+
+const devices::DriverCapabilities& driver_caps(const std::string& driver) {
+    return devices::builtin_registry().info(driver).caps;
+}
+
+std::uint32_t engage_mask_for(const std::string& driver) {
+    const int button = driver_caps(driver).engage_button;
+    return button >= 0 && button < 32 ? 1u << button : 0u;
+}
+
+devices::DeviceProfile device_profile(const std::string& name) {
+    try {
+        return devices::profile_by_name(name);
+    } catch (const Error&) {
+        throw Error("--device: unknown device '" + name + "'; use omni, wand, 6dof, falcon, falcon-emulator or net:HOST:PORT");
+    }
+}
+
+std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const devices::DeviceInputs& inputs) {
+    devices::DeviceSpec d;
+    d.driver = s.device_driver;
+    d.profile = s.device;
+    d.serial = s.device_serial;
+    devices::DeviceInputs in = inputs;
+    if (!s.device_firmware.empty()) in.firmware = s.device_firmware;
+    if (!in.host) in.host = &glfw_device_host();  // the window system's input (game controllers)
+    in.haptic_rendering = s.haptic_rendering;
+    return devices::builtin_registry().create(d, in);
+}
+
+void configure_net_device(devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg) {
+    auto* net = dynamic_cast<devices::net::NetDevice*>(&device);
+    if (!net || net->mode() != devices::net::RenderingMode::kLocal) return;
+    devices::net::ContactMsg c;
+    c.stiffness_n_per_m = cfg.contact.stiffness_n_per_m;
+    c.damping_n_s_per_m = cfg.contact.damping_n_s_per_m;
+    c.tool_radius_m = cfg.contact.tool_radius_m;
+    c.static_friction = cfg.contact.static_friction;
+    c.dynamic_friction = cfg.contact.dynamic_friction;
+    c.ewma_alpha = cfg.ewma_alpha;
+    c.device_to_world = cfg.device_to_world;
+    c.workspace_scale = cfg.workspace_scale;
+    const haptics::WorkspaceConfig& w = cfg.workspace;
+    c.workspace_mode = static_cast<std::uint8_t>(w.mode);
+    c.button_mask = w.button_mask;
+    c.jump_gain = w.jump_gain;
+    c.drag_gain = w.drag_gain;
+    c.bubble_radius_m = w.bubble_radius_m;
+    c.bubble_rate_m_s = w.bubble_rate_m_s;
+    c.bubble_rate_exponent = w.bubble_rate_exponent;
+    c.bubble_stiffness_n_per_m = w.bubble_stiffness_n_per_m;
+    // The same contact points as this session's own loop would render with.
+    static_assert(devices::net::kMaxContactPoints == haptics::kMaxToolPoints);
+    const haptics::ToolPoints& tp = cfg.tool_points;
+    c.point_count = static_cast<std::uint8_t>(std::clamp(tp.count, 0, haptics::kMaxToolPoints));
+    c.point_radius_m = tp.radius_m;
+    c.point_local_m = tp.local_m;
+    c.point_normal = tp.normal;
+    net->set_contact(c);
+}
+
+ToolOp parse_tool_op(const std::string& name) {
+    if (name == "subtract") return ToolOp::kSubtract;
+    if (name == "union") return ToolOp::kUnion;
+    if (name == "paint") return ToolOp::kPaint;
+    if (name == "push") return ToolOp::kPush;
+    if (name == "smooth") return ToolOp::kSmooth;
+    if (name == "pull") return ToolOp::kPull;
+    if (name == "none") return ToolOp::kNone;
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth, pull or none");
+}
+
+namespace {
+
+double bounding_radius_m(const TriMesh& m) {
+    double r = 0.0;
+    for (const Vec3& p : m.positions) r = std::max(r, glm::length(p));
+    return r;
+}
+
+}  // namespace
+
+void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const std::string& what) {
+    try {
+        const std::string abs = std::filesystem::absolute(path).lexically_normal().string();
+        const std::shared_ptr<const compute::MeshTool> tool = make_session_mesh_tool(abs, size_m);
+        s.tool = ToolShape{ToolKind::kMesh, tool->bounding_radius_m(), 0.0, 0};
+        s.tool_mesh_path = abs;  // a recording replays from any folder
+        s.tool_size_m = size_m;
+        std::tie(s.tool_mesh_crc32, s.tool_mesh_bytes) = file_crc32(abs);
+    } catch (const Error& e) {
+        throw Error(what + ": " + e.what());
+    }
+}
+
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m) {
+    if (s.material < 1 || s.material > 7)
+        throw Error("--material: must be a palette id between 1 and 7, got " + std::to_string(s.material));
+    // The scene's range for the same coefficients (haptics.static_friction, [0, 10]).
+    if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction &&
+          s.static_friction <= 10.0))
+        throw Error("--friction: need 0 <= dynamic <= static <= 10, got static " + format_number(s.static_friction) +
+                    ", dynamic " + format_number(s.dynamic_friction));
+    std::shared_ptr<const compute::MeshTool> loaded;  // kMesh without a mesh given: its file, loaded again
+    ToolShape tool = s.tool;
+    if (s.tool.kind == ToolKind::kMesh) {
+        if (!tool_mesh_m) {
+            if (s.tool_mesh_path.empty()) throw Error("tool.mesh: a mesh tool needs its mesh file");
+            loaded = make_session_mesh_tool(s.tool_mesh_path, s.tool_size_m);
+            tool_mesh_m = &loaded->mesh();
+        }
+        tool.radius_m = bounding_radius_m(*tool_mesh_m);
+        tool.length_m = 0.0;
+        tool.mesh_id = 0;
+    }
+    haptics::HapticLoopConfig cfg;
+    cfg.period_s = s.period_s;
+    cfg.contact.stiffness_n_per_m = s.stiffness_n_per_m;
+    cfg.contact.damping_n_s_per_m = s.damping_n_s_per_m;
+    cfg.contact.tool_radius_m = tool.radius_m;
+    cfg.contact.static_friction = s.static_friction;
+    cfg.contact.dynamic_friction = s.dynamic_friction;
+    cfg.contact.cutting = s.cutting && parse_tool_op(s.op) == ToolOp::kSubtract;  // only removal resists
+    if (!s.materials.empty()) {
+        auto table = std::make_shared<haptics::MaterialTable>(haptics::Material{
+            s.stiffness_n_per_m, s.damping_n_s_per_m, s.static_friction, s.dynamic_friction});
+        for (std::size_t i = 0; i < s.materials.size(); ++i) {
+            const MaterialEntry& m = s.materials[i];
+            const std::string where = "materials[" + std::to_string(i) + "]";
+            if (m.id < 0 || m.id > 255) throw Error(where + ".id: must be 0..255, got " + std::to_string(m.id));
+            table->set(m.id, m.material);
+        }
+        cfg.contact.materials = std::move(table);
+    }
+    cfg.device_to_world.position = s.device_origin_m;
+    cfg.workspace_scale = s.workspace_scale;
+    cfg.workspace.mode = haptics::parse_workspace_mode(s.workspace_mode);
+    cfg.op = parse_tool_op(s.op);
+    cfg.engage_mask = engage_mask_for(s.device_driver);  // carve while the left button or the trigger is held
+    cfg.material = static_cast<std::uint8_t>(s.material);
+    cfg.max_ticks = max_ticks;
+    cfg.tool = tool;
+    cfg.tool_points = haptics::tool_points_for(tool, s.points, "tool", tool_mesh_m);
+    cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
+                                                 : haptics::MultiPointMode::kIndependentProxies;
+    cfg.elastic_objects = s.elastic_objects;
+    return cfg;
+}
+
+namespace {
+
+using nlohmann::json;
+
+json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+void validate_spec(const SessionSpec& s, const std::string& source) {
+    auto fail = [&](const std::string& field, const std::string& rule, const std::string& got) {
+        throw Error(source + ": settings field '" + field + "': " + rule + ", got " + got);
+    };
+    auto range = [&](const std::string& field, double v, double lo, double hi, bool lo_open = false) {
+        if (!std::isfinite(v) || v > hi || (lo_open ? v <= lo : v < lo))
+            fail(field, "must be in " + std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + "]", format_number(v));
+    };
+    auto point = [&](const std::string& field, const Vec3& p) {
+        for (int a = 0; a < 3; ++a) range(field + "[" + std::to_string(a) + "]", p[a], -1e3, 1e3);
+    };
+    if (s.resolution < 8 || s.resolution > 4096) fail("resolution", "must be between 8 and 4096", std::to_string(s.resolution));
+    range("stock_m", s.stock_m, 1e-3, 100.0);
+    point("workpiece_centre_m", s.workpiece_centre_m);
+    point("device_origin_m", s.device_origin_m);
+    if (s.tool.kind == ToolKind::kMesh) {
+        range("tool.size_m", s.tool_size_m, 1e-3, 0.25 * s.stock_m);
+        range("tool.radius_m", s.tool.radius_m, 5e-4, s.stock_m);
+        if (s.tool_mesh_path.empty()) fail("tool.mesh", "a mesh tool needs its mesh file", "none");
+    } else {
+        range("tool.radius_m", s.tool.radius_m, 5e-4, 0.25 * s.stock_m);
+    }
+    if (s.tool.kind == ToolKind::kFlatEnd) range("tool.length_m", s.tool.length_m, 5e-4, s.stock_m);
+    if (s.points < 1 || s.points > 64) fail("points", "must be between 1 and 64", std::to_string(s.points));
+    try {
+        (void)devices::profile_by_name(s.device);
+    } catch (const Error&) {
+        fail("device", "must be omni, wand, 6dof, falcon or tracked", "'" + s.device + "'");
+    }
+    range("workspace_scale", s.workspace_scale, 0.0, 100.0, true);
+    range("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);
+    range("damping_n_s_per_m", s.damping_n_s_per_m, 0.0, 1e3);
+    range("static_friction", s.static_friction, 0.0, 10.0);
+    range("dynamic_friction", s.dynamic_friction, 0.0, s.static_friction);
+    range("period_s", s.period_s, 1e-4, 1e-2);
+    if (s.history_budget_bytes < (std::size_t{1} << 20) || s.history_budget_bytes > (std::size_t{1} << 40))
+        fail("history_budget_bytes", "must be between 1 MiB and 1 TiB", std::to_string(s.history_budget_bytes));
+    try {
+        (void)parse_tool_op(s.op);
+        (void)haptics::parse_workspace_mode(s.workspace_mode);
+        const haptics::HapticLoopConfig cfg = loop_config(s, 0);  // points for the tool (its mesh), materials, material id
+        if (s.tool.kind == ToolKind::kMesh && std::abs(cfg.tool.radius_m - s.tool.radius_m) > 1e-9 * s.tool.radius_m)
+            throw Error("tool.radius_m: " + format_number(s.tool.radius_m) + " m is not the tool mesh's bounding radius " +
+                        format_number(cfg.tool.radius_m) + " m");
+    } catch (const Error& e) {
+        throw Error(source + ": settings: " + e.what());
+    }
+}
+
+std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Error(path + ": cannot read");
+    std::uint32_t crc = 0;
+    std::uint64_t bytes = 0;
+    char buf[1 << 16];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+        crc = crc32_ieee(buf, n, crc);
+        bytes += n;
+    }
+    const bool bad = std::ferror(f) != 0;
+    std::fclose(f);
+    if (bad) throw Error(path + ": cannot read");
+    return {crc, bytes};
+}
+
+std::string spec_to_json(const SessionSpec& s) {
+    json materials = json::array();
+    for (const MaterialEntry& m : s.materials)
+        materials.push_back({{"id", m.id},
+                             {"stiffness_n_per_m", m.material.stiffness_n_per_m},
+                             {"damping_n_s_per_m", m.material.damping_n_s_per_m},
+                             {"static_friction", m.material.static_friction},
+                             {"dynamic_friction", m.material.dynamic_friction}});
+    json tool{{"shape", to_string(s.tool.kind)}, {"radius_m", s.tool.radius_m}, {"length_m", s.tool.length_m}};
+    if (s.tool.kind == ToolKind::kMesh) {
+        tool["mesh"] = s.tool_mesh_path;
+        tool["size_m"] = s.tool_size_m;
+        tool["mesh_crc32"] = s.tool_mesh_crc32;
+        tool["mesh_bytes"] = s.tool_mesh_bytes;
+    }
+    json elastic = json::array();
+    for (const haptics::ElasticSphere& e : s.elastic_objects)
+        elastic.push_back({{"centre_m", vec(e.centre_m)},
+                           {"radius_m", e.radius_m},
+                           {"stiffness_n_per_m", e.stiffness_n_per_m},
+                           {"influence_radius_m", e.influence_m}});
+    json j{{"mesh_path", s.mesh_path},
+                 {"mesh_crc32", s.mesh_crc32},
+                 {"mesh_bytes", s.mesh_bytes},
+                 {"model_path", s.model_path},
+                 {"model_crc32", s.model_crc32},
+                 {"model_bytes", s.model_bytes},
+                 {"study_model", s.study_model},
+                 {"resolution", s.resolution},
+                 {"stock_m", s.stock_m},
+                 {"workpiece_centre_m", vec(s.workpiece_centre_m)},
+                 {"tool", tool},
+                 {"points", s.points},
+                 {"device_driver", s.device_driver},
+                 {"device", s.device},
+                 {"workspace_mode", s.workspace_mode},
+                 {"workspace_scale", s.workspace_scale},
+                 {"device_origin_m", vec(s.device_origin_m)},
+                 {"stiffness_n_per_m", s.stiffness_n_per_m},
+                 {"damping_n_s_per_m", s.damping_n_s_per_m},
+                 {"static_friction", s.static_friction},
+                 {"dynamic_friction", s.dynamic_friction},
+                 {"cutting", s.cutting},
+                 {"op", s.op},
+                 {"material", s.material},
+                 {"materials", materials},
+                 {"period_s", s.period_s},
+                 {"history_budget_bytes", s.history_budget_bytes}};
+    if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
+    return j.dump();
+}
+
+SessionSpec spec_from_json(const std::string& text, const std::string& source) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw Error(source + ": settings are not JSON: " + e.what());
+    }
+    if (!j.is_object()) throw Error(source + ": settings must be a JSON object");
+    auto field = [&](const json& o, const std::string& name) -> const json& {
+        if (!o.is_object() || !o.contains(name)) throw Error(source + ": settings field '" + name + "' is missing");
+        return o.at(name);
+    };
+    auto get = [&](const json& o, const std::string& name, auto& out) {
+        try {
+            field(o, name).get_to(out);
+        } catch (const json::exception&) {
+            throw Error(source + ": settings field '" + name + "' has the wrong type");
+        }
+    };
+    auto get_vec_of = [&](const json& o, const char* name, Vec3& out) {
+        const auto& a = field(o, name);
+        if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+            throw Error(source + ": settings field '" + name + "' must be [x, y, z]");
+        out = Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+    };
+    auto get_vec = [&](const char* name, Vec3& out) { get_vec_of(j, name, out); };
+    SessionSpec s;
+    get(j, "mesh_path", s.mesh_path);
+    get(j, "resolution", s.resolution);
+    get(j, "stock_m", s.stock_m);
+    get_vec("workpiece_centre_m", s.workpiece_centre_m);
+    if (j.contains("tool")) {
+        const json& t = j.at("tool");
+        std::string shape;
+        get(t, "shape", shape);
+        s.tool.kind = parse_tool_kind(shape, source + ": settings field 'tool.shape'");
+        get(t, "radius_m", s.tool.radius_m);
+        get(t, "length_m", s.tool.length_m);
+        if (s.tool.kind == ToolKind::kMesh) {
+            get(t, "mesh", s.tool_mesh_path);
+            get(t, "size_m", s.tool_size_m);
+            get(t, "mesh_crc32", s.tool_mesh_crc32);
+            get(t, "mesh_bytes", s.tool_mesh_bytes);
+        }
+    } else {  // recordings made before tool shapes: a ball
+        s.tool = ToolShape{ToolKind::kBall, 0.0, 0.0, 0};
+        get(j, "tool_radius_m", s.tool.radius_m);
+    }
+    get(j, "points", s.points);
+    get(j, "device", s.device);
+    get(j, "workspace_mode", s.workspace_mode);
+    get(j, "workspace_scale", s.workspace_scale);
+    get_vec("device_origin_m", s.device_origin_m);
+    get(j, "stiffness_n_per_m", s.stiffness_n_per_m);
+    get(j, "damping_n_s_per_m", s.damping_n_s_per_m);
+    get(j, "static_friction", s.static_friction);
+    get(j, "dynamic_friction", s.dynamic_friction);
+    get(j, "cutting", s.cutting);
+    get(j, "period_s", s.period_s);
+    // Added later: recordings made before them sculpted with subtract, one material, the simulated driver.
+    if (j.contains("op")) get(j, "op", s.op);
+    if (j.contains("material")) get(j, "material", s.material);
+    if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
+    if (j.contains("history_budget_bytes")) get(j, "history_budget_bytes", s.history_budget_bytes);
+    if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
+    if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
+    if (j.contains("model_path")) get(j, "model_path", s.model_path);
+    if (j.contains("model_crc32")) get(j, "model_crc32", s.model_crc32);
+    if (j.contains("model_bytes")) get(j, "model_bytes", s.model_bytes);
+    if (j.contains("study_model")) get(j, "study_model", s.study_model);
+    if (j.contains("materials")) {
+        const json& ms = j.at("materials");
+        if (!ms.is_array()) throw Error(source + ": settings field 'materials' must be an array");
+        for (const json& m : ms) {
+            MaterialEntry e;
+            get(m, "id", e.id);
+            get(m, "stiffness_n_per_m", e.material.stiffness_n_per_m);
+            get(m, "damping_n_s_per_m", e.material.damping_n_s_per_m);
+            get(m, "static_friction", e.material.static_friction);
+            get(m, "dynamic_friction", e.material.dynamic_friction);
+            s.materials.push_back(e);
+        }
+    }
+    if (j.contains("elastic_objects")) {
+        const json& es = j.at("elastic_objects");
+        if (!es.is_array()) throw Error(source + ": settings field 'elastic_objects' must be an array");
+        for (std::size_t i = 0; i < es.size(); ++i) {
+            haptics::ElasticSphere e;
+            get_vec_of(es[i], "centre_m", e.centre_m);
+            get(es[i], "radius_m", e.radius_m);
+            get(es[i], "stiffness_n_per_m", e.stiffness_n_per_m);
+            get(es[i], "influence_radius_m", e.influence_m);
+            haptics::validate(e, source + ": settings field 'elastic_objects[" + std::to_string(i) + "]'");
+            s.elastic_objects.push_back(e);
+        }
+    }
+    return s;
+}
+
+}  // namespace tridex::app

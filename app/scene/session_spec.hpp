@@ -1,0 +1,160 @@
+// app/scene/session_spec.hpp - everything that decides a session's result, one type for every session: the
+// demo's flags and a scene file fill it, a recording carries it, and a replay rebuilds the same session.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/math.hpp"
+#include "core/tool_shape.hpp"
+#include "core/tri_mesh.hpp"
+#include "devices/registry/device_registry.hpp"
+#include "devices/haptic_device.hpp"
+#include "haptics/haptic_loop.hpp"
+#include "haptics/materials.hpp"
+
+namespace tridex::app {
+
+/// One entry of a session's materials table: the contact parameters of a material id.
+struct MaterialEntry {
+    int id = 0;              ///< material id 0..255 (0 = the workpiece's own material; 1..7 the palette)
+    haptics::Material material;
+};
+
+/// Workpiece, tool, device and haptics settings of one session (SI units). The same spec always gives the
+/// same haptic loop configuration (loop_config) and, with the same device samples, the same model.
+struct SessionSpec {
+    std::string mesh_path;                   ///< workpiece file (absolute when recorded)
+    /// CRC-32 (IEEE) and size of the workpiece file's bytes, so a replay refuses a mesh that changed; 0 = not known
+    /// (recordings made before it was stored).
+    std::uint32_t mesh_crc32 = 0;
+    std::uint64_t mesh_bytes = 0;
+    /// A saved model (.tdx, compute/model/tdx_file.hpp) the session starts from instead of the mesh (absolute when
+    /// recorded); empty = scan-convert mesh_path. With a model, resolution, stock_m and workpiece_centre_m are the
+    /// model's (set by prepare_session_workpiece) and mesh_path is unused.
+    std::string model_path;
+    /// CRC-32 (IEEE) and size of the model file, so a replay refuses a model that changed; 0 = not known.
+    std::uint32_t model_crc32 = 0;
+    std::uint64_t model_bytes = 0;
+    /// A training-study model ("haptic_training" | "visual_training" | "test") whose felt walls
+    /// (app/scene/study_walls.hpp) are the workpiece, built from the study scene file mesh_path (absolute when
+    /// recorded, its CRC-32 in mesh_crc32); "" = a mesh or saved-model workpiece.
+    std::string study_model;
+    int resolution = 256;                    ///< lattice cells along the longest side
+    double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
+    Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m
+    /// The tool that cuts and touches (core/tool_shape.hpp). kMesh: radius_m is the placed mesh's bounding
+    /// radius about its tip (set_tool_mesh), mesh_id 0 (the session's one mesh tool).
+    ToolShape tool{ToolKind::kBall, 0.008, 0.0, 0};
+    /// kMesh: the tool's closed mesh file (absolute when recorded), placed by app/scene/tool_mesh.hpp load_tool_mesh
+    /// (tip at the tool origin, +y the axis) with the longest side of its bounding box tool_size_m (m); the
+    /// CRC-32 (IEEE) and size of the file's bytes, so a replay refuses a tool mesh that changed (0 = not known).
+    std::string tool_mesh_path;
+    double tool_size_m = 0.0;
+    std::uint32_t tool_mesh_crc32 = 0;
+    std::uint64_t tool_mesh_bytes = 0;
+    /// Contact points over the tool (haptics::tool_points_for): ball 1 = its centre god-object, 3..64 an
+    /// interaction mesh; flat_end 1 = 32 points over it, 2 = the wand's two ends, 8..64 points over it; mesh
+    /// 1 = 32 points over its surface, 8..64 that many.
+    int points = 1;
+    std::string device_driver = "simulated"; ///< device driver by registry name (simulated; replay when replaying)
+    std::string device = "omni";             ///< device profile: omni | wand | 6dof | falcon
+    /// falcon: the firmware file from the user's own installation (--falcon-firmware, a scene's device.firmware).
+    /// Where the firmware comes from does not decide the result, so it is not part of the spec's JSON.
+    std::string device_firmware;
+    /// net: the device server's "HOST:PORT" (not part of the spec's JSON: where a device is served does not decide the
+    /// result). Other drivers: the unit ("" = the first found).
+    std::string device_serial;
+    /// net: where the contact loop runs, "distributed" or "local" (devices/net/net_device.hpp).
+    std::string haptic_rendering = "distributed";
+    std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
+    double workspace_scale = 1.0;            ///< device -> world gain
+    /// World position of the device frame's origin, m (the loop's device_to_world.position). Sessions put
+    /// the device's home (devices::home_position_m, its workspace centre) on the stroke's centre, so this is
+    /// centre - workspace_scale * home; = the workspace centre for a device whose workspace is centred.
+    Vec3 device_origin_m{0.0};
+    double stiffness_n_per_m = 700.0;        ///< contact stiffness kp, N/m (0.7 N/mm, Omni-class)
+    double damping_n_s_per_m = 0.5;          ///< contact damping kd, N*s/m
+    double static_friction = 0.2;            ///< Coulomb static coefficient on the proxy
+    double dynamic_friction = 0.15;          ///< Coulomb dynamic coefficient (<= static)
+    bool cutting = true;                     ///< reaction force against the tool's advance while carving
+    double period_s = 1e-3;                  ///< haptic loop period, s
+    std::string op = "subtract";             ///< what the tool does: subtract | union | paint | push | smooth
+    int material = 1;                        ///< material id union adds and paint sets (1..7, the palette); cuts expose 0
+    /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
+    /// one material everywhere.
+    std::vector<MaterialEntry> materials;
+    /// Elastic (and rigid) spheres felt beside the workpiece (haptics::HapticLoopConfig::elastic_objects; a scene's
+    /// "objects"); empty = none.
+    std::vector<haptics::ElasticSphere> elastic_objects;
+    /// Memory the undo history may keep, bytes (compute::UndoHistory; oldest strokes dropped first). It does not
+    /// change the model, but a journal replays its undos with it.
+    std::size_t history_budget_bytes = std::size_t{256} << 20;
+};
+
+/// The ToolOp named by `name` (subtract, union, paint, push, smooth, pull, or none: the tool touches but never changes
+/// the model); throws tridex::Error listing the names.
+ToolOp parse_tool_op(const std::string& name);
+
+/// The device profile named by `name` (omni, wand, 6dof); throws tridex::Error listing the names.
+devices::DeviceProfile device_profile(const std::string& name);
+
+/// The session's device, made by the device registry (devices::builtin_registry) from device_driver and the
+/// profile `device`, with `inputs` (the loop period; the simulated hand's path or the replayed samples). The
+/// device is closed: SessionRuntime opens and homes it. Throws tridex::Error naming device.driver or
+/// device.profile when the registry refuses them.
+std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const devices::DeviceInputs& inputs);
+
+/// A net device in local haptic rendering gets the loop's contact parameters and workspace mapping (the device
+/// server's god-object loop renders with them); any other device is left alone. Call before the loop starts.
+void configure_net_device(devices::HapticDevice& device, const haptics::HapticLoopConfig& cfg);
+
+/// The haptic loop configuration for this spec, with `max_ticks` records preallocated: contact from the
+/// stiffness, damping and friction (and the materials table when given), the tool and its contact points
+/// (haptics::tool_points_for; the interaction-mesh mode for more than two points), op and material. The
+/// same spec always gives the same configuration. Throws tridex::Error naming the field on an impossible
+/// value (points for the tool, friction order, unknown workspace mode, unknown op, material outside 1..7, a
+/// materials entry out of range).
+/// A kMesh tool's contact points come from `tool_mesh_m` (its mesh in the tool frame, m; SessionRuntime passes
+/// the one it sweeps) or, when null, from tool_mesh_path loaded again; cfg.tool.radius_m is then that mesh's
+/// bounding radius.
+haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
+
+/// The button bits that engage the tool for a device driver, from its capabilities (DriverCapabilities::
+/// engage_button: the desk mouse's left button, a Flystick's trigger); 0 (always engaged) for drivers without one.
+/// Throws tridex::Error "device.driver: unknown driver ..." for a driver the registry does not have.
+std::uint32_t engage_mask_for(const std::string& driver);
+
+/// The registered capabilities of `driver` (devices::builtin_registry); throws tridex::Error "device.driver:
+/// unknown driver ..." for a name the registry does not have.
+const devices::DriverCapabilities& driver_caps(const std::string& driver);
+
+/// Makes `s` use the closed mesh tool in `path` scaled to `size_m` (m): kind kMesh, the absolute path, the size,
+/// radius_m = the placed mesh's bounding radius, mesh_id 0, and the file's CRC-32 and byte count. `what` names
+/// the setting in messages ("<scene>: field 'tool.mesh'", "--tool-mesh"). Throws tridex::Error "<what>: <path>:
+/// ..." for a file that cannot be read or is not a closed mesh (app/scene/tool_mesh.hpp).
+void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const std::string& what);
+
+/// Checks every field against the ranges a session accepts (what the demo's flags and a scene allow), so that a
+/// spec read from a file (a recording) is as trustworthy as one typed: resolution 8..4096, stock (1 mm..100 m],
+/// finite centres within 1 km, the tool's radius 0.5 mm..a quarter of the stock and a flat end's length 0.5 mm..the
+/// stock, a mesh tool's size 1 mm..a quarter of the stock and a readable closed mesh whose bounding radius is
+/// tool.radius_m, points 1..64, a known device and profile, workspace scale (0, 100], stiffness (0, 1e5] N/m, damping
+/// [0, 1e3] N*s/m, friction 0 <= dynamic <= static <= 10, period [1e-4, 1e-2] s, op and material. Throws
+/// tridex::Error "<source>: settings field '<name>': <rule>, got <value>".
+void validate_spec(const SessionSpec& s, const std::string& source);
+
+/// CRC-32 (IEEE) and byte count of a file; throws tridex::Error "<path>: cannot read" when it cannot.
+std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
+
+/// The spec as one line of JSON (for a recording's header notes).
+std::string spec_to_json(const SessionSpec& s);
+
+/// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
+/// materials); throws tridex::Error "<source>: settings field '<name>': ..." on a missing or ill-typed field.
+SessionSpec spec_from_json(const std::string& text, const std::string& source);
+
+}  // namespace tridex::app

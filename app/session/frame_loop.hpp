@@ -1,0 +1,41 @@
+// app/session/frame_loop.hpp - the one frame loop every session is driven by: input, the end of the session, and
+// the frame drawn through the session's sink, at the display's rate.
+#pragma once
+
+#include <cstdint>
+
+namespace tridex::app {
+
+/// The steps of one frame of a session, called in order by run_frames. A session implements them once; a window,
+/// fullscreen, the wall and offscreen differ only in the stereo sink draw() sends the frame to, and a session whose
+/// picture is rendered once from the final model (demo, replay: the end-only offscreen sink) draws nothing per frame.
+class FrameSteps {
+public:
+    virtual ~FrameSteps() = default;
+    /// This frame's input: window events, scripted keys, the device's main-thread poll (HapticDevice::
+    /// poll_on_main_thread). Returns false when the person ended the session (Esc, the window closed): the loop
+    /// then ends without drawing this frame.
+    virtual bool take_input() = 0;
+    /// Whether frame `frame` (0-based) is the session's last; it is still drawn. The implementation records why.
+    virtual bool last_frame(std::uint64_t frame) = 0;
+    /// Draws frame `frame` through the session's sink (or nothing, for the end-only sink).
+    virtual void draw(std::uint64_t frame) = 0;
+};
+
+/// How run_frames paces frames.
+struct FramePacing {
+    /// Seconds from one frame's start to the next's (> 0 when `sleep`); the display's refresh period times its
+    /// presents per frame, or the end-only sink's polling period.
+    double period_s = 1.0 / 60.0;
+    /// Sleep until the next frame's start: offscreen and end-only sinks (a window's present waits for the display
+    /// instead).
+    bool sleep = true;
+};
+
+/// Drives `steps` frame by frame on the calling thread (a window's events and GLFW need the main thread) until
+/// take_input() returns false or the frame last_frame() named has been drawn. Frame f starts at f * period_s after
+/// the first when pacing sleeps (late frames are not made up: the next starts at once). Returns the frames drawn.
+/// Exceptions from the steps propagate.
+std::uint64_t run_frames(FrameSteps& steps, const FramePacing& pacing);
+
+}  // namespace tridex::app

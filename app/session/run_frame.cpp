@@ -1,0 +1,228 @@
+// app/session/run_frame.cpp - `tridex run`: the frame loop of a run session: input, the end of the run, what a frame draws,
+// and drawing it through the stereo sink.
+#include "app/session/run_pipeline_parts.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using run_detail::kForceMetresPerNewton;
+using run_detail::ms_between;
+using run_detail::seconds_since;
+
+// How often the stylus's pick surface is read back from the GPU contour at most, s.
+constexpr double kPickRefreshS = 0.1;
+
+// The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept.
+std::string saving_lines(const SaveStatus& s) {
+    std::string out;
+    auto line = [&out](const std::string& l) { out += (out.empty() ? "" : "\n") + l; };
+    if (!s.journal_error.empty()) line("NOT BEING SAVED: journal stopped: " + s.journal_error);
+    if (!s.checkpoint_error.empty()) line("checkpoints stopped: " + s.checkpoint_error);
+    if (!s.message.empty()) line(s.ok ? s.message : "save failed: " + s.message);
+    return out;
+}
+
+}  // namespace
+
+// Window events, the scene's scripted keys (at their device times, through the same handler as a window's), the
+// requests they made of the sculpt thread, and the toggles of the eyes and ambient occlusion; false once Esc or the
+// window's close button ended the session.
+bool RunPipeline::Parts::take_input() {
+    SessionRuntime& rt = backend->runtime();
+    if (window) {
+        window->poll_events();
+        renderer::InputEvent e;
+        while (window->input().pop(e)) input->handle(e);
+    }
+    // Devices whose input API runs on this thread poll it; a press of the device's operation button switches ops.
+    (void)rt.poll_device_frame();
+    for (const double t_dev = rt.latest_view().t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
+         ++next_key)
+        for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input->handle(e);
+    for (const SculptRequest q : input->take_requests()) {
+        if (rt.request(q)) {
+            ++r.requests_sent;
+            if (q == SculptRequest::kSave) ++r.save_requests_sent;
+        } else {
+            r.notes.push_back("a key's request was dropped: the sculpt thread's queue was full");
+        }
+    }
+    if (window) {
+        for (int k = input->take_swap_toggles(); k > 0; --k) swap = !swap;
+        for (int k = input->take_occlusion_toggles(); k > 0; --k) ao = !ao;
+        sink->set_swap_eyes(swap);
+    }
+    const SaveStatus saving = rt.save_status();
+    if (!saving.journal_error.empty() && !journal_warned) {
+        journal_warned = true;
+        std::fprintf(stderr, "tridex: this session is no longer being saved: journal: %s; the model stays in memory "
+                             "(Ctrl+S or --save writes it elsewhere)\n", saving.journal_error.c_str());
+    }
+    return !(window && (window->should_close() || input->close_requested()));
+}
+
+// True when this frame is the last one; `ended` then says why.
+bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
+    const double t = seconds_since(t_render);
+    const bool unlimited = su.frames == 0 && su.seconds == 0.0;
+    if (su.frames > 0 && frame + 1 >= static_cast<std::uint64_t>(su.frames))
+        ended = "--frames " + std::to_string(su.frames) + " rendered";
+    else if (su.seconds > 0.0 && t >= su.seconds)
+        ended = "--seconds " + format_number(su.seconds) + " passed";
+    else if (offscreen && unlimited && backend->stroke_done())
+        ended = "the stroke ended";
+    else if (offscreen && unlimited && script_end_s > 0.0 && backend->runtime().latest_view().t_s >= script_end_s)
+        ended = "the scripted cursor ended";
+    else if (study_view && scene.study.end_at_end_cap && study_view->trial_done())
+        ended = "the wand reached the end cap";
+    else if (stop_requested())
+        ended = std::string(stop_signal_name()) + " received";
+    else if (backend->runtime().loop_stats().device_lost)
+        ended = "the device was lost";
+    else if (safety_s > 0.0 && offscreen && unlimited && t >= safety_s)
+        ended = "the wall-time safety net (" + format_number(safety_s) + " s) stopped the run";
+    else
+        return false;
+    return true;
+}
+
+// What this frame draws: the newest mesh (or GPU contour), the tool, the workspace, the study's and the scene's
+// objects, and the overlay.
+renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const haptics::LoopView& lv,
+                                                   const SaveStatus& saving) {
+    SessionRuntime& rt = backend->runtime();
+    tile_view_of(mesh.tiles, mesh.groups, su.lod, tiles);
+    // The tool the loop uses now (its size changes with [ and ] at the desk).
+    const ToolShape tool_now = lv.tool.radius_m > 0.0 ? lv.tool : scene.spec.tool;
+    renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, tool_now.radius_m,
+                                               backend->start_tool_m(), backend->start_box_m());
+    view.tool_shape = tool_now;
+    view.tool_mesh = rt.tool_mesh();
+    view.tool_orientation = lv.tool_world.orientation;
+    if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
+    view.tiles = tiles.tiles;
+    view.tile_groups = tiles.groups;
+    view.lod = su.lod;
+    if (gpu_contour) view.indirect_workpiece = &indirect;
+    view.cull_tiles = su.cull;
+    view.occlusion_strength = ao ? 1.0 : 0.0;
+    if (study_view) {
+        view.workpiece = nullptr;
+        view.tiles = {};
+        view.indirect_workpiece = nullptr;
+        view.objects = study_view->frame(lv);
+    }
+    if (elastic_view) {
+        const std::vector<renderer::SceneObject>& o = elastic_view->frame(lv);
+        frame_objects.assign(view.objects.begin(), view.objects.end());
+        frame_objects.insert(frame_objects.end(), o.begin(), o.end());
+        view.objects = frame_objects;
+    }
+    if (su.items) {
+        if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
+        sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(), mesh.sculpt_steps);
+        // The proxy of a mesh tool's tip: a marker a tenth of the tool's size, not its bounding sphere.
+        const double proxy_r = scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : tool_now.radius_m;
+        std::string status = saving_lines(saving);
+        if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
+        if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
+        add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
+                      RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status});
+    }
+    return view;
+}
+
+// Moves the wand's navigation and the mouse stylus to this frame, then draws and presents it through the sink.
+void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, const haptics::LoopView& lv,
+                                 renderer::SceneView& view, std::unique_lock<std::mutex>& contour_lock) {
+    const double t = seconds_since(t_render);
+    if (wand) {
+        wand_nav->update(wand->sample(), t - wand_prev_t, nav);
+        wand_prev_t = t;
+    }
+    // A head the eyes cannot be drawn from (a tracker glitch: at or behind the screen, or not finite) holds the last
+    // good head pose for this frame, counted, instead of ending the session.
+    const Pose head_pose = head->head_at(t);
+    RunCamera cam = navigated_camera(dc.screen, head_pose, dc.eye_separation_m, nav);
+    if (eyes_see_screen(cam)) {
+        last_good_head = head_pose;
+    } else {
+        ++head_frames_held;
+        cam = navigated_camera(dc.screen, last_good_head.value_or(scene.head_pose), dc.eye_separation_m, nav);
+    }
+    const auto t0 = Clock::now();
+    if (mouse_stylus) {
+        if (!window) mouse_stylus->apply_script(scene.cursor, lv.t_s);
+        // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
+        double w_px = eye_w, h_px = eye_h;
+        if (window) {
+            const VkExtent2D fb = window->framebuffer_size();
+            const auto [ow, oh] = renderer::output_size(dc.stereo, eye_w, eye_h);
+            w_px = static_cast<double>(fb.width) * eye_w / ow;
+            h_px = static_cast<double>(fb.height) * eye_h / oh;
+        }
+        if (gpu_contour) mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
+        else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
+    }
+    if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
+    prev_start = t0;
+    sink->draw(*rend, view, renderer::StereoCamera{cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m});
+    if (contour_lock) contour_lock.unlock();
+    r.presents += sink->present(*rend);
+    r.last_eye = sink->last_eye();
+    if (mouse_stylus) mouse_stylus->shown(lv, Clock::now());
+    prev_frame_ms = ms_between(t0, Clock::now());
+    r.frame_ms.add(prev_frame_ms);
+    r.gpu_ms.add(rend->last_gpu_ms());
+    for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
+    r.frames = frame + 1;
+}
+
+// One frame: the newest mesh (or the GPU contour, locked until the frame is drawn), the mouse stylus's pick surface,
+// the frame's view, and the frame drawn and presented through the sink.
+void RunPipeline::Parts::draw(std::uint64_t frame) {
+    SessionRuntime& rt = backend->runtime();
+    const SaveStatus saving = rt.save_status();
+    const MeshFrame& mesh = rt.latest_mesh();
+    if (mesh.version != r.last_mesh_version) {
+        ++r.mesh_versions_drawn;
+        r.last_mesh_version = mesh.version;
+    }
+    // The mouse stylus picks on the CPU: with the GPU contour (no CPU meshes published) the contour is read back
+    // when it changed, at most every kPickRefreshS, and not while the left button holds the surface anyway.
+    if (mouse_stylus && gpu_contour && !mouse_stylus->stylus().left()) {
+        const std::uint64_t updates = gpu_contour->updates();
+        if (!gpu_pick.whole || (updates != gpu_pick_updates && seconds_since(gpu_pick_at) >= kPickRefreshS)) {
+            gpu_pick.whole = std::make_shared<const TriMesh>(gpu_contour->download());
+            gpu_pick_updates = updates;
+            gpu_pick_at = Clock::now();
+            ++gpu_pick_reads;
+        }
+    }
+    // GPU contour: the buffers stay locked (the sculpt thread cannot re-contour) until the frame is done.
+    std::unique_lock<std::mutex> contour_lock;
+    if (gpu_contour) contour_lock = gpu_contour->lock_frame(indirect);
+    r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
+    r.tiled = mesh.tiled;
+    r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
+    const haptics::LoopView& lv = rt.latest_view();
+    renderer::SceneView view = frame_view(mesh, lv, saving);
+    present(frame, mesh, lv, view, contour_lock);
+}
+
+// 4. The session's frames, on this thread, through the one frame loop (run_frames) at the display's rate (offscreen:
+// paced unless --no-pace; a window's present waits for the display).
+void RunPipeline::Parts::frame_loop() {
+    swap = su.swap_eyes;
+    ao = su.ao;
+    r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
+    t_render = Clock::now();
+    if (dtrack) dtrack->set_session_origin(t_render);
+    run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
+    rend->finish();  // the frames still in flight
+    for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
+}
+
+
+}  // namespace tridex::app

@@ -1,0 +1,85 @@
+// app/session/run_options.hpp - the command-line options of `tridex run` (SI units; strings checked when the run starts).
+#pragma once
+
+#include <string>
+
+namespace tridex::app {
+
+/// Where a run shows its frames.
+enum class DisplayKind {
+    kWindow,      ///< [window] a GLFW window, vsync'd presentation
+    kFullscreen,  ///< [fullscreen] fullscreen on a chosen monitor, vsync'd presentation
+    kOffscreen,   ///< [offscreen] no window: the same passes, images and report written to --out
+};
+
+/// "window", "fullscreen" or "offscreen".
+const char* to_string(DisplayKind kind);
+/// Inverse of to_string; throws tridex::Error "--display: 'x' is not one of window, fullscreen, offscreen".
+DisplayKind parse_display_kind(const std::string& name);
+
+/// Options of `tridex run [SCENE]`. Empty strings and zero limits mean "as the scene says" / "no limit".
+struct RunOptions {
+    std::string scene;              ///< scene file (JSON, app/scene/run_scene.hpp); empty = assets/default_scene.json
+    std::string display = "window"; ///< window | fullscreen | offscreen
+    /// Device driver replacing the scene's (simulated, mouse, spacemouse, or net:HOST:PORT for a device served by
+    /// `tridex device-server`); empty = the scene's.
+    std::string device;
+    /// With a net device: distributed (this session renders the force) or local (the server renders contact next
+    /// to the device); empty = the scene's device.haptic_rendering (distributed).
+    std::string haptic_rendering;
+    std::string stereo;             ///< stereo output name (renderer parse_stereo_output); empty = the display config's
+    std::string monitor;            ///< fullscreen monitor: an index (digits) or part of its name; empty = primary
+    int frames = 0;                 ///< stop after this many stereo frames (>= 0; 0 = no frame limit)
+    std::string out = "out/run";    ///< output folder (created): report.json, and offscreen left/right/output.png
+    std::string display_config;     ///< display config file replacing the scene's display; empty = the scene's
+    std::string wand;               ///< scene navigation wand: none | dtrack:PORT[:FLYSTICK]; empty = the scene's
+    std::string head;               ///< head provider fixed | scripted | tracker | dtrack[:PORT[:BODY]]; empty = the scene's
+    bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
+    double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)
+    bool validate = false;          ///< Vulkan validation layer (also on with TRIDEX_VALIDATION=1)
+    bool cpu = false;               ///< sculpt on the CPU reference instead of the GPU (Vulkan compute)
+    /// Contour dirty tiles on the CPU (per-tile meshes uploaded to the renderer) even when the Booleans run
+    /// on the GPU; by default a GPU sculpt path also contours on the GPU and the renderer draws its buffers
+    /// with indirect draws.
+    bool cpu_contour = false;
+    /// Contour on the GPU even on a CPU implementation of Vulkan (lavapipe), where CPU contouring is the
+    /// default because it is faster there (app/session/session.hpp gpu_contour_default).
+    bool gpu_contour = false;
+    /// --gpu-clay: clay sweeps on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe).
+    bool gpu_clay = false;
+    /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
+    /// GPU renders; for benchmarks).
+    bool pace = true;
+    /// Draw the proxy, the force arrow and the overlay (haptic rate, sculpt rate, frame time, tiles drawn /
+    /// skipped); false: the workpiece, tool, workspace box and bubble only.
+    bool items = true;
+    /// The workpiece as per-tile meshes (only changed tiles re-uploaded, tiles culled per eye); false: the
+    /// whole mesh every publish (the fallback path).
+    bool tiles = true;
+    /// With tiles: draw only the tiles inside each eye's off-axis frustum (false: every tile in both eyes).
+    bool cull = true;
+    /// With tiles contoured on the CPU: "on" builds each changed tile's levels of detail on the sculpt thread and
+    /// draws each tile per eye at the coarsest level whose error projects to at most a pixel; "off": full meshes.
+    std::string lod = "off";
+    /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
+    /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
+    std::string ao;
+    /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
+    /// session spec, so `tridex replay FILE` rebuilds the same model.
+    std::string record;
+    /// When set, the final model is saved to this file (.tdx) after the session; `tridex demo --workpiece FILE` or
+    /// a scene's workpiece.model starts a session from it.
+    std::string save;
+    /// The session journal (`tridex recover FILE` rebuilds the model from it); "" = <out>/session.tdj.
+    std::string journal;
+    bool no_journal = false;  ///< --no-journal: write no journal
+    /// Wall time between checkpoint models written next to the journal while the model changes, s (0 = none).
+    double checkpoint_s = 120.0;
+    /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes); 0 = the scene's (256 MiB).
+    double history_mib = 0.0;
+    /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
+    /// Falcon has none running); "" = the scene's device.firmware.
+    std::string falcon_firmware;
+};
+
+}  // namespace tridex::app

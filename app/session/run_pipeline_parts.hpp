@@ -1,0 +1,159 @@
+// app/session/run_pipeline_parts.hpp - the parts of a run session (RunPipeline::Parts), shared by the files that define its
+// steps: app/session/run_pipeline.cpp (open, collect, outputs) and app/session/run_frame.cpp (the frame loop). Private to them.
+#pragma once
+
+#include "app/session/run_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "app/input/dtrack_head.hpp"
+#include "app/input/dtrack_wand.hpp"
+#include "app/session/elastic_view.hpp"
+#include "app/session/report.hpp"
+#include "app/session/run_head.hpp"
+#include "app/input/run_input.hpp"
+#include "app/session/run_mouse.hpp"
+#include "app/session/run_report.hpp"
+#include "app/session/run_sculpt.hpp"
+#include "app/session/run_view.hpp"
+#include "app/session/frame_loop.hpp"
+#include "app/session/session_recording.hpp"
+#include "app/session/session_report.hpp"
+#include "app/support/stop_signal.hpp"
+#include "app/scene/study_recording.hpp"
+#include "app/session/study_view.hpp"
+#include "app/session/tile_view.hpp"
+#include "app/scene/workpiece_source.hpp"
+#include "compute/mesh/mesh_export.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/tools/clay_sweep.hpp"
+#include "app/support/device_lost.hpp"
+#include "core/error.hpp"
+#include "core/format.hpp"
+#include "gpu/context.hpp"
+#include "renderer/camera/head_pose.hpp"
+#include "renderer/camera/scene_navigation.hpp"
+#include "renderer/output/offscreen_sink.hpp"
+#include "renderer/output/stereo_sink.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
+#include "renderer/window/window_glfw.hpp"
+#include "renderer/window/window_sink.hpp"
+
+
+namespace tridex::app {
+
+namespace run_detail {
+
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds from a to b.
+inline double ms_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+/// Seconds since t0.
+inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Force arrow scale, m per N: 2 cm per N, so the 3.3 N peak of the simulated Omni-class device is a 6.6 cm arrow.
+inline constexpr double kForceMetresPerNewton = 0.02;
+
+/// An empty result of the run set up as `setup`.
+inline RunResult result_for(RunSetup setup) {
+    RunResult r;
+    r.setup = std::move(setup);
+    return r;
+}
+
+}  // namespace run_detail
+
+using run_detail::Clock;
+
+// Every part of the session, declared in the order it is made, so that it is destroyed in the reverse order (the
+// sculpting threads before the renderer, the sink, the window, the Context and GLFW).
+struct RunPipeline::Parts final : FrameSteps {
+    Clock::time_point t_start = Clock::now();
+    RunResult r;
+    const RunSetup& su;
+    const RunScene& scene;
+    const renderer::DisplayConfig& dc;
+    const bool offscreen;
+    const int eye_w, eye_h;
+
+    // 1. Display.
+    std::optional<renderer::WindowSystemScope> glfw_scope;
+    std::optional<gpu::Context> ctx;
+    std::optional<renderer::Window> window;  // none offscreen (the images are read back on the last frame)
+    std::unique_ptr<renderer::StereoSink> sink;
+    std::optional<renderer::OffscreenStereoRenderer> rend;
+    // 2. Head, navigation, wand.
+    renderer::KeyboardMouseHead* km = nullptr;
+    renderer::TrackerHead* tracker = nullptr;
+    DTrackHead* dtrack = nullptr;
+    std::unique_ptr<renderer::HeadPoseProvider> head;
+    renderer::SceneNavigation nav;
+    renderer::MouseNavigation mouse;
+    std::optional<RunInput> input;
+    std::unique_ptr<DTrackWand> wand;
+    std::optional<WandNavigator> wand_nav;
+    double wand_prev_t = 0.0;
+    // 3. Sculpting threads and what draws beside them.
+    std::optional<SculptBackend> backend;
+    GpuContourShare* gpu_contour = nullptr;
+    renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
+    std::optional<RunMouse> mouse_stylus;  // --device mouse: the cursor drives the device; navigation moves to Alt
+    PickSurface gpu_pick;                  // the GPU contour read back for the stylus's picks
+    std::uint64_t gpu_pick_updates = 0;    // gpu_contour->updates() when it was read
+    Clock::time_point gpu_pick_at{};
+    std::uint64_t gpu_pick_reads = 0;
+    double script_end_s = 0.0;  // offscreen, scripted cursor: the run ends this long (device time) after its start
+    double safety_s = 0.0;      // offscreen without limits: the wall-time safety net, s (0 = none)
+    std::optional<study::StudyView> study_view;    // a study scene's objects, drawn instead of the workpiece
+    std::optional<ElasticView> elastic_view;       // scene objects, dented where the loop feels them
+    std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
+    // 4. Frame loop state.
+    bool swap = false, ao = true;
+    RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
+    double prev_frame_ms = -1.0;
+    TileView tiles;  // this frame's view of the published tiles and their levels of detail
+    std::string ended = "the window was closed";
+    std::size_t next_key = 0;     // scene.keys not yet pressed
+    bool journal_warned = false;  // said once that the journal stopped
+    Clock::time_point t_render{}, prev_start{};
+    std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
+    std::uint64_t head_frames_held = 0;   // frames drawn from last_good_head instead of the head provider's pose
+
+    explicit Parts(const RunOptions& options)
+        : r(run_detail::result_for(resolve_run(options))),
+          su(r.setup),
+          scene(su.scene),
+          dc(scene.display),
+          offscreen(su.display == DisplayKind::kOffscreen),
+          eye_w(dc.width_px),
+          eye_h(dc.height_px),
+          mouse(renderer::MouseNavigation::for_screen(dc.screen, dc.width_px)) {
+        open_display();
+        open_inputs();
+        open_backend();
+    }
+
+    void open_display();
+    void open_inputs();
+    void open_backend();
+    void frame_loop();
+    // The frame's steps (FrameSteps), driven by run_frames.
+    bool take_input() override;
+    bool last_frame(std::uint64_t frame) override;
+    void draw(std::uint64_t frame) override;
+    renderer::SceneView frame_view(const MeshFrame& mesh, const haptics::LoopView& lv, const SaveStatus& saving);
+    void present(std::uint64_t frame, const MeshFrame& mesh, const haptics::LoopView& lv, renderer::SceneView& view,
+                 std::unique_lock<std::mutex>& contour_lock);
+    void collect();
+    void write_outputs();
+};
+
+
+}  // namespace tridex::app

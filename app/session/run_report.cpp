@@ -1,0 +1,186 @@
+// app/session/run_report.cpp - report.json of `tridex run`.
+#include "app/session/run_report.hpp"
+
+#include <array>
+#include <fstream>
+
+#include "core/summary.hpp"
+#include "app/support/json_file.hpp"
+#include "app/session/report.hpp"
+#include "app/session/session_report.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using nlohmann::json;
+
+json summary_json(const std::vector<double>& v) {
+    const Summary s = summarize(v);
+    return json{{"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}};
+}
+
+double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
+
+json render_json(const RunResult& r) {
+    const RenderLog& log = r.render;
+    std::array<std::uint64_t, 2> drawn{}, skipped{};
+    json per_frame = json::array();
+    for (const auto& f : log.tiles) {
+        for (int e = 0; e < 2; ++e) {
+            drawn[e] += f[e].drawn;
+            skipped[e] += f[e].skipped;
+        }
+        per_frame.push_back({f[0].drawn, f[0].skipped, f[1].drawn, f[1].skipped});
+    }
+    json passes = json::object();
+    for (const auto& [name, ms] : log.pass_ms) {
+        double total = 0.0;
+        for (const double v : ms) total += v;
+        const Summary s = summarize(ms);
+        passes[name] = json{{"count", ms.size()}, {"total_ms", total}, {"median_ms", s.median}, {"p99_ms", s.p99},
+                            {"max_ms", s.max}};
+    }
+    return json{{"device", r.device},
+                {"eye_strategy", r.eye_strategy},
+                {"validation_messages", r.validation_messages},
+                {"render_s", r.render_s},
+                {"tiled", r.tiled},
+                {"tiles_last", r.tiles_last},
+                {"items", r.setup.items},
+                {"cull", r.setup.cull},
+                {"ambient_occlusion", r.setup.ao},
+                {"lod",
+                 {{"on", r.setup.lod},
+                  {"tiles_built", r.sculpt.lod_tiles_built},
+                  {"groups_built", r.sculpt.lod_groups_built},
+                  {"build_ms", r.sculpt.lod_build_ms},
+                  {"tile_triangles_per_frame",
+                   {log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[0]) / log.tiles.size(),
+                    log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[1]) / log.tiles.size()}}}},
+                {"force_m_per_newton", r.force_m_per_newton},
+                {"timing", log.timing_note},
+                {"tiles",
+                 {{"per_frame_columns", {"left_drawn", "left_skipped", "right_drawn", "right_skipped"}},
+                  {"per_frame", per_frame},
+                  {"drawn_total", drawn},
+                  {"skipped_total", skipped},
+                  {"uploads_total", log.tile_uploads}}},
+                {"passes", passes}};
+}
+
+}  // namespace
+
+void RenderLog::add(const renderer::FrameStats& stats) {
+    tiles.push_back(stats.tiles);
+    for (int e = 0; e < 2; ++e) tile_triangles[e] += stats.tile_triangles[e];
+    tile_uploads += stats.tile_uploads;
+    for (const renderer::PassTime& p : stats.passes)
+        pass_ms[p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "")].push_back(p.ms);
+    timing_note = stats.timing_note;
+}
+
+json run_report_json(const RunResult& r) {
+    const RunSetup& su = r.setup;
+    const RunScene& sc = su.scene;
+    json gpu = gpu_contour_json(r.gpu_contour);
+    gpu["lock_wait_ms_total"] = r.contour_lock_wait_ms_total;
+    gpu["lock_wait_ms_max"] = r.contour_lock_wait_ms_max;
+    json frames{{"count", r.frames},
+                {"presents", r.presents},
+                {"last_eye", r.last_eye},
+                {"render_s", r.render_s},
+                {"rate_hz", rate_hz(static_cast<double>(r.frames), r.render_s)},
+                {"frame_ms", r.frame_ms.to_json()},
+                {"interval_ms", r.interval_ms.to_json()},
+                {"gpu_ms", r.gpu_ms.to_json()}};
+    if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
+    json haptics = r.haptics;
+    if (haptics.is_object()) {
+        if (!haptics.contains("device_link")) haptics["device_link"] = nullptr;
+        if (!haptics.contains("link")) haptics["link"] = nullptr;
+    }
+    json sculpt = sculpt_report_json(r.sculpt, r.contour_tiles_initial, r.tiles_total, r.session_s);
+    json j{
+        {"command", "run"},
+        {"scene", sc.source},
+        {"mesh_file", sc.spec.model_path.empty() ? sc.spec.mesh_path : sc.spec.model_path},
+        {"resolution", sc.spec.resolution},
+        {"settings", json::parse(spec_to_json(r.spec))},
+        {"tool", r.tool},
+        {"workpiece", r.workpiece},
+        {"volume_before_m3", r.volume_before_m3},
+        {"volume_after_m3", r.volume_after_m3},
+        {"volume_removed_m3", r.volume_before_m3 - r.volume_after_m3},
+        {"mesh", r.carved_mesh},
+        {"ticks", r.ticks},
+        {"period_us", r.period_us},
+        {"tick_compute_us", r.tick_compute_us},
+        {"booleans", r.sculpt.booleans},
+        {"tiles_recontoured", r.sculpt.tiles_recontoured},
+        {"haptics", haptics},
+        {"link", haptics.is_object() ? haptics["link"] : json(nullptr)},
+        {"sculpt", sculpt},
+        {"journal", r.journal},
+        {"history", history_report_json(r.sculpt)},
+        {"saves",
+         {{"count", r.saves.saves},
+          {"failures", r.saves.failures},
+          {"last", r.saves.message.empty() ? json(nullptr) : json(r.saves.message)},
+          {"requests", r.save_requests_sent}}},
+        {"key_requests_sent", r.requests_sent},
+        {"stopped_by", string_or_null(r.stopped_by)},
+        {"stroke_completed", r.stroke_completed},
+        {"deformation", r.deformation},
+        {"sculpt_path", r.sculpt_path},
+        {"sculpt_path_reason", string_or_null(r.sculpt_path_reason)},
+        {"sculpt_device", r.sculpt_device},
+        {"clay_path", r.clay_path},
+        {"clay_path_reason", string_or_null(r.clay_path_reason)},
+        {"spilled_intervals", r.spilled_intervals},
+        {"sculpt_validation_messages", r.sculpt_validation_messages},
+        {"model_bytes", model_bytes_json(r.model_bytes)},
+        {"contour_path", r.contour_path},
+        {"contour_path_reason", string_or_null(r.contour_reason)},
+        {"contour",
+         {{"path", r.contour_path},
+          {"tiles_initial", r.contour_tiles_initial},
+          {"initial_s", r.contour_initial_s},
+          {"gpu", gpu}}},
+        {"device", r.device},
+        {"eye_strategy", r.eye_strategy},
+        {"validation_messages", r.validation_messages},
+        {"display", to_string(su.display)},
+        {"stereo", std::string(renderer::to_string(sc.display.stereo))},
+        {"swap_eyes", su.swap_eyes},
+        {"eye_resolution", {sc.display.width_px, sc.display.height_px}},
+        {"refresh_hz", sc.display.refresh_hz},
+        {"eye_separation_m", sc.display.eye_separation_m},
+        {"present_mode", r.present_mode},
+        {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
+        {"wand", r.wand.is_null() ? nlohmann::json{{"provider", "none"}} : r.wand},
+        {"frames", frames},
+        {"render", render_json(r)},
+        {"meshes",
+         {{"versions_drawn", r.mesh_versions_drawn},
+          {"last_version", r.last_mesh_version},
+          {"published", r.sculpt.mesh_publishes},
+          {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
+          {"triangles", r.triangles}}},
+        {"mouse", r.mouse},
+        {"study", r.study},
+        {"timing_s", {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_initial_s}, {"session", r.session_s}}},
+        {"session_s", r.session_s},
+        {"wall_s", r.wall_s},
+        {"notes", r.notes},
+        {"files", r.files}};
+    conform_report(j);
+    return j;
+}
+
+void write_run_report(const std::string& path, const RunResult& result) {
+    write_json_file(path, run_report_json(result));
+}
+
+}  // namespace tridex::app

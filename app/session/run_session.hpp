@@ -1,0 +1,159 @@
+// app/session/run_session.hpp - `tridex run`: one stereo session, one code path for a window, fullscreen or offscreen.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session/run_options.hpp"
+#include "app/scene/run_scene.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/gpu/gpu_contourer.hpp"
+#include "haptics/haptic_loop.hpp"
+#include "renderer/timing/frame_stats.hpp"
+#include "renderer/output/stereo_output.hpp"
+#include "renderer/window/window_frame_timing.hpp"
+
+namespace tridex::app {
+
+/// RunOptions checked and merged with the scene they name.
+struct RunSetup {
+    DisplayKind display = DisplayKind::kWindow;
+    RunScene scene;                 ///< the scene, its display replaced by --display-config and --stereo applied
+    bool swap_eyes = false;         ///< --swap-eyes or the display config's swap_eyes
+    int frames = 0;                 ///< frame limit (0 = none)
+    double seconds = 0.0;           ///< wall-time limit, s (0 = none)
+    std::string out;                ///< output folder
+    int monitor_index = -1;         ///< fullscreen monitor by index, -1 = by name / primary
+    std::string monitor_name;       ///< fullscreen monitor by (part of its) name
+    bool validate = false;          ///< Vulkan validation layer
+    bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
+    bool cpu_contour = false;       ///< contour on the CPU even when sculpting on the GPU (--cpu-contour)
+    bool gpu_contour = false;       ///< contour on the GPU even on a CPU Vulkan device (--gpu-contour)
+    bool gpu_clay = false;          ///< clay on the GPU kernel even on a CPU Vulkan device (--gpu-clay)
+    bool pace = true;               ///< offscreen: frames paced at the display's rate
+    bool items = true;              ///< proxy, force arrow and overlay drawn
+    bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
+    bool cull = true;               ///< tiles culled per eye
+    bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)
+    bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
+    std::string record;             ///< recording file ("" = none)
+    std::string save;               ///< the final model's file (.tdx; "" = none)
+    std::string journal;            ///< session journal file ("" = none)
+    double checkpoint_s = 120.0;    ///< wall time between checkpoint models, s (0 = none)
+};
+
+/// The renderer's FrameStats of every frame of a run, kept for report.json.
+struct RenderLog {
+    /// Per frame, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
+    std::vector<std::array<renderer::EyeTileCounts, 2>> tiles;
+    std::uint64_t tile_uploads = 0;  ///< tile meshes uploaded, summed over frames
+    /// Workpiece tile triangles drawn per eye (FrameStats::tile_triangles), summed over frames.
+    std::array<std::uint64_t, 2> tile_triangles{};
+    /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
+    /// "frame" (CPU clock): that pass's time in every frame, ms.
+    std::map<std::string, std::vector<double>> pass_ms;
+    std::string timing_note;         ///< the last frame's FrameStats::timing_note
+    /// Adds one frame's statistics.
+    void add(const renderer::FrameStats& stats);
+};
+
+/// Loads the scene and applies the options. Throws tridex::Error naming the option (--display, --stereo,
+/// --frames, --seconds, --head, --monitor) or the file (scene, display config) at fault; offscreen runs need a
+/// way to end: --frames, --seconds or a scene with a stroke (else "--frames/--seconds: ...").
+RunSetup resolve_run(const RunOptions& options);
+
+/// What a run did (SI units; histograms in ms).
+struct RunResult {
+    RunSetup setup;                              ///< what was run
+    std::uint64_t frames = 0;                    ///< stereo frames rendered
+    std::uint64_t presents = 0;                  ///< images shown (frame-sequential: 2 per frame)
+    int last_eye = -1;                           ///< frame-sequential / quad: the eye shown last (0/1); else -1
+    renderer::FrameTimeHistogram frame_ms;       ///< per frame: CPU wall time of draw + readback/present, ms
+    renderer::FrameTimeHistogram interval_ms;    ///< between successive frame starts (the display period), ms
+    renderer::FrameTimeHistogram gpu_ms;         ///< per frame: GPU time of the stereo render (timestamps), ms
+    nlohmann::json present_timings;              ///< window: WindowPresenter::timings().to_json(); null offscreen
+    std::uint64_t mesh_versions_drawn = 0;       ///< distinct MeshFrame versions the renderer drew
+    std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
+    bool stroke_completed = false;               ///< the haptic loop played the whole stroke before the end
+    double wall_s = 0.0;                         ///< whole run, s
+    double render_s = 0.0;                       ///< from the first frame to the end of the last, s
+    haptics::LoopStats loop{};                   ///< haptic loop counters
+    SculptStats sculpt;                          ///< sculpt thread counters (mesh publishes included)
+    double session_s = 0.0;                      ///< haptic + sculpt threads running, s
+    double volume_before_m3 = 0.0;               ///< tri-dexel volume after scan conversion, m^3
+    double volume_after_m3 = 0.0;                ///< tri-dexel volume at the end, m^3
+    std::size_t triangles = 0;                   ///< of the last mesh drawn
+    bool tiled = false;                          ///< the workpiece was drawn as tiles (false: the whole mesh)
+    std::size_t tiles_last = 0;                  ///< tiles in the last mesh drawn (0 for the whole mesh)
+    RenderLog render;                            ///< per-frame tiles drawn / skipped and per-pass GPU times
+    double force_m_per_newton = 0.0;             ///< force arrow scale, m per N (0 without items)
+    std::string device;                          ///< Vulkan device name
+    std::string eye_strategy;                    ///< the renderer's eye strategy note
+    std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"
+    std::uint32_t validation_messages = 0;       ///< Vulkan validation messages (0 expected)
+    std::string sculpt_path;                     ///< "gpu" or "cpu": where the swept Booleans ran
+    std::string clay_path;                       ///< "gpu" or "cpu": where push, smooth and pull ran
+    std::string sculpt_device;                   ///< Vulkan device that sculpted ("" on the CPU path)
+    std::uint64_t spilled_intervals = 0;         ///< GPU spill-pool intervals at the end
+    std::string contour_path;                    ///< "gpu" (GpuContourer, indirect draws) or "cpu" (tile meshes)
+    std::string contour_reason;                  ///< why the contour ran on the CPU (empty on the GPU path)
+    std::size_t contour_tiles_initial = 0;       ///< tiles contoured before the session
+    double contour_initial_s = 0.0;              ///< wall time of that initial contouring, s
+    /// GPU path: the GpuContourer's counters at the end (tiles on the GPU / host, pool grows, ...).
+    compute::GpuContourStats gpu_contour{};
+    /// GPU path: time the sculpt thread waited for a frame to finish before re-contouring, summed / longest, ms
+    /// (included in SculptStats::contour_ms).
+    double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
+    SessionSpec spec;                            ///< what decided the model (the scene's, device_origin_m set)
+    nlohmann::json tool;                         ///< report.json `tool` (tool_json of the session's spec)
+    nlohmann::json haptics;                      ///< report.json `haptics` (haptics_report_json, as the demo's)
+    nlohmann::json mouse;                        ///< report.json `mouse` (RunMouse::report_json); null without
+    nlohmann::json journal;                      ///< report.json `journal` (journal_report_json); null = no journal
+    std::uint64_t requests_sent = 0;             ///< undo / redo / save requests handed to the sculpt thread
+    std::uint64_t save_requests_sent = 0;        ///< of those, save requests (Ctrl+S)
+    SaveStatus saves;                            ///< saves during the session (Ctrl+S), journal and checkpoint errors
+    /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
+    nlohmann::json head;
+    nlohmann::json wand;  ///< null without a wand; else app/input/dtrack_wand.hpp wand_report_json
+    nlohmann::json study; ///< null without a study scene; else app/session/study_view.hpp StudyView::report_json
+    /// null without scene objects; else app/session/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
+    nlohmann::json deformation;
+    std::size_t ticks = 0;                       ///< haptic tick records kept
+    nlohmann::json period_us;                    ///< report.json `period_us` (tick_summary_json)
+    nlohmann::json tick_compute_us;              ///< report.json `tick_compute_us` (tick_summary_json)
+    nlohmann::json workpiece;                    ///< report.json `workpiece` (workpiece_report_json)
+    nlohmann::json carved_mesh;                  ///< report.json `mesh` (carved_mesh_report_json); null if not written
+    std::string sculpt_path_reason;              ///< why the Booleans ran on the CPU ("" on the GPU path)
+    std::string clay_path_reason;                ///< why clay ran on the CPU on the GPU path ("" otherwise)
+    std::array<std::size_t, 3> model_bytes{};    ///< model bytes per ray set on the sculpting path
+    std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages of the sculpting backend
+    std::string stopped_by;                      ///< "SIGINT" / "SIGTERM" when a signal ended the run, else ""
+    /// When the device went away during the run (its read failed): the device time of its last good tick, s.
+    std::optional<double> device_lost_at_s;
+    double scan_s = 0.0;                         ///< scan conversion (or model loading) wall time, s
+    std::size_t tiles_total = 0;                 ///< tiles in the model's tile grid
+    std::vector<std::string> notes;              ///< one line each: how the run ended, quad offscreen, tracker state
+    std::vector<std::string> files;              ///< files written, full paths
+};
+
+/// Runs the session (app/session/run_pipeline.hpp, RunPipeline): GPU (and window) first, so that an output the surface cannot show (quad with
+/// maxImageArrayLayers < 2) is refused before any work, then the workpiece, the haptic loop and sculpt thread
+/// (SculptBackend), and the render loop on the calling thread (GLFW needs the main thread) at the display's
+/// rate: per frame the newest mesh and LoopView, the head pose at session time, the navigated off-axis camera,
+/// and the stereo sink (renderer/output/stereo_sink.hpp), which owns the output's policy (window: WindowSink, vsync,
+/// anaglyph composed on the GPU; offscreen: OffscreenSink, the same passes, frame-sequential eyes sequenced by a
+/// FrameSequencer). The loop ends on Esc / window close,
+/// --frames, --seconds, or (offscreen without limits) the end of the stroke. Writes report.json (run_report.hpp)
+/// into the output folder, and offscreen left.png, right.png (each eye's last frame; mono: the one view in both;
+/// quad: the two layers) and output.png (what the display shows: compose(), anaglyph from the GPU pass;
+/// frame-sequential: the last presented eye; quad: layer 0). Throws tridex::Error on bad options or scene, no usable Vulkan device or
+/// display, an unsupported output, or a sculpt-thread failure.
+RunResult run_stereo_session(const RunOptions& options);
+
+}  // namespace tridex::app

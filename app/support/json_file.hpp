@@ -1,0 +1,21 @@
+// app/support/json_file.hpp - writing the reports and benchmark results as JSON files.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace tridex::app {
+
+/// Writes `j` to `path` (2-space indented, trailing newline), creating the parent folder. Throws
+/// tridex::Error "<path>: cannot open for writing" / "<path>: write failed".
+void write_json_file(const std::string& path, const nlohmann::json& j);
+
+/// Reads a scene file `path` as JSON. Throws tridex::Error "<path>: is a folder; name a scene file (JSON)",
+/// "<path>: cannot read the scene file", "<path>: not valid JSON (byte N)" or "<path>: not valid JSON: number
+/// overflow parsing '1e400'" (a number beyond a double's range).
+nlohmann::json read_scene_json(const std::string& path);
+
+/// nlohmann's reason without its "[json.exception....] " prefix ("number overflow parsing '1e400'").
+std::string json_reason(const nlohmann::json::exception& e);
+
+}  // namespace tridex::app
