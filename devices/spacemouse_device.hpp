@@ -34,7 +34,7 @@ struct SpaceMouseParams {
 };
 
 /// Buttons spacenavd numbers, 0..kSpnavMaxButtons-1 (its MAX_BUTTONS, src/cfgfile.h, FreeSpacenav/spacenavd at
-/// bac572a; the SpaceMouse Enterprise and Pro report more than 32).
+/// bac572a: a `bnmapN = M` line of /etc/spnavrc may send any button as number M up to 63).
 inline constexpr int kSpnavMaxButtons = 64;
 
 /// The spacenavd event stream decoded: one packet is 8 native int32 (spacenavd's send_uevent in src/proto_unix.c

@@ -100,7 +100,7 @@ TEST(SpaceMouseDevice, ButtonsMapToButtonBits) {
     EXPECT_EQ(r.read().buttons, 2u);
 }
 
-// spacenavd numbers up to 64 buttons (MAX_BUTTONS, src/cfgfile.h); a SpaceMouse Enterprise's reach past 31. Every
+// spacenavd numbers up to 64 buttons (MAX_BUTTONS, src/cfgfile.h; spnavrc's bnmapN = M may send any of them). Every
 // one is kept: the low 32 in DeviceState::buttons, all of them in all_buttons().
 TEST(SpaceMouseDevice, ButtonsAbove31AreKept) {
     Rig r;
