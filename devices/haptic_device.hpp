@@ -58,6 +58,10 @@ struct RemoteToolSample {
     Vec3 force_n{0.0};     ///< force the server's loop rendered on this tick (after its safety stages), world N
     bool contact = false;  ///< the god-object touched the surface
     bool hold = false;     ///< the server's loop held carving on this tick (its watchdog, over speed, invalid sample)
+    /// Not this tick's sample: no new device state came with it since the previous read (the link stalled or is
+    /// down), so its pose and force are an earlier tick's; the loop logs its force as stale, not as the force the
+    /// device got this tick, and carves nothing with it.
+    bool stale = false;
 };
 
 /// Where a device is in its life: closed -> open -> homed -> enabled (forces flow) -> homed -> closed.
@@ -112,6 +116,8 @@ struct DeviceLinkStats {
     std::uint64_t lost = 0;              ///< datagrams lost (sequence gaps seen by either end)
     double rate_hz = 0.0;                ///< device states received per second
     std::uint64_t stale_snapshots = 0;   ///< local mode: snapshots that reached the server too old to cover the tool
+    /// Local mode: reads whose tool sample was an earlier tick's (no new device state came), logged as stale.
+    std::uint64_t stale_tool_samples = 0;
     std::uint64_t link_outages = 0;      ///< times the link went silent past the watchdog (force zeroed)
     std::uint64_t server_watchdog_trips = 0;  ///< times the server's watchdog zeroed the force
     std::string link_events{};           ///< what happened to the link, for the user ("" = nothing to say)

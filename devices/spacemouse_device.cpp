@@ -57,7 +57,7 @@ SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& w) {
             return p;
         case 1:
         case 2:
-            if (w[1] < 0 || w[1] > 31) return p;
+            if (w[1] < 0 || w[1] >= kSpnavMaxButtons) return p;
             p.button = w[1];
             p.kind = w[0] == 1 ? SpnavPacket::Kind::kPress : SpnavPacket::Kind::kRelease;
             return p;
@@ -105,6 +105,7 @@ void SpaceMouseDevice::on_open() {
     have_ = 0;
     axes_ = {};
     buttons_ = 0;
+    reported_buttons_ = 0;
 }
 
 void SpaceMouseDevice::on_close() noexcept {
@@ -122,8 +123,8 @@ double SpaceMouseDevice::shaped(int counts) const {
 void SpaceMouseDevice::apply(const SpnavPacket& p) {
     switch (p.kind) {
         case SpnavPacket::Kind::kMotion: axes_ = p.axes; break;
-        case SpnavPacket::Kind::kPress: buttons_ |= 1u << p.button; break;
-        case SpnavPacket::Kind::kRelease: buttons_ &= ~(1u << p.button); break;
+        case SpnavPacket::Kind::kPress: buttons_ |= std::uint64_t{1} << p.button; break;
+        case SpnavPacket::Kind::kRelease: buttons_ &= ~(std::uint64_t{1} << p.button); break;
         case SpnavPacket::Kind::kOther: break;
         case SpnavPacket::Kind::kMalformed: ++stats_.malformed_frames; break;
     }
@@ -172,7 +173,8 @@ bool SpaceMouseDevice::do_read(DeviceState& out) {
     out.t_s = static_cast<double>(steps_) * dt_;
     out.pose = pose_;
     out.velocity_m_s = (pose_.position - before) / dt_;
-    out.buttons = buttons_;
+    reported_buttons_ = buttons_;
+    out.buttons = static_cast<std::uint32_t>(buttons_ & 0xffffffffu);
     return true;
 }
 

@@ -33,18 +33,23 @@ struct SpaceMouseParams {
     double max_rate_rad_s = 1.5;   ///< angular rate at full deflection of a rotation axis, rad/s (> 0)
 };
 
-/// The spacenavd event stream decoded: one packet is 8 native int32 (spacenavd's proto_unix.c and libspnav's
-/// proto.h, protocol v0): [0] type (0 motion, 1 press, 2 release, 3 device, 4 config, 5 raw axis, 6 raw
-/// button); motion: [1..6] x, y, z, rx, ry, rz, [7] period (ms); press/release: [1] button number.
+/// Buttons spacenavd numbers, 0..kSpnavMaxButtons-1 (its MAX_BUTTONS, src/cfgfile.h, FreeSpacenav/spacenavd at
+/// bac572a: a `bnmapN = M` line of /etc/spnavrc may send any button as number M up to 63).
+inline constexpr int kSpnavMaxButtons = 64;
+
+/// The spacenavd event stream decoded: one packet is 8 native int32 (spacenavd's send_uevent in src/proto_unix.c
+/// and libspnav's proto.h, protocol v0): [0] type (0 motion, 1 press, 2 release, 3 device, 4 config, 5 raw axis,
+/// 6 raw button); motion: [1..6] x, y, z, rx, ry, rz, [7] period (ms); press/release: [1] button number,
+/// [2] 1 pressed / 0 released.
 struct SpnavPacket {
     enum class Kind : std::uint8_t { kMotion, kPress, kRelease, kOther, kMalformed };
     Kind kind = Kind::kMalformed;
     std::array<int, 6> axes{};  ///< kMotion: x, y, z, rx, ry, rz, device counts
-    int button = 0;             ///< kPress / kRelease: button number, 0..31
+    int button = 0;             ///< kPress / kRelease: button number, 0..kSpnavMaxButtons-1
 };
 
-/// Decodes one 32-byte packet; a type outside 0..6, a button outside 0..31 or an axis beyond +-32767 is
-/// kMalformed (dropped by the device). Never throws.
+/// Decodes one 32-byte packet; a type outside 0..6, a button outside 0..kSpnavMaxButtons-1 or an axis beyond
+/// +-32767 is kMalformed (dropped by the device). Never throws.
 SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& words);
 
 /// A HapticDevice reading a 3D mouse (SpaceNavigator, SpaceMouse) from spacenavd's AF_UNIX socket, speaking
@@ -54,7 +59,8 @@ SpnavPacket decode_spnav_packet(const std::array<std::int32_t, 8>& words);
 /// max_rate_rad_s * the rotation axes likewise (device frame: spacenavd's x, y, rx, ry as reported, its z and rz
 /// negated, since spacenavd's frame is left-handed with z into the screen and the device frame is right-handed
 /// with z toward the viewer, as libspnav's spnav_posrot_moveobj converts them, src/util.c); the tip is
-/// clamped to the profile's workspace. Buttons: bit i = spacenavd button i (button 0 = the stylus button).
+/// clamped to the profile's workspace. Buttons: every button spacenavd numbers (0..63) is kept; DeviceState::buttons
+/// carries buttons 0..31 (bit i = spacenavd button i, button 0 = the stylus button) and all_buttons() all 64.
 /// Forces are ignored (a 3D mouse renders none; write() still gates and bounds them). A daemon that closes
 /// the socket raises kFaultVanished: the pose is held, the buttons released, and read() goes on returning it.
 class SpaceMouseDevice : public HapticDevice {
@@ -68,6 +74,8 @@ public:
     const DeviceProfile& profile() const override { return profile_; }
     /// exchanges = reads, missed_frames = reads after the daemon vanished, malformed_frames = dropped packets.
     DeviceLinkStats link_stats() const override { return stats_; }
+    /// Every button held at the last read(): bit i = spacenavd button i, 0..63 (DeviceState::buttons has 0..31).
+    std::uint64_t all_buttons() const { return reported_buttons_; }
 
 protected:
     /// Connects to the socket; throws tridex::Error "spacemouse: no spacenavd at PATH: is the daemon running?
@@ -91,7 +99,8 @@ private:
     std::array<unsigned char, 32> partial_{};
     std::size_t have_ = 0;
     std::array<int, 6> axes_{};
-    std::uint32_t buttons_ = 0;
+    std::uint64_t buttons_ = 0;           // as the packets left them
+    std::uint64_t reported_buttons_ = 0;  // as the last read() reported them
     Pose pose_;
     std::uint64_t steps_ = 0;
     DeviceLinkStats stats_;

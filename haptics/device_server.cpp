@@ -74,6 +74,7 @@ DeviceServerStats DeviceServer::stats() const {
     s.zeroed_ticks = zeroed_.load(std::memory_order_relaxed);
     s.stale_snapshots = stale_.load(std::memory_order_relaxed);
     s.snapshots = snapshots_.load(std::memory_order_relaxed);
+    s.stale_force_ticks = stale_forces_.load(std::memory_order_relaxed);
     s.force_updates = force_updates_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
     s.session = session_flag_.load(std::memory_order_relaxed);
@@ -170,6 +171,8 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
         have_contact_ = false;
         loop_.reset();
         surface_seq_ = 0;
+        cover_reach_m_ = -1.0;
+        stale_forces_now_ = false;
         net::encode(header(++tx_seq_), net::welcome_from(device_.profile()), out_);
         link_.send(out_, true);
         sessions_.fetch_add(1, std::memory_order_relaxed);
@@ -223,6 +226,8 @@ void DeviceServer::handle(const std::vector<std::uint8_t>& d, double now_s) {
             const Vec3 off = glm::abs(tool_world_m_ - back.centre_m);
             if (off.x > reach || off.y > reach || off.z > reach) stale_.fetch_add(1, std::memory_order_relaxed);
             surface_seq_ = back.sequence;
+            cover_centre_m_ = back.centre_m;
+            cover_reach_m_ = reach;
             surface_->publish();
             break;
         }
@@ -294,6 +299,19 @@ bool DeviceServer::tick(double now_s) {
             return false;
         }
         tool_world_m_ = rec.hip_m;
+        // A force rendered on a snapshot the tool has left is stale: counted, and logged when it begins.
+        const Vec3 off = glm::abs(rec.hip_m - cover_centre_m_);
+        const bool stale = cover_reach_m_ >= 0.0 && (off.x > cover_reach_m_ || off.y > cover_reach_m_ || off.z > cover_reach_m_);
+        if (stale) {
+            stale_forces_.fetch_add(1, std::memory_order_relaxed);
+            if (!stale_forces_now_ && now_s - stale_logged_s_ >= 1.0) {
+                stale_logged_s_ = now_s;
+                event("local rendering: the tool left the newest snapshot's region: its forces are stale until a "
+                      "newer snapshot arrives (" + std::to_string(stale_forces_.load(std::memory_order_relaxed)) +
+                      " stale ticks so far)");
+            }
+        }
+        stale_forces_now_ = stale;
         const Vec3 applied = glm::conjugate(contact_.device_to_world.orientation) * rec.force_n;
         devices::RemoteToolSample tool;
         tool.tool_world = sampled ? Pose{drained.position, drained.orientation} : rec.tool_world;

@@ -47,6 +47,9 @@ struct DeviceServerStats {
     std::uint64_t zeroed_ticks = 0;     ///< ticks with the force held at zero by the watchdog or no session
     std::uint64_t stale_snapshots = 0;  ///< local mode: snapshots that arrived not covering the tool, or out of order
     std::uint64_t snapshots = 0;        ///< local mode: snapshots received
+    /// Local mode: ticks whose loop rendered its force on a snapshot the tool had left (outside the region the
+    /// newest snapshot covers): stale forces, logged as such (an event when it begins, at most one a second).
+    std::uint64_t stale_force_ticks = 0;
     /// New force values that reached the device: kForce datagrams applied (distributed) or contact-loop ticks
     /// (local); per second of serving, the rate at which the device's force is updated.
     std::uint64_t force_updates = 0;
@@ -65,6 +68,8 @@ struct DeviceServerStats {
 ///   on this thread, on the newest kSurface snapshot with the kContact parameters, and sends the device state with
 ///   the tool sample that loop computed (HIP pose, god-object proxy, rendered force, hold): the session sculpts
 ///   with these. Until the contact parameters arrive the device is read at zero force and states go without a tool.
+///   A tick whose tool is outside the region the newest snapshot covers renders a stale force: counted
+///   (stale_force_ticks) and logged as such through on_event when it begins (at most once a second).
 /// When no datagram came from the session for watchdog_s, zero force is written and the device rests (is not
 /// exchanged with, no states are sent) until the session speaks again; without a session likewise (zero force is
 /// written once when a session ends). So a simulated device's clock runs only while a live session is served (a
@@ -130,11 +135,15 @@ private:
     std::unique_ptr<SpscRing<ToolSample>> samples_;
     std::unique_ptr<HapticLoop> loop_;
     std::uint64_t surface_seq_ = 0;
+    Vec3 cover_centre_m_{0.0};   // the newest snapshot's centre, world m
+    double cover_reach_m_ = -1.0;  // and the reach it covers per axis, m; < 0: no snapshot yet
+    bool stale_forces_now_ = false;    // the previous tick rendered on a snapshot the tool had left
+    double stale_logged_s_ = -1e300;   // when a stale-force event was last logged, s
     Vec3 tool_world_m_{0.0};
     double loop_time_s_ = 0.0;
     // Counters (read by stats() from any thread).
     std::atomic<std::uint64_t> ticks_{0}, sessions_{0}, refused_{0}, malformed_{0}, lost_{0}, trips_{0}, zeroed_{0},
-        stale_{0}, snapshots_{0}, force_updates_{0};
+        stale_{0}, snapshots_{0}, force_updates_{0}, stale_forces_{0};
     std::atomic<bool> device_lost_{false}, session_flag_{false};
     // The counters at the start of the session being served (serving thread only): what a session is told counts
     // from its own start, whatever earlier sessions saw.

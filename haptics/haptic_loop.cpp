@@ -161,6 +161,7 @@ void HapticLoop::begin_session() {
     invalid_ = 0;
     trips_ = 0;
     speed_cuts_ = 0;
+    stale_remote_ = 0;
     device_lost_ = false;
     realtime_ = false;
     locked_ = false;
@@ -213,6 +214,7 @@ LoopStats HapticLoop::stats() const {
     s.realtime_scheduling = realtime_.load(std::memory_order_relaxed);
     s.memory_locked = locked_.load(std::memory_order_relaxed);
     s.velocity_limit_ticks = speed_cuts_.load(std::memory_order_relaxed);
+    s.stale_remote_ticks = stale_remote_.load(std::memory_order_relaxed);
     s.period_histogram = period_hist_.snapshot();
     s.compute_histogram = compute_hist_.snapshot();
     return s;
@@ -346,7 +348,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     sample.tool = tool_;
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
     const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged ||
-                      (remote_contact && remote.hold);
+                      (remote_contact && (remote.hold || remote.stale));
     const std::uint16_t op = op_.load(std::memory_order_relaxed);
     sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
     sample.material = static_cast<std::uint8_t>(op >> 8);
@@ -360,7 +362,10 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     last_tool_ = tool_world;
     rec.hip_m = tool_world.position;
     rec.proxy_m = c.proxy_m;
-    rec.force_n = remote_contact ? remote.force_n : out.force_n;  // the force the device got
+    // The force the device got; a stale remote sample's is an earlier tick's, logged as such.
+    rec.force_n = remote_contact ? remote.force_n : out.force_n;
+    rec.remote_stale = remote_contact && remote.stale;
+    if (rec.remote_stale) stale_remote_.fetch_add(1, std::memory_order_relaxed);
     rec.contact = c.contact;
     rec.object_force_n = c.object_force_n;
     rec.points_in_contact = c.in_contact;

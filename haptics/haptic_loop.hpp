@@ -119,6 +119,9 @@ struct TickRecord {
     ToolOp op = ToolOp::kNone;
     std::uint8_t material = 0;       ///< the material selected this tick
     ToolShape tool{};                ///< the tool this tick's sample carries (radius_m 0 on an invalid sample)
+    /// Local rendering (a device's remote tool sample): the sample was an earlier tick's (RemoteToolSample::stale),
+    /// so force_n is the last force its loop rendered, not one the device got on this tick.
+    bool remote_stale = false;
 };
 
 /// Counters of the loop; readable while it runs.
@@ -133,6 +136,7 @@ struct LoopStats {
     bool realtime_scheduling = false; ///< the loop thread got SCHED_FIFO (false when refused or not asked)
     bool memory_locked = false;       ///< mlockall succeeded for the loop
     std::size_t velocity_limit_ticks = 0;  ///< ticks whose output was cut by the velocity limit
+    std::size_t stale_remote_ticks = 0;    ///< local rendering: ticks whose remote tool sample was stale
     Histogram period_histogram;       ///< tick periods, s: bins of period_s / 50 up to 4 periods, then overflow
     Histogram compute_histogram;      ///< tick compute times, s: bins of period_s / 1000 up to 0.2 periods
 };
@@ -310,6 +314,7 @@ private:
     std::atomic<bool> stop_requested_{false};
     std::atomic<bool> running_{false};
     std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
+    std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
     std::atomic<double> energy_{0.0};
     std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte

@@ -183,6 +183,7 @@ nlohmann::json link_json(const devices::DeviceLinkStats& link) {
             {"lost", link.lost},
             {"rate_hz", link.rate_hz},
             {"stale_snapshots", link.stale_snapshots},
+            {"stale_tool_samples", link.stale_tool_samples},
             {"outages", link.link_outages},
             {"server_watchdog_trips", link.server_watchdog_trips},
             {"malformed", link.malformed_frames},

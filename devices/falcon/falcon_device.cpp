@@ -43,7 +43,8 @@ void FalconDevice::on_open() {
     have_pos_ = false;
     stats_ = FalconLinkStats{};
     leds_ = kLedRed;
-    cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    homing_mode_ = false;
+    cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
     // The bridge in normal mode first (libnifalcon's open), so that firmware already running can answer the probe.
     if (std::string error; !set_normal_mode(*transport_, 1000, error)) {
         transport_->close();
@@ -78,31 +79,35 @@ void FalconDevice::on_open() {
 }
 
 void FalconDevice::on_home() {
+    // libnifalcon's documented order (FalconFirmware.h, "Homing Mode"): homing mode on in every command from here
+    // on, the user pulls the grip all the way out and pushes it in, the host waits for the three homing bits; the
+    // bit stays set in every later command, or the Falcon does not stay homed.
     leds_ = kLedRed;
+    homing_mode_ = true;
     const int limit = static_cast<int>(std::ceil(opt_.homing_timeout_s / opt_.period_s));
     std::optional<FalconState> s;
     for (int i = 0; i < limit; ++i) {
-        cmd_ = FalconCommand{{0, 0, 0}, leds_, true};
+        cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
         const TransferStatus st = exchange(s);
         ++stats_.homing_exchanges;
         if (st == TransferStatus::kNoDevice)
             throw Error("Novint Falcon (" + transport_->describe() + "): unplugged while homing");
         if (s && (s->homing_status & kAllHomed) == kAllHomed) {
             leds_ = kLedBlue;
-            cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+            cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
             stats_.homed_at_s = static_cast<double>(ticks_) * opt_.period_s;
             return;
         }
     }
-    cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
     throw Error("Novint Falcon: not homed after " + format_number(opt_.homing_timeout_s) +
-                " s: push the grip all the way in, then pull it all the way out toward you, and try again");
+                " s: pull the grip all the way out toward you, then push it all the way in, and try again");
 }
 
 void FalconDevice::on_enable() {
     leds_ = kLedGreen;
     ramp_ticks_ = 0;
-    cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
 }
 
 void FalconDevice::on_disable() noexcept {
@@ -117,7 +122,7 @@ void FalconDevice::on_close() noexcept {
 }
 
 void FalconDevice::send_zero() noexcept {
-    cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
     if (vanished_ || transport_->unplugged()) return;
     std::optional<FalconState> s;
     try {
@@ -168,7 +173,7 @@ bool FalconDevice::do_read(DeviceState& out) {
     if (st == TransferStatus::kNoDevice || transport_->unplugged()) {
         vanished_ = true;
         fault_tick_ = true;
-        cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+        cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
         raise_fault(kFaultIo);
         return false;
     }
@@ -215,7 +220,7 @@ bool FalconDevice::do_read(DeviceState& out) {
 }
 
 void FalconDevice::do_write(const Vec3& force_n, const Vec3&) {
-    cmd_ = FalconCommand{{0, 0, 0}, leds_, false};
+    cmd_ = FalconCommand{{0, 0, 0}, leds_, homing_mode_};
     if (fault_tick_) {
         // A missed or malformed frame this tick: zero force now, and ramp in again once frames come back.
         fault_tick_ = false;

@@ -51,10 +51,12 @@ struct FalconLinkStats {
 
 /// The Falcon driver.
 ///
-/// Lifecycle: open() opens the transport, checks whether firmware answers and, when not, loads it (the user's file,
-/// or the given image); without one it throws firmware_missing_message(). home() turns the red LED on and sets the
-/// firmware's homing bit, then exchanges frames until all three encoders report homed (the user pushes the grip in
-/// and pulls it out; the emulator does it by a scripted pull): no force flows until then (the base class gates
+/// Lifecycle: open() opens the transport, puts its FTDI bridge in normal mode, checks whether firmware answers and,
+/// when not, loads it (the user's file, or the given image); without one it throws firmware_missing_message(). home()
+/// turns the red LED on and sets the firmware's homing bit, then exchanges frames until all three encoders report
+/// homed (the user pulls the grip all the way out, then pushes it in; the emulator does it by a scripted pull); the
+/// homing bit then stays set in every command until close(), as libnifalcon's FalconFirmware.h documents (without
+/// it the Falcon does not stay homed): no force flows until then (the base class gates
 /// write(), and the driver sends zero motor commands in every state but enabled). The blue LED shows homed, the
 /// green LED enabled. After enable() the force ramps in linearly over ramp_s.
 ///
@@ -100,6 +102,7 @@ private:
     StateFramer framer_;
     FalconCommand cmd_{};
     std::uint8_t leds_ = kLedRed;
+    bool homing_mode_ = false;  // set in every command from home() on (libnifalcon: else the Falcon does not stay homed)
     FalconLinkStats stats_;
     Vec3 pos_{0.0}, vel_{0.0};
     bool have_pos_ = false;

@@ -182,6 +182,13 @@ void FalconEmulator::on_command(const FalconCommand& c) {
     ++commands_;
     last_cmd_ = c;
     if (record_) log_.push_back(c);
+    // The homing bit must be set in every command for the Falcon to stay homed (libnifalcon, FalconFirmware.h): a
+    // command without it loses the homing, and the encoders count from the power-on offset again.
+    if (!c.homing_mode && homed_ != 0) {
+        homed_ = 0;
+        pull_step_ = 0;
+        ++homing_lost_;
+    }
     const Vec3 home = FalconKinematics::home_m();
     if (homed_ != kAllHomed || (pull_step_ > 0 && pull_step_ < cfg_.homing_pull_exchanges)) {
         // Not homed (or the pull not finished): the hand rests at home, or pulls when the host asks for homing.

@@ -6,7 +6,9 @@
 // F = G^T tau (falcon_kinematics.hpp), and the encoders report the quantised motor angles of the inverse kinematics
 // of the grip's position. Homing: until the host sets the homing bit, the encoders count from an arbitrary
 // power-on offset; with it set, a scripted grip pull (out toward the user) passes each motor's index, which sets
-// that motor's homing bit and removes its offset; when all three are homed the grip settles back at home.
+// that motor's homing bit and removes its offset; when all three are homed the grip settles back at home. A command
+// without the homing bit loses the homing again (libnifalcon's FalconFirmware.h: the bit must be set in every
+// command for the Falcon to stay homed).
 // Deterministic: time advances one period per command frame, whatever the wall clock.
 #pragma once
 
@@ -90,6 +92,8 @@ public:
     void record_commands(bool on) { record_ = on; }
     const std::vector<FalconCommand>& commands() const { return log_; }
     std::uint8_t homing_status() const { return homed_; }
+    /// Times a command without the homing bit undid the homing (the host dropped the bit after homing).
+    int homing_lost() const { return homing_lost_; }
     /// The grip's true position (m) and the force the motors applied on the last step (N).
     const Vec3& position_m() const { return pos_; }
     const Vec3& applied_force_n() const { return force_; }
@@ -119,6 +123,7 @@ private:
     std::vector<FalconCommand> log_;
     std::uint8_t homed_ = 0;
     int pull_step_ = 0;
+    int homing_lost_ = 0;
     Vec3 pos_{0.0}, force_{0.0};
     std::array<std::int16_t, 3> encoder_{0, 0, 0};
     std::mt19937 noise_rng_{1};

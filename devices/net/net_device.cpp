@@ -322,6 +322,8 @@ bool NetDevice::do_read(DeviceState& out) {
     if (!have_state_) return false;  // never connected: there is no sample to give
     if (!link.owns_lock()) {  // the link thread is handing a snapshot to the transport: the previous state, no I/O
         ++missed_;
+        read_fresh_ = false;
+        if (have_tool_) ++stale_tool_;
         out = state_;
         return true;
     }
@@ -339,6 +341,8 @@ bool NetDevice::do_read(DeviceState& out) {
     }
     if (down_) ++zeroed_;
     if (!fresh_state_) ++missed_;
+    read_fresh_ = fresh_state_ && !down_;
+    if (have_tool_ && !read_fresh_) ++stale_tool_;
     fresh_state_ = false;
     if (down_ && silent > opt_.give_up_s) {
         note("gave up after " + std::to_string(static_cast<int>(opt_.give_up_s)) + " s without the device server");
@@ -377,6 +381,7 @@ void NetDevice::observe_surface(const ActiveSurface& surface) {
 bool NetDevice::remote_tool(RemoteToolSample& out) const {
     if (!have_tool_) return false;
     out = tool_;
+    out.stale = !read_fresh_;
     return true;
 }
 
@@ -399,6 +404,7 @@ DeviceLinkStats NetDevice::link_stats() const {
     if (states_ > states_at_enable_ && last_state_rx_s_ > first_state_rx_s_)
         s.rate_hz = static_cast<double>(states_ - states_at_enable_) / (last_state_rx_s_ - first_state_rx_s_);
     s.stale_snapshots = server_stale_base_ + server_.stale_snapshots;
+    s.stale_tool_samples = stale_tool_;
     s.link_outages = outages_;
     s.server_watchdog_trips = server_trips_base_ + server_.watchdog_trips;
     s.link_events = events_;

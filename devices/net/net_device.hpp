@@ -86,7 +86,8 @@ public:
     /// Distributed mode: nothing.
     void observe_surface(const ActiveSurface& surface) override;
     /// Local mode: the tool sample the server's god-object loop computed with the newest state (what the session
-    /// sculpts with); false in distributed mode or before the contact parameters reached the server.
+    /// sculpts with), marked stale when the last read() brought no new state (the link stalled or is down); false
+    /// in distributed mode or before the contact parameters reached the server. Haptic thread, after read().
     bool remote_tool(RemoteToolSample& out) const override;
     /// Local mode: the tool was resized to `scale` times the contact points set_contact() gave (haptic thread: one
     /// atomic store); the link thread sends the scaled contact parameters. Distributed mode: nothing.
@@ -139,6 +140,7 @@ private:
     // The newest state and what it took to get it.
     DeviceState state_;
     bool have_state_ = false, fresh_state_ = false;
+    bool read_fresh_ = false;  // the last read() returned a state that arrived since the read before (haptic thread)
     bool have_tool_ = false;  // state_ came with the server loop's tool sample tool_
     RemoteToolSample tool_;
     std::uint32_t state_seq_ = 0;
@@ -172,7 +174,7 @@ private:
     double sent_surface_s_ = -1e300;
     // Counters.
     DropCounts drops_;
-    std::uint64_t states_ = 0, missed_ = 0, zeroed_ = 0, lost_ = 0, outages_ = 0;
+    std::uint64_t states_ = 0, missed_ = 0, zeroed_ = 0, lost_ = 0, outages_ = 0, stale_tool_ = 0;
     std::uint64_t snapshots_sent_ = 0;
     std::uint64_t states_at_enable_ = 0;  // states received before the loop started (not in rate_hz)
     static constexpr std::size_t kRttSamples = 8192;

@@ -300,14 +300,14 @@ DTrackReject parse_line(std::string_view line, DTrackFrame& out, bool (&seen)[kL
             break;
         }
         case kTs: {
-            if (seen[kTs2]) return DTrackReject::kDuplicate;
-            TRIDEX_TRY(f.number(out.timestamp_s));
-            if (out.timestamp_s < 0.0) return DTrackReject::kOutOfRange;
+            double ts = 0.0;
+            TRIDEX_TRY(f.number(ts));
+            if (ts < 0.0) return DTrackReject::kOutOfRange;
+            if (!seen[kTs2]) out.timestamp_s = ts;  // a datagram with both: ts2's time, whatever the line order
             out.has_timestamp = true;
             break;
         }
         case kTs2: {
-            if (seen[kTs]) return DTrackReject::kDuplicate;
             TRIDEX_TRY(parse_ts2(f, out));
             break;
         }

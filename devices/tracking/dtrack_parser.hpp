@@ -68,7 +68,7 @@ struct DTrackFrame {
     bool has_frame_counter = false;
     std::uint32_t frame_counter = 0;  ///< `fr`: DTrack's frame counter
     bool has_timestamp = false;
-    double timestamp_s = 0.0;               ///< `ts` or `ts2`: seconds since 00:00 UTC (DTrack's clock, us resolution)
+    double timestamp_s = 0.0;  ///< `ts2`, else `ts`: seconds since 00:00 UTC (DTrack's clock, us resolution)
     bool has_latency = false;
     double latency_s = 0.0;                 ///< `ts2`: the tracker's own latency for this frame, s
     int calibrated_bodies = -1;             ///< `6dcal`: number of calibrated standard bodies; -1 when absent
@@ -96,10 +96,11 @@ struct DTrackParseResult {
 
 /// Parses one DTrack ASCII datagram into `out` (cleared first), after the format of ART's "DTrack2 User's
 /// Manual", section "Output of measurement data" / "Technical Appendix: ASCII format", as implemented by ART's
-/// DTrackSDK (DTrackParser.cpp):
+/// DTrackSDK (src/DTrackParser.cpp, ar-tracking/DTrackSDK v2.9.0, 110f7e5):
 ///   fr <frame counter>
 ///   ts <timestamp, s since 00:00 UTC>
-///   ts2 <s since 1970> <us> <latency us>   (DTRACK3's extended timestamp; DTrackSDK's parseLine_ts2)
+///   ts2 <s since 1970> <us> <latency us>   (DTRACK3's extended timestamp; DTrackSDK's parseLine_ts2; when a
+///        datagram carries both ts and ts2, ts2's time is used)
 ///   6dcal <number of calibrated standard bodies>
 ///   6d <n> [id qu][sx sy sz eta theta phi][b0 b1 b2 b3 b4 b5 b6 b7 b8] ... (n blocks; the location block may
 ///        carry only sx sy sz; eta theta phi, Euler angles in degrees, are checked but not used)

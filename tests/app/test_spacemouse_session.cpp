@@ -1,5 +1,6 @@
-// `tridex run --device spacemouse` end to end against a stand-in spacenavd socket: the puck's push moves the tool
-// through the session's haptic loop at no more than the scene's max_speed_m_s; the scene's gains are checked.
+// `tridex run --device spacemouse` end to end against a stand-in spacenavd socket: pushing the cap in moves the tool
+// away from the viewer, as in every spacenavd application, through the session's haptic loop at no more than the
+// scene's max_speed_m_s; the scene's gains are checked.
 #include <gtest/gtest.h>
 
 #include <sys/socket.h>
@@ -18,6 +19,7 @@
 #include "app/scene/run_scene.hpp"
 #include "app/session/run_session.hpp"
 #include "core/error.hpp"
+#include "devices/recording.hpp"
 #include "run_test_scene.hpp"
 
 namespace tridex::app {
@@ -54,10 +56,11 @@ TEST(SpaceMouseSession, ThePuckMovesTheToolAtTheScenesSpeed) {
     devices::test::SpnavStandIn daemon;
     ::setenv("SPNAV_SOCKET", daemon.path().c_str(), 1);
     constexpr double kSpeed = 0.02;  // m/s at full deflection (the default is 0.1)
-    // Full deflection toward the workpiece (-z), once the session's device has connected.
+    // The cap pushed all the way in, away from the user, once the session's device has connected: spacenavd's +z
+    // (its frame is left-handed, z into the screen; libspnav's spnav_posrot_moveobj moves an object to -z for it).
     std::thread puck([&daemon] {
         daemon.wait_client();
-        daemon.motion(0, 0, -350, 0, 0, 0);
+        daemon.motion(0, 0, 350, 0, 0, 0);
     });
     RunOptions o;
     o.scene = write_scene(dir, R"(, "max_speed_m_s": 0.02, "dead_zone": 0.1, "full_scale": 350)");
@@ -67,6 +70,7 @@ TEST(SpaceMouseSession, ThePuckMovesTheToolAtTheScenesSpeed) {
     o.out = (dir / "out").string();
     o.no_journal = true;
     o.cpu = true;
+    o.record = (dir / "puck.trec").string();
     RunResult r;
     try {
         r = run_stereo_session(o);
@@ -88,6 +92,11 @@ TEST(SpaceMouseSession, ThePuckMovesTheToolAtTheScenesSpeed) {
     // Rate control at the scene's speed: never faster than kSpeed over the ticks the session ran.
     const double moved = std::hypot(moved_x, r.haptics["tool_world_extent_m"][1].get<double>(), moved_z);
     EXPECT_LE(moved, kSpeed * ticks * 1e-3 + 1e-9);
+    // The direction: the stylus went to -z in the device frame (away from the viewer), never toward the viewer.
+    const devices::Recording rec = devices::read_recording(o.record);
+    ASSERT_GT(rec.ticks.size(), 100u);
+    const double dz = rec.ticks.back().device.pose.position.z - rec.ticks.front().device.pose.position.z;
+    EXPECT_LT(dz, -0.5 * moved_z) << "pushing the cap in moved the tool toward the viewer";
     std::printf("[spacemouse session] %.0f ticks, tool moved %.1f mm along z\n", ticks, 1e3 * moved_z);
 }
 

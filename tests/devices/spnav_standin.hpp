@@ -1,5 +1,6 @@
-// tests/devices/spnav_standin.hpp - a stand-in spacenavd: an AF_UNIX listener whose thread accepts one client,
-// then sends events as the daemon does (8 native int32 per packet: spacenavd's proto_unix.c, protocol v0).
+// tests/devices/spnav_standin.hpp - a stand-in spacenavd: an AF_UNIX stream listener whose thread accepts one client,
+// then sends events as the daemon does (8 native int32 per packet, as spacenavd's send_uevent in src/proto_unix.c
+// writes them to a protocol-v0 client: FreeSpacenav/spacenavd at bac572a).
 #pragma once
 
 #include <sys/socket.h>
@@ -58,8 +59,8 @@ public:
     void send_packet(const std::array<std::int32_t, 8>& w) { send_bytes(w.data(), sizeof w); }
     /// A motion event: translation x, y, z and rotation rx, ry, rz, device counts.
     void motion(int x, int y, int z, int rx, int ry, int rz) { send_packet({0, x, y, z, rx, ry, rz, 8}); }
-    /// A button press (or release) of button `b`.
-    void button(int b, bool press) { send_packet({press ? 1 : 2, b, 0, 0, 0, 0, 0, 0}); }
+    /// A button press (or release) of button `b`: type 1 (2), the button number, then 1 (0) for pressed.
+    void button(int b, bool press) { send_packet({press ? 1 : 2, b, press ? 1 : 0, 0, 0, 0, 0, 0}); }
     /// The daemon goes away: closes the client connection.
     void close_client() {
         if (fd_ >= 0) ::close(fd_);

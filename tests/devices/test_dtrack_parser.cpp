@@ -131,7 +131,7 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{"6d 1 [0 1.0][1 2 3 4][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
         Bad{"6d 1 [0 1.0 7 x][1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kNotNumeric},
         Bad{"6d 1 [0 1.0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17][1 2 3][1 0 0 0 1 0 0 0 1]", DTrackReject::kSyntax},
-        Bad{"fr 1\r\nts 10.5\r\nts2 1700000000 250000 1200\r\n", DTrackReject::kDuplicate},
+        Bad{"fr 1\r\nts2 1700000000 250000 1200\r\nts2 1700000000 250000 1200\r\n", DTrackReject::kDuplicate},
         Bad{"ts2 1700000000 1000000 0\r\n", DTrackReject::kOutOfRange},
         Bad{"ts2 1700000000 250000\r\n", DTrackReject::kTruncated},
         Bad{std::string("fr 1\r\n\0\r\n6d 0\r\n", 12), DTrackReject::kNotText},  // a NUL before the end

@@ -256,6 +256,49 @@ TEST(FalconDevice, UnplugAndLongStallsVanishWithZeroForce) {
     }
 }
 
+// Homing in the order libnifalcon documents (include/falcon/core/FalconFirmware.h, "Homing Mode", at f7c727a): the
+// commands of open() carry no homing bit; from home() on every command carries it, through enable, the force loop,
+// disable and close, since the Falcon stays homed only while the bit is set; the user is told to pull the grip out,
+// then push it in. The emulator loses its homing on a command without the bit, as the firmware does.
+TEST(FalconDevice, TheHomingBitIsSetInEveryCommandFromHomingOn) {
+    Rig r = make({}, 0.05);
+    r.dev->open();
+    const std::size_t before_home = r.emu->commands().size();
+    r.dev->home();
+    r.dev->enable();
+    DeviceState s;
+    for (int i = 0; i < 300; ++i) {
+        ASSERT_TRUE(r.dev->read(s));
+        r.dev->write(Vec3(0.5, 0.0, 1.0), Vec3(0.0));
+    }
+    EXPECT_EQ(r.emu->homing_status(), kAllHomed);
+    r.dev->disable();
+    r.dev->close();
+    const std::vector<FalconCommand>& log = r.emu->commands();
+    ASSERT_GT(log.size(), before_home + 300);
+    for (std::size_t i = 0; i < before_home; ++i) EXPECT_FALSE(log[i].homing_mode) << "command " << i << " of open()";
+    std::size_t without = 0;
+    for (std::size_t i = before_home; i < log.size(); ++i) without += log[i].homing_mode ? 0 : 1;
+    EXPECT_EQ(without, 0u) << "commands after home() without the homing bit";
+    EXPECT_EQ(r.emu->homing_lost(), 0);
+    // The grip stayed where the hand holds it (home): its encoders kept the homed origin.
+    EXPECT_LT(glm::length(s.pose.position - FalconKinematics::home_m()), 0.01);
+
+    auto emu = std::make_unique<FalconEmulator>();
+    FalconDeviceOptions o;
+    o.firmware_image = emulator_firmware_image();
+    o.homing_timeout_s = 0.01;  // shorter than the emulator's scripted pull takes to pass the indexes
+    FalconDevice dev(std::move(emu), o);
+    dev.open();
+    try {
+        dev.home();
+        FAIL() << "homed in 10 ms";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("pull the grip all the way out toward you, then push it all the way in"), std::string::npos) << m;
+    }
+}
+
 TEST(FalconDevice, RegistryMakesTheEmulatorAndRefusesAnAbsentFalcon) {
     DeviceInputs in;
     auto dev = builtin_registry().create(DeviceSpec{"falcon-emulator", "falcon", ""}, in);

@@ -143,6 +143,7 @@ void over_workspace(F&& f) {
 // and force directions from the reference's torques for unit forces along x, y, z and a diagonal.
 struct Errors {
     double max_position_m = 0, mean_position_m = 0, max_force_deg = 0, centre_force_deg = 0, max_angle_rad = 0;
+    double max_render_deg = 0, centre_render_deg = 0;  // the driver renders F: what the reference device pushes
     int points = 0;
 };
 
@@ -174,7 +175,15 @@ Errors measure(const FalconKinematics& k) {
             const auto felt = k.torque_to_force(fk.converged ? fk.position : p, torque);
             const double deg = felt ? angle_deg(*felt, f) : 180.0;
             e.max_force_deg = std::max(e.max_force_deg, deg);
-            if (glm::length(p - novint_falcon().workspace_m.centre()) < 1e-9) e.centre_force_deg = std::max(e.centre_force_deg, deg);
+            // The other way, as the driver renders a force: its motor torques for F where it believes the grip is,
+            // and the force those torques make on the reference device where the grip really is.
+            const auto tau_driver = k.force_to_torque(fk.converged ? fk.position : p, f);
+            const double render_deg = tau_driver ? angle_deg(reference_force(g, *tau_driver), f) : 180.0;
+            e.max_render_deg = std::max(e.max_render_deg, render_deg);
+            if (glm::length(p - novint_falcon().workspace_m.centre()) < 1e-9) {
+                e.centre_force_deg = std::max(e.centre_force_deg, deg);
+                e.centre_render_deg = std::max(e.centre_render_deg, render_deg);
+            }
         }
     });
     e.mean_position_m = sum / std::max(1, e.points);
@@ -184,11 +193,13 @@ Errors measure(const FalconKinematics& k) {
 TEST(FalconReference, TheDriverMatchesThePublishedGeometryOverTheWorkspace) {
     const Errors e = measure(FalconKinematics{});
     std::printf("falcon vs reference (libnifalcon f7c727a geometry, %d points): position max %.3g mm mean %.3g mm, "
-                "force direction max %.3g deg (centre %.3g deg), motor angle max %.3g rad\n",
+                "force direction max %.3g deg (centre %.3g deg), rendered force max %.3g deg (centre %.3g deg), motor "
+                "angle max %.3g rad\n",
                 e.points, e.max_position_m * 1e3, e.mean_position_m * 1e3, e.max_force_deg, e.centre_force_deg,
-                e.max_angle_rad);
+                e.max_render_deg, e.centre_render_deg, e.max_angle_rad);
     EXPECT_LT(e.max_position_m, 1e-4);
     EXPECT_LT(e.max_force_deg, 1.0);
+    EXPECT_LT(e.max_render_deg, 1.0);
     EXPECT_LT(e.max_angle_rad, 1e-9);
 }
 
@@ -208,10 +219,12 @@ TEST(FalconReference, TheReferenceRoundTripsAndTheOldConstantsAreMeasurablyWrong
     old.s = -0.027330909;
     const Errors e = measure(FalconKinematics{old});
     std::printf("falcon old constants vs reference: position max %.3g mm mean %.3g mm, force direction max %.3g deg "
-                "(centre %.3g deg)\n",
-                e.max_position_m * 1e3, e.mean_position_m * 1e3, e.max_force_deg, e.centre_force_deg);
+                "(centre %.3g deg), rendered force max %.3g deg (centre %.3g deg)\n",
+                e.max_position_m * 1e3, e.mean_position_m * 1e3, e.max_force_deg, e.centre_force_deg, e.max_render_deg,
+                e.centre_render_deg);
     EXPECT_GT(e.max_position_m, 1e-3);
     EXPECT_GT(e.max_force_deg, 1.0);
+    EXPECT_GT(e.max_render_deg, 1.0);
 }
 
 }  // namespace

@@ -100,11 +100,27 @@ TEST(SpaceMouseDevice, ButtonsMapToButtonBits) {
     EXPECT_EQ(r.read().buttons, 2u);
 }
 
+// spacenavd numbers up to 64 buttons (MAX_BUTTONS, src/cfgfile.h; spnavrc's bnmapN = M may send any of them). Every
+// one is kept: the low 32 in DeviceState::buttons, all of them in all_buttons().
+TEST(SpaceMouseDevice, ButtonsAbove31AreKept) {
+    Rig r;
+    r.daemon.button(40, true);
+    r.daemon.button(63, true);
+    r.daemon.button(2, true);
+    DeviceState s = r.read();
+    EXPECT_EQ(r.dev.all_buttons(), (std::uint64_t{1} << 40) | (std::uint64_t{1} << 63) | 4u);
+    EXPECT_EQ(s.buttons, 4u);
+    r.daemon.button(40, false);
+    s = r.read();
+    EXPECT_EQ(r.dev.all_buttons(), (std::uint64_t{1} << 63) | 4u);
+    EXPECT_EQ(r.dev.link_stats().malformed_frames, 0u);
+}
+
 TEST(SpaceMouseDevice, GarbageIsDroppedAndSplitPacketsJoin) {
     Rig r;
     r.daemon.send_packet({99, 1, 2, 3, 4, 5, 6, 7});                  // no such event type
     r.daemon.send_packet({0, 1000000, 0, 0, 0, 0, 0, 8});             // an impossible deflection
-    r.daemon.send_packet({1, 40, 0, 0, 0, 0, 0, 0});                  // no such button
+    r.daemon.send_packet({1, 64, 1, 0, 0, 0, 0, 0});                  // no such button (spacenavd has 0..63)
     r.daemon.send_packet({3, 0, 1, 0x200, 0x46d, 0xc626, 0, 0});      // a device event: valid, ignored
     DeviceState s = r.read();
     EXPECT_EQ(s.pose.position, Vec3(0.0));
@@ -182,6 +198,21 @@ TEST(SpaceMouseDevice, TheSocketPathFollowsLibspnavsOrderAndReadsSpnavrc) {
     EXPECT_EQ(spnav_socket_from_config(rc), "");
     EXPECT_EQ(spnav_socket_path("", "", rc), kSpnavDefaultSocket);
     EXPECT_EQ(spnav_socket_path("", "", rc + ".absent"), kSpnavDefaultSocket);
+    std::remove(rc.c_str());
+}
+
+// A spnavrc that moves the socket: the driver connects to the daemon listening there and reads its events.
+TEST(SpaceMouseDevice, TheSocketSetInSpnavrcIsWhereTheDriverConnects) {
+    SpnavStandIn daemon;
+    const std::string rc = ::testing::TempDir() + "/tridex_spnavrc_live";
+    std::ofstream(rc) << "# moved by the user\nsocket = " << daemon.path() << "\n";
+    SpaceMouseDevice dev(DeviceProfile::phantom_omni(), Vec3(0.0), 1e-3, params_at(spnav_socket_path("", "", rc)));
+    dev.bring_up();
+    daemon.wait_client();
+    daemon.motion(0, 350, 0, 0, 0, 0);
+    DeviceState s;
+    ASSERT_TRUE(dev.read(s));
+    EXPECT_NEAR(s.pose.position.y, 1e-4, 1e-12);
     std::remove(rc.c_str());
 }
 

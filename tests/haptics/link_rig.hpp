@@ -3,6 +3,8 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "devices/net/link_shim.hpp"
 #include "devices/net/net_device.hpp"
@@ -18,6 +20,7 @@ struct LinkRig {
     std::unique_ptr<devices::net::DatagramLink> server_link;
     std::unique_ptr<haptics::DeviceServer> server;
     std::unique_ptr<devices::net::NetDevice> client;
+    std::vector<std::string> server_events;  ///< what the server logged (its on_event lines)
 
     LinkRig(devices::net::RenderingMode mode, devices::ScriptedPath path, devices::net::ShimConfig link = {},
             std::uint16_t client_version = devices::net::kLinkVersion)
@@ -36,6 +39,7 @@ struct LinkRig {
         server_link = shim.server_end();
         haptics::DeviceServerConfig c;
         c.clock = [this] { return now; };
+        c.on_event = [this](const std::string& line) { server_events.push_back(line); };
         server = std::make_unique<haptics::DeviceServer>(device, *server_link, c);
     }
     /// The server gone: its end of the link closed.

@@ -257,10 +257,22 @@ TEST(DeviceServer, EachSessionIsToldItsOwnCounts) {
         d.pop_back();  // torn: malformed
         tick_and_read_state(&d);
     }
+    // Heartbeats 5 and 9: three lost between them; then 15 ms of silence, a watchdog trip, and heartbeat 10.
+    for (const std::uint32_t seq : {5u, 9u}) {
+        h.seq = seq;
+        net::encode_heartbeat(h, d);
+        tick_and_read_state(&d);
+    }
+    for (int i = 0; i < 15; ++i) tick_and_read_state(nullptr);
+    h.seq = 10;
+    net::encode_heartbeat(h, d);
+    tick_and_read_state(&d);
     std::optional<net::StateMsg> first;
     for (int i = 0; i < 5 && !first; ++i) first = tick_and_read_state(nullptr);
     ASSERT_TRUE(first);
     EXPECT_EQ(first->malformed, 3u);
+    EXPECT_EQ(first->lost, 3u);
+    EXPECT_EQ(first->watchdog_trips, 1u);
     h.seq = 0;
     net::encode(h, net::Hello{}, d);
     tick_and_read_state(&d);  // a second session on the same server
@@ -268,7 +280,12 @@ TEST(DeviceServer, EachSessionIsToldItsOwnCounts) {
     for (int i = 0; i < 5 && !second; ++i) second = tick_and_read_state(nullptr);
     ASSERT_TRUE(second);
     EXPECT_EQ(second->malformed, 0u);
+    EXPECT_EQ(second->lost, 0u);
+    EXPECT_EQ(second->watchdog_trips, 0u);
+    EXPECT_EQ(second->stale_snapshots, 0u);
     EXPECT_EQ(server.stats().malformed, 3u);  // the server's own total keeps every session's
+    EXPECT_EQ(server.stats().lost, 3u);
+    EXPECT_EQ(server.stats().watchdog_trips, 1u);
     EXPECT_EQ(server.stats().sessions, 2u);
 }
 
