@@ -39,13 +39,27 @@ void fsync_path(const std::string& p, int flags, const std::string& name_for_err
 std::string temp_path_for(const std::string& path) { return path + ".tmp-" + std::to_string(::getpid()); }
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
+    // An unnamed file in the target's folder (same file system, so the final rename is atomic). File systems
+    // without O_TMPFILE answer EOPNOTSUPP (or EISDIR, EINVAL on old kernels): then a named temporary file.
+    const int fd = ::open(folder_of(path_).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+        file_ = ::fdopen(fd, "wb");
+        if (!file_) {
+            const int err = errno;
+            ::close(fd);
+            throw Error(path_ + ": cannot open a temporary file (" + why(err) + ")");
+        }
+        unnamed_ = true;
+        return;
+    }
     file_ = std::fopen(temp_.c_str(), "wb");
     if (!file_) throw Error(path_ + ": cannot create " + temp_ + " (" + why(errno) + ")");
+    linked_ = true;
 }
 
 AtomicFile::AtomicFile(AtomicFile&& o) noexcept
     : path_(std::move(o.path_)), temp_(std::move(o.temp_)), file_(std::exchange(o.file_, nullptr)),
-      committed_(std::exchange(o.committed_, true)) {}
+      committed_(std::exchange(o.committed_, true)), unnamed_(o.unnamed_), linked_(std::exchange(o.linked_, false)) {}
 
 AtomicFile::~AtomicFile() {
     if (!committed_) discard();
@@ -54,7 +68,8 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::discard() noexcept {
     if (file_) std::fclose(file_);
     file_ = nullptr;
-    if (!temp_.empty()) ::unlink(temp_.c_str());
+    if (linked_) ::unlink(temp_.c_str());
+    linked_ = false;
 }
 
 void AtomicFile::write(const void* data, std::size_t n) {
@@ -76,6 +91,16 @@ void AtomicFile::commit() {
         discard();
         throw Error(path_ + ": cannot write (" + why(err) + "); the previous file, if any, is unchanged");
     }
+    if (unnamed_) {  // the unnamed file gets its temporary name only now, for the rename
+        const std::string self = "/proc/self/fd/" + std::to_string(::fileno(file_));
+        ::unlink(temp_.c_str());  // a stale one of an earlier process with this pid
+        if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, temp_.c_str(), AT_SYMLINK_FOLLOW) != 0) {
+            const int err = errno;
+            discard();
+            throw Error(path_ + ": cannot name the temporary file " + temp_ + " (" + why(err) + ")");
+        }
+        linked_ = true;
+    }
     const int rc = std::fclose(file_);
     file_ = nullptr;
     if (rc != 0) {
@@ -89,6 +114,7 @@ void AtomicFile::commit() {
         throw Error(path_ + ": cannot rename " + temp_ + " over it (" + why(err) + ")");
     }
     committed_ = true;
+    linked_ = false;
     fsync_path(folder_of(path_), O_RDONLY | O_DIRECTORY, path_ + " (folder)");
 }
 

@@ -307,8 +307,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
     : path_(path), last_t_s_(std::numeric_limits<double>::quiet_NaN()), uncaught_at_open_(std::uncaught_exceptions()) {
     const std::string text = header_json(path, header);
     if (text.size() > std::numeric_limits<std::uint32_t>::max()) throw Error(path + ": header text too long");
-    file_ = std::fopen(path.c_str(), "wb");
-    if (!file_) throw Error(path + ": cannot create: " + std::strerror(errno));
+    atomic_.emplace(path);  // throws "<path>: cannot create ..." when the folder cannot hold it
+    file_ = atomic_->stream();
     unsigned char pre[kRecordingPreambleBytes];
     std::memcpy(pre, kRecordingMagic, 8);
     Encoder e(pre + 8);
@@ -321,8 +321,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
                     std::fwrite(text.data(), 1, text.size(), file_) == text.size();
     if (!ok) {
         const int err = errno;
-        std::fclose(file_);
         file_ = nullptr;
+        atomic_.reset();  // discards the temporary file
         throw Error(path + ": cannot write the header: " + std::strerror(err));
     }
     crc_ = crc32_ieee(text.data(), text.size());
@@ -331,7 +331,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
 RecordingWriter::~RecordingWriter() {
     if (!file_) return;
     if (std::uncaught_exceptions() > uncaught_at_open_) {
-        std::fclose(file_);  // unwinding: leave the file unfinished so nobody mistakes it for a whole session
+        file_ = nullptr;
+        atomic_.reset();  // unwinding: discard the temporary file, so nobody mistakes it for a whole session
         return;
     }
     try {
@@ -362,10 +363,15 @@ void RecordingWriter::close() {
     Encoder e(tail);
     e.u64(static_cast<std::uint64_t>(count_));
     e.u32(crc_);
-    bool ok = std::fflush(f) == 0 && std::fseek(f, 16, SEEK_SET) == 0 && std::fwrite(tail, 1, sizeof tail, f) == sizeof tail;
+    const bool ok = std::fflush(f) == 0 && std::fseek(f, 16, SEEK_SET) == 0 && std::fwrite(tail, 1, sizeof tail, f) == sizeof tail;
     const int err = errno;
-    ok = (std::fclose(f) == 0) && ok;
-    if (!ok) throw Error(path_ + ": cannot finish the file: " + std::strerror(err ? err : errno));
+    if (!ok) {
+        atomic_.reset();
+        throw Error(path_ + ": cannot finish the file: " + std::strerror(err ? err : EIO));
+    }
+    AtomicFile file = std::move(*atomic_);
+    atomic_.reset();
+    file.commit();  // throws "<path>: cannot write ..." (the temporary file removed, path as it was)
 }
 
 void write_recording(const std::string& path, const Recording& recording) {

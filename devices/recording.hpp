@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.hpp"
 #include "core/crc32.hpp"
 #include "core/math.hpp"
 #include "core/tool_shape.hpp"
@@ -128,13 +129,14 @@ std::string check_tick(const RecordedTick& tick, double previous_t_s);
 
 /// Writes a recording tick by tick (after the session, from the loop's records: it allocates and does
 /// file I/O, so never call it from the 1 kHz thread).
-/// The file is complete only after close(): until then its tick count says "open" and read_recording
-/// refuses it. The destructor closes too, except during stack unwinding (an exception in flight), when
-/// it leaves the file unfinished on purpose; errors in the destructor are swallowed, call close() to
-/// see them. Not thread-safe.
+/// The bytes go to a temporary file (core/atomic_file.hpp: unnamed where the file system allows) that close()
+/// renames over `path`, so `path` holds the previous file or the whole new recording, never a cut one. The
+/// destructor closes too, except during stack unwinding (an exception in flight), when it discards the temporary
+/// file and leaves `path` as it was; errors in the destructor are swallowed, call close() to see them. Not
+/// thread-safe.
 class RecordingWriter {
 public:
-    /// Creates (truncates) `path` and writes the preamble and header text.
+    /// Opens the temporary file for `path` and writes the preamble and header text.
     /// Throws tridex::Error "<path>: ..." when the file cannot be created or written, or the header is
     /// bad (period_s not finite or <= 0, a string that is not valid UTF-8).
     RecordingWriter(const std::string& path, const RecordingHeader& header);
@@ -145,7 +147,7 @@ public:
     /// Appends one tick. Throws tridex::Error "<path>: tick <i>: <what>" when it breaks a rule of
     /// RecordedTick (nothing is written then), or on a write error or after close().
     void write(const RecordedTick& tick);
-    /// Writes the tick count and checksum and closes the file. Idempotent.
+    /// Writes the tick count and checksum and renames the file over `path`. Idempotent.
     /// Throws tridex::Error "<path>: ..." on a write error.
     void close();
     /// Ticks written so far.
@@ -153,7 +155,8 @@ public:
 
 private:
     std::string path_;
-    std::FILE* file_ = nullptr;
+    std::optional<AtomicFile> atomic_;  // the temporary file until close() commits it
+    std::FILE* file_ = nullptr;         // atomic_'s stream while open
     std::uint32_t crc_ = 0;
     std::size_t count_ = 0;
     double last_t_s_;

@@ -1,5 +1,6 @@
 // Tests of core/atomic_file: the target holds the old or the whole new content, never a cut file; a write that
-// fails (a file-size limit standing in for a full disk) names the file and leaves the old content.
+// fails (a file-size limit standing in for a full disk) names the file and leaves the old content; a writer killed
+// by SIGKILL before its commit leaves no file behind (the temporary file is unnamed: O_TMPFILE).
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
@@ -89,6 +90,67 @@ TEST(AtomicFile, AFailedWriteLeavesTheOldFile) {
     EXPECT_EQ(WEXITSTATUS(status), 0) << "1: no error; 2: the error did not name the file";
     EXPECT_EQ(read_all(target), "previous picture");
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "a temporary file was left";
+}
+
+
+// A writer killed by SIGKILL in the middle of its write leaves the folder as it was: the bytes went to an unnamed file
+// (O_TMPFILE, which ext4 and tmpfs have), which the kernel frees with the process. Before, "<path>.tmp-<pid>" stayed.
+TEST(AtomicFile, AWriterKilledBeforeItsCommitLeavesNoFile) {
+    for (const fs::path& base : {fs::temp_directory_path(), fs::path("/dev/shm")}) {
+        if (!fs::is_directory(base)) continue;
+        const fs::path dir = base / ("tridex_atomic_kill_" + std::to_string(::getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        const fs::path target = dir / "session.trdx";
+        std::ofstream(target) << "previous recording";
+        {
+            AtomicFile probe((dir / "probe").string());
+            EXPECT_TRUE(probe.unnamed()) << base << ": no O_TMPFILE here, the temporary file has a name";
+            EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1)
+                << "an unnamed temporary file showed in the folder";
+        }
+        int pipe_fd[2];
+        ASSERT_EQ(::pipe(pipe_fd), 0);
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            ::close(pipe_fd[0]);
+            AtomicFile f(target.string());
+            f.write(std::string(1 << 20, 'x'));
+            std::fflush(f.stream());
+            const char ready = 1;
+            (void)!::write(pipe_fd[1], &ready, 1);
+            for (;;) ::pause();  // killed here, mid-session
+        }
+        ::close(pipe_fd[1]);
+        char ready = 0;
+        ASSERT_EQ(::read(pipe_fd[0], &ready, 1), 1);
+        ::close(pipe_fd[0]);
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        EXPECT_TRUE(WIFSIGNALED(status));
+        EXPECT_EQ(read_all(target), "previous recording");
+        std::string names;
+        for (const auto& e : fs::directory_iterator(dir)) names += " " + e.path().filename().string();
+        EXPECT_EQ(names, " session.trdx") << base << ": the killed writer left files behind";
+        fs::remove_all(dir);
+    }
+}
+
+TEST(AtomicFile, AnUnnamedFileIsCommittedOverAnExistingTarget) {
+    const fs::path dir = fresh_dir("atomic_unnamed");
+    const fs::path target = dir / "model.tdx";
+    std::ofstream(target) << "old";
+    // A stale temporary name of this pid (an earlier process) does not stop the commit and is gone after it.
+    std::ofstream(temp_path_for(target.string())) << "stale";
+    AtomicFile f(target.string());
+    ASSERT_TRUE(f.unnamed());
+    f.write("new");
+    f.commit();
+    EXPECT_EQ(read_all(target), "new");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+    fs::remove_all(dir);
 }
 
 }  // namespace
