@@ -158,6 +158,7 @@ void HapticLoop::begin_session() {
     ticks_ = 0;
     overruns_ = 0;
     dropped_ = 0;
+    stream_dropped_ = 0;
     invalid_ = 0;
     trips_ = 0;
     speed_cuts_ = 0;
@@ -207,6 +208,7 @@ LoopStats HapticLoop::stats() const {
     s.ticks = ticks_.load(std::memory_order_relaxed);
     s.overruns = overruns_.load(std::memory_order_relaxed);
     s.samples_dropped = dropped_.load(std::memory_order_relaxed);
+    s.records_stream_dropped = stream_dropped_.load(std::memory_order_relaxed);
     s.invalid_samples = invalid_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
     s.watchdog_trips = trips_.load(std::memory_order_relaxed);
@@ -396,6 +398,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     if (ticks_.load(std::memory_order_relaxed) > 0) period_hist_.add(static_cast<double>(rec.period_us) * 1e-6);
     compute_hist_.add(compute_s);
     if (recorded_ < records_.size()) records_[recorded_++] = rec;
+    if (cfg_.record_stream && !cfg_.record_stream->try_push(rec)) stream_dropped_.fetch_add(1, std::memory_order_relaxed);
     const std::size_t n = ticks_.fetch_add(1, std::memory_order_relaxed) + 1;
 
     const WorkspaceFrame& wf = mapper_.frame();

@@ -39,6 +39,8 @@ struct ToolChange {
 };
 
 /// Settings of the haptic loop (SI units).
+struct TickRecord;
+
 struct HapticLoopConfig {
     double period_s = 1e-3;        ///< tick period, s (1 kHz), in [1e-5, 0.1]
     ContactParams contact;         ///< god-object stiffness, damping, tool radius
@@ -57,6 +59,10 @@ struct HapticLoopConfig {
     /// them is held, kNone otherwise (the desk mouse's left button); 0 = always engaged.
     std::uint32_t engage_mask = 0;
     std::size_t max_ticks = 0;     ///< TickRecords preallocated (recording stops when full); 0 = none
+    /// Where every tick's record is also pushed, without waiting (a full ring drops it, counted in
+    /// LoopStats::records_stream_dropped), for a consumer that streams a recording of any length to disk; nullptr =
+    /// none. The ring must outlive the loop's run.
+    SpscRing<TickRecord>* record_stream = nullptr;
     WorkspaceConfig workspace;     ///< workspace technique (WorkspaceMode) and its parameters
     SafetyConfig safety;           ///< velocity limit, ramp-in, watchdog and passivity-controller settings
     bool passivity_control = false;///< the passivity controller damps energy the environment creates (the observer always runs)
@@ -129,6 +135,7 @@ struct LoopStats {
     std::size_t ticks = 0;            ///< ticks that got a sample from the device
     std::size_t overruns = 0;         ///< ticks that ended after the next deadline (missed deadlines skipped)
     std::size_t samples_dropped = 0;  ///< ToolSamples not pushed because the ring was full
+    std::size_t records_stream_dropped = 0;  ///< TickRecords not pushed to HapticLoopConfig::record_stream (ring full)
     std::size_t invalid_samples = 0;  ///< device samples with a non-finite value (zero force sent)
     bool device_lost = false;         ///< device.read() returned false (or threw) and the loop ended
     std::size_t watchdog_trips = 0;   ///< watchdog trip episodes (non-finite, stale or stalled data)
@@ -313,7 +320,7 @@ private:
     std::thread thread_;
     std::atomic<bool> stop_requested_{false};
     std::atomic<bool> running_{false};
-    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
+    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
     std::atomic<double> energy_{0.0};

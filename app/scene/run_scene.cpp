@@ -73,7 +73,7 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         sp.mesh_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
     }
     sp.resolution = f.integer("resolution", sp.resolution, 8, 4096);
-    sp.stock_m = f.number("stock_m", sp.stock_m, 0.0, 10.0, true);
+    sp.stock_m = f.number("stock_m", sp.stock_m, 0.001, 100.0);  // validate_spec's range
     sp.workpiece_centre_m = f.vec3("centre_m", sp.workpiece_centre_m);
     for (int a = 0; a < 3; ++a)  // the lattice holds depths as floats from a local origin: stay within reach
         if (!(std::abs(sp.workpiece_centre_m[a]) <= 1e3))

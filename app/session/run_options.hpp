@@ -1,6 +1,7 @@
 // app/session/run_options.hpp - the command-line options of `tridex run` (SI units; strings checked when the run starts).
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace tridex::app {
@@ -75,8 +76,9 @@ struct RunOptions {
     bool no_journal = false;  ///< --no-journal: write no journal
     /// Wall time between checkpoint models written next to the journal while the model changes, s (0 = none).
     double checkpoint_s = 120.0;
-    /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes); 0 = the scene's (256 MiB).
-    double history_mib = 0.0;
+    /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes), 1..1048576 as the demo's; unset =
+    /// the scene's (256 MiB).
+    std::optional<double> history_mib;
     /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
     /// Falcon has none running); "" = the scene's device.firmware.
     std::string falcon_firmware;

@@ -70,6 +70,8 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.gpu_clay = su.gpu_clay;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
+    // --record streams the ticks to disk while the session runs: a recording of any length.
+    sculpt_options.stream_recording = su.record;
     // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
     std::shared_ptr<devices::DTrackReceiver> tool_dtrack;
     if (driver_caps(scene.spec.device_driver).input == devices::InputKind::kTracked) {
@@ -208,16 +210,16 @@ void RunPipeline::Parts::write_outputs() {
         }))
         r.files.push_back(ply);
     if (!su.record.empty()) {
-        if (rt.records().size() < rt.loop_stats().ticks)
-            r.notes.push_back("record: only the first " + std::to_string(rt.records().size()) + " of " +
-                              std::to_string(rt.loop_stats().ticks) + " ticks were kept; a replay carves less");
+        if (const std::size_t dropped = rt.loop_stats().records_stream_dropped; dropped > 0)
+            r.notes.push_back("record: " + std::to_string(dropped) + " of " + std::to_string(rt.loop_stats().ticks) +
+                              " ticks were dropped (the disk fell behind); a replay carves less");
         if (writes.attempt(su.record, [&] {
                 std::string notes;  // a protocol's test trial: tagged for `tridex study analyze`
                 if (const RunStudy& st = scene.study; st.enabled && !st.participant.empty())
                     notes = study::tag_notes(spec_to_json(rt.spec()),
                                              study::StudyTag{st.participant, st.group, st.trial, st.model,
                                                              st.scene.tube.name, study::tube_id(st.scene.tube)});
-                write_session_recording(su.record, rt.spec(), rt.records(), notes, r.sculpt.marks);
+                rt.tick_stream()->finish(notes, r.sculpt.marks);
             }))
             r.files.push_back(su.record);
     }

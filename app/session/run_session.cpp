@@ -85,10 +85,10 @@ RunSetup resolve_run(const RunOptions& o) {
                          {{"the scene", o.scene},
                           {"the scene's workpiece model", s.scene.spec.model_path},
                           {"the scene's workpiece mesh", s.scene.spec.model_path.empty() ? s.scene.spec.mesh_path : ""}});
-    if (o.history_mib != 0.0) {
-        if (!(o.history_mib >= 1.0 && o.history_mib <= 1048576.0))
-            throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(o.history_mib));
-        s.scene.spec.history_budget_bytes = static_cast<std::size_t>(o.history_mib * 1048576.0);
+    if (o.history_mib) {  // the same range as the demo's
+        if (!(*o.history_mib >= 1.0 && *o.history_mib <= 1048576.0))
+            throw Error("--history-mib: must be between 1 and 1048576, got " + format_number(*o.history_mib));
+        s.scene.spec.history_budget_bytes = static_cast<std::size_t>(*o.history_mib * 1048576.0);
     }
     if (!o.falcon_firmware.empty()) s.scene.spec.device_firmware = o.falcon_firmware;
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);

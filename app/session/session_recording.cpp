@@ -130,16 +130,21 @@ devices::Recording session_recording(const SessionSpec& settings, const std::vec
     return rec;
 }
 
-void write_session_recording(const std::string& path, const SessionSpec& settings,
-                             const std::vector<haptics::TickRecord>& records, const std::string& notes,
-                             std::span<const SculptMark> marks) {
+devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
+                                          std::span<const SculptMark> marks) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
     header.notes = notes.empty() ? spec_to_json(settings) : notes;
     header.marks = recorded_marks(marks);
-    devices::RecordingWriter writer(path, header);
+    return header;
+}
+
+void write_session_recording(const std::string& path, const SessionSpec& settings,
+                             const std::vector<haptics::TickRecord>& records, const std::string& notes,
+                             std::span<const SculptMark> marks) {
+    devices::RecordingWriter writer(path, recording_header(settings, notes, marks));
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {
         const devices::RecordedTick t = to_recorded_tick(r, parse_tool_op(settings.op), prev, settings.points);

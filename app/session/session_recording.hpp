@@ -48,6 +48,11 @@ std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHead
 /// (to_recorded_tick per record, the settings in the header notes, no marks), as write_session_recording writes it.
 devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records);
 
+/// The header of a recording of a session of `settings`: its device profile's name, period and workspace mode,
+/// `notes` ("" = spec_to_json(settings)) and the sculpt thread's `marks`.
+devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
+                                          std::span<const SculptMark> marks);
+
 /// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
 /// spec_to_json) and the sculpt thread's `marks` (SculptStats::marks), so that a replay repeats its undos, redos
 /// and strokes. Throws tridex::Error "<path>: ..." when it cannot write.

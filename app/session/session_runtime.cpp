@@ -113,6 +113,10 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (const auto* net = dynamic_cast<const devices::net::NetDevice*>(device_.get());
         net && net->mode() == devices::net::RenderingMode::kLocal)
         sculpt_->observe_surface([dev = device_.get()](const ActiveSurface& s) { dev->observe_surface(s); });
+    if (!o.sculpt.stream_recording.empty()) {
+        tick_stream_ = std::make_unique<TickStream>(spec_, o.sculpt.stream_recording);
+        cfg_.record_stream = &tick_stream_->ring();
+    }
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
     if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
         std::fprintf(stderr,
@@ -182,6 +186,7 @@ void SessionRuntime::start() {
     started_ = true;
     t_start_ = Clock::now();
     sculpt_->start();
+    if (tick_stream_) tick_stream_->start();
     loop_->start();
 }
 
@@ -189,6 +194,7 @@ void SessionRuntime::stop() {
     if (!started_ || stopped_) return;
     stopped_ = true;
     loop_->stop();  // zero force, device disabled
+    if (tick_stream_) tick_stream_->stop();  // every tick the loop pushed is in the temporary file
     session_s_ = seconds_since(t_start_);
     device_->close();
     try {

@@ -17,6 +17,7 @@
 #include "compute/runtime/sculpt_thread.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
+#include "app/session/tick_stream.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
@@ -56,6 +57,9 @@ struct SculptOptions {
     /// With per-tile meshes published (RuntimeOptions::mesh_form kTiles, CPU contour): the sculpt thread also
     /// builds each changed tile's levels of detail (SculptThread::use_tile_lod) for the renderer to choose from.
     bool tile_lod = false;
+    /// A recording streamed to disk while the session runs (TickStream: no length limit, bounded memory), written to
+    /// this path by tick_stream()->finish() after stop(); "" = none (a recording, if any, is written from records()).
+    std::string stream_recording{};
     /// --gpu-clay: clay sweeps on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where the CPU
     /// reference is faster and is the default (make_boolean_backend).
     bool gpu_clay = false;
@@ -194,6 +198,9 @@ public:
     double session_s() const { return session_s_; }               ///< start() .. stop() wall time, s
     /// The journal's counters and error (SculptOptions::journal); nullptr without a journal. Read after stop().
     const compute::JournalStats* journal_stats() const { return journal_ ? &journal_->stats() : nullptr; }
+    /// The recording streamed while the session runs (SculptOptions::stream_recording), or nullptr. After stop(),
+    /// finish() writes it.
+    TickStream* tick_stream() { return tick_stream_.get(); }
     /// Vulkan validation messages of the Booleans on a Context of their own (0 when they share one).
     std::uint32_t sculpt_validation_messages() const;
 
@@ -216,6 +223,7 @@ private:
     TripleBuffer<MeshFrame> meshes_;
     std::unique_ptr<compute::JournalWriter> journal_;  // before sculpt_, which appends to it
     std::unique_ptr<SculptThread> sculpt_;
+    std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;
     double contour_s_ = 0.0, session_s_ = 0.0;

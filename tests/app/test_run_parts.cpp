@@ -149,6 +149,11 @@ TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {
     EXPECT_NE(error_of([&] { (void)load_run_scene(huge); }).find(huge + ": not valid JSON: number overflow parsing '1e400'"),
               std::string::npos)
         << error_of([&] { (void)load_run_scene(huge); });
+    // A stock too small for any tool is refused naming its own field, not a tool's.
+    const std::string tiny = (dir / "tiny.json").string();
+    std::ofstream(tiny) << "{ \"workpiece\": { \"stock_m\": 1e-320 } }";
+    EXPECT_NE(error_of([&] { (void)load_run_scene(tiny); }).find("workpiece.stock_m"), std::string::npos)
+        << error_of([&] { (void)load_run_scene(tiny); });
     const std::string missing = (dir / "missing.json").string();
     EXPECT_NE(error_of([&] { (void)load_run_scene(missing); }).find(missing), std::string::npos);
     fs::remove_all(dir);
@@ -173,6 +178,14 @@ TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
     o = RunOptions{};
     o.head = "psychic";
     EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--head"), std::string::npos);
+    // --history-mib: the demo's range, 0 included in what is refused.
+    for (const double mib : {0.0, 0.5, -1.0, 2e6}) {
+        o = RunOptions{};
+        o.history_mib = mib;
+        EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--history-mib: must be between 1 and 1048576"),
+                  std::string::npos)
+            << mib;
+    }
 
     o = RunOptions{};
     o.display = "offscreen";
