@@ -89,7 +89,6 @@ std::vector<LongFunction> long_functions(const fs::path& root, const std::vector
 const std::set<std::pair<std::string, std::string>> kLongFunctionsAllowed = {
     {"bench/bench_render.cpp", "run_render_bench"},
     {"bench/bench_sculpt.cpp", "run_sculpt_bench"},
-    {"renderer/stereo/stereo_renderer.cpp", "draw"},
 };
 
 TEST(HouseRules, LongFunctionsAreFoundInASyntheticTree) {
