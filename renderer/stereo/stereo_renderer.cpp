@@ -20,7 +20,7 @@
 #include "renderer/stereo/frame_draws.hpp"
 #include "renderer/stereo/frame_slots.hpp"
 #include "renderer/scene/force_arrow.hpp"
-#include "renderer/timing/frame_timer.hpp"
+#include "renderer/stereo/frame_timer.hpp"
 #include "renderer/scene/gpu_mesh.hpp"
 #include "renderer/scene/material_palette.hpp"
 #include "renderer/scene/overlay_content.hpp"
