@@ -238,7 +238,6 @@ std::set<std::string> folder_cycles(const fs::path& root, const std::vector<std:
 // only shrink). Between top-level modules there are none: the include rule (test_layout.cpp) is one-way.
 const std::set<std::string> kFolderCyclesAllowed = {
     "app, app/commands, app/study",
-    "renderer/scene, renderer/stereo",
 };
 
 TEST(HouseRules, FolderCyclesAreFoundInASyntheticTree) {
