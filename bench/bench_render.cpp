@@ -12,6 +12,9 @@
 #include <thread>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <span>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "app/commands/demo.hpp"
@@ -115,6 +118,244 @@ struct Samples {
     renderer::FrameStats last;
 };
 
+// The scene settings of `st`: tile culling, LOD, ambient occlusion.
+void apply_setting(renderer::SceneView& scene, const Setting& st) {
+    scene.cull_tiles = st.cull;
+    scene.lod = st.lod;
+    scene.occlusion_strength = st.ao ? 1.0 : 0.0;
+}
+
+// The cost of the levels of detail of `cache` (workpiece of N = n cells) built with `lod_options`: its whole build, and
+// one tile at a time on one thread (up to about `timed_tiles` tiles spread over the list: what a dirty tile costs the
+// sculpt thread), with the levels per tile and per group and the coarsest levels' triangles. Prints the line and
+// returns it.
+std::string lod_build_line(const compute::TileSurfaceCache& cache, const compute::TileLodOptions& lod_options, int n,
+                           std::size_t timed_tiles) {
+    std::vector<double> one_ms;
+    std::size_t levels = 0, lod_triangles = 0;
+    const auto& all = cache.tiles();
+    const std::size_t step = std::max<std::size_t>(1, all.size() / std::max<std::size_t>(1, timed_tiles));
+    for (std::size_t i = 0; i < all.size(); i += step) {
+        const auto t0 = Clock::now();
+        const auto built = compute::build_tile_lod(all[i].mesh, all[i].materials, lod_options);
+        one_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    for (const compute::TileSurface& s : all) {
+        levels += s.lods.size();
+        if (!s.lods.empty()) lod_triangles += s.lods.back().mesh.triangles.size();
+        else lod_triangles += s.mesh.triangles.size();
+    }
+    // Groups: the coarsest level of each top-most group that has levels covers its tiles.
+    std::size_t group_levels = 0, top_triangles = 0;
+    int top_depth = 0;
+    for (const compute::TileGroupSurface& g : cache.groups()) {
+        group_levels += g.lods.size();
+        top_depth = std::max(top_depth, g.depth);
+    }
+    for (const compute::TileGroupSurface& g : cache.groups())
+        if (g.depth == top_depth) top_triangles += g.lods.empty() ? 0 : g.lods.back().mesh.triangles.size();
+    const Summary lod_s = summarize(one_ms);
+    char line[480];
+    std::snprintf(line, sizeof line,
+                  "LOD build N=%d: %zu tiles and %zu groups in %.0f ms on %u cores; one thread, %zu tiles: median "
+                  "%.3f ms, p99 %.3f ms per tile; %.2f levels per tile, %.2f per group; coarsest tile levels %zu, "
+                  "coarsest depth-%d group levels %zu of %zu triangles",
+                  n, cache.lod_tiles_built(), cache.lod_groups_built(), cache.lod_build_ms(),
+                  std::max(1u, std::thread::hardware_concurrency()), one_ms.size(), lod_s.median, lod_s.p99,
+                  static_cast<double>(levels) / std::max<std::size_t>(1, all.size()),
+                  static_cast<double>(group_levels) / std::max<std::size_t>(1, cache.groups().size()), lod_triangles,
+                  top_depth, top_triangles, cache.triangle_count());
+    std::printf("%s\n", line);
+    return line;
+}
+
+// The timed frames of every setting seen from `head`, `frames` per setting: a warm-up frame per setting (uploads of
+// every level), then interleaved rounds, per setting kSettle frames that fill the two frame slots and kTimed frames
+// whose draw() waits for a frame of the same setting (the frame interval of a steady stream). `timing_note` takes the
+// renderer's note on its GPU timings.
+std::vector<Samples> time_settings(renderer::OffscreenStereoRenderer& r, renderer::SceneView& scene, const Pose& head,
+                                   const std::vector<Setting>& settings, int frames, std::string& timing_note) {
+    for (const Setting& st : settings) {
+        apply_setting(scene, st);
+        r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+    }
+    r.finish();
+    r.take_finished_frames();
+    constexpr int kSettle = 2, kTimed = 2;
+    std::vector<Samples> got(settings.size());
+    while (static_cast<int>(got[0].wall.size()) < frames) {
+        for (std::size_t k = 0; k < settings.size(); ++k) {
+            apply_setting(scene, settings[k]);
+            for (int f = 0; f < kSettle + kTimed; ++f) {
+                const auto t0 = Clock::now();
+                got[k].last = r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+                const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                if (f >= kSettle) got[k].wall.push_back(ms);
+            }
+            r.finish();
+            const std::vector<renderer::FrameStats> done = r.take_finished_frames();
+            for (std::size_t i = done.size() >= kTimed ? done.size() - kTimed : 0; i < done.size(); ++i) {
+                const renderer::FrameStats& fs = done[i];
+                timing_note = fs.timing_note;
+                if (fs.timing != renderer::TimingSource::kGpuTimestamps || fs.frame_ms < 0.0) continue;
+                got[k].gpu.push_back(fs.frame_ms);
+                double in_passes = 0.0;
+                for (const renderer::PassTime& p : fs.passes) in_passes += p.ms;
+                got[k].outside.push_back(fs.frame_ms - in_passes);
+                for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
+                for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
+            }
+        }
+    }
+    return got;
+}
+
+// The table row of setting `st` from its samples `g` (the row's n, size and view already set in `row`), with the
+// renderer's tile buffers; `tiles` and `triangles`: the workpiece's non-empty tiles and their triangles.
+void fill_row(const Setting& st, const Samples& g, const renderer::OffscreenStereoRenderer& r, std::size_t tiles,
+              std::size_t triangles, RenderBenchRow& row) {
+    row.culling = st.cull;
+    row.lod = st.lod;
+    row.ao = st.ao;
+    const Summary s = summarize(g.wall);
+    row.frame_ms_median = s.median;
+    row.frame_ms_p99 = s.p99;
+    row.gpu_frame_ms_median = g.gpu.empty() ? -1.0 : summarize(g.gpu).median;
+    row.gpu_outside_passes_ms = g.outside.empty() ? -1.0 : summarize(g.outside).median;
+    for (const auto& [name, values] : g.pass_ms) row.passes[name] = summarize(values).median;
+    row.tiles_drawn_left = g.last.tiles[0].drawn;
+    row.tiles_drawn_right = g.last.tiles[1].drawn;
+    row.tiles_skipped_left = g.last.tiles[0].skipped;
+    row.tiles_skipped_right = g.last.tiles[1].skipped;
+    row.triangles_drawn_left = g.last.tile_triangles[0];
+    row.triangles_drawn_right = g.last.tile_triangles[1];
+    row.groups_drawn_left = g.last.groups_drawn[0];
+    row.groups_drawn_right = g.last.groups_drawn[1];
+    row.draws = g.last.draws;
+    row.draws_merged = g.last.draws_merged;
+    row.tiles = tiles;
+    row.triangles = triangles;
+    row.tile_buffers = r.tile_buffers();
+    row.tile_memory_blocks = r.tile_memory_blocks();
+}
+
+// Prints one row of the table (the header printed by run_render_bench).
+void print_row(const RenderBenchRow& row, const char* setting) {
+    auto pass = [&](const char* name) {
+        const auto it = row.passes.find(name);
+        return it == row.passes.end() ? -1.0 : it->second;
+    };
+    char size[32], left[32], right[32];
+    std::snprintf(size, sizeof size, "%dx%d", row.width, row.height);
+    std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
+    std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
+    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu %8.2f\n", row.n, size,
+                row.view.c_str(), setting, row.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
+                row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left, right,
+                row.triangles_drawn_left, row.groups_drawn_left, row.gpu_outside_passes_ms);
+}
+
+// One view's rows (one per setting, in order): each LOD row's and each culled row's speed-up over its partner (the
+// next row), and for each LOD row the same frame rendered with and without LOD (no overlay: it shows the frame time)
+// compared against the `background` colour; with `write_pngs`, those frames' left images are written to directory
+// `out` as render_n<N>_lod_{on,off}[_ao_off].png.
+void compare_view_rows(renderer::OffscreenStereoRenderer& r, renderer::SceneView& scene, const Pose& head,
+                       std::span<RenderBenchRow> rows, const std::uint8_t* background, bool write_pngs,
+                       const std::string& out) {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        RenderBenchRow& row = rows[k];
+        const RenderBenchRow* next = k + 1 < rows.size() ? &rows[k + 1] : nullptr;
+        if (row.lod && next && next->frame_ms_median > 0.0 && row.frame_ms_median > 0.0)
+            row.lod_speedup = next->frame_ms_median / row.frame_ms_median;
+        if (!row.lod && row.culling && next && !next->culling && row.frame_ms_median > 0.0)
+            row.speedup = next->frame_ms_median / row.frame_ms_median;
+        if (!row.lod) continue;
+        scene.show_overlay = false;
+        scene.cull_tiles = true;
+        scene.occlusion_strength = row.ao ? 1.0 : 0.0;
+        scene.lod = true;
+        const renderer::StereoImages with = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+        scene.lod = false;
+        const renderer::StereoImages without = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
+        scene.show_overlay = true;
+        const ImageDiff d = image_diff(with, without, background);
+        row.silhouette_mismatch = d.silhouette_mismatch;
+        row.mean_abs_diff = d.mean_abs_diff;
+        if (write_pngs) {
+            const std::filesystem::path dir(out);
+            const std::string stem = "render_n" + std::to_string(row.n) + "_lod_";
+            const std::string ao = row.ao ? "" : "_ao_off";
+            renderer::write_png((dir / (stem + "on" + ao + ".png")).string(), with.left);
+            renderer::write_png((dir / (stem + "off" + ao + ".png")).string(), without.left);
+        }
+    }
+}
+
+// The rows of one image size w x h (the size_index-th of o.sizes) for the tiled workpiece `view` of N = n cells with
+// `triangles` triangles: per view of kViews, every setting timed (time_settings) and compared (compare_view_rows).
+void bench_size(gpu::Context& ctx, const RenderBenchOptions& o, std::size_t size_index, int n, const TileView& view,
+                std::size_t triangles, const std::vector<Setting>& settings, std::vector<RenderBenchRow>& rows,
+                std::string& timing_note) {
+    const auto [w, h] = o.sizes[size_index];
+    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
+    renderer::SceneView scene;
+    scene.show_workspace = false;
+    // The background colour: a frame with nothing in it.
+    scene.show_overlay = false;
+    Pose any_head;
+    any_head.position = kViews[0].head_m;
+    const renderer::StereoImages empty = r.render(scene, renderer::Screen::powerwall(), any_head, kEyeSeparationM);
+    const std::array<std::uint8_t, 3> background{empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
+    scene.show_overlay = true;
+    scene.tiles = view.tiles;
+    scene.tile_groups = view.groups;
+    for (const BenchView& v : kViews) {
+        Pose head;
+        head.position = v.head_m;
+        const std::vector<Samples> got = time_settings(r, scene, head, settings, o.frames, timing_note);
+        const std::size_t first_row = rows.size();
+        for (std::size_t k = 0; k < settings.size(); ++k) {
+            RenderBenchRow row;
+            row.n = n;
+            row.width = w;
+            row.height = h;
+            row.view = v.name;
+            fill_row(settings[k], got[k], r, view.tiles.size(), triangles, row);
+            rows.push_back(row);
+            print_row(row, settings[k].name);
+        }
+        const bool png = size_index == 0 && std::string(v.name) == "whole";
+        compare_view_rows(r, scene, head, std::span<RenderBenchRow>(rows).subspan(first_row), background.data(), png,
+                          o.out);
+    }
+}
+
+// The speed-up lines under the table, the LOD build lines, the timing note, and the rows as render_bench.json in
+// `out` (its path printed).
+void report_rows(const std::vector<RenderBenchRow>& rows, const std::vector<std::string>& lod_lines,
+                 const std::string& timing_note, bool validation, int frames, const std::string& out) {
+    for (const RenderBenchRow& r : rows)
+        if (r.lod)
+            std::printf("LOD N=%d %dx%d %s AO %s: %.2fx faster (frame %.2f ms with, %.2f ms without), triangles per eye "
+                        "%zu / %zu of %zu, silhouette mismatch %.4f%%, mean abs diff %.3f\n",
+                        r.n, r.width, r.height, r.view.c_str(), r.ao ? "on" : "off", r.lod_speedup, r.frame_ms_median,
+                        r.frame_ms_median * r.lod_speedup, r.triangles_drawn_left, r.triangles_drawn_right, r.triangles,
+                        100.0 * r.silhouette_mismatch, r.mean_abs_diff);
+    for (const RenderBenchRow& r : rows)
+        if (r.culling && !r.lod && r.speedup > 0.0)
+            std::printf("culling speed-up N=%d %dx%d %s: %.2fx (frame %.2f ms with, %.2f ms without)\n", r.n, r.width,
+                        r.height, r.view.c_str(), r.speedup, r.frame_ms_median, r.frame_ms_median * r.speedup);
+    for (const std::string& l : lod_lines) std::printf("%s\n", l.c_str());
+    std::printf("frame_ms: wall clock around draw() (two frames in flight; settings interleaved); gpu_ms and passes: "
+                "%s; validation %s; %d timed frames per row\n",
+                timing_note.empty() ? "-" : timing_note.c_str(), validation ? "on" : "off", frames);
+    nlohmann::json j = nlohmann::json::array();
+    for (const RenderBenchRow& r : rows) j.push_back(row_json(r));
+    const std::string path = (std::filesystem::path(out) / "render_bench.json").string();
+    write_json_file(path, j);
+    std::printf("wrote %s\n", path.c_str());
+}
+
 }  // namespace
 
 std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
@@ -142,201 +383,16 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
         compute::TileSurfaceCache cache;
         cache.enable_lod(lod_options);
         cache.refresh(contourer);
-        // One thread, a spread of tiles: what a dirty tile costs the sculpt thread.
-        std::vector<double> one_ms;
-        std::size_t levels = 0, lod_triangles = 0;
-        const auto& all = cache.tiles();
-        const std::size_t step = std::max<std::size_t>(1, all.size() / std::max<std::size_t>(1, o.lod_timed_tiles));
-        for (std::size_t i = 0; i < all.size(); i += step) {
-            const auto t0 = Clock::now();
-            const auto built = compute::build_tile_lod(all[i].mesh, all[i].materials, lod_options);
-            one_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-        }
-        for (const compute::TileSurface& s : all) {
-            levels += s.lods.size();
-            if (!s.lods.empty()) lod_triangles += s.lods.back().mesh.triangles.size();
-            else lod_triangles += s.mesh.triangles.size();
-        }
-        // Groups: the coarsest level of each top-most group that has levels covers its tiles.
-        std::size_t group_levels = 0, top_triangles = 0;
-        int top_depth = 0;
-        for (const compute::TileGroupSurface& g : cache.groups()) {
-            group_levels += g.lods.size();
-            top_depth = std::max(top_depth, g.depth);
-        }
-        for (const compute::TileGroupSurface& g : cache.groups())
-            if (g.depth == top_depth) top_triangles += g.lods.empty() ? 0 : g.lods.back().mesh.triangles.size();
-        const Summary lod_s = summarize(one_ms);
-        char line[480];
-        std::snprintf(line, sizeof line,
-                      "LOD build N=%d: %zu tiles and %zu groups in %.0f ms on %u cores; one thread, %zu tiles: median "
-                      "%.3f ms, p99 %.3f ms per tile; %.2f levels per tile, %.2f per group; coarsest tile levels %zu, "
-                      "coarsest depth-%d group levels %zu of %zu triangles",
-                      n, cache.lod_tiles_built(), cache.lod_groups_built(), cache.lod_build_ms(),
-                      std::max(1u, std::thread::hardware_concurrency()), one_ms.size(), lod_s.median, lod_s.p99,
-                      static_cast<double>(levels) / std::max<std::size_t>(1, all.size()),
-                      static_cast<double>(group_levels) / std::max<std::size_t>(1, cache.groups().size()), lod_triangles,
-                      top_depth, top_triangles, cache.triangle_count());
-        std::printf("%s\n", line);
-        lod_lines.push_back(line);
+        lod_lines.push_back(lod_build_line(cache, lod_options, n, o.lod_timed_tiles));
         TileView view;
         tile_view_of(cache.tiles(), cache.groups(), true, view);
         const std::size_t triangles = cache.triangle_count();
-        for (std::size_t si = 0; si < o.sizes.size(); ++si) {
-            const auto [w, h] = o.sizes[si];
-            renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
-            renderer::SceneView scene;
-            scene.show_workspace = false;
-            // The background colour: a frame with nothing in it.
-            scene.show_overlay = false;
-            Pose any_head;
-            any_head.position = kViews[0].head_m;
-            const renderer::StereoImages empty = r.render(scene, renderer::Screen::powerwall(), any_head, kEyeSeparationM);
-            const std::array<std::uint8_t, 3> background{empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
-            scene.show_overlay = true;
-            scene.tiles = view.tiles;
-            scene.tile_groups = view.groups;
-            for (const BenchView& v : kViews) {
-                Pose head;
-                head.position = v.head_m;
-                const auto apply = [&](const Setting& st) {
-                    scene.cull_tiles = st.cull;
-                    scene.lod = st.lod;
-                    scene.occlusion_strength = st.ao ? 1.0 : 0.0;
-                };
-                for (const Setting& st : settings) {  // warm-up: uploads of every level
-                    apply(st);
-                    r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                }
-                r.finish();
-                r.take_finished_frames();
-                // Interleaved rounds: per setting kSettle frames that fill the two frame slots, then kTimed frames
-                // whose draw() waits for a frame of the same setting (the frame interval of a steady stream).
-                constexpr int kSettle = 2, kTimed = 2;
-                std::vector<Samples> got(settings.size());
-                while (static_cast<int>(got[0].wall.size()) < o.frames) {
-                    for (std::size_t k = 0; k < settings.size(); ++k) {
-                        apply(settings[k]);
-                        for (int f = 0; f < kSettle + kTimed; ++f) {
-                            const auto t0 = Clock::now();
-                            got[k].last = r.draw(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-                            if (f >= kSettle) got[k].wall.push_back(ms);
-                        }
-                        r.finish();
-                        const std::vector<renderer::FrameStats> done = r.take_finished_frames();
-                        for (std::size_t i = done.size() >= kTimed ? done.size() - kTimed : 0; i < done.size(); ++i) {
-                            const renderer::FrameStats& fs = done[i];
-                            timing_note = fs.timing_note;
-                            if (fs.timing != renderer::TimingSource::kGpuTimestamps || fs.frame_ms < 0.0) continue;
-                            got[k].gpu.push_back(fs.frame_ms);
-                            double in_passes = 0.0;
-                            for (const renderer::PassTime& p : fs.passes) in_passes += p.ms;
-                            got[k].outside.push_back(fs.frame_ms - in_passes);
-                            for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
-                            for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
-                        }
-                    }
-                }
-                const std::size_t first_row = rows.size();
-                for (std::size_t k = 0; k < settings.size(); ++k) {
-                    const Setting& st = settings[k];
-                    const Samples& g = got[k];
-                    RenderBenchRow row;
-                    row.n = n;
-                    row.width = w;
-                    row.height = h;
-                    row.view = v.name;
-                    row.culling = st.cull;
-                    row.lod = st.lod;
-                    row.ao = st.ao;
-                    const Summary s = summarize(g.wall);
-                    row.frame_ms_median = s.median;
-                    row.frame_ms_p99 = s.p99;
-                    row.gpu_frame_ms_median = g.gpu.empty() ? -1.0 : summarize(g.gpu).median;
-                    row.gpu_outside_passes_ms = g.outside.empty() ? -1.0 : summarize(g.outside).median;
-                    for (const auto& [name, values] : g.pass_ms) row.passes[name] = summarize(values).median;
-                    row.tiles_drawn_left = g.last.tiles[0].drawn;
-                    row.tiles_drawn_right = g.last.tiles[1].drawn;
-                    row.tiles_skipped_left = g.last.tiles[0].skipped;
-                    row.tiles_skipped_right = g.last.tiles[1].skipped;
-                    row.triangles_drawn_left = g.last.tile_triangles[0];
-                    row.triangles_drawn_right = g.last.tile_triangles[1];
-                    row.groups_drawn_left = g.last.groups_drawn[0];
-                    row.groups_drawn_right = g.last.groups_drawn[1];
-                    row.draws = g.last.draws;
-                    row.draws_merged = g.last.draws_merged;
-                    row.tiles = view.tiles.size();
-                    row.triangles = triangles;
-                    row.tile_buffers = r.tile_buffers();
-                    row.tile_memory_blocks = r.tile_memory_blocks();
-                    rows.push_back(row);
-                    auto pass = [&](const char* name) {
-                        const auto it = row.passes.find(name);
-                        return it == row.passes.end() ? -1.0 : it->second;
-                    };
-                    char size[32], left[32], right[32];
-                    std::snprintf(size, sizeof size, "%dx%d", w, h);
-                    std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
-                    std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-                    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu %8.2f\n", n,
-                                size, v.name, st.name, st.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
-                                row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left,
-                                right, row.triangles_drawn_left, row.groups_drawn_left, row.gpu_outside_passes_ms);
-                }
-                for (std::size_t k = 0; k < settings.size(); ++k) {
-                    RenderBenchRow& row = rows[first_row + k];
-                    const RenderBenchRow* next = k + 1 < settings.size() ? &rows[first_row + k + 1] : nullptr;
-                    if (row.lod && next && next->frame_ms_median > 0.0 && row.frame_ms_median > 0.0)
-                        row.lod_speedup = next->frame_ms_median / row.frame_ms_median;
-                    if (!row.lod && row.culling && next && !next->culling && row.frame_ms_median > 0.0)
-                        row.speedup = next->frame_ms_median / row.frame_ms_median;
-                    if (!row.lod) continue;
-                    // The same frame with and without LOD, no overlay (it shows the frame time).
-                    scene.show_overlay = false;
-                    scene.cull_tiles = true;
-                    scene.occlusion_strength = row.ao ? 1.0 : 0.0;
-                    scene.lod = true;
-                    const renderer::StereoImages with = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                    scene.lod = false;
-                    const renderer::StereoImages without = r.render(scene, renderer::Screen::powerwall(), head, kEyeSeparationM);
-                    scene.show_overlay = true;
-                    const ImageDiff d = image_diff(with, without, background.data());
-                    row.silhouette_mismatch = d.silhouette_mismatch;
-                    row.mean_abs_diff = d.mean_abs_diff;
-                    if (si == 0 && std::string(v.name) == "whole") {
-                        const std::filesystem::path dir(o.out);
-                        const std::string stem = "render_n" + std::to_string(n) + "_lod_";
-                        const std::string ao = row.ao ? "" : "_ao_off";
-                        renderer::write_png((dir / (stem + "on" + ao + ".png")).string(), with.left);
-                        renderer::write_png((dir / (stem + "off" + ao + ".png")).string(), without.left);
-                    }
-                }
-            }
-        }
+        for (std::size_t si = 0; si < o.sizes.size(); ++si)
+            bench_size(ctx, o, si, n, view, triangles, settings, rows, timing_note);
         std::printf("N=%d: %zu triangles in %zu non-empty tiles; their %zu GPU buffers in %zu memory allocations\n", n,
                     triangles, view.tiles.size(), rows.back().tile_buffers, rows.back().tile_memory_blocks);
     }
-    for (const RenderBenchRow& r : rows)
-        if (r.lod)
-            std::printf("LOD N=%d %dx%d %s AO %s: %.2fx faster (frame %.2f ms with, %.2f ms without), triangles per eye "
-                        "%zu / %zu of %zu, silhouette mismatch %.4f%%, mean abs diff %.3f\n",
-                        r.n, r.width, r.height, r.view.c_str(), r.ao ? "on" : "off", r.lod_speedup, r.frame_ms_median,
-                        r.frame_ms_median * r.lod_speedup, r.triangles_drawn_left, r.triangles_drawn_right, r.triangles,
-                        100.0 * r.silhouette_mismatch, r.mean_abs_diff);
-    for (const RenderBenchRow& r : rows)
-        if (r.culling && !r.lod && r.speedup > 0.0)
-            std::printf("culling speed-up N=%d %dx%d %s: %.2fx (frame %.2f ms with, %.2f ms without)\n", r.n, r.width,
-                        r.height, r.view.c_str(), r.speedup, r.frame_ms_median, r.frame_ms_median * r.speedup);
-    for (const std::string& l : lod_lines) std::printf("%s\n", l.c_str());
-    std::printf("frame_ms: wall clock around draw() (two frames in flight; settings interleaved); gpu_ms and passes: "
-                "%s; validation %s; %d timed frames per row\n",
-                timing_note.empty() ? "-" : timing_note.c_str(), ctx.validation_enabled() ? "on" : "off", o.frames);
-    nlohmann::json j = nlohmann::json::array();
-    for (const RenderBenchRow& r : rows) j.push_back(row_json(r));
-    const std::string path = (std::filesystem::path(o.out) / "render_bench.json").string();
-    write_json_file(path, j);
-    std::printf("wrote %s\n", path.c_str());
+    report_rows(rows, lod_lines, timing_note, ctx.validation_enabled(), o.frames, o.out);
     return rows;
 }
 

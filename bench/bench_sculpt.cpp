@@ -257,123 +257,119 @@ const SculptBenchRow* find(const std::vector<SculptBenchRow>& rows, int n, doubl
 
 }  // namespace
 
-std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
-    check_options(o);
-    const int threads = static_cast<int>(compute::pool_slots(o.threads));  // the task pool's threads
+namespace {
+
+/// The Vulkan device for the gpu rows: none when the caller disabled them (o.gpu false) or no device is usable; says
+/// which on stdout.
+std::unique_ptr<gpu::Context> open_gpu(const SculptBenchOptions& o) {
     std::unique_ptr<gpu::Context> ctx;
     if (!o.gpu) {
         std::printf("gpu rows skipped: disabled by the caller\n");
-    } else {
-        try {
-            ctx = std::make_unique<gpu::Context>(gpu::Context::create({}));
-            std::printf("gpu: %s (validation %s; %d driver worker threads pinned one per core)\n", ctx->device_name().c_str(),
-                        ctx->validation_enabled() ? "on" : "off", ctx->spread_driver_threads());
-        } catch (const Error& e) {
-            std::printf("gpu rows skipped: no usable Vulkan device (%s)\n", e.what());
-        }
+        return ctx;
     }
-    std::printf("workpiece: box over grid [4, N-4]^3 of an N^3 lattice (0.3 m side); ball subtract, random-walk groove "
-                "%.2f cells deep in the top face, segments 0.5..1 cell; cpu = %d threads, batch %d; contour on the CPU\n",
-                kDepthCells, threads, o.batch);
-    std::vector<SculptBenchRow> rows;
-    nlohmann::json memory = nlohmann::json::array();
-    std::printf("%5s %4s %-11s %7s %10s %11s %9s %9s %9s %8s\n", "N", "r", "path", "segs", "segs/s", "rays/s",
-                "tiles/s", "step_ms", "lat_ms", "rays/seg");
-    for (const int n : o.resolutions) {
-        auto t0 = Clock::now();
-        TriDexel pristine_model = box_workpiece(n);
-        compute::Contourer pristine_contour(pristine_model);
-        pristine_contour.update(pristine_model);  // the whole box, once; each path starts from a copy
-        std::printf("N=%d: workpiece and first contour %.1f s, %zu intervals\n", n, seconds_since(t0), pristine_model.interval_count());
-        std::optional<std::array<compute::SlabBytes, 3>> after;
-        for (const double r : o.radii_cells) {
-            const std::vector<Sweep> stroke = groove_stroke(pristine_model.lattice, r, o.max_segments);
-            const std::vector<double> rays_of = footprints(pristine_model, stroke);
-            for (const std::string& p : kPaths) {
-                if (std::find(o.paths.begin(), o.paths.end(), p) == o.paths.end()) continue;
-                const bool gpu_path = p.rfind("gpu", 0) == 0;
-                if (gpu_path && !ctx) continue;
-                SculptBenchRow row;
-                row.n = n;
-                row.radius_cells = r;
-                row.path = p;
-                row.batch = (p == "cpu" || p == "gpu-batched" || p.find("clay") != std::string::npos) ? o.batch : 1;
-                TriDexel m = pristine_model;
-                compute::Contourer contourer = pristine_contour;
-                std::unique_ptr<compute::GpuSculptor> sculptor;
-                std::unique_ptr<compute::GpuClay> clay;
-                StepFn step;
-                if (p == "cpu-1t") {
-                    step = [&m](std::span<const Sweep> b) {
-                        std::size_t rays = 0;
-                        for (const Sweep& s : b) rays += compute::apply_sweep(m, s).rays_visited;
-                        return rays;
-                    };
-                } else if (p == "clay-push" || p == "clay-smooth") {
-                    const ToolOp op = p == "clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
-                    step = [&m, op](std::span<const Sweep> b) {
-                        std::vector<Sweep> clay(b.begin(), b.end());
-                        for (Sweep& s : clay) s.op = op;
-                        return compute::apply_clay_batch(m, clay).rays_visited;
-                    };
-                } else if (p == "gpu-clay-push" || p == "gpu-clay-smooth") {
-                    const ToolOp op = p == "gpu-clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
-                    sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
-                    clay = std::make_unique<compute::GpuClay>(*ctx, *sculptor);
-                    step = [&m, &clay, op](std::span<const Sweep> b) {
-                        std::vector<Sweep> ops(b.begin(), b.end());
-                        for (Sweep& s : ops) s.op = op;
-                        return compute::apply_clay_batch(m, ops, nullptr, *clay).rays_visited;
-                    };
-                } else if (p == "cpu") {
-                    step = [&m, threads](std::span<const Sweep> b) { return compute::apply_sweeps_parallel(m, b, threads).rays_visited; };
-                } else {
-                    sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
-                    step = [&sculptor](std::span<const Sweep> b) { return sculptor->apply(b).rays_visited; };
-                }
-                const bool clay_row = p.find("clay") != std::string::npos;
-                run_row(o, m, contourer, stroke, rays_of, step, row);
-                if (clay_row) clay_row_checks(pristine_model, m, stroke, row);
-                if (sculptor) {
-                    after = sculptor->slabs().bytes();
-                    const compute::GpuSculptStats& st = sculptor->stats();
-                    row.gpu_ray_tiles = st.ray_tiles;
-                    row.gpu_retried_rays = st.retried_rays;
-                    const double per = st.batches > 0 ? 1e3 / static_cast<double>(st.batches) : 0.0;
-                    row.gpu_prepare_ms = st.prepare_s * per;
-                    row.gpu_submit_ms = st.submit_s * per;
-                    row.gpu_finish_ms = st.finish_s * per;
-                }
-                std::printf("%5d %4.0f %-11s %7zu %10.0f %11.3g %9.0f %9.3f %9.3f %8.0f\n", n, r, p.c_str(), row.segments,
-                            row.segments_per_s, row.rays_per_s, row.tiles_contoured_per_s, row.step_ms_median, row.latency_ms,
-                            row.rays_per_segment);
-                std::printf("%5s %4s   process CPU time per apply call %.3f ms (all threads)", "", "", row.step_cpu_ms);
-                if (sculptor && sculptor->stats().batches > 0) {
-                    const double batches = static_cast<double>(sculptor->stats().batches);
-                    std::printf("; mean per submission: host before %.3f ms, submit to fence %.3f ms, host after %.3f ms, "
-                                "%.0f ray tiles, %.0f workgroups", row.gpu_prepare_ms, row.gpu_submit_ms, row.gpu_finish_ms,
-                                static_cast<double>(row.gpu_ray_tiles) / batches,
-                                static_cast<double>(sculptor->stats().workgroups) / batches);
-                }
-                std::printf("\n");
-                std::fflush(stdout);
-                rows.push_back(row);
-            }
-        }
-        nlohmann::json mem = {{"n", n}, {"bytes_for_pool0", bytes_json(compute::GpuDexelSlabs::bytes_for(pristine_model.lattice, 0))}};
-        mem["bytes_after_run"] = after ? bytes_json(*after) : nlohmann::json(nullptr);
-        memory.push_back(mem);
+    try {
+        ctx = std::make_unique<gpu::Context>(gpu::Context::create({}));
+        std::printf("gpu: %s (validation %s; %d driver worker threads pinned one per core)\n", ctx->device_name().c_str(),
+                    ctx->validation_enabled() ? "on" : "off", ctx->spread_driver_threads());
+    } catch (const Error& e) {
+        std::printf("gpu rows skipped: no usable Vulkan device (%s)\n", e.what());
     }
+    return ctx;
+}
 
-    // Targets: every parallel path against the best single-thread path; batched GPU vs all-cores CPU throughput;
-    // step cost flat in N. Single-thread paths: "cpu-1t", and "cpu" when the pool has one thread; every other
-    // path (the GPU ones, "cpu" on several threads) is parallel.
+/// The apply step of path `p` (kPaths) on model m: CPU subtract one sweep at a time or on `threads` threads, CPU clay,
+/// or on the GPU of `ctx` through the sculptor (and clay tools) it makes in `sculptor` (and `clay`), which must
+/// outlive the step. Returns the rays each call visited.
+StepFn path_step(const std::string& p, TriDexel& m, int threads, gpu::Context* ctx,
+                 std::unique_ptr<compute::GpuSculptor>& sculptor, std::unique_ptr<compute::GpuClay>& clay) {
+    if (p == "cpu-1t") {
+        return [&m](std::span<const Sweep> b) {
+            std::size_t rays = 0;
+            for (const Sweep& s : b) rays += compute::apply_sweep(m, s).rays_visited;
+            return rays;
+        };
+    }
+    if (p == "clay-push" || p == "clay-smooth") {
+        const ToolOp op = p == "clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
+        return [&m, op](std::span<const Sweep> b) {
+            std::vector<Sweep> clay(b.begin(), b.end());
+            for (Sweep& s : clay) s.op = op;
+            return compute::apply_clay_batch(m, clay).rays_visited;
+        };
+    }
+    if (p == "gpu-clay-push" || p == "gpu-clay-smooth") {
+        const ToolOp op = p == "gpu-clay-push" ? ToolOp::kPush : ToolOp::kSmooth;
+        sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
+        clay = std::make_unique<compute::GpuClay>(*ctx, *sculptor);
+        return [&m, &clay, op](std::span<const Sweep> b) {
+            std::vector<Sweep> ops(b.begin(), b.end());
+            for (Sweep& s : ops) s.op = op;
+            return compute::apply_clay_batch(m, ops, nullptr, *clay).rays_visited;
+        };
+    }
+    if (p == "cpu")
+        return [&m, threads](std::span<const Sweep> b) { return compute::apply_sweeps_parallel(m, b, threads).rays_visited; };
+    sculptor = std::make_unique<compute::GpuSculptor>(*ctx, m);
+    return [&sculptor](std::span<const Sweep> b) { return sculptor->apply(b).rays_visited; };
+}
+
+/// The row of path `p` at N = n with a ball of `r` cells: `stroke` (footprint rays `rays_of`) applied to a copy of the
+/// workpiece `pristine_model` and its contour, timed (run_row) and printed; a GPU row's slab bytes after the run go to
+/// `after`.
+SculptBenchRow sculpt_row(const SculptBenchOptions& o, const std::string& p, int n, double r, const TriDexel& pristine_model,
+                          const compute::Contourer& pristine_contour, std::span<const Sweep> stroke,
+                          const std::vector<double>& rays_of, int threads, gpu::Context* ctx,
+                          std::optional<std::array<compute::SlabBytes, 3>>& after) {
+    SculptBenchRow row;
+    row.n = n;
+    row.radius_cells = r;
+    row.path = p;
+    row.batch = (p == "cpu" || p == "gpu-batched" || p.find("clay") != std::string::npos) ? o.batch : 1;
+    TriDexel m = pristine_model;
+    compute::Contourer contourer = pristine_contour;
+    std::unique_ptr<compute::GpuSculptor> sculptor;
+    std::unique_ptr<compute::GpuClay> clay;
+    const StepFn step = path_step(p, m, threads, ctx, sculptor, clay);
+    const bool clay_row = p.find("clay") != std::string::npos;
+    run_row(o, m, contourer, stroke, rays_of, step, row);
+    if (clay_row) clay_row_checks(pristine_model, m, stroke, row);
+    if (sculptor) {
+        after = sculptor->slabs().bytes();
+        const compute::GpuSculptStats& st = sculptor->stats();
+        row.gpu_ray_tiles = st.ray_tiles;
+        row.gpu_retried_rays = st.retried_rays;
+        const double per = st.batches > 0 ? 1e3 / static_cast<double>(st.batches) : 0.0;
+        row.gpu_prepare_ms = st.prepare_s * per;
+        row.gpu_submit_ms = st.submit_s * per;
+        row.gpu_finish_ms = st.finish_s * per;
+    }
+    std::printf("%5d %4.0f %-11s %7zu %10.0f %11.3g %9.0f %9.3f %9.3f %8.0f\n", n, r, p.c_str(), row.segments,
+                row.segments_per_s, row.rays_per_s, row.tiles_contoured_per_s, row.step_ms_median, row.latency_ms,
+                row.rays_per_segment);
+    std::printf("%5s %4s   process CPU time per apply call %.3f ms (all threads)", "", "", row.step_cpu_ms);
+    if (sculptor && sculptor->stats().batches > 0) {
+        const double batches = static_cast<double>(sculptor->stats().batches);
+        std::printf("; mean per submission: host before %.3f ms, submit to fence %.3f ms, host after %.3f ms, "
+                    "%.0f ray tiles, %.0f workgroups", row.gpu_prepare_ms, row.gpu_submit_ms, row.gpu_finish_ms,
+                    static_cast<double>(row.gpu_ray_tiles) / batches,
+                    static_cast<double>(sculptor->stats().workgroups) / batches);
+    }
+    std::printf("\n");
+    std::fflush(stdout);
+    return row;
+}
+
+bool is_clay(const std::string& path) { return path.find("clay") != std::string::npos; }
+
+/// Prints every parallel path against the best single-thread path of its N and radius over the same first segments.
+/// Single-thread paths: "cpu-1t", and "cpu" when the pool has one thread (`threads`); every other path (the GPU ones,
+/// "cpu" on several threads) is parallel. Clay rows are compared by print_clay_ratios.
+void print_parallel_ratios(const std::vector<SculptBenchRow>& rows, int threads) {
     const auto single_thread = [&](const std::string& path) { return path == "cpu-1t" || (path == "cpu" && threads == 1); };
     std::printf("parallel path / best single-thread path segments_per_s over the same first segments of the stroke "
                 "(target cpu >= 1.7 on 2 cores):\n");
-    const auto is_clay = [](const std::string& path) { return path.find("clay") != std::string::npos; };
     for (const auto& row : rows) {
-        if (single_thread(row.path) || is_clay(row.path)) continue;  // clay: a different operation, compared below
+        if (single_thread(row.path) || is_clay(row.path)) continue;
         const SculptBenchRow* best = nullptr;
         for (const auto& one : rows)
             if (one.n == row.n && one.radius_cells == row.radius_cells && single_thread(one.path) &&
@@ -399,9 +395,15 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                     row.radius_cells, row.path.c_str(), t_best / t_row, best->path.c_str(), common,
                     row.segments_per_s / best->segments_per_s);
     }
+}
+
+/// Prints each clay row's time per segment against one-thread subtract (cpu-1t) over the same first segments (batch
+/// `batch`), a Vulkan clay row also against the Vulkan subtract; then each clay row's volume change and three-set
+/// disagreement.
+void print_clay_ratios(const std::vector<SculptBenchRow>& rows, int batch) {
     std::printf("clay / cpu-1t ms per segment over the same first segments of the stroke (clay-*: CPU reference, "
                 "one thread, %d segments per apply_clay_batch; gpu-clay-*: Vulkan) against one-thread subtract "
-                "(target <= 2):\n", o.batch);
+                "(target <= 2):\n", batch);
     for (const auto& row : rows) {
         if (!is_clay(row.path)) continue;
         const SculptBenchRow* one = find(rows, row.n, row.radius_cells, "cpu-1t");
@@ -440,6 +442,11 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                     row.volume_before_cells3, row.volume_drift_per_1000_cells3, row.disagreement_before,
                     row.disagreement_after);
     }
+}
+
+/// Prints batched GPU against all-cores CPU throughput, and the step cost of the largest N against the smallest
+/// (`resolutions`) per radius and path.
+void print_gpu_and_scaling(const std::vector<SculptBenchRow>& rows, const std::vector<int>& resolutions) {
     std::printf("gpu-batched / cpu segments_per_s (target >= 0.5 when a batch's footprint > 10,000 rays):\n");
     for (const auto& row : rows) {
         if (row.path != "cpu") continue;
@@ -449,8 +456,8 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         std::printf("  N=%4d r=%2.0f: %.2f  (footprint %.0f rays/segment, %.0f rays/batch%s)\n", row.n, row.radius_cells,
                     g->segments_per_s / row.segments_per_s, row.rays_per_segment, batch_rays, batch_rays > 1e4 ? " > 10,000" : "");
     }
-    const int n_lo = *std::min_element(o.resolutions.begin(), o.resolutions.end());
-    const int n_hi = *std::max_element(o.resolutions.begin(), o.resolutions.end());
+    const int n_lo = *std::min_element(resolutions.begin(), resolutions.end());
+    const int n_hi = *std::max_element(resolutions.begin(), resolutions.end());
     std::printf("step_ms_median N=%d / N=%d (target <= 1.5); latency ratio in brackets:\n", n_hi, n_lo);
     for (const auto& row : rows) {
         if (row.n != n_lo) continue;
@@ -459,8 +466,11 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
         std::printf("  r=%2.0f %-11s: %.2f  (%.2f)\n", row.radius_cells, row.path.c_str(), hi->step_ms_median / row.step_ms_median,
                     hi->latency_ms / row.latency_ms);
     }
+}
 
-    // Interval storage of a one-interval-per-ray model at N = 1024: the inline slots (depths + materials).
+/// Interval storage of a one-interval-per-ray model at N = 1024 (the inline slots: depths + materials; and the per-ray
+/// meta), printed against the 64 MiB target and returned as the setup JSON's entry.
+nlohmann::json interval_storage_n1024() {
     compute::Lattice l1024;
     l1024.cell_m = kStockM / 1024;
     l1024.cells = {1024, 1024, 1024};
@@ -474,7 +484,14 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
     std::printf("interval storage at N=1024, one interval per ray (inline depths + materials, 3 x 1025^2 rays): %.1f MiB "
                 "(target 64 MiB: %s); + per-ray meta %.1f MiB\n", mib, mib <= 64.0 ? "fits" : "does not fit",
                 static_cast<double>(meta_bytes) / (1024.0 * 1024.0));
+    return {{"bytes", inline_bytes}, {"mib", mib}, {"target_mib", 64}, {"fits", mib <= 64.0}, {"meta_bytes", meta_bytes},
+            {"layout", "per ray 2 inline (enter, exit) float pairs + 4 material bytes"}};
+}
 
+/// Writes sculpt_bench.json (the list of rows, one object per path and size) and, beside it, sculpt_bench_setup.json
+/// (the set-up, the device and the memory: `memory` per N and `storage`) into `out`; prints their paths.
+void write_sculpt_json(const std::vector<SculptBenchRow>& rows, int threads, const gpu::Context* ctx,
+                       const nlohmann::json& memory, const nlohmann::json& storage, const std::string& out) {
     nlohmann::json jrows = nlohmann::json::array();
     for (const auto& r : rows)
         jrows.push_back({{"n", r.n}, {"radius_cells", r.radius_cells}, {"path", r.path}, {"batch", r.batch},
@@ -489,21 +506,59 @@ std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
                          {"volume_drift_per_1000_cells3", r.volume_drift_per_1000_cells3},
                          {"disagreement_before", r.disagreement_before}, {"disagreement_after", r.disagreement_after},
                          {"gpu_prepare_ms", r.gpu_prepare_ms}, {"gpu_submit_ms", r.gpu_submit_ms}, {"gpu_finish_ms", r.gpu_finish_ms}});
-    // sculpt_bench.json is the list of rows (one object per path and size); the set-up and memory go beside it.
     nlohmann::json j = {
         {"workpiece", "box over grid [4, N-4]^3 of an N^3-cell lattice, 0.3 m side (scan_convert of box_mesh)"},
         {"stroke", "ball subtract, random-walk groove 3.37 cells deep into the top face, segments 0.5..1 cell"},
         {"gpu_device", ctx ? ctx->device_name() : std::string()},
         {"gpu_driver_threads_pinned", ctx ? ctx->spread_driver_threads() : 0},
-        {"memory", {{"gpu_slabs", memory},
-                    {"interval_storage_n1024", {{"bytes", inline_bytes}, {"mib", mib}, {"target_mib", 64},
-                                                 {"fits", mib <= 64.0}, {"meta_bytes", meta_bytes},
-                                                 {"layout", "per ray 2 inline (enter, exit) float pairs + 4 material bytes"}}}}}};
-    const std::string path = (std::filesystem::path(o.out) / "sculpt_bench.json").string();
-    const std::string info = (std::filesystem::path(o.out) / "sculpt_bench_setup.json").string();
+        {"memory", {{"gpu_slabs", memory}, {"interval_storage_n1024", storage}}}};
+    const std::string path = (std::filesystem::path(out) / "sculpt_bench.json").string();
+    const std::string info = (std::filesystem::path(out) / "sculpt_bench_setup.json").string();
     write_json_file(path, jrows);
     write_json_file(info, j);
     std::printf("wrote %s and %s\n", path.c_str(), info.c_str());
+}
+
+}  // namespace
+
+std::vector<SculptBenchRow> run_sculpt_bench(const SculptBenchOptions& o) {
+    check_options(o);
+    const int threads = static_cast<int>(compute::pool_slots(o.threads));  // the task pool's threads
+    const std::unique_ptr<gpu::Context> ctx = open_gpu(o);
+    std::printf("workpiece: box over grid [4, N-4]^3 of an N^3 lattice (0.3 m side); ball subtract, random-walk groove "
+                "%.2f cells deep in the top face, segments 0.5..1 cell; cpu = %d threads, batch %d; contour on the CPU\n",
+                kDepthCells, threads, o.batch);
+    std::vector<SculptBenchRow> rows;
+    nlohmann::json memory = nlohmann::json::array();
+    std::printf("%5s %4s %-11s %7s %10s %11s %9s %9s %9s %8s\n", "N", "r", "path", "segs", "segs/s", "rays/s",
+                "tiles/s", "step_ms", "lat_ms", "rays/seg");
+    for (const int n : o.resolutions) {
+        auto t0 = Clock::now();
+        TriDexel pristine_model = box_workpiece(n);
+        compute::Contourer pristine_contour(pristine_model);
+        pristine_contour.update(pristine_model);  // the whole box, once; each path starts from a copy
+        std::printf("N=%d: workpiece and first contour %.1f s, %zu intervals\n", n, seconds_since(t0), pristine_model.interval_count());
+        std::optional<std::array<compute::SlabBytes, 3>> after;
+        for (const double r : o.radii_cells) {
+            const std::vector<Sweep> stroke = groove_stroke(pristine_model.lattice, r, o.max_segments);
+            const std::vector<double> rays_of = footprints(pristine_model, stroke);
+            for (const std::string& p : kPaths) {
+                if (std::find(o.paths.begin(), o.paths.end(), p) == o.paths.end()) continue;
+                if (p.rfind("gpu", 0) == 0 && !ctx) continue;
+                rows.push_back(sculpt_row(o, p, n, r, pristine_model, pristine_contour, stroke, rays_of, threads, ctx.get(), after));
+            }
+        }
+        nlohmann::json mem = {{"n", n}, {"bytes_for_pool0", bytes_json(compute::GpuDexelSlabs::bytes_for(pristine_model.lattice, 0))}};
+        mem["bytes_after_run"] = after ? bytes_json(*after) : nlohmann::json(nullptr);
+        memory.push_back(mem);
+    }
+    // Targets: every parallel path against the best single-thread path; batched GPU vs all-cores CPU throughput;
+    // step cost flat in N.
+    print_parallel_ratios(rows, threads);
+    print_clay_ratios(rows, o.batch);
+    print_gpu_and_scaling(rows, o.resolutions);
+    const nlohmann::json storage = interval_storage_n1024();
+    write_sculpt_json(rows, threads, ctx.get(), memory, storage, o.out);
     return rows;
 }
 

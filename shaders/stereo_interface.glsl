@@ -1,5 +1,6 @@
 // shaders/stereo_interface.glsl - resources shared by stereo_mesh.vert and stereo_mesh.frag.
-// Mirrors renderer/stereo/stereo_uniforms.hpp (std140 / push-constant offsets must match).
+// Mirrors renderer/stereo/stereo_uniforms.hpp and renderer/scene/mesh_vertex.hpp (std140 / push-constant offsets must
+// match).
 
 #define MATERIAL_COUNT 8
 

@@ -80,6 +80,10 @@ inline constexpr double kQefTruncation = 0.05;
 inline constexpr int kJacobiSweeps = 5;
 inline constexpr double kJacobiTolerance = 1e-9;
 
+/// Dot product of two vectors (normals, offsets; grid units) summed in the fixed order (x + y) + z that the GPU
+/// contourer repeats, so the CPU and GPU vertices agree bit for bit.
+inline double normal_dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+
 /// Estimates the outward unit surface normal at the crossing at depth `t` (grid units) on the lattice
 /// edge from node n along axis a, whose start node has occupancy `start_inside` (true: the crossing is
 /// where a ray of set a leaves material, an interval exit; false: an enter).

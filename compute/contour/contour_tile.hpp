@@ -131,8 +131,10 @@ private:
     static constexpr int kCacheSpan = TileGrid::kTileCells + 1;  // cells t*16 - 1 .. t*16 + 15
     static constexpr int kEdgeSpan = kCacheSpan + 1;              // their edges' start nodes per axis
 
+    // The crossing and normal of the edge from node `start` along axis a, cached for this run (contour_cell.cpp).
     const EdgeSample& edge_sample(const Node& start, int a, bool start_inside);
-
+    // The dual vertices of `cell` (one per component: position, material, QEF outcome), cached for this run; see the
+    // method above (contour_cell.cpp).
     const CellVertices& cell_vertices(const Node& cell);
     const Vec3& vertex(const Node& cell, int component) { return cell_vertices(cell).pos[component]; }
     void emit_edge(const Node& n, int a, TileMesh& out);

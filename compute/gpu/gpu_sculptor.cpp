@@ -346,23 +346,53 @@ BooleanStats GpuSculptor::apply(std::span<const Sweep> batch) {
     return stats;
 }
 
+// A chunk's ray tiles under its sweeps' footprints (list_tiles) and the order the kernel takes them in (order_tiles).
+struct GpuSculptor::TileList {
+    std::vector<TileEntry> tiles;      // per set a contiguous range: base[a] .. base[a] + count[a]
+    std::vector<std::uint32_t> index;  // each tile's sweeps (positions in the chunk) in batch order, from TileEntry::first
+    std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+    std::size_t rays_visited = 0;      // footprint rays summed over the sweeps (BooleanStats::rays_visited)
+    std::vector<TileEntry> order;      // the tiles as the kernel takes them (balance_tiles), then the done words
+};
+
 BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
                                      const ToolTable& tools) {
     BooleanStats stats;
     using Clock = std::chrono::steady_clock;
     const auto t_start = Clock::now();
+    TileList list;
+    list_tiles(grid, list);
+    stats.rays_visited = list.rays_visited;
+    if (list.tiles.empty()) return stats;
+    upload_batch(list, grid);
+    const VkPipeline pipeline = tools.empty() ? pipeline_for_chunk(grid) : mesh_pipeline_.get();
+    const std::uint32_t groups = order_tiles(list, grid, tools);
+    const auto t_submit = dispatch(pipeline, groups, list.tiles.size());
+    const auto t_done = Clock::now();
+    ++stats_.batches;
+    stats_.sweeps += grid.size();
+    stats_.ray_tiles += list.tiles.size();
+    stats.rays_changed += finish_on_host(list, grid, tools);
+    read_footprint_rays(list);
+    if (stats.rays_changed > 0)
+        for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
+    stats_.prepare_s += std::chrono::duration<double>(t_submit - t_start).count();
+    stats_.submit_s += std::chrono::duration<double>(t_done - t_submit).count();
+    stats_.finish_s += std::chrono::duration<double>(Clock::now() - t_done).count();
+    return stats;
+}
 
-    // Ray tiles under each sweep's footprint, per set; each tile lists its sweeps in batch order (a
-    // counting sort over the batch's box of tiles: count, prefix sums, then fill in batch order).
-    std::vector<TileEntry> tiles;
-    std::vector<std::uint32_t> index;
-    std::uint32_t base[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+void GpuSculptor::list_tiles(std::span<const GridSweep> grid, TileList& list) const {
+    // Per set, the ray tiles under each sweep's footprint; each tile lists its sweeps in batch order (a counting sort
+    // over the batch's box of tiles: count, prefix sums, then fill in batch order).
     struct Span {  // the tiles of one row of tiles (tv) that sweep s reaches: tu0..tu1
         std::uint32_t s;
         int tv, tu0, tu1;
     };
     std::vector<Span> spans;
     std::vector<std::uint32_t> slot;
+    std::vector<TileEntry>& tiles = list.tiles;
+    std::vector<std::uint32_t>& index = list.index;
     for (int a = 0; a < 3; ++a) {
         const RaySet& set = mirror_.sets[a];
         spans.clear();
@@ -370,7 +400,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         for (std::uint32_t s = 0; s < grid.size(); ++s) {
             int u0, u1, v0, v1;
             if (!sweep_footprint(grid[s], set, u0, u1, v0, v1)) continue;
-            stats.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
+            list.rays_visited += static_cast<std::size_t>(u1 - u0 + 1) * static_cast<std::size_t>(v1 - v0 + 1);
             // Only the tiles holding a ray of the swept volume's shadow (SweepShadow): the kernel would find no chord
             // on the others.
             const SweepShadow shadow(grid[s], a);
@@ -385,7 +415,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
                 spans.push_back(sp);
             }
         }
-        base[a] = static_cast<std::uint32_t>(tiles.size());
+        list.base[a] = static_cast<std::uint32_t>(tiles.size());
         if (spans.empty()) continue;
         const std::size_t bw = static_cast<std::size_t>(bu1 - bu0 + 1);
         slot.assign(bw * static_cast<std::size_t>(bv1 - bv0 + 1), 0u);
@@ -403,41 +433,52 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         }
         for (const Span& sp : spans)
             for (int tu = sp.tu0; tu <= sp.tu1; ++tu) index[slot[static_cast<std::size_t>(sp.tv - bv0) * bw + static_cast<std::size_t>(tu - bu0)]++] = sp.s;
-        count[a] = static_cast<std::uint32_t>(tiles.size()) - base[a];
+        list.count[a] = static_cast<std::uint32_t>(tiles.size()) - list.base[a];
     }
-    if (tiles.empty()) return stats;
-    const std::size_t listed = tiles.size();
-    const std::uint32_t most = std::max({count[0], count[1], count[2]});
-    ensure_batch_capacity(tiles.size(), index.size(), static_cast<std::size_t>(most) * kTileU * kTileV);
+}
+
+void GpuSculptor::upload_batch(const TileList& list, std::span<const GridSweep> grid) {
+    const std::uint32_t most = std::max({list.count[0], list.count[1], list.count[2]});
+    ensure_batch_capacity(list.tiles.size(), list.index.size(), static_cast<std::size_t>(most) * kTileU * kTileV);
     sweeps_.write(grid.data(), grid.size() * sizeof(GridSweep));
-    index_.write(index.data(), index.size() * sizeof(std::uint32_t));
+    index_.write(list.index.data(), list.index.size() * sizeof(std::uint32_t));
     for (int a = 0; a < 3; ++a) {
         const std::uint32_t head[4] = {slabs_.pool_head(a), 0, 0, 0};
         counters_[a].write(head, sizeof(head));
     }
+}
 
-    // The kernel variant: the mesh-tool one, or one with only the chunk's operations and tool kinds.
+VkPipeline GpuSculptor::pipeline_for_chunk(std::span<const GridSweep> grid) {
+    // The kernel variant with only the chunk's operations and tool kinds.
     std::uint32_t ops = 0, kinds = 0;
     for (const GridSweep& g : grid) {
         ops |= 1u << ((g.code & 0xffu) - 1u);  // kSubtract 1, kUnion 2, kPaint 3 (kNone never reaches here)
         kinds |= 1u << ((g.code >> 8) & 0xffu);  // kBall 0, kFlatEnd 1, kMesh 2
     }
-    const VkPipeline pipeline = tools.empty() ? pipeline_for(ops, kinds) : mesh_pipeline_.get();
+    return pipeline_for(ops, kinds);
+}
+
+std::uint32_t GpuSculptor::order_tiles(TileList& list, std::span<const GridSweep> grid, const ToolTable& tools) {
     // One dispatch for all three sets: the sets write disjoint buffers and each set's pool head is advanced
     // atomically. Its workgroups_ workgroups (at most one per tile, more when llvmpipe's loop budget needs them:
     // groups_within_loop_budget) take the tiles in turn (workgroup w: tiles w, w + groups, ...). The tiles are
     // ordered over the whole list (balance_tiles) after the host kept each set's range for the mirror.
-    std::vector<TileEntry> order(tiles);
-    balance_tiles(order.begin(), order.end());
-    const std::uint32_t groups = groups_within_loop_budget(order, index, grid, tools, workgroups_, loop_budget_);
-    order.resize(listed + (listed + 3) / 4, TileEntry{0, 0, 0, 0});  // the done words, all 0
-    tiles_.write(order.data(), order.size() * sizeof(TileEntry));
+    const std::size_t listed = list.tiles.size();
+    list.order = list.tiles;
+    balance_tiles(list.order.begin(), list.order.end());
+    const std::uint32_t groups = groups_within_loop_budget(list.order, list.index, grid, tools, workgroups_, loop_budget_);
+    list.order.resize(listed + (listed + 3) / 4, TileEntry{0, 0, 0, 0});  // the done words, all 0
+    tiles_.write(list.order.data(), list.order.size() * sizeof(TileEntry));
+    return groups;
+}
+
+std::chrono::steady_clock::time_point GpuSculptor::dispatch(VkPipeline pipeline, std::uint32_t groups, std::size_t listed) {
     Push push{};
     for (int a = 0; a < 3; ++a)
         push.sets[a] = SetPush{slabs_.nu(a), slabs_.nv(a), slabs_.pool_chunks(a), static_cast<float>(mirror_.lattice.cells[a])};
     push.retry_capacity = static_cast<std::uint32_t>(retry_capacity_);
     push.tile_count = static_cast<std::uint32_t>(listed);
-    const auto t_submit = Clock::now();
+    const auto t_submit = std::chrono::steady_clock::now();
     submitter_.run([&](VkCommandBuffer cmd) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
@@ -452,13 +493,15 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
     });
-    const auto t_done = Clock::now();
-    ++stats_.batches;
-    stats_.sweeps += grid.size();
-    stats_.ray_tiles += tiles.size();
+    return t_submit;
+}
 
+std::size_t GpuSculptor::finish_on_host(const TileList& list, std::span<const GridSweep> grid, const ToolTable& tools) {
     // The rays the kernel handed back, and those it may have left half done (the loop cap): the rays it listed with
     // kRetryLoopCap and every ray of the tiles a workgroup never reached (no done word).
+    const std::size_t listed = list.tiles.size();
+    const std::vector<TileEntry>& order = list.order;
+    std::size_t changed = 0;
     std::vector<std::uint32_t> retry, capped[3], done((listed + 3) / 4 * 4);
     tiles_.read(done.data(), done.size() * 4, listed * sizeof(TileEntry));
     for (std::size_t t = 0; t < listed; ++t) {
@@ -472,7 +515,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
         std::uint32_t head[4];
         counters_[a].read(head, sizeof(head));
         slabs_.pool_head(a) = head[0];
-        stats.rays_changed += head[2];
+        changed += head[2];
         if (head[1] > retry_capacity_) throw Error("GPU tri-dexel: retry list overflow (internal error)");
         retry.resize(head[1]);
         if (!retry.empty()) counters_[a].read(retry.data(), retry.size() * 4, 16);
@@ -488,24 +531,22 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
             ++stats_.compactions;
             if (slabs_.compact(context_, a)) bind_descriptors();
         }
-        stats.rays_changed += redo_on_host(a, retry, grid, tools, false);
-        stats.rays_changed += redo_on_host(a, capped[a], grid, tools, true);
+        changed += redo_on_host(a, retry, grid, tools, false);
+        changed += redo_on_host(a, capped[a], grid, tools, true);
     }
-    // The mirror's footprint rays, then its dirty tiles.
+    return changed;
+}
+
+void GpuSculptor::read_footprint_rays(const TileList& list) {
+    // The mirror's footprint rays (its dirty tiles are marked by apply_grid).
     for (int a = 0; a < 3; ++a) {
         RaySet& set = mirror_.sets[a];
-        for (std::uint32_t t = base[a]; t < base[a] + count[a]; ++t) {
-            const int u0 = static_cast<int>(tiles[t].tu & kTileMask) * kTileU, v0 = static_cast<int>(tiles[t].tv) * kTileV;
+        for (std::uint32_t t = list.base[a]; t < list.base[a] + list.count[a]; ++t) {
+            const int u0 = static_cast<int>(list.tiles[t].tu & kTileMask) * kTileU, v0 = static_cast<int>(list.tiles[t].tv) * kTileV;
             for (int v = v0; v < std::min(v0 + kTileV, set.nv); ++v)
                 for (int u = u0; u < std::min(u0 + kTileU, set.nu); ++u) slabs_.read_ray(a, u, v, set.ray(u, v));
         }
     }
-    if (stats.rays_changed > 0)
-        for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
-    stats_.prepare_s += std::chrono::duration<double>(t_submit - t_start).count();
-    stats_.submit_s += std::chrono::duration<double>(t_done - t_submit).count();
-    stats_.finish_s += std::chrono::duration<double>(Clock::now() - t_done).count();
-    return stats;
 }
 
 }  // namespace tridex::compute

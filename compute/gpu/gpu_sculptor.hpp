@@ -1,6 +1,7 @@
 // compute/gpu/gpu_sculptor.hpp - swept-volume Booleans on the GPU: batches of sweeps in one submission.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -110,8 +111,30 @@ public:
 
 private:
     void ensure_batch_capacity(std::size_t tiles, std::size_t indices, std::size_t retry);
+    // One chunk of a batch (at most max_sweeps_ sweeps `grid`, from batch[source[i]]) in one submission: its tiles
+    // (list_tiles), the buffers (upload_batch), the kernel variant, the tile order (order_tiles), the dispatch, the
+    // host's share (finish_on_host), the mirror's rays (read_footprint_rays) and dirty tiles. Returns its stats.
     BooleanStats apply_grid(std::span<const Sweep> batch, std::span<const GridSweep> grid, std::span<const std::size_t> source,
                             const ToolTable& tools);
+    struct TileList;  // a chunk's ray tiles, their sweeps and dispatch order (gpu_sculptor.cpp)
+    // Fills `list` with the ray tiles under the chunk's sweep footprints (per set, in tile order), each listing its
+    // sweeps in batch order, and the footprint rays visited.
+    void list_tiles(std::span<const GridSweep> grid, TileList& list) const;
+    // Grows the batch buffers as needed and writes the chunk's sweeps, tile sweep lists and each set's pool head.
+    void upload_batch(const TileList& list, std::span<const GridSweep> grid);
+    // The kernel specialised to the chunk's operations and tool kinds (no mesh tools).
+    VkPipeline pipeline_for_chunk(std::span<const GridSweep> grid);
+    // Orders the tiles for the workgroups (list.order, then the zeroed done words), uploads them and returns the number
+    // of workgroups to dispatch.
+    std::uint32_t order_tiles(TileList& list, std::span<const GridSweep> grid, const ToolTable& tools);
+    // Records and submits the dispatch of `groups` workgroups over `listed` tiles and waits for it; returns the time
+    // just before the submission (where GpuSculptStats::prepare_s ends and submit_s begins).
+    std::chrono::steady_clock::time_point dispatch(VkPipeline pipeline, std::uint32_t groups, std::size_t listed);
+    // Reads back the pool heads and the rays the kernel handed back or may have left half done, redoes those on the
+    // host (compacting a pool the kernel overran); returns the rays changed (the kernel's and the host's).
+    std::size_t finish_on_host(const TileList& list, std::span<const GridSweep> grid, const ToolTable& tools);
+    // Copies the chunk's footprint rays from the slabs into the mirror.
+    void read_footprint_rays(const TileList& list);
     void bind_descriptors();
     // Applies `sweeps` (in order, those whose footprint holds the ray) to rays `rays` (indices in set `axis`) as the
     // mirror holds them (the model before the batch), and writes each that changed, or each when `rewrite` (the

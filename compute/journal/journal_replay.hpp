@@ -1,4 +1,5 @@
 // compute/journal/journal_replay.hpp - applying a journal's records to a model, as the sculpt thread applied them.
+// Defined in compute/runtime/journal_replay.cpp: the replay runs through the sculpt thread's history (runtime/).
 #pragma once
 
 #include <cstddef>

@@ -8,7 +8,7 @@
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "renderer/camera/off_axis.hpp"
-#include "renderer/output/stereo_output.hpp"
+#include "renderer/camera/stereo_output_mode.hpp"
 
 namespace tridex::renderer {
 

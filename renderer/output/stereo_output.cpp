@@ -1,4 +1,4 @@
-// renderer/output/stereo_output.cpp - output names, quad support, box resampling and the compositions.
+// renderer/output/stereo_output.cpp - quad support, box resampling and the compositions.
 #include "renderer/output/stereo_output.hpp"
 
 #include <algorithm>
@@ -11,22 +11,6 @@
 
 namespace tridex::renderer {
 namespace {
-
-struct OutputName {
-    StereoOutput output;
-    std::string_view name;
-};
-
-constexpr std::array<OutputName, 8> kOutputNames{{
-    {StereoOutput::kQuad, "quad"},
-    {StereoOutput::kFrameSequential, "frame-sequential"},
-    {StereoOutput::kSideBySide, "side-by-side"},
-    {StereoOutput::kSideBySideHalf, "side-by-side-half"},
-    {StereoOutput::kTopBottom, "top-bottom"},
-    {StereoOutput::kTopBottomHalf, "top-bottom-half"},
-    {StereoOutput::kAnaglyph, "anaglyph"},
-    {StereoOutput::kMono, "mono"},
-}};
 
 bool consistent(const Image& image) {
     return image.width > 0 && image.height > 0 &&
@@ -116,51 +100,6 @@ Image anaglyph(const Image& left, const Image& right, AnaglyphMethod method) {
 }
 
 }  // namespace
-
-std::string_view to_string(StereoOutput output) {
-    for (const OutputName& n : kOutputNames)
-        if (n.output == output) return n.name;
-    return "unknown";
-}
-
-std::string_view to_string(AnaglyphMethod method) {
-    switch (method) {
-    case AnaglyphMethod::kDubois: return "dubois";
-    case AnaglyphMethod::kColour: return "colour";
-    case AnaglyphMethod::kGray: return "gray";
-    }
-    return "unknown";
-}
-
-const std::vector<StereoOutput>& all_stereo_outputs() {
-    static const std::vector<StereoOutput> all = [] {
-        std::vector<StereoOutput> v;
-        for (const OutputName& n : kOutputNames) v.push_back(n.output);
-        return v;
-    }();
-    return all;
-}
-
-std::string stereo_output_names() {
-    std::string s;
-    for (const OutputName& n : kOutputNames) {
-        if (!s.empty()) s += ", ";
-        s += n.name;
-    }
-    return s;
-}
-
-StereoOutput parse_stereo_output(const std::string& name) {
-    for (const OutputName& n : kOutputNames)
-        if (n.name == name) return n.output;
-    throw Error("unknown stereo output '" + name + "'; valid outputs: " + stereo_output_names());
-}
-
-AnaglyphMethod parse_anaglyph_method(const std::string& name) {
-    for (AnaglyphMethod m : {AnaglyphMethod::kDubois, AnaglyphMethod::kColour, AnaglyphMethod::kGray})
-        if (to_string(m) == name) return m;
-    throw Error("unknown anaglyph method '" + name + "'; valid methods: dubois, colour, gray");
-}
 
 bool needs_both_eyes(StereoOutput output) { return output != StereoOutput::kMono; }
 

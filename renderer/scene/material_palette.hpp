@@ -5,7 +5,7 @@
 
 #include <glm/glm.hpp>
 
-#include "renderer/stereo/stereo_uniforms.hpp"
+#include "renderer/scene/mesh_vertex.hpp"
 
 namespace tridex::renderer {
 

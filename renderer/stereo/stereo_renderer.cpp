@@ -17,9 +17,10 @@
 #include "renderer/scene/arrow_mesh.hpp"
 #include "renderer/stereo/eye_self_test.hpp"
 #include "renderer/stereo/eyes_binding.hpp"
+#include "renderer/stereo/frame_draws.hpp"
 #include "renderer/stereo/frame_slots.hpp"
 #include "renderer/scene/force_arrow.hpp"
-#include "renderer/timing/frame_timer.hpp"
+#include "renderer/stereo/frame_timer.hpp"
 #include "renderer/scene/gpu_mesh.hpp"
 #include "renderer/scene/material_palette.hpp"
 #include "renderer/scene/overlay_content.hpp"
@@ -69,6 +70,14 @@ glm::mat4 clip_from_pixel(int width, int height) {
     m[3] = glm::vec4(-1.0f, -1.0f, 0.5f, 1.0f);
     return m;
 }
+
+// One frame's eyes: the uniforms the shaders read, and per eye its frustum, clip-from-world matrix and LOD view.
+struct FrameEyes {
+    EyesUniform uniform{};
+    std::array<Frustum, 2> frusta;
+    std::array<Mat4, 2> clip_from_world{};
+    std::array<LodEye, 2> lod{};
+};
 
 }  // namespace
 
@@ -143,6 +152,19 @@ struct OffscreenStereoRenderer::Impl {
         finished_queue.push_back(stats);
         if (slot == last_slot && slots.frame_of(slot) == last_frame) last = stats;
     }
+    // The steps of draw(), each appending its items to `list` (stereo_renderer.cpp): the whole-mesh workpiece, the
+    // workpiece tiles and groups (synced to the scene's, counts and uploads in `stats`), the tool, the scene objects
+    // (opaque ones drawn, the translucent ones' indices returned), the translucent items, the overlay; each throws
+    // tridex::Error on the SceneView field it checks. submit() records and submits the frame in `slot` and returns its
+    // statistics (the latest finished frame's timings until it finishes).
+    void add_workpiece(const SceneView& scene, FrameResources& fr, FrameDraws& list);
+    void add_tiles(const SceneView& scene, const FrameEyes& eyes, FrameDraws& list, FrameStats& stats);
+    void add_tool(const SceneView& scene, FrameDraws& list);
+    std::vector<std::size_t> add_objects(const SceneView& scene, FrameDraws& list);
+    void add_translucent_items(const SceneView& scene, std::span<const std::size_t> translucent_objects, FrameDraws& list);
+    void add_overlay(const SceneView& scene, const FrameStats& stats, FrameResources& fr, FrameDraws& list);
+    FrameStats submit(const SceneView& scene, int slot, const EyesUniform& uniform, FrameDraws& list, FrameStats stats);
+
     // Waits for the last frame drawn and takes the timings of every frame in flight, oldest first.
     void finish_last() {
         if (last_frame == 0) return;
@@ -257,23 +279,26 @@ StereoImages OffscreenStereoRenderer::last_images() const {
     return StereoImages{std::move(left), std::move(right), im.last};
 }
 
-FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
-                                         double eye_separation_m, double near_m, double far_m) {
-    Impl& im = *impl_;
+namespace {
+
+// Throws tridex::Error for a SceneView whose eye count or ambient-occlusion settings are out of range.
+void check_scene_view(const SceneView& scene) {
     if (scene.eye_count != 1 && scene.eye_count != 2)
         throw Error("renderer: SceneView.eye_count must be 1 (mono) or 2 (stereo), got " +
                     std::to_string(scene.eye_count));
-    const int eye_count = scene.eye_count;
-    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
     if (!std::isfinite(scene.occlusion_radius_m) || !std::isfinite(scene.occlusion_strength) ||
         scene.occlusion_radius_m < 0.0 || scene.occlusion_strength < 0.0)
         throw Error("renderer: SceneView.occlusion_radius_m and occlusion_strength must be finite and >= 0");
-    const bool occlusion = scene.occlusion_radius_m > 0.0 && scene.occlusion_strength > 0.0;
+}
+
+// The eyes of a frame of width x height pixels per eye seen from `head` (world m) on `screen` (off_axis_view, near and
+// far planes m), with the key light, the ambient-occlusion settings and the material palette. Throws tridex::Error on
+// a bad eye separation (eye_positions), SceneView::lod_max_px or view (off_axis_view).
+FrameEyes frame_eyes(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m, double near_m,
+                     double far_m, int width, int height) {
     const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
-    EyesUniform u{};
-    std::array<Frustum, 2> frusta;
-    std::array<Mat4, 2> clip_from_world_of{};
-    std::array<LodEye, 2> lod_eyes;
+    FrameEyes fe;
+    EyesUniform& u = fe.uniform;
     if (scene.lod && !(std::isfinite(scene.lod_max_px) && scene.lod_max_px > 0.0))
         throw Error("renderer: SceneView.lod_max_px must be finite and > 0, got " + std::to_string(scene.lod_max_px));
     for (int e = 0; e < 2; ++e) {
@@ -282,182 +307,167 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         u.clip_from_world[e] = glm::mat4(clip_from_world);
         u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
         u.view_from_clip[e] = glm::mat4(glm::inverse(v.projection));
-        u.pixels_per_metre[e] = glm::vec4(static_cast<float>(std::abs(v.projection[0][0]) * 0.5 * width()),
-                                          static_cast<float>(std::abs(v.projection[1][1]) * 0.5 * height()), 0.0f,
+        u.pixels_per_metre[e] = glm::vec4(static_cast<float>(std::abs(v.projection[0][0]) * 0.5 * width),
+                                          static_cast<float>(std::abs(v.projection[1][1]) * 0.5 * height), 0.0f,
                                           0.0f);
-        frusta[e] = frustum_from_clip(clip_from_world);
-        clip_from_world_of[e] = clip_from_world;
-        lod_eyes[e] = lod_eye(screen, eyes[e], width(), height());
+        fe.frusta[e] = frustum_from_clip(clip_from_world);
+        fe.clip_from_world[e] = clip_from_world;
+        fe.lod[e] = lod_eye(screen, eyes[e], width, height);
     }
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
     u.occlusion = glm::vec4(static_cast<float>(scene.occlusion_radius_m), static_cast<float>(scene.occlusion_strength),
                             0.0f, 0.0f);
     const auto& palette = material_palette();
     for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
+    return fe;
+}
 
-    // This frame's slot: waits only for the frame that used it kFramesInFlight frames ago.
-    const int slot = im.slots.begin();
-    im.time_finished(slot);
-    FrameResources& fr = im.frame[static_cast<std::size_t>(slot)];
-    FrameStats stats;
-    std::vector<StereoDraw> draws;
-    // Per eye, the pixels the opaque draws may cover: where the ambient occlusion runs. Items without cheap
-    // bounds (the whole-mesh workpiece, a mesh tool, scene objects) widen it to the whole image.
-    std::array<PixelRect, 2> opaque_region{};
-    const auto cover = [&](std::uint32_t mask, const Aabb& box_m) {
-        for (int e = 0; e < 2; ++e)
-            if (mask & (1u << e))
-                opaque_region[e] = unite(opaque_region[e], project_box(clip_from_world_of[e], box_m, width(), height()));
-    };
-    const auto cover_all = [&] { opaque_region.fill(whole_image(width(), height())); };
-    const auto add = [&](PipelineKind kind, const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour,
-                         bool lit) -> StereoDraw& {
+// The draws of SceneView::indirect_workpiece's tiles (the GPU contour), culled per eye unless cull_tiles is off, with
+// their counts in stats.tiles. Throws tridex::Error on a null buffer.
+void add_indirect_workpiece(const SceneView& scene, const FrameEyes& eyes, EyeStrategy strategy, FrameDraws& list,
+                            FrameStats& stats) {
+    const IndirectWorkpiece* iw = scene.indirect_workpiece;
+    if (!iw || iw->tiles.empty()) return;
+    if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
+        throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
+    const int eye_count = scene.eye_count;
+    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
+    for (const IndirectTile& t : iw->tiles) {
+        if (t.index_count == 0) continue;
+        std::uint32_t mask = 0;
+        for (int e = 0; e < eye_count; ++e)
+            if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], t.bounds_m)) mask |= 1u << e;
+        if (strategy == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+        for (int e = 0; e < eye_count; ++e)
+            ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+        if (mask == 0) continue;
+        list.cover(mask, t.bounds_m);
         StereoDraw d;
-        d.kind = kind;
-        const GpuMesh::DrawRange r = mesh.draw_range();
-        d.vertices = r.vertices;
-        d.indices = r.indices;
-        d.first_index = r.first_index;
-        d.vertex_offset = r.vertex_offset;
-        d.index_count = mesh.index_count();
-        d.constants.world_from_model = model;
-        d.constants.colour = colour;
-        d.constants.lit = lit ? 1u : 0u;
-        draws.push_back(d);
-        return draws.back();
-    };
-    const auto add_translucent = [&](const GpuMesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit) {
-        add(PipelineKind::kTranslucentBack, mesh, model, colour, lit);
-        add(PipelineKind::kTranslucentFront, mesh, model, colour, lit);
-    };
+        d.kind = PipelineKind::kContour;
+        d.vertices = iw->vertices;
+        d.indices = iw->indices;
+        d.index_count = t.index_count;
+        d.indirect = iw->commands;
+        d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
+        d.constants.world_from_model = iw->world_from_grid;
+        d.constants.colour = material_palette()[0];
+        d.constants.lit = 1u;
+        d.constants.palette = 1u;
+        d.eye_mask = mask;
+        list.add(d);
+    }
+}
 
-    // Opaque: workpiece (whole mesh), workpiece tiles (culled per eye), tool, force arrow.
-    if (scene.workpiece && !scene.workpiece->triangles.empty()) {
-        std::span<const std::uint8_t> materials;
-        if (scene.workpiece_materials) materials = *scene.workpiece_materials;
-        try {
-            fr.workpiece.assign(*im.context, *scene.workpiece, materials);
-        } catch (const Error& e) {
-            throw Error(std::string("SceneView.workpiece: ") + e.what());
-        }
-        cover_all();
-        // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
-        add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), palette[0], true).constants.palette =
-            scene.workpiece_materials ? 1u : 0u;
-    }
-    if (!scene.tiles.empty() || im.tiles.size() > 0) {
-        std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
-        stats.tile_uploads = im.tiles.sync(*im.context, scene.tiles, &retired);
-        for (GpuMesh& m : retired) im.slots.retire(std::move(m));
-        retired.clear();
-        if (!scene.tile_groups.empty() || im.groups.size() > 0) {
-            std::vector<TileMesh> group_meshes(scene.tile_groups.size());
-            for (std::size_t g = 0; g < scene.tile_groups.size(); ++g) {
-                const TileGroup& tg = scene.tile_groups[g];
-                group_meshes[g].bounds_m = tg.bounds_m;
-                group_meshes[g].version = tg.version;
-                group_meshes[g].id = tg.id;
-                group_meshes[g].levels = tg.levels;
-            }
-            try {
-                stats.tile_uploads += im.groups.sync(*im.context, group_meshes, &retired);
-            } catch (const Error& e) {
-                throw Error(std::string("SceneView.tile_groups: ") + e.what());
-            }
-            for (GpuMesh& m : retired) im.slots.retire(std::move(m));
-        }
-        TileDrawEyes te;
-        te.strategy = strategy();
-        te.eye_count = eye_count;
-        te.frusta = frusta;
-        te.lod_eyes = lod_eyes;
-        add_tile_draws(
-            scene, te, im.tiles, im.groups,
-            [&](const GpuMesh& m) -> StereoDraw& { return add(PipelineKind::kOpaque, m, glm::mat4(1.0f), palette[0], true); },
-            cover, stats);
-    }
-    if (const IndirectWorkpiece* iw = scene.indirect_workpiece; iw && !iw->tiles.empty()) {
-        if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
-            throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
-        for (const IndirectTile& t : iw->tiles) {
-            if (t.index_count == 0) continue;
-            std::uint32_t mask = 0;
-            for (int e = 0; e < eye_count; ++e)
-                if (!scene.cull_tiles || may_be_visible(frusta[e], t.bounds_m)) mask |= 1u << e;
-            if (strategy() == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
-            for (int e = 0; e < eye_count; ++e)
-                ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
-            if (mask == 0) continue;
-            cover(mask, t.bounds_m);
-            StereoDraw d;
-            d.kind = PipelineKind::kContour;
-            d.vertices = iw->vertices;
-            d.indices = iw->indices;
-            d.index_count = t.index_count;
-            d.indirect = iw->commands;
-            d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
-            d.constants.world_from_model = iw->world_from_grid;
-            d.constants.colour = palette[0];
-            d.constants.lit = 1u;
-            d.constants.palette = 1u;
-            d.eye_mask = mask;
-            draws.push_back(d);
-        }
-    }
-    if (scene.tool_radius_m > 0.0) {
-        if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
-            throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
-        const ToolShape& ts = scene.tool_shape;
-        const auto cover_ball = [&](const Vec3& c, double r) { cover(0b11u, Aabb{c - Vec3(r), c + Vec3(r)}); };
-        if (ts.kind == ToolKind::kFlatEnd && ts.radius_m > 0.0 && ts.length_m > 0.0) {
-            cover_ball(scene.tool_centre_m, ts.radius_m + ts.length_m);
-            // unit_cylinder runs along +z from 0 to 1; the tool's shank runs along its frame's +y.
-            const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation) *
-                                 glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
-                                 glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
-            add(PipelineKind::kOpaque, im.cylinder, glm::mat4(m), kToolColour, true);
-        } else if (ts.kind == ToolKind::kMesh && scene.tool_mesh && !scene.tool_mesh->triangles.empty()) {
-            cover_all();
-            if (scene.tool_mesh != im.tool_mesh_source || scene.tool_mesh->triangles.size() != im.tool_mesh_triangles) {
-                im.slots.retire(std::move(im.tool_mesh));  // earlier frames in flight may still read it
-                im.tool_mesh = GpuMesh{};
-                im.tool_mesh.assign(*im.context, *scene.tool_mesh);
-                im.tool_mesh_source = scene.tool_mesh;
-                im.tool_mesh_triangles = scene.tool_mesh->triangles.size();
-            }
-            const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation);
-            add(PipelineKind::kOpaque, im.tool_mesh, glm::mat4(m), kToolColour, true);
-        } else {
-            cover_ball(scene.tool_centre_m, scene.tool_radius_m);
-            add(PipelineKind::kOpaque, im.ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)),
-                kToolColour, true);
-        }
-    }
+// The force arrow from the tool centre (SceneView::force_N times force_m_per_newton), when visible.
+void add_force_arrow(const SceneView& scene, const GpuMesh& cylinder, const GpuMesh& cone, FrameDraws& list) {
     const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
-    if (arrow.visible) {
-        // From the tool centre to the tip, widened by more than the head's radius.
-        const Vec3 tip = scene.tool_centre_m + scene.force_N * scene.force_m_per_newton;
-        Aabb box{glm::min(scene.tool_centre_m, tip), glm::max(scene.tool_centre_m, tip)};
-        box.lo -= Vec3(0.02);
-        box.hi += Vec3(0.02);
-        cover(0b11u, box);
-        add(PipelineKind::kOpaque, im.cylinder, glm::mat4(arrow.shaft), kForceColour, true);
-        add(PipelineKind::kOpaque, im.cone, glm::mat4(arrow.head), kForceColour, true);
-    }
+    if (!arrow.visible) return;
+    // From the tool centre to the tip, widened by more than the head's radius.
+    const Vec3 tip = scene.tool_centre_m + scene.force_N * scene.force_m_per_newton;
+    Aabb box{glm::min(scene.tool_centre_m, tip), glm::max(scene.tool_centre_m, tip)};
+    box.lo -= Vec3(0.02);
+    box.hi += Vec3(0.02);
+    list.cover(0b11u, box);
+    list.add(PipelineKind::kOpaque, cylinder, glm::mat4(arrow.shaft), kForceColour, true);
+    list.add(PipelineKind::kOpaque, cone, glm::mat4(arrow.head), kForceColour, true);
+}
 
-    // Scene objects: opaque ones now, translucent ones first among the translucent items.
-    if (im.objects.size() < scene.objects.size()) im.objects.resize(scene.objects.size());
-    std::vector<std::size_t> translucent_objects;
+}  // namespace
+
+void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameResources& fr, FrameDraws& list) {
+    if (!scene.workpiece || scene.workpiece->triangles.empty()) return;
+    std::span<const std::uint8_t> materials;
+    if (scene.workpiece_materials) materials = *scene.workpiece_materials;
+    try {
+        fr.workpiece.assign(*context, *scene.workpiece, materials);
+    } catch (const Error& e) {
+        throw Error(std::string("SceneView.workpiece: ") + e.what());
+    }
+    list.cover_all();
+    // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
+    list.add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), material_palette()[0], true).constants.palette =
+        scene.workpiece_materials ? 1u : 0u;
+}
+
+void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const FrameEyes& eyes, FrameDraws& list,
+                                              FrameStats& stats) {
+    if (scene.tiles.empty() && tiles.size() == 0) return;
+    std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
+    stats.tile_uploads = tiles.sync(*context, scene.tiles, &retired);
+    for (GpuMesh& m : retired) slots.retire(std::move(m));
+    retired.clear();
+    if (!scene.tile_groups.empty() || groups.size() > 0) {
+        std::vector<TileMesh> group_meshes(scene.tile_groups.size());
+        for (std::size_t g = 0; g < scene.tile_groups.size(); ++g) {
+            const TileGroup& tg = scene.tile_groups[g];
+            group_meshes[g].bounds_m = tg.bounds_m;
+            group_meshes[g].version = tg.version;
+            group_meshes[g].id = tg.id;
+            group_meshes[g].levels = tg.levels;
+        }
+        try {
+            stats.tile_uploads += groups.sync(*context, group_meshes, &retired);
+        } catch (const Error& e) {
+            throw Error(std::string("SceneView.tile_groups: ") + e.what());
+        }
+        for (GpuMesh& m : retired) slots.retire(std::move(m));
+    }
+    TileDrawEyes te;
+    te.strategy = pipeline->strategy();
+    te.eye_count = scene.eye_count;
+    te.frusta = eyes.frusta;
+    te.lod_eyes = eyes.lod;
+    const glm::vec4 clay = material_palette()[0];
+    add_tile_draws(
+        scene, te, tiles, groups,
+        [&](const GpuMesh& m) -> StereoDraw& { return list.add(PipelineKind::kOpaque, m, glm::mat4(1.0f), clay, true); },
+        [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, box_m); }, stats);
+}
+
+void OffscreenStereoRenderer::Impl::add_tool(const SceneView& scene, FrameDraws& list) {
+    if (!(scene.tool_radius_m > 0.0)) return;
+    if (!is_finite(scene.tool_centre_m) || !std::isfinite(scene.tool_radius_m))
+        throw Error("renderer: SceneView.tool_centre_m / tool_radius_m must be finite");
+    const ToolShape& ts = scene.tool_shape;
+    const auto cover_ball = [&](const Vec3& c, double r) { list.cover(0b11u, Aabb{c - Vec3(r), c + Vec3(r)}); };
+    if (ts.kind == ToolKind::kFlatEnd && ts.radius_m > 0.0 && ts.length_m > 0.0) {
+        cover_ball(scene.tool_centre_m, ts.radius_m + ts.length_m);
+        // unit_cylinder runs along +z from 0 to 1; the tool's shank runs along its frame's +y.
+        const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation) *
+                             glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
+                             glm::scale(glm::dmat4(1.0), Vec3(ts.radius_m, ts.radius_m, ts.length_m));
+        list.add(PipelineKind::kOpaque, cylinder, glm::mat4(m), kToolColour, true);
+    } else if (ts.kind == ToolKind::kMesh && scene.tool_mesh && !scene.tool_mesh->triangles.empty()) {
+        list.cover_all();
+        if (scene.tool_mesh != tool_mesh_source || scene.tool_mesh->triangles.size() != tool_mesh_triangles) {
+            slots.retire(std::move(tool_mesh));  // earlier frames in flight may still read it
+            tool_mesh = GpuMesh{};
+            tool_mesh.assign(*context, *scene.tool_mesh);
+            tool_mesh_source = scene.tool_mesh;
+            tool_mesh_triangles = scene.tool_mesh->triangles.size();
+        }
+        const glm::dmat4 m = glm::translate(glm::dmat4(1.0), scene.tool_centre_m) * glm::mat4_cast(scene.tool_orientation);
+        list.add(PipelineKind::kOpaque, tool_mesh, glm::mat4(m), kToolColour, true);
+    } else {
+        cover_ball(scene.tool_centre_m, scene.tool_radius_m);
+        list.add(PipelineKind::kOpaque, ball, translate_scale(scene.tool_centre_m, Vec3(scene.tool_radius_m)), kToolColour,
+                 true);
+    }
+}
+
+std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneView& scene, FrameDraws& list) {
+    if (objects.size() < scene.objects.size()) objects.resize(scene.objects.size());
+    std::vector<std::size_t> translucent;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const SceneObject& o = scene.objects[i];
         if (!o.mesh || o.mesh->triangles.empty()) continue;
         for (int c = 0; c < 4; ++c)
             if (!(o.colour[c] >= 0.0f && o.colour[c] <= 1.0f))
                 throw Error("renderer: SceneView.objects[" + std::to_string(i) + "].colour must be in [0, 1]");
-        Impl::ObjectMesh& om = im.objects[i];
+        ObjectMesh& om = objects[i];
         if (o.mesh != om.source || o.mesh->triangles.size() != om.triangles) {
             try {
-                om.mesh.assign(*im.context, *o.mesh);
+                om.mesh.assign(*context, *o.mesh);
             } catch (const Error& e) {
                 throw Error("SceneView.objects[" + std::to_string(i) + "]: " + e.what());
             }
@@ -465,88 +475,123 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
             om.triangles = o.mesh->triangles.size();
         }
         if (o.colour.a < 1.0f)
-            translucent_objects.push_back(i);
+            translucent.push_back(i);
         else {
-            cover_all();
-            add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, true);
+            list.cover_all();
+            list.add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, true);
         }
     }
+    return translucent;
+}
 
-    // Translucent: scene objects, proxy, workspace box, bubble (each back faces, then front faces).
+void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene, std::span<const std::size_t> translucent_objects,
+                                                          FrameDraws& list) {
     for (const std::size_t i : translucent_objects)
-        add_translucent(im.objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, true);
+        list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, true);
     if (scene.proxy_radius_m > 0.0) {
         if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
             throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");
-        add_translucent(im.ball, translate_scale(scene.proxy_m, Vec3(scene.proxy_radius_m)), kProxyColour, true);
+        list.add_translucent(ball, translate_scale(scene.proxy_m, Vec3(scene.proxy_radius_m)), kProxyColour, true);
     }
     if (scene.show_workspace && !scene.workspace_m.empty()) {
         if (!is_finite(scene.workspace_m.lo) || !is_finite(scene.workspace_m.hi))
             throw Error("renderer: SceneView.workspace_m must be finite");
-        add_translucent(im.cube, translate_scale(scene.workspace_m.lo, scene.workspace_m.size()), kWorkspaceColour,
-                        false);
+        list.add_translucent(cube, translate_scale(scene.workspace_m.lo, scene.workspace_m.size()), kWorkspaceColour, false);
     }
     if (scene.bubble_radius_m > 0.0) {
         if (!is_finite(scene.bubble_centre_m) || !std::isfinite(scene.bubble_radius_m))
             throw Error("renderer: SceneView.bubble_centre_m / bubble_radius_m must be finite");
-        add_translucent(im.ball, translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m)), kBubbleColour,
-                        false);
+        list.add_translucent(ball, translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m)), kBubbleColour, false);
     }
+}
 
-    // Overlay: a panel and its text in pixels, on the screen plane (same clip position in both eyes).
-    if (scene.show_overlay) {
-        OverlayNumbers n;
-        n.haptic_rate_hz = scene.haptic_rate_hz;
-        n.sculpt_rate_hz = scene.sculpt_rate_hz;
-        n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : im.last.frame_ms;
-        n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
-        n.tiles = stats.tiles;
-        n.status = scene.overlay_status;
-        const std::string text = overlay_content(n);
-        const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale
-                                                       : std::max(1.0, std::floor(height() / 360.0));
-        const TextExtent size = overlay_text_extent(text, scale);
-        const double margin = 6.0 * scale, pad = 3.0 * scale;
-        fr.overlay_panel.assign(*im.context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
-                                                               margin + size.height_px + pad));
-        fr.overlay_text.assign(*im.context, overlay_text_mesh(text, margin, margin, scale));
-        const glm::mat4 to_clip = clip_from_pixel(width(), height());
-        add(PipelineKind::kOverlay, fr.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
-        add(PipelineKind::kOverlay, fr.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
-    }
+void OffscreenStereoRenderer::Impl::add_overlay(const SceneView& scene, const FrameStats& stats, FrameResources& fr,
+                                                FrameDraws& list) {
+    if (!scene.show_overlay) return;
+    const int width = target->width(), height = target->height();
+    OverlayNumbers n;
+    n.haptic_rate_hz = scene.haptic_rate_hz;
+    n.sculpt_rate_hz = scene.sculpt_rate_hz;
+    n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : last.frame_ms;
+    n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
+    n.tiles = stats.tiles;
+    n.status = scene.overlay_status;
+    const std::string text = overlay_content(n);
+    const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale : std::max(1.0, std::floor(height / 360.0));
+    const TextExtent size = overlay_text_extent(text, scale);
+    const double margin = 6.0 * scale, pad = 3.0 * scale;
+    fr.overlay_panel.assign(*context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,
+                                                        margin + size.height_px + pad));
+    fr.overlay_text.assign(*context, overlay_text_mesh(text, margin, margin, scale));
+    const glm::mat4 to_clip = clip_from_pixel(width, height);
+    list.add(PipelineKind::kOverlay, fr.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
+    list.add(PipelineKind::kOverlay, fr.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
+}
 
-    fr.eyes->write(u);
-    fr.gpu_timing = im.use_timestamps && fr.timer.available();
-    const VkCommandBuffer cmd = im.slots.command_buffer(slot);
-    stats.draws_merged = fr.batcher.batch(*im.context, strategy(), eye_count, draws);
+FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slot, const EyesUniform& uniform,
+                                                 FrameDraws& list, FrameStats stats) {
+    FrameResources& fr = frame[static_cast<std::size_t>(slot)];
+    const int eye_count = scene.eye_count;
+    const bool occlusion = scene.occlusion_radius_m > 0.0 && scene.occlusion_strength > 0.0;
+    std::vector<StereoDraw>& draws = list.draws();
+    fr.eyes->write(uniform);
+    fr.gpu_timing = use_timestamps && fr.timer.available();
+    const VkCommandBuffer cmd = slots.command_buffer(slot);
+    stats.draws_merged = fr.batcher.batch(*context, pipeline->strategy(), eye_count, draws);
     stats.draws = draws.size();
     if (fr.gpu_timing) fr.timer.record_begin(cmd);
-    record_stereo_frame(cmd, *im.pipeline, *im.target, fr.eyes->set(), draws, kClear,
+    record_stereo_frame(cmd, *pipeline, *target, fr.eyes->set(), draws, kClear,
                         fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,
-                        occlusion ? &fr.occlusion : nullptr, opaque_region, false);
-    im.last_read_back = false;
+                        occlusion ? &fr.occlusion : nullptr, list.opaque_region(), false);
+    last_read_back = false;
     if (fr.gpu_timing) fr.timer.record_end(cmd);
     fr.submitted = std::chrono::steady_clock::now();
     fr.stats = stats;
     fr.timed = false;
     fr.eye_count = eye_count;
-    im.last_frame = im.slots.submit(slot);
-    im.last_slot = slot;
-    ++im.frames;
+    last_frame = slots.submit(slot);
+    last_slot = slot;
+    ++frames;
     // Until this frame finishes, its statistics carry the timings of the latest finished one.
-    stats.timing = im.finished.timing;
-    stats.timing_note = im.finished.timing_note;
-    stats.frame_ms = im.finished.frame_ms;
-    stats.passes = im.finished.passes;
+    stats.timing = finished.timing;
+    stats.timing_note = finished.timing_note;
+    stats.frame_ms = finished.frame_ms;
+    stats.passes = finished.passes;
     if (scene.indirect_workpiece) {  // its buffers may change once draw() returns: finish the frame now
-        im.last = stats;
-        im.last_eye_count = eye_count;
-        im.finish_last();
-        return im.last;
+        last = stats;
+        last_eye_count = eye_count;
+        finish_last();
+        return last;
     }
-    im.last = stats;
-    im.last_eye_count = eye_count;
+    last = stats;
+    last_eye_count = eye_count;
     return stats;
+}
+
+FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& screen, const Pose& head,
+                                         double eye_separation_m, double near_m, double far_m) {
+    Impl& im = *impl_;
+    check_scene_view(scene);
+    const FrameEyes eyes = frame_eyes(scene, screen, head, eye_separation_m, near_m, far_m, width(), height());
+    // This frame's slot: waits only for the frame that used it kFramesInFlight frames ago.
+    const int slot = im.slots.begin();
+    im.time_finished(slot);
+    FrameResources& fr = im.frame[static_cast<std::size_t>(slot)];
+    FrameStats stats;
+    FrameDraws list(eyes.clip_from_world, width(), height());
+    // Opaque: workpiece (whole mesh), workpiece tiles (culled per eye), tool, force arrow; then the scene objects:
+    // opaque ones now, translucent ones first among the translucent items (each back faces, then front faces): scene
+    // objects, proxy, workspace box, bubble. Last the overlay: a panel and its text in pixels, on the screen plane
+    // (same clip position in both eyes).
+    im.add_workpiece(scene, fr, list);
+    im.add_tiles(scene, eyes, list, stats);
+    add_indirect_workpiece(scene, eyes, strategy(), list, stats);
+    im.add_tool(scene, list);
+    add_force_arrow(scene, im.cylinder, im.cone, list);
+    const std::vector<std::size_t> translucent_objects = im.add_objects(scene, list);
+    im.add_translucent_items(scene, translucent_objects, list);
+    im.add_overlay(scene, stats, fr, list);
+    return im.submit(scene, slot, eyes.uniform, list, std::move(stats));
 }
 
 }  // namespace tridex::renderer

@@ -1,4 +1,5 @@
-// renderer/stereo/stereo_uniforms.hpp - C++ mirrors of the shader interface in shaders/stereo_interface.glsl.
+// renderer/stereo/stereo_uniforms.hpp - C++ mirrors of the shader interface in shaders/stereo_interface.glsl (the
+// vertex layout and material count, which what is drawn shares, are in renderer/scene/mesh_vertex.hpp).
 #pragma once
 
 #include <cstddef>
@@ -6,11 +7,9 @@
 
 #include <glm/glm.hpp>
 
-namespace tridex::renderer {
+#include "renderer/scene/mesh_vertex.hpp"
 
-/// Number of entries of the material palette (renderer/scene/material_palette.hpp); material ids are
-/// 0..kMaterialCount-1.
-constexpr int kMaterialCount = 8;
+namespace tridex::renderer {
 
 /// Uniform block `Eyes` (std140), set 0 binding 0: per-eye clip-from-world matrices (float, world m),
 /// eye positions (w unused), the unit direction towards the directional key light, the material palette
@@ -50,14 +49,5 @@ static_assert(offsetof(DrawConstants, colour) == 64 && offsetof(DrawConstants, e
               offsetof(DrawConstants, lit) == 84 && offsetof(DrawConstants, palette) == 88 &&
               offsetof(DrawConstants, screen_space) == 92);
 static_assert(sizeof(DrawConstants) == 96);
-
-/// Vertex layout of every stereo mesh draw: position (model m) and unit normal, 32-bit floats, and the
-/// material id (0..kMaterialCount-1; 0 for meshes without materials).
-struct MeshVertex {
-    glm::vec3 position;
-    glm::vec3 normal;
-    std::uint32_t material = 0;
-};
-static_assert(sizeof(MeshVertex) == 28 && offsetof(MeshVertex, material) == 24);
 
 }  // namespace tridex::renderer

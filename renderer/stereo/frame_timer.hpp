@@ -1,4 +1,4 @@
-// renderer/timing/frame_timer.hpp - GPU timestamp queries around a stereo frame and its draw phases.
+// renderer/stereo/frame_timer.hpp - GPU timestamp queries around a stereo frame and its draw phases.
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,5 @@
-// renderer/timing/frame_timer.cpp - timestamp pool, recording and read-back.
-#include "renderer/timing/frame_timer.hpp"
+// renderer/stereo/frame_timer.cpp - timestamp pool, recording and read-back.
+#include "renderer/stereo/frame_timer.hpp"
 
 #include <cstdio>
 #include <vector>

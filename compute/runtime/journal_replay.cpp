@@ -1,4 +1,5 @@
-// compute/journal/journal_replay.cpp - a journal's batches and marks through the CPU reference Booleans.
+// compute/runtime/journal_replay.cpp - a journal's batches and marks through the CPU reference Booleans and the sculpt
+// thread's history (compute/journal/journal_replay.hpp declares it: journal/ sits below runtime/).
 #include "compute/journal/journal_replay.hpp"
 
 #include <algorithm>
