@@ -76,6 +76,12 @@ RunSetup resolve_run(const RunOptions& o) {
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
+    if (!o.workpiece.empty()) {  // a saved model decides the lattice, the placement and the resolution
+        std::error_code ec;
+        if (!fs::is_regular_file(o.workpiece, ec)) throw Error("--workpiece: no such file: " + o.workpiece);
+        s.scene.spec.model_path = fs::absolute(o.workpiece).lexically_normal().string();
+        s.scene.spec.mesh_path.clear();
+    }
     check_distinct_files({{"--out's sculpted.ply", (fs::path(s.out) / "sculpted.ply").string()},
                           {"--out's report.json", (fs::path(s.out) / "report.json").string()},
                           {s.save.empty() ? "the Ctrl+S model (--out's model.tdx)" : "--save",

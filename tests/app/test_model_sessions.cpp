@@ -12,6 +12,7 @@
 #include "app/commands/demo.hpp"
 #include "app/commands/replay.hpp"
 #include "app/scene/run_scene.hpp"
+#include "app/session/run_session.hpp"
 #include "app/session/session.hpp"
 #include "app/scene/session_spec.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -123,6 +124,29 @@ TEST(ModelSessions, SceneWorkpieceModelIsResolvedAndExclusive) {
     }
     std::ofstream(dir / "missing.json") << R"({ "workpiece": { "model": "nope.tdx" } })";
     EXPECT_THROW(load_run_scene((dir / "missing.json").string()), Error);
+}
+
+// `run --workpiece FILE.tdx` starts from a saved model as `demo --workpiece` does, whatever the scene's workpiece.
+TEST(ModelSessions, RunWorkpieceOptionStartsFromTheSavedModel) {
+    const fs::path dir = test::temp_dir("model_run_option");
+    std::ofstream(dir / "m.tdx") << "x";  // resolving only names it; the session would load it
+    RunOptions o;
+    o.display = "offscreen";
+    o.out = (dir / "out").string();
+    o.workpiece = (dir / "m.tdx").string();
+    const RunSetup s = resolve_run(o);
+    EXPECT_EQ(s.scene.spec.model_path, fs::absolute(dir / "m.tdx").lexically_normal().string());
+    EXPECT_TRUE(s.scene.spec.mesh_path.empty());
+    o.workpiece = (dir / "nope.tdx").string();
+    try {
+        (void)resolve_run(o);
+        ADD_FAILURE() << "a missing --workpiece was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--workpiece: no such file"), std::string::npos) << e.what();
+    }
+    o.workpiece = (dir / "m.tdx").string();
+    o.save = (dir / "m.tdx").string();
+    EXPECT_THROW((void)resolve_run(o), Error) << "--save over the model the session starts from";
 }
 
 }  // namespace
