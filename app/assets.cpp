@@ -24,4 +24,6 @@ std::string bundled_asset(const std::string& name, const std::string& what, cons
     throw Error("assets/" + name + ": the bundled " + what + " is missing; " + hint);
 }
 
+std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece", "pass --mesh FILE"); }
+
 }  // namespace tridex::app

@@ -36,8 +36,6 @@ const Vec3 kWorkpieceCentre{0.0, 0.0, 0.3};
 
 }  // namespace
 
-std::string default_mesh_path() { return bundled_asset("bunny.off", "workpiece", "pass --mesh FILE"); }
-
 namespace {
 
 // The drivers whose hand a demo can drive: every one a person does not move.

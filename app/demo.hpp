@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "app/assets.hpp"  // default_mesh_path
 #include "devices/registry/device_registry.hpp"
 
 namespace tridex::app {
@@ -62,9 +63,5 @@ void run_demo(const DemoOptions& options);
 /// `device` is the served driver and profile (o.device is not read). Throws tridex::Error as run_demo() does on bad
 /// options, and for a driver whose hand is not scripted (a remote one, hardware, a person's).
 devices::DeviceInputs demo_device_inputs(const DemoOptions& o, const devices::DeviceChoice& device);
-
-/// The bundled default workpiece (assets/bunny.off): found through $TRIDEX_ASSETS, then next to the
-/// executable's source tree (compile-time path). Throws tridex::Error when it is missing.
-std::string default_mesh_path();
 
 }  // namespace tridex::app
