@@ -92,7 +92,9 @@ run_target() {
         grep -m3 -E 'ERROR|SUMMARY|tridex fuzz:|terminate|Exception' "$log" | sed 's/^/fuzz:   /' || true
         return 1
     fi
-    echo "fuzz: $t: ${done_runs:-?} executions in ${secs:-?} s (${rate:-?} exec/s), corpus $(find "$corpus" -type f | wc -l) inputs, no findings"
+    local speed="${secs:-?} s (${rate:-?} exec/s)"
+    [ "${secs:-}" = 0 ] && speed="under 1 s"
+    echo "fuzz: $t: ${done_runs:-?} executions in $speed, corpus $(find "$corpus" -type f | wc -l) inputs, no findings"
 }
 
 main() {
