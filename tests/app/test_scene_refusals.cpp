@@ -38,5 +38,14 @@ TEST(SceneRefusals, AnUnknownKeyIsQuotedPrintably) {
     EXPECT_TRUE(printable_line(message)) << message;
 }
 
+TEST(SceneRefusals, AMissingStudySceneIsNamedPrintably) {
+    // The fuzzer's input, reduced: a study scene file name with a DEL byte (0x7f) that names no file; the study
+    // scene reader's refusal quoted the path raw. The scene reader now says it is missing, through its field.
+    const std::string message = refusal_of("{\"study\": {\"scene\": \"study\x7ftube_scene.json\", \"model\": \"test\"}}");
+    ASSERT_FALSE(message.empty()) << "the scene was accepted";
+    EXPECT_EQ(message, "scene.json: field 'study.scene': no such file: ./study\\x7ftube_scene.json");
+    EXPECT_TRUE(printable_line(message)) << message;
+}
+
 }  // namespace
 }  // namespace tridex::app
