@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/le_bytes.hpp"
+#include "core/printable.hpp"
 #include "core/tool_sample.hpp"
 
 namespace tridex::devices {
@@ -191,7 +192,10 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
     try {
         j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
-        throw Error(where + " is not JSON: " + e.what());
+        // The parser's reason without its "[json.exception...] " tag; it quotes the bytes it last read.
+        const std::string what = e.what();
+        const std::size_t tag = what.find("] ");
+        throw Error(where + " is not JSON: " + printable(tag == std::string::npos ? what : what.substr(tag + 2), 200));
     }
     if (!j.is_object()) throw Error(where + " is not a JSON object");
     auto string_field = [&](const char* key) {

@@ -27,6 +27,7 @@ PACKAGES=(
   gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
   libenet-dev                               # device server link: ENet's reliable + unreliable channels over UDP, sequenced
   universal-ctags                           # the layout test that measures function lengths (tests/layout/test_house_rules.cpp)
+  clang libclang-rt-14-dev                  # the fuzz targets (tests/fuzz/, `fuzz` preset): clang 14 and its libFuzzer and sanitizer runtimes
 )
 
 missing=()

@@ -436,6 +436,7 @@ void read_study(Fields& top, const json& j, RunScene& s, const std::string& base
     if (!file || !file->is_string()) f.fail("study.scene", "must name a study scene file (JSON)");
     fs::path p(file->get<std::string>());
     if (p.is_relative()) p = fs::path(base_dir) / p;
+    if (!fs::is_regular_file(p)) f.fail("study.scene", "no such file: " + p.string());
     r.scene = study::read_study_scene(p.string());
     r.model = f.text("model", r.model);
     if (r.model != "haptic_training" && r.model != "visual_training" && r.model != "test")

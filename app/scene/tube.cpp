@@ -78,9 +78,11 @@ TubeSpec parse_tube(const nlohmann::json& j, const std::string& source, const st
     if (!j.is_object()) bad(source, prefix, "must be an object");
     static const char* known[] = {"name", "spine_m", "radius_m", "samples_per_segment", "funnel_length_m",
                                   "funnel_mouth_m", "cap_size_m", "cap_thickness_m", "touch_tolerance_m"};
-    for (const auto& [key, value] : j.items())
+    for (const auto& item : j.items()) {
+        const std::string& key = item.key();
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
             bad(source, prefix + "." + key, "unknown field");
+    }
     TubeSpec s;
     const std::string f = prefix + ".";
     if (j.contains("name")) {

@@ -10,8 +10,8 @@ namespace tridex::app {
 /// <what> is missing; <hint>" when none exists.
 std::string bundled_asset(const std::string& name, const std::string& what, const std::string& hint);
 
-/// The bundled default workpiece (assets/bunny.off): found through $TRIDEX_ASSETS, then next to the
-/// executable's source tree (compile-time path). Throws tridex::Error when it is missing.
+/// The bundled default workpiece (assets/bunny.off), found as bundled_asset finds it. Throws tridex::Error when it
+/// is missing.
 std::string default_mesh_path();
 
 }  // namespace tridex::app

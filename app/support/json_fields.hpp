@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/math.hpp"
+#include "core/printable.hpp"
 
 namespace tridex::app {
 
@@ -27,8 +28,10 @@ public:
         if (!j.is_object()) fail(prefix_.empty() ? "(top level)" : prefix_, "must be a JSON object");
     }
 
+    /// Throws tridex::Error "<source>: field '<field>': <what>"; a field path or reason that quotes the file's
+    /// text (a key, a name) is made printable (core/printable.hpp), so the message stays one line.
     [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-        throw Error(source_ + ": field '" + field + "': " + what);
+        throw Error(source_ + ": field '" + printable(field, 120) + "': " + printable(what, 400));
     }
     std::string path(const std::string& name) const { return prefix_.empty() ? name : prefix_ + "." + name; }
 

@@ -122,6 +122,10 @@ TriMesh load_closed_mesh(const std::string& path) {
     } else {
         soup = read_with_openmesh(path);
     }
+    return closed_mesh_from_soup(soup, path);
+}
+
+TriMesh closed_mesh_from_soup(const TriMesh& soup, const std::string& path) {
     for (std::size_t i = 0; i < soup.positions.size(); ++i)
         if (!is_finite(soup.positions[i]))
             throw Error(path + ": vertex " + std::to_string(i) + " has a non-finite coordinate");

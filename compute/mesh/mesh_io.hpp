@@ -21,4 +21,9 @@ namespace tridex::compute {
 /// OpenMesh's own messages (omerr/omlog/omout) are captured, never printed. Thread-safe (serialised).
 TriMesh load_closed_mesh(const std::string& path);
 
+/// The second half of load_closed_mesh, for a polygon soup already read from `path` (read_off, read_ply): checks
+/// that every position is finite and that there is a triangle, welds, and requires a closed, consistently oriented
+/// 2-manifold (flipped outward). Throws tridex::Error "<path>: <reason>" as load_closed_mesh does.
+TriMesh closed_mesh_from_soup(const TriMesh& soup, const std::string& path);
+
 }  // namespace tridex::compute

@@ -58,18 +58,22 @@ void check_stl(const std::string& path, std::ifstream& in, std::uint64_t size) {
     if (!says_solid) fail(path, "not an STL file (too short for binary, no 'solid' keyword for ASCII)");
 }
 
+// What separates words in an OBJ line: every character isspace() takes (OpenMesh reads words with >>, so "f\r1 2 3"
+// and "\ff 1 2 3" are face lines to it).
+constexpr const char* kObjSpace = " \t\r\v\f";
+
 void check_obj(const std::string& path, std::ifstream& in) {
     std::string line;
     std::int64_t vertices = 0;
     std::size_t line_no = 0;
     while (std::getline(in, line)) {
         ++line_no;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        std::size_t p = line.find_first_not_of(" \t");
+        std::size_t p = line.find_first_not_of(kObjSpace);
         if (p == std::string::npos) continue;
         auto is_key = [&](const char* key) {
             const std::size_t n = std::strlen(key);
-            return line.compare(p, n, key) == 0 && (p + n == line.size() || line[p + n] == ' ' || line[p + n] == '\t');
+            return line.compare(p, n, key) == 0 &&
+                   (p + n == line.size() || std::strchr(kObjSpace, line[p + n]) != nullptr);
         };
         if (is_key("v")) {
             ++vertices;
@@ -77,9 +81,9 @@ void check_obj(const std::string& path, std::ifstream& in) {
             const std::string where = path + ":" + std::to_string(line_no) + ": ";
             std::size_t refs = 0, q = p + 1;
             while (true) {
-                q = line.find_first_not_of(" \t", q);
+                q = line.find_first_not_of(kObjSpace, q);
                 if (q == std::string::npos || line[q] == '#') break;
-                const std::size_t end = std::min(line.find_first_of(" \t", q), line.size());
+                const std::size_t end = std::min(line.find_first_of(kObjSpace, q), line.size());
                 const std::string_view tok(line.data() + q, end - q);
                 const std::string_view idx = tok.substr(0, tok.find('/'));
                 std::int64_t v = 0;

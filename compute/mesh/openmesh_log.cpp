@@ -4,25 +4,40 @@
 #include <iostream>
 
 namespace tridex::compute {
+namespace {
 
-CaptureOpenMeshLog::CaptureOpenMeshLog() : std_streams_{&std::cout, &std::cerr, &std::clog} {
-    for (OpenMesh::mostream* s : streams_) {
-        was_enabled_.push_back(s->is_enabled());
-        for (std::ostream* std_stream : std_streams_) detached_.push_back(s->disconnect(*std_stream));
-        s->connect(text_);
-        s->enable();
-    }
+/// The one buffer OpenMesh's log streams write into, connected on first use and never disconnected: OpenMesh's
+/// mostream::disconnect drops the target it removes without freeing it, so connecting and disconnecting around
+/// every capture lost memory on every mesh read or written. The standard streams are detached then, once (the
+/// targets OpenMesh made for them at its start-up are lost once). Streams stay disabled between captures.
+std::ostringstream& capture_buffer(const std::vector<OpenMesh::mostream*>& streams) {
+    static std::ostringstream* const text = [&streams] {
+        auto* t = new std::ostringstream;  // never destroyed: OpenMesh's streams outlive any static of ours
+        for (OpenMesh::mostream* s : streams) {
+            s->flush();
+            for (std::ostream* std_stream : {&std::cout, &std::cerr, &std::clog}) s->disconnect(*std_stream);
+            s->connect(*t);
+            s->disable();
+        }
+        return t;
+    }();
+    return *text;
+}
+
+}  // namespace
+
+CaptureOpenMeshLog::CaptureOpenMeshLog() : text_(capture_buffer(streams_)) {
+    text_.str(std::string());
+    text_.clear();
+    for (OpenMesh::mostream* s : streams_) s->enable();
 }
 
 CaptureOpenMeshLog::~CaptureOpenMeshLog() {
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < streams_.size(); ++i) {
-        streams_[i]->flush();
-        streams_[i]->disconnect(text_);
-        for (std::ostream* std_stream : std_streams_)
-            if (detached_[k++]) streams_[i]->connect(*std_stream);
-        if (!was_enabled_[i]) streams_[i]->disable();
+    for (OpenMesh::mostream* s : streams_) {
+        s->flush();
+        s->disable();
     }
+    text_.str(std::string());
 }
 
 std::string CaptureOpenMeshLog::first_line() {

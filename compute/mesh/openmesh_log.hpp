@@ -12,8 +12,9 @@
 
 namespace tridex::compute {
 
-/// Routes OpenMesh's log streams (omerr, omout, omlog) into a string for the lifetime of the object:
-/// detaches the standard streams they were connected to and re-attaches exactly those afterwards.
+/// Routes OpenMesh's log streams (omerr, omout, omlog) into a string for the lifetime of the object. The first
+/// capture detaches them from the standard streams for good and connects them to one process-wide buffer (so no
+/// capture allocates a stream target); between captures they are disabled and what OpenMesh says is dropped.
 /// The streams are global, so callers hold `mutex()`.
 class CaptureOpenMeshLog {
 public:
@@ -28,11 +29,8 @@ public:
     static std::mutex& mutex();
 
 private:
-    std::ostringstream text_;
     std::vector<OpenMesh::mostream*> streams_{&::omerr(), &::omout(), &::omlog()};
-    std::vector<std::ostream*> std_streams_;
-    std::vector<bool> was_enabled_;
-    std::vector<bool> detached_;  // per (stream, std stream) pair
+    std::ostringstream& text_;  // the process-wide capture buffer
 };
 
 }  // namespace tridex::compute

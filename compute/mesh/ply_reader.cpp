@@ -286,7 +286,7 @@ void read_element(Body& body, const Header& h, int e, TriMesh& soup) {
     for (std::uint64_t i = 0; i < el.count; ++i) {
         for (std::size_t k = 0; k < el.properties.size(); ++k) {
             const Property& p = el.properties[k];
-            const auto what = [&] { return el.name + " " + std::to_string(i) + " property '" + printable(p.name) + "'"; };
+            const auto what = [&] { return printable(el.name) + " " + std::to_string(i) + " property '" + printable(p.name) + "'"; };
             if (p.count_type != Type::kNone) {
                 const bool face_list = e == h.face && static_cast<int>(k) == h.indices;
                 read_list(body, p, i, face_list, nv, ids, what);

@@ -8,14 +8,16 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace tridex::renderer {
 namespace {
 
 using nlohmann::json;
 
+// A field path or reason may quote the file's text (a key, a name): made printable, the message stays one line.
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
-    throw Error(source + ": field '" + field + "': " + what);
+    throw Error(source + ": field '" + printable(field, 120) + "': " + printable(what, 400));
 }
 
 std::string num(double v) {
@@ -279,7 +281,7 @@ DisplayConfig load_display_config(const std::string& path) {
     } catch (const json::exception& e) {  // a number beyond a double's range (1e400), ...
         const std::string what = e.what();
         const std::size_t end = what.rfind("] ");
-        throw Error(path + ": not valid JSON: " + (end == std::string::npos ? what : what.substr(end + 2)));
+        throw Error(path + ": not valid JSON: " + printable(end == std::string::npos ? what : what.substr(end + 2), 200));
     }
     return display_config_from_json(j, path);
 }

@@ -1,0 +1,164 @@
+// tests/fuzz/fuzz_seeds.cpp - writes the seed inputs the fuzz targets cannot take from ../shared/data or assets/:
+// small valid files and datagrams of every format, made by tridex's own writers and encoders (so checksums
+// hold), one folder per target. Usage: fuzz_seeds OUT_DIR (writes OUT_DIR/<target>/<name>).
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "compute/journal/journal_writer.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tdx_file.hpp"
+#include "compute/model/tridexel.hpp"
+#include "core/active_surface.hpp"
+#include "core/primitives.hpp"
+#include "devices/falcon/falcon_protocol.hpp"
+#include "devices/net/link_wire.hpp"
+#include "devices/net/surface_codec.hpp"
+#include "devices/recording.hpp"
+#include "tests/fuzz/fuzz_mesh_seeds.hpp"
+
+namespace fs = std::filesystem;
+using namespace tridex;
+
+namespace {
+
+/// Writes `bytes` to dir/target/name.
+void put(const fs::path& dir, const std::string& target, const std::string& name, const std::string& bytes) {
+    fs::create_directories(dir / target);
+    std::ofstream(dir / target / name, std::ios::binary) << bytes;
+}
+
+/// Writes a datagram to dir/target/name.
+void put(const fs::path& dir, const std::string& target, const std::string& name, const std::vector<std::uint8_t>& d) {
+    put(dir, target, name, std::string(d.begin(), d.end()));
+}
+
+/// A small sculpted-free model: a sphere scan-converted on an 8 x 9 x 7 lattice, saved as .tdx.
+void tdx_seeds(const fs::path& dir) {
+    fs::create_directories(dir / "tdx");
+    compute::Lattice lattice;
+    lattice.origin_m = Vec3(-0.01);
+    lattice.cell_m = 0.0025;
+    lattice.cells = {8, 9, 7};
+    compute::TriDexel model = compute::TriDexel::empty(lattice, std::size_t{1} << 26);
+    compute::save_tdx((dir / "tdx" / "empty.tdx").string(), model, Mat4(1.0), "{}", 1);
+    compute::scan_convert(icosphere_mesh(Vec3(0.0), 0.008, 1), model);
+    compute::save_tdx((dir / "tdx" / "sphere.tdx").string(), model, Mat4(1.0), "{\"resolution\": 8}", 1);
+}
+
+/// A three-tick recording with marks, version 2.
+void recording_seeds(const fs::path& dir) {
+    fs::create_directories(dir / "recording");
+    devices::Recording rec;
+    rec.header.device_name = "omni";
+    rec.header.workspace_mode = "moving";
+    rec.header.notes = "fuzz seed";
+    rec.header.marks = std::vector<devices::RecordedMark>{};
+    for (int i = 0; i < 3; ++i) {
+        devices::RecordedTick t;
+        t.t_s = 0.001 * (i + 1);
+        t.device.t_s = t.t_s;
+        t.force_n = Vec3(0.0, 0.1 * i, 0.0);
+        rec.ticks.push_back(t);
+    }
+    devices::write_recording((dir / "recording" / "three_ticks.trdxrec").string(), rec);
+}
+
+/// A journal with two batches and a mark.
+void journal_seeds(const fs::path& dir) {
+    fs::create_directories(dir / "journal");
+    compute::JournalWriter writer((dir / "journal" / "session.tdj").string(), "{\"seed\": 1}");
+    std::vector<ToolSample> batch(3);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+        batch[i].t_s = 0.001 * static_cast<double>(i + 1);
+        batch[i].position = Vec3(0.001 * static_cast<double>(i), 0.0, 0.05);
+        batch[i].op = ToolOp::kSubtract;
+        batch[i].tool.radius_m = 0.003;
+    }
+    writer.append(batch);
+    writer.mark(1, 1);
+    writer.append(batch);
+    writer.close();
+}
+
+/// One datagram of every link message type, and a surface snapshot with a few rays.
+void net_seeds(const fs::path& dir) {
+    namespace net = devices::net;
+    std::vector<std::uint8_t> d;
+    net::encode(net::Header{}, net::Hello{}, d), put(dir, "net", "hello", d);
+    net::encode(net::Header{}, net::welcome_from(devices::DeviceProfile{}), d), put(dir, "net", "welcome", d);
+    net::encode_refuse(net::Header{}, "version 2 is not served", d), put(dir, "net", "refuse", d);
+    net::StateMsg state;
+    state.has_tool = true;
+    net::encode(net::Header{}, state, d), put(dir, "net", "state", d);
+    net::encode(net::Header{}, net::ForceMsg{}, d), put(dir, "net", "force", d);
+    net::ContactMsg contact;
+    contact.point_count = 2;
+    net::encode(net::Header{}, contact, d), put(dir, "net", "contact", d);
+    net::encode_heartbeat(net::Header{}, d), put(dir, "net", "heartbeat", d);
+    static ActiveSurface surface;
+    surface.sequence = 1;
+    surface.cell_m = 0.001;
+    surface.nodes = {16, 16, 16};
+    surface.sets[0].nu = surface.sets[0].nv = 2;
+    surface.sets[0].count[0] = 1;
+    surface.sets[0].depth[1] = 3.0f;
+    net::encode_surface(net::Header{}, surface, d), put(dir, "net", "surface", d);
+}
+
+/// IN packets as fuzz_falcon reads them (a length byte, two modem bytes, data): whole, torn and doubled frames.
+void falcon_seeds(const fs::path& dir) {
+    namespace falcon = devices::falcon;
+    falcon::FalconState s;
+    s.encoder = {120, -340, 5};
+    s.homing_status = falcon::kAllHomed;
+    s.grip_buttons = 0x5;
+    const falcon::Frame f = falcon::encode_state(s);
+    const std::string frame(f.begin(), f.end());
+    const std::string modem = {static_cast<char>(falcon::kModemIdle.modem), static_cast<char>(falcon::kModemIdle.line)};
+    auto packet = [&](const std::string& data) { return std::string(1, static_cast<char>(2 + data.size())) + modem + data; };
+    put(dir, "falcon", "one_frame", packet(frame));
+    put(dir, "falcon", "torn_frame", packet(frame.substr(0, 7)) + packet(frame.substr(7)));
+    put(dir, "falcon", "two_frames", packet(frame + frame));
+    const falcon::Frame c = falcon::encode_command(falcon::FalconCommand{{100, -200, 300}, falcon::kLedGreen, true});
+    put(dir, "falcon", "command", std::string(c.begin(), c.end()));
+}
+
+/// DTrack datagrams of every line type the parser reads.
+void dtrack_seeds(const fs::path& dir) {
+    put(dir, "dtrack", "bodies",
+        "fr 21753\r\nts 39596.024023\r\n6dcal 2\r\n6d 2 [0 1.000][100.000 1650.000 900.000 0.0000 90.0000 0.0000]"
+        "[0 0 -1 0 1 0 1 0 0] [1 -1.000][0 0 0][1 0 0 0 1 0 0 0 1]\r\n");
+    put(dir, "dtrack", "flystick",
+        "fr 7\nts2 1700000000 250 1200\n6df2 1 1 [0 0.950 8 2][-250.500 1200.000 600.250][1 0 0 0 1 0 0 0 1]"
+        "[5 0.500 -1.000]\n3d 0\ngl 0\n");
+}
+
+}  // namespace
+
+/// Writes every seed under argv[1]; exit 0, or 1 with the reason.
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: fuzz_seeds OUT_DIR\n");
+        return 1;
+    }
+    try {
+        const fs::path dir = argv[1];
+        tdx_seeds(dir);
+        recording_seeds(dir);
+        journal_seeds(dir);
+        net_seeds(dir);
+        falcon_seeds(dir);
+        dtrack_seeds(dir);
+        for (const auto& seed : fuzz::mesh_seeds()) put(dir, seed.target, seed.name, seed.bytes);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fuzz_seeds: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
