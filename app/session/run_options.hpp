@@ -21,9 +21,6 @@ DisplayKind parse_display_kind(const std::string& name);
 /// Options of `tridex run [SCENE]`. Empty strings and zero limits mean "as the scene says" / "no limit".
 struct RunOptions {
     std::string scene;              ///< scene file (JSON, app/scene/run_scene.hpp); empty = assets/default_scene.json
-    /// A saved model (.tdx) the session starts from instead of the scene's workpiece (as a scene's workpiece.model and
-    /// `demo --workpiece`); "" = the scene's.
-    std::string workpiece;
     std::string display = "window"; ///< window | fullscreen | offscreen
     /// Device driver replacing the scene's (simulated, mouse, spacemouse, or net:HOST:PORT for a device served by
     /// `tridex device-server`); empty = the scene's.
@@ -85,6 +82,9 @@ struct RunOptions {
     /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
     /// Falcon has none running); "" = the scene's device.firmware.
     std::string falcon_firmware;
+    /// A saved model (.tdx) the session starts from instead of the scene's workpiece (as a scene's workpiece.model and
+    /// `demo --workpiece`); "" = the scene's.
+    std::string workpiece;
 };
 
 }  // namespace tridex::app
