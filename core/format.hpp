@@ -1,6 +1,7 @@
 // core/format.hpp - numbers in messages as a person writes them.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -12,6 +13,18 @@ inline std::string format_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
+}
+
+/// A length `m` (metres) in millimetres to a tenth of a millimetre, as a person reads it on screen: "11.7 mm",
+/// "12 mm" (no trailing ".0"), "0 mm" (never "-0" nor "8.67e-16"); a non-finite length gives "-- mm".
+inline std::string format_mm(double m) {
+    const double mm = std::round(m * 1e4) / 10.0;  // tenths of a millimetre
+    if (!std::isfinite(mm)) return "-- mm";
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.1f", mm == 0.0 ? 0.0 : mm);
+    std::string s = buf;
+    if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
+    return s + " mm";
 }
 
 }  // namespace tridex

@@ -108,9 +108,9 @@ std::string MouseStylus::status() const {
     const char* name = tool_op_name(op_);
     const std::string size = tool_.kind == ToolKind::kMesh
                                  ? "mesh tool (fixed size)"
-                                 : std::string(to_string(tool_.kind)) + " r " + format_number(1e3 * radius_m_) + " mm ([ ])";
-    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6), " + size + ", depth " + format_number(1e3 * depth_m()) +
-           " mm (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
+                                 : std::string(to_string(tool_.kind)) + " r " + format_mm(radius_m_) + " ([ ])";
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6), " + size + ", depth " + format_mm(depth_m()) +
+           " (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 
 }  // namespace tridex::app

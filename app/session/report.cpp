@@ -309,7 +309,10 @@ void print_summary(const DemoReport& r, const std::string& out_dir, const std::s
                     r.clay_path_reason.empty() ? "" : (" (" + r.clay_path_reason + ")").c_str());
     std::printf("  contour path: %s%s\n", r.contour_path.c_str(),
                 r.contour_reason.empty() ? "" : (" (" + r.contour_reason + ")").c_str());
-    std::printf("  render: %s, %s\n", r.device.c_str(), r.eye_strategy.c_str());
+    // The eye strategy in a few words; why it was chosen (the start-up check's pixel counts) is report.json's eye_strategy.
+    const std::string strategy = r.eye_strategy.substr(0, r.eye_strategy.find(':'));
+    std::printf("  render: %s, %s%s\n", r.device.c_str(), strategy.c_str(),
+                strategy.size() < r.eye_strategy.size() ? " (why: report.json eye_strategy)" : "");
     std::string names;
     for (const std::string& f : r.files) names += (names.empty() ? "" : ", ") + std::filesystem::path(f).filename().string();
     std::printf("  wrote %s/: %s in %.1f s\n", out_dir.c_str(), names.empty() ? "nothing" : names.c_str(), r.wall_s);

@@ -128,7 +128,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
         if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
         add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
-                      RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status});
+                      RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status, su.overlay_stats});
     }
     return view;
 }

@@ -54,6 +54,8 @@ struct RunOptions {
     /// Draw the proxy, the force arrow and the overlay (haptic rate, sculpt rate, frame time, tiles drawn /
     /// skipped); false: the workpiece, tool, workspace box and bubble only.
     bool items = true;
+    /// The overlay also counts the tiles drawn and skipped per eye (a developer's figure; off: a person's overlay).
+    bool overlay_stats = false;
     /// The workpiece as per-tile meshes (only changed tiles re-uploaded, tiles culled per eye); false: the
     /// whole mesh every publish (the fallback path).
     bool tiles = true;

@@ -60,6 +60,7 @@ RunSetup resolve_run(const RunOptions& o) {
     if (s.cpu_contour && s.gpu_contour) throw Error("--cpu-contour, --gpu-contour: choose one");
     s.pace = o.pace;
     s.items = o.items;
+    s.overlay_stats = o.overlay_stats;
     s.tiles = o.tiles;
     s.cull = o.cull;
     if (o.lod != "on" && o.lod != "off") throw Error("--lod: must be on or off, got '" + o.lod + "'");

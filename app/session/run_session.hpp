@@ -38,6 +38,7 @@ struct RunSetup {
     bool gpu_clay = false;          ///< clay on the GPU kernel even on a CPU Vulkan device (--gpu-clay)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
+    bool overlay_stats = false;     ///< the overlay also counts tiles drawn and skipped per eye
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
     bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)

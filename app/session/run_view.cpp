@@ -48,6 +48,7 @@ void add_run_items(renderer::SceneView& s, const haptics::LoopView& view, double
     s.sculpt_rate_hz = o.sculpt_rate_hz;
     s.frame_time_ms = o.frame_time_ms;
     s.overlay_status = o.status;
+    s.overlay_tile_counts = o.tile_counts;
 }
 
 void RateMeter::add(double t_s, std::uint64_t count) {

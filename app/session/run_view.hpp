@@ -35,6 +35,7 @@ struct RunOverlay {
     double sculpt_rate_hz = -1.0;  ///< sculpt steps per second over the last second; < 0 = unknown
     double frame_time_ms = -1.0;   ///< the previous frame's wall time, ms; < 0 = the renderer's own
     std::string status{};          ///< further overlay lines (what was saved, what is not being saved)
+    bool tile_counts = false;      ///< also the tiles drawn and skipped per eye (--overlay-stats)
 };
 
 /// Adds the run's scene items to `s`: the proxy (view.proxy_m, a translucent sphere of `proxy_radius_m`, m,

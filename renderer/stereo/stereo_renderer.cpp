@@ -513,7 +513,8 @@ void OffscreenStereoRenderer::Impl::add_overlay(const SceneView& scene, const Fr
     n.haptic_rate_hz = scene.haptic_rate_hz;
     n.sculpt_rate_hz = scene.sculpt_rate_hz;
     n.frame_ms = scene.frame_time_ms >= 0.0 ? scene.frame_time_ms : last.frame_ms;
-    n.has_tiles = !scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty());
+    n.has_tiles = scene.overlay_tile_counts &&
+                  (!scene.tiles.empty() || (scene.indirect_workpiece && !scene.indirect_workpiece->tiles.empty()));
     n.tiles = stats.tiles;
     n.status = scene.overlay_status;
     const std::string text = overlay_content(n);

@@ -99,6 +99,8 @@ struct SceneView {
     double frame_time_ms = -1.0;   ///< shown in the overlay; < 0 = the renderer's previous FrameStats::frame_ms
     double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = max(1, floor(height / 360))
     std::string overlay_status;    ///< further overlay lines ('\n' between), e.g. what is saved and what is not
+    /// With tiles: the overlay also counts the tiles drawn and skipped per eye (a developer's figure).
+    bool overlay_tile_counts = true;
     /// Eyes to render: 2 = stereo; 1 = mono, one eye's work only: the left eye (at the head for a zero eye
     /// separation) is drawn into layer 0 and nothing into layer 1 (pass-per-eye and instanced-layer skip the
     /// right eye's pass / instances; multiview's render pass still covers both views). FrameStats then has

@@ -52,7 +52,7 @@ TEST(RunScene, DefaultSceneLoadsWithDocumentedValues) {
     EXPECT_TRUE(s.has_stroke);
     EXPECT_DOUBLE_EQ(s.stroke.duration_s, 3.0);
     EXPECT_DOUBLE_EQ(s.stroke.tool_radius_m, s.spec.tool.radius_m);
-    EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kAnaglyph);
+    EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kMono);  // at the desk: mono; anaglyph by choice (--stereo)
     EXPECT_EQ(s.display.width_px, 960);
     EXPECT_EQ(s.head, HeadMode::kFixed);
     EXPECT_DOUBLE_EQ(s.head_pose.position.z, 0.6);
@@ -259,6 +259,9 @@ TEST(RunView, RunItemsShowProxyForceAndOverlay) {
     EXPECT_DOUBLE_EQ(s.haptic_rate_hz, -1.0);
     EXPECT_DOUBLE_EQ(s.sculpt_rate_hz, 12.0);
     EXPECT_DOUBLE_EQ(s.frame_time_ms, 16.5);
+    EXPECT_FALSE(s.overlay_tile_counts) << "a person's overlay: no tile counts unless --overlay-stats";
+    add_run_items(s, v, 0.006, 0.02, RunOverlay{-1.0, 12.0, 16.5, "", true});
+    EXPECT_TRUE(s.overlay_tile_counts);
     v.tick = 3;
     v.proxy_m = Vec3(0.01, 0.02, 0.03);
     v.force_n = Vec3(0.0, 1.5, 0.0);

@@ -1,11 +1,13 @@
 // Tests of core/: the lock-free hand-offs and the mesh topology checks.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 #include <thread>
 
 #include "core/crc32.hpp"
+#include "core/format.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/thread_name.hpp"
 #include "core/tri_mesh.hpp"
@@ -13,6 +15,16 @@
 
 namespace tridex {
 namespace {
+
+TEST(Format, LengthsInMillimetresAsAPersonReadsThem) {
+    EXPECT_EQ(format_mm(0.0117188), "11.7 mm");
+    EXPECT_EQ(format_mm(0.012), "12 mm");
+    EXPECT_EQ(format_mm(-0.012), "-12 mm");
+    EXPECT_EQ(format_mm(8.67e-16), "0 mm");
+    EXPECT_EQ(format_mm(-1e-9), "0 mm");
+    EXPECT_EQ(format_mm(0.00006), "0.1 mm");
+    EXPECT_EQ(format_mm(std::nan("")), "-- mm");
+}
 
 TEST(ThreadName, NamesTheCallingThreadCutToFifteenBytes) {
     std::string seen_short, seen_long;
