@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "app/commands/demo.hpp"
+#include "app/session/frame_loop.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -73,14 +74,18 @@ void run_device_server(const DeviceServerOptions& o) {
     std::printf("device-server: serving '%s' (driver %s) on %s; sessions connect with --device net:%s\n",
                 device->profile().name.c_str(), o.device.c_str(), link->where(), link->where());
     std::fflush(stdout);
+    // The server's frames, through the one frame loop every 20 ms: serving until a stop signal, --seconds, the device
+    // lost or, with --once, the end of the first session. Nothing is drawn.
     bool had_session = false;
-    while (server.running() && !stop_requested()) {
-        if (o.seconds > 0.0 && since() >= o.seconds) break;
-        const haptics::DeviceServerStats st = server.stats();
-        had_session = had_session || st.session;
-        if (o.once && had_session && !st.session) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    FrameFunctions frames(
+        [&] {
+            if (!server.running() || stop_requested() || (o.seconds > 0.0 && since() >= o.seconds)) return false;
+            const haptics::DeviceServerStats st = server.stats();
+            had_session = had_session || st.session;
+            return !(o.once && had_session && !st.session);
+        },
+        [](std::uint64_t) { return false; }, [](std::uint64_t) {});
+    run_frames(frames, FramePacing{0.020, true});
     server.stop();
     const haptics::DeviceServerStats st = server.stats();
     std::printf("device-server: %llu sessions, %llu refused; %llu ticks; %llu datagrams lost, %llu malformed (%s); "

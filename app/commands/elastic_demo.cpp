@@ -1,5 +1,6 @@
 // app/commands/elastic_demo.cpp - the scripted press of an elastic object, its images and its report.
 #include "app/commands/elastic_demo.hpp"
+#include "app/session/frame_loop.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -104,41 +105,54 @@ ElasticPressRun run_elastic_press(const ElasticScene& s) {
     const TriMesh reference = icosphere_mesh(target.sphere.centre_m, target.sphere.radius_m, kSubdivisions);
     TriMesh drawn;
     ElasticPressRun run;
-    std::size_t tick = 0;
+    // Each phase's ticks in order: (phase, k of n), k from 1.
+    struct PressTick {
+        const Phase* phase;
+        std::size_t k, n;
+    };
+    std::vector<PressTick> schedule;
     for (const Phase& ph : phases) {
         const std::size_t n = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(ph.duration_s / kPeriodS)));
-        for (std::size_t k = 1; k <= n; ++k, ++tick) {
-            ElasticTick t;
-            t.t_s = static_cast<double>(tick) * kPeriodS;
-            t.press_m = ph.p0 + (ph.p1 - ph.p0) * (static_cast<double>(k) / static_cast<double>(n));
-            t.hip_m = hip_at(s, t.press_m);
-            Pose pose;
-            pose.position = t.hip_m;
-            Vec3 f(0.0);
-            haptics::ElasticContacts on_target;
-            for (std::size_t i = 0; i < s.objects.size(); ++i) {
-                const haptics::ElasticContacts c = haptics::elastic_contacts(s.objects[i].sphere, pts, pose);
-                f += haptics::elastic_force(s.objects[i].sphere, c, s.max_force_n);
-                if (static_cast<int>(i) == s.press.object) on_target = c;
-            }
-            t.force_n = haptics::clamp_force(f, s.max_force_n);
-            t.penetration_m = on_target.max_depth_m();
-            run.ticks.push_back(t);
-            if (ph.step && k == n) {
-                haptics::deform_elastic_mesh(reference, on_target, target.sphere.influence_m, drawn);
-                ElasticStep st;
-                st.press_m = t.press_m;
-                st.penetration_m = t.penetration_m;
-                st.force_n = glm::length(t.force_n);
-                st.max_displacement_m = haptics::max_vertex_displacement_m(reference, drawn);
-                if (run.steps.empty() || st.press_m > run.steps[run.deepest_step].press_m) {
-                    run.deepest_step = run.steps.size();
-                    run.deepest_tick = run.ticks.size() - 1;
-                }
-                run.steps.push_back(st);
-            }
-        }
+        for (std::size_t k = 1; k <= n; ++k) schedule.push_back({&ph, k, n});
     }
+    // One tick of the press: the hand at its depth, the objects' forces, and at the end of a step the dented mesh.
+    const auto press_tick = [&](std::size_t tick) {
+        const Phase& ph = *schedule[tick].phase;
+        const std::size_t k = schedule[tick].k, n = schedule[tick].n;
+        ElasticTick t;
+        t.t_s = static_cast<double>(tick) * kPeriodS;
+        t.press_m = ph.p0 + (ph.p1 - ph.p0) * (static_cast<double>(k) / static_cast<double>(n));
+        t.hip_m = hip_at(s, t.press_m);
+        Pose pose;
+        pose.position = t.hip_m;
+        Vec3 f(0.0);
+        haptics::ElasticContacts on_target;
+        for (std::size_t i = 0; i < s.objects.size(); ++i) {
+            const haptics::ElasticContacts c = haptics::elastic_contacts(s.objects[i].sphere, pts, pose);
+            f += haptics::elastic_force(s.objects[i].sphere, c, s.max_force_n);
+            if (static_cast<int>(i) == s.press.object) on_target = c;
+        }
+        t.force_n = haptics::clamp_force(f, s.max_force_n);
+        t.penetration_m = on_target.max_depth_m();
+        run.ticks.push_back(t);
+        if (ph.step && k == n) {
+            haptics::deform_elastic_mesh(reference, on_target, target.sphere.influence_m, drawn);
+            ElasticStep st;
+            st.press_m = t.press_m;
+            st.penetration_m = t.penetration_m;
+            st.force_n = glm::length(t.force_n);
+            st.max_displacement_m = haptics::max_vertex_displacement_m(reference, drawn);
+            if (run.steps.empty() || st.press_m > run.steps[run.deepest_step].press_m) {
+                run.deepest_step = run.steps.size();
+                run.deepest_tick = run.ticks.size() - 1;
+            }
+            run.steps.push_back(st);
+        }
+    };
+    // In device time, through the one frame loop: a frame is one tick of the press, run as fast as it computes.
+    FrameFunctions frames([] { return true; }, [&](std::uint64_t frame) { return frame + 1 >= schedule.size(); },
+                          [&](std::uint64_t frame) { press_tick(static_cast<std::size_t>(frame)); });
+    if (!schedule.empty()) run_frames(frames, FramePacing{kPeriodS, false});
     return run;
 }
 

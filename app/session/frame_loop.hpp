@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <utility>
 
 namespace tridex::app {
 
@@ -22,13 +24,27 @@ public:
     virtual void draw(std::uint64_t frame) = 0;
 };
 
+/// FrameSteps from three callables, for a session whose frames need no class of their own (a device-time
+/// simulation stepping its haptic loop once a frame, a server polling its state).
+struct FrameFunctions final : FrameSteps {
+    std::function<bool()> input;                 ///< take_input()
+    std::function<bool(std::uint64_t)> last;     ///< last_frame(frame)
+    std::function<void(std::uint64_t)> frame;    ///< draw(frame)
+
+    FrameFunctions(std::function<bool()> i, std::function<bool(std::uint64_t)> l, std::function<void(std::uint64_t)> f)
+        : input(std::move(i)), last(std::move(l)), frame(std::move(f)) {}
+    bool take_input() override { return input(); }
+    bool last_frame(std::uint64_t f) override { return last(f); }
+    void draw(std::uint64_t f) override { frame(f); }
+};
+
 /// How run_frames paces frames.
 struct FramePacing {
     /// Seconds from one frame's start to the next's (> 0 when `sleep`); the display's refresh period times its
     /// presents per frame, or the end-only sink's polling period.
     double period_s = 1.0 / 60.0;
     /// Sleep until the next frame's start: offscreen and end-only sinks (a window's present waits for the display
-    /// instead).
+    /// instead; a device-time simulation runs as fast as it computes).
     bool sleep = true;
 };
 

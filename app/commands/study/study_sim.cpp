@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "app/session/frame_loop.hpp"
 #include "app/session/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/study_objects.hpp"
@@ -64,20 +65,30 @@ SimulatedPass simulate_pass(const StudyScene& scene, const std::string& model, s
     Vec3 centre = pp.centre_m.front() - half;
     SimulatedPass out;
     ToolSample drained;
-    for (std::size_t i = 0; i < ticks; ++i) {
-        if (i % 5 == 0) {
-            compute::extract_active_surface(wp.model, centre, extent, i + 1, surface.back());
-            surface.publish();
-        }
-        const haptics::TickRecord r = loop.step(spec.period_s * static_cast<double>(i));
-        while (ring.try_pop(drained)) {
-        }
-        if (!r.valid_sample) break;
-        centre = r.hip_m;
-        out.contact_ticks += r.points_in_contact > 0;
-        out.max_force_n = std::max(out.max_force_n, glm::length(r.force_n));
-        out.tube_touch_ticks += study_contact(tube, r.points[0].world_m, r.points[1].world_m, 0.0).tube;
-    }
+    // In device time, through the one frame loop: a frame is one tick, run as fast as it computes; a sample the
+    // device could not give ends the pass.
+    bool ended = false;
+    FrameFunctions frames([&] { return !ended; }, [&](std::uint64_t f) { return f + 1 >= ticks; },
+                          [&](std::uint64_t f) {
+                              const std::size_t i = static_cast<std::size_t>(f);
+                              if (i % 5 == 0) {
+                                  compute::extract_active_surface(wp.model, centre, extent, i + 1, surface.back());
+                                  surface.publish();
+                              }
+                              const haptics::TickRecord r = loop.step(spec.period_s * static_cast<double>(i));
+                              while (ring.try_pop(drained)) {
+                              }
+                              if (!r.valid_sample) {
+                                  ended = true;
+                                  return;
+                              }
+                              centre = r.hip_m;
+                              out.contact_ticks += r.points_in_contact > 0;
+                              out.max_force_n = std::max(out.max_force_n, glm::length(r.force_n));
+                              out.tube_touch_ticks +=
+                                  study_contact(tube, r.points[0].world_m, r.points[1].world_m, 0.0).tube;
+                          });
+    run_frames(frames, FramePacing{spec.period_s, false});
     loop.stop();
     out.ticks = std::min(ticks, loop.records().size());
     std::vector<haptics::TickRecord> records(loop.records().begin(), loop.records().begin() + static_cast<long>(out.ticks));
