@@ -312,7 +312,6 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
     const std::string text = header_json(path, header);
     if (text.size() > std::numeric_limits<std::uint32_t>::max()) throw Error(path + ": header text too long");
     atomic_.emplace(path);  // throws "<path>: cannot create ..." when the folder cannot hold it
-    file_ = atomic_->stream();
     unsigned char pre[kRecordingPreambleBytes];
     std::memcpy(pre, kRecordingMagic, 8);
     Encoder e(pre + 8);
@@ -321,11 +320,11 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
     e.u64(kOpenCount);
     e.u32(0);  // checksum, filled by close()
     e.u32(static_cast<std::uint32_t>(text.size()));
-    const bool ok = std::fwrite(pre, 1, sizeof pre, file_) == sizeof pre &&
-                    std::fwrite(text.data(), 1, text.size(), file_) == text.size();
+    std::FILE* file = atomic_->stream();
+    const bool ok = std::fwrite(pre, 1, sizeof pre, file) == sizeof pre &&
+                    std::fwrite(text.data(), 1, text.size(), file) == text.size();
     if (!ok) {
         const int err = errno;
-        file_ = nullptr;
         atomic_.reset();  // discards the temporary file
         throw Error(path + ": cannot write the header: " + std::strerror(err));
     }
@@ -333,9 +332,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const RecordingHeader&
 }
 
 RecordingWriter::~RecordingWriter() {
-    if (!file_) return;
+    if (!atomic_) return;
     if (std::uncaught_exceptions() > uncaught_at_open_) {
-        file_ = nullptr;
         atomic_.reset();  // unwinding: discard the temporary file, so nobody mistakes it for a whole session
         return;
     }
@@ -347,12 +345,12 @@ RecordingWriter::~RecordingWriter() {
 }
 
 void RecordingWriter::write(const RecordedTick& tick) {
-    if (!file_) throw Error(path_ + ": write after close");
+    if (!atomic_) throw Error(path_ + ": write after close");
     const std::string problem = check_tick(tick, last_t_s_);
     if (!problem.empty()) throw Error(path_ + ": tick " + std::to_string(count_) + ": " + problem);
     unsigned char rec[kRecordedTickBytes];
     encode_tick(tick, rec);
-    if (std::fwrite(rec, 1, sizeof rec, file_) != sizeof rec)
+    if (std::fwrite(rec, 1, sizeof rec, atomic_->stream()) != sizeof rec)
         throw Error(path_ + ": tick " + std::to_string(count_) + ": write failed: " + std::strerror(errno));
     crc_ = crc32_ieee(rec, sizeof rec, crc_);
     last_t_s_ = tick.t_s;
@@ -360,9 +358,8 @@ void RecordingWriter::write(const RecordedTick& tick) {
 }
 
 void RecordingWriter::close() {
-    if (!file_) return;
-    std::FILE* f = file_;
-    file_ = nullptr;
+    if (!atomic_) return;
+    std::FILE* f = atomic_->stream();
     unsigned char tail[12];
     Encoder e(tail);
     e.u64(static_cast<std::uint64_t>(count_));

@@ -155,8 +155,7 @@ public:
 
 private:
     std::string path_;
-    std::optional<AtomicFile> atomic_;  // the temporary file until close() commits it
-    std::FILE* file_ = nullptr;         // atomic_'s stream while open
+    std::optional<AtomicFile> atomic_;  // the temporary file until close() commits it; empty once closed
     std::uint32_t crc_ = 0;
     std::size_t count_ = 0;
     double last_t_s_;

@@ -190,7 +190,7 @@ void run_demo(const DemoOptions& o) {
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     {
         std::vector<NamedFile> outputs;
-        for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+        for (const char* name : kSessionOutputFiles)
             outputs.push_back({std::string("--out's ") + name, (fs::path(o.out) / name).string()});
         outputs.push_back({"--record", o.record});
         outputs.push_back({"--save", o.save});

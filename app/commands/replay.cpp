@@ -28,7 +28,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
     if (!save.empty()) {
         std::vector<NamedFile> outputs{{"--save", save}};
-        for (const char* name : {"left.png", "right.png", "sbs.png", "sculpted.ply", "haptics.csv", "report.json"})
+        for (const char* name : kSessionOutputFiles)
             outputs.push_back({std::string("--out's ") + name, (std::filesystem::path(out.out) / name).string()});
         check_distinct_files(outputs, {{"the recording", recording_path}, {"the workpiece", s.model_path.empty() ? s.mesh_path : s.model_path}});
     }

@@ -53,7 +53,7 @@ bool RunPipeline::Parts::take_input() {
         for (int k = input->take_occlusion_toggles(); k > 0; --k) ao = !ao;
         sink->set_swap_eyes(swap);
     }
-    const SaveStatus saving = rt.save_status();
+    saving = rt.save_status();
     if (!saving.journal_error.empty() && !journal_warned) {
         journal_warned = true;
         std::fprintf(stderr, "tridex: this session is no longer being saved: journal: %s; the model stays in memory "
@@ -183,7 +183,6 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
 // the frame's view, and the frame drawn and presented through the sink.
 void RunPipeline::Parts::draw(std::uint64_t frame) {
     SessionRuntime& rt = backend->runtime();
-    const SaveStatus saving = rt.save_status();
     const MeshFrame& mesh = rt.latest_mesh();
     if (mesh.version != r.last_mesh_version) {
         ++r.mesh_versions_drawn;

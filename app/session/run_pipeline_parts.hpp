@@ -125,6 +125,7 @@ struct RunPipeline::Parts final : FrameSteps {
     Clock::time_point t_render{}, prev_start{};
     std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
     std::uint64_t head_frames_held = 0;   // frames drawn from last_good_head instead of the head provider's pose
+    SaveStatus saving;                    // this frame's save status, read once by take_input()
 
     explicit Parts(const RunOptions& options)
         : r(run_detail::result_for(resolve_run(options))),

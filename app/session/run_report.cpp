@@ -16,11 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-json summary_json(const std::vector<double>& v) {
-    const Summary s = summarize(v);
-    return json{{"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}};
-}
-
 double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
 
 json render_json(const RunResult& r) {
@@ -166,7 +161,7 @@ json run_report_json(const RunResult& r) {
          {{"versions_drawn", r.mesh_versions_drawn},
           {"last_version", r.last_mesh_version},
           {"published", r.sculpt.mesh_publishes},
-          {"publish_ms", summary_json(r.sculpt.mesh_publish_ms)},
+          {"publish_ms", summary_report_json(r.sculpt.mesh_publish_ms)},
           {"triangles", r.triangles}}},
         {"mouse", r.mouse},
         {"study", r.study},

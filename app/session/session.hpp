@@ -72,6 +72,11 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
                        const SculptOptions& sculpt = {}, const LoopOverrides& loop = {});
 
+/// The files write_session_outputs writes into the output folder (demo and replay check them against their other
+/// outputs before the session).
+inline constexpr std::array<const char*, 6> kSessionOutputFiles = {"left.png",     "right.png",   "sbs.png",
+                                                                    "sculpted.ply", "haptics.csv", "report.json"};
+
 /// Where and how to write a session's outputs.
 struct OutputOptions {
     std::string out;        ///< folder (created)

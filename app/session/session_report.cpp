@@ -13,10 +13,6 @@ namespace {
 
 using nlohmann::json;
 
-json summary_with_max(const std::vector<double>& v) {
-    const Summary s = summarize(v);
-    return json{{"median", s.median}, {"p99", s.p99}, {"mean", s.mean}, {"max", s.max}};
-}
 
 std::vector<double> tick_field(const std::vector<haptics::TickRecord>& recs, float haptics::TickRecord::*member,
                                std::size_t skip) {
@@ -66,6 +62,11 @@ void violations_at(const json& j, const std::string& prefix, std::vector<std::st
 }
 
 }  // namespace
+
+nlohmann::json summary_report_json(const std::vector<double>& v) {
+    const Summary s = summarize(v);
+    return json{{"median", s.median}, {"p99", s.p99}, {"mean", s.mean}, {"max", s.max}};
+}
 
 const std::vector<ReportField>& report_schema() {
     static const std::vector<ReportField> schema = {
@@ -225,8 +226,8 @@ nlohmann::json carved_mesh_report_json(const TriMesh& carved) {
 }
 
 std::array<nlohmann::json, 2> tick_summary_json(const std::vector<haptics::TickRecord>& records) {
-    return {summary_with_max(tick_field(records, &haptics::TickRecord::period_us, 1)),
-            summary_with_max(tick_field(records, &haptics::TickRecord::compute_us, 0))};
+    return {summary_report_json(tick_field(records, &haptics::TickRecord::period_us, 1)),
+            summary_report_json(tick_field(records, &haptics::TickRecord::compute_us, 0))};
 }
 
 nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initial, std::size_t tiles_total,
@@ -238,8 +239,8 @@ nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initia
             {"tiles_recontoured", s.tiles_recontoured},
             {"publishes", s.publishes},
             {"rate_hz", session_s > 0.0 ? static_cast<double>(s.steps) / session_s : 0.0},
-            {"boolean_ms", summary_with_max(s.boolean_ms)},
-            {"contour_ms", summary_with_max(s.contour_ms)},
+            {"boolean_ms", summary_report_json(s.boolean_ms)},
+            {"contour_ms", summary_report_json(s.contour_ms)},
             {"tiles_initial", tiles_initial},
             {"tiles_total", tiles_total}};
 }

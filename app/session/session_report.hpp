@@ -35,6 +35,10 @@ void conform_report(nlohmann::json& report);
 /// closed objects the schema does not list, and schema keys absent. Empty for a conforming report.
 std::vector<std::string> report_schema_violations(const nlohmann::json& report);
 
+/// Order statistics of `v` as report.json writes them: {median, p99, mean, max}, in the units of v (core/summary.hpp;
+/// all 0 for an empty v).
+nlohmann::json summary_report_json(const std::vector<double>& v);
+
 /// `workpiece` block: {transform (4x4 row-major, mesh units -> world m), volume_mesh_m3, volume_dexel_m3,
 /// volume_dexel_error_rel, resolution, cell_m, cells ([x, y, z])}, from the session's workpiece. volume_dexel_m3 is
 /// the model's volume right after scan conversion (or loading); volume_mesh_m3 is 0 for a model loaded from .tdx.
