@@ -67,8 +67,21 @@ void MouseStylus::wheel(double steps) {
     depth_steps_ = std::clamp(depth_steps_ + static_cast<int>(whole), -kMaxDepthSteps, kMaxDepthSteps);
 }
 
+int MouseStylus::default_depth_steps(ToolOp op) {
+    switch (op) {
+    case ToolOp::kPaint: return 3;
+    case ToolOp::kPush:
+    case ToolOp::kSmooth:
+    case ToolOp::kPull: return 5;
+    default: return 10;
+    }
+}
+
 void MouseStylus::set_op(ToolOp op) {
-    if (op != ToolOp::kNone) op_ = op;
+    if (op == ToolOp::kNone || op == op_) return;
+    op_ = op;
+    depth_steps_ = default_depth_steps(op);
+    wheel_rest_ = 0.0;
 }
 
 StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,

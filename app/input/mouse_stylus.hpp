@@ -29,7 +29,9 @@ struct StylusTarget {
 /// follows the original surface instead of drilling into its own cut, and a pulled surface does not carry the
 /// tool with it. A ray that misses keeps the tool at the last hit's distance along the new ray (hovering). The
 /// right button is the stylus button (workspace techniques). The wheel sets the depth in whole steps of
-/// depth_step_m (a tenth of the radius), from -kMaxDepthSteps to kMaxDepthSteps.
+/// depth_step_m (a tenth of the radius), from -kMaxDepthSteps to kMaxDepthSteps. Choosing another operation resets
+/// the depth to that operation's default (default_depth_steps), as a sculpting program restores a brush's own
+/// strength: a depth set for a deep cut does not carry into paint or clay.
 /// For a flat end (its axis up, +y: the mouse turns no tool) r above is its support distance along -n, so its
 /// rim, end face or shank rests on the surface; for a mesh tool, its bounding radius.
 /// resize() scales the tool (ball or flat end; a mesh tool keeps its size) in steps of kSizeStep, from
@@ -57,8 +59,13 @@ public:
     /// Wheel steps (+ = away from the user = deeper, - = out of the surface), summed and taken in whole steps (a
     /// touchpad's fractions add up); the depth stays in [-2 r, 2 r]. Non-finite steps are ignored.
     void wheel(double steps);
-    /// What the tool applies while engaged (subtract, union, paint, push, smooth or pull; kNone is ignored).
+    /// What the tool applies while engaged (subtract, union, paint, push, smooth or pull; kNone is ignored). A
+    /// different operation than the current one resets the depth to default_depth_steps(op).
     void set_op(ToolOp op);
+    /// The depth an operation starts with, in wheel steps (tenths of the radius): subtract and union a full radius
+    /// (a groove or ridge as wide as the tool), paint three tenths (the colour follows the surface without cutting),
+    /// push, smooth and pull half a radius.
+    static int default_depth_steps(ToolOp op);
     /// Scales the tool by kSizeStep^steps (within the limits above). Returns false, changing nothing, for a
     /// mesh tool or at the limit.
     bool resize(int steps);
@@ -90,7 +97,7 @@ private:
     ToolShape tool_;  // the tool in use
     int size_steps_ = 0;
     double radius_m_;
-    int depth_steps_ = 10;     // the depth in wheel steps (tenths of the radius)
+    int depth_steps_ = default_depth_steps(ToolOp::kSubtract);  // the depth in wheel steps (tenths of the radius)
     double wheel_rest_ = 0.0;  // wheel steps not yet taken (fractions)
     double depth_step_m_;
     Vec3 aim_m_;

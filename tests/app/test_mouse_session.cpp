@@ -262,6 +262,33 @@ TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
     EXPECT_EQ(m.op(), ToolOp::kSmooth);
 }
 
+TEST(MouseStylus, ChoosingAnotherOperationResetsTheDepthToItsDefault) {
+    MouseStylus m(0.006, Vec3(0.0));
+    EXPECT_NEAR(m.depth_m(), 0.006, 1e-12);  // subtract: a full radius
+    m.wheel(10.0);                           // the newcomer's deep cut: two radii
+    EXPECT_NEAR(m.depth_m(), 0.012, 1e-12);
+    m.set_op(ToolOp::kSubtract);  // the same op again keeps the depth
+    EXPECT_NEAR(m.depth_m(), 0.012, 1e-12);
+    m.set_op(ToolOp::kPaint);  // paint starts shallow: the deep cut's depth does not carry over
+    EXPECT_NEAR(m.depth_m(), 0.3 * 0.006, 1e-12);
+    EXPECT_NE(m.status().find("paint"), std::string::npos);
+    EXPECT_NE(m.status().find("depth 1.8 mm"), std::string::npos) << m.status();
+    m.wheel(0.5);  // half a step pending is dropped by the reset
+    m.set_op(ToolOp::kPush);
+    EXPECT_NEAR(m.depth_m(), 0.003, 1e-12);
+    m.wheel(0.5);
+    EXPECT_NEAR(m.depth_m(), 0.003, 1e-12);
+    m.set_op(ToolOp::kNone);  // ignored
+    EXPECT_EQ(m.op(), ToolOp::kPush);
+    m.set_op(ToolOp::kSubtract);
+    EXPECT_NEAR(m.depth_m(), 0.006, 1e-12);
+    for (ToolOp op : {ToolOp::kSubtract, ToolOp::kUnion, ToolOp::kPaint, ToolOp::kPush, ToolOp::kSmooth, ToolOp::kPull}) {
+        const int d = MouseStylus::default_depth_steps(op);
+        EXPECT_GE(d, 1) << tool_op_name(op);
+        EXPECT_LE(d, MouseStylus::kMaxDepthSteps) << tool_op_name(op);
+    }
+}
+
 TEST(CursorScript, InterpolatesPositionAndHoldsButtons) {
     CursorScript s;
     s.points = {{1.0, 0.0, 0.0, 0}, {2.0, 10.0, 20.0, 1}, {3.0, 10.0, 20.0, 0}};
