@@ -22,7 +22,8 @@ layout(set = 0, binding = 0, std140) uniform Eyes {
 // Per draw: world-from-model transform (m), base colour (linear RGBA), the eye index for the
 // pass-per-eye strategy, whether the draw is lit (1) or flat (0), whether the base colour comes
 // from the palette by vertex material (1) or from `colour` (0), and whether world_from_model maps
-// straight to clip space for both eyes (1: screen-space overlay) or to world space (0).
+// straight to clip space for both eyes (1: screen-space overlay) or to world space (0), and the eyes that show the
+// draw (bit 0 left, bit 1 right; the fragment shader discards the others).
 // Compute shaders that only read Eyes define NO_DRAW_CONSTANTS.
 #ifndef NO_DRAW_CONSTANTS
 layout(push_constant, std430) uniform Draw {
@@ -32,5 +33,6 @@ layout(push_constant, std430) uniform Draw {
     uint lit;
     uint palette;
     uint screen_space;
+    uint eye_mask;
 } draw;
 #endif

@@ -22,6 +22,7 @@ layout(location = 3) in vec4 in_palette_colour;
 layout(location = 0) out vec4 out_colour;
 
 void main() {
+    if (((draw.eye_mask >> in_eye) & 1u) == 0u) discard;  // a one-eye draw (multiview draws every view)
     vec4 base = draw.palette != 0u ? in_palette_colour : draw.colour;
     if (draw.lit == 0u) {
         out_colour = base;

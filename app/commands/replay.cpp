@@ -2,6 +2,7 @@
 #include "app/commands/replay.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 #include <optional>
@@ -10,7 +11,9 @@
 #include "app/session/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
+#include "compute/journal/journal_reader.hpp"
 #include "core/error.hpp"
+#include "gpu/context.hpp"
 #include "devices/recording.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "devices/mouse_device.hpp"
@@ -19,11 +22,22 @@
 namespace tridex::app {
 
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt,
-                const std::string& save) {
+                const std::string& save, const StripRequest& strip) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     prepare_output_dir(out.out, "--out");
     if (!save.empty()) check_output_file(save, "--save");
+    const std::string strip_journal = (std::filesystem::path(out.out) / "session.tdj").string();
+    if (!strip.path.empty()) {
+        try {
+            check_film_strip_options(strip.options);
+        } catch (const Error& e) {
+            throw Error(std::string("--strip-frames/--strip-size: ") + e.what());
+        }
+        check_output_file(strip.path, "--strip");
+        check_distinct_files({{"--strip", strip.path}, {"--out's session.tdj", strip_journal}},
+                             {{"the recording", recording_path}});
+    }
     const devices::Recording rec = devices::read_recording(recording_path);
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
     if (!save.empty()) {
@@ -36,6 +50,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     check_inputs_unchanged(s, recording_path, "the recording");
     validate_spec(s, recording_path);
     Workpiece wp = prepare_session_workpiece(s);
+    std::optional<Workpiece> strip_start;  // the film strip replays the journal from the workpiece as it was
+    if (!strip.path.empty()) strip_start = wp;
     // The keys' op and tool changes at their ticks, and the mouse's engage button, so the replayed samples carry
     // what the recorded ones carried.
     LoopOverrides loop;
@@ -54,7 +70,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const Vec3 start = rec.ticks.empty() ? s.device_origin_m : rec.ticks.front().wand_centre_m;
     // Until the replay device runs out of samples (it then "vanishes"); wall time is a safety net.
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
-    SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, ""};
+    SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, strip.path.empty() ? "" : strip_journal};
     so.gpu_clay = sculpt.gpu_clay;
     // The live session's undos, redos and stroke closes where its sculpt thread took them.
     so.follow_marks = sculpt_marks(rec.header);
@@ -70,6 +86,19 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     OutputWrites writes;
     write_session_outputs(named, *run, t_start, writes);
     if (!save.empty()) writes.attempt(save, [&] { save_session_model(save, run->runtime->workpiece(), run->runtime->spec()); });
+    if (strip_start) {
+        writes.attempt(strip.path, [&] {
+            const compute::Journal j = compute::read_journal(strip_journal);
+            gpu::ContextOptions gopt;
+            gopt.validation = out.validate;
+            gpu::Context ctx = gpu::Context::create(gopt);
+            const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, strip.options, ctx);
+            std::printf("film strip: %d pictures, %dx%d px, %s\n", strip.options.frames, f.width, f.height, strip.path.c_str());
+            if (ctx.validation_messages() > 0)
+                throw Error("the Vulkan validation layer reported " + std::to_string(ctx.validation_messages()) +
+                            " message(s) while drawing the film strip");
+        });
+    }
     writes.finish(out.out);
 }
 

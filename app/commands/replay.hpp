@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "app/session/film_strip.hpp"
 #include "app/session/session.hpp"
 
 namespace tridex::app {
@@ -15,7 +16,13 @@ namespace tridex::app {
 /// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model. `save`: where the final model is
 /// written (.tdx, as `demo --save`; "" = not saved); refused up front when it names the recording, the workpiece or
 /// one of --out's files.
+/// `strip`: when its path is set, the replay also journals its samples (out.out/session.tdj) and draws a film strip of
+/// them (write_film_strip) into that PNG: a carve told in pictures, written from a recording so it can be made again.
+struct StripRequest {
+    std::string path;              ///< the PNG; "" = no strip
+    FilmStripOptions options;      ///< pictures, their size, ambient occlusion
+};
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {},
-                const std::string& save = "");
+                const std::string& save = "", const StripRequest& strip = {});
 
 }  // namespace tridex::app

@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <tuple>
 
 #include "app/commands/command.hpp"
 #include "app/commands/replay.hpp"
@@ -15,6 +16,8 @@ struct ReplayCli {
     OutputOptions out;
     SculptOptions sculpt;
     std::string save;
+    StripRequest strip;
+    std::string strip_size = "320x240";
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -34,8 +37,15 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_flag("--gpu-clay", o->sculpt.gpu_clay,
                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe)");
     cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");
+    cmd.add_option("--strip", o->strip.path,
+                   "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "
+                   "into FILE.png");
+    cmd.add_option("--strip-frames", o->strip.options.frames, "Pictures in the film strip, 2..24")->capture_default_str();
+    cmd.add_option("--strip-size", o->strip_size, "Each picture's size in the film strip, WxH px")->capture_default_str();
     return [o] {
-        run_replay(o->file, o->out, o->sculpt, o->save);
+        std::tie(o->strip.options.width, o->strip.options.height) = parse_image_size(o->strip_size, "--strip-size");
+        o->strip.options.ao = o->out.ao;
+        run_replay(o->file, o->out, o->sculpt, o->save, o->strip);
         return 0;
     };
 }

@@ -57,6 +57,9 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--overlay-stats", o.overlay_stats, "The overlay also counts the tiles drawn and skipped per eye");
+    cmd->add_flag("--test-pattern", o.test_pattern,
+                  "Show the wall's test pattern instead of the workpiece: the screen's edges and grid, one label per "
+                  "eye, cubes in front of and behind the screen, the head's and tool's positions (docs/wall.md)");
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
     cmd->add_option("--lod", o.lod,

@@ -1,6 +1,7 @@
 // app/input/run_input.hpp - keyboard and mouse controls of a `tridex run` window when no tracker drives the head.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "app/input/mouse_stylus.hpp"
@@ -31,6 +32,11 @@ public:
     /// `head`: the keyboard-and-mouse head, or nullptr when a script or tracker drives the head (keys then
     /// move nothing); `nav` and `mouse`: the scene navigation and its mouse gains/axes.
     RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation& nav, const renderer::MouseNavigation& mouse);
+    /// The screen's metres per window pixel for mouse navigation (MouseNavigation::metres_per_pixel), after the
+    /// window or the screen it shows changed size; values that are not finite and positive are ignored.
+    void set_metres_per_pixel(double m) {
+        if (std::isfinite(m) && m > 0.0) mouse_.metres_per_pixel = m;
+    }
 
     /// Makes the mouse the stylus (nullptr: the mouse navigates again); `stylus` must outlive this.
     void use_stylus(MouseStylus* stylus) { stylus_ = stylus; }

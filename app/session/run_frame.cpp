@@ -2,6 +2,8 @@
 // and drawing it through the stereo sink.
 #include "app/session/run_pipeline_parts.hpp"
 
+#include <cmath>
+
 namespace tridex::app {
 
 namespace {
@@ -21,6 +23,17 @@ std::string saving_lines(const SaveStatus& s) {
     if (!s.checkpoint_error.empty()) line("checkpoints stopped: " + s.checkpoint_error);
     if (!s.message.empty()) line(s.ok ? s.message : "save failed: " + s.message);
     return out;
+}
+
+// The test pattern's overlay lines: what to check, and where the head and the tool are (world m: the display
+// config's frame, which is the tracker's own when tracker_to_wall is the identity).
+std::string test_pattern_lines(const Vec3& head_m, const Vec3& tool_m) {
+    const auto xyz = [](const Vec3& p) {
+        return format_number(std::round(p.x * 1e3) / 1e3) + " " + format_number(std::round(p.y * 1e3) / 1e3) + " " +
+               format_number(std::round(p.z * 1e3) / 1e3) + " m";
+    };
+    return "test pattern: the border on the screen's edges; each eye reads its own name (Tab swaps); green nearer\n"
+           "head " + xyz(head_m) + ", tool " + xyz(tool_m) + " (display config frame)";
 }
 
 }  // namespace
@@ -113,6 +126,14 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         view.indirect_workpiece = nullptr;
         view.objects = study_view->frame(lv);
     }
+    if (su.test_pattern) {  // the pattern instead of the workpiece; the tool still follows its device
+        view.workpiece = nullptr;
+        view.tiles = {};
+        view.tile_groups = {};
+        view.indirect_workpiece = nullptr;
+        view.show_workspace = false;
+        view.objects = pattern_objects;
+    }
     if (elastic_view) {
         const std::vector<renderer::SceneObject>& o = elastic_view->frame(lv);
         frame_objects.assign(view.objects.begin(), view.objects.end());
@@ -127,10 +148,32 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         std::string status = saving_lines(saving);
         if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
         if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
+        if (su.test_pattern) status = test_pattern_lines(last_head_m, lv.tool_world.position) + (status.empty() ? "" : "\n" + status);
         add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
                       RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status, su.overlay_stats});
     }
     return view;
+}
+
+// A desk window's framebuffer decides the eye images' size, so a larger window renders more pixels, not the same ones
+// stretched; the screen is widened or heightened about its centre by the window's change of aspect, so the picture
+// keeps its proportions and what was framed stays in view. Fullscreen and offscreen keep the display config's size
+// and screen (a wall's projector shows the configured image on the measured screen).
+renderer::Screen RunPipeline::Parts::follow_window() {
+    if (!window || su.display != DisplayKind::kWindow) return dc.screen;
+    const VkExtent2D fb = window->framebuffer_size();
+    if (fb.width == 0 || fb.height == 0) return screen_now;  // minimised: nothing to draw into at any size
+    const auto [w, h] = renderer::eye_size_for_output(dc.stereo, static_cast<int>(fb.width), static_cast<int>(fb.height));
+    if (w == rend->width() && h == rend->height()) return screen_now;
+    rend->resize(w, h);
+    ++window_resizes;
+    const renderer::Screen s =
+        w == base_w && h == base_h
+            ? base_screen
+            : base_screen.fitted_to_aspect(base_screen.width() / base_screen.height() * (static_cast<double>(w) / h) /
+                                           (static_cast<double>(base_w) / base_h));
+    input->set_metres_per_pixel(s.width() / w);  // a drag pans the scene with the cursor at the new size
+    return s;
 }
 
 // Moves the wand's navigation and the mouse stylus to this frame, then draws and presents it through the sink.
@@ -144,23 +187,25 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
     // A head the eyes cannot be drawn from (a tracker glitch: at or behind the screen, or not finite) holds the last
     // good head pose for this frame, counted, instead of ending the session.
     const Pose head_pose = head->head_at(t);
-    RunCamera cam = navigated_camera(dc.screen, head_pose, dc.eye_separation_m, nav);
+    last_head_m = head_pose.position;
+    screen_now = follow_window();
+    RunCamera cam = navigated_camera(screen_now, head_pose, dc.eye_separation_m, nav);
     if (eyes_see_screen(cam)) {
         last_good_head = head_pose;
     } else {
         ++head_frames_held;
-        cam = navigated_camera(dc.screen, last_good_head.value_or(scene.head_pose), dc.eye_separation_m, nav);
+        cam = navigated_camera(screen_now, last_good_head.value_or(scene.head_pose), dc.eye_separation_m, nav);
     }
     const auto t0 = Clock::now();
     if (mouse_stylus) {
         if (!window) mouse_stylus->apply_script(scene.cursor, lv.t_s);
         // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
-        double w_px = eye_w, h_px = eye_h;
+        double w_px = rend->width(), h_px = rend->height();
         if (window) {
             const VkExtent2D fb = window->framebuffer_size();
-            const auto [ow, oh] = renderer::output_size(dc.stereo, eye_w, eye_h);
-            w_px = static_cast<double>(fb.width) * eye_w / ow;
-            h_px = static_cast<double>(fb.height) * eye_h / oh;
+            const auto [ow, oh] = renderer::output_size(dc.stereo, rend->width(), rend->height());
+            w_px = static_cast<double>(fb.width) * rend->width() / ow;
+            h_px = static_cast<double>(fb.height) * rend->height() / oh;
         }
         if (gpu_contour) mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
         else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);

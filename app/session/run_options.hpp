@@ -56,6 +56,10 @@ struct RunOptions {
     bool items = true;
     /// The overlay also counts the tiles drawn and skipped per eye (a developer's figure; off: a person's overlay).
     bool overlay_stats = false;
+    /// Show the wall's test pattern (app/scene/test_pattern.hpp) instead of the workpiece, and the head's and the
+    /// tool's positions in the overlay: for checking a display config's corners, the eye order and the tracker's
+    /// origin (docs/wall.md).
+    bool test_pattern = false;
     /// The workpiece as per-tile meshes (only changed tiles re-uploaded, tiles culled per eye); false: the
     /// whole mesh every publish (the fallback path).
     bool tiles = true;

@@ -4,6 +4,9 @@
 #include "app/support/output_dir.hpp"
 
 #include "app/session/run_pipeline_parts.hpp"
+#include "app/session/session.hpp"
+
+#include <tuple>
 
 namespace tridex::app {
 
@@ -11,6 +14,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using run_detail::seconds_since;
+
+// The share of its monitor's work area (each way) a desk window opens at when the display config names no resolution.
+constexpr double kDeskWindowFill = 0.8;
 
 }  // namespace
 
@@ -32,6 +38,8 @@ void RunPipeline::Parts::open_display() {
         wo.fullscreen = su.display == DisplayKind::kFullscreen;
         wo.monitor_index = su.monitor_index;
         wo.monitor_name = su.monitor_name;
+        // A desk window without a resolution of its own opens sized to its monitor (the eye images follow it).
+        if (!dc.resolution_given) wo.fill_monitor = kDeskWindowFill;
         window.emplace(renderer::Window::create(wo));
     }
     // The stereo output's policy (eyes, sequencing, composition, presents, files); destroyed before the Context.
@@ -40,7 +48,17 @@ void RunPipeline::Parts::open_display() {
                      : renderer::WindowSink::create(*ctx, *window, sink_options);
     r.present_mode = sink->present_mode();
     for (const std::string& note : sink->notes()) r.notes.push_back(note);
-    rend.emplace(renderer::OffscreenStereoRenderer::create(*ctx, eye_w, eye_h));
+    // A desk window's eye images take the window's size from the first frame (follow_window).
+    int rw = eye_w, rh = eye_h;
+    if (window && su.display == DisplayKind::kWindow) {
+        const VkExtent2D fb = window->framebuffer_size();
+        if (fb.width > 0 && fb.height > 0)
+            std::tie(rw, rh) = renderer::eye_size_for_output(output, static_cast<int>(fb.width), static_cast<int>(fb.height));
+    }
+    rend.emplace(renderer::OffscreenStereoRenderer::create(*ctx, rw, rh));
+    base_w = rw;
+    base_h = rh;
+    base_screen = dc.screen;
     r.device = ctx->device_name();
     r.eye_strategy = rend->strategy_note();
 }
@@ -120,15 +138,36 @@ void RunPipeline::Parts::open_backend() {
                : path_s > 0.0       ? 3.0 * path_s + 10.0
                                     : 0.0;
     if (scene.study.enabled) study_view.emplace(scene.study);
+    if (su.test_pattern) {
+        pattern = wall_test_pattern(dc.screen);
+        for (const PatternPiece& piece : pattern) pattern_objects.push_back({&piece.mesh, piece.colour, piece.eyes, piece.lit});
+    }
     if (!scene.objects.empty())
         elastic_view.emplace(scene.objects, rt.config().tool_points, rt.config().tool.radius_m);
 }
 
 
+// A desk window with a fixed head frames the workpiece as the demo's picture does (framing_screen: the part of the
+// monitor it is seen through, with a margin, at the window's aspect): a zoom, chosen once, so that moving the head
+// still moves the view. Tracked heads, fullscreen and offscreen keep the measured screen; so do scenes that draw
+// more than the workpiece (a study, scene objects, the test pattern).
+void RunPipeline::Parts::frame_desk_window() {
+    input->set_metres_per_pixel(dc.screen.width() / base_w);  // the window's own size, not the config's
+    if (!window || su.display != DisplayKind::kWindow || scene.head != HeadMode::kFixed || scene.study.enabled ||
+        su.test_pattern || !scene.objects.empty())
+        return;
+    base_screen = framing_screen(dc.screen, backend->runtime().workpiece().model.lattice.bounds(),
+                                 scene.head_pose.position, static_cast<double>(base_w) / base_h);
+    screen_now = base_screen;
+    input->set_metres_per_pixel(base_screen.width() / base_w);
+}
+
 // After the frames: stop the threads and collect every counter the report needs.
 void RunPipeline::Parts::collect() {
     SessionRuntime& rt = backend->runtime();
     r.render_s = seconds_since(t_render);
+    r.window_resizes = window_resizes;
+    r.eye_resolution_last = {rend->width(), rend->height()};
     r.stroke_completed = scene.has_stroke && backend->stroke_done() && rt.loop_stats().ticks >= backend->stroke_ticks();
     rt.stop();
     r.loop = rt.loop_stats();

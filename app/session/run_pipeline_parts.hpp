@@ -26,6 +26,7 @@
 #include "app/session/session_report.hpp"
 #include "app/support/stop_signal.hpp"
 #include "app/scene/study_recording.hpp"
+#include "app/scene/test_pattern.hpp"
 #include "app/session/study_view.hpp"
 #include "app/session/tile_view.hpp"
 #include "app/scene/workpiece_source.hpp"
@@ -114,6 +115,9 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<study::StudyView> study_view;    // a study scene's objects, drawn instead of the workpiece
     std::optional<ElasticView> elastic_view;       // scene objects, dented where the loop feels them
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
+    std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects
+    std::vector<renderer::SceneObject> pattern_objects;
+    Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
@@ -126,6 +130,10 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
     std::uint64_t head_frames_held = 0;   // frames drawn from last_good_head instead of the head provider's pose
     SaveStatus saving;                    // this frame's save status, read once by take_input()
+    renderer::Screen screen_now{};        // the screen this frame is drawn through (follow_window)
+    renderer::Screen base_screen{};       // the screen at the renderer's first size (a desk window: the framing)
+    int base_w = 0, base_h = 0;           // the renderer's first size, px
+    std::uint64_t window_resizes = 0;     // times the eye images followed the window to a new size
 
     explicit Parts(const RunOptions& options)
         : r(run_detail::result_for(resolve_run(options))),
@@ -136,9 +144,11 @@ struct RunPipeline::Parts final : FrameSteps {
           eye_w(dc.width_px),
           eye_h(dc.height_px),
           mouse(renderer::MouseNavigation::for_screen(dc.screen, dc.width_px)) {
+        screen_now = dc.screen;
         open_display();
         open_inputs();
         open_backend();
+        frame_desk_window();
     }
 
     void open_display();
@@ -149,6 +159,8 @@ struct RunPipeline::Parts final : FrameSteps {
     bool take_input() override;
     bool last_frame(std::uint64_t frame) override;
     void draw(std::uint64_t frame) override;
+    void frame_desk_window();
+    renderer::Screen follow_window();
     renderer::SceneView frame_view(const MeshFrame& mesh, const haptics::LoopView& lv, const SaveStatus& saving);
     void present(std::uint64_t frame, const MeshFrame& mesh, const haptics::LoopView& lv, renderer::SceneView& view,
                  std::unique_lock<std::mutex>& contour_lock);

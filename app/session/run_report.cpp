@@ -85,6 +85,8 @@ json run_report_json(const RunResult& r) {
     json frames{{"count", r.frames},
                 {"presents", r.presents},
                 {"last_eye", r.last_eye},
+                {"window_resizes", r.window_resizes},
+                {"eye_resolution_last", {r.eye_resolution_last.first, r.eye_resolution_last.second}},
                 {"render_s", r.render_s},
                 {"rate_hz", rate_hz(static_cast<double>(r.frames), r.render_s)},
                 {"frame_ms", r.frame_ms.to_json()},

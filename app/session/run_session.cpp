@@ -61,6 +61,7 @@ RunSetup resolve_run(const RunOptions& o) {
     s.pace = o.pace;
     s.items = o.items;
     s.overlay_stats = o.overlay_stats;
+    s.test_pattern = o.test_pattern;
     s.tiles = o.tiles;
     s.cull = o.cull;
     if (o.lod != "on" && o.lod != "off") throw Error("--lod: must be on or off, got '" + o.lod + "'");

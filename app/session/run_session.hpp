@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -39,6 +40,7 @@ struct RunSetup {
     bool pace = true;               ///< offscreen: frames paced at the display's rate
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool overlay_stats = false;     ///< the overlay also counts tiles drawn and skipped per eye
+    bool test_pattern = false;      ///< the wall's test pattern instead of the workpiece (RunOptions::test_pattern)
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
     bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)
@@ -75,6 +77,8 @@ struct RunResult {
     std::uint64_t frames = 0;                    ///< stereo frames rendered
     std::uint64_t presents = 0;                  ///< images shown (frame-sequential: 2 per frame)
     int last_eye = -1;                           ///< frame-sequential / quad: the eye shown last (0/1); else -1
+    std::uint64_t window_resizes = 0;            ///< times the eye images followed a desk window to a new size
+    std::pair<int, int> eye_resolution_last{0, 0};  ///< per-eye image size of the last frame, px
     renderer::FrameTimeHistogram frame_ms;       ///< per frame: CPU wall time of draw + readback/present, ms
     renderer::FrameTimeHistogram interval_ms;    ///< between successive frame starts (the display period), ms
     renderer::FrameTimeHistogram gpu_ms;         ///< per frame: GPU time of the stereo render (timestamps), ms

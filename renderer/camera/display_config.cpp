@@ -240,6 +240,7 @@ DisplayConfig display_config_from_json(const json& j, const std::string& source)
                                            std::to_string(h) + ")");
         c.width_px = static_cast<int>(w);
         c.height_px = static_cast<int>(h);
+        c.resolution_given = true;
     }
     if (j.contains("default_head_m")) c.default_head_m = read_vec3(j.at("default_head_m"), source, "default_head_m");
     if (j.contains("tracking")) read_tracking(j.at("tracking"), source, c);

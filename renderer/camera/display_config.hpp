@@ -41,7 +41,7 @@ inline constexpr double kDefaultEyeSeparationM = 0.064;
 
 struct DisplayConfig {
     Screen screen = Screen::desktop_monitor();      ///< corners in tracker space, m
-    StereoOutput stereo = StereoOutput::kAnaglyph;   ///< how the two eyes reach the viewer
+    StereoOutput stereo = StereoOutput::kMono;       ///< how the two eyes reach the viewer
     AnaglyphMethod anaglyph = AnaglyphMethod::kDubois;  ///< mixing for StereoOutput::kAnaglyph
     double eye_separation_m = kDefaultEyeSeparationM;  ///< interpupillary distance, m, 0..0.2
     bool swap_eyes = false;                          ///< exchange left and right on the display
@@ -51,6 +51,9 @@ struct DisplayConfig {
     double refresh_hz = 60.0;                        ///< display refresh, Hz, (0, 1000]
     int width_px = 1920;                             ///< per-eye image width, pixels, 1..16384
     int height_px = 1080;                            ///< per-eye image height, pixels, 1..16384
+    /// The config named its resolution. A desk window then opens at that size (shrunk to fit the monitor); without
+    /// one it opens sized to the monitor it opens on, and the window's size decides the eye images' size.
+    bool resolution_given = false;
     Vec3 default_head_m{0.0, 0.0, 0.6};              ///< head position without a tracker, m, in front of the screen
     /// Rigid calibration from tracker coordinates (m) to the screen corners' frame: p_wall = apply(p_tracker).
     Pose tracker_to_wall;
@@ -62,7 +65,8 @@ struct DisplayConfig {
     /// The paper's PowerWall: Screen::powerwall() (10 ft x 7.5 ft), frame-sequential at 120 Hz (60 Hz per eye),
     /// 1280 x 960 per eye (4:3 like the screen), eye separation kDefaultEyeSeparationM, head 2 m in front of the centre.
     static DisplayConfig powerwall();
-    /// A desk: Screen::desktop_monitor() (0.53 m x 0.30 m), red-cyan anaglyph (Dubois), 60 Hz, 1920 x 1080,
+    /// A desk: Screen::desktop_monitor() (0.53 m x 0.30 m), mono (anaglyph by choice: red-cyan glasses are rare at a
+    /// desk, and it costs a second eye), 60 Hz, 1920 x 1080 offscreen (a window: sized to the monitor),
     /// eye separation kDefaultEyeSeparationM, head 0.6 m in front of the centre. Same as a default-constructed DisplayConfig.
     static DisplayConfig desktop();
 };

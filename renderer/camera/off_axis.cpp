@@ -1,6 +1,8 @@
 // renderer/camera/off_axis.cpp - Kooima's generalized perspective projection in Vulkan clip conventions.
 #include "renderer/camera/off_axis.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "core/error.hpp"
@@ -21,6 +23,19 @@ Screen Screen::desktop_monitor() {
 
 double Screen::width() const { return glm::length(lower_right - lower_left); }
 double Screen::height() const { return glm::length(upper_left - lower_left); }
+
+Screen Screen::fitted_to_aspect(double aspect) const {
+    const double w = width(), h = height();
+    if (!(std::isfinite(aspect) && aspect > 0.0) || !(w > 0.0) || !(h > 0.0) || !std::isfinite(w * h)) return *this;
+    const Vec3 ex = (lower_right - lower_left) / w, ey = (upper_left - lower_left) / h;
+    const Vec3 centre = lower_left + 0.5 * (lower_right - lower_left) + 0.5 * (upper_left - lower_left);
+    const double nw = std::max(w, h * aspect), nh = nw / aspect;
+    Screen s;
+    s.lower_left = centre - 0.5 * nw * ex - 0.5 * nh * ey;
+    s.lower_right = s.lower_left + nw * ex;
+    s.upper_left = s.lower_left + nh * ey;
+    return s;
+}
 
 EyeView off_axis_view(const Screen& screen, const Vec3& eye_m, double near_m, double far_m) {
     if (!is_finite(screen.lower_left) || !is_finite(screen.lower_right) || !is_finite(screen.upper_left) ||

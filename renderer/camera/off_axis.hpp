@@ -25,6 +25,10 @@ struct Screen {
     /// Width |lower_right - lower_left| and height |upper_left - lower_left|, m.
     double width() const;
     double height() const;
+    /// This screen widened or heightened about its centre, in its own plane, to width / height = `aspect` (a window's
+    /// pixel aspect): the result contains this screen, so what was framed stays in view and nothing is stretched when a
+    /// desk window is resized. Returns *this for an aspect that is not finite and positive or a degenerate screen.
+    Screen fitted_to_aspect(double aspect) const;
 };
 
 /// One eye's camera: world -> eye (view), eye -> Vulkan clip space (projection), and the eye position.

@@ -114,6 +114,17 @@ std::pair<int, int> output_size(StereoOutput output, int eye_width, int eye_heig
     }
 }
 
+std::pair<int, int> eye_size_for_output(StereoOutput output, int output_width, int output_height) {
+    if (output_width < 1 || output_height < 1)
+        throw Error("eye_size_for_output: the output image must be at least 1x1 (got " + std::to_string(output_width) +
+                    "x" + std::to_string(output_height) + ")");
+    switch (output) {
+    case StereoOutput::kSideBySide: return {std::max(1, output_width / 2), output_height};
+    case StereoOutput::kTopBottom: return {output_width, std::max(1, output_height / 2)};
+    default: return {output_width, output_height};
+    }
+}
+
 std::vector<StereoOutput> supported_outputs(std::uint32_t max_image_array_layers) {
     std::vector<StereoOutput> v;
     for (StereoOutput o : all_stereo_outputs())

@@ -33,6 +33,10 @@ bool needs_both_eyes(StereoOutput output);
 /// side-by-side (2w, h), top-bottom (w, 2h), the half-resolution variants, anaglyph, mono, quad (per layer)
 /// and frame-sequential (per present) (w, h). Throws tridex::Error when a size is < 1.
 std::pair<int, int> output_size(StereoOutput output, int eye_width, int eye_height);
+/// The inverse of output_size: the size of each eye's image that fills an output image of output_width x
+/// output_height pixels (side by side: half the width; top-bottom: half the height; otherwise the same), at least
+/// 1x1. Throws tridex::Error for an output smaller than 1x1.
+std::pair<int, int> eye_size_for_output(StereoOutput output, int output_width, int output_height);
 
 /// Whether a presentation surface can show `output`.
 struct OutputSupport {

@@ -84,6 +84,7 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                 }
                 DrawConstants constants = d.constants;
                 constants.eye = per_eye ? static_cast<std::uint32_t>(pass) : 0u;
+                constants.eye_mask = mask;
                 const VkDeviceSize offset = 0;
                 if (d.vertices != bound_vertices) {
                     vkCmdBindVertexBuffers(cmd, 0, 1, &d.vertices, &offset);

@@ -18,6 +18,7 @@
 #include "renderer/stereo/eye_self_test.hpp"
 #include "renderer/stereo/eyes_binding.hpp"
 #include "renderer/stereo/frame_draws.hpp"
+#include "renderer/stereo/frame_eyes.hpp"
 #include "renderer/stereo/frame_slots.hpp"
 #include "renderer/scene/force_arrow.hpp"
 #include "renderer/stereo/frame_timer.hpp"
@@ -38,8 +39,7 @@
 namespace tridex::renderer {
 namespace {
 
-// Scene colours (linear RGBA) and the key light: from above, a little to the right and in front of the screen
-// (light from above is how people read shape: a cut's upper wall falls into shade, its lower wall catches light).
+// Scene colours (linear RGBA); the key light is frame_eyes' (renderer/stereo/frame_eyes.hpp).
 const glm::vec4 kToolColour(0.35f, 0.55f, 0.85f, 1.0f);
 const glm::vec4 kProxyColour(1.00f, 0.85f, 0.20f, 0.45f);
 const glm::vec4 kForceColour(0.95f, 0.22f, 0.18f, 1.0f);
@@ -48,7 +48,6 @@ const glm::vec4 kBubbleColour(0.45f, 0.65f, 1.00f, 0.15f);
 const glm::vec4 kOverlayPanelColour(0.0f, 0.0f, 0.0f, 0.55f);
 const glm::vec4 kOverlayTextColour(0.95f, 0.95f, 0.80f, 1.0f);
 constexpr float kClear[4] = {0.08f, 0.09f, 0.11f, 1.0f};
-const glm::vec3 kTowardsLight = glm::normalize(glm::vec3(0.25f, 1.0f, 0.6f));
 constexpr int kSphereRings = 24, kSphereSegments = 48, kArrowSegments = 16;
 constexpr int kFramesInFlight = 2;
 
@@ -70,14 +69,6 @@ glm::mat4 clip_from_pixel(int width, int height) {
     m[3] = glm::vec4(-1.0f, -1.0f, 0.5f, 1.0f);
     return m;
 }
-
-// One frame's eyes: the uniforms the shaders read, and per eye its frustum, clip-from-world matrix and LOD view.
-struct FrameEyes {
-    EyesUniform uniform{};
-    std::array<Frustum, 2> frusta;
-    std::array<Mat4, 2> clip_from_world{};
-    std::array<LodEye, 2> lod{};
-};
 
 }  // namespace
 
@@ -125,6 +116,7 @@ struct OffscreenStereoRenderer::Impl {
     std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
     bool last_read_back = false;  // the last frame's colour layers are in the target's readback buffer
+    bool target_empty = false;    // resize() made a new target that no frame has been drawn into yet
 
     // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
     void time_finished(int slot) {
@@ -238,6 +230,18 @@ EyeStrategy OffscreenStereoRenderer::strategy() const { return impl_->pipeline->
 std::string OffscreenStereoRenderer::strategy_note() const { return impl_->note; }
 int OffscreenStereoRenderer::width() const { return impl_->target->width(); }
 int OffscreenStereoRenderer::height() const { return impl_->target->height(); }
+
+void OffscreenStereoRenderer::resize(int width, int height) {
+    Impl& im = *impl_;
+    if (width == im.target->width() && height == im.target->height()) return;
+    im.context->wait_idle();  // no frame in flight, and no blit of the old colour image pending, reads the old target
+    StereoTarget next = StereoTarget::create(*im.context, *im.pipeline, width, height);
+    im.target.reset();  // the occlusion images below are made for the new target
+    im.target.emplace(std::move(next));
+    for (FrameResources& f : im.frame) f.occlusion = AmbientOcclusion::create(*im.context, *im.target, f.eyes->buffer());
+    im.last_read_back = false;
+    im.target_empty = true;
+}
 VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
 VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->target->colour_array_view(); }
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
@@ -267,7 +271,7 @@ FrameStats OffscreenStereoRenderer::finish() {
 
 StereoImages OffscreenStereoRenderer::last_images() const {
     Impl& im = *impl_;
-    if (im.frames == 0) throw Error("renderer: last_images() before the first frame");
+    if (im.frames == 0 || im.target_empty) throw Error("renderer: last_images() before the first frame (since resize())");
     im.finish_last();
     if (!im.last_read_back) {  // frames are not copied back unless asked: a window presents by blits
         im.context->submit_and_wait(
@@ -289,37 +293,6 @@ void check_scene_view(const SceneView& scene) {
     if (!std::isfinite(scene.occlusion_radius_m) || !std::isfinite(scene.occlusion_strength) ||
         scene.occlusion_radius_m < 0.0 || scene.occlusion_strength < 0.0)
         throw Error("renderer: SceneView.occlusion_radius_m and occlusion_strength must be finite and >= 0");
-}
-
-// The eyes of a frame of width x height pixels per eye seen from `head` (world m) on `screen` (off_axis_view, near and
-// far planes m), with the key light, the ambient-occlusion settings and the material palette. Throws tridex::Error on
-// a bad eye separation (eye_positions), SceneView::lod_max_px or view (off_axis_view).
-FrameEyes frame_eyes(const SceneView& scene, const Screen& screen, const Pose& head, double eye_separation_m, double near_m,
-                     double far_m, int width, int height) {
-    const std::array<Vec3, 2> eyes = eye_positions(head, eye_separation_m);
-    FrameEyes fe;
-    EyesUniform& u = fe.uniform;
-    if (scene.lod && !(std::isfinite(scene.lod_max_px) && scene.lod_max_px > 0.0))
-        throw Error("renderer: SceneView.lod_max_px must be finite and > 0, got " + std::to_string(scene.lod_max_px));
-    for (int e = 0; e < 2; ++e) {
-        const EyeView v = off_axis_view(screen, eyes[e], near_m, far_m);
-        const Mat4 clip_from_world = v.projection * v.view;
-        u.clip_from_world[e] = glm::mat4(clip_from_world);
-        u.eye_position[e] = glm::vec4(glm::vec3(eyes[e]), 1.0f);
-        u.view_from_clip[e] = glm::mat4(glm::inverse(v.projection));
-        u.pixels_per_metre[e] = glm::vec4(static_cast<float>(std::abs(v.projection[0][0]) * 0.5 * width),
-                                          static_cast<float>(std::abs(v.projection[1][1]) * 0.5 * height), 0.0f,
-                                          0.0f);
-        fe.frusta[e] = frustum_from_clip(clip_from_world);
-        fe.clip_from_world[e] = clip_from_world;
-        fe.lod[e] = lod_eye(screen, eyes[e], width, height);
-    }
-    u.light_direction = glm::vec4(kTowardsLight, 0.0f);
-    u.occlusion = glm::vec4(static_cast<float>(scene.occlusion_radius_m), static_cast<float>(scene.occlusion_strength),
-                            0.0f, 0.0f);
-    const auto& palette = material_palette();
-    for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
-    return fe;
 }
 
 // The draws of SceneView::indirect_workpiece's tiles (the GPU contour), culled per eye unless cull_tiles is off, with
@@ -478,7 +451,7 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
             translucent.push_back(i);
         else {
             list.cover_all();
-            list.add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, true);
+            list.add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, o.lit).eye_mask = o.eyes & 0b11u;
         }
     }
     return translucent;
@@ -486,8 +459,11 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
 
 void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene, std::span<const std::size_t> translucent_objects,
                                                           FrameDraws& list) {
-    for (const std::size_t i : translucent_objects)
-        list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, true);
+    for (const std::size_t i : translucent_objects) {
+        list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, scene.objects[i].lit);
+        std::vector<StereoDraw>& d = list.draws();  // its back and front faces
+        d[d.size() - 1].eye_mask = d[d.size() - 2].eye_mask = scene.objects[i].eyes & 0b11u;
+    }
     if (scene.proxy_radius_m > 0.0) {
         if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
             throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");
@@ -553,6 +529,7 @@ FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slo
     last_frame = slots.submit(slot);
     last_slot = slot;
     ++frames;
+    target_empty = false;
     // Until this frame finishes, its statistics carry the timings of the latest finished one.
     stats.timing = finished.timing;
     stats.timing_note = finished.timing_note;

@@ -30,6 +30,12 @@ namespace tridex::renderer {
 struct SceneObject {
     const TriMesh* mesh = nullptr;       ///< world m; nullptr or empty = not drawn
     glm::vec4 colour{1.0f};              ///< linear RGBA, each in [0, 1]
+    /// The eyes that see it: bit 0 left, bit 1 right (0b11: both, an ordinary object). A one-eye object (a test
+    /// pattern's eye labels) lands in that eye's image under every eye strategy; 0 draws nothing.
+    std::uint32_t eyes = 0b11;
+    /// Shaded by the key and fill lights (true) or drawn flat in its colour (false: marks and text that must keep
+    /// their colour whichever way they face).
+    bool lit = true;
 };
 
 /// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).
@@ -155,6 +161,12 @@ public:
     std::string strategy_note() const;
     int width() const;   ///< image width, pixels
     int height() const;  ///< image height, pixels
+    /// Changes the eye image size to width x height pixels (a window was resized): waits for the frames in flight,
+    /// then rebuilds the colour and depth target and the ambient-occlusion images; pipelines, tile meshes and
+    /// statistics stay. Nothing changes when the size is the same. colour_image() holds no frame until the next
+    /// draw(), and last_images() throws until then. Throws tridex::Error as create() does for a bad size (the old target is
+    /// kept then) or on a Vulkan failure.
+    void resize(int width, int height);
 
     /// Renders one stereo frame: eyes at eye_positions(head, eye_separation_m), each with the off-axis
     /// frustum through `screen` (off_axis_view, near_m/far_m in m); waits for the GPU and returns both images.

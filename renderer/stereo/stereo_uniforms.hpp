@@ -36,7 +36,9 @@ static_assert(sizeof(EyesUniform) == 480);
 /// pass-per-eye strategy (0 left, 1 right), lit (1: Blinn-Phong shading; 0: flat colour), palette
 /// (1: the base colour is EyesUniform::palette[vertex material] instead of `colour`) and screen_space
 /// (1: world_from_model maps the vertex straight to clip space, the same for both eyes - overlays on the
-/// screen plane; 0: world_from_model then the eye's clip_from_world).
+/// screen plane; 0: world_from_model then the eye's clip_from_world) and eye_mask (bit 0 left, bit 1 right: the
+/// fragment shader discards the eyes not in it, so a one-eye draw stays in its eye under every strategy, multiview
+/// included).
 struct DrawConstants {
     glm::mat4 world_from_model{1.0f};
     glm::vec4 colour{1.0f};
@@ -44,10 +46,11 @@ struct DrawConstants {
     std::uint32_t lit = 1;
     std::uint32_t palette = 0;
     std::uint32_t screen_space = 0;
+    std::uint32_t eye_mask = 0b11;
 };
 static_assert(offsetof(DrawConstants, colour) == 64 && offsetof(DrawConstants, eye) == 80 &&
               offsetof(DrawConstants, lit) == 84 && offsetof(DrawConstants, palette) == 88 &&
-              offsetof(DrawConstants, screen_space) == 92);
-static_assert(sizeof(DrawConstants) == 96);
+              offsetof(DrawConstants, screen_space) == 92 && offsetof(DrawConstants, eye_mask) == 96);
+static_assert(sizeof(DrawConstants) == 100);
 
 }  // namespace tridex::renderer

@@ -4,9 +4,11 @@
 
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
@@ -144,6 +146,23 @@ GLFWmonitor* choose_monitor(const WindowOptions& o, int& index) {
     return monitors[0];
 }
 
+// The windowed size: width x height shrunk to fit the monitor's work area, or `fill` of the work area (see
+// WindowOptions::fill_monitor). Without a monitor (a headless X server still has one) the size asked for.
+std::pair<int, int> windowed_size(const WindowOptions& o) {
+    int n = 0;
+    GLFWmonitor** monitors = glfwGetMonitors(&n);
+    if (n == 0 || !monitors) return {o.width, o.height};
+    int index = 0;
+    GLFWmonitor* m = (o.monitor_index >= 0 && o.monitor_index < n) ? monitors[o.monitor_index] : choose_monitor(o, index);
+    int x = 0, y = 0, aw = 0, ah = 0;
+    glfwGetMonitorWorkarea(m, &x, &y, &aw, &ah);
+    if (aw < 1 || ah < 1) return {o.width, o.height};
+    if (o.fill_monitor > 0.0)
+        return {std::max(1, static_cast<int>(o.fill_monitor * aw)), std::max(1, static_cast<int>(o.fill_monitor * ah))};
+    const double shrink = std::min({1.0, static_cast<double>(aw) / o.width, static_cast<double>(ah) / o.height});
+    return {std::max(1, static_cast<int>(shrink * o.width)), std::max(1, static_cast<int>(shrink * o.height))};
+}
+
 }  // namespace
 
 struct Window::Impl {
@@ -231,8 +250,11 @@ Window Window::create(const WindowOptions& o) {
         if (o.width < 1 || o.height < 1)
             throw Error("window: WindowOptions.width/height must be >= 1 (got " + std::to_string(o.width) + "x" +
                         std::to_string(o.height) + ")");
+        if (!(o.fill_monitor >= 0.0 && o.fill_monitor <= 1.0))
+            throw Error("window: WindowOptions.fill_monitor must be in [0, 1] (got " + std::to_string(o.fill_monitor) + ")");
         glfwWindowHint(GLFW_RESIZABLE, o.resizable ? GLFW_TRUE : GLFW_FALSE);
-        w = glfwCreateWindow(o.width, o.height, o.title.c_str(), nullptr, nullptr);
+        const auto [ww, wh] = windowed_size(o);
+        w = glfwCreateWindow(ww, wh, o.title.c_str(), nullptr, nullptr);
     }
     if (!w) throw Error("window: glfwCreateWindow failed: " + last_error());
     impl->window = w;

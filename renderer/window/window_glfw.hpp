@@ -70,6 +70,10 @@ struct WindowOptions {
     int monitor_index = -1;    ///< fullscreen monitor by list_monitors() index; -1 = by name, else primary
     std::string monitor_name;  ///< fullscreen monitor whose name contains this text (case-sensitive); "" = primary
     bool resizable = true;     ///< windowed mode: the user may resize (the swapchain follows)
+    /// Windowed mode: 0 opens the window at width x height, shrunk (keeping its aspect) to fit the work area of the
+    /// monitor it opens on (the chosen or primary monitor, less panels and docks); a fraction in (0, 1] opens it at
+    /// that fraction of the work area's width and height instead (a desk window sized to its monitor).
+    double fill_monitor = 0.0;
     bool visible = true;       ///< false: a hidden window (still presentable on X11)
 };
 
@@ -80,8 +84,8 @@ struct WindowOptions {
 class Window {
 public:
     /// Opens the window. Throws tridex::Error when GLFW cannot initialise (no display), Vulkan is not
-    /// supported by GLFW, width/height < 1 (windowed), the monitor index is out of range or no monitor name
-    /// matches (the message lists the monitors), or the window cannot be created.
+    /// supported by GLFW, width/height < 1 (windowed), fill_monitor outside [0, 1], the monitor index is out of
+    /// range or no monitor name matches (the message lists the monitors), or the window cannot be created.
     static Window create(const WindowOptions& options);
 
     ~Window();

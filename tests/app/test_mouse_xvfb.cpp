@@ -27,27 +27,28 @@
 #include "../renderer/test_window_xvfb.hpp"
 #include "app/support/memory.hpp"
 #include "app/input/surface_pick.hpp"
+#include "app/session/session.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "run_test_scene.hpp"
 #include "test_files.hpp"
+#include "xvfb_session.hpp"
 
 namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using test::have_binary;
+using test::wait_for;
+using test::xdo;
 
 constexpr int kW = 400, kH = 300;  // the window: one mono eye image
 const Vec3 kEye(0.0, 0.05, 0.6);
-const renderer::Screen kScreen = renderer::Screen::desktop_monitor();
+// The screen the window shows: the desk monitor cropped to frame the workpiece (a desk window with a fixed head),
+// set from the first saved model's lattice.
+renderer::Screen kScreen = renderer::Screen::desktop_monitor();
 const Vec3 kFrom(-0.025, 0.0, 0.05), kTo(0.025, 0.0, 0.05);  // the drag, world m
-constexpr double kTimeoutS = 180.0;  // generous: the machine is shared
-
-bool have_binary(const char* name) {
-    return std::system(("command -v " + std::string(name) + " > /dev/null 2>&1").c_str()) == 0;
-}
 
 // The pixel of the window where the ray from kEye through world point p crosses the screen.
 std::pair<int, int> pixel_of(const Vec3& p) {
@@ -57,67 +58,10 @@ std::pair<int, int> pixel_of(const Vec3& p) {
     return {static_cast<int>(std::lround(u * kW)), static_cast<int>(std::lround((1.0 - v) * kH))};
 }
 
-// Runs `xdotool ARGS`; its stdout (trimmed), or throws with what it said.
-std::string xdo(const std::string& args) {
-    const std::string cmd = "timeout 120 xdotool " + args + " 2>&1";
-    std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-    if (!p) throw std::runtime_error("popen failed");
-    std::string out;
-    char buf[256];
-    while (std::fgets(buf, sizeof buf, p.get())) out += buf;
-    const int status = pclose(p.release());
-    while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
-    if (status != 0) throw std::runtime_error("xdotool " + args + " failed: " + out);
-    return out;
-}
-
-// Waits (up to kTimeoutS) until pred() holds; false on timeout.
-bool wait_for(const std::function<bool()>& pred) {
-    const auto t0 = Clock::now();
-    while (!pred()) {
-        if (std::chrono::duration<double>(Clock::now() - t0).count() > kTimeoutS) return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return true;
-}
-
 ino_t inode_of(const fs::path& p) {
     struct stat st {};
     return ::stat(p.c_str(), &st) == 0 ? st.st_ino : 0;
 }
-
-// The tridex process under test.
-class Tridex {
-public:
-    Tridex(const std::string& args, const fs::path& dir) {
-        const std::string cmd = "exec " + std::string(TRIDEX_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
-                                " 2> " + (dir / "stderr.txt").string();
-        pid_ = fork();
-        if (pid_ == 0) {
-            execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-            _exit(127);
-        }
-    }
-    ~Tridex() {
-        if (pid_ > 0) {
-            kill(pid_, SIGKILL);
-            waitpid(pid_, nullptr, 0);
-        }
-    }
-    bool running() {
-        if (pid_ <= 0) return false;
-        int status = 0;
-        if (waitpid(pid_, &status, WNOHANG) != pid_) return true;
-        exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        pid_ = -1;
-        return false;
-    }
-    int exit_code() const { return exit_code_; }
-
-private:
-    pid_t pid_ = -1;
-    int exit_code_ = -1;
-};
 
 // The saved model's surface, contoured on the CPU as `tridex export` does.
 struct Saved {
@@ -160,16 +104,11 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
 }
 )";
     const fs::path out = dir / "out", save = dir / "live.tdx";
-    Tridex app("run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " +
+    test::TridexProcess app(TRIDEX_EXE, "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " +
                    out.string() + " --save " + save.string(),
                dir);
-    const std::string win = xdo("search --sync --onlyvisible --name 'tridex run'");
-    ASSERT_FALSE(win.empty());
-    const std::string w = win.substr(0, win.find('\n'));
-    try {
-        xdo("windowfocus --sync " + w);
-    } catch (const std::exception&) {  // no window manager: the focus follows the pointer, which is on the window
-    }
+    const std::string w = test::find_window("tridex run");
+    ASSERT_FALSE(w.empty());
     const auto move_to = [&](const Vec3& p) {
         const auto [x, y] = pixel_of(p);
         xdo("mousemove --window " + w + " " + std::to_string(x) + " " + std::to_string(y));
@@ -186,6 +125,10 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
         return load_saved(dir / name);
     };
 
+    (void)save_as("start.tdx");
+    kScreen = framing_screen(renderer::Screen::desktop_monitor(),
+                             compute::load_tdx((dir / "start.tdx").string(), model_memory_budget_bytes()).model.lattice.bounds(),
+                             kEye, static_cast<double>(kW) / kH);
     move_to(kFrom);  // the tool rests on the surface under the cursor
     const Saved before = save_as("before.tdx");
     ASSERT_TRUE(std::isfinite(ray_depth(before, kFrom)));
@@ -213,8 +156,9 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
         const double d0 = ray_depth(before, p), d1 = ray_depth(carved, p);
         ASSERT_TRUE(std::isfinite(d0) && std::isfinite(d1)) << u;
         EXPECT_GT(d1 - d0, 0.002) << "no groove under the cursor at u = " << u;
-        // 12 px (about 20 mm) below the path the surface did not change.
-        const double off0 = ray_depth(before, p, 12.0), off1 = ray_depth(carved, p, 12.0);
+        // 20 mm below the path (on the screen) the surface did not change.
+        const double off_px = 0.02 / kScreen.height() * kH;
+        const double off0 = ray_depth(before, p, off_px), off1 = ray_depth(carved, p, off_px);
         if (!std::isfinite(off0) || !std::isfinite(off1)) continue;  // past the bunny's outline
         ++off_checked;
         EXPECT_LT(std::abs(off1 - off0), 5e-4) << "carved away from the cursor path at u = " << u;

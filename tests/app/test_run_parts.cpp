@@ -53,7 +53,8 @@ TEST(RunScene, DefaultSceneLoadsWithDocumentedValues) {
     EXPECT_DOUBLE_EQ(s.stroke.duration_s, 3.0);
     EXPECT_DOUBLE_EQ(s.stroke.tool_radius_m, s.spec.tool.radius_m);
     EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kMono);  // at the desk: mono; anaglyph by choice (--stereo)
-    EXPECT_EQ(s.display.width_px, 960);
+    EXPECT_FALSE(s.display.resolution_given);  // a desk window is sized to its monitor
+    EXPECT_EQ(s.display.width_px, 1920);       // offscreen: the desk preset's size
     EXPECT_EQ(s.head, HeadMode::kFixed);
     EXPECT_DOUBLE_EQ(s.head_pose.position.z, 0.6);
 }

@@ -52,7 +52,8 @@ TEST(DisplayConfig, PresetsArePowerWallAndDesk) {
     EXPECT_NEAR(desk.screen.width(), 0.53, 1e-12);
     EXPECT_NEAR(desk.screen.height(), 0.30, 1e-12);
     EXPECT_DOUBLE_EQ(desk.default_head_m.z, 0.6);
-    EXPECT_EQ(desk.stereo, StereoOutput::kAnaglyph);
+    EXPECT_EQ(desk.stereo, StereoOutput::kMono);  // anaglyph by choice at a desk
+    EXPECT_FALSE(desk.resolution_given);  // a desk window is sized to its monitor
     EXPECT_NO_THROW(validate_display_config(wall, "wall"));
     EXPECT_NO_THROW(validate_display_config(desk, "desk"));
 }

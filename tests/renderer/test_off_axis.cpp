@@ -41,6 +41,26 @@ TEST(Screen, PowerwallIsTenBySevenAndAHalfFeet) {
     EXPECT_EQ(s.upper_left, Vec3(-1.524, 1.143, 0.0));
 }
 
+TEST(Screen, FittedToAnAspectKeepsItsCentreAndPlaneAndContainsItself) {
+    const Screen s = Screen::desktop_monitor();  // 0.53 x 0.30 m
+    const Screen wide = s.fitted_to_aspect(2.8);
+    EXPECT_NEAR(wide.width() / wide.height(), 2.8, 1e-12);
+    EXPECT_NEAR(wide.height(), s.height(), 1e-12);  // widened: the height is kept
+    const Screen tall = s.fitted_to_aspect(1.0);
+    EXPECT_NEAR(tall.width(), s.width(), 1e-12);    // heightened: the width is kept
+    EXPECT_NEAR(tall.height(), s.width(), 1e-12);
+    for (const Screen& f : {wide, tall}) {
+        const Vec3 c0 = s.lower_left + 0.5 * (s.lower_right - s.lower_left) + 0.5 * (s.upper_left - s.lower_left);
+        const Vec3 c1 = f.lower_left + 0.5 * (f.lower_right - f.lower_left) + 0.5 * (f.upper_left - f.lower_left);
+        EXPECT_NEAR(glm::length(c1 - c0), 0.0, 1e-12);
+        EXPECT_NEAR(f.lower_left.z, 0.0, 1e-12);  // the same plane
+        EXPECT_NEAR(f.upper_left.z, 0.0, 1e-12);
+    }
+    // Bad aspects change nothing.
+    EXPECT_EQ(s.fitted_to_aspect(0.0).lower_left, s.lower_left);
+    EXPECT_EQ(s.fitted_to_aspect(std::numeric_limits<double>::quiet_NaN()).upper_left, s.upper_left);
+}
+
 TEST(OffAxis, CornersMapToNdcSquareForCentredEye) {
     expect_corners_on_ndc_square(Screen::powerwall(), Vec3(0.0, 0.0, 2.0));
 }

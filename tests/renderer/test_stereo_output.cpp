@@ -64,6 +64,15 @@ TEST(StereoOutput, OutputSizes) {
     EXPECT_THROW(output_size(StereoOutput::kMono, 0, 480), Error);
 }
 
+TEST(StereoOutput, EyeSizeForAnOutputInvertsOutputSize) {
+    for (StereoOutput o : all_stereo_outputs()) {
+        const auto [w, h] = output_size(o, 640, 480);
+        EXPECT_EQ(eye_size_for_output(o, w, h), std::make_pair(640, 480)) << to_string(o);
+    }
+    EXPECT_EQ(eye_size_for_output(StereoOutput::kSideBySide, 1, 5), std::make_pair(1, 5));  // never below 1x1
+    EXPECT_THROW(eye_size_for_output(StereoOutput::kMono, 0, 480), Error);
+}
+
 TEST(StereoOutput, QuadNeedsTwoLayersAndOtherwiseSaysWhatWorks) {
     const OutputSupport ok = check_output_support(StereoOutput::kQuad, 2);
     EXPECT_TRUE(ok.supported);

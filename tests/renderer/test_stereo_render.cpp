@@ -90,6 +90,34 @@ TEST(StereoRender, AllWorkingStrategiesDrawTheSameImages) {
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
+TEST(StereoRender, ResizedRendererDrawsWhatAFreshOneOfThatSizeDraws) {
+    gpu::Context ctx = gpu::Context::create({});
+    {
+        const TriMesh cube = test::test_cube();
+        SceneView view = test::test_scene(cube);
+        view.show_overlay = true;  // its scale follows the image height
+        view.frame_time_ms = 10.0;  // the same text in both renderers
+        OffscreenStereoRenderer r = OffscreenStereoRenderer::create(ctx, kW, kH);
+        (void)r.render(view, test::small_screen(), test::test_head(), kEyeSeparation);
+        r.resize(kW + 40, kH / 2);
+        EXPECT_EQ(r.width(), kW + 40);
+        EXPECT_EQ(r.height(), kH / 2);
+        EXPECT_THROW((void)r.last_images(), Error);  // the new target holds no frame yet
+        const StereoImages resized = r.render(view, test::small_screen(), test::test_head(), kEyeSeparation);
+        OffscreenStereoRenderer fresh = OffscreenStereoRenderer::create(ctx, kW + 40, kH / 2);
+        const StereoImages want = fresh.render(view, test::small_screen(), test::test_head(), kEyeSeparation);
+        ASSERT_EQ(resized.left.width, kW + 40);
+        ASSERT_EQ(resized.left.height, kH / 2);
+        EXPECT_EQ(differing_pixels(resized.left, want.left), 0u);
+        EXPECT_EQ(differing_pixels(resized.right, want.right), 0u);
+        r.resize(kW + 40, kH / 2);  // the same size: nothing changes, the last frame stays readable
+        EXPECT_EQ(differing_pixels(r.last_images().left, want.left), 0u);
+        EXPECT_THROW(r.resize(0, 10), Error);
+        EXPECT_EQ(r.width(), kW + 40);  // a refused size keeps the old target
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
 TEST(StereoRender, OffPlaneObjectsDifferBetweenEyesScreenPlaneDoesNot) {
     gpu::Context ctx = gpu::Context::create({});
     {
