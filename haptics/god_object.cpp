@@ -34,6 +34,7 @@ constexpr double kFreeMarginCells = 1.0;
 constexpr double kLocalityCells = 3.0;
 constexpr double kLocalitySlope = 2.0;
 constexpr double kGuardStepCells = 0.5;  // sampling step of the guarded move, cells
+constexpr double kReacquireLiftCells = 2.0;  // a lagging proxy's search starts this far above the tool, cells
 constexpr int kGuardMaxSamples = 32;     // longer moves are sampled more coarsely
 constexpr int kGuardBisections = 10;     // clipped position within 2^-10 of a sample step
 
@@ -354,14 +355,33 @@ PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Ve
     return p;
 }
 
+// True when the tool placed at `at` has none of the guard's points inside material: its centre and, for a ball, its
+// contact point at - offset (when with_contact) and its six points at +-radius along the axes.
+bool pose_free(const ActiveSurface& s, const Vec3& at, double radius, const Vec3& offset, bool with_contact) {
+    if (inside_material(s, at)) return false;
+    if (radius <= 0.0) return true;
+    if (with_contact && inside_material(s, at - offset)) return false;
+    for (int i = 0; i < 6; ++i) {
+        Vec3 p = at;
+        p[i >> 1] += (i & 1) ? -radius : radius;
+        if (inside_material(s, p)) return false;
+    }
+    return true;
+}
+
 /// The guard (step 7 of the class comment): the proxy moved from `proxy` towards `proposal` (m) without entering
-/// material; when the straight move is cut, the rest is tried one axis at a time (largest first), each step guarded,
-/// so the proxy runs along a wall or into a concave corner instead of stopping dead, and `held` is set.
+/// material. When the straight move is cut and the proposal comes from a constraint plane (`on_plane`) on which the
+/// tool is free, the proxy takes it: the straight chord cuts a curved surface the constrained path runs along, so
+/// a proxy that fell behind (a fast hand, a cut the snapshot has not caught up with) returns to the surface point
+/// nearest the HIP instead of staying behind for good. Otherwise the rest of the move is tried one axis at a time
+/// (largest first), each step guarded, so the proxy runs along a wall or into a concave corner instead of stopping
+/// dead, and `held` is set.
 Vec3 guarded_move(const ActiveSurface& surface, const Vec3& proxy, const Vec3& proposal, double radius, const Vec3& offset,
-                  bool with_contact, bool& held) {
+                  bool with_contact, bool on_plane, bool& held) {
     const Vec3 move = proposal - proxy;
     const double f = guarded_fraction(surface, proxy, move, radius, offset, with_contact);
     if (f >= 1.0) return proposal;
+    if (on_plane && pose_free(surface, proposal, radius, offset, with_contact)) return proposal;
     held = true;
     Vec3 next = proxy + f * move;
     const Vec3 rest = (1.0 - f) * move;
@@ -436,6 +456,17 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
         plane = search_plane(surface, hip, proxy, radius,
                              LastContact{in_contact_, normal_, contact_point_, last_axis_, has_plane_, plane_q_, plane_n_,
                                          plane_axis_});
+    // A proxy that fell behind in contact (a hand faster than the proxy's straight path over a curved surface, or
+    // material the snapshot has not yet seen cut) stands behind the faces around the HIP, which step 4 then refuses:
+    // search again from the HIP lifted out of the material along the last contact normal, and take a face under the
+    // HIP that faces the same way as the one last touched (the far face of a thin wall faces the other way).
+    if (usable && in_contact_ && has_proxy_ && (!plane.found || plane.kept) && normal_ != Vec3(0.0)) {
+        const Vec3 lifted = hip + (radius + kReacquireLiftCells * surface.cell_m) * normal_;
+        const PlaneSearch again = search_plane(surface, hip, lifted, radius,
+                                               LastContact{false, Vec3(0.0), lifted, last_axis_, false, Vec3(0.0),
+                                                           Vec3(0.0), -1});
+        if (again.found && glm::dot(again.tri.n, normal_) > 0.0) plane = again;
+    }
     Triangle& tri = plane.tri;
     bool& found = plane.found;
     bool& kept = plane.kept;
@@ -477,7 +508,8 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     const Vec3 offset = radius * n_c;
     bool held = false;
     Vec3 next = proposal;
-    if (usable && has_proxy_ && !hip_free) next = guarded_move(surface, proxy, proposal, radius, offset, in_contact_ || found, held);
+    if (usable && has_proxy_ && !hip_free)
+        next = guarded_move(surface, proxy, proposal, radius, offset, in_contact_ || found, found, held);
     // Force.
     const double previous_depth = in_contact_ ? depth_ : 0.0;
     const double k = mat.stiffness_n_per_m;

@@ -86,8 +86,13 @@ struct ContactResult {
 ///    ball, its contact point and its six points at +-r along the axes; where one of them would be more
 ///    than a quarter cell inside material by the snapshot's rays (either all four rays around it in a
 ///    set hold it that deep, or the bilinear blend of their depths says so on a smooth face), the move
-///    is cut there (bisection) and the rest of it is tried one axis at a time, so the proxy slides
-///    along walls and into concave corners instead of stopping dead. A cut move (`held`) is a contact
+///    is cut there (bisection). A cut move to a proposal on this tick's plane where the whole tool is
+///    free (none of those points inside) is taken whole: the straight chord cuts a curved surface that
+///    the constrained path runs along (Zilles & Salisbury's god-object slides along the surface to the
+///    point nearest the HIP), so a proxy that fell behind a fast hand, or behind material the snapshot
+///    has not yet seen cut, returns to the surface over the HIP instead of staying behind. Otherwise the
+///    rest of the move is tried one axis at a time, so the proxy slides along walls and into concave
+///    corners instead of stopping dead. A cut move (`held`) is a contact
 ///    whose force is the spring kp*(proxy - hip) plus damping along it. Points that start inside
 ///    material are not guarded: a HIP that starts inside (first update, or material added over it)
 ///    feels nothing until it leaves.
