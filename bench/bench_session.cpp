@@ -38,7 +38,8 @@ std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& o) {
             d.seconds = o.seconds;
             d.width = 64;
             d.height = 48;
-            d.cpu = path == "cpu";
+            d.cpu = path == "cpu";  // each path forced: the device's type decides neither row
+            d.gpu = path == "gpu";
             d.no_journal = !journal;
             d.out = (std::filesystem::path(o.out) /
                      ("session_" + std::to_string(n) + "_" + path + (journal ? "" : "_nojournal"))).string();

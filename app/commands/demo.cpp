@@ -215,6 +215,7 @@ void run_demo(const DemoOptions& o) {
     const Vec3 start = plan.world_m.front();
     SculptOptions sculpt{o.cpu, o.validate, o.cpu_contour, o.gpu_contour, journal};
     sculpt.gpu_clay = o.gpu_clay;
+    sculpt.gpu = o.gpu;
     sculpt.checkpoint_s = o.checkpoint_s;
     // A clay session reports how far the surface moved: keep the model as it was.
     std::optional<compute::TriDexel> before;

@@ -44,7 +44,8 @@ struct DemoOptions {
     bool no_journal = false;       ///< --no-journal: write no journal
     double checkpoint_s = 120.0;   ///< wall time between checkpoint models next to the journal, s (0 = none)
     double history_mib = 256.0;    ///< the undo history's memory budget, MiB
-    bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
+    bool cpu = false;              ///< --cpu: sculpt on the CPU pool whatever the Vulkan device (default: decide_backend)
+    bool gpu = false;              ///< --gpu: sculpt on the GPU compute path whatever the device's type
     bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)
     bool gpu_clay = false;         ///< --gpu-clay: clay on the GPU kernel even on a CPU Vulkan device (lavapipe)

@@ -95,16 +95,21 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
                      "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")
         ->capture_default_str();
     cmd.add_option("--material", o.demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
-    cmd.add_flag("--cpu", o.demo.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    auto* demo_cpu = cmd.add_flag("--cpu", o.demo.cpu, "Sculpt on the CPU pool whatever the Vulkan device (default: by the device's type: the CPU pool on a CPU implementation such as lavapipe, the GPU compute path on a GPU)");
+    cmd.add_flag("--gpu", o.demo.gpu, "Sculpt on the GPU compute path (Vulkan) whatever the device's type, lavapipe included")->excludes(demo_cpu);
     auto* demo_cpu_contour = cmd.add_flag("--cpu-contour", o.demo.cpu_contour,
                        "Contour on the CPU even when sculpting on the GPU (default: GPU contouring, drawn with indirect "
                        "draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
     cmd.add_flag("--gpu-contour", o.demo.gpu_contour,
-                       "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
-        ->excludes(demo_cpu_contour);
+                       "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower; it reads "
+                       "the model on the GPU, so there it also sculpts on the GPU compute path")
+        ->excludes(demo_cpu_contour)
+        ->excludes(demo_cpu);
     cmd.add_flag("--gpu-clay", o.demo.gpu_clay,
                        "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), "
-                       "where the CPU reference is faster (same result bit for bit)");
+                       "where the CPU reference is faster (same result bit for bit); there it also sculpts on the GPU "
+                       "compute path")
+        ->excludes(demo_cpu);
 
     cmd.add_flag("--elastic", o.elastic,
                        "Press an elastic object (a squeeze ball) in steps and let go: its drawn surface dents within the "

@@ -72,6 +72,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     const double timeout_s = 3.0 * static_cast<double>(rec.ticks.size()) * s.period_s + 10.0;
     SculptOptions so{sculpt.cpu, out.validate, sculpt.cpu_contour, sculpt.gpu_contour, strip.path.empty() ? "" : strip_journal};
     so.gpu_clay = sculpt.gpu_clay;
+    so.gpu = sculpt.gpu;
     // The live session's undos, redos and stroke closes where its sculpt thread took them.
     so.follow_marks = sculpt_marks(rec.header);
     std::optional<SessionRun> run;

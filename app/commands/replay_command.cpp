@@ -28,14 +28,19 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_option("--width", o->out.width, "Per-eye image width, px")->capture_default_str();
     cmd.add_option("--height", o->out.height, "Per-eye image height, px")->capture_default_str();
     cmd.add_flag("--validate", o->out.validate, "Enable the Vulkan validation layer");
-    cmd.add_flag("--cpu", o->sculpt.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    auto* cpu = cmd.add_flag("--cpu", o->sculpt.cpu, "Sculpt on the CPU pool whatever the Vulkan device (default: by the device's type: the CPU pool on a CPU implementation such as lavapipe, the GPU compute path on a GPU)");
+    cmd.add_flag("--gpu", o->sculpt.gpu, "Sculpt on the GPU compute path (Vulkan) whatever the device's type, lavapipe included")->excludes(cpu);
     auto* cpu_contour =
         cmd.add_flag("--cpu-contour", o->sculpt.cpu_contour, "Contour on the CPU even when sculpting on the GPU (as for demo)");
     cmd.add_flag("--gpu-contour", o->sculpt.gpu_contour,
-                 "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower")
-        ->excludes(cpu_contour);
+                 "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower; it reads the "
+                 "model on the GPU, so there it also sculpts on the GPU compute path")
+        ->excludes(cpu_contour)
+        ->excludes(cpu);
     cmd.add_flag("--gpu-clay", o->sculpt.gpu_clay,
-                 "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe)");
+                 "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe); there "
+                 "it also sculpts on the GPU compute path")
+        ->excludes(cpu);
     cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");
     cmd.add_option("--strip", o->strip.path,
                    "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "

@@ -45,15 +45,19 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_flag("--swap-eyes", o.swap_eyes, "Exchange the eyes on the display");
     cmd->add_option("--seconds", o.seconds, "Stop after S seconds of wall time (0: no limit)")->capture_default_str();
     cmd->add_flag("--validate", o.validate, "Enable the Vulkan validation layer");
-    cmd->add_flag("--cpu", o.cpu, "Sculpt on the CPU reference instead of the GPU (Vulkan compute)");
+    auto* cpu = cmd->add_flag("--cpu", o.cpu, "Sculpt on the CPU pool whatever the Vulkan device (default: by the device's type: the CPU pool on a CPU implementation such as lavapipe, the GPU compute path on a GPU)");
+    cmd->add_flag("--gpu", o.gpu, "Sculpt on the GPU compute path (Vulkan) whatever the device's type, lavapipe included")->excludes(cpu);
     cmd->add_flag("--cpu-contour", o.cpu_contour,
                   "Contour on the CPU (tile meshes) even when sculpting on the GPU (default: GPU contouring, "
                   "drawn with indirect draws, on a real GPU; CPU contouring on a CPU Vulkan such as lavapipe)");
     cmd->add_flag("--gpu-contour", o.gpu_contour,
-                  "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower");
+                  "Contour on the GPU even on a CPU Vulkan implementation (lavapipe), where it is slower; it reads the "
+                  "model on the GPU, so there it also sculpts on the GPU compute path")
+        ->excludes(cpu);
     cmd->add_flag("--gpu-clay", o.gpu_clay,
                   "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where "
-                  "the CPU reference is faster (same result bit for bit)");
+                  "the CPU reference is faster (same result bit for bit); there it also sculpts on the GPU compute path")
+        ->excludes(cpu);
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--overlay-stats", o.overlay_stats, "The overlay also counts the tiles drawn and skipped per eye");

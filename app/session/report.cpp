@@ -220,7 +220,8 @@ nlohmann::json demo_report_json(const DemoReport& r) {
     j["haptics"]["device_link"] = device_link_json(r.device_link);
     j["haptics"]["link"] = link_json(r.device_link);
     j["link"] = link_json(r.device_link);
-    j["sculpt"] = sculpt_report_json(*r.sculpt, r.tiles_initial, r.tiles_total, r.session_s);
+    j["sculpt"] = sculpt_report_json(*r.sculpt, r.tiles_initial, r.tiles_total, r.session_s, r.sculpt_path,
+                                     r.sculpt_backend_reason);
     j["journal"] = journal_report_json(r.journal, *r.sculpt, r.session_s);
     j["history"] = history_report_json(*r.sculpt);
     j["key_requests_sent"] = 0;

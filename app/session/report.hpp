@@ -53,6 +53,7 @@ struct DemoReport {
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
     std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")
+    std::string sculpt_backend_reason;        ///< why this backend (decide_backend; report.json `sculpt.backend_reason`)
     std::string clay_path;                    ///< "gpu" or "cpu": where clay sweeps ran (report.json `clay_path`)
     std::string clay_path_reason;             ///< why clay ran on the CPU on the GPU path; "" otherwise
     std::uint64_t spilled_intervals = 0;      ///< intervals in the GPU spill pool at the end (0 on the CPU path)

@@ -38,7 +38,10 @@ struct RunOptions {
     bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
     double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)
     bool validate = false;          ///< Vulkan validation layer (also on with TRIDEX_VALIDATION=1)
-    bool cpu = false;               ///< sculpt on the CPU reference instead of the GPU (Vulkan compute)
+    /// Sculpt on the CPU pool whatever the Vulkan device; with neither this nor `gpu` the device's type decides
+    /// (compute/runtime/backend_choice.hpp decide_backend).
+    bool cpu = false;
+    bool gpu = false;               ///< sculpt on the GPU compute path whatever the device's type (--gpu)
     /// Contour dirty tiles on the CPU (per-tile meshes uploaded to the renderer) even when the Booleans run
     /// on the GPU; by default a GPU sculpt path also contours on the GPU and the renderer draws its buffers
     /// with indirect draws.

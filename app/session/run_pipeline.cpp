@@ -86,6 +86,7 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.checkpoint_s = su.checkpoint_s;
     sculpt_options.tile_lod = su.lod && su.tiles;
     sculpt_options.gpu_clay = su.gpu_clay;
+    sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
     // --record streams the ticks to disk while the session runs: a recording of any length.
@@ -110,8 +111,9 @@ void RunPipeline::Parts::open_backend() {
         compute::is_clay_op(parse_tool_op(scene.spec.op)) || driver_caps(scene.spec.device_driver).switches_op;
     if (clay_possible && !rt.booleans().backend->clay_reason().empty())
         r.notes.push_back("clay path cpu: " + rt.booleans().backend->clay_reason());
-    if (!rt.booleans().reason.empty()) r.notes.push_back("sculpt path cpu: " + rt.booleans().reason);
-    r.sculpt_path_reason = rt.booleans().reason;
+    r.sculpt_path_reason = rt.booleans().cpu_reason();
+    r.sculpt_backend_reason = rt.booleans().reason;
+    if (!r.sculpt_path_reason.empty()) r.notes.push_back("sculpt path cpu: " + r.sculpt_path_reason);
     r.clay_path_reason = rt.booleans().backend->clay_reason();
     r.workpiece = workpiece_report_json(rt.workpiece());
     r.scan_s = rt.workpiece().scan_s;

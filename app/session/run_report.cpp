@@ -98,7 +98,8 @@ json run_report_json(const RunResult& r) {
         if (!haptics.contains("device_link")) haptics["device_link"] = nullptr;
         if (!haptics.contains("link")) haptics["link"] = nullptr;
     }
-    json sculpt = sculpt_report_json(r.sculpt, r.contour_tiles_initial, r.tiles_total, r.session_s);
+    json sculpt = sculpt_report_json(r.sculpt, r.contour_tiles_initial, r.tiles_total, r.session_s, r.sculpt_path,
+                                     r.sculpt_backend_reason);
     json j{
         {"command", "run"},
         {"scene", sc.source},

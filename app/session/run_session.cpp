@@ -54,10 +54,12 @@ RunSetup resolve_run(const RunOptions& o) {
     prepare_output_dir(s.out, "--out");
     s.validate = o.validate;
     s.cpu = o.cpu;
+    s.gpu = o.gpu;
     s.cpu_contour = o.cpu_contour;
     s.gpu_contour = o.gpu_contour;
     s.gpu_clay = o.gpu_clay;
     if (s.cpu_contour && s.gpu_contour) throw Error("--cpu-contour, --gpu-contour: choose one");
+    check_backend_request({backend_mode(s.cpu, s.gpu), s.gpu_contour, s.gpu_clay});  // before any window or scene
     s.pace = o.pace;
     s.items = o.items;
     s.overlay_stats = o.overlay_stats;

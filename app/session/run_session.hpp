@@ -33,7 +33,8 @@ struct RunSetup {
     int monitor_index = -1;         ///< fullscreen monitor by index, -1 = by name / primary
     std::string monitor_name;       ///< fullscreen monitor by (part of its) name
     bool validate = false;          ///< Vulkan validation layer
-    bool cpu = false;               ///< sculpt on the CPU reference (--cpu)
+    bool cpu = false;               ///< sculpt on the CPU pool (--cpu)
+    bool gpu = false;               ///< sculpt on the GPU compute path (--gpu)
     bool cpu_contour = false;       ///< contour on the CPU even when sculpting on the GPU (--cpu-contour)
     bool gpu_contour = false;       ///< contour on the GPU even on a CPU Vulkan device (--gpu-contour)
     bool gpu_clay = false;          ///< clay on the GPU kernel even on a CPU Vulkan device (--gpu-clay)
@@ -135,6 +136,7 @@ struct RunResult {
     nlohmann::json workpiece;                    ///< report.json `workpiece` (workpiece_report_json)
     nlohmann::json carved_mesh;                  ///< report.json `mesh` (carved_mesh_report_json); null if not written
     std::string sculpt_path_reason;              ///< why the Booleans ran on the CPU ("" on the GPU path)
+    std::string sculpt_backend_reason;           ///< why this backend, either path (BackendChoice::reason)
     std::string clay_path_reason;                ///< why clay ran on the CPU on the GPU path ("" otherwise)
     std::array<std::size_t, 3> model_bytes{};    ///< model bytes per ray set on the sculpting path
     std::uint32_t sculpt_validation_messages = 0;  ///< Vulkan validation messages of the sculpting backend

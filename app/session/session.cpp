@@ -136,7 +136,8 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     const BackendChoice& booleans = rt.booleans();
     run.sculpt_path = booleans.backend->path();
     run.sculpt_device = booleans.backend->device();
-    run.sculpt_path_reason = booleans.reason;
+    run.sculpt_path_reason = booleans.cpu_reason();
+    run.sculpt_backend_reason = booleans.reason;
     run.clay_path = booleans.backend->clay_path();
     run.clay_path_reason = booleans.backend->clay_reason();
     run.contour_path = rt.contour_path();
@@ -269,6 +270,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;
+    r.sculpt_backend_reason = run.sculpt_backend_reason;
     r.clay_path = run.clay_path;
     r.clay_path_reason = run.clay_path_reason;
     r.spilled_intervals = run.spilled_intervals;

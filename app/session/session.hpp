@@ -38,6 +38,7 @@ struct SessionRun {
     std::string sculpt_path;                   ///< "gpu" or "cpu"
     std::string sculpt_device;                 ///< Vulkan device name on the GPU path
     std::string sculpt_path_reason;            ///< why the CPU path ran; "" on the GPU path
+    std::string sculpt_backend_reason;         ///< why this backend, either path (BackendChoice::reason)
     std::string clay_path;                     ///< "gpu" or "cpu": where clay sweeps ran (BooleanBackend::clay_path)
     std::string clay_path_reason;              ///< why clay ran on the CPU on the GPU path; "" otherwise
     std::uint64_t spilled_intervals = 0;       ///< GPU spill-pool intervals at the end

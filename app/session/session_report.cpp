@@ -113,6 +113,9 @@ const std::vector<ReportField>& report_schema() {
         {"sculpt.contour_ms", "per changing step: dirty-tile re-contouring, ms {median, p99, mean, max}"},
         {"sculpt.tiles_initial", "tiles contoured before the session"},
         {"sculpt.tiles_total", "tiles in the model's tile grid"},
+        {"sculpt.backend", "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
+        {"sculpt.backend_reason", "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
+                                  "Vulkan device is a CPU implementation (llvmpipe ...)\""},
         {"journal", "the session journal's counters; null with --no-journal"},
         {"history", "the undo history at the end: budget, steps, undos, redos, undo_ms"},
         {"saves", "Ctrl+S saves during the session; null for demo and replay (no keys)"},
@@ -231,7 +234,7 @@ std::array<nlohmann::json, 2> tick_summary_json(const std::vector<haptics::TickR
 }
 
 nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initial, std::size_t tiles_total,
-                                  double session_s) {
+                                  double session_s, const std::string& backend, const std::string& backend_reason) {
     return {{"samples", s.samples},
             {"booleans", s.booleans},
             {"steps", s.steps},
@@ -242,7 +245,9 @@ nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initia
             {"boolean_ms", summary_report_json(s.boolean_ms)},
             {"contour_ms", summary_report_json(s.contour_ms)},
             {"tiles_initial", tiles_initial},
-            {"tiles_total", tiles_total}};
+            {"tiles_total", tiles_total},
+            {"backend", backend},
+            {"backend_reason", string_or_null(backend_reason)}};
 }
 
 nlohmann::json model_bytes_json(const std::array<std::size_t, 3>& b) {

@@ -54,9 +54,10 @@ std::array<nlohmann::json, 2> tick_summary_json(const std::vector<haptics::TickR
 
 /// `sculpt` block: the sculpt thread's counters {samples, booleans, steps, rays_changed, tiles_recontoured,
 /// publishes, rate_hz (changing steps per second of session_s), boolean_ms, contour_ms ({median, p99, mean, max}
-/// per changing step), tiles_initial (tiles contoured before the session), tiles_total (tiles of the model)}.
+/// per changing step), tiles_initial (tiles contoured before the session), tiles_total (tiles of the model),
+/// backend ("cpu" or "gpu": where the Booleans ran), backend_reason (why: decide_backend's reason)}.
 nlohmann::json sculpt_report_json(const SculptStats& sculpt, std::size_t tiles_initial, std::size_t tiles_total,
-                                  double session_s);
+                                  double session_s, const std::string& backend, const std::string& backend_reason);
 
 /// `model_bytes` block: bytes of the model per ray set on the sculpting path, {x, y, z, total}.
 nlohmann::json model_bytes_json(const std::array<std::size_t, 3>& bytes);

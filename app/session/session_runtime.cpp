@@ -36,6 +36,15 @@ bool gpu_contour_default(const gpu::Context& context, std::string& reason) {
     return false;
 }
 
+BackendRequest backend_request(const SculptOptions& s) {
+    BackendRequest r;
+    r.mode = backend_mode(s.cpu, s.gpu);
+    r.gpu_contour = s.gpu_contour;
+    r.gpu_clay = s.gpu_clay;
+    check_backend_request(r);
+    return r;
+}
+
 SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                                const Vec3& start_m, const RuntimeOptions& o)
     : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)),
@@ -131,8 +140,10 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
 
 void SessionRuntime::choose_contour(const RuntimeOptions& o) {
     const SculptOptions& s = o.sculpt;
+    const BackendRequest request = backend_request(s);  // refuses flags that disagree before any Vulkan work
+    const bool cpu_forced = request.mode == BackendMode::kCpu;
     gpu::Context* shared = o.render_context;
-    if (!shared && !s.cpu) {
+    if (!shared && !cpu_forced) {
         // Demo and replay: one Context for the Booleans, the GPU contour and the final render.
         gpu::ContextOptions gopt;
         gopt.validation = s.validate;
@@ -150,14 +161,14 @@ void SessionRuntime::choose_contour(const RuntimeOptions& o) {
     else if (o.publish_meshes && o.mesh_form == MeshForm::kWhole)
         contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
     else if (!shared)
-        contour_reason_ = s.cpu ? "the Booleans run on the CPU" : "no Vulkan Context for the contour";
-    else if (!s.cpu && !s.gpu_contour) {
+        contour_reason_ = cpu_forced ? "the Booleans run on the CPU" : "no Vulkan Context for the contour";
+    else if (!cpu_forced && !s.gpu_contour) {
         std::string why;  // a CPU implementation of Vulkan: the CPU contour is faster there
         if (!gpu_contour_default(*shared, why)) contour_reason_ = why;
     }
     const bool share = shared && (own_context_ || contour_reason_.empty());
-    booleans_ = share ? make_boolean_backend_on(wp_.model, s.cpu, *shared, s.gpu_clay)
-                      : make_boolean_backend(wp_.model, s.cpu, s.validate, s.gpu_clay);
+    booleans_ = share ? make_boolean_backend_on(wp_.model, request, *shared)
+                      : make_boolean_backend(wp_.model, request, s.validate);
     if (!contour_reason_.empty()) return;
     if (!booleans_.backend->gpu_slabs()) {
         contour_reason_ = "the Booleans run on the CPU";
@@ -169,7 +180,7 @@ void SessionRuntime::choose_contour(const RuntimeOptions& o) {
         contour_reason_ = std::string("the device cannot contour: ") + e.what();
         // CPU contouring after all: with a live renderer the Booleans get a Context of their own again, so they
         // do not wait behind the frames (nothing has been sculpted yet).
-        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, s.cpu, s.validate, s.gpu_clay);
+        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, request, s.validate);
     }
 }
 

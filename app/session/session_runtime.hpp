@@ -38,7 +38,9 @@ namespace tridex::app {
 
 /// Where a session sculpts.
 struct SculptOptions {
-    bool cpu = false;       ///< --cpu: the CPU reference even when a Vulkan device exists
+    /// --cpu: the CPU pool whatever the Vulkan device; with neither this nor `gpu`, the device's type decides
+    /// (decide_backend: a CPU implementation such as lavapipe sculpts on the CPU pool, a GPU on the compute path).
+    bool cpu = false;
     bool validate = false;  ///< Vulkan validation on the sculpting device
     /// --cpu-contour: contour dirty tiles on the CPU even when the Booleans run on the GPU.
     bool cpu_contour = false;
@@ -66,7 +68,13 @@ struct SculptOptions {
     /// A replay: the recorded session's undos, redos and stroke closes at their places in the sample stream
     /// (SculptThread::follow_marks); nullopt (live sessions, recordings without marks) = taken as they come.
     std::optional<std::vector<SculptMark>> follow_marks{};
+    /// --gpu: the GPU compute path whatever the Vulkan device's type (with --cpu: refused, backend_mode()).
+    bool gpu = false;
 };
+
+/// What `s` asks of the sculpting backend (its --cpu, --gpu, --gpu-contour and --gpu-clay), for decide_backend.
+/// Throws tridex::Error when --cpu and --gpu are both set, or --cpu with --gpu-contour or --gpu-clay.
+BackendRequest backend_request(const SculptOptions& s);
 
 /// Whether GPU contouring is the default on `context`'s device: true for a real GPU; false for a CPU
 /// implementation of Vulkan (VK_PHYSICAL_DEVICE_TYPE_CPU, e.g. Mesa lavapipe), where the GPU contour costs

@@ -172,35 +172,39 @@ std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model) {
 
 std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model) { return std::make_unique<CpuBackend>(model); }
 
-BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate, bool gpu_clay) {
+BackendChoice make_boolean_backend(compute::TriDexel& model, const BackendRequest& request, bool validate) {
     BackendChoice choice;
-    if (cpu) {
-        choice.backend = make_cpu_backend(model);
-        choice.reason = "--cpu given";
-        return choice;
-    }
-    gpu::ContextOptions opt;
-    opt.validation = validate;
+    SculptDevice device;
     std::optional<gpu::Context> context;
-    try {
-        context.emplace(gpu::Context::create(opt));
-    } catch (const Error& e) {
-        choice.backend = make_cpu_backend(model);
-        choice.reason = std::string("no usable Vulkan device: ") + e.what();
-        return choice;
+    if (request.mode != BackendMode::kCpu) {
+        gpu::ContextOptions opt;
+        opt.validation = validate;
+        try {
+            context.emplace(gpu::Context::create(opt));
+            device.type = context->properties().deviceType;
+            device.name = context->device_name();
+        } catch (const Error& e) {
+            device.error = e.what();
+        }
     }
-    choice.backend = std::make_unique<GpuBackend>(std::move(*context), model, gpu_clay);
+    const BackendDecision d = decide_backend(request, device);
+    choice.reason = d.reason;
+    if (d.gpu)
+        choice.backend = std::make_unique<GpuBackend>(std::move(*context), model, request.gpu_clay);
+    else
+        choice.backend = make_cpu_backend(model);
     return choice;
 }
 
-BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared, bool gpu_clay) {
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, const BackendRequest& request, gpu::Context& shared) {
     BackendChoice choice;
-    if (cpu) {
+    const SculptDevice device{shared.properties().deviceType, shared.device_name(), ""};
+    const BackendDecision d = decide_backend(request, device);
+    choice.reason = d.reason;
+    if (d.gpu)
+        choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model, request.gpu_clay);
+    else
         choice.backend = make_cpu_backend(model);
-        choice.reason = "--cpu given";
-        return choice;
-    }
-    choice.backend = std::make_unique<GpuBackend>(static_cast<const gpu::Context*>(&shared), model, gpu_clay);
     return choice;
 }
 

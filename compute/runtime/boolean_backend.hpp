@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "compute/runtime/backend_choice.hpp"
 #include "compute/tools/boolean.hpp"
 #include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
@@ -60,25 +61,30 @@ public:
 /// What make_boolean_backend chose, and why.
 struct BackendChoice {
     std::unique_ptr<BooleanBackend> backend;
-    std::string reason;  ///< e.g. "--cpu given", "no Vulkan device: <error>"; "" when the GPU was chosen
+    /// Why this backend (decide_backend's reason: "--cpu given", "auto: the Vulkan device is a CPU implementation
+    /// (llvmpipe ...)", ...); never empty once chosen.
+    std::string reason;
+    /// The reason on the CPU path, "" on the GPU path (report.json `sculpt_path_reason`).
+    std::string cpu_reason() const { return backend && backend->path() == "cpu" ? reason : std::string(); }
 };
 
 /// The CPU backend on `model`: each batch on every core through the task pool (compute::apply_sweeps_parallel,
 /// bit for bit the CPU reference apply_sweep per sweep). `model` must outlive it.
 std::unique_ptr<BooleanBackend> make_cpu_backend(compute::TriDexel& model);
 
-/// The GPU path when `cpu` is false and a Vulkan device can be created (its own Context, validation when
-/// `validate` or TRIDEX_VALIDATION=1), else the CPU path with the reason. A model that does not fit the
-/// device is refused with tridex::Error (the numbers in the message), not silently moved to the CPU.
+/// The backend decide_backend(request, device) chooses, where `device` is the one a Context of its own would
+/// sculpt on (created unless request.mode is kCpu; validation when `validate` or TRIDEX_VALIDATION=1; dropped again
+/// when the CPU pool is chosen). Throws tridex::Error for flags that disagree, --gpu without a usable device, or a
+/// model that does not fit the device (the numbers in the message; never silently moved to the CPU).
 /// On the GPU path clay sweeps run on the GPU clay kernel on a real GPU, and on the CPU reference (on the mirror,
 /// the changed rays written to the slabs) on a CPU implementation of Vulkan (lavapipe), where the kernel's
-/// submissions cost more than the reference; `gpu_clay` runs them on the kernel there too.
-BackendChoice make_boolean_backend(compute::TriDexel& model, bool cpu, bool validate, bool gpu_clay = false);
+/// submissions cost more than the reference; request.gpu_clay runs them on the kernel there too.
+BackendChoice make_boolean_backend(compute::TriDexel& model, const BackendRequest& request, bool validate);
 
-/// As above, but the GPU path sculpts on `shared` (e.g. the renderer's Context, so that the renderer can draw
-/// buffers the sculpt thread fills; submissions from both threads are serialised by the Context) instead of a
-/// Context of its own; `shared` must outlive the backend. With `cpu` the CPU path. Throws as above.
-BackendChoice make_boolean_backend_on(compute::TriDexel& model, bool cpu, gpu::Context& shared, bool gpu_clay = false);
+/// As above, but deciding on `shared`'s device, and the GPU path sculpts on `shared` (e.g. the renderer's Context,
+/// so that the renderer can draw buffers the sculpt thread fills; submissions from both threads are serialised by
+/// the Context) instead of a Context of its own; `shared` must outlive the backend. Throws as above.
+BackendChoice make_boolean_backend_on(compute::TriDexel& model, const BackendRequest& request, gpu::Context& shared);
 
 /// Bytes the CPU reference model takes per ray set (vector headers plus interval storage).
 std::array<std::size_t, 3> cpu_model_bytes(const compute::TriDexel& model);

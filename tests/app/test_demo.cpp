@@ -223,8 +223,11 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     EXPECT_EQ(ds["writes_clamped"].get<int>(), 0);
     EXPECT_GT(ds["writes"].get<int>(), 1000);
     EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
-    // Sculpted on the GPU (lavapipe here), with the model's memory per ray set.
+    // Sculpted on the GPU (lavapipe here: --gpu-contour asks for the model there), with the model's memory per ray set.
     EXPECT_EQ(j["sculpt_path"], "gpu");
+    EXPECT_EQ(j["sculpt"]["backend"], "gpu");
+    EXPECT_NE(j["sculpt"]["backend_reason"].get<std::string>().find("--gpu-contour"), std::string::npos)
+        << j["sculpt"]["backend_reason"];
     EXPECT_EQ(j["sculpt_validation_messages"].get<int>(), 0);  // validation is on in tests
     EXPECT_NE(j["device"].get<std::string>().find("llvmpipe"), std::string::npos) << j["device"];
     EXPECT_GE(j["spilled_intervals"].get<long>(), 0);
@@ -257,20 +260,27 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     stbi_image_free(img[1]);
 }
 
-// On a CPU implementation of Vulkan (lavapipe here) the default contour is the CPU's, and the report says
-// why; --cpu-contour with --gpu-contour is refused.
+// On a CPU implementation of Vulkan (lavapipe here) the default sculpting backend is the CPU pool and the default
+// contour the CPU's, and the report says why; --cpu-contour with --gpu-contour is refused, and so is --cpu with --gpu.
 TEST(Demo, LavapipeContoursOnTheCpuByDefault) {
     const fs::path out = fs::temp_directory_path() / "tridex-test-demo-cpu-contour";
     fs::remove_all(out);
     const RunResult bad = run_tridex("demo --cpu-contour --gpu-contour --out " + out.string(), out);
     EXPECT_NE(bad.exit_code, 0);
     EXPECT_NE(bad.err.find("excludes"), std::string::npos) << bad.err;
+    const RunResult both = run_tridex("demo --cpu --gpu --out " + out.string(), out);
+    EXPECT_EQ(both.exit_code, 2);
+    EXPECT_NE(both.err.find("excludes"), std::string::npos) << both.err;
     const RunResult r = run_tridex("demo --resolution 64 --seconds 1 --width 160 --height 120 --validate --out " +
                                        out.string(), out);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream rf(out / "report.json");
     const nlohmann::json j = nlohmann::json::parse(rf);
-    EXPECT_EQ(j["sculpt_path"], "gpu");
+    EXPECT_EQ(j["sculpt_path"], "cpu");
+    EXPECT_EQ(j["sculpt"]["backend"], "cpu");
+    EXPECT_NE(j["sculpt"]["backend_reason"].get<std::string>().find("auto: the Vulkan device is a CPU implementation (llvmpipe"),
+              std::string::npos) << j["sculpt"]["backend_reason"];
+    EXPECT_EQ(j["sculpt_path_reason"], j["sculpt"]["backend_reason"]);
     EXPECT_EQ(j["contour_path"], "cpu");
     EXPECT_NE(j["contour_path_reason"].get<std::string>().find("CPU implementation"), std::string::npos)
         << j["contour_path_reason"];
@@ -323,7 +333,7 @@ TEST(Replay, ARecordedSessionSculptsTheSameModel) {
     const fs::path rec = dir / "session.trdx";
     // A wand (a flat-end mill with two points at its ends) on the 5-DOF profile, so torques and both points are recorded.
     const RunResult live = run_tridex("demo --resolution 64 --seconds 1.5 --width 96 --height 72 --tool flat_end "
-                                      "--tool-length-mm 20 --points 2 --device wand "
+                                      "--tool-length-mm 20 --points 2 --device wand --gpu "
                                       "--record " + rec.string() + " --out " + (dir / "live").string(), dir / "live");
     ASSERT_EQ(live.exit_code, 0) << live.err;
     ASSERT_TRUE(fs::exists(rec));

@@ -123,6 +123,12 @@ TEST(ReportSchema, DemoReplayAndRunWriteTheSameKeys) {
         EXPECT_NEAR((*j)["volume_removed_m3"].get<double>(),
                     (*j)["volume_before_m3"].get<double>() - (*j)["volume_after_m3"].get<double>(), 1e-15);
     EXPECT_GT(r["volume_removed_m3"].get<double>(), 0.0) << "the run's stroke carved nothing";
+    // Where each sculpted, and why (--cpu here; the device's type decides without it: test_backend_choice).
+    for (const json* j : {&d, &p, &r}) {
+        EXPECT_EQ((*j)["sculpt"]["backend"], "cpu") << (*j)["command"];
+        EXPECT_EQ((*j)["sculpt"]["backend_reason"], "--cpu given") << (*j)["command"];
+        EXPECT_EQ((*j)["sculpt_path"], (*j)["sculpt"]["backend"]) << (*j)["command"];
+    }
     EXPECT_EQ(d["mesh"]["boundary_edges"], 0);
     EXPECT_EQ(r["mesh"]["boundary_edges"], 0);
     fs::remove_all(dir);

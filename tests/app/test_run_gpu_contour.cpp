@@ -29,6 +29,7 @@ RunResult run_stroke(const fs::path& dir, const std::string& name, bool cpu, boo
     o.stereo = "side-by-side";
     o.out = (dir / name).string();  // until the stroke ends
     o.cpu = cpu;
+    o.gpu = !cpu;  // the GPU path forced: on lavapipe the device's type alone would choose the CPU pool
     o.cpu_contour = cpu_contour;
     o.gpu_contour = !cpu && !cpu_contour;  // lavapipe's default is the CPU contour
     return run_stereo_session(o);
