@@ -99,6 +99,7 @@ std::vector<SessionBenchRow> run_session_bench(const SessionBenchOptions& o) {
                        {"volume_removed_m3", r.volume_removed_m3},
                        {"wall_s", r.wall_s}});
     write_json_file((std::filesystem::path(o.out) / "session_bench.json").string(), out);
+    if (!o.latency_resolutions.empty()) run_latency_bench(o);
     return rows;
 }
 
@@ -111,13 +112,13 @@ struct SessionBenchCli {
 
 BenchRun setup_session_bench(CLI::App& bench) {
     auto o = std::make_shared<SessionBenchCli>();
-    bench.add_option("--session-n", o->n, "With --session: run only these N, e.g. --session-n 256")->delimiter(',');
+    bench.add_option("--session-n", o->n, "With --session: run only these N, e.g. --session-n 256 (the latency rows too)")->delimiter(',');
     bench.add_flag("--session-journal-off", o->journal_off,
                    "With --session: also run each session without its journal (--no-journal), for comparison");
     return [o](const BenchCommon& c) {
         SessionBenchOptions sb;
         sb.out = c.out;
-        if (!o->n.empty()) sb.resolutions = o->n;
+        if (!o->n.empty()) sb.resolutions = sb.latency_resolutions = o->n;
         if (o->journal_off) sb.journal = {true, false};
         run_session_bench(sb);
     };
@@ -126,7 +127,8 @@ BenchRun setup_session_bench(CLI::App& bench) {
 const BenchmarkRegistration kRegistration{
     {"session",
      "Whole sessions through the session runtime (the demo's stroke on the bunny, N = 256 and 512, CPU and GPU "
-     "paths): haptic period and tick time, sculpt step times",
+     "paths): haptic period and tick time, sculpt step times; and the time from a tool sample to the surface drawn "
+     "for a subtract and a clay push at 0.1 m/s (N = 256), beside the push target",
      40, setup_session_bench}};
 
 }  // namespace

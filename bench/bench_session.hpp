@@ -33,7 +33,31 @@ struct SessionBenchOptions {
     double seconds = 4.0;                            ///< stroke length (device time), s
     std::vector<bool> journal{true};                 ///< journal on (true) and/or off (false, --no-journal) per N and path
     std::string out = "out/bench";                   ///< folder for session_bench.json and the sessions' outputs
+    /// N values of the surface-latency rows (run_latency_bench); empty = none.
+    std::vector<int> latency_resolutions{256};
 };
+
+/// The target of the clay push's surface latency at p99, ms.
+inline constexpr double kLatencyTargetMs = 50.0;
+
+/// One surface-latency session (run_latency_bench).
+struct LatencyBenchRow {
+    int n = 0;                 ///< lattice cells along the longest side
+    std::string op;            ///< "subtract" or "push"
+    std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)
+    std::size_t frames = 0;    ///< frames that first drew a sculpted change
+    double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;  ///< tool sample to surface drawn (meshes.sample_to_drawn_ms), ms
+    double step_p50_ms = 0.0, step_p99_ms = 0.0;      ///< per sculpt step: Booleans (or clay) + publish, ms
+    double pub_p50_ms = 0.0, pub_p99_ms = 0.0;        ///< its sculpt-side share: sample to mesh published, ms
+    double frame_p50_ms = 0.0;                        ///< the run's median frame time (draw + readback), ms
+};
+
+/// Runs `tridex run` offscreen (paced at 60 Hz, 960x540 mono) on the bunny scaled as in the demo (0.3 m) at each of
+/// options.latency_resolutions, with the demo's 8 mm ball dragged 0.12 m along the surface at 0.1 m/s, once as a
+/// subtract and once as a clay push; prints, per session, the time from a tool sample to the surface it changed
+/// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max) beside the push target (p99 <= 50 ms) and the
+/// sculpt step times, and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
+std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);
 
 /// Runs `tridex demo` sessions (app::run_demo: workpiece, SessionRuntime, scripted stroke, outputs at a small image
 /// size) for every resolution and path, reads each one's report.json, prints a table and writes

@@ -35,6 +35,13 @@ void sleep_until_ns(std::int64_t t_ns) {
     }
 }
 
+// Touches 128 KiB of the calling thread's stack below this frame, a page at a time, so that those pages are mapped
+// (and, under mlockall, locked) before the first tick: no tick takes a page fault on its own stack.
+[[gnu::noinline]] void prefault_stack() {
+    volatile unsigned char pad[128 * 1024];
+    for (std::size_t i = 0; i < sizeof pad; i += 4096) pad[i] = 0;
+}
+
 bool finite_state(const devices::DeviceState& s) {
     const Quat& q = s.pose.orientation;
     return std::isfinite(s.t_s) && is_finite(s.pose.position) && is_finite(s.velocity_m_s) && std::isfinite(q.w) &&
@@ -166,6 +173,10 @@ void HapticLoop::begin_session() {
     device_lost_ = false;
     realtime_ = false;
     locked_ = false;
+    realtime_errno_ = 0;
+    lock_errno_ = 0;
+    over_2ms_ = 0;
+    over_5ms_ = 0;
     energy_ = 0.0;
     contact_.reset();
     filter_.reset();
@@ -215,6 +226,10 @@ LoopStats HapticLoop::stats() const {
     s.passivity_energy_j = energy_.load(std::memory_order_relaxed);
     s.realtime_scheduling = realtime_.load(std::memory_order_relaxed);
     s.memory_locked = locked_.load(std::memory_order_relaxed);
+    s.realtime_errno = realtime_errno_.load(std::memory_order_relaxed);
+    s.memory_lock_errno = lock_errno_.load(std::memory_order_relaxed);
+    s.periods_over_2ms = over_2ms_.load(std::memory_order_relaxed);
+    s.periods_over_5ms = over_5ms_.load(std::memory_order_relaxed);
     s.velocity_limit_ticks = speed_cuts_.load(std::memory_order_relaxed);
     s.stale_remote_ticks = stale_remote_.load(std::memory_order_relaxed);
     s.period_histogram = period_hist_.snapshot();
@@ -341,6 +356,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
 
     ToolSample sample;
     sample.t_s = state.t_s;
+    sample.made_s = static_cast<double>(now_ns()) * 1e-9;  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
     sample.position = tool_world.position;
     {
         const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m : c.proxy_m - tool_world.position;
@@ -395,7 +411,11 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
 void HapticLoop::finish(TickRecord& rec, double compute_s) {
     rec.compute_us = static_cast<float>(compute_s * 1e6);
     // The session's first tick has no period.
-    if (ticks_.load(std::memory_order_relaxed) > 0) period_hist_.add(static_cast<double>(rec.period_us) * 1e-6);
+    if (ticks_.load(std::memory_order_relaxed) > 0) {
+        period_hist_.add(static_cast<double>(rec.period_us) * 1e-6);
+        if (rec.period_us > 2000.0f) over_2ms_.fetch_add(1, std::memory_order_relaxed);
+        if (rec.period_us > 5000.0f) over_5ms_.fetch_add(1, std::memory_order_relaxed);
+    }
     compute_hist_.add(compute_s);
     if (recorded_ < records_.size()) records_[recorded_++] = rec;
     if (cfg_.record_stream && !cfg_.record_stream->try_push(rec)) stream_dropped_.fetch_add(1, std::memory_order_relaxed);
@@ -462,7 +482,10 @@ void HapticLoop::run() noexcept {
         const RealtimeStatus rt = request_realtime(cfg_.realtime_priority, cfg_.lock_memory);
         realtime_.store(rt.fifo, std::memory_order_relaxed);
         locked_.store(rt.memory_locked, std::memory_order_relaxed);
+        realtime_errno_.store(rt.fifo_errno, std::memory_order_relaxed);
+        lock_errno_.store(rt.lock_errno, std::memory_order_relaxed);
     }
+    prefault_stack();  // the ticks' stack pages resident (and locked) before the first deadline
     const std::int64_t period_ns = std::llround(cfg_.period_s * 1e9);
     const std::int64_t t0 = now_ns();
     std::int64_t next = t0;

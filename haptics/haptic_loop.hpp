@@ -142,6 +142,10 @@ struct LoopStats {
     double passivity_energy_j = 0.0;  ///< passivity observer energy E, J (< 0: the environment created energy)
     bool realtime_scheduling = false; ///< the loop thread got SCHED_FIFO (false when refused or not asked)
     bool memory_locked = false;       ///< mlockall succeeded for the loop
+    int realtime_errno = 0;           ///< why SCHED_FIFO was refused (RealtimeStatus::fifo_errno: EPERM, ...); 0 = granted or not asked
+    int memory_lock_errno = 0;        ///< why mlockall was refused (RealtimeStatus::lock_errno); 0 = locked or not asked
+    std::size_t periods_over_2ms = 0; ///< tick periods longer than 2 ms (stalls a hand feels as a step in the force)
+    std::size_t periods_over_5ms = 0; ///< tick periods longer than 5 ms
     std::size_t velocity_limit_ticks = 0;  ///< ticks whose output was cut by the velocity limit
     std::size_t stale_remote_ticks = 0;    ///< local rendering: ticks whose remote tool sample was stale
     Histogram period_histogram;       ///< tick periods, s: bins of period_s / 50 up to 4 periods, then overflow
@@ -323,6 +327,8 @@ private:
     std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
+    std::atomic<int> realtime_errno_{0}, lock_errno_{0};
+    std::atomic<std::size_t> over_2ms_{0}, over_5ms_{0};
     std::atomic<double> energy_{0.0};
     std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte
     ToolPoints base_points_{};           // the configured contact points (tool at cfg_.tool's size)

@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 namespace tridex::haptics {
 
@@ -39,6 +42,33 @@ RealtimeStatus request_realtime(int priority, bool lock_memory) {
         else st.lock_errno = errno;
     }
     return st;
+}
+
+namespace {
+
+std::string first_line(const char* path) {
+    std::ifstream f(path);
+    std::string line;
+    std::getline(f, line);
+    return line;
+}
+
+}  // namespace
+
+std::string kernel_preemption() {
+    // "none voluntary (full) lazy": the mode in parentheses is active.
+    const std::string dyn = first_line("/sys/kernel/debug/sched/preempt");
+    if (const auto a = dyn.find('('), b = dyn.find(')'); a != std::string::npos && b != std::string::npos && b > a)
+        return dyn.substr(a + 1, b - a - 1);
+    std::istringstream cmdline(first_line("/proc/cmdline"));
+    for (std::string arg; cmdline >> arg;)
+        if (arg.rfind("preempt=", 0) == 0) return arg.substr(8);
+    const std::string version = first_line("/proc/sys/kernel/version");
+    if (version.find("PREEMPT_RT") != std::string::npos) return "rt";
+    if (version.find("PREEMPT_DYNAMIC") != std::string::npos) return "dynamic (mode not readable)";
+    if (version.find("PREEMPT_LAZY") != std::string::npos) return "lazy";
+    if (version.find("PREEMPT ") != std::string::npos) return "full";
+    return version.empty() ? "unknown" : "none";
 }
 
 }  // namespace tridex::haptics

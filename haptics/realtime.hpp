@@ -1,6 +1,8 @@
 // haptics/realtime.hpp - ask the OS for real-time scheduling and resident memory for the haptic thread.
 #pragma once
 
+#include <string>
+
 namespace tridex::haptics {
 
 /// What the system granted to request_realtime(). Refusals are normal (an unprivileged user, a
@@ -23,5 +25,13 @@ struct RealtimeStatus {
 /// allocations of other threads fail. Never throws and never aborts: refusals are returned.
 /// Linux only (sched(7), mlock(2)).
 RealtimeStatus request_realtime(int priority, bool lock_memory);
+
+/// The running kernel's preemption model, which bounds how late a SCHED_FIFO thread can start after its timer:
+/// under "none" or "voluntary" it waits until the task on its core leaves a kernel section (file-system writeback,
+/// a large socket write), which can take milliseconds. Read from /sys/kernel/debug/sched/preempt (the active mode of
+/// a PREEMPT_DYNAMIC kernel, needs debugfs), else a preempt= boot argument (/proc/cmdline), else the build named in
+/// /proc/sys/kernel/version: "full", "voluntary", "none", "lazy", "rt", or "dynamic (mode not readable)" / "unknown".
+/// Never throws. Linux only.
+std::string kernel_preemption();
 
 }  // namespace tridex::haptics

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <bit>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "app/session/session_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "haptics/realtime.hpp"
 
 namespace tridex::app {
 
@@ -122,6 +124,12 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
     auto extent = [](const Aabb& b) {
         return b.empty() ? nlohmann::json{0.0, 0.0, 0.0} : nlohmann::json{b.size().x, b.size().y, b.size().z};
     };
+    // A refusal of the system, with its errno: "EPERM (Operation not permitted)"; null when granted or not asked.
+    auto refusal = [](int err) {
+        return err == 0 ? nlohmann::json(nullptr)
+                        : nlohmann::json(std::string(strerrorname_np(err) ? strerrorname_np(err) : "E?") + " (" +
+                                         std::strerror(err) + ")");
+    };
     auto histogram_us = [](const haptics::Histogram& h) {
         return nlohmann::json{{"median", 1e6 * h.quantile(0.5)}, {"p99", 1e6 * h.quantile(0.99)}, {"max", 1e6 * h.max_s}};
     };
@@ -137,6 +145,11 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"passivity_energy_j", loop.passivity_energy_j},
             {"realtime_scheduling", loop.realtime_scheduling},
             {"memory_locked", loop.memory_locked},
+            {"realtime_refused", refusal(loop.realtime_errno)},
+            {"memory_lock_refused", refusal(loop.memory_lock_errno)},
+            {"periods_over_2ms", loop.periods_over_2ms},
+            {"periods_over_5ms", loop.periods_over_5ms},
+            {"kernel_preemption", haptics::kernel_preemption()},
             {"velocity_limit_ticks", loop.velocity_limit_ticks},
             {"static_friction", spec.static_friction},
             {"dynamic_friction", spec.dynamic_friction},

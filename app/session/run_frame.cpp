@@ -2,7 +2,9 @@
 // and drawing it through the stereo sink.
 #include "app/session/run_pipeline_parts.hpp"
 
+#include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace tridex::app {
 
@@ -198,7 +200,8 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
     }
     const auto t0 = Clock::now();
     if (mouse_stylus) {
-        if (!window) mouse_stylus->apply_script(scene.cursor, lv.t_s);
+        // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus.
+        if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, lv.t_s);
         // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
         double w_px = rend->width(), h_px = rend->height();
         if (window) {
@@ -229,9 +232,12 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
 void RunPipeline::Parts::draw(std::uint64_t frame) {
     SessionRuntime& rt = backend->runtime();
     const MeshFrame& mesh = rt.latest_mesh();
+    double sample_s = std::numeric_limits<double>::quiet_NaN();  // a sculpted change drawn for the first time
     if (mesh.version != r.last_mesh_version) {
         ++r.mesh_versions_drawn;
         r.last_mesh_version = mesh.version;
+        sample_s = mesh.oldest_sample_s;
+        if (std::isfinite(sample_s)) r.sample_to_published_ms.push_back(1e3 * (mesh.published_s - sample_s));
     }
     // The mouse stylus picks on the CPU: with the GPU contour (no CPU meshes published) the contour is read back
     // when it changed, at most every kPickRefreshS, and not while the left button holds the surface anyway.
@@ -253,6 +259,9 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     const haptics::LoopView& lv = rt.latest_view();
     renderer::SceneView view = frame_view(mesh, lv, saving);
     present(frame, mesh, lv, view, contour_lock);
+    if (std::isfinite(sample_s))
+        r.sample_to_drawn_ms.push_back(
+            1e3 * (std::chrono::duration<double>(Clock::now().time_since_epoch()).count() - sample_s));
 }
 
 // 4. The session's frames, on this thread, through the one frame loop (run_frames) at the display's rate (offscreen:

@@ -165,6 +165,8 @@ json run_report_json(const RunResult& r) {
           {"last_version", r.last_mesh_version},
           {"published", r.sculpt.mesh_publishes},
           {"publish_ms", summary_report_json(r.sculpt.mesh_publish_ms)},
+          {"sample_to_drawn_ms", summary_report_json(r.sample_to_drawn_ms)},
+          {"sample_to_published_ms", summary_report_json(r.sample_to_published_ms)},
           {"triangles", r.triangles}}},
         {"mouse", r.mouse},
         {"study", r.study},

@@ -1,6 +1,7 @@
 // compute/runtime/sculpt_thread.cpp - the sculpt thread loop.
 #include "compute/runtime/sculpt_thread.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -319,6 +320,7 @@ bool SculptThread::step() {
     const auto t0 = std::chrono::steady_clock::now();
     ToolSample s;
     bool changed = false, sampled = false;
+    double oldest_cut_s = std::numeric_limits<double>::infinity();  // the oldest cutting sample's made_s
     batch_.clear();
     drained_.clear();
     std::size_t begin = 0, n = 0;  // drained_[begin, n) not yet journalled
@@ -329,6 +331,7 @@ bool SculptThread::step() {
         ++stats_.samples;
         if (journal_) drained_.push_back(s);
         const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
+        if (cuts && s.made_s < oldest_cut_s) oldest_cut_s = s.made_s;
         // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then
         // belongs to the next stroke.
         if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && (!cuts || !same_tool(s, prev_))) {
@@ -360,7 +363,10 @@ bool SculptThread::step() {
     // A push stroke keeps the haptic surface of its start (holding_reference); it is re-extracted there only to follow
     // the tool.
     if ((changed && !holding_reference()) || moved_cells > kRecentreCells) publish(centre);
-    if (changed) contour_changed(t0, std::chrono::steady_clock::now());
+    if (changed) {
+        pending_sample_s_ = std::min(pending_sample_s_, oldest_cut_s);
+        contour_changed(t0, std::chrono::steady_clock::now());
+    }
     return true;
 }
 
@@ -466,6 +472,8 @@ void SculptThread::publish_mesh() {
     }
     slot.sculpt_steps = stats_.steps;
     slot.published_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    slot.oldest_sample_s = std::isfinite(pending_sample_s_) ? pending_sample_s_ : std::numeric_limits<double>::quiet_NaN();
+    pending_sample_s_ = std::numeric_limits<double>::infinity();
     slot.version = ++mesh_version_;
     mesh_out_->publish();
     mesh_pending_ = false;

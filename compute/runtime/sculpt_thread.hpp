@@ -7,6 +7,7 @@
 #include <exception>
 #include <functional>
 #include <string>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <cstdint>
@@ -129,6 +130,10 @@ struct MeshFrame {
     std::size_t triangles = 0;   ///< triangles in mesh or summed over tiles
     std::uint64_t sculpt_steps = 0;  ///< SculptStats::steps when published (for a sculpt rate, steps/s)
     double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
+    /// The oldest ToolSample::made_s among the cutting samples of the steps that changed the model since the previous
+    /// publish (steady-clock s): a renderer that draws this frame shows that sample's effect, so draw time minus this
+    /// is the frame's worst tool-sample-to-drawn latency. NaN when no such step (or no sample time) came.
+    double oldest_sample_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Strokes and undo: the samples' sweeps are applied stroke by stroke through a SculptHistory. A stroke closes at a
@@ -323,6 +328,7 @@ private:
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;
+    double pending_sample_s_ = std::numeric_limits<double>::infinity();  // MeshFrame::oldest_sample_s of the next publish
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id

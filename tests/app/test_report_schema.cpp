@@ -128,7 +128,22 @@ TEST(ReportSchema, DemoReplayAndRunWriteTheSameKeys) {
         EXPECT_EQ((*j)["sculpt"]["backend"], "cpu") << (*j)["command"];
         EXPECT_EQ((*j)["sculpt"]["backend_reason"], "--cpu given") << (*j)["command"];
         EXPECT_EQ((*j)["sculpt_path"], (*j)["sculpt"]["backend"]) << (*j)["command"];
+        // The haptic loop's stalls over the whole session, and what the system granted or refused.
+        const json& h = (*j)["haptics"];
+        EXPECT_LE(h["periods_over_5ms"].get<long>(), h["periods_over_2ms"].get<long>()) << (*j)["command"];
+        EXPECT_TRUE(h["realtime_refused"].is_null() || h["realtime_refused"].is_string()) << h["realtime_refused"];
+        EXPECT_TRUE(h["memory_lock_refused"].is_null() || h["memory_lock_refused"].is_string());
+        if (!h["realtime_refused"].is_null()) {
+            EXPECT_FALSE(h["realtime_scheduling"].get<bool>()) << h;
+        }
+        EXPECT_FALSE(h["kernel_preemption"].get<std::string>().empty());
+        EXPECT_GE(h["period_us"]["max"].get<double>(), h["period_us"]["p99"].get<double>());
     }
+    // The run drew its stroke's changes: each first drawn some time after its tool sample, after its publish.
+    const json& lat = r["meshes"]["sample_to_drawn_ms"];
+    ASSERT_TRUE(lat.is_object()) << r["meshes"];
+    EXPECT_GT(lat["median"].get<double>(), 0.0);
+    EXPECT_GE(lat["median"].get<double>(), r["meshes"]["sample_to_published_ms"]["median"].get<double>());
     EXPECT_EQ(d["mesh"]["boundary_edges"], 0);
     EXPECT_EQ(r["mesh"]["boundary_edges"], 0);
     fs::remove_all(dir);

@@ -17,6 +17,7 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
     o.resolutions = {48};
     o.paths = {"cpu", "gpu"};
     o.seconds = 0.5;
+    o.latency_resolutions = {48};
     o.out = (std::filesystem::temp_directory_path() / "tridex_bench_session").string();
     const std::vector<SessionBenchRow> rows = run_session_bench(o);
     ASSERT_EQ(rows.size(), 2u);
@@ -29,6 +30,19 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
         EXPECT_GT(r.volume_removed_m3, 0.0);
     }
     EXPECT_EQ(rows[0].path, "cpu");
+    EXPECT_EQ(rows[1].path, "gpu");  // each row's path forced, whatever the device's type
+    // The latency rows: a subtract and a push, each with sculpted changes drawn and their latencies written.
+    std::ifstream lin(std::filesystem::path(o.out) / "latency_bench.json");
+    const nlohmann::json lat = nlohmann::json::parse(lin);
+    ASSERT_EQ(lat.size(), 2u);
+    EXPECT_EQ(lat[0]["op"], "subtract");
+    EXPECT_EQ(lat[1]["op"], "push");
+    for (const nlohmann::json& r : lat) {
+        EXPECT_GT(r["frames"].get<int>(), 0) << r;
+        EXPECT_GT(r["p50_ms"].get<double>(), 0.0) << r;
+        EXPECT_GE(r["p99_ms"].get<double>(), r["p50_ms"].get<double>()) << r;
+        EXPECT_EQ(r["target_p99_ms"].get<double>(), 50.0);
+    }
     std::ifstream in(std::filesystem::path(o.out) / "session_bench.json");
     const nlohmann::json j = nlohmann::json::parse(in);
     ASSERT_EQ(j.size(), 2u);
