@@ -44,6 +44,7 @@ struct DemoOptions {
     bool no_journal = false;       ///< --no-journal: write no journal
     double checkpoint_s = 120.0;   ///< wall time between checkpoint models next to the journal, s (0 = none)
     double history_mib = 256.0;    ///< the undo history's memory budget, MiB
+    bool keep_islands = false;     ///< --keep-islands: keep the specks a cut leaves floating (SessionSpec::keep_islands)
     bool cpu = false;              ///< --cpu: sculpt on the CPU reference even when a Vulkan device exists
     bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)

@@ -14,8 +14,9 @@ namespace tridex::app {
 /// file on a bad recording or settings. `sculpt`: where the Booleans and the contour run (--cpu,
 /// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model. `save`: where the final model is
 /// written (.tdx, as `demo --save`; "" = not saved); refused up front when it names the recording, the workpiece or
-/// one of --out's files.
+/// one of --out's files. `keep_islands`: keep the specks cuts left even when the recorded session removed them
+/// (--keep-islands); false = the recording's setting (SessionSpec::keep_islands), so the model is the live one.
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {},
-                const std::string& save = "");
+                const std::string& save = "", bool keep_islands = false);
 
 }  // namespace tridex::app

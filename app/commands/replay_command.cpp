@@ -15,6 +15,7 @@ struct ReplayCli {
     OutputOptions out;
     SculptOptions sculpt;
     std::string save;
+    bool keep_islands = false;
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -34,8 +35,11 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_flag("--gpu-clay", o->sculpt.gpu_clay,
                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe)");
     cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");
+    cmd.add_flag("--keep-islands", o->keep_islands,
+                 "Keep the specks cuts left floating even when the recorded session removed them (default: as the "
+                 "recording says)");
     return [o] {
-        run_replay(o->file, o->out, o->sculpt, o->save);
+        run_replay(o->file, o->out, o->sculpt, o->save, o->keep_islands);
         return 0;
     };
 }
