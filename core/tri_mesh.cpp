@@ -46,6 +46,30 @@ EdgeStats edge_stats(const TriMesh& mesh) {
     return stats;
 }
 
+std::size_t mesh_components(const TriMesh& mesh) {
+    std::vector<std::uint32_t> parent(mesh.positions.size());
+    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<std::uint32_t>(i);
+    const auto find = [&](std::uint32_t a) {
+        while (parent[a] != a) a = parent[a] = parent[parent[a]];
+        return a;
+    };
+    for (const auto& t : mesh.triangles)
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t a = find(t[0]), b = find(t[k]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<std::uint8_t> seen(parent.size(), 0);
+    std::size_t n = 0;
+    for (const auto& t : mesh.triangles) {
+        const std::uint32_t r = find(t[0]);
+        if (!seen[r]) {
+            seen[r] = 1;
+            ++n;
+        }
+    }
+    return n;
+}
+
 double signed_volume(const TriMesh& mesh) {
     double six_v = 0.0;
     for (const auto& t : mesh.triangles) {

@@ -34,6 +34,11 @@ struct EdgeStats {
 /// every index < positions.size() (meshes from compute::load_closed_mesh or the contourer satisfy it).
 EdgeStats edge_stats(const TriMesh& mesh);
 
+/// Connected components of the mesh: groups of triangles joined through shared vertex indices (a welded mesh
+/// such as the contourer's; unwelded copies of a position count apart). 0 for a mesh without triangles. O(T a(T))
+/// for T triangles. Every index must be < positions.size().
+std::size_t mesh_components(const TriMesh& mesh);
+
 /// Signed volume enclosed by the mesh (divergence theorem, sum of signed tetrahedra), m^3.
 /// Positive for a closed mesh with outward normals. Exact up to double rounding.
 double signed_volume(const TriMesh& mesh);

@@ -44,6 +44,11 @@ struct CommandRegistration {
     explicit CommandRegistration(Command command);
 };
 
+/// The help line of --keep-islands (run, demo): the sessions that sculpt share it.
+inline constexpr const char* kKeepIslandsHelp =
+    "Keep the specks a cut leaves floating (default: when a stroke ends, pieces it cut loose that are smaller than "
+    "the tool's ball are removed; report.json sculpt.islands_removed counts them)";
+
 /// The whole command line: builds a CLI11 parser from the table (`tridex --help` lists every command, `tridex CMD
 /// --help` its options), parses argv, runs the chosen command and turns errors into exit codes: 2 for a bad
 /// command line or tridex::Error (one line on stderr), 3 out of memory, 4 device lost, 1 internal error, and

@@ -91,6 +91,7 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::Device
     s.resolution = o.resolution;
     s.stock_m = o.stock_m;
     s.history_budget_bytes = static_cast<std::size_t>(o.history_mib * 1048576.0);
+    s.keep_islands = o.keep_islands;
     s.workpiece_centre_m = kWorkpieceCentre;
     s.tool = ToolShape{parse_tool_kind(o.tool, "--tool"), o.tool_radius_m, 0.0, 0};
     double press_reach_m = o.tool_radius_m;  // from the tool origin to its lowest point along the press direction (+z)

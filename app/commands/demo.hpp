@@ -46,6 +46,7 @@ struct DemoOptions {
     double history_mib = 256.0;    ///< the undo history's memory budget, MiB
     bool cpu = false;              ///< --cpu: sculpt on the CPU pool whatever the Vulkan device (default: decide_backend)
     bool gpu = false;              ///< --gpu: sculpt on the GPU compute path whatever the device's type
+    bool keep_islands = false;     ///< --keep-islands: keep the specks a cut leaves floating (SessionSpec::keep_islands)
     bool cpu_contour = false;      ///< --cpu-contour: contour on the CPU even when sculpting on the GPU
     bool gpu_contour = false;      ///< --gpu-contour: contour on the GPU even on a CPU Vulkan device (lavapipe)
     bool gpu_clay = false;         ///< --gpu-clay: clay on the GPU kernel even on a CPU Vulkan device (lavapipe)

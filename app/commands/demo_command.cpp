@@ -90,6 +90,7 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
         ->capture_default_str();
     cmd.add_option("--history-mib", o.demo.history_mib, "Memory for undo, MiB (oldest strokes dropped first)")
         ->capture_default_str();
+    cmd.add_flag("--keep-islands", o.demo.keep_islands, kKeepIslandsHelp);
     cmd
         .add_option("--op", o.demo.op,
                      "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")

@@ -96,7 +96,8 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                 throw Error(path + ": its lattice is not the session's");
             compute::TriDexel model = std::move(m.model);
             std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // contoured whole below
-            compute::JournalApplyFrom start{k + 1, compute::journal_last_serial(j.records, k), s.history_budget_bytes};
+            compute::JournalApplyFrom start{k + 1, compute::journal_last_serial(j.records, k), s.history_budget_bytes,
+                                            !s.keep_islands};
             applied = compute::journal_apply(model, j.records, start);
             applied.records += k + 1;  // the records the checkpoint holds
             wp.model = std::move(model);
@@ -109,6 +110,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     if (!done) {
         compute::JournalApplyFrom start;
         start.history_budget_bytes = s.history_budget_bytes;
+        start.remove_islands = !s.keep_islands;
         try {
             applied = compute::journal_apply(wp.model, j.records, start);
         } catch (const Error& e) {
@@ -134,6 +136,8 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["strokes"] = applied.strokes;
     r["undos"] = applied.undos;
     r["redos"] = applied.redos;
+    r["islands_removed"] = applied.islands_removed;
+    r["island_volume_m3"] = applied.island_volume_m3;
     r["replayed_from"] = from;
     r["volume_dexel_m3"] = volume_start;
     r["volume_after_m3"] = after;

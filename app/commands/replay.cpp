@@ -22,7 +22,7 @@
 namespace tridex::app {
 
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt,
-                const std::string& save, const StripRequest& strip) {
+                const std::string& save, const StripRequest& strip, bool keep_islands) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     prepare_output_dir(out.out, "--out");
@@ -40,6 +40,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     }
     const devices::Recording rec = devices::read_recording(recording_path);
     SessionSpec s = spec_from_json(rec.header.notes, recording_path);
+    if (keep_islands) s.keep_islands = true;
     if (!save.empty()) {
         std::vector<NamedFile> outputs{{"--save", save}};
         for (const char* name : kSessionOutputFiles)

@@ -15,7 +15,8 @@ namespace tridex::app {
 /// file on a bad recording or settings. `sculpt`: where the Booleans and the contour run (--cpu,
 /// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model. `save`: where the final model is
 /// written (.tdx, as `demo --save`; "" = not saved); refused up front when it names the recording, the workpiece or
-/// one of --out's files.
+/// one of --out's files. `keep_islands`: keep the specks cuts left even when the recorded session removed them
+/// (--keep-islands); false = the recording's setting (SessionSpec::keep_islands), so the model is the live one.
 /// `strip`: when its path is set, the replay also journals its samples (out.out/session.tdj) and draws a film strip of
 /// them (write_film_strip) into that PNG: a carve told in pictures, written from a recording so it can be made again.
 struct StripRequest {
@@ -23,6 +24,6 @@ struct StripRequest {
     FilmStripOptions options;      ///< pictures, their size, ambient occlusion
 };
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {},
-                const std::string& save = "", const StripRequest& strip = {});
+                const std::string& save = "", const StripRequest& strip = {}, bool keep_islands = false);
 
 }  // namespace tridex::app

@@ -18,6 +18,7 @@ struct ReplayCli {
     std::string save;
     StripRequest strip;
     std::string strip_size = "320x240";
+    bool keep_islands = false;
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -42,6 +43,9 @@ CommandAction setup_replay(CLI::App& cmd) {
                  "it also sculpts on the GPU compute path")
         ->excludes(cpu);
     cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");
+    cmd.add_flag("--keep-islands", o->keep_islands,
+                 "Keep the specks cuts left floating even when the recorded session removed them (default: as the "
+                 "recording says)");
     cmd.add_option("--strip", o->strip.path,
                    "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "
                    "into FILE.png");
@@ -50,7 +54,7 @@ CommandAction setup_replay(CLI::App& cmd) {
     return [o] {
         std::tie(o->strip.options.width, o->strip.options.height) = parse_image_size(o->strip_size, "--strip-size");
         o->strip.options.ao = o->out.ao;
-        run_replay(o->file, o->out, o->sculpt, o->save, o->strip);
+        run_replay(o->file, o->out, o->sculpt, o->save, o->strip, o->keep_islands);
         return 0;
     };
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <new>
 
+#include "app/commands/command.hpp"
 #include "app/session/run_session.hpp"
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
@@ -88,6 +89,7 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "Seconds between checkpoint models written next to the journal while sculpting (0 = none)")
         ->capture_default_str();
     cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
+    cmd->add_flag("--keep-islands", o.keep_islands, kKeepIslandsHelp);
 }
 
 int run_command(const RunOptions& options) {
@@ -108,6 +110,9 @@ int run_command(const RunOptions& options) {
                         static_cast<unsigned long long>(r.sculpt.history.undos),
                         static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
                         static_cast<unsigned long long>(r.saves.saves));
+        if (r.sculpt.islands.specks > 0)
+            std::printf("  specks removed: %llu (%.3g mm^3 cut loose by strokes; --keep-islands keeps them)\n",
+                        static_cast<unsigned long long>(r.sculpt.islands.specks), r.sculpt.islands.volume_m3 * 1e9);
         for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
         std::printf("  outputs: %s\n", r.setup.out.c_str());
         return 0;

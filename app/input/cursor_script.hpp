@@ -19,6 +19,7 @@ struct CursorPoint {
     double x_px = 0.0;          ///< cursor x, pixels
     double y_px = 0.0;          ///< cursor y, pixels
     std::uint32_t buttons = 0;  ///< cursor_buttons bits held from t_s until the next point
+    double wheel = 0.0;         ///< wheel steps turned once when the script reaches t_s (MouseStylus::wheel: + = deeper)
 };
 
 /// A cursor path in device time: the position is interpolated linearly between points, the buttons are those

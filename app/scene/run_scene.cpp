@@ -293,6 +293,7 @@ void read_cursor(Fields& top, RunScene& s) {
         p.x_px = f.number("x_px", 0.0, -1e5, 1e5);
         p.y_px = f.number("y_px", 0.0, -1e5, 1e5);
         p.buttons = static_cast<std::uint32_t>(f.integer("buttons", 0, 0, 3));
+        p.wheel = f.number("wheel", 0.0, -1000.0, 1000.0);
         f.finish();
         s.cursor.points.push_back(p);
     }

@@ -295,7 +295,8 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"material", s.material},
                  {"materials", materials},
                  {"period_s", s.period_s},
-                 {"history_budget_bytes", s.history_budget_bytes}};
+                 {"history_budget_bytes", s.history_budget_bytes},
+                 {"keep_islands", s.keep_islands}};
     if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
     return j.dump();
 }
@@ -364,6 +365,9 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     if (j.contains("material")) get(j, "material", s.material);
     if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
     if (j.contains("history_budget_bytes")) get(j, "history_budget_bytes", s.history_budget_bytes);
+    // Sessions before speck removal kept every piece: their recordings and journals replay that way.
+    s.keep_islands = true;
+    if (j.contains("keep_islands")) get(j, "keep_islands", s.keep_islands);
     if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
     if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
     if (j.contains("model_path")) get(j, "model_path", s.model_path);

@@ -93,6 +93,11 @@ struct SessionSpec {
     /// Memory the undo history may keep, bytes (compute::UndoHistory; oldest strokes dropped first). It does not
     /// change the model, but a journal replays its undos with it.
     std::size_t history_budget_bytes = std::size_t{256} << 20;
+    /// Keep the specks a cut leaves floating (--keep-islands). false: when a stroke that cut closes, the pieces it
+    /// left wholly inside its swept box (grown by its tool's radius) that are smaller than its tool's ball are removed
+    /// (compute::find_islands), as part of the stroke (undone with it). It changes the model, so a recording and a
+    /// journal carry it; those made before it existed read as true (their sessions kept every piece).
+    bool keep_islands = false;
 };
 
 /// The ToolOp named by `name` (subtract, union, paint, push, smooth, pull, or none: the tool touches but never changes
@@ -154,7 +159,8 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 std::string spec_to_json(const SessionSpec& s);
 
 /// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
-/// materials); throws tridex::Error "<source>: settings field '<name>': ..." on a missing or ill-typed field.
+/// materials, keep_islands true when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
+/// missing or ill-typed field.
 SessionSpec spec_from_json(const std::string& text, const std::string& source);
 
 }  // namespace tridex::app

@@ -221,7 +221,8 @@ nlohmann::json demo_report_json(const DemoReport& r) {
                  {"triangles", r.triangles},
                  {"boundary_edges", r.edges.boundary_edges},
                  {"nonmanifold_edges", r.edges.nonmanifold_edges},
-                 {"misoriented_edges", r.edges.misoriented_edges}};
+                 {"misoriented_edges", r.edges.misoriented_edges},
+                 {"components", r.components}};
     j["ticks"] = recs.size();
     j["period_us"] = period;
     j["tick_compute_us"] = compute;
@@ -314,8 +315,12 @@ void print_summary(const DemoReport& r, const std::string& out_dir, const std::s
                 static_cast<unsigned long long>(r.sculpt->booleans),
                 static_cast<unsigned long long>(r.sculpt->tiles_recontoured), removed_cm3 < 0.0 ? "added" : "removed",
                 std::fabs(removed_cm3), r.volume_dexel_m3 * 1e6);
-    std::printf("  mesh: %zu vertices, %zu triangles, %zu boundary edges, %zu non-manifold edges\n", r.vertices,
-                r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges);
+    std::printf("  mesh: %zu vertices, %zu triangles, %zu boundary edges, %zu non-manifold edges, %zu part%s\n",
+                r.vertices, r.triangles, r.edges.boundary_edges, r.edges.nonmanifold_edges, r.components,
+                r.components == 1 ? "" : "s");
+    if (r.sculpt->islands.specks > 0)
+        std::printf("  specks removed: %llu (%.3g mm^3; --keep-islands keeps them)\n",
+                    static_cast<unsigned long long>(r.sculpt->islands.specks), r.sculpt->islands.volume_m3 * 1e9);
     std::printf("  sculpt path: %s%s%s\n", r.sculpt_path.c_str(), r.sculpt_path == "gpu" ? (" on " + r.sculpt_device).c_str() : "",
                 r.sculpt_path_reason.empty() ? "" : (" (" + r.sculpt_path_reason + ")").c_str());
     if (r.deformation_max_displacement_m)  // a clay session

@@ -31,6 +31,7 @@ struct DemoReport {
     double volume_after_m3 = 0.0;     ///< tri-dexel volume after carving
     EdgeStats edges;                  ///< of the carved mesh
     std::size_t vertices = 0, triangles = 0;  ///< of the carved mesh
+    std::size_t components = 0;               ///< connected parts of the carved mesh (mesh_components)
     /// Per-tick haptic records; not owned, must outlive the writers below (non-null).
     const std::vector<haptics::TickRecord>* records = nullptr;
     haptics::LoopStats loop{};                ///< haptic loop counters (overruns, drops, invalid samples)

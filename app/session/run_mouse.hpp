@@ -31,7 +31,8 @@ public:
 
     /// The stylus the window's input (RunInput::use_stylus) or a script drives.
     MouseStylus& stylus() { return stylus_; }
-    /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons).
+    /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons), and the wheel steps of
+    /// every point reached since the last call (once each).
     void apply_script(const CursorScript& script, double t_dev_s);
     /// Once per frame, before drawing: hands a changed op or tool size to the loop, then the target from the cursor's ray (`screen` and cyclopean `eye_m` in the
     /// model's frame, the eye image width_px x height_px) against `mesh`, handed to the device; `lv` is the
@@ -72,6 +73,7 @@ private:
     std::vector<double> latency_ms_;
     std::uint64_t targets_ = 0, superseded_ = 0;
     std::uint64_t frame_ = 0;  // frames so far (frame() calls)
+    std::size_t wheel_next_ = 0;  // the first scripted point whose wheel steps were not turned yet
 };
 
 }  // namespace tridex::app

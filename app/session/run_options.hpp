@@ -88,6 +88,8 @@ struct RunOptions {
     /// The undo history's memory budget, MiB (SessionSpec::history_budget_bytes), 1..1048576 as the demo's; unset =
     /// the scene's (256 MiB).
     std::optional<double> history_mib;
+    /// --keep-islands: keep the specks a cut leaves floating (SessionSpec::keep_islands; default: removed).
+    bool keep_islands = false;
     /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
     /// Falcon has none running); "" = the scene's device.firmware.
     std::string falcon_firmware;

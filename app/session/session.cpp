@@ -248,6 +248,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.volume_dexel_m3 = wp.volume_dexel_m3;
     r.volume_after_m3 = run.volume_after_m3;
     r.edges = edge_stats(run.carved);
+    r.components = mesh_components(run.carved);
     r.vertices = run.carved.positions.size();
     r.triangles = run.carved.triangles.size();
     r.records = &run.records;

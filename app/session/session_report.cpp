@@ -93,6 +93,7 @@ const std::vector<ReportField>& report_schema() {
         {"mesh.boundary_edges", "edges with one triangle (0 for a closed mesh)"},
         {"mesh.nonmanifold_edges", "edges with more than two triangles (0 expected)"},
         {"mesh.misoriented_edges", "edges whose two triangles disagree in orientation (0 expected)"},
+        {"mesh.components", "connected parts of the mesh (1 for one solid; specks a cut left floating add one each)"},
         {"ticks", "haptic ticks recorded"},
         {"period_us", "haptic tick period, us: {median, p99, mean, max} (the first tick skipped)"},
         {"tick_compute_us", "haptic tick compute time, us: {median, p99, mean, max}"},
@@ -116,6 +117,11 @@ const std::vector<ReportField>& report_schema() {
         {"sculpt.backend", "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
         {"sculpt.backend_reason", "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
                                   "Vulkan device is a CPU implementation (llvmpipe ...)\""},
+        {"sculpt.islands_removed", "specks removed: pieces a stroke cut loose, smaller than its tool's ball (0 with "
+                                   "--keep-islands)"},
+        {"sculpt.island_volume_m3", "their volume, m^3"},
+        {"sculpt.island_searches", "strokes searched for specks (strokes that cut; 0 with --keep-islands)"},
+        {"sculpt.island_search_ms", "per stroke searched: the search and the removal, ms {median, p99, mean, max}"},
         {"journal", "the session journal's counters; null with --no-journal"},
         {"history", "the undo history at the end: budget, steps, undos, redos, undo_ms"},
         {"saves", "Ctrl+S saves during the session; null for demo and replay (no keys)"},
@@ -226,7 +232,8 @@ nlohmann::json carved_mesh_report_json(const TriMesh& carved) {
             {"triangles", carved.triangles.size()},
             {"boundary_edges", e.boundary_edges},
             {"nonmanifold_edges", e.nonmanifold_edges},
-            {"misoriented_edges", e.misoriented_edges}};
+            {"misoriented_edges", e.misoriented_edges},
+            {"components", mesh_components(carved)}};
 }
 
 std::array<nlohmann::json, 2> tick_summary_json(const std::vector<haptics::TickRecord>& records) {
@@ -248,7 +255,11 @@ nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initia
             {"tiles_initial", tiles_initial},
             {"tiles_total", tiles_total},
             {"backend", backend},
-            {"backend_reason", string_or_null(backend_reason)}};
+            {"backend_reason", string_or_null(backend_reason)},
+            {"islands_removed", s.islands.specks},
+            {"island_volume_m3", s.islands.volume_m3},
+            {"island_searches", s.islands.searches},
+            {"island_search_ms", summary_report_json(s.island_search_ms)}};
 }
 
 nlohmann::json model_bytes_json(const std::array<std::size_t, 3>& b) {

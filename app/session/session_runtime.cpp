@@ -101,6 +101,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         }
     }
     sculpt_->set_history_budget(spec_.history_budget_bytes);
+    sculpt_->remove_islands(!spec_.keep_islands);
     // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
     if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
     if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "compute/tools/clay_sweep.hpp"
@@ -82,30 +83,47 @@ void UndoHistory::capture(const TriDexel& model, std::span<const Sweep> batch) {
             node_range(lattice_, ua, box.lo[ua], box.hi[ua], u0, u1);
             node_range(lattice_, va, box.lo[va], box.hi[va], v0, v1);
             const RaySet& set = model.sets[a];
-            for (int v = v0; v <= v1; ++v) {
-                for (int u = u0; u <= u1; ++u) {
-                    const std::size_t i = static_cast<std::size_t>(u) + static_cast<std::size_t>(set.nu) * static_cast<std::size_t>(v);
-                    if (copied_[a][i] == stamp_) continue;
-                    copied_[a][i] = stamp_;
-                    RayImage img{static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(i), set.rays[i]};
-                    const std::size_t b = image_bytes(img);
-                    if (bytes_ + b > budget_) trim(b);
-                    if (bytes_ + b > budget_) {  // the open stroke alone outgrew the budget: stop keeping it
-                        bytes_ -= open_step_.bytes;
-                        open_step_.rays = {};
-                        open_step_.bytes = 0;
-                        oversize_ = true;
-                        break;
-                    }
-                    open_step_.bytes += b;
-                    bytes_ += b;
-                    open_step_.rays.push_back(std::move(img));
-                }
-                if (oversize_) break;
-            }
+            for (int v = v0; v <= v1 && !oversize_; ++v)
+                for (int u = u0; u <= u1 && !oversize_; ++u)
+                    copy_ray(model, a, static_cast<std::size_t>(u) + static_cast<std::size_t>(set.nu) * static_cast<std::size_t>(v));
             if (oversize_) break;
         }
     }
+}
+
+void UndoHistory::copy_ray(const TriDexel& model, int a, std::size_t i) {
+    if (copied_[a][i] == stamp_) return;
+    copied_[a][i] = stamp_;
+    RayImage img{static_cast<std::uint8_t>(a), static_cast<std::uint32_t>(i), model.sets[a].rays[i]};
+    const std::size_t b = image_bytes(img);
+    if (bytes_ + b > budget_) trim(b);
+    if (bytes_ + b > budget_) {  // the open stroke alone outgrew the budget: stop keeping it
+        bytes_ -= open_step_.bytes;
+        open_step_.rays = {};
+        open_step_.bytes = 0;
+        oversize_ = true;
+        return;
+    }
+    open_step_.bytes += b;
+    bytes_ += b;
+    open_step_.rays.push_back(std::move(img));
+}
+
+bool UndoHistory::capture_rays(const TriDexel& model, std::span<const RayImage> rays, const Aabb& box_m) {
+    if (!open_) return false;
+    for (const RayImage& r : rays)
+        if (r.axis > 2 || r.index >= model.sets[r.axis].rays.size())
+            throw Error("undo history: ray image outside the model (axis " + std::to_string(r.axis) + ", ray " +
+                        std::to_string(r.index) + ")");
+    if (!box_m.empty()) {
+        open_step_.box_m.add(box_m.lo);
+        open_step_.box_m.add(box_m.hi);
+    }
+    for (const RayImage& r : rays) {
+        if (oversize_) break;
+        copy_ray(model, r.axis, r.index);
+    }
+    return true;
 }
 
 std::uint64_t UndoHistory::end_stroke(const TriDexel& model) {

@@ -57,6 +57,12 @@ public:
     /// Sweeps with op kNone are skipped. Never throws for sweeps the Booleans accept (non-finite boxes are
     /// skipped; the Booleans refuse those sweeps).
     void capture(const TriDexel& model, std::span<const Sweep> batch);
+    /// Copies, into the open stroke, the rays of `model` that `rays` names (only each image's axis and index are read)
+    /// not copied yet in this stroke, and grows the stroke's world box by `box_m` (m): for rays a stroke changes
+    /// beyond its sweeps' boxes (the specks SculptHistory removes at the stroke's end), so that undo restores them
+    /// and marks their tiles dirty. Call before changing them. Returns false, copying nothing, when no stroke is open.
+    /// Throws tridex::Error for an image outside the model.
+    bool capture_rays(const TriDexel& model, std::span<const RayImage> rays, const Aabb& box_m);
     /// True while a stroke is open (something was captured since the last close).
     bool stroke_open() const { return open_; }
     /// Closes the open stroke: its changed rays become an undo step (when there are any, and the redo steps
@@ -98,6 +104,7 @@ private:
         std::vector<RayImage> rays;
     };
     static std::size_t image_bytes(const RayImage& r);
+    void copy_ray(const TriDexel& model, int axis, std::size_t index);  // into the open stroke, once per stroke
     void trim(std::size_t extra);  // drop oldest steps until bytes_ + extra fits the budget
     Change swap_in(Step& step, const TriDexel& model, const RayWriter& write);
 

@@ -21,6 +21,8 @@ struct JournalApplyStats {
     std::uint64_t undos = 0;     ///< undo marks replayed
     std::uint64_t redos = 0;     ///< redo marks replayed
     std::uint64_t marks_skipped = 0;  ///< marks after a gap in record indices that no longer matched the replay
+    std::uint64_t islands_removed = 0;  ///< specks removed at stroke ends (JournalApplyFrom::remove_islands)
+    double island_volume_m3 = 0.0;      ///< their volume, m^3
     double last_t_s = 0.0;       ///< t_s of the last sample (device time, s); 0 without samples
 };
 
@@ -30,12 +32,16 @@ struct JournalApplyFrom {
     std::uint64_t last_serial = 0;   ///< serial of the last stroke closed before that record (0 at the start)
     /// The undo history's budget, bytes; at least the session's, so that every undo it journalled finds its stroke.
     std::size_t history_budget_bytes = UndoHistory::kDefaultBudgetBytes;
+    /// Whether strokes that cut remove the specks they left (app::SculptHistory::remove_islands): the session's
+    /// setting (the journal header's settings, keep_islands), so that the replay removes what the session removed.
+    bool remove_islands = false;
 };
 
 /// Applies `records` from `from.record` on, in order, to `model` through the CPU reference Booleans, as the sculpt
 /// thread did: one batch per batch record (sample_sweep between consecutive samples, across record boundaries; each
 /// batch validated before any of it changes the model), strokes closed, undone and redone at their marks (through
-/// an UndoHistory; checkpoint records are skipped), marking dirty tiles. Sessions have no mesh tools: a kMesh
+/// an UndoHistory; checkpoint records are skipped; with from.remove_islands each stroke that cut removes its specks
+/// where it closes, as the sculpt thread did), marking dirty tiles. Sessions have no mesh tools: a kMesh
 /// sample throws. Throws tridex::Error naming the record on a sweep the Booleans refuse, or on a mark that does not
 /// match the replay (a stroke closed or undone under another serial, an undo with nothing to undo, another number
 /// of rays written back: a journal replayed from a state it was not written from); the model then holds the

@@ -27,6 +27,7 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
     JournalApplyStats st;
     const std::unique_ptr<app::BooleanBackend> cpu = app::make_cpu_backend(model);
     app::SculptHistory history(model, *cpu, from.history_budget_bytes, from.last_serial);
+    history.remove_islands(from.remove_islands);
     std::vector<Sweep> batch;
     ToolSample prev{};
     bool have_prev = false;
@@ -109,6 +110,8 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
         ++st.records;
     }
     history.flush();  // a push group the journal's last batch left open (a session that ended without closing it)
+    st.islands_removed = history.islands().specks;
+    st.island_volume_m3 = history.islands().volume_m3;
     return st;
 }
 

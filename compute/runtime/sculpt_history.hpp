@@ -14,10 +14,35 @@
 
 namespace tridex::app {
 
+/// What the speck search did at the end of one stroke (SculptHistory::end_stroke), or summed over strokes.
+struct IslandRemoval {
+    std::uint64_t searches = 0;  ///< strokes searched (strokes that cut, with removal on)
+    std::uint64_t specks = 0;    ///< specks removed (compute::find_islands)
+    double volume_m3 = 0.0;      ///< their volume, m^3
+    std::uint64_t rays = 0;      ///< rays written to remove them
+    double search_ms = 0.0;      ///< wall time of the search and the writes, ms
+
+    /// Adds `o`'s counts to these.
+    IslandRemoval& operator+=(const IslandRemoval& o) {
+        searches += o.searches;
+        specks += o.specks;
+        volume_m3 += o.volume_m3;
+        rays += o.rays;
+        search_ms += o.search_ms;
+        return *this;
+    }
+};
+
 /// A BooleanBackend's model with per-stroke undo and redo (compute::UndoHistory): apply() captures the rays a batch
 /// may change before applying it; undo() and redo() write rays back through the backend (its GPU slabs and the CPU
 /// model alike) and mark the tiles around the stroke dirty, so contouring and the active surface follow. The sculpt
-/// thread and journal replay both use it, so a replay closes, undoes and redoes the same strokes. Not thread-safe.
+/// thread and journal replay both use it, so a replay closes, undoes and redoes the same strokes.
+/// Specks (remove_islands): when a stroke that cut (subtract sweeps) closes, the pieces of material it left floating
+/// that are smaller than the ball of its tool's radius (compute::find_islands, compute::speck_volume_m3) are removed
+/// within its sweeps' box grown by that radius and two cells: their rays are captured into the stroke's undo step
+/// first (undo restores them, redo removes them again) and written through the backend (GPU slabs and CPU model
+/// alike, tiles marked dirty). The removal depends only on the model and the stroke's sweeps, so a replay of the
+/// same strokes with the same setting removes the same specks. Not thread-safe.
 class SculptHistory {
 public:
     /// `model` and `backend` (built on that model) must outlive this. budget_bytes > 0 (UndoHistory); last_serial:
@@ -39,15 +64,22 @@ public:
     std::size_t held() const { return held_.size(); }
     /// True while a stroke is open.
     bool stroke_open() const { return history_.stroke_open(); }
-    /// Applies the held sweeps (their stats into `flushed` when not null), then closes the open stroke; its serial,
-    /// 0 when none was open.
-    std::uint64_t end_stroke(compute::BooleanStats* flushed = nullptr);
-    /// Undoes the newest stroke (closing the open one first, held sweeps applied); serial 0 when there was nothing to
+    /// Applies the held sweeps (their stats into `flushed` when not null), removes the specks the stroke left when
+    /// remove_islands is on (what it did into `islands` when not null), then closes the open stroke; its serial, 0
+    /// when none was open. Throws what the backend's write_rays throws.
+    std::uint64_t end_stroke(compute::BooleanStats* flushed = nullptr, IslandRemoval* islands = nullptr);
+    /// Undoes the newest stroke (closing the open one first as end_stroke does); serial 0 when there was nothing to
     /// undo.
     compute::UndoHistory::Change undo();
-    /// Redoes the newest undone stroke (closing the open one first, held sweeps applied); serial 0 when there was
+    /// Redoes the newest undone stroke (closing the open one first as end_stroke does); serial 0 when there was
     /// nothing to redo.
     compute::UndoHistory::Change redo();
+    /// Whether strokes that cut remove the specks they leave (default false: the session spec decides,
+    /// SessionSpec::keep_islands; a replay must use the live session's setting).
+    void remove_islands(bool on) { remove_islands_ = on; }
+    bool removes_islands() const { return remove_islands_; }
+    /// The speck removals of every stroke closed so far, summed.
+    const IslandRemoval& islands() const { return island_totals_; }
     /// Serials undo() / redo() would take next (after closing the open stroke), 0 when none.
     std::uint64_t next_undo_serial() const { return history_.next_undo_serial(); }
     std::uint64_t next_redo_serial() const { return history_.next_redo_serial(); }
@@ -74,6 +106,12 @@ private:
     BooleanBackend& backend_;
     compute::UndoHistory history_;
     std::vector<compute::Sweep> held_;  // the open push group, not applied yet
+    bool remove_islands_ = false;
+    Aabb cut_box_{};             // world box of the open stroke's subtract sweeps (empty: it cut nothing)
+    double cut_radius_m_ = 0.0;  // the largest radius of its subtract sweeps' tools, m
+    IslandRemoval island_totals_;
+    void note_cuts(std::span<const compute::Sweep> batch);  // grows cut_box_ and cut_radius_m_
+    IslandRemoval remove_specks();                          // within cut_box_, into the open stroke
 };
 
 }  // namespace tridex::app

@@ -77,6 +77,11 @@ void SculptThread::set_history_budget(std::size_t bytes) {
     history_budget_ = bytes;
 }
 
+void SculptThread::remove_islands(bool on) {
+    if (thread_.joinable()) throw Error("SculptThread::remove_islands: call it before start()");
+    remove_islands_ = on;
+}
+
 void SculptThread::close_strokes_when_idle(bool on) {
     if (thread_.joinable()) throw Error("SculptThread::close_strokes_when_idle: call it before start()");
     idle_close_ = on;
@@ -126,6 +131,7 @@ SaveStatus SculptThread::save_status() const {
 void SculptThread::start() {
     if (thread_.joinable()) throw Error("SculptThread::start: already running");
     history_ = std::make_unique<SculptHistory>(model_, *backend_, history_budget_);
+    history_->remove_islands(remove_islands_);
     checkpoint_last_ = std::chrono::steady_clock::now();
     stop_.store(false);
     failure_ = nullptr;
@@ -260,20 +266,25 @@ void SculptThread::close_stroke() {
     const bool holding = holding_reference();
     const auto t0 = std::chrono::steady_clock::now();
     compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
-    const std::uint64_t serial = history_->end_stroke(&held);
+    IslandRemoval islands;       // the specks the stroke left, removed
+    const std::uint64_t serial = history_->end_stroke(&held, &islands);
     if (held.rays_changed > 0) {
         stats_.rays_changed += held.rays_changed;
         stroke_changed_ = true;
         changed_since_checkpoint_ = true;
         last_change_t_s_ = prev_.t_s;
     }
+    stats_.islands += islands;
+    if (islands.searches > 0) stats_.island_search_ms.push_back(islands.search_ms);
+    if (islands.specks > 0) changed_since_checkpoint_ = true;
     const bool reference_moves = holding && stroke_changed_;
     stroke_changed_ = false;
     push_stroke_ = false;
     if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
     // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
-    if (reference_moves) publish(published_centre_m_);
-    if (held.rays_changed > 0) contour_changed(t0, std::chrono::steady_clock::now());
+    // Removed specks leave the haptic window too.
+    if (reference_moves || islands.specks > 0) publish(published_centre_m_);
+    if (held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
 }
 
 void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {

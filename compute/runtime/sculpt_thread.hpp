@@ -77,6 +77,10 @@ struct SculptStats {
     std::uint64_t checkpoints = 0;     ///< checkpoint models written
     double checkpoint_ms_total = 0.0;  ///< wall time spent writing them, ms
     std::string checkpoint_error;      ///< the first checkpoint failure ("" when none); sculpting went on
+    /// The specks removed at stroke ends (remove_islands), summed over strokes.
+    IslandRemoval islands;
+    /// Per stroke searched for specks: the search and its writes, ms.
+    std::vector<double> island_search_ms;
     /// Where in the sample stream the thread took each undo, redo and stroke-close request and closed an idle stroke,
     /// in order (SculptMark): what a replay of the same samples needs to repeat the session's strokes
     /// (SculptThread::follow_marks).
@@ -192,6 +196,11 @@ public:
     /// Sets the undo history's memory budget (bytes > 0; default compute::UndoHistory::kDefaultBudgetBytes).
     /// Throws tridex::Error when the thread runs or the budget is 0.
     void set_history_budget(std::size_t bytes);
+    /// Whether a stroke that cut removes the specks it left floating when it closes (SculptHistory::remove_islands;
+    /// default false: the session spec decides, and a journal's replay must use the same setting). The removal is
+    /// part of the stroke: journalled with it, undone and redone with it, published and contoured at once. Throws
+    /// tridex::Error when the thread runs.
+    void remove_islands(bool on);
     /// Whether an open stroke closes after kStrokeIdleS of device time without a change (default true: a force
     /// device's stroke ends when the tool leaves the material). Off for input whose stroke is a held button (the
     /// mouse stylus: its samples carry op none when the button is up, which closes the stroke), so that holding
@@ -286,6 +295,7 @@ private:
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};
     bool idle_close_ = true;                         // close_strokes_when_idle
+    bool remove_islands_ = false;                    // remove_islands
     std::vector<SculptMark> follow_;                 // follow_marks
     std::size_t next_mark_ = 0;                      // the first of follow_ not yet taken
     bool following_ = false;                         // follow_marks was called (even with no marks)

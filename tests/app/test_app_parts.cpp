@@ -133,6 +133,20 @@ TEST(SessionSpec, ElasticObjectsRoundTripThroughTheRecordingHeaderAndReachTheLoo
     }
 }
 
+TEST(SessionSpec, KeepIslandsRoundTripsAndOlderRecordingsReadAsKeepingEveryPiece) {
+    SessionSpec s;
+    EXPECT_FALSE(s.keep_islands);  // sessions remove specks unless told
+    EXPECT_FALSE(spec_from_json(spec_to_json(s), "test").keep_islands);
+    s.keep_islands = true;
+    EXPECT_TRUE(spec_from_json(spec_to_json(s), "test").keep_islands);
+    // A recording or journal from before speck removal: its session kept every piece, and so does its replay.
+    nlohmann::json old = nlohmann::json::parse(spec_to_json(SessionSpec{}));
+    old.erase("keep_islands");
+    EXPECT_TRUE(spec_from_json(old.dump(), "old").keep_islands);
+    old["keep_islands"] = "yes";
+    EXPECT_THROW(spec_from_json(old.dump(), "bad"), Error);
+}
+
 TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
     SessionSpec s;
     s.op = "paint";

@@ -290,6 +290,39 @@ TEST(Demo, LavapipeContoursOnTheCpuByDefault) {
     fs::remove_all(out);
 }
 
+// --keep-islands on the command line of demo and run: stored in the settings (so replay and recover follow it), no
+// stroke searched; without it the strokes that cut are searched and the carved mesh is one part.
+TEST(Demo, KeepIslandsIsASessionSettingOfDemoAndRun) {
+    const fs::path dir = fs::temp_directory_path() / ("tridex-test-keep-islands-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string demo = "demo --resolution 48 --seconds 1 --width 64 --height 48 --cpu --no-journal --out ";
+    ASSERT_EQ(run_tridex(demo + (dir / "remove").string(), dir / "remove").exit_code, 0);
+    ASSERT_EQ(run_tridex(demo + (dir / "keep").string() + " --keep-islands", dir / "keep").exit_code, 0);
+    const nlohmann::json removed = tridex::app::test::read_json(dir / "remove" / "report.json");
+    const nlohmann::json kept = tridex::app::test::read_json(dir / "keep" / "report.json");
+    EXPECT_EQ(removed["settings"]["keep_islands"], false);
+    EXPECT_GE(removed["sculpt"]["island_searches"].get<int>(), 1);
+    EXPECT_EQ(removed["mesh"]["components"], 1);
+    EXPECT_EQ(kept["settings"]["keep_islands"], true);
+    EXPECT_EQ(kept["sculpt"]["island_searches"], 0);
+    EXPECT_EQ(kept["sculpt"]["islands_removed"], 0);
+    const std::string scene = (dir / "scene.json").string();
+    std::ofstream(scene) << R"({
+  "workpiece": { "resolution": 48, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+  "tool": { "radius_m": 0.006 },
+  "stroke": { "duration_s": 0.5, "length_m": 0.04, "depth_m": 0.003, "press_axis": "z" },
+  "display": { "preset": "desktop", "resolution": [64, 48], "refresh_hz": 60 },
+  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] }
+})";
+    const RunResult run = run_tridex("run " + scene + " --display offscreen --stereo mono --cpu --no-journal --keep-islands --out " +
+                                         (dir / "run").string(), dir / "run");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const nlohmann::json r = tridex::app::test::read_json(dir / "run" / "report.json");
+    EXPECT_EQ(r["settings"]["keep_islands"], true);
+    EXPECT_EQ(r["sculpt"]["island_searches"], 0);
+    if (!HasFailure()) fs::remove_all(dir);
+}
+
 // The Falcon driver end to end over its emulator: firmware load, homing, the 1 kHz exchange, a carved groove.
 TEST(Demo, FalconEmulatorRunsTheDemo) {
     const fs::path out = fs::temp_directory_path() / "tridex-test-demo-falcon";

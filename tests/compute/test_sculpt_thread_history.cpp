@@ -13,6 +13,7 @@
 #include "compute/journal/journal_writer.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
+#include "island_models.hpp"
 #include "sweep_programs.hpp"
 
 namespace tridex::app {
@@ -340,6 +341,52 @@ TEST(SculptThreadHistory, CheckpointsAreWrittenBetweenStrokesAndTheJournalContin
     // The first checkpoint holds the first stroke only.
     EXPECT_EQ(compare(written.front(), live).rays, 0u) << "the second stroke was undone";
     fs::remove_all(dir);
+}
+
+// Specks: a stroke that cuts a knob loose closes (the tool lifted) and its floating top is removed on the sculpt thread,
+// the active surface and the contour follow at once; the journal's replay with the same setting removes the same
+// speck (the same dexels), a replay with removal off keeps it.
+TEST(SculptThreadHistory, SpecksRemovedLiveAreRemovedAgainByTheJournalsReplay) {
+    const std::string path = (fs::temp_directory_path() / ("tridex_specks_" + std::to_string(::getpid()) + ".tdj")).string();
+    TriDexel live = compute::test::knob_model();
+    const TriDexel start = live;
+    SculptStats stats;
+    const std::vector<ToolSample> cut = compute::test::knob_cut_samples(live.lattice, 0.0);
+    {
+        Rig rig(live);
+        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
+        rig.thread.use_journal(journal);
+        rig.thread.remove_islands(true);
+        rig.thread.start();
+        push_all(rig.ring, cut);
+        wait_drained(rig.ring, rig.thread);
+        const std::uint64_t seq = rig.surface.latest().sequence;
+        ToolSample lift = cut.back();
+        lift.t_s += 1e-3;
+        lift.op = ToolOp::kNone;
+        push_all(rig.ring, {lift});  // the stroke closes: the speck goes
+        wait_drained(rig.ring, rig.thread);
+        EXPECT_GT(rig.surface.latest().sequence, seq) << "the active surface follows the removal at once";
+        rig.thread.stop();
+        stats = rig.thread.stats();
+        EXPECT_EQ(journal.stats().error, "");
+    }
+    EXPECT_EQ(stats.islands.searches, 1u);
+    EXPECT_EQ(stats.islands.specks, 1u);
+    EXPECT_EQ(stats.island_search_ms.size(), 1u);
+    EXPECT_EQ(stats.history.strokes, 1u);
+    const compute::Journal j = compute::read_journal(path);
+    TriDexel again = start;
+    compute::JournalApplyFrom from;
+    from.remove_islands = true;
+    const compute::JournalApplyStats st = compute::journal_apply(again, j.records, from);
+    EXPECT_EQ(st.islands_removed, 1u);
+    EXPECT_EQ(st.island_volume_m3, stats.islands.volume_m3);
+    EXPECT_EQ(compare(live, again).rays, 0u);
+    TriDexel kept = start;
+    EXPECT_EQ(compute::journal_apply(kept, j.records).islands_removed, 0u);
+    EXPECT_GT(compare(live, kept).rays, 0u) << "without removal the replay keeps the speck";
+    fs::remove(path);
 }
 
 }  // namespace
