@@ -68,8 +68,9 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
     cmd->add_option("--lod", o.lod,
-                    "on | off: tile levels of detail (built on the sculpt thread while it is idle, tiles drawn at full "
-                    "resolution until then; each eye draws the coarsest level whose error projects to at most a pixel)")
+                    "on | off (default on): tile levels of detail (built per re-contoured tile on a worker thread, tiles drawn at "
+                    "full resolution until theirs arrive; each eye draws the coarsest level whose error projects to "
+                    "at most a pixel)")
         ->capture_default_str();
     cmd->add_option("--ao", o.ao,
                     "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "

@@ -271,6 +271,7 @@ void RunPipeline::Parts::frame_loop() {
     ao = su.ao;
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     t_render = Clock::now();
+    r.first_frame_s = std::chrono::duration<double>(t_render.time_since_epoch()).count();
     if (dtrack) dtrack->set_session_origin(t_render);
     run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
     rend->finish();  // the frames still in flight

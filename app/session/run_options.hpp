@@ -68,9 +68,9 @@ struct RunOptions {
     bool tiles = true;
     /// With tiles: draw only the tiles inside each eye's off-axis frustum (false: every tile in both eyes).
     bool cull = true;
-    /// With tiles contoured on the CPU: "on" builds each changed tile's levels of detail on the sculpt thread and
+    /// With tiles: "on" builds each changed tile's levels of detail on a worker thread (never waited for) and
     /// draws each tile per eye at the coarsest level whose error projects to at most a pixel; "off": full meshes.
-    std::string lod = "off";
+    std::string lod = "on";
     /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;

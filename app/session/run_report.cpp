@@ -1,6 +1,7 @@
 // app/session/run_report.cpp - report.json of `tridex run`.
 #include "app/session/run_report.hpp"
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 
@@ -17,6 +18,30 @@ namespace {
 using nlohmann::json;
 
 double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
+
+// render.lod: whether levels were on, what the worker built and when, and the triangles drawn.
+json lod_json(const RunResult& r, const RenderLog& log) {
+    const SculptStats& s = r.sculpt;
+    json ready = nullptr;  // all levels in, ms after the first frame started (0: before it)
+    if (s.lod_all_built_s >= 0.0 && r.first_frame_s >= 0.0)
+        ready = std::max(0.0, 1000.0 * (s.lod_all_built_s - r.first_frame_s));
+    json latency = nullptr;
+    if (!s.lod_latency_ms.empty()) {
+        const Summary l = summarize(s.lod_latency_ms);
+        latency = json{{"count", s.lod_latency_ms.size()}, {"median_ms", l.median}, {"p99_ms", l.p99}, {"max_ms", l.max}};
+    }
+    const double frames = static_cast<double>(log.tiles.size());
+    return json{{"on", r.setup.lod},
+                {"tiles_built", s.lod_tiles_built},
+                {"groups_built", s.lod_groups_built},
+                {"build_ms", s.lod_build_ms},
+                {"pending_at_end", s.lod_pending},
+                {"all_built_after_first_frame_ms", ready},
+                {"latency", latency},
+                {"tile_triangles_per_frame",
+                 {frames > 0.0 ? static_cast<double>(log.tile_triangles[0]) / frames : 0.0,
+                  frames > 0.0 ? static_cast<double>(log.tile_triangles[1]) / frames : 0.0}}};
+}
 
 json render_json(const RunResult& r) {
     const RenderLog& log = r.render;
@@ -46,14 +71,8 @@ json render_json(const RunResult& r) {
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
                 {"ambient_occlusion", r.setup.ao},
-                {"lod",
-                 {{"on", r.setup.lod},
-                  {"tiles_built", r.sculpt.lod_tiles_built},
-                  {"groups_built", r.sculpt.lod_groups_built},
-                  {"build_ms", r.sculpt.lod_build_ms},
-                  {"tile_triangles_per_frame",
-                   {log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[0]) / log.tiles.size(),
-                    log.tiles.empty() ? 0.0 : static_cast<double>(log.tile_triangles[1]) / log.tiles.size()}}}},
+                {"lod", lod_json(r, log)},
+
                 {"force_m_per_newton", r.force_m_per_newton},
                 {"timing", log.timing_note},
                 {"tiles",

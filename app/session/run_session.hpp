@@ -44,7 +44,7 @@ struct RunSetup {
     bool test_pattern = false;      ///< the wall's test pattern instead of the workpiece (RunOptions::test_pattern)
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
-    bool lod = false;               ///< tile levels of detail (--lod on|off; off by default: see the README)
+    bool lod = true;                ///< tile levels of detail (--lod on|off, on by default; docs/design/lod.md)
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
@@ -95,6 +95,7 @@ struct RunResult {
     bool stroke_completed = false;               ///< the haptic loop played the whole stroke before the end
     double wall_s = 0.0;                         ///< whole run, s
     double render_s = 0.0;                       ///< from the first frame to the end of the last, s
+    double first_frame_s = -1.0;                 ///< steady-clock time of the first frame's start, s (-1: none)
     haptics::LoopStats loop{};                   ///< haptic loop counters
     SculptStats sculpt;                          ///< sculpt thread counters (mesh publishes included)
     double session_s = 0.0;                      ///< haptic + sculpt threads running, s

@@ -177,7 +177,10 @@ const std::vector<ReportField>& report_schema() {
         {"render.items", "run: proxy, force arrow and overlay drawn; null for demo and replay"},
         {"render.cull", "run: tiles culled per eye; null for demo and replay"},
         {"render.ambient_occlusion", "ambient occlusion on at the end"},
-        {"render.lod", "run: tile levels of detail {on, tiles_built, groups_built, build_ms, ...}; null otherwise"},
+        {"render.lod",
+         "run: tile levels of detail {on, tiles_built, groups_built, build_ms, pending_at_end, "
+         "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, tile_triangles_per_frame}; null "
+         "otherwise"},
         {"render.force_m_per_newton", "force arrow scale, m per N (0 without items); null for demo and replay"},
         {"render.timing", "run: how pass times were measured; null for demo and replay"},
         {"render.tiles", "run: tiles drawn and skipped per frame and eye; null for demo and replay"},

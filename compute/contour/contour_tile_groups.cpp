@@ -43,6 +43,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
     if (depth_max <= 0) {
         groups_.clear();
         group_pending_.clear();
+        group_queued_.clear();
         return;
     }
     const GroupGrid grid{dims};
@@ -69,7 +70,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         }
     }
     std::vector<TileGroupSurface> groups;
-    std::vector<bool> pending;
+    std::vector<bool> pending, queued;
     groups.reserve(next.size());
     for (auto& [id, g] : next) {
         std::sort(g.children.begin(), g.children.end());
@@ -79,15 +80,19 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         if (found && !stale.count(id) && old->children == g.children) {
             g.version = old->version;
             g.lods = std::move(old->lods);
-            pending.push_back(group_pending_[static_cast<std::size_t>(old - groups_.begin())]);
+            const auto at = static_cast<std::size_t>(old - groups_.begin());
+            pending.push_back(group_pending_[at]);
+            queued.push_back(at < group_queued_.size() && group_queued_[at]);
         } else {
             g.version = fresh_tile_version();
             pending.push_back(true);
+            queued.push_back(false);
         }
         groups.push_back(std::move(g));
     }
     groups_ = std::move(groups);
     group_pending_ = std::move(pending);
+    group_queued_ = std::move(queued);
 }
 
 bool TileSurfaceCache::group_ready(std::size_t g) const {
@@ -107,28 +112,50 @@ bool TileSurfaceCache::group_ready(std::size_t g) const {
     return true;
 }
 
-void TileSurfaceCache::build_group_lods(const std::vector<std::size_t>& which) {
-    // A group's pieces: the full meshes of every tile under it. Simplifying from the full surface (not from the
-    // smaller groups' levels) keeps each level's error that of one simplification, at any depth; the cost of a
-    // level is dominated by its error bound, which samples the same surface either way.
-    const auto gather = [&](const TileGroupSurface& root, std::vector<LodPart>& parts) {
-        std::vector<const TileGroupSurface*> todo{&root};
-        while (!todo.empty()) {
-            const TileGroupSurface& g = *todo.back();
-            todo.pop_back();
-            for (const std::uint64_t c : g.children) {
-                if (g.depth == 1) {
-                    if (const TileSurface* t = find_by_id(tiles_, c)) parts.push_back(LodPart{&t->mesh, t->materials, {}, 0.0});
-                } else if (const TileGroupSurface* child = find_by_id(groups_, c)) {
+namespace {
+
+// The coarsest of `levels` whose error is at most limit_m, or nullptr.
+const TileLodLevel* level_within(const std::vector<TileLodLevel>& levels, double limit_m) {
+    const TileLodLevel* best = nullptr;
+    for (const TileLodLevel& l : levels)
+        if (l.error_m <= limit_m) best = &l;
+    return best;
+}
+
+}  // namespace
+
+void TileSurfaceCache::gather_group_parts(const TileGroupSurface& root, std::vector<LodPart>& parts) const {
+    // Per child: its coarsest level within the depth's part error (TileLodOptions::group_part_cells), else its
+    // full surface (a tile's mesh; a group's own children, recursively). A level keeps its tile's or group's
+    // outer border at full resolution, so the pieces weld along the borders they share.
+    const double limit_m = lod_options_.group_part_cells * static_cast<double>(1 << (root.depth - 1)) * lod_options_.cell_m;
+    std::vector<const TileGroupSurface*> todo{&root};
+    while (!todo.empty()) {
+        const TileGroupSurface& g = *todo.back();
+        todo.pop_back();
+        for (const std::uint64_t c : g.children) {
+            if (g.depth == 1) {
+                const TileSurface* t = find_by_id(tiles_, c);
+                if (!t) continue;
+                if (const TileLodLevel* l = level_within(t->lods, limit_m))
+                    parts.push_back(LodPart{&l->mesh, l->materials, l->normals, l->error_m});
+                else
+                    parts.push_back(LodPart{&t->mesh, t->materials, {}, 0.0});
+            } else if (const TileGroupSurface* child = find_by_id(groups_, c)) {
+                if (const TileLodLevel* l = level_within(child->lods, limit_m))
+                    parts.push_back(LodPart{&l->mesh, l->materials, l->normals, l->error_m});
+                else
                     todo.push_back(child);
-                }
             }
         }
-    };
+    }
+}
+
+void TileSurfaceCache::build_group_lods(const std::vector<std::size_t>& which) {
     std::vector<std::vector<TileLodLevel>> built(which.size());
     run_lod_jobs(which.size(), [&](std::size_t i) {
         std::vector<LodPart> parts;
-        gather(groups_[which[i]], parts);
+        gather_group_parts(groups_[which[i]], parts);
         built[i] = build_group_lod(parts, lod_options_);
     });
     for (std::size_t i = 0; i < which.size(); ++i) {

@@ -41,7 +41,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
     }
-    const bool build_now = lod_ && !defer_;
+    const bool build_now = lod_ && !defer_ && !worker_;
     if (build_now) {
         std::vector<TileSurface*> all;
         for (TileSurface& s : rebuilt) all.push_back(&s);
@@ -61,9 +61,11 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
     std::vector<TileSurface> next;
     std::vector<std::uint64_t> next_versions;
     std::vector<bool> next_pending;
+    std::vector<std::size_t> fresh;  // entries of `next` rebuilt now
     next.reserve(order.size());
     for (const Step& st : order) {
         if (st.fresh) {
+            fresh.push_back(next.size());
             next_versions.push_back(rebuilt[st.index].version);
             next_pending.push_back(lod_ && !build_now);
             next.push_back(std::move(rebuilt[st.index]));
@@ -77,6 +79,11 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
     update_groups(contourer.tile_dims(), changed);
+    if (lod_ && worker_) {
+        queue_tile_lods(fresh);
+        queue_ready_groups();
+    }
+    refreshed_ = true;
     if (build_now) {  // every group, finest depth first (a group is built from its children's levels)
         const auto t0 = std::chrono::steady_clock::now();
         for (int d = 1; d <= lod_options_.group_depth; ++d) {
@@ -103,6 +110,7 @@ std::size_t TileSurfaceCache::lod_pending() const {
 }
 
 std::size_t TileSurfaceCache::build_pending_lods(std::size_t max_tiles) {
+    if (worker_) return 0;  // the worker builds them (collect_lods)
     std::vector<TileSurface*> batch;
     std::vector<std::size_t> at;
     for (std::size_t i = 0; i < tiles_.size() && batch.size() < max_tiles; ++i)

@@ -3,12 +3,17 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <cstdint>
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
+#include "compute/contour/lod_worker.hpp"
+#include "compute/contour/tile_group_lod.hpp"
 #include "compute/contour/tile_lod.hpp"
 #include "core/aabb.hpp"
 #include "core/tri_mesh.hpp"
@@ -104,13 +109,33 @@ public:
     /// Throws as build_tile_lod (those tiles or that group then keep waiting).
     std::size_t build_pending_lods(std::size_t max_tiles);
 
+    /// From now on the levels are built on a LodWorker of the cache's own (made with `worker`, whose `lod` is
+    /// replaced by enable_lod()'s options), never by refresh() or build_pending_lods(): refresh() queues a job
+    /// per tile it rebuilds (those of every refresh after the first ahead of the first's), collect_lods() takes
+    /// the finished ones in and queues each group whose tiles and smaller groups all have theirs. Neither waits
+    /// for a build. Call after enable_lod() and before the first refresh(). Throws tridex::Error without
+    /// enable_lod() or as LodWorker (threads, nice).
+    void build_lods_in_background(LodWorkerOptions worker = {});
+    /// Background building (build_lods_in_background): takes in the levels the worker finished (a tile or group
+    /// still as it was when its job was queued gets them and a new version, as build_pending_lods gives; a
+    /// stale result is dropped, its newer job is queued), then queues the groups that became ready. Returns the
+    /// tiles and groups that got levels. Rethrows the first exception a job threw. O(results + groups).
+    std::size_t collect_lods();
+    /// Background building: per tile or group that got its levels from the worker, the wall time from queueing its
+    /// job (refresh() for a tile, collect_lods() for a group) to collect_lods() taking the levels in, ms; for tiles
+    /// and groups queued after the first refresh only (a stroke's, not the start-up's).
+    const std::vector<double>& lod_latency_ms() const { return lod_latency_ms_; }
+
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
     void update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles);
     void build_group_lods(const std::vector<std::size_t>& groups);
+    void gather_group_parts(const TileGroupSurface& group, std::vector<LodPart>& parts) const;
     // Runs job(0..count-1), on every core from kParallelLodTiles jobs; rethrows the first failure.
     static void run_lod_jobs(std::size_t count, const std::function<void(std::size_t)>& job);
     bool group_ready(std::size_t g) const;
+    void queue_tile_lods(const std::vector<std::size_t>& fresh);  // background: jobs for tiles_ entries
+    void queue_ready_groups();                                   // background: jobs for groups now ready
     std::vector<TileGroupSurface> groups_;
     std::vector<bool> group_pending_;              // per groups_ entry: levels wait for build_pending_lods()
     std::vector<TileSurface> tiles_;
@@ -122,6 +147,15 @@ private:
     std::size_t lod_tiles_built_ = 0;
     std::size_t lod_groups_built_ = 0;
     double lod_build_ms_ = 0.0;
+    std::unique_ptr<LodWorker> worker_;            // background building; null: refresh / build_pending_lods
+    struct Queued {                                // a background job waiting for its result
+        std::chrono::steady_clock::time_point at;  // when it was queued
+        bool after_start;                          // queued after the first refresh
+    };
+    std::unordered_map<std::uint64_t, Queued> queued_;  // per tile id, or group id with the top bit: newest job
+    std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
+    bool refreshed_ = false;                       // refresh() ran at least once
+    std::vector<double> lod_latency_ms_;
 };
 
 }  // namespace tridex::compute

@@ -1,21 +1,26 @@
-// compute/contour/tile_lod.cpp - per-tile levels of detail with meshoptimizer, borders locked, errors bounded.
+// compute/contour/tile_lod.cpp - per-tile levels of detail with meshoptimizer, borders locked, errors estimated
+// or bounded.
 #include "compute/contour/tile_lod.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
-#include <set>
+#include <memory>
 #include <string>
 #include <utility>
 
 #include <meshoptimizer.h>
 
+#include "compute/contour/meshopt_scratch.hpp"
 #include "compute/contour/surface_distance.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
 namespace {
+
+constexpr unsigned kNoCopy = ~0u;
+
+std::uint64_t edge_key(unsigned a, unsigned b) { return (std::uint64_t{a} << 32) | b; }
 
 // The level's triangles (indices into the full mesh) as a compact mesh with the full mesh's attributes: the
 // triangles in vertex-cache order, the vertices in order of first use.
@@ -45,61 +50,93 @@ TileLodLevel compact_level(const TriMesh& full, std::span<const std::uint8_t> ma
 
 // What a level must keep of the tile mesh so that its neighbours, at any level, still meet it edge to edge.
 struct BorderShape {
-    std::vector<std::uint8_t> on_border;                        // per vertex: on the open border
-    std::vector<std::pair<unsigned, unsigned>> open;            // open (border) edges, directed, sorted
-    std::set<std::pair<unsigned, unsigned>> border_links;       // edges between two border vertices (min, max)
-    std::vector<std::array<unsigned, 3>> fans;                  // per border vertex and fan: (vertex, first, last)
+    std::vector<std::uint8_t> on_border;           // per vertex: on the open border
+    std::vector<std::uint64_t> open;               // open (border) edges, directed (edge_key), ascending
+    std::vector<std::uint64_t> border_links;       // edges between two border vertices (edge_key(min, max)), sorted
+    std::vector<std::array<unsigned, 3>> fans;     // per border vertex and fan: (vertex, first, last), by vertex
 };
 
-// The shape of `indices` (a triangle list over nv vertices) with `on_border` given (empty: computed).
+// The fans around vertex v from its links (from, to), sorted by from: closed (one cycle through every link) for an
+// inner vertex; for a border vertex, one (v, first, last) path per link whose start no link reaches. False when
+// the links do not form that shape (a second cycle, or a fan that closes on the border).
+bool vertex_fans(unsigned v, std::span<const std::array<unsigned, 2>> links, bool border,
+                 std::vector<std::array<unsigned, 3>>& fans) {
+    const auto next = [&](unsigned from) -> const std::array<unsigned, 2>* {
+        for (const auto& l : links)
+            if (l[0] == from) return &l;
+        return nullptr;
+    };
+    std::size_t walked = 0;
+    if (!border) {
+        unsigned at = links.front()[0];
+        do {
+            const auto* l = next(at);
+            if (!l) break;
+            at = (*l)[1];
+            ++walked;
+        } while (at != links.front()[0] && walked <= links.size());
+    } else {
+        for (const auto& start : links) {
+            const bool reached = std::any_of(links.begin(), links.end(), [&](const auto& l) { return l[1] == start[0]; });
+            if (reached) continue;  // not the start of a fan
+            unsigned at = start[0];
+            for (const auto* l = next(at); l && walked <= links.size(); l = next(at)) {
+                at = (*l)[1];
+                ++walked;
+            }
+            fans.push_back({v, start[0], at});
+        }
+    }
+    return walked == links.size();
+}
+
+// The shape of `indices` (a triangle list over nv vertices) with `on_border` given (empty: computed). Each
+// triangle (v, a, b) links a -> b at v (and has the directed edge v -> a); the links are bucketed per vertex
+// (counting sort), so the whole shape costs O(T + nv) for T triangles.
 BorderShape border_shape(const std::vector<unsigned int>& indices, std::size_t nv, std::vector<std::uint8_t> on_border,
                          bool* manifold = nullptr) {
     BorderShape s;
     bool ok = true;
-    std::map<std::pair<unsigned, unsigned>, int> directed;
-    for (std::size_t i = 0; i < indices.size(); i += 3)
-        for (int k = 0; k < 3; ++k)
-            if (++directed[{indices[i + k], indices[i + (k + 1) % 3]}] > 1) ok = false;
-    for (const auto& [e, n] : directed)
-        if (!directed.count({e.second, e.first})) s.open.push_back(e);
+    std::vector<unsigned> start(nv + 1, 0);
+    for (const unsigned v : indices) ++start[v + 1];
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::array<unsigned, 2>> links(indices.size());
+    {
+        std::vector<unsigned> fill(start.begin(), start.end() - 1);
+        for (std::size_t i = 0; i < indices.size(); i += 3)
+            for (int k = 0; k < 3; ++k) links[fill[indices[i + k]]++] = {indices[i + (k + 1) % 3], indices[i + (k + 2) % 3]};
+    }
+    const auto links_of = [&](unsigned v) {
+        return std::span<std::array<unsigned, 2>>(links.data() + start[v], start[v + 1] - start[v]);
+    };
+    const auto has_edge = [&](unsigned a, unsigned b) {  // the directed edge a -> b
+        for (const auto& l : links_of(a))
+            if (l[0] == b) return true;
+        return false;
+    };
+    for (unsigned v = 0; v < nv; ++v) {
+        const auto mine = links_of(v);
+        std::sort(mine.begin(), mine.end());
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            if (k > 0 && mine[k][0] == mine[k - 1][0]) ok = false;  // the edge v -> from used twice one way
+            if (!has_edge(mine[k][0], v)) s.open.push_back(edge_key(v, mine[k][0]));
+        }
+    }
     if (on_border.empty()) {
         on_border.assign(nv, 0);
-        for (const auto& [x, y] : s.open) on_border[x] = on_border[y] = 1;
+        for (const std::uint64_t e : s.open) on_border[e >> 32] = on_border[e & 0xffffffffu] = 1;
     }
-    for (const auto& [e, n] : directed)
-        if (on_border[e.first] && on_border[e.second]) s.border_links.insert({std::min(e.first, e.second), std::max(e.first, e.second)});
-    // Fans: at vertex v each triangle (v, a, b) links a -> b. Inside the tile a vertex's links form one cycle; on
-    // the border they form paths, one per fan, from one border edge to another.
-    std::map<unsigned, std::map<unsigned, unsigned>> fan;
-    for (std::size_t i = 0; i < indices.size(); i += 3)
-        for (int k = 0; k < 3; ++k)
-            fan[indices[i + k]][indices[i + (k + 1) % 3]] = indices[i + (k + 2) % 3];
-    for (const auto& [v, links] : fan) {
-        std::set<unsigned> targets;
-        for (const auto& [from, to] : links) targets.insert(to);
-        std::size_t walked = 0;
-        if (!on_border[v]) {
-            unsigned at = links.begin()->first;
-            do {
-                const auto it = links.find(at);
-                if (it == links.end()) break;
-                at = it->second;
-                ++walked;
-            } while (at != links.begin()->first && walked <= links.size());
-        } else {
-            for (const auto& [from, to] : links) {
-                if (targets.count(from)) continue;  // not the start of a fan
-                unsigned at = from;
-                for (auto it = links.find(at); it != links.end() && walked <= links.size(); it = links.find(at)) {
-                    at = it->second;
-                    ++walked;
-                }
-                s.fans.push_back({v, from, at});
-            }
-        }
-        if (walked != links.size()) ok = false;  // a second cycle, or a fan that closes on the border
+    for (unsigned v = 0; v < nv; ++v) {
+        if (!on_border[v]) continue;
+        for (const auto& l : links_of(v))
+            if (on_border[l[0]]) s.border_links.push_back(edge_key(std::min(v, l[0]), std::max(v, l[0])));
     }
-    std::sort(s.fans.begin(), s.fans.end());
+    std::sort(s.border_links.begin(), s.border_links.end());
+    s.border_links.erase(std::unique(s.border_links.begin(), s.border_links.end()), s.border_links.end());
+    // Inside the tile a vertex's links form one cycle; on the border they form paths, one per fan, from one
+    // border edge to another.
+    for (unsigned v = 0; v < nv; ++v)
+        if (start[v + 1] > start[v] && !vertex_fans(v, links_of(v), on_border[v] != 0, s.fans)) ok = false;
     s.on_border = std::move(on_border);
     if (manifold) *manifold = ok;
     return s;
@@ -119,10 +156,13 @@ bool keeps_border(const std::vector<unsigned int>& indices, const BorderShape& f
 // The border strip (triangles touching a border vertex) is cut from the rest: its vertices that are not on the
 // border get copies (at the same positions) in the strip, so meshoptimizer sees a seam there. Border vertices are
 // locked (meshopt_SimplifyLockBorder), seam vertices only slide along the seam, and nothing collapses onto a
-// border vertex, so no border vertex ever gains an edge to another. Result in full-mesh indices; empty when
-// meshoptimizer gave nothing.
+// border vertex, so no border vertex ever gains an edge to another. meshoptimizer stops at `target` (relative
+// error) or once `keep` triangles are left in all (0: only at the error). Result in full-mesh
+// indices (empty when meshoptimizer gave nothing); `error` gets meshoptimizer's error estimate, relative to the
+// mesh's extent.
 std::vector<unsigned int> simplify_cut(const std::vector<unsigned int>& prev, const std::vector<float>& xyz,
-                                       const std::vector<std::uint8_t>& on_border, float target, bool seam) {
+                                       const std::vector<std::uint8_t>& on_border, float target, std::size_t keep,
+                                       bool seam, float& error) {
     const std::size_t nv = on_border.size();
     std::vector<unsigned int> strip, rest;
     for (std::size_t i = 0; i < prev.size(); i += 3) {
@@ -130,38 +170,74 @@ std::vector<unsigned int> simplify_cut(const std::vector<unsigned int>& prev, co
         (touches ? strip : rest).insert((touches ? strip : rest).end(), prev.begin() + i, prev.begin() + i + 3);
     }
     std::vector<unsigned int> out(prev.size());
+    error = 0.0f;
     if (!seam) {  // the strip as it is, the rest simplified with its own border locked
+        const std::size_t rest_keep = 3 * keep > strip.size() ? 3 * keep - strip.size() : 0;
         const std::size_t count = meshopt_simplify(out.data(), rest.data(), rest.size(), xyz.data(), nv,
-                                                   sizeof(float) * 3, 0, target, meshopt_SimplifyLockBorder, nullptr);
+                                                   sizeof(float) * 3, rest_keep, target, meshopt_SimplifyLockBorder, &error);
         out.resize(count);
         out.insert(out.begin(), strip.begin(), strip.end());
         return out;
     }
     std::vector<float> ext = xyz;
-    std::vector<unsigned int> copy_of;  // copy index - nv -> original
-    std::map<unsigned, unsigned> copy;
+    std::vector<unsigned int> copy_of;          // copy index - nv -> original
+    std::vector<unsigned int> copy(nv, kNoCopy);  // original -> copy index
     for (unsigned int& v : strip) {
         if (on_border[v]) continue;
-        const auto [it, fresh] = copy.try_emplace(v, static_cast<unsigned>(nv + copy_of.size()));
-        if (fresh) {
+        if (copy[v] == kNoCopy) {
+            copy[v] = static_cast<unsigned>(nv + copy_of.size());
             copy_of.push_back(v);
             ext.insert(ext.end(), xyz.begin() + 3 * v, xyz.begin() + 3 * v + 3);
         }
-        v = it->second;
+        v = copy[v];
     }
     std::vector<unsigned int> all = strip;
     all.insert(all.end(), rest.begin(), rest.end());
     const std::size_t count = meshopt_simplify(out.data(), all.data(), all.size(), ext.data(), ext.size() / 3,
-                                               sizeof(float) * 3, 0, target, meshopt_SimplifyLockBorder, nullptr);
+                                               sizeof(float) * 3, 3 * keep, target, meshopt_SimplifyLockBorder, &error);
     out.resize(count);
     for (unsigned int& v : out)
         if (v >= nv) v = copy_of[v - nv];
     return out;
 }
 
+void check_options(const TileLodOptions& o, double base_error_m) {
+    if (!std::isfinite(o.cell_m) || !(o.cell_m > 0.0))
+        throw Error("build_tile_lod: cell_m must be finite and > 0, got " + std::to_string(o.cell_m));
+    for (std::size_t k = 0; k < o.error_cells.size(); ++k)
+        if (!std::isfinite(o.error_cells[k]) || !(o.error_cells[k] > 0.0) || (k > 0 && !(o.error_cells[k] > o.error_cells[k - 1])))
+            throw Error("build_tile_lod: error_cells must be positive and ascending (entry " + std::to_string(k) + ")");
+    if (!(o.keep_fraction > 0.0 && o.keep_fraction < 1.0))
+        throw Error("build_tile_lod: keep_fraction must lie in (0, 1)");
+    if (!std::isfinite(o.sample_spacing_cells) || !(o.sample_spacing_cells > 0.0))
+        throw Error("build_tile_lod: sample_spacing_cells must be finite and > 0");
+    if (!std::isfinite(o.estimate_factor) || !(o.estimate_factor >= 1.0))
+        throw Error("build_tile_lod: estimate_factor must be finite and >= 1");
+    if (!std::isfinite(base_error_m) || base_error_m < 0.0)
+        throw Error("build_tile_lod: base_error_m must be finite and >= 0");
+}
+
+// The sampled two-sided distance bound of build_lod_levels' kSampledBound (TileLodLevel::error_m).
+struct SampledBound {
+    SampledBound(const TriMesh& mesh, const TileLodOptions& o)
+        : spacing(o.sample_spacing_cells * o.cell_m), full_samples(surface_samples(mesh, spacing)), full_grid(mesh, o.cell_m),
+          cell_m(o.cell_m) {}
+    double operator()(const TriMesh& level) {
+        TriangleGrid level_grid(level, cell_m);
+        const double to_level = max_distance(full_samples, level_grid);
+        const double to_full = max_distance(surface_samples(level, spacing), full_grid);
+        return std::max(to_level, to_full) + spacing / std::sqrt(3.0);
+    }
+    double spacing;
+    std::vector<Vec3> full_samples;
+    TriangleGrid full_grid;
+    double cell_m;
+};
+
 }  // namespace
 
 void order_for_vertex_cache(TriMesh& mesh) {
+    (void)meshopt_scratch_installed();
     const std::size_t nv = mesh.positions.size();
     std::vector<unsigned int> in, out(mesh.triangles.size() * 3);
     in.reserve(out.size());
@@ -182,15 +258,8 @@ std::vector<TileLodLevel> build_tile_lod(const TriMesh& mesh, std::span<const st
 std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const std::uint8_t> materials,
                                            std::span<const Vec3> given_normals, double base_error_m,
                                            const TileLodOptions& o) {
-    if (!std::isfinite(o.cell_m) || !(o.cell_m > 0.0))
-        throw Error("build_tile_lod: cell_m must be finite and > 0, got " + std::to_string(o.cell_m));
-    for (std::size_t k = 0; k < o.error_cells.size(); ++k)
-        if (!std::isfinite(o.error_cells[k]) || !(o.error_cells[k] > 0.0) || (k > 0 && !(o.error_cells[k] > o.error_cells[k - 1])))
-            throw Error("build_tile_lod: error_cells must be positive and ascending (entry " + std::to_string(k) + ")");
-    if (!std::isfinite(o.sample_spacing_cells) || !(o.sample_spacing_cells > 0.0))
-        throw Error("build_tile_lod: sample_spacing_cells must be finite and > 0");
-    if (!std::isfinite(base_error_m) || base_error_m < 0.0)
-        throw Error("build_tile_lod: base_error_m must be finite and >= 0");
+    check_options(o, base_error_m);
+    (void)meshopt_scratch_installed();
     const std::size_t nv = mesh.positions.size();
     if (!materials.empty() && materials.size() != nv)
         throw Error("build_tile_lod: " + std::to_string(materials.size()) + " materials for " + std::to_string(nv) +
@@ -220,36 +289,54 @@ std::vector<TileLodLevel> build_lod_levels(const TriMesh& mesh, std::span<const 
 
     const std::vector<Vec3> normals =
         given_normals.empty() ? vertex_normals(mesh) : std::vector<Vec3>(given_normals.begin(), given_normals.end());
-    const double spacing = o.sample_spacing_cells * o.cell_m;
-    const double slack = spacing / std::sqrt(3.0);
-    const std::vector<Vec3> full_samples = surface_samples(mesh, spacing);
-    TriangleGrid full_grid(mesh, o.cell_m);
+    std::unique_ptr<SampledBound> bound;
+    if (o.measure == LodErrorMeasure::kSampledBound) bound = std::make_unique<SampledBound>(mesh, o);
 
     // Each level from the previous one by simplify_cut: with the seam first; when that level does not keep the
-    // border (keeps_border), with the strip kept whole; when neither does, no coarser levels.
+    // border (keeps_border), with the strip kept whole; when neither does, the probe below if it keeps the
+    // border, else no coarser levels. Its target: a
+    // probe asks meshoptimizer for keep_fraction of the triangles within the largest target; the error that
+    // took picks the first target that can get there (so the targets below it cost nothing), and the level is
+    // simplified as far as that target allows. A target counts base_error_m and the estimates of the
+    // simplifications before (which add up). A level at no more error than the one before replaces it (a flat
+    // face: every step at no error).
     const BorderShape full_shape = border_shape(indices, nv, {});
-    std::size_t prev_count = indices.size();
     std::vector<unsigned int> prev = indices, all;
-    for (const double target_cells : o.error_cells) {
-        const float target = static_cast<float>(target_cells * o.cell_m / scale);
+    double prev_estimate_m = 0.0;  // of the previous kept level to `mesh`, m
+    const double factor = bound ? 1.0 : o.estimate_factor;
+    const auto room_m = [&](std::size_t k) { return (o.error_cells[k] * o.cell_m - base_error_m) / factor - prev_estimate_m; };
+    for (std::size_t k = 0; k < o.error_cells.size(); ++k) {
+        const std::size_t last = o.error_cells.size() - 1;
+        if (!(room_m(last) > 0.0)) break;
+        const auto limit = static_cast<std::size_t>(o.keep_fraction * static_cast<double>(prev.size() / 3));
+        float probe_error = 0.0f, step_error = 0.0f;
+        const std::vector<unsigned int> probe =
+            simplify_cut(prev, xyz, full_shape.on_border, static_cast<float>(room_m(last) / scale), limit, true, probe_error);
+        if (probe.empty() || probe.size() / 3 > limit) break;  // not even the largest target gets there
+        while (k < last && room_m(k) < static_cast<double>(probe_error) * scale) ++k;
+        if (!(room_m(k) > 0.0)) continue;
         bool kept = false;
         for (const bool seam : {true, false}) {
-            all = simplify_cut(prev, xyz, full_shape.on_border, target, seam);
+            all = simplify_cut(prev, xyz, full_shape.on_border, static_cast<float>(room_m(k) / scale), 0, seam, step_error);
             if (!all.empty() && keeps_border(all, full_shape)) {
                 kept = true;
                 break;
             }
         }
+        if (!kept && keeps_border(probe, full_shape)) {  // the gentler probe as the level
+            all = probe;
+            step_error = probe_error;
+            kept = true;
+        }
         if (!kept) break;
-        if (static_cast<double>(all.size()) > o.keep_fraction * static_cast<double>(prev_count)) continue;
+        if (all.size() / 3 > limit) continue;
         TileLodLevel level = compact_level(mesh, materials, normals, all);
-        TriangleGrid level_grid(level.mesh, o.cell_m);
-        const double to_level = max_distance(full_samples, level_grid);
-        const double to_full = max_distance(surface_samples(level.mesh, spacing), full_grid);
-        level.error_m = std::max(to_level, to_full) + slack + base_error_m;
+        const double estimate_m = prev_estimate_m + static_cast<double>(step_error) * scale;
+        level.error_m = (bound ? (*bound)(level.mesh) : factor * estimate_m) + base_error_m;
+        if (!levels.empty() && level.error_m <= levels.back().error_m) levels.pop_back();
         levels.push_back(std::move(level));
         prev = all;
-        prev_count = all.size();
+        prev_estimate_m = estimate_m;
     }
     return levels;
 }

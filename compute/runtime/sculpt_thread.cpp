@@ -167,16 +167,8 @@ void SculptThread::run() {
         }
         if (!failure_) {
             try {
+                collect_lods();
                 publish_mesh_if_due(stopping && !worked);  // the last state always reaches the renderer
-            } catch (...) {
-                failure_ = std::current_exception();
-            }
-        }
-        if (!failure_ && !worked && !stopping && tile_cache_.lod_pending() > 0) {
-            try {  // idle: the next few tiles' levels of detail, published with the next mesh
-                const auto t0 = std::chrono::steady_clock::now();
-                if (tile_cache_.build_pending_lods(kLodTilesPerPass) > 0) mesh_pending_ = true;
-                stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             } catch (...) {
                 failure_ = std::current_exception();
             }
@@ -197,7 +189,6 @@ void SculptThread::run() {
             stats_.history = history_->stats();
             return;
         }
-        lod_pending_.store(tile_cache_.lod_pending(), std::memory_order_release);
         passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -410,10 +401,20 @@ void SculptThread::checkpoint_if_due() {
     stats_.busy_ms += ms;
 }
 
-void SculptThread::use_tile_lod(const compute::TileLodOptions& options) {
+void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
-    tile_cache_.enable_lod(options);
-    tile_cache_.defer_lods(true);
+    if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
+    tile_cache_.enable_lod(options.lod);
+    tile_cache_.build_lods_in_background(options);
+}
+
+void SculptThread::collect_lods() {
+    if (!tile_cache_.lod_enabled()) return;
+    if (tile_cache_.collect_lods() > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
+    const std::size_t pending = tile_cache_.lod_pending();
+    if (pending == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
+        stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    lod_pending_.store(pending, std::memory_order_release);
 }
 
 void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {
@@ -450,6 +451,8 @@ void SculptThread::publish_mesh() {
         stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
         stats_.lod_groups_built = tile_cache_.lod_groups_built();
         stats_.lod_build_ms = tile_cache_.lod_build_ms();
+        stats_.lod_latency_ms = tile_cache_.lod_latency_ms();
+        stats_.lod_pending = tile_cache_.lod_pending();
         // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
         std::vector<std::shared_ptr<const compute::TileSurface>> next;
         next.reserve(tile_cache_.tiles().size());

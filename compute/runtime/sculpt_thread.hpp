@@ -57,11 +57,20 @@ struct SculptStats {
     std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
-    /// use_tile_lod: tiles and groups of tiles whose levels of detail were built (the first publish's
-    /// included) and the elapsed time of those builds, ms (part of mesh_publish_ms).
+    /// use_tile_lod: tiles and groups of tiles whose levels of detail were taken in (as of the last mesh
+    /// publish) and the summed wall time of their builds on the level-of-detail worker, ms.
     std::uint64_t lod_tiles_built = 0;
     std::uint64_t lod_groups_built = 0;
     double lod_build_ms = 0.0;
+    /// use_tile_lod: steady-clock time (s, the epoch of MeshFrame::published_s) of the first pass at which
+    /// every tile and group had its levels (none waiting), or -1 when that never happened.
+    double lod_all_built_s = -1.0;
+    /// use_tile_lod: tiles and groups still waiting for their levels at the last mesh publish.
+    std::size_t lod_pending = 0;
+    /// use_tile_lod: per tile or group re-contoured after start-up that got its levels, the wall time from its
+    /// re-contoured mesh being taken in (a mesh publish) to its levels being taken in (TileSurfaceCache::
+    /// lod_latency_ms; the next mesh publish carries them), ms.
+    std::vector<double> lod_latency_ms;
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
     /// Per undo or redo that changed the model: from taking the request to the active surface published and the
@@ -247,7 +256,8 @@ public:
     /// the ring, applies and publishes; so once two more passes finish after a caller queued requests and the ring
     /// is empty, all of them have taken effect.
     std::uint64_t passes() const { return passes_.load(std::memory_order_acquire); }
-    /// Tiles whose levels of detail wait for an idle pass (use_tile_lod), as of the thread's last pass. Any thread.
+    /// Tiles and groups whose levels of detail are still being built (use_tile_lod), as of the thread's last
+    /// pass. Any thread.
     std::size_t lod_tiles_pending() const { return lod_pending_.load(std::memory_order_acquire); }
 
     /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
@@ -262,14 +272,16 @@ public:
                          MeshForm form = MeshForm::kWhole);
     /// With MeshForm::kTiles: builds the levels of detail of the tile meshes it publishes (TileSurface::lods,
     /// compute::build_tile_lod) for tiles whose version changed, and of the groups of tiles over them
-    /// (MeshFrame::groups, TileLodOptions::group_depth), on this thread while it is idle (no tool samples
-    /// waiting): kLodTilesPerPass tiles per pass, or one group once no tile waits, so that neither start-up nor
-    /// a stroke waits for them. Until then a tile is published with its full mesh only, then again with its
-    /// levels and a new version; a group whose tiles changed is published without levels until rebuilt.
-    /// Throws tridex::Error when the thread runs or options.cell_m is not finite and > 0.
-    void use_tile_lod(const compute::TileLodOptions& options);
-    /// Tiles whose levels one idle pass builds (a few tens of ms on one core).
-    static constexpr std::size_t kLodTilesPerPass = 4;
+    /// (MeshFrame::groups, TileLodOptions::group_depth; made as options.lod says), on a level-of-detail worker
+    /// (options.threads threads at Linux nice value options.nice; compute::TileSurfaceCache::
+    /// build_lods_in_background), so that neither start-up
+    /// nor a stroke waits for them: each mesh publish queues the tiles it re-contoured (a stroke's ahead of
+    /// start-up's), and every pass of this thread takes in what the worker finished and publishes it with the
+    /// next mesh. Until then a tile is published with its full mesh only, then again with its levels and a new
+    /// version; a group whose tiles changed is published without levels until rebuilt. Call before
+    /// publish_mesh_to() (whose first publish queues every tile). Throws tridex::Error when the thread runs,
+    /// after publish_mesh_to(), or as compute::LodWorker (cell_m, threads, nice).
+    void use_tile_lod(const compute::LodWorkerOptions& options);
 
 private:
     void run();
@@ -285,6 +297,7 @@ private:
     void publish(const Vec3& centre_m);
     void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
+    void collect_lods();                   // take in finished levels of detail (use_tile_lod)
 
     compute::TriDexel& model_;
     std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called

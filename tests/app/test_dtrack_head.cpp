@@ -206,6 +206,7 @@ RunResult run(const std::string& scene, const fs::path& out, const std::string& 
     o.out = out.string();
     o.no_journal = true;
     o.items = false;  // no overlay: its frame times differ between runs
+    o.lod = "off";    // levels of detail arrive when the worker has them: the frames they change differ between runs
     o.head = head;
     return run_stereo_session(o);
 }

@@ -200,7 +200,7 @@ TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
     EXPECT_EQ(s.monitor_index, 2);
     o.monitor = "HDMI";
     EXPECT_EQ(resolve_run(o).monitor_name, "HDMI");
-    EXPECT_FALSE(s.lod);  // off unless --lod on (its build cost at start-up)
+    EXPECT_TRUE(s.lod);   // on unless --lod off (built on a worker: start-up does not wait)
     EXPECT_TRUE(s.ao);    // the display config's ambient_occlusion (on)
     o.ao = "off";
     EXPECT_FALSE(resolve_run(o).ao);

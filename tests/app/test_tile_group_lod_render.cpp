@@ -1,11 +1,15 @@
 // tests/app/test_tile_group_lod_render.cpp - the contoured bunny drawn with levels of detail over tiles and groups
 // of tiles against its full-resolution render: groups are drawn, the silhouette stays within half a percent of
-// the pixels, no background shows through the surface (no cracks), and the validation layer stays silent.
+// the pixels, no background shows through the surface (no cracks), and the validation layer stays silent; at the
+// desk (the default scene, levels built on the background worker) the colours stay within a stated tolerance too.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
+#include <thread>
 #include <utility>
 
 #include "app/commands/demo.hpp"
@@ -22,6 +26,9 @@ namespace {
 
 struct Diff {
     std::size_t pixels = 0, mismatched = 0, holes = 0;
+    double abs_sum = 0.0;     // |difference| summed over the RGB channels of every pixel, 0..255 each
+    std::size_t far_off = 0;  // pixels with a channel more than 48 codes off (a visibly different pixel)
+    double mean_abs() const { return pixels > 0 ? abs_sum / (3.0 * static_cast<double>(pixels)) : 0.0; }
 };
 
 // Object/background class per pixel of both eyes; `holes`: background pixels of `lod` whose four neighbours are
@@ -35,6 +42,14 @@ Diff compare(const renderer::StereoImages& lod, const renderer::StereoImages& fu
         for (int y = 0; y < a.height; ++y)
             for (int x = 0; x < a.width; ++x) {
                 ++d.pixels;
+                const std::size_t at = 4 * (static_cast<std::size_t>(y) * a.width + x);
+                int worst = 0;
+                for (int c = 0; c < 3; ++c) {
+                    const int diff = std::abs(int(a.rgba[at + c]) - int(b.rgba[at + c]));
+                    d.abs_sum += diff;
+                    worst = std::max(worst, diff);
+                }
+                d.far_off += worst > 48 ? 1 : 0;
                 const bool ba = is_bg(a, x, y), bb = is_bg(b, x, y);
                 if (ba != bb) ++d.mismatched;
                 if (ba && !bb && x > 0 && y > 0 && x + 1 < a.width && y + 1 < a.height && !is_bg(a, x - 1, y) &&
@@ -120,6 +135,64 @@ TEST(TileGroupLodRender, GroupsDrawnWithinTheSilhouetteBoundAndWithoutCracks) {
         // (checked above) stands for the whole model, and a lone background pixel is its own geometry (a narrow
         // concavity the level widens within its error bound), not a crack.
         EXPECT_LE(d.holes, z < 1.0 ? 0u : 2u) << "z " << z;
+    }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+// The default scene at the desk (its bunny, 128 cells over 0.12 m, on the desktop monitor, 960x540 per eye, mono and
+// stereo), its levels built on the background worker as `tridex run` builds them: with levels the image matches the
+// full-resolution one within half a percent of silhouette pixels, a mean difference of 1.5 codes per channel and
+// 1 % of pixels visibly different (a channel more than 48 codes off: shading on a coarser facet), and no cracks.
+TEST(TileGroupLodRender, DeskViewWithBackgroundLevelsMatchesFullResolution) {
+    gpu::ContextOptions opt;
+    opt.validation = true;
+    gpu::Context ctx = gpu::Context::create(opt);
+    Workpiece wp = prepare_workpiece(default_mesh_path(), 128, 0.12, Vec3(0.0, 0.0, 0.05));
+    compute::Contourer contourer(wp.model);
+    contourer.update(wp.model);
+    compute::TileSurfaceCache cache;
+    compute::TileLodOptions o;
+    o.cell_m = wp.model.lattice.cell_m;
+    cache.enable_lod(o);
+    cache.build_lods_in_background();
+    cache.refresh(contourer);
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (cache.lod_pending() > 0 && std::chrono::steady_clock::now() < limit) {
+        cache.collect_lods();
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_EQ(cache.lod_pending(), 0u);
+    TileView view;
+    tile_view_of(cache.tiles(), cache.groups(), true, view);
+
+    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, 960, 540);
+    renderer::SceneView scene;
+    scene.show_workspace = false;
+    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    Pose head;
+    head.position = Vec3(0.0, 0.05, 0.6);
+    const renderer::StereoImages empty = r.render(scene, screen, head, 0.065);
+    const std::uint8_t bg[3] = {empty.left.rgba[0], empty.left.rgba[1], empty.left.rgba[2]};
+    scene.tiles = view.tiles;
+    scene.tile_groups = view.groups;
+    for (const int eyes : {1, 2}) {
+        scene.eye_count = eyes;
+        scene.lod = true;
+        const renderer::StereoImages lod = r.render(scene, screen, head, 0.065);
+        scene.lod = false;
+        const renderer::StereoImages full = r.render(scene, screen, head, 0.065);
+        const Diff d = compare(lod, full, bg);
+        const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
+        const double far_off = static_cast<double>(d.far_off) / static_cast<double>(d.pixels);
+        std::printf("desk, %d eye(s): triangles L %zu of %zu, groups L %zu, silhouette mismatch %.4f%%, mean |diff| "
+                    "%.3f, visibly different %.4f%%, holes %zu\n",
+                    eyes, lod.stats.tile_triangles[0], full.stats.tile_triangles[0], lod.stats.groups_drawn[0],
+                    100.0 * mismatch, d.mean_abs(), 100.0 * far_off, d.holes);
+        EXPECT_LT(lod.stats.tile_triangles[0], full.stats.tile_triangles[0]) << "eyes " << eyes;
+        EXPECT_LE(mismatch, 0.005) << "eyes " << eyes;
+        EXPECT_LE(d.mean_abs(), 1.5) << "eyes " << eyes;
+        EXPECT_LE(far_off, 0.01) << "eyes " << eyes;
+        EXPECT_EQ(d.holes, 0u) << "eyes " << eyes;
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }

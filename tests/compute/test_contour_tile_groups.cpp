@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <array>
 #include <map>
 #include <set>
@@ -29,7 +30,8 @@ struct Built {
     TileSurfaceCache cache;
 };
 
-Built build(int cells, const std::function<std::vector<Interval>(int, int, int)>& chord, int depth = 3) {
+Built build(int cells, const std::function<std::vector<Interval>(int, int, int)>& chord, int depth = 3,
+            LodErrorMeasure measure = LodErrorMeasure::kEstimate) {
     TriDexel model = empty_model(cube_lattice(cells));
     fill_rays(model, chord);
     Contourer c(model);
@@ -38,14 +40,16 @@ Built build(int cells, const std::function<std::vector<Interval>(int, int, int)>
     TileLodOptions o;
     o.cell_m = b.model.lattice.cell_m;
     o.group_depth = depth;
+    o.measure = measure;
     b.cache.enable_lod(o);
     b.cache.refresh(b.contourer);
     return b;
 }
 
-Built sphere(int cells) {
+Built sphere(int cells, LodErrorMeasure measure = LodErrorMeasure::kEstimate) {
     const Vec3 centre(0.5 * cells + 0.31, 0.5 * cells - 0.17, 0.5 * cells + 0.07);
-    return build(cells, [&, r = 0.38 * cells](int a, int u, int v) { return sphere_chord(centre, r, a, u, v); });
+    return build(cells, [&, r = 0.38 * cells](int a, int u, int v) { return sphere_chord(centre, r, a, u, v); }, 3,
+                 measure);
 }
 
 Built box(int cells) {
@@ -200,10 +204,11 @@ TEST(TileGroupLod, AnyGroupAmongFullTilesKeepsTheSurfaceClosed) {
     expect_closed_manifold(assemble(c, mixed));
 }
 
-TEST(TileGroupLod, LevelsLieWithinTheirStoredErrorOfTheFullSurface) {
-    const Built b = sphere(64);
+// The largest distance between each group level and the full surface of the tiles under the group (samples 0.2
+// cells apart on both), over its stored error_m, per level.
+std::vector<double> group_level_ratios(const Built& b) {
     const double cell = b.model.lattice.cell_m;
-    std::size_t checked = 0;
+    std::vector<double> ratios;
     for (const TileGroupSurface& g : b.cache.groups()) {
         std::vector<std::uint64_t> ids;
         tiles_under(b.cache, g, ids);
@@ -219,13 +224,32 @@ TEST(TileGroupLod, LevelsLieWithinTheirStoredErrorOfTheFullSurface) {
             TriangleGrid to_level(l.mesh, 0.0);
             const double d = std::max(max_distance(surface_samples(l.mesh, 0.2 * cell), to_full),
                                       max_distance(surface_samples(full, 0.2 * cell), to_level));
-            EXPECT_LE(d, l.error_m) << "group " << g.id;
-            ++checked;
+            ratios.push_back(d / l.error_m);
         }
-        // Coarser levels, larger bounds.
-        for (std::size_t k = 1; k < g.lods.size(); ++k) EXPECT_GE(g.lods[k].error_m, g.lods[k - 1].error_m);
+        // Coarser levels, larger errors.
+        for (std::size_t k = 1; k < g.lods.size(); ++k) EXPECT_GT(g.lods[k].error_m, g.lods[k - 1].error_m);
     }
-    EXPECT_GT(checked, 4u);
+    return ratios;
+}
+
+TEST(TileGroupLod, LevelsLieWithinTheirBoundOfTheFullSurface) {
+    // Sampled bounds of the tiles' levels and of each group's own simplification add up to a bound of the full
+    // surface (the group is simplified from its tiles' levels).
+    const std::vector<double> ratios = group_level_ratios(sphere(64, LodErrorMeasure::kSampledBound));
+    EXPECT_GT(ratios.size(), 4u);
+    for (const double r : ratios) EXPECT_LE(r, 1.0);
+}
+
+TEST(TileGroupLod, EstimatedErrorsFollowTheFullSurface) {
+    // meshoptimizer's estimates (times TileLodOptions::estimate_factor) are not bounds, but the distance to the
+    // full surface stays near them: the renderer's one-pixel choice then strays by about a pixel at most.
+    std::vector<double> ratios = group_level_ratios(sphere(64));
+    ASSERT_GT(ratios.size(), 4u);
+    std::sort(ratios.begin(), ratios.end());
+    std::printf("group levels: distance / error_m median %.3f, largest %.3f of %zu\n", ratios[ratios.size() / 2],
+                ratios.back(), ratios.size());
+    EXPECT_LE(ratios[ratios.size() / 2], 1.0);
+    EXPECT_LE(ratios.back(), 1.5);
 }
 
 TEST(TileGroupLod, FlatFacesCollapseAcrossTileBorders) {

@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -83,7 +86,7 @@ TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
     EXPECT_EQ(meshes.latest().version, t.stats().mesh_publishes);
 }
 
-TEST(RunHandoff, TilesGetTheirLevelsWhenTheThreadIsIdle) {
+TEST(RunHandoff, TilesGetTheirLevelsFromTheWorker) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);
     contourer.update(m);
@@ -91,19 +94,20 @@ TEST(RunHandoff, TilesGetTheirLevelsWhenTheThreadIsIdle) {
     TripleBuffer<ActiveSurface> surface;
     TripleBuffer<MeshFrame> meshes;
     SculptThread t(m, contourer, ring, surface, Vec3(0.0));
-    compute::TileLodOptions lod;
-    lod.cell_m = m.lattice.cell_m;
-    t.use_tile_lod(lod);
+    compute::LodWorkerOptions worker;
+    worker.lod.cell_m = m.lattice.cell_m;
+    const compute::TileLodOptions& lod = worker.lod;
+    t.use_tile_lod(worker);
     t.publish_mesh_to(meshes, 1000.0, MeshForm::kTiles);
     // The first publish does not wait for levels: full meshes only.
     const std::vector<std::shared_ptr<const compute::TileSurface>> before = meshes.latest().tiles;
     ASSERT_FALSE(before.empty());
     for (const auto& tile : before) EXPECT_TRUE(tile->lods.empty());
     EXPECT_EQ(t.stats().lod_tiles_built, 0u);
-    // The groove's samples wait in the ring: the thread carves first, then builds levels while idle.
+    // The groove's samples wait in the ring: the thread carves while the worker builds the levels.
     push_groove(ring);
     t.start();
-    EXPECT_THROW(t.use_tile_lod(lod), Error);  // not while running
+    EXPECT_THROW(t.use_tile_lod(worker), Error);  // not while running
     const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while ((t.passes() < 2 || t.lod_tiles_pending() > 0) && std::chrono::steady_clock::now() < limit)
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -149,6 +153,71 @@ TEST(RunHandoff, TilesGetTheirLevelsWhenTheThreadIsIdle) {
     EXPECT_GT(waiting, 0u);
     EXPECT_EQ(t.stats().lod_tiles_built, after.size());
     EXPECT_GT(t.stats().lod_build_ms, 0.0);
+}
+
+// Waits (up to 60 s) until `done` holds; false when it never did.
+bool wait_for(const std::function<bool()>& done) {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!done()) {
+        if (std::chrono::steady_clock::now() > limit) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
+}
+
+TEST(RunHandoff, SculptedTilesGetLevelsWithoutAnyoneWaitingForThem) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    // The worker is held at its first job until the groove is carved and published: the sculpt thread must not
+    // wait for it.
+    std::atomic<bool> open{false};
+    compute::LodWorkerOptions worker;
+    worker.lod.cell_m = m.lattice.cell_m;
+    worker.before_job = [&](const compute::LodJob&) {
+        while (!open.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    };
+    t.use_tile_lod(worker);
+    t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
+    std::map<std::uint64_t, std::uint64_t> first_version;
+    for (const auto& tile : meshes.latest().tiles) first_version[tile->id] = tile->version;
+    push_groove(ring);
+    t.start();
+    ASSERT_TRUE(wait_for([&] { return ring.size() == 0 && meshes.latest().sculpt_steps > 0 && t.passes() > 4; }));
+    std::set<std::uint64_t> carved;  // tiles the groove re-contoured
+    for (const auto& tile : meshes.latest().tiles) {
+        EXPECT_TRUE(tile->lods.empty()) << "tile " << tile->id;  // the worker has built nothing yet
+        if (!first_version.count(tile->id) || first_version[tile->id] != tile->version) carved.insert(tile->id);
+    }
+    ASSERT_FALSE(carved.empty());
+    EXPECT_GT(t.lod_tiles_pending(), 0u);
+    open.store(true);
+    ASSERT_TRUE(wait_for([&] { return t.lod_tiles_pending() == 0; }));
+    ASSERT_TRUE(wait_for([&] {  // the mesh publish that carries the last levels
+        for (const auto& tile : meshes.latest().tiles)
+            if (carved.count(tile->id) && tile->lods.empty()) return false;
+        return true;
+    }));
+    t.stop();
+    // Every carved tile has levels of its carved mesh: each level's vertices are vertices of that mesh.
+    for (const auto& tile : meshes.latest().tiles) {
+        if (!carved.count(tile->id)) continue;
+        std::set<std::array<double, 3>> full;
+        for (const Vec3& p : tile->mesh.positions) full.insert({p.x, p.y, p.z});
+        for (const compute::TileLodLevel& l : tile->lods)
+            for (const Vec3& p : l.mesh.positions) EXPECT_TRUE(full.count({p.x, p.y, p.z})) << "tile " << tile->id;
+    }
+    // The groups over them have levels again (the box's faces simplify across tiles).
+    std::size_t groups_with_levels = 0;
+    for (const auto& g : meshes.latest().groups) groups_with_levels += g->lods.empty() ? 0 : 1;
+    EXPECT_GT(groups_with_levels, 0u);
+    EXPECT_EQ(t.stats().lod_pending, 0u);
+    EXPECT_GE(t.stats().lod_latency_ms.size(), carved.size());  // the carved tiles were queued after start-up
+    EXPECT_GE(t.stats().lod_all_built_s, 0.0);
 }
 
 TEST(RunHandoff, BadIntervalIsRefused) {

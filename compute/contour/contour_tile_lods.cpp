@@ -1,0 +1,110 @@
+// compute/contour/contour_tile_lods.cpp - TileSurfaceCache's levels of detail built in the background: jobs queued
+// on a LodWorker as tiles change, levels taken in when they are done.
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+namespace {
+
+constexpr std::uint64_t kGroupBit = std::uint64_t{1} << 63;  // tile and group ids stay below it (tile_group_id)
+
+std::uint64_t job_key(bool group, std::uint64_t id) { return group ? (id | kGroupBit) : id; }
+
+template <typename T>
+std::size_t index_of(const std::vector<T>& sorted, std::uint64_t id) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), id, [](const T& x, std::uint64_t v) { return x.id < v; });
+    return it != sorted.end() && it->id == id ? static_cast<std::size_t>(it - sorted.begin()) : sorted.size();
+}
+
+}  // namespace
+
+void TileSurfaceCache::build_lods_in_background(LodWorkerOptions worker) {
+    if (!lod_) throw Error("TileSurfaceCache::build_lods_in_background: call enable_lod() first");
+    worker.lod = lod_options_;
+    worker_ = std::make_unique<LodWorker>(std::move(worker));
+}
+
+void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
+    const auto now = std::chrono::steady_clock::now();
+    for (const std::size_t i : fresh) {
+        const TileSurface& t = tiles_[i];
+        LodJob job;
+        job.id = t.id;
+        job.token = contour_versions_[i];
+        job.mesh = t.mesh;
+        job.materials = t.materials;
+        worker_->submit(std::move(job), refreshed_);
+        queued_[job_key(false, t.id)] = Queued{now, refreshed_};
+    }
+}
+
+void TileSurfaceCache::queue_ready_groups() {
+    const auto now = std::chrono::steady_clock::now();
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+        if (!group_pending_[g] || group_queued_[g] || !group_ready(g)) continue;
+        std::vector<LodPart> parts;
+        gather_group_parts(groups_[g], parts);
+        LodJob job;
+        job.group = true;
+        job.id = groups_[g].id;
+        job.token = groups_[g].version;
+        for (const LodPart& p : parts)
+            job.parts.push_back(LodJobPart{*p.mesh, std::vector<std::uint8_t>(p.materials.begin(), p.materials.end()),
+                                           std::vector<Vec3>(p.normals.begin(), p.normals.end()), p.error_m});
+        worker_->submit(std::move(job), refreshed_);
+        group_queued_[g] = true;
+        queued_[job_key(true, groups_[g].id)] = Queued{now, refreshed_};
+    }
+}
+
+std::size_t TileSurfaceCache::collect_lods() {
+    if (!worker_) return 0;
+    std::vector<LodResult> results;
+    worker_->take(results);
+    const auto now = std::chrono::steady_clock::now();
+    std::size_t taken = 0;
+    for (LodResult& r : results) {
+        bool fits = false;
+        if (!r.group) {
+            const std::size_t i = index_of(tiles_, r.id);
+            if (i < tiles_.size() && pending_[i] && contour_versions_[i] == r.token) {
+                tiles_[i].lods = std::move(r.levels);
+                tiles_[i].version = fresh_tile_version();
+                pending_[i] = false;
+                ++lod_tiles_built_;
+                fits = true;
+            }
+        } else {
+            const std::size_t g = index_of(groups_, r.id);
+            if (g < groups_.size() && group_pending_[g] && groups_[g].version == r.token) {
+                groups_[g].lods = std::move(r.levels);
+                groups_[g].version = fresh_tile_version();
+                group_pending_[g] = false;
+                group_queued_[g] = false;
+                ++lod_groups_built_;
+                fits = true;
+            }
+        }
+        if (!fits) {  // stale: the tile or group changed after its job was queued (a newer job follows) or is gone
+            const bool gone = r.group ? index_of(groups_, r.id) == groups_.size() : index_of(tiles_, r.id) == tiles_.size();
+            if (gone) queued_.erase(job_key(r.group, r.id));
+            continue;
+        }
+        ++taken;
+        lod_build_ms_ += r.build_ms;
+        const auto q = queued_.find(job_key(r.group, r.id));
+        if (q != queued_.end()) {
+            if (q->second.after_start)
+                lod_latency_ms_.push_back(std::chrono::duration<double, std::milli>(now - q->second.at).count());
+            queued_.erase(q);
+        }
+    }
+    if (!results.empty()) queue_ready_groups();  // only a result can make a group ready
+    return taken;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,97 @@
+// compute/contour/lod_worker.hpp - levels of detail built on worker threads of their own, off the sculpt and
+// render threads: jobs in, finished levels out, nobody waits.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "compute/contour/tile_lod.hpp"
+#include "core/math.hpp"
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// One piece of a group's surface, owned by its job (a copy of a tile's full mesh or of a level: see LodPart).
+struct LodJobPart {
+    TriMesh mesh;                        ///< world m, CCW from outside
+    std::vector<std::uint8_t> materials; ///< per mesh vertex, or empty
+    std::vector<Vec3> normals;           ///< per mesh vertex unit normals, or empty (the mesh's own)
+    double error_m = 0.0;                ///< distance between this piece and the surface it stands for, m
+};
+
+/// What one job builds: the levels of a tile's mesh (build_tile_lod) or of a group (build_group_lod of its parts).
+/// Self-contained (it owns copies of its inputs), so the caller may change its own meshes while it runs.
+struct LodJob {
+    bool group = false;        ///< false: a tile (mesh, materials); true: a group (parts)
+    std::uint64_t id = 0;      ///< the tile's or group's id (TileSurface::id, TileGroupSurface::id)
+    std::uint64_t token = 0;   ///< the caller's mark of the input's state, handed back with the result
+    TriMesh mesh;              ///< tile: its full mesh
+    std::vector<std::uint8_t> materials;  ///< tile: per vertex, or empty
+    std::vector<LodJobPart> parts;        ///< group: its pieces
+};
+
+/// A finished job.
+struct LodResult {
+    bool group = false;
+    std::uint64_t id = 0;
+    std::uint64_t token = 0;           ///< LodJob::token
+    std::vector<TileLodLevel> levels;  ///< finest first (empty: the mesh does not simplify)
+    double build_ms = 0.0;             ///< wall time of the build on its worker, ms
+};
+
+/// How a LodWorker runs.
+struct LodWorkerOptions {
+    TileLodOptions lod;  ///< how levels are made (cell_m must be finite and > 0)
+    /// Worker threads (>= 1): two let start-up use both cores of a small machine; a stroke's jobs are small.
+    int threads = 2;
+    /// Linux nice value of the worker threads (0..19; higher = lower priority): frames, sculpting and the
+    /// haptic loop (SCHED_FIFO when granted) go first when the cores are busy. Ignored elsewhere.
+    int nice = 5;
+    /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
+    std::function<void(const LodJob&)> before_job;
+};
+
+/// Builds levels of detail on threads of its own (named "tridex-lod"). submit() queues a job and returns at once;
+/// take() hands back the finished ones. A job for an id already waiting (not yet started) replaces it, so a tile
+/// re-contoured again and again while a stroke passes over it is built once for its newest mesh. Jobs run in
+/// queue order; `urgent` ones (a stroke's tiles) go ahead of those queued at start-up. All members are
+/// thread-safe (one mutex, held only to move jobs and results); the destructor drops the waiting jobs and joins
+/// the threads after the running ones finish.
+class LodWorker {
+public:
+    /// Starts the threads. Throws tridex::Error when options.lod.cell_m is not finite and > 0, threads < 1 or
+    /// nice is outside 0..19.
+    explicit LodWorker(LodWorkerOptions options);
+    ~LodWorker();
+    LodWorker(const LodWorker&) = delete;
+    LodWorker& operator=(const LodWorker&) = delete;
+
+    /// Queues `job` (at the front when urgent), replacing a waiting job with the same group flag and id.
+    void submit(LodJob job, bool urgent);
+    /// Moves the finished results into `out` (appended, in order of completion) and returns how many. Rethrows,
+    /// once, the first exception a job threw (its result is then missing; the others are kept).
+    std::size_t take(std::vector<LodResult>& out);
+    /// Jobs queued or running.
+    std::size_t outstanding() const;
+
+private:
+    void run();
+
+    LodWorkerOptions options_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<LodJob> queue_;
+    std::vector<LodResult> done_;
+    std::size_t running_ = 0;
+    std::exception_ptr failure_;
+    bool stop_ = false;
+    std::vector<std::thread> threads_;
+};
+
+}  // namespace tridex::compute
