@@ -120,7 +120,7 @@ TEST(DeepCut, TheNewcomersDeepMouseCutLeavesOnePartAndReplaysToTheSameModel) {
 
     // --keep-islands keeps the specks: the mesh has a part for each (what the session showed before removal).
     out.out = (dir / "keep").string();
-    run_replay(o.record, out, SculptOptions{true, false, false, false, ""}, "", true);
+    run_replay(o.record, out, SculptOptions{true, false, false, false, ""}, "", {}, true);
     const nlohmann::json keep = test::read_json(dir / "keep" / "report.json");
     EXPECT_EQ(keep["sculpt"]["islands_removed"], 0);
     EXPECT_EQ(keep["settings"]["keep_islands"], true);

@@ -26,7 +26,7 @@ struct Path {
     explicit Path(bool gpu) {
         if (gpu) {
             ctx.emplace(gpu::Context::create({}));
-            backend = make_boolean_backend_on(model, false, *ctx).backend;
+            backend = make_boolean_backend_on(model, {BackendMode::kGpu}, *ctx).backend;
         } else {
             backend = make_cpu_backend(model);
         }
