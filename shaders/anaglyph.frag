@@ -1,7 +1,7 @@
 // shaders/anaglyph.frag - the anaglyph of the two eye layers of a stereo colour image, one output pixel per
 // fragment, with the arithmetic of the CPU reference renderer::compose (renderer/output/stereo_output.cpp):
 //   method 0 (Dubois): 8-bit codes decoded through the sRGB table, mixed by the Dubois matrices in linear
-//                      light, re-encoded to the nearest code by counting the code thresholds <= the value;
+//                      light, re-encoded to the nearest code: the count of code thresholds <= the value;
 //   method 1 (colour): (L.r, R.g, R.b) of the stored codes;
 //   method 2 (gray):   (Y(L), Y(R), Y(R)), Rec. 601 luma (299 r + 587 g + 114 b + 500) / 1000 in integers.
 // Alpha is 1. `swap` exchanges the eye layers (layer 0 = left eye).
@@ -32,14 +32,20 @@ uvec3 codes(int layer) {
 float linear(uint code) { return tables.to_linear[code >> 2][code & 3u]; }
 float threshold(uint k) { return tables.thresholds[k >> 2][k & 3u]; }
 
-// Number of thresholds <= v (0..255): the nearest 8-bit sRGB code of linear v, clamped.
+// sRGB encoding (IEC 61966-2-1) of linear light v in [0, 1], as a value 0..1.
+float srgb_from_linear(float v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055; }
+
+// Number of thresholds <= v (0..255): the nearest 8-bit sRGB code of linear v, clamped. The encoding formula
+// gives the code to within one (float pow against the table's double precision, far below half a code's
+// width); comparing with the thresholds on either side of it makes the count exact, with two table reads
+// instead of a binary search's eight.
 uint encode(float v) {
-    uint lo = 0u, hi = 255u;  // the answer is in [lo, hi]
-    while (lo < hi) {
-        const uint mid = (lo + hi) >> 1;  // is threshold(mid) <= v?
-        if (threshold(mid) <= v) lo = mid + 1u; else hi = mid;
-    }
-    return lo;
+    if (!(v > 0.0)) return 0u;
+    if (v >= 1.0) return 255u;
+    uint k = uint(clamp(round(srgb_from_linear(v) * 255.0), 0.0, 255.0));
+    if (k > 0u && threshold(k - 1u) > v) --k;
+    else if (k < 255u && threshold(k) <= v) ++k;
+    return k;
 }
 
 uint luma601(uvec3 c) { return (299u * c.r + 587u * c.g + 114u * c.b + 500u) / 1000u; }

@@ -1,0 +1,201 @@
+// bench/bench_desk.cpp - frames at the desk: a live mouse session in a window (the default scene at the desk's
+// window size), mono and anaglyph, with the frame time, the time per pass and the mouse-to-photon lag.
+#include "bench/bench_desk.hpp"
+
+#include "bench/bench_registry.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session/run_session.hpp"
+#include "app/scene/run_scene.hpp"
+#include "app/support/assets.hpp"
+#include "app/support/json_file.hpp"
+#include "app/support/output_dir.hpp"
+#include "core/error.hpp"
+
+namespace tridex::bench {
+using namespace tridex::app;  // bench sits above app: sessions and JSON files
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The desk targets the rows are printed beside: frame median and p99, and a lag of at most two frames.
+constexpr double kTargetMedianMs = 25.0;
+constexpr double kTargetP99Ms = 40.0;
+constexpr double kTargetLagFrames = 2.0;
+
+struct DeskCli {
+    DeskBenchOptions o;
+    std::string stereo = "mono,anaglyph";
+};
+
+// The default scene's workpiece and head in a desk window of the given size, the mouse as the stylus, and a
+// cursor that presses in, drags a groove across the bunny and lets go, every 1.6 s; between the grooves it
+// sweeps over the surface without the button, as a person looking for the next cut does.
+std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const std::string& stereo) {
+    const nlohmann::json base = nlohmann::json::parse(std::ifstream(default_scene_path()));
+    nlohmann::json cursor = nlohmann::json::array();
+    const double cx = 0.5 * o.width, cy = 0.5 * o.height, dx = o.width / 6.0, dy = o.height / 27.0;
+    for (double t = 0.4; t + 1.6 < o.seconds; t += 1.6) {
+        cursor.push_back({{"t_s", t}, {"x_px", cx - dx}, {"y_px", cy - dy}, {"buttons", 0}});
+        cursor.push_back({{"t_s", t + 0.1}, {"x_px", cx - dx}, {"y_px", cy - dy}, {"buttons", 1}});
+        cursor.push_back({{"t_s", t + 0.9}, {"x_px", cx + dx}, {"y_px", cy + dy}, {"buttons", 1}});
+        cursor.push_back({{"t_s", t + 1.0}, {"x_px", cx + dx}, {"y_px", cy + dy}, {"buttons", 0}});
+        cursor.push_back({{"t_s", t + 1.5}, {"x_px", cx - dx}, {"y_px", cy + 2 * dy}, {"buttons", 0}});
+    }
+    nlohmann::json scene = base;
+    scene["workpiece"]["mesh"] = fs::absolute(default_mesh_path())
+                                     .lexically_normal()
+                                     .string();
+    scene["device"] = {{"driver", "mouse"}};
+    scene["stroke"] = "none";
+    scene["display"] = {{"preset", "desktop"}, {"stereo", stereo}, {"resolution", {o.width, o.height}}};
+    scene["cursor"] = cursor;
+    const std::string path = (dir / ("desk_scene_" + stereo + ".json")).string();
+    write_json_file(path, scene);
+    return path;
+}
+
+double at_or_nan(const nlohmann::json& j, const char* key) {
+    return j.is_object() && j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : std::nan("");
+}
+
+
+DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const std::string& stereo, const std::string& display,
+                const fs::path& out) {
+    RunOptions r;
+    r.scene = scene;
+    r.display = display;
+    r.seconds = o.seconds;
+    r.out = out.string();
+    r.lod = o.lod;
+    r.checkpoint_s = 0.0;
+    run_stereo_session(r);
+    const nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "report.json"));
+    const nlohmann::json& f = j.at("frames");
+    DeskBenchRow row;
+    row.stereo = stereo;
+    row.display = display;
+    row.frames = f.at("count").get<std::uint64_t>();
+    row.frame_median_ms = at_or_nan(f.at("frame_ms"), "p50_ms");
+    row.frame_p99_ms = at_or_nan(f.at("frame_ms"), "p99_ms");
+    row.interval_median_ms = at_or_nan(f.at("interval_ms"), "p50_ms");
+    if (j.at("mouse").is_object()) {
+        const nlohmann::json& lat = j.at("mouse").at("latency_ms");
+        row.lag_median_ms = at_or_nan(lat, "median");
+        row.lag_p99_ms = at_or_nan(lat, "p99");
+    }
+    for (const auto& [name, p] : j.at("render").at("passes").items()) row.passes[name] = at_or_nan(p, "median_ms");
+    row.present = f.contains("present") ? f.at("present") : nlohmann::json();
+    return row;
+}
+
+// Splits "mono,anaglyph" into its names.
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    for (std::size_t b = 0; b <= text.size();) {
+        const std::size_t e = std::min(text.find(',', b), text.size());
+        out.push_back(text.substr(b, e - b));
+        b = e + 1;
+    }
+    return out;
+}
+
+BenchRun setup_desk(CLI::App& bench) {
+    auto c = std::make_shared<DeskCli>();
+    bench.add_option("--desk-seconds", c->o.seconds, "With --desk: session length per output, s (default 12)");
+    bench.add_option("--desk-stereo", c->stereo,
+                     "With --desk: the outputs to time, comma-separated: mono, anaglyph, side-by-side "
+                     "(default mono,anaglyph)");
+    bench.add_option("--desk-width", c->o.width, "With --desk: window width, px (default 960)");
+    bench.add_option("--desk-height", c->o.height, "With --desk: window height, px (default 540)");
+    bench.add_option("--desk-display", c->o.display,
+                     "With --desk: window or offscreen (default: window when DISPLAY is set, e.g. under Xvfb)");
+    bench.add_option("--desk-lod", c->o.lod, "With --desk: levels of detail on or off (default on)")
+        ->check(CLI::IsMember({"on", "off"}));
+    return [c](const BenchCommon& common) {
+        DeskBenchOptions o = c->o;
+        o.stereo = split_list(c->stereo);
+        o.out = common.out;
+        run_desk_bench(o);
+    };
+}
+
+const BenchmarkRegistration kRegistration{
+    {"desk",
+     "Frames at the desk: a live mouse session in a window (default scene, 960x540), mono and anaglyph; frame time "
+     "median and p99, time per pass, mouse-to-photon lag, beside the target",
+     44, setup_desk}};
+
+}  // namespace
+
+std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
+    if (!(o.seconds >= 4.0 && o.seconds <= 600.0))
+        throw Error("--desk-seconds: must be between 4 and 600, got " + std::to_string(o.seconds));
+    if (o.width < 64 || o.width > 7680 || o.height < 64 || o.height > 4320)
+        throw Error("--desk-width, --desk-height: width 64..7680 and height 64..4320 pixels");
+    const char* x = std::getenv("DISPLAY");
+    const std::string display = !o.display.empty() ? o.display : (x && *x) ? "window" : "offscreen";
+    if (display != "window" && display != "offscreen")
+        throw Error("--desk-display: window or offscreen, got '" + o.display + "'");
+    if (o.stereo.empty()) throw Error("--desk-stereo: name at least one output");
+    for (const std::string& m : o.stereo)
+        if (m != "mono" && m != "anaglyph" && m != "side-by-side")
+            throw Error("--desk-stereo: a comma-separated list of mono, anaglyph, side-by-side; got '" + m + "'");
+    prepare_output_dir(o.out, "--out");
+    const fs::path dir = fs::path(o.out) / "desk";
+    fs::create_directories(dir);
+    std::printf("frames at the desk: the default scene in a %dx%d %s, the mouse carving a groove every 1.6 s, "
+                "%.0f s per output, levels of detail %s\n",
+                o.width, o.height, display == "window" ? "window" : "offscreen frame (paced; no X display)",
+                o.seconds, o.lod.c_str());
+    std::printf("target: frame median <= %.0f ms, p99 <= %.0f ms, mouse-to-photon lag <= %.0f frames\n",
+                kTargetMedianMs, kTargetP99Ms, kTargetLagFrames);
+    std::printf("%-13s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "frames", "frame50", "frame99", "interval50",
+                "lag50", "lag99", "lag/frm", "verdict");
+    std::vector<DeskBenchRow> rows;
+    nlohmann::json table = nlohmann::json::array();
+    for (const std::string& m : o.stereo) {
+        DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, display, dir / m);
+        const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
+        r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
+        r.target_met = r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
+                       r.lag_frames <= kTargetLagFrames;
+        std::printf("%-13s %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", m.c_str(),
+                    static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
+                    r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
+                    r.target_met ? "target met" : "over target");
+        std::printf("  GPU passes (median ms):");
+        for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
+        if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
+            std::printf("; present pass%s %.2f", m == "anaglyph" ? " (anaglyph compose and blit)" : " (blit)",
+                        r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
+        std::printf("\n");
+        std::fflush(stdout);
+        table.push_back({{"stereo", m}, {"display", display}, {"width", o.width}, {"height", o.height},
+                         {"seconds", o.seconds}, {"lod", o.lod}, {"frames", r.frames},
+                         {"frame_ms_median", r.frame_median_ms}, {"frame_ms_p99", r.frame_p99_ms},
+                         {"interval_ms_median", r.interval_median_ms}, {"lag_ms_median", r.lag_median_ms},
+                         {"lag_ms_p99", r.lag_p99_ms}, {"lag_frames", r.lag_frames},
+                         {"passes_median_ms", r.passes}, {"present", r.present},
+                         {"target_median_ms", kTargetMedianMs}, {"target_p99_ms", kTargetP99Ms},
+                         {"target_lag_frames", kTargetLagFrames}, {"target_met", r.target_met}});
+        rows.push_back(std::move(r));
+    }
+    write_json_file((fs::path(o.out) / "desk_bench.json").string(), table);
+    return rows;
+}
+
+}  // namespace tridex::bench

@@ -1,0 +1,42 @@
+// bench/bench_desk.hpp - frames at the desk: live mouse sessions in a window, per stereo output, beside the targets.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tridex::bench {
+
+/// What `tridex bench --desk` runs: one live session per stereo output, the default scene's workpiece and head in a
+/// desk window, the mouse as the stylus driven by a scripted cursor (press, drag a groove, release, every 1.6 s).
+struct DeskBenchOptions {
+    double seconds = 12.0;                             ///< session length per output, s (4..600)
+    int width = 960, height = 540;                     ///< window size, px (64..7680 x 64..4320)
+    std::vector<std::string> stereo{"mono", "anaglyph"};  ///< outputs timed: mono, anaglyph, side-by-side
+    /// "window" (needs an X display, e.g. Xvfb), "offscreen" (paced at the refresh rate), or "" = window when
+    /// DISPLAY is set, else offscreen.
+    std::string display;
+    std::string lod = "on";                            ///< levels of detail: on | off
+    std::string out = "out/bench";                     ///< output folder: desk/ per session, desk_bench.json
+};
+
+/// One session's figures, all from its report.json.
+struct DeskBenchRow {
+    std::string stereo, display;
+    std::uint64_t frames = 0;
+    double frame_median_ms = 0, frame_p99_ms = 0;  ///< one frame's wall time: pick, draw, present
+    double interval_median_ms = 0;                 ///< between the starts of successive frames
+    double lag_median_ms = 0, lag_p99_ms = 0;      ///< cursor event to the frame that draws the tool there
+    double lag_frames = 0;                         ///< lag_median_ms over the frame interval (or time)
+    nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
+    nlohmann::json present;                        ///< the window's present timings (null offscreen)
+    bool target_met = false;                       ///< median <= 25 ms, p99 <= 40 ms and lag <= 2 frames
+};
+
+/// Runs the sessions, prints a table beside the targets and writes OUT/desk_bench.json. Throws tridex::Error
+/// naming the option for a value out of range, an unknown output or display, or an unwritable folder.
+std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& options);
+
+}  // namespace tridex::bench

@@ -1,0 +1,73 @@
+// Smoke test of `tridex bench --desk` (bench/bench_desk): a short offscreen mouse session at the desk's size writes
+// a row with frames, per-pass GPU times and a measured cursor-to-frame lag, and bad options are refused by name.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_desk.hpp"
+#include "core/error.hpp"
+
+namespace tridex::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
+    DeskBenchOptions o;
+    o.seconds = 4.0;
+    o.stereo = {"mono"};
+    o.display = "offscreen";
+    o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_" + std::to_string(::getpid()))).string();
+    fs::remove_all(o.out);
+    const std::vector<DeskBenchRow> rows = run_desk_bench(o);
+    ASSERT_EQ(rows.size(), 1u);
+    const DeskBenchRow& r = rows[0];
+    EXPECT_EQ(r.stereo, "mono");
+    EXPECT_GT(r.frames, 20u);  // paced at 60 Hz for 4 s
+    EXPECT_GT(r.frame_median_ms, 0.0);
+    EXPECT_GE(r.frame_p99_ms, r.frame_median_ms);
+    EXPECT_GT(r.lag_median_ms, 0.0);  // the scripted cursor moved the tool and a frame drew it there
+    EXPECT_GT(r.lag_frames, 0.0);
+    EXPECT_TRUE(r.passes.contains("opaque.left")) << r.passes.dump();
+    EXPECT_FALSE(r.passes.contains("opaque.right")) << "mono draws one eye";
+    std::ifstream f(fs::path(o.out) / "desk_bench.json");
+    ASSERT_TRUE(f.good());
+    const nlohmann::json j = nlohmann::json::parse(f);
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0]["width"], 960);
+    EXPECT_EQ(j[0]["target_median_ms"], 25.0);
+    fs::remove_all(o.out);
+}
+
+TEST(BenchDesk, RefusesBadOptionsByName) {
+    DeskBenchOptions o;
+    o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_bad_" + std::to_string(::getpid()))).string();
+    auto refused = [&](const DeskBenchOptions& bad, const std::string& name) {
+        try {
+            run_desk_bench(bad);
+            ADD_FAILURE() << "accepted; expected a refusal naming " << name;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    };
+    DeskBenchOptions b = o;
+    b.seconds = 1.0;
+    refused(b, "--desk-seconds");
+    b = o;
+    b.width = 10;
+    refused(b, "--desk-width");
+    b = o;
+    b.stereo = {"mono", "quad"};
+    refused(b, "--desk-stereo");
+    b = o;
+    b.display = "wall";
+    refused(b, "--desk-display");
+    EXPECT_FALSE(fs::exists(o.out));
+}
+
+}  // namespace
+}  // namespace tridex::bench
