@@ -107,7 +107,7 @@ int run_command(const RunOptions& options) {
                     std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
                     r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
         if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
-            std::printf("  undo %llu, redo %llu (%zu strokes undoable), saves %llu\n",
+            std::printf("  undo %llu, redo %llu (%zu strokes undoable), Ctrl+S saves %llu\n",
                         static_cast<unsigned long long>(r.sculpt.history.undos),
                         static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
                         static_cast<unsigned long long>(r.saves.saves));
@@ -115,7 +115,9 @@ int run_command(const RunOptions& options) {
             std::printf("  specks removed: %llu (%.3g mm^3 cut loose by strokes; --keep-islands keeps them)\n",
                         static_cast<unsigned long long>(r.sculpt.islands.specks), r.sculpt.islands.volume_m3 * 1e9);
         for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
-        std::printf("  outputs: %s\n", r.setup.out.c_str());
+        std::string written;
+        for (const std::string& f : r.files) written += (written.empty() ? "" : ", ") + f;
+        std::printf("  wrote: %s\n", written.empty() ? r.setup.out.c_str() : written.c_str());
         return 0;
     } catch (const DeviceLostError& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
