@@ -2,7 +2,7 @@
 PRESET ?= release
 BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
-# Extra cache settings for the configure step, e.g. CMAKE_ARGS=-DTRIDEX_WERROR=ON (what .ci/run uses).
+# Extra cache settings for the configure step, e.g. CMAKE_ARGS=-DTRIDEX_WERROR=OFF (warnings are errors by default, as in CI).
 CMAKE_ARGS ?=
 
 .PHONY: all deps configure build demo test bench clean
