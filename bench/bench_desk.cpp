@@ -19,7 +19,6 @@
 
 #include "app/session/run_session.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/support/assets.hpp"
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
 #include "core/error.hpp"
@@ -45,7 +44,8 @@ struct DeskCli {
 // cursor that presses in, drags a groove across the bunny and lets go, every 1.6 s; between the grooves it
 // sweeps over the surface without the button, as a person looking for the next cut does.
 std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const std::string& stereo) {
-    const nlohmann::json base = nlohmann::json::parse(std::ifstream(default_scene_path()));
+    const std::string default_scene = default_scene_path();
+    const nlohmann::json base = nlohmann::json::parse(std::ifstream(default_scene));
     nlohmann::json cursor = nlohmann::json::array();
     const double cx = 0.5 * o.width, cy = 0.5 * o.height, dx = o.width / 6.0, dy = o.height / 27.0;
     for (double t = 0.4; t + 1.6 < o.seconds; t += 1.6) {
@@ -56,9 +56,9 @@ std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const st
         cursor.push_back({{"t_s", t + 1.5}, {"x_px", cx - dx}, {"y_px", cy + 2 * dy}, {"buttons", 0}});
     }
     nlohmann::json scene = base;
-    scene["workpiece"]["mesh"] = fs::absolute(default_mesh_path())
-                                     .lexically_normal()
-                                     .string();
+    // The scene is written elsewhere: its mesh, named relative to the default scene's folder, by its full path.
+    const fs::path mesh = fs::path(default_scene).parent_path() / base.at("workpiece").at("mesh").get<std::string>();
+    scene["workpiece"]["mesh"] = fs::absolute(mesh).lexically_normal().string();
     scene["device"] = {{"driver", "mouse"}};
     scene["stroke"] = "none";
     scene["display"] = {{"preset", "desktop"}, {"stereo", stereo}, {"resolution", {o.width, o.height}}};
@@ -72,9 +72,8 @@ double at_or_nan(const nlohmann::json& j, const char* key) {
     return j.is_object() && j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : std::nan("");
 }
 
-
-DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const std::string& stereo, const std::string& display,
-                const fs::path& out) {
+DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const std::string& stereo,
+                     const std::string& display, const fs::path& out) {
     RunOptions r;
     r.scene = scene;
     r.display = display;
