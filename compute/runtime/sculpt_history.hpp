@@ -77,6 +77,7 @@ public:
     /// Whether strokes that cut remove the specks they leave (default false: the session spec decides,
     /// SessionSpec::keep_islands; a replay must use the live session's setting).
     void remove_islands(bool on) { remove_islands_ = on; }
+    /// Whether strokes that cut remove their specks (the last remove_islands() setting).
     bool removes_islands() const { return remove_islands_; }
     /// The speck removals of every stroke closed so far, summed.
     const IslandRemoval& islands() const { return island_totals_; }
