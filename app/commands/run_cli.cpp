@@ -9,6 +9,7 @@
 
 #include "app/commands/command.hpp"
 #include "app/session/run_session.hpp"
+#include "app/session/cluster/cluster_session.hpp"
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "core/error.hpp"
@@ -91,43 +92,73 @@ void add_run_options(CLI::App& run, RunOptions& o) {
         ->capture_default_str();
     cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
     cmd->add_flag("--keep-islands", o.keep_islands, kKeepIslandsHelp);
+    cmd->add_option("--cluster", o.cluster,
+                    "Cluster config (JSON): run under mpirun, rank 0 runs the session and the other ranks draw the "
+                    "wall's viewports (docs/wall.md)");
 }
 
+namespace {
+
+// The run's summary on stdout.
+void print_run(const RunResult& r) {
+    std::printf("tridex run: %s %s, %llu frames (%llu presents) in %.2f s, frame p50 %.2f ms, GPU p50 %.2f ms\n",
+                to_string(r.setup.display), std::string(renderer::to_string(r.setup.scene.display.stereo)).c_str(),
+                static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.presents), r.render_s,
+                r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5));
+    std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.6g -> %.6g m^3 "
+                "(%.4g cm^3 %s)\n",
+                r.loop.ticks, r.loop.overruns, static_cast<unsigned long long>(r.sculpt.steps),
+                static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
+                std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
+                r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
+    if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
+        std::printf("  undo %llu, redo %llu (%zu strokes undoable), Ctrl+S saves %llu\n",
+                    static_cast<unsigned long long>(r.sculpt.history.undos),
+                    static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
+                    static_cast<unsigned long long>(r.saves.saves));
+    if (r.sculpt.islands.specks > 0)
+        std::printf("  specks removed: %llu (%.3g mm^3 cut loose by strokes; --keep-islands keeps them)\n",
+                    static_cast<unsigned long long>(r.sculpt.islands.specks), r.sculpt.islands.volume_m3 * 1e9);
+    if (const auto it = r.companions.find("cluster"); it != r.companions.end() && it->is_object()) {
+        const nlohmann::json& c = *it;
+        std::printf("  cluster: %d ranks, %llu frames in step, %llu digest checks agreed, %.0f bytes per frame (mean), "
+                    "swap spread p99 %.2f ms\n",
+                    c.value("ranks", 0), static_cast<unsigned long long>(c.value("frames", 0ull)),
+                    static_cast<unsigned long long>(c.value("checks", 0ull)), c.value("frame_bytes_mean", 0.0),
+                    c["swap_spread_ms"].is_object() ? c["swap_spread_ms"].value("p99", 0.0) : 0.0);
+    }
+    for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
+    std::string written;
+    for (const std::string& f : r.files) written += (written.empty() ? "" : ", ") + f;
+    std::printf("  wrote: %s\n", written.empty() ? r.setup.out.c_str() : written.c_str());
+}
+
+}  // namespace
+
 int run_command(const RunOptions& options) {
+    const bool cluster = !options.cluster.empty();
+    // A cluster's rank 0 that fails ends every rank once its own work is written (end_cluster_session).
+    const auto failed = [cluster](int code) {
+        if (cluster) end_cluster_session(code);
+        return code;
+    };
     try {
-        const RunResult r = run_stereo_session(options);
-        std::printf("tridex run: %s %s, %llu frames (%llu presents) in %.2f s, frame p50 %.2f ms, GPU p50 %.2f ms\n",
-                    to_string(r.setup.display), std::string(renderer::to_string(r.setup.scene.display.stereo)).c_str(),
-                    static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.presents), r.render_s,
-                    r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5));
-        std::printf("  haptics %zu ticks (%zu overruns), sculpt %llu steps, %llu meshes drawn; volume %.6g -> %.6g m^3 "
-                    "(%.4g cm^3 %s)\n",
-                    r.loop.ticks, r.loop.overruns, static_cast<unsigned long long>(r.sculpt.steps),
-                    static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
-                    std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
-                    r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
-        if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
-            std::printf("  undo %llu, redo %llu (%zu strokes undoable), Ctrl+S saves %llu\n",
-                        static_cast<unsigned long long>(r.sculpt.history.undos),
-                        static_cast<unsigned long long>(r.sculpt.history.redos), r.sculpt.history.undo_steps,
-                        static_cast<unsigned long long>(r.saves.saves));
-        if (r.sculpt.islands.specks > 0)
-            std::printf("  specks removed: %llu (%.3g mm^3 cut loose by strokes; --keep-islands keeps them)\n",
-                        static_cast<unsigned long long>(r.sculpt.islands.specks), r.sculpt.islands.volume_m3 * 1e9);
-        for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
-        std::string written;
-        for (const std::string& f : r.files) written += (written.empty() ? "" : ", ") + f;
-        std::printf("  wrote: %s\n", written.empty() ? r.setup.out.c_str() : written.c_str());
+        if (cluster) {
+            const ClusterRunResult c = run_cluster_session(options);
+            if (c.run) print_run(*c.run);
+            return c.exit_code;
+        }
+        print_run(run_stereo_session(options));
         return 0;
     } catch (const DeviceLostError& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
-        return 4;
+        return failed(4);
     } catch (const Error& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
-        return 2;
+        return failed(2);
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "tridex: out of memory; lower workpiece.resolution\n");
-        return 3;
+        return failed(3);
     }
 }
 

@@ -93,6 +93,8 @@ bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
         ended = "the wand reached the end cap";
     else if (stop_requested())
         ended = std::string(stop_signal_name()) + " received";
+    else if (!companion_failure.empty())
+        ended = companion_failure;
     else if (backend->runtime().loop_stats().device_lost)
         ended = "the device was lost";
     else if (safety_s > 0.0 && offscreen && unlimited && t >= safety_s)
@@ -217,6 +219,13 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
     prev_start = t0;
     sink->draw(*rend, view, renderer::StereoCamera{cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m});
     if (contour_lock) contour_lock.unlock();
+    shown = FrameShown{frame, last_good_head.value_or(scene.head_pose), &nav, dc.eye_separation_m,
+                       lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength};
+    for (SessionCompanion* c : companions) {
+        c->before_present(shown);
+        if (companion_failure.empty()) companion_failure = c->failure();
+    }
+    ++shown.frame;  // what stopped() is told: one past the last frame presented
     r.presents += sink->present(*rend);
     r.last_eye = sink->last_eye();
     if (mouse_stylus) mouse_stylus->shown(lv, Clock::now());

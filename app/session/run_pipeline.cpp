@@ -92,6 +92,7 @@ void RunPipeline::Parts::open_backend() {
     // --record streams the ticks to disk while the session runs: a recording of any length.
     sculpt_options.stream_recording = su.record;
     // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
+    for (SessionCompanion* c : companions) c->configure(sculpt_options);
     std::shared_ptr<devices::DTrackReceiver> tool_dtrack;
     if (driver_caps(scene.spec.device_driver).input == devices::InputKind::kTracked) {
         if (dtrack && scene.dtrack_port == scene.tracked_port)
@@ -102,6 +103,7 @@ void RunPipeline::Parts::open_backend() {
     backend.emplace(scene, 1.0 / 60.0, su.tiles ? MeshForm::kTiles : MeshForm::kWhole, sculpt_options, &*ctx,
                     tool_dtrack);
     SessionRuntime& rt = backend->runtime();
+    for (SessionCompanion* c : companions) c->starting(rt);
     r.sculpt_path = rt.booleans().backend->path();
     r.sculpt_device = rt.booleans().backend->device();
     r.clay_path = rt.booleans().backend->clay_path();
@@ -172,6 +174,12 @@ void RunPipeline::Parts::collect() {
     r.eye_resolution_last = {rend->width(), rend->height()};
     r.stroke_completed = scene.has_stroke && backend->stroke_done() && rt.loop_stats().ticks >= backend->stroke_ticks();
     rt.stop();
+    for (SessionCompanion* c : companions) {
+        c->stopped(rt, shown);
+        if (companion_failure.empty()) companion_failure = c->failure();
+        r.companions[c->report_key()] = c->report();
+    }
+    if (!companion_failure.empty()) ended = companion_failure;
     r.loop = rt.loop_stats();
     if (r.loop.device_lost && !stop_requested()) {
         r.device_lost_at_s = rt.records().empty() ? 0.0 : rt.records().back().t_s;
@@ -276,7 +284,8 @@ void RunPipeline::Parts::write_outputs() {
     writes.finish(su.out);
 }
 
-RunPipeline::RunPipeline(const RunOptions& options) : p_(std::make_unique<Parts>(options)) {}
+RunPipeline::RunPipeline(const RunOptions& options, std::vector<SessionCompanion*> companions)
+    : p_(std::make_unique<Parts>(options, std::move(companions))) {}
 
 RunPipeline::~RunPipeline() = default;
 
@@ -294,6 +303,13 @@ RunResult RunPipeline::run() {
     }
     p.collect();
     p.write_outputs();
+    if (!p.companion_failure.empty()) {
+        const RunSetup& su = p.r.setup;
+        std::string kept = su.out + " (images, sculpted.ply, report.json)";
+        if (!su.journal.empty()) kept += ", the journal " + su.journal;
+        if (!su.save.empty()) kept += ", the model " + su.save;
+        throw Error(p.companion_failure + "; the session ended there and kept its work: " + kept);
+    }
     if (p.r.device_lost_at_s) {
         const RunSetup& su = p.r.setup;
         std::string kept = su.out + " (images, sculpted.ply, report.json)";

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "app/session/run_session.hpp"
+#include "app/session/session_companion.hpp"
 
 namespace tridex::app {
 
@@ -19,16 +21,17 @@ namespace tridex::app {
 /// collects the counters and writes the outputs (images, sculpted.ply, recording, --save, report.json).
 class RunPipeline {
 public:
-    /// Resolves the options (resolve_run) and opens every part of the session. Throws tridex::Error on bad
-    /// options or scene, no usable Vulkan device or display, or an output the display cannot show.
-    explicit RunPipeline(const RunOptions& options);
+    /// Resolves the options (resolve_run) and opens every part of the session, with `companions` beside it
+    /// (they must outlive the pipeline). Throws tridex::Error on bad options or scene, no usable Vulkan device or
+    /// display, or an output the display cannot show.
+    explicit RunPipeline(const RunOptions& options, std::vector<SessionCompanion*> companions = {});
     ~RunPipeline();
     RunPipeline(const RunPipeline&) = delete;
     RunPipeline& operator=(const RunPipeline&) = delete;
 
     /// Runs the frames, stops the session and writes its outputs; returns what the run did. Throws tridex::Error
-    /// when an output could not be written (after writing every other one and report.json) or the sculpt thread
-    /// failed. Call once.
+    /// when an output could not be written (after writing every other one and report.json), the sculpt thread
+    /// failed, or a companion failed (after writing every output). Call once.
     RunResult run();
 
 private:

@@ -135,7 +135,11 @@ struct RunPipeline::Parts final : FrameSteps {
     int base_w = 0, base_h = 0;           // the renderer's first size, px
     std::uint64_t window_resizes = 0;     // times the eye images followed the window to a new size
 
-    explicit Parts(const RunOptions& options)
+    std::vector<SessionCompanion*> companions;  // beside the frames (a cluster's rank 0)
+    std::string companion_failure;              // the first companion's failure; ends the session
+    FrameShown shown;                           // the last frame as the companions saw it
+
+    explicit Parts(const RunOptions& options, std::vector<SessionCompanion*> with)
         : r(run_detail::result_for(resolve_run(options))),
           su(r.setup),
           scene(su.scene),
@@ -143,7 +147,8 @@ struct RunPipeline::Parts final : FrameSteps {
           offscreen(su.display == DisplayKind::kOffscreen),
           eye_w(dc.width_px),
           eye_h(dc.height_px),
-          mouse(renderer::MouseNavigation::for_screen(dc.screen, dc.width_px)) {
+          mouse(renderer::MouseNavigation::for_screen(dc.screen, dc.width_px)),
+          companions(std::move(with)) {
         screen_now = dc.screen;
         open_display();
         open_inputs();

@@ -189,6 +189,7 @@ json run_report_json(const RunResult& r) {
           {"triangles", r.triangles}}},
         {"mouse", r.mouse},
         {"study", r.study},
+        {"cluster", r.companions.contains("cluster") ? r.companions["cluster"] : nlohmann::json(nullptr)},
         {"timing_s", {{"scan_convert", r.scan_s}, {"contour_initial", r.contour_initial_s}, {"session", r.session_s}}},
         {"session_s", r.session_s},
         {"wall_s", r.wall_s},

@@ -135,6 +135,8 @@ struct RunResult {
     nlohmann::json head;
     nlohmann::json wand;  ///< null without a wand; else app/input/dtrack_wand.hpp wand_report_json
     nlohmann::json study; ///< null without a study scene; else app/session/study_view.hpp StudyView::report_json
+    /// The session companions' reports (SessionCompanion::report), each under its report_key(); e.g. `cluster`.
+    nlohmann::json companions = nlohmann::json::object();
     /// null without scene objects; else app/session/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
     nlohmann::json deformation;
     std::size_t ticks = 0;                       ///< haptic tick records kept

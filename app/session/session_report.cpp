@@ -190,6 +190,8 @@ const std::vector<ReportField>& report_schema() {
                    "triangles}; null for demo and replay"},
         {"mouse", "the mouse stylus's counters (--device mouse); null otherwise"},
         {"study", "a study scene's trial report; null otherwise"},
+        {"cluster", "run --cluster, rank 0: the render ranks kept in step (frames, bytes, checks, latency, swap spread, "
+                    "each rank's report, failure); null otherwise"},
         {"timing_s", "wall times, s"},
         {"timing_s.scan_convert", "scan conversion (or model loading)"},
         {"timing_s.contour_initial", "the initial contouring"},

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "compute/journal/journal_writer.hpp"
+#include "compute/journal/tool_stream.hpp"
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -70,6 +71,9 @@ struct SculptOptions {
     std::optional<std::vector<SculptMark>> follow_marks{};
     /// --gpu: the GPU compute path whatever the Vulkan device's type (with --cpu: refused, backend_mode()).
     bool gpu = false;
+    /// Also hands every batch and mark the sculpt thread applies to this sink (SculptThread::use_stream): a
+    /// replica of the model elsewhere follows it. nullptr = none. Must outlive the session's threads.
+    compute::ToolStreamSink* stream = nullptr;
 };
 
 /// What `s` asks of the sculpting backend (its --cpu, --gpu, --gpu-contour and --gpu-clay), for decide_backend.

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 
 #include "compute/history/undo_history.hpp"
@@ -50,6 +51,37 @@ struct JournalApplyFrom {
 /// replay's (a lost stroke end merges two strokes), an undo or redo whose stroke is not the replay's next is skipped
 /// and counted in marks_skipped, and another number of rays written back is accepted (lost samples change it).
 JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from = {});
+
+/// journal_apply's work, kept between calls: records applied a few at a time, as they arrive (a cluster's render
+/// ranks follow the session's stream frame by frame), give the same model as journal_apply over all of them at
+/// once, bit for bit. The records passed to successive apply() calls are one journal's records in order (record
+/// indices continuing). `model` must outlive the applier. Not thread-safe.
+class JournalApplier {
+public:
+    /// Starts on `model` as journal_apply does with `from` at the start of a journal (from.record is ignored: the
+    /// first record given to apply() is the journal's first, index 0, unless resume_after() said otherwise).
+    /// Throws tridex::Error when from.history_budget_bytes is 0.
+    explicit JournalApplier(TriDexel& model, const JournalApplyFrom& from = {});
+    ~JournalApplier();
+    JournalApplier(const JournalApplier&) = delete;
+    JournalApplier& operator=(const JournalApplier&) = delete;
+    /// Applies `records` in order (journal_apply's rules, errors and lenience after gaps); the counters add up in
+    /// stats(). A push group left open at the end stays held (flush() applies it), as the sculpt thread holds it.
+    void apply(std::span<const JournalRecord> records);
+    /// Continues a journal after its record `last_index` (a checkpoint): the next record is expected at
+    /// last_index + 1, and the first sweep starts at `prev`, the last sample before it (nullptr: none);
+    /// records_before: the records before it as read, so that errors name records by their place in the journal
+    /// ("journal record K"). Call before the first apply().
+    void resume_after(std::uint64_t last_index, const ToolSample* prev, std::uint64_t records_before);
+    /// Applies a held push group (the end of a journal that ended without closing its stroke).
+    void flush();
+    /// What was applied so far.
+    const JournalApplyStats& stats() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> s_;
+};
 
 /// The serial of the last stroke closed in records [0, end) (the largest stroke-end serial), for
 /// JournalApplyFrom::last_serial.

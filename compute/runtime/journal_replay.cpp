@@ -3,6 +3,7 @@
 #include "compute/journal/journal_replay.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include "compute/runtime/boolean_backend.hpp"
@@ -23,96 +24,136 @@ std::uint64_t journal_last_serial(std::span<const JournalRecord> records, std::s
     return serial;
 }
 
-JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from) {
-    JournalApplyStats st;
-    const std::unique_ptr<app::BooleanBackend> cpu = app::make_cpu_backend(model);
-    app::SculptHistory history(model, *cpu, from.history_budget_bytes, from.last_serial);
-    history.remove_islands(from.remove_islands);
+struct JournalApplier::State {
+    std::unique_ptr<app::BooleanBackend> cpu;
+    app::SculptHistory history;
     std::vector<Sweep> batch;
     ToolSample prev{};
     bool have_prev = false;
-    // The first sweep after a checkpoint starts at the last sample before it.
-    for (std::size_t k = std::min(from.record, records.size()); k-- > 0 && !have_prev;) {
-        if (records[k].kind == JournalKind::kBatch && !records[k].samples.empty()) {
-            prev = records[k].samples.back();
-            have_prev = true;
-        }
+    std::optional<std::uint64_t> last_index;  // index of the last record seen (none: the next is the journal's first)
+    std::uint64_t position = 0;               // records seen, for error messages
+    bool damaged = false;    // a gap in the record indices lay before: marks are matched leniently
+    std::int64_t shift = 0;  // journal serial - replay serial, relearnt at each stroke end after a gap
+    JournalApplyStats st;
+
+    State(TriDexel& model, const JournalApplyFrom& from)
+        : cpu(app::make_cpu_backend(model)), history(model, *cpu, from.history_budget_bytes, from.last_serial) {
+        history.remove_islands(from.remove_islands);
     }
-    bool damaged = false;     // a gap in the record indices lies before record k: marks are matched leniently
-    std::int64_t shift = 0;   // journal serial - replay serial, relearnt at each stroke end after a gap
-    for (std::size_t k = from.record; k < records.size(); ++k) {
-        const JournalRecord& r = records[k];
-        if (r.index != (k == 0 ? 0 : records[k - 1].index + 1)) damaged = true;
+
+    void stroke_end(std::uint64_t k, const JournalRecord& r) {
+        const std::uint64_t serial = history.end_stroke();
+        if (damaged && serial != r.serial) {
+            if (serial != 0) shift = static_cast<std::int64_t>(r.serial) - static_cast<std::int64_t>(serial);
+            else ++st.marks_skipped;
+            if (serial != 0) ++st.strokes;
+            return;
+        }
+        if (serial != r.serial)
+            throw at(k, "the journal closes stroke " + std::to_string(r.serial) + " where the replay " +
+                            (serial == 0 ? std::string("has no stroke open") : "closes stroke " + std::to_string(serial)));
+        ++st.strokes;
+    }
+
+    void undo_redo(std::uint64_t k, const JournalRecord& r) {
+        const bool undo = r.kind == JournalKind::kUndo;
+        history.end_stroke();
+        const std::uint64_t next = undo ? history.next_undo_serial() : history.next_redo_serial();
+        if (damaged) {
+            if (next == 0 || static_cast<std::int64_t>(next) + shift != static_cast<std::int64_t>(r.serial)) {
+                ++st.marks_skipped;
+                return;
+            }
+            (void)(undo ? history.undo() : history.redo());
+            ++(undo ? st.undos : st.redos);
+            return;
+        }
+        if (next != r.serial)
+            throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) +
+                            ", but the replay's next is " + (next == 0 ? std::string("none") : "stroke " + std::to_string(next)));
+        const UndoHistory::Change c = undo ? history.undo() : history.redo();
+        if (c.rays != r.rays)
+            throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) + " wrote " +
+                            std::to_string(c.rays) + " rays back, the journal says " + std::to_string(r.rays));
+        ++(undo ? st.undos : st.redos);
+    }
+
+    void samples(std::uint64_t k, const JournalRecord& r) {
+        batch.clear();
+        for (const ToolSample& s : r.samples) {
+            if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
+            Sweep sw;
+            if (have_prev && sample_sweep(prev, s, nullptr, sw)) batch.push_back(std::move(sw));
+            prev = s;
+            have_prev = true;
+            st.last_t_s = s.t_s;
+        }
+        st.samples += r.samples.size();
+        if (batch.empty()) return;
+        try {
+            history.apply(batch);
+        } catch (const Error& e) {
+            throw at(k, e.what());
+        }
+        st.booleans += batch.size();
+    }
+
+    void one(const JournalRecord& r) {
+        const std::uint64_t k = position++;
+        if (r.index != (last_index ? *last_index + 1 : 0)) damaged = true;
+        last_index = r.index;
         switch (r.kind) {
-            case JournalKind::kCheckpoint:
-                break;
-            case JournalKind::kStrokeEnd: {
-                const std::uint64_t serial = history.end_stroke();
-                if (damaged && serial != r.serial) {
-                    if (serial != 0) shift = static_cast<std::int64_t>(r.serial) - static_cast<std::int64_t>(serial);
-                    else ++st.marks_skipped;
-                    if (serial != 0) ++st.strokes;
-                    break;
-                }
-                if (serial != r.serial)
-                    throw at(k, "the journal closes stroke " + std::to_string(r.serial) + " where the replay " +
-                                    (serial == 0 ? std::string("has no stroke open") : "closes stroke " + std::to_string(serial)));
-                ++st.strokes;
-                break;
-            }
+            case JournalKind::kCheckpoint: break;
+            case JournalKind::kStrokeEnd: stroke_end(k, r); break;
             case JournalKind::kUndo:
-            case JournalKind::kRedo: {
-                const bool undo = r.kind == JournalKind::kUndo;
-                history.end_stroke();
-                const std::uint64_t next = undo ? history.next_undo_serial() : history.next_redo_serial();
-                if (damaged) {
-                    if (next == 0 || static_cast<std::int64_t>(next) + shift != static_cast<std::int64_t>(r.serial)) {
-                        ++st.marks_skipped;
-                        break;
-                    }
-                    (void)(undo ? history.undo() : history.redo());
-                    ++(undo ? st.undos : st.redos);
-                    break;
-                }
-                if (next != r.serial)
-                    throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) +
-                                    ", but the replay's next is " + (next == 0 ? std::string("none") : "stroke " + std::to_string(next)));
-                const UndoHistory::Change c = undo ? history.undo() : history.redo();
-                if (c.rays != r.rays)
-                    throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) + " wrote " +
-                                    std::to_string(c.rays) + " rays back, the journal says " + std::to_string(r.rays));
-                ++(undo ? st.undos : st.redos);
-                break;
-            }
-            case JournalKind::kBatch: {
-                batch.clear();
-                for (const ToolSample& s : r.samples) {
-                    if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone)
-                        throw at(k, "a mesh tool, which sessions do not have");
-                    Sweep sw;
-                    if (have_prev && sample_sweep(prev, s, nullptr, sw)) batch.push_back(std::move(sw));
-                    prev = s;
-                    have_prev = true;
-                    st.last_t_s = s.t_s;
-                }
-                st.samples += r.samples.size();
-                if (!batch.empty()) {
-                    try {
-                        history.apply(batch);
-                    } catch (const Error& e) {
-                        throw at(k, e.what());
-                    }
-                    st.booleans += batch.size();
-                }
-                break;
-            }
+            case JournalKind::kRedo: undo_redo(k, r); break;
+            case JournalKind::kBatch: samples(k, r); break;
         }
         ++st.records;
     }
-    history.flush();  // a push group the journal's last batch left open (a session that ended without closing it)
-    st.islands_removed = history.islands().specks;
-    st.island_volume_m3 = history.islands().volume_m3;
-    return st;
+
+    void update_islands() {
+        st.islands_removed = history.islands().specks;
+        st.island_volume_m3 = history.islands().volume_m3;
+    }
+};
+
+JournalApplier::JournalApplier(TriDexel& model, const JournalApplyFrom& from) : s_(std::make_unique<State>(model, from)) {}
+
+JournalApplier::~JournalApplier() = default;
+
+void JournalApplier::resume_after(std::uint64_t last_index, const ToolSample* prev, std::uint64_t records_before) {
+    s_->last_index = last_index;
+    s_->position = records_before;
+    s_->have_prev = prev != nullptr;
+    if (prev) s_->prev = *prev;
+}
+
+void JournalApplier::apply(std::span<const JournalRecord> records) {
+    for (const JournalRecord& r : records) s_->one(r);
+    s_->update_islands();
+}
+
+void JournalApplier::flush() {
+    s_->history.flush();
+    s_->update_islands();
+}
+
+const JournalApplyStats& JournalApplier::stats() const { return s_->st; }
+
+JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from) {
+    JournalApplier applier(model, from);
+    const std::size_t first = std::min(from.record, records.size());
+    if (first > 0) {
+        // The first sweep after a checkpoint starts at the last sample before it.
+        const ToolSample* prev = nullptr;
+        for (std::size_t k = first; k-- > 0 && !prev;)
+            if (records[k].kind == JournalKind::kBatch && !records[k].samples.empty()) prev = &records[k].samples.back();
+        applier.resume_after(records[first - 1].index, prev, first);
+    }
+    applier.apply(records.subspan(first));
+    applier.flush();  // a push group the journal's last batch left open (a session that ended without closing it)
+    return applier.stats();
 }
 
 }  // namespace tridex::compute

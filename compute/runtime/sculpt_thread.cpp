@@ -66,6 +66,12 @@ void SculptThread::use_journal(compute::JournalWriter& journal) {
     drained_.reserve(samples_.capacity() + 1);
 }
 
+void SculptThread::use_stream(compute::ToolStreamSink& stream) {
+    if (thread_.joinable()) throw Error("SculptThread::use_stream: call it before start()");
+    stream_ = &stream;
+    drained_.reserve(samples_.capacity() + 1);
+}
+
 void SculptThread::use_gpu_contour(GpuContourShare& share) {
     if (thread_.joinable()) throw Error("SculptThread::use_gpu_contour: call it before start()");
     gpu_contour_ = &share;
@@ -235,6 +241,10 @@ void SculptThread::take(SculptRequest r) {
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
     if (c.serial == 0) return;  // nothing to undo / redo
     if (journal_) journal_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
+    if (stream_) {
+        stream_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
+        stream_->after_record(model_);
+    }
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once
     const auto t1 = std::chrono::steady_clock::now();
@@ -272,6 +282,10 @@ void SculptThread::close_stroke() {
     stroke_changed_ = false;
     push_stroke_ = false;
     if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
+    if (serial != 0 && stream_) {
+        stream_->mark(compute::kJournalStrokeEnd, serial, 0);
+        stream_->after_record(model_);
+    }
     // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
     // Removed specks leave the haptic window too.
     if (reference_moves || islands.specks > 0) publish(published_centre_m_);
@@ -294,6 +308,10 @@ void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
         batch_.clear();
     }
     if (journal_ && end > begin) journal_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
+    if (stream_ && end > begin) {
+        stream_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
+        stream_->after_record(model_);
+    }
 }
 
 void SculptThread::contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1) {
@@ -331,7 +349,7 @@ bool SculptThread::step() {
         take_marks(changed, begin, n);  // a recorded request that came after the samples drained so far
         sampled = true;
         ++stats_.samples;
-        if (journal_) drained_.push_back(s);
+        if (journal_ || stream_) drained_.push_back(s);
         const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
         if (cuts && s.made_s < oldest_cut_s) oldest_cut_s = s.made_s;
         // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then

@@ -20,6 +20,7 @@
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/journal/journal_writer.hpp"
+#include "compute/journal/tool_stream.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/active_surface.hpp"
@@ -197,6 +198,11 @@ public:
     /// journal's own errors never stop the thread (JournalWriter records them). `journal` must outlive the thread.
     /// Throws tridex::Error when the thread runs.
     void use_journal(compute::JournalWriter& journal);
+    /// Hands every batch and mark the journal would get to `stream` too, in the same order, each followed by
+    /// stream.after_record(model) (compute/journal/tool_stream.hpp), with or without a journal: a replica of the
+    /// model elsewhere (a cluster's render ranks) follows it. `stream` must outlive the thread. Throws
+    /// tridex::Error when the thread runs.
+    void use_stream(compute::ToolStreamSink& stream);
     /// Calls `observer` (on the sculpt thread, or here once at once with a fresh snapshot around the newest centre)
     /// with every active-surface snapshot just before it is published: a device that renders contact next to
     /// itself (net, local rendering) gets the surface without the haptic thread's help. Throws tridex::Error when
@@ -329,6 +335,7 @@ private:
     bool changed_since_checkpoint_ = false;
     std::chrono::steady_clock::time_point checkpoint_last_{};
     compute::JournalWriter* journal_ = nullptr;
+    compute::ToolStreamSink* stream_ = nullptr;
     std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
     std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
     compute::Contourer& contourer_;

@@ -1,0 +1,59 @@
+// app/session/cluster/cluster_replica.hpp - a render rank's copy of the session's model: built from the session spec,
+// carved by the replicated tool sample stream, contoured tile by tile and drawn through a viewport of the wall.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "app/scene/workpiece_source.hpp"
+#include "app/session/cluster/cluster_config.hpp"
+#include "app/session/cluster/frame_message.hpp"
+#include "app/session/tile_view.hpp"
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/journal/journal_replay.hpp"
+#include "renderer/output/stereo_sink.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
+
+namespace tridex::app {
+
+/// The model of a session as a render rank holds it. Applying rank 0's records in order gives rank 0's model bit
+/// for bit (JournalApplier on the CPU reference Booleans, the session's island setting and undo budget).
+class ClusterReplica {
+public:
+    /// Builds the session's workpiece from its spec (spec_to_json's text; prepare_session_workpiece: the same mesh
+    /// or saved model file, scan-converted the same way) and contours it. Throws tridex::Error when the spec is
+    /// malformed or its workpiece cannot be read or differs from the recorded checksums.
+    explicit ClusterReplica(const std::string& spec_json);
+    ~ClusterReplica();
+
+    /// The model's digest (compute::model_digest).
+    std::uint64_t digest() const;
+    /// Applies `m`'s records; when m carries a check, compares the digest after m.check_after records with it and
+    /// returns this replica's digest when they differ (nullopt when equal or unchecked). Throws tridex::Error as
+    /// JournalApplier::apply (a record the model refuses).
+    std::optional<std::uint64_t> apply(const FrameMessage& m);
+    /// Re-contours the tiles the records changed; the tiles drawn by view().
+    void contour();
+    /// What frame `m` draws: the contoured tiles, the tool as rank 0 drew it, no workspace box or overlay.
+    renderer::SceneView view(const FrameMessage& m) const;
+    /// The camera of viewport `v` for frame `m`: its screen and eye(s), moved with the scene's navigation
+    /// (navigated_camera), a single-eye viewport drawn as a mono view from that eye.
+    static renderer::StereoCamera camera(const ClusterViewport& v, const FrameMessage& m);
+    /// Samples and records applied so far.
+    const compute::JournalApplyStats& applied() const;
+    /// The workpiece (its model as carved so far).
+    const Workpiece& workpiece() const { return wp_; }
+
+private:
+    Workpiece wp_;
+    std::unique_ptr<compute::JournalApplier> applier_;
+    std::unique_ptr<compute::Contourer> contourer_;
+    compute::TileSurfaceCache tiles_;
+    TileView tile_view_;
+};
+
+}  // namespace tridex::app

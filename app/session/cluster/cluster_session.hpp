@@ -1,0 +1,28 @@
+// app/session/cluster/cluster_session.hpp - `tridex run SCENE --cluster CONFIG` under mpirun: rank 0 runs the session,
+// the other ranks draw the wall's viewports.
+#pragma once
+
+#include "app/session/run_session.hpp"
+
+namespace tridex::app {
+
+/// What one rank of a cluster session did.
+struct ClusterRunResult {
+    int rank = 0;                    ///< this process's rank
+    std::optional<RunResult> run;    ///< rank 0: the session (as run_stereo_session's)
+    int exit_code = 0;               ///< 0 = ended normally
+};
+
+/// Runs this process's part of the cluster session of `options` (options.cluster names the config): rank 0 runs
+/// the session with a ClusterRoot beside it; every other rank runs its viewports (run_render_rank). Throws
+/// tridex::Error when this build has no MPI, the process was not started by mpirun, the config is bad or names
+/// another number of ranks, or (rank 0) as run_stereo_session; a rank 0 whose render rank failed writes all its
+/// outputs first, then throws naming the rank. The caller then ends every rank (ClusterTransport::abort_all via
+/// end_cluster_session).
+ClusterRunResult run_cluster_session(const RunOptions& options);
+
+/// Ends every rank of the running cluster session with `code` after rank 0 failed (MPI_Abort); returns when there
+/// is no cluster session in this process.
+void end_cluster_session(int code);
+
+}  // namespace tridex::app

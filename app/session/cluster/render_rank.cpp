@@ -1,0 +1,263 @@
+// app/session/cluster/render_rank.cpp - a render rank's loop: frame messages in, viewports drawn, the swap barrier.
+#include "app/session/cluster/render_rank.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session/cluster/cluster_replica.hpp"
+#include "app/session/cluster/frame_message.hpp"
+#include "app/session/session_report.hpp"
+#include "core/error.hpp"
+#include "core/format.hpp"
+#include "gpu/context.hpp"
+#include "renderer/output/offscreen_sink.hpp"
+#include "renderer/output/stereo_output.hpp"
+#include "renderer/window/window_glfw.hpp"
+#include "renderer/window/window_sink.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+Clock::time_point after_s(double s) {
+    return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+// One viewport: its window (if shown), renderer and sink.
+struct Viewport {
+    const ClusterViewport* config = nullptr;
+    std::optional<renderer::Window> window;
+    std::optional<renderer::OffscreenStereoRenderer> rend;
+    std::unique_ptr<renderer::StereoSink> sink;
+};
+
+// A fault injected by the tests (docs/wall.md, "testing faults"): TRIDEX_CLUSTER_FAULT=RANK:FRAME:exit|hang makes
+// render rank RANK exit with code 9, or stop answering, when frame FRAME (or the last frame, if sooner) arrives.
+struct Fault {
+    int rank = -1;
+    std::uint64_t frame = 0;
+    bool hang = false;
+};
+
+Fault fault_from_env() {
+    Fault f;
+    const char* v = std::getenv("TRIDEX_CLUSTER_FAULT");
+    if (!v) return f;
+    int rank = -1;
+    unsigned long long frame = 0;
+    char kind[8] = {};
+    if (std::sscanf(v, "%d:%llu:%7s", &rank, &frame, kind) == 3) {
+        f.rank = rank;
+        f.frame = frame;
+        f.hang = std::string(kind) == "hang";
+    }
+    return f;
+}
+
+// What the last frame showed, so that it can be drawn again elsewhere (the tests' one-machine reference).
+nlohmann::json last_frame_json(const FrameMessage& m) {
+    const auto v3 = [](const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    const auto q4 = [](const Quat& q) { return nlohmann::json::array({q.w, q.x, q.y, q.z}); };
+    return {{"frame", m.frame},
+            {"head_m", v3(m.head.position)},
+            {"head_orientation", q4(m.head.orientation)},
+            {"nav_m", v3(m.nav_pose.position)},
+            {"nav_orientation", q4(m.nav_pose.orientation)},
+            {"nav_scale", m.nav_scale},
+            {"eye_separation_m", m.eye_separation_m},
+            {"show_tool", m.show_tool},
+            {"tool_m", v3(m.tool_m)},
+            {"tool_orientation", q4(m.tool_orientation)},
+            {"tool_radius_m", m.tool.radius_m},
+            {"tool_length_m", m.tool.length_m},
+            {"tool_kind", static_cast<int>(m.tool.kind)},
+            {"ao", m.ao}};
+}
+
+class RenderRank {
+public:
+    RenderRank(ClusterTransport& t, const ClusterConfig& c, const RenderRankOptions& o)
+        : t_(t), c_(c), o_(o), mine_(c.find(t.rank())), fault_(fault_from_env()) {}
+
+    int run() {
+        std::uint64_t frame = 0;
+        try {
+            if (!mine_) throw Error(c_.source + ": names no viewports for rank " + std::to_string(t_.rank()));
+            open();
+            for (bool last = false; !last;) last = one_frame(frame);
+            finish(frame);
+            (void)t_.flush(after_s(c_.timeout_s));
+            return 0;
+        } catch (const std::exception& e) {
+            const std::string why = e.what();
+            std::fprintf(stderr, "tridex: cluster render rank %d: %s\n", t_.rank(), why.c_str());
+            try {
+                RankAnswer a;
+                a.frame = frame;
+                a.error = why;
+                t_.send(0, encode_answer(a));
+                (void)t_.flush(after_s(2.0));
+            } catch (const std::exception&) {  // rank 0 may be gone: the error is said above
+            }
+            return 3;
+        }
+    }
+
+private:
+    std::vector<unsigned char> wait_for_rank0(double timeout_s, const char* what) {
+        auto got = t_.receive(0, after_s(timeout_s));
+        if (!got)
+            throw Error("rank 0 sent no " + std::string(what) + " within " + format_number(timeout_s) +
+                        " s (it ended, hangs or is unreachable)");
+        return std::move(*got);
+    }
+
+    void open() {
+        const HelloMessage hello = decode_hello(wait_for_rank0(c_.start_timeout_s, "session"), "rank 0's hello");
+        const auto t0 = Clock::now();
+        replica_.emplace(hello.spec_json);
+        load_ms_ = ms_since(t0);
+        if (replica_->digest() != hello.initial_digest)
+            throw Error("the workpiece built here differs from rank 0's (digest " + std::to_string(replica_->digest()) +
+                        ", rank 0's " + std::to_string(hello.initial_digest) +
+                        "): another mesh file or build on this machine");
+        bool windows = false;
+        for (const ClusterViewport& v : mine_->viewports) windows |= v.output != ViewportOutput::kOffscreen;
+        if (windows) glfw_.emplace();
+        gpu::ContextOptions gopt;
+        gopt.validation = o_.validate;
+        ctx_.emplace(gpu::Context::create(windows ? renderer::window_context_options(gopt) : gopt));
+        for (const ClusterViewport& v : mine_->viewports) {
+            Viewport vp;
+            vp.config = &v;
+            const renderer::SinkOptions so{v.stereo, false, renderer::AnaglyphMethod::kDubois, 60.0};
+            if (v.output == ViewportOutput::kOffscreen) {
+                vp.sink = std::make_unique<renderer::OffscreenSink>(*ctx_, so);
+            } else {
+                renderer::WindowOptions wo;
+                wo.title = "tridex wall - rank " + std::to_string(t_.rank()) + " - " + v.name;
+                std::tie(wo.width, wo.height) = renderer::output_size(v.stereo, v.width_px, v.height_px);
+                wo.fullscreen = v.output == ViewportOutput::kFullscreen;
+                wo.monitor_index = wo.fullscreen ? v.monitor : -1;
+                wo.resizable = false;
+                vp.window.emplace(renderer::Window::create(wo));
+                vp.sink = renderer::WindowSink::create(*ctx_, *vp.window, so);
+            }
+            vp.rend.emplace(renderer::OffscreenStereoRenderer::create(*ctx_, v.width_px, v.height_px));
+            viewports_.push_back(std::move(vp));
+        }
+        RankAnswer ready;
+        ready.frame = kHelloAnswerFrame;
+        t_.send(0, encode_answer(ready));
+    }
+
+    // One frame; true when it was the last.
+    bool one_frame(std::uint64_t& frame) {
+        const FrameMessage m = decode_frame(wait_for_rank0(frame == 0 ? c_.start_timeout_s : c_.timeout_s, "frame"),
+                                            "rank 0's frame " + std::to_string(frame));
+        frame = m.frame;
+        last_ = m;
+        last_.records.clear();
+        if (t_.rank() == fault_.rank && (m.frame >= fault_.frame || m.last)) {
+            if (!fault_.hang) std::_Exit(9);
+            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+        }
+        RankAnswer a;
+        a.frame = m.frame;
+        a.previous_present_s = last_present_s_;
+        auto t0 = Clock::now();
+        if (const std::optional<std::uint64_t> mismatch = replica_->apply(m)) {
+            a.digest_mismatch = true;
+            a.digest = *mismatch;
+            t_.send(0, encode_answer(a));
+            throw Error("the model here differs from rank 0's at frame " + std::to_string(m.frame) + " (digest check)");
+        }
+        if (m.check_digest) ++checks_;
+        a.apply_ms = ms_since(t0);
+        apply_ms_.push_back(a.apply_ms);
+        t0 = Clock::now();
+        replica_->contour();
+        contour_ms_.push_back(ms_since(t0));
+        const renderer::SceneView view = replica_->view(m);
+        for (Viewport& vp : viewports_) {
+            if (vp.window) vp.window->poll_events();
+            vp.sink->draw(*vp.rend, view, ClusterReplica::camera(*vp.config, m));
+        }
+        a.draw_ms = ms_since(t0);
+        draw_ms_.push_back(a.draw_ms);
+        t_.send(0, encode_answer(a));
+        const std::uint64_t go = decode_go(wait_for_rank0(c_.timeout_s, "go"), "rank 0's go");
+        if (go != m.frame) throw Error("rank 0 released frame " + std::to_string(go) + " while frame " + std::to_string(m.frame) + " waited");
+        for (Viewport& vp : viewports_) presents_ += static_cast<std::uint64_t>(vp.sink->present(*vp.rend));
+        last_present_s_ = now_s();
+        ++frames_;
+        return m.last;
+    }
+
+    void finish(std::uint64_t frame) {
+        nlohmann::json files = nlohmann::json::array();
+        for (Viewport& vp : viewports_) {
+            vp.rend->finish();
+            if (vp.config->output != ViewportOutput::kOffscreen) continue;
+            const fs::path dir = fs::path(o_.out) / vp.config->name;
+            fs::create_directories(dir);
+            for (const std::string& f : vp.sink->finish(*vp.rend, dir.string())) files.push_back(f);
+        }
+        RankAnswer done;
+        done.kind = ClusterKind::kDone;
+        done.frame = frame;
+        done.previous_present_s = last_present_s_;
+        done.digest = replica_->digest();
+        const nlohmann::json report = {{"rank", t_.rank()},
+                                       {"frames", frames_},
+                                       {"presents", presents_},
+                                       {"checks", checks_},
+                                       {"workpiece_load_ms", load_ms_},
+                                       {"records", replica_->applied().records},
+                                       {"samples", replica_->applied().samples},
+                                       {"final_digest", done.digest},
+                                       {"apply_ms", summary_report_json(apply_ms_)},
+                                       {"contour_ms", summary_report_json(contour_ms_)},
+                                       {"draw_ms", summary_report_json(draw_ms_)},
+                                       {"validation_messages", ctx_->validation_messages()},
+                                       {"last_frame", last_frame_json(last_)},
+                                       {"files", files}};
+        done.report_json = report.dump();
+        t_.send(0, encode_answer(done));
+    }
+
+    ClusterTransport& t_;
+    const ClusterConfig& c_;
+    const RenderRankOptions& o_;
+    const ClusterRank* mine_;
+    Fault fault_;
+    std::optional<ClusterReplica> replica_;
+    FrameMessage last_;  // the last frame message (without its records): its view, for the report
+    std::optional<renderer::WindowSystemScope> glfw_;
+    std::optional<gpu::Context> ctx_;
+    std::vector<Viewport> viewports_;  // after ctx_: destroyed before it
+    double last_present_s_ = 0.0, load_ms_ = 0.0;
+    std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
+    std::vector<double> apply_ms_, contour_ms_, draw_ms_;
+};
+
+}  // namespace
+
+int run_render_rank(ClusterTransport& transport, const ClusterConfig& config, const RenderRankOptions& options) {
+    return RenderRank(transport, config, options).run();
+}
+
+}  // namespace tridex::app

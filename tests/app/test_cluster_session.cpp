@@ -1,0 +1,165 @@
+// A cluster session on this machine, as mpirun starts it on a wall's PCs: three ranks offscreen (rank 0 the session,
+// ranks 1 and 2 each half of the wall). Their tiles stitched together equal the wall drawn whole on one machine from
+// rank 0's journal, the models agree at every check, and a render rank that dies or hangs ends the session in order
+// with its work kept.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "app/session/cluster/cluster_replica.hpp"
+#include "compute/journal/journal_reader.hpp"
+#include "compute/model/model_digest.hpp"
+#include "gpu/context.hpp"
+#include "renderer/image/image.hpp"
+#include "renderer/image/image_compare.hpp"
+#include "renderer/output/offscreen_sink.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
+
+struct Launch {
+    int exit_code = -1;
+    std::string log;
+};
+
+// mpirun -np 3 on this machine: the session's ranks, with the cluster config `config` (a file in kData or a path).
+Launch mpirun3(const fs::path& out, const fs::path& config, const std::string& env = "") {
+    fs::remove_all(out);
+    fs::create_directories(out);
+    const std::string root = geteuid() == 0 ? " --allow-run-as-root" : "";
+    const fs::path log = out.string() + ".log";
+    const std::string cmd = env + " timeout 300 mpirun" + root + " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np 3 " +
+                            std::string(TRIDEX_EXE) + " run " + (kData / "wall_small_scene.json").string() +
+                            " --display offscreen --no-items --cluster " + config.string() + " --out " + out.string() +
+                            " > " + log.string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    Launch l;
+    l.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    l.log.assign(std::istreambuf_iterator<char>(in), {});
+    return l;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+Vec3 v3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+Quat q4(const nlohmann::json& j) { return Quat(j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>()); }
+
+bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
+
+TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
+    if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_ok";
+    const Launch l = mpirun3(out, kData / "two_tiles.json");
+    ASSERT_EQ(l.exit_code, 0) << l.log;
+    const nlohmann::json report = read_json(out / "report.json");
+    const nlohmann::json& c = report["cluster"];
+    ASSERT_TRUE(c.is_object()) << report.dump(1);
+    EXPECT_TRUE(c["failure"].is_null()) << c["failure"];
+    EXPECT_EQ(c["ranks"], 3);
+    EXPECT_GE(c["checks"].get<int>(), 2) << "the models were compared at least at one frame and at the end";
+    ASSERT_EQ(c["render_ranks"].size(), 2u);
+
+    // The whole wall drawn on this one machine: rank 0's journal applied to the same workpiece, the last frame's view.
+    const compute::Journal journal = compute::read_journal((out / "session.tdj").string());
+    ClusterReplica one(journal.session);
+    FrameMessage m;
+    m.records = journal.records;
+    ASSERT_FALSE(one.apply(m).has_value());
+    one.contour();
+    for (const nlohmann::json& rank : c["render_ranks"]) {
+        EXPECT_EQ(rank["final_digest"].get<std::uint64_t>(), one.digest()) << "rank " << rank["rank"];
+        EXPECT_EQ(rank["validation_messages"], 0);
+    }
+    const nlohmann::json& last = c["render_ranks"][0]["last_frame"];
+    m.head = Pose{v3(last["head_m"]), q4(last["head_orientation"])};
+    m.nav_pose = Pose{v3(last["nav_m"]), q4(last["nav_orientation"])};
+    m.nav_scale = last["nav_scale"];
+    m.eye_separation_m = last["eye_separation_m"];
+    m.show_tool = last["show_tool"];
+    m.tool_m = v3(last["tool_m"]);
+    m.tool_orientation = q4(last["tool_orientation"]);
+    m.tool.radius_m = last["tool_radius_m"];
+    m.ao = last["ao"];
+    ClusterViewport whole;
+    whole.name = "whole";
+    whole.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
+    whole.width_px = 320;
+    whole.height_px = 240;
+    whole.stereo = renderer::StereoOutput::kSideBySide;
+    gpu::ContextOptions gopt;
+    gopt.validation = true;
+    gpu::Context ctx = gpu::Context::create(gopt);
+    auto rend = renderer::OffscreenStereoRenderer::create(ctx, whole.width_px, whole.height_px);
+    renderer::OffscreenSink sink(ctx, renderer::SinkOptions{whole.stereo, false, renderer::AnaglyphMethod::kDubois, 60.0});
+    (void)sink.draw(rend, one.view(m), ClusterReplica::camera(whole, m));
+    (void)sink.present(rend);
+    const fs::path ref_dir = out / "one-machine";
+    fs::create_directories(ref_dir);
+    (void)sink.finish(rend, ref_dir.string());
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+
+    for (const char* eye : {"left.png", "right.png"}) {
+        const renderer::Image a = renderer::read_png((out / "left-half" / eye).string());
+        const renderer::Image b = renderer::read_png((out / "right-half" / eye).string());
+        const renderer::Image ref = renderer::read_png((ref_dir / eye).string());
+        ASSERT_EQ(a.width + b.width, ref.width);
+        renderer::Image stitched = renderer::Image::filled(ref.width, ref.height, 0, 0, 0);
+        for (int y = 0; y < ref.height; ++y) {
+            std::memcpy(stitched.at(0, y), a.at(0, y), static_cast<std::size_t>(a.width) * 4);
+            std::memcpy(stitched.at(a.width, y), b.at(0, y), static_cast<std::size_t>(b.width) * 4);
+        }
+        renderer::write_png((out / (std::string("stitched_") + eye)).string(), stitched);
+        // Ambient occlusion reads neighbouring pixels, which a tile's edge cuts off: a few pixels along the seam may
+        // differ by a little; everything else is the same image.
+        const renderer::ImageComparison cmp = renderer::compare_images(stitched, ref, 8);
+        EXPECT_GE(cmp.fraction_within(), 0.995) << eye << ": " << cmp.pixels - cmp.within << " pixels differ by more than 8";
+        const renderer::ImageComparison exact = renderer::compare_images(stitched, ref, 0);
+        std::printf("%s: %zu of %zu pixels equal, %zu within 8 levels, largest difference %d\n", eye, exact.within,
+                    exact.pixels, cmp.within, cmp.max_channel_diff);
+    }
+}
+
+TEST(ClusterSession, ARenderRankThatDiesEndsTheSessionAndKeepsItsWork) {
+    if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_dies";
+    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:3:exit");
+    EXPECT_NE(l.exit_code, 0) << l.log;
+    EXPECT_NE(l.log.find("render rank 2 did not answer frame "), std::string::npos) << l.log;
+    EXPECT_NE(l.log.find("kept its work"), std::string::npos) << l.log;
+    const nlohmann::json report = read_json(out / "report.json");
+    EXPECT_NE(report["cluster"]["failure"].get<std::string>().find("render rank 2"), std::string::npos);
+    EXPECT_TRUE(fs::exists(out / "session.tdj"));
+    EXPECT_TRUE(fs::exists(out / "sculpted.ply"));
+    // Nothing sculpted is lost: the journal holds every sample the session applied.
+    const compute::Journal journal = compute::read_journal((out / "session.tdj").string());
+    std::size_t samples = 0;
+    for (const compute::JournalRecord& r : journal.records) samples += r.samples.size();
+    EXPECT_EQ(samples, report["sculpt"]["samples"].get<std::size_t>());
+}
+
+TEST(ClusterSession, ARenderRankThatHangsIsNamedWithinTheTimeout) {
+    if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_hangs";
+    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=1:2:hang");
+    EXPECT_NE(l.exit_code, 0) << l.log;
+    EXPECT_NE(l.log.find("render rank 1 did not answer frame "), std::string::npos) << l.log;
+    EXPECT_NE(l.log.find("within 5 s"), std::string::npos) << l.log;
+    EXPECT_TRUE(fs::exists(out / "report.json"));
+}
+
+}  // namespace
+}  // namespace tridex::app
