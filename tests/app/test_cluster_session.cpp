@@ -126,6 +126,19 @@ TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
         // Ambient occlusion reads neighbouring pixels, which a tile's edge cuts off: a few pixels along the seam may
         // differ by a little; everything else is the same image.
         const renderer::ImageComparison cmp = renderer::compare_images(stitched, ref, 8);
+        std::size_t off_seam = 0;  // pixels more than 8 levels off, further than 3 pixels from the seam
+        for (int y = 0; y < ref.height; ++y)
+            for (int x = 0; x < ref.width; ++x) {
+                if (std::abs(x - a.width) <= 3) continue;
+                const std::uint8_t* p = stitched.at(x, y);
+                const std::uint8_t* q = ref.at(x, y);
+                for (int k = 0; k < 3; ++k)
+                    if (std::abs(p[k] - q[k]) > 8) {
+                        ++off_seam;
+                        break;
+                    }
+            }
+        EXPECT_EQ(off_seam, 0u) << eye << ": pixels away from the seam differ";
         EXPECT_GE(cmp.fraction_within(), 0.995) << eye << ": " << cmp.pixels - cmp.within << " pixels differ by more than 8";
         const renderer::ImageComparison exact = renderer::compare_images(stitched, ref, 0);
         std::printf("%s: %zu of %zu pixels equal, %zu within 8 levels, largest difference %d\n", eye, exact.within,
@@ -159,6 +172,17 @@ TEST(ClusterSession, ARenderRankThatHangsIsNamedWithinTheTimeout) {
     EXPECT_NE(l.log.find("render rank 1 did not answer frame "), std::string::npos) << l.log;
     EXPECT_NE(l.log.find("within 5 s"), std::string::npos) << l.log;
     EXPECT_TRUE(fs::exists(out / "report.json"));
+}
+
+TEST(ClusterSession, AReplicaThatDivergesIsCaughtByTheDigestCheck) {
+    if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_diverges";
+    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:1:diverge");
+    EXPECT_NE(l.exit_code, 0) << l.log;
+    EXPECT_NE(l.log.find("render rank 2 holds another model than rank 0 at frame "), std::string::npos) << l.log;
+    const nlohmann::json report = read_json(out / "report.json");
+    EXPECT_NE(report["cluster"]["failure"].get<std::string>().find("replicas diverged"), std::string::npos);
+    EXPECT_TRUE(fs::exists(out / "session.tdj"));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // app/session/cluster/cluster_replica.cpp - the replicated model: records applied, tiles contoured, viewports framed.
 #include "app/session/cluster/cluster_replica.hpp"
 
+#include <cmath>
+
 #include "app/scene/session_spec.hpp"
 #include "app/session/run_view.hpp"
 #include "compute/model/model_digest.hpp"
@@ -67,6 +69,15 @@ renderer::StereoCamera ClusterReplica::camera(const ClusterViewport& vp, const F
     }
     const RunCamera c = navigated_camera(vp.screen, head, separation, nav);
     return renderer::StereoCamera{c.screen, c.head, c.eye_separation_m, c.near_m, c.far_m};
+}
+
+void ClusterReplica::diverge() {
+    for (compute::RaySet& set : wp_.model.sets)
+        for (std::vector<compute::Interval>& ray : set.rays)
+            if (!ray.empty()) {
+                ray[0].exit = std::nextafter(ray[0].exit, ray[0].exit + 1.0f);
+                return;
+            }
 }
 
 const compute::JournalApplyStats& ClusterReplica::applied() const { return applier_->stats(); }

@@ -43,6 +43,9 @@ public:
     /// The camera of viewport `v` for frame `m`: its screen and eye(s), moved with the scene's navigation
     /// (navigated_camera), a single-eye viewport drawn as a mono view from that eye.
     static renderer::StereoCamera camera(const ClusterViewport& v, const FrameMessage& m);
+    /// Moves the exit of the first interval found by one float step: a replica that no longer holds rank 0's model,
+    /// for testing the digest check (TRIDEX_CLUSTER_FAULT=RANK:FRAME:diverge). Nothing when the model is empty.
+    void diverge();
     /// Samples and records applied so far.
     const compute::JournalApplyStats& applied() const;
     /// The workpiece (its model as carved so far).

@@ -44,12 +44,13 @@ struct Viewport {
     std::unique_ptr<renderer::StereoSink> sink;
 };
 
-// A fault injected by the tests (docs/wall.md, "testing faults"): TRIDEX_CLUSTER_FAULT=RANK:FRAME:exit|hang makes
-// render rank RANK exit with code 9, or stop answering, when frame FRAME (or the last frame, if sooner) arrives.
+// A fault injected by the tests (docs/cluster.md, "Faults"): TRIDEX_CLUSTER_FAULT=RANK:FRAME:exit|hang|diverge makes
+// render rank RANK exit with code 9, stop answering, or change its model by one float step, when frame FRAME (or the
+// last frame, if sooner) arrives.
 struct Fault {
     int rank = -1;
     std::uint64_t frame = 0;
-    bool hang = false;
+    std::string kind;
 };
 
 Fault fault_from_env() {
@@ -62,7 +63,7 @@ Fault fault_from_env() {
     if (std::sscanf(v, "%d:%llu:%7s", &rank, &frame, kind) == 3) {
         f.rank = rank;
         f.frame = frame;
-        f.hang = std::string(kind) == "hang";
+        f.kind = kind;
     }
     return f;
 }
@@ -172,8 +173,13 @@ private:
         last_ = m;
         last_.records.clear();
         if (t_.rank() == fault_.rank && (m.frame >= fault_.frame || m.last)) {
-            if (!fault_.hang) std::_Exit(9);
-            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+            if (fault_.kind == "exit") std::_Exit(9);
+            if (fault_.kind == "hang")
+                for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+            if (fault_.kind == "diverge" && !diverged_) {
+                replica_->diverge();
+                diverged_ = true;
+            }
         }
         RankAnswer a;
         a.frame = m.frame;
@@ -251,6 +257,7 @@ private:
     std::vector<Viewport> viewports_;  // after ctx_: destroyed before it
     double last_present_s_ = 0.0, load_ms_ = 0.0;
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
+    bool diverged_ = false;  // the diverge fault was injected
     std::vector<double> apply_ms_, contour_ms_, draw_ms_;
 };
 
