@@ -2,6 +2,7 @@
 #include "app/session/cluster/cluster_config.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <set>

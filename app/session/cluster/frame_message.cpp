@@ -6,6 +6,7 @@
 
 #include "compute/journal/journal_format.hpp"
 #include "core/error.hpp"
+#include "devices/net/wire_io.hpp"
 #include "core/le_bytes.hpp"
 #include "core/math.hpp"
 
@@ -18,18 +19,19 @@ constexpr std::uint32_t kMaxRecords = 1u << 20;      // records in one frame mes
 constexpr std::uint32_t kMaxSamples = 1u << 22;      // samples in one record
 constexpr std::uint32_t kMaxText = 64u << 20;        // a spec, an error, a report
 
+// The messages' writer: devices/net's little-endian writer, plus texts with a u32 length, poses and samples.
 class Writer {
 public:
-    explicit Writer(ClusterKind kind) {
+    explicit Writer(ClusterKind kind) : w_(bytes_) {
         bytes_.insert(bytes_.end(), kMagic, kMagic + 4);
-        u8(static_cast<std::uint8_t>(kind));
+        w_.u8(static_cast<std::uint8_t>(kind));
     }
-    void u8(std::uint8_t v) { bytes_.push_back(v); }
-    void u32(std::uint32_t v) { put(v, 4); }
-    void u64(std::uint64_t v) { put(v, 8); }
-    void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
-    void vec3(const Vec3& v) { f64(v.x), f64(v.y), f64(v.z); }
-    void quat(const Quat& q) { f64(q.w), f64(q.x), f64(q.y), f64(q.z); }
+    void u8(std::uint8_t v) { w_.u8(v); }
+    void u32(std::uint32_t v) { w_.u32(v); }
+    void u64(std::uint64_t v) { w_.u64(v); }
+    void f64(double v) { w_.f64(v); }
+    void vec3(const Vec3& v) { w_.vec3(v); }
+    void quat(const Quat& q) { w_.quat(q); }
     void pose(const Pose& p) { vec3(p.position), quat(p.orientation); }
     void text(const std::string& s) {
         u32(static_cast<std::uint32_t>(s.size()));
@@ -43,10 +45,8 @@ public:
     std::vector<unsigned char> take() { return std::move(bytes_); }
 
 private:
-    void put(std::uint64_t v, int n) {
-        for (int b = 0; b < n; ++b) bytes_.push_back(static_cast<unsigned char>(v >> (8 * b)));
-    }
     std::vector<unsigned char> bytes_;
+    devices::net::Writer w_;
 };
 
 class Reader {
