@@ -19,6 +19,7 @@
 #include "renderer/image/image.hpp"
 #include "renderer/image/image_compare.hpp"
 #include "renderer/output/offscreen_sink.hpp"
+#include "../renderer/test_window_xvfb.hpp"
 
 namespace tridex::app {
 namespace {
@@ -172,6 +173,28 @@ TEST(ClusterSession, ARenderRankThatHangsIsNamedWithinTheTimeout) {
     EXPECT_NE(l.log.find("render rank 1 did not answer frame "), std::string::npos) << l.log;
     EXPECT_NE(l.log.find("within 5 s"), std::string::npos) << l.log;
     EXPECT_TRUE(fs::exists(out / "report.json"));
+}
+
+// A render rank's viewport in a window on its own X display (a private Xvfb): it opens, presents every frame in step
+// and closes with the session; the other rank's offscreen tile is written as before.
+TEST(ClusterSession, AWindowViewportPresentsEveryFrameOnItsDisplay) {
+    if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    if (std::system("command -v Xvfb > /dev/null 2>&1") != 0) GTEST_SKIP() << "needs Xvfb (scripts/install-deps.sh installs xvfb)";
+    renderer::test::VirtualDisplay display(640, 480);
+    const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_window";
+    const Launch l = mpirun3(out, kData / "window_tile.json");
+    ASSERT_EQ(l.exit_code, 0) << l.log;
+    const nlohmann::json c = read_json(out / "report.json")["cluster"];
+    ASSERT_EQ(c["render_ranks"].size(), 2u) << c.dump(1);
+    const nlohmann::json& win = c["render_ranks"][0];
+    EXPECT_EQ(win["rank"], 1);
+    EXPECT_GT(win["presents"].get<int>(), 0);
+    EXPECT_EQ(win["presents"], win["frames"]);
+    EXPECT_EQ(win["frames"], c["frames"]);
+    EXPECT_EQ(win["validation_messages"], 0);
+    EXPECT_TRUE(win["files"].empty()) << "a window viewport writes no images";
+    EXPECT_TRUE(fs::exists(out / "right-half" / "left.png"));
+    EXPECT_FALSE(fs::exists(out / "left-window"));
 }
 
 TEST(ClusterSession, AReplicaThatDivergesIsCaughtByTheDigestCheck) {

@@ -142,7 +142,8 @@ private:
         gopt.validation = o_.validate;
         ctx_.emplace(gpu::Context::create(windows ? renderer::window_context_options(gopt) : gopt));
         for (const ClusterViewport& v : mine_->viewports) {
-            Viewport vp;
+            // Made in place and never moved: the sink holds the window by reference.
+            Viewport& vp = *viewports_.emplace_back(std::make_unique<Viewport>());
             vp.config = &v;
             const renderer::SinkOptions so{v.stereo, false, renderer::AnaglyphMethod::kDubois, 60.0};
             if (v.output == ViewportOutput::kOffscreen) {
@@ -158,7 +159,6 @@ private:
                 vp.sink = renderer::WindowSink::create(*ctx_, *vp.window, so);
             }
             vp.rend.emplace(renderer::OffscreenStereoRenderer::create(*ctx_, v.width_px, v.height_px));
-            viewports_.push_back(std::move(vp));
         }
         RankAnswer ready;
         ready.frame = kHelloAnswerFrame;
@@ -198,16 +198,16 @@ private:
         replica_->contour();
         contour_ms_.push_back(ms_since(t0));
         const renderer::SceneView view = replica_->view(m);
-        for (Viewport& vp : viewports_) {
-            if (vp.window) vp.window->poll_events();
-            vp.sink->draw(*vp.rend, view, ClusterReplica::camera(*vp.config, m));
+        for (const std::unique_ptr<Viewport>& vp : viewports_) {
+            if (vp->window) vp->window->poll_events();
+            vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
         }
         a.draw_ms = ms_since(t0);
         draw_ms_.push_back(a.draw_ms);
         t_.send(0, encode_answer(a));
         const std::uint64_t go = decode_go(wait_for_rank0(c_.timeout_s, "go"), "rank 0's go");
         if (go != m.frame) throw Error("rank 0 released frame " + std::to_string(go) + " while frame " + std::to_string(m.frame) + " waited");
-        for (Viewport& vp : viewports_) presents_ += static_cast<std::uint64_t>(vp.sink->present(*vp.rend));
+        for (const std::unique_ptr<Viewport>& vp : viewports_) presents_ += static_cast<std::uint64_t>(vp->sink->present(*vp->rend));
         last_present_s_ = now_s();
         ++frames_;
         return m.last;
@@ -215,12 +215,12 @@ private:
 
     void finish(std::uint64_t frame) {
         nlohmann::json files = nlohmann::json::array();
-        for (Viewport& vp : viewports_) {
-            vp.rend->finish();
-            if (vp.config->output != ViewportOutput::kOffscreen) continue;
-            const fs::path dir = fs::path(o_.out) / vp.config->name;
+        for (const std::unique_ptr<Viewport>& vp : viewports_) {
+            vp->rend->finish();
+            if (vp->config->output != ViewportOutput::kOffscreen) continue;
+            const fs::path dir = fs::path(o_.out) / vp->config->name;
             fs::create_directories(dir);
-            for (const std::string& f : vp.sink->finish(*vp.rend, dir.string())) files.push_back(f);
+            for (const std::string& f : vp->sink->finish(*vp->rend, dir.string())) files.push_back(f);
         }
         RankAnswer done;
         done.kind = ClusterKind::kDone;
@@ -254,7 +254,7 @@ private:
     FrameMessage last_;  // the last frame message (without its records): its view, for the report
     std::optional<renderer::WindowSystemScope> glfw_;
     std::optional<gpu::Context> ctx_;
-    std::vector<Viewport> viewports_;  // after ctx_: destroyed before it
+    std::vector<std::unique_ptr<Viewport>> viewports_;  // after ctx_: destroyed before it
     double last_present_s_ = 0.0, load_ms_ = 0.0;
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
