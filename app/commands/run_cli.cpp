@@ -10,6 +10,7 @@
 #include "app/commands/command.hpp"
 #include "app/session/run_session.hpp"
 #include "app/session/cluster/cluster_session.hpp"
+#include "app/session/session_companion.hpp"
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "core/error.hpp"
@@ -153,6 +154,9 @@ int run_command(const RunOptions& options) {
     } catch (const DeviceLostError& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
         return failed(4);
+    } catch (const CompanionError& e) {  // a cluster's render rank failed: rank 0 kept its work, every rank ends
+        std::fprintf(stderr, "tridex: %s\n", e.what());
+        return failed(5);
     } catch (const Error& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());
         return failed(2);

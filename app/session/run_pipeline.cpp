@@ -308,7 +308,7 @@ RunResult RunPipeline::run() {
         std::string kept = su.out + " (images, sculpted.ply, report.json)";
         if (!su.journal.empty()) kept += ", the journal " + su.journal;
         if (!su.save.empty()) kept += ", the model " + su.save;
-        throw Error(p.companion_failure + "; the session ended there and kept its work: " + kept);
+        throw CompanionError(p.companion_failure + "; the session ended there and kept its work: " + kept);
     }
     if (p.r.device_lost_at_s) {
         const RunSetup& su = p.r.setup;

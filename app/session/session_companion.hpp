@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session/session_runtime.hpp"
+#include "core/error.hpp"
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
 #include "renderer/camera/scene_navigation.hpp"
@@ -25,6 +26,13 @@ struct FrameShown {
     ToolShape tool;                 ///< the tool drawn
     bool show_tool = true;          ///< whether the tool is drawn
     double ao = 1.0;                ///< ambient occlusion strength, 0..1
+};
+
+/// What RunPipeline::run throws after a companion failed (once every output is written): the companion's failure and
+/// what the session kept. `tridex run` exits with 5 for it.
+class CompanionError : public Error {
+public:
+    explicit CompanionError(const std::string& message) : Error(message) {}
 };
 
 /// A companion of RunPipeline. Every call is on the frame loop's thread. A companion that fails says so through

@@ -20,7 +20,7 @@ struct RenderRankOptions {
 /// when asked, contours, draws every viewport, answers ready, waits for go and presents. Writes its offscreen
 /// viewports' images and answers done with its report. Every failure (a bad message, a record the model refuses,
 /// a digest that differs, no Vulkan device, rank 0 silent for longer than the config's timeout) is answered to rank 0
-/// when it can be and returned: 0 when the session ended normally, 3 after a failure (said on stderr).
+/// when it can be and returned: 0 when the session ended normally, 5 after a failure (said on stderr).
 int run_render_rank(ClusterTransport& transport, const ClusterConfig& config, const RenderRankOptions& options);
 
 }  // namespace tridex::app
