@@ -158,9 +158,10 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
     renderer::DisplayConfig wall = renderer::DisplayConfig::powerwall();
     wall.width_px = 400;
     wall.height_px = 300;
+    wall.swap_eyes = true;
     const ClusterConfig c = parse_cluster_config(
         R"({"check_every_frames": 10, "ranks": [
-              {"rank": 2, "viewports": [{"name": "right", "region": [0.5, 0, 1, 1], "eye": "right"}]},
+              {"rank": 2, "viewports": [{"name": "right", "region": [0.5, 0, 1, 1], "eye": "right", "swap_eyes": false}]},
               {"rank": 1, "viewports": [{"name": "left", "region": [0, 0, 0.5, 1]},
                                         {"name": "top", "corners": {"lower_left": [-1, 0, 0], "lower_right": [1, 0, 0],
                                                                     "upper_left": [-1, 1, 0]}, "width_px": 64, "height_px": 32}]}]})",
@@ -173,6 +174,8 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
     EXPECT_EQ(left.height_px, 300);
     EXPECT_NEAR(left.screen.lower_right.x, 0.5 * (wall.screen.lower_left.x + wall.screen.lower_right.x), 1e-12);
     EXPECT_EQ(c.ranks[1].viewports[0].eye, ViewportEye::kRight);
+    EXPECT_TRUE(left.swap_eyes) << "the display config's swap_eyes is the default";
+    EXPECT_FALSE(c.ranks[1].viewports[0].swap_eyes);
     EXPECT_EQ(c.ranks[1].viewports[0].stereo, renderer::StereoOutput::kMono);
     EXPECT_EQ(c.ranks[0].viewports[1].width_px, 64);
 

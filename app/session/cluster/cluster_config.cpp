@@ -108,6 +108,9 @@ ClusterViewport read_viewport(const json& j, const std::string& source, const st
     if (v.eye != ViewportEye::kBoth) v.stereo = renderer::StereoOutput::kMono;
     v.output = parse_output(f, "output");
     v.monitor = f.integer("monitor", 0, 0, 63);
+    v.swap_eyes = f.boolean("swap_eyes", display.swap_eyes);
+    v.anaglyph = display.anaglyph;
+    v.refresh_hz = display.refresh_hz;
     f.finish();
     return v;
 }

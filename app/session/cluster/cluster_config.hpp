@@ -33,6 +33,9 @@ struct ClusterViewport {
     renderer::StereoOutput stereo = renderer::StereoOutput::kMono;  ///< the output of a kBoth viewport
     ViewportOutput output = ViewportOutput::kOffscreen;
     int monitor = 0;                  ///< kFullscreen: the monitor's index on the rank's display
+    bool swap_eyes = false;           ///< exchange the eyes on this projector (default: the display config's)
+    renderer::AnaglyphMethod anaglyph = renderer::AnaglyphMethod::kDubois;  ///< the display config's
+    double refresh_hz = 60.0;         ///< the display config's (frame-sequential pacing)
 };
 
 /// A render rank's share of the wall.
@@ -57,7 +60,7 @@ struct ClusterConfig {
 /// the wall's screen, left to right and bottom to top) or "corners": {"lower_left", "lower_right", "upper_left"} (m,
 /// wall space), "width_px", "height_px" (default: the display's pixels times the region's share), "eye" (both | left
 /// | right), "stereo" (a stereo output name; default the display's), "output" (offscreen | window | fullscreen),
-/// "monitor"}]}], "check_every_frames", "timeout_s", "start_timeout_s"}. `display` is the wall's display config
+/// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s"}. `display` is the wall's display config
 /// (its screen, resolution and stereo output supply the defaults). Throws tridex::Error naming the file and field:
 /// unreadable or not JSON, unknown fields, ranks missing (they must be 1..K, each once), a viewport with no
 /// area or corners not at right angles, duplicate viewport names, values out of range.

@@ -145,7 +145,7 @@ private:
             // Made in place and never moved: the sink holds the window by reference.
             Viewport& vp = *viewports_.emplace_back(std::make_unique<Viewport>());
             vp.config = &v;
-            const renderer::SinkOptions so{v.stereo, false, renderer::AnaglyphMethod::kDubois, 60.0};
+            const renderer::SinkOptions so{v.stereo, v.swap_eyes, v.anaglyph, v.refresh_hz};
             if (v.output == ViewportOutput::kOffscreen) {
                 vp.sink = std::make_unique<renderer::OffscreenSink>(*ctx_, so);
             } else {
