@@ -18,6 +18,15 @@ using run_detail::seconds_since;
 // The share of its monitor's work area (each way) a desk window opens at when the display config names no resolution.
 constexpr double kDeskWindowFill = 0.8;
 
+// What a session that ended early kept, for its error: the output folder and the journal, recording and model files.
+std::string kept_work(const RunSetup& su) {
+    std::string kept = su.out + " (images, sculpted.ply, report.json)";
+    if (!su.journal.empty()) kept += ", the journal " + su.journal;
+    if (!su.record.empty()) kept += ", the recording " + su.record;
+    if (!su.save.empty()) kept += ", the model " + su.save;
+    return kept;
+}
+
 }  // namespace
 
 // 1. GPU, window and stereo sink: refuses what the display cannot show before any other work. GLFW stays initialised
@@ -91,8 +100,8 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
     // --record streams the ticks to disk while the session runs: a recording of any length.
     sculpt_options.stream_recording = su.record;
-    // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
     for (SessionCompanion* c : companions) c->configure(sculpt_options);
+    // A tracked tool reads the head's or the wand's receiver when it listens on the same port.
     std::shared_ptr<devices::DTrackReceiver> tool_dtrack;
     if (driver_caps(scene.spec.device_driver).input == devices::InputKind::kTracked) {
         if (dtrack && scene.dtrack_port == scene.tracked_port)
@@ -303,19 +312,11 @@ RunResult RunPipeline::run() {
     }
     p.collect();
     p.write_outputs();
-    if (!p.companion_failure.empty()) {
-        const RunSetup& su = p.r.setup;
-        std::string kept = su.out + " (images, sculpted.ply, report.json)";
-        if (!su.journal.empty()) kept += ", the journal " + su.journal;
-        if (!su.save.empty()) kept += ", the model " + su.save;
-        throw CompanionError(p.companion_failure + "; the session ended there and kept its work: " + kept);
-    }
+    const RunSetup& su = p.r.setup;
+    if (!p.companion_failure.empty())
+        throw CompanionError(p.companion_failure + "; the session ended there and kept its work: " + kept_work(su));
     if (p.r.device_lost_at_s) {
-        const RunSetup& su = p.r.setup;
-        std::string kept = su.out + " (images, sculpted.ply, report.json)";
-        if (!su.journal.empty()) kept += ", the journal " + su.journal;
-        if (!su.record.empty()) kept += ", the recording " + su.record;
-        if (!su.save.empty()) kept += ", the model " + su.save;
+        const std::string kept = kept_work(su);
         throw DeviceLostError("device '" + su.scene.spec.device_driver + "': the " +
                               p.backend->runtime().profile().name + " was lost " +
                               format_number(*p.r.device_lost_at_s) +

@@ -2,6 +2,7 @@
 #include "compute/model/model_digest.hpp"
 
 #include <bit>
+#include <cstdio>
 
 namespace tridex::compute {
 
@@ -36,6 +37,12 @@ std::uint64_t model_digest(const TriDexel& model) {
         }
     }
     return h;
+}
+
+std::string digest_hex(std::uint64_t digest) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(digest));
+    return text;
 }
 
 }  // namespace tridex::compute

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "compute/model/tridexel.hpp"
 
@@ -13,5 +14,8 @@ namespace tridex::compute {
 /// digests; models that differ in any interval end, material or count differ in the digest but for a 2^-64 chance.
 /// Dirty flags are not part of it. O(rays + intervals): about a millisecond per million intervals.
 std::uint64_t model_digest(const TriDexel& model);
+
+/// A digest as 16 lower-case hex digits, for messages.
+std::string digest_hex(std::uint64_t digest);
 
 }  // namespace tridex::compute

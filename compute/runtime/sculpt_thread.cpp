@@ -240,11 +240,7 @@ void SculptThread::take(SculptRequest r) {
     ++(undo ? stats_.undo_requests : stats_.redo_requests);
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
     if (c.serial == 0) return;  // nothing to undo / redo
-    if (journal_) journal_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
-    if (stream_) {
-        stream_->mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
-        stream_->after_record(model_);
-    }
+    record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once
     const auto t1 = std::chrono::steady_clock::now();
@@ -281,11 +277,7 @@ void SculptThread::close_stroke() {
     const bool reference_moves = holding && stroke_changed_;
     stroke_changed_ = false;
     push_stroke_ = false;
-    if (serial != 0 && journal_) journal_->mark(compute::kJournalStrokeEnd, serial);
-    if (serial != 0 && stream_) {
-        stream_->mark(compute::kJournalStrokeEnd, serial, 0);
-        stream_->after_record(model_);
-    }
+    if (serial != 0) record_mark(compute::kJournalStrokeEnd, serial, 0);
     // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
     // Removed specks leave the haptic window too.
     if (reference_moves || islands.specks > 0) publish(published_centre_m_);
@@ -310,6 +302,14 @@ void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
     if (journal_ && end > begin) journal_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
     if (stream_ && end > begin) {
         stream_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
+        stream_->after_record(model_);
+    }
+}
+
+void SculptThread::record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
+    if (journal_) journal_->mark(type, serial, rays);
+    if (stream_) {
+        stream_->mark(type, serial, rays);
         stream_->after_record(model_);
     }
 }

@@ -297,6 +297,8 @@ private:
     bool take_marks(bool& changed, std::size_t& begin, std::size_t n);  // follow_marks due now; flushes first
     void flush(std::size_t begin, std::size_t end, bool& changed);  // apply batch_, journal drained_[begin, end)
     void close_stroke();                             // end the open stroke and journal it
+    // A stroke-end, undo or redo mark to the journal and the stream (then the stream's after_record).
+    void record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
     void contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1);
     void checkpoint_if_due();
     void note_persistence();  // copies a new journal or checkpoint error into save_status_

@@ -19,11 +19,6 @@ using Clock = std::chrono::steady_clock;
 
 double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 
-std::string hex(std::uint64_t v) {
-    char b[20];
-    std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
-    return b;
-}
 
 }  // namespace
 
@@ -40,7 +35,7 @@ ClusterRoot::ClusterRoot(ClusterTransport& transport, const ClusterConfig& confi
     if (const char* v = std::getenv("OMPI_MCA_orte_abort_on_non_zero_status"); !v || std::string(v) != "0")
         std::fprintf(stderr, "tridex: cluster: mpirun ends every rank when one exits with an error, so a failing render rank "
                              "would take this session's unsaved work with it; launch with "
-                             "--mca orte_abort_on_non_zero_status 0 (docs/wall.md)\n");
+                             "--mca orte_abort_on_non_zero_status 0 (docs/cluster.md)\n");
 }
 
 void ClusterRoot::configure(SculptOptions& options) { options.stream = &stream_; }
@@ -52,15 +47,12 @@ void ClusterRoot::starting(SessionRuntime& runtime) {
     const std::vector<unsigned char> bytes = encode_hello(h);
     for (int r = 1; r < transport_.size(); ++r) transport_.send(r, bytes);
     // The session starts when every viewport is ready to draw it: nothing sculpted goes unseen on the wall.
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.start_timeout_s));
+    const auto deadline = deadline_after(config_.start_timeout_s);
     for (int r = 1; r < transport_.size(); ++r) {
-        const auto got = transport_.receive(r, deadline);
-        if (!got)
-            throw Error("cluster: render rank " + std::to_string(r) + " was not ready within " +
-                        format_number(config_.start_timeout_s) + " s (start_timeout_s of " + config_.source + ")");
-        const RankAnswer a = decode_answer(*got, "render rank " + std::to_string(r));
-        if (!a.error.empty()) throw Error("cluster: render rank " + std::to_string(r) + " could not start: " + a.error);
-        if (a.frame != kHelloAnswerFrame) throw Error("cluster: render rank " + std::to_string(r) + " answered the hello with frame " + std::to_string(a.frame));
+        const std::optional<RankAnswer> a = answer_from(r, deadline, config_.start_timeout_s, "the hello");
+        if (a && a->frame != kHelloAnswerFrame)
+            fail("render rank " + std::to_string(r) + " answered the hello with frame " + std::to_string(a->frame));
+        if (!stats_.failure.empty()) throw Error(stats_.failure);
     }
 }
 
@@ -86,9 +78,28 @@ FrameMessage ClusterRoot::message_of(const FrameShown& shown, compute::ToolStrea
 }
 
 void ClusterRoot::fail(const std::string& why) {
-    if (stats_.failure.empty()) {
-        stats_.failure = "cluster: " + why;
-        std::fprintf(stderr, "tridex: %s\n", stats_.failure.c_str());
+    if (stats_.failure.empty()) stats_.failure = "cluster: " + why;
+}
+
+std::optional<RankAnswer> ClusterRoot::answer_from(int r, Clock::time_point deadline, double timeout_s,
+                                                   const std::string& waiting_for) {
+    const std::string who = "render rank " + std::to_string(r);
+    try {
+        const auto got = transport_.receive(r, deadline);
+        if (!got) {
+            fail(who + " did not answer " + waiting_for + " within " + format_number(timeout_s) +
+                 " s (it died, hangs or its machine is unreachable)");
+            return std::nullopt;
+        }
+        RankAnswer a = decode_answer(*got, who);
+        if (!a.error.empty()) {
+            fail(who + " failed at " + waiting_for + ": " + a.error);
+            return std::nullopt;
+        }
+        return a;
+    } catch (const Error& e) {
+        fail(e.what());
+        return std::nullopt;
     }
 }
 
@@ -110,51 +121,48 @@ void ClusterRoot::exchange(FrameMessage m, bool first) {
     const auto t0 = Clock::now();
     try {
         for (int r = 1; r < transport_.size(); ++r) transport_.send(r, bytes);
-        const double timeout = first ? config_.start_timeout_s : config_.timeout_s;
-        const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
-        double earliest = 0.0, latest = 0.0;
-        for (int r = 1; r < transport_.size(); ++r) {
-            const auto got = transport_.receive(r, deadline);
-            if (!got) {
-                fail("render rank " + std::to_string(r) + " did not answer frame " + std::to_string(frame) + " within " +
-                     format_number(timeout) + " s (it died, hangs or its machine is unreachable)");
-                return;
-            }
-            const RankAnswer a = decode_answer(*got, "render rank " + std::to_string(r));
-            if (!a.error.empty()) {
-                fail("render rank " + std::to_string(r) + " failed at frame " + std::to_string(a.frame) + ": " + a.error);
-                return;
-            }
-            if (a.frame != frame) {
-                fail("render rank " + std::to_string(r) + " answered frame " + std::to_string(a.frame) + " to frame " +
-                     std::to_string(frame));
-                return;
-            }
-            if (a.digest_mismatch) {
-                fail("render rank " + std::to_string(r) + " holds another model than rank 0 at frame " + std::to_string(frame) +
-                     " (digest " + hex(a.digest) + ", rank 0's " + hex(m.check_digest.value_or(0)) +
-                     "): the replicas diverged; the wall would show a model that is not the one being sculpted");
-                return;
-            }
-            if (a.previous_present_s > 0.0) {
-                earliest = earliest == 0.0 ? a.previous_present_s : std::min(earliest, a.previous_present_s);
-                latest = std::max(latest, a.previous_present_s);
-                last_present_s_[static_cast<std::size_t>(r - 1)] = a.previous_present_s;
-            }
-        }
-        stats_.ready_wait_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-        if (latest > 0.0) stats_.swap_spread_ms.push_back(1e3 * (latest - earliest));
-        if (checked) ++stats_.checks;
-        const std::vector<unsigned char> go = encode_go(frame);
-        for (int r = 1; r < transport_.size(); ++r) transport_.send(r, go);
-        // The present of this frame is reported with the next answer: keep its newest sample until then.
-        if (prev_newest_s_ > 0.0)
-            for (double p : last_present_s_)
-                if (p > prev_newest_s_) stats_.sample_to_present_ms.push_back(1e3 * (p - prev_newest_s_));
-        prev_newest_s_ = newest;
     } catch (const Error& e) {
         fail(e.what());
+        return;
     }
+    const double timeout = first ? config_.start_timeout_s : config_.timeout_s;
+    const auto deadline = deadline_after(timeout);
+    double earliest = 0.0, latest = 0.0;
+    for (int r = 1; r < transport_.size(); ++r) {
+        const std::optional<RankAnswer> a = answer_from(r, deadline, timeout, "frame " + std::to_string(frame));
+        if (!a) return;
+        if (a->frame != frame) {
+            fail("render rank " + std::to_string(r) + " answered frame " + std::to_string(a->frame) + " to frame " +
+                 std::to_string(frame));
+            return;
+        }
+        if (a->digest_mismatch) {
+            fail("render rank " + std::to_string(r) + " holds another model than rank 0 at frame " + std::to_string(frame) +
+                 " (digest " + compute::digest_hex(a->digest) + ", rank 0's " + compute::digest_hex(m.check_digest.value_or(0)) +
+                 "): the replicas diverged; the wall would show a model that is not the one being sculpted");
+            return;
+        }
+        if (a->previous_present_s > 0.0) {
+            earliest = earliest == 0.0 ? a->previous_present_s : std::min(earliest, a->previous_present_s);
+            latest = std::max(latest, a->previous_present_s);
+            last_present_s_[static_cast<std::size_t>(r - 1)] = a->previous_present_s;
+        }
+    }
+    stats_.ready_wait_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (latest > 0.0) stats_.swap_spread_ms.push_back(1e3 * (latest - earliest));
+    if (checked) ++stats_.checks;
+    try {
+        const std::vector<unsigned char> go = encode_go(frame);
+        for (int r = 1; r < transport_.size(); ++r) transport_.send(r, go);
+    } catch (const Error& e) {
+        fail(e.what());
+        return;
+    }
+    // The present of this frame is reported with the next answer: keep its newest sample until then.
+    if (prev_newest_s_ > 0.0)
+        for (double p : last_present_s_)
+            if (p > prev_newest_s_) stats_.sample_to_present_ms.push_back(1e3 * (p - prev_newest_s_));
+    prev_newest_s_ = newest;
 }
 
 void ClusterRoot::before_present(const FrameShown& shown) {
@@ -173,27 +181,13 @@ void ClusterRoot::stopped(SessionRuntime& runtime, const FrameShown& last) {
     m.last = true;
     exchange(std::move(m), last.frame == 0);
     if (!stats_.failure.empty()) return;
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.timeout_s));
+    const auto deadline = deadline_after(config_.timeout_s);
     for (int r = 1; r < transport_.size(); ++r) {
-        try {
-            const auto got = transport_.receive(r, deadline);
-            if (!got) {
-                fail("render rank " + std::to_string(r) + " did not report after the last frame within " +
-                     format_number(config_.timeout_s) + " s");
-                return;
-            }
-            const RankAnswer a = decode_answer(*got, "render rank " + std::to_string(r));
-            if (!a.error.empty()) {
-                fail("render rank " + std::to_string(r) + " failed after the last frame: " + a.error);
-                return;
-            }
-            if (a.previous_present_s > 0.0 && prev_newest_s_ > 0.0 && a.previous_present_s > prev_newest_s_)
-                stats_.sample_to_present_ms.push_back(1e3 * (a.previous_present_s - prev_newest_s_));
-            stats_.rank_reports.push_back(a.report_json);
-        } catch (const Error& e) {
-            fail(e.what());
-            return;
-        }
+        const std::optional<RankAnswer> a = answer_from(r, deadline, config_.timeout_s, "the end (its report)");
+        if (!a) return;
+        if (a->previous_present_s > 0.0 && prev_newest_s_ > 0.0 && a->previous_present_s > prev_newest_s_)
+            stats_.sample_to_present_ms.push_back(1e3 * (a->previous_present_s - prev_newest_s_));
+        stats_.rank_reports.push_back(a->report_json);
     }
     (void)transport_.flush(deadline);
 }

@@ -55,7 +55,11 @@ public:
 private:
     FrameMessage message_of(const FrameShown& shown, compute::ToolStreamBuffer::Taken taken) const;
     void exchange(FrameMessage m, bool first);  // send, wait for readies, go
-    void fail(const std::string& why);
+    void fail(const std::string& why);  // the first failure is kept (failure()); later ones are dropped
+    // Render rank r's next answer by `deadline` (timeout_s: the wait, for the message); nullopt after fail() when none
+    // came, it could not be read, or it says the rank failed. `waiting_for` names what was awaited ("frame 12").
+    std::optional<RankAnswer> answer_from(int r, ClusterTransport::Clock::time_point deadline, double timeout_s,
+                                          const std::string& waiting_for);
 
     ClusterTransport& transport_;
     const ClusterConfig& config_;

@@ -35,6 +35,12 @@ public:
     virtual std::string name() const = 0;
 };
 
+/// The time `seconds` (s, finite, >= 0) from now: a deadline for ClusterTransport's waits.
+inline ClusterTransport::Clock::time_point deadline_after(double seconds) {
+    return ClusterTransport::Clock::now() +
+           std::chrono::duration_cast<ClusterTransport::Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
 /// True when this build can run cluster sessions (it was built with MPI).
 bool cluster_supported();
 

@@ -15,6 +15,7 @@
 #include "app/session/cluster/cluster_replica.hpp"
 #include "app/session/cluster/frame_message.hpp"
 #include "app/session/session_report.hpp"
+#include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "gpu/context.hpp"
@@ -32,9 +33,6 @@ namespace fs = std::filesystem;
 
 double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-Clock::time_point after_s(double s) {
-    return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
-}
 
 // One viewport: its window (if shown), renderer and sink.
 struct Viewport {
@@ -100,7 +98,7 @@ public:
             open();
             for (bool last = false; !last;) last = one_frame(frame);
             finish(frame);
-            (void)t_.flush(after_s(c_.timeout_s));
+            (void)t_.flush(deadline_after(c_.timeout_s));
             return 0;
         } catch (const std::exception& e) {
             const std::string why = e.what();
@@ -110,7 +108,7 @@ public:
                 a.frame = frame;
                 a.error = why;
                 t_.send(0, encode_answer(a));
-                (void)t_.flush(after_s(2.0));
+                (void)t_.flush(deadline_after(2.0));
             } catch (const std::exception&) {  // rank 0 may be gone: the error is said above
             }
             return 5;
@@ -119,7 +117,7 @@ public:
 
 private:
     std::vector<unsigned char> wait_for_rank0(double timeout_s, const char* what) {
-        auto got = t_.receive(0, after_s(timeout_s));
+        auto got = t_.receive(0, deadline_after(timeout_s));
         if (!got)
             throw Error("rank 0 sent no " + std::string(what) + " within " + format_number(timeout_s) +
                         " s (it ended, hangs or is unreachable)");
@@ -132,8 +130,8 @@ private:
         replica_.emplace(hello.spec_json);
         load_ms_ = ms_since(t0);
         if (replica_->digest() != hello.initial_digest)
-            throw Error("the workpiece built here differs from rank 0's (digest " + std::to_string(replica_->digest()) +
-                        ", rank 0's " + std::to_string(hello.initial_digest) +
+            throw Error("the workpiece built here differs from rank 0's (digest " + compute::digest_hex(replica_->digest()) +
+                        ", rank 0's " + compute::digest_hex(hello.initial_digest) +
                         "): another mesh file or build on this machine");
         bool windows = false;
         for (const ClusterViewport& v : mine_->viewports) windows |= v.output != ViewportOutput::kOffscreen;
