@@ -96,8 +96,9 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                 throw Error(path + ": its lattice is not the session's");
             compute::TriDexel model = std::move(m.model);
             std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // contoured whole below
-            compute::JournalApplyFrom start{k + 1, compute::journal_last_serial(j.records, k), s.history_budget_bytes,
-                                            !s.keep_islands};
+            compute::JournalApplyFrom start = replay_settings(s);
+            start.record = k + 1;
+            start.last_serial = compute::journal_last_serial(j.records, k);
             applied = compute::journal_apply(model, j.records, start);
             applied.records += k + 1;  // the records the checkpoint holds
             wp.model = std::move(model);
@@ -108,9 +109,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
         }
     }
     if (!done) {
-        compute::JournalApplyFrom start;
-        start.history_budget_bytes = s.history_budget_bytes;
-        start.remove_islands = !s.keep_islands;
+        const compute::JournalApplyFrom start = replay_settings(s);
         try {
             applied = compute::journal_apply(wp.model, j.records, start);
         } catch (const Error& e) {

@@ -219,6 +219,9 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     range("period_s", s.period_s, 1e-4, 1e-2);
     if (s.history_budget_bytes < (std::size_t{1} << 20) || s.history_budget_bytes > (std::size_t{1} << 40))
         fail("history_budget_bytes", "must be between 1 MiB and 1 TiB", std::to_string(s.history_budget_bytes));
+    if (s.clay_group_sweeps < 1 || s.clay_group_sweeps > compute::kClayGroupSweepsMax)
+        fail("clay_group_sweeps", "must be 1.." + std::to_string(compute::kClayGroupSweepsMax),
+             std::to_string(s.clay_group_sweeps));
     try {
         (void)parse_tool_op(s.op);
         (void)haptics::parse_workspace_mode(s.workspace_mode);
@@ -246,6 +249,14 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
     std::fclose(f);
     if (bad) throw Error(path + ": cannot read");
     return {crc, bytes};
+}
+
+compute::JournalApplyFrom replay_settings(const SessionSpec& s) {
+    compute::JournalApplyFrom from;
+    from.history_budget_bytes = s.history_budget_bytes;
+    from.remove_islands = !s.keep_islands;
+    from.clay_group_sweeps = s.clay_group_sweeps;
+    return from;
 }
 
 std::string spec_to_json(const SessionSpec& s) {
@@ -296,7 +307,8 @@ std::string spec_to_json(const SessionSpec& s) {
                  {"materials", materials},
                  {"period_s", s.period_s},
                  {"history_budget_bytes", s.history_budget_bytes},
-                 {"keep_islands", s.keep_islands}};
+                 {"keep_islands", s.keep_islands},
+                 {"clay_group_sweeps", s.clay_group_sweeps}};
     if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
     return j.dump();
 }
@@ -368,6 +380,9 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     // Sessions before speck removal kept every piece: their recordings and journals replay that way.
     s.keep_islands = true;
     if (j.contains("keep_islands")) get(j, "keep_islands", s.keep_islands);
+    // Sessions before the group size was recorded grouped clay sweeps 16 at a time.
+    s.clay_group_sweeps = 16;
+    if (j.contains("clay_group_sweeps")) get(j, "clay_group_sweeps", s.clay_group_sweeps);
     if (j.contains("mesh_crc32")) get(j, "mesh_crc32", s.mesh_crc32);
     if (j.contains("mesh_bytes")) get(j, "mesh_bytes", s.mesh_bytes);
     if (j.contains("model_path")) get(j, "model_path", s.model_path);

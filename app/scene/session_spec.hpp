@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "compute/journal/journal_replay.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "core/math.hpp"
 #include "core/tool_shape.hpp"
 #include "core/tri_mesh.hpp"
@@ -98,7 +100,15 @@ struct SessionSpec {
     /// (compute::find_islands), as part of the stroke (undone with it). It changes the model, so a recording and a
     /// journal carry it; those made before it existed read as true (their sessions kept every piece).
     bool keep_islands = false;
+    /// The most push or smooth sweeps the sculpt thread applies as one group (compute::apply_clay_batch's
+    /// group_sweeps, 1..compute::kClayGroupSweepsMax). The grouping decides the model, so a recording and a journal
+    /// carry it; those made before it existed read as 16 (the size their sessions grouped by).
+    std::size_t clay_group_sweeps = compute::kClayGroupSweeps;
 };
+
+/// The journal replay settings of a session (compute::journal_apply): its undo budget, speck removal and clay
+/// group size, so that a replay builds the model the session built.
+compute::JournalApplyFrom replay_settings(const SessionSpec& s);
 
 /// The ToolOp named by `name` (subtract, union, paint, push, smooth, pull, or none: the tool touches but never changes
 /// the model); throws tridex::Error listing the names.
@@ -148,7 +158,8 @@ void set_tool_mesh(SessionSpec& s, const std::string& path, double size_m, const
 /// finite centres within 1 km, the tool's radius 0.5 mm..a quarter of the stock and a flat end's length 0.5 mm..the
 /// stock, a mesh tool's size 1 mm..a quarter of the stock and a readable closed mesh whose bounding radius is
 /// tool.radius_m, points 1..64, a known device and profile, workspace scale (0, 100], stiffness (0, 1e5] N/m, damping
-/// [0, 1e3] N*s/m, friction 0 <= dynamic <= static <= 10, period [1e-4, 1e-2] s, op and material. Throws
+/// [0, 1e3] N*s/m, friction 0 <= dynamic <= static <= 10, period [1e-4, 1e-2] s, op and material, the clay group
+/// size 1..compute::kClayGroupSweepsMax. Throws
 /// tridex::Error "<source>: settings field '<name>': <rule>, got <value>".
 void validate_spec(const SessionSpec& s, const std::string& source);
 
@@ -159,7 +170,7 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 std::string spec_to_json(const SessionSpec& s);
 
 /// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
-/// materials, keep_islands true when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
+/// materials, keep_islands true and clay_group_sweeps 16 when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
 /// missing or ill-typed field.
 SessionSpec spec_from_json(const std::string& text, const std::string& source);
 

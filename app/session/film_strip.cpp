@@ -64,7 +64,8 @@ const ToolSample* last_sample(const compute::Journal& j, std::size_t k) {
 }  // namespace
 
 FilmStrip write_film_strip(const std::string& path, const compute::Journal& journal, const Workpiece& start,
-                           const ToolShape& tool, const FilmStripOptions& opt, gpu::Context& context) {
+                           const ToolShape& tool, const compute::JournalApplyFrom& replay, const FilmStripOptions& opt,
+                           gpu::Context& context) {
     check_film_strip_options(opt);
     FilmStrip strip;
     strip.records = picture_records(journal, opt.frames);
@@ -79,7 +80,9 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
     for (int i = 0; i < opt.frames; ++i) {
         const std::size_t k = strip.records[static_cast<std::size_t>(i)];
         compute::TriDexel model = start.model;
-        compute::JournalApplyFrom from;
+        compute::JournalApplyFrom from = replay;
+        from.record = 0;
+        from.last_serial = 0;
         from.history_budget_bytes = std::size_t{1} << 40;  // every undo in the journal finds its stroke
         (void)compute::journal_apply(model, std::span<const compute::JournalRecord>(journal.records.data(), k), from);
         std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});

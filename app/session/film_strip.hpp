@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "compute/journal/journal_reader.hpp"
+#include "compute/journal/journal_replay.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "core/tool_shape.hpp"
 
@@ -41,9 +42,12 @@ struct FilmStrip {
 /// first sample that applies an operation, the last after the last record, the others evenly spaced (in samples)
 /// between, each showing the model then (journal_apply from the start, contoured on the CPU) and the tool at the
 /// last sample applied, framed as the demo frames its workpiece (framing_screen, one eye), and writes it to `path`
-/// as a PNG. `tool` is the session's tool (radius for the ball drawn). Throws tridex::Error for options out of
+/// as a PNG. `tool` is the session's tool (radius for the ball drawn); `replay` the session's replay settings
+/// (replay_settings: speck removal and clay group size; its undo budget is raised so that every undo finds its
+/// stroke). Throws tridex::Error for options out of
 /// range, a journal the model refuses (as journal_apply), no Vulkan device, or a PNG that cannot be written.
 FilmStrip write_film_strip(const std::string& path, const compute::Journal& journal, const Workpiece& start,
-                           const ToolShape& tool, const FilmStripOptions& opt, gpu::Context& context);
+                           const ToolShape& tool, const compute::JournalApplyFrom& replay, const FilmStripOptions& opt,
+                           gpu::Context& context);
 
 }  // namespace tridex::app

@@ -83,6 +83,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
     sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m, cfg_.contact.tool_radius_m,
                                              haptics::max_point_distance_m(cfg_.tool_points));
+    booleans_.backend->set_clay_group_sweeps(spec_.clay_group_sweeps);  // the grouping decides the model
     sculpt_->use_backend(*booleans_.backend);
     if (!o.sculpt.journal.empty()) {
         journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));

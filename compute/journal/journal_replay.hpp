@@ -10,6 +10,7 @@
 #include "compute/history/undo_history.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/tridexel.hpp"
+#include "compute/tools/clay_sweep.hpp"
 
 namespace tridex::compute {
 
@@ -36,6 +37,10 @@ struct JournalApplyFrom {
     /// Whether strokes that cut remove the specks they left (app::SculptHistory::remove_islands): the session's
     /// setting (the journal header's settings, keep_islands), so that the replay removes what the session removed.
     bool remove_islands = false;
+    /// The most sweeps one push or smooth group held (app::BooleanBackend::set_clay_group_sweeps): the session's
+    /// setting (the journal header's settings, clay_group_sweeps), so that the replay groups its clay sweeps, and so
+    /// builds its model, as the session did (1..kClayGroupSweepsMax).
+    std::size_t clay_group_sweeps = kClayGroupSweeps;
 };
 
 /// Applies `records` from `from.record` on, in order, to `model` through the CPU reference Booleans, as the sculpt
@@ -60,7 +65,7 @@ class JournalApplier {
 public:
     /// Starts on `model` as journal_apply does with `from` at the start of a journal (from.record is ignored: the
     /// first record given to apply() is the journal's first, index 0, unless resume_after() said otherwise).
-    /// Throws tridex::Error when from.history_budget_bytes is 0.
+    /// Throws tridex::Error when from.history_budget_bytes is 0 or from.clay_group_sweeps is out of range.
     explicit JournalApplier(TriDexel& model, const JournalApplyFrom& from = {});
     ~JournalApplier();
     JournalApplier(const JournalApplier&) = delete;

@@ -33,7 +33,8 @@ public:
             const bool clay = compute::is_clay_op(batch[k].op);
             std::size_t e = k;
             while (e < batch.size() && compute::is_clay_op(batch[e].op) == clay) ++e;
-            add(clay ? compute::apply_clay_batch(model_, batch.subspan(k, e - k))
+            add(clay ? compute::apply_clay_batch(model_, batch.subspan(k, e - k), nullptr, compute::clay_cpu_kernel(),
+                                                 clay_group_sweeps_)
                      : compute::apply_sweeps_parallel(model_, batch.subspan(k, e - k), 0));
             k = e;
         }
@@ -98,7 +99,8 @@ public:
             if (j < batch.size()) {
                 std::size_t e = j;
                 while (e < batch.size() && compute::is_clay_op(batch[e].op)) ++e;
-                const compute::BooleanStats c = clay_ ? compute::apply_clay_batch(sculptor_->mirror(), batch.subspan(j, e - j), nullptr, *clay_)
+                const compute::BooleanStats c = clay_ ? compute::apply_clay_batch(sculptor_->mirror(), batch.subspan(j, e - j), nullptr, *clay_,
+                                                                                clay_group_sweeps_)
                                                       : clay_on_mirror(batch.subspan(j, e - j));
                 total.rays_visited += c.rays_visited;
                 total.rays_changed += c.rays_changed;
@@ -138,7 +140,7 @@ private:
     compute::BooleanStats clay_on_mirror(std::span<const compute::Sweep> run) {
         std::vector<compute::RayImage> before;
         compute::TriDexel& m = sculptor_->mirror();
-        const compute::BooleanStats c = compute::apply_clay_batch(m, run, &before);
+        const compute::BooleanStats c = compute::apply_clay_batch(m, run, &before, compute::clay_cpu_kernel(), clay_group_sweeps_);
         for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
         if (!before.empty()) {
             Aabb box;

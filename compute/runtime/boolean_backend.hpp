@@ -10,6 +10,7 @@
 
 #include "compute/runtime/backend_choice.hpp"
 #include "compute/tools/boolean.hpp"
+#include "compute/tools/clay_sweep.hpp"
 #include "compute/gpu/gpu_clay.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/tools/sweep.hpp"
@@ -56,6 +57,19 @@ public:
     virtual std::string clay_path() const { return "cpu"; }
     /// Why clay sweeps run on the CPU on the GPU path ("" otherwise), e.g. a CPU implementation of Vulkan.
     virtual std::string clay_reason() const { return ""; }
+    /// Sets the most sweeps one push or smooth group holds (compute::apply_clay_batch's group_sweeps; default
+    /// compute::kClayGroupSweeps). The grouping decides the model, so a session sets the size its spec records
+    /// (SessionSpec::clay_group_sweeps) and a replay the one its recording says. Throws tridex::Error as
+    /// compute::check_clay_group_sweeps.
+    void set_clay_group_sweeps(std::size_t n) {
+        compute::check_clay_group_sweeps(n);
+        clay_group_sweeps_ = n;
+    }
+    /// The most sweeps one push or smooth group holds (set_clay_group_sweeps).
+    std::size_t clay_group_sweeps() const { return clay_group_sweeps_; }
+
+protected:
+    std::size_t clay_group_sweeps_ = compute::kClayGroupSweeps;  ///< apply_clay_batch's group_sweeps
 };
 
 /// What make_boolean_backend chose, and why.

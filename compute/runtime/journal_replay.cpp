@@ -39,6 +39,7 @@ struct JournalApplier::State {
     State(TriDexel& model, const JournalApplyFrom& from)
         : cpu(app::make_cpu_backend(model)), history(model, *cpu, from.history_budget_bytes, from.last_serial) {
         history.remove_islands(from.remove_islands);
+        cpu->set_clay_group_sweeps(from.clay_group_sweeps);
     }
 
     void stroke_end(std::uint64_t k, const JournalRecord& r) {

@@ -117,17 +117,18 @@ bool groupable(const Lattice& L, const Sweep& s, const GridSweep& g) {
     return glm::length(s.path_m.b - s.path_m.a) / L.cell_m <= kClayPieceCells;
 }
 
-// One past the last sweep of the group apply_clay_batch starts at batch[i] (i + 1 for a sweep that goes alone).
+// One past the last sweep of the group apply_clay_batch starts at batch[i] (i + 1 for a sweep that goes alone), with
+// groups of at most max_sweeps.
 std::size_t clay_group_end(const Lattice& L, std::span<const Sweep> batch, std::span<const GridSweep> grid,
-                           std::size_t i) {
+                           std::size_t i, std::size_t max_sweeps) {
     const Sweep& s = batch[i];
     if (!groupable(L, s, grid[i])) return i + 1;
-    // The run of at most kClayGroupSweeps sweeps of this operation and tool whose centres' motion stays within
+    // The run of at most max_sweeps sweeps of this operation and tool whose centres' motion stays within
     // clay_group_cells of R.
     const double limit = clay_group_cells(grid[i].radius);
     Vec3 lo = glm::min(s.path_m.a, s.path_m.b), hi = glm::max(s.path_m.a, s.path_m.b);
     std::size_t j = i + 1;
-    while (j < batch.size() && j - i < kClayGroupSweeps && batch[j].op == s.op && same_tool(batch[j].tool, s.tool) &&
+    while (j < batch.size() && j - i < max_sweeps && batch[j].op == s.op && same_tool(batch[j].tool, s.tool) &&
            groupable(L, batch[j], grid[j])) {
         const Vec3 nlo = glm::min(lo, glm::min(batch[j].path_m.a, batch[j].path_m.b));
         const Vec3 nhi = glm::max(hi, glm::max(batch[j].path_m.a, batch[j].path_m.b));
@@ -153,7 +154,14 @@ std::vector<GridSweep> clay_batch_grid(const Lattice& L, std::span<const Sweep> 
 
 }  // namespace
 
-std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch) {
+void check_clay_group_sweeps(std::size_t group_sweeps) {
+    if (group_sweeps < 1 || group_sweeps > kClayGroupSweepsMax)
+        throw Error("clay group size: must be 1.." + std::to_string(kClayGroupSweepsMax) + " sweeps, got " +
+                    std::to_string(group_sweeps));
+}
+
+std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch, std::size_t group_sweeps) {
+    check_clay_group_sweeps(group_sweeps);
     if (batch.empty() || (batch.back().op != ToolOp::kPush && batch.back().op != ToolOp::kSmooth)) return batch.size();
     // The trailing run of clay sweeps (a Boolean before it closes every group), grouped from its start.
     std::size_t first = batch.size();
@@ -163,14 +171,15 @@ std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch) {
     if (!groupable(L, run.back(), grid.back())) return batch.size();
     std::size_t i = 0;
     for (;;) {
-        const std::size_t j = clay_group_end(L, run, grid, i);
+        const std::size_t j = clay_group_end(L, run, grid, i, group_sweeps);
         if (j == run.size()) return first + i;
         i = j;
     }
 }
 
 BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before,
-                              ClayKernel& kernel) {
+                              ClayKernel& kernel, std::size_t group_sweeps) {
+    check_clay_group_sweeps(group_sweeps);
     const Lattice& L = model.lattice;
     const std::vector<GridSweep> grid = clay_batch_grid(L, batch);  // validates the whole batch first
     BooleanStats total;
@@ -191,7 +200,7 @@ BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std
             ++i;
             continue;
         }
-        const std::size_t j = clay_group_end(L, batch, grid, i);
+        const std::size_t j = clay_group_end(L, batch, grid, i, group_sweeps);
         const std::span<const GridSweep> group = std::span<const GridSweep>(grid).subspan(i, j - i);
         add((s.op == ToolOp::kSmooth ? clay_smooth_group(model, group, before, kernel)
                                      : clay_push_group(model, group, before, kernel))

@@ -54,27 +54,37 @@ inline constexpr float kClayGroupMinCells = 12.0f;
 /// of its region's radius, about (r + w) plus half the extent, so a group about as long as that radius costs the
 /// least per sweep.
 float clay_group_cells(float radius_cells);
-/// Most sweeps apply_clay_batch puts in one push or smooth group. A session makes a sweep per haptic tick, so this bounds how
-/// long a held group waits for its last sweep (SculptHistory) to this many ticks, however slowly the tool moves.
-inline constexpr std::size_t kClayGroupSweeps = 16;
+/// Most sweeps apply_clay_batch puts in one push or smooth group unless told otherwise (the group_sweeps argument);
+/// a session records the size it used (app::SessionSpec::clay_group_sweeps), since the grouping decides the model. A
+/// session makes a sweep per haptic tick, so this bounds how long a held group waits for its last sweep
+/// (SculptHistory) to this many ticks, however slowly the tool moves.
+inline constexpr std::size_t kClayGroupSweeps = 32;
+/// Most sweeps a group may be given (group_sweeps): longer groups only make a slow stroke's held group wait longer.
+inline constexpr std::size_t kClayGroupSweepsMax = 256;
+
+/// Throws tridex::Error "clay group size: ..." unless 1 <= group_sweeps <= kClayGroupSweepsMax.
+void check_clay_group_sweeps(std::size_t group_sweeps);
 
 /// Applies a batch of sweeps in order: Boolean sweeps with apply_sweep, clay sweeps with apply_clay, except that
-/// runs of at most kClayGroupSweeps consecutive push sweeps (or smooth sweeps) of one tool, each moving at most
+/// runs of at most group_sweeps consecutive push sweeps (or smooth sweeps) of one tool, each moving at most
 /// kClayPieceCells, whose motion spans at most clay_group_cells(R) together, go as one clay_push_group (or
 /// clay_smooth_group). The grouping depends only on the sweeps, so the same
 /// batch gives the same model bit for bit (a session journal records its batches). Validates the whole batch first
 /// (tridex::Error, model unchanged). Appends old ray images to `before` (clay sweeps only) when not null; returns
 /// the summed ray counts. Clay work runs on `kernel`; Booleans on the CPU (callers with a faster Boolean path split
 /// the batch and call this for the clay runs).
+/// Throws tridex::Error as check_clay_group_sweeps for a bad group_sweeps.
 BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before = nullptr,
-                              ClayKernel& kernel = clay_cpu_kernel());
+                              ClayKernel& kernel = clay_cpu_kernel(), std::size_t group_sweeps = kClayGroupSweeps);
 
 /// Where the last group of `batch` starts, when apply_clay_batch would end the batch with a push or smooth group that
 /// later sweeps of the same stroke could still join (its last sweep a groupable push or smooth): the index of that group's first
 /// sweep; batch.size() when the batch ends with anything else. Grouping is greedy from the start of each run of clay
 /// sweeps, so applying batch[0, k) now and batch[k, n) with whatever follows gives the same groups, and the same
 /// model, however a stroke's sweeps are split into batches (SculptHistory holds that open group back). Throws
-/// tridex::Error as to_clay_grid_sweep on a bad clay sweep in the trailing run.
-std::size_t clay_open_group(const Lattice& lattice, std::span<const Sweep> batch);
+/// tridex::Error as to_clay_grid_sweep on a bad clay sweep in the trailing run, and as check_clay_group_sweeps.
+/// `group_sweeps` must be the one the batch is applied with.
+std::size_t clay_open_group(const Lattice& lattice, std::span<const Sweep> batch,
+                            std::size_t group_sweeps = kClayGroupSweeps);
 
 }  // namespace tridex::compute

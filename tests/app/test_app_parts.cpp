@@ -147,6 +147,37 @@ TEST(SessionSpec, KeepIslandsRoundTripsAndOlderRecordingsReadAsKeepingEveryPiece
     EXPECT_THROW(spec_from_json(old.dump(), "bad"), Error);
 }
 
+TEST(SessionSpec, ClayGroupSizeRoundTripsOlderRecordingsReadAs16AndReachesTheReplay) {
+    SessionSpec s;
+    EXPECT_EQ(s.clay_group_sweeps, compute::kClayGroupSweeps);
+    EXPECT_EQ(spec_from_json(spec_to_json(s), "test").clay_group_sweeps, compute::kClayGroupSweeps);
+    s.clay_group_sweeps = 7;
+    EXPECT_EQ(spec_from_json(spec_to_json(s), "test").clay_group_sweeps, 7u);
+    s.keep_islands = true;
+    const compute::JournalApplyFrom r = replay_settings(s);
+    EXPECT_EQ(r.clay_group_sweeps, 7u);
+    EXPECT_FALSE(r.remove_islands);
+    EXPECT_EQ(r.history_budget_bytes, s.history_budget_bytes);
+    // A recording or journal from before the size was recorded: its session grouped 16 sweeps, and so does its replay.
+    nlohmann::json old = nlohmann::json::parse(spec_to_json(SessionSpec{}));
+    old.erase("clay_group_sweeps");
+    EXPECT_EQ(spec_from_json(old.dump(), "old").clay_group_sweeps, 16u);
+    old["clay_group_sweeps"] = "many";
+    EXPECT_THROW(spec_from_json(old.dump(), "bad"), Error);
+    // Out of range: validate_spec names the field.
+    for (const std::size_t n : {std::size_t{0}, compute::kClayGroupSweepsMax + 1}) {
+        SessionSpec bad;
+        bad.clay_group_sweeps = n;
+        try {
+            validate_spec(bad, "rec.trdx");
+            ADD_FAILURE() << "clay group size " << n << " was accepted";
+        } catch (const Error& x) {
+            EXPECT_NE(std::string(x.what()).find("rec.trdx: settings field 'clay_group_sweeps'"), std::string::npos)
+                << x.what();
+        }
+    }
+}
+
 TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop) {
     SessionSpec s;
     s.op = "paint";

@@ -64,6 +64,7 @@ TEST(RunScene, ReadsEveryField) {
       "workpiece": {"resolution": 64, "stock_m": 0.2, "centre_m": [0.1, 0.2, 0.3]},
       "tool": {"radius_m": 0.01, "stiffness_n_per_m": 500, "damping_n_s_per_m": 0.2},
       "workspace": {"mode": "bubble", "scale": 2.0},
+      "clay_group_sweeps": 24,
       "stroke": "none",
       "display": "powerwall",
       "head": {"provider": "scripted", "loop": true,
@@ -75,6 +76,7 @@ TEST(RunScene, ReadsEveryField) {
     EXPECT_DOUBLE_EQ(s.spec.tool.radius_m, 0.01);
     EXPECT_EQ(s.spec.workspace_mode, "bubble");
     EXPECT_DOUBLE_EQ(s.spec.workspace_scale, 2.0);
+    EXPECT_EQ(s.spec.clay_group_sweeps, 24u);
     EXPECT_FALSE(s.has_stroke);
     EXPECT_EQ(s.display.stereo, renderer::StereoOutput::kFrameSequential);
     EXPECT_DOUBLE_EQ(s.display.refresh_hz, 120.0);
@@ -115,6 +117,8 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
         {R"({"head": {"waypoints": [{"t_s": 0, "position_m": [0,0,1], "orientation_wxyz": [2,0,0,0]}]}})",
          "'head.waypoints[0].orientation_wxyz'"},
         {R"({"lights": 3})", "'lights'"},
+        {R"({"clay_group_sweeps": 0})", "'clay_group_sweeps'"},
+        {R"({"clay_group_sweeps": 257})", "'clay_group_sweeps'"},
     };
     for (const Case& c : cases) {
         const std::string m = error_of([&] { (void)run_scene_from_json(json::parse(c.json), "scene.json", "."); });

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "clay_test_models.hpp"
@@ -151,22 +152,49 @@ TEST(ClayBatch, BooleansAndOtherClayOpsInTheBatchApplyAsOnTheirOwn) {
 }
 
 TEST(ClayBatch, ManySlowPushesGoInGroupsOfAtMostTheGroupsSweeps) {
-    // 40 sweeps of 0.05 cell (a slow hand at the haptic rate): the motion stays short, the count closes the groups.
-    std::vector<Sweep> batch;
-    for (int k = 0; k < 40; ++k) {
-        const Vec3 a(20.0 + 0.05 * k, 24.2, kZ0 + 2.0 - 1.0), b(20.0 + 0.05 * (k + 1), 24.2, kZ0 + 2.0 - 1.0);
-        batch.push_back(clay_sweep(ToolOp::kPush, a, b, 2.0));
+    // Two and a half groups of sweeps of 0.05 cell (a slow hand at the haptic rate): the motion stays short, the count
+    // closes the groups; for the default size and others a session may record.
+    std::vector<TriDexel> models;
+    for (const std::size_t n : {kClayGroupSweeps, std::size_t{16}, std::size_t{5}}) {
+        std::vector<Sweep> batch;
+        for (std::size_t k = 0; k < 80; ++k) {
+            const double x = 20.0 + 0.05 * static_cast<double>(k);
+            batch.push_back(clay_sweep(ToolOp::kPush, Vec3(x, 24.2, kZ0 + 1.0), Vec3(x + 0.05, 24.2, kZ0 + 1.0), 2.0));
+        }
+        batch.resize(n * 5 / 2);
+        TriDexel a = slab(), b = slab();
+        apply_clay_batch(a, batch, nullptr, clay_cpu_kernel(), n);
+        for (std::size_t i = 0; i < batch.size(); i += n) {
+            std::vector<GridSweep> g;
+            for (std::size_t k = i; k < std::min(batch.size(), i + n); ++k)
+                g.push_back(to_clay_grid_sweep(b.lattice, batch[k]));
+            clay_push_group(b, g);
+        }
+        EXPECT_TRUE(clay_test::same_rays(a, b)) << "groups of " << n;
+        EXPECT_EQ(clay_open_group(a.lattice, batch, n), 2 * n) << "the last half group is open, groups of " << n;
+        if (n == 16) {
+            // The same 40 sweeps grouped by the default size: another grouping, another model.
+            TriDexel c = slab();
+            apply_clay_batch(c, batch);
+            EXPECT_FALSE(clay_test::same_rays(a, c)) << "the group size must decide the model";
+        }
     }
-    TriDexel a = slab(), b = slab();
-    apply_clay_batch(a, batch);
-    for (std::size_t i = 0; i < batch.size(); i += kClayGroupSweeps) {
-        std::vector<GridSweep> g;
-        for (std::size_t k = i; k < std::min(batch.size(), i + kClayGroupSweeps); ++k)
-            g.push_back(to_clay_grid_sweep(b.lattice, batch[k]));
-        clay_push_group(b, g);
+}
+
+TEST(ClayBatch, AGroupSizeOutsideItsRangeIsRefusedAndChangesNothing) {
+    const std::vector<Sweep> batch = groove(4, 12.0, 2.0, 1.0);
+    TriDexel m = slab();
+    const TriDexel before = m;
+    for (const std::size_t n : {std::size_t{0}, kClayGroupSweepsMax + 1}) {
+        try {
+            apply_clay_batch(m, batch, nullptr, clay_cpu_kernel(), n);
+            ADD_FAILURE() << "group size " << n << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("clay group size"), std::string::npos) << e.what();
+        }
+        EXPECT_THROW(clay_open_group(m.lattice, batch, n), Error);
     }
-    EXPECT_TRUE(clay_test::same_rays(a, b));
-    EXPECT_EQ(clay_open_group(a.lattice, batch), 2 * kClayGroupSweeps);  // the last 8 sweeps: an open group
+    EXPECT_TRUE(clay_test::same_rays(m, before));
 }
 
 TEST(ClayBatch, ABadSweepChangesNothing) {

@@ -14,10 +14,7 @@ namespace tridex::app {
 ClusterReplica::ClusterReplica(const std::string& spec_json) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
-    compute::JournalApplyFrom from;
-    from.history_budget_bytes = spec.history_budget_bytes;
-    from.remove_islands = !spec.keep_islands;
-    applier_ = std::make_unique<compute::JournalApplier>(wp_.model, from);
+    applier_ = std::make_unique<compute::JournalApplier>(wp_.model, replay_settings(spec));
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     contour();
 }
