@@ -45,6 +45,8 @@ struct LatencyBenchRow {
     int n = 0;                 ///< lattice cells along the longest side
     std::string op;            ///< "subtract" or "push"
     std::size_t group_sweeps = 0;  ///< push: the most sweeps per push group (SessionSpec::clay_group_sweeps); 0 for subtract
+    double start_s = 0.0;          ///< when the stroke began, s after the session's start (StrokeParams::start_s)
+    double lod_all_built_ms = -1.0; ///< when the start-up levels of detail were all built, ms after the first frame (-1: never)
     std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)
     std::size_t frames = 0;    ///< frames that first drew a sculpted change
     double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;  ///< tool sample to surface drawn (meshes.sample_to_drawn_ms), ms
@@ -55,7 +57,8 @@ struct LatencyBenchRow {
 
 /// Runs `tridex run` offscreen (paced at 60 Hz, 960x540 mono) on the bunny scaled as in the demo (0.3 m) at each of
 /// options.latency_resolutions, with the demo's 8 mm ball dragged 0.12 m along the surface at 0.1 m/s, once as a
-/// subtract and as a clay push in groups of the default size (compute::kClayGroupSweeps) and of 16 sweeps; prints, per session, the time from a tool sample to the surface it changed
+/// subtract and as a clay push in groups of the default size (compute::kClayGroupSweeps) and of 16 sweeps, each once
+/// with the stroke starting with the session (while the start-up levels of detail are built) and once 3 s later; prints, per session, the time from a tool sample to the surface it changed
 /// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max) beside the push target (p99 <= 50 ms) and the
 /// sculpt step times, and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
 std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);

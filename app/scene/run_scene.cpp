@@ -323,6 +323,7 @@ void read_stroke(Fields& top, RunScene& s) {
         p.length_m = f.number("length_m", p.length_m, 0.0, 10.0, true);
         p.depth_m = f.number("depth_m", p.depth_m, 0.0, 1.0);
         p.clearance_m = f.number("clearance_m", p.clearance_m, 0.0, 1.0);
+        p.start_s = f.number("start_s", p.start_s, 0.0, 600.0);
         const std::string axis = f.text("press_axis", "z");
         if (axis != "y" && axis != "z") f.fail("stroke.press_axis", "must be \"z\" (from the viewer) or \"y\" (from above)");
         p.press_axis = axis == "y" ? 1 : 2;

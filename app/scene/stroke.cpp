@@ -103,6 +103,19 @@ std::vector<Vec3> StrokePlan::device_offsets_m(double workspace_scale) const {
     return out;
 }
 
+// `plan` begun `start_s` later: the hand holds its first waypoint until then.
+StrokePlan delayed(StrokePlan plan, double start_s) {
+    if (!std::isfinite(start_s) || start_s < 0.0)
+        throw Error("stroke.start_s: must be a finite number of seconds >= 0, got " + format_number(start_s));
+    if (start_s == 0.0) return plan;
+    for (double& t : plan.t_s) t += start_s;
+    for (devices::ButtonStep& b : plan.buttons) b.t_s += start_s;
+    plan.t_s.insert(plan.t_s.begin(), 0.0);
+    plan.world_m.insert(plan.world_m.begin(), plan.world_m.front());
+    plan.shift_m.insert(plan.shift_m.begin(), plan.shift_m.front());
+    return plan;
+}
+
 StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& p) {
     const Aabb box = model.lattice.bounds();
     const int a = p.press_axis;
@@ -203,7 +216,7 @@ StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& p) {
         add(t + back_s + kSettle_s, surf.at(nx.front(), nh.front() + p.clearance_m));
         t0 = t + back_s + kSettle_s;
     }
-    return plan;
+    return delayed(std::move(plan), p.start_s);
 }
 
 }  // namespace tridex::app

@@ -32,6 +32,12 @@ struct StrokeParams {
     /// How the workspace moves after each pass but the last (passes - 1 entries; missing ones are jumps).
     std::vector<WorkspaceMove> moves;
     double workspace_scale = 1.0; ///< device -> world gain s of the session (the hand's motion is length_m / s)
+    /// How long the hand waits, lifted above the first pass's start, before the stroke begins, s (>= 0): the
+    /// stroke then runs from start_s to start_s + duration_s (a carve that begins once the session has settled).
+    double start_s = 0.0;
+
+    /// When the script ends, s: start_s + duration_s.
+    double end_s() const { return start_s + duration_s; }
 };
 
 /// How long the hand takes to move the workspace between two passes, s.
@@ -62,6 +68,8 @@ struct StrokePlan {
 /// two clicks with the stylus held at the pass's end, or a press, a drag of half a pass and a release) and goes
 /// back, lifted, to where the next pass starts; the hand's motion stays within +-length_m / s of its home along x.
 /// Throws tridex::Error when the passes leave less than 0.5 s each, or the groove is longer than the workpiece.
+/// With start_s > 0 the hand holds its first waypoint from 0 to start_s and every later time (waypoints and
+/// buttons) moves start_s later; a negative or non-finite start_s throws tridex::Error "stroke.start_s: ...".
 StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& params);
 
 }  // namespace tridex::app

@@ -146,7 +146,7 @@ void RunPipeline::Parts::open_backend() {
                        ? 0.0
                        : std::max(scene.cursor.end_s(), scene.keys.empty() ? 0.0 : scene.keys.back().t_s) + 0.5;
     const double path_s = static_cast<double>(backend->stroke_ticks()) * scene.spec.period_s;  // a study's path
-    safety_s = scene.has_stroke     ? 3.0 * scene.stroke.duration_s + 10.0
+    safety_s = scene.has_stroke     ? 3.0 * scene.stroke.end_s() + 10.0
                : script_end_s > 0.0 ? 3.0 * script_end_s + 10.0
                : path_s > 0.0       ? 3.0 * path_s + 10.0
                                     : 0.0;

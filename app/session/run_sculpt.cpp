@@ -114,7 +114,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         if (scene.stroke.passes > 1) check_reach(path, profile);
         if (!plan.buttons.empty()) buttons.emplace(plan.buttons);
         start_m_ = plan.world_m.front();
-        stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.duration_s / spec.period_s));
+        stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.end_s() / spec.period_s));
     } else {
         const Aabb box = wp.model.lattice.bounds();
         fit_to(box);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -87,6 +88,34 @@ TEST(PlanStroke, FollowsTheFacingSideAtTheRequestedDepth) {
         EXPECT_GE(carving, 10);
         EXPECT_NEAR(plan.world_m.front()[axis], 0.05 + p.clearance_m, 1e-6);  // starts clear of the surface
         EXPECT_NEAR(plan.world_m.back().x - plan.world_m.front().x, 0.1, 1e-9);  // the pass length
+    }
+}
+
+TEST(PlanStroke, AStartDelayHoldsTheHandLiftedThenShiftsTheWholeStroke) {
+    const compute::TriDexel m = box_model();
+    StrokeParams p;
+    p.duration_s = 4.0;
+    p.length_m = 0.1;
+    const StrokePlan now = plan_stroke(m, p);
+    p.start_s = 2.5;
+    EXPECT_DOUBLE_EQ(p.end_s(), 6.5);
+    const StrokePlan later = plan_stroke(m, p);
+    ASSERT_EQ(later.t_s.size(), now.t_s.size() + 1);
+    EXPECT_EQ(later.t_s.front(), 0.0);
+    EXPECT_EQ(later.world_m.front(), now.world_m.front());  // waiting where the stroke begins, lifted
+    for (std::size_t i = 0; i < now.t_s.size(); ++i) {
+        EXPECT_DOUBLE_EQ(later.t_s[i + 1], now.t_s[i] + 2.5);
+        EXPECT_EQ(later.world_m[i + 1], now.world_m[i]);
+    }
+    EXPECT_DOUBLE_EQ(later.t_s.back(), 6.5);
+    for (const double bad : {-1.0, std::nan("")}) {
+        p.start_s = bad;
+        try {
+            (void)plan_stroke(m, p);
+            ADD_FAILURE() << "start_s " << bad << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("stroke.start_s"), std::string::npos) << e.what();
+        }
     }
 }
 

@@ -107,6 +107,7 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
         {R"({"stroke": "sometimes"})", "'stroke'"},
         {R"({"stroke": {"press_axis": "x"}})", "'stroke.press_axis'"},
         {R"({"stroke": {"duration_s": 0}})", "'stroke.duration_s'"},
+        {R"({"stroke": {"start_s": -1}})", "'stroke.start_s'"},
         {R"({"display": "cinema"})", "'display'"},
         {R"({"display": {"stereo": "holographic"}})", "'display'"},
         {R"({"head": {"provider": "psychic"}})", "'head.provider'"},
