@@ -44,9 +44,11 @@ inline constexpr double kLatencyTargetMs = 50.0;
 struct LatencyBenchRow {
     int n = 0;                 ///< lattice cells along the longest side
     std::string op;            ///< "subtract" or "push"
-    std::size_t group_sweeps = 0;  ///< push: the most sweeps per push group (SessionSpec::clay_group_sweeps); 0 for subtract
-    double start_s = 0.0;          ///< when the stroke began, s after the session's start (StrokeParams::start_s)
-    double lod_all_built_ms = -1.0; ///< when the start-up levels of detail were all built, ms after the first frame (-1: never)
+    std::size_t group_sweeps =
+        0;                 ///< push: the most sweeps per push group (SessionSpec::clay_group_sweeps); 0 for subtract
+    double start_s = 0.0;  ///< when the stroke began, s after the session's start (StrokeParams::start_s)
+    double lod_all_built_ms =
+        -1.0;  ///< when the start-up levels of detail were all built, ms after the first frame (-1: never)
     std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)
     std::size_t frames = 0;    ///< frames that first drew a sculpted change
     double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;  ///< tool sample to surface drawn (meshes.sample_to_drawn_ms), ms

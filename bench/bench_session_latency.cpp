@@ -27,6 +27,8 @@ constexpr double kStrokeS = 2.2;
 constexpr double kPassM = 0.12;
 // The settled rows start the stroke this long after the session: after the start-up levels of detail are built.
 constexpr double kSettledStartS = 3.0;
+// The start-up levels of detail should all be built within this long of the first frame, ms.
+constexpr double kLodStartupTargetMs = 1000.0;
 
 std::string write_scene(const fs::path& dir, int n, const std::string& op, std::size_t group, double start_s,
                         const std::string& mesh) {
@@ -35,13 +37,17 @@ std::string write_scene(const fs::path& dir, int n, const std::string& op, std::
         {"tool", {{"radius_m", 0.008}}},
         {"op", op},
         {"stroke",
-         {{"duration_s", kStrokeS}, {"start_s", start_s}, {"length_m", kPassM}, {"depth_m", 0.006}, {"press_axis", "z"}}},
+         {{"duration_s", kStrokeS},
+          {"start_s", start_s},
+          {"length_m", kPassM},
+          {"depth_m", 0.006},
+          {"press_axis", "z"}}},
         {"display", {{"preset", "desktop"}, {"stereo", "mono"}, {"resolution", {960, 540}}, {"refresh_hz", 60}}},
         {"head", {{"provider", "fixed"}, {"position_m", {0.0, 0.05, 0.6}}}}};
     if (group > 0) scene["clay_group_sweeps"] = group;
-    const std::string path =
-        (dir / ("latency_" + std::to_string(n) + "_" + op + std::to_string(group) + (start_s > 0.0 ? "_settled" : "") +
-                ".json")).string();
+    const std::string path = (dir / ("latency_" + std::to_string(n) + "_" + op + std::to_string(group) +
+                                     (start_s > 0.0 ? "_settled" : "") + ".json"))
+                                 .string();
     write_json_file(path, scene);
     return path;
 }
@@ -63,24 +69,27 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
     std::printf("\nsurface latency: from a tool sample to the changed surface drawn (offscreen, paced at 60 Hz), an 8 mm "
                 "ball at %.2f m/s; target: push p99 <= %.0f ms\n",
                 kPassM / (0.55 * kStrokeS), kLatencyTargetMs);
-    std::printf("(stroke start 0: with the session, while the start-up levels of detail are built; %.0f s: after; "
-                "lod: when the start-up levels were all built, ms after the first frame)\n",
-                kSettledStartS);
+    std::printf(
+        "(stroke start 0: with the session, while the start-up levels of detail are built; %.0f s: after; "
+        "lod: when the start-up levels were all built, ms after the first frame; target <= %.0f ms)\n",
+        kSettledStartS, kLodStartupTargetMs);
     std::printf("%6s %9s %6s %6s %5s %7s %9s %9s %9s %9s %9s %9s %9s %8s %7s %s\n", "N", "op", "group", "start", "path",
-                "frames", "lat50", "lat99", "latmax", "pub50", "pub99", "step50", "step99", "frame50", "lod", "verdict");
+                "frames", "lat50", "lat99", "latmax", "pub50", "pub99", "step50", "step99", "frame50", "lod",
+                "verdict");
     std::printf("%6s %9s %6s %6s %5s %7s %9s %9s %9s %9s %9s %9s %9s %8s %7s\n", "", "", "sweeps", "s", "", "", "ms",
                 "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms");
     std::vector<LatencyBenchRow> rows;
     for (const int n : o.latency_resolutions)
-        for (const Variant& v : {Variant{"subtract", 0, 0.0}, Variant{"push", compute::kClayGroupSweeps, 0.0},
-                                 Variant{"push", 16, 0.0}, Variant{"subtract", 0, kSettledStartS},
-                                 Variant{"push", compute::kClayGroupSweeps, kSettledStartS},
-                                 Variant{"push", 16, kSettledStartS}}) {
+        for (const Variant& v :
+             {Variant{"subtract", 0, 0.0}, Variant{"push", compute::kClayGroupSweeps, 0.0}, Variant{"push", 16, 0.0},
+              Variant{"subtract", 0, kSettledStartS}, Variant{"push", compute::kClayGroupSweeps, kSettledStartS},
+              Variant{"push", 16, kSettledStartS}}) {
             const std::string& op = v.op;
             RunOptions r;
             r.scene = write_scene(dir, n, op, v.group, v.start_s, mesh);
             r.display = "offscreen";
-            r.seconds = v.start_s + kStrokeS + 2.0;  // the frames go on while the sculpt thread catches up after the stroke
+            r.seconds =
+                v.start_s + kStrokeS + 2.0;  // the frames go on while the sculpt thread catches up after the stroke
             r.out = (dir / ("run_" + std::to_string(n) + "_" + op + (v.group ? std::to_string(v.group) : "") +
                             (v.start_s > 0.0 ? "_settled" : "")))
                         .string();
@@ -114,17 +123,31 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
                         op.c_str(), group.c_str(), v.start_s, row.path.c_str(), row.frames, row.p50_ms, row.p99_ms,
                         row.max_ms, row.pub_p50_ms, row.pub_p99_ms, row.step_p50_ms, row.step_p99_ms, row.frame_p50_ms,
                         row.lod_all_built_ms,
-                        !judged ? "(reference)" : row.p99_ms <= kLatencyTargetMs ? "target met" : "over target");
+                        !judged                          ? "(reference)"
+                        : row.p99_ms <= kLatencyTargetMs ? "target met"
+                                                         : "over target");
             std::fflush(stdout);
             rows.push_back(row);
         }
     nlohmann::json out = nlohmann::json::array();
     for (const LatencyBenchRow& r : rows)
-        out.push_back({{"n", r.n}, {"op", r.op}, {"group_sweeps", r.group_sweeps}, {"stroke_start_s", r.start_s},
-                       {"lod_all_built_after_first_frame_ms", r.lod_all_built_ms}, {"path", r.path}, {"frames", r.frames}, {"p50_ms", r.p50_ms},
-                       {"p99_ms", r.p99_ms}, {"max_ms", r.max_ms}, {"published_p50_ms", r.pub_p50_ms},
-                       {"published_p99_ms", r.pub_p99_ms}, {"frame_p50_ms", r.frame_p50_ms}, {"step_p50_ms", r.step_p50_ms},
-                       {"step_p99_ms", r.step_p99_ms}, {"target_p99_ms", kLatencyTargetMs}});
+        out.push_back({{"n", r.n},
+                       {"op", r.op},
+                       {"group_sweeps", r.group_sweeps},
+                       {"stroke_start_s", r.start_s},
+                       {"lod_all_built_after_first_frame_ms", r.lod_all_built_ms},
+                       {"lod_target_ms", kLodStartupTargetMs},
+                       {"path", r.path},
+                       {"frames", r.frames},
+                       {"p50_ms", r.p50_ms},
+                       {"p99_ms", r.p99_ms},
+                       {"max_ms", r.max_ms},
+                       {"published_p50_ms", r.pub_p50_ms},
+                       {"published_p99_ms", r.pub_p99_ms},
+                       {"frame_p50_ms", r.frame_p50_ms},
+                       {"step_p50_ms", r.step_p50_ms},
+                       {"step_p99_ms", r.step_p99_ms},
+                       {"target_p99_ms", kLatencyTargetMs}});
     write_json_file((fs::path(o.out) / "latency_bench.json").string(), out);
     return rows;
 }

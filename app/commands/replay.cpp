@@ -94,7 +94,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
             gpu::ContextOptions gopt;
             gopt.validation = out.validate;
             gpu::Context ctx = gpu::Context::create(gopt);
-            const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), strip.options, ctx);
+            const FilmStrip f =
+                write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), strip.options, ctx);
             std::printf("film strip: %d pictures, %dx%d px, %s\n", strip.options.frames, f.width, f.height, strip.path.c_str());
             if (ctx.validation_messages() > 0)
                 throw Error("the Vulkan validation layer reported " + std::to_string(ctx.validation_messages()) +

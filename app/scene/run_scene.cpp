@@ -190,8 +190,9 @@ void read_op(Fields& top, RunScene& s) {
         top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, push, smooth, pull, none");
     }
     s.spec.material = top.integer("material", s.spec.material, 1, 7);
-    s.spec.clay_group_sweeps = static_cast<std::size_t>(top.integer(
-        "clay_group_sweeps", static_cast<int>(s.spec.clay_group_sweeps), 1, static_cast<int>(compute::kClayGroupSweepsMax)));
+    s.spec.clay_group_sweeps =
+        static_cast<std::size_t>(top.integer("clay_group_sweeps", static_cast<int>(s.spec.clay_group_sweeps), 1,
+                                             static_cast<int>(compute::kClayGroupSweepsMax)));
 }
 
 void read_materials(Fields& top, RunScene& s) {

@@ -13,8 +13,8 @@
 #include "core/math.hpp"
 #include "core/tool_shape.hpp"
 #include "core/tri_mesh.hpp"
-#include "devices/registry/device_registry.hpp"
 #include "devices/haptic_device.hpp"
+#include "devices/registry/device_registry.hpp"
 #include "haptics/haptic_loop.hpp"
 #include "haptics/materials.hpp"
 

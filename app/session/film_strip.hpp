@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
-#include "app/scene/workpiece_source.hpp"
 #include "core/tool_shape.hpp"
 
 namespace tridex::gpu {

@@ -99,9 +99,10 @@ public:
             if (j < batch.size()) {
                 std::size_t e = j;
                 while (e < batch.size() && compute::is_clay_op(batch[e].op)) ++e;
-                const compute::BooleanStats c = clay_ ? compute::apply_clay_batch(sculptor_->mirror(), batch.subspan(j, e - j), nullptr, *clay_,
-                                                                                clay_group_sweeps_)
-                                                      : clay_on_mirror(batch.subspan(j, e - j));
+                const compute::BooleanStats c =
+                    clay_ ? compute::apply_clay_batch(sculptor_->mirror(), batch.subspan(j, e - j), nullptr, *clay_,
+                                                      clay_group_sweeps_)
+                          : clay_on_mirror(batch.subspan(j, e - j));
                 total.rays_visited += c.rays_visited;
                 total.rays_changed += c.rays_changed;
                 j = e;
@@ -140,7 +141,8 @@ private:
     compute::BooleanStats clay_on_mirror(std::span<const compute::Sweep> run) {
         std::vector<compute::RayImage> before;
         compute::TriDexel& m = sculptor_->mirror();
-        const compute::BooleanStats c = compute::apply_clay_batch(m, run, &before, compute::clay_cpu_kernel(), clay_group_sweeps_);
+        const compute::BooleanStats c =
+            compute::apply_clay_batch(m, run, &before, compute::clay_cpu_kernel(), clay_group_sweeps_);
         for (compute::RayImage& r : before) r.intervals = m.sets[r.axis].rays[r.index];  // the new images
         if (!before.empty()) {
             Aabb box;

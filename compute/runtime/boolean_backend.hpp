@@ -8,13 +8,13 @@
 #include <span>
 #include <string>
 
+#include "compute/gpu/gpu_clay.hpp"
+#include "compute/gpu/gpu_dexel_slabs.hpp"
+#include "compute/model/tridexel.hpp"
 #include "compute/runtime/backend_choice.hpp"
 #include "compute/tools/boolean.hpp"
 #include "compute/tools/clay_sweep.hpp"
-#include "compute/gpu/gpu_clay.hpp"
-#include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/tools/sweep.hpp"
-#include "compute/model/tridexel.hpp"
 #include "gpu/context.hpp"
 
 namespace tridex::app {

@@ -27,7 +27,8 @@ compute::BooleanStats SculptHistory::apply(std::span<const compute::Sweep> batch
     all.reserve(held_.size() + batch.size());
     all.insert(all.end(), held_.begin(), held_.end());
     all.insert(all.end(), batch.begin(), batch.end());
-    const std::size_t open = compute::clay_open_group(model_.lattice, all, backend_.clay_group_sweeps());  // validates the trailing run
+    const std::size_t open =
+        compute::clay_open_group(model_.lattice, all, backend_.clay_group_sweeps());  // validates the trailing run
     history_.capture(model_, batch);
     compute::BooleanStats st;
     if (open > 0) st = backend_.apply(std::span<const compute::Sweep>(all).first(open));

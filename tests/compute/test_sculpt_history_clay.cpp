@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "clay_test_models.hpp"
+#include "compute/journal/journal_replay.hpp"
+#include "compute/model/model_digest.hpp"
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/tools/clay_sweep.hpp"
-#include "compute/journal/journal_replay.hpp"
-#include "compute/model/model_digest.hpp"
 #include "compute/tools/sample_sweep.hpp"
 #include "core/error.hpp"
 
