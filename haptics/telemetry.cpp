@@ -21,7 +21,9 @@ double Histogram::quantile(double q) const {
     std::uint64_t seen = 0;
     for (std::size_t i = 0; i < kBins; ++i) {
         seen += counts[i];
-        if (seen >= rank) return static_cast<double>(i + 1) * bin_width_s;
+        // No sample exceeds max_s, so neither does the quantile: a bin's edge above it would report a quantile
+        // larger than the largest sample.
+        if (seen >= rank) return std::min(static_cast<double>(i + 1) * bin_width_s, std::max(max_s, 0.0));
     }
     return max_s;
 }

@@ -20,9 +20,9 @@ struct Histogram {
 
     /// Number of samples (regular bins plus overflow).
     std::uint64_t total() const;
-    /// Upper edge (s) of the bin holding the q-quantile (q in [0, 1], clamped), i.e. a bound the
-    /// q-quantile does not exceed, exact to one bin width. Returns max_s when that sample lies in the
-    /// overflow, 0 when the histogram is empty.
+    /// Upper edge (s) of the bin holding the q-quantile (q in [0, 1], clamped), or max_s when that is
+    /// smaller: a bound the q-quantile does not exceed, exact to one bin width, and never above the largest
+    /// sample. Returns max_s when that sample lies in the overflow, 0 when the histogram is empty.
     double quantile(double q) const;
 };
 

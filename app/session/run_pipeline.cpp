@@ -3,8 +3,10 @@
 #include "app/session/run_pipeline.hpp"
 #include "app/support/output_dir.hpp"
 
+#include "app/scene/session_spec.hpp"
 #include "app/session/run_pipeline_parts.hpp"
 #include "app/session/session.hpp"
+#include "compute/tools/clay_field.hpp"
 
 #include <tuple>
 
@@ -136,6 +138,8 @@ void RunPipeline::Parts::open_backend() {
     if (!r.contour_reason.empty()) r.notes.push_back("contour path cpu: " + r.contour_reason);
     gpu_contour = rt.gpu_contour();
     r.volume_before_m3 = rt.workpiece().volume_dexel_m3;
+    // A clay session reports how far its surface moved: keep the model as it was (the threads have not started).
+    if (compute::is_clay_op(parse_tool_op(scene.spec.op)) && scene.objects.empty()) clay_start = rt.workpiece().model;
     if (devices::MouseDevice* md = backend->mouse()) {
         mouse_stylus.emplace(*md, rt, scene.spec.tool, backend->start_tool_m());
         input->use_stylus(&mouse_stylus->stylus());
@@ -233,6 +237,11 @@ void RunPipeline::Parts::collect() {
     }
     if (study_view) r.study = study_view->report_json();
     if (elastic_view) r.deformation = elastic_view->report_json();
+    else if (clay_start) {
+        const compute::TriDexel& after = rt.workpiece().model;
+        r.deformation = {
+            {"max_displacement_m", compute::clay_max_displacement_cells(*clay_start, after) * after.lattice.cell_m}};
+    }
     r.volume_after_m3 = compute::dexel_volume_m3(rt.workpiece().model);
     r.present_timings = sink->present_timings();
     r.spec = rt.spec();

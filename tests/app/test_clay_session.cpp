@@ -85,4 +85,30 @@ TEST(ClaySession, PullDemoRunsAndReports) {
     EXPECT_EQ(j["mesh"]["nonmanifold_edges"], 0);
 }
 
+// `tridex run` with a push scene reports how far the surface moved, as the demo does, and a subtract scene does not.
+TEST(ClaySession, PushRunReportsHowFarTheSurfaceMoved) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-clay-run";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const std::string op : {"push", "subtract"}) {
+        const fs::path scene = dir / (op + ".json");
+        std::ofstream(scene) << R"({"op": ")" << op
+                             << R"(", "workpiece": {"resolution": 64}, "stroke": {"duration_s": 1.5},
+                                   "display": {"preset": "desktop", "stereo": "mono", "resolution": [64, 48]}})";
+        const auto run = run_tridex("run " + scene.string() + " --display offscreen --cpu --out " + (dir / op).string(),
+                                    dir / (op + "_log"));
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+        const nlohmann::json j = report(dir / op);
+        if (op == "subtract") {
+            EXPECT_TRUE(j["deformation"].is_null()) << j["deformation"];
+            continue;
+        }
+        ASSERT_TRUE(j["deformation"].is_object()) << j["deformation"];
+        const double moved = j["deformation"]["max_displacement_m"].get<double>();
+        const double cell = j["workpiece"]["cell_m"].get<double>();
+        EXPECT_GT(moved, 0.5 * cell) << "the push moved nothing";
+        EXPECT_LT(moved, 0.05) << "a push of a 6 mm press cannot move the surface 5 cm";
+    }
+}
+
 }  // namespace

@@ -38,6 +38,13 @@ TEST(Telemetry, HistogramCountsAndQuantilesAreExact) {
     EXPECT_NEAR(s.quantile(0.5), 20e-6, 1e-15);   // rank 3 -> bin 1
     EXPECT_NEAR(s.quantile(0.8), 1000e-6, 1e-15); // rank 4 -> bin 99
     EXPECT_EQ(s.quantile(1.0), 2.5e-3);           // rank 5 lies in the overflow: the maximum
+    // A maximum inside a bin bounds the quantiles that bin holds: p99 never reports more than the largest sample.
+    AtomicHistogram tight(20e-6);
+    for (double x : {1001e-6, 1005e-6, 1028.9e-6}) tight.add(x);
+    const Histogram t = tight.snapshot();
+    EXPECT_EQ(t.quantile(0.99), 1028.9e-6);
+    EXPECT_LE(t.quantile(0.99), t.max_s);
+    EXPECT_NEAR(t.quantile(0.0), 1020e-6, 1e-15);  // below the maximum: the bin's upper edge
     h.add(-1.0);  // a clock going backwards, or NaN: bin 0, no crash
     h.add(std::nan(""));
     h.add(INFINITY);
