@@ -86,6 +86,8 @@ public:
         }
         return std::string(reinterpret_cast<const char*>(p_ + pos_ - len), len);
     }
+    /// The next n bytes, in place (valid while the range is); nullptr and failed() when fewer remain.
+    const std::uint8_t* bytes(std::size_t n) { return take(n) ? p_ + pos_ - n : nullptr; }
     bool failed() const { return failed_; }
     bool non_finite() const { return non_finite_; }
     bool at_end() const { return pos_ == n_; }

@@ -49,11 +49,14 @@ private:
     devices::net::Writer w_;
 };
 
+// The messages' reader: devices/net's bounds-checked little-endian reader, with each value's field named when it is
+// missing or not finite, and texts with a u32 length, poses and samples.
 class Reader {
 public:
-    Reader(std::span<const unsigned char> b, const std::string& from, ClusterKind want) : b_(b), from_(from) {
-        if (b.size() < 5 || std::memcmp(b.data(), kMagic, 4) != 0) fail("magic", "not a tridex cluster message");
-        at_ = 4;
+    Reader(std::span<const unsigned char> b, const std::string& from, ClusterKind want)
+        : r_(b.data(), b.size()), size_(b.size()), from_(from) {
+        const std::uint8_t* magic = r_.bytes(4);
+        if (!magic || std::memcmp(magic, kMagic, 4) != 0) fail("magic", "not a tridex cluster message");
         const std::uint8_t kind = u8("kind");
         if (kind != static_cast<std::uint8_t>(want))
             fail("kind", "expected kind " + std::to_string(static_cast<int>(want)) + ", got " + std::to_string(kind));
@@ -61,40 +64,21 @@ public:
     [[noreturn]] void fail(const std::string& field, const std::string& what) const {
         throw Error(from_ + ": " + field + ": " + what);
     }
+    /// Refuses the message, naming `field`, when fewer than n bytes remain (before reserving room for them).
     void need(std::size_t n, const char* field) const {
-        if (b_.size() - at_ < n)
-            fail(field, "truncated message (" + std::to_string(b_.size()) + " bytes, " + std::to_string(n) +
-                            " more needed at byte " + std::to_string(at_) + ")");
+        if (r_.remaining() < n) truncated(n, field);
     }
-    std::uint8_t u8(const char* field) {
-        need(1, field);
-        return b_[at_++];
-    }
-    std::uint32_t u32(const char* field) {
-        need(4, field);
-        const std::uint32_t v = get_u32(b_.data() + at_);
-        at_ += 4;
-        return v;
-    }
-    std::uint64_t u64(const char* field) {
-        need(8, field);
-        const std::uint64_t v = get_u64(b_.data() + at_);
-        at_ += 8;
-        return v;
-    }
-    double f64(const char* field) {
-        const double v = std::bit_cast<double>(u64(field));
-        if (!std::isfinite(v)) fail(field, "not a finite number");
-        return v;
-    }
+    std::uint8_t u8(const char* field) { return checked(r_.u8(), 1, field); }
+    std::uint32_t u32(const char* field) { return checked(r_.u32(), 4, field); }
+    std::uint64_t u64(const char* field) { return checked(r_.u64(), 8, field); }
+    double f64(const char* field) { return checked(r_.f64(), 8, field); }
     Vec3 vec3(const char* field) {
-        Vec3 v;
-        for (int k = 0; k < 3; ++k) v[k] = f64(field);
-        return v;
+        const double x = f64(field), y = f64(field), z = f64(field);
+        return Vec3(x, y, z);
     }
     Quat quat(const char* field) {
-        Quat q;
-        q.w = f64(field), q.x = f64(field), q.y = f64(field), q.z = f64(field);
+        const double w = f64(field), x = f64(field), y = f64(field), z = f64(field);
+        const Quat q(w, x, y, z);
         if (!(glm::length(q) > 0.5)) fail(field, "not a unit quaternion");
         return q;
     }
@@ -107,29 +91,40 @@ public:
     std::string text(const char* field) {
         const std::uint32_t n = u32(field);
         if (n > kMaxText) fail(field, "length " + std::to_string(n) + " over the limit");
-        need(n, field);
-        std::string s(reinterpret_cast<const char*>(b_.data() + at_), n);
-        at_ += n;
-        return s;
+        const std::uint8_t* p = checked(r_.bytes(n), n, field);
+        return std::string(reinterpret_cast<const char*>(p), n);
     }
     ToolSample sample(const char* field) {
-        need(compute::kJournalSampleBytes, field);
+        const std::uint8_t* p = checked(r_.bytes(compute::kJournalSampleBytes), compute::kJournalSampleBytes, field);
         ToolSample s;
-        if (!compute::decode_sample(b_.data() + at_, s)) fail(field, "a sample no writer writes");
+        if (!compute::decode_sample(p, s)) fail(field, "a sample no writer writes");
         if (!std::isfinite(s.t_s) || !is_finite(s.position) || !std::isfinite(s.tool.radius_m) || s.tool.radius_m < 0.0 ||
             !std::isfinite(s.tool.length_m) || s.tool.length_m < 0.0)
             fail(field, "a sample with a non-finite or negative field");
-        at_ += compute::kJournalSampleBytes;
         return s;
     }
     void end() const {
-        if (at_ != b_.size()) fail("end", std::to_string(b_.size() - at_) + " bytes after the message");
+        if (!r_.at_end()) fail("end", std::to_string(r_.remaining()) + " bytes after the message");
     }
 
 private:
-    std::span<const unsigned char> b_;
+    // `v`, read as `n` bytes of `field`: refused when the message ended before it (the reader's position is then
+    // where it stopped) or when it holds a number that is not finite.
+    template <class T>
+    T checked(T v, std::size_t n, const char* field) {
+        if (r_.failed()) truncated(n, field);
+        if (r_.non_finite()) fail(field, "not a finite number");
+        return v;
+    }
+
+    [[noreturn]] void truncated(std::size_t n, const char* field) const {
+        fail(field, "truncated message (" + std::to_string(size_) + " bytes, " + std::to_string(n) +
+                        " more needed at byte " + std::to_string(size_ - r_.remaining()) + ")");
+    }
+
+    devices::net::Reader r_;
+    std::size_t size_;
     std::string from_;
-    std::size_t at_ = 0;
 };
 
 }  // namespace
