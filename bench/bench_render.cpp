@@ -1,6 +1,7 @@
 // bench/bench_render.cpp - timing offscreen stereo frames of the tiled workpiece, LOD and culling on and off.
 #include "bench/bench_render.hpp"
 #include "bench/bench_registry.hpp"
+#include "bench/bench_render_gpu.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -356,6 +357,27 @@ void report_rows(const std::vector<RenderBenchRow>& rows, const std::vector<std:
     std::printf("wrote %s\n", path.c_str());
 }
 
+// The GPU contour of `wp` (N = n) at the first image size, whole view: frames from its buffers alone and with the
+// levels of detail read back from it (time_gpu_contour_lod). Prints the line and returns it.
+std::string gpu_contour_lod_line(gpu::Context& ctx, Workpiece& wp, int n, std::pair<int, int> size, int frames) {
+    Pose head;
+    head.position = kViews[0].head_m;
+    const GpuContourLodTiming g = time_gpu_contour_lod(ctx, wp, size.first, size.second, head, kEyeSeparationM, frames);
+    char line[640];
+    if (!g.ran)
+        std::snprintf(line, sizeof line, "GPU-contour LOD N=%d: not run (%s)", n, g.why.c_str());
+    else
+        std::snprintf(line, sizeof line,
+                      "GPU-contour LOD N=%d %dx%d whole: %.2fx faster (frame %.2f / %.2f ms median / p99 with the "
+                      "read-back levels, %.2f / %.2f ms from the buffers alone), triangles L %zu of %zu, groups L %zu, "
+                      "silhouette mismatch %.4f%%; reading back %zu tiles %.0f ms, their levels %.0f ms",
+                      n, size.first, size.second, g.levels_ms > 0.0 ? g.full_ms / g.levels_ms : 0.0, g.levels_ms,
+                      g.levels_p99_ms, g.full_ms, g.full_p99_ms, g.levels_triangles, g.full_triangles, g.groups_drawn,
+                      100.0 * g.silhouette_mismatch, g.tiles, g.read_back_ms, g.build_ms);
+    std::printf("%s\n", line);
+    return line;
+}
+
 }  // namespace
 
 std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
@@ -391,6 +413,7 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
             bench_size(ctx, o, si, n, view, triangles, settings, rows, timing_note);
         std::printf("N=%d: %zu triangles in %zu non-empty tiles; their %zu GPU buffers in %zu memory allocations\n", n,
                     triangles, view.tiles.size(), rows.back().tile_buffers, rows.back().tile_memory_blocks);
+        lod_lines.push_back(gpu_contour_lod_line(ctx, wp, n, o.sizes[0], o.frames));
     }
     report_rows(rows, lod_lines, timing_note, ctx.validation_enabled(), o.frames, o.out);
     return rows;

@@ -18,6 +18,7 @@ struct IndirectTile {
     std::uint32_t id = 0;
     std::uint32_t index_count = 0;
     Aabb bounds_m;
+    std::uint64_t version = 0;  ///< content version of the tile's contour (changes whenever it is redone)
 };
 
 /// Device buffers of the workpiece surface: `vertices` (16-byte vertices: float grid position[3] in grid
@@ -30,6 +31,8 @@ struct IndirectWorkpiece {
     VkBuffer indices = VK_NULL_HANDLE;
     VkBuffer commands = VK_NULL_HANDLE;
     glm::mat4 world_from_grid{1.0f};  ///< world m = origin + grid * cell
+    Vec3 grid_origin_m{0.0};          ///< the lattice origin (world m) that world_from_grid holds in float
+    double cell_m = 1.0;              ///< the lattice cell size (m) that world_from_grid holds in float
     std::vector<IndirectTile> tiles;  ///< the non-empty tiles, by id
     std::uint64_t triangles = 0;      ///< sum of index counts / 3 (for reports)
 };

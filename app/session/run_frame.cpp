@@ -109,7 +109,14 @@ bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
 renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const haptics::LoopView& lv,
                                                    const SaveStatus& saving) {
     SessionRuntime& rt = backend->runtime();
-    tile_view_of(mesh.tiles, mesh.groups, su.lod, tiles);
+    // The GPU contour's tiles whose read-back levels are current are drawn from them, the others from its buffers.
+    const bool gpu_levels = gpu_contour && su.lod && mesh.gpu && !mesh.tiles.empty();
+    if (gpu_levels) {
+        split_gpu_tiles(mesh.tiles, mesh.groups, indirect, gpu_split);
+        tile_view_of(gpu_split.tiles, gpu_split.groups, true, tiles);
+    } else {
+        tile_view_of(mesh.tiles, mesh.groups, su.lod, tiles);
+    }
     // The tool the loop uses now (its size changes with [ and ] at the desk).
     const ToolShape tool_now = lv.tool.radius_m > 0.0 ? lv.tool : scene.spec.tool;
     renderer::SceneView view = scene_view_from(lv, mesh.tiled ? nullptr : &mesh.mesh, tool_now.radius_m,
@@ -122,11 +129,14 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tile_groups = tiles.groups;
     view.lod = su.lod;
     if (gpu_contour) view.indirect_workpiece = &indirect;
+    view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
     view.occlusion_strength = ao ? 1.0 : 0.0;
     if (study_view) {
         view.workpiece = nullptr;
         view.tiles = {};
+        view.tile_groups = {};
+        view.tiles_from_indirect = false;
         view.indirect_workpiece = nullptr;
         view.objects = study_view->frame(lv);
     }
@@ -134,6 +144,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         view.workpiece = nullptr;
         view.tiles = {};
         view.tile_groups = {};
+        view.tiles_from_indirect = false;
         view.indirect_workpiece = nullptr;
         view.show_workspace = false;
         view.objects = pattern_objects;
@@ -212,7 +223,9 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
             w_px = static_cast<double>(fb.width) * rend->width() / ow;
             h_px = static_cast<double>(fb.height) * rend->height() / oh;
         }
-        if (gpu_contour) mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
+        // The GPU contour with levels of detail publishes its tiles read back: the stylus picks on those.
+        if (gpu_contour && mesh.tiles.empty())
+            mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
         else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
     }
     if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
@@ -248,9 +261,9 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
         sample_s = mesh.oldest_sample_s;
         if (std::isfinite(sample_s)) r.sample_to_published_ms.push_back(1e3 * (mesh.published_s - sample_s));
     }
-    // The mouse stylus picks on the CPU: with the GPU contour (no CPU meshes published) the contour is read back
+    // The mouse stylus picks on the CPU: with the GPU contour and no tiles published (levels of detail off) it is read back
     // when it changed, at most every kPickRefreshS, and not while the left button holds the surface anyway.
-    if (mouse_stylus && gpu_contour && !mouse_stylus->stylus().left()) {
+    if (mouse_stylus && gpu_contour && mesh.tiles.empty() && !mouse_stylus->stylus().left()) {
         const std::uint64_t updates = gpu_contour->updates();
         if (!gpu_pick.whole || (updates != gpu_pick_updates && seconds_since(gpu_pick_at) >= kPickRefreshS)) {
             gpu_pick.whole = std::make_shared<const TriMesh>(gpu_contour->download());

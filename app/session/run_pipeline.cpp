@@ -232,7 +232,10 @@ void RunPipeline::Parts::collect() {
     r.session_s = rt.session_s();
     if (mouse_stylus) {
         r.mouse = mouse_stylus->report_json();
-        r.mouse["pick_surface"] = gpu_contour ? "gpu contour, read back" : "cpu contour";
+        // With levels of detail the GPU contour's tiles are read back as they change (published with their levels).
+        r.mouse["pick_surface"] = !gpu_contour ? "cpu contour"
+                                  : su.lod     ? "gpu contour tiles, read back as they change"
+                                               : "gpu contour, read back";
         r.mouse["pick_reads"] = gpu_pick_reads;
     }
     if (study_view) r.study = study_view->report_json();

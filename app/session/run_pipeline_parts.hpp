@@ -13,27 +13,28 @@
 
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
+#include "app/input/run_input.hpp"
+#include "app/scene/study_recording.hpp"
+#include "app/scene/test_pattern.hpp"
+#include "app/scene/workpiece_source.hpp"
 #include "app/session/elastic_view.hpp"
+#include "app/session/frame_loop.hpp"
+#include "app/session/gpu_tile_split.hpp"
 #include "app/session/report.hpp"
 #include "app/session/run_head.hpp"
-#include "app/input/run_input.hpp"
 #include "app/session/run_mouse.hpp"
 #include "app/session/run_report.hpp"
 #include "app/session/run_sculpt.hpp"
 #include "app/session/run_view.hpp"
-#include "app/session/frame_loop.hpp"
 #include "app/session/session_recording.hpp"
 #include "app/session/session_report.hpp"
-#include "app/support/stop_signal.hpp"
-#include "app/scene/study_recording.hpp"
-#include "app/scene/test_pattern.hpp"
 #include "app/session/study_view.hpp"
 #include "app/session/tile_view.hpp"
-#include "app/scene/workpiece_source.hpp"
+#include "app/support/device_lost.hpp"
+#include "app/support/stop_signal.hpp"
 #include "compute/mesh/mesh_export.hpp"
 #include "compute/model/volume.hpp"
 #include "compute/tools/clay_sweep.hpp"
-#include "app/support/device_lost.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "gpu/context.hpp"
@@ -44,7 +45,6 @@
 #include "renderer/stereo/stereo_renderer.hpp"
 #include "renderer/window/window_glfw.hpp"
 #include "renderer/window/window_sink.hpp"
-
 
 namespace tridex::app {
 
@@ -124,6 +124,7 @@ struct RunPipeline::Parts final : FrameSteps {
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail
+    GpuTileSplit gpu_split;  // GPU contour with levels: the read-back tiles this frame draws instead of the buffers
     std::string ended = "the window was closed";
     std::size_t next_key = 0;     // scene.keys not yet pressed
     bool journal_warned = false;  // said once that the journal stopped

@@ -115,7 +115,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     }
     if (mesh_tool_) sculpt_->use_mesh_tools({mesh_tool_});  // ToolShape::mesh_id 0
     if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
-    if (o.publish_meshes && o.mesh_form == MeshForm::kTiles && o.sculpt.tile_lod && !gpu_contour_) {
+    if (o.publish_meshes && (o.mesh_form == MeshForm::kTiles || gpu_contour_) && o.sculpt.tile_lod) {
         compute::LodWorkerOptions lod;
         lod.lod.cell_m = wp_.model.lattice.cell_m;
         sculpt_->use_tile_lod(lod);

@@ -14,7 +14,29 @@
 
 namespace tridex::compute {
 
-std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
+namespace {
+
+// A Contourer as a TileMeshSource.
+class ContourerTiles final : public TileMeshSource {
+public:
+    explicit ContourerTiles(const Contourer& c) : c_(c) {}
+    std::size_t tile_count() const override { return c_.tile_count(); }
+    std::array<int, 3> tile_dims() const override { return c_.tile_dims(); }
+    std::size_t tile_triangle_count(std::size_t t) const override { return c_.tile_triangle_count(t); }
+    std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
+        return c_.tile_mesh(t, materials);
+    }
+
+private:
+    const Contourer& c_;
+};
+
+}  // namespace
+
+std::size_t TileSurfaceCache::refresh(const Contourer& contourer) { return refresh(ContourerTiles(contourer)); }
+
+std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     // First build the changed tiles aside, so an exception leaves the cache as it was.
     std::vector<TileSurface> rebuilt;
     std::size_t old = 0;  // walks tiles_ (sorted by id) alongside the tile indices
@@ -35,6 +57,7 @@ std::size_t TileSurfaceCache::refresh(const Contourer& contourer) {
         TileSurface s;
         s.id = t;
         s.version = version;
+        s.source_version = version;
         s.mesh = contourer.tile_mesh(t, s.materials);
         order_for_vertex_cache(s.mesh);
         s.bounds_m = s.mesh.bounds();
@@ -141,7 +164,10 @@ void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     // Built aside first, so that an exception leaves every tile as it was.
     std::vector<std::vector<TileLodLevel>> built(tiles.size());
     run_lod_jobs(tiles.size(), [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); });
-    for (std::size_t i = 0; i < tiles.size(); ++i) tiles[i]->lods = std::move(built[i]);
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        tiles[i]->lods = std::move(built[i]);
+        tiles[i]->lods_built = true;
+    }
     lod_tiles_built_ += tiles.size();
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -15,6 +15,7 @@
 #include "compute/contour/lod_worker.hpp"
 #include "compute/contour/tile_group_lod.hpp"
 #include "compute/contour/tile_lod.hpp"
+#include "compute/contour/tile_mesh_source.hpp"
 #include "core/aabb.hpp"
 #include "core/tri_mesh.hpp"
 
@@ -25,12 +26,17 @@ namespace tridex::compute {
 struct TileSurface {
     std::uint64_t id = 0;       ///< tile index in the model's TileGrid (stable across updates)
     std::uint64_t version = 0;  ///< changes whenever this tile's mesh or a vertex it borrows from a neighbour changed
+    /// The source's tile version the mesh was read at (TileMeshSource::tile_version; `version` also changes when
+    /// the levels arrive, this does not).
+    std::uint64_t source_version = 0;
     Aabb bounds_m;              ///< box of mesh.positions, m
     TriMesh mesh;               ///< the tile's triangles (compact vertex list)
     /// Material id per mesh vertex (size = mesh.positions.size(); Contourer::mesh_materials' rule).
     std::vector<std::uint8_t> materials;
     /// Coarser levels of detail of mesh, finest first (build_tile_lod; empty unless the cache builds them).
     std::vector<TileLodLevel> lods;
+    /// true once the levels of this mesh were built (`lods` may then still be empty: the mesh does not simplify).
+    bool lods_built = false;
 };
 
 /// Levels of detail over a group of neighbouring tiles: 2^depth tiles along each axis, aligned to multiples
@@ -68,6 +74,8 @@ public:
     /// tiles that became empty. Returns the number of tiles rebuilt. O(changed tiles' triangles) plus a
     /// scan of the tile versions. Throws tridex::Error as Contourer::tile_mesh (the cache is then unchanged).
     std::size_t refresh(const Contourer& contourer);
+    /// As refresh(contourer), from any tiled surface (e.g. the GPU contour read back). Throws as its tile_mesh.
+    std::size_t refresh(const TileMeshSource& source);
     /// The current tiles, ordered by id. refresh() may move them: references and pointers into it (e.g. to
     /// a tile's mesh) are valid until the next refresh().
     const std::vector<TileSurface>& tiles() const { return tiles_; }

@@ -5,24 +5,127 @@
 #include <chrono>
 #include <numeric>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
+#include "compute/contour/contour_dual.hpp"
+#include "core/error.hpp"
+
 namespace tridex::app {
+namespace {
+
+// The GPU contour's tiles as read back by GpuContourShare::redo, as a TileMeshSource.
+class ReadBackTiles final : public compute::TileMeshSource {
+public:
+    ReadBackTiles(const std::vector<std::uint64_t>& versions, const std::vector<std::uint32_t>& triangles,
+                  const std::unordered_map<std::uint32_t, TriMesh>& meshes,
+                  const std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>& materials,
+                  const std::array<int, 3>& dims)
+        : versions_(versions), triangles_(triangles), meshes_(meshes), materials_(materials), dims_(dims) {}
+    std::size_t tile_count() const override { return versions_.size(); }
+    std::array<int, 3> tile_dims() const override { return dims_; }
+    std::size_t tile_triangle_count(std::size_t t) const override { return triangles_.at(t); }
+    std::uint64_t tile_version(std::size_t t) const override { return versions_.at(t); }
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
+        const auto m = meshes_.find(static_cast<std::uint32_t>(t));
+        if (m == meshes_.end())
+            throw Error("GPU contouring: tile " + std::to_string(t) + " changed but was not read back");
+        materials = materials_.at(static_cast<std::uint32_t>(t));
+        return m->second;
+    }
+
+private:
+    const std::vector<std::uint64_t>& versions_;
+    const std::vector<std::uint32_t>& triangles_;
+    const std::unordered_map<std::uint32_t, TriMesh>& meshes_;
+    const std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>& materials_;
+    std::array<int, 3> dims_;
+};
+
+}  // namespace
 
 GpuContourShare::GpuContourShare(const gpu::Context& context, const compute::GpuDexelSlabs& slabs,
                                  const compute::TriDexel& model, std::size_t initial_vertices,
                                  std::size_t initial_indices)
-    : lattice_(model.lattice), tiles_(model.tiles.tiles),
-      contourer_(std::make_unique<compute::GpuContourer>(context, slabs, model.lattice, initial_vertices,
-                                                         initial_indices)) {}
+    : lattice_(model.lattice),
+      tiles_(model.tiles.tiles),
+      contourer_(
+          std::make_unique<compute::GpuContourer>(context, slabs, model.lattice, initial_vertices, initial_indices)),
+      versions_(contourer_->tile_count(), 0) {}
+
+std::size_t GpuContourShare::redo(const std::vector<std::uint32_t>& tiles) {
+    const std::size_t n = contourer_->update(tiles);
+    for (const std::uint32_t t : tiles) versions_[t] = compute::fresh_tile_version();
+    if (n > 0) ++updates_;
+    // Copy the redone tiles out now, while the buffers are locked, so refresh_tiles never waits for a frame.
+    if (read_back_.load(std::memory_order_acquire)) stash(tiles);
+    return n;
+}
+
+void GpuContourShare::stash(const std::vector<std::uint32_t>& tiles) {
+    std::lock_guard<std::mutex> lock(stash_mutex_);
+    if (stash_versions_.empty()) {
+        stash_versions_.assign(versions_.size(), 0);
+        stash_triangles_.assign(versions_.size(), 0);
+    }
+    std::vector<compute::GpuContourVertex> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint32_t> remap;
+    for (const std::uint32_t t : tiles) {
+        stash_versions_[t] = versions_[t];
+        stash_triangles_[t] = contourer_->tile_index_count(t) / 3;
+        if (stash_triangles_[t] == 0) {
+            stash_meshes_.erase(t);
+            stash_materials_.erase(t);
+            continue;
+        }
+        contourer_->download_tile(t, vertices, triangles);
+        // Compact: only the vertices the tile's triangles use, in first-use order; each float grid position as
+        // drawn, in world m (double): (p - origin) / cell gives the float back.
+        remap.assign(vertices.size(), ~0u);
+        TriMesh m;
+        std::vector<std::uint8_t> materials;
+        m.triangles.reserve(triangles.size());
+        for (const auto& tri : triangles) {
+            std::array<std::uint32_t, 3> out{};
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t& to = remap[tri[k]];
+                if (to == ~0u) {
+                    const compute::GpuContourVertex& v = vertices[tri[k]];
+                    to = static_cast<std::uint32_t>(m.positions.size());
+                    m.positions.push_back(lattice_.origin_m + Vec3(v.grid[0], v.grid[1], v.grid[2]) * lattice_.cell_m);
+                    materials.push_back(static_cast<std::uint8_t>(std::min<std::uint32_t>(v.material, 255u)));
+                }
+                out[k] = to;
+            }
+            m.triangles.push_back(out);
+        }
+        stash_meshes_[t] = std::move(m);
+        stash_materials_[t] = std::move(materials);
+    }
+}
+
+void GpuContourShare::read_back_tiles(bool on) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (on && !read_back_.load()) {  // from now on; a contour made before is read back whole
+        read_back_.store(true, std::memory_order_release);
+        std::vector<std::uint32_t> all(contourer_->tile_count());
+        std::iota(all.begin(), all.end(), 0u);
+        if (updates_ > 0) stash(all);
+    }
+    if (!on) {
+        read_back_.store(false, std::memory_order_release);
+        std::lock_guard<std::mutex> stash(stash_mutex_);
+        stash_meshes_.clear();
+        stash_materials_.clear();
+    }
+}
 
 std::size_t GpuContourShare::update_all() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<std::uint32_t> all(contourer_->tile_count());
     std::iota(all.begin(), all.end(), 0u);
-    const std::size_t n = contourer_->update(all);
-    if (n > 0) ++updates_;
-    return n;
+    return redo(all);
 }
 
 std::size_t GpuContourShare::update_dirty(const compute::TileGrid& grid) {
@@ -33,8 +136,33 @@ std::size_t GpuContourShare::update_dirty(const compute::TileGrid& grid) {
     const double wait_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     wait_total_ms_ += wait_ms;
     wait_max_ms_ = std::max(wait_max_ms_, wait_ms);
-    const std::size_t n = contourer_->update_dirty(grid);
-    if (n > 0) ++updates_;
+    if (grid.count() != versions_.size())
+        throw Error("GPU contouring: the tile grid has " + std::to_string(grid.count()) + " tiles, the contourer " +
+                    std::to_string(versions_.size()));
+    std::vector<std::uint32_t> dirty;
+    for (std::size_t t = 0; t < grid.count(); ++t)
+        if (grid.dirty[t]) dirty.push_back(static_cast<std::uint32_t>(t));
+    return redo(dirty);
+}
+
+std::uint64_t GpuContourShare::tile_version(std::size_t tile) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (tile >= versions_.size())
+        throw Error("GPU contouring: tile " + std::to_string(tile) + " out of range (the lattice has " +
+                    std::to_string(versions_.size()) + " tiles)");
+    return versions_[tile];
+}
+
+std::size_t GpuContourShare::refresh_tiles(compute::TileSurfaceCache& cache) {
+    if (!read_back_.load(std::memory_order_acquire))
+        throw Error("GpuContourShare::refresh_tiles: call read_back_tiles(true) first");
+    std::lock_guard<std::mutex> stash(stash_mutex_);
+    if (stash_versions_.empty()) return 0;  // nothing contoured yet
+    const std::size_t n =
+        cache.refresh(ReadBackTiles(stash_versions_, stash_triangles_, stash_meshes_, stash_materials_, tiles_));
+    // Every copy is now in the cache (the tiles it read) or stale (a tile read back and redone before this).
+    stash_meshes_.clear();
+    stash_materials_.clear();
     return n;
 }
 
@@ -54,6 +182,7 @@ void GpuContourShare::rebuild_tiles() {
         t.id = id;
         t.index_count = count;
         t.bounds_m = Aabb{lattice_.to_world(lo), lattice_.to_world(hi)};
+        t.version = versions_[id];
         list_.push_back(t);
         triangles_ += count / 3;
     }
@@ -73,6 +202,8 @@ std::unique_lock<std::mutex> GpuContourShare::lock_frame(renderer::IndirectWorkp
     out.world_from_grid[1][1] = h;
     out.world_from_grid[2][2] = h;
     out.world_from_grid[3] = glm::vec4(glm::vec3(lattice_.origin_m), 1.0f);
+    out.grid_origin_m = lattice_.origin_m;
+    out.cell_m = lattice_.cell_m;
     out.tiles = list_;
     out.triangles = triangles_;
     return lock;

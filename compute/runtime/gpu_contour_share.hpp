@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <unordered_map>
+#include <vector>
 
+#include "compute/contour/contour_tiles.hpp"
 #include "compute/gpu/gpu_contourer.hpp"
 #include "compute/gpu/gpu_dexel_slabs.hpp"
 #include "compute/model/tridexel.hpp"
@@ -36,6 +39,20 @@ public:
     /// Re-contours the tiles flagged dirty in `grid` (flags left unchanged: the caller clears them), under
     /// the lock. Returns tiles redone. Throws as GpuContourer::update_dirty.
     std::size_t update_dirty(const compute::TileGrid& grid);
+    /// Content version of tile `tile` (IndirectTile::version; 0 = never contoured). Throws tridex::Error out of range.
+    std::uint64_t tile_version(std::size_t tile) const;
+    /// true: from now on every update copies the tiles it redid out of the buffers (their float vertices as drawn,
+    /// in world m: origin + grid * cell in double, compacted to the vertices their triangles use, and their
+    /// materials) for refresh_tiles; a contour made before this is copied whole now. false: no copies (the
+    /// default). Locks the buffers (waits for a frame being drawn).
+    void read_back_tiles(bool on);
+    /// Refreshes `cache` (TileSurfaceCache::refresh) from the copies of the tiles redone since the last call, so it
+    /// can build their levels of detail for the renderer to draw in place of their indirect draws while
+    /// TileSurface::source_version equals IndirectTile::version. Never waits for a frame (the copies were made by
+    /// the updates). Returns tiles read (0 before the first update). Throws tridex::Error without
+    /// read_back_tiles(true), or as TileSurfaceCache::refresh (the cache is then unchanged and the copies kept).
+    /// Call from the thread that calls the updates.
+    std::size_t refresh_tiles(compute::TileSurfaceCache& cache);
 
     /// Locks the buffers for one frame and describes them in `out` (buffers, world_from_grid, the
     /// non-empty tiles with their world bounds: the tile's cells grown by one cell). Keep the returned lock
@@ -58,6 +75,9 @@ public:
 
 private:
     void rebuild_tiles();  // the non-empty tile list, under the lock
+    std::size_t redo(
+        const std::vector<std::uint32_t>& tiles);         // contours them and gives them new versions, under the lock
+    void stash(const std::vector<std::uint32_t>& tiles);  // copies them out for refresh_tiles, under the lock
 
     mutable std::mutex mutex_;
     std::atomic<int> updates_waiting_{0};  // update_dirty() calls waiting for mutex_; lock_frame() yields to them
@@ -66,6 +86,15 @@ private:
     std::unique_ptr<compute::GpuContourer> contourer_;
     std::uint64_t updates_ = 0, listed_ = ~0ull;  // updates_ when `list_` was built
     std::vector<renderer::IndirectTile> list_;
+    std::vector<std::uint64_t> versions_;  // per tile, see tile_version()
+    // Tiles copied out for refresh_tiles (read_back_tiles): per tile the version and triangle count of the newest
+    // copy, and the copies not yet handed to a cache. Written under both mutexes, read under stash_mutex_.
+    std::atomic<bool> read_back_{false};
+    std::mutex stash_mutex_;
+    std::vector<std::uint64_t> stash_versions_;
+    std::vector<std::uint32_t> stash_triangles_;
+    std::unordered_map<std::uint32_t, TriMesh> stash_meshes_;
+    std::unordered_map<std::uint32_t, std::vector<std::uint8_t>> stash_materials_;
     std::uint64_t triangles_ = 0;
     double wait_total_ms_ = 0.0, wait_max_ms_ = 0.0;  // update_dirty's lock waits
 };

@@ -75,6 +75,7 @@ void SculptThread::use_stream(compute::ToolStreamSink& stream) {
 void SculptThread::use_gpu_contour(GpuContourShare& share) {
     if (thread_.joinable()) throw Error("SculptThread::use_gpu_contour: call it before start()");
     gpu_contour_ = &share;
+    if (tile_cache_.lod_enabled()) share.read_back_tiles(true);  // the levels are built from the contour read back
 }
 
 void SculptThread::set_history_budget(std::size_t bytes) {
@@ -424,6 +425,7 @@ void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
     tile_cache_.enable_lod(options.lod);
     tile_cache_.build_lods_in_background(options);
+    if (gpu_contour_) gpu_contour_->read_back_tiles(true);
 }
 
 void SculptThread::collect_lods() {
@@ -446,15 +448,54 @@ void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_inte
     publish_mesh();
 }
 
+void SculptThread::share_tile_cache(MeshFrame& slot) {
+    stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
+    stats_.lod_groups_built = tile_cache_.lod_groups_built();
+    stats_.lod_build_ms = tile_cache_.lod_build_ms();
+    stats_.lod_latency_ms = tile_cache_.lod_latency_ms();
+    stats_.lod_pending = tile_cache_.lod_pending();
+    // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
+    std::vector<std::shared_ptr<const compute::TileSurface>> next;
+    next.reserve(tile_cache_.tiles().size());
+    std::size_t k = 0, triangles = 0;
+    for (const compute::TileSurface& t : tile_cache_.tiles()) {
+        while (k < shared_tiles_.size() && shared_tiles_[k]->id < t.id) ++k;
+        if (k < shared_tiles_.size() && shared_tiles_[k]->id == t.id && shared_tiles_[k]->version == t.version)
+            next.push_back(shared_tiles_[k]);
+        else
+            next.push_back(std::make_shared<const compute::TileSurface>(t));
+        triangles += t.mesh.triangles.size();
+    }
+    shared_tiles_ = std::move(next);
+    std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
+    groups.reserve(tile_cache_.groups().size());
+    k = 0;
+    for (const compute::TileGroupSurface& g : tile_cache_.groups()) {
+        while (k < shared_groups_.size() && shared_groups_[k]->id < g.id) ++k;
+        if (k < shared_groups_.size() && shared_groups_[k]->id == g.id && shared_groups_[k]->version == g.version)
+            groups.push_back(shared_groups_[k]);
+        else
+            groups.push_back(std::make_shared<const compute::TileGroupSurface>(g));
+    }
+    shared_groups_ = std::move(groups);
+    slot.groups = shared_groups_;
+    slot.tiles = shared_tiles_;
+    slot.triangles = triangles;
+}
+
 void SculptThread::publish_mesh() {
     const auto t0 = std::chrono::steady_clock::now();
     MeshFrame& slot = mesh_out_->back();
     slot.gpu = gpu_contour_ != nullptr;
-    if (gpu_contour_) {  // the surface is in the GPU buffers: announce the change only
+    if (gpu_contour_) {  // the surface is in the GPU buffers: announce the change, and its tiles' levels of detail
         slot.mesh = TriMesh{};
         slot.materials.clear();
         slot.tiles.clear();
         slot.groups.clear();
+        if (tile_cache_.lod_enabled()) {
+            gpu_contour_->refresh_tiles(tile_cache_);
+            share_tile_cache(slot);
+        }
         slot.tiled = true;
         slot.triangles = 0;  // the render thread counts the GPU contour's triangles itself
     } else if (mesh_form_ == MeshForm::kWhole) {
@@ -466,41 +507,10 @@ void SculptThread::publish_mesh() {
         slot.triangles = slot.mesh.triangles.size();
     } else {
         tile_cache_.refresh(contourer_);
-        stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
-        stats_.lod_groups_built = tile_cache_.lod_groups_built();
-        stats_.lod_build_ms = tile_cache_.lod_build_ms();
-        stats_.lod_latency_ms = tile_cache_.lod_latency_ms();
-        stats_.lod_pending = tile_cache_.lod_pending();
-        // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
-        std::vector<std::shared_ptr<const compute::TileSurface>> next;
-        next.reserve(tile_cache_.tiles().size());
-        std::size_t k = 0, triangles = 0;
-        for (const compute::TileSurface& t : tile_cache_.tiles()) {
-            while (k < shared_tiles_.size() && shared_tiles_[k]->id < t.id) ++k;
-            if (k < shared_tiles_.size() && shared_tiles_[k]->id == t.id && shared_tiles_[k]->version == t.version)
-                next.push_back(shared_tiles_[k]);
-            else
-                next.push_back(std::make_shared<const compute::TileSurface>(t));
-            triangles += t.mesh.triangles.size();
-        }
-        shared_tiles_ = std::move(next);
-        std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
-        groups.reserve(tile_cache_.groups().size());
-        k = 0;
-        for (const compute::TileGroupSurface& g : tile_cache_.groups()) {
-            while (k < shared_groups_.size() && shared_groups_[k]->id < g.id) ++k;
-            if (k < shared_groups_.size() && shared_groups_[k]->id == g.id && shared_groups_[k]->version == g.version)
-                groups.push_back(shared_groups_[k]);
-            else
-                groups.push_back(std::make_shared<const compute::TileGroupSurface>(g));
-        }
-        shared_groups_ = std::move(groups);
-        slot.groups = shared_groups_;
+        share_tile_cache(slot);
         slot.mesh = TriMesh{};
         slot.materials.clear();
-        slot.tiles = shared_tiles_;
         slot.tiled = true;
-        slot.triangles = triangles;
     }
     slot.sculpt_steps = stats_.steps;
     slot.published_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();

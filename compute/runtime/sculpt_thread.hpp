@@ -138,8 +138,11 @@ struct MeshFrame {
     /// ordered by id, shared as `tiles` are (an unchanged group is the same object); else empty.
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
     bool tiled = false;          ///< true when `tiles` holds the surface (MeshForm::kTiles)
-    /// true: the surface lives in the GPU contour (SculptThread::use_gpu_contour); mesh and tiles are empty,
-    /// the renderer draws GpuContourShare's buffers, and this frame only announces that they changed.
+    /// true: the surface lives in the GPU contour (SculptThread::use_gpu_contour); mesh is empty and the renderer
+    /// draws GpuContourShare's buffers. Without use_tile_lod `tiles` is empty too and this frame only announces
+    /// that they changed; with it, `tiles` and `groups` hold the contour's tiles read back
+    /// (GpuContourShare::refresh_tiles) with their levels, for the renderer to draw a tile from them instead of
+    /// its buffers while TileSurface::source_version equals the buffers' IndirectTile::version.
     bool gpu = false;
     std::size_t triangles = 0;   ///< triangles in mesh or summed over tiles
     std::uint64_t sculpt_steps = 0;  ///< SculptStats::steps when published (for a sculpt rate, steps/s)
@@ -286,7 +289,8 @@ public:
     /// next mesh. Until then a tile is published with its full mesh only, then again with its levels and a new
     /// version; a group whose tiles changed is published without levels until rebuilt. Call before
     /// publish_mesh_to() (whose first publish queues every tile). Throws tridex::Error when the thread runs,
-    /// after publish_mesh_to(), or as compute::LodWorker (cell_m, threads, nice).
+    /// after publish_mesh_to(), or as compute::LodWorker (cell_m, threads, nice). With use_gpu_contour the tiles
+    /// are read back from the GPU contour at each publish (MeshFrame::gpu).
     void use_tile_lod(const compute::LodWorkerOptions& options);
 
 private:
@@ -306,6 +310,7 @@ private:
     void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
     void collect_lods();                   // take in finished levels of detail (use_tile_lod)
+    void share_tile_cache(MeshFrame& slot);  // tile_cache_'s tiles and groups into slot, sharing unchanged ones
 
     compute::TriDexel& model_;
     std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called

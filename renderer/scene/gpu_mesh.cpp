@@ -1,6 +1,7 @@
 // renderer/scene/gpu_mesh.cpp - TriMesh -> vertex/index buffers.
 #include "renderer/scene/gpu_mesh.hpp"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -10,8 +11,10 @@
 namespace tridex::renderer {
 
 void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials,
-                     std::span<const Vec3> given_normals, gpu::BufferPool* pool) {
+                     std::span<const Vec3> given_normals, gpu::BufferPool* pool, const ModelFrame& frame) {
     const std::size_t nv = mesh.positions.size();
+    if (!std::isfinite(frame.unit_m) || !(frame.unit_m > 0.0) || !is_finite(frame.origin_m))
+        throw Error("renderer: mesh frame unit_m must be finite and > 0 and origin_m finite");
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (std::uint32_t i : mesh.triangles[t])
             if (i >= nv)
@@ -62,9 +65,11 @@ void GpuMesh::assign(const gpu::Context& context, const TriMesh& mesh, std::span
         imap = indices_.mapped();
     }
     auto* out = static_cast<MeshVertex*>(vmap);
+    const bool identity = frame == ModelFrame{};
     for (std::size_t v = 0; v < nv; ++v)
-        out[v] = MeshVertex{glm::vec3(mesh.positions[v]), glm::vec3(normals[v]),
-                            materials.empty() ? 0u : static_cast<std::uint32_t>(materials[v])};
+        out[v] =
+            MeshVertex{glm::vec3(identity ? mesh.positions[v] : (mesh.positions[v] - frame.origin_m) / frame.unit_m),
+                       glm::vec3(normals[v]), materials.empty() ? 0u : static_cast<std::uint32_t>(materials[v])};
     auto* idx = static_cast<std::uint32_t*>(imap);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int k = 0; k < 3; ++k) idx[t * 3 + k] = mesh.triangles[t][k];

@@ -12,6 +12,16 @@
 
 namespace tridex::renderer {
 
+/// How a mesh's vertex positions are stored: (p - origin_m) / unit_m in float, p in world m. The default stores
+/// world m; with another frame a draw needs world_from_model = translate(origin_m) * scale(unit_m). Storing a
+/// lattice's grid units lets a mesh meet the GPU contour's tiles (drawn through world_from_grid) with bit-identical
+/// vertices: a float grid position turned into world m in double and back gives the same float.
+struct ModelFrame {
+    Vec3 origin_m{0.0};
+    double unit_m = 1.0;  ///< > 0 and finite
+    bool operator==(const ModelFrame&) const = default;
+};
+
 /// Vertex (MeshVertex: position m, area-weighted unit normal from core vertex_normals, material id) and
 /// uint32 index buffers of one mesh, host-visible so they can be refilled every frame: each buffer with its own
 /// memory (MemoryDomain::kHost), or sub-allocated from a gpu::BufferPool (per-tile meshes: thousands of them
@@ -28,8 +38,9 @@ public:
     /// from an earlier submission. `normals` is empty (area-weighted normals of `mesh`) or one unit normal per
     /// vertex to use instead (e.g. a simplified mesh shaded with its full mesh's normals); a wrong size or a
     /// non-finite normal throws. With `pool`, new buffers come from it (sub-allocated) instead of their own memory.
+    /// `frame` says how positions are stored (ModelFrame; a unit_m that is not finite and > 0 throws).
     void assign(const gpu::Context& context, const TriMesh& mesh, std::span<const std::uint8_t> materials = {},
-                std::span<const Vec3> normals = {}, gpu::BufferPool* pool = nullptr);
+                std::span<const Vec3> normals = {}, gpu::BufferPool* pool = nullptr, const ModelFrame& frame = {});
 
     VkBuffer vertices() const { return pooled_vertices_.handle() ? pooled_vertices_.handle() : vertices_.handle(); }
     VkBuffer indices() const { return pooled_indices_.handle() ? pooled_indices_.handle() : indices_.handle(); }

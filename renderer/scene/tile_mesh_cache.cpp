@@ -8,8 +8,17 @@
 namespace tridex::renderer {
 
 std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles,
-                                std::vector<GpuMesh>* retired) {
+                                std::vector<GpuMesh>* retired, const ModelFrame& frame) {
     ++syncs_;
+    if (!(frame == frame_)) {  // every mesh stored in the old frame goes
+        for (auto& kv : entries_)
+            if (retired) {
+                retired->push_back(std::move(kv.second->mesh));
+                for (GpuMesh& l : kv.second->levels) retired->push_back(std::move(l));
+            }
+        entries_.clear();
+        frame_ = frame;
+    }
     order_.clear();
     // Blocks with one vertex + index buffer over each: tile draws of one block share a binding.
     if (!pool_)
@@ -38,11 +47,11 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
                                         std::span<const Vec3> normals) {
                     if (retired && !fresh) {
                         GpuMesh next;
-                        next.assign(context, m, mats, normals, pool_.get());
+                        next.assign(context, m, mats, normals, pool_.get(), frame);
                         retired->push_back(std::move(slot));
                         slot = std::move(next);
                     } else {
-                        slot.assign(context, m, mats, normals, pool_.get());
+                        slot.assign(context, m, mats, normals, pool_.get(), frame);
                     }
                 };
                 upload(e.mesh, mesh, materials, {});

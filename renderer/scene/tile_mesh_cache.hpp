@@ -52,8 +52,10 @@ public:
     /// tile); a tile that failed is left out of the cache, so the next sync() retries it.
     /// With `retired`, the GPU meshes of replaced and dropped tiles are moved there instead of being overwritten
     /// or freed (for a caller whose earlier frames may still read them); changed tiles then get new buffers.
+    /// `frame` says how positions are stored (GpuMesh::assign); when it differs from the last sync's, every tile is
+    /// uploaded again.
     std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles,
-                     std::vector<GpuMesh>* retired = nullptr);
+                     std::vector<GpuMesh>* retired = nullptr, const ModelFrame& frame = {});
 
     /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()).
     /// Throws tridex::Error when i or level is out of range.
@@ -78,6 +80,7 @@ private:
     std::unordered_map<std::uint64_t, std::unique_ptr<Entry>> entries_;
     std::vector<const Entry*> order_;
     std::uint64_t syncs_ = 0;
+    ModelFrame frame_{};  // of the uploaded meshes
     std::uint64_t uploads_total_ = 0;
 };
 

@@ -311,8 +311,10 @@ void add_indirect_workpiece(const SceneView& scene, const FrameEyes& eyes, EyeSt
         for (int e = 0; e < eye_count; ++e)
             if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], t.bounds_m)) mask |= 1u << e;
         if (strategy == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
-        for (int e = 0; e < eye_count; ++e)
+        for (int e = 0; e < eye_count; ++e) {
             ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask & (1u << e)) stats.tile_triangles[e] += t.index_count / 3;
+        }
         if (mask == 0) continue;
         list.cover(mask, t.bounds_m);
         StereoDraw d;
@@ -365,8 +367,18 @@ void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameR
 void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const FrameEyes& eyes, FrameDraws& list,
                                               FrameStats& stats) {
     if (scene.tiles.empty() && tiles.size() == 0) return;
+    // Tiles read back from the GPU contour: stored and drawn in its grid units, flat-shaded (DrawConstants::lit 2).
+    ModelFrame frame;
+    glm::mat4 world_from_model(1.0f);
+    std::uint32_t lit = 1;
+    if (scene.tiles_from_indirect) {
+        if (!scene.indirect_workpiece) throw Error("renderer: SceneView.tiles_from_indirect needs indirect_workpiece");
+        frame = ModelFrame{scene.indirect_workpiece->grid_origin_m, scene.indirect_workpiece->cell_m};
+        world_from_model = scene.indirect_workpiece->world_from_grid;
+        lit = 2;
+    }
     std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
-    stats.tile_uploads = tiles.sync(*context, scene.tiles, &retired);
+    stats.tile_uploads = tiles.sync(*context, scene.tiles, &retired, frame);
     for (GpuMesh& m : retired) slots.retire(std::move(m));
     retired.clear();
     if (!scene.tile_groups.empty() || groups.size() > 0) {
@@ -379,7 +391,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
             group_meshes[g].levels = tg.levels;
         }
         try {
-            stats.tile_uploads += groups.sync(*context, group_meshes, &retired);
+            stats.tile_uploads += groups.sync(*context, group_meshes, &retired, frame);
         } catch (const Error& e) {
             throw Error(std::string("SceneView.tile_groups: ") + e.what());
         }
@@ -393,7 +405,11 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
     const glm::vec4 clay = material_palette()[0];
     add_tile_draws(
         scene, te, tiles, groups,
-        [&](const GpuMesh& m) -> StereoDraw& { return list.add(PipelineKind::kOpaque, m, glm::mat4(1.0f), clay, true); },
+        [&](const GpuMesh& m) -> StereoDraw& {
+            StereoDraw& d = list.add(PipelineKind::kOpaque, m, world_from_model, clay, true);
+            d.constants.lit = lit;
+            return d;
+        },
         [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, box_m); }, stats);
 }
 

@@ -97,6 +97,12 @@ struct SceneView {
     /// flat-shaded (facet normals from screen-space derivatives: the GPU contour has no normals). Counted in
     /// FrameStats tiles like `tiles`. nullptr = none. Its buffers must not change until draw()/render() return.
     const IndirectWorkpiece* indirect_workpiece = nullptr;
+    /// true: `tiles` and `tile_groups` are indirect_workpiece's tiles read back (with their levels of detail, drawn
+    /// in place of those tiles' indirect draws, which the caller leaves out of indirect_workpiece->tiles). They
+    /// are then uploaded in its grid units and drawn through its world_from_grid (ModelFrame), so they meet its
+    /// indirect tiles with bit-identical border vertices, and flat-shaded like them. Needs indirect_workpiece
+    /// (else tridex::Error).
+    bool tiles_from_indirect = false;
     /// Draw the 2D overlay (top left, on the screen plane: identical in both eyes) with the rates below,
     /// the frame time and, when there are tiles, the tiles drawn / skipped per eye.
     bool show_overlay = false;

@@ -32,7 +32,8 @@ struct PassTime {
 struct FrameStats {
     std::array<EyeTileCounts, 2> tiles{};  ///< per eye (0 left, 1 right); zeros when the scene has no tiles
     std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
-    /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen.
+    /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen (the indirect
+    /// workpiece's tiles at full resolution).
     std::array<std::size_t, 2> tile_triangles{};
     /// Groups of tiles (SceneView::tile_groups) drawn per eye at one of their levels in place of their tiles.
     std::array<std::size_t, 2> groups_drawn{};

@@ -60,10 +60,11 @@ std::string write_mouse_scene(const fs::path& dir, int drag_buttons, bool undo) 
     return path;
 }
 
-RunResult run_mouse(const fs::path& dir, const std::string& name, int drag_buttons, bool undo,
-                    bool gpu_contour = false) {
+RunResult run_mouse(const fs::path& dir, const std::string& name, int drag_buttons, bool undo, bool gpu_contour = false,
+                    const std::string& lod = "on") {
     RunOptions o;
     o.gpu_contour = gpu_contour;
+    o.lod = lod;
     o.scene = write_mouse_scene(dir, drag_buttons, undo);
     o.display = "offscreen";
     o.stereo = "mono";
@@ -123,19 +124,27 @@ TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) 
 TEST(MouseSession, PicksWithTheGpuContour) {
     const fs::path dir = test::temp_dir("mouse_gpu_contour");
     const RunResult hover = run_mouse(dir, "hover", 0, false);
-    const RunResult drag = run_mouse(dir, "drag", cursor_buttons::kLeft, false, true);
-    ASSERT_EQ(drag.contour_path, "gpu") << drag.contour_reason;
-    ASSERT_FALSE(drag.mouse.is_null());
-    EXPECT_EQ(drag.mouse["pick_surface"], "gpu contour, read back");
-    EXPECT_GE(drag.mouse["pick_reads"].get<int>(), 1);
-    EXPECT_GT(drag.volume_before_m3 - drag.volume_after_m3, 1e-7) << "the drag carved nothing";
     const PickSurface before = load_surface(dir / "hover" / "sculpted.ply");
-    const PickSurface after = load_surface(dir / "drag" / "sculpted.ply");
-    for (double u = 0.25; u <= 0.75; u += 0.25) {
-        const Vec3 p = kFrom + u * (kTo - kFrom);
-        const double d0 = ray_depth(before, p), d1 = ray_depth(after, p);
-        ASSERT_TRUE(std::isfinite(d0) && std::isfinite(d1)) << u;
-        EXPECT_GT(d1 - d0, 0.002) << "no groove under the cursor at u = " << u;
+    // Levels of detail on (the default): picks on the tiles read back as they change; off: on the whole contour,
+    // read back when it changed.
+    for (const std::string lod : {"on", "off"}) {
+        const RunResult drag = run_mouse(dir, "drag_" + lod, cursor_buttons::kLeft, false, true, lod);
+        ASSERT_EQ(drag.contour_path, "gpu") << drag.contour_reason;
+        ASSERT_FALSE(drag.mouse.is_null());
+        EXPECT_EQ(drag.mouse["pick_surface"],
+                  lod == "on" ? "gpu contour tiles, read back as they change" : "gpu contour, read back");
+        if (lod == "on")
+            EXPECT_EQ(drag.mouse["pick_reads"].get<int>(), 0);  // no whole read-back
+        else
+            EXPECT_GE(drag.mouse["pick_reads"].get<int>(), 1);
+        EXPECT_GT(drag.volume_before_m3 - drag.volume_after_m3, 1e-7) << "the drag carved nothing, lod " << lod;
+        const PickSurface after = load_surface(dir / ("drag_" + lod) / "sculpted.ply");
+        for (double u = 0.25; u <= 0.75; u += 0.25) {
+            const Vec3 p = kFrom + u * (kTo - kFrom);
+            const double d0 = ray_depth(before, p), d1 = ray_depth(after, p);
+            ASSERT_TRUE(std::isfinite(d0) && std::isfinite(d1)) << u;
+            EXPECT_GT(d1 - d0, 0.002) << "no groove under the cursor at u = " << u << ", lod " << lod;
+        }
     }
 }
 

@@ -59,11 +59,12 @@ TEST(RunGpuContour, GpuSculptPathContoursOnTheGpuAndTheHapticLoopKeepsItsSurface
     EXPECT_EQ(r.loop.samples_dropped, 0u);
     EXPECT_GT(r.sculpt.steps, 0u);
     EXPECT_GE(r.sculpt.publishes, r.sculpt.steps + 1);
-    // GPU contouring ran and the renderer drew it (no CPU tile meshes uploaded).
+    // GPU contouring ran and the renderer drew it; the tiles read back from it got their levels of detail, which
+    // the renderer uploaded (levels are on by default).
     EXPECT_GT(r.contour_tiles_initial, 0u);
     EXPECT_GT(r.gpu_contour.updates, 1u);
     EXPECT_GE(r.gpu_contour.tiles_gpu, r.contour_tiles_initial + r.sculpt.tiles_recontoured);
-    EXPECT_EQ(r.render.tile_uploads, 0u);
+    EXPECT_GT(r.render.tile_uploads, 0u);
     EXPECT_GT(r.tiles_last, 0u);
     EXPECT_GT(r.triangles, 1000u);
     EXPECT_GE(r.mesh_versions_drawn, 2u);
@@ -75,6 +76,8 @@ TEST(RunGpuContour, GpuSculptPathContoursOnTheGpuAndTheHapticLoopKeepsItsSurface
     EXPECT_TRUE(rep["contour"]["gpu"].contains("pool_grows"));
     EXPECT_TRUE(rep["contour"]["gpu"].contains("lock_wait_ms_max"));
     EXPECT_GT(rep["sculpt"]["contour_ms"]["median"].get<double>(), 0.0);
+    EXPECT_TRUE(rep["render"]["lod"]["on"].get<bool>());
+    EXPECT_GT(rep["render"]["lod"]["tiles_built"].get<std::uint64_t>(), 0u);
     fs::remove_all(dir);
 }
 
@@ -144,6 +147,9 @@ TEST(RunGpuContour, ImagesAgreeWithTheCpuContourPath) {
         o.pace = false;
         o.cpu_contour = k == 1;
         o.gpu_contour = k == 0;
+        // Full resolution on both: whether a path's levels arrived within three frames is a race, and at this image
+        // size a level's one-pixel error is about 1 % of the silhouette (levels: test_gpu_contour_lod.cpp).
+        o.lod = "off";
         o.out = (dir / (k ? "cpu" : "gpu")).string();
         const RunResult r = run_stereo_session(o);
         EXPECT_EQ(r.contour_path, k ? "cpu" : "gpu");

@@ -1,0 +1,34 @@
+// compute/contour/tile_mesh_source.hpp - where a TileSurfaceCache reads the contoured surface from, tile by tile:
+// the CPU Contourer, or the GPU contour read back.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/tri_mesh.hpp"
+
+namespace tridex::compute {
+
+/// A tiled contoured surface that TileSurfaceCache::refresh reads: per tile (linear index tx + tiles_x * (ty +
+/// tiles_y * tz)) its triangle count, a content version and its mesh in world metres.
+class TileMeshSource {
+public:
+    virtual ~TileMeshSource() = default;
+    /// Number of tiles.
+    virtual std::size_t tile_count() const = 0;
+    /// Tiles along x, y and z.
+    virtual std::array<int, 3> tile_dims() const = 0;
+    /// Triangles tile `tile` owns (0 = no surface). May throw tridex::Error when tile >= tile_count().
+    virtual std::size_t tile_triangle_count(std::size_t tile) const = 0;
+    /// Content version of the tile: changes whenever its mesh or materials change; values from
+    /// fresh_tile_version() (never 0 once contoured, unique per process).
+    virtual std::uint64_t tile_version(std::size_t tile) const = 0;
+    /// The triangles tile `tile` owns as a compact mesh (every vertex used), world m, CCW from outside, with
+    /// one material id per vertex in `materials`. Neighbour tiles give a vertex they share bit-identical
+    /// positions. Throws tridex::Error on a bad tile index or an unreadable tile.
+    virtual TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const = 0;
+};
+
+}  // namespace tridex::compute
