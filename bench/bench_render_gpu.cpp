@@ -56,7 +56,9 @@ GpuContourLodTiming time_gpu_contour_lod(gpu::Context& ctx, app::Workpiece& wp, 
     for (const compute::TileGroupSurface& g : cache.groups())
         groups.push_back(std::make_shared<const compute::TileGroupSurface>(g));
 
-    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
+    // One renderer per way of drawing, so that neither drops the other's uploaded tiles.
+    renderer::OffscreenStereoRenderer full_r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
+    renderer::OffscreenStereoRenderer levels_r = renderer::OffscreenStereoRenderer::create(ctx, w, h);
     const renderer::Screen screen = renderer::Screen::powerwall();
     app::GpuTileSplit split;
     app::TileView view;
@@ -74,6 +76,7 @@ GpuContourLodTiming time_gpu_contour_lod(gpu::Context& ctx, app::Workpiece& wp, 
             v.tile_groups = view.groups;
             v.tiles_from_indirect = true;
         }
+        renderer::OffscreenStereoRenderer& r = levels ? levels_r : full_r;
         if (images) {
             *out = r.render(v, screen, head, sep_m);
             return out->stats;

@@ -11,7 +11,9 @@
 #include <string>
 #include <tuple>
 
+#include "app/scene/workpiece_source.hpp"
 #include "bench/bench_render.hpp"
+#include "bench/bench_render_gpu.hpp"
 #include "core/error.hpp"
 
 namespace tridex::bench {
@@ -127,6 +129,21 @@ TEST(BenchRender, TinyRunWritesOneRowPerViewAndSettingWithAllFields) {
             EXPECT_GT(r.tiles_drawn_left + r.tiles_drawn_right, 0u);
         }
     }
+}
+
+TEST(BenchRender, GpuContourFramesWithAndWithoutTheReadBackLevels) {
+    gpu::Context ctx = gpu::Context::create({});
+    app::Workpiece wp = app::prepare_workpiece(bunny(), 64, 0.3, Vec3(0.0, 0.0, 0.3));
+    Pose head;
+    head.position = Vec3(0.0, 0.15, 0.65);
+    const GpuContourLodTiming t = time_gpu_contour_lod(ctx, wp, 160, 120, head, 0.064, 2);
+    ASSERT_TRUE(t.ran) << t.why;  // lavapipe has shaderFloat64
+    EXPECT_GT(t.tiles, 0u);
+    EXPECT_GT(t.full_ms, 0.0);
+    EXPECT_GT(t.levels_ms, 0.0);
+    EXPECT_GT(t.full_triangles, 0u);
+    EXPECT_LT(t.levels_triangles, t.full_triangles);  // coarser levels drawn for the whole view
+    EXPECT_LT(t.silhouette_mismatch, 0.01);
 }
 
 TEST(BenchRender, RejectsBadOptions) {
