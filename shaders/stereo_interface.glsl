@@ -20,7 +20,7 @@ layout(set = 0, binding = 0, std140) uniform Eyes {
 } eyes;
 
 // Per draw: world-from-model transform (m), base colour (linear RGBA), the eye index for the
-// pass-per-eye strategy, whether the draw is lit with vertex normals (1), lit with facet normals (2) or unlit (0), whether the base colour comes
+// pass-per-eye strategy, whether the draw is lit (1) or flat (0), whether the base colour comes
 // from the palette by vertex material (1) or from `colour` (0), and whether world_from_model maps
 // straight to clip space for both eyes (1: screen-space overlay) or to world space (0), and the eyes that show the
 // draw (bit 0 left, bit 1 right; the fragment shader discards the others).

@@ -2,7 +2,6 @@
 // shaders/stereo_mesh.frag - Blinn-Phong shading with a directional key light from above plus a soft
 // fill light from the eye (so faces turned from the key light keep their shape), two-sided, per eye;
 // flat colour (with alpha, for the translucent workspace box and the overlay) when draw.lit == 0.
-// draw.lit == 2: facet normals as FLAT_NORMALS below (meshes read back from the GPU contour, drawn beside it).
 // The base colour is draw.colour, or the interpolated palette colour of the vertex materials when
 // draw.palette == 1 (per-material workpiece colours).
 // FLAT_NORMALS 1 (the GPU contour, which carries no normals): the facet normal from screen-space derivatives
@@ -30,15 +29,13 @@ void main() {
         return;
     }
     vec3 v = normalize(eyes.eye_position[in_eye].xyz - in_world_position);
-    vec3 n;
-    // draw.lit comes from a push constant: the branch is uniform, so the derivatives in it are defined.
-    if (FLAT_NORMALS != 0 || draw.lit == 2u) {
-        n = normalize(cross(dFdx(in_world_position), dFdy(in_world_position)));
-        if (dot(n, v) < 0.0) n = -n;
-    } else {
-        n = normalize(in_world_normal);
-        if (!gl_FrontFacing) n = -n;
-    }
+#if FLAT_NORMALS
+    vec3 n = normalize(cross(dFdx(in_world_position), dFdy(in_world_position)));
+    if (dot(n, v) < 0.0) n = -n;
+#else
+    vec3 n = normalize(in_world_normal);
+    if (!gl_FrontFacing) n = -n;
+#endif
     vec3 l = eyes.light_direction.xyz;
     vec3 h = normalize(l + v);
     float diffuse = max(dot(n, l), 0.0);

@@ -367,15 +367,13 @@ void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameR
 void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const FrameEyes& eyes, FrameDraws& list,
                                               FrameStats& stats) {
     if (scene.tiles.empty() && tiles.size() == 0) return;
-    // Tiles read back from the GPU contour: stored and drawn in its grid units, flat-shaded (DrawConstants::lit 2).
+    // Tiles read back from the GPU contour: stored and drawn in its grid units.
     ModelFrame frame;
     glm::mat4 world_from_model(1.0f);
-    std::uint32_t lit = 1;
     if (scene.tiles_from_indirect) {
         if (!scene.indirect_workpiece) throw Error("renderer: SceneView.tiles_from_indirect needs indirect_workpiece");
         frame = ModelFrame{scene.indirect_workpiece->grid_origin_m, scene.indirect_workpiece->cell_m};
         world_from_model = scene.indirect_workpiece->world_from_grid;
-        lit = 2;
     }
     std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
     stats.tile_uploads = tiles.sync(*context, scene.tiles, &retired, frame);
@@ -406,9 +404,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
     add_tile_draws(
         scene, te, tiles, groups,
         [&](const GpuMesh& m) -> StereoDraw& {
-            StereoDraw& d = list.add(PipelineKind::kOpaque, m, world_from_model, clay, true);
-            d.constants.lit = lit;
-            return d;
+            return list.add(PipelineKind::kOpaque, m, world_from_model, clay, true);
         },
         [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, box_m); }, stats);
 }

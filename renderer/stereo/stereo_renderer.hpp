@@ -100,8 +100,8 @@ struct SceneView {
     /// true: `tiles` and `tile_groups` are indirect_workpiece's tiles read back (with their levels of detail, drawn
     /// in place of those tiles' indirect draws, which the caller leaves out of indirect_workpiece->tiles). They
     /// are then uploaded in its grid units and drawn through its world_from_grid (ModelFrame), so they meet its
-    /// indirect tiles with bit-identical border vertices, and flat-shaded like them. Needs indirect_workpiece
-    /// (else tridex::Error).
+    /// indirect tiles with bit-identical border vertices; they are smooth-shaded like `tiles` always are (vertex
+    /// normals), while the indirect tiles are flat. Needs indirect_workpiece (else tridex::Error).
     bool tiles_from_indirect = false;
     /// Draw the 2D overlay (top left, on the screen plane: identical in both eyes) with the rates below,
     /// the frame time and, when there are tiles, the tiles drawn / skipped per eye.

@@ -43,7 +43,7 @@ struct DrawConstants {
     glm::mat4 world_from_model{1.0f};
     glm::vec4 colour{1.0f};
     std::uint32_t eye = 0;
-    std::uint32_t lit = 1;  ///< 0 unlit colour, 1 lit with vertex normals, 2 lit with facet normals (flat)
+    std::uint32_t lit = 1;
     std::uint32_t palette = 0;
     std::uint32_t screen_space = 0;
     std::uint32_t eye_mask = 0b11;
