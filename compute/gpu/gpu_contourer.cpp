@@ -181,10 +181,7 @@ std::size_t GpuContourer::update_dirty(const TileGrid& grid) {
     if (grid.count() != regions_.size())
         throw Error("GPU contouring: the tile grid has " + std::to_string(grid.count()) + " tiles, the contourer " +
                     std::to_string(regions_.size()));
-    std::vector<std::uint32_t> dirty;
-    for (std::size_t t = 0; t < grid.count(); ++t)
-        if (grid.dirty[t]) dirty.push_back(static_cast<std::uint32_t>(t));
-    return update(dirty);
+    return update(grid.dirty_tiles());
 }
 
 std::uint32_t GpuContourer::tile_index_count(std::size_t tile) const {

@@ -53,6 +53,13 @@ struct TileGrid {
         return static_cast<std::size_t>(tx) + static_cast<std::size_t>(tiles[0]) * (static_cast<std::size_t>(ty) + static_cast<std::size_t>(tiles[1]) * tz);
     }
     std::size_t count() const { return dirty.size(); }
+    /// The indices of the dirty tiles, ascending.
+    std::vector<std::uint32_t> dirty_tiles() const {
+        std::vector<std::uint32_t> out;
+        for (std::size_t t = 0; t < dirty.size(); ++t)
+            if (dirty[t]) out.push_back(static_cast<std::uint32_t>(t));
+        return out;
+    }
 };
 
 /// A tri-dexel solid (Peng et al., tri-dexel model): three orthogonal ray sets on one lattice.

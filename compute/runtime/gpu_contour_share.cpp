@@ -139,10 +139,7 @@ std::size_t GpuContourShare::update_dirty(const compute::TileGrid& grid) {
     if (grid.count() != versions_.size())
         throw Error("GPU contouring: the tile grid has " + std::to_string(grid.count()) + " tiles, the contourer " +
                     std::to_string(versions_.size()));
-    std::vector<std::uint32_t> dirty;
-    for (std::size_t t = 0; t < grid.count(); ++t)
-        if (grid.dirty[t]) dirty.push_back(static_cast<std::uint32_t>(t));
-    return redo(dirty);
+    return redo(grid.dirty_tiles());
 }
 
 std::uint64_t GpuContourShare::tile_version(std::size_t tile) const {

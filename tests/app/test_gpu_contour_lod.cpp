@@ -21,6 +21,7 @@
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
+#include "lod_render_compare.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
@@ -168,33 +169,6 @@ TEST(GpuContourLod, AFrameDrawsATileFromItsLevelsOnlyWhileTheyAreTheBuffersConte
     EXPECT_EQ(iw.tiles.size(), 3u);
 }
 
-struct Compare {
-    std::size_t pixels = 0, mismatched = 0, holes = 0;
-};
-
-// Object/background per pixel of both eyes; `holes`: background pixels of `a` whose four neighbours are object
-// while `full` shows object there (a crack between tiles would show the background through the surface).
-Compare compare(const renderer::StereoImages& a, const renderer::StereoImages& full, const std::uint8_t* bg) {
-    Compare d;
-    const auto one = [&](const renderer::Image& x, const renderer::Image& f) {
-        const auto is_bg = [&](const renderer::Image& im, int u, int v) {
-            return std::equal(bg, bg + 3, im.rgba.data() + 4 * (static_cast<std::size_t>(v) * im.width + u));
-        };
-        for (int v = 0; v < x.height; ++v)
-            for (int u = 0; u < x.width; ++u) {
-                ++d.pixels;
-                const bool bx = is_bg(x, u, v), bf = is_bg(f, u, v);
-                if (bx != bf) ++d.mismatched;
-                if (bx && !bf && u > 0 && v > 0 && u + 1 < x.width && v + 1 < x.height && !is_bg(x, u - 1, v) &&
-                    !is_bg(x, u + 1, v) && !is_bg(x, u, v - 1) && !is_bg(x, u, v + 1))
-                    ++d.holes;
-            }
-    };
-    one(a.left, full.left);
-    one(a.right, full.right);
-    return d;
-}
-
 TEST(GpuContourLod, LevelsBesideTheIndirectTilesMatchTheFullContourWithoutCracks) {
     gpu::ContextOptions opt;
     opt.validation = true;
@@ -256,7 +230,7 @@ TEST(GpuContourLod, LevelsBesideTheIndirectTilesMatchTheFullContourWithoutCracks
         std::size_t left = 0;
         const renderer::StereoImages lod = render(true, &left);
         const renderer::StereoImages full = render(false, nullptr);
-        const Compare d = compare(lod, full, bg);
+        const LodImageDiff d = compare_lod_images(lod, full, bg);
         const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
         std::printf(
             "[gpu-contour lod] head z %.2f m: groups drawn L %zu R %zu, triangles L %zu of %zu, %zu tiles "
@@ -281,7 +255,7 @@ TEST(GpuContourLod, LevelsBesideTheIndirectTilesMatchTheFullContourWithoutCracks
     std::size_t left = 0;
     const renderer::StereoImages mixed = render(true, &left);
     const renderer::StereoImages full = render(false, nullptr);
-    const Compare d = compare(mixed, full, bg);
+    const LodImageDiff d = compare_lod_images(mixed, full, bg);
     const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
     std::printf("[gpu-contour lod] after a cut: %zu tiles indirect, silhouette mismatch %.4f%%, holes %zu\n", left,
                 100.0 * mismatch, d.holes);

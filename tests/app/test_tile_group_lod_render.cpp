@@ -18,49 +18,12 @@
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "gpu/context.hpp"
+#include "lod_render_compare.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 namespace {
-
-struct Diff {
-    std::size_t pixels = 0, mismatched = 0, holes = 0;
-    double abs_sum = 0.0;     // |difference| summed over the RGB channels of every pixel, 0..255 each
-    std::size_t far_off = 0;  // pixels with a channel more than 48 codes off (a visibly different pixel)
-    double mean_abs() const { return pixels > 0 ? abs_sum / (3.0 * static_cast<double>(pixels)) : 0.0; }
-};
-
-// Object/background class per pixel of both eyes; `holes`: background pixels of `lod` whose four neighbours are
-// all object in both renders (a crack would show the background through the surface).
-Diff compare(const renderer::StereoImages& lod, const renderer::StereoImages& full, const std::uint8_t* bg) {
-    Diff d;
-    const auto one = [&](const renderer::Image& a, const renderer::Image& b) {
-        const auto is_bg = [&](const renderer::Image& im, int x, int y) {
-            return std::equal(bg, bg + 3, im.rgba.data() + 4 * (static_cast<std::size_t>(y) * im.width + x));
-        };
-        for (int y = 0; y < a.height; ++y)
-            for (int x = 0; x < a.width; ++x) {
-                ++d.pixels;
-                const std::size_t at = 4 * (static_cast<std::size_t>(y) * a.width + x);
-                int worst = 0;
-                for (int c = 0; c < 3; ++c) {
-                    const int diff = std::abs(int(a.rgba[at + c]) - int(b.rgba[at + c]));
-                    d.abs_sum += diff;
-                    worst = std::max(worst, diff);
-                }
-                d.far_off += worst > 48 ? 1 : 0;
-                const bool ba = is_bg(a, x, y), bb = is_bg(b, x, y);
-                if (ba != bb) ++d.mismatched;
-                if (ba && !bb && x > 0 && y > 0 && x + 1 < a.width && y + 1 < a.height && !is_bg(a, x - 1, y) &&
-                    !is_bg(a, x + 1, y) && !is_bg(a, x, y - 1) && !is_bg(a, x, y + 1))
-                    ++d.holes;
-            }
-    };
-    one(lod.left, full.left);
-    one(lod.right, full.right);
-    return d;
-}
 
 // Directed edges of `m` without their reverse (a closed, consistently oriented mesh has none), and whether some
 // directed edge occurs twice.
@@ -120,7 +83,7 @@ TEST(TileGroupLodRender, GroupsDrawnWithinTheSilhouetteBoundAndWithoutCracks) {
         const renderer::StereoImages lod = r.render(scene, renderer::Screen::powerwall(), head, 0.065);
         scene.lod = false;
         const renderer::StereoImages full = r.render(scene, renderer::Screen::powerwall(), head, 0.065);
-        const Diff d = compare(lod, full, bg);
+        const LodImageDiff d = compare_lod_images(lod, full, bg);
         const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
         std::printf("head z %.2f m: groups drawn L %zu R %zu, triangles L %zu of %zu, silhouette mismatch %.4f%%, "
                     "holes %zu\n",
@@ -181,7 +144,7 @@ TEST(TileGroupLodRender, DeskViewWithBackgroundLevelsMatchesFullResolution) {
         const renderer::StereoImages lod = r.render(scene, screen, head, 0.065);
         scene.lod = false;
         const renderer::StereoImages full = r.render(scene, screen, head, 0.065);
-        const Diff d = compare(lod, full, bg);
+        const LodImageDiff d = compare_lod_images(lod, full, bg);
         const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
         const double far_off = static_cast<double>(d.far_off) / static_cast<double>(d.pixels);
         std::printf("desk, %d eye(s): triangles L %zu of %zu, groups L %zu, silhouette mismatch %.4f%%, mean |diff| "
