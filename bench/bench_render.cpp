@@ -461,7 +461,7 @@ BenchRun setup_render_bench(CLI::App& bench) {
 const BenchmarkRegistration kRegistration{
     {"render",
      "Offscreen stereo frame time per pass at 1280x720 and 1920x1080, bunny at 256 and 512 cells, with and without "
-     "per-tile levels of detail and tile culling",
+     "per-tile levels of detail and tile culling; and the GPU contour with and without its read-back levels",
      60, setup_render_bench}};
 
 }  // namespace
