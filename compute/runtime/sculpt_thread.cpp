@@ -448,36 +448,37 @@ void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_inte
     publish_mesh();
 }
 
+namespace {
+
+// Makes `shared` hold a shared copy of every item of `items`, reusing the copy already in `shared` of each item whose
+// (id, version) is unchanged: both lists are ordered by id.
+template <typename T>
+void share_unchanged(const std::vector<T>& items, std::vector<std::shared_ptr<const T>>& shared) {
+    std::vector<std::shared_ptr<const T>> next;
+    next.reserve(items.size());
+    std::size_t k = 0;
+    for (const T& item : items) {
+        while (k < shared.size() && shared[k]->id < item.id) ++k;
+        if (k < shared.size() && shared[k]->id == item.id && shared[k]->version == item.version)
+            next.push_back(shared[k]);
+        else
+            next.push_back(std::make_shared<const T>(item));
+    }
+    shared = std::move(next);
+}
+
+}  // namespace
+
 void SculptThread::share_tile_cache(MeshFrame& slot) {
     stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
     stats_.lod_groups_built = tile_cache_.lod_groups_built();
     stats_.lod_build_ms = tile_cache_.lod_build_ms();
     stats_.lod_latency_ms = tile_cache_.lod_latency_ms();
     stats_.lod_pending = tile_cache_.lod_pending();
-    // Reuse the shared copy of every tile whose (id, version) is unchanged: both lists are ordered by id.
-    std::vector<std::shared_ptr<const compute::TileSurface>> next;
-    next.reserve(tile_cache_.tiles().size());
-    std::size_t k = 0, triangles = 0;
-    for (const compute::TileSurface& t : tile_cache_.tiles()) {
-        while (k < shared_tiles_.size() && shared_tiles_[k]->id < t.id) ++k;
-        if (k < shared_tiles_.size() && shared_tiles_[k]->id == t.id && shared_tiles_[k]->version == t.version)
-            next.push_back(shared_tiles_[k]);
-        else
-            next.push_back(std::make_shared<const compute::TileSurface>(t));
-        triangles += t.mesh.triangles.size();
-    }
-    shared_tiles_ = std::move(next);
-    std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
-    groups.reserve(tile_cache_.groups().size());
-    k = 0;
-    for (const compute::TileGroupSurface& g : tile_cache_.groups()) {
-        while (k < shared_groups_.size() && shared_groups_[k]->id < g.id) ++k;
-        if (k < shared_groups_.size() && shared_groups_[k]->id == g.id && shared_groups_[k]->version == g.version)
-            groups.push_back(shared_groups_[k]);
-        else
-            groups.push_back(std::make_shared<const compute::TileGroupSurface>(g));
-    }
-    shared_groups_ = std::move(groups);
+    share_unchanged(tile_cache_.tiles(), shared_tiles_);
+    share_unchanged(tile_cache_.groups(), shared_groups_);
+    std::size_t triangles = 0;
+    for (const compute::TileSurface& t : tile_cache_.tiles()) triangles += t.mesh.triangles.size();
     slot.groups = shared_groups_;
     slot.tiles = shared_tiles_;
     slot.triangles = triangles;
