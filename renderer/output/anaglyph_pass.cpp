@@ -15,11 +15,26 @@
 #include "gpu/shader_module.hpp"
 #include "gpu/unique_handle.hpp"
 #include "renderer/output/anaglyph_tables.hpp"
+#include "renderer/output/stereo_output.hpp"
 #include "renderer/stereo/stereo_pipeline.hpp"
 #include "shaders/spirv.hpp"
 
 namespace tridex::renderer {
 namespace {
+
+// The anaglyph of two pixels of the renderer's clear colour (compose(), the CPU reference), as a clear value whose
+// UNORM8 conversion gives back its codes.
+VkClearValue background_clear(AnaglyphMethod method, bool swap_eyes) {
+    const std::array<std::uint8_t, 3> c = OffscreenStereoRenderer::clear_codes();
+    const Image bg{1, 1, {c[0], c[1], c[2], 255}};
+    ComposeOptions co;
+    co.anaglyph = method;
+    co.swap_eyes = swap_eyes;
+    const Image a = compose(StereoOutput::kAnaglyph, bg, bg, co);
+    VkClearValue v{};
+    for (int i = 0; i < 4; ++i) v.color.float32[i] = i < 3 ? static_cast<float>(a.rgba[i]) / 255.0f : 1.0f;
+    return v;
+}
 
 using UniqueSampler = gpu::UniqueHandle<VkSampler, vkDestroySampler>;
 
@@ -65,7 +80,7 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device) {
     VkAttachmentDescription att{};
     att.format = kStereoColourFormat;
     att.samples = VK_SAMPLE_COUNT_1_BIT;
-    att.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // the triangle covers every pixel
+    att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // to the anaglyph of the eyes' clear colour; the triangle draws the rest
     att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     att.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     att.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
@@ -111,8 +126,9 @@ gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass
     gpu::GraphicsPipelineDesc d;  // a full-screen triangle: no vertex buffers, no depth, no blending
     d.vertex = vs.get();
     d.fragment = fs.get();
-    d.width = static_cast<std::uint32_t>(width);
-    d.height = static_cast<std::uint32_t>(height);
+    (void)width;
+    (void)height;
+    // Viewport and scissor are dynamic: the triangle is cut to the pixels the eyes' frame drew (record()).
     return gpu::create_graphics_pipeline(context.device(), pass, layout, d);
 }
 
@@ -282,12 +298,30 @@ void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& so
     begin.renderPass = im.render_pass.get();
     begin.framebuffer = im.framebuffer.get();
     begin.renderArea = {{0, 0}, {static_cast<std::uint32_t>(im.width), static_cast<std::uint32_t>(im.height)}};
+    // Where the frame drew nothing both eyes hold the clear colour: the pass clears to its anaglyph (the CPU
+    // reference's, so it is exact) and runs the shader only over the pixels the frame drew.
+    const VkClearValue clear = background_clear(method, swap_eyes);
+    begin.clearValueCount = 1;
+    begin.pClearValues = &clear;
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.pipeline.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.layout.get(), 0, 1, &im.set, 0, nullptr);
-    const MixConstants mix{method_index(method), swap_eyes ? 1 : 0};
-    vkCmdPushConstants(cmd, im.layout.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof mix, &mix);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
+    const std::vector<PixelRect>& drawn = source.last_drawn_rects();
+    if (!drawn.empty()) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.pipeline.get());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, im.layout.get(), 0, 1, &im.set, 0, nullptr);
+        const MixConstants mix{method_index(method), swap_eyes ? 1 : 0};
+        vkCmdPushConstants(cmd, im.layout.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof mix, &mix);
+        const VkViewport viewport{0.0f, 0.0f, static_cast<float>(im.width), static_cast<float>(im.height), 0.0f, 1.0f};
+        vkCmdSetViewport(cmd, 0, 1, &viewport);
+        for (const PixelRect& r : drawn) {  // overlapping rectangles shade a pixel twice, to the same value
+            const int x0 = std::clamp(r.x0, 0, im.width), y0 = std::clamp(r.y0, 0, im.height);
+            const int x1 = std::clamp(r.x1, x0, im.width), y1 = std::clamp(r.y1, y0, im.height);
+            if (x1 == x0 || y1 == y0) continue;
+            const VkRect2D scissor{{x0, y0},
+                                   {static_cast<std::uint32_t>(x1 - x0), static_cast<std::uint32_t>(y1 - y0)}};
+            vkCmdSetScissor(cmd, 0, 1, &scissor);
+            vkCmdDraw(cmd, 3, 1, 0, 0);
+        }
+    }
     vkCmdEndRenderPass(cmd);
     // The renderer's image back to the layout it promises; its next render pass waits for transfer reads,
     // which this barrier's reads chain into.

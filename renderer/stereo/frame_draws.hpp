@@ -30,6 +30,13 @@ public:
     void cover(std::uint32_t mask, const Aabb& box_m);
     /// Widens both eyes' opaque regions to the whole image.
     void cover_all();
+    /// Widens only the drawn region (drawn_region) of the eyes in `mask` by the pixels `box_m` can cover: for items
+    /// drawn after the ambient occlusion (translucent ones).
+    void cover_drawn(std::uint32_t mask, const Aabb& box_m);
+    /// Adds `rect` (pixels; a screen-space item, the same in both eyes) to the drawn rectangles, or widens both
+    /// eyes' drawn regions to the whole image.
+    void cover_drawn(const PixelRect& rect);
+    void cover_drawn_all();
 
     /// Appends a draw of all of `mesh` with pipeline `kind`, world-from-model `model` (m), linear RGBA `colour`, lit
     /// (Blinn-Phong) or flat. Returns it for further settings; the reference holds until the next append.
@@ -43,12 +50,18 @@ public:
     std::vector<StereoDraw>& draws() { return draws_; }
     /// Per eye, the pixels the opaque draws may cover (empty when none).
     const std::array<PixelRect, 2>& opaque_region() const { return opaque_region_; }
+    /// Rectangles whose union holds every pixel any draw may cover in the eyes in `mask` (the opaque region, the
+    /// cover_drawn items): outside them the eye images keep the clear colour. The world items' bounds, then each
+    /// screen-space rectangle; empty ones left out.
+    std::vector<PixelRect> drawn_rects(std::uint32_t mask) const;
 
 private:
     std::array<Mat4, 2> clip_from_world_;
     int width_ = 0, height_ = 0;
     std::vector<StereoDraw> draws_;
     std::array<PixelRect, 2> opaque_region_{};
+    std::array<PixelRect, 2> drawn_extra_{};  // cover_drawn items in world space
+    std::vector<PixelRect> screen_rects_;     // cover_drawn screen-space rectangles
 };
 
 }  // namespace tridex::renderer

@@ -115,6 +115,7 @@ struct OffscreenStereoRenderer::Impl {
     FrameStats finished;                // timings of the latest finished frame
     std::vector<FrameStats> finished_queue;  // take_finished_frames()
     int last_eye_count = 2;
+    std::vector<PixelRect> last_drawn;  // the last submitted frame's drawn rectangles, both eyes
     bool last_read_back = false;  // the last frame's colour layers are in the target's readback buffer
     bool target_empty = false;    // resize() made a new target that no frame has been drawn into yet
 
@@ -247,6 +248,13 @@ VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->t
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }
 double OffscreenStereoRenderer::last_gpu_ms() const { return impl_->gpu_ms; }
 const FrameStats& OffscreenStereoRenderer::last_frame_stats() const { return impl_->last; }
+const std::vector<PixelRect>& OffscreenStereoRenderer::last_drawn_rects() const { return impl_->last_drawn; }
+std::array<std::uint8_t, 3> OffscreenStereoRenderer::clear_codes() {
+    // UNORM8 stores round(value x 255) (Vulkan's float to normalized fixed-point conversion).
+    std::array<std::uint8_t, 3> c{};
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<std::uint8_t>(std::lround(kClear[i] * 255.0f));
+    return c;
+}
 bool OffscreenStereoRenderer::gpu_timestamps_available() const { return impl_->frame.front().timer.available(); }
 void OffscreenStereoRenderer::set_gpu_timestamps(bool use) { impl_->use_timestamps = use; }
 std::uint64_t OffscreenStereoRenderer::tile_uploads_total() const { return impl_->tiles.uploads_total(); }
@@ -471,7 +479,9 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
 
 void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene, std::span<const std::size_t> translucent_objects,
                                                           FrameDraws& list) {
+    const auto ball_box = [](const Vec3& c, double r) { return Aabb{c - Vec3(r), c + Vec3(r)}; };
     for (const std::size_t i : translucent_objects) {
+        list.cover_drawn_all();
         list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, scene.objects[i].lit);
         std::vector<StereoDraw>& d = list.draws();  // its back and front faces
         d[d.size() - 1].eye_mask = d[d.size() - 2].eye_mask = scene.objects[i].eyes & 0b11u;
@@ -479,16 +489,19 @@ void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene
     if (scene.proxy_radius_m > 0.0) {
         if (!is_finite(scene.proxy_m) || !std::isfinite(scene.proxy_radius_m))
             throw Error("renderer: SceneView.proxy_m / proxy_radius_m must be finite");
+        list.cover_drawn(0b11u, ball_box(scene.proxy_m, scene.proxy_radius_m));
         list.add_translucent(ball, translate_scale(scene.proxy_m, Vec3(scene.proxy_radius_m)), kProxyColour, true);
     }
     if (scene.show_workspace && !scene.workspace_m.empty()) {
         if (!is_finite(scene.workspace_m.lo) || !is_finite(scene.workspace_m.hi))
             throw Error("renderer: SceneView.workspace_m must be finite");
+        list.cover_drawn(0b11u, scene.workspace_m);
         list.add_translucent(cube, translate_scale(scene.workspace_m.lo, scene.workspace_m.size()), kWorkspaceColour, false);
     }
     if (scene.bubble_radius_m > 0.0) {
         if (!is_finite(scene.bubble_centre_m) || !std::isfinite(scene.bubble_radius_m))
             throw Error("renderer: SceneView.bubble_centre_m / bubble_radius_m must be finite");
+        list.cover_drawn(0b11u, ball_box(scene.bubble_centre_m, scene.bubble_radius_m));
         list.add_translucent(ball, translate_scale(scene.bubble_centre_m, Vec3(scene.bubble_radius_m)), kBubbleColour, false);
     }
 }
@@ -513,6 +526,10 @@ void OffscreenStereoRenderer::Impl::add_overlay(const SceneView& scene, const Fr
                                                         margin + size.height_px + pad));
     fr.overlay_text.assign(*context, overlay_text_mesh(text, margin, margin, scale));
     const glm::mat4 to_clip = clip_from_pixel(width, height);
+    list.cover_drawn(PixelRect{static_cast<int>(std::floor(margin - pad)) - 1,
+                               static_cast<int>(std::floor(margin - pad)) - 1,
+                               static_cast<int>(std::ceil(margin + size.width_px + pad)) + 1,
+                               static_cast<int>(std::ceil(margin + size.height_px + pad)) + 1});
     list.add(PipelineKind::kOverlay, fr.overlay_panel, to_clip, kOverlayPanelColour, false).constants.screen_space = 1;
     list.add(PipelineKind::kOverlay, fr.overlay_text, to_clip, kOverlayTextColour, false).constants.screen_space = 1;
 }
@@ -524,6 +541,7 @@ FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slo
     const bool occlusion = scene.occlusion_radius_m > 0.0 && scene.occlusion_strength > 0.0;
     std::vector<StereoDraw>& draws = list.draws();
     fr.eyes->write(uniform);
+    last_drawn = list.drawn_rects(eye_count == 1 ? 0b01u : 0b11u);
     fr.gpu_timing = use_timestamps && fr.timer.available();
     const VkCommandBuffer cmd = slots.command_buffer(slot);
     stats.draws_merged = fr.batcher.batch(*context, pipeline->strategy(), eye_count, draws);

@@ -1,6 +1,7 @@
 // renderer/stereo/stereo_renderer.hpp - offscreen head-tracked stereo rendering of the sculpting scene.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -10,16 +11,17 @@
 #include "core/aabb.hpp"
 #include "core/math.hpp"
 #include "core/pose.hpp"
+#include "core/tool_shape.hpp"
 #include "core/tri_mesh.hpp"
 #include "gpu/context.hpp"
-#include "renderer/stereo/eye_strategy.hpp"
-#include "renderer/timing/frame_stats.hpp"
-#include "renderer/image/image.hpp"
 #include "gpu/indirect_workpiece.hpp"
 #include "renderer/camera/off_axis.hpp"
-#include "core/tool_shape.hpp"
+#include "renderer/image/image.hpp"
 #include "renderer/scene/tile_group_lod.hpp"
 #include "renderer/scene/tile_mesh_cache.hpp"
+#include "renderer/stereo/eye_strategy.hpp"
+#include "renderer/stereo/screen_region.hpp"
+#include "renderer/timing/frame_stats.hpp"
 
 namespace tridex::renderer {
 
@@ -218,6 +220,12 @@ public:
     /// Statistics of the last frame drawn (default-constructed before the first): its own timings once it has
     /// finished and that was seen (render(), finish(), last_images()), else the latest finished frame's.
     const FrameStats& last_frame_stats() const;
+    /// Rectangles holding every pixel of the last frame drawn that may differ from the clear colour, in either eye
+    /// (opaque and translucent items' bounds, the overlay's panel); empty before the first frame and for a frame
+    /// that drew nothing. Outside them both eye images hold clear_codes().
+    const std::vector<PixelRect>& last_drawn_rects() const;
+    /// The colour every frame is cleared to, as the 8-bit codes the colour image stores (R, G, B).
+    static std::array<std::uint8_t, 3> clear_codes();
     /// True when the queue family supports timestamp queries (timestampValidBits > 0 and the Context enabled them).
     bool gpu_timestamps_available() const;
     /// Use GPU timestamps when available (true, the default) or the CPU clock (false: FrameStats then holds

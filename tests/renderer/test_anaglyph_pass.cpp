@@ -47,7 +47,54 @@ TEST(AnaglyphPass, MatchesTheCpuComposeWithinOneCodePerChannel) {
                         c.max_channel_diff, 100.0 * c.fraction_within());
         }
     }
+    // The pass runs its shader only where the frame drew, and clears the rest to the clear colour's anaglyph: a
+    // frame whose items cover part of the image (the cube as a tile, the tool, the translucent proxy).
+    TileMesh tile;
+    tile.mesh = &cube;
+    tile.bounds_m = cube.bounds();
+    tile.version = 1;
+    SceneView part = scene;
+    part.workpiece = nullptr;
+    part.tiles = std::span<const TileMesh>(&tile, 1);
+    part.show_workspace = false;
+    const StereoImages partial = renderer.render(part, test::small_screen(), test::test_head(), 0.065);
+    ASSERT_EQ(renderer.last_drawn_rects().size(), 1u);  // no overlay: the items' bounds
+    const PixelRect drawn = renderer.last_drawn_rects()[0];
+    EXPECT_LT((drawn.x1 - drawn.x0) * (drawn.y1 - drawn.y0), kW * kH);
+    for (const AnaglyphMethod method : {AnaglyphMethod::kDubois, AnaglyphMethod::kColour, AnaglyphMethod::kGray}) {
+        ComposeOptions co;
+        co.anaglyph = method;
+        const ImageComparison c = compare_images(pass.compose(renderer, method, false),
+                                                 compose(StereoOutput::kAnaglyph, partial.left, partial.right, co), 0);
+        EXPECT_LE(c.max_channel_diff, method == AnaglyphMethod::kDubois ? 1 : 0) << to_string(method);
+        EXPECT_GE(c.fraction_within(), 0.995) << to_string(method);
+    }
+    // With the overlay: its panel is a rectangle of its own, and its text comes through the pass too.
+    part.show_overlay = true;
+    const StereoImages with_overlay = renderer.render(part, test::small_screen(), test::test_head(), 0.065);
+    EXPECT_EQ(renderer.last_drawn_rects().size(), 2u);
+    {
+        ComposeOptions co;
+        const ImageComparison c =
+            compare_images(pass.compose(renderer, AnaglyphMethod::kDubois, false),
+                           compose(StereoOutput::kAnaglyph, with_overlay.left, with_overlay.right, co), 0);
+        EXPECT_LE(c.max_channel_diff, 1);
+        EXPECT_GE(c.fraction_within(), 0.995);
+    }
+    // A frame that draws nothing: every pixel is the clear colour's anaglyph, exactly the CPU's.
+    SceneView nothing;
+    nothing.show_workspace = false;
+    const StereoImages bare = renderer.render(nothing, test::small_screen(), test::test_head(), 0.065);
+    EXPECT_TRUE(renderer.last_drawn_rects().empty());
+    for (const AnaglyphMethod method : {AnaglyphMethod::kDubois, AnaglyphMethod::kColour, AnaglyphMethod::kGray}) {
+        ComposeOptions co;
+        co.anaglyph = method;
+        const Image cpu = compose(StereoOutput::kAnaglyph, bare.left, bare.right, co);
+        EXPECT_EQ(compare_images(pass.compose(renderer, method, false), cpu, 0).max_channel_diff, 0)
+            << to_string(method);
+    }
     // The pass returned the renderer's image to its transfer layout: the next frame renders and reads back as before.
+    renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
     const StereoImages again = renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
     EXPECT_EQ(compare_images(again.left, eyes.left, 0).max_channel_diff, 0);
     EXPECT_EQ(compare_images(again.right, eyes.right, 0).max_channel_diff, 0);
