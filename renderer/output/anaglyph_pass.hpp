@@ -35,7 +35,9 @@ public:
     /// image goes to SHADER_READ_ONLY_OPTIMAL for the pass and back to TRANSFER_SRC_OPTIMAL (as the renderer
     /// promises), image() is written and left in TRANSFER_SRC_OPTIMAL for transfer reads in the same or later
     /// submissions; with `readback` also its copy into a host buffer for read(). `swap_eyes` takes the left
-    /// eye from layer 1. Throws tridex::Error when the renderer's size differs from the pass's or it has not
+    /// eye from layer 1. The shader runs only over source.last_drawn_rects(); the rest of image() is cleared to
+    /// the anaglyph of the clear colour (compose() of OffscreenStereoRenderer::clear_codes()), which is what the
+    /// shader would give there. Throws tridex::Error when the renderer's size differs from the pass's or it has not
     /// rendered a frame yet.
     void record(VkCommandBuffer cmd, const OffscreenStereoRenderer& source, AnaglyphMethod method, bool swap_eyes,
                 bool readback = false);
