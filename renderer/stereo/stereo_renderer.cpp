@@ -303,44 +303,6 @@ void check_scene_view(const SceneView& scene) {
         throw Error("renderer: SceneView.occlusion_radius_m and occlusion_strength must be finite and >= 0");
 }
 
-// The draws of SceneView::indirect_workpiece's tiles (the GPU contour), culled per eye unless cull_tiles is off, with
-// their counts in stats.tiles. Throws tridex::Error on a null buffer.
-void add_indirect_workpiece(const SceneView& scene, const FrameEyes& eyes, EyeStrategy strategy, FrameDraws& list,
-                            FrameStats& stats) {
-    const IndirectWorkpiece* iw = scene.indirect_workpiece;
-    if (!iw || iw->tiles.empty()) return;
-    if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
-        throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
-    const int eye_count = scene.eye_count;
-    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
-    for (const IndirectTile& t : iw->tiles) {
-        if (t.index_count == 0) continue;
-        std::uint32_t mask = 0;
-        for (int e = 0; e < eye_count; ++e)
-            if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], t.bounds_m)) mask |= 1u << e;
-        if (strategy == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
-        for (int e = 0; e < eye_count; ++e) {
-            ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
-            if (mask & (1u << e)) stats.tile_triangles[e] += t.index_count / 3;
-        }
-        if (mask == 0) continue;
-        list.cover(mask, t.bounds_m);
-        StereoDraw d;
-        d.kind = PipelineKind::kContour;
-        d.vertices = iw->vertices;
-        d.indices = iw->indices;
-        d.index_count = t.index_count;
-        d.indirect = iw->commands;
-        d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
-        d.constants.world_from_model = iw->world_from_grid;
-        d.constants.colour = material_palette()[0];
-        d.constants.lit = 1u;
-        d.constants.palette = 1u;
-        d.eye_mask = mask;
-        list.add(d);
-    }
-}
-
 // The force arrow from the tool centre (SceneView::force_N times force_m_per_newton), when visible.
 void add_force_arrow(const SceneView& scene, const GpuMesh& cylinder, const GpuMesh& cone, FrameDraws& list) {
     const ForceArrowTransforms arrow = force_arrow(scene.tool_centre_m, scene.force_N, scene.force_m_per_newton);
@@ -593,7 +555,11 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     // (same clip position in both eyes).
     im.add_workpiece(scene, fr, list);
     im.add_tiles(scene, eyes, list, stats);
-    add_indirect_workpiece(scene, eyes, strategy(), list, stats);
+    TileDrawEyes te;
+    te.strategy = strategy();
+    te.eye_count = scene.eye_count;
+    te.frusta = eyes.frusta;
+    add_indirect_tile_draws(scene, te, list, stats);
     im.add_tool(scene, list);
     add_force_arrow(scene, im.cylinder, im.cone, list);
     const std::vector<std::size_t> translucent_objects = im.add_objects(scene, list);

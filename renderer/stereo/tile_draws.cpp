@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "renderer/scene/material_palette.hpp"
 #include "renderer/scene/tile_group_lod.hpp"
 
 namespace tridex::renderer {
@@ -109,6 +110,41 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const Tile
             }
             if (one_draw) break;
         }
+    }
+}
+
+void add_indirect_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, FrameDraws& list, FrameStats& stats) {
+    const IndirectWorkpiece* iw = scene.indirect_workpiece;
+    if (!iw || iw->tiles.empty()) return;
+    if (iw->vertices == VK_NULL_HANDLE || iw->indices == VK_NULL_HANDLE || iw->commands == VK_NULL_HANDLE)
+        throw Error("renderer: SceneView.indirect_workpiece has a null buffer");
+    const int eye_count = eyes.eye_count;
+    const std::uint32_t eyes_drawn = eye_count == 1 ? 0b01u : 0b11u;
+    for (const IndirectTile& t : iw->tiles) {
+        if (t.index_count == 0) continue;
+        std::uint32_t mask = 0;
+        for (int e = 0; e < eye_count; ++e)
+            if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], t.bounds_m)) mask |= 1u << e;
+        if (eyes.strategy == EyeStrategy::kMultiview && mask != 0) mask = eyes_drawn;
+        for (int e = 0; e < eye_count; ++e) {
+            ++((mask & (1u << e)) ? stats.tiles[e].drawn : stats.tiles[e].skipped);
+            if (mask & (1u << e)) stats.tile_triangles[e] += t.index_count / 3;
+        }
+        if (mask == 0) continue;
+        list.cover(mask, t.bounds_m);
+        StereoDraw d;
+        d.kind = PipelineKind::kContour;
+        d.vertices = iw->vertices;
+        d.indices = iw->indices;
+        d.index_count = t.index_count;
+        d.indirect = iw->commands;
+        d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
+        d.constants.world_from_model = iw->world_from_grid;
+        d.constants.colour = material_palette()[0];
+        d.constants.lit = 1u;
+        d.constants.palette = 1u;
+        d.eye_mask = mask;
+        list.add(d);
     }
 }
 

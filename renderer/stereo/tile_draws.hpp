@@ -12,6 +12,7 @@
 #include "renderer/scene/tile_lod.hpp"
 #include "renderer/scene/tile_mesh_cache.hpp"
 #include "renderer/stereo/eye_strategy.hpp"
+#include "renderer/stereo/frame_draws.hpp"
 #include "renderer/stereo/stereo_frame.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 #include "renderer/timing/frame_stats.hpp"
@@ -38,5 +39,12 @@ struct TileDrawEyes {
 void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const TileMeshCache& tiles,
                     const TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
                     const std::function<void(std::uint32_t, const Aabb&)>& cover, FrameStats& stats);
+
+/// Appends the draws of scene.indirect_workpiece's tiles (the GPU contour: one vkCmdDrawIndexedIndirect per tile
+/// and eye mask, flat-shaded contour pipeline), culled per eye unless scene.cull_tiles is off (multiview draws a tile
+/// either eye sees in both), widening the opaque region by each drawn tile's bounds. Fills stats.tiles and adds the
+/// drawn tiles' triangles to stats.tile_triangles. Nothing without an indirect workpiece or tiles. Throws
+/// tridex::Error when one of its buffers is null.
+void add_indirect_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, FrameDraws& list, FrameStats& stats);
 
 }  // namespace tridex::renderer
