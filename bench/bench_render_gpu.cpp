@@ -39,7 +39,7 @@ GpuContourLodTiming time_gpu_contour_lod(gpu::Context& ctx, app::Workpiece& wp, 
     share->update_all();
     wp.model.clear_dirty();
     auto t0 = Clock::now();
-    share->read_back_tiles(true);
+    share->read_back_tiles();
     t.read_back_ms = ms_since(t0);
     compute::TileSurfaceCache cache;
     compute::TileLodOptions lo;

@@ -15,30 +15,27 @@ namespace tridex::app {
 namespace {
 
 // The GPU contour's tiles as read back by GpuContourShare::redo, as a TileMeshSource.
+template <typename ReadBack>
 class ReadBackTiles final : public compute::TileMeshSource {
 public:
     ReadBackTiles(const std::vector<std::uint64_t>& versions, const std::vector<std::uint32_t>& triangles,
-                  const std::unordered_map<std::uint32_t, TriMesh>& meshes,
-                  const std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>& materials,
-                  const std::array<int, 3>& dims)
-        : versions_(versions), triangles_(triangles), meshes_(meshes), materials_(materials), dims_(dims) {}
+                  const std::unordered_map<std::uint32_t, ReadBack>& read, const std::array<int, 3>& dims)
+        : versions_(versions), triangles_(triangles), read_(read), dims_(dims) {}
     std::size_t tile_count() const override { return versions_.size(); }
     std::array<int, 3> tile_dims() const override { return dims_; }
     std::size_t tile_triangle_count(std::size_t t) const override { return triangles_.at(t); }
     std::uint64_t tile_version(std::size_t t) const override { return versions_.at(t); }
     TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
-        const auto m = meshes_.find(static_cast<std::uint32_t>(t));
-        if (m == meshes_.end())
-            throw Error("GPU contouring: tile " + std::to_string(t) + " changed but was not read back");
-        materials = materials_.at(static_cast<std::uint32_t>(t));
-        return m->second;
+        const auto r = read_.find(static_cast<std::uint32_t>(t));
+        if (r == read_.end()) throw Error("GPU contouring: tile " + std::to_string(t) + " changed but was not read back");
+        materials = r->second.materials;
+        return r->second.mesh;
     }
 
 private:
     const std::vector<std::uint64_t>& versions_;
     const std::vector<std::uint32_t>& triangles_;
-    const std::unordered_map<std::uint32_t, TriMesh>& meshes_;
-    const std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>& materials_;
+    const std::unordered_map<std::uint32_t, ReadBack>& read_;
     std::array<int, 3> dims_;
 };
 
@@ -75,16 +72,18 @@ void GpuContourShare::stash(const std::vector<std::uint32_t>& tiles) {
         stash_versions_[t] = versions_[t];
         stash_triangles_[t] = contourer_->tile_index_count(t) / 3;
         if (stash_triangles_[t] == 0) {
-            stash_meshes_.erase(t);
-            stash_materials_.erase(t);
+            stash_tiles_.erase(t);
             continue;
         }
         contourer_->download_tile(t, vertices, triangles);
         // Compact: only the vertices the tile's triangles use, in first-use order; each float grid position as
         // drawn, in world m (double): (p - origin) / cell gives the float back.
         remap.assign(vertices.size(), ~0u);
-        TriMesh m;
-        std::vector<std::uint8_t> materials;
+        ReadBack& read = stash_tiles_[t];
+        TriMesh& m = read.mesh;
+        std::vector<std::uint8_t>& materials = read.materials;
+        m = TriMesh{};
+        materials.clear();
         m.triangles.reserve(triangles.size());
         for (const auto& tri : triangles) {
             std::array<std::uint32_t, 3> out{};
@@ -100,25 +99,17 @@ void GpuContourShare::stash(const std::vector<std::uint32_t>& tiles) {
             }
             m.triangles.push_back(out);
         }
-        stash_meshes_[t] = std::move(m);
-        stash_materials_[t] = std::move(materials);
     }
 }
 
-void GpuContourShare::read_back_tiles(bool on) {
+void GpuContourShare::read_back_tiles() {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (on && !read_back_.load()) {  // from now on; a contour made before is read back whole
-        read_back_.store(true, std::memory_order_release);
-        std::vector<std::uint32_t> all(contourer_->tile_count());
-        std::iota(all.begin(), all.end(), 0u);
-        if (updates_ > 0) stash(all);
-    }
-    if (!on) {
-        read_back_.store(false, std::memory_order_release);
-        std::lock_guard<std::mutex> stash(stash_mutex_);
-        stash_meshes_.clear();
-        stash_materials_.clear();
-    }
+    if (read_back_.load()) return;
+    read_back_.store(true, std::memory_order_release);
+    if (updates_ == 0) return;  // the first update copies every tile
+    std::vector<std::uint32_t> all(contourer_->tile_count());
+    std::iota(all.begin(), all.end(), 0u);
+    stash(all);
 }
 
 std::size_t GpuContourShare::update_all() {
@@ -152,14 +143,12 @@ std::uint64_t GpuContourShare::tile_version(std::size_t tile) const {
 
 std::size_t GpuContourShare::refresh_tiles(compute::TileSurfaceCache& cache) {
     if (!read_back_.load(std::memory_order_acquire))
-        throw Error("GpuContourShare::refresh_tiles: call read_back_tiles(true) first");
+        throw Error("GpuContourShare::refresh_tiles: call read_back_tiles() first");
     std::lock_guard<std::mutex> stash(stash_mutex_);
     if (stash_versions_.empty()) return 0;  // nothing contoured yet
-    const std::size_t n =
-        cache.refresh(ReadBackTiles(stash_versions_, stash_triangles_, stash_meshes_, stash_materials_, tiles_));
+    const std::size_t n = cache.refresh(ReadBackTiles<ReadBack>(stash_versions_, stash_triangles_, stash_tiles_, tiles_));
     // Every copy is now in the cache (the tiles it read) or stale (a tile read back and redone before this).
-    stash_meshes_.clear();
-    stash_materials_.clear();
+    stash_tiles_.clear();
     return n;
 }
 

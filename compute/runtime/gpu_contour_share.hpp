@@ -41,16 +41,16 @@ public:
     std::size_t update_dirty(const compute::TileGrid& grid);
     /// Content version of tile `tile` (IndirectTile::version; 0 = never contoured). Throws tridex::Error out of range.
     std::uint64_t tile_version(std::size_t tile) const;
-    /// true: from now on every update copies the tiles it redid out of the buffers (their float vertices as drawn,
-    /// in world m: origin + grid * cell in double, compacted to the vertices their triangles use, and their
-    /// materials) for refresh_tiles; a contour made before this is copied whole now. false: no copies (the
-    /// default). Locks the buffers (waits for a frame being drawn).
-    void read_back_tiles(bool on);
+    /// From now on every update copies the tiles it redid out of the buffers (their float vertices as drawn, in
+    /// world m: origin + grid * cell in double, compacted to the vertices their triangles use, and their materials)
+    /// for refresh_tiles; a contour made before this call is copied whole now. Without this call nothing is copied
+    /// (the default). Locks the buffers (waits for a frame being drawn); a second call does nothing.
+    void read_back_tiles();
     /// Refreshes `cache` (TileSurfaceCache::refresh) from the copies of the tiles redone since the last call, so it
     /// can build their levels of detail for the renderer to draw in place of their indirect draws while
     /// TileSurface::source_version equals IndirectTile::version. Never waits for a frame (the copies were made by
     /// the updates). Returns tiles read (0 before the first update). Throws tridex::Error without
-    /// read_back_tiles(true), or as TileSurfaceCache::refresh (the cache is then unchanged and the copies kept).
+    /// read_back_tiles(), or as TileSurfaceCache::refresh (the cache is then unchanged and the copies kept).
     /// Call from the thread that calls the updates.
     std::size_t refresh_tiles(compute::TileSurfaceCache& cache);
 
@@ -93,8 +93,11 @@ private:
     std::mutex stash_mutex_;
     std::vector<std::uint64_t> stash_versions_;
     std::vector<std::uint32_t> stash_triangles_;
-    std::unordered_map<std::uint32_t, TriMesh> stash_meshes_;
-    std::unordered_map<std::uint32_t, std::vector<std::uint8_t>> stash_materials_;
+    struct ReadBack {
+        TriMesh mesh;                         // world m
+        std::vector<std::uint8_t> materials;  // per mesh vertex
+    };
+    std::unordered_map<std::uint32_t, ReadBack> stash_tiles_;
     std::uint64_t triangles_ = 0;
     double wait_total_ms_ = 0.0, wait_max_ms_ = 0.0;  // update_dirty's lock waits
 };

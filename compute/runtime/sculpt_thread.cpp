@@ -75,7 +75,7 @@ void SculptThread::use_stream(compute::ToolStreamSink& stream) {
 void SculptThread::use_gpu_contour(GpuContourShare& share) {
     if (thread_.joinable()) throw Error("SculptThread::use_gpu_contour: call it before start()");
     gpu_contour_ = &share;
-    if (tile_cache_.lod_enabled()) share.read_back_tiles(true);  // the levels are built from the contour read back
+    if (tile_cache_.lod_enabled()) share.read_back_tiles();  // the levels are built from the contour read back
 }
 
 void SculptThread::set_history_budget(std::size_t bytes) {
@@ -425,7 +425,7 @@ void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
     tile_cache_.enable_lod(options.lod);
     tile_cache_.build_lods_in_background(options);
-    if (gpu_contour_) gpu_contour_->read_back_tiles(true);
+    if (gpu_contour_) gpu_contour_->read_back_tiles();
 }
 
 void SculptThread::collect_lods() {

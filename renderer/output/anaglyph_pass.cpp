@@ -119,15 +119,12 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device) {
     return gpu::UniqueRenderPass(device, pass);
 }
 
-gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass, VkPipelineLayout layout, int width,
-                                  int height) {
+gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass, VkPipelineLayout layout) {
     const gpu::UniqueShaderModule vs = gpu::create_shader_module(context, shaders::spirv("fullscreen_vert"));
     const gpu::UniqueShaderModule fs = gpu::create_shader_module(context, shaders::spirv("anaglyph_frag"));
     gpu::GraphicsPipelineDesc d;  // a full-screen triangle: no vertex buffers, no depth, no blending
     d.vertex = vs.get();
     d.fragment = fs.get();
-    (void)width;
-    (void)height;
     // Viewport and scissor are dynamic: the triangle is cut to the pixels the eyes' frame drew (record()).
     return gpu::create_graphics_pipeline(context.device(), pass, layout, d);
 }
@@ -270,7 +267,7 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) 
     VkFramebuffer framebuffer = VK_NULL_HANDLE;
     gpu::check(vkCreateFramebuffer(device, &fb, nullptr, &framebuffer), "vkCreateFramebuffer");
     im.framebuffer = gpu::UniqueFramebuffer(device, framebuffer);
-    im.pipeline = make_pipeline(context, im.render_pass.get(), layout, width, height);
+    im.pipeline = make_pipeline(context, im.render_pass.get(), layout);
     return AnaglyphPass(std::move(impl));
 }
 

@@ -65,7 +65,7 @@ TEST(GpuContourLod, ReadBackTilesAreTheBuffersContentAndOnlyRedoneTilesAreReadAg
 
     compute::TileSurfaceCache cache;
     EXPECT_THROW(share.refresh_tiles(cache), Error);  // nothing is copied out unless asked
-    share.read_back_tiles(true);                      // copies the contour made so far
+    share.read_back_tiles();                      // copies the contour made so far
     const std::size_t read = share.refresh_tiles(cache);
     std::fill(wp.model.tiles.dirty.begin(), wp.model.tiles.dirty.end(), std::uint8_t{1});
     compute::Contourer cpu(wp.model);
@@ -182,7 +182,7 @@ TEST(GpuContourLod, LevelsBesideTheIndirectTilesMatchTheFullContourWithoutCracks
     compute::TileLodOptions lo;
     lo.cell_m = wp.model.lattice.cell_m;
     cache.enable_lod(lo);  // refresh builds the levels at once
-    share.read_back_tiles(true);
+    share.read_back_tiles();
     share.refresh_tiles(cache);
     ASSERT_FALSE(cache.groups().empty());
     std::vector<std::shared_ptr<const compute::TileSurface>> tiles;
