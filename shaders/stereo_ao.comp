@@ -64,10 +64,11 @@ void main() {
     int texel = int(pass.first_texel + gl_GlobalInvocationID.z);
     float near_z = 1e30;
     ivec2 near_p = block;
+    const vec4 depths = block_depths(block, texel, size);
     for (int k = 0; k < 4; ++k) {
         ivec2 p = block + ivec2(k & 1, k >> 1);
         if (p.x >= size.x || p.y >= size.y) continue;
-        float depth = texelFetch(depth_layers, ivec3(p, texel), 0).r;
+        float depth = depths[k];
         if (depth >= 1.0) continue;
         float z = eye_distance(depth, layer);
         if (z > 0.0 && z < near_z) {

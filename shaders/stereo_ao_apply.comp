@@ -21,11 +21,12 @@ void main() {
     int texel = int(pass.first_texel + gl_GlobalInvocationID.z);
     float z[4];
     bool any = false;
+    const vec4 depths = block_depths(block, texel, size);
     for (int k = 0; k < 4; ++k) {
         ivec2 p = block + ivec2(k & 1, k >> 1);
         z[k] = -1.0;
         if (p.x >= size.x || p.y >= size.y) continue;
-        float depth = texelFetch(depth_layers, ivec3(p, texel), 0).r;
+        float depth = depths[k];
         if (depth >= 1.0) continue;
         z[k] = eye_distance(depth, layer);
         any = any || z[k] > 0.0;

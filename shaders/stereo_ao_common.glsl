@@ -22,3 +22,11 @@ float eye_distance(float depth, int layer) {
     mat4 m = eyes.view_from_clip[layer];
     return -(m[2][2] * depth + m[3][2]) / (m[2][3] * depth + m[3][3]);
 }
+
+// The depth-buffer values of the 2x2 pixels block .. block + (1, 1) of texel layer `texel`, in the order
+// (0, 0), (1, 0), (0, 1), (1, 1): one gather (texels beyond the image's last row or column repeat its edge, as the
+// sampler clamps). Gathering at the block's shared corner picks exactly those four texels.
+vec4 block_depths(ivec2 block, int texel, ivec2 size) {
+    const vec4 g = textureGather(depth_layers, vec3(vec2(block + 1) / vec2(size), float(texel)), 0);
+    return g.wzxy;  // gather order: (0, 1), (1, 1), (1, 0), (0, 0)
+}
