@@ -1,7 +1,9 @@
 // shaders/anaglyph.frag - the anaglyph of the two eye layers of a stereo colour image, one output pixel per
 // fragment, with the arithmetic of the CPU reference renderer::compose (renderer/output/stereo_output.cpp):
 //   method 0 (Dubois): 8-bit codes decoded through the sRGB table, mixed by the Dubois matrices in linear
-//                      light, re-encoded to the nearest code: the count of code thresholds <= the value;
+//                      light, re-encoded by the sRGB formula in float and rounded (the reference counts the
+//                      code thresholds <= the value in double: a value within float rounding of a threshold
+//                      may land on the neighbouring code);
 //   method 1 (colour): (L.r, R.g, R.b) of the stored codes;
 //   method 2 (gray):   (Y(L), Y(R), Y(R)), Rec. 601 luma (299 r + 587 g + 114 b + 500) / 1000 in integers.
 // Alpha is 1. `swap` exchanges the eye layers (layer 0 = left eye).
@@ -14,7 +16,6 @@ layout(set = 0, binding = 1, std140) uniform Tables {
     vec4 left_rows[3];     // Dubois M_L rows (xyz), output r, g, b
     vec4 right_rows[3];    // Dubois M_R rows (xyz)
     vec4 to_linear[64];    // code c decoded: to_linear[c / 4][c % 4]
-    vec4 thresholds[64];   // boundary between codes k and k + 1: thresholds[k / 4][k % 4], k < 255
 } tables;
 
 layout(push_constant) uniform Mix {
@@ -30,22 +31,16 @@ uvec3 codes(int layer) {
 }
 
 float linear(uint code) { return tables.to_linear[code >> 2][code & 3u]; }
-float threshold(uint k) { return tables.thresholds[k >> 2][k & 3u]; }
 
 // sRGB encoding (IEC 61966-2-1) of linear light v in [0, 1], as a value 0..1.
 float srgb_from_linear(float v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055; }
 
-// Number of thresholds <= v (0..255): the nearest 8-bit sRGB code of linear v, clamped. The encoding formula
-// gives the code to within one (float pow against the table's double precision, far below half a code's
-// width); comparing with the thresholds on either side of it makes the count exact, with two table reads
-// instead of a binary search's eight.
+// The nearest 8-bit sRGB code of linear v, clamped to 0..255. The float formula agrees with the reference's
+// exact count of thresholds except within float rounding of a threshold, far below half a code's width.
 uint encode(float v) {
     if (!(v > 0.0)) return 0u;
     if (v >= 1.0) return 255u;
-    uint k = uint(clamp(round(srgb_from_linear(v) * 255.0), 0.0, 255.0));
-    if (k > 0u && threshold(k - 1u) > v) --k;
-    else if (k < 255u && threshold(k) <= v) ++k;
-    return k;
+    return uint(clamp(round(srgb_from_linear(v) * 255.0), 0.0, 255.0));
 }
 
 uint luma601(uvec3 c) { return (299u * c.r + 587u * c.g + 114u * c.b + 500u) / 1000u; }

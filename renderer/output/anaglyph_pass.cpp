@@ -43,7 +43,6 @@ struct AnaglyphUniform {
     float left_rows[3][4];
     float right_rows[3][4];
     float to_linear[256];
-    float thresholds[256];  ///< 255 used; the last is padding
 };
 
 /// shaders/anaglyph.frag `Mix`.
@@ -71,8 +70,6 @@ AnaglyphUniform make_uniform() {
         }
     const SrgbCodeTables& t = srgb_code_tables();
     for (int i = 0; i < 256; ++i) u.to_linear[i] = static_cast<float>(t.to_linear[i]);
-    for (int k = 0; k < 255; ++k) u.thresholds[k] = static_cast<float>(t.thresholds[k]);
-    u.thresholds[255] = 2.0f;
     return u;
 }
 
