@@ -44,6 +44,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         groups_.clear();
         group_pending_.clear();
         group_queued_.clear();
+        group_changed_at_.clear();
         return;
     }
     const GroupGrid grid{dims};
@@ -71,6 +72,9 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
     }
     std::vector<TileGroupSurface> groups;
     std::vector<bool> pending, queued;
+    std::vector<std::chrono::steady_clock::time_point> changed_at;
+    // Start-up's groups are never held back (Clock's epoch); a later change starts the group's settling time.
+    const auto now = refreshed_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     groups.reserve(next.size());
     for (auto& [id, g] : next) {
         std::sort(g.children.begin(), g.children.end());
@@ -83,16 +87,19 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             const auto at = static_cast<std::size_t>(old - groups_.begin());
             pending.push_back(group_pending_[at]);
             queued.push_back(at < group_queued_.size() && group_queued_[at]);
+            changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
         } else {
             g.version = fresh_tile_version();
             pending.push_back(true);
             queued.push_back(false);
+            changed_at.push_back(now);
         }
         groups.push_back(std::move(g));
     }
     groups_ = std::move(groups);
     group_pending_ = std::move(pending);
     group_queued_ = std::move(queued);
+    group_changed_at_ = std::move(changed_at);
 }
 
 bool TileSurfaceCache::group_ready(std::size_t g) const {

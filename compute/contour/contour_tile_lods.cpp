@@ -25,7 +25,9 @@ std::size_t index_of(const std::vector<T>& sorted, std::uint64_t id) {
 void TileSurfaceCache::build_lods_in_background(LodWorkerOptions worker) {
     if (!lod_) throw Error("TileSurfaceCache::build_lods_in_background: call enable_lod() first");
     worker.lod = lod_options_;
-    worker_ = std::make_unique<LodWorker>(std::move(worker));
+    worker_ = std::make_unique<LodWorker>(worker);
+    group_settle_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(worker.group_settle_s));
 }
 
 void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
@@ -44,8 +46,15 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
 
 void TileSurfaceCache::queue_ready_groups() {
     const auto now = std::chrono::steady_clock::now();
+    groups_settling_ = false;
+    settle_due_ = std::chrono::steady_clock::time_point::max();
     for (std::size_t g = 0; g < groups_.size(); ++g) {
         if (!group_pending_[g] || group_queued_[g] || !group_ready(g)) continue;
+        if (now - group_changed_at_[g] < group_settle_) {  // its tiles may change again: wait
+            groups_settling_ = true;
+            settle_due_ = std::min(settle_due_, group_changed_at_[g] + group_settle_);
+            continue;
+        }
         std::vector<LodPart> parts;
         gather_group_parts(groups_[g], parts);
         LodJob job;
@@ -104,7 +113,8 @@ std::size_t TileSurfaceCache::collect_lods() {
             queued_.erase(q);
         }
     }
-    if (!results.empty()) queue_ready_groups();  // only a result can make a group ready
+    // A result can make a group ready, and time ends a ready group's settling.
+    if (!results.empty() || (groups_settling_ && now >= settle_due_)) queue_ready_groups();
     return taken;
 }
 

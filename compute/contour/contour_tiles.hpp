@@ -120,7 +120,8 @@ public:
     /// From now on the levels are built on a LodWorker of the cache's own (made with `worker`, whose `lod` is
     /// replaced by enable_lod()'s options), never by refresh() or build_pending_lods(): refresh() queues a job
     /// per tile it rebuilds (those of every refresh after the first ahead of the first's), collect_lods() takes
-    /// the finished ones in and queues each group whose tiles and smaller groups all have theirs. Neither waits
+    /// the finished ones in and queues each group whose tiles and smaller groups all have theirs (a group a stroke
+    /// changed once none of its tiles has changed for LodWorkerOptions::group_settle_s). Neither waits
     /// for a build. Call after enable_lod() and before the first refresh(). Throws tridex::Error without
     /// enable_lod() or as LodWorker (threads, nice).
     void build_lods_in_background(LodWorkerOptions worker = {});
@@ -162,6 +163,10 @@ private:
     };
     std::unordered_map<std::uint64_t, Queued> queued_;  // per tile id, or group id with the top bit: newest job
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
+    std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
+    std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
+    bool groups_settling_ = false;                 // a ready group waits for its settling time
+    std::chrono::steady_clock::time_point settle_due_{};  // the first settling group's time is up then
     bool refreshed_ = false;                       // refresh() ran at least once
     std::vector<double> lod_latency_ms_;
 };

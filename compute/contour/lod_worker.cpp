@@ -46,6 +46,8 @@ LodWorker::LodWorker(LodWorkerOptions options) : options_(std::move(options)) {
     if (options_.threads < 1) throw Error("LodWorker: threads must be >= 1, got " + std::to_string(options_.threads));
     if (options_.nice < 0 || options_.nice > 19)
         throw Error("LodWorker: nice must lie in 0..19, got " + std::to_string(options_.nice));
+    if (!(options_.group_settle_s >= 0.0 && options_.group_settle_s <= 10.0))
+        throw Error("LodWorker: group_settle_s must lie in 0..10 s, got " + std::to_string(options_.group_settle_s));
     for (int i = 0; i < options_.threads; ++i) threads_.emplace_back([this] { run(); });
 }
 

@@ -53,6 +53,12 @@ struct LodWorkerOptions {
     /// Linux nice value of the worker threads (0..19; higher = lower priority): frames, sculpting and the
     /// haptic loop (SCHED_FIFO when granted) go first when the cores are busy. Ignored elsewhere.
     int nice = 5;
+    /// TileSurfaceCache::build_lods_in_background: a group of tiles that changed after the first refresh (a
+    /// stroke's) is queued only once no tile under it has changed for this long, s (0..10; 0 = as soon as its
+    /// tiles have their levels). A stroke re-contours the same tiles step after step, and a group's levels are
+    /// made from all of its tiles, so without it most of a group's builds are outdated before they finish. The
+    /// tiles themselves are queued at once; while a group waits they stand for it. Start-up's groups never wait.
+    double group_settle_s = 0.25;
     /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
     std::function<void(const LodJob&)> before_job;
 };

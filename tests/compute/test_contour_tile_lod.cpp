@@ -1,11 +1,14 @@
 // Tests of compute/contour/tile_lod (per-tile levels of detail) and surface_distance: any mix of levels across
 // tiles stays a closed manifold (border edges shared), every level lies within its sampled bound of the full
 // mesh (dense samples, both directions) and near its estimated error, flat faces lose every interior vertex,
-// levels built in the background equal those built at once, bad input is refused.
+// levels built in the background equal those built at once, a stroke's groups wait for its tiles to settle,
+// bad input is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <array>
 #include <cstdio>
 #include <cstring>
@@ -17,6 +20,7 @@
 
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/lod_worker.hpp"
 #include "compute/contour/surface_distance.hpp"
 #include "compute/contour/tile_lod.hpp"
 #include "core/error.hpp"
@@ -293,6 +297,78 @@ TEST(TileLod, DeferredLevelsArriveWithNewVersionsAndMatchImmediateOnes) {
             EXPECT_EQ(a.lods[k].mesh.triangles, b.lods[k].mesh.triangles);
             EXPECT_EQ(a.lods[k].error_m, b.lods[k].error_m);
         }
+    }
+}
+
+// A stroke re-contours tiles step after step: the groups over them wait until their tiles have been quiet for
+// group_settle_s before their levels are built, while the tiles' own levels are built at once. Start-up's groups
+// never wait.
+TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
+    for (const double settle : {10.0, 0.05}) {
+        SCOPED_TRACE("group_settle_s " + std::to_string(settle));
+        TriDexel model = empty_model(cube_lattice(40));
+        const Vec3 lo(3.3, 4.4, 2.6);
+        Vec3 hi(40 - 3.7, 40 - 2.2, 40 - 4.1);
+        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+        Contourer c(model);
+        c.update(model);
+        TileSurfaceCache cache;
+        TileLodOptions o;
+        o.cell_m = model.lattice.cell_m;
+        cache.enable_lod(o);
+        LodWorkerOptions w;
+        w.group_settle_s = settle;
+        cache.build_lods_in_background(w);
+        cache.refresh(c);
+        const auto settled = [&](const std::function<bool()>& done) {
+            const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+            while (!done() && std::chrono::steady_clock::now() < limit) {
+                cache.collect_lods();
+                std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            }
+            return done();
+        };
+        ASSERT_TRUE(settled([&] { return cache.lod_pending() == 0; }));  // start-up: within 20 s
+        ASSERT_GT(cache.groups().size(), 1u);
+        std::map<std::uint64_t, bool> had_levels;  // per group before the stroke
+        for (const TileGroupSurface& g : cache.groups()) had_levels[g.id] = !g.lods.empty();
+        // The stroke: one face of the box moves in, re-contouring the tiles along it.
+        hi.x -= 1.3;
+        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+        std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // as a Boolean marks them
+        c.update(model);
+        ASSERT_GT(cache.refresh(c), 0u);
+        const auto tiles_built = [&] {
+            for (const TileSurface& t : cache.tiles())
+                if (!t.lods_built) return false;
+            return true;
+        };
+        ASSERT_TRUE(settled(tiles_built));
+        const std::size_t waiting = cache.lod_pending();  // groups only: every tile has its levels
+        EXPECT_GT(waiting, 0u);
+        EXPECT_LT(waiting, cache.groups().size());  // those over the moved face only
+        if (settle > 1.0) {
+            // However often their results are asked for, the changed groups still wait, without levels.
+            for (int i = 0; i < 50; ++i) {
+                cache.collect_lods();
+                std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            }
+            EXPECT_EQ(cache.lod_pending(), waiting);
+            std::size_t without = 0;
+            for (const TileGroupSurface& g : cache.groups()) without += had_levels[g.id] && g.lods.empty() ? 1 : 0;
+            EXPECT_GT(without, 0u);  // groups that had levels lost them to the stroke and wait
+            EXPECT_LE(without, waiting);
+        } else {
+            EXPECT_TRUE(settled([&] { return cache.lod_pending() == 0; }));
+            for (const TileGroupSurface& g : cache.groups())
+                EXPECT_EQ(!g.lods.empty(), had_levels[g.id]) << "group " << g.id;
+        }
+    }
+    LodWorkerOptions bad;
+    bad.lod.cell_m = 1e-3;
+    for (const double s : {-0.1, 11.0, std::nan("")}) {
+        bad.group_settle_s = s;
+        EXPECT_THROW(LodWorker{bad}, Error) << s;
     }
 }
 
