@@ -1,7 +1,7 @@
 #version 450
 // shaders/stereo_ao.comp - volumetric obscurance (Loos and Sloan, "Volumetric Obscurance", I3D 2010) of the
-// opaque phase of a stereo frame at half resolution: one evaluation per 2x2 pixel block and eye, written to
-// half_occlusion; stereo_ao_apply.comp then scales the colour layers with it.
+// opaque phase of a stereo frame at half or quarter resolution: one evaluation per BLOCK x BLOCK pixel block and
+// eye, written to half_occlusion; stereo_ao_apply.comp then scales the colour layers with it.
 // The block is represented by its nearest surface point P (distance z = -P.z in front of the eye). A sphere of
 // radius R around P is sampled along 8 line samples parallel to the view axis, at the offsets of a fixed disk
 // pattern in symmetric pairs (+u, -u) (a pattern turned from block to block would show as noise on faces seen at
@@ -11,8 +11,9 @@
 // on any plane, more in a concave cut (groove floor, the foot of a ridge), less on a convex edge or crest. The
 // colour scale is 1 + strength * (1 - 2 obscurance), clamped to 0.3..1.45: cuts darken, edges and crests
 // brighten, flat faces keep their colour. Pairs with a sample whose surface lies more than 2R in front of P
-// (another object in front) or outside the image are left out; samples on the background count as empty. Dispatched over the 2x2 blocks of the region
-// that may hold opaque surface plus a ring of one block (the neighbours stereo_ao_apply.comp reads).
+// (another object in front) or outside the image are left out; samples on the background count as empty.
+// Dispatched over the blocks of the region that may hold opaque surface plus a ring of one block (the neighbours
+// stereo_ao_apply.comp reads).
 #extension GL_GOOGLE_include_directive : require
 #include "stereo_ao_common.glsl"
 
@@ -58,22 +59,28 @@ float occlusion_scale(ivec2 p, float z, int layer, int texel, ivec2 size) {
 void main() {
     ivec2 size = textureSize(depth_layers, 0).xy;
     ivec2 t = ivec2(gl_GlobalInvocationID.xy) + pass.origin;
-    ivec2 block = t * 2;
+    ivec2 block = t * BLOCK;
     if (block.x >= size.x || block.y >= size.y) return;
     int layer = int(pass.first_eye + gl_GlobalInvocationID.z);
     int texel = int(pass.first_texel + gl_GlobalInvocationID.z);
     float near_z = 1e30;
     ivec2 near_p = block;
-    const vec4 depths = block_depths(block, texel, size);
-    for (int k = 0; k < 4; ++k) {
-        ivec2 p = block + ivec2(k & 1, k >> 1);
-        if (p.x >= size.x || p.y >= size.y) continue;
-        float depth = depths[k];
-        if (depth >= 1.0) continue;
-        float z = eye_distance(depth, layer);
-        if (z > 0.0 && z < near_z) {
-            near_z = z;
-            near_p = p;
+    for (int j = 0; j < BLOCK; j += 2) {
+        for (int i = 0; i < BLOCK; i += 2) {
+            const ivec2 q = block + ivec2(i, j);  // a 2x2 quad of the block, read with one gather
+            if (q.x >= size.x || q.y >= size.y) continue;
+            const vec4 depths = block_depths(q, texel, size);
+            for (int k = 0; k < 4; ++k) {
+                ivec2 p = q + ivec2(k & 1, k >> 1);
+                if (p.x >= size.x || p.y >= size.y) continue;
+                float depth = depths[k];
+                if (depth >= 1.0) continue;
+                float z = eye_distance(depth, layer);
+                if (z > 0.0 && z < near_z) {
+                    near_z = z;
+                    near_p = p;
+                }
+            }
         }
     }
     vec4 result = vec4(1.0, -1.0, 0.0, 0.0);

@@ -1,18 +1,23 @@
 // shaders/stereo_ao_common.glsl - resources and helpers shared by stereo_ao.comp and stereo_ao_apply.comp
 // (renderer/stereo/ambient_occlusion.cpp binds them).
 #define NO_DRAW_CONSTANTS 1
+// Pixels per occlusion value along x and y: 2 (half resolution) or 4 (quarter resolution); set at build time.
+#ifndef BLOCK
+#define BLOCK 2
+#endif
 #include "stereo_interface.glsl"
 
 layout(set = 0, binding = 1) uniform sampler2DArray depth_layers;       // D32, DEPTH_STENCIL_READ_ONLY_OPTIMAL
 layout(set = 0, binding = 2, rgba8) uniform image2DArray colour_layers;  // GENERAL
-// Half resolution, one layer per eye (layer = eye), GENERAL: per 2x2 pixel block the colour scale of its nearest
-// surface point (x) and that point's distance in front of the eye, m (y; -1 where the block shows no surface).
+// One value per BLOCK x BLOCK pixel block, one layer per eye (layer = eye), GENERAL: the colour scale of the block's
+// nearest surface point (x) and that point's distance in front of the eye, m (y; -1 where the block shows no
+// surface).
 layout(set = 0, binding = 3, rgba16f) uniform image2DArray half_occlusion;
 
 layout(push_constant, std430) uniform Pass {
     uint first_eye;    // eye (0 left, 1 right) of invocation z = 0
     uint first_texel;  // its layer in the bound depth and colour views (0 when they hold that one layer only)
-    ivec2 origin;      // half-resolution texel (2x2 pixel block) of invocation (0, 0): the dispatch covers a region
+    ivec2 origin;      // block (half_occlusion texel) of invocation (0, 0): the dispatch covers a region
 } pass;
 
 // Distance in front of the eye (m) of the surface with depth-buffer value `depth` in eye `layer`. The inverse of a

@@ -132,6 +132,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
     view.occlusion_strength = ao ? 1.0 : 0.0;
+    if (ao_budget) view.occlusion_resolution = ao_budget->resolution();
     if (study_view) {
         view.workpiece = nullptr;
         view.tiles = {};
@@ -244,6 +245,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
     if (mouse_stylus) mouse_stylus->shown(lv, Clock::now());
     prev_frame_ms = ms_between(t0, Clock::now());
     r.frame_ms.add(prev_frame_ms);
+    if (ao_budget && view.occlusion_strength > 0.0) ao_budget->add(prev_frame_ms);
     r.gpu_ms.add(rend->last_gpu_ms());
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
     r.frames = frame + 1;
@@ -291,6 +293,7 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
 void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
+    ao_budget.emplace(su.frame_target_ms);
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     t_render = Clock::now();
     r.first_frame_s = std::chrono::duration<double>(t_render.time_since_epoch()).count();
@@ -298,6 +301,7 @@ void RunPipeline::Parts::frame_loop() {
     run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
     rend->finish();  // the frames still in flight
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
+    r.occlusion_budget = ao_budget->to_json();
 }
 
 

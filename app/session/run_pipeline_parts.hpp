@@ -20,6 +20,7 @@
 #include "app/session/elastic_view.hpp"
 #include "app/session/frame_loop.hpp"
 #include "app/session/gpu_tile_split.hpp"
+#include "app/session/occlusion_budget.hpp"
 #include "app/session/report.hpp"
 #include "app/session/run_head.hpp"
 #include "app/session/run_mouse.hpp"
@@ -121,6 +122,7 @@ struct RunPipeline::Parts final : FrameSteps {
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
+    std::optional<OcclusionBudget> ao_budget;      // the occlusion's resolution on the frame-time budget
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail

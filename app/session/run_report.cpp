@@ -71,6 +71,7 @@ json render_json(const RunResult& r) {
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
                 {"ambient_occlusion", r.setup.ao},
+                {"occlusion_budget", r.occlusion_budget},
                 {"lod", lod_json(r, log)},
 
                 {"force_m_per_newton", r.force_m_per_newton},

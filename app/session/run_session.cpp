@@ -126,6 +126,10 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
+    if (!std::isfinite(o.frame_target_ms) || o.frame_target_ms < 0.0)
+        throw Error("--frame-target-ms: must be a finite number of ms >= 0 (0 = no budget), got " +
+                    std::to_string(o.frame_target_ms));
+    s.frame_target_ms = o.frame_target_ms;
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
         if (digits && o.monitor.size() < 4)

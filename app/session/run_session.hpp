@@ -46,6 +46,7 @@ struct RunSetup {
     bool cull = true;               ///< tiles culled per eye
     bool lod = true;                ///< tile levels of detail (--lod on|off, on by default; docs/design/lod.md)
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
+    double frame_target_ms = 25.0;  ///< the occlusion's frame-time budget, ms (--frame-target-ms; 0 = none)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)
@@ -105,6 +106,7 @@ struct RunResult {
     bool tiled = false;                          ///< the workpiece was drawn as tiles (false: the whole mesh)
     std::size_t tiles_last = 0;                  ///< tiles in the last mesh drawn (0 for the whole mesh)
     RenderLog render;                            ///< per-frame tiles drawn / skipped and per-pass GPU times
+    nlohmann::json occlusion_budget;             ///< OcclusionBudget::to_json() at the end (null: no frame)
     double force_m_per_newton = 0.0;             ///< force arrow scale, m per N (0 without items)
     std::string device;                          ///< Vulkan device name
     std::string eye_strategy;                    ///< the renderer's eye strategy note

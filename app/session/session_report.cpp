@@ -99,8 +99,9 @@ const std::vector<ReportField>& report_schema() {
         {"tick_compute_us", "haptic tick compute time, us: {median, p99, mean, max}"},
         {"booleans", "swept-volume Booleans applied (as sculpt.booleans)"},
         {"tiles_recontoured", "dirty tiles re-contoured (as sculpt.tiles_recontoured)"},
-        {"haptics", "the haptic loop: ticks, rate, period and compute quantiles, contact, forces, device status, "
-                    "stiffness_n_per_m, device_link (null without a device transport)"},
+        {"haptics",
+         "the haptic loop: ticks, rate, period and compute quantiles, contact, forces, device status, "
+         "stiffness_n_per_m, device_link (null without a device transport)"},
         {"link", "a device served by `tridex device-server`: {mode, rtt_us, lost, rate_hz, ...}; null otherwise"},
         {"sculpt", "the sculpt thread's counters"},
         {"sculpt.samples", "tool samples drained from the haptic loop"},
@@ -114,11 +115,14 @@ const std::vector<ReportField>& report_schema() {
         {"sculpt.contour_ms", "per changing step: dirty-tile re-contouring, ms {median, p99, mean, max}"},
         {"sculpt.tiles_initial", "tiles contoured before the session"},
         {"sculpt.tiles_total", "tiles in the model's tile grid"},
-        {"sculpt.backend", "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
-        {"sculpt.backend_reason", "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
-                                  "Vulkan device is a CPU implementation (llvmpipe ...)\""},
-        {"sculpt.islands_removed", "specks removed: pieces a stroke cut loose, smaller than its tool's ball (0 with "
-                                   "--keep-islands)"},
+        {"sculpt.backend",
+         "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
+        {"sculpt.backend_reason",
+         "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
+         "Vulkan device is a CPU implementation (llvmpipe ...)\""},
+        {"sculpt.islands_removed",
+         "specks removed: pieces a stroke cut loose, smaller than its tool's ball (0 with "
+         "--keep-islands)"},
         {"sculpt.island_volume_m3", "their volume, m^3"},
         {"sculpt.island_searches", "strokes searched for specks (strokes that cut; 0 with --keep-islands)"},
         {"sculpt.island_search_ms", "per stroke searched: the search and the removal, ms {median, p99, mean, max}"},
@@ -162,11 +166,13 @@ const std::vector<ReportField>& report_schema() {
         {"refresh_hz", "the display's refresh rate, Hz; null for demo and replay (one frame at the end)"},
         {"eye_separation_m", "distance between the eyes, m"},
         {"present_mode", "window: the swap chain's present mode; offscreen: offscreen"},
-        {"head", "where the head pose came from: {provider, frames_held (frames drawn from the last good head pose: the "
-                 "head was at or behind the screen, or not finite), ...} (DTrack: frames tracked, stale, latency)"},
+        {"head",
+         "where the head pose came from: {provider, frames_held (frames drawn from the last good head pose: the "
+         "head was at or behind the screen, or not finite), ...} (DTrack: frames tracked, stale, latency)"},
         {"wand", "the navigation wand: {provider: none} or the DTrack wand's report"},
-        {"frames", "run: frames rendered, presents, frame_ms, interval_ms, gpu_ms histograms; null for demo and "
-                   "replay"},
+        {"frames",
+         "run: frames rendered, presents, frame_ms, interval_ms, gpu_ms histograms; null for demo and "
+         "replay"},
         {"render", "the renderer"},
         {"render.device", "the Vulkan device that rendered"},
         {"render.eye_strategy", "as eye_strategy"},
@@ -181,17 +187,23 @@ const std::vector<ReportField>& report_schema() {
          "run: tile levels of detail {on, tiles_built, groups_built, build_ms, pending_at_end, "
          "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, tile_triangles_per_frame}; null "
          "otherwise"},
+        {"render.occlusion_budget",
+         "run: the ambient occlusion's frame-time budget {target_ms, window, frames_half, frames_quarter, switches, "
+         "now "
+         "(half | quarter)}; null for demo and replay"},
         {"render.force_m_per_newton", "force arrow scale, m per N (0 without items); null for demo and replay"},
         {"render.timing", "run: how pass times were measured; null for demo and replay"},
         {"render.tiles", "run: tiles drawn and skipped per frame and eye; null for demo and replay"},
         {"render.passes", "run: per pass and eye, {count, total_ms, median_ms, p99_ms, max_ms}; null otherwise"},
-        {"meshes", "run: meshes drawn and published {versions_drawn, last_version, published, publish_ms, sample_to_drawn_ms, "
-                   "sample_to_published_ms, "
-                   "triangles}; null for demo and replay"},
+        {"meshes",
+         "run: meshes drawn and published {versions_drawn, last_version, published, publish_ms, sample_to_drawn_ms, "
+         "sample_to_published_ms, "
+         "triangles}; null for demo and replay"},
         {"mouse", "the mouse stylus's counters (--device mouse); null otherwise"},
         {"study", "a study scene's trial report; null otherwise"},
-        {"cluster", "run --cluster, rank 0: the render ranks kept in step (frames, bytes, checks, latency, swap spread, "
-                    "each rank's report, failure); null otherwise"},
+        {"cluster",
+         "run --cluster, rank 0: the render ranks kept in step (frames, bytes, checks, latency, swap spread, "
+         "each rank's report, failure); null otherwise"},
         {"timing_s", "wall times, s"},
         {"timing_s.scan_convert", "scan conversion (or model loading)"},
         {"timing_s.contour_initial", "the initial contouring"},

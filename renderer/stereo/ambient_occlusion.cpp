@@ -14,7 +14,7 @@ namespace tridex::renderer {
 namespace {
 
 constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp and stereo_ao_apply.comp
-constexpr std::uint32_t kBlock = 2;  // pixels per invocation along x and y (2x2 blocks, one half-resolution texel)
+constexpr std::uint32_t kBlock = 2;  // the finest block (pixels per value along x and y): the image's size
 constexpr std::uint32_t kBindings = 4;
 
 }  // namespace
@@ -60,10 +60,14 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     VkPipelineLayout layout = VK_NULL_HANDLE;
     gpu::check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
     a.layout_ = gpu::UniquePipelineLayout(device, layout);
-    const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv("stereo_ao_comp"));
-    a.pipeline_ = gpu::create_compute_pipeline(context, module.get(), layout);
-    const gpu::UniqueShaderModule apply = gpu::create_shader_module(context, shaders::spirv("stereo_ao_apply_comp"));
-    a.apply_pipeline_ = gpu::create_compute_pipeline(context, apply.get(), layout);
+    const char* const names[2][2] = {{"stereo_ao_comp", "stereo_ao_apply_comp"},
+                                     {"stereo_ao4_comp", "stereo_ao4_apply_comp"}};
+    for (int r = 0; r < 2; ++r) {
+        const gpu::UniqueShaderModule module = gpu::create_shader_module(context, shaders::spirv(names[r][0]));
+        a.pipelines_[r] = gpu::create_compute_pipeline(context, module.get(), layout);
+        const gpu::UniqueShaderModule apply = gpu::create_shader_module(context, shaders::spirv(names[r][1]));
+        a.apply_pipelines_[r] = gpu::create_compute_pipeline(context, apply.get(), layout);
+    }
 
     VkSamplerCreateInfo si{};
     si.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
@@ -101,7 +105,7 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
 }
 
 void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count,
-                              const PixelRect& region) const {
+                              const PixelRect& region, OcclusionResolution resolution) const {
     const PixelRect r = unite(PixelRect{}, PixelRect{std::max(region.x0, 0), std::max(region.y0, 0),
                                                      std::min(region.x1, width_), std::min(region.y1, height_)});
     if (layer_count == 0 || r.empty()) return;
@@ -109,9 +113,12 @@ void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, st
     const VkDescriptorSet set = layer_count == 1 ? sets_[1 + first_layer] : sets_[0];
     // The region in blocks: [b0, b1) for the colour pass, one block wider on each side (clamped) for the
     // half-resolution pass, whose values the colour pass reads around each block.
-    const int blocks_x = (width_ + static_cast<int>(kBlock) - 1) / static_cast<int>(kBlock);
-    const int blocks_y = (height_ + static_cast<int>(kBlock) - 1) / static_cast<int>(kBlock);
-    const int b0x = r.x0 / 2, b0y = r.y0 / 2, b1x = (r.x1 + 1) / 2, b1y = (r.y1 + 1) / 2;
+    const int quarter = resolution == OcclusionResolution::kQuarter ? 1 : 0;
+    const int block = 2 << quarter;  // pixels per value along x and y
+    const int blocks_x = (width_ + block - 1) / block;
+    const int blocks_y = (height_ + block - 1) / block;
+    const int b0x = r.x0 / block, b0y = r.y0 / block, b1x = (r.x1 + block - 1) / block,
+              b1y = (r.y1 + block - 1) / block;
     const int h0x = std::max(b0x - 1, 0), h0y = std::max(b0y - 1, 0);
     const int h1x = std::min(b1x + 1, blocks_x), h1y = std::min(b1y + 1, blocks_y);
     const auto groups = [](int blocks) { return (static_cast<std::uint32_t>(blocks) + kGroup - 1) / kGroup; };
@@ -134,7 +141,7 @@ void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, st
     const std::uint32_t half_push[4] = {eye_texel[0], eye_texel[1], static_cast<std::uint32_t>(h0x),
                                         static_cast<std::uint32_t>(h0y)};
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof half_push, half_push);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[quarter].get());
     vkCmdDispatch(cmd, groups(h1x - h0x), groups(h1y - h0y), layer_count);
     // The half-resolution values -> the upsampling pass.
     VkImageMemoryBarrier written = to_general;
@@ -146,7 +153,7 @@ void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, st
     const std::uint32_t apply_push[4] = {eye_texel[0], eye_texel[1], static_cast<std::uint32_t>(b0x),
                                          static_cast<std::uint32_t>(b0y)};
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof apply_push, apply_push);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, apply_pipeline_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, apply_pipelines_[quarter].get());
     vkCmdDispatch(cmd, groups(b1x - b0x), groups(b1y - b0y), layer_count);
 }
 

@@ -13,11 +13,15 @@
 
 namespace tridex::renderer {
 
+/// How finely AmbientOcclusion evaluates the obscurance: once per 2x2 pixel block (kHalf, the default) or per 4x4
+/// block (kQuarter: about a quarter of the first dispatch's work, softer detail; the upsampling keeps silhouettes).
+enum class OcclusionResolution { kHalf, kQuarter };
+
 /// The compute passes that shade a stereo target's colour layers by how enclosed each opaque pixel is, read from
 /// its depth layers (Loos and Sloan, "Volumetric Obscurance", I3D 2010): concave cuts (a groove's floor, the foot
 /// of a ridge) darken, convex edges and crests brighten, flat faces keep their colour. Two dispatches per record():
-/// shaders/stereo_ao.comp evaluates the obscurance once per 2x2 pixel block (8 line samples in 4 symmetric pairs)
-/// into a half-resolution image the pass owns, then shaders/stereo_ao_apply.comp scales every
+/// shaders/stereo_ao.comp evaluates the obscurance once per 2x2 (or 4x4, OcclusionResolution) pixel block (8 line
+/// samples in 4 symmetric pairs) into an image the pass owns, then shaders/stereo_ao_apply.comp scales every
 /// covered pixel by a depth-aware bilinear blend of the four values around it. The sphere radius (m) and strength
 /// come from EyesUniform::occlusion, the eyes' inverse projections from EyesUniform::view_from_clip /
 /// pixels_per_metre. Bound to one StereoTarget and one EyesUniform buffer; frames in flight may share it (record()
@@ -38,18 +42,20 @@ public:
     /// stereo render passes' external dependencies do both). Only pixels inside `region` (clamped to the image)
     /// are shaded: it must hold every opaque pixel of those layers (e.g. the union of project_box() of the
     /// opaque draws' bounds); pixels outside keep their colour. Nothing is recorded for an empty region.
-    void record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count, const PixelRect& region) const;
+    /// `resolution`: one obscurance value per 2x2 or per 4x4 pixels.
+    void record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count, const PixelRect& region,
+                OcclusionResolution resolution = OcclusionResolution::kHalf) const;
 
-    bool valid() const { return pipeline_.get() != VK_NULL_HANDLE; }  ///< false when default-constructed
+    bool valid() const { return pipelines_[0].get() != VK_NULL_HANDLE; }  ///< false when default-constructed
 
 private:
     using UniqueSampler = gpu::UniqueHandle<VkSampler, vkDestroySampler>;
     int width_ = 0, height_ = 0;
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout layout_;
-    gpu::UniquePipeline pipeline_;        // stereo_ao.comp: half-resolution obscurance
-    gpu::UniquePipeline apply_pipeline_;  // stereo_ao_apply.comp: upsample and scale the colour
-    gpu::ImageArray half_;                // RGBA16F, one layer per eye; its contents last one record()
+    gpu::UniquePipeline pipelines_[2];        // stereo_ao.comp: the obscurance per 2x2 block, per 4x4 block
+    gpu::UniquePipeline apply_pipelines_[2];  // stereo_ao_apply.comp: upsample and scale the colour, likewise
+    gpu::ImageArray half_;                    // RGBA16F, one layer per eye; its contents last one record()
     UniqueSampler sampler_;
     gpu::UniqueDescriptorPool pool_;
     VkDescriptorSet sets_[3] = {};  // both layers, layer 0 only, layer 1 only; freed with the pool

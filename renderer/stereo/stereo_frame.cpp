@@ -31,7 +31,8 @@ int boundary_before(int phase) { return phase == 0 ? 0 : phase + 1; }
 void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, const StereoTarget& target,
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps, int eye_count, const AmbientOcclusion* occlusion,
-                         const std::array<PixelRect, 2>& occlusion_regions, bool readback) {
+                         const std::array<PixelRect, 2>& occlusion_regions, bool readback,
+                         OcclusionResolution occlusion_resolution) {
     const auto w = static_cast<std::uint32_t>(target.width());
     const auto h = static_cast<std::uint32_t>(target.height());
     VkClearValue clears[2]{};
@@ -137,10 +138,12 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
         vkCmdEndRenderPass(cmd);
         if (occlusion != nullptr) {
             if (per_eye)
-                occlusion->record(cmd, static_cast<std::uint32_t>(pass), 1, occlusion_regions[pass]);
+                occlusion->record(cmd, static_cast<std::uint32_t>(pass), 1, occlusion_regions[pass],
+                                  occlusion_resolution);
             else
                 occlusion->record(cmd, 0, mono ? 1u : 2u,
-                                  mono ? occlusion_regions[0] : unite(occlusion_regions[0], occlusion_regions[1]));
+                                  mono ? occlusion_regions[0] : unite(occlusion_regions[0], occlusion_regions[1]),
+                                  occlusion_resolution);
         }
         begin_pass(pipeline.resume_pass(), pass);
         record_phases(pass, opaque + 1, kDrawPhaseCount - 1);

@@ -82,7 +82,7 @@ struct PhaseTimestamps {
 /// opaque phase in pipeline.render_pass() (clearing colour to `clear_rgba` (linear, 0..1) and depth to 1), then
 /// `occlusion`'s dispatches over that instance's layers (none when `occlusion` is null) within
 /// `occlusion_regions` (per eye, pixels that may hold opaque surface; an instance drawing both eyes uses the
-/// union of the two), then the translucent and
+/// union of the two) at `occlusion_resolution`, then the translucent and
 /// overlay phases in pipeline.resume_pass(); `draws` for both eyes grouped by phase
 /// (opaque, then translucent, then overlay; list order kept within a phase), each as its eye_mask allows
 /// (pass-per-eye: once per pass whose eye is in the mask, constants.eye = pass; multiview: once, the view
@@ -99,7 +99,8 @@ void record_stereo_frame(VkCommandBuffer cmd, const StereoPipeline& pipeline, co
                          VkDescriptorSet eyes, std::span<const StereoDraw> draws, const float clear_rgba[4],
                          const PhaseTimestamps& timestamps = {}, int eye_count = 2,
                          const AmbientOcclusion* occlusion = nullptr,
-                         const std::array<PixelRect, 2>& occlusion_regions = {}, bool readback = true);
+                         const std::array<PixelRect, 2>& occlusion_regions = {}, bool readback = true,
+                         OcclusionResolution occlusion_resolution = OcclusionResolution::kHalf);
 
 /// Records the copy of the target's colour layers (layer 0 only when eye_count == 1; they must be in
 /// TRANSFER_SRC_OPTIMAL with the frame's writes visible to transfer reads, as record_stereo_frame leaves them)

@@ -511,7 +511,7 @@ FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slo
     if (fr.gpu_timing) fr.timer.record_begin(cmd);
     record_stereo_frame(cmd, *pipeline, *target, fr.eyes->set(), draws, kClear,
                         fr.gpu_timing ? fr.timer.phases() : PhaseTimestamps{}, eye_count,
-                        occlusion ? &fr.occlusion : nullptr, list.opaque_region(), false);
+                        occlusion ? &fr.occlusion : nullptr, list.opaque_region(), false, scene.occlusion_resolution);
     last_read_back = false;
     if (fr.gpu_timing) fr.timer.record_end(cmd);
     fr.submitted = std::chrono::steady_clock::now();

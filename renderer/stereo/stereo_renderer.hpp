@@ -19,6 +19,7 @@
 #include "renderer/image/image.hpp"
 #include "renderer/scene/tile_group_lod.hpp"
 #include "renderer/scene/tile_mesh_cache.hpp"
+#include "renderer/stereo/ambient_occlusion.hpp"
 #include "renderer/stereo/eye_strategy.hpp"
 #include "renderer/stereo/screen_region.hpp"
 #include "renderer/timing/frame_stats.hpp"
@@ -127,6 +128,9 @@ struct SceneView {
     /// filled one is darkened to 0.3, an empty one brightened to 1.45). Non-finite or negative values throw.
     double occlusion_radius_m = 0.012;
     double occlusion_strength = 1.0;
+    /// How finely the occlusion is evaluated: per 2x2 pixels (the default) or per 4x4 (a quarter of its first
+    /// dispatch's work; a session on a frame-time budget chooses it, app/session/occlusion_budget.hpp).
+    OcclusionResolution occlusion_resolution = OcclusionResolution::kHalf;
 };
 
 /// The two eyes' images of one frame, each width x height RGBA, and the frame's statistics.

@@ -15,8 +15,9 @@
 
 #include "app/commands/run_cli.hpp"
 #include "app/input/run_input.hpp"
-#include "app/session/run_options.hpp"
 #include "app/scene/run_scene.hpp"
+#include "app/session/occlusion_budget.hpp"
+#include "app/session/run_options.hpp"
 #include "app/session/run_sculpt.hpp"
 #include "app/session/run_session.hpp"
 #include "app/session/run_view.hpp"
@@ -211,6 +212,12 @@ TEST(RunOptions, BadOptionsAreRefusedNamingTheOption) {
     EXPECT_FALSE(resolve_run(o).ao);
     o.ao = "maybe";
     EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--ao"), std::string::npos);
+    o.ao = "on";
+    EXPECT_DOUBLE_EQ(s.frame_target_ms, 25.0);  // the occlusion's budget at the desk's target
+    o.frame_target_ms = 0.0;
+    EXPECT_DOUBLE_EQ(resolve_run(o).frame_target_ms, 0.0);
+    o.frame_target_ms = -5.0;
+    EXPECT_NE(error_of([&] { (void)resolve_run(o); }).find("--frame-target-ms"), std::string::npos);
 }
 
 TEST(ImageSize, ParsesWidthByHeightAndRefusesTheRest) {
@@ -457,6 +464,46 @@ TEST(RunOptions, AWindowWithNoDeviceNamedUsesTheMouse) {
     EXPECT_EQ(driver(bare, "window", "simulated"), "simulated");
     EXPECT_EQ(driver(named, "window", ""), "simulated");
     fs::remove_all(dir);
+}
+
+// The ambient occlusion's frame-time budget: 2x2 while the median frame fits, 4x4 after a window over the target, and
+// back to 2x2 only once the frames plus what 2x2 cost more would fit within 90 % of the target.
+TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
+    using renderer::OcclusionResolution;
+    OcclusionBudget b(25.0, 10);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
+    for (int i = 0; i < 10; ++i) b.add(i < 6 ? 20.0 : 40.0);  // median 20: fits
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
+    for (int i = 0; i < 9; ++i) b.add(34.0);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);  // a choice holds for a whole window
+    b.add(34.0);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
+    // At 4x4: 30 ms, so 2x2 costs 4 ms more: back at 2x2 it would be 34 again: stays.
+    for (int i = 0; i < 10; ++i) b.add(30.0);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
+    // The scene got lighter: 19 ms at 4x4, so 23 ms at 2x2, over 22.5 (90 % of 25): stays; 18 ms: back.
+    for (int i = 0; i < 10; ++i) b.add(19.0);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
+    for (int i = 0; i < 10; ++i) b.add(18.0);
+    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
+    EXPECT_EQ(b.switches(), 2u);
+    EXPECT_EQ(b.frames_half(), 20u);
+    EXPECT_EQ(b.frames_quarter(), 30u);
+    b.add(std::nan(""));  // ignored
+    b.add(-1.0);
+    EXPECT_EQ(b.frames_half(), 20u);
+    const nlohmann::json j = b.to_json();
+    EXPECT_EQ(j.at("now"), "half");
+    EXPECT_EQ(j.at("switches"), 2);
+    EXPECT_DOUBLE_EQ(j.at("target_ms").get<double>(), 25.0);
+    // No budget: always 2x2.
+    OcclusionBudget none(0.0, 5);
+    for (int i = 0; i < 50; ++i) none.add(100.0);
+    EXPECT_EQ(none.resolution(), OcclusionResolution::kHalf);
+    EXPECT_EQ(none.switches(), 0u);
+    EXPECT_THROW(OcclusionBudget(-1.0), Error);
+    EXPECT_THROW(OcclusionBudget(std::nan("")), Error);
+    EXPECT_THROW(OcclusionBudget(25.0, 2), Error);
 }
 
 }  // namespace
