@@ -32,6 +32,7 @@ struct DeskBenchRow {
     double lag_frames = 0;                         ///< lag_median_ms over the frame interval (or time)
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
+    nlohmann::json occlusion_budget;               ///< report.json render.occlusion_budget (frames at 2x2 / 4x4)
     bool target_met = false;                       ///< median <= 25 ms, p99 <= 40 ms and lag <= 2 frames
 };
 

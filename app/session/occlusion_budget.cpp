@@ -12,8 +12,10 @@
 namespace tridex {
 namespace {
 
-// Predicted frames at 2x2 must fit within this share of the target before the budget goes back to 2x2.
+// Frames at 4x4 must fit within this share of the target before the budget tries 2x2 again.
 constexpr double kReturnShare = 0.9;
+// The longest wait, in windows at 4x4, between two trials of 2x2 that failed.
+constexpr int kMaxBackoff = 32;
 
 double median_of(std::vector<double> v) {
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -42,19 +44,23 @@ void OcclusionBudget::add(double frame_ms) {
     if (recent_.size() < window_) return;
     const double median = median_of(recent_);
     recent_.clear();
-    if (!quarter && median > target_ms_) {
-        half_median_ms_ = median;
-        extra_ms_ = -1.0;
-        resolution_ = renderer::OcclusionResolution::kQuarter;
-        ++switches_;
-    } else if (quarter) {
-        // What 2x2 costs more: the first window at 4x4 against the last one at 2x2, side by side in time (never
-        // less than nothing: a busier moment may have hidden it).
-        if (extra_ms_ < 0.0) extra_ms_ = std::max(half_median_ms_ - median, 0.0);
-        if (median + extra_ms_ < kReturnShare * target_ms_) {
-            resolution_ = renderer::OcclusionResolution::kHalf;
+    if (!quarter) {
+        const bool over = median > target_ms_;
+        if (probing_) backoff_ = over ? std::min(backoff_ * 2, kMaxBackoff) : 1;  // the trial at 2x2 failed / held
+        probing_ = false;
+        if (over) {
+            resolution_ = renderer::OcclusionResolution::kQuarter;
+            windows_at_quarter_ = 0;
             ++switches_;
         }
+        return;
+    }
+    ++windows_at_quarter_;
+    // Frames well within the target at 4x4 for long enough: try 2x2 again for one window.
+    if (median < kReturnShare * target_ms_ && windows_at_quarter_ >= backoff_) {
+        resolution_ = renderer::OcclusionResolution::kHalf;
+        probing_ = true;
+        ++switches_;
     }
 }
 

@@ -12,10 +12,11 @@ namespace tridex {
 
 /// Chooses, frame by frame, how finely a live session evaluates its ambient occlusion
 /// (renderer::OcclusionResolution) so that frames keep to a frame-time target: per 2x2 pixels while they fit, per
-/// 4x4 pixels (about a quarter of the obscurance dispatch's work) when the median of the last `window` frames is
-/// over the target; back to 2x2 once the frames measured at 4x4, plus what 2x2 cost more (the last window at 2x2
-/// against the first at 4x4), would fit within 90 % of the target. Every choice holds for a whole window of frames measured with it, so the
-/// picture does not flicker between the two. Single-threaded (the render thread).
+/// 4x4 pixels (about a quarter of the obscurance dispatch's work) when the median of a window of frames is over
+/// the target. Once a window at 4x4 is within 90 % of the target it tries 2x2 again for a window; a trial that goes
+/// over the target doubles the windows to wait at 4x4 before the next one (up to 32), one that fits resets it. Every
+/// choice holds for a whole window of frames measured with it, so the picture does not flicker between the two.
+/// Single-threaded (the render thread).
 class OcclusionBudget {
 public:
     /// target_ms: the frame-time target, ms (finite, >= 0; 0 = no budget: always 2x2). window: frames per
@@ -39,8 +40,9 @@ private:
     std::size_t window_;
     renderer::OcclusionResolution resolution_ = renderer::OcclusionResolution::kHalf;
     std::vector<double> recent_;    // this choice's frames, up to a window
-    double half_median_ms_ = -1.0;  // the median frame at 2x2 when it was last given up (-1: never)
-    double extra_ms_ = -1.0;        // what 2x2 cost more than 4x4 then, ms (-1: not measured yet)
+    bool probing_ = false;          // this window at 2x2 is a trial after windows at 4x4
+    int backoff_ = 1;               // windows at 4x4 before the next trial of 2x2
+    int windows_at_quarter_ = 0;    // since the last change to 4x4
     std::uint64_t frames_[2] = {0, 0};
     std::uint64_t switches_ = 0;
 };

@@ -466,11 +466,15 @@ TEST(RunOptions, AWindowWithNoDeviceNamedUsesTheMouse) {
     fs::remove_all(dir);
 }
 
-// The ambient occlusion's frame-time budget: 2x2 while the median frame fits, 4x4 after a window over the target, and
-// back to 2x2 only once the frames plus what 2x2 cost more would fit within 90 % of the target.
+// The ambient occlusion's frame-time budget: 2x2 while the median frame fits, 4x4 after a window over the target,
+// a trial of 2x2 once a window at 4x4 is within 90 % of it, and a longer wait after each trial that failed.
 TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
     using renderer::OcclusionResolution;
     OcclusionBudget b(25.0, 10);
+    const auto window = [&](double ms) {
+        for (int i = 0; i < 10; ++i) b.add(ms);
+        return b.resolution();
+    };
     EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
     for (int i = 0; i < 10; ++i) b.add(i < 6 ? 20.0 : 40.0);  // median 20: fits
     EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
@@ -478,23 +482,26 @@ TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
     EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);  // a choice holds for a whole window
     b.add(34.0);
     EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
-    // At 4x4: 30 ms, so 2x2 costs 4 ms more: back at 2x2 it would be 34 again: stays.
-    for (int i = 0; i < 10; ++i) b.add(30.0);
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
-    // The scene got lighter: 19 ms at 4x4, so 23 ms at 2x2, over 22.5 (90 % of 25): stays; 18 ms: back.
-    for (int i = 0; i < 10; ++i) b.add(19.0);
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
-    for (int i = 0; i < 10; ++i) b.add(18.0);
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
-    EXPECT_EQ(b.switches(), 2u);
-    EXPECT_EQ(b.frames_half(), 20u);
-    EXPECT_EQ(b.frames_quarter(), 30u);
+    EXPECT_EQ(window(30.0), OcclusionResolution::kQuarter);  // over 22.5 (90 % of 25): stays
+    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);     // within: a trial of 2x2
+    EXPECT_EQ(window(27.0), OcclusionResolution::kQuarter);  // the trial went over: back, wait 2 windows
+    EXPECT_EQ(window(20.0), OcclusionResolution::kQuarter);
+    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);
+    EXPECT_EQ(window(27.0), OcclusionResolution::kQuarter);  // failed again: wait 4 windows
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(window(20.0), OcclusionResolution::kQuarter);
+    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);
+    EXPECT_EQ(window(24.0), OcclusionResolution::kHalf);  // this trial fits: 2x2 stays
+    EXPECT_EQ(window(24.0), OcclusionResolution::kHalf);
+    EXPECT_EQ(window(26.0), OcclusionResolution::kQuarter);
+    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);  // the wait was reset by the trial that held
+    EXPECT_EQ(b.switches(), 8u);
+    EXPECT_EQ(b.frames_half() + b.frames_quarter(), 160u);
     b.add(std::nan(""));  // ignored
     b.add(-1.0);
-    EXPECT_EQ(b.frames_half(), 20u);
+    EXPECT_EQ(b.frames_half() + b.frames_quarter(), 160u);
     const nlohmann::json j = b.to_json();
     EXPECT_EQ(j.at("now"), "half");
-    EXPECT_EQ(j.at("switches"), 2);
+    EXPECT_EQ(j.at("switches"), 8);
     EXPECT_DOUBLE_EQ(j.at("target_ms").get<double>(), 25.0);
     // No budget: always 2x2.
     OcclusionBudget none(0.0, 5);
