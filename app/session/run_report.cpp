@@ -34,6 +34,7 @@ json lod_json(const RunResult& r, const RenderLog& log) {
     return json{{"on", r.setup.lod},
                 {"tiles_built", s.lod_tiles_built},
                 {"groups_built", s.lod_groups_built},
+                {"discarded", s.lod_discarded},
                 {"build_ms", s.lod_build_ms},
                 {"pending_at_end", s.lod_pending},
                 {"all_built_after_first_frame_ms", ready},

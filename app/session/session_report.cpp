@@ -184,7 +184,8 @@ const std::vector<ReportField>& report_schema() {
         {"render.cull", "run: tiles culled per eye; null for demo and replay"},
         {"render.ambient_occlusion", "ambient occlusion on at the end"},
         {"render.lod",
-         "run: tile levels of detail {on, tiles_built, groups_built, build_ms, pending_at_end, "
+         "run: tile levels of detail {on, tiles_built, groups_built, discarded (builds thrown away: their tile or "
+         "group had changed again), build_ms, pending_at_end, "
          "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, tile_triangles_per_frame}; null "
          "otherwise"},
         {"render.occlusion_budget",

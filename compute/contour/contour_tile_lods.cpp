@@ -100,6 +100,7 @@ std::size_t TileSurfaceCache::collect_lods() {
             }
         }
         if (!fits) {  // stale: the tile or group changed after its job was queued (a newer job follows) or is gone
+            ++lod_discarded_;
             const bool gone = r.group ? index_of(groups_, r.id) == groups_.size() : index_of(tiles_, r.id) == tiles_.size();
             if (gone) queued_.erase(job_key(r.group, r.id));
             continue;

@@ -100,6 +100,9 @@ public:
     double lod_build_ms() const { return lod_build_ms_; }
     /// Groups whose levels were built since construction (their time is in lod_build_ms()).
     std::size_t lod_groups_built() const { return lod_groups_built_; }
+    /// Background building: finished builds thrown away because their tile or group had changed (or gone) since
+    /// the job was queued.
+    std::size_t lod_discarded() const { return lod_discarded_; }
     /// Rebuilt tiles from which a refresh() builds the levels on every core.
     static constexpr std::size_t kParallelLodTiles = 64;
 
@@ -155,6 +158,7 @@ private:
     TileLodOptions lod_options_{};
     std::size_t lod_tiles_built_ = 0;
     std::size_t lod_groups_built_ = 0;
+    std::size_t lod_discarded_ = 0;
     double lod_build_ms_ = 0.0;
     std::unique_ptr<LodWorker> worker_;            // background building; null: refresh / build_pending_lods
     struct Queued {                                // a background job waiting for its result

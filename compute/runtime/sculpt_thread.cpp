@@ -473,6 +473,7 @@ void SculptThread::share_tile_cache(MeshFrame& slot) {
     stats_.lod_tiles_built = tile_cache_.lod_tiles_built();
     stats_.lod_groups_built = tile_cache_.lod_groups_built();
     stats_.lod_build_ms = tile_cache_.lod_build_ms();
+    stats_.lod_discarded = tile_cache_.lod_discarded();
     stats_.lod_latency_ms = tile_cache_.lod_latency_ms();
     stats_.lod_pending = tile_cache_.lod_pending();
     share_unchanged(tile_cache_.tiles(), shared_tiles_);

@@ -63,6 +63,8 @@ struct SculptStats {
     std::uint64_t lod_tiles_built = 0;
     std::uint64_t lod_groups_built = 0;
     double lod_build_ms = 0.0;
+    /// use_tile_lod: builds the worker finished for a tile or group that had changed again meanwhile (thrown away).
+    std::uint64_t lod_discarded = 0;
     /// use_tile_lod: steady-clock time (s, the epoch of MeshFrame::published_s) of the first pass at which
     /// every tile and group had its levels (none waiting), or -1 when that never happened.
     double lod_all_built_s = -1.0;

@@ -6,12 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <functional>
-#include <array>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -370,6 +371,46 @@ TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
         bad.group_settle_s = s;
         EXPECT_THROW(LodWorker{bad}, Error) << s;
     }
+}
+
+// A build that finishes after its tile changed again is thrown away and counted (lod_discarded); its newer job
+// gives the tile its levels.
+TEST(TileLod, OutdatedBuildsAreCountedAndReplaced) {
+    TriDexel model = empty_model(cube_lattice(40));
+    Vec3 lo(3.3, 4.4, 2.6), hi(40 - 3.7, 40 - 2.2, 40 - 4.1);
+    fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+    Contourer c(model);
+    c.update(model);
+    TileSurfaceCache cache;
+    TileLodOptions o;
+    o.cell_m = model.lattice.cell_m;
+    cache.enable_lod(o);
+    std::atomic<bool> open{false};
+    std::atomic<int> started{0};
+    LodWorkerOptions w;
+    w.before_job = [&](const LodJob&) {  // the workers hold their first jobs until the model has changed
+        ++started;
+        while (!open.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    };
+    cache.build_lods_in_background(w);
+    cache.refresh(c);
+    while (started.load() < w.threads) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // Every tile changes while the first jobs run: those builds are outdated when they finish.
+    lo = lo + Vec3(0.4, 0.3, 0.2);
+    hi = hi + Vec3(0.4, 0.3, 0.2);
+    fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
+    c.update(model);
+    cache.refresh(c);
+    open.store(true);
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (cache.lod_pending() > 0 && std::chrono::steady_clock::now() < limit) {
+        cache.collect_lods();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_EQ(cache.lod_pending(), 0u);
+    EXPECT_GE(cache.lod_discarded(), static_cast<std::size_t>(w.threads));
+    for (const TileSurface& t : cache.tiles()) EXPECT_TRUE(t.lods_built) << "tile " << t.id;
 }
 
 TEST(TileLod, RefusesBadInput) {
