@@ -301,44 +301,59 @@ TEST(TileLod, DeferredLevelsArriveWithNewVersionsAndMatchImmediateOnes) {
     }
 }
 
+// A box in a 40-cell lattice, contoured, whose tile cache builds its levels on a background worker: `move` changes
+// the box's corners as a stroke would (every tile marked dirty, re-contoured, the cache refreshed), and
+// `collect_until` takes the worker's results in until `done` holds (at most 20 s).
+struct BackgroundBox {
+    TriDexel model = empty_model(cube_lattice(40));
+    Vec3 lo{3.3, 4.4, 2.6}, hi{40 - 3.7, 40 - 2.2, 40 - 4.1};
+    Contourer contourer{model};
+    TileSurfaceCache cache;
+
+    explicit BackgroundBox(const LodWorkerOptions& worker) {
+        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+        contourer.update(model);
+        TileLodOptions o;
+        o.cell_m = model.lattice.cell_m;
+        cache.enable_lod(o);
+        cache.build_lods_in_background(worker);
+        cache.refresh(contourer);
+    }
+    std::size_t move(const Vec3& d_lo, const Vec3& d_hi) {
+        lo = lo + d_lo;
+        hi = hi + d_hi;
+        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
+        std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // as a Boolean marks them
+        contourer.update(model);
+        return cache.refresh(contourer);
+    }
+    bool collect_until(const std::function<bool()>& done) {
+        const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (!done() && std::chrono::steady_clock::now() < limit) {
+            cache.collect_lods();
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        return done();
+    }
+};
+
 // A stroke re-contours tiles step after step: the groups over them wait until their tiles have been quiet for
 // group_settle_s before their levels are built, while the tiles' own levels are built at once. Start-up's groups
 // never wait.
 TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
     for (const double settle : {10.0, 0.05}) {
         SCOPED_TRACE("group_settle_s " + std::to_string(settle));
-        TriDexel model = empty_model(cube_lattice(40));
-        const Vec3 lo(3.3, 4.4, 2.6);
-        Vec3 hi(40 - 3.7, 40 - 2.2, 40 - 4.1);
-        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
-        Contourer c(model);
-        c.update(model);
-        TileSurfaceCache cache;
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
         LodWorkerOptions w;
         w.group_settle_s = settle;
-        cache.build_lods_in_background(w);
-        cache.refresh(c);
-        const auto settled = [&](const std::function<bool()>& done) {
-            const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-            while (!done() && std::chrono::steady_clock::now() < limit) {
-                cache.collect_lods();
-                std::this_thread::sleep_for(std::chrono::milliseconds(1));
-            }
-            return done();
-        };
+        BackgroundBox box(w);
+        TileSurfaceCache& cache = box.cache;
+        const auto settled = [&](const std::function<bool()>& done) { return box.collect_until(done); };
         ASSERT_TRUE(settled([&] { return cache.lod_pending() == 0; }));  // start-up: within 20 s
         ASSERT_GT(cache.groups().size(), 1u);
         std::map<std::uint64_t, bool> had_levels;  // per group before the stroke
         for (const TileGroupSurface& g : cache.groups()) had_levels[g.id] = !g.lods.empty();
         // The stroke: one face of the box moves in, re-contouring the tiles along it.
-        hi.x -= 1.3;
-        fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
-        std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});  // as a Boolean marks them
-        c.update(model);
-        ASSERT_GT(cache.refresh(c), 0u);
+        ASSERT_GT(box.move(Vec3(0.0), Vec3(-1.3, 0.0, 0.0)), 0u);
         const auto tiles_built = [&] {
             for (const TileSurface& t : cache.tiles())
                 if (!t.lods_built) return false;
@@ -376,15 +391,6 @@ TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
 // A build that finishes after its tile changed again is thrown away and counted (lod_discarded); its newer job
 // gives the tile its levels.
 TEST(TileLod, OutdatedBuildsAreCountedAndReplaced) {
-    TriDexel model = empty_model(cube_lattice(40));
-    Vec3 lo(3.3, 4.4, 2.6), hi(40 - 3.7, 40 - 2.2, 40 - 4.1);
-    fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
-    Contourer c(model);
-    c.update(model);
-    TileSurfaceCache cache;
-    TileLodOptions o;
-    o.cell_m = model.lattice.cell_m;
-    cache.enable_lod(o);
     std::atomic<bool> open{false};
     std::atomic<int> started{0};
     LodWorkerOptions w;
@@ -392,25 +398,14 @@ TEST(TileLod, OutdatedBuildsAreCountedAndReplaced) {
         ++started;
         while (!open.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     };
-    cache.build_lods_in_background(w);
-    cache.refresh(c);
+    BackgroundBox box(w);
     while (started.load() < w.threads) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     // Every tile changes while the first jobs run: those builds are outdated when they finish.
-    lo = lo + Vec3(0.4, 0.3, 0.2);
-    hi = hi + Vec3(0.4, 0.3, 0.2);
-    fill_rays(model, [&](int a, int u, int v) { return box_chord(lo, hi, a, u, v); });
-    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
-    c.update(model);
-    cache.refresh(c);
+    box.move(Vec3(0.4, 0.3, 0.2), Vec3(0.4, 0.3, 0.2));
     open.store(true);
-    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (cache.lod_pending() > 0 && std::chrono::steady_clock::now() < limit) {
-        cache.collect_lods();
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    ASSERT_EQ(cache.lod_pending(), 0u);
-    EXPECT_GE(cache.lod_discarded(), static_cast<std::size_t>(w.threads));
-    for (const TileSurface& t : cache.tiles()) EXPECT_TRUE(t.lods_built) << "tile " << t.id;
+    ASSERT_TRUE(box.collect_until([&] { return box.cache.lod_pending() == 0; }));
+    EXPECT_GE(box.cache.lod_discarded(), static_cast<std::size_t>(w.threads));
+    for (const TileSurface& t : box.cache.tiles()) EXPECT_TRUE(t.lods_built) << "tile " << t.id;
 }
 
 TEST(TileLod, RefusesBadInput) {
