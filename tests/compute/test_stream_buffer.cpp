@@ -4,6 +4,7 @@
 // Run under ThreadSanitizer by .ci/run.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <thread>
 
 #include "compute/journal/journal_format.hpp"
@@ -19,7 +20,11 @@ TEST(StreamBuffer, RecordsCrossThreadsOnceAndInOrder) {
     model.sets[2].rays[5].push_back(Interval{0.01f, 0.02f, 0, 0});
     ToolStreamBuffer stream;
     constexpr int kBatches = 2000;
+    // The feeding thread starts once a digest has been asked for, so at least one is taken however the two threads
+    // are scheduled (it could otherwise feed every record before the first request).
+    std::atomic<bool> go{false};
     std::thread sculpt([&] {
+        while (!go.load()) std::this_thread::yield();
         std::vector<ToolSample> s(3);
         for (int i = 0; i < kBatches; ++i) {
             stream.append(s);
@@ -32,6 +37,8 @@ TEST(StreamBuffer, RecordsCrossThreadsOnceAndInOrder) {
     });
     std::vector<JournalRecord> got;
     std::size_t checks = 0;
+    stream.request_digest();
+    go.store(true);
     while (got.size() < kBatches + kBatches / 100) {
         stream.request_digest();
         ToolStreamBuffer::Taken t = stream.take();
