@@ -10,6 +10,7 @@
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
 #include "app/support/output_dir.hpp"
+#include "app/session/occlusion_budget.hpp"
 #include "app/session/run_sculpt.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -126,9 +127,7 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
-    if (!std::isfinite(o.frame_target_ms) || o.frame_target_ms < 0.0)
-        throw Error("--frame-target-ms: must be a finite number of ms >= 0 (0 = no budget), got " +
-                    std::to_string(o.frame_target_ms));
+    (void)OcclusionBudget(o.frame_target_ms);  // refuses a bad --frame-target-ms before any window opens
     s.frame_target_ms = o.frame_target_ms;
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });

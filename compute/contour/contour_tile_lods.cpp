@@ -46,12 +46,10 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
 
 void TileSurfaceCache::queue_ready_groups() {
     const auto now = std::chrono::steady_clock::now();
-    groups_settling_ = false;
     settle_due_ = std::chrono::steady_clock::time_point::max();
     for (std::size_t g = 0; g < groups_.size(); ++g) {
         if (!group_pending_[g] || group_queued_[g] || !group_ready(g)) continue;
         if (now - group_changed_at_[g] < group_settle_) {  // its tiles may change again: wait
-            groups_settling_ = true;
             settle_due_ = std::min(settle_due_, group_changed_at_[g] + group_settle_);
             continue;
         }
@@ -115,7 +113,7 @@ std::size_t TileSurfaceCache::collect_lods() {
         }
     }
     // A result can make a group ready, and time ends a ready group's settling.
-    if (!results.empty() || (groups_settling_ && now >= settle_due_)) queue_ready_groups();
+    if (!results.empty() || now >= settle_due_) queue_ready_groups();
     return taken;
 }
 

@@ -169,8 +169,8 @@ private:
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
-    bool groups_settling_ = false;                 // a ready group waits for its settling time
-    std::chrono::steady_clock::time_point settle_due_{};  // the first settling group's time is up then
+    // When the first ready group that waits for its tiles to settle may be queued (max: none waits).
+    std::chrono::steady_clock::time_point settle_due_ = std::chrono::steady_clock::time_point::max();
     bool refreshed_ = false;                       // refresh() ran at least once
     std::vector<double> lod_latency_ms_;
 };
