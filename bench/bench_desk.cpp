@@ -95,6 +95,13 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
         const nlohmann::json& lat = j.at("mouse").at("latency_ms");
         row.lag_median_ms = at_or_nan(lat, "median");
         row.lag_p99_ms = at_or_nan(lat, "p99");
+        const nlohmann::json& m = j.at("mouse");
+        if (m.contains("hand_wait_ms")) {
+            row.hand_wait_median_ms = at_or_nan(m.at("hand_wait_ms"), "median");
+            row.hand_wait_p99_ms = at_or_nan(m.at("hand_wait_ms"), "p99");
+        }
+        row.targets = m.value("targets", std::uint64_t{0});
+        row.same_frame = m.value("same_frame", std::uint64_t{0});
     }
     for (const auto& [name, p] : j.at("render").at("passes").items()) row.passes[name] = at_or_nan(p, "median_ms");
     row.present = f.contains("present") ? f.at("present") : nlohmann::json();
@@ -188,6 +195,11 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                         r.occlusion_budget.value("target_ms", 0.0),
                         static_cast<unsigned long long>(r.occlusion_budget.value("frames_half", 0)),
                         static_cast<unsigned long long>(r.occlusion_budget.value("frames_quarter", 0)));
+        std::printf(
+            "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
+            "%llu of %llu targets drawn by the frame that set them\n",
+            r.hand_wait_median_ms, r.hand_wait_p99_ms, static_cast<unsigned long long>(r.same_frame),
+            static_cast<unsigned long long>(r.targets));
         std::fflush(stdout);
         table.push_back({{"stereo", m},
                          {"display", display},
@@ -202,6 +214,10 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                          {"lag_ms_median", r.lag_median_ms},
                          {"lag_ms_p99", r.lag_p99_ms},
                          {"lag_frames", r.lag_frames},
+                         {"hand_wait_ms_median", r.hand_wait_median_ms},
+                         {"hand_wait_ms_p99", r.hand_wait_p99_ms},
+                         {"targets", r.targets},
+                         {"targets_same_frame", r.same_frame},
                          {"passes_median_ms", r.passes},
                          {"present", r.present},
                          {"occlusion_budget", r.occlusion_budget},

@@ -30,6 +30,9 @@ struct DeskBenchRow {
     double interval_median_ms = 0;                 ///< between the starts of successive frames
     double lag_median_ms = 0, lag_p99_ms = 0;      ///< cursor event to the frame that draws the tool there
     double lag_frames = 0;                         ///< lag_median_ms over the frame interval (or time)
+    /// The frame's wait for the loop to take the cursor's target (report.json mouse.hand_wait_ms), median and p99
+    double hand_wait_median_ms = 0, hand_wait_p99_ms = 0;
+    std::uint64_t targets = 0, same_frame = 0;  ///< cursor targets; those drawn by the frame whose input set them
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
     nlohmann::json occlusion_budget;               ///< report.json render.occlusion_budget (frames at 2x2 / 4x4)

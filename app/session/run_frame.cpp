@@ -16,6 +16,9 @@ using run_detail::seconds_since;
 
 // How often the stylus's pick surface is read back from the GPU contour at most, s.
 constexpr double kPickRefreshS = 0.1;
+// The longest a frame waits for the haptic loop to take the mouse stylus's new target (RunMouse::await_hand): the
+// device glides at a bounded speed, so a long move is drawn on its way; a stalled loop never holds the frame longer.
+constexpr std::chrono::microseconds kHandWait{2000};
 
 // The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept.
 std::string saving_lines(const SaveStatus& s) {
@@ -192,9 +195,9 @@ renderer::Screen RunPipeline::Parts::follow_window() {
     return s;
 }
 
-// Moves the wand's navigation and the mouse stylus to this frame, then draws and presents it through the sink.
-void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, const haptics::LoopView& lv,
-                                 renderer::SceneView& view, std::unique_lock<std::mutex>& contour_lock) {
+// Moves the wand's navigation, the head and the window's screen to this frame and hands the mouse stylus's target
+// to the loop (waiting, briefly, for the loop to take it); returns the frame's camera and start.
+RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
     const double t = seconds_since(t_render);
     if (wand) {
         wand_nav->update(wand->sample(), t - wand_prev_t, nav);
@@ -214,6 +217,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
     }
     const auto t0 = Clock::now();
     if (mouse_stylus) {
+        const haptics::LoopView& lv = backend->runtime().latest_view();  // not used after await_hand()
         // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus.
         if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, lv.t_s);
         // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
@@ -228,7 +232,16 @@ void RunPipeline::Parts::present(std::uint64_t frame, const MeshFrame& mesh, con
         if (gpu_contour && mesh.tiles.empty())
             mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
         else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
+        mouse_stylus->await_hand(kHandWait);
     }
+    return FrameAim{cam, t0};
+}
+
+// Draws the frame through the sink and presents it.
+void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const haptics::LoopView& lv,
+                                 renderer::SceneView& view, std::unique_lock<std::mutex>& contour_lock) {
+    const RunCamera& cam = aim.camera;
+    const auto t0 = aim.t0;
     if (frame > 0) r.interval_ms.add(ms_between(prev_start, t0));
     prev_start = t0;
     sink->draw(*rend, view, renderer::StereoCamera{cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m});
@@ -280,9 +293,10 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
     r.tiled = mesh.tiled;
     r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
-    const haptics::LoopView& lv = rt.latest_view();
+    const FrameAim frame_aim = aim(mesh);
+    const haptics::LoopView& lv = rt.latest_view();  // after aim(): the loop has taken the stylus's target
     renderer::SceneView view = frame_view(mesh, lv, saving);
-    present(frame, mesh, lv, view, contour_lock);
+    present(frame, frame_aim, lv, view, contour_lock);
     if (std::isfinite(sample_s))
         r.sample_to_drawn_ms.push_back(
             1e3 * (std::chrono::duration<double>(Clock::now().time_since_epoch()).count() - sample_s));

@@ -1,7 +1,9 @@
 // app/session/run_mouse.cpp - the mouse stylus's per-frame work in a run.
 #include "app/session/run_mouse.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "core/summary.hpp"
 
@@ -11,6 +13,7 @@ namespace {
 constexpr double kShownTolM = 5e-4;     // the tool is "there" within 0.5 mm of the target
 constexpr double kMovedTolM = 1e-4;     // a target that moves less is not a new event
 constexpr std::size_t kMaxPending = 256;
+constexpr std::chrono::microseconds kAwaitStep{200};  // await_hand's polling step
 }  // namespace
 
 RunMouse::RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, const ToolShape& tool, const Vec3& aim_m)
@@ -68,8 +71,43 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
             pending_.pop_front();
             ++superseded_;
         }
-        pending_.push_back({now, target.hip_m, frame_});
+        pending_.push_back({now, target.hip_m, lv.tick, frame_});
+        target_new_ = lv.tick > 0;
     }
+}
+
+std::chrono::microseconds RunMouse::await_hand(std::chrono::microseconds limit) {
+    if (!target_new_ || pending_.empty()) return std::chrono::microseconds(0);
+    target_new_ = false;
+    const auto start = Clock::now();
+    const std::uint64_t set_tick = pending_.back().tick;
+    const Vec3 target = pending_.back().hip_m;
+    const double limit_s = std::chrono::duration<double>(limit).count();
+    double last_gap = 0.0, last_t = 0.0;
+    std::uint64_t last_tick = 0;
+    for (;;) {
+        const double waited_s = std::chrono::duration<double>(Clock::now() - start).count();
+        const haptics::LoopView& lv = runtime_.latest_view();
+        if (lv.tick >= set_tick + 2 && lv.tick != last_tick) {  // a view the loop made after it took the target
+            const double gap = glm::length(lv.tool_world.position - target);
+            if (gap <= kShownTolM) break;
+            if (last_tick != 0) {
+                // The tool's closing speed over loop time: stop once it holds (in contact, or the target refused)
+                // or cannot reach the target within the limit at that speed.
+                const double closing = (last_gap - gap) / (lv.t_s - last_t);
+                if (!(closing > 0.0) || waited_s + (gap - kShownTolM) / closing > limit_s) break;
+            }
+            last_gap = gap;
+            last_t = lv.t_s;
+            last_tick = lv.tick;
+        }
+        if (waited_s >= limit_s) break;
+        std::this_thread::sleep_for(std::min(kAwaitStep, std::chrono::duration_cast<std::chrono::microseconds>(
+                                                             std::chrono::duration<double>(limit_s - waited_s))));
+    }
+    const auto waited = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
+    waited_us_.push_back(static_cast<double>(waited.count()));
+    return waited;
 }
 
 void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
@@ -77,8 +115,9 @@ void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
     const Vec3 tool = lv.tool_world.position;
     // The newest pending target the tool reached; the older ones were passed by.
     for (std::size_t i = pending_.size(); i-- > 0;) {
-        if (pending_[i].frame >= frame_ || glm::length(tool - pending_[i].hip_m) > kShownTolM) continue;
+        if (lv.tick < pending_[i].tick + 2 || glm::length(tool - pending_[i].hip_m) > kShownTolM) continue;
         latency_ms_.push_back(std::chrono::duration<double, std::milli>(now - pending_[i].t).count());
+        if (pending_[i].frame == frame_) ++same_frame_;
         superseded_ += i;
         pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
         break;
@@ -87,22 +126,24 @@ void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
 
 nlohmann::json RunMouse::report_json() const {
     const Summary s = summarize(latency_ms_);
+    const Summary w = summarize(waited_us_);
     const char* op = tool_op_name(sent_op_);
-    return nlohmann::json{{"targets", targets_},
-                          {"latency_ms",
-                           {{"count", latency_ms_.size()}, {"median", s.median}, {"p99", s.p99}, {"max", s.max},
-                            {"mean", s.mean}}},
-                          {"superseded", superseded_},
-                          {"unmatched", pending_.size()},
-                          {"rejected_targets", device_.rejected_targets()},
-                          {"op", op},
-                          {"depth_m", stylus_.depth_m()},
-                          {"tool",
-                           {{"shape", to_string(sent_tool_.kind)},
-                            {"radius_m", sent_tool_.radius_m},
-                            {"length_m", sent_tool_.length_m}}},
-                          {"tool_changes", tool_changes_},
-                          {"workspace_moved_m", glm::length(map_.position - map_start_m_)}};
+    return nlohmann::json{
+        {"targets", targets_},
+        {"latency_ms",
+         {{"count", latency_ms_.size()}, {"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}}},
+        {"hand_wait_ms",
+         {{"count", waited_us_.size()}, {"median", 1e-3 * w.median}, {"p99", 1e-3 * w.p99}, {"max", 1e-3 * w.max}}},
+        {"same_frame", same_frame_},
+        {"superseded", superseded_},
+        {"unmatched", pending_.size()},
+        {"rejected_targets", device_.rejected_targets()},
+        {"op", op},
+        {"depth_m", stylus_.depth_m()},
+        {"tool",
+         {{"shape", to_string(sent_tool_.kind)}, {"radius_m", sent_tool_.radius_m}, {"length_m", sent_tool_.length_m}}},
+        {"tool_changes", tool_changes_},
+        {"workspace_moved_m", glm::length(map_.position - map_start_m_)}};
 }
 
 }  // namespace tridex::app

@@ -171,7 +171,13 @@ struct RunPipeline::Parts final : FrameSteps {
     void frame_desk_window();
     renderer::Screen follow_window();
     renderer::SceneView frame_view(const MeshFrame& mesh, const haptics::LoopView& lv, const SaveStatus& saving);
-    void present(std::uint64_t frame, const MeshFrame& mesh, const haptics::LoopView& lv, renderer::SceneView& view,
+    /// A frame's camera and its start (after the head and window, before the mouse stylus).
+    struct FrameAim {
+        RunCamera camera;
+        Clock::time_point t0;
+    };
+    FrameAim aim(const MeshFrame& mesh);
+    void present(std::uint64_t frame, const FrameAim& aim, const haptics::LoopView& lv, renderer::SceneView& view,
                  std::unique_lock<std::mutex>& contour_lock);
     void collect();
     void write_outputs();

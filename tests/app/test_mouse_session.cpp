@@ -94,6 +94,12 @@ TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) 
     const RunResult drag = run_mouse(dir, "drag", cursor_buttons::kLeft, false);
     EXPECT_EQ(hover.notes.front(), "ended: the scripted cursor ended");
     EXPECT_EQ(hover.volume_before_m3 - hover.volume_after_m3, 0.0);  // the tool rested on the surface
+    // The cursor moves under a millimetre per frame: the frame that moves it waits for the loop to take the target,
+    // so frames draw the tool where their own cursor put it.
+    ASSERT_FALSE(hover.mouse.is_null());
+    EXPECT_GT(hover.mouse["same_frame"].get<int>(), 0) << hover.mouse.dump();
+    EXPECT_LE(hover.mouse["hand_wait_ms"]["max"].get<double>(), 50.0)
+        << "a wait is bounded (2 ms, plus a late wake-up)";
     const double removed = drag.volume_before_m3 - drag.volume_after_m3;
     EXPECT_GT(removed, 1e-7);  // a 50 mm groove of a 6 mm ball pressed in 6 mm: about 3 cm^3
     ASSERT_FALSE(drag.mouse.is_null());
