@@ -73,9 +73,9 @@ AnaglyphUniform make_uniform() {
     return u;
 }
 
-gpu::UniqueRenderPass make_render_pass(VkDevice device) {
+gpu::UniqueRenderPass make_render_pass(VkDevice device, VkFormat format) {
     VkAttachmentDescription att{};
-    att.format = kStereoColourFormat;
+    att.format = format;
     att.samples = VK_SAMPLE_COUNT_1_BIT;
     att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // to the anaglyph of the eyes' clear colour; the triangle draws the rest
     att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
@@ -131,6 +131,7 @@ gpu::UniquePipeline make_pipeline(const gpu::Context& context, VkRenderPass pass
 struct AnaglyphPass::Impl {
     gpu::Context* context = nullptr;
     int width = 0, height = 0;
+    VkFormat format = kStereoColourFormat;  // of output
     gpu::ImageArray output;
     gpu::Buffer tables;    // AnaglyphUniform
     gpu::Buffer readback;  // width * height * 4 bytes
@@ -176,7 +177,10 @@ struct AnaglyphPass::Impl {
     }
 };
 
-AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) {
+AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height, VkFormat format) {
+    if (format != VK_FORMAT_R8G8B8A8_UNORM && format != VK_FORMAT_B8G8R8A8_UNORM)
+        throw Error("anaglyph pass: output format " + std::to_string(static_cast<int>(format)) +
+                    " is neither R8G8B8A8_UNORM nor B8G8R8A8_UNORM");
     const auto max_dim = static_cast<int>(std::min<std::uint32_t>(context.properties().limits.maxImageDimension2D,
                                                                    context.properties().limits.maxFramebufferWidth));
     if (width < 1 || height < 1 || width > max_dim || height > max_dim)
@@ -187,13 +191,14 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) 
     im.context = &context;
     im.width = width;
     im.height = height;
+    im.format = format;
     const VkDevice device = context.device();
 
     gpu::ImageArrayInfo info;
     info.width = static_cast<std::uint32_t>(width);
     info.height = static_cast<std::uint32_t>(height);
     info.layers = 1;
-    info.format = kStereoColourFormat;
+    info.format = format;
     info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     im.output = gpu::ImageArray::create(context, info);
     const AnaglyphUniform u = make_uniform();
@@ -251,7 +256,7 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height) 
     gpu::check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
     im.layout = gpu::UniquePipelineLayout(device, layout);
 
-    im.render_pass = make_render_pass(device);
+    im.render_pass = make_render_pass(device, format);
     const VkImageView view = im.output.layer_view(0);
     VkFramebufferCreateInfo fb{};
     fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
@@ -275,6 +280,7 @@ AnaglyphPass& AnaglyphPass::operator=(AnaglyphPass&&) noexcept = default;
 
 int AnaglyphPass::width() const { return impl_->width; }
 int AnaglyphPass::height() const { return impl_->height; }
+VkFormat AnaglyphPass::format() const { return impl_->format; }
 VkImage AnaglyphPass::image() const { return impl_->output.handle(); }
 
 void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& source, AnaglyphMethod method,
@@ -346,6 +352,8 @@ Image AnaglyphPass::read() const {
     const std::size_t bytes = static_cast<std::size_t>(im.width) * im.height * 4;
     Image img{im.width, im.height, std::vector<std::uint8_t>(bytes)};
     im.readback.read(img.rgba.data(), bytes);
+    if (im.format == VK_FORMAT_B8G8R8A8_UNORM)
+        for (std::size_t i = 0; i < bytes; i += 4) std::swap(img.rgba[i], img.rgba[i + 2]);
     return img;
 }
 

@@ -12,17 +12,20 @@
 
 namespace tridex::renderer {
 
-/// Mixes the two eye layers of an OffscreenStereoRenderer's colour image into one width x height RGBA8
-/// anaglyph image on the GPU: a full-screen triangle whose fragment shader (shaders/anaglyph.frag) reads both
+/// Mixes the two eye layers of an OffscreenStereoRenderer's colour image into one width x height 8-bit
+/// anaglyph image (RGBA or BGRA in memory) on the GPU: a full-screen triangle whose fragment shader (shaders/anaglyph.frag) reads both
 /// layers of the same pixel and applies the AnaglyphMethod with the arithmetic of the CPU reference compose()
 /// (Dubois: the same sRGB code tables and matrices, mixed in 32-bit floats, so a channel may differ from
 /// compose() by 1 where a value lies within float rounding of a code boundary; colour and gray: exact).
 /// Move-only; the Context must outlive it, and every renderer it reads must outlive its last submission.
 class AnaglyphPass {
 public:
-    /// Builds the pass for eye images of width x height pixels. Throws tridex::Error when a size is outside
-    /// 1..maxImageDimension2D or on a Vulkan failure.
-    static AnaglyphPass create(gpu::Context& context, int width, int height);
+    /// Builds the pass for eye images of width x height pixels, writing an image of `format`:
+    /// VK_FORMAT_R8G8B8A8_UNORM, or VK_FORMAT_B8G8R8A8_UNORM (a window's swapchain format, so that presenting is
+    /// a plain copy instead of a converting blit). Throws tridex::Error when a size is outside
+    /// 1..maxImageDimension2D, for another format, or on a Vulkan failure.
+    static AnaglyphPass create(gpu::Context& context, int width, int height,
+                               VkFormat format = VK_FORMAT_R8G8B8A8_UNORM);
 
     ~AnaglyphPass();
     AnaglyphPass(AnaglyphPass&&) noexcept;
@@ -30,6 +33,7 @@ public:
 
     int width() const;   ///< pixels
     int height() const;  ///< pixels
+    VkFormat format() const;  ///< of image(), as created
 
     /// Records into `cmd` (recording, outside a render pass) the pass over `source`'s last frame: its colour
     /// image goes to SHADER_READ_ONLY_OPTIMAL for the pass and back to TRANSFER_SRC_OPTIMAL (as the renderer
@@ -41,12 +45,12 @@ public:
     /// rendered a frame yet.
     void record(VkCommandBuffer cmd, const OffscreenStereoRenderer& source, AnaglyphMethod method, bool swap_eyes,
                 bool readback = false);
-    /// Records the pass with readback, submits it, waits, and returns the anaglyph (width x height RGBA,
-    /// alpha 255). Same errors as record(), plus Vulkan failures.
+    /// Records the pass with readback, submits it, waits, and returns the anaglyph (width x height RGBA, alpha
+    /// 255, whatever the format). Same errors as record(), plus Vulkan failures.
     Image compose(const OffscreenStereoRenderer& source, AnaglyphMethod method, bool swap_eyes);
-    /// The anaglyph as last copied back by a recorded readback (complete once that submission finished).
+    /// The anaglyph as last copied back by a recorded readback (complete once that submission finished), as RGBA.
     Image read() const;
-    /// The RGBA8 (R8G8B8A8_UNORM) single-layer anaglyph image; TRANSFER_SRC_OPTIMAL after a recorded pass.
+    /// The single-layer anaglyph image, of format(); TRANSFER_SRC_OPTIMAL after a recorded pass.
     VkImage image() const;
 
     struct Impl;

@@ -415,7 +415,7 @@ int WindowPresenter::present_composed(const Image& image) {
     im.finish_all();  // earlier presents may still blit from `upload`, filled from `staging`
     im.staging.write(image.rgba.data(), bytes);
     const VkImage up = im.upload.handle();
-    return present_image(up, image.width, image.height, [&](VkCommandBuffer cmd) {
+    return present_image(up, kStereoColourFormat, image.width, image.height, [&](VkCommandBuffer cmd) {
         // Earlier blits from `up` are complete (finish_all() above), so its old contents may be discarded.
         gpu::image_barrier(cmd, up, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -429,18 +429,33 @@ int WindowPresenter::present_composed(const Image& image) {
     });
 }
 
-int WindowPresenter::present_image(VkImage image, int width, int height,
+int WindowPresenter::present_image(VkImage image, VkFormat format, int width, int height,
                                    const std::function<void(VkCommandBuffer)>& record_first) {
     Impl& im = *impl_;
     if (image == VK_NULL_HANDLE || width < 1 || height < 1)
         throw Error("window: present_image: the image is null or its size " + std::to_string(width) + "x" +
                     std::to_string(height) + " is below 1x1");
+    if (format != VK_FORMAT_R8G8B8A8_UNORM && format != VK_FORMAT_B8G8R8A8_UNORM)
+        throw Error("window: present_image: format " + std::to_string(static_cast<int>(format)) +
+                    " is neither R8G8B8A8_UNORM nor B8G8R8A8_UNORM");
     const bool shown = im.present_one(
         [&](VkCommandBuffer cmd, VkImage dst, VkExtent2D e) {
             if (record_first) record_first(cmd);
-            for (std::uint32_t layer = 0; layer < im.swapchain.layers(); ++layer)
-                blit(cmd, image, width, height, 0, dst, layer, 0, 0, static_cast<int>(e.width),
-                     static_cast<int>(e.height));
+            const bool same = format == im.swapchain.format() && static_cast<std::uint32_t>(width) == e.width &&
+                              static_cast<std::uint32_t>(height) == e.height;
+            for (std::uint32_t layer = 0; layer < im.swapchain.layers(); ++layer) {
+                if (same) {
+                    VkImageCopy region{};
+                    region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                    region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
+                    region.extent = {e.width, e.height, 1};
+                    vkCmdCopyImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst,
+                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+                } else {
+                    blit(cmd, image, width, height, 0, dst, layer, 0, 0, static_cast<int>(e.width),
+                         static_cast<int>(e.height));
+                }
+            }
         },
         {});
     if (shown) im.last_eye = -1;

@@ -69,13 +69,14 @@ public:
     /// (every layer; scaled with a linear filter when the sizes differ). Returns 1, or 0 while minimised.
     /// Throws tridex::Error for an empty or inconsistent image or on a Vulkan failure.
     int present_composed(const Image& image);
-    /// Blits `image` (single layer, width x height, RGBA8 UNORM, TRANSFER_SRC usage) over the whole swapchain
-    /// image (every layer; linear filter when the sizes differ). `record_first`, when set, is recorded into the
-    /// present's command buffer before the blit (outside a render pass) and must leave `image` written and in
+    /// Puts `image` (single layer, width x height, `format` R8G8B8A8_UNORM or B8G8R8A8_UNORM, TRANSFER_SRC usage)
+    /// over the whole swapchain image, every layer: copied when its format and size are the swapchain's, else
+    /// blitted (linear filter when the sizes differ). `record_first`, when set, is recorded into the present's
+    /// command buffer before that (outside a render pass) and must leave `image` written and in
     /// TRANSFER_SRC_OPTIMAL (e.g. AnaglyphPass::record); without it `image` must already be so from a finished
-    /// submission. Returns 1, or 0 while minimised. Throws tridex::Error for a null image or a size < 1, or
-    /// on a Vulkan failure (and whatever record_first throws).
-    int present_image(VkImage image, int width, int height,
+    /// submission. Returns 1, or 0 while minimised. Throws tridex::Error for a null image, a size < 1 or another
+    /// format, or on a Vulkan failure (and whatever record_first throws).
+    int present_image(VkImage image, VkFormat format, int width, int height,
                       const std::function<void(VkCommandBuffer)>& record_first = {});
 
     StereoOutput output() const;            ///< the output shown

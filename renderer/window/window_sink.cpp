@@ -23,13 +23,16 @@ StereoOutput WindowSink::output() const { return options_.output; }
 int WindowSink::present(const OffscreenStereoRenderer& renderer) {
     if (options_.output != StereoOutput::kAnaglyph) return presenter_.present(renderer);
     if (renderer.frames_rendered() == 0) throw Error("window sink: present() before the renderer's first frame");
-    if (!anaglyph_ || anaglyph_->width() != renderer.width() || anaglyph_->height() != renderer.height())
-        anaglyph_.emplace(AnaglyphPass::create(*context_, renderer.width(), renderer.height()));
+    // In the swapchain's format when it is one the pass writes, so that presenting it is a copy, not a blit.
+    const VkFormat format =
+        presenter_.format() == VK_FORMAT_B8G8R8A8_UNORM ? VK_FORMAT_B8G8R8A8_UNORM : VK_FORMAT_R8G8B8A8_UNORM;
+    if (!anaglyph_ || anaglyph_->width() != renderer.width() || anaglyph_->height() != renderer.height() ||
+        anaglyph_->format() != format)
+        anaglyph_.emplace(AnaglyphPass::create(*context_, renderer.width(), renderer.height(), format));
     AnaglyphPass& pass = *anaglyph_;
     const bool swap = presenter_.swap_eyes();
-    return presenter_.present_image(pass.image(), pass.width(), pass.height(), [&](VkCommandBuffer cmd) {
-        pass.record(cmd, renderer, options_.anaglyph, swap);
-    });
+    return presenter_.present_image(pass.image(), pass.format(), pass.width(), pass.height(),
+                                    [&](VkCommandBuffer cmd) { pass.record(cmd, renderer, options_.anaglyph, swap); });
 }
 
 void WindowSink::set_swap_eyes(bool swap) { presenter_.set_swap_eyes(swap); }

@@ -213,11 +213,22 @@ TEST(WindowSmoke, PresentsEveryWorkingOutputAndRefusesQuad) {
         for (int i = 0; i < 2; ++i) EXPECT_EQ(p.present_composed(composed), 1);
         expect_rgb_near(p.last_capture(), composed, 0, "window_anaglyph");
         // The GPU anaglyph pass recorded into the present's command buffer (as WindowSink does): within 1 code.
-        AnaglyphPass pass = AnaglyphPass::create(ctx, kEyeW, kEyeH);
-        const auto record = [&](VkCommandBuffer cmd) { pass.record(cmd, renderer, AnaglyphMethod::kDubois, false); };
-        for (int i = 0; i < 2; ++i) EXPECT_EQ(p.present_image(pass.image(), kEyeW, kEyeH, record), 1);
-        expect_rgb_near(p.last_capture(), composed, 1, "window_anaglyph_gpu");
-        EXPECT_THROW(p.present_image(VK_NULL_HANDLE, kEyeW, kEyeH), Error);
+        // Written as RGBA it is blitted; in the swapchain's format (BGRA here) it is copied: the same picture.
+        for (const VkFormat format : {VK_FORMAT_R8G8B8A8_UNORM, p.format()}) {
+            AnaglyphPass pass = AnaglyphPass::create(ctx, kEyeW, kEyeH, format);
+            EXPECT_EQ(pass.format(), format);
+            const auto record = [&](VkCommandBuffer cmd) {
+                pass.record(cmd, renderer, AnaglyphMethod::kDubois, false);
+            };
+            for (int i = 0; i < 2; ++i) EXPECT_EQ(p.present_image(pass.image(), format, kEyeW, kEyeH, record), 1);
+            expect_rgb_near(p.last_capture(), composed, 1, "window_anaglyph_gpu");
+            expect_rgb_near(pass.compose(renderer, AnaglyphMethod::kDubois, false), composed, 1,
+                            "anaglyph_pass_read_back");
+        }
+        EXPECT_THROW(p.present_image(VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, kEyeW, kEyeH), Error);
+        AnaglyphPass rgba = AnaglyphPass::create(ctx, kEyeW, kEyeH);
+        EXPECT_THROW(p.present_image(rgba.image(), VK_FORMAT_R8G8B8A8_SRGB, kEyeW, kEyeH), Error);
+        EXPECT_THROW(AnaglyphPass::create(ctx, kEyeW, kEyeH, VK_FORMAT_R8G8B8A8_SRGB), Error);
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
