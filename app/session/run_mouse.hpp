@@ -35,9 +35,10 @@ public:
     /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons), and the wheel steps of
     /// every point reached since the last call (once each).
     void apply_script(const CursorScript& script, double t_dev_s);
-    /// Once per frame, before drawing: hands a changed op or tool size to the loop, then the target from the cursor's ray (`screen` and cyclopean `eye_m` in the
-    /// model's frame, the eye image width_px x height_px) against `mesh`, handed to the device; `lv` is the
-    /// view this frame draws; `now` the frame's start.
+    /// Once per frame, before drawing: hands a changed op or tool size to the loop, then the target from the
+    /// cursor's ray (`screen` and cyclopean `eye_m` in the model's frame, the eye image width_px x height_px)
+    /// against `mesh`, handed to the device; `lv` is the loop's newest view now (its workspace mapping and tick; the
+    /// frame draws a later one, after await_hand()); `now` the frame's start.
     void frame(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
                const MeshFrame& mesh, const haptics::LoopView& lv, Clock::time_point now);
     /// The same against `surface` (e.g. the GPU contour read back, when the sculpt thread publishes no CPU mesh).
