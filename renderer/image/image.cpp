@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -58,6 +59,10 @@ Image read_png(const std::string& path) {
     Image img{w, h, std::vector<std::uint8_t>(data, data + static_cast<std::size_t>(w) * h * 4)};
     stbi_image_free(data);
     return img;
+}
+
+void swap_red_blue(std::vector<std::uint8_t>& pixels) {
+    for (std::size_t i = 0; i + 3 < pixels.size(); i += 4) std::swap(pixels[i], pixels[i + 2]);
 }
 
 Image side_by_side(const Image& left, const Image& right) {

@@ -28,6 +28,10 @@ void write_png(const std::string& path, const Image& image);
 /// `path` when the file is missing or not a decodable image.
 Image read_png(const std::string& path);
 
+/// Swaps the first and third byte of every 4-byte pixel of `pixels` in place: BGRA memory order (a B8G8R8A8 image
+/// read back from the GPU) to RGBA, or back. A trailing partial pixel (size not a multiple of 4) is left alone.
+void swap_red_blue(std::vector<std::uint8_t>& pixels);
+
 /// Left and right placed next to each other (left at x = 0), width = left.width + right.width.
 /// Throws tridex::Error when the heights differ or an image is inconsistent.
 Image side_by_side(const Image& left, const Image& right);

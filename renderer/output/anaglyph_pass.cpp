@@ -352,8 +352,7 @@ Image AnaglyphPass::read() const {
     const std::size_t bytes = static_cast<std::size_t>(im.width) * im.height * 4;
     Image img{im.width, im.height, std::vector<std::uint8_t>(bytes)};
     im.readback.read(img.rgba.data(), bytes);
-    if (im.format == VK_FORMAT_B8G8R8A8_UNORM)
-        for (std::size_t i = 0; i < bytes; i += 4) std::swap(img.rgba[i], img.rgba[i + 2]);
+    if (im.format == VK_FORMAT_B8G8R8A8_UNORM) swap_red_blue(img.rgba);
     return img;
 }
 

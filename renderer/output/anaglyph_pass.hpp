@@ -13,8 +13,8 @@
 namespace tridex::renderer {
 
 /// Mixes the two eye layers of an OffscreenStereoRenderer's colour image into one width x height 8-bit
-/// anaglyph image (RGBA or BGRA in memory) on the GPU: a full-screen triangle whose fragment shader (shaders/anaglyph.frag) reads both
-/// layers of the same pixel and applies the AnaglyphMethod with the arithmetic of the CPU reference compose()
+/// anaglyph image (RGBA or BGRA in memory) on the GPU: a full-screen triangle whose fragment shader
+/// (shaders/anaglyph.frag) reads both layers of the same pixel and applies the AnaglyphMethod with the arithmetic of the CPU reference compose()
 /// (Dubois: the same sRGB code tables and matrices, mixed in 32-bit floats, so a channel may differ from
 /// compose() by 1 where a value lies within float rounding of a code boundary; colour and gray: exact).
 /// Move-only; the Context must outlive it, and every renderer it reads must outlive its last submission.

@@ -159,8 +159,7 @@ struct WindowPresenter::Impl {
             img.height = static_cast<int>(e.height);
             img.rgba.resize(bytes);
             capture_buffer.read(img.rgba.data(), bytes, bytes * layer);
-            if (bgra)
-                for (std::size_t i = 0; i < bytes; i += 4) std::swap(img.rgba[i], img.rgba[i + 2]);
+            if (bgra) swap_red_blue(img.rgba);
         }
     }
 

@@ -63,6 +63,14 @@ TEST(Image, SideBySidePlacesLeftThenRight) {
     EXPECT_THROW(side_by_side(l, gradient(3, 3)), Error);
 }
 
+TEST(Image, SwapRedBlueTurnsBgraIntoRgbaAndBack) {
+    std::vector<std::uint8_t> px = {1, 2, 3, 4, 10, 20, 30, 40, 7, 8};  // two pixels and a partial one
+    swap_red_blue(px);
+    EXPECT_EQ(px, (std::vector<std::uint8_t>{3, 2, 1, 4, 30, 20, 10, 40, 7, 8}));
+    swap_red_blue(px);
+    EXPECT_EQ(px, (std::vector<std::uint8_t>{1, 2, 3, 4, 10, 20, 30, 40, 7, 8}));
+}
+
 TEST(ImageCompare, CountsPixelsWithinTolerance) {
     Image a = gradient(10, 10);
     Image b = a;
