@@ -107,7 +107,7 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
                                lod.at("all_built_after_first_frame_ms").is_number();
             row.lod_all_built_ms = built ? lod.at("all_built_after_first_frame_ms").get<double>() : -1.0;
             row.path = j.at("sculpt_path").get<std::string>();
-            row.frames = res.sample_to_drawn_ms.size();
+            row.frames = res.sample_to_drawn_ms.count();
             row.p50_ms = lat.at("median").get<double>();
             row.p99_ms = lat.at("p99").get<double>();
             row.max_ms = lat.at("max").get<double>();

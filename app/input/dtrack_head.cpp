@@ -5,7 +5,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/summary.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -78,8 +77,8 @@ Pose DTrackHead::head_at(double t_s) {
         ++frames_tracked_;
         if (pending_latency_) {
             pending_latency_ = false;
-            latency_ms_.push_back(static_cast<double>(steady_ns(std::chrono::steady_clock::now()) - pending_receipt_ns_) *
-                                  1e-6);
+            latency_ms_.add(static_cast<double>(steady_ns(std::chrono::steady_clock::now()) - pending_receipt_ns_) *
+                            1e-6);
         }
     } else {
         ++frames_stale_;
@@ -107,7 +106,6 @@ nlohmann::json DTrackHead::report_json() const {
     json reasons = json::object();
     for (std::size_t k = 1; k < rs.by_reason.size(); ++k)
         if (rs.by_reason[k] > 0) reasons[devices::to_string(static_cast<devices::DTrackReject>(k))] = rs.by_reason[k];
-    const Summary lat = summarize(latency_ms_);
     json last = nullptr;
     if (last_position_m_) last = json::array({last_position_m_->x, last_position_m_->y, last_position_m_->z});
     return json{{"provider", "dtrack"},
@@ -118,7 +116,10 @@ nlohmann::json DTrackHead::report_json() const {
                 {"fallbacks", tracker_.status().fallbacks},
                 {"last_position_m", last},
                 {"latency_ms",
-                 {{"median", lat.median}, {"p99", lat.p99}, {"max", lat.max}, {"count", latency_ms_.size()},
+                 {{"median", latency_ms_.percentile_ms(0.5)},
+                  {"p99", latency_ms_.percentile_ms(0.99)},
+                  {"max", latency_ms_.max_ms()},
+                  {"count", latency_ms_.count()},
                   {"from", "datagram receipt (receiver thread) to the frame's head_at() that first used it"}}},
                 {"datagrams", rs.datagrams},
                 {"accepted", rs.accepted},

@@ -15,6 +15,7 @@
 #include "core/pose.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "renderer/camera/head_pose.hpp"
+#include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
 
@@ -52,8 +53,9 @@ public:
     std::uint64_t frames_stale() const { return frames_stale_; }      ///< head_at() calls that used the fallback
     /// The last tracked position of the body in tracker coordinates (m, before calibration); none before one.
     const std::optional<Vec3>& last_position_m() const { return last_position_m_; }
-    /// Per sample used: steady time from the datagram's receipt to the head_at() that first used it, ms.
-    const std::vector<double>& latency_ms() const { return latency_ms_; }
+    /// Per sample used: steady time from the datagram's receipt to the head_at() that first used it, ms, in
+    /// 0.25 ms bins (DurationHistogram's default range).
+    const DurationHistogram& latency_ms() const { return latency_ms_; }
     /// Receiver counters (datagrams, rejects by reason).
     devices::DTrackReceiverStats receiver_stats() const { return receiver_->stats(); }
     /// One line: which pose the last head_at() used and why.
@@ -74,7 +76,7 @@ private:
     bool untracked_ = false;           // the newest sample said quality -1
     std::uint64_t frames_tracked_ = 0, frames_stale_ = 0;
     std::optional<Vec3> last_position_m_;
-    std::vector<double> latency_ms_;
+    DurationHistogram latency_ms_;  // fixed bins: bounded memory however long the session
 };
 
 /// a * b: the transform that applies b, then a.

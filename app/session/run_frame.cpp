@@ -274,7 +274,7 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
         ++r.mesh_versions_drawn;
         r.last_mesh_version = mesh.version;
         sample_s = mesh.oldest_sample_s;
-        if (std::isfinite(sample_s)) r.sample_to_published_ms.push_back(1e3 * (mesh.published_s - sample_s));
+        if (std::isfinite(sample_s)) r.sample_to_published_ms.add(1e3 * (mesh.published_s - sample_s));
     }
     // The mouse stylus picks on the CPU: with the GPU contour and no tiles published (levels of detail off) it is read back
     // when it changed, at most every kPickRefreshS, and not while the left button holds the surface anyway.
@@ -298,8 +298,8 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     renderer::SceneView view = frame_view(mesh, lv, saving);
     present(frame, frame_aim, lv, view, contour_lock);
     if (std::isfinite(sample_s))
-        r.sample_to_drawn_ms.push_back(
-            1e3 * (std::chrono::duration<double>(Clock::now().time_since_epoch()).count() - sample_s));
+        r.sample_to_drawn_ms.add(1e3 *
+                                 (std::chrono::duration<double>(Clock::now().time_since_epoch()).count() - sample_s));
 }
 
 // 4. The session's frames, on this thread, through the one frame loop (run_frames) at the display's rate (offscreen:

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <thread>
 
-#include "core/summary.hpp"
-
 namespace tridex::app {
 
 namespace {
@@ -106,7 +104,7 @@ std::chrono::microseconds RunMouse::await_hand(std::chrono::microseconds limit) 
                                                              std::chrono::duration<double>(limit_s - waited_s))));
     }
     const auto waited = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
-    waited_us_.push_back(static_cast<double>(waited.count()));
+    waited_ms_.add(1e-3 * static_cast<double>(waited.count()));
     return waited;
 }
 
@@ -116,7 +114,7 @@ void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
     // The newest pending target the tool reached; the older ones were passed by.
     for (std::size_t i = pending_.size(); i-- > 0;) {
         if (lv.tick < pending_[i].tick + 2 || glm::length(tool - pending_[i].hip_m) > kShownTolM) continue;
-        latency_ms_.push_back(std::chrono::duration<double, std::milli>(now - pending_[i].t).count());
+        latency_ms_.add(std::chrono::duration<double, std::milli>(now - pending_[i].t).count());
         if (pending_[i].frame == frame_) ++same_frame_;
         superseded_ += i;
         pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
@@ -125,15 +123,19 @@ void RunMouse::shown(const haptics::LoopView& lv, Clock::time_point now) {
 }
 
 nlohmann::json RunMouse::report_json() const {
-    const Summary s = summarize(latency_ms_);
-    const Summary w = summarize(waited_us_);
+    const DurationHistogram& s = latency_ms_;
+    const DurationHistogram& w = waited_ms_;
     const char* op = tool_op_name(sent_op_);
     return nlohmann::json{
         {"targets", targets_},
         {"latency_ms",
-         {{"count", latency_ms_.size()}, {"median", s.median}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}}},
+         {{"count", s.count()},
+          {"median", s.percentile_ms(0.5)},
+          {"p99", s.percentile_ms(0.99)},
+          {"max", s.max_ms()},
+          {"mean", s.mean_ms()}}},
         {"hand_wait_ms",
-         {{"count", waited_us_.size()}, {"median", 1e-3 * w.median}, {"p99", 1e-3 * w.p99}, {"max", 1e-3 * w.max}}},
+         {{"count", w.count()}, {"median", w.percentile_ms(0.5)}, {"p99", w.percentile_ms(0.99)}, {"max", w.max_ms()}}},
         {"same_frame", same_frame_},
         {"superseded", superseded_},
         {"unmatched", pending_.size()},

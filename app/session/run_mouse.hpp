@@ -13,6 +13,7 @@
 #include "app/input/mouse_stylus.hpp"
 #include "app/session/session_runtime.hpp"
 #include "devices/mouse_device.hpp"
+#include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
 
@@ -81,8 +82,9 @@ private:
     bool have_target_ = false;
     Vec3 last_target_{0.0};
     std::deque<Pending> pending_;
-    std::vector<double> latency_ms_;
-    std::vector<double> waited_us_;  // per await_hand() call that had a new target: the time it slept
+    // Fixed-bin histograms, so a session of any length keeps bounded memory.
+    DurationHistogram latency_ms_;                       // per matched target, ms (0.25 ms bins)
+    DurationHistogram waited_ms_{0.02, 500, 100, 20.0};  // per await_hand() with a new target, ms (0.02 ms bins)
     std::uint64_t targets_ = 0, superseded_ = 0;
     std::uint64_t same_frame_ = 0;  // targets drawn by the frame whose input set them
     std::uint64_t frame_ = 0;  // frames so far (frame() calls)

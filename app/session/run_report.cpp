@@ -5,7 +5,6 @@
 #include <array>
 #include <fstream>
 
-#include "core/summary.hpp"
 #include "app/support/json_file.hpp"
 #include "app/session/report.hpp"
 #include "app/session/session_report.hpp"
@@ -26,11 +25,14 @@ json lod_json(const RunResult& r, const RenderLog& log) {
     if (s.lod_all_built_s >= 0.0 && r.first_frame_s >= 0.0)
         ready = std::max(0.0, 1000.0 * (s.lod_all_built_s - r.first_frame_s));
     json latency = nullptr;
-    if (!s.lod_latency_ms.empty()) {
-        const Summary l = summarize(s.lod_latency_ms);
-        latency = json{{"count", s.lod_latency_ms.size()}, {"median_ms", l.median}, {"p99_ms", l.p99}, {"max_ms", l.max}};
+    if (s.lod_latency_ms.count() > 0) {
+        const DurationHistogram& l = s.lod_latency_ms;
+        latency = json{{"count", l.count()},
+                       {"median_ms", l.percentile_ms(0.5)},
+                       {"p99_ms", l.percentile_ms(0.99)},
+                       {"max_ms", l.max_ms()}};
     }
-    const double frames = static_cast<double>(log.tiles.size());
+    const double frames = static_cast<double>(log.frames);
     return json{{"on", r.setup.lod},
                 {"tiles_built", s.lod_tiles_built},
                 {"groups_built", s.lod_groups_built},
@@ -46,23 +48,15 @@ json lod_json(const RunResult& r, const RenderLog& log) {
 
 json render_json(const RunResult& r) {
     const RenderLog& log = r.render;
-    std::array<std::uint64_t, 2> drawn{}, skipped{};
     json per_frame = json::array();
-    for (const auto& f : log.tiles) {
-        for (int e = 0; e < 2; ++e) {
-            drawn[e] += f[e].drawn;
-            skipped[e] += f[e].skipped;
-        }
-        per_frame.push_back({f[0].drawn, f[0].skipped, f[1].drawn, f[1].skipped});
-    }
+    for (const auto& f : log.tiles) per_frame.push_back({f[0].drawn, f[0].skipped, f[1].drawn, f[1].skipped});
     json passes = json::object();
-    for (const auto& [name, ms] : log.pass_ms) {
-        double total = 0.0;
-        for (const double v : ms) total += v;
-        const Summary s = summarize(ms);
-        passes[name] = json{{"count", ms.size()}, {"total_ms", total}, {"median_ms", s.median}, {"p99_ms", s.p99},
-                            {"max_ms", s.max}};
-    }
+    for (const auto& [name, ms] : log.pass_ms)
+        passes[name] = json{{"count", ms.count()},
+                            {"total_ms", ms.sum_ms()},
+                            {"median_ms", ms.percentile_ms(0.5)},
+                            {"p99_ms", ms.percentile_ms(0.99)},
+                            {"max_ms", ms.max_ms()}};
     return json{{"device", r.device},
                 {"eye_strategy", r.eye_strategy},
                 {"validation_messages", r.validation_messages},
@@ -80,8 +74,9 @@ json render_json(const RunResult& r) {
                 {"tiles",
                  {{"per_frame_columns", {"left_drawn", "left_skipped", "right_drawn", "right_skipped"}},
                   {"per_frame", per_frame},
-                  {"drawn_total", drawn},
-                  {"skipped_total", skipped},
+                  {"per_frame_kept", RenderLog::kTileFramesKept},
+                  {"drawn_total", log.tiles_drawn},
+                  {"skipped_total", log.tiles_skipped},
                   {"uploads_total", log.tile_uploads}}},
                 {"passes", passes}};
 }
@@ -89,11 +84,20 @@ json render_json(const RunResult& r) {
 }  // namespace
 
 void RenderLog::add(const renderer::FrameStats& stats) {
-    tiles.push_back(stats.tiles);
-    for (int e = 0; e < 2; ++e) tile_triangles[e] += stats.tile_triangles[e];
+    ++frames;
+    if (tiles.size() < kTileFramesKept) tiles.push_back(stats.tiles);
+    for (int e = 0; e < 2; ++e) {
+        tiles_drawn[e] += stats.tiles[e].drawn;
+        tiles_skipped[e] += stats.tiles[e].skipped;
+        tile_triangles[e] += stats.tile_triangles[e];
+    }
     tile_uploads += stats.tile_uploads;
     for (const renderer::PassTime& p : stats.passes)
-        pass_ms[p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "")].push_back(p.ms);
+        pass_ms.try_emplace(p.pass + (p.eye == 0   ? ".left"
+                                      : p.eye == 1 ? ".right"
+                                                   : ""),
+                            kPassBinMs, 2000, 400, 20.0)
+            .first->second.add(p.ms);
     timing_note = stats.timing_note;
 }
 
@@ -110,9 +114,9 @@ json run_report_json(const RunResult& r) {
                 {"eye_resolution_last", {r.eye_resolution_last.first, r.eye_resolution_last.second}},
                 {"render_s", r.render_s},
                 {"rate_hz", rate_hz(static_cast<double>(r.frames), r.render_s)},
-                {"frame_ms", r.frame_ms.to_json()},
-                {"interval_ms", r.interval_ms.to_json()},
-                {"gpu_ms", r.gpu_ms.to_json()}};
+                {"frame_ms", renderer::histogram_json(r.frame_ms)},
+                {"interval_ms", renderer::histogram_json(r.interval_ms)},
+                {"gpu_ms", renderer::histogram_json(r.gpu_ms)}};
     if (!r.present_timings.is_null()) frames["present"] = r.present_timings;
     json haptics = r.haptics;
     if (haptics.is_object()) {

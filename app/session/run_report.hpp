@@ -15,7 +15,7 @@ namespace tridex::app {
 ///   "eye_resolution": [w, h], "refresh_hz", "device",
 ///   "eye_strategy", "present_mode", "validation_messages",
 ///   "frames": { "count", "presents", "last_eye", "render_s",
-///               "frame_ms" | "interval_ms" | "gpu_ms": FrameTimeHistogram::to_json() (bins, p50/p95/p99, ...),
+///               "frame_ms" | "interval_ms" | "gpu_ms": renderer::histogram_json (bins, p50/p95/p99, ...),
 ///               "present": WindowPresenter timings (window only) },
 ///   "meshes": { "versions_drawn", "last_version", "published", "publish_ms": {median, p99, max, mean},
 ///               "triangles" },

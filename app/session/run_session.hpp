@@ -11,13 +11,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/run_options.hpp"
 #include "app/scene/run_scene.hpp"
-#include "compute/runtime/sculpt_thread.hpp"
+#include "app/session/run_options.hpp"
 #include "compute/gpu/gpu_contourer.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "core/duration_histogram.hpp"
 #include "haptics/haptic_loop.hpp"
-#include "renderer/timing/frame_stats.hpp"
 #include "renderer/output/stereo_output.hpp"
+#include "renderer/timing/frame_stats.hpp"
 #include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
@@ -53,16 +54,22 @@ struct RunSetup {
     double checkpoint_s = 120.0;    ///< wall time between checkpoint models, s (0 = none)
 };
 
-/// The renderer's FrameStats of every frame of a run, kept for report.json.
+/// The renderer's FrameStats of a run's frames, kept for report.json in bounded memory: sums and histograms over
+/// every frame, and the per-frame tile counts of the first kTileFramesKept frames.
 struct RenderLog {
-    /// Per frame, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
+    static constexpr std::size_t kTileFramesKept = 1000;  ///< frames whose tile counts `tiles` keeps
+    static constexpr double kPassBinMs = 0.01;            ///< pass histograms: 0.01 ms bins to 20 ms, then 0.2 ms
+    std::uint64_t frames = 0;                             ///< frames added
+    /// Per frame of the first kTileFramesKept, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
     std::vector<std::array<renderer::EyeTileCounts, 2>> tiles;
+    /// Per eye: workpiece tiles drawn and skipped, summed over every frame.
+    std::array<std::uint64_t, 2> tiles_drawn{}, tiles_skipped{};
     std::uint64_t tile_uploads = 0;  ///< tile meshes uploaded, summed over frames
     /// Workpiece tile triangles drawn per eye (FrameStats::tile_triangles), summed over frames.
     std::array<std::uint64_t, 2> tile_triangles{};
     /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
-    /// "frame" (CPU clock): that pass's time in every frame, ms.
-    std::map<std::string, std::vector<double>> pass_ms;
+    /// "frame" (CPU clock): that pass's time in every frame, ms (kPassBinMs bins).
+    std::map<std::string, DurationHistogram> pass_ms;
     std::string timing_note;         ///< the last frame's FrameStats::timing_note
     /// Adds one frame's statistics.
     void add(const renderer::FrameStats& stats);
@@ -81,18 +88,18 @@ struct RunResult {
     int last_eye = -1;                           ///< frame-sequential / quad: the eye shown last (0/1); else -1
     std::uint64_t window_resizes = 0;            ///< times the eye images followed a desk window to a new size
     std::pair<int, int> eye_resolution_last{0, 0};  ///< per-eye image size of the last frame, px
-    renderer::FrameTimeHistogram frame_ms;       ///< per frame: CPU wall time of draw + readback/present, ms
-    renderer::FrameTimeHistogram interval_ms;    ///< between successive frame starts (the display period), ms
-    renderer::FrameTimeHistogram gpu_ms;         ///< per frame: GPU time of the stereo render (timestamps), ms
+    DurationHistogram frame_ms;                     ///< per frame: CPU wall time of draw + readback/present, ms
+    DurationHistogram interval_ms;                  ///< between successive frame starts (the display period), ms
+    DurationHistogram gpu_ms;                       ///< per frame: GPU time of the stereo render (timestamps), ms
     nlohmann::json present_timings;              ///< window: WindowPresenter::timings().to_json(); null offscreen
     std::uint64_t mesh_versions_drawn = 0;       ///< distinct MeshFrame versions the renderer drew
     std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
     /// Per new mesh version drawn that carried a sculpted change: from its oldest changing tool sample being made
     /// (MeshFrame::oldest_sample_s) to the end of the frame that first drew it (presented), ms.
-    std::vector<double> sample_to_drawn_ms;
+    DurationHistogram sample_to_drawn_ms;
     /// The same frames' sculpt-side share: from the oldest changing tool sample to the mesh's publish
     /// (MeshFrame::published_s; queue wait, the Booleans or clay, re-contouring and publishing), ms.
-    std::vector<double> sample_to_published_ms;
+    DurationHistogram sample_to_published_ms;
     bool stroke_completed = false;               ///< the haptic loop played the whole stroke before the end
     double wall_s = 0.0;                         ///< whole run, s
     double render_s = 0.0;                       ///< from the first frame to the end of the last, s

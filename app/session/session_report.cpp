@@ -68,6 +68,11 @@ nlohmann::json summary_report_json(const std::vector<double>& v) {
     return json{{"median", s.median}, {"p99", s.p99}, {"mean", s.mean}, {"max", s.max}};
 }
 
+nlohmann::json summary_report_json(const DurationHistogram& h) {
+    return json{
+        {"median", h.percentile_ms(0.5)}, {"p99", h.percentile_ms(0.99)}, {"mean", h.mean_ms()}, {"max", h.max_ms()}};
+}
+
 const std::vector<ReportField>& report_schema() {
     static const std::vector<ReportField> schema = {
         {"command", "the command that ran the session: demo, replay or run"},

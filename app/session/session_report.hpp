@@ -11,6 +11,7 @@
 
 #include "app/session/session_runtime.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
+#include "core/duration_histogram.hpp"
 #include "core/tri_mesh.hpp"
 #include "haptics/haptic_loop.hpp"
 
@@ -38,6 +39,8 @@ std::vector<std::string> report_schema_violations(const nlohmann::json& report);
 /// Order statistics of `v` as report.json writes them: {median, p99, mean, max}, in the units of v (core/summary.hpp;
 /// all 0 for an empty v).
 nlohmann::json summary_report_json(const std::vector<double>& v);
+/// The same from a histogram of durations, ms: median and p99 are the upper edges of their bins (all 0 when empty).
+nlohmann::json summary_report_json(const DurationHistogram& h);
 
 /// `workpiece` block: {transform (4x4 row-major, mesh units -> world m), volume_mesh_m3, volume_dexel_m3,
 /// volume_dexel_error_rel, resolution, cell_m, cells ([x, y, z])}, from the session's workpiece. volume_dexel_m3 is

@@ -108,7 +108,7 @@ std::size_t TileSurfaceCache::collect_lods() {
         const auto q = queued_.find(job_key(r.group, r.id));
         if (q != queued_.end()) {
             if (q->second.after_start)
-                lod_latency_ms_.push_back(std::chrono::duration<double, std::milli>(now - q->second.at).count());
+                lod_latency_ms_.add(std::chrono::duration<double, std::milli>(now - q->second.at).count());
             queued_.erase(q);
         }
     }

@@ -14,16 +14,17 @@
 #include <thread>
 #include <vector>
 
-#include "compute/history/undo_history.hpp"
-#include "compute/runtime/boolean_backend.hpp"
-#include "compute/runtime/sculpt_history.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/history/undo_history.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/journal/tool_stream.hpp"
-#include "compute/tools/mesh_tool.hpp"
 #include "compute/model/tridexel.hpp"
+#include "compute/runtime/boolean_backend.hpp"
+#include "compute/runtime/sculpt_history.hpp"
+#include "compute/tools/mesh_tool.hpp"
 #include "core/active_surface.hpp"
+#include "core/duration_histogram.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
 #include "core/tri_mesh.hpp"
@@ -72,8 +73,8 @@ struct SculptStats {
     std::size_t lod_pending = 0;
     /// use_tile_lod: per tile or group re-contoured after start-up that got its levels, the wall time from its
     /// re-contoured mesh being taken in (a mesh publish) to its levels being taken in (TileSurfaceCache::
-    /// lod_latency_ms; the next mesh publish carries them), ms.
-    std::vector<double> lod_latency_ms;
+    /// lod_latency_ms; the next mesh publish carries them), ms, in 0.25 ms bins.
+    DurationHistogram lod_latency_ms;
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
     /// Per undo or redo that changed the model: from taking the request to the active surface published and the

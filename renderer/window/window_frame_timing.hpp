@@ -1,69 +1,23 @@
-// renderer/window/window_frame_timing.hpp - frame-time histograms with preallocated bins.
+// renderer/window/window_frame_timing.hpp - the timings a presenting window collects, and histograms as JSON.
 #pragma once
-
-#include <cstddef>
-#include <cstdint>
-#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/duration_histogram.hpp"
+
 namespace tridex::renderer {
 
-/// A histogram of durations in milliseconds: `bins` fine bins of `bin_width_ms` from 0, then `coarse_bins` bins
-/// `coarse_factor` times as wide (slow frames, such as a CPU Vulkan implementation's, still get percentiles), plus
-/// an overflow count for samples beyond both. All storage is allocated at construction: add()
-/// never allocates, so it may run on a render thread every frame. Not thread-safe (one writer; read it
-/// between frames or from the same thread).
-class FrameTimeHistogram {
-public:
-    /// Bins [k * w, (k + 1) * w) ms for k = 0 .. bins - 1, then [F + j * c, F + (j + 1) * c) for j = 0 ..
-    /// coarse_bins - 1 (F = bins * w, c = coarse_factor * w). Throws tridex::Error when bin_width_ms is not a
-    /// finite number > 0, bins == 0, or coarse_factor is not a finite number >= 1. Default: 0.25 ms bins up to
-    /// 100 ms, then 5 ms bins up to 2.1 s.
-    explicit FrameTimeHistogram(double bin_width_ms = 0.25, std::size_t bins = 400, std::size_t coarse_bins = 400,
-                                double coarse_factor = 20.0);
-
-    /// Records one duration, ms. Negative or non-finite values are not binned; they are counted in rejected().
-    void add(double ms);
-    /// Forgets every sample (bins keep their storage).
-    void clear();
-
-    std::uint64_t count() const { return count_; }        ///< samples binned (including overflow)
-    std::uint64_t overflow() const { return overflow_; }  ///< samples beyond the histogram's range (fine and coarse)
-    std::uint64_t rejected() const { return rejected_; }  ///< negative or non-finite samples refused
-    double bin_width_ms() const { return width_; }        ///< width of one fine bin, ms
-    /// Counts per bin: the fine bins, then the coarse ones.
-    const std::vector<std::uint64_t>& bins() const { return bins_; }
-    /// The lower edge of bin k (an index into bins()), ms.
-    double bin_lower_ms(std::size_t k) const;
-    double min_ms() const;   ///< smallest sample, ms (0 when empty)
-    double max_ms() const;   ///< largest sample, ms (0 when empty)
-    double mean_ms() const;  ///< arithmetic mean of the samples, ms (0 when empty)
-    /// The upper edge (ms) of the bin holding the sample of rank ceil(p * count) (p in [0, 1]; p = 0 gives the
-    /// first sample's bin): an upper bound on the p-quantile, exact to one bin's width. Overflowed samples report
-    /// max_ms(). Returns 0 when empty; throws tridex::Error when p is outside [0, 1].
-    double percentile_ms(double p) const;
-
-    /// {"bin_width_ms", "count", "overflow", "rejected", "min_ms", "max_ms", "mean_ms", "p50_ms", "p95_ms",
-    /// "p99_ms", "bins": [[lower_edge_ms, count], ...] for the non-empty bins only}.
-    nlohmann::json to_json() const;
-
-private:
-    double width_;
-    std::size_t fine_;       // fine bins: the first fine_ entries of bins_
-    double coarse_width_;    // width of a coarse bin, ms
-    std::vector<std::uint64_t> bins_;
-    std::uint64_t count_ = 0, overflow_ = 0, rejected_ = 0;
-    double sum_ = 0, min_ = 0, max_ = 0;
-};
+/// A histogram as JSON: {"bin_width_ms", "count", "overflow", "rejected", "min_ms", "max_ms", "mean_ms", "p50_ms",
+/// "p95_ms", "p99_ms", "bins": [[lower_edge_ms, count], ...] for the non-empty bins only}.
+nlohmann::json histogram_json(const DurationHistogram& h);
 
 /// The timings a presenting window collects, one sample per presented frame (each in its own histogram).
 struct FrameTimings {
-    FrameTimeHistogram render_gpu_ms;  ///< GPU time of the stereo render (OffscreenStereoRenderer::last_gpu_ms)
-    FrameTimeHistogram blit_gpu_ms;    ///< GPU time of the present pass (blits/upload into the swapchain image)
-    FrameTimeHistogram interval_ms;    ///< CPU time between successive presents (the display period under vsync)
+    DurationHistogram render_gpu_ms;  ///< GPU time of the stereo render (OffscreenStereoRenderer::last_gpu_ms)
+    DurationHistogram blit_gpu_ms;    ///< GPU time of the present pass (blits/upload into the swapchain image)
+    DurationHistogram interval_ms;    ///< CPU time between successive presents (the display period under vsync)
 
-    /// {"render_gpu_ms": ..., "blit_gpu_ms": ..., "interval_ms": ...} (FrameTimeHistogram::to_json each).
+    /// {"render_gpu_ms": ..., "blit_gpu_ms": ..., "interval_ms": ...} (histogram_json each).
     nlohmann::json to_json() const;
 };
 

@@ -78,8 +78,9 @@ TEST(DTrackHead, EyesMoveExactlyAsTheSentPosesSay) {
     }
     EXPECT_EQ(head.frames_tracked(), 3u);
     EXPECT_EQ(head.frames_stale(), 0u);
-    EXPECT_EQ(head.latency_ms().size(), 3u);
-    for (const double ms : head.latency_ms()) EXPECT_GE(ms, 0.0);
+    EXPECT_EQ(head.latency_ms().count(), 3u);
+    EXPECT_EQ(head.latency_ms().rejected(), 0u);
+    EXPECT_GE(head.latency_ms().min_ms(), 0.0);
     const nlohmann::json j = head.report_json();
     EXPECT_EQ(j.at("provider"), "dtrack");
     EXPECT_EQ(j.at("frames_tracked"), 3);

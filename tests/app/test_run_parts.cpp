@@ -513,5 +513,31 @@ TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
     EXPECT_THROW(OcclusionBudget(25.0, 2), Error);
 }
 
+// A long run's render log stays bounded: sums and histograms over every frame, per-frame tile counts for the first
+// kTileFramesKept frames only.
+TEST(RenderLog, KeepsBoundedMemoryOverALongRun) {
+    RenderLog log;
+    const std::size_t frames = RenderLog::kTileFramesKept + 500;
+    for (std::size_t f = 0; f < frames; ++f) {
+        renderer::FrameStats s;
+        s.tiles[0] = {3, 1};
+        s.tiles[1] = {2, 2};
+        s.tile_triangles = {100, 80};
+        s.passes = {{"opaque", 0, 1.0 + 0.001 * static_cast<double>(f % 10)}, {"overlay", -1, 0.045}};
+        log.add(s);
+    }
+    EXPECT_EQ(log.frames, frames);
+    EXPECT_EQ(log.tiles.size(), RenderLog::kTileFramesKept);
+    EXPECT_EQ(log.tiles_drawn[0], 3 * frames);
+    EXPECT_EQ(log.tiles_skipped[1], 2 * frames);
+    EXPECT_EQ(log.tile_triangles[1], 80 * frames);
+    ASSERT_EQ(log.pass_ms.size(), 2u);
+    const DurationHistogram& opaque = log.pass_ms.at("opaque.left");
+    EXPECT_EQ(opaque.count(), frames);
+    EXPECT_NEAR(opaque.percentile_ms(0.5), 1.01, 1e-9);  // the median's bin [1.00, 1.01) ms, by its upper edge
+    EXPECT_NEAR(log.pass_ms.at("overlay").percentile_ms(0.99), 0.05, 1e-9);
+    EXPECT_NEAR(opaque.sum_ms(), static_cast<double>(frames) * 1.0045, 1e-6);
+}
+
 }  // namespace
 }  // namespace tridex::app

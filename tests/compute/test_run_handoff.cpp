@@ -216,7 +216,7 @@ TEST(RunHandoff, SculptedTilesGetLevelsWithoutAnyoneWaitingForThem) {
     for (const auto& g : meshes.latest().groups) groups_with_levels += g->lods.empty() ? 0 : 1;
     EXPECT_GT(groups_with_levels, 0u);
     EXPECT_EQ(t.stats().lod_pending, 0u);
-    EXPECT_GE(t.stats().lod_latency_ms.size(), carved.size());  // the carved tiles were queued after start-up
+    EXPECT_GE(t.stats().lod_latency_ms.count(), carved.size());  // the carved tiles were queued after start-up
     EXPECT_GE(t.stats().lod_all_built_s, 0.0);
 }
 

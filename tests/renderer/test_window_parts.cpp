@@ -174,8 +174,8 @@ TEST(WindowBlitLayout, SplitsAndPlacesEyesPerOutput) {
     EXPECT_THROW(plan_blits(StereoOutput::kFrameSequential, 10, 10, false, 2), Error);
 }
 
-TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
-    FrameTimeHistogram h(1.0, 10, 0);  // [0,1) .. [9,10) ms, then overflow
+TEST(DurationHistogram, BinsPercentilesAndJson) {
+    DurationHistogram h(1.0, 10, 0);  // [0,1) .. [9,10) ms, then overflow
     EXPECT_EQ(h.percentile_ms(0.5), 0.0);
     for (double ms : {0.5, 1.0, 1.5, 2.2, 16.0, 3.0, 3.9, 9.99}) h.add(ms);
     h.add(-1.0);
@@ -197,7 +197,7 @@ TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
     EXPECT_EQ(h.percentile_ms(0.875), 10.0); // rank 7: 9.99 in [9,10)
     EXPECT_EQ(h.percentile_ms(1.0), 16.0);   // rank 8 overflowed: max
     EXPECT_THROW(h.percentile_ms(1.5), Error);
-    const nlohmann::json j = h.to_json();
+    const nlohmann::json j = histogram_json(h);
     EXPECT_EQ(j["count"], 8);
     EXPECT_EQ(j["overflow"], 1);
     EXPECT_EQ(j["p50_ms"], 3.0);
@@ -208,11 +208,11 @@ TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
     EXPECT_EQ(h.count(), 0u);
     EXPECT_EQ(h.bins()[1], 0u);
     EXPECT_EQ(h.bins().size(), 10u);
-    EXPECT_THROW(FrameTimeHistogram(0.0, 10), Error);
-    EXPECT_THROW(FrameTimeHistogram(1.0, 0), Error);
-    EXPECT_THROW(FrameTimeHistogram(1.0, 10, 10, 0.5), Error);
+    EXPECT_THROW(DurationHistogram(0.0, 10), Error);
+    EXPECT_THROW(DurationHistogram(1.0, 0), Error);
+    EXPECT_THROW(DurationHistogram(1.0, 10, 10, 0.5), Error);
     // Coarse bins above the fine ones: slow frames (a CPU Vulkan implementation's 100-500 ms) keep their percentiles.
-    FrameTimeHistogram slow;  // 0.25 ms bins to 100 ms, then 5 ms bins to 2.1 s
+    DurationHistogram slow;  // 0.25 ms bins to 100 ms, then 5 ms bins to 2.1 s
     for (int i = 0; i < 10; ++i) slow.add(10.0);
     for (int i = 0; i < 20; ++i) slow.add(112.0);
     slow.add(513.8);
@@ -222,7 +222,7 @@ TEST(FrameTimeHistogram, BinsPercentilesAndJson) {
     EXPECT_EQ(slow.percentile_ms(0.5), 115.0);   // rank 16: 112 in the coarse bin [110, 115)
     EXPECT_EQ(slow.percentile_ms(31.0 / 32.0), 515.0);
     EXPECT_EQ(slow.percentile_ms(1.0), 5000.0);  // overflowed: the largest sample
-    const nlohmann::json sj = slow.to_json();
+    const nlohmann::json sj = histogram_json(slow);
     ASSERT_EQ(sj["bins"].size(), 3u);
     EXPECT_EQ(sj["bins"][1][0], 110.0);
     EXPECT_EQ(sj["bins"][2][0], 510.0);

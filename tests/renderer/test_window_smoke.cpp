@@ -273,7 +273,7 @@ TEST(WindowSmoke, FollowsResizeAndReportsFrameTimes) {
                 t.interval_ms.mean_ms(), t.interval_ms.max_ms());
 
     // Presents alone (no rendering in between): FIFO paces them at the display's rate, if the X server has one.
-    FrameTimeHistogram present_only(0.25, 400);
+    DurationHistogram present_only(0.25, 400);
     for (int i = 0; i < 20; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         ASSERT_EQ(p.present(renderer), 1);
