@@ -63,7 +63,7 @@ double DurationHistogram::percentile_ms(double p) const {
     std::uint64_t seen = 0;
     for (std::size_t k = 0; k < bins_.size(); ++k) {
         seen += bins_[k];
-        if (seen >= rank) return bin_lower_ms(k + 1);  // the bin's upper edge
+        if (seen >= rank) return std::min(bin_lower_ms(k + 1), max_);  // the bin's upper edge
     }
     return max_;
 }

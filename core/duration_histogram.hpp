@@ -20,6 +20,9 @@ public:
     /// 100 ms, then 5 ms bins up to 2.1 s.
     explicit DurationHistogram(double bin_width_ms = 0.25, std::size_t bins = 400, std::size_t coarse_bins = 400,
                                double coarse_factor = 20.0);
+    /// For latencies that may reach a few hundred ms (input to photon, tool sample to surface drawn): 0.25 ms bins
+    /// up to 400 ms, then 5 ms bins up to 2.4 s.
+    static DurationHistogram latency() { return DurationHistogram(0.25, 1600, 400, 20.0); }
 
     /// Records one duration, ms. Negative or non-finite values are not binned; they are counted in rejected().
     void add(double ms);
@@ -39,8 +42,9 @@ public:
     double mean_ms() const;                 ///< arithmetic mean of the samples, ms (0 when empty)
     double sum_ms() const { return sum_; }  ///< sum of the samples, ms
     /// The upper edge (ms) of the bin holding the sample of rank ceil(p * count) (p in [0, 1]; p = 0 gives the
-    /// first sample's bin): an upper bound on the p-quantile, exact to one bin's width. Overflowed samples report
-    /// max_ms(). Returns 0 when empty; throws tridex::Error when p is outside [0, 1].
+    /// first sample's bin), or max_ms() when that is smaller: an upper bound on the p-quantile, exact to one bin's
+    /// width. Overflowed samples report max_ms(). Returns 0 when empty; throws tridex::Error when p is outside
+    /// [0, 1].
     double percentile_ms(double p) const;
 
 private:

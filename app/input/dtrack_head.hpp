@@ -54,7 +54,7 @@ public:
     /// The last tracked position of the body in tracker coordinates (m, before calibration); none before one.
     const std::optional<Vec3>& last_position_m() const { return last_position_m_; }
     /// Per sample used: steady time from the datagram's receipt to the head_at() that first used it, ms, in
-    /// 0.25 ms bins (DurationHistogram's default range).
+    /// 0.25 ms bins (DurationHistogram::latency).
     const DurationHistogram& latency_ms() const { return latency_ms_; }
     /// Receiver counters (datagrams, rejects by reason).
     devices::DTrackReceiverStats receiver_stats() const { return receiver_->stats(); }
@@ -76,7 +76,7 @@ private:
     bool untracked_ = false;           // the newest sample said quality -1
     std::uint64_t frames_tracked_ = 0, frames_stale_ = 0;
     std::optional<Vec3> last_position_m_;
-    DurationHistogram latency_ms_;  // fixed bins: bounded memory however long the session
+    DurationHistogram latency_ms_ = DurationHistogram::latency();  // bounded memory however long the session
 };
 
 /// a * b: the transform that applies b, then a.

@@ -83,7 +83,7 @@ private:
     Vec3 last_target_{0.0};
     std::deque<Pending> pending_;
     // Fixed-bin histograms, so a session of any length keeps bounded memory.
-    DurationHistogram latency_ms_;                       // per matched target, ms (0.25 ms bins)
+    DurationHistogram latency_ms_ = DurationHistogram::latency();  // per matched target, ms
     DurationHistogram waited_ms_{0.02, 500, 100, 20.0};  // per await_hand() with a new target, ms (0.02 ms bins)
     std::uint64_t targets_ = 0, superseded_ = 0;
     std::uint64_t same_frame_ = 0;  // targets drawn by the frame whose input set them

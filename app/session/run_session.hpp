@@ -96,10 +96,10 @@ struct RunResult {
     std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
     /// Per new mesh version drawn that carried a sculpted change: from its oldest changing tool sample being made
     /// (MeshFrame::oldest_sample_s) to the end of the frame that first drew it (presented), ms.
-    DurationHistogram sample_to_drawn_ms;
+    DurationHistogram sample_to_drawn_ms = DurationHistogram::latency();
     /// The same frames' sculpt-side share: from the oldest changing tool sample to the mesh's publish
     /// (MeshFrame::published_s; queue wait, the Booleans or clay, re-contouring and publishing), ms.
-    DurationHistogram sample_to_published_ms;
+    DurationHistogram sample_to_published_ms = DurationHistogram::latency();
     bool stroke_completed = false;               ///< the haptic loop played the whole stroke before the end
     double wall_s = 0.0;                         ///< whole run, s
     double render_s = 0.0;                       ///< from the first frame to the end of the last, s

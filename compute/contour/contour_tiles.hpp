@@ -136,7 +136,8 @@ public:
     std::size_t collect_lods();
     /// Background building: per tile or group that got its levels from the worker, the wall time from queueing its
     /// job (refresh() for a tile, collect_lods() for a group) to collect_lods() taking the levels in, ms; for tiles
-    /// and groups queued after the first refresh only (a stroke's, not the start-up's); 0.25 ms bins.
+    /// and groups queued after the first refresh only (a stroke's, not the start-up's); in DurationHistogram::latency
+    /// bins.
     const DurationHistogram& lod_latency_ms() const { return lod_latency_ms_; }
 
 private:
@@ -173,7 +174,7 @@ private:
     // When the first ready group that waits for its tiles to settle may be queued (max: none waits).
     std::chrono::steady_clock::time_point settle_due_ = std::chrono::steady_clock::time_point::max();
     bool refreshed_ = false;                       // refresh() ran at least once
-    DurationHistogram lod_latency_ms_;
+    DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
 };
 
 }  // namespace tridex::compute

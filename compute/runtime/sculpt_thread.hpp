@@ -73,8 +73,8 @@ struct SculptStats {
     std::size_t lod_pending = 0;
     /// use_tile_lod: per tile or group re-contoured after start-up that got its levels, the wall time from its
     /// re-contoured mesh being taken in (a mesh publish) to its levels being taken in (TileSurfaceCache::
-    /// lod_latency_ms; the next mesh publish carries them), ms, in 0.25 ms bins.
-    DurationHistogram lod_latency_ms;
+    /// lod_latency_ms; the next mesh publish carries them), ms (DurationHistogram::latency bins).
+    DurationHistogram lod_latency_ms = DurationHistogram::latency();
     /// Wall time the thread spent working (steps that drained samples, journal syncs), ms.
     double busy_ms = 0.0;
     /// Per undo or redo that changed the model: from taking the request to the active surface published and the

@@ -222,6 +222,13 @@ TEST(DurationHistogram, BinsPercentilesAndJson) {
     EXPECT_EQ(slow.percentile_ms(0.5), 115.0);   // rank 16: 112 in the coarse bin [110, 115)
     EXPECT_EQ(slow.percentile_ms(31.0 / 32.0), 515.0);
     EXPECT_EQ(slow.percentile_ms(1.0), 5000.0);  // overflowed: the largest sample
+    DurationHistogram one;
+    one.add(2.2);
+    EXPECT_EQ(one.percentile_ms(0.5), 2.2);  // the bin's upper edge 2.25 lies above every sample: the largest
+    const DurationHistogram lat = DurationHistogram::latency();
+    EXPECT_EQ(lat.bin_width_ms(), 0.25);
+    EXPECT_EQ(lat.bin_lower_ms(1600), 400.0);  // the first coarse bin
+    EXPECT_EQ(lat.bins().size(), 2000u);
     const nlohmann::json sj = histogram_json(slow);
     ASSERT_EQ(sj["bins"].size(), 3u);
     EXPECT_EQ(sj["bins"][1][0], 110.0);
