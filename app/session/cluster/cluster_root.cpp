@@ -148,8 +148,8 @@ void ClusterRoot::exchange(FrameMessage m, bool first) {
             last_present_s_[static_cast<std::size_t>(r - 1)] = a->previous_present_s;
         }
     }
-    stats_.ready_wait_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    if (latest > 0.0) stats_.swap_spread_ms.push_back(1e3 * (latest - earliest));
+    stats_.ready_wait_ms.add(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (latest > 0.0) stats_.swap_spread_ms.add(1e3 * (latest - earliest));
     if (checked) ++stats_.checks;
     try {
         const std::vector<unsigned char> go = encode_go(frame);
@@ -161,7 +161,7 @@ void ClusterRoot::exchange(FrameMessage m, bool first) {
     // The present of this frame is reported with the next answer: keep its newest sample until then.
     if (prev_newest_s_ > 0.0)
         for (double p : last_present_s_)
-            if (p > prev_newest_s_) stats_.sample_to_present_ms.push_back(1e3 * (p - prev_newest_s_));
+            if (p > prev_newest_s_) stats_.sample_to_present_ms.add(1e3 * (p - prev_newest_s_));
     prev_newest_s_ = newest;
 }
 
@@ -186,7 +186,7 @@ void ClusterRoot::stopped(SessionRuntime& runtime, const FrameShown& last) {
         const std::optional<RankAnswer> a = answer_from(r, deadline, config_.timeout_s, "the end (its report)");
         if (!a) return;
         if (a->previous_present_s > 0.0 && prev_newest_s_ > 0.0 && a->previous_present_s > prev_newest_s_)
-            stats_.sample_to_present_ms.push_back(1e3 * (a->previous_present_s - prev_newest_s_));
+            stats_.sample_to_present_ms.add(1e3 * (a->previous_present_s - prev_newest_s_));
         stats_.rank_reports.push_back(a->report_json);
     }
     (void)transport_.flush(deadline);

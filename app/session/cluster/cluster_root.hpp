@@ -15,6 +15,7 @@
 #include "app/session/session_companion.hpp"
 #include "app/session/session_report.hpp"
 #include "compute/journal/stream_buffer.hpp"
+#include "core/duration_histogram.hpp"
 
 namespace tridex::app {
 
@@ -23,9 +24,12 @@ struct ClusterStats {
     int ranks = 0;                               ///< ranks in the session (rank 0 included)
     std::uint64_t frames = 0;                    ///< frames sent
     std::vector<double> frame_bytes;             ///< bytes of each frame message
-    std::vector<double> ready_wait_ms;           ///< per frame: from sending it to the last rank's ready
-    std::vector<double> sample_to_present_ms;    ///< per frame with samples, per rank: newest sample made -> presented
-    std::vector<double> swap_spread_ms;          ///< per frame: latest minus earliest present over the render ranks
+    /// Per frame: from sending it to the last rank's ready, ms.
+    DurationHistogram ready_wait_ms = DurationHistogram::latency();
+    /// Per frame with samples, per rank: newest sample made -> presented, ms.
+    DurationHistogram sample_to_present_ms = DurationHistogram::latency();
+    /// Per frame: latest minus earliest present over the render ranks, ms (0.01 ms bins to 20 ms, then 0.2 ms).
+    DurationHistogram swap_spread_ms{0.01, 2000, 400, 20.0};
     std::uint64_t checks = 0;                    ///< digest checks made on every rank
     std::uint64_t records = 0, samples = 0;      ///< records and samples replicated
     std::string failure;                         ///< why the session ended early ("" = it did not)

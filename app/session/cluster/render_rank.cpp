@@ -16,6 +16,7 @@
 #include "app/session/cluster/frame_message.hpp"
 #include "app/session/session_report.hpp"
 #include "compute/model/model_digest.hpp"
+#include "core/duration_histogram.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "gpu/context.hpp"
@@ -191,17 +192,17 @@ private:
         }
         if (m.check_digest) ++checks_;
         a.apply_ms = ms_since(t0);
-        apply_ms_.push_back(a.apply_ms);
+        apply_ms_.add(a.apply_ms);
         t0 = Clock::now();
         replica_->contour();
-        contour_ms_.push_back(ms_since(t0));
+        contour_ms_.add(ms_since(t0));
         const renderer::SceneView view = replica_->view(m);
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
             vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
         }
         a.draw_ms = ms_since(t0);
-        draw_ms_.push_back(a.draw_ms);
+        draw_ms_.add(a.draw_ms);
         t_.send(0, encode_answer(a));
         const std::uint64_t go = decode_go(wait_for_rank0(c_.timeout_s, "go"), "rank 0's go");
         if (go != m.frame) throw Error("rank 0 released frame " + std::to_string(go) + " while frame " + std::to_string(m.frame) + " waited");
@@ -256,7 +257,10 @@ private:
     double last_present_s_ = 0.0, load_ms_ = 0.0;
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
-    std::vector<double> apply_ms_, contour_ms_, draw_ms_;
+    // Per frame, ms, in 0.05 ms bins to 100 ms, then 1 ms bins to 500 ms: fixed bins, so a wall session of any
+    // length keeps the same memory.
+    DurationHistogram apply_ms_{0.05, 2000, 400, 20.0}, contour_ms_{0.05, 2000, 400, 20.0},
+        draw_ms_{0.05, 2000, 400, 20.0};
 };
 
 }  // namespace
