@@ -134,11 +134,9 @@ std::vector<UndoBenchRow> run_undo_bench(const UndoBenchOptions& o) {
                 (st.undo_redo[i] ? redo_ms : undo_ms).push_back(st.undo_ms[i]);
                 if (!st.undo_redo[i]) rays.push_back(static_cast<double>(st.undo_rays[i]));
             }
-            // Each undo and redo was also a sculpt step: its write-back + surface publish and its re-contour are the
-            // last entries of boolean_ms and contour_ms (the carving steps come first).
-            const std::size_t k = std::min(st.undo_ms.size(), st.boolean_ms.size());
-            const std::vector<double> restore_ms(st.boolean_ms.end() - static_cast<std::ptrdiff_t>(k), st.boolean_ms.end());
-            const std::vector<double> recontour_ms(st.contour_ms.end() - static_cast<std::ptrdiff_t>(k), st.contour_ms.end());
+            // Each undo and redo was also a sculpt step: its write-back + surface publish, and its re-contour.
+            const std::vector<double>& restore_ms = st.undo_restore_ms;
+            const std::vector<double>& recontour_ms = st.undo_contour_ms;
             UndoBenchRow r;
             r.n = n;
             r.restore_median_ms = summarize(restore_ms).median;

@@ -245,10 +245,12 @@ void SculptThread::take(SculptRequest r) {
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once
     const auto t1 = std::chrono::steady_clock::now();
-    contour_changed(t0, t1);
+    const double contour_ms = contour_changed(t0, t1);
     stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     stats_.undo_rays.push_back(c.rays);
     stats_.undo_redo.push_back(undo ? 0 : 1);
+    stats_.undo_restore_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    stats_.undo_contour_ms.push_back(contour_ms);
 }
 
 bool SculptThread::take_marks(bool& changed, std::size_t& begin, std::size_t n) {
@@ -315,7 +317,8 @@ void SculptThread::record_mark(std::uint32_t type, std::uint64_t serial, std::ui
     }
 }
 
-void SculptThread::contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1) {
+double SculptThread::contour_changed(const std::chrono::steady_clock::time_point& t0,
+                                     const std::chrono::steady_clock::time_point& t1) {
     if (gpu_contour_) {
         stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
         model_.clear_dirty();
@@ -324,9 +327,11 @@ void SculptThread::contour_changed(const std::chrono::steady_clock::time_point& 
     }
     ++stats_.steps;
     const auto t2 = std::chrono::steady_clock::now();
-    stats_.boolean_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    stats_.contour_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    const double contour_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    stats_.boolean_ms.add(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    stats_.contour_ms.add(contour_ms);
     mesh_pending_ = mesh_out_ != nullptr;
+    return contour_ms;
 }
 
 namespace {
@@ -523,7 +528,7 @@ void SculptThread::publish_mesh() {
     mesh_pending_ = false;
     mesh_last_ = std::chrono::steady_clock::now();
     ++stats_.mesh_publishes;
-    stats_.mesh_publish_ms.push_back(std::chrono::duration<double, std::milli>(mesh_last_ - t0).count());
+    stats_.mesh_publish_ms.add(std::chrono::duration<double, std::milli>(mesh_last_ - t0).count());
 }
 
 void SculptThread::publish_mesh_if_due(bool force) {

@@ -47,6 +47,9 @@ struct SculptMark {
     SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo or kEndStroke
 };
 
+/// A histogram for the sculpt thread's per-step times: 0.01 ms bins up to 40 ms, then 0.25 ms bins up to 240 ms.
+inline DurationHistogram step_histogram() { return DurationHistogram(0.01, 4000, 800, 25.0); }
+
 /// Counters of the sculpt thread, read after stop().
 struct SculptStats {
     std::uint64_t samples = 0;           ///< tool samples drained from the ring
@@ -55,10 +58,13 @@ struct SculptStats {
     std::uint64_t steps = 0;             ///< sculpt steps that changed the model
     std::uint64_t tiles_recontoured = 0; ///< dirty tiles re-contoured, summed over steps
     std::uint64_t publishes = 0;         ///< active-surface snapshots published
-    std::vector<double> boolean_ms;      ///< per changing step: Booleans + active-surface publish, ms
-    std::vector<double> contour_ms;      ///< per changing step: dirty-tile re-contouring, ms
+    /// Per changing step: Booleans + active-surface publish, ms. The per-step histograms have 0.01 ms bins to 40 ms,
+    /// then 0.25 ms bins to 240 ms (step_histogram()): a session of any length keeps the same memory.
+    DurationHistogram boolean_ms = step_histogram();
+    DurationHistogram contour_ms = step_histogram();  ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
-    std::vector<double> mesh_publish_ms; ///< per mesh publish: assembling + copying the mesh, ms
+    /// Per mesh publish: assembling + copying the mesh, ms.
+    DurationHistogram mesh_publish_ms = step_histogram();
     /// use_tile_lod: tiles and groups of tiles whose levels of detail were taken in (as of the last mesh
     /// publish) and the summed wall time of their builds on the level-of-detail worker, ms.
     std::uint64_t lod_tiles_built = 0;
@@ -84,6 +90,10 @@ struct SculptStats {
     std::vector<std::size_t> undo_rays;
     /// Per entry of undo_ms: 0 for an undo, 1 for a redo.
     std::vector<std::uint8_t> undo_redo;
+    /// Per entry of undo_ms: its rays written back and the active surface published (its boolean_ms share), ms.
+    std::vector<double> undo_restore_ms;
+    /// Per entry of undo_ms: its dirty tiles re-contoured (its contour_ms share), ms.
+    std::vector<double> undo_contour_ms;
     std::uint64_t undo_requests = 0;   ///< undo requests taken (including those with nothing to undo)
     std::uint64_t redo_requests = 0;   ///< redo requests taken
     compute::HistoryStats history;     ///< the undo history at stop()
@@ -306,7 +316,10 @@ private:
     void close_stroke();                             // end the open stroke and journal it
     // A stroke-end, undo or redo mark to the journal and the stream (then the stream's after_record).
     void record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
-    void contour_changed(const std::chrono::steady_clock::time_point& t0, const std::chrono::steady_clock::time_point& t1);
+    // Re-contours the dirty tiles and records a changing step (Booleans from t0 to t1, then the contour); returns
+    // the contour's time, ms.
+    double contour_changed(const std::chrono::steady_clock::time_point& t0,
+                           const std::chrono::steady_clock::time_point& t1);
     void checkpoint_if_due();
     void note_persistence();  // copies a new journal or checkpoint error into save_status_
     void publish(const Vec3& centre_m);

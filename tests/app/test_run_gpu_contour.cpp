@@ -36,14 +36,13 @@ RunResult run_stroke(const fs::path& dir, const std::string& name, bool cpu, boo
 }
 
 void print_run(const char* what, const RunResult& r) {
-    std::printf("[run %s] contour %s, sculpt %s: %llu frames, frame p50 %.2f ms, GPU p50 %.2f ms, %llu steps, "
-                "boolean p50 %.2f ms, contour p50 %.2f ms, %llu tiles recontoured\n",
-                what, r.contour_path.c_str(), r.sculpt_path.c_str(), static_cast<unsigned long long>(r.frames),
-                r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5),
-                static_cast<unsigned long long>(r.sculpt.steps),
-                r.sculpt.boolean_ms.empty() ? 0.0 : r.sculpt.boolean_ms[r.sculpt.boolean_ms.size() / 2],
-                r.sculpt.contour_ms.empty() ? 0.0 : r.sculpt.contour_ms[r.sculpt.contour_ms.size() / 2],
-                static_cast<unsigned long long>(r.sculpt.tiles_recontoured));
+    std::printf(
+        "[run %s] contour %s, sculpt %s: %llu frames, frame p50 %.2f ms, GPU p50 %.2f ms, %llu steps, "
+        "boolean p50 %.2f ms, contour p50 %.2f ms, %llu tiles recontoured\n",
+        what, r.contour_path.c_str(), r.sculpt_path.c_str(), static_cast<unsigned long long>(r.frames),
+        r.frame_ms.percentile_ms(0.5), r.gpu_ms.percentile_ms(0.5), static_cast<unsigned long long>(r.sculpt.steps),
+        r.sculpt.boolean_ms.percentile_ms(0.5), r.sculpt.contour_ms.percentile_ms(0.5),
+        static_cast<unsigned long long>(r.sculpt.tiles_recontoured));
 }
 
 TEST(RunGpuContour, GpuSculptPathContoursOnTheGpuAndTheHapticLoopKeepsItsSurfaces) {

@@ -62,7 +62,7 @@ TEST(RunHandoff, PublishesNowThenTheFinalMesh) {
     const MeshFrame& last = meshes.latest();
     EXPECT_EQ(last.version, 2u);
     EXPECT_EQ(t.stats().mesh_publishes, 2u);
-    EXPECT_EQ(t.stats().mesh_publish_ms.size(), 2u);
+    EXPECT_EQ(t.stats().mesh_publish_ms.count(), 2u);
     const TriMesh now = contourer.mesh();
     EXPECT_EQ(last.mesh.triangles.size(), now.triangles.size());
     EXPECT_NEAR(signed_volume(last.mesh), signed_volume(now), 1e-15);

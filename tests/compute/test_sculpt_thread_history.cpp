@@ -111,6 +111,10 @@ TEST(SculptThreadHistory, StrokesUndosAndRedosReplayFromTheJournalToTheSameDexel
     EXPECT_EQ(stats.undo_requests, 2u);
     EXPECT_EQ(stats.redo_requests, 2u);
     EXPECT_EQ(stats.undo_ms.size(), 3u);  // two undos and one redo changed the model
+    ASSERT_EQ(stats.undo_restore_ms.size(), 3u);
+    ASSERT_EQ(stats.undo_contour_ms.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i)
+        EXPECT_LE(stats.undo_restore_ms[i] + stats.undo_contour_ms[i], stats.undo_ms[i]);
     EXPECT_EQ(stats.history.undos, 2u);
     EXPECT_EQ(stats.history.redos, 1u);
     EXPECT_EQ(stats.history.strokes, 4u);
