@@ -23,6 +23,9 @@ public:
     /// For latencies that may reach a few hundred ms (input to photon, tool sample to surface drawn): 0.25 ms bins
     /// up to 400 ms, then 5 ms bins up to 2.4 s.
     static DurationHistogram latency() { return DurationHistogram(0.25, 1600, 400, 20.0); }
+    /// For short per-frame or per-step times (render passes, sculpt steps, waits): 0.01 ms bins up to 40 ms, then
+    /// 0.25 ms bins up to 240 ms.
+    static DurationHistogram fine() { return DurationHistogram(0.01, 4000, 800, 25.0); }
 
     /// Records one duration, ms. Negative or non-finite values are not binned; they are counted in rejected().
     void add(double ms);

@@ -12,10 +12,10 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "core/duration_histogram.hpp"
 #include "core/pose.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "renderer/camera/head_pose.hpp"
-#include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
 

@@ -12,8 +12,8 @@
 #include "app/input/cursor_script.hpp"
 #include "app/input/mouse_stylus.hpp"
 #include "app/session/session_runtime.hpp"
+#include "core/duration_histogram.hpp"
 #include "devices/mouse_device.hpp"
-#include "renderer/window/window_frame_timing.hpp"
 
 namespace tridex::app {
 
@@ -56,8 +56,8 @@ public:
     /// targets for the latency.
     void shown(const haptics::LoopView& lv, Clock::time_point now);
     /// report.json `mouse`: {targets, latency_ms {count, median, p99, max, mean}, hand_wait_ms {count, median, p99,
-    /// max} (await_hand's waits for a new target), same_frame (targets drawn by the frame whose input set them), superseded, rejected_targets,
-    /// op, depth_m, tool {shape, radius_m, length_m}, tool_changes (sizes the loop took), workspace_moved_m (how far
+    /// max} (await_hand's waits for a new target), same_frame (targets drawn by the frame whose input set them),
+    /// superseded, rejected_targets, op, depth_m, tool {shape, radius_m, length_m}, tool_changes (sizes the loop took), workspace_moved_m (how far
     /// the workspace mapping's origin moved in the world during the session, m: the right button's workspace moves)}.
     nlohmann::json report_json() const;
 
@@ -84,7 +84,7 @@ private:
     std::deque<Pending> pending_;
     // Fixed-bin histograms, so a session of any length keeps bounded memory.
     DurationHistogram latency_ms_ = DurationHistogram::latency();  // per matched target, ms
-    DurationHistogram waited_ms_{0.02, 500, 100, 20.0};  // per await_hand() with a new target, ms (0.02 ms bins)
+    DurationHistogram waited_ms_ = DurationHistogram::fine();      // per await_hand() with a new target, ms
     std::uint64_t targets_ = 0, superseded_ = 0;
     std::uint64_t same_frame_ = 0;  // targets drawn by the frame whose input set them
     std::uint64_t frame_ = 0;  // frames so far (frame() calls)

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <fstream>
+#include <string>
 
 #include "app/support/json_file.hpp"
 #include "app/session/report.hpp"
@@ -92,12 +93,10 @@ void RenderLog::add(const renderer::FrameStats& stats) {
         tile_triangles[e] += stats.tile_triangles[e];
     }
     tile_uploads += stats.tile_uploads;
-    for (const renderer::PassTime& p : stats.passes)
-        pass_ms.try_emplace(p.pass + (p.eye == 0   ? ".left"
-                                      : p.eye == 1 ? ".right"
-                                                   : ""),
-                            kPassBinMs, 2000, 400, 20.0)
-            .first->second.add(p.ms);
+    for (const renderer::PassTime& p : stats.passes) {
+        const std::string name = p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "");
+        pass_ms.try_emplace(name, DurationHistogram::fine()).first->second.add(p.ms);
+    }
     timing_note = stats.timing_note;
 }
 

@@ -58,7 +58,6 @@ struct RunSetup {
 /// every frame, and the per-frame tile counts of the first kTileFramesKept frames.
 struct RenderLog {
     static constexpr std::size_t kTileFramesKept = 1000;  ///< frames whose tile counts `tiles` keeps
-    static constexpr double kPassBinMs = 0.01;            ///< pass histograms: 0.01 ms bins to 20 ms, then 0.2 ms
     std::uint64_t frames = 0;                             ///< frames added
     /// Per frame of the first kTileFramesKept, per eye (0 left, 1 right): workpiece tiles drawn and skipped.
     std::vector<std::array<renderer::EyeTileCounts, 2>> tiles;
@@ -68,7 +67,7 @@ struct RenderLog {
     /// Workpiece tile triangles drawn per eye (FrameStats::tile_triangles), summed over frames.
     std::array<std::uint64_t, 2> tile_triangles{};
     /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
-    /// "frame" (CPU clock): that pass's time in every frame, ms (kPassBinMs bins).
+    /// "frame" (CPU clock): that pass's time in every frame, ms (DurationHistogram::fine bins).
     std::map<std::string, DurationHistogram> pass_ms;
     std::string timing_note;         ///< the last frame's FrameStats::timing_note
     /// Adds one frame's statistics.

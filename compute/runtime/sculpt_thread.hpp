@@ -47,9 +47,6 @@ struct SculptMark {
     SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo or kEndStroke
 };
 
-/// A histogram for the sculpt thread's per-step times: 0.01 ms bins up to 40 ms, then 0.25 ms bins up to 240 ms.
-inline DurationHistogram step_histogram() { return DurationHistogram(0.01, 4000, 800, 25.0); }
-
 /// Counters of the sculpt thread, read after stop().
 struct SculptStats {
     std::uint64_t samples = 0;           ///< tool samples drained from the ring
@@ -59,12 +56,12 @@ struct SculptStats {
     std::uint64_t tiles_recontoured = 0; ///< dirty tiles re-contoured, summed over steps
     std::uint64_t publishes = 0;         ///< active-surface snapshots published
     /// Per changing step: Booleans + active-surface publish, ms. The per-step histograms have 0.01 ms bins to 40 ms,
-    /// then 0.25 ms bins to 240 ms (step_histogram()): a session of any length keeps the same memory.
-    DurationHistogram boolean_ms = step_histogram();
-    DurationHistogram contour_ms = step_histogram();  ///< per changing step: dirty-tile re-contouring, ms
+    /// then 0.25 ms bins to 240 ms (DurationHistogram::fine()): a session of any length keeps the same memory.
+    DurationHistogram boolean_ms = DurationHistogram::fine();
+    DurationHistogram contour_ms = DurationHistogram::fine();  ///< per changing step: dirty-tile re-contouring, ms
     std::uint64_t mesh_publishes = 0;    ///< contoured meshes handed to the renderer (publish_mesh_to)
     /// Per mesh publish: assembling + copying the mesh, ms.
-    DurationHistogram mesh_publish_ms = step_histogram();
+    DurationHistogram mesh_publish_ms = DurationHistogram::fine();
     /// use_tile_lod: tiles and groups of tiles whose levels of detail were taken in (as of the last mesh
     /// publish) and the summed wall time of their builds on the level-of-detail worker, ms.
     std::uint64_t lod_tiles_built = 0;

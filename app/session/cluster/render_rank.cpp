@@ -257,10 +257,9 @@ private:
     double last_present_s_ = 0.0, load_ms_ = 0.0;
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
-    // Per frame, ms, in 0.05 ms bins to 100 ms, then 1 ms bins to 500 ms: fixed bins, so a wall session of any
-    // length keeps the same memory.
-    DurationHistogram apply_ms_{0.05, 2000, 400, 20.0}, contour_ms_{0.05, 2000, 400, 20.0},
-        draw_ms_{0.05, 2000, 400, 20.0};
+    // Per frame, ms; fixed bins, so a wall session of any length keeps the same memory.
+    DurationHistogram apply_ms_ = DurationHistogram::fine(), contour_ms_ = DurationHistogram::fine(),
+                      draw_ms_ = DurationHistogram::fine();
 };
 
 }  // namespace
