@@ -11,6 +11,9 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_scheduler_observer.h>
+
+#include "core/thread_name.hpp"
 
 // ThreadSanitizer cannot see oneTBB's hand-off and join (libtbb.so is not instrumented): under TSan the fork
 // (caller -> tasks) and the join (tasks -> caller) are announced to it, each on its own address, so tasks stay
@@ -27,17 +30,32 @@
 namespace tridex::compute {
 namespace {
 
+/// Names each worker thread that joins an arena "tridex-pool" (core/thread_name.hpp), so that profilers and
+/// gpu::Context's search for a Vulkan driver's workers tell them apart from unnamed threads.
+class NamePoolWorkers : public oneapi::tbb::task_scheduler_observer {
+public:
+    explicit NamePoolWorkers(oneapi::tbb::task_arena& a) : oneapi::tbb::task_scheduler_observer(a) { observe(true); }
+    ~NamePoolWorkers() override { observe(false); }
+    void on_scheduler_entry(bool is_worker) override {
+        if (is_worker) name_this_thread("tridex-pool");
+    }
+};
+
+/// One task arena and the observer that names its workers.
+struct Arena {
+    explicit Arena(unsigned slots) : arena(static_cast<int>(slots)), names(arena) { arena.initialize(); }
+    oneapi::tbb::task_arena arena;
+    NamePoolWorkers names;
+};
+
 /// The arena with `slots` threads, made on first use and kept for the process's lifetime.
 oneapi::tbb::task_arena& arena(unsigned slots) {
     static std::mutex lock;
-    static std::map<unsigned, std::unique_ptr<oneapi::tbb::task_arena>> arenas;
+    static std::map<unsigned, std::unique_ptr<Arena>> arenas;
     const std::lock_guard<std::mutex> hold(lock);
-    std::unique_ptr<oneapi::tbb::task_arena>& a = arenas[slots];
-    if (!a) {
-        a = std::make_unique<oneapi::tbb::task_arena>(static_cast<int>(slots));
-        a->initialize();
-    }
-    return *a;
+    std::unique_ptr<Arena>& a = arenas[slots];
+    if (!a) a = std::make_unique<Arena>(slots);
+    return a->arena;
 }
 
 }  // namespace

@@ -2,9 +2,16 @@
 // slots within pool_slots, the same chunks for every thread count, exceptions rethrown to the caller.
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <mutex>
+#include <set>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "compute/parallel/task_pool.hpp"
@@ -43,6 +50,28 @@ TEST(TaskPool, SlotsAreExclusiveWhileRunning) {
     }, 4);
     EXPECT_EQ(clashes.load(), 0);
 }
+
+#if defined(__linux__)
+TEST(TaskPool, WorkersAreNamedForProfilers) {
+    // Chunks that ran on a thread other than the caller ran on a pool worker named "tridex-pool".
+    const std::thread::id caller = std::this_thread::get_id();
+    std::mutex lock;
+    std::set<std::string> names;
+    pool_for(
+        64, 1,
+        [&](const Chunk&) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));  // long enough for a worker to join in
+            if (std::this_thread::get_id() == caller) return;
+            char name[16] = {};
+            pthread_getname_np(pthread_self(), name, sizeof name);
+            const std::lock_guard<std::mutex> hold(lock);
+            names.insert(name);
+        },
+        2);
+    EXPECT_FALSE(names.empty()) << "no chunk ran on a worker";
+    for (const std::string& n : names) EXPECT_EQ(n, "tridex-pool");
+}
+#endif
 
 TEST(TaskPool, EmptyAndZeroGrain) {
     int calls = 0;
