@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,7 @@ constexpr double kTargetLagFrames = 2.0;
 struct DeskCli {
     DeskBenchOptions o;
     std::string stereo = "mono,anaglyph";
+    std::string scales = "1,0.75";
 };
 
 // The default scene's workpiece and head in a desk window of the given size, the mouse as the stylus, and a
@@ -72,9 +75,10 @@ double at_or_nan(const nlohmann::json& j, const char* key) {
     return j.is_object() && j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : std::nan("");
 }
 
-DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const std::string& stereo,
+DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const std::string& stereo, double min_scale,
                      const std::string& display, const fs::path& out) {
     RunOptions r;
+    r.min_render_scale = min_scale;
     r.scene = scene;
     r.display = display;
     r.seconds = o.seconds;
@@ -87,6 +91,7 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
     DeskBenchRow row;
     row.stereo = stereo;
     row.display = display;
+    row.min_scale = min_scale;
     row.frames = f.at("count").get<std::uint64_t>();
     row.frame_median_ms = at_or_nan(f.at("frame_ms"), "p50_ms");
     row.frame_p99_ms = at_or_nan(f.at("frame_ms"), "p99_ms");
@@ -105,7 +110,7 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
     }
     for (const auto& [name, p] : j.at("render").at("passes").items()) row.passes[name] = at_or_nan(p, "median_ms");
     row.present = f.contains("present") ? f.at("present") : nlohmann::json();
-    row.occlusion_budget = j.at("render").value("occlusion_budget", nlohmann::json());
+    row.frame_budget = j.at("render").value("frame_budget", nlohmann::json());
     return row;
 }
 
@@ -132,9 +137,21 @@ BenchRun setup_desk(CLI::App& bench) {
                      "With --desk: window or offscreen (default: window when DISPLAY is set, e.g. under Xvfb)");
     bench.add_option("--desk-lod", c->o.lod, "With --desk: levels of detail on or off (default on)")
         ->check(CLI::IsMember({"on", "off"}));
+    bench.add_option("--desk-scales", c->scales,
+                     "With --desk: the lowest render scales (--min-render-scale) to time each output at, "
+                     "comma-separated, 0.5..1 (default 1,0.75: the eyes always at the window's size, then scaled down "
+                     "on the frame budget)");
     return [c](const BenchCommon& common) {
         DeskBenchOptions o = c->o;
         o.stereo = split_list(c->stereo);
+        o.min_scales.clear();
+        for (const std::string& s : split_list(c->scales)) {
+            char* end = nullptr;
+            const double v = std::strtod(s.c_str(), &end);
+            if (s.empty() || end != s.c_str() + s.size())
+                throw Error("--desk-scales: a comma-separated list of numbers in 0.5..1, got '" + s + "'");
+            o.min_scales.push_back(v);
+        }
         o.out = common.out;
         run_desk_bench(o);
     };
@@ -161,6 +178,10 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
     for (const std::string& m : o.stereo)
         if (m != "mono" && m != "anaglyph" && m != "side-by-side")
             throw Error("--desk-stereo: a comma-separated list of mono, anaglyph, side-by-side; got '" + m + "'");
+    if (o.min_scales.empty()) throw Error("--desk-scales: name at least one scale");
+    for (const double s : o.min_scales)
+        if (!(s >= 0.5 && s <= 1.0))
+            throw Error("--desk-scales: each scale must lie in 0.5..1, got " + std::to_string(s));
     prepare_output_dir(o.out, "--out");
     const fs::path dir = fs::path(o.out) / "desk";
     fs::create_directories(dir);
@@ -170,63 +191,76 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                 o.seconds, o.lod.c_str());
     std::printf("target: frame median <= %.0f ms, p99 <= %.0f ms, mouse-to-photon lag <= %.0f frames\n",
                 kTargetMedianMs, kTargetP99Ms, kTargetLagFrames);
-    std::printf("%-13s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "frames", "frame50", "frame99", "interval50",
-                "lag50", "lag99", "lag/frm", "verdict");
+    std::printf("%-13s %5s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "scale", "frames", "frame50", "frame99",
+                "interval50", "lag50", "lag99", "lag/frm", "verdict");
     std::vector<DeskBenchRow> rows;
     nlohmann::json table = nlohmann::json::array();
-    for (const std::string& m : o.stereo) {
-        DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, display, dir / m);
-        const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
-        r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
-        r.target_met = r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
-                       r.lag_frames <= kTargetLagFrames;
-        std::printf("%-13s %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", m.c_str(),
-                    static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
-                    r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
-                    r.target_met ? "target met" : "over target");
-        std::printf("  GPU passes (median ms):");
-        for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
-        if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
-            std::printf("; present pass%s %.2f", m == "anaglyph" ? " (anaglyph compose and blit)" : " (blit)",
-                        r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
-        std::printf("\n");
-        if (r.occlusion_budget.is_object())
-            std::printf("  ambient occlusion on a %.0f ms budget: %llu frames at 2x2 pixels, %llu at 4x4\n",
-                        r.occlusion_budget.value("target_ms", 0.0),
-                        static_cast<unsigned long long>(r.occlusion_budget.value("frames_half", 0)),
-                        static_cast<unsigned long long>(r.occlusion_budget.value("frames_quarter", 0)));
-        std::printf(
-            "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
-            "%llu of %llu targets drawn by the frame that set them\n",
-            r.hand_wait_median_ms, r.hand_wait_p99_ms, static_cast<unsigned long long>(r.same_frame),
-            static_cast<unsigned long long>(r.targets));
-        std::fflush(stdout);
-        table.push_back({{"stereo", m},
-                         {"display", display},
-                         {"width", o.width},
-                         {"height", o.height},
-                         {"seconds", o.seconds},
-                         {"lod", o.lod},
-                         {"frames", r.frames},
-                         {"frame_ms_median", r.frame_median_ms},
-                         {"frame_ms_p99", r.frame_p99_ms},
-                         {"interval_ms_median", r.interval_median_ms},
-                         {"lag_ms_median", r.lag_median_ms},
-                         {"lag_ms_p99", r.lag_p99_ms},
-                         {"lag_frames", r.lag_frames},
-                         {"hand_wait_ms_median", r.hand_wait_median_ms},
-                         {"hand_wait_ms_p99", r.hand_wait_p99_ms},
-                         {"targets", r.targets},
-                         {"targets_same_frame", r.same_frame},
-                         {"passes_median_ms", r.passes},
-                         {"present", r.present},
-                         {"occlusion_budget", r.occlusion_budget},
-                         {"target_median_ms", kTargetMedianMs},
-                         {"target_p99_ms", kTargetP99Ms},
-                         {"target_lag_frames", kTargetLagFrames},
-                         {"target_met", r.target_met}});
-        rows.push_back(std::move(r));
-    }
+    for (const std::string& m : o.stereo)
+        for (const double min_scale : o.min_scales) {
+            char tag[32];
+            std::snprintf(tag, sizeof tag, "%s_scale%.3g", m.c_str(), min_scale);
+            DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, min_scale, display, dir / tag);
+            const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
+            r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
+            r.target_met = r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
+                           r.lag_frames <= kTargetLagFrames;
+            std::printf("%-13s %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", m.c_str(), min_scale,
+                        static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
+                        r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
+                        r.target_met ? "target met" : "over target");
+            std::printf("  GPU passes (median ms):");
+            for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
+            if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
+                std::printf("; present pass%s %.2f", m == "anaglyph" ? " (anaglyph compose and blit)" : " (blit)",
+                            r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
+            std::printf("\n");
+            if (r.frame_budget.is_object()) {
+                std::printf(
+                    "  on a %.0f ms frame budget: occlusion at 2x2 pixels in %llu frames, at 4x4 in %llu; render "
+                    "scale:",
+                    r.frame_budget.value("target_ms", 0.0),
+                    static_cast<unsigned long long>(r.frame_budget.value("frames_half", 0)),
+                    static_cast<unsigned long long>(r.frame_budget.value("frames_quarter", 0)));
+                std::map<double, std::uint64_t, std::greater<>> by_scale;
+                for (const nlohmann::json& step : r.frame_budget.value("ladder", nlohmann::json::array()))
+                    by_scale[step.value("scale", 1.0)] += step.value("frames", std::uint64_t{0});
+                for (const auto& [scale, frames] : by_scale)
+                    std::printf(" %.3f in %llu frames", scale, static_cast<unsigned long long>(frames));
+                std::printf("\n");
+            }
+            std::printf(
+                "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
+                "%llu of %llu targets drawn by the frame that set them\n",
+                r.hand_wait_median_ms, r.hand_wait_p99_ms, static_cast<unsigned long long>(r.same_frame),
+                static_cast<unsigned long long>(r.targets));
+            std::fflush(stdout);
+            table.push_back({{"stereo", m},
+                             {"min_render_scale", min_scale},
+                             {"display", display},
+                             {"width", o.width},
+                             {"height", o.height},
+                             {"seconds", o.seconds},
+                             {"lod", o.lod},
+                             {"frames", r.frames},
+                             {"frame_ms_median", r.frame_median_ms},
+                             {"frame_ms_p99", r.frame_p99_ms},
+                             {"interval_ms_median", r.interval_median_ms},
+                             {"lag_ms_median", r.lag_median_ms},
+                             {"lag_ms_p99", r.lag_p99_ms},
+                             {"lag_frames", r.lag_frames},
+                             {"hand_wait_ms_median", r.hand_wait_median_ms},
+                             {"hand_wait_ms_p99", r.hand_wait_p99_ms},
+                             {"targets", r.targets},
+                             {"targets_same_frame", r.same_frame},
+                             {"passes_median_ms", r.passes},
+                             {"present", r.present},
+                             {"frame_budget", r.frame_budget},
+                             {"target_median_ms", kTargetMedianMs},
+                             {"target_p99_ms", kTargetP99Ms},
+                             {"target_lag_frames", kTargetLagFrames},
+                             {"target_met", r.target_met}});
+            rows.push_back(std::move(r));
+        }
     write_json_file((fs::path(o.out) / "desk_bench.json").string(), table);
     return rows;
 }

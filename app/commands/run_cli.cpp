@@ -79,10 +79,16 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "ambient_occlusion, on); key O toggles it in a window")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--frame-target-ms", o.frame_target_ms,
-                    "Frame-time target the ambient occlusion is budgeted to, ms: while the median frame is over it, "
-                    "the occlusion is evaluated per 4x4 pixels instead of 2x2 (0 = no budget)")
+                    "Frame-time target the picture is budgeted to, ms: while the median frame is over it, the "
+                    "occlusion is evaluated per 4x4 pixels instead of 2x2, then a desk window's eyes are rendered "
+                    "smaller and scaled up (0 = no budget)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1000.0));
+    cmd->add_option("--min-render-scale", o.min_render_scale,
+                    "Lowest render scale the frame-time budget may choose in a desk window: eye images at this share "
+                    "of the window's width and height, scaled up (0.5..1; 1 = always the window's size)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.5, 1.0));
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,

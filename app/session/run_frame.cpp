@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace tridex::app {
@@ -135,7 +136,11 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
     view.occlusion_strength = ao ? 1.0 : 0.0;
-    if (ao_budget) view.occlusion_resolution = ao_budget->resolution();
+    if (budget) view.occlusion_resolution = budget->quality().occlusion;
+    // Eyes rendered below the window's size: the overlay keeps its size in the window where it can (its strokes
+    // stay at least a pixel wide in the eye image).
+    if (rend->height() < window_eye_h)
+        view.overlay_scale = std::max(1.0, std::floor(window_eye_h / 360.0) * rend->height() / window_eye_h);
     if (study_view) {
         view.workpiece = nullptr;
         view.tiles = {};
@@ -168,6 +173,13 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
         if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
         if (su.test_pattern) status = test_pattern_lines(last_head_m, lv.tool_world.position) + (status.empty() ? "" : "\n" + status);
+        // Eyes drawn below the window's size say so, so that a softer picture is not taken for a fault.
+        if (rend->width() < window_eye_w) {
+            char line[96];
+            std::snprintf(line, sizeof line, "eyes drawn at %d x %d, scaled up (--frame-target-ms %g)", rend->width(),
+                          rend->height(), su.frame_target_ms);
+            status += (status.empty() ? "" : "\n") + std::string(line);
+        }
         add_run_items(view, lv, proxy_r, kForceMetresPerNewton,
                       RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status, su.overlay_stats});
     }
@@ -176,16 +188,25 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
 
 // A desk window's framebuffer decides the eye images' size, so a larger window renders more pixels, not the same ones
 // stretched; the screen is widened or heightened about its centre by the window's change of aspect, so the picture
-// keeps its proportions and what was framed stays in view. Fullscreen and offscreen keep the display config's size
-// and screen (a wall's projector shows the configured image on the measured screen).
+// keeps its proportions and what was framed stays in view. The frame-time budget's render scale shrinks the eye
+// images below that size (the present scales them up). Fullscreen and offscreen keep the display config's size and
+// screen (a wall's projector shows the configured image on the measured screen).
 renderer::Screen RunPipeline::Parts::follow_window() {
     if (!window || su.display != DisplayKind::kWindow) return dc.screen;
     const VkExtent2D fb = window->framebuffer_size();
     if (fb.width == 0 || fb.height == 0) return screen_now;  // minimised: nothing to draw into at any size
     const auto [w, h] = renderer::eye_size_for_output(dc.stereo, static_cast<int>(fb.width), static_cast<int>(fb.height));
-    if (w == rend->width() && h == rend->height()) return screen_now;
-    rend->resize(w, h);
-    ++window_resizes;
+    const double scale = budget ? budget->quality().scale : 1.0;
+    const int rw = std::max(1, static_cast<int>(std::lround(w * scale)));
+    const int rh = std::max(1, static_cast<int>(std::lround(h * scale)));
+    if (rw == rend->width() && rh == rend->height()) return screen_now;
+    rend->resize(rw, rh);
+    if (w != window_eye_w || h != window_eye_h)
+        ++window_resizes;
+    else
+        ++render_scale_changes;
+    window_eye_w = w;
+    window_eye_h = h;
     const renderer::Screen s =
         w == base_w && h == base_h
             ? base_screen
@@ -258,7 +279,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
     if (mouse_stylus) mouse_stylus->shown(lv, Clock::now());
     prev_frame_ms = ms_between(t0, Clock::now());
     r.frame_ms.add(prev_frame_ms);
-    if (ao_budget && view.occlusion_strength > 0.0) ao_budget->add(prev_frame_ms);
+    if (budget) budget->add(prev_frame_ms, view.occlusion_strength > 0.0);
     r.gpu_ms.add(rend->last_gpu_ms());
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
     r.frames = frame + 1;
@@ -307,7 +328,7 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
 void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
-    ao_budget.emplace(su.frame_target_ms);
+    budget.emplace(su.frame_target_ms, window && su.display == DisplayKind::kWindow ? su.min_render_scale : 1.0);
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     t_render = Clock::now();
     r.first_frame_s = std::chrono::duration<double>(t_render.time_since_epoch()).count();
@@ -315,7 +336,7 @@ void RunPipeline::Parts::frame_loop() {
     run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
     rend->finish();  // the frames still in flight
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
-    r.occlusion_budget = ao_budget->to_json();
+    r.frame_budget = budget->to_json();
 }
 
 

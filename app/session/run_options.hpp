@@ -74,10 +74,13 @@ struct RunOptions {
     /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;
-    /// The frame-time target, ms, that the ambient occlusion is budgeted to (app/session/occlusion_budget.hpp):
-    /// while the median frame is over it the occlusion is evaluated per 4x4 pixels instead of per 2x2. 0 = no
-    /// budget. Finite and >= 0.
+    /// The frame-time target, ms, that the picture is budgeted to (app/session/frame_budget.hpp): while the median
+    /// frame is over it the occlusion is evaluated per 4x4 pixels instead of per 2x2, then a desk window's eye
+    /// images are rendered smaller (down to min_render_scale) and scaled up. 0 = no budget. Finite and >= 0.
     double frame_target_ms = 25.0;
+    /// The lowest render scale (eye image size / window size, per axis) the budget may choose in a desk window,
+    /// 0.5..1; 1 = always the window's size. Fullscreen and offscreen sessions always render at their size.
+    double min_render_scale = 0.75;
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;

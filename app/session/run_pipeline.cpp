@@ -67,8 +67,8 @@ void RunPipeline::Parts::open_display() {
             std::tie(rw, rh) = renderer::eye_size_for_output(output, static_cast<int>(fb.width), static_cast<int>(fb.height));
     }
     rend.emplace(renderer::OffscreenStereoRenderer::create(*ctx, rw, rh));
-    base_w = rw;
-    base_h = rh;
+    base_w = window_eye_w = rw;
+    base_h = window_eye_h = rh;
     base_screen = dc.screen;
     r.device = ctx->device_name();
     r.eye_strategy = rend->strategy_note();
@@ -184,7 +184,9 @@ void RunPipeline::Parts::collect() {
     SessionRuntime& rt = backend->runtime();
     r.render_s = seconds_since(t_render);
     r.window_resizes = window_resizes;
+    r.render_scale_changes = render_scale_changes;
     r.eye_resolution_last = {rend->width(), rend->height()};
+    r.eye_resolution_window = {window_eye_w, window_eye_h};
     r.stroke_completed = scene.has_stroke && backend->stroke_done() && rt.loop_stats().ticks >= backend->stroke_ticks();
     rt.stop();
     for (SessionCompanion* c : companions) {

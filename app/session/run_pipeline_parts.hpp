@@ -18,9 +18,9 @@
 #include "app/scene/test_pattern.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/elastic_view.hpp"
+#include "app/session/frame_budget.hpp"
 #include "app/session/frame_loop.hpp"
 #include "app/session/gpu_tile_split.hpp"
-#include "app/session/occlusion_budget.hpp"
 #include "app/session/report.hpp"
 #include "app/session/run_head.hpp"
 #include "app/session/run_mouse.hpp"
@@ -122,7 +122,7 @@ struct RunPipeline::Parts final : FrameSteps {
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
-    std::optional<OcclusionBudget> ao_budget;      // the occlusion's resolution on the frame-time budget
+    std::optional<FrameBudget> budget;  // the occlusion's resolution and render scale on the frame-time budget
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail
@@ -137,6 +137,8 @@ struct RunPipeline::Parts final : FrameSteps {
     renderer::Screen screen_now{};        // the screen this frame is drawn through (follow_window)
     renderer::Screen base_screen{};       // the screen at the renderer's first size (a desk window: the framing)
     int base_w = 0, base_h = 0;           // the renderer's first size, px
+    int window_eye_w = 0, window_eye_h = 0;  // a desk window's eye size before the render scale, px (follow_window)
+    std::uint64_t render_scale_changes = 0;  // eye images resized by the budget's render scale
     std::uint64_t window_resizes = 0;     // times the eye images followed the window to a new size
 
     std::vector<SessionCompanion*> companions;  // beside the frames (a cluster's rank 0)

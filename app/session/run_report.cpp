@@ -67,7 +67,7 @@ json render_json(const RunResult& r) {
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
                 {"ambient_occlusion", r.setup.ao},
-                {"occlusion_budget", r.occlusion_budget},
+                {"frame_budget", r.frame_budget},
                 {"lod", lod_json(r, log)},
 
                 {"force_m_per_newton", r.force_m_per_newton},
@@ -110,7 +110,9 @@ json run_report_json(const RunResult& r) {
                 {"presents", r.presents},
                 {"last_eye", r.last_eye},
                 {"window_resizes", r.window_resizes},
+                {"render_scale_changes", r.render_scale_changes},
                 {"eye_resolution_last", {r.eye_resolution_last.first, r.eye_resolution_last.second}},
+                {"eye_resolution_window", {r.eye_resolution_window.first, r.eye_resolution_window.second}},
                 {"render_s", r.render_s},
                 {"rate_hz", rate_hz(static_cast<double>(r.frames), r.render_s)},
                 {"frame_ms", renderer::histogram_json(r.frame_ms)},

@@ -9,9 +9,9 @@
 
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
-#include "app/support/output_dir.hpp"
-#include "app/session/occlusion_budget.hpp"
+#include "app/session/frame_budget.hpp"
 #include "app/session/run_sculpt.hpp"
+#include "app/support/output_dir.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "devices/net/enet_link.hpp"
@@ -127,8 +127,9 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
-    (void)OcclusionBudget(o.frame_target_ms);  // refuses a bad --frame-target-ms before any window opens
+    (void)FrameBudget(o.frame_target_ms, o.min_render_scale);  // refuses a bad value before any window opens
     s.frame_target_ms = o.frame_target_ms;
+    s.min_render_scale = o.min_render_scale;
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
         if (digits && o.monitor.size() < 4)

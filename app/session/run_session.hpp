@@ -47,7 +47,8 @@ struct RunSetup {
     bool cull = true;               ///< tiles culled per eye
     bool lod = true;                ///< tile levels of detail (--lod on|off, on by default; docs/design/lod.md)
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
-    double frame_target_ms = 25.0;  ///< the occlusion's frame-time budget, ms (--frame-target-ms; 0 = none)
+    double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)
+    double min_render_scale = 0.75;  ///< a desk window's lowest render scale on the budget (--min-render-scale)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)
@@ -86,7 +87,10 @@ struct RunResult {
     std::uint64_t presents = 0;                  ///< images shown (frame-sequential: 2 per frame)
     int last_eye = -1;                           ///< frame-sequential / quad: the eye shown last (0/1); else -1
     std::uint64_t window_resizes = 0;            ///< times the eye images followed a desk window to a new size
+    std::uint64_t render_scale_changes = 0;      ///< times the budget's render scale resized a desk window's eyes
     std::pair<int, int> eye_resolution_last{0, 0};  ///< per-eye image size of the last frame, px
+    /// The per-eye size the display gives at the end before the render scale (a desk window's framebuffer), px.
+    std::pair<int, int> eye_resolution_window{0, 0};
     DurationHistogram frame_ms;                     ///< per frame: CPU wall time of draw + readback/present, ms
     DurationHistogram interval_ms;                  ///< between successive frame starts (the display period), ms
     DurationHistogram gpu_ms;                       ///< per frame: GPU time of the stereo render (timestamps), ms
@@ -112,7 +116,7 @@ struct RunResult {
     bool tiled = false;                          ///< the workpiece was drawn as tiles (false: the whole mesh)
     std::size_t tiles_last = 0;                  ///< tiles in the last mesh drawn (0 for the whole mesh)
     RenderLog render;                            ///< per-frame tiles drawn / skipped and per-pass GPU times
-    nlohmann::json occlusion_budget;             ///< OcclusionBudget::to_json() at the end (null: no frame)
+    nlohmann::json frame_budget;                 ///< FrameBudget::to_json() at the end (null: no frame)
     double force_m_per_newton = 0.0;             ///< force arrow scale, m per N (0 without items)
     std::string device;                          ///< Vulkan device name
     std::string eye_strategy;                    ///< the renderer's eye strategy note

@@ -16,7 +16,7 @@
 #include "app/commands/run_cli.hpp"
 #include "app/input/run_input.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/session/occlusion_budget.hpp"
+#include "app/session/frame_budget.hpp"
 #include "app/session/run_options.hpp"
 #include "app/session/run_sculpt.hpp"
 #include "app/session/run_session.hpp"
@@ -466,24 +466,27 @@ TEST(RunOptions, AWindowWithNoDeviceNamedUsesTheMouse) {
     fs::remove_all(dir);
 }
 
-// The ambient occlusion's frame-time budget: 2x2 while the median frame fits, 4x4 after a window over the target,
-// a trial of 2x2 once a window at 4x4 is within 90 % of it, and a longer wait after each trial that failed.
-TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
+// The frame-time budget without a render scale (offscreen, fullscreen, --min-render-scale 1): the occlusion at 2x2
+// while the median frame fits, 4x4 after a window over the target, a trial of 2x2 once a window at 4x4 is within 90 %
+// of it, and a longer wait after each trial that failed.
+TEST(FrameBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
     using renderer::OcclusionResolution;
-    OcclusionBudget b(25.0, 10);
+    FrameBudget b(25.0, 1.0, 10);
+    ASSERT_EQ(b.ladder().size(), 2u);
     const auto window = [&](double ms) {
         for (int i = 0; i < 10; ++i) b.add(ms);
-        return b.resolution();
+        EXPECT_DOUBLE_EQ(b.quality().scale, 1.0);
+        return b.quality().occlusion;
     };
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kHalf);
     for (int i = 0; i < 10; ++i) b.add(i < 6 ? 20.0 : 40.0);  // median 20: fits
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kHalf);
     for (int i = 0; i < 9; ++i) b.add(34.0);
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kHalf);  // a choice holds for a whole window
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kHalf);  // a choice holds for a whole window
     b.add(34.0);
-    EXPECT_EQ(b.resolution(), OcclusionResolution::kQuarter);
-    EXPECT_EQ(window(30.0), OcclusionResolution::kQuarter);  // over 22.5 (90 % of 25): stays
-    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);     // within: a trial of 2x2
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kQuarter);
+    EXPECT_EQ(window(30.0), OcclusionResolution::kQuarter);  // over, and no step below: stays
+    EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);     // within 22.5 (90 % of 25): a trial of 2x2
     EXPECT_EQ(window(27.0), OcclusionResolution::kQuarter);  // the trial went over: back, wait 2 windows
     EXPECT_EQ(window(20.0), OcclusionResolution::kQuarter);
     EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);
@@ -496,21 +499,69 @@ TEST(OcclusionBudget, QuarterWhileFramesAreOverTheTargetThenHalfAgain) {
     EXPECT_EQ(window(20.0), OcclusionResolution::kHalf);  // the wait was reset by the trial that held
     EXPECT_EQ(b.switches(), 8u);
     EXPECT_EQ(b.frames_half() + b.frames_quarter(), 160u);
+    EXPECT_EQ(b.frames_scaled(), 0u);
     b.add(std::nan(""));  // ignored
     b.add(-1.0);
     EXPECT_EQ(b.frames_half() + b.frames_quarter(), 160u);
     const nlohmann::json j = b.to_json();
-    EXPECT_EQ(j.at("now"), "half");
+    EXPECT_EQ(j.at("now").at("occlusion"), "half");
+    EXPECT_DOUBLE_EQ(j.at("now").at("scale").get<double>(), 1.0);
     EXPECT_EQ(j.at("switches"), 8);
     EXPECT_DOUBLE_EQ(j.at("target_ms").get<double>(), 25.0);
-    // No budget: always 2x2.
-    OcclusionBudget none(0.0, 5);
+    EXPECT_EQ(j.at("ladder").size(), 2u);
+    // No budget: always the finest step.
+    FrameBudget none(0.0, 0.5, 5);
     for (int i = 0; i < 50; ++i) none.add(100.0);
-    EXPECT_EQ(none.resolution(), OcclusionResolution::kHalf);
+    EXPECT_EQ(none.quality().occlusion, OcclusionResolution::kHalf);
+    EXPECT_DOUBLE_EQ(none.quality().scale, 1.0);
     EXPECT_EQ(none.switches(), 0u);
-    EXPECT_THROW(OcclusionBudget(-1.0), Error);
-    EXPECT_THROW(OcclusionBudget(std::nan("")), Error);
-    EXPECT_THROW(OcclusionBudget(25.0, 2), Error);
+    EXPECT_THROW(FrameBudget(-1.0), Error);
+    EXPECT_THROW(FrameBudget(std::nan("")), Error);
+    EXPECT_THROW(FrameBudget(25.0, 0.4), Error);
+    EXPECT_THROW(FrameBudget(25.0, 1.1), Error);
+    EXPECT_THROW(FrameBudget(25.0, std::nan("")), Error);
+    EXPECT_THROW(FrameBudget(25.0, 1.0, 2), Error);
+}
+
+// In a desk window the ladder goes on below the occlusion at 4x4: the render scale in steps of 1/8 down to the
+// lowest allowed, back up a step at a time as frames fit; with the occlusion off only the scale's steps count.
+TEST(FrameBudget, RenderScaleStepsDownAndBackUp) {
+    using renderer::OcclusionResolution;
+    FrameBudget b(25.0, 0.7, 5);
+    ASSERT_EQ(b.ladder().size(), 5u);  // 2x2 at 1, 4x4 at 1, 0.875, 0.75, 0.7
+    EXPECT_DOUBLE_EQ(b.ladder()[2].scale, 0.875);
+    EXPECT_DOUBLE_EQ(b.ladder()[4].scale, 0.7);
+    const auto window = [&](double ms, bool ao = true) {
+        for (int i = 0; i < 5; ++i) b.add(ms, ao);
+        return b.quality();
+    };
+    EXPECT_EQ(window(30.0).occlusion, OcclusionResolution::kQuarter);
+    EXPECT_DOUBLE_EQ(window(30.0).scale, 0.875);
+    EXPECT_DOUBLE_EQ(window(30.0).scale, 0.75);
+    EXPECT_DOUBLE_EQ(window(30.0).scale, 0.7);
+    EXPECT_DOUBLE_EQ(window(30.0).scale, 0.7);   // the lowest: stays
+    EXPECT_DOUBLE_EQ(window(24.0).scale, 0.7);   // fits, but not within 90 %: stays
+    EXPECT_DOUBLE_EQ(window(20.0).scale, 0.75);  // a trial of the step above
+    EXPECT_DOUBLE_EQ(window(24.0).scale, 0.75);  // it held
+    EXPECT_DOUBLE_EQ(window(20.0).scale, 0.875);
+    EXPECT_DOUBLE_EQ(window(26.0).scale, 0.75);  // that trial failed: wait 2 windows
+    EXPECT_DOUBLE_EQ(window(20.0).scale, 0.75);
+    EXPECT_DOUBLE_EQ(window(20.0).scale, 0.875);
+    EXPECT_DOUBLE_EQ(window(20.0).scale, 1.0);
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kQuarter);
+    EXPECT_EQ(window(20.0).occlusion, OcclusionResolution::kHalf);
+    // The occlusion off: the step to 4x4 would change nothing, so a window over the target lowers the scale at once,
+    // and coming back skips it too.
+    EXPECT_DOUBLE_EQ(window(30.0, false).scale, 0.875);  // (the trial of 2x2 failed: wait 2 windows)
+    EXPECT_DOUBLE_EQ(window(20.0, false).scale, 0.875);
+    EXPECT_DOUBLE_EQ(window(20.0, false).scale, 1.0);
+    EXPECT_EQ(b.quality().occlusion, OcclusionResolution::kHalf);
+    EXPECT_GT(b.frames_scaled(), 0u);
+    EXPECT_EQ(b.frames_half() + b.frames_quarter(), 17u * 5u);  // every window's frames
+    const nlohmann::json j = b.to_json();
+    EXPECT_DOUBLE_EQ(j.at("min_scale").get<double>(), 0.7);
+    EXPECT_EQ(j.at("ladder").at(4).at("occlusion"), "quarter");
+    EXPECT_EQ(j.at("frames_scaled"), b.frames_scaled());
 }
 
 // A long run's render log stays bounded: sums and histograms over every frame, per-frame tile counts for the first

@@ -3,15 +3,17 @@
 // surface without 2 image layers with the list of outputs that work.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
+#include "../renderer/test_window_xvfb.hpp"
 #include "app/session/run_session.hpp"
 #include "core/error.hpp"
-#include "../renderer/test_window_xvfb.hpp"
 #include "run_test_scene.hpp"
+#include "test_files.hpp"
 
 namespace tridex::app {
 namespace {
@@ -47,6 +49,43 @@ TEST(RunWindow, OpensDrawsThreeFramesAndCloses) {
         std::printf("[run window] %s: %llu presents, frame p50 %.2f ms, present interval p50 %.2f ms\n", c.stereo,
                     static_cast<unsigned long long>(r.presents), r.frame_ms.percentile_ms(0.5),
                     rep["frames"]["present"]["interval_ms"]["p50_ms"].get<double>());
+    }
+    fs::remove_all(dir);
+}
+
+// Frames over a frame-time target too small to meet: the budget steps the occlusion to 4x4 pixels, then the render
+// scale down to --min-render-scale, a window of 30 frames at a time; the eye images shrink with it while the window
+// keeps its size, and the anaglyph's compose and the side-by-side blits scale them up without a validation message.
+TEST(RunWindow, RenderScaleShrinksTheEyesOnTheFrameBudget) {
+    renderer::test::VirtualDisplay display(1280, 1024);
+    const fs::path dir = test::temp_dir("run_window_scale");
+    const std::string scene = test::write_small_scene(dir);
+    for (const char* stereo : {"anaglyph", "side-by-side"}) {
+        RunOptions o;
+        o.scene = scene;
+        o.display = "window";
+        o.stereo = stereo;
+        o.frame_target_ms = 0.01;
+        o.min_render_scale = 0.5;
+        o.frames = 6 * 30 + 5;  // five steps down, and frames drawn at the last
+        o.out = (dir / stereo).string();
+        const RunResult r = run_stereo_session(o);
+        EXPECT_EQ(r.validation_messages, 0u) << stereo;
+        const nlohmann::json rep = test::read_json(dir / stereo / "report.json");
+        const nlohmann::json& budget = rep["render"]["frame_budget"];
+        EXPECT_DOUBLE_EQ(budget["now"]["scale"].get<double>(), 0.5) << budget.dump();
+        EXPECT_EQ(budget["now"]["occlusion"], "quarter");
+        EXPECT_EQ(budget["ladder"].size(), 6u) << budget.dump();  // 2x2 and 4x4 at 1, then 7/8, 3/4, 5/8, 1/2
+        EXPECT_EQ(budget["frames_scaled"].get<std::uint64_t>(), 4u * 30u + 5u) << budget.dump();
+        EXPECT_EQ(rep["frames"]["render_scale_changes"], 4) << rep["frames"].dump();
+        EXPECT_EQ(rep["frames"]["window_resizes"], 0);
+        // The eyes at half the size the window gives them, rounded.
+        const auto [w, h] = r.eye_resolution_window;
+        EXPECT_GT(w, 1) << stereo;
+        EXPECT_EQ(rep["frames"]["eye_resolution_window"], nlohmann::json::array({w, h}));
+        EXPECT_EQ(rep["frames"]["eye_resolution_last"],
+                  nlohmann::json::array({std::lround(w * 0.5), std::lround(h * 0.5)}))
+            << "the window's eyes " << w << " x " << h;
     }
     fs::remove_all(dir);
 }

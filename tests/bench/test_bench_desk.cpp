@@ -21,6 +21,7 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     o.seconds = 4.0;
     o.stereo = {"mono"};
     o.display = "offscreen";
+    o.min_scales = {0.75};
     o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_" + std::to_string(::getpid()))).string();
     fs::remove_all(o.out);
     const std::vector<DeskBenchRow> rows = run_desk_bench(o);
@@ -34,12 +35,15 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     EXPECT_GT(r.lag_frames, 0.0);
     EXPECT_TRUE(r.passes.contains("opaque.left")) << r.passes.dump();
     EXPECT_FALSE(r.passes.contains("opaque.right")) << "mono draws one eye";
+    EXPECT_EQ(r.min_scale, 0.75);
+    EXPECT_EQ(r.frame_budget.at("min_scale"), 1.0) << "offscreen frames are never scaled";
     std::ifstream f(fs::path(o.out) / "desk_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
     ASSERT_EQ(j.size(), 1u);
     EXPECT_EQ(j[0]["width"], 960);
     EXPECT_EQ(j[0]["target_median_ms"], 25.0);
+    EXPECT_EQ(j[0]["min_render_scale"], 0.75);
     fs::remove_all(o.out);
 }
 
@@ -66,6 +70,9 @@ TEST(BenchDesk, RefusesBadOptionsByName) {
     b = o;
     b.display = "wall";
     refused(b, "--desk-display");
+    b = o;
+    b.min_scales = {1.0, 0.25};
+    refused(b, "--desk-scales");
     EXPECT_FALSE(fs::exists(o.out));
 }
 
