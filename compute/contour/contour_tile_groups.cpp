@@ -89,6 +89,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             queued.push_back(at < group_queued_.size() && group_queued_[at]);
             changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
         } else {
+            if (refreshed_) startup_waiting_.erase(lod_key(true, id));  // changed after start-up: a stroke's
             g.version = fresh_tile_version();
             pending.push_back(true);
             queued.push_back(false);

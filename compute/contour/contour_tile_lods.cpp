@@ -10,10 +10,6 @@
 namespace tridex::compute {
 namespace {
 
-constexpr std::uint64_t kGroupBit = std::uint64_t{1} << 63;  // tile and group ids stay below it (tile_group_id)
-
-std::uint64_t job_key(bool group, std::uint64_t id) { return group ? (id | kGroupBit) : id; }
-
 template <typename T>
 std::size_t index_of(const std::vector<T>& sorted, std::uint64_t id) {
     const auto it = std::lower_bound(sorted.begin(), sorted.end(), id, [](const T& x, std::uint64_t v) { return x.id < v; });
@@ -21,6 +17,11 @@ std::size_t index_of(const std::vector<T>& sorted, std::uint64_t id) {
 }
 
 }  // namespace
+
+std::uint64_t TileSurfaceCache::lod_key(bool group, std::uint64_t id) {
+    constexpr std::uint64_t kGroupBit = std::uint64_t{1} << 63;  // tile and group ids stay below it (tile_group_id)
+    return group ? (id | kGroupBit) : id;
+}
 
 void TileSurfaceCache::build_lods_in_background(LodWorkerOptions worker) {
     if (!lod_) throw Error("TileSurfaceCache::build_lods_in_background: call enable_lod() first");
@@ -40,7 +41,7 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
         job.mesh = t.mesh;
         job.materials = t.materials;
         worker_->submit(std::move(job), refreshed_);
-        queued_[job_key(false, t.id)] = Queued{now, refreshed_};
+        queued_[lod_key(false, t.id)] = Queued{now, refreshed_};
     }
 }
 
@@ -64,7 +65,7 @@ void TileSurfaceCache::queue_ready_groups() {
                                            std::vector<Vec3>(p.normals.begin(), p.normals.end()), p.error_m});
         worker_->submit(std::move(job), refreshed_);
         group_queued_[g] = true;
-        queued_[job_key(true, groups_[g].id)] = Queued{now, refreshed_};
+        queued_[lod_key(true, groups_[g].id)] = Queued{now, refreshed_};
     }
 }
 
@@ -100,17 +101,25 @@ std::size_t TileSurfaceCache::collect_lods() {
         if (!fits) {  // stale: the tile or group changed after its job was queued (a newer job follows) or is gone
             ++lod_discarded_;
             const bool gone = r.group ? index_of(groups_, r.id) == groups_.size() : index_of(tiles_, r.id) == tiles_.size();
-            if (gone) queued_.erase(job_key(r.group, r.id));
+            if (gone) {
+                queued_.erase(lod_key(r.group, r.id));
+                startup_waiting_.erase(lod_key(r.group, r.id));
+            }
             continue;
         }
+        startup_waiting_.erase(lod_key(r.group, r.id));
         ++taken;
         lod_build_ms_ += r.build_ms;
-        const auto q = queued_.find(job_key(r.group, r.id));
+        const auto q = queued_.find(lod_key(r.group, r.id));
         if (q != queued_.end()) {
             if (q->second.after_start)
                 lod_latency_ms_.add(std::chrono::duration<double, std::milli>(now - q->second.at).count());
             queued_.erase(q);
         }
+    }
+    if (!startup_ended_ && refreshed_ && startup_waiting_.empty()) {  // start-up's levels are all in
+        worker_->end_startup();
+        startup_ended_ = true;
     }
     // A result can make a group ready, and time ends a ready group's settling.
     if (!results.empty() || now >= settle_due_) queue_ready_groups();

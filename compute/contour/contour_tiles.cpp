@@ -103,6 +103,14 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     pending_ = std::move(next_pending);
     update_groups(contourer.tile_dims(), changed);
     if (lod_ && worker_) {
+        if (!refreshed_) {  // start-up's levels: everything waiting now
+            for (std::size_t i = 0; i < tiles_.size(); ++i)
+                if (pending_[i]) startup_waiting_.insert(lod_key(false, tiles_[i].id));
+            for (std::size_t g = 0; g < groups_.size(); ++g)
+                if (group_pending_[g]) startup_waiting_.insert(lod_key(true, groups_[g].id));
+        } else {  // changed tiles are a stroke's now (their groups: update_groups)
+            for (const std::uint64_t id : changed) startup_waiting_.erase(lod_key(false, id));
+        }
         queue_tile_lods(fresh);
         queue_ready_groups();
     }

@@ -5,10 +5,11 @@
 #include <array>
 #include <chrono>
 #include <cstddef>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
@@ -125,7 +126,8 @@ public:
     /// replaced by enable_lod()'s options), never by refresh() or build_pending_lods(): refresh() queues a job
     /// per tile it rebuilds (those of every refresh after the first ahead of the first's), collect_lods() takes
     /// the finished ones in and queues each group whose tiles and smaller groups all have theirs (a group a stroke
-    /// changed once none of its tiles has changed for LodWorkerOptions::group_settle_s). Neither waits
+    /// changed once none of its tiles has changed for LodWorkerOptions::group_settle_s; once start-up's are all
+    /// in, the worker's threads drop to LodWorkerOptions::nice, LodWorker::end_startup). Neither waits
     /// for a build. Call after enable_lod() and before the first refresh(). Throws tridex::Error without
     /// enable_lod() or as LodWorker (threads, nice).
     void build_lods_in_background(LodWorkerOptions worker = {});
@@ -139,6 +141,10 @@ public:
     /// and groups queued after the first refresh only (a stroke's, not the start-up's); in DurationHistogram::latency
     /// bins.
     const DurationHistogram& lod_latency_ms() const { return lod_latency_ms_; }
+    /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
+    /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
+    /// 0 once start-up's levels are all built, however busy a stroke keeps the worker. 0 before the first refresh.
+    std::size_t startup_lod_pending() const { return startup_waiting_.size(); }
 
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
@@ -150,6 +156,8 @@ private:
     bool group_ready(std::size_t g) const;
     void queue_tile_lods(const std::vector<std::size_t>& fresh);  // background: jobs for tiles_ entries
     void queue_ready_groups();                                   // background: jobs for groups now ready
+    // The key of a tile's (group false) or group's job in queued_ and startup_waiting_.
+    static std::uint64_t lod_key(bool group, std::uint64_t id);
     std::vector<TileGroupSurface> groups_;
     std::vector<bool> group_pending_;              // per groups_ entry: levels wait for build_pending_lods()
     std::vector<TileSurface> tiles_;
@@ -167,7 +175,9 @@ private:
         std::chrono::steady_clock::time_point at;  // when it was queued
         bool after_start;                          // queued after the first refresh
     };
-    std::unordered_map<std::uint64_t, Queued> queued_;  // per tile id, or group id with the top bit: newest job
+    std::unordered_map<std::uint64_t, Queued> queued_;   // per lod_key: the newest job
+    std::unordered_set<std::uint64_t> startup_waiting_;  // lod_keys of start-up's entries still waiting (background)
+    bool startup_ended_ = false;                         // the worker was told start-up's levels are built
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s

@@ -46,6 +46,9 @@ LodWorker::LodWorker(LodWorkerOptions options) : options_(std::move(options)) {
     if (options_.threads < 1) throw Error("LodWorker: threads must be >= 1, got " + std::to_string(options_.threads));
     if (options_.nice < 0 || options_.nice > 19)
         throw Error("LodWorker: nice must lie in 0..19, got " + std::to_string(options_.nice));
+    if (options_.startup_nice < 0 || options_.startup_nice > options_.nice)
+        throw Error("LodWorker: startup_nice must lie in 0..nice (" + std::to_string(options_.nice) + "), got " +
+                    std::to_string(options_.startup_nice));
     if (!(options_.group_settle_s >= 0.0 && options_.group_settle_s <= 10.0))
         throw Error("LodWorker: group_settle_s must lie in 0..10 s, got " + std::to_string(options_.group_settle_s));
     for (int i = 0; i < options_.threads; ++i) threads_.emplace_back([this] { run(); });
@@ -96,7 +99,8 @@ std::size_t LodWorker::outstanding() const {
 
 void LodWorker::run() {
     name_this_thread("tridex-lod");
-    lower_priority(options_.nice);
+    lower_priority(options_.startup_nice);
+    bool lowered = false;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
         wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
@@ -105,6 +109,10 @@ void LodWorker::run() {
         queue_.pop_front();
         ++running_;
         lock.unlock();
+        if (!lowered && startup_over_.load(std::memory_order_acquire)) {
+            lower_priority(options_.nice);
+            lowered = true;
+        }
         LodResult r{job.group, job.id, job.token, {}, 0.0};
         std::exception_ptr failed;
         const auto t0 = std::chrono::steady_clock::now();

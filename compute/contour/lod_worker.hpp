@@ -2,6 +2,7 @@
 // render threads: jobs in, finished levels out, nobody waits.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -50,9 +51,14 @@ struct LodWorkerOptions {
     TileLodOptions lod;  ///< how levels are made (cell_m must be finite and > 0)
     /// Worker threads (>= 1): two let start-up use both cores of a small machine; a stroke's jobs are small.
     int threads = 2;
-    /// Linux nice value of the worker threads (0..19; higher = lower priority): frames, sculpting and the
-    /// haptic loop (SCHED_FIFO when granted) go first when the cores are busy. Ignored elsewhere.
+    /// Linux nice value of the worker threads once start-up's levels are built (end_startup(); 0..19, higher =
+    /// lower priority): frames, sculpting and the haptic loop (SCHED_FIFO when granted) go first when the cores
+    /// are busy. Ignored elsewhere.
     int nice = 5;
+    /// Their nice value until end_startup() (0..nice): start-up's levels take the whole model's tiles and groups,
+    /// and every frame until they arrive draws the full meshes, so they go at the priority of the frames. Each
+    /// thread lowers itself to `nice` before its first job after end_startup() (lowering needs no privilege).
+    int startup_nice = 0;
     /// TileSurfaceCache::build_lods_in_background: a group of tiles that changed after the first refresh (a
     /// stroke's) is queued only once no tile under it has changed for this long, s (0..10; 0 = as soon as its
     /// tiles have their levels). A stroke re-contours the same tiles step after step, and a group's levels are
@@ -71,8 +77,8 @@ struct LodWorkerOptions {
 /// the threads after the running ones finish.
 class LodWorker {
 public:
-    /// Starts the threads. Throws tridex::Error when options.lod.cell_m is not finite and > 0, threads < 1 or
-    /// nice is outside 0..19.
+    /// Starts the threads. Throws tridex::Error when options.lod.cell_m is not finite and > 0, threads < 1,
+    /// nice is outside 0..19 or startup_nice outside 0..nice.
     explicit LodWorker(LodWorkerOptions options);
     ~LodWorker();
     LodWorker(const LodWorker&) = delete;
@@ -85,6 +91,9 @@ public:
     std::size_t take(std::vector<LodResult>& out);
     /// Jobs queued or running.
     std::size_t outstanding() const;
+    /// Start-up's levels are built: each thread lowers itself from startup_nice to nice before its next job.
+    /// Thread-safe; later calls do nothing.
+    void end_startup() { startup_over_.store(true, std::memory_order_release); }
 
 private:
     void run();
@@ -97,6 +106,7 @@ private:
     std::size_t running_ = 0;
     std::exception_ptr failure_;
     bool stop_ = false;
+    std::atomic<bool> startup_over_{false};
     std::vector<std::thread> threads_;
 };
 

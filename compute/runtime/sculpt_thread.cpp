@@ -437,7 +437,7 @@ void SculptThread::collect_lods() {
     if (!tile_cache_.lod_enabled()) return;
     if (tile_cache_.collect_lods() > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
     const std::size_t pending = tile_cache_.lod_pending();
-    if (pending == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
+    if (tile_cache_.startup_lod_pending() == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
         stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     lod_pending_.store(pending, std::memory_order_release);
 }

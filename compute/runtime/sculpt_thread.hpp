@@ -69,8 +69,9 @@ struct SculptStats {
     double lod_build_ms = 0.0;
     /// use_tile_lod: builds the worker finished for a tile or group that had changed again meanwhile (thrown away).
     std::uint64_t lod_discarded = 0;
-    /// use_tile_lod: steady-clock time (s, the epoch of MeshFrame::published_s) of the first pass at which
-    /// every tile and group had its levels (none waiting), or -1 when that never happened.
+    /// use_tile_lod: steady-clock time (s, the epoch of MeshFrame::published_s) of the first pass at which every
+    /// tile and group of start-up had its levels (TileSurfaceCache::startup_lod_pending: those a stroke changed
+    /// meanwhile count as the stroke's), or -1 when that never happened.
     double lod_all_built_s = -1.0;
     /// use_tile_lod: tiles and groups still waiting for their levels at the last mesh publish.
     std::size_t lod_pending = 0;

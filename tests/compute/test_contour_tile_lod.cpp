@@ -5,6 +5,12 @@
 // bad input is refused.
 #include <gtest/gtest.h>
 
+#if defined(__linux__)
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -14,6 +20,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <random>
 #include <set>
 #include <thread>
@@ -386,6 +393,81 @@ TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
         bad.group_settle_s = s;
         EXPECT_THROW(LodWorker{bad}, Error) << s;
     }
+}
+
+#if defined(__linux__)
+// The workers run start-up's jobs at startup_nice and drop to nice before their first job after end_startup().
+TEST(TileLod, WorkersDropToTheirNiceValueOnceStartupIsOver) {
+    std::mutex lock;
+    std::vector<int> seen;  // each job's thread's nice value
+    LodWorkerOptions w;
+    w.lod.cell_m = 1e-3;
+    w.threads = 1;
+    w.nice = 7;
+    w.startup_nice = 2;
+    w.before_job = [&](const LodJob&) {
+        const int n = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+        const std::lock_guard<std::mutex> hold(lock);
+        seen.push_back(n);
+    };
+    LodWorker worker(w);
+    const auto run_job = [&](std::uint64_t id) {
+        worker.submit(LodJob{false, id, 0, {}, {}, {}}, false);
+        const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (worker.outstanding() > 0 && std::chrono::steady_clock::now() < limit)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        std::vector<LodResult> out;
+        try {
+            worker.take(out);
+        } catch (const Error&) {  // an empty mesh may be refused: only the priority matters here
+        }
+    };
+    run_job(1);
+    worker.end_startup();
+    run_job(2);
+    run_job(3);
+    const int base = getpriority(PRIO_PROCESS, 0);  // the process's own (raising above it needs a privilege)
+    ASSERT_EQ(seen.size(), 3u);
+    EXPECT_EQ(seen[0], std::max(base, 2));
+    EXPECT_EQ(seen[1], std::max(base, 7));
+    EXPECT_EQ(seen[2], std::max(base, 7));
+    LodWorkerOptions bad = w;
+    bad.startup_nice = 8;
+    EXPECT_THROW(LodWorker{bad}, Error);
+    bad.startup_nice = -1;
+    EXPECT_THROW(LodWorker{bad}, Error);
+}
+#endif
+
+// Start-up's levels are done when every tile and group the first refresh left waiting has them, or was changed by a
+// stroke since (then it is the stroke's, and its group may wait to settle): a stroke during start-up never holds
+// start-up back.
+TEST(TileLod, StartupLevelsAreCountedApartFromAStrokes) {
+    std::atomic<bool> open{false};
+    LodWorkerOptions w;
+    w.group_settle_s = 10.0;  // the stroke's groups wait for the whole test
+    w.before_job = [&](const LodJob&) {
+        while (!open.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    };
+    BackgroundBox box(w);
+    TileSurfaceCache& cache = box.cache;
+    const std::size_t startup = cache.startup_lod_pending();
+    EXPECT_EQ(startup, cache.lod_pending());  // every tile and group of start-up waits
+    EXPECT_GT(startup, cache.groups().size());
+    // A stroke moves one face while start-up's jobs are held: its tiles and their groups leave start-up's count.
+    ASSERT_GT(box.move(Vec3(0.0), Vec3(-1.3, 0.0, 0.0)), 0u);
+    const std::size_t after = cache.startup_lod_pending();
+    EXPECT_LT(after, startup);
+    EXPECT_GT(after, 0u);
+    open.store(true);
+    ASSERT_TRUE(box.collect_until([&] { return cache.startup_lod_pending() == 0; }));
+    ASSERT_TRUE(box.collect_until([&] {
+        for (const TileSurface& t : cache.tiles())
+            if (!t.lods_built) return false;
+        return true;
+    }));
+    EXPECT_GT(cache.lod_pending(), 0u);  // the stroke's groups still settle; start-up is done
+    EXPECT_EQ(cache.startup_lod_pending(), 0u);
 }
 
 // A build that finishes after its tile changed again is thrown away and counted (lod_discarded); its newer job
