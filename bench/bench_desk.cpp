@@ -125,6 +125,68 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
+// Prints one row of the table and its detail lines.
+void print_row(const DeskBenchRow& r) {
+    std::printf("%-13s %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
+                static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms, r.interval_median_ms,
+                r.lag_median_ms, r.lag_p99_ms, r.lag_frames, r.target_met ? "target met" : "over target");
+    std::printf("  GPU passes (median ms):");
+    for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
+    if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
+        std::printf("; present pass%s %.2f", r.stereo == "anaglyph" ? " (anaglyph compose and blit)" : " (blit)",
+                    r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
+    std::printf("\n");
+    if (r.frame_budget.is_object()) {
+        std::printf(
+            "  on a %.0f ms frame budget: occlusion at 2x2 pixels in %llu frames, at 4x4 in %llu; render "
+            "scale:",
+            r.frame_budget.value("target_ms", 0.0),
+            static_cast<unsigned long long>(r.frame_budget.value("frames_half", 0)),
+            static_cast<unsigned long long>(r.frame_budget.value("frames_quarter", 0)));
+        std::map<double, std::uint64_t, std::greater<>> by_scale;
+        for (const nlohmann::json& step : r.frame_budget.value("ladder", nlohmann::json::array()))
+            by_scale[step.value("scale", 1.0)] += step.value("frames", std::uint64_t{0});
+        for (const auto& [scale, frames] : by_scale)
+            std::printf(" %.3f in %llu frames", scale, static_cast<unsigned long long>(frames));
+        std::printf("\n");
+    }
+    std::printf(
+        "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
+        "%llu of %llu targets drawn by the frame that set them\n",
+        r.hand_wait_median_ms, r.hand_wait_p99_ms, static_cast<unsigned long long>(r.same_frame),
+        static_cast<unsigned long long>(r.targets));
+    std::fflush(stdout);
+}
+
+// One row of desk_bench.json.
+nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
+    return nlohmann::json{{"stereo", r.stereo},
+                          {"min_render_scale", r.min_scale},
+                          {"display", r.display},
+                          {"width", o.width},
+                          {"height", o.height},
+                          {"seconds", o.seconds},
+                          {"lod", o.lod},
+                          {"frames", r.frames},
+                          {"frame_ms_median", r.frame_median_ms},
+                          {"frame_ms_p99", r.frame_p99_ms},
+                          {"interval_ms_median", r.interval_median_ms},
+                          {"lag_ms_median", r.lag_median_ms},
+                          {"lag_ms_p99", r.lag_p99_ms},
+                          {"lag_frames", r.lag_frames},
+                          {"hand_wait_ms_median", r.hand_wait_median_ms},
+                          {"hand_wait_ms_p99", r.hand_wait_p99_ms},
+                          {"targets", r.targets},
+                          {"targets_same_frame", r.same_frame},
+                          {"passes_median_ms", r.passes},
+                          {"present", r.present},
+                          {"frame_budget", r.frame_budget},
+                          {"target_median_ms", kTargetMedianMs},
+                          {"target_p99_ms", kTargetP99Ms},
+                          {"target_lag_frames", kTargetLagFrames},
+                          {"target_met", r.target_met}};
+}
+
 BenchRun setup_desk(CLI::App& bench) {
     auto c = std::make_shared<DeskCli>();
     bench.add_option("--desk-seconds", c->o.seconds, "With --desk: session length per output, s (default 12)");
@@ -204,61 +266,8 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
             r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
             r.target_met = r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
                            r.lag_frames <= kTargetLagFrames;
-            std::printf("%-13s %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", m.c_str(), min_scale,
-                        static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
-                        r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
-                        r.target_met ? "target met" : "over target");
-            std::printf("  GPU passes (median ms):");
-            for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
-            if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
-                std::printf("; present pass%s %.2f", m == "anaglyph" ? " (anaglyph compose and blit)" : " (blit)",
-                            r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
-            std::printf("\n");
-            if (r.frame_budget.is_object()) {
-                std::printf(
-                    "  on a %.0f ms frame budget: occlusion at 2x2 pixels in %llu frames, at 4x4 in %llu; render "
-                    "scale:",
-                    r.frame_budget.value("target_ms", 0.0),
-                    static_cast<unsigned long long>(r.frame_budget.value("frames_half", 0)),
-                    static_cast<unsigned long long>(r.frame_budget.value("frames_quarter", 0)));
-                std::map<double, std::uint64_t, std::greater<>> by_scale;
-                for (const nlohmann::json& step : r.frame_budget.value("ladder", nlohmann::json::array()))
-                    by_scale[step.value("scale", 1.0)] += step.value("frames", std::uint64_t{0});
-                for (const auto& [scale, frames] : by_scale)
-                    std::printf(" %.3f in %llu frames", scale, static_cast<unsigned long long>(frames));
-                std::printf("\n");
-            }
-            std::printf(
-                "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
-                "%llu of %llu targets drawn by the frame that set them\n",
-                r.hand_wait_median_ms, r.hand_wait_p99_ms, static_cast<unsigned long long>(r.same_frame),
-                static_cast<unsigned long long>(r.targets));
-            std::fflush(stdout);
-            table.push_back({{"stereo", m},
-                             {"min_render_scale", min_scale},
-                             {"display", display},
-                             {"width", o.width},
-                             {"height", o.height},
-                             {"seconds", o.seconds},
-                             {"lod", o.lod},
-                             {"frames", r.frames},
-                             {"frame_ms_median", r.frame_median_ms},
-                             {"frame_ms_p99", r.frame_p99_ms},
-                             {"interval_ms_median", r.interval_median_ms},
-                             {"lag_ms_median", r.lag_median_ms},
-                             {"lag_ms_p99", r.lag_p99_ms},
-                             {"lag_frames", r.lag_frames},
-                             {"hand_wait_ms_median", r.hand_wait_median_ms},
-                             {"hand_wait_ms_p99", r.hand_wait_p99_ms},
-                             {"targets", r.targets},
-                             {"targets_same_frame", r.same_frame},
-                             {"passes_median_ms", r.passes},
-                             {"present", r.present},
-                             {"frame_budget", r.frame_budget},
-                             {"target_median_ms", kTargetMedianMs},
-                             {"target_p99_ms", kTargetP99Ms},
-                             {"target_lag_frames", kTargetLagFrames},
-                             {"target_met", r.target_met}});
+            print_row(r);
+            table.push_back(row_json(o, r));
             rows.push_back(std::move(r));
         }
     write_json_file((fs::path(o.out) / "desk_bench.json").string(), table);

@@ -89,25 +89,23 @@ void FrameBudget::add(double frame_ms, bool occlusion_on) {
     ++switches_;
 }
 
-std::uint64_t FrameBudget::frames_half() const {
+std::uint64_t FrameBudget::frames_where(bool (*drawn)(const FrameQuality&)) const {
     std::uint64_t n = 0;
     for (std::size_t l = 0; l < ladder_.size(); ++l)
-        if (ladder_[l].occlusion == OcclusionResolution::kHalf) n += frames_[l];
+        if (drawn(ladder_[l])) n += frames_[l];
     return n;
+}
+
+std::uint64_t FrameBudget::frames_half() const {
+    return frames_where([](const FrameQuality& q) { return q.occlusion == OcclusionResolution::kHalf; });
 }
 
 std::uint64_t FrameBudget::frames_quarter() const {
-    std::uint64_t n = 0;
-    for (std::size_t l = 0; l < ladder_.size(); ++l)
-        if (ladder_[l].occlusion == OcclusionResolution::kQuarter) n += frames_[l];
-    return n;
+    return frames_where([](const FrameQuality& q) { return q.occlusion == OcclusionResolution::kQuarter; });
 }
 
 std::uint64_t FrameBudget::frames_scaled() const {
-    std::uint64_t n = 0;
-    for (std::size_t l = 0; l < ladder_.size(); ++l)
-        if (ladder_[l].scale < 1.0) n += frames_[l];
-    return n;
+    return frames_where([](const FrameQuality& q) { return q.scale < 1.0; });
 }
 
 nlohmann::json FrameBudget::to_json() const {

@@ -61,6 +61,8 @@ private:
     /// `level` itself when there is none.
     std::size_t below(std::size_t level, bool occlusion_on) const;
     std::size_t above(std::size_t level, bool occlusion_on) const;
+    /// Frames drawn at the steps for which `drawn` is true.
+    std::uint64_t frames_where(bool (*drawn)(const FrameQuality&)) const;
 
     double target_ms_;
     double min_scale_;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "renderer/scene/overlay_text.hpp"
+
 namespace tridex::app {
 
 namespace {
@@ -137,10 +139,8 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.cull_tiles = su.cull;
     view.occlusion_strength = ao ? 1.0 : 0.0;
     if (budget) view.occlusion_resolution = budget->quality().occlusion;
-    // Eyes rendered below the window's size: the overlay keeps its size in the window where it can (its strokes
-    // stay at least a pixel wide in the eye image).
-    if (rend->height() < window_eye_h)
-        view.overlay_scale = std::max(1.0, std::floor(window_eye_h / 360.0) * rend->height() / window_eye_h);
+    // Eyes rendered below the window's size: the overlay keeps its size in the window where it can.
+    if (rend->height() < window_eye_h) view.overlay_scale = renderer::overlay_scale_for(rend->height(), window_eye_h);
     if (study_view) {
         view.workpiece = nullptr;
         view.tiles = {};

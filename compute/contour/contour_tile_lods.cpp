@@ -117,10 +117,7 @@ std::size_t TileSurfaceCache::collect_lods() {
             queued_.erase(q);
         }
     }
-    if (!startup_ended_ && refreshed_ && startup_waiting_.empty()) {  // start-up's levels are all in
-        worker_->end_startup();
-        startup_ended_ = true;
-    }
+    if (refreshed_ && startup_waiting_.empty()) worker_->end_startup();  // start-up's levels are all in
     // A result can make a group ready, and time ends a ready group's settling.
     if (!results.empty() || now >= settle_due_) queue_ready_groups();
     return taken;

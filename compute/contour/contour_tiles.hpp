@@ -177,7 +177,6 @@ private:
     };
     std::unordered_map<std::uint64_t, Queued> queued_;   // per lod_key: the newest job
     std::unordered_set<std::uint64_t> startup_waiting_;  // lod_keys of start-up's entries still waiting (background)
-    bool startup_ended_ = false;                         // the worker was told start-up's levels are built
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s

@@ -1,7 +1,9 @@
 // renderer/scene/overlay_text.cpp - stb_easy_font quads -> TriMesh in pixels.
 #include "renderer/scene/overlay_text.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -31,6 +33,14 @@ std::vector<char> c_string(std::string_view text) {
 }
 
 }  // namespace
+
+double overlay_scale_for(int image_height_px, int shown_height_px) {
+    if (image_height_px < 1 || shown_height_px < 1)
+        throw Error("overlay text: image and shown heights must be >= 1 pixel, got " + std::to_string(image_height_px) +
+                    " and " + std::to_string(shown_height_px));
+    const double shown_scale = std::floor(shown_height_px / 360.0);
+    return std::max(1.0, shown_scale * image_height_px / shown_height_px);
+}
 
 TextExtent overlay_text_extent(std::string_view text, double scale) {
     check_scale(scale);

@@ -27,6 +27,12 @@ TextExtent overlay_text_extent(std::string_view text, double scale);
 /// finite and > 0, or x_px / y_px are not finite.
 TriMesh overlay_text_mesh(std::string_view text, double x_px, double y_px, double scale);
 
+/// The overlay's pixels per font unit in an image image_height_px tall that is shown shown_height_px tall (a scaled
+/// image: the present scales it by shown / image): one font unit per 360 shown rows, whole units only, kept in the
+/// image at 1 pixel or more so that no stroke drops out. Equal heights give max(1, floor(height / 360)).
+/// Throws tridex::Error when a height is < 1.
+double overlay_scale_for(int image_height_px, int shown_height_px);
+
 /// An axis-aligned rectangle [x0, x1] x [y0, y1] in pixels as two triangles (z 0), for the overlay panel.
 /// Throws tridex::Error when a coordinate is not finite.
 TriMesh overlay_rectangle(double x0_px, double y0_px, double x1_px, double y1_px);

@@ -481,7 +481,7 @@ void OffscreenStereoRenderer::Impl::add_overlay(const SceneView& scene, const Fr
     n.tiles = stats.tiles;
     n.status = scene.overlay_status;
     const std::string text = overlay_content(n);
-    const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale : std::max(1.0, std::floor(height / 360.0));
+    const double scale = scene.overlay_scale > 0.0 ? scene.overlay_scale : overlay_scale_for(height, height);
     const TextExtent size = overlay_text_extent(text, scale);
     const double margin = 6.0 * scale, pad = 3.0 * scale;
     fr.overlay_panel.assign(*context, overlay_rectangle(margin - pad, margin - pad, margin + size.width_px + pad,

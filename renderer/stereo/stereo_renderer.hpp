@@ -112,7 +112,7 @@ struct SceneView {
     double haptic_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
     double sculpt_rate_hz = -1.0;  ///< shown in the overlay; < 0 = unknown ("--")
     double frame_time_ms = -1.0;   ///< shown in the overlay; < 0 = the renderer's previous FrameStats::frame_ms
-    double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = max(1, floor(height / 360))
+    double overlay_scale = 0.0;    ///< overlay pixels per font unit; <= 0 = overlay_scale_for(height, height)
     std::string overlay_status;    ///< further overlay lines ('\n' between), e.g. what is saved and what is not
     /// With tiles: the overlay also counts the tiles drawn and skipped per eye (a developer's figure).
     bool overlay_tile_counts = true;

@@ -60,6 +60,15 @@ TEST(Overlay, TextQuadsScaleAboutTheOriginAndStayInsideTheExtent) {
     EXPECT_THROW(overlay_text_mesh("a", 0.0, 0.0, 0.0), Error);
     EXPECT_THROW(overlay_text_mesh("a", std::numeric_limits<double>::infinity(), 0.0, 1.0), Error);
     EXPECT_THROW(overlay_text_extent("a", -1.0), Error);
+    // The overlay's scale: a unit per 360 rows shown; in a smaller image scaled up, the same size shown while the
+    // strokes stay a pixel wide.
+    EXPECT_EQ(overlay_scale_for(540, 540), 1.0);
+    EXPECT_EQ(overlay_scale_for(1080, 1080), 3.0);
+    EXPECT_EQ(overlay_scale_for(810, 1080), 2.25);
+    EXPECT_EQ(overlay_scale_for(405, 540), 1.0);
+    EXPECT_EQ(overlay_scale_for(100, 200), 1.0);
+    EXPECT_THROW(overlay_scale_for(0, 540), Error);
+    EXPECT_THROW(overlay_scale_for(540, 0), Error);
     const TriMesh r = overlay_rectangle(1.0, 2.0, 5.0, 7.0);
     EXPECT_EQ(r.triangles.size(), 2u);
     EXPECT_EQ(r.bounds().lo, Vec3(1.0, 2.0, 0.0));
