@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -79,6 +78,7 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
                      const std::string& display, const fs::path& out) {
     RunOptions r;
     r.min_render_scale = min_scale;
+    r.max_lod_px = min_scale < 1.0 ? o.lod_px : 1.0;  // the baseline row trades the occlusion only
     r.scene = scene;
     r.display = display;
     r.seconds = o.seconds;
@@ -92,6 +92,7 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
     row.stereo = stereo;
     row.display = display;
     row.min_scale = min_scale;
+    row.max_lod_px = r.max_lod_px;
     row.frames = f.at("count").get<std::uint64_t>();
     row.frame_median_ms = at_or_nan(f.at("frame_ms"), "p50_ms");
     row.frame_p99_ms = at_or_nan(f.at("frame_ms"), "p99_ms");
@@ -127,9 +128,10 @@ std::vector<std::string> split_list(const std::string& text) {
 
 // Prints one row of the table and its detail lines.
 void print_row(const DeskBenchRow& r) {
-    std::printf("%-13s %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
-                static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms, r.interval_median_ms,
-                r.lag_median_ms, r.lag_p99_ms, r.lag_frames, r.target_met ? "target met" : "over target");
+    std::printf("%-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
+                r.max_lod_px, static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
+                r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
+                r.target_met ? "target met" : "over target");
     std::printf("  GPU passes (median ms):");
     for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
     if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
@@ -137,18 +139,13 @@ void print_row(const DeskBenchRow& r) {
                     r.present.at("blit_gpu_ms").value("p50_ms", 0.0));
     std::printf("\n");
     if (r.frame_budget.is_object()) {
-        std::printf(
-            "  on a %.0f ms frame budget: occlusion at 2x2 pixels in %llu frames, at 4x4 in %llu; render "
-            "scale:",
-            r.frame_budget.value("target_ms", 0.0),
-            static_cast<unsigned long long>(r.frame_budget.value("frames_half", 0)),
-            static_cast<unsigned long long>(r.frame_budget.value("frames_quarter", 0)));
-        std::map<double, std::uint64_t, std::greater<>> by_scale;
+        std::printf("  frames per step of the %.0f ms frame budget (occlusion, levels' error, render scale):",
+                    r.frame_budget.value("target_ms", 0.0));
         for (const nlohmann::json& step : r.frame_budget.value("ladder", nlohmann::json::array()))
-            by_scale[step.value("scale", 1.0)] += step.value("frames", std::uint64_t{0});
-        for (const auto& [scale, frames] : by_scale)
-            std::printf(" %.3f in %llu frames", scale, static_cast<unsigned long long>(frames));
-        std::printf("\n");
+            std::printf(" %s %gpx %.3f: %llu,", step.value("occlusion", "").c_str(), step.value("lod_px", 1.0),
+                        step.value("scale", 1.0),
+                        static_cast<unsigned long long>(step.value("frames", std::uint64_t{0})));
+        std::printf(" %llu switches\n", static_cast<unsigned long long>(r.frame_budget.value("switches", 0)));
     }
     std::printf(
         "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "
@@ -162,6 +159,7 @@ void print_row(const DeskBenchRow& r) {
 nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
     return nlohmann::json{{"stereo", r.stereo},
                           {"min_render_scale", r.min_scale},
+                          {"max_lod_px", r.max_lod_px},
                           {"display", r.display},
                           {"width", o.width},
                           {"height", o.height},
@@ -203,6 +201,11 @@ BenchRun setup_desk(CLI::App& bench) {
                      "With --desk: the lowest render scales (--min-render-scale) to time each output at, "
                      "comma-separated, 0.5..1 (default 1,0.75: the eyes always at the window's size, then scaled down "
                      "on the frame budget)");
+    bench
+        .add_option("--desk-lod-px", c->o.lod_px,
+                    "With --desk: the coarsest levels of detail (--max-lod-px, 1..8 pixels) the budget may draw in "
+                    "the rows whose scale is below 1 (default 2; the scale-1 row keeps them within 1 pixel)")
+        ->check(CLI::Range(1.0, 8.0));
     return [c](const BenchCommon& common) {
         DeskBenchOptions o = c->o;
         o.stereo = split_list(c->stereo);
@@ -240,6 +243,8 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
     for (const std::string& m : o.stereo)
         if (m != "mono" && m != "anaglyph" && m != "side-by-side")
             throw Error("--desk-stereo: a comma-separated list of mono, anaglyph, side-by-side; got '" + m + "'");
+    if (!(o.lod_px >= 1.0 && o.lod_px <= 8.0))
+        throw Error("--desk-lod-px: must lie in 1..8 pixels, got " + std::to_string(o.lod_px));
     if (o.min_scales.empty()) throw Error("--desk-scales: name at least one scale");
     for (const double s : o.min_scales)
         if (!(s >= 0.5 && s <= 1.0))
@@ -253,8 +258,8 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                 o.seconds, o.lod.c_str());
     std::printf("target: frame median <= %.0f ms, p99 <= %.0f ms, mouse-to-photon lag <= %.0f frames\n",
                 kTargetMedianMs, kTargetP99Ms, kTargetLagFrames);
-    std::printf("%-13s %5s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "scale", "frames", "frame50", "frame99",
-                "interval50", "lag50", "lag99", "lag/frm", "verdict");
+    std::printf("%-13s %5s %5s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "scale", "lodpx", "frames", "frame50",
+                "frame99", "interval50", "lag50", "lag99", "lag/frm", "verdict");
     std::vector<DeskBenchRow> rows;
     nlohmann::json table = nlohmann::json::array();
     for (const std::string& m : o.stereo)

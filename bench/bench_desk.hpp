@@ -19,9 +19,12 @@ struct DeskBenchOptions {
     /// DISPLAY is set, else offscreen.
     std::string display;
     std::string lod = "on";                            ///< levels of detail: on | off
-    /// The lowest render scales (--min-render-scale) each output is timed at, in turn (0.5..1; 1 = the eyes always at
-    /// the window's size: the baseline before the budget could scale them).
+    /// The lowest render scales (--min-render-scale) each output is timed at, in turn (0.5..1). 1 is the baseline:
+    /// the eyes always at the window's size and the levels always within 1 pixel (--max-lod-px 1), the budget trading
+    /// only the occlusion.
     std::vector<double> min_scales{1.0, 0.75};
+    /// The coarsest levels of detail (--max-lod-px, 1..8) the budget may draw in the rows whose scale is below 1.
+    double lod_px = 2.0;
     std::string out = "out/bench";                     ///< output folder: desk/ per session, desk_bench.json
 };
 
@@ -29,6 +32,7 @@ struct DeskBenchOptions {
 struct DeskBenchRow {
     std::string stereo, display;
     double min_scale = 1.0;  ///< the session's --min-render-scale
+    double max_lod_px = 1.0;  ///< the session's --max-lod-px
     std::uint64_t frames = 0;
     double frame_median_ms = 0, frame_p99_ms = 0;  ///< one frame's wall time: pick, draw, present
     double interval_median_ms = 0;                 ///< between the starts of successive frames
@@ -39,7 +43,7 @@ struct DeskBenchRow {
     std::uint64_t targets = 0, same_frame = 0;  ///< cursor targets; those drawn by the frame whose input set them
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
-    nlohmann::json frame_budget;                   ///< report.json render.frame_budget (occlusion, render scale)
+    nlohmann::json frame_budget;                   ///< report.json render.frame_budget (occlusion, levels, scale)
     bool target_met = false;                       ///< median <= 25 ms, p99 <= 40 ms and lag <= 2 frames
 };
 

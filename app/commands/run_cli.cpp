@@ -80,8 +80,8 @@ void add_run_options(CLI::App& run, RunOptions& o) {
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--frame-target-ms", o.frame_target_ms,
                     "Frame-time target the picture is budgeted to, ms: while the median frame is over it, the "
-                    "occlusion is evaluated per 4x4 pixels instead of 2x2, then a desk window's eyes are rendered "
-                    "smaller and scaled up (0 = no budget)")
+                    "occlusion is evaluated per 4x4 pixels instead of 2x2, then coarser levels of detail are drawn, "
+                    "then a desk window's eyes are rendered smaller and scaled up (0 = no budget)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1000.0));
     cmd->add_option("--min-render-scale", o.min_render_scale,
@@ -89,6 +89,11 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "of the window's width and height, scaled up (0.5..1; 1 = always the window's size)")
         ->capture_default_str()
         ->check(CLI::Range(0.5, 1.0));
+    cmd->add_option("--max-lod-px", o.max_lod_px,
+                    "Coarsest levels of detail the frame-time budget may draw, as their largest error on screen, "
+                    "pixels (1..8; levels are drawn within 1 pixel until the budget needs more; 1 = never coarser)")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 8.0));
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,

@@ -1,4 +1,4 @@
-// app/session/frame_budget.cpp - the frame-time budget's ladder: occlusion resolution, then render scale.
+// app/session/frame_budget.cpp - the frame-time budget's ladder: occlusion resolution, levels of detail, render scale.
 #include "app/session/frame_budget.hpp"
 
 #include <algorithm>
@@ -19,7 +19,7 @@ constexpr double kReturnShare = 0.9;
 // The longest wait, in windows, between two trials that failed.
 constexpr int kMaxBackoff = 32;
 
-double median_of(std::vector<double> v) {
+double median_of(std::vector<double>& v) {
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
     std::nth_element(v.begin(), mid, v.end());
     return *mid;
@@ -29,64 +29,94 @@ const char* occlusion_name(OcclusionResolution r) { return r == OcclusionResolut
 
 }  // namespace
 
-FrameBudget::FrameBudget(double target_ms, double min_scale, int window)
-    : target_ms_(target_ms), min_scale_(min_scale) {
-    if (!std::isfinite(target_ms) || target_ms < 0.0)
+FrameBudget::FrameBudget(const FrameBudgetOptions& o) : options_(o) {
+    if (!std::isfinite(o.target_ms) || o.target_ms < 0.0)
         throw Error("--frame-target-ms: must be a finite number of ms >= 0 (0 = no budget), got " +
-                    std::to_string(target_ms));
-    if (!(min_scale >= 0.5 && min_scale <= 1.0))
-        throw Error("--min-render-scale: must lie in 0.5..1 (1 = never scale), got " + std::to_string(min_scale));
-    if (window < 5 || window > 1000)
-        throw Error("FrameBudget: window must lie in 5..1000 frames, got " + std::to_string(window));
-    window_ = static_cast<std::size_t>(window);
+                    std::to_string(o.target_ms));
+    if (!(o.min_scale >= 0.5 && o.min_scale <= 1.0))
+        throw Error("--min-render-scale: must lie in 0.5..1 (1 = never scale), got " + std::to_string(o.min_scale));
+    if (!(o.coarse_lod_px >= 1.0 && o.coarse_lod_px <= 8.0))
+        throw Error("--max-lod-px: must lie in 1..8 pixels (1 = never coarser), got " +
+                    std::to_string(o.coarse_lod_px));
+    if (o.window < 5 || o.window > 1000)
+        throw Error("FrameBudget: window must lie in 5..1000 frames, got " + std::to_string(o.window));
+    if (o.react < 1 || o.react > o.window)
+        throw Error("FrameBudget: react must lie in 1..window frames, got " + std::to_string(o.react));
+    window_ = static_cast<std::size_t>(o.window);
+    react_ = static_cast<std::size_t>(o.react);
     recent_.reserve(window_);
-    ladder_.push_back({OcclusionResolution::kHalf, 1.0});
-    ladder_.push_back({OcclusionResolution::kQuarter, 1.0});
-    for (int k = 1; 1.0 - k * kScaleStep > min_scale + 1e-9; ++k)
-        ladder_.push_back({OcclusionResolution::kQuarter, 1.0 - k * kScaleStep});
-    if (min_scale < 1.0) ladder_.push_back({OcclusionResolution::kQuarter, min_scale});
+    scratch_.reserve(window_);
+    const double px = o.coarse_lod_px;
+    ladder_.push_back({OcclusionResolution::kHalf, 1.0, 1.0});
+    ladder_.push_back({OcclusionResolution::kQuarter, 1.0, 1.0});
+    if (px > 1.0) ladder_.push_back({OcclusionResolution::kQuarter, px, 1.0});
+    for (int k = 1; 1.0 - k * kScaleStep > o.min_scale + 1e-9; ++k)
+        ladder_.push_back({OcclusionResolution::kQuarter, px, 1.0 - k * kScaleStep});
+    if (o.min_scale < 1.0) ladder_.push_back({OcclusionResolution::kQuarter, px, o.min_scale});
     frames_.assign(ladder_.size(), 0);
 }
 
+namespace {
+// Whether two steps draw the same picture when the occlusion is off.
+bool same_without_occlusion(const FrameQuality& a, const FrameQuality& b) {
+    return a.scale == b.scale && a.lod_px == b.lod_px;
+}
+}  // namespace
+
 std::size_t FrameBudget::below(std::size_t level, bool occlusion_on) const {
     for (std::size_t l = level + 1; l < ladder_.size(); ++l)
-        if (occlusion_on || ladder_[l].scale != ladder_[level].scale) return l;
+        if (occlusion_on || !same_without_occlusion(ladder_[l], ladder_[level])) return l;
     return level;
 }
 
 std::size_t FrameBudget::above(std::size_t level, bool occlusion_on) const {
     for (std::size_t l = level; l-- > 0;)
-        if (occlusion_on || ladder_[l].scale != ladder_[level].scale) {
-            // Without the occlusion, the finest step of that scale (the occlusion's choice does not matter then).
-            while (!occlusion_on && l > 0 && ladder_[l - 1].scale == ladder_[l].scale) --l;
+        if (occlusion_on || !same_without_occlusion(ladder_[l], ladder_[level])) {
+            // Without the occlusion, the finest step that draws the same (the occlusion's choice does not matter then).
+            while (!occlusion_on && l > 0 && same_without_occlusion(ladder_[l - 1], ladder_[l])) --l;
             return l;
         }
     return level;
 }
 
+void FrameBudget::change_to(std::size_t next) {
+    level_ = next;
+    windows_at_level_ = 0;
+    recent_.clear();
+    ++switches_;
+}
+
 void FrameBudget::add(double frame_ms, bool occlusion_on) {
     if (!std::isfinite(frame_ms) || frame_ms < 0.0) return;
     ++frames_[level_];
-    if (target_ms_ <= 0.0) return;
+    if (options_.target_ms <= 0.0) return;
     recent_.push_back(frame_ms);
+    const double target = options_.target_ms;
+    if (recent_.size() % react_ == 0) {  // overload is met after `react` frames, a trial's too
+        scratch_.assign(recent_.end() - static_cast<std::ptrdiff_t>(react_), recent_.end());
+        if (median_of(scratch_) > target) {
+            if (probing_) backoff_ = std::min(backoff_ * 2, kMaxBackoff);
+            probing_ = false;
+            const std::size_t next = below(level_, occlusion_on);
+            if (next != level_) return change_to(next);
+        }
+    }
     if (recent_.size() < window_) return;
-    const double median = median_of(recent_);
+    scratch_.assign(recent_.begin(), recent_.end());
+    const double median = median_of(scratch_);
     recent_.clear();
     ++windows_at_level_;
-    const bool over = median > target_ms_;
+    const bool over = median > target;
     if (probing_) backoff_ = over ? std::min(backoff_ * 2, kMaxBackoff) : 1;  // the trial failed / held
     probing_ = false;
     std::size_t next = level_;
     if (over) {
         next = below(level_, occlusion_on);
-    } else if (median < kReturnShare * target_ms_ && windows_at_level_ >= backoff_) {
+    } else if (median < kReturnShare * target && windows_at_level_ >= backoff_) {
         next = above(level_, occlusion_on);
         probing_ = next != level_;
     }
-    if (next == level_) return;
-    level_ = next;
-    windows_at_level_ = 0;
-    ++switches_;
+    if (next != level_) change_to(next);
 }
 
 std::uint64_t FrameBudget::frames_where(bool (*drawn)(const FrameQuality&)) const {
@@ -104,6 +134,10 @@ std::uint64_t FrameBudget::frames_quarter() const {
     return frames_where([](const FrameQuality& q) { return q.occlusion == OcclusionResolution::kQuarter; });
 }
 
+std::uint64_t FrameBudget::frames_coarse_lod() const {
+    return frames_where([](const FrameQuality& q) { return q.lod_px > 1.0; });
+}
+
 std::uint64_t FrameBudget::frames_scaled() const {
     return frames_where([](const FrameQuality& q) { return q.scale < 1.0; });
 }
@@ -111,17 +145,24 @@ std::uint64_t FrameBudget::frames_scaled() const {
 nlohmann::json FrameBudget::to_json() const {
     nlohmann::json steps = nlohmann::json::array();
     for (std::size_t l = 0; l < ladder_.size(); ++l)
-        steps.push_back(
-            {{"occlusion", occlusion_name(ladder_[l].occlusion)}, {"scale", ladder_[l].scale}, {"frames", frames_[l]}});
-    return nlohmann::json{{"target_ms", target_ms_},
-                          {"window", window_},
-                          {"min_scale", min_scale_},
-                          {"frames_half", frames_half()},
-                          {"frames_quarter", frames_quarter()},
-                          {"frames_scaled", frames_scaled()},
-                          {"switches", switches_},
-                          {"ladder", steps},
-                          {"now", {{"occlusion", occlusion_name(quality().occlusion)}, {"scale", quality().scale}}}};
+        steps.push_back({{"occlusion", occlusion_name(ladder_[l].occlusion)},
+                         {"lod_px", ladder_[l].lod_px},
+                         {"scale", ladder_[l].scale},
+                         {"frames", frames_[l]}});
+    const FrameQuality now = quality();
+    return nlohmann::json{
+        {"target_ms", options_.target_ms},
+        {"window", window_},
+        {"react", react_},
+        {"min_scale", options_.min_scale},
+        {"coarse_lod_px", options_.coarse_lod_px},
+        {"frames_half", frames_half()},
+        {"frames_quarter", frames_quarter()},
+        {"frames_coarse_lod", frames_coarse_lod()},
+        {"frames_scaled", frames_scaled()},
+        {"switches", switches_},
+        {"ladder", steps},
+        {"now", {{"occlusion", occlusion_name(now.occlusion)}, {"lod_px", now.lod_px}, {"scale", now.scale}}}};
 }
 
 }  // namespace tridex

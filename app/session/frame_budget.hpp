@@ -1,4 +1,4 @@
-// app/session/frame_budget.hpp - a live session's picture on a frame-time budget: occlusion resolution, render scale.
+// app/session/frame_budget.hpp - a live session's picture on a frame-time budget: occlusion, levels, render scale.
 #pragma once
 
 #include <cstdint>
@@ -10,33 +10,49 @@
 
 namespace tridex {
 
-/// One step of FrameBudget's ladder: how finely the ambient occlusion is evaluated and the render scale (the eye
-/// images' size as a share of the window's, per axis; the present blit scales them up with a linear filter).
+/// One step of FrameBudget's ladder: how finely the ambient occlusion is evaluated, the largest error of the levels
+/// of detail drawn (renderer::SceneView::lod_max_px) and the render scale (the eye images' size as a share of the
+/// window's, per axis; the present blit scales them up with a linear filter).
 struct FrameQuality {
     renderer::OcclusionResolution occlusion = renderer::OcclusionResolution::kHalf;
+    double lod_px = 1.0;  ///< pixels of the eye image
     double scale = 1.0;
+};
+
+/// What FrameBudget may trade and how fast it reacts.
+struct FrameBudgetOptions {
+    /// The frame-time target, ms (finite, >= 0; 0 = no budget: always the finest step).
+    double target_ms = 25.0;
+    /// The lowest render scale, 0.5..1 (1 = never scale; offscreen and fullscreen sessions pass 1).
+    double min_scale = 1.0;
+    /// The coarsest levels of detail, as their largest error on screen, pixels, 1..8 (1 = never coarser than the
+    /// finest step's 1 pixel; sessions without levels pass 1).
+    double coarse_lod_px = 1.0;
+    /// Frames per decision to go up a step, 5..1000: a window's median must fit within 90 % of the target.
+    int window = 30;
+    /// Frames per decision to go down a step, 1..window: the median of the newest `react` frames over the target.
+    int react = 10;
 };
 
 /// Chooses, frame by frame, how much a live session draws so that frames keep to a frame-time target. The choices
 /// form a ladder from the finest to the cheapest: the occlusion per 2x2 pixels at full scale, per 4x4 pixels (about
-/// a quarter of the obscurance dispatch's work) at full scale, then the render scale lowered in steps of
-/// kScaleStep down to min_scale (each step about a fifth fewer pixels to rasterise, shade and occlude; the
-/// dynamic resolution of game engines and VR runtimes). When the median of a window of frames is over the target
-/// the budget takes one step down; once a window is within 90 % of the target it tries the step above for a
-/// window; a trial that goes over the target doubles the windows to wait before the next one (up to 32), one that
-/// fits resets it. Every choice holds for a whole window of frames measured with it, so the picture does not
-/// flicker. Steps that differ only in the occlusion are skipped while the occlusion is off. Single-threaded (the
-/// render thread).
+/// a quarter of the obscurance dispatch's work), the levels of detail at up to coarse_lod_px pixels of error instead
+/// of 1 (fewer triangles to transform and set up per eye), then the render scale lowered in steps of kScaleStep down
+/// to min_scale (each step about a fifth fewer pixels to rasterise, shade and occlude; the dynamic resolution of
+/// game engines and VR runtimes). Overload is met fast and relief trusted slowly: whenever `react` frames have been
+/// drawn at a step and the median of the newest `react` is over the target, the budget takes one step down; once a
+/// whole window at a step is within 90 % of the target it tries the step above. A trial that goes over the target
+/// (within its first `react` frames or over its window) returns at once and doubles the windows to wait before the
+/// next trial (up to 32); one that holds for a window resets the wait. Steps that differ only in the occlusion are
+/// skipped while the occlusion is off. Single-threaded (the render thread).
 class FrameBudget {
 public:
     /// The render scale's step between two rungs of the ladder.
     static constexpr double kScaleStep = 0.125;
 
-    /// target_ms: the frame-time target, ms (finite, >= 0; 0 = no budget: always the finest step). min_scale: the
-    /// lowest render scale, 0.5..1 (1 = never scale: only the occlusion is budgeted; offscreen and fullscreen
-    /// sessions pass 1). window: frames per decision, 5..1000. Throws tridex::Error naming --frame-target-ms or
-    /// --min-render-scale on a bad value, or on a bad window.
-    explicit FrameBudget(double target_ms, double min_scale = 1.0, int window = 30);
+    /// Throws tridex::Error naming --frame-target-ms, --min-render-scale or --max-lod-px on a bad value, or on a
+    /// bad window or react.
+    explicit FrameBudget(const FrameBudgetOptions& options);
 
     /// Adds one frame's wall time, ms (the frame was drawn at quality()); `occlusion_on`: whether the frame drew
     /// the ambient occlusion. Non-finite or negative times are ignored. May change quality() for the next frame.
@@ -47,29 +63,36 @@ public:
     const std::vector<FrameQuality>& ladder() const { return ladder_; }
     /// Frames drawn at each step of ladder() so far.
     const std::vector<std::uint64_t>& frames() const { return frames_; }
-    /// Frames drawn with the occlusion at 2x2 and at 4x4, with the render scale below 1, and the number of changes.
+    /// Frames drawn with the occlusion at 2x2 and at 4x4, with coarser levels than 1 pixel, with the render scale
+    /// below 1, and the number of changes.
     std::uint64_t frames_half() const;
     std::uint64_t frames_quarter() const;
+    std::uint64_t frames_coarse_lod() const;
     std::uint64_t frames_scaled() const;
     std::uint64_t switches() const { return switches_; }
-    /// report.json's render.frame_budget: {target_ms, window, min_scale, frames_half, frames_quarter,
-    /// frames_scaled, switches, ladder: [{occlusion, scale, frames}], now: {occlusion, scale}}.
+    /// report.json's render.frame_budget: {target_ms, window, react, min_scale, coarse_lod_px, frames_half,
+    /// frames_quarter, frames_coarse_lod, frames_scaled, switches, ladder: [{occlusion, lod_px, scale, frames}],
+    /// now: {occlusion, lod_px, scale}}.
     nlohmann::json to_json() const;
 
 private:
-    /// The step below / above `level` that changes what is drawn (the scale alone while the occlusion is off);
+    /// The step below / above `level` that changes what is drawn (not the occlusion alone while it is off);
     /// `level` itself when there is none.
     std::size_t below(std::size_t level, bool occlusion_on) const;
     std::size_t above(std::size_t level, bool occlusion_on) const;
     /// Frames drawn at the steps for which `drawn` is true.
     std::uint64_t frames_where(bool (*drawn)(const FrameQuality&)) const;
 
-    double target_ms_;
-    double min_scale_;
+    /// Ends the current choice: `next` for the frames to come.
+    void change_to(std::size_t next);
+
+    FrameBudgetOptions options_;
     std::size_t window_;
+    std::size_t react_;
     std::vector<FrameQuality> ladder_;
     std::size_t level_ = 0;
     std::vector<double> recent_;  // this choice's frames, up to a window
+    std::vector<double> scratch_;  // the median's copy
     bool probing_ = false;        // this window is a trial of the step above the one before
     int backoff_ = 1;             // windows to wait before the next trial
     int windows_at_level_ = 0;    // since the last change

@@ -138,7 +138,10 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
     view.occlusion_strength = ao ? 1.0 : 0.0;
-    if (budget) view.occlusion_resolution = budget->quality().occlusion;
+    if (budget) {
+        view.occlusion_resolution = budget->quality().occlusion;
+        view.lod_max_px = budget->quality().lod_px;
+    }
     // Eyes rendered below the window's size: the overlay keeps its size in the window where it can.
     if (rend->height() < window_eye_h) view.overlay_scale = renderer::overlay_scale_for(rend->height(), window_eye_h);
     if (study_view) {
@@ -328,7 +331,11 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
 void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
-    budget.emplace(su.frame_target_ms, window && su.display == DisplayKind::kWindow ? su.min_render_scale : 1.0);
+    FrameBudgetOptions bo;
+    bo.target_ms = su.frame_target_ms;
+    bo.min_scale = window && su.display == DisplayKind::kWindow ? su.min_render_scale : 1.0;
+    bo.coarse_lod_px = su.lod ? su.max_lod_px : 1.0;
+    budget.emplace(bo);
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     t_render = Clock::now();
     r.first_frame_s = std::chrono::duration<double>(t_render.time_since_epoch()).count();

@@ -75,12 +75,16 @@ struct RunOptions {
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;
     /// The frame-time target, ms, that the picture is budgeted to (app/session/frame_budget.hpp): while the median
-    /// frame is over it the occlusion is evaluated per 4x4 pixels instead of per 2x2, then a desk window's eye
-    /// images are rendered smaller (down to min_render_scale) and scaled up. 0 = no budget. Finite and >= 0.
+    /// frame is over it the occlusion is evaluated per 4x4 pixels instead of per 2x2, then the levels of detail may
+    /// stray up to max_lod_px pixels, then a desk window's eye images are rendered smaller (down to min_render_scale)
+    /// and scaled up. 0 = no budget. Finite and >= 0.
     double frame_target_ms = 25.0;
     /// The lowest render scale (eye image size / window size, per axis) the budget may choose in a desk window,
     /// 0.5..1; 1 = always the window's size. Fullscreen and offscreen sessions always render at their size.
     double min_render_scale = 0.75;
+    /// The coarsest levels of detail the budget may draw, as their largest error on screen, pixels, 1..8 (the
+    /// finest step draws levels within 1 pixel; 1 = never coarser). Only with --lod on.
+    double max_lod_px = 2.0;
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.
     std::string record;

@@ -127,9 +127,11 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
-    (void)FrameBudget(o.frame_target_ms, o.min_render_scale);  // refuses a bad value before any window opens
+    // Refuses a bad value before any window opens.
+    (void)FrameBudget(FrameBudgetOptions{o.frame_target_ms, o.min_render_scale, o.max_lod_px});
     s.frame_target_ms = o.frame_target_ms;
     s.min_render_scale = o.min_render_scale;
+    s.max_lod_px = o.max_lod_px;
     if (!o.monitor.empty()) {
         const bool digits = std::all_of(o.monitor.begin(), o.monitor.end(), [](unsigned char c) { return std::isdigit(c); });
         if (digits && o.monitor.size() < 4)

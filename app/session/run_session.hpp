@@ -49,6 +49,7 @@ struct RunSetup {
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)
     double min_render_scale = 0.75;  ///< a desk window's lowest render scale on the budget (--min-render-scale)
+    double max_lod_px = 2.0;         ///< the coarsest levels' error on screen on the budget, px (--max-lod-px)
     std::string record;             ///< recording file ("" = none)
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)

@@ -53,9 +53,10 @@ TEST(RunWindow, OpensDrawsThreeFramesAndCloses) {
     fs::remove_all(dir);
 }
 
-// Frames over a frame-time target too small to meet: the budget steps the occlusion to 4x4 pixels, then the render
-// scale down to --min-render-scale, a window of 30 frames at a time; the eye images shrink with it while the window
-// keeps its size, and the anaglyph's compose and the side-by-side blits scale them up without a validation message.
+// Frames over a frame-time target too small to meet: the budget steps the occlusion to 4x4 pixels, the levels to 2
+// pixels, then the render scale down to --min-render-scale, 10 frames at a time; the eye images shrink with it
+// while the window keeps its size, and the anaglyph's compose and the side-by-side blits scale them up without a
+// validation message.
 TEST(RunWindow, RenderScaleShrinksTheEyesOnTheFrameBudget) {
     renderer::test::VirtualDisplay display(1280, 1024);
     const fs::path dir = test::temp_dir("run_window_scale");
@@ -67,7 +68,7 @@ TEST(RunWindow, RenderScaleShrinksTheEyesOnTheFrameBudget) {
         o.stereo = stereo;
         o.frame_target_ms = 0.01;
         o.min_render_scale = 0.5;
-        o.frames = 6 * 30 + 5;  // five steps down, and frames drawn at the last
+        o.frames = 6 * 10 + 5;  // six steps down, and frames drawn at the last
         o.out = (dir / stereo).string();
         const RunResult r = run_stereo_session(o);
         EXPECT_EQ(r.validation_messages, 0u) << stereo;
@@ -75,8 +76,11 @@ TEST(RunWindow, RenderScaleShrinksTheEyesOnTheFrameBudget) {
         const nlohmann::json& budget = rep["render"]["frame_budget"];
         EXPECT_DOUBLE_EQ(budget["now"]["scale"].get<double>(), 0.5) << budget.dump();
         EXPECT_EQ(budget["now"]["occlusion"], "quarter");
-        EXPECT_EQ(budget["ladder"].size(), 6u) << budget.dump();  // 2x2 and 4x4 at 1, then 7/8, 3/4, 5/8, 1/2
-        EXPECT_EQ(budget["frames_scaled"].get<std::uint64_t>(), 4u * 30u + 5u) << budget.dump();
+        // 2x2 and 4x4 at 1, 4x4 with the levels at 2 pixels, then 7/8, 3/4, 5/8, 1/2
+        EXPECT_EQ(budget["ladder"].size(), 7u) << budget.dump();
+        EXPECT_EQ(budget["now"]["lod_px"], 2.0);
+        EXPECT_EQ(budget["frames_scaled"].get<std::uint64_t>(), 3u * 10u + 5u) << budget.dump();
+        EXPECT_EQ(budget["frames_coarse_lod"].get<std::uint64_t>(), 4u * 10u + 5u) << budget.dump();
         EXPECT_EQ(rep["frames"]["render_scale_changes"], 4) << rep["frames"].dump();
         EXPECT_EQ(rep["frames"]["window_resizes"], 0);
         // The eyes at half the size the window gives them, rounded.

@@ -37,6 +37,8 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     EXPECT_FALSE(r.passes.contains("opaque.right")) << "mono draws one eye";
     EXPECT_EQ(r.min_scale, 0.75);
     EXPECT_EQ(r.frame_budget.at("min_scale"), 1.0) << "offscreen frames are never scaled";
+    EXPECT_EQ(r.max_lod_px, 2.0);
+    EXPECT_EQ(r.frame_budget.at("coarse_lod_px"), 2.0) << "but their levels may be coarser";
     std::ifstream f(fs::path(o.out) / "desk_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
@@ -44,6 +46,7 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     EXPECT_EQ(j[0]["width"], 960);
     EXPECT_EQ(j[0]["target_median_ms"], 25.0);
     EXPECT_EQ(j[0]["min_render_scale"], 0.75);
+    EXPECT_EQ(j[0]["max_lod_px"], 2.0);
     fs::remove_all(o.out);
 }
 
@@ -73,6 +76,9 @@ TEST(BenchDesk, RefusesBadOptionsByName) {
     b = o;
     b.min_scales = {1.0, 0.25};
     refused(b, "--desk-scales");
+    b = o;
+    b.lod_px = 0.5;
+    refused(b, "--desk-lod-px");
     EXPECT_FALSE(fs::exists(o.out));
 }
 
