@@ -126,12 +126,59 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
-// Prints one row of the table and its detail lines.
+// Sets the row's verdict: median, p99 and lag within the targets.
+void judge(DeskBenchRow& r) {
+    r.target_met =
+        r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms && r.lag_frames <= kTargetLagFrames;
+}
+
+double median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? std::nan("") : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The median over the runs of one output and scale (repeat 0): each figure's median, the verdict from those.
+DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, const std::string& stereo, double min_scale) {
+    DeskBenchRow out;
+    std::vector<const DeskBenchRow*> mine;
+    for (const DeskBenchRow& r : runs)
+        if (r.repeat > 0 && r.stereo == stereo && r.min_scale == min_scale) mine.push_back(&r);
+    out = *mine.front();
+    out.repeat = 0;
+    const auto med = [&](double DeskBenchRow::*f) {
+        std::vector<double> v;
+        for (const DeskBenchRow* r : mine) v.push_back(r->*f);
+        return median_of(std::move(v));
+    };
+    std::vector<double> frames;
+    for (const DeskBenchRow* r : mine) frames.push_back(static_cast<double>(r->frames));
+    out.frames = static_cast<std::uint64_t>(std::lround(median_of(frames)));
+    out.frame_median_ms = med(&DeskBenchRow::frame_median_ms);
+    out.frame_p99_ms = med(&DeskBenchRow::frame_p99_ms);
+    out.interval_median_ms = med(&DeskBenchRow::interval_median_ms);
+    out.lag_median_ms = med(&DeskBenchRow::lag_median_ms);
+    out.lag_p99_ms = med(&DeskBenchRow::lag_p99_ms);
+    out.lag_frames = med(&DeskBenchRow::lag_frames);
+    out.hand_wait_median_ms = med(&DeskBenchRow::hand_wait_median_ms);
+    out.hand_wait_p99_ms = med(&DeskBenchRow::hand_wait_p99_ms);
+    out.passes = nlohmann::json::object();  // per run only
+    out.present = nlohmann::json();
+    out.frame_budget = nlohmann::json();
+    judge(out);
+    return out;
+}
+
+// Prints one row of the table and, for a run (not a median), its detail lines.
 void print_row(const DeskBenchRow& r) {
     std::printf("%-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
                 r.max_lod_px, static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
                 r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
                 r.target_met ? "target met" : "over target");
+    if (r.repeat == 0) {  // a median over runs: the runs' rows have the details
+        std::fflush(stdout);
+        return;
+    }
     std::printf("  GPU passes (median ms):");
     for (const auto& [name, ms] : r.passes.items()) std::printf(" %s %.2f", name.c_str(), ms.get<double>());
     if (r.present.is_object() && r.present.contains("blit_gpu_ms"))
@@ -158,6 +205,7 @@ void print_row(const DeskBenchRow& r) {
 // One row of desk_bench.json.
 nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
     return nlohmann::json{{"stereo", r.stereo},
+                          {"repeat", r.repeat},
                           {"min_render_scale", r.min_scale},
                           {"max_lod_px", r.max_lod_px},
                           {"display", r.display},
@@ -206,6 +254,8 @@ BenchRun setup_desk(CLI::App& bench) {
                     "With --desk: the coarsest levels of detail (--max-lod-px, 1..8 pixels) the budget may draw in "
                     "the rows whose scale is below 1 (default 2; the scale-1 row keeps them within 1 pixel)")
         ->check(CLI::Range(1.0, 8.0));
+    bench.add_option("--desk-repeats", c->o.repeats,
+                     "With --desk: runs of every row, in turn, and the median over them per row (1..20; default 1)");
     return [c](const BenchCommon& common) {
         DeskBenchOptions o = c->o;
         o.stereo = split_list(c->stereo);
@@ -245,6 +295,8 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
             throw Error("--desk-stereo: a comma-separated list of mono, anaglyph, side-by-side; got '" + m + "'");
     if (!(o.lod_px >= 1.0 && o.lod_px <= 8.0))
         throw Error("--desk-lod-px: must lie in 1..8 pixels, got " + std::to_string(o.lod_px));
+    if (o.repeats < 1 || o.repeats > 20)
+        throw Error("--desk-repeats: must lie in 1..20, got " + std::to_string(o.repeats));
     if (o.min_scales.empty()) throw Error("--desk-scales: name at least one scale");
     for (const double s : o.min_scales)
         if (!(s >= 0.5 && s <= 1.0))
@@ -262,19 +314,30 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                 "frame99", "interval50", "lag50", "lag99", "lag/frm", "verdict");
     std::vector<DeskBenchRow> rows;
     nlohmann::json table = nlohmann::json::array();
-    for (const std::string& m : o.stereo)
-        for (const double min_scale : o.min_scales) {
-            char tag[32];
-            std::snprintf(tag, sizeof tag, "%s_scale%.3g", m.c_str(), min_scale);
-            DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, min_scale, display, dir / tag);
-            const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
-            r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
-            r.target_met = r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
-                           r.lag_frames <= kTargetLagFrames;
-            print_row(r);
-            table.push_back(row_json(o, r));
-            rows.push_back(std::move(r));
-        }
+    for (int rep = 1; rep <= o.repeats; ++rep)
+        for (const std::string& m : o.stereo)
+            for (const double min_scale : o.min_scales) {
+                char tag[48];
+                std::snprintf(tag, sizeof tag, "%s_scale%.3g_run%d", m.c_str(), min_scale, rep);
+                DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, min_scale, display, dir / tag);
+                r.repeat = rep;
+                const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
+                r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
+                judge(r);
+                print_row(r);
+                table.push_back(row_json(o, r));
+                rows.push_back(std::move(r));
+            }
+    if (o.repeats > 1) {
+        std::printf("median over %d runs:\n", o.repeats);
+        for (const std::string& m : o.stereo)
+            for (const double min_scale : o.min_scales) {
+                DeskBenchRow r = median_row(rows, m, min_scale);
+                print_row(r);
+                table.push_back(row_json(o, r));
+                rows.push_back(std::move(r));
+            }
+    }
     write_json_file((fs::path(o.out) / "desk_bench.json").string(), table);
     return rows;
 }

@@ -25,12 +25,16 @@ struct DeskBenchOptions {
     std::vector<double> min_scales{1.0, 0.75};
     /// The coarsest levels of detail (--max-lod-px, 1..8) the budget may draw in the rows whose scale is below 1.
     double lod_px = 2.0;
+    /// Runs of every row, 1..20: the rows are run in turn, then again, so that a busy moment of a shared machine
+    /// falls on one run of each, and the median over the runs is printed (and written) per row.
+    int repeats = 1;
     std::string out = "out/bench";                     ///< output folder: desk/ per session, desk_bench.json
 };
 
 /// One session's figures, all from its report.json.
 struct DeskBenchRow {
     std::string stereo, display;
+    int repeat = 1;          ///< which run (1..DeskBenchOptions::repeats); 0: the median over the runs
     double min_scale = 1.0;  ///< the session's --min-render-scale
     double max_lod_px = 1.0;  ///< the session's --max-lod-px
     std::uint64_t frames = 0;
@@ -47,8 +51,10 @@ struct DeskBenchRow {
     bool target_met = false;                       ///< median <= 25 ms, p99 <= 40 ms and lag <= 2 frames
 };
 
-/// Runs the sessions, prints a table beside the targets and writes OUT/desk_bench.json. Throws tridex::Error
-/// naming the option for a value out of range, an unknown output or display, or an unwritable folder.
+/// Runs the sessions, prints a table beside the targets and writes OUT/desk_bench.json (every run's row; with
+/// repeats > 1 also a median row per output and scale, `repeat` 0: each figure the median over the runs, the
+/// verdict from those medians). Returns the rows as written. Throws tridex::Error naming the option for a value out
+/// of range, an unknown output or display, or an unwritable folder.
 std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& options);
 
 }  // namespace tridex::bench

@@ -1,5 +1,6 @@
-// Smoke test of `tridex bench --desk` (bench/bench_desk): a short offscreen mouse session at the desk's size writes
-// a row with frames, per-pass GPU times and a measured cursor-to-frame lag, and bad options are refused by name.
+// Smoke test of `tridex bench --desk` (bench/bench_desk): short offscreen mouse sessions at the desk's size, run
+// twice, write a row per run with frames, per-pass GPU times and a measured cursor-to-frame lag, and a row of their
+// medians; bad options are refused by name.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -22,10 +23,16 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     o.stereo = {"mono"};
     o.display = "offscreen";
     o.min_scales = {0.75};
+    o.repeats = 2;
     o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_" + std::to_string(::getpid()))).string();
     fs::remove_all(o.out);
     const std::vector<DeskBenchRow> rows = run_desk_bench(o);
-    ASSERT_EQ(rows.size(), 1u);
+    ASSERT_EQ(rows.size(), 3u);  // two runs and their median
+    EXPECT_EQ(rows[0].repeat, 1);
+    EXPECT_EQ(rows[1].repeat, 2);
+    EXPECT_EQ(rows[2].repeat, 0);
+    EXPECT_DOUBLE_EQ(rows[2].frame_median_ms, 0.5 * (rows[0].frame_median_ms + rows[1].frame_median_ms));
+    EXPECT_DOUBLE_EQ(rows[2].lag_p99_ms, 0.5 * (rows[0].lag_p99_ms + rows[1].lag_p99_ms));
     const DeskBenchRow& r = rows[0];
     EXPECT_EQ(r.stereo, "mono");
     EXPECT_GT(r.frames, 20u);  // paced at 60 Hz for 4 s
@@ -42,7 +49,8 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     std::ifstream f(fs::path(o.out) / "desk_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
-    ASSERT_EQ(j.size(), 1u);
+    ASSERT_EQ(j.size(), 3u);
+    EXPECT_EQ(j[2]["repeat"], 0);
     EXPECT_EQ(j[0]["width"], 960);
     EXPECT_EQ(j[0]["target_median_ms"], 25.0);
     EXPECT_EQ(j[0]["min_render_scale"], 0.75);
@@ -79,6 +87,9 @@ TEST(BenchDesk, RefusesBadOptionsByName) {
     b = o;
     b.lod_px = 0.5;
     refused(b, "--desk-lod-px");
+    b = o;
+    b.repeats = 0;
+    refused(b, "--desk-repeats");
     EXPECT_FALSE(fs::exists(o.out));
 }
 
