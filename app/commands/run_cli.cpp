@@ -90,8 +90,9 @@ void add_run_options(CLI::App& run, RunOptions& o) {
         ->capture_default_str()
         ->check(CLI::Range(0.5, 1.0));
     cmd->add_option("--max-lod-px", o.max_lod_px,
-                    "Coarsest levels of detail the frame-time budget may draw, as their largest error on screen, "
-                    "pixels (1..8; levels are drawn within 1 pixel until the budget needs more; 1 = never coarser)")
+                    "Coarsest levels of detail the frame-time budget may draw in a desk window, as their largest error "
+                    "on screen, pixels (1..8; levels are drawn within 1 pixel until the budget needs more; 1 = never "
+                    "coarser)")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 8.0));
     cmd->add_option("--record", o.record, "Record the session to FILE (TRDXREC; `tridex replay FILE` sculpts it again)");

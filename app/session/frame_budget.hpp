@@ -26,7 +26,7 @@ struct FrameBudgetOptions {
     /// The lowest render scale, 0.5..1 (1 = never scale; offscreen and fullscreen sessions pass 1).
     double min_scale = 1.0;
     /// The coarsest levels of detail, as their largest error on screen, pixels, 1..8 (1 = never coarser than the
-    /// finest step's 1 pixel; sessions without levels pass 1).
+    /// finest step's 1 pixel; sessions without levels, offscreen and fullscreen sessions pass 1).
     double coarse_lod_px = 1.0;
     /// Frames per decision to go up a step, 5..1000: a window's median must fit within 90 % of the target.
     int window = 30;

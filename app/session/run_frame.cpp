@@ -333,8 +333,11 @@ void RunPipeline::Parts::frame_loop() {
     ao = su.ao;
     FrameBudgetOptions bo;
     bo.target_ms = su.frame_target_ms;
-    bo.min_scale = window && su.display == DisplayKind::kWindow ? su.min_render_scale : 1.0;
-    bo.coarse_lod_px = su.lod ? su.max_lod_px : 1.0;
+    // The desk window alone trades pixels and levels: a wall's ranks must all draw the same picture, and an
+    // offscreen run's images should not depend on how busy the machine is.
+    const bool desk_window = window && su.display == DisplayKind::kWindow;
+    bo.min_scale = desk_window ? su.min_render_scale : 1.0;
+    bo.coarse_lod_px = desk_window && su.lod ? su.max_lod_px : 1.0;
     budget.emplace(bo);
     r.force_m_per_newton = su.items ? kForceMetresPerNewton : 0.0;
     t_render = Clock::now();

@@ -82,8 +82,9 @@ struct RunOptions {
     /// The lowest render scale (eye image size / window size, per axis) the budget may choose in a desk window,
     /// 0.5..1; 1 = always the window's size. Fullscreen and offscreen sessions always render at their size.
     double min_render_scale = 0.75;
-    /// The coarsest levels of detail the budget may draw, as their largest error on screen, pixels, 1..8 (the
-    /// finest step draws levels within 1 pixel; 1 = never coarser). Only with --lod on.
+    /// The coarsest levels of detail the budget may draw in a desk window, as their largest error on screen, pixels,
+    /// 1..8 (the finest step draws levels within 1 pixel; 1 = never coarser). Only with --lod on; fullscreen and
+    /// offscreen sessions always draw levels within 1 pixel.
     double max_lod_px = 2.0;
     /// When set, the session's haptic ticks are recorded to this file (TRDXREC, devices/recording.hpp) with the
     /// session spec, so `tridex replay FILE` rebuilds the same model.

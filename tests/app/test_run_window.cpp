@@ -94,6 +94,44 @@ TEST(RunWindow, RenderScaleShrinksTheEyesOnTheFrameBudget) {
     fs::remove_all(dir);
 }
 
+// In a desk window, frames over the budget's target draw coarser levels of detail (--max-lod-px) after the
+// occlusion's step: a still scene drawn with a target no frame meets, the render scale kept at 1, ends on the coarse
+// step and draws fewer triangles per frame than with --max-lod-px 1, whose budget stops at the occlusion. Offscreen,
+// the budget never coarsens the levels.
+TEST(RunWindow, FrameBudgetDrawsCoarserLevelsWhenFramesRunLong) {
+    renderer::test::VirtualDisplay display(1280, 1024);
+    const fs::path dir = test::temp_dir("run_window_budget_lod");
+    const std::string scene = (dir / "still.json").string();
+    std::ofstream(scene) << R"({"workpiece": {"resolution": 96, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05]},
+                              "stroke": "none", "head": {"provider": "fixed", "position_m": [0.0, 0.05, 0.6]},
+                              "display": {"preset": "desktop", "resolution": [480, 270], "stereo": "mono"}})";
+    const auto run = [&](double lod_px, const char* where) {
+        RunOptions o;
+        o.scene = scene;
+        o.display = where;
+        o.pace = false;
+        o.frames = 120;
+        o.frame_target_ms = 0.01;
+        o.min_render_scale = 1.0;
+        o.max_lod_px = lod_px;
+        o.out = (dir / (std::string(where) + std::to_string(static_cast<int>(lod_px)))).string();
+        return run_stereo_session(o);
+    };
+    const RunResult fine = run(1.0, "window"), coarse = run(8.0, "window"), offscreen = run(8.0, "offscreen");
+    for (const RunResult* r : {&fine, &coarse, &offscreen}) EXPECT_EQ(r->validation_messages, 0u);
+    EXPECT_EQ(fine.frame_budget.at("frames_coarse_lod"), 0u);
+    EXPECT_EQ(fine.frame_budget.at("now").at("lod_px"), 1.0);
+    EXPECT_EQ(coarse.frame_budget.at("now").at("lod_px"), 8.0);
+    EXPECT_GE(coarse.frame_budget.at("frames_coarse_lod").get<std::uint64_t>(), 90u);  // from the 21st frame on
+    EXPECT_EQ(offscreen.frame_budget.at("coarse_lod_px"), 1.0) << offscreen.frame_budget.dump();
+    EXPECT_EQ(offscreen.frame_budget.at("frames_coarse_lod"), 0u);
+    const auto per_frame = [](const RunResult& r) {
+        return static_cast<double>(r.render.tile_triangles[0]) / static_cast<double>(r.render.frames);
+    };
+    EXPECT_LT(per_frame(coarse), 0.8 * per_frame(fine)) << per_frame(coarse) << " vs " << per_frame(fine);
+    fs::remove_all(dir);
+}
+
 TEST(RunWindow, QuadIsRefusedWithTheOutputsThatWork) {
     renderer::test::VirtualDisplay display(1280, 1024);
     const fs::path dir = test::temp_dir("run_window_quad");

@@ -45,7 +45,7 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     EXPECT_EQ(r.min_scale, 0.75);
     EXPECT_EQ(r.frame_budget.at("min_scale"), 1.0) << "offscreen frames are never scaled";
     EXPECT_EQ(r.max_lod_px, 2.0);
-    EXPECT_EQ(r.frame_budget.at("coarse_lod_px"), 2.0) << "but their levels may be coarser";
+    EXPECT_EQ(r.frame_budget.at("coarse_lod_px"), 1.0) << "nor their levels coarsened";
     std::ifstream f(fs::path(o.out) / "desk_bench.json");
     ASSERT_TRUE(f.good());
     const nlohmann::json j = nlohmann::json::parse(f);
