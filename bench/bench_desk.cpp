@@ -132,6 +132,8 @@ void judge(DeskBenchRow& r) {
         r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms && r.lag_frames <= kTargetLagFrames;
 }
 
+// The median of `v`, the mean of the middle two for an even count (core's summarize() takes the lower one: with
+// two runs the verdict would judge the better of them); NaN when empty.
 double median_of(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
@@ -140,20 +142,17 @@ double median_of(std::vector<double> v) {
 
 // The median over the runs of one output and scale (repeat 0): each figure's median, the verdict from those.
 DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, const std::string& stereo, double min_scale) {
-    DeskBenchRow out;
     std::vector<const DeskBenchRow*> mine;
     for (const DeskBenchRow& r : runs)
         if (r.repeat > 0 && r.stereo == stereo && r.min_scale == min_scale) mine.push_back(&r);
-    out = *mine.front();
+    DeskBenchRow out = *mine.front();
     out.repeat = 0;
-    const auto med = [&](double DeskBenchRow::*f) {
+    const auto med = [&]<typename T>(T DeskBenchRow::*f) {
         std::vector<double> v;
-        for (const DeskBenchRow* r : mine) v.push_back(r->*f);
+        for (const DeskBenchRow* r : mine) v.push_back(static_cast<double>(r->*f));
         return median_of(std::move(v));
     };
-    std::vector<double> frames;
-    for (const DeskBenchRow* r : mine) frames.push_back(static_cast<double>(r->frames));
-    out.frames = static_cast<std::uint64_t>(std::lround(median_of(frames)));
+    out.frames = static_cast<std::uint64_t>(std::lround(med(&DeskBenchRow::frames)));
     out.frame_median_ms = med(&DeskBenchRow::frame_median_ms);
     out.frame_p99_ms = med(&DeskBenchRow::frame_p99_ms);
     out.interval_median_ms = med(&DeskBenchRow::interval_median_ms);

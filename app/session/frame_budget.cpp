@@ -27,6 +27,11 @@ double median_of(std::vector<double>& v) {
 
 const char* occlusion_name(OcclusionResolution r) { return r == OcclusionResolution::kQuarter ? "quarter" : "half"; }
 
+// Whether two steps draw the same picture when the occlusion is off.
+bool same_without_occlusion(const FrameQuality& a, const FrameQuality& b) {
+    return a.scale == b.scale && a.lod_px == b.lod_px;
+}
+
 }  // namespace
 
 FrameBudget::FrameBudget(const FrameBudgetOptions& o) : options_(o) {
@@ -55,13 +60,6 @@ FrameBudget::FrameBudget(const FrameBudgetOptions& o) : options_(o) {
     if (o.min_scale < 1.0) ladder_.push_back({OcclusionResolution::kQuarter, px, o.min_scale});
     frames_.assign(ladder_.size(), 0);
 }
-
-namespace {
-// Whether two steps draw the same picture when the occlusion is off.
-bool same_without_occlusion(const FrameQuality& a, const FrameQuality& b) {
-    return a.scale == b.scale && a.lod_px == b.lod_px;
-}
-}  // namespace
 
 std::size_t FrameBudget::below(std::size_t level, bool occlusion_on) const {
     for (std::size_t l = level + 1; l < ladder_.size(); ++l)

@@ -122,7 +122,7 @@ struct RunPipeline::Parts final : FrameSteps {
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
-    std::optional<FrameBudget> budget;  // the occlusion's resolution and render scale on the frame-time budget
+    std::optional<FrameBudget> budget;             // occlusion, levels' error and render scale on the frame-time budget
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail
