@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -44,7 +45,9 @@ bool identical(const compute::TriDexel& a, const compute::TriDexel& b) {
                     return false;
         }
     }
-    return a.tiles.dirty == b.tiles.dirty;
+    // Files keep whether a tile is dirty, not which of its cells (a partial flag loads as whole).
+    return std::equal(a.tiles.dirty.begin(), a.tiles.dirty.end(), b.tiles.dirty.begin(), b.tiles.dirty.end(),
+                      [](std::uint8_t x, std::uint8_t y) { return (x != 0) == (y != 0); });
 }
 
 }  // namespace

@@ -53,6 +53,7 @@ Contourer::Contourer(const TriDexel& model) : lattice_(model.lattice), tiles_(mo
     }
     tile_meshes_.resize(static_cast<std::size_t>(tiles_[0]) * tiles_[1] * tiles_[2]);
     versions_.assign(tile_meshes_.size(), 0);
+    contoured_.assign(tile_meshes_.size(), 0);
 }
 
 void Contourer::check_model(const TriDexel& model) const {
@@ -75,7 +76,7 @@ void Contourer::check_model(const TriDexel& model) const {
 
 std::size_t Contourer::update(TriDexel& model) {
     check_model(model);
-    std::size_t redone = 0, cells = 0;
+    std::size_t redone = 0, cells = 0, partial_tiles = 0;
     std::vector<std::array<int, 3>> dirty;
     for (int tz = 0; tz < tiles_[2]; ++tz)
         for (int ty = 0; ty < tiles_[1]; ++ty)
@@ -91,20 +92,30 @@ std::size_t Contourer::update(TriDexel& model) {
     const int threads = dirty.size() >= kParallelTiles ? 0 : 1;
     const std::size_t slots = pool_slots(threads);
     if (workers_.size() < slots) workers_.resize(slots);
+    // A tile this Contourer has contoured before and whose flag gives its changed cells redoes only those.
+    std::vector<const CellBox*> partial(dirty.size(), nullptr);
+    for (std::size_t i = 0; i < dirty.size(); ++i) {
+        const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
+        if (contoured_[idx]) partial[i] = model.tiles.partial_cells(idx);
+    }
     pool_for(dirty.size(), 1, [&](const Chunk& chunk) {
         contour::TileContourer& c = workers_[chunk.slot];
         for (std::size_t k = chunk.first; k < chunk.last; ++k)
-            c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])]);
+            c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])],
+                  partial[k] != nullptr ? &previous[k] : nullptr, partial[k]);
     }, threads);
     for (std::size_t i = 0; i < dirty.size(); ++i) {
         const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
         cells += tile_meshes_[idx].cells_visited;
+        contoured_[idx] = 1;
         ++redone;
+        if (partial[i] != nullptr) ++partial_tiles;
         if (!same_piece(previous[i], tile_meshes_[idx])) changed.emplace_back(idx, std::move(previous[i]));
     }
     model.clear_dirty();
     bump_versions(changed);
     last_tiles_ = redone;
+    last_partial_tiles_ = partial_tiles;
     last_cells_ = cells;
     return redone;
 }
@@ -263,6 +274,7 @@ ContourStats Contourer::stats() const {
     s.tiles = tile_meshes_.size();
     s.tiles_recontoured = last_tiles_;
     s.cells_visited = last_cells_;
+    s.tiles_partial = last_partial_tiles_;
     for (const contour::TileMesh& tm : tile_meshes_) {
         s.vertices += tm.keys.size();
         s.triangles += tm.triangles.size();

@@ -22,6 +22,7 @@ std::uint64_t fresh_tile_version();
 struct ContourStats {
     std::size_t tiles = 0;               ///< tiles of the lattice
     std::size_t tiles_recontoured = 0;   ///< tiles redone by the last update()
+    std::size_t tiles_partial = 0;       ///< ... of which only their changed cells were (TileGrid::kPartial)
     std::size_t cells_visited = 0;       ///< non-uniform cells processed by the last update()
     std::size_t vertices = 0;            ///< mesh vertices
     std::size_t triangles = 0;           ///< mesh triangles
@@ -59,7 +60,9 @@ public:
     /// tiles re-contoured. Large updates (kParallelTiles dirty tiles or more, e.g. an undo) are split over the
     /// machine's cores as one task per tile on the persistent task pool (compute/parallel/task_pool.hpp; each
     /// tile's result does not depend on the split). The first call must contour every dirty tile (scan conversion marks all tiles
-    /// holding surface dirty). Throws tridex::Error when `model` is not on the lattice this Contourer was
+    /// holding surface dirty). A tile flagged TileGrid::kPartial that this Contourer has contoured before
+    /// redoes only the cells of its box and keeps the rest of its piece (the same piece, bit for bit, as a
+    /// whole re-contour); any other dirty tile is redone whole. Throws tridex::Error when `model` is not on the lattice this Contourer was
     /// built for, or its ray sets do not match that lattice (the model is then left unchanged).
     std::size_t update(TriDexel& model);
 
@@ -117,7 +120,9 @@ private:
     std::vector<contour::TileMesh> tile_meshes_;
     std::vector<contour::TileContourer> workers_;  // scratch per task-pool slot, made on first use
     std::size_t last_tiles_ = 0;
+    std::size_t last_partial_tiles_ = 0;
     std::size_t last_cells_ = 0;
+    std::vector<std::uint8_t> contoured_;  // per tile: 1 once an update() has contoured it (its piece is current)
     std::vector<std::uint64_t> versions_;  // per tile, see tile_version()
 };
 

@@ -53,19 +53,29 @@ std::size_t KeyCodec::owner_tile(VertexKey k) const {
     return tx + static_cast<std::size_t>(tiles[0]) * (ty + static_cast<std::size_t>(tiles[1]) * tz);
 }
 
-void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out) {
+void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out, const TileMesh* previous,
+                        const CellBox* cells) {
+    if (previous == &out) cannot_happen("a partial run must not write over its previous result");
     model_ = &model;
-    const auto& cells = model.lattice.cells;
+    const auto& lattice_cells = model.lattice.cells;
     for (int a = 0; a < 3; ++a) {
-        codec_.nodes[a] = cells[a] + 1;
+        codec_.nodes[a] = lattice_cells[a] + 1;
         codec_.tiles[a] = model.tiles.tiles[a];
     }
     Node c0{}, c1{};
     for (int a = 0; a < 3; ++a) {
         c0[a] = t[a] * kT;
-        c1[a] = std::min(c0[a] + kT, cells[a]);
+        c1[a] = std::min(c0[a] + kT, lattice_cells[a]);
         cache_lo_[a] = c0[a] - 1;
     }
+    // The cells to visit: the whole tile, or the partial run's box within it.
+    const bool partial = previous != nullptr && cells != nullptr;
+    Node v0 = c0, v1 = c1;
+    if (partial)
+        for (int a = 0; a < 3; ++a) {
+            v0[a] = std::clamp(cells->lo[a], c0[a], c1[a]);
+            v1[a] = std::clamp(cells->hi[a] + 1, v0[a], c1[a]);
+        }
     occ_.fill(model, cache_lo_);
     // Invalidate the vertex cache by stamp instead of clearing it (it is ~0.5 MB).
     if (cache_.empty()) cache_.resize(static_cast<std::size_t>(kCacheSpan) * kCacheSpan * kCacheSpan);
@@ -78,12 +88,15 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
     out = TileMesh{};
     verts_.clear();
     tri_keys_.clear();
+    tri_cells_.clear();
+    fallback_cells_.clear();
+    split_face_cells_.clear();
     const auto& cases = cell_cases();
-    const int nx = c1[0] - c0[0];
-    // Bits 1..nx of a row mask are the cells c0[0] .. c1[0] - 1 (bit b: cell with min node lo + b).
-    const std::uint32_t range = nx > 0 ? ((std::uint32_t{1} << nx) - 1u) << 1 : 0u;
-    for (int k = c0[2]; k < c1[2]; ++k) {
-        for (int j = c0[1]; j < c1[1]; ++j) {
+    // Bits of a row mask: bit b is the cell with min node cache_lo_[0] + b; visit cells v0[0] .. v1[0] - 1.
+    const int nx = v1[0] - v0[0];
+    const std::uint32_t range = nx > 0 ? ((std::uint32_t{1} << nx) - 1u) << (v0[0] - cache_lo_[0]) : 0u;
+    for (int k = v0[2]; k < v1[2]; ++k) {
+        for (int j = v0[1]; j < v1[1]; ++j) {
             const std::uint32_t r0 = occ_.row(j, k), r1 = occ_.row(j + 1, k), r2 = occ_.row(j, k + 1),
                                 r3 = occ_.row(j + 1, k + 1);
             const std::uint32_t any = r0 | r1 | r2 | r3, all = r0 & r1 & r2 & r3;
@@ -93,44 +106,143 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
                 const int b = std::countr_zero(todo);
                 todo &= todo - 1u;
                 const Node n{cache_lo_[0] + b, j, k};
+                cell_ = TileMesh::local_cell(n[0] - c0[0], j - c0[1], k - c0[2]);
                 ++out.cells_visited;
                 const CellCase& cc = cases[occ_.config(n)];
                 const CellVertices& cv = cell_vertices(n);
-                for (int comp = 0; comp < cc.components; ++comp) {
-                    verts_.push_back({codec_.key(n, comp), cv.pos[comp], cv.material[comp]});
-                    const std::uint8_t how = cv.qef[comp];
-                    if (how & kQefRejected) {
-                        ++out.qef_rejected;
-                    } else {
-                        if (how & kQefNormals) ++out.qef_vertices;
-                        if (how & kQefTruncated) ++out.qef_truncated;
-                        if (how & kQefClamped) ++out.qef_clamped;
-                    }
-                }
+                for (int comp = 0; comp < cc.components; ++comp)
+                    verts_.push_back({codec_.key(n, comp), cv.pos[comp], cv.material[comp], cv.qef[comp]});
                 const bool in = occ_.inside(n);
                 for (int a = 0; a < 3; ++a)
-                    if (occ_.inside(plus(n, a, 1)) != in) emit_edge(n, a, out);
+                    if (occ_.inside(plus(n, a, 1)) != in) emit_edge(n, a);
                 for (int f = 0; f < 3; ++f)
-                    if (n[f] >= 1 && face_split(plus(n, f, -1), f)) emit_split_face(n, f, out);
+                    if (n[f] >= 1 && face_split(plus(n, f, -1), f)) emit_split_face(n, f);
+                tri_cells_.resize(tri_keys_.size(), cell_);
             }
         }
     }
-    std::sort(verts_.begin(), verts_.end(), [](const Vertex& x, const Vertex& y) { return x.key < y.key; });
+    if (!partial) {
+        assemble(c0, nullptr, out);
+        return;
+    }
+    keep_outside(*previous, *cells, c0);
+    const std::size_t visited = out.cells_visited;
+    if (assemble(c0, previous, out)) return;
+    // A kept item referred to a vertex that neither the kept cells nor the redone ones emit: `cells` did not
+    // hold every changed cell. Redo the tile whole rather than publish a torn piece.
+    run(model, t, out);
+    out.cells_visited += visited;
+}
+
+void TileContourer::keep_outside(const TileMesh& previous, const CellBox& cells, const Node& c0) {
+    // The box in tile-local cell offsets; a local cell index is i + 16 * (j + 16 * k).
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = cells.lo[a] - c0[a];
+        hi[a] = cells.hi[a] - c0[a];
+    }
+    const auto in_box = [&](std::uint16_t c) {
+        const int i = c % kT, j = (c / kT) % kT, k = c / (kT * kT);
+        return i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2];
+    };
+    // Vertices: a vertex is anchored at the cell that emits it (contour_tile.hpp, VertexKey).
+    const std::size_t fresh_vertices = verts_.size();
+    for (std::size_t v = 0; v < previous.keys.size(); ++v) {
+        const VertexKey key = previous.keys[v];
+        std::uint64_t l = key / 32u;
+        const int i = static_cast<int>(l % static_cast<std::uint64_t>(codec_.nodes[0])) - c0[0];
+        l /= static_cast<std::uint64_t>(codec_.nodes[0]);
+        const int j = static_cast<int>(l % static_cast<std::uint64_t>(codec_.nodes[1])) - c0[1];
+        const int k = static_cast<int>(l / static_cast<std::uint64_t>(codec_.nodes[1])) - c0[2];
+        if (!in_box(TileMesh::local_cell(i, j, k)))
+            verts_.push_back({key, previous.grid[v], previous.materials[v], previous.qef[v]});
+    }
+    // This run's vertices come in key order (cells ascending, slots ascending within a cell), as do the kept ones.
+    std::inplace_merge(verts_.begin(), verts_.begin() + static_cast<std::ptrdiff_t>(fresh_vertices), verts_.end(),
+                       [](const Vertex& x, const Vertex& y) { return x.key < y.key; });
+    // Triangles: both lists are in cell order and no cell is in both, so a merge by cell keeps the whole run's
+    // order. A kept triangle's own vertices stay references into `previous` (kPreviousVertex), which
+    // assemble() maps to the new indices in one pass instead of a search per corner.
+    const auto key_of = [&](std::uint32_t r) {
+        return r < TileMesh::kForeign ? kPreviousVertex | r : previous.foreign[r - TileMesh::kForeign];
+    };
+    std::vector<std::array<VertexKey, 3>> keys;
+    std::vector<std::uint16_t> tri_cells;
+    keys.reserve(previous.triangles.size() + tri_keys_.size());
+    tri_cells.reserve(keys.capacity());
+    std::size_t fresh = 0;
+    for (std::size_t tr = 0; tr < previous.triangles.size(); ++tr) {
+        const std::uint16_t c = previous.triangle_cells[tr];
+        if (in_box(c)) continue;
+        for (; fresh < tri_keys_.size() && tri_cells_[fresh] < c; ++fresh) {
+            keys.push_back(tri_keys_[fresh]);
+            tri_cells.push_back(tri_cells_[fresh]);
+        }
+        const auto& ref = previous.triangles[tr];
+        keys.push_back({key_of(ref[0]), key_of(ref[1]), key_of(ref[2])});
+        tri_cells.push_back(c);
+    }
+    keys.insert(keys.end(), tri_keys_.begin() + static_cast<std::ptrdiff_t>(fresh), tri_keys_.end());
+    tri_cells.insert(tri_cells.end(), tri_cells_.begin() + static_cast<std::ptrdiff_t>(fresh), tri_cells_.end());
+    tri_keys_.swap(keys);
+    tri_cells_.swap(tri_cells);
+    for (const auto* kept : {&previous.fallback_cells, &previous.split_face_cells}) {
+        auto& into = kept == &previous.fallback_cells ? fallback_cells_ : split_face_cells_;
+        for (const std::uint16_t c : *kept)
+            if (!in_box(c)) into.push_back(c);
+        std::sort(into.begin(), into.end());
+    }
+}
+
+bool TileContourer::assemble(const Node& c0, const TileMesh* previous, TileMesh& out) {
+    const auto by_key = [](const Vertex& x, const Vertex& y) { return x.key < y.key; };
+    if (!std::is_sorted(verts_.begin(), verts_.end(), by_key)) std::sort(verts_.begin(), verts_.end(), by_key);
     out.keys.reserve(verts_.size());
     out.grid.reserve(verts_.size());
     out.materials.reserve(verts_.size());
+    out.qef.reserve(verts_.size());
     for (const Vertex& v : verts_) {
         out.keys.push_back(v.key);
         out.grid.push_back(v.pos);
         out.materials.push_back(v.material);
+        out.qef.push_back(v.qef);
+        if (v.qef & kQefRejected) {
+            ++out.qef_rejected;
+        } else {
+            if (v.qef & kQefNormals) ++out.qef_vertices;
+            if (v.qef & kQefTruncated) ++out.qef_truncated;
+            if (v.qef & kQefClamped) ++out.qef_clamped;
+        }
     }
+    out.fallback_cells = fallback_cells_;
+    out.split_face_cells = split_face_cells_;
+    out.fallbacks = fallback_cells_.size();
+    out.split_faces = split_face_cells_.size();
+    out.triangle_cells = tri_cells_;
     // Resolve keys: local vertices to their index, others (first numbered in order of use) to the sorted
     // list of foreign keys.
     out.triangles.reserve(tri_keys_.size());
     std::vector<VertexKey>& pending = out.foreign;
+    // The new index of each vertex of `previous` (a partial run's kept triangles refer to them): both
+    // key lists are sorted.
+    remap_.clear();
+    if (previous != nullptr) {
+        remap_.resize(previous->keys.size(), TileMesh::kForeign);
+        std::size_t at = 0;
+        for (std::size_t r = 0; r < previous->keys.size(); ++r) {
+            while (at < out.keys.size() && out.keys[at] < previous->keys[r]) ++at;
+            if (at < out.keys.size() && out.keys[at] == previous->keys[r]) remap_[r] = static_cast<std::uint32_t>(at);
+        }
+    }
     for (const auto& tri : tri_keys_) {
         std::array<std::uint32_t, 3> ref{};
         for (int v = 0; v < 3; ++v) {
+            if (tri[v] & kPreviousVertex) {
+                ref[v] = remap_[static_cast<std::size_t>(tri[v] & ~kPreviousVertex)];
+                if (ref[v] == TileMesh::kForeign)
+                    return false;  // the box missed a change: the caller redoes the tile whole
+                continue;
+            }
             const auto it = std::lower_bound(out.keys.begin(), out.keys.end(), tri[v]);
             if (it != out.keys.end() && *it == tri[v]) {
                 ref[v] = static_cast<std::uint32_t>(it - out.keys.begin());
@@ -145,12 +257,16 @@ void TileContourer::run(const TriDexel& model, const std::array<int, 3>& t, Tile
     std::sort(out.foreign.begin(), out.foreign.end());
     out.foreign.erase(std::unique(out.foreign.begin(), out.foreign.end()), out.foreign.end());
     const std::size_t self = codec_.owner_tile(codec_.key(c0, 0));
-    for (const VertexKey k : out.foreign)
-        if (codec_.owner_tile(k) == self) cannot_happen("a vertex of this tile was not emitted");
+    for (const VertexKey k : out.foreign) {
+        if (codec_.owner_tile(k) != self) continue;
+        if (previous != nullptr) return false;  // the box missed a change: the caller redoes the tile whole
+        cannot_happen("a vertex of this tile was not emitted");
+    }
     for (auto& ref : out.triangles)
         for (std::uint32_t& r : ref)
             if (r >= TileMesh::kForeign)
                 r = TileMesh::kForeign + static_cast<std::uint32_t>(std::lower_bound(out.foreign.begin(), out.foreign.end(), used[r - TileMesh::kForeign]) - out.foreign.begin());
+    return true;
 }
 
 bool TileContourer::face_split(const Node& lower, int f) const {
@@ -160,11 +276,11 @@ bool TileContourer::face_split(const Node& lower, int f) const {
     return ((below & above) & 1) != 0;
 }
 
-void TileContourer::emit_edge(const Node& n, int a, TileMesh& out) {
+void TileContourer::emit_edge(const Node& n, int a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const bool start_in = occ_.inside(n);
     const EdgeCrossing x = edge_sample(n, a, start_in).crossing;
-    if (x.fallback) ++out.fallbacks;
+    if (x.fallback) fallback_cells_.push_back(cell_);
     // The 4 cells around the edge, counter-clockwise seen from +a (offsets along b, c).
     static constexpr int kDb[4] = {-1, 0, 0, -1}, kDc[4] = {-1, -1, 0, 0};
     std::array<Node, 4> ring{};
@@ -209,11 +325,11 @@ void TileContourer::emit_edge(const Node& n, int a, TileMesh& out) {
     }
     if (!start_in) std::reverse(poly, poly + count);  // outward normal is -a
     const VertexKey centre = codec_.key(n, 4 + a);
-    verts_.push_back({centre, crossing_point(n, a, x), x.material});
+    verts_.push_back({centre, crossing_point(n, a, x), x.material, 0});
     for (int i = 0; i < count; ++i) tri_keys_.push_back({centre, poly[i], poly[(i + 1) % count]});
 }
 
-void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
+void TileContourer::emit_split_face(const Node& n, int f) {
     const int f1 = (f + 1) % 3, f2 = (f + 2) % 3;
     for (int idx = 0; idx < 4; ++idx) {
         const Node p = plus(plus(n, f1, idx & 1), f2, (idx >> 1) & 1);
@@ -251,9 +367,9 @@ void TileContourer::emit_split_face(const Node& n, int f, TileMesh& out) {
             const Vec3 lo = glm::min(corner, glm::min(pts[0], pts[1])), hi = glm::max(corner, glm::max(pts[0], pts[1]));
             pos = glm::clamp(qef_vertex(pos, qp.data(), qn.data(), q, Vec3(n[0], n[1], n[2])), lo, hi);
         }
-        verts_.push_back({codec_.key(n, 8 + 4 * f + idx), pos, nearest_material(pos, pts.data(), mats.data(), 2)});
+        verts_.push_back({codec_.key(n, 8 + 4 * f + idx), pos, nearest_material(pos, pts.data(), mats.data(), 2), 0});
     }
-    ++out.split_faces;
+    split_face_cells_.push_back(cell_);
 }
 
 }  // namespace tridex::compute::contour

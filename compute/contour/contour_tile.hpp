@@ -52,7 +52,20 @@ struct TileMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<VertexKey> foreign;  ///< sorted keys of vertices owned by other tiles
     static constexpr std::uint32_t kForeign = 0x80000000u;
-    std::size_t cells_visited = 0; ///< non-uniform cells processed (uniform cells are skipped in bulk)
+    /// Per triangle, the tile-local index of the cell that emitted it (local_cell()); ascending, the order
+    /// in which the cells are visited. A partial run keeps the triangles of the cells it does not redo.
+    std::vector<std::uint16_t> triangle_cells;
+    /// Per owned vertex (parallel to keys), how the QEF placed it: kQef* bits (0 for edge and face vertices).
+    std::vector<std::uint8_t> qef;
+    static constexpr std::uint8_t kQefNormals = 1, kQefTruncated = 2, kQefRejected = 4, kQefClamped = 8;
+    /// Tile-local cells with an owned fallback edge, and with a split face, one entry each, ascending.
+    std::vector<std::uint16_t> fallback_cells, split_face_cells;
+    /// Tile-local index of the cell at offsets (i, j, k) from the tile's first cell, each in 0..kTileCells-1.
+    static std::uint16_t local_cell(int i, int j, int k) {
+        return static_cast<std::uint16_t>(i + TileGrid::kTileCells * (j + TileGrid::kTileCells * k));
+    }
+    std::size_t cells_visited =
+        0;  ///< non-uniform cells processed by the run that made it (uniform cells are skipped in bulk)
     std::size_t fallbacks = 0;     ///< owned sign-change edges whose ray had no end on the edge
     std::size_t split_faces = 0;   ///< owned faces split to keep the surface 2-manifold
     // Owned vertices by the QEF branch that placed them (QefOutcome; a vertex may count in several):
@@ -103,10 +116,20 @@ class TileContourer {
 public:
     /// Recomputes `out` for tile t (tile coordinates) of `model`. Reads only rays through nodes t*16 - 5
     /// .. t*16 + 20 of each axis (GpuContourer::fill_scratch_rays lists what reads them). Does not touch the model's dirty flags.
-    void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out);
+    ///
+    /// Partial run: with `previous` (this tile's last result, not `out` itself) and `cells` (global cell
+    /// indices within the tile, TileGrid::kPartial), only the non-uniform cells in `cells` are redone and the
+    /// mesh items of every other cell (the vertices anchored at it, the triangles it emitted) are copied from
+    /// `previous`. The caller guarantees that no cell outside `cells` can have changed since `previous`
+    /// (TriDexel::mark_dirty's reach); the result is then the whole run's, bit for bit, in the same order.
+    /// When the kept items refer to a vertex the run no longer has (the box missed a change), the tile is
+    /// redone whole instead.
+    void run(const TriDexel& model, const std::array<int, 3>& t, TileMesh& out, const TileMesh* previous = nullptr,
+             const CellBox* cells = nullptr);
 
 private:
-    static constexpr std::uint8_t kQefNormals = 1, kQefTruncated = 2, kQefRejected = 4, kQefClamped = 8;
+    static constexpr std::uint8_t kQefNormals = TileMesh::kQefNormals, kQefTruncated = TileMesh::kQefTruncated,
+                                  kQefRejected = TileMesh::kQefRejected, kQefClamped = TileMesh::kQefClamped;
     struct CellVertices {
         std::uint32_t stamp = 0;  // equals stamp_ when pos holds this run's positions
         std::array<Vec3, kMaxComponents> pos{};
@@ -118,6 +141,7 @@ private:
         VertexKey key;
         Vec3 pos;
         std::uint8_t material;
+        std::uint8_t qef;  // kQef* bits (dual vertices), else 0
     };
     /// A sign-change edge's crossing and normal, computed once per run for the up to 4 cells sharing it.
     struct EdgeSample {
@@ -137,8 +161,17 @@ private:
     // method above (contour_cell.cpp).
     const CellVertices& cell_vertices(const Node& cell);
     const Vec3& vertex(const Node& cell, int component) { return cell_vertices(cell).pos[component]; }
-    void emit_edge(const Node& n, int a, TileMesh& out);
-    void emit_split_face(const Node& n, int f, TileMesh& out);
+    void emit_edge(const Node& n, int a);
+    void emit_split_face(const Node& n, int f);
+    // Keeps the mesh items of `previous` whose cell lies outside `cells` (a partial run), merged in cell order
+    // with those of this run's cells.
+    void keep_outside(const TileMesh& previous, const CellBox& cells, const Node& c0);
+    // Turns verts_, tri_keys_ and tri_cells_ into `out` (sorted vertices, resolved references, counters);
+    // `previous`: a partial run's previous piece, whose vertices kept triangles refer to. Returns false (a
+    // partial run only) when a kept triangle's vertex is gone or one of this tile's vertices is missing.
+    bool assemble(const Node& c0, const TileMesh* previous, TileMesh& out);
+    // Marks a tri_keys_ entry that is the index of a vertex of the previous piece, not a key (keys stay far below).
+    static constexpr VertexKey kPreviousVertex = VertexKey{1} << 63;
     bool face_split(const Node& lower, int f) const;
 
     const TriDexel* model_ = nullptr;
@@ -150,6 +183,10 @@ private:
     std::uint32_t stamp_ = 0;
     std::vector<Vertex> verts_;
     std::vector<std::array<VertexKey, 3>> tri_keys_;
+    std::vector<std::uint16_t> tri_cells_;  // parallel to tri_keys_: the emitting cell (TileMesh::local_cell)
+    std::vector<std::uint16_t> fallback_cells_, split_face_cells_;
+    std::uint16_t cell_ = 0;            // the cell being visited (TileMesh::local_cell)
+    std::vector<std::uint32_t> remap_;  // previous piece's vertex -> index in the new piece
 };
 
 }  // namespace tridex::compute::contour

@@ -375,7 +375,7 @@ BooleanStats GpuSculptor::apply_grid(std::span<const Sweep> batch, std::span<con
     stats.rays_changed += finish_on_host(list, grid, tools);
     read_footprint_rays(list);
     if (stats.rays_changed > 0)
-        for (const std::size_t i : source) mirror_.mark_dirty(sweep_bounds(batch[i]));
+        for (const std::size_t i : source) mirror_.mark_dirty(sweep_dirty_bounds(batch[i], mirror_.lattice));
     stats_.prepare_s += std::chrono::duration<double>(t_submit - t_start).count();
     stats_.submit_s += std::chrono::duration<double>(t_done - t_submit).count();
     stats_.finish_s += std::chrono::duration<double>(Clock::now() - t_done).count();

@@ -189,7 +189,8 @@ Bytes encode_tiles(const TileGrid& tiles) {
     Bytes out;
     Writer w(out);
     for (int a = 0; a < 3; ++a) w.put<std::int32_t>(tiles.tiles[a]);
-    out.insert(out.end(), tiles.dirty.begin(), tiles.dirty.end());
+    // A partial flag is written as whole: the cell boxes are not stored, and whole is always safe.
+    for (const std::uint8_t d : tiles.dirty) out.push_back(d != 0 ? TileGrid::kWhole : std::uint8_t{0});
     return out;
 }
 

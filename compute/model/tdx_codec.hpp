@@ -50,7 +50,8 @@ Bytes encode_rays(const RaySet& set);
 void decode_rays(const unsigned char* data, std::size_t n, std::uint64_t intervals, int cells, RaySet& set,
                  const std::string& where);
 
-/// Encodes the tile grid: tiles (3 i32) and one dirty byte per tile.
+/// Encodes the tile grid: tiles (3 i32) and one dirty byte per tile (0 clean, 1 dirty: partial flags are
+/// written as 1, since the cell boxes are not stored).
 Bytes encode_tiles(const TileGrid& tiles);
 /// Decodes the tile grid into `tiles`, which must already have the lattice's tile counts (TriDexel::empty);
 /// refuses other counts or dirty bytes other than 0 and 1. Throws tridex::Error "<where>: ...".

@@ -40,20 +40,40 @@ TriDexel TriDexel::empty(const Lattice& lattice, std::size_t max_bytes) {
 void TriDexel::mark_dirty(const Aabb& box_m) {
     if (box_m.empty()) return;
     const Vec3 glo = lattice.to_grid(box_m.lo), ghi = lattice.to_grid(box_m.hi);
-    int lo[3], hi[3];
+    CellBox cells;
     for (int a = 0; a < 3; ++a) {
         // Cells whose mesh items can read a changed ray (kDirtyReachCells). The box is widened by 1e-3
         // cell first: Boolean chords are rounded to float, so a changed end may lie a few 1e-5 cells
         // outside the double-precision box. A cell c spans [c, c+1] in grid units.
         const double l = std::floor(glo[a] - 1e-3) - kDirtyReachCells, h = std::floor(ghi[a] + 1e-3) + kDirtyReachCells;
         const int last_cell = lattice.cells[a] - 1;
-        if (h < 0.0 || l > last_cell) return;
-        lo[a] = static_cast<int>(std::max(0.0, l)) / TileGrid::kTileCells;
-        hi[a] = static_cast<int>(std::min<double>(last_cell, h)) / TileGrid::kTileCells;
+        if (!(h >= 0.0 && l <= last_cell)) return;
+        cells.lo[a] = static_cast<int>(std::max(0.0, l));
+        cells.hi[a] = static_cast<int>(std::min<double>(last_cell, h));
     }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x) tiles.dirty[tiles.index(x, y, z)] = 1;
+    if (tiles.dirty_cells.size() != tiles.dirty.size()) tiles.dirty_cells.assign(tiles.dirty.size(), CellBox{});
+    constexpr int kT = TileGrid::kTileCells;
+    for (int z = cells.lo[2] / kT; z <= cells.hi[2] / kT; ++z)
+        for (int y = cells.lo[1] / kT; y <= cells.hi[1] / kT; ++y)
+            for (int x = cells.lo[0] / kT; x <= cells.hi[0] / kT; ++x) {
+                const std::size_t t = tiles.index(x, y, z);
+                if (tiles.dirty[t] == TileGrid::kWhole) continue;
+                const std::array<int, 3> tile{x, y, z};
+                CellBox& box = tiles.dirty_cells[t];
+                bool whole = true;
+                for (int a = 0; a < 3; ++a) {
+                    const int first = tile[a] * kT, last = std::min(first + kT, lattice.cells[a]) - 1;
+                    int lo = std::max(first, cells.lo[a]), hi = std::min(last, cells.hi[a]);
+                    if (tiles.dirty[t] == TileGrid::kPartial) {
+                        lo = std::min(lo, box.lo[a]);
+                        hi = std::max(hi, box.hi[a]);
+                    }
+                    box.lo[a] = lo;
+                    box.hi[a] = hi;
+                    whole = whole && lo == first && hi == last;
+                }
+                tiles.dirty[t] = whole ? TileGrid::kWhole : TileGrid::kPartial;
+            }
 }
 
 void TriDexel::clear_dirty() { std::fill(tiles.dirty.begin(), tiles.dirty.end(), 0); }

@@ -41,13 +41,28 @@ struct RayImage {
     std::vector<Interval> intervals;
 };
 
+/// An inclusive box of lattice cells, [lo, hi] per axis (cell c spans [c, c+1] in grid units).
+struct CellBox {
+    std::array<int, 3> lo{};
+    std::array<int, 3> hi{};
+};
+
 /// Cubic tiles of kTileCells^3 cells with a dirty flag each; Booleans mark the tiles their swept
 /// footprint touches, contouring redoes only those. Tile (tx, ty, tz) covers cells
 /// [tx*kTileCells, (tx+1)*kTileCells) along x, and so on.
+///
+/// A flag is 0 (clean), kWhole (redo the whole tile) or kPartial (redo only the cells of dirty_cells[t]:
+/// every cell whose mesh items can differ from the tile's last contour lies in that box). Any non-zero flag
+/// means dirty; writing kWhole directly is always safe (a change not described by a box).
 struct TileGrid {
     static constexpr int kTileCells = 16;
+    static constexpr std::uint8_t kWhole = 1;    ///< dirty: redo every cell of the tile
+    static constexpr std::uint8_t kPartial = 2;  ///< dirty: redo the cells of dirty_cells[t] only
     std::array<int, 3> tiles{};        ///< tiles along x, y, z
-    std::vector<std::uint8_t> dirty;   ///< 1 = needs re-contouring; index tx + tiles[0]*(ty + tiles[1]*tz)
+    std::vector<std::uint8_t> dirty;   ///< 0 clean, kWhole or kPartial; index tx + tiles[0]*(ty + tiles[1]*tz)
+    /// Per tile, the cells to redo when its flag is kPartial (global cell indices, within the tile);
+    /// unused otherwise. May be empty (no tile is then treated as partial).
+    std::vector<CellBox> dirty_cells;
 
     std::size_t index(int tx, int ty, int tz) const {
         return static_cast<std::size_t>(tx) + static_cast<std::size_t>(tiles[0]) * (static_cast<std::size_t>(ty) + static_cast<std::size_t>(tiles[1]) * tz);
@@ -59,6 +74,12 @@ struct TileGrid {
         for (std::size_t t = 0; t < dirty.size(); ++t)
             if (dirty[t]) out.push_back(static_cast<std::uint32_t>(t));
         return out;
+    }
+    /// The cells tile `t` must redo when partial: dirty_cells[t] when the flag is kPartial and the box is
+    /// set, else nullptr (clean tiles, kWhole tiles and out-of-range t: redo the whole tile when dirty).
+    const CellBox* partial_cells(std::size_t t) const {
+        return t < dirty.size() && dirty[t] == kPartial && dirty_cells.size() == dirty.size() ? &dirty_cells[t]
+                                                                                              : nullptr;
     }
 };
 
@@ -79,7 +100,9 @@ struct TriDexel {
     /// crossing's cell (+1), the face-adjacent cell (+1) and the anchor (+1), also 4 (contour_qef.hpp,
     /// contour_tile.hpp).
     static constexpr int kDirtyReachCells = 4;
-    /// Marks dirty every tile holding a cell within kDirtyReachCells cells of the world box `box_m`.
+    /// Marks dirty every tile holding a cell within kDirtyReachCells cells of the world box `box_m`; a tile
+    /// clean or already partial becomes kPartial with those cells added to its box (kWhole when the box
+    /// then covers the whole tile), a kWhole tile stays whole. An empty box or one off the lattice marks nothing.
     void mark_dirty(const Aabb& box_m);
     /// Clears all dirty flags.
     void clear_dirty();

@@ -105,6 +105,11 @@ Aabb sweep_bounds(const Sweep& s) {
     return box.inflated(s.tool.radius_m);
 }
 
+Aabb sweep_dirty_bounds(const Sweep& s, const Lattice& lattice) {
+    const Aabb box = sweep_bounds(s);
+    return s.tool.kind == ToolKind::kMesh ? box.inflated(0.5 * lattice.cell_m) : box;
+}
+
 GridSweep to_grid_sweep(const Lattice& L, const Sweep& s, ToolTable* tools) {
     if (!is_finite(s.path_m.a) || !is_finite(s.path_m.b)) throw Error("sweep: tool path (path_m) is not finite");
     if (s.tool.kind != ToolKind::kBall && s.tool.kind != ToolKind::kFlatEnd && s.tool.kind != ToolKind::kMesh)
@@ -322,7 +327,7 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
                     ++stats.rays_changed;
         }
     }
-    if (stats.rays_changed > 0) model.mark_dirty(sweep_bounds(sweep));
+    if (stats.rays_changed > 0) model.mark_dirty(sweep_dirty_bounds(sweep, model.lattice));
     return stats;
 }
 

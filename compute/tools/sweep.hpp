@@ -92,9 +92,14 @@ struct GridBatch {
 GridBatch to_grid_batch(const Lattice& lattice, std::span<const Sweep> batch);
 
 /// World bounding box of the swept volume (m): both end poses of the tool inflated by its radius (kMesh:
-/// the rotated mesh's exact bounds at both end poses; its nearest-ray reach of <= 0.5/k cell beyond them
-/// is covered by the spare cell of mark_dirty's margin across the rays).
+/// the rotated mesh's exact bounds at both end poses; the rays it changes may lie up to 0.5/k cell beyond
+/// them, see sweep_dirty_bounds).
 Aabb sweep_bounds(const Sweep& sweep);
+
+/// The box (m) to pass to TriDexel::mark_dirty after applying `sweep` on `lattice`: sweep_bounds, and for
+/// kMesh widened by half a cell, the nearest-ray reach of its stamps beyond the mesh's bounds (a partial
+/// re-contour redoes only the cells near this box, so it must hold every changed ray).
+Aabb sweep_dirty_bounds(const Sweep& sweep, const Lattice& lattice);
 
 /// Converts a Sweep to grid units on `lattice`. Throws tridex::Error naming the field when a position or
 /// the axis is not finite, the axis is zero, the radius (or kFlatEnd length) is not a positive number of

@@ -156,7 +156,8 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
     }, threads);
     for (std::size_t c : tile_changed) stats.rays_changed += c;
     for (std::size_t s = 0; s < grid.size(); ++s)
-        if (sweep_changed[s].load(std::memory_order_relaxed)) model.mark_dirty(sweep_bounds(batch[source[s]]));
+        if (sweep_changed[s].load(std::memory_order_relaxed))
+            model.mark_dirty(sweep_dirty_bounds(batch[source[s]], model.lattice));
     return stats;
 }
 

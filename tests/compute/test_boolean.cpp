@@ -168,7 +168,7 @@ double check_capsule(const CapsuleCase& c) {
                     const int last = std::min(39, static_cast<int>(std::floor(hi[k])) + TriDexel::kDirtyReachCells) / 16;
                     near = near && t[k] >= first && t[k] <= last;
                 }
-                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)], near ? 1 : 0) << x << "," << y << "," << z;
+                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)] != 0, near) << x << "," << y << "," << z;
             }
     const double h3 = std::pow(L.cell_m, 3);
     const double removed = (dexel_volume_m3(before) - dexel_volume_m3(m)) / h3;

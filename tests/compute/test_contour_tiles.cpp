@@ -119,7 +119,7 @@ TEST(ContourTiles, UnionOfTilesIsTheMeshBeforeAndAfterACapsuleCarve) {
     const Segment seg{l.to_world(Vec3(62.0, 45.5, 41.3)), l.to_world(Vec3(75.0, 47.5, 43.1))};
     subtract_capsule(model, seg, 6.0 * l.cell_m);
     std::vector<std::uint8_t> dirty = model.tiles.dirty;
-    ASSERT_GT(std::count(dirty.begin(), dirty.end(), 1), 0);
+    ASSERT_GT(std::count_if(dirty.begin(), dirty.end(), [](std::uint8_t d) { return d != 0; }), 0);
     contourer.update(model);
     const Snapshot after = snapshot(contourer);
 

@@ -230,7 +230,7 @@ TEST(ScanConvert, IcosphereMatchesBruteForceAndItsMeshVolume) {
         for (int y = 0; y < m.tiles.tiles[1]; ++y)
             for (int x = 0; x < m.tiles.tiles[0]; ++x) {
                 const bool inner = x >= 1 && x <= 2 && y >= 1 && y <= 2 && z >= 1 && z <= 2;
-                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)], inner ? 1 : 0) << x << "," << y << "," << z;
+                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)] != 0, inner) << x << "," << y << "," << z;
             }
 }
 

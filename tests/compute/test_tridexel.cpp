@@ -66,7 +66,7 @@ void expect_marked_tiles(TriDexel& m, const Vec3& lo, const Vec3& hi, std::array
         for (int y = 0; y < n[1]; ++y)
             for (int x = 0; x < n[0]; ++x) {
                 const bool in = x >= tlo[0] && x <= thi[0] && y >= tlo[1] && y <= thi[1] && z >= tlo[2] && z <= thi[2];
-                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)], in ? 1 : 0) << "tile " << x << "," << y << "," << z;
+                EXPECT_EQ(m.tiles.dirty[m.tiles.index(x, y, z)] != 0, in) << "tile " << x << "," << y << "," << z;
             }
 }
 
@@ -108,10 +108,43 @@ TEST(TriDexel, MarkDirtyAddsToFlagsAlreadySet) {
     m.mark_dirty(Aabb{l.to_world(Vec3(8.5)), l.to_world(Vec3(9.5))});    // cells 4..13: tile (0, 0, 0)
     m.mark_dirty(Aabb{l.to_world(Vec3(56.5)), l.to_world(Vec3(57.5))});  // cells 52..61: tile (3, 3, 3)
     std::size_t n = 0;
-    for (auto d : m.tiles.dirty) n += d;
+    for (auto d : m.tiles.dirty) n += d != 0 ? 1 : 0;
     EXPECT_EQ(n, 2u);
-    EXPECT_EQ(m.tiles.dirty[m.tiles.index(0, 0, 0)], 1);
-    EXPECT_EQ(m.tiles.dirty[m.tiles.index(3, 3, 3)], 1);
+    EXPECT_EQ(m.tiles.dirty[m.tiles.index(0, 0, 0)], TileGrid::kPartial);
+    EXPECT_EQ(m.tiles.dirty[m.tiles.index(3, 3, 3)], TileGrid::kPartial);
+}
+
+void expect_cells(const TriDexel& m, std::array<int, 3> tile, std::array<int, 3> lo, std::array<int, 3> hi) {
+    const CellBox* box = m.tiles.partial_cells(m.tiles.index(tile[0], tile[1], tile[2]));
+    ASSERT_NE(box, nullptr) << "tile " << tile[0] << "," << tile[1] << "," << tile[2] << " is not partial";
+    EXPECT_EQ(box->lo, lo) << "tile " << tile[0] << "," << tile[1] << "," << tile[2];
+    EXPECT_EQ(box->hi, hi) << "tile " << tile[0] << "," << tile[1] << "," << tile[2];
+}
+
+TEST(TriDexel, MarkDirtyKeepsEachTilesChangedCells) {
+    const Lattice l = Lattice::around(Aabb{Vec3(0.0), Vec3(1.0)}, 68, 2);  // tiles of cells 0..15, 16..31, ...
+    TriDexel m = TriDexel::empty(l, std::size_t(1) << 30);
+    const auto mark = [&](Vec3 lo, Vec3 hi) { m.mark_dirty(Aabb{l.to_world(lo), l.to_world(hi)}); };
+    // Cells x 15..24, y 7..15, z 23..31: tile x 0 gets cell 15 only, tile x 1 cells 16..24.
+    mark(Vec3(19.5, 11.5, 27.5), Vec3(20.5, 11.9, 27.9));
+    expect_cells(m, {0, 0, 1}, {15, 7, 23}, {15, 15, 31});
+    expect_cells(m, {1, 0, 1}, {16, 7, 23}, {24, 15, 31});
+    // A second box (cells x 22..30, y 2..10, z 20..28) grows each tile's box to the union of both.
+    mark(Vec3(26.5, 6.5, 24.5), Vec3(26.7, 6.7, 24.7));
+    expect_cells(m, {1, 0, 1}, {16, 2, 20}, {30, 15, 31});
+    expect_cells(m, {0, 0, 1}, {15, 7, 23}, {15, 15, 31});  // untouched by the second box
+    // A box covering a tile's every cell makes it whole; so does writing kWhole, which no later box narrows.
+    mark(Vec3(35.0, 35.0, 35.0), Vec3(44.0, 44.0, 44.0));  // cells 31..48: tile 2 whole
+    EXPECT_EQ(m.tiles.dirty[m.tiles.index(2, 2, 2)], TileGrid::kWhole);
+    EXPECT_EQ(m.tiles.partial_cells(m.tiles.index(2, 2, 2)), nullptr);
+    m.tiles.dirty[m.tiles.index(0, 0, 1)] = TileGrid::kWhole;
+    mark(Vec3(10.5, 11.5, 27.5), Vec3(10.7, 11.9, 27.9));
+    EXPECT_EQ(m.tiles.dirty[m.tiles.index(0, 0, 1)], TileGrid::kWhole);
+    EXPECT_EQ(m.tiles.partial_cells(m.tiles.index(0, 0, 1)), nullptr);
+    // Clearing forgets the boxes: the next box starts a new one.
+    m.clear_dirty();
+    mark(Vec3(26.5, 6.5, 24.5), Vec3(26.7, 6.7, 24.7));
+    expect_cells(m, {1, 0, 1}, {22, 2, 20}, {30, 10, 28});
 }
 
 }  // namespace
