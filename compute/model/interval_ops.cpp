@@ -6,7 +6,8 @@
 
 namespace tridex::compute {
 
-bool subtract_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t cut_material) {
+bool subtract_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t cut_material,
+                               ChangedSpan* span) {
     if (!(t0 < t1)) return false;
     // First interval whose exit is beyond t0, and first one (from there) whose entry is at or past t1.
     auto first = std::upper_bound(ray.begin(), ray.end(), t0, [](float t, const Interval& iv) { return t < iv.exit; });
@@ -16,6 +17,8 @@ bool subtract_interval_changed(std::vector<Interval>& ray, float t0, float t1, s
     const Interval head{first->enter, t0, first->enter_material, cut_material};
     const Interval tail{t1, std::prev(last)->exit, cut_material, std::prev(last)->exit_material};
     const bool keep_head = head.enter < head.exit, keep_tail = tail.enter < tail.exit;
+    // Ends removed: those of the overlapped intervals inside (t0, t1); made: t0 and t1 where pieces survive.
+    if (span != nullptr) span->add(keep_head ? t0 : first->enter, keep_tail ? t1 : std::prev(last)->exit);
     const auto at = ray.erase(first, last) - ray.begin();
     if (keep_tail) ray.insert(ray.begin() + at, tail);
     if (keep_head) ray.insert(ray.begin() + at, head);
@@ -24,7 +27,7 @@ bool subtract_interval_changed(std::vector<Interval>& ray, float t0, float t1, s
 
 void subtract_interval(std::vector<Interval>& ray, float t0, float t1) { subtract_interval_changed(ray, t0, t1); }
 
-bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material) {
+bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material, ChangedSpan* span) {
     if (!(t0 < t1)) return false;
     // Intervals overlapping or touching [t0, t1]: from the first whose exit >= t0 to before the first
     // whose entry > t1.
@@ -32,11 +35,14 @@ bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std:
     auto last = std::upper_bound(first, ray.end(), t1, [](float t, const Interval& iv) { return t < iv.enter; });
     if (first == last) {
         ray.insert(first, Interval{t0, t1, material, material});
+        if (span != nullptr) span->add(t0, t1);
         return true;
     }
     const Interval& lo = *first;
     const Interval& hi = *std::prev(last);
     if (std::next(first) == last && lo.enter <= t0 && t1 <= lo.exit) return false;  // already solid
+    // Ends kept: lo's entry unless t0 extends it, hi's exit unless t1 does; every end between them is removed.
+    if (span != nullptr) span->add(t0 < lo.enter ? t0 : lo.exit, t1 > hi.exit ? t1 : hi.enter);
     Interval merged = lo;
     if (t0 < lo.enter) {
         merged.enter = t0;
@@ -53,7 +59,7 @@ bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std:
     return true;
 }
 
-bool paint_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material) {
+bool paint_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material, ChangedSpan* span) {
     if (!(t0 <= t1)) return false;
     bool changed = false;
     auto it = std::lower_bound(ray.begin(), ray.end(), t0, [](const Interval& iv, float t) { return iv.exit < t; });
@@ -61,10 +67,12 @@ bool paint_interval_changed(std::vector<Interval>& ray, float t0, float t1, std:
         if (t0 <= it->enter && it->enter_material != material) {
             it->enter_material = material;
             changed = true;
+            if (span != nullptr) span->add(it->enter, it->enter);
         }
         if (it->exit <= t1 && it->exit_material != material) {
             it->exit_material = material;
             changed = true;
+            if (span != nullptr) span->add(it->exit, it->exit);
         }
     }
     return changed;

@@ -39,7 +39,11 @@ TriDexel TriDexel::empty(const Lattice& lattice, std::size_t max_bytes) {
 
 void TriDexel::mark_dirty(const Aabb& box_m) {
     if (box_m.empty()) return;
-    const Vec3 glo = lattice.to_grid(box_m.lo), ghi = lattice.to_grid(box_m.hi);
+    mark_dirty_grid(lattice.to_grid(box_m.lo), lattice.to_grid(box_m.hi));
+}
+
+void TriDexel::mark_dirty_grid(const Vec3& glo, const Vec3& ghi) {
+    if (!(glo.x <= ghi.x && glo.y <= ghi.y && glo.z <= ghi.z)) return;
     CellBox cells;
     for (int a = 0; a < 3; ++a) {
         // Cells whose mesh items can read a changed ray (kDirtyReachCells). The box is widened by 1e-3

@@ -104,6 +104,9 @@ struct TriDexel {
     /// clean or already partial becomes kPartial with those cells added to its box (kWhole when the box
     /// then covers the whole tile), a kWhole tile stays whole. An empty box or one off the lattice marks nothing.
     void mark_dirty(const Aabb& box_m);
+    /// As mark_dirty, for a box given in grid units (lattice cells from the origin), e.g. the changed interval
+    /// ends of a Boolean (ChangedBox in interval_ops.hpp).
+    void mark_dirty_grid(const Vec3& lo, const Vec3& hi);
     /// Clears all dirty flags.
     void clear_dirty();
     /// Total number of intervals in all three sets.

@@ -216,7 +216,8 @@ SweepBallRays::SweepBallRays(const GridSweep& s, int axis)
       base_(static_cast<float>(s.origin[axis]) + s.start[axis]) {}
 
 bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
-                        std::span<const std::shared_ptr<const ToolDexels>> tools, const SweepBallRays* ball) {
+                        std::span<const std::shared_ptr<const ToolDexels>> tools, const SweepBallRays* ball,
+                        ChangedSpan* span) {
     const ToolOp op = s.op();
     if (op == ToolOp::kNone) return false;
     bool changed = false;
@@ -229,9 +230,13 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
             mesh_stamp_spans(s, tool, axis, u, v, k, spans);
             for (std::size_t i = 0; i < spans.size(); i += 2) {
                 const float d0 = spans[i], d1 = spans[i + 1];
-                if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
-                else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
-                else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
+                if (op == ToolOp::kSubtract)
+                    changed |= subtract_interval_changed(ray, d0, d1, s.material(), span);
+                else if (op == ToolOp::kUnion)
+                    changed |=
+                        union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material(), span);
+                else if (op == ToolOp::kPaint)
+                    changed |= paint_interval_changed(ray, d0, d1, s.material(), span);
             }
         }
         return changed;
@@ -241,9 +246,12 @@ bool apply_sweep_to_ray(const GridSweep& s, int axis, int u, int v, std::vector<
         const bool hit = ball != nullptr && s.kind() == ToolKind::kBall ? ball->chord(u, v, d0, d1)
                                                                          : sweep_chord(s, axis, u, v, k, d0, d1);
         if (!hit) continue;
-        if (op == ToolOp::kSubtract) changed |= subtract_interval_changed(ray, d0, d1, s.material());
-        else if (op == ToolOp::kUnion) changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material());
-        else if (op == ToolOp::kPaint) changed |= paint_interval_changed(ray, d0, d1, s.material());
+        if (op == ToolOp::kSubtract)
+            changed |= subtract_interval_changed(ray, d0, d1, s.material(), span);
+        else if (op == ToolOp::kUnion)
+            changed |= union_interval_changed(ray, std::max(d0, 0.0f), std::min(d1, depth_cells), s.material(), span);
+        else if (op == ToolOp::kPaint)
+            changed |= paint_interval_changed(ray, d0, d1, s.material(), span);
     }
     return changed;
 }
@@ -311,6 +319,7 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
     if (sweep.op == ToolOp::kNone) return stats;
     ToolTable tools;
     const GridSweep g = to_grid_sweep(model.lattice, sweep, &tools);
+    ChangedBox changed;  // the changed interval ends: what the contour must redo around
     for (int ax = 0; ax < 3; ++ax) {
         RaySet& set = model.sets[ax];
         int u_lo, u_hi, v_lo, v_hi;
@@ -321,13 +330,17 @@ BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep) {
             stats.rays_visited += static_cast<std::size_t>(u_hi - u_lo + 1);
             int a = u_lo, b = u_hi;
             if (!shadow.row(v, a, b)) continue;  // rays the swept volume cannot reach keep their intervals
-            for (int u = a; u <= b; ++u)
+            for (int u = a; u <= b; ++u) {
+                ChangedSpan span;
                 if (apply_sweep_to_ray(g, ax, u, v, set.ray(u, v), static_cast<float>(model.lattice.cells[ax]), tools,
-                                       &ball))
+                                       &ball, &span)) {
                     ++stats.rays_changed;
+                    changed.add_ray(ax, u, v, span);
+                }
+            }
         }
     }
-    if (stats.rays_changed > 0) model.mark_dirty(sweep_dirty_bounds(sweep, model.lattice));
+    changed.mark(model);
     return stats;
 }
 

@@ -7,10 +7,11 @@
 #include <span>
 #include <vector>
 
+#include "compute/model/interval_ops.hpp"
+#include "compute/model/tridexel.hpp"
 #include "compute/tools/boolean.hpp"
 #include "compute/tools/capsule.hpp"
 #include "compute/tools/mesh_tool.hpp"
-#include "compute/model/tridexel.hpp"
 #include "core/segment.hpp"
 #include "core/tool_sample.hpp"
 #include "core/tool_shape.hpp"
@@ -156,11 +157,11 @@ private:
 /// `tools` is the batch's ToolTable (needed for kMesh; throws tridex::Error when the index is not in it).
 /// Returns true when the ray changed.
 /// `ball` (optional, kBall only): the sweep's SweepBallRays for this set, which gives the same chords as
-/// sweep_chord with less work per ray.
+/// sweep_chord with less work per ray. `span` (optional): grown to hold every interval end the sweep
+/// changed on this ray (ChangedSpan, grid units along it).
 bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vector<Interval>& ray, float depth_cells,
                         std::span<const std::shared_ptr<const ToolDexels>> tools = {},
-                        const SweepBallRays* ball = nullptr);
-
+                        const SweepBallRays* ball = nullptr, ChangedSpan* span = nullptr);
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
 /// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles

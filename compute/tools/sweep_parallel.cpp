@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -34,7 +33,6 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
     BooleanStats stats;
     const GridBatch converted = to_grid_batch(model.lattice, batch);  // throws before anything changes
     const std::vector<GridSweep>& grid = converted.sweeps;
-    const std::vector<std::size_t>& source = converted.source;
     if (grid.empty()) return stats;
 
     // Per set: the tiles the sweeps' footprints cover, each listing its sweeps in batch order (a dense
@@ -123,9 +121,10 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
 
     // Each tile's rays get, in batch order, the sweeps whose footprint holds them: no two tasks touch the
     // same ray, and every ray sees the operations of the sequential path in the same order.
+    // The changed interval ends per (ray tile, member sweep), gathered per sweep below: the same boxes as
+    // apply_sweep one by one, so both paths mark the same cells.
     std::vector<std::size_t> tile_changed(tiles.size(), 0);
-    std::vector<std::atomic<std::uint8_t>> sweep_changed(grid.size());
-    for (std::atomic<std::uint8_t>& c : sweep_changed) c.store(0, std::memory_order_relaxed);
+    std::vector<ChangedBox> member_box(members.size());
     pool_for(tiles.size(), 1, [&](const Chunk& chunk) {
         for (std::size_t i = chunk.first; i < chunk.last; ++i) {
             const RayTile& t = tiles[i];
@@ -143,21 +142,22 @@ BooleanStats apply_sweeps_parallel(TriDexel& model, std::span<const Sweep> batch
                     const Footprint& f = fp[fs];
                     if (v < f.v_lo || v > f.v_hi) continue;
                     const std::array<int, 2>& r = rows[row_first[fs] + static_cast<std::size_t>(v - f.v_lo)];
-                    bool hit = false;
-                    for (int u = std::max(u0, r[0]); u <= std::min(u1, r[1]); ++u)
-                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, set.ray(u, v), depth_cells, converted.tools, &caps[fs])) {
+                    for (int u = std::max(u0, r[0]); u <= std::min(u1, r[1]); ++u) {
+                        ChangedSpan span;
+                        if (apply_sweep_to_ray(grid[s], t.axis, u, v, set.ray(u, v), depth_cells, converted.tools,
+                                               &caps[fs], &span)) {
                             ++changed;
-                            hit = true;
+                            member_box[k].add_ray(t.axis, u, v, span);
                         }
-                    if (hit) sweep_changed[s].store(1, std::memory_order_relaxed);
+                    }
                 }
             tile_changed[i] = changed;
         }
     }, threads);
     for (std::size_t c : tile_changed) stats.rays_changed += c;
-    for (std::size_t s = 0; s < grid.size(); ++s)
-        if (sweep_changed[s].load(std::memory_order_relaxed))
-            model.mark_dirty(sweep_dirty_bounds(batch[source[s]], model.lattice));
+    std::vector<ChangedBox> sweep_box(grid.size());
+    for (std::size_t k = 0; k < members.size(); ++k) sweep_box[members[k]].add(member_box[k]);
+    for (const ChangedBox& box : sweep_box) box.mark(model);
     return stats;
 }
 
