@@ -59,6 +59,28 @@ bool union_interval_changed(std::vector<Interval>& ray, float t0, float t1, std:
     return true;
 }
 
+ChangedSpan changed_span(const std::vector<Interval>& before, const std::vector<Interval>& after) {
+    // End e of a ray: interval e / 2, its entry when e is even; both rays alternate entry, exit from the start and
+    // from the end, so equal positions from either side are the same kind of end.
+    const auto depth = [](const std::vector<Interval>& r, std::size_t e) {
+        return e % 2 == 0 ? r[e / 2].enter : r[e / 2].exit;
+    };
+    const auto same = [&](std::size_t ea, std::size_t eb) {
+        const Interval &x = before[ea / 2], &y = after[eb / 2];
+        return ea % 2 == 0 ? x.enter == y.enter && x.enter_material == y.enter_material
+                           : x.exit == y.exit && x.exit_material == y.exit_material;
+    };
+    const std::size_t na = 2 * before.size(), nb = 2 * after.size(), n = std::min(na, nb);
+    std::size_t lead = 0;
+    while (lead < n && same(lead, lead)) ++lead;
+    std::size_t trail = 0;
+    while (trail < n - lead && same(na - 1 - trail, nb - 1 - trail)) ++trail;
+    ChangedSpan span;
+    for (std::size_t e = lead; e + trail < na; ++e) span.add(depth(before, e), depth(before, e));
+    for (std::size_t e = lead; e + trail < nb; ++e) span.add(depth(after, e), depth(after, e));
+    return span;
+}
+
 bool paint_interval_changed(std::vector<Interval>& ray, float t0, float t1, std::uint8_t material, ChangedSpan* span) {
     if (!(t0 <= t1)) return false;
     bool changed = false;

@@ -23,6 +23,11 @@ struct ChangedSpan {
     bool empty() const { return !(lo <= hi); }
 };
 
+/// The span of the ends that differ between two versions of one ray (`before`, `after`: sorted, disjoint
+/// intervals): the hull of the ends outside their common leading and trailing ends (depth and material). Empty
+/// when the two are equal. O(intervals).
+ChangedSpan changed_span(const std::vector<Interval>& before, const std::vector<Interval>& after);
+
 /// The box (grid units) of the interval ends changed on several rays: each changed ray adds its node and
 /// its ChangedSpan. mark() marks it dirty (TriDexel::mark_dirty_grid); an empty box marks nothing.
 struct ChangedBox {

@@ -288,6 +288,7 @@ ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_pr
     st.volume_change_cells = dv;
     for (int a = 0; a < 3; ++a)
         st.rays.rays_visited += static_cast<std::size_t>(f.box.n((a + 1) % 3)) * f.box.n((a + 2) % 3);
+    ChangedBox changed;  // the ends that differ: what the contour must redo around
     for (std::size_t k = 0; k < moved.size(); ++k) {
         ClayResampled& r = moved[k].varies ? var : fixed;
         if (!r.changed[k]) continue;
@@ -295,15 +296,13 @@ ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_pr
         std::vector<Interval>& ray = model.sets[moved[k].set].rays[moved[k].index];
         if (before) before->push_back({moved[k].set, moved[k].index, ray});
         if (written) written->push_back({moved[k].set, moved[k].index});
+        const RaySet& set = model.sets[moved[k].set];
+        changed.add_ray(set.axis, static_cast<int>(moved[k].index % static_cast<std::uint32_t>(set.nu)),
+                        static_cast<int>(moved[k].index / static_cast<std::uint32_t>(set.nu)),
+                        changed_span(ray, r.rays[k]));
         ray.swap(r.rays[k]);
     }
-    if (st.rays.rays_changed > 0) {
-        const Lattice& L = model.lattice;
-        Aabb box;
-        box.add(L.to_world(Vec3(f.box.lo[0], f.box.lo[1], f.box.lo[2])));
-        box.add(L.to_world(Vec3(f.box.hi[0], f.box.hi[1], f.box.hi[2])));
-        model.mark_dirty(box);
-    }
+    changed.mark(model);
     return st;
 }
 

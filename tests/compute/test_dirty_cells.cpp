@@ -11,6 +11,7 @@
 
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/interval_ops.hpp"
+#include "compute/tools/clay_push.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/tools/sweep_parallel.hpp"
 #include "core/primitives.hpp"
@@ -76,6 +77,13 @@ TEST(ChangedSpan, HoldsExactlyTheEndsEachOperationChanged) {
         const std::vector<float> ends = changed_ends(before, ray);
         ASSERT_EQ(changed, !ends.empty());
         ASSERT_EQ(span.empty(), !changed);
+        // The span of two versions of the ray (what clay reports) holds the same ends.
+        const ChangedSpan diff = changed_span(before, ray);
+        ASSERT_EQ(diff.empty(), !changed);
+        for (const float e : ends) {
+            EXPECT_LE(diff.lo, e);
+            EXPECT_GE(diff.hi, e);
+        }
         if (!changed) continue;
         ++changes[which];
         for (const float e : ends) {
@@ -205,6 +213,25 @@ TEST(DirtyCells, ABallDippingIntoTheTopFaceMarksTheCellsAroundWhatItCut) {
     // The ball's box (x 21..36, y 23..35, z 38..50) widened by the reach: 24 x 21 x 21 cells.
     const std::size_t ball_box_cells = std::size_t{24} * 21 * 21;
     EXPECT_LT(marked_cells, ball_box_cells / 2) << marked_cells;
+}
+
+TEST(DirtyCells, AClayPushMarksTheCellsAroundEveryEndItMoved) {
+    // A push into the top face of a box moves the surface within its radius of influence and the rim around it:
+    // every cell within the dirty reach of every end that moved is marked, and fewer cells than the field's box.
+    const int cells = 64;
+    const TriDexel start = box_model(cells, 40.5);
+    TriDexel m = start;
+    const Lattice& L = m.lattice;
+    Sweep s;
+    s.op = ToolOp::kPush;
+    s.tool.kind = ToolKind::kBall;
+    s.tool.radius_m = 5.0 * L.cell_m;
+    s.path_m = {L.to_world(Vec3(28.3, 30.6, 44.0)), L.to_world(Vec3(33.1, 30.6, 43.5))};
+    const GridSweep g = to_grid_sweep(L, s);
+    const ClayStats st = clay_push(m, g);
+    ASSERT_GT(st.rays.rays_changed, 0u);
+    EXPECT_GT(expect_changed_ends_covered(start, m), 50u);
+    for (std::size_t t = 0; t < m.tiles.count(); ++t) EXPECT_NE(m.tiles.dirty[t], TileGrid::kWhole) << "tile " << t;
 }
 
 TEST(DirtyCells, AllCoresBatchesMarkTheCellsAroundEveryChangedEnd) {
