@@ -41,15 +41,19 @@ std::uint8_t nearest_material(const Vec3& p, const Vec3* points, const std::uint
 
 }  // namespace
 
-std::size_t KeyCodec::owner_tile(VertexKey k) const {
+Node KeyCodec::anchor(VertexKey k) const {
     std::uint64_t l = k / 32u;
     const int i = static_cast<int>(l % static_cast<std::uint64_t>(nodes[0]));
     l /= static_cast<std::uint64_t>(nodes[0]);
     const int j = static_cast<int>(l % static_cast<std::uint64_t>(nodes[1]));
-    const int kk = static_cast<int>(l / static_cast<std::uint64_t>(nodes[1]));
-    const std::size_t tx = static_cast<std::size_t>(std::min(i / kT, tiles[0] - 1));
-    const std::size_t ty = static_cast<std::size_t>(std::min(j / kT, tiles[1] - 1));
-    const std::size_t tz = static_cast<std::size_t>(std::min(kk / kT, tiles[2] - 1));
+    return Node{i, j, static_cast<int>(l / static_cast<std::uint64_t>(nodes[1]))};
+}
+
+std::size_t KeyCodec::owner_tile(VertexKey k) const {
+    const Node n = anchor(k);
+    const std::size_t tx = static_cast<std::size_t>(std::min(n[0] / kT, tiles[0] - 1));
+    const std::size_t ty = static_cast<std::size_t>(std::min(n[1] / kT, tiles[1] - 1));
+    const std::size_t tz = static_cast<std::size_t>(std::min(n[2] / kT, tiles[2] - 1));
     return tx + static_cast<std::size_t>(tiles[0]) * (ty + static_cast<std::size_t>(tiles[1]) * tz);
 }
 
@@ -148,14 +152,9 @@ void TileContourer::keep_outside(const TileMesh& previous, const CellBox& cells,
     // Vertices: a vertex is anchored at the cell that emits it (contour_tile.hpp, VertexKey).
     const std::size_t fresh_vertices = verts_.size();
     for (std::size_t v = 0; v < previous.keys.size(); ++v) {
-        const VertexKey key = previous.keys[v];
-        std::uint64_t l = key / 32u;
-        const int i = static_cast<int>(l % static_cast<std::uint64_t>(codec_.nodes[0])) - c0[0];
-        l /= static_cast<std::uint64_t>(codec_.nodes[0]);
-        const int j = static_cast<int>(l % static_cast<std::uint64_t>(codec_.nodes[1])) - c0[1];
-        const int k = static_cast<int>(l / static_cast<std::uint64_t>(codec_.nodes[1])) - c0[2];
-        if (!in_box(TileMesh::local_cell(i, j, k)))
-            verts_.push_back({key, previous.grid[v], previous.materials[v], previous.qef[v]});
+        const Node n = codec_.anchor(previous.keys[v]);
+        if (!in_box(TileMesh::local_cell(n[0] - c0[0], n[1] - c0[1], n[2] - c0[2])))
+            verts_.push_back({previous.keys[v], previous.grid[v], previous.materials[v], previous.qef[v]});
     }
     // This run's vertices come in key order (cells ascending, slots ascending within a cell), as do the kept ones.
     std::inplace_merge(verts_.begin(), verts_.begin() + static_cast<std::ptrdiff_t>(fresh_vertices), verts_.end(),
@@ -186,12 +185,13 @@ void TileContourer::keep_outside(const TileMesh& previous, const CellBox& cells,
     tri_cells.insert(tri_cells.end(), tri_cells_.begin() + static_cast<std::ptrdiff_t>(fresh), tri_cells_.end());
     tri_keys_.swap(keys);
     tri_cells_.swap(tri_cells);
-    for (const auto* kept : {&previous.fallback_cells, &previous.split_face_cells}) {
-        auto& into = kept == &previous.fallback_cells ? fallback_cells_ : split_face_cells_;
-        for (const std::uint16_t c : *kept)
+    const auto keep_cells = [&](const std::vector<std::uint16_t>& kept, std::vector<std::uint16_t>& into) {
+        for (const std::uint16_t c : kept)
             if (!in_box(c)) into.push_back(c);
         std::sort(into.begin(), into.end());
-    }
+    };
+    keep_cells(previous.fallback_cells, fallback_cells_);
+    keep_cells(previous.split_face_cells, split_face_cells_);
 }
 
 bool TileContourer::assemble(const Node& c0, const TileMesh* previous, TileMesh& out) {

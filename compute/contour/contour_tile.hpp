@@ -36,6 +36,8 @@ struct KeyCodec {
     VertexKey key(const Node& n, int slot) const {
         return ((static_cast<std::uint64_t>(n[2]) * nodes[1] + n[1]) * nodes[0] + n[0]) * 32u + static_cast<std::uint64_t>(slot);
     }
+    /// Anchor node of key k (the inverse of key(), slot dropped).
+    Node anchor(VertexKey k) const;
     /// Linear index (TileGrid::index order) of the tile that owns key k.
     std::size_t owner_tile(VertexKey k) const;
 };
@@ -64,8 +66,8 @@ struct TileMesh {
     static std::uint16_t local_cell(int i, int j, int k) {
         return static_cast<std::uint16_t>(i + TileGrid::kTileCells * (j + TileGrid::kTileCells * k));
     }
-    std::size_t cells_visited =
-        0;  ///< non-uniform cells processed by the run that made it (uniform cells are skipped in bulk)
+    /// Non-uniform cells processed by the run that made it (uniform cells are skipped in bulk).
+    std::size_t cells_visited = 0;
     std::size_t fallbacks = 0;     ///< owned sign-change edges whose ray had no end on the edge
     std::size_t split_faces = 0;   ///< owned faces split to keep the surface 2-manifold
     // Owned vertices by the QEF branch that placed them (QefOutcome; a vertex may count in several):

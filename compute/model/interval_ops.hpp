@@ -20,6 +20,7 @@ struct ChangedSpan {
         lo = std::min(lo, a);
         hi = std::max(hi, b);
     }
+    /// True when no change was added (also when a bound is NaN).
     bool empty() const { return !(lo <= hi); }
 };
 
@@ -49,7 +50,9 @@ struct ChangedBox {
         lo = glm::min(lo, other.lo);
         hi = glm::max(hi, other.hi);
     }
+    /// True when no changed ray was added.
     bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+    /// Marks `model`'s cells within its dirty reach of this box (TriDexel::mark_dirty_grid); nothing when empty.
     void mark(TriDexel& model) const {
         if (!empty()) model.mark_dirty_grid(lo, hi);
     }

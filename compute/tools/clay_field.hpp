@@ -159,7 +159,7 @@ struct ClayStats {
 /// hundredth of a cell^3), up to two more re-samplings with the prediction shifted by its error. Else beta = 0. Only
 /// nodes of field.region (field.chords as clay_build_phi fills them; the whole box when they are missing) are read
 /// (s0 and s1 must be 0 elsewhere), and phi only at the moved nodes and their neighbours along the rays. Appends the
-/// changed rays' old images to `before` when not null. Marks the changed box dirty. Cost: O(nodes in the region) to
+/// changed rays' old images to `before` when not null. Marks dirty the cells around the interval ends that changed (changed_span). Cost: O(nodes in the region) to
 /// find the moved nodes, O(moved rays x (moved span + intervals)) to build the prediction and per re-sampling, a few
 /// sums over the edges near the surface to solve it; usually one re-sampling (the best one is written).
 ClayStats clay_resample(TriDexel& model, const ClayField& field, bool volume_preserving,

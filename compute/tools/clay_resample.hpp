@@ -82,7 +82,7 @@ void clay_resample_on_cpu(const TriDexel& model, const ClayField& f, std::span<c
 /// host, solves beta (on ClayVolumeModel's prediction, then, when the measured change is still over tolerance, up to
 /// two more calls of `resample` with the prediction shifted by its error), writes the changed rays into `model` in
 /// the order set, v, u, appends their old images to `before` and their references to `written` (each when not
-/// null), marks the box dirty, and returns the stats. One to three calls of `resample` (almost always one), the
+/// null), marks dirty the cells around the interval ends that changed (changed_span), and returns the stats. One to three calls of `resample` (almost always one), the
 /// first with `fixed` set. Throws what `resample` throws (the model is then
 /// unchanged).
 ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_preserving,

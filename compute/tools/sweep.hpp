@@ -164,8 +164,8 @@ bool apply_sweep_to_ray(const GridSweep& sweep, int axis, int u, int v, std::vec
                         const SweepBallRays* ball = nullptr, ChangedSpan* span = nullptr);
 
 /// CPU reference of a swept Boolean on the whole model: applies the sweep to every ray of all three sets
-/// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the tiles
-/// around sweep_bounds when a ray changed. Cost: O(footprint rays x stamps x intervals per ray).
+/// whose node lies inside the swept box (GridSweep lo..hi) and to no other ray, and marks dirty the cells
+/// around the interval ends it changed (ChangedBox, TriDexel::mark_dirty_grid). Cost: O(footprint rays x stamps x intervals per ray).
 /// Throws tridex::Error (model unchanged) on the bad input to_grid_sweep rejects.
 /// Source: Peng et al., tri-dexel Booleans with the tool's swept volume.
 BooleanStats apply_sweep(TriDexel& model, const Sweep& sweep);

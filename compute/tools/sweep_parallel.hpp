@@ -19,8 +19,8 @@ namespace tridex::compute {
 /// gets, IN BATCH ORDER, the sweeps whose footprint holds it (apply_sweep_to_ray), so no two tasks touch
 /// the same ray and each ray sees the same operations in the same order as the sequential path. A batch of
 /// any size gives about (footprint rays / 64) tasks, so small tools and short batches use every core too.
-/// Afterwards the tiles around sweep_bounds of each sweep that changed a ray are marked dirty (as
-/// apply_sweep does).
+/// Afterwards the cells around the interval ends each sweep changed are marked dirty, one box per sweep (the
+/// same marks as apply_sweep one by one).
 ///
 /// Returns the sums apply_sweep would return over the batch: rays_visited = footprint rays summed over
 /// sweeps, rays_changed = (ray, sweep) pairs where the sweep changed the ray.
