@@ -29,12 +29,21 @@ void TileSurfaceCache::build_lods_in_background(LodWorkerOptions worker) {
     worker_ = std::make_unique<LodWorker>(worker);
     group_settle_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
         std::chrono::duration<double>(worker.group_settle_s));
+    tile_settle_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(worker.tile_settle_s));
 }
 
 void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
     const auto now = std::chrono::steady_clock::now();
     for (const std::size_t i : fresh) {
         const TileSurface& t = tiles_[i];
+        if (refreshed_ && tile_settle_.count() > 0) {  // a stroke's tile: queued once it has been quiet
+            worker_->cancel(false, t.id);              // a waiting job for its older mesh would be thrown away
+            settling_[t.id] = now;
+            tile_due_ = std::min(tile_due_, now + tile_settle_);
+            queued_[lod_key(false, t.id)] = Queued{now, true};
+            continue;
+        }
         LodJob job;
         job.id = t.id;
         job.token = contour_versions_[i];
@@ -42,6 +51,29 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
         job.materials = t.materials;
         worker_->submit(std::move(job), refreshed_);
         queued_[lod_key(false, t.id)] = Queued{now, refreshed_};
+    }
+}
+
+void TileSurfaceCache::queue_settled_tiles(std::chrono::steady_clock::time_point now) {
+    tile_due_ = std::chrono::steady_clock::time_point::max();
+    for (auto it = settling_.begin(); it != settling_.end();) {
+        if (now - it->second < tile_settle_) {
+            tile_due_ = std::min(tile_due_, it->second + tile_settle_);
+            ++it;
+            continue;
+        }
+        const std::size_t i = index_of(tiles_, it->first);
+        if (i < tiles_.size() && pending_[i]) {
+            LodJob job;
+            job.id = tiles_[i].id;
+            job.token = contour_versions_[i];
+            job.mesh = tiles_[i].mesh;
+            job.materials = tiles_[i].materials;
+            worker_->submit(std::move(job), true);
+        } else {
+            queued_.erase(lod_key(false, it->first));  // gone since
+        }
+        it = settling_.erase(it);
     }
 }
 
@@ -65,7 +97,9 @@ void TileSurfaceCache::queue_ready_groups() {
                                            std::vector<Vec3>(p.normals.begin(), p.normals.end()), p.error_m});
         worker_->submit(std::move(job), refreshed_);
         group_queued_[g] = true;
-        queued_[lod_key(true, groups_[g].id)] = Queued{now, refreshed_};
+        // Start-up's groups are queued after the first refresh too, once their tiles are in: still start-up's.
+        const std::uint64_t key = lod_key(true, groups_[g].id);
+        queued_[key] = Queued{now, refreshed_ && startup_waiting_.count(key) == 0};
     }
 }
 
@@ -74,6 +108,7 @@ std::size_t TileSurfaceCache::collect_lods() {
     std::vector<LodResult> results;
     worker_->take(results);
     const auto now = std::chrono::steady_clock::now();
+    if (now >= tile_due_) queue_settled_tiles(now);
     std::size_t taken = 0;
     for (LodResult& r : results) {
         bool fits = false;

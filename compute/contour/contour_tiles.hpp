@@ -123,23 +123,25 @@ public:
     std::size_t build_pending_lods(std::size_t max_tiles);
 
     /// From now on the levels are built on a LodWorker of the cache's own (made with `worker`, whose `lod` is
-    /// replaced by enable_lod()'s options), never by refresh() or build_pending_lods(): refresh() queues a job
-    /// per tile it rebuilds (those of every refresh after the first ahead of the first's), collect_lods() takes
+    /// replaced by enable_lod()'s options), never by refresh() or build_pending_lods(): the first refresh()
+    /// queues a job per tile, later ones (a stroke's) each tile they rebuild once it has not changed for
+    /// LodWorkerOptions::tile_settle_s, ahead of the first's (collect_lods() queues those); collect_lods() takes
     /// the finished ones in and queues each group whose tiles and smaller groups all have theirs (a group a stroke
     /// changed once none of its tiles has changed for LodWorkerOptions::group_settle_s; once start-up's are all
     /// in, the worker's threads drop to LodWorkerOptions::nice, LodWorker::end_startup). Neither waits
     /// for a build. Call after enable_lod() and before the first refresh(). Throws tridex::Error without
     /// enable_lod() or as LodWorker (threads, nice).
     void build_lods_in_background(LodWorkerOptions worker = {});
-    /// Background building (build_lods_in_background): takes in the levels the worker finished (a tile or group
+    /// Background building (build_lods_in_background): queues the stroke's tiles that have not changed for
+    /// LodWorkerOptions::tile_settle_s, takes in the levels the worker finished (a tile or group
     /// still as it was when its job was queued gets them and a new version, as build_pending_lods gives; a
     /// stale result is dropped, its newer job is queued), then queues the groups that became ready. Returns the
     /// tiles and groups that got levels. Rethrows the first exception a job threw. O(results + groups).
     std::size_t collect_lods();
-    /// Background building: per tile or group that got its levels from the worker, the wall time from queueing its
-    /// job (refresh() for a tile, collect_lods() for a group) to collect_lods() taking the levels in, ms; for tiles
-    /// and groups queued after the first refresh only (a stroke's, not the start-up's); in DurationHistogram::latency
-    /// bins.
+    /// Background building: per tile or group that got its levels from the worker, the wall time from the refresh()
+    /// that re-contoured the tile (its settling included) or from collect_lods() queueing the group's job to
+    /// collect_lods() taking the levels in, ms; for a stroke's tiles and groups only, not start-up's; in
+    /// DurationHistogram::latency bins.
     const DurationHistogram& lod_latency_ms() const { return lod_latency_ms_; }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
@@ -156,6 +158,7 @@ private:
     bool group_ready(std::size_t g) const;
     void queue_tile_lods(const std::vector<std::size_t>& fresh);  // background: jobs for tiles_ entries
     void queue_ready_groups();                                   // background: jobs for groups now ready
+    void queue_settled_tiles(std::chrono::steady_clock::time_point now);  // background: a stroke's quiet tiles
     // The key of a tile's (group false) or group's job in queued_ and startup_waiting_.
     static std::uint64_t lod_key(bool group, std::uint64_t id);
     std::vector<TileGroupSurface> groups_;
@@ -180,6 +183,11 @@ private:
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
+    std::chrono::steady_clock::duration tile_settle_{};   // LodWorkerOptions::tile_settle_s
+    // A stroke's tiles whose jobs wait for them to settle: tile id -> when it last changed.
+    std::unordered_map<std::uint64_t, std::chrono::steady_clock::time_point> settling_;
+    // When the first of them may be queued (max: none waits).
+    std::chrono::steady_clock::time_point tile_due_ = std::chrono::steady_clock::time_point::max();
     // When the first ready group that waits for its tiles to settle may be queued (max: none waits).
     std::chrono::steady_clock::time_point settle_due_ = std::chrono::steady_clock::time_point::max();
     bool refreshed_ = false;                       // refresh() ran at least once

@@ -51,6 +51,8 @@ LodWorker::LodWorker(LodWorkerOptions options) : options_(std::move(options)) {
                     std::to_string(options_.startup_nice));
     if (!(options_.group_settle_s >= 0.0 && options_.group_settle_s <= 10.0))
         throw Error("LodWorker: group_settle_s must lie in 0..10 s, got " + std::to_string(options_.group_settle_s));
+    if (!(options_.tile_settle_s >= 0.0 && options_.tile_settle_s <= 10.0))
+        throw Error("LodWorker: tile_settle_s must lie in 0..10 s, got " + std::to_string(options_.tile_settle_s));
     for (int i = 0; i < options_.threads; ++i) threads_.emplace_back([this] { run(); });
 }
 
@@ -76,6 +78,15 @@ void LodWorker::submit(LodJob job, bool urgent) {
             queue_.push_back(std::move(job));
     }
     wake_.notify_one();
+}
+
+bool LodWorker::cancel(bool group, std::uint64_t id) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto same =
+        std::find_if(queue_.begin(), queue_.end(), [&](const LodJob& q) { return q.group == group && q.id == id; });
+    if (same == queue_.end()) return false;
+    queue_.erase(same);
+    return true;
 }
 
 std::size_t LodWorker::take(std::vector<LodResult>& out) {

@@ -63,8 +63,14 @@ struct LodWorkerOptions {
     /// stroke's) is queued only once no tile under it has changed for this long, s (0..10; 0 = as soon as its
     /// tiles have their levels). A stroke re-contours the same tiles step after step, and a group's levels are
     /// made from all of its tiles, so without it most of a group's builds are outdated before they finish. The
-    /// tiles themselves are queued at once; while a group waits they stand for it. Start-up's groups never wait.
+    /// tiles themselves wait only tile_settle_s; while a group waits they stand for it. Start-up's groups never wait.
     double group_settle_s = 0.25;
+    /// TileSurfaceCache::build_lods_in_background: a tile re-contoured after the first refresh (a stroke's) is
+    /// queued only once it has not changed for this long, s (0..10; 0 = at once). While the tool stays in a tile,
+    /// each carving step re-contours it and outdates the levels being built for it; the tile is drawn at full
+    /// resolution until its levels arrive, so waiting costs a few hundred triangles per carved tile and saves the
+    /// builds no frame would draw. Start-up's tiles never wait.
+    double tile_settle_s = 0.05;
     /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
     std::function<void(const LodJob&)> before_job;
 };
@@ -86,6 +92,9 @@ public:
 
     /// Queues `job` (at the front when urgent), replacing a waiting job with the same group flag and id.
     void submit(LodJob job, bool urgent);
+    /// Drops the waiting (not yet started) job with this group flag and id; true when there was one. A running
+    /// job is not stopped: its result still arrives.
+    bool cancel(bool group, std::uint64_t id);
     /// Moves the finished results into `out` (appended, in order of completion) and returns how many. Rethrows,
     /// once, the first exception a job threw (its result is then missing; the others are kept).
     std::size_t take(std::vector<LodResult>& out);
