@@ -192,6 +192,12 @@ void print_row(const DeskBenchRow& r) {
                         step.value("scale", 1.0),
                         static_cast<unsigned long long>(step.value("frames", std::uint64_t{0})));
         std::printf(" %llu switches\n", static_cast<unsigned long long>(r.frame_budget.value("switches", 0)));
+        const nlohmann::json calm = r.frame_budget.value("now_calm", nlohmann::json::object());
+        const nlohmann::json carving = r.frame_budget.value("now_sculpting", nlohmann::json::object());
+        std::printf("  %llu frames drawn while carving; the step at the end: calm %s %gpx %.3f, carving %s %gpx %.3f\n",
+                    static_cast<unsigned long long>(r.frame_budget.value("frames_sculpting", std::uint64_t{0})),
+                    calm.value("occlusion", "").c_str(), calm.value("lod_px", 1.0), calm.value("scale", 1.0),
+                    carving.value("occlusion", "").c_str(), carving.value("lod_px", 1.0), carving.value("scale", 1.0));
     }
     std::printf(
         "  the frame's wait for the loop to take the cursor's target: median %.2f ms, p99 %.2f ms; "

@@ -18,6 +18,15 @@ using renderer::OcclusionResolution;
 constexpr double kReturnShare = 0.9;
 // The longest wait, in windows, between two trials that failed.
 constexpr int kMaxBackoff = 32;
+// A step down saves about a fifth of a frame's work (a render scale step: about a fifth fewer pixels), so a frame
+// this many times over the target is met with one more step at once.
+constexpr double kStepGain = 1.25;
+
+// Steps down for frames `median` ms long against `target` ms (median > target): floor(log(median / target) /
+// log(kStepGain)), at least one, so that a heavy overload is not drawn for `react` frames per step.
+int steps_for(double median, double target) {
+    return std::max(1, static_cast<int>(std::floor(std::log(median / target) / std::log(kStepGain))));
+}
 
 double median_of(std::vector<double>& v) {
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -49,7 +58,7 @@ FrameBudget::FrameBudget(const FrameBudgetOptions& o) : options_(o) {
         throw Error("FrameBudget: react must lie in 1..window frames, got " + std::to_string(o.react));
     window_ = static_cast<std::size_t>(o.window);
     react_ = static_cast<std::size_t>(o.react);
-    recent_.reserve(window_);
+    for (State& st : states_) st.recent.reserve(window_);
     scratch_.reserve(window_);
     const double px = o.coarse_lod_px;
     ladder_.push_back({OcclusionResolution::kHalf, 1.0, 1.0});
@@ -78,43 +87,61 @@ std::size_t FrameBudget::above(std::size_t level, bool occlusion_on) const {
 }
 
 void FrameBudget::change_to(std::size_t next) {
-    level_ = next;
-    windows_at_level_ = 0;
-    recent_.clear();
+    State& st = states_[active_];
+    st.level = next;
+    st.windows_at_level = 0;
+    st.recent.clear();
     ++switches_;
+}
+
+void FrameBudget::set_sculpting(bool on) {
+    const int next = on ? kSculpting : kCalm;
+    if (next == active_) return;
+    State& st = states_[next];
+    if (!st.used) st.level = states_[active_].level;  // nothing learnt yet: start where the frames are
+    active_ = next;
+}
+
+FrameQuality FrameBudget::sculpting_quality() const {
+    return ladder_[states_[kSculpting].used ? states_[kSculpting].level : states_[kCalm].level];
 }
 
 void FrameBudget::add(double frame_ms, bool occlusion_on) {
     if (!std::isfinite(frame_ms) || frame_ms < 0.0) return;
-    ++frames_[level_];
+    State& st = states_[active_];
+    st.used = true;
+    ++frames_[st.level];
+    if (active_ == kSculpting) ++frames_sculpting_;
     if (options_.target_ms <= 0.0) return;
-    recent_.push_back(frame_ms);
+    st.recent.push_back(frame_ms);
     const double target = options_.target_ms;
-    if (recent_.size() % react_ == 0) {  // overload is met after `react` frames, a trial's too
-        scratch_.assign(recent_.end() - static_cast<std::ptrdiff_t>(react_), recent_.end());
-        if (median_of(scratch_) > target) {
-            if (probing_) backoff_ = std::min(backoff_ * 2, kMaxBackoff);
-            probing_ = false;
-            const std::size_t next = below(level_, occlusion_on);
-            if (next != level_) return change_to(next);
+    if (st.recent.size() % react_ == 0) {  // overload is met after `react` frames, a trial's too
+        scratch_.assign(st.recent.end() - static_cast<std::ptrdiff_t>(react_), st.recent.end());
+        const double median = median_of(scratch_);
+        if (median > target) {
+            if (st.probing) st.backoff = std::min(st.backoff * 2, kMaxBackoff);
+            st.probing = false;
+            std::size_t next = st.level;
+            for (int k = steps_for(median, target); k > 0; --k) next = below(next, occlusion_on);
+            if (next != st.level) return change_to(next);
         }
     }
-    if (recent_.size() < window_) return;
-    scratch_.assign(recent_.begin(), recent_.end());
+    if (st.recent.size() < window_) return;
+    scratch_.assign(st.recent.begin(), st.recent.end());
     const double median = median_of(scratch_);
-    recent_.clear();
-    ++windows_at_level_;
+    st.recent.clear();
+    ++st.windows_at_level;
     const bool over = median > target;
-    if (probing_) backoff_ = over ? std::min(backoff_ * 2, kMaxBackoff) : 1;  // the trial failed / held
-    probing_ = false;
-    std::size_t next = level_;
+    if (st.probing) st.backoff = over ? std::min(st.backoff * 2, kMaxBackoff) : 1;  // the trial failed / held
+    st.probing = false;
+    std::size_t next = st.level;
     if (over) {
-        next = below(level_, occlusion_on);
-    } else if (median < kReturnShare * target && windows_at_level_ >= backoff_) {
-        next = above(level_, occlusion_on);
-        probing_ = next != level_;
+        next = below(st.level, occlusion_on);
+    } else if (median < kReturnShare * target && st.windows_at_level >= st.backoff) {
+        next = above(st.level, occlusion_on);
+        st.probing = next != st.level;
     }
-    if (next != level_) change_to(next);
+    if (next != st.level) change_to(next);
 }
 
 std::uint64_t FrameBudget::frames_where(bool (*drawn)(const FrameQuality&)) const {
@@ -147,20 +174,24 @@ nlohmann::json FrameBudget::to_json() const {
                          {"lod_px", ladder_[l].lod_px},
                          {"scale", ladder_[l].scale},
                          {"frames", frames_[l]}});
-    const FrameQuality now = quality();
-    return nlohmann::json{
-        {"target_ms", options_.target_ms},
-        {"window", window_},
-        {"react", react_},
-        {"min_scale", options_.min_scale},
-        {"coarse_lod_px", options_.coarse_lod_px},
-        {"frames_half", frames_half()},
-        {"frames_quarter", frames_quarter()},
-        {"frames_coarse_lod", frames_coarse_lod()},
-        {"frames_scaled", frames_scaled()},
-        {"switches", switches_},
-        {"ladder", steps},
-        {"now", {{"occlusion", occlusion_name(now.occlusion)}, {"lod_px", now.lod_px}, {"scale", now.scale}}}};
+    const auto step = [](const FrameQuality& q) {
+        return nlohmann::json{{"occlusion", occlusion_name(q.occlusion)}, {"lod_px", q.lod_px}, {"scale", q.scale}};
+    };
+    return nlohmann::json{{"target_ms", options_.target_ms},
+                          {"window", window_},
+                          {"react", react_},
+                          {"min_scale", options_.min_scale},
+                          {"coarse_lod_px", options_.coarse_lod_px},
+                          {"frames_half", frames_half()},
+                          {"frames_quarter", frames_quarter()},
+                          {"frames_coarse_lod", frames_coarse_lod()},
+                          {"frames_scaled", frames_scaled()},
+                          {"frames_sculpting", frames_sculpting_},
+                          {"switches", switches_},
+                          {"ladder", steps},
+                          {"now", step(quality())},
+                          {"now_calm", step(calm_quality())},
+                          {"now_sculpting", step(sculpting_quality())}};
 }
 
 }  // namespace tridex

@@ -22,6 +22,9 @@ constexpr double kPickRefreshS = 0.1;
 // The longest a frame waits for the haptic loop to take the mouse stylus's new target (RunMouse::await_hand): the
 // device glides at a bounded speed, so a long move is drawn on its way; a stalled loop never holds the frame longer.
 constexpr std::chrono::microseconds kHandWait{2000};
+// A frame counts as sculpting (FrameBudget::set_sculpting) for this long after a frame drew a sculpted change, s: a
+// stroke's changes arrive every few frames, and its re-contours and levels keep the cores busy a little longer.
+constexpr double kSculptingHoldS = 0.3;
 
 // The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept.
 std::string saving_lines(const SaveStatus& s) {
@@ -317,6 +320,14 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
     r.tiled = mesh.tiled;
     r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
+    if (budget) {  // frames within kSculptingHoldS of a sculpted change drawn use the sculpting frames' step
+        const auto now = Clock::now();
+        if (mesh.sculpt_steps != budget_sculpt_steps) {
+            budget_sculpt_steps = mesh.sculpt_steps;
+            budget_sculpted_at = now;
+        }
+        budget->set_sculpting(frame > 0 && ms_between(budget_sculpted_at, now) < 1e3 * kSculptingHoldS);
+    }
     const FrameAim frame_aim = aim(mesh);
     const haptics::LoopView& lv = rt.latest_view();  // after aim(): the loop has taken the stylus's target
     renderer::SceneView view = frame_view(mesh, lv, saving);

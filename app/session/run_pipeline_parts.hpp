@@ -123,6 +123,8 @@ struct RunPipeline::Parts final : FrameSteps {
     // 4. Frame loop state.
     bool swap = false, ao = true;
     std::optional<FrameBudget> budget;             // occlusion, levels' error and render scale on the frame-time budget
+    std::uint64_t budget_sculpt_steps = 0;         // the sculpt steps of the last mesh a frame drew
+    Clock::time_point budget_sculpted_at{};        // when a frame last drew a mesh with more sculpt steps
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail

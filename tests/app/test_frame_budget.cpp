@@ -1,6 +1,7 @@
 // The frame-time budget's ladder (app/session/frame_budget): the occlusion, the levels of detail and the render
 // scale stepped down within `react` frames of running long and back up a step at a time after a window that fits,
-// with a longer wait after each trial that failed; bad options refused by name.
+// with a longer wait after each trial that failed; sculpting frames learn a step of their own; bad options refused
+// by name.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -158,11 +159,11 @@ TEST(FrameBudget, LevelsAndRenderScaleStepDownAndBackUp) {
 TEST(FrameBudget, StepsDownWithinReactFramesAndUpOnlyAfterAWindow) {
     FrameBudget b(budget_options(25.0, 0.75, 30, 10, 2.0));
     ASSERT_EQ(b.ladder().size(), 5u);  // 2x2, 4x4, 4x4 2 px, 0.875, 0.75
-    for (int i = 0; i < 10; ++i) b.add(40.0);
+    for (int i = 0; i < 10; ++i) b.add(30.0);  // under 1.25 times the target: one step per `react` frames
     EXPECT_EQ(b.quality().occlusion, renderer::OcclusionResolution::kQuarter);
-    for (int i = 0; i < 10; ++i) b.add(40.0);
+    for (int i = 0; i < 10; ++i) b.add(30.0);
     EXPECT_DOUBLE_EQ(b.quality().lod_px, 2.0);
-    for (int i = 0; i < 20; ++i) b.add(40.0);
+    for (int i = 0; i < 20; ++i) b.add(30.0);
     EXPECT_DOUBLE_EQ(b.quality().scale, 0.75);  // four steps in 40 frames
     for (int i = 0; i < 29; ++i) b.add(10.0);
     EXPECT_DOUBLE_EQ(b.quality().scale, 0.75);  // relief needs a whole window
@@ -175,6 +176,70 @@ TEST(FrameBudget, StepsDownWithinReactFramesAndUpOnlyAfterAWindow) {
     for (int i = 0; i < 30; ++i) b.add(10.0);
     EXPECT_DOUBLE_EQ(b.quality().scale, 0.875);
     EXPECT_EQ(b.switches(), 7u);
+}
+
+// The further the frames run over the target, the more steps the budget takes at once: one below 1.25^2 times the
+// target, two from there, three from 1.25^3 times, ..., so a heavy overload is not drawn for `react` frames per step.
+TEST(FrameBudget, HeavyOverloadTakesSeveralStepsAtOnce) {
+    struct Case {
+        double frame_ms;
+        std::size_t level;  // the step after the first `react` frames
+    };
+    // 2x2, 4x4, 4x4 2 px, 0.875, 0.75, 0.625, 0.5
+    for (const Case c : {Case{30.0, 1}, Case{38.0, 1}, Case{40.0, 2}, Case{49.0, 3}, Case{62.0, 4}, Case{400.0, 6}}) {
+        FrameBudget b(budget_options(25.0, 0.5, 30, 10, 2.0));
+        ASSERT_EQ(b.ladder().size(), 7u);
+        for (int i = 0; i < 9; ++i) b.add(c.frame_ms);
+        EXPECT_DOUBLE_EQ(b.quality().scale, 1.0) << c.frame_ms;  // nothing before `react` frames
+        b.add(c.frame_ms);
+        const FrameQuality& want = b.ladder()[c.level];
+        EXPECT_DOUBLE_EQ(b.quality().scale, want.scale) << c.frame_ms;
+        EXPECT_DOUBLE_EQ(b.quality().lod_px, want.lod_px) << c.frame_ms;
+        EXPECT_EQ(b.quality().occlusion, want.occlusion) << c.frame_ms;
+        EXPECT_EQ(b.switches(), 1u) << c.frame_ms;  // one change, however many steps
+    }
+}
+
+// Frames drawn while sculpting learn their own step: a stroke steps down, the calm frames after it draw at their own
+// step at once, and the next stroke starts at the step the last one ended on instead of stepping down again.
+TEST(FrameBudget, SculptingFramesKeepAStepOfTheirOwn) {
+    FrameBudget b(budget_options(25.0, 0.75, 30, 10, 2.0));
+    ASSERT_EQ(b.ladder().size(), 5u);  // 2x2, 4x4, 4x4 2 px, 0.875, 0.75
+    for (int i = 0; i < 30; ++i) b.add(15.0);
+    EXPECT_FALSE(b.sculpting());
+    EXPECT_DOUBLE_EQ(b.sculpting_quality().scale, 1.0);  // nothing learnt: the calm step
+    // The first stroke starts where the calm frames are and steps down while its frames run long.
+    b.set_sculpting(true);
+    EXPECT_TRUE(b.sculpting());
+    EXPECT_EQ(b.quality().occlusion, renderer::OcclusionResolution::kHalf);
+    for (int i = 0; i < 40; ++i) b.add(40.0);
+    EXPECT_DOUBLE_EQ(b.quality().scale, 0.75);
+    for (int i = 0; i < 20; ++i) b.add(24.0);  // fits, but not within 90 %: it stays
+    // Between strokes: the calm frames' step, at once, untouched by the stroke.
+    b.set_sculpting(false);
+    EXPECT_EQ(b.quality().occlusion, renderer::OcclusionResolution::kHalf);
+    EXPECT_DOUBLE_EQ(b.quality().scale, 1.0);
+    EXPECT_DOUBLE_EQ(b.sculpting_quality().scale, 0.75);
+    for (int i = 0; i < 60; ++i) b.add(15.0);
+    EXPECT_DOUBLE_EQ(b.quality().scale, 1.0);
+    // The next stroke starts at 0.75 with no slow frame drawn at a finer step.
+    b.set_sculpting(true);
+    EXPECT_DOUBLE_EQ(b.quality().scale, 0.75);
+    EXPECT_DOUBLE_EQ(b.quality().lod_px, 2.0);
+    b.set_sculpting(true);  // again: nothing changes
+    EXPECT_DOUBLE_EQ(b.quality().scale, 0.75);
+    for (int i = 0; i < 10; ++i) b.add(24.0);
+    EXPECT_EQ(b.frames_sculpting(), 70u);
+    const nlohmann::json j = b.to_json();
+    EXPECT_EQ(j.at("frames_sculpting"), 70u);
+    EXPECT_DOUBLE_EQ(j.at("now").at("scale").get<double>(), 0.75);
+    EXPECT_DOUBLE_EQ(j.at("now_sculpting").at("scale").get<double>(), 0.75);
+    EXPECT_DOUBLE_EQ(j.at("now_calm").at("scale").get<double>(), 1.0);
+    EXPECT_EQ(j.at("now_calm").at("occlusion"), "half");
+    // Frames are counted per step whichever kind they are.
+    std::uint64_t all = 0;
+    for (const std::uint64_t n : b.frames()) all += n;
+    EXPECT_EQ(all, 30u + 60u + 60u + 10u);
 }
 
 }  // namespace
