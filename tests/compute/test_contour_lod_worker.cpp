@@ -31,6 +31,37 @@ namespace {
 
 using namespace testing;
 
+// True when every tile of `cache` has its levels.
+bool all_tiles_built(const TileSurfaceCache& cache) {
+    for (const TileSurface& t : cache.tiles())
+        if (!t.lods_built) return false;
+    return true;
+}
+
+// A LodWorker refuses a settling time (`field`) outside 0..10 s.
+void expect_settle_refused(double LodWorkerOptions::*field) {
+    LodWorkerOptions bad;
+    bad.lod.cell_m = 1e-3;
+    for (const double s : {-0.1, 11.0, std::nan("")}) {
+        bad.*field = s;
+        EXPECT_THROW(LodWorker{bad}, Error) << s;
+    }
+}
+
+// Waits (at most 20 s) until `worker` has no job queued or running and takes the results. These tests' jobs have
+// empty meshes, which a build may refuse: only which jobs ran, and on what thread, matters to them.
+std::vector<LodResult> drain(LodWorker& worker) {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (worker.outstanding() > 0 && std::chrono::steady_clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    std::vector<LodResult> out;
+    try {
+        worker.take(out);
+    } catch (const Error&) {
+    }
+    return out;
+}
+
 // A box in a 40-cell lattice, contoured, whose tile cache builds its levels on a background worker: `move` changes
 // the box's corners as a stroke would (every tile marked dirty, re-contoured, the cache refreshed), and
 // `collect_until` takes the worker's results in until `done` holds (at most 20 s).
@@ -84,11 +115,7 @@ TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
         for (const TileGroupSurface& g : cache.groups()) had_levels[g.id] = !g.lods.empty();
         // The stroke: one face of the box moves in, re-contouring the tiles along it.
         ASSERT_GT(box.move(Vec3(0.0), Vec3(-1.3, 0.0, 0.0)), 0u);
-        const auto tiles_built = [&] {
-            for (const TileSurface& t : cache.tiles())
-                if (!t.lods_built) return false;
-            return true;
-        };
+        const auto tiles_built = [&] { return all_tiles_built(cache); };
         ASSERT_TRUE(settled(tiles_built));
         const std::size_t waiting = cache.lod_pending();  // groups only: every tile has its levels
         EXPECT_GT(waiting, 0u);
@@ -110,12 +137,7 @@ TEST(TileLod, StrokeGroupsWaitUntilTheirTilesSettle) {
                 EXPECT_EQ(!g.lods.empty(), had_levels[g.id]) << "group " << g.id;
         }
     }
-    LodWorkerOptions bad;
-    bad.lod.cell_m = 1e-3;
-    for (const double s : {-0.1, 11.0, std::nan("")}) {
-        bad.group_settle_s = s;
-        EXPECT_THROW(LodWorker{bad}, Error) << s;
-    }
+    expect_settle_refused(&LodWorkerOptions::group_settle_s);
 }
 
 // A stroke's tiles are queued only once they have not changed for tile_settle_s: a tile re-contoured step after
@@ -131,11 +153,7 @@ TEST(TileLod, StrokeTilesWaitUntilTheySettle) {
         BackgroundBox box(w);
         TileSurfaceCache& cache = box.cache;
         ASSERT_TRUE(box.collect_until([&] { return cache.lod_pending() == 0; }));  // start-up: within 20 s
-        const auto tiles_built = [&] {
-            for (const TileSurface& t : cache.tiles())
-                if (!t.lods_built) return false;
-            return true;
-        };
+        const auto tiles_built = [&] { return all_tiles_built(cache); };
         const std::size_t built_before = cache.lod_tiles_built();
         // Five steps of a stroke, each re-contouring the tiles along one face, with results taken in between.
         std::size_t changed = 0;
@@ -166,12 +184,7 @@ TEST(TileLod, StrokeTilesWaitUntilTheySettle) {
             EXPECT_GE(cache.lod_latency_ms().min_ms(), 1e3 * settle * 0.9);
         }
     }
-    LodWorkerOptions bad;
-    bad.lod.cell_m = 1e-3;
-    for (const double s : {-0.1, 11.0, std::nan("")}) {
-        bad.tile_settle_s = s;
-        EXPECT_THROW(LodWorker{bad}, Error) << s;
-    }
+    expect_settle_refused(&LodWorkerOptions::tile_settle_s);
 }
 
 // cancel() drops a waiting job (its result never arrives) and leaves a running one alone.
@@ -196,15 +209,7 @@ TEST(TileLod, CancelDropsOnlyAWaitingJob) {
     EXPECT_FALSE(worker.cancel(false, 3));
     EXPECT_EQ(worker.outstanding(), 2u);
     open.store(true);
-    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (worker.outstanding() > 0 && std::chrono::steady_clock::now() < limit)
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    std::vector<LodResult> out;
-    try {
-        worker.take(out);
-    } catch (const Error&) {  // an empty mesh may be refused: only which jobs ran matters here
-    }
-    for (const LodResult& r : out) EXPECT_FALSE(!r.group && r.id == 2);
+    for (const LodResult& r : drain(worker)) EXPECT_FALSE(!r.group && r.id == 2);
 }
 
 #if defined(__linux__)
@@ -225,14 +230,7 @@ TEST(TileLod, WorkersDropToTheirNiceValueOnceStartupIsOver) {
     LodWorker worker(w);
     const auto run_job = [&](std::uint64_t id) {
         worker.submit(LodJob{false, id, 0, {}, {}, {}}, false);
-        const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-        while (worker.outstanding() > 0 && std::chrono::steady_clock::now() < limit)
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        std::vector<LodResult> out;
-        try {
-            worker.take(out);
-        } catch (const Error&) {  // an empty mesh may be refused: only the priority matters here
-        }
+        drain(worker);
     };
     run_job(1);
     worker.end_startup();
