@@ -195,8 +195,8 @@ const std::vector<ReportField>& report_schema() {
          "otherwise"},
         {"render.frame_budget",
          "run: the frame-time budget {target_ms, window, react, min_scale, coarse_lod_px, frames_half, "
-         "frames_quarter, frames_coarse_lod, frames_scaled, switches, ladder [{occlusion, lod_px, scale, frames}], "
-         "now {occlusion, lod_px, scale}}; null for demo and replay"},
+         "frames_quarter, frames_coarse_lod, frames_scaled, frames_sculpting, switches, ladder [{occlusion, lod_px, "
+         "scale, frames}], now {occlusion, lod_px, scale}, now_calm, now_sculpting}; null for demo and replay"},
         {"render.force_m_per_newton", "force arrow scale, m per N (0 without items); null for demo and replay"},
         {"render.timing", "run: how pass times were measured; null for demo and replay"},
         {"render.tiles", "run: tiles drawn and skipped per frame and eye; null for demo and replay"},
