@@ -44,14 +44,18 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
             queued_[lod_key(false, t.id)] = Queued{now, true};
             continue;
         }
-        LodJob job;
-        job.id = t.id;
-        job.token = contour_versions_[i];
-        job.mesh = t.mesh;
-        job.materials = t.materials;
-        worker_->submit(std::move(job), refreshed_);
+        worker_->submit(tile_job(i), refreshed_);
         queued_[lod_key(false, t.id)] = Queued{now, refreshed_};
     }
+}
+
+LodJob TileSurfaceCache::tile_job(std::size_t i) const {
+    LodJob job;
+    job.id = tiles_[i].id;
+    job.token = contour_versions_[i];
+    job.mesh = tiles_[i].mesh;
+    job.materials = tiles_[i].materials;
+    return job;
 }
 
 void TileSurfaceCache::queue_settled_tiles(std::chrono::steady_clock::time_point now) {
@@ -64,12 +68,7 @@ void TileSurfaceCache::queue_settled_tiles(std::chrono::steady_clock::time_point
         }
         const std::size_t i = index_of(tiles_, it->first);
         if (i < tiles_.size() && pending_[i]) {
-            LodJob job;
-            job.id = tiles_[i].id;
-            job.token = contour_versions_[i];
-            job.mesh = tiles_[i].mesh;
-            job.materials = tiles_[i].materials;
-            worker_->submit(std::move(job), true);
+            worker_->submit(tile_job(i), true);
         } else {
             queued_.erase(lod_key(false, it->first));  // gone since
         }

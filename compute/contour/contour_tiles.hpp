@@ -159,6 +159,7 @@ private:
     void queue_tile_lods(const std::vector<std::size_t>& fresh);  // background: jobs for tiles_ entries
     void queue_ready_groups();                                   // background: jobs for groups now ready
     void queue_settled_tiles(std::chrono::steady_clock::time_point now);  // background: a stroke's quiet tiles
+    LodJob tile_job(std::size_t i) const;  // the job for tiles_[i]'s levels: copies of its mesh and materials
     // The key of a tile's (group false) or group's job in queued_ and startup_waiting_.
     static std::uint64_t lod_key(bool group, std::uint64_t id);
     std::vector<TileGroupSurface> groups_;
