@@ -16,6 +16,7 @@
 #include <string>
 #include <utility>
 
+#include "app/support/crash_report.hpp"
 #include "app/support/device_lost.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
@@ -146,6 +147,7 @@ int run_command_line(int argc, char** argv) {
                      cli.get_subcommands().empty() ? "" : (cli.get_subcommands().front()->get_name() + " ").c_str());
         return 2;
     }
+    install_crash_report();   // a crash says what, where, and how to recover the session's journal
     install_stop_handlers();  // SIGINT/SIGTERM end a session cleanly, then exit 128 + signal
     for (const auto& [sub, action] : actions)
         if (*sub) return run_action(action);

@@ -5,12 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/scene/tool_mesh.hpp"
+#include "app/support/crash_report.hpp"
 #include "app/support/memory.hpp"
 #include "app/support/stop_signal.hpp"
-#include "app/scene/tool_mesh.hpp"
-#include "compute/model/tdx_file.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
@@ -87,6 +88,8 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     sculpt_->use_backend(*booleans_.backend);
     if (!o.sculpt.journal.empty()) {
         journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));
+        set_crash_note("the session's journal is " + o.sculpt.journal + ": `tridex recover " + o.sculpt.journal +
+                       "` rebuilds the model up to its last complete record");
         sculpt_->use_journal(*journal_);
         if (o.sculpt.checkpoint_s > 0.0) {
             const std::filesystem::path jp(o.sculpt.journal);
@@ -193,6 +196,7 @@ SessionRuntime::~SessionRuntime() {
     } catch (...) {  // a sculpt failure nobody asked about: the owner is going away
     }
     if (device_) device_->close();  // never started: it was opened and homed by the constructor
+    if (journal_) set_crash_note("");
 }
 
 void SessionRuntime::start() {
