@@ -32,6 +32,7 @@ struct StallsCli {
     double seconds = 60.0;
     std::string display;  // "" = window when an X display is set, else offscreen (paced)
     bool journal_off = false;
+    bool shared_cpu = false;  // also a run with the loop's CPU shared with the drawing thread (the baseline)
     bool gpu = false;
 };
 
@@ -60,22 +61,24 @@ std::string write_scene(const fs::path& dir, double seconds, const std::string& 
 }
 
 struct StallRow {
-    std::string display, journal;
+    std::string display, journal, cpu;  // cpu: "own" (a CPU set aside for the loop) or "shared"
     std::size_t ticks = 0, over_2ms = 0, over_5ms = 0, overruns = 0;
     double worst_ms = 0.0, p99_ms = 0.0, frame_p50_ms = 0.0;
     std::uint64_t steps = 0;
     bool fifo = false, locked = false;
+    int reserved_cpu = -1;  // the CPU the loop had to itself (report.json haptics.reserved_cpu), -1 = none
     std::string refused;
 };
 
 StallRow run_one(const StallsCli& o, const std::string& scene, const std::string& display, bool journal,
-                 const fs::path& out) {
+                 bool shared_cpu, const fs::path& out) {
     RunOptions r;
     r.scene = scene;
     r.display = display;
     r.seconds = o.seconds;
     r.out = out.string();
     r.no_journal = !journal;
+    r.shared_haptic_cpu = shared_cpu;
     r.gpu = o.gpu;
     r.checkpoint_s = 0.0;
     const RunResult res = run_stereo_session(r);
@@ -84,6 +87,7 @@ StallRow run_one(const StallsCli& o, const std::string& scene, const std::string
     StallRow row;
     row.display = display;
     row.journal = journal ? "on" : "off";
+    row.cpu = shared_cpu ? "shared" : "own";
     row.ticks = h.at("ticks").get<std::size_t>();
     row.worst_ms = 1e-3 * h.at("period_us").at("max").get<double>();
     row.p99_ms = 1e-3 * h.at("period_us").at("p99").get<double>();
@@ -92,6 +96,7 @@ StallRow run_one(const StallsCli& o, const std::string& scene, const std::string
     row.overruns = h.at("overruns").get<std::size_t>();
     row.fifo = h.at("realtime_scheduling").get<bool>();
     row.locked = h.at("memory_locked").get<bool>();
+    if (!h.at("reserved_cpu").is_null()) row.reserved_cpu = h.at("reserved_cpu").get<int>();
     if (!h.at("realtime_refused").is_null()) row.refused = h.at("realtime_refused").get<std::string>();
     row.steps = res.sculpt.steps;
     row.frame_p50_ms = res.frame_ms.percentile_ms(0.5);
@@ -114,25 +119,50 @@ void run_stalls(const StallsCli& o, const BenchCommon& c) {
                 "rendering, sculpting%s\n",
                 o.seconds, display == "window" ? "in a window" : "offscreen (paced; no X display)",
                 o.journal_off ? ", with and without the journal" : " and the journal");
+    std::printf(
+        "cpu: own = a CPU set aside for the loop, the drawing thread kept off it (the default); shared = "
+        "--shared-haptic-cpu (the baseline)\n");
     std::printf("target: worst period <= %.1f ms, no period over 5 ms\n", kTargetWorstMs);
-    std::printf("%9s %4s %7s %9s %9s %8s %8s %8s %6s %7s %6s %s\n", "display", "jnl", "ticks", "worst_ms", "p99_ms", ">2ms",
-                ">5ms", "overrun", "steps", "frame50", "fifo", "verdict");
+    std::printf("%9s %4s %6s %7s %9s %9s %8s %8s %8s %6s %7s %6s %s\n", "display", "jnl", "cpu", "ticks", "worst_ms",
+                "p99_ms", ">2ms", ">5ms", "overrun", "steps", "frame50", "fifo", "verdict");
     nlohmann::json rows = nlohmann::json::array();
-    for (const bool journal : o.journal_off ? std::vector<bool>{true, false} : std::vector<bool>{true}) {
-        const StallRow r = run_one(o, scene, display, journal, dir / (journal ? "journal" : "no_journal"));
+    struct Variant {
+        bool journal, shared_cpu;
+        const char* dir;
+    };
+    std::vector<Variant> variants{{true, false, "journal"}};
+    if (o.journal_off) variants.push_back({false, false, "no_journal"});
+    if (o.shared_cpu) variants.push_back({true, true, "shared_cpu"});
+    for (const Variant& v : variants) {
+        const StallRow r = run_one(o, scene, display, v.journal, v.shared_cpu, dir / v.dir);
         const bool met = r.worst_ms <= kTargetWorstMs && r.over_5ms == 0;
-        std::printf("%9s %4s %7zu %9.2f %9.3f %8zu %8zu %8zu %6llu %7.1f %6s %s\n", r.display.c_str(), r.journal.c_str(),
-                    r.ticks, r.worst_ms, r.p99_ms, r.over_2ms, r.over_5ms, r.overruns,
+        std::printf("%9s %4s %6s %7zu %9.2f %9.3f %8zu %8zu %8zu %6llu %7.1f %6s %s\n", r.display.c_str(),
+                    r.journal.c_str(), r.cpu.c_str(), r.ticks, r.worst_ms, r.p99_ms, r.over_2ms, r.over_5ms, r.overruns,
                     static_cast<unsigned long long>(r.steps), r.frame_p50_ms, r.fifo ? "yes" : "no",
                     met ? "target met" : "over target");
+        if (!v.shared_cpu && r.fifo && r.reserved_cpu < 0)
+            std::printf("  no CPU was set aside for the loop (fewer than 2 CPUs allowed)\n");
         if (!r.refused.empty()) std::printf("  SCHED_FIFO refused: %s\n", r.refused.c_str());
         std::fflush(stdout);
-        rows.push_back({{"display", r.display}, {"journal", journal}, {"seconds", o.seconds}, {"ticks", r.ticks},
-                        {"worst_period_ms", r.worst_ms}, {"period_p99_ms", r.p99_ms}, {"periods_over_2ms", r.over_2ms},
-                        {"periods_over_5ms", r.over_5ms}, {"overruns", r.overruns}, {"sculpt_steps", r.steps},
-                        {"frame_p50_ms", r.frame_p50_ms}, {"realtime_scheduling", r.fifo},
-                        {"memory_locked", r.locked}, {"realtime_refused", r.refused},
-                        {"target_worst_ms", kTargetWorstMs}, {"target_met", met}});
+        rows.push_back(
+            {{"display", r.display},
+             {"journal", v.journal},
+             {"haptic_cpu", r.cpu},
+             {"reserved_cpu", r.reserved_cpu >= 0 ? nlohmann::json(r.reserved_cpu) : nlohmann::json(nullptr)},
+             {"seconds", o.seconds},
+             {"ticks", r.ticks},
+             {"worst_period_ms", r.worst_ms},
+             {"period_p99_ms", r.p99_ms},
+             {"periods_over_2ms", r.over_2ms},
+             {"periods_over_5ms", r.over_5ms},
+             {"overruns", r.overruns},
+             {"sculpt_steps", r.steps},
+             {"frame_p50_ms", r.frame_p50_ms},
+             {"realtime_scheduling", r.fifo},
+             {"memory_locked", r.locked},
+             {"realtime_refused", r.refused},
+             {"target_worst_ms", kTargetWorstMs},
+             {"target_met", met}});
     }
     write_json_file((fs::path(c.out) / "stalls_bench.json").string(), rows);
 }
@@ -144,6 +174,9 @@ BenchRun setup_stalls(CLI::App& bench) {
                      "With --stalls: window or offscreen (default: window when DISPLAY is set, e.g. under Xvfb)");
     bench.add_flag("--stalls-journal-off", o->journal_off,
                    "With --stalls: also run the session without its journal, for comparison");
+    bench.add_flag("--stalls-shared-cpu", o->shared_cpu,
+                   "With --stalls: also run with the loop's CPU shared with the drawing thread (--shared-haptic-cpu), "
+                   "the baseline");
     bench.add_flag("--stalls-gpu", o->gpu, "With --stalls: sculpt on the GPU compute path (--gpu)");
     return [o](const BenchCommon& c) { run_stalls(*o, c); };
 }

@@ -12,6 +12,7 @@
 #include <limits>
 #include <string>
 
+#include "core/cpu_reservation.hpp"
 #include "core/error.hpp"
 #include "core/thread_name.hpp"
 #include "haptics/force_clamp.hpp"
@@ -175,6 +176,7 @@ void HapticLoop::begin_session() {
     locked_ = false;
     realtime_errno_ = 0;
     lock_errno_ = 0;
+    reserved_cpu_ = -1;
     over_2ms_ = 0;
     over_5ms_ = 0;
     energy_ = 0.0;
@@ -228,6 +230,7 @@ LoopStats HapticLoop::stats() const {
     s.memory_locked = locked_.load(std::memory_order_relaxed);
     s.realtime_errno = realtime_errno_.load(std::memory_order_relaxed);
     s.memory_lock_errno = lock_errno_.load(std::memory_order_relaxed);
+    s.reserved_cpu = reserved_cpu_.load(std::memory_order_relaxed);
     s.periods_over_2ms = over_2ms_.load(std::memory_order_relaxed);
     s.periods_over_5ms = over_5ms_.load(std::memory_order_relaxed);
     s.velocity_limit_ticks = speed_cuts_.load(std::memory_order_relaxed);
@@ -484,6 +487,7 @@ void HapticLoop::run() noexcept {
         locked_.store(rt.memory_locked, std::memory_order_relaxed);
         realtime_errno_.store(rt.fifo_errno, std::memory_order_relaxed);
         lock_errno_.store(rt.lock_errno, std::memory_order_relaxed);
+        if (rt.fifo && cfg_.reserve_cpu) reserved_cpu_.store(reserve_cpu_for_this_thread(), std::memory_order_relaxed);
     }
     prefault_stack();  // the ticks' stack pages resident (and locked) before the first deadline
     const std::int64_t period_ns = std::llround(cfg_.period_s * 1e9);
@@ -508,6 +512,7 @@ void HapticLoop::run() noexcept {
         device_lost_.store(true, std::memory_order_relaxed);
     }
     device_.disable();  // zero force, and none until the next start()
+    release_reserved_cpu();
     running_.store(false, std::memory_order_release);
 }
 

@@ -69,6 +69,9 @@ struct HapticLoopConfig {
     bool request_realtime = true;  ///< ask for SCHED_FIFO (and mlockall) for the loop thread; refusals are reported, not fatal
     int realtime_priority = 80;    ///< SCHED_FIFO priority asked for (clamped to the system's range)
     bool lock_memory = true;       ///< with request_realtime: mlockall(MCL_CURRENT | MCL_ONFAULT) (see request_realtime())
+    /// Once SCHED_FIFO is granted: set a CPU aside for the loop thread (core/cpu_reservation.hpp), so that the
+    /// threads kept off it (the presenting thread) cannot delay its start with a long system call.
+    bool reserve_cpu = true;
     /// Contact points on the tool (tool frame). count 0 (default) = one point at the tool centre with
     /// radius contact.tool_radius_m, i.e. the single god-object. Singapogu ch. 3: P_i = R*T_i + P_w.
     ToolPoints tool_points{};
@@ -144,6 +147,7 @@ struct LoopStats {
     bool memory_locked = false;       ///< mlockall succeeded for the loop
     int realtime_errno = 0;           ///< why SCHED_FIFO was refused (RealtimeStatus::fifo_errno: EPERM, ...); 0 = granted or not asked
     int memory_lock_errno = 0;        ///< why mlockall was refused (RealtimeStatus::lock_errno); 0 = locked or not asked
+    int reserved_cpu = -1;  ///< the CPU set aside for the loop thread (HapticLoopConfig::reserve_cpu); -1 = none
     std::size_t periods_over_2ms = 0; ///< tick periods longer than 2 ms (stalls a hand feels as a step in the force)
     std::size_t periods_over_5ms = 0; ///< tick periods longer than 5 ms
     std::size_t velocity_limit_ticks = 0;  ///< ticks whose output was cut by the velocity limit
@@ -327,7 +331,7 @@ private:
     std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
-    std::atomic<int> realtime_errno_{0}, lock_errno_{0};
+    std::atomic<int> realtime_errno_{0}, lock_errno_{0}, reserved_cpu_{-1};
     std::atomic<std::size_t> over_2ms_{0}, over_5ms_{0};
     std::atomic<double> energy_{0.0};
     std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte

@@ -110,6 +110,9 @@ void add_run_options(CLI::App& run, RunOptions& o) {
         ->capture_default_str();
     cmd->add_option("--history-mib", o.history_mib, "Memory for undo, MiB (default 256; oldest strokes dropped first)");
     cmd->add_flag("--keep-islands", o.keep_islands, kKeepIslandsHelp);
+    cmd->add_flag("--shared-haptic-cpu", o.shared_haptic_cpu,
+                  "Let the haptic loop share its CPU with the drawing thread (default: once the loop runs at "
+                  "real-time priority, one CPU is set aside for it)");
     cmd->add_option("--cluster", o.cluster,
                     "Cluster config (JSON): run under mpirun, rank 0 runs the session and the other ranks draw the "
                     "wall's viewports (docs/wall.md)");

@@ -171,6 +171,7 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
                                                  : haptics::MultiPointMode::kIndependentProxies;
     cfg.elastic_objects = s.elastic_objects;
+    cfg.reserve_cpu = s.reserve_haptic_cpu;
     return cfg;
 }
 

@@ -100,6 +100,10 @@ struct SessionSpec {
     /// (compute::find_islands), as part of the stroke (undone with it). It changes the model, so a recording and a
     /// journal carry it; those made before it existed read as true (their sessions kept every piece).
     bool keep_islands = false;
+    /// Set a CPU aside for the haptic loop's thread once SCHED_FIFO is granted (haptics::HapticLoopConfig::
+    /// reserve_cpu); false (--shared-haptic-cpu) lets it share its CPU with the drawing thread. Not part of the
+    /// model: recordings and journals do not carry it.
+    bool reserve_haptic_cpu = true;
     /// The most push or smooth sweeps the sculpt thread applies as one group (compute::apply_clay_batch's
     /// group_sweeps, 1..compute::kClayGroupSweepsMax). The grouping decides the model, so a recording and a journal
     /// carry it; those made before it existed read as 16 (the size their sessions grouped by).

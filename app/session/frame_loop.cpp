@@ -4,10 +4,15 @@
 #include <chrono>
 #include <thread>
 
+#include "core/cpu_reservation.hpp"
+
 namespace tridex::app {
 
 std::uint64_t run_frames(FrameSteps& steps, const FramePacing& pacing) {
     using Clock = std::chrono::steady_clock;
+    // The thread that draws presents too: a software present writes the whole frame to the display server in
+    // one system call, which would delay the haptic loop's start on its CPU (core/cpu_reservation.hpp).
+    const KeepOffReservedCpu off_the_haptic_cpu;
     const Clock::time_point t0 = Clock::now();
     for (std::uint64_t frame = 0;; ++frame) {
         if (!steps.take_input()) return frame;

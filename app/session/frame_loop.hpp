@@ -50,8 +50,9 @@ struct FramePacing {
 
 /// Drives `steps` frame by frame on the calling thread (a window's events and GLFW need the main thread) until
 /// take_input() returns false or the frame last_frame() named has been drawn. Frame f starts at f * period_s after
-/// the first when pacing sleeps (late frames are not made up: the next starts at once). Returns the frames drawn.
-/// Exceptions from the steps propagate.
+/// the first when pacing sleeps (late frames are not made up: the next starts at once). While it runs, the calling
+/// thread stays off the CPU a real-time haptic loop holds (KeepOffReservedCpu, core/cpu_reservation.hpp). Returns the
+/// frames drawn. Exceptions from the steps propagate.
 std::uint64_t run_frames(FrameSteps& steps, const FramePacing& pacing);
 
 }  // namespace tridex::app

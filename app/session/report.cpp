@@ -147,6 +147,7 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"memory_locked", loop.memory_locked},
             {"realtime_refused", refusal(loop.realtime_errno)},
             {"memory_lock_refused", refusal(loop.memory_lock_errno)},
+            {"reserved_cpu", loop.reserved_cpu >= 0 ? nlohmann::json(loop.reserved_cpu) : nlohmann::json(nullptr)},
             {"periods_over_2ms", loop.periods_over_2ms},
             {"periods_over_5ms", loop.periods_over_5ms},
             {"kernel_preemption", haptics::kernel_preemption()},

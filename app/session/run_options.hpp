@@ -102,6 +102,9 @@ struct RunOptions {
     std::optional<double> history_mib;
     /// --keep-islands: keep the specks a cut leaves floating (SessionSpec::keep_islands; default: removed).
     bool keep_islands = false;
+    /// --shared-haptic-cpu: the haptic loop's thread shares its CPU with the drawing thread
+    /// (SessionSpec::reserve_haptic_cpu false; default: a CPU set aside once SCHED_FIFO is granted).
+    bool shared_haptic_cpu = false;
     /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
     /// Falcon has none running); "" = the scene's device.firmware.
     std::string falcon_firmware;

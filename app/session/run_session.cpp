@@ -102,6 +102,7 @@ RunSetup resolve_run(const RunOptions& o) {
         s.scene.spec.history_budget_bytes = static_cast<std::size_t>(*o.history_mib * 1048576.0);
     }
     if (o.keep_islands) s.scene.spec.keep_islands = true;
+    if (o.shared_haptic_cpu) s.scene.spec.reserve_haptic_cpu = false;
     if (!o.falcon_firmware.empty()) s.scene.spec.device_firmware = o.falcon_firmware;
     if (!o.display_config.empty()) s.scene.display = renderer::load_display_config(o.display_config);
     if (!o.stereo.empty()) {

@@ -135,7 +135,9 @@ TEST(ReportSchema, DemoReplayAndRunWriteTheSameKeys) {
         EXPECT_TRUE(h["memory_lock_refused"].is_null() || h["memory_lock_refused"].is_string());
         if (!h["realtime_refused"].is_null()) {
             EXPECT_FALSE(h["realtime_scheduling"].get<bool>()) << h;
+            EXPECT_TRUE(h["reserved_cpu"].is_null()) << "a CPU set aside for an ordinary thread: " << h;
         }
+        EXPECT_TRUE(h["reserved_cpu"].is_null() || h["reserved_cpu"].get<int>() >= 0) << h["reserved_cpu"];
         EXPECT_FALSE(h["kernel_preemption"].get<std::string>().empty());
         EXPECT_GE(h["period_us"]["max"].get<double>(), h["period_us"]["p99"].get<double>());
     }
