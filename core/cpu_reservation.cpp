@@ -15,14 +15,20 @@ namespace tridex {
 
 namespace {
 
-/// The process-wide state: who holds the reservation, and the threads kept off it with the CPUs they had.
+/// A thread kept off the reserved CPU: the CPUs it may run on when nothing is reserved, and whether it runs off the
+/// reserved one now.
+struct KeptOff {
+    cpu_set_t had{};
+    bool moved = false;
+};
+
+/// The process-wide state: who holds the reservation, and the threads kept off it.
 struct Reservation {
     std::mutex mutex;
     int cpu = -1;
     int owner = 0;
     cpu_set_t owner_had{};
-    std::map<int, cpu_set_t> kept_off;  ///< thread id -> the CPUs it may run on when nothing is reserved
-    std::map<int, bool> moved;          ///< thread id -> now kept off the reserved CPU
+    std::map<int, KeptOff> kept_off;  ///< by thread id
 };
 
 Reservation& state() {
@@ -64,7 +70,7 @@ int reserve_cpu_for_this_thread() {
     r.cpu = cpu;
     r.owner = this_tid();
     r.owner_had = had;
-    for (const auto& [tid, kept_had] : r.kept_off) r.moved[tid] = move_off(tid, kept_had, cpu);
+    for (auto& [tid, k] : r.kept_off) k.moved = move_off(tid, k.had, cpu);
     return cpu;
 }
 
@@ -73,9 +79,10 @@ void release_reserved_cpu() {
     const std::lock_guard<std::mutex> lock(r.mutex);
     if (r.cpu < 0 || r.owner != this_tid()) return;
     sched_setaffinity(0, sizeof r.owner_had, &r.owner_had);
-    for (const auto& [tid, kept_had] : r.kept_off)
-        if (r.moved[tid]) sched_setaffinity(tid, sizeof kept_had, &kept_had);
-    for (auto& [tid, moved] : r.moved) moved = false;
+    for (auto& [tid, k] : r.kept_off) {
+        if (k.moved) sched_setaffinity(tid, sizeof k.had, &k.had);
+        k.moved = false;
+    }
     r.cpu = -1;
     r.owner = 0;
 }
@@ -95,8 +102,7 @@ KeepOffReservedCpu::KeepOffReservedCpu() : tid_(this_tid()) {
         tid_ = 0;
         return;
     }
-    r.kept_off[tid_] = had;
-    r.moved[tid_] = r.cpu >= 0 && move_off(tid_, had, r.cpu);
+    r.kept_off[tid_] = KeptOff{had, r.cpu >= 0 && move_off(tid_, had, r.cpu)};
 }
 
 KeepOffReservedCpu::~KeepOffReservedCpu() {
@@ -105,17 +111,16 @@ KeepOffReservedCpu::~KeepOffReservedCpu() {
     const std::lock_guard<std::mutex> lock(r.mutex);
     const auto it = r.kept_off.find(tid_);
     if (it == r.kept_off.end()) return;
-    if (r.moved[tid_]) sched_setaffinity(tid_, sizeof it->second, &it->second);
+    if (it->second.moved) sched_setaffinity(tid_, sizeof it->second.had, &it->second.had);
     r.kept_off.erase(it);
-    r.moved.erase(tid_);
 }
 
 bool KeepOffReservedCpu::moved() const {
     if (tid_ == 0) return false;
     Reservation& r = state();
     const std::lock_guard<std::mutex> lock(r.mutex);
-    const auto it = r.moved.find(tid_);
-    return it != r.moved.end() && it->second;
+    const auto it = r.kept_off.find(tid_);
+    return it != r.kept_off.end() && it->second.moved;
 }
 
 #else
