@@ -28,6 +28,11 @@ public:
         write_ = prev & kIndex;
     }
 
+    /// Writer side: true while the newest published snapshot has not been taken by latest() (the next publish()
+    /// would replace it unseen). The reader may take it at any moment, so true may be out of date at once; false
+    /// stays false until the next publish().
+    bool unread() const { return (middle_.load(std::memory_order_acquire) & kFresh) != 0; }
+
     /// Reader side: the newest published snapshot (or the value-initialised T before any publish).
     /// The reference stays valid and unchanged until the next latest() call on this thread.
     const T& latest() {

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
+#include "gpu/device_clock.hpp"
 #include "gpu/driver_threads.hpp"
 
 namespace tridex::gpu {
@@ -294,11 +295,12 @@ void create_device(Context::Impl& impl) {
     info.pNext = &use;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queue;
-    const char* swapchain_ext = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
-    if (impl.presentation) {
-        info.enabledExtensionCount = 1;
-        info.ppEnabledExtensionNames = &swapchain_ext;
-    }
+    std::vector<const char*> extensions;
+    if (impl.presentation) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    f.calibrated_timestamps = f.timestamps && can_calibrate_timestamps(impl.instance, impl.physical);
+    if (f.calibrated_timestamps) extensions.push_back(VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME);
+    info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+    info.ppEnabledExtensionNames = extensions.empty() ? nullptr : extensions.data();
     check(vkCreateDevice(impl.physical, &info, nullptr, &impl.device), "vkCreateDevice");
     vkGetDeviceQueue(impl.device, impl.family, 0, &impl.queue);
 

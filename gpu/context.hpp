@@ -43,6 +43,9 @@ struct DeviceFeatures {
     bool shader_float64 = false;        ///< 64-bit floats in shaders
     bool fragment_stores_and_atomics = false;  ///< storage writes/atomics in fragment shaders
     bool timestamps = false;            ///< timestamp queries on graphics and compute queues
+    /// VK_EXT_calibrated_timestamps against CLOCK_MONOTONIC: timestamps convert to the host's steady clock
+    /// (gpu/device_clock.hpp)
+    bool calibrated_timestamps = false;
     bool multi_draw_indirect = false;   ///< vkCmdDrawIndexedIndirect with drawCount > 1
     bool draw_indirect_first_instance = false;  ///< indirect commands with firstInstance != 0
     bool storage_buffer_array_dynamic_indexing = false;  ///< shaders index arrays of storage buffers at run time

@@ -287,8 +287,23 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
     r.frame_ms.add(prev_frame_ms);
     if (budget) budget->add(prev_frame_ms, view.occlusion_strength > 0.0);
     r.gpu_ms.add(rend->last_gpu_ms());
-    for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
+    take_finished_frames();
     r.frames = frame + 1;
+}
+
+void RunPipeline::Parts::take_finished_frames() {
+    for (const renderer::FrameStats& fs : rend->take_finished_frames()) {
+        r.render.add(fs);
+        while (!changes_in_flight.empty() && changes_in_flight.front().frame <= fs.frame) {
+            const ChangeDrawn c = changes_in_flight.front();
+            changes_in_flight.pop_front();
+            if (c.frame != fs.frame) continue;  // its statistics never came back: not counted
+            const bool gpu_clock = std::isfinite(fs.gpu_end_s) && fs.gpu_end_s >= c.submitted_s;
+            r.sample_to_drawn_ms.add(1e3 * ((gpu_clock ? fs.gpu_end_s : c.submitted_s) - c.sample_s));
+            r.sample_to_submitted_ms.add(1e3 * (c.submitted_s - c.sample_s));
+            ++(gpu_clock ? r.drawn_on_gpu_clock : r.drawn_on_submit_clock);
+        }
+    }
 }
 
 // One frame: the newest mesh (or the GPU contour, locked until the frame is drawn), the mouse stylus's pick surface,
@@ -300,7 +315,11 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     if (mesh.version != r.last_mesh_version) {
         ++r.mesh_versions_drawn;
         r.last_mesh_version = mesh.version;
-        sample_s = mesh.oldest_sample_s;
+        // Counted from the first frame (a change made earlier could not have been drawn sooner) and from a scripted
+        // stroke's start (a scene that delays its stroke measures the stroke, not the hand waiting at its start).
+        const double from_t_s = scene.has_stroke ? scene.stroke.start_s : 0.0;
+        if (mesh.oldest_sample_s >= r.first_frame_s && mesh.oldest_sample_t_s >= from_t_s)
+            sample_s = mesh.oldest_sample_s;
         if (std::isfinite(sample_s)) r.sample_to_published_ms.add(1e3 * (mesh.published_s - sample_s));
     }
     // The mouse stylus picks on the CPU: with the GPU contour and no tiles published (levels of detail off) it is read back
@@ -333,8 +352,8 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     renderer::SceneView view = frame_view(mesh, lv, saving);
     present(frame, frame_aim, lv, view, contour_lock);
     if (std::isfinite(sample_s))
-        r.sample_to_drawn_ms.add(1e3 *
-                                 (std::chrono::duration<double>(Clock::now().time_since_epoch()).count() - sample_s));
+        changes_in_flight.push_back(ChangeDrawn{
+            rend->frames_rendered(), sample_s, std::chrono::duration<double>(Clock::now().time_since_epoch()).count()});
 }
 
 // 4. The session's frames, on this thread, through the one frame loop (run_frames) at the display's rate (offscreen:
@@ -356,7 +375,7 @@ void RunPipeline::Parts::frame_loop() {
     if (dtrack) dtrack->set_session_origin(t_render);
     run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
     rend->finish();  // the frames still in flight
-    for (const renderer::FrameStats& fs : rend->take_finished_frames()) r.render.add(fs);
+    take_finished_frames();
     r.frame_budget = budget->to_json();
 }
 

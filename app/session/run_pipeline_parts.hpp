@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -127,6 +128,14 @@ struct RunPipeline::Parts final : FrameSteps {
     Clock::time_point budget_sculpted_at{};        // when a frame last drew a mesh with more sculpt steps
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
+    // Frames that first drew a sculpted change and have not finished on the device: the renderer's frame number,
+    // the change's oldest tool sample and when the frame was submitted (steady clock, s).
+    struct ChangeDrawn {
+        std::uint64_t frame = 0;
+        double sample_s = 0.0;
+        double submitted_s = 0.0;
+    };
+    std::deque<ChangeDrawn> changes_in_flight;
     TileView tiles;  // this frame's view of the published tiles and their levels of detail
     GpuTileSplit gpu_split;  // GPU contour with levels: the read-back tiles this frame draws instead of the buffers
     std::string ended = "the window was closed";
@@ -181,6 +190,9 @@ struct RunPipeline::Parts final : FrameSteps {
         Clock::time_point t0;
     };
     FrameAim aim(const MeshFrame& mesh);
+    /// Takes the renderer's finished frames into the report, and the sample-to-drawn time of those that first drew
+    /// a sculpted change (at the device's end of the frame when its timestamps are calibrated, else at its submit).
+    void take_finished_frames();
     void present(std::uint64_t frame, const FrameAim& aim, const haptics::LoopView& lv, renderer::SceneView& view,
                  std::unique_lock<std::mutex>& contour_lock);
     void collect();

@@ -17,6 +17,13 @@ namespace {
 
 using nlohmann::json;
 
+// What meshes.sample_to_drawn_ms was timed at: the device's end of the frame ("gpu"), the frame's submit ("submit":
+// no calibrated timestamps), both ("mixed"), or null when no frame drew a sculpted change.
+json drawn_clock(const RunResult& r) {
+    if (r.drawn_on_gpu_clock + r.drawn_on_submit_clock == 0) return nullptr;
+    return r.drawn_on_submit_clock == 0 ? "gpu" : r.drawn_on_gpu_clock == 0 ? "submit" : "mixed";
+}
+
 double rate_hz(double count, double seconds) { return seconds > 0.0 ? count / seconds : 0.0; }
 
 // render.lod: whether levels were on, what the worker built and when, and the triangles drawn.
@@ -192,6 +199,8 @@ json run_report_json(const RunResult& r) {
           {"published", r.sculpt.mesh_publishes},
           {"publish_ms", summary_report_json(r.sculpt.mesh_publish_ms)},
           {"sample_to_drawn_ms", summary_report_json(r.sample_to_drawn_ms)},
+          {"sample_to_submitted_ms", summary_report_json(r.sample_to_submitted_ms)},
+          {"drawn_clock", drawn_clock(r)},
           {"sample_to_published_ms", summary_report_json(r.sample_to_published_ms)},
           {"triangles", r.triangles}}},
         {"mouse", r.mouse},

@@ -160,8 +160,11 @@ struct MeshFrame {
     double published_s = 0.0;    ///< steady-clock time of the publish, s (same epoch as std::chrono::steady_clock)
     /// The oldest ToolSample::made_s among the cutting samples of the steps that changed the model since the previous
     /// publish (steady-clock s): a renderer that draws this frame shows that sample's effect, so draw time minus this
-    /// is the frame's worst tool-sample-to-drawn latency. NaN when no such step (or no sample time) came.
+    /// is the frame's worst tool-sample-to-drawn latency. A version replaced before the renderer took it passes its
+    /// oldest sample on to the next publish. NaN when no such step (or no sample time) came.
     double oldest_sample_s = std::numeric_limits<double>::quiet_NaN();
+    /// The same sample's device time (ToolSample::t_s), s; NaN with oldest_sample_s.
+    double oldest_sample_t_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Strokes and undo: the samples' sweeps are applied stroke by stroke through a SculptHistory. A stroke closes at a
@@ -282,9 +285,10 @@ public:
 
     /// Hands the contoured mesh to a renderer through `out` (lock-free latest-value hand-off; the
     /// renderer is its one reader and takes the newest MeshFrame without waiting). Publishes the current
-    /// mesh at once (on the calling thread), then, on the sculpt thread, after re-contouring, at most once
-    /// per min_interval_s of wall time (s, >= 0; a change inside the interval is published when it
-    /// passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
+    /// mesh at once (on the calling thread), then, on the sculpt thread, after re-contouring: a sculpted change
+    /// at once when the renderer has taken the last publish (TripleBuffer::unread), else, and for levels of
+    /// detail alone, at most once per min_interval_s of wall time (s, >= 0; a change inside the interval is
+    /// published when it passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
     /// the active surface is still published before contouring. `out` must outlive the thread. Call
     /// before start(). `form` chooses the whole mesh or per-tile meshes (MeshFrame). Throws tridex::Error
     /// when the thread runs or min_interval_s is not finite and >= 0.
@@ -379,7 +383,11 @@ private:
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;
-    double pending_sample_s_ = std::numeric_limits<double>::infinity();  // MeshFrame::oldest_sample_s of the next publish
+    // MeshFrame::oldest_sample_s and oldest_sample_t_s of the next publish and of the last one (infinity: none).
+    double pending_sample_s_ = std::numeric_limits<double>::infinity();
+    double pending_sample_t_s_ = std::numeric_limits<double>::infinity();
+    double last_oldest_sample_s_ = std::numeric_limits<double>::infinity();
+    double last_oldest_sample_t_s_ = std::numeric_limits<double>::infinity();
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "gpu/check.hpp"
+#include "gpu/device_clock.hpp"
 
 namespace tridex::renderer {
 
@@ -58,6 +59,7 @@ bool FrameTimer::read(const gpu::Context& context, FrameStats& stats) const {
     std::snprintf(note, sizeof note, "GPU timestamps (%.3g ns per tick)", period_ns_);
     stats.timing_note = note;
     stats.frame_ms = ms(0, 1);
+    stats.gpu_end_s = gpu::device_ticks_to_steady_s(context, t[1] & mask_, mask_).value_or(stats.gpu_end_s);
     stats.passes.clear();
     for (std::uint32_t p = 0; p < passes_; ++p)
         for (int k = 0; k < kTimedPhaseCount; ++k)

@@ -35,7 +35,7 @@ public:
     void record_end(VkCommandBuffer cmd) const;
     /// After the frame's submission completed: sets stats.timing = kGpuTimestamps, timing_note, frame_ms and
     /// one PassTime per timed part and render pass instance ("opaque", "occlusion", "translucent", "overlay"; eye = pass for
-    /// pass-per-eye, -1 otherwise). Returns false (stats untouched) when the results are not available.
+    /// pass-per-eye, -1 otherwise), and stats.gpu_end_s when the device's timestamps are calibrated. Returns false (stats untouched) when the results are not available.
     bool read(const gpu::Context& context, FrameStats& stats) const;
 
 private:

@@ -515,6 +515,7 @@ FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slo
     last_read_back = false;
     if (fr.gpu_timing) fr.timer.record_end(cmd);
     fr.submitted = std::chrono::steady_clock::now();
+    stats.frame = frames + 1;
     fr.stats = stats;
     fr.timed = false;
     fr.eye_count = eye_count;

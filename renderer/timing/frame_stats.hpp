@@ -3,6 +3,8 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +47,11 @@ struct FrameStats {
     std::string timing_note;               ///< one line: the timing source, and why when it is the CPU clock
     std::vector<PassTime> passes;          ///< GPU: every phase of every render pass instance; CPU: one "frame"
     double frame_ms = -1.0;                ///< whole frame incl. readback copy (GPU), or submit + wait (CPU)
+    /// The renderer's count of frames drawn when this one was submitted (1 for the first frame).
+    std::uint64_t frame = 0;
+    /// When the device finished this frame, s on std::chrono::steady_clock's epoch (its bottom-of-pipe timestamp,
+    /// calibrated to the host: gpu/device_clock.hpp); NaN without calibrated timestamps or before it finished.
+    double gpu_end_s = std::numeric_limits<double>::quiet_NaN();
 
     /// Sum of `pass`'s times over the eyes/passes, ms; -1 when no entry has that name.
     double pass_ms(std::string_view pass) const {

@@ -41,6 +41,80 @@ void push_groove(SpscRing<ToolSample>& ring) {
     }
 }
 
+// Samples [first, first + n) of a groove across the +z face, each made (ToolSample::made_s) at 100 s + its index ms.
+void push_cut(SpscRing<ToolSample>& ring, int first, int n) {
+    for (int i = first; i < first + n; ++i) {
+        ToolSample s;
+        s.t_s = i * 1e-3;
+        s.made_s = 100.0 + i * 1e-3;
+        s.position = Vec3(-0.06 + 0.12 * i / 199.0, 0.0, 0.048);
+        s.tool.radius_m = 0.008;
+        s.op = ToolOp::kSubtract;
+        ASSERT_TRUE(ring.try_push(s));
+    }
+}
+
+// Waits until the thread has run two more passes (a step that drained what was pushed, then one more).
+void wait_passes(const SculptThread& t) {
+    const std::uint64_t from = t.passes();
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (t.passes() < from + 2 && std::chrono::steady_clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_GE(t.passes(), from + 2);
+}
+
+TEST(RunHandoff, AVersionNeverTakenPassesItsOldestSampleOn) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    t.publish_mesh_to(meshes, 0.0);  // every changing step publishes; nothing reads until the end
+    t.start();
+    for (int chunk = 0; chunk < 4; ++chunk) {
+        push_cut(ring, chunk * 50, 50);
+        wait_passes(t);
+    }
+    t.stop();
+    ASSERT_GE(t.stats().steps, 2u);  // several versions were replaced unread
+    const MeshFrame& last = meshes.latest();
+    // Every version but the last was replaced unread: the last carries the groove's first sample.
+    EXPECT_DOUBLE_EQ(last.oldest_sample_s, 100.0);
+    EXPECT_DOUBLE_EQ(last.oldest_sample_t_s, 0.0);
+}
+
+TEST(RunHandoff, ASculptedChangeSkipsTheIntervalOnceTheLastVersionWasTaken) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    contourer.update(m);
+    SpscRing<ToolSample> ring(1024);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    t.publish_mesh_to(meshes, 1000.0);       // an interval no test outlasts
+    EXPECT_EQ(meshes.latest().version, 1u);  // the renderer takes the hand-off
+    t.start();
+    push_cut(ring, 0, 60);
+    wait_passes(t);
+    const MeshFrame& second = meshes.latest();  // published at once: the renderer had taken version 1
+    EXPECT_EQ(second.version, 2u);
+    EXPECT_DOUBLE_EQ(second.oldest_sample_s, 100.0);
+    push_cut(ring, 60, 60);
+    wait_passes(t);  // version 3, at once again; not taken
+    push_cut(ring, 120, 80);
+    wait_passes(t);  // waits for the interval: version 3 was not taken
+    t.stop();        // the final state is published, with version 3's oldest sample
+    EXPECT_EQ(t.stats().mesh_publishes, 4u);
+    const MeshFrame& last = meshes.latest();
+    EXPECT_EQ(last.version, 4u);
+    // Version 2 was taken, so its samples are not carried; version 3's oldest, the second chunk's first sample, is
+    // (or one of the first chunk's, had the thread drained that chunk in two steps).
+    EXPECT_GT(last.oldest_sample_s, 100.0);
+    EXPECT_LE(last.oldest_sample_s, 100.0 + 60e-3 + 1e-9);
+}
+
 TEST(RunHandoff, PublishesNowThenTheFinalMesh) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);

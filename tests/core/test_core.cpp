@@ -104,6 +104,24 @@ TEST(TripleBuffer, ReaderSeesOnlyCompleteSnapshotsInOrder) {
     writer.join();
 }
 
+TEST(TripleBuffer, UnreadUntilTheReaderTakesTheNewest) {
+    TripleBuffer<int> tb;
+    EXPECT_FALSE(tb.unread());  // nothing published yet
+    tb.back() = 1;
+    tb.publish();
+    EXPECT_TRUE(tb.unread());
+    tb.back() = 2;
+    tb.publish();  // replaces 1 unseen
+    EXPECT_TRUE(tb.unread());
+    EXPECT_EQ(tb.latest(), 2);
+    EXPECT_FALSE(tb.unread());
+    EXPECT_EQ(tb.latest(), 2);  // reading again changes nothing
+    EXPECT_FALSE(tb.unread());
+    tb.back() = 3;
+    tb.publish();
+    EXPECT_TRUE(tb.unread());
+}
+
 TriMesh unit_cube() {
     TriMesh m;
     for (int i = 0; i < 8; ++i) m.positions.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));

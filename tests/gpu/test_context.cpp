@@ -1,9 +1,16 @@
 // Tests of gpu/context: device selection on lavapipe, features, and the validation message counter.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <thread>
+
 #include "core/error.hpp"
 #include "gpu/check.hpp"
 #include "gpu/context.hpp"
+#include "gpu/device_clock.hpp"
+#include "gpu/unique_handle.hpp"
 
 namespace tridex::gpu {
 namespace {
@@ -74,6 +81,54 @@ TEST(Check, NamesTheFailedCall) {
     } catch (const Error& e) {
         EXPECT_STREQ(e.what(), "Vulkan: vkAllocateMemory failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (-2)");
     }
+}
+
+// Two timestamps written on the device, one in each of two submissions: on the host's steady clock they fall
+// between the host times around their submissions, and keep the device's distance between them.
+TEST(DeviceClock, TimestampsLandOnTheHostSteadyClock) {
+    Context ctx = Context::create({});
+    // Mesa's lavapipe offers VK_EXT_calibrated_timestamps against CLOCK_MONOTONIC.
+    ASSERT_TRUE(ctx.features().calibrated_timestamps);
+    VkQueryPoolCreateInfo q{};
+    q.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+    q.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    q.queryCount = 2;
+    VkQueryPool raw = VK_NULL_HANDLE;
+    check(vkCreateQueryPool(ctx.device(), &q, nullptr, &raw), "vkCreateQueryPool");
+    const UniqueQueryPool pool(ctx.device(), raw);
+    const auto steady_s = [] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    };
+    double before[2], after[2];
+    for (std::uint32_t k = 0; k < 2; ++k) {
+        before[k] = steady_s();
+        ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+            if (k == 0) vkCmdResetQueryPool(cmd, pool.get(), 0, 2);
+            vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool.get(), k);
+        });
+        after[k] = steady_s();
+        if (k == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::uint64_t ticks[2] = {};
+    check(vkGetQueryPoolResults(ctx.device(), pool.get(), 0, 2, sizeof ticks, ticks, sizeof ticks[0],
+                                VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults");
+    const std::uint64_t mask = ~std::uint64_t{0};
+    double host[2];
+    for (int k = 0; k < 2; ++k) {
+        const std::optional<double> s = device_ticks_to_steady_s(ctx, ticks[k], mask);
+        ASSERT_TRUE(s.has_value()) << k;
+        host[k] = *s;
+        EXPECT_GE(host[k], before[k] - 1e-4) << k;  // 0.1 ms for the calibration's own deviation
+        EXPECT_LE(host[k], after[k] + 1e-4) << k;
+    }
+    const double device_gap_s =
+        static_cast<double>(ticks[1] - ticks[0]) * ctx.properties().limits.timestampPeriod * 1e-9;
+    EXPECT_NEAR(host[1] - host[0], device_gap_s, 1e-4);
+    EXPECT_GT(host[1] - host[0], 0.019);  // the 20 ms sleep between them
+    // No valid bits: nothing to convert.
+    EXPECT_FALSE(device_ticks_to_steady_s(ctx, ticks[0], 0).has_value());
+    EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // the one a fresh renderer draws of the same scene.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
 #include <vector>
 
 #include "core/primitives.hpp"
@@ -77,7 +79,15 @@ TEST(FramesInFlight, ReplacedBuffersOutliveTheirFramesAndTheLastFrameIsRight) {
         OffscreenStereoRenderer r = OffscreenStereoRenderer::create(ctx, kW, kH);
         constexpr int kFrames = 12;
         std::uint64_t uploads = 0;
-        for (int f = 0; f < kFrames; ++f) uploads += r.draw(s.frame(f), test::small_screen(), head, 0.064).tile_uploads;
+        std::vector<double> submitted_s;  // steady clock, s: when each frame's draw() returned
+        const auto steady_s = [] {
+            return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        };
+        const double start_s = steady_s();
+        for (int f = 0; f < kFrames; ++f) {
+            uploads += r.draw(s.frame(f), test::small_screen(), head, 0.064).tile_uploads;
+            submitted_s.push_back(steady_s());
+        }
         EXPECT_EQ(uploads, static_cast<std::uint64_t>(kTiles + (kFrames - 1) * kTiles / 2));
         const FrameStats last = r.finish();
         // Every frame's own statistics once, oldest first (the tile uploads add up as above).
@@ -86,6 +96,19 @@ TEST(FramesInFlight, ReplacedBuffersOutliveTheirFramesAndTheLastFrameIsRight) {
         std::uint64_t seen_uploads = 0;
         for (const FrameStats& fs : done) seen_uploads += fs.tile_uploads;
         EXPECT_EQ(seen_uploads, uploads);
+        // Numbered in order; with calibrated timestamps each ended on the device after the draw() before it was
+        // called, in order, and before finish() returned.
+        const double end_s = steady_s();
+        for (std::size_t k = 0; k < done.size(); ++k) {
+            EXPECT_EQ(done[k].frame, k + 1);
+            if (!ctx.features().calibrated_timestamps || !r.gpu_timestamps_available()) continue;
+            ASSERT_TRUE(std::isfinite(done[k].gpu_end_s)) << k;
+            EXPECT_GT(done[k].gpu_end_s, k == 0 ? start_s : submitted_s[k - 1]) << k;
+            EXPECT_LT(done[k].gpu_end_s, end_s) << k;
+            if (k > 0) {
+                EXPECT_GE(done[k].gpu_end_s, done[k - 1].gpu_end_s) << k;
+            }
+        }
         EXPECT_TRUE(r.take_finished_frames().empty());
         EXPECT_EQ(r.frames_rendered(), static_cast<std::uint64_t>(kFrames));
         if (r.gpu_timestamps_available()) {
