@@ -115,6 +115,7 @@ std::size_t TileSurfaceCache::collect_lods() {
             const std::size_t i = index_of(tiles_, r.id);
             if (i < tiles_.size() && pending_[i] && contour_versions_[i] == r.token) {
                 tiles_[i].lods = std::move(r.levels);
+                tiles_[i].mesh = std::move(r.mesh);  // the same triangles, in vertex-cache order
                 tiles_[i].lods_built = true;
                 tiles_[i].version = fresh_tile_version();
                 pending_[i] = false;

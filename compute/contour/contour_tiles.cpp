@@ -59,7 +59,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         s.version = version;
         s.source_version = version;
         s.mesh = contourer.tile_mesh(t, s.materials);
-        order_for_vertex_cache(s.mesh);
+        if (!worker_) order_for_vertex_cache(s.mesh);  // else the worker orders it with its levels (collect_lods)
         s.bounds_m = s.mesh.bounds();
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));

@@ -32,7 +32,9 @@ struct TileSurface {
     /// the levels arrive, this does not).
     std::uint64_t source_version = 0;
     Aabb bounds_m;              ///< box of mesh.positions, m
-    TriMesh mesh;               ///< the tile's triangles (compact vertex list)
+    /// The tile's triangles (compact vertex list), in vertex-cache order (order_for_vertex_cache) once its levels are
+    /// built by a background worker, or at once without one.
+    TriMesh mesh;
     /// Material id per mesh vertex (size = mesh.positions.size(); Contourer::mesh_materials' rule).
     std::vector<std::uint8_t> materials;
     /// Coarser levels of detail of mesh, finest first (build_tile_lod; empty unless the cache builds them).

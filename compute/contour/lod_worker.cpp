@@ -124,12 +124,14 @@ void LodWorker::run() {
             lower_priority(options_.nice);
             lowered = true;
         }
-        LodResult r{job.group, job.id, job.token, {}, 0.0};
+        LodResult r{job.group, job.id, job.token, {}, {}, 0.0};
         std::exception_ptr failed;
         const auto t0 = std::chrono::steady_clock::now();
         try {
             if (options_.before_job) options_.before_job(job);
+            if (!job.group) order_for_vertex_cache(job.mesh);  // off the sculpt thread, which publishes it unordered
             r.levels = build(job, options_.lod);
+            if (!job.group) r.mesh = std::move(job.mesh);
         } catch (...) {
             failed = std::current_exception();
         }

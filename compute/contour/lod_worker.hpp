@@ -32,7 +32,7 @@ struct LodJob {
     bool group = false;        ///< false: a tile (mesh, materials); true: a group (parts)
     std::uint64_t id = 0;      ///< the tile's or group's id (TileSurface::id, TileGroupSurface::id)
     std::uint64_t token = 0;   ///< the caller's mark of the input's state, handed back with the result
-    TriMesh mesh;              ///< tile: its full mesh
+    TriMesh mesh;              ///< tile: its full mesh (put in vertex-cache order before its levels are built)
     std::vector<std::uint8_t> materials;  ///< tile: per vertex, or empty
     std::vector<LodJobPart> parts;        ///< group: its pieces
 };
@@ -43,6 +43,9 @@ struct LodResult {
     std::uint64_t id = 0;
     std::uint64_t token = 0;           ///< LodJob::token
     std::vector<TileLodLevel> levels;  ///< finest first (empty: the mesh does not simplify)
+    /// Tile: the job's mesh with its triangles in vertex-cache order (order_for_vertex_cache; the same vertices and
+    /// triangles), the mesh the levels were built from. Empty for a group.
+    TriMesh mesh;
     double build_ms = 0.0;             ///< wall time of the build on its worker, ms
 };
 

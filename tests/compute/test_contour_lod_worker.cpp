@@ -187,6 +187,39 @@ TEST(TileLod, StrokeTilesWaitUntilTheySettle) {
     expect_settle_refused(&LodWorkerOptions::tile_settle_s);
 }
 
+// With a background worker a re-contoured tile is published in the contour's order (the sculpt thread does not
+// spend its time ordering it) and comes back in vertex-cache order with its levels: the same triangles, each with
+// its corners in order, and the mesh order_for_vertex_cache makes of the contour's.
+TEST(TileLod, TheWorkerPutsATilesMeshInVertexCacheOrder) {
+    LodWorkerOptions w;
+    w.tile_settle_s = 0.0;
+    w.group_settle_s = 10.0;
+    BackgroundBox box(w);
+    TileSurfaceCache& cache = box.cache;
+    ASSERT_TRUE(box.collect_until([&] { return all_tiles_built(cache); }));
+    ASSERT_GT(box.move(Vec3(0.0), Vec3(-0.3, 0.0, 0.0)), 0u);
+    std::size_t reordered = 0, checked = 0;
+    for (const TileSurface& t : cache.tiles()) {
+        if (t.lods_built) continue;  // unchanged by the step
+        std::vector<std::uint8_t> materials;
+        const TriMesh contour = box.contourer.tile_mesh(t.id, materials);
+        EXPECT_EQ(t.mesh.triangles, contour.triangles) << t.id;  // as contoured
+        ++checked;
+    }
+    ASSERT_GT(checked, 0u);
+    ASSERT_TRUE(box.collect_until([&] { return all_tiles_built(cache); }));
+    for (const TileSurface& t : cache.tiles()) {
+        std::vector<std::uint8_t> materials;
+        TriMesh ordered = box.contourer.tile_mesh(t.id, materials);
+        EXPECT_EQ(t.mesh.positions, ordered.positions) << t.id;
+        const bool was_ordered = ordered.triangles != t.mesh.triangles;
+        order_for_vertex_cache(ordered);
+        EXPECT_EQ(t.mesh.triangles, ordered.triangles) << t.id;
+        reordered += was_ordered ? 1 : 0;
+    }
+    EXPECT_GT(reordered, 0u);  // the order differs from the contour's somewhere, so the check above means something
+}
+
 // cancel() drops a waiting job (its result never arrives) and leaves a running one alone.
 TEST(TileLod, CancelDropsOnlyAWaitingJob) {
     std::atomic<bool> open{false};
