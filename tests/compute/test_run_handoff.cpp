@@ -29,6 +29,23 @@ compute::TriDexel box_model() {
     return m;
 }
 
+// A box model contoured, a sample ring, the two hand-offs and a sculpt thread over them (not started).
+struct Rig {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer{m};
+    double v0 = 0.0;  // the box's volume as contoured, m^3
+    SpscRing<ToolSample> ring;
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptThread t;
+    explicit Rig(std::size_t ring_size = 1024)
+        : v0(contoured(contourer, m)), ring(ring_size), t(m, contourer, ring, surface, Vec3(0.0)) {}
+    static double contoured(compute::Contourer& c, compute::TriDexel& model) {
+        c.update(model);
+        return signed_volume(c.mesh());
+    }
+};
+
 // 200 samples carving a straight groove across the +z face.
 void push_groove(SpscRing<ToolSample>& ring) {
     for (int i = 0; i < 200; ++i) {
@@ -64,13 +81,8 @@ void wait_passes(const SculptThread& t) {
 }
 
 TEST(RunHandoff, AVersionNeverTakenPassesItsOldestSampleOn) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     t.publish_mesh_to(meshes, 0.0);  // every changing step publishes; nothing reads until the end
     t.start();
     for (int chunk = 0; chunk < 4; ++chunk) {
@@ -86,13 +98,8 @@ TEST(RunHandoff, AVersionNeverTakenPassesItsOldestSampleOn) {
 }
 
 TEST(RunHandoff, ASculptedChangeSkipsTheIntervalOnceTheLastVersionWasTaken) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     t.publish_mesh_to(meshes, 1000.0);       // an interval no test outlasts
     EXPECT_EQ(meshes.latest().version, 1u);  // the renderer takes the hand-off
     t.start();
@@ -116,14 +123,8 @@ TEST(RunHandoff, ASculptedChangeSkipsTheIntervalOnceTheLastVersionWasTaken) {
 }
 
 TEST(RunHandoff, PublishesNowThenTheFinalMesh) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    const double v0 = signed_volume(contourer.mesh());
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     EXPECT_EQ(meshes.latest().version, 0u);
     t.publish_mesh_to(meshes, 1000.0);  // an interval no test outlasts: only the first and the final publish
     const MeshFrame& first = meshes.latest();
@@ -144,13 +145,8 @@ TEST(RunHandoff, PublishesNowThenTheFinalMesh) {
 }
 
 TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     t.publish_mesh_to(meshes, 0.0);
     push_groove(ring);
     t.start();
@@ -161,13 +157,8 @@ TEST(RunHandoff, ZeroIntervalPublishesAfterEveryChange) {
 }
 
 TEST(RunHandoff, TilesGetTheirLevelsFromTheWorker) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     compute::LodWorkerOptions worker;
     worker.lod.cell_m = m.lattice.cell_m;
     const compute::TileLodOptions& lod = worker.lod;
@@ -240,13 +231,8 @@ bool wait_for(const std::function<bool()>& done) {
 }
 
 TEST(RunHandoff, SculptedTilesGetLevelsWithoutAnyoneWaitingForThem) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(1024);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig;
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     // The worker is held at its first job until the groove is carved and published: the sculpt thread must not
     // wait for it.
     std::atomic<bool> open{false};
@@ -295,13 +281,8 @@ TEST(RunHandoff, SculptedTilesGetLevelsWithoutAnyoneWaitingForThem) {
 }
 
 TEST(RunHandoff, BadIntervalIsRefused) {
-    compute::TriDexel m = box_model();
-    compute::Contourer contourer(m);
-    contourer.update(m);
-    SpscRing<ToolSample> ring(16);
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<MeshFrame> meshes;
-    SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    Rig rig(16);
+    auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
     EXPECT_THROW(t.publish_mesh_to(meshes, -1.0), Error);
     EXPECT_THROW(t.publish_mesh_to(meshes, std::nan("")), Error);
     EXPECT_EQ(meshes.latest().version, 0u);
