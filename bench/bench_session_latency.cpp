@@ -74,8 +74,8 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
         "lod: when the start-up levels were all built, ms after the first frame; target <= %.0f ms)\n",
         kSettledStartS, kLodStartupTargetMs);
     std::printf(
-        "(lat: to the device's end of the frame that first drew the change; sub: to that frame's submit; pub: "
-        "to the mesh's publish)\n");
+        "(lat: to the frame that first drew the change done on the device and presented; sub: to that frame's "
+        "submit; pub: to the mesh's publish)\n");
     std::printf("%6s %9s %6s %6s %5s %7s %9s %9s %9s %9s %9s %9s %9s %9s %9s %8s %7s %s\n", "N", "op", "group", "start",
                 "path", "frames", "lat50", "lat99", "latmax", "sub50", "sub99", "pub50", "pub99", "step50", "step99",
                 "frame50", "lod", "verdict");

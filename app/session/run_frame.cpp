@@ -2,6 +2,7 @@
 // and drawing it through the stereo sink.
 #include "app/session/run_pipeline_parts.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -298,8 +299,11 @@ void RunPipeline::Parts::take_finished_frames() {
             const ChangeDrawn c = changes_in_flight.front();
             changes_in_flight.pop_front();
             if (c.frame != fs.frame) continue;  // its statistics never came back: not counted
-            const bool gpu_clock = std::isfinite(fs.gpu_end_s) && fs.gpu_end_s >= c.submitted_s;
-            r.sample_to_drawn_ms.add(1e3 * ((gpu_clock ? fs.gpu_end_s : c.submitted_s) - c.sample_s));
+            // Drawn when both the device has finished the frame and its present has returned (a window's present
+            // may return after the device finished: a software present hands the finished image to the display).
+            const bool gpu_clock = std::isfinite(fs.gpu_end_s);
+            const double drawn_s = gpu_clock ? std::max(fs.gpu_end_s, c.submitted_s) : c.submitted_s;
+            r.sample_to_drawn_ms.add(1e3 * (drawn_s - c.sample_s));
             r.sample_to_submitted_ms.add(1e3 * (c.submitted_s - c.sample_s));
             ++(gpu_clock ? r.drawn_on_gpu_clock : r.drawn_on_submit_clock);
         }

@@ -191,7 +191,8 @@ struct RunPipeline::Parts final : FrameSteps {
     };
     FrameAim aim(const MeshFrame& mesh);
     /// Takes the renderer's finished frames into the report, and the sample-to-drawn time of those that first drew
-    /// a sculpted change (at the device's end of the frame when its timestamps are calibrated, else at its submit).
+    /// a sculpted change (at the later of the device's end of the frame, when its timestamps are calibrated, and the
+    /// end of its submit and present).
     void take_finished_frames();
     void present(std::uint64_t frame, const FrameAim& aim, const haptics::LoopView& lv, renderer::SceneView& view,
                  std::unique_lock<std::mutex>& contour_lock);

@@ -17,8 +17,8 @@ namespace {
 
 using nlohmann::json;
 
-// What meshes.sample_to_drawn_ms was timed at: the device's end of the frame ("gpu"), the frame's submit ("submit":
-// no calibrated timestamps), both ("mixed"), or null when no frame drew a sculpted change.
+// What meshes.sample_to_drawn_ms read: the device's clock with the frame's present ("gpu"), the frame's submit and
+// present alone ("submit": no calibrated timestamps), both ("mixed"), or null when no frame drew a sculpted change.
 json drawn_clock(const RunResult& r) {
     if (r.drawn_on_gpu_clock + r.drawn_on_submit_clock == 0) return nullptr;
     return r.drawn_on_submit_clock == 0 ? "gpu" : r.drawn_on_gpu_clock == 0 ? "submit" : "mixed";

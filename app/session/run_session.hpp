@@ -99,15 +99,16 @@ struct RunResult {
     std::uint64_t mesh_versions_drawn = 0;       ///< distinct MeshFrame versions the renderer drew
     std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
     /// Per new mesh version drawn that carried a sculpted change: from its oldest changing tool sample being made
-    /// (MeshFrame::oldest_sample_s) to the device's end of the frame that first drew it (renderer::FrameStats::
-    /// gpu_end_s; without calibrated timestamps, the end of that frame's submit and present on this thread), ms.
+    /// (MeshFrame::oldest_sample_s) to the frame that first drew it being done: the later of the device's end of
+    /// the frame (renderer::FrameStats::gpu_end_s) and the end of its submit and present on this thread; the latter
+    /// alone without calibrated timestamps, ms.
     /// Samples made before the first frame, or (device time) before a scripted stroke's start, are not counted.
     DurationHistogram sample_to_drawn_ms = DurationHistogram::latency();
     /// The same frames, to the end of their submit and present on the frame thread (the device may still be
     /// drawing them), ms.
     DurationHistogram sample_to_submitted_ms = DurationHistogram::latency();
-    std::uint64_t drawn_on_gpu_clock = 0;     ///< sample_to_drawn_ms entries timed at the device's end of the frame
-    std::uint64_t drawn_on_submit_clock = 0;  ///< entries timed at the submit (no calibrated timestamps)
+    std::uint64_t drawn_on_gpu_clock = 0;     ///< sample_to_drawn_ms entries that read the device's clock
+    std::uint64_t drawn_on_submit_clock = 0;  ///< entries timed at the submit alone (no calibrated timestamps)
     /// The same frames' sculpt-side share: from the oldest changing tool sample to the mesh's publish
     /// (MeshFrame::published_s; queue wait, the Booleans or clay, re-contouring and publishing), ms.
     DurationHistogram sample_to_published_ms = DurationHistogram::latency();

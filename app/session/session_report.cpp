@@ -203,7 +203,8 @@ const std::vector<ReportField>& report_schema() {
         {"render.passes", "run: per pass and eye, {count, total_ms, median_ms, p99_ms, max_ms}; null otherwise"},
         {"meshes",
          "run: meshes drawn and published {versions_drawn, last_version, published, publish_ms, sample_to_drawn_ms "
-         "(to the device's end of the frame), sample_to_submitted_ms, drawn_clock (gpu, submit, mixed or null), "
+         "(to the frame done: the device finished and presented), sample_to_submitted_ms, drawn_clock (gpu, submit, "
+         "mixed or null), "
          "sample_to_published_ms, triangles}; null for demo and replay"},
         {"mouse", "the mouse stylus's counters (--device mouse); null otherwise"},
         {"study", "a study scene's trial report; null otherwise"},
