@@ -52,7 +52,8 @@ struct LatencyBenchRow {
     std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)
     std::size_t frames = 0;    ///< frames that first drew a sculpted change
     double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;  ///< tool sample to surface drawn (meshes.sample_to_drawn_ms), ms
-    /// What p50_ms..max_ms were timed at: the device's end of the frame ("gpu") or its submit (meshes.drawn_clock).
+    /// What p50_ms..max_ms read (meshes.drawn_clock): "gpu" (the later of the device's end of the frame and its
+    /// present), "submit" (its submit and present alone: no calibrated timestamps), "mixed", or "none".
     std::string drawn_clock;
     double sub_p50_ms = 0.0, sub_p99_ms = 0.0;  ///< tool sample to the frame submitted (meshes.sample_to_submitted_ms)
     double step_p50_ms = 0.0, step_p99_ms = 0.0;      ///< per sculpt step: Booleans (or clay) + publish, ms
@@ -64,8 +65,8 @@ struct LatencyBenchRow {
 /// options.latency_resolutions, with the demo's 8 mm ball dragged 0.12 m along the surface at 0.1 m/s, once as a
 /// subtract and as a clay push in groups of the default size (compute::kClayGroupSweeps) and of 16 sweeps, each once
 /// with the stroke starting with the session (while the start-up levels of detail are built) and once 3 s later; prints, per session, the time from a tool sample to the surface it changed
-/// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max; the device's end of the frame) and submitted beside the push target (p99 <= 50 ms) and the
-/// sculpt step times, and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
+/// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max: the frame done on the device and presented) and
+/// submitted, beside the push target (p99 <= 50 ms), and the sculpt step times; and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
 std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);
 
 /// Runs `tridex demo` sessions (app::run_demo: workpiece, SessionRuntime, scripted stroke, outputs at a small image

@@ -297,7 +297,9 @@ void create_device(Context::Impl& impl) {
     info.pQueueCreateInfos = &queue;
     std::vector<const char*> extensions;
     if (impl.presentation) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-    f.calibrated_timestamps = f.timestamps && can_calibrate_timestamps(impl.instance, impl.physical);
+    f.calibrated_timestamps = f.timestamps &&
+                              has_device_extension(impl.physical, VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME) &&
+                              can_calibrate_timestamps(impl.instance, impl.physical);
     if (f.calibrated_timestamps) extensions.push_back(VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME);
     info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
     info.ppEnabledExtensionNames = extensions.empty() ? nullptr : extensions.data();

@@ -1,8 +1,8 @@
 // gpu/device_clock.cpp - calibrated timestamps: the device's ticks on the host's steady clock.
 #include "gpu/device_clock.hpp"
 
+#include <algorithm>
 #include <chrono>
-#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -19,14 +19,6 @@ constexpr VkTimeDomainEXT kHostDomain = VK_TIME_DOMAIN_CLOCK_MONOTONIC_EXT;
 }  // namespace
 
 bool can_calibrate_timestamps(VkInstance instance, VkPhysicalDevice device) {
-    std::uint32_t n = 0;
-    vkEnumerateDeviceExtensionProperties(device, nullptr, &n, nullptr);
-    std::vector<VkExtensionProperties> exts(n);
-    vkEnumerateDeviceExtensionProperties(device, nullptr, &n, exts.data());
-    bool offered = false;
-    for (const VkExtensionProperties& e : exts)
-        offered = offered || std::string_view(e.extensionName) == VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME;
-    if (!offered) return false;
     const auto domains_of = reinterpret_cast<PFN_vkGetPhysicalDeviceCalibrateableTimeDomainsEXT>(
         vkGetInstanceProcAddr(instance, "vkGetPhysicalDeviceCalibrateableTimeDomainsEXT"));
     if (!domains_of) return false;
@@ -34,12 +26,8 @@ bool can_calibrate_timestamps(VkInstance instance, VkPhysicalDevice device) {
     if (domains_of(device, &count, nullptr) != VK_SUCCESS) return false;
     std::vector<VkTimeDomainEXT> domains(count);
     if (domains_of(device, &count, domains.data()) != VK_SUCCESS) return false;
-    bool has_device = false, has_host = false;
-    for (const VkTimeDomainEXT d : domains) {
-        has_device = has_device || d == VK_TIME_DOMAIN_DEVICE_EXT;
-        has_host = has_host || d == kHostDomain;
-    }
-    return has_device && has_host;
+    const auto has = [&](VkTimeDomainEXT d) { return std::find(domains.begin(), domains.end(), d) != domains.end(); };
+    return has(VK_TIME_DOMAIN_DEVICE_EXT) && has(kHostDomain);
 }
 
 std::optional<double> device_ticks_to_steady_s(const Context& context, std::uint64_t ticks, std::uint64_t valid_mask) {

@@ -10,9 +10,10 @@ namespace tridex::gpu {
 
 class Context;
 
-/// True when `device` can calibrate its timestamps against CLOCK_MONOTONIC, the clock std::chrono::steady_clock
-/// reads on Linux: it offers VK_EXT_calibrated_timestamps with both the device and the CLOCK_MONOTONIC time domains.
-/// `instance` is the instance `device` belongs to. False on any other system or device.
+/// True when `device`, which offers VK_EXT_calibrated_timestamps (the caller checks that first), can calibrate its
+/// timestamps against CLOCK_MONOTONIC, the clock std::chrono::steady_clock reads on Linux: both the device and the
+/// CLOCK_MONOTONIC time domains are calibrateable. `instance` is the instance `device` belongs to. False when either
+/// domain is missing or the query fails; never throws.
 bool can_calibrate_timestamps(VkInstance instance, VkPhysicalDevice device);
 
 /// Converts a timestamp the device wrote (a query result, in ticks of VkPhysicalDeviceLimits::timestampPeriod ns,

@@ -346,8 +346,7 @@ bool SculptThread::step() {
     const auto t0 = std::chrono::steady_clock::now();
     ToolSample s;
     bool changed = false, sampled = false;
-    double oldest_cut_s = std::numeric_limits<double>::infinity();    // the oldest cutting sample's made_s
-    double oldest_cut_t_s = std::numeric_limits<double>::infinity();  // and its device time
+    SampleTimes oldest_cut;  // the oldest cutting sample's
     batch_.clear();
     drained_.clear();
     std::size_t begin = 0, n = 0;  // drained_[begin, n) not yet journalled
@@ -358,10 +357,7 @@ bool SculptThread::step() {
         ++stats_.samples;
         if (journal_ || stream_) drained_.push_back(s);
         const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
-        if (cuts && s.made_s < oldest_cut_s) {
-            oldest_cut_s = s.made_s;
-            oldest_cut_t_s = s.t_s;
-        }
+        if (cuts) oldest_cut.keep_older({s.made_s, s.t_s});
         // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then
         // belongs to the next stroke.
         if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && (!cuts || !same_tool(s, prev_))) {
@@ -394,10 +390,7 @@ bool SculptThread::step() {
     // the tool.
     if ((changed && !holding_reference()) || moved_cells > kRecentreCells) publish(centre);
     if (changed) {
-        if (oldest_cut_s < pending_sample_s_) {
-            pending_sample_s_ = oldest_cut_s;
-            pending_sample_t_s_ = oldest_cut_t_s;
-        }
+        pending_sample_.keep_older(oldest_cut);
         contour_changed(t0, std::chrono::steady_clock::now());
     }
     return true;
@@ -530,16 +523,11 @@ void SculptThread::publish_mesh() {
     slot.published_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     // A version the renderer never took is replaced unseen: its changes are first drawn with this one, so this
     // one carries its oldest sample.
-    if (mesh_out_->unread() && last_oldest_sample_s_ < pending_sample_s_) {
-        pending_sample_s_ = last_oldest_sample_s_;
-        pending_sample_t_s_ = last_oldest_sample_t_s_;
-    }
-    const bool sampled = std::isfinite(pending_sample_s_);
-    slot.oldest_sample_s = sampled ? pending_sample_s_ : std::numeric_limits<double>::quiet_NaN();
-    slot.oldest_sample_t_s = sampled ? pending_sample_t_s_ : std::numeric_limits<double>::quiet_NaN();
-    last_oldest_sample_s_ = pending_sample_s_;
-    last_oldest_sample_t_s_ = pending_sample_t_s_;
-    pending_sample_s_ = std::numeric_limits<double>::infinity();
+    if (mesh_out_->unread()) pending_sample_.keep_older(last_oldest_sample_);
+    const bool sampled = std::isfinite(pending_sample_.made_s);
+    slot.oldest_sample_s = sampled ? pending_sample_.made_s : std::numeric_limits<double>::quiet_NaN();
+    slot.oldest_sample_t_s = sampled ? pending_sample_.t_s : std::numeric_limits<double>::quiet_NaN();
+    last_oldest_sample_ = std::exchange(pending_sample_, SampleTimes{});
     slot.version = ++mesh_version_;
     mesh_out_->publish();
     mesh_pending_ = false;
@@ -552,7 +540,7 @@ void SculptThread::publish_mesh_if_due(bool force) {
     if (!mesh_pending_) return;
     const double since_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_last_).count();
     // A sculpted change goes out at once while the renderer has taken the last publish: the hand waits for it.
-    const bool sculpted = std::isfinite(pending_sample_s_) && !mesh_out_->unread();
+    const bool sculpted = std::isfinite(pending_sample_.made_s) && !mesh_out_->unread();
     if (force || sculpted || since_s >= mesh_interval_s_) publish_mesh();
 }
 

@@ -383,11 +383,16 @@ private:
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;
-    // MeshFrame::oldest_sample_s and oldest_sample_t_s of the next publish and of the last one (infinity: none).
-    double pending_sample_s_ = std::numeric_limits<double>::infinity();
-    double pending_sample_t_s_ = std::numeric_limits<double>::infinity();
-    double last_oldest_sample_s_ = std::numeric_limits<double>::infinity();
-    double last_oldest_sample_t_s_ = std::numeric_limits<double>::infinity();
+    // A cutting sample's times (ToolSample::made_s, t_s; infinity: none), kept for the oldest of several.
+    struct SampleTimes {
+        double made_s = std::numeric_limits<double>::infinity();
+        double t_s = std::numeric_limits<double>::infinity();
+        void keep_older(const SampleTimes& o) {
+            if (o.made_s < made_s) *this = o;
+        }
+    };
+    SampleTimes pending_sample_;      // MeshFrame::oldest_sample_s and oldest_sample_t_s of the next publish
+    SampleTimes last_oldest_sample_;  // the same of the last publish
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
