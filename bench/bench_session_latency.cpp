@@ -52,12 +52,13 @@ std::string write_scene(const fs::path& dir, int n, const std::string& op, std::
     return path;
 }
 
-// One session of the bench: an op, for a push the most sweeps per group (0: not a clay op), and when the stroke
-// starts (0: with the session, while the start-up levels of detail are built).
+// One session of the bench: an op, for a push the most sweeps per group (0: not a clay op), when the stroke
+// starts (0: with the session, while the start-up levels of detail are built), and --ao-while-sculpting.
 struct Variant {
     std::string op;
     std::size_t group = 0;
     double start_s = 0.0;
+    std::string ao_sculpting = "auto";
 };
 
 }  // namespace
@@ -76,25 +77,29 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
     std::printf(
         "(lat: to the frame that first drew the change done on the device and presented; sub: to that frame's "
         "submit; pub: to the mesh's publish)\n");
-    std::printf("%6s %9s %6s %6s %5s %7s %9s %9s %9s %9s %9s %9s %9s %9s %9s %8s %7s %s\n", "N", "op", "group", "start",
-                "path", "frames", "lat50", "lat99", "latmax", "sub50", "sub99", "pub50", "pub99", "step50", "step99",
-                "frame50", "lod", "verdict");
-    std::printf("%6s %9s %6s %6s %5s %7s %9s %9s %9s %9s %9s %9s %9s %9s %9s %8s %7s\n", "", "", "sweeps", "s", "", "",
-                "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms");
+    std::printf(
+        "(ao: the ambient occlusion on the sculpting frames, --ao-while-sculpting; the last row keeps it on every "
+        "device, the baseline of the row above it)\n");
+    std::printf("%6s %9s %6s %6s %5s %4s %7s %9s %9s %9s %9s %9s %9s %9s %9s %9s %8s %7s %s\n", "N", "op", "group",
+                "start", "path", "ao", "frames", "lat50", "lat99", "latmax", "sub50", "sub99", "pub50", "pub99",
+                "step50", "step99", "frame50", "lod", "verdict");
+    std::printf("%6s %9s %6s %6s %5s %4s %7s %9s %9s %9s %9s %9s %9s %9s %9s %9s %8s %7s\n", "", "", "sweeps", "s", "",
+                "", "", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms", "ms");
     std::vector<LatencyBenchRow> rows;
     for (const int n : o.latency_resolutions)
         for (const Variant& v :
              {Variant{"subtract", 0, 0.0}, Variant{"push", compute::kClayGroupSweeps, 0.0}, Variant{"push", 16, 0.0},
               Variant{"subtract", 0, kSettledStartS}, Variant{"push", compute::kClayGroupSweeps, kSettledStartS},
-              Variant{"push", 16, kSettledStartS}}) {
+              Variant{"push", 16, kSettledStartS}, Variant{"push", compute::kClayGroupSweeps, kSettledStartS, "on"}}) {
             const std::string& op = v.op;
             RunOptions r;
             r.scene = write_scene(dir, n, op, v.group, v.start_s, mesh);
             r.display = "offscreen";
+            r.ao_sculpting = v.ao_sculpting;
             r.seconds =
                 v.start_s + kStrokeS + 2.0;  // the frames go on while the sculpt thread catches up after the stroke
             r.out = (dir / ("run_" + std::to_string(n) + "_" + op + (v.group ? std::to_string(v.group) : "") +
-                            (v.start_s > 0.0 ? "_settled" : "")))
+                            (v.start_s > 0.0 ? "_settled" : "") + (v.ao_sculpting == "on" ? "_ao" : "")))
                         .string();
             const RunResult res = run_stereo_session(r);  // paced at 60 Hz until the stroke ends
             const nlohmann::json j = nlohmann::json::parse(std::ifstream(fs::path(r.out) / "report.json"));
@@ -110,6 +115,8 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
                                lod.at("all_built_after_first_frame_ms").is_number();
             row.lod_all_built_ms = built ? lod.at("all_built_after_first_frame_ms").get<double>() : -1.0;
             row.path = j.at("sculpt_path").get<std::string>();
+            row.ao_sculpting = j.at("render").at("ambient_occlusion_while_sculpting").at("on").get<bool>();
+            row.ao_chosen = v.ao_sculpting;
             row.frames = res.sample_to_drawn_ms.count();
             row.p50_ms = lat.at("median").get<double>();
             row.p99_ms = lat.at("p99").get<double>();
@@ -125,14 +132,16 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
             row.frame_p50_ms = res.frame_ms.percentile_ms(0.5);
             row.step_p50_ms = step.at("median").get<double>();
             row.step_p99_ms = step.at("p99").get<double>();
-            const bool judged = op == "push";
+            const bool judged = op == "push" && v.ao_sculpting == "auto";
             const std::string group = v.group ? std::to_string(v.group) : "-";
             std::printf(
-                "%6d %9s %6s %6.1f %5s %7zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f %9.2f %8.1f %7.0f %s%s\n",
-                n, op.c_str(), group.c_str(), v.start_s, row.path.c_str(), row.frames, row.p50_ms, row.p99_ms,
-                row.max_ms, row.sub_p50_ms, row.sub_p99_ms, row.pub_p50_ms, row.pub_p99_ms, row.step_p50_ms,
-                row.step_p99_ms, row.frame_p50_ms, row.lod_all_built_ms,
-                !judged                          ? "(reference)"
+                "%6d %9s %6s %6.1f %5s %4s %7zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f %9.2f %8.1f %7.0f "
+                "%s%s\n",
+                n, op.c_str(), group.c_str(), v.start_s, row.path.c_str(), row.ao_sculpting ? "on" : "off", row.frames,
+                row.p50_ms, row.p99_ms, row.max_ms, row.sub_p50_ms, row.sub_p99_ms, row.pub_p50_ms, row.pub_p99_ms,
+                row.step_p50_ms, row.step_p99_ms, row.frame_p50_ms, row.lod_all_built_ms,
+                v.ao_sculpting != "auto"         ? "(baseline: occlusion kept)"
+                : !judged                        ? "(reference)"
                 : row.p99_ms <= kLatencyTargetMs ? "target met"
                                                  : "over target",
                 row.drawn_clock == "gpu" ? "" : (" (lat timed at: " + row.drawn_clock + ")").c_str());
@@ -145,6 +154,8 @@ std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& o) {
                        {"op", r.op},
                        {"group_sweeps", r.group_sweeps},
                        {"stroke_start_s", r.start_s},
+                       {"ao_while_sculpting", r.ao_chosen},
+                       {"ao_on_sculpting_frames", r.ao_sculpting},
                        {"lod_all_built_after_first_frame_ms", r.lod_all_built_ms},
                        {"lod_target_ms", kLodStartupTargetMs},
                        {"path", r.path},

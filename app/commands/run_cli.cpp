@@ -78,6 +78,10 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "
                     "ambient_occlusion, on); key O toggles it in a window")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--ao-while-sculpting", o.ao_sculpting,
+                    "on | off | auto: the ambient occlusion on frames drawn while sculpting (default auto: off on a "
+                    "CPU implementation of Vulkan such as lavapipe, where it delays the carved surface; on otherwise)")
+        ->check(CLI::IsMember({"on", "off", "auto"}));
     cmd->add_option("--frame-target-ms", o.frame_target_ms,
                     "Frame-time target the picture is budgeted to, ms: while the median frame is over it, the "
                     "occlusion is evaluated per 4x4 pixels instead of 2x2, then coarser levels of detail are drawn, "

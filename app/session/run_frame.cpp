@@ -111,6 +111,7 @@ bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
         ended = "the wall-time safety net (" + format_number(safety_s) + " s) stopped the run";
     else
         return false;
+    final_frame = true;
     return true;
 }
 
@@ -141,7 +142,10 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     if (gpu_contour) view.indirect_workpiece = &indirect;
     view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
-    view.occlusion_strength = ao ? 1.0 : 0.0;
+    // The picture a session ends on keeps the occlusion; sculpting frames drop it where ao_sculpting says so.
+    const bool held = ao && sculpting && !ao_sculpting && !final_frame;
+    if (held) ++r.frames_occlusion_held;
+    view.occlusion_strength = ao && !held ? 1.0 : 0.0;
     if (budget) {
         view.occlusion_resolution = budget->quality().occlusion;
         view.lod_max_px = budget->quality().lod_px;
@@ -343,13 +347,14 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
     r.triangles = gpu_contour ? indirect.triangles : mesh.triangles;
     r.tiled = mesh.tiled;
     r.tiles_last = gpu_contour ? indirect.tiles.size() : mesh.tiles.size();
-    if (budget) {  // frames within kSculptingHoldS of a sculpted change drawn use the sculpting frames' step
+    {  // frames within kSculptingHoldS of a sculpted change drawn are sculpting frames (the budget's own step)
         const auto now = Clock::now();
-        if (mesh.sculpt_steps != budget_sculpt_steps) {
-            budget_sculpt_steps = mesh.sculpt_steps;
-            budget_sculpted_at = now;
+        if (mesh.sculpt_steps != sculpt_steps_drawn) {
+            sculpt_steps_drawn = mesh.sculpt_steps;
+            sculpted_drawn_at = now;
         }
-        budget->set_sculpting(frame > 0 && ms_between(budget_sculpted_at, now) < 1e3 * kSculptingHoldS);
+        sculpting = frame > 0 && ms_between(sculpted_drawn_at, now) < 1e3 * kSculptingHoldS;
+        if (budget) budget->set_sculpting(sculpting);
     }
     const FrameAim frame_aim = aim(mesh);
     const haptics::LoopView& lv = rt.latest_view();  // after aim(): the loop has taken the stylus's target
@@ -365,6 +370,14 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
 void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
+    const bool cpu_device = ctx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    ao_sculpting = su.ao_sculpting == "on" || (su.ao_sculpting == "auto" && !cpu_device);
+    r.ao_sculpting = ao_sculpting;
+    r.ao_sculpting_reason =
+        su.ao_sculpting != "auto" ? "--ao-while-sculpting " + su.ao_sculpting
+        : cpu_device              ? "auto: off on a CPU implementation of Vulkan (" + ctx->device_name() +
+                           "), where the occlusion's passes lengthen every frame between the tool and the drawn surface"
+                     : "auto: on (" + ctx->device_name() + " is not a CPU implementation of Vulkan)";
     FrameBudgetOptions bo;
     bo.target_ms = su.frame_target_ms;
     // The desk window alone trades pixels and levels: a wall's ranks must all draw the same picture, and an

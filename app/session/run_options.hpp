@@ -74,6 +74,11 @@ struct RunOptions {
     /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;
+    /// "on" | "off" | "auto": the ambient occlusion on frames drawn while the workpiece is being sculpted (within
+    /// 0.3 s of a sculpted change). "auto": off on a CPU implementation of Vulkan (lavapipe), where its passes
+    /// lengthen every frame between the tool and the drawn surface, on otherwise. The session's last frame always
+    /// has it when the occlusion is on.
+    std::string ao_sculpting = "auto";
     /// The frame-time target, ms, that the picture is budgeted to (app/session/frame_budget.hpp): while the median
     /// frame is over it the occlusion is evaluated per 4x4 pixels instead of per 2x2, then the levels of detail may
     /// stray up to max_lod_px pixels, then a desk window's eye images are rendered smaller (down to min_render_scale)

@@ -123,9 +123,12 @@ struct RunPipeline::Parts final : FrameSteps {
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
+    bool ao_sculpting = true;  // the occlusion on sculpting frames (RunOptions::ao_sculpting, resolved)
+    bool sculpting = false;    // this frame is drawn within kSculptingHoldS of a sculpted change
+    bool final_frame = false;  // last_frame() named this frame
     std::optional<FrameBudget> budget;             // occlusion, levels' error and render scale on the frame-time budget
-    std::uint64_t budget_sculpt_steps = 0;         // the sculpt steps of the last mesh a frame drew
-    Clock::time_point budget_sculpted_at{};        // when a frame last drew a mesh with more sculpt steps
+    std::uint64_t sculpt_steps_drawn = 0;          // the sculpt steps of the last mesh a frame drew
+    Clock::time_point sculpted_drawn_at{};         // when a frame last drew a mesh with more sculpt steps
     RateMeter haptic_rate{1.0}, sculpt_rate{1.0};  // overlay: haptic ticks/s (loop time), sculpt steps/s (wall time)
     double prev_frame_ms = -1.0;
     // Frames that first drew a sculpted change and have not finished on the device: the renderer's frame number,

@@ -74,6 +74,8 @@ json render_json(const RunResult& r) {
                 {"items", r.setup.items},
                 {"cull", r.setup.cull},
                 {"ambient_occlusion", r.setup.ao},
+                {"ambient_occlusion_while_sculpting",
+                 {{"on", r.ao_sculpting}, {"reason", r.ao_sculpting_reason}, {"frames_held", r.frames_occlusion_held}}},
                 {"frame_budget", r.frame_budget},
                 {"lod", lod_json(r, log)},
 

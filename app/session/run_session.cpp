@@ -128,6 +128,9 @@ RunSetup resolve_run(const RunOptions& o) {
     }
     s.swap_eyes = o.swap_eyes || s.scene.display.swap_eyes;
     s.ao = o.ao.empty() ? s.scene.display.ambient_occlusion : o.ao == "on";
+    if (o.ao_sculpting != "on" && o.ao_sculpting != "off" && o.ao_sculpting != "auto")
+        throw Error("--ao-while-sculpting: must be on, off or auto, got '" + o.ao_sculpting + "'");
+    s.ao_sculpting = o.ao_sculpting;
     // Refuses a bad value before any window opens.
     (void)FrameBudget(FrameBudgetOptions{o.frame_target_ms, o.min_render_scale, o.max_lod_px});
     s.frame_target_ms = o.frame_target_ms;

@@ -47,6 +47,7 @@ struct RunSetup {
     bool cull = true;               ///< tiles culled per eye
     bool lod = true;                ///< tile levels of detail (--lod on|off, on by default; docs/design/lod.md)
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
+    std::string ao_sculpting = "auto";  ///< --ao-while-sculpting: on | off | auto (RunOptions::ao_sculpting)
     double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)
     double min_render_scale = 0.75;  ///< a desk window's lowest render scale on the budget (--min-render-scale)
     double max_lod_px = 2.0;         ///< the coarsest levels' error on screen on the budget, px (--max-lod-px)
@@ -129,6 +130,10 @@ struct RunResult {
     double force_m_per_newton = 0.0;             ///< force arrow scale, m per N (0 without items)
     std::string device;                          ///< Vulkan device name
     std::string eye_strategy;                    ///< the renderer's eye strategy note
+    bool ao_sculpting = true;                    ///< the occlusion is drawn on sculpting frames (--ao-while-sculpting)
+    std::string ao_sculpting_reason;             ///< why, e.g. "auto: off on a CPU implementation of Vulkan (...)"
+    /// Frames drawn without the occlusion because they were drawn while sculpting (the occlusion being on).
+    std::uint64_t frames_occlusion_held = 0;
     std::string present_mode;                    ///< window: "fifo" with vsync; offscreen: "offscreen"
     std::uint32_t validation_messages = 0;       ///< Vulkan validation messages (0 expected)
     std::string sculpt_path;                     ///< "gpu" or "cpu": where the swept Booleans ran

@@ -291,5 +291,47 @@ TEST(RunOffscreen, SceneWithoutStrokeNeedsALimit) {
     fs::remove_all(dir);
 }
 
+// On lavapipe, a CPU implementation of Vulkan, the sculpting frames are drawn without the ambient occlusion by
+// default; the others and the session's last frame keep it, and --ao-while-sculpting on keeps it throughout.
+TEST(RunOffscreen, SculptingFramesDropTheOcclusionOnACpuDevice) {
+    const fs::path dir = test::temp_dir("run_ao_sculpting");
+    RunOptions o;
+    o.scene = test::write_small_scene(dir, 0.5);
+    o.display = "offscreen";
+    o.stereo = "mono";
+    o.out = (dir / "auto").string();
+    const RunResult automatic = run_stereo_session(o);
+    EXPECT_FALSE(automatic.ao_sculpting);
+    EXPECT_NE(automatic.ao_sculpting_reason.find("CPU implementation"), std::string::npos)
+        << automatic.ao_sculpting_reason;
+    EXPECT_GT(automatic.frames_occlusion_held, 0u);
+    EXPECT_LT(automatic.frames_occlusion_held, automatic.frames);  // the first frame and the last keep it
+    const nlohmann::json rep = test::read_json(dir / "auto" / "report.json");
+    EXPECT_EQ(rep["render"]["ambient_occlusion_while_sculpting"]["frames_held"].get<std::uint64_t>(),
+              automatic.frames_occlusion_held);
+    EXPECT_FALSE(rep["render"]["ambient_occlusion_while_sculpting"]["on"].get<bool>());
+
+    o.ao_sculpting = "on";
+    o.out = (dir / "on").string();
+    const RunResult on = run_stereo_session(o);
+    EXPECT_TRUE(on.ao_sculpting);
+    EXPECT_EQ(on.frames_occlusion_held, 0u);
+    EXPECT_EQ(on.ao_sculpting_reason, "--ao-while-sculpting on");
+
+    o.ao = "off";  // nothing to hold back when the occlusion is off
+    o.ao_sculpting = "off";
+    o.out = (dir / "none").string();
+    EXPECT_EQ(run_stereo_session(o).frames_occlusion_held, 0u);
+
+    o.ao_sculpting = "sometimes";
+    try {
+        (void)run_stereo_session(o);
+        ADD_FAILURE() << "--ao-while-sculpting sometimes was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--ao-while-sculpting"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace tridex::app
