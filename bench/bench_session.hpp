@@ -51,6 +51,7 @@ struct LatencyBenchRow {
         -1.0;  ///< when the start-up levels of detail were all built, ms after the first frame (-1: never)
     std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)
     std::string ao_chosen = "auto";  ///< --ao-while-sculpting of the session (auto, or on for the baseline row)
+    std::string pacing;  ///< frames.pacing: "early" (a sculpted change starts a frame early) or "fixed" (--fixed-pace)
     bool ao_sculpting =
         true;  ///< the sculpting frames drew the ambient occlusion (render.ambient_occlusion_while_sculpting)
     std::size_t frames = 0;    ///< frames that first drew a sculpted change
@@ -68,8 +69,8 @@ struct LatencyBenchRow {
 /// options.latency_resolutions, with the demo's 8 mm ball dragged 0.12 m along the surface at 0.1 m/s, once as a
 /// subtract and as a clay push in groups of the default size (compute::kClayGroupSweeps) and of 16 sweeps, each once
 /// with the stroke starting with the session (while the start-up levels of detail are built) and once 3 s later, and the
-/// settled default push again with the occlusion kept on its sculpting frames (--ao-while-sculpting on, the baseline
-/// of the default's auto); prints, per session, the time from a tool sample to the surface it changed
+/// settled default push again with the occlusion kept on its sculpting frames (--ao-while-sculpting on) and at the
+/// fixed 60 Hz pace (--fixed-pace), the baselines of its defaults; prints, per session, the time from a tool sample to the surface it changed
 /// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max: the frame done on the device and presented) and
 /// submitted, beside the push target (p99 <= 50 ms), and the sculpt step times; and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
 std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);

@@ -62,6 +62,10 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                   "the CPU reference is faster (same result bit for bit); there it also sculpts on the GPU compute path")
         ->excludes(cpu);
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");
+    cmd->add_flag("--early-frames,!--fixed-pace", o.early_frames,
+                  "Offscreen and paced: start a frame early (half a period after the last at the soonest) when a "
+                  "sculpted change is published, like a variable-refresh display; --fixed-pace starts frames on the "
+                  "refresh grid only");
     cmd->add_flag("--items,!--no-items", o.items, "Draw the proxy, the force arrow and the overlay");
     cmd->add_flag("--overlay-stats", o.overlay_stats, "The overlay also counts the tiles drawn and skipped per eye");
     cmd->add_flag("--test-pattern", o.test_pattern,

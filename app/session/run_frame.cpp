@@ -318,6 +318,7 @@ void RunPipeline::Parts::take_finished_frames() {
 // the frame's view, and the frame drawn and presented through the sink.
 void RunPipeline::Parts::draw(std::uint64_t frame) {
     SessionRuntime& rt = backend->runtime();
+    sculpted_seen = rt.sculpted_changes().count();  // before the mesh: a change published between is drawn again
     const MeshFrame& mesh = rt.latest_mesh();
     double sample_s = std::numeric_limits<double>::quiet_NaN();  // a sculpted change drawn for the first time
     if (mesh.version != r.last_mesh_version) {
@@ -365,8 +366,16 @@ void RunPipeline::Parts::draw(std::uint64_t frame) {
             rend->frames_rendered(), sample_s, std::chrono::duration<double>(Clock::now().time_since_epoch()).count()});
 }
 
+// Between paced frames: wakes when the sculpt thread published a sculpted change the last frame did not take.
+bool RunPipeline::Parts::wait_for_news(Clock::time_point deadline) {
+    const bool news = backend->runtime().sculpted_changes().wait_past(sculpted_seen, deadline);
+    if (news) ++r.frames_early;
+    return news;
+}
+
 // 4. The session's frames, on this thread, through the one frame loop (run_frames) at the display's rate (offscreen:
-// paced unless --no-pace; a window's present waits for the display).
+// paced unless --no-pace, and early for a sculpted change unless --fixed-pace; a window's present waits for the
+// display).
 void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
@@ -390,7 +399,10 @@ void RunPipeline::Parts::frame_loop() {
     t_render = Clock::now();
     r.first_frame_s = std::chrono::duration<double>(t_render.time_since_epoch()).count();
     if (dtrack) dtrack->set_session_origin(t_render);
-    run_frames(*this, FramePacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace});
+    FramePacing pacing{sink->presents_per_frame() / dc.refresh_hz, offscreen && su.pace};
+    if (pacing.sleep && su.early_frames) pacing.early_gap_s = pacing.period_s / 2.0;
+    r.pacing = !offscreen ? "display" : !su.pace ? "none" : su.early_frames ? "early" : "fixed";
+    run_frames(*this, pacing);
     rend->finish();  // the frames still in flight
     take_finished_frames();
     r.frame_budget = budget->to_json();

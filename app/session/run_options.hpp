@@ -54,6 +54,10 @@ struct RunOptions {
     /// Offscreen: pace frames at the display's refresh rate as a vsync'd display would (false: as fast as the
     /// GPU renders; for benchmarks).
     bool pace = true;
+    /// Offscreen and paced: a frame starts early, half a period after the last at the soonest, when the sculpt
+    /// thread publishes a sculpted change, like a display with a variable refresh rate (false: frames start only on
+    /// the refresh rate's grid, as on a fixed-rate display).
+    bool early_frames = true;
     /// Draw the proxy, the force arrow and the overlay (haptic rate, sculpt rate, frame time, tiles drawn /
     /// skipped); false: the workpiece, tool, workspace box and bubble only.
     bool items = true;

@@ -139,6 +139,7 @@ struct RunPipeline::Parts final : FrameSteps {
         double submitted_s = 0.0;
     };
     std::deque<ChangeDrawn> changes_in_flight;
+    std::uint64_t sculpted_seen = 0;  // the runtime's sculpted_changes() count before the last frame took its mesh
     TileView tiles;  // this frame's view of the published tiles and their levels of detail
     GpuTileSplit gpu_split;  // GPU contour with levels: the read-back tiles this frame draws instead of the buffers
     std::string ended = "the window was closed";
@@ -184,6 +185,7 @@ struct RunPipeline::Parts final : FrameSteps {
     bool take_input() override;
     bool last_frame(std::uint64_t frame) override;
     void draw(std::uint64_t frame) override;
+    bool wait_for_news(Clock::time_point deadline) override;
     void frame_desk_window();
     renderer::Screen follow_window();
     renderer::SceneView frame_view(const MeshFrame& mesh, const haptics::LoopView& lv, const SaveStatus& saving);

@@ -117,6 +117,8 @@ json run_report_json(const RunResult& r) {
     gpu["lock_wait_ms_max"] = r.contour_lock_wait_ms_max;
     json frames{{"count", r.frames},
                 {"presents", r.presents},
+                {"pacing", r.pacing},
+                {"early", r.frames_early},
                 {"last_eye", r.last_eye},
                 {"window_resizes", r.window_resizes},
                 {"render_scale_changes", r.render_scale_changes},

@@ -62,6 +62,7 @@ RunSetup resolve_run(const RunOptions& o) {
     if (s.cpu_contour && s.gpu_contour) throw Error("--cpu-contour, --gpu-contour: choose one");
     check_backend_request({backend_mode(s.cpu, s.gpu), s.gpu_contour, s.gpu_clay});  // before any window or scene
     s.pace = o.pace;
+    s.early_frames = o.early_frames;
     s.items = o.items;
     s.overlay_stats = o.overlay_stats;
     s.test_pattern = o.test_pattern;

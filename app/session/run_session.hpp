@@ -40,6 +40,7 @@ struct RunSetup {
     bool gpu_contour = false;       ///< contour on the GPU even on a CPU Vulkan device (--gpu-contour)
     bool gpu_clay = false;          ///< clay on the GPU kernel even on a CPU Vulkan device (--gpu-clay)
     bool pace = true;               ///< offscreen: frames paced at the display's rate
+    bool early_frames = true;       ///< offscreen and paced: a sculpted change starts a frame early
     bool items = true;              ///< proxy, force arrow and overlay drawn
     bool overlay_stats = false;     ///< the overlay also counts tiles drawn and skipped per eye
     bool test_pattern = false;      ///< the wall's test pattern instead of the workpiece (RunOptions::test_pattern)
@@ -98,6 +99,10 @@ struct RunResult {
     DurationHistogram gpu_ms;                       ///< per frame: GPU time of the stereo render (timestamps), ms
     nlohmann::json present_timings;              ///< window: WindowPresenter::timings().to_json(); null offscreen
     std::uint64_t mesh_versions_drawn = 0;       ///< distinct MeshFrame versions the renderer drew
+    /// How offscreen frames were paced: "early" (the refresh grid, and early for a sculpted change), "fixed" (the
+    /// grid only), "none" (--no-pace), or "display" (a window's present waits for the display).
+    std::string pacing;
+    std::uint64_t frames_early = 0;              ///< frames started early for a sculpted change (pacing "early")
     std::uint64_t last_mesh_version = 0;         ///< the newest MeshFrame version drawn
     /// Per new mesh version drawn that carried a sculpted change: from its oldest changing tool sample being made
     /// (MeshFrame::oldest_sample_s) to the frame that first drew it being done: the later of the device's end of

@@ -123,7 +123,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         lod.lod.cell_m = wp_.model.lattice.cell_m;
         sculpt_->use_tile_lod(lod);
     }
-    if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form);
+    if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form, &sculpted_changes_);
     // A device that renders contact next to itself (net, local rendering) gets each snapshot from the sculpt thread.
     if (const auto* net = dynamic_cast<const devices::net::NetDevice*>(device_.get());
         net && net->mode() == devices::net::RenderingMode::kLocal)

@@ -11,18 +11,19 @@
 #include <string>
 #include <vector>
 
-#include "compute/journal/journal_writer.hpp"
-#include "compute/journal/tool_stream.hpp"
-#include "compute/runtime/boolean_backend.hpp"
-#include "compute/runtime/gpu_contour_share.hpp"
-#include "compute/runtime/sculpt_thread.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/tick_stream.hpp"
 #include "compute/contour/contour_dual.hpp"
-#include "compute/tools/mesh_tool.hpp"
+#include "compute/journal/journal_writer.hpp"
+#include "compute/journal/tool_stream.hpp"
 #include "compute/model/tridexel.hpp"
+#include "compute/runtime/boolean_backend.hpp"
+#include "compute/runtime/gpu_contour_share.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/tools/mesh_tool.hpp"
 #include "core/active_surface.hpp"
+#include "core/change_signal.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
 #include "core/tri_mesh.hpp"
@@ -170,6 +171,9 @@ public:
     ToolOp poll_device_frame();
     /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
+    /// Counts the published surfaces that carry a sculpted change (MeshFrame::oldest_sample_s set): a paced
+    /// renderer waits on it to start a frame as soon as a change is in (publish_meshes; any thread).
+    const ChangeSignal& sculpted_changes() const { return sculpted_changes_; }
 
     /// The carved model as one closed mesh (world m) with a material id per vertex.
     struct FinalMesh {
@@ -233,6 +237,7 @@ private:
     std::unique_ptr<SpscRing<ToolSample>> ring_;
     TripleBuffer<ActiveSurface> surface_;
     TripleBuffer<MeshFrame> meshes_;
+    ChangeSignal sculpted_changes_;                    // before sculpt_, which notifies it
     std::unique_ptr<compute::JournalWriter> journal_;  // before sculpt_, which appends to it
     std::unique_ptr<SculptThread> sculpt_;
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring

@@ -442,7 +442,8 @@ void SculptThread::collect_lods() {
     lod_pending_.store(pending, std::memory_order_release);
 }
 
-void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form) {
+void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form,
+                                   ChangeSignal* sculpted) {
     if (thread_.joinable()) throw Error("SculptThread::publish_mesh_to: call it before start()");
     if (!std::isfinite(min_interval_s) || min_interval_s < 0.0)
         throw Error("SculptThread::publish_mesh_to: min_interval_s must be finite and >= 0, got " +
@@ -450,6 +451,7 @@ void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_inte
     mesh_out_ = &out;
     mesh_interval_s_ = min_interval_s;
     mesh_form_ = form;
+    mesh_sculpted_ = sculpted;
     publish_mesh();
 }
 
@@ -530,6 +532,7 @@ void SculptThread::publish_mesh() {
     last_oldest_sample_ = std::exchange(pending_sample_, SampleTimes{});
     slot.version = ++mesh_version_;
     mesh_out_->publish();
+    if (sampled && mesh_sculpted_) mesh_sculpted_->notify();
     mesh_pending_ = false;
     mesh_last_ = std::chrono::steady_clock::now();
     ++stats_.mesh_publishes;

@@ -24,6 +24,7 @@
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "core/active_surface.hpp"
+#include "core/change_signal.hpp"
 #include "core/duration_histogram.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
@@ -290,10 +291,12 @@ public:
     /// detail alone, at most once per min_interval_s of wall time (s, >= 0; a change inside the interval is
     /// published when it passes, even if no more samples come, and at the latest by stop()). The haptic path is untouched:
     /// the active surface is still published before contouring. `out` must outlive the thread. Call
-    /// before start(). `form` chooses the whole mesh or per-tile meshes (MeshFrame). Throws tridex::Error
-    /// when the thread runs or min_interval_s is not finite and >= 0.
+    /// before start(). `form` chooses the whole mesh or per-tile meshes (MeshFrame). `sculpted`, when given,
+    /// is notified after each publish that carries a sculpted change (MeshFrame::oldest_sample_s set), so a
+    /// renderer may start a frame for it; it must outlive the thread. Throws tridex::Error when the thread runs
+    /// or min_interval_s is not finite and >= 0.
     void publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s = 1.0 / 60.0,
-                         MeshForm form = MeshForm::kWhole);
+                         MeshForm form = MeshForm::kWhole, ChangeSignal* sculpted = nullptr);
     /// With MeshForm::kTiles: builds the levels of detail of the tile meshes it publishes (TileSurface::lods,
     /// compute::build_tile_lod) for tiles whose version changed, and of the groups of tiles over them
     /// (MeshFrame::groups, TileLodOptions::group_depth; made as options.lod says), on a level-of-detail worker
@@ -380,6 +383,7 @@ private:
     std::exception_ptr failure_;  // first exception on the thread, rethrown by stop()
     std::thread thread_;
     TripleBuffer<MeshFrame>* mesh_out_ = nullptr;  // renderer hand-off; nullptr = no mesh publishing
+    ChangeSignal* mesh_sculpted_ = nullptr;        // notified after a publish with a sculpted change
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;

@@ -32,10 +32,10 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
     EXPECT_EQ(rows[0].path, "cpu");
     EXPECT_EQ(rows[1].path, "gpu");  // each row's path forced, whatever the device's type
     // The latency rows: a subtract and a push in groups of 32 and of 16, with the stroke at the start and 3 s later,
-    // each with sculpted changes drawn and their latencies written, then the settled push of 32 again as a baseline.
+    // each with sculpted changes drawn and their latencies written, then the settled push of 32 again as two baselines.
     std::ifstream lin(std::filesystem::path(o.out) / "latency_bench.json");
     const nlohmann::json lat = nlohmann::json::parse(lin);
-    ASSERT_EQ(lat.size(), 7u);
+    ASSERT_EQ(lat.size(), 8u);
     for (std::size_t i = 0; i < 6; ++i) {
         EXPECT_EQ(lat[i]["op"], i % 3 == 0 ? "subtract" : "push") << i;
         EXPECT_EQ(lat[i]["group_sweeps"].get<int>(), i % 3 == 0 ? 0 : i % 3 == 1 ? 32 : 16) << i;
@@ -43,6 +43,7 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
         EXPECT_GE(lat[i]["lod_all_built_after_first_frame_ms"].get<double>(), 0.0) << "the start-up levels were built";
         EXPECT_EQ(lat[i]["ao_while_sculpting"], "auto") << i;
         EXPECT_FALSE(lat[i]["ao_on_sculpting_frames"].get<bool>()) << "lavapipe is a CPU implementation";
+        EXPECT_EQ(lat[i]["pacing"], "early") << i;
     }
     // The baseline: the settled default push again, its sculpting frames keeping the occlusion.
     EXPECT_EQ(lat[6]["op"], "push");
@@ -50,6 +51,12 @@ TEST(BenchSession, RowsComeFromSessionsAndAreWritten) {
     EXPECT_EQ(lat[6]["stroke_start_s"].get<double>(), 3.0);
     EXPECT_EQ(lat[6]["ao_while_sculpting"], "on");
     EXPECT_TRUE(lat[6]["ao_on_sculpting_frames"].get<bool>());
+    EXPECT_EQ(lat[6]["pacing"], "early");
+    // And at the fixed pace.
+    EXPECT_EQ(lat[7]["group_sweeps"].get<int>(), 32);
+    EXPECT_EQ(lat[7]["stroke_start_s"].get<double>(), 3.0);
+    EXPECT_EQ(lat[7]["ao_while_sculpting"], "auto");
+    EXPECT_EQ(lat[7]["pacing"], "fixed");
     for (const nlohmann::json& r : lat) {
         EXPECT_GT(r["frames"].get<int>(), 0) << r;
         EXPECT_GT(r["p50_ms"].get<double>(), 0.0) << r;

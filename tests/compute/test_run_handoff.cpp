@@ -100,10 +100,14 @@ TEST(RunHandoff, AVersionNeverTakenPassesItsOldestSampleOn) {
 TEST(RunHandoff, ASculptedChangeSkipsTheIntervalOnceTheLastVersionWasTaken) {
     Rig rig;
     auto& [m, contourer, v0, ring, surface, meshes, t] = rig;
-    t.publish_mesh_to(meshes, 1000.0);       // an interval no test outlasts
+    ChangeSignal sculpted;
+    t.publish_mesh_to(meshes, 1000.0, MeshForm::kWhole, &sculpted);  // an interval no test outlasts
     EXPECT_EQ(meshes.latest().version, 1u);  // the renderer takes the hand-off
+    EXPECT_EQ(sculpted.count(), 0u);         // the first publish carries no sculpted change
     t.start();
     push_cut(ring, 0, 60);
+    // The renderer may wait for the change instead of polling.
+    ASSERT_TRUE(sculpted.wait_past(0, std::chrono::steady_clock::now() + std::chrono::seconds(60)));
     wait_passes(t);
     const MeshFrame& second = meshes.latest();  // published at once: the renderer had taken version 1
     EXPECT_EQ(second.version, 2u);
@@ -114,6 +118,7 @@ TEST(RunHandoff, ASculptedChangeSkipsTheIntervalOnceTheLastVersionWasTaken) {
     wait_passes(t);  // waits for the interval: version 3 was not taken
     t.stop();        // the final state is published, with version 3's oldest sample
     EXPECT_EQ(t.stats().mesh_publishes, 4u);
+    EXPECT_EQ(sculpted.count(), 3u);  // every publish after the first carried a sculpted change
     const MeshFrame& last = meshes.latest();
     EXPECT_EQ(last.version, 4u);
     // Version 2 was taken, so its samples are not carried; version 3's oldest, the second chunk's first sample, is

@@ -1,11 +1,13 @@
 // Tests of core/: the lock-free hand-offs and the mesh topology checks.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <string>
 #include <thread>
 
+#include "core/change_signal.hpp"
 #include "core/crc32.hpp"
 #include "core/format.hpp"
 #include "core/spsc_ring.hpp"
@@ -174,4 +176,26 @@ TEST(Crc32, KnownVectorsAndContinuation) {
     std::uint32_t bytewise = 0;
     for (char c : text) bytewise = tridex::crc32_ieee(&c, 1, bytewise);
     EXPECT_EQ(bytewise, whole);
+}
+
+// A waiter returns at once for a count it has not seen, at its deadline when nothing comes, and when another thread
+// notifies.
+TEST(ChangeSignal, WakesForACountNotSeenOrAtTheDeadline) {
+    using Clock = tridex::ChangeSignal::Clock;
+    tridex::ChangeSignal signal;
+    EXPECT_EQ(signal.count(), 0u);
+    const Clock::time_point t0 = Clock::now();
+    EXPECT_FALSE(signal.wait_past(0, t0 + std::chrono::milliseconds(20)));
+    EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds(20));  // it waited out the deadline
+    signal.notify();
+    EXPECT_EQ(signal.count(), 1u);
+    EXPECT_TRUE(signal.wait_past(0, Clock::now()));  // a count not seen: at once, even at a passed deadline
+    EXPECT_FALSE(signal.wait_past(1, Clock::now()));
+    std::thread other([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        signal.notify();
+    });
+    EXPECT_TRUE(signal.wait_past(1, Clock::now() + std::chrono::seconds(60)));
+    other.join();
+    EXPECT_EQ(signal.count(), 2u);
 }
