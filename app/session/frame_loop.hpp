@@ -65,9 +65,10 @@ struct FramePacing {
 /// Drives `steps` frame by frame on the calling thread (a window's events and GLFW need the main thread) until
 /// take_input() returns false or the frame last_frame() named has been drawn. When pacing sleeps, frames start
 /// period_s apart (a frame that starts a whole period late or more starts at once and the period counts from it,
-/// so missed frames are not made up; with early_gap_s, news starts a frame early). While it runs, the calling thread stays off the CPU a real-time haptic
-/// loop holds (KeepOffReservedCpu, core/cpu_reservation.hpp). Returns the frames drawn. Throws tridex::Error when
-/// early_gap_s lies outside 0..period_s; exceptions from the steps propagate.
+/// so missed frames are not made up; with early_gap_s, news starts a frame early). While it runs, the calling
+/// thread stays off the CPU a real-time haptic loop holds (KeepOffReservedCpu, core/cpu_reservation.hpp). Returns
+/// the frames drawn. Throws tridex::Error when early_gap_s lies outside 0..period_s; exceptions from the steps
+/// propagate.
 std::uint64_t run_frames(FrameSteps& steps, const FramePacing& pacing);
 
 }  // namespace tridex::app
