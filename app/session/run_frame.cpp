@@ -142,8 +142,8 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     if (gpu_contour) view.indirect_workpiece = &indirect;
     view.tiles_from_indirect = gpu_levels;
     view.cull_tiles = su.cull;
-    // The picture a session ends on keeps the occlusion; sculpting frames drop it where ao_sculpting says so.
-    const bool held = ao && sculpting && !ao_sculpting && !final_frame;
+    // The picture a session ends on keeps the occlusion; sculpting frames drop it where r.ao_sculpting says so.
+    const bool held = ao && sculpting && !r.ao_sculpting && !final_frame;
     if (held) ++r.frames_occlusion_held;
     view.occlusion_strength = ao && !held ? 1.0 : 0.0;
     if (budget) {
@@ -380,8 +380,7 @@ void RunPipeline::Parts::frame_loop() {
     swap = su.swap_eyes;
     ao = su.ao;
     const bool cpu_device = ctx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    ao_sculpting = su.ao_sculpting == "on" || (su.ao_sculpting == "auto" && !cpu_device);
-    r.ao_sculpting = ao_sculpting;
+    r.ao_sculpting = su.ao_sculpting == "on" || (su.ao_sculpting == "auto" && !cpu_device);
     r.ao_sculpting_reason =
         su.ao_sculpting != "auto" ? "--ao-while-sculpting " + su.ao_sculpting
         : cpu_device              ? "auto: off on a CPU implementation of Vulkan (" + ctx->device_name() +

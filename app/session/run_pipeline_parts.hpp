@@ -123,7 +123,6 @@ struct RunPipeline::Parts final : FrameSteps {
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
     // 4. Frame loop state.
     bool swap = false, ao = true;
-    bool ao_sculpting = true;  // the occlusion on sculpting frames (RunOptions::ao_sculpting, resolved)
     bool sculpting = false;    // this frame is drawn within kSculptingHoldS of a sculpted change
     bool final_frame = false;  // last_frame() named this frame
     std::optional<FrameBudget> budget;             // occlusion, levels' error and render scale on the frame-time budget
