@@ -203,8 +203,9 @@ std::vector<Samples> time_settings(renderer::OffscreenStereoRenderer& r, rendere
                 double in_passes = 0.0;
                 for (const renderer::PassTime& p : fs.passes) in_passes += p.ms;
                 got[k].outside.push_back(fs.frame_ms - in_passes);
-                for (const renderer::PassTime& p : fs.passes) got[k].pass_ms[p.pass];  // every name seen
-                for (auto& [name, values] : got[k].pass_ms) values.push_back(fs.pass_ms(name));
+                std::map<std::string, double> frame_passes;  // summed over the eyes; a pass the frame skipped is absent
+                for (const renderer::PassTime& p : fs.passes) frame_passes[p.pass] += p.ms;
+                for (const auto& [name, ms] : frame_passes) got[k].pass_ms[name].push_back(ms);
             }
         }
     }
@@ -242,18 +243,22 @@ void fill_row(const Setting& st, const Samples& g, const renderer::OffscreenSter
 
 // Prints one row of the table (the header printed by run_render_bench).
 void print_row(const RenderBenchRow& row, const char* setting) {
-    auto pass = [&](const char* name) {
-        const auto it = row.passes.find(name);
-        return it == row.passes.end() ? -1.0 : it->second;
-    };
-    char size[32], left[32], right[32];
+    char size[32], left[32], right[32], passes[3][32];
+    const char* const pass_names[3] = {kPasses[0], kPasses[1], kPasses[3]};
+    for (int k = 0; k < 3; ++k) {  // "-" for a pass no timed frame ran (the occlusion when it is off)
+        const auto it = row.passes.find(pass_names[k]);
+        if (it == row.passes.end())
+            std::snprintf(passes[k], sizeof passes[k], "-");
+        else
+            std::snprintf(passes[k], sizeof passes[k], "%.2f", it->second);
+    }
     std::snprintf(size, sizeof size, "%dx%d", row.width, row.height);
     std::snprintf(left, sizeof left, "%zu/%zu", row.tiles_drawn_left, row.tiles_skipped_left);
     std::snprintf(right, sizeof right, "%zu/%zu", row.tiles_drawn_right, row.tiles_skipped_right);
-    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8.2f %9.2f %8.2f %13s %13s %10zu %8zu %8.2f\n", row.n, size,
+    std::printf("%5d %10s %9s %8s %3s %9.2f %9.2f %8.2f %8s %9s %8s %13s %13s %10zu %8zu %8.2f\n", row.n, size,
                 row.view.c_str(), setting, row.ao ? "on" : "off", row.frame_ms_median, row.frame_ms_p99,
-                row.gpu_frame_ms_median, pass(kPasses[0]), pass(kPasses[1]), pass(kPasses[3]), left, right,
-                row.triangles_drawn_left, row.groups_drawn_left, row.gpu_outside_passes_ms);
+                row.gpu_frame_ms_median, passes[0], passes[1], passes[2], left, right, row.triangles_drawn_left,
+                row.groups_drawn_left, row.gpu_outside_passes_ms);
 }
 
 // One view's rows (one per setting, in order): each LOD row's and each culled row's speed-up over its partner (the

@@ -103,7 +103,9 @@ std::vector<ReportField> render_fields() {
         {"render.force_m_per_newton", "force arrow scale, m per N (0 without items); null for demo and replay"},
         {"render.timing", "run: how pass times were measured; null for demo and replay"},
         {"render.tiles", "run: tiles drawn and skipped per frame and eye; null for demo and replay"},
-        {"render.passes", "run: per pass and eye, {count, total_ms, median_ms, p99_ms, max_ms}; null otherwise"},
+        {"render.passes",
+         "run: per pass and eye, {count, total_ms, median_ms, p99_ms, max_ms} (occlusion: the frames that ran it); "
+         "null otherwise"},
     };
 }
 

@@ -83,6 +83,7 @@ struct FrameResources {
     FrameStats stats;         // counts at draw(); timings once the frame has finished
     bool gpu_timing = false;  // its timestamps were recorded
     bool timed = false;       // its timings are in `stats`
+    bool occlusion_ran = false;  // it ran the ambient occlusion
     int eye_count = 2;
     std::chrono::steady_clock::time_point submitted{};
 };
@@ -128,6 +129,8 @@ struct OffscreenStereoRenderer::Impl {
         if (f.gpu_timing && f.timer.read(*context, stats)) {
             if (f.eye_count == 1)  // the right eye's render pass was not recorded (its boundaries are zero-length)
                 std::erase_if(stats.passes, [](const PassTime& p) { return p.eye == 1; });
+            if (!f.occlusion_ran)  // nothing ran between its boundaries: no time to report for it
+                std::erase_if(stats.passes, [](const PassTime& p) { return p.pass == "occlusion"; });
             gpu_ms = stats.frame_ms;
         } else {
             const double cpu_ms =
@@ -518,6 +521,7 @@ FrameStats OffscreenStereoRenderer::Impl::submit(const SceneView& scene, int slo
     stats.frame = frames + 1;
     fr.stats = stats;
     fr.timed = false;
+    fr.occlusion_ran = occlusion;
     fr.eye_count = eye_count;
     last_frame = slots.submit(slot);
     last_slot = slot;

@@ -45,7 +45,9 @@ struct FrameStats {
     std::size_t draws_merged = 0;
     TimingSource timing = TimingSource::kGpuTimestamps;
     std::string timing_note;               ///< one line: the timing source, and why when it is the CPU clock
-    std::vector<PassTime> passes;          ///< GPU: every phase of every render pass instance; CPU: one "frame"
+    /// GPU: every phase of every render pass instance ("occlusion" only when the frame ran the ambient occlusion);
+    /// CPU: one "frame".
+    std::vector<PassTime> passes;
     double frame_ms = -1.0;                ///< whole frame incl. readback copy (GPU), or submit + wait (CPU)
     /// The renderer's count of frames drawn when this one was submitted (1 for the first frame).
     std::uint64_t frame = 0;

@@ -310,6 +310,15 @@ TEST(RunOffscreen, SculptingFramesDropTheOcclusionOnACpuDevice) {
     EXPECT_EQ(rep["render"]["ambient_occlusion_while_sculpting"]["frames_held"].get<std::uint64_t>(),
               automatic.frames_occlusion_held);
     EXPECT_FALSE(rep["render"]["ambient_occlusion_while_sculpting"]["on"].get<bool>());
+    // The occlusion pass is timed only on the frames that ran it (mono on lavapipe: one render pass, "left").
+    const auto pass_count = [](const nlohmann::json& report, const char* pass) -> std::uint64_t {
+        const nlohmann::json& passes = report["render"]["passes"];
+        return passes.contains(pass) ? passes[pass]["count"].get<std::uint64_t>() : 0u;
+    };
+    if (pass_count(rep, "opaque.left") > 0) {
+        EXPECT_GT(pass_count(rep, "occlusion.left"), 0u);
+        EXPECT_LT(pass_count(rep, "occlusion.left"), pass_count(rep, "opaque.left"));
+    }
 
     o.ao_sculpting = "on";
     o.out = (dir / "on").string();
@@ -317,11 +326,14 @@ TEST(RunOffscreen, SculptingFramesDropTheOcclusionOnACpuDevice) {
     EXPECT_TRUE(on.ao_sculpting);
     EXPECT_EQ(on.frames_occlusion_held, 0u);
     EXPECT_EQ(on.ao_sculpting_reason, "--ao-while-sculpting on");
+    const nlohmann::json on_rep = test::read_json(dir / "on" / "report.json");
+    EXPECT_EQ(pass_count(on_rep, "occlusion.left"), pass_count(on_rep, "opaque.left"));
 
     o.ao = "off";  // nothing to hold back when the occlusion is off
     o.ao_sculpting = "off";
     o.out = (dir / "none").string();
     EXPECT_EQ(run_stereo_session(o).frames_occlusion_held, 0u);
+    EXPECT_EQ(pass_count(test::read_json(dir / "none" / "report.json"), "occlusion.left"), 0u);
 
     o.ao_sculpting = "sometimes";
     try {

@@ -224,6 +224,18 @@ TEST(SceneItems, PassTimesFromTimestampsOrTheCpuClock) {
             EXPECT_LE(sum, s.frame_ms + 1e-6);  // the phases lie inside the frame
             EXPECT_GT(s.frame_ms, 0.0);
             EXPECT_EQ(r.last_gpu_ms(), s.frame_ms);
+            // A frame without the occlusion has no entry for it: 3 timed parts per eye.
+            SceneView plain = v;
+            plain.occlusion_strength = 0.0;
+            r.draw(plain, test::small_screen(), test::test_head(), kEyeSeparation);
+            const FrameStats p = r.finish();
+            ASSERT_EQ(p.passes.size(), 6u);
+            const char* plain_names[3] = {"opaque", "translucent", "overlay"};
+            for (std::size_t i = 0; i < 6; ++i) {
+                EXPECT_EQ(p.passes[i].pass, plain_names[i % 3]);
+                EXPECT_EQ(p.passes[i].eye, static_cast<int>(i / 3));
+            }
+            EXPECT_EQ(p.pass_ms("occlusion"), -1.0);
             std::printf("[timing] %s: frame %.3f ms, opaque %.3f, occlusion %.3f, translucent %.3f, overlay %.3f ms\n",
                         s.timing_note.c_str(), s.frame_ms, s.pass_ms("opaque"), s.pass_ms("occlusion"),
                         s.pass_ms("translucent"), s.pass_ms("overlay"));
