@@ -76,7 +76,8 @@ void put_hex(int fd, std::uintptr_t v) {
     put(fd, p);
 }
 
-void on_fatal_signal(int sig, siginfo_t* info, void*) {
+// Unused in a sanitized build, which keeps the sanitizer's own report (install_crash_report).
+[[maybe_unused]] void on_fatal_signal(int sig, siginfo_t* info, void*) {
     const bool fault = sig == SIGSEGV || sig == SIGBUS || sig == SIGFPE || sig == SIGILL;
     // si_addr means something only for a fault the kernel raised (si_code > 0), not for kill() or raise().
     write_crash_report(STDERR_FILENO, sig, fault && info && info->si_code > 0 ? info->si_addr : nullptr);

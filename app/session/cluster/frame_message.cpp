@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include "compute/journal/journal_format.hpp"
 #include "core/error.hpp"
@@ -22,8 +23,7 @@ constexpr std::uint32_t kMaxText = 64u << 20;        // a spec, an error, a repo
 // The messages' writer: devices/net's little-endian writer, plus texts with a u32 length, poses and samples.
 class Writer {
 public:
-    explicit Writer(ClusterKind kind) : w_(bytes_) {
-        bytes_.insert(bytes_.end(), kMagic, kMagic + 4);
+    explicit Writer(ClusterKind kind) : bytes_(std::begin(kMagic), std::end(kMagic)), w_(bytes_) {
         w_.u8(static_cast<std::uint8_t>(kind));
     }
     void u8(std::uint8_t v) { w_.u8(v); }
