@@ -11,9 +11,9 @@
 #include <cstdlib>
 #include <exception>
 #include <new>
-#include <regex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "app/support/crash_report.hpp"
@@ -59,11 +59,36 @@ int check_first_word(int argc, char** argv, const std::vector<Command>& commands
     return 2;
 }
 
+// Digits from `i` on; returns how many.
+std::size_t skip_digits(std::string_view t, std::size_t& i) {
+    const std::size_t from = i;
+    while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+    return i - from;
+}
+
+// Whether all of `t` is a decimal number: [+-]digits, and for a real also digits.digits, .digits or digits. with an
+// optional exponent [eE][+-]digits. No hexadecimal, no inf or nan, no spaces.
+bool is_decimal(std::string_view t, bool integer) {
+    std::size_t i = 0;
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t digits = skip_digits(t, i);
+    if (integer) return digits > 0 && i == t.size();
+    if (i < t.size() && t[i] == '.') {
+        ++i;
+        digits += skip_digits(t, i);
+    }
+    if (digits == 0) return false;
+    if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+        ++i;
+        if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+        if (skip_digits(t, i) == 0) return false;
+    }
+    return i == t.size();
+}
+
 // One rule for numbers on the command line: decimal text only (no 0x10, no inf or nan), the whole word, finite.
 // Ranges stay with each option. Applied to every option CLI11 reads as a number, in every (sub)command.
 void require_decimal_numbers(CLI::App& app) {
-    static const std::regex integer(R"([+-]?[0-9]+)");
-    static const std::regex real(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
     for (CLI::Option* o : app.get_options()) {
         const std::string type = o->get_type_name();
         const bool is_int = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0;
@@ -71,7 +96,7 @@ void require_decimal_numbers(CLI::App& app) {
         if (!is_int && !is_real) continue;
         o->check(CLI::Validator(
             [is_int](std::string& text) -> std::string {
-                if (!std::regex_match(text, is_int ? integer : real))
+                if (!is_decimal(text, is_int))
                     return "'" + text + "' is not a decimal number" + (is_int ? " (a whole number)" : "");
                 if (!std::isfinite(std::strtod(text.c_str(), nullptr))) return "'" + text + "' is out of range";
                 return "";

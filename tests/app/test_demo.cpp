@@ -98,6 +98,12 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         // Numbers: decimal, whole, finite, in range.
         {"demo --seconds 0x10 --out " + (dir / "o").string(), "--seconds: '0x10' is not a decimal number"},
         {"demo --seconds inf --out " + (dir / "o").string(), "--seconds: 'inf' is not a decimal number"},
+        {"demo --seconds 1e --out " + (dir / "o").string(), "--seconds: '1e' is not a decimal number"},
+        {"demo --seconds . --out " + (dir / "o").string(), "--seconds: '.' is not a decimal number"},
+        {"demo --seconds 1.5.2 --out " + (dir / "o").string(), "--seconds: '1.5.2' is not a decimal number"},
+        {"demo --seconds +-1 --out " + (dir / "o").string(), "--seconds: '+-1' is not a decimal number"},
+        {"demo --width 12.5 --out " + (dir / "o").string(), "--width: '12.5' is not a decimal number (a whole number)"},
+        {"demo --width 1e3 --out " + (dir / "o").string(), "--width: '1e3' is not a decimal number (a whole number)"},
         {"demo --static-friction 1e308 --out " + (dir / "o").string(), "--friction: need 0 <= dynamic <= static <= 10"},
     };
     for (const auto& [args, expect] : cases) {
