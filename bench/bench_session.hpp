@@ -68,11 +68,12 @@ struct LatencyBenchRow {
 /// Runs `tridex run` offscreen (paced at 60 Hz, 960x540 mono) on the bunny scaled as in the demo (0.3 m) at each of
 /// options.latency_resolutions, with the demo's 8 mm ball dragged 0.12 m along the surface at 0.1 m/s, once as a
 /// subtract and as a clay push in groups of the default size (compute::kClayGroupSweeps) and of 16 sweeps, each once
-/// with the stroke starting with the session (while the start-up levels of detail are built) and once 3 s later, and the
-/// settled default push again with the occlusion kept on its sculpting frames (--ao-while-sculpting on) and at the
-/// fixed 60 Hz pace (--fixed-pace), the baselines of its defaults; prints, per session, the time from a tool sample to the surface it changed
-/// being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max: the frame done on the device and presented) and
-/// submitted, beside the push target (p99 <= 50 ms), and the sculpt step times; and writes latency_bench.json into options.out. Throws tridex::Error on a failed session.
+/// with the stroke starting with the session (while the start-up levels of detail are built) and once 3 s later, and
+/// the settled default push again with the occlusion kept on its sculpting frames (--ao-while-sculpting on) and at the
+/// fixed 60 Hz pace (--fixed-pace), the baselines of its defaults; prints, per session, the time from a tool sample to
+/// the surface it changed being drawn (report.json meshes.sample_to_drawn_ms: p50, p99, max: the frame done on the
+/// device and presented) and submitted, beside the push target (p99 <= 50 ms), and the sculpt step times; and writes
+/// latency_bench.json into options.out. Throws tridex::Error on a failed session.
 std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);
 
 /// Runs `tridex demo` sessions (app::run_demo: workpiece, SessionRuntime, scripted stroke, outputs at a small image
