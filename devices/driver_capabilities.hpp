@@ -33,6 +33,15 @@ struct DriverOption {
     std::string doc;  ///< one line for docs/devices and error messages
 };
 
+/// One button of a device: its bit in DeviceState::buttons, the name a bindings file gives it, and the action it
+/// does unless a bindings file says otherwise (an action name of the app's registry, app/actions/action_registry.hpp:
+/// "engage", "workspace", "menu", "edit.undo", ...; "" = none).
+struct ButtonInfo {
+    int bit = 0;                 ///< 0..31
+    std::string name;            ///< "trigger", "button1", "left", ...
+    std::string default_action;  ///< "" = unbound
+};
+
 /// What a driver can do and needs. Buttons are bit indices of DeviceState::buttons. The workspace button is the
 /// stylus button that the workspace techniques read (Peng's workspace moving, 4.1: held, the workspace follows the
 /// hand; clutching: held, the hand moves without the tool).
@@ -43,7 +52,6 @@ struct DriverCapabilities {
     bool renders_forces = false;   ///< the device pushes back on the hand
     int workspace_button = 0;      ///< the stylus button the workspace techniques read, -1: none
     int engage_button = -1;        ///< the button that must be held for the tool to carve, -1: it always carves
-    int next_op_button = -1;       ///< a press switches to the next operation (subtract, union, paint, push, ...), -1: none
     bool servable = false;         ///< `tridex device-server` can serve it to another machine
     bool strokes_end_on_release = false;  ///< a stroke ends when the engage button is released, not when idle
     bool switches_op = false;      ///< the person switches the tool's operation during the session (keys, buttons)
@@ -57,6 +65,9 @@ struct DriverCapabilities {
     std::string target_kind;       ///< tracked: the kind of target its ID numbers ("Flystick", "body")
     std::string fixed_profile;     ///< the profile it always drives ("falcon", "tracked"); "" = the spec's
     std::vector<DriverOption> options;  ///< numeric options of a scene's "device" block it reads
+    /// The device's buttons, with their default actions (the engage and workspace buttons above among them, bound to
+    /// "engage" and "workspace"); a bindings file names them by ButtonInfo::name. Empty: it has none to bind.
+    std::vector<ButtonInfo> buttons;
 };
 
 /// True when a person moves the hand continuously outside any script (pointer, rate, tracked): such a session has

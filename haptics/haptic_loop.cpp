@@ -53,6 +53,12 @@ bool finite_state(const devices::DeviceState& s) {
     throw Error("HapticLoopConfig." + field + " = " + std::to_string(value) + " " + rule);
 }
 
+// How much stiffer the device feels a world stiffness: the workspace scale, except in kScaling, whose forces reach
+// the device divided by it (world_stiffness_cap_n_per_m).
+double device_gain(const HapticLoopConfig& c) {
+    return c.workspace.mode == WorkspaceMode::kScaling ? 1.0 : c.workspace_scale;
+}
+
 HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& profile, bool& capped) {
     if (!(std::isfinite(c.period_s) && c.period_s >= 1e-5 && c.period_s <= 0.1))
         bad("period_s", c.period_s, "must be in [1e-5, 0.1] s");
@@ -69,8 +75,7 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
-    const double gain = c.workspace.mode == WorkspaceMode::kScaling ? 1.0 : c.workspace_scale;
-    const double cap = world_stiffness_cap_n_per_m(profile, gain);
+    const double cap = world_stiffness_cap_n_per_m(profile, device_gain(c));
     capped = cap_contact_stiffness(c.contact, cap);
     if (c.elastic_objects.size() > kMaxElasticObjects)
         throw Error("HapticLoopConfig.elastic_objects: " + std::to_string(c.elastic_objects.size()) + " objects; at most " +
@@ -111,6 +116,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     tool_ = cfg_.tool;
     set_tool_op(cfg_.op, cfg_.material);
     last_tool_ = mapper_.frame().tool_world;
+    stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
 }
 
 HapticLoop::~HapticLoop() { stop(); }
@@ -132,6 +138,12 @@ bool HapticLoop::set_tool(const ToolShape& tool) {
     u.tool = tool;
     tool_updates_.publish();
     return true;
+}
+
+void HapticLoop::set_menu(const MenuDetent& m) {
+    if (m.open) check_menu_detent(m, stiffness_cap_n_per_m_);
+    menu_updates_.back() = m;
+    menu_updates_.publish();
 }
 
 void HapticLoop::use_tool(const ToolShape& tool) {
@@ -275,6 +287,8 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     prev_now_s_ = now_s;
     have_prev_now_ = true;
     rec.device = state;
+    const MenuDetent& menu = menu_updates_.latest();
+    rec.menu_open = menu.open;
     // A finite device position can still map to a non-finite world HIP (huge workspace_scale).
     const bool finite = finite_state(state) &&
                         is_finite(cfg_.device_to_world.apply(cfg_.workspace_scale * state.pose.position));
@@ -334,8 +348,11 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
     // The world's contact force reaches the device scaled by the mapping's force_scale() (1 / s in kScaling).
+    // The open menu's detent is a world force like the contact's, felt only while the tool follows the stylus.
     const double fmax = limits_.max_force_n, tmax = limits_.max_torque_nm;
-    Vec3 f = clamp_force(filter_.apply(clamp_force(mapper_.force_scale() * c.force_n + wf.force_n, fmax)), fmax);
+    const Vec3 detent = menu.open && wf.coupled ? menu_detent_force(menu, tool_world.position) : Vec3(0.0);
+    const Vec3 world_n = mapper_.force_scale() * (c.force_n + detent) + wf.force_n;
+    Vec3 f = clamp_force(filter_.apply(clamp_force(world_n, fmax)), fmax);
     if (!is_finite(filter_.value())) {
         filter_.reset();
         f = Vec3(0.0);
@@ -357,28 +374,10 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     device_.write(to_device.force_n, to_device.torque_nm);
     safety_.sent(r * to_device.force_n);  // the passivity books take what the device got (per-axis limits)
 
-    ToolSample sample;
-    sample.t_s = state.t_s;
-    sample.made_s = static_cast<double>(now_ns()) * 1e-9;  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
-    sample.position = tool_world.position;
-    {
-        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m : c.proxy_m - tool_world.position;
-        sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
-    }
-    sample.orientation = tool_world.orientation;
-    sample.tool = tool_;
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
-    const bool hold = wf.modelling_paused || carve_gap_ || !wd.force_allowed || out.over_speed || !engaged ||
-                      (remote_contact && (remote.hold || remote.stale));
-    const std::uint16_t op = op_.load(std::memory_order_relaxed);
-    sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
-    sample.material = static_cast<std::uint8_t>(op >> 8);
-    rec.op = static_cast<ToolOp>(op & 0xffu);
-    rec.material = sample.material;
-    rec.tool = tool_;
-    carve_gap_ = !wd.force_allowed || out.over_speed;
-    sample.buttons = state.buttons;
-    if (!samples_.try_push(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
+    const bool hold = wf.modelling_paused || menu.open || carve_gap_ || !wd.force_allowed || out.over_speed ||
+                      !engaged || (remote_contact && (remote.hold || remote.stale));
+    push_sample(state, tool_world, c, hold, !wd.force_allowed || out.over_speed, rec);
 
     last_tool_ = tool_world;
     rec.hip_m = tool_world.position;
@@ -411,6 +410,33 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     return true;
 }
 
+void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool_world, const ContactOut& c, bool hold,
+                             bool gap, TickRecord& rec) {
+    ToolSample sample;
+    sample.t_s = state.t_s;
+    sample.made_s = static_cast<double>(now_ns()) * 1e-9;  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
+    sample.position = tool_world.position;
+    {
+        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m
+                                     : c.proxy_m - tool_world.position;
+        sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
+    }
+    sample.orientation = tool_world.orientation;
+    sample.tool = tool_;
+    const std::uint16_t op = op_.load(std::memory_order_relaxed);
+    sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
+    sample.material = static_cast<std::uint8_t>(op >> 8);
+    rec.op = static_cast<ToolOp>(op & 0xffu);
+    rec.material = sample.material;
+    rec.tool = tool_;
+    sample.buttons = state.buttons;
+    const bool pushed = samples_.try_push(sample);
+    if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
+    // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
+    // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.
+    carve_gap_ = gap || (!pushed && sample.op == ToolOp::kNone);
+}
+
 void HapticLoop::finish(TickRecord& rec, double compute_s) {
     rec.compute_us = static_cast<float>(compute_s * 1e6);
     // The session's first tick has no period.
@@ -440,6 +466,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.proxy_m = rec.proxy_m;
     v.points_in_contact = rec.points_in_contact;
     v.tool = tool_;
+    v.menu_open = rec.menu_open;
     view_.publish();
 }
 

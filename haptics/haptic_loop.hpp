@@ -19,6 +19,7 @@
 #include "haptics/elastic_object.hpp"
 #include "haptics/ewma_filter.hpp"
 #include "haptics/god_object.hpp"
+#include "haptics/menu_detent.hpp"
 #include "haptics/multipoint.hpp"
 #include "haptics/wrench_output.hpp"
 #include "haptics/safety.hpp"
@@ -131,6 +132,9 @@ struct TickRecord {
     /// Local rendering (a device's remote tool sample): the sample was an earlier tick's (RemoteToolSample::stale),
     /// so force_n is the last force its loop rendered, not one the device got on this tick.
     bool remote_stale = false;
+    /// The pie menu was open (HapticLoop::set_menu): the tick's sample carried ToolOp::kNone, and force_n includes the
+    /// detent (while the tool followed the stylus).
+    bool menu_open = false;
 };
 
 /// Counters of the loop; readable while it runs.
@@ -174,6 +178,7 @@ struct LoopView {
     Vec3 proxy_m{0.0};
     int points_in_contact = 0;      ///< contact points touching material this tick
     ToolShape tool{};               ///< the tool in use (HapticLoop::set_tool)
+    bool menu_open = false;         ///< the loop feels the pie menu (HapticLoop::set_menu) on that tick
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
@@ -186,14 +191,16 @@ struct LoopView {
 ///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest):
 ///   the MultiPointRenderer (one god-object per tool point, force sum and torque about the tool centre,
 ///   or the interaction mesh), whose damping dt is the step of the device's clock, t_s, or period_s when
-///   that does not advance -> x the mapper's force_scale() (1 / s in kScaling) + its force (bubble wall)
+///   that does not advance -> + the open menu's detent (set_menu) -> x the mapper's force_scale() (1 / s in
+///   kScaling) + its force (bubble wall)
 ///   -> clamp -> EwmaFilter (reset when non-finite) -> clamp to the profile's max force (torque: its own filter and max torque)
 ///   -> SafetyStage (clamps, velocity limit and watchdog gate, ramp-in, passivity controller when
 ///   enabled, passivity observer) -> map_to_device (the device's DOF and per-axis limits: 3-DOF
 ///   drops torque, 5-DOF the roll axis) -> device.write(R^-1 * F_world, R^-1 * tau_world)
 ///   -> push a ToolSample (device time, HIP, tool orientation, radius, op, or kNone while modelling is
-///   paused, buttons) to the ring (when full, count a drop and go on: the next successful push just
-///   makes a longer segment) -> store a TickRecord into the preallocated array (until it is full)
+///   paused or the menu is open, buttons) to the ring (when full, count a drop and go on: the next successful
+///   push just makes a longer segment; after a dropped kNone sample the next one is kNone too, so no sweep
+///   starts from before a pause) -> store a TickRecord into the preallocated array (until it is full)
 ///   -> publish a LoopView for the renderer.
 /// A device whose contact loop runs next to it (device.remote_tool(): the net driver in local haptic rendering,
 /// Popescu, Burdea, Bouzit section 2) replaces contact(): the HIP, proxy and hold of its tool sample go into the
@@ -255,6 +262,16 @@ public:
     /// cut still agree. One writer thread (the window's); lock-free: the loop takes it at its next valid tick
     /// (and resets the contact). Returns false, changing nothing, for another kind, a mesh tool or a bad size.
     bool set_tool(const ToolShape& tool);
+    /// Opens, moves or closes the in-scene pie menu (world frame, SI). One writer thread (the render thread);
+    /// lock-free: the loop takes the newest menu at its next tick, and start() keeps the last one set. While
+    /// m.open, every ToolSample carries ToolOp::kNone (no carving, as while modelling is paused) and, while the
+    /// tool follows the stylus, menu_detent_force(m, HIP) is added to the contact force before the mapping's
+    /// force_scale(), the filter, the clamps and the safety stage (a world force, bounded like the contact's); the
+    /// workpiece is still felt. Closing resumes carving on the next tick; the first carving sweep starts at the
+    /// previous tick's sample (the last menu sample; when that one was dropped, the first sample after is kNone).
+    /// Throws tridex::Error (publishing nothing) when m.open and check_menu_detent(m, the world stiffness cap
+    /// of the device profile under the workspace gain) fails; a closed menu is always taken.
+    void set_menu(const MenuDetent& m);
     /// The newest LoopView (render thread; exactly one reader thread). Default LoopView before the
     /// first tick.
     const LoopView& latest_view() { return view_.latest(); }
@@ -288,6 +305,9 @@ private:
     void apply_tool_changes(double device_t_s);
     // Switches to `tool` (already checked) with contact points scaled from the configured ones.
     void use_tool(const ToolShape& tool);
+    // Builds this tick's ToolSample (op kNone when `hold`) and pushes it; `gap` keeps the next sample from carving.
+    void push_sample(const devices::DeviceState& state, const Pose& tool_world, const ContactOut& c, bool hold,
+                     bool gap, TickRecord& rec);
     // Whether `tool` may replace the configured tool: the same kind, not a mesh, a finite radius > 0, a finite length
     // (> 0 for a flat end), and a configured radius > 0 to scale the contact points from.
     bool tool_change_allowed(const ToolShape& tool) const;
@@ -341,6 +361,8 @@ private:
     std::uint64_t tool_serial_sent_ = 0; // writer side
     std::uint64_t tool_serial_used_ = 0; // loop side
     std::size_t next_change_ = 0;        // cfg_.tool_schedule entries applied
+    double stiffness_cap_n_per_m_ = 0.0; // world stiffness cap of the device under the workspace gain, N/m
+    TripleBuffer<MenuDetent> menu_updates_;  // set_menu (render thread) -> the loop
 };
 
 }  // namespace tridex::haptics

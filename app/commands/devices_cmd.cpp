@@ -13,13 +13,16 @@ nlohmann::json capabilities_json(const devices::DriverCapabilities& c) {
     for (const devices::DriverOption& o : c.options)
         options.push_back({{"name", o.name}, {"default", o.fallback}, {"min", o.min}, {"max", o.max},
                            {"min_exclusive", o.min_exclusive}, {"doc", o.doc}});
+    nlohmann::json buttons = nlohmann::json::array();
+    for (const devices::ButtonInfo& b : c.buttons)
+        buttons.push_back({{"bit", b.bit}, {"name", b.name}, {"action", b.default_action.empty() ? "none" : b.default_action}});
     return {{"input", std::string(devices::to_string(c.input))},
             {"dof_in", c.dof_in},
             {"dof_out", c.dof_out},
             {"renders_forces", c.renders_forces},
             {"workspace_button", c.workspace_button},
             {"engage_button", c.engage_button},
-            {"next_op_button", c.next_op_button},
+            {"buttons", buttons},
             {"servable", c.servable},
             {"strokes_end_on_release", c.strokes_end_on_release},
             {"switches_op", c.switches_op},

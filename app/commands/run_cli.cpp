@@ -43,7 +43,8 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_option("--out", o.out, "Output folder: report.json; offscreen also left/right/output.png")
         ->capture_default_str();
     cmd->add_option("--display-config", o.display_config, "Display config file (JSON) replacing the scene's display");
-    cmd->add_option("--wand", o.wand, "Scene navigation wand: none | dtrack:PORT[:FLYSTICK] (ART DTrack Flystick: hold the trigger to carry the scene, joystick up/down scales, button 1 resets; default: the scene's)");
+    cmd->add_option("--wand", o.wand, "Scene navigation wand: none | dtrack:PORT[:FLYSTICK] (ART DTrack Flystick: hold the trigger to carry the scene, joystick up/down scales, button 1 opens the menu, button 2 re-centres; default: the scene's)");
+    cmd->add_option("--bindings", o.bindings, "Bindings file: the tool's and the wand's buttons and joystick to actions (docs/formats/bindings.md; default: the scene's \"bindings\", else each driver's defaults)");
     cmd->add_option("--head", o.head, "Head pose provider: fixed | scripted | tracker | dtrack:PORT[:BODY] (ART DTrack over UDP; default: the scene's)");
     cmd->add_flag("--swap-eyes", o.swap_eyes, "Exchange the eyes on the display");
     cmd->add_option("--seconds", o.seconds, "Stop after S seconds of wall time (0: no limit)")->capture_default_str();

@@ -32,63 +32,30 @@ RunInput::RunInput(renderer::KeyboardMouseHead* head, renderer::SceneNavigation&
                    const renderer::MouseNavigation& mouse)
     : head_(head), nav_(nav), mouse_(mouse) {}
 
-std::vector<SculptRequest> RunInput::take_requests() { return std::exchange(requests_, {}); }
-
-int RunInput::take_occlusion_toggles() { return std::exchange(occlusion_toggles_, 0); }
-
-int RunInput::take_swap_toggles() {
-    const int n = swaps_;
-    swaps_ = 0;
-    return n;
-}
+std::vector<std::string> RunInput::take_actions() { return std::exchange(actions_, {}); }
 
 void RunInput::handle(const renderer::InputEvent& e) {
     switch (e.type) {
         case InputType::kKey: {
             if (e.key == Key::kLeftShift || e.key == Key::kRightShift) shift_ = e.action != InputAction::kRelease;
             if (e.key == Key::kLeftAlt || e.key == Key::kRightAlt) alt_ = e.action != InputAction::kRelease;
-            if ((e.modifiers & renderer::modifier::kControl) != 0 && e.action != InputAction::kRelease) {
-                const bool with_shift = (e.modifiers & renderer::modifier::kShift) != 0;
-                if (e.key == Key::kZ) requests_.push_back(with_shift ? SculptRequest::kRedo : SculptRequest::kUndo);
-                else if (e.key == Key::kY) requests_.push_back(SculptRequest::kRedo);
-                else if (e.key == Key::kS && e.action == InputAction::kPress) requests_.push_back(SculptRequest::kSave);
-                if (e.key == Key::kZ || e.key == Key::kY || e.key == Key::kS) return;
+            if (const KeyBinding* b = find_key_binding(e.key, e.modifiers, stylus_ != nullptr)) {
+                if (e.action == InputAction::kPress || (e.action == InputAction::kRepeat && b->repeats))
+                    actions_.push_back(b->action);
+                return;
             }
             if (e.action == InputAction::kRepeat) return;
-            const bool pressed = e.action == InputAction::kPress;
-            if (stylus_ && pressed && e.modifiers == 0) {
-                if (e.key == Key::k1) return stylus_->set_op(ToolOp::kSubtract);
-                if (e.key == Key::k2) return stylus_->set_op(ToolOp::kUnion);
-                if (e.key == Key::k3) return stylus_->set_op(ToolOp::kPaint);
-                if (e.key == Key::k4) return stylus_->set_op(ToolOp::kPush);    // clay
-                if (e.key == Key::k5) return stylus_->set_op(ToolOp::kSmooth);  // clay
-                if (e.key == Key::k6) return stylus_->set_op(ToolOp::kPull);    // clay
-                if (e.key == Key::kLeftBracket) {
-                    stylus_->resize(-1);
-                    return;
-                }
-                if (e.key == Key::kRightBracket) {
-                    stylus_->resize(1);
-                    return;
-                }
-            }
             MoveKey mk;
-            if (move_key(e.key, mk)) {
-                if (head_) head_->key(mk, pressed);
-            } else if (pressed && e.key == Key::kEscape) {
-                close_ = true;
-            } else if (pressed && e.key == Key::kTab) {
-                ++swaps_;
-            } else if (pressed && e.key == Key::kO && (e.modifiers & renderer::modifier::kControl) == 0) {
-                ++occlusion_toggles_;
-            } else if (pressed && e.key == Key::kHome) {
-                if (head_) head_->reset();
-                nav_.reset();
-            }
+            if (move_key(e.key, mk) && head_) head_->key(mk, e.action == InputAction::kPress);
             return;
         }
         case InputType::kMouseButton: {
             const bool down = e.action != InputAction::kRelease;
+            if (e.button == renderer::MouseButton::kMiddle) {  // the menu button, in both modes
+                middle_ = down;
+                if (stylus_) stylus_->set_cursor(e.x_px, e.y_px);
+                return;
+            }
             if (stylus_) {
                 stylus_->set_cursor(e.x_px, e.y_px);
                 const bool alt = (e.modifiers & renderer::modifier::kAlt) != 0;
@@ -96,18 +63,17 @@ void RunInput::handle(const renderer::InputEvent& e) {
                 // A press goes to the stylus unless Alt is held; a release ends whichever it started.
                 if (e.button == renderer::MouseButton::kLeft && (!down || !alt)) stylus_->set_left(down);
                 if (e.button == renderer::MouseButton::kRight && (!down || !alt)) stylus_->set_right(down);
-                if (down && !alt && e.button != renderer::MouseButton::kMiddle) return;
+                if (down && !alt) return;
             }
             if (e.button == renderer::MouseButton::kLeft) left_ = down;
             if (e.button == renderer::MouseButton::kRight) right_ = down;
-            if (e.button == renderer::MouseButton::kMiddle) middle_ = down;
             shift_ = (e.modifiers & renderer::modifier::kShift) != 0;
             return;
         }
         case InputType::kMouseMove: {
             if (stylus_) stylus_->set_cursor(e.x_px, e.y_px);
             if (!std::isfinite(e.dx_px) || !std::isfinite(e.dy_px)) return;
-            if (middle_ || (left_ && shift_))
+            if (left_ && shift_)
                 renderer::mouse_pan(nav_, mouse_, e.dx_px, e.dy_px);
             else if (left_)
                 renderer::mouse_orbit(nav_, mouse_, e.dx_px, e.dy_px);

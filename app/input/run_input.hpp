@@ -4,8 +4,10 @@
 #include <cmath>
 #include <vector>
 
+#include <string>
+
+#include "app/input/key_bindings.hpp"
 #include "app/input/mouse_stylus.hpp"
-#include "compute/runtime/sculpt_thread.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/camera/scene_navigation.hpp"
 #include "renderer/window/window_input.hpp"
@@ -15,17 +17,15 @@ namespace tridex::app {
 /// Maps window input events to the head and the scene (the paper's Wand, played by the mouse):
 /// - W / S or Up / Down: head forward / back; A / D or Left / Right: left / right; R / F: up / down (held keys,
 ///   KeyboardMouseHead speed); right-button drag turns the head (only when a KeyboardMouseHead is given);
-/// - left-button drag orbits the scene about the pivot, Shift + left drag or middle drag pans it, the wheel
-///   scales it (renderer mouse_orbit / mouse_pan / mouse_zoom);
-/// - Home resets head and scene; Tab toggles swap eyes; O toggles ambient occlusion; Esc asks to close;
-/// - Ctrl+Z undoes the last stroke, Ctrl+Shift+Z or Ctrl+Y redoes it, Ctrl+S saves the model (take_requests());
-///   with Ctrl held, the letter keys do not move the head.
+/// - left-button drag orbits the scene about the pivot, Shift + left drag pans it, the wheel scales it (renderer
+///   mouse_orbit / mouse_pan / mouse_zoom);
+/// - the middle button is the menu button: held, the pie menu is open (menu_held());
+/// - every other key chord of desk_key_bindings() (Home, Tab, O, Esc, Ctrl+Z, Ctrl+Shift+Z, Ctrl+Y, Ctrl+S, and with
+///   the stylus 1..6, [ and ]) names an action, queued in the order pressed (take_actions()); the caller runs them
+///   (app/actions/action_registry.hpp). A bound chord never moves the head.
 /// With a mouse stylus (use_stylus; `--device mouse`) the mouse is the tool instead: the left button engages it,
-/// the right button is the stylus button, the wheel sets the depth, 1 / 2 / 3 choose subtract / union / paint,
-/// 4 / 5 / 6 push / smooth / pull (clay),
-/// [ / ] make the tool smaller / larger (MouseStylus::resize),
-/// and scene navigation moves to Alt: Alt + left drag orbits, Alt + Shift + left drag (or middle drag) pans,
-/// Alt + wheel zooms, Alt + right drag turns the head.
+/// the right button is the stylus button, the wheel sets the depth, and scene navigation moves to Alt: Alt + left
+/// drag orbits, Alt + Shift + left drag pans, Alt + wheel zooms, Alt + right drag turns the head.
 /// One thread (the window's); the head and navigation must outlive it.
 class RunInput {
 public:
@@ -42,15 +42,11 @@ public:
     void use_stylus(MouseStylus* stylus) { stylus_ = stylus; }
     /// Applies one event. Never throws for finite event values (non-finite deltas are ignored).
     void handle(const renderer::InputEvent& event);
-    /// True once Esc was pressed.
-    bool close_requested() const { return close_; }
-    /// How many times Tab was pressed since the last call (the caller flips swap eyes that many times).
-    int take_swap_toggles();
-    /// How many times O was pressed since the last call (the caller flips ambient occlusion that many times).
-    int take_occlusion_toggles();
-    /// The undo, redo and save requests since the last call, in the order the keys were pressed (auto-repeat
-    /// included, so holding Ctrl+Z undoes stroke after stroke).
-    std::vector<SculptRequest> take_requests();
+    /// The actions the keys named since the last call, in the order pressed (auto-repeat included where the
+    /// binding repeats, so holding Ctrl+Z undoes stroke after stroke).
+    std::vector<std::string> take_actions();
+    /// True while the middle button (the menu button at the desk) is held.
+    bool menu_held() const { return middle_; }
 
 private:
     renderer::KeyboardMouseHead* head_;
@@ -58,10 +54,7 @@ private:
     renderer::MouseNavigation mouse_;
     MouseStylus* stylus_ = nullptr;
     bool left_ = false, right_ = false, middle_ = false, shift_ = false, alt_ = false;
-    bool close_ = false;
-    int swaps_ = 0;
-    int occlusion_toggles_ = 0;
-    std::vector<SculptRequest> requests_;
+    std::vector<std::string> actions_;
 };
 
 }  // namespace tridex::app

@@ -9,7 +9,7 @@
 namespace tridex::app {
 namespace {
 
-bool held(std::uint64_t buttons, int b) { return ((buttons >> b) & 1u) != 0; }
+bool held(std::uint64_t buttons, int b) { return b >= 0 && ((buttons >> b) & 1u) != 0; }
 
 bool usable(const Pose& p) {
     const Quat& q = p.orientation;
@@ -20,9 +20,9 @@ bool usable(const Pose& p) {
 }  // namespace
 
 WandNavigator::WandNavigator(const WandNavigationSettings& s) : settings_(s) {
-    const auto button_ok = [](int b) { return b >= 0 && b < 64; };
-    if (!button_ok(s.grab_button) || !button_ok(s.reset_button) || s.grab_button == s.reset_button)
-        throw Error("wand: the grab and reset buttons must be different indices in 0..63");
+    const auto button_ok = [](int b) { return b >= -1 && b < 64; };
+    if (!button_ok(s.grab_button) || !button_ok(s.reset_button) || (s.grab_button >= 0 && s.grab_button == s.reset_button))
+        throw Error("wand: the grab and reset buttons must be different indices in 0..63 (or -1: none)");
     if (!std::isfinite(s.scale_rate_per_s) || s.scale_rate_per_s < 0.0)
         throw Error("wand: scale_rate_per_s must be finite and >= 0 (ln of the factor per s)");
     if (!(s.dead_zone >= 0.0 && s.dead_zone < 1.0)) throw Error("wand: dead_zone must be in [0, 1)");
@@ -59,7 +59,7 @@ void WandNavigator::update(const WandSample& s, double dt_s, renderer::SceneNavi
     }
     const double y = std::clamp(s.joystick_y, -1.0, 1.0);
     const double dt = std::isfinite(dt_s) ? std::clamp(dt_s, 0.0, settings_.max_dt_s) : 0.0;
-    if (std::abs(y) > settings_.dead_zone && dt > 0.0)
+    if (settings_.joystick_scales && std::abs(y) > settings_.dead_zone && dt > 0.0)
         scaled_by_ *= nav.scale(std::exp(settings_.scale_rate_per_s * y * dt), settings_.pivot_m);
 }
 

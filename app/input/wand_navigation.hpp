@@ -19,8 +19,9 @@ struct WandSample {
 
 /// How the wand's buttons and joystick navigate.
 struct WandNavigationSettings {
-    int grab_button = 0;                   ///< held: the scene follows the wand rigidly (the Flystick's trigger)
-    int reset_button = 1;                  ///< pressed: back to the start pose and scale
+    int grab_button = 0;                   ///< held: the scene follows the wand rigidly (the Flystick's trigger); -1 none
+    int reset_button = 1;                  ///< pressed: back to the start pose and scale; -1 none
+    bool joystick_scales = true;           ///< the joystick's y scales the scene (false: it drives something else)
     double scale_rate_per_s = 0.6931471805599453;  ///< ln(scale factor per s) at full joystick (ln 2: doubles in 1 s)
     double dead_zone = 0.1;                ///< |joystick_y| below this does nothing
     double max_dt_s = 0.1;                 ///< a frame's time step is clamped to [0, max_dt_s] s (no scale jumps)
@@ -37,7 +38,7 @@ struct WandNavigationSettings {
 /// One thread; not thread-safe.
 class WandNavigator {
 public:
-    /// Throws tridex::Error for button indices outside 0..63 or equal, a negative or non-finite rate, a dead zone
+    /// Throws tridex::Error for button indices outside -1..63 or equal (but -1), a negative or non-finite rate, a dead zone
     /// outside [0, 1), a non-finite or negative max_dt_s, or a non-finite pivot.
     explicit WandNavigator(const WandNavigationSettings& settings = {});
     /// Applies one frame's sample to `nav`; dt_s: time since the previous frame, s (clamped to [0, max_dt_s];

@@ -521,6 +521,10 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_display(top, s);
     read_head(top, s);
     read_wand(top, s);
+    if (const json* b = top.get("bindings")) {
+        if (!b->is_object()) top.fail("bindings", "must be an object {\"tool\": {...}, \"wand\": {...}}");
+        s.bindings = b->dump();
+    }
     read_objects(top, s);
     read_study(top, j, s, base_dir);
     top.finish();

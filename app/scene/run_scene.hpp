@@ -142,6 +142,9 @@ struct RunScene {
     int wand_flystick = 0;              ///< wand: DTrack Flystick id (0..15)
     std::string wand_bind = "0.0.0.0";  ///< wand: local IPv4 address to listen on
     double wand_timeout_s = 0.1;        ///< wand: a Flystick sample older than this stops navigation, s
+    /// The scene's "bindings" object as JSON text ("" = none), checked by the session against its devices
+    /// (app/actions/bindings.hpp apply_bindings).
+    std::string bindings;
     RunStudy study;                     ///< a study scene's objects instead of a workpiece (study.enabled)
     /// Spheres beside the workpiece ("objects"): felt through their undeformed surfaces (spec.elastic_objects) and
     /// drawn, the elastic ones dented within their radius of influence while the tool presses them.

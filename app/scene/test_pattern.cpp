@@ -7,50 +7,19 @@
 
 #include "core/error.hpp"
 #include "core/primitives.hpp"
-#include "renderer/scene/overlay_text.hpp"
+#include "renderer/scene/plane_marks.hpp"
 
 namespace tridex::app {
 
 namespace {
 
 // The screen's frame: origin at lower_left, unit right (ex), up (ey) and towards the viewer (n), size in m.
-struct Frame {
-    Vec3 o, ex, ey, n;
+struct Frame : renderer::PlaneFrame {
     double w = 0.0, h = 0.0;
-    Vec3 at(double u, double v, double off = 0.0) const { return o + u * ex + v * ey + off * n; }
 };
 
-// Appends the triangle both ways round, so that it is seen from either side.
-void two_sided(TriMesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    m.triangles.push_back({a, b, c});
-    m.triangles.push_back({a, c, b});
-}
-
-// A rectangle [u0, u1] x [v0, v1] on the screen plane, `off` m towards the viewer.
-void add_rect(TriMesh& m, const Frame& f, double u0, double v0, double u1, double v1, double off) {
-    const auto base = static_cast<std::uint32_t>(m.positions.size());
-    m.positions.push_back(f.at(u0, v0, off));
-    m.positions.push_back(f.at(u1, v0, off));
-    m.positions.push_back(f.at(u1, v1, off));
-    m.positions.push_back(f.at(u0, v1, off));
-    two_sided(m, base, base + 1, base + 2);
-    two_sided(m, base, base + 2, base + 3);
-}
-
-// `text` on the screen plane, `off` m towards the viewer, its letters `height` m tall, the top of its box at v and
-// the point `anchor` of the way along its width (0 left, 0.5 centre, 1 right) at u. The overlay font's pixel units
-// (x right, y down) become metres along ex and -ey.
-void add_text(TriMesh& m, const Frame& f, std::string_view text, double u, double v, double height, double anchor,
-              double off) {
-    const renderer::TextExtent unit = renderer::overlay_text_extent(text, 1.0);
-    if (unit.height_px <= 0.0) return;
-    const double s = height / unit.height_px;  // m per font pixel
-    const double u0 = u - anchor * s * unit.width_px;
-    const TriMesh glyphs = renderer::overlay_text_mesh(text, 0.0, 0.0, 1.0);
-    const auto base = static_cast<std::uint32_t>(m.positions.size());
-    for (const Vec3& p : glyphs.positions) m.positions.push_back(f.at(u0 + s * p.x, v - s * p.y, off));
-    for (const auto& t : glyphs.triangles) two_sided(m, base + t[0], base + t[1], base + t[2]);
-}
+using renderer::add_plane_rect;
+using renderer::add_plane_text;
 
 // An axis-aligned cube of edge `edge` m about `centre` in the screen's frame (its faces outward).
 TriMesh cube_at(const Frame& f, const Vec3& centre, double edge) {
@@ -81,36 +50,36 @@ std::vector<PatternPiece> wall_test_pattern(const renderer::Screen& screen) {
     std::vector<PatternPiece> out;
     PatternPiece grid;  // zero parallax: the border and the grid on the screen plane
     grid.colour = glm::vec4(0.75f, 0.75f, 0.75f, 1.0f);
-    add_rect(grid.mesh, f, 0.0, 0.0, f.w, border, 0.0);
-    add_rect(grid.mesh, f, 0.0, f.h - border, f.w, f.h, 0.0);
-    add_rect(grid.mesh, f, 0.0, 0.0, border, f.h, 0.0);
-    add_rect(grid.mesh, f, f.w - border, 0.0, f.w, f.h, 0.0);
+    add_plane_rect(grid.mesh, f, 0.0, 0.0, f.w, border, 0.0);
+    add_plane_rect(grid.mesh, f, 0.0, f.h - border, f.w, f.h, 0.0);
+    add_plane_rect(grid.mesh, f, 0.0, 0.0, border, f.h, 0.0);
+    add_plane_rect(grid.mesh, f, f.w - border, 0.0, f.w, f.h, 0.0);
     const double step = f.h / 8.0;
-    for (double v = step; v < f.h - 0.5 * step; v += step) add_rect(grid.mesh, f, 0.0, v - line, f.w, v + line, 0.0);
+    for (double v = step; v < f.h - 0.5 * step; v += step) add_plane_rect(grid.mesh, f, 0.0, v - line, f.w, v + line, 0.0);
     for (double u = f.w / 2.0 - step * std::floor(f.w / 2.0 / step); u < f.w; u += step)
-        if (u > 0.5 * step) add_rect(grid.mesh, f, u - line, 0.0, u + line, f.h, 0.0);
+        if (u > 0.5 * step) add_plane_rect(grid.mesh, f, u - line, 0.0, u + line, f.h, 0.0);
     out.push_back(std::move(grid));
 
     PatternPiece corners;  // where the config says the corners are
     corners.colour = glm::vec4(1.0f, 0.85f, 0.2f, 1.0f);
     const double in = 2.0 * border;
-    add_text(corners.mesh, f, "LOWER LEFT", in, in + text, text, 0.0, kMarkOffM);
-    add_text(corners.mesh, f, "LOWER RIGHT", f.w - in, in + text, text, 1.0, kMarkOffM);
-    add_text(corners.mesh, f, "UPPER LEFT", in, f.h - in - step, text, 0.0, kMarkOffM);  // below the overlay
-    add_text(corners.mesh, f, "UPPER RIGHT", f.w - in, f.h - in - step, text, 1.0, kMarkOffM);
-    add_rect(corners.mesh, f, 0.5 * f.w - 4.0 * line, 0.5 * f.h - 4.0 * step / 8.0, 0.5 * f.w + 4.0 * line,
+    add_plane_text(corners.mesh, f, "LOWER LEFT", in, in + text, text, 0.0, kMarkOffM);
+    add_plane_text(corners.mesh, f, "LOWER RIGHT", f.w - in, in + text, text, 1.0, kMarkOffM);
+    add_plane_text(corners.mesh, f, "UPPER LEFT", in, f.h - in - step, text, 0.0, kMarkOffM);  // below the overlay
+    add_plane_text(corners.mesh, f, "UPPER RIGHT", f.w - in, f.h - in - step, text, 1.0, kMarkOffM);
+    add_plane_rect(corners.mesh, f, 0.5 * f.w - 4.0 * line, 0.5 * f.h - 4.0 * step / 8.0, 0.5 * f.w + 4.0 * line,
              0.5 * f.h + 4.0 * step / 8.0, kMarkOffM);  // the centre's cross
-    add_rect(corners.mesh, f, 0.5 * f.w - 4.0 * step / 8.0, 0.5 * f.h - 4.0 * line, 0.5 * f.w + 4.0 * step / 8.0,
+    add_plane_rect(corners.mesh, f, 0.5 * f.w - 4.0 * step / 8.0, 0.5 * f.h - 4.0 * line, 0.5 * f.w + 4.0 * step / 8.0,
              0.5 * f.h + 4.0 * line, kMarkOffM);
     out.push_back(std::move(corners));
 
     PatternPiece left, right;  // one eye each
     left.colour = glm::vec4(1.0f, 0.3f, 0.3f, 1.0f);
     left.eyes = 0b01;
-    add_text(left.mesh, f, "LEFT EYE", 0.25 * f.w, 0.5 * f.h + text, 2.0 * text, 0.5, kMarkOffM);
+    add_plane_text(left.mesh, f, "LEFT EYE", 0.25 * f.w, 0.5 * f.h + text, 2.0 * text, 0.5, kMarkOffM);
     right.colour = glm::vec4(0.3f, 0.8f, 1.0f, 1.0f);
     right.eyes = 0b10;
-    add_text(right.mesh, f, "RIGHT EYE", 0.75 * f.w, 0.5 * f.h + text, 2.0 * text, 0.5, kMarkOffM);
+    add_plane_text(right.mesh, f, "RIGHT EYE", 0.75 * f.w, 0.5 * f.h + text, 2.0 * text, 0.5, kMarkOffM);
     out.push_back(std::move(left));
     out.push_back(std::move(right));
 

@@ -60,31 +60,47 @@ bool RunPipeline::Parts::take_input() {
         renderer::InputEvent e;
         while (window->input().pop(e)) input->handle(e);
     }
-    // Devices whose input API runs on this thread poll it; a press of the device's operation button switches ops.
-    (void)rt.poll_device_frame();
+    // Devices whose input API runs on this thread poll it (their buttons reach the loop's view).
+    rt.poll_device_frame();
     for (const double t_dev = rt.latest_view().t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
          ++next_key)
         for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input->handle(e);
-    for (const SculptRequest q : input->take_requests()) {
-        if (rt.request(q)) {
-            ++r.requests_sent;
-            if (q == SculptRequest::kSave) ++r.save_requests_sent;
-        } else {
-            r.notes.push_back("a key's request was dropped: the sculpt thread's queue was full");
-        }
+    // The hands: the keys' actions, the tool's and the wand's buttons through their bindings, and the pie menu.
+    if (wand) wand_now = wand->sample();
+    const haptics::LoopView& lv = rt.latest_view();
+    HandsFrame h;
+    h.t_s = lv.t_s;
+    h.tool_fresh = lv.tick > 0;
+    h.tool_buttons = lv.buttons;
+    h.tool_m = lv.tool_world.position;
+    h.desk_menu = input->menu_held();
+    h.wand_fresh = wand && wand_now.fresh && is_finite(wand_now.pose.position);
+    if (h.wand_fresh) {
+        h.wand_buttons = wand_now.buttons;
+        h.wand_m = nav.to_scene(wand_now.pose.position);
+        h.wand_joystick_y = wand_now.joystick_y;
     }
-    if (window) {
-        for (int k = input->take_swap_toggles(); k > 0; --k) swap = !swap;
-        for (int k = input->take_occlusion_toggles(); k > 0; --k) ao = !ao;
-        sink->set_swap_eyes(swap);
+    h.head_m = last_eye_scene_m;
+    h.scene_scale = nav.scale();
+    controls->frame(h, input->take_actions(), *actions);
+    try {  // a detent the device cannot render stably is not felt; the menu still works
+        rt.set_menu(controls->detent());
+    } catch (const Error& e) {
+        if (!menu_detent_refused) r.notes.push_back(std::string("menu detent not felt: ") + e.what());
+        menu_detent_refused = true;
     }
+    sink->set_swap_eyes(swap);
     saving = rt.save_status();
     if (!saving.journal_error.empty() && !journal_warned) {
         journal_warned = true;
         std::fprintf(stderr, "tridex: this session is no longer being saved: journal: %s; the model stays in memory "
                              "(Ctrl+S or --save writes it elsewhere)\n", saving.journal_error.c_str());
     }
-    return !(window && (window->should_close() || input->close_requested()));
+    if (actions->end_requested()) {
+        ended = "the session was ended (session.end)";
+        return false;
+    }
+    return !(window && window->should_close());
 }
 
 // True when this frame is the last one; `ended` then says why.
@@ -175,6 +191,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         frame_objects.insert(frame_objects.end(), o.begin(), o.end());
         view.objects = frame_objects;
     }
+    add_menu(view, lv, saving);
     if (su.items) {
         if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);
         sculpt_rate.add(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(), mesh.sculpt_steps);
@@ -195,6 +212,20 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
                       RunOverlay{haptic_rate.rate_hz(), sculpt_rate.rate_hz(), prev_frame_ms, status, su.overlay_stats});
     }
     return view;
+}
+
+// The open pie menu at the hand, in the scene (both eyes, at the hand's depth), with the status lines below it.
+void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::LoopView& lv, const SaveStatus& saving) {
+    const PieMenu& menu = controls->menu();
+    if (!menu.shown(lv.t_s)) return;
+    std::string status = "operation: " + std::string(tool_op_name(actions->op()));
+    if (mouse_stylus) status = mouse_stylus->stylus().status();
+    const std::string save_lines = saving_lines(saving);
+    if (!save_lines.empty()) status += "\n" + save_lines;
+    menu_pieces = pie_menu_pieces(menu.ring(), status);
+    if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+    for (const MenuPiece& p : menu_pieces) frame_objects.push_back({&p.mesh, p.colour, 0b11, false});
+    view.objects = frame_objects;
 }
 
 // A desk window's framebuffer decides the eye images' size, so a larger window renders more pixels, not the same ones
@@ -232,7 +263,7 @@ renderer::Screen RunPipeline::Parts::follow_window() {
 RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
     const double t = seconds_since(t_render);
     if (wand) {
-        wand_nav->update(wand->sample(), t - wand_prev_t, nav);
+        wand_nav->update(wand_now, t - wand_prev_t, nav);
         wand_prev_t = t;
     }
     // A head the eyes cannot be drawn from (a tracker glitch: at or behind the screen, or not finite) holds the last
@@ -247,6 +278,7 @@ RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
         ++head_frames_held;
         cam = navigated_camera(screen_now, last_good_head.value_or(scene.head_pose), dc.eye_separation_m, nav);
     }
+    last_eye_scene_m = cam.head.position;
     const auto t0 = Clock::now();
     if (mouse_stylus) {
         const haptics::LoopView& lv = backend->runtime().latest_view();  // not used after await_hand()

@@ -34,6 +34,7 @@ struct RunOptions {
     std::string out = "out/run";    ///< output folder (created): report.json, and offscreen left/right/output.png
     std::string display_config;     ///< display config file replacing the scene's display; empty = the scene's
     std::string wand;               ///< scene navigation wand: none | dtrack:PORT[:FLYSTICK]; empty = the scene's
+    std::string bindings;           ///< bindings file (docs/formats/bindings.md); empty = the scene's, else the drivers'
     std::string head;               ///< head provider fixed | scripted | tracker | dtrack[:PORT[:BODY]]; empty = the scene's
     bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
     double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)

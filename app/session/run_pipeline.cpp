@@ -86,6 +86,12 @@ void RunPipeline::Parts::open_inputs() {
         wand = std::make_unique<DTrackWand>(ws, share ? dtrack->receiver() : nullptr);
         WandNavigationSettings wn;
         wn.pivot_m = mouse.pivot_m;
+        // The bindings decide the grab button and the joystick; re-centring is an action (view.reset) like any other.
+        wn.grab_button = -1;
+        for (const devices::ButtonInfo& b : su.bindings.wand.buttons)
+            if (b.default_action == "nav.grab") wn.grab_button = b.bit;
+        wn.reset_button = -1;
+        wn.joystick_scales = su.bindings.wand.joystick_y == "nav.scale";
         wand_nav.emplace(wn);
     }
 }
@@ -144,6 +150,8 @@ void RunPipeline::Parts::open_backend() {
         mouse_stylus.emplace(*md, rt, scene.spec.tool, backend->start_tool_m());
         input->use_stylus(&mouse_stylus->stylus());
     }
+    actions.emplace(&rt, mouse_stylus ? &mouse_stylus->stylus() : nullptr, nav, km, swap, ao, scene.spec.tool);
+    controls.emplace(su.bindings);
     // Offscreen with a scripted cursor and no limits: the run ends half a second (device time) after the cursor
     // script and the scripted keys.
     script_end_s = scene.cursor.empty()
@@ -215,6 +223,12 @@ void RunPipeline::Parts::collect() {
         r.wand = wand_report_json(*wand, *wand_nav, nav);
         r.notes.push_back("wand: " + wand->note());
     }
+    r.controls = controls->report_json();
+    r.requests_sent = actions->requests_sent();
+    r.save_requests_sent = actions->saves_sent();
+    if (actions->requests_dropped() > 0)
+        r.notes.push_back(std::to_string(actions->requests_dropped()) +
+                          " undo, redo or save requests were dropped: the sculpt thread's queue was full");
     r.spilled_intervals = rt.booleans().backend->spilled_intervals();
     r.model_bytes = rt.booleans().backend->model_bytes();
     r.sculpt_validation_messages = rt.booleans().backend->validation_messages();

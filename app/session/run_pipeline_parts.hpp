@@ -15,6 +15,7 @@
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
 #include "app/input/run_input.hpp"
+#include "app/menu/pie_menu_mesh.hpp"
 #include "app/scene/study_recording.hpp"
 #include "app/scene/test_pattern.hpp"
 #include "app/scene/workpiece_source.hpp"
@@ -24,6 +25,7 @@
 #include "app/session/gpu_tile_split.hpp"
 #include "app/session/report.hpp"
 #include "app/session/run_head.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/session/run_mouse.hpp"
 #include "app/session/run_report.hpp"
 #include "app/session/run_sculpt.hpp"
@@ -103,6 +105,7 @@ struct RunPipeline::Parts final : FrameSteps {
     std::unique_ptr<DTrackWand> wand;
     std::optional<WandNavigator> wand_nav;
     double wand_prev_t = 0.0;
+    WandSample wand_now;  // this frame's wand, read once by take_input()
     // 3. Sculpting threads and what draws beside them.
     std::optional<SculptBackend> backend;
     GpuContourShare* gpu_contour = nullptr;
@@ -121,6 +124,12 @@ struct RunPipeline::Parts final : FrameSteps {
     std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects
     std::vector<renderer::SceneObject> pattern_objects;
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m
+    Vec3 last_eye_scene_m{0.0};                        // ... the cyclopean eye in the scene's frame, scene m
+    // The hands' controls: what actions do, the bindings and the pie menu, and the open menu's meshes and objects.
+    std::optional<RunActions> actions;
+    std::optional<HandControls> controls;
+    std::vector<MenuPiece> menu_pieces;
+    bool menu_detent_refused = false;  // the loop refused the menu's detent (said once in the notes)
     // 4. Frame loop state.
     bool swap = false, ao = true;
     bool sculpting = false;    // this frame is drawn within kSculptingHoldS of a sculpted change
@@ -188,6 +197,7 @@ struct RunPipeline::Parts final : FrameSteps {
     void frame_desk_window();
     renderer::Screen follow_window();
     renderer::SceneView frame_view(const MeshFrame& mesh, const haptics::LoopView& lv, const SaveStatus& saving);
+    void add_menu(renderer::SceneView& view, const haptics::LoopView& lv, const SaveStatus& saving);
     /// A frame's camera and its start (after the head and window, before the mouse stylus).
     struct FrameAim {
         RunCamera camera;

@@ -195,6 +195,7 @@ json run_report_json(const RunResult& r) {
         {"present_mode", r.present_mode},
         {"head", r.head.is_null() ? nlohmann::json{{"provider", to_string(sc.head)}} : r.head},
         {"wand", r.wand.is_null() ? nlohmann::json{{"provider", "none"}} : r.wand},
+        {"controls", r.controls},
         {"frames", frames},
         {"render", render_json(r)},
         {"meshes",

@@ -164,6 +164,10 @@ RunSetup resolve_run(const RunOptions& o) {
         s.scene.wand_port == s.scene.tracked_port && s.scene.wand_flystick == s.scene.tracked_id)
         throw Error("--device " + driver_info.name + ": Flystick " + std::to_string(s.scene.tracked_id) +
                     " navigates the scene already (--wand); give the tool another Flystick");
+    s.bindings = default_bindings(driver_info.name, caps);
+    if (!s.scene.bindings.empty()) apply_bindings(nlohmann::json::parse(s.scene.bindings), s.scene.source, s.bindings);
+    if (!o.bindings.empty()) s.bindings = load_bindings(o.bindings, driver_info.name, caps);
+    if (!s.scene.wand_dtrack) s.bindings.wand.buttons.clear();  // no wand: nothing of it to read
     // The scripted participant's path.
     const bool scripted_study = s.scene.study.enabled && caps.input == devices::InputKind::kScripted;
     if (s.display == DisplayKind::kOffscreen && s.frames == 0 && s.seconds == 0.0 && !s.scene.has_stroke &&

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/actions/bindings.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/session/run_options.hpp"
 #include "compute/gpu/gpu_contourer.hpp"
@@ -56,6 +57,8 @@ struct RunSetup {
     std::string save;               ///< the final model's file (.tdx; "" = none)
     std::string journal;            ///< session journal file ("" = none)
     double checkpoint_s = 120.0;    ///< wall time between checkpoint models, s (0 = none)
+    /// The tool's and the wand's buttons and axes: the drivers' defaults, the scene's "bindings", then --bindings.
+    Bindings bindings;
 };
 
 /// The renderer's FrameStats of a run's frames, kept for report.json in bounded memory: sums and histograms over
@@ -165,6 +168,9 @@ struct RunResult {
     /// report.json `head`: {provider}; with DTrack DTrackHead::report_json() (frames tracked / stale, latency, ...).
     nlohmann::json head;
     nlohmann::json wand;  ///< null without a wand; else app/input/dtrack_wand.hpp wand_report_json
+    /// report.json `controls`: the bindings, the menu's opens, flicks, cancels and choices per action, and every
+    /// action done per source (key, button, menu, axis): HandControls::report_json.
+    nlohmann::json controls;
     nlohmann::json study; ///< null without a study scene; else app/session/study_view.hpp StudyView::report_json
     /// The session companions' reports (SessionCompanion::report), each under its report_key(); e.g. `cluster`.
     nlohmann::json companions = nlohmann::json::object();

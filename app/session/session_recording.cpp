@@ -49,7 +49,9 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
     t.bottom_collision_id = bottom.collision_id;
     t.buttons = r.device.buttons;
     const bool has_tool = r.valid_sample && r.tool.radius_m > 0.0;
-    const ToolOp used = has_tool ? r.op : op;
+    // While the pie menu was open the samples carried no operation: recorded so, a replay's tool schedule (below)
+    // carries none there either, whatever buttons the device held.
+    const ToolOp used = r.menu_open ? ToolOp::kNone : has_tool ? r.op : op;
     t.tool_mode = static_cast<std::uint8_t>(r.modelling_paused ? ToolOp::kNone : used);
     t.valid = r.valid_sample ? 1 : 0;
     t.op = static_cast<std::uint8_t>(used);

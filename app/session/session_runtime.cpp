@@ -240,26 +240,4 @@ std::uint32_t SessionRuntime::sculpt_validation_messages() const {
     return booleans_.backend ? booleans_.backend->validation_messages() : 0u;
 }
 
-ToolOp SessionRuntime::poll_device_frame() {
-    device_->poll_on_main_thread();
-    const int bit = driver_caps(spec_.device_driver).next_op_button;
-    if (bit < 0 || bit >= 32 || !loop_) return ToolOp::kNone;
-    const haptics::LoopView& v = loop_->latest_view();
-    if (v.tick == 0 || v.tick == op_button_tick_) return ToolOp::kNone;
-    op_button_tick_ = v.tick;
-    const std::uint32_t mask = 1u << bit;
-    const bool pressed = (v.buttons & mask) != 0 && (op_buttons_seen_ & mask) == 0;
-    op_buttons_seen_ = v.buttons;
-    if (!pressed) return ToolOp::kNone;
-    static constexpr ToolOp kCycle[] = {ToolOp::kSubtract, ToolOp::kUnion, ToolOp::kPaint,
-                                        ToolOp::kPush,     ToolOp::kSmooth, ToolOp::kPull};
-    const ToolOp now = op_switched_ == ToolOp::kNone ? cfg_.op : op_switched_;
-    std::size_t i = 0;
-    while (i < std::size(kCycle) && kCycle[i] != now) ++i;
-    const ToolOp next = kCycle[(i + 1) % std::size(kCycle)];
-    op_switched_ = next;
-    set_tool_op(next);
-    return next;
-}
-
 }  // namespace tridex::app

@@ -147,6 +147,11 @@ public:
     /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the spec's material); any
     /// thread. The sculpt thread closes the stroke at the change.
     void set_tool_op(ToolOp op) { loop_->set_tool_op(op, cfg_.material); }
+    /// The open pie menu as the haptic loop feels it (HapticLoop::set_menu: no carving while open, a detent at
+    /// each slice border); one thread (the window's).
+    void set_menu(const haptics::MenuDetent& menu) { loop_->set_menu(menu); }
+    /// The Boolean the tool applies now (HapticLoop::tool_op; any thread).
+    ToolOp tool_op() const { return loop_->tool_op(); }
     /// Changes the tool's size from now on (HapticLoop::set_tool: the configured kind at another size; one
     /// thread, the window's). False when the loop refuses it (another kind, a mesh tool, a bad size).
     bool set_tool(const ToolShape& tool) { return loop_->set_tool(tool); }
@@ -165,10 +170,9 @@ public:
     /// The newest LoopView (one render thread).
     const haptics::LoopView& latest_view() { return loop_->latest_view(); }
     /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
-    /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads), then the operation button's presses (the
-    /// driver's DriverCapabilities::next_op_button) switch the tool to the next operation (subtract, union, paint,
-    /// push, smooth, pull). Returns the operation a press switched to, or ToolOp::kNone when none did.
-    ToolOp poll_device_frame();
+    /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads). Its buttons reach the loop's view
+    /// (LoopView::buttons), which the session's bindings read (app/actions/bindings.hpp).
+    void poll_device_frame() { device_->poll_on_main_thread(); }
     /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
     /// Counts the published surfaces that carry a sculpted change (MeshFrame::oldest_sample_s set): a paced
@@ -244,9 +248,6 @@ private:
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;
     double contour_s_ = 0.0, session_s_ = 0.0;
-    std::uint32_t op_buttons_seen_ = 0;  // poll_device_frame(): the operation button's last state
-    std::uint64_t op_button_tick_ = 0;   // ... and the tick it was read on
-    ToolOp op_switched_ = ToolOp::kNone; // the operation the button switched to (kNone: still cfg_.op)
     std::chrono::steady_clock::time_point t_start_{};
     bool started_ = false, stopped_ = false;
 };

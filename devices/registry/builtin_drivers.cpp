@@ -51,6 +51,9 @@ void add_simulated(DeviceRegistry& r) {
     info.caps.dof_out = 3;
     info.caps.renders_forces = true;
     info.caps.servable = true;
+    // A stylus's two buttons (an Omni's): the first is the workspace button, the second opens the menu.
+    info.caps.buttons = {{0, "button0", "workspace"}, {1, "button1", "menu"}, {2, "button2", "edit.undo"},
+                         {3, "button3", "edit.redo"}};
     r.add(info, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
         DeviceProfile profile = profile_by_name(spec.profile);
         ScriptedPath path = in.hand_path ? *in.hand_path : ScriptedPath::hold(Vec3(0.0));
@@ -83,6 +86,9 @@ void add_falcon(DeviceRegistry& r) {
     info.caps.servable = true;
     info.caps.takes_firmware = true;
     info.caps.fixed_profile = "falcon";
+    // The grip's four buttons (bit i = grip button i): the workspace button, then the menu, undo and redo.
+    info.caps.buttons = {{0, "button0", "workspace"}, {1, "button1", "menu"}, {2, "button2", "edit.undo"},
+                         {3, "button3", "edit.redo"}};
     info.product = "Novint Falcon";
     info.stand_in = "falcon-emulator";
     r.add(info, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
@@ -149,6 +155,7 @@ void add_mouse(DeviceRegistry& r) {
     info.caps.dof_in = 3;
     info.caps.dof_out = 3;
     info.caps.engage_button = 1;  // mouse_buttons::kEngage, the left button
+    info.caps.buttons = {{0, "right", "workspace"}, {1, "left", "engage"}};  // the middle button is the desk's menu
     info.caps.strokes_end_on_release = true;
     info.caps.switches_op = true;  // keys 1..6
     info.caps.app_sets_hand = true;
@@ -167,6 +174,7 @@ void add_spacemouse(DeviceRegistry& r) {
     info.caps.input = InputKind::kRate;
     info.caps.dof_in = 6;
     info.caps.dof_out = 0;
+    info.caps.buttons = {{0, "button0", "workspace"}, {1, "button1", "menu"}};  // spacenavd's numbering
     const SpaceMouseParams d;
     info.caps.options = {
         {"max_speed_m_s", d.max_speed_m_s, 0.0, 2.0, true, "tip speed at full deflection of a translation axis, m/s"},
@@ -200,6 +208,11 @@ void add_tracked(DeviceRegistry& r) {
         info.caps.dof_out = 0;
         info.caps.engage_button = 1;  // tracked_tool_buttons::kEngage: the trigger, or always for a body
         info.caps.strokes_end_on_release = flystick;
+        if (flystick) {  // tracked_tool_button_bits: the trigger is kEngage (bit 1), DTrack button i is bit i + 1
+            info.caps.buttons = {{1, "trigger", "engage"}, {2, "button1", "menu"}, {3, "button2", "edit.undo"},
+                                 {4, "button3", "edit.redo"}, {5, "button4", "op.next"}};
+            for (int i = 5; i <= 7; ++i) info.caps.buttons.push_back({i + 1, "button" + std::to_string(i), ""});
+        }
         info.caps.fixed_profile = "tracked";
         info.caps.address_form = "PORT[:ID]";
         info.caps.target_ids = flystick ? kDTrackKeptFlysticks : kDTrackKeptBodies;
@@ -225,7 +238,8 @@ void add_gamepad(DeviceRegistry& r) {
     info.caps.dof_in = 6;
     info.caps.dof_out = 0;
     info.caps.workspace_button = 0;
-    info.caps.next_op_button = 2;  // gamepad_device_buttons::kNextOp
+    // gamepad_device_buttons: A the stylus button, B the menu, Y the next operation.
+    info.caps.buttons = {{0, "A", "workspace"}, {1, "B", "menu"}, {2, "Y", "op.next"}};
     info.caps.switches_op = true;
     const GamepadParams d;
     info.caps.options = {

@@ -1,6 +1,7 @@
 // A game controller in a session, through the registry's capabilities: the frame loop's per-frame poll reaches the
 // driver on the calling thread, the sticks move the tool in the running haptic loop, and the driver's operation
-// button (DriverCapabilities::next_op_button) switches the tool's operation, one operation per press.
+// button, bound to op.next by the driver's capabilities (its default bindings), switches the tool's operation, one
+// operation per press.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -8,7 +9,9 @@
 #include <thread>
 #include <vector>
 
+#include "app/actions/bindings.hpp"
 #include "app/commands/demo.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/session/session_runtime.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "devices/device_profiles.hpp"
@@ -48,11 +51,20 @@ TEST(GamepadSession, SticksMoveTheToolAndTheOperationButtonSwitchesOps) {
     ro.sculpt.cpu = true;
     SessionRuntime rt(s, std::move(wp), std::move(device), s.device_origin_m + home, ro);
     rt.start();
+    renderer::SceneNavigation nav;
+    bool swap = false, ao = true;
+    RunActions acts(&rt, nullptr, nav, nullptr, swap, ao, s.tool);
+    HandControls hands(default_bindings("gamepad", driver_caps("gamepad")));
     std::vector<ToolOp> switched;
     Vec3 at_rest(0.0);
     for (int f = 0; f < 40; ++f) {
-        const ToolOp op = rt.poll_device_frame();
-        if (op != ToolOp::kNone) switched.push_back(op);
+        rt.poll_device_frame();
+        const ToolOp before = rt.tool_op();
+        HandsFrame h;
+        h.tool_fresh = rt.latest_view().tick > 0;
+        h.tool_buttons = rt.latest_view().buttons;
+        hands.frame(h, {}, acts);
+        if (rt.tool_op() != before) switched.push_back(rt.tool_op());
         // Let the haptic loop read this frame's state a few times (and publish its view) before the next frame.
         for (const std::uint64_t t0 = rt.latest_view().tick; rt.latest_view().tick < t0 + 5;)
             std::this_thread::sleep_for(std::chrono::milliseconds(1));

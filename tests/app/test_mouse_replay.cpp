@@ -14,6 +14,7 @@
 #include "app/input/mouse_stylus.hpp"
 #include "app/commands/replay.hpp"
 #include "app/input/run_input.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/session/run_session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
@@ -105,14 +106,20 @@ TEST(MouseKeys, BracketsResizeTheToolWithinLimits) {
     RunInput in(nullptr, nav, renderer::MouseNavigation{});
     MouseStylus m(0.008, Vec3(0.0));
     in.use_stylus(&m);
-    in.handle(key_press(renderer::Key::kRightBracket));
+    bool swap = false, ao = true;
+    RunActions acts(nullptr, &m, nav, nullptr, swap, ao, ToolShape{});
+    const auto press = [&](const renderer::InputEvent& e) {
+        in.handle(e);
+        for (const std::string& a : in.take_actions()) EXPECT_TRUE(builtin_actions().run(a, acts)) << a;
+    };
+    press(key_press(renderer::Key::kRightBracket));
     EXPECT_DOUBLE_EQ(m.tool().radius_m, 0.008 * 1.25);
     EXPECT_DOUBLE_EQ(m.radius_m(), 0.008 * 1.25);
     EXPECT_DOUBLE_EQ(m.depth_m(), 0.008 * 1.25);  // the depth keeps its share of the radius
-    in.handle(key_press(renderer::Key::kLeftBracket));
-    in.handle(key_press(renderer::Key::kLeftBracket));
+    press(key_press(renderer::Key::kLeftBracket));
+    press(key_press(renderer::Key::kLeftBracket));
     EXPECT_DOUBLE_EQ(m.tool().radius_m, 0.008 / 1.25);
-    for (int i = 0; i < 20; ++i) in.handle(key_press(renderer::Key::kLeftBracket));
+    for (int i = 0; i < 20; ++i) press(key_press(renderer::Key::kLeftBracket));
     EXPECT_EQ(m.size_steps(), -MouseStylus::kMaxSizeSteps);
     EXPECT_FALSE(m.resize(-1));
     EXPECT_NE(m.status().find("ball r "), std::string::npos) << m.status();

@@ -12,6 +12,7 @@
 #include "app/input/cursor_script.hpp"
 #include "app/input/mouse_stylus.hpp"
 #include "app/input/run_input.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/session/run_session.hpp"
 #include "app/input/surface_pick.hpp"
 #include "compute/mesh/mesh_io.hpp"
@@ -227,6 +228,13 @@ TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
     RunInput in(nullptr, nav, renderer::MouseNavigation{});
     MouseStylus m(0.006, Vec3(0.0));
     in.use_stylus(&m);
+    bool swap = false, ao = true;
+    RunActions acts(nullptr, &m, nav, nullptr, swap, ao, ToolShape{});
+    // A key's action runs as the session runs it.
+    const auto press = [&](const renderer::InputEvent& e) {
+        in.handle(e);
+        for (const std::string& a : in.take_actions()) EXPECT_TRUE(builtin_actions().run(a, acts)) << a;
+    };
     in.handle(button(renderer::MouseButton::kLeft, true));
     EXPECT_TRUE(m.left());
     renderer::InputEvent move;
@@ -261,19 +269,19 @@ TEST(MouseStylus, InputDrivesTheStylusAndNavigationMovesToAlt) {
     renderer::InputEvent key;
     key.type = renderer::InputType::kKey;
     key.key = renderer::Key::k2;
-    in.handle(key);
+    press(key);
     EXPECT_EQ(m.op(), ToolOp::kUnion);
     key.key = renderer::Key::k3;
-    in.handle(key);
+    press(key);
     EXPECT_EQ(m.op(), ToolOp::kPaint);
     key.key = renderer::Key::k1;
-    in.handle(key);
+    press(key);
     EXPECT_EQ(m.op(), ToolOp::kSubtract);
     key.key = renderer::Key::k4;  // clay
-    in.handle(key);
+    press(key);
     EXPECT_EQ(m.op(), ToolOp::kPush);
     key.key = renderer::Key::k5;
-    in.handle(key);
+    press(key);
     EXPECT_EQ(m.op(), ToolOp::kSmooth);
 }
 

@@ -189,7 +189,7 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
     EXPECT_EQ(app.exit_code(), 0) << test::bytes_of(dir / "stderr.txt");
     const nlohmann::json rep = test::read_json(out / "report.json");
     EXPECT_EQ(rep["display"], "window");
-    EXPECT_EQ(rep["notes"][0], "ended: the window was closed");
+    EXPECT_EQ(rep["notes"][0], "ended: the session was ended (session.end)");
     EXPECT_EQ(rep["history"]["undos"], 1);
     EXPECT_EQ(rep["saves"]["count"].get<int>(), saves);
     EXPECT_GE(rep["haptics"]["button_presses"].get<int>(), 1);

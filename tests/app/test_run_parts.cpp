@@ -8,14 +8,17 @@
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include "app/actions/action_registry.hpp"
 #include "app/commands/run_cli.hpp"
 #include "app/input/run_input.hpp"
 #include "app/scene/run_scene.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/session/run_options.hpp"
 #include "app/session/run_sculpt.hpp"
 #include "app/session/run_session.hpp"
@@ -383,22 +386,39 @@ TEST(RunInput, KeysMoveTheHeadMouseMovesTheScene) {
     in.handle(s);
     EXPECT_NEAR(nav.scale(), 1.1 * 1.1, 1e-12);
 
-    EXPECT_FALSE(in.close_requested());
+    // Tab, O, Home and Esc name actions, in the order pressed; auto-repeat and releases of these do not.
     in.handle(key(renderer::Key::kTab, renderer::InputAction::kPress));
     in.handle(key(renderer::Key::kTab, renderer::InputAction::kPress));
-    EXPECT_EQ(in.take_swap_toggles(), 2);
-    EXPECT_EQ(in.take_swap_toggles(), 0);
-    // O toggles ambient occlusion: presses count, auto-repeat and releases do not.
     in.handle(key(renderer::Key::kO, renderer::InputAction::kPress));
     in.handle(key(renderer::Key::kO, renderer::InputAction::kRepeat));
     in.handle(key(renderer::Key::kO, renderer::InputAction::kRelease));
-    EXPECT_EQ(in.take_occlusion_toggles(), 1);
-    EXPECT_EQ(in.take_occlusion_toggles(), 0);
     in.handle(key(renderer::Key::kHome, renderer::InputAction::kPress));
+    in.handle(key(renderer::Key::kEscape, renderer::InputAction::kPress));
+    EXPECT_EQ(in.take_actions(), (std::vector<std::string>{"view.swap_eyes", "view.swap_eyes", "view.occlusion",
+                                                           "view.reset", "session.end"}));
+    EXPECT_TRUE(in.take_actions().empty());
+    // The session runs them on its ActionTarget: view.reset puts the scene and the keyboard head back.
+    bool swap = false, ao = true;
+    RunActions acts(nullptr, nullptr, nav, &head, swap, ao, ToolShape{});
+    for (const char* a : {"view.swap_eyes", "view.occlusion", "view.reset", "session.end"})
+        EXPECT_TRUE(builtin_actions().run(a, acts)) << a;
+    EXPECT_TRUE(swap);
+    EXPECT_FALSE(ao);
+    EXPECT_TRUE(acts.end_requested());
     EXPECT_DOUBLE_EQ(nav.scale(), 1.0);
     EXPECT_NEAR(head.head_at(2.0).position.z, 0.6, 1e-12);
-    in.handle(key(renderer::Key::kEscape, renderer::InputAction::kPress));
-    EXPECT_TRUE(in.close_requested());
+    // The middle button is the menu button: held, not a pan.
+    renderer::InputEvent mid;
+    mid.type = renderer::InputType::kMouseButton;
+    mid.button = renderer::MouseButton::kMiddle;
+    in.handle(mid);
+    EXPECT_TRUE(in.menu_held());
+    const Vec3 before = nav.to_world(Vec3(0.0));
+    in.handle(m);
+    EXPECT_EQ(nav.to_world(Vec3(0.0)), before);
+    mid.action = renderer::InputAction::kRelease;
+    in.handle(mid);
+    EXPECT_FALSE(in.menu_held());
 }
 
 TEST(RunCli, EveryFlagReachesTheOptions) {
@@ -409,7 +429,7 @@ TEST(RunCli, EveryFlagReachesTheOptions) {
     const char* argv[] = {"tridex", "run", "wall.json", "--display", "fullscreen", "--stereo", "frame-sequential",
                           "--monitor", "DP-1", "--frames", "7", "--out", "o", "--display-config", "d.json",
                           "--head", "tracker", "--swap-eyes", "--seconds", "2.5", "--validate", "--no-pace",
-                          "--no-items", "--no-tiles", "--no-cull"};
+                          "--no-items", "--no-tiles", "--no-cull", "--bindings", "b.json"};
     cli.parse(static_cast<int>(std::size(argv)), argv);
     EXPECT_TRUE(*cmd);
     EXPECT_EQ(o.scene, "wall.json");
@@ -427,6 +447,7 @@ TEST(RunCli, EveryFlagReachesTheOptions) {
     EXPECT_FALSE(o.items);
     EXPECT_FALSE(o.tiles);
     EXPECT_FALSE(o.cull);
+    EXPECT_EQ(o.bindings, "b.json");
     // A user error comes back as exit code 2 (message on stderr), not as an exception.
     RunOptions bad;
     bad.display = "hologram";

@@ -54,11 +54,10 @@ TEST(UndoKeys, CtrlZUndoesCtrlShiftZAndCtrlYRedoCtrlSSavesAndPlainLettersStillMo
     in.handle(key(Key::kS, kControl));
     in.handle(key(Key::kS, kControl, InputAction::kRepeat));  // a held Ctrl+S saves once
     in.handle(key(Key::kZ, 0));                               // plain Z: nothing
-    const std::vector<SculptRequest> got = in.take_requests();
-    const std::vector<SculptRequest> want = {SculptRequest::kUndo, SculptRequest::kUndo, SculptRequest::kRedo,
-                                             SculptRequest::kRedo, SculptRequest::kSave};
+    const std::vector<std::string> got = in.take_actions();
+    const std::vector<std::string> want = {"edit.undo", "edit.undo", "edit.redo", "edit.redo", "file.save"};
     EXPECT_EQ(got, want);
-    EXPECT_TRUE(in.take_requests().empty());
+    EXPECT_TRUE(in.take_actions().empty());
     // Ctrl+S did not walk the head back; a plain S does.
     const Vec3 before = head.head_at(1.0).position;
     in.handle(key(Key::kS, 0));

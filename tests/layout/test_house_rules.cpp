@@ -267,13 +267,14 @@ TEST(HouseRules, NoNewIncludeLoopBetweenFolders) {
     }
 }
 
-// app/'s layers (commands -> session -> {scene, input} -> support): each folder of app/ includes only its own layer
+// app/'s layers (commands -> session -> {scene, menu} -> {input, actions} -> support): each folder of app/ includes only its own layer
 // and those below it. The input sources (app/input/: the mouse stylus, scripted cursor and keys, DTrack head and wand)
 // read devices and the renderer's events, never a scene or the session wiring above them; app/main.cpp, the
 // dispatcher, sits on top.
 int app_layer(const std::string& rel) {
     static const std::vector<std::pair<std::string, int>> kLayers = {
-        {"app/support/", 0}, {"app/input/", 1}, {"app/scene/", 2}, {"app/session/", 3}, {"app/commands/", 4}};
+        {"app/support/", 0}, {"app/actions/", 1}, {"app/input/", 1}, {"app/menu/", 2}, {"app/scene/", 2},
+        {"app/session/", 3}, {"app/commands/", 4}};
     if (rel == "app/main.cpp") return 5;
     for (const auto& [prefix, layer] : kLayers)
         if (rel.rfind(prefix, 0) == 0) return layer;
@@ -288,8 +289,8 @@ TEST(HouseRules, AppLayersAreKnownFolders) {
     int checked = 0;
     for (const std::string& rel : sources(kRoot, {"app"})) {
         ++checked;
-        EXPECT_GE(app_layer(rel), 0) << rel << ": app/ holds main.cpp and the folders commands/, session/, scene/, input/ "
-                                     << "and support/ only; put the file in the layer it belongs to";
+        EXPECT_GE(app_layer(rel), 0) << rel << ": app/ holds main.cpp and the folders commands/, session/, scene/, menu/, "
+                                     << "input/, actions/ and support/ only; put the file in the layer it belongs to";
     }
     EXPECT_GT(checked, 50);
 }
