@@ -270,6 +270,7 @@ nlohmann::json demo_report_json(const DemoReport& r) {
     j["present_mode"] = "offscreen";
     j["head"] = {{"provider", "fixed"}, {"frames_held", 0}};
     j["wand"] = {{"provider", "none"}};
+    j["controls"] = nullptr;  // the hands' controls are a live session's
     j["render"] = {{"device", r.device},
                    {"eye_strategy", r.eye_strategy},
                    {"validation_messages", r.validation_messages},

@@ -216,6 +216,10 @@ const std::vector<ReportField>& report_schema() {
              "where the head pose came from: {provider, frames_held (frames drawn from the last good head pose: the "
              "head was at or behind the screen, or not finite), ...} (DTrack: frames tracked, stale, latency)"},
             {"wand", "the navigation wand: {provider: none} or the DTrack wand's report"},
+            {"controls",
+             "run: the hands' controls: bindings {source, tool {buttons}, wand {buttons, joystick_y}}, menu {opens, "
+             "flicks, cancels, choices {action: n}, radius_m}, actions {action: {key, button, menu, axis: n}}; null "
+             "for demo and replay"},
             {"frames",
              "run: frames rendered, presents, frame_ms, interval_ms, gpu_ms histograms; null for demo and "
              "replay"},
