@@ -68,6 +68,7 @@ struct DriverCapabilities {
     /// The device's buttons, with their default actions (the engage and workspace buttons above among them, bound to
     /// "engage" and "workspace"); a bindings file names them by ButtonInfo::name. Empty: it has none to bind.
     std::vector<ButtonInfo> buttons;
+    bool joystick = false;  ///< DeviceState::joystick_y is a joystick's (a bindings file may bind it; default tool.scale)
 };
 
 /// True when a person moves the hand continuously outside any script (pointer, rate, tracked): such a session has

@@ -48,6 +48,7 @@ struct DeviceState {
     Pose pose;                   ///< stylus pose: tip position (m) and orientation (unit quaternion)
     Vec3 velocity_m_s{0.0};      ///< tip velocity, m/s
     std::uint32_t buttons = 0;   ///< button bits, bit i = button i pressed
+    double joystick_y = 0.0;     ///< a joystick's y in [-1, 1] (a Flystick's, DriverCapabilities::joystick); else 0
 };
 
 /// A tool sample computed by a contact loop next to the device (the net driver in local haptic rendering: the

@@ -179,6 +179,16 @@ std::string header_json(const std::string& path, const RecordingHeader& h) {
         }
         j["marks"] = std::move(marks);
     }
+    if (!h.menu.empty()) {  // the app's menu track, kept as it gave it (an array)
+        nlohmann::json menu;
+        try {
+            menu = nlohmann::json::parse(h.menu);
+        } catch (const nlohmann::json::exception&) {
+            throw Error(path + ": header.menu is not JSON");
+        }
+        if (!menu.is_array()) throw Error(path + ": header.menu is not a JSON array");
+        j["menu"] = std::move(menu);
+    }
     try {
         return j.dump();
     } catch (const nlohmann::json::exception& e) {
@@ -230,6 +240,10 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
                             std::to_string(h.marks->back().after_samples) + ")");
             h.marks->push_back(std::move(r));
         }
+    }
+    if (const auto m = j.find("menu"); m != j.end()) {
+        if (!m->is_array()) throw Error(where + ": \"menu\" is not an array");
+        h.menu = m->dump();  // checked entry by entry by the app that reads it (app/menu/menu_frame.hpp)
     }
     return h;
 }

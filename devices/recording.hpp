@@ -78,6 +78,9 @@ struct RecordingHeader {
     /// The session's undos, redos and stroke closes in order (after_samples never decreasing); absent in files
     /// written before they were recorded (a replay then closes strokes by itself and undoes nothing).
     std::optional<std::vector<RecordedMark>> marks;
+    /// The in-scene menu's track (the app's JSON array of what the menu showed and when, app/menu/menu_frame.hpp),
+    /// so that a replay shows the same menu; "" = none (sessions without a menu, older files).
+    std::string menu;
 };
 
 /// A recording in memory.
@@ -97,7 +100,8 @@ struct Recording {
 //    28  u32      header text length L, bytes
 //   Header text, L bytes at 32: UTF-8 JSON object {"device_name": string, "period_s": number,
 //     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
-//     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing)} (other keys are ignored).
+//     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing), optional "menu": [...] (the
+//     app's menu track)} (other keys are ignored).
 //   Tick records, 397 bytes each (version 1: 378, ending at `valid`), from byte 32 + L; offsets within a record:
 //       0 t_s f64 | 8 device.t_s f64 | 16 device position xyz f64 | 40 device orientation w,x,y,z f64
 //      72 device velocity xyz f64 | 96 device buttons u32 | 100 wand_centre xyz | 124 rotation_axis xyz

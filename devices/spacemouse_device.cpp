@@ -85,6 +85,23 @@ SpaceMouseDevice::SpaceMouseDevice(DeviceProfile profile, const Vec3& start_m, d
 
 SpaceMouseDevice::~SpaceMouseDevice() { on_close(); }
 
+std::string spnav_reachable(const std::string& socket_path) {
+    if (socket_path.empty() || socket_path.size() >= sizeof(sockaddr_un::sun_path))
+        return "the spacenavd socket path '" + socket_path + "' is empty or too long";
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) return std::string("socket: ") + std::strerror(errno);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::memcpy(addr.sun_path, socket_path.c_str(), socket_path.size() + 1);
+    const int rc = ::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+    const int e = errno;
+    ::close(fd);
+    if (rc == 0) return "";
+    if (e == ENOENT || e == ECONNREFUSED || e == ENOTSOCK)
+        return "no spacenavd at " + socket_path + " (is the daemon running? Debian package spacenavd)";
+    return "cannot connect to spacenavd at " + socket_path + ": " + std::strerror(e);
+}
+
 void SpaceMouseDevice::on_open() {
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) throw Error(std::string("spacemouse: socket: ") + std::strerror(errno));

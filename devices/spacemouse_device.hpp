@@ -24,6 +24,10 @@ std::string spnav_socket_from_config(const std::string& config_path);
 /// spacenavd's default kSpnavDefaultSocket.
 std::string spnav_socket_path(const std::string& serial, const std::string& env, const std::string& config_path);
 
+/// Whether spacenavd answers at `socket_path` now: connects and closes at once. Returns "" when it does, else one
+/// line: "no spacenavd at PATH (is the daemon running? Debian package spacenavd)" or the connect error.
+std::string spnav_reachable(const std::string& socket_path);
+
 /// How a SpaceMouseDevice turns the puck's deflection into motion (SI units).
 struct SpaceMouseParams {
     std::string socket_path = kSpnavDefaultSocket;  ///< spacenavd's AF_UNIX socket

@@ -459,6 +459,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.contact = rec.contact;
     v.modelling_paused = rec.modelling_paused;
     v.buttons = rec.device.buttons;
+    v.joystick_y = rec.device.joystick_y;
     v.box = wf.box;
     v.box_half_extents_m = wf.box_half_extents_m;
     v.bubble_centre_m = wf.bubble_centre_m;

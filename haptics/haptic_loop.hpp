@@ -179,6 +179,7 @@ struct LoopView {
     int points_in_contact = 0;      ///< contact points touching material this tick
     ToolShape tool{};               ///< the tool in use (HapticLoop::set_tool)
     bool menu_open = false;         ///< the loop feels the pie menu (HapticLoop::set_menu) on that tick
+    double joystick_y = 0.0;        ///< the device's joystick on that tick (DeviceState::joystick_y)
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines

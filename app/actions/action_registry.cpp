@@ -7,26 +7,11 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/nearest_name.hpp"
 
 namespace tridex::app {
 
 namespace {
-
-// Edit distance between a and b (insertions, deletions, substitutions), for "did you mean".
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diag = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            diag = up;
-        }
-    }
-    return row[b.size()];
-}
 
 Action command(std::string name, std::string label, std::string glyph, std::string doc,
                std::function<void(ActionTarget&)> run) {
@@ -95,15 +80,9 @@ const Action* ActionRegistry::find(const std::string& name) const {
 
 const Action& ActionRegistry::get(const std::string& name, const std::string& field) const {
     if (const Action* a = find(name)) return *a;
-    std::string best;
-    std::size_t best_d = 4;  // further than three edits is no suggestion
-    for (const Action& a : actions_) {
-        const std::size_t d = edit_distance(name, a.name);
-        if (d < best_d) {
-            best_d = d;
-            best = a.name;
-        }
-    }
+    std::vector<std::string> known;
+    for (const Action& a : actions_) known.push_back(a.name);
+    const std::string best = nearest_name(name, known);
     throw Error(field + ": unknown action '" + name + "'" + (best.empty() ? "" : " (did you mean '" + best + "'?)") +
                 "; actions: " + names());
 }

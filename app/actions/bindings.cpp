@@ -10,6 +10,7 @@
 
 #include "app/actions/action_registry.hpp"
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace tridex::app {
 
@@ -65,26 +66,13 @@ void apply_device(const nlohmann::json& j, const std::string& where, const std::
             const std::string action = value.get<std::string>() == "none" ? "" : value.get<std::string>();
             if (!action.empty() && builtin_actions().get(action, jf).kind != ActionKind::kAxis)
                 throw Error(jf + ": '" + action + "' is not driven by an axis; axes drive nav.scale or tool.scale");
+            if (action == "nav.scale" && is_tool) throw Error(jf + ": 'nav.scale' is the wand's; the tool's joystick scales the tool");
             d.joystick_y = action;
         } else {
             throw Error(where + ": " + field + ": unknown field; use buttons" +
                         std::string(d.has_joystick ? " or joystick_y" : ""));
         }
     }
-}
-
-// Line and column (1-based) of byte offset `byte` (1-based, as nlohmann reports it) in `text`.
-std::string line_and_column(const std::string& text, std::size_t byte) {
-    std::size_t line = 1, col = 1;
-    for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
-        if (text[i] == '\n') {
-            ++line;
-            col = 1;
-        } else {
-            ++col;
-        }
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(col);
 }
 
 }  // namespace
@@ -108,6 +96,8 @@ Bindings default_bindings(const std::string& driver_name, const devices::DriverC
     b.tool.buttons = caps.buttons;
     b.tool.engage_bit = caps.engage_button;
     b.tool.workspace_bit = caps.workspace_button;
+    b.tool.has_joystick = caps.joystick;
+    if (caps.joystick) b.tool.joystick_y = "tool.scale";
     b.wand.device = "the wand (a Flystick)";
     b.wand.buttons = flystick_wand_buttons();
     b.wand.has_joystick = true;
@@ -138,10 +128,10 @@ Bindings load_bindings(const std::string& path, const std::string& driver_name,
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(path + ": not valid JSON at " + line_and_column(text, e.byte) + ": expected a JSON value there");
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(path + ": not valid JSON: " + std::string(e.what()));
+    } catch (const nlohmann::json::exception& e) {  // nlohmann's reason names the line, column and what it expected
+        const std::string what = e.what();
+        const std::size_t tag = what.find("] ");
+        throw Error(path + ": not valid JSON: " + printable(tag == std::string::npos ? what : what.substr(tag + 2), 240));
     }
     if (!j.is_object() || !j.contains("bindings"))
         throw Error(path + ": bindings: missing; the file holds {\"bindings\": {\"tool\": {...}, \"wand\": {...}}}");

@@ -18,8 +18,10 @@
 
 #include "app/support/crash_report.hpp"
 #include "app/support/device_lost.hpp"
+#include "app/support/output_dir.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
+#include "core/nearest_name.hpp"
 
 namespace tridex::app {
 namespace {
@@ -50,13 +52,39 @@ int check_first_word(int argc, char** argv, const std::vector<Command>& commands
         return 2;
     }
     std::string names;
+    std::vector<std::string> known;
     for (const Command& c : commands) {
         if (c.name == first) return 0;
         names += (names.empty() ? "" : ", ") + c.name;
+        known.push_back(c.name);
     }
-    std::fprintf(stderr, "tridex: unknown command '%s'; the commands are %s (see tridex --help)\n", argv[1],
-                 names.c_str());
+    const std::string near = nearest_name(first, known);
+    std::fprintf(stderr, "tridex: unknown command '%s'%s; the commands are %s (see tridex --help)\n", argv[1],
+                 near.empty() ? "" : (" (did you mean '" + near + "'?)").c_str(), names.c_str());
     return 2;
+}
+
+// "unknown option '--resolutoin' for demo (did you mean '--resolution'?)" for the first word after the command that
+// looks like an option ("-x", "--name", "--name=value") and is none of `sub`'s; "" when every such word is one.
+std::string unknown_option_message(const CLI::App& sub, int argc, char** argv) {
+    // A command with commands of its own (`tridex study run`) leaves its words to them: CLI11's message says it.
+    if (!sub.get_subcommands([](const CLI::App*) { return true; }).empty()) return "";
+    std::vector<std::string> known;
+    for (const CLI::Option* o : sub.get_options()) {
+        for (const std::string& l : o->get_lnames()) known.push_back("--" + l);
+        for (const std::string& s : o->get_snames()) known.push_back("-" + s);
+    }
+    for (int i = 2; i < argc; ++i) {
+        std::string word = argv[i];
+        if (word == "--") break;
+        if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') || word[1] == '.') continue;
+        if (const std::size_t eq = word.find('='); eq != std::string::npos) word.resize(eq);
+        if (std::find(known.begin(), known.end(), word) != known.end()) continue;
+        const std::string near = nearest_name(word, known);
+        return "unknown option '" + word + "' for " + sub.get_name() +
+               (near.empty() ? "" : " (did you mean '" + near + "'?)");
+    }
+    return "";
 }
 
 // Digits from `i` on; returns how many.
@@ -107,7 +135,7 @@ void require_decimal_numbers(CLI::App& app) {
 }
 
 // Runs the chosen command's action and maps what it throws to an exit code.
-int run_action(const CommandAction& action) {
+int run_action_once(const CommandAction& action) {
     try {
         const int rc = action();
         return stop_signal() ? 128 + stop_signal() : rc;
@@ -124,6 +152,14 @@ int run_action(const CommandAction& action) {
         std::fprintf(stderr, "tridex: internal error: %s\n", e.what());
         return 1;
     }
+}
+
+// Runs the command; a command that fails leaves behind none of the output folders it made and wrote nothing into.
+int run_action(const CommandAction& action) {
+    forget_created_folders();
+    const int rc = run_action_once(action);
+    if (rc != 0) remove_created_folders_if_empty();
+    return rc;
 }
 
 }  // namespace
@@ -167,9 +203,12 @@ int run_command_line(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return cli.exit(e);
     } catch (const CLI::ParseError& e) {
-        // Every bad input exits 2 with one line: CLI11's message, and where to look.
-        std::fprintf(stderr, "tridex: %s (see tridex %s--help)\n", e.what(),
-                     cli.get_subcommands().empty() ? "" : (cli.get_subcommands().front()->get_name() + " ").c_str());
+        // Every bad input exits 2 with one line: what was wrong (an unknown option named first, with the nearest
+        // known one), else CLI11's message, and where to look.
+        const CLI::App* sub = cli.get_subcommands().empty() ? nullptr : cli.get_subcommands().front();
+        const std::string unknown = sub ? unknown_option_message(*sub, argc, argv) : "";
+        std::fprintf(stderr, "tridex: %s (see tridex %s--help)\n", unknown.empty() ? e.what() : unknown.c_str(),
+                     sub ? (sub->get_name() + " ").c_str() : "");
         return 2;
     }
     install_crash_report();   // a crash says what, where, and how to recover the session's journal

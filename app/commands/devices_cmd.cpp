@@ -2,6 +2,8 @@
 #include "app/commands/devices_cmd.hpp"
 
 #include <cstdio>
+#include <tuple>
+#include <utility>
 
 namespace tridex::app {
 
@@ -23,6 +25,7 @@ nlohmann::json capabilities_json(const devices::DriverCapabilities& c) {
             {"workspace_button", c.workspace_button},
             {"engage_button", c.engage_button},
             {"buttons", buttons},
+            {"joystick", c.joystick},
             {"servable", c.servable},
             {"strokes_end_on_release", c.strokes_end_on_release},
             {"switches_op", c.switches_op},
@@ -46,29 +49,40 @@ nlohmann::json devices_json(const devices::DeviceRegistry& registry, std::string
     for (const devices::DriverInfo& d : registry.drivers()) {
         // A software driver's row per profile it takes (or one for a driver whose profile comes from elsewhere,
         // net: from its server).
-        auto software_row = [&](const std::string& name, const std::string& profile, int dof_in, int dof_out) {
-            rows.push_back({{"name", name},
-                            {"driver", d.name},
-                            {"profile", profile},
-                            {"dof", dof_out},
-                            {"dof_in", dof_in},
-                            {"dof_out", dof_out},
-                            {"hardware", false},
-                            {"available", d.available},
-                            {"detected", true},
-                            {"usb_ids", nlohmann::json::array()},
-                            {"locations", nlohmann::json::array()},
-                            {"summary", d.summary},
-                            {"capabilities", capabilities_json(d.caps)}});
+        // One source of truth per row: a driver that renders forces has its profile's DOF; one that renders none (a
+        // pointer, a 3D mouse, a tracker) senses its own DOF and outputs none, whatever profile bounds its loop.
+        auto software_row = [&](const std::string& profile, const devices::DeviceProfile* p) {
+            devices::DriverCapabilities caps = d.caps;
+            if (!caps.renders_forces) caps.dof_out = 0;
+            else if (p) std::tie(caps.dof_in, caps.dof_out) = std::pair(p->dof_in, p->dof_out);
+            // An input-only driver's row is the driver under the profile's limits, not the profile's product.
+            const std::string name = !p ? "(the served device's)" : d.caps.renders_forces ? p->name
+                                                                   : d.name + " (" + p->name + " limits)";
+            const std::string missing = d.detect_now ? d.detect_now() : "";
+            nlohmann::json row = {{"name", name},
+                                  {"driver", d.name},
+                                  {"profile", profile},
+                                  {"dof", caps.dof_out},
+                                  {"dof_in", caps.dof_in},
+                                  {"dof_out", caps.dof_out},
+                                  {"hardware", false},
+                                  {"available", d.available},
+                                  {"detected", missing.empty()},
+                                  {"usb_ids", nlohmann::json::array()},
+                                  {"locations", nlohmann::json::array()},
+                                  {"summary", d.summary},
+                                  {"capabilities", capabilities_json(caps)}};
+            if (!missing.empty()) row["not_detected"] = missing;
+            rows.push_back(std::move(row));
         };
         if (!d.hardware && d.profiles.empty()) {
-            software_row("(the served device's)", "-", d.caps.dof_in, d.caps.dof_out);
+            software_row("-", nullptr);
             continue;
         }
         if (!d.hardware) {
             for (const std::string& name : d.profiles) {
                 const devices::DeviceProfile p = devices::profile_by_name(name);
-                software_row(p.name, name, p.dof_in, p.dof_out);
+                software_row(name, &p);
             }
             continue;
         }
@@ -101,10 +115,11 @@ std::string devices_text(const nlohmann::json& rows, const std::string& usb_erro
         // A driver that renders no force runs under the profile's limits only: say so rather than the profile's DOF.
         const bool forces = r["capabilities"]["renders_forces"].get<bool>();
         const std::string out_dof = forces ? std::to_string(r["dof_out"].get<int>()) + "-DOF force out" : "no force";
-        std::snprintf(line, sizeof line, "  %-16s %-8s %-28s %-9s %d-DOF in, %s\n", r["driver"].get<std::string>().c_str(),
+        std::snprintf(line, sizeof line, "  %-16s %-8s %-28s %-9s %d-DOF in, %s", r["driver"].get<std::string>().c_str(),
                       r["profile"].get<std::string>().c_str(), r["name"].get<std::string>().c_str(),
                       r["capabilities"]["input"].get<std::string>().c_str(), r["dof_in"].get<int>(), out_dof.c_str());
         out += line;
+        out += r.contains("not_detected") ? "; not found now: " + r["not_detected"].get<std::string>() + "\n" : "\n";
     }
     out += "Hardware:\n";
     for (const nlohmann::json& r : rows) {

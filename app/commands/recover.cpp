@@ -161,6 +161,8 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     std::printf("recovered %llu records (%s%llu samples replayed, to %.3f s of device time) from %s into %s\n",
                 static_cast<unsigned long long>(applied.records), start_from.c_str(),
                 static_cast<unsigned long long>(applied.samples), applied.last_t_s, journal_path.c_str(), out.c_str());
+    std::printf("  wrote %s/: sculpted.ply, model.tdx, report.json (`tridex run --workpiece %s` carries on)\n",
+                out.c_str(), (dir / "model.tdx").string().c_str());
 }
 
 }  // namespace tridex::app

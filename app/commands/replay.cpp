@@ -1,6 +1,8 @@
 // app/commands/replay.cpp - replaying a recorded session.
 #include "app/commands/replay.hpp"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -51,6 +53,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     check_inputs_unchanged(s, recording_path, "the recording");
     validate_spec(s, recording_path);
     Workpiece wp = prepare_session_workpiece(s);
+    // The menu as the recorded session showed it, for the film strip's pictures.
+    const MenuTrack menu_track = MenuTrack::from_json_text(rec.header.menu, recording_path);
     std::optional<Workpiece> strip_start;  // the film strip replays the journal from the workpiece as it was
     if (!strip.path.empty()) strip_start = wp;
     // The keys' op and tool changes at their ticks, and the mouse's engage button, so the replayed samples carry
@@ -94,9 +98,12 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
             gpu::ContextOptions gopt;
             gopt.validation = out.validate;
             gpu::Context ctx = gpu::Context::create(gopt);
-            const FilmStrip f =
-                write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), strip.options, ctx);
-            std::printf("film strip: %d pictures, %dx%d px, %s\n", strip.options.frames, f.width, f.height, strip.path.c_str());
+            FilmStripOptions so = strip.options;
+            if (menu_track.size() > 0) so.menu = &menu_track;
+            const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), so, ctx);
+            const auto with_menu = std::count(f.menu_shown.begin(), f.menu_shown.end(), true);
+            std::printf("film strip: %d pictures (%d with the menu), %dx%d px, %s\n", strip.options.frames,
+                        static_cast<int>(with_menu), f.width, f.height, strip.path.c_str());
             if (ctx.validation_messages() > 0)
                 throw Error("the Vulkan validation layer reported " + std::to_string(ctx.validation_messages()) +
                             " message(s) while drawing the film strip");

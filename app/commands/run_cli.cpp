@@ -108,8 +108,12 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,
         "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
-    cmd->add_option("--workpiece", o.workpiece,
-                    "Start from a saved model FILE.tdx (--save, Ctrl+S) instead of the scene's workpiece");
+    auto* workpiece = cmd->add_option("--workpiece", o.workpiece,
+                                      "Start from a saved model FILE.tdx (--save, Ctrl+S) instead of the scene's workpiece");
+    cmd->add_option("--mesh", o.mesh,
+                    "Carve this closed mesh (OFF, OBJ, PLY, STL) instead of the scene's workpiece mesh, placed and sized as "
+                    "the scene places its workpiece")
+        ->excludes(workpiece);
     cmd->add_option("--save", o.save, "Save the final model to FILE.tdx (a later session or `tridex export` starts from it)");
     auto* journal = cmd->add_option("--journal", o.journal,
                                     "Session journal FILE (default: OUT/session.tdj; `tridex recover FILE` rebuilds the model)");

@@ -69,6 +69,7 @@ void PieMenu::open(const MenuItem& root, const Vec3& hand_m, const Vec3& head_m,
     ring_.radius_m = settings_.radius_m * size;
     ring_.dead_radius_m = settings_.dead_radius_m * size;
     open_ring(root, hand_m);
+    path_.clear();
     open_ = true;
     sticky_ = false;
     pressed_again_ = false;
@@ -93,7 +94,10 @@ void PieMenu::update(const Vec3& hand_m, double t_s) {
     ring_.highlighted = slice_at(hand_m);
     if (ring_.highlighted < 0) return;
     const MenuItem& item = ring_.node->children[static_cast<std::size_t>(ring_.highlighted)];
-    if (item.branch() && glm::length(hand_m - ring_.centre_m) > ring_.radius_m) open_ring(item, hand_m);
+    if (item.branch() && glm::length(hand_m - ring_.centre_m) > ring_.radius_m) {
+        path_.push_back(static_cast<std::uint8_t>(ring_.highlighted));
+        open_ring(item, hand_m);
+    }
 }
 
 void PieMenu::press(const Vec3& hand_m, double t_s) {
@@ -117,6 +121,7 @@ std::optional<MenuChoice> PieMenu::release(const Vec3& hand_m, double t_s) {
     }
     const MenuItem& item = ring_.node->children[static_cast<std::size_t>(ring_.highlighted)];
     if (item.branch()) {  // released over a sub-ring: it opens at the hand, for a second click
+        path_.push_back(static_cast<std::uint8_t>(ring_.highlighted));
         open_ring(item, hand_m);
         sticky_ = true;
         return std::nullopt;
@@ -132,6 +137,7 @@ void PieMenu::close() {
     pressed_again_ = false;
     ring_.highlighted = -1;
     ring_.node = nullptr;
+    path_.clear();
 }
 
 bool PieMenu::shown(double t_s) const {

@@ -2,6 +2,7 @@
 // the hand's direction from where it opened; quick flicks choose without the ring being shown.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -78,6 +79,8 @@ public:
     bool shown(double t_s) const;
     /// The ring in use (valid while open).
     const RingView& ring() const { return ring_; }
+    /// The slice indices from the root to the ring in use ([] = the root's ring).
+    const std::vector<std::uint8_t>& path() const { return path_; }
     /// The slice index of hand_m in the current ring, or -1 in the dead zone / closed / non-finite.
     int slice_at(const Vec3& hand_m) const;
     /// The settings.
@@ -88,6 +91,7 @@ private:
 
     PieMenuSettings settings_;
     RingView ring_;
+    std::vector<std::uint8_t> path_;
     bool open_ = false;
     bool sticky_ = false;      // kept open by a click or a sub-ring chosen by release: the next release chooses
     bool pressed_again_ = false;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/menu/menu_frame.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
@@ -24,6 +25,9 @@ struct FilmStripOptions {
     int height = 240;
     bool ao = true;       ///< ambient occlusion (SceneView::occlusion_strength 1, else 0)
     int gap_px = 4;       ///< white columns between pictures, 0..64
+    /// The recorded session's menu track: a picture at a device time when the menu was shown draws it as the session
+    /// did (where it stood in the scene, its ring and lit slice). nullptr = no menu.
+    const MenuTrack* menu = nullptr;
 };
 
 /// Checks `opt` against the ranges above; throws tridex::Error "film strip: ..." naming the field out of range.
@@ -34,6 +38,7 @@ struct FilmStrip {
     std::vector<std::size_t> records;  ///< per picture: journal records applied before it
     std::vector<double> t_s;           ///< per picture: device time of the last sample applied, s (0: none yet)
     std::vector<double> volume_m3;     ///< per picture: the model's volume, m^3
+    std::vector<bool> menu_shown;      ///< per picture: the menu was drawn (FilmStripOptions::menu)
     int width = 0, height = 0;         ///< the whole strip's size, px
 };
 

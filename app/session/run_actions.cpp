@@ -121,9 +121,13 @@ void HandControls::frame(const HandsFrame& h, const std::vector<std::string>& ke
     drive_menu(held, menu_by_wand_ ? h.wand_m : h.tool_m, h, target);
     if (menu_.is_open()) return;  // while choosing, no button's command runs
     for (const std::string& a : pressed) run(a, "button", target);
-    if (bindings_.wand.joystick_y == "tool.scale" && h.wand_fresh && std::abs(h.wand_joystick_y) > 0.5 &&
-        h.t_s >= tool_scale_next_s_) {
-        if (target.resize_tool(h.wand_joystick_y > 0.0 ? 1 : -1)) ++actions_["tool.scale"]["axis"];
+    // A joystick bound to tool.scale (the tool's or the wand's) steps the tool while tilted past half way.
+    double tilt = 0.0;
+    if (bindings_.tool.joystick_y == "tool.scale" && h.tool_fresh) tilt = h.tool_joystick_y;
+    if (bindings_.wand.joystick_y == "tool.scale" && h.wand_fresh && std::abs(h.wand_joystick_y) > std::abs(tilt))
+        tilt = h.wand_joystick_y;
+    if (std::abs(tilt) > 0.5 && h.t_s >= tool_scale_next_s_) {
+        if (target.resize_tool(tilt > 0.0 ? 1 : -1)) ++actions_["tool.scale"]["axis"];
         tool_scale_next_s_ = h.t_s + kToolScaleRepeatS;
     }
 }

@@ -63,6 +63,7 @@ struct HandsFrame {
     std::uint64_t tool_buttons = 0;   ///< the tool device's buttons (LoopView::buttons)
     bool tool_fresh = false;          ///< the loop has ticked (its buttons and position are the device's)
     Vec3 tool_m{0.0};                 ///< the tool (HIP), scene m
+    double tool_joystick_y = 0.0;     ///< the tool device's joystick in [-1, 1] (LoopView::joystick_y)
     bool desk_menu = false;           ///< the desk's menu button (the middle mouse button) is held
     bool wand_fresh = false;          ///< a tracked wand sample this frame
     std::uint64_t wand_buttons = 0;   ///< its buttons (bit i = Flystick button i)
@@ -87,6 +88,8 @@ public:
     bool run(const std::string& action, const std::string& source, ActionTarget& target);
     /// The menu (open or not).
     const PieMenu& menu() const { return menu_; }
+    /// The menu's items (its root).
+    const MenuItem& root() const { return root_; }
     /// The menu as the haptic loop feels it (closed when the menu is closed or was opened by the wand).
     haptics::MenuDetent detent() const;
     /// The tool's scale axis: the wand's joystick with tool.scale bound steps the tool every 0.4 s past half tilt.

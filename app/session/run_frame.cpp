@@ -73,6 +73,7 @@ bool RunPipeline::Parts::take_input() {
     h.tool_fresh = lv.tick > 0;
     h.tool_buttons = lv.buttons;
     h.tool_m = lv.tool_world.position;
+    h.tool_joystick_y = lv.joystick_y;
     h.desk_menu = input->menu_held();
     h.wand_fresh = wand && wand_now.fresh && is_finite(wand_now.pose.position);
     if (h.wand_fresh) {
@@ -214,15 +215,21 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     return view;
 }
 
-// The open pie menu at the hand, in the scene (both eyes, at the hand's depth), with the status lines below it.
+// The pie menu as this frame shows it (kept in the track for a recording, sent to a cluster's ranks) and, when shown,
+// at the hand in the scene (both eyes, at the hand's depth), with the status lines below it.
 void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::LoopView& lv, const SaveStatus& saving) {
     const PieMenu& menu = controls->menu();
-    if (!menu.shown(lv.t_s)) return;
-    std::string status = "operation: " + std::string(tool_op_name(actions->op()));
-    if (mouse_stylus) status = mouse_stylus->stylus().status();
-    const std::string save_lines = saving_lines(saving);
-    if (!save_lines.empty()) status += "\n" + save_lines;
-    menu_pieces = pie_menu_pieces(menu.ring(), status);
+    std::string status;
+    if (menu.shown(lv.t_s)) {
+        status = mouse_stylus ? mouse_stylus->stylus().status()
+                              : "operation: " + std::string(tool_op_name(actions->op()));
+        const std::string save_lines = saving_lines(saving);
+        if (!save_lines.empty()) status += "\n" + save_lines;
+    }
+    menu_now = menu_frame_of(menu, lv.t_s, status);
+    menu_track.add(lv.t_s, menu_now);
+    if (!menu_now.shown) return;
+    menu_pieces = menu_frame_pieces(menu_now, controls->root());
     if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
     for (const MenuPiece& p : menu_pieces) frame_objects.push_back({&p.mesh, p.colour, 0b11, false});
     view.objects = frame_objects;
@@ -311,7 +318,8 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
     sink->draw(*rend, view, renderer::StereoCamera{cam.screen, cam.head, cam.eye_separation_m, cam.near_m, cam.far_m});
     if (contour_lock) contour_lock.unlock();
     shown = FrameShown{frame, last_good_head.value_or(scene.head_pose), &nav, dc.eye_separation_m,
-                       lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength};
+                       lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength,
+                       &menu_now};
     for (SessionCompanion* c : companions) {
         c->before_present(shown);
         if (companion_failure.empty()) companion_failure = c->failure();

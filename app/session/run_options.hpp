@@ -121,6 +121,7 @@ struct RunOptions {
     /// A saved model (.tdx) the session starts from instead of the scene's workpiece (as a scene's workpiece.model and
     /// `demo --workpiece`); "" = the scene's.
     std::string workpiece;
+    std::string mesh;               ///< --mesh: the workpiece mesh instead of the scene's (placed as the scene's); "" = the scene's
     /// A cluster config (app/session/cluster/cluster_config.hpp): run under mpirun, rank 0 runs the session and the
     /// other ranks draw the wall's viewports; "" = one machine.
     std::string cluster;

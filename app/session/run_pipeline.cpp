@@ -209,6 +209,9 @@ void RunPipeline::Parts::collect() {
         ended = "the device was lost at " + format_number(*r.device_lost_at_s) + " s";
     }
     r.notes.insert(r.notes.begin(), "ended: " + ended);
+    if (offscreen && dc.stereo == renderer::StereoOutput::kMono)
+        r.notes.push_back("mono: left.png, right.png and output.png are the one view from between the eyes "
+                          "(--stereo side-by-side or anaglyph draws both eyes)");
     if (tracker) r.notes.push_back("tracker: " + tracker->status().note);
     r.head = nlohmann::json{{"provider", to_string(scene.head)}};
     if (dtrack) {
@@ -289,7 +292,7 @@ void RunPipeline::Parts::write_outputs() {
     // The carved model as a closed mesh (the CPU contour of the final model, as demo and replay write it), and
     // the recording.
     const std::string ply = (out / "sculpted.ply").string();
-    if (writes.attempt(ply, [&] {
+    if (!su.test_pattern && writes.attempt(ply, [&] {
             const SessionRuntime::FinalMesh carved = rt.final_mesh();
             r.carved_mesh = carved_mesh_report_json(carved.mesh);
             compute::write_ply(ply, carved.mesh, carved.materials);
@@ -305,7 +308,7 @@ void RunPipeline::Parts::write_outputs() {
                     notes = study::tag_notes(spec_to_json(rt.spec()),
                                              study::StudyTag{st.participant, st.group, st.trial, st.model,
                                                              st.scene.tube.name, study::tube_id(st.scene.tube)});
-                rt.tick_stream()->finish(notes, r.sculpt.marks);
+                rt.tick_stream()->finish(notes, r.sculpt.marks, menu_track.to_json_text());
             }))
             r.files.push_back(su.record);
     }
@@ -315,6 +318,9 @@ void RunPipeline::Parts::write_outputs() {
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
     r.validation_messages = ctx->validation_messages() + rt.booleans().backend->validation_messages();
     r.wall_s = seconds_since(t_start);
+    // The journal is written as the session runs: listed when it is whole (`tridex recover` rebuilds the model).
+    if (const compute::JournalStats* j = rt.journal_stats(); j && j->error.empty() && !j->path.empty())
+        r.files.push_back(j->path);
     const std::string report = (out / "report.json").string();
     r.files.push_back(report);
     writes.attempt(report, [&] { write_run_report(report, r); });

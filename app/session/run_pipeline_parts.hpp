@@ -15,6 +15,7 @@
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
 #include "app/input/run_input.hpp"
+#include "app/menu/menu_frame.hpp"
 #include "app/menu/pie_menu_mesh.hpp"
 #include "app/scene/study_recording.hpp"
 #include "app/scene/test_pattern.hpp"
@@ -129,6 +130,8 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<RunActions> actions;
     std::optional<HandControls> controls;
     std::vector<MenuPiece> menu_pieces;
+    MenuFrame menu_now;     // what this frame's menu shows
+    MenuTrack menu_track;   // every change of it, by device time (a recording's menu track)
     bool menu_detent_refused = false;  // the loop refused the menu's detent (said once in the notes)
     // 4. Frame loop state.
     bool swap = false, ao = true;

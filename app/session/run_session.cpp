@@ -76,12 +76,24 @@ RunSetup resolve_run(const RunOptions& o) {
     s.save = o.save;
     if (!s.save.empty()) check_output_file(s.save, "--save");
     s.journal = o.no_journal ? "" : o.journal.empty() ? (fs::path(s.out) / "session.tdj").string() : o.journal;
+    // A test pattern checks the wall: it carves nothing, so it keeps no journal (and writes no mesh).
+    if (o.test_pattern) {
+        if (!o.journal.empty()) throw Error("--journal, --test-pattern: a test pattern carves nothing to journal");
+        s.journal.clear();
+    }
     if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
         throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
     s.checkpoint_s = o.checkpoint_s;
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);
+    if (!o.mesh.empty()) {  // a mesh of the user's own in the scene's place (its centre, size and resolution)
+        std::error_code ec;
+        if (!fs::is_regular_file(o.mesh, ec)) throw Error("--mesh: no such file: " + o.mesh);
+        if (!o.workpiece.empty()) throw Error("--mesh, --workpiece: choose one");
+        s.scene.spec.mesh_path = fs::absolute(o.mesh).lexically_normal().string();
+        s.scene.spec.model_path.clear();
+    }
     if (!o.workpiece.empty()) {  // a saved model decides the lattice, the placement and the resolution
         std::error_code ec;
         if (!fs::is_regular_file(o.workpiece, ec)) throw Error("--workpiece: no such file: " + o.workpiece);
@@ -159,6 +171,7 @@ RunSetup resolve_run(const RunOptions& o) {
         throw Error(s.scene.source + ": field 'objects': scene objects are felt by the session's own contact loop; a "
                     "device server renders only the workpiece in local haptic rendering: use distributed rendering");
     if (devices::person_moves_hand(caps.input)) s.scene.has_stroke = false;  // the person is the hand
+    if (s.test_pattern) s.scene.spec.op = "none";  // the tool still follows its device, touching only
     // The wand is a Flystick: a tracked tool may not be the same one.
     if (caps.input == devices::InputKind::kTracked && caps.target_kind == "Flystick" && s.scene.wand_dtrack &&
         s.scene.wand_port == s.scene.tracked_port && s.scene.wand_flystick == s.scene.tracked_id)

@@ -295,6 +295,8 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.eye_separation_m = kEyeSeparation;
     r.ambient_occlusion = opt.ao;
     r.files = writes.written();
+    // The journal is written as the session runs: listed when it is whole (`tridex recover` rebuilds the model).
+    if (run.journal && run.journal->error.empty() && !run.journal->path.empty()) r.files.push_back(run.journal->path);
     r.files.push_back(file("report.json"));
     for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);
     if (!run.sculpt_path_reason.empty()) r.notes.push_back("sculpt path cpu: " + run.sculpt_path_reason);

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/menu/menu_frame.hpp"
 #include "app/session/session_runtime.hpp"
 #include "core/error.hpp"
 #include "core/pose.hpp"
@@ -26,6 +27,7 @@ struct FrameShown {
     ToolShape tool;                 ///< the tool drawn
     bool show_tool = true;          ///< whether the tool is drawn
     double ao = 1.0;                ///< ambient occlusion strength, 0..1
+    const MenuFrame* menu = nullptr;  ///< the pie menu as drawn (scene m); null or not shown: none
 };
 
 /// What RunPipeline::run throws after a companion failed (once every output is written): the companion's failure and

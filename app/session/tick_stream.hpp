@@ -44,10 +44,11 @@ public:
     /// Ticks written to the temporary file so far (any thread).
     std::size_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
     /// After stop(): writes the recording to path() (devices::RecordingWriter, atomically) with `notes` as the header
-    /// notes ("" = spec_to_json of the spec) and the sculpt thread's `marks`, and frees the temporary file. Throws
+    /// notes ("" = spec_to_json of the spec), the sculpt thread's `marks` and the menu's track `menu` (JSON text, ""
+    /// = none: RecordingHeader::menu), and frees the temporary file. Throws
     /// tridex::Error "<path>: ..." when the temporary file could not be written (a full disk: the error it met),
     /// read back, or the recording not written.
-    void finish(const std::string& notes, std::span<const SculptMark> marks);
+    void finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu = "");
     /// The recording file.
     const std::string& path() const { return path_; }
 

@@ -6,13 +6,15 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/printable.hpp"
 
 namespace tridex::app {
 
 std::string json_reason(const nlohmann::json::exception& e) {
     const std::string what = e.what();
-    const std::size_t end = what.rfind("] ");
-    return end == std::string::npos ? what : what.substr(end + 2);
+    const std::size_t end = what.find("] ");
+    // The parser quotes the bytes it last read: made printable, so that the message stays one line of text.
+    return printable(end == std::string::npos ? what : what.substr(end + 2), 240);
 }
 
 nlohmann::json read_scene_json(const std::string& path) {
@@ -22,9 +24,7 @@ nlohmann::json read_scene_json(const std::string& path) {
     nlohmann::json j;
     try {
         in >> j;
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    } catch (const nlohmann::json::exception& e) {  // a number beyond double's range (1e400), ...
+    } catch (const nlohmann::json::exception& e) {  // the line and column and what was expected; 1e400; ...
         throw Error(path + ": not valid JSON: " + json_reason(e));
     }
     return j;

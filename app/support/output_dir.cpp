@@ -74,12 +74,46 @@ std::size_t remove_stale_temp_files(const std::string& dir) {
     return removed;
 }
 
+namespace {
+
+std::vector<fs::path>& created_folders() {
+    static std::vector<fs::path> folders;
+    return folders;
+}
+
+// fs::create_directories, remembering each folder it makes (outermost first).
+void create_folders(const fs::path& d, std::error_code& ec) {
+    std::vector<fs::path> missing;
+    for (fs::path p = fs::absolute(d, ec).lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    fs::create_directories(d, ec);
+    if (ec) return;
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) created_folders().push_back(*it);
+}
+
+}  // namespace
+
+void forget_created_folders() { created_folders().clear(); }
+
+std::size_t remove_created_folders_if_empty() {
+    std::size_t removed = 0;
+    std::vector<fs::path>& folders = created_folders();
+    for (auto it = folders.rbegin(); it != folders.rend(); ++it) {
+        std::error_code ec;
+        if (fs::is_directory(*it, ec) && fs::is_empty(*it, ec) && fs::remove(*it, ec)) ++removed;
+    }
+    folders.clear();
+    return removed;
+}
+
 void prepare_output_dir(const std::string& dir, const std::string& flag) {
     if (dir.empty()) throw Error(flag + ": the output folder must not be empty");
     const fs::path d(dir);
     std::error_code ec;
     if (fs::exists(d, ec) && !fs::is_directory(d, ec)) throw Error(flag + " " + dir + ": not a folder");
-    fs::create_directories(d, ec);
+    create_folders(d, ec);
     if (ec) throw Error(flag + " " + dir + ": cannot create the folder: " + ec.message());
     const std::string why = probe(d);
     if (!why.empty()) throw Error(flag + " " + dir + ": " + why);
@@ -102,7 +136,7 @@ void check_output_file(const std::string& path, const std::string& flag) {
         return;
     }
     const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
-    fs::create_directories(parent, ec);
+    create_folders(parent, ec);
     if (ec) throw Error(flag + " " + path + ": cannot create its folder: " + ec.message());
     const std::string why = probe(parent);
     if (!why.empty()) throw Error(flag + " " + path + ": " + why);

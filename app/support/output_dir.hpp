@@ -1,6 +1,7 @@
 // app/support/output_dir.hpp - checking an output folder before a session spends any time on it.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -12,6 +13,14 @@ namespace tridex::app {
 /// cannot write there: Read-only file system") so that a bad output location is refused before the session runs.
 /// Removes the temporary files that writers killed in an earlier run left there (remove_stale_temp_files).
 void prepare_output_dir(const std::string& dir, const std::string& flag);
+
+/// The folders prepare_output_dir and check_output_file created since forget_created_folders() (the outermost
+/// first): remove_created_folders_if_empty() removes those still empty, innermost first, so a command that fails
+/// before writing anything leaves no empty --out folder behind. Folders that held something before, or were written
+/// into, stay. One thread (a command's). Never throws.
+void forget_created_folders();
+/// See forget_created_folders(). Returns how many folders were removed.
+std::size_t remove_created_folders_if_empty();
 
 /// Removes, from `dir` (not its sub-folders), the regular files named "<name>.tmp-<pid>" (core/atomic_file.hpp's
 /// temporary files) whose process no longer runs (kill(pid, 0) fails with ESRCH): what a run killed while writing

@@ -175,6 +175,10 @@ void add_spacemouse(DeviceRegistry& r) {
     info.caps.dof_in = 6;
     info.caps.dof_out = 0;
     info.caps.buttons = {{0, "button0", "workspace"}, {1, "button1", "menu"}};  // spacenavd's numbering
+    info.detect_now = [] {
+        const char* env = std::getenv("SPNAV_SOCKET");
+        return spnav_reachable(spnav_socket_path("", env ? env : "", kSpnavConfigFile));
+    };
     const SpaceMouseParams d;
     info.caps.options = {
         {"max_speed_m_s", d.max_speed_m_s, 0.0, 2.0, true, "tip speed at full deflection of a translation axis, m/s"},
@@ -212,6 +216,7 @@ void add_tracked(DeviceRegistry& r) {
             info.caps.buttons = {{1, "trigger", "engage"}, {2, "button1", "menu"}, {3, "button2", "edit.undo"},
                                  {4, "button3", "edit.redo"}, {5, "button4", "op.next"}};
             for (int i = 5; i <= 7; ++i) info.caps.buttons.push_back({i + 1, "button" + std::to_string(i), ""});
+            info.caps.joystick = true;  // DTrack's controller 1, the joystick's y
         }
         info.caps.fixed_profile = "tracked";
         info.caps.address_form = "PORT[:ID]";

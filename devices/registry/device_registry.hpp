@@ -93,6 +93,10 @@ struct DriverInfo {
     DriverCapabilities caps;            ///< input kind, DOF, forces, engage button, servable, options
     std::string product;                ///< hardware: the product's name for messages ("Novint Falcon")
     std::string stand_in;               ///< hardware: a driver that runs the same without the hardware, or ""
+    /// Whether what the driver reads is there now (a daemon's socket answers): "" when it is, else one line saying
+    /// what is missing ("no spacenavd at /var/run/spnav.sock"). Empty function: nothing to find (a software driver,
+    /// or one whose source shows itself only once a session runs). Hardware is found by its USB ids (detect()).
+    std::function<std::string()> detect_now;
 };
 
 /// A driver chosen on a command line (`--device TEXT`): its name, profile and address.

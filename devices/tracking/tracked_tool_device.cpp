@@ -1,6 +1,7 @@
 // devices/tracking/tracked_tool_device.cpp - a DTrack-tracked Flystick or body as the tool.
 #include "devices/tracking/tracked_tool_device.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -39,12 +40,14 @@ bool TrackedToolDevice::do_read(DeviceState& out) {
     std::int64_t receipt_ns = 0;
     DTrackBody body;
     std::uint64_t buttons = 0;
+    double joystick_y = 0.0;
     if (params_.flystick) {
         const DTrackFlystickSample& f = table.flysticks[static_cast<std::size_t>(params_.id)];
         seen = f.seen;
         receipt_ns = f.receipt_ns;
         body = f.flystick.body;
         buttons = f.flystick.buttons;
+        if (f.flystick.controller_count >= 2) joystick_y = f.flystick.controllers[1];  // DTrack's y is controller 1
     } else {
         const DTrackBodySample& b = table.bodies[static_cast<std::size_t>(params_.id)];
         seen = b.seen;
@@ -58,6 +61,7 @@ bool TrackedToolDevice::do_read(DeviceState& out) {
     const Vec3 target = t.orientation * p.position + t.position;
     Vec3 velocity(0.0);
     std::uint32_t bits = 0;
+    double joy = 0.0;  // only a tracked Flystick's joystick counts (a stale one reads 0, as its buttons are released)
     if (!fresh) {
         ++stats_.missed_frames;
         acquired_ = false;
@@ -75,6 +79,7 @@ bool TrackedToolDevice::do_read(DeviceState& out) {
         q_ = glm::normalize(t.orientation * p.orientation);
         velocity = (x_ - before) / dt_;
         bits = params_.flystick ? tracked_tool_button_bits(buttons) : tracked_tool_buttons::kEngage;
+        if (std::isfinite(joystick_y)) joy = std::clamp(joystick_y, -1.0, 1.0);
     }
     ++stats_.exchanges;
     ++steps_;
@@ -83,6 +88,7 @@ bool TrackedToolDevice::do_read(DeviceState& out) {
     out.pose.orientation = q_;
     out.velocity_m_s = velocity;
     out.buttons = bits;
+    out.joystick_y = joy;
     return true;
 }
 

@@ -277,11 +277,9 @@ DisplayConfig load_display_config(const std::string& path) {
     json j;
     try {
         j = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    } catch (const json::exception& e) {  // a number beyond a double's range (1e400), ...
+    } catch (const json::exception& e) {  // the line, column and what was expected; 1e400; ...
         const std::string what = e.what();
-        const std::size_t end = what.rfind("] ");
+        const std::size_t end = what.find("] ");
         throw Error(path + ": not valid JSON: " + printable(end == std::string::npos ? what : what.substr(end + 2), 200));
     }
     return display_config_from_json(j, path);

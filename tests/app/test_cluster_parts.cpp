@@ -116,6 +116,22 @@ TEST(ClusterParts, AFrameMessageRoundTripsBitForBit) {
     ASSERT_EQ(back.records.size(), m.records.size());
     EXPECT_EQ(back.records[0].samples[3].position.x, m.records[0].samples[3].position.x);
     EXPECT_EQ(back.records[3].kind, compute::JournalKind::kStrokeEnd);
+    // With the pie menu shown: its ring, path, lit slice and status go along, bit for bit.
+    FrameMessage with_menu = m;
+    with_menu.menu.shown = true;
+    with_menu.menu.centre_m = Vec3(0.1, 1.3, 0.7);
+    with_menu.menu.normal = Vec3(0.0, 0.6, 0.8);
+    with_menu.menu.radius_m = 0.05;
+    with_menu.menu.dead_radius_m = 0.012;
+    with_menu.menu.path = {0};
+    with_menu.menu.highlighted = 1;
+    with_menu.menu.status = "operation: union";
+    const FrameMessage menu_back = decode_frame(encode_frame(with_menu), "test");
+    EXPECT_EQ(menu_back.menu, with_menu.menu);
+    EXPECT_FALSE(back.menu.shown);
+    std::vector<unsigned char> bad = encode_frame(with_menu);
+    bad.resize(bad.size() - 3);  // a cut status
+    EXPECT_THROW((void)decode_frame(bad, "test"), Error);
 }
 
 TEST(ClusterParts, ABadMessageIsRefusedNamingItsField) {

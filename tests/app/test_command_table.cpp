@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands/command.hpp"
+#include "core/nearest_name.hpp"
 #include "app/support/device_lost.hpp"
 #include "core/error.hpp"
 
@@ -78,6 +79,28 @@ TEST(CommandTable, BadCommandLinesExitTwoWithoutRunning) {
     EXPECT_EQ(probe().runs, 0);
     EXPECT_EQ(run({"probe", "--help"}), 0);
     EXPECT_EQ(probe().runs, 0);
+}
+
+TEST(CommandTable, AMistypedCommandOrOptionGetsTheNearestName) {
+    probe() = Probe{};
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({"prob"}), 2);
+    std::string said = testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find("unknown command 'prob' (did you mean 'probe'?)"), std::string::npos) << said;
+    // The option is named, not its value first (CLI11 lists extras as "64 --lenght-m").
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({"probe", "--lenght-m", "64"}), 2);
+    said = testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find("unknown option '--lenght-m' for probe (did you mean '--length-m'?) (see tridex probe --help)"),
+              std::string::npos)
+        << said;
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({"probe", "--zzzzzzzzzz=3"}), 2);
+    said = testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find("unknown option '--zzzzzzzzzz' for probe (see"), std::string::npos) << said;
+    EXPECT_EQ(probe().runs, 0);
+    EXPECT_EQ(nearest_name("x", {"y", "z"}), "");
+    EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
 }
 
 // Numbers on the command line are decimal, whole and finite, for every command's options.

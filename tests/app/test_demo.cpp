@@ -156,7 +156,9 @@ TEST(Devices, ListsDriversAsTextAndJson) {
     EXPECT_NE(text.str().find("simulated"), std::string::npos) << text.str();
     EXPECT_NE(text.str().find("Novint Falcon"), std::string::npos) << text.str();
     EXPECT_NE(text.str().find("pointer"), std::string::npos) << text.str();  // the mouse's input kind
+    ::setenv("SPNAV_SOCKET", (out / "no-spacenavd.sock").c_str(), 1);  // no daemon answers there
     r = run_tridex("devices --json", out);
+    ::unsetenv("SPNAV_SOCKET");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream jf(out / "stdout.txt");
     const nlohmann::json rows = nlohmann::json::parse(jf);
@@ -177,6 +179,19 @@ TEST(Devices, ListsDriversAsTextAndJson) {
         }
         if (row["driver"] == "spacemouse") {
             EXPECT_EQ(caps["options"].size(), 4u);
+            // Detected means found now: no spacenavd answers, so it is not, and the row says why.
+            EXPECT_FALSE(row["detected"].get<bool>()) << row.dump();
+            EXPECT_NE(row.value("not_detected", "").find("no spacenavd at"), std::string::npos) << row.dump();
+        }
+        // One source of truth: the row's DOF are its capabilities' DOF; a driver without force outputs none.
+        EXPECT_EQ(row["dof_in"], caps["dof_in"]) << row.dump();
+        EXPECT_EQ(row["dof_out"], caps["dof_out"]) << row.dump();
+        if (!caps["renders_forces"].get<bool>()) {
+            EXPECT_EQ(row["dof_out"], 0) << row.dump();
+            if (!row["hardware"].get<bool>() && row["profile"] != "-") {
+                EXPECT_NE(row["name"].get<std::string>().find(row["driver"].get<std::string>() + " ("), std::string::npos)
+                    << row.dump();
+            }
         }
         if (row["driver"] == "simulated" && row["profile"] == "wand") {
             wand = true;
@@ -194,6 +209,25 @@ TEST(Devices, ListsDriversAsTextAndJson) {
 std::string data(const char* rel) {
     const char* env = std::getenv("TRIDEX_SHARED_DATA");
     return std::string(env ? env : TRIDEX_SHARED_DATA_DIR) + "/" + rel;
+}
+
+// A command that fails leaves no empty output folder behind; a folder that was there already stays.
+TEST(Demo, AFailedCommandLeavesNoEmptyOutputFolder) {
+    const fs::path dir = fs::temp_directory_path() / ("tridex-test-failed-out-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto r = run_tridex("run --display offscreen --frames 1 --device nosuch --out " + (dir / "new" / "deeper").string(),
+                        dir / "log1");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "new")) << "the failed run left " << (dir / "new");
+    r = run_tridex("demo --resolution 7 --out " + (dir / "demo_out").string(), dir / "log2");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "demo_out"));
+    fs::create_directories(dir / "kept");
+    r = run_tridex("run --display offscreen --frames 1 --device nosuch --out " + (dir / "kept").string(), dir / "log3");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "kept"));
+    fs::remove_all(dir);
 }
 
 TEST(Demo, ShortStrokeWritesConsistentOutputs) {

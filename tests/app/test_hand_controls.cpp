@@ -16,6 +16,7 @@
 #include "app/actions/action_registry.hpp"
 #include "app/actions/bindings.hpp"
 #include "app/input/key_bindings.hpp"
+#include "app/menu/menu_frame.hpp"
 #include "app/menu/pie_menu.hpp"
 #include "app/menu/pie_menu_mesh.hpp"
 #include "app/scene/session_spec.hpp"
@@ -157,8 +158,11 @@ TEST(Bindings, AFileRebindsAndNamesWhatIsWrong) {
     EXPECT_NE(bad(R"({"tool": {"buttons": {"button1": "nav.scale"}}})").find("driven by an axis"), std::string::npos);
     EXPECT_NE(bad(R"({"wand": {"joystick_y": "edit.undo"}})").find("not driven by an axis"), std::string::npos);
     EXPECT_NE(bad(R"({"tool": {"buttons": {"button1": "nav.grab"}}})").find("the wand's"), std::string::npos);
-    EXPECT_NE(bad(R"({"tool": {"joystick_y": "tool.scale"}})").find("bindings.tool.joystick_y: the flystick driver has "
-                                                                     "no joystick"),
+    EXPECT_NE(bad(R"({"tool": {"joystick_y": "nav.scale"}})").find("'nav.scale' is the wand's"), std::string::npos);
+    Bindings falcon = default_bindings("falcon", driver_caps("falcon"));
+    EXPECT_NE(error_of([&] {
+                  apply_bindings(nlohmann::json::parse(R"({"tool": {"joystick_y": "tool.scale"}})"), "f.json", falcon);
+              }).find("f.json: bindings.tool.joystick_y: the falcon driver has no joystick"),
               std::string::npos);
     EXPECT_NE(bad(R"({"head": {}})").find("wall.json: bindings.head: unknown device; use tool or wand"),
               std::string::npos);
@@ -170,7 +174,8 @@ TEST(Bindings, AMalformedFileSaysLineAndColumn) {
     const std::string path = (dir / "b.json").string();
     std::ofstream(path) << "{\n  \"bindings\": {\n    \"tool\": {\"buttons\": {\"button1\": \"menu\"}\n  }\n";
     const std::string e = error_of([&] { (void)load_bindings(path, "flystick", driver_caps("flystick")); });
-    EXPECT_NE(e.find(path + ": not valid JSON at line 5"), std::string::npos) << e;
+    EXPECT_NE(e.find(path + ": not valid JSON: parse error at line 5, column"), std::string::npos) << e;
+    EXPECT_NE(e.find("expected"), std::string::npos) << e;
     std::ofstream(path) << R"({"bindings": {"tool": {"buttons": {"button2": "edit.redo"}}}})";
     const Bindings b = load_bindings(path, "flystick", driver_caps("flystick"));
     EXPECT_EQ(b.tool.action_of(3), "edit.redo");
@@ -290,6 +295,44 @@ TEST(PieMenu, ItsMeshesLieInThePlaneThroughTheHand) {
     double mean_u = 0.0;
     for (const Vec3& v : pieces[1].mesh.positions) mean_u += glm::dot(v - hand, m.menu.ring().right);
     EXPECT_GT(mean_u / pieces[1].mesh.positions.size(), 0.02);
+}
+
+TEST(MenuTrack, KeepsEachChangeAndAnswersWhatWasShownWhen) {
+    MenuRig m;
+    MenuTrack track;
+    track.add(0.5, menu_frame_of(m.menu, 0.5, ""));  // closed before anything: nothing kept
+    EXPECT_EQ(track.size(), 0u);
+    m.menu.open(m.root, Vec3(0.0), m.head, 1.0);
+    track.add(1.1, menu_frame_of(m.menu, 1.1, "s"));  // not shown yet (a flick would be unseen): nothing kept
+    EXPECT_EQ(track.size(), 0u);
+    m.menu.update(m.at(0.0, 0.06), 1.3);  // shown, Operation's ring opened at the hand
+    m.menu.update(m.at(0.0, 0.06) + m.at(60.0, 0.03), 1.35);
+    const MenuFrame lit = menu_frame_of(m.menu, 1.4, "operation: subtract");
+    track.add(1.4, lit);
+    track.add(1.45, lit);  // unchanged: not kept again
+    m.menu.close();
+    track.add(1.6, menu_frame_of(m.menu, 1.6, ""));
+    EXPECT_EQ(track.size(), 2u);
+    EXPECT_FALSE(track.at(1.0).shown);
+    EXPECT_EQ(track.at(1.5), lit);
+    EXPECT_EQ(lit.path, std::vector<std::uint8_t>{0});
+    EXPECT_EQ(lit.highlighted, 1);
+    EXPECT_EQ(ring_of(lit, m.root).node->children[1].action, "op.union");
+    EXPECT_FALSE(track.at(2.0).shown);
+    const MenuTrack back = MenuTrack::from_json_text(track.to_json_text(), "rec");
+    EXPECT_EQ(back.at(1.5), lit);
+    EXPECT_EQ(back.size(), 2u);
+    EXPECT_EQ(MenuTrack().to_json_text(), "");
+    const std::string e = error_of([] { (void)MenuTrack::from_json_text(R"([{"t_s": 2}, {"t_s": 1}])", "rec"); });
+    EXPECT_NE(e.find("rec: menu[1].t_s: decreases"), std::string::npos) << e;
+    EXPECT_NE(error_of([] { (void)MenuTrack::from_json_text(R"([{"t_s": 1, "shown": true}])", "rec"); })
+                  .find("rec: menu[0].centre_m"),
+              std::string::npos);
+    // A frame naming a ring this menu does not have draws nothing.
+    MenuFrame odd = lit;
+    odd.path = {7};
+    EXPECT_EQ(ring_of(odd, m.root).node, nullptr);
+    EXPECT_TRUE(menu_frame_pieces(odd, m.root).empty());
 }
 
 TEST(HandControls, TheToolsMenuButtonOpensChoosesAndBlocksCommandsWhileOpen) {

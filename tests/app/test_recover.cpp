@@ -80,6 +80,13 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     const test::ExeResult rec = test::run_tridex("recover " + (dir / "session" / "session.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
     EXPECT_EQ(rec.err, "");
+    const std::string said = test::bytes_of(dir / "recl" / "stdout.txt");
+    EXPECT_NE(said.find("wrote " + (dir / "rec").string() + "/: sculpted.ply, model.tdx, report.json"), std::string::npos)
+        << said;
+    // The demo lists its journal among the files it wrote.
+    bool journal_listed = false;
+    for (const nlohmann::json& f : sr["files"]) journal_listed = journal_listed || f.get<std::string>().ends_with("session.tdj");
+    EXPECT_TRUE(journal_listed) << sr["files"].dump();
     EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), test::bytes_of(dir / "session" / "sculpted.ply"));
     EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "session" / "session.tdj", dir));
     const nlohmann::json rr = test::read_json(dir / "rec" / "report.json");

@@ -152,6 +152,12 @@ TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {
     const std::string bad = (dir / "bad.json").string();
     std::ofstream(bad) << "{ \"workpiece\": ";
     EXPECT_NE(error_of([&] { (void)load_run_scene(bad); }).find(bad + ": not valid JSON"), std::string::npos);
+    // A missing comma is placed by line and column, with what was expected there.
+    const std::string comma = (dir / "comma.json").string();
+    std::ofstream(comma) << "{\n  \"workpiece\": { \"resolution\": 32 }\n  \"tool\": { \"radius_m\": 0.006 }\n}\n";
+    const std::string said = error_of([&] { (void)load_run_scene(comma); });
+    EXPECT_NE(said.find(comma + ": not valid JSON: parse error at line 3, column"), std::string::npos) << said;
+    EXPECT_NE(said.find("expected '}'"), std::string::npos) << said;
     // A number beyond a double's range is a bad file, named with the number, not an internal error.
     const std::string huge = (dir / "huge.json").string();
     std::ofstream(huge) << "{ \"workpiece\": { \"resolution\": 1e400 } }";
@@ -483,6 +489,17 @@ TEST(RunOptions, AWindowWithNoDeviceNamedUsesTheMouse) {
     EXPECT_EQ(driver(bare, "offscreen", ""), "simulated");
     EXPECT_EQ(driver(bare, "window", "simulated"), "simulated");
     EXPECT_EQ(driver(named, "window", ""), "simulated");
+    // --mesh carves the user's own mesh in the scene's place, as the demo's --mesh does.
+    RunOptions m;
+    m.scene = bare;
+    m.display = "offscreen";
+    m.frames = 1;
+    m.out = (dir / "out").string();
+    m.mesh = (fs::path(std::getenv("TRIDEX_ASSETS")) / "bunny.off").string();
+    EXPECT_EQ(resolve_run(m).scene.spec.mesh_path, fs::absolute(m.mesh).lexically_normal().string());
+    EXPECT_TRUE(resolve_run(m).scene.spec.model_path.empty());
+    m.mesh = (dir / "none.off").string();
+    EXPECT_NE(error_of([&] { (void)resolve_run(m); }).find("--mesh: no such file"), std::string::npos);
     fs::remove_all(dir);
 }
 

@@ -67,7 +67,7 @@ TEST(WallPattern, EachEyeSeesOnlyItsOwnLabelOnTheWall) {
     const std::string assets = TRIDEX_ASSETS_DIR;
     const auto r = test::run_tridex("run " + assets + "/wall_scene.json --display offscreen --display-config " + assets +
                                         "/dtrack_powerwall_display.json --test-pattern --stereo side-by-side --frames 2 "
-                                        "--no-journal --cpu --validate --out " + (dir / "out").string(),
+                                        "--cpu --validate --out " + (dir / "out").string(),
                                     dir / "log");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const LabelPixels left = label_pixels(renderer::read_png((dir / "out" / "left.png").string()));
@@ -80,6 +80,10 @@ TEST(WallPattern, EachEyeSeesOnlyItsOwnLabelOnTheWall) {
     EXPECT_EQ(right.red, 0u) << "LEFT EYE shows in the right eye's image";
     const nlohmann::json rep = test::read_json(dir / "out" / "report.json");
     EXPECT_EQ(rep["validation_messages"], 0);
+    // A test pattern carves nothing and writes only its images and report: no mesh, no journal.
+    EXPECT_FALSE(fs::exists(dir / "out" / "sculpted.ply"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "session.tdj"));
+    EXPECT_EQ(rep["volume_after_m3"], rep["volume_before_m3"]);
     if (!HasFailure()) fs::remove_all(dir);
 }
 

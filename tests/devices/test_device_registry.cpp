@@ -64,7 +64,7 @@ TEST(DeviceRegistry, RefusesUnknownDriversProfilesAndHardwareWithoutADriver) {
     }
     // Hardware without a driver in this build is refused by name.
     DeviceRegistry mine;
-    mine.add(DriverInfo{"gadget", "a known gadget", true, false, {}, {{0x1234, 0x5678}}, {}, "", ""}, nullptr);
+    mine.add(DriverInfo{"gadget", "a known gadget", true, false, {}, {{0x1234, 0x5678}}, {}, "", "", {}}, nullptr);
     const std::string gadget = message_of([&] { (void)mine.create(DeviceSpec{"gadget", "", ""}, {}); });
     EXPECT_NE(gadget.find("not available in this build"), std::string::npos) << gadget;
 }
@@ -85,9 +85,9 @@ TEST(DeviceRegistry, ListsDriversAndRefusesDuplicates) {
     EXPECT_TRUE(falcon);
 
     DeviceRegistry mine;
-    mine.add(DriverInfo{"x", "a test driver", false, true, {}, {}, {}, "", ""}, nullptr);
-    EXPECT_THROW(mine.add(DriverInfo{"x", "again", false, true, {}, {}, {}, "", ""}, nullptr), Error);
-    EXPECT_THROW(mine.add(DriverInfo{"", "nameless", false, true, {}, {}, {}, "", ""}, nullptr), Error);
+    mine.add(DriverInfo{"x", "a test driver", false, true, {}, {}, {}, "", "", {}}, nullptr);
+    EXPECT_THROW(mine.add(DriverInfo{"x", "again", false, true, {}, {}, {}, "", "", {}}, nullptr), Error);
+    EXPECT_THROW(mine.add(DriverInfo{"", "nameless", false, true, {}, {}, {}, "", "", {}}, nullptr), Error);
     // A registered driver without a factory is refused, not called.
     EXPECT_THROW((void)mine.create(DeviceSpec{"x", "", ""}, {}), Error);
 }

@@ -19,6 +19,8 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 
@@ -463,6 +465,13 @@ TEST(Recording, MarksRoundTripAndBadMarksAreRefused) {
     EXPECT_EQ((*back.header.marks)[1].after_samples, 2u);
     EXPECT_EQ((*back.header.marks)[1].kind, "undo");
     EXPECT_EQ((*back.header.marks)[2].kind, "redo");
+    // The app's menu track rides along as JSON text; a track that is not an array is refused.
+    src.header.menu = R"([{"t_s":1.5,"shown":false}])";
+    write_recording(path, src);
+    EXPECT_EQ(nlohmann::json::parse(read_recording(path).header.menu), nlohmann::json::parse(src.header.menu));
+    src.header.menu = R"({"t_s":1})";
+    EXPECT_THROW(write_recording(path, src), Error);
+    src.header.menu.clear();
     // No marks (a file from before they were kept) reads as none, not as an empty list.
     src.header.marks.reset();
     write_recording(path, src);

@@ -19,6 +19,7 @@ constexpr unsigned char kMagic[4] = {'T', 'D', 'X', 'C'};
 constexpr std::uint32_t kMaxRecords = 1u << 20;      // records in one frame message
 constexpr std::uint32_t kMaxSamples = 1u << 22;      // samples in one record
 constexpr std::uint32_t kMaxText = 64u << 20;        // a spec, an error, a report
+constexpr std::size_t kMaxMenuDepth = 8;                // rings of rings in the menu, at most
 
 // The messages' writer: devices/net's little-endian writer, plus texts with a u32 length, poses and samples.
 class Writer {
@@ -148,7 +149,8 @@ HelloMessage decode_hello(std::span<const unsigned char> bytes, const std::strin
 std::vector<unsigned char> encode_frame(const FrameMessage& m) {
     Writer w(ClusterKind::kFrame);
     w.u64(m.frame);
-    w.u8(static_cast<std::uint8_t>((m.last ? 1 : 0) | (m.show_tool ? 2 : 0) | (m.check_digest ? 4 : 0)));
+    w.u8(static_cast<std::uint8_t>((m.last ? 1 : 0) | (m.show_tool ? 2 : 0) | (m.check_digest ? 4 : 0) |
+                                   (m.menu.shown ? 8 : 0)));
     w.pose(m.head);
     w.pose(m.nav_pose);
     w.f64(m.nav_scale);
@@ -175,6 +177,16 @@ std::vector<unsigned char> encode_frame(const FrameMessage& m) {
             w.u64(rec.rays);
         }
     }
+    if (m.menu.shown) {  // the pie menu as rank 0 drew it
+        const MenuFrame& f = m.menu;
+        for (const Vec3& v : {f.centre_m, f.right, f.up, f.normal}) w.vec3(v);
+        w.f64(f.radius_m);
+        w.f64(f.dead_radius_m);
+        w.u8(static_cast<std::uint8_t>(std::min<std::size_t>(f.path.size(), kMaxMenuDepth)));
+        for (std::size_t i = 0; i < f.path.size() && i < kMaxMenuDepth; ++i) w.u8(f.path[i]);
+        w.u8(static_cast<std::uint8_t>(f.highlighted + 1));
+        w.text(f.status);
+    }
     return w.take();
 }
 
@@ -183,7 +195,7 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
     FrameMessage m;
     m.frame = r.u64("frame");
     const std::uint8_t flags = r.u8("flags");
-    if (flags & ~7u) r.fail("flags", "unknown flag bits");
+    if (flags & ~15u) r.fail("flags", "unknown flag bits");
     m.last = flags & 1;
     m.show_tool = flags & 2;
     m.head = r.pose("head");
@@ -228,6 +240,23 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
             rec.rays = r.u64("record.rays");
         }
         m.records.push_back(std::move(rec));
+    }
+    if (flags & 8) {
+        MenuFrame& f = m.menu;
+        f.shown = true;
+        f.centre_m = r.vec3("menu.centre_m");
+        f.right = r.vec3("menu.right");
+        f.up = r.vec3("menu.up");
+        f.normal = r.vec3("menu.normal");
+        f.radius_m = r.f64("menu.radius_m");
+        f.dead_radius_m = r.f64("menu.dead_radius_m");
+        if (!(f.radius_m > 0.0 && f.dead_radius_m > 0.0 && f.dead_radius_m < f.radius_m))
+            r.fail("menu.radius_m", "radii must be 0 < dead < radius");
+        const std::uint8_t depth = r.u8("menu.path");
+        if (depth > kMaxMenuDepth) r.fail("menu.path", "deeper than the menu");
+        for (std::uint8_t i = 0; i < depth; ++i) f.path.push_back(r.u8("menu.path"));
+        f.highlighted = static_cast<int>(r.u8("menu.highlighted")) - 1;
+        f.status = r.text("menu.status");
     }
     r.end();
     return m;

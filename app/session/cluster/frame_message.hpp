@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/menu/menu_frame.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
@@ -51,6 +52,7 @@ struct FrameMessage {
     std::uint32_t check_after = 0;
     double newest_sample_made_s = 0.0;  ///< steady-clock time of the newest sample in `records` (0: none), s
     double sent_s = 0.0;                ///< steady-clock time rank 0 sent the message, s
+    MenuFrame menu;                     ///< the pie menu as rank 0 drew it (not shown: none)
 };
 
 /// A render rank's answer to a frame (kReady) or to the end (kDone).

@@ -196,7 +196,12 @@ private:
         t0 = Clock::now();
         replica_->contour();
         contour_ms_.add(ms_since(t0));
-        const renderer::SceneView view = replica_->view(m);
+        renderer::SceneView view = replica_->view(m);
+        // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
+        menu_pieces_ = menu_frame_pieces(m.menu, menu_root_);
+        menu_objects_.clear();
+        for (const MenuPiece& p : menu_pieces_) menu_objects_.push_back({&p.mesh, p.colour, 0b11, false});
+        if (!menu_objects_.empty()) view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
             vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
@@ -250,6 +255,9 @@ private:
     const ClusterRank* mine_;
     Fault fault_;
     std::optional<ClusterReplica> replica_;
+    MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
+    std::vector<MenuPiece> menu_pieces_;                // this frame's menu meshes
+    std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects
     FrameMessage last_;  // the last frame message (without its records): its view, for the report
     std::optional<renderer::WindowSystemScope> glfw_;
     std::optional<gpu::Context> ctx_;
