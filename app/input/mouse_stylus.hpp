@@ -80,6 +80,8 @@ public:
     bool left() const { return left_; }               ///< left button held
     bool right() const { return right_; }             ///< right button held
     bool has_cursor() const { return have_cursor_; }  ///< a cursor position was given
+    double cursor_x() const { return x_px_; }          ///< the cursor, pixels from the window's left
+    double cursor_y() const { return y_px_; }          ///< the cursor, pixels from the window's top
     double depth_step_m() const { return depth_step_m_; }  ///< depth change per wheel step, m
 
     /// This frame's target: the cursor's ray (cursor_ray from `eye_m` through `screen`, image width_px x

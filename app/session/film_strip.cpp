@@ -105,7 +105,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
         std::vector<MenuPiece> menu;
         std::vector<renderer::SceneObject> objects;
         if (opt.menu && s) menu = menu_frame_pieces(opt.menu->at(s->t_s), menu_root);
-        for (const MenuPiece& p : menu) objects.push_back({&p.mesh, p.colour, 0b11, false});
+        for (const MenuPiece& p : menu) objects.push_back({&p.mesh, p.colour, 0b11, false, true});
         view.objects = objects;
         strip.menu_shown.push_back(!menu.empty());
         const renderer::StereoImages eyes = rend.render(view, screen, head, 0.0);

@@ -83,7 +83,9 @@ void HandControls::drive_menu(bool held, const Vec3& hand_m, const HandsFrame& h
     const bool pressed = held && !menu_held_, released = !held && menu_held_;
     menu_held_ = held;
     if (pressed && !menu_.is_open()) {
-        const double size = h.scene_scale > 0.0 && std::isfinite(h.scene_scale) ? 1.0 / h.scene_scale : 1.0;
+        const double size = h.ring_radius_m > 0.0 && std::isfinite(h.ring_radius_m) ? h.ring_radius_m / ring_radius_m_
+                            : h.scene_scale > 0.0 && std::isfinite(h.scene_scale) ? 1.0 / h.scene_scale
+                                                                                  : 1.0;
         menu_.open(root_, hand_m, h.head_m, h.t_s, size);
         if (menu_.is_open()) ++opens_;
         return;
@@ -118,7 +120,16 @@ void HandControls::frame(const HandsFrame& h, const std::vector<std::string>& ke
     const bool tool_menu = (h.tool_fresh && tool_.held("menu")) || h.desk_menu;
     if (!menu_.is_open() && !menu_held_) menu_by_wand_ = wand_menu && !tool_menu;
     const bool held = menu_by_wand_ ? wand_menu : tool_menu;
-    drive_menu(held, menu_by_wand_ ? h.wand_m : h.tool_m, h, target);
+    Vec3 hand = menu_by_wand_ ? h.wand_m : h.tool_m;
+    if (menu_.is_open() && !menu_by_wand_ && h.pointer_ray) {  // the cursor's ray on the ring's plane
+        const RingView& r = menu_.ring();
+        const double along = glm::dot(h.pointer_ray->dir, r.normal);
+        if (std::abs(along) > 1e-9) {
+            const double t = glm::dot(r.centre_m - h.pointer_ray->origin_m, r.normal) / along;
+            if (t > 0.0 && std::isfinite(t)) hand = h.pointer_ray->origin_m + t * h.pointer_ray->dir;
+        }
+    }
+    drive_menu(held, hand, h, target);
     if (menu_.is_open()) return;  // while choosing, no button's command runs
     for (const std::string& a : pressed) run(a, "button", target);
     // A joystick bound to tool.scale (the tool's or the wand's) steps the tool while tilted past half way.

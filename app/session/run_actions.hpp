@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 
 #include "app/actions/action_registry.hpp"
 #include "app/actions/bindings.hpp"
+#include "app/input/surface_pick.hpp"
 #include "app/menu/pie_menu.hpp"
 #include "app/session/run_mouse.hpp"
 #include "app/session/session_runtime.hpp"
@@ -71,6 +73,12 @@ struct HandsFrame {
     double wand_joystick_y = 0.0;     ///< its joystick's y in [-1, 1]
     Vec3 head_m{0.0};                 ///< the cyclopean eye, scene m
     double scene_scale = 1.0;         ///< world m per scene m (the menu keeps its size in the world)
+    /// A desk pointer's ray through the cursor (scene m): while the menu opened at the tool is open, the hand is where
+    /// it meets the ring's plane, so the cursor points at the slices as the mouse moves. nullopt: the tool is the hand.
+    std::optional<Ray> pointer_ray;
+    /// > 0: the radius of a ring opened now, scene m (a desk pointer's: a fixed size on screen at the tool's depth);
+    /// 0: HandControls' radius in the world.
+    double ring_radius_m = 0.0;
 };
 
 /// The hands' controls: per frame, the tool device's and the wand's button presses run their bound commands (in

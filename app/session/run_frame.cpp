@@ -18,6 +18,8 @@ using run_detail::kForceMetresPerNewton;
 using run_detail::ms_between;
 using run_detail::seconds_since;
 
+// The desk's pie menu: its radius on screen, pixels (at the tool's depth).
+constexpr double kDeskRingPx = 110.0;
 // How often the stylus's pick surface is read back from the GPU contour at most, s.
 constexpr double kPickRefreshS = 0.1;
 // The longest a frame waits for the haptic loop to take the mouse stylus's new target (RunMouse::await_hand): the
@@ -83,6 +85,10 @@ bool RunPipeline::Parts::take_input() {
     }
     h.head_m = last_eye_scene_m;
     h.scene_scale = nav.scale();
+    if (mouse_stylus && pointer_ray) {  // the desk: the cursor points at the slices; the ring a fixed size on screen
+        h.pointer_ray = pointer_ray;
+        h.ring_radius_m = kDeskRingPx * pointer_m_per_px * glm::length(h.tool_m - last_eye_scene_m);
+    }
     controls->frame(h, input->take_actions(), *actions);
     try {  // a detent the device cannot render stably is not felt; the menu still works
         rt.set_menu(controls->detent());
@@ -231,7 +237,7 @@ void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::Loop
     if (!menu_now.shown) return;
     menu_pieces = menu_frame_pieces(menu_now, controls->root());
     if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
-    for (const MenuPiece& p : menu_pieces) frame_objects.push_back({&p.mesh, p.colour, 0b11, false});
+    for (const MenuPiece& p : menu_pieces) frame_objects.push_back({&p.mesh, p.colour, 0b11, false, true});
     view.objects = frame_objects;
 }
 
@@ -304,6 +310,14 @@ RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
             mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, gpu_pick, lv, t0);
         else mouse_stylus->frame(cam.screen, cam.head.position, w_px, h_px, mesh, lv, t0);
         mouse_stylus->await_hand(kHandWait);
+        // The cursor's ray and the size of a pixel one metre from the eye, for the menu next frame.
+        const MouseStylus& st = mouse_stylus->stylus();
+        pointer_ray = st.has_cursor() ? cursor_ray(cam.screen, cam.head.position, st.cursor_x(), st.cursor_y(), w_px, h_px)
+                                      : std::nullopt;
+        const Vec3 n = glm::normalize(glm::cross(cam.screen.lower_right - cam.screen.lower_left,
+                                                 cam.screen.upper_left - cam.screen.lower_left));
+        const double eye_to_screen = std::abs(glm::dot(cam.head.position - cam.screen.lower_left, n));
+        pointer_m_per_px = eye_to_screen > 1e-9 ? cam.screen.width() / w_px / eye_to_screen : 0.0;
     }
     return FrameAim{cam, t0};
 }

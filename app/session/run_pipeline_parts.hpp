@@ -133,6 +133,8 @@ struct RunPipeline::Parts final : FrameSteps {
     MenuFrame menu_now;     // what this frame's menu shows
     MenuTrack menu_track;   // every change of it, by device time (a recording's menu track)
     bool menu_detent_refused = false;  // the loop refused the menu's detent (said once in the notes)
+    std::optional<Ray> pointer_ray;    // the desk: the cursor's ray at the last frame (scene m)
+    double pointer_m_per_px = 0.0;     // ... a pixel's size one metre from the eye along it (0: unknown)
     // 4. Frame loop state.
     bool swap = false, ao = true;
     bool sculpting = false;    // this frame is drawn within kSculptingHoldS of a sculpted change

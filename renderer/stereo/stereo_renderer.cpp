@@ -415,7 +415,7 @@ void OffscreenStereoRenderer::Impl::add_tool(const SceneView& scene, FrameDraws&
 
 std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneView& scene, FrameDraws& list) {
     if (objects.size() < scene.objects.size()) objects.resize(scene.objects.size());
-    std::vector<std::size_t> translucent;
+    std::vector<std::size_t> later;  // translucent objects (drawn with the translucent items), then on-top ones
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const SceneObject& o = scene.objects[i];
         if (!o.mesh || o.mesh->triangles.empty()) continue;
@@ -432,20 +432,21 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
             om.source = o.mesh;
             om.triangles = o.mesh->triangles.size();
         }
-        if (o.colour.a < 1.0f)
-            translucent.push_back(i);
+        if (o.colour.a < 1.0f || o.on_top)
+            later.push_back(i);
         else {
             list.cover_all();
             list.add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, o.lit).eye_mask = o.eyes & 0b11u;
         }
     }
-    return translucent;
+    return later;
 }
 
 void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene, std::span<const std::size_t> translucent_objects,
                                                           FrameDraws& list) {
     const auto ball_box = [](const Vec3& c, double r) { return Aabb{c - Vec3(r), c + Vec3(r)}; };
     for (const std::size_t i : translucent_objects) {
+        if (scene.objects[i].on_top) continue;
         list.cover_drawn_all();
         list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, scene.objects[i].lit);
         std::vector<StereoDraw>& d = list.draws();  // its back and front faces
@@ -569,6 +570,13 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     add_force_arrow(scene, im.cylinder, im.cone, list);
     const std::vector<std::size_t> translucent_objects = im.add_objects(scene, list);
     im.add_translucent_items(scene, translucent_objects, list);
+    // On-top objects: in the world, without the depth test, over every 3D item and under the 2D overlay.
+    for (const std::size_t i : translucent_objects) {
+        const SceneObject& o = scene.objects[i];
+        if (!o.on_top) continue;
+        list.cover_all();
+        list.add(PipelineKind::kOverlay, im.objects[i].mesh, glm::mat4(1.0f), o.colour, o.lit).eye_mask = o.eyes & 0b11u;
+    }
     im.add_overlay(scene, stats, fr, list);
     return im.submit(scene, slot, eyes.uniform, list, std::move(stats));
 }

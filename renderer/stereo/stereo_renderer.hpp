@@ -39,6 +39,9 @@ struct SceneObject {
     /// Shaded by the key and fill lights (true) or drawn flat in its colour (false: marks and text that must keep
     /// their colour whichever way they face).
     bool lit = true;
+    /// Drawn over the rest of the scene (no depth test, after every other 3D item, in the order given) while still
+    /// placed in the world, so each eye sees it at its own depth: an in-scene menu that material must not hide.
+    bool on_top = false;
 };
 
 /// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).

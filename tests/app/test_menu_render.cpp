@@ -54,17 +54,21 @@ TEST(MenuRender, TheMenuSitsAtTheHandsDepthInBothEyesAndMatchesItsGolden) {
     menu.update(hand + 0.03 * menu.ring().right, 0.5);
     ASSERT_TRUE(menu.shown(0.5));
     const std::vector<MenuPiece> pieces = pie_menu_pieces(menu.ring(), "operation: subtract");
-    // The marker: a small green box at the lit slice's centre, in the ring's plane (the same depth as the slice).
-    const double c = 2.0 * 3.14159265358979 / 8.0 * 2.0;  // slice 2's centre, clockwise from 12
-    const double rg = 0.5 * (1.4 * 0.012 + 0.05);
-    const Vec3 at = hand + rg * (std::sin(c) * menu.ring().right + std::cos(c) * menu.ring().up) + 0.003 * menu.ring().normal;
+    // The marker: a small green box at the hand, in the ring's hole (the ring's centre, the same depth as the slices).
     Aabb box;
-    box.add(at - Vec3(0.002));
-    box.add(at + Vec3(0.002));
+    box.add(hand - Vec3(0.003));
+    box.add(hand + Vec3(0.003));
     const TriMesh marker = box_mesh(box);
+    // A wall of material between the head and the ring, as a workpiece in front of the hand would be: the menu is
+    // drawn over it (on top), still at the hand's depth in each eye.
+    Aabb wall;
+    wall.add(Vec3(0.04, -0.01, 0.3));  // right of the marker at the hand, across the lit slice at 3 o'clock
+    wall.add(Vec3(0.2, 0.01, 0.31));
+    const TriMesh occluder = box_mesh(wall);
     std::vector<renderer::SceneObject> objects;
-    for (const MenuPiece& p : pieces) objects.push_back({&p.mesh, p.colour, 0b11, false});
+    objects.push_back({&occluder, glm::vec4(0.55f, 0.45f, 0.35f, 1.0f), 0b11, true});
     objects.push_back({&marker, glm::vec4(0.0f, 1.0f, 0.0f, 1.0f), 0b11, false});
+    for (const MenuPiece& p : pieces) objects.push_back({&p.mesh, p.colour, 0b11, false, true});
     renderer::SceneView view;
     view.show_workspace = false;
     view.objects = objects;
@@ -74,7 +78,8 @@ TEST(MenuRender, TheMenuSitsAtTheHandsDepthInBothEyesAndMatchesItsGolden) {
         renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, kW, kH);
         const renderer::StereoImages eyes = r.render(view, screen, head, kEyeSeparation);
         std::size_t nl = 0, nr = 0, ml = 0, mr = 0;
-        // The lit slice's centre of mass is not the marker's, but both are at one depth: equal shifts between eyes.
+        // The lit slice's centre of mass is not the marker's, but both are at one depth: equal shifts between eyes. The
+        // lit slice is whole in both eyes though the bar of material lies across the ring in front of it.
         const double lit_l = mean_x_of(eyes.left, is_orange, nl), lit_r = mean_x_of(eyes.right, is_orange, nr);
         const double mk_l = mean_x_of(eyes.left, is_green, ml), mk_r = mean_x_of(eyes.right, is_green, mr);
         ASSERT_GT(nl, 50u);
@@ -90,6 +95,16 @@ TEST(MenuRender, TheMenuSitsAtTheHandsDepthInBothEyesAndMatchesItsGolden) {
         EXPECT_GT(menu_disparity, 0.5 * predicted);  // crossed: in front of the screen, not at its plane
         EXPECT_NEAR(menu_disparity, hand_disparity, 1.0);
         EXPECT_NEAR(menu_disparity, predicted, 1.5);
+        // Without the bar the lit slice shows the same pixels: the material in front hides none of it.
+        std::vector<renderer::SceneObject> no_bar(objects.begin() + 1, objects.end());
+        renderer::SceneView clear_view = view;
+        clear_view.objects = no_bar;
+        const renderer::StereoImages clear = r.render(clear_view, screen, head, kEyeSeparation);
+        std::size_t cl = 0, cr = 0;
+        (void)mean_x_of(clear.left, is_orange, cl);
+        (void)mean_x_of(clear.right, is_orange, cr);
+        EXPECT_EQ(nl, cl);
+        EXPECT_EQ(nr, cr);
         // The golden image, both eyes side by side.
         const renderer::Image sbs = renderer::compose(renderer::StereoOutput::kSideBySide, eyes.left, eyes.right);
         const std::filesystem::path out = std::filesystem::current_path() / "menu_out";

@@ -183,6 +183,19 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
     xdo("mouseup 3");
     (void)save_as("moved.tdx");
 
+    // The middle button opens the pie menu at the tool; the cursor points at the slices: straight up past the ring
+    // (Operation's ring opens there), then up and to the right (Union), released.
+    move_to(kFrom);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    xdo("mousedown 2");
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    xdo("mousemove_relative -- 0 -130");
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    xdo("mousemove_relative -- 60 -40");
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    xdo("mouseup 2");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+
     // Esc closes the window; the report is written.
     xdo("key Escape");
     ASSERT_TRUE(wait_for([&] { return !app.running(); })) << "Esc did not close the window";
@@ -196,6 +209,8 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
     EXPECT_GT(rep["haptics"]["modelling_paused_ticks"].get<int>(), 0);
     EXPECT_GT(rep["mouse"]["workspace_moved_m"].get<double>(), 0.005) << rep["mouse"].dump();
     EXPECT_GT(rep["mouse"]["latency_ms"]["count"].get<int>(), 0);
+    EXPECT_EQ(rep["controls"]["menu"]["choices"]["op.union"], 1) << rep["controls"].dump();
+    EXPECT_EQ(rep["mouse"]["op"], "union") << rep["mouse"].dump();
     std::printf("[mouse xvfb] saves %d, cursor-to-tool latency median %.1f ms, p99 %.1f ms, workspace moved %.1f mm\n",
                 saves, rep["mouse"]["latency_ms"]["median"].get<double>(), rep["mouse"]["latency_ms"]["p99"].get<double>(),
                 1e3 * rep["mouse"]["workspace_moved_m"].get<double>());

@@ -6,15 +6,12 @@
 // and the saved model holds the redone cut.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
 #include <filesystem>
 #include <fstream>
-#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +22,7 @@
 #include "app/session/run_session.hpp"
 #include "devices/recording.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
+#include "dtrack_session.hpp"
 #include "run_test_scene.hpp"
 
 namespace tridex::app {
@@ -45,7 +43,8 @@ Hand script_at(double t) {
     const Vec3 a(0.0, 120.0, 50.0);  // above the workpiece, facing the head
     constexpr unsigned kTrigger = 1u, kMenu = 1u << 1, kUndo = 1u << 2;
     const double t0 = 3.0;  // the session is up and the tool acquired before this
-    const double s = t - t0;
+    // Each step is held 1.5 times the times below, so that even a loaded machine draws several frames of each.
+    const double s = (t - t0) / 1.5;
     if (s < 0.0) return {a, 0};
     if (s < 0.6) return {a, kMenu};                                   // the menu opens at the hand
     if (s < 0.9) return {a + Vec3(0.0, 62.0, 0.0), kMenu};            // up past the ring: Operation opens there
@@ -76,42 +75,22 @@ TEST(WallMenu, TheHandsAloneChangeTheOperationCarveUndoRedoSaveAndEnd) {
   "tool": { "radius_m": 0.006 },
   "display": { "preset": "desktop", "resolution": [96, 72], "refresh_hz": 60 }
 })";
-    int port = 0;
-    {
-        devices::DTrackReceiver probe(0, "127.0.0.1");
-        port = probe.port();
-    }
+    const int port = test::free_dtrack_port();
     RunOptions o;
     o.scene = scene;
     o.display = "offscreen";
     o.stereo = "side-by-side";
-    o.seconds = 20.0;  // a safety net: the menu's End session ends it near 10 s
+    o.seconds = 30.0;  // a safety net: the menu's End session ends it near 14 s
     o.out = (dir / "out").string();
     o.save = (dir / "model.tdx").string();
     o.record = (dir / "wall.trdx").string();
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.device = "flystick:" + std::to_string(port) + ":1";
-    std::atomic<bool> stop{false};
-    std::thread sender([&] {
-        DTrackSender tx(port);
-        const auto t_start = std::chrono::steady_clock::now();
-        for (unsigned fr = 1; !stop.load(); ++fr) {
-            const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-            const Hand h = script_at(t);
-            tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
-            tx.send(dtrack_flystick_datagram(fr, 1, h.mm, glm::dmat3(1.0), h.buttons, 0.0, h.joystick_y));
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
+    test::run_while_sending(o, port, [](DTrackSender& tx, unsigned fr, double t) {
+        const Hand h = script_at(t);
+        tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
+        tx.send(dtrack_flystick_datagram(fr, 1, h.mm, glm::dmat3(1.0), h.buttons, 0.0, h.joystick_y));
     });
-    try {
-        run_stereo_session(o);
-    } catch (...) {
-        stop = true;
-        sender.join();
-        throw;
-    }
-    stop = true;
-    sender.join();
     const nlohmann::json rep = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
     const nlohmann::json& c = rep.at("controls");
     std::printf("[wall menu] controls %s\n", c.dump().c_str());
@@ -175,7 +154,7 @@ TEST(WallMenu, TheHandsAloneChangeTheOperationCarveUndoRedoSaveAndEnd) {
 }
 
 // The wand's menu and joystick with a haptic device carving: `--wand dtrack:PORT:1` (a Flystick navigating) and the
-// scene's scripted hand on the emulated Falcon (its stroke delayed 6 s). Before the stroke the wand's button 1 opens
+// scene's scripted hand on the emulated Falcon (its stroke delayed 7 s). Before the stroke the wand's button 1 opens
 // the menu at the wand and a two-stroke mark chooses Operation, then Union, so the stroke adds material instead of
 // carving; the joystick pushed forward scales the scene. The menu opened by the wand is not felt (the wand renders
 // no force), and the Falcon keeps carving only outside the menu.
@@ -187,14 +166,10 @@ TEST(WallMenu, TheWandsMenuChangesTheHapticDevicesOperationAndItsJoystickScales)
   "workpiece": { "resolution": 32, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
   "tool": { "radius_m": 0.006 },
   "device": { "driver": "falcon-emulator" },
-  "stroke": { "duration_s": 1.0, "length_m": 0.04, "depth_m": 0.003, "press_axis": "z", "start_s": 6.0 },
+  "stroke": { "duration_s": 1.0, "length_m": 0.04, "depth_m": 0.003, "press_axis": "z", "start_s": 7.0 },
   "display": { "preset": "desktop", "resolution": [96, 72], "refresh_hz": 60 }
 })";
-    int port = 0;
-    {
-        devices::DTrackReceiver probe(0, "127.0.0.1");
-        port = probe.port();
-    }
+    const int port = test::free_dtrack_port();
     RunOptions o;
     o.scene = scene;
     o.display = "offscreen";
@@ -203,34 +178,19 @@ TEST(WallMenu, TheWandsMenuChangesTheHapticDevicesOperationAndItsJoystickScales)
     o.no_journal = true;
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.wand = "dtrack:" + std::to_string(port) + ":1";
-    std::atomic<bool> stop{false};
-    std::thread sender([&] {
-        DTrackSender tx(port);
-        const auto t_start = std::chrono::steady_clock::now();
+    test::run_while_sending(o, port, [](DTrackSender& tx, unsigned fr, double t) {  // ends with the stroke
         const Vec3 a(0.0, 0.0, 300.0);  // the wand, tracker mm: level with the head, so the ring faces it square
-        for (unsigned fr = 1; !stop.load(); ++fr) {
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() - 2.5;
-            Vec3 at = a;
-            unsigned buttons = 0;
-            double joy = 0.0;
-            if (s >= 0.0 && s < 1.3) buttons = 1u << 1;                 // button 1: the menu at the wand
-            if (s >= 0.5 && s < 0.8) at = a + Vec3(0.0, 62.0, 0.0);      // up past the ring: Operation
-            if (s >= 0.8 && s < 1.5) at = a + Vec3(26.0, 77.0, 0.0);     // toward 2 o'clock: Union; released
-            if (s >= 1.6 && s < 2.1) joy = 0.8;                         // the joystick forward: larger
-            tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
-            tx.send(dtrack_flystick_datagram(fr, 1, at, glm::dmat3(1.0), buttons, 0.0, joy));
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
+        const double s = (t - 2.5) / 1.5;  // each step held 1.5 times the times below
+        Vec3 at = a;
+        unsigned buttons = 0;
+        double joy = 0.0;
+        if (s >= 0.0 && s < 1.3) buttons = 1u << 1;             // button 1: the menu at the wand
+        if (s >= 0.5 && s < 0.8) at = a + Vec3(0.0, 62.0, 0.0);  // up past the ring: Operation
+        if (s >= 0.8 && s < 1.5) at = a + Vec3(26.0, 77.0, 0.0); // toward 2 o'clock: Union; released
+        if (s >= 1.6 && s < 2.1) joy = 0.8;                     // the joystick forward: larger
+        tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
+        tx.send(dtrack_flystick_datagram(fr, 1, at, glm::dmat3(1.0), buttons, 0.0, joy));
     });
-    try {
-        run_stereo_session(o);  // ends with the stroke
-    } catch (...) {
-        stop = true;
-        sender.join();
-        throw;
-    }
-    stop = true;
-    sender.join();
     const nlohmann::json rep = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
     const nlohmann::json& c = rep.at("controls");
     std::printf("[wall wand menu] controls %s\n[wall wand menu] wand %s\n", c.at("menu").dump().c_str(),

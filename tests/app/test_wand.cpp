@@ -19,6 +19,7 @@
 #include "app/session/run_session.hpp"
 #include "app/input/wand_navigation.hpp"
 #include "core/error.hpp"
+#include "dtrack_session.hpp"
 #include "run_test_scene.hpp"
 
 namespace tridex::app {
@@ -282,29 +283,6 @@ TEST(DTrackWand, SceneWandBlockIsReadAndChecked) {
         EXPECT_THROW(run_scene_from_json(nlohmann::json::parse(bad), "t.json", "."), Error) << bad;
 }
 
-// Runs an offscreen session while a thread sends `frame(tx, fr)` (fr = 1, 2, ...) to 127.0.0.1:port every 5 ms;
-// the sender stops (and is joined) however the session ends.
-template <class Frame>
-void run_while_sending(const RunOptions& o, int port, Frame frame) {
-    std::atomic<bool> stop{false};
-    std::thread sender([&] {
-        DTrackSender tx(port);
-        for (unsigned fr = 1; !stop.load(); ++fr) {
-            frame(tx, fr);
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
-    });
-    try {
-        run_stereo_session(o);
-    } catch (...) {
-        stop = true;
-        sender.join();
-        throw;
-    }
-    stop = true;
-    sender.join();
-}
-
 // Offscreen `tridex run --head dtrack:PORT:0 --wand dtrack:PORT:1` while a sender streams the head and a Flystick
 // carried along +x with the trigger held: the wand shares the head's receiver and carries the scene along +x.
 TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
@@ -317,11 +295,7 @@ TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
   "stroke": "none",
   "display": { "preset": "desktop", "resolution": [64, 48], "refresh_hz": 60 }
 })";
-    int port = 0;
-    {
-        devices::DTrackReceiver probe(0, "127.0.0.1");
-        port = probe.port();
-    }
+    const int port = test::free_dtrack_port();
     RunOptions o;
     o.scene = scene;
     o.display = "offscreen";
@@ -332,7 +306,7 @@ TEST(DTrackWand, OffscreenRunCarriesTheSceneWithTheFlystick) {
     o.items = false;
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.wand = "dtrack:" + std::to_string(port) + ":1";
-    run_while_sending(o, port, [](DTrackSender& tx, unsigned fr) {
+    test::run_while_sending(o, port, [](DTrackSender& tx, unsigned fr, double) {
         tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
         tx.send(dtrack_flystick_datagram(fr, 1, Vec3(0.5 * fr, 0.0, 300.0), glm::dmat3(1.0), 0x1, 0.0, 0.0));
     });
@@ -361,11 +335,7 @@ TEST(DTrackTool, TheFlystickCarvesOnlyWhileItsTriggerIsHeld) {
   "tool": { "radius_m": 0.006 },
   "display": { "preset": "desktop", "resolution": [64, 48], "refresh_hz": 60 }
 })";
-    int port = 0;
-    {
-        devices::DTrackReceiver probe(0, "127.0.0.1");
-        port = probe.port();
-    }
+    const int port = test::free_dtrack_port();
     auto run = [&](unsigned buttons, const std::string& out) {
         RunOptions o;
         o.scene = scene;
@@ -376,7 +346,7 @@ TEST(DTrackTool, TheFlystickCarvesOnlyWhileItsTriggerIsHeld) {
         o.no_journal = true;
         o.head = "dtrack:" + std::to_string(port) + ":0";
         o.device = "flystick:" + std::to_string(port) + ":1";
-        run_while_sending(o, port, [buttons](DTrackSender& tx, unsigned fr) {
+        test::run_while_sending(o, port, [buttons](DTrackSender& tx, unsigned fr, double) {
             // Across the workpiece along x at its centre, 0.1 m/s, back and forth.
             const double x_mm = -50.0 + std::fmod(0.5 * fr, 100.0);
             tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));

@@ -200,7 +200,7 @@ private:
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
         menu_pieces_ = menu_frame_pieces(m.menu, menu_root_);
         menu_objects_.clear();
-        for (const MenuPiece& p : menu_pieces_) menu_objects_.push_back({&p.mesh, p.colour, 0b11, false});
+        for (const MenuPiece& p : menu_pieces_) menu_objects_.push_back({&p.mesh, p.colour, 0b11, false, true});
         if (!menu_objects_.empty()) view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
