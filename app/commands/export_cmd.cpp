@@ -32,7 +32,11 @@ std::uint8_t srgb8(float linear) {
 ExportResult run_export(const ExportOptions& o) {
     double scale = 1.0;
     if (o.units == "mm") scale = 1e3;
-    else if (o.units != "m") throw Error("--units: must be m or mm, got '" + o.units + "'");
+    else if (o.units == "in") scale = 1.0 / 0.0254;  // the international inch, 25.4 mm exactly
+    else if (o.units != "m") throw Error("--units: must be m, mm or in, got '" + o.units + "'");
+    if (o.frame != "world" && o.frame != "input") throw Error("--frame: must be world or input, got '" + o.frame + "'");
+    if (o.frame == "input" && o.units != "m")
+        throw Error("--units " + o.units + ", --frame input: the input frame keeps the input mesh's own units; choose one");
     const compute::MeshFileFormat format = compute::mesh_file_format(o.out);  // refuse .xyz before the slow work
     check_output_file(o.out, "OUT");
     compute::TdxModel saved = compute::load_tdx(o.model, model_memory_budget_bytes());
@@ -50,7 +54,12 @@ ExportResult run_export(const ExportOptions& o) {
     r.triangles = mesh.triangles.size();
     r.boundary_edges = edge_stats(mesh).boundary_edges;
     if (r.triangles == 0) throw Error(o.model + ": the model is empty; nothing to export");
-    for (Vec3& p : mesh.positions) p *= scale;
+    if (o.frame == "input") {  // world m -> the input mesh's frame: the inverse of the model's placement
+        const Mat4 from_world = glm::inverse(saved.to_world);
+        for (Vec3& p : mesh.positions) p = Vec3(from_world * glm::dvec4(p, 1.0));
+    } else {
+        for (Vec3& p : mesh.positions) p *= scale;
+    }
     std::vector<std::array<std::uint8_t, 3>> colours;
     if (format == compute::MeshFileFormat::kPly) {
         const auto& palette = renderer::material_palette();
@@ -62,7 +71,11 @@ ExportResult run_export(const ExportOptions& o) {
     }
     compute::write_mesh_file(o.out, mesh, colours);
     std::printf("tridex export: %s -> %s (%zu vertices, %zu triangles, %s; volume %.6g m^3, tri-dexel %.6g m^3)\n",
-                o.model.c_str(), o.out.c_str(), r.vertices, r.triangles, o.units == "mm" ? "millimetres" : "metres",
+                o.model.c_str(), o.out.c_str(), r.vertices, r.triangles,
+                o.frame == "input" ? "the input mesh's frame and units"
+                : o.units == "mm"  ? "millimetres"
+                : o.units == "in"  ? "inches"
+                                   : "metres",
                 r.volume_mesh_m3, r.volume_dexel_m3);
     return r;
 }

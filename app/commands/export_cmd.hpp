@@ -10,7 +10,11 @@ namespace tridex::app {
 struct ExportOptions {
     std::string model;         ///< the saved model (.tdx)
     std::string out;           ///< the mesh file; its extension picks the format (.stl binary, .obj, .ply binary)
-    std::string units = "m";   ///< "m" (world metres) or "mm" (world millimetres, what CAM and printers expect)
+    std::string units = "m";   ///< "m" (world metres), "mm" (world millimetres, what CAM and printers expect) or "in"
+    /// "world": the session's coordinates (the workpiece placed and scaled in front of the screen), in `units`;
+    /// "input": the input mesh's own frame and units (the model's to_world undone), so the export lines up with the
+    /// mesh it was carved from in another tool. `units` must then stay "m" (the mesh's units are its own).
+    std::string frame = "world";
 };
 
 /// What an export wrote.
@@ -22,7 +26,7 @@ struct ExportResult {
 };
 
 /// Loads the model, contours all of it on the CPU (compute::Contourer, as a session's final mesh), scales it to
-/// `units` and writes it atomically (compute::write_mesh_file); PLY vertices carry the renderer palette's colour of
+/// `units` (or maps it back into the input mesh's frame) and writes it atomically (compute::write_mesh_file); PLY vertices carry the renderer palette's colour of
 /// their material (sRGB). Prints one summary line. Throws tridex::Error with one line for a bad model file, an
 /// unknown format or unit, an output that cannot be written.
 ExportResult run_export(const ExportOptions& options);

@@ -3,6 +3,7 @@
 #include "app/session/session.hpp"
 
 #include "app/session/frame_loop.hpp"
+#include "app/session/run_actions.hpp"
 #include "app/support/stop_signal.hpp"
 #include "haptics/tool_points.hpp"
 
@@ -48,14 +49,24 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr double kEndOnlyPollS = 0.002;
 
 // The frames of a session whose picture is rendered once from the final model (demo, replay): each frame polls the
-// device's main-thread input and checks the end of the session; the end-only sink draws nothing until then.
+// device's main-thread input, runs the commands its buttons are bound to (the driver's defaults: a game controller's
+// Y switches the operation, a stylus's buttons undo and redo; no menu is drawn here) and checks the end of the
+// session; the end-only sink draws nothing until then.
 class EndOnlyFrames final : public FrameSteps {
 public:
     EndOnlyFrames(SessionRuntime& rt, std::size_t ticks, double timeout_s)
-        : rt_(rt), ticks_(ticks), timeout_s_(timeout_s), t0_(Clock::now()) {}
+        : rt_(rt), ticks_(ticks), timeout_s_(timeout_s), t0_(Clock::now()),
+          actions_(&rt, nullptr, nav_, nullptr, swap_, ao_, rt.spec().tool),
+          buttons_(default_bindings(rt.spec().device_driver, driver_caps(rt.spec().device_driver)).tool) {}
     bool take_input() override {
-        (void)rt_.poll_device_frame();
-        return true;
+        rt_.poll_device_frame();
+        const haptics::LoopView& v = rt_.latest_view();
+        if (v.tick > 0) {
+            pressed_.clear();
+            buttons_.update(v.buttons, pressed_);
+            for (const std::string& a : pressed_) (void)builtin_actions().run(a, actions_);
+        }
+        return !actions_.end_requested();
     }
     // The last frame: the loop ended by itself (the device vanished, a replay's end), the ticks are done, the
     // wall-time safety net ran out, or a stop signal came.
@@ -70,6 +81,11 @@ private:
     std::size_t ticks_;
     double timeout_s_;
     Clock::time_point t0_;
+    renderer::SceneNavigation nav_;  // nothing is navigated here: view actions change nothing that is drawn
+    bool swap_ = false, ao_ = true;
+    RunActions actions_;
+    BindingReader buttons_;
+    std::vector<std::string> pressed_;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // whose volume is the model's tri-dexel volume within the contouring's error; bad inputs are refused in one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -75,6 +76,48 @@ TEST(Export, EveryFormatReloadsClosedWithTheModelsVolume) {
     }
     // Binary STL: 84 + 50 per triangle bytes.
     EXPECT_EQ(fs::file_size(dir / "bunny.stl"), 84 + 50 * compute::load_closed_mesh((dir / "bunny.stl").string()).triangles.size());
+}
+
+// --frame input undoes the model's placement: the export lies over the mesh it was carved from (an uncarved model's
+// bounds are the input mesh's within a cell, in the mesh's own units); --units in writes inches.
+TEST(Export, TheInputFrameLinesUpWithTheInputMeshAndInchesScale) {
+    const fs::path dir = test::temp_dir("export_frame");
+    const char* assets = std::getenv("TRIDEX_ASSETS");
+    const std::string mesh_path = (fs::path(assets ? assets : "assets") / "bunny.off").string();
+    Workpiece wp = prepare_workpiece(mesh_path, 64, 0.3, Vec3(0.0, 0.0, 0.3));
+    const std::string model_path = (dir / "bunny.tdx").string();
+    compute::save_tdx(model_path, wp.model, wp.to_world, "{}");
+    ExportOptions o;
+    o.model = model_path;
+    o.out = (dir / "input.stl").string();
+    o.frame = "input";
+    (void)run_export(o);
+    const Aabb in = compute::load_closed_mesh(mesh_path).bounds();
+    const Aabb out = compute::load_closed_mesh(o.out).bounds();
+    // A world cell in the mesh's units: the placement's scale is stock / the mesh's largest extent.
+    const Vec3 ext = in.hi - in.lo;
+    const double cell_in = wp.model.lattice.cell_m / (0.3 / std::max({ext.x, ext.y, ext.z}));
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(out.lo[a], in.lo[a], cell_in) << "axis " << a;
+        EXPECT_NEAR(out.hi[a], in.hi[a], cell_in) << "axis " << a;
+    }
+    // Inches: the world mesh scaled by 1 / 0.0254.
+    o.frame = "world";
+    o.units = "in";
+    o.out = (dir / "inches.stl").string();
+    (void)run_export(o);
+    o.units = "m";
+    o.out = (dir / "metres.stl").string();
+    (void)run_export(o);
+    const Aabb inches = compute::load_closed_mesh((dir / "inches.stl").string()).bounds();
+    const Aabb metres = compute::load_closed_mesh((dir / "metres.stl").string()).bounds();
+    EXPECT_NEAR(inches.hi.x * 0.0254, metres.hi.x, 1e-6);
+    EXPECT_NEAR(inches.lo.y * 0.0254, metres.lo.y, 1e-6);
+    // The input frame keeps the mesh's units: another unit with it is refused.
+    o.frame = "input";
+    o.units = "mm";
+    EXPECT_THROW((void)run_export(o), Error);
+    fs::remove_all(dir);
 }
 
 TEST(Export, BadInputsAreRefusedAndLeaveNoFile) {
