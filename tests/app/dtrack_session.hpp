@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
+#include <utility>
 #include <thread>
 
 #include "../devices/dtrack_sender.hpp"
@@ -18,6 +20,23 @@ inline int free_dtrack_port() {
     devices::DTrackReceiver probe(0, "127.0.0.1");
     return probe.port();
 }
+
+/// When a session became ready, seen from a sender's thread: the session's journal file appears once its workpiece,
+/// device and threads are being set up, so a script timed from it does not depend on how long the machine took to
+/// get there.
+class SessionReady {
+public:
+    explicit SessionReady(std::filesystem::path journal) : journal_(std::move(journal)) {}
+    /// Seconds since the journal appeared, as of sender time t_s; negative before (the script's hand waits at rest).
+    double since(double t_s) {
+        if (at_s_ < 0.0 && std::filesystem::exists(journal_)) at_s_ = t_s;
+        return at_s_ < 0.0 ? -1.0 : t_s - at_s_;
+    }
+
+private:
+    std::filesystem::path journal_;
+    double at_s_ = -1.0;
+};
 
 /// Runs the session of `o` (run_stereo_session) while a thread sends `frame(tx, fr, t_s)` (fr = 1, 2, ...; t_s the
 /// seconds since the sender started) to 127.0.0.1:port every 5 ms; the sender stops (and is joined) however the

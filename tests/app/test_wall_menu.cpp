@@ -39,12 +39,14 @@ struct Hand {
     double joystick_y = 0.0;
 };
 
-Hand script_at(double t) {
+// `ready_s`: seconds since the session was ready (negative before).
+Hand script_at(double ready_s) {
     const Vec3 a(0.0, 120.0, 50.0);  // above the workpiece, facing the head
     constexpr unsigned kTrigger = 1u, kMenu = 1u << 1, kUndo = 1u << 2;
-    const double t0 = 3.0;  // the session is up and the tool acquired before this
-    // Each step is held 1.5 times the times below, so that even a loaded machine draws several frames of each.
-    const double s = (t - t0) / 1.5;
+    if (ready_s < 0.0) return {a, 0};
+    // From a second after the session was ready (the tool acquired), each step held 1.5 times the times below, so
+    // that even a loaded machine draws several frames of each.
+    const double s = (ready_s - 1.0) / 1.5;
     if (s < 0.0) return {a, 0};
     if (s < 0.6) return {a, kMenu};                                   // the menu opens at the hand
     if (s < 0.9) return {a + Vec3(0.0, 62.0, 0.0), kMenu};            // up past the ring: Operation opens there
@@ -86,8 +88,10 @@ TEST(WallMenu, TheHandsAloneChangeTheOperationCarveUndoRedoSaveAndEnd) {
     o.record = (dir / "wall.trdx").string();
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.device = "flystick:" + std::to_string(port) + ":1";
-    test::run_while_sending(o, port, [](DTrackSender& tx, unsigned fr, double t) {
-        const Hand h = script_at(t);
+    fs::remove_all(dir / "out");  // the journal appearing is the session's start
+    test::SessionReady ready(dir / "out" / "session.tdj");
+    test::run_while_sending(o, port, [&ready](DTrackSender& tx, unsigned fr, double t) {
+        const Hand h = script_at(ready.since(t));
         tx.send(tridex::test::dtrack_datagram(fr, 0, Vec3(0.0, 0.0, 600.0), glm::dmat3(1.0)));
         tx.send(dtrack_flystick_datagram(fr, 1, h.mm, glm::dmat3(1.0), h.buttons, 0.0, h.joystick_y));
     });
@@ -175,12 +179,14 @@ TEST(WallMenu, TheWandsMenuChangesTheHapticDevicesOperationAndItsJoystickScales)
     o.display = "offscreen";
     o.stereo = "side-by-side";
     o.out = (dir / "out").string();
-    o.no_journal = true;
     o.head = "dtrack:" + std::to_string(port) + ":0";
     o.wand = "dtrack:" + std::to_string(port) + ":1";
-    test::run_while_sending(o, port, [](DTrackSender& tx, unsigned fr, double t) {  // ends with the stroke
+    fs::remove_all(dir / "out");  // the journal appearing is the session's start
+    test::SessionReady ready(dir / "out" / "session.tdj");
+    test::run_while_sending(o, port, [&ready](DTrackSender& tx, unsigned fr, double t) {  // ends with the stroke
         const Vec3 a(0.0, 0.0, 300.0);  // the wand, tracker mm: level with the head, so the ring faces it square
-        const double s = (t - 2.5) / 1.5;  // each step held 1.5 times the times below
+        const double since = ready.since(t);
+        const double s = since < 0.0 ? -1.0 : (since - 1.0) / 1.5;  // from 1 s after ready, each step held 1.5 times
         Vec3 at = a;
         unsigned buttons = 0;
         double joy = 0.0;
