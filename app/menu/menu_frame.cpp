@@ -77,6 +77,14 @@ std::vector<MenuPiece> menu_frame_pieces(const MenuFrame& f, const MenuItem& roo
     return r.node ? pie_menu_pieces(r, f.status) : std::vector<MenuPiece>{};
 }
 
+void MenuDrawing::append(const MenuFrame& f, const MenuItem& root, std::vector<renderer::SceneObject>& objects) {
+    if (!(f == drawn_)) {
+        pieces_ = menu_frame_pieces(f, root);  // made before the old meshes are freed: new pointers
+        drawn_ = f;
+    }
+    for (const MenuPiece& p : pieces_) objects.push_back({&p.mesh, p.colour, 0b11, false, true});
+}
+
 void MenuTrack::add(double t_s, const MenuFrame& f) {
     if (!std::isfinite(t_s)) return;
     if (entries_.empty() ? !f.shown : entries_.back().frame == f) return;

@@ -10,6 +10,7 @@
 
 #include "app/menu/pie_menu.hpp"
 #include "app/menu/pie_menu_mesh.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 
@@ -33,6 +34,22 @@ RingView ring_of(const MenuFrame& f, const MenuItem& root);
 
 /// The meshes of `f` (pie_menu_pieces of its ring and status); none when nothing is shown.
 std::vector<MenuPiece> menu_frame_pieces(const MenuFrame& f, const MenuItem& root);
+
+/// The menu's meshes as scene objects, kept from frame to frame: rebuilt only when what the menu shows changes. The
+/// renderer uploads an object's mesh again when its pointer changes (SceneObject), and a rebuild makes the new meshes
+/// while the old ones still exist, so their pointers differ exactly when their content does; an unchanged menu costs
+/// no new meshes and no upload. One thread (the one that draws).
+class MenuDrawing {
+public:
+    /// Appends the objects that draw `f` in the menu `root` (none when not shown) to `objects`: flat colours, both
+    /// eyes, on top of the scene (SceneObject::on_top). They point into this object: keep it alive and unchanged
+    /// until the frame is drawn.
+    void append(const MenuFrame& f, const MenuItem& root, std::vector<renderer::SceneObject>& objects);
+
+private:
+    MenuFrame drawn_;
+    std::vector<MenuPiece> pieces_;
+};
 
 /// The menu's frames over a session, one entry per change (device time, s, and the frame), bounded: past kMaxEntries
 /// changes it keeps the first ones and counts the rest. One thread.

@@ -78,6 +78,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
     const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(), start.model.lattice.bounds(),
                                                    head.position, static_cast<double>(opt.width) / opt.height);
     const MenuItem menu_root = default_menu();
+    MenuDrawing menu;  // kept across pictures: a changed menu gets new meshes, so the renderer uploads them
     for (int i = 0; i < opt.frames; ++i) {
         const std::size_t k = strip.records[static_cast<std::size_t>(i)];
         compute::TriDexel model = start.model;
@@ -102,12 +103,10 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
         view.tool_radius_m = view.tool_shape.radius_m;
         view.tool_centre_m = s ? s->position : start.model.lattice.bounds().centre() + Vec3(0.0, 0.0, 0.1);
         if (s) view.tool_orientation = s->orientation;
-        std::vector<MenuPiece> menu;
         std::vector<renderer::SceneObject> objects;
-        if (opt.menu && s) menu = menu_frame_pieces(opt.menu->at(s->t_s), menu_root);
-        for (const MenuPiece& p : menu) objects.push_back({&p.mesh, p.colour, 0b11, false, true});
+        if (opt.menu && s) menu.append(opt.menu->at(s->t_s), menu_root, objects);
         view.objects = objects;
-        strip.menu_shown.push_back(!menu.empty());
+        strip.menu_shown.push_back(!objects.empty());
         const renderer::StereoImages eyes = rend.render(view, screen, head, 0.0);
         for (int y = 0; y < opt.height; ++y)
             std::memcpy(out.at(i * (opt.width + opt.gap_px), y), eyes.left.at(0, y), static_cast<std::size_t>(opt.width) * 4);

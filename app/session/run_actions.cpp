@@ -11,8 +11,13 @@ namespace tridex::app {
 
 namespace {
 
-// The wand's joystick with tool.scale bound steps the tool this often while tilted past half way, s.
+// A joystick bound to tool.scale steps the tool this often while tilted past half way, s.
 constexpr double kToolScaleRepeatS = 0.4;
+
+double checked_ring_radius(double r) {
+    if (!(std::isfinite(r) && r > 0.0)) throw Error("the menu's radius must be finite and > 0 m");
+    return r;
+}
 
 }  // namespace
 
@@ -67,11 +72,9 @@ void RunActions::reset_scene() {
 }
 
 HandControls::HandControls(Bindings bindings, double ring_radius_m)
-    : bindings_(std::move(bindings)), tool_(bindings_.tool), wand_(bindings_.wand), ring_radius_m_(ring_radius_m),
-      menu_(PieMenuSettings{ring_radius_m, 0.24 * ring_radius_m, 0.25}) {
-    if (!(std::isfinite(ring_radius_m) && ring_radius_m > 0.0))
-        throw Error("the menu's radius must be finite and > 0 m");
-}
+    : bindings_(std::move(bindings)), tool_(bindings_.tool), wand_(bindings_.wand),
+      ring_radius_m_(checked_ring_radius(ring_radius_m)),
+      menu_(PieMenuSettings{ring_radius_m_, 0.24 * ring_radius_m_, 0.25}) {}
 
 bool HandControls::run(const std::string& action, const std::string& source, ActionTarget& target) {
     if (!builtin_actions().run(action, target)) return false;

@@ -87,10 +87,13 @@ struct HandsFrame {
 /// report.json `controls`. One thread (the frame loop's).
 class HandControls {
 public:
-    /// `ring_radius_m`: the menu's radius in the world, m (> 0). Throws tridex::Error for a bad radius.
+    /// `ring_radius_m`: the menu's radius in the world, m (finite, > 0; its dead zone is 0.24 of it, and the ring shows
+    /// after 0.25 s held). Throws tridex::Error for a bad radius.
     HandControls(Bindings bindings, double ring_radius_m = 0.05);
-    /// One frame: reads the buttons, drives the menu, runs the chosen and pressed commands on `target`, and counts
-    /// key actions given by `keys` (the desk's, already pressed) as they run.
+    /// One frame: runs the desk's `keys` (action names, in the order pressed), reads the buttons, drives the menu,
+    /// runs the chosen and pressed commands on `target`, and steps the tool while a joystick bound to tool.scale is
+    /// tilted past half way (a step every 0.4 s of h.t_s). Unknown names and held or axis actions in `keys` are
+    /// skipped. Never throws for finite input; non-finite positions and times are ignored by the menu.
     void frame(const HandsFrame& h, const std::vector<std::string>& keys, ActionTarget& target);
     /// Runs one named command on `target` from `source` ("key", "button", "menu"), counted; false when unknown.
     bool run(const std::string& action, const std::string& source, ActionTarget& target);
@@ -100,7 +103,7 @@ public:
     const MenuItem& root() const { return root_; }
     /// The menu as the haptic loop feels it (closed when the menu is closed or was opened by the wand).
     haptics::MenuDetent detent() const;
-    /// The tool's scale axis: the wand's joystick with tool.scale bound steps the tool every 0.4 s past half tilt.
+    /// The bindings read (the tool's and the wand's buttons and joysticks).
     const Bindings& bindings() const { return bindings_; }
     /// report.json `controls`: {bindings, menu {opens, flicks, cancels, choices {action: n}}, actions {action:
     /// {key, button, menu}}}.

@@ -235,9 +235,8 @@ void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::Loop
     menu_now = menu_frame_of(menu, lv.t_s, status);
     menu_track.add(lv.t_s, menu_now);
     if (!menu_now.shown) return;
-    menu_pieces = menu_frame_pieces(menu_now, controls->root());
     if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
-    for (const MenuPiece& p : menu_pieces) frame_objects.push_back({&p.mesh, p.colour, 0b11, false, true});
+    menu_drawing.append(menu_now, controls->root(), frame_objects);
     view.objects = frame_objects;
 }
 

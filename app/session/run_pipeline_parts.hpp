@@ -129,7 +129,7 @@ struct RunPipeline::Parts final : FrameSteps {
     // The hands' controls: what actions do, the bindings and the pie menu, and the open menu's meshes and objects.
     std::optional<RunActions> actions;
     std::optional<HandControls> controls;
-    std::vector<MenuPiece> menu_pieces;
+    MenuDrawing menu_drawing;  // the menu's meshes, rebuilt when it changes
     MenuFrame menu_now;     // what this frame's menu shows
     MenuTrack menu_track;   // every change of it, by device time (a recording's menu track)
     bool menu_detent_refused = false;  // the loop refused the menu's detent (said once in the notes)

@@ -198,9 +198,8 @@ private:
         contour_ms_.add(ms_since(t0));
         renderer::SceneView view = replica_->view(m);
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
-        menu_pieces_ = menu_frame_pieces(m.menu, menu_root_);
         menu_objects_.clear();
-        for (const MenuPiece& p : menu_pieces_) menu_objects_.push_back({&p.mesh, p.colour, 0b11, false, true});
+        menu_drawing_.append(m.menu, menu_root_, menu_objects_);
         if (!menu_objects_.empty()) view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
@@ -256,7 +255,7 @@ private:
     Fault fault_;
     std::optional<ClusterReplica> replica_;
     MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
-    std::vector<MenuPiece> menu_pieces_;                // this frame's menu meshes
+    MenuDrawing menu_drawing_;                          // its meshes, rebuilt when rank 0's menu changes
     std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects
     FrameMessage last_;  // the last frame message (without its records): its view, for the report
     std::optional<renderer::WindowSystemScope> glfw_;
