@@ -111,6 +111,20 @@ struct ActiveSurface {
         const int i = static_cast<int>(s);
         return i < s ? i + 1 : i;
     }
+    /// Where a window belongs (world m): on the god-object `proxy_m`, so a hand pushed into material does not drag
+    /// the window away from the proxy it constrains, unless a window there, with the stride
+    /// stride_for(half_extent_m + margin_m, cell_m), would not cover the tool (half_extent_m, m, about its centre)
+    /// at the HIP `hip_m`: then on the HIP, so the contact sees where the hand went and the proxy can find the
+    /// surface there. A non-finite proxy gives the HIP; a negative or non-finite extent or margin counts as 0.
+    static Vec3 window_centre_m(const Vec3& proxy_m, const Vec3& hip_m, double half_extent_m, double margin_m,
+                                double cell_m) {
+        if (!(std::isfinite(proxy_m.x) && std::isfinite(proxy_m.y) && std::isfinite(proxy_m.z))) return hip_m;
+        const double half = half_extent_m > 0.0 && half_extent_m < 1e300 ? half_extent_m : 0.0;
+        const double margin = margin_m > 0.0 && margin_m < 1e300 ? margin_m : 0.0;
+        const double cover = kCoverRays * stride_for(half + margin, cell_m) * cell_m - half;
+        const Vec3 off = glm::abs(hip_m - proxy_m);
+        return off.x > cover || off.y > cover || off.z > cover ? hip_m : proxy_m;
+    }
     /// Placement of a window along one lattice axis with `nodes` rays (>= 0) at stride `stride` (>= 1):
     /// the first ray's lattice index for a window centred on grid coordinate g (cells), and in `count`
     /// the number of window rays (min(kWindow, rays at that stride)). The first ray is the strided ray

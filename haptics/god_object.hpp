@@ -8,6 +8,7 @@
 
 #include "core/active_surface.hpp"
 #include "core/math.hpp"
+#include "haptics/constraint_plane.hpp"
 #include "haptics/materials.hpp"
 
 namespace tridex::haptics {
@@ -42,6 +43,7 @@ struct ContactResult {
     int material = -1;                ///< material id of the interval touched (-1 when free)
     bool sliding = false;             ///< friction: the proxy slid this tick (tangential force at mu_d*|F_n|)
     bool held = false;                ///< the proxy's move was stopped where it would have entered material
+    bool hip_inside = false;          ///< a reading of the snapshot (read_depth) puts the HIP inside material
     Vec3 cutting_force_n{0.0};        ///< cutting reaction (part of force_n), N
     /// Where the tool meets the surface, m: the ball's point proxy - r*n along the constraint normal n
     /// in contact (the proxy for a point tool, or when held with no plane known); the HIP when free.
@@ -94,20 +96,37 @@ struct ContactResult {
 ///    rest of the move is tried one axis at a time, so the proxy slides along walls and into concave
 ///    corners instead of stopping dead. A cut move (`held`) is a contact
 ///    whose force is the spring kp*(proxy - hip) plus damping along it. Points that start inside
-///    material are not guarded: a HIP that starts inside (first update, or material added over it)
-///    feels nothing until it leaves.
-/// 8. Force: f_n = max(0, kp*depth + kd*(depth - depth_prev)/dt) along the shaded normal (force
-///    shading, force_shading.hpp: barycentric blend of the vertex normals at the triangle's three dexel
+///    material are not guarded: a HIP that starts inside (first update, or material added over a free tool)
+///    feels nothing until it leaves; a tool in contact when material is added over it is pushed out (step 10).
+/// 8. Force: f_n = max(0, kp*depth + kd*v_n), v_n the HIP's velocity into the surface (step 11), along the
+///    shaded normal (force shading, force_shading.hpp: barycentric blend of the vertex normals at the triangle's three dexel
 ///    ends, so the direction does not jump between triangles; the triangle's own normal when
 ///    force_shading is off), plus the tangential friction spring kp*(proxy - frictionless proxy)
 ///    rotated into the shaded frame, plus, when cutting, the specific-cutting-force reaction
-///    (cutting_force.hpp) against the HIP's velocity. depth_prev = 0 on the first tick of a contact.
+///    (cutting_force.hpp) against the HIP's velocity.
 /// 9. Release: a plane whose HIP and deepest tool point (hip - r*n) are both clearly out of material (every ray
 ///    around each, in every set whose window covers it, has it more than a window spacing outside), or no plane
 ///    and a tool clearly out of material at its centre and six axis points, gives no contact and no guard: the
 ///    proxy joins the HIP in that tick, whatever lies between them. A hand that jumped across a thin wall or left
 ///    the far side of a deep cut is never left behind (a mouse or tracker has no force to stop it).
-/// Otherwise (no contact, or no usable snapshot) proxy = hip and the force is zero.
+/// 10. Search again (constraint_plane.hpp, reacquire_plane): while in contact, when no plane is found (or only last
+///    tick's is kept, or the HIP lies deeper than r + 2 window spacings behind the plane), or when the guard holds the
+///    proxy farther than r + half a window spacing from the HIP (in contact or not), the plane is
+///    searched for again from reference points lifted out of material: along the last contact normal first (its
+///    plane kept when it faces the same way), else along the six axis directions past the material the rays hold the
+///    HIP in, taking the plane nearest the HIP on which the whole tool is free. The proxy goes there at once (Zilles
+///    & Salisbury's god-object rests on the surface point nearest the HIP), so it follows a hand that moved to
+///    another face, or a surface changed under it (undo, union, a cut the snapshot catches up with), instead of
+///    staying where the straight path was cut. While held that far with no plane found and
+///    the tool free at the HIP, the proxy joins the HIP.
+/// 11. No spike: the damping term of step 8 acts on the HIP's velocity into the surface (clamped to 2 m/s), not on the
+///    depth's change, so a surface that moves under a still hand or a proxy that jumps adds none; and the force's
+///    magnitude may rise per tick, while in contact, by at most what the hand explains (k times the HIP's move into the surface, plus
+///    kd times its speed into it) plus 100 N/s x dt (0.1 N at 1 kHz), so a jump to the surface nearest the HIP, or material added over a still tool, brings its force in
+///    over tens of ms. A force that falls falls at once.
+/// Otherwise (no contact, no usable snapshot, or no window covering the HIP: a hand faster than the snapshot
+/// follows) proxy = hip and the force is zero; in the last case the contact is kept for step 10 once a snapshot
+/// covers the HIP again.
 /// With r = 0 this is the point god-object. Behaviour to know:
 /// - A HIP that goes through a slab thinner than its penetration (even in one tick) stays in contact
 ///   with the side it entered while the tool overlaps the slab or lies within a window spacing beyond it:
@@ -145,6 +164,19 @@ public:
     const ContactParams& params() const { return params_; }
 
 private:
+    // The proxy proposed on a plane (friction cone applied unless `frictionless`; the HIP when no plane was found), and
+    // the material touched.
+    struct Proposal {
+        Vec3 proxy_m{0.0};
+        Vec3 frictionless_m{0.0};
+        bool sliding = false;
+        std::uint8_t material = 0;
+    };
+    Proposal propose(const contact::PlaneSearch& plane, const Vec3& hip, const Vec3& proxy, bool frictionless) const;
+    // Keeps what the next update reads: the result r for the HIP `hip`, the constraint normal n_c, the force's
+    // normal n, whether the guard held the proxy, the plane and the material touched.
+    void remember(const ContactResult& r, const Vec3& hip, const Vec3& n_c, const Vec3& n, bool held,
+                  const contact::PlaneSearch& plane, std::uint8_t mat_id);
     // The material of id `id` (the table's entry, or the one of the ContactParams fields).
     const Material& material(std::uint8_t id) const;
 
@@ -165,6 +197,7 @@ private:
     Vec3 plane_q_{0.0};       // a point of that plane, m
     Vec3 plane_n_{0.0};       // its outward unit normal
     int plane_axis_ = -1;     // its ray set
+    Vec3 force_{0.0};         // the force of the last update, N
 };
 
 }  // namespace tridex::haptics

@@ -260,6 +260,7 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
     out.proxy_m = r.points > 0 ? r.point[0].proxy_m : tool_world.position;
     out.in_contact = r.in_contact;
     out.contact = r.in_contact > 0;
+    out.hip_inside = r.points > 0 && r.point[0].hip_inside;
     out.points = &r;
     // Elastic objects: each point's penetration of the undeformed spheres (no allocation: fixed-size contacts).
     for (const ElasticSphere& e : cfg_.elastic_objects) {
@@ -387,6 +388,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.remote_stale = remote_contact && remote.stale;
     if (rec.remote_stale) stale_remote_.fetch_add(1, std::memory_order_relaxed);
     rec.contact = c.contact;
+    rec.hip_inside = c.hip_inside;
     rec.object_force_n = c.object_force_n;
     rec.points_in_contact = c.in_contact;
     if (c.points) {

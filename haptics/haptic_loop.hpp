@@ -106,6 +106,7 @@ struct TickRecord {
     Vec3 proxy_m{0.0};         ///< god-object position, m
     Vec3 force_n{0.0};         ///< force sent to the device (after filter and the safety stage), world frame, N
     bool contact = false;      ///< the contact stage (god-object) was in contact
+    bool hip_inside = false;   ///< point 0 (the HIP for a ball) lay inside material by the snapshot
     /// The elastic objects' part of the contact force (HapticLoopConfig::elastic_objects, against their undeformed
     /// spheres), world frame, N, before the workspace mapping's force scale, the filter and the safety stage; 0 when
     /// the tool touches none.
@@ -286,6 +287,7 @@ private:
         Vec3 proxy_m{0.0};    // god-object of point 0 (or the tool centre when free), m
         Vec3 object_force_n{0.0};  // of it, the elastic objects' part, N
         bool contact = false;
+        bool hip_inside = false;  // point 0 inside material by the snapshot
         int in_contact = 0;   // points in contact
         const MultiPointResult* points = nullptr;  // per-point detail of this tick (owned by contact_)
     };

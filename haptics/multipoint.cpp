@@ -66,6 +66,7 @@ const MultiPointResult& MultiPointRenderer::update(const ActiveSurface& surface,
         s.normal = c.normal;
         s.depth_m = c.depth_m;
         s.contact = c.contact;
+        s.hip_inside = c.hip_inside;
         if (mesh) {
             const Vec3 inward = -(tool.orientation * points_.normal[i]);
             s.force_n = c.contact ? mesh_point_force(stiffness_n_per_m_, c.depth_m, inward) : Vec3(0.0);

@@ -21,6 +21,7 @@ struct PointState {
     Vec3 normal{0.0};     ///< outward unit normal of the object at the point's contact, zero when free
     double depth_m = 0.0; ///< penetration depth along that normal, m (0 when free)
     bool contact = false; ///< the point's god-object is in contact
+    bool hip_inside = false;  ///< a reading of the snapshot puts the point inside material (ContactResult)
 };
 
 /// One multi-point update: the wrench about the tool centre and the per-point states.

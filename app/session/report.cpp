@@ -38,10 +38,11 @@ std::vector<double> field(const std::vector<haptics::TickRecord>& recs, float ha
 void write_haptics_csv(const std::string& path, const std::vector<haptics::TickRecord>& records) {
     AtomicFile file(path);  // whole or not at all
     std::FILE* f = file.stream();
-    std::fprintf(f, "t_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact\n");
+    std::fprintf(f, "t_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,hip_inside\n");
     for (const auto& r : records)
-        std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%d\n", r.t_s, r.hip_m.x, r.hip_m.y, r.hip_m.z,
-                     r.proxy_m.x, r.proxy_m.y, r.proxy_m.z, r.force_n.x, r.force_n.y, r.force_n.z, r.contact ? 1 : 0);
+        std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%d,%d\n", r.t_s, r.hip_m.x, r.hip_m.y,
+                     r.hip_m.z, r.proxy_m.x, r.proxy_m.y, r.proxy_m.z, r.force_n.x, r.force_n.y, r.force_n.z,
+                     r.contact ? 1 : 0, r.hip_inside ? 1 : 0);
     file.commit();
 }
 
@@ -99,6 +100,37 @@ nlohmann::json history_report_json(const SculptStats& sculpt) {
             {"redo_requests", sculpt.redo_requests},
             {"undo_ms", summary_json(summarize(sculpt.undo_ms), true)}};
 }
+
+namespace {
+
+// How closely the god-object followed the HIP over the recorded ticks: the largest proxy-to-HIP distance (m), that
+// distance and the ticks over the tool's radius while the HIP lay outside material (by the snapshot), and the
+// largest tick-to-tick change and rise of the force sent (N).
+nlohmann::json proxy_follow_json(const std::vector<haptics::TickRecord>& records, double radius_m) {
+    double gap = 0.0, gap_outside = 0.0, step = 0.0, rise = 0.0;
+    std::size_t over = 0;
+    const haptics::TickRecord* prev = nullptr;
+    for (const auto& t : records) {
+        const double g = glm::length(t.proxy_m - t.hip_m);
+        gap = std::max(gap, g);
+        if (t.valid_sample && !t.hip_inside) {
+            gap_outside = std::max(gap_outside, g);
+            over += g > radius_m + 1e-9 ? 1 : 0;
+        }
+        if (prev) {
+            step = std::max(step, glm::length(t.force_n - prev->force_n));
+            rise = std::max(rise, glm::length(t.force_n) - glm::length(prev->force_n));
+        }
+        prev = &t;
+    }
+    return {{"max_gap_m", gap},
+            {"max_gap_hip_outside_m", gap_outside},
+            {"ticks_over_radius_hip_outside", over},
+            {"max_force_step_n", step},
+            {"max_force_rise_n", rise}};
+}
+
+}  // namespace
 
 nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopStats& loop,
                                    const std::vector<haptics::TickRecord>& records, double session_s,
@@ -163,6 +195,7 @@ nlohmann::json haptics_report_json(const SessionSpec& spec, const haptics::LoopS
             {"device_max_force_n", device_max_force_n},
             {"stiffness_n_per_m", spec.stiffness_n_per_m},
             {"tool_radius_m", spec.tool.radius_m},
+            {"proxy", proxy_follow_json(records, spec.tool.radius_m)},
             {"overruns", loop.overruns},
             {"samples_dropped", loop.samples_dropped},
             {"invalid_samples", loop.invalid_samples},

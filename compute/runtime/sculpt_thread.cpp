@@ -381,10 +381,14 @@ bool SculptThread::step() {
         take(SculptRequest::kEndStroke);  // recorded: when it happens depends on how the samples were batched
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
-    // material does not drag the window away from the proxy it constrains. (Widening the window to cover
-    // the HIP too was tried: the coarser stride then hides thin walls, and the proxy ends inside material
-    // far more often; tests/stress/test_stress_haptics.cpp measures both.)
-    const Vec3 centre = is_finite(prev_.surface_m) ? prev_.surface_m : prev_.position;
+    // material does not drag the window away from the proxy it constrains, until the HIP leaves what that
+    // window covers (ActiveSurface::window_centre_m). (Widening the window to cover the HIP too was tried: the
+    // coarser stride then hides thin walls, and the proxy ends inside material far more often;
+    // tests/stress/test_stress_haptics.cpp measures both.)
+    const Vec3 centre = ActiveSurface::window_centre_m(
+        prev_.surface_m, prev_.position,
+        0.5 * compute::tool_extent_m(tool_span_m_, have_prev_ ? tool_reach_m(prev_.tool) : tool_radius_m_),
+        compute::kDefaultMotionMarginM, model_.lattice.cell_m);
     const double moved_cells = glm::length(centre - published_centre_m_) / model_.lattice.cell_m;
     // A push stroke keeps the haptic surface of its start (holding_reference); it is re-extracted there only to follow
     // the tool.

@@ -241,6 +241,9 @@ TEST(Demo, ShortStrokeWritesConsistentOutputs) {
     std::ifstream rf(out / "report.json");
     const nlohmann::json j = nlohmann::json::parse(rf);
     const int ticks = j["ticks"];
+    // The scripted stylus: the proxy stays with the hand.
+    std::printf("[scripted stylus] proxy %s\n", j["haptics"]["proxy"].dump().c_str());
+    EXPECT_EQ(j["haptics"]["proxy"]["ticks_over_radius_hip_outside"].get<long>(), 0);
     EXPECT_GT(ticks, 1000);  // 2 s at 1 kHz; a loaded machine skips missed deadlines (the median period is the rate)
     EXPECT_LT(ticks, 2600);
     EXPECT_GT(j["period_us"]["median"].get<double>(), 900.0);
@@ -382,6 +385,9 @@ TEST(Demo, FalconEmulatorRunsTheDemo) {
     EXPECT_GT(h["contact_ticks"].get<long>(), 0);
     EXPECT_GT(h["device_link"]["homed_at_s"].get<double>(), 0.0);
     EXPECT_EQ(h["device_link"]["missed_frames"].get<long>(), 0);
+    // The proxy stays with the hand at 1 kHz on the emulated Falcon's scripted grip.
+    std::printf("[falcon emulator] proxy %s\n", h["proxy"].dump().c_str());
+    EXPECT_EQ(h["proxy"]["ticks_over_radius_hip_outside"].get<long>(), 0);
     EXPECT_GT(j["volume_removed_m3"].get<double>(), 0.0);
     EXPECT_EQ(j["render"]["validation_messages"].get<int>(), 0);
     // Without a Falcon plugged in, --device falcon says so in one line.

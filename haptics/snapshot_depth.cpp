@@ -1,0 +1,138 @@
+// haptics/snapshot_depth.cpp - depth readings of points in an ActiveSurface snapshot.
+#include "haptics/snapshot_depth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tridex::haptics::contact {
+
+bool window_ok(const ActiveSurface::Window& w) {
+    return w.nu >= 2 && w.nv >= 2 && w.nu <= ActiveSurface::kWindow && w.nv <= ActiveSurface::kWindow && w.stride >= 1;
+}
+
+// Largest window ray spacing over the usable windows of `s`, m: the lateral resolution of the snapshot.
+double spacing_m(const ActiveSurface& s) {
+    int cells = 1;
+    for (int a = 0; a < 3; ++a)
+        if (window_ok(s.sets[a])) cells = std::max(cells, s.window_spacing_cells(a));
+    return cells * s.cell_m;
+}
+
+// Signed distance (grid units) along ray (iu, iv) from depth d to the nearest interval end: positive
+// inside an interval, negative outside; -kEmpty for an empty ray.
+double ray_signed_depth(const ActiveSurface::Window& w, int iu, int iv, double d) {
+    const int c = std::min(w.intervals(iu, iv), ActiveSurface::kMaxIntervals);
+    double best = -kEmpty;
+    for (int i = 0; i < c; ++i) best = std::max(best, std::min(d - w.enter(iu, iv, i), w.exit(iu, iv, i) - d));
+    return best;
+}
+
+// Readings as DepthReading describes (header); sets whose four rays differ by more than kBlendSpreadCells
+// spacings straddle an edge and do not blend.
+constexpr double kBlendSpreadCells = 2.0;
+DepthReading read_depth(const ActiveSurface& s, const Vec3& p) {
+    DepthReading r;
+    double blended = kEmpty;
+    for (int a = 0; a < 3; ++a) {
+        const ActiveSurface::Window& w = s.sets[a];
+        if (!window_ok(w)) continue;
+        const ActiveSurface::WindowCoord c = s.to_window(a, p);
+        const double fu = c.fu, fv = c.fv;
+        if (!(fu >= 0.0 && fu <= w.nu - 1 && fv >= 0.0 && fv <= w.nv - 1)) continue;
+        const int iu = std::min(static_cast<int>(fu), w.nu - 2);
+        const int iv = std::min(static_cast<int>(fv), w.nv - 2);
+        const double c00 = ray_signed_depth(w, iu, iv, c.d), c10 = ray_signed_depth(w, iu + 1, iv, c.d);
+        const double c01 = ray_signed_depth(w, iu, iv + 1, c.d), c11 = ray_signed_depth(w, iu + 1, iv + 1, c.d);
+        const double lo = std::min(std::min(c00, c10), std::min(c01, c11));
+        const double hi = std::max(std::max(c00, c10), std::max(c01, c11));
+        if (lo <= -kEmpty) continue;  // an empty ray: this set vouches for nothing and does not blend
+        const double per = 1.0 / s.window_spacing_cells(a);  // grid units -> ray spacings
+        r.vouched = std::max(r.vouched, per * lo);
+        if (per * (hi - lo) > kBlendSpreadCells) continue;
+        const double su = fu - iu, sv = fv - iv;
+        blended = std::min(blended, per * ((1.0 - sv) * ((1.0 - su) * c00 + su * c10) + sv * ((1.0 - su) * c01 + su * c11)));
+    }
+    if (blended < kEmpty) r.blended = blended;
+    return r;
+}
+
+// The guard's test: inside when either reading says deeper than kGuardMarginCells.
+bool inside_material(const ActiveSurface& s, const Vec3& p) {
+    const DepthReading r = read_depth(s, p);
+    return r.vouched > kGuardMarginCells || r.blended > kGuardMarginCells;
+}
+
+// True when p is clearly out of material: at least one ray set's window covers it, and in every set that does, each
+// of the four rays around its projection has it more than kFreeMarginCells window spacings outside its intervals.
+bool clearly_outside(const ActiveSurface& s, const Vec3& p) {
+    bool covered = false;
+    for (int a = 0; a < 3; ++a) {
+        const ActiveSurface::Window& w = s.sets[a];
+        if (!window_ok(w)) continue;
+        const ActiveSurface::WindowCoord c = s.to_window(a, p);
+        if (!(c.fu >= 0.0 && c.fu <= w.nu - 1 && c.fv >= 0.0 && c.fv <= w.nv - 1)) continue;
+        const int iu = std::min(static_cast<int>(c.fu), w.nu - 2);
+        const int iv = std::min(static_cast<int>(c.fv), w.nv - 2);
+        const double limit = -kFreeMarginCells * s.window_spacing_cells(a);
+        for (int k = 0; k < 4; ++k)
+            if (ray_signed_depth(w, iu + (k & 1), iv + (k >> 1), c.d) > limit) return false;
+        covered = true;
+    }
+    return covered;
+}
+
+// True when the tool at `at` is clearly out of material (clearly_outside): its centre and, for a ball, its six
+// points at +-radius along the axes.
+bool tool_clearly_free(const ActiveSurface& s, const Vec3& at, double radius) {
+    if (!clearly_outside(s, at)) return false;
+    for (int i = 0; i < 6 && radius > 0.0; ++i) {
+        Vec3 p = at;
+        p[i >> 1] += (i & 1) ? -radius : radius;
+        if (!clearly_outside(s, p)) return false;
+    }
+    return true;
+}
+
+bool covers(const ActiveSurface& s, const Vec3& p) {
+    bool any = false;
+    for (int a = 0; a < 3; ++a) {
+        const ActiveSurface::Window& w = s.sets[a];
+        if (!window_ok(w)) continue;
+        const ActiveSurface::WindowCoord c = s.to_window(a, p);
+        if (!(c.fu >= 0.0 && c.fu <= w.nu - 1 && c.fv >= 0.0 && c.fv <= w.nv - 1)) return false;
+        any = true;
+    }
+    return any;
+}
+
+bool pose_free(const ActiveSurface& s, const Vec3& at, double radius, const Vec3& offset, bool with_contact) {
+    if (inside_material(s, at)) return false;
+    if (radius <= 0.0) return true;
+    if (with_contact && inside_material(s, at - offset)) return false;
+    for (int i = 0; i < 6; ++i) {
+        Vec3 p = at;
+        p[i >> 1] += (i & 1) ? -radius : radius;
+        if (inside_material(s, p)) return false;
+    }
+    return true;
+}
+
+double exit_distance_m(const ActiveSurface& s, const Vec3& p, int axis, int sign) {
+    const ActiveSurface::Window& w = s.sets[axis];
+    if (!window_ok(w)) return -1.0;
+    const ActiveSurface::WindowCoord c = s.to_window(axis, p);
+    if (!(c.fu >= 0.0 && c.fu <= w.nu - 1 && c.fv >= 0.0 && c.fv <= w.nv - 1)) return -1.0;
+    const int iu = std::min(static_cast<int>(c.fu), w.nu - 2);
+    const int iv = std::min(static_cast<int>(c.fv), w.nv - 2);
+    double cells = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        const int u = iu + (k & 1), v = iv + (k >> 1);
+        const int n = std::min(w.intervals(u, v), ActiveSurface::kMaxIntervals);
+        for (int i = 0; i < n; ++i)
+            if (c.d >= w.enter(u, v, i) && c.d <= w.exit(u, v, i))
+                cells = std::max(cells, sign > 0 ? w.exit(u, v, i) - c.d : c.d - w.enter(u, v, i));
+    }
+    return cells * s.cell_m;
+}
+
+}  // namespace tridex::haptics::contact
