@@ -14,7 +14,7 @@
 #include <numbers>
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/session/session.hpp"
 #include "core/summary.hpp"
 #include "compute/runtime/active_surface_publish.hpp"

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <numeric>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
 #include "app/session/session_runtime.hpp"
 #include "app/scene/stroke.hpp"

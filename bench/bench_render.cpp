@@ -18,7 +18,7 @@
 #include <string>
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/session/session.hpp"
 #include "core/summary.hpp"
 #include "app/session/tile_view.hpp"

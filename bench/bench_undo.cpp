@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
 #include "app/session/session_runtime.hpp"
 #include "core/summary.hpp"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/actions/bindings.hpp"
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/session/run_actions.hpp"
 #include "app/session/session_runtime.hpp"
 #include "app/scene/workpiece_source.hpp"

@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "app/session/session.hpp"
 #include "app/scene/stroke.hpp"

@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/scene/stroke.hpp"
 #include "app/session/gpu_tile_split.hpp"
 #include "app/session/session.hpp"

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/session/run_session.hpp"
 #include "app/session/session.hpp"

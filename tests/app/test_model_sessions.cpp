@@ -9,8 +9,8 @@
 #include <string>
 
 #include "test_files.hpp"
-#include "app/commands/demo.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/session/run_session.hpp"
 #include "app/session/session.hpp"

@@ -12,7 +12,7 @@
 
 #include "app/input/key_script.hpp"
 #include "app/input/mouse_stylus.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/input/run_input.hpp"
 #include "app/session/run_actions.hpp"
 #include "app/session/run_session.hpp"

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/session/session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"

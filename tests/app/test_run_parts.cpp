@@ -15,7 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/actions/action_registry.hpp"
-#include "app/commands/run_cli.hpp"
+#include "app/commands/run/run_cli.hpp"
 #include "app/input/run_input.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/session/run_actions.hpp"

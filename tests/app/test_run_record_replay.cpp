@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/session/run_session.hpp"
 #include "app/session/session.hpp"
 #include "core/error.hpp"

@@ -12,7 +12,7 @@
 #include <thread>
 #include <utility>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/session/session_runtime.hpp"
 #include "app/session/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"

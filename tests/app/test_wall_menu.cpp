@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../devices/dtrack_sender.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/menu/menu_frame.hpp"
 #include "app/session/run_options.hpp"
 #include "app/session/run_session.hpp"

@@ -1,4 +1,4 @@
-// app/commands/export_cmd.hpp - `tridex export MODEL.tdx OUT.{stl,obj,ply}`: a saved model as one closed mesh for other tools.
+// app/commands/export/export.hpp - `tridex export MODEL.tdx OUT.{stl,obj,ply}`: a saved model as one closed mesh for other tools.
 #pragma once
 
 #include <cstddef>

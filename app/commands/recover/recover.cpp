@@ -1,5 +1,5 @@
-// app/commands/recover.cpp - `tridex recover`: a session's model from its journal.
-#include "app/commands/recover.hpp"
+// app/commands/recover/recover.cpp - `tridex recover`: a session's model from its journal.
+#include "app/commands/recover/recover.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,10 +1,10 @@
-// app/commands/export_command.cpp - `tridex export MODEL OUT`: a saved model as a closed mesh.
+// app/commands/export/export_command.cpp - `tridex export MODEL OUT`: a saved model as a closed mesh.
 #include <CLI/CLI.hpp>
 
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/commands/export_cmd.hpp"
+#include "app/commands/export/export.hpp"
 
 namespace tridex::app {
 namespace {

@@ -1,5 +1,5 @@
-// app/commands/run_cli.cpp - `tridex run` options and entry point.
-#include "app/commands/run_cli.hpp"
+// app/commands/run/run_cli.cpp - `tridex run` options and entry point.
+#include "app/commands/run/run_cli.hpp"
 
 #include <CLI/CLI.hpp>
 

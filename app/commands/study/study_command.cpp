@@ -1,4 +1,4 @@
-// app/commands/study_command.cpp - `tridex study stats|analyze|run`: the training study.
+// app/commands/study/study_command.cpp - `tridex study stats|analyze|run`: the training study.
 #include <CLI/CLI.hpp>
 
 #include <memory>

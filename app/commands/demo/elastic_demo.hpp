@@ -1,4 +1,4 @@
-// app/commands/elastic_demo.hpp - `tridex demo --elastic`: a scripted hand presses an elastic object in steps and lets go;
+// app/commands/demo/elastic_demo.hpp - `tridex demo --elastic`: a scripted hand presses an elastic object in steps and lets go;
 // the force comes from the undeformed reference, the drawn surface dents and springs back.
 #pragma once
 

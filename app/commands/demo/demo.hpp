@@ -1,4 +1,4 @@
-// app/commands/demo.hpp - `tridex demo`: the main job end to end (load, scan-convert, carve under a 1 kHz
+// app/commands/demo/demo.hpp - `tridex demo`: the main job end to end (load, scan-convert, carve under a 1 kHz
 // haptic loop with a simulated device, contour, render both eyes, write the outputs).
 #pragma once
 

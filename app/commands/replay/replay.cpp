@@ -1,5 +1,5 @@
-// app/commands/replay.cpp - replaying a recorded session.
-#include "app/commands/replay.hpp"
+// app/commands/replay/replay.cpp - replaying a recorded session.
+#include "app/commands/replay/replay.hpp"
 
 #include <algorithm>
 

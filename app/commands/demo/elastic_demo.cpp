@@ -1,5 +1,5 @@
-// app/commands/elastic_demo.cpp - the scripted press of an elastic object, its images and its report.
-#include "app/commands/elastic_demo.hpp"
+// app/commands/demo/elastic_demo.cpp - the scripted press of an elastic object, its images and its report.
+#include "app/commands/demo/elastic_demo.hpp"
 #include "app/session/frame_loop.hpp"
 
 #include <algorithm>

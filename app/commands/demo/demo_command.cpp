@@ -1,12 +1,12 @@
-// app/commands/demo_command.cpp - `tridex demo`: the scripted stroke (or, with --elastic, the elastic press).
+// app/commands/demo/demo_command.cpp - `tridex demo`: the scripted stroke (or, with --elastic, the elastic press).
 #include <CLI/CLI.hpp>
 
 #include <memory>
 #include <string>
 
 #include "app/commands/command.hpp"
-#include "app/commands/demo.hpp"
-#include "app/commands/elastic_demo.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/commands/demo/elastic_demo.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

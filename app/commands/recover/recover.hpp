@@ -1,4 +1,4 @@
-// app/commands/recover.hpp - `tridex recover`: the model of a session rebuilt from its journal, after a crash, a SIGKILL or a
+// app/commands/recover/recover.hpp - `tridex recover`: the model of a session rebuilt from its journal, after a crash, a SIGKILL or a
 // power loss.
 #pragma once
 

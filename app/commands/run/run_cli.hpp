@@ -1,4 +1,4 @@
-// app/commands/run_cli.hpp - the `tridex run` subcommand (app/commands/run_command.cpp registers it).
+// app/commands/run/run_cli.hpp - the `tridex run` subcommand (app/commands/run/run_command.cpp registers it).
 #pragma once
 
 #include <string>

@@ -1,10 +1,10 @@
-// app/commands/run_command.cpp - `tridex run [SCENE]`: a stereo session in a window, fullscreen or offscreen.
+// app/commands/run/run_command.cpp - `tridex run [SCENE]`: a stereo session in a window, fullscreen or offscreen.
 #include <CLI/CLI.hpp>
 
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/commands/run_cli.hpp"
+#include "app/commands/run/run_cli.hpp"
 
 namespace tridex::app {
 namespace {

@@ -1,4 +1,4 @@
-// app/commands/replay.hpp - `tridex replay FILE --out DIR`: sculpt a recorded session again.
+// app/commands/replay/replay.hpp - `tridex replay FILE --out DIR`: sculpt a recorded session again.
 #pragma once
 
 #include <string>

@@ -1,10 +1,10 @@
-// app/commands/devices_command.cpp - `tridex devices`: the drivers and the hardware that is plugged in.
+// app/commands/devices/devices_command.cpp - `tridex devices`: the drivers and the hardware that is plugged in.
 #include <CLI/CLI.hpp>
 
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/commands/devices_cmd.hpp"
+#include "app/commands/devices/devices.hpp"
 
 namespace tridex::app {
 namespace {

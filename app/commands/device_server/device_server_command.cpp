@@ -1,10 +1,10 @@
-// app/commands/device_server_command.cpp - `tridex device-server`: serve a device on this machine to a session.
+// app/commands/device_server/device_server_command.cpp - `tridex device-server`: serve this machine's device.
 #include <CLI/CLI.hpp>
 
 #include <memory>
 
 #include "app/commands/command.hpp"
-#include "app/commands/device_server_cmd.hpp"
+#include "app/commands/device_server/device_server.hpp"
 
 namespace tridex::app {
 namespace {

@@ -1,5 +1,5 @@
-// app/commands/demo.cpp - `tridex demo`: wires the three threads of DESIGN.md around one scripted stroke.
-#include "app/commands/demo.hpp"
+// app/commands/demo/demo.cpp - `tridex demo`: wires the three threads of DESIGN.md around one scripted stroke.
+#include "app/commands/demo/demo.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -1,4 +1,4 @@
-// app/commands/devices_cmd.hpp - `tridex devices`: the device drivers this build has and the known hardware plugged in.
+// app/commands/devices/devices.hpp - `tridex devices`: the drivers this build has and the known hardware plugged in.
 #pragma once
 
 #include <string>

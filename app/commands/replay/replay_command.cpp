@@ -1,4 +1,4 @@
-// app/commands/replay_command.cpp - `tridex replay FILE`: sculpt a recorded session again.
+// app/commands/replay/replay_command.cpp - `tridex replay FILE`: sculpt a recorded session again.
 #include <CLI/CLI.hpp>
 
 #include <memory>
@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "app/commands/command.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 
 namespace tridex::app {
 namespace {

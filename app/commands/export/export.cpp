@@ -1,5 +1,5 @@
-// app/commands/export_cmd.cpp - saved model -> CPU contour -> STL / OBJ / PLY.
-#include "app/commands/export_cmd.hpp"
+// app/commands/export/export.cpp - saved model -> CPU contour -> STL / OBJ / PLY.
+#include "app/commands/export/export.hpp"
 
 #include <algorithm>
 #include <array>

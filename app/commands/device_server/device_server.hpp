@@ -1,4 +1,4 @@
-// app/commands/device_server_cmd.hpp - `tridex device-server`: serves a haptic device to a session on another machine.
+// app/commands/device_server/device_server.hpp - `tridex device-server`: a haptic device served to another machine.
 #pragma once
 
 #include <string>

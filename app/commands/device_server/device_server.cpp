@@ -1,5 +1,5 @@
-// app/commands/device_server_cmd.cpp - `tridex device-server`: a device, an ENet listener and the serving thread.
-#include "app/commands/device_server_cmd.hpp"
+// app/commands/device_server/device_server.cpp - `tridex device-server`: a device, an ENet listener, a server thread.
+#include "app/commands/device_server/device_server.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <thread>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/session/frame_loop.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"

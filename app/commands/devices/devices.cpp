@@ -1,5 +1,5 @@
-// app/commands/devices_cmd.cpp - `tridex devices`.
-#include "app/commands/devices_cmd.hpp"
+// app/commands/devices/devices.cpp - `tridex devices`.
+#include "app/commands/devices/devices.hpp"
 
 #include <cstdio>
 #include <tuple>

@@ -1,11 +1,11 @@
-// app/commands/recover_command.cpp - `tridex recover JOURNAL`: rebuild a session's model from its journal.
+// app/commands/recover/recover_command.cpp - `tridex recover JOURNAL`: rebuild a session's model from its journal.
 #include <CLI/CLI.hpp>
 
 #include <memory>
 #include <string>
 
 #include "app/commands/command.hpp"
-#include "app/commands/recover.hpp"
+#include "app/commands/recover/recover.hpp"
 
 namespace tridex::app {
 namespace {
