@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "app/session/session.hpp"
+#include "app/session/framing.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/model/volume.hpp"

@@ -5,7 +5,7 @@
 
 #include "app/scene/session_spec.hpp"
 #include "app/session/run_pipeline_parts.hpp"
-#include "app/session/session.hpp"
+#include "app/session/framing.hpp"
 #include "compute/tools/clay_field.hpp"
 
 #include <tuple>

@@ -15,7 +15,6 @@
 #include "app/session/session_runtime.hpp"
 #include "app/scene/session_spec.hpp"
 #include "compute/model/tridexel.hpp"
-#include "renderer/camera/off_axis.hpp"
 #include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
 #include "devices/haptic_device.hpp"
@@ -87,13 +86,6 @@ struct OutputOptions {
     bool ao = true;         ///< ambient occlusion in the images (SceneView::occlusion_strength 1, else 0)
     std::string command = "demo";  ///< the command that ran, for the summary's first line ("tridex demo: ...")
 };
-
-/// The part of `wall` (the same plane) through which the world box `box_m` is seen from head_m (m): the box's corners
-/// projected from the head onto the wall's plane, 10% margin on each side, widened about its centre to `aspect`
-/// (width / height). Drawing through it keeps every eye ray of the full wall, so the stereo is unchanged, but the
-/// box fills the image. Returns `wall` itself when the box is empty or not finite, a corner is not between the head
-/// and the wall's far side, or the crop would not be smaller than the wall.
-renderer::Screen framing_screen(const renderer::Screen& wall, const Aabb& box_m, const Vec3& head_m, double aspect);
 
 /// Renders both eyes of the carved workpiece, framed by framing_screen (tool at its last position, the haptic
 /// workspace as a translucent box and, in bubble mode, the bubble) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json

@@ -27,6 +27,7 @@
 #include "../renderer/test_window_xvfb.hpp"
 #include "app/support/memory.hpp"
 #include "app/input/surface_pick.hpp"
+#include "app/session/framing.hpp"
 #include "app/session/session.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"

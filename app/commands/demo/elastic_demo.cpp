@@ -1,6 +1,7 @@
 // app/commands/demo/elastic_demo.cpp - the scripted press of an elastic object, its images and its report.
 #include "app/commands/demo/elastic_demo.hpp"
 #include "app/session/frame_loop.hpp"
+#include "app/session/framing.hpp"
 
 #include <algorithm>
 #include <cmath>
