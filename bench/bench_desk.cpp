@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"

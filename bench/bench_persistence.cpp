@@ -13,7 +13,7 @@
 
 #include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "app/scene/stroke.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

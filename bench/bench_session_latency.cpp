@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/support/assets.hpp"
 #include "app/support/json_file.hpp"
 #include "compute/tools/clay_sweep.hpp"

@@ -15,7 +15,7 @@
 
 #include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "core/summary.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/probe.hpp"

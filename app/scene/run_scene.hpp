@@ -116,7 +116,7 @@ struct RunScene {
     bool device_named = false;          ///< the scene has a "device" block (else a window session uses the mouse)
     /// "workspace": {"scale": "fit"}: the session picks the device -> world gain so that what the hand must reach
     /// (a study's tube from cap to cap, a stroke's path, else the workpiece) fits the device's workspace: 1 when
-    /// it fits already, else the smallest gain that makes it fit (app/session/run_sculpt.hpp fit_workspace_scale).
+    /// it fits already, else the smallest gain that makes it fit (app/session/run/run_sculpt.hpp fit_workspace_scale).
     bool workspace_fit = false;
     /// Keys pressed at given device times ("keys": [{"t_s": 4.0, "press": "ctrl+z"}], in time order), handled
     /// like a window's keys (undo, redo, save, ...), offscreen too.

@@ -20,7 +20,7 @@
 #include "app/menu/pie_menu.hpp"
 #include "app/menu/pie_menu_mesh.hpp"
 #include "app/scene/session_spec.hpp"
-#include "app/session/run_actions.hpp"
+#include "app/session/run/run_actions.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 

@@ -12,7 +12,7 @@
 
 #include "app/commands/demo/demo.hpp"
 #include "app/commands/replay/replay.hpp"
-#include "app/session/session.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "run_test_scene.hpp"

@@ -10,8 +10,8 @@
 
 #include "app/support/assets.hpp"
 #include "app/support/output_dir.hpp"
-#include "app/session/session.hpp"
-#include "app/session/session_recording.hpp"
+#include "app/session/batch/session.hpp"
+#include "app/session/record/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/stroke.hpp"
 #include "app/scene/tool_mesh.hpp"

@@ -1,7 +1,7 @@
 // app/commands/demo/elastic_demo.cpp - the scripted press of an elastic object, its images and its report.
 #include "app/commands/demo/elastic_demo.hpp"
-#include "app/session/frame_loop.hpp"
-#include "app/session/framing.hpp"
+#include "app/session/runtime/frame_loop.hpp"
+#include "app/session/view/framing.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
-#include "app/session/session.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/primitives.hpp"

@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "app/commands/demo/demo.hpp"
-#include "app/session/frame_loop.hpp"
+#include "app/session/runtime/frame_loop.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"

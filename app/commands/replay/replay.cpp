@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "app/support/output_dir.hpp"
-#include "app/session/session_recording.hpp"
+#include "app/session/record/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"

@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "app/session/film_strip.hpp"
-#include "app/session/session.hpp"
+#include "app/session/report/film_strip.hpp"
+#include "app/session/batch/session.hpp"
 
 namespace tridex::app {
 

@@ -8,9 +8,9 @@
 #include <new>
 
 #include "app/commands/command.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/session/cluster/cluster_session.hpp"
-#include "app/session/session_companion.hpp"
+#include "app/session/runtime/session_companion.hpp"
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "core/error.hpp"

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "app/session/run_options.hpp"
+#include "app/session/run/run_options.hpp"
 
 namespace CLI {
 class App;
