@@ -83,6 +83,11 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::Device
     if (!(o.tool_radius_m >= 0.0005 && o.tool_radius_m <= 0.25 * o.stock_m))
         throw Error("--tool-radius-mm: must be between 0.5 mm and a quarter of the stock (" +
                     format_number(250.0 * o.stock_m) + " mm), got " + format_number(o.tool_radius_m * 1e3));
+    if (!(o.static_friction >= 0.0 && o.static_friction <= 10.0))
+        throw Error("--static-friction: must be between 0 and 10, got " + format_number(o.static_friction));
+    if (!(o.dynamic_friction >= 0.0 && o.dynamic_friction <= o.static_friction))
+        throw Error("--dynamic-friction: must be between 0 and --static-friction (" + format_number(o.static_friction) +
+                    "), got " + format_number(o.dynamic_friction));
     if (!o.workpiece.empty() && !o.mesh.empty()) throw Error("--workpiece, --mesh: choose one");
     DemoPlan d;
     SessionSpec& s = d.s;
