@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
@@ -126,10 +126,14 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
-// Sets the row's verdict: median, p99 and lag within the targets.
+// Sets the row's verdict: median, p99 and lag within the targets; not measured when no frame or no cursor target (the
+// lag's samples) was timed, or a figure is missing (NaN).
 void judge(DeskBenchRow& r) {
-    r.target_met =
-        r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms && r.lag_frames <= kTargetLagFrames;
+    const bool figures = std::isfinite(r.frame_median_ms) && std::isfinite(r.frame_p99_ms) && std::isfinite(r.lag_frames);
+    const std::uint64_t timed = figures ? std::min(r.frames, r.targets) : 0;
+    r.verdict = verdict_of(timed, r.frame_median_ms <= kTargetMedianMs && r.frame_p99_ms <= kTargetP99Ms &&
+                                      r.lag_frames <= kTargetLagFrames);
+    r.target_met = target_met(r.verdict);
 }
 
 // The median of `v`, the mean of the middle two for an even count (core's summarize() takes the lower one: with
@@ -173,7 +177,7 @@ void print_row(const DeskBenchRow& r) {
     std::printf("%-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
                 r.max_lod_px, static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
                 r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
-                r.target_met ? "target met" : "over target");
+                verdict_text(r.verdict));
     if (r.repeat == 0) {  // a median over runs: the runs' rows have the details
         std::fflush(stdout);
         return;
@@ -235,6 +239,7 @@ nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
                           {"target_median_ms", kTargetMedianMs},
                           {"target_p99_ms", kTargetP99Ms},
                           {"target_lag_frames", kTargetLagFrames},
+                          {"verdict", verdict_text(r.verdict)},
                           {"target_met", r.target_met}};
 }
 

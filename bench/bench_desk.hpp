@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_verdict.hpp"
+
 namespace tridex::bench {
 
 /// What `tridex bench --desk` runs: one live session per stereo output, the default scene's workpiece and head in a
@@ -48,7 +50,9 @@ struct DeskBenchRow {
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
     nlohmann::json frame_budget;                   ///< report.json render.frame_budget (occlusion, levels, scale)
-    bool target_met = false;                       ///< median <= 25 ms, p99 <= 40 ms and lag <= 2 frames
+    /// Median <= 25 ms, p99 <= 40 ms and lag <= 2 frames: met, over, or not measured (no frame or cursor target timed).
+    Verdict verdict = Verdict::kNotMeasured;
+    bool target_met = false;  ///< verdict is kMet
 };
 
 /// Runs the sessions, prints a table beside the targets and writes OUT/desk_bench.json (every run's row; with

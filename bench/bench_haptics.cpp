@@ -14,8 +14,8 @@
 #include <numbers>
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
-#include "app/session/session.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/summary.hpp"
 #include "compute/runtime/active_surface_publish.hpp"
 #include "compute/model/probe.hpp"

@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <numeric>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "app/scene/stroke.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

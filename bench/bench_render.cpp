@@ -18,10 +18,10 @@
 #include <string>
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
-#include "app/session/session.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/summary.hpp"
-#include "app/session/tile_view.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "app/support/json_file.hpp"

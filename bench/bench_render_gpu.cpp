@@ -6,8 +6,8 @@
 #include <memory>
 #include <vector>
 
-#include "app/session/gpu_tile_split.hpp"
-#include "app/session/tile_view.hpp"
+#include "app/session/view/gpu_tile_split.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"

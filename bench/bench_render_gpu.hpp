@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <string>
 
-#include "app/session/session.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/pose.hpp"
 #include "gpu/context.hpp"
 

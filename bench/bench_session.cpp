@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
 #include "core/error.hpp"

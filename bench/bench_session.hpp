@@ -2,8 +2,11 @@
 // scripted stroke on the bundled bunny), timed end to end on each sculpting path.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "bench/bench_verdict.hpp"
 
 namespace tridex::bench {
 
@@ -63,6 +66,8 @@ struct LatencyBenchRow {
     double step_p50_ms = 0.0, step_p99_ms = 0.0;      ///< per sculpt step: Booleans (or clay) + publish, ms
     double pub_p50_ms = 0.0, pub_p99_ms = 0.0;        ///< its sculpt-side share: sample to mesh published, ms
     double frame_p50_ms = 0.0;                        ///< the run's median frame time (draw + readback), ms
+    /// The push target's verdict (latency_verdict) on the rows judged by it; unset for the reference and baseline rows.
+    std::optional<Verdict> verdict;
 };
 
 /// Runs `tridex run` offscreen (paced at 60 Hz, 960x540 mono) on the bunny scaled as in the demo (0.3 m) at each of
@@ -75,6 +80,10 @@ struct LatencyBenchRow {
 /// device and presented) and submitted, beside the push target (p99 <= 50 ms), and the sculpt step times; and writes
 /// latency_bench.json into options.out. Throws tridex::Error on a failed session.
 std::vector<LatencyBenchRow> run_latency_bench(const SessionBenchOptions& options);
+
+/// The push target's verdict on a latency row: its p99 against kLatencyTargetMs, not measured when no frame drew a
+/// timed change (frames 0, or drawn_clock "none").
+Verdict latency_verdict(const LatencyBenchRow& row);
 
 /// Runs `tridex demo` sessions (app::run_demo: workpiece, SessionRuntime, scripted stroke, outputs at a small image
 /// size) for every resolution and path, reads each one's report.json, prints a table and writes

@@ -1,6 +1,7 @@
 // bench/bench_stalls.cpp - the haptic loop's worst periods in a live mouse session: rendering, sculpting and the
 // journal running, the mouse played by a scripted cursor so that every run moves the same way.
 #include "bench/bench_registry.hpp"
+#include "bench/bench_verdict.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -12,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/support/assets.hpp"
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
@@ -135,11 +136,11 @@ void run_stalls(const StallsCli& o, const BenchCommon& c) {
     if (o.shared_cpu) variants.push_back({true, true, "shared_cpu"});
     for (const Variant& v : variants) {
         const StallRow r = run_one(o, scene, display, v.journal, v.shared_cpu, dir / v.dir);
-        const bool met = r.worst_ms <= kTargetWorstMs && r.over_5ms == 0;
+        const Verdict verdict = verdict_of(r.ticks, r.worst_ms <= kTargetWorstMs && r.over_5ms == 0);
         std::printf("%9s %4s %6s %7zu %9.2f %9.3f %8zu %8zu %8zu %6llu %7.1f %6s %s\n", r.display.c_str(),
                     r.journal.c_str(), r.cpu.c_str(), r.ticks, r.worst_ms, r.p99_ms, r.over_2ms, r.over_5ms, r.overruns,
                     static_cast<unsigned long long>(r.steps), r.frame_p50_ms, r.fifo ? "yes" : "no",
-                    met ? "target met" : "over target");
+                    verdict_text(verdict));
         if (!v.shared_cpu && r.fifo && r.reserved_cpu < 0)
             std::printf("  no CPU was set aside for the loop (fewer than 2 CPUs allowed)\n");
         if (!r.refused.empty()) std::printf("  SCHED_FIFO refused: %s\n", r.refused.c_str());
@@ -162,7 +163,8 @@ void run_stalls(const StallsCli& o, const BenchCommon& c) {
              {"memory_locked", r.locked},
              {"realtime_refused", r.refused},
              {"target_worst_ms", kTargetWorstMs},
-             {"target_met", met}});
+             {"verdict", verdict_text(verdict)},
+             {"target_met", target_met(verdict)}});
     }
     write_json_file((fs::path(c.out) / "stalls_bench.json").string(), rows);
 }

@@ -21,7 +21,8 @@ struct UndoBenchRow {
     double restore_median_ms = 0.0, contour_median_ms = 0.0;
     double history_bytes_per_stroke = 0.0;  ///< the history's bytes after the redos / strokes held
     double target_ms = 0.0;            ///< 16 (one 60 Hz frame) at N = 256; 0 = no target for this N
-    bool target_met = false;           ///< every undo and redo (max) within target_ms (false when no target)
+    /// Every undo and redo (max) within target_ms; false when there is no target or no undo or redo was timed.
+    bool target_met = false;
 };
 
 /// What to measure.

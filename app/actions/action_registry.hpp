@@ -13,7 +13,7 @@
 namespace tridex::app {
 
 /// What an action acts on: the session's tool, model, view and life. A `tridex run` session implements it
-/// (app/session/run_actions.hpp); tests implement it to record what was asked. One thread (the frame loop's).
+/// (app/session/run/run_actions.hpp); tests implement it to record what was asked. One thread (the frame loop's).
 class ActionTarget {
 public:
     virtual ~ActionTarget() = default;

@@ -10,7 +10,7 @@
 
 #include "app/actions/action_registry.hpp"
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/json_refusal.hpp"
 
 namespace tridex::app {
 
@@ -128,10 +128,8 @@ Bindings load_bindings(const std::string& path, const std::string& driver_name,
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception& e) {  // nlohmann's reason names the line, column and what it expected
-        const std::string what = e.what();
-        const std::size_t tag = what.find("] ");
-        throw Error(path + ": not valid JSON: " + printable(tag == std::string::npos ? what : what.substr(tag + 2), 240));
+    } catch (const nlohmann::json::exception& e) {  // the line, column and what was expected; 1e400 and its field
+        throw Error(path + ": not valid JSON: " + json_refusal<nlohmann::json>(text, e));
     }
     if (!j.is_object() || !j.contains("bindings"))
         throw Error(path + ": bindings: missing; the file holds {\"bindings\": {\"tool\": {...}, \"wand\": {...}}}");

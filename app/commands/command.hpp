@@ -1,9 +1,12 @@
 // app/commands/command.hpp - the command table: each `tridex` subcommand registers itself here, from its own file.
 //
-// How to add a command: write app/commands/<name>_command.cpp (or bench/..., for the benchmarks) holding
+// How to add a command: give it a folder app/commands/<name>/ with <name>.{hpp,cpp} doing its work
+// (<name>_cli.{hpp,cpp} instead where tests parse its options too: run, study) and <name>_command.cpp (bench/...,
+// for the benchmarks) registering it:
 //   static const tridex::app::CommandRegistration kRegistration{{"name", "one-line summary", rank, setup}};
 // where setup declares the command's options on the CLI11 subcommand it is given and returns the action that
-// runs it. Add the file to the `tridex_commands` object library (app/CMakeLists.txt); nothing else changes.
+// runs it. Add that file to the `tridex_commands` object library and the others to `tridex_app` (app/CMakeLists.txt);
+// nothing else changes.
 #pragma once
 
 #include <functional>

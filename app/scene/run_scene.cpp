@@ -254,7 +254,7 @@ void read_workspace(Fields& top, RunScene& s) {
             f.fail("workspace.scale", "must be a number (device -> world gain) or \"fit\"");
         s.workspace_fit = true;
     } else {
-        s.spec.workspace_scale = f.number("scale", s.spec.workspace_scale, 0.0, 100.0, true);
+        s.spec.workspace_scale = f.number("scale", s.spec.workspace_scale, kWorkspaceScaleMin, kWorkspaceScaleMax);
     }
     f.finish();
 }

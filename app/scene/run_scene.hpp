@@ -83,7 +83,8 @@ struct RunStudy {
 ///                    "static_friction": 0.3, "dynamic_friction": 0.2 }, ... ],   // contact per material id
 ///   "haptics": { "points": 1, "static_friction": 0.2, "dynamic_friction": 0.15, "cutting_force": true },
 ///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names; scale: the
-///                                                          // device -> world gain, or "fit" (workspace_fit)
+///                                                          // device -> world gain in [0.01, 100] (kWorkspaceScaleMin,
+///                                                          // kWorkspaceScaleMax), or "fit" (workspace_fit)
 ///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
 ///               "press_axis": "z" }  |  "none",              // app/scene/stroke.hpp plan_stroke
 ///   "cursor": [ {"t_s": 0.5, "x_px": 400, "y_px": 300, "buttons": 1}, ... ],  // device "mouse": the scripted
@@ -116,7 +117,7 @@ struct RunScene {
     bool device_named = false;          ///< the scene has a "device" block (else a window session uses the mouse)
     /// "workspace": {"scale": "fit"}: the session picks the device -> world gain so that what the hand must reach
     /// (a study's tube from cap to cap, a stroke's path, else the workpiece) fits the device's workspace: 1 when
-    /// it fits already, else the smallest gain that makes it fit (app/session/run_sculpt.hpp fit_workspace_scale).
+    /// it fits already, else the smallest gain that makes it fit (app/session/run/run_sculpt.hpp fit_workspace_scale).
     bool workspace_fit = false;
     /// Keys pressed at given device times ("keys": [{"t_s": 4.0, "press": "ctrl+z"}], in time order), handled
     /// like a window's keys (undo, redo, save, ...), offscreen too.

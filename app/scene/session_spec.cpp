@@ -126,8 +126,8 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     // The scene's range for the same coefficients (haptics.static_friction, [0, 10]).
     if (!(s.static_friction >= 0.0 && s.dynamic_friction >= 0.0 && s.dynamic_friction <= s.static_friction &&
           s.static_friction <= 10.0))
-        throw Error("--friction: need 0 <= dynamic <= static <= 10, got static " + format_number(s.static_friction) +
-                    ", dynamic " + format_number(s.dynamic_friction));
+        throw Error("static_friction, dynamic_friction: need 0 <= dynamic <= static <= 10, got static " +
+                    format_number(s.static_friction) + ", dynamic " + format_number(s.dynamic_friction));
     std::shared_ptr<const compute::MeshTool> loaded;  // kMesh without a mesh given: its file, loaded again
     ToolShape tool = s.tool;
     if (s.tool.kind == ToolKind::kMesh) {
@@ -212,7 +212,7 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     } catch (const Error&) {
         fail("device", "must be omni, wand, 6dof, falcon or tracked", "'" + s.device + "'");
     }
-    range("workspace_scale", s.workspace_scale, 0.0, 100.0, true);
+    range("workspace_scale", s.workspace_scale, kWorkspaceScaleMin, kWorkspaceScaleMax);
     range("stiffness_n_per_m", s.stiffness_n_per_m, 0.0, 1e5, true);
     range("damping_n_s_per_m", s.damping_n_s_per_m, 0.0, 1e3);
     range("static_friction", s.static_friction, 0.0, 10.0);

@@ -26,6 +26,12 @@ struct MaterialEntry {
     haptics::Material material;
 };
 
+/// The range of a session's workspace scale (device -> world gain). At the lowest, an Omni's 16 cm reach moves the tool
+/// 1.6 mm, little more than the smallest tool's diameter; a smaller gain divides every world distance of the hand's
+/// path into device metres beyond any device's reach (and, near 0, beyond a double's).
+inline constexpr double kWorkspaceScaleMin = 0.01;
+inline constexpr double kWorkspaceScaleMax = 100.0;  ///< the other end: an Omni's reach spans 16 m of the world
+
 /// Workpiece, tool, device and haptics settings of one session (SI units). The same spec always gives the
 /// same haptic loop configuration (loop_config) and, with the same device samples, the same model.
 struct SessionSpec {
@@ -73,7 +79,7 @@ struct SessionSpec {
     /// net: where the contact loop runs, "distributed" or "local" (devices/net/net_device.hpp).
     std::string haptic_rendering = "distributed";
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)
-    double workspace_scale = 1.0;            ///< device -> world gain
+    double workspace_scale = 1.0;            ///< device -> world gain, [kWorkspaceScaleMin, kWorkspaceScaleMax]
     /// World position of the device frame's origin, m (the loop's device_to_world.position). Sessions put
     /// the device's home (devices::home_position_m, its workspace centre) on the stroke's centre, so this is
     /// centre - workspace_scale * home; = the workspace centre for a device whose workspace is centred.

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include "app/support/assets.hpp"
 #include "core/error.hpp"
+#include "core/json_refusal.hpp"
 
 namespace tridex::app::study {
 
@@ -50,13 +52,14 @@ void read_look(const nlohmann::json& j, const std::string& path, const std::stri
 }  // namespace
 
 StudyScene read_study_scene(const std::string& path) {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot read the study scene");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(path + ": not JSON: " + e.what());
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {  // the line, column and what was expected; 1e400 and its field
+        throw Error(path + ": not valid JSON: " + json_refusal<nlohmann::json>(text, e));
     }
     only_known(j, {"tube", "wand", "protocol", "models"}, path, "");
     StudyScene s;

@@ -3,31 +3,24 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/json_refusal.hpp"
 
 namespace tridex::app {
 
-std::string json_reason(const nlohmann::json::exception& e) {
-    const std::string what = e.what();
-    const std::size_t end = what.find("] ");
-    // The parser quotes the bytes it last read: made printable, so that the message stays one line of text.
-    return printable(end == std::string::npos ? what : what.substr(end + 2), 240);
-}
-
 nlohmann::json read_scene_json(const std::string& path) {
     if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder; name a scene file (JSON)");
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot read the scene file");
-    nlohmann::json j;
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     try {
-        in >> j;
-    } catch (const nlohmann::json::exception& e) {  // the line and column and what was expected; 1e400; ...
-        throw Error(path + ": not valid JSON: " + json_reason(e));
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {  // the line and column and what was expected; 1e400 and its field
+        throw Error(path + ": not valid JSON: " + json_refusal<nlohmann::json>(text, e));
     }
-    return j;
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& j) {

@@ -13,11 +13,8 @@ void write_json_file(const std::string& path, const nlohmann::json& j);
 /// Reads a scene file `path` as JSON. Throws tridex::Error "<path>: is a folder; name a scene file (JSON)",
 /// "<path>: cannot read the scene file", "<path>: not valid JSON: parse error at line L, column C: syntax error
 /// while parsing object - unexpected string literal; expected '}'" (nlohmann's reason: the line, the column and what
-/// was expected there) or "<path>: not valid JSON: number overflow parsing '1e400'" (a number beyond a double's
-/// range).
+/// was expected there) or "<path>: not valid JSON: number overflow at line L, column C, field 'workpiece.stock_m':
+/// '1e400' is beyond a double's range ..." (core/json_refusal.hpp).
 nlohmann::json read_scene_json(const std::string& path);
-
-/// nlohmann's reason without its "[json.exception....] " prefix ("number overflow parsing '1e400'").
-std::string json_reason(const nlohmann::json::exception& e);
 
 }  // namespace tridex::app

@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/json_refusal.hpp"
 #include "core/printable.hpp"
 
 namespace tridex::renderer {
@@ -272,15 +274,14 @@ json display_config_to_json(const DisplayConfig& c) {
 }
 
 DisplayConfig load_display_config(const std::string& path) {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open the display config file");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     json j;
     try {
-        j = json::parse(in);
-    } catch (const json::exception& e) {  // the line, column and what was expected; 1e400; ...
-        const std::string what = e.what();
-        const std::size_t end = what.find("] ");
-        throw Error(path + ": not valid JSON: " + printable(end == std::string::npos ? what : what.substr(end + 2), 200));
+        j = json::parse(text);
+    } catch (const json::exception& e) {  // the line, column and what was expected; 1e400 and its field
+        throw Error(path + ": not valid JSON: " + json_refusal<json>(text, e));
     }
     return display_config_from_json(j, path);
 }

@@ -132,7 +132,7 @@ struct SceneView {
     double occlusion_radius_m = 0.012;
     double occlusion_strength = 1.0;
     /// How finely the occlusion is evaluated: per 2x2 pixels (the default) or per 4x4 (a quarter of its first
-    /// dispatch's work; a session on a frame-time budget chooses it, app/session/occlusion_budget.hpp).
+    /// dispatch's work; a session on a frame-time budget chooses it, app/session/view/frame_budget.hpp).
     OcclusionResolution occlusion_resolution = OcclusionResolution::kHalf;
 };
 

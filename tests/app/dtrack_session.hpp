@@ -9,8 +9,8 @@
 #include <thread>
 
 #include "../devices/dtrack_sender.hpp"
-#include "app/session/run_options.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_options.hpp"
+#include "app/session/run/run_session.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 
 namespace tridex::app::test {

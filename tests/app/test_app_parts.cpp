@@ -8,7 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/support/output_dir.hpp"
-#include "app/session/session.hpp"
+#include "app/session/view/framing.hpp"
+#include "app/session/batch/session.hpp"
 #include "app/scene/session_spec.hpp"
 #include "core/summary.hpp"
 #include "app/scene/stroke.hpp"

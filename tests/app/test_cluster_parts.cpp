@@ -217,6 +217,10 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
                   .find("'timeout_s'"),
               std::string::npos);
     EXPECT_NE(error_of("{").find("not valid JSON"), std::string::npos);
+    EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1e400,1]}]}]})")
+                  .find("not valid JSON: number overflow at line 1, column 67, field 'ranks[0].viewports[0].region[2]'"),
+              std::string::npos)
+        << error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1e400,1]}]}]})");
 }
 
 }  // namespace

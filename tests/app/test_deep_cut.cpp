@@ -12,9 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/commands/recover.hpp"
-#include "app/commands/replay.hpp"
-#include "app/session/run_session.hpp"
+#include "app/commands/recover/recover.hpp"
+#include "app/commands/replay/replay.hpp"
+#include "app/session/run/run_session.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "run_test_scene.hpp"

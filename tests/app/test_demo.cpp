@@ -62,6 +62,8 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
     const fs::path dir = fs::path(testing::TempDir()) / "tridex_bad_input";
     fs::create_directories(dir);
     std::ofstream(dir / "a_file") << "x";
+    std::ofstream(dir / "huge_scene.json") << "{ \"workpiece\": { \"resolution\": 32,\n                 \"stock_m\": 1e400 } }\n";
+    std::ofstream(dir / "gain_scene.json") << "{ \"workspace\": { \"mode\": \"scaling\", \"scale\": 1e-320 } }\n";
     const std::pair<std::string, std::string> cases[] = {
         {"demo --out " + (dir / "a_file").string(), "--out"},
         {"demo --out /dev/full", "--out /dev/full: not a folder"},
@@ -104,7 +106,14 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"demo --seconds +-1 --out " + (dir / "o").string(), "--seconds: '+-1' is not a decimal number"},
         {"demo --width 12.5 --out " + (dir / "o").string(), "--width: '12.5' is not a decimal number (a whole number)"},
         {"demo --width 1e3 --out " + (dir / "o").string(), "--width: '1e3' is not a decimal number (a whole number)"},
-        {"demo --static-friction 1e308 --out " + (dir / "o").string(), "--friction: need 0 <= dynamic <= static <= 10"},
+        {"demo --static-friction 1e308 --out " + (dir / "o").string(), "--static-friction: must be between 0 and 10, got 1e+308"},
+        {"demo --dynamic-friction 0.5 --out " + (dir / "o").string(),
+         "--dynamic-friction: must be between 0 and --static-friction (0.2), got 0.5"},
+        // Scene files: a number beyond a double's range and a workspace gain out of range, each placed and named.
+        {"run " + (dir / "huge_scene.json").string() + " --display offscreen --frames 1 --out " + (dir / "o").string(),
+         "huge_scene.json: not valid JSON: number overflow at line 2, column 29, field 'workpiece.stock_m': '1e400'"},
+        {"run " + (dir / "gain_scene.json").string() + " --display offscreen --frames 1 --out " + (dir / "o").string(),
+         "gain_scene.json: field 'workspace.scale': must be in [0.01, 100], got"},
     };
     for (const auto& [args, expect] : cases) {
         const RunResult r = run_tridex(args, dir / "run");

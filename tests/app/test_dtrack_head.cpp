@@ -14,7 +14,7 @@
 
 #include "../devices/dtrack_sender.hpp"
 #include "app/input/dtrack_head.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/off_axis.hpp"

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/commands/export_cmd.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/commands/export/export.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/frame_budget.hpp"
+#include "app/session/view/frame_budget.hpp"
 #include "core/error.hpp"
 
 namespace tridex {

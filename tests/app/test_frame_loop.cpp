@@ -1,4 +1,4 @@
-// The one frame loop (app/session/frame_loop.hpp): frames on the period's grid, news starting a frame early but not
+// The one frame loop (app/session/runtime/frame_loop.hpp): frames on the period's grid, news starting a frame early but not
 // before the gap, a late frame not made up, and a gap longer than the period refused. The checks are lower bounds on
 // when frames start (a sleep never ends early, so a frame never starts before its place on the grid or the gap) and
 // totals with wide margins, so a busy machine cannot fail them. A frame that starts late may be followed sooner than a
@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "app/session/frame_loop.hpp"
+#include "app/session/runtime/frame_loop.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

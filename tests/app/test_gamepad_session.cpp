@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "app/actions/bindings.hpp"
-#include "app/commands/demo.hpp"
-#include "app/session/run_actions.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/session/run/run_actions.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "devices/device_profiles.hpp"
 #include "devices/gamepad/gamepad_device.hpp"

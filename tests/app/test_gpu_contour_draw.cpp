@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
-#include "app/session/session.hpp"
+#include "app/session/batch/session.hpp"
 #include "app/scene/stroke.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"

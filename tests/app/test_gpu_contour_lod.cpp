@@ -10,11 +10,11 @@
 #include <memory>
 #include <vector>
 
-#include "app/commands/demo.hpp"
+#include "app/commands/demo/demo.hpp"
 #include "app/scene/stroke.hpp"
-#include "app/session/gpu_tile_split.hpp"
-#include "app/session/session.hpp"
-#include "app/session/tile_view.hpp"
+#include "app/session/view/gpu_tile_split.hpp"
+#include "app/session/batch/session.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"

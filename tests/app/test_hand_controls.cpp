@@ -20,7 +20,7 @@
 #include "app/menu/pie_menu.hpp"
 #include "app/menu/pie_menu_mesh.hpp"
 #include "app/scene/session_spec.hpp"
-#include "app/session/run_actions.hpp"
+#include "app/session/run/run_actions.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 
@@ -176,6 +176,11 @@ TEST(Bindings, AMalformedFileSaysLineAndColumn) {
     const std::string e = error_of([&] { (void)load_bindings(path, "flystick", driver_caps("flystick")); });
     EXPECT_NE(e.find(path + ": not valid JSON: parse error at line 5, column"), std::string::npos) << e;
     EXPECT_NE(e.find("expected"), std::string::npos) << e;
+    std::ofstream(path) << R"({"bindings": {"tool": {"buttons": {"button1": 1e400}}}})";
+    const std::string huge = error_of([&] { (void)load_bindings(path, "flystick", driver_caps("flystick")); });
+    EXPECT_NE(huge.find(path + ": not valid JSON: number overflow at line 1, column 47, field 'bindings.tool.buttons.button1'"),
+              std::string::npos)
+        << huge;
     std::ofstream(path) << R"({"bindings": {"tool": {"buttons": {"button2": "edit.redo"}}}})";
     const Bindings b = load_bindings(path, "flystick", driver_caps("flystick"));
     EXPECT_EQ(b.tool.action_of(3), "edit.redo");

@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/session/run_session.hpp"
-#include "app/session/session.hpp"
+#include "app/session/run/run_session.hpp"
+#include "app/session/batch/session.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/tool_mesh.hpp"
 #include "core/error.hpp"

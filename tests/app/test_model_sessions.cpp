@@ -9,11 +9,11 @@
 #include <string>
 
 #include "test_files.hpp"
-#include "app/commands/demo.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/session/run_session.hpp"
-#include "app/session/session.hpp"
+#include "app/session/run/run_session.hpp"
+#include "app/session/batch/session.hpp"
 #include "app/scene/session_spec.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

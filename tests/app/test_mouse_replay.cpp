@@ -12,10 +12,10 @@
 
 #include "app/input/key_script.hpp"
 #include "app/input/mouse_stylus.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/input/run_input.hpp"
-#include "app/session/run_actions.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_actions.hpp"
+#include "app/session/run/run_session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "run_test_scene.hpp"

@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/session/session_runtime.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "app/scene/session_spec.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_reader.hpp"

@@ -10,9 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/commands/demo.hpp"
-#include "app/commands/replay.hpp"
-#include "app/session/session.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/commands/replay/replay.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "run_test_scene.hpp"

@@ -1,5 +1,5 @@
 // One session pipeline: `tridex demo`, `tridex replay` and `tridex run --display offscreen` carve the same model bit
-// for bit from the same scripted stroke, and write one report.json schema (app/session/session_report.cpp's, null where
+// for bit from the same scripted stroke, and write one report.json schema (app/session/report/session_report.cpp's, null where
 // a session has no value) whose every key docs/report.md documents.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/session/session_report.hpp"
+#include "app/session/report/session_report.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "test_files.hpp"
 

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "renderer/image/image.hpp"
 #include "run_test_scene.hpp"
 

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "core/error.hpp"
 #include "renderer/image/image.hpp"
 #include "renderer/image/image_compare.hpp"

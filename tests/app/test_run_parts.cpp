@@ -15,15 +15,15 @@
 #include <CLI/CLI.hpp>
 
 #include "app/actions/action_registry.hpp"
-#include "app/commands/run_cli.hpp"
+#include "app/commands/run/run_cli.hpp"
 #include "app/input/run_input.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/session/run_actions.hpp"
-#include "app/session/run_options.hpp"
-#include "app/session/run_sculpt.hpp"
-#include "app/session/run_session.hpp"
-#include "app/session/run_view.hpp"
-#include "app/session/session.hpp"
+#include "app/session/run/run_actions.hpp"
+#include "app/session/run/run_options.hpp"
+#include "app/session/run/run_sculpt.hpp"
+#include "app/session/run/run_session.hpp"
+#include "app/session/view/run_view.hpp"
+#include "app/session/batch/session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
 
@@ -133,6 +133,24 @@ TEST(RunScene, BadFieldsAreRefusedNamingFileAndField) {
 
 // A "fit" workspace: the device -> world gain is 1 while the reach fits 90 % of the workspace, else the ratio of
 // the reach to 90 % of the workspace on the tightest axis.
+// The workspace gain's range, [kWorkspaceScaleMin, kWorkspaceScaleMax], both ends in: a scene's and a recording's.
+TEST(RunScene, AWorkspaceScaleOutOfRangeIsRefusedWithItsRange) {
+    for (const char* bad : {"0", "1e-320", "0.00999", "100.5", "-1"}) {
+        const std::string m = error_of([&] {
+            (void)run_scene_from_json(json::parse(std::string(R"({"workspace": {"scale": )") + bad + "}}"), "scene.json", ".");
+        });
+        EXPECT_EQ(m.rfind("scene.json: field 'workspace.scale': must be in [0.01, 100], got ", 0), 0u) << bad << " -> " << m;
+    }
+    for (const double good : {kWorkspaceScaleMin, 1.0, kWorkspaceScaleMax}) {
+        const json j = {{"workspace", {{"scale", good}}}};
+        EXPECT_EQ(run_scene_from_json(j, "scene.json", ".").spec.workspace_scale, good);
+    }
+    SessionSpec s;
+    s.workspace_scale = 1e-320;
+    EXPECT_NE(error_of([&] { validate_spec(s, "rec.trdx"); }).find("'workspace_scale': must be in [0.01, 100], got"),
+              std::string::npos);
+}
+
 TEST(RunScene, FitWorkspaceScale) {
     const RunScene s = run_scene_from_json(json::parse(R"({"workspace": {"scale": "fit"}})"), "scene.json", ".");
     EXPECT_TRUE(s.workspace_fit);
@@ -158,12 +176,24 @@ TEST(RunScene, UnreadableAndInvalidFilesAreNamed) {
     const std::string said = error_of([&] { (void)load_run_scene(comma); });
     EXPECT_NE(said.find(comma + ": not valid JSON: parse error at line 3, column"), std::string::npos) << said;
     EXPECT_NE(said.find("expected '}'"), std::string::npos) << said;
-    // A number beyond a double's range is a bad file, named with the number, not an internal error.
+    // A number beyond a double's range is a bad file, named with its line, column, field and number.
     const std::string huge = (dir / "huge.json").string();
-    std::ofstream(huge) << "{ \"workpiece\": { \"resolution\": 1e400 } }";
-    EXPECT_NE(error_of([&] { (void)load_run_scene(huge); }).find(huge + ": not valid JSON: number overflow parsing '1e400'"),
+    std::ofstream(huge) << "{ \"workpiece\": { \"resolution\": 64,\n                \"stock_m\": 1e400 } }";
+    EXPECT_EQ(error_of([&] { (void)load_run_scene(huge); }),
+              huge + ": not valid JSON: number overflow at line 2, column 28, field 'workpiece.stock_m': '1e400' is "
+                     "beyond a double's range (magnitudes up to about 1.8e308)");
+    const std::string hz = (dir / "hz.json").string();
+    std::ofstream(hz) << "{ \"display\": { \"refresh_hz\": 1e400 } }";
+    EXPECT_NE(error_of([&] { (void)load_run_scene(hz); }).find(hz + ": not valid JSON: number overflow at line 1, column "
+                                                                  "30, field 'display.refresh_hz': '1e400'"),
               std::string::npos)
-        << error_of([&] { (void)load_run_scene(huge); });
+        << error_of([&] { (void)load_run_scene(hz); });
+    // A workspace gain too small to move the tool is refused naming the field and its range, not the hand's path.
+    const std::string gain = (dir / "gain.json").string();
+    std::ofstream(gain) << "{ \"workspace\": { \"scale\": 1e-320 } }";
+    EXPECT_EQ(error_of([&] { (void)load_run_scene(gain); }).rfind(gain + ": field 'workspace.scale': must be in [0.01, 100], got ", 0),
+              0u)
+        << error_of([&] { (void)load_run_scene(gain); });
     // A stock too small for any tool is refused naming its own field, not a tool's.
     const std::string tiny = (dir / "tiny.json").string();
     std::ofstream(tiny) << "{ \"workpiece\": { \"stock_m\": 1e-320 } }";

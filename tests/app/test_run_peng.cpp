@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "test_files.hpp"
-#include "app/commands/replay.hpp"
-#include "app/session/run_session.hpp"
-#include "app/session/session.hpp"
+#include "app/commands/replay/replay.hpp"
+#include "app/session/run/run_session.hpp"
+#include "app/session/batch/session.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "core/error.hpp"
 #include "devices/haptic_device.hpp"

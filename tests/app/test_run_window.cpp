@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../renderer/test_window_xvfb.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "core/error.hpp"
 #include "run_test_scene.hpp"
 #include "test_files.hpp"

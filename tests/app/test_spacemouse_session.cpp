@@ -17,7 +17,7 @@
 
 #include "../devices/spnav_standin.hpp"
 #include "app/scene/run_scene.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "core/error.hpp"
 #include "devices/recording.hpp"
 #include "run_test_scene.hpp"

@@ -82,7 +82,10 @@ TEST(StudyScene, RefusesBadFields) {
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]]}, "protocol": {"test_trials": 1.5}})", "protocol.test_trials");
     refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,0]]}, "models": {"test": {"tube": {"felt": 1}}}})",
             "field 'models.test.tube.felt'");
-    refused("{", "not JSON");
+    refused("{", "not valid JSON: parse error at line 1");
+    // A number beyond a double's range is placed and its field named, not left to escape as an internal error.
+    refused(R"({"tube": {"spine_m": [[0,0,0],[0.1,0,1e400]]}})",
+            "not valid JSON: number overflow at line 1, column 38, field 'tube.spine_m[1][2]': '1e400'");
 }
 
 // A recording of a wand held upright (top and bottom 20 mm apart in y) pushed from the start cap to the end cap

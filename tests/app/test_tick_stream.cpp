@@ -1,4 +1,4 @@
-// A recording streamed while the session runs (app/session/tick_stream.hpp): longer than any in-memory record
+// A recording streamed while the session runs (app/session/record/tick_stream.hpp): longer than any in-memory record
 // buffer, bounded memory, written atomically, nothing left in the folder.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <thread>
 
-#include "app/session/tick_stream.hpp"
+#include "app/session/record/tick_stream.hpp"
 #include "devices/recording.hpp"
 
 namespace tridex::app {

@@ -12,9 +12,9 @@
 #include <thread>
 #include <utility>
 
-#include "app/commands/demo.hpp"
-#include "app/session/session_runtime.hpp"
-#include "app/session/tile_view.hpp"
+#include "app/commands/demo/demo.hpp"
+#include "app/session/runtime/session_runtime.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "gpu/context.hpp"

@@ -16,10 +16,10 @@
 #include <nlohmann/json.hpp>
 
 #include "../devices/dtrack_sender.hpp"
-#include "app/commands/replay.hpp"
+#include "app/commands/replay/replay.hpp"
 #include "app/menu/menu_frame.hpp"
-#include "app/session/run_options.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_options.hpp"
+#include "app/session/run/run_session.hpp"
 #include "devices/recording.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "dtrack_session.hpp"

@@ -268,7 +268,8 @@ TEST(HouseRules, NoNewIncludeLoopBetweenFolders) {
 }
 
 // app/'s layers (commands -> session -> {scene, menu} -> {input, actions} -> support): each folder of app/ includes only its own layer
-// and those below it. The input sources (app/input/: the mouse stylus, scripted cursor and keys, DTrack head and wand)
+// and those below it; a layer's sub-folders (session/run/, commands/demo/, ...) are that layer. The input sources
+// (app/input/: the mouse stylus, scripted cursor and keys, DTrack head and wand)
 // read devices and the renderer's events, never a scene or the session wiring above them; app/main.cpp, the
 // dispatcher, sits on top.
 int app_layer(const std::string& rel) {
@@ -284,6 +285,9 @@ int app_layer(const std::string& rel) {
 TEST(HouseRules, AppLayersAreKnownFolders) {
     EXPECT_EQ(app_layer("app/main.cpp"), 5);
     EXPECT_EQ(app_layer("app/commands/study/study_run.cpp"), 4);
+    EXPECT_EQ(app_layer("app/commands/demo/demo_command.cpp"), 4);
+    EXPECT_EQ(app_layer("app/session/run/run_session.cpp"), 3);
+    EXPECT_EQ(app_layer("app/session/report/session_report.hpp"), 3);
     EXPECT_EQ(app_layer("app/scene/run_scene.hpp"), 2);
     EXPECT_EQ(app_layer("app/demo.cpp"), -1);
     int checked = 0;
@@ -291,6 +295,24 @@ TEST(HouseRules, AppLayersAreKnownFolders) {
         ++checked;
         EXPECT_GE(app_layer(rel), 0) << rel << ": app/ holds main.cpp and the folders commands/, session/, scene/, menu/, "
                                      << "input/, actions/ and support/ only; put the file in the layer it belongs to";
+    }
+    EXPECT_GT(checked, 50);
+}
+
+// app/commands/ holds the command table at its top and a folder per command; app/session/ holds only its folders, one
+// per idea (runtime/, record/, view/, report/, run/, batch/, cluster/).
+TEST(HouseRules, AppCommandsAndSessionKeepTheirFilesInFolders) {
+    const std::set<std::string> kTopOfCommands = {"app/commands/command.cpp", "app/commands/command.hpp"};
+    int checked = 0;
+    for (const std::string& rel : sources(kRoot, {"app/commands", "app/session"})) {
+        ++checked;
+        const std::string folder = fs::path(rel).parent_path().generic_string();
+        if (folder == "app/commands") {
+            EXPECT_TRUE(kTopOfCommands.count(rel)) << rel << ": a command's files go in its folder app/commands/NAME/ "
+                                                   << "(NAME.hpp/.cpp its work, NAME_command.cpp its registration)";
+        }
+        EXPECT_NE(folder, "app/session") << rel << ": a session's part goes in the folder of its idea under "
+                                         << "app/session/ (runtime, record, view, report, run, batch, cluster)";
     }
     EXPECT_GT(checked, 50);
 }

@@ -132,7 +132,7 @@ TEST(LayoutRule, SyntheticViolatingIncludesAreRejected) {
         "#include \"devices/haptic_device.hpp\"\n"
         "#include \"gpu/context.hpp\"\n"
         "#  include <vulkan/vulkan.h>\n"
-        "#include \"app/session/session.hpp\"\n";
+        "#include \"app/session/batch/session.hpp\"\n";
     const auto v = check_source(r, "haptics", "haptics/synthetic.cpp", text, kModules);
     ASSERT_EQ(v.size(), 3u);
     EXPECT_EQ(v[0].line, 4);
@@ -168,7 +168,7 @@ TEST(LayoutRule, FilesInSubFoldersAreCheckedAsTheirModule) {
         std::ofstream(root / rel) << text;
     };
     write("core/units.hpp", "#pragma once\n");
-    write("compute/runtime/deep/x.cpp", "#include \"core/units.hpp\"\n#include \"app/session/session.hpp\"\n");
+    write("compute/runtime/deep/x.cpp", "#include \"core/units.hpp\"\n#include \"app/session/batch/session.hpp\"\n");
     write("renderer/stereo/y.hpp", "#include \"gpu/context.hpp\"\n#include \"compute/model/tridexel.hpp\"\n");
     write("bench/z.cpp", "#include \"app/stats.hpp\"\n");
     write("app/cli/w.cpp", "#include \"bench/z.hpp\"\n");

@@ -177,8 +177,11 @@ TEST(DisplayConfig, UnreadableOrMalformedFilesAreNamed) {
         EXPECT_NE(std::string(e.what()).find(missing), std::string::npos);
     }
     EXPECT_NE(load_error("broken.json", "{\"stereo\": ").find("broken.json: not valid JSON"), std::string::npos);
-    EXPECT_NE(load_error("huge.json", "{\"refresh_hz\": 1e400}").find("huge.json: not valid JSON: number overflow"),
-              std::string::npos);
+    EXPECT_NE(load_error("huge.json", "{\"stereo\": \"anaglyph\",\n \"refresh_hz\": 1e400}")
+                  .find("huge.json: not valid JSON: number overflow at line 2, column 16, field 'refresh_hz': '1e400' "
+                        "is beyond a double's range"),
+              std::string::npos)
+        << load_error("huge.json", "{\"stereo\": \"anaglyph\",\n \"refresh_hz\": 1e400}");
     EXPECT_NE(load_error("array.json", "[1, 2]").find("array.json: a display config must be a JSON object"),
               std::string::npos);
     DisplayConfig bad;

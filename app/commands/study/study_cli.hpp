@@ -1,4 +1,4 @@
-// app/commands/study/study_cli.hpp - the `tridex study` subcommands (app/commands/study_command.cpp registers them).
+// app/commands/study/study_cli.hpp - the `tridex study` subcommands (study_command.cpp here registers them).
 #pragma once
 
 #include "app/commands/study/study_analyze.hpp"

@@ -10,7 +10,7 @@
 
 #include "app/support/json_file.hpp"
 #include "app/support/output_dir.hpp"
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 #include "app/scene/study_recording.hpp"
 #include "app/scene/study_objects.hpp"
 #include "app/commands/study/study_sim.hpp"

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <memory>
 
-#include "app/session/frame_loop.hpp"
-#include "app/session/session_recording.hpp"
+#include "app/session/runtime/frame_loop.hpp"
+#include "app/session/record/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/study_objects.hpp"
 #include "app/scene/study_participant.hpp"

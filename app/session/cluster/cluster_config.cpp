@@ -12,6 +12,7 @@
 
 #include "app/support/json_fields.hpp"
 #include "core/error.hpp"
+#include "core/json_refusal.hpp"
 
 namespace tridex::app {
 
@@ -127,8 +128,8 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(source + ": not valid JSON: " + e.what());
+    } catch (const json::exception& e) {  // the line, column and what was expected; 1e400 and its field
+        throw Error(source + ": not valid JSON: " + json_refusal<json>(text, e));
     }
     Fields f(j, source, "");
     ClusterConfig c;

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "app/scene/session_spec.hpp"
-#include "app/session/run_view.hpp"
+#include "app/session/view/run_view.hpp"
 #include "compute/model/model_digest.hpp"
 #include "renderer/camera/off_axis.hpp"
 #include "renderer/camera/scene_navigation.hpp"

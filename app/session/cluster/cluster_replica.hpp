@@ -11,7 +11,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/cluster/cluster_config.hpp"
 #include "app/session/cluster/frame_message.hpp"
-#include "app/session/tile_view.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/journal/journal_replay.hpp"

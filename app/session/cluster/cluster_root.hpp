@@ -12,8 +12,8 @@
 #include "app/session/cluster/cluster_config.hpp"
 #include "app/session/cluster/cluster_transport.hpp"
 #include "app/session/cluster/frame_message.hpp"
-#include "app/session/session_companion.hpp"
-#include "app/session/session_report.hpp"
+#include "app/session/runtime/session_companion.hpp"
+#include "app/session/report/session_report.hpp"
 #include "compute/journal/stream_buffer.hpp"
 #include "core/duration_histogram.hpp"
 

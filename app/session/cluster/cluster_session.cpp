@@ -8,7 +8,7 @@
 #include "app/session/cluster/cluster_root.hpp"
 #include "app/session/cluster/cluster_transport.hpp"
 #include "app/session/cluster/render_rank.hpp"
-#include "app/session/run_pipeline.hpp"
+#include "app/session/run/run_pipeline.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {

@@ -2,7 +2,7 @@
 // the other ranks draw the wall's viewports.
 #pragma once
 
-#include "app/session/run_session.hpp"
+#include "app/session/run/run_session.hpp"
 
 namespace tridex::app {
 

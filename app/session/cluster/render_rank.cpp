@@ -14,7 +14,7 @@
 
 #include "app/session/cluster/cluster_replica.hpp"
 #include "app/session/cluster/frame_message.hpp"
-#include "app/session/session_report.hpp"
+#include "app/session/report/session_report.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/duration_histogram.hpp"
 #include "core/error.hpp"

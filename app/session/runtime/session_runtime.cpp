@@ -1,0 +1,243 @@
+// app/session/runtime/session_runtime.cpp - a session's threads from its spec.
+#include "app/session/runtime/session_runtime.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/scene/tool_mesh.hpp"
+#include "app/support/crash_report.hpp"
+#include "app/support/memory.hpp"
+#include "app/support/stop_signal.hpp"
+#include "compute/mesh/mesh_io.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tdx_file.hpp"
+#include "compute/model/volume.hpp"
+#include "compute/model/workpiece.hpp"
+#include "core/error.hpp"
+#include "devices/net/net_device.hpp"
+#include "gpu/context.hpp"
+#include "haptics/tool_points.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::size_t kRingCapacity = 1 << 16;  // tool samples: 65 s of ticks
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+bool gpu_contour_default(const gpu::Context& context, std::string& reason) {
+    if (context.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) return true;
+    reason = "the Vulkan device (" + context.device_name() +
+             ") is a CPU implementation, where the CPU contour is faster; --gpu-contour forces GPU contouring";
+    return false;
+}
+
+BackendRequest backend_request(const SculptOptions& s) {
+    BackendRequest r;
+    r.mode = backend_mode(s.cpu, s.gpu);
+    r.gpu_contour = s.gpu_contour;
+    r.gpu_clay = s.gpu_clay;
+    check_backend_request(r);
+    return r;
+}
+
+SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
+                               const Vec3& start_m, const RuntimeOptions& o)
+    : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)),
+      mesh_tool_(spec.tool.kind == ToolKind::kMesh ? make_session_mesh_tool(spec.tool_mesh_path, spec.tool_size_m) : nullptr),
+      cfg_(loop_config(spec, o.max_ticks, tool_mesh())) {
+    if (!device_) throw Error("SessionRuntime: no haptic device");
+    cfg_.tool_schedule = o.loop.tool_schedule;
+    cfg_.engage_mask |= o.loop.engage_mask;
+    configure_net_device(*device_, cfg_);  // local rendering: the server's loop gets the contact parameters
+    // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
+    // enabled by the haptic loop when it starts and disabled when it stops.
+    device_->open();
+    try {
+        device_->home();
+        build(start_m, o);
+    } catch (...) {
+        device_->close();
+        throw;
+    }
+}
+
+void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
+    choose_contour(o);
+    contourer_ = std::make_unique<compute::Contourer>(wp_.model);
+    const auto t0 = Clock::now();
+    {
+        const StopEndsSetUp set_up("contouring the workpiece");  // no force sent, no work to keep yet
+        if (gpu_contour_) {
+            tiles_initial_ = gpu_contour_->update_all();
+            wp_.model.clear_dirty();
+        } else {
+            tiles_initial_ = contourer_->update(wp_.model);
+        }
+    }
+    contour_s_ = seconds_since(t0);
+    ring_ = std::make_unique<SpscRing<ToolSample>>(kRingCapacity);
+    sculpt_ = std::make_unique<SculptThread>(wp_.model, *contourer_, *ring_, surface_, start_m, cfg_.contact.tool_radius_m,
+                                             haptics::max_point_distance_m(cfg_.tool_points));
+    booleans_.backend->set_clay_group_sweeps(spec_.clay_group_sweeps);  // the grouping decides the model
+    sculpt_->use_backend(*booleans_.backend);
+    if (!o.sculpt.journal.empty()) {
+        journal_ = std::make_unique<compute::JournalWriter>(o.sculpt.journal, spec_to_json(spec_));
+        set_crash_note("the session's journal is " + o.sculpt.journal + ": `tridex recover " + o.sculpt.journal +
+                       "` rebuilds the model up to its last complete record");
+        sculpt_->use_journal(*journal_);
+        if (o.sculpt.checkpoint_s > 0.0) {
+            const std::filesystem::path jp(o.sculpt.journal);
+            const std::string name = jp.filename().string() + ".checkpoint.tdx";
+            const std::string path = (jp.parent_path() / name).string();
+            sculpt_->use_checkpoints(
+                [name, path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
+                    compute::save_tdx(path, m, to_world, settings);  // atomic: a failure keeps the previous one
+                    const auto [crc, bytes] = file_crc32(path);
+                    return CheckpointFile{name, bytes, crc};
+                },
+                o.sculpt.checkpoint_s);
+        }
+    }
+    sculpt_->set_history_budget(spec_.history_budget_bytes);
+    sculpt_->remove_islands(!spec_.keep_islands);
+    // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
+    if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
+    if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
+    if (o.sculpt.stream) sculpt_->use_stream(*o.sculpt.stream);
+    if (!o.sculpt.save_path.empty()) {
+        sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
+            compute::save_tdx(path, m, to_world, settings);
+            return "saved " + path;
+        });
+    }
+    if (mesh_tool_) sculpt_->use_mesh_tools({mesh_tool_});  // ToolShape::mesh_id 0
+    if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
+    if (o.publish_meshes && (o.mesh_form == MeshForm::kTiles || gpu_contour_) && o.sculpt.tile_lod) {
+        compute::LodWorkerOptions lod;
+        lod.lod.cell_m = wp_.model.lattice.cell_m;
+        sculpt_->use_tile_lod(lod);
+    }
+    if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form, &sculpted_changes_);
+    // A device that renders contact next to itself (net, local rendering) gets each snapshot from the sculpt thread.
+    if (const auto* net = dynamic_cast<const devices::net::NetDevice*>(device_.get());
+        net && net->mode() == devices::net::RenderingMode::kLocal)
+        sculpt_->observe_surface([dev = device_.get()](const ActiveSurface& s) { dev->observe_surface(s); });
+    if (!o.sculpt.stream_recording.empty()) {
+        tick_stream_ = std::make_unique<TickStream>(spec_, o.sculpt.stream_recording);
+        cfg_.record_stream = &tick_stream_->ring();
+    }
+    loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+    if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
+        std::fprintf(stderr,
+                     "tridex: contact stiffness cut to %.0f N/m (world): the %s renders at most %.0f N/m at a workspace "
+                     "gain of %g\n",
+                     loop_->config().contact.stiffness_n_per_m, device_->profile().name.c_str(),
+                     device_->profile().max_stiffness_n_per_m, cfg_.workspace_scale);
+        cfg_.contact.stiffness_n_per_m = loop_->config().contact.stiffness_n_per_m;
+        cfg_.contact.materials = loop_->config().contact.materials;
+    }
+}
+
+void SessionRuntime::choose_contour(const RuntimeOptions& o) {
+    const SculptOptions& s = o.sculpt;
+    const BackendRequest request = backend_request(s);  // refuses flags that disagree before any Vulkan work
+    const bool cpu_forced = request.mode == BackendMode::kCpu;
+    gpu::Context* shared = o.render_context;
+    if (!shared && !cpu_forced) {
+        // Demo and replay: one Context for the Booleans, the GPU contour and the final render.
+        gpu::ContextOptions gopt;
+        gopt.validation = s.validate;
+        try {
+            own_context_.emplace(gpu::Context::create(gopt));
+            shared = &*own_context_;
+        } catch (const Error&) {
+            // make_boolean_backend below says why the CPU runs
+        }
+    }
+    // A live renderer's Context is shared only for GPU contouring: on lavapipe one Context is one queue, so GPU
+    // Booleans on it would wait behind the frame in flight.
+    if (s.cpu_contour)
+        contour_reason_ = "--cpu-contour given";
+    else if (o.publish_meshes && o.mesh_form == MeshForm::kWhole)
+        contour_reason_ = "the whole-mesh form (--no-tiles) needs the CPU mesh";
+    else if (!shared)
+        contour_reason_ = cpu_forced ? "the Booleans run on the CPU" : "no Vulkan Context for the contour";
+    else if (!cpu_forced && !s.gpu_contour) {
+        std::string why;  // a CPU implementation of Vulkan: the CPU contour is faster there
+        if (!gpu_contour_default(*shared, why)) contour_reason_ = why;
+    }
+    const bool share = shared && (own_context_ || contour_reason_.empty());
+    booleans_ = share ? make_boolean_backend_on(wp_.model, request, *shared)
+                      : make_boolean_backend(wp_.model, request, s.validate);
+    if (!contour_reason_.empty()) return;
+    if (!booleans_.backend->gpu_slabs()) {
+        contour_reason_ = "the Booleans run on the CPU";
+        return;
+    }
+    try {
+        gpu_contour_ = std::make_unique<GpuContourShare>(*shared, *booleans_.backend->gpu_slabs(), wp_.model);
+    } catch (const Error& e) {
+        contour_reason_ = std::string("the device cannot contour: ") + e.what();
+        // CPU contouring after all: with a live renderer the Booleans get a Context of their own again, so they
+        // do not wait behind the frames (nothing has been sculpted yet).
+        if (!own_context_) booleans_ = make_boolean_backend(wp_.model, request, s.validate);
+    }
+}
+
+SessionRuntime::~SessionRuntime() {
+    try {
+        stop();
+    } catch (...) {  // a sculpt failure nobody asked about: the owner is going away
+    }
+    if (device_) device_->close();  // never started: it was opened and homed by the constructor
+    if (journal_) set_crash_note("");
+}
+
+void SessionRuntime::start() {
+    if (started_) return;
+    started_ = true;
+    t_start_ = Clock::now();
+    sculpt_->start();
+    if (tick_stream_) tick_stream_->start();
+    loop_->start();
+}
+
+void SessionRuntime::stop() {
+    if (!started_ || stopped_) return;
+    stopped_ = true;
+    loop_->stop();  // zero force, device disabled
+    if (tick_stream_) tick_stream_->stop();  // every tick the loop pushed is in the temporary file
+    session_s_ = seconds_since(t_start_);
+    device_->close();
+    try {
+        sculpt_->stop();  // drains the ring, publishes the last surface, syncs the journal; rethrows a failure
+    } catch (...) {
+        if (journal_) journal_->close();
+        throw;
+    }
+    if (journal_) journal_->close();
+}
+
+SessionRuntime::FinalMesh SessionRuntime::final_mesh() {
+    if (started_ && !stopped_) throw Error("SessionRuntime::final_mesh: call stop() first");
+    if (gpu_contour_) std::fill(wp_.model.tiles.dirty.begin(), wp_.model.tiles.dirty.end(), std::uint8_t{1});
+    contourer_->update(wp_.model);
+    return FinalMesh{contourer_->mesh(), contourer_->mesh_materials()};
+}
+
+void SessionRuntime::release_gpu_booleans() {
+    if (started_ && !stopped_) throw Error("SessionRuntime::release_gpu_booleans: call stop() first");
+    if (!gpu_contour_ && booleans_.backend && booleans_.backend->gpu_slabs()) booleans_.backend.reset();
+}
+
+std::uint32_t SessionRuntime::sculpt_validation_messages() const {
+    return booleans_.backend ? booleans_.backend->validation_messages() : 0u;
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,36 @@
+// app/session/view/tile_view.hpp - the contoured tiles (compute::TileSurface) and their groups (compute::TileGroupSurface)
+// as the renderer's tile and group lists, with their levels of detail.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "renderer/scene/tile_group_lod.hpp"
+#include "renderer/scene/tile_mesh_cache.hpp"
+
+namespace tridex::app {
+
+/// The renderer's view of a list of tiles and groups: `tiles` for SceneView::tiles and `groups` for
+/// SceneView::tile_groups, whose levels point into `levels`. They keep pointers into the TileSurfaces and
+/// TileGroupSurfaces, which must outlive the use of the view.
+struct TileView {
+    std::vector<renderer::TileMesh> tiles;
+    std::vector<renderer::TileGroup> groups;
+    std::vector<renderer::TileMeshLevel> levels;
+};
+
+/// Fills `out` (reusing its storage) with one renderer::TileMesh per surface (mesh, bounds, version, id,
+/// materials) and, when with_lods, its TileSurface::lods as TileMesh::levels (the full mesh's normals at
+/// the kept vertices), and one renderer::TileGroup per group (levels, bounds, version, parent index; each
+/// tile's TileMesh::group names its depth-1 group). Without with_lods `groups` stays empty. Null pointers
+/// are skipped (their children then have no group / parent).
+void tile_view_of(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
+                  std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
+                  TileView& out);
+/// As above for a TileSurfaceCache's own lists.
+void tile_view_of(std::span<const compute::TileSurface> surfaces, std::span<const compute::TileGroupSurface> groups,
+                  bool with_lods, TileView& out);
+
+}  // namespace tridex::app
