@@ -24,7 +24,7 @@
 namespace tridex::app {
 
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt,
-                const std::string& save, const StripRequest& strip, bool keep_islands) {
+                const std::string& save, const StripRequest& strip, bool keep_islands, bool realtime) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     prepare_output_dir(out.out, "--out");
@@ -66,6 +66,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
         throw Error(recording_path + ": " + e.what());
     }
     loop.engage_mask = engage_mask_for(s.device_driver);
+    loop.free_run = !realtime;  // nothing is drawn while it runs: nothing to keep pace with
+    loop.recorded_ticks = rec.ticks.size();
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
     devices::DeviceInputs inputs;

@@ -19,6 +19,7 @@ struct ReplayCli {
     StripRequest strip;
     std::string strip_size = "320x240";
     bool keep_islands = false;
+    bool realtime = false;
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -46,6 +47,9 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_flag("--keep-islands", o->keep_islands,
                  "Keep the specks cuts left floating even when the recorded session removed them (default: as the "
                  "recording says)");
+    cmd.add_flag("--realtime", o->realtime,
+                 "Play the samples at the recorded rate, taking as long as the session did (default: as fast as the "
+                 "sculpting goes; the same model either way)");
     cmd.add_option("--strip", o->strip.path,
                    "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "
                    "into FILE.png");
@@ -54,7 +58,7 @@ CommandAction setup_replay(CLI::App& cmd) {
     return [o] {
         std::tie(o->strip.options.width, o->strip.options.height) = parse_image_size(o->strip_size, "--strip-size");
         o->strip.options.ao = o->out.ao;
-        run_replay(o->file, o->out, o->sculpt, o->save, o->strip, o->keep_islands);
+        run_replay(o->file, o->out, o->sculpt, o->save, o->strip, o->keep_islands, o->realtime);
         return 0;
     };
 }

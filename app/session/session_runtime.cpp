@@ -54,6 +54,7 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
     if (!device_) throw Error("SessionRuntime: no haptic device");
     cfg_.tool_schedule = o.loop.tool_schedule;
     cfg_.engage_mask |= o.loop.engage_mask;
+    cfg_.free_run = o.loop.free_run;
     configure_net_device(*device_, cfg_);  // local rendering: the server's loop gets the contact parameters
     // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
     // enabled by the haptic loop when it starts and disabled when it stops.
