@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "app/support/output_dir.hpp"
+#include "app/support/progress.hpp"
 #include "app/session/session_recording.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
@@ -102,10 +103,15 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
             gpu::Context ctx = gpu::Context::create(gopt);
             FilmStripOptions so = strip.options;
             if (menu_track.size() > 0) so.menu = &menu_track;
+            ProgressReporter::Step step = progress().step("drawing the film strip");
+            so.progress = step.fn();
             const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), so, ctx);
+            step.finish();
             const auto with_menu = std::count(f.menu_shown.begin(), f.menu_shown.end(), true);
-            std::printf("film strip: %d pictures (%d with the menu), %dx%d px, %s\n", strip.options.frames,
-                        static_cast<int>(with_menu), f.width, f.height, strip.path.c_str());
+            std::printf(
+                "film strip: %d pictures (%d with the menu) from %.2f s to %.2f s of device time, %dx%d px, %s\n",
+                strip.options.frames, static_cast<int>(with_menu), f.t_s.front(), f.t_s.back(), f.width, f.height,
+                strip.path.c_str());
             if (ctx.validation_messages() > 0)
                 throw Error("the Vulkan validation layer reported " + std::to_string(ctx.validation_messages()) +
                             " message(s) while drawing the film strip");

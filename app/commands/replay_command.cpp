@@ -50,9 +50,10 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_flag("--realtime", o->realtime,
                  "Play the samples at the recorded rate, taking as long as the session did (default: as fast as the "
                  "sculpting goes; the same model either way)");
-    cmd.add_option("--strip", o->strip.path,
-                   "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "
-                   "into FILE.png");
+    cmd.add_option(
+        "--strip", o->strip.path,
+        "Also draw the carve as a film strip: pictures of the model spread over the stretch where it changed, "
+        "side by side, into FILE.png");
     cmd.add_option("--strip-frames", o->strip.options.frames, "Pictures in the film strip, 2..24")->capture_default_str();
     cmd.add_option("--strip-size", o->strip_size, "Each picture's size in the film strip, WxH px")->capture_default_str();
     return [o] {
