@@ -25,6 +25,7 @@
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "app/support/json_file.hpp"
+#include "app/support/progress.hpp"
 #include "core/error.hpp"
 #include "gpu/context.hpp"
 #include "renderer/camera/display_config.hpp"
@@ -404,7 +405,11 @@ std::vector<RenderBenchRow> run_render_bench(const RenderBenchOptions& o) {
     for (int n : o.resolutions) {
         Workpiece wp = prepare_workpiece(mesh, n, kStockM, kWorkpieceCentre);
         compute::Contourer contourer(wp.model);
-        contourer.update(wp.model);
+        {
+            app::ProgressReporter::Step step =
+                app::progress().step("contouring the workpiece at " + std::to_string(n) + " cells");
+            contourer.update(wp.model, step.fn());
+        }
         compute::TileLodOptions lod_options;
         lod_options.cell_m = wp.model.lattice.cell_m;
         compute::TileSurfaceCache cache;

@@ -3,6 +3,7 @@
 #include "haptics/haptic_loop.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <sys/prctl.h>
 
 #include <cerrno>
@@ -432,7 +433,12 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     rec.material = sample.material;
     rec.tool = tool_;
     sample.buttons = state.buttons;
-    const bool pushed = samples_.try_push(sample);
+    bool pushed = samples_.try_push(sample);
+    // A free-running loop (a replay) waits for room: its samples must all reach the sculpt thread.
+    while (!pushed && cfg_.free_run && !stop_requested_.load(std::memory_order_acquire)) {
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+        pushed = samples_.try_push(sample);
+    }
     if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
     // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
     // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.
@@ -511,6 +517,16 @@ TickRecord HapticLoop::step(double loop_time_s) {
 void HapticLoop::run() noexcept {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);  // wake within ~1 ns of the deadline, not the 50 us default
     name_this_thread("tridex-haptics");
+    if (cfg_.free_run) {
+        try {
+            run_free();
+        } catch (...) {
+            device_lost_.store(true, std::memory_order_relaxed);  // as below: a failed driver is a lost device
+        }
+        device_.disable();
+        running_.store(false, std::memory_order_release);
+        return;
+    }
     if (cfg_.request_realtime) {
         const RealtimeStatus rt = request_realtime(cfg_.realtime_priority, cfg_.lock_memory);
         realtime_.store(rt.fifo, std::memory_order_relaxed);
@@ -544,6 +560,15 @@ void HapticLoop::run() noexcept {
     device_.disable();  // zero force, and none until the next start()
     release_reserved_cpu();
     running_.store(false, std::memory_order_release);
+}
+
+void HapticLoop::run_free() {
+    for (std::uint64_t n = 0; !stop_requested_.load(std::memory_order_acquire); ++n) {
+        const std::int64_t start = now_ns();
+        TickRecord rec;
+        if (!tick(static_cast<double>(n) * cfg_.period_s, rec)) break;  // the replay's end
+        finish(rec, static_cast<double>(now_ns() - start) * 1e-9);
+    }
 }
 
 }  // namespace tridex::haptics

@@ -81,6 +81,13 @@ struct HapticLoopConfig {
     /// Changes applied at device times (a replay of a session whose keys changed the op or the tool size), in
     /// increasing device_t_s; empty for live sessions.
     std::vector<ToolChange> tool_schedule{};
+    /// Free running, for a replay that draws no window (nothing waits on its pace): ticks run back to back without
+    /// sleeping, the loop clock is tick index x period_s (each tick on time, as the recorded loop meant them), a full
+    /// sample ring is waited out instead of dropping the sample (so the sculpt thread gets every one, as a paced loop
+    /// that keeps up does), and no real-time scheduling or CPU is asked for. The samples, and so the model, are those
+    /// of the paced loop; only the wall time differs. Never for a live device: the loop then waits on the sculpt
+    /// thread.
+    bool free_run = false;
     /// Elastic (or rigid) spheres felt beside the workpiece, at most kMaxElasticObjects: each adds
     /// elastic_force() of the tool's contact points against its undeformed sphere (Popescu, Burdea, Bouzit 3.3) to
     /// the contact force. Their stiffness is capped like the contact's (the device profile's max stiffness).
@@ -293,6 +300,7 @@ private:
     };
 
     void run() noexcept;
+    void run_free();  // HapticLoopConfig::free_run: ticks back to back on the tick-count clock
     void begin_session();
     // The contact stage: force and torque on the tool at tool_world against the snapshot; dt_s is the
     // damping time step (s).

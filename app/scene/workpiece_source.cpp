@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <tuple>
 
 #include "app/support/memory.hpp"
+#include "app/support/progress.hpp"
 #include "app/support/stop_signal.hpp"
 #include "app/scene/study_objects.hpp"
 #include "app/scene/study_walls.hpp"
@@ -31,6 +33,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double stock_m, const Vec3& centre_m) {
     if (resolution < 8 || resolution > 4096)
         throw Error("--resolution: must be between 8 and 4096 cells, got " + std::to_string(resolution));
+    ProgressReporter::Step step =
+        progress().step("scan-converting " + std::filesystem::path(mesh_path).filename().string() + " at " +
+                        std::to_string(resolution) + " cells");
     const TriMesh input = compute::load_closed_mesh(mesh_path);
     const Mat4 to_world = compute::fit_to_stock(input.bounds(), centre_m, stock_m);
     const TriMesh world_mesh = compute::transformed(input, to_world);
@@ -38,7 +43,7 @@ Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double
     Workpiece wp{mesh_path, resolution, to_world, signed_volume(world_mesh), 0.0, 0.0,
                  compute::TriDexel::empty(lattice, model_memory_budget_bytes())};
     const auto t_scan = std::chrono::steady_clock::now();
-    compute::scan_convert(world_mesh, wp.model);
+    compute::scan_convert(world_mesh, wp.model, step.fn());
     wp.scan_s = seconds_since(t_scan);
     wp.volume_dexel_m3 = compute::dexel_volume_m3(wp.model);
     return wp;
@@ -46,7 +51,8 @@ Workpiece prepare_workpiece(const std::string& mesh_path, int resolution, double
 
 Workpiece workpiece_from_model(const std::string& tdx_path) {
     const auto t0 = std::chrono::steady_clock::now();
-    compute::TdxModel saved = compute::load_tdx(tdx_path, model_memory_budget_bytes());
+    ProgressReporter::Step step = progress().step("loading " + tdx_path);
+    compute::TdxModel saved = compute::load_tdx(tdx_path, model_memory_budget_bytes(), step.fn());
     Workpiece wp;
     wp.mesh_path = tdx_path;
     const auto& cells = saved.model.lattice.cells;

@@ -74,7 +74,7 @@ void Contourer::check_model(const TriDexel& model) const {
     }
 }
 
-std::size_t Contourer::update(TriDexel& model) {
+std::size_t Contourer::update(TriDexel& model, const ProgressFn& progress) {
     check_model(model);
     std::size_t redone = 0, cells = 0, partial_tiles = 0;
     std::vector<std::array<int, 3>> dirty;
@@ -98,12 +98,15 @@ std::size_t Contourer::update(TriDexel& model) {
         const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
         if (contoured_[idx]) partial[i] = model.tiles.partial_cells(idx);
     }
-    pool_for(dirty.size(), 1, [&](const Chunk& chunk) {
-        contour::TileContourer& c = workers_[chunk.slot];
-        for (std::size_t k = chunk.first; k < chunk.last; ++k)
-            c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])],
-                  partial[k] != nullptr ? &previous[k] : nullptr, partial[k]);
-    }, threads);
+    pool_for_progress(
+        dirty.size(), 1,
+        [&](const Chunk& chunk) {
+            contour::TileContourer& c = workers_[chunk.slot];
+            for (std::size_t k = chunk.first; k < chunk.last; ++k)
+                c.run(model, dirty[k], tile_meshes_[model.tiles.index(dirty[k][0], dirty[k][1], dirty[k][2])],
+                      partial[k] != nullptr ? &previous[k] : nullptr, partial[k]);
+        },
+        progress, threads);
     for (std::size_t i = 0; i < dirty.size(); ++i) {
         const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
         cells += tile_meshes_[idx].cells_visited;

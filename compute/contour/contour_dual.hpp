@@ -9,6 +9,7 @@
 
 #include "compute/contour/contour_tile.hpp"
 #include "compute/model/tridexel.hpp"
+#include "core/progress.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::compute {
@@ -63,8 +64,10 @@ public:
     /// holding surface dirty). A tile flagged TileGrid::kPartial that this Contourer has contoured before
     /// redoes only the cells of its box and keeps the rest of its piece (the same piece, bit for bit, as a
     /// whole re-contour); any other dirty tile is redone whole. Throws tridex::Error when `model` is not on the lattice this Contourer was
-    /// built for, or its ray sets do not match that lattice (the model is then left unchanged).
-    std::size_t update(TriDexel& model);
+    /// built for, or its ray sets do not match that lattice (the model is then left unchanged). `progress`
+    /// (core/progress.hpp) hears the fraction of the dirty tiles done, on the calling thread, up to kProgressSlices
+    /// times (compute/parallel/task_pool.hpp; the result does not depend on it).
+    std::size_t update(TriDexel& model, const ProgressFn& progress = {});
 
     /// The whole current mesh (assembled from all tiles), world metres, CCW from outside. O(T log V).
     /// Throws tridex::Error when tiles reference vertices a stale neighbour tile lacks (the model was

@@ -11,6 +11,7 @@
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/tridexel.hpp"
 #include "compute/tools/clay_sweep.hpp"
+#include "core/progress.hpp"
 
 namespace tridex::compute {
 
@@ -55,7 +56,10 @@ struct JournalApplyFrom {
 /// leniently: a stroke end closes the open stroke and relearns the offset between the journal's serials and the
 /// replay's (a lost stroke end merges two strokes), an undo or redo whose stroke is not the replay's next is skipped
 /// and counted in marks_skipped, and another number of rays written back is accepted (lost samples change it).
-JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from = {});
+/// `progress` (core/progress.hpp) hears the fraction of the records applied, on the calling thread, about a hundred
+/// times (the records are applied in slices, which gives the same model as all at once).
+JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records,
+                                const JournalApplyFrom& from = {}, const ProgressFn& progress = {});
 
 /// journal_apply's work, kept between calls: records applied a few at a time, as they arrive (a cluster's render
 /// ranks follow the session's stream frame by frame), give the same model as journal_apply over all of them at

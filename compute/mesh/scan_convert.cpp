@@ -127,7 +127,7 @@ void build_ray(const Crossing* first, const Crossing* last, double length, std::
 
 }  // namespace
 
-void scan_convert(const TriMesh& mesh_m, TriDexel& model) {
+void scan_convert(const TriMesh& mesh_m, TriDexel& model, const ProgressFn& progress) {
     if (model.interval_count() != 0) throw Error("scan_convert: the model must be empty (made by TriDexel::empty)");
     const Lattice& L = model.lattice;
     const std::size_t nvert = mesh_m.positions.size();
@@ -151,11 +151,15 @@ void scan_convert(const TriMesh& mesh_m, TriDexel& model) {
         RaySet& set = model.sets[ax];
         // Triangles in fixed chunks on the task pool; the chunks' crossings, taken in chunk order, are the
         // triangle-ordered list a single thread would make.
-        pool_for(mesh_m.triangles.size(), kTriangleChunk, [&](const Chunk& c) {
-            std::vector<Crossing>& part = parts[c.first / kTriangleChunk];
-            part.clear();
-            rasterise(g, q, mesh_m, c.first, c.last, set, part);
-        });
+        // Progress: each ray set a third, its triangles the first half of it, its rays the second.
+        pool_for_progress(
+            mesh_m.triangles.size(), kTriangleChunk,
+            [&](const Chunk& c) {
+                std::vector<Crossing>& part = parts[c.first / kTriangleChunk];
+                part.clear();
+                rasterise(g, q, mesh_m, c.first, c.last, set, part);
+            },
+            progress_part(progress, ax / 3.0, (ax + 0.5) / 3.0));
         // Counting sort by ray, then (per ray, on the task pool) a small sort by depth and the intervals.
         offset.assign(set.rays.size() + 1, 0);
         for (const std::vector<Crossing>& part : parts)
@@ -168,15 +172,18 @@ void scan_convert(const TriMesh& mesh_m, TriDexel& model) {
                 for (const Crossing& c : part) sorted[fill[c.ray]++] = c;
         }
         const double length = L.cells[ax];
-        pool_for(set.rays.size(), kRayChunk, [&](const Chunk& c) {
-            for (std::size_t r = c.first; r < c.last; ++r) {
-                Crossing* first = sorted.data() + offset[r];
-                Crossing* last = sorted.data() + offset[r + 1];
-                if (first == last) continue;
-                std::sort(first, last, [](const Crossing& x, const Crossing& y) { return x.depth < y.depth; });
-                build_ray(first, last, length, set.rays[r]);
-            }
-        });
+        pool_for_progress(
+            set.rays.size(), kRayChunk,
+            [&](const Chunk& c) {
+                for (std::size_t r = c.first; r < c.last; ++r) {
+                    Crossing* first = sorted.data() + offset[r];
+                    Crossing* last = sorted.data() + offset[r + 1];
+                    if (first == last) continue;
+                    std::sort(first, last, [](const Crossing& x, const Crossing& y) { return x.depth < y.depth; });
+                    build_ray(first, last, length, set.rays[r]);
+                }
+            },
+            progress_part(progress, (ax + 0.5) / 3.0, (ax + 1.0) / 3.0));
         for (std::size_t r = 0; r < set.rays.size(); ++r) {
             if (offset[r] == offset[r + 1]) continue;
             const int u = static_cast<int>(r % set.nu), v = static_cast<int>(r / set.nu);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "compute/model/tridexel.hpp"
+#include "core/progress.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::compute {
@@ -34,7 +35,8 @@ constexpr int kSnapBits = 16;
 /// fixed chunks); the result does not depend on the number of threads.
 /// Complexity O(T + nodes covered by the triangles' projections + crossings) for T triangles.
 /// Throws tridex::Error when the model is not empty, a triangle index is out of range, a position is
-/// not finite, or the mesh lies more than 2^40 cells from the lattice origin.
-void scan_convert(const TriMesh& mesh_m, TriDexel& model);
+/// not finite, or the mesh lies more than 2^40 cells from the lattice origin. `progress` (core/progress.hpp) hears
+/// the fraction done, on the calling thread, a few dozen times per ray set.
+void scan_convert(const TriMesh& mesh_m, TriDexel& model, const ProgressFn& progress = {});
 
 }  // namespace tridex::compute

@@ -106,7 +106,7 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
     file.commit();
 }
 
-TdxModel load_tdx(const std::string& path, std::size_t max_bytes) {
+TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress) {
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
     if (!f) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
     if (std::fseek(f.get(), 0, SEEK_END) != 0) throw Error(path + ": cannot read (not a regular file)");
@@ -207,6 +207,7 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes) {
         } else {
             tdx::decode_tiles(raw.data(), raw.size(), out.model.tiles, where);
         }
+        report_progress(progress, static_cast<double>(offset), static_cast<double>(size));
     }
     if (offset != size) throw Error(path + ": " + std::to_string(size - offset) + " bytes after the last section");
     return out;

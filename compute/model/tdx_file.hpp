@@ -22,6 +22,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "core/math.hpp"
+#include "core/progress.hpp"
 
 namespace tridex::compute {
 
@@ -48,6 +49,7 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
 /// zstd frames, and every interval (finite, ordered, within the lattice). load_tdx(save_tdx(m)) equals m bit
 /// for bit. Throws tridex::Error "<path>: <what is wrong>" (e.g. "m.tdx: checksum mismatch in section
 /// 'rays.y'", "m.tdx: truncated: section 4 ('rays.y') needs 1200 bytes at offset 5000, the file has 5100").
-TdxModel load_tdx(const std::string& path, std::size_t max_bytes);
+/// `progress` (core/progress.hpp) hears the fraction of the file read after each section.
+TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress = {});
 
 }  // namespace tridex::compute

@@ -93,4 +93,25 @@ void pool_for(std::size_t count, std::size_t grain, const std::function<void(con
     TRIDEX_TSAN_ACQUIRE(&join);
 }
 
+void pool_for_progress(std::size_t count, std::size_t grain, const std::function<void(const Chunk&)>& body,
+                       const ProgressFn& progress, int threads) {
+    if (!progress) {
+        pool_for(count, grain, body, threads);
+        return;
+    }
+    if (grain == 0) grain = 1;
+    const std::size_t chunks = (count + grain - 1) / grain;
+    const std::size_t per_slice = std::max<std::size_t>(1, (chunks + kProgressSlices - 1) / kProgressSlices) * grain;
+    for (std::size_t first = 0; first < count; first += per_slice) {
+        const std::size_t n = std::min(per_slice, count - first);
+        pool_for(
+            n, grain,
+            [&](const Chunk& c) {
+                body(Chunk{first + c.first, first + c.last, c.slot});
+            },
+            threads);
+        report_progress(progress, static_cast<double>(first + n), static_cast<double>(count));
+    }
+}
+
 }  // namespace tridex::compute

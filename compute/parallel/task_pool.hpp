@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <functional>
 
+#include "core/progress.hpp"
+
 namespace tridex::compute {
 
 /// A range of work items [first, last) handed to one call of a parallel body, and the slot of the thread
@@ -28,5 +30,15 @@ unsigned pool_slots(int threads = 0);
 /// Returns when every chunk is done. An exception thrown by the body cancels the chunks not yet started and
 /// is rethrown here (the first one thrown); chunks already run keep their effects.
 void pool_for(std::size_t count, std::size_t grain, const std::function<void(const Chunk&)>& body, int threads = 0);
+
+/// Slices of a pool_for_progress call (its progress is reported this many times at most).
+inline constexpr std::size_t kProgressSlices = 64;
+
+/// As pool_for, run as up to kProgressSlices consecutive pool_for calls over whole multiples of `grain` (so the
+/// chunks, and with them the results, are those of one pool_for call; Chunk::first and last are in [0, count)),
+/// calling report_progress(progress, items done, count) on the calling thread after each slice. With an empty
+/// `progress`: one pool_for call. Exceptions as pool_for (the slices after a throwing one do not run).
+void pool_for_progress(std::size_t count, std::size_t grain, const std::function<void(const Chunk&)>& body,
+                       const ProgressFn& progress, int threads = 0);
 
 }  // namespace tridex::compute

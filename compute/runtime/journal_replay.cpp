@@ -142,7 +142,8 @@ void JournalApplier::flush() {
 
 const JournalApplyStats& JournalApplier::stats() const { return s_->st; }
 
-JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from) {
+JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from,
+                                const ProgressFn& progress) {
     JournalApplier applier(model, from);
     const std::size_t first = std::min(from.record, records.size());
     if (first > 0) {
@@ -152,7 +153,16 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
             if (records[k].kind == JournalKind::kBatch && !records[k].samples.empty()) prev = &records[k].samples.back();
         applier.resume_after(records[first - 1].index, prev, first);
     }
-    applier.apply(records.subspan(first));
+    const std::span<const JournalRecord> rest = records.subspan(first);
+    // Records a few at a time, as JournalApplier allows, so that progress can be told between them.
+    constexpr std::size_t kSlices = 100;
+    const std::size_t per_slice =
+        progress ? std::max<std::size_t>(1, (rest.size() + kSlices - 1) / kSlices) : rest.size();
+    for (std::size_t k = 0; k < rest.size(); k += per_slice) {
+        const std::size_t n = std::min(per_slice, rest.size() - k);
+        applier.apply(rest.subspan(k, n));
+        report_progress(progress, static_cast<double>(k + n), static_cast<double>(rest.size()));
+    }
     applier.flush();  // a push group the journal's last batch left open (a session that ended without closing it)
     return applier.stats();
 }

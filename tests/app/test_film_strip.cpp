@@ -1,6 +1,7 @@
 // `tridex replay REC --strip FILE.png`: a recorded carve told in pictures. The strip has the asked number of pictures
 // side by side, the first before the tool cut anything and the last after the carve, so the two differ where the
-// groove is; the replay's own outputs are still written.
+// groove is; the replay's own outputs are still written. Where the pictures stop (app/session/report/strip_moments.hpp), on
+// made-up journals.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/session/report/strip_moments.hpp"
 #include "renderer/image/image.hpp"
 #include "test_files.hpp"
 
@@ -57,6 +59,58 @@ TEST(FilmStrip, AReplayDrawsTheCarveInPicturesSideBySide) {
     EXPECT_NE(bad.exit_code, 0);
     EXPECT_NE(bad.err.find("frames must be 2..24"), std::string::npos) << bad.err;
     if (!HasFailure()) fs::remove_all(dir);
+}
+
+// A journal of batches of `samples` samples each (device time 1 ms apart, carving from record `first_op` on) and, at
+// the places given, marks with no sample (an undo).
+compute::Journal journal_of(int batches, int samples, int first_op, const std::vector<int>& undo_after = {}) {
+    compute::Journal j;
+    double t = 0.0;
+    for (int b = 0; b < batches; ++b) {
+        compute::JournalRecord r;
+        for (int i = 0; i < samples; ++i) {
+            ToolSample s;
+            s.t_s = t += 1e-3;
+            s.op = b >= first_op ? ToolOp::kSubtract : ToolOp::kNone;
+            r.samples.push_back(s);
+        }
+        j.records.push_back(r);
+        for (int u : undo_after)
+            if (u == b) {
+                compute::JournalRecord mark;
+                mark.kind = compute::JournalKind::kUndo;
+                j.records.push_back(mark);
+            }
+    }
+    for (std::size_t k = 0; k < j.records.size(); ++k) j.records[k].index = k;
+    return j;
+}
+
+// The pictures spread over the stretch where the model changed: not over the approach with its graze, not over the
+// moving about after the last change; the last just after that change, even when it is a mark (an undo) with no
+// sample of its own.
+TEST(FilmStrip, PicturesSpreadOverTheStretchWhereTheModelChanged) {
+    const compute::Journal j = journal_of(10, 10, 1, {8});  // records 0..8 batches, 9 the undo, 10 a batch
+    ASSERT_EQ(j.records.size(), 11u);
+    // A graze (0.5 of 100) in record 2, the carve in 4..6, the undo in 9; nothing after.
+    const std::vector<double> change{0, 0, 0.5, 0, 30, 30, 30, 0, 0, 9.5, 0};
+    EXPECT_EQ(strip_picture_records(j, change, 4), (std::vector<std::size_t>{4, 6, 8, 10}));
+    EXPECT_EQ(strip_picture_records(j, change, 2), (std::vector<std::size_t>{4, 10}));
+    // Nothing changed: from the first sample with an operation to the end, evenly.
+    const std::vector<std::size_t> none = strip_picture_records(j, std::vector<double>(11, 0.0), 3);
+    EXPECT_EQ(none.front(), 1u);
+    EXPECT_EQ(none.back(), 11u);
+}
+
+TEST(FilmStrip, BigBatchesAreSplitIntoPiecesAPictureCanStopBetween) {
+    const compute::Journal j = journal_of(2, 20, 0, {0});  // 20 samples, the undo, 20 samples
+    const compute::Journal fine = split_batches(j, 8);
+    ASSERT_EQ(fine.records.size(), 7u);  // 8 + 8 + 4, the undo, 8 + 8 + 4
+    EXPECT_EQ(fine.records[2].samples.size(), 4u);
+    EXPECT_EQ(fine.records[3].kind, compute::JournalKind::kUndo);
+    for (std::size_t k = 0; k < fine.records.size(); ++k) EXPECT_EQ(fine.records[k].index, k);
+    EXPECT_EQ(fine.records[4].samples.front().t_s, j.records[2].samples.front().t_s);
+    EXPECT_EQ(fine.records[6].samples.back().t_s, j.records[2].samples.back().t_s);
 }
 
 }  // namespace

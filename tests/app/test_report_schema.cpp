@@ -161,8 +161,9 @@ std::string model_bytes(const fs::path& tdx, const fs::path& scratch) {
     return test::bytes_of(scratch);
 }
 
-// A scripted stroke carved through `demo` and through `run --display offscreen`, and each session replayed: every
-// session's tool-sample stream gives the same model bit for bit in the other pipeline. (Two live sessions of one stroke
+// A scripted stroke carved through `demo` and through `run --display offscreen`, and each session replayed (free
+// running, and the demo's also paced with --realtime): every session's tool-sample stream gives the same model bit for
+// bit in the other pipeline, at either pace. (Two live sessions of one stroke
 // need not agree with each other: the simulated hand feels the contact forces, which depend on when the sculpt thread
 // published the surface, so their sample streams differ in the last bits; the model is a function of the stream.)
 TEST(SessionPipeline, DemoRunOffscreenAndReplayCarveTheSameModelBitForBit) {
@@ -198,6 +199,11 @@ TEST(SessionPipeline, DemoRunOffscreenAndReplayCarveTheSameModelBitForBit) {
                                              dir / (name + "_log"));
         ASSERT_EQ(replay.exit_code, 0) << rec << ": " << replay.err;
     }
+    // A replay runs free (as fast as it sculpts); --realtime paces it as the session ran: the same model either way.
+    const auto paced = test::run_tridex("replay " + path("demo.trdx") + images + "--realtime --out " +
+                                            path("demo_paced") + " --save " + path("demo_paced.tdx"),
+                                        dir / "demo_paced_log");
+    ASSERT_EQ(paced.exit_code, 0) << paced.err;
     const std::string d = model_bytes(dir / "demo.tdx", dir / "demo.canonical.tdx");
     const std::string r = model_bytes(dir / "run.tdx", dir / "run.canonical.tdx");
     ASSERT_FALSE(d.empty());
@@ -206,6 +212,8 @@ TEST(SessionPipeline, DemoRunOffscreenAndReplayCarveTheSameModelBitForBit) {
         << "replay carved another model than the demo it replays";
     EXPECT_TRUE(r == model_bytes(dir / "run_replayed.tdx", dir / "run_replayed.canonical.tdx"))
         << "replay carved another model than the offscreen run it replays";
+    EXPECT_TRUE(d == model_bytes(dir / "demo_paced.tdx", dir / "demo_paced.canonical.tdx"))
+        << "the replay paced in real time carved another model than the demo it replays";
     // The exported meshes, contoured from those models, are the same bytes too.
     EXPECT_TRUE(test::bytes_of(dir / "demo" / "sculpted.ply") == test::bytes_of(dir / "demo_replayed" / "sculpted.ply"));
     EXPECT_TRUE(test::bytes_of(dir / "run" / "sculpted.ply") == test::bytes_of(dir / "run_replayed" / "sculpted.ply"));

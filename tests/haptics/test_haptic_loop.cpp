@@ -1,5 +1,5 @@
-// Tests of haptics/haptic_loop: tick rate, records, ring hand-off and drops, device loss, NaN samples,
-// device <-> world mapping, configuration checks, and the period statistics of a 1 s run.
+// Tests of haptics/haptic_loop: tick rate, records, ring hand-off and drops (none when running free), device loss,
+// NaN samples, device <-> world mapping, configuration checks, and the period statistics of a 1 s run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -118,6 +118,41 @@ TEST(HapticLoop, FullRingCountsDropsAndKeepsGoing) {
         EXPECT_DOUBLE_EQ(ts.t_s, i * 1e-3);
     }
     EXPECT_FALSE(ring.try_pop(ts));
+}
+
+// A free-running loop (a replay) waits for room in a full ring instead of dropping: a slow consumer gets every sample,
+// in order; the loop clock is the tick count times the period, however fast the ticks ran.
+TEST(HapticLoop, FreeRunningLoopWaitsForRoomAndDropsNothing) {
+    SimulatedDevice dev(DeviceProfile::phantom_omni(), ScriptedPath::hold(Vec3(0.0)));
+    SimulatedFaults f;
+    f.vanish_after_reads = 300;
+    dev.set_faults(f);
+    TripleBuffer<ActiveSurface> surface;
+    SpscRing<ToolSample> ring(16);
+    HapticLoopConfig cfg;
+    cfg.max_ticks = 300;
+    cfg.free_run = true;
+    HapticLoop loop(dev, surface, ring, cfg);
+    loop.start();
+    std::vector<double> got;
+    ToolSample ts;
+    while (got.size() < 300) {  // a consumer slower than the loop: the ring is full most of the time
+        if (ring.try_pop(ts))
+            got.push_back(ts.t_s);
+        else if (!loop.running())
+            break;
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+    }
+    ASSERT_TRUE(test::wait_until_stopped(loop, 5.0));
+    loop.stop();
+    const LoopStats st = loop.stats();
+    EXPECT_EQ(st.ticks, 300u);
+    EXPECT_EQ(st.samples_dropped, 0u);
+    EXPECT_EQ(st.overruns, 0u);
+    ASSERT_EQ(got.size(), 300u);
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_DOUBLE_EQ(got[i], static_cast<double>(i + 1) * 1e-3);
+    ASSERT_EQ(loop.records().size(), 300u);
+    EXPECT_DOUBLE_EQ(loop.records()[299].t_s, 299 * cfg.period_s) << "the loop clock counts ticks";
 }
 
 TEST(HapticLoop, VanishedDeviceStopsTheLoopWithZeroForceLast) {

@@ -9,6 +9,7 @@
 
 #include "app/support/memory.hpp"
 #include "app/support/output_dir.hpp"
+#include "app/support/progress.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/mesh/mesh_write.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -39,12 +40,20 @@ ExportResult run_export(const ExportOptions& o) {
         throw Error("--units " + o.units + ", --frame input: the input frame keeps the input mesh's own units; choose one");
     const compute::MeshFileFormat format = compute::mesh_file_format(o.out);  // refuse .xyz before the slow work
     check_output_file(o.out, "OUT");
-    compute::TdxModel saved = compute::load_tdx(o.model, model_memory_budget_bytes());
+    compute::TdxModel saved;
+    {
+        ProgressReporter::Step step = progress().step("loading " + o.model);
+        saved = compute::load_tdx(o.model, model_memory_budget_bytes(), step.fn());
+    }
     compute::TriDexel& model = saved.model;
     std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
     compute::Contourer contourer(model);
-    contourer.update(model);
-    TriMesh mesh = contourer.mesh();
+    TriMesh mesh;
+    {
+        ProgressReporter::Step step = progress().step("contouring the model");
+        contourer.update(model, step.fn());
+        mesh = contourer.mesh();
+    }
     const std::vector<std::uint8_t> materials = contourer.mesh_materials();
 
     ExportResult r;
@@ -69,7 +78,10 @@ ExportResult run_export(const ExportOptions& o) {
             colours.push_back({srgb8(c.r), srgb8(c.g), srgb8(c.b)});
         }
     }
-    compute::write_mesh_file(o.out, mesh, colours);
+    {
+        ProgressReporter::Step step = progress().step("writing " + o.out);
+        compute::write_mesh_file(o.out, mesh, colours);
+    }
     std::printf("tridex export: %s -> %s (%zu vertices, %zu triangles, %s; volume %.6g m^3, tri-dexel %.6g m^3)\n",
                 o.model.c_str(), o.out.c_str(), r.vertices, r.triangles,
                 o.frame == "input" ? "the input mesh's frame and units"

@@ -11,6 +11,7 @@
 #include "app/support/json_file.hpp"
 #include "app/support/memory.hpp"
 #include "app/support/output_dir.hpp"
+#include "app/support/progress.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/session_recording.hpp"
 #include "app/session/runtime/session_runtime.hpp"
@@ -99,7 +100,9 @@ void run_recover(const std::string& journal_path, const std::string& out) {
             compute::JournalApplyFrom start = replay_settings(s);
             start.record = k + 1;
             start.last_serial = compute::journal_last_serial(j.records, k);
-            applied = compute::journal_apply(model, j.records, start);
+            ProgressReporter::Step step =
+                progress().step("replaying " + std::to_string(j.records.size() - k - 1) + " journal records");
+            applied = compute::journal_apply(model, j.records, start, step.fn());
             applied.records += k + 1;  // the records the checkpoint holds
             wp.model = std::move(model);
             from = "checkpoint " + rec.checkpoint + " (record " + std::to_string(k) + ")";
@@ -111,14 +114,20 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     if (!done) {
         const compute::JournalApplyFrom start = replay_settings(s);
         try {
-            applied = compute::journal_apply(wp.model, j.records, start);
+            ProgressReporter::Step step =
+                progress().step("replaying " + std::to_string(j.records.size()) + " journal records");
+            applied = compute::journal_apply(wp.model, j.records, start, step.fn());
         } catch (const Error& e) {
             throw Error(journal_path + ": " + e.what());
         }
     }
     compute::Contourer contourer(wp.model);
-    contourer.update(wp.model);
-    const TriMesh mesh = contourer.mesh();
+    TriMesh mesh;
+    {
+        ProgressReporter::Step step = progress().step("contouring the model");
+        contourer.update(wp.model, step.fn());
+        mesh = contourer.mesh();
+    }
     const fs::path dir(out);
     compute::write_ply((dir / "sculpted.ply").string(), mesh, contourer.mesh_materials());
     save_session_model((dir / "model.tdx").string(), wp, s);  // a later session starts from it (--workpiece)

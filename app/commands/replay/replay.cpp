@@ -11,6 +11,7 @@
 
 #include "app/support/output_dir.hpp"
 #include "app/session/record/session_recording.hpp"
+#include "app/support/progress.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
@@ -24,7 +25,7 @@
 namespace tridex::app {
 
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt,
-                const std::string& save, const StripRequest& strip, bool keep_islands) {
+                const std::string& save, const StripRequest& strip, bool keep_islands, bool realtime) {
     const auto t_start = std::chrono::steady_clock::now();
     check_image_size(out.width, out.height);
     prepare_output_dir(out.out, "--out");
@@ -66,6 +67,8 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
         throw Error(recording_path + ": " + e.what());
     }
     loop.engage_mask = engage_mask_for(s.device_driver);
+    loop.free_run = !realtime;  // nothing is drawn while it runs: nothing to keep pace with
+    loop.recorded_ticks = rec.ticks.size();
     // The recorded samples played back through the registry's replay driver, with the recorded profile.
     s.device_driver = "replay";
     devices::DeviceInputs inputs;
@@ -100,10 +103,15 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
             gpu::Context ctx = gpu::Context::create(gopt);
             FilmStripOptions so = strip.options;
             if (menu_track.size() > 0) so.menu = &menu_track;
+            ProgressReporter::Step step = progress().step("drawing the film strip");
+            so.progress = step.fn();
             const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), so, ctx);
+            step.finish();
             const auto with_menu = std::count(f.menu_shown.begin(), f.menu_shown.end(), true);
-            std::printf("film strip: %d pictures (%d with the menu), %dx%d px, %s\n", strip.options.frames,
-                        static_cast<int>(with_menu), f.width, f.height, strip.path.c_str());
+            std::printf(
+                "film strip: %d pictures (%d with the menu) from %.2f s to %.2f s of device time, %dx%d px, %s\n",
+                strip.options.frames, static_cast<int>(with_menu), f.t_s.front(), f.t_s.back(), f.width, f.height,
+                strip.path.c_str());
             if (ctx.validation_messages() > 0)
                 throw Error("the Vulkan validation layer reported " + std::to_string(ctx.validation_messages()) +
                             " message(s) while drawing the film strip");

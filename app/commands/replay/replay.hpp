@@ -10,7 +10,8 @@ namespace tridex::app {
 
 /// Reads the recording (devices/recording.hpp), rebuilds the recorded session's workpiece and haptic
 /// loop from the settings in its header, plays the recorded device samples back through a ReplayDevice
-/// (one per tick, at the recorded rate) and writes the same outputs as the demo into out.out. The tool
+/// (one per tick: as fast as the sculpting goes, HapticLoopConfig::free_run; with `realtime`, at the recorded
+/// rate, 1 / period_s) and writes the same outputs as the demo into out.out; both paces give the same model. The tool
 /// sample stream, and so the sculpted model, equals the live session's. Throws tridex::Error naming the
 /// file on a bad recording or settings. `sculpt`: where the Booleans and the contour run (--cpu,
 /// --cpu-contour, --gpu-contour, as for the demo); every path gives the same model. `save`: where the final model is
@@ -24,6 +25,7 @@ struct StripRequest {
     FilmStripOptions options;      ///< pictures, their size, ambient occlusion
 };
 void run_replay(const std::string& recording_path, const OutputOptions& out, const SculptOptions& sculpt = {},
-                const std::string& save = "", const StripRequest& strip = {}, bool keep_islands = false);
+                const std::string& save = "", const StripRequest& strip = {}, bool keep_islands = false,
+                bool realtime = false);
 
 }  // namespace tridex::app

@@ -19,6 +19,7 @@ struct ReplayCli {
     StripRequest strip;
     std::string strip_size = "320x240";
     bool keep_islands = false;
+    bool realtime = false;
 };
 
 CommandAction setup_replay(CLI::App& cmd) {
@@ -46,15 +47,19 @@ CommandAction setup_replay(CLI::App& cmd) {
     cmd.add_flag("--keep-islands", o->keep_islands,
                  "Keep the specks cuts left floating even when the recorded session removed them (default: as the "
                  "recording says)");
-    cmd.add_option("--strip", o->strip.path,
-                   "Also draw the carve as a film strip: pictures of the model at evenly spaced moments, side by side, "
-                   "into FILE.png");
+    cmd.add_flag("--realtime", o->realtime,
+                 "Play the samples at the recorded rate, taking as long as the session did (default: as fast as the "
+                 "sculpting goes; the same model either way)");
+    cmd.add_option(
+        "--strip", o->strip.path,
+        "Also draw the carve as a film strip: pictures of the model spread over the stretch where it changed, "
+        "side by side, into FILE.png");
     cmd.add_option("--strip-frames", o->strip.options.frames, "Pictures in the film strip, 2..24")->capture_default_str();
     cmd.add_option("--strip-size", o->strip_size, "Each picture's size in the film strip, WxH px")->capture_default_str();
     return [o] {
         std::tie(o->strip.options.width, o->strip.options.height) = parse_image_size(o->strip_size, "--strip-size");
         o->strip.options.ao = o->out.ao;
-        run_replay(o->file, o->out, o->sculpt, o->save, o->strip, o->keep_islands);
+        run_replay(o->file, o->out, o->sculpt, o->save, o->strip, o->keep_islands, o->realtime);
         return 0;
     };
 }

@@ -57,6 +57,9 @@ void text_right(Image& im, const std::string& text, int x, int y, Rgb c) {
     text_at(im, text, x - renderer::overlay_text_extent(text, scale).width_px, y, scale, c);
 }
 
+// A trial's label in the legend.
+std::string legend_label(const TrialAnalysis& t) { return t.row.participant + " trial " + std::to_string(t.row.trial); }
+
 double nice_ceiling(double v) {
     if (!(v > 0.0)) return 1.0;
     const double p = std::pow(10.0, std::floor(std::log10(v)));
@@ -68,7 +71,16 @@ double nice_ceiling(double v) {
 }  // namespace
 
 void plot_group_deviation(const std::string& path, const std::vector<const TrialAnalysis*>& trials) {
-    const int w = 1000, h = 560, left = 70, right = 150, top = 60, bottom = 60;
+    // The legend's room right of the plot: its longest label, the line sample before it and a margin; the plot keeps
+    // its 780 px whatever the participants' IDs.
+    constexpr double kLegendScale = 1.5;
+    int legend_px = 0;
+    for (const TrialAnalysis* t : trials)
+        legend_px = std::max(
+            legend_px,
+            static_cast<int>(std::ceil(renderer::overlay_text_extent(legend_label(*t), kLegendScale).width_px)));
+    const int left = 70, right = std::max(150, 36 + legend_px + 12), top = 60, bottom = 60, w = 780 + left + right,
+              h = 560;
     Image im = Image::filled(w, h, 255, 255, 255);
     double ymax = 0.0;
     for (const TrialAnalysis* t : trials)
@@ -99,7 +111,8 @@ void plot_group_deviation(const std::string& path, const std::vector<const Trial
     text_at(im, group + " group: deviation of the wand from the tube wall, one line per test trial", left, 10, 2.0, axis);
     text_at(im, "position along the tube (0 entry, 1 exit; shaded: the tube, outside: the funnels)", left, h - bottom + 30,
             1.5, axis);
-    text_at(im, "deviation (mm)", 10, top - 24, 1.5, axis);
+    text_at(im, "deviation (mm): per tick, the mean of the wand's two points (analyze's max: the worse point alone)",
+            10, top - 24, 1.5, axis);
     static const Rgb colours[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44},  {214, 39, 40},  {148, 103, 189},
                                   {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
     for (std::size_t k = 0; k < trials.size(); ++k) {
@@ -111,7 +124,7 @@ void plot_group_deviation(const std::string& path, const std::vector<const Trial
         if (k < 30) {
             const int ly = top + 14 * static_cast<int>(k);
             line(im, w - right + 10, ly + 5, w - right + 30, ly + 5, c, 2);
-            text_at(im, t.row.participant + " trial " + std::to_string(t.row.trial), w - right + 36, ly, 1.5, axis);
+            text_at(im, legend_label(t), w - right + 36, ly, kLegendScale, axis);
         }
     }
     renderer::write_png(path, im);

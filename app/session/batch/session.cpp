@@ -5,6 +5,7 @@
 #include "app/session/runtime/frame_loop.hpp"
 #include "app/session/view/framing.hpp"
 #include "app/session/run/run_actions.hpp"
+#include "app/support/progress.hpp"
 #include "app/support/stop_signal.hpp"
 #include "haptics/tool_points.hpp"
 
@@ -55,13 +56,21 @@ constexpr double kEndOnlyPollS = 0.002;
 // session; the end-only sink draws nothing until then.
 class EndOnlyFrames final : public FrameSteps {
 public:
-    EndOnlyFrames(SessionRuntime& rt, std::size_t ticks, double timeout_s)
-        : rt_(rt), ticks_(ticks), timeout_s_(timeout_s), t0_(Clock::now()),
+    // `expected`: the ticks the session should run, for `step`'s progress (0: unknown).
+    EndOnlyFrames(SessionRuntime& rt, std::size_t ticks, double timeout_s, std::size_t expected,
+                  ProgressReporter::Step& step)
+        : rt_(rt),
+          ticks_(ticks),
+          timeout_s_(timeout_s),
+          expected_(expected),
+          step_(step),
+          t0_(Clock::now()),
           actions_(&rt, nullptr, nav_, nullptr, swap_, ao_, rt.spec().tool),
           buttons_(default_bindings(rt.spec().device_driver, driver_caps(rt.spec().device_driver)).tool) {}
     bool take_input() override {
         rt_.poll_device_frame();
         const haptics::LoopView& v = rt_.latest_view();
+        if (expected_ > 0) step_.update(static_cast<double>(v.tick) / static_cast<double>(expected_));
         if (v.tick > 0) {
             pressed_.clear();
             buttons_.update(v.buttons, pressed_);
@@ -81,6 +90,8 @@ private:
     SessionRuntime& rt_;
     std::size_t ticks_;
     double timeout_s_;
+    std::size_t expected_;
+    ProgressReporter::Step& step_;
     Clock::time_point t0_;
     renderer::SceneNavigation nav_;  // nothing is navigated here: view actions change nothing that is drawn
     bool swap_ = false, ao_ = true;
@@ -88,6 +99,19 @@ private:
     BindingReader buttons_;
     std::vector<std::string> pressed_;
 };
+
+// The name of a session's progress step: a replay's length of samples and pace, or the session's length.
+std::string session_step_name(const SessionSpec& spec, const LoopOverrides& loop, std::size_t ticks) {
+    char buf[96];
+    if (loop.recorded_ticks > 0)
+        std::snprintf(buf, sizeof buf, "replaying %.1f s of samples%s",
+                      static_cast<double>(loop.recorded_ticks) * spec.period_s, loop.free_run ? "" : " in real time");
+    else if (ticks > 0)
+        std::snprintf(buf, sizeof buf, "sculpting the %.1f s session", static_cast<double>(ticks) * spec.period_s);
+    else
+        std::snprintf(buf, sizeof buf, "sculpting the session");
+    return buf;
+}
 
 }  // namespace
 
@@ -133,9 +157,12 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     run.tiles_initial = rt.tiles_initial();
     run.contour_s = rt.contour_s();
 
+    const std::size_t expected = loop.recorded_ticks > 0 ? loop.recorded_ticks : ticks;
+    ProgressReporter::Step step = progress().step(session_step_name(spec, loop, ticks));
     rt.start();
-    EndOnlyFrames frames(rt, ticks, timeout_s);
+    EndOnlyFrames frames(rt, ticks, timeout_s, expected, step);
     run_frames(frames, FramePacing{kEndOnlyPollS, true});
+    step.finish();
     run.stopped_by = stop_signal_name();
     run.last_view = rt.latest_view();  // this thread is the view's only reader
     rt.stop();  // drains every sample the loop pushed; rethrows a sculpt failure
@@ -148,7 +175,9 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     run.sculpt = rt.sculpt_stats();
     if (const compute::JournalStats* j = rt.journal_stats()) run.journal = *j;
     run.volume_after_m3 = compute::dexel_volume_m3(rt.workpiece().model);
+    ProgressReporter::Step contour_step = progress().step("contouring the carved model");
     SessionRuntime::FinalMesh carved = rt.final_mesh();
+    contour_step.finish();
     run.carved = std::move(carved.mesh);
     run.carved_materials = std::move(carved.materials);
     run.spilled_intervals = booleans.backend->spilled_intervals();
@@ -208,6 +237,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     }
     Pose head;
     head.position = kHeadPosition;
+    ProgressReporter::Step step = progress().step("drawing and writing the outputs");
     const auto t_render = Clock::now();
     // The part of the wall the workpiece is seen through from the head (same eyes, same geometry), so that the
     // workpiece fills the images instead of a tenth of a 3 m wall.
@@ -224,8 +254,10 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     writes.attempt(file("left.png"), [&] { renderer::write_png(file("left.png"), eyes.left); });
     writes.attempt(file("right.png"), [&] { renderer::write_png(file("right.png"), eyes.right); });
     writes.attempt(file("sbs.png"), [&] { renderer::write_png(file("sbs.png"), renderer::side_by_side(eyes.left, eyes.right)); });
+    step.update(0.5);
     writes.attempt(file("sculpted.ply"), [&] { compute::write_ply(file("sculpted.ply"), run.carved, run.carved_materials); });
     writes.attempt(file("haptics.csv"), [&] { write_haptics_csv(file("haptics.csv"), run.records); });
+    step.finish();
 
     DemoReport r;
     r.mesh_path = wp.mesh_path;

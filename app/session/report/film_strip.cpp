@@ -1,9 +1,11 @@
-// app/session/report/film_strip.cpp - the journal replayed to evenly spaced moments, each rendered, side by side in one PNG.
+// app/session/report/film_strip.cpp - the journal replayed to moments spread over the stretch where it changed the
+// model, each rendered, side by side in one PNG.
 #include "app/session/report/film_strip.hpp"
 
 #include <algorithm>
 #include <cstring>
 
+#include "app/session/report/strip_moments.hpp"
 #include "app/session/view/framing.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_replay.hpp"
@@ -32,28 +34,6 @@ void check_film_strip_options(const FilmStripOptions& o) {
 
 namespace {
 
-// Per picture, the number of records applied before it: just before the first sample with an operation, after the
-// last record, and evenly spaced in samples between.
-std::vector<std::size_t> picture_records(const compute::Journal& j, int frames) {
-    std::vector<std::uint64_t> samples_before(j.records.size() + 1, 0);  // samples in records [0, k)
-    std::size_t first_op = j.records.size();
-    for (std::size_t k = 0; k < j.records.size(); ++k) {
-        samples_before[k + 1] = samples_before[k] + j.records[k].samples.size();
-        if (first_op == j.records.size())
-            for (const ToolSample& s : j.records[k].samples)
-                if (s.op != ToolOp::kNone) first_op = k;
-    }
-    const std::uint64_t from = samples_before[first_op], to = samples_before.back();
-    std::vector<std::size_t> out;
-    for (int i = 0; i < frames; ++i) {
-        const std::uint64_t want = from + (to - from) * static_cast<std::uint64_t>(i) / static_cast<std::uint64_t>(frames - 1);
-        // The first k whose samples_before reaches `want` (records are applied whole).
-        const auto it = std::lower_bound(samples_before.begin() + static_cast<std::ptrdiff_t>(first_op), samples_before.end(), want);
-        out.push_back(static_cast<std::size_t>(it - samples_before.begin()));
-    }
-    return out;
-}
-
 // The last sample in records [0, k), or none.
 const ToolSample* last_sample(const compute::Journal& j, std::size_t k) {
     for (std::size_t r = k; r-- > 0;)
@@ -68,7 +48,11 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
                            gpu::Context& context) {
     check_film_strip_options(opt);
     FilmStrip strip;
-    strip.records = picture_records(journal, opt.frames);
+    const compute::Journal fine = split_batches(journal, kStripPieceSamples);
+    // Progress: measuring what each record changes the first half, the pictures the second.
+    strip.records = strip_picture_records(
+        fine, record_changes(fine, start.model, strip_replay(replay), progress_part(opt.progress, 0.0, 0.5)),
+        opt.frames);
     strip.width = opt.frames * opt.width + (opt.frames - 1) * opt.gap_px;
     strip.height = opt.height;
     renderer::Image out = renderer::Image::filled(strip.width, strip.height, 255, 255, 255);
@@ -79,16 +63,18 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
                                                    head.position, static_cast<double>(opt.width) / opt.height);
     const MenuItem menu_root = default_menu();
     MenuDrawing menu;  // kept across pictures: a changed menu gets new meshes, so the renderer uploads them
+    // One pass over the journal: the model and its contour follow the pictures (a Contourer redoes the dirty tiles
+    // only, the same pieces as a whole re-contour).
+    compute::TriDexel model = start.model;
+    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
+    compute::JournalApplier applier(model, strip_replay(replay));
+    compute::Contourer contourer(model);
+    std::size_t applied = 0;
     for (int i = 0; i < opt.frames; ++i) {
         const std::size_t k = strip.records[static_cast<std::size_t>(i)];
-        compute::TriDexel model = start.model;
-        compute::JournalApplyFrom from = replay;
-        from.record = 0;
-        from.last_serial = 0;
-        from.history_budget_bytes = std::size_t{1} << 40;  // every undo in the journal finds its stroke
-        (void)compute::journal_apply(model, std::span<const compute::JournalRecord>(journal.records.data(), k), from);
-        std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
-        compute::Contourer contourer(model);
+        applier.apply(std::span<const compute::JournalRecord>(fine.records.data() + applied, k - applied));
+        applied = k;
+        if (i + 1 == opt.frames) applier.flush();  // the last picture: a push group still held, applied
         contourer.update(model);
         const TriMesh mesh = contourer.mesh();
         const std::vector<std::uint8_t> materials = contourer.mesh_materials();
@@ -98,7 +84,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
         view.show_workspace = false;
         view.eye_count = 1;
         view.occlusion_strength = opt.ao ? 1.0 : 0.0;
-        const ToolSample* s = last_sample(journal, k);
+        const ToolSample* s = last_sample(fine, k);
         view.tool_shape = s ? s->tool : tool;
         view.tool_radius_m = view.tool_shape.radius_m;
         view.tool_centre_m = s ? s->position : start.model.lattice.bounds().centre() + Vec3(0.0, 0.0, 0.1);
@@ -112,6 +98,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
             std::memcpy(out.at(i * (opt.width + opt.gap_px), y), eyes.left.at(0, y), static_cast<std::size_t>(opt.width) * 4);
         strip.t_s.push_back(s ? s->t_s : 0.0);
         strip.volume_m3.push_back(compute::dexel_volume_m3(model));
+        report_progress(progress_part(opt.progress, 0.5, 1.0), i + 1.0, opt.frames);
     }
     renderer::write_png(path, out);
     return strip;

@@ -1,5 +1,5 @@
-// app/session/report/film_strip.hpp - a session told in pictures: the model as its journal carves it, at evenly spaced
-// moments, rendered side by side into one PNG (for a README, a report, a bug).
+// app/session/report/film_strip.hpp - a session told in pictures: the model as its journal carves it, at moments spread over
+// the stretch where it changed, rendered side by side into one PNG (for a README, a report, a bug).
 #pragma once
 
 #include <cstddef>
@@ -10,6 +10,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
+#include "core/progress.hpp"
 #include "core/tool_shape.hpp"
 
 namespace tridex::gpu {
@@ -28,6 +29,8 @@ struct FilmStripOptions {
     /// The recorded session's menu track: a picture at a device time when the menu was shown draws it as the session
     /// did (where it stood in the scene, its ring and lit slice). nullptr = no menu.
     const MenuTrack* menu = nullptr;
+    /// Hears the fraction of the strip drawn (core/progress.hpp); empty = nobody.
+    ProgressFn progress{};
 };
 
 /// Checks `opt` against the ranges above; throws tridex::Error "film strip: ..." naming the field out of range.
@@ -35,22 +38,23 @@ void check_film_strip_options(const FilmStripOptions& opt);
 
 /// What write_film_strip drew.
 struct FilmStrip {
-    std::vector<std::size_t> records;  ///< per picture: journal records applied before it
+    std::vector<std::size_t> records;  ///< per picture: records applied before it, of the journal split_batches made
     std::vector<double> t_s;           ///< per picture: device time of the last sample applied, s (0: none yet)
     std::vector<double> volume_m3;     ///< per picture: the model's volume, m^3
     std::vector<bool> menu_shown;      ///< per picture: the menu was drawn (FilmStripOptions::menu)
     int width = 0, height = 0;         ///< the whole strip's size, px
 };
 
-/// Draws the session of `journal` (its records as the sculpt thread journalled them) applied to `start` (the
-/// session's workpiece before its first sample) as opt.frames pictures left to right: the first just before the
-/// first sample that applies an operation, the last after the last record, the others evenly spaced (in samples)
-/// between, each showing the model then (journal_apply from the start, contoured on the CPU) and the tool at the
-/// last sample applied, framed as the demo frames its workpiece (framing_screen, one eye), and writes it to `path`
-/// as a PNG. `tool` is the session's tool (radius for the ball drawn); `replay` the session's replay settings
-/// (replay_settings: speck removal and clay group size; its undo budget is raised so that every undo finds its
-/// stroke). Throws tridex::Error for options out of
-/// range, a journal the model refuses (as journal_apply), no Vulkan device, or a PNG that cannot be written.
+/// Draws the session of `journal` (its records as the sculpt thread journalled them) applied to `start` (the session's
+/// workpiece before its first sample) as opt.frames pictures left to right, stopping where strip_picture_records says
+/// (app/session/report/strip_moments.hpp: on the journal split by split_batches into pieces of kStripPieceSamples, after
+/// record_changes), each showing the model then (applied in one pass; a clay push group still held at a picture shows
+/// from the next one, and the last picture shows the final model; contoured on the CPU) and the tool at the last sample
+/// applied, framed as the demo frames its workpiece (framing_screen, one eye), and writes it to `path` as a PNG. `tool`
+/// is the session's tool (radius for the ball drawn); `replay` the session's replay settings (replay_settings: speck
+/// removal and clay group size; its undo budget is raised so that every undo finds its stroke). Throws tridex::Error
+/// for options out of range, a journal the model refuses (as journal_apply), no Vulkan device, or a PNG that cannot be
+/// written.
 FilmStrip write_film_strip(const std::string& path, const compute::Journal& journal, const Workpiece& start,
                            const ToolShape& tool, const compute::JournalApplyFrom& replay, const FilmStripOptions& opt,
                            gpu::Context& context);

@@ -8,6 +8,7 @@
 #include "app/scene/tool_mesh.hpp"
 #include "app/support/crash_report.hpp"
 #include "app/support/memory.hpp"
+#include "app/support/progress.hpp"
 #include "app/support/stop_signal.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/mesh/scan_convert.hpp"
@@ -54,6 +55,7 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
     if (!device_) throw Error("SessionRuntime: no haptic device");
     cfg_.tool_schedule = o.loop.tool_schedule;
     cfg_.engage_mask |= o.loop.engage_mask;
+    cfg_.free_run = o.loop.free_run;
     configure_net_device(*device_, cfg_);  // local rendering: the server's loop gets the contact parameters
     // Connect and calibrate before the slow set-up, so a device that cannot tells the user at once; forces are
     // enabled by the haptic loop when it starts and disabled when it stops.
@@ -73,11 +75,12 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     const auto t0 = Clock::now();
     {
         const StopEndsSetUp set_up("contouring the workpiece");  // no force sent, no work to keep yet
+        ProgressReporter::Step step = progress().step("contouring the workpiece");
         if (gpu_contour_) {
             tiles_initial_ = gpu_contour_->update_all();
             wp_.model.clear_dirty();
         } else {
-            tiles_initial_ = contourer_->update(wp_.model);
+            tiles_initial_ = contourer_->update(wp_.model, step.fn());
         }
     }
     contour_s_ = seconds_since(t0);

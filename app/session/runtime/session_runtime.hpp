@@ -94,6 +94,11 @@ struct LoopOverrides {
     /// Button bits that engage the tool, ORed into the loop's engage_mask (a recorded mouse session's left
     /// button, mouse_buttons::kEngage, when the replay device stands in for the mouse).
     std::uint32_t engage_mask = 0;
+    /// Run the loop free (HapticLoopConfig::free_run): a replay that draws no window, as fast as the sculpting goes,
+    /// with the paced replay's samples and model. false: ticks paced at period_s, as the session ran.
+    bool free_run = false;
+    /// The recording's ticks (a replay), against which the session's progress is told; 0: not a replay.
+    std::size_t recorded_ticks = 0;
 };
 
 /// How a SessionRuntime places its GPU work and hands its surface over.
