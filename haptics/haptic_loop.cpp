@@ -433,12 +433,12 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     rec.material = sample.material;
     rec.tool = tool_;
     sample.buttons = state.buttons;
-    bool pushed = samples_.try_push(sample);
-    // A free-running loop (a replay) waits for room: its samples must all reach the sculpt thread.
-    while (!pushed && cfg_.free_run && !stop_requested_.load(std::memory_order_acquire)) {
-        std::this_thread::sleep_for(std::chrono::microseconds(100));
-        pushed = samples_.try_push(sample);
-    }
+    // A free-running loop (a replay) stays at most kFreeRunLead samples ahead of the sculpt thread, as a paced loop
+    // that the sculpt thread keeps up with does: every sample reaches it, and the surface the contact reads is as
+    // recent as in the session.
+    while (cfg_.free_run && samples_.size() >= kFreeRunLead && !stop_requested_.load(std::memory_order_acquire))
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+    const bool pushed = samples_.try_push(sample);
     if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
     // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
     // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.

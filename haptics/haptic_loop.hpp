@@ -82,17 +82,20 @@ struct HapticLoopConfig {
     /// increasing device_t_s; empty for live sessions.
     std::vector<ToolChange> tool_schedule{};
     /// Free running, for a replay that draws no window (nothing waits on its pace): ticks run back to back without
-    /// sleeping, the loop clock is tick index x period_s (each tick on time, as the recorded loop meant them), a full
-    /// sample ring is waited out instead of dropping the sample (so the sculpt thread gets every one, as a paced loop
-    /// that keeps up does), and no real-time scheduling or CPU is asked for. The samples, and so the model, are those
-    /// of the paced loop; only the wall time differs. Never for a live device: the loop then waits on the sculpt
-    /// thread.
+    /// sleeping, the loop clock is tick index x period_s (each tick on time, as the recorded loop meant them), the loop
+    /// stays at most kFreeRunLead samples ahead of the sculpt thread (so the sculpt thread gets every sample and the
+    /// active surface the contact reads is about as recent as in a paced session that keeps up), and no real-time
+    /// scheduling or CPU is asked for. The samples, and so the model, are those of the paced loop; only the wall time
+    /// differs. Never for a live device: the loop then waits on the sculpt thread.
     bool free_run = false;
     /// Elastic (or rigid) spheres felt beside the workpiece, at most kMaxElasticObjects: each adds
     /// elastic_force() of the tool's contact points against its undeformed sphere (Popescu, Burdea, Bouzit 3.3) to
     /// the contact force. Their stiffness is capped like the contact's (the device profile's max stiffness).
     std::vector<ElasticSphere> elastic_objects{};
 };
+
+/// Samples a free-running loop (HapticLoopConfig::free_run) may have in the ring, not yet taken by the sculpt thread.
+inline constexpr std::size_t kFreeRunLead = 16;
 
 /// Most elastic objects a haptic loop feels (HapticLoopConfig::elastic_objects).
 inline constexpr std::size_t kMaxElasticObjects = 16;
