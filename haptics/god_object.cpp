@@ -285,7 +285,11 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     // part) is searched for again too; a nearer plane replaces it (the normal's candidate keeps a thin wall's face).
     const double lag_m = radius + kLagCells * spacing_m(surface);
     bool reacquired = false;  // the plane was found again: the proxy's old place says nothing about friction on it
-    const bool too_deep = plane.found && !plane.kept && plane.depth > lag_m;
+    // A HIP the snapshot's readings hold outside material cannot lie deeper than the tool's radius behind the
+    // surface nearest it: a plane that says so is not that surface.
+    const double held_lag_m = radius + kHeldLagCells * spacing_m(surface);
+    const bool too_deep =
+        plane.found && !plane.kept && (plane.depth > lag_m || (!r.hip_inside && plane.depth > held_lag_m));
     if (may_reacquire && (!plane.found || plane.kept || too_deep)) {
         const PlaneSearch again = reacquire_plane(surface, hip, radius, normal_, last_axis_, false);
         if (again.found && (!too_deep || again.depth < plane.depth)) {
@@ -318,7 +322,7 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     // Held farther than the tool's radius and a few cells from the HIP, in contact or not: the guard stopped the proxy
     // on its way to a surface the HIP has moved to (step 10): take the surface nearest the HIP when the whole tool is
     // free there, or the HIP itself when no plane holds it back and the tool there is free.
-    if (held && usable && has_proxy_ && glm::length(next - hip) > radius + kHeldLagCells * spacing_m(surface)) {
+    if (held && usable && has_proxy_ && glm::length(next - hip) > held_lag_m) {
         const PlaneSearch again = reacquire_plane(surface, hip, radius, normal_, last_axis_, true);
         if (!again.found && pose_free(surface, hip, radius, Vec3(0.0), false)) {
             // No plane holds the HIP back and the tool there is free: the proxy joins it.

@@ -110,7 +110,8 @@ struct ContactResult {
 ///    proxy joins the HIP in that tick, whatever lies between them. A hand that jumped across a thin wall or left
 ///    the far side of a deep cut is never left behind (a mouse or tracker has no force to stop it).
 /// 10. Search again (constraint_plane.hpp, reacquire_plane): while in contact, when no plane is found (or only last
-///    tick's is kept, or the HIP lies deeper than r + 2 window spacings behind the plane), or when the guard holds the
+///    tick's is kept, or the HIP lies deeper than r + 2 window spacings behind the plane, or deeper than r + half a
+///    spacing while the snapshot's readings hold it outside material), or when the guard holds the
 ///    proxy farther than r + half a window spacing from the HIP (in contact or not), the plane is
 ///    searched for again from reference points lifted out of material: along the last contact normal first (its
 ///    plane kept when it faces the same way), else along the six axis directions past the material the rays hold the
