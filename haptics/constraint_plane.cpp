@@ -205,9 +205,12 @@ PlaneSearch reacquire_plane(const ActiveSurface& surface, const Vec3& hip, doubl
         Vec3 lifted = hip;
         lifted[axis] += sign * (out + lift);
         const PlaneSearch p = search_from(lifted);
-        if (p.found && (!best.found || p.depth < best.depth) && free_on(p)) best = p;
+        // Without a free pose to insist on, a face turned away from the one last touched is the far side of
+        // what the hand pressed into (a thin wall, a tube's wall): not taken.
+        const bool facing = only_free || last_normal == Vec3(0.0) || glm::dot(p.tri.n, last_normal) > 0.0;
+        if (p.found && facing && (!best.found || p.depth < best.depth) && free_on(p)) best = p;
     }
-    return best.found || only_free ? best : same;
+    return best;
 }
 
 }  // namespace tridex::haptics::contact

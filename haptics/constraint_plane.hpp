@@ -70,8 +70,9 @@ PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Ve
 /// past the material the rays of that axis hold the HIP in. Of the planes found whose proposed proxy
 /// (hip + depth * n) leaves the whole tool out of material, the one nearest the HIP (least depth). Zilles &
 /// Salisbury's god-object rests on the surface point nearest the HIP; this finds it on the snapshot without the
-/// proxy's history. When none leaves the tool free and `only_free` is false, the normal's plane if it was found
-/// (the guard then takes the proxy as far towards it as it can). Not found when no candidate qualifies.
+/// proxy's history. When `only_free` is false an axis candidate must also face the same way as last_normal, so a
+/// hand pressed into a thin wall or a tube's wall keeps the side it entered. Not found when no candidate
+/// qualifies (the guard then keeps the proxy out of material).
 PlaneSearch reacquire_plane(const ActiveSurface& surface, const Vec3& hip, double radius_m, const Vec3& last_normal,
                             int last_axis, bool only_free);
 
