@@ -127,7 +127,9 @@ TEST(ElasticSession, ARunFeelsAndDrawsTheSceneBallAndItSpringsBackAfterTheStroke
     const double ball_force = j1["haptics"]["max_force_n"].get<double>();
     const auto rp = run_tridex("replay " + (dir / "ball.trdx").string() + " --out " + (dir / "replay").string(), dir / "replay");
     ASSERT_EQ(rp.exit_code, 0) << rp.err;
-    EXPECT_NEAR(read_report(dir / "replay")["haptics"]["max_force_n"].get<double>(), ball_force, 0.1 * ball_force);
+    // The replay runs unpaced, so its sculpt thread's snapshots meet the ticks at other moments than live: the peak
+    // force (near the Omni's 0.88 N cap) agrees within 15 %.
+    EXPECT_NEAR(read_report(dir / "replay")["haptics"]["max_force_n"].get<double>(), ball_force, 0.15 * ball_force);
     // A rigid ball: felt the same way, never drawn dented.
     const std::string rigid = write_ball_scene(
         dir, R"([{"name": "stone", "elastic": false, "centre_m": [-0.006, -0.011, 0.09], "radius_m": 0.012,
