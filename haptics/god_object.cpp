@@ -175,7 +175,6 @@ void GodObject::remember(const ContactResult& r, const Vec3& hip, const Vec3& n_
     normal_ = r.contact ? (n_c != Vec3(0.0) ? n_c : n) : Vec3(0.0);
     constraint_normal_ = r.contact ? n_c : Vec3(0.0);
     contact_point_ = r.contact_point_m;
-    depth_ = r.depth_m;
     has_plane_ = r.contact && plane.found && !held;
     if (has_plane_) {
         plane_q_ = plane.tri.on;
@@ -233,7 +232,6 @@ void GodObject::reset() {
     normal_ = Vec3(0.0);
     constraint_normal_ = Vec3(0.0);
     contact_point_ = Vec3(0.0);
-    depth_ = 0.0;
     last_axis_ = 2;
     material_ = 0;
     has_plane_ = false;
@@ -265,7 +263,6 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
         contact_point_ = hip;
         has_plane_ = false;
         force_ = Vec3(0.0);
-            depth_ = 0.0;
         return r;
     }
     if (usable) {

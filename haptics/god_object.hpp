@@ -191,7 +191,6 @@ private:
     Vec3 normal_{0.0};             // contact normal (constraint normal, else the held spring's direction)
     Vec3 constraint_normal_{0.0};  // normal of the plane the contact point was taken on, zero when none
     Vec3 contact_point_{0.0};      // the last contact point, m
-    double depth_ = 0.0;
     int last_axis_ = 2;
     std::uint8_t material_ = 0;
     bool has_plane_ = false;  // the last tick's contact came from the plane (plane_q_, plane_n_)

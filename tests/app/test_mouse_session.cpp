@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -42,19 +43,25 @@ std::pair<double, double> pixel_of(const Vec3& p) {
 // The drag: from world x = -25 mm to +25 mm at y = 0 on the workpiece's centre plane, projected.
 const Vec3 kFrom(-0.025, 0.0, 0.05), kTo(0.025, 0.0, 0.05);
 
-std::string write_mouse_scene(const fs::path& dir, int drag_buttons, bool undo) {
-    const auto [x0, y0] = pixel_of(kFrom);
-    const auto [x1, y1] = pixel_of(kTo);
-    const std::string path = (dir / "mouse_scene.json").string();
-    std::ofstream f(path);
-    f << R"({
-  "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+// The mouse scenes' fields before "cursor": a 64-cell bunny, a 6 mm ball, the mouse, the desk at kW x kH.
+std::string mouse_scene_fields() {
+    std::ostringstream f;
+    f << R"(  "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
   "tool": { "radius_m": 0.006 },
   "device": { "driver": "mouse" },
   "stroke": "none",
   "display": { "preset": "desktop", "resolution": [)" << kW << ", " << kH << R"(], "refresh_hz": 60 },
   "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] },
-  "cursor": [ {"t_s": 0.2, "x_px": )" << x0 << R"(, "y_px": )" << y0 << R"(, "buttons": 0},
+)";
+    return f.str();
+}
+
+std::string write_mouse_scene(const fs::path& dir, int drag_buttons, bool undo) {
+    const auto [x0, y0] = pixel_of(kFrom);
+    const auto [x1, y1] = pixel_of(kTo);
+    const std::string path = (dir / "mouse_scene.json").string();
+    std::ofstream f(path);
+    f << "{\n" << mouse_scene_fields() << R"(  "cursor": [ {"t_s": 0.2, "x_px": )" << x0 << R"(, "y_px": )" << y0 << R"(, "buttons": 0},
               {"t_s": 0.6, "x_px": )" << x0 << R"(, "y_px": )" << y0 << R"(, "buttons": )" << drag_buttons << R"(},
               {"t_s": 1.8, "x_px": )" << x1 << R"(, "y_px": )" << y1 << R"(, "buttons": 0},
               {"t_s": 2.0, "x_px": )" << x1 << R"(, "y_px": )" << y1 << R"(, "buttons": 0} ])";
@@ -325,14 +332,7 @@ TEST(MouseSession, QuickJumpsLeaveNoProxyBehind) {
     const std::string path = (dir / "quick_scene.json").string();
     {
         std::ofstream f(path);
-        f << R"({
-  "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
-  "tool": { "radius_m": 0.006 },
-  "device": { "driver": "mouse" },
-  "stroke": "none",
-  "display": { "preset": "desktop", "resolution": [)" << kW << ", " << kH << R"(], "refresh_hz": 60 },
-  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] },
-  "cursor": [)";
+        f << "{\n" << mouse_scene_fields() << R"(  "cursor": [)";
         double t = 0.2;
         for (int i = 0; i < 12; ++i) {
             const auto [x0, y0] = pixel_of(spots[i % 6]);
