@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "haptics/convex_contact.hpp"
 #include "haptics/local_surface.hpp"
 #include "haptics/snapshot_depth.hpp"
 
@@ -13,9 +14,6 @@ namespace tridex::haptics::contact {
 
 namespace {
 
-// How far (in window spacings) the previous proxy may lie behind a candidate plane and still count as having been
-// outside it: absorbs the small changes between neighbouring active triangles of one curved surface.
-constexpr double kCrossingTolerance = 0.25;
 // Locality of an active triangle: each of its three ends must lie within kLocalityCells plus
 // kLocalitySlope times the lateral distance between the HIP and the reference (cells) of the reference
 // along the ray. A triangle whose rays straddle a feature (a ray passing under a slot's floor next to
@@ -28,7 +26,8 @@ constexpr double kReacquireLiftCells = 2.0;
 // The triangle's plane replaced by the tangent plane of the local surface fitted around the HIP, at the point nearest
 // it (local_surface.hpp), when the fit holds: a flat triangle's normal is off by up to its size over the radius of
 // curvature, its depth by the chord's sag.
-void refine(const ActiveSurface& s, int a, const Vec3& hip, Triangle& t) {
+// True when the fit held (the triangle then carries the fitted plane).
+bool refine(const ActiveSurface& s, int a, const Vec3& hip, Triangle& t) {
     const bool exits = (t.exit[0] ? 1 : 0) + (t.exit[1] ? 1 : 0) + (t.exit[2] ? 1 : 0) >= 2;
     // The patch is centred where the HIP's foot point is expected (on the triangle's plane first), and moved to
     // the foot point found until it lies in the patch (a ball's centre stands off a tilted surface, its foot point
@@ -38,14 +37,27 @@ void refine(const ActiveSurface& s, int a, const Vec3& hip, Triangle& t) {
         SurfacePoint sp;
         if (!nearest_on_local_surface(s, a, hip, centre, t.q[0], t.n, exits, sp)) {
             // Outside the patch: try again around the foot point the fit gave, if it gave one.
-            if (sp.normal == Vec3(0.0)) return;
+            if (sp.normal == Vec3(0.0)) return false;
             centre = sp.point_m;
             continue;
         }
         t.on = sp.point_m;
         t.n = sp.normal;
-        return;
+        return true;
     }
+    return false;
+}
+
+// True when plane p explains the material the ball of radius r about the HIP touches: none of its 26 points
+// (convex_contact.hpp) that the plane holds more than half a window spacing outside reads inside material. At a
+// convex edge a plane of one face leaves the other face's material unexplained.
+bool explains_ball(const ActiveSurface& s, const Vec3& hip, double radius, const PlaneSearch& p) {
+    const double margin = 0.5 * spacing_m(s);
+    for (const Vec3& u : ball_directions()) {
+        const Vec3 q = hip + radius * u;
+        if (glm::dot(q - p.tri.on, p.tri.n) > margin && touches_material(s, q)) return false;
+    }
+    return true;
 }
 
 }  // namespace
@@ -147,6 +159,7 @@ PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Ve
     // point when the HIP is inside material (a HIP deep under a curved surface has no face of the
     // proxy's side above it).
     const int passes = last.in_contact && inside_material(surface, hip) ? 2 : 1;
+    bool refined = false;
     for (int pass = 0; pass < passes && !p.found; ++pass) {
         const Vec3& at = pass == 0 ? hip : reference;
         for (int k = 0; k < 3 && !p.found; ++k) {
@@ -156,15 +169,21 @@ PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Ve
             const double extra =
                 last.in_contact ? 0.0 : (std::abs(hip[order[k]] - reference[order[k]]) + 2.0 * radius) / surface.cell_m;
             if (!active_triangle(surface, order[k], at, reference, extra, p.tri)) continue;
-            refine(surface, order[k], hip, p.tri);
+            refined = refine(surface, order[k], hip, p.tri);
             p.depth = radius - glm::dot(hip - p.tri.on, p.tri.n);
             if (!(p.depth > 0.0)) continue;
             // Constraint test: the god-object must not already have been behind this plane.
             const double proxy_depth = radius - glm::dot(proxy - p.tri.on, p.tri.n);
-            if (proxy_depth > kCrossingTolerance * surface.window_spacing_cells(order[k]) * surface.cell_m) continue;
+            if (proxy_depth > kCrossingToleranceCells * surface.window_spacing_cells(order[k]) * surface.cell_m) continue;
             p.found = true;
             p.axis = order[k];
         }
+    }
+    // A ball near a convex edge or corner: no face under its centre, or a triangle the local surface does not fit
+    // (one that spans the edge): the tangent plane of the solid grown by the radius there.
+    if (radius > 0.0 && !(p.found && refined && explains_ball(surface, hip, radius, p))) {
+        PlaneSearch feature;
+        if (convex_feature_plane(surface, hip, proxy, radius, p.found ? 2 : 1, feature)) return feature;
     }
     // No triangle, but the HIP is still inside material and behind the last plane: keep that plane.
     // A face's band between its last complete triangle and its edge (up to a cell wide) has no
@@ -191,10 +210,20 @@ PlaneSearch reacquire_plane(const ActiveSurface& surface, const Vec3& hip, doubl
     const auto free_on = [&](const PlaneSearch& p) {
         return pose_free(surface, hip + p.depth * p.tri.n, radius, radius * p.tri.n, true);
     };
+    // The surface nearest the HIP is no farther from it than the nearest way out of material along an axis (each
+    // ends on the surface): a plane that holds the HIP deeper than the radius and that way out (and a spacing, the
+    // rays' lateral offset) is a face beyond it (the far side of the workpiece), not the surface nearest the HIP.
+    double way_out = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 6; ++i) {
+        const double out = exit_distance_m(surface, hip, i >> 1, (i & 1) ? -1 : 1);
+        if (out >= 0.0) way_out = std::min(way_out, out);
+    }
+    const double deepest = radius + way_out + spacing_m(surface);
+    const auto near_enough = [&](const PlaneSearch& p) { return p.found && p.depth <= deepest; };
     PlaneSearch same;  // the plane found from above the last contact normal, facing the same way
     if (last_normal != Vec3(0.0)) {
         same = search_from(hip + lift * last_normal);
-        if (same.found && !(glm::dot(same.tri.n, last_normal) > 0.0)) same = PlaneSearch{};
+        if (!near_enough(same) || !(glm::dot(same.tri.n, last_normal) > 0.0)) same = PlaneSearch{};
         if (same.found && free_on(same)) return same;
     }
     PlaneSearch best;
@@ -208,7 +237,7 @@ PlaneSearch reacquire_plane(const ActiveSurface& surface, const Vec3& hip, doubl
         // Without a free pose to insist on, a face turned away from the one last touched is the far side of
         // what the hand pressed into (a thin wall, a tube's wall): not taken.
         const bool facing = only_free || last_normal == Vec3(0.0) || glm::dot(p.tri.n, last_normal) > 0.0;
-        if (p.found && facing && (!best.found || p.depth < best.depth) && free_on(p)) best = p;
+        if (near_enough(p) && facing && (!best.found || p.depth < best.depth) && free_on(p)) best = p;
     }
     return best;
 }

@@ -53,13 +53,21 @@ struct PlaneSearch {
     bool kept = false;    ///< it is last tick's plane
     double depth = 0.0;   ///< radius - signed distance of the HIP from the plane, m
     int axis = -1;        ///< its ray set, -1 when none
+    bool feature = false; ///< a ball's tangent plane at a convex edge or corner (convex_contact.hpp): no face shading
 };
+
+/// How far (window spacings) the previous proxy may lie behind a candidate plane and still count as having been
+/// outside it: absorbs the small changes between neighbouring active triangles of one curved surface.
+inline constexpr double kCrossingToleranceCells = 0.25;
 
 /// Steps 1-4 of GodObject (god_object.hpp), the triangle's plane refined to the tangent plane of the fitted local
 /// surface at its point nearest the HIP (local_surface.hpp) where the fit holds: the first ray set, in order of alignment with the approach, whose
 /// active triangle under the HIP (m) has the HIP behind it (depth > 0 for a ball of radius radius_m) while `proxy`
 /// (m) was not behind it (within a quarter window spacing); while in contact and inside material, then the
-/// triangle under the last contact point; failing that, last tick's plane while the HIP is still behind it.
+/// triangle under the last contact point. For a ball (radius_m > 0) with no such plane, or with a triangle the local
+/// surface does not fit or a plane that leaves material the ball touches unexplained, the tangent plane of a convex
+/// edge or corner when the ball meets one (convex_contact.hpp). Failing all that, last tick's plane while the HIP is
+/// still behind it.
 PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, double radius_m,
                          const LastContact& last);
 
@@ -71,8 +79,10 @@ PlaneSearch search_plane(const ActiveSurface& surface, const Vec3& hip, const Ve
 /// (hip + depth * n) leaves the whole tool out of material, the one nearest the HIP (least depth). Zilles &
 /// Salisbury's god-object rests on the surface point nearest the HIP; this finds it on the snapshot without the
 /// proxy's history. When `only_free` is false an axis candidate must also face the same way as last_normal, so a
-/// hand pressed into a thin wall or a tube's wall keeps the side it entered. Not found when no candidate
-/// qualifies (the guard then keeps the proxy out of material).
+/// hand pressed into a thin wall or a tube's wall keeps the side it entered. A candidate holding the HIP deeper than
+/// the radius plus the HIP's nearest way out of material along an axis (exit_distance_m; 0 outside) plus a window
+/// spacing is refused: the surface nearest the HIP is no farther than that, so such a plane is a face beyond it (the
+/// workpiece's far side). Not found when no candidate qualifies (the guard then keeps the proxy out of material).
 PlaneSearch reacquire_plane(const ActiveSurface& surface, const Vec3& hip, double radius_m, const Vec3& last_normal,
                             int last_axis, bool only_free);
 

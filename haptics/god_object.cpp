@@ -139,7 +139,7 @@ ForceFrame force_frame(const ActiveSurface& surface, const PlaneSearch& plane, i
     f.n = f.shaded = tri.n;
     f.depth_m = plane.depth;
     f.tangential = next - frictionless;
-    if (!shading || plane.kept) return f;
+    if (!shading || plane.kept || plane.feature) return f;
     Vec3 vn[3];
     for (int i = 0; i < 3; ++i) vn[i] = dexel_end_normal(surface, axis, tri.iu[i], tri.iv[i], tri.depth[i], tri.exit[i]);
     const Vec3 b = blend_normals(vn, tri.w);

@@ -76,8 +76,13 @@ struct ContactResult {
 ///    ray, a wall the proxy slid under) from grabbing the tool, and lets the other ray sets catch an
 ///    oblique approach. If no set gives a contact while in contact and the HIP is inside material, the
 ///    search is repeated with the triangles under last tick's contact point (a HIP deep under a curved
-///    surface has no face of the proxy's side above it), and failing that the last plane is kept (a
-///    face's band between its last complete triangle and its edge, up to a cell, has no triangle).
+///    surface has no face of the proxy's side above it). A ball with no plane under its centre, or with a
+///    triangle spanning an edge (no local surface fits it) or a plane that leaves material the ball touches
+///    unexplained, meets a convex edge or corner: its faces are gathered around the ball, the point x* of
+///    their intersection nearest the HIP is found exactly, and the plane is the tangent plane of the solid
+///    grown by r there (normal hip - x*, depth r - |hip - x*|; convex_contact.hpp); no force shading on it.
+///    Failing all that the last plane is kept (a face's band between its last complete triangle and its
+///    edge, up to a cell, has no triangle).
 /// 5. Material: the id of the interval whose end is the triangle vertex with the largest barycentric
 ///    weight of the HIP's projection selects kp, kd, mu_s, mu_d (ContactParams.materials).
 /// 6. Friction (friction.hpp): last tick's proxy projected on the plane sticks while the tangential
@@ -115,7 +120,9 @@ struct ContactResult {
 ///    proxy farther than r + half a window spacing from the HIP (in contact or not), the plane is
 ///    searched for again from reference points lifted out of material: along the last contact normal first (its
 ///    plane kept when it faces the same way), else along the six axis directions past the material the rays hold the
-///    HIP in, taking the plane nearest the HIP on which the whole tool is free. The proxy goes there at once (Zilles
+///    HIP in, taking the plane nearest the HIP on which the whole tool is free and which holds the HIP no deeper
+///    than r + its nearest way out of material along an axis + a spacing (a deeper one is the workpiece's far
+///    side, not the surface nearest the HIP). The proxy goes there at once (Zilles
 ///    & Salisbury's god-object rests on the surface point nearest the HIP), so it follows a hand that moved to
 ///    another face, or a surface changed under it (undo, union, a cut the snapshot catches up with), instead of
 ///    staying where the straight path was cut. While held that far with no plane found and
@@ -135,8 +142,9 @@ struct ContactResult {
 ///   clear of the far side by more than that, the contact is released (step 9).
 /// - One plane at a time: at a concave corner the second face is felt through the guard (the proxy
 ///   stops at it, the spring pulls the HIP back), not as a second plane it slides along.
-/// - At a convex edge under a penetration deeper than a cell the proxy stays on the first face until
-///   it reaches the edge, then jumps to the second face; force shading smooths facets, not that jump.
+/// - At a convex edge a point tool under a penetration deeper than a cell stays on the first face until
+///   it reaches the edge, then jumps to the second face; a ball rolls round the edge (step 4) while its
+///   centre is outside the material.
 /// - The guard's quarter cell is measured along the rays; near edges it can read up to about a cell
 ///   shallow (random walks over a sphere, a slotted box and a thin plate: contact points at most
 ///   0.31 / 0.5 / 0.23 cell inside the exact solid, tests/haptics/test_contact_random_walk.cpp).

@@ -62,6 +62,11 @@ bool inside_material(const ActiveSurface& s, const Vec3& p) {
     return r.vouched > kGuardMarginCells || r.blended > kGuardMarginCells;
 }
 
+bool touches_material(const ActiveSurface& s, const Vec3& p) {
+    const DepthReading r = read_depth(s, p);
+    return r.vouched > 0.0 || r.blended > 0.0;
+}
+
 // True when p is clearly out of material: at least one ray set's window covers it, and in every set that does, each
 // of the four rays around its projection has it more than kFreeMarginCells window spacings outside its intervals.
 bool clearly_outside(const ActiveSurface& s, const Vec3& p) {

@@ -50,6 +50,10 @@ DepthReading read_depth(const ActiveSurface& s, const Vec3& p_m);
 /// The guard's test: true when either reading of p_m (m) is deeper than kGuardMarginCells.
 bool inside_material(const ActiveSurface& s, const Vec3& p_m);
 
+/// True when either reading of p_m (m) holds it inside material at all (> 0, no guard margin): a point just past a
+/// face counts.
+bool touches_material(const ActiveSurface& s, const Vec3& p_m);
+
 /// True when every usable ray set's window covers p_m (m), its projection lying over the window's rays, and at
 /// least one set is usable: p_m lies inside the box the windows share (a set bounds only its two lateral axes).
 bool covers(const ActiveSurface& s, const Vec3& p_m);

@@ -365,10 +365,12 @@ TEST(MouseSession, QuickJumpsLeaveNoProxyBehind) {
     std::printf("[mouse quick jumps] %s\n", p.dump().c_str());
     EXPECT_GT(j["haptics"]["contact_ticks"].get<long>(), 100);
     // The proxy never stays behind: before, such jumps left it 24-64 mm away with the force at its limit until the
-    // session ended. A few ticks of a sweep at 0.75 m/s over the curved surface still lag by up to about 1.8
-    // radii (the target is one radius; see docs/design/contact.md).
+    // session ended. A few ticks of a carving sweep at 0.75 m/s still have the proxy up to about a cell (1.9 mm)
+    // beyond one radius from a HIP the snapshot reads outside (docs/design/contact.md); a face found again beyond
+    // the free space the HIP is in (the far side of the bunny) never takes the proxy.
     EXPECT_LT(p["max_gap_m"].get<double>(), 3.0 * 0.006) << p.dump();
-    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 100) << p.dump();
+    EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 1.5 * 0.006) << p.dump();
+    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 40) << p.dump();
     EXPECT_LT(p["max_force_rise_n"].get<double>(), 0.2) << p.dump();
 }
 

@@ -72,6 +72,36 @@ TEST(ProxyFollow, QuickMovesOverASphereNeverLeaveTheProxyBehindAFreeHip) {
     }
 }
 
+// Sweeps over the sphere at 0.75 m/s with the ball pressed 0.9 radius in (its centre just outside the surface, as a
+// mouse carving at its default depth of one radius nearly has it) and Coulomb friction on: the proxy lags the HIP by
+// the friction cone and no more. With mu_s = 0.2 the god-object may stand up to r * sqrt(1 + mu_s^2) from the HIP.
+TEST(ProxyFollow, FastSweepsWithFrictionLagByTheFrictionConeOnly) {
+    for (const double cell : {1e-3, 1.875e-3}) {
+        ContactParams p = params();
+        p.static_friction = 0.2;
+        p.dynamic_friction = 0.15;
+        FollowRig rig(cell, static_cast<int>(std::lround(128e-3 / cell)), p, test::ball_solid(kCentre, kR, cell));
+        std::mt19937 rng(11u);
+        std::uniform_real_distribution<double> theta(0.0, 1.2), phi(0.0, 6.283);
+        Vec3 at = on_sphere(0.0, 0.0, -2e-3);
+        for (int t = 0; t < 50; ++t) (void)rig.tick(at);
+        for (int m = 0; m < 40; ++m) {
+            // An arc over the sphere at the depth of one radius, 0.75 mm a tick.
+            const double t0 = theta(rng), p0 = phi(rng), t1 = theta(rng), p1 = phi(rng);
+            const double length = (kR + kTool) * std::hypot(t1 - t0, (p1 - p0) * std::sin(0.5 * (t0 + t1)));
+            const int ticks = std::max(1, static_cast<int>(length / 0.75e-3));
+            for (int t = 0; t <= ticks; ++t) {
+                const double s = static_cast<double>(t) / ticks;
+                (void)rig.tick(on_sphere(t0 + s * (t1 - t0), p0 + s * (p1 - p0), 0.9 * kTool));
+            }
+            for (int t = 0; t < 100; ++t) (void)rig.tick(on_sphere(t1, p1, 0.9 * kTool));
+        }
+        const test::FollowFigures f = rig.figures();
+        print("sweeps at 0.75 m/s, friction 0.2, cell " + std::to_string(cell * 1e3).substr(0, 5) + " mm", f);
+        EXPECT_LE(f.worst_gap_hip_outside_m, kTool * std::sqrt(1.0 + 0.2 * 0.2) + 0.1 * cell);
+    }
+}
+
 // A rested, pressed tool; then the solid changes under it and the hand stays put: after 50 ticks the proxy rests on
 // the new surface over the HIP (within a tenth of a cell of the analytic point), outside the solid.
 struct Change {
