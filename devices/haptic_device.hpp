@@ -122,6 +122,9 @@ struct DeviceLinkStats {
     std::uint64_t link_outages = 0;      ///< times the link went silent past the watchdog (force zeroed)
     std::uint64_t server_watchdog_trips = 0;  ///< times the server's watchdog zeroed the force
     std::string link_events{};           ///< what happened to the link, for the user ("" = nothing to say)
+    /// Network drivers: how long the link has been down at the time of the call (no device state for the driver's
+    /// watchdog time and none since), s; 0 while it is up. A session that ends with its link down lost its device.
+    double down_for_s = 0.0;
 };
 
 /// Abstract haptic device (CHAI3D/HAPI style: one interface for hardware, simulated and replayed devices).

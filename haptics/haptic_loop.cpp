@@ -185,6 +185,7 @@ void HapticLoop::begin_session() {
     speed_cuts_ = 0;
     stale_remote_ = 0;
     device_lost_ = false;
+    device_down_s_ = 0.0;
     realtime_ = false;
     locked_ = false;
     realtime_errno_ = 0;
@@ -227,6 +228,15 @@ void HapticLoop::stop() {
         device_.disable();  // zero force, and none until the next session
     }
     records_.resize(recorded_);  // shrinking never reallocates; start() grows it back in place
+    // A device whose link went down and never came back is gone, however the session ended (a server killed
+    // mid-stroke, a cable pulled): not a session that ran to its end with a device.
+    if (!device_lost_.load(std::memory_order_relaxed) && ticks_.load(std::memory_order_relaxed) > 0) {
+        const double down = device_.link_stats().down_for_s;
+        if (down > 0.0) {
+            device_down_s_ = down;
+            device_lost_.store(true, std::memory_order_release);
+        }
+    }
 }
 
 LoopStats HapticLoop::stats() const {
@@ -237,6 +247,7 @@ LoopStats HapticLoop::stats() const {
     s.records_stream_dropped = stream_dropped_.load(std::memory_order_relaxed);
     s.invalid_samples = invalid_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
+    s.device_down_s = device_lost_.load(std::memory_order_acquire) ? device_down_s_ : 0.0;
     s.watchdog_trips = trips_.load(std::memory_order_relaxed);
     s.passivity_energy_j = energy_.load(std::memory_order_relaxed);
     s.realtime_scheduling = realtime_.load(std::memory_order_relaxed);

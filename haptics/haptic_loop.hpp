@@ -155,7 +155,9 @@ struct LoopStats {
     std::size_t samples_dropped = 0;  ///< ToolSamples not pushed because the ring was full
     std::size_t records_stream_dropped = 0;  ///< TickRecords not pushed to HapticLoopConfig::record_stream (ring full)
     std::size_t invalid_samples = 0;  ///< device samples with a non-finite value (zero force sent)
-    bool device_lost = false;         ///< device.read() returned false (or threw) and the loop ended
+    bool device_lost = false;         ///< device.read() returned false (or threw) and the loop ended, or the loop
+                                      ///< was stopped while the device's link was down (DeviceLinkStats::down_for_s)
+    double device_down_s = 0.0;       ///< that link had been down this long when the loop stopped, s (else 0)
     std::size_t watchdog_trips = 0;   ///< watchdog trip episodes (non-finite, stale or stalled data)
     double passivity_energy_j = 0.0;  ///< passivity observer energy E, J (< 0: the environment created energy)
     bool realtime_scheduling = false; ///< the loop thread got SCHED_FIFO (false when refused or not asked)
@@ -365,6 +367,7 @@ private:
     std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
+    double device_down_s_ = 0.0;  // written by stop() before device_lost_ is set there
     std::atomic<int> realtime_errno_{0}, lock_errno_{0}, reserved_cpu_{-1};
     std::atomic<std::size_t> over_2ms_{0}, over_5ms_{0};
     std::atomic<double> energy_{0.0};

@@ -216,6 +216,11 @@ void JournalWriter::checkpoint(const std::string& name, std::uint64_t bytes, std
 void JournalWriter::sync_if_due() {
     if (!unsynced_ || !ok()) return;
     const auto t0 = Clock::now();
+    // What is handed to the kernel survives the process being killed; only durability waits for the sync interval.
+    if (!buf_.empty() && t0 - last_hand_off_ >= kHandOffInterval) {
+        if (!write_out()) return;
+        last_hand_off_ = t0;
+    }
     if (t0 - last_sync_ < interval_) return;
     if (!buf_.empty() && !write_out()) return;
     {

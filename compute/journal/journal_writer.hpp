@@ -40,9 +40,9 @@ struct JournalStats {
 
 /// Writes a session journal: the header at construction, then one record per append() (one sculpt step's
 /// batch, in order), through a buffer of fixed size reserved up front (no allocation per batch). The caller's
-/// thread only encodes records and hands them to the kernel with write(2): when the buffer fills, and at sync points,
-/// at least every `sync_interval` of wall time while appends come (append, mark and sync_if_due check the clock; a
-/// caller that idles calls sync_if_due). fdatasync runs on a syncing thread the writer owns: woken at each sync
+/// thread only encodes records and hands them to the kernel with write(2): when the buffer fills, at least every
+/// kHandOffInterval, and at sync points, at least every `sync_interval` of wall time while appends come (append,
+/// mark and sync_if_due check the clock; a caller that idles calls sync_if_due). fdatasync runs on a syncing thread the writer owns: woken at each sync
 /// point, and on its own at least every sync_interval (at most every second) while written bytes are not yet durable,
 /// so what was appended is durable within about one interval (plus the fdatasync) without the caller ever waiting
 /// for the disk. sync(), checkpoint() and close() sync on the caller's thread and return when the bytes are durable.
@@ -51,6 +51,10 @@ struct JournalStats {
 /// thread-safe: one thread (the sculpt thread) calls it; the syncing thread is internal.
 class JournalWriter {
 public:
+    /// Longest time appended bytes wait in the writer's own buffer before write(2) hands them to the kernel (checked
+    /// at each append, mark and sync_if_due).
+    static constexpr std::chrono::milliseconds kHandOffInterval{10};
+
     /// Creates (or truncates) `path` and writes and syncs the header carrying `session` (the caller's identity
     /// of the session, e.g. its spec as JSON; at most kJournalMaxSessionBytes). buffer_bytes (>= 4096) is the
     /// write buffer reserved once. A file that cannot be created or a header that cannot be written does not
@@ -73,8 +77,10 @@ public:
     /// Appends a checkpoint record naming the model file `name` (a plain file name in the journal's folder; its
     /// size and CRC-32) that holds the model after every record appended so far, and syncs at once (sync()).
     void checkpoint(const std::string& name, std::uint64_t bytes, std::uint32_t crc);
-    /// When the sync interval has passed since the last sync point and something was appended since: writes the
-    /// buffered bytes out (write(2)) and wakes the syncing thread to fdatasync them. Never waits for the disk.
+    /// Hands the buffered bytes to the kernel (write(2)) when kHandOffInterval has passed since it last did, so a
+    /// process killed (SIGKILL, a crash) loses at most that much of what was appended; and when the sync interval
+    /// has passed since the last sync point and something was appended since, wakes the syncing thread to fdatasync
+    /// them (durable against a power loss). Never waits for the disk.
     void sync_if_due();
     /// Writes the buffered bytes out and fdatasyncs them now, on the caller's thread (nothing when all is durable).
     void sync();
@@ -101,6 +107,7 @@ private:
     bool unsynced_ = false;           // appended since the last sync point
     std::chrono::nanoseconds interval_;
     std::chrono::steady_clock::time_point last_sync_;
+    std::chrono::steady_clock::time_point last_hand_off_;  // the last write(2) of sync_if_due
     mutable JournalStats stats_;      // stats() adds the shared counters below
 
     // Shared with the syncing thread, under mutex_:

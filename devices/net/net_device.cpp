@@ -408,6 +408,7 @@ DeviceLinkStats NetDevice::link_stats() const {
     s.link_outages = outages_;
     s.server_watchdog_trips = server_trips_base_ + server_.watchdog_trips;
     s.link_events = events_;
+    if (down_) s.down_for_s = std::max(0.0, opt_.clock() - last_state_rx_s_);
     return s;
 }
 

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "test_files.hpp"
 
 extern char** environ;
@@ -28,70 +29,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using tridex::app::test::Child;
 using tridex::app::test::read_json;
 using tridex::app::test::run_tridex;
-
-// A child process whose stdout the test reads line by line; killed (SIGKILL) and reaped when it goes out of scope.
-class Child {
-public:
-    explicit Child(const std::vector<std::string>& args) {
-        int fds[2];
-        if (pipe2(fds, O_CLOEXEC) != 0) return;
-        posix_spawn_file_actions_t fa;
-        posix_spawn_file_actions_init(&fa);
-        posix_spawn_file_actions_adddup2(&fa, fds[1], 1);
-        std::vector<char*> argv;
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        if (posix_spawn(&pid_, argv[0], &fa, nullptr, argv.data(), environ) != 0) pid_ = -1;
-        posix_spawn_file_actions_destroy(&fa);
-        close(fds[1]);
-        out_ = fds[0];
-    }
-    ~Child() {
-        if (pid_ > 0) {
-            kill(pid_, SIGKILL);
-            int status = 0;
-            waitpid(pid_, &status, 0);
-        }
-        if (out_ >= 0) close(out_);
-    }
-    Child(const Child&) = delete;
-    Child& operator=(const Child&) = delete;
-
-    bool started() const { return pid_ > 0 && out_ >= 0; }
-    // Reads stdout until a line matches `re` (its first group in `group`) or timeout_s passes; false on time-out or
-    // when the child closed its stdout (exited) first.
-    bool wait_for_line(const std::regex& re, double timeout_s, std::string& group) {
-        const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
-        while (Clock::now() < end) {
-            for (std::size_t nl; (nl = buffer_.find('\n')) != std::string::npos;) {
-                const std::string line = buffer_.substr(0, nl);
-                buffer_.erase(0, nl + 1);
-                seen_ += line + "\n";
-                std::smatch m;
-                if (std::regex_search(line, m, re)) {
-                    group = m.size() > 1 ? m[1].str() : "";
-                    return true;
-                }
-            }
-            pollfd p{out_, POLLIN, 0};
-            if (poll(&p, 1, 100) <= 0) continue;
-            char chunk[4096];
-            const ssize_t n = read(out_, chunk, sizeof chunk);
-            if (n <= 0) return false;  // the child is gone
-            buffer_.append(chunk, static_cast<std::size_t>(n));
-        }
-        return false;
-    }
-    // Everything read so far (for failure messages).
-    const std::string& seen() const { return seen_; }
-
-private:
-    pid_t pid_ = -1;
-    int out_ = -1;
-    std::string buffer_, seen_;
-};
 
 class NetSession : public ::testing::TestWithParam<const char*> {};
 

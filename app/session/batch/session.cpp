@@ -170,8 +170,9 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     if (GpuContourShare* g = rt.gpu_contour()) run.gpu_contour = g->stats();
     run.records = rt.records();
     run.loop = rt.loop_stats();
-    if (run.loop.device_lost && ticks > 0 && run.loop.ticks < ticks && run.stopped_by.empty())
-        run.device_lost_at_s = run.records.empty() ? 0.0 : run.records.back().t_s;
+    if (run.loop.device_lost && ticks > 0 && (run.loop.ticks < ticks || run.loop.device_down_s > 0.0) &&
+        run.stopped_by.empty())
+        run.device_lost_at_s = std::max(0.0, (run.records.empty() ? 0.0 : run.records.back().t_s) - run.loop.device_down_s);
     run.sculpt = rt.sculpt_stats();
     if (const compute::JournalStats* j = rt.journal_stats()) run.journal = *j;
     run.volume_after_m3 = compute::dexel_volume_m3(rt.workpiece().model);

@@ -205,7 +205,7 @@ void RunPipeline::Parts::collect() {
     if (!companion_failure.empty()) ended = companion_failure;
     r.loop = rt.loop_stats();
     if (r.loop.device_lost && !stop_requested()) {
-        r.device_lost_at_s = rt.records().empty() ? 0.0 : rt.records().back().t_s;
+        r.device_lost_at_s = std::max(0.0, (rt.records().empty() ? 0.0 : rt.records().back().t_s) - r.loop.device_down_s);
         ended = "the device was lost at " + format_number(*r.device_lost_at_s) + " s";
     }
     r.notes.insert(r.notes.begin(), "ended: " + ended);
