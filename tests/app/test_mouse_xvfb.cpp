@@ -89,11 +89,9 @@ double ray_depth(const Saved& s, const Vec3& p, double dy_px = 0.0) {
     return hit ? hit->distance_m : std::numeric_limits<double>::quiet_NaN();
 }
 
-TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
-    if (!have_binary("Xvfb") || !have_binary("xdotool"))
-        GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
-    renderer::test::VirtualDisplay display(800, 600);
-    const fs::path dir = test::temp_dir("mouse_xvfb");
+// Writes the desk scene (the bunny, a mouse, no stroke, a fixed head) into `dir` and returns the `run` arguments that
+// open it in a mono window, saving with Ctrl+S to `save` and writing the report to `out`.
+std::string mouse_run_args(const fs::path& dir, const fs::path& out, const fs::path& save) {
     const std::string scene = (dir / "scene.json").string();
     std::ofstream(scene) << R"({
   "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
@@ -104,10 +102,17 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
   "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] }
 }
 )";
+    return "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " + out.string() +
+           " --save " + save.string();
+}
+
+TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
+    if (!have_binary("Xvfb") || !have_binary("xdotool"))
+        GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
+    renderer::test::VirtualDisplay display(800, 600);
+    const fs::path dir = test::temp_dir("mouse_xvfb");
     const fs::path out = dir / "out", save = dir / "live.tdx";
-    test::TridexProcess app(TRIDEX_EXE, "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " +
-                   out.string() + " --save " + save.string(),
-               dir);
+    test::TridexProcess app(TRIDEX_EXE, mouse_run_args(dir, out, save), dir);
     const std::string w = test::find_window("tridex run");
     ASSERT_FALSE(w.empty());
     const auto move_to = [&](const Vec3& p) {
@@ -225,20 +230,8 @@ TEST(MouseXvfb, TheMKeyMirrorsADragAcrossTheWorkpiecesCentre) {
         GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
     renderer::test::VirtualDisplay display(800, 600);
     const fs::path dir = test::temp_dir("mouse_xvfb_symmetry");
-    const std::string scene = (dir / "scene.json").string();
-    std::ofstream(scene) << R"({
-  "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
-  "tool": { "radius_m": 0.006 },
-  "device": { "driver": "mouse" },
-  "stroke": "none",
-  "display": { "preset": "desktop", "resolution": [)" << kW << ", " << kH << R"(], "refresh_hz": 60 },
-  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] }
-}
-)";
     const fs::path out = dir / "out", save = dir / "live.tdx";
-    test::TridexProcess app(TRIDEX_EXE, "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " +
-                   out.string() + " --save " + save.string(),
-               dir);
+    test::TridexProcess app(TRIDEX_EXE, mouse_run_args(dir, out, save), dir);
     const std::string w = test::find_window("tridex run");
     ASSERT_FALSE(w.empty());
     const auto move_to = [&](const Vec3& p) {
