@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "compute/mesh/scan_convert.hpp"
@@ -162,6 +163,7 @@ TEST(Symmetry, RadialCopiesAreTheCutsOfTheTurnedPosesAndRemoveNTimesTheVolume) {
     const double removed1 = v0 - dexel_volume_m3(one), removed6 = v0 - dexel_volume_m3(six);
     EXPECT_GT(removed1, 0.0);
     EXPECT_NEAR(removed6 / removed1, 6.0, 0.06);
+    std::printf("[symmetry] radial:6:z: removed volume %.4f times one cut's\n", removed6 / removed1);
 }
 
 // Length of the symmetric difference of two sorted interval lists on one ray (grid units).
@@ -213,7 +215,9 @@ TEST(Symmetry, AMirroredCutLeavesAMirrorSymmetricModel) {
             sample_sweeps(s[i - 1], s[i], nullptr, nullptr, symmetry_centre(m.lattice), batch);
         for (const Sweep& sw : batch) apply_sweep(m, sw);
         // Float chords computed from mirrored tool starts agree to a few ulps of the depths (40 cells).
-        EXPECT_LT(mirror_mismatch(m, sym.mirrors), 1e-4) << name;
+        const double mismatch = mirror_mismatch(m, sym.mirrors);
+        EXPECT_LT(mismatch, 1e-4) << name;
+        std::printf("[symmetry] %s: largest difference between a ray and its mirror image %.3g cells\n", name, mismatch);
         // Without symmetry the same stroke is not mirror-symmetric.
         TriDexel one = box_model();
         for (std::size_t i = 1; i < s.size(); ++i) {
@@ -248,7 +252,9 @@ TEST(Symmetry, AMirroredMeshToolCutsWithTheMirrorImageOfTheMesh) {
     ASSERT_EQ(sample_sweeps(a, b, tool, mirror, symmetry_centre(m.lattice), batch), 2u);
     EXPECT_EQ(batch[1].tool.mesh, mirror);
     for (const Sweep& sw : batch) apply_sweep(m, sw);
-    EXPECT_LT(mirror_mismatch(m, 1), 1.0);
+    const double mesh_mismatch = mirror_mismatch(m, 1);
+    EXPECT_LT(mesh_mismatch, 1.0);
+    std::printf("[symmetry] mirrored mesh tool: largest ray difference %.3g cells\n", mesh_mismatch);
     // Cut with the unreflected mesh at the mirrored pose instead, the copy leans the wrong way.
     TriDexel wrong = box_model();
     batch[1].tool.mesh = tool;
