@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/math.hpp"
+#include "core/symmetry.hpp"
 #include "core/tool_shape.hpp"
 
 namespace tridex {
@@ -53,6 +54,9 @@ struct ToolSample {
     ToolOp op = ToolOp::kNone;               ///< Boolean (or clay operation) applied along the sweep ending here
     std::uint8_t material = 0;               ///< material id the union adds or the paint sets (kUnion, kPaint)
     std::uint32_t buttons = 0;               ///< device button bits at the sample
+    /// The symmetric copies of the sweep ending here that the sculpt thread applies too, in the same batch, about the
+    /// workpiece lattice's centre (compute/tools/symmetry.hpp). Off by default.
+    Symmetry symmetry{};
     /// When the haptic loop made the sample: std::chrono::steady_clock time, s since its epoch; NaN when unknown
     /// (a journal or a recording read back). For latency figures only: never journalled, never affects the model.
     double made_s = std::numeric_limits<double>::quiet_NaN();

@@ -98,6 +98,7 @@ void encode_tick(const RecordedTick& t, unsigned char* out) {
     e.u8(static_cast<std::uint8_t>(t.tool.kind));
     e.f64(t.tool.radius_m);
     e.f64(t.tool.length_m);
+    e.u32(symmetry_bits(t.symmetry));
 }
 
 RecordedTick decode_tick(const unsigned char* in, std::uint32_t version) {
@@ -139,6 +140,7 @@ RecordedTick decode_tick(const unsigned char* in, std::uint32_t version) {
     t.tool.kind = static_cast<ToolKind>(d.u8());
     t.tool.radius_m = d.f64();
     t.tool.length_m = d.f64();
+    if (version >= 3) t.symmetry = symmetry_from_bits(d.u32());
     return t;
 }
 
@@ -283,6 +285,7 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
     if (t.material > kMaxMaterialId)
         return "material = " + std::to_string(t.material) + " is not a material id (0.." +
                std::to_string(kMaxMaterialId) + ")";
+    if (!valid_symmetry(t.symmetry)) return "symmetry = " + to_string(t.symmetry) + " is not a valid symmetry";
     if (!(std::isfinite(t.tool.radius_m) && t.tool.radius_m >= 0.0))
         return "tool.radius_m = " + num(t.tool.radius_m) + " must be finite and >= 0";
     if (!(std::isfinite(t.tool.length_m) && t.tool.length_m >= 0.0))
@@ -424,10 +427,10 @@ Recording read_recording(const std::string& path) {
     const std::uint64_t count = d.u64();
     const std::uint32_t stored_crc = d.u32();
     const std::uint32_t header_len = d.u32();
-    if (version != 1 && version != kRecordingVersion)
-        throw Error(path + ": byte 8: unsupported version " + std::to_string(version) + " (this build reads versions 1 and " +
+    if (version < 1 || version > kRecordingVersion)
+        throw Error(path + ": byte 8: unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
                     std::to_string(kRecordingVersion) + ")");
-    const std::size_t tick_size = version == 1 ? kRecordedTickBytesV1 : kRecordedTickBytes;
+    const std::size_t tick_size = version == 1 ? kRecordedTickBytesV1 : version == 2 ? kRecordedTickBytesV2 : kRecordedTickBytes;
     if (tick_bytes != tick_size)
         throw Error(path + ": byte 12: tick record size " + std::to_string(tick_bytes) + ", expected " +
                     std::to_string(tick_size) + " for version " + std::to_string(version));

@@ -12,6 +12,7 @@
 #include "core/atomic_file.hpp"
 #include "core/crc32.hpp"
 #include "core/math.hpp"
+#include "core/symmetry.hpp"
 #include "core/tool_shape.hpp"
 #include "devices/haptic_device.hpp"
 
@@ -60,6 +61,9 @@ struct RecordedTick {
     /// The tool the tick's sample carried (kind, radius_m, length_m; mesh_id is not stored): its size changes
     /// with keys at the desk. radius_m 0 = not recorded (version 1 files, invalid ticks): the session's tool.
     ToolShape tool{};
+    /// The symmetry the tick's sample carried (core/symmetry.hpp; keys and the menu at the desk change it); off in
+    /// files before version 3.
+    Symmetry symmetry{};
 };
 
 /// A point in a recorded session's stream of tool samples where the sculpt thread took a request whose timing the
@@ -102,7 +106,8 @@ struct Recording {
 //     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
 //     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing), optional "menu": [...] (the
 //     app's menu track)} (other keys are ignored).
-//   Tick records, 397 bytes each (version 1: 378, ending at `valid`), from byte 32 + L; offsets within a record:
+//   Tick records, 401 bytes each (version 1: 378, ending at `valid`; version 2: 397, ending at the tool length),
+//   from byte 32 + L; offsets within a record:
 //       0 t_s f64 | 8 device.t_s f64 | 16 device position xyz f64 | 40 device orientation w,x,y,z f64
 //      72 device velocity xyz f64 | 96 device buttons u32 | 100 wand_centre xyz | 124 rotation_axis xyz
 //     148 rotation_angle f64 | 156 top xyz | 180 bottom xyz | 204 top_contact xyz | 228 bottom_contact xyz
@@ -110,12 +115,15 @@ struct Recording {
 //     316 force xyz | 340 torque xyz | 364 top_collision_id i32 | 368 bottom_collision_id i32
 //     372 buttons u32 | 376 tool_mode u8 | 377 valid u8
 //     version 2 adds: 378 op u8 | 379 material u8 | 380 tool kind u8 | 381 tool radius f64 | 389 tool length f64
+//     version 3 adds: 397 symmetry u32 (core/symmetry.hpp symmetry_bits: mirror bits | radial axis << 8
+//     | radial copies << 16)
 // ----------------------------------------------------------------------------------------------------
 
 inline constexpr char kRecordingMagic[8] = {'T', 'R', 'D', 'X', 'R', 'E', 'C', '\0'};  ///< first 8 bytes
-inline constexpr std::uint32_t kRecordingVersion = 2;        ///< the version this build writes (it reads 1 and 2)
+inline constexpr std::uint32_t kRecordingVersion = 3;        ///< the version this build writes (it reads 1, 2 and 3)
 inline constexpr std::size_t kRecordingPreambleBytes = 32;   ///< bytes before the header text
-inline constexpr std::size_t kRecordedTickBytes = 397;       ///< bytes per tick record on disk (version 2)
+inline constexpr std::size_t kRecordedTickBytes = 401;       ///< bytes per tick record on disk (version 3)
+inline constexpr std::size_t kRecordedTickBytesV2 = 397;     ///< bytes per tick record of version 2 files
 inline constexpr std::size_t kRecordedTickBytesV1 = 378;     ///< bytes per tick record of version 1 files
 
 /// The recording's checksum: tridex::crc32_ieee (core/crc32.hpp), named here too for the recording's users.

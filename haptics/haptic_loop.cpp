@@ -116,6 +116,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     base_points_ = contact_.tool_points();
     tool_ = cfg_.tool;
     set_tool_op(cfg_.op, cfg_.material);
+    set_symmetry(cfg_.symmetry);
     last_tool_ = mapper_.frame().tool_world;
     stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
 }
@@ -124,6 +125,11 @@ HapticLoop::~HapticLoop() { stop(); }
 
 void HapticLoop::set_tool_op(ToolOp op, std::uint8_t material) {
     op_.store(static_cast<std::uint16_t>(static_cast<std::uint16_t>(op) | (material << 8)), std::memory_order_relaxed);
+}
+
+void HapticLoop::set_symmetry(const Symmetry& s) {
+    if (!valid_symmetry(s)) throw Error("haptic loop: not a valid symmetry (" + to_string(s) + ")");
+    symmetry_.store(symmetry_bits(s), std::memory_order_relaxed);
 }
 
 bool HapticLoop::tool_change_allowed(const ToolShape& tool) const {
@@ -166,6 +172,7 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
     for (; next_change_ < sched.size() && sched[next_change_].device_t_s <= device_t_s; ++next_change_) {
         const ToolChange& c = sched[next_change_];
         set_tool_op(c.op, c.material);
+        symmetry_.store(symmetry_bits(c.symmetry), std::memory_order_relaxed);
         if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
             use_tool(c.tool);
     }
@@ -442,6 +449,8 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     sample.material = static_cast<std::uint8_t>(op >> 8);
     rec.op = static_cast<ToolOp>(op & 0xffu);
     rec.material = sample.material;
+    sample.symmetry = symmetry_from_bits(symmetry_.load(std::memory_order_relaxed));
+    rec.symmetry = sample.symmetry;
     rec.tool = tool_;
     sample.buttons = state.buttons;
     // A free-running loop (a replay) stays at most kFreeRunLead samples ahead of the sculpt thread, as a paced loop

@@ -37,6 +37,7 @@ struct ToolChange {
     ToolOp op = ToolOp::kSubtract;  ///< the Boolean from then on
     std::uint8_t material = 0;      ///< the material from then on
     ToolShape tool{};               ///< the tool from then on (HapticLoop::set_tool's rules); radius_m 0 = unchanged
+    Symmetry symmetry{};            ///< the symmetry from then on
 };
 
 /// Settings of the haptic loop (SI units).
@@ -56,6 +57,9 @@ struct HapticLoopConfig {
     ToolShape tool{};
     ToolOp op = ToolOp::kSubtract; ///< Boolean carried by every ToolSample
     std::uint8_t material = 0;     ///< material id carried by every ToolSample (what kUnion adds, kPaint sets)
+    /// Symmetry carried by every ToolSample (the sculpt thread applies the symmetric copies; the contact, and so the
+    /// force, stays the person's own tool's: ghost contacts would pull the hand toward places it is not).
+    Symmetry symmetry{};
     /// Button bits (DeviceState::buttons) that engage the tool: nonzero = the samples carry op only while one of
     /// them is held, kNone otherwise (the desk mouse's left button); 0 = always engaged.
     std::uint32_t engage_mask = 0;
@@ -139,6 +143,7 @@ struct TickRecord {
     /// The Boolean selected this tick (before engagement and pauses; kNone on an invalid sample).
     ToolOp op = ToolOp::kNone;
     std::uint8_t material = 0;       ///< the material selected this tick
+    Symmetry symmetry{};             ///< the symmetry the tick's sample carried (core/symmetry.hpp)
     ToolShape tool{};                ///< the tool this tick's sample carries (radius_m 0 on an invalid sample)
     /// Local rendering (a device's remote tool sample): the sample was an earlier tick's (RemoteToolSample::stale),
     /// so force_n is the last force its loop rendered, not one the device got on this tick.
@@ -268,6 +273,11 @@ public:
     /// Changes the Boolean and material the following ToolSamples carry (any thread, lock-free; the sculpt thread
     /// closes the stroke at the change). Starts as cfg.op / cfg.material; start() keeps the last value set.
     void set_tool_op(ToolOp op, std::uint8_t material);
+    /// Changes the symmetry the following ToolSamples carry (any thread, lock-free; the sculpt thread closes the
+    /// stroke at the change). Starts as cfg.symmetry. Throws tridex::Error when !valid_symmetry(s).
+    void set_symmetry(const Symmetry& s);
+    /// The symmetry the samples carry now (any thread).
+    Symmetry symmetry() const { return symmetry_from_bits(symmetry_.load(std::memory_order_relaxed)); }
     /// The Boolean the samples carry now (any thread).
     ToolOp tool_op() const { return static_cast<ToolOp>(op_.load(std::memory_order_relaxed) & 0xffu); }
     /// Changes the tool the following ToolSamples carry to `tool`, the configured tool at another size: the
@@ -372,6 +382,7 @@ private:
     std::atomic<std::size_t> over_2ms_{0}, over_5ms_{0};
     std::atomic<double> energy_{0.0};
     std::atomic<std::uint16_t> op_{0};  // ToolOp in the low byte, material in the high byte
+    std::atomic<std::uint32_t> symmetry_{0};  // symmetry_bits of the samples' Symmetry
     ToolPoints base_points_{};           // the configured contact points (tool at cfg_.tool's size)
     ToolShape tool_{};                   // the tool in use (loop thread)
     TripleBuffer<ToolUpdate> tool_updates_;

@@ -38,6 +38,8 @@ ActionRegistry make_builtin() {
                   [](ActionTarget& t) { (void)t.resize_tool(1); }));
     r.add(command("tool.smaller", "Smaller", "o", "the tool 1.25 times smaller",
                   [](ActionTarget& t) { (void)t.resize_tool(-1); }));
+    r.add(command("symmetry.toggle", "Symmetry", "|", "sculpting symmetry off, or on again (mirror or radial copies)",
+                  [](ActionTarget& t) { t.toggle_symmetry(); }));
     r.add(command("edit.undo", "Undo", "<", "undo the newest stroke",
                   [](ActionTarget& t) { (void)t.request(SculptRequest::kUndo); }));
     r.add(command("edit.redo", "Redo", ">", "redo the newest undone stroke",

@@ -31,6 +31,8 @@ public:
     virtual void swap_eyes() = 0;
     /// Turns the ambient occlusion on or off.
     virtual void toggle_occlusion() = 0;
+    /// Turns the sculpting symmetry off, or on again (the session's own symmetry, a mirror across x when it has none).
+    virtual void toggle_symmetry() = 0;
     /// Ends the session: its outputs are written as when Esc is pressed.
     virtual void end_session() = 0;
 };
@@ -76,7 +78,8 @@ private:
 };
 
 /// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.next, tool.larger,
-/// tool.smaller, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion, session.end (commands);
+/// tool.smaller, symmetry.toggle, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion,
+/// session.end (commands);
 /// engage, menu, nav.grab, workspace (held); nav.scale, tool.scale (axes).
 const ActionRegistry& builtin_actions();
 

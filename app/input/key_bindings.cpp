@@ -23,6 +23,7 @@ const std::vector<KeyBinding>& desk_key_bindings() {
         {Key::kHome, 0, "view.reset", false, false},
         {Key::kTab, 0, "view.swap_eyes", false, false},
         {Key::kO, 0, "view.occlusion", false, false},
+        {Key::kM, 0, "symmetry.toggle", false, false},
         {Key::kEscape, 0, "session.end", false, false},
     };
     return table;

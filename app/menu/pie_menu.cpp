@@ -29,7 +29,7 @@ MenuItem default_menu() {
     root.children = {
         branch("Operation", "...", {leaf("op.subtract"), leaf("op.union"), leaf("op.paint"), leaf("op.push"),
                                     leaf("op.smooth"), leaf("op.pull")}),
-        branch("Tool", "...", {leaf("tool.larger"), leaf("tool.smaller")}),
+        branch("Tool", "...", {leaf("tool.larger"), leaf("tool.smaller"), leaf("symmetry.toggle")}),
         leaf("edit.redo"),
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),

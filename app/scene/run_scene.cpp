@@ -16,6 +16,7 @@
 #include "devices/net/link_wire.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
 #include "core/error.hpp"
+#include "core/symmetry.hpp"
 #include "core/format.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "app/scene/tool_mesh.hpp"
@@ -190,6 +191,12 @@ void read_op(Fields& top, RunScene& s) {
         top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, push, smooth, pull, none");
     }
     s.spec.material = top.integer("material", s.spec.material, 1, 7);
+    s.spec.symmetry = top.text("symmetry", s.spec.symmetry);
+    try {
+        s.spec.symmetry = to_string(parse_symmetry(s.spec.symmetry, "symmetry"));
+    } catch (const Error&) {
+        top.fail("symmetry", "'" + s.spec.symmetry + "' is not one of " + symmetry_forms());
+    }
     s.spec.clay_group_sweeps =
         static_cast<std::size_t>(top.integer("clay_group_sweeps", static_cast<int>(s.spec.clay_group_sweeps), 1,
                                              static_cast<int>(compute::kClayGroupSweepsMax)));

@@ -165,6 +165,7 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.op = parse_tool_op(s.op);
     cfg.engage_mask = engage_mask_for(s.device_driver);  // carve while the left button or the trigger is held
     cfg.material = static_cast<std::uint8_t>(s.material);
+    cfg.symmetry = parse_symmetry(s.symmetry, "--symmetry");
     cfg.max_ticks = max_ticks;
     cfg.tool = tool;
     cfg.tool_points = haptics::tool_points_for(tool, s.points, "tool", tool_mesh_m);
@@ -305,6 +306,7 @@ std::string spec_to_json(const SessionSpec& s) {
            {"cutting", s.cutting},
            {"op", s.op},
            {"material", s.material},
+           {"symmetry", s.symmetry},
            {"materials", materials},
            {"period_s", s.period_s},
            {"history_budget_bytes", s.history_budget_bytes},
@@ -376,6 +378,7 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     // Added later: recordings made before them sculpted with subtract, one material, the simulated driver.
     if (j.contains("op")) get(j, "op", s.op);
     if (j.contains("material")) get(j, "material", s.material);
+    if (j.contains("symmetry")) get(j, "symmetry", s.symmetry);  // added later: sessions before had none
     if (j.contains("device_driver")) get(j, "device_driver", s.device_driver);
     if (j.contains("history_budget_bytes")) get(j, "history_budget_bytes", s.history_budget_bytes);
     // Sessions before speck removal kept every piece: their recordings and journals replay that way.

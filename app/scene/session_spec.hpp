@@ -11,6 +11,7 @@
 #include "compute/journal/journal_replay.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "core/math.hpp"
+#include "core/symmetry.hpp"
 #include "core/tool_shape.hpp"
 #include "core/tri_mesh.hpp"
 #include "devices/haptic_device.hpp"
@@ -92,6 +93,9 @@ struct SessionSpec {
     double period_s = 1e-3;                  ///< haptic loop period, s
     std::string op = "subtract";             ///< what the tool does: subtract | union | paint | push | smooth
     int material = 1;                        ///< material id union adds and paint sets (1..7, the palette); cuts expose 0
+    /// Sculpting symmetry the session starts with (core/symmetry.hpp spelling: "off", "x", "xz", "radial:6:z"; a
+    /// scene's "symmetry", `--symmetry`); the samples carry it, so the journal and a replay apply the same copies.
+    std::string symmetry = "off";
     /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
     /// one material everywhere.
     std::vector<MaterialEntry> materials;

@@ -29,11 +29,15 @@ namespace tridex::compute {
 //   record before this one.
 // Sample (120 bytes): 0 t_s f64 | 8 position xyz f64 | 32 surface_m xyz f64 | 56 orientation w x y z f64
 //   | 88 tool.radius_m f64 | 96 tool.length_m f64 | 104 tool.mesh_id u32 | 108 buttons u32 | 112 tool.kind u8
-//   | 113 op u8 | 114 material u8 | 115 reserved u8 (0) | 116 reserved u32 (0)
+//   | 113 op u8 | 114 material u8 | 115 symmetry u8: mirror planes in bits 0..2 (x, y, z), radial axis in bits 4..5
+//   (0 x, 1 y, 2 z), bits 3, 6, 7 zero | 116 radial copies u32 (0 = none, else 2..32; then no mirror bits)
+//   (core/symmetry.hpp; versions 1 and 2 wrote zeros there: no symmetry)
 // ---------------------------------------------------------------------------------------------------------
 
 inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0'};  ///< first 8 bytes
-inline constexpr std::uint32_t kJournalVersion = 2;          ///< the version this build writes (and reads, with 1)
+/// The version this build writes (and reads, with 1 and 2). 3: samples carry their symmetry (bytes 115, 116), so a
+/// reader of version 2, which would ignore it and build another model, refuses the file.
+inline constexpr std::uint32_t kJournalVersion = 3;
 inline constexpr std::uint32_t kJournalOldestVersion = 1;    ///< oldest version this build reads (batches only)
 inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
 inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity
@@ -55,7 +59,7 @@ inline constexpr std::uint32_t kJournalMaxPayloadBytes = 256u << 20;
 void encode_sample(const ToolSample& s, unsigned char* out);
 
 /// Reads a sample written by encode_sample from in[0, kJournalSampleBytes). False (out unspecified) when the
-/// tool kind, op or reserved bytes hold values encode_sample never writes.
+/// tool kind, op or symmetry bytes hold values encode_sample never writes.
 bool decode_sample(const unsigned char* in, ToolSample& out);
 
 }  // namespace tridex::compute

@@ -28,6 +28,7 @@ struct JournalApplier::State {
     std::unique_ptr<app::BooleanBackend> cpu;
     app::SculptHistory history;
     std::vector<Sweep> batch;
+    Vec3 centre_m;  // the symmetry centre: the model's lattice's (it never changes during a replay)
     ToolSample prev{};
     bool have_prev = false;
     std::optional<std::uint64_t> last_index;  // index of the last record seen (none: the next is the journal's first)
@@ -37,7 +38,9 @@ struct JournalApplier::State {
     JournalApplyStats st;
 
     State(TriDexel& model, const JournalApplyFrom& from)
-        : cpu(app::make_cpu_backend(model)), history(model, *cpu, from.history_budget_bytes, from.last_serial) {
+        : cpu(app::make_cpu_backend(model)),
+          history(model, *cpu, from.history_budget_bytes, from.last_serial),
+          centre_m(symmetry_centre(model.lattice)) {
         history.remove_islands(from.remove_islands);
         cpu->set_clay_group_sweeps(from.clay_group_sweeps);
     }
@@ -83,8 +86,7 @@ struct JournalApplier::State {
         batch.clear();
         for (const ToolSample& s : r.samples) {
             if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
-            Sweep sw;
-            if (have_prev && sample_sweep(prev, s, nullptr, sw)) batch.push_back(std::move(sw));
+            if (have_prev) sample_sweeps(prev, s, nullptr, nullptr, centre_m, batch);
             prev = s;
             have_prev = true;
             st.last_t_s = s.t_s;

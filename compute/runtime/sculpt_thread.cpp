@@ -46,6 +46,13 @@ SculptThread::~SculptThread() {
 void SculptThread::use_mesh_tools(std::vector<std::shared_ptr<const compute::MeshTool>> tools) {
     if (thread_.joinable()) throw Error("SculptThread::use_mesh_tools: call it before start()");
     mesh_tools_ = std::move(tools);
+    mirrored_mesh_tools_.assign(mesh_tools_.size(), nullptr);
+}
+
+std::shared_ptr<const compute::MeshTool> SculptThread::mirrored_mesh_tool(std::uint32_t id) {
+    const std::shared_ptr<const compute::MeshTool> tool = mesh_tool(id);
+    if (!mirrored_mesh_tools_[id]) mirrored_mesh_tools_[id] = compute::mirrored_mesh_tool(*tool);
+    return mirrored_mesh_tools_[id];
 }
 
 std::shared_ptr<const compute::MeshTool> SculptThread::mesh_tool(std::uint32_t id) const {
@@ -337,7 +344,7 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
 namespace {
 bool same_tool(const ToolSample& a, const ToolSample& b) {
     return a.op == b.op && a.material == b.material && a.tool.kind == b.tool.kind && a.tool.radius_m == b.tool.radius_m &&
-           a.tool.length_m == b.tool.length_m && a.tool.mesh_id == b.tool.mesh_id;
+           a.tool.length_m == b.tool.length_m && a.tool.mesh_id == b.tool.mesh_id && a.symmetry == b.symmetry;
 }
 }  // namespace
 
@@ -366,9 +373,11 @@ bool SculptThread::step() {
             close_stroke();
         }
         if (have_prev_ && cuts) {
-            compute::Sweep sw;
-            compute::sample_sweep(prev_, s, s.tool.kind == ToolKind::kMesh ? mesh_tool(s.tool.mesh_id) : nullptr, sw);
-            batch_.push_back(std::move(sw));
+            const bool mesh = s.tool.kind == ToolKind::kMesh;
+            const bool mirror = mesh && s.symmetry.mirrors != 0;
+            compute::sample_sweeps(prev_, s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr,
+                                   mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
+                                   compute::symmetry_centre(model_.lattice), batch_);
         }
         prev_ = s;
         have_prev_ = true;

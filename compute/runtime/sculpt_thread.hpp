@@ -366,6 +366,8 @@ private:
     compute::ToolStreamSink* stream_ = nullptr;
     std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
     std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
+    std::vector<std::shared_ptr<const compute::MeshTool>> mirrored_mesh_tools_;  // mesh_id -> mirror image, on first use
+    std::shared_ptr<const compute::MeshTool> mirrored_mesh_tool(std::uint32_t id);
     compute::Contourer& contourer_;
     GpuContourShare* gpu_contour_ = nullptr;  // set: contour on the GPU instead of contourer_
     SpscRing<ToolSample>& samples_;

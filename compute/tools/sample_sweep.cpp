@@ -18,4 +18,18 @@ bool sample_sweep(const ToolSample& from, const ToolSample& to, std::shared_ptr<
     return true;
 }
 
+std::size_t sample_sweeps(const ToolSample& from, const ToolSample& to, std::shared_ptr<const MeshTool> mesh,
+                          const std::shared_ptr<const MeshTool>& mirrored_mesh, const Vec3& centre_m,
+                          std::vector<Sweep>& out) {
+    Sweep sw;
+    if (!sample_sweep(from, to, std::move(mesh), sw)) return 0;
+    if (!to.symmetry.on()) {
+        out.push_back(std::move(sw));
+        return 1;
+    }
+    const std::size_t before = out.size();
+    symmetric_sweeps(sw, to.symmetry, centre_m, mirrored_mesh, out);
+    return out.size() - before;
+}
+
 }  // namespace tridex::compute

@@ -2,10 +2,13 @@
 // and journal recovery apply).
 #pragma once
 
+#include <cstddef>
 #include <memory>
+#include <vector>
 
 #include "compute/tools/mesh_tool.hpp"
 #include "compute/tools/sweep.hpp"
+#include "compute/tools/symmetry.hpp"
 #include "core/tool_sample.hpp"
 
 namespace tridex::compute {
@@ -16,5 +19,14 @@ namespace tridex::compute {
 /// to.position, and to's material (0 for kSubtract: a cut exposes the workpiece's own material). Returns false
 /// (out untouched) when `to` does nothing: op kNone or a tool radius that is not > 0.
 bool sample_sweep(const ToolSample& from, const ToolSample& to, std::shared_ptr<const MeshTool> mesh, Sweep& out);
+
+/// Every sweep the step from `from` to `to` applies, appended to `out` in this order: sample_sweep's, then its
+/// symmetric copies under to.symmetry about `centre_m` (symmetric_sweeps; centre_m = symmetry_centre of the model's
+/// lattice). `mirrored_mesh` is the mirror image of `mesh` (mirrored_mesh_tool), needed only for a kMesh tool under
+/// mirror symmetry. Returns the number of sweeps appended: 0 when `to` does nothing, else to.symmetry.copies().
+/// Throws tridex::Error as symmetric_sweeps.
+std::size_t sample_sweeps(const ToolSample& from, const ToolSample& to, std::shared_ptr<const MeshTool> mesh,
+                          const std::shared_ptr<const MeshTool>& mirrored_mesh, const Vec3& centre_m,
+                          std::vector<Sweep>& out);
 
 }  // namespace tridex::compute

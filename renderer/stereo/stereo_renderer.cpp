@@ -436,7 +436,7 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
             later.push_back(i);
         else {
             list.cover_all();
-            list.add(PipelineKind::kOpaque, om.mesh, glm::mat4(1.0f), o.colour, o.lit).eye_mask = o.eyes & 0b11u;
+            list.add(PipelineKind::kOpaque, om.mesh, o.world_from_model, o.colour, o.lit).eye_mask = o.eyes & 0b11u;
         }
     }
     return later;
@@ -448,7 +448,8 @@ void OffscreenStereoRenderer::Impl::add_translucent_items(const SceneView& scene
     for (const std::size_t i : translucent_objects) {
         if (scene.objects[i].on_top) continue;
         list.cover_drawn_all();
-        list.add_translucent(objects[i].mesh, glm::mat4(1.0f), scene.objects[i].colour, scene.objects[i].lit);
+        list.add_translucent(objects[i].mesh, scene.objects[i].world_from_model, scene.objects[i].colour,
+                             scene.objects[i].lit);
         std::vector<StereoDraw>& d = list.draws();  // its back and front faces
         d[d.size() - 1].eye_mask = d[d.size() - 2].eye_mask = scene.objects[i].eyes & 0b11u;
     }
@@ -575,7 +576,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
         const SceneObject& o = scene.objects[i];
         if (!o.on_top) continue;
         list.cover_all();
-        list.add(PipelineKind::kOverlay, im.objects[i].mesh, glm::mat4(1.0f), o.colour, o.lit).eye_mask = o.eyes & 0b11u;
+        list.add(PipelineKind::kOverlay, im.objects[i].mesh, o.world_from_model, o.colour, o.lit).eye_mask = o.eyes & 0b11u;
     }
     im.add_overlay(scene, stats, fr, list);
     return im.submit(scene, slot, eyes.uniform, list, std::move(stats));

@@ -31,7 +31,7 @@ namespace tridex::renderer {
 /// opaque items), alpha = 1 opaque. The mesh is uploaded again only when the pointer or its triangle count
 /// changes: keep it alive and unchanged while frames use it.
 struct SceneObject {
-    const TriMesh* mesh = nullptr;       ///< world m; nullptr or empty = not drawn
+    const TriMesh* mesh = nullptr;       ///< model m (world m with the default transform); nullptr or empty = not drawn
     glm::vec4 colour{1.0f};              ///< linear RGBA, each in [0, 1]
     /// The eyes that see it: bit 0 left, bit 1 right (0b11: both, an ordinary object). A one-eye object (a test
     /// pattern's eye labels) lands in that eye's image under every eye strategy; 0 draws nothing.
@@ -42,6 +42,10 @@ struct SceneObject {
     /// Drawn over the rest of the scene (no depth test, after every other 3D item, in the order given) while still
     /// placed in the world, so each eye sees it at its own depth: an in-scene menu that material must not hide.
     bool on_top = false;
+    /// Model -> world transform the mesh is drawn with (m; a rigid pose, scaled where a unit mesh stands for a
+    /// tool). Identity: the mesh is in world m. A mesh kept at one address is uploaded once, so a moving object
+    /// moves by this transform.
+    glm::mat4 world_from_model{1.0f};
 };
 
 /// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).

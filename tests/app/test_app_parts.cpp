@@ -237,6 +237,26 @@ TEST(SessionSpec, OpAndMaterialRoundTripThroughTheRecordingHeaderAndReachTheLoop
     }
 }
 
+TEST(SessionSpec, SymmetryRoundTripsThroughTheRecordingHeaderAndReachesTheLoop) {
+    SessionSpec s;
+    s.symmetry = "radial:6:y";
+    const SessionSpec back = spec_from_json(spec_to_json(s), "test");
+    EXPECT_EQ(back.symmetry, "radial:6:y");
+    EXPECT_EQ(loop_config(back, 10).symmetry, (Symmetry{0, 1, 6}));
+    EXPECT_FALSE(loop_config(SessionSpec{}, 10).symmetry.on());
+    // A recording made before symmetry existed still loads, as a session without it.
+    nlohmann::json old = nlohmann::json::parse(spec_to_json(SessionSpec{}));
+    old.erase("symmetry");
+    EXPECT_EQ(spec_from_json(old.dump(), "old").symmetry, "off");
+    s.symmetry = "xx";
+    try {
+        loop_config(s, 10);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--symmetry: bad symmetry 'xx'"), std::string::npos) << e.what();
+    }
+}
+
 // The demo's images look through the part of the wall around the workpiece: every corner of the box, seen from the
 // head, lands inside the crop, the crop has the image's aspect and lies in the wall's plane, and a degenerate input
 // keeps the whole wall.

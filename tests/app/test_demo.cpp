@@ -64,6 +64,7 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
     std::ofstream(dir / "a_file") << "x";
     std::ofstream(dir / "huge_scene.json") << "{ \"workpiece\": { \"resolution\": 32,\n                 \"stock_m\": 1e400 } }\n";
     std::ofstream(dir / "gain_scene.json") << "{ \"workspace\": { \"mode\": \"scaling\", \"scale\": 1e-320 } }\n";
+    std::ofstream(dir / "sym_scene.json") << "{ \"symmetry\": \"radial:6\" }\n";
     const std::pair<std::string, std::string> cases[] = {
         {"demo --out " + (dir / "a_file").string(), "--out"},
         {"demo --out /dev/full", "--out /dev/full: not a folder"},
@@ -97,6 +98,14 @@ TEST(BadInput, OutputsAndCommandLinesAreRefusedWithOneLine) {
         {"run --display offscreen --frames 1 --out " + (dir / "o").string() + " --record " +
              (dir / "o" / "model.tdx").string(),
          "is also the Ctrl+S model (--out's model.tdx)"},
+        // Symmetry: the option and the scene field, each named with the allowed forms.
+        {"demo --symmetry w --out " + (dir / "o").string(),
+         "--symmetry: bad symmetry 'w'; use off, x, y, z, xy, xz, yz, xyz or radial:N:AXIS (N 2..32, AXIS x, y or z)"},
+        {"demo --symmetry radial:40:z --out " + (dir / "o").string(),
+         "--symmetry: bad symmetry 'radial:40:z' (N = 40 is outside 2..32)"},
+        {"run --symmetry zx --display offscreen --frames 1 --out " + (dir / "o").string(), "--symmetry: bad symmetry 'zx'"},
+        {"run " + (dir / "sym_scene.json").string() + " --display offscreen --frames 1 --out " + (dir / "o").string(),
+         "sym_scene.json: field 'symmetry': 'radial:6' is not one of off, x, y, z, xy, xz, yz, xyz or radial:N:AXIS"},
         // Numbers: decimal, whole, finite, in range.
         {"demo --seconds 0x10 --out " + (dir / "o").string(), "--seconds: '0x10' is not a decimal number"},
         {"demo --seconds inf --out " + (dir / "o").string(), "--seconds: 'inf' is not a decimal number"},

@@ -49,6 +49,7 @@ struct Recorder final : ActionTarget {
     void reset_scene() override { did.push_back("reset"); }
     void swap_eyes() override { did.push_back("swap"); }
     void toggle_occlusion() override { did.push_back("ao"); }
+    void toggle_symmetry() override { did.push_back("symmetry"); }
     void end_session() override { did.push_back("end"); }
 };
 

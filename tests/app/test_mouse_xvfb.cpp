@@ -1,8 +1,8 @@
 // `tridex run --display window --device mouse` under a private Xvfb, driven by real X input events (xdotool, through
 // the XTEST extension): a left-button drag across the workpiece carves a groove where the cursor went (the saved
 // model's surface, seen through the cursor's pixels, is deeper along the path and unchanged beside it), Ctrl+Z
-// takes it back, a right-button drag moves the workspace, Esc closes the window and the report is written.
-// Skipped only when the Xvfb or xdotool binary is missing.
+// takes it back, a right-button drag moves the workspace, Esc closes the window and the report is written; with the M
+// key symmetry goes on and a drag on one side carves its mirror image on the other. Skipped only when the Xvfb or xdotool binary is missing.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -89,11 +89,9 @@ double ray_depth(const Saved& s, const Vec3& p, double dy_px = 0.0) {
     return hit ? hit->distance_m : std::numeric_limits<double>::quiet_NaN();
 }
 
-TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
-    if (!have_binary("Xvfb") || !have_binary("xdotool"))
-        GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
-    renderer::test::VirtualDisplay display(800, 600);
-    const fs::path dir = test::temp_dir("mouse_xvfb");
+// Writes the desk scene (the bunny, a mouse, no stroke, a fixed head) into `dir` and returns the `run` arguments that
+// open it in a mono window, saving with Ctrl+S to `save` and writing the report to `out`.
+std::string mouse_run_args(const fs::path& dir, const fs::path& out, const fs::path& save) {
     const std::string scene = (dir / "scene.json").string();
     std::ofstream(scene) << R"({
   "workpiece": { "resolution": 64, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
@@ -104,10 +102,17 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
   "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] }
 }
 )";
+    return "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " + out.string() +
+           " --save " + save.string();
+}
+
+TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
+    if (!have_binary("Xvfb") || !have_binary("xdotool"))
+        GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
+    renderer::test::VirtualDisplay display(800, 600);
+    const fs::path dir = test::temp_dir("mouse_xvfb");
     const fs::path out = dir / "out", save = dir / "live.tdx";
-    test::TridexProcess app(TRIDEX_EXE, "run " + scene + " --display window --stereo mono --device mouse --cpu --no-journal --out " +
-                   out.string() + " --save " + save.string(),
-               dir);
+    test::TridexProcess app(TRIDEX_EXE, mouse_run_args(dir, out, save), dir);
     const std::string w = test::find_window("tridex run");
     ASSERT_FALSE(w.empty());
     const auto move_to = [&](const Vec3& p) {
@@ -216,6 +221,61 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
                 saves, rep["mouse"]["latency_ms"]["median"].get<double>(), rep["mouse"]["latency_ms"]["p99"].get<double>(),
                 1e3 * rep["mouse"]["workspace_moved_m"].get<double>());
     if (!HasFailure()) fs::remove_all(dir);  // kept for a look when something failed
+}
+
+// The M key turns symmetry on (a mirror across x, the session having none): a drag on the right half carves the left
+// half too, at the mirror image of the path about the workpiece's centre, in the same stroke (one undo takes both).
+TEST(MouseXvfb, TheMKeyMirrorsADragAcrossTheWorkpiecesCentre) {
+    if (!have_binary("Xvfb") || !have_binary("xdotool"))
+        GTEST_SKIP() << "needs the Xvfb and xdotool binaries (scripts/install-deps.sh installs xvfb and xdotool)";
+    renderer::test::VirtualDisplay display(800, 600);
+    const fs::path dir = test::temp_dir("mouse_xvfb_symmetry");
+    const fs::path out = dir / "out", save = dir / "live.tdx";
+    test::TridexProcess app(TRIDEX_EXE, mouse_run_args(dir, out, save), dir);
+    const std::string w = test::find_window("tridex run");
+    ASSERT_FALSE(w.empty());
+    const auto move_to = [&](const Vec3& p) {
+        const auto [x, y] = pixel_of(p);
+        xdo("mousemove --window " + w + " " + std::to_string(x) + " " + std::to_string(y));
+    };
+    const auto save_as = [&](const std::string& name) {
+        const ino_t before = inode_of(save);
+        xdo("key ctrl+s");
+        EXPECT_TRUE(wait_for([&] { return inode_of(save) != before && inode_of(save) != 0; }));
+        fs::copy_file(save, dir / name, fs::copy_options::overwrite_existing);
+        return load_saved(dir / name);
+    };
+    (void)save_as("start.tdx");
+    const compute::Lattice lattice = compute::load_tdx((dir / "start.tdx").string(), model_memory_budget_bytes()).model.lattice;
+    kScreen = framing_screen(renderer::Screen::desktop_monitor(), lattice.bounds(), kEye, static_cast<double>(kW) / kH);
+    const double cx = 0.5 * (lattice.bounds().lo.x + lattice.bounds().hi.x);
+    const Vec3 from(cx + 0.012, 0.0, 0.05), to(cx + 0.03, 0.0, 0.05);
+    const auto mirror = [&](const Vec3& p) { return Vec3(2.0 * cx - p.x, p.y, p.z); };
+    xdo("key m");
+    move_to(from);
+    const Saved before = save_as("before.tdx");
+    xdo("mousedown 1");
+    ASSERT_TRUE(wait_for([&] { return ray_depth(save_as("pressed.tdx"), from) - ray_depth(before, from) > 0.003; }));
+    for (int i = 1; i <= 12; ++i) move_to(from + (i / 12.0) * (to - from));
+    const Vec3 mid = 0.5 * (from + to);
+    Saved carved;
+    const bool reached = wait_for([&] {
+        carved = save_as("carved.tdx");
+        return ray_depth(carved, mirror(mid)) - ray_depth(before, mirror(mid)) > 0.002;
+    });
+    xdo("mouseup 1");
+    ASSERT_TRUE(reached) << "no mirrored groove at the mirror image of the drag";
+    EXPECT_GT(ray_depth(carved, mid) - ray_depth(before, mid), 0.002);
+    // One undo takes the stroke back with its mirrored copy.
+    xdo("key ctrl+z");
+    EXPECT_TRUE(wait_for([&] { return save_as("undone.tdx").volume_m3 == before.volume_m3; }));
+    xdo("key Escape");
+    ASSERT_TRUE(wait_for([&] { return !app.running(); })) << "Esc did not close the window";
+    EXPECT_EQ(app.exit_code(), 0) << test::bytes_of(dir / "stderr.txt");
+    const nlohmann::json rep = test::read_json(out / "report.json");
+    EXPECT_EQ(rep["controls"]["actions"]["symmetry.toggle"]["key"], 1) << rep["controls"].dump();
+    EXPECT_EQ(rep["history"]["undos"], 1);
+    if (!HasFailure()) fs::remove_all(dir);
 }
 
 }  // namespace

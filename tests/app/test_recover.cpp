@@ -42,8 +42,9 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string> kDemoArgs{"demo", "--seconds", "3", "--resolution", "48", "--width", "32", "--height", "32", "--cpu"};
 
-// The journal's valid prefix applied independently of recover: the workpiece from the header's spec, every sweep
-// applied on its own (not in the journal's batches), a fresh contour of the result; written as PLY bytes.
+// The journal's valid prefix applied independently of recover: the workpiece from the header's spec, every sweep (and
+// each of its symmetric copies) applied on its own (not in the journal's batches), a fresh contour of the result;
+// written as PLY bytes.
 std::string independent_ply(const fs::path& journal, const fs::path& dir) {
     const compute::Journal j = compute::read_journal(journal.string());
     const SessionSpec s = spec_from_json(j.session, journal.string());
@@ -52,8 +53,10 @@ std::string independent_ply(const fs::path& journal, const fs::path& dir) {
     bool have_prev = false;
     for (const compute::JournalRecord& r : j.records)
         for (const ToolSample& smp : r.samples) {
-            compute::Sweep sw;
-            if (have_prev && compute::sample_sweep(prev, smp, nullptr, sw)) compute::apply_sweep(wp.model, sw);
+            std::vector<compute::Sweep> sweeps;
+            if (have_prev)
+                compute::sample_sweeps(prev, smp, nullptr, nullptr, compute::symmetry_centre(wp.model.lattice), sweeps);
+            for (const compute::Sweep& sw : sweeps) compute::apply_sweep(wp.model, sw);
             prev = smp;
             have_prev = true;
         }
@@ -117,6 +120,46 @@ TEST(Recover, ANormalRunsJournalRecoversTheSessionsMeshByteForByte) {
     EXPECT_EQ(tr["truncated_at"]["record"], j.records.size() - 1);
     EXPECT_EQ(tr["truncated_at"]["byte_offset"], last);
     EXPECT_EQ(test::bytes_of(dir / "torn" / "sculpted.ply"), independent_ply(dir / "torn.tdj", dir));
+}
+
+// A session sculpted with symmetry: its journal recovers, and its recording replays, to the session's mesh byte for
+// byte, and the journal holds the symmetry of every sample.
+TEST(Recover, ASymmetricSessionRecoversAndReplaysByteForByte) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_recover_symmetry";
+    fs::remove_all(dir);
+    std::string args;
+    for (const std::string& a : kDemoArgs) args += a + " ";
+    const test::ExeResult demo = test::run_tridex(args + "--symmetry radial:5:z --record " + (dir / "rec.trdx").string() +
+                                                      " --out " + (dir / "session").string(),
+                                                  dir / "demo");
+    ASSERT_EQ(demo.exit_code, 0) << demo.err;
+    const nlohmann::json sr = test::read_json(dir / "session" / "report.json");
+    EXPECT_EQ(sr["tool"]["symmetry"], "radial:5:z");
+    EXPECT_EQ(sr["settings"]["symmetry"], "radial:5:z");
+    const compute::Journal j = compute::read_journal((dir / "session" / "session.tdj").string());
+    std::size_t samples = 0;
+    for (const compute::JournalRecord& r : j.records)
+        for (const ToolSample& s : r.samples) {
+            EXPECT_EQ(to_string(s.symmetry), "radial:5:z");
+            ++samples;
+        }
+    EXPECT_GT(samples, 1000u);
+    const test::ExeResult rec = test::run_tridex("recover " + (dir / "session" / "session.tdj").string() + " --out " +
+                                                     (dir / "rec").string(),
+                                                 dir / "recl");
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    const std::string session_ply = test::bytes_of(dir / "session" / "sculpted.ply");
+    EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), session_ply);
+    EXPECT_EQ(independent_ply(dir / "session" / "session.tdj", dir), session_ply);
+    const test::ExeResult replay = test::run_tridex("replay " + (dir / "rec.trdx").string() +
+                                                        " --width 32 --height 32 --cpu --out " + (dir / "replay").string(),
+                                                    dir / "replayl");
+    ASSERT_EQ(replay.exit_code, 0) << replay.err;
+    EXPECT_EQ(test::bytes_of(dir / "replay" / "sculpted.ply"), session_ply);
+    // Without the copies the journal's samples carve another model.
+    const test::ExeResult plain = test::run_tridex(args + "--out " + (dir / "plain").string(), dir / "plainl");
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_NE(test::bytes_of(dir / "plain" / "sculpted.ply"), session_ply);
 }
 
 // One bit flipped in a batch record in the middle of the journal: recover skips that record only, says so in one line

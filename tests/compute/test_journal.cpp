@@ -57,6 +57,8 @@ std::vector<ToolSample> odd_samples(std::size_t n, unsigned seed) {
         s.op = static_cast<ToolOp>(i % 4);
         s.material = static_cast<std::uint8_t>(rng() % (kMaxMaterialId + 1u));
         s.buttons = static_cast<std::uint32_t>(rng());
+        if (i % 4 == 1) s.symmetry.mirrors = static_cast<std::uint8_t>(i % 8);
+        if (i % 4 == 2) s.symmetry = Symmetry{0, static_cast<std::uint8_t>(i % 3), static_cast<std::uint16_t>(2 + i % 31)};
     }
     return v;
 }
@@ -81,6 +83,7 @@ void expect_same(const ToolSample& a, const ToolSample& b) {
     EXPECT_EQ(a.op, b.op);
     EXPECT_EQ(a.material, b.material);
     EXPECT_EQ(a.buttons, b.buttons);
+    EXPECT_EQ(a.symmetry, b.symmetry);
 }
 
 // Writes `batches` (sizes) of odd samples; returns the samples in order.
@@ -244,8 +247,8 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> bytes = file_bytes(path);
     const std::uint32_t len = get_u32(bytes.data() + 16);
 
-    std::vector<unsigned char> v2 = bytes;  // version 3 with a valid header CRC
-    put_u32(v2.data() + 8, 3);
+    std::vector<unsigned char> v2 = bytes;  // version 4 with a valid header CRC
+    put_u32(v2.data() + 8, 4);
     put_u32(v2.data() + kJournalHeaderFixedBytes + len, crc32_ieee(v2.data(), kJournalHeaderFixedBytes + len));
     std::vector<unsigned char> damaged = bytes;
     damaged[kJournalHeaderFixedBytes + 3] ^= 0x10;
@@ -253,7 +256,7 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> short_header(bytes.begin(), bytes.begin() + kJournalHeaderFixedBytes + 5);
 
     const std::pair<std::vector<unsigned char>, std::string> cases[] = {
-        {v2, "j.tdj: journal version 3; this build reads versions 1 to 2"},
+        {v2, "j.tdj: journal version 4; this build reads versions 1 to 3"},
         {damaged, "j.tdj: the journal header is damaged (CRC mismatch)"},
         {garbage, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
         {{}, "j.tdj: not a tridex session journal (no TRDXJNL header)"},

@@ -105,6 +105,8 @@ Recording sample_recording(int n) {
         t.tool.kind = i % 3 == 0 ? ToolKind::kFlatEnd : ToolKind::kBall;
         t.tool.radius_m = 0.006 * std::pow(1.25, i % 5);
         t.tool.length_m = t.tool.kind == ToolKind::kFlatEnd ? 0.02 / 3.0 : 0.0;
+        if (i % 3 == 1) t.symmetry.mirrors = static_cast<std::uint8_t>(1 + i % 7);
+        if (i % 3 == 2) t.symmetry = Symmetry{0, static_cast<std::uint8_t>(i % 3), static_cast<std::uint16_t>(2 + i % 31)};
         t.valid = 1;
         if (i == n / 2) {  // a sample the loop flagged: the device gave NaN and infinity
             t.valid = 0;
@@ -153,6 +155,7 @@ void expect_identical(const RecordedTick& a, const RecordedTick& b, std::size_t 
     EXPECT_EQ(a.tool.kind, b.tool.kind);
     EXPECT_TRUE(same_bits(a.tool.radius_m, b.tool.radius_m));
     EXPECT_TRUE(same_bits(a.tool.length_m, b.tool.length_m));
+    EXPECT_EQ(a.symmetry, b.symmetry);
 }
 
 // Runs read_recording(path), expects a tridex::Error whose message starts with the path and holds
@@ -251,8 +254,8 @@ TEST(Recording, LayoutAndBytesPerTick) {
     const std::size_t header_len = get_u32(w.bytes, 28);
     EXPECT_EQ(w.bytes.size(), kRecordingPreambleBytes + header_len + n * kRecordedTickBytes);
     EXPECT_EQ(std::memcmp(w.bytes.data(), "TRDXREC\0", 8), 0);
-    EXPECT_EQ(get_u32(w.bytes, 8), 2u);
-    EXPECT_EQ(get_u32(w.bytes, 12), 397u);
+    EXPECT_EQ(get_u32(w.bytes, 8), 3u);
+    EXPECT_EQ(get_u32(w.bytes, 12), 401u);
     EXPECT_EQ(get_u32(w.bytes, 16), static_cast<std::uint32_t>(n));
     EXPECT_EQ(get_u32(w.bytes, 20), 0u);  // high half of the u64 tick count
     // The checksum covers the header text and the ticks.
@@ -321,10 +324,10 @@ TEST(Recording, WrongMagicVersionSizeRefused) {
         return path;
     };
     expect_refused(variant("magic.trdxrec", 3, 'Y'), {"not a tridex recording", "magic"});
-    expect_refused(variant("version.trdxrec", 8, 3), {"byte 8", "unsupported version 3", "reads versions 1 and 2"});
-    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 397"});
-    // A version 1 preamble over version 2 ticks: the tick size is wrong for version 1.
-    expect_refused(variant("v1size.trdxrec", 8, 1), {"byte 12", "tick record size 397", "expected 378 for version 1"});
+    expect_refused(variant("version.trdxrec", 8, 4), {"byte 8", "unsupported version 4", "reads versions 1 to 3"});
+    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 401"});
+    // A version 1 preamble over version 3 ticks: the tick size is wrong for version 1.
+    expect_refused(variant("v1size.trdxrec", 8, 1), {"byte 12", "tick record size 401", "expected 378 for version 1"});
     // A text file is not a recording.
     const std::string text = temp_path("text.csv");
     std::ofstream(text) << "t_s,force_n\n0.001,0.5\n0.002,0.6\n";
@@ -356,6 +359,34 @@ TEST(Recording, Version1FilesStillRead) {
         expect.op = expect.tool_mode;
         expect.material = 0;
         expect.tool = ToolShape{};
+        expect.symmetry = Symmetry{};
+        expect_identical(expect, back.ticks[i], i);
+    }
+}
+
+// Version 2 files (397-byte ticks ending at the tool length) are still read: no symmetry.
+TEST(Recording, Version2FilesStillRead) {
+    const int n = 7;
+    const Written w = write_sample("v3.trdxrec", n);
+    std::vector<unsigned char> v2(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
+    for (int i = 0; i < n; ++i) {
+        const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
+        v2.insert(v2.end(), at, at + static_cast<long>(kRecordedTickBytesV2));
+    }
+    const auto put_u32 = [&v2](std::size_t at, std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) v2[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    };
+    put_u32(8, 2);
+    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV2));
+    put_u32(24, crc32_ieee(v2.data() + 32, v2.size() - 32));
+    const std::string path = temp_path("v2.trdxrec");
+    save(path, v2);
+    const Recording back = read_recording(path);
+    const Recording src = sample_recording(n);
+    ASSERT_EQ(back.ticks.size(), src.ticks.size());
+    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
+        RecordedTick expect = src.ticks[i];
+        expect.symmetry = Symmetry{};
         expect_identical(expect, back.ticks[i], i);
     }
 }

@@ -1,11 +1,13 @@
 // The loop's tool size at run time (the desk's [ and ] keys): set_tool changes the samples' tool and the contact
-// points together; a replay's schedule applies op and tool changes at recorded device times.
+// points together; a replay's schedule applies op, symmetry and tool changes at recorded device times; the samples
+// carry the symmetry set any time.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "core/error.hpp"
 #include "haptics/haptic_loop.hpp"
 #include "loop_fixture.hpp"
 #include "surfaces.hpp"
@@ -95,8 +97,10 @@ TEST(LoopToolSize, ScheduledChangesApplyAtTheirDeviceTime) {
     c.op = ToolOp::kPaint;
     c.material = 5;
     c.tool.radius_m = 0.003;
+    c.symmetry = Symmetry{Symmetry::kMirrorX | Symmetry::kMirrorZ, 0, 0};
     cfg.tool_schedule.push_back(c);
     c.device_t_s = 0.007;
+    c.symmetry = Symmetry{0, 1, 6};
     c.op = ToolOp::kUnion;
     c.tool.radius_m = 0.0;  // the tool stays
     cfg.tool_schedule.push_back(c);
@@ -111,7 +115,30 @@ TEST(LoopToolSize, ScheduledChangesApplyAtTheirDeviceTime) {
         EXPECT_EQ(s[k].op, t < 0.0035 ? ToolOp::kSubtract : t < 0.0065 ? ToolOp::kPaint : ToolOp::kUnion);
         EXPECT_EQ(s[k].material, t < 0.0035 ? 2 : 5);
         EXPECT_EQ(s[k].tool.radius_m, t < 0.0035 ? 0.002 : 0.003);
+        EXPECT_EQ(to_string(s[k].symmetry), t < 0.0035 ? "off" : t < 0.0065 ? "xz" : "radial:6:y");
     }
+}
+
+TEST(LoopToolSize, SamplesCarryTheSymmetrySetAnyTime) {
+    auto plane = test::z_plane(1e-3, 10.0f);
+    TripleBuffer<ActiveSurface> surface;
+    test::publish(surface, *plane);
+    SpscRing<ToolSample> ring(1024);
+    test::PoseDevice dev(devices::DeviceProfile::phantom_omni());
+    HapticLoopConfig cfg = ball_config(0.002);
+    cfg.symmetry = Symmetry{Symmetry::kMirrorY, 0, 0};
+    HapticLoop loop(dev, surface, ring, cfg);
+    dev.state.pose.position = Vec3(0.015, 0.015, 0.04);
+    EXPECT_EQ(to_string(loop.symmetry()), "y");
+    loop.step(0.0);
+    loop.set_symmetry(Symmetry{0, 2, 32});
+    const TickRecord r = loop.step(1e-3);
+    EXPECT_EQ(to_string(r.symmetry), "radial:32:z");
+    EXPECT_THROW(loop.set_symmetry(Symmetry{1, 0, 3}), Error);  // mirrors and radial copies together
+    const std::vector<ToolSample> s = drain(ring);
+    ASSERT_EQ(s.size(), 2u);
+    EXPECT_EQ(to_string(s[0].symmetry), "y");
+    EXPECT_EQ(to_string(s[1].symmetry), "radial:32:z");
 }
 
 }  // namespace

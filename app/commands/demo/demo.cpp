@@ -19,6 +19,7 @@
 #include "compute/tools/clay_sweep.hpp"
 #include "app/support/device_lost.hpp"
 #include "core/error.hpp"
+#include "core/symmetry.hpp"
 #include "core/format.hpp"
 #include "devices/device_profiles.hpp"
 #include "haptics/haptic_loop.hpp"
@@ -149,6 +150,7 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::Device
     s.cutting = o.cutting;
     s.op = o.op;
     s.material = o.material;
+    s.symmetry = to_string(parse_symmetry(o.symmetry, "--symmetry"));
     const devices::DeviceProfile profile = device_profile(s.device);  // checks --device before the slow work
     // Hardware: "none plugged in", at once, before the slow work.
     if (caps.input == devices::InputKind::kHardware) (void)make_device(s, devices::DeviceInputs{});

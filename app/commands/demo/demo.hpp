@@ -52,6 +52,7 @@ struct DemoOptions {
     bool gpu_clay = false;         ///< --gpu-clay: clay on the GPU kernel even on a CPU Vulkan device (lavapipe)
     std::string op = "subtract";   ///< what the tool does: subtract | union | paint | push | smooth | pull
     int material = 1;              ///< palette id (1..7) that union adds and paint sets
+    std::string symmetry = "off";  ///< sculpting symmetry (core/symmetry.hpp spelling: off, x, xz, radial:6:z, ...)
     bool ao = true;                ///< --ao on|off: ambient occlusion in the images (cuts darker, edges brighter)
 };
 

@@ -8,6 +8,7 @@
 #include "app/commands/demo/demo.hpp"
 #include "app/commands/demo/elastic_demo.hpp"
 #include "core/error.hpp"
+#include "core/symmetry.hpp"
 
 namespace tridex::app {
 namespace {
@@ -94,6 +95,10 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
     cmd
         .add_option("--op", o.demo.op,
                      "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")
+        ->capture_default_str();
+    cmd.add_option("--symmetry", o.demo.symmetry,
+                   std::string("Sculpting symmetry about the workpiece's centre: ") + symmetry_forms() +
+                       " (mirror planes through the centre, or N copies about an axis)")
         ->capture_default_str();
     cmd.add_option("--material", o.demo.material, "Palette id 1..7 that union adds and paint sets")->capture_default_str();
     auto* demo_cpu = cmd.add_flag("--cpu", o.demo.cpu, "Sculpt on the CPU pool whatever the Vulkan device (default: by the device's type: the CPU pool on a CPU implementation such as lavapipe, the GPU compute path on a GPU)");

@@ -14,6 +14,7 @@
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
 #include "core/error.hpp"
+#include "core/symmetry.hpp"
 #include "renderer/output/stereo_output.hpp"
 
 namespace tridex::app {
@@ -44,6 +45,9 @@ void add_run_options(CLI::App& run, RunOptions& o) {
         ->capture_default_str();
     cmd->add_option("--display-config", o.display_config, "Display config file (JSON) replacing the scene's display");
     cmd->add_option("--wand", o.wand, "Scene navigation wand: none | dtrack:PORT[:FLYSTICK] (ART DTrack Flystick: hold the trigger to carry the scene, joystick up/down scales, button 1 opens the menu, button 2 re-centres; default: the scene's)");
+    cmd->add_option("--symmetry", o.symmetry,
+                    std::string("Sculpting symmetry about the workpiece's centre, replacing the scene's: ") +
+                        symmetry_forms() + " (mirror planes through the centre, or N copies about an axis)");
     cmd->add_option("--bindings", o.bindings, "Bindings file: the tool's and the wand's buttons and joystick to actions (docs/formats/bindings.md; default: the scene's \"bindings\", else each driver's defaults)");
     cmd->add_option("--head", o.head, "Head pose provider: fixed | scripted | tracker | dtrack:PORT[:BODY] (ART DTrack over UDP; default: the scene's)");
     cmd->add_flag("--swap-eyes", o.swap_eyes, "Exchange the eyes on the display");

@@ -4,6 +4,7 @@
 
 #include "app/session/runtime/frame_loop.hpp"
 #include "app/session/view/framing.hpp"
+#include "app/session/view/symmetry_view.hpp"
 #include "app/session/run/run_actions.hpp"
 #include "app/support/progress.hpp"
 #include "app/support/stop_signal.hpp"
@@ -190,6 +191,27 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
     return run;
 }
 
+namespace {
+
+// The symmetric copies of the tool where the session ended, as ghosts, and the mirror planes, as the window draws them.
+std::vector<renderer::SceneObject> symmetry_objects(const SymmetryGhosts& ghosts,
+                                                    const std::vector<haptics::TickRecord>& records, const ToolShape& tool) {
+    std::vector<renderer::SceneObject> out;
+    if (!records.empty()) ghosts.append(records.back().symmetry, records.back().tool_world, tool, out);
+    return out;
+}
+
+// The tool where the session ended (the start of the device's workspace when it never ticked).
+void show_final_tool(renderer::SceneView& view, const SessionRun& run, const haptics::HapticLoopConfig& cfg) {
+    view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
+    view.tool_radius_m = cfg.contact.tool_radius_m;
+    view.tool_shape = cfg.tool;
+    view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
+    if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
+}
+
+}  // namespace
+
 void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::time_point t_start, OutputWrites& writes) {
     SessionRuntime& rt = *run.runtime;
     const SessionSpec& settings = rt.spec();
@@ -220,11 +242,10 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
         view.workpiece = &run.carved;
         view.workpiece_materials = &run.carved_materials;
     }
-    view.tool_centre_m = run.records.empty() ? cfg.device_to_world.position : run.records.back().hip_m;
-    view.tool_radius_m = cfg.contact.tool_radius_m;
-    view.tool_shape = cfg.tool;
-    view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
-    if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
+    show_final_tool(view, run, cfg);
+    const SymmetryGhosts ghosts(wp.model.lattice.bounds(), view.tool_mesh);
+    const std::vector<renderer::SceneObject> ghost_objects = symmetry_objects(ghosts, run.records, cfg.tool);
+    view.objects = ghost_objects;
     // As in Peng et al. (4.1): the workspace box only while its button is held at the end.
     view.show_workspace = run.last_view.tick > 0 && run.last_view.modelling_paused;
     const haptics::LoopView& lv = run.last_view;

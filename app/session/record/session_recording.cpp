@@ -59,6 +59,7 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
         t.material = r.material;
         t.tool = r.tool;
         t.tool.mesh_id = 0;
+        t.symmetry = r.symmetry;
     }
     return t;
 }
@@ -69,6 +70,7 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     now.op = parse_tool_op(spec.op);
     now.material = static_cast<std::uint8_t>(spec.material);
     now.tool = spec.tool;
+    now.symmetry = parse_symmetry(spec.symmetry, "symmetry");
     for (std::size_t i = 0; i < rec.ticks.size(); ++i) {
         const devices::RecordedTick& t = rec.ticks[i];
         if (t.valid != 1 || !(t.tool.radius_m > 0.0)) continue;
@@ -78,11 +80,12 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
         c.device_t_s = t.device.t_s;
         c.op = static_cast<ToolOp>(t.op);
         c.material = t.material;
+        c.symmetry = t.symmetry;
         if (t.tool.kind == spec.tool.kind) {
             c.tool.radius_m = t.tool.radius_m;
             c.tool.length_m = t.tool.length_m;
         }
-        if (c.op == now.op && c.material == now.material && c.tool.radius_m == now.tool.radius_m &&
+        if (c.op == now.op && c.material == now.material && c.symmetry == now.symmetry && c.tool.radius_m == now.tool.radius_m &&
             c.tool.length_m == now.tool.length_m)
             continue;
         out.push_back(c);

@@ -7,6 +7,7 @@
 
 #include "app/session/report/strip_moments.hpp"
 #include "app/session/view/framing.hpp"
+#include "app/session/view/symmetry_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/model/volume.hpp"
@@ -70,6 +71,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
     compute::JournalApplier applier(model, strip_replay(replay));
     compute::Contourer contourer(model);
     std::size_t applied = 0;
+    const SymmetryGhosts ghosts(start.model.lattice.bounds(), nullptr);  // mesh tools: a ball stands in
     for (int i = 0; i < opt.frames; ++i) {
         const std::size_t k = strip.records[static_cast<std::size_t>(i)];
         applier.apply(std::span<const compute::JournalRecord>(fine.records.data() + applied, k - applied));
@@ -90,9 +92,11 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
         view.tool_centre_m = s ? s->position : start.model.lattice.bounds().centre() + Vec3(0.0, 0.0, 0.1);
         if (s) view.tool_orientation = s->orientation;
         std::vector<renderer::SceneObject> objects;
+        if (s) ghosts.append(s->symmetry, Pose{s->position, s->orientation}, view.tool_shape, objects);
+        const std::size_t before_menu = objects.size();
         if (opt.menu && s) menu.append(opt.menu->at(s->t_s), menu_root, objects);
         view.objects = objects;
-        strip.menu_shown.push_back(!objects.empty());
+        strip.menu_shown.push_back(objects.size() > before_menu);
         const renderer::StereoImages eyes = rend.render(view, screen, head, 0.0);
         for (int y = 0; y < opt.height; ++y)
             std::memcpy(out.at(i * (opt.width + opt.gap_px), y), eyes.left.at(0, y), static_cast<std::size_t>(opt.width) * 4);

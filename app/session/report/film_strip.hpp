@@ -50,7 +50,8 @@ struct FilmStrip {
 /// (app/session/report/strip_moments.hpp: on the journal split by split_batches into pieces of kStripPieceSamples, after
 /// record_changes), each showing the model then (applied in one pass; a clay push group still held at a picture shows
 /// from the next one, and the last picture shows the final model; contoured on the CPU) and the tool at the last sample
-/// applied, framed as the demo frames its workpiece (framing_screen, one eye), and writes it to `path` as a PNG. `tool`
+/// applied (with its symmetric copies as ghosts while the sample carried a symmetry: app/session/view/symmetry_view.hpp),
+/// framed as the demo frames its workpiece (framing_screen, one eye), and writes it to `path` as a PNG. `tool`
 /// is the session's tool (radius for the ball drawn); `replay` the session's replay settings (replay_settings: speck
 /// removal and clay group size; its undo budget is raised so that every undo finds its stroke). Throws tridex::Error
 /// for options out of range, a journal the model refuses (as journal_apply), no Vulkan device, or a PNG that cannot be

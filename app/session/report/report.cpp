@@ -62,6 +62,7 @@ nlohmann::json tool_json(const SessionSpec& spec) {
     if (spec.tool.kind == ToolKind::kFlatEnd) j["length_m"] = spec.tool.length_m;
     j["op"] = spec.op;
     if (spec.op != "subtract") j["material"] = spec.material;
+    if (spec.symmetry != "off") j["symmetry"] = spec.symmetry;  // the session's start; keys may toggle it
     return j;
 }
 

@@ -101,8 +101,8 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
 /// dirty tiles re-contoured; summary)}.
 nlohmann::json history_report_json(const SculptStats& sculpt);
 
-/// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op and,
-/// for union and paint, material.
+/// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op,
+/// for union and paint material, and the start symmetry when it is not off.
 nlohmann::json tool_json(const SessionSpec& spec);
 
 /// The `haptics` block of report.json, the same for demo, replay and run: the spec's workspace technique,

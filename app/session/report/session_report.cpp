@@ -119,7 +119,7 @@ const std::vector<ReportField>& report_schema() {
             {"mesh_file", "the workpiece's mesh file (or the .tdx model it started from)"},
             {"resolution", "lattice cells along the workpiece's longest side"},
             {"settings", "the session spec that decides the model (spec_to_json): tool, op, device, workspace, ..."},
-            {"tool", "the tool: shape, radius_m, length_m (flat_end), points, op, material (union, paint)"},
+            {"tool", "the tool: shape, radius_m, length_m (flat_end), points, op, material (union, paint), symmetry (when on)"},
             {"workpiece", "the workpiece as loaded"},
             {"workpiece.transform", "4x4 row-major matrix, mesh units -> world m"},
             {"workpiece.volume_mesh_m3", "exact volume of the transformed input mesh, m^3 (0 for a .tdx model)"},

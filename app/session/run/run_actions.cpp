@@ -24,7 +24,12 @@ double checked_ring_radius(double r) {
 RunActions::RunActions(SessionRuntime* runtime, MouseStylus* mouse, renderer::SceneNavigation& nav,
                        renderer::KeyboardMouseHead* head, bool& swap, bool& ao, const ToolShape& tool)
     : runtime_(runtime), mouse_(mouse), nav_(nav), head_(head), swap_(swap), ao_(ao), base_tool_(tool),
-      op_(runtime ? runtime->tool_op() : ToolOp::kSubtract) {}
+      op_(runtime ? runtime->tool_op() : ToolOp::kSubtract),
+      symmetry_on_(runtime && runtime->symmetry().on() ? runtime->symmetry() : Symmetry{Symmetry::kMirrorX, 0, 0}) {}
+
+void RunActions::toggle_symmetry() {
+    if (runtime_) runtime_->set_symmetry(runtime_->symmetry().on() ? Symmetry{} : symmetry_on_);
+}
 
 void RunActions::set_op(ToolOp op) {
     if (op == ToolOp::kNone) return;

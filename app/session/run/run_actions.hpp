@@ -16,6 +16,7 @@
 #include "app/menu/pie_menu.hpp"
 #include "app/session/run/run_mouse.hpp"
 #include "app/session/runtime/session_runtime.hpp"
+#include "core/symmetry.hpp"
 #include "haptics/menu_detent.hpp"
 #include "renderer/camera/head_pose.hpp"
 #include "renderer/camera/scene_navigation.hpp"
@@ -38,6 +39,7 @@ public:
     void reset_scene() override;
     void swap_eyes() override { swap_ = !swap_; }
     void toggle_occlusion() override { ao_ = !ao_; }
+    void toggle_symmetry() override;
     void end_session() override { end_ = true; }
 
     bool end_requested() const { return end_; }                     ///< session.end was done
@@ -55,6 +57,7 @@ private:
     ToolShape base_tool_;
     int size_steps_ = 0;
     ToolOp op_;  // without a runtime or stylus: the last set
+    Symmetry symmetry_on_;  // what toggle_symmetry turns on: the session's symmetry, else a mirror across x
     bool end_ = false;
     std::uint64_t requests_sent_ = 0, saves_sent_ = 0, dropped_ = 0;
 };

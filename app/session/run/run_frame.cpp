@@ -198,6 +198,14 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         frame_objects.insert(frame_objects.end(), o.begin(), o.end());
         view.objects = frame_objects;
     }
+    if (ghosts && lv.tick > 0 && !su.test_pattern && !study_view) {  // drawn, never felt
+        const Symmetry sym = rt.symmetry();
+        if (sym.on()) {
+            if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+            ghosts->append(sym, lv.tool_world, tool_now, frame_objects);
+            view.objects = frame_objects;
+        }
+    }
     add_menu(view, lv, saving);
     if (su.items) {
         if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);

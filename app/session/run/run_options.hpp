@@ -35,6 +35,9 @@ struct RunOptions {
     std::string display_config;     ///< display config file replacing the scene's display; empty = the scene's
     std::string wand;               ///< scene navigation wand: none | dtrack:PORT[:FLYSTICK]; empty = the scene's
     std::string bindings;           ///< bindings file (docs/formats/bindings.md); empty = the scene's, else the drivers'
+    /// Sculpting symmetry replacing the scene's (core/symmetry.hpp spelling: off, x, xz, radial:6:z, ...); empty = the
+    /// scene's.
+    std::string symmetry;
     std::string head;               ///< head provider fixed | scripted | tracker | dtrack[:PORT[:BODY]]; empty = the scene's
     bool swap_eyes = false;         ///< exchange the eyes (in addition to the display config's swap_eyes)
     double seconds = 0.0;           ///< stop after this much wall time, s (>= 0; 0 = no time limit)

@@ -169,6 +169,7 @@ void RunPipeline::Parts::open_backend() {
     }
     if (!scene.objects.empty())
         elastic_view.emplace(scene.objects, rt.config().tool_points, rt.config().tool.radius_m);
+    ghosts.emplace(rt.workpiece().model.lattice.bounds(), rt.tool_mesh());
 }
 
 

@@ -21,6 +21,7 @@
 #include "app/scene/test_pattern.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/view/elastic_view.hpp"
+#include "app/session/view/symmetry_view.hpp"
 #include "app/session/view/frame_budget.hpp"
 #include "app/session/runtime/frame_loop.hpp"
 #include "app/session/view/gpu_tile_split.hpp"
@@ -120,6 +121,7 @@ struct RunPipeline::Parts final : FrameSteps {
     double safety_s = 0.0;      // offscreen without limits: the wall-time safety net, s (0 = none)
     std::optional<study::StudyView> study_view;    // a study scene's objects, drawn instead of the workpiece
     std::optional<ElasticView> elastic_view;       // scene objects, dented where the loop feels them
+    std::optional<SymmetryGhosts> ghosts;          // the symmetric tools and the mirror planes, while symmetry is on
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
     std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects

@@ -13,6 +13,7 @@
 #include "app/session/run/run_sculpt.hpp"
 #include "app/support/output_dir.hpp"
 #include "core/error.hpp"
+#include "core/symmetry.hpp"
 #include "core/format.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/net/link_wire.hpp"
@@ -171,6 +172,7 @@ RunSetup resolve_run(const RunOptions& o) {
         throw Error(s.scene.source + ": field 'objects': scene objects are felt by the session's own contact loop; a "
                     "device server renders only the workpiece in local haptic rendering: use distributed rendering");
     if (devices::person_moves_hand(caps.input)) s.scene.has_stroke = false;  // the person is the hand
+    if (!o.symmetry.empty()) s.scene.spec.symmetry = to_string(parse_symmetry(o.symmetry, "--symmetry"));
     if (s.test_pattern) s.scene.spec.op = "none";  // the tool still follows its device, touching only
     // The wand is a Flystick: a tracked tool may not be the same one.
     if (caps.input == devices::InputKind::kTracked && caps.target_kind == "Flystick" && s.scene.wand_dtrack &&

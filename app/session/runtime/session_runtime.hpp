@@ -157,6 +157,11 @@ public:
     void set_menu(const haptics::MenuDetent& menu) { loop_->set_menu(menu); }
     /// The Boolean the tool applies now (HapticLoop::tool_op; any thread).
     ToolOp tool_op() const { return loop_->tool_op(); }
+    /// Changes the symmetry the tool's samples carry from now on (HapticLoop::set_symmetry; the sculpt thread closes
+    /// the stroke at the change and applies the copies). Throws tridex::Error for a symmetry that is not valid.
+    void set_symmetry(const Symmetry& s) { loop_->set_symmetry(s); }
+    /// The symmetry the samples carry now.
+    Symmetry symmetry() const { return loop_->symmetry(); }
     /// Changes the tool's size from now on (HapticLoop::set_tool: the configured kind at another size; one
     /// thread, the window's). False when the loop refuses it (another kind, a mesh tool, a bad size).
     bool set_tool(const ToolShape& tool) { return loop_->set_tool(tool); }
