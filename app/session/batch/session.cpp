@@ -223,6 +223,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.tool_shape = cfg.tool;
     view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
+    view.palette = &settings.palette;
     if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
     // As in Peng et al. (4.1): the workspace box only while its button is held at the end.
     view.show_workspace = run.last_view.tick > 0 && run.last_view.modelling_paused;

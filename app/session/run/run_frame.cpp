@@ -159,6 +159,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tool_mesh = rt.tool_mesh();
     view.tool_orientation = lv.tool_world.orientation;
     if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
+    view.palette = &scene.spec.palette;
     view.tiles = tiles.tiles;
     view.tile_groups = tiles.groups;
     view.lod = su.lod;
