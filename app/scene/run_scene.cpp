@@ -13,6 +13,7 @@
 #include "app/support/json_file.hpp"
 #include "app/scene/scene_materials.hpp"
 #include "app/scene/trial_table.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/net/link_wire.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
@@ -60,6 +61,11 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         const fs::path p = fs::path(model).is_absolute() ? fs::path(model) : fs::path(base_dir) / model;
         if (!fs::is_regular_file(p)) f.fail("workpiece.model", "no such file: " + p.string());
         sp.model_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
+        try {  // the model's names and colours, which the scene's materials may rename and recolour
+            sp.palette = compute::load_tdx_palette(sp.model_path);
+        } catch (const Error& e) {
+            f.fail("workpiece.model", e.what());
+        }
         sp.mesh_path.clear();
         f.finish();
         return;

@@ -114,7 +114,11 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
     file.commit();
 }
 
-TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress) {
+namespace {
+
+// load_tdx; palette_only: the header and the palette alone are checked and read (the other sections skipped, the
+// model left empty).
+TdxModel read_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress, bool palette_only) {
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
     if (!f) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
     if (std::fseek(f.get(), 0, SEEK_END) != 0) throw Error(path + ": cannot read (not a regular file)");
@@ -148,6 +152,7 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
                     std::to_string(claimed) + " bytes, the file has " + std::to_string(size));
 
     TdxModel out;
+    if (palette_only && sections == kSectionCountV1) return out;  // version 1: the default palette
     tdx::Meta meta;
     std::uint64_t offset = kHeaderBytes;
     Bytes packed, raw;
@@ -167,6 +172,11 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
         if (packed_n > size - offset)
             throw Error(path + ": truncated: " + label + " needs " + std::to_string(packed_n) + " bytes at offset " +
                         std::to_string(offset) + ", the file has " + std::to_string(size));
+        if (palette_only && i + 1 < sections) {  // not the palette: skipped
+            if (std::fseek(f.get(), static_cast<long>(packed_n), SEEK_CUR) != 0) throw Error(path + ": cannot read");
+            offset += packed_n;
+            continue;
+        }
         // What the section must hold, known before anything is allocated for it.
         std::uint64_t expect = 0;
         if (i == 0) expect = tdx::kMetaBytes;
@@ -226,5 +236,13 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
     if (offset != size) throw Error(path + ": " + std::to_string(size - offset) + " bytes after the last section");
     return out;
 }
+
+}  // namespace
+
+TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress) {
+    return read_tdx(path, max_bytes, progress, false);
+}
+
+MaterialPalette load_tdx_palette(const std::string& path) { return read_tdx(path, 0, {}, true).palette; }
 
 }  // namespace tridex::compute

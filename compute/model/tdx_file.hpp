@@ -59,4 +59,9 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
 /// `progress` (core/progress.hpp) hears the fraction of the file read after each section.
 TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress = {});
 
+/// The palette of a .tdx file alone (the default for a version 1 file), its header and palette section checked as
+/// load_tdx checks them, the other sections skipped: for a scene that names a saved model's materials before the
+/// model is loaded. Throws tridex::Error "<path>: ..." as load_tdx does.
+MaterialPalette load_tdx_palette(const std::string& path);
+
 }  // namespace tridex::compute

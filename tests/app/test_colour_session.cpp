@@ -96,6 +96,10 @@ TEST(ColourSession, APaintedSessionShowsTheScenesColourAndKeepsItEverywhere) {
     const std::string a = bytes_of(dir / "live" / "sculpted.ply"), b = bytes_of(dir / "replay" / "sculpted.ply");
     ASSERT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << "the replay painted a different model";
+    const std::size_t replay_teal = teal_pixels(tridex::renderer::read_png((dir / "replay" / "left.png").string()));
+    std::printf("replay left.png: %zu teal pixels\n", replay_teal);
+    EXPECT_GT(replay_teal, 100u);
+    if (!HasFailure()) fs::remove_all(dir);
 }
 
 }  // namespace

@@ -178,6 +178,20 @@ MaterialPalette test_palette() {
     return p;
 }
 
+TEST(Colours, ASceneOnASavedModelNamesItsColoursAndRecoloursThem) {
+    const fs::path dir = test::temp_dir("colours_model");
+    (void)painted_bunny((dir / "b.tdx").string(), test_palette());
+    const RunScene s = run_scene_from_json(json::parse(R"({"workpiece": {"model": "b.tdx"}, "material": "ochre",
+        "materials": [{"id": 1, "name": "rose", "colour": "#ff007f"}]})"), "scene.json", dir.string());
+    EXPECT_EQ(s.spec.material, 5);
+    EXPECT_EQ(s.spec.palette[2], test_palette()[2]);  // the model's
+    EXPECT_EQ(s.spec.palette[1].name, "rose");        // the scene's
+    EXPECT_EQ(hex_colour(srgb8(s.spec.palette[1])), "#ff007f");
+    SessionSpec spec = s.spec;
+    (void)prepare_session_workpiece(spec);
+    EXPECT_EQ(spec.palette, s.spec.palette);  // the scene's renaming is kept
+}
+
 TEST(Colours, PlyVerticesCarryThePalettesSrgbColours) {
     const fs::path dir = test::temp_dir("colours_ply");
     const MaterialPalette palette = test_palette();

@@ -73,6 +73,7 @@ TEST(TdxPalette, ACustomPaletteRoundTripsBitForBitAsVersion2) {
     EXPECT_EQ(loaded.settings_json, R"({"resolution": 32})");
     save_tdx(b.string(), loaded.model, loaded.to_world, loaded.settings_json, 3, loaded.palette);
     EXPECT_EQ(read_all(b), bytes);  // load -> save gives the same bytes
+    EXPECT_EQ(load_tdx_palette(a.string()), palette);  // the palette alone, the rest skipped
 }
 
 TEST(TdxPalette, TheDefaultPaletteIsSavedAsVersion1AndOldFilesLoadWithIt) {
@@ -84,6 +85,7 @@ TEST(TdxPalette, TheDefaultPaletteIsSavedAsVersion1AndOldFilesLoadWithIt) {
     EXPECT_EQ(get32(bytes, 16), 6u);
     const TdxModel loaded = load_tdx(a.string(), kBudget);
     EXPECT_EQ(loaded.palette, default_material_palette());
+    EXPECT_EQ(load_tdx_palette(a.string()), default_material_palette());
     // A version 2 header that claims only six sections is refused (the palette is missing).
     std::vector<unsigned char> v2 = bytes;
     v2[8] = 2;
