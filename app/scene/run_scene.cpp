@@ -61,10 +61,15 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         const fs::path p = fs::path(model).is_absolute() ? fs::path(model) : fs::path(base_dir) / model;
         if (!fs::is_regular_file(p)) f.fail("workpiece.model", "no such file: " + p.string());
         sp.model_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
-        try {  // the model's names and colours, which the scene's materials may rename and recolour
-            sp.palette = compute::load_tdx_palette(sp.model_path);
-        } catch (const Error& e) {
-            f.fail("workpiece.model", e.what());
+        // The model's names and colours, when the scene renames, recolours or names them (else the session takes
+        // them from the model it loads: prepare_session_workpiece).
+        const json* named = top.get("material");
+        if (top.get("materials") || (named && named->is_string())) {
+            try {
+                sp.palette = compute::load_tdx_palette(sp.model_path);
+            } catch (const Error& e) {
+                f.fail("workpiece.model", e.what());
+            }
         }
         sp.mesh_path.clear();
         f.finish();

@@ -195,8 +195,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     const Workpiece& wp = rt.workpiece();
     const haptics::HapticLoopConfig& cfg = rt.config();
     const devices::DeviceProfile& profile = rt.profile();
-    // Both eyes through the off-axis PowerWall frusta, offscreen.
-    // On the GPU contour path the workpiece is drawn from the contour buffers, on the session's Context.
+    // Both eyes through the PowerWall frusta, offscreen (GPU contour: from its buffers, on the session's Context).
     GpuContourShare* const gpu_contour = rt.gpu_contour();
     std::optional<gpu::Context> own_ctx;
     if (!rt.context()) {
@@ -210,6 +209,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     const std::uint32_t validation_before_render = gpu_ctx.validation_messages();
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
+    view.palette = &settings.palette;  // the session's names and colours
     renderer::IndirectWorkpiece indirect;
     std::unique_lock<std::mutex> contour_lock;
     if (gpu_contour) {
@@ -223,7 +223,6 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     view.tool_radius_m = cfg.contact.tool_radius_m;
     view.tool_shape = cfg.tool;
     view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
-    view.palette = &settings.palette;
     if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
     // As in Peng et al. (4.1): the workspace box only while its button is held at the end.
     view.show_workspace = run.last_view.tick > 0 && run.last_view.modelling_paused;
