@@ -26,23 +26,20 @@ const MaterialPalette& default_material_palette() {
     return palette;
 }
 
+std::uint8_t to_byte(float c) {
+    const double v = c >= 0.0f ? std::min(static_cast<double>(c), 1.0) : 0.0;  // NaN fails c >= 0
+    return static_cast<std::uint8_t>(std::lround(255.0 * v));
+}
+
+std::array<std::uint8_t, 3> srgb8(const PaletteEntry& e) { return {to_byte(e.rgb[0]), to_byte(e.rgb[1]), to_byte(e.rgb[2])}; }
+
+std::array<float, 3> rgb_from_srgb8(const std::array<std::uint8_t, 3>& rgb) {
+    return {rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f};
+}
+
 float srgb8_to_linear(std::uint8_t c) {
     const double s = c / 255.0;
     return static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
-}
-
-std::uint8_t linear_to_srgb8(float linear) {
-    const double c = std::isfinite(linear) ? std::clamp(static_cast<double>(linear), 0.0, 1.0) : 0.0;
-    const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-    return static_cast<std::uint8_t>(std::lround(255.0 * s));
-}
-
-std::array<std::uint8_t, 3> srgb8(const PaletteEntry& e) {
-    return {linear_to_srgb8(e.linear_rgb[0]), linear_to_srgb8(e.linear_rgb[1]), linear_to_srgb8(e.linear_rgb[2])};
-}
-
-std::array<float, 3> linear_from_srgb8(const std::array<std::uint8_t, 3>& rgb) {
-    return {srgb8_to_linear(rgb[0]), srgb8_to_linear(rgb[1]), srgb8_to_linear(rgb[2])};
 }
 
 bool parse_hex_colour(const std::string& text, std::array<std::uint8_t, 3>& out) {
@@ -93,7 +90,7 @@ std::string palette_problem(const MaterialPalette& palette) {
         const int first = palette.find(e.name);
         if (first != i)
             return where + "the name '" + e.name + "' is already material " + std::to_string(first) + "'s";
-        for (float c : e.linear_rgb)
+        for (float c : e.rgb)
             if (!(c >= 0.0f && c <= 1.0f)) return where + "a colour component must be in [0, 1]";
     }
     return "";

@@ -20,7 +20,10 @@ inline constexpr std::size_t kMaterialNameMax = 32;
 /// One material's name and colour.
 struct PaletteEntry {
     std::string name;                  ///< 1..kMaterialNameMax of [A-Za-z0-9_-], unique in its palette
-    std::array<float, 3> linear_rgb{};  ///< linear RGB, each in [0, 1] (what the shader lights)
+    /// The colour as the renderer takes it: sRGB-encoded RGB in [0, 1] ("#2a9d8f" = 42/255, 157/255, 143/255). The
+    /// stereo renderer lights it as it is and writes the result to an 8-bit UNORM target without encoding, so a
+    /// surface lit at full strength shows exactly this colour, and PNG pictures, PLY colours and the scene agree.
+    std::array<float, 3> rgb{};
     bool operator==(const PaletteEntry&) const = default;
 };
 
@@ -35,18 +38,18 @@ struct MaterialPalette {
     int find(const std::string& name) const;
 };
 
-/// The palette every session had before palettes were named: 0 clay (linear 0.80, 0.62, 0.45), 1 red, 2 green,
+/// The palette every session had before palettes were named: 0 clay (0.80, 0.62, 0.45), 1 red, 2 green,
 /// 3 blue, 4 yellow, 5 white, 6 charcoal, 7 purple (the renderer's look is unchanged by it).
 const MaterialPalette& default_material_palette();
 
-/// 8-bit sRGB -> linear [0, 1] (IEC 61966-2-1).
-float srgb8_to_linear(std::uint8_t c);
-/// Linear (clamped to [0, 1]) -> 8-bit sRGB, rounded to nearest (IEC 61966-2-1).
-std::uint8_t linear_to_srgb8(float linear);
-/// An entry's colour as 8-bit sRGB.
+/// A colour component in [0, 1] (clamped; NaN reads as 0) as 8 bits, rounded to nearest.
+std::uint8_t to_byte(float c);
+/// An entry's colour as 8-bit sRGB (to_byte of each component).
 std::array<std::uint8_t, 3> srgb8(const PaletteEntry& e);
-/// The linear colour of 8-bit sRGB `rgb`.
-std::array<float, 3> linear_from_srgb8(const std::array<std::uint8_t, 3>& rgb);
+/// The palette colour of 8-bit sRGB `rgb` (each / 255; srgb8 gives the bytes back exactly).
+std::array<float, 3> rgb_from_srgb8(const std::array<std::uint8_t, 3>& rgb);
+/// 8-bit sRGB -> linear light in [0, 1] (IEC 61966-2-1), for tools that want linear values.
+float srgb8_to_linear(std::uint8_t c);
 
 /// Parses "#rrggbb" (hex digits, either case) into 8-bit sRGB; returns false (leaving `out` alone) on anything else.
 bool parse_hex_colour(const std::string& text, std::array<std::uint8_t, 3>& out);

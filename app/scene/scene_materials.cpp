@@ -50,7 +50,7 @@ void read_look(Fields& f, int id, SessionSpec& spec, std::set<int>& named) {
     if (const std::string why = material_name_problem(n); !why.empty()) f.fail(f.path("name"), why);
     PaletteEntry& e = spec.palette.entries[id];
     e.name = n;
-    if (colour) e.linear_rgb = linear_from_srgb8(read_colour(f, *colour, f.path("colour")));
+    if (colour) e.rgb = rgb_from_srgb8(read_colour(f, *colour, f.path("colour")));
     named.insert(id);
 }
 

@@ -316,7 +316,7 @@ std::string spec_to_json(const SessionSpec& s) {
         json palette = json::array();
         for (int i = 0; i < kPaletteSize; ++i) {
             const PaletteEntry& e = s.palette.entries[i];
-            palette.push_back({{"id", i}, {"name", e.name}, {"linear_rgb", e.linear_rgb}});
+            palette.push_back({{"id", i}, {"name", e.name}, {"rgb", e.rgb}});
         }
         j["palette"] = palette;
     }
@@ -421,7 +421,7 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             get(ps[i], "id", id);
             if (id != i) throw Error(source + ": settings field 'palette' must list ids 0.." + std::to_string(kPaletteSize - 1) + " in order");
             get(ps[i], "name", s.palette.entries[i].name);
-            get(ps[i], "linear_rgb", s.palette.entries[i].linear_rgb);
+            get(ps[i], "rgb", s.palette.entries[i].rgb);
         }
         if (const std::string why = palette_problem(s.palette); !why.empty())
             throw Error(source + ": settings field 'palette': " + why);

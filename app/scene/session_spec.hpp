@@ -182,7 +182,7 @@ void validate_spec(const SessionSpec& s, const std::string& source);
 std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 
 /// The spec as one line of JSON (for a recording's header notes). A palette other than the default is written as
-/// "palette": [{"id": 0, "name": "clay", "linear_rgb": [0.8, 0.62, 0.45]}, ...] (all entries, floats exact); the
+/// "palette": [{"id": 0, "name": "clay", "rgb": [0.8, 0.62, 0.45]}, ...] (all entries, floats exact); the
 /// default palette is left out, so a default session's JSON is what it was before palettes.
 std::string spec_to_json(const SessionSpec& s);
 

@@ -24,14 +24,14 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 std::string mtl_text(const MaterialPalette& palette, const std::array<bool, kPaletteSize>& used) {
-    std::string out = "# tridex material library: Kd is linear RGB (the renderer's), the comment its sRGB colour\n";
+    std::string out = "# tridex material library: Kd is the sRGB colour / 255 (as the scene named it and the renderer shows it)\n";
     char line[160];
     for (int m = 0; m < kPaletteSize; ++m) {
         if (!used[m]) continue;
         const PaletteEntry& e = palette.entries[m];
         std::snprintf(line, sizeof line, "\nnewmtl %s\n# material %d, sRGB %s\nKa 0 0 0\nKd %.6f %.6f %.6f\nKs 0 0 0\nd 1\nillum 1\n",
-                      e.name.c_str(), m, hex_colour(srgb8(e)).c_str(), static_cast<double>(e.linear_rgb[0]),
-                      static_cast<double>(e.linear_rgb[1]), static_cast<double>(e.linear_rgb[2]));
+                      e.name.c_str(), m, hex_colour(srgb8(e)).c_str(), static_cast<double>(e.rgb[0]),
+                      static_cast<double>(e.rgb[1]), static_cast<double>(e.rgb[2]));
         out += line;
     }
     return out;

@@ -23,8 +23,9 @@ std::string mtl_path_for(const std::string& obj_path);
 
 /// Writes `mesh` (positions in the caller's unit, 9 significant digits; triangles CCW from outside) to `obj_path` as
 /// OBJ text that names its material library (mtllib, the .mtl beside it, mtl_path_for) and writes that library:
-/// one `newmtl NAME` per material the triangles use (triangle_materials), NAME the palette's, with Kd its linear RGB
-/// (what the renderer lights; a comment gives the sRGB "#rrggbb"), Ka 0, Ks 0, d 1, illum 1. The OBJ lists every
+/// one `newmtl NAME` per material the triangles use (triangle_materials), NAME the palette's, with Kd its sRGB colour
+/// in [0, 1] (PaletteEntry::rgb, as viewers such as three.js read Kd; a comment gives "#rrggbb"), Ka 0, Ks 0, d 1,
+/// illum 1. The OBJ lists every
 /// vertex, then per used material in id order `usemtl NAME` and its triangles (1-based). Both files are written
 /// atomically (core/atomic_file.hpp), the library first. Throws tridex::Error "<path>: ..." for an empty mesh,
 /// bad indices or materials, or a failed write.

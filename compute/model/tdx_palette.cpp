@@ -18,7 +18,7 @@ Bytes encode_palette(const MaterialPalette& palette) {
         out.push_back(static_cast<unsigned char>(i));
         out.push_back(static_cast<unsigned char>(e.name.size()));
         out.insert(out.end(), e.name.begin(), e.name.end());
-        const auto* f = reinterpret_cast<const unsigned char*>(e.linear_rgb.data());
+        const auto* f = reinterpret_cast<const unsigned char*>(e.rgb.data());
         out.insert(out.end(), f, f + 3 * sizeof(float));
     }
     return out;
@@ -44,7 +44,7 @@ MaterialPalette decode_palette(const unsigned char* data, std::size_t n, const s
         need(len + 3 * sizeof(float), "an entry's name and colour");
         p.entries[i].name.assign(reinterpret_cast<const char*>(data + at), len);
         at += len;
-        std::memcpy(p.entries[i].linear_rgb.data(), data + at, 3 * sizeof(float));
+        std::memcpy(p.entries[i].rgb.data(), data + at, 3 * sizeof(float));
         at += 3 * sizeof(float);
     }
     if (at != n) throw Error(where + ": " + std::to_string(n - at) + " bytes after the last entry");

@@ -11,11 +11,11 @@
 namespace tridex::compute::tdx {
 
 /// Most bytes an encoded palette takes: a u32 count, then per entry a u8 id, a u8 name length, the name and three
-/// f32 (linear RGB).
+/// f32 (MaterialPalette's sRGB-encoded rgb).
 inline constexpr std::size_t kPaletteBytesMax = 4 + kPaletteSize * (2 + kMaterialNameMax + 3 * 4);
 
 /// Encodes `palette`: u32 kPaletteSize, then per entry in id order u8 id, u8 name length, the name's bytes and its
-/// linear colour as 3 f32 (copied bit for bit).
+/// colour (PaletteEntry::rgb) as 3 f32 (copied bit for bit).
 Bytes encode_palette(const MaterialPalette& palette);
 /// Decodes and checks a "palette" payload: the count kPaletteSize, ids 0..kPaletteSize-1 in order, the exact size,
 /// and palette_problem (names valid and unique, colours finite in [0, 1]). Throws tridex::Error "<where>: ...".

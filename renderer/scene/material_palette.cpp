@@ -6,7 +6,7 @@ namespace tridex::renderer {
 std::array<glm::vec4, kMaterialCount> palette_colours(const MaterialPalette& palette) {
     std::array<glm::vec4, kMaterialCount> out{};
     for (int m = 0; m < kMaterialCount; ++m) {
-        const auto& c = palette.entries[m].linear_rgb;
+        const auto& c = palette.entries[m].rgb;
         out[m] = glm::vec4(c[0], c[1], c[2], 1.0f);
     }
     return out;

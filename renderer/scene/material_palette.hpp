@@ -12,7 +12,8 @@ namespace tridex::renderer {
 
 static_assert(kMaterialCount == kPaletteSize, "the shader's palette holds one colour per material id");
 
-/// The shader's palette of `palette` (core/material_palette.hpp): its linear colours as RGBA, alpha 1, indexed by
+/// The shader's palette of `palette` (core/material_palette.hpp): its colours (PaletteEntry::rgb, which the shader
+/// lights as they are and writes unencoded) as RGBA, alpha 1, indexed by
 /// material id 0..kMaterialCount-1.
 std::array<glm::vec4, kMaterialCount> palette_colours(const MaterialPalette& palette);
 

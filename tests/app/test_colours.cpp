@@ -57,11 +57,11 @@ TEST(Colours, ASceneNamesColoursInSrgbAndChoosesOneByName) {
     const MaterialPalette& p = s.spec.palette;
     EXPECT_EQ(p[2].name, "teal");
     EXPECT_EQ(srgb8(p[2]), (std::array<std::uint8_t, 3>{0x2a, 0x9d, 0x8f}));
-    EXPECT_FLOAT_EQ(p[2].linear_rgb[0], srgb8_to_linear(0x2a));
+    EXPECT_EQ(p[2].rgb[0], 0x2a / 255.0f);
     EXPECT_EQ(p[3].name, "sand");
     EXPECT_EQ(srgb8(p[3]), (std::array<std::uint8_t, 3>{233, 196, 106}));
     EXPECT_EQ(p[0].name, "stone");  // renamed, its colour kept
-    EXPECT_EQ(p[0].linear_rgb, default_material_palette()[0].linear_rgb);
+    EXPECT_EQ(p[0].rgb, default_material_palette()[0].rgb);
     EXPECT_EQ(p[1], default_material_palette()[1]);
     // Contact entries: id 3 (it has a stiffness) and id 9; the colour-only entries are not contact entries.
     ASSERT_EQ(s.spec.materials.size(), 2u);
@@ -105,7 +105,7 @@ TEST(Colours, BadColoursAndNamesAreRefusedNamingTheField) {
 
 TEST(Colours, TheSpecJsonCarriesThePaletteBitForBit) {
     RunScene s = scene_of(R"({"materials": [{"id": 5, "name": "Ochre_1", "colour": "#cc7722"}, {"id": 0, "name": "wax"}]})");
-    s.spec.palette.entries[6].linear_rgb = {0.1f, 0.2f, 0.30000001f};  // floats kept exactly
+    s.spec.palette.entries[6].rgb = {0.1f, 0.2f, 0.30000001f};  // floats kept exactly
     const std::string text = spec_to_json(s.spec);
     EXPECT_NE(text.find("\"palette\""), std::string::npos);
     const SessionSpec back = spec_from_json(text, "journal.tdj");
@@ -172,9 +172,9 @@ compute::TriDexel painted_bunny(const std::string& path, const MaterialPalette& 
 
 MaterialPalette test_palette() {
     MaterialPalette p = default_material_palette();
-    p.entries[0] = {"bone", linear_from_srgb8({0xf0, 0xe6, 0xd2})};
-    p.entries[2] = {"teal", linear_from_srgb8({0x2a, 0x9d, 0x8f})};
-    p.entries[5] = {"ochre", linear_from_srgb8({0xcc, 0x77, 0x22})};
+    p.entries[0] = {"bone", rgb_from_srgb8({0xf0, 0xe6, 0xd2})};
+    p.entries[2] = {"teal", rgb_from_srgb8({0x2a, 0x9d, 0x8f})};
+    p.entries[5] = {"ochre", rgb_from_srgb8({0xcc, 0x77, 0x22})};
     return p;
 }
 
@@ -243,7 +243,7 @@ TEST(Colours, ObjGroupsTrianglesUnderTheMaterialLibrarysNamedColours) {
     }
     ASSERT_EQ(kd.size(), 3u);
     for (int m : {0, 2, 5})
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(kd[palette[m].name][k], palette[m].linear_rgb[k], 1e-6) << m;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(kd[palette[m].name][k], palette[m].rgb[k], 1e-6) << m;
     // The OBJ: mtllib, usemtl groups in id order, every triangle once, each face's material its corners' majority.
     std::ifstream obj(dir / "b.obj");
     std::vector<std::string> groups;

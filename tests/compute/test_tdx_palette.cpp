@@ -43,9 +43,9 @@ std::uint32_t get32(const std::vector<unsigned char>& b, std::size_t at) {
 
 MaterialPalette custom_palette() {
     MaterialPalette p = default_material_palette();
-    p.entries[1] = {"teal", linear_from_srgb8({0x2a, 0x9d, 0x8f})};
-    p.entries[2] = {"sand_2", linear_from_srgb8({0xe9, 0xc4, 0x6a})};
-    p.entries[0].linear_rgb = {0.5f, 0.25f, 0.125f};
+    p.entries[1] = {"teal", rgb_from_srgb8({0x2a, 0x9d, 0x8f})};
+    p.entries[2] = {"sand_2", rgb_from_srgb8({0xe9, 0xc4, 0x6a})};
+    p.entries[0].rgb = {0.5f, 0.25f, 0.125f};
     return p;
 }
 
@@ -112,7 +112,7 @@ TEST(TdxPalette, DamagedPalettesAreRefusedNamingTheFault) {
     EXPECT_NE(decode_error(b).find("material 3: the name 'teal' is already material 1's"), std::string::npos)
         << decode_error(b);
     MaterialPalette bright = custom_palette();
-    bright.entries[4].linear_rgb[1] = 1.5f;
+    bright.entries[4].rgb[1] = 1.5f;
     b = tdx::encode_palette(bright);
     EXPECT_NE(decode_error(b).find("material 4: a colour component must be in [0, 1]"), std::string::npos);
     MaterialPalette spaced = custom_palette();
