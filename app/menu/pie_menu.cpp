@@ -39,8 +39,9 @@ MenuItem default_menu(const MaterialPalette& palette) {
     MenuItem root{"Menu", "", "", {}};
     root.children = {
         branch("Operation", "...", {leaf("op.subtract"), leaf("op.union"), leaf("op.paint"), leaf("op.push"),
-                                    leaf("op.smooth"), leaf("op.pull"), colour_branch(palette)}),
-        branch("Tool", "...", {leaf("tool.larger"), leaf("tool.smaller")}),
+                                    leaf("op.smooth"), leaf("op.pull")}),
+        // Larger and Smaller keep their directions (up, down) with the colours between them.
+        branch("Tool", "...", {leaf("tool.larger"), colour_branch(palette), leaf("tool.smaller"), MenuItem{"Cancel", "", "", {}}}),
         leaf("edit.redo"),
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),

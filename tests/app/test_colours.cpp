@@ -132,10 +132,14 @@ TEST(Colours, TheMenuAndTheKeysChooseTheMaterials) {
     p.entries[2].name = "teal";
     const MenuItem root = default_menu(p);
     ASSERT_EQ(root.children.size(), 8u);
-    const MenuItem& ops = root.children[0];
-    ASSERT_EQ(ops.label, "Operation");
-    ASSERT_EQ(ops.children.back().label, "Colour");
-    const MenuItem& colours = ops.children.back();
+    EXPECT_EQ(root.children[0].children.size(), 6u);  // the operations' directions as they were
+    const MenuItem& tool = root.children[1];
+    ASSERT_EQ(tool.label, "Tool");
+    ASSERT_EQ(tool.children.size(), 4u);  // larger up and smaller down, as before; Colour right, Cancel left
+    EXPECT_EQ(tool.children[0].action, "tool.larger");
+    EXPECT_EQ(tool.children[2].action, "tool.smaller");
+    ASSERT_EQ(tool.children[1].label, "Colour");
+    const MenuItem& colours = tool.children[1];
     ASSERT_EQ(colours.children.size(), 7u);
     EXPECT_EQ(colours.children[1].label, "teal");
     EXPECT_EQ(colours.children[1].action, "material.2");
