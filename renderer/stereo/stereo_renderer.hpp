@@ -69,7 +69,7 @@ struct SceneView {
 
     // ---- Materials, proxy, force, tiles, overlay. Defaults draw nothing new. ----
     /// Per-vertex material ids of `workpiece` (size = workpiece->positions.size(), ids 0..kMaterialCount-1,
-    /// colours in material_palette()); nullptr = every vertex material 0 (clay).
+    /// colours from `palette`); nullptr = every vertex material 0.
     const std::vector<std::uint8_t>* workpiece_materials = nullptr;
     /// The materials' names and colours (core/material_palette.hpp): the workpiece's vertex materials, and its flat
     /// colour (material 0) without them; nullptr = default_material_palette().
