@@ -280,6 +280,8 @@ public:
     Symmetry symmetry() const { return symmetry_from_bits(symmetry_.load(std::memory_order_relaxed)); }
     /// The Boolean the samples carry now (any thread).
     ToolOp tool_op() const { return static_cast<ToolOp>(op_.load(std::memory_order_relaxed) & 0xffu); }
+    /// The material the samples carry now (any thread).
+    std::uint8_t tool_material() const { return static_cast<std::uint8_t>(op_.load(std::memory_order_relaxed) >> 8); }
     /// Changes the tool the following ToolSamples carry to `tool`, the configured tool at another size: the
     /// same kind (ball or flat end; a mesh tool keeps its size), radius_m (and length_m) finite and > 0. The
     /// contact points are the configured ones scaled by tool.radius_m / config().tool.radius_m, so touch and

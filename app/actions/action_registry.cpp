@@ -34,6 +34,12 @@ ActionRegistry make_builtin() {
     r.add(command("op.pull", "Pull", "^", "clay: the touched surface follows the tool outward", op(ToolOp::kPull)));
     r.add(command("op.next", "Next op", ">", "the next operation (subtract, union, paint, push, smooth, pull)",
                   [](ActionTarget& t) { t.set_op(next_op(t.op())); }));
+    for (int m = 1; m <= kMaxMaterialId; ++m) {
+        const auto id = static_cast<std::uint8_t>(m);
+        r.add(command("material." + std::to_string(m), "Material " + std::to_string(m), std::to_string(m),
+                      "union adds and paint sets palette material " + std::to_string(m) + " from now on",
+                      [id](ActionTarget& t) { t.set_material(id); }));
+    }
     r.add(command("tool.larger", "Larger", "O", "the tool 1.25 times larger",
                   [](ActionTarget& t) { (void)t.resize_tool(1); }));
     r.add(command("tool.smaller", "Smaller", "o", "the tool 1.25 times smaller",

@@ -21,6 +21,11 @@ public:
     virtual void set_op(ToolOp op) = 0;
     /// The operation the tool applies now.
     virtual ToolOp op() const = 0;
+    /// The material (1..kMaxMaterialId, a palette entry) that union adds and paint sets from now on; the operation is
+    /// kept. Ids outside the range are ignored.
+    virtual void set_material(std::uint8_t id) = 0;
+    /// The material union adds and paint sets now.
+    virtual std::uint8_t material() const = 0;
     /// Scales the tool by a fixed step per unit (steps > 0 larger); false when it cannot change (a mesh tool, a limit).
     virtual bool resize_tool(int steps) = 0;
     /// Hands an undo, redo or save to the sculpt thread; false when its queue was full.
@@ -77,7 +82,8 @@ private:
     std::vector<Action> actions_;
 };
 
-/// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.next, tool.larger,
+/// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.next, material.1 ..
+/// material.7 (the palette entry union adds and paint sets; the menu labels them with the session's names), tool.larger,
 /// tool.smaller, symmetry.toggle, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion,
 /// session.end (commands);
 /// engage, menu, nav.grab, workspace (held); nav.scale, tool.scale (axes).

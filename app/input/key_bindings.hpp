@@ -19,7 +19,8 @@ struct KeyBinding {
     bool stylus_only = false;    ///< only while the mouse is the stylus (digits and brackets move nothing else)
 };
 
-/// The desk's key chords: 1..6 operations, [ and ] tool size, Ctrl+Z undo, Ctrl+Shift+Z and Ctrl+Y redo, Ctrl+S save,
+/// The desk's key chords: 1..6 operations, Shift+1..Shift+7 the material (palette entry) union adds and paint sets,
+/// [ and ] tool size, Ctrl+Z undo, Ctrl+Shift+Z and Ctrl+Y redo, Ctrl+S save,
 /// Home re-centre, Tab swap eyes, O occlusion, Esc end. Head keys (W A S D R F, arrows) are navigation, not actions.
 const std::vector<KeyBinding>& desk_key_bindings();
 

@@ -22,14 +22,26 @@ MenuItem branch(std::string label, std::string glyph, std::vector<MenuItem> chil
     return MenuItem{std::move(label), std::move(glyph), "", std::move(children)};
 }
 
+// The materials union adds and paint sets, each slice labelled with the palette's name for it.
+MenuItem colour_branch(const MaterialPalette& palette) {
+    MenuItem colours = branch("Colour", "...", {});
+    for (int m = 1; m <= kMaxMaterialId; ++m) {
+        MenuItem slice = leaf("material." + std::to_string(m));
+        slice.label = palette[m].name;
+        colours.children.push_back(std::move(slice));
+    }
+    return colours;
+}
+
 }  // namespace
 
-MenuItem default_menu() {
+MenuItem default_menu(const MaterialPalette& palette) {
     MenuItem root{"Menu", "", "", {}};
     root.children = {
         branch("Operation", "...", {leaf("op.subtract"), leaf("op.union"), leaf("op.paint"), leaf("op.push"),
                                     leaf("op.smooth"), leaf("op.pull")}),
-        branch("Tool", "...", {leaf("tool.larger"), leaf("tool.smaller"), leaf("symmetry.toggle")}),
+        // Larger and Smaller keep their directions (up, down), the colours and the symmetry between them.
+        branch("Tool", "...", {leaf("tool.larger"), colour_branch(palette), leaf("tool.smaller"), leaf("symmetry.toggle")}),
         leaf("edit.redo"),
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/material_palette.hpp"
 #include "core/math.hpp"
 
 namespace tridex::app {
@@ -21,9 +22,10 @@ struct MenuItem {
 };
 
 /// The default menu, with every action a desk key has: Operation (subtract, union, paint, push, smooth, pull), Tool
-/// (larger, smaller), Redo, Save, End (End session, Cancel), View (re-centre, swap eyes, occlusion), Undo and Next op;
-/// the eight top slices clockwise from 12 o'clock. Labels and glyphs come from builtin_actions().
-MenuItem default_menu();
+/// (larger, Colour: materials 1..7 labelled with `palette`'s names, smaller, Cancel), Redo, Save, End (End session,
+/// Cancel), View (re-centre, swap eyes, occlusion), Undo and Next op; the eight top slices clockwise from 12 o'clock.
+/// Other labels and glyphs come from builtin_actions().
+MenuItem default_menu(const MaterialPalette& palette = default_material_palette());
 
 /// How the menu reads the hand (lengths in the frame of the positions given, normally world m).
 struct PieMenuSettings {

@@ -11,7 +11,9 @@
 #include "app/support/assets.hpp"
 #include "app/support/json_fields.hpp"
 #include "app/support/json_file.hpp"
+#include "app/scene/scene_materials.hpp"
 #include "app/scene/trial_table.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/net/link_wire.hpp"
 #include "devices/tracking/dtrack_receiver.hpp"
@@ -60,6 +62,16 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
         const fs::path p = fs::path(model).is_absolute() ? fs::path(model) : fs::path(base_dir) / model;
         if (!fs::is_regular_file(p)) f.fail("workpiece.model", "no such file: " + p.string());
         sp.model_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
+        // The model's names and colours, when the scene renames, recolours or names them (else the session takes
+        // them from the model it loads: prepare_session_workpiece).
+        const json* named = top.get("material");
+        if (top.get("materials") || (named && named->is_string())) {
+            try {
+                sp.palette = compute::load_tdx_palette(sp.model_path);
+            } catch (const Error& e) {
+                f.fail("workpiece.model", e.what());
+            }
+        }
         sp.mesh_path.clear();
         f.finish();
         return;
@@ -190,7 +202,6 @@ void read_op(Fields& top, RunScene& s) {
     } catch (const Error&) {
         top.fail("op", "'" + s.spec.op + "' is not one of subtract, union, paint, push, smooth, pull, none");
     }
-    s.spec.material = top.integer("material", s.spec.material, 1, 7);
     s.spec.symmetry = top.text("symmetry", s.spec.symmetry);
     try {
         s.spec.symmetry = to_string(parse_symmetry(s.spec.symmetry, "symmetry"));
@@ -200,28 +211,6 @@ void read_op(Fields& top, RunScene& s) {
     s.spec.clay_group_sweeps =
         static_cast<std::size_t>(top.integer("clay_group_sweeps", static_cast<int>(s.spec.clay_group_sweeps), 1,
                                              static_cast<int>(compute::kClayGroupSweepsMax)));
-}
-
-void read_materials(Fields& top, RunScene& s) {
-    const json* m = top.get("materials");
-    if (!m) return;
-    if (!m->is_array()) top.fail("materials", "must be an array of {id, stiffness_n_per_m, damping_n_s_per_m, ...}");
-    std::set<int> seen;
-    for (std::size_t i = 0; i < m->size(); ++i) {
-        Fields f((*m)[i], top.source(), "materials[" + std::to_string(i) + "]");
-        MaterialEntry e;
-        if (!f.get("id")) f.fail(f.path("id"), "missing");
-        e.id = f.integer("id", 0, 0, 255);
-        if (!seen.insert(e.id).second) f.fail(f.path("id"), "material " + std::to_string(e.id) + " is listed twice");
-        e.material.stiffness_n_per_m = f.number("stiffness_n_per_m", s.spec.stiffness_n_per_m, 0.0, 1e5);
-        e.material.damping_n_s_per_m = f.number("damping_n_s_per_m", s.spec.damping_n_s_per_m, 0.0, 1e3);
-        e.material.static_friction = f.number("static_friction", 0.0, 0.0, 10.0);
-        e.material.dynamic_friction = f.number("dynamic_friction", 0.0, 0.0, 10.0);
-        if (e.material.dynamic_friction > e.material.static_friction)
-            f.fail(f.path("dynamic_friction"), "must not exceed static_friction (" + fmt(e.material.static_friction) + ")");
-        f.finish();
-        s.spec.materials.push_back(e);
-    }
 }
 
 void read_haptics(Fields& top, RunScene& s) {
@@ -519,7 +508,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     read_tool(top, s, base_dir);
     read_device(top, s);
     read_op(top, s);
-    read_materials(top, s);
+    read_scene_materials(top, s.spec);
     read_haptics(top, s);
     read_workspace(top, s);
     read_stroke(top, s);

@@ -78,9 +78,10 @@ struct RunStudy {
 ///                                                             // +y its axis, its tip the HIP (app/scene/tool_mesh.hpp)
 ///             "stiffness_n_per_m": 700, "damping_n_s_per_m": 0.5 },
 ///   "device": { "driver": "simulated", "profile": "omni" | "wand" | "6dof" },
-///   "op": "subtract" | "union" | "paint" | "push" | "smooth" | "pull", "material": 1,       // what the tool does; palette id 1..7
+///   "op": "subtract" | "union" | "paint" | "push" | "smooth" | "pull", "material": 1 | "teal", // palette id 1..7 or name
 ///   "materials": [ { "id": 0, "stiffness_n_per_m": 500, "damping_n_s_per_m": 0.4,
-///                    "static_friction": 0.3, "dynamic_friction": 0.2 }, ... ],   // contact per material id
+///                    "static_friction": 0.3, "dynamic_friction": 0.2 },        // contact per material id
+///                  { "id": 2, "name": "teal", "colour": "#2a9d8f" }, ... ],   // names, sRGB colours (scene_materials.hpp)
 ///   "haptics": { "points": 1, "static_friction": 0.2, "dynamic_friction": 0.15, "cutting_force": true },
 ///   "workspace": { "mode": "peng_moving", "scale": 1.0 },   // haptics::parse_workspace_mode names; scale: the
 ///                                                          // device -> world gain in [0.01, 100] (kWorkspaceScaleMin,

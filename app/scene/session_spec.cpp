@@ -195,6 +195,7 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     auto point = [&](const std::string& field, const Vec3& p) {
         for (int a = 0; a < 3; ++a) range(field + "[" + std::to_string(a) + "]", p[a], -1e3, 1e3);
     };
+    if (const std::string why = palette_problem(s.palette); !why.empty()) fail("palette", why, "a palette");
     if (s.resolution < 8 || s.resolution > 4096) fail("resolution", "must be between 8 and 4096", std::to_string(s.resolution));
     range("stock_m", s.stock_m, 1e-3, 100.0);
     point("workpiece_centre_m", s.workpiece_centre_m);
@@ -313,6 +314,14 @@ std::string spec_to_json(const SessionSpec& s) {
            {"keep_islands", s.keep_islands},
            {"clay_group_sweeps", s.clay_group_sweeps}};
     if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
+    if (s.palette != default_material_palette()) {         // absent with the default palette, as before
+        json palette = json::array();
+        for (int i = 0; i < kPaletteSize; ++i) {
+            const PaletteEntry& e = s.palette.entries[i];
+            palette.push_back({{"id", i}, {"name", e.name}, {"rgb", e.rgb}});
+        }
+        j["palette"] = palette;
+    }
     return j.dump();
 }
 
@@ -405,6 +414,20 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             get(m, "dynamic_friction", e.material.dynamic_friction);
             s.materials.push_back(e);
         }
+    }
+    if (j.contains("palette")) {
+        const json& ps = j.at("palette");
+        if (!ps.is_array() || ps.size() != static_cast<std::size_t>(kPaletteSize))
+            throw Error(source + ": settings field 'palette' must be an array of " + std::to_string(kPaletteSize) + " entries");
+        for (int i = 0; i < kPaletteSize; ++i) {
+            int id = -1;
+            get(ps[i], "id", id);
+            if (id != i) throw Error(source + ": settings field 'palette' must list ids 0.." + std::to_string(kPaletteSize - 1) + " in order");
+            get(ps[i], "name", s.palette.entries[i].name);
+            get(ps[i], "rgb", s.palette.entries[i].rgb);
+        }
+        if (const std::string why = palette_problem(s.palette); !why.empty())
+            throw Error(source + ": settings field 'palette': " + why);
     }
     if (j.contains("elastic_objects")) {
         const json& es = j.at("elastic_objects");

@@ -10,6 +10,7 @@
 
 #include "compute/journal/journal_replay.hpp"
 #include "compute/tools/clay_sweep.hpp"
+#include "core/material_palette.hpp"
 #include "core/math.hpp"
 #include "core/symmetry.hpp"
 #include "core/tool_shape.hpp"
@@ -99,6 +100,10 @@ struct SessionSpec {
     /// Per-material contact parameters (ids not listed use stiffness, damping and friction above); empty =
     /// one material everywhere.
     std::vector<MaterialEntry> materials;
+    /// The materials' names and colours (core/material_palette.hpp): what the renderer draws, the menu and keys offer
+    /// and export writes. It does not change the model, but a recording, a journal and a saved model carry it so
+    /// that what replays looks as it did; those without one read as default_material_palette().
+    MaterialPalette palette = default_material_palette();
     /// Elastic (and rigid) spheres felt beside the workpiece (haptics::HapticLoopConfig::elastic_objects; a scene's
     /// "objects"); empty = none.
     std::vector<haptics::ElasticSphere> elastic_objects;
@@ -180,11 +185,13 @@ void validate_spec(const SessionSpec& s, const std::string& source);
 /// CRC-32 (IEEE) and byte count of a file; throws tridex::Error "<path>: cannot read" when it cannot.
 std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 
-/// The spec as one line of JSON (for a recording's header notes).
+/// The spec as one line of JSON (for a recording's header notes). A palette other than the default is written as
+/// "palette": [{"id": 0, "name": "clay", "rgb": [0.8, 0.62, 0.45]}, ...] (all entries, floats exact); the
+/// default palette is left out, so a default session's JSON is what it was before palettes.
 std::string spec_to_json(const SessionSpec& s);
 
 /// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
-/// materials, keep_islands true and clay_group_sweeps 16 when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
+/// materials, the default palette, keep_islands true and clay_group_sweeps 16 when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
 /// missing or ill-typed field.
 SessionSpec spec_from_json(const std::string& text, const std::string& source);
 

@@ -58,6 +58,7 @@ Workpiece workpiece_from_model(const std::string& tdx_path) {
     const auto& cells = saved.model.lattice.cells;
     wp.resolution = std::max({cells[0], cells[1], cells[2]});
     wp.to_world = saved.to_world;
+    wp.palette = saved.palette;
     wp.model = std::move(saved.model);
     std::fill(wp.model.tiles.dirty.begin(), wp.model.tiles.dirty.end(), std::uint8_t{1});
     wp.volume_dexel_m3 = compute::dexel_volume_m3(wp.model);
@@ -85,6 +86,7 @@ Workpiece prepare_session_workpiece(SessionSpec& spec) {
     spec.resolution = wp.resolution;
     spec.stock_m = std::max(1, wp.resolution - 4) * L.cell_m;  // Lattice::around's 2-cell margins on each end
     spec.workpiece_centre_m = L.bounds().centre();
+    if (spec.palette == default_material_palette()) spec.palette = wp.palette;  // a scene's own names win
     spec.mesh_path.clear();
     spec.mesh_crc32 = 0;
     spec.mesh_bytes = 0;
@@ -92,7 +94,7 @@ Workpiece prepare_session_workpiece(SessionSpec& spec) {
 }
 
 void save_session_model(const std::string& path, const Workpiece& wp, const SessionSpec& spec) {
-    compute::save_tdx(path, wp.model, wp.to_world, spec_to_json(spec));
+    compute::save_tdx(path, wp.model, wp.to_world, spec_to_json(spec), 3, spec.palette);
 }
 
 namespace {

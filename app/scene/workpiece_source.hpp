@@ -19,6 +19,8 @@ struct Workpiece {
     double volume_dexel_m3 = 0.0;   ///< tri-dexel volume right after scan conversion
     double scan_s = 0.0;            ///< scan-conversion wall time, s
     compute::TriDexel model;        ///< the tri-dexel solid (carved in place by the session)
+    /// The materials' names and colours: a saved model's (compute::TdxModel::palette), else the default.
+    MaterialPalette palette = default_material_palette();
 };
 
 /// Loads `mesh_path` (closed mesh), scales it so its longest side is stock_m and centres it on centre_m
@@ -35,13 +37,14 @@ Workpiece workpiece_from_model(const std::string& tdx_path);
 
 /// The session's workpiece for `spec`, and the spec completed: with spec.model_path, the saved model
 /// (workpiece_from_model), and resolution, stock_m (the longest side less the 2-cell margins, m) and
-/// workpiece_centre_m (the lattice's centre, world m) taken from it, model_crc32/model_bytes set; else the mesh
+/// workpiece_centre_m (the lattice's centre, world m) taken from it, model_crc32/model_bytes set, and its palette when
+/// spec.palette is the default (a scene that names materials keeps its own); else the mesh
 /// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. SIGINT or SIGTERM meanwhile ends the program
 /// at once (StopEndsSetUp): there is nothing to keep yet. Throws tridex::Error as those do.
 Workpiece prepare_session_workpiece(SessionSpec& spec);
 
 /// Writes the session's model after stop() (the CPU model, which mirrors the GPU's) with its transform and
-/// spec_to_json(spec) as the settings to `path` (.tdx, atomically: a failed save leaves an existing file as it
+/// spec_to_json(spec) as the settings and spec.palette to `path` (.tdx, atomically: a failed save leaves an existing file as it
 /// was). Throws tridex::Error "<path>: ..." when it cannot be written.
 void save_session_model(const std::string& path, const Workpiece& workpiece, const SessionSpec& spec);
 

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "compute/model/tdx_codec.hpp"
+#include "compute/model/tdx_palette.hpp"
 #include "core/atomic_file.hpp"
 #include "core/crc32.hpp"
 #include "core/error.hpp"
@@ -22,8 +23,10 @@ using tdx::Bytes;
 
 constexpr std::size_t kHeaderBytes = 40;
 constexpr std::size_t kSectionHeaderBytes = 32;
-constexpr std::uint32_t kSectionCount = 6;
-constexpr std::array<const char*, kSectionCount> kSectionNames = {"meta", "settings", "rays.x", "rays.y", "rays.z", "tiles"};
+constexpr std::uint32_t kSectionCountV1 = 6;  // version 1; version 2 adds the palette
+constexpr std::uint32_t kSectionCount = 7;
+constexpr std::array<const char*, kSectionCount> kSectionNames = {"meta",   "settings", "rays.x", "rays.y",
+                                                                  "rays.z", "tiles",    "palette"};
 constexpr std::uint64_t kMaxSettingsBytes = 16u << 20;  // 16 MiB of JSON is far beyond any session's settings
 
 void put32(unsigned char* p, std::uint32_t v) { std::memcpy(p, &v, 4); }
@@ -55,7 +58,7 @@ void read_exact(std::FILE* f, unsigned char* out, std::size_t n, const std::stri
 }  // namespace
 
 void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_world, const std::string& settings_json,
-              int level) {
+              int level, const MaterialPalette& palette) {
     tdx::Meta meta{model.lattice, to_world, {}};
     for (int a = 0; a < 3; ++a) {
         const RaySet& s = model.sets[a];
@@ -71,10 +74,15 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
     payloads[1].assign(settings_json.begin(), settings_json.end());
     for (int a = 0; a < 3; ++a) payloads[2 + a] = tdx::encode_rays(model.sets[a]);
     payloads[5] = tdx::encode_tiles(model.tiles);
+    const std::uint32_t sections = palette == default_material_palette() ? kSectionCountV1 : kSectionCount;
+    if (sections == kSectionCount) {
+        if (const std::string why = palette_problem(palette); !why.empty()) throw Error(path + ": palette: " + why + " (not saved)");
+        payloads[6] = tdx::encode_palette(palette);
+    }
 
     std::array<Bytes, kSectionCount> packed;
     std::uint64_t total = kHeaderBytes;
-    for (std::uint32_t i = 0; i < kSectionCount; ++i) {
+    for (std::uint32_t i = 0; i < sections; ++i) {
         const Bytes& in = payloads[i];
         packed[i].resize(ZSTD_compressBound(in.size()));
         const std::size_t n = ZSTD_compress(packed[i].data(), packed[i].size(), in.data(), in.size(), level);
@@ -85,14 +93,14 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
 
     unsigned char header[kHeaderBytes] = {};
     std::memcpy(header, kTdxMagic, 8);
-    put32(header + 8, kTdxVersion);
+    put32(header + 8, sections == kSectionCount ? 2u : 1u);
     put32(header + 12, 0);  // flags
-    put32(header + 16, kSectionCount);
+    put32(header + 16, sections);
     put64(header + 24, total);
     put32(header + 32, crc32_ieee(header, 32));
     AtomicFile file(path);
     file.write(header, sizeof header);
-    for (std::uint32_t i = 0; i < kSectionCount; ++i) {
+    for (std::uint32_t i = 0; i < sections; ++i) {
         unsigned char sh[kSectionHeaderBytes] = {};
         put32(sh, i + 1);
         put32(sh + 4, crc32_ieee(payloads[i].data(), payloads[i].size()));
@@ -106,7 +114,11 @@ void save_tdx(const std::string& path, const TriDexel& model, const Mat4& to_wor
     file.commit();
 }
 
-TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress) {
+namespace {
+
+// load_tdx; palette_only: the header and the palette alone are checked and read (the other sections skipped, the
+// model left empty).
+TdxModel read_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress, bool palette_only) {
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
     if (!f) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
     if (std::fseek(f.get(), 0, SEEK_END) != 0) throw Error(path + ": cannot read (not a regular file)");
@@ -130,19 +142,21 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
     if (get32(header + 32) != crc32_ieee(header, 32)) throw Error(path + ": checksum mismatch in the file header");
     if (get32(header + 12) != 0)
         throw Error(path + ": unknown flags 0x" + std::to_string(get32(header + 12)) + " (made by a newer tridex?)");
-    if (get32(header + 16) != kSectionCount || get32(header + 20) != 0 || get32(header + 36) != 0)
+    const std::uint32_t sections = version == 1 ? kSectionCountV1 : kSectionCount;
+    if (get32(header + 16) != sections || get32(header + 20) != 0 || get32(header + 36) != 0)
         throw Error(path + ": header has " + std::to_string(get32(header + 16)) + " sections, expected " +
-                    std::to_string(kSectionCount));
+                    std::to_string(sections));
     const std::uint64_t claimed = get64(header + 24);
     if (claimed != size)
         throw Error(path + (claimed > size ? ": truncated: the header says " : ": the header says ") +
                     std::to_string(claimed) + " bytes, the file has " + std::to_string(size));
 
     TdxModel out;
+    if (palette_only && sections == kSectionCountV1) return out;  // version 1: the default palette
     tdx::Meta meta;
     std::uint64_t offset = kHeaderBytes;
     Bytes packed, raw;
-    for (std::uint32_t i = 0; i < kSectionCount; ++i) {
+    for (std::uint32_t i = 0; i < sections; ++i) {
         const std::string label = section_label(i);
         if (size - offset < kSectionHeaderBytes)
             throw Error(path + ": truncated: " + label + " header at offset " + std::to_string(offset) + ", the file has " +
@@ -158,15 +172,23 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
         if (packed_n > size - offset)
             throw Error(path + ": truncated: " + label + " needs " + std::to_string(packed_n) + " bytes at offset " +
                         std::to_string(offset) + ", the file has " + std::to_string(size));
+        if (palette_only && i + 1 < sections) {  // not the palette: skipped
+            if (std::fseek(f.get(), static_cast<long>(packed_n), SEEK_CUR) != 0) throw Error(path + ": cannot read");
+            offset += packed_n;
+            continue;
+        }
         // What the section must hold, known before anything is allocated for it.
         std::uint64_t expect = 0;
         if (i == 0) expect = tdx::kMetaBytes;
         else if (i == 1) expect = raw_n <= kMaxSettingsBytes ? raw_n : kMaxSettingsBytes + 1;
         else if (i <= 4) expect = tdx::rays_bytes(out.model.sets[i - 2].rays.size(), meta.intervals[i - 2]);
-        else expect = 12 + out.model.tiles.dirty.size();
+        else if (i == 5) expect = 12 + out.model.tiles.dirty.size();
+        else expect = raw_n <= tdx::kPaletteBytesMax ? raw_n : tdx::kPaletteBytesMax + 1;
         if (raw_n != expect)
             throw Error(path + ": " + label + " claims " + std::to_string(raw_n) + " bytes, " +
-                        (i == 1 ? std::string("more than settings may take") : "the model needs " + std::to_string(expect)));
+                        (i == 1   ? std::string("more than settings may take")
+                         : i == 6 ? std::string("more than a palette may take")
+                                  : "the model needs " + std::to_string(expect)));
         packed.resize(packed_n);
         read_exact(f.get(), packed.data(), packed.size(), path);
         offset += packed_n;
@@ -204,13 +226,23 @@ TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const Progress
         } else if (i <= 4) {
             const int a = static_cast<int>(i) - 2;
             tdx::decode_rays(raw.data(), raw.size(), meta.intervals[a], meta.lattice.cells[a], out.model.sets[a], where);
-        } else {
+        } else if (i == 5) {
             tdx::decode_tiles(raw.data(), raw.size(), out.model.tiles, where);
+        } else {
+            out.palette = tdx::decode_palette(raw.data(), raw.size(), where);
         }
         report_progress(progress, static_cast<double>(offset), static_cast<double>(size));
     }
     if (offset != size) throw Error(path + ": " + std::to_string(size - offset) + " bytes after the last section");
     return out;
 }
+
+}  // namespace
+
+TdxModel load_tdx(const std::string& path, std::size_t max_bytes, const ProgressFn& progress) {
+    return read_tdx(path, max_bytes, progress, false);
+}
+
+MaterialPalette load_tdx_palette(const std::string& path) { return read_tdx(path, 0, {}, true).palette; }
 
 }  // namespace tridex::compute

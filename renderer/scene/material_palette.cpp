@@ -1,19 +1,23 @@
-// renderer/scene/material_palette.cpp - the material colour table.
+// renderer/scene/material_palette.cpp - the shader's material colours from a core palette.
 #include "renderer/scene/material_palette.hpp"
 
 namespace tridex::renderer {
 
+std::array<glm::vec4, kMaterialCount> palette_colours(const MaterialPalette& palette) {
+    std::array<glm::vec4, kMaterialCount> out{};
+    for (int m = 0; m < kMaterialCount; ++m) {
+        const auto& c = palette.entries[m].rgb;
+        out[m] = glm::vec4(c[0], c[1], c[2], 1.0f);
+    }
+    return out;
+}
+
+std::array<glm::vec4, kMaterialCount> palette_colours(const MaterialPalette* palette) {
+    return palette ? palette_colours(*palette) : material_palette();
+}
+
 const std::array<glm::vec4, kMaterialCount>& material_palette() {
-    static const std::array<glm::vec4, kMaterialCount> palette = {
-        glm::vec4(0.80f, 0.62f, 0.45f, 1.0f),  // 0 clay (unpainted)
-        glm::vec4(0.78f, 0.20f, 0.18f, 1.0f),  // 1 red
-        glm::vec4(0.25f, 0.62f, 0.30f, 1.0f),  // 2 green
-        glm::vec4(0.22f, 0.40f, 0.80f, 1.0f),  // 3 blue
-        glm::vec4(0.90f, 0.78f, 0.25f, 1.0f),  // 4 yellow
-        glm::vec4(0.92f, 0.92f, 0.90f, 1.0f),  // 5 white
-        glm::vec4(0.18f, 0.18f, 0.20f, 1.0f),  // 6 charcoal
-        glm::vec4(0.58f, 0.32f, 0.70f, 1.0f),  // 7 purple
-    };
+    static const std::array<glm::vec4, kMaterialCount> palette = palette_colours(default_material_palette());
     return palette;
 }
 

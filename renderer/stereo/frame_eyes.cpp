@@ -36,7 +36,7 @@ FrameEyes frame_eyes(const SceneView& scene, const Screen& screen, const Pose& h
     u.light_direction = glm::vec4(kTowardsLight, 0.0f);
     u.occlusion = glm::vec4(static_cast<float>(scene.occlusion_radius_m), static_cast<float>(scene.occlusion_strength),
                             0.0f, 0.0f);
-    const auto& palette = material_palette();
+    const auto palette = palette_colours(scene.palette);
     for (int m = 0; m < kMaterialCount; ++m) u.palette[m] = palette[m];
     return fe;
 }

@@ -333,7 +333,7 @@ void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameR
     }
     list.cover_all();
     // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
-    list.add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), material_palette()[0], true).constants.palette =
+    list.add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), palette_colours(scene.palette)[0], true).constants.palette =
         scene.workpiece_materials ? 1u : 0u;
 }
 
@@ -373,7 +373,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
     te.eye_count = scene.eye_count;
     te.frusta = eyes.frusta;
     te.lod_eyes = eyes.lod;
-    const glm::vec4 clay = material_palette()[0];
+    const glm::vec4 clay = palette_colours(scene.palette)[0];
     add_tile_draws(
         scene, te, tiles, groups,
         [&](const GpuMesh& m) -> StereoDraw& {

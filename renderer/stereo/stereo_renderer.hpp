@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/aabb.hpp"
+#include "core/material_palette.hpp"
 #include "core/math.hpp"
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
@@ -72,8 +73,11 @@ struct SceneView {
 
     // ---- Materials, proxy, force, tiles, overlay. Defaults draw nothing new. ----
     /// Per-vertex material ids of `workpiece` (size = workpiece->positions.size(), ids 0..kMaterialCount-1,
-    /// colours in material_palette()); nullptr = every vertex material 0 (clay).
+    /// colours from `palette`); nullptr = every vertex material 0.
     const std::vector<std::uint8_t>* workpiece_materials = nullptr;
+    /// The materials' names and colours (core/material_palette.hpp): the workpiece's vertex materials, and its flat
+    /// colour (material 0) without them; nullptr = default_material_palette().
+    const MaterialPalette* palette = nullptr;
     /// The proxy (god-object, Peng et al.: the IHIP held on the surface while the HIP goes inside), drawn as
     /// a translucent lit sphere of proxy_radius_m at proxy_m (world m) when proxy_radius_m > 0.
     Vec3 proxy_m{0.0};

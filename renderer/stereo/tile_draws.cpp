@@ -140,7 +140,7 @@ void add_indirect_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, F
         d.indirect = iw->commands;
         d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
         d.constants.world_from_model = iw->world_from_grid;
-        d.constants.colour = material_palette()[0];
+        d.constants.colour = palette_colours(scene.palette)[0];
         d.constants.lit = 1u;
         d.constants.palette = 1u;
         d.eye_mask = mask;

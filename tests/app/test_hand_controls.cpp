@@ -37,6 +37,12 @@ struct Recorder final : ActionTarget {
         did.push_back(std::string("op ") + tool_op_name(o));
     }
     ToolOp op() const override { return op_now; }
+    std::uint8_t material_now = 1;
+    void set_material(std::uint8_t id) override {
+        material_now = id;
+        did.push_back("material " + std::to_string(id));
+    }
+    std::uint8_t material() const override { return material_now; }
     bool resize_tool(int steps) override {
         size += steps;
         did.push_back("size " + std::to_string(steps));

@@ -213,8 +213,8 @@ TEST(TdxFile, NewerVersionsBadMagicAndHugeClaimedSizesAreRefused) {
     Saved s = saved_model("versions.tdx");
     const fs::path p = temp_dir() / "bad.tdx";
     std::vector<unsigned char> b = s.bytes;
-    b[8] = 2;  // version 2
-    EXPECT_NE(load_error(p, b).find("format version 2 is newer than this build reads (1)"), std::string::npos);
+    b[8] = 3;  // version 3
+    EXPECT_NE(load_error(p, b).find("format version 3 is newer than this build reads (2)"), std::string::npos);
     b = s.bytes;
     b[0] = 'X';
     EXPECT_NE(load_error(p, b).find("bad magic"), std::string::npos);

@@ -11,24 +11,13 @@
 #include "app/support/output_dir.hpp"
 #include "app/support/progress.hpp"
 #include "compute/contour/contour_dual.hpp"
+#include "compute/mesh/mesh_obj_mtl.hpp"
 #include "compute/mesh/mesh_write.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
-#include "renderer/scene/material_palette.hpp"
 
 namespace tridex::app {
-
-namespace {
-
-// Linear [0, 1] -> 8-bit sRGB (IEC 61966-2-1), as image viewers and mesh tools read PLY colours.
-std::uint8_t srgb8(float linear) {
-    const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-    const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-    return static_cast<std::uint8_t>(std::lround(255.0 * s));
-}
-
-}  // namespace
 
 ExportResult run_export(const ExportOptions& o) {
     double scale = 1.0;
@@ -40,6 +29,7 @@ ExportResult run_export(const ExportOptions& o) {
         throw Error("--units " + o.units + ", --frame input: the input frame keeps the input mesh's own units; choose one");
     const compute::MeshFileFormat format = compute::mesh_file_format(o.out);  // refuse .xyz before the slow work
     check_output_file(o.out, "OUT");
+    if (format == compute::MeshFileFormat::kObj) check_output_file(compute::mtl_path_for(o.out), "OUT's material library");
     compute::TdxModel saved;
     {
         ProgressReporter::Step step = progress().step("loading " + o.model);
@@ -69,18 +59,17 @@ ExportResult run_export(const ExportOptions& o) {
     } else {
         for (Vec3& p : mesh.positions) p *= scale;
     }
-    std::vector<std::array<std::uint8_t, 3>> colours;
+    std::vector<std::array<std::uint8_t, 3>> colours;  // PLY: the palette's sRGB colour of each vertex's material
     if (format == compute::MeshFileFormat::kPly) {
-        const auto& palette = renderer::material_palette();
         colours.reserve(materials.size());
-        for (std::uint8_t m : materials) {
-            const glm::vec4& c = palette[m < palette.size() ? m : 0];
-            colours.push_back({srgb8(c.r), srgb8(c.g), srgb8(c.b)});
-        }
+        for (std::uint8_t m : materials) colours.push_back(srgb8(saved.palette[m]));
     }
     {
         ProgressReporter::Step step = progress().step("writing " + o.out);
-        compute::write_mesh_file(o.out, mesh, colours);
+        if (format == compute::MeshFileFormat::kObj)  // OBJ + a material library named from the palette
+            compute::write_obj_with_materials(o.out, mesh, materials, saved.palette);
+        else
+            compute::write_mesh_file(o.out, mesh, colours);
     }
     std::printf("tridex export: %s -> %s (%zu vertices, %zu triangles, %s; volume %.6g m^3, tri-dexel %.6g m^3)\n",
                 o.model.c_str(), o.out.c_str(), r.vertices, r.triangles,

@@ -26,8 +26,9 @@ struct ExportResult {
 };
 
 /// Loads the model, contours all of it on the CPU (compute::Contourer, as a session's final mesh), scales it to
-/// `units` (or maps it back into the input mesh's frame) and writes it atomically (compute::write_mesh_file); PLY vertices carry the renderer palette's colour of
-/// their material (sRGB). Prints one summary line. Throws tridex::Error with one line for a bad model file, an
+/// `units` (or maps it back into the input mesh's frame) and writes it atomically (compute::write_mesh_file); PLY
+/// vertices carry the model palette's colour of their material (8-bit sRGB), and an OBJ comes with a material library
+/// beside it (compute::write_obj_with_materials: one material per palette entry used, named by the palette). Prints one summary line. Throws tridex::Error with one line for a bad model file, an
 /// unknown format or unit, an output that cannot be written.
 ExportResult run_export(const ExportOptions& options);
 

@@ -105,6 +105,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
             if (menu_track.size() > 0) so.menu = &menu_track;
             ProgressReporter::Step step = progress().step("drawing the film strip");
             so.progress = step.fn();
+            so.palette = &s.palette;
             const FilmStrip f = write_film_strip(strip.path, j, *strip_start, s.tool, replay_settings(s), so, ctx);
             step.finish();
             const auto with_menu = std::count(f.menu_shown.begin(), f.menu_shown.end(), true);

@@ -218,8 +218,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     const Workpiece& wp = rt.workpiece();
     const haptics::HapticLoopConfig& cfg = rt.config();
     const devices::DeviceProfile& profile = rt.profile();
-    // Both eyes through the off-axis PowerWall frusta, offscreen.
-    // On the GPU contour path the workpiece is drawn from the contour buffers, on the session's Context.
+    // Both eyes through the PowerWall frusta, offscreen (GPU contour: from its buffers, on the session's Context).
     GpuContourShare* const gpu_contour = rt.gpu_contour();
     std::optional<gpu::Context> own_ctx;
     if (!rt.context()) {
@@ -233,6 +232,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     const std::uint32_t validation_before_render = gpu_ctx.validation_messages();
     auto renderer = renderer::OffscreenStereoRenderer::create(gpu_ctx, opt.width, opt.height);
     renderer::SceneView view;
+    view.palette = &settings.palette;  // the session's names and colours
     renderer::IndirectWorkpiece indirect;
     std::unique_lock<std::mutex> contour_lock;
     if (gpu_contour) {

@@ -129,6 +129,8 @@ private:
         const HelloMessage hello = decode_hello(wait_for_rank0(c_.start_timeout_s, "session"), "rank 0's hello");
         const auto t0 = Clock::now();
         replica_.emplace(hello.spec_json);
+        palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
+        menu_root_ = default_menu(palette_);
         load_ms_ = ms_since(t0);
         if (replica_->digest() != hello.initial_digest)
             throw Error("the workpiece built here differs from rank 0's (digest " + compute::digest_hex(replica_->digest()) +
@@ -197,6 +199,7 @@ private:
         replica_->contour();
         contour_ms_.add(ms_since(t0));
         renderer::SceneView view = replica_->view(m);
+        view.palette = &palette_;
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
         menu_objects_.clear();
         menu_drawing_.append(m.menu, menu_root_, menu_objects_);
@@ -254,6 +257,7 @@ private:
     const ClusterRank* mine_;
     Fault fault_;
     std::optional<ClusterReplica> replica_;
+    MaterialPalette palette_ = default_material_palette();  // the session's materials (rank 0's spec)
     MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
     MenuDrawing menu_drawing_;                          // its meshes, rebuilt when rank 0's menu changes
     std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects

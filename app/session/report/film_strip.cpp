@@ -62,7 +62,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
     head.position = kStripHead;
     const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(), start.model.lattice.bounds(),
                                                    head.position, static_cast<double>(opt.width) / opt.height);
-    const MenuItem menu_root = default_menu();
+    const MenuItem menu_root = default_menu(opt.palette ? *opt.palette : default_material_palette());
     MenuDrawing menu;  // kept across pictures: a changed menu gets new meshes, so the renderer uploads them
     // One pass over the journal: the model and its contour follow the pictures (a Contourer redoes the dirty tiles
     // only, the same pieces as a whole re-contour).
@@ -83,6 +83,7 @@ FilmStrip write_film_strip(const std::string& path, const compute::Journal& jour
         renderer::SceneView view;
         view.workpiece = &mesh;
         view.workpiece_materials = &materials;
+        view.palette = opt.palette;
         view.show_workspace = false;
         view.eye_count = 1;
         view.occlusion_strength = opt.ao ? 1.0 : 0.0;

@@ -10,6 +10,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
+#include "core/material_palette.hpp"
 #include "core/progress.hpp"
 #include "core/tool_shape.hpp"
 
@@ -31,6 +32,8 @@ struct FilmStripOptions {
     const MenuTrack* menu = nullptr;
     /// Hears the fraction of the strip drawn (core/progress.hpp); empty = nobody.
     ProgressFn progress{};
+    /// The materials' colours the pictures are drawn with (core/material_palette.hpp); nullptr = the default palette.
+    const MaterialPalette* palette = nullptr;
 };
 
 /// Checks `opt` against the ranges above; throws tridex::Error "film strip: ..." naming the field out of range.

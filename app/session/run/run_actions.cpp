@@ -46,6 +46,14 @@ ToolOp RunActions::op() const {
     return op_;
 }
 
+void RunActions::set_material(std::uint8_t id) {
+    if (id < 1 || id > kMaxMaterialId) return;
+    material_ = id;
+    if (runtime_) runtime_->set_material(id);  // the mouse stylus hands on operations only: the loop keeps this
+}
+
+std::uint8_t RunActions::material() const { return runtime_ ? runtime_->material() : material_; }
+
 bool RunActions::resize_tool(int steps) {
     if (mouse_) return mouse_->resize(steps);
     if (base_tool_.kind == ToolKind::kMesh) return false;
@@ -76,9 +84,9 @@ void RunActions::reset_scene() {
     nav_.reset();
 }
 
-HandControls::HandControls(Bindings bindings, double ring_radius_m)
+HandControls::HandControls(Bindings bindings, double ring_radius_m, const MaterialPalette& palette)
     : bindings_(std::move(bindings)), tool_(bindings_.tool), wand_(bindings_.wand),
-      ring_radius_m_(checked_ring_radius(ring_radius_m)),
+      ring_radius_m_(checked_ring_radius(ring_radius_m)), root_(default_menu(palette)),
       menu_(PieMenuSettings{ring_radius_m_, 0.24 * ring_radius_m_, 0.25}) {}
 
 bool HandControls::run(const std::string& action, const std::string& source, ActionTarget& target) {

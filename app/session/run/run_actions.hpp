@@ -34,6 +34,8 @@ public:
                renderer::KeyboardMouseHead* head, bool& swap, bool& ao, const ToolShape& tool);
     void set_op(ToolOp op) override;
     ToolOp op() const override;
+    void set_material(std::uint8_t id) override;
+    std::uint8_t material() const override;
     bool resize_tool(int steps) override;
     bool request(SculptRequest r) override;
     void reset_scene() override;
@@ -58,6 +60,7 @@ private:
     int size_steps_ = 0;
     ToolOp op_;  // without a runtime or stylus: the last set
     Symmetry symmetry_on_;  // what toggle_symmetry turns on: the session's symmetry, else a mirror across x
+    std::uint8_t material_ = 1;  // without a runtime: the last set
     bool end_ = false;
     std::uint64_t requests_sent_ = 0, saves_sent_ = 0, dropped_ = 0;
 };
@@ -91,8 +94,10 @@ struct HandsFrame {
 class HandControls {
 public:
     /// `ring_radius_m`: the menu's radius in the world, m (finite, > 0; its dead zone is 0.24 of it, and the ring shows
-    /// after 0.25 s held). Throws tridex::Error for a bad radius.
-    HandControls(Bindings bindings, double ring_radius_m = 0.05);
+    /// after 0.25 s held). `palette` names the menu's Colour slices (default_menu). Throws tridex::Error for a bad
+    /// radius.
+    HandControls(Bindings bindings, double ring_radius_m = 0.05,
+                 const MaterialPalette& palette = default_material_palette());
     /// One frame: runs the desk's `keys` (action names, in the order pressed), reads the buttons, drives the menu,
     /// runs the chosen and pressed commands on `target`, and steps the tool while a joystick bound to tool.scale is
     /// tilted past half way (a step every 0.4 s of h.t_s). Unknown names and held or axis actions in `keys` are

@@ -39,6 +39,12 @@ std::string saving_lines(const SaveStatus& s) {
     return out;
 }
 
+// The overlay's line naming the colour union adds and paint sets ("" for the other operations).
+std::string colour_line(const ActionTarget& actions, const MaterialPalette& palette) {
+    if (actions.op() != ToolOp::kUnion && actions.op() != ToolOp::kPaint) return "";
+    return "\ncolour: " + palette[actions.material()].name + " (Shift+1..7)";
+}
+
 // The test pattern's overlay lines: what to check, and where the head and the tool are (world m: the display
 // config's frame, which is the tracker's own when tracker_to_wall is the identity).
 std::string test_pattern_lines(const Vec3& head_m, const Vec3& tool_m) {
@@ -159,6 +165,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tool_mesh = rt.tool_mesh();
     view.tool_orientation = lv.tool_world.orientation;
     if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
+    view.palette = &scene.spec.palette;
     view.tiles = tiles.tiles;
     view.tile_groups = tiles.groups;
     view.lod = su.lod;
@@ -213,7 +220,9 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         // The proxy of a mesh tool's tip: a marker a tenth of the tool's size, not its bounding sphere.
         const double proxy_r = scene.spec.tool.kind == ToolKind::kMesh ? 0.1 * scene.spec.tool_size_m : tool_now.radius_m;
         std::string status = saving_lines(saving);
-        if (mouse_stylus) status = mouse_stylus->stylus().status() + (status.empty() ? "" : "\n" + status);
+        if (mouse_stylus)
+            status = mouse_stylus->stylus().status() + colour_line(*actions, scene.spec.palette) +
+                     (status.empty() ? "" : "\n" + status);
         if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
         if (su.test_pattern) status = test_pattern_lines(last_head_m, lv.tool_world.position) + (status.empty() ? "" : "\n" + status);
         // Eyes drawn below the window's size say so, so that a softer picture is not taken for a fault.
@@ -235,8 +244,9 @@ void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::Loop
     const PieMenu& menu = controls->menu();
     std::string status;
     if (menu.shown(lv.t_s)) {
-        status = mouse_stylus ? mouse_stylus->stylus().status()
-                              : "operation: " + std::string(tool_op_name(actions->op()));
+        status = (mouse_stylus ? mouse_stylus->stylus().status()
+                               : "operation: " + std::string(tool_op_name(actions->op()))) +
+                 colour_line(*actions, scene.spec.palette);
         const std::string save_lines = saving_lines(saving);
         if (!save_lines.empty()) status += "\n" + save_lines;
     }

@@ -151,7 +151,7 @@ void RunPipeline::Parts::open_backend() {
         input->use_stylus(&mouse_stylus->stylus());
     }
     actions.emplace(&rt, mouse_stylus ? &mouse_stylus->stylus() : nullptr, nav, km, swap, ao, scene.spec.tool);
-    controls.emplace(su.bindings);
+    controls.emplace(su.bindings, 0.05, scene.spec.palette);
     // Offscreen with a scripted cursor and no limits: the run ends half a second (device time) after the cursor
     // script and the scripted keys.
     script_end_s = scene.cursor.empty()

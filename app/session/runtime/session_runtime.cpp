@@ -99,8 +99,9 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
             const std::string name = jp.filename().string() + ".checkpoint.tdx";
             const std::string path = (jp.parent_path() / name).string();
             sculpt_->use_checkpoints(
-                [name, path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
-                    compute::save_tdx(path, m, to_world, settings);  // atomic: a failure keeps the previous one
+                [name, path, to_world = wp_.to_world, settings = spec_to_json(spec_),
+                 palette = spec_.palette](const compute::TriDexel& m) {
+                    compute::save_tdx(path, m, to_world, settings, 3, palette);  // atomic: a failure keeps the previous one
                     const auto [crc, bytes] = file_crc32(path);
                     return CheckpointFile{name, bytes, crc};
                 },
@@ -114,8 +115,9 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
     if (o.sculpt.stream) sculpt_->use_stream(*o.sculpt.stream);
     if (!o.sculpt.save_path.empty()) {
-        sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_)](const compute::TriDexel& m) {
-            compute::save_tdx(path, m, to_world, settings);
+        sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_),
+                            palette = spec_.palette](const compute::TriDexel& m) {
+            compute::save_tdx(path, m, to_world, settings, 3, palette);
             return "saved " + path;
         });
     }

@@ -149,9 +149,16 @@ public:
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
     bool request(SculptRequest r) { return sculpt_->request(r); }
-    /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the spec's material); any
+    /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the material chosen last); any
     /// thread. The sculpt thread closes the stroke at the change.
-    void set_tool_op(ToolOp op) { loop_->set_tool_op(op, cfg_.material); }
+    void set_tool_op(ToolOp op) { loop_->set_tool_op(op, loop_->tool_material()); }
+    /// Changes the material union adds and paint sets from now on (1..kMaxMaterialId; others ignored), keeping the
+    /// Boolean; one thread (the window's). The sculpt thread closes the stroke at the change, and a recording keeps it.
+    void set_material(std::uint8_t id) {
+        if (id >= 1 && id <= kMaxMaterialId) loop_->set_tool_op(loop_->tool_op(), id);
+    }
+    /// The material union adds and paint sets now (HapticLoop::tool_material; any thread).
+    std::uint8_t material() const { return loop_->tool_material(); }
     /// The open pie menu as the haptic loop feels it (HapticLoop::set_menu: no carving while open, a detent at
     /// each slice border); one thread (the window's).
     void set_menu(const haptics::MenuDetent& menu) { loop_->set_menu(menu); }
