@@ -183,6 +183,8 @@ SoakResult run_soak_bench(const SoakOptions& o) {
                     r.growth_minutes >= 2 ? (format_number(r.growth_mb_per_min) + " MB/min").c_str() : "-",
                     kSoakGrowthBoundMbPerMin, verdict_text(r.verdict),
                     r.growth_minutes >= 2 ? (format_number(r.growth_less_history_mb_per_min) + " MB/min").c_str() : "-");
+        if (o.keep) std::printf("(strokes kept: the model, its meshes and undo images grow with the work; the bound is "
+                                "for a model that stays the same, the default)\n");
         std::printf("fds %d -> %d, threads %d -> %d; journal %.2f MB (%.1f MB/h)", r.fds_first, r.fds_last,
                     r.threads_first, r.threads_last, r.journal_mb, r.journal_mb_per_hour);
         if (r.recover_s >= 0.0) std::printf("; recovery %.2f s (from %s)", r.recover_s, r.recovered_from.c_str());
