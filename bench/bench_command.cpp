@@ -24,6 +24,8 @@ std::vector<Benchmark>& table() {
 struct BenchCli {
     BenchCommon common;
     std::deque<bool> chosen;  // deque: CLI11 keeps pointers to the flags
+    std::deque<std::string> values;           // per benchmark: the value of --NAME VALUE (value_name set)
+    std::vector<const CLI::Option*> valued;   // per benchmark: its --NAME VALUE option, or nullptr for a flag
     std::vector<BenchRun> runs;
     std::vector<std::string> names;
 };
@@ -32,13 +34,21 @@ app::CommandAction setup_bench(CLI::App& cmd) {
     auto o = std::make_shared<BenchCli>();
     for (const Benchmark& b : registered_benchmarks()) {
         o->chosen.push_back(false);
+        o->values.emplace_back();
         o->names.push_back(b.name);
-        cmd.add_flag("--" + b.name, o->chosen.back(), b.summary);
+        if (b.value_name.empty()) {
+            cmd.add_flag("--" + b.name, o->chosen.back(), b.summary);
+            o->valued.push_back(nullptr);
+        } else {
+            o->valued.push_back(cmd.add_option("--" + b.name, o->values.back(), b.summary)->type_name(b.value_name));
+        }
         o->runs.push_back(b.setup(cmd));
     }
     cmd.add_option("--out", o->common.out, "Output folder")->capture_default_str();
     cmd.add_option("--mesh", o->common.mesh, "Workpiece mesh; default: the bundled bunny")->check(CLI::ExistingFile);
     return [o]() -> int {
+        for (std::size_t i = 0; i < o->valued.size(); ++i)
+            if (o->valued[i] && o->valued[i]->count() > 0) o->chosen[i] = true;
         if (std::none_of(o->chosen.begin(), o->chosen.end(), [](bool c) { return c; })) {
             std::string flags;
             for (std::size_t i = 0; i < o->names.size(); ++i)
@@ -46,7 +56,11 @@ app::CommandAction setup_bench(CLI::App& cmd) {
             throw Error("bench: choose what to measure: " + flags);
         }
         for (std::size_t i = 0; i < o->runs.size(); ++i)
-            if (o->chosen[i]) o->runs[i](o->common);
+            if (o->chosen[i]) {
+                BenchCommon common = o->common;
+                common.value = o->values[i];
+                o->runs[i](common);
+            }
         return 0;
     };
 }

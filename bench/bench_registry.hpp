@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CLI {
@@ -16,6 +17,9 @@ namespace tridex::bench {
 struct BenchCommon {
     std::string out = "out/bench";  ///< output folder for the JSON tables and plots
     std::string mesh;               ///< workpiece mesh; empty = the bundled bunny (benchmarks that load one)
+    /// The text given to --NAME for a benchmark that takes a value (Benchmark::value_name), e.g. "10" of
+    /// `--soak 10`; empty for the others.
+    std::string value;
 };
 
 /// Runs one benchmark with the shared options; throws tridex::Error on a bad option.
@@ -23,12 +27,21 @@ using BenchRun = std::function<void(const BenchCommon&)>;
 
 /// One benchmark of `tridex bench`.
 struct Benchmark {
+    Benchmark() = default;
+    /// A benchmark of these fields (see each); `value_name` empty: --NAME is a flag.
+    Benchmark(std::string name_, std::string summary_, int rank_, std::function<BenchRun(CLI::App& bench)> setup_,
+              std::string value_name_ = "")
+        : name(std::move(name_)), summary(std::move(summary_)), rank(rank_), setup(std::move(setup_)),
+          value_name(std::move(value_name_)) {}
     std::string name;     ///< `tridex bench --NAME` selects it (lower case)
     std::string summary;  ///< help text of --NAME: what it measures
     int rank = 100;       ///< benchmarks chosen together run in rank order, lowest first
     /// Declares the benchmark's own options on the `bench` command (named --NAME-..., help starting "With
     /// --NAME:") and returns how to run it; the options must stay alive until then (keep them in a shared_ptr).
     std::function<BenchRun(CLI::App& bench)> setup;
+    /// Non-empty: --NAME takes a value named so in the help (`--soak MINUTES`), handed to the run as
+    /// BenchCommon::value; empty: --NAME is a flag.
+    std::string value_name;
 };
 
 /// Adds a benchmark; throws std::logic_error when its name is empty or taken, or setup is empty.

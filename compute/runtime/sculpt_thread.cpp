@@ -137,6 +137,11 @@ void SculptThread::observe_surface(std::function<void(const ActiveSurface&)> obs
     if (surface_observer_) publish(published_centre_m_);  // the observer starts from a snapshot of its own
 }
 
+SculptLive SculptThread::live() const {
+    std::lock_guard<std::mutex> lock(live_mutex_);
+    return live_;
+}
+
 SaveStatus SculptThread::save_status() const {
     std::lock_guard<std::mutex> lock(save_mutex_);
     return save_status_;
@@ -202,6 +207,12 @@ void SculptThread::run() {
             if (journal_) journal_->sync();
             stats_.history = history_->stats();
             return;
+        }
+        if (worked) {
+            const compute::HistoryStats h = history_->stats();
+            std::lock_guard<std::mutex> lock(live_mutex_);
+            live_.history_bytes = h.bytes;
+            live_.history_budget_bytes = h.budget_bytes;
         }
         passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
@@ -337,6 +348,11 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
     const double contour_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
     stats_.boolean_ms.add(std::chrono::duration<double, std::milli>(t1 - t0).count());
     stats_.contour_ms.add(contour_ms);
+    {
+        std::lock_guard<std::mutex> lock(live_mutex_);
+        live_.steps = stats_.steps;
+        live_.step_ms.add(std::chrono::duration<double, std::milli>(t2 - t0).count());
+    }
     mesh_pending_ = mesh_out_ != nullptr;
     return contour_ms;
 }

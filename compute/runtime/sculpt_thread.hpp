@@ -109,6 +109,16 @@ struct SculptStats {
     std::vector<SculptMark> marks;
 };
 
+/// What a monitor reads of the sculpt thread while it runs (SculptThread::live; any thread).
+struct SculptLive {
+    std::uint64_t steps = 0;           ///< sculpt steps that changed the model so far
+    std::size_t history_bytes = 0;     ///< the undo history's bytes held as of the thread's last pass
+    std::size_t history_budget_bytes = 0;  ///< its budget, bytes
+    /// Per changing step: Booleans (or clay), active-surface publish and dirty-tile re-contouring, ms
+    /// (DurationHistogram::fine bins: fixed memory however long the session).
+    DurationHistogram step_ms = DurationHistogram::fine();
+};
+
 /// What the saver did so far (SculptThread::save_status; any thread).
 struct SaveStatus {
     std::uint64_t saves = 0;     ///< saves that succeeded
@@ -261,6 +271,9 @@ public:
     /// The saves so far and whether the journal and checkpoints still work (any thread; takes a mutex the sculpt
     /// thread holds only to update it).
     SaveStatus save_status() const;
+    /// A copy of the live counters (SculptLive): steps, the undo history's bytes and the step times so far (any thread;
+    /// takes a mutex the sculpt thread holds only to update them, once per step and once per pass).
+    SculptLive live() const;
     /// Queues an undo, redo, stroke-close or save request for the sculpt thread (taken at its next step, within about a
     /// millisecond when idle). One thread may call it (a single-producer queue); false when 64 requests are
     /// already waiting. Safe while the thread runs; requests queued before start() are taken at its first step.
@@ -357,6 +370,8 @@ private:
     std::function<std::string(const compute::TriDexel&)> saver_;
     std::function<void(const ActiveSurface&)> surface_observer_;
     mutable std::mutex save_mutex_;
+    mutable std::mutex live_mutex_;
+    SculptLive live_;
     SaveStatus save_status_;
     bool journal_noted_ = false, checkpoint_noted_ = false;
     double checkpoint_interval_s_ = 0.0;

@@ -365,6 +365,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
     r.gpu_ms.add(rend->last_gpu_ms());
     take_finished_frames();
     r.frames = frame + 1;
+    if (su.frame_probe) su.frame_probe(RunFrameProbe{frame, prev_frame_ms, r.triangles, &backend->runtime()});
 }
 
 void RunPipeline::Parts::take_finished_frames() {

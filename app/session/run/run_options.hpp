@@ -1,10 +1,24 @@
 // app/session/run/run_options.hpp - the command-line options of `tridex run` (SI units; strings checked when the run starts).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
 namespace tridex::app {
+
+class SessionRuntime;
+
+/// What a monitor of a run (RunOptions::frame_probe) is told after every frame, on the frame thread.
+struct RunFrameProbe {
+    std::uint64_t frame = 0;  ///< the frame's number (0 first)
+    double frame_ms = 0.0;    ///< its CPU wall time, draw + readback or present, ms (as RunResult::frame_ms)
+    std::size_t triangles = 0;  ///< triangles of the workpiece's mesh it drew (as RunResult::triangles)
+    /// The session's threads, for counters any thread may read (SessionRuntime::loop_stats, sculpt_live).
+    const SessionRuntime* runtime = nullptr;
+};
 
 /// Where a run shows its frames.
 enum class DisplayKind {
@@ -128,6 +142,9 @@ struct RunOptions {
     /// A cluster config (app/session/cluster/cluster_config.hpp): run under mpirun, rank 0 runs the session and the
     /// other ranks draw the wall's viewports; "" = one machine.
     std::string cluster;
+    /// Called on the frame thread after every frame (a monitor such as `bench --soak`); it must return quickly, as
+    /// its time is the next frame's. Empty = none. Not a command-line option.
+    std::function<void(const RunFrameProbe&)> frame_probe;
 };
 
 }  // namespace tridex::app

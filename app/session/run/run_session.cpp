@@ -85,6 +85,7 @@ RunSetup resolve_run(const RunOptions& o) {
     if (!(o.checkpoint_s >= 0.0 && o.checkpoint_s <= 86400.0))
         throw Error("--checkpoint-s: must be between 0 (none) and 86400, got " + format_number(o.checkpoint_s));
     s.checkpoint_s = o.checkpoint_s;
+    s.frame_probe = o.frame_probe;
     if (!o.journal.empty() && o.no_journal) throw Error("--journal, --no-journal: choose one");
     if (!o.journal.empty()) check_output_file(o.journal, "--journal");
     s.scene = load_run_scene(o.scene);

@@ -59,6 +59,7 @@ struct RunSetup {
     double checkpoint_s = 120.0;    ///< wall time between checkpoint models, s (0 = none)
     /// The tool's and the wand's buttons and axes: the drivers' defaults, the scene's "bindings", then --bindings.
     Bindings bindings;
+    std::function<void(const RunFrameProbe&)> frame_probe;  ///< RunOptions::frame_probe (empty = none)
 };
 
 /// The renderer's FrameStats of a run's frames, kept for report.json in bounded memory: sums and histograms over

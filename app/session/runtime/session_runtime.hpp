@@ -182,6 +182,8 @@ public:
     haptics::LoopStats loop_stats() const { return loop_->stats(); }
     /// One record per tick (at most RuntimeOptions::max_ticks); valid after stop().
     const std::vector<haptics::TickRecord>& records() const { return loop_->records(); }
+    /// The sculpt thread's live counters (SculptThread::live: steps, undo history bytes, step times; any thread).
+    SculptLive sculpt_live() const { return sculpt_->live(); }
     /// The sculpt thread's counters; valid after stop().
     const SculptStats& sculpt_stats() const { return sculpt_->stats(); }
     /// The newest LoopView (one render thread).
