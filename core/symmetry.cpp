@@ -17,7 +17,9 @@ const char* symmetry_forms() { return "off, x, y, z, xy, xz, yz, xyz or radial:N
 
 std::string to_string(const Symmetry& s) {
     if (s.radial_copies != 0)
-        return "radial:" + std::to_string(s.radial_copies) + ":" + std::string(1, static_cast<char>('x' + s.radial_axis));
+        return "radial:" + std::to_string(s.radial_copies) + ":" +
+               (s.radial_axis < 3 ? std::string(1, static_cast<char>('x' + s.radial_axis))
+                                  : "axis" + std::to_string(s.radial_axis));
     if (s.mirrors == 0) return "off";
     std::string out;
     for (int a = 0; a < 3; ++a)

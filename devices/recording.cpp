@@ -285,7 +285,10 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
     if (t.material > kMaxMaterialId)
         return "material = " + std::to_string(t.material) + " is not a material id (0.." +
                std::to_string(kMaxMaterialId) + ")";
-    if (!valid_symmetry(t.symmetry)) return "symmetry = " + to_string(t.symmetry) + " is not a valid symmetry";
+    if (!valid_symmetry(t.symmetry))
+        return "symmetry = {mirrors " + std::to_string(t.symmetry.mirrors) + ", radial axis " +
+               std::to_string(t.symmetry.radial_axis) + ", radial copies " + std::to_string(t.symmetry.radial_copies) +
+               "} is not a valid symmetry (mirrors 0..7 without radial copies, or 2..32 copies about axis 0..2)";
     if (!(std::isfinite(t.tool.radius_m) && t.tool.radius_m >= 0.0))
         return "tool.radius_m = " + num(t.tool.radius_m) + " must be finite and >= 0";
     if (!(std::isfinite(t.tool.length_m) && t.tool.length_m >= 0.0))
