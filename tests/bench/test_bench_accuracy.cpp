@@ -1,4 +1,4 @@
-// Tests of `tridex bench --accuracy` (bench/bench_accuracy*): the exact reference, the distance queries and a
+// Tests of `tridex bench --accuracy` (bench/accuracy/bench_accuracy*): the exact reference, the distance queries and a
 // tiny run (N = 32, short programs, tridex cpu-1t and cpu, OpenVDB when built in) that writes bench.json with
 // sane errors and an all-cores row equal to the one-thread row.
 #include <gtest/gtest.h>
@@ -10,11 +10,11 @@
 #include <string>
 #include <unistd.h>
 
-#include "bench/bench_accuracy.hpp"
-#include "bench/bench_accuracy_exact.hpp"
-#include "bench/bench_accuracy_match.hpp"
-#include "bench/bench_accuracy_metrics.hpp"
-#include "bench/bench_accuracy_openvdb.hpp"
+#include "bench/accuracy/bench_accuracy.hpp"
+#include "bench/accuracy/bench_accuracy_exact.hpp"
+#include "bench/accuracy/bench_accuracy_match.hpp"
+#include "bench/accuracy/bench_accuracy_metrics.hpp"
+#include "bench/accuracy/bench_accuracy_openvdb.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 

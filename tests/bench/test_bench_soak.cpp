@@ -1,4 +1,4 @@
-// `tridex bench --soak` (bench/bench_soak): the short form CI runs, a 2-minute soak of the full run session that fails
+// `tridex bench --soak` (bench/soak/bench_soak): the short form CI runs, a 2-minute soak of the full run session that fails
 // when resident memory grows beyond kSoakGrowthBoundMbPerMin after the first minute or descriptors or threads
 // pile up; and the verdict's arithmetic, which never calls a run without two minutes "met".
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_soak.hpp"
+#include "bench/soak/bench_soak.hpp"
 
 namespace tridex::bench {
 namespace {

@@ -1,6 +1,6 @@
-// bench/bench_soak_minute.cpp - one minute of a soak run read from /proc and from the differences of the session's
+// bench/soak/bench_soak_minute.cpp - one minute of a soak run read from /proc and from the differences of the session's
 // cumulative histograms.
-#include "bench/bench_soak_minute.hpp"
+#include "bench/soak/bench_soak_minute.hpp"
 
 #include <malloc.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
-// bench/bench_accuracy_exact.cpp - stroke programs and the exact solid they make.
-#include "bench/bench_accuracy_exact.hpp"
+// bench/accuracy/bench_accuracy_exact.cpp - stroke programs and the exact solid they make.
+#include "bench/accuracy/bench_accuracy_exact.hpp"
 
 #include <algorithm>
 #include <cmath>

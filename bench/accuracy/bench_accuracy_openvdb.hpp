@@ -1,10 +1,10 @@
-// bench/bench_accuracy_openvdb.hpp - the OpenVDB peer of `tridex bench --accuracy`: the same stroke
+// bench/accuracy/bench_accuracy_openvdb.hpp - the OpenVDB peer of `tridex bench --accuracy`: the same stroke
 // programs as narrow-band level-set CSG (built only when OpenVDB was found: TRIDEX_HAVE_OPENVDB).
 #pragma once
 
 #include <string>
 
-#include "bench/bench_accuracy_exact.hpp"
+#include "bench/accuracy/bench_accuracy_exact.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::bench::accuracy {

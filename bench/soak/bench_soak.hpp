@@ -1,4 +1,4 @@
-// bench/bench_soak.hpp - `tridex bench --soak MINUTES`: a scripted sculptor works through the full `run` session (haptic
+// bench/soak/bench_soak.hpp - `tridex bench --soak MINUTES`: a scripted sculptor works through the full `run` session (haptic
 // loop, sculpt thread, renderer; offscreen) for MINUTES minutes, and every minute the process's memory, files and threads,
 // the journal's and the undo history's bytes and the minute's frame, haptic and sculpt times are read.
 #pragma once

@@ -1,10 +1,10 @@
-// bench/bench_accuracy_match.hpp - `tridex bench --accuracy`: tridex against OpenVDB at matched error.
+// bench/accuracy/bench_accuracy_match.hpp - `tridex bench --accuracy`: tridex against OpenVDB at matched error.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "bench/bench_accuracy.hpp"
+#include "bench/accuracy/bench_accuracy.hpp"
 
 namespace tridex::bench::accuracy {
 

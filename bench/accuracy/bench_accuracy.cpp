@@ -1,5 +1,5 @@
-// bench/bench_accuracy.cpp - run time against error: tridex paths and the OpenVDB peer on exact programs.
-#include "bench/bench_accuracy.hpp"
+// bench/accuracy/bench_accuracy.cpp - run time against error: tridex paths and the OpenVDB peer on exact programs.
+#include "bench/accuracy/bench_accuracy.hpp"
 #include "bench/bench_registry.hpp"
 
 #include <CLI/CLI.hpp>
@@ -13,12 +13,12 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "bench/bench_accuracy_dump.hpp"
-#include "bench/bench_accuracy_exact.hpp"
-#include "bench/bench_accuracy_match.hpp"
-#include "bench/bench_accuracy_metrics.hpp"
-#include "bench/bench_accuracy_openvdb.hpp"
-#include "bench/bench_accuracy_plot.hpp"
+#include "bench/accuracy/bench_accuracy_dump.hpp"
+#include "bench/accuracy/bench_accuracy_exact.hpp"
+#include "bench/accuracy/bench_accuracy_match.hpp"
+#include "bench/accuracy/bench_accuracy_metrics.hpp"
+#include "bench/accuracy/bench_accuracy_openvdb.hpp"
+#include "bench/accuracy/bench_accuracy_plot.hpp"
 #include "app/support/json_file.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"

@@ -1,5 +1,5 @@
-// bench/bench_accuracy_dump.cpp - the worst vertices of a run and their cells' crossings (see the header).
-#include "bench/bench_accuracy_dump.hpp"
+// bench/accuracy/bench_accuracy_dump.cpp - the worst vertices of a run and their cells' crossings (see the header).
+#include "bench/accuracy/bench_accuracy_dump.hpp"
 
 #include <algorithm>
 #include <cmath>

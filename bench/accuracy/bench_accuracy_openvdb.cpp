@@ -1,5 +1,5 @@
-// bench/bench_accuracy_openvdb.cpp - the OpenVDB level-set peer (compiled with TRIDEX_HAVE_OPENVDB).
-#include "bench/bench_accuracy_openvdb.hpp"
+// bench/accuracy/bench_accuracy_openvdb.cpp - the OpenVDB level-set peer (compiled with TRIDEX_HAVE_OPENVDB).
+#include "bench/accuracy/bench_accuracy_openvdb.hpp"
 
 #include "core/error.hpp"
 

@@ -1,5 +1,5 @@
-// bench/bench_accuracy_match.cpp - tridex against OpenVDB at matched error (see the header).
-#include "bench/bench_accuracy_match.hpp"
+// bench/accuracy/bench_accuracy_match.cpp - tridex against OpenVDB at matched error (see the header).
+#include "bench/accuracy/bench_accuracy_match.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,8 +1,8 @@
-// bench/bench_soak.cpp - `tridex bench --soak MINUTES`: a long session of a scripted sculptor, read every minute.
-#include "bench/bench_soak.hpp"
+// bench/soak/bench_soak.cpp - `tridex bench --soak MINUTES`: a long session of a scripted sculptor, read every minute.
+#include "bench/soak/bench_soak.hpp"
 
 #include "bench/bench_registry.hpp"
-#include "bench/bench_soak_minute.hpp"
+#include "bench/soak/bench_soak_minute.hpp"
 
 #include <CLI/CLI.hpp>
 

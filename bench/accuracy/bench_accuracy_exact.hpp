@@ -1,4 +1,4 @@
-// bench/bench_accuracy_exact.hpp - `tridex bench --accuracy`: the stroke programs on a box workpiece and
+// bench/accuracy/bench_accuracy_exact.hpp - `tridex bench --accuracy`: the stroke programs on a box workpiece and
 // their exact answer (signed distance of the exact solid, exact surface samples, reference volume).
 #pragma once
 

@@ -1,5 +1,5 @@
-// bench/bench_accuracy_plot.cpp - gnuplot scripts and PNGs for bench --accuracy.
-#include "bench/bench_accuracy_plot.hpp"
+// bench/accuracy/bench_accuracy_plot.cpp - gnuplot scripts and PNGs for bench --accuracy.
+#include "bench/accuracy/bench_accuracy_plot.hpp"
 
 #include <algorithm>
 #include <cstdio>

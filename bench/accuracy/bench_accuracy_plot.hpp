@@ -1,10 +1,10 @@
-// bench/bench_accuracy_plot.hpp - PNG plots of `tridex bench --accuracy` through gnuplot (when installed).
+// bench/accuracy/bench_accuracy_plot.hpp - PNG plots of `tridex bench --accuracy` through gnuplot (when installed).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "bench/bench_accuracy.hpp"
+#include "bench/accuracy/bench_accuracy.hpp"
 
 namespace tridex::bench::accuracy {
 

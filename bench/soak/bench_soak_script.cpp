@@ -1,6 +1,6 @@
-// bench/bench_soak_script.cpp - the soak's scripted sculptor: a scene whose cursor, keys and head keep working for the
+// bench/soak/bench_soak_script.cpp - the soak's scripted sculptor: a scene whose cursor, keys and head keep working for the
 // whole session.
-#include "bench/bench_soak.hpp"
+#include "bench/soak/bench_soak.hpp"
 
 #include <filesystem>
 #include <fstream>

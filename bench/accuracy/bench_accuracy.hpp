@@ -1,4 +1,4 @@
-// bench/bench_accuracy.hpp - `tridex bench --accuracy`: run time against error of the sculpting paths
+// bench/accuracy/bench_accuracy.hpp - `tridex bench --accuracy`: run time against error of the sculpting paths
 // (and of an OpenVDB level-set peer) on stroke programs with an exact answer.
 #pragma once
 

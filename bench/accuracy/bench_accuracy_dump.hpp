@@ -1,8 +1,8 @@
-// bench/bench_accuracy_dump.hpp - `tridex bench --accuracy --accuracy-dump K`: the K worst mesh vertices of a
+// bench/accuracy/bench_accuracy_dump.hpp - `tridex bench --accuracy --accuracy-dump K`: the K worst mesh vertices of a
 // tridex run with what contouring saw in their cells (crossings, estimated normals) against the exact solid.
 #pragma once
 
-#include "bench/bench_accuracy_exact.hpp"
+#include "bench/accuracy/bench_accuracy_exact.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/tri_mesh.hpp"
 

@@ -1,4 +1,4 @@
-// bench/bench_soak_minute.hpp - the soak's per-minute reading: the process's figures from /proc and the minute's share
+// bench/soak/bench_soak_minute.hpp - the soak's per-minute reading: the process's figures from /proc and the minute's share
 // of the session's cumulative histograms.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "app/session/run/run_options.hpp"
-#include "bench/bench_soak.hpp"
+#include "bench/soak/bench_soak.hpp"
 #include "core/duration_histogram.hpp"
 #include "haptics/telemetry.hpp"
 

@@ -1,5 +1,5 @@
-// bench/bench_accuracy_metrics.cpp - point-to-mesh distances and the error summary.
-#include "bench/bench_accuracy_metrics.hpp"
+// bench/accuracy/bench_accuracy_metrics.cpp - point-to-mesh distances and the error summary.
+#include "bench/accuracy/bench_accuracy_metrics.hpp"
 
 #include <algorithm>
 #include <cmath>

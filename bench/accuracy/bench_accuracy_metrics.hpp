@@ -1,9 +1,9 @@
-// bench/bench_accuracy_metrics.hpp - errors of a mesh against an exact solid (bench --accuracy).
+// bench/accuracy/bench_accuracy_metrics.hpp - errors of a mesh against an exact solid (bench --accuracy).
 #pragma once
 
 #include <vector>
 
-#include "bench/bench_accuracy_exact.hpp"
+#include "bench/accuracy/bench_accuracy_exact.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::bench::accuracy {

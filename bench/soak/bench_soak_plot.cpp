@@ -1,5 +1,5 @@
-// bench/bench_soak_plot.cpp - the soak's plot: memory and frame time per minute, as an SVG of two panels.
-#include "bench/bench_soak.hpp"
+// bench/soak/bench_soak_plot.cpp - the soak's plot: memory and frame time per minute, as an SVG of two panels.
+#include "bench/soak/bench_soak.hpp"
 
 #include <algorithm>
 #include <cmath>
