@@ -265,10 +265,7 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
         force_ = Vec3(0.0);
         return r;
     }
-    if (usable) {
-        const DepthReading reading = read_depth(surface, hip);
-        r.hip_inside = reading.vouched > 0.0 || reading.blended > 0.0;
-    }
+    if (usable) r.hip_inside = touches_material(surface, hip);
     PlaneSearch plane;
     if (usable)
         plane = search_plane(surface, hip, proxy, radius,
