@@ -41,7 +41,7 @@ TEST(CpuReservation, SetsTheLastCpuAsideAndKeepsOthersOff) {
     const cpu_set_t all = affinity_of(0);
     const int cpus = CPU_COUNT(&all);
     const int last = highest(all);
-    std::latch kept_before(1), reserved(1), checked(1), released(1);
+    std::latch kept_before(1), reserved(1), seen_moved(1), checked(1), released(1);
     std::atomic<int> tid_before{0};
     std::thread before([&] {
         tid_before = static_cast<int>(gettid());
@@ -50,6 +50,7 @@ TEST(CpuReservation, SetsTheLastCpuAsideAndKeepsOthersOff) {
         kept_before.count_down();
         reserved.wait();
         EXPECT_EQ(off.moved(), cpus >= 2);
+        seen_moved.count_down();
         checked.wait();
         released.wait();
         EXPECT_FALSE(off.moved()) << "still kept off after the release";
@@ -100,6 +101,7 @@ TEST(CpuReservation, SetsTheLastCpuAsideAndKeepsOthersOff) {
             EXPECT_EQ(reserved_cpu(), last);
         });
     }
+    seen_moved.wait();  // the release must not come before the kept-off thread has looked
     checked.count_down();
     before.join();
     owner.join();
