@@ -19,10 +19,11 @@ enum class ToolOp : std::uint8_t {
     kPush = 4,      ///< clay: dent the pressed surface, its volume back as a rim (compute/tools/clay_push.hpp)
     kSmooth = 5,    ///< clay: relax the surface under the tool, keeping the volume (compute/tools/clay_smooth.hpp)
     kPull = 6,      ///< clay: the touched surface follows the tool outward, its volume taken from a moat (clay_push.hpp)
+    kGrab = 7,      ///< clay: the material near the grabbed point moves with the tool, with a falloff (clay_grab.hpp)
 };
 
 /// The operation's name on the command line and in reports: "none", "subtract", "union", "paint", "push", "smooth",
-/// "pull".
+/// "pull", "grab".
 inline const char* tool_op_name(ToolOp op) {
     switch (op) {
         case ToolOp::kNone: return "none";
@@ -32,6 +33,7 @@ inline const char* tool_op_name(ToolOp op) {
         case ToolOp::kPush: return "push";
         case ToolOp::kSmooth: return "smooth";
         case ToolOp::kPull: return "pull";
+        case ToolOp::kGrab: return "grab";
     }
     return "unknown";
 }

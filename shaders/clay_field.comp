@@ -1,5 +1,5 @@
 // shaders/clay_field.comp - the clay tools' node field and its re-sampling into the three ray sets, on the GPU-resident
-// model (compute/gpu/gpu_clay.cpp). One module, four kernels chosen by MODE (specialisation constant 0):
+// model (compute/gpu/gpu_clay.cpp). One module, five kernels chosen by MODE (specialisation constant 0):
 //   0 phi    one invocation per node of the field's box: phi from the three rays through the node
 //            (compute/tools/clay_field.cpp clay_build_phi), NaN off the region, s0 = s1 = 0;
 //   1 stamps one invocation per node: phi as mode 0, then a push's or pull's s0, s1 from the stamps
@@ -8,7 +8,9 @@
 //            (compute/tools/clay_smooth.cpp clay_smooth_offsets);
 //   3 rays   one invocation per moved ray of one set (SET): the ray re-sampled at beta (compute/tools/clay_resample.cpp
 //            clay_resample_ray), written to the output list; a ray needing more than plan.counts.z intervals is
-//            marked for the host, which redoes it with the CPU reference.
+//            marked for the host, which redoes it with the CPU reference;
+//   4 grab   one invocation per node, after mode 0: a grab step's s0 (phi advected by the falloff of the motion,
+//            reading phi trilinear around x - u) and s1 (compute/tools/clay_grab.cpp clay_grab_offsets).
 // Every float operation is the CPU reference's, in its order, with contraction forbidden (precise), and std::min,
 // std::max and std::clamp are spelt out with the same comparisons, so the results are bit for bit the CPU's (the
 // C++ side is compiled with -ffp-contract=off).
@@ -55,11 +57,11 @@ layout(std140, set = 0, binding = 18) uniform Plan {
     uvec4 counts;      // x: nodes of the box; y: stamps (smooth: acts); z: most intervals a re-sampled ray may have here;
                        // w: ClayStampParams::rim_cap (float bits)
     vec4 consts;       // x: search (phi's clamp); y: phi's floor 1e-6; z: kClaySmoothRate; w: kClayMaxBeta
-    vec4 stamp_par;    // ClayStampParams r, w, reach2, sign
+    vec4 stamp_par;    // ClayStampParams r, w, reach2, sign; grab: ClayGrabParams r, core
 } plan;
 // Per set a the region chords (lo, hi) of the box's rays (ClayField::chords order) from word plan.chord_at[a]; then
 // the stamps, 8 words each (p, delta, n, 0; float bits), or a smooth's acts, 8 words each (contact point, r, outward
-// normal, 0; float bits), from word plan.chord_at.w.
+// normal, 0; float bits), or a grab's anchor and motion (anchor, 0, v, 0; float bits), from word plan.chord_at.w.
 layout(std430, set = 0, binding = 21) readonly buffer Chords { uint chord_words[]; };
 // Moved rays to re-sample: per job 8 words (set, u, v, lo, hi, varies, first output word, unused).
 layout(std430, set = 0, binding = 19) readonly buffer Jobs { uint jobs[]; };
@@ -278,6 +280,68 @@ void smooth_offsets(uint x, ivec3 nd) {
     s1v[x] = cmax(s1v[x], wgt);
 }
 
+// ---- mode 4: a grab step's s0 (clay_grab_offsets) ----
+// phi trilinear at grid point p from the box's nodes, p clamped into the box (clay_phi_at).
+float phi_trilinear(vec3 p) {
+    ivec3 i0;
+    vec3 w;
+    [[unroll]] for (int a = 0; a < 3; ++a) {
+        const float lo = float(plan.box_lo[a]), hi = float(plan.box_hi[a]);
+        const float c = cclamp(p[a], lo, hi);
+        float fl = floor(c);
+        if (fl >= hi) fl = hi - 1.0;
+        if (fl < lo) fl = lo;
+        i0[a] = int(fl);
+        precise float wa = c - fl;
+        w[a] = wa;
+    }
+    const ivec3 i1 = min(i0 + ivec3(1), plan.box_hi.xyz);
+    const float p000 = phi_at(box_index(ivec3(i0.x, i0.y, i0.z))), p100 = phi_at(box_index(ivec3(i1.x, i0.y, i0.z)));
+    const float p010 = phi_at(box_index(ivec3(i0.x, i1.y, i0.z))), p110 = phi_at(box_index(ivec3(i1.x, i1.y, i0.z)));
+    const float p001 = phi_at(box_index(ivec3(i0.x, i0.y, i1.z))), p101 = phi_at(box_index(ivec3(i1.x, i0.y, i1.z)));
+    const float p011 = phi_at(box_index(ivec3(i0.x, i1.y, i1.z))), p111 = phi_at(box_index(ivec3(i1.x, i1.y, i1.z)));
+    precise float c00 = p000 + w.x * (p100 - p000);
+    precise float c10 = p010 + w.x * (p110 - p010);
+    precise float c01 = p001 + w.x * (p101 - p001);
+    precise float c11 = p011 + w.x * (p111 - p011);
+    precise float c0 = c00 + w.y * (c10 - c00);
+    precise float c1 = c01 + w.y * (c11 - c01);
+    precise float v = c0 + w.z * (c1 - c0);
+    return v;
+}
+
+void grab_offsets(uint x, ivec3 nd) {
+    if (!movable(nd)) return;
+    const uint at = plan.chord_at.w;
+    const vec3 anchor = vec3(uintBitsToFloat(chord_words[at]), uintBitsToFloat(chord_words[at + 1u]),
+                             uintBitsToFloat(chord_words[at + 2u]));
+    const vec3 v = vec3(uintBitsToFloat(chord_words[at + 4u]), uintBitsToFloat(chord_words[at + 5u]),
+                        uintBitsToFloat(chord_words[at + 6u]));
+    const float r = plan.stamp_par.x, core = plan.stamp_par.y;
+    precise float r2 = r * r;
+    precise float dx = float(nd.x) - anchor.x;
+    precise float dy = float(nd.y) - anchor.y;
+    precise float dz = float(nd.z) - anchor.z;
+    precise float d2 = dx * dx + dy * dy + dz * dz;
+    if (!(d2 < r2)) return;
+    precise float d = sqrt(d2);
+    precise float w = 1.0;  // clay_grab_falloff
+    if (d > core) {
+        precise float t = (d - core) / (r - core);
+        precise float q = 1.0 - t * t;
+        w = d < r ? q * q : 0.0;
+    }
+    precise float qx = float(nd.x) - w * v.x;
+    precise float qy = float(nd.y) - w * v.y;
+    precise float qz = float(nd.z) - w * v.z;
+    const float phi = phi_at(x);
+    precise float s = phi_trilinear(vec3(qx, qy, qz)) - phi;
+    s0v[x] = s;
+    precise float psi = phi + s;
+    precise float band = plan.consts.w + 1.0;
+    if (abs(psi) < band) s1v[x] = w;
+}
+
 // ---- mode 3: one moved ray re-sampled (clay_resample_ray) ----
 uint out_at, out_n;
 bool overflow;
@@ -420,7 +484,9 @@ void main() {
     } else if (MODE == 1u) {  // a node's stamp offsets read only its own phi: one kernel does both
         build_phi(g, nd);
         stamp_offsets(g, nd);
-    } else {
+    } else if (MODE == 2u) {
         smooth_offsets(g, nd);
+    } else {
+        grab_offsets(g, nd);
     }
 }

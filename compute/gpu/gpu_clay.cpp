@@ -36,7 +36,7 @@ namespace {
 constexpr std::uint32_t kBindings = 22;   // 21 storage buffers and the plan's uniform buffer
 constexpr std::uint32_t kPlanBinding = 18;
 constexpr std::size_t kPlanBytes = 160;
-constexpr std::uint32_t kNodeGroup = 64;  // invocations per workgroup of the node kernels (MODE 0-2)
+constexpr std::uint32_t kNodeGroup = 64;  // invocations per workgroup of the node kernels (MODE 0-2, 4)
 constexpr std::uint32_t kRayGroup = 8;    // ... of the ray kernel (MODE 3): one SIMD row of llvmpipe
 constexpr std::uint32_t kMaxGroups = 65535;
 constexpr std::uint32_t kJobWords = 8;
@@ -95,9 +95,10 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
     // Every pipeline now (tens of ms each on lavapipe), and one empty dispatch of each (lavapipe finishes preparing a
     // kernel on its first dispatch; without it a session's first clay operations stall), so that no clay operation
     // waits for either.
-    VkPipeline all[6];
+    VkPipeline all[7];
     for (std::uint32_t mode = 0; mode < 3; ++mode) all[mode] = pipeline(mode);
     for (std::uint32_t set = 0; set < 3; ++set) all[3 + set] = pipeline(3u, set);
+    all[6] = pipeline(4u);
     bind();
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
         const Push none{0, 0, 0.0f, 0};  // count 0: every invocation returns at once
@@ -113,7 +114,7 @@ GpuClay::GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuCl
 GpuClay::~GpuClay() = default;
 
 VkPipeline GpuClay::pipeline(std::uint32_t mode, std::uint32_t set) {
-    gpu::UniquePipeline& p = pipelines_[mode + set];
+    gpu::UniquePipeline& p = pipelines_[mode == 4u ? 6u : mode + set];
     if (p.get() != VK_NULL_HANDLE) return p.get();
     const std::uint32_t values[3] = {mode, mode == 3 ? kRayGroup : kNodeGroup, set};
     const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
@@ -204,16 +205,18 @@ void GpuClay::build_field(ClayField& f, std::uint32_t mode, Header& h, std::span
     if (!words_.empty()) chords_.write(words_.data(), words_.size() * 4);
     bind();
     // Stamps: one kernel (phi and the offsets per node). Smooth: phi, then one kernel per act (each reads the
-    // neighbours' values the act before it left).
+    // neighbours' values the act before it left). Grab: phi, then the advection (which reads phi around x - u).
     std::vector<std::array<std::uint32_t, 2>> passes{{mode, 0u}};  // mode, act
     if (mode == 2u) {
         passes.assign(1, {0u, 0u});
         for (std::uint32_t k = 0; k < h.counts[1]; ++k) passes.push_back({2u, k});
+    } else if (mode == 4u) {
+        passes.assign({{0u, 0u}, {4u, 0u}});
     }
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
         for (std::size_t pass = 0; pass < passes.size(); ++pass) {
             const std::uint32_t m = passes[pass][0];
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[m].get());
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(m));
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
             const std::size_t per = static_cast<std::size_t>(kMaxGroups) * kNodeGroup;
             for (std::size_t first = 0; first < count; first += per) {
@@ -280,6 +283,23 @@ void GpuClay::smooth_field(const TriDexel& model, ClayField& field, std::span<co
         for (const float v : {p.point[0], p.point[1], p.point[2], p.r, p.normal[0], p.normal[1], p.normal[2], 0.0f})
             words.push_back(v);
     build_field(field, 2u, h, words);
+}
+
+void GpuClay::grab_field(const TriDexel& model, ClayField& field, const ClayGrabParams& params) {
+    check_model(model);
+    host_field_ = !fits(field);
+    if (host_field_) {
+        ++stats_.host_fields;
+        clay_cpu_kernel().grab_field(model, field, params);
+        return;
+    }
+    Header h;
+    h.counts[1] = 1;
+    h.stamp_par[0] = params.r;
+    h.stamp_par[1] = params.core;
+    const float words[8] = {params.anchor[0], params.anchor[1], params.anchor[2], 0.0f,
+                            params.v[0],      params.v[1],      params.v[2],      0.0f};
+    build_field(field, 4u, h, words);
 }
 
 void GpuClay::resample_rays(const TriDexel& model, const ClayField& f, std::span<const ClayMovedRay> moved,

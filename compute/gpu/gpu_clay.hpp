@@ -1,4 +1,4 @@
-// compute/gpu/gpu_clay.hpp - the clay tools (push, pull, smooth) on the GPU-resident model: the node field and the
+// compute/gpu/gpu_clay.hpp - the clay tools (push, pull, smooth, grab) on the GPU-resident model: the node field and the
 // re-sampling of the rays in Vulkan compute (shaders/clay_field.comp), bit for bit the CPU reference.
 #pragma once
 
@@ -47,7 +47,8 @@ struct GpuClayStats {
 ///   moved nodes and rays, the beta solve (ClayVolumeModel's prediction from the field and the mirror's rays, and the
 ///   measured volume: sums in double over the moved rays, in the CPU's order) and the `before` images;
 /// - GPU, one submission: phi at every node of the box from the slabs (NaN off the region, as clay_build_phi) and
-///   s0, s1 from the stamps (one kernel), or phi and then the smooth's Laplacian (two); the host copies phi, s0, s1
+///   s0, s1 from the stamps (one kernel), or phi and then the smooth's Laplacian or the grab's advection (two); the
+///   host copies phi, s0, s1
 ///   back (the beta solve reads them);
 /// - GPU, one submission per beta tried (one to three; almost always one): every moved ray re-sampled from the slabs and the field into
 ///   an output list; the host compares it with the old ray and sums its length (clay_note_resampled);
@@ -61,7 +62,7 @@ struct GpuClayStats {
 /// sculptor's mirror.
 class GpuClay final : public ClayKernel {
 public:
-    /// Makes the six pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe)
+    /// Makes the seven pipelines of shaders/clay_field.comp on `context` (the sculptor's; tens of ms each on lavapipe)
     /// and runs each once empty, so that no clay operation waits for a kernel to be prepared. Throws tridex::Error
     /// when the device offers fewer than 21 storage buffers per stage, on a bad option, or on a Vulkan failure.
     GpuClay(const gpu::Context& context, GpuSculptor& sculptor, const GpuClayOptions& options = {});
@@ -75,6 +76,7 @@ public:
     void stamp_field(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                      const ClayStampParams& params) override;
     void smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) override;
+    void grab_field(const TriDexel& model, ClayField& field, const ClayGrabParams& params) override;
     ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) override;
 
     /// This kernel's ClayResampleFn (clay_resample.hpp): the moved rays of `field` (built by this kernel's
@@ -102,7 +104,7 @@ private:
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout pipeline_layout_;
     gpu::UniqueShaderModule module_;
-    gpu::UniquePipeline pipelines_[6];  // MODE 0 phi, 1 stamps, 2 smooth, 3 + set: rays of that set
+    gpu::UniquePipeline pipelines_[7];  // MODE 0 phi, 1 stamps, 2 smooth, 3 + set: rays of that set, 6: MODE 4 grab
     gpu::UniqueDescriptorPool descriptor_pool_;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
     gpu::Buffer phi_, s0_, s1_, chords_, jobs_, out_;

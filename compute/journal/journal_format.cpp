@@ -24,7 +24,7 @@ void encode_sample(const ToolSample& s, unsigned char* out) {
 
 bool decode_sample(const unsigned char* in, ToolSample& s) {
     if (in[112] > static_cast<unsigned char>(ToolKind::kMesh) ||
-        in[113] > static_cast<unsigned char>(ToolOp::kPull) || (in[115] & 0xc8u) != 0 || get_u32(in + 116) > 0xffffu)
+        in[113] > static_cast<unsigned char>(ToolOp::kGrab) || (in[115] & 0xc8u) != 0 || get_u32(in + 116) > 0xffffu)
         return false;
     s.symmetry.mirrors = static_cast<std::uint8_t>(in[115] & 7u);
     s.symmetry.radial_axis = static_cast<std::uint8_t>((in[115] >> 4) & 3u);

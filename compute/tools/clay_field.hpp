@@ -106,6 +106,9 @@ struct ClayField {
     std::vector<float> phi;
     std::vector<float> s0;
     std::vector<float> s1;
+    /// The volume change (cells^3) a volume-preserving re-sampling aims at instead of 0: a grab's own (the
+    /// divergence of its motion over the material, clay_grab.hpp); 0 for push, pull and smooth.
+    double volume_target = 0.0;
     /// Filled by clay_build_phi: per set a, per ray of the box through (u, v) (its other two node indices), the run
     /// [lo, hi] of its depth nodes in the region (clay_region_chord; lo > hi when none).
     std::array<std::vector<std::array<int, 2>>, 3> chords;
@@ -153,7 +156,8 @@ struct ClayStats {
 
 /// Re-samples every ray of the three sets through field.box from phi + s0 + beta * s1 (see above) and writes the
 /// rays that changed. With `volume_preserving`, beta is solved so that the model's own volume in the box (the mean of
-/// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) is kept: on
+/// the three sets' interval lengths, ray_set_volume_m3 without the face correction of dexel_volume_m3) changes by
+/// field.volume_target (0: is kept): on
 /// the edge-by-edge prediction of the change the re-sampling will measure (ClayVolumeModel,
 /// clay_volume_model.hpp), then, in the rare case the measured change still exceeds 1% of what s0 moved (or a
 /// hundredth of a cell^3), up to two more re-samplings with the prediction shifted by its error. Else beta = 0. Only

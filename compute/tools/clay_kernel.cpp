@@ -15,6 +15,10 @@ public:
         clay_build_phi(model, field);
         clay_smooth_offsets(model, field, acts);
     }
+    void grab_field(const TriDexel& model, ClayField& field, const ClayGrabParams& params) override {
+        clay_build_phi(model, field);
+        clay_grab_offsets(model, field, params);
+    }
     ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) override {
         return clay_resample(model, field, true, before);
     }

@@ -10,6 +10,15 @@
 
 namespace tridex::compute {
 
+/// One step of a grab (compute/tools/clay_grab.hpp): the grabbed point, the step's motion, the falloff's core and
+/// radius of influence (grid units, cells).
+struct ClayGrabParams {
+    float anchor[3] = {0.0f, 0.0f, 0.0f};
+    float v[3] = {0.0f, 0.0f, 0.0f};
+    float core = 0.0f;
+    float r = 0.0f;
+};
+
 /// One interaction point of a push or pull (Popescu, Burdea, Bouzit, section 3.3): the contact point p* (grid units
 /// from the lattice origin), the outward surface normal there (unit, or 0), and the surface displacement at p*
 /// (cells, > 0).
@@ -55,6 +64,9 @@ public:
     /// Fills `field` for a smooth of one or more acts (in order): exactly clay_build_phi followed by
     /// clay_smooth_offsets. Throws as stamp_field.
     virtual void smooth_field(const TriDexel& model, ClayField& field, std::span<const ClaySmoothParams> acts) = 0;
+    /// Fills `field` for one step of a grab: exactly clay_build_phi followed by clay_grab_offsets. Throws as
+    /// stamp_field.
+    virtual void grab_field(const TriDexel& model, ClayField& field, const ClayGrabParams& params) = 0;
     /// Re-samples `field` into `model` exactly as clay_resample (volume-preserving) and writes the changed rays where
     /// this kernel keeps its model too. Throws tridex::Error on a device failure.
     virtual ClayStats resample(TriDexel& model, const ClayField& field, std::vector<RayImage>* before) = 0;
@@ -68,6 +80,14 @@ ClayKernel& clay_cpu_kernel();
 /// field's region that clay_node_fixed lets move, in z, y, x order, over the stamps in order. field.phi must be built.
 void clay_stamp_offsets(const TriDexel& model, ClayField& field, std::span<const ClayStamp> stamps,
                         const ClayStampParams& params);
+
+/// The CPU reference of a grab step's s0 and s1: at every node x of the field's region that clay_node_fixed lets
+/// move, in z, y, x order, with d = |x - anchor| < r, w = clay_grab_falloff(d) (clay_grab.hpp), u = w * v and
+/// s0(x) = phi(x - u) - phi(x) (phi trilinear in the field's nodes, clay_phi_at), so that phi + s0 is phi advected by
+/// u: phi'(x) = phi(x - u(x)); s1(x) = w where |phi + s0| < kClayMaxBeta + 1 (the volume correction follows the
+/// motion). Every node within r + |v| + 2 cells of the anchor must be in field.region and the box. field.phi must be
+/// built.
+void clay_grab_offsets(const TriDexel& model, ClayField& field, const ClayGrabParams& params);
 
 /// The CPU reference of a smooth's s0 and s1 for its acts in order (clay_smooth.hpp describes the field): act k takes
 /// one Laplacian step of psi = phi + s0 as the acts before it left s0 (every node's step from the same psi, then

@@ -210,30 +210,30 @@ double volume_tolerance(const ClayField& f, std::span<const ClayMovedNode> nodes
     return std::max(0.01 * std::fabs(dent), 0.01);
 }
 
-/// beta that keeps the model's own volume (the mean of the three sets' interval lengths) in the box, from b1 (the
-/// volume model's solution) whose re-sampling `best` (and `fixed`) already holds with its measured change best_dv:
-/// while the measured change exceeds `tolerance` (volume_tolerance), up to two more
-/// re-samplings at the beta where the model, shifted by its error at the last beta tried, predicts no change; the
-/// beta with the smallest measured change wins and its re-sampled rays are left in `best` (written without
-/// re-sampling again).
-float solve_measured(std::span<const ClayMovedRay> moved,
-                     const ClayVolumeModel& vm, float b1, double tolerance, const ClayResampleFn& resample,
-                     const ClayResampled& fixed, ClayResampled& best, double& best_dv) {
+/// beta that changes the model's own volume (the mean of the three sets' interval lengths) in the box by `target`
+/// (cells^3; 0: keeps it), from b1 (the volume model's solution) whose re-sampling `best` (and `fixed`) already holds
+/// with its measured change best_dv: while the measured change misses the target by more than `tolerance`
+/// (volume_tolerance), up to two more re-samplings at the beta where the model, shifted by its error at the last beta
+/// tried, predicts the target; the beta with the smallest miss wins and its re-sampled rays are left in `best`
+/// (written without re-sampling again).
+float solve_measured(std::span<const ClayMovedRay> moved, const ClayVolumeModel& vm, float b1, double target,
+                     double tolerance, const ClayResampleFn& resample, const ClayResampled& fixed,
+                     ClayResampled& best, double& best_dv) {
     float best_beta = b1;
     thread_local ClayResampled trial;
     float b = b1;
     double dv = best_dv;
-    for (int k = 0; k < 2 && std::fabs(dv) > tolerance; ++k) {
+    for (int k = 0; k < 2 && std::fabs(dv - target) > tolerance; ++k) {
         const double error = vm.change(b) - dv;  // the model's error at b, taken as constant
         // A model this close already put beta where it predicts the least change: the miss is a jump (a node's
         // status flipping) that no beta within the resolution avoids.
         if (std::fabs(error) <= 0.25 * tolerance) break;
-        const float nb = vm.solve(error, 0.25 * tolerance);
+        const float nb = vm.solve(target + error, 0.25 * tolerance);
         if (nb == b) break;
         prepare(trial, moved.size());
         resample(moved, nb, nullptr, trial);
         const double ndv = volume_change(moved, fixed, trial);
-        if (std::fabs(ndv) < std::fabs(best_dv)) {
+        if (std::fabs(ndv - target) < std::fabs(best_dv - target)) {
             std::swap(best, trial);
             best_beta = nb;
             best_dv = ndv;
@@ -276,11 +276,12 @@ ClayStats clay_resample_with(TriDexel& model, const ClayField& f, bool volume_pr
     if (volume_preserving && any1) {
         tolerance = volume_tolerance(f, nodes);
         vm.build(model, f, moved);
-        beta = vm.solve(0.0, 0.25 * tolerance);
+        beta = vm.solve(f.volume_target, 0.25 * tolerance);
     }
     resample(moved, beta, &fixed, var);
     double dv = volume_change(moved, fixed, var);
-    if (volume_preserving && any1) beta = solve_measured(moved, vm, beta, tolerance, resample, fixed, var, dv);
+    if (volume_preserving && any1)
+        beta = solve_measured(moved, vm, beta, f.volume_target, tolerance, resample, fixed, var, dv);
     for (const ClayMovedNode& m : nodes)
         st.max_displacement_cells =
             std::max(st.max_displacement_cells, static_cast<double>(std::fabs(f.s0[m.x] + beta * f.s1[m.x])));

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compute/tools/clay_grab.hpp"
 #include "compute/tools/clay_push.hpp"
 #include "compute/tools/clay_smooth.hpp"
 #include "core/error.hpp"
@@ -25,11 +26,12 @@ float clay_reach_cells(ToolOp op, float radius_cells) {
     const float r = kClayInfluence * radius_cells;
     // The contact point lies at most R from the centre while in contact (phi <= R + 0.5).
     const float contact = radius_cells + 0.5f;
+    if (op == ToolOp::kGrab) return contact + kClayGrabInfluence * radius_cells + kClayGrabStepCells + 2.0f;
     return op != ToolOp::kSmooth ? contact + r * (1.0f + kClayRimWidth) : contact + r;
 }
 
 GridSweep to_clay_grid_sweep(const Lattice& L, const Sweep& s) {
-    if (!is_clay_op(s.op)) throw Error("clay sweep: the operation is not push, smooth or pull");
+    if (!is_clay_op(s.op)) throw Error("clay sweep: the operation is not push, smooth, pull or grab");
     Sweep ball = s;
     ball.tool.kind = ToolKind::kBall;
     ball.tool.radius_m = ball_radius_m(s);
@@ -76,12 +78,16 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
     const GridSweep g = to_clay_grid_sweep(model.lattice, s);  // validates the whole sweep first
     if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return {};
     if (s.op == ToolOp::kSmooth) return clay_smooth(model, g, before, kernel);
-    const bool pull = s.op == ToolOp::kPull;
+    // One piece of a push, pull or grab.
+    const auto one = [&](const GridSweep& pg) {
+        if (s.op == ToolOp::kGrab) return clay_grab(model, pg, before, kernel);
+        return s.op == ToolOp::kPull ? clay_pull(model, pg, before, kernel) : clay_push(model, pg, before, kernel);
+    };
     // A long push or pull (a jump of the workspace, a fast hand) in pieces of at most kClayPieceCells of motion, each with
     // its own field box around its contacts, so the cost follows the path's length, not the volume of its box.
     const double len = glm::length(s.path_m.b - s.path_m.a) / model.lattice.cell_m;
     const int pieces = static_cast<int>(std::min(std::ceil(len / kClayPieceCells), 1.0e6));
-    if (pieces <= 1) return pull ? clay_pull(model, g, before, kernel) : clay_push(model, g, before, kernel);
+    if (pieces <= 1) return one(g);
     ClayStats total;
     for (int k = 0; k < pieces; ++k) {
         Sweep piece = s;
@@ -89,7 +95,7 @@ ClayStats apply_clay(TriDexel& model, const Sweep& s, std::vector<RayImage>* bef
         piece.path_m.b = s.path_m.a + (s.path_m.b - s.path_m.a) * (static_cast<double>(k + 1) / pieces);
         const GridSweep pg = to_clay_grid_sweep(model.lattice, piece);
         if (pg.hi[0] < pg.lo[0] || pg.hi[1] < pg.lo[1] || pg.hi[2] < pg.lo[2]) continue;
-        const ClayStats st = pull ? clay_pull(model, pg, before, kernel) : clay_push(model, pg, before, kernel);
+        const ClayStats st = one(pg);
         total.rays.rays_visited += st.rays.rays_visited;
         total.rays.rays_changed += st.rays.rays_changed;
         total.volume_change_cells += st.volume_change_cells;

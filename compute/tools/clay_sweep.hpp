@@ -1,4 +1,4 @@
-// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth, kPull) as sweeps: validation, the box they
+// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth, kPull, kGrab) as sweeps: validation, the box they
 // may change, and applying one to a tri-dexel model (the CPU reference).
 #pragma once
 
@@ -15,11 +15,15 @@
 
 namespace tridex::compute {
 
-/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth, kPull).
-inline bool is_clay_op(ToolOp op) { return op == ToolOp::kPush || op == ToolOp::kSmooth || op == ToolOp::kPull; }
+/// True for the operations that move material instead of adding or removing a swept volume (kPush, kSmooth, kPull,
+/// kGrab).
+inline bool is_clay_op(ToolOp op) {
+    return op == ToolOp::kPush || op == ToolOp::kSmooth || op == ToolOp::kPull || op == ToolOp::kGrab;
+}
 
 /// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push and pull R*(kClayInfluence*(1 +
-/// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance.
+/// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance, grab
+/// R*kClayGrabInfluence plus the contact's distance, one grab step and the 2 cells its field looks back.
 float clay_reach_cells(ToolOp op, float radius_cells);
 
 /// A clay sweep in grid units: the ball of radius sweep.tool.radius_m (kFlatEnd: its radius; kMesh: the mesh's
@@ -36,7 +40,7 @@ Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
 /// order (apply_clay).
 inline constexpr double kClayPieceCells = 2.0;
 
-/// Applies one clay sweep (clay_push, clay_pull or clay_smooth) to `model`; a push or pull moving more than kClayPieceCells goes in
+/// Applies one clay sweep (clay_push, clay_pull, clay_smooth or clay_grab) to `model`; a push, pull or grab moving more than kClayPieceCells goes in
 /// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
 /// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
 /// unchanged) on the input to_clay_grid_sweep refuses. The per-node and per-ray work runs on `kernel` (the CPU
