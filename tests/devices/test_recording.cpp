@@ -99,8 +99,8 @@ Recording sample_recording(int n) {
         t.top_collision_id = i % 5 == 0 ? -1 : 1000 * i;
         t.bottom_collision_id = i % 7 == 0 ? -1 : 2147483647 - i;
         t.buttons = 0x80000000u | static_cast<std::uint32_t>(i);
-        t.tool_mode = static_cast<std::uint8_t>(i % 4);
-        t.op = static_cast<std::uint8_t>((i + 1) % 4);
+        t.tool_mode = static_cast<std::uint8_t>(i % 8);  // every ToolOp value, kGrab (7) included
+        t.op = static_cast<std::uint8_t>((i + 1) % 8);
         t.material = static_cast<std::uint8_t>(i % 8);
         t.tool.kind = i % 3 == 0 ? ToolKind::kFlatEnd : ToolKind::kBall;
         t.tool.radius_m = 0.006 * std::pow(1.25, i % 5);
@@ -431,10 +431,10 @@ TEST(Recording, CorruptedValuesRefusedNamingTickAndField) {
     save(path, b);
     expect_refused(path, {tick3, "valid = 2"});
     b = w.bytes;
-    b[w.ticks_at + 3 * kRecordedTickBytes + 376] = 9;
+    b[w.ticks_at + 3 * kRecordedTickBytes + 376] = 8;  // one past kGrab
     path = temp_path("mode.trdxrec");
     save(path, b);
-    expect_refused(path, {tick3, "tool_mode = 9"});
+    expect_refused(path, {tick3, "tool_mode = 8"});
     // An id below -1.
     b = w.bytes;
     b[w.ticks_at + 3 * kRecordedTickBytes + 364] = 0xFE;
