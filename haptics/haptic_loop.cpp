@@ -78,6 +78,12 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
     const double cap = world_stiffness_cap_n_per_m(profile, device_gain(c));
     capped = cap_contact_stiffness(c.contact, cap);
+    if (!(std::isfinite(c.grab_stiffness_n_per_m) && c.grab_stiffness_n_per_m >= 0.0))
+        bad("grab_stiffness_n_per_m", c.grab_stiffness_n_per_m, "must be finite and >= 0 N/m");
+    if (cap > 0.0 && c.grab_stiffness_n_per_m > cap) {
+        c.grab_stiffness_n_per_m = cap;
+        capped = true;
+    }
     if (c.elastic_objects.size() > kMaxElasticObjects)
         throw Error("HapticLoopConfig.elastic_objects: " + std::to_string(c.elastic_objects.size()) + " objects; at most " +
                     std::to_string(kMaxElasticObjects));
@@ -119,6 +125,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     set_symmetry(cfg_.symmetry);
     last_tool_ = mapper_.frame().tool_world;
     stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
+    grab_ = GrabSpring(cfg_.grab_stiffness_n_per_m);
 }
 
 HapticLoop::~HapticLoop() { stop(); }
@@ -371,7 +378,12 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     // The open menu's detent is a world force like the contact's, felt only while the tool follows the stylus.
     const double fmax = limits_.max_force_n, tmax = limits_.max_torque_nm;
     const Vec3 detent = menu.open && wf.coupled ? menu_detent_force(menu, tool_world.position) : Vec3(0.0);
-    const Vec3 world_n = mapper_.force_scale() * (c.force_n + detent) + wf.force_n;
+    // A grab pulls the hand back to where it gripped, while it is engaged (the samples carry kGrab).
+    const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
+    const bool grabbing = tool_op() == ToolOp::kGrab && engaged && wf.coupled && !wf.modelling_paused && !menu.open &&
+                          !remote_contact;
+    const Vec3 spring = grab_.update(grabbing, c.contact, tool_world.position);
+    const Vec3 world_n = mapper_.force_scale() * (c.force_n + detent + spring) + wf.force_n;
     Vec3 f = clamp_force(filter_.apply(clamp_force(world_n, fmax)), fmax);
     if (!is_finite(filter_.value())) {
         filter_.reset();
@@ -394,7 +406,6 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     device_.write(to_device.force_n, to_device.torque_nm);
     safety_.sent(r * to_device.force_n);  // the passivity books take what the device got (per-axis limits)
 
-    const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
     const bool hold = wf.modelling_paused || menu.open || carve_gap_ || !wd.force_allowed || out.over_speed ||
                       !engaged || (remote_contact && (remote.hold || remote.stale));
     push_sample(state, tool_world, c, hold, !wd.force_allowed || out.over_speed, rec);

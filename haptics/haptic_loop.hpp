@@ -19,6 +19,7 @@
 #include "haptics/elastic_object.hpp"
 #include "haptics/ewma_filter.hpp"
 #include "haptics/god_object.hpp"
+#include "haptics/grab_spring.hpp"
 #include "haptics/menu_detent.hpp"
 #include "haptics/multipoint.hpp"
 #include "haptics/wrench_output.hpp"
@@ -96,6 +97,9 @@ struct HapticLoopConfig {
     /// elastic_force() of the tool's contact points against its undeformed sphere (Popescu, Burdea, Bouzit 3.3) to
     /// the contact force. Their stiffness is capped like the contact's (the device profile's max stiffness).
     std::vector<ElasticSphere> elastic_objects{};
+    /// Stiffness of the spring a grab (ToolOp::kGrab) pulls the hand back to its anchor with (GrabSpring), N/m
+    /// (world), finite and >= 0 (0: none); capped like the contact's (the device profile's max stiffness).
+    double grab_stiffness_n_per_m = kGrabStiffnessNPerM;
 };
 
 /// Samples a free-running loop (HapticLoopConfig::free_run) may have in the ring, not yet taken by the sculpt thread.
@@ -393,6 +397,7 @@ private:
     std::size_t next_change_ = 0;        // cfg_.tool_schedule entries applied
     double stiffness_cap_n_per_m_ = 0.0; // world stiffness cap of the device under the workspace gain, N/m
     TripleBuffer<MenuDetent> menu_updates_;  // set_menu (render thread) -> the loop
+    GrabSpring grab_;                        // the grab's spring (loop thread)
 };
 
 }  // namespace tridex::haptics
