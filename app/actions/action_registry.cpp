@@ -32,7 +32,9 @@ ActionRegistry make_builtin() {
     r.add(command("op.push", "Push", "v", "clay: dent the pressed surface, its volume back as a rim", op(ToolOp::kPush)));
     r.add(command("op.smooth", "Smooth", "~", "clay: relax the surface under the tool", op(ToolOp::kSmooth)));
     r.add(command("op.pull", "Pull", "^", "clay: the touched surface follows the tool outward", op(ToolOp::kPull)));
-    r.add(command("op.next", "Next op", ">", "the next operation (subtract, union, paint, push, smooth, pull)",
+    r.add(command("op.grab", "Grab", "&", "clay: the material near the touched point moves with the tool",
+                  op(ToolOp::kGrab)));
+    r.add(command("op.next", "Next op", ">", "the next operation (subtract, union, paint, push, smooth, pull, grab)",
                   [](ActionTarget& t) { t.set_op(next_op(t.op())); }));
     for (int m = 1; m <= kMaxMaterialId; ++m) {
         const auto id = static_cast<std::uint8_t>(m);
@@ -115,7 +117,7 @@ const ActionRegistry& builtin_actions() {
 
 ToolOp next_op(ToolOp op) {
     static constexpr ToolOp kCycle[] = {ToolOp::kSubtract, ToolOp::kUnion, ToolOp::kPaint,
-                                        ToolOp::kPush,     ToolOp::kSmooth, ToolOp::kPull};
+                                        ToolOp::kPush,     ToolOp::kSmooth, ToolOp::kPull, ToolOp::kGrab};
     const auto* it = std::find(std::begin(kCycle), std::end(kCycle), op);
     if (it == std::end(kCycle)) return ToolOp::kSubtract;
     ++it;

@@ -72,7 +72,8 @@ int MouseStylus::default_depth_steps(ToolOp op) {
     case ToolOp::kPaint: return 3;
     case ToolOp::kPush:
     case ToolOp::kSmooth:
-    case ToolOp::kPull: return 5;
+    case ToolOp::kPull:
+    case ToolOp::kGrab: return 5;
     default: return 10;
     }
 }

@@ -39,7 +39,7 @@ MenuItem default_menu(const MaterialPalette& palette) {
     MenuItem root{"Menu", "", "", {}};
     root.children = {
         branch("Operation", "...", {leaf("op.subtract"), leaf("op.union"), leaf("op.paint"), leaf("op.push"),
-                                    leaf("op.smooth"), leaf("op.pull")}),
+                                    leaf("op.smooth"), leaf("op.pull"), leaf("op.grab")}),
         // Larger and Smaller keep their directions (up, down), the colours and the symmetry between them.
         branch("Tool", "...", {leaf("tool.larger"), colour_branch(palette), leaf("tool.smaller"), leaf("symmetry.toggle")}),
         leaf("edit.redo"),

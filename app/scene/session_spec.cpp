@@ -93,8 +93,9 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "push") return ToolOp::kPush;
     if (name == "smooth") return ToolOp::kSmooth;
     if (name == "pull") return ToolOp::kPull;
+    if (name == "grab") return ToolOp::kGrab;
     if (name == "none") return ToolOp::kNone;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth, pull or none");
+    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth, pull, grab or none");
 }
 
 namespace {

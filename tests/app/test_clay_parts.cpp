@@ -1,4 +1,4 @@
-// Clay ops through the session spec: "push", "smooth" and "pull" parse, round-trip through the recording header, reach the
+// Clay ops through the session spec: "push", "smooth", "pull" and "grab" parse, round-trip through the recording header, reach the
 // haptic loop without the cutting force (the god-object holds the tool on the reference surface), and unknown names
 // list them.
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@ namespace tridex::app {
 namespace {
 
 TEST(ClaySpec, PushAndSmoothReachTheLoopWithoutTheCuttingForce) {
-    for (const char* name : {"push", "smooth", "pull"}) {
+    for (const char* name : {"push", "smooth", "pull", "grab"}) {
         SessionSpec s;
         s.op = name;
         const SessionSpec back = spec_from_json(spec_to_json(s), "test");
@@ -26,11 +26,12 @@ TEST(ClaySpec, PushAndSmoothReachTheLoopWithoutTheCuttingForce) {
     EXPECT_EQ(parse_tool_op("push"), ToolOp::kPush);
     EXPECT_EQ(parse_tool_op("smooth"), ToolOp::kSmooth);
     EXPECT_EQ(parse_tool_op("pull"), ToolOp::kPull);
+    EXPECT_EQ(parse_tool_op("grab"), ToolOp::kGrab);
     try {
         parse_tool_op("mould");
         FAIL() << "no error";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("push, smooth, pull"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("push, smooth, pull, grab"), std::string::npos) << e.what();
     }
 }
 

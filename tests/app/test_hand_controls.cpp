@@ -109,7 +109,11 @@ TEST(Actions, OneListNamesEveryKeyAndEveryMenuSlice) {
     const std::string e = error_of([&] { (void)reg.get("edit.undoo", "bindings.tool.buttons.button1"); });
     EXPECT_NE(e.find("bindings.tool.buttons.button1: unknown action 'edit.undoo' (did you mean 'edit.undo'?)"),
               std::string::npos) << e;
-    EXPECT_EQ(next_op(ToolOp::kPull), ToolOp::kSubtract);
+    EXPECT_EQ(next_op(ToolOp::kPull), ToolOp::kGrab);
+    EXPECT_EQ(next_op(ToolOp::kGrab), ToolOp::kSubtract);
+    Recorder g;
+    EXPECT_TRUE(reg.run("op.grab", g));
+    EXPECT_EQ(g.did, (std::vector<std::string>{"op grab"}));
     EXPECT_EQ(next_op(ToolOp::kPaint), ToolOp::kPush);
 }
 
@@ -121,6 +125,7 @@ TEST(Actions, DeskKeysMatchTheirChords) {
     EXPECT_EQ(find_key_binding(Key::kZ, mod::kControl | mod::kShift, false)->action, "edit.redo");
     EXPECT_EQ(find_key_binding(Key::k4, 0, false), nullptr);  // digits are the stylus's
     EXPECT_EQ(find_key_binding(Key::k4, 0, true)->action, "op.push");
+    EXPECT_EQ(find_key_binding(Key::k7, 0, true)->action, "op.grab");
     EXPECT_EQ(find_key_binding(Key::kZ, 0, true), nullptr);
     EXPECT_EQ(chord_name(*find_key_binding(Key::kZ, mod::kControl | mod::kShift, false)), "Ctrl+Shift+Z");
 }
@@ -251,7 +256,7 @@ TEST(PieMenu, AFlickChoosesUnseenAndAMarkReachesASubRing) {
     ASSERT_TRUE(c);
     EXPECT_EQ(c->action, "edit.undo");
     EXPECT_TRUE(c->flick);
-    // A two-stroke mark: up past the radius (Operation opens at the hand), then right (Paint is slice 2 of 6).
+    // A two-stroke mark: up past the radius (Operation opens at the hand), then right (Paint is slice 2 of 7).
     m.menu.open(m.root, Vec3(0.0), m.head, 2.0);
     m.menu.update(m.at(0.0, 0.06), 2.05);
     EXPECT_EQ(m.menu.ring().node->label, "Operation");

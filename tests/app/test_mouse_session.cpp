@@ -315,7 +315,8 @@ TEST(MouseStylus, ChoosingAnotherOperationResetsTheDepthToItsDefault) {
     EXPECT_EQ(m.op(), ToolOp::kPush);
     m.set_op(ToolOp::kSubtract);
     EXPECT_NEAR(m.depth_m(), 0.006, 1e-12);
-    for (ToolOp op : {ToolOp::kSubtract, ToolOp::kUnion, ToolOp::kPaint, ToolOp::kPush, ToolOp::kSmooth, ToolOp::kPull}) {
+    for (ToolOp op : {ToolOp::kSubtract, ToolOp::kUnion, ToolOp::kPaint, ToolOp::kPush, ToolOp::kSmooth, ToolOp::kPull,
+                      ToolOp::kGrab}) {
         const int d = MouseStylus::default_depth_steps(op);
         EXPECT_GE(d, 1) << tool_op_name(op);
         EXPECT_LE(d, MouseStylus::kMaxDepthSteps) << tool_op_name(op);
