@@ -59,7 +59,7 @@ public:
     /// Wheel steps (+ = away from the user = deeper, - = out of the surface), summed and taken in whole steps (a
     /// touchpad's fractions add up); the depth stays in [-2 r, 2 r]. Non-finite steps are ignored.
     void wheel(double steps);
-    /// What the tool applies while engaged (subtract, union, paint, push, smooth or pull; kNone is ignored). A
+    /// What the tool applies while engaged (subtract, union, paint, push, smooth, pull or grab; kNone is ignored). A
     /// different operation than the current one resets the depth to default_depth_steps(op).
     void set_op(ToolOp op);
     /// The depth an operation starts with, in wheel steps (tenths of the radius): subtract and union a full radius

@@ -94,7 +94,7 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
     cmd.add_flag("--keep-islands", o.demo.keep_islands, kKeepIslandsHelp);
     cmd
         .add_option("--op", o.demo.op,
-                     "What the tool does: subtract, union (add material), paint, push, smooth or pull (clay: move material)")
+                     "What the tool does: subtract, union (add material), paint, push, smooth, pull or grab (clay: move material)")
         ->capture_default_str();
     cmd.add_option("--symmetry", o.demo.symmetry,
                    std::string("Sculpting symmetry about the workpiece's centre: ") + symmetry_forms() +
@@ -112,7 +112,7 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
         ->excludes(demo_cpu_contour)
         ->excludes(demo_cpu);
     cmd.add_flag("--gpu-clay", o.demo.gpu_clay,
-                       "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), "
+                       "Push, smooth, pull and grab on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), "
                        "where the CPU reference is faster (same result bit for bit); there it also sculpts on the GPU "
                        "compute path")
         ->excludes(demo_cpu);

@@ -40,7 +40,7 @@ CommandAction setup_replay(CLI::App& cmd) {
         ->excludes(cpu_contour)
         ->excludes(cpu);
     cmd.add_flag("--gpu-clay", o->sculpt.gpu_clay,
-                 "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe); there "
+                 "Push, smooth, pull and grab on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe); there "
                  "it also sculpts on the GPU compute path")
         ->excludes(cpu);
     cmd.add_option("--save", o->save, "Save the final model to FILE.tdx (as `tridex demo --save`)");

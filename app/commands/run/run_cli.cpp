@@ -63,7 +63,7 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                   "model on the GPU, so there it also sculpts on the GPU compute path")
         ->excludes(cpu);
     cmd->add_flag("--gpu-clay", o.gpu_clay,
-                  "Push, smooth and pull on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where "
+                  "Push, smooth, pull and grab on the GPU clay kernel even on a CPU Vulkan implementation (lavapipe), where "
                   "the CPU reference is faster (same result bit for bit); there it also sculpts on the GPU compute path")
         ->excludes(cpu);
     cmd->add_flag("--pace,!--no-pace", o.pace, "Offscreen: pace frames at the display's refresh rate");

@@ -55,7 +55,7 @@ struct SessionRun {
     /// When the device went away before the session's end (its read failed while ticks were still due): the device
     /// time of the last good tick, s. Unset otherwise (a replay's recording running out is its normal end).
     std::optional<double> device_lost_at_s;
-    /// Clay sessions (op push, smooth or pull): the largest distance between the surface before and after the session, m
+    /// Clay sessions (op push, smooth, pull or grab): the largest distance between the surface before and after the session, m
     /// (compute::clay_max_displacement_cells); set by the caller that kept the model before.
     std::optional<double> deformation_max_displacement_m;
 };

@@ -49,7 +49,7 @@ struct DemoReport {
     devices::DeviceStatus device_status;      ///< the device's status channel at the end
     devices::DeviceLinkStats device_link;     ///< the driver's transport measurements (exchanges = 0: none)
     std::string stopped_by;                   ///< "SIGINT" / "SIGTERM" when a signal ended the session early
-    /// Clay sessions (op push, smooth or pull): how far the surface moved, m (report.json `deformation`); unset otherwise.
+    /// Clay sessions (op push, smooth, pull or grab): how far the surface moved, m (report.json `deformation`); unset otherwise.
     std::optional<double> deformation_max_displacement_m;
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
