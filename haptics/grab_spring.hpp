@@ -10,6 +10,11 @@ namespace tridex::haptics {
 /// saturates after a 47 mm drag and the spring stays far inside the passivity bound at 1 kHz.
 inline constexpr double kGrabStiffnessNPerM = 70.0;
 
+/// Checks a grab spring's stiffness k (N/m: finite and >= 0, else throws tridex::Error
+/// "HapticLoopConfig.grab_stiffness_n_per_m ...") and caps it at cap_n_per_m when that is > 0 (the device's stiffness
+/// limit). Returns true when it capped k.
+bool cap_grab_stiffness(double& k, double cap_n_per_m);
+
 /// The grab's spring (a Freeform-style tug): while a grab is engaged, the hand is pulled back toward the anchor, the
 /// HIP where the grab gripped: F = -k (hip - anchor), world N (the caller clamps it to the device's force limit, as
 /// every force of the loop). It grips on the first engaged tick the tool touches material (the sculpt thread's grab

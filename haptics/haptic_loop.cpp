@@ -78,12 +78,7 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
     const double cap = world_stiffness_cap_n_per_m(profile, device_gain(c));
     capped = cap_contact_stiffness(c.contact, cap);
-    if (!(std::isfinite(c.grab_stiffness_n_per_m) && c.grab_stiffness_n_per_m >= 0.0))
-        bad("grab_stiffness_n_per_m", c.grab_stiffness_n_per_m, "must be finite and >= 0 N/m");
-    if (cap > 0.0 && c.grab_stiffness_n_per_m > cap) {
-        c.grab_stiffness_n_per_m = cap;
-        capped = true;
-    }
+    capped = cap_grab_stiffness(c.grab_stiffness_n_per_m, cap) || capped;
     if (c.elastic_objects.size() > kMaxElasticObjects)
         throw Error("HapticLoopConfig.elastic_objects: " + std::to_string(c.elastic_objects.size()) + " objects; at most " +
                     std::to_string(kMaxElasticObjects));
@@ -380,9 +375,8 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     const Vec3 detent = menu.open && wf.coupled ? menu_detent_force(menu, tool_world.position) : Vec3(0.0);
     // A grab pulls the hand back to where it gripped, while it is engaged (the samples carry kGrab).
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
-    const bool grabbing = tool_op() == ToolOp::kGrab && engaged && wf.coupled && !wf.modelling_paused && !menu.open &&
-                          !remote_contact;
-    const Vec3 spring = grab_.update(grabbing, c.contact, tool_world.position);
+    const bool grabbing = tool_op() == ToolOp::kGrab && engaged && wf.coupled && !wf.modelling_paused && !menu.open;
+    const Vec3 spring = grab_.update(grabbing && !remote_contact, c.contact, tool_world.position);
     const Vec3 world_n = mapper_.force_scale() * (c.force_n + detent + spring) + wf.force_n;
     Vec3 f = clamp_force(filter_.apply(clamp_force(world_n, fmax)), fmax);
     if (!is_finite(filter_.value())) {

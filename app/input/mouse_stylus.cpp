@@ -123,7 +123,7 @@ std::string MouseStylus::status() const {
     const std::string size = tool_.kind == ToolKind::kMesh
                                  ? "mesh tool (fixed size)"
                                  : std::string(to_string(tool_.kind)) + " r " + format_mm(radius_m_) + " ([ ])";
-    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6), " + size + ", depth " + format_mm(depth_m()) +
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6/7), " + size + ", depth " + format_mm(depth_m()) +
            " (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 

@@ -157,7 +157,7 @@ void add_mouse(DeviceRegistry& r) {
     info.caps.engage_button = 1;  // mouse_buttons::kEngage, the left button
     info.caps.buttons = {{0, "right", "workspace"}, {1, "left", "engage"}};  // the middle button is the desk's menu
     info.caps.strokes_end_on_release = true;
-    info.caps.switches_op = true;  // keys 1..6
+    info.caps.switches_op = true;  // keys 1..7
     info.caps.app_sets_hand = true;
     r.add(info, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
         DeviceProfile profile = profile_by_name(spec.profile);
