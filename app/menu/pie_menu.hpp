@@ -22,9 +22,9 @@ struct MenuItem {
 };
 
 /// The default menu, with every action a desk key has: Operation (subtract, union, paint, push, smooth, pull, grab),
-/// Tool (larger, Colour: materials 1..7 labelled with `palette`'s names, smaller, Cancel), Redo, Save, End (End session,
-/// Cancel), View (re-centre, swap eyes, occlusion), Undo and Next op; the eight top slices clockwise from 12 o'clock.
-/// Other labels and glyphs come from builtin_actions().
+/// Tool (larger, Colour: materials 1..7 labelled with `palette`'s names, smaller, Cancel), Redo, Save, End (End
+/// session, Cancel), View (re-centre, swap eyes, occlusion), Undo and Next op; the eight top slices clockwise from 12
+/// o'clock. Other labels and glyphs come from builtin_actions().
 MenuItem default_menu(const MaterialPalette& palette = default_material_palette());
 
 /// How the menu reads the hand (lengths in the frame of the positions given, normally world m).

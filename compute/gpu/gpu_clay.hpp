@@ -1,5 +1,5 @@
-// compute/gpu/gpu_clay.hpp - the clay tools (push, pull, smooth, grab) on the GPU-resident model: the node field and the
-// re-sampling of the rays in Vulkan compute (shaders/clay_field.comp), bit for bit the CPU reference.
+// compute/gpu/gpu_clay.hpp - the clay tools (push, pull, smooth, grab) on the GPU-resident model: the node field and
+// the re-sampling of the rays in Vulkan compute (shaders/clay_field.comp), bit for bit the CPU reference.
 #pragma once
 
 #include <cstddef>

@@ -51,11 +51,11 @@ double clay_grab_volume_change(const TriDexel& model, const ClayField& field, co
 /// sets (kernel.resample) with beta solved so that the volume changes by the motion's own divergence
 /// (clay_grab_volume_change; field.volume_target) and not by the re-sampling's rounding of a curved surface (which
 /// alone would shrink a small sphere by a few percent per step): a rigid translation keeps the volume, a cap drawn
-/// out of a larger body adds what the stretching between core and radius of influence adds. Where the moved material meets other material: everything within r moves
-/// with the falloff and the map x -> x - u(x) is one-to-one, so material ahead of the core is pushed on and
-/// compressed in the band between core and r, never overlapped; once the gap between two surfaces is under a cell
-/// the field cannot keep it and they fuse, like clay (and stay fused when the tool goes back). Material beyond r
-/// stays where it is. A tool held still or not touching changes nothing.
+/// out of a larger body adds what the stretching between core and radius of influence adds. Where the moved material
+/// meets other material: everything within r moves with the falloff and the map x -> x - u(x) is one-to-one, so
+/// material ahead of the core is pushed on and compressed in the band between core and r, never overlapped; once the
+/// gap between two surfaces is under a cell the field cannot keep it and they fuse, like clay (and stay fused when the
+/// tool goes back). Material beyond r stays where it is. A tool held still or not touching changes nothing.
 /// Appends old ray images to `before` when not null. Throws tridex::Error on a kernel's device failure.
 ClayStats clay_grab(TriDexel& model, const GridSweep& sweep, std::vector<RayImage>* before = nullptr,
                     ClayKernel& kernel = clay_cpu_kernel());

@@ -1,5 +1,5 @@
-// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth, kPull, kGrab) as sweeps: validation, the box they
-// may change, and applying one to a tri-dexel model (the CPU reference).
+// compute/tools/clay_sweep.hpp - the clay operations (ToolOp::kPush, kSmooth, kPull, kGrab) as sweeps: validation,
+// the box they may change, and applying one to a tri-dexel model (the CPU reference).
 #pragma once
 
 #include <cstddef>
@@ -40,12 +40,13 @@ Aabb clay_bounds(const Lattice& lattice, const Sweep& sweep);
 /// order (apply_clay).
 inline constexpr double kClayPieceCells = 2.0;
 
-/// Applies one clay sweep (clay_push, clay_pull, clay_smooth or clay_grab) to `model`; a push, pull or grab moving more than kClayPieceCells goes in
-/// equal pieces of at most that, in order. Appends the changed rays' old images to `before` when not null (a ray
-/// changed by two pieces is listed twice; its first image is the one before the sweep). Throws tridex::Error (model
-/// unchanged) on the input to_clay_grid_sweep refuses. The per-node and per-ray work runs on `kernel` (the CPU
-/// reference by default, or the GPU's compute/gpu/gpu_clay.hpp: the same model and ClayStats bit for bit); a
-/// kernel's device failure is thrown as tridex::Error after the pieces before it were written.
+/// Applies one clay sweep (clay_push, clay_pull, clay_smooth or clay_grab) to `model`; a push, pull or grab moving
+/// more than kClayPieceCells goes in equal pieces of at most that, in order. Appends the changed rays' old images to
+/// `before` when not null (a ray changed by two pieces is listed twice; its first image is the one before the
+/// sweep). Throws tridex::Error (model unchanged) on the input to_clay_grid_sweep refuses. The per-node and per-ray
+/// work runs on `kernel` (the CPU reference by default, or the GPU's compute/gpu/gpu_clay.hpp: the same model and
+/// ClayStats bit for bit); a kernel's device failure is thrown as tridex::Error after the pieces before it were
+/// written.
 ClayStats apply_clay(TriDexel& model, const Sweep& sweep, std::vector<RayImage>* before = nullptr,
                      ClayKernel& kernel = clay_cpu_kernel());
 

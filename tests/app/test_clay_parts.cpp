@@ -1,6 +1,6 @@
-// Clay ops through the session spec: "push", "smooth", "pull" and "grab" parse, round-trip through the recording header, reach the
-// haptic loop without the cutting force (the god-object holds the tool on the reference surface), and unknown names
-// list them.
+// Clay ops through the session spec: "push", "smooth", "pull" and "grab" parse, round-trip through the recording
+// header, reach the haptic loop without the cutting force (the god-object holds the tool on the reference surface),
+// and unknown names list them.
 #include <gtest/gtest.h>
 
 #include <string>

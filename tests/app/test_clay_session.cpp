@@ -111,6 +111,13 @@ TEST(ClaySession, GrabDemoMovesMaterialAndReplaysAndRecoversByteForByte) {
         "replay " + rec.string() + " --cpu --width 64 --height 48 --out " + (dir / "replay").string(), dir / "replay");
     ASSERT_EQ(again.exit_code, 0) << again.err;
     EXPECT_TRUE(a == bytes_of(dir / "replay" / "sculpted.ply")) << "the replayed grab sculpted a different model";
+    // The same recording with the grab on the GPU clay kernel (lavapipe here): the same model.
+    const auto on_gpu = run_tridex("replay " + rec.string() + " --gpu-clay --width 64 --height 48 --out " +
+                                       (dir / "gpu").string(),
+                                   dir / "gpu");
+    ASSERT_EQ(on_gpu.exit_code, 0) << on_gpu.err;
+    EXPECT_EQ(report(dir / "gpu")["clay_path"], "gpu");
+    EXPECT_TRUE(a == bytes_of(dir / "gpu" / "sculpted.ply")) << "the GPU clay kernel's grab differs from the CPU's";
     const auto recovered = run_tridex(
         "recover " + (dir / "live" / "session.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
     ASSERT_EQ(recovered.exit_code, 0) << recovered.err;

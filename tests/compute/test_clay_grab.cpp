@@ -114,8 +114,9 @@ TEST(ClayGrab, ACapDrawnOutOfALargeSphereRisesAndAddsVolume) {
     grab_to(m, p, p + Vec3(0.0, 0.0, 6.0), R);
     const float top = m.sets[2].ray(32, 32).back().exit;
     const double v1 = volume_cells(m);
-    std::printf("grab a cap 6 cells out of a sphere of radius %.0f (R %.0f): top %.2f cells higher, volume %+.1f cells^3 "
-                "(%+.2f%%)\n", rho, R, top - (24.0 + rho), v1 - v0, 100.0 * (v1 - v0) / v0);
+    std::printf("grab a cap 6 cells out of a sphere of radius %.0f (R %.0f): top %.2f cells higher, volume %+.1f "
+                "cells^3 (%+.2f%%)\n",
+                rho, R, top - (24.0 + rho), v1 - v0, 100.0 * (v1 - v0) / v0);
     EXPECT_NEAR(top, 24.0 + rho + 6.0, 0.5);
     EXPECT_GT(v1, v0);
     // Beyond the radius of influence (4R from the grabbed point) nothing moved: the bottom half, bit for bit.

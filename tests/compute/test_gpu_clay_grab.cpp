@@ -92,8 +92,8 @@ TEST(GpuClayGrab, GrabStrokesMatchTheCpuBitForBit) {
         // A large sphere with a small one beside it: carry the small one, then draw a cap out of the large one, then
         // one long sweep (in steps).
         const auto f = [](double x, double y, double z) {
-            const double big = std::sqrt((x - 30.0) * (x - 30.0) + (y - 24.0) * (y - 24.0) + (z - 18.0) * (z - 18.0)) - 10.0;
-            const double small = std::sqrt((x - 10.3) * (x - 10.3) + (y - 24.2) * (y - 24.2) + (z - 30.4) * (z - 30.4)) - 3.0;
+            const double big = glm::length(Vec3(x, y, z) - Vec3(30.0, 24.0, 18.0)) - 10.0;
+            const double small = glm::length(Vec3(x, y, z) - Vec3(10.3, 24.2, 30.4)) - 3.0;
             return std::min(big, small);
         };
         const TriDexel start = from_implicit(cube_lattice(48), f);

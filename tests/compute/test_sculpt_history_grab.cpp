@@ -27,8 +27,8 @@ using clay_test::from_implicit;
 /// A sphere of radius 10 cells with a small one (radius 3) above its top-left.
 TriDexel two_spheres() {
     return from_implicit(cube_lattice(48), [](double x, double y, double z) {
-        const double big = std::sqrt((x - 26.0) * (x - 26.0) + (y - 24.0) * (y - 24.0) + (z - 18.0) * (z - 18.0)) - 10.0;
-        const double small = std::sqrt((x - 12.3) * (x - 12.3) + (y - 24.2) * (y - 24.2) + (z - 34.4) * (z - 34.4)) - 3.0;
+        const double big = glm::length(Vec3(x, y, z) - Vec3(26.0, 24.0, 18.0)) - 10.0;
+        const double small = glm::length(Vec3(x, y, z) - Vec3(12.3, 24.2, 34.4)) - 3.0;
         return std::min(big, small);
     });
 }
@@ -45,7 +45,8 @@ std::vector<std::vector<ToolSample>> strokes(const Lattice& L) {
         s.op = ToolOp::kGrab;
         return s;
     };
-    for (int i = 0; i <= 40; ++i) out[0].push_back(sample(Vec3(12.3 + 0.15 * i, 24.2, 34.4 + 6.0 - 0.05 * i), 1e-3 * i));
+    for (int i = 0; i <= 40; ++i)
+        out[0].push_back(sample(Vec3(12.3 + 0.15 * i, 24.2, 34.4 + 6.0 - 0.05 * i), 1e-3 * i));
     for (int i = 0; i <= 30; ++i) out[1].push_back(sample(Vec3(26.1, 23.9, 18.0 + 13.0 + 0.2 * i), 0.1 + 1e-3 * i));
     for (std::vector<ToolSample>& stroke : out) stroke.front().op = ToolOp::kNone;  // the button goes down after it
     return out;
