@@ -64,7 +64,7 @@ public:
     void set_op(ToolOp op);
     /// The depth an operation starts with, in wheel steps (tenths of the radius): subtract and union a full radius
     /// (a groove or ridge as wide as the tool), paint three tenths (the colour follows the surface without cutting),
-    /// push, smooth and pull half a radius.
+    /// push, smooth, pull and grab half a radius.
     static int default_depth_steps(ToolOp op);
     /// Scales the tool by kSizeStep^steps (within the limits above). Returns false, changing nothing, for a
     /// mesh tool or at the limit.

@@ -71,7 +71,7 @@ void UndoHistory::capture(const TriDexel& model, std::span<const Sweep> batch) {
                 stamp_ = 1;
             }
         }
-        // A clay sweep (push, smooth, pull) may change rays beyond its tool: the box of its radius of influence and rim.
+        // A clay sweep (push, smooth, pull, grab) may change rays beyond its tool: the box of its radius of influence.
         const Aabb box = is_clay_op(s.op) ? clay_bounds(lattice_, s) : sweep_bounds(s).inflated(lattice_.cell_m);
         if (!is_finite(box.lo) || !is_finite(box.hi)) continue;
         open_step_.box_m.add(box.lo);

@@ -26,8 +26,8 @@ struct BackendRequest {
     /// --gpu-contour: contour dirty tiles on the GPU, which reads the GPU-resident model: under kAuto it chooses the
     /// compute path on a CPU implementation too.
     bool gpu_contour = false;
-    /// --gpu-clay: push, smooth and pull on the GPU clay kernel, which runs on the GPU-resident model: under kAuto it
-    /// chooses the compute path on a CPU implementation too.
+    /// --gpu-clay: push, smooth, pull and grab on the GPU clay kernel, which runs on the GPU-resident model: under
+    /// kAuto it chooses the compute path on a CPU implementation too.
     bool gpu_clay = false;
 };
 

@@ -77,11 +77,11 @@ public:
         if (own_ && context_.validation_messages() > 0)
             std::fprintf(stderr, "tridex: %u Vulkan validation messages on the sculpting device\n", context_.validation_messages());
     }
-    /// Booleans run on the GPU kernel (GpuSculptor); a clay sweep (push, smooth, pull) runs on the GPU clay kernel
-    /// (GpuClay: field and re-sampling in Vulkan compute, contacts and the beta solve on the host), which writes the
-    /// changed rays to the mirror (marking its dirty tiles) and to the slabs, or, where the clay is placed on the CPU,
-    /// the CPU reference on the mirror with its changed rays written to the slabs; sweeps apply in batch order, runs
-    /// of clay sweeps through apply_clay_batch (the same grouping as the CPU backend, so both give one model).
+    /// Booleans run on the GPU kernel (GpuSculptor); a clay sweep (push, smooth, pull, grab) runs on the GPU clay
+    /// kernel (GpuClay: field and re-sampling in Vulkan compute, contacts and the beta solve on the host), which writes
+    /// the changed rays to the mirror (marking its dirty tiles) and to the slabs, or, where the clay is placed on the
+    /// CPU, the CPU reference on the mirror with its changed rays written to the slabs; sweeps apply in batch order,
+    /// runs of clay sweeps through apply_clay_batch (the same grouping as the CPU backend, so both give one model).
     compute::BooleanStats apply(std::span<const compute::Sweep> batch) override {
         if (std::none_of(batch.begin(), batch.end(), [](const compute::Sweep& s) { return compute::is_clay_op(s.op); }))
             return sculptor_->apply(batch);

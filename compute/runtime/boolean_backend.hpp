@@ -25,10 +25,10 @@ namespace tridex::app {
 class BooleanBackend {
 public:
     virtual ~BooleanBackend() = default;
-    /// Applies `batch` in order to the model and marks its dirty tiles; clay sweeps (ToolOp kPush, kSmooth, kPull) run
-    /// apply_clay (compute/tools/clay_sweep.hpp) on the CPU reference or, on the GPU path, on the GPU clay kernel
-    /// (compute/gpu/gpu_clay.hpp), with the same result bit for bit. Throws tridex::Error on a bad sweep (nothing
-    /// changed) or a device failure.
+    /// Applies `batch` in order to the model and marks its dirty tiles; clay sweeps (ToolOp kPush, kSmooth, kPull,
+    /// kGrab) run apply_clay (compute/tools/clay_sweep.hpp) on the CPU reference or, on the GPU path, on the GPU clay
+    /// kernel (compute/gpu/gpu_clay.hpp), with the same result bit for bit. Throws tridex::Error on a bad sweep
+    /// (nothing changed) or a device failure.
     virtual compute::BooleanStats apply(std::span<const compute::Sweep> batch) = 0;
     /// Replaces whole rays of the model (undo and redo) on this path's storage and in the CPU model, and marks
     /// the model's tiles around `box_m` (world m) dirty. Throws tridex::Error on an image outside the model or a

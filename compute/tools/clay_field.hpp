@@ -1,5 +1,5 @@
-// compute/tools/clay_field.hpp - the implicit field behind the clay tools (push, smooth, pull): one signed distance on the
-// lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
+// compute/tools/clay_field.hpp - the implicit field behind the clay tools (push, smooth, pull, grab): one signed
+// distance on the lattice nodes of a box, built from all three ray sets, offset, and re-sampled into all three sets.
 #pragma once
 
 #include <algorithm>

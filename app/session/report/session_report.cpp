@@ -186,7 +186,7 @@ const std::vector<ReportField>& report_schema() {
             {"sculpt_path", "where the Booleans ran: gpu or cpu"},
             {"sculpt_path_reason", "why the Booleans ran on the CPU; null on the GPU path"},
             {"sculpt_device", "the Vulkan device that sculpted; empty on the CPU path"},
-            {"clay_path", "where push, smooth and pull ran: gpu or cpu"},
+            {"clay_path", "where push, smooth, pull and grab ran: gpu or cpu"},
             {"clay_path_reason", "why clay ran on the CPU on the GPU path; null otherwise"},
             {"spilled_intervals", "intervals in the GPU spill pool at the end (0 on the CPU path)"},
             {"sculpt_validation_messages", "Vulkan validation messages on the sculpting device (0 expected)"},
