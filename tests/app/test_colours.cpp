@@ -132,7 +132,9 @@ TEST(Colours, TheMenuAndTheKeysChooseTheMaterials) {
     p.entries[2].name = "teal";
     const MenuItem root = default_menu(p);
     ASSERT_EQ(root.children.size(), 8u);
-    EXPECT_EQ(root.children[0].children.size(), 6u);  // the operations' directions as they were
+    EXPECT_EQ(root.children[0].children.size(), 7u);  // the operations, grab last (subtract still at 12 o'clock)
+    EXPECT_EQ(root.children[0].children[0].action, "op.subtract");
+    EXPECT_EQ(root.children[0].children[6].action, "op.grab");
     const MenuItem& tool = root.children[1];
     ASSERT_EQ(tool.label, "Tool");
     ASSERT_EQ(tool.children.size(), 4u);  // larger up and smaller down, as before; Colour right, Symmetry left
