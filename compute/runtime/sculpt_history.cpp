@@ -16,7 +16,7 @@ SculptHistory::SculptHistory(compute::TriDexel& model, BooleanBackend& backend, 
 
 compute::BooleanStats SculptHistory::apply(std::span<const compute::Sweep> batch) {
     if (batch.empty()) return {};
-    if (held_.empty() && batch.back().op != ToolOp::kPush && batch.back().op != ToolOp::kSmooth) {  // nothing to hold
+    if (held_.empty() && !compute::is_grouped_clay_op(batch.back().op)) {  // nothing to hold
         history_.capture(model_, batch);
         const compute::BooleanStats st = backend_.apply(batch);
         note_cuts(batch);

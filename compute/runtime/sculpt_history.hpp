@@ -52,7 +52,7 @@ public:
                   std::size_t budget_bytes = compute::UndoHistory::kDefaultBudgetBytes, std::uint64_t last_serial = 0);
 
     /// Captures the rays `batch` may change (opening a stroke if none is open), then applies it after the sweeps
-    /// held back before it, except that a push or smooth group at its end that later sweeps could still join
+    /// held back before it, except that a push, smooth or grab group at its end that later sweeps could still join
     /// (compute::clay_open_group) is held back until they cannot or the stroke ends: the backends group short clay
     /// sweeps (compute::apply_clay_batch), and this keeps the groups, and so the model, the same however the
     /// stroke's samples were split into batches (a live session and its replay split them differently). Throws what

@@ -115,10 +115,10 @@ bool same_tool(const SweepTool& a, const SweepTool& b) {
     return a.kind == b.kind && a.radius_m == b.radius_m && a.length_m == b.length_m && a.mesh == b.mesh;
 }
 
-// True when push or smooth sweep s may join a group: it moves at most kClayPieceCells and its box lies on the
+// True when push, smooth or grab sweep s may join a group: it moves at most kClayPieceCells and its box lies on the
 // lattice.
 bool groupable(const Lattice& L, const Sweep& s, const GridSweep& g) {
-    if (s.op != ToolOp::kPush && s.op != ToolOp::kSmooth) return false;
+    if (!is_grouped_clay_op(s.op)) return false;
     if (g.hi[0] < g.lo[0] || g.hi[1] < g.lo[1] || g.hi[2] < g.lo[2]) return false;
     return glm::length(s.path_m.b - s.path_m.a) / L.cell_m <= kClayPieceCells;
 }
@@ -130,12 +130,13 @@ std::size_t clay_group_end(const Lattice& L, std::span<const Sweep> batch, std::
     const Sweep& s = batch[i];
     if (!groupable(L, s, grid[i])) return i + 1;
     // The run of at most max_sweeps sweeps of this operation and tool whose centres' motion stays within
-    // clay_group_cells of R.
-    const double limit = clay_group_cells(grid[i].radius);
+    // clay_group_cells of R; a grab's run, applied as one straight motion, within kClayPieceCells and end to end.
+    const bool grab = s.op == ToolOp::kGrab;
+    const double limit = grab ? kClayPieceCells : clay_group_cells(grid[i].radius);
     Vec3 lo = glm::min(s.path_m.a, s.path_m.b), hi = glm::max(s.path_m.a, s.path_m.b);
     std::size_t j = i + 1;
     while (j < batch.size() && j - i < max_sweeps && batch[j].op == s.op && same_tool(batch[j].tool, s.tool) &&
-           groupable(L, batch[j], grid[j])) {
+           groupable(L, batch[j], grid[j]) && (!grab || batch[j].path_m.a == batch[j - 1].path_m.b)) {
         const Vec3 nlo = glm::min(lo, glm::min(batch[j].path_m.a, batch[j].path_m.b));
         const Vec3 nhi = glm::max(hi, glm::max(batch[j].path_m.a, batch[j].path_m.b));
         if (glm::length(nhi - nlo) / L.cell_m > limit) break;
@@ -168,7 +169,7 @@ void check_clay_group_sweeps(std::size_t group_sweeps) {
 
 std::size_t clay_open_group(const Lattice& L, std::span<const Sweep> batch, std::size_t group_sweeps) {
     check_clay_group_sweeps(group_sweeps);
-    if (batch.empty() || (batch.back().op != ToolOp::kPush && batch.back().op != ToolOp::kSmooth)) return batch.size();
+    if (batch.empty() || !is_grouped_clay_op(batch.back().op)) return batch.size();
     // The trailing run of clay sweeps (a Boolean before it closes every group), grouped from its start.
     std::size_t first = batch.size();
     while (first > 0 && is_clay_op(batch[first - 1].op)) --first;
@@ -207,6 +208,13 @@ BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std
             continue;
         }
         const std::size_t j = clay_group_end(L, batch, grid, i, group_sweeps);
+        if (s.op == ToolOp::kGrab) {  // one straight motion from the run's start to its end
+            Sweep whole = s;
+            whole.path_m.b = batch[j - 1].path_m.b;
+            add(apply_clay(model, whole, before, kernel).rays);
+            i = j;
+            continue;
+        }
         const std::span<const GridSweep> group = std::span<const GridSweep>(grid).subspan(i, j - i);
         add((s.op == ToolOp::kSmooth ? clay_smooth_group(model, group, before, kernel)
                                      : clay_push_group(model, group, before, kernel))

@@ -21,6 +21,12 @@ inline bool is_clay_op(ToolOp op) {
     return op == ToolOp::kPush || op == ToolOp::kSmooth || op == ToolOp::kPull || op == ToolOp::kGrab;
 }
 
+/// True for the clay operations whose short consecutive sweeps apply_clay_batch applies as one group (kPush, kSmooth,
+/// kGrab), so that SculptHistory holds an open group of them back at the end of a batch.
+inline bool is_grouped_clay_op(ToolOp op) {
+    return op == ToolOp::kPush || op == ToolOp::kSmooth || op == ToolOp::kGrab;
+}
+
 /// How far (cells) beyond its ball radius R a clay sweep's tool may change the model: push and pull R*(kClayInfluence*(1 +
 /// kClayRimWidth)) plus the contact's distance (at most R), smooth R*kClayInfluence plus the contact's distance, grab
 /// R*kClayGrabInfluence plus the contact's distance, one grab step and the 2 cells its field looks back.
@@ -73,7 +79,9 @@ void check_clay_group_sweeps(std::size_t group_sweeps);
 /// Applies a batch of sweeps in order: Boolean sweeps with apply_sweep, clay sweeps with apply_clay, except that
 /// runs of at most group_sweeps consecutive push sweeps (or smooth sweeps) of one tool, each moving at most
 /// kClayPieceCells, whose motion spans at most clay_group_cells(R) together, go as one clay_push_group (or
-/// clay_smooth_group). The grouping depends only on the sweeps, so the same
+/// clay_smooth_group), and runs of at most group_sweeps consecutive grab sweeps of one tool that join end to end
+/// (each starting where the one before it ended) and span at most kClayPieceCells together go as one grab from the
+/// first one's start to the last one's end (apply_clay). The grouping depends only on the sweeps, so the same
 /// batch gives the same model bit for bit (a session journal records its batches). Validates the whole batch first
 /// (tridex::Error, model unchanged). Appends old ray images to `before` (clay sweeps only) when not null; returns
 /// the summed ray counts. Clay work runs on `kernel`; Booleans on the CPU (callers with a faster Boolean path split
@@ -82,9 +90,9 @@ void check_clay_group_sweeps(std::size_t group_sweeps);
 BooleanStats apply_clay_batch(TriDexel& model, std::span<const Sweep> batch, std::vector<RayImage>* before = nullptr,
                               ClayKernel& kernel = clay_cpu_kernel(), std::size_t group_sweeps = kClayGroupSweeps);
 
-/// Where the last group of `batch` starts, when apply_clay_batch would end the batch with a push or smooth group that
-/// later sweeps of the same stroke could still join (its last sweep a groupable push or smooth): the index of that group's first
-/// sweep; batch.size() when the batch ends with anything else. Grouping is greedy from the start of each run of clay
+/// Where the last group of `batch` starts, when apply_clay_batch would end the batch with a push, smooth or grab group
+/// that later sweeps of the same stroke could still join (its last sweep a groupable push, smooth or grab): the index
+/// of that group's first sweep; batch.size() when the batch ends with anything else. Grouping is greedy from the start of each run of clay
 /// sweeps, so applying batch[0, k) now and batch[k, n) with whatever follows gives the same groups, and the same
 /// model, however a stroke's sweeps are split into batches (SculptHistory holds that open group back). Throws
 /// tridex::Error as to_clay_grid_sweep on a bad clay sweep in the trailing run, and as check_clay_group_sweeps.
