@@ -1,5 +1,5 @@
 // Tests of devices/tracking/dtrack_receiver over loopback UDP: poses arrive in SI units with a receipt time, the
-// newest one per body wins, bad datagrams (64 KiB of junk included) are counted by reason and dropped, and a
+// newest one per body wins, late or replayed frame counters are refused, bad datagrams (64 KiB of junk included) are counted by reason and dropped, and a
 // reader polling while a sender floods never waits (run under ThreadSanitizer with the devices tests).
 #include <gtest/gtest.h>
 
@@ -132,6 +132,37 @@ TEST(DTrackReceiver, BadDatagramsAreCountedAndDropped) {
     const DTrackBodyTable& t = wait_table(rx, 1);
     EXPECT_TRUE(t.bodies[0].seen);
     EXPECT_EQ(t.bodies[0].frame_counter, 5u);
+}
+
+// A datagram whose frame counter is not newer than the newest accepted one (late, or replayed by someone on the
+// network) is rejected as replayed and moves nothing; a counter far behind, or one after a silence, is a restarted
+// tracker and accepted.
+TEST(DTrackReceiver, LateOrReplayedFrameCountersAreRejected) {
+    DTrackReceiver rx(0, "127.0.0.1");
+    DTrackSender tx(rx.port());
+    ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(10, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(101, 0, Vec3(11, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // replayed
+    ASSERT_TRUE(tx.send(dtrack_datagram(101, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // the same frame again
+    ASSERT_TRUE(tx.send(dtrack_datagram(102, 0, Vec3(12, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(102 + kDTrackReplayWindow + 7, 0, Vec3(13, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(3, 0, Vec3(14, 0, 0), glm::dmat3(1.0))));  // far behind: a restart
+    ASSERT_TRUE(wait_for(rx, 7));
+    DTrackReceiverStats s = rx.stats();
+    EXPECT_EQ(s.accepted, 5u);
+    EXPECT_EQ(s.rejected, 2u);
+    EXPECT_EQ(s.by_reason[static_cast<std::size_t>(DTrackReject::kReplayed)], 2u);
+    EXPECT_STREQ(to_string(DTrackReject::kReplayed), "replayed");
+    const DTrackBodyTable& t = wait_table(rx, 5);
+    EXPECT_EQ(t.bodies[0].frame_counter, 3u);
+    EXPECT_NEAR(t.bodies[0].body.position_m.x, 0.014, 1e-12);
+    // After a silence of kDTrackRestartGapNs, a counter just behind is a restarted tracker too.
+    std::this_thread::sleep_for(std::chrono::nanoseconds(kDTrackRestartGapNs + 100'000'000));
+    ASSERT_TRUE(tx.send(dtrack_datagram(2, 0, Vec3(15, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(wait_for(rx, 8));
+    s = rx.stats();
+    EXPECT_EQ(s.accepted, 6u);
+    EXPECT_EQ(s.rejected, 2u);
 }
 
 TEST(DTrackReceiver, ReaderNeverWaitsWhileASenderFloods) {
