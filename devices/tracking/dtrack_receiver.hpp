@@ -17,11 +17,9 @@ namespace tridex::devices {
 /// Bodies the receiver keeps (DTrack ids 0..kDTrackKeptBodies-1; higher ids are parsed, counted and dropped).
 inline constexpr int kDTrackKeptBodies = 64;
 
-/// A datagram whose frame counter (`fr`) is at most this many frames behind the newest accepted one, and which
-/// arrives within kDTrackRestartGapNs of it, is late or replayed and rejected (DTrackReject::kReplayed): the newest
-/// pose wins. Farther behind, or after a silence, it is a restarted tracker and accepted.
-inline constexpr std::uint32_t kDTrackReplayWindow = 3600;
-/// A silence (ns) after which any frame counter is accepted again: DTrack restarted its counter.
+/// A silence (ns) after which any frame counter is accepted again: DTrack restarted its counter. Within it, a
+/// datagram whose frame counter (`fr`) is not newer than the newest accepted one is late or replayed and rejected
+/// (DTrackReject::kReplayed): the newest pose wins.
 inline constexpr std::int64_t kDTrackRestartGapNs = 1'000'000'000;
 
 /// The newest sample of one standard body.
@@ -82,7 +80,7 @@ enum class DTrackReader : int { kView = 0, kDevice = 1 };
 /// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
 /// not need one) and one thread. The thread waits in poll() (at most 20 ms, so stop() is prompt), then drains
 /// the socket without blocking (MSG_DONTWAIT), stamps each datagram with steady_clock on arrival, parses it
-/// (parse_dtrack_datagram), rejects a late or replayed frame counter (kDTrackReplayWindow), counts rejects by reason, and publishes the body and Flystick table once per drain through a
+/// (parse_dtrack_datagram), rejects a late or replayed frame counter (kDTrackRestartGapNs), counts rejects by reason, and publishes the body and Flystick table once per drain through a
 /// TripleBuffer per reader: a reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive
 /// buffer, one reused DTrackFrame, three tables per reader. Exactly one thread reads as each DTrackReader.
 class DTrackReceiver {
