@@ -57,8 +57,12 @@ double surface_move_m(const TriDexel& a, const TriDexel& b) {
 }
 
 void measure_surface_move(const TriDexel& before, const TriDexel& after, ResampleStats& stats) {
-    stats.max_surface_move_m = surface_move_m(before, after);
+    stats.max_surface_move_m = stats.max_surface_move_cells = stats.surface_move_floor_m = 0.0;
+    if (stats.identical) return;
+    const TriMesh mb = contoured(before), ma = contoured(after);
+    stats.max_surface_move_m = std::max(one_way(before, ma), one_way(after, mb));
     stats.max_surface_move_cells = stats.max_surface_move_m / std::max(before.lattice.cell_m, after.lattice.cell_m);
+    stats.surface_move_floor_m = std::max(one_way(before, mb), one_way(after, ma));
 }
 
 }  // namespace tridex::compute

@@ -15,8 +15,9 @@ namespace tridex::compute {
 /// O(interval ends x log triangles).
 double surface_move_m(const TriDexel& a, const TriDexel& b);
 
-/// Fills stats.max_surface_move_m (surface_move_m(before, after)) and stats.max_surface_move_cells (the same in cells
-/// of the coarser of the two lattices).
+/// Fills stats.max_surface_move_m (surface_move_m(before, after)), stats.max_surface_move_cells (the same in cells
+/// of the coarser of the two lattices) and stats.surface_move_floor_m (the largest distance of either model's ends
+/// from its own contour). Contours each model once. 0 for all three when stats.identical.
 void measure_surface_move(const TriDexel& before, const TriDexel& after, ResampleStats& stats);
 
 }  // namespace tridex::compute

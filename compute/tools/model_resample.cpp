@@ -16,6 +16,9 @@ namespace {
 
 /// A lateral position closer than this (old cells) to an old ray counts as lying on it.
 constexpr double kOnRay = 1e-6;
+/// Largest spread (old cells) of the neighbours' matching ends along the ray that is blended: a steeper surface is
+/// taken from the field, whose distances come from the rays that cross it squarely.
+constexpr float kBlendSpread = 1.0f;
 /// How far (old cells) beyond the nearest old rays' material the field fallback looks for crossings.
 constexpr int kFieldReach = 2;
 
@@ -67,18 +70,32 @@ void append(std::vector<Interval>& out, double enter, double exit, std::uint8_t 
     out.push_back(Interval{e, x, me, mx});
 }
 
-/// True when every neighbour holds the same number of intervals and the k-th intervals of all of them overlap.
+/// True when the neighbours' topology agrees: every one holds the same number of intervals, the k-th intervals of all
+/// of them overlap, and so do the k-th gaps between them (so that a blended end lies between ends of one surface), and
+/// the k-th ends spread by at most kBlendSpread along the ray.
 bool matching(const Neighbour* nb, int n) {
     const std::size_t count = nb[0].ray->size();
     for (int i = 1; i < n; ++i)
         if (nb[i].ray->size() != count) return false;
     for (std::size_t k = 0; k < count; ++k) {
         float lo = (*nb[0].ray)[k].enter, hi = (*nb[0].ray)[k].exit;
+        float gap_lo = hi, gap_hi = k + 1 < count ? (*nb[0].ray)[k + 1].enter : 0.0f;
         for (int i = 1; i < n; ++i) {
-            lo = std::max(lo, (*nb[i].ray)[k].enter);
-            hi = std::min(hi, (*nb[i].ray)[k].exit);
+            const std::vector<Interval>& r = *nb[i].ray;
+            lo = std::max(lo, r[k].enter);
+            hi = std::min(hi, r[k].exit);
+            if (k + 1 < count) {
+                gap_lo = std::max(gap_lo, r[k].exit);
+                gap_hi = std::min(gap_hi, r[k + 1].enter);
+            }
         }
-        if (!(lo < hi)) return false;
+        if (!(lo < hi) || (k + 1 < count && !(gap_lo < gap_hi))) return false;
+        float e0 = (*nb[0].ray)[k].enter, e1 = e0, x0 = (*nb[0].ray)[k].exit, x1 = x0;
+        for (int i = 1; i < n; ++i) {
+            e0 = std::min(e0, (*nb[i].ray)[k].enter), e1 = std::max(e1, (*nb[i].ray)[k].enter);
+            x0 = std::min(x0, (*nb[i].ray)[k].exit), x1 = std::max(x1, (*nb[i].ray)[k].exit);
+        }
+        if (e1 - e0 > kBlendSpread || x1 - x0 > kBlendSpread) return false;
     }
     return true;
 }

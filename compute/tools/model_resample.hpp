@@ -46,11 +46,14 @@ struct ResampleStats {
     double volume_after_m3 = 0.0;         ///< the new model's volume, m^3
     double max_surface_move_m = 0.0;      ///< largest distance of either surface from the other, m
     double max_surface_move_cells = 0.0;  ///< the same in cells of the coarser of the two lattices
-    std::size_t bytes_after = 0;          ///< estimated size of the new model (resample_bytes_estimate), bytes
-    std::size_t rays_copied = 0;          ///< new rays made as ResampledRay::kCopied
-    std::size_t rays_blended = 0;         ///< ... as kBlended
-    std::size_t rays_field = 0;           ///< ... as kField
-    bool identical = false;               ///< the resolution did not change: the model was copied bit for bit
+    /// The measure's own floor, m: the largest distance of either model's interval ends from its own contour (sharp
+    /// edges and corners, which the contour cuts); a move below it is not a move.
+    double surface_move_floor_m = 0.0;
+    std::size_t bytes_after = 0;   ///< estimated size of the new model (resample_bytes_estimate), bytes
+    std::size_t rays_copied = 0;   ///< new rays made as ResampledRay::kCopied
+    std::size_t rays_blended = 0;  ///< ... as kBlended
+    std::size_t rays_field = 0;    ///< ... as kField
+    bool identical = false;        ///< the resolution did not change: the model was copied bit for bit
 };
 
 /// One ray of the new model: set `axis`, node (u, v) of `target` (u along (axis+1)%3, v along (axis+2)%3), re-sampled
