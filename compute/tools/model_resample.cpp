@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <sstream>
 #include <string>
 
@@ -19,6 +20,8 @@ constexpr double kOnRay = 1e-6;
 /// Largest spread (old cells) of the neighbours' matching ends along the ray that is blended: a steeper surface is
 /// taken from the field, whose distances come from the rays that cross it squarely.
 constexpr float kBlendSpread = 1.0f;
+/// Ends of neighbouring old rays closer than this (old cells) lie on one flat face across the rays.
+constexpr float kFlatTolerance = 1e-4f;
 /// How far (old cells) beyond the nearest old rays' material the field fallback looks for crossings.
 constexpr int kFieldReach = 2;
 
@@ -178,6 +181,50 @@ void field_ray(const TriDexel& model, int axis, double pu, double pv, const Neig
                material_at(model, axis, hi, pu, pv), limit);
 }
 
+/// True when the two rays hold the same number of intervals whose ends lie within kFlatTolerance cells of each other.
+bool same_ends(const std::vector<Interval>& a, const std::vector<Interval>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t k = 0; k < a.size(); ++k)
+        if (std::fabs(a[k].enter - b[k].enter) > kFlatTolerance || std::fabs(a[k].exit - b[k].exit) > kFlatTolerance)
+            return false;
+    return true;
+}
+
+/// The kField intervals `out` (new grid units) with their ends moved onto flat faces across the ray: when the
+/// non-empty neighbours all hold the same ends (two or more of them, or one with an old ray beside it that does), the
+/// field found as many intervals, and each of its ends lies within kBlendSpread old cells of theirs, the ends become
+/// theirs (the field's distances bend round the edge of a face; the face itself is flat up to it).
+void snap_to_flat_faces(const TriDexel& model, int axis, const Neighbour* nb, int n, const GridMap& map, double limit,
+                        std::vector<Interval>& out) {
+    const Neighbour* ref = nullptr;
+    int count = 0;
+    for (int i = 0; i < n; ++i) {
+        if (nb[i].ray->empty()) continue;
+        if (!ref) ref = &nb[i];
+        if (!same_ends(*ref->ray, *nb[i].ray)) return;
+        ++count;
+    }
+    if (!ref || ref->ray->size() != out.size()) return;
+    if (count == 1) {  // one ray: flat only when an old ray beside it holds the same ends
+        const RaySet& set = model.sets[axis];
+        bool witness = false;
+        for (const auto& [du, dv] : {std::pair{-1, 0}, std::pair{1, 0}, std::pair{0, -1}, std::pair{0, 1}}) {
+            const int u = ref->nu + du, v = ref->nv + dv;
+            if (u >= 0 && u < set.nu && v >= 0 && v < set.nv && same_ends(*ref->ray, set.ray(u, v))) witness = true;
+        }
+        if (!witness) return;
+    }
+    std::vector<Interval> snapped;
+    const double s = map.s, d = map.d[axis], reach = kBlendSpread * s;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        const Interval& f = (*ref->ray)[k];
+        const double e = f.enter * s + d, x = f.exit * s + d;
+        if (std::fabs(out[k].enter - e) > reach || std::fabs(out[k].exit - x) > reach) return;
+        append(snapped, e, x, out[k].enter_material, out[k].exit_material, limit);
+    }
+    if (snapped.size() == out.size()) out.swap(snapped);
+}
+
 }  // namespace
 
 int lattice_resolution(const Lattice& lattice) {
@@ -256,6 +303,7 @@ ResampledRay resample_ray(const TriDexel& model, const Lattice& target, int axis
         return ResampledRay::kBlended;
     }
     field_ray(model, axis, pu, pv, nb, n, map, limit, out);
+    snap_to_flat_faces(model, axis, nb, n, map, limit, out);
     return ResampledRay::kField;
 }
 
