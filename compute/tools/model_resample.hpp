@@ -32,7 +32,8 @@ std::size_t resample_bytes_estimate(const TriDexel& model, const Lattice& target
 enum class ResampledRay {
     kCopied,   ///< it lies on an old ray of its set: that ray's intervals, depths mapped
     kBlended,  ///< its 2 or 4 nearest old rays hold matching intervals: their ends blended (bilinear)
-    kField     ///< the nearest old rays disagree: crossings of the old model's blended node field (linear roots)
+    kField     ///< the nearest old rays disagree: crossings of the old model's blended node field (linear roots),
+               ///< ends next to a flat face across the ray put back on it
 };
 
 /// What resample_model did. Volumes from dexel_volume_m3; the surface move is measured apart, by
