@@ -79,7 +79,7 @@ void DTrackReceiver::handle(const char* data, std::size_t size, std::int64_t rec
     if (r.ok() && frame_.has_frame_counter) {
         const std::uint32_t fr = frame_.frame_counter;
         const bool behind =
-            have_newest_ && fr <= newest_fr_ && receipt_ns - newest_receipt_ns_ < kDTrackRestartGapNs;
+            have_newest_ && fr < newest_fr_ && receipt_ns - newest_receipt_ns_ < kDTrackRestartGapNs;
         if (behind) {
             reason = DTrackReject::kReplayed;
         } else {

@@ -18,8 +18,9 @@ namespace tridex::devices {
 inline constexpr int kDTrackKeptBodies = 64;
 
 /// A silence (ns) after which any frame counter is accepted again: DTrack restarted its counter. Within it, a
-/// datagram whose frame counter (`fr`) is not newer than the newest accepted one is late or replayed and rejected
-/// (DTrackReject::kReplayed): the newest pose wins.
+/// datagram whose frame counter (`fr`) is older than the newest accepted one is late or replayed and rejected
+/// (DTrackReject::kReplayed): the newest pose wins. The newest frame's counter again is accepted (a frame sent in
+/// several datagrams).
 inline constexpr std::int64_t kDTrackRestartGapNs = 1'000'000'000;
 
 /// The newest sample of one standard body.

@@ -131,7 +131,10 @@ FloodRun run_session(const fs::path& dir, double flood_s, bool flood) {
                 std::string d;
                 {
                     const std::lock_guard<std::mutex> lock(kept_mutex);
-                    d = kept[rng() % kept.size()];
+                    // At least two frames old: the newest frame's counter again is accepted (one frame may come
+                    // in several datagrams), so a replay of it would not be a bad datagram.
+                    if (kept.size() < 3) return;
+                    d = kept[rng() % (kept.size() - 2)];
                 }
                 tx.send(d);
                 ++r.replayed_dtrack;

@@ -134,26 +134,27 @@ TEST(DTrackReceiver, BadDatagramsAreCountedAndDropped) {
     EXPECT_EQ(t.bodies[0].frame_counter, 5u);
 }
 
-// A datagram whose frame counter is not newer than the newest accepted one (late, or replayed by someone on the
-// network, however old) is rejected as replayed and moves nothing; after a second of silence any counter is a
-// restarted tracker and accepted.
+// A datagram whose frame counter is older than the newest accepted one (late, or replayed by someone on the network,
+// however old) is rejected as replayed and moves nothing; the newest frame's counter again is another datagram of
+// that frame; after a second of silence any counter is a restarted tracker and accepted.
 TEST(DTrackReceiver, LateOrReplayedFrameCountersAreRejected) {
     DTrackReceiver rx(0, "127.0.0.1");
     DTrackSender tx(rx.port());
     ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(10, 0, 0), glm::dmat3(1.0))));
     ASSERT_TRUE(tx.send(dtrack_datagram(101, 0, Vec3(11, 0, 0), glm::dmat3(1.0))));
     ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // replayed
-    ASSERT_TRUE(tx.send(dtrack_datagram(101, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // the same frame again
+    ASSERT_TRUE(tx.send(dtrack_datagram(101, 1, Vec3(11, 0, 0), glm::dmat3(1.0))));  // the same frame, body 1
     ASSERT_TRUE(tx.send(dtrack_datagram(1, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));    // an old one replayed
     ASSERT_TRUE(tx.send(dtrack_datagram(5000, 0, Vec3(12, 0, 0), glm::dmat3(1.0))));
     ASSERT_TRUE(tx.send(dtrack_datagram(3, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // far behind, no silence
     ASSERT_TRUE(wait_for(rx, 7));
     DTrackReceiverStats s = rx.stats();
-    EXPECT_EQ(s.accepted, 3u);
-    EXPECT_EQ(s.rejected, 4u);
-    EXPECT_EQ(s.by_reason[static_cast<std::size_t>(DTrackReject::kReplayed)], 4u);
+    EXPECT_EQ(s.accepted, 4u);
+    EXPECT_EQ(s.rejected, 3u);
+    EXPECT_EQ(s.by_reason[static_cast<std::size_t>(DTrackReject::kReplayed)], 3u);
     EXPECT_STREQ(to_string(DTrackReject::kReplayed), "replayed");
-    const DTrackBodyTable& t = wait_table(rx, 3);
+    const DTrackBodyTable& t = wait_table(rx, 4);
+    EXPECT_EQ(t.bodies[1].frame_counter, 101u);
     EXPECT_EQ(t.bodies[0].frame_counter, 5000u);
     EXPECT_NEAR(t.bodies[0].body.position_m.x, 0.012, 1e-12);
     // After a silence of kDTrackRestartGapNs, a counter far behind is a restarted tracker.
@@ -161,9 +162,9 @@ TEST(DTrackReceiver, LateOrReplayedFrameCountersAreRejected) {
     ASSERT_TRUE(tx.send(dtrack_datagram(2, 0, Vec3(15, 0, 0), glm::dmat3(1.0))));
     ASSERT_TRUE(wait_for(rx, 8));
     s = rx.stats();
-    EXPECT_EQ(s.accepted, 4u);
-    EXPECT_EQ(s.rejected, 4u);
-    EXPECT_EQ(wait_table(rx, 4).bodies[0].frame_counter, 2u);
+    EXPECT_EQ(s.accepted, 5u);
+    EXPECT_EQ(s.rejected, 3u);
+    EXPECT_EQ(wait_table(rx, 5).bodies[0].frame_counter, 2u);
 }
 
 TEST(DTrackReceiver, ReaderNeverWaitsWhileASenderFloods) {
