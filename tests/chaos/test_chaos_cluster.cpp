@@ -1,0 +1,104 @@
+// A cluster render rank killed (SIGKILL) at random frames of a three-rank wall session under mpirun: every time, rank
+// 0 names the rank, ends the session in order and keeps all its work: report.json with the failure, sculpted.ply, the
+// journal holding every sample the session applied, and `tridex recover` rebuilding the model from that journal.
+// A cluster session can only end its render ranks through mpirun, so a run takes the config's 5 s time-out.
+// TRIDEX_CHAOS_RANK_KILLS sets how many kills (default 3; the long form in docs/benchmarks/chaos.md runs 20).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+
+#include "compute/journal/journal_reader.hpp"
+#include "test_files.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
+
+int kills_wanted() {
+    const char* v = std::getenv("TRIDEX_CHAOS_RANK_KILLS");
+    const int n = v ? std::atoi(v) : 3;
+    return n > 0 ? n : 3;
+}
+
+struct Launch {
+    int exit_code = -1;
+    std::string log;
+};
+
+/// mpirun -np 3 of the small wall scene with two render ranks; `env` before the command.
+Launch mpirun3(const fs::path& out, const std::string& env) {
+    fs::remove_all(out);
+    fs::create_directories(out);
+    const std::string root = geteuid() == 0 ? " --allow-run-as-root" : "";
+    const fs::path log = out.string() + ".log";
+    const std::string cmd = env + " timeout 300 mpirun" + root +
+                            " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np 3 " + TRIDEX_EXE + " run " +
+                            (kData / "wall_small_scene.json").string() + " --display offscreen --no-items --cluster " +
+                            (kData / "two_tiles_quick_timeout.json").string() + " --out " + out.string() + " > " +
+                            log.string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    Launch l;
+    l.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    l.log.assign(std::istreambuf_iterator<char>(in), {});
+    return l;
+}
+
+TEST(ChaosCluster, ARenderRankKilledAtRandomFramesNeverCostsRank0ItsWork) {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
+        GTEST_FAIL() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_chaos_cluster";
+    // The session's length in frames, from a run without a fault.
+    const Launch base = mpirun3(dir / "baseline", "");
+    ASSERT_EQ(base.exit_code, 0) << base.log;
+    const int frames = test::read_json(dir / "baseline" / "report.json")["cluster"]["frames"].get<int>();
+    ASSERT_GT(frames, 2);
+    std::mt19937 rng(static_cast<unsigned>(std::random_device{}()));
+    const int kills = kills_wanted();
+    int kept = 0;
+    for (int k = 0; k < kills; ++k) {
+        const int rank = 1 + static_cast<int>(rng() % 2);
+        const int frame = 1 + static_cast<int>(rng() % static_cast<unsigned>(frames - 1));
+        SCOPED_TRACE("render rank " + std::to_string(rank) + " killed at frame " + std::to_string(frame));
+        const fs::path out = dir / ("kill" + std::to_string(k));
+        const Launch l = mpirun3(out, "TRIDEX_CLUSTER_FAULT=" + std::to_string(rank) + ":" + std::to_string(frame) +
+                                          ":kill");
+        EXPECT_NE(l.exit_code, 0) << l.log;
+        const std::string named = "render rank " + std::to_string(rank) + " did not answer frame ";
+        EXPECT_NE(l.log.find(named), std::string::npos) << l.log;
+        EXPECT_NE(l.log.find("kept its work"), std::string::npos) << l.log;
+        ASSERT_TRUE(fs::exists(out / "report.json")) << l.log;
+        const nlohmann::json report = test::read_json(out / "report.json");
+        EXPECT_NE(report["cluster"]["failure"].get<std::string>().find("render rank " + std::to_string(rank)),
+                  std::string::npos);
+        EXPECT_TRUE(fs::exists(out / "sculpted.ply"));
+        // Every sample the session applied is in the journal, and recover rebuilds the model from it.
+        const compute::Journal journal = compute::read_journal((out / "session.tdj").string());
+        std::size_t samples = 0;
+        for (const compute::JournalRecord& r : journal.records) samples += r.samples.size();
+        const bool all_kept = samples == report["sculpt"]["samples"].get<std::size_t>();
+        EXPECT_TRUE(all_kept) << samples << " samples in the journal, " << report["sculpt"]["samples"];
+        const std::string recover = std::string(TRIDEX_EXE) + " recover " + (out / "session.tdj").string() +
+                                    " --out " + (out / "recovered").string() + " > " +
+                                    (out / "recover.log").string() + " 2>&1";
+        const bool recovered = std::system(recover.c_str()) == 0 && fs::exists(out / "recovered" / "sculpted.ply");
+        EXPECT_TRUE(recovered) << "tridex recover failed: see " << (out / "recover.log");
+        if (all_kept && recovered) ++kept;
+        std::printf("[ chaos ] render rank %d killed at frame %d of %d: exit %d, %zu samples kept, %s\n", rank, frame,
+                    frames, l.exit_code, samples, recovered ? "recovered" : "NOT recovered");
+    }
+    std::printf("[ chaos ] %d kills, %d sessions kept all their work\n", kills, kept);
+}
+
+}  // namespace
+}  // namespace tridex::app
