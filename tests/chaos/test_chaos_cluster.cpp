@@ -4,6 +4,8 @@
 // A cluster session can only end its render ranks through mpirun, so a run takes the config's 5 s time-out.
 // TRIDEX_CHAOS_RANK_KILLS sets how many kills (default 3; the long form in docs/benchmarks/chaos.md runs 20).
 #include <gtest/gtest.h>
+
+#include "chaos_env.hpp"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -23,11 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int kills_wanted() {
-    const char* v = std::getenv("TRIDEX_CHAOS_RANK_KILLS");
-    const int n = v ? std::atoi(v) : 3;
-    return n > 0 ? n : 3;
-}
+int kills_wanted() { return static_cast<int>(test::chaos_env("TRIDEX_CHAOS_RANK_KILLS", 3)); }
 
 TEST(ChaosCluster, ARenderRankKilledAtRandomFramesNeverCostsRank0ItsWork) {
     if (!test::have_mpirun())
