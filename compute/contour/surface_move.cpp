@@ -24,20 +24,7 @@ TriMesh contoured(const TriDexel& model) {
 std::vector<Vec3> interval_ends(const TriDexel& model) {
     std::vector<Vec3> out;
     out.reserve(2 * model.interval_count());
-    for (int a = 0; a < 3; ++a) {
-        const RaySet& set = model.sets[a];
-        for (int v = 0; v < set.nv; ++v)
-            for (int u = 0; u < set.nu; ++u)
-                for (const Interval& iv : set.ray(u, v)) {
-                    Vec3 g(0.0);
-                    g[(a + 1) % 3] = u;
-                    g[(a + 2) % 3] = v;
-                    g[a] = iv.enter;
-                    out.push_back(model.lattice.to_world(g));
-                    g[a] = iv.exit;
-                    out.push_back(model.lattice.to_world(g));
-                }
-    }
+    for_each_interval_end(model, [&](const Vec3& p, std::uint8_t) { out.push_back(p); });
     return out;
 }
 

@@ -7,6 +7,26 @@
 
 namespace tridex::compute {
 
+/// Calls fn(world point (m), material id) for every interval end of `model`: each interval's enter and exit, set by
+/// set (x, y, z), ray by ray. O(interval ends).
+template <class Fn>
+void for_each_interval_end(const TriDexel& model, Fn&& fn) {
+    for (int a = 0; a < 3; ++a) {
+        const RaySet& set = model.sets[a];
+        for (int v = 0; v < set.nv; ++v)
+            for (int u = 0; u < set.nu; ++u)
+                for (const Interval& iv : set.ray(u, v)) {
+                    Vec3 g(0.0);
+                    g[(a + 1) % 3] = u;
+                    g[(a + 2) % 3] = v;
+                    g[a] = iv.enter;
+                    fn(model.lattice.to_world(g), iv.enter_material);
+                    g[a] = iv.exit;
+                    fn(model.lattice.to_world(g), iv.exit_material);
+                }
+    }
+}
+
 /// The largest distance (m) of an interval end of either model from the other model's contoured surface: each model
 /// is contoured whole on the CPU (Contourer, a copy with every tile dirty) and every interval end of the one is
 /// measured against the other's triangles (TriangleGrid, exact point-to-triangle distance). The two models may be on

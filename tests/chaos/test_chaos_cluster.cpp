@@ -4,6 +4,8 @@
 // A cluster session can only end its render ranks through mpirun, so a run takes the config's 5 s time-out.
 // TRIDEX_CHAOS_RANK_KILLS sets how many kills (default 3; the long form in docs/benchmarks/chaos.md runs 20).
 #include <gtest/gtest.h>
+
+#include "chaos_env.hpp"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -14,6 +16,7 @@
 #include <random>
 #include <string>
 
+#include "cluster_launch.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "test_files.hpp"
 
@@ -22,44 +25,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
-
-int kills_wanted() {
-    const char* v = std::getenv("TRIDEX_CHAOS_RANK_KILLS");
-    const int n = v ? std::atoi(v) : 3;
-    return n > 0 ? n : 3;
-}
-
-struct Launch {
-    int exit_code = -1;
-    std::string log;
-};
-
-/// mpirun -np 3 of the small wall scene with two render ranks; `env` before the command.
-Launch mpirun3(const fs::path& out, const std::string& env) {
-    fs::remove_all(out);
-    fs::create_directories(out);
-    const std::string root = geteuid() == 0 ? " --allow-run-as-root" : "";
-    const fs::path log = out.string() + ".log";
-    const std::string cmd = env + " timeout 300 mpirun" + root +
-                            " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np 3 " + TRIDEX_EXE + " run " +
-                            (kData / "wall_small_scene.json").string() + " --display offscreen --no-items --cluster " +
-                            (kData / "two_tiles_quick_timeout.json").string() + " --out " + out.string() + " > " +
-                            log.string() + " 2>&1";
-    const int status = std::system(cmd.c_str());
-    Launch l;
-    l.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(log);
-    l.log.assign(std::istreambuf_iterator<char>(in), {});
-    return l;
-}
+int kills_wanted() { return static_cast<int>(test::chaos_env("TRIDEX_CHAOS_RANK_KILLS", 3)); }
 
 TEST(ChaosCluster, ARenderRankKilledAtRandomFramesNeverCostsRank0ItsWork) {
-    if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
+    if (!test::have_mpirun())
         GTEST_FAIL() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
     const fs::path dir = fs::path(testing::TempDir()) / "tridex_chaos_cluster";
     // The session's length in frames, from a run without a fault.
-    const Launch base = mpirun3(dir / "baseline", "");
+    const fs::path config = test::cluster_data() / "two_tiles_quick_timeout.json";
+    const test::Launch base = test::mpirun3(dir / "baseline", config);
     ASSERT_EQ(base.exit_code, 0) << base.log;
     const int frames = test::read_json(dir / "baseline" / "report.json")["cluster"]["frames"].get<int>();
     ASSERT_GT(frames, 2);
@@ -71,8 +45,8 @@ TEST(ChaosCluster, ARenderRankKilledAtRandomFramesNeverCostsRank0ItsWork) {
         const int frame = 1 + static_cast<int>(rng() % static_cast<unsigned>(frames - 1));
         SCOPED_TRACE("render rank " + std::to_string(rank) + " killed at frame " + std::to_string(frame));
         const fs::path out = dir / ("kill" + std::to_string(k));
-        const Launch l = mpirun3(out, "TRIDEX_CLUSTER_FAULT=" + std::to_string(rank) + ":" + std::to_string(frame) +
-                                          ":kill");
+        const test::Launch l = test::mpirun3(
+            out, config, "TRIDEX_CLUSTER_FAULT=" + std::to_string(rank) + ":" + std::to_string(frame) + ":kill");
         EXPECT_NE(l.exit_code, 0) << l.log;
         const std::string named = "render rank " + std::to_string(rank) + " did not answer frame ";
         EXPECT_NE(l.log.find(named), std::string::npos) << l.log;

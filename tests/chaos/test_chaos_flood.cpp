@@ -26,6 +26,7 @@
 
 #include "../devices/dtrack_sender.hpp"
 #include "../devices/udp_flood.hpp"
+#include "chaos_env.hpp"
 #include "child_process.hpp"
 #include "test_files.hpp"
 
@@ -35,11 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double flood_seconds() {
-    const char* v = std::getenv("TRIDEX_CHAOS_FLOOD_S");
-    const double s = v ? std::atof(v) : 6.0;
-    return s > 0.0 ? s : 6.0;
-}
+double flood_seconds() { return test::chaos_env("TRIDEX_CHAOS_FLOOD_S", 6.0); }
 
 /// A UDP port on 127.0.0.1 that was free a moment ago.
 int free_udp_port() {

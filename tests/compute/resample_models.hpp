@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "compute/contour/surface_move.hpp"
 #include "compute/model/tridexel.hpp"
 
 namespace resample_test {
@@ -89,20 +90,7 @@ inline TriDexel build(const Lattice& L, const Shape& shape, const MaterialAt& ma
 /// Calls fn(world point, material) for every interval end of `m`.
 template <class Fn>
 void for_each_end(const TriDexel& m, Fn&& fn) {
-    for (int a = 0; a < 3; ++a) {
-        const RaySet& set = m.sets[a];
-        for (int v = 0; v < set.nv; ++v)
-            for (int u = 0; u < set.nu; ++u)
-                for (const Interval& iv : set.ray(u, v)) {
-                    Vec3 g(0.0);
-                    g[(a + 1) % 3] = u;
-                    g[(a + 2) % 3] = v;
-                    g[a] = iv.enter;
-                    fn(m.lattice.to_world(g), iv.enter_material);
-                    g[a] = iv.exit;
-                    fn(m.lattice.to_world(g), iv.exit_material);
-                }
-    }
+    compute::for_each_interval_end(m, std::forward<Fn>(fn));
 }
 
 /// The largest distance (m) of an interval end of `m` from the analytic surface of `shape`.
