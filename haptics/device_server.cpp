@@ -78,6 +78,9 @@ DeviceServerStats DeviceServer::stats() const {
     s.force_updates = force_updates_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
     s.session = session_flag_.load(std::memory_order_relaxed);
+    const devices::net::LinkTraffic traffic = link_.traffic();
+    s.foreign = traffic.foreign;
+    s.datagrams = traffic.datagrams;
     return s;
 }
 

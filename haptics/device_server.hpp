@@ -42,6 +42,9 @@ struct DeviceServerStats {
     std::uint64_t sessions = 0;         ///< sessions welcomed
     std::uint64_t refused = 0;          ///< sessions refused (another link version, ...)
     std::uint64_t malformed = 0;        ///< datagrams dropped as malformed or unexpected
+    /// Datagrams from addresses other than the session's while it was connected, dropped by the link (LinkTraffic).
+    std::uint64_t foreign = 0;
+    std::uint64_t datagrams = 0;        ///< datagrams the link's socket received, whatever they held
     std::uint64_t lost = 0;             ///< datagrams from the session missing (sequence gaps)
     std::uint64_t watchdog_trips = 0;   ///< times a silent link made the server zero the force
     std::uint64_t zeroed_ticks = 0;     ///< ticks with the force held at zero by the watchdog or no session

@@ -20,6 +20,15 @@ struct LinkEvent {
     std::vector<std::uint8_t> data;
 };
 
+/// What arrived on a link's socket (any thread may read it).
+struct LinkTraffic {
+    std::uint64_t datagrams = 0;  ///< UDP datagrams received on the socket, whatever they held
+    /// Datagrams from an address other than the connected peer's while one is connected (floods, replays and
+    /// spoofed traffic from elsewhere on the network): counted, and dropped unless they ask to connect (so a session
+    /// can still take over from a silent one, or be told it is refused).
+    std::uint64_t foreign = 0;
+};
+
 /// One end of a datagram connection (ENet over UDP, or an in-process shim with injected latency and loss).
 /// Not thread-safe: one thread sends and polls.
 class DatagramLink {
@@ -36,6 +45,8 @@ public:
     virtual bool connected() const = 0;
     /// "HOST:PORT" of the far end (client) or the listening address (server), for messages.
     virtual const char* where() const = 0;
+    /// What arrived on the socket so far; any thread may call it. A transport without a socket returns zeros.
+    virtual LinkTraffic traffic() const { return {}; }
 };
 
 }  // namespace tridex::devices::net

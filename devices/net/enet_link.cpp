@@ -3,6 +3,8 @@
 
 #include <enet/enet.h>
 
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <mutex>
@@ -22,6 +24,18 @@ void init_enet_once() {
         if (enet_initialize() != 0) throw Error("net: ENet could not initialise its sockets");
         std::atexit(enet_deinitialize);
     });
+}
+
+/// True when a raw ENet datagram's first command is a connect from a peer that has no id yet (ENet's protocol.h:
+/// a big-endian 16-bit peer id whose top two bits are flags, 2 more bytes of sent time when the sent-time flag is set,
+/// then the command byte, its low 4 bits the command).
+bool is_enet_connect(const enet_uint8* data, std::size_t size) {
+    if (size < 2) return false;
+    const unsigned peer_id = (static_cast<unsigned>(data[0]) << 8) | data[1];
+    const std::size_t header = (peer_id & ENET_PROTOCOL_HEADER_FLAG_SENT_TIME) ? 4 : 2;
+    if (size <= header) return false;
+    const bool no_id = (peer_id & ENET_PROTOCOL_MAXIMUM_PEER_ID) == ENET_PROTOCOL_MAXIMUM_PEER_ID;
+    return no_id && (data[header] & ENET_PROTOCOL_COMMAND_MASK) == ENET_PROTOCOL_COMMAND_CONNECT;
 }
 
 double now_s() {
@@ -45,6 +59,53 @@ void split_host_port(const std::string& s, const std::string& what, std::string&
     port = static_cast<std::uint16_t>(v);
 }
 
+namespace {
+
+/// What the intercept counts for one host, and the address of its connected peer (written by the thread that
+/// services the host, read by the intercept on that thread and by traffic() on any).
+struct HostWatch {
+    std::atomic<ENetHost*> host{nullptr};
+    std::atomic<std::uint64_t> datagrams{0}, foreign{0};
+    std::atomic<bool> have_peer{false};
+    std::atomic<enet_uint32> peer_host{0};
+    std::atomic<enet_uint16> peer_port{0};
+};
+
+/// The watched hosts (ENet's intercept callback carries no user data): looked up by host, without locks.
+std::array<HostWatch, 64> g_watch{};
+
+int ENET_CALLBACK intercept(ENetHost* host, ENetEvent*) {
+    for (HostWatch& w : g_watch) {
+        if (w.host.load(std::memory_order_acquire) != host) continue;
+        w.datagrams.fetch_add(1, std::memory_order_relaxed);
+        if (!w.have_peer.load(std::memory_order_acquire)) return 0;
+        const ENetAddress& a = host->receivedAddress;
+        if (a.host == w.peer_host.load(std::memory_order_relaxed) &&
+            a.port == w.peer_port.load(std::memory_order_relaxed))
+            return 0;
+        w.foreign.fetch_add(1, std::memory_order_relaxed);
+        return is_enet_connect(host->receivedData, host->receivedDataLength) ? 0 : 1;
+    }
+    return 0;
+}
+
+/// Takes a free slot for `host` and installs the intercept; nullptr (traffic not counted, the link works as
+/// before) when every slot is taken.
+HostWatch* watch_host(ENetHost* host) {
+    for (HostWatch& w : g_watch) {
+        ENetHost* empty = nullptr;
+        if (!w.host.compare_exchange_strong(empty, host, std::memory_order_acq_rel)) continue;
+        w.datagrams.store(0, std::memory_order_relaxed);
+        w.foreign.store(0, std::memory_order_relaxed);
+        w.have_peer.store(false, std::memory_order_release);
+        host->intercept = intercept;
+        return &w;
+    }
+    return nullptr;
+}
+
+}  // namespace
+
 struct EnetLink::Impl {
     ENetHost* host = nullptr;
     ENetPeer* peer = nullptr;  // the one connected peer (server), or the peer being connected to (client)
@@ -54,13 +115,26 @@ struct EnetLink::Impl {
     double peer_timeout_s = 1.0;
     double retry_s = 0.2;
     double next_retry_s = 0.0;
-    double last_rx_s = 0.0;  // when the peer last sent a datagram
+    double last_rx_s = 0.0;     // when the peer last sent a datagram
+    HostWatch* watch = nullptr;  // this host's counters (nullptr: not counted)
 
     ~Impl() {
+        if (watch) watch->host.store(nullptr, std::memory_order_release);
         if (peer && up) {
             enet_peer_disconnect_now(peer, 0);
         }
         if (host) enet_host_destroy(host);
+    }
+    /// The connected peer (or none): the intercept lets only its datagrams through.
+    void set_peer(ENetPeer* p) {
+        peer = p;
+        up = p != nullptr;
+        if (!watch) return;
+        if (p) {
+            watch->peer_host.store(p->address.host, std::memory_order_relaxed);
+            watch->peer_port.store(p->address.port, std::memory_order_relaxed);
+        }
+        watch->have_peer.store(up, std::memory_order_release);
     }
     // Peer time-out, and no throttling: ENet's packet throttle drops unreliable datagrams when the round trip
     // varies, which would thin the 1 kHz states on a busy machine; the link's own watchdogs handle a bad link.
@@ -99,6 +173,7 @@ std::unique_ptr<EnetLink> EnetLink::listen(const std::string& host, std::uint16_
     impl->host = enet_host_create(&impl->address, 2, 2, 0, 0);
     if (!impl->host)
         throw Error("--listen " + host + ":" + std::to_string(port) + ": cannot listen there (address in use?)");
+    impl->watch = watch_host(impl->host);
     const std::uint16_t bound = impl->host->address.port;  // ENet reads back the port the system gave
     return std::unique_ptr<EnetLink>(new EnetLink(std::move(impl), host + ":" + std::to_string(bound)));
 }
@@ -114,6 +189,7 @@ std::unique_ptr<EnetLink> EnetLink::connect(const std::string& host, std::uint16
         throw Error("--device net:" + host + ":" + std::to_string(port) + ": cannot resolve host '" + host + "'");
     impl->host = enet_host_create(nullptr, 1, 2, 0, 0);
     if (!impl->host) throw Error("net: ENet could not create a client socket");
+    impl->watch = watch_host(impl->host);
     impl->start_connect();
     return std::unique_ptr<EnetLink>(new EnetLink(std::move(impl), host + ":" + std::to_string(port)));
 }
@@ -143,8 +219,7 @@ bool EnetLink::poll(LinkEvent& ev) {
                     }
                     enet_peer_disconnect_now(m.peer, 0);
                 }
-                m.peer = e.peer;
-                m.up = true;
+                m.set_peer(e.peer);
                 m.last_rx_s = now_s();
                 m.tune(e.peer);
                 Impl::no_throttle(e.peer);
@@ -157,8 +232,7 @@ bool EnetLink::poll(LinkEvent& ev) {
                 return true;
             case ENET_EVENT_TYPE_DISCONNECT:
                 if (e.peer != m.peer) continue;
-                m.up = false;
-                m.peer = nullptr;
+                m.set_peer(nullptr);
                 if (!m.server) m.next_retry_s = now_s() + m.retry_s;
                 ev.kind = LinkEvent::kDisconnected;
                 ev.data.clear();
@@ -181,5 +255,14 @@ bool EnetLink::poll(LinkEvent& ev) {
 }
 
 bool EnetLink::connected() const { return impl_->up; }
+
+LinkTraffic EnetLink::traffic() const {
+    LinkTraffic t;
+    if (const HostWatch* w = impl_->watch) {
+        t.datagrams = w->datagrams.load(std::memory_order_relaxed);
+        t.foreign = w->foreign.load(std::memory_order_relaxed);
+    }
+    return t;
+}
 
 }  // namespace tridex::devices::net

@@ -23,7 +23,8 @@ void split_host_port(const std::string& s, const std::string& what, std::string&
 /// sends and polls. A client whose connection drops (server gone or restarted) tries again every
 /// 0.2 s from poll(); a server takes the next peer after its peer left, refuses a second peer while the current
 /// one speaks (the newcomer is disconnected at once), and lets a newcomer take over from a peer silent for 0.5 s (a
-/// session that reconnected before ENet timed its old connection out).
+/// session that reconnected before ENet timed its old connection out). While a peer is connected, a datagram from
+/// any other address is counted as foreign and dropped before ENet reads it, unless it is an ENet connect.
 class EnetLink final : public DatagramLink {
 public:
     /// A server listening on host:port ("0.0.0.0" or "" = every interface; port 0 = a free port the system picks,
@@ -39,6 +40,8 @@ public:
     bool poll(LinkEvent& ev) override;
     bool connected() const override;
     const char* where() const override { return where_.c_str(); }
+    /// Datagrams received and foreign ones (LinkTraffic), counted by an ENet intercept before ENet parses them.
+    LinkTraffic traffic() const override;
     /// The local UDP port (a listener's, once bound).
     std::uint16_t port() const;
 

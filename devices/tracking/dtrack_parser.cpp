@@ -343,6 +343,7 @@ const char* to_string(DTrackReject r) {
         case DTrackReject::kOutOfRange: return "out_of_range";
         case DTrackReject::kNotRotation: return "not_rotation";
         case DTrackReject::kDuplicate: return "duplicate";
+        case DTrackReject::kReplayed: return "replayed";
         case DTrackReject::kCount: break;
     }
     return "?";

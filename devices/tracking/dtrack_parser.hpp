@@ -37,6 +37,7 @@ enum class DTrackReject : std::uint8_t {
     kOutOfRange,   ///< a value outside its documented range (quality, id, position, buttons, controllers)
     kNotRotation,  ///< a tracked body's 3x3 matrix is not a rotation (orthonormal, det +1, within 1e-3)
     kDuplicate,    ///< a line type or a body id appears twice in one datagram
+    kReplayed,     ///< (receiver) a frame counter older than the newest accepted one: a late or replayed datagram
     kCount         ///< number of values (array sizes)
 };
 /// A short lower-case name ("truncated", "not_numeric", ...), as used in report.json.

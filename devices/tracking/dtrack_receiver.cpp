@@ -75,9 +75,22 @@ void DTrackReceiver::handle(const char* data, std::size_t size, std::int64_t rec
     } count{*this, size};
     const DTrackParseResult r = size > kDTrackMaxDatagram ? DTrackParseResult{DTrackReject::kTooLarge, 0}
                                                           : parse_dtrack_datagram(std::string_view(data, size), frame_);
-    if (!r.ok()) {
+    DTrackReject reason = r.reason;
+    if (r.ok() && frame_.has_frame_counter) {
+        const std::uint32_t fr = frame_.frame_counter;
+        const bool behind =
+            have_newest_ && fr < newest_fr_ && receipt_ns - newest_receipt_ns_ < kDTrackRestartGapNs;
+        if (behind) {
+            reason = DTrackReject::kReplayed;
+        } else {
+            have_newest_ = true;
+            newest_fr_ = fr;
+            newest_receipt_ns_ = receipt_ns;
+        }
+    }
+    if (reason != DTrackReject::kNone) {
         rejected_.fetch_add(1, std::memory_order_relaxed);
-        by_reason_[static_cast<std::size_t>(r.reason)].fetch_add(1, std::memory_order_relaxed);
+        by_reason_[static_cast<std::size_t>(reason)].fetch_add(1, std::memory_order_relaxed);
         return;
     }
     const std::uint64_t n = accepted_.fetch_add(1, std::memory_order_relaxed) + 1;

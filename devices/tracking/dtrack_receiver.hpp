@@ -17,6 +17,12 @@ namespace tridex::devices {
 /// Bodies the receiver keeps (DTrack ids 0..kDTrackKeptBodies-1; higher ids are parsed, counted and dropped).
 inline constexpr int kDTrackKeptBodies = 64;
 
+/// A silence (ns) after which any frame counter is accepted again: DTrack restarted its counter. Within it, a
+/// datagram whose frame counter (`fr`) is older than the newest accepted one is late or replayed and rejected
+/// (DTrackReject::kReplayed): the newest pose wins. The newest frame's counter again is accepted (a frame sent in
+/// several datagrams).
+inline constexpr std::int64_t kDTrackRestartGapNs = 1'000'000'000;
+
 /// The newest sample of one standard body.
 struct DTrackBodySample {
     bool seen = false;                ///< false until a datagram carried this body
@@ -75,7 +81,7 @@ enum class DTrackReader : int { kView = 0, kDevice = 1 };
 /// Receives DTrack's ASCII output on a UDP port with one POSIX datagram socket (no library: one socket does
 /// not need one) and one thread. The thread waits in poll() (at most 20 ms, so stop() is prompt), then drains
 /// the socket without blocking (MSG_DONTWAIT), stamps each datagram with steady_clock on arrival, parses it
-/// (parse_dtrack_datagram), counts rejects by reason, and publishes the body and Flystick table once per drain through a
+/// (parse_dtrack_datagram), rejects a late or replayed frame counter (kDTrackRestartGapNs), counts rejects by reason, and publishes the body and Flystick table once per drain through a
 /// TripleBuffer per reader: a reader never waits, locks or allocates. Memory is bounded: one 64 KiB receive
 /// buffer, one reused DTrackFrame, three tables per reader. Exactly one thread reads as each DTrackReader.
 class DTrackReceiver {
@@ -112,6 +118,9 @@ private:
     std::array<TripleBuffer<DTrackBodyTable>, 2> tables_;  // one per DTrackReader
     DTrackBodyTable working_;  // receiver thread only
     DTrackFrame frame_;        // receiver thread only
+    bool have_newest_ = false;         // receiver thread only: an accepted datagram carried a frame counter
+    std::uint32_t newest_fr_ = 0;      // its counter, and when it arrived (ns)
+    std::int64_t newest_receipt_ns_ = 0;
     std::atomic<std::uint64_t> datagrams_{0}, accepted_{0}, rejected_{0}, bytes_{0}, dropped_{0}, socket_errors_{0},
         flysticks_dropped_{0}, published_{0};
     std::array<std::atomic<std::uint64_t>, static_cast<std::size_t>(DTrackReject::kCount)> by_reason_{};

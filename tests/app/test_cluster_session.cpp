@@ -20,6 +20,7 @@
 #include "renderer/image/image_compare.hpp"
 #include "renderer/output/offscreen_sink.hpp"
 #include "../renderer/test_window_xvfb.hpp"
+#include "cluster_launch.hpp"
 
 namespace tridex::app {
 namespace {
@@ -28,28 +29,9 @@ namespace fs = std::filesystem;
 
 const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
 
-struct Launch {
-    int exit_code = -1;
-    std::string log;
-};
-
-// mpirun -np 3 on this machine: the session's ranks, with the cluster config `config` (a file in kData or a path).
-Launch mpirun3(const fs::path& out, const fs::path& config, const std::string& env = "") {
-    fs::remove_all(out);
-    fs::create_directories(out);
-    const std::string root = geteuid() == 0 ? " --allow-run-as-root" : "";
-    const fs::path log = out.string() + ".log";
-    const std::string cmd = env + " timeout 300 mpirun" + root + " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np 3 " +
-                            std::string(TRIDEX_EXE) + " run " + (kData / "wall_small_scene.json").string() +
-                            " --display offscreen --no-items --cluster " + config.string() + " --out " + out.string() +
-                            " > " + log.string() + " 2>&1";
-    const int status = std::system(cmd.c_str());
-    Launch l;
-    l.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(log);
-    l.log.assign(std::istreambuf_iterator<char>(in), {});
-    return l;
-}
+using test::Launch;
+using test::have_mpirun;
+using test::mpirun3;
 
 nlohmann::json read_json(const fs::path& p) {
     std::ifstream in(p);
@@ -59,7 +41,6 @@ nlohmann::json read_json(const fs::path& p) {
 Vec3 v3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
 Quat q4(const nlohmann::json& j) { return Quat(j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>()); }
 
-bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
 
 TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
     if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";

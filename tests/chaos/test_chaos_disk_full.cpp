@@ -6,6 +6,8 @@
 // rows, and the journal's intact records recover. TRIDEX_CHAOS_DISKS sets how many sizes (default 4).
 #include <gtest/gtest.h>
 
+#include "chaos_env.hpp"
+
 #include <sys/mount.h>
 #include <unistd.h>
 
@@ -28,11 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int disks_wanted() {
-    const char* v = std::getenv("TRIDEX_CHAOS_DISKS");
-    const int n = v ? std::atoi(v) : 4;
-    return n > 0 ? n : 4;
-}
+int disks_wanted() { return static_cast<int>(test::chaos_env("TRIDEX_CHAOS_DISKS", 4)); }
 
 // A folder of `bytes` capacity: a tmpfs mounted there (true), or false when mounting is not allowed.
 bool mount_small_disk(const fs::path& at, std::uintmax_t bytes) {

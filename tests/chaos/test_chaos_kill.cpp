@@ -6,6 +6,8 @@
 // docs/benchmarks/chaos.md runs 50).
 #include <gtest/gtest.h>
 
+#include "chaos_env.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -37,11 +39,7 @@ using Clock = std::chrono::steady_clock;
 
 double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 
-int kills_wanted() {
-    const char* v = std::getenv("TRIDEX_CHAOS_KILLS");
-    const int n = v ? std::atoi(v) : 6;
-    return n > 0 ? n : 6;
-}
+int kills_wanted() { return static_cast<int>(test::chaos_env("TRIDEX_CHAOS_KILLS", 6)); }
 
 // The journal's bytes as they are now; empty when it does not exist yet.
 std::vector<unsigned char> bytes_now(const fs::path& p) {

@@ -1,5 +1,5 @@
 // Tests of devices/tracking/dtrack_receiver over loopback UDP: poses arrive in SI units with a receipt time, the
-// newest one per body wins, bad datagrams (64 KiB of junk included) are counted by reason and dropped, and a
+// newest one per body wins, late or replayed frame counters are refused, bad datagrams (64 KiB of junk included) are counted by reason and dropped, and a
 // reader polling while a sender floods never waits (run under ThreadSanitizer with the devices tests).
 #include <gtest/gtest.h>
 
@@ -132,6 +132,39 @@ TEST(DTrackReceiver, BadDatagramsAreCountedAndDropped) {
     const DTrackBodyTable& t = wait_table(rx, 1);
     EXPECT_TRUE(t.bodies[0].seen);
     EXPECT_EQ(t.bodies[0].frame_counter, 5u);
+}
+
+// A datagram whose frame counter is older than the newest accepted one (late, or replayed by someone on the network,
+// however old) is rejected as replayed and moves nothing; the newest frame's counter again is another datagram of
+// that frame; after a second of silence any counter is a restarted tracker and accepted.
+TEST(DTrackReceiver, LateOrReplayedFrameCountersAreRejected) {
+    DTrackReceiver rx(0, "127.0.0.1");
+    DTrackSender tx(rx.port());
+    ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(10, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(101, 0, Vec3(11, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(100, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // replayed
+    ASSERT_TRUE(tx.send(dtrack_datagram(101, 1, Vec3(11, 0, 0), glm::dmat3(1.0))));  // the same frame, body 1
+    ASSERT_TRUE(tx.send(dtrack_datagram(1, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));    // an old one replayed
+    ASSERT_TRUE(tx.send(dtrack_datagram(5000, 0, Vec3(12, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(tx.send(dtrack_datagram(3, 0, Vec3(99, 0, 0), glm::dmat3(1.0))));  // far behind, no silence
+    ASSERT_TRUE(wait_for(rx, 7));
+    DTrackReceiverStats s = rx.stats();
+    EXPECT_EQ(s.accepted, 4u);
+    EXPECT_EQ(s.rejected, 3u);
+    EXPECT_EQ(s.by_reason[static_cast<std::size_t>(DTrackReject::kReplayed)], 3u);
+    EXPECT_STREQ(to_string(DTrackReject::kReplayed), "replayed");
+    const DTrackBodyTable& t = wait_table(rx, 4);
+    EXPECT_EQ(t.bodies[1].frame_counter, 101u);
+    EXPECT_EQ(t.bodies[0].frame_counter, 5000u);
+    EXPECT_NEAR(t.bodies[0].body.position_m.x, 0.012, 1e-12);
+    // After a silence of kDTrackRestartGapNs, a counter far behind is a restarted tracker.
+    std::this_thread::sleep_for(std::chrono::nanoseconds(kDTrackRestartGapNs + 100'000'000));
+    ASSERT_TRUE(tx.send(dtrack_datagram(2, 0, Vec3(15, 0, 0), glm::dmat3(1.0))));
+    ASSERT_TRUE(wait_for(rx, 8));
+    s = rx.stats();
+    EXPECT_EQ(s.accepted, 5u);
+    EXPECT_EQ(s.rejected, 3u);
+    EXPECT_EQ(wait_table(rx, 5).bodies[0].frame_counter, 2u);
 }
 
 TEST(DTrackReceiver, ReaderNeverWaitsWhileASenderFloods) {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <atomic>
 #include <thread>
 
 #include "core/error.hpp"
@@ -17,6 +18,7 @@
 #include "devices/simulated_device.hpp"
 #include "haptics/device_server.hpp"
 #include "surfaces.hpp"
+#include "../devices/udp_flood.hpp"
 
 namespace tridex::haptics {
 namespace {
@@ -99,6 +101,45 @@ TEST(DeviceServerEnet, DistributedOverLoopback) {
     EXPECT_EQ(rig.server->stats().malformed, 0u);
     rig.stop_server();
     EXPECT_EQ(rig.device.last_force_n(), Vec3(0.0)) << "stop() must leave zero force";
+}
+
+// Datagrams from another address while a session is connected (random bytes, a replay of state datagrams under the
+// session's peer id, connects) are each counted as foreign and never reach the server; the session is served on.
+TEST(DeviceServerEnet, AFloodFromAnotherAddressIsCountedAndDropped) {
+    EnetRig rig;
+    rig.start_server(false);
+    auto client = rig.client(net::RenderingMode::kDistributed);
+    ASSERT_TRUE(drive(*client, Vec3(0.0), [&] { return client->link_stats().exchanges >= 100; }));
+    const std::uint64_t foreign_before = rig.server->stats().foreign;
+    const std::uint64_t drops_before = test::udp_drops(rig.port);
+    constexpr int kFlood = 3000;
+    std::atomic<bool> flooded{false};
+    std::thread flooder([&] {
+        test::UdpFlooder f(rig.port, 11);
+        for (int i = 0; i < kFlood; ++i) {
+            const int kind = i % 3;
+            f.send(kind == 0 ? f.random_bytes() : kind == 1 ? f.enet_replayed_send() : f.enet_connect());
+            if (i % 4 == 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        flooded = true;
+    });
+    const std::uint64_t exchanges0 = client->link_stats().exchanges;
+    const bool served = drive(*client, Vec3(0.0, 0.0, 0.1), [&] {
+        return flooded.load() && client->link_stats().exchanges >= exchanges0 + 300;
+    });
+    flooder.join();
+    ASSERT_TRUE(served);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the server's last drain
+    const DeviceServerStats st = rig.server->stats();
+    const std::uint64_t dropped_by_kernel = test::udp_drops(rig.port) - drops_before;
+    EXPECT_EQ(st.foreign - foreign_before + dropped_by_kernel, static_cast<std::uint64_t>(kFlood))
+        << "foreign " << st.foreign - foreign_before << ", dropped by the kernel " << dropped_by_kernel;
+    EXPECT_GE(st.datagrams, st.foreign);
+    EXPECT_EQ(st.sessions, 1u);
+    EXPECT_EQ(st.malformed, 0u) << "a flooded datagram reached the server";
+    EXPECT_TRUE(st.session);
+    EXPECT_EQ(client->link_stats().link_outages, 0u);
+    rig.stop_server();
 }
 
 TEST(DeviceServerEnet, LocalOverLoopbackGetsTheSnapshot) {

@@ -88,11 +88,12 @@ void run_device_server(const DeviceServerOptions& o) {
     run_frames(frames, FramePacing{0.020, true});
     server.stop();
     const haptics::DeviceServerStats st = server.stats();
-    std::printf("device-server: %llu sessions, %llu refused; %llu ticks; %llu datagrams lost, %llu malformed (%s); "
-                "watchdog zeroed the force %llu times\n",
+    std::printf("device-server: %llu sessions, %llu refused; %llu ticks; %llu datagrams received, %llu lost, "
+                "%llu malformed (%s), %llu from other addresses dropped; watchdog zeroed the force %llu times\n",
                 static_cast<unsigned long long>(st.sessions), static_cast<unsigned long long>(st.refused),
-                static_cast<unsigned long long>(st.ticks), static_cast<unsigned long long>(st.lost),
-                static_cast<unsigned long long>(st.malformed), server.drops().summary().c_str(),
+                static_cast<unsigned long long>(st.ticks), static_cast<unsigned long long>(st.datagrams),
+                static_cast<unsigned long long>(st.lost), static_cast<unsigned long long>(st.malformed),
+                server.drops().summary().c_str(), static_cast<unsigned long long>(st.foreign),
                 static_cast<unsigned long long>(st.watchdog_trips));
     if (st.device_lost) throw Error("device-server: the device was lost; serving stopped");
 }

@@ -2,6 +2,7 @@
 #include "app/session/cluster/render_rank.hpp"
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -43,9 +44,9 @@ struct Viewport {
     std::unique_ptr<renderer::StereoSink> sink;
 };
 
-// A fault injected by the tests (docs/cluster.md, "Faults"): TRIDEX_CLUSTER_FAULT=RANK:FRAME:exit|hang|diverge makes
-// render rank RANK exit with code 9, stop answering, or change its model by one float step, when frame FRAME (or the
-// last frame, if sooner) arrives.
+// A fault injected by the tests (docs/cluster.md, "Faults"): TRIDEX_CLUSTER_FAULT=RANK:FRAME:exit|kill|hang|diverge
+// makes render rank RANK exit with code 9, die of SIGKILL, stop answering, or change its model by one float step, when
+// frame FRAME (or the last frame, if sooner) arrives.
 struct Fault {
     int rank = -1;
     std::uint64_t frame = 0;
@@ -175,6 +176,7 @@ private:
         last_.records.clear();
         if (t_.rank() == fault_.rank && (m.frame >= fault_.frame || m.last)) {
             if (fault_.kind == "exit") std::_Exit(9);
+            if (fault_.kind == "kill") ::raise(SIGKILL);
             if (fault_.kind == "hang")
                 for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
             if (fault_.kind == "diverge" && !diverged_) {
