@@ -197,7 +197,7 @@ TEST(MouseXvfb, RealXEventsCarveUndoMoveTheWorkspaceAndClose) {
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     xdo("mousemove_relative -- 0 -130");
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    xdo("mousemove_relative -- 60 -40");
+    xdo("mousemove_relative -- 40 -60");
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     xdo("mouseup 2");
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
