@@ -60,11 +60,11 @@ ClayStats clay_grab(TriDexel& model, const GridSweep& g, std::vector<RayImage>* 
     const float vlen = len / static_cast<float>(n);
     const ClayBox outer = clay_sweeps_box(std::span<const GridSweep>(&g, 1));
     ClayStats total;
+    ClayField field;  // every step rebuilds its arrays in place (clay_build_phi), reusing their memory
     for (int s = 0; s < n; ++s) {
         // The grabbed point moves with the material it holds: step s starts where the steps before it left it.
         const float f = static_cast<float>(s);
         for (int k = 0; k < 3; ++k) p.anchor[k] = ct.point[k] + p.v[k] * f;
-        ClayField field;
         // The nodes that move lie within r of the anchor; their lookups x - u and its 8 nodes within r + |v| + 2.
         const float reach = p.r + vlen + 2.0f;
         field.box = clay_support_box(p.anchor, p.anchor, reach, outer);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <vector>
 
@@ -73,6 +74,16 @@ inline TriDexel from_implicit(const Lattice& L, const Implicit& f) {
 inline Implicit slab(double z0) {
     return [z0](double x, double y, double z) { return std::max({4.4 - x, x - 43.6, 4.4 - y, y - 43.6, 4.4 - z, z - z0}); };
 }
+
+/// A ball of radius rho (grid units) centred at (cx, cy, cz) (grid units) on cube_lattice(cells).
+inline TriDexel sphere_model(int cells, double cx, double cy, double cz, double rho) {
+    return from_implicit(cube_lattice(cells), [=](double x, double y, double z) {
+        return std::sqrt((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz)) - rho;
+    });
+}
+
+/// True when a and b are the same float bit for bit (NaNs with the same payload included).
+inline bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
 
 /// True when the two models (one lattice) hold the same interval ends on every ray, bit for bit.
 inline bool same_rays(const TriDexel& a, const TriDexel& b) {

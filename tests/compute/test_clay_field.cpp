@@ -13,6 +13,8 @@
 namespace tridex::compute {
 namespace {
 
+using clay_test::same_bits;
+
 TriDexel noisy_sphere() {
     return clay_test::from_implicit(clay_test::cube_lattice(32), [](double x, double y, double z) {
         const double dx = x - 16.0, dy = y - 16.0, dz = z - 16.0;
@@ -26,8 +28,6 @@ ClayBox box_around(int lo, int hi) {
     for (int a = 0; a < 3; ++a) b.lo[a] = lo, b.hi[a] = hi;
     return b;
 }
-
-bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
 
 TEST(ClayField, RegionBuildEqualsWholeBoxBuildInsideTheBall) {
     const TriDexel m = noisy_sphere();

@@ -27,15 +27,8 @@ namespace {
 using clay_test::clay_sweep;
 using clay_test::cube_lattice;
 using clay_test::from_implicit;
-
-
-TriDexel sphere_model(int cells, double cx, double cy, double cz, double rho) {
-    return from_implicit(cube_lattice(cells), [=](double x, double y, double z) {
-        return std::sqrt((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz)) - rho;
-    });
-}
-
-bool same_bits(float a, float b) { return std::memcmp(&a, &b, 4) == 0; }
+using clay_test::sphere_model;
+using clay_test::same_bits;
 
 void expect_same_ray(const std::vector<Interval>& x, const std::vector<Interval>& y, const char* what, int set,
                      std::size_t index) {
