@@ -371,7 +371,10 @@ TEST(MouseSession, QuickJumpsLeaveNoProxyBehind) {
     // the free space the HIP is in (the far side of the bunny) never takes the proxy.
     EXPECT_LT(p["max_gap_m"].get<double>(), 3.0 * 0.006) << p.dump();
     EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 1.5 * 0.006) << p.dump();
-    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 40) << p.dump();
+    // How many ticks sit past one radius follows how late the snapshot is, so the machine's load: idle 0-9 of about
+    // 4000, with five busy loops beside it up to about 150. A proxy left behind (the fault this guards) stays for
+    // thousands.
+    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 400) << p.dump();
     EXPECT_LT(p["max_force_rise_n"].get<double>(), 0.2) << p.dump();
 }
 

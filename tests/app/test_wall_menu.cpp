@@ -51,7 +51,8 @@ Hand script_at(double ready_s) {
     if (s < 0.6) return {a, kMenu};                                   // the menu opens at the hand
     if (s < 0.9) return {a + Vec3(0.0, 62.0, 0.0), kMenu};            // up past the ring: Operation opens there
     if (s < 1.3) return {a + Vec3(26.0, 77.0, 0.0), kMenu};           // then toward 2 o'clock: Union
-    if (s < 1.7) return {Vec3(-40.0, 62.0, 50.0), 0};                 // released: chosen; to the carve's start
+    if (s < 1.45) return {a + Vec3(26.0, 77.0, 0.0), 0};              // released there: chosen
+    if (s < 1.7) return {Vec3(-40.0, 62.0, 50.0), 0};                 // to the carve's start
     if (s < 2.7) return {Vec3(-40.0 + 80.0 * (s - 1.7), 62.0, 50.0), kTrigger};  // a ridge along the top
     if (s < 3.1) return {a, 0};
     if (s < 3.3) return {a, kUndo};                                   // button 2: undo
