@@ -48,9 +48,14 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         return;
     }
     const GroupGrid grid{dims};
+    coarse_dims_ = dims;
     std::unordered_set<std::uint64_t> stale;
-    for (const std::uint64_t t : changed_tiles)
-        for (int d = 1; d <= depth_max; ++d) stale.insert(grid.group_of(grid.tile_coords(t), d));
+    if (coarse_) {
+        stale = coarse_reach(dims, changed_tiles);
+    } else {
+        for (const std::uint64_t t : changed_tiles)
+            for (int d = 1; d <= depth_max; ++d) stale.insert(grid.group_of(grid.tile_coords(t), d));
+    }
     std::map<std::uint64_t, TileGroupSurface> next;
     for (const TileSurface& tile : tiles_) {
         const std::array<int, 3> tc = grid.tile_coords(tile.id);
@@ -88,6 +93,12 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             pending.push_back(group_pending_[at]);
             queued.push_back(at < group_queued_.size() && group_queued_[at]);
             changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
+        } else if (coarse_) {  // a coarse level now at start-up, else once the stroke's tiles settle
+            g.version = fresh_tile_version();
+            pending.push_back(false);
+            queued.push_back(false);
+            changed_at.push_back(now);
+            coarse_stale_.insert(id);  // start-up's are built at once (refresh), a stroke's once settled
         } else {
             if (refreshed_) startup_waiting_.erase(lod_key(true, id));  // changed after start-up: a stroke's
             g.version = fresh_tile_version();

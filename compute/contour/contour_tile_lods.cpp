@@ -103,7 +103,8 @@ void TileSurfaceCache::queue_ready_groups() {
 }
 
 std::size_t TileSurfaceCache::collect_lods() {
-    if (!worker_) return 0;
+    const std::size_t coarse = coarse_ ? settle_coarse_levels(std::chrono::steady_clock::now()) : 0;
+    if (!worker_) return coarse;
     std::vector<LodResult> results;
     worker_->take(results);
     const auto now = std::chrono::steady_clock::now();
@@ -155,7 +156,7 @@ std::size_t TileSurfaceCache::collect_lods() {
     if (refreshed_ && startup_waiting_.empty()) worker_->end_startup();  // start-up's levels are all in
     // A result can make a group ready, and time ends a ready group's settling.
     if (!results.empty() || now >= settle_due_) queue_ready_groups();
-    return taken;
+    return taken + coarse;
 }
 
 }  // namespace tridex::compute

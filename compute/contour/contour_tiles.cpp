@@ -101,7 +101,22 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     tiles_ = std::move(next);
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
+    if (coarse_ && refreshed_ && !changed.empty()) {  // the coarse models re-read these once they settle
+        coarse_changed_.insert(coarse_changed_.end(), changed.begin(), changed.end());
+        coarse_changed_at_ = std::chrono::steady_clock::now();
+    }
     update_groups(contourer.tile_dims(), changed);
+    if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::uint64_t> ids;
+        for (const TileGroupSurface& g : groups_)
+            if (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth()) {
+                ids.push_back(g.id);
+                coarse_stale_.erase(g.id);
+            }
+        lod_groups_built_ += rebuild_coarse_levels(ids);
+        lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
     if (lod_ && worker_) {
         if (!refreshed_) {  // start-up's levels: everything waiting now
             for (std::size_t i = 0; i < tiles_.size(); ++i)

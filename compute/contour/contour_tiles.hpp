@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "compute/contour/coarse_levels.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/lod_worker.hpp"
 #include "compute/contour/tile_group_lod.hpp"
@@ -145,6 +146,28 @@ public:
     /// collect_lods() taking the levels in, ms; for a stroke's tiles and groups only, not start-up's; in
     /// DurationHistogram::latency bins.
     const DurationHistogram& lod_latency_ms() const { return lod_latency_ms_; }
+    /// From now on the groups take their levels from the model read at coarser strides (CoarseGroupLevels:
+    /// a depth-d group's level is the contour of every 2^d-th ray, with a ring and a skirt), not from simplifying
+    /// their tiles: every group has its level from the first refresh() on, whether or not its tiles have theirs.
+    /// The first refresh() builds the levels of the groups of kCoarseStartupDepth and deeper; collect_lods() those of
+    /// the finer groups, kCoarseStartupLevelsPerCollect at a time, without waiting.
+    /// A refresh() that changes tiles drops the level of every group within reach of them (its children are drawn);
+    /// collect_lods() re-reads the coarse models and rebuilds those levels, at most kCoarseLevelsPerCollect at a
+    /// time, once no tile has changed for LodWorkerOptions::group_settle_s (0 without a worker). group_depth
+    /// becomes options.max_depth. `model` is the one the Contourer given to refresh() contours; it must outlive
+    /// the cache and not change during refresh() or collect_lods(). Call after enable_lod() and before the first
+    /// refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as CoarseGroupLevels.
+    void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {});
+    /// True after use_coarse_groups().
+    bool coarse_groups() const { return coarse_ != nullptr; }
+    /// Coarse group levels rebuilt by collect_lods() at most at a time after a stroke (each reads its coarse tile
+    /// and the 26 around), and while start-up's finest groups wait for theirs.
+    static constexpr std::size_t kCoarseLevelsPerCollect = 8, kCoarseStartupLevelsPerCollect = 32;
+    /// The first refresh() builds the coarse levels of the groups of this depth and deeper at once (the coarsest
+    /// ones, which a first frame of the whole workpiece draws); those of finer groups follow through collect_lods().
+    static constexpr int kCoarseStartupDepth = 2;
+    /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
+    std::size_t coarse_waiting() const { return coarse_stale_.size(); }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
     /// 0 once start-up's levels are all built, however busy a stroke keeps the worker. 0 before the first refresh.
@@ -194,6 +217,24 @@ private:
     // When the first ready group that waits for its tiles to settle may be queued (max: none waits).
     std::chrono::steady_clock::time_point settle_due_ = std::chrono::steady_clock::time_point::max();
     bool refreshed_ = false;                       // refresh() ran at least once
+    // Coarse group levels (use_coarse_groups): the levels, the model they read, the fine tiles changed since they
+    // last read it, the groups waiting for a level, and when a tile last changed.
+    std::unique_ptr<CoarseGroupLevels> coarse_;
+    const TriDexel* coarse_model_ = nullptr;
+    std::vector<std::uint64_t> coarse_changed_;
+    std::unordered_set<std::uint64_t> coarse_stale_;
+    std::chrono::steady_clock::time_point coarse_changed_at_{};
+    std::array<int, 3> coarse_dims_{};  // the tile grid's dimensions at the last refresh
+    // Coarse mode: builds the levels of the groups `ids` (gone ones skipped), each job on every core from
+    // kParallelLodTiles, with its measured error; returns how many were built.
+    std::size_t rebuild_coarse_levels(const std::vector<std::uint64_t>& ids);
+    // Coarse mode: the largest distance from sampled vertices of the group's tiles to `level`, m.
+    double coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const;
+    // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
+    std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
+                                                   const std::vector<std::uint64_t>& changed_tiles) const;
+    // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
+    std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
 };
 

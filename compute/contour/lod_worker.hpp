@@ -50,6 +50,9 @@ struct LodResult {
 };
 
 /// How a LodWorker runs.
+/// LodWorkerOptions::coarse_groups_from_cells by default.
+constexpr int kCoarseGroupsFromCells = 512;
+
 struct LodWorkerOptions {
     TileLodOptions lod;  ///< how levels are made (cell_m must be finite and > 0)
     /// Worker threads (>= 1): two let start-up use both cores of a small machine; a stroke's jobs are small.
@@ -74,6 +77,10 @@ struct LodWorkerOptions {
     /// resolution until its levels arrive, so waiting costs a few hundred triangles per carved tile and saves the
     /// builds no frame would draw. Start-up's tiles never wait.
     double tile_settle_s = 0.05;
+    /// Groups take their levels from the model read at coarser strides (TileSurfaceCache::use_coarse_groups) when
+    /// the model has at least this many cells along its longest side and is contoured on the CPU; 0 = never.
+    /// Simplifying every tile's and group's levels no longer keeps up with a stroke from there on.
+    int coarse_groups_from_cells = kCoarseGroupsFromCells;
     /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
     std::function<void(const LodJob&)> before_job;
 };

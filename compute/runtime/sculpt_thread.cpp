@@ -458,6 +458,10 @@ void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
     if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
     tile_cache_.enable_lod(options.lod);
+    const std::array<int, 3>& cells = model_.lattice.cells;
+    if (options.coarse_groups_from_cells > 0 && !gpu_contour_ &&
+        std::max({cells[0], cells[1], cells[2]}) >= options.coarse_groups_from_cells)
+        tile_cache_.use_coarse_groups(model_);
     tile_cache_.build_lods_in_background(options);
     if (gpu_contour_) gpu_contour_->read_back_tiles();
 }

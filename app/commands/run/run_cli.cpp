@@ -79,9 +79,10 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_flag("--tiles,!--no-tiles", o.tiles, "Workpiece as per-tile meshes (else the whole mesh)");
     cmd->add_flag("--cull,!--no-cull", o.cull, "Draw only the tiles inside each eye's frustum");
     cmd->add_option("--lod", o.lod,
-                    "on | off (default on): tile levels of detail (built per re-contoured tile on a worker thread, tiles drawn at "
-                    "full resolution until theirs arrive; each eye draws the coarsest level whose error projects to "
-                    "at most a pixel)")
+                    "on | off | coarse | simplified (default on): tile levels of detail (built per re-contoured tile on a "
+                    "worker thread, tiles drawn at full resolution until theirs arrive; each eye draws the coarsest level "
+                    "whose error projects to at most a pixel); groups of tiles contoured from every 2nd, 4th, 8th ray of "
+                    "the model (coarse) or simplified from their tiles (simplified); on: coarse from 512 cells")
         ->capture_default_str();
     cmd->add_option("--ao", o.ao,
                     "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "

@@ -102,6 +102,7 @@ void RunPipeline::Parts::open_backend() {
     SculptOptions sculpt_options{su.cpu, su.validate, su.cpu_contour, su.gpu_contour, su.journal};
     sculpt_options.checkpoint_s = su.checkpoint_s;
     sculpt_options.tile_lod = su.lod && su.tiles;
+    sculpt_options.coarse_groups_from_cells = su.coarse_groups_from_cells;
     sculpt_options.gpu_clay = su.gpu_clay;
     sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.

@@ -49,6 +49,8 @@ json lod_json(const RunResult& r, const RenderLog& log) {
                 {"pending_at_end", s.lod_pending},
                 {"all_built_after_first_frame_ms", ready},
                 {"latency", latency},
+                {"tile_triangles_last_frame", {log.tile_triangles_last[0], log.tile_triangles_last[1]}},
+                {"groups_drawn_last_frame", {log.groups_drawn_last[0], log.groups_drawn_last[1]}},
                 {"tile_triangles_per_frame",
                  {frames > 0.0 ? static_cast<double>(log.tile_triangles[0]) / frames : 0.0,
                   frames > 0.0 ? static_cast<double>(log.tile_triangles[1]) / frames : 0.0}}};
@@ -100,6 +102,8 @@ void RenderLog::add(const renderer::FrameStats& stats) {
         tiles_drawn[e] += stats.tiles[e].drawn;
         tiles_skipped[e] += stats.tiles[e].skipped;
         tile_triangles[e] += stats.tile_triangles[e];
+        tile_triangles_last[e] = stats.tile_triangles[e];
+        groups_drawn_last[e] = stats.groups_drawn[e];
     }
     tile_uploads += stats.tile_uploads;
     for (const renderer::PassTime& p : stats.passes) {

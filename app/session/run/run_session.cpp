@@ -1,5 +1,6 @@
 // app/session/run/run_session.cpp - `tridex run`: its options checked and merged with the scene (the session itself:
 // app/session/run/run_pipeline.cpp).
+#include "compute/contour/lod_worker.hpp"
 #include "app/session/run/run_session.hpp"
 
 #include <algorithm>
@@ -69,8 +70,10 @@ RunSetup resolve_run(const RunOptions& o) {
     s.test_pattern = o.test_pattern;
     s.tiles = o.tiles;
     s.cull = o.cull;
-    if (o.lod != "on" && o.lod != "off") throw Error("--lod: must be on or off, got '" + o.lod + "'");
-    s.lod = o.lod == "on";
+    if (o.lod != "on" && o.lod != "off" && o.lod != "coarse" && o.lod != "simplified")
+        throw Error("--lod: must be on, off, coarse or simplified, got '" + o.lod + "'");
+    s.lod = o.lod != "off";
+    s.coarse_groups_from_cells = o.lod == "coarse" ? 1 : o.lod == "simplified" ? 0 : compute::kCoarseGroupsFromCells;
     if (!o.ao.empty() && o.ao != "on" && o.ao != "off") throw Error("--ao: must be on or off, got '" + o.ao + "'");
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");

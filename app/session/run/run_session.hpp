@@ -47,7 +47,10 @@ struct RunSetup {
     bool test_pattern = false;      ///< the wall's test pattern instead of the workpiece (RunOptions::test_pattern)
     bool tiles = true;              ///< workpiece as per-tile meshes (false: whole mesh)
     bool cull = true;               ///< tiles culled per eye
-    bool lod = true;                ///< tile levels of detail (--lod on|off, on by default; docs/design/lod.md)
+    bool lod = true;                ///< tile levels of detail (--lod on|off|coarse|simplified, on by default; docs/design/lod.md)
+    /// Groups of tiles take their levels from the model read at coarser strides from this many cells along the
+    /// model's longest side (compute::LodWorkerOptions::coarse_groups_from_cells; --lod coarse: 1, simplified: 0).
+    int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     std::string ao_sculpting = "auto";  ///< --ao-while-sculpting: on | off | auto (RunOptions::ao_sculpting)
     double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)
@@ -74,6 +77,8 @@ struct RenderLog {
     std::uint64_t tile_uploads = 0;  ///< tile meshes uploaded, summed over frames
     /// Workpiece tile triangles drawn per eye (FrameStats::tile_triangles), summed over frames.
     std::array<std::uint64_t, 2> tile_triangles{};
+    /// The last frame's workpiece tile triangles and groups drawn, per eye.
+    std::array<std::uint64_t, 2> tile_triangles_last{}, groups_drawn_last{};
     /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
     /// "frame" (CPU clock): that pass's time in every frame, ms (DurationHistogram::fine bins).
     std::map<std::string, DurationHistogram> pass_ms;

@@ -126,6 +126,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (o.publish_meshes && (o.mesh_form == MeshForm::kTiles || gpu_contour_) && o.sculpt.tile_lod) {
         compute::LodWorkerOptions lod;
         lod.lod.cell_m = wp_.model.lattice.cell_m;
+        lod.coarse_groups_from_cells = o.sculpt.coarse_groups_from_cells;
         sculpt_->use_tile_lod(lod);
     }
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form, &sculpted_changes_);

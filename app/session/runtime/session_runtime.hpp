@@ -61,6 +61,9 @@ struct SculptOptions {
     /// With per-tile meshes published (RuntimeOptions::mesh_form kTiles, CPU contour): the sculpt thread also
     /// builds each changed tile's levels of detail (SculptThread::use_tile_lod) for the renderer to choose from.
     bool tile_lod = false;
+    /// With tile_lod: groups of tiles take their levels from the model read at coarser strides from this many cells
+    /// along the model's longest side (compute::LodWorkerOptions::coarse_groups_from_cells; 0 = never).
+    int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
     /// A recording streamed to disk while the session runs (TickStream: no length limit, bounded memory), written to
     /// this path by tick_stream()->finish() after stop(); "" = none (a recording, if any, is written from records()).
     std::string stream_recording{};

@@ -1,0 +1,267 @@
+// compute/contour/coarse_levels.cpp - group levels contoured from the model read at a coarser stride, with ring
+// and skirt.
+#include "compute/contour/coarse_levels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "compute/model/coarse_lattice.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+
+struct CoarseGroupLevels::Depth {
+    int stride = 2;
+    TriDexel model;
+    std::unique_ptr<Contourer> contour;
+    // Per coarse tile: its mesh and materials as last read, and the contour version they were read at (0: never).
+    mutable std::vector<TriMesh> meshes;
+    mutable std::vector<std::vector<std::uint8_t>> materials;
+    mutable std::vector<std::uint64_t> read_at;
+
+    std::size_t tile_index(const std::array<int, 3>& c) const { return model.tiles.index(c[0], c[1], c[2]); }
+    bool in_grid(const std::array<int, 3>& c) const {
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= model.tiles.tiles[a]) return false;
+        return true;
+    }
+    const TriMesh& mesh_of(std::size_t t, const std::vector<std::uint8_t>*& mats) const {
+        const std::uint64_t v = contour->tile_version(t);
+        if (read_at[t] != v) {
+            meshes[t] = contour->tile_triangle_count(t) ? contour->tile_mesh(t, materials[t]) : TriMesh{};
+            if (meshes[t].triangles.empty()) materials[t].clear();
+            read_at[t] = v;
+        }
+        mats = &materials[t];
+        return meshes[t];
+    }
+};
+
+namespace {
+
+// One coarse ray re-read from the fine model: true when it differs from `ray`, which it replaces; [t0, t1] then
+// spans every interval end that changed (grid units of the coarse lattice).
+bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray, double& t0, double& t1) {
+    const float inv = 1.0f / static_cast<float>(stride);
+    std::vector<Interval> next;
+    next.reserve(fine_ray.size());
+    for (const Interval& iv : fine_ray) next.push_back({iv.enter * inv, iv.exit * inv, iv.enter_material, iv.exit_material});
+    const auto same = [](const Interval& a, const Interval& b) {
+        return std::memcmp(&a.enter, &b.enter, sizeof(float)) == 0 && std::memcmp(&a.exit, &b.exit, sizeof(float)) == 0 &&
+               a.enter_material == b.enter_material && a.exit_material == b.exit_material;
+    };
+    std::size_t front = 0;
+    while (front < next.size() && front < ray.size() && same(next[front], ray[front])) ++front;
+    if (front == next.size() && front == ray.size()) return false;
+    std::size_t back_new = next.size(), back_old = ray.size();
+    while (back_new > front && back_old > front && same(next[back_new - 1], ray[back_old - 1])) --back_new, --back_old;
+    t0 = 1e300;
+    t1 = -1e300;
+    for (std::size_t i = front; i < back_new; ++i) t0 = std::min<double>(t0, next[i].enter), t1 = std::max<double>(t1, next[i].exit);
+    for (std::size_t i = front; i < back_old; ++i) t0 = std::min<double>(t0, ray[i].enter), t1 = std::max<double>(t1, ray[i].exit);
+    ray = std::move(next);
+    return true;
+}
+
+struct PosKey {
+    std::uint64_t x, y, z;
+    bool operator==(const PosKey&) const = default;
+};
+struct PosHash {
+    std::size_t operator()(const PosKey& k) const { return k.x * 0x9E3779B97F4A7C15ull ^ (k.y + 0x7F4A7C15ull) * 31u ^ k.z; }
+};
+PosKey key_of(const Vec3& p) {
+    PosKey k{};
+    std::memcpy(&k.x, &p.x, 8);
+    std::memcpy(&k.y, &p.y, 8);
+    std::memcpy(&k.z, &p.z, 8);
+    return k;
+}
+
+}  // namespace
+
+CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options) : options_(options) {
+    if (options.max_depth < 1 || options.max_depth > 6)
+        throw Error("CoarseLevelOptions.max_depth: " + std::to_string(options.max_depth) + " is not in 1..6");
+    if (!(std::isfinite(options.error_coarse_cells) && options.error_coarse_cells > 0.0))
+        throw Error("CoarseLevelOptions.error_coarse_cells: must be finite and > 0");
+    if (!(std::isfinite(options.skirt_coarse_cells) && options.skirt_coarse_cells > 0.0))
+        throw Error("CoarseLevelOptions.skirt_coarse_cells: must be finite and > 0");
+    for (int d = 1; d <= options.max_depth; ++d) {
+        auto D = std::make_unique<Depth>();
+        D->stride = 1 << d;
+        D->model = coarse_model(fine, D->stride);
+        for (int a = 0; a < 3; ++a)  // one coarse tile is one depth-d group
+            if (D->model.tiles.tiles[a] != (fine.tiles.tiles[a] + D->stride - 1) / D->stride)
+                throw Error("CoarseGroupLevels: the coarse tiles do not match the depth-" + std::to_string(d) + " groups");
+        D->contour = std::make_unique<Contourer>(D->model);
+        D->contour->update(D->model);
+        const std::size_t n = D->model.tiles.count();
+        D->meshes.resize(n);
+        D->materials.resize(n);
+        D->read_at.assign(n, 0);
+        levels_.push_back(std::move(D));
+    }
+}
+
+CoarseGroupLevels::~CoarseGroupLevels() = default;
+
+const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
+    if (depth < 1 || depth > max_depth())
+        throw Error("CoarseGroupLevels: depth " + std::to_string(depth) + " is not in 1.." + std::to_string(max_depth()));
+    return *levels_[static_cast<std::size_t>(depth - 1)];
+}
+
+const TriDexel& CoarseGroupLevels::model(int depth) const { return at(depth).model; }
+
+void CoarseGroupLevels::read_all() {
+    for (const auto& D : levels_) {
+        const std::vector<std::uint8_t>* mats = nullptr;
+        for (std::size_t t = 0; t < D->model.tiles.count(); ++t) (void)D->mesh_of(t, mats);
+    }
+}
+
+std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles) {
+    constexpr int kT = TileGrid::kTileCells;
+    constexpr int kReach = TriDexel::kDirtyReachCells;
+    std::size_t recontoured = 0;
+    const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
+    for (auto& Dp : levels_) {
+        Depth& D = *Dp;
+        const int s = D.stride;
+        for (const std::uint64_t t : changed_tiles) {
+            const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+            std::array<int, 3> lo{}, hi{};  // fine nodes whose rays the tile's contour reads
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::max(0, tc[a] * kT - kReach);
+                hi[a] = std::min(fine.lattice.cells[a], (tc[a] + 1) * kT + kReach);
+            }
+            Vec3 blo(1e300), bhi(-1e300);  // coarse grid units
+            for (int a = 0; a < 3; ++a) {
+                const int b = (a + 1) % 3, c = (a + 2) % 3;
+                const RaySet& fs = fine.sets[a];
+                RaySet& cs = D.model.sets[a];
+                for (int v = (lo[c] + s - 1) / s; v * s <= hi[c] && v < cs.nv && v * s < fs.nv; ++v)
+                    for (int u = (lo[b] + s - 1) / s; u * s <= hi[b] && u < cs.nu && u * s < fs.nu; ++u) {
+                        double t0 = 0.0, t1 = 0.0;
+                        if (!reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), t0, t1)) continue;
+                        Vec3 p0, p1;
+                        p0[a] = t0, p1[a] = t1;
+                        p0[b] = p1[b] = u;
+                        p0[c] = p1[c] = v;
+                        blo = glm::min(blo, glm::min(p0, p1));
+                        bhi = glm::max(bhi, glm::max(p0, p1));
+                    }
+            }
+            D.model.mark_dirty_grid(blo, bhi);
+        }
+        recontoured += D.contour->update(D.model);
+    }
+    return recontoured;
+}
+
+std::uint64_t CoarseGroupLevels::version(int depth, const std::array<int, 3>& coords) const {
+    const Depth& D = at(depth);
+    if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
+    std::uint64_t v = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::array<int, 3> n{coords[0] + dx, coords[1] + dy, coords[2] + dz};
+                if (D.in_grid(n)) v = std::max(v, D.contour->tile_version(D.tile_index(n)));
+            }
+    return v;
+}
+
+TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coords) const {
+    const Depth& D = at(depth);
+    if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
+    const Lattice& L = D.model.lattice;
+    constexpr int kT = TileGrid::kTileCells;
+    // The group's box grown by one coarse cell: the ring's triangles have their centroid in it.
+    Vec3 glo, ghi;
+    for (int a = 0; a < 3; ++a) glo[a] = coords[a] * kT - 1.0, ghi[a] = (coords[a] + 1) * kT + 1.0;
+    const Vec3 wlo = L.to_world(glo), whi = L.to_world(ghi);
+    TileLodLevel out;
+    std::unordered_map<PosKey, std::uint32_t, PosHash> index;
+    const auto add_vertex = [&](const Vec3& p, std::uint8_t m) {
+        const auto [it, fresh] = index.emplace(key_of(p), static_cast<std::uint32_t>(out.mesh.positions.size()));
+        if (fresh) {
+            out.mesh.positions.push_back(p);
+            out.materials.push_back(m);
+        }
+        return it->second;
+    };
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::array<int, 3> n{coords[0] + dx, coords[1] + dy, coords[2] + dz};
+                if (!D.in_grid(n)) continue;
+                const std::vector<std::uint8_t>* mats = nullptr;
+                const TriMesh& m = D.mesh_of(D.tile_index(n), mats);
+                const bool own = dx == 0 && dy == 0 && dz == 0;
+                for (const auto& tri : m.triangles) {
+                    if (!own) {
+                        const Vec3 c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0;
+                        if (c.x < wlo.x || c.y < wlo.y || c.z < wlo.z || c.x > whi.x || c.y > whi.y || c.z > whi.z) continue;
+                    }
+                    std::array<std::uint32_t, 3> t{};
+                    for (int k = 0; k < 3; ++k) t[k] = add_vertex(m.positions[tri[k]], mats->empty() ? 0 : (*mats)[tri[k]]);
+                    out.mesh.triangles.push_back(t);
+                }
+            }
+    out.error_m = options_.error_coarse_cells * L.cell_m;
+    if (out.mesh.triangles.empty()) return out;
+    out.normals = vertex_normals(out.mesh);
+    add_skirt(out.mesh, out.materials, out.normals, options_.skirt_coarse_cells * L.cell_m);
+    return out;
+}
+
+std::size_t add_skirt(TriMesh& mesh, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals, double depth_m) {
+    const std::size_t nv = mesh.positions.size();
+    if (materials.size() != nv || normals.size() != nv)
+        throw Error("add_skirt: " + std::to_string(materials.size()) + " materials and " + std::to_string(normals.size()) +
+                    " normals for " + std::to_string(nv) + " vertices");
+    // Every directed edge with its undirected key, sorted by the key: a key met once is a border edge.
+    struct Edge {
+        std::uint64_t key;
+        std::uint32_t a, b;
+    };
+    std::vector<Edge> edges;
+    edges.reserve(3 * mesh.triangles.size());
+    for (const auto& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            edges.push_back({(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), a, b});
+        }
+    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
+    std::unordered_map<std::uint32_t, std::uint32_t> below;  // border vertex -> its skirt vertex
+    const auto lower = [&](std::uint32_t v) {
+        const auto [it, fresh] = below.emplace(v, static_cast<std::uint32_t>(mesh.positions.size()));
+        if (fresh) {
+            mesh.positions.push_back(mesh.positions[v] - normals[v] * depth_m);
+            materials.push_back(materials[v]);
+            normals.push_back(normals[v]);
+        }
+        return it->second;
+    };
+    std::size_t skirted = 0;
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        const bool once = (i == 0 || edges[i - 1].key != edges[i].key) &&
+                          (i + 1 == edges.size() || edges[i + 1].key != edges[i].key);
+        if (!once) continue;
+        const std::uint32_t a = edges[i].a, b = edges[i].b;
+        const std::uint32_t a2 = lower(a), b2 = lower(b);
+        mesh.triangles.push_back({b, a, a2});
+        mesh.triangles.push_back({b, a2, b2});
+        mesh.triangles.push_back({a, b, a2});  // the other winding: seen from either side
+        mesh.triangles.push_back({a2, b, b2});
+        ++skirted;
+    }
+    return skirted;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,83 @@
+// compute/contour/coarse_levels.hpp - levels of detail of tile groups contoured straight from the dexels: a
+// depth-d group's level is the contour of the model read at every 2^d-th ray (coarse_lattice.hpp), with a ring
+// and a skirt that close the cracks against neighbours drawn at other levels.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "compute/contour/contour_dual.hpp"
+#include "compute/contour/tile_lod.hpp"
+#include "compute/model/tridexel.hpp"
+
+namespace tridex::compute {
+
+/// How the coarse levels are made.
+struct CoarseLevelOptions {
+    int max_depth = 3;  ///< groups of depth 1..max_depth (2^d tiles along each axis) get a level, read at stride 2^d
+    /// The level's error (TileLodLevel::error_m) in cells of its own coarse lattice: an estimate of the distance to
+    /// the full-resolution surface, not a bound (a feature thinner than a coarse cell between its rays is missed
+    /// whole). `tridex bench --coarse` measures the two-sided distance.
+    double error_coarse_cells = 1.0;
+    /// Depth of the skirt hung from the level's open border, in cells of its coarse lattice (> 0).
+    double skirt_coarse_cells = 1.0;
+};
+
+/// The coarse levels of every group of tiles of one model, kept up to date as the model changes.
+///
+/// A depth-d group covers 2^d x 2^d x 2^d tiles of kTileCells cells, which is exactly one tile of the model read at
+/// stride s = 2^d (coarse_model): its level is that coarse tile's contour (manifold dual contouring on the coarse
+/// lattice, with its own sharp-feature placement), plus a ring: the triangles of the neighbouring coarse tiles
+/// whose centroid lies within one coarse cell of the group's box, so that the level reaches past the group's border
+/// by more than the width by which a neighbour's border, at any level, can fall short of it. A skirt then hangs
+/// from the ring's open border, inward along the vertex normals by skirt_coarse_cells coarse cells, drawn from
+/// both sides, so no gap shows between the level and a neighbour within that distance of it. Overlaps between a
+/// level and its neighbours lie within the level's error of the surface. (Chunked levels with skirts follow
+/// T. Ulrich, "Rendering massive terrains using chunked level of detail control", SIGGRAPH 2002 course notes.)
+/// Not thread-safe: one thread updates and reads it.
+class CoarseGroupLevels {
+public:
+    /// Reads `fine` at strides 2, 4, ... 2^max_depth and contours each coarse model whole (on the task pool).
+    /// Throws tridex::Error when options are out of range (max_depth 1..6, cells > 0 and finite).
+    CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options);
+    ~CoarseGroupLevels();
+    CoarseGroupLevels(const CoarseGroupLevels&) = delete;
+    CoarseGroupLevels& operator=(const CoarseGroupLevels&) = delete;
+
+    /// After `fine` changed: re-reads the coarse rays through the tiles `changed_tiles` (fine tile indices, e.g.
+    /// the tiles whose contour version changed) and the kDirtyReachCells cells around them, marks dirty the coarse
+    /// cells whose rays differ, and re-contours those. Returns the coarse tiles re-contoured over every depth.
+    std::size_t update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles);
+
+    /// Depths with levels (1..max_depth).
+    int max_depth() const { return static_cast<int>(levels_.size()); }
+    /// Changes whenever the level of the depth-d group at `coords` changes (its coarse tile's contour or a
+    /// neighbour's that its ring takes); 0 = no surface there. Throws tridex::Error for a depth or coords out of range.
+    std::uint64_t version(int depth, const std::array<int, 3>& coords) const;
+    /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in
+    /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
+    /// cells. An empty mesh where the coarse contour has no surface near the group. Throws as version().
+    TileLodLevel level(int depth, const std::array<int, 3>& coords) const;
+    /// Reads every coarse tile's mesh whose contour changed since it was last read, so that level() then only
+    /// reads (several threads may call level() at once until the next update() or read_all()).
+    void read_all();
+    /// The coarse model at `depth` (stride 2^depth), for tests. Throws as version().
+    const TriDexel& model(int depth) const;
+
+private:
+    struct Depth;
+    const Depth& at(int depth) const;
+    CoarseLevelOptions options_;
+    std::vector<std::unique_ptr<Depth>> levels_;  // [depth - 1]
+};
+
+/// Adds a skirt to `mesh` (with per-vertex `materials` and `normals`, same size as its positions): for every open
+/// border edge (used by one triangle), a quad hanging from it along minus each end's normal by depth_m, in both
+/// windings. The new vertices copy their top vertex's material and normal. Returns the border edges skirted.
+/// Throws tridex::Error when the per-vertex arrays' sizes differ from the positions'.
+std::size_t add_skirt(TriMesh& mesh, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals, double depth_m);
+
+}  // namespace tridex::compute

@@ -1,0 +1,140 @@
+// compute/contour/contour_tile_coarse.cpp - TileSurfaceCache's groups with levels contoured from the model read at
+// coarser strides (CoarseGroupLevels): which a change reaches, and rebuilding them once the change settles.
+#include <algorithm>
+#include <chrono>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/surface_distance.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+
+void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options) {
+    if (!lod_) throw Error("TileSurfaceCache::use_coarse_groups: call enable_lod() first");
+    if (refreshed_) throw Error("TileSurfaceCache::use_coarse_groups: call it before the first refresh()");
+    coarse_ = std::make_unique<CoarseGroupLevels>(model, options);
+    coarse_model_ = &model;
+    lod_options_.group_depth = options.max_depth;
+}
+
+std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::array<int, 3>& dims,
+                                                                 const std::vector<std::uint64_t>& changed_tiles) const {
+    // A changed ray reaches kDirtyReachCells fine cells into the fine contour; the coarse contour reads the rays
+    // kDirtyReachCells coarse cells around its own, and a group's ring takes one coarse cell past its box. So a group
+    // is reached when its box, grown by (kDirtyReachCells + 1) coarse cells, meets the tile's grown by
+    // kDirtyReachCells fine cells.
+    constexpr int kT = TileGrid::kTileCells, kReach = TriDexel::kDirtyReachCells;
+    std::unordered_set<std::uint64_t> out;
+    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
+    for (int d = 1; d <= coarse_->max_depth(); ++d) {
+        const int span = kT << d, grow = (kReach + 1) << d;
+        std::array<int, 3> gdims{};
+        for (int a = 0; a < 3; ++a) gdims[a] = (dims[a] + (1 << d) - 1) >> d;
+        for (const std::uint64_t t : changed_tiles) {
+            const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+            std::array<int, 3> lo{}, hi{};
+            for (int a = 0; a < 3; ++a) {
+                const int cell_lo = tc[a] * kT - kReach - grow, cell_hi = (tc[a] + 1) * kT + kReach + grow;  // [lo, hi)
+                lo[a] = std::max(0, cell_lo < 0 ? -((-cell_lo + span - 1) / span) : cell_lo / span);
+                hi[a] = std::min(gdims[a] - 1, (cell_hi - 1) / span);
+            }
+            for (int z = lo[2]; z <= hi[2]; ++z)
+                for (int y = lo[1]; y <= hi[1]; ++y)
+                    for (int x = lo[0]; x <= hi[0]; ++x) {
+                        const auto index = static_cast<std::uint64_t>(x) +
+                                           static_cast<std::uint64_t>(gdims[0]) *
+                                               (static_cast<std::uint64_t>(y) + static_cast<std::uint64_t>(gdims[1]) * z);
+                        out.insert(tile_group_id(d, index));
+                    }
+        }
+    }
+    return out;
+}
+
+std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now) {
+    if (coarse_stale_.empty()) return 0;
+    if (now - coarse_changed_at_ < group_settle_) return 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!coarse_changed_.empty()) {
+        std::sort(coarse_changed_.begin(), coarse_changed_.end());
+        coarse_changed_.erase(std::unique(coarse_changed_.begin(), coarse_changed_.end()), coarse_changed_.end());
+        coarse_->update(*coarse_model_, coarse_changed_);
+        coarse_changed_.clear();
+    }
+    // Finest depth first: the levels a close view needs come back first.
+    std::vector<std::uint64_t> ids(coarse_stale_.begin(), coarse_stale_.end());
+    std::sort(ids.begin(), ids.end());
+    // Start-up's finest groups (no stroke yet) in larger batches: nothing else waits for the sculpt thread then.
+    const bool startup = coarse_changed_at_ == std::chrono::steady_clock::time_point{};
+    const std::size_t budget = startup ? kCoarseStartupLevelsPerCollect : kCoarseLevelsPerCollect;
+    if (ids.size() > budget) ids.resize(budget);
+    for (const std::uint64_t id : ids) coarse_stale_.erase(id);
+    const std::size_t built = rebuild_coarse_levels(ids);
+    lod_groups_built_ += built;
+    lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return built;
+}
+
+std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint64_t>& ids) {
+    coarse_->read_all();  // level() only reads from here on, so the jobs may run at once
+    std::vector<TileGroupSurface*> groups;
+    for (const std::uint64_t id : ids) {
+        const auto it = std::lower_bound(groups_.begin(), groups_.end(), id,
+                                         [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
+        if (it != groups_.end() && it->id == id) groups.push_back(&*it);  // else gone
+    }
+    std::vector<TileLodLevel> built(groups.size());
+    run_lod_jobs(groups.size(), [&](std::size_t i) {
+        built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
+        if (!built[i].mesh.triangles.empty()) built[i].error_m = coarse_level_error(*groups[i], built[i]);
+    });
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+        groups[i]->lods.clear();
+        if (!built[i].mesh.triangles.empty()) groups[i]->lods.push_back(std::move(built[i]));
+        groups[i]->version = fresh_tile_version();
+    }
+    return groups.size();
+}
+
+double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const {
+    // Samples: each tile's six extreme vertices (a feature the coarse rays missed sticks out of it: an ear's tip),
+    // and vertices spread evenly over the tiles, up to kSamples in all.
+    // Depth-1 levels are drawn nearest the eye: 64 samples per tile there, 256 per group above.
+    const std::size_t kSamples = group.depth == 1 ? 512 : 256;
+    const int span = 1 << group.depth;
+    std::vector<const TileSurface*> tiles;
+    std::size_t vertices = 0;
+    for (int z = group.coords[2] * span; z < (group.coords[2] + 1) * span && z < coarse_dims_[2]; ++z)
+        for (int y = group.coords[1] * span; y < (group.coords[1] + 1) * span && y < coarse_dims_[1]; ++y)
+            for (int x = group.coords[0] * span; x < (group.coords[0] + 1) * span && x < coarse_dims_[0]; ++x) {
+                const auto id = static_cast<std::uint64_t>(x) +
+                                static_cast<std::uint64_t>(coarse_dims_[0]) *
+                                    (static_cast<std::uint64_t>(y) + static_cast<std::uint64_t>(coarse_dims_[1]) * z);
+                const auto it = std::lower_bound(tiles_.begin(), tiles_.end(), id,
+                                                 [](const TileSurface& t, std::uint64_t v) { return t.id < v; });
+                if (it != tiles_.end() && it->id == id) {
+                    tiles.push_back(&*it);
+                    vertices += it->mesh.positions.size();
+                }
+            }
+    TriangleGrid grid(level.mesh, 2.0 * lod_options_.cell_m * span);
+    const std::size_t step = std::max<std::size_t>(1, vertices / kSamples);
+    double worst = 0.0;
+    std::size_t k = 0;
+    for (const TileSurface* t : tiles) {
+        const std::vector<Vec3>& p = t->mesh.positions;
+        if (p.empty()) continue;
+        std::array<std::size_t, 6> extreme{};
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            for (int a = 0; a < 3; ++a) {
+                if (p[i][a] < p[extreme[2 * a]][a]) extreme[2 * a] = i;
+                if (p[i][a] > p[extreme[2 * a + 1]][a]) extreme[2 * a + 1] = i;
+            }
+            if (k++ % step == 0) worst = std::max(worst, grid.distance(p[i], worst));
+        }
+        for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(p[i], worst));
+    }
+    return worst;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,211 @@
+// Tests of group levels contoured from the model read at coarser strides (compute/contour/coarse_levels.hpp and
+// TileSurfaceCache::use_coarse_groups): every group has its level at once, near the analytic sphere; a ring and a
+// skirt reach past the group's box; a cut drops the levels within reach and rebuilds them, equal to a fresh build.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "compute/contour/coarse_levels.hpp"
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/tools/boolean.hpp"
+#include "core/error.hpp"
+#include "test_contour_models.hpp"
+
+namespace tridex::compute {
+namespace {
+
+using namespace testing;
+
+const Vec3 kCentre(64.31, 63.83, 64.07);  // grid units on a 128-cell cube lattice
+constexpr double kRadius = 48.6;
+
+TriDexel sphere_model() {
+    TriDexel m = empty_model(cube_lattice(128));
+    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kCentre, kRadius, a, u, v); });
+    return m;
+}
+
+struct Session {
+    TriDexel model = sphere_model();
+    Contourer contourer{model};
+    TileSurfaceCache cache;
+
+    Session() {
+        contourer.update(model);
+        TileLodOptions o;
+        o.cell_m = model.lattice.cell_m;
+        cache.enable_lod(o);
+        cache.use_coarse_groups(model);
+        cache.refresh(contourer);
+        // The first refresh built the coarser groups' levels; the finest come through collect_lods().
+        for (const TileGroupSurface& g : cache.groups())
+            if (g.depth >= TileSurfaceCache::kCoarseStartupDepth) {
+                EXPECT_FALSE(g.lods.empty()) << g.id;
+            }
+        waited_at_start = cache.coarse_waiting();
+        while (cache.coarse_waiting() > 0) EXPECT_GT(cache.collect_lods(), 0u);
+    }
+    std::size_t waited_at_start = 0;
+};
+
+double radial_error_m(const TriMesh& m, std::size_t vertices, const Lattice& L) {
+    const Vec3 c = L.to_world(kCentre);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < vertices && i < m.positions.size(); ++i)
+        worst = std::max(worst, std::abs(glm::length(m.positions[i] - c) - kRadius * L.cell_m));
+    return worst;
+}
+
+TEST(CoarseGroups, EveryGroupHasItsLevelFromTheFirstRefreshNearTheSphere) {
+    Session s;
+    const double h = s.model.lattice.cell_m;
+    ASSERT_FALSE(s.cache.groups().empty());
+    std::size_t with_level = 0;
+    double worst[4] = {0.0, 0.0, 0.0, 0.0}, worst_error[4] = {0.0, 0.0, 0.0, 0.0};
+    for (const TileGroupSurface& g : s.cache.groups()) {
+        ASSERT_LE(g.lods.size(), 1u);
+        if (g.lods.empty()) continue;
+        ++with_level;
+        const TileLodLevel& l = g.lods[0];
+        // The measured distance from the tiles' vertices: under a coarse cell on a sphere, and never zero.
+        EXPECT_GT(l.error_m, 0.0);
+        EXPECT_LT(l.error_m, h * (1 << g.depth)) << g.depth;
+        worst_error[g.depth] = std::max(worst_error[g.depth], l.error_m);
+        ASSERT_EQ(l.materials.size(), l.mesh.positions.size());
+        ASSERT_EQ(l.normals.size(), l.mesh.positions.size());
+        // The skirt's vertices lie one coarse cell inside; the others on the coarse contour.
+        const double skirt = h * (1 << g.depth);
+        for (const Vec3& p : l.mesh.positions) {
+            const double r = glm::length(p - s.model.lattice.to_world(kCentre));
+            EXPECT_LT(std::abs(r - kRadius * h), 0.1 * skirt + skirt * 1.01) << g.depth;
+        }
+        worst[g.depth] = std::max(worst[g.depth], radial_error_m(l.mesh, l.mesh.positions.size() / 2, s.model.lattice));
+    }
+    // Every group over surface tiles has a level (a sphere leaves none without surface near it); the depth-1 ones
+    // came after the first refresh.
+    EXPECT_EQ(with_level, s.cache.groups().size());
+    const auto depth1 = std::count_if(s.cache.groups().begin(), s.cache.groups().end(),
+                                      [](const TileGroupSurface& g) { return g.depth == 1; });
+    EXPECT_EQ(s.waited_at_start, static_cast<std::size_t>(depth1));
+    std::printf("[coarse groups] %zu groups; depth 1-3 contour vertices within %.3f / %.3f / %.3f fine cells of the "
+                "sphere; measured level errors up to %.3f / %.3f / %.3f fine cells\n",
+                with_level, worst[1] / h, worst[2] / h, worst[3] / h, worst_error[1] / h, worst_error[2] / h,
+                worst_error[3] / h);
+    EXPECT_EQ(s.cache.lod_pending(), 0u);  // the tiles' own levels: no worker, built by refresh
+}
+
+// The level reaches past its group's box (the ring) and hangs a skirt from its border: two windings per skirt
+// quad, so it shows from either side.
+TEST(CoarseGroups, TheRingReachesPastTheBoxAndTheSkirtHangsFromItsBorder) {
+    const TriDexel model = sphere_model();
+    CoarseGroupLevels levels(model, {});
+    const Lattice& L = model.lattice;
+    for (int depth = 1; depth <= 2; ++depth) {  // a depth-3 group holds the whole 128-cell lattice
+        const int span = TileGrid::kTileCells << depth;
+        // The group holding the sphere's top (+z) pole.
+        const std::array<int, 3> g{static_cast<int>(kCentre.x) / span, static_cast<int>(kCentre.y) / span,
+                                   static_cast<int>(kCentre.z + kRadius) / span};
+        const TileLodLevel l = levels.level(depth, g);
+        ASSERT_FALSE(l.mesh.triangles.empty()) << depth;
+        const Vec3 lo = L.to_world(Vec3(g[0], g[1], g[2]) * double(span)), hi = lo + Vec3(span * L.cell_m);
+        double past = 0.0;
+        for (const Vec3& p : l.mesh.positions)
+            for (int a = 0; a < 3; ++a) past = std::max({past, lo[a] - p[a], p[a] - hi[a]});
+        EXPECT_GT(past, 0.5 * L.cell_m * (1 << depth)) << depth;  // at least half a coarse cell past
+        EXPECT_LT(past, 3.0 * L.cell_m * (1 << depth)) << depth;
+        TriMesh copy = l.mesh;
+        std::vector<std::uint8_t> mats = l.materials;
+        std::vector<Vec3> normals = l.normals;
+        EXPECT_EQ(add_skirt(copy, mats, normals, 1e-3), 0u) << "the skirt already closes every border edge on one side";
+    }
+    EXPECT_THROW((void)levels.level(4, {0, 0, 0}), Error);
+    EXPECT_THROW((void)levels.level(1, {99, 0, 0}), Error);
+}
+
+TEST(CoarseGroups, ASkirtQuadPerBorderEdgeInBothWindings) {
+    TriMesh m;
+    m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    m.triangles = {{0, 1, 2}};
+    std::vector<std::uint8_t> mats{1, 2, 3};
+    std::vector<Vec3> normals(3, Vec3(0, 0, 1));
+    EXPECT_EQ(add_skirt(m, mats, normals, 0.5), 3u);
+    EXPECT_EQ(m.positions.size(), 6u);
+    EXPECT_EQ(m.triangles.size(), 1u + 3u * 4u);
+    for (std::size_t i = 3; i < 6; ++i) EXPECT_DOUBLE_EQ(m.positions[i].z, -0.5);
+    EXPECT_EQ(mats[3] + mats[4] + mats[5], 6);
+    std::vector<Vec3> short_normals(2);
+    EXPECT_THROW(add_skirt(m, mats, short_normals, 0.5), Error);
+}
+
+// A cut drops the levels of the groups within reach (their children are drawn), keeps the others, and after the
+// settling the rebuilt levels equal those of a cache built afresh on the cut model, bit for bit.
+TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWould) {
+    Session s;
+    std::map<std::uint64_t, std::uint64_t> before;
+    for (const TileGroupSurface& g : s.cache.groups()) before[g.id] = g.version;
+    const Lattice& L = s.model.lattice;
+    const Vec3 top = L.to_world(kCentre + Vec3(0.0, 0.0, kRadius));
+    subtract_capsule(s.model, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
+    s.contourer.update(s.model);
+    s.cache.refresh(s.contourer);
+    std::size_t dropped = 0, kept = 0;
+    for (const TileGroupSurface& g : s.cache.groups()) {
+        if (g.version != before[g.id]) {
+            EXPECT_TRUE(g.lods.empty()) << g.id;
+            ++dropped;
+        } else {
+            ++kept;
+        }
+    }
+    EXPECT_GT(dropped, 0u);
+    EXPECT_GT(kept, 0u);
+    EXPECT_EQ(s.cache.coarse_waiting(), dropped);
+    while (s.cache.coarse_waiting() > 0) ASSERT_GT(s.cache.collect_lods(), 0u);
+    Session fresh;  // built on the sphere, then cut the same way
+    subtract_capsule(fresh.model, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
+    TriDexel cut = fresh.model;
+    Contourer c(cut);
+    cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
+    c.update(cut);
+    TileSurfaceCache again;
+    TileLodOptions o;
+    o.cell_m = L.cell_m;
+    again.enable_lod(o);
+    again.use_coarse_groups(cut);
+    again.refresh(c);
+    while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
+    ASSERT_EQ(again.groups().size(), s.cache.groups().size());
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < again.groups().size(); ++i) {
+        const TileGroupSurface &a = again.groups()[i], &b = s.cache.groups()[i];
+        ASSERT_EQ(a.id, b.id);
+        ASSERT_EQ(a.lods.size(), b.lods.size()) << a.id;
+        if (a.lods.empty()) continue;
+        EXPECT_EQ(a.lods[0].mesh.positions, b.lods[0].mesh.positions) << a.id;
+        EXPECT_EQ(a.lods[0].mesh.triangles, b.lods[0].mesh.triangles) << a.id;
+        EXPECT_EQ(a.lods[0].materials, b.lods[0].materials) << a.id;
+        EXPECT_EQ(a.lods[0].error_m, b.lods[0].error_m) << a.id;
+        ++compared;
+    }
+    EXPECT_EQ(compared, again.groups().size());
+}
+
+TEST(CoarseGroups, RefusesBadOptionsAndALateCall) {
+    const TriDexel model = sphere_model();
+    CoarseLevelOptions o;
+    o.max_depth = 0;
+    EXPECT_THROW(CoarseGroupLevels(model, o), Error);
+    o = {};
+    o.skirt_coarse_cells = 0.0;
+    EXPECT_THROW(CoarseGroupLevels(model, o), Error);
+    TileSurfaceCache cache;
+    EXPECT_THROW(cache.use_coarse_groups(model), Error);  // before enable_lod
+    Session s;
+    EXPECT_THROW(s.cache.use_coarse_groups(s.model), Error);  // after a refresh
+}
+
+}  // namespace
+}  // namespace tridex::compute
