@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <deque>
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "devices/net/link_shim.hpp"
@@ -364,6 +366,22 @@ TEST(SealedLink, AFloodOfRandomDatagramsIsRefusedAndCounted) {
     p.join->send(payload("after the flood"), false);
     p.pump();
     EXPECT_EQ(Pair::data_of(p.host_events), (std::vector<Bytes>{payload("after the flood")}));
+}
+
+TEST(SealedLink, StatsAreReadableFromAnotherThreadWhileItPolls) {
+    Captured p;
+    std::atomic<bool> done{false};
+    std::uint64_t most = 0;
+    std::thread reader([&] {
+        while (!done.load()) most = std::max(most, p.host->stats().refused());
+    });
+    std::mt19937 rng(11);
+    for (int i = 0; i < 20000; ++i) p.inject(Bytes(static_cast<std::size_t>(rng() % 64), 0x42));
+    Pair::drain(*p.host, *p.host_tap, p.host_events);
+    done = true;
+    reader.join();
+    EXPECT_LE(most, 20000u);
+    EXPECT_EQ(p.host->stats().refused(), 20000u);
 }
 
 }  // namespace
