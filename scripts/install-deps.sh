@@ -26,6 +26,7 @@ PACKAGES=(
   libopenvdb-dev libboost-dev               # OpenVDB level-set peer of `tridex bench --accuracy`; Boost.Math for `tridex study stats`
   gnuplot-nox                               # PNG plots of `tridex bench --accuracy`
   libenet-dev                               # device server link: ENet's reliable + unreliable channels over UDP, sequenced
+  libsodium-dev                             # sealed datagram link: libsodium's Argon2id, BLAKE2b and XSalsa20-Poly1305 (never home-made crypto)
   openmpi-bin libopenmpi-dev                # Open MPI: the ranks of a cluster session (tridex run --cluster; a build without it builds the rest)
   universal-ctags                           # the layout test that measures function lengths (tests/layout/test_house_rules.cpp)
   clang libclang-rt-14-dev                  # the fuzz targets (tests/fuzz/, `fuzz` preset): clang 14 and its libFuzzer and sanitizer runtimes

@@ -111,6 +111,20 @@ void net_seeds(const fs::path& dir) {
     net::encode_surface(net::Header{}, surface, d), put(dir, "net", "surface", d);
 }
 
+/// Operation lists as fuzz_sealed reads them (tests/fuzz/fuzz_sealed.cpp: 0 raw, 1 seal, 2 replay, 3 flip,
+/// 4 truncate, 5 reconnect; the joiner's kept datagrams are its hello, its confirmation, then its data).
+void sealed_seeds(const fs::path& dir) {
+    const auto put_ops = [&](const std::string& name, std::vector<std::uint8_t> ops) { put(dir, "sealed", name, ops); };
+    put_ops("seal-replay", {1, 0x81, 1, 2, 2, 2, 3, 2, 4});
+    put_ops("flip", {1, 1, 3, 2, 0, 0x80, 3, 2, 12, 1, 3, 2, 30, 0xff});
+    put_ops("truncate", {1, 4, 2, 25, 4, 2, 10, 4, 2, 0});
+    put_ops("reconnect", {1, 0x81, 5, 2, 2, 2, 3, 1});
+    put_ops("hello-again", {2, 0, 2, 1, 1});
+    std::vector<std::uint8_t> raw = {0, 40, 1, 0};
+    raw.resize(44, 0x5a);
+    put_ops("raw", raw);
+}
+
 /// IN packets as fuzz_falcon reads them (a length byte, two modem bytes, data): whole, torn and doubled frames.
 void falcon_seeds(const fs::path& dir) {
     namespace falcon = devices::falcon;
@@ -154,6 +168,7 @@ int main(int argc, char** argv) {
         journal_seeds(dir);
         net_seeds(dir);
         falcon_seeds(dir);
+        sealed_seeds(dir);
         dtrack_seeds(dir);
         for (const auto& seed : fuzz::mesh_seeds()) put(dir, seed.target, seed.name, seed.bytes);
     } catch (const std::exception& e) {
