@@ -117,10 +117,27 @@ const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
 
 const TriDexel& CoarseGroupLevels::model(int depth) const { return at(depth).model; }
 
-void CoarseGroupLevels::read_all() {
+void CoarseGroupLevels::read_around(std::span<const std::pair<int, std::array<int, 3>>> groups) {
+    const std::vector<std::uint8_t>* mats = nullptr;
+    for (const auto& [depth, c] : groups) {
+        const Depth& D = at(depth);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::array<int, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
+                    if (D.in_grid(n)) (void)D.mesh_of(D.tile_index(n), mats);
+                }
+    }
+}
+
+void CoarseGroupLevels::forget_reads() {
     for (const auto& D : levels_) {
-        const std::vector<std::uint8_t>* mats = nullptr;
-        for (std::size_t t = 0; t < D->model.tiles.count(); ++t) (void)D->mesh_of(t, mats);
+        for (std::size_t t = 0; t < D->meshes.size(); ++t)
+            if (D->read_at[t] != 0) {
+                D->meshes[t] = TriMesh{};
+                D->materials[t] = {};
+                D->read_at[t] = 0;
+            }
     }
 }
 

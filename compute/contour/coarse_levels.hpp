@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
@@ -61,9 +62,12 @@ public:
     /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
     /// cells. An empty mesh where the coarse contour has no surface near the group. Throws as version().
     TileLodLevel level(int depth, const std::array<int, 3>& coords) const;
-    /// Reads every coarse tile's mesh whose contour changed since it was last read, so that level() then only
-    /// reads (several threads may call level() at once until the next update() or read_all()).
-    void read_all();
+    /// Reads the meshes of the coarse tiles the levels of `groups` (depth, coords) take (each group's and the 26 around
+    /// it) where their contour changed since they were last read, so that level() of those groups then only reads
+    /// (several threads may call it at once until the next update(), read_around() or forget_reads()).
+    void read_around(std::span<const std::pair<int, std::array<int, 3>>> groups);
+    /// Frees the tile meshes read so far (level() reads what it needs again).
+    void forget_reads();
     /// The coarse model at `depth` (stride 2^depth), for tests. Throws as version().
     const TriDexel& model(int depth) const;
 

@@ -76,13 +76,16 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
 }
 
 std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint64_t>& ids) {
-    coarse_->read_all();  // level() only reads from here on, so the jobs may run at once
     std::vector<TileGroupSurface*> groups;
+    std::vector<std::pair<int, std::array<int, 3>>> where;
     for (const std::uint64_t id : ids) {
         const auto it = std::lower_bound(groups_.begin(), groups_.end(), id,
                                          [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
-        if (it != groups_.end() && it->id == id) groups.push_back(&*it);  // else gone
+        if (it == groups_.end() || it->id != id) continue;  // gone
+        groups.push_back(&*it);
+        where.emplace_back(it->depth, it->coords);
     }
+    coarse_->read_around(where);  // level() of these only reads from here on, so the jobs may run at once
     std::vector<TileLodLevel> built(groups.size());
     run_lod_jobs(groups.size(), [&](std::size_t i) {
         built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
@@ -93,6 +96,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         if (!built[i].mesh.triangles.empty()) groups[i]->lods.push_back(std::move(built[i]));
         groups[i]->version = fresh_tile_version();
     }
+    coarse_->forget_reads();  // the levels hold what they need; a later rebuild reads its tiles again
     return groups.size();
 }
 

@@ -323,7 +323,8 @@ public:
     /// after publish_mesh_to(), or as compute::LodWorker (cell_m, threads, nice). With use_gpu_contour the tiles
     /// are read back from the GPU contour at each publish (MeshFrame::gpu). On the CPU contour of a model of at
     /// least options.coarse_groups_from_cells cells along its longest side, the groups of tiles take their levels
-    /// from the model read at coarser strides (TileSurfaceCache::use_coarse_groups), all of them in the first publish.
+    /// from the model read at coarser strides (TileSurfaceCache::use_coarse_groups), the coarser ones in the first
+    /// publish.
     void use_tile_lod(const compute::LodWorkerOptions& options);
 
 private:
