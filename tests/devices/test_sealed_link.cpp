@@ -162,6 +162,32 @@ TEST(SealedLink, WrongPassphraseNeverConnectsNorDelivers) {
     EXPECT_EQ(p.join->stats().send_dropped, 1u);
 }
 
+// What the net driver reads to fail at once: the transport reached the peer, the handshake failed, and why.
+TEST(SealedLink, HandshakeFailureNamesAnotherKeyOrAnUnsealedPeerAndClearsOnSuccess) {
+    {
+        Pair p(key_a(), key_b());
+        p.pump();
+        EXPECT_TRUE(p.join->reached());
+        EXPECT_FALSE(p.join->connected());
+        EXPECT_NE(p.join->handshake_failure().find("different keys"), std::string::npos) << p.join->handshake_failure();
+        EXPECT_NE(p.host->handshake_failure().find("different keys"), std::string::npos) << p.host->handshake_failure();
+    }
+    {
+        Pair p(key_a(), key_a());
+        Pair::drain(*p.host, *p.host_tap, p.host_events);  // both connected, the joiner's hello sent, nothing confirmed
+        Pair::drain(*p.join, *p.join_tap, p.join_events);
+        ASSERT_TRUE(p.join->reached());
+        ASSERT_FALSE(p.join->connected());
+        EXPECT_EQ(p.join->handshake_failure(), "");
+        p.join_tap->inject.push_back(payload("an unsealed datagram of 28 bytes or so"));
+        Pair::drain(*p.join, *p.join_tap, p.join_events);
+        EXPECT_NE(p.join->handshake_failure().find("not sealed"), std::string::npos) << p.join->handshake_failure();
+        p.pump();  // the real handshake completes: nothing is wrong any more
+        EXPECT_TRUE(p.join->connected());
+        EXPECT_EQ(p.join->handshake_failure(), "");
+    }
+}
+
 TEST(SealedLink, ReflectedOrDuplicatedHelloIsRefused) {
     Pair p(key_a(), key_a());
     Pair::drain(*p.host, *p.host_tap, p.host_events);  // the host's hello is on the wire
