@@ -55,6 +55,10 @@ public:
     /// ("the handshake failed: ..."): a sealed link's peer that holds another key or sends unsealed datagrams. ""
     /// while nothing is known to be wrong (always, for a link without a handshake of its own).
     virtual std::string handshake_failure() const { return {}; }
+    /// A server: ends the current peer's connection once what was queued for it is sent (so it can read why), and is
+    /// free for the next peer at once; no kDisconnected follows for it. A client, or a link without peers to
+    /// drop: nothing.
+    virtual void drop_peer() {}
 };
 
 }  // namespace tridex::devices::net

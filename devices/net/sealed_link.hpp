@@ -157,8 +157,11 @@ public:
     /// ends hold different keys), or a datagram that is not sealed arrived after the inner link connected (the peer
     /// runs without a key); "" otherwise, and again once a handshake completes. One injected datagram can set it: a
     /// caller that gives up on it trades waiting for a clear message, as the threat model leaves denial of service
-    /// open anyway.
+    /// open anyway. When it is set the link also drops the peer (drop_peer(): a listener then serves the next peer
+    /// instead of one that cannot complete the handshake, which keeps our hello, queued before, and so learns why).
     std::string handshake_failure() const override;
+    /// The inner link's drop_peer().
+    void drop_peer() override { inner_->drop_peer(); }
     /// The counters so far; any thread may call it.
     SealStats stats() const;
 
@@ -169,6 +172,7 @@ private:
         std::uint64_t window = 0;  // bit i: counter newest - i was accepted
         bool any = false;
     };
+    void fail(const char* why);
     void begin_connection();
     void end_connection();
     void on_hello(const std::vector<std::uint8_t>& d);

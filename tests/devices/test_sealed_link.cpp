@@ -163,7 +163,7 @@ TEST(SealedLink, WrongPassphraseNeverConnectsNorDelivers) {
 }
 
 // What the net driver reads to fail at once: the transport reached the peer, the handshake failed, and why.
-TEST(SealedLink, HandshakeFailureNamesAnotherKeyOrAnUnsealedPeerAndClearsOnSuccess) {
+TEST(SealedLink, HandshakeFailureNamesAnotherKeyOrAnUnsealedPeerAndEndsTheAttempt) {
     {
         Pair p(key_a(), key_b());
         p.pump();
@@ -182,9 +182,16 @@ TEST(SealedLink, HandshakeFailureNamesAnotherKeyOrAnUnsealedPeerAndClearsOnSucce
         p.join_tap->inject.push_back(payload("an unsealed datagram of 28 bytes or so"));
         Pair::drain(*p.join, *p.join_tap, p.join_events);
         EXPECT_NE(p.join->handshake_failure().find("not sealed"), std::string::npos) << p.join->handshake_failure();
-        p.pump();  // the real handshake completes: nothing is wrong any more
+        p.pump();  // this connection's handshake was given up: it never completes
+        EXPECT_FALSE(p.join->connected());  // (the host took the joiner's confirmation, sent before it gave up)
+        EXPECT_NE(p.join->handshake_failure(), "");
+    }
+    {
+        Pair p(key_a(), key_a());
+        p.pump();
         EXPECT_TRUE(p.join->connected());
         EXPECT_EQ(p.join->handshake_failure(), "");
+        EXPECT_EQ(p.host->handshake_failure(), "");
     }
 }
 
