@@ -176,6 +176,29 @@ TEST(SealedNetSession, ASealedServerRefusesAnUnsealedSessionAndTheOtherWayRound)
     }
 }
 
+// `tridex run` with a scene naming the key file relative to itself (the run starts elsewhere): served, as with the
+// same key on both sides.
+TEST(SealedNetSession, ASceneNamesItsKeyFileRelativeToItself) {
+    const fs::path dir = test_dir("scene");
+    const fs::path scene_dir = dir / "scene";
+    fs::create_directories(scene_dir);
+    Child server(server_args({"--key-file", key_file(scene_dir, "site.key", "7e").string(), "--once"}));
+    const std::string port = start_server(server);
+    ASSERT_FALSE(port.empty()) << server.seen();
+    std::ofstream(scene_dir / "scene.json") << R"({"device": {"driver": "net", "address": "127.0.0.1:)" << port
+                                            << R"(", "key_file": "site.key"}})";
+    const auto r = run_tridex("run " + (scene_dir / "scene.json").string() + " --display offscreen --no-journal --out " +
+                                  (dir / "out").string(),
+                              dir / "run");
+    ASSERT_EQ(r.exit_code, 0) << r.err << "\nserver:\n" << server.seen();
+    const nlohmann::json rep = read_json(dir / "out" / "report.json");
+    ASSERT_TRUE(rep["link"].is_object()) << rep.dump(1);
+    EXPECT_GT(rep["link"]["rate_hz"].get<double>(), 200.0) << rep["link"].dump();
+    std::string line;
+    ASSERT_TRUE(server.wait_for_line(std::regex(R"((device-server: [0-9]+ sessions.*))"), 60.0, line)) << server.seen();
+    EXPECT_TRUE(std::regex_search(line, std::regex(R"(1 sessions.*sealed link: [1-9][0-9]* accepted, 0 refused)"))) << line;
+}
+
 // Bad key settings are refused at once, in one line naming the option, before anything connects.
 TEST(SealedNetSession, BadKeySettingsAreRefusedWithOneLine) {
     const fs::path dir = test_dir("bad");
