@@ -57,6 +57,10 @@ struct DriverCapabilities {
     bool switches_op = false;      ///< the person switches the tool's operation during the session (keys, buttons)
     bool app_sets_hand = false;    ///< the session sets the hand every frame (the pointer: MouseDevice::set_hand)
     bool takes_firmware = false;   ///< reads a firmware file from the user's installation (DeviceInputs::firmware)
+    /// Its link can be authenticated and encrypted (devices/net/sealed_link.hpp) with the key of
+    /// DeviceInputs::key_file or passphrase_env (--key-file, --passphrase-env, a scene's device.key_file or
+    /// device.passphrase_env).
+    bool seals_link = false;
     /// What may follow "NAME:" on a command line (--device NAME:ADDRESS), for help texts: "HOST:PORT" (remote),
     /// "PORT[:ID]" (tracked); "" = nothing. The driver or the session reads it (DeviceSpec::serial for remote).
     std::string address_form;

@@ -128,8 +128,9 @@ void read_tool(Fields& top, RunScene& s, const std::string& base_dir) {
 }
 
 // The scene's "device" block: the driver and what its capabilities say it reads (profile, firmware, address,
-// tracked target, its own numeric options). Fields a driver does not read are refused as unknown.
-void read_device(Fields& top, RunScene& s) {
+// tracked target, the key of a sealed link, its own numeric options). Fields a driver does not read are refused as
+// unknown.
+void read_device(Fields& top, RunScene& s, const std::string& base_dir) {
     const json* d = top.get("device");
     if (!d) return;
     s.device_named = true;
@@ -184,6 +185,14 @@ void read_device(Fields& top, RunScene& s) {
         } catch (const Error&) {
             f.fail("device.haptic_rendering", "'" + s.spec.haptic_rendering + "' is not distributed or local");
         }
+    }
+    if (caps.seals_link) {  // the key of a sealed link: a file (relative to the scene) or a variable's name
+        const std::string key_file = f.text("key_file", "");
+        if (!key_file.empty())
+            s.spec.device_key_file = fs::path(key_file).is_absolute() ? key_file : (fs::path(base_dir) / key_file).string();
+        s.spec.device_passphrase_env = f.text("passphrase_env", s.spec.device_passphrase_env);
+        if (!s.spec.device_key_file.empty() && !s.spec.device_passphrase_env.empty())
+            f.fail("device.key_file", "device.passphrase_env is set too: choose one");
     }
     for (const devices::DriverOption& o : caps.options)  // other drivers refuse these fields as unknown
         if (f.get(o.name)) s.device_options[o.name] = f.number(o.name, o.fallback, o.min, o.max, o.min_exclusive);
@@ -506,7 +515,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     Fields top(j, source, "");
     read_workpiece(top, s, base_dir);
     read_tool(top, s, base_dir);
-    read_device(top, s);
+    read_device(top, s, base_dir);
     read_op(top, s);
     read_scene_materials(top, s.spec);
     read_haptics(top, s);

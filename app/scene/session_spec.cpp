@@ -50,6 +50,8 @@ std::unique_ptr<devices::HapticDevice> make_device(const SessionSpec& s, const d
     d.serial = s.device_serial;
     devices::DeviceInputs in = inputs;
     if (!s.device_firmware.empty()) in.firmware = s.device_firmware;
+    if (!s.device_key_file.empty()) in.key_file = s.device_key_file;
+    if (!s.device_passphrase_env.empty()) in.passphrase_env = s.device_passphrase_env;
     if (!in.host) in.host = &glfw_device_host();  // the window system's input (game controllers)
     in.haptic_rendering = s.haptic_rendering;
     return devices::builtin_registry().create(d, in);

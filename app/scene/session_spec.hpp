@@ -78,6 +78,11 @@ struct SessionSpec {
     /// net: the device server's "HOST:PORT" (not part of the spec's JSON: where a device is served does not decide the
     /// result). Other drivers: the unit ("" = the first found).
     std::string device_serial;
+    /// Drivers whose link can be sealed (net): the key file, or the name of the environment variable holding the
+    /// passphrase (devices::DeviceInputs::key_file); both "" = not authenticated. Not part of the spec's JSON: a key
+    /// does not decide the result, and must not travel in a journal or recording.
+    std::string device_key_file;
+    std::string device_passphrase_env;  ///< see device_key_file
     /// net: where the contact loop runs, "distributed" or "local" (devices/net/net_device.hpp).
     std::string haptic_rendering = "distributed";
     std::string workspace_mode = "peng_moving";  ///< peng_moving | scaling | clutching | bubble (Peng et al. 4.1 and peers)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace tridex::devices::net {
@@ -47,6 +48,17 @@ public:
     virtual const char* where() const = 0;
     /// What arrived on the socket so far; any thread may call it. A transport without a socket returns zeros.
     virtual LinkTraffic traffic() const { return {}; }
+    /// True while the transport reached the peer, whether or not connected() yet (a sealed link whose handshake is
+    /// pending or failed). A link without a handshake of its own returns connected().
+    virtual bool reached() const { return connected(); }
+    /// What is known to stop the connection the transport made from carrying datagrams, as one line for messages
+    /// ("the handshake failed: ..."): a sealed link's peer that holds another key or sends unsealed datagrams. ""
+    /// while nothing is known to be wrong (always, for a link without a handshake of its own).
+    virtual std::string handshake_failure() const { return {}; }
+    /// A server: ends the current peer's connection once what was queued for it is sent (so it can read why), and is
+    /// free for the next peer at once; no kDisconnected follows for it. A client, or a link without peers to
+    /// drop: nothing.
+    virtual void drop_peer() {}
 };
 
 }  // namespace tridex::devices::net

@@ -256,6 +256,14 @@ bool EnetLink::poll(LinkEvent& ev) {
 
 bool EnetLink::connected() const { return impl_->up; }
 
+void EnetLink::drop_peer() {
+    Impl& m = *impl_;
+    if (!m.server || !m.up || !m.peer) return;
+    enet_peer_disconnect_later(m.peer, 0);  // its DISCONNECT event is then another peer's: ignored by poll()
+    m.set_peer(nullptr);
+    enet_host_flush(m.host);
+}
+
 LinkTraffic EnetLink::traffic() const {
     LinkTraffic t;
     if (const HostWatch* w = impl_->watch) {

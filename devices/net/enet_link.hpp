@@ -42,6 +42,9 @@ public:
     const char* where() const override { return where_.c_str(); }
     /// Datagrams received and foreign ones (LinkTraffic), counted by an ENet intercept before ENet parses them.
     LinkTraffic traffic() const override;
+    /// A server: disconnects the current peer after its queued reliable datagrams (enet_peer_disconnect_later) and
+    /// takes the next connect at once; a client: nothing.
+    void drop_peer() override;
     /// The local UDP port (a listener's, once bound).
     std::uint16_t port() const;
 

@@ -172,6 +172,14 @@ bool NetDevice::handshake() {
     std::lock_guard link(link_mutex_);
     pump();
     if (!refusal_.empty()) throw Error(refusal_);
+    if (!ever_welcomed_) {  // a handshake that cannot succeed fails at once: keys differ, or one side is sealed
+        std::string failure = link_->handshake_failure();
+        if (failure.empty() && reached_ && drops_.total() > 0)
+            failure = "the handshake failed: it sends datagrams this session cannot read (is it sealed? give this "
+                      "session the same key: --key-file or --passphrase-env, or the scene's device.key_file or "
+                      "device.passphrase_env)";
+        if (!failure.empty()) throw Error("net: the device server at " + std::string(link_->where()) + ": " + failure);
+    }
     if (welcomed_ && !have_state_) {  // the first state may have been lost: keep the server's watchdog fed until one comes
         encode_heartbeat(header(++tx_seq_), out_);
         link_->send(out_, false);
@@ -182,10 +190,16 @@ bool NetDevice::handshake() {
 void NetDevice::wait_for_server(double timeout_s) {
     const double end = steady_s() + timeout_s;
     while (!handshake()) {
-        if (steady_s() > end)
-            throw Error(std::string("net: no device server answered at ") + link_->where() + " within " +
-                        std::to_string(static_cast<int>(std::ceil(timeout_s))) +
-                        " s (is `tridex device-server --listen " + link_->where() + "` running there?)");
+        if (steady_s() > end) {
+            const std::string within = " within " + std::to_string(static_cast<int>(std::ceil(timeout_s))) + " s";
+            if (link_->reached() || reached_)
+                throw Error(std::string("net: the device server at ") + link_->where() +
+                            " accepted the connection but did not complete the handshake" + within +
+                            " (is one side sealed and the other not? both need the same --key-file or "
+                            "--passphrase-env)");
+            throw Error(std::string("net: no device server answered at ") + link_->where() + within +
+                        " (is `tridex device-server --listen " + link_->where() + "` running there?)");
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     // Let the transport take the acknowledgements of what the handshake sent reliably (the contact parameters), so a
@@ -204,6 +218,7 @@ void NetDevice::pump() {
     while (link_->poll(ev_)) {
         switch (ev_.kind) {
             case LinkEvent::kConnected:
+                reached_ = true;
                 welcomed_ = false;
                 send_hello();
                 break;

@@ -65,11 +65,14 @@ public:
     ~NetDevice() override;
 
     /// Pumps the link once (non-blocking) and returns true once the server has welcomed this session and its first
-    /// device state has arrived (so read() has a sample). Throws
-    /// tridex::Error with the server's line when it refused.
+    /// device state has arrived (so read() has a sample). Throws tridex::Error with the server's line when it
+    /// refused, and "net: the device server at HOST:PORT: the handshake failed: ..." before the first welcome when
+    /// the link's handshake failed (DatagramLink::handshake_failure: different keys, or a sealed link facing an
+    /// unsealed one) or a server it reached sends datagrams this session cannot read (a sealed server).
     bool handshake();
     /// handshake() until welcomed or timeout_s of the real clock passed; throws tridex::Error "net: no device
-    /// server answered at HOST:PORT within T s (is `tridex device-server` running there?)" or the refusal.
+    /// server answered at HOST:PORT within T s (is `tridex device-server` running there?)", "net: the device server
+    /// at HOST:PORT accepted the connection but did not complete the handshake within T s (...)", or the refusal.
     void wait_for_server(double timeout_s);
     /// Local mode: the contact parameters and workspace mapping the server's loop uses (sent after each
     /// welcome, and when the loop starts if they changed since).
@@ -131,6 +134,7 @@ private:
     DeviceProfile profile_;
     bool welcomed_ = false;      // the current connection got its kWelcome
     bool ever_welcomed_ = false;
+    bool reached_ = false;       // the link reported a connection (the transport reached a server)
     std::string refusal_;
     LinkEvent ev_;
     std::vector<std::uint8_t> out_;

@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "core/error.hpp"
@@ -97,6 +98,36 @@ SessionKey key_from_file(const std::string& path) {
         bin_n != sizeof key)
         throw Error(what + "cannot decode its 64 hexadecimal characters");
     return SessionKey(key);
+}
+
+std::optional<SessionKey> key_from_settings(const KeySettings& k) {
+    if (!k.key_file.empty() && !k.passphrase_env.empty())
+        throw Error(k.key_file_name + ", " + k.passphrase_env_name + ": choose one");
+    if (!k.key_file.empty()) {
+        try {
+            return key_from_file(k.key_file);
+        } catch (const Error& e) {
+            throw Error(k.key_file_name + ": " + e.what());
+        }
+    }
+    if (k.passphrase_env.empty()) return std::nullopt;
+    const std::string what = k.passphrase_env_name + " " + k.passphrase_env + ": ";
+    if (k.passphrase_env.find('=') != std::string::npos)
+        throw Error(what + "is not the name of an environment variable (it names the variable, not the passphrase)");
+    const char* value = std::getenv(k.passphrase_env.c_str());
+    if (!value) throw Error(what + "the environment variable " + k.passphrase_env + " is not set");
+    if (*value == '\0') throw Error(what + "the environment variable " + k.passphrase_env + " is empty");
+    try {
+        return key_from_passphrase(value);
+    } catch (const Error& e) {
+        throw Error(what + e.what());
+    }
+}
+
+std::string key_source_text(const KeySettings& k) {
+    if (!k.key_file.empty()) return "key file '" + k.key_file + "'";
+    if (!k.passphrase_env.empty()) return "the passphrase in $" + k.passphrase_env;
+    return "";
 }
 
 }  // namespace tridex::devices::net

@@ -85,6 +85,15 @@ std::uint8_t SealedLink::peer_role() const { return role_ == SealRole::kListener
 
 bool SealedLink::connected() const { return confirmed_ && inner_->connected(); }
 
+std::string SealedLink::handshake_failure() const { return confirmed_ ? std::string() : failure_; }
+
+void SealedLink::fail(const char* why) {
+    failure_ = why;
+    // The peer cannot complete this handshake: a listener frees itself for the next one.
+    inner_->drop_peer();
+    end_connection();
+}
+
 void SealedLink::nonce_of(const std::uint8_t* header, std::uint8_t sender_role, std::uint8_t* nonce) const {
     // [sender's role][version][channel][counter, 8 bytes LE][13 zero bytes]: injective in the header, so a changed
     // header byte opens with another nonce and fails the MAC; the role byte keeps the two directions apart.
@@ -150,9 +159,17 @@ void SealedLink::on_hello(const std::vector<std::uint8_t>& d) {
     const std::uint8_t* peer_nonce = d.data() + 3;
     // Refused: the wrong length, no hello expected (before the connection or once it is confirmed), a bad MAC (the
     // wrong key), a hello of our own role (reflected back to us), or the hello already taken (a duplicate).
-    if (d.size() != kHelloBytes || !started_ || confirmed_ ||
-        crypto_auth_verify(d.data() + kHelloSigned, d.data(), kHelloSigned, hello_key_) != 0 || d[2] != peer_role() ||
-        (established_ && sodium_memcmp(peer_nonce, peer_nonce_, kNonceBytes) == 0)) {
+    if (d.size() != kHelloBytes || !started_ || confirmed_) {
+        bump(c.hello_refused);
+        return;
+    }
+    if (crypto_auth_verify(d.data() + kHelloSigned, d.data(), kHelloSigned, hello_key_) != 0) {
+        bump(c.hello_refused);
+        fail("the handshake failed: the peer's hello does not authenticate with this key (the two ends hold "
+             "different keys or passphrases)");
+        return;
+    }
+    if (d[2] != peer_role() || (established_ && sodium_memcmp(peer_nonce, peer_nonce_, kNonceBytes) == 0)) {
         bump(c.hello_refused);
         return;
     }
@@ -182,6 +199,7 @@ bool SealedLink::on_confirm(const std::vector<std::uint8_t>& d) {
         return false;
     }
     confirmed_ = true;
+    failure_.clear();
     return true;
 }
 
@@ -243,10 +261,10 @@ bool SealedLink::poll(LinkEvent& ev) {
             continue;
         }
         const std::vector<std::uint8_t>& d = ev.data;
-        if (d.size() < kHeaderBytes + kMacBytes) {
-            bump(c.truncated);
-        } else if (d[0] != kVersion) {
-            bump(c.bad_version);
+        if (d.size() < kHeaderBytes + kMacBytes || d[0] != kVersion) {
+            bump(d.size() < kHeaderBytes + kMacBytes ? c.truncated : c.bad_version);
+            if (started_ && !confirmed_)
+                fail("the handshake failed: the peer sends datagrams that are not sealed (it runs without a key?)");
         } else if (d[1] == kHello) {
             on_hello(d);
         } else if (d[1] == kConfirm) {

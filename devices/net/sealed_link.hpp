@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -51,6 +52,26 @@ SessionKey key_from_passphrase(std::string_view passphrase);
 /// one line end ("\n" or "\r\n"). Throws tridex::Error "key file 'PATH': ..." naming the file and what was wrong
 /// (cannot open, empty, its length, or the offset of a character that is not hexadecimal). The bytes read are wiped.
 SessionKey key_from_file(const std::string& path);
+
+/// Where the long-term key of a sealed link comes from, as a command line or a scene file gives it: a key file, or
+/// the name of an environment variable that holds a passphrase (never the passphrase itself, so that it shows
+/// neither in `ps` nor in a scene file).
+struct KeySettings {
+    std::string key_file;        ///< a file key_from_file() reads; "" = none
+    std::string passphrase_env;  ///< an environment variable whose value key_from_passphrase() derives; "" = none
+    std::string key_file_name = "--key-file";              ///< how errors name the key file setting
+    std::string passphrase_env_name = "--passphrase-env";  ///< how errors name the passphrase setting
+    /// True when either source is given.
+    bool any() const { return !key_file.empty() || !passphrase_env.empty(); }
+};
+
+/// The key the settings give, or std::nullopt when they give none (the link is then not authenticated). Throws
+/// tridex::Error naming the setting: both given ("choose one"), the environment variable unset or empty, or what
+/// key_from_file() or key_from_passphrase() refused (prefixed with the setting's name).
+std::optional<SessionKey> key_from_settings(const KeySettings& settings);
+
+/// Where the settings take the key from, for messages: "key file 'PATH'", "the passphrase in $VAR", or "" for none.
+std::string key_source_text(const KeySettings& settings);
 
 /// Which end of the connection a SealedLink is: it fixes the order of the nonces in the connection key and the
 /// direction byte of every datagram's nonce, so the two ends must differ (a hello from the same role is refused).
@@ -130,6 +151,17 @@ public:
     const char* where() const override { return inner_->where(); }
     /// The inner link's traffic() (what reached its socket, sealed or not).
     LinkTraffic traffic() const override { return inner_->traffic(); }
+    /// The inner link's connected(): the transport reached the peer, whether the handshake completed or not.
+    bool reached() const override { return inner_->connected(); }
+    /// While the handshake has not completed: "the handshake failed: ..." once a hello failed authentication (the two
+    /// ends hold different keys), or a datagram that is not sealed arrived after the inner link connected (the peer
+    /// runs without a key); "" otherwise, and again once a handshake completes. One injected datagram can set it: a
+    /// caller that gives up on it trades waiting for a clear message, as the threat model leaves denial of service
+    /// open anyway. When it is set the link also drops the peer (drop_peer(): a listener then serves the next peer
+    /// instead of one that cannot complete the handshake, which keeps our hello, queued before, and so learns why).
+    std::string handshake_failure() const override;
+    /// The inner link's drop_peer().
+    void drop_peer() override { inner_->drop_peer(); }
     /// The counters so far; any thread may call it.
     SealStats stats() const;
 
@@ -140,6 +172,7 @@ private:
         std::uint64_t window = 0;  // bit i: counter newest - i was accepted
         bool any = false;
     };
+    void fail(const char* why);
     void begin_connection();
     void end_connection();
     void on_hello(const std::vector<std::uint8_t>& d);
@@ -161,6 +194,7 @@ private:
     bool started_ = false;      // the inner link is connected and our hello was sent
     bool established_ = false;  // an authentic hello is in; conn_key_ holds the connection key; our confirm was sent
     bool confirmed_ = false;    // the peer's confirm opened: kConnected went upward (so kDisconnected does too)
+    std::string failure_;       // what failed in the handshake since the last one completed ("" = nothing)
     std::vector<std::uint8_t> peer_address_;
     std::uint64_t send_counter_[3] = {0, 0, 0};  // reliable, unreliable, confirm
     Channel recv_[2];

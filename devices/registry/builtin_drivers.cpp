@@ -1,6 +1,7 @@
 // devices/registry/builtin_drivers.cpp - the drivers this build has, each with what it says of itself.
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -15,6 +16,7 @@
 #include "devices/mouse_device.hpp"
 #include "devices/net/enet_link.hpp"
 #include "devices/net/net_device.hpp"
+#include "devices/net/sealed_link.hpp"
 #include "devices/replay_device.hpp"
 #include "devices/simulated_device.hpp"
 #include "devices/spacemouse_device.hpp"
@@ -133,6 +135,7 @@ void add_net(DeviceRegistry& r) {
     info.caps.renders_forces = true;
     info.caps.address_form = "HOST:PORT";
     info.caps.address_required = true;
+    info.caps.seals_link = true;
     r.add(info, [](const DeviceSpec& spec, const DeviceInputs& in) -> std::unique_ptr<HapticDevice> {
         std::string host;
         std::uint16_t port = 0;
@@ -140,7 +143,13 @@ void add_net(DeviceRegistry& r) {
         net::NetDeviceOptions o;
         o.mode = net::rendering_mode_from(in.haptic_rendering);
         o.period_s = in.period_s;
-        auto dev = std::make_unique<net::NetDevice>(net::EnetLink::connect(host, port), o);
+        net::KeySettings keys;
+        keys.key_file = in.key_file;
+        keys.passphrase_env = in.passphrase_env;
+        const std::optional<net::SessionKey> key = net::key_from_settings(keys);  // before connecting: errors first
+        std::unique_ptr<net::DatagramLink> link = net::EnetLink::connect(host, port);
+        if (key) link = std::make_unique<net::SealedLink>(std::move(link), *key, net::SealRole::kJoiner);
+        auto dev = std::make_unique<net::NetDevice>(std::move(link), o);
         dev->wait_for_server(3.0);
         return dev;
     });

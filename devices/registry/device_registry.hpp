@@ -64,6 +64,11 @@ struct DeviceInputs {
     /// remote drivers: where the contact loop runs, "distributed" (here) or "local" (on the device server); see
     /// devices/net/net_device.hpp.
     std::string haptic_rendering = "distributed";
+    /// Drivers whose link can be sealed (DriverCapabilities::seals_link): the key file (--key-file, a scene's
+    /// "device.key_file") or the environment variable holding the passphrase (--passphrase-env, a scene's
+    /// "device.passphrase_env"); both "" = the link is not authenticated. See docs/devices/sealed-link.md.
+    std::string key_file;
+    std::string passphrase_env;  ///< see key_file
     /// tracked drivers: the DTrack receiver to read (shared with the head or the wand on the same port); null = the
     /// driver opens one on dtrack_port / dtrack_bind.
     std::shared_ptr<DTrackReceiver> dtrack{};
@@ -172,7 +177,8 @@ private:
 /// "no Novint Falcon is plugged in" when libusb finds none) and `falcon-emulator` (the same driver over the in-memory
 /// Falcon of devices/falcon/falcon_emulator.hpp, its grip held by the simulated hand on DeviceInputs::hand_path),
 /// `net` (a device served by `tridex device-server` at DeviceSpec::serial = "HOST:PORT": creating it waits up to 3 s
-/// for the server's welcome and throws when none answers or it refuses), `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
+/// for the server's welcome and throws when none answers, it refuses or the sealed link's handshake fails; with
+/// DeviceInputs::key_file or passphrase_env its link is a SealedLink), `mouse` (the desk mouse) and `spacemouse` (a 3D mouse through spacenavd's socket: DeviceSpec::serial, else
 /// $SPNAV_SOCKET, else /etc/spnavrc's `socket`, else /var/run/spnav.sock; opening it throws when no daemon listens there).
 const DeviceRegistry& builtin_registry();
 

@@ -140,6 +140,8 @@ TEST(DriverCapabilities, EveryBuiltinDriverDescribesItself) {
     EXPECT_TRUE(r.info("simulated").caps.servable);
     EXPECT_EQ(r.info("falcon").caps.input, InputKind::kHardware);
     EXPECT_TRUE(r.info("falcon").caps.takes_firmware);
+    EXPECT_TRUE(r.info("net").caps.seals_link);  // --key-file, --passphrase-env
+    EXPECT_FALSE(r.info("simulated").caps.seals_link);
     EXPECT_EQ(r.info("mouse").caps.input, InputKind::kPointer);
     EXPECT_EQ(r.info("mouse").caps.engage_button, 1);
     EXPECT_EQ(r.info("spacemouse").caps.input, InputKind::kRate);

@@ -2,6 +2,8 @@
 // (32 raw bytes or 64 hexadecimal characters), and each refusal naming the file and what was wrong.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -104,6 +106,54 @@ TEST(SealedKey, PassphraseGivesTheSameKeyEachTimeAndRefusesEmpty) {
     SessionKey copy;
     copy = a;
     EXPECT_EQ(copy, a);
+}
+
+// The settings a command line or scene gives: none, a key file, or a variable's passphrase; each refusal names the
+// setting (and the file or variable).
+TEST(SealedKey, KeySettingsGiveTheKeyOrRefuseNamingTheSetting) {
+    const KeyDir d;
+    const auto refusal = [](const KeySettings& k) {
+        try {
+            (void)key_from_settings(k);
+        } catch (const tridex::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("(accepted)");
+    };
+    KeySettings none;
+    EXPECT_FALSE(none.any());
+    EXPECT_FALSE(key_from_settings(none).has_value());
+    EXPECT_EQ(key_source_text(none), "");
+
+    KeySettings file;
+    file.key_file = d.write("k.raw", raw_key());
+    ASSERT_TRUE(key_from_settings(file).has_value());
+    EXPECT_EQ(*key_from_settings(file), key_from_file(file.key_file));
+    EXPECT_EQ(key_source_text(file), "key file '" + file.key_file + "'");
+    file.key_file = (d.dir / "missing.key").string();
+    file.key_file_name = "device.key_file";
+    EXPECT_EQ(refusal(file).rfind("device.key_file: key file '" + file.key_file + "': cannot open", 0), 0u)
+        << refusal(file);
+
+    KeySettings env;
+    env.passphrase_env = "TRIDEX_TEST_KEY_SETTINGS";
+    ASSERT_EQ(setenv("TRIDEX_TEST_KEY_SETTINGS", "a passphrase for the shared session", 1), 0);
+    ASSERT_TRUE(key_from_settings(env).has_value());
+    EXPECT_EQ(*key_from_settings(env), key_from_passphrase("a passphrase for the shared session"));
+    EXPECT_EQ(key_source_text(env), "the passphrase in $TRIDEX_TEST_KEY_SETTINGS");
+    ASSERT_EQ(setenv("TRIDEX_TEST_KEY_SETTINGS", "", 1), 0);
+    EXPECT_EQ(refusal(env), "--passphrase-env TRIDEX_TEST_KEY_SETTINGS: the environment variable "
+                            "TRIDEX_TEST_KEY_SETTINGS is empty");
+    ASSERT_EQ(unsetenv("TRIDEX_TEST_KEY_SETTINGS"), 0);
+    EXPECT_EQ(refusal(env), "--passphrase-env TRIDEX_TEST_KEY_SETTINGS: the environment variable "
+                            "TRIDEX_TEST_KEY_SETTINGS is not set");
+    env.passphrase_env = "X=secret";  // a passphrase given where its variable's name belongs
+    EXPECT_NE(refusal(env).find("is not the name of an environment variable"), std::string::npos) << refusal(env);
+
+    KeySettings both;
+    both.key_file = d.write("k2.raw", raw_key());
+    both.passphrase_env = "HOME";
+    EXPECT_EQ(refusal(both), "--key-file, --passphrase-env: choose one");
 }
 
 }  // namespace

@@ -162,6 +162,39 @@ TEST(SealedLink, WrongPassphraseNeverConnectsNorDelivers) {
     EXPECT_EQ(p.join->stats().send_dropped, 1u);
 }
 
+// What the net driver reads to fail at once: the transport reached the peer, the handshake failed, and why.
+TEST(SealedLink, HandshakeFailureNamesAnotherKeyOrAnUnsealedPeerAndEndsTheAttempt) {
+    {
+        Pair p(key_a(), key_b());
+        p.pump();
+        EXPECT_TRUE(p.join->reached());
+        EXPECT_FALSE(p.join->connected());
+        EXPECT_NE(p.join->handshake_failure().find("different keys"), std::string::npos) << p.join->handshake_failure();
+        EXPECT_NE(p.host->handshake_failure().find("different keys"), std::string::npos) << p.host->handshake_failure();
+    }
+    {
+        Pair p(key_a(), key_a());
+        Pair::drain(*p.host, *p.host_tap, p.host_events);  // both connected, the joiner's hello sent, nothing confirmed
+        Pair::drain(*p.join, *p.join_tap, p.join_events);
+        ASSERT_TRUE(p.join->reached());
+        ASSERT_FALSE(p.join->connected());
+        EXPECT_EQ(p.join->handshake_failure(), "");
+        p.join_tap->inject.push_back(payload("an unsealed datagram of 28 bytes or so"));
+        Pair::drain(*p.join, *p.join_tap, p.join_events);
+        EXPECT_NE(p.join->handshake_failure().find("not sealed"), std::string::npos) << p.join->handshake_failure();
+        p.pump();  // this connection's handshake was given up: it never completes
+        EXPECT_FALSE(p.join->connected());  // (the host took the joiner's confirmation, sent before it gave up)
+        EXPECT_NE(p.join->handshake_failure(), "");
+    }
+    {
+        Pair p(key_a(), key_a());
+        p.pump();
+        EXPECT_TRUE(p.join->connected());
+        EXPECT_EQ(p.join->handshake_failure(), "");
+        EXPECT_EQ(p.host->handshake_failure(), "");
+    }
+}
+
 TEST(SealedLink, ReflectedOrDuplicatedHelloIsRefused) {
     Pair p(key_a(), key_a());
     Pair::drain(*p.host, *p.host_tap, p.host_events);  // the host's hello is on the wire

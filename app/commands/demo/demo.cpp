@@ -127,6 +127,11 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::Device
     const bool remote = caps.input == devices::InputKind::kRemote;
     if (o.haptic_rendering != "distributed" && !remote)
         throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
+    if ((!o.key_file.empty() || !o.passphrase_env.empty()) && !caps.seals_link)
+        throw Error(std::string(o.key_file.empty() ? "--passphrase-env" : "--key-file") +
+                    ": only with --device net:HOST:PORT (a device server whose link is sealed)");
+    s.device_key_file = o.key_file;
+    s.device_passphrase_env = o.passphrase_env;
     if (remote) {
         s.device_serial = choice.address;
         s.haptic_rendering = o.haptic_rendering;

@@ -31,6 +31,10 @@ struct DemoOptions {
     /// --device net:HOST:PORT: where the contact loop runs, distributed (this session) or local (the device server)
     std::string haptic_rendering = "distributed";
     std::string falcon_firmware;  ///< --falcon-firmware: the Falcon firmware file from the user's own installation
+    /// --device net:HOST:PORT: the key sealing the link, as the device server's (--key-file FILE, or
+    /// --passphrase-env VAR naming the environment variable holding the passphrase); both "" = not authenticated.
+    std::string key_file;
+    std::string passphrase_env;  ///< see key_file
     std::string workspace = "peng_moving";  ///< workspace technique: peng_moving | scaling | clutching | bubble
     double static_friction = 0.2;  ///< Coulomb friction on the proxy (static >= dynamic >= 0)
     double dynamic_friction = 0.15;

@@ -65,6 +65,11 @@ std::pair<CLI::Option*, CLI::Option*> declare_workpiece_tool_device(CLI::App& cm
     cmd.add_option(
         "--falcon-firmware", o.demo.falcon_firmware,
         "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
+    cmd.add_option("--key-file", o.demo.key_file,
+                    "With --device net:HOST:PORT: the key FILE the device server seals its link with (--key-file there)");
+    cmd.add_option("--passphrase-env", o.demo.passphrase_env,
+                    "With --device net:HOST:PORT: the environment variable VAR holding the passphrase the device server "
+                    "seals its link with (its name, never the passphrase)");
     return {demo_mesh, demo_resolution};
 }
 

@@ -16,11 +16,17 @@ struct DeviceServerOptions {
     /// simulated, falcon-emulator: the hand plays the stroke `tridex demo` plans over this mesh ("" = the bunny) ...
     std::string mesh;
     double stroke_seconds = 4.0;          ///< ... lasting this long, s (the session's --seconds)
+    /// The key that seals the link (devices/net/sealed_link.hpp): a key file, or the name of the environment
+    /// variable holding a passphrase; neither = the link is not authenticated (anyone who reaches it drives the device).
+    std::string key_file;
+    std::string passphrase_env;  ///< see key_file
 };
 
 /// Serves the device until Ctrl+C, `seconds`, the end of the first session (`once`) or the device's loss. Prints
-/// one line per event (session connected, refused, silent link, ...) and a summary. Throws tridex::Error on bad
-/// options, a device that cannot be made, or an address it cannot listen on.
+/// one line per event (session connected, refused, silent link, ...), a line saying whether the link is sealed, and
+/// a summary (with a sealed link, what it refused: hellos of another key, unsealed or forged datagrams). Throws
+/// tridex::Error on bad options (a key file it cannot read, an unset or empty passphrase variable, naming the
+/// option), a device that cannot be made, or an address it cannot listen on.
 void run_device_server(const DeviceServerOptions& options);
 
 }  // namespace tridex::app

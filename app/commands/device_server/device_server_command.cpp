@@ -26,6 +26,12 @@ CommandAction setup_device_server(CLI::App& cmd) {
     cmd.add_option("--stroke-seconds", server.stroke_seconds,
                    "simulated, falcon-emulator: the stroke's length (the session's --seconds)")
         ->capture_default_str();
+    cmd.add_option("--key-file", server.key_file,
+                   "Seal the link with the key in FILE (32 raw bytes or 64 hex characters): only sessions holding "
+                   "the same key connect");
+    cmd.add_option("--passphrase-env", server.passphrase_env,
+                   "Seal the link with the passphrase in the environment variable VAR (its name, never the passphrase: "
+                   "it would show in `ps`)");
     return [o] {
         run_device_server(*o);
         return 0;

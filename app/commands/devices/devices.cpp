@@ -30,6 +30,7 @@ nlohmann::json capabilities_json(const devices::DriverCapabilities& c) {
             {"strokes_end_on_release", c.strokes_end_on_release},
             {"switches_op", c.switches_op},
             {"takes_firmware", c.takes_firmware},
+            {"seals_link", c.seals_link},
             {"address", c.address_form},
             {"fixed_profile", c.fixed_profile},
             {"options", options}};

@@ -113,6 +113,11 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_option(
         "--falcon-firmware", o.falcon_firmware,
         "Novint Falcon firmware FILE from your own installation (the falcon driver loads it; never shipped)");
+    cmd->add_option("--key-file", o.key_file,
+                    "With --device net:HOST:PORT: the key FILE the device server seals its link with (--key-file there)");
+    cmd->add_option("--passphrase-env", o.passphrase_env,
+                    "With --device net:HOST:PORT: the environment variable VAR holding the passphrase the device server "
+                    "seals its link with (its name, never the passphrase)");
     auto* workpiece = cmd->add_option("--workpiece", o.workpiece,
                                       "Start from a saved model FILE.tdx (--save, Ctrl+S) instead of the scene's workpiece");
     cmd->add_option("--mesh", o.mesh,

@@ -135,6 +135,10 @@ struct RunOptions {
     /// The Novint Falcon firmware file from the user's own installation (the `falcon` driver loads it when the
     /// Falcon has none running); "" = the scene's device.firmware.
     std::string falcon_firmware;
+    /// A device whose link can be sealed (net): the key file, or the name of the environment variable holding the
+    /// passphrase; "" = the scene's device.key_file / device.passphrase_env.
+    std::string key_file;
+    std::string passphrase_env;  ///< see key_file
     /// A saved model (.tdx) the session starts from instead of the scene's workpiece (as a scene's workpiece.model and
     /// `demo --workpiece`); "" = the scene's.
     std::string workpiece;

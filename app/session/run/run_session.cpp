@@ -43,6 +43,23 @@ void apply_device_option(const std::string& text, RunScene& scene) {
     }
 }
 
+// --haptic-rendering, --key-file and --passphrase-env over the scene's, for the drivers whose capabilities read them.
+void apply_remote_options(const RunOptions& o, const devices::DriverCapabilities& caps, SessionSpec& spec) {
+    if (!o.haptic_rendering.empty()) {
+        if (caps.input != devices::InputKind::kRemote)
+            throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
+        (void)devices::net::rendering_mode_from(o.haptic_rendering);  // "... is not distributed or local"
+        spec.haptic_rendering = o.haptic_rendering;
+    }
+    if (!o.key_file.empty() || !o.passphrase_env.empty()) {  // replacing the scene's key
+        if (!caps.seals_link)
+            throw Error(std::string(o.key_file.empty() ? "--passphrase-env" : "--key-file") +
+                        ": only with --device net:HOST:PORT (a device server whose link is sealed)");
+        spec.device_key_file = o.key_file;
+        spec.device_passphrase_env = o.passphrase_env;
+    }
+}
+
 }  // namespace
 
 RunSetup resolve_run(const RunOptions& o) {
@@ -166,12 +183,7 @@ RunSetup resolve_run(const RunOptions& o) {
     else if (!s.scene.device_named && s.display != DisplayKind::kOffscreen) apply_device_option("mouse", s.scene);
     const devices::DriverInfo& driver_info = devices::builtin_registry().info(s.scene.spec.device_driver);
     const devices::DriverCapabilities& caps = driver_info.caps;
-    if (!o.haptic_rendering.empty()) {
-        if (caps.input != devices::InputKind::kRemote)
-            throw Error("--haptic-rendering " + o.haptic_rendering + ": only with --device net:HOST:PORT (a device server)");
-        (void)devices::net::rendering_mode_from(o.haptic_rendering);  // "... is not distributed or local"
-        s.scene.spec.haptic_rendering = o.haptic_rendering;
-    }
+    apply_remote_options(o, caps, s.scene.spec);
     if (caps.input == devices::InputKind::kRemote && s.scene.spec.haptic_rendering == "local" && !s.scene.objects.empty())
         throw Error(s.scene.source + ": field 'objects': scene objects are felt by the session's own contact loop; a "
                     "device server renders only the workpiece in local haptic rendering: use distributed rendering");
