@@ -2,9 +2,13 @@
 // silhouette mismatch, colour difference and holes (cracks that show the background through the surface).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "renderer/stereo/stereo_renderer.hpp"
 
@@ -47,6 +51,24 @@ inline LodImageDiff compare_lod_images(const renderer::StereoImages& lod, const 
     one(lod.left, full.left);
     one(lod.right, full.right);
     return d;
+}
+
+// The desk's tolerance for a frame with levels against its full-resolution frame: prints one line starting with
+// `what`, and expects the silhouette within half a percent of the pixels, a mean difference of at most 1.5 codes per
+// channel, at most 1 % of the pixels visibly different (a channel more than 48 codes off) and no hole.
+inline void expect_desk_match(const renderer::StereoImages& lod, const renderer::StereoImages& full,
+                              const std::uint8_t* bg, const std::string& what) {
+    const LodImageDiff d = compare_lod_images(lod, full, bg);
+    const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
+    const double far_off = static_cast<double>(d.far_off) / static_cast<double>(d.pixels);
+    std::printf("%s: triangles L %zu of %zu, groups L %zu, silhouette mismatch %.4f%%, mean |diff| %.3f, visibly "
+                "different %.4f%%, holes %zu\n",
+                what.c_str(), lod.stats.tile_triangles[0], full.stats.tile_triangles[0], lod.stats.groups_drawn[0],
+                100.0 * mismatch, d.mean_abs(), 100.0 * far_off, d.holes);
+    EXPECT_LE(mismatch, 0.005) << what;
+    EXPECT_LE(d.mean_abs(), 1.5) << what;
+    EXPECT_LE(far_off, 0.01) << what;
+    EXPECT_EQ(d.holes, 0u) << what;
 }
 
 }  // namespace tridex::app

@@ -75,23 +75,15 @@ TEST(CoarseGroupRender, TheBunnyAt256And512MatchesItsFullResolutionRender) {
                 const renderer::StereoImages lod = r.render(scene, screen, head, 0.065);
                 scene.lod = false;
                 const renderer::StereoImages full = r.render(scene, screen, head, 0.065);
-                const LodImageDiff d = compare_lod_images(lod, full, bg);
-                const double mismatch = static_cast<double>(d.mismatched) / static_cast<double>(d.pixels);
-                const double far_off = static_cast<double>(d.far_off) / static_cast<double>(d.pixels);
-                std::printf("[coarse render] N %d, head z %.1f m, %d eye(s): triangles L %zu of %zu, groups L %zu, "
-                            "silhouette mismatch %.4f%%, mean |diff| %.3f, visibly different %.4f%%, holes %zu\n",
-                            n, z, eyes, lod.stats.tile_triangles[0], full.stats.tile_triangles[0],
-                            lod.stats.groups_drawn[0], 100.0 * mismatch, d.mean_abs(), 100.0 * far_off, d.holes);
+                char what[64];
+                std::snprintf(what, sizeof what, "[coarse render] N %d, head z %.1f m, %d eye(s)", n, z, eyes);
+                expect_desk_match(lod, full, bg, what);
                 EXPECT_GT(lod.stats.groups_drawn[0], 0u) << n << " " << z;
                 EXPECT_LT(2 * lod.stats.tile_triangles[0], full.stats.tile_triangles[0]) << n << " " << z;
                 // The cost follows the pixels, not N: the same view draws about as many triangles at every N.
                 auto& first = drawn[{z, eyes}];
                 if (first == 0) first = lod.stats.tile_triangles[0];
                 EXPECT_LT(double(lod.stats.tile_triangles[0]), 1.5 * double(first)) << n << " " << z;
-                EXPECT_LE(mismatch, 0.005) << n << " " << z;
-                EXPECT_LE(d.mean_abs(), 1.5) << n << " " << z;
-                EXPECT_LE(far_off, 0.01) << n << " " << z;
-                EXPECT_EQ(d.holes, 0u) << n << " " << z;
             }
     }
     EXPECT_EQ(ctx.validation_messages(), 0u);
