@@ -193,6 +193,33 @@ TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWoul
     EXPECT_EQ(compared, again.groups().size());
 }
 
+// A start-up with many groups of one depth builds their levels on every core (TileSurfaceCache::kParallelLodTiles
+// and more): each level equals the one CoarseGroupLevels::level() gives on its own (run under ThreadSanitizer too).
+TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
+    TriDexel model = empty_model(cube_lattice(192));
+    fill_rays(model, [](int a, int u, int v) { return sphere_chord(Vec3(96.3, 95.8, 96.1), 80.4, a, u, v); });
+    Contourer contourer(model);
+    contourer.update(model);
+    TileSurfaceCache cache;
+    TileLodOptions o;
+    o.cell_m = model.lattice.cell_m;
+    cache.enable_lod(o);
+    CoarseLevelOptions one_depth;
+    one_depth.max_depth = 1;  // the deepest depth is built in the first refresh
+    cache.use_coarse_groups(model, one_depth);
+    cache.refresh(contourer);
+    ASSERT_GE(cache.groups().size(), TileSurfaceCache::kParallelLodTiles);
+    EXPECT_EQ(cache.coarse_waiting(), 0u);
+    const CoarseGroupLevels alone(model, one_depth);
+    for (const TileGroupSurface& g : cache.groups()) {
+        ASSERT_EQ(g.lods.size(), 1u) << g.id;
+        const TileLodLevel l = alone.level(g.depth, g.coords);
+        EXPECT_EQ(g.lods[0].mesh.positions, l.mesh.positions) << g.id;
+        EXPECT_EQ(g.lods[0].mesh.triangles, l.mesh.triangles) << g.id;
+        EXPECT_GT(g.lods[0].error_m, 0.0) << g.id;
+    }
+}
+
 TEST(CoarseGroups, RefusesBadOptionsAndALateCall) {
     const TriDexel model = sphere_model();
     CoarseLevelOptions o;
