@@ -86,11 +86,14 @@ PosKey key_of(const Vec3& p) {
 CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options) : options_(options) {
     if (options.max_depth < 1 || options.max_depth > 6)
         throw Error("CoarseLevelOptions.max_depth: " + std::to_string(options.max_depth) + " is not in 1..6");
+    if (options.min_depth < 1 || options.min_depth > options.max_depth)
+        throw Error("CoarseLevelOptions.min_depth: " + std::to_string(options.min_depth) + " is not in 1..max_depth (" +
+                    std::to_string(options.max_depth) + ")");
     if (!(std::isfinite(options.error_coarse_cells) && options.error_coarse_cells > 0.0))
         throw Error("CoarseLevelOptions.error_coarse_cells: must be finite and > 0");
     if (!(std::isfinite(options.skirt_coarse_cells) && options.skirt_coarse_cells > 0.0))
         throw Error("CoarseLevelOptions.skirt_coarse_cells: must be finite and > 0");
-    for (int d = 1; d <= options.max_depth; ++d) {
+    for (int d = options.min_depth; d <= options.max_depth; ++d) {
         auto D = std::make_unique<Depth>();
         D->stride = 1 << d;
         D->model = coarse_model(fine, D->stride);
@@ -110,9 +113,10 @@ CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOpti
 CoarseGroupLevels::~CoarseGroupLevels() = default;
 
 const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
-    if (depth < 1 || depth > max_depth())
-        throw Error("CoarseGroupLevels: depth " + std::to_string(depth) + " is not in 1.." + std::to_string(max_depth()));
-    return *levels_[static_cast<std::size_t>(depth - 1)];
+    if (depth < min_depth() || depth > max_depth())
+        throw Error("CoarseGroupLevels: depth " + std::to_string(depth) + " is not in " + std::to_string(min_depth()) +
+                    ".." + std::to_string(max_depth()));
+    return *levels_[static_cast<std::size_t>(depth - min_depth())];
 }
 
 const TriDexel& CoarseGroupLevels::model(int depth) const { return at(depth).model; }

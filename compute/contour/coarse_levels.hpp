@@ -18,7 +18,10 @@ namespace tridex::compute {
 
 /// How the coarse levels are made.
 struct CoarseLevelOptions {
-    int max_depth = 3;  ///< groups of depth 1..max_depth (2^d tiles along each axis) get a level, read at stride 2^d
+    int max_depth = 3;  ///< groups of depth min_depth..max_depth (2^d tiles along each axis) get a level, at stride 2^d
+    /// Groups shallower than this keep their simplified levels (TileSurfaceCache): the stride-2 model and its contour
+    /// would hold a quarter of the model's rays and triangles, for levels that save only three quarters of theirs.
+    int min_depth = 2;
     /// The level's error (TileLodLevel::error_m) in cells of its own coarse lattice: an estimate of the distance to
     /// the full-resolution surface, not a bound (a feature thinner than a coarse cell between its rays is missed
     /// whole). `tridex bench --coarse` measures the two-sided distance.
@@ -41,8 +44,8 @@ struct CoarseLevelOptions {
 /// Not thread-safe: one thread updates and reads it.
 class CoarseGroupLevels {
 public:
-    /// Reads `fine` at strides 2, 4, ... 2^max_depth and contours each coarse model whole (on the task pool).
-    /// Throws tridex::Error when options are out of range (max_depth 1..6, cells > 0 and finite).
+    /// Reads `fine` at strides 2^min_depth ... 2^max_depth and contours each coarse model whole (on the task pool).
+    /// Throws tridex::Error when options are out of range (1 <= min_depth <= max_depth <= 6, cells > 0 and finite).
     CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options);
     ~CoarseGroupLevels();
     CoarseGroupLevels(const CoarseGroupLevels&) = delete;
@@ -53,8 +56,9 @@ public:
     /// cells whose rays differ, and re-contours those. Returns the coarse tiles re-contoured over every depth.
     std::size_t update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles);
 
-    /// Depths with levels (1..max_depth).
-    int max_depth() const { return static_cast<int>(levels_.size()); }
+    /// Depths with levels (min_depth()..max_depth()).
+    int min_depth() const { return options_.min_depth; }
+    int max_depth() const { return options_.max_depth; }
     /// Changes whenever the level of the depth-d group at `coords` changes (its coarse tile's contour or a
     /// neighbour's that its ring takes); 0 = no surface there. Throws tridex::Error for a depth or coords out of range.
     std::uint64_t version(int depth, const std::array<int, 3>& coords) const;
@@ -75,7 +79,7 @@ private:
     struct Depth;
     const Depth& at(int depth) const;
     CoarseLevelOptions options_;
-    std::vector<std::unique_ptr<Depth>> levels_;  // [depth - 1]
+    std::vector<std::unique_ptr<Depth>> levels_;  // [depth - min_depth]
 };
 
 /// Adds a skirt to `mesh` (with per-vertex `materials` and `normals`, same size as its positions): for every open

@@ -26,7 +26,7 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     constexpr int kT = TileGrid::kTileCells, kReach = TriDexel::kDirtyReachCells;
     std::unordered_set<std::uint64_t> out;
     const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
-    for (int d = 1; d <= coarse_->max_depth(); ++d) {
+    for (int d = coarse_->min_depth(); d <= coarse_->max_depth(); ++d) {
         const int span = kT << d, grow = (kReach + 1) << d;
         std::array<int, 3> gdims{};
         for (int a = 0; a < 3; ++a) gdims[a] = (dims[a] + (1 << d) - 1) >> d;

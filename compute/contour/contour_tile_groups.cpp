@@ -50,12 +50,10 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
     const GroupGrid grid{dims};
     coarse_dims_ = dims;
     std::unordered_set<std::uint64_t> stale;
-    if (coarse_) {
-        stale = coarse_reach(dims, changed_tiles);
-    } else {
-        for (const std::uint64_t t : changed_tiles)
-            for (int d = 1; d <= depth_max; ++d) stale.insert(grid.group_of(grid.tile_coords(t), d));
-    }
+    if (coarse_) stale = coarse_reach(dims, changed_tiles);
+    for (const std::uint64_t t : changed_tiles)  // simplified groups: those holding a changed tile
+        for (int d = 1; d <= depth_max && (!coarse_ || d < coarse_->min_depth()); ++d)
+            stale.insert(grid.group_of(grid.tile_coords(t), d));
     std::map<std::uint64_t, TileGroupSurface> next;
     for (const TileSurface& tile : tiles_) {
         const std::array<int, 3> tc = grid.tile_coords(tile.id);
@@ -93,7 +91,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             pending.push_back(group_pending_[at]);
             queued.push_back(at < group_queued_.size() && group_queued_[at]);
             changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
-        } else if (coarse_) {  // a coarse level now at start-up, else once the stroke's tiles settle
+        } else if (coarse_ && g.depth >= coarse_->min_depth()) {  // a coarse level at start-up, or once settled
             g.version = fresh_tile_version();
             pending.push_back(false);
             queued.push_back(false);

@@ -110,7 +110,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;
         for (const TileGroupSurface& g : groups_)
-            if (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth()) {
+            if (g.depth >= coarse_->min_depth() && (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth())) {
                 ids.push_back(g.id);
                 coarse_stale_.erase(g.id);
             }

@@ -146,9 +146,10 @@ public:
     /// collect_lods() taking the levels in, ms; for a stroke's tiles and groups only, not start-up's; in
     /// DurationHistogram::latency bins.
     const DurationHistogram& lod_latency_ms() const { return lod_latency_ms_; }
-    /// From now on the groups take their levels from the model read at coarser strides (CoarseGroupLevels:
-    /// a depth-d group's level is the contour of every 2^d-th ray, with a ring and a skirt), not from simplifying
-    /// their tiles: every group has its level from the first refresh() on, whether or not its tiles have theirs.
+    /// From now on the groups of depth options.min_depth and deeper take their levels from the model read at coarser
+    /// strides (CoarseGroupLevels: a depth-d group's level is the contour of every 2^d-th ray, with a ring and a
+    /// skirt), not from simplifying their tiles: they have their level from the first refresh() on, whether or not
+    /// their tiles have theirs. Shallower groups keep simplified levels (as without this call).
     /// The first refresh() builds the levels of the groups of kCoarseStartupDepth and deeper; collect_lods() those of
     /// the finer groups, kCoarseStartupLevelsPerCollect at a time, without waiting.
     /// A refresh() that changes tiles drops the level of every group within reach of them (its children are drawn);

@@ -28,6 +28,13 @@ TriDexel sphere_model() {
     return m;
 }
 
+// Coarse levels at depths 1-3 (by default depth 1 keeps simplified levels).
+CoarseLevelOptions every_depth() {
+    CoarseLevelOptions o;
+    o.min_depth = 1;
+    return o;
+}
+
 struct Session {
     TriDexel model = sphere_model();
     Contourer contourer{model};
@@ -38,7 +45,7 @@ struct Session {
         TileLodOptions o;
         o.cell_m = model.lattice.cell_m;
         cache.enable_lod(o);
-        cache.use_coarse_groups(model);
+        cache.use_coarse_groups(model, every_depth());
         cache.refresh(contourer);
         // The first refresh built the coarser groups' levels; the finest come through collect_lods().
         for (const TileGroupSurface& g : cache.groups())
@@ -101,7 +108,7 @@ TEST(CoarseGroups, EveryGroupHasItsLevelFromTheFirstRefreshNearTheSphere) {
 // quad, so it shows from either side.
 TEST(CoarseGroups, TheRingReachesPastTheBoxAndTheSkirtHangsFromItsBorder) {
     const TriDexel model = sphere_model();
-    CoarseGroupLevels levels(model, {});
+    CoarseGroupLevels levels(model, every_depth());
     const Lattice& L = model.lattice;
     for (int depth = 1; depth <= 2; ++depth) {  // a depth-3 group holds the whole 128-cell lattice
         const int span = TileGrid::kTileCells << depth;
@@ -174,7 +181,7 @@ TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWoul
     TileLodOptions o;
     o.cell_m = L.cell_m;
     again.enable_lod(o);
-    again.use_coarse_groups(cut);
+    again.use_coarse_groups(cut, every_depth());
     again.refresh(c);
     while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
     ASSERT_EQ(again.groups().size(), s.cache.groups().size());
@@ -205,7 +212,7 @@ TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
     o.cell_m = model.lattice.cell_m;
     cache.enable_lod(o);
     CoarseLevelOptions one_depth;
-    one_depth.max_depth = 1;  // the deepest depth is built in the first refresh
+    one_depth.min_depth = one_depth.max_depth = 1;  // the deepest depth is built in the first refresh
     cache.use_coarse_groups(model, one_depth);
     cache.refresh(contourer);
     ASSERT_GE(cache.groups().size(), TileSurfaceCache::kParallelLodTiles);
@@ -220,10 +227,42 @@ TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
     }
 }
 
+// By default the depth-1 groups keep the levels simplified from their tiles (a stride-2 model would hold a quarter
+// of the rays); depths 2 and 3 take coarse levels.
+TEST(CoarseGroups, ByDefaultTheShallowestGroupsKeepSimplifiedLevels) {
+    TriDexel model = sphere_model();
+    Contourer contourer(model);
+    contourer.update(model);
+    TileSurfaceCache cache;
+    TileLodOptions o;
+    o.cell_m = model.lattice.cell_m;
+    cache.enable_lod(o);
+    cache.use_coarse_groups(model);
+    cache.refresh(contourer);  // no worker: the simplified levels are built now
+    EXPECT_EQ(cache.coarse_waiting(), 0u);
+    std::size_t simplified = 0, coarse = 0;
+    for (const TileGroupSurface& g : cache.groups()) {
+        if (g.depth == 1) {
+            simplified += g.lods.size();
+        } else {
+            ASSERT_EQ(g.lods.size(), 1u) << g.id;
+            ++coarse;
+        }
+    }
+    EXPECT_GT(simplified, 0u);
+    EXPECT_GT(coarse, 0u);
+    const CoarseGroupLevels levels(model, {});
+    EXPECT_EQ(levels.min_depth(), 2);
+    EXPECT_THROW((void)levels.level(1, {0, 0, 0}), Error);
+}
+
 TEST(CoarseGroups, RefusesBadOptionsAndALateCall) {
     const TriDexel model = sphere_model();
     CoarseLevelOptions o;
     o.max_depth = 0;
+    EXPECT_THROW(CoarseGroupLevels(model, o), Error);
+    o = {};
+    o.min_depth = 4;  // deeper than max_depth
     EXPECT_THROW(CoarseGroupLevels(model, o), Error);
     o = {};
     o.skirt_coarse_cells = 0.0;

@@ -1,6 +1,7 @@
 // Update time of MultiPointRenderer for 1, 2, 16 and 64 points (both modes), a ball mesh bobbing through a
-// plane so that part of the points are in contact. Prints median and p99; asserts only a generous bound
-// (the machine is shared and noisy), and that update() allocates nothing (global operator new counted).
+// plane so that part of the points are in contact. Prints median and p99 (the time is judged by `tridex bench
+// --haptics`, not here: the machine is shared and noisy, and sanitizer builds run this too); asserts that the ball
+// touches and that update() allocates nothing (global operator new counted).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -82,7 +83,6 @@ TEST(MultiPointTiming, MedianUpdateTimeFor1_2_16_64Points) {
                         n, t.median_us, t.p99_us, static_cast<double>(t.contacts) / kTicks);
             EXPECT_GT(t.contacts, 0);            // the bobbing ball does touch
             EXPECT_EQ(t.allocations, 0);         // update() never allocates
-            EXPECT_LT(t.median_us, 50.0 * n);    // sanity only: measured well under 1 us per point
         }
     }
 }
