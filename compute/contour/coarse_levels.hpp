@@ -19,9 +19,9 @@ namespace tridex::compute {
 /// How the coarse levels are made.
 struct CoarseLevelOptions {
     int max_depth = 3;  ///< groups of depth min_depth..max_depth (2^d tiles along each axis) get a level, at stride 2^d
-    /// Groups shallower than this keep their simplified levels (TileSurfaceCache): the stride-2 model and its contour
-    /// would hold a quarter of the model's rays and triangles, for levels that save only three quarters of theirs.
-    int min_depth = 2;
+    /// Groups shallower than this keep their simplified levels (TileSurfaceCache). Depth 1 reads the model at stride 2:
+    /// that model and its contour hold a quarter of the model's rays and triangles, so 2 trades those levels for memory.
+    int min_depth = 1;
     /// The level's error (TileLodLevel::error_m) in cells of its own coarse lattice: an estimate of the distance to
     /// the full-resolution surface, not a bound (a feature thinner than a coarse cell between its rays is missed
     /// whole). `tridex bench --coarse` measures the two-sided distance.

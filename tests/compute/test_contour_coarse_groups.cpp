@@ -28,12 +28,8 @@ TriDexel sphere_model() {
     return m;
 }
 
-// Coarse levels at depths 1-3 (by default depth 1 keeps simplified levels).
-CoarseLevelOptions every_depth() {
-    CoarseLevelOptions o;
-    o.min_depth = 1;
-    return o;
-}
+// Coarse levels at depths 1-3 (the default).
+CoarseLevelOptions every_depth() { return CoarseLevelOptions{}; }
 
 struct Session {
     TriDexel model = sphere_model();
@@ -227,9 +223,11 @@ TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
     }
 }
 
-// By default the depth-1 groups keep the levels simplified from their tiles (a stride-2 model would hold a quarter
-// of the rays); depths 2 and 3 take coarse levels.
-TEST(CoarseGroups, ByDefaultTheShallowestGroupsKeepSimplifiedLevels) {
+// With min_depth 2 the depth-1 groups keep the levels simplified from their tiles (a stride-2 model would hold a
+// quarter of the rays); depths 2 and 3 take coarse levels.
+TEST(CoarseGroups, FromMinDepthTwoTheShallowestGroupsKeepSimplifiedLevels) {
+    CoarseLevelOptions from_two;
+    from_two.min_depth = 2;
     TriDexel model = sphere_model();
     Contourer contourer(model);
     contourer.update(model);
@@ -237,7 +235,7 @@ TEST(CoarseGroups, ByDefaultTheShallowestGroupsKeepSimplifiedLevels) {
     TileLodOptions o;
     o.cell_m = model.lattice.cell_m;
     cache.enable_lod(o);
-    cache.use_coarse_groups(model);
+    cache.use_coarse_groups(model, from_two);
     cache.refresh(contourer);  // no worker: the simplified levels are built now
     EXPECT_EQ(cache.coarse_waiting(), 0u);
     std::size_t simplified = 0, coarse = 0;
@@ -251,7 +249,7 @@ TEST(CoarseGroups, ByDefaultTheShallowestGroupsKeepSimplifiedLevels) {
     }
     EXPECT_GT(simplified, 0u);
     EXPECT_GT(coarse, 0u);
-    const CoarseGroupLevels levels(model, {});
+    const CoarseGroupLevels levels(model, from_two);
     EXPECT_EQ(levels.min_depth(), 2);
     EXPECT_THROW((void)levels.level(1, {0, 0, 0}), Error);
 }
