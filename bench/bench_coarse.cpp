@@ -20,6 +20,7 @@
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/surface_distance.hpp"
 #include "compute/model/coarse_lattice.hpp"
+#include "compute/runtime/boolean_backend.hpp"
 #include "core/error.hpp"
 
 namespace tridex::bench {
@@ -35,12 +36,10 @@ const Vec3 kCentreM(0.0, 0.0, 0.05);
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// Bytes of a model's rays (vector headers and interval storage), all three sets.
 std::size_t ray_bytes(const compute::TriDexel& m) {
     std::size_t b = 0;
-    for (const compute::RaySet& s : m.sets) {
-        b += s.rays.size() * sizeof(std::vector<compute::Interval>);
-        for (const auto& r : s.rays) b += r.size() * sizeof(compute::Interval);
-    }
+    for (const std::size_t set : cpu_model_bytes(m)) b += set;
     return b;
 }
 

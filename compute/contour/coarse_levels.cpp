@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <string>
-#include <unordered_map>
 
+#include "compute/mesh/mesh_weld.hpp"
 #include "compute/model/coarse_lattice.hpp"
 #include "core/error.hpp"
 
@@ -28,6 +28,16 @@ struct CoarseGroupLevels::Depth {
             if (c[a] < 0 || c[a] >= model.tiles.tiles[a]) return false;
         return true;
     }
+    // Calls fn(tile index, own) for the coarse tile at `c` (own true) and each of the 26 around it in the grid.
+    template <typename Fn>
+    void around(const std::array<int, 3>& c, Fn&& fn) const {
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::array<int, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
+                    if (in_grid(n)) fn(tile_index(n), dx == 0 && dy == 0 && dz == 0);
+                }
+    }
     const TriMesh& mesh_of(std::size_t t, const std::vector<std::uint8_t>*& mats) const {
         const std::uint64_t v = contour->tile_version(t);
         if (read_at[t] != v) {
@@ -42,13 +52,12 @@ struct CoarseGroupLevels::Depth {
 
 namespace {
 
-// One coarse ray re-read from the fine model: true when it differs from `ray`, which it replaces; [t0, t1] then
-// spans every interval end that changed (grid units of the coarse lattice).
-bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray, double& t0, double& t1) {
-    const float inv = 1.0f / static_cast<float>(stride);
-    std::vector<Interval> next;
-    next.reserve(fine_ray.size());
-    for (const Interval& iv : fine_ray) next.push_back({iv.enter * inv, iv.exit * inv, iv.enter_material, iv.exit_material});
+// One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
+// (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
+bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray,
+                std::vector<Interval>& scratch, double& t0, double& t1) {
+    coarse_ray(fine_ray, stride, scratch);
+    const std::vector<Interval>& next = scratch;
     const auto same = [](const Interval& a, const Interval& b) {
         return std::memcmp(&a.enter, &b.enter, sizeof(float)) == 0 && std::memcmp(&a.exit, &b.exit, sizeof(float)) == 0 &&
                a.enter_material == b.enter_material && a.exit_material == b.exit_material;
@@ -62,23 +71,8 @@ bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<I
     t1 = -1e300;
     for (std::size_t i = front; i < back_new; ++i) t0 = std::min<double>(t0, next[i].enter), t1 = std::max<double>(t1, next[i].exit);
     for (std::size_t i = front; i < back_old; ++i) t0 = std::min<double>(t0, ray[i].enter), t1 = std::max<double>(t1, ray[i].exit);
-    ray = std::move(next);
+    ray.swap(scratch);
     return true;
-}
-
-struct PosKey {
-    std::uint64_t x, y, z;
-    bool operator==(const PosKey&) const = default;
-};
-struct PosHash {
-    std::size_t operator()(const PosKey& k) const { return k.x * 0x9E3779B97F4A7C15ull ^ (k.y + 0x7F4A7C15ull) * 31u ^ k.z; }
-};
-PosKey key_of(const Vec3& p) {
-    PosKey k{};
-    std::memcpy(&k.x, &p.x, 8);
-    std::memcpy(&k.y, &p.y, 8);
-    std::memcpy(&k.z, &p.z, 8);
-    return k;
 }
 
 }  // namespace
@@ -119,18 +113,11 @@ const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
     return *levels_[static_cast<std::size_t>(depth - min_depth())];
 }
 
-const TriDexel& CoarseGroupLevels::model(int depth) const { return at(depth).model; }
-
 void CoarseGroupLevels::read_around(std::span<const std::pair<int, std::array<int, 3>>> groups) {
     const std::vector<std::uint8_t>* mats = nullptr;
     for (const auto& [depth, c] : groups) {
         const Depth& D = at(depth);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const std::array<int, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
-                    if (D.in_grid(n)) (void)D.mesh_of(D.tile_index(n), mats);
-                }
+        D.around(c, [&](std::size_t t, bool) { (void)D.mesh_of(t, mats); });
     }
 }
 
@@ -149,6 +136,7 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
     constexpr int kT = TileGrid::kTileCells;
     constexpr int kReach = TriDexel::kDirtyReachCells;
     std::size_t recontoured = 0;
+    std::vector<Interval> scratch;  // one ray's buffer for every re-read
     const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
     for (auto& Dp : levels_) {
         Depth& D = *Dp;
@@ -168,7 +156,7 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
                 for (int v = (lo[c] + s - 1) / s; v * s <= hi[c] && v < cs.nv && v * s < fs.nv; ++v)
                     for (int u = (lo[b] + s - 1) / s; u * s <= hi[b] && u < cs.nu && u * s < fs.nu; ++u) {
                         double t0 = 0.0, t1 = 0.0;
-                        if (!reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), t0, t1)) continue;
+                        if (!reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), scratch, t0, t1)) continue;
                         Vec3 p0, p1;
                         p0[a] = t0, p1[a] = t1;
                         p0[b] = p1[b] = u;
@@ -184,19 +172,6 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
     return recontoured;
 }
 
-std::uint64_t CoarseGroupLevels::version(int depth, const std::array<int, 3>& coords) const {
-    const Depth& D = at(depth);
-    if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
-    std::uint64_t v = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const std::array<int, 3> n{coords[0] + dx, coords[1] + dy, coords[2] + dz};
-                if (D.in_grid(n)) v = std::max(v, D.contour->tile_version(D.tile_index(n)));
-            }
-    return v;
-}
-
 TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coords) const {
     const Depth& D = at(depth);
     if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
@@ -206,34 +181,31 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
     Vec3 glo, ghi;
     for (int a = 0; a < 3; ++a) glo[a] = coords[a] * kT - 1.0, ghi[a] = (coords[a] + 1) * kT + 1.0;
     const Vec3 wlo = L.to_world(glo), whi = L.to_world(ghi);
-    TileLodLevel out;
-    std::unordered_map<PosKey, std::uint32_t, PosHash> index;
-    const auto add_vertex = [&](const Vec3& p, std::uint8_t m) {
-        const auto [it, fresh] = index.emplace(key_of(p), static_cast<std::uint32_t>(out.mesh.positions.size()));
-        if (fresh) {
-            out.mesh.positions.push_back(p);
-            out.materials.push_back(m);
-        }
-        return it->second;
-    };
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const std::array<int, 3> n{coords[0] + dx, coords[1] + dy, coords[2] + dz};
-                if (!D.in_grid(n)) continue;
-                const std::vector<std::uint8_t>* mats = nullptr;
-                const TriMesh& m = D.mesh_of(D.tile_index(n), mats);
-                const bool own = dx == 0 && dy == 0 && dz == 0;
-                for (const auto& tri : m.triangles) {
-                    if (!own) {
-                        const Vec3 c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0;
-                        if (c.x < wlo.x || c.y < wlo.y || c.z < wlo.z || c.x > whi.x || c.y > whi.y || c.z > whi.z) continue;
-                    }
-                    std::array<std::uint32_t, 3> t{};
-                    for (int k = 0; k < 3; ++k) t[k] = add_vertex(m.positions[tri[k]], mats->empty() ? 0 : (*mats)[tri[k]]);
-                    out.mesh.triangles.push_back(t);
-                }
+    // The pieces as one soup (each tile's vertices, its triangles that belong), welded where tiles share a vertex.
+    TriMesh soup;
+    std::vector<std::uint8_t> soup_materials;
+    D.around(coords, [&](std::size_t t, bool own) {
+        const std::vector<std::uint8_t>* mats = nullptr;
+        const TriMesh& m = D.mesh_of(t, mats);
+        const auto base = static_cast<std::uint32_t>(soup.positions.size());
+        soup.positions.insert(soup.positions.end(), m.positions.begin(), m.positions.end());
+        if (mats->empty())
+            soup_materials.resize(soup.positions.size(), 0);
+        else
+            soup_materials.insert(soup_materials.end(), mats->begin(), mats->end());
+        for (const auto& tri : m.triangles) {
+            if (!own) {
+                const Vec3 c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0;
+                if (c.x < wlo.x || c.y < wlo.y || c.z < wlo.z || c.x > whi.x || c.y > whi.y || c.z > whi.z) continue;
             }
+            soup.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
+        }
+    });
+    TileLodLevel out;
+    std::vector<std::uint32_t> source;
+    out.mesh = weld_exact(soup, &source);
+    out.materials.reserve(source.size());
+    for (const std::uint32_t v : source) out.materials.push_back(soup_materials[v]);
     out.error_m = options_.error_coarse_cells * L.cell_m;
     if (out.mesh.triangles.empty()) return out;
     out.normals = vertex_normals(out.mesh);

@@ -59,12 +59,10 @@ public:
     /// Depths with levels (min_depth()..max_depth()).
     int min_depth() const { return options_.min_depth; }
     int max_depth() const { return options_.max_depth; }
-    /// Changes whenever the level of the depth-d group at `coords` changes (its coarse tile's contour or a
-    /// neighbour's that its ring takes); 0 = no surface there. Throws tridex::Error for a depth or coords out of range.
-    std::uint64_t version(int depth, const std::array<int, 3>& coords) const;
     /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in
     /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
-    /// cells. An empty mesh where the coarse contour has no surface near the group. Throws as version().
+    /// cells. An empty mesh where the coarse contour has no surface near the group. Throws tridex::Error for a depth
+    /// outside min_depth()..max_depth() or coords outside that depth's group grid.
     TileLodLevel level(int depth, const std::array<int, 3>& coords) const;
     /// Reads the meshes of the coarse tiles the levels of `groups` (depth, coords) take (each group's and the 26 around
     /// it) where their contour changed since they were last read, so that level() of those groups then only reads
@@ -72,8 +70,6 @@ public:
     void read_around(std::span<const std::pair<int, std::array<int, 3>>> groups);
     /// Frees the tile meshes read so far (level() reads what it needs again).
     void forget_reads();
-    /// The coarse model at `depth` (stride 2^depth), for tests. Throws as version().
-    const TriDexel& model(int depth) const;
 
 private:
     struct Depth;

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "compute/contour/surface_distance.hpp"
 #include "core/error.hpp"
 
@@ -79,11 +80,10 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     std::vector<TileGroupSurface*> groups;
     std::vector<std::pair<int, std::array<int, 3>>> where;
     for (const std::uint64_t id : ids) {
-        const auto it = std::lower_bound(groups_.begin(), groups_.end(), id,
-                                         [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
-        if (it == groups_.end() || it->id != id) continue;  // gone
-        groups.push_back(&*it);
-        where.emplace_back(it->depth, it->coords);
+        const std::size_t g = index_of(groups_, id);
+        if (g == groups_.size()) continue;  // gone
+        groups.push_back(&groups_[g]);
+        where.emplace_back(groups_[g].depth, groups_[g].coords);
     }
     coarse_->read_around(where);  // level() of these only reads from here on, so the jobs may run at once
     std::vector<TileLodLevel> built(groups.size());
@@ -114,11 +114,9 @@ double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const
                 const auto id = static_cast<std::uint64_t>(x) +
                                 static_cast<std::uint64_t>(coarse_dims_[0]) *
                                     (static_cast<std::uint64_t>(y) + static_cast<std::uint64_t>(coarse_dims_[1]) * z);
-                const auto it = std::lower_bound(tiles_.begin(), tiles_.end(), id,
-                                                 [](const TileSurface& t, std::uint64_t v) { return t.id < v; });
-                if (it != tiles_.end() && it->id == id) {
-                    tiles.push_back(&*it);
-                    vertices += it->mesh.positions.size();
+                if (const TileSurface* t = find_by_id(tiles_, id)) {
+                    tiles.push_back(t);
+                    vertices += t->mesh.positions.size();
                 }
             }
     TriangleGrid grid(level.mesh, 2.0 * lod_options_.cell_m * span);

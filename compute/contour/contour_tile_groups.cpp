@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "compute/contour/tile_group_lod.hpp"
 
 namespace tridex::compute {
@@ -29,12 +30,6 @@ struct GroupGrid {
         return tile_group_id(depth, x + static_cast<std::uint64_t>(g[0]) * (y + static_cast<std::uint64_t>(g[1]) * z));
     }
 };
-
-template <typename T>
-const T* find_by_id(const std::vector<T>& sorted, std::uint64_t id) {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), id, [](const T& x, std::uint64_t v) { return x.id < v; });
-    return it != sorted.end() && it->id == id ? &*it : nullptr;
-}
 
 }  // namespace
 

@@ -5,18 +5,10 @@
 #include <utility>
 
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
-namespace {
-
-template <typename T>
-std::size_t index_of(const std::vector<T>& sorted, std::uint64_t id) {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), id, [](const T& x, std::uint64_t v) { return x.id < v; });
-    return it != sorted.end() && it->id == id ? static_cast<std::size_t>(it - sorted.begin()) : sorted.size();
-}
-
-}  // namespace
 
 std::uint64_t TileSurfaceCache::lod_key(bool group, std::uint64_t id) {
     constexpr std::uint64_t kGroupBit = std::uint64_t{1} << 63;  // tile and group ids stay below it (tile_group_id)

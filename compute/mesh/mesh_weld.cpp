@@ -37,8 +37,9 @@ Key key_of(const Vec3& p) {
 
 }  // namespace
 
-TriMesh weld_exact(const TriMesh& soup) {
+TriMesh weld_exact(const TriMesh& soup, std::vector<std::uint32_t>* source) {
     TriMesh out;
+    std::vector<std::uint32_t> first;  // per out vertex: the soup vertex it was made from
     std::unordered_map<Key, std::uint32_t, KeyHash> index;
     index.reserve(soup.positions.size());
     std::vector<std::uint32_t> remap(soup.positions.size(), 0);
@@ -47,7 +48,10 @@ TriMesh weld_exact(const TriMesh& soup) {
     auto id = [&](std::uint32_t v) {
         if (!seen[v]) {
             auto [it, fresh] = index.try_emplace(key_of(soup.positions[v]), static_cast<std::uint32_t>(out.positions.size()));
-            if (fresh) out.positions.push_back(soup.positions[v]);
+            if (fresh) {
+                out.positions.push_back(soup.positions[v]);
+                first.push_back(v);
+            }
             remap[v] = it->second;
             seen[v] = true;
         }
@@ -62,11 +66,13 @@ TriMesh weld_exact(const TriMesh& soup) {
     std::vector<std::uint32_t> used(out.positions.size(), 0xffffffffu);
     TriMesh compact;
     compact.triangles.reserve(out.triangles.size());
+    if (source) source->clear();
     for (auto t : out.triangles) {
         for (auto& v : t) {
             if (used[v] == 0xffffffffu) {
                 used[v] = static_cast<std::uint32_t>(compact.positions.size());
                 compact.positions.push_back(out.positions[v]);
+                if (source) source->push_back(first[v]);
             }
             v = used[v];
         }

@@ -26,7 +26,6 @@ Lattice coarse_lattice(const Lattice& fine, int stride) {
 TriDexel coarse_model(const TriDexel& fine, int stride) {
     const Lattice lat = coarse_lattice(fine.lattice, stride);
     TriDexel m = TriDexel::empty(lat, ~std::size_t{0});
-    const float inv = 1.0f / static_cast<float>(stride);
     for (int a = 0; a < 3; ++a) {
         const RaySet& f = fine.sets[a];
         RaySet& s = m.sets[a];
@@ -36,11 +35,7 @@ TriDexel coarse_model(const TriDexel& fine, int stride) {
             for (int u = 0; u < s.nu; ++u) {
                 const int fu = u * stride;
                 if (fu >= f.nu) break;
-                const std::vector<Interval>& src = f.ray(fu, fv);
-                std::vector<Interval>& dst = s.ray(u, v);
-                dst.reserve(src.size());
-                for (const Interval& iv : src)
-                    dst.push_back({iv.enter * inv, iv.exit * inv, iv.enter_material, iv.exit_material});
+                coarse_ray(f.ray(fu, fv), stride, s.ray(u, v));
             }
         }
     }
@@ -48,18 +43,11 @@ TriDexel coarse_model(const TriDexel& fine, int stride) {
     return m;
 }
 
-std::size_t coarse_model_bytes(const TriDexel& fine, int stride) {
-    const Lattice lat = coarse_lattice(fine.lattice, stride);
-    std::size_t bytes = 0;
-    for (int a = 0; a < 3; ++a) {
-        const RaySet& f = fine.sets[a];
-        const int nu = lat.nodes((a + 1) % 3), nv = lat.nodes((a + 2) % 3);
-        bytes += static_cast<std::size_t>(nu) * nv * sizeof(std::vector<Interval>);
-        for (int v = 0; v * stride < f.nv && v < nv; ++v)
-            for (int u = 0; u * stride < f.nu && u < nu; ++u)
-                bytes += f.ray(u * stride, v * stride).size() * sizeof(Interval);
-    }
-    return bytes;
+void coarse_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& out) {
+    const float inv = 1.0f / static_cast<float>(stride);
+    out.clear();
+    out.reserve(fine_ray.size());
+    for (const Interval& iv : fine_ray) out.push_back({iv.enter * inv, iv.exit * inv, iv.enter_material, iv.exit_material});
 }
 
 }  // namespace tridex::compute

@@ -2,7 +2,7 @@
 // set, so a level of detail is contoured straight from the dexels rather than simplified from the full contour.
 #pragma once
 
-#include <cstddef>
+#include <vector>
 
 #include "compute/model/tridexel.hpp"
 
@@ -26,7 +26,8 @@ Lattice coarse_lattice(const Lattice& fine, int stride);
 /// O(rays of the result + their intervals). Throws as coarse_lattice.
 TriDexel coarse_model(const TriDexel& fine, int stride);
 
-/// Bytes coarse_model(fine, stride) would hold in its rays (vector headers and intervals), for a memory report.
-std::size_t coarse_model_bytes(const TriDexel& fine, int stride);
+/// One ray of the fine model as coarse_model holds it at `stride` (a power of two, unchecked): each interval end
+/// divided by stride, its materials kept, written into `out` (replaced; its capacity reused).
+void coarse_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& out);
 
 }  // namespace tridex::compute

@@ -31,6 +31,16 @@ TriDexel sphere_model() {
 // Coarse levels at depths 1-3 (the default).
 CoarseLevelOptions every_depth() { return CoarseLevelOptions{}; }
 
+// Levels on `cache` for `model` as `contourer` contours it: enable_lod, use_coarse_groups(options), the first refresh.
+void start_coarse(TileSurfaceCache& cache, const TriDexel& model, const Contourer& contourer,
+                  const CoarseLevelOptions& options) {
+    TileLodOptions o;
+    o.cell_m = model.lattice.cell_m;
+    cache.enable_lod(o);
+    cache.use_coarse_groups(model, options);
+    cache.refresh(contourer);
+}
+
 struct Session {
     TriDexel model = sphere_model();
     Contourer contourer{model};
@@ -38,11 +48,7 @@ struct Session {
 
     Session() {
         contourer.update(model);
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
-        cache.use_coarse_groups(model, every_depth());
-        cache.refresh(contourer);
+        start_coarse(cache, model, contourer, every_depth());
         // The first refresh built the coarser groups' levels; the finest come through collect_lods().
         for (const TileGroupSurface& g : cache.groups())
             if (g.depth >= TileSurfaceCache::kCoarseStartupDepth) {
@@ -174,11 +180,7 @@ TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWoul
     cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
     c.update(cut);
     TileSurfaceCache again;
-    TileLodOptions o;
-    o.cell_m = L.cell_m;
-    again.enable_lod(o);
-    again.use_coarse_groups(cut, every_depth());
-    again.refresh(c);
+    start_coarse(again, cut, c, every_depth());
     while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
     ASSERT_EQ(again.groups().size(), s.cache.groups().size());
     std::size_t compared = 0;
@@ -203,14 +205,10 @@ TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
     fill_rays(model, [](int a, int u, int v) { return sphere_chord(Vec3(96.3, 95.8, 96.1), 80.4, a, u, v); });
     Contourer contourer(model);
     contourer.update(model);
-    TileSurfaceCache cache;
-    TileLodOptions o;
-    o.cell_m = model.lattice.cell_m;
-    cache.enable_lod(o);
     CoarseLevelOptions one_depth;
     one_depth.min_depth = one_depth.max_depth = 1;  // the deepest depth is built in the first refresh
-    cache.use_coarse_groups(model, one_depth);
-    cache.refresh(contourer);
+    TileSurfaceCache cache;
+    start_coarse(cache, model, contourer, one_depth);
     ASSERT_GE(cache.groups().size(), TileSurfaceCache::kParallelLodTiles);
     EXPECT_EQ(cache.coarse_waiting(), 0u);
     const CoarseGroupLevels alone(model, one_depth);
@@ -232,11 +230,7 @@ TEST(CoarseGroups, FromMinDepthTwoTheShallowestGroupsKeepSimplifiedLevels) {
     Contourer contourer(model);
     contourer.update(model);
     TileSurfaceCache cache;
-    TileLodOptions o;
-    o.cell_m = model.lattice.cell_m;
-    cache.enable_lod(o);
-    cache.use_coarse_groups(model, from_two);
-    cache.refresh(contourer);  // no worker: the simplified levels are built now
+    start_coarse(cache, model, contourer, from_two);  // no worker: the simplified levels are built now
     EXPECT_EQ(cache.coarse_waiting(), 0u);
     std::size_t simplified = 0, coarse = 0;
     for (const TileGroupSurface& g : cache.groups()) {
