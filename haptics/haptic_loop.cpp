@@ -2,6 +2,9 @@
 // (workspace mapping, contact, filter, safety stages, telemetry).
 #include "haptics/haptic_loop.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <sys/prctl.h>
@@ -125,61 +128,6 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
 
 HapticLoop::~HapticLoop() { stop(); }
 
-void HapticLoop::set_tool_op(ToolOp op, std::uint8_t material) {
-    op_.store(static_cast<std::uint16_t>(static_cast<std::uint16_t>(op) | (material << 8)), std::memory_order_relaxed);
-}
-
-void HapticLoop::set_symmetry(const Symmetry& s) {
-    if (!valid_symmetry(s)) throw Error("haptic loop: not a valid symmetry (" + to_string(s) + ")");
-    symmetry_.store(symmetry_bits(s), std::memory_order_relaxed);
-}
-
-bool HapticLoop::tool_change_allowed(const ToolShape& tool) const {
-    if (tool.kind != cfg_.tool.kind || tool.kind == ToolKind::kMesh || !(cfg_.tool.radius_m > 0.0)) return false;
-    if (!(std::isfinite(tool.radius_m) && tool.radius_m > 0.0) || !std::isfinite(tool.length_m)) return false;
-    return tool.kind != ToolKind::kFlatEnd || tool.length_m > 0.0;
-}
-
-bool HapticLoop::set_tool(const ToolShape& tool) {
-    if (!tool_change_allowed(tool)) return false;
-    ToolUpdate& u = tool_updates_.back();
-    u.serial = ++tool_serial_sent_;
-    u.tool = tool;
-    tool_updates_.publish();
-    return true;
-}
-
-void HapticLoop::set_menu(const MenuDetent& m) {
-    if (m.open) check_menu_detent(m, stiffness_cap_n_per_m_);
-    menu_updates_.back() = m;
-    menu_updates_.publish();
-}
-
-void HapticLoop::use_tool(const ToolShape& tool) {
-    const double s = tool.radius_m / cfg_.tool.radius_m;
-    if (contact_.set_points(base_points_.scaled(s))) {
-        tool_ = tool;
-        device_.observe_tool_scale(s);  // a contact loop next to the device touches with the same tool
-    }
-    reset_contact();
-}
-
-void HapticLoop::apply_tool_changes(double device_t_s) {
-    const ToolUpdate& u = tool_updates_.latest();
-    if (u.serial != tool_serial_used_) {
-        tool_serial_used_ = u.serial;
-        use_tool(u.tool);
-    }
-    const std::vector<ToolChange>& sched = cfg_.tool_schedule;
-    for (; next_change_ < sched.size() && sched[next_change_].device_t_s <= device_t_s; ++next_change_) {
-        const ToolChange& c = sched[next_change_];
-        set_tool_op(c.op, c.material);
-        symmetry_.store(symmetry_bits(c.symmetry), std::memory_order_relaxed);
-        if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
-            use_tool(c.tool);
-    }
-}
-
 void HapticLoop::begin_session() {
     next_change_ = 0;
     records_.resize(cfg_.max_ticks);  // back to full size after a previous stop() trimmed it
@@ -189,6 +137,7 @@ void HapticLoop::begin_session() {
     overruns_ = 0;
     dropped_ = 0;
     stream_dropped_ = 0;
+    tap_dropped_ = 0;
     invalid_ = 0;
     trips_ = 0;
     speed_cuts_ = 0;
@@ -254,6 +203,7 @@ LoopStats HapticLoop::stats() const {
     s.overruns = overruns_.load(std::memory_order_relaxed);
     s.samples_dropped = dropped_.load(std::memory_order_relaxed);
     s.records_stream_dropped = stream_dropped_.load(std::memory_order_relaxed);
+    s.tap_dropped = tap_dropped_.load(std::memory_order_relaxed);
     s.invalid_samples = invalid_.load(std::memory_order_relaxed);
     s.device_lost = device_lost_.load(std::memory_order_relaxed);
     s.device_down_s = device_lost_.load(std::memory_order_acquire) ? device_down_s_ : 0.0;
@@ -465,6 +415,10 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
         std::this_thread::sleep_for(std::chrono::microseconds(50));
     const bool pushed = samples_.try_push(sample);
     if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
+    if (pushed && cfg_.sample_tap && !cfg_.sample_tap->try_push(SequencedSample{pushed_, sample}))
+        tap_dropped_.fetch_add(1, std::memory_order_relaxed);
+    if (pushed) ++pushed_;
+    if (pushed && pushed_ == cfg_.fault_kill_at_sample) ::kill(::getpid(), SIGKILL);
     // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
     // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.
     carve_gap_ = gap || (!pushed && sample.op == ToolOp::kNone);

@@ -11,6 +11,7 @@
 
 #include "core/active_surface.hpp"
 #include "core/pose.hpp"
+#include "core/sequenced_sample.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/tool_sample.hpp"
 #include "core/tool_shape.hpp"
@@ -69,6 +70,14 @@ struct HapticLoopConfig {
     /// LoopStats::records_stream_dropped), for a consumer that streams a recording of any length to disk; nullptr =
     /// none. The ring must outlive the loop's run.
     SpscRing<TickRecord>* record_stream = nullptr;
+    /// Where every ToolSample the sculpt ring took is also pushed, numbered (SequencedSample), without waiting (a
+    /// full tap drops it, counted in LoopStats::tap_dropped): the session journal's intake thread, which keeps what
+    /// the sculpt thread has not applied yet; nullptr = none. The ring must outlive the loop's run.
+    SpscRing<SequencedSample>* sample_tap = nullptr;
+    /// A fault injected on purpose (the chaos tests, docs/benchmarks/chaos.md): right after the sculpt ring took its
+    /// sample number fault_kill_at_sample (1, 2, ...; counted since the loop was made), the loop kills its own process
+    /// with SIGKILL, so a test knows exactly how many samples the session had made. 0 = never.
+    std::uint64_t fault_kill_at_sample = 0;
     WorkspaceConfig workspace;     ///< workspace technique (WorkspaceMode) and its parameters
     SafetyConfig safety;           ///< velocity limit, ramp-in, watchdog and passivity-controller settings
     bool passivity_control = false;///< the passivity controller damps energy the environment creates (the observer always runs)
@@ -163,6 +172,7 @@ struct LoopStats {
     std::size_t overruns = 0;         ///< ticks that ended after the next deadline (missed deadlines skipped)
     std::size_t samples_dropped = 0;  ///< ToolSamples not pushed because the ring was full
     std::size_t records_stream_dropped = 0;  ///< TickRecords not pushed to HapticLoopConfig::record_stream (ring full)
+    std::size_t tap_dropped = 0;      ///< samples not pushed to HapticLoopConfig::sample_tap (ring full)
     std::size_t invalid_samples = 0;  ///< device samples with a non-finite value (zero force sent)
     bool device_lost = false;         ///< device.read() returned false (or threw) and the loop ended, or the loop
                                       ///< was stopped while the device's link was down (DeviceLinkStats::down_for_s)
@@ -367,6 +377,7 @@ private:
     // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
     // limit, so a gap never becomes one long swept capsule.
     bool carve_gap_ = false;
+    std::uint64_t pushed_ = 0;  // samples the sculpt ring took since construction (the next one's SequencedSample::seq)
     // Per-session tick state (loop thread only).
     double prev_now_s_ = 0.0;
     bool have_prev_now_ = false;
@@ -380,7 +391,7 @@ private:
     std::thread thread_;
     std::atomic<bool> stop_requested_{false};
     std::atomic<bool> running_{false};
-    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
+    std::atomic<std::size_t> ticks_{0}, overruns_{0}, dropped_{0}, stream_dropped_{0}, tap_dropped_{0}, invalid_{0}, trips_{0}, speed_cuts_{0};
     std::atomic<std::size_t> stale_remote_{0};
     std::atomic<bool> device_lost_{false}, realtime_{false}, locked_{false};
     double device_down_s_ = 0.0;  // written by stop() before device_lost_ is set there

@@ -27,6 +27,11 @@ namespace tridex::compute {
 // kJournalCheckpoint payload: 0 record index u64 | 8 model bytes u64 | 16 model CRC-32 u32 | 20 name length N u32
 //   | 24 N bytes: the checkpoint model file (.tdx) next to the journal, by file name, holding the model after every
 //   record before this one.
+// kJournalIntake payload (version 4): 0 record index u64 | 8 sample count N u32 | 12 reserved u32 (0) | 16 sequence
+//   number u64 of the first sample (the samples the haptic loop handed the sculpt thread, numbered 0, 1, ... in the
+//   order it drains them) | 24 N samples. Written as samples leave the haptic loop, by the journal's intake thread,
+//   for those no batch record holds yet: a session killed while the sculpt thread is behind keeps them. Readers
+//   apply, after the last record, the intake samples that follow the batches' samples without a gap.
 // Sample (120 bytes): 0 t_s f64 | 8 position xyz f64 | 32 surface_m xyz f64 | 56 orientation w x y z f64
 //   | 88 tool.radius_m f64 | 96 tool.length_m f64 | 104 tool.mesh_id u32 | 108 buttons u32 | 112 tool.kind u8
 //   | 113 op u8 | 114 material u8 | 115 symmetry u8: mirror planes in bits 0..2 (x, y, z), radial axis in bits 4..5
@@ -35,9 +40,10 @@ namespace tridex::compute {
 // ---------------------------------------------------------------------------------------------------------
 
 inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0'};  ///< first 8 bytes
-/// The version this build writes (and reads, with 1 and 2). 3: samples carry their symmetry (bytes 115, 116), so a
-/// reader of version 2, which would ignore it and build another model, refuses the file.
-inline constexpr std::uint32_t kJournalVersion = 3;
+/// The version this build writes (and reads, with 1 to 3). 3: samples carry their symmetry (bytes 115, 116), so a
+/// reader of version 2, which would ignore it and build another model, refuses the file. 4: intake records
+/// (kJournalIntake), whose samples a version 3 reader would not apply.
+inline constexpr std::uint32_t kJournalVersion = 4;
 inline constexpr std::uint32_t kJournalOldestVersion = 1;    ///< oldest version this build reads (batches only)
 inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
 inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity
@@ -48,6 +54,8 @@ inline constexpr std::uint32_t kJournalStrokeEnd = 2;        ///< record type: t
 inline constexpr std::uint32_t kJournalUndo = 3;             ///< record type: a stroke undone
 inline constexpr std::uint32_t kJournalRedo = 4;             ///< record type: a stroke redone
 inline constexpr std::uint32_t kJournalCheckpoint = 5;       ///< record type: a checkpoint model was written
+inline constexpr std::uint32_t kJournalIntake = 6;           ///< record type: samples received, not yet applied
+inline constexpr std::size_t kJournalIntakeHeadBytes = 24;   ///< intake payload before its samples
 inline constexpr std::size_t kJournalMarkBytes = 24;         ///< payload of a stroke-end, undo or redo record
 inline constexpr std::size_t kJournalCheckpointHeadBytes = 24;  ///< checkpoint payload before the file name
 inline constexpr std::uint32_t kJournalMaxNameBytes = 4096;  ///< longest checkpoint file name a reader accepts

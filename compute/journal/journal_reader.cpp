@@ -49,7 +49,8 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (crc32_ieee(p, kJournalRecordHeadBytes + payload) != get_u32(p + kJournalRecordHeadBytes + payload))
         return "CRC mismatch";
     const unsigned char* q = p + kJournalRecordHeadBytes;
-    if (type < kJournalBatch || type > kJournalCheckpoint || (version < 2 && type != kJournalBatch))
+    if (type < kJournalBatch || type > kJournalIntake || (version < 2 && type != kJournalBatch) ||
+        (version < 4 && type == kJournalIntake))
         return "unknown record type " + std::to_string(type);
     if (payload < 8) return "record too short";
     if (get_u64(q) < index || get_u64(q) > std::max(index, last_index))
@@ -77,20 +78,62 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
             return "checkpoint name is not a plain file name";
         return "";
     }
-    if (payload < kJournalBatchHeadBytes) return "record too short for a batch";
+    const std::size_t head = type == kJournalIntake ? kJournalIntakeHeadBytes : kJournalBatchHeadBytes;
+    if (payload < head) return type == kJournalIntake ? "record too short for intake" : "record too short for a batch";
     const std::uint32_t count = get_u32(q + 8);
-    if (payload != kJournalBatchHeadBytes + std::uint64_t{count} * kJournalSampleBytes)
+    if (payload != head + std::uint64_t{count} * kJournalSampleBytes)
         return "batch length does not match its " + std::to_string(count) + " samples";
     if (get_u32(q + 12) != 0) return "reserved field set";
+    if (type == kJournalIntake) rec.seq = get_u64(q + 16);
     rec.samples.resize(count);
     for (std::uint32_t i = 0; i < count; ++i)
     {
-        if (!decode_sample(q + kJournalBatchHeadBytes + std::size_t{i} * kJournalSampleBytes, rec.samples[i]))
+        if (!decode_sample(q + head + std::size_t{i} * kJournalSampleBytes, rec.samples[i]))
             return "sample " + std::to_string(i) + " holds an impossible tool kind or op";
         const std::string bad = sample_problem(rec.samples[i]);
         if (!bad.empty()) return "sample " + std::to_string(i) + ": " + bad;
     }
     return "";
+}
+
+// The intake samples that follow the batches' samples without a gap (journal_format.hpp, kJournalIntake), moved
+// out of the intake records into one batch record after the last record, marked as the tail. Not after damage:
+// the batches' sample count, which numbers the samples, is then unknown.
+void take_tail(Journal& j) {
+    std::uint64_t applied = 0;
+    bool any_intake = false;
+    for (const JournalRecord& r : j.records) {
+        if (r.kind == JournalKind::kBatch) applied += r.samples.size();
+        any_intake |= r.kind == JournalKind::kIntake;
+    }
+    if (!any_intake) return;
+    JournalRecord tail;
+    tail.kind = JournalKind::kBatch;
+    tail.tail = true;
+    std::uint64_t next = applied;  // the sequence number the tail needs next
+    bool gap = !j.damage.empty();
+    for (JournalRecord& r : j.records) {
+        if (r.kind != JournalKind::kIntake) continue;
+        for (std::size_t i = 0; i < r.samples.size() && !gap; ++i) {
+            const std::uint64_t seq = r.seq + i;
+            if (seq < next) continue;
+            if (seq > next) {
+                gap = true;
+                break;
+            }
+            tail.samples.push_back(r.samples[i]);
+            ++next;
+        }
+        j.intake_samples += r.samples.size();
+        r.samples.clear();  // an intake record applies nothing itself
+    }
+    j.samples -= j.intake_samples;
+    if (tail.samples.empty()) return;
+    tail.index = j.records.back().index + 1;
+    tail.offset = j.records.back().offset;
+    j.tail_samples = tail.samples.size();
+    j.samples += j.tail_samples;
+    j.records.push_back(std::move(tail));
 }
 
 }  // namespace
@@ -127,7 +170,7 @@ Journal parse_journal(std::span<const unsigned char> b, const std::string& where
             std::uint64_t next = off + 1;
             for (; next + kJournalRecordHeadBytes <= b.size(); ++next) {
                 const unsigned char* p = b.data() + next;
-                if (p[0] < kJournalBatch || p[0] > kJournalCheckpoint || p[1] != 0 || p[2] != 0 || p[3] != 0) continue;
+                if (p[0] < kJournalBatch || p[0] > kJournalIntake || p[1] != 0 || p[2] != 0 || p[3] != 0) continue;
                 JournalRecord probe;
                 std::uint64_t probe_size = 0;
                 const std::uint64_t last = index + (next - off) / kMinRecord;
@@ -153,6 +196,7 @@ Journal parse_journal(std::span<const unsigned char> b, const std::string& where
         j.records.push_back(std::move(rec));
         off += size;
     }
+    take_tail(j);
     return j;
 }
 

@@ -19,6 +19,7 @@ enum class JournalKind : std::uint8_t {
     kUndo = 3,        ///< a stroke undone
     kRedo = 4,        ///< a stroke redone
     kCheckpoint = 5,  ///< a checkpoint model file holds the model as of this record
+    kIntake = 6,      ///< samples received before the sculpt thread applied them (parse_journal moves them to the tail)
 };
 
 /// One valid record.
@@ -27,6 +28,10 @@ struct JournalRecord {
     std::uint64_t offset = 0;         ///< byte offset of the record in the file
     std::uint64_t index = 0;          ///< its record index (0, 1, ...; a gap before it: damaged records skipped)
     std::vector<ToolSample> samples;  ///< kBatch: in the order they were applied; else empty
+    /// A kBatch parse_journal made, after every record read, of the intake samples no batch record holds (samples
+    /// the session received and had not applied when its journal ended); applied as the sculpt thread would have.
+    bool tail = false;
+    std::uint64_t seq = 0;            ///< kIntake: the sequence number of its first sample (samples moved to the tail)
     std::uint64_t serial = 0;         ///< kStrokeEnd, kUndo, kRedo: the stroke's serial (UndoHistory)
     std::uint64_t rays = 0;           ///< kUndo, kRedo: rays written back
     std::string checkpoint;           ///< kCheckpoint: the model file's name (in the journal's folder)
@@ -56,7 +61,9 @@ struct Journal {
     std::uint32_t version = 0;           ///< format version (kJournalOldestVersion..kJournalVersion)
     std::string session;                 ///< the session identity the writer was given
     std::vector<JournalRecord> records;  ///< every intact record, in file order
-    std::uint64_t samples = 0;           ///< samples in `records`
+    std::uint64_t samples = 0;           ///< samples in `records` (batches and the tail)
+    std::uint64_t intake_samples = 0;    ///< samples the intake records held (most also in batch records)
+    std::uint64_t tail_samples = 0;      ///< of those, the tail's: received, never applied, applied by a replay
     std::uint64_t file_bytes = 0;        ///< size of the input
     std::optional<JournalCut> cut;       ///< set when the file ends in damage no intact record follows
     std::vector<JournalDamage> damage;   ///< damaged stretches followed by an intact record, in file order
@@ -72,7 +79,9 @@ struct Journal {
 /// above with a record index above the last kept one (type, length and index are the sync pattern, the CRC-32
 /// confirms it), resumes there and reports the skipped stretch in Journal::damage; with no intact record after
 /// it, the rest is reported in Journal::cut. O(file size) for a clean journal; a damaged stretch costs one CRC per
-/// candidate offset whose head looks like a record's.
+/// candidate offset whose head looks like a record's. Intake records (version 4) are kept with their samples moved:
+/// those that follow the batch records' samples without a gap (by sequence number) become one last kBatch record
+/// marked `tail`, indexed after the last record read; with damage in the journal there is no tail.
 Journal parse_journal(std::span<const unsigned char> bytes, const std::string& where);
 
 /// Reads and parses the journal file at `path` (parse_journal). Throws tridex::Error "<path>: cannot read" too.

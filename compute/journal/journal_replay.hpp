@@ -19,6 +19,7 @@ namespace tridex::compute {
 struct JournalApplyStats {
     std::uint64_t records = 0;   ///< records applied (batches and marks)
     std::uint64_t samples = 0;   ///< samples read
+    std::uint64_t tail_samples = 0;  ///< of those, the tail's (JournalRecord::tail: received, never applied live)
     std::uint64_t booleans = 0;  ///< swept Booleans applied (one per consecutive pair with an op)
     std::uint64_t strokes = 0;   ///< stroke-end marks replayed
     std::uint64_t undos = 0;     ///< undo marks replayed
@@ -48,7 +49,9 @@ struct JournalApplyFrom {
 /// thread did: one batch per batch record (sample_sweep between consecutive samples, across record boundaries; each
 /// batch validated before any of it changes the model), strokes closed, undone and redone at their marks (through
 /// an UndoHistory; checkpoint records are skipped; with from.remove_islands each stroke that cut removes its specks
-/// where it closes, as the sculpt thread did), marking dirty tiles. Sessions have no mesh tools: a kMesh
+/// where it closes, as the sculpt thread did), marking dirty tiles. Intake records are skipped; the tail record
+/// (JournalRecord::tail) is applied as the sculpt thread applies what it drains: one batch per stroke, the stroke
+/// closed where the tool stops cutting or changes (sample_closes_stroke). Sessions have no mesh tools: a kMesh
 /// sample throws. Throws tridex::Error naming the record on a sweep the Booleans refuse, or on a mark that does not
 /// match the replay (a stroke closed or undone under another serial, an undo with nothing to undo, another number
 /// of rays written back: a journal replayed from a state it was not written from); the model then holds the

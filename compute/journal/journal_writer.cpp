@@ -62,7 +62,13 @@ void JournalWriter::fail(const std::string& what, int err) {
     failed_.store(true, std::memory_order_release);
 }
 
+std::string JournalWriter::error() const {
+    std::lock_guard lock(mutex_);
+    return error_;
+}
+
 const JournalStats& JournalWriter::stats() const {
+    std::lock_guard io(io_mutex_);
     std::lock_guard lock(mutex_);
     stats_.flushes = flushes_;
     stats_.synced_bytes = synced_;
@@ -146,6 +152,7 @@ bool JournalWriter::write_out() {
 }
 
 void JournalWriter::append(std::span<const ToolSample> samples) {
+    std::lock_guard io(io_mutex_);
     if (!ok() || samples.empty()) return;
     const auto t0 = Clock::now();
     const std::size_t payload = kJournalBatchHeadBytes + samples.size() * kJournalSampleBytes;
@@ -170,7 +177,41 @@ void JournalWriter::append(std::span<const ToolSample> samples) {
     stats_.samples += samples.size();
     unsynced_ = true;
     stats_.append_ms_total += ms_since(t0);
-    sync_if_due();
+    sync_if_due_locked();
+}
+
+void JournalWriter::intake(std::uint64_t first_seq, std::span<const ToolSample> samples) {
+    std::lock_guard io(io_mutex_);
+    if (!ok()) return;
+    // Samples a batch record already holds (the sculpt thread caught up) are not written twice.
+    const std::uint64_t skip = stats_.samples > first_seq ? stats_.samples - first_seq : 0;
+    if (skip >= samples.size()) return;
+    samples = samples.subspan(static_cast<std::size_t>(skip));
+    first_seq += skip;
+    const std::size_t payload = kJournalIntakeHeadBytes + samples.size() * kJournalSampleBytes;
+    unsigned char head[kJournalRecordHeadBytes + kJournalIntakeHeadBytes];
+    put_u32(head, kJournalIntake);
+    put_u32(head + 4, static_cast<std::uint32_t>(payload));
+    put_u64(head + 8, stats_.records);
+    put_u32(head + 16, static_cast<std::uint32_t>(samples.size()));
+    put_u32(head + 20, 0);
+    put_u64(head + 24, first_seq);
+    crc_ = 0;
+    put(head, sizeof head);
+    unsigned char one[kJournalSampleBytes];
+    for (const ToolSample& s : samples) {
+        encode_sample(s, one);
+        put(one, sizeof one);
+    }
+    unsigned char crc[4];
+    put_u32(crc, crc_);
+    put(crc, 4);
+    if (!ok()) return;
+    ++stats_.records;
+    ++stats_.intake_records;
+    stats_.intake_samples += samples.size();
+    unsynced_ = true;
+    if (!buf_.empty() && write_out()) last_hand_off_ = Clock::now();
 }
 
 void JournalWriter::record(std::uint32_t type, const unsigned char* payload, std::size_t n) {
@@ -192,16 +233,18 @@ void JournalWriter::record(std::uint32_t type, const unsigned char* payload, std
 }
 
 void JournalWriter::mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
+    std::lock_guard io(io_mutex_);
     if (type != kJournalStrokeEnd && type != kJournalUndo && type != kJournalRedo) return;
     unsigned char p[kJournalMarkBytes];
     put_u64(p, stats_.records);
     put_u64(p + 8, serial);
     put_u64(p + 16, rays);
     record(type, p, sizeof p);
-    sync_if_due();
+    sync_if_due_locked();
 }
 
 void JournalWriter::checkpoint(const std::string& name, std::uint64_t bytes, std::uint32_t crc) {
+    std::lock_guard io(io_mutex_);
     if (name.empty() || name.size() > kJournalMaxNameBytes) return;
     std::vector<unsigned char> p(kJournalCheckpointHeadBytes + name.size());
     put_u64(p.data(), stats_.records);
@@ -210,10 +253,15 @@ void JournalWriter::checkpoint(const std::string& name, std::uint64_t bytes, std
     put_u32(p.data() + 20, static_cast<std::uint32_t>(name.size()));
     std::memcpy(p.data() + kJournalCheckpointHeadBytes, name.data(), name.size());
     record(kJournalCheckpoint, p.data(), p.size());
-    sync();
+    sync_locked();
 }
 
 void JournalWriter::sync_if_due() {
+    std::lock_guard io(io_mutex_);
+    sync_if_due_locked();
+}
+
+void JournalWriter::sync_if_due_locked() {
     if (!unsynced_ || !ok()) return;
     const auto t0 = Clock::now();
     // What is handed to the kernel survives the process being killed; only durability waits for the sync interval.
@@ -234,6 +282,11 @@ void JournalWriter::sync_if_due() {
 }
 
 void JournalWriter::sync() {
+    std::lock_guard io(io_mutex_);
+    sync_locked();
+}
+
+void JournalWriter::sync_locked() {
     if (!ok()) return;
     const auto t0 = Clock::now();
     if (!buf_.empty() && !write_out()) return;
@@ -259,9 +312,10 @@ void JournalWriter::sync() {
 }
 
 void JournalWriter::close() {
+    std::lock_guard io(io_mutex_);
     if (fd_ < 0) return;
     stop_syncer();
-    sync();
+    sync_locked();
     ::close(fd_);
     fd_ = -1;
 }

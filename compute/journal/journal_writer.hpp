@@ -20,8 +20,10 @@ namespace tridex::compute {
 /// What a JournalWriter did (report.json `journal`).
 struct JournalStats {
     std::string path;              ///< the journal file
-    std::uint64_t records = 0;     ///< records appended (written to the file or still buffered): batches and marks
-    std::uint64_t samples = 0;     ///< tool samples in those records
+    std::uint64_t records = 0;     ///< records appended (written to the file or still buffered): all kinds
+    std::uint64_t samples = 0;     ///< tool samples in batch records
+    std::uint64_t intake_records = 0;  ///< intake records appended (intake())
+    std::uint64_t intake_samples = 0;  ///< samples in them (received before a batch record held them)
     std::uint64_t bytes = 0;       ///< bytes handed to write(2) successfully, header included
     std::uint64_t synced_bytes = 0;///< of those, bytes made durable by a successful fdatasync
     std::uint64_t flushes = 0;     ///< fdatasync rounds that succeeded (the syncing thread's and sync()'s)
@@ -47,8 +49,9 @@ struct JournalStats {
 /// so what was appended is durable within about one interval (plus the fdatasync) without the caller ever waiting
 /// for the disk. sync(), checkpoint() and close() sync on the caller's thread and return when the bytes are durable.
 /// Never throws after construction: a failed write or sync (disk full, read-only, I/O error), on either thread,
-/// stops the journal (nothing more is written; the session goes on) and is recorded in stats().error. Not
-/// thread-safe: one thread (the sculpt thread) calls it; the syncing thread is internal.
+/// stops the journal (nothing more is written; the session goes on) and is recorded in stats().error. Two threads
+/// may call it: the sculpt thread (batches, marks, checkpoints, syncs) and one intake thread (intake(),
+/// JournalIntake); a lock keeps their records whole and in one order. The syncing thread is internal.
 class JournalWriter {
 public:
     /// Longest time appended bytes wait in the writer's own buffer before write(2) hands them to the kernel (checked
@@ -71,6 +74,12 @@ public:
     /// Appends one record holding `samples` (may be empty: nothing is written), then sync_if_due(). Any batch size
     /// works: a record larger than the buffer is streamed through it.
     void append(std::span<const ToolSample> samples);
+    /// Appends an intake record (journal_format.hpp, kJournalIntake) holding the samples of `samples` that no batch
+    /// record holds yet: `samples` are the samples numbered first_seq, first_seq + 1, ... in the order the sculpt
+    /// thread drains them, and those below the count of samples appended in batches so far are left out (nothing is
+    /// written when none is left). Then hands every buffered byte to the kernel at once, so a process killed after
+    /// it returns keeps them. Called by one thread besides the sculpt thread (JournalIntake).
+    void intake(std::uint64_t first_seq, std::span<const ToolSample> samples);
     /// Appends a mark (journal_format.hpp): `type` kJournalStrokeEnd, kJournalUndo or kJournalRedo, the stroke's
     /// serial and (undo, redo) the rays written back, then sync_if_due(). Other types are ignored.
     void mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays = 0);
@@ -88,10 +97,15 @@ public:
     void close();
     /// True while the journal is being written (no error on either thread, not closed).
     bool ok() const { return fd_ >= 0 && !failed_.load(std::memory_order_acquire); }
-    /// Counters and the error, if any (the syncing thread's counted as of this call).
+    /// Counters and the error, if any (the syncing thread's counted as of this call). The reference is read safely
+    /// only while no other thread appends (after the session, or in a single-threaded use); error() any time.
     const JournalStats& stats() const;
+    /// Why the journal stopped ("" while it works); any thread.
+    std::string error() const;
 
 private:
+    void sync_if_due_locked();
+    void sync_locked();
     void record(std::uint32_t type, const unsigned char* payload, std::size_t n);  // one small record, whole
     void put(const unsigned char* p, std::size_t n);  // into the buffer, CRC updated; writes out when full
     bool write_out();                                  // buffer -> write(2); false on error (recorded)
@@ -99,7 +113,8 @@ private:
     void run_syncer();                                 // the syncing thread
     void stop_syncer();
 
-    // The caller's thread only:
+    // The callers' (sculpt and intake threads'), under io_mutex_:
+    mutable std::mutex io_mutex_;     // taken before mutex_
     int fd_ = -1;
     std::vector<unsigned char> buf_;  // reserved once; size() = bytes pending
     std::size_t cap_ = 0;

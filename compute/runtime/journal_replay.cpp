@@ -82,16 +82,15 @@ struct JournalApplier::State {
         ++(undo ? st.undos : st.redos);
     }
 
-    void samples(std::uint64_t k, const JournalRecord& r) {
-        batch.clear();
-        for (const ToolSample& s : r.samples) {
-            if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
-            if (have_prev) sample_sweeps(prev, s, nullptr, nullptr, centre_m, batch);
-            prev = s;
-            have_prev = true;
-            st.last_t_s = s.t_s;
-        }
-        st.samples += r.samples.size();
+    void sweep_to(std::uint64_t k, const ToolSample& s) {
+        if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
+        if (have_prev) sample_sweeps(prev, s, nullptr, nullptr, centre_m, batch);
+        prev = s;
+        have_prev = true;
+        st.last_t_s = s.t_s;
+    }
+
+    void apply_batch(std::uint64_t k) {
         if (batch.empty()) return;
         try {
             history.apply(batch);
@@ -99,6 +98,30 @@ struct JournalApplier::State {
             throw at(k, e.what());
         }
         st.booleans += batch.size();
+        batch.clear();
+    }
+
+    void samples(std::uint64_t k, const JournalRecord& r) {
+        batch.clear();
+        for (const ToolSample& s : r.samples) sweep_to(k, s);
+        st.samples += r.samples.size();
+        apply_batch(k);
+    }
+
+    // The tail (samples received, never applied): as the sculpt thread applies what it drains, one batch per stroke,
+    // a stroke closed where the tool stops cutting or changes.
+    void tail(std::uint64_t k, const JournalRecord& r) {
+        batch.clear();
+        for (const ToolSample& s : r.samples) {
+            if (have_prev && (history.stroke_open() || !batch.empty()) && sample_closes_stroke(prev, s)) {
+                apply_batch(k);
+                if (history.end_stroke() != 0) ++st.strokes;
+            }
+            sweep_to(k, s);
+        }
+        st.samples += r.samples.size();
+        st.tail_samples += r.samples.size();
+        apply_batch(k);
     }
 
     void one(const JournalRecord& r) {
@@ -106,11 +129,12 @@ struct JournalApplier::State {
         if (r.index != (last_index ? *last_index + 1 : 0)) damaged = true;
         last_index = r.index;
         switch (r.kind) {
-            case JournalKind::kCheckpoint: break;
+            case JournalKind::kCheckpoint:
+            case JournalKind::kIntake: break;
             case JournalKind::kStrokeEnd: stroke_end(k, r); break;
             case JournalKind::kUndo:
             case JournalKind::kRedo: undo_redo(k, r); break;
-            case JournalKind::kBatch: samples(k, r); break;
+            case JournalKind::kBatch: r.tail ? tail(k, r) : samples(k, r); break;
         }
         ++st.records;
     }

@@ -357,13 +357,6 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
     return contour_ms;
 }
 
-namespace {
-bool same_tool(const ToolSample& a, const ToolSample& b) {
-    return a.op == b.op && a.material == b.material && a.tool.kind == b.tool.kind && a.tool.radius_m == b.tool.radius_m &&
-           a.tool.length_m == b.tool.length_m && a.tool.mesh_id == b.tool.mesh_id && a.symmetry == b.symmetry;
-}
-}  // namespace
-
 bool SculptThread::step() {
     bool any = take_requests();
     const auto t0 = std::chrono::steady_clock::now();
@@ -383,7 +376,7 @@ bool SculptThread::step() {
         if (cuts) oldest_cut.keep_older({s.made_s, s.t_s});
         // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then
         // belongs to the next stroke.
-        if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && (!cuts || !same_tool(s, prev_))) {
+        if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && compute::sample_closes_stroke(prev_, s)) {
             flush(begin, n, changed);
             begin = n;
             close_stroke();
@@ -426,11 +419,12 @@ bool SculptThread::step() {
 }
 
 void SculptThread::note_persistence() {
-    const bool journal_failed = journal_ && !journal_->stats().error.empty();
+    const std::string journal_error = journal_ ? journal_->error() : std::string();
+    const bool journal_failed = !journal_error.empty();
     const bool checkpoint_failed = !stats_.checkpoint_error.empty();
     if (journal_failed == journal_noted_ && checkpoint_failed == checkpoint_noted_) return;
     std::lock_guard<std::mutex> lock(save_mutex_);
-    if (journal_failed) save_status_.journal_error = journal_->stats().error;
+    if (journal_failed) save_status_.journal_error = journal_error;
     if (checkpoint_failed) save_status_.checkpoint_error = stats_.checkpoint_error;
     journal_noted_ = journal_failed;
     checkpoint_noted_ = checkpoint_failed;

@@ -32,4 +32,11 @@ std::size_t sample_sweeps(const ToolSample& from, const ToolSample& to, std::sha
     return out.size() - before;
 }
 
+bool sample_closes_stroke(const ToolSample& from, const ToolSample& to) {
+    const bool cuts = to.op != ToolOp::kNone && to.tool.radius_m > 0.0;
+    return !cuts || to.op != from.op || to.material != from.material || to.tool.kind != from.tool.kind ||
+           to.tool.radius_m != from.tool.radius_m || to.tool.length_m != from.tool.length_m ||
+           to.tool.mesh_id != from.tool.mesh_id || to.symmetry != from.symmetry;
+}
+
 }  // namespace tridex::compute

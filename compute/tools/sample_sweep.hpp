@@ -29,4 +29,9 @@ std::size_t sample_sweeps(const ToolSample& from, const ToolSample& to, std::sha
                           const std::shared_ptr<const MeshTool>& mirrored_mesh, const Vec3& centre_m,
                           std::vector<Sweep>& out);
 
+/// Whether a stroke open at sample `from` closes at the next sample `to` (the sweep ending at `to` then belongs to
+/// the next stroke): `to` does not cut (op kNone or a tool radius that is not > 0), or cuts with another op,
+/// material, tool kind, size or mesh, or symmetry than `from`.
+bool sample_closes_stroke(const ToolSample& from, const ToolSample& to);
+
 }  // namespace tridex::compute

@@ -69,7 +69,7 @@ void recording_seeds(const fs::path& dir) {
     devices::write_recording((dir / "recording" / "three_ticks.trdxrec").string(), rec);
 }
 
-/// A journal with two batches and a mark.
+/// A journal with two batches, a mark and an intake record (its samples the tail).
 void journal_seeds(const fs::path& dir) {
     fs::create_directories(dir / "journal");
     compute::JournalWriter writer((dir / "journal" / "session.tdj").string(), "{\"seed\": 1}");
@@ -83,6 +83,7 @@ void journal_seeds(const fs::path& dir) {
     writer.append(batch);
     writer.mark(1, 1);
     writer.append(batch);
+    writer.intake(6, batch);
     writer.close();
 }
 

@@ -28,6 +28,42 @@ namespace tridex::app {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// What the reader skipped, summed; one stderr line per damaged stretch, one for a tail left out after damage and one
+// for a cut end.
+struct DamageTotals {
+    std::uint64_t records = 0, bytes = 0, samples = 0;
+};
+
+DamageTotals report_damage(const std::string& journal_path, const compute::Journal& j) {
+    DamageTotals t;
+    for (const compute::JournalDamage& d : j.damage) {
+        t.records += d.records_lost;
+        t.bytes += d.bytes;
+        t.samples += d.samples_lost;
+        std::fprintf(stderr,
+                     "tridex: %s: skipped %llu damaged record%s (%llu bytes at offset %llu; about %llu samples): %s; "
+                     "resumed at the next intact one\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(d.records_lost),
+                     d.records_lost == 1 ? "" : "s",
+                     static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.byte_offset),
+                     static_cast<unsigned long long>(d.samples_lost), d.reason.c_str());
+    }
+    if (!j.damage.empty() && j.intake_samples > 0)
+        std::fprintf(stderr,
+                     "tridex: %s: the samples received after the last applied batch are not replayed: the damage "
+                     "before them leaves their place in the stream unknown\n",
+                     journal_path.c_str());
+    if (j.cut)
+        std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
+                     static_cast<unsigned long long>(j.cut->byte_offset), j.cut->reason.c_str());
+    return t;
+}
+
+}  // namespace
+
 void run_recover(const std::string& journal_path, const std::string& out) {
     const auto t0 = std::chrono::steady_clock::now();
     prepare_output_dir(out, "--out");
@@ -58,23 +94,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                               {"--out's report.json", (fs::path(out) / "report.json").string()}},
                              inputs);
     }
-    std::uint64_t damaged_records = 0, skipped_bytes = 0, samples_lost = 0;
-    for (const compute::JournalDamage& d : j.damage) {
-        damaged_records += d.records_lost;
-        skipped_bytes += d.bytes;
-        samples_lost += d.samples_lost;
-        std::fprintf(stderr,
-                     "tridex: %s: skipped %llu damaged record%s (%llu bytes at offset %llu; about %llu samples): %s; "
-                     "resumed at the next intact one\n",
-                     journal_path.c_str(), static_cast<unsigned long long>(d.records_lost),
-                     d.records_lost == 1 ? "" : "s",
-                     static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.byte_offset),
-                     static_cast<unsigned long long>(d.samples_lost), d.reason.c_str());
-    }
-    if (j.cut)
-        std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
-                     journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
-                     static_cast<unsigned long long>(j.cut->byte_offset), j.cut->reason.c_str());
+    const DamageTotals damage = report_damage(journal_path, j);
 
     // The workpiece as the session built it; then the records after the newest checkpoint that is intact and
     // replays, else every record from the start.
@@ -140,6 +160,7 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["recovered_device_time_s"] = applied.last_t_s;
     r["records"] = applied.records;
     r["samples"] = applied.samples;
+    r["tail_samples"] = applied.tail_samples;
     r["booleans"] = applied.booleans;
     r["strokes"] = applied.strokes;
     r["undos"] = applied.undos;
@@ -154,9 +175,9 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                                                {"byte_offset", j.cut->byte_offset},
                                                {"reason", j.cut->reason}}
                               : nlohmann::json(nullptr);
-    r["journal_damage"] = {{"damaged_records", damaged_records},
-                           {"skipped_bytes", skipped_bytes},
-                           {"samples_lost", samples_lost},
+    r["journal_damage"] = {{"damaged_records", damage.records},
+                           {"skipped_bytes", damage.bytes},
+                           {"samples_lost", damage.samples},
                            {"marks_skipped", applied.marks_skipped}};
     r["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
     r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
@@ -167,9 +188,13 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     if (applied.marks_skipped > 0)
         std::fprintf(stderr, "tridex: %s: %llu stroke marks after the damage no longer matched the replay and were skipped\n",
                      journal_path.c_str(), static_cast<unsigned long long>(applied.marks_skipped));
-    std::printf("recovered %llu records (%s%llu samples replayed, to %.3f s of device time) from %s into %s\n",
+    const std::string tail = applied.tail_samples > 0 ? ", " + std::to_string(applied.tail_samples) +
+                                                            " of them received by the session but not yet applied"
+                                                      : std::string();
+    std::printf("recovered %llu records (%s%llu samples replayed%s, to %.3f s of device time) from %s into %s\n",
                 static_cast<unsigned long long>(applied.records), start_from.c_str(),
-                static_cast<unsigned long long>(applied.samples), applied.last_t_s, journal_path.c_str(), out.c_str());
+                static_cast<unsigned long long>(applied.samples), tail.c_str(), applied.last_t_s, journal_path.c_str(),
+                out.c_str());
     std::printf("  wrote %s/: sculpted.ply, model.tdx, report.json (`tridex run --workpiece %s` carries on)\n",
                 out.c_str(), (dir / "model.tdx").string().c_str());
 }

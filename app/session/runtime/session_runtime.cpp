@@ -2,7 +2,10 @@
 #include "app/session/runtime/session_runtime.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "app/scene/tool_mesh.hpp"
@@ -23,6 +26,19 @@
 namespace tridex::app {
 
 namespace {
+
+// The chaos tests' fault (docs/benchmarks/chaos.md): TRIDEX_FAULT_KILL_AT_SAMPLE=K kills the session with SIGKILL
+// right after its K-th tool sample (HapticLoopConfig::fault_kill_at_sample); 0 or unset: never.
+std::uint64_t fault_kill_at_sample() {
+    const char* v = std::getenv("TRIDEX_FAULT_KILL_AT_SAMPLE");
+    if (!v || !*v) return 0;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long k = std::strtoull(v, &end, 10);
+    if (*end != '\0' || errno != 0 || v[0] == '-')
+        throw Error(std::string("TRIDEX_FAULT_KILL_AT_SAMPLE: must be a whole number of samples, got '") + v + "'");
+    return k;
+}
 
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kRingCapacity = 1 << 16;  // tool samples: 65 s of ticks
@@ -94,6 +110,9 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         set_crash_note("the session's journal is " + o.sculpt.journal + ": `tridex recover " + o.sculpt.journal +
                        "` rebuilds the model up to its last complete record");
         sculpt_->use_journal(*journal_);
+        // Samples the sculpt thread has not applied yet are journalled as they leave the haptic loop.
+        intake_ = std::make_unique<compute::JournalIntake>(*journal_);
+        cfg_.sample_tap = &intake_->ring();
         if (o.sculpt.checkpoint_s > 0.0) {
             const std::filesystem::path jp(o.sculpt.journal);
             const std::string name = jp.filename().string() + ".checkpoint.tdx";
@@ -138,6 +157,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         tick_stream_ = std::make_unique<TickStream>(spec_, o.sculpt.stream_recording);
         cfg_.record_stream = &tick_stream_->ring();
     }
+    cfg_.fault_kill_at_sample = fault_kill_at_sample();
     loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
     if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
         std::fprintf(stderr,
@@ -210,6 +230,7 @@ void SessionRuntime::start() {
     started_ = true;
     t_start_ = Clock::now();
     sculpt_->start();
+    if (intake_) intake_->start();
     if (tick_stream_) tick_stream_->start();
     loop_->start();
 }
@@ -224,9 +245,11 @@ void SessionRuntime::stop() {
     try {
         sculpt_->stop();  // drains the ring, publishes the last surface, syncs the journal; rethrows a failure
     } catch (...) {
+        if (intake_) intake_->stop();
         if (journal_) journal_->close();
         throw;
     }
+    if (intake_) intake_->stop();  // writes nothing more: every sample it got is in a batch record now
     if (journal_) journal_->close();
 }
 

@@ -15,6 +15,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/tick_stream.hpp"
 #include "compute/contour/contour_dual.hpp"
+#include "compute/journal/journal_intake.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/journal/tool_stream.hpp"
 #include "compute/model/tridexel.hpp"
@@ -265,6 +266,7 @@ private:
     TripleBuffer<MeshFrame> meshes_;
     ChangeSignal sculpted_changes_;                    // before sculpt_, which notifies it
     std::unique_ptr<compute::JournalWriter> journal_;  // before sculpt_, which appends to it
+    std::unique_ptr<compute::JournalIntake> intake_;   // after journal_, which it writes; before loop_, which feeds it
     std::unique_ptr<SculptThread> sculpt_;
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;

@@ -1,0 +1,218 @@
+// The journal's intake: samples journalled as they leave the haptic loop, before the sculpt thread applies them. The
+// reader turns those no batch record holds into the journal's tail, which a replay applies as the sculpt thread
+// would; a session whose sculpt thread is behind keeps what it received.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <thread>
+
+#include "compute/journal/journal_format.hpp"
+#include "compute/journal/journal_intake.hpp"
+#include "compute/journal/journal_reader.hpp"
+#include "compute/journal/journal_replay.hpp"
+#include "compute/journal/journal_writer.hpp"
+#include "compute/mesh/scan_convert.hpp"
+#include "compute/model/model_digest.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "core/primitives.hpp"
+
+namespace tridex::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& name) {
+    return (fs::temp_directory_path() / ("tridex_intake_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+std::vector<unsigned char> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+compute::TriDexel box_model() {
+    const Aabb box{Vec3(-0.05), Vec3(0.05)};
+    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 40), std::size_t(1) << 30);
+    compute::scan_convert(box_mesh(box), m);
+    return m;
+}
+
+// A wavy path across the box's +z face: subtract, then union, then paint (two stroke changes).
+std::vector<ToolSample> stream() {
+    std::vector<ToolSample> s(450);
+    for (int i = 0; i < 450; ++i) {
+        const double u = (i % 150) / 149.0;
+        s[i].t_s = i * 1e-3;
+        s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u) + 0.01 * (i / 150), 0.048 - 0.004 * std::sin(5.0 * u));
+        s[i].tool.radius_m = 0.006;
+        s[i].op = i < 150 ? ToolOp::kSubtract : i < 300 ? ToolOp::kUnion : ToolOp::kPaint;
+        s[i].material = 3;
+    }
+    return s;
+}
+
+std::span<const ToolSample> part(const std::vector<ToolSample>& v, std::size_t begin, std::size_t end) {
+    return std::span<const ToolSample>(v).subspan(begin, end - begin);
+}
+
+// Whether the journal's batches, then its tail, hold exactly samples [0, n) of `all`, in order.
+void expect_prefix(const compute::Journal& j, const std::vector<ToolSample>& all, std::size_t& n) {
+    n = 0;
+    for (const compute::JournalRecord& r : j.records)
+        for (const ToolSample& s : r.samples) {
+            ASSERT_LT(n, all.size());
+            ASSERT_EQ(s.t_s, all[n].t_s) << "sample " << n << " out of place";
+            ++n;
+        }
+}
+
+TEST(JournalIntake, TheTailIsTheIntakeSamplesThatFollowTheBatchesWithoutAGap) {
+    const std::vector<ToolSample> s = stream();
+    const std::string path = temp_path("tail.tdj");
+    {
+        compute::JournalWriter w(path, "session");
+        w.append(part(s, 0, 20));
+        w.intake(10, part(s, 10, 40));  // 10..19 are in the batch already: only 20..39 are written
+        w.intake(45, part(s, 45, 50));  // 40..44 never arrived: not part of the tail
+        w.intake(0, part(s, 0, 5));     // all in the batch: nothing written
+        EXPECT_EQ(w.stats().intake_records, 2u);
+        EXPECT_EQ(w.stats().intake_samples, 25u);
+        EXPECT_EQ(w.stats().samples, 20u);
+    }
+    const compute::Journal j = compute::read_journal(path);
+    EXPECT_EQ(j.version, compute::kJournalVersion);
+    ASSERT_EQ(j.records.size(), 4u);  // the batch, two intake records, the tail
+    EXPECT_EQ(j.records[1].kind, compute::JournalKind::kIntake);
+    EXPECT_TRUE(j.records[1].samples.empty());
+    const compute::JournalRecord& tail = j.records.back();
+    EXPECT_TRUE(tail.tail);
+    EXPECT_EQ(tail.kind, compute::JournalKind::kBatch);
+    EXPECT_EQ(tail.index, 3u);
+    EXPECT_EQ(j.intake_samples, 25u);
+    EXPECT_EQ(j.tail_samples, 20u);
+    EXPECT_EQ(j.samples, 40u);
+    std::size_t n = 0;
+    expect_prefix(j, s, n);
+    EXPECT_EQ(n, 40u);
+    fs::remove(path);
+}
+
+TEST(JournalIntake, ATailAfterDamageIsNotApplied) {
+    const std::vector<ToolSample> s = stream();
+    const std::string path = temp_path("damaged.tdj");
+    {
+        compute::JournalWriter w(path, "session");
+        w.append(part(s, 0, 20));
+        w.append(part(s, 20, 30));
+        w.append(part(s, 30, 40));
+        w.intake(40, part(s, 40, 60));
+    }
+    std::vector<unsigned char> b = file_bytes(path);
+    // A bit flipped in the second batch: its samples' count is lost, so the tail's numbering is unknown.
+    const std::size_t second = b.size() - (2 * (8 + 16 + 10 * 120 + 4)) - (8 + 24 + 20 * 120 + 4) + 40;
+    b[second] ^= 0x10;
+    const compute::Journal j = compute::parse_journal(b, "damaged.tdj");
+    ASSERT_EQ(j.damage.size(), 1u);
+    EXPECT_EQ(j.tail_samples, 0u);
+    EXPECT_FALSE(j.records.back().tail);
+    fs::remove(path);
+}
+
+// The tail spans both stroke changes; the replay closes the strokes there, as the sculpt thread would have, and the
+// dexels equal the whole stream applied at once.
+TEST(JournalIntake, AReplayAppliesTheTailAsTheSculptThreadWould) {
+    const std::vector<ToolSample> s = stream();
+    const std::string path = temp_path("replay.tdj");
+    {
+        compute::JournalWriter w(path, "session");
+        w.append(part(s, 0, 100));
+        w.intake(100, part(s, 100, 450));
+    }
+    const compute::Journal j = compute::read_journal(path);
+    EXPECT_EQ(j.tail_samples, 350u);
+    compute::TriDexel replayed = box_model();
+    const compute::JournalApplyStats st = compute::journal_apply(replayed, j.records);
+    EXPECT_EQ(st.samples, 450u);
+    EXPECT_EQ(st.tail_samples, 350u);
+    EXPECT_EQ(st.strokes, 2u);  // subtract -> union and union -> paint closed; the paint stroke stays open
+    EXPECT_DOUBLE_EQ(st.last_t_s, s.back().t_s);
+    std::vector<compute::JournalRecord> one(1);
+    one[0].samples = s;
+    compute::TriDexel whole = box_model();
+    compute::journal_apply(whole, one);
+    EXPECT_EQ(compute::model_digest(replayed), compute::model_digest(whole));
+    fs::remove(path);
+}
+
+// The intake thread beside a sculpt thread that has not started: what the haptic loop pushed reaches the journal
+// anyway; once the sculpt thread runs and journals its batches, the intake writes nothing twice, and the journal
+// replays to the live model.
+TEST(JournalIntake, TheThreadKeepsWhatTheSculptThreadHasNotApplied) {
+    const std::vector<ToolSample> s = stream();
+    const std::string path = temp_path("thread.tdj");
+    compute::TriDexel live = box_model();
+    compute::JournalStats stats;
+    {
+        compute::Contourer contourer(live);
+        contourer.update(live);
+        SpscRing<ToolSample> ring(512);
+        TripleBuffer<ActiveSurface> surface;
+        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
+        compute::JournalIntake intake(journal);
+        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
+        t.use_journal(journal);
+        intake.start();
+        std::uint64_t seq = 0;
+        auto push = [&](std::size_t begin, std::size_t end) {  // as the haptic loop pushes
+            for (std::size_t i = begin; i < end; ++i) {
+                ASSERT_TRUE(ring.try_push(s[i]));
+                ASSERT_TRUE(intake.ring().try_push(SequencedSample{seq++, s[i]}));
+            }
+        };
+        push(0, 200);
+        // No sculpt thread yet: the intake writes the 200 samples once they have waited JournalIntake::kHold.
+        compute::Journal j;
+        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        do {
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            j = compute::parse_journal(file_bytes(path), "thread.tdj");
+        } while (j.tail_samples < 200 && std::chrono::steady_clock::now() < give_up);
+        EXPECT_EQ(j.tail_samples, 200u);
+        std::size_t n = 0;
+        expect_prefix(j, s, n);
+        EXPECT_EQ(n, 200u);
+        t.start();
+        for (std::size_t i = 200; i < s.size(); i += 25) {
+            push(i, i + 25);
+            // A snapshot at any moment: its batches and tail are a prefix of what was pushed, without a gap.
+            expect_prefix(compute::parse_journal(file_bytes(path), "thread.tdj"), s, n);
+            EXPECT_GE(n, 200u);
+            std::this_thread::sleep_for(std::chrono::milliseconds(3));
+        }
+        t.stop();
+        intake.stop();
+        journal.close();
+        stats = journal.stats();
+    }
+    EXPECT_EQ(stats.error, "");
+    EXPECT_EQ(stats.samples, 450u);
+    EXPECT_GE(stats.intake_samples, 200u);
+    const compute::Journal j = compute::read_journal(path);
+    EXPECT_EQ(j.tail_samples, 0u);  // everything it received, the sculpt thread applied and journalled
+    std::size_t n = 0;
+    expect_prefix(j, s, n);
+    EXPECT_EQ(n, 450u);
+    compute::TriDexel again = box_model();
+    compute::journal_apply(again, j.records);
+    EXPECT_EQ(compute::model_digest(again), compute::model_digest(live));
+    fs::remove(path);
+}
+
+}  // namespace
+}  // namespace tridex::app
