@@ -112,6 +112,8 @@ struct DeviceLinkStats {
     int firmware_attempts = 0;  ///< firmware-load attempts at open() (0: none needed)
     /// Network drivers (net): "distributed" or "local" (where the contact loop runs); "" for other drivers.
     std::string link_mode{};
+    bool sealed = false;                 ///< network drivers: every datagram authenticated and encrypted (a key given)
+    std::uint64_t seal_refused = 0;      ///< sealed: datagrams refused as not the peer's (wrong key, replayed, ...)
     double rtt_median_us = 0.0;          ///< round-trip time of the link, median, us
     double rtt_p99_us = 0.0;             ///< round-trip time, 99th percentile, us
     std::uint64_t lost = 0;              ///< datagrams lost (sequence gaps seen by either end)

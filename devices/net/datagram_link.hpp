@@ -59,6 +59,11 @@ public:
     /// free for the next peer at once; no kDisconnected follows for it. A client, or a link without peers to
     /// drop: nothing.
     virtual void drop_peer() {}
+    /// True when every datagram is authenticated and encrypted (SealedLink); false for a plain transport.
+    virtual bool sealed() const { return false; }
+    /// Datagrams the link refused as not the peer's (forged, replayed, out of order, truncated: SealStats::refused);
+    /// 0 for a link that does not check. Any thread.
+    virtual std::uint64_t refused() const { return 0; }
 };
 
 }  // namespace tridex::devices::net

@@ -408,6 +408,10 @@ DeviceLinkStats NetDevice::link_stats() const {
     s.malformed_frames = drops_.total() + server_.malformed;
     s.zeroed_ticks = zeroed_;
     s.link_mode = to_string(opt_.mode);
+    if (link_) {
+        s.sealed = link_->sealed();
+        s.seal_refused = link_->refused();
+    }
     const std::size_t n = std::min(rtt_count_, kRttSamples);
     if (n > 0) {
         std::vector<float> v(rtt_us_.begin(), rtt_us_.begin() + static_cast<std::ptrdiff_t>(n));

@@ -164,6 +164,8 @@ public:
     void drop_peer() override { inner_->drop_peer(); }
     /// The counters so far; any thread may call it.
     SealStats stats() const;
+    bool sealed() const override { return true; }
+    std::uint64_t refused() const override { return stats().refused(); }
 
 private:
     struct Counters;

@@ -59,6 +59,7 @@ TEST_P(NetSession, DemoAgainstADeviceServerProcessCarvesAndReportsTheLink) {
     const nlohmann::json& link = rep["link"];
     ASSERT_TRUE(link.is_object()) << rep.dump(1);
     EXPECT_EQ(link["mode"], mode);
+    EXPECT_FALSE(link["sealed"].get<bool>()) << "no key was given: " << link.dump();
     // States at (close to) the server's 1 kHz; a loaded machine may thin them, never to nothing.
     EXPECT_GT(link["rate_hz"].get<double>(), 200.0) << link.dump();
     EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();

@@ -104,6 +104,8 @@ TEST(SealedNetSession, TheSameKeyOnBothSidesCarvesAndReportsTheLink) {
     ASSERT_TRUE(link.is_object()) << rep.dump(1);
     EXPECT_GT(link["rate_hz"].get<double>(), 200.0) << link.dump();
     EXPECT_GT(link["rtt_us"]["median"].get<double>(), 0.0) << link.dump();
+    EXPECT_TRUE(link["sealed"].get<bool>()) << link.dump();
+    EXPECT_EQ(link["seal_refused"].get<long>(), 0) << link.dump();
     EXPECT_GT(rep["haptics"]["device_link"]["exchanges"].get<long>(), 1000) << rep["haptics"].dump(1);
     EXPECT_EQ(link["events"].get<std::string>().find("disconnected"), std::string::npos) << link.dump();
     // The --once server ends with the session: its closing line says the sealed link accepted and refused nothing.

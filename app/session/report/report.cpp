@@ -230,6 +230,8 @@ nlohmann::json device_link_json(const devices::DeviceLinkStats& link) {
 nlohmann::json link_json(const devices::DeviceLinkStats& link) {
     if (link.link_mode.empty()) return nullptr;
     return {{"mode", link.link_mode},
+            {"sealed", link.sealed},
+            {"seal_refused", link.seal_refused},
             {"rtt_us", {{"median", link.rtt_median_us}, {"p99", link.rtt_p99_us}}},
             {"lost", link.lost},
             {"rate_hz", link.rate_hz},
