@@ -151,19 +151,17 @@ bool JournalWriter::write_out() {
     return true;
 }
 
-void JournalWriter::append(std::span<const ToolSample> samples) {
-    std::lock_guard io(io_mutex_);
-    if (!ok() || samples.empty()) return;
-    const auto t0 = Clock::now();
-    const std::size_t payload = kJournalBatchHeadBytes + samples.size() * kJournalSampleBytes;
-    unsigned char head[kJournalRecordHeadBytes + kJournalBatchHeadBytes];
-    put_u32(head, kJournalBatch);
-    put_u32(head + 4, static_cast<std::uint32_t>(payload));
+bool JournalWriter::samples_record(std::uint32_t type, std::uint64_t first_seq, std::span<const ToolSample> samples) {
+    const std::size_t head_bytes = type == kJournalIntake ? kJournalIntakeHeadBytes : kJournalBatchHeadBytes;
+    unsigned char head[kJournalRecordHeadBytes + kJournalIntakeHeadBytes];
+    put_u32(head, type);
+    put_u32(head + 4, static_cast<std::uint32_t>(head_bytes + samples.size() * kJournalSampleBytes));
     put_u64(head + 8, stats_.records);
     put_u32(head + 16, static_cast<std::uint32_t>(samples.size()));
     put_u32(head + 20, 0);
+    if (type == kJournalIntake) put_u64(head + 24, first_seq);
     crc_ = 0;
-    put(head, sizeof head);
+    put(head, kJournalRecordHeadBytes + head_bytes);
     unsigned char one[kJournalSampleBytes];
     for (const ToolSample& s : samples) {
         encode_sample(s, one);
@@ -172,10 +170,18 @@ void JournalWriter::append(std::span<const ToolSample> samples) {
     unsigned char crc[4];
     put_u32(crc, crc_);
     put(crc, 4);
-    if (!ok()) return;
+    if (!ok()) return false;
     ++stats_.records;
-    stats_.samples += samples.size();
     unsynced_ = true;
+    return true;
+}
+
+void JournalWriter::append(std::span<const ToolSample> samples) {
+    std::lock_guard io(io_mutex_);
+    if (!ok() || samples.empty()) return;
+    const auto t0 = Clock::now();
+    if (!samples_record(kJournalBatch, 0, samples)) return;
+    stats_.samples += samples.size();
     stats_.append_ms_total += ms_since(t0);
     sync_if_due_locked();
 }
@@ -187,30 +193,9 @@ void JournalWriter::intake(std::uint64_t first_seq, std::span<const ToolSample> 
     const std::uint64_t skip = stats_.samples > first_seq ? stats_.samples - first_seq : 0;
     if (skip >= samples.size()) return;
     samples = samples.subspan(static_cast<std::size_t>(skip));
-    first_seq += skip;
-    const std::size_t payload = kJournalIntakeHeadBytes + samples.size() * kJournalSampleBytes;
-    unsigned char head[kJournalRecordHeadBytes + kJournalIntakeHeadBytes];
-    put_u32(head, kJournalIntake);
-    put_u32(head + 4, static_cast<std::uint32_t>(payload));
-    put_u64(head + 8, stats_.records);
-    put_u32(head + 16, static_cast<std::uint32_t>(samples.size()));
-    put_u32(head + 20, 0);
-    put_u64(head + 24, first_seq);
-    crc_ = 0;
-    put(head, sizeof head);
-    unsigned char one[kJournalSampleBytes];
-    for (const ToolSample& s : samples) {
-        encode_sample(s, one);
-        put(one, sizeof one);
-    }
-    unsigned char crc[4];
-    put_u32(crc, crc_);
-    put(crc, 4);
-    if (!ok()) return;
-    ++stats_.records;
+    if (!samples_record(kJournalIntake, first_seq + skip, samples)) return;
     ++stats_.intake_records;
     stats_.intake_samples += samples.size();
-    unsynced_ = true;
     if (!buf_.empty() && write_out()) last_hand_off_ = Clock::now();
 }
 

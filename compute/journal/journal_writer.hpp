@@ -107,6 +107,8 @@ private:
     void sync_if_due_locked();
     void sync_locked();
     void record(std::uint32_t type, const unsigned char* payload, std::size_t n);  // one small record, whole
+    // A batch or intake record (first_seq: kJournalIntake's); false when the journal stopped on the way.
+    bool samples_record(std::uint32_t type, std::uint64_t first_seq, std::span<const ToolSample> samples);
     void put(const unsigned char* p, std::size_t n);  // into the buffer, CRC updated; writes out when full
     bool write_out();                                  // buffer -> write(2); false on error (recorded)
     void fail(const std::string& what, int err);       // either thread: record the first error, stop the journal

@@ -12,15 +12,14 @@
 #include <iterator>
 #include <thread>
 
+#include "journal_stream.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/journal/journal_intake.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/journal/journal_writer.hpp"
-#include "compute/mesh/scan_convert.hpp"
 #include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
-#include "core/primitives.hpp"
 
 namespace tridex::app {
 namespace {
@@ -36,26 +35,6 @@ std::vector<unsigned char> file_bytes(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-compute::TriDexel box_model() {
-    const Aabb box{Vec3(-0.05), Vec3(0.05)};
-    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 40), std::size_t(1) << 30);
-    compute::scan_convert(box_mesh(box), m);
-    return m;
-}
-
-// A wavy path across the box's +z face: subtract, then union, then paint (two stroke changes).
-std::vector<ToolSample> stream() {
-    std::vector<ToolSample> s(450);
-    for (int i = 0; i < 450; ++i) {
-        const double u = (i % 150) / 149.0;
-        s[i].t_s = i * 1e-3;
-        s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u) + 0.01 * (i / 150), 0.048 - 0.004 * std::sin(5.0 * u));
-        s[i].tool.radius_m = 0.006;
-        s[i].op = i < 150 ? ToolOp::kSubtract : i < 300 ? ToolOp::kUnion : ToolOp::kPaint;
-        s[i].material = 3;
-    }
-    return s;
-}
 
 std::span<const ToolSample> part(const std::vector<ToolSample>& v, std::size_t begin, std::size_t end) {
     return std::span<const ToolSample>(v).subspan(begin, end - begin);
@@ -73,7 +52,7 @@ void expect_prefix(const compute::Journal& j, const std::vector<ToolSample>& all
 }
 
 TEST(JournalIntake, TheTailIsTheIntakeSamplesThatFollowTheBatchesWithoutAGap) {
-    const std::vector<ToolSample> s = stream();
+    const std::vector<ToolSample> s = test::journal_stream();
     const std::string path = temp_path("tail.tdj");
     {
         compute::JournalWriter w(path, "session");
@@ -104,7 +83,7 @@ TEST(JournalIntake, TheTailIsTheIntakeSamplesThatFollowTheBatchesWithoutAGap) {
 }
 
 TEST(JournalIntake, ATailAfterDamageIsNotApplied) {
-    const std::vector<ToolSample> s = stream();
+    const std::vector<ToolSample> s = test::journal_stream();
     const std::string path = temp_path("damaged.tdj");
     {
         compute::JournalWriter w(path, "session");
@@ -127,7 +106,7 @@ TEST(JournalIntake, ATailAfterDamageIsNotApplied) {
 // The tail spans both stroke changes; the replay closes the strokes there, as the sculpt thread would have, and the
 // dexels equal the whole stream applied at once.
 TEST(JournalIntake, AReplayAppliesTheTailAsTheSculptThreadWould) {
-    const std::vector<ToolSample> s = stream();
+    const std::vector<ToolSample> s = test::journal_stream();
     const std::string path = temp_path("replay.tdj");
     {
         compute::JournalWriter w(path, "session");
@@ -136,7 +115,7 @@ TEST(JournalIntake, AReplayAppliesTheTailAsTheSculptThreadWould) {
     }
     const compute::Journal j = compute::read_journal(path);
     EXPECT_EQ(j.tail_samples, 350u);
-    compute::TriDexel replayed = box_model();
+    compute::TriDexel replayed = test::journal_box_model();
     const compute::JournalApplyStats st = compute::journal_apply(replayed, j.records);
     EXPECT_EQ(st.samples, 450u);
     EXPECT_EQ(st.tail_samples, 350u);
@@ -144,7 +123,7 @@ TEST(JournalIntake, AReplayAppliesTheTailAsTheSculptThreadWould) {
     EXPECT_DOUBLE_EQ(st.last_t_s, s.back().t_s);
     std::vector<compute::JournalRecord> one(1);
     one[0].samples = s;
-    compute::TriDexel whole = box_model();
+    compute::TriDexel whole = test::journal_box_model();
     compute::journal_apply(whole, one);
     EXPECT_EQ(compute::model_digest(replayed), compute::model_digest(whole));
     fs::remove(path);
@@ -154,9 +133,9 @@ TEST(JournalIntake, AReplayAppliesTheTailAsTheSculptThreadWould) {
 // anyway; once the sculpt thread runs and journals its batches, the intake writes nothing twice, and the journal
 // replays to the live model.
 TEST(JournalIntake, TheThreadKeepsWhatTheSculptThreadHasNotApplied) {
-    const std::vector<ToolSample> s = stream();
+    const std::vector<ToolSample> s = test::journal_stream();
     const std::string path = temp_path("thread.tdj");
-    compute::TriDexel live = box_model();
+    compute::TriDexel live = test::journal_box_model();
     compute::JournalStats stats;
     {
         compute::Contourer contourer(live);
@@ -208,7 +187,7 @@ TEST(JournalIntake, TheThreadKeepsWhatTheSculptThreadHasNotApplied) {
     std::size_t n = 0;
     expect_prefix(j, s, n);
     EXPECT_EQ(n, 450u);
-    compute::TriDexel again = box_model();
+    compute::TriDexel again = test::journal_box_model();
     compute::journal_apply(again, j.records);
     EXPECT_EQ(compute::model_digest(again), compute::model_digest(live));
     fs::remove(path);

@@ -9,39 +9,18 @@
 #include <filesystem>
 #include <thread>
 
+#include "journal_stream.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/journal/journal_writer.hpp"
-#include "compute/mesh/scan_convert.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
-#include "core/primitives.hpp"
 
 namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-compute::TriDexel box_model() {
-    const Aabb box{Vec3(-0.05), Vec3(0.05)};
-    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 40), std::size_t(1) << 30);
-    compute::scan_convert(box_mesh(box), m);
-    return m;
-}
-
-// A wavy path across the box's +z face: subtract, then a union pass and a paint pass.
-std::vector<ToolSample> stream() {
-    std::vector<ToolSample> s(450);
-    for (int i = 0; i < 450; ++i) {
-        const double u = (i % 150) / 149.0;
-        s[i].t_s = i * 1e-3;
-        s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u) + 0.01 * (i / 150), 0.048 - 0.004 * std::sin(5.0 * u));
-        s[i].tool.radius_m = 0.006;
-        s[i].op = i < 150 ? ToolOp::kSubtract : i < 300 ? ToolOp::kUnion : ToolOp::kPaint;
-        s[i].material = 3;
-    }
-    return s;
-}
 
 void expect_same_dexels(const compute::TriDexel& a, const compute::TriDexel& b) {
     for (int k = 0; k < 3; ++k) {
@@ -63,7 +42,7 @@ void expect_same_dexels(const compute::TriDexel& a, const compute::TriDexel& b) 
 
 TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
     const std::string path = (fs::temp_directory_path() / ("tridex_journal_sculpt_" + std::to_string(::getpid()) + ".tdj")).string();
-    compute::TriDexel live = box_model();
+    compute::TriDexel live = test::journal_box_model();
     compute::JournalStats stats;
     {
         compute::Contourer contourer(live);
@@ -74,7 +53,7 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
         SculptThread t(live, contourer, ring, surface, Vec3(0.0));
         t.use_journal(journal);
         t.start();
-        const auto samples = stream();  // trickled: the batches depend on timing
+        const auto samples = test::journal_stream();  // trickled: the batches depend on timing
         for (std::size_t i = 0; i < samples.size(); ++i) {
             while (!ring.try_push(samples[i])) std::this_thread::yield();
             if (i % 11 == 0) std::this_thread::sleep_for(std::chrono::microseconds(400));
@@ -90,7 +69,7 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
     const compute::Journal j = compute::read_journal(path);
     EXPECT_FALSE(j.cut);
     EXPECT_EQ(j.records.size(), stats.records);
-    const auto samples = stream();
+    const auto samples = test::journal_stream();
     std::size_t at = 0;
     for (const compute::JournalRecord& r : j.records)
         for (const ToolSample& s : r.samples) {
@@ -102,7 +81,7 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
     EXPECT_EQ(at, samples.size());
 
     // In the thread's batches.
-    compute::TriDexel again = box_model();
+    compute::TriDexel again = test::journal_box_model();
     const compute::JournalApplyStats st = compute::journal_apply(again, j.records);
     EXPECT_EQ(st.records, j.records.size());
     EXPECT_EQ(st.samples, 450u);
@@ -117,7 +96,7 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
         singles.back().samples.push_back(s);
         one[0].samples.push_back(s);
     }
-    compute::TriDexel split = box_model(), whole = box_model();
+    compute::TriDexel split = test::journal_box_model(), whole = test::journal_box_model();
     compute::journal_apply(split, singles);
     compute::journal_apply(whole, one);
     expect_same_dexels(live, split);
@@ -131,7 +110,7 @@ TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
 // of stroke 2 then undoes it whole, back to the untouched box. An undo of a stroke the replay does not have is
 // skipped and counted, not fatal.
 TEST(JournalSculpt, MarksAfterALostStrokeEndAreMatchedLeniently) {
-    const std::vector<ToolSample> samples = stream();
+    const std::vector<ToolSample> samples = test::journal_stream();
     std::vector<compute::JournalRecord> r(5);
     r[0].index = 0;  // stroke 1's samples; index 1 (its end mark) is missing
     r[0].samples.assign(samples.begin(), samples.begin() + 150);
@@ -146,8 +125,8 @@ TEST(JournalSculpt, MarksAfterALostStrokeEndAreMatchedLeniently) {
     r[4].index = 5;
     r[4].kind = compute::JournalKind::kUndo;
     r[4].serial = 9;
-    const compute::TriDexel box = box_model();
-    compute::TriDexel m = box_model();
+    const compute::TriDexel box = test::journal_box_model();
+    compute::TriDexel m = test::journal_box_model();
     const compute::JournalApplyStats st = compute::journal_apply(m, r);
     EXPECT_EQ(st.strokes, 1u);
     EXPECT_EQ(st.undos, 1u);
@@ -160,7 +139,7 @@ TEST(JournalSculpt, MarksAfterALostStrokeEndAreMatchedLeniently) {
     r[2].index = 2;
     r[3].index = 3;
     r[4].index = 4;
-    compute::TriDexel strict = box_model();
+    compute::TriDexel strict = test::journal_box_model();
     EXPECT_THROW(compute::journal_apply(strict, r), Error);
 }
 
