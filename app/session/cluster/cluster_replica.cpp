@@ -1,7 +1,10 @@
 // app/session/cluster/cluster_replica.cpp - the replicated model: records applied, tiles contoured, viewports framed.
 #include "app/session/cluster/cluster_replica.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "app/scene/session_spec.hpp"
 #include "app/session/view/run_view.hpp"
@@ -36,8 +39,81 @@ std::optional<std::uint64_t> ClusterReplica::apply(const FrameMessage& m) {
     return std::nullopt;
 }
 
-void ClusterReplica::contour() {
-    contourer_->update(wp_.model);
+namespace {
+
+// Which tiles `frusta` may see: each tile's lattice box grown by one cell (a tile's surface lies within its cells and
+// the vertices it borrows from its neighbours within one cell of it).
+std::vector<std::uint8_t> visible_tiles(const compute::TriDexel& model, std::span<const renderer::Frustum> frusta) {
+    const compute::TileGrid& g = model.tiles;
+    const compute::Lattice& l = model.lattice;
+    constexpr int kT = compute::TileGrid::kTileCells;
+    std::vector<std::uint8_t> visible(g.count(), 0);
+    for (int tz = 0; tz < g.tiles[2]; ++tz)
+        for (int ty = 0; ty < g.tiles[1]; ++ty)
+            for (int tx = 0; tx < g.tiles[0]; ++tx) {
+                const Vec3 lo(tx * kT - 1, ty * kT - 1, tz * kT - 1);
+                const Vec3 hi(std::min((tx + 1) * kT, l.cells[0]) + 1, std::min((ty + 1) * kT, l.cells[1]) + 1,
+                              std::min((tz + 1) * kT, l.cells[2]) + 1);
+                const Aabb box{l.to_world(lo), l.to_world(hi)};
+                for (const renderer::Frustum& f : frusta)
+                    if (renderer::may_be_visible(f, box)) {
+                        visible[g.index(tx, ty, tz)] = 1;
+                        break;
+                    }
+            }
+    return visible;
+}
+
+// The changed tiles no view needs yet: every group of changed tiles (26-connected) of which no tile is visible or
+// next to a visible one. A group is contoured whole or not at all, because neighbouring tiles share the vertices on
+// their border: a tile contoured beside a changed one left waiting would borrow vertices that are not there yet.
+std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::vector<std::uint8_t>& visible) {
+    std::vector<std::uint32_t> wait;
+    std::vector<std::uint8_t> seen(g.count(), 0);
+    std::vector<std::array<int, 3>> group, stack;
+    for (int tz = 0; tz < g.tiles[2]; ++tz)
+        for (int ty = 0; ty < g.tiles[1]; ++ty)
+            for (int tx = 0; tx < g.tiles[0]; ++tx) {
+                const std::size_t t0 = g.index(tx, ty, tz);
+                if (!g.dirty[t0] || seen[t0]) continue;
+                group.clear();
+                stack.assign(1, {tx, ty, tz});
+                seen[t0] = 1;
+                bool needed = false;
+                while (!stack.empty()) {
+                    const std::array<int, 3> c = stack.back();
+                    stack.pop_back();
+                    group.push_back(c);
+                    for (int dz = -1; dz <= 1; ++dz)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                                if (x < 0 || y < 0 || z < 0 || x >= g.tiles[0] || y >= g.tiles[1] || z >= g.tiles[2]) continue;
+                                const std::size_t n = g.index(x, y, z);
+                                needed |= visible[n] != 0;
+                                if (g.dirty[n] && !seen[n]) {
+                                    seen[n] = 1;
+                                    stack.push_back({x, y, z});
+                                }
+                            }
+                }
+                if (needed) continue;
+                for (const std::array<int, 3>& c : group) wait.push_back(static_cast<std::uint32_t>(g.index(c[0], c[1], c[2])));
+            }
+    return wait;
+}
+
+}  // namespace
+
+void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) {
+    compute::TileGrid& g = wp_.model.tiles;
+    // Changed tiles no view needs yet: unmarked for this update, marked again after it.
+    std::vector<std::uint32_t> wait;
+    if (!frusta.empty()) wait = waiting_tiles(g, visible_tiles(wp_.model, frusta));
+    for (const std::uint32_t t : wait) g.dirty[t] = 0;
+    contoured_ += contourer_->update(wp_.model);
+    for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
+    deferred_ = wait.size();
     tiles_.refresh(*contourer_);
     tile_view_of(tiles_.tiles(), tiles_.groups(), false, tile_view_);
 }

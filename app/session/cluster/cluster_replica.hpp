@@ -16,6 +16,7 @@
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
+#include "renderer/scene/tile_culling.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
@@ -36,8 +37,18 @@ public:
     /// returns this replica's digest when they differ (nullopt when equal or unchecked). Throws tridex::Error as
     /// JournalApplier::apply (a record the model refuses).
     std::optional<std::uint64_t> apply(const FrameMessage& m);
-    /// Re-contours the tiles the records changed; the tiles drawn by view().
-    void contour();
+    /// Re-contours the tiles the records changed that `frusta` need: each group of changed tiles (26-connected) is
+    /// contoured whole when one of its tiles, or a tile next to one, may be visible in one of them (the tile's lattice
+    /// box grown by a cell, renderer::may_be_visible); the other groups stay marked and wait for a view that needs
+    /// them (neighbouring tiles share the vertices on their border, so a group is never split). No frusta: every
+    /// changed tile. The tiles drawn by view(). Throws tridex::Error when a frustum's box test does.
+    void contour(std::span<const renderer::Frustum> frusta = {});
+    /// Changed tiles the last contour() left for a later view (0 after one without frusta).
+    std::size_t tiles_deferred() const { return deferred_; }
+    /// Tiles contoured by every contour() so far (the first, at construction, included).
+    std::uint64_t tiles_contoured() const { return contoured_; }
+    /// The contour (its tiles as the last contour() left them).
+    const compute::Contourer& contourer() const { return *contourer_; }
     /// What frame `m` draws: the contoured tiles, the tool as rank 0 drew it, no workspace box or overlay.
     renderer::SceneView view(const FrameMessage& m) const;
     /// The camera of viewport `v` for frame `m`: its screen and eye(s), moved with the scene's navigation
@@ -57,6 +68,8 @@ private:
     std::unique_ptr<compute::Contourer> contourer_;
     compute::TileSurfaceCache tiles_;
     TileView tile_view_;
+    std::size_t deferred_ = 0;
+    std::uint64_t contoured_ = 0;
 };
 
 }  // namespace tridex::app

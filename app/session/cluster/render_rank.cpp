@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session/cluster/cluster_replica.hpp"
+#include "renderer/stereo/frame_eyes.hpp"
 #include "app/session/cluster/frame_message.hpp"
 #include "app/session/report/session_report.hpp"
 #include "compute/model/model_digest.hpp"
@@ -198,7 +199,16 @@ private:
         a.apply_ms = ms_since(t0);
         apply_ms_.add(a.apply_ms);
         t0 = Clock::now();
-        replica_->contour();
+        // Only the tiles this rank's viewports can see (and their neighbours) are contoured; the rest wait.
+        frusta_.clear();
+        for (const std::unique_ptr<Viewport>& vp : viewports_) {
+            const renderer::StereoCamera c = ClusterReplica::camera(*vp->config, m);
+            const renderer::FrameEyes eyes = renderer::frame_eyes(renderer::SceneView{}, c.screen, c.head, c.eye_separation_m,
+                                                                  c.near_m, c.far_m, vp->config->width_px, vp->config->height_px);
+            frusta_.push_back(eyes.frusta[0]);
+            if (c.eye_separation_m > 0.0) frusta_.push_back(eyes.frusta[1]);
+        }
+        replica_->contour(frusta_);
         contour_ms_.add(ms_since(t0));
         renderer::SceneView view = replica_->view(m);
         view.palette = &palette_;
@@ -245,6 +255,8 @@ private:
                                        {"final_digest", done.digest},
                                        {"apply_ms", summary_report_json(apply_ms_)},
                                        {"contour_ms", summary_report_json(contour_ms_)},
+                                       {"tiles_contoured", replica_->tiles_contoured()},
+                                       {"tiles_deferred_at_end", replica_->tiles_deferred()},
                                        {"draw_ms", summary_report_json(draw_ms_)},
                                        {"validation_messages", ctx_->validation_messages()},
                                        {"last_frame", last_frame_json(last_)},
@@ -259,6 +271,7 @@ private:
     const ClusterRank* mine_;
     Fault fault_;
     std::optional<ClusterReplica> replica_;
+    std::vector<renderer::Frustum> frusta_;  // this frame's, one or two per viewport
     MaterialPalette palette_ = default_material_palette();  // the session's materials (rank 0's spec)
     MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
     MenuDrawing menu_drawing_;                          // its meshes, rebuilt when rank 0's menu changes
