@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "core/math.hpp"
 
@@ -55,6 +56,11 @@ struct ActiveSurface {
     };
 
     std::uint64_t sequence = 0;       ///< increments on every publish; 0 = nothing published yet
+    /// Which tool samples the model held when it was read: ToolSample::made_s (steady-clock s) of the newest sample
+    /// applied; -infinity when none was applied yet (every later sample is newer); NaN when unknown (a publisher that
+    /// does not say, or samples without made_s). The haptic loop takes its own subtracting sweeps made after it as
+    /// cut already (haptics/recent_cuts.hpp); NaN turns that off.
+    double applied_made_s = std::numeric_limits<double>::quiet_NaN();
     Vec3 origin_m{0.0};               ///< world position of lattice node (0,0,0), m
     double cell_m = 0.0;              ///< lattice spacing h, m
     std::array<int, 3> nodes{};       ///< lattice node count along x, y, z

@@ -241,6 +241,47 @@ void GodObject::reset() {
     force_ = Vec3(0.0);
 }
 
+void GodObject::catch_up(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, bool hip_inside,
+                         double held_lag_m, contact::PlaneSearch& plane, Proposal& pr, Vec3& n_c, bool& held,
+                         Vec3& next) const {
+    const double radius = params_.tool_radius_m;
+    // Held farther than the tool's radius and a few cells from the HIP, in contact or not: the guard stopped the proxy
+    // on its way to a surface the HIP has moved to (step 10): take the surface nearest the HIP when the whole tool is
+    // free there, or the HIP itself when no plane holds it back and the tool there is free.
+    if (held && glm::length(next - hip) > held_lag_m) {
+        const PlaneSearch again = reacquire_plane(surface, hip, radius, normal_, last_axis_, true);
+        if (!again.found && pose_free(surface, hip, radius, Vec3(0.0), false)) {
+            // No plane holds the HIP back and the tool there is free: the proxy joins it.
+            plane = PlaneSearch{};
+            pr = propose(plane, hip, proxy, true);
+            n_c = Vec3(0.0);
+            held = false;
+            next = hip;
+        } else if (again.found && again.depth < glm::length(next - hip)) {
+            plane = again;
+            pr = propose(plane, hip, proxy, true);
+            n_c = plane.tri.n;
+            held = false;
+            next = pr.proxy_m;
+        }
+    }
+    // Still farther than the radius from a HIP outside material (step 12): the plane chosen is not the surface nearest
+    // the HIP (a concave spot where one plane at a time cannot hold the ball, a face the path was cut at). The force
+    // then falls (the spring is shorter than the one the rules above gave); a rise later is limited by step 11.
+    // Where a free ball centre lies within the radius, the proxy goes to the nearest one found, held there by the
+    // spring; where none does (a ball pressed into a groove narrower than itself), the proxy stays.
+    Vec3 free_at(0.0);
+    if (radius > 0.0 && !hip_inside && glm::length(next - hip) > radius &&
+        free_centre_within_radius(surface, hip, radius, next, free_at)) {
+        plane = PlaneSearch{};
+        pr = propose(plane, hip, proxy, true);
+        const double len = glm::length(free_at - hip);
+        n_c = len > 0.0 ? (free_at - hip) / len : Vec3(0.0);
+        held = len > 0.0;
+        next = free_at;
+    }
+}
+
 ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, double dt_s) {
     ContactResult r;
     r.proxy_m = hip;
@@ -313,27 +354,8 @@ ContactResult GodObject::update(const ActiveSurface& surface, const Vec3& hip, d
     if (usable && has_proxy_ && !hip_free)
         next = guarded_move(surface, proxy, pr.proxy_m, radius, radius * n_c, in_contact_ || plane.found, plane.found,
                             held);
-    // Held farther than the tool's radius and a few cells from the HIP, in contact or not: the guard stopped the proxy
-    // on its way to a surface the HIP has moved to (step 10): take the surface nearest the HIP when the whole tool is
-    // free there, or the HIP itself when no plane holds it back and the tool there is free.
-    if (held && usable && has_proxy_ && glm::length(next - hip) > held_lag_m) {
-        const PlaneSearch again = reacquire_plane(surface, hip, radius, normal_, last_axis_, true);
-        if (!again.found && pose_free(surface, hip, radius, Vec3(0.0), false)) {
-            // No plane holds the HIP back and the tool there is free: the proxy joins it.
-            plane = PlaneSearch{};
-            pr = propose(plane, hip, proxy, true);
-            n_c = Vec3(0.0);
-            held = false;
-            next = hip;
-        } else if (again.found && again.depth < glm::length(next - hip)) {
-            plane = again;
-            r.axis = plane.axis;
-            pr = propose(plane, hip, proxy, true);
-            n_c = plane.tri.n;
-            held = false;
-            next = pr.proxy_m;
-        }
-    }
+    if (usable && has_proxy_) catch_up(surface, hip, proxy, r.hip_inside, held_lag_m, plane, pr, n_c, held, next);
+    if (plane.found) r.axis = plane.axis;
     const Triangle& tri = plane.tri;
     const bool found = plane.found, kept = plane.kept;
     const Vec3 offset = radius * n_c;

@@ -132,6 +132,15 @@ struct ContactResult {
 ///    magnitude may rise per tick, while in contact, by at most what the hand explains (k times the HIP's move into the surface, plus
 ///    kd times its speed into it) plus 100 N/s x dt (0.1 N at 1 kHz), so a jump to the surface nearest the HIP, or material added over a still tool, brings its force in
 ///    over tens of ms. A force that falls falls at once.
+/// 12. Never farther than it must be: when, after all that, the proxy stands more than r from a HIP the snapshot reads
+///    outside material (so in contact: a proxy that far is held or on a plane), the plane chosen is not the surface
+///    nearest the HIP (one plane at a time at a concave spot, a face the guarded path was cut at). Ball centres around
+///    the HIP are tried (snapshot_depth.hpp, free_centre_within_radius: the HIP, then points at r, r/4, r/2 and 3r/4
+///    along 26 directions; a ball free by the rays under it, ball_free, and reached from the proxy by a straight
+///    path that crosses no material, so a proxy keeps the side of a thin wall it entered from): the nearest free one
+///    found takes the proxy, held there by the spring (the HIP itself: no contact). The spring is then shorter than
+///    the one it replaces; a rise on later ticks is limited by step 11. Where none is found one radius out (a ball
+///    pressed into a groove narrower than itself) the proxy stays.
 /// Otherwise (no contact, no usable snapshot, or no window covering the HIP: a hand faster than the snapshot
 /// follows) proxy = hip and the force is zero; in the last case the contact is kept for step 10 once a snapshot
 /// covers the HIP again.
@@ -182,6 +191,10 @@ private:
         std::uint8_t material = 0;
     };
     Proposal propose(const contact::PlaneSearch& plane, const Vec3& hip, const Vec3& proxy, bool frictionless) const;
+    // Step 10's search after a held move and step 12: moves the proxy `next` (with the plane, proposal, constraint
+    // normal n_c and hold that go with it) nearer the HIP when it ended farther than it needs to.
+    void catch_up(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, bool hip_inside, double held_lag_m,
+                  contact::PlaneSearch& plane, Proposal& pr, Vec3& n_c, bool& held, Vec3& next) const;
     // Keeps what the next update reads: the result r for the HIP `hip`, the constraint normal n_c, the force's
     // normal n, whether the guard held the proxy, the plane and the material touched.
     void remember(const ContactResult& r, const Vec3& hip, const Vec3& n_c, const Vec3& n, bool held,

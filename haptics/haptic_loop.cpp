@@ -124,6 +124,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     last_tool_ = mapper_.frame().tool_world;
     stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
     grab_ = GrabSpring(cfg_.grab_stiffness_n_per_m);
+    cut_surface_ = std::make_unique<ActiveSurface>();
 }
 
 HapticLoop::~HapticLoop() { stop(); }
@@ -153,6 +154,7 @@ void HapticLoop::begin_session() {
     over_5ms_ = 0;
     energy_ = 0.0;
     contact_.reset();
+    cuts_.clear();
     filter_.reset();
     torque_filter_.reset();
     mapper_.reset();
@@ -315,7 +317,8 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
         c.contact = remote.contact;
         c.in_contact = remote.contact ? 1 : 0;
     } else if (wf.coupled) {
-        c = contact(surface_.latest(), wf.tool_world, dt);
+        // While carving, the contact reads the snapshot with the tool's own sweeps it does not hold yet cut away.
+        c = contact(cuts_.apply(surface_.latest(), *cut_surface_), wf.tool_world, dt);
     }
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
@@ -417,6 +420,7 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
     if (pushed && cfg_.sample_tap && !cfg_.sample_tap->try_push(SequencedSample{pushed_, sample}))
         tap_dropped_.fetch_add(1, std::memory_order_relaxed);
+    cuts_.note(sample, pushed);
     if (pushed) ++pushed_;
     if (pushed && pushed_ == cfg_.fault_kill_at_sample) ::kill(::getpid(), SIGKILL);
     // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a

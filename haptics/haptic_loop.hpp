@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "haptics/grab_spring.hpp"
 #include "haptics/menu_detent.hpp"
 #include "haptics/multipoint.hpp"
+#include "haptics/recent_cuts.hpp"
 #include "haptics/wrench_output.hpp"
 #include "haptics/safety.hpp"
 #include "haptics/safety_limits.hpp"
@@ -221,7 +223,8 @@ struct LoopView {
 ///   device.read() -> validate (a non-finite time, pose or velocity sends zero force and is counted)
 ///   -> Watchdog (non-finite, stale or stalled data -> zero output, re-arm, ramp in again)
 ///   -> WorkspaceMapper (tool pose in the world, modelling paused, box/bubble; a workspace jump or a
-///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest):
+///   declutch resets the contact) -> contact() on the newest ActiveSurface (TripleBuffer::latest), less the
+///   loop's own carving sweeps it does not hold yet (RecentCuts: while carving it lags the tool by tens of ms):
 ///   the MultiPointRenderer (one god-object per tool point, force sum and torque about the tool centre,
 ///   or the interaction mesh), whose damping dt is the step of the device's clock, t_s, or period_s when
 ///   that does not advance -> + the open menu's detent (set_menu) -> x the mapper's force_scale() (1 / s in
@@ -409,6 +412,8 @@ private:
     double stiffness_cap_n_per_m_ = 0.0; // world stiffness cap of the device under the workspace gain, N/m
     TripleBuffer<MenuDetent> menu_updates_;  // set_menu (render thread) -> the loop
     GrabSpring grab_;                        // the grab's spring (loop thread)
+    RecentCuts cuts_;                        // carving sweeps the snapshot may not hold yet (loop thread)
+    std::unique_ptr<ActiveSurface> cut_surface_;  // the snapshot with them subtracted (RecentCuts::apply)
 };
 
 }  // namespace tridex::haptics

@@ -2,6 +2,7 @@
 #include "haptics/snapshot_depth.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace tridex::haptics::contact {
@@ -119,6 +120,96 @@ bool pose_free(const ActiveSurface& s, const Vec3& at, double radius, const Vec3
         p[i >> 1] += (i & 1) ? -radius : radius;
         if (inside_material(s, p)) return false;
     }
+    return true;
+}
+
+namespace {
+// The 26 unit directions along the axes, the face diagonals and the corner diagonals (built at start-up, so the
+// haptic thread never meets a guarded static).
+std::array<Vec3, 26> make_ball_directions() {
+    std::array<Vec3, 26> d{};
+    int n = 0;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+            for (int z = -1; z <= 1; ++z)
+                if (x != 0 || y != 0 || z != 0) d[n++] = glm::normalize(Vec3(x, y, z));
+    return d;
+}
+const std::array<Vec3, 26> kBallDirections = make_ball_directions();
+// ball_free: a face this far into the ball (window spacings) still counts as free.
+constexpr double kBallTouchCells = 0.25;
+}  // namespace
+
+bool ball_free(const ActiveSurface& s, const Vec3& at, double radius) {
+    if (inside_material(s, at)) return false;
+    if (!(radius > 0.0)) return true;
+    bool any = false;
+    for (int a = 0; a < 3; ++a) {
+        const ActiveSurface::Window& w = s.sets[a];
+        if (!window_ok(w)) continue;
+        any = true;
+        const int ua = (a + 1) % 3, va = (a + 2) % 3;
+        const double st = s.window_spacing_cells(a);
+        const Vec3 g = (at - s.origin_m) / s.cell_m;
+        // A ball that touches a face is free: its radius is taken a quarter spacing short (the guard's margin).
+        const double r = std::max(0.0, radius / s.cell_m - kBallTouchCells * st);
+        const int iu0 = std::max(0, static_cast<int>(std::ceil((g[ua] - r - w.u0) / st)));
+        const int iu1 = std::min(w.nu - 1, static_cast<int>(std::floor((g[ua] + r - w.u0) / st)));
+        const int iv0 = std::max(0, static_cast<int>(std::ceil((g[va] - r - w.v0) / st)));
+        const int iv1 = std::min(w.nv - 1, static_cast<int>(std::floor((g[va] + r - w.v0) / st)));
+        for (int iv = iv0; iv <= iv1; ++iv) {
+            for (int iu = iu0; iu <= iu1; ++iu) {
+                const std::array<int, 2> uv = s.lattice_ray(a, iu, iv);
+                const double du = uv[0] - g[ua], dv = uv[1] - g[va];
+                const double h2 = r * r - du * du - dv * dv;
+                if (!(h2 > 0.0)) continue;
+                const double h = std::sqrt(h2);
+                const int n = std::min(w.intervals(iu, iv), ActiveSurface::kMaxIntervals);
+                for (int k = 0; k < n; ++k)
+                    if (w.enter(iu, iv, k) < g[a] + h && w.exit(iu, iv, k) > g[a] - h) return false;
+            }
+        }
+    }
+    return any;
+}
+
+bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip, double radius, const Vec3& from, Vec3& out) {
+    if (!(radius > 0.0) || !std::isfinite(radius) || !is_finite(from)) return false;
+    // The straight path from `from` to a candidate must keep the centre out of material, read without the guard's
+    // margin every quarter spacing (at most 128 samples): a proxy stays on the side of a wall it entered from, however
+    // thin.
+    const double step = 0.25 * spacing_m(s);
+    const auto reachable = [&](const Vec3& to) {
+        const double len = glm::length(to - from);
+        const int n = std::clamp(static_cast<int>(std::ceil(len / step)), 1, 128);
+        for (int i = 1; i <= n; ++i)
+            if (touches_material(s, from + (to - from) * (static_cast<double>(i) / n))) return false;
+        return true;
+    };
+    if (ball_free(s, hip, radius) && reachable(hip)) {
+        out = hip;
+        return true;
+    }
+    const double len = glm::length(from - hip);
+    const Vec3 t = len > 0.0 ? (from - hip) / len : Vec3(0.0);
+    // One radius out first: where nothing is free there, nothing nearer is looked for (a ball pressed into a groove
+    // narrower than itself pays for 26 tests a tick, not 104).
+    const auto ring = [&](double f, Vec3& at) {
+        double best = -2.0;
+        for (const Vec3& d : kBallDirections) {
+            const double along = glm::dot(d, t);
+            const Vec3 q = hip + f * radius * d;
+            if (along <= best || !ball_free(s, q, radius) || !reachable(q)) continue;
+            best = along;
+            at = q;
+        }
+        return best > -2.0;
+    };
+    Vec3 far(0.0);
+    if (!ring(1.0, far)) return false;
+    for (const double f : {0.25, 0.5, 0.75})
+        if (ring(f, out)) return true;
+    out = far;
     return true;
 }
 

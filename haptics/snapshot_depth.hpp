@@ -72,6 +72,23 @@ bool tool_clearly_free(const ActiveSurface& s, const Vec3& at_m, double radius_m
 /// +-radius along the axes.
 bool pose_free(const ActiveSurface& s, const Vec3& at_m, double radius_m, const Vec3& offset_m, bool with_contact);
 
+/// True when a ball of radius radius_m (m, >= 0) at `at_m` (m) is free by the snapshot's rays, exactly: its centre
+/// is not inside material (inside_material) and no ray of any window within the radius holds material on the ball's
+/// chord, the ball taken a quarter window spacing short (the guard's margin: a ball touching a face is free). Between rays a
+/// feature narrower than a spacing is not seen. False when no window is usable. Reads every ray under the ball (about
+/// (2 r / spacing)^2 per set): for rare ticks, not every tick.
+bool ball_free(const ActiveSurface& s, const Vec3& at_m, double radius_m);
+
+/// A free ball centre (ball_free) near the HIP hip_m (m) for a ball of radius radius_m (m, > 0), reachable from the
+/// proxy from_m (m) by a straight path that keeps the centre out of material (touches_material, every quarter spacing;
+/// so a proxy stays on the side of a thin wall it entered from): the HIP itself, else the nearest of the points at a
+/// quarter, half, three quarters and one radius from it along 26 directions (the axes, the face and the corner
+/// diagonals), ties going to the direction nearest from_m. Returns false (out_m untouched) when none is found one
+/// radius out (then nearer points are not tried), or on a radius that is not > 0 or a non-finite from_m. At most 105
+/// ball tests (27 when nothing is free), and a path check for each free one: for rare ticks, not every tick.
+bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip_m, double radius_m, const Vec3& from_m,
+                               Vec3& out_m);
+
 /// How far (m) point p_m must move along axis `axis` (0..2) in direction `sign` (+1 or -1) to leave the material
 /// the rays of that set around it hold it in: the largest such distance over the four rays around its projection
 /// (0 for a ray that does not hold it). Negative when the set's window does not cover p_m.

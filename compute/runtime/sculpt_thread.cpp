@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <utility>
 
@@ -582,6 +583,8 @@ void SculptThread::publish(const Vec3& centre_m) {
         });
     else
         compute::extract_active_surface(model_, centre_m, extent_m, ++sequence_, surface_.back());
+    // Every sample drained so far is in the model (a push stroke's reference lacks its own pushes, never a cut).
+    surface_.back().applied_made_s = have_prev_ ? prev_.made_s : -std::numeric_limits<double>::infinity();
     if (surface_observer_) surface_observer_(surface_.back());
     surface_.publish();
     published_centre_m_ = centre_m;

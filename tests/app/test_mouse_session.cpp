@@ -366,15 +366,17 @@ TEST(MouseSession, QuickJumpsLeaveNoProxyBehind) {
     std::printf("[mouse quick jumps] %s\n", p.dump().c_str());
     EXPECT_GT(j["haptics"]["contact_ticks"].get<long>(), 100);
     // The proxy never stays behind: before, such jumps left it 24-64 mm away with the force at its limit until the
-    // session ended. A few ticks of a carving sweep at 0.75 m/s still have the proxy up to about a cell (1.9 mm)
-    // beyond one radius from a HIP the snapshot reads outside (docs/design/contact.md); a face found again beyond
-    // the free space the HIP is in (the far side of the bunny) never takes the proxy.
+    // session ended. A face found again beyond the free space the HIP is in (the far side of the bunny) never takes
+    // the proxy.
     EXPECT_LT(p["max_gap_m"].get<double>(), 3.0 * 0.006) << p.dump();
-    EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 1.5 * 0.006) << p.dump();
-    // How many ticks sit past one radius follows how late the snapshot is, so the machine's load: idle 0-9 of about
-    // 4000, with five busy loops beside it up to about 150. A proxy left behind (the fault this guards) stays for
-    // thousands.
-    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 400) << p.dump();
+    // With the HIP read outside, the god-object's last step (GodObject step 12) takes the proxy to a free ball centre
+    // within one radius wherever its search finds one, and the loop reads the snapshot with its own carving sweeps
+    // cut (RecentCuts), so a late snapshot no longer holds the proxy on material already cut, whatever the load. What
+    // stays over one radius is a ball pressed into a spot where no free centre lies within a radius along the
+    // search's 26 directions (a concave spot narrower than the ball): a few ticks, under a radius over. A proxy left
+    // behind (the fault this guards) stays for thousands of ticks, far beyond these bounds.
+    EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 2.0 * 0.006) << p.dump();
+    EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 20) << p.dump();
     EXPECT_LT(p["max_force_rise_n"].get<double>(), 0.2) << p.dump();
 }
 

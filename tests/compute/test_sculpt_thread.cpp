@@ -29,6 +29,7 @@ std::vector<ToolSample> stream() {
         s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u), 0.048 - 0.004 * std::sin(5.0 * u));
         s[i].tool.radius_m = 0.007;
         s[i].op = ToolOp::kSubtract;
+        s[i].made_s = 100.0 + i;
     }
     return s;
 }
@@ -42,6 +43,8 @@ compute::TriDexel sculpt(bool trickle, SculptStats* stats = nullptr) {
     SpscRing<ToolSample> ring(1024);
     TripleBuffer<ActiveSurface> surface;
     SculptThread t(m, contourer, ring, surface, Vec3(0.0));
+    // The first snapshot holds no sample: every sample the haptic loop makes is newer.
+    EXPECT_EQ(surface.latest().applied_made_s, -std::numeric_limits<double>::infinity());
     const auto samples = stream();
     if (!trickle) {
         for (const auto& s : samples) EXPECT_TRUE(ring.try_push(s));
@@ -56,6 +59,9 @@ compute::TriDexel sculpt(bool trickle, SculptStats* stats = nullptr) {
     t.stop();
     if (stats) *stats = t.stats();
     EXPECT_GT(surface.latest().sequence, 1u);  // snapshots were published after the changes
+    // Each says which samples it holds: the made_s of the newest one applied.
+    EXPECT_GE(surface.latest().applied_made_s, 100.0);
+    EXPECT_LE(surface.latest().applied_made_s, 499.0);
     return m;
 }
 
