@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "haptics/convex_contact.hpp"
+
 namespace tridex::haptics::contact {
 
 bool window_ok(const ActiveSurface::Window& w) {
@@ -124,18 +126,6 @@ bool pose_free(const ActiveSurface& s, const Vec3& at, double radius, const Vec3
 }
 
 namespace {
-// The 26 unit directions along the axes, the face diagonals and the corner diagonals (built at start-up, so the
-// haptic thread never meets a guarded static).
-std::array<Vec3, 26> make_ball_directions() {
-    std::array<Vec3, 26> d{};
-    int n = 0;
-    for (int x = -1; x <= 1; ++x)
-        for (int y = -1; y <= 1; ++y)
-            for (int z = -1; z <= 1; ++z)
-                if (x != 0 || y != 0 || z != 0) d[n++] = glm::normalize(Vec3(x, y, z));
-    return d;
-}
-const std::array<Vec3, 26> kBallDirections = make_ball_directions();
 // ball_free: a face this far into the ball (window spacings) still counts as free.
 constexpr double kBallTouchCells = 0.25;
 }  // namespace
@@ -196,7 +186,7 @@ bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip, double r
     // narrower than itself pays for 26 tests a tick, not 104).
     const auto ring = [&](double f, Vec3& at) {
         double best = -2.0;
-        for (const Vec3& d : kBallDirections) {
+        for (const Vec3& d : ball_directions()) {
             const double along = glm::dot(d, t);
             const Vec3 q = hip + f * radius * d;
             if (along <= best || !ball_free(s, q, radius) || !reachable(q)) continue;
