@@ -239,11 +239,12 @@ void GodObject::reset() {
     plane_n_ = Vec3(0.0);
     plane_axis_ = -1;
     force_ = Vec3(0.0);
+    lattice_miss_ = false;
 }
 
 void GodObject::catch_up(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, bool hip_inside,
                          double held_lag_m, contact::PlaneSearch& plane, Proposal& pr, Vec3& n_c, bool& held,
-                         Vec3& next) const {
+                         Vec3& next) {
     const double radius = params_.tool_radius_m;
     // Held farther than the tool's radius and a few cells from the HIP, in contact or not: the guard stopped the proxy
     // on its way to a surface the HIP has moved to (step 10): take the surface nearest the HIP when the whole tool is
@@ -270,9 +271,25 @@ void GodObject::catch_up(const ActiveSurface& surface, const Vec3& hip, const Ve
     // then falls (the spring is shorter than the one the rules above gave); a rise later is limited by step 11.
     // Where a free ball centre lies within the radius, the proxy goes to the nearest one found, held there by the
     // spring; where none does (a ball pressed into a groove narrower than itself), the proxy stays.
+    // Where none of the 26 directions one radius out is free, a lattice within the radius is searched, unless it
+    // found nothing for nearly the same HIP in the same snapshot (lattice_miss_).
+    if (!(radius > 0.0) || hip_inside || !(glm::length(next - hip) > radius)) return;
+    const bool lattice = !lattice_miss_ || surface.sequence != lattice_miss_seq_ ||
+                         glm::length(hip - lattice_miss_hip_) >= radius / contact::kLatticeSteps ||
+                         lattice_miss_ticks_ >= kLatticeRetryTicks;
     Vec3 free_at(0.0);
-    if (radius > 0.0 && !hip_inside && glm::length(next - hip) > radius &&
-        free_centre_within_radius(surface, hip, radius, next, free_at)) {
+    const bool found = free_centre_within_radius(surface, hip, radius, next, free_at, lattice);
+    if (!found && lattice) {
+        lattice_miss_ = true;
+        lattice_miss_hip_ = hip;
+        lattice_miss_seq_ = surface.sequence;
+        lattice_miss_ticks_ = 0;
+    } else if (!found) {
+        ++lattice_miss_ticks_;
+    } else {
+        lattice_miss_ = false;
+    }
+    if (found) {
         plane = PlaneSearch{};
         pr = propose(plane, hip, proxy, true);
         const double len = glm::length(free_at - hip);

@@ -136,7 +136,8 @@ struct ContactResult {
 ///    outside material (so in contact: a proxy that far is held or on a plane), the plane chosen is not the surface
 ///    nearest the HIP (one plane at a time at a concave spot, a face the guarded path was cut at). Ball centres around
 ///    the HIP are tried (snapshot_depth.hpp, free_centre_within_radius: the HIP, then points at r, r/4, r/2 and 3r/4
-///    along 26 directions; a ball free by the rays under it, ball_free, and reached from the proxy by a straight
+///    along 26 directions, else the points of a lattice of spacing r/6 within r, nearest first; a ball free by the
+///    rays under it, ball_free, and reached from the proxy by a straight
 ///    path that crosses no material, so a proxy keeps the side of a thin wall it entered from): the nearest free one
 ///    found takes the proxy, held there by the spring (the HIP itself: no contact). The spring is then shorter than
 ///    the one it replaces; a rise on later ticks is limited by step 11. Where none is found one radius out (a ball
@@ -194,7 +195,7 @@ private:
     // Step 10's search after a held move and step 12: moves the proxy `next` (with the plane, proposal, constraint
     // normal n_c and hold that go with it) nearer the HIP when it ended farther than it needs to.
     void catch_up(const ActiveSurface& surface, const Vec3& hip, const Vec3& proxy, bool hip_inside, double held_lag_m,
-                  contact::PlaneSearch& plane, Proposal& pr, Vec3& n_c, bool& held, Vec3& next) const;
+                  contact::PlaneSearch& plane, Proposal& pr, Vec3& n_c, bool& held, Vec3& next);
     // Keeps what the next update reads: the result r for the HIP `hip`, the constraint normal n_c, the force's
     // normal n, whether the guard held the proxy, the plane and the material touched.
     void remember(const ContactResult& r, const Vec3& hip, const Vec3& n_c, const Vec3& n, bool held,
@@ -219,6 +220,14 @@ private:
     Vec3 plane_n_{0.0};       // its outward unit normal
     int plane_axis_ = -1;     // its ray set
     Vec3 force_{0.0};         // the force of the last update, N
+    // Step 12's lattice search found no free centre for the HIP lattice_miss_hip_ in the snapshot lattice_miss_seq_:
+    // it is not run again until the HIP moves a lattice step, the snapshot changes or kLatticeRetryTicks pass (a
+    // ball held in a groove narrower than itself pays for it once, not every tick).
+    static constexpr int kLatticeRetryTicks = 16;
+    bool lattice_miss_ = false;
+    Vec3 lattice_miss_hip_{0.0};
+    std::uint64_t lattice_miss_seq_ = 0;
+    int lattice_miss_ticks_ = 0;
 };
 
 }  // namespace tridex::haptics

@@ -163,40 +163,87 @@ bool ball_free(const ActiveSurface& s, const Vec3& at, double radius) {
     return any;
 }
 
-bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip, double radius, const Vec3& from, Vec3& out) {
-    if (!(radius > 0.0) || !std::isfinite(radius) || !is_finite(from)) return false;
-    // The straight path from `from` to a candidate must keep the centre out of material, read without the guard's
-    // margin every quarter spacing (at most 128 samples): a proxy stays on the side of a wall it entered from, however
-    // thin.
+namespace {
+
+// The straight path from `from` to `to` keeps the centre out of material, read without the guard's margin every
+// quarter spacing (at most 128 samples): a proxy stays on the side of a wall it entered from, however thin.
+bool reachable(const ActiveSurface& s, const Vec3& from, const Vec3& to) {
     const double step = 0.25 * spacing_m(s);
-    const auto reachable = [&](const Vec3& to) {
-        const double len = glm::length(to - from);
-        const int n = std::clamp(static_cast<int>(std::ceil(len / step)), 1, 128);
-        for (int i = 1; i <= n; ++i)
-            if (touches_material(s, from + (to - from) * (static_cast<double>(i) / n))) return false;
-        return true;
-    };
-    if (ball_free(s, hip, radius) && reachable(hip)) {
+    const double len = glm::length(to - from);
+    const int n = std::clamp(static_cast<int>(std::ceil(len / step)), 1, 128);
+    for (int i = 1; i <= n; ++i)
+        if (touches_material(s, from + (to - from) * (static_cast<double>(i) / n))) return false;
+    return true;
+}
+
+// The offsets of free_centre_on_lattice in lattice steps (x, y, z, squared length), by distance from the centre
+// (then lexicographic); built at compile time, so the haptic thread never allocates for them.
+using LatticeOffsets = std::array<std::array<int, 4>, kLatticeCandidates>;
+constexpr LatticeOffsets make_lattice_offsets() {
+    LatticeOffsets v{};
+    std::size_t n = 0;
+    constexpr int k = kLatticeSteps;
+    for (int len2 = 1; len2 <= k * k; ++len2)
+        for (int i = -k; i <= k; ++i)
+            for (int j = -k; j <= k; ++j)
+                for (int l = -k; l <= k; ++l)
+                    if (i * i + j * j + l * l == len2) {
+                        if (n < v.size()) v[n] = {i, j, l, len2};
+                        ++n;
+                    }
+    return n == v.size() ? v : LatticeOffsets{};
+}
+constexpr LatticeOffsets kLatticeOffsets = make_lattice_offsets();
+static_assert(kLatticeOffsets.back()[3] == kLatticeSteps * kLatticeSteps, "kLatticeCandidates is the lattice's count");
+
+}  // namespace
+
+bool free_centre_on_lattice(const ActiveSurface& s, const Vec3& hip, double radius, const Vec3& from, Vec3& out) {
+    if (!(radius > 0.0) || !std::isfinite(radius) || !is_finite(from) || !is_finite(hip)) return false;
+    const LatticeOffsets& offsets = kLatticeOffsets;
+    const double len = glm::length(from - hip);
+    const Vec3 t = len > 0.0 ? (from - hip) / len : Vec3(0.0);
+    const double step = radius / kLatticeSteps;
+    std::size_t i = 0;
+    while (i < offsets.size()) {
+        const int shell = offsets[i][3];
+        double best = -2.0;
+        for (; i < offsets.size() && offsets[i][3] == shell; ++i) {
+            const Vec3 d(offsets[i][0], offsets[i][1], offsets[i][2]);
+            const Vec3 q = hip + d * step;
+            const double along = glm::dot(d, t);
+            if (along <= best || !ball_free(s, q, radius) || !reachable(s, from, q)) continue;
+            best = along;
+            out = q;
+        }
+        if (best > -2.0) return true;
+    }
+    return false;
+}
+
+bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip, double radius, const Vec3& from, Vec3& out,
+                               bool lattice) {
+    if (!(radius > 0.0) || !std::isfinite(radius) || !is_finite(from)) return false;
+    if (ball_free(s, hip, radius) && reachable(s, from, hip)) {
         out = hip;
         return true;
     }
     const double len = glm::length(from - hip);
     const Vec3 t = len > 0.0 ? (from - hip) / len : Vec3(0.0);
-    // One radius out first: where nothing is free there, nothing nearer is looked for (a ball pressed into a groove
-    // narrower than itself pays for 26 tests a tick, not 104).
+    // One radius out first: where something is free there, the nearer rings are tried; where nothing is, the lattice.
     const auto ring = [&](double f, Vec3& at) {
         double best = -2.0;
         for (const Vec3& d : ball_directions()) {
             const double along = glm::dot(d, t);
             const Vec3 q = hip + f * radius * d;
-            if (along <= best || !ball_free(s, q, radius) || !reachable(q)) continue;
+            if (along <= best || !ball_free(s, q, radius) || !reachable(s, from, q)) continue;
             best = along;
             at = q;
         }
         return best > -2.0;
     };
     Vec3 far(0.0);
-    if (!ring(1.0, far)) return false;
+    if (!ring(1.0, far)) return lattice && free_centre_on_lattice(s, hip, radius, from, out);
     for (const double f : {0.25, 0.5, 0.75})
         if (ring(f, out)) return true;
     out = far;

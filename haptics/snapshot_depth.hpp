@@ -83,11 +83,26 @@ bool ball_free(const ActiveSurface& s, const Vec3& at_m, double radius_m);
 /// proxy from_m (m) by a straight path that keeps the centre out of material (touches_material, every quarter spacing;
 /// so a proxy stays on the side of a thin wall it entered from): the HIP itself, else the nearest of the points at a
 /// quarter, half, three quarters and one radius from it along 26 directions (the axes, the face and the corner
-/// diagonals), ties going to the direction nearest from_m. Returns false (out_m untouched) when none is found one
-/// radius out (then nearer points are not tried), or on a radius that is not > 0 or a non-finite from_m. At most 105
-/// ball tests (27 when nothing is free), and a path check for each free one: for rare ticks, not every tick.
+/// diagonals), ties going to the direction nearest from_m. When none of the 26 points one radius out is free and
+/// `lattice` is set, the nearest free point of free_centre_on_lattice is taken instead (free spots in a concave
+/// corner are often smaller than the gaps between the 26 directions). Returns false (out_m untouched) when nothing
+/// is found, or on a radius that is not > 0 or a non-finite from_m. At most 105 ball tests when the 26 directions
+/// find a free point, up to kLatticeCandidates more when they do not: for rare ticks, not every tick.
 bool free_centre_within_radius(const ActiveSurface& s, const Vec3& hip_m, double radius_m, const Vec3& from_m,
-                               Vec3& out_m);
+                               Vec3& out_m, bool lattice = true);
+
+/// Steps of the lattice searched by free_centre_on_lattice along one radius.
+inline constexpr int kLatticeSteps = 6;
+/// Points of that lattice within one radius of its centre, the centre excluded.
+inline constexpr int kLatticeCandidates = 924;
+
+/// The nearest free ball centre (ball_free, reachable from from_m as in free_centre_within_radius) among the points
+/// of a cubic lattice of spacing radius_m / kLatticeSteps around hip_m (m) that lie within one radius of it, tried
+/// shell by shell (equal distance), ties going to the point nearest the direction of from_m. Returns false (out_m
+/// untouched) when none is free, or on a radius that is not > 0 or non-finite input. Up to kLatticeCandidates ball
+/// tests: for rare ticks only.
+bool free_centre_on_lattice(const ActiveSurface& s, const Vec3& hip_m, double radius_m, const Vec3& from_m,
+                            Vec3& out_m);
 
 /// How far (m) point p_m must move along axis `axis` (0..2) in direction `sign` (+1 or -1) to leave the material
 /// the rays of that set around it hold it in: the largest such distance over the four rays around its projection
