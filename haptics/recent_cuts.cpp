@@ -4,72 +4,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/capsule_chord.hpp"
+
 namespace tridex::haptics {
 
 namespace {
 
 constexpr double kMinLengthCells = 1e-6;  // an interval shorter than this after a cut vanishes
 
-// The chord [t0, t1] (along the ray's axis) of the ray through `p` (p[axis] = 0) with the ball of radius r about c.
-bool ball_chord(int axis, const Vec3& p, const Vec3& c, double r, double& t0, double& t1) {
-    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-    const double du = p[ua] - c[ua], dv = p[va] - c[va];
-    const double disc = r * r - du * du - dv * dv;
-    if (!(disc >= 0.0)) return false;
-    const double h = std::sqrt(disc);
-    t0 = c[axis] - h;
-    t1 = c[axis] + h;
-    return true;
-}
-
 }  // namespace
 
 bool ray_capsule_chord(int axis, double u, double v, const Vec3& a, const Vec3& b, double r, double& t0, double& t1) {
-    if (axis < 0 || axis > 2 || !(r >= 0.0)) return false;
-    Vec3 p(0.0);
+    if (axis < 0 || axis > 2) return false;
+    Vec3 p(0.0), d(0.0);
     p[(axis + 1) % 3] = u;
     p[(axis + 2) % 3] = v;
-    double lo = 0.0, hi = 0.0, s0 = 0.0, s1 = 0.0;
-    bool hit = false;
-    // The capsule is convex, so its chord is one interval: the hull of the end balls' chords and the cylinder's.
-    const auto take = [&](double x0, double x1) {
-        lo = hit ? std::min(lo, x0) : x0;
-        hi = hit ? std::max(hi, x1) : x1;
-        hit = true;
-    };
-    if (ball_chord(axis, p, a, r, s0, s1)) take(s0, s1);
-    if (ball_chord(axis, p, b, r, s0, s1)) take(s0, s1);
-    const Vec3 d = b - a;
-    const double dd = glm::dot(d, d);
-    if (dd > 1e-18) {
-        // |w + t e|^2 - ((w + t e).d)^2 / dd = r^2 for the infinite cylinder, w = p - a, e the ray's unit direction;
-        // the segment's parameter s(t) = (w.d + t d_axis) / dd must lie in [0, 1].
-        const Vec3 w = p - a;
-        const double wd = glm::dot(w, d);
-        const double q2 = 1.0 - d[axis] * d[axis] / dd;
-        if (q2 > 1e-12) {
-            const double q1 = 2.0 * (w[axis] - wd * d[axis] / dd);
-            const double q0 = glm::dot(w, w) - wd * wd / dd - r * r;
-            const double disc = q1 * q1 - 4.0 * q2 * q0;
-            if (disc >= 0.0) {
-                const double h = std::sqrt(disc);
-                double c0 = (-q1 - h) / (2.0 * q2), c1 = (-q1 + h) / (2.0 * q2);
-                if (std::abs(d[axis]) > 1e-12) {
-                    double e0 = -wd / d[axis], e1 = (dd - wd) / d[axis];
-                    if (e0 > e1) std::swap(e0, e1);
-                    c0 = std::max(c0, e0);
-                    c1 = std::min(c1, e1);
-                    if (c0 <= c1) take(c0, c1);
-                } else if (wd >= 0.0 && wd <= dd) {
-                    take(c0, c1);
-                }
-            }
-        }
-    }
-    if (!hit || !(lo <= hi)) return false;
-    t0 = lo;
-    t1 = hi;
-    return true;
+    d[axis] = 1.0;
+    return chord::capsule_chord<double>(p, d, a, b, r, t0, t1);
 }
 
 bool cut_ray(ActiveSurface::Window& w, int iu, int iv, double c0, double c1) {

@@ -18,8 +18,9 @@ namespace tridex::haptics {
 bool cut_ray(ActiveSurface::Window& w, int iu, int iv, double c0, double c1);
 
 /// The chord of a ray with a capsule, in grid units: the ray of set `axis` (0..2) through grid point (u, v) (along
-/// axis (axis+1)%3 and (axis+2)%3), the capsule of radius r (cells, >= 0) about the segment a..b (grid coordinates).
-/// Returns true and the depths [t0, t1] along the axis when the ray meets it, false when it misses (or on a NaN).
+/// axis (axis+1)%3 and (axis+2)%3), the capsule of radius r (cells, > 0) about the segment a..b (grid coordinates):
+/// core/capsule_chord.hpp's chord in double. Returns true and the depths [t0, t1] along the axis when the ray meets
+/// it, false when it misses (or on an axis outside 0..2, r <= 0 or a NaN).
 bool ray_capsule_chord(int axis, double u, double v, const Vec3& a, const Vec3& b, double r, double& t0, double& t1);
 
 /// The sweeps of a subtracting ball tool (ToolOp::kSubtract) that the haptic loop sent and the sculpt thread may not

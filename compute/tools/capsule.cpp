@@ -4,71 +4,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/capsule_chord.hpp"
+
 namespace tridex::compute {
 namespace {
 
-// std::fmin and std::fmax as the C library defines them (a NaN operand yields the other operand; otherwise the
-// smaller or larger, the second one on a tie), written inline: the compiler keeps the library calls, and these
-// run several times per ray of every sweep.
-inline float min_f(float a, float b) { return (a < b || b != b) ? a : b; }
-inline float max_f(float a, float b) { return (a > b || b != b) ? a : b; }
-
-// Written out so the evaluation order is fixed (a shader uses the same order).
-float dot3(glm::vec3 p, glm::vec3 q) { return p.x * q.x + p.y * q.y + p.z * q.z; }
-glm::vec3 cross3(glm::vec3 p, glm::vec3 q) {
-    return glm::vec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
-}
-
-/// Extends [lo, hi] by the chord of the line with the ball (c, r).
-void add_ball(glm::vec3 o, glm::vec3 d, float dd, glm::vec3 c, float r, float& lo, float& hi) {
-    const glm::vec3 m = o - c;
-    const glm::vec3 md = cross3(m, d);
-    const float disc = dd * (r * r) - dot3(md, md);  // = dd * (r^2 - squared distance of c from the line)
-    if (disc < 0.0f) return;
-    const float mid = -dot3(m, d) / dd;
-    const float half = std::sqrt(disc) / dd;
-    lo = min_f(lo, mid - half);
-    hi = max_f(hi, mid + half);
-}
-
-/// Extends [lo, hi] by the chord of the line o + t*d with the finite cylinder (axis a -> a + e, radius r), given
-/// m = o - a, e, ee = |e|^2 > 0 and the terms that do not depend on o: de = d x e, qa = |de|^2, eerr = ee * r^2 and
-/// ds = d . e.
-[[gnu::always_inline]] inline void add_cylinder_from(glm::vec3 m, glm::vec3 e, float ee, glm::vec3 de, float qa,
-                                                     float eerr, float ds, float& lo, float& hi) {
-    const glm::vec3 me = cross3(m, e);
-    const float qb = dot3(me, de);         // (m x e).(d x e) = ee*(m.d) - (m.e)*(d.e); qa = ee*dd - (d.e)^2
-    const float qc = dot3(me, me) - eerr;  // ee * (squared distance of o from the axis - r^2)
-    const float ms = dot3(m, e);           // axial position: s(t) = (ms + t*ds) / ee in [0, 1]
-    float c0, c1;
-    if (qa > 0.0f) {
-        const float disc = qb * qb - qa * qc;
-        if (disc < 0.0f) return;
-        const float s = std::sqrt(disc);
-        c0 = (-qb - s) / qa;
-        c1 = (-qb + s) / qa;
-    } else {  // line parallel to the axis: inside the infinite cylinder everywhere or nowhere
-        if (qc > 0.0f) return;
-        c0 = -INFINITY;
-        c1 = INFINITY;
-    }
-    if (ds != 0.0f) {  // clip to the slab between the end caps
-        const float ta = -ms / ds, tb = (ee - ms) / ds;
-        c0 = max_f(c0, min_f(ta, tb));
-        c1 = min_f(c1, max_f(ta, tb));
-    } else if (ms < 0.0f || ms > ee) {
-        return;
-    }
-    if (!(c0 <= c1)) return;
-    lo = min_f(lo, c0);
-    hi = max_f(hi, c1);
-}
-
-/// Extends [lo, hi] by the chord of the line with the finite cylinder (axis a -> a+e, radius r), ee = |e|^2 > 0.
-void add_cylinder(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 e, float ee, float r, float& lo, float& hi) {
-    const glm::vec3 de = cross3(d, e);
-    add_cylinder_from(o - a, e, ee, de, dot3(de, de), ee * (r * r), dot3(d, e), lo, hi);
-}
+// The float forms of core/capsule_chord.hpp's helpers (fixed order, as the shaders).
+inline float min_f(float a, float b) { return chord::min_of(a, b); }
+inline float max_f(float a, float b) { return chord::max_of(a, b); }
+using chord::add_ball;
+using chord::add_cylinder;
+using chord::add_cylinder_from;
+using chord::cross3;
+using chord::dot3;
 
 /// Extends [lo, hi] by t = tc + l*k over the l in [0, 1] where |p + l*g|^2 <= rr (a cap plane's path, |k| <= 1).
 void add_cap_path(glm::vec3 p, glm::vec3 g, float rr, float tc, float k, float& lo, float& hi) {
@@ -139,20 +87,7 @@ void add_cap(glm::vec3 A, glm::vec3 B, glm::vec3 C, float ms, float ds, float cs
 }  // namespace
 
 bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, float& t0, float& t1) {
-    const float dd = dot3(d, d);
-    if (!(dd > 0.0f) || !(r > 0.0f)) return false;
-    float lo = INFINITY, hi = -INFINITY;
-    add_ball(o, d, dd, a, r, lo, hi);
-    const glm::vec3 e = b - a;
-    const float ee = dot3(e, e);
-    if (ee > 0.0f) {
-        add_ball(o, d, dd, b, r, lo, hi);
-        add_cylinder(o, d, a, e, ee, r, lo, hi);
-    }
-    if (!(lo <= hi)) return false;
-    t0 = lo;
-    t1 = hi;
-    return true;
+    return chord::capsule_chord<float>(o, d, a, b, r, t0, t1);
 }
 
 AxisCapsule::AxisCapsule(int axis, glm::vec3 e, float r)

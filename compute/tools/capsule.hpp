@@ -13,7 +13,8 @@ namespace tridex::compute {
 /// products written out left to right, discriminants in the cross-product form
 /// (ball: |d|^2 r^2 - |m x d|^2; cylinder via Lagrange's identity), so a GPU shader can reproduce it
 /// bit for bit. Pass coordinates relative to a local origin near the tool (e.g. the segment start)
-/// to keep float precision. Source: Peng et al., tri-dexel Booleans with a ball tool's sweep.
+/// to keep float precision. Source: Peng et al., tri-dexel Booleans with a ball tool's sweep. The float
+/// form of core/capsule_chord.hpp's chord::capsule_chord (the haptic loop uses the double form).
 bool capsule_chord(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, float r, float& t0, float& t1);
 
 /// capsule_chord for the rays of one ray set: the lines o + t*e_axis (o[axis] = 0, o lateral = (ou, ov) on the set's
