@@ -65,6 +65,7 @@ TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
     for (const nlohmann::json& rank : c["render_ranks"]) {
         EXPECT_EQ(rank["final_digest"].get<std::uint64_t>(), one.digest()) << "rank " << rank["rank"];
         EXPECT_EQ(rank["validation_messages"], 0);
+        EXPECT_EQ(rank["lod"], "off") << "the stitched images are compared with one drawn at full resolution";
     }
     const nlohmann::json& last = c["render_ranks"][0]["last_frame"];
     m.head = Pose{v3(last["head_m"]), q4(last["head_orientation"])};
@@ -174,6 +175,10 @@ TEST(ClusterSession, AWindowViewportPresentsEveryFrameOnItsDisplay) {
     EXPECT_EQ(win["frames"], c["frames"]);
     EXPECT_EQ(win["validation_messages"], 0);
     EXPECT_TRUE(win["files"].empty()) << "a window viewport writes no images";
+    for (const nlohmann::json& rank : c["render_ranks"]) {  // the config's default: levels of detail on
+        EXPECT_EQ(rank["lod"], "on");
+        EXPECT_GT(rank["tile_triangles_last_frame"].get<long>(), 0);
+    }
     EXPECT_TRUE(fs::exists(out / "right-half" / "left.png"));
     EXPECT_FALSE(fs::exists(out / "left-window"));
 }

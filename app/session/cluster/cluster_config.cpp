@@ -137,6 +137,9 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     c.check_every_frames = f.integer("check_every_frames", c.check_every_frames, 1, 100000);
     c.timeout_s = f.number("timeout_s", c.timeout_s, 0.0, 3600.0, true);
     c.start_timeout_s = f.number("start_timeout_s", c.start_timeout_s, 0.0, 3600.0, true);
+    c.lod = f.text("lod", c.lod);
+    if (c.lod != "on" && c.lod != "off" && c.lod != "coarse" && c.lod != "simplified")
+        f.fail(f.path("lod"), "must be on, off, coarse or simplified, got \"" + c.lod + "\"");
     const json* ranks = f.get("ranks");
     if (!ranks || !ranks->is_array() || ranks->empty()) f.fail("ranks", "must be a non-empty array of render ranks");
     std::set<std::string> names;

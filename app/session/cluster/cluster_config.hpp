@@ -51,6 +51,10 @@ struct ClusterConfig {
     int check_every_frames = 30;       ///< frames between model digest checks, 1..100000
     double timeout_s = 10.0;           ///< a rank that does not answer within this long has failed, s, (0, 3600]
     double start_timeout_s = 120.0;    ///< the same for the first frame (ranks load the workpiece), s, (0, 3600]
+    /// Levels of detail on the render ranks, as `run --lod`: "on" (simplified levels below
+    /// compute::kCoarseGroupsFromCells cells, groups contoured from the dexels from there), "coarse", "simplified"
+    /// or "off" (every tile at full resolution).
+    std::string lod = "on";
 
     /// The viewports of `rank`, or nullptr when it has none.
     const ClusterRank* find(int rank) const;
@@ -60,7 +64,7 @@ struct ClusterConfig {
 /// the wall's screen, left to right and bottom to top) or "corners": {"lower_left", "lower_right", "upper_left"} (m,
 /// wall space), "width_px", "height_px" (default: the display's pixels times the region's share), "eye" (both | left
 /// | right), "stereo" (a stereo output name; default the display's), "output" (offscreen | window | fullscreen),
-/// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s"}. `display` is the wall's display config
+/// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s", "lod"}. `display` is the wall's display config
 /// (its screen, resolution and stereo output supply the defaults). Throws tridex::Error naming the file and field:
 /// unreadable or not JSON, unknown fields, ranks missing (they must be 1..K, each once), a viewport with no
 /// area or corners not at right angles, duplicate viewport names, values out of range.

@@ -9,16 +9,36 @@
 #include "app/scene/session_spec.hpp"
 #include "app/session/view/run_view.hpp"
 #include "compute/model/model_digest.hpp"
+#include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
 #include "renderer/camera/scene_navigation.hpp"
 
 namespace tridex::app {
 
-ClusterReplica::ClusterReplica(const std::string& spec_json) {
+ReplicaLod replica_lod(const std::string& lod) {
+    if (lod == "off") return ReplicaLod{false, 0};
+    if (lod == "on") return ReplicaLod{true, compute::kCoarseGroupsFromCells};
+    if (lod == "coarse") return ReplicaLod{true, 1};
+    if (lod == "simplified") return ReplicaLod{true, 0};
+    throw Error("levels of detail \"" + lod + "\": must be on, off, coarse or simplified");
+}
+
+ClusterReplica::ClusterReplica(const std::string& spec_json, const ReplicaLod& lod) : lod_(lod.on) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
     applier_ = std::make_unique<compute::JournalApplier>(wp_.model, replay_settings(spec));
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
+    if (lod_) {
+        // As the session's sculpt thread does (SculptThread::use_tile_lod), before the first refresh queues every tile.
+        compute::LodWorkerOptions o;
+        o.lod.cell_m = wp_.model.lattice.cell_m;
+        o.coarse_groups_from_cells = lod.coarse_groups_from_cells;
+        tiles_.enable_lod(o.lod);
+        const std::array<int, 3>& cells = wp_.model.lattice.cells;
+        if (o.coarse_groups_from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= o.coarse_groups_from_cells)
+            tiles_.use_coarse_groups(wp_.model);
+        tiles_.build_lods_in_background(o);
+    }
     contour();
 }
 
@@ -115,13 +135,17 @@ void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) {
     for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
     deferred_ = wait.size();
     tiles_.refresh(*contourer_);
-    tile_view_of(tiles_.tiles(), tiles_.groups(), false, tile_view_);
+    if (lod_) tiles_.collect_lods();
+    tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
 }
+
+std::size_t ClusterReplica::lod_pending() const { return lod_ ? tiles_.startup_lod_pending() : 0; }
 
 renderer::SceneView ClusterReplica::view(const FrameMessage& m) const {
     renderer::SceneView v;
     v.tiles = tile_view_.tiles;
-    v.lod = false;
+    v.tile_groups = tile_view_.groups;
+    v.lod = lod_;
     v.show_workspace = false;
     v.tool_shape = m.tool;
     v.tool_radius_m = m.show_tool ? m.tool.radius_m : 0.0;

@@ -14,6 +14,7 @@
 #include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/lod_worker.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
 #include "renderer/scene/tile_culling.hpp"
@@ -21,14 +22,28 @@
 
 namespace tridex::app {
 
+/// Levels of detail of a replica's tiles (the cluster config's "lod").
+struct ReplicaLod {
+    bool on = false;  ///< build levels in the background and draw each tile and group at the level its pixels need
+    /// Groups take their levels from the model read at coarser strides from this many cells along the model's
+    /// longest side (compute::LodWorkerOptions::coarse_groups_from_cells; 1 = always, 0 = never).
+    int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
+};
+
+/// The replica's levels of detail for a cluster config's "lod" value (on, off, coarse, simplified); throws
+/// tridex::Error on another value.
+ReplicaLod replica_lod(const std::string& lod);
+
 /// The model of a session as a render rank holds it. Applying rank 0's records in order gives rank 0's model bit
 /// for bit (JournalApplier on the CPU reference Booleans, the session's island setting and undo budget).
 class ClusterReplica {
 public:
     /// Builds the session's workpiece from its spec (spec_to_json's text; prepare_session_workpiece: the same mesh
     /// or saved model file, scan-converted the same way) and contours it. Throws tridex::Error when the spec is
-    /// malformed or its workpiece cannot be read or differs from the recorded checksums.
-    explicit ClusterReplica(const std::string& spec_json);
+    /// malformed or its workpiece cannot be read or differs from the recorded checksums. With lod.on, the tiles' and
+    /// groups' levels are built on worker threads of their own (compute::LodWorker) and taken in by contour(), so
+    /// neither a frame nor the records wait for them.
+    explicit ClusterReplica(const std::string& spec_json, const ReplicaLod& lod = {});
     ~ClusterReplica();
 
     /// The model's digest (compute::model_digest).
@@ -41,12 +56,16 @@ public:
     /// contoured whole when one of its tiles, or a tile next to one, may be visible in one of them (the tile's lattice
     /// box grown by a cell, renderer::may_be_visible); the other groups stay marked and wait for a view that needs
     /// them (neighbouring tiles share the vertices on their border, so a group is never split). No frusta: every
-    /// changed tile. The tiles drawn by view(). Throws tridex::Error when a frustum's box test does.
+    /// changed tile. The tiles drawn by view(); with levels of detail, the levels the worker finished are taken in
+    /// first (the groups' coarse levels are rebuilt once their tiles settle). Throws tridex::Error when a frustum's box
+    /// test does.
     void contour(std::span<const renderer::Frustum> frusta = {});
     /// Changed tiles the last contour() left for a later view (0 after one without frusta).
     std::size_t tiles_deferred() const { return deferred_; }
     /// Tiles contoured by every contour() so far (the first, at construction, included).
     std::uint64_t tiles_contoured() const { return contoured_; }
+    /// Tiles and groups whose start-up levels are not built yet (0 without levels of detail).
+    std::size_t lod_pending() const;
     /// The contour (its tiles as the last contour() left them).
     const compute::Contourer& contourer() const { return *contourer_; }
     /// What frame `m` draws: the contoured tiles, the tool as rank 0 drew it, no workspace box or overlay.
@@ -68,6 +87,7 @@ private:
     std::unique_ptr<compute::Contourer> contourer_;
     compute::TileSurfaceCache tiles_;
     TileView tile_view_;
+    bool lod_ = false;
     std::size_t deferred_ = 0;
     std::uint64_t contoured_ = 0;
 };

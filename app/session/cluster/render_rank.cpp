@@ -130,7 +130,7 @@ private:
     void open() {
         const HelloMessage hello = decode_hello(wait_for_rank0(c_.start_timeout_s, "session"), "rank 0's hello");
         const auto t0 = Clock::now();
-        replica_.emplace(hello.spec_json);
+        replica_.emplace(hello.spec_json, replica_lod(c_.lod));
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
         load_ms_ = ms_since(t0);
@@ -245,6 +245,9 @@ private:
         done.frame = frame;
         done.previous_present_s = last_present_s_;
         done.digest = replica_->digest();
+        std::uint64_t triangles = 0;  // the last frame's workpiece triangles, every viewport's eyes
+        for (const std::unique_ptr<Viewport>& vp : viewports_)
+            for (const std::size_t n : vp->rend->last_frame_stats().tile_triangles) triangles += n;
         const nlohmann::json report = {{"rank", t_.rank()},
                                        {"frames", frames_},
                                        {"presents", presents_},
@@ -257,6 +260,9 @@ private:
                                        {"contour_ms", summary_report_json(contour_ms_)},
                                        {"tiles_contoured", replica_->tiles_contoured()},
                                        {"tiles_deferred_at_end", replica_->tiles_deferred()},
+                                       {"lod", c_.lod},
+                                       {"lod_pending_at_end", replica_->lod_pending()},
+                                       {"tile_triangles_last_frame", triangles},
                                        {"draw_ms", summary_report_json(draw_ms_)},
                                        {"validation_messages", ctx_->validation_messages()},
                                        {"last_frame", last_frame_json(last_)},
