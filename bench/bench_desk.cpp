@@ -40,12 +40,13 @@ struct DeskCli {
     DeskBenchOptions o;
     std::string stereo = "mono,anaglyph";
     std::string scales = "1,0.75";
+    std::string resolutions;
 };
 
 // The default scene's workpiece and head in a desk window of the given size, the mouse as the stylus, and a
 // cursor that presses in, drags a groove across the bunny and lets go, every 1.6 s; between the grooves it
 // sweeps over the surface without the button, as a person looking for the next cut does.
-std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const std::string& stereo) {
+std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const std::string& stereo, int resolution) {
     const std::string default_scene = default_scene_path();
     const nlohmann::json base = nlohmann::json::parse(std::ifstream(default_scene));
     nlohmann::json cursor = nlohmann::json::array();
@@ -61,11 +62,12 @@ std::string write_scene(const fs::path& dir, const DeskBenchOptions& o, const st
     // The scene is written elsewhere: its mesh, named relative to the default scene's folder, by its full path.
     const fs::path mesh = fs::path(default_scene).parent_path() / base.at("workpiece").at("mesh").get<std::string>();
     scene["workpiece"]["mesh"] = fs::absolute(mesh).lexically_normal().string();
+    if (resolution > 0) scene["workpiece"]["resolution"] = resolution;
     scene["device"] = {{"driver", "mouse"}};
     scene["stroke"] = "none";
     scene["display"] = {{"preset", "desktop"}, {"stereo", stereo}, {"resolution", {o.width, o.height}}};
     scene["cursor"] = cursor;
-    const std::string path = (dir / ("desk_scene_" + stereo + ".json")).string();
+    const std::string path = (dir / ("desk_scene_" + stereo + "_n" + std::to_string(resolution) + ".json")).string();
     write_json_file(path, scene);
     return path;
 }
@@ -112,6 +114,10 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
     for (const auto& [name, p] : j.at("render").at("passes").items()) row.passes[name] = at_or_nan(p, "median_ms");
     row.present = f.contains("present") ? f.at("present") : nlohmann::json();
     row.frame_budget = j.at("render").value("frame_budget", nlohmann::json());
+    row.resolution = j.at("workpiece").value("resolution", 0);
+    const nlohmann::json lod = j.at("render").value("lod", nlohmann::json());
+    if (lod.is_object() && lod.contains("tile_triangles_per_frame"))
+        row.triangles_per_frame = lod.at("tile_triangles_per_frame").at(0).get<double>();
     return row;
 }
 
@@ -145,10 +151,12 @@ double median_of(std::vector<double> v) {
 }
 
 // The median over the runs of one output and scale (repeat 0): each figure's median, the verdict from those.
-DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, const std::string& stereo, double min_scale) {
+DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, int resolution, const std::string& stereo,
+                        double min_scale) {
     std::vector<const DeskBenchRow*> mine;
     for (const DeskBenchRow& r : runs)
-        if (r.repeat > 0 && r.stereo == stereo && r.min_scale == min_scale) mine.push_back(&r);
+        if (r.repeat > 0 && r.resolution == resolution && r.stereo == stereo && r.min_scale == min_scale)
+            mine.push_back(&r);
     DeskBenchRow out = *mine.front();
     out.repeat = 0;
     const auto med = [&]<typename T>(T DeskBenchRow::*f) {
@@ -165,6 +173,7 @@ DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, const std::string
     out.lag_frames = med(&DeskBenchRow::lag_frames);
     out.hand_wait_median_ms = med(&DeskBenchRow::hand_wait_median_ms);
     out.hand_wait_p99_ms = med(&DeskBenchRow::hand_wait_p99_ms);
+    out.triangles_per_frame = med(&DeskBenchRow::triangles_per_frame);
     out.passes = nlohmann::json::object();  // per run only
     out.present = nlohmann::json();
     out.frame_budget = nlohmann::json();
@@ -174,10 +183,10 @@ DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, const std::string
 
 // Prints one row of the table and, for a run (not a median), its detail lines.
 void print_row(const DeskBenchRow& r) {
-    std::printf("%-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %s\n", r.stereo.c_str(), r.min_scale,
-                r.max_lod_px, static_cast<unsigned long long>(r.frames), r.frame_median_ms, r.frame_p99_ms,
-                r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
-                verdict_text(r.verdict));
+    std::printf("%5d %-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %10.0f %6.2f %s\n", r.resolution,
+                r.stereo.c_str(), r.min_scale, r.max_lod_px, static_cast<unsigned long long>(r.frames),
+                r.frame_median_ms, r.frame_p99_ms, r.interval_median_ms, r.lag_median_ms, r.lag_p99_ms, r.lag_frames,
+                r.triangles_per_frame, r.frame_ratio, verdict_text(r.verdict));
     if (r.repeat == 0) {  // a median over runs: the runs' rows have the details
         std::fflush(stdout);
         return;
@@ -214,6 +223,7 @@ void print_row(const DeskBenchRow& r) {
 // One row of desk_bench.json.
 nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
     return nlohmann::json{{"stereo", r.stereo},
+                          {"resolution", r.resolution},
                           {"repeat", r.repeat},
                           {"min_render_scale", r.min_scale},
                           {"max_lod_px", r.max_lod_px},
@@ -236,6 +246,9 @@ nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
                           {"passes_median_ms", r.passes},
                           {"present", r.present},
                           {"frame_budget", r.frame_budget},
+                          {"triangles_per_frame", r.triangles_per_frame},
+                          {"frame_ms_median_over_first_n", std::isfinite(r.frame_ratio) ? nlohmann::json(r.frame_ratio)
+                                                                                         : nlohmann::json()},
                           {"target_median_ms", kTargetMedianMs},
                           {"target_p99_ms", kTargetP99Ms},
                           {"target_lag_frames", kTargetLagFrames},
@@ -264,6 +277,9 @@ BenchRun setup_desk(CLI::App& bench) {
                     "With --desk: the coarsest levels of detail (--max-lod-px, 1..8 pixels) the budget may draw in "
                     "the rows whose scale is below 1 (default 2; the scale-1 row keeps them within 1 pixel)")
         ->check(CLI::Range(1.0, 8.0));
+    bench.add_option("--desk-n", c->resolutions,
+                     "With --desk: workpiece resolutions N to time, comma-separated, 16..4096 (default: the scene's; "
+                     "the first is the baseline of the frame-time ratios), e.g. 256,1024");
     bench.add_option("--desk-repeats", c->o.repeats,
                      "With --desk: runs of every row, in turn, and the median over them per row (1..20; default 1)");
     return [c](const BenchCommon& common) {
@@ -277,6 +293,14 @@ BenchRun setup_desk(CLI::App& bench) {
                 throw Error("--desk-scales: a comma-separated list of numbers in 0.5..1, got '" + s + "'");
             o.min_scales.push_back(v);
         }
+        if (!c->resolutions.empty())
+            for (const std::string& s : split_list(c->resolutions)) {
+                char* end = nullptr;
+                const long v = std::strtol(s.c_str(), &end, 10);
+                if (s.empty() || end != s.c_str() + s.size())
+                    throw Error("--desk-n: a comma-separated list of whole numbers in 16..4096, got '" + s + "'");
+                o.resolutions.push_back(static_cast<int>(std::clamp(v, -1L, 100000L)));
+            }
         o.out = common.out;
         run_desk_bench(o);
     };
@@ -308,6 +332,9 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 20)
         throw Error("--desk-repeats: must lie in 1..20, got " + std::to_string(o.repeats));
     if (o.min_scales.empty()) throw Error("--desk-scales: name at least one scale");
+    for (const int n : o.resolutions)
+        if (n < 16 || n > 4096) throw Error("--desk-n: each N must lie in 16..4096, got " + std::to_string(n));
+    const std::vector<int> ns = o.resolutions.empty() ? std::vector<int>{0} : o.resolutions;
     for (const double s : o.min_scales)
         if (!(s >= 0.5 && s <= 1.0))
             throw Error("--desk-scales: each scale must lie in 0.5..1, got " + std::to_string(s));
@@ -320,33 +347,48 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
                 o.seconds, o.lod.c_str());
     std::printf("target: frame median <= %.0f ms, p99 <= %.0f ms, mouse-to-photon lag <= %.0f frames\n",
                 kTargetMedianMs, kTargetP99Ms, kTargetLagFrames);
-    std::printf("%-13s %5s %5s %6s %9s %9s %10s %8s %8s %8s %s\n", "stereo", "scale", "lodpx", "frames", "frame50",
-                "frame99", "interval50", "lag50", "lag99", "lag/frm", "verdict");
+    std::printf("%5s %-13s %5s %5s %6s %9s %9s %10s %8s %8s %8s %10s %6s %s\n", "N", "stereo", "scale", "lodpx",
+                "frames", "frame50", "frame99", "interval50", "lag50", "lag99", "lag/frm", "tris/frm", "xN1", "verdict");
+    // The row at the first N of the same output and scale (the baseline of the ratios), per repeat.
+    const auto ratio = [&](DeskBenchRow& r, const std::vector<DeskBenchRow>& done) {
+        r.frame_ratio = std::nan("");
+        if (r.resolution == done.front().resolution) return;
+        for (const DeskBenchRow& b : done)
+            if (b.resolution == done.front().resolution && b.repeat == r.repeat && b.stereo == r.stereo &&
+                b.min_scale == r.min_scale && b.frame_median_ms > 0.0)
+                r.frame_ratio = r.frame_median_ms / b.frame_median_ms;
+    };
     std::vector<DeskBenchRow> rows;
     nlohmann::json table = nlohmann::json::array();
     for (int rep = 1; rep <= o.repeats; ++rep)
-        for (const std::string& m : o.stereo)
-            for (const double min_scale : o.min_scales) {
-                char tag[48];
-                std::snprintf(tag, sizeof tag, "%s_scale%.3g_run%d", m.c_str(), min_scale, rep);
-                DeskBenchRow r = run_one(o, write_scene(dir, o, m), m, min_scale, display, dir / tag);
-                r.repeat = rep;
-                const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
-                r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
-                judge(r);
-                print_row(r);
-                table.push_back(row_json(o, r));
-                rows.push_back(std::move(r));
-            }
+        for (const int n : ns)
+            for (const std::string& m : o.stereo)
+                for (const double min_scale : o.min_scales) {
+                    char tag[64];
+                    std::snprintf(tag, sizeof tag, "n%d_%s_scale%.3g_run%d", n, m.c_str(), min_scale, rep);
+                    DeskBenchRow r = run_one(o, write_scene(dir, o, m, n), m, min_scale, display, dir / tag);
+                    r.repeat = rep;
+                    const double frame = std::max(r.interval_median_ms, r.frame_median_ms);
+                    r.lag_frames = frame > 0.0 ? r.lag_median_ms / frame : std::nan("");
+                    judge(r);
+                    rows.push_back(std::move(r));
+                    ratio(rows.back(), rows);
+                    print_row(rows.back());
+                    table.push_back(row_json(o, rows.back()));
+                }
     if (o.repeats > 1) {
         std::printf("median over %d runs:\n", o.repeats);
-        for (const std::string& m : o.stereo)
-            for (const double min_scale : o.min_scales) {
-                DeskBenchRow r = median_row(rows, m, min_scale);
-                print_row(r);
-                table.push_back(row_json(o, r));
-                rows.push_back(std::move(r));
-            }
+        const std::size_t runs = rows.size();
+        for (const int n : ns)
+            for (const std::string& m : o.stereo)
+                for (const double min_scale : o.min_scales) {
+                    DeskBenchRow r = median_row(std::vector<DeskBenchRow>(rows.begin(), rows.begin() + runs),
+                                                n == 0 ? rows[0].resolution : n, m, min_scale);
+                    rows.push_back(std::move(r));
+                    ratio(rows.back(), std::vector<DeskBenchRow>(rows.begin() + runs, rows.end()));
+                    print_row(rows.back());
+                    table.push_back(row_json(o, rows.back()));
+                }
     }
     write_json_file((fs::path(o.out) / "desk_bench.json").string(), table);
     return rows;

@@ -21,6 +21,9 @@ struct DeskBenchOptions {
     /// DISPLAY is set, else offscreen.
     std::string display;
     std::string lod = "on";                            ///< levels of detail: on | off
+    /// Workpiece resolutions N (cells along the bunny's longest side, 16..4096) timed in turn; empty: the default
+    /// scene's own. The first is the baseline the others' frame times are divided by, per output and scale.
+    std::vector<int> resolutions;
     /// The lowest render scales (--min-render-scale) each output is timed at, in turn (0.5..1). 1 is the baseline:
     /// the eyes always at the window's size and the levels always within 1 pixel (--max-lod-px 1), the budget trading
     /// only the occlusion.
@@ -36,6 +39,7 @@ struct DeskBenchOptions {
 /// One session's figures, all from its report.json.
 struct DeskBenchRow {
     std::string stereo, display;
+    int resolution = 0;      ///< the workpiece's N (report.json workpiece.resolution)
     int repeat = 1;          ///< which run (1..DeskBenchOptions::repeats); 0: the median over the runs
     double min_scale = 1.0;  ///< the session's --min-render-scale
     double max_lod_px = 1.0;  ///< the session's --max-lod-px
@@ -50,6 +54,10 @@ struct DeskBenchRow {
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
     nlohmann::json frame_budget;                   ///< report.json render.frame_budget (occlusion, levels, scale)
+    double triangles_per_frame = 0;                ///< workpiece triangles drawn per frame, left eye (render.lod)
+    /// frame_median_ms over the same output and scale's row at the first resolution (NaN for the first, or when
+    /// either is not measured).
+    double frame_ratio = 0;
     /// Median <= 25 ms, p99 <= 40 ms and lag <= 2 frames: met, over, or not measured (no frame or cursor target timed).
     Verdict verdict = Verdict::kNotMeasured;
     bool target_met = false;  ///< verdict is kMet
