@@ -10,12 +10,16 @@ namespace tridex::renderer {
 std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const TileMesh> tiles,
                                 std::vector<GpuMesh>* retired, const ModelFrame& frame) {
     ++syncs_;
+    context_ = &context;
+    const auto retire = [&](Entry& e) {
+        if (!retired) return;
+        retired->push_back(std::move(e.mesh));
+        for (GpuMesh& l : e.levels) retired->push_back(std::move(l));
+        e.mesh = GpuMesh{};
+        e.levels.clear();
+    };
     if (!(frame == frame_)) {  // every mesh stored in the old frame goes
-        for (auto& kv : entries_)
-            if (retired) {
-                retired->push_back(std::move(kv.second->mesh));
-                for (GpuMesh& l : kv.second->levels) retired->push_back(std::move(l));
-            }
+        for (auto& kv : entries_) retire(*kv.second);
         entries_.clear();
         frame_ = frame;
     }
@@ -24,7 +28,7 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
     if (!pool_)
         pool_ = gpu::BufferPool::create(context, VkDeviceSize{32} << 20,
                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    std::size_t uploads = 0;
+    std::size_t changed = 0;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileMesh& t = tiles[i];
         const std::uint64_t key = t.id == TileMesh::kIdFromPosition ? i : t.id;
@@ -36,69 +40,66 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
             throw Error("renderer: SceneView.tiles lists tile id " + std::to_string(key) + " twice");
         }
         e.seen = syncs_;
-        if (fresh || e.version != t.version) {
-            try {
-                static const TriMesh kEmpty;
-                const TriMesh& mesh = t.mesh ? *t.mesh : kEmpty;
-                std::span<const std::uint8_t> materials;
-                if (t.materials) materials = *t.materials;
-                // Replaced buffers are retired, not overwritten: earlier frames in flight may still read them.
-                const auto upload = [&](GpuMesh& slot, const TriMesh& m, std::span<const std::uint8_t> mats,
-                                        std::span<const Vec3> normals) {
-                    if (retired && !fresh) {
-                        GpuMesh next;
-                        next.assign(context, m, mats, normals, pool_.get(), frame);
-                        retired->push_back(std::move(slot));
-                        slot = std::move(next);
-                    } else {
-                        slot.assign(context, m, mats, normals, pool_.get(), frame);
-                    }
-                };
-                upload(e.mesh, mesh, materials, {});
-                if (retired)
-                    for (std::size_t k = t.levels.size(); k < e.levels.size(); ++k) retired->push_back(std::move(e.levels[k]));
-                e.levels.resize(t.levels.size());
-                for (std::size_t k = 0; k < t.levels.size(); ++k) {
-                    const TileMeshLevel& l = t.levels[k];
-                    std::span<const std::uint8_t> lm;
-                    std::span<const Vec3> ln;
-                    if (l.materials) lm = *l.materials;
-                    if (l.normals) ln = *l.normals;
-                    try {
-                        upload(e.levels[k], l.mesh ? *l.mesh : kEmpty, lm, ln);
-                    } catch (const Error& err) {
-                        throw Error("level " + std::to_string(k + 1) + ": " + err.what());
-                    }
-                }
-            } catch (const Error& err) {
-                entries_.erase(it);
-                order_.clear();
-                throw Error("SceneView.tiles[" + std::to_string(i) + "]: " + err.what());
-            }
+        e.source = t;
+        e.index = i;
+        if (fresh || e.version != t.version || e.uploaded.size() != t.levels.size() + 1) {
+            // Replaced buffers are retired, not overwritten: earlier frames in flight may still read them.
+            retire(e);
+            e.levels.resize(t.levels.size());
+            e.uploaded.assign(t.levels.size() + 1, 0);
             e.version = t.version;
-            ++uploads;
+            ++changed;
         }
         order_.push_back(&e);
     }
     std::erase_if(entries_, [&](const auto& kv) {
         if (kv.second->seen == syncs_) return false;
-        if (retired) {
-            retired->push_back(std::move(kv.second->mesh));
-            for (GpuMesh& l : kv.second->levels) retired->push_back(std::move(l));
-        }
+        retire(*kv.second);
         return true;
     });
-    uploads_total_ += uploads;
-    return uploads;
+    return changed;
 }
 
-const GpuMesh& TileMeshCache::mesh(std::size_t i, std::size_t level) const {
+const GpuMesh& TileMeshCache::need(std::size_t i, std::size_t level) {
     if (i >= order_.size())
-        throw Error("TileMeshCache::mesh: index " + std::to_string(i) + " >= " + std::to_string(order_.size()));
-    if (level == 0) return order_[i]->mesh;
-    if (level > order_[i]->levels.size())
-        throw Error("TileMeshCache::mesh: tile " + std::to_string(i) + " has no level " + std::to_string(level));
-    return order_[i]->levels[level - 1];
+        throw Error("TileMeshCache::need: index " + std::to_string(i) + " >= " + std::to_string(order_.size()));
+    Entry& e = *order_[i];
+    if (level > e.levels.size())
+        throw Error("TileMeshCache::need: tile " + std::to_string(i) + " has no level " + std::to_string(level));
+    GpuMesh& slot = level == 0 ? e.mesh : e.levels[level - 1];
+    if (e.uploaded[level]) return slot;
+    static const TriMesh kEmpty;
+    const TileMesh& t = e.source;
+    try {
+        if (level == 0) {
+            std::span<const std::uint8_t> materials;
+            if (t.materials) materials = *t.materials;
+            slot.assign(*context_, t.mesh ? *t.mesh : kEmpty, materials, {}, pool_.get(), frame_);
+        } else {
+            const TileMeshLevel& l = t.levels[level - 1];
+            std::span<const std::uint8_t> lm;
+            std::span<const Vec3> ln;
+            if (l.materials) lm = *l.materials;
+            if (l.normals) ln = *l.normals;
+            try {
+                slot.assign(*context_, l.mesh ? *l.mesh : kEmpty, lm, ln, pool_.get(), frame_);
+            } catch (const Error& err) {
+                throw Error("level " + std::to_string(level) + ": " + err.what());
+            }
+        }
+    } catch (const Error& err) {
+        throw Error("SceneView.tiles[" + std::to_string(e.index) + "]: " + err.what());
+    }
+    e.uploaded[level] = 1;
+    ++pending_uploads_;
+    ++uploads_total_;
+    return slot;
+}
+
+std::size_t TileMeshCache::take_uploads() {
+    const std::size_t n = pending_uploads_;
+    pending_uploads_ = 0;
+    return n;
 }
 
 }  // namespace tridex::renderer

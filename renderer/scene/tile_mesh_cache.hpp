@@ -39,27 +39,31 @@ struct TileMesh {
     static constexpr std::size_t kNoGroup = std::numeric_limits<std::size_t>::max();
 };
 
-/// GPU copies of tile meshes keyed by TileMesh::id. sync() uploads a tile when it is new or its version
-/// changed and frees tiles no longer listed; unchanged tiles cost nothing. Each tile has its own host-
+/// GPU copies of tile meshes keyed by TileMesh::id. sync() takes the frame's list: it notes which tiles are new or
+/// changed version and frees tiles no longer listed; unchanged tiles cost nothing. A tile's mesh, or one of its
+/// levels, is uploaded only when a draw asks for it (need()): a tile drawn at a coarse level, or under a group drawn
+/// in its place, never uploads its full mesh, so a frame's uploads follow what it draws. Each tile has its own host-
 /// visible GpuMesh (two buffers) sub-allocated from a pool whose blocks each have one buffer over the whole
 /// block, so the draws of all tiles in a block bind one buffer (GpuMesh::draw_range). Move-only; the Context must outlive it. Not safe while the GPU still
 /// reads an earlier frame (the caller retires replaced meshes: sync()'s `retired`).
 class TileMeshCache {
 public:
-    /// Makes the cache hold exactly `tiles` (empty or null meshes included, as zero-index entries) and
-    /// returns how many were uploaded by this call. Throws tridex::Error when two tiles have the same id
-    /// (naming it), or GpuMesh::assign throws (bad indices, non-finite position, bad materials: naming the
-    /// tile); a tile that failed is left out of the cache, so the next sync() retries it.
+    /// Makes the cache hold exactly `tiles` (empty or null meshes included) and returns how many tiles are new or
+    /// changed their version (their meshes are uploaded by need()). The tiles' meshes must stay as they are until the
+    /// frame's need() calls are done. Throws tridex::Error when two tiles have the same id (naming it).
     /// With `retired`, the GPU meshes of replaced and dropped tiles are moved there instead of being overwritten
     /// or freed (for a caller whose earlier frames may still read them); changed tiles then get new buffers.
     /// `frame` says how positions are stored (GpuMesh::assign); when it differs from the last sync's, every tile is
-    /// uploaded again.
+    /// uploaded again when drawn.
     std::size_t sync(const gpu::Context& context, std::span<const TileMesh> tiles,
                      std::vector<GpuMesh>* retired = nullptr, const ModelFrame& frame = {});
-
-    /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()).
-    /// Throws tridex::Error when i or level is out of range.
-    const GpuMesh& mesh(std::size_t i, std::size_t level = 0) const;
+    /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()),
+    /// uploaded now when it is not yet (within the frame of that sync: the tile's mesh is read). Throws tridex::Error
+    /// when i or level is out of range, or GpuMesh::assign throws (bad indices, non-finite position, bad materials:
+    /// "SceneView.tiles[i]: ..."); a tile that failed is uploaded again at its next need().
+    const GpuMesh& need(std::size_t i, std::size_t level = 0);
+    /// Meshes (a tile's level each) need() uploaded since the last call; resets the count.
+    std::size_t take_uploads();
     /// Tiles held (= the size of the last sync()'s list).
     std::size_t size() const { return order_.size(); }
     /// Uploads over the cache's lifetime.
@@ -73,12 +77,17 @@ private:
     struct Entry {
         GpuMesh mesh;
         std::vector<GpuMesh> levels;  // TileMesh::levels, finest first
+        std::vector<std::uint8_t> uploaded;  // per level (0 = the mesh): its GPU copy is of `version`
         std::uint64_t version = 0;
         std::uint64_t seen = 0;  // sync() call that listed it last
+        TileMesh source;         // the last sync()'s tile: its meshes, valid within that frame
+        std::size_t index = 0;   // its position in that sync()'s list
     };
+    const gpu::Context* context_ = nullptr;  // of the last sync()
+    std::size_t pending_uploads_ = 0;
     std::unique_ptr<gpu::BufferPool> pool_;  // declared first: destroyed after the entries' buffers
     std::unordered_map<std::uint64_t, std::unique_ptr<Entry>> entries_;
-    std::vector<const Entry*> order_;
+    std::vector<Entry*> order_;
     std::uint64_t syncs_ = 0;
     ModelFrame frame_{};  // of the uploaded meshes
     std::uint64_t uploads_total_ = 0;

@@ -349,7 +349,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
         world_from_model = scene.indirect_workpiece->world_from_grid;
     }
     std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
-    stats.tile_uploads = tiles.sync(*context, scene.tiles, &retired, frame);
+    tiles.sync(*context, scene.tiles, &retired, frame);
     for (GpuMesh& m : retired) slots.retire(std::move(m));
     retired.clear();
     if (!scene.tile_groups.empty() || groups.size() > 0) {
@@ -362,7 +362,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
             group_meshes[g].levels = tg.levels;
         }
         try {
-            stats.tile_uploads += groups.sync(*context, group_meshes, &retired, frame);
+            groups.sync(*context, group_meshes, &retired, frame);
         } catch (const Error& e) {
             throw Error(std::string("SceneView.tile_groups: ") + e.what());
         }
@@ -380,6 +380,7 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
             return list.add(PipelineKind::kOpaque, m, world_from_model, clay, true);
         },
         [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, box_m); }, stats);
+    stats.tile_uploads = tiles.take_uploads() + groups.take_uploads();
 }
 
 void OffscreenStereoRenderer::Impl::add_tool(const SceneView& scene, FrameDraws& list) {

@@ -11,8 +11,8 @@
 
 namespace tridex::renderer {
 
-void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const TileMeshCache& tiles,
-                    const TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
+void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCache& tiles,
+                    TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
                     const std::function<void(std::uint32_t, const Aabb&)>& cover, FrameStats& stats) {
     const int eye_count = eyes.eye_count;
     const bool multiview = eyes.strategy == EyeStrategy::kMultiview;
@@ -57,7 +57,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const Tile
             }
             for (int e = 0; e < 2; ++e) {
                 if (mask[e] == 0) continue;
-                const GpuMesh& m = groups.mesh(g, group_level[e][g]);
+                const GpuMesh& m = groups.need(g, group_level[e][g]);
                 for (int f = 0; f < eye_count; ++f)
                     if (mask[e] & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
                 if (m.index_count() == 0) continue;
@@ -71,8 +71,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const Tile
 
     for (std::size_t i = 0; i < scene.tiles.size(); ++i) {
         const TileMesh& tile = scene.tiles[i];
-        const GpuMesh& mesh = tiles.mesh(i);
-        if (mesh.index_count() == 0) continue;  // empty tiles are neither drawn nor skipped
+        if (!tile.mesh || tile.mesh->triangles.empty()) continue;  // empty tiles are neither drawn nor skipped
         std::uint32_t mask = 0;
         for (int e = 0; e < eye_count; ++e)
             if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], tile.bounds_m)) mask |= 1u << e;
@@ -100,7 +99,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const Tile
         for (int e = 0; e < 2; ++e) {
             const std::uint32_t eye_bit = 1u << e;
             if (!(mask & eye_bit)) continue;
-            const GpuMesh& m = tiles.mesh(i, level[e]);
+            const GpuMesh& m = tiles.need(i, level[e]);
             for (int f = 0; f < eye_count; ++f)
                 if ((one_draw ? mask : eye_bit) & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
             if (m.index_count() != 0) {

@@ -34,10 +34,11 @@ struct TileDrawEyes {
 /// multiview draws both eyes with one choice (the finer). Without it every tile at full resolution. Culling
 /// (scene.cull_tiles) tests each drawn tile's or group's bounds per eye. `add` appends a draw of a mesh and
 /// returns it (the caller sets the kind, colour and lighting); `cover` widens the eye mask's opaque region to a
-/// box. Fills stats.tiles (visibility per tile), stats.tile_triangles and stats.groups_drawn.
-/// Throws tridex::Error when a tile's group index or a group's parent is out of range.
-void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, const TileMeshCache& tiles,
-                    const TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
+/// box. Fills stats.tiles (visibility per tile), stats.tile_triangles and stats.groups_drawn. Only the meshes and
+/// levels drawn are uploaded (TileMeshCache::need). Throws tridex::Error when a tile's group index or a group's
+/// parent is out of range, or an upload does (naming the tile).
+void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCache& tiles,
+                    TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
                     const std::function<void(std::uint32_t, const Aabb&)>& cover, FrameStats& stats);
 
 /// Appends the draws of scene.indirect_workpiece's tiles (the GPU contour: one vkCmdDrawIndexedIndirect per tile

@@ -33,7 +33,7 @@ struct PassTime {
 /// Per-frame statistics returned by OffscreenStereoRenderer::draw() / render().
 struct FrameStats {
     std::array<EyeTileCounts, 2> tiles{};  ///< per eye (0 left, 1 right); zeros when the scene has no tiles
-    std::size_t tile_uploads = 0;          ///< tile meshes uploaded this frame (new tiles or changed versions)
+    std::size_t tile_uploads = 0;          ///< tile meshes and levels uploaded this frame (drawn and new or changed)
     /// Workpiece tile triangles drawn per eye (0 left, 1 right), at the levels of detail chosen (the indirect
     /// workpiece's tiles at full resolution).
     std::array<std::size_t, 2> tile_triangles{};
