@@ -64,7 +64,7 @@ public:
     /// True when depth d's coarse model is built (by the constructor or build_depth()); false outside the depths.
     bool has_depth(int depth) const;
     /// Reads `fine` at stride 2^depth and contours that coarse model whole, as the constructor does (nothing when it
-    /// is built already). At N = 1024 depth 1 takes about 0.65 s of two cores. Throws tridex::Error for a depth
+    /// is built already); depth 1 costs about a quarter of the model's whole contour. Throws tridex::Error for a depth
     /// outside min_depth()..max_depth().
     void build_depth(const TriDexel& fine, int depth);
     /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in

@@ -167,8 +167,8 @@ public:
     /// build_coarse_depth() reads the finer ones later, and their groups get their levels through collect_lods().
     void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {}, bool coarse_first = false);
     /// Coarse-first start-up: reads the coarsest depth not read yet (use_coarse_groups with coarse_first) and gives
-    /// its groups their levels (on every core). Returns false when every depth is read. At N = 1024 depth 1 takes
-    /// about 0.65 s to read.
+    /// its groups their levels (on every core). Returns false when every depth is read. Reading depth 1 costs about
+    /// a quarter of the model's whole contour.
     bool build_coarse_depth();
     /// Coarse-first start-up (after use_coarse_groups, before the first refresh()): tiles of the model that hold
     /// surface but are not contoured yet (compute::StartupRefiner::pending_tiles). The groups over them exist from
