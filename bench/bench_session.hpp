@@ -50,6 +50,9 @@ struct LatencyBenchRow {
     std::size_t group_sweeps =
         0;                 ///< push: the most sweeps per push group (SessionSpec::clay_group_sweeps); 0 for subtract
     double start_s = 0.0;  ///< when the stroke began, s after the session's start (StrokeParams::start_s)
+    /// From the workpiece loaded to the first frame done and to every tile at full resolution, ms
+    /// (report.json render.startup; -1: none).
+    double first_frame_ms = -1.0, refined_ms = -1.0;
     double lod_all_built_ms =
         -1.0;  ///< when the start-up levels of detail were all built, ms after the first frame (-1: never)
     std::string path;          ///< where the Booleans ran (the report's sculpt_path: the device's type decides)

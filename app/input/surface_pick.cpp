@@ -81,6 +81,12 @@ std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ra
         if (!meets_box(tile->bounds_m, ray, t_max)) continue;
         pick_mesh(tile->mesh, ray, best);
     }
+    for (const auto& group : surface.groups) {
+        if (!group || group->children_cover || group->lods.empty()) continue;
+        const double t_max = best ? best->distance_m : std::numeric_limits<double>::infinity();
+        if (!meets_box(group->bounds_m, ray, t_max)) continue;
+        pick_mesh(group->lods.front().mesh, ray, best);
+    }
     if (surface.whole) pick_mesh(*surface.whole, ray, best);
     return best;
 }

@@ -35,6 +35,9 @@ struct SurfaceHit {
 struct PickSurface {
     std::vector<std::shared_ptr<const compute::TileSurface>> tiles;  ///< the tiles (immutable once published)
     std::shared_ptr<const TriMesh> whole;                              ///< or one mesh (may be null)
+    /// Groups of tiles (MeshFrame::groups): those whose tiles cannot stand in yet (a coarse-first start-up,
+    /// TileGroupSurface::children_cover false) are picked on their finest level, as they are drawn.
+    std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
 };
 
 /// The nearest hit of `ray` on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets),

@@ -77,7 +77,8 @@ bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<I
 
 }  // namespace
 
-CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options) : options_(options) {
+CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options, int first_depth)
+    : options_(options) {
     if (options.max_depth < 1 || options.max_depth > 6)
         throw Error("CoarseLevelOptions.max_depth: " + std::to_string(options.max_depth) + " is not in 1..6");
     if (options.min_depth < 1 || options.min_depth > options.max_depth)
@@ -87,21 +88,36 @@ CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOpti
         throw Error("CoarseLevelOptions.error_coarse_cells: must be finite and > 0");
     if (!(std::isfinite(options.skirt_coarse_cells) && options.skirt_coarse_cells > 0.0))
         throw Error("CoarseLevelOptions.skirt_coarse_cells: must be finite and > 0");
-    for (int d = options.min_depth; d <= options.max_depth; ++d) {
-        auto D = std::make_unique<Depth>();
-        D->stride = 1 << d;
-        D->model = coarse_model(fine, D->stride);
-        for (int a = 0; a < 3; ++a)  // one coarse tile is one depth-d group
-            if (D->model.tiles.tiles[a] != (fine.tiles.tiles[a] + D->stride - 1) / D->stride)
-                throw Error("CoarseGroupLevels: the coarse tiles do not match the depth-" + std::to_string(d) + " groups");
-        D->contour = std::make_unique<Contourer>(D->model);
-        D->contour->update(D->model);
-        const std::size_t n = D->model.tiles.count();
-        D->meshes.resize(n);
-        D->materials.resize(n);
-        D->read_at.assign(n, 0);
-        levels_.push_back(std::move(D));
-    }
+    if (first_depth == 0) first_depth = options.min_depth;
+    if (first_depth < options.min_depth || first_depth > options.max_depth)
+        throw Error("CoarseGroupLevels: first depth " + std::to_string(first_depth) + " is not in min_depth..max_depth");
+    levels_.resize(static_cast<std::size_t>(options.max_depth - options.min_depth + 1));
+    for (int d = first_depth; d <= options.max_depth; ++d) build_depth(fine, d);
+}
+
+bool CoarseGroupLevels::has_depth(int depth) const {
+    return depth >= min_depth() && depth <= max_depth() && levels_[static_cast<std::size_t>(depth - min_depth())];
+}
+
+void CoarseGroupLevels::build_depth(const TriDexel& fine, int d) {
+    if (d < min_depth() || d > max_depth())
+        throw Error("CoarseGroupLevels::build_depth: depth " + std::to_string(d) + " is not in " +
+                    std::to_string(min_depth()) + ".." + std::to_string(max_depth()));
+    std::unique_ptr<Depth>& slot = levels_[static_cast<std::size_t>(d - min_depth())];
+    if (slot) return;
+    auto D = std::make_unique<Depth>();
+    D->stride = 1 << d;
+    D->model = coarse_model(fine, D->stride);
+    for (int a = 0; a < 3; ++a)  // one coarse tile is one depth-d group
+        if (D->model.tiles.tiles[a] != (fine.tiles.tiles[a] + D->stride - 1) / D->stride)
+            throw Error("CoarseGroupLevels: the coarse tiles do not match the depth-" + std::to_string(d) + " groups");
+    D->contour = std::make_unique<Contourer>(D->model);
+    D->contour->update(D->model);
+    const std::size_t n = D->model.tiles.count();
+    D->meshes.resize(n);
+    D->materials.resize(n);
+    D->read_at.assign(n, 0);
+    slot = std::move(D);
 }
 
 CoarseGroupLevels::~CoarseGroupLevels() = default;
@@ -110,6 +126,7 @@ const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
     if (depth < min_depth() || depth > max_depth())
         throw Error("CoarseGroupLevels: depth " + std::to_string(depth) + " is not in " + std::to_string(min_depth()) +
                     ".." + std::to_string(max_depth()));
+    if (!has_depth(depth)) throw Error("CoarseGroupLevels: depth " + std::to_string(depth) + " is not built yet");
     return *levels_[static_cast<std::size_t>(depth - min_depth())];
 }
 
@@ -123,6 +140,7 @@ void CoarseGroupLevels::read_around(std::span<const std::pair<int, std::array<in
 
 void CoarseGroupLevels::forget_reads() {
     for (const auto& D : levels_) {
+        if (!D) continue;
         for (std::size_t t = 0; t < D->meshes.size(); ++t)
             if (D->read_at[t] != 0) {
                 D->meshes[t] = TriMesh{};
@@ -139,6 +157,7 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
     std::vector<Interval> scratch;  // one ray's buffer for every re-read
     const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
     for (auto& Dp : levels_) {
+        if (!Dp) continue;  // built later from the model as it is then
         Depth& D = *Dp;
         const int s = D.stride;
         for (const std::uint64_t t : changed_tiles) {

@@ -44,9 +44,11 @@ struct CoarseLevelOptions {
 /// Not thread-safe: one thread updates and reads it.
 class CoarseGroupLevels {
 public:
-    /// Reads `fine` at strides 2^min_depth ... 2^max_depth and contours each coarse model whole (on the task pool).
-    /// Throws tridex::Error when options are out of range (1 <= min_depth <= max_depth <= 6, cells > 0 and finite).
-    CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options);
+    /// Reads `fine` at strides 2^first_depth ... 2^max_depth and contours each coarse model whole (on the task pool);
+    /// first_depth 0 means min_depth (every depth). The finer depths wait for build_depth(). Throws tridex::Error when
+    /// options are out of range (1 <= min_depth <= max_depth <= 6, cells > 0 and finite) or first_depth is neither 0
+    /// nor in min_depth..max_depth.
+    CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOptions& options, int first_depth = 0);
     ~CoarseGroupLevels();
     CoarseGroupLevels(const CoarseGroupLevels&) = delete;
     CoarseGroupLevels& operator=(const CoarseGroupLevels&) = delete;
@@ -59,10 +61,16 @@ public:
     /// Depths with levels (min_depth()..max_depth()).
     int min_depth() const { return options_.min_depth; }
     int max_depth() const { return options_.max_depth; }
+    /// True when depth d's coarse model is built (by the constructor or build_depth()); false outside the depths.
+    bool has_depth(int depth) const;
+    /// Reads `fine` at stride 2^depth and contours that coarse model whole, as the constructor does (nothing when it
+    /// is built already); depth 1 costs about a quarter of the model's whole contour. Throws tridex::Error for a depth
+    /// outside min_depth()..max_depth().
+    void build_depth(const TriDexel& fine, int depth);
     /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in
     /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
     /// cells. An empty mesh where the coarse contour has no surface near the group. Throws tridex::Error for a depth
-    /// outside min_depth()..max_depth() or coords outside that depth's group grid.
+    /// outside min_depth()..max_depth() or not built yet (has_depth), or coords outside that depth's group grid.
     TileLodLevel level(int depth, const std::array<int, 3>& coords) const;
     /// Reads the meshes of the coarse tiles the levels of `groups` (depth, coords) take (each group's and the 26 around
     /// it) where their contour changed since they were last read, so that level() of those groups then only reads
@@ -75,7 +83,7 @@ private:
     struct Depth;
     const Depth& at(int depth) const;
     CoarseLevelOptions options_;
-    std::vector<std::unique_ptr<Depth>> levels_;  // [depth - min_depth]
+    std::vector<std::unique_ptr<Depth>> levels_;  // [depth - min_depth]; null until built
 };
 
 /// Adds a skirt to `mesh` (with per-vertex `materials` and `normals`, same size as its positions): for every open

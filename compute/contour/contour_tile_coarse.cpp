@@ -10,10 +10,10 @@
 
 namespace tridex::compute {
 
-void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options) {
+void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options, bool coarse_first) {
     if (!lod_) throw Error("TileSurfaceCache::use_coarse_groups: call enable_lod() first");
     if (refreshed_) throw Error("TileSurfaceCache::use_coarse_groups: call it before the first refresh()");
-    coarse_ = std::make_unique<CoarseGroupLevels>(model, options);
+    coarse_ = std::make_unique<CoarseGroupLevels>(model, options, coarse_first ? options.max_depth : 0);
     coarse_model_ = &model;
     lod_options_.group_depth = options.max_depth;
 }
@@ -63,7 +63,10 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
         coarse_changed_.clear();
     }
     // Finest depth first: the levels a close view needs come back first.
-    std::vector<std::uint64_t> ids(coarse_stale_.begin(), coarse_stale_.end());
+    std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
+    for (const std::uint64_t id : coarse_stale_)
+        if (coarse_->has_depth(static_cast<int>(id >> 56))) ids.push_back(id);
+    if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
     // Start-up's finest groups (no stroke yet) in larger batches: nothing else waits for the sculpt thread then.
     const bool startup = coarse_changed_at_ == std::chrono::steady_clock::time_point{};
@@ -86,10 +89,25 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         where.emplace_back(groups_[g].depth, groups_[g].coords);
     }
     coarse_->read_around(where);  // level() of these only reads from here on, so the jobs may run at once
+    // A coarse-first start-up measures a level's error once all its group's tiles are in (update_startup_groups);
+    // until then it keeps the level's estimate.
+    std::vector<bool> measure(groups.size(), true);
+    if (!expected_.empty()) {
+        const std::vector<bool> refined = groups_refined();
+        for (std::size_t i = 0; i < groups.size(); ++i) {
+            measure[i] = refined[static_cast<std::size_t>(groups[i] - groups_.data())];
+            if (measure[i]) provisional_.erase(groups[i]->id);
+            else provisional_.insert(groups[i]->id);
+        }
+    }
     std::vector<TileLodLevel> built(groups.size());
     run_lod_jobs(groups.size(), [&](std::size_t i) {
         built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
-        if (!built[i].mesh.triangles.empty()) built[i].error_m = coarse_level_error(*groups[i], built[i]);
+        if (built[i].mesh.triangles.empty()) return;
+        if (measure[i])
+            built[i].error_m = coarse_level_error(*groups[i], built[i]);
+        else  // the level's estimate is one coarse cell (CoarseLevelOptions::error_coarse_cells 1)
+            built[i].error_m *= kStartupErrorCoarseCells;
     });
     for (std::size_t i = 0; i < groups.size(); ++i) {
         groups[i]->lods.clear();

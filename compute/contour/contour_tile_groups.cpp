@@ -50,9 +50,9 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         for (int d = 1; d <= depth_max && (!coarse_ || d < coarse_->min_depth()); ++d)
             stale.insert(grid.group_of(grid.tile_coords(t), d));
     std::map<std::uint64_t, TileGroupSurface> next;
-    for (const TileSurface& tile : tiles_) {
-        const std::array<int, 3> tc = grid.tile_coords(tile.id);
-        std::uint64_t child = tile.id;
+    const auto add = [&](std::uint64_t tile_id, const Aabb& bounds_m) {
+        const std::array<int, 3> tc = grid.tile_coords(tile_id);
+        std::uint64_t child = tile_id;
         for (int d = 1; d <= depth_max; ++d) {
             const std::uint64_t id = grid.group_of(tc, d);
             TileGroupSurface& g = next[id];
@@ -63,11 +63,13 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
                 g.parent = d < depth_max ? grid.group_of(tc, d + 1) : TileGroupSurface::kNone;
             }
             if (std::find(g.children.begin(), g.children.end(), child) == g.children.end()) g.children.push_back(child);
-            g.bounds_m.add(tile.bounds_m.lo);
-            g.bounds_m.add(tile.bounds_m.hi);
+            g.bounds_m.add(bounds_m.lo);
+            g.bounds_m.add(bounds_m.hi);
             child = id;
         }
-    }
+    };
+    for (const TileSurface& tile : tiles_) add(tile.id, tile.bounds_m);
+    for (const std::uint64_t id : expected_) add(id, expected_tile_box(id, dims));  // coarse-first start-up
     std::vector<TileGroupSurface> groups;
     std::vector<bool> pending, queued;
     std::vector<std::chrono::steady_clock::time_point> changed_at;
@@ -82,6 +84,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         if (found && !stale.count(id) && old->children == g.children) {
             g.version = old->version;
             g.lods = std::move(old->lods);
+            g.children_cover = old->children_cover;
             const auto at = static_cast<std::size_t>(old - groups_.begin());
             pending.push_back(group_pending_[at]);
             queued.push_back(at < group_queued_.size() && group_queued_[at]);

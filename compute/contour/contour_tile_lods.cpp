@@ -29,16 +29,32 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
     const auto now = std::chrono::steady_clock::now();
     for (const std::size_t i : fresh) {
         const TileSurface& t = tiles_[i];
-        if (refreshed_ && tile_settle_.count() > 0) {  // a stroke's tile: queued once it has been quiet
+        const bool arrival = arrived_.count(t.id) != 0;  // start-up's (expect_tiles), however late
+        if (arrival && !expected_.empty()) {  // the groups stand in meanwhile: the tiles' contour goes first
+            deferred_.push_back(t.id);
+            continue;
+        }
+        if (refreshed_ && !arrival && tile_settle_.count() > 0) {  // a stroke's tile: queued once it has been quiet
             worker_->cancel(false, t.id);              // a waiting job for its older mesh would be thrown away
             settling_[t.id] = now;
             tile_due_ = std::min(tile_due_, now + tile_settle_);
             queued_[lod_key(false, t.id)] = Queued{now, true};
             continue;
         }
-        worker_->submit(tile_job(i), refreshed_);
-        queued_[lod_key(false, t.id)] = Queued{now, refreshed_};
+        worker_->submit(tile_job(i), refreshed_ && !arrival);
+        queued_[lod_key(false, t.id)] = Queued{now, refreshed_ && !arrival};
     }
+}
+
+void TileSurfaceCache::queue_deferred_tiles() {
+    const auto now = std::chrono::steady_clock::now();
+    for (const std::uint64_t id : deferred_) {
+        const std::size_t i = index_of(tiles_, id);
+        if (i == tiles_.size() || !pending_[i] || queued_.count(lod_key(false, id))) continue;  // gone or a stroke's
+        worker_->submit(tile_job(i), false);
+        queued_[lod_key(false, id)] = Queued{now, false};
+    }
+    deferred_.clear();
 }
 
 LodJob TileSurfaceCache::tile_job(std::size_t i) const {
@@ -96,6 +112,8 @@ void TileSurfaceCache::queue_ready_groups() {
 
 std::size_t TileSurfaceCache::collect_lods() {
     const std::size_t coarse = coarse_ ? settle_coarse_levels(std::chrono::steady_clock::now()) : 0;
+    // Levels that arrived can stand in now; refined groups' errors still to measure.
+    if (startup_groups_ && (coarse > 0 || remeasure_more_)) update_startup_groups();
     if (!worker_) return coarse;
     std::vector<LodResult> results;
     worker_->take(results);
@@ -145,7 +163,7 @@ std::size_t TileSurfaceCache::collect_lods() {
             queued_.erase(q);
         }
     }
-    if (refreshed_ && startup_waiting_.empty()) worker_->end_startup();  // start-up's levels are all in
+    if (refreshed_ && startup_waiting_.empty() && expected_.empty()) worker_->end_startup();  // start-up's all in
     // A result can make a group ready, and time ends a ready group's settling.
     if (!results.empty() || now >= settle_due_) queue_ready_groups();
     return taken + coarse;

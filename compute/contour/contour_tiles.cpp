@@ -71,8 +71,10 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         build_lods(all);
     }
     // Tiles rebuilt or gone: the groups over them lose their levels.
+    // Tiles that arrive in a coarse-first start-up (arrive()) are not changes: no group level is dropped for them.
     std::vector<std::uint64_t> changed;
-    for (const TileSurface& s : rebuilt) changed.push_back(s.id);
+    for (const TileSurface& s : rebuilt)
+        if (!arrived_.count(s.id)) changed.push_back(s.id);
     {
         std::size_t k = 0;
         for (const TileSurface& t : tiles_) {
@@ -110,7 +112,8 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;
         for (const TileGroupSurface& g : groups_)
-            if (g.depth >= coarse_->min_depth() && (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth())) {
+            if (g.depth >= coarse_->min_depth() && coarse_->has_depth(g.depth) &&
+                (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth())) {
                 ids.push_back(g.id);
                 coarse_stale_.erase(g.id);
             }
@@ -123,13 +126,18 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
                 if (pending_[i]) startup_waiting_.insert(lod_key(false, tiles_[i].id));
             for (std::size_t g = 0; g < groups_.size(); ++g)
                 if (group_pending_[g]) startup_waiting_.insert(lod_key(true, groups_[g].id));
-        } else {  // changed tiles are a stroke's now (their groups: update_groups)
+        } else {  // changed tiles are a stroke's now (their groups: update_groups); arrived ones start-up's
             for (const std::uint64_t id : changed) startup_waiting_.erase(lod_key(false, id));
+            for (const std::size_t i : fresh)
+                if (arrived_.count(tiles_[i].id)) startup_waiting_.insert(lod_key(false, tiles_[i].id));
         }
         queue_tile_lods(fresh);
+        if (expected_.empty() && !deferred_.empty()) queue_deferred_tiles();
         queue_ready_groups();
     }
     refreshed_ = true;
+    arrived_.clear();
+    if (startup_groups_) update_startup_groups();
     if (build_now) {  // every group, finest depth first (a group is built from its children's levels)
         const auto t0 = std::chrono::steady_clock::now();
         for (int d = 1; d <= lod_options_.group_depth; ++d) {

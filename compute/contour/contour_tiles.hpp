@@ -62,6 +62,11 @@ struct TileGroupSurface {
     /// Levels over the whole group, finest first (build_group_lod); empty: not built yet, or the group does
     /// not simplify (its children are drawn instead).
     std::vector<TileLodLevel> lods;
+    /// true when the tiles and smaller groups under it can draw all of its surface without it (always, outside
+    /// start-up's coarse-first refinement). false while some tile under it has not been contoured yet
+    /// (TileSurfaceCache::expect_tiles) and the groups under it cannot stand in for it: a renderer then draws one
+    /// of its levels, whatever that level's error on screen.
+    bool children_cover = true;
 };
 
 /// The id of the depth-d group with linear index `index` in that depth's group grid: the depth in the top
@@ -158,7 +163,34 @@ public:
     /// becomes options.max_depth. `model` is the one the Contourer given to refresh() contours; it must outlive
     /// the cache and not change during refresh() or collect_lods(). Call after enable_lod() and before the first
     /// refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as CoarseGroupLevels.
-    void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {});
+    /// coarse_first: only the coarsest depth's model is read now (the first refresh() gives those groups their levels);
+    /// build_coarse_depth() reads the finer ones later, and their groups get their levels through collect_lods().
+    void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {}, bool coarse_first = false);
+    /// Coarse-first start-up: reads the coarsest depth not read yet (use_coarse_groups with coarse_first) and gives
+    /// its groups their levels (on every core). Returns false when every depth is read. Reading depth 1 costs about
+    /// a quarter of the model's whole contour.
+    bool build_coarse_depth();
+    /// Coarse-first start-up (after use_coarse_groups, before the first refresh()): tiles of the model that hold
+    /// surface but are not contoured yet (compute::StartupRefiner::pending_tiles). The groups over them exist from
+    /// the first refresh() on, with their coarse levels, and say where no tile stands in for them yet
+    /// (TileGroupSurface::children_cover). Throws tridex::Error after a refresh() or without coarse groups.
+    void expect_tiles(const std::vector<std::uint64_t>& ids);
+    /// Expected tiles that the next refresh() may show (contoured with their neighbours,
+    /// StartupRefiner::take_newly_publishable): they arrive as start-up's tiles, not as changes (no group level is
+    /// dropped for them), and their levels are queued once no tile is expected (the groups stand in until then);
+    /// one without triangles is simply no longer expected. Ids not expected are ignored.
+    void arrive(const std::vector<std::uint64_t>& ids);
+    /// Expected tiles that changed before their first contour (a stroke's, StartupRefiner::pending_among): no longer
+    /// expected, so the refresh() that shows them counts them as changed, as any stroke's tiles.
+    void stop_expecting(const std::vector<std::uint64_t>& ids);
+    /// Coarse-first start-up, before a change's re-contour: the tiles that must be drawn at full resolution once the
+    /// refresh() after it drops the levels within reach of `dirty_tiles` (the change's dirty tiles; their neighbours,
+    /// whose borrowed vertices move, are counted too): the tiles of every depth-1 group whose level is dropped or
+    /// missing and under a dropped group where no smaller group's level stands in, and `dirty_tiles`. Empty when no
+    /// tile is expected. O(groups reached x their children).
+    std::vector<std::uint64_t> tiles_to_cover(const std::vector<std::uint64_t>& dirty_tiles) const;
+    /// Tiles expected and not arrived yet (0 outside a coarse-first start-up).
+    std::size_t expected_tiles() const { return expected_.size(); }
     /// True after use_coarse_groups().
     bool coarse_groups() const { return coarse_ != nullptr; }
     /// Coarse group levels rebuilt by collect_lods() at most at a time after a stroke (each reads its coarse tile
@@ -167,12 +199,21 @@ public:
     /// The first refresh() builds the coarse levels of the groups of this depth and deeper at once (the coarsest
     /// ones, which a first frame of the whole workpiece draws); those of finer groups follow through collect_lods().
     static constexpr int kCoarseStartupDepth = 2;
+    /// Coarse-first start-up: the errors of levels built before their tiles were in that collect_lods() or
+    /// refresh() measures at most at a time once those tiles are in (each reads its group's tile vertices).
+    static constexpr std::size_t kStartupErrorsPerPass = 4;
+    /// Coarse-first start-up: a level built before its group's tiles are in takes this many coarse cells as its
+    /// error until it is measured: a typical group's measured error lies well under it, the largest two-sided
+    /// distance over a whole model (`tridex bench --coarse`) somewhat over it; the level's own estimate (one coarse
+    /// cell) would have frames draw the finest groups nearly everywhere while the tiles are contoured.
+    static constexpr double kStartupErrorCoarseCells = 0.25;
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
     /// 0 once start-up's levels are all built, however busy a stroke keeps the worker. 0 before the first refresh.
-    std::size_t startup_lod_pending() const { return startup_waiting_.size(); }
+    /// In a coarse-first start-up the tiles still expected count too.
+    std::size_t startup_lod_pending() const { return startup_waiting_.size() + expected_.size(); }
 
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
@@ -182,7 +223,8 @@ private:
     // Runs job(0..count-1), on every core from kParallelLodTiles jobs; rethrows the first failure.
     static void run_lod_jobs(std::size_t count, const std::function<void(std::size_t)>& job);
     bool group_ready(std::size_t g) const;
-    void queue_tile_lods(const std::vector<std::size_t>& fresh);  // background: jobs for tiles_ entries
+    // Background: jobs for tiles_ entries; those in arrived_ are start-up's (expect_tiles).
+    void queue_tile_lods(const std::vector<std::size_t>& fresh);
     void queue_ready_groups();                                   // background: jobs for groups now ready
     void queue_settled_tiles(std::chrono::steady_clock::time_point now);  // background: a stroke's quiet tiles
     LodJob tile_job(std::size_t i) const;  // the job for tiles_[i]'s levels: copies of its mesh and materials
@@ -237,6 +279,22 @@ private:
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
+    // Coarse-first start-up (expect_tiles): tiles still expected, those arriving with the next refresh, groups whose
+    // level's error was measured before all their tiles were in, and whether the groups' flags need another pass.
+    std::unordered_set<std::uint64_t> expected_;
+    std::unordered_set<std::uint64_t> arrived_;
+    std::unordered_set<std::uint64_t> provisional_;
+    bool startup_groups_ = false;
+    bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure
+    std::vector<std::uint64_t> deferred_;  // arrived tiles whose level jobs wait until no tile is expected
+    void queue_deferred_tiles();           // background: jobs for deferred_ (start-up's)
+    // Coarse-first: per groups_ entry, true when every tile under it is in tiles_ (none expected).
+    std::vector<bool> groups_refined() const;
+    // Coarse-first: sets each group's children_cover and re-measures the error of up to
+    // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
+    void update_startup_groups();
+    // Coarse-first: the box of expected tile `id` grown by a cell (its mesh may borrow vertices that far), m.
+    Aabb expected_tile_box(std::uint64_t id, const std::array<int, 3>& dims) const;
 };
 
 }  // namespace tridex::compute

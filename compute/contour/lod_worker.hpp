@@ -2,6 +2,8 @@
 // render threads: jobs in, finished levels out, nobody waits.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -53,6 +55,12 @@ struct LodResult {
 /// LodWorkerOptions::coarse_groups_from_cells by default.
 constexpr int kCoarseGroupsFromCells = 512;
 
+/// True when groups of tiles take their levels from the model read at coarser strides (TileSurfaceCache::
+/// use_coarse_groups): from_cells > 0 and the lattice has at least from_cells cells along its longest side.
+constexpr bool coarse_groups_apply(const std::array<int, 3>& cells, int from_cells) {
+    return from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= from_cells;
+}
+
 struct LodWorkerOptions {
     TileLodOptions lod;  ///< how levels are made (cell_m must be finite and > 0)
     /// Worker threads (>= 1): two let start-up use both cores of a small machine; a stroke's jobs are small.
@@ -81,6 +89,10 @@ struct LodWorkerOptions {
     /// the model has at least this many cells along its longest side and is contoured on the CPU; 0 = never.
     /// Simplifying every tile's and group's levels no longer keeps up with a stroke from there on.
     int coarse_groups_from_cells = kCoarseGroupsFromCells;
+    /// With coarse groups: start-up publishes a first mesh of the coarsest group levels before any tile is contoured,
+    /// then contours the tiles region by region (compute::StartupRefiner; docs/design/lod.md, "Coarse first at
+    /// start-up"). The Contourer must not have contoured the model yet.
+    bool coarse_first = false;
     /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
     std::function<void(const LodJob&)> before_job;
 };

@@ -162,7 +162,10 @@ void SculptThread::start() {
 }
 
 void SculptThread::stop() {
-    if (!thread_.joinable()) return;
+    if (!thread_.joinable()) {
+        if (refiner_ && !failure_) refine_startup(true);  // never started: the Contourer still holds every tile
+        return;
+    }
     stop_.store(true);
     thread_.join();
     if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
@@ -172,6 +175,7 @@ void SculptThread::run() {
     for (;;) {
         const bool stopping = stop_.load(std::memory_order_acquire);
         bool worked = false;
+        const std::uint64_t steps_before = stats_.steps;
         if (failure_) {  // failed earlier: keep the ring drained so the producer never sees it full
             ToolSample s;
             while (samples_.try_pop(s)) worked = true;
@@ -187,6 +191,8 @@ void SculptThread::run() {
         }
         if (!failure_) {
             try {
+                // Start-up's refinement waits while the model changes: a stroke's own tiles are contoured at once.
+                if (stats_.steps == steps_before || (stopping && !worked)) refine_startup(stopping && !worked);
                 collect_lods();
                 publish_mesh_if_due(stopping && !worked);  // the last state always reaches the renderer
             } catch (...) {
@@ -342,6 +348,14 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
         stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
         model_.clear_dirty();
     } else {
+        // A coarse-first start-up: the tiles within reach of the change are contoured with it (their groups' levels
+        // are dropped); those it changed before their first contour are a stroke's, not start-up's.
+        if (refiner_ && !refiner_->done()) {
+            const std::vector<std::uint32_t> d = model_.tiles.dirty_tiles();
+            const std::vector<std::uint64_t> dirty(d.begin(), d.end());
+            tile_cache_.stop_expecting(refiner_->pending_among(dirty));
+            stats_.startup_tiles_refined += refiner_->contour_with_change(model_, tile_cache_.tiles_to_cover(dirty));
+        }
         stats_.tiles_recontoured += contourer_.update(model_);
     }
     ++stats_.steps;
@@ -449,27 +463,6 @@ void SculptThread::checkpoint_if_due() {
     stats_.busy_ms += ms;
 }
 
-void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
-    if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
-    if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
-    tile_cache_.enable_lod(options.lod);
-    const std::array<int, 3>& cells = model_.lattice.cells;
-    if (options.coarse_groups_from_cells > 0 && !gpu_contour_ &&
-        std::max({cells[0], cells[1], cells[2]}) >= options.coarse_groups_from_cells)
-        tile_cache_.use_coarse_groups(model_);
-    tile_cache_.build_lods_in_background(options);
-    if (gpu_contour_) gpu_contour_->read_back_tiles();
-}
-
-void SculptThread::collect_lods() {
-    if (!tile_cache_.lod_enabled()) return;
-    if (tile_cache_.collect_lods() > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
-    const std::size_t pending = tile_cache_.lod_pending();
-    if (tile_cache_.startup_lod_pending() == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
-        stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-    lod_pending_.store(pending, std::memory_order_release);
-}
-
 void SculptThread::publish_mesh_to(TripleBuffer<MeshFrame>& out, double min_interval_s, MeshForm form,
                                    ChangeSignal* sculpted) {
     if (thread_.joinable()) throw Error("SculptThread::publish_mesh_to: call it before start()");
@@ -543,7 +536,7 @@ void SculptThread::publish_mesh() {
         slot.tiled = false;
         slot.triangles = slot.mesh.triangles.size();
     } else {
-        tile_cache_.refresh(contourer_);
+        refresh_tile_cache();
         share_tile_cache(slot);
         slot.mesh = TriMesh{};
         slot.materials.clear();
@@ -559,6 +552,7 @@ void SculptThread::publish_mesh() {
     slot.oldest_sample_t_s = sampled ? pending_sample_.t_s : std::numeric_limits<double>::quiet_NaN();
     last_oldest_sample_ = std::exchange(pending_sample_, SampleTimes{});
     slot.version = ++mesh_version_;
+    if (!refiner_ && stats_.startup_refined_s < 0.0) stats_.startup_refined_s = slot.published_s;
     mesh_out_->publish();
     if (sampled && mesh_sculpted_) mesh_sculpted_->notify();
     mesh_pending_ = false;

@@ -16,6 +16,7 @@
 
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/startup_refine.hpp"
 #include "compute/history/undo_history.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/journal/tool_stream.hpp"
@@ -74,6 +75,12 @@ struct SculptStats {
     /// tile and group of start-up had its levels (TileSurfaceCache::startup_lod_pending: those a stroke changed
     /// meanwhile count as the stroke's), or -1 when that never happened.
     double lod_all_built_s = -1.0;
+    /// Steady-clock time (s, the epoch of MeshFrame::published_s) of the first mesh publish that held every tile at
+    /// full resolution: the first publish, or with a coarse-first start-up (LodWorkerOptions::coarse_first) the one
+    /// after the last region was contoured; -1 when that never happened.
+    double startup_refined_s = -1.0;
+    /// Coarse-first start-up: tiles contoured by the refinement (StartupRefiner) before the session ended.
+    std::uint64_t startup_tiles_refined = 0;
     /// use_tile_lod: tiles and groups still waiting for their levels at the last mesh publish.
     std::size_t lod_pending = 0;
     /// use_tile_lod: per tile or group re-contoured after start-up that got its levels, the wall time from its
@@ -280,6 +287,9 @@ public:
     bool request(SculptRequest r);
     /// Device time (s) without a change after which an open stroke closes.
     static constexpr double kStrokeIdleS = 0.5;
+    /// Coarse-first start-up: wall time (s) a pass of the thread spends contouring regions of tiles (at least one),
+    /// as long as no change is waiting (use_tile_lod).
+    static constexpr double kRefineSliceS = 0.1;
 
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
@@ -325,6 +335,13 @@ public:
     /// least options.coarse_groups_from_cells cells along its longest side, the groups of tiles take their levels
     /// from the model read at coarser strides (TileSurfaceCache::use_coarse_groups), the coarser ones in the first
     /// publish.
+    /// With options.coarse_first (coarse groups only, else tridex::Error; the Contourer must not have contoured
+    /// the model: its dirty tiles are the ones to contour): the first publish holds no tile, only the groups with the
+    /// coarsest depth's levels, which the renderer draws where no tile stands in (TileGroupSurface::children_cover);
+    /// each later pass of the thread reads a finer coarse depth or contours the next region of tiles (nearest the
+    /// tool first; compute::StartupRefiner), published as start-up's tiles. A change (stroke, undo) during it
+    /// contours at once its dirty tiles and every tile that must stand in for the group levels it drops
+    /// (TileSurfaceCache::tiles_to_cover). stop() contours what is left.
     void use_tile_lod(const compute::LodWorkerOptions& options);
 
 private:
@@ -348,6 +365,9 @@ private:
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
     void collect_lods();                   // take in finished levels of detail (use_tile_lod)
     void share_tile_cache(MeshFrame& slot);  // tile_cache_'s tiles and groups into slot, sharing unchanged ones
+    // Coarse-first start-up: one step of the refinement (a finer coarse depth or a region of tiles), or all of it.
+    void refine_startup(bool finish);
+    void refresh_tile_cache();  // tile_cache_ from the contour, through the refiner while it runs
 
     compute::TriDexel& model_;
     std::unique_ptr<BooleanBackend> own_backend_;  // the CPU reference unless use_backend() was called
@@ -419,6 +439,7 @@ private:
     SampleTimes last_oldest_sample_;  // the same of the last publish
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
+    std::unique_ptr<compute::StartupRefiner> refiner_;                  // coarse-first start-up while it runs
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> shared_groups_;  // kTiles: last published, by id
     std::chrono::steady_clock::time_point mesh_last_{};

@@ -32,8 +32,10 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
             const std::size_t p = groups[g].parent;
             if (p != TileGroup::kNone && (covered[p] || level[p] > 0))
                 covered[g] = 1;
-            else
+            else {
                 level[g] = choose_level(groups[g].levels, px_per_m[g], max_px);
+                if (level[g] == 0 && !groups[g].children_cover && !groups[g].levels.empty()) level[g] = 1;
+            }
             state[g] = 2;
         }
     }

@@ -23,13 +23,19 @@ struct TileGroup {
     std::uint64_t version = 0;  ///< changes whenever its levels change (re-uploaded then)
     std::span<const TileMeshLevel> levels{};  ///< finest first; empty: never drawn (its children are)
     std::size_t parent = kNone;  ///< index of the enclosing group in the same list, or kNone
+    /// false: what lies under the group cannot draw all of its surface yet (a coarse-first start-up whose tiles
+    /// are not all contoured, compute::TileGroupSurface::children_cover), so the group is drawn at its coarsest level
+    /// within the bound, else its finest, unless an enclosing group is drawn.
+    bool children_cover = true;
 };
 
 /// Per group, what an eye draws: 0 = not this group (an enclosing group is drawn, or none of its levels is
 /// within the bound and its children are considered), k >= 1 = its level k (1-based into levels).
 /// `covered` gets, per group, 1 when an enclosing group is drawn (the group and its tiles are then not drawn).
 /// A group is drawn at its coarsest level whose error_m * px_per_m[g] <= max_px, unless an enclosing group is
-/// drawn; so every tile is drawn at most once, by itself or by exactly one group. px_per_m: per group, the
+/// drawn; so every tile is drawn at most once, by itself or by exactly one group. A group whose children do not
+/// cover it (TileGroup::children_cover false) and that has levels is drawn whatever its error: its finest level
+/// when none is within the bound. px_per_m: per group, the
 /// pixels_per_metre of its bounds in the eye (size = groups.size()). Throws tridex::Error when sizes differ or a
 /// parent index is out of range or parents form a cycle.
 std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,

@@ -339,7 +339,8 @@ void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameR
 
 void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const FrameEyes& eyes, FrameDraws& list,
                                               FrameStats& stats) {
-    if (scene.tiles.empty() && tiles.size() == 0) return;
+    // Groups alone (a coarse-first start-up's first frames) are drawn too.
+    if (scene.tiles.empty() && tiles.size() == 0 && scene.tile_groups.empty() && groups.size() == 0) return;
     // Tiles read back from the GPU contour: stored and drawn in its grid units.
     ModelFrame frame;
     glm::mat4 world_from_model(1.0f);

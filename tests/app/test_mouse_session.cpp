@@ -99,6 +99,25 @@ PickSurface load_surface(const fs::path& ply) {
     return s;
 }
 
+// A coarse-first start-up: where a group is drawn because its tiles are not in yet, the cursor picks on its level.
+TEST(MouseSession, PicksOnAGroupDrawnInPlaceOfItsTiles) {
+    auto group = std::make_shared<compute::TileGroupSurface>();
+    compute::TileLodLevel level;
+    level.mesh.positions = {Vec3(-1.0, -1.0, 0.0), Vec3(1.0, -1.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    level.mesh.triangles = {{0, 1, 2}};
+    group->lods.push_back(level);
+    group->bounds_m = level.mesh.bounds();
+    group->children_cover = false;
+    PickSurface surface;
+    surface.groups = {group};
+    const Ray down{Vec3(0.0, 0.0, 2.0), Vec3(0.0, 0.0, -1.0)};
+    const std::optional<SurfaceHit> hit = pick_surface(surface, down);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(hit->distance_m, 2.0, 1e-12);
+    group->children_cover = true;  // its tiles are drawn instead: they are the ones picked
+    EXPECT_FALSE(pick_surface(surface, down).has_value());
+}
+
 TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) {
     const fs::path dir = test::temp_dir("mouse_groove");
     const RunResult hover = run_mouse(dir, "hover", 0, false);

@@ -131,5 +131,33 @@ TEST(TileGroupLod, GroupsObeyTheBoundAndCoverTheirChildrenOnce) {
     EXPECT_THROW(choose_group_levels(groups, std::vector<double>(4, 1.0), 1.0, covered), Error);
 }
 
+// A coarse-first start-up: a group whose children cannot cover it yet is drawn whatever its error (its finest level
+// when none is within the bound), unless an enclosing group is drawn; once they cover it, the bound decides again.
+TEST(TileGroupLod, AGroupItsChildrenCannotCoverIsDrawnWhateverItsError) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}};
+    const std::vector<TileMeshLevel> root{TileMeshLevel{&tri, nullptr, nullptr, 8e-3}},
+        child{TileMeshLevel{&tri, nullptr, nullptr, 2e-3}, TileMeshLevel{&tri, nullptr, nullptr, 4e-3}};
+    std::vector<TileGroup> groups(3);
+    groups[0].levels = root;
+    groups[1].levels = child;
+    groups[1].parent = 0;
+    groups[2].levels = child;
+    groups[2].parent = 0;
+    std::vector<std::uint8_t> covered;
+    const std::vector<double> near(3, 5000.0);  // every level strays by pixels
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 0, 0}));
+    groups[1].children_cover = false;  // its tiles are not contoured yet: its finest level stands in
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 1, 0}));
+    groups[0].children_cover = false;  // the root must be drawn: it covers both
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{1, 0, 0}));
+    EXPECT_EQ(covered, (std::vector<std::uint8_t>{0, 1, 1}));
+    // Far away the bound picks the root anyway; without levels a group cannot be forced.
+    EXPECT_EQ(choose_group_levels(groups, std::vector<double>(3, 100.0), 1.0, covered), (std::vector<std::size_t>{1, 0, 0}));
+    groups[0].levels = {};
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 1, 0}));
+}
+
 }  // namespace
 }  // namespace tridex::renderer

@@ -84,6 +84,12 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "whose error projects to at most a pixel); groups of tiles contoured from every 2nd, 4th, 8th ray of "
                     "the model (coarse) or simplified from their tiles (simplified); on: coarse from 512 cells")
         ->capture_default_str();
+    cmd->add_option("--startup", o.startup,
+                    "coarse | full (default coarse): with coarse group levels (--lod on from 512 cells, or coarse), the "
+                    "first frame draws the coarsest levels and the tiles replace them region by region as they are "
+                    "contoured (coarse), or every tile is contoured before the first frame (full)")
+        ->check(CLI::IsMember({"coarse", "full"}))
+        ->capture_default_str();
     cmd->add_option("--ao", o.ao,
                     "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "
                     "ambient_occlusion, on); key O toggles it in a window")

@@ -96,6 +96,11 @@ std::vector<ReportField> render_fields() {
          "group had changed again), build_ms, pending_at_end, "
          "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, tile_triangles_per_frame}; null "
          "otherwise"},
+        {"render.startup",
+         "run: start-up {coarse_first (a first mesh of coarse group levels, the tiles contoured after it), "
+         "load_to_first_frame_ms (the workpiece scan-converted or loaded to the first frame done), "
+         "first_frame_triangles and first_frame_groups (both eyes), load_to_refined_ms (to the first mesh publish with "
+         "every tile at full resolution), tiles_refined (tiles contoured after the first mesh)}; null otherwise"},
         {"render.frame_budget",
          "run: the frame-time budget {target_ms, window, react, min_scale, coarse_lod_px, frames_half, "
          "frames_quarter, frames_coarse_lod, frames_scaled, frames_sculpting, switches, ladder [{occlusion, lod_px, "

@@ -371,6 +371,13 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
 void RunPipeline::Parts::take_finished_frames() {
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) {
         r.render.add(fs);
+        if (fs.frame == 1) {  // the first frame: when it was done and what it drew (report.json startup)
+            r.first_frame_done_s = std::isfinite(fs.gpu_end_s)
+                                       ? fs.gpu_end_s
+                                       : std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+            r.first_frame_triangles = fs.tile_triangles[0] + fs.tile_triangles[1];
+            r.first_frame_groups = fs.groups_drawn[0] + fs.groups_drawn[1];
+        }
         while (!changes_in_flight.empty() && changes_in_flight.front().frame <= fs.frame) {
             const ChangeDrawn c = changes_in_flight.front();
             changes_in_flight.pop_front();

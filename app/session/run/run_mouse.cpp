@@ -36,6 +36,7 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
                      const MeshFrame& mesh, const haptics::LoopView& lv, Clock::time_point now) {
     PickSurface surface;
     surface.tiles = mesh.tiles;
+    surface.groups = mesh.groups;
     if (!mesh.tiled && !mesh.mesh.triangles.empty()) surface.whole = std::make_shared<const TriMesh>(mesh.mesh);
     frame(screen, eye_m, width_px, height_px, surface, lv, now);
 }

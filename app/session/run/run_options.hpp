@@ -93,6 +93,9 @@ struct RunOptions {
     /// With tiles: "on" builds each changed tile's levels of detail on a worker thread (never waited for) and
     /// draws each tile per eye at the coarsest level whose error projects to at most a pixel; "off": full meshes.
     std::string lod = "on";
+    /// "coarse": with coarse group levels, the first mesh holds the coarsest levels and the tiles are contoured after
+    /// it, region by region; "full": every tile is contoured before the first mesh (docs/design/lod.md).
+    std::string startup = "coarse";
     /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;

@@ -103,6 +103,7 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.checkpoint_s = su.checkpoint_s;
     sculpt_options.tile_lod = su.lod && su.tiles;
     sculpt_options.coarse_groups_from_cells = su.coarse_groups_from_cells;
+    sculpt_options.coarse_first = su.coarse_first;
     sculpt_options.gpu_clay = su.gpu_clay;
     sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
@@ -137,6 +138,8 @@ void RunPipeline::Parts::open_backend() {
     r.clay_path_reason = rt.booleans().backend->clay_reason();
     r.workpiece = workpiece_report_json(rt.workpiece());
     r.scan_s = rt.workpiece().scan_s;
+    r.loaded_s = backend->loaded_s();
+    r.coarse_first = rt.coarse_first();
     r.tiles_total = rt.workpiece().model.tiles.count();
     r.contour_path = rt.contour_path();
     r.contour_tiles_initial = rt.tiles_initial();

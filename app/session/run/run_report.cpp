@@ -56,6 +56,20 @@ json lod_json(const RunResult& r, const RenderLog& log) {
                   frames > 0.0 ? static_cast<double>(log.tile_triangles[1]) / frames : 0.0}}};
 }
 
+// render.startup: from the workpiece loaded to the first frame done and to every tile at full resolution.
+json startup_json(const RunResult& r) {
+    const auto after_load_ms = [&](double t_s) -> json {
+        if (t_s < 0.0 || r.loaded_s < 0.0) return nullptr;
+        return 1000.0 * (t_s - r.loaded_s);
+    };
+    return json{{"coarse_first", r.coarse_first},
+                {"load_to_first_frame_ms", after_load_ms(r.first_frame_done_s)},
+                {"first_frame_triangles", r.first_frame_triangles},
+                {"first_frame_groups", r.first_frame_groups},
+                {"load_to_refined_ms", after_load_ms(r.sculpt.startup_refined_s)},
+                {"tiles_refined", r.sculpt.startup_tiles_refined}};
+}
+
 json render_json(const RunResult& r) {
     const RenderLog& log = r.render;
     json per_frame = json::array();
@@ -80,7 +94,7 @@ json render_json(const RunResult& r) {
                  {{"on", r.ao_sculpting}, {"reason", r.ao_sculpting_reason}, {"frames_held", r.frames_occlusion_held}}},
                 {"frame_budget", r.frame_budget},
                 {"lod", lod_json(r, log)},
-
+                {"startup", startup_json(r)},
                 {"force_m_per_newton", r.force_m_per_newton},
                 {"timing", log.timing_note},
                 {"tiles",

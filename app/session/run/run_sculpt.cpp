@@ -2,6 +2,7 @@
 #include "app/session/run/run_sculpt.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <tuple>
@@ -53,6 +54,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     const RunStudy& study = scene.study;
     // A study scene's felt walls, or a mesh or a saved model (checksums for a replay).
     Workpiece wp = prepare_session_workpiece(spec);
+    loaded_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
     // middle), or, without a stroke, a hand at rest at home a tool diameter plus a clearance in front of

@@ -55,12 +55,15 @@ public:
     Vec3 start_tool_m() const { return start_m_; }
     Aabb start_box_m() const;
     std::size_t stroke_ticks() const { return stroke_ticks_; }  ///< ticks the stroke lasts; 0 without stroke
+    /// Steady-clock time (s) at which the workpiece was ready: scan-converted or loaded, before any contour.
+    double loaded_s() const { return loaded_s_; }
     /// The mouse device (driver "mouse"), or nullptr; owned by runtime().
     devices::MouseDevice* mouse() const { return mouse_; }
 
 private:
     Vec3 start_m_{0.0};
     std::size_t stroke_ticks_ = 0;
+    double loaded_s_ = -1.0;
     devices::MouseDevice* mouse_ = nullptr;
     std::unique_ptr<SessionRuntime> runtime_;
 };

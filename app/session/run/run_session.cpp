@@ -91,6 +91,9 @@ RunSetup resolve_run(const RunOptions& o) {
         throw Error("--lod: must be on, off, coarse or simplified, got '" + o.lod + "'");
     s.lod = o.lod != "off";
     s.coarse_groups_from_cells = o.lod == "coarse" ? 1 : o.lod == "simplified" ? 0 : compute::kCoarseGroupsFromCells;
+    if (o.startup != "coarse" && o.startup != "full")
+        throw Error("--startup: must be coarse or full, got '" + o.startup + "'");
+    s.coarse_first = o.startup == "coarse";
     if (!o.ao.empty() && o.ao != "on" && o.ao != "off") throw Error("--ao: must be on or off, got '" + o.ao + "'");
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");

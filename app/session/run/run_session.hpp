@@ -51,6 +51,8 @@ struct RunSetup {
     /// Groups of tiles take their levels from the model read at coarser strides from this many cells along the
     /// model's longest side (compute::LodWorkerOptions::coarse_groups_from_cells; --lod coarse: 1, simplified: 0).
     int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
+    /// With coarse groups: the tiles are contoured after a first mesh of coarse levels (--startup coarse, default).
+    bool coarse_first = true;
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     std::string ao_sculpting = "auto";  ///< --ao-while-sculpting: on | off | auto (RunOptions::ao_sculpting)
     double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)
@@ -131,6 +133,12 @@ struct RunResult {
     double wall_s = 0.0;                         ///< whole run, s
     double render_s = 0.0;                       ///< from the first frame to the end of the last, s
     double first_frame_s = -1.0;                 ///< steady-clock time of the first frame's start, s (-1: none)
+    double loaded_s = -1.0;                      ///< steady-clock time the workpiece was ready (scan-converted), s
+    bool coarse_first = false;                   ///< the tiles were contoured after a first mesh of coarse levels
+    /// Steady-clock time the first frame was done (the device finished it, else its present returned), s (-1: none).
+    double first_frame_done_s = -1.0;
+    std::size_t first_frame_triangles = 0;       ///< workpiece triangles the first frame drew, both eyes
+    std::size_t first_frame_groups = 0;          ///< groups of tiles the first frame drew at a level, both eyes
     haptics::LoopStats loop{};                   ///< haptic loop counters
     SculptStats sculpt;                          ///< sculpt thread counters (mesh publishes included)
     double session_s = 0.0;                      ///< haptic + sculpt threads running, s

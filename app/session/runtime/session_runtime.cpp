@@ -89,7 +89,11 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     choose_contour(o);
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     const auto t0 = Clock::now();
-    {
+    // Coarse first: the sculpt thread contours the tiles after a first mesh of coarse group levels (use_tile_lod).
+    coarse_first_ = o.sculpt.coarse_first && o.publish_meshes && o.mesh_form == MeshForm::kTiles &&
+                              o.sculpt.tile_lod && !gpu_contour_ &&
+                              compute::coarse_groups_apply(wp_.model.lattice.cells, o.sculpt.coarse_groups_from_cells);
+    if (!coarse_first_) {
         const StopEndsSetUp set_up("contouring the workpiece");  // no force sent, no work to keep yet
         ProgressReporter::Step step = progress().step("contouring the workpiece");
         if (gpu_contour_) {
@@ -146,6 +150,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         compute::LodWorkerOptions lod;
         lod.lod.cell_m = wp_.model.lattice.cell_m;
         lod.coarse_groups_from_cells = o.sculpt.coarse_groups_from_cells;
+        lod.coarse_first = coarse_first_;
         sculpt_->use_tile_lod(lod);
     }
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form, &sculpted_changes_);

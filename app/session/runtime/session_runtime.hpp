@@ -65,6 +65,10 @@ struct SculptOptions {
     /// With tile_lod: groups of tiles take their levels from the model read at coarser strides from this many cells
     /// along the model's longest side (compute::LodWorkerOptions::coarse_groups_from_cells; 0 = never).
     int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
+    /// With tile_lod and coarse groups on the CPU contour: no tile is contoured before the session; the first mesh
+    /// holds the coarsest group levels and the sculpt thread contours the tiles after it, region by region
+    /// (compute::LodWorkerOptions::coarse_first; docs/design/lod.md, "Coarse first at start-up").
+    bool coarse_first = true;
     /// A recording streamed to disk while the session runs (TickStream: no length limit, bounded memory), written to
     /// this path by tick_stream()->finish() after stop(); "" = none (a recording, if any, is written from records()).
     std::string stream_recording{};
@@ -238,6 +242,9 @@ public:
     const std::string& contour_reason() const { return contour_reason_; }
     std::size_t tiles_initial() const { return tiles_initial_; }  ///< tiles contoured before the session
     double contour_s() const { return contour_s_; }               ///< initial contouring wall time, s
+    /// True when no tile was contoured before the session: the sculpt thread publishes coarse group levels first
+    /// and contours the tiles after them (SculptOptions::coarse_first).
+    bool coarse_first() const { return coarse_first_; }
     double session_s() const { return session_s_; }               ///< start() .. stop() wall time, s
     /// The journal's counters and error (SculptOptions::journal); nullptr without a journal. Read after stop().
     const compute::JournalStats* journal_stats() const { return journal_ ? &journal_->stats() : nullptr; }
@@ -271,6 +278,7 @@ private:
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;
+    bool coarse_first_ = false;
     double contour_s_ = 0.0, session_s_ = 0.0;
     std::chrono::steady_clock::time_point t_start_{};
     bool started_ = false, stopped_ = false;

@@ -1,0 +1,151 @@
+// compute/contour/contour_tile_startup.cpp - TileSurfaceCache in a coarse-first start-up: the groups over tiles not
+// contoured yet, which of them must be drawn coarse, and the finer coarse depths read after the first publish.
+#include <algorithm>
+#include <chrono>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
+#include "core/error.hpp"
+
+namespace tridex::compute {
+
+void TileSurfaceCache::expect_tiles(const std::vector<std::uint64_t>& ids) {
+    if (refreshed_) throw Error("TileSurfaceCache::expect_tiles: call it before the first refresh()");
+    if (!coarse_) throw Error("TileSurfaceCache::expect_tiles: call use_coarse_groups() first");
+    expected_.insert(ids.begin(), ids.end());
+    startup_groups_ = true;
+}
+
+void TileSurfaceCache::arrive(const std::vector<std::uint64_t>& ids) {
+    for (const std::uint64_t id : ids)
+        if (expected_.erase(id) > 0) arrived_.insert(id);
+}
+
+void TileSurfaceCache::stop_expecting(const std::vector<std::uint64_t>& ids) {
+    for (const std::uint64_t id : ids) expected_.erase(id);
+}
+
+bool TileSurfaceCache::build_coarse_depth() {
+    if (!coarse_) return false;
+    for (int d = coarse_->max_depth(); d >= coarse_->min_depth(); --d) {
+        if (coarse_->has_depth(d)) continue;
+        const auto t0 = std::chrono::steady_clock::now();
+        coarse_->build_depth(*coarse_model_, d);
+        // Every group of that depth waiting for its level gets it now (on every core): a stroke's dropped groups
+        // can then stand in for each other instead of waiting for their tiles (tiles_to_cover).
+        std::vector<std::uint64_t> ids;
+        for (const std::uint64_t id : coarse_stale_)
+            if (static_cast<int>(id >> 56) == d) ids.push_back(id);
+        std::sort(ids.begin(), ids.end());
+        for (const std::uint64_t id : ids) coarse_stale_.erase(id);
+        lod_groups_built_ += rebuild_coarse_levels(ids);
+        lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (startup_groups_) update_startup_groups();
+        return true;
+    }
+    return false;
+}
+
+Aabb TileSurfaceCache::expected_tile_box(std::uint64_t id, const std::array<int, 3>& dims) const {
+    constexpr int kT = TileGrid::kTileCells;
+    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
+    const Vec3 c(static_cast<double>(id % nx), static_cast<double>((id / nx) % ny), static_cast<double>(id / (nx * ny)));
+    const Lattice& l = coarse_model_->lattice;
+    return Aabb{l.to_world(c * static_cast<double>(kT) - Vec3(1.0)), l.to_world((c + Vec3(1.0)) * static_cast<double>(kT) + Vec3(1.0))};
+}
+
+std::vector<bool> TileSurfaceCache::groups_refined() const {
+    std::vector<bool> refined(groups_.size(), true);
+    if (expected_.empty()) return refined;
+    // groups_ is ordered by depth: children before their parents.
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+        const TileGroupSurface& group = groups_[g];
+        for (const std::uint64_t c : group.children) {
+            if (group.depth == 1 ? expected_.count(c) != 0 : !refined[std::min(index_of(groups_, c), g)]) {
+                refined[g] = false;
+                break;
+            }
+        }
+    }
+    return refined;
+}
+
+void TileSurfaceCache::update_startup_groups() {
+    const std::vector<bool> refined = groups_refined();
+    bool open = !expected_.empty();
+    std::size_t measured = 0;
+    remeasure_more_ = false;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {  // children before their parents
+        TileGroupSurface& group = groups_[g];
+        bool cover = refined[g];
+        if (!cover && group.depth > 1) {  // smaller groups stand in where they are refined or have a level
+            cover = true;
+            for (const std::uint64_t c : group.children) {
+                const std::size_t ci = index_of(groups_, c);
+                if (ci < g && !groups_[ci].children_cover && groups_[ci].lods.empty()) {
+                    cover = false;
+                    break;
+                }
+            }
+        }
+        if (cover != group.children_cover) {
+            group.children_cover = cover;
+            group.version = fresh_tile_version();
+        }
+        // Its level's error, now that its tiles are all in (a few per call: each reads its tiles' vertices).
+        if (refined[g] && provisional_.count(group.id) > 0) {
+            if (measured == kStartupErrorsPerPass) {
+                remeasure_more_ = true;
+            } else {
+                provisional_.erase(group.id);
+                ++measured;
+                if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
+                    group.lods.front().error_m = coarse_level_error(group, group.lods.front());
+                group.version = fresh_tile_version();
+            }
+        }
+        open = open || !group.children_cover;
+    }
+    startup_groups_ = open || !provisional_.empty();
+}
+
+std::vector<std::uint64_t> TileSurfaceCache::tiles_to_cover(const std::vector<std::uint64_t>& dirty_tiles) const {
+    if (!coarse_ || expected_.empty()) return {};
+    const std::array<int, 3>& dims = coarse_dims_;
+    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
+    std::vector<std::uint64_t> around;  // the change's tiles and their neighbours: their versions change with it
+    for (const std::uint64_t t : dirty_tiles) {
+        const int tx = static_cast<int>(t % nx), ty = static_cast<int>((t / nx) % ny), tz = static_cast<int>(t / (nx * ny));
+        for (int z = std::max(0, tz - 1); z <= std::min(dims[2] - 1, tz + 1); ++z)
+            for (int y = std::max(0, ty - 1); y <= std::min(dims[1] - 1, ty + 1); ++y)
+                for (int x = std::max(0, tx - 1); x <= std::min(dims[0] - 1, tx + 1); ++x)
+                    around.push_back(static_cast<std::uint64_t>(x) + nx * (static_cast<std::uint64_t>(y) + ny * static_cast<std::uint64_t>(z)));
+    }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, around);
+    // A dropped group needs its children to stand in: a smaller group with a level (not dropped) does; one without
+    // needs its own children, down to the tiles of depth-1 groups.
+    std::vector<std::uint64_t> todo(reach.begin(), reach.end()), out(dirty_tiles.begin(), dirty_tiles.end());
+    std::unordered_set<std::uint64_t> seen(reach.begin(), reach.end());
+    while (!todo.empty()) {
+        const TileGroupSurface* g = find_by_id(groups_, todo.back());
+        todo.pop_back();
+        if (!g) continue;
+        if (g->depth == 1) {
+            out.insert(out.end(), g->children.begin(), g->children.end());
+            continue;
+        }
+        for (const std::uint64_t c : g->children) {
+            const TileGroupSurface* child = find_by_id(groups_, c);
+            if (!child) continue;
+            const bool stands_in = !reach.count(c) && !child->lods.empty() && !child->lods.front().mesh.triangles.empty();
+            if (!stands_in && seen.insert(c).second) todo.push_back(c);
+        }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace tridex::compute

@@ -1,0 +1,253 @@
+// Tests of the coarse-first start-up (compute/contour/startup_refine.hpp and TileSurfaceCache::expect_tiles): the first
+// refresh holds no tile and every group over the whole model with the coarsest level; the tiles then replace it
+// region by region and end equal, bit for bit, to a start-up that contoured everything first; a cut during the
+// refinement is contoured at once with the tiles that stand in for the levels it drops.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/startup_refine.hpp"
+#include "compute/tools/boolean.hpp"
+#include "core/error.hpp"
+#include "test_contour_models.hpp"
+
+namespace tridex::compute {
+namespace {
+
+using namespace testing;
+
+const Vec3 kCentre(64.31, 63.83, 64.07);  // grid units on a 128-cell cube lattice
+constexpr double kRadius = 48.6;
+constexpr int kTop = CoarseLevelOptions{}.max_depth;
+// Regions of 2x2x2 tiles: the sphere's 8x8x8 tiles are one depth-3 region, sessions refine by depth-3 groups.
+constexpr int kRegionDepth = 1;
+
+TriDexel sphere_model() {
+    TriDexel m = empty_model(cube_lattice(128));
+    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kCentre, kRadius, a, u, v); });
+    return m;
+}
+
+// A cut across the sphere's +x side, away from the lattice's origin corner where the refinement starts.
+void cut(TriDexel& m) {
+    const Lattice& L = m.lattice;
+    const Vec3 a = L.to_world(kCentre + Vec3(kRadius, -10.0, 5.0)), b = L.to_world(kCentre + Vec3(kRadius - 3.0, 12.0, -4.0));
+    subtract_capsule(m, Segment{a, b}, 6.0 * L.cell_m);
+}
+
+// Groups take every level until none waits, and the errors of the coarse-first levels are measured.
+void settle(TileSurfaceCache& cache) {
+    for (int i = 0; i < 400; ++i) cache.collect_lods();
+    EXPECT_EQ(cache.coarse_waiting(), 0u);
+}
+
+// The start-up that contours every tile before the first refresh.
+struct Full {
+    TriDexel model = sphere_model();
+    Contourer contourer{model};
+    TileSurfaceCache cache;
+    Full() {
+        contourer.update(model);
+        TileLodOptions o;
+        o.cell_m = model.lattice.cell_m;
+        cache.enable_lod(o);
+        cache.use_coarse_groups(model, CoarseLevelOptions{});
+        cache.refresh(contourer);
+        settle(cache);
+    }
+};
+
+// The coarse-first start-up, as the sculpt thread runs it.
+struct CoarseFirst {
+    TriDexel model = sphere_model();
+    Contourer contourer{model};
+    TileSurfaceCache cache;
+    std::unique_ptr<StartupRefiner> refiner;
+    CoarseFirst() {
+        TileLodOptions o;
+        o.cell_m = model.lattice.cell_m;
+        cache.enable_lod(o);
+        cache.use_coarse_groups(model, CoarseLevelOptions{}, true);
+        refiner = std::make_unique<StartupRefiner>(model, kRegionDepth, model.lattice.to_world(Vec3(0.0)));
+        cache.expect_tiles(refiner->pending_tiles());
+        refresh();
+    }
+    void refresh() {
+        cache.arrive(refiner->take_newly_publishable());
+        cache.refresh(StartupRefiner::Source(contourer, *refiner));
+    }
+    // What SculptThread::contour_changed does for a change during the refinement.
+    void contour_change() {
+        const std::vector<std::uint32_t> d = model.tiles.dirty_tiles();
+        const std::vector<std::uint64_t> dirty(d.begin(), d.end());
+        cache.stop_expecting(refiner->pending_among(dirty));
+        refiner->contour_with_change(model, cache.tiles_to_cover(dirty));
+        contourer.update(model);
+        refresh();
+    }
+    void refine_all() {
+        while (cache.build_coarse_depth()) {
+        }
+        while (refiner->refine_next(model, contourer) > 0) refresh();
+        refresh();
+        settle(cache);
+    }
+};
+
+// Every group whose children cannot cover it yet has a level of its own or lies under one that must be drawn.
+void expect_no_hole(const TileSurfaceCache& cache) {
+    for (const TileGroupSurface& g : cache.groups())
+        if (!g.children_cover && g.lods.empty()) {
+            const TileGroupSurface* p = nullptr;
+            for (const TileGroupSurface& q : cache.groups())
+                if (q.id == g.parent) p = &q;
+            ASSERT_NE(p, nullptr) << "a top group " << g.id << " with nothing under it and no level";
+            EXPECT_FALSE(p->children_cover) << g.id;
+        }
+}
+
+void expect_same_surface(const TileSurfaceCache& a, const TileSurfaceCache& b) {
+    ASSERT_EQ(a.tiles().size(), b.tiles().size());
+    for (std::size_t i = 0; i < a.tiles().size(); ++i) {
+        const TileSurface& x = a.tiles()[i];
+        const TileSurface& y = b.tiles()[i];
+        ASSERT_EQ(x.id, y.id);
+        EXPECT_EQ(x.mesh.positions, y.mesh.positions) << "tile " << x.id;
+        EXPECT_EQ(x.mesh.triangles, y.mesh.triangles) << "tile " << x.id;
+        EXPECT_EQ(x.materials, y.materials) << "tile " << x.id;
+    }
+    ASSERT_EQ(a.groups().size(), b.groups().size());
+    for (std::size_t i = 0; i < a.groups().size(); ++i) {
+        const TileGroupSurface& x = a.groups()[i];
+        const TileGroupSurface& y = b.groups()[i];
+        ASSERT_EQ(x.id, y.id);
+        EXPECT_EQ(x.children, y.children) << "group " << x.id;
+        EXPECT_TRUE(x.children_cover && y.children_cover) << "group " << x.id;
+        ASSERT_EQ(x.lods.size(), y.lods.size()) << "group " << x.id;
+        for (std::size_t k = 0; k < x.lods.size(); ++k) {
+            EXPECT_EQ(x.lods[k].mesh.positions, y.lods[k].mesh.positions) << "group " << x.id;
+            EXPECT_EQ(x.lods[k].mesh.triangles, y.lods[k].mesh.triangles) << "group " << x.id;
+            EXPECT_EQ(x.lods[k].error_m, y.lods[k].error_m) << "group " << x.id;
+        }
+    }
+}
+
+TEST(CoarseFirst, TheFirstRefreshHoldsEveryGroupAtTheCoarsestLevelOverTheWholeModel) {
+    CoarseFirst s;
+    const Full full;
+    EXPECT_TRUE(s.cache.tiles().empty()) << "no tile is contoured before the first mesh";
+    EXPECT_GT(s.refiner->pending(), 0u);
+    EXPECT_EQ(s.cache.expected_tiles(), s.refiner->pending());
+    // Every group of a full start-up (and some over tiles next to the surface that will turn out empty); the coarsest
+    // depth drawn everywhere, the finer ones not read yet.
+    for (const TileGroupSurface& f : full.cache.groups()) {
+        bool found = false;
+        for (const TileGroupSurface& g : s.cache.groups()) found = found || g.id == f.id;
+        EXPECT_TRUE(found) << f.id;
+    }
+    Aabb coarse_box;
+    std::size_t coarse_triangles = 0, top = 0;
+    for (std::size_t i = 0; i < s.cache.groups().size(); ++i) {
+        const TileGroupSurface& g = s.cache.groups()[i];
+        if (g.depth < kTop) {
+            EXPECT_TRUE(g.lods.empty()) << g.id;
+            EXPECT_FALSE(g.children_cover) << g.id;
+            continue;
+        }
+        ++top;
+        ASSERT_EQ(g.lods.size(), 1u) << g.id;
+        EXPECT_FALSE(g.children_cover) << "nothing under group " << g.id << " can stand in for it yet";
+        coarse_triangles += g.lods[0].mesh.triangles.size();
+        coarse_box.add(g.lods[0].mesh.bounds().lo);
+        coarse_box.add(g.lods[0].mesh.bounds().hi);
+    }
+    EXPECT_GE(top, 1u);
+    expect_no_hole(s.cache);
+    // They cover the whole model: the coarse levels' box is the full contour's within two cells, in a sixteenth
+    // of its triangles (rings and skirts included).
+    const TriMesh whole = full.contourer.mesh();
+    const Aabb box = whole.bounds();
+    const double h = s.model.lattice.cell_m;
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(coarse_box.lo[a], box.lo[a], 2.0 * h) << "axis " << a;
+        EXPECT_NEAR(coarse_box.hi[a], box.hi[a], 2.0 * h) << "axis " << a;
+    }
+    EXPECT_LT(16 * coarse_triangles, whole.triangles.size());
+}
+
+TEST(CoarseFirst, RefinementEndsWithTheTilesAndLevelsOfAFullStartUpBitForBit) {
+    CoarseFirst s;
+    const Full full;
+    while (s.cache.build_coarse_depth()) {
+    }
+    // Region by region: tiles arrive, and every group keeps something drawn over its part of the model.
+    std::size_t regions = 0, last = 0;
+    while (s.refiner->refine_next(s.model, s.contourer) > 0) {
+        s.refresh();
+        ++regions;
+        EXPECT_GE(s.cache.tiles().size(), last);
+        last = s.cache.tiles().size();
+        expect_no_hole(s.cache);
+    }
+    EXPECT_GT(regions, 1u);
+    EXPECT_TRUE(s.refiner->done());
+    s.refresh();
+    settle(s.cache);
+    EXPECT_EQ(s.cache.expected_tiles(), 0u);
+    expect_same_surface(s.cache, full.cache);
+    EXPECT_EQ(s.contourer.mesh().positions, full.contourer.mesh().positions);
+}
+
+TEST(CoarseFirst, ACutDuringRefinementIsContouredAtOnceAndEndsAsAFullStartUpWould) {
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {
+    }
+    ASSERT_GT(s.refiner->refine_next(s.model, s.contourer), 0u);
+    s.refresh();
+    const std::size_t pending = s.refiner->pending();
+    cut(s.model);
+    const std::vector<std::uint32_t> dirty = s.model.tiles.dirty_tiles();
+    ASSERT_FALSE(dirty.empty());
+    s.contour_change();
+    EXPECT_LT(s.refiner->pending(), pending);
+    // The cut's tiles are drawn at full resolution at once: each is in the cache and no group over it must be drawn.
+    for (const std::uint32_t t : dirty) {
+        if (s.contourer.tile_triangle_count(t) == 0) continue;
+        bool found = false;
+        for (const TileSurface& tile : s.cache.tiles()) found = found || tile.id == t;
+        EXPECT_TRUE(found) << "tile " << t;
+        for (const TileGroupSurface& g : s.cache.groups())
+            if (g.depth == 1 && std::find(g.children.begin(), g.children.end(), t) != g.children.end()) {
+                EXPECT_TRUE(g.children_cover) << "the cut's tile " << t << " stands for its group " << g.id;
+            }
+    }
+    expect_no_hole(s.cache);
+    s.refine_all();
+    Full full;
+    cut(full.model);
+    full.contourer.update(full.model);
+    full.cache.refresh(full.contourer);
+    settle(full.cache);
+    expect_same_surface(s.cache, full.cache);
+}
+
+TEST(CoarseFirst, RefinerRefusesBadInputAndFinishesEverything) {
+    TriDexel m = sphere_model();
+    EXPECT_THROW(StartupRefiner(m, 0, Vec3(0.0)), Error);
+    EXPECT_THROW(StartupRefiner(m, 7, Vec3(0.0)), Error);
+    Contourer c(m);
+    StartupRefiner r(m, kTop, Vec3(0.0));
+    EXPECT_TRUE(m.tiles.dirty_tiles().empty()) << "the refiner owns the tiles to contour";
+    const std::size_t n = r.pending();
+    EXPECT_EQ(r.finish(m, c), n);
+    EXPECT_TRUE(r.done());
+    EXPECT_EQ(r.refine_next(m, c), 0u);
+    for (std::size_t t = 0; t < c.tile_count(); ++t) EXPECT_TRUE(r.publishable(t));
+    TileSurfaceCache cache;
+    EXPECT_THROW(cache.expect_tiles({1}), Error);  // no coarse groups
+}
+
+}  // namespace
+}  // namespace tridex::compute
