@@ -88,7 +88,7 @@ const GpuMesh& TileMeshCache::need(std::size_t i, std::size_t level) {
             }
         }
     } catch (const Error& err) {
-        throw Error("SceneView.tiles[" + std::to_string(e.index) + "]: " + err.what());
+        throw Error(std::string(list_name_) + "[" + std::to_string(e.index) + "]: " + err.what());
     }
     e.uploaded[level] = 1;
     ++pending_uploads_;

@@ -48,6 +48,8 @@ struct TileMesh {
 /// reads an earlier frame (the caller retires replaced meshes: sync()'s `retired`).
 class TileMeshCache {
 public:
+    /// An empty cache; `list_name` names its list in need()'s errors ("SceneView.tiles", "SceneView.tile_groups").
+    explicit TileMeshCache(const char* list_name = "SceneView.tiles") : list_name_(list_name) {}
     /// Makes the cache hold exactly `tiles` (empty or null meshes included) and returns how many tiles are new or
     /// changed their version (their meshes are uploaded by need()). The tiles' meshes must stay as they are until the
     /// frame's need() calls are done. Throws tridex::Error when two tiles have the same id (naming it).
@@ -60,7 +62,7 @@ public:
     /// The GPU mesh of tiles[i] of the last sync() (level 0), or of its level `level` (1..tiles[i].levels.size()),
     /// uploaded now when it is not yet (within the frame of that sync: the tile's mesh is read). Throws tridex::Error
     /// when i or level is out of range, or GpuMesh::assign throws (bad indices, non-finite position, bad materials:
-    /// "SceneView.tiles[i]: ..."); a tile that failed is uploaded again at its next need().
+    /// "SceneView.tiles[i]: ...", with the cache's list name); a tile that failed is uploaded again at its next need().
     const GpuMesh& need(std::size_t i, std::size_t level = 0);
     /// Meshes (a tile's level each) need() uploaded since the last call; resets the count.
     std::size_t take_uploads();
@@ -83,6 +85,7 @@ private:
         TileMesh source;         // the last sync()'s tile: its meshes, valid within that frame
         std::size_t index = 0;   // its position in that sync()'s list
     };
+    const char* list_name_;
     const gpu::Context* context_ = nullptr;  // of the last sync()
     std::size_t pending_uploads_ = 0;
     std::unique_ptr<gpu::BufferPool> pool_;  // declared first: destroyed after the entries' buffers

@@ -104,7 +104,7 @@ struct OffscreenStereoRenderer::Impl {
     };
     std::vector<ObjectMesh> objects;
     TileMeshCache tiles;
-    TileMeshCache groups;                // SceneView::tile_groups' levels
+    TileMeshCache groups{"SceneView.tile_groups"};  // SceneView::tile_groups' levels
     std::vector<FrameResources> frame;  // one per slot
     FrameSlots slots;                   // after `tiles` and `frame`: destroyed (waiting for the GPU) before them
     bool use_timestamps = true;
