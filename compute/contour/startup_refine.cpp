@@ -140,10 +140,14 @@ std::size_t StartupRefiner::mark_region(TriDexel& model, std::size_t region) {
     const auto ry = static_cast<int>(region / static_cast<std::size_t>(region_dims_[0]) % static_cast<std::size_t>(region_dims_[1]));
     const auto rz = static_cast<int>(region / (static_cast<std::size_t>(region_dims_[0]) * static_cast<std::size_t>(region_dims_[1])));
     const int span = 1 << depth_;
+    return mark_box(model, {rx * span - 1, ry * span - 1, rz * span - 1}, {(rx + 1) * span, (ry + 1) * span, (rz + 1) * span});
+}
+
+std::size_t StartupRefiner::mark_box(TriDexel& model, std::array<int, 3> lo, std::array<int, 3> hi) {
     std::size_t marked = 0;
-    for (int z = std::max(0, rz * span - 1); z < std::min(dims_[2], (rz + 1) * span + 1); ++z)
-        for (int y = std::max(0, ry * span - 1); y < std::min(dims_[1], (ry + 1) * span + 1); ++y)
-            for (int x = std::max(0, rx * span - 1); x < std::min(dims_[0], (rx + 1) * span + 1); ++x) {
+    for (int z = std::max(0, lo[2]); z <= std::min(dims_[2] - 1, hi[2]); ++z)
+        for (int y = std::max(0, lo[1]); y <= std::min(dims_[1] - 1, hi[1]); ++y)
+            for (int x = std::max(0, lo[0]); x <= std::min(dims_[0] - 1, hi[0]); ++x) {
                 const std::size_t t = index(x, y, z);
                 if (!pending_[t]) continue;
                 if (!model.tiles.dirty[t]) model.tiles.dirty[t] = TileGrid::kWhole;
@@ -177,15 +181,7 @@ std::size_t StartupRefiner::contour_with_change(TriDexel& model, const std::vect
     for (const std::uint64_t t : tiles) {
         if (t >= pending_.size()) continue;
         const std::array<int, 3> c = coords(t);
-        for (int z = std::max(0, c[2] - 1); z <= std::min(dims_[2] - 1, c[2] + 1); ++z)
-            for (int y = std::max(0, c[1] - 1); y <= std::min(dims_[1] - 1, c[1] + 1); ++y)
-                for (int x = std::max(0, c[0] - 1); x <= std::min(dims_[0] - 1, c[0] + 1); ++x) {
-                    const std::size_t n = index(x, y, z);
-                    if (!pending_[n]) continue;
-                    if (!model.tiles.dirty[n]) model.tiles.dirty[n] = TileGrid::kWhole;
-                    contoured(n);
-                    ++marked;
-                }
+        marked += mark_box(model, {c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 1, c[1] + 1, c[2] + 1});
     }
     return marked;
 }

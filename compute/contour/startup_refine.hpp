@@ -83,6 +83,9 @@ private:
     // Marks dirty (kWhole unless already dirty) the pending tiles of region r and within one tile of it, and counts
     // them contoured. Returns how many.
     std::size_t mark_region(TriDexel& model, std::size_t region);
+    // Marks the pending tiles of the box [lo, hi] (tile coordinates, clamped to the grid) for contouring and takes
+    // them out of the pending set; returns how many.
+    std::size_t mark_box(TriDexel& model, std::array<int, 3> lo, std::array<int, 3> hi);
     void contoured(std::size_t t);  // t leaves the pending set
     std::array<int, 3> dims_{};
     std::array<int, 3> region_dims_{};
