@@ -26,13 +26,7 @@ StartupRefiner::StartupRefiner(TriDexel& model, int region_depth, const Vec3& ne
         pending_[t] = 1;
         ++pending_count_;
         const std::array<int, 3> c = coords(t);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                    if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) continue;
-                    ++near_pending_[index(x, y, z)];
-                }
+        for_neighbourhood(c, [&](std::size_t k) { ++near_pending_[k]; });
         has_pending[static_cast<std::size_t>(c[0] >> depth_) +
                     static_cast<std::size_t>(region_dims_[0]) *
                         (static_cast<std::size_t>(c[1] >> depth_) + static_cast<std::size_t>(region_dims_[1]) * (c[2] >> depth_))] = 1;
@@ -114,18 +108,12 @@ std::vector<std::uint64_t> StartupRefiner::pending_tiles() const {
 void StartupRefiner::contoured(std::size_t t) {
     pending_[t] = 0;
     --pending_count_;
-    const std::array<int, 3> c = coords(t);
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) continue;
-                const std::size_t n = index(x, y, z);
-                if (--near_pending_[n] == 0 && !reported_[n]) {
-                    reported_[n] = 1;
-                    fresh_.push_back(n);
-                }
-            }
+    for_neighbourhood(coords(t), [&](std::size_t n) {
+        if (--near_pending_[n] == 0 && !reported_[n]) {
+            reported_[n] = 1;
+            fresh_.push_back(n);
+        }
+    });
 }
 
 std::vector<std::uint64_t> StartupRefiner::take_newly_publishable() {

@@ -2,6 +2,7 @@
 // first mesh made of coarse group levels (docs/design/lod.md, "Coarse first at start-up").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -87,6 +88,13 @@ private:
     // them out of the pending set; returns how many.
     std::size_t mark_box(TriDexel& model, std::array<int, 3> lo, std::array<int, 3> hi);
     void contoured(std::size_t t);  // t leaves the pending set
+    // Calls f(n) for the index n of tile c and of each of its 26 neighbours inside the grid.
+    template <typename F>
+    void for_neighbourhood(const std::array<int, 3>& c, F&& f) const {
+        for (int z = std::max(0, c[2] - 1); z <= std::min(dims_[2] - 1, c[2] + 1); ++z)
+            for (int y = std::max(0, c[1] - 1); y <= std::min(dims_[1] - 1, c[1] + 1); ++y)
+                for (int x = std::max(0, c[0] - 1); x <= std::min(dims_[0] - 1, c[0] + 1); ++x) f(index(x, y, z));
+    }
     std::array<int, 3> dims_{};
     std::array<int, 3> region_dims_{};
     int depth_ = 3;

@@ -116,7 +116,7 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
     spec.mesh_path = default_mesh_path();
     spec.resolution = 128;
     const std::string json = spec_to_json(spec);
-    ClusterReplica lod(json, replica_lod("coarse")), full(json);
+    ClusterReplica lod(json, lod_choice("coarse")), full(json);
     const FrameMessage m0 = two_grooves();
     lod.apply(m0);
     full.apply(m0);

@@ -9,30 +9,15 @@
 #include "compute/mesh/scan_convert.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
+#include "journal_stream.hpp"
 
 namespace tridex::app {
 namespace {
 
-compute::TriDexel box_model() {
-    const Aabb box{Vec3(-0.05), Vec3(0.05)};
-    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(box, 48), std::size_t(1) << 30);
-    compute::scan_convert(box_mesh(box), m);
-    return m;
-}
+compute::TriDexel box_model() { return test::box_model(48); }
 
 // A wavy carving path across the box's +z face, 400 samples.
-std::vector<ToolSample> stream() {
-    std::vector<ToolSample> s(400);
-    for (int i = 0; i < 400; ++i) {
-        const double u = i / 399.0;
-        s[i].t_s = i * 1e-3;
-        s[i].position = Vec3(-0.06 + 0.12 * u, 0.02 * std::sin(9.0 * u), 0.048 - 0.004 * std::sin(5.0 * u));
-        s[i].tool.radius_m = 0.007;
-        s[i].op = ToolOp::kSubtract;
-        s[i].made_s = 100.0 + i;
-    }
-    return s;
-}
+std::vector<ToolSample> stream() { return test::wavy_cut(400); }
 
 // Runs the stream through a SculptThread; `trickle` pushes it sample by sample while the thread runs
 // (the batching then depends on timing), otherwise all samples are queued before the thread starts.

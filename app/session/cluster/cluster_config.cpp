@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/session/view/tile_view.hpp"
 #include "app/support/json_fields.hpp"
 #include "core/error.hpp"
 #include "core/json_refusal.hpp"
@@ -138,8 +139,11 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     c.timeout_s = f.number("timeout_s", c.timeout_s, 0.0, 3600.0, true);
     c.start_timeout_s = f.number("start_timeout_s", c.start_timeout_s, 0.0, 3600.0, true);
     c.lod = f.text("lod", c.lod);
-    if (c.lod != "on" && c.lod != "off" && c.lod != "coarse" && c.lod != "simplified")
-        f.fail(f.path("lod"), "must be on, off, coarse or simplified, got \"" + c.lod + "\"");
+    try {
+        (void)lod_choice(c.lod);
+    } catch (const Error& e) {
+        f.fail(f.path("lod"), e.what());
+    }
     const json* ranks = f.get("ranks");
     if (!ranks || !ranks->is_array() || ranks->empty()) f.fail("ranks", "must be a non-empty array of render ranks");
     std::set<std::string> names;

@@ -8,6 +8,7 @@
 
 #include "app/scene/session_spec.hpp"
 #include "app/session/view/run_view.hpp"
+#include "compute/contour/lod_worker.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
@@ -15,15 +16,7 @@
 
 namespace tridex::app {
 
-ReplicaLod replica_lod(const std::string& lod) {
-    if (lod == "off") return ReplicaLod{false, 0};
-    if (lod == "on") return ReplicaLod{true, compute::kCoarseGroupsFromCells};
-    if (lod == "coarse") return ReplicaLod{true, 1};
-    if (lod == "simplified") return ReplicaLod{true, 0};
-    throw Error("levels of detail \"" + lod + "\": must be on, off, coarse or simplified");
-}
-
-ClusterReplica::ClusterReplica(const std::string& spec_json, const ReplicaLod& lod) : lod_(lod.on) {
+ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod) : lod_(lod.on) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
     applier_ = std::make_unique<compute::JournalApplier>(wp_.model, replay_settings(spec));

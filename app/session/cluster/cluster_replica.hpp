@@ -14,7 +14,6 @@
 #include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
-#include "compute/contour/lod_worker.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
 #include "renderer/scene/tile_culling.hpp"
@@ -22,28 +21,16 @@
 
 namespace tridex::app {
 
-/// Levels of detail of a replica's tiles (the cluster config's "lod").
-struct ReplicaLod {
-    bool on = false;  ///< build levels in the background and draw each tile and group at the level its pixels need
-    /// Groups take their levels from the model read at coarser strides from this many cells along the model's
-    /// longest side (compute::LodWorkerOptions::coarse_groups_from_cells; 1 = always, 0 = never).
-    int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
-};
-
-/// The replica's levels of detail for a cluster config's "lod" value (on, off, coarse, simplified); throws
-/// tridex::Error on another value.
-ReplicaLod replica_lod(const std::string& lod);
-
 /// The model of a session as a render rank holds it. Applying rank 0's records in order gives rank 0's model bit
 /// for bit (JournalApplier on the CPU reference Booleans, the session's island setting and undo budget).
 class ClusterReplica {
 public:
     /// Builds the session's workpiece from its spec (spec_to_json's text; prepare_session_workpiece: the same mesh
     /// or saved model file, scan-converted the same way) and contours it. Throws tridex::Error when the spec is
-    /// malformed or its workpiece cannot be read or differs from the recorded checksums. With lod.on, the tiles' and
+    /// malformed or its workpiece cannot be read or differs from the recorded checksums. With lod.on (the cluster config's "lod", lod_choice), the tiles' and
     /// groups' levels are built on worker threads of their own (compute::LodWorker) and taken in by contour(), so
     /// neither a frame nor the records wait for them.
-    explicit ClusterReplica(const std::string& spec_json, const ReplicaLod& lod = {});
+    explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {});
     ~ClusterReplica();
 
     /// The model's digest (compute::model_digest).

@@ -130,7 +130,7 @@ private:
     void open() {
         const HelloMessage hello = decode_hello(wait_for_rank0(c_.start_timeout_s, "session"), "rank 0's hello");
         const auto t0 = Clock::now();
-        replica_.emplace(hello.spec_json, replica_lod(c_.lod));
+        replica_.emplace(hello.spec_json, lod_choice(c_.lod));
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
         load_ms_ = ms_since(t0);

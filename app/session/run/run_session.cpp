@@ -1,6 +1,5 @@
 // app/session/run/run_session.cpp - `tridex run`: its options checked and merged with the scene (the session itself:
 // app/session/run/run_pipeline.cpp).
-#include "compute/contour/lod_worker.hpp"
 #include "app/session/run/run_session.hpp"
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include "app/input/dtrack_head.hpp"
 #include "app/input/dtrack_wand.hpp"
 #include "app/session/view/frame_budget.hpp"
+#include "app/session/view/tile_view.hpp"
 #include "app/session/run/run_sculpt.hpp"
 #include "app/support/output_dir.hpp"
 #include "core/error.hpp"
@@ -60,6 +60,15 @@ void apply_remote_options(const RunOptions& o, const devices::DriverCapabilities
     }
 }
 
+// --lod NAME (lod_choice), its errors naming the option.
+LodChoice run_lod(const std::string& name) {
+    try {
+        return lod_choice(name);
+    } catch (const Error& e) {
+        throw Error(std::string("--lod: ") + e.what());
+    }
+}
+
 }  // namespace
 
 RunSetup resolve_run(const RunOptions& o) {
@@ -87,10 +96,9 @@ RunSetup resolve_run(const RunOptions& o) {
     s.test_pattern = o.test_pattern;
     s.tiles = o.tiles;
     s.cull = o.cull;
-    if (o.lod != "on" && o.lod != "off" && o.lod != "coarse" && o.lod != "simplified")
-        throw Error("--lod: must be on, off, coarse or simplified, got '" + o.lod + "'");
-    s.lod = o.lod != "off";
-    s.coarse_groups_from_cells = o.lod == "coarse" ? 1 : o.lod == "simplified" ? 0 : compute::kCoarseGroupsFromCells;
+    const LodChoice lod = run_lod(o.lod);
+    s.lod = lod.on;
+    s.coarse_groups_from_cells = lod.coarse_groups_from_cells;
     if (o.startup != "coarse" && o.startup != "full")
         throw Error("--startup: must be coarse or full, got '" + o.startup + "'");
     s.coarse_first = o.startup == "coarse";

@@ -3,6 +3,9 @@
 
 #include <unordered_map>
 
+#include "compute/contour/lod_worker.hpp"
+#include "core/error.hpp"
+
 namespace tridex::app {
 namespace {
 
@@ -77,6 +80,14 @@ void tile_view_of(std::span<const compute::TileSurface> surfaces, std::span<cons
                   bool with_lods, TileView& out) {
     fill(surfaces.size(), [&](std::size_t i) { return &surfaces[i]; }, groups.size(),
          [&](std::size_t g) { return &groups[g]; }, with_lods, out);
+}
+
+LodChoice lod_choice(const std::string& name) {
+    if (name == "off") return LodChoice{false, 0};
+    if (name == "on") return LodChoice{true, compute::kCoarseGroupsFromCells};
+    if (name == "coarse") return LodChoice{true, 1};
+    if (name == "simplified") return LodChoice{true, 0};
+    throw Error("must be on, off, coarse or simplified, got \"" + name + "\"");
 }
 
 }  // namespace tridex::app

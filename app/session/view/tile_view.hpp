@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "compute/contour/contour_tiles.hpp"
@@ -11,6 +12,20 @@
 #include "renderer/scene/tile_mesh_cache.hpp"
 
 namespace tridex::app {
+
+/// Levels of detail as `run --lod` and a cluster config's "lod" name them.
+struct LodChoice {
+    bool on = false;  ///< build levels in the background and draw each tile and group at the level its pixels need
+    /// Groups take their levels from the model read at coarser strides from this many cells along the model's
+    /// longest side (compute::LodWorkerOptions::coarse_groups_from_cells; 1 = always, 0 = never).
+    int coarse_groups_from_cells = 0;
+};
+
+/// The choice a name gives: "on" (simplified levels below compute::kCoarseGroupsFromCells cells, groups contoured
+/// from the dexels from there), "coarse" (groups from the dexels at any size), "simplified" (never) or "off". Throws
+/// tridex::Error "must be on, off, coarse or simplified, got \"NAME\"" on another name (the caller prefixes its
+/// option or field).
+LodChoice lod_choice(const std::string& name);
 
 /// The renderer's view of a list of tiles and groups: `tiles` for SceneView::tiles and `groups` for
 /// SceneView::tile_groups, whose levels point into `levels`. They keep pointers into the TileSurfaces and
