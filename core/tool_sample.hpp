@@ -42,6 +42,10 @@ inline const char* tool_op_name(ToolOp op) {
 /// sets (renderer/scene/material_palette.hpp draws ids 0..kMaxMaterialId).
 inline constexpr std::uint8_t kMaxMaterialId = 7;
 
+/// Most sites (people, each with their own tool) one session's sample stream holds: ToolSample::site is
+/// 0..kMaxSites-1. Site 0 is the session's own (the host's) tool.
+inline constexpr std::uint8_t kMaxSites = 16;
+
 /// One tool pose in world space, pushed by the haptic loop through an SpscRing.
 /// Consecutive samples form the swept segments the sculpt thread applies, in order.
 struct ToolSample {
@@ -59,6 +63,10 @@ struct ToolSample {
     /// The symmetric copies of the sweep ending here that the sculpt thread applies too, in the same batch, about the
     /// workpiece lattice's centre (compute/tools/symmetry.hpp). Off by default.
     Symmetry symmetry{};
+    /// The site whose tool made the sample (0..kMaxSites-1; 0 = the session's own tool): a shared session's stream
+    /// interleaves the samples of several tools, and a sweep joins two consecutive samples of the same site
+    /// (compute/tools/site_sweeps.hpp).
+    std::uint8_t site = 0;
     /// When the haptic loop made the sample: std::chrono::steady_clock time, s since its epoch; NaN when unknown
     /// (a journal or a recording read back). For latency figures only: never journalled, never affects the model.
     double made_s = std::numeric_limits<double>::quiet_NaN();

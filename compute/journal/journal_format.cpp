@@ -19,16 +19,18 @@ void encode_sample(const ToolSample& s, unsigned char* out) {
     out[113] = static_cast<unsigned char>(s.op);
     out[114] = s.material;
     out[115] = static_cast<unsigned char>((s.symmetry.mirrors & 7u) | (s.symmetry.radial_axis & 3u) << 4);
-    put_u32(out + 116, s.symmetry.radial_copies);
+    put_u16(out + 116, s.symmetry.radial_copies);
+    out[118] = s.site;
+    out[119] = 0;
 }
 
 bool decode_sample(const unsigned char* in, ToolSample& s) {
     if (in[112] > static_cast<unsigned char>(ToolKind::kMesh) ||
-        in[113] > static_cast<unsigned char>(ToolOp::kGrab) || (in[115] & 0xc8u) != 0 || get_u32(in + 116) > 0xffffu)
+        in[113] > static_cast<unsigned char>(ToolOp::kGrab) || (in[115] & 0xc8u) != 0 || in[118] >= kMaxSites || in[119] != 0)
         return false;
     s.symmetry.mirrors = static_cast<std::uint8_t>(in[115] & 7u);
     s.symmetry.radial_axis = static_cast<std::uint8_t>((in[115] >> 4) & 3u);
-    s.symmetry.radial_copies = static_cast<std::uint16_t>(get_u32(in + 116));
+    s.symmetry.radial_copies = get_u16(in + 116);
     if (!valid_symmetry(s.symmetry)) return false;
     s.t_s = get_f64(in + 0);
     for (int k = 0; k < 3; ++k) s.position[k] = get_f64(in + 8 + 8 * k);
@@ -44,6 +46,7 @@ bool decode_sample(const unsigned char* in, ToolSample& s) {
     s.tool.kind = static_cast<ToolKind>(in[112]);
     s.op = static_cast<ToolOp>(in[113]);
     s.material = in[114];
+    s.site = in[118];
     return true;
 }
 

@@ -29,21 +29,24 @@ namespace tridex::compute {
 //   record before this one.
 // kJournalIntake payload (version 4): 0 record index u64 | 8 sample count N u32 | 12 reserved u32 (0) | 16 sequence
 //   number u64 of the first sample (the samples the haptic loop handed the sculpt thread, numbered 0, 1, ... in the
-//   order it drains them) | 24 N samples. Written as samples leave the haptic loop, by the journal's intake thread,
+//   order it drains them: the session's own tool's, site 0; other sites' samples reach the sculpt thread another way
+//   and are kept by batch records only, so the batches' site-0 samples are what the numbers count) | 24 N samples. Written as samples leave the haptic loop, by the journal's intake thread,
 //   for those no batch record holds yet: a session killed while the sculpt thread is behind keeps them. Readers
 //   apply, after the last record, the intake samples that follow the batches' samples without a gap.
 // Sample (120 bytes): 0 t_s f64 | 8 position xyz f64 | 32 surface_m xyz f64 | 56 orientation w x y z f64
 //   | 88 tool.radius_m f64 | 96 tool.length_m f64 | 104 tool.mesh_id u32 | 108 buttons u32 | 112 tool.kind u8
 //   | 113 op u8 | 114 material u8 | 115 symmetry u8: mirror planes in bits 0..2 (x, y, z), radial axis in bits 4..5
-//   (0 x, 1 y, 2 z), bits 3, 6, 7 zero | 116 radial copies u32 (0 = none, else 2..32; then no mirror bits)
-//   (core/symmetry.hpp; versions 1 and 2 wrote zeros there: no symmetry)
+//   (0 x, 1 y, 2 z), bits 3, 6, 7 zero | 116 radial copies u16 (0 = none, else 2..32; then no mirror bits)
+//   (core/symmetry.hpp; versions 1 and 2 wrote zeros there: no symmetry) | 118 site u8 (0..kMaxSites-1: whose tool
+//   made the sample; versions 1 to 4 wrote a u32 radial count at 116, so zeros here: site 0) | 119 zero
 // ---------------------------------------------------------------------------------------------------------
 
 inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0'};  ///< first 8 bytes
 /// The version this build writes (and reads, with 1 to 3). 3: samples carry their symmetry (bytes 115, 116), so a
 /// reader of version 2, which would ignore it and build another model, refuses the file. 4: intake records
-/// (kJournalIntake), whose samples a version 3 reader would not apply.
-inline constexpr std::uint32_t kJournalVersion = 4;
+/// (kJournalIntake), whose samples a version 3 reader would not apply. 5: samples carry their site (byte 118), so a
+/// reader of version 4, which would join the sweeps of two sites' tools, refuses the file.
+inline constexpr std::uint32_t kJournalVersion = 5;
 inline constexpr std::uint32_t kJournalOldestVersion = 1;    ///< oldest version this build reads (batches only)
 inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
 inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity

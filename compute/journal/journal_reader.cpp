@@ -103,7 +103,8 @@ void take_tail(Journal& j) {
     std::uint64_t applied = 0;
     bool any_intake = false;
     for (const JournalRecord& r : j.records) {
-        if (r.kind == JournalKind::kBatch) applied += r.samples.size();
+        if (r.kind == JournalKind::kBatch)
+            for (const ToolSample& x : r.samples) applied += x.site == 0;  // intake numbers site 0's samples only
         any_intake |= r.kind == JournalKind::kIntake;
     }
     if (!any_intake) return;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "compute/history/undo_history.hpp"
 #include "compute/journal/journal_reader.hpp"
@@ -46,12 +47,12 @@ struct JournalApplyFrom {
 };
 
 /// Applies `records` from `from.record` on, in order, to `model` through the CPU reference Booleans, as the sculpt
-/// thread did: one batch per batch record (sample_sweep between consecutive samples, across record boundaries; each
+/// thread did: one batch per batch record (sample_sweep between consecutive samples of one site, across record boundaries: SiteSweeps; each
 /// batch validated before any of it changes the model), strokes closed, undone and redone at their marks (through
 /// an UndoHistory; checkpoint records are skipped; with from.remove_islands each stroke that cut removes its specks
 /// where it closes, as the sculpt thread did), marking dirty tiles. Intake records are skipped; the tail record
 /// (JournalRecord::tail) is applied as the sculpt thread applies what it drains: one batch per stroke, the stroke
-/// closed where the tool stops cutting or changes (sample_closes_stroke). Sessions have no mesh tools: a kMesh
+/// closed where the tool stops cutting or changes, or another site's tool cuts (SiteSweeps::closes_before). Sessions have no mesh tools: a kMesh
 /// sample throws. Throws tridex::Error naming the record on a sweep the Booleans refuse, or on a mark that does not
 /// match the replay (a stroke closed or undone under another serial, an undo with nothing to undo, another number
 /// of rays written back: a journal replayed from a state it was not written from); the model then holds the
@@ -81,10 +82,11 @@ public:
     /// stats(). A push group left open at the end stays held (flush() applies it), as the sculpt thread holds it.
     void apply(std::span<const JournalRecord> records);
     /// Continues a journal after its record `last_index` (a checkpoint): the next record is expected at
-    /// last_index + 1, and the first sweep starts at `prev`, the last sample before it (nullptr: none);
-    /// records_before: the records before it as read, so that errors name records by their place in the journal
-    /// ("journal record K"). Call before the first apply().
-    void resume_after(std::uint64_t last_index, const ToolSample* prev, std::uint64_t records_before);
+    /// last_index + 1, and each site's first sweep starts at its sample in `prevs`, the site's last sample before it
+    /// (journal_last_samples; a site without one starts with no previous sample); records_before: the records before
+    /// it as read, so that errors name records by their place in the journal ("journal record K"). Call before the
+    /// first apply(). Throws tridex::Error for a sample of a site >= kMaxSites.
+    void resume_after(std::uint64_t last_index, std::span<const ToolSample> prevs, std::uint64_t records_before);
     /// Applies a held push group (the end of a journal that ended without closing its stroke).
     void flush();
     /// What was applied so far.
@@ -94,6 +96,9 @@ private:
     struct State;
     std::unique_ptr<State> s_;
 };
+
+/// Each site's last sample in the batch records of records [0, end), by site (for JournalApplier::resume_after).
+std::vector<ToolSample> journal_last_samples(std::span<const JournalRecord> records, std::size_t end);
 
 /// The serial of the last stroke closed in records [0, end) (the largest stroke-end serial), for
 /// JournalApplyFrom::last_serial.

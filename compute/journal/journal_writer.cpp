@@ -182,6 +182,7 @@ void JournalWriter::append(std::span<const ToolSample> samples) {
     const auto t0 = Clock::now();
     if (!samples_record(kJournalBatch, 0, samples)) return;
     stats_.samples += samples.size();
+    for (const ToolSample& x : samples) own_samples_ += x.site == 0;  // intake numbers the session's own tool's
     stats_.append_ms_total += ms_since(t0);
     sync_if_due_locked();
 }
@@ -190,7 +191,7 @@ void JournalWriter::intake(std::uint64_t first_seq, std::span<const ToolSample> 
     std::lock_guard io(io_mutex_);
     if (!ok()) return;
     // Samples a batch record already holds (the sculpt thread caught up) are not written twice.
-    const std::uint64_t skip = stats_.samples > first_seq ? stats_.samples - first_seq : 0;
+    const std::uint64_t skip = own_samples_ > first_seq ? own_samples_ - first_seq : 0;
     if (skip >= samples.size()) return;
     samples = samples.subspan(static_cast<std::size_t>(skip));
     if (!samples_record(kJournalIntake, first_seq + skip, samples)) return;

@@ -75,8 +75,9 @@ public:
     /// works: a record larger than the buffer is streamed through it.
     void append(std::span<const ToolSample> samples);
     /// Appends an intake record (journal_format.hpp, kJournalIntake) holding the samples of `samples` that no batch
-    /// record holds yet: `samples` are the samples numbered first_seq, first_seq + 1, ... in the order the sculpt
-    /// thread drains them, and those below the count of samples appended in batches so far are left out (nothing is
+    /// record holds yet: `samples` are the session's own tool's samples (site 0) numbered first_seq, first_seq + 1, ...
+    /// in the order the sculpt thread drains them, and those below the count of site-0 samples appended in batches so
+    /// far are left out (nothing is
     /// written when none is left). Then hands every buffered byte to the kernel at once, so a process killed after
     /// it returns keeps them. Called by one thread besides the sculpt thread (JournalIntake).
     void intake(std::uint64_t first_seq, std::span<const ToolSample> samples);
@@ -116,6 +117,7 @@ private:
     void stop_syncer();
 
     // The callers' (sculpt and intake threads'), under io_mutex_:
+    std::uint64_t own_samples_ = 0;  // site-0 samples appended in batches: what intake() numbers
     mutable std::mutex io_mutex_;     // taken before mutex_
     int fd_ = -1;
     std::vector<unsigned char> buf_;  // reserved once; size() = bytes pending

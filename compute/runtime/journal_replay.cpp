@@ -3,12 +3,14 @@
 #include "compute/journal/journal_replay.hpp"
 
 #include <algorithm>
+#include <array>
 #include <optional>
 #include <vector>
 
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/tools/sample_sweep.hpp"
+#include "compute/tools/site_sweeps.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -16,6 +18,18 @@ namespace tridex::compute {
 namespace {
 Error at(std::uint64_t record, const std::string& what) { return Error("journal record " + std::to_string(record) + ": " + what); }
 }  // namespace
+
+std::vector<ToolSample> journal_last_samples(std::span<const JournalRecord> records, std::size_t end) {
+    std::array<const ToolSample*, kMaxSites> last{};
+    for (std::size_t k = 0; k < std::min(end, records.size()); ++k)
+        if (records[k].kind == JournalKind::kBatch)
+            for (const ToolSample& s : records[k].samples)
+                if (s.site < kMaxSites) last[s.site] = &s;
+    std::vector<ToolSample> out;
+    for (const ToolSample* s : last)
+        if (s) out.push_back(*s);
+    return out;
+}
 
 std::uint64_t journal_last_serial(std::span<const JournalRecord> records, std::size_t end) {
     std::uint64_t serial = 0;
@@ -29,8 +43,7 @@ struct JournalApplier::State {
     app::SculptHistory history;
     std::vector<Sweep> batch;
     Vec3 centre_m;  // the symmetry centre: the model's lattice's (it never changes during a replay)
-    ToolSample prev{};
-    bool have_prev = false;
+    SiteSweeps sites;  // each site's previous sample, and whose stroke is open
     std::optional<std::uint64_t> last_index;  // index of the last record seen (none: the next is the journal's first)
     std::uint64_t position = 0;               // records seen, for error messages
     bool damaged = false;    // a gap in the record indices lay before: marks are matched leniently
@@ -84,9 +97,11 @@ struct JournalApplier::State {
 
     void sweep_to(std::uint64_t k, const ToolSample& s) {
         if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
-        if (have_prev) sample_sweeps(prev, s, nullptr, nullptr, centre_m, batch);
-        prev = s;
-        have_prev = true;
+        try {
+            sites.advance(s, nullptr, nullptr, centre_m, batch);
+        } catch (const Error& e) {
+            throw at(k, e.what());
+        }
         st.last_t_s = s.t_s;
     }
 
@@ -113,7 +128,13 @@ struct JournalApplier::State {
     void tail(std::uint64_t k, const JournalRecord& r) {
         batch.clear();
         for (const ToolSample& s : r.samples) {
-            if (have_prev && (history.stroke_open() || !batch.empty()) && sample_closes_stroke(prev, s)) {
+            StrokeClose close = StrokeClose::kNo;
+            try {
+                close = sites.closes_before(s, history.stroke_open() || !batch.empty());
+            } catch (const Error& e) {
+                throw at(k, e.what());
+            }
+            if (close != StrokeClose::kNo) {
                 apply_batch(k);
                 if (history.end_stroke() != 0) ++st.strokes;
             }
@@ -149,11 +170,11 @@ JournalApplier::JournalApplier(TriDexel& model, const JournalApplyFrom& from) : 
 
 JournalApplier::~JournalApplier() = default;
 
-void JournalApplier::resume_after(std::uint64_t last_index, const ToolSample* prev, std::uint64_t records_before) {
+void JournalApplier::resume_after(std::uint64_t last_index, std::span<const ToolSample> prevs,
+                                  std::uint64_t records_before) {
     s_->last_index = last_index;
     s_->position = records_before;
-    s_->have_prev = prev != nullptr;
-    if (prev) s_->prev = *prev;
+    for (const ToolSample& p : prevs) s_->sites.set_prev(p);
 }
 
 void JournalApplier::apply(std::span<const JournalRecord> records) {
@@ -173,11 +194,8 @@ JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> 
     JournalApplier applier(model, from);
     const std::size_t first = std::min(from.record, records.size());
     if (first > 0) {
-        // The first sweep after a checkpoint starts at the last sample before it.
-        const ToolSample* prev = nullptr;
-        for (std::size_t k = first; k-- > 0 && !prev;)
-            if (records[k].kind == JournalKind::kBatch && !records[k].samples.empty()) prev = &records[k].samples.back();
-        applier.resume_after(records[first - 1].index, prev, first);
+        // Each site's first sweep after a checkpoint starts at its last sample before it.
+        applier.resume_after(records[first - 1].index, journal_last_samples(records, first), first);
     }
     const std::span<const JournalRecord> rest = records.subspan(first);
     // Records a few at a time, as JournalApplier allows, so that progress can be told between them.

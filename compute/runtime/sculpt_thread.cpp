@@ -226,95 +226,12 @@ void SculptThread::run() {
     }
 }
 
-bool SculptThread::take_requests() {
-    SculptRequest r;
-    bool any = false;
-    while (requests_.try_pop(r)) {
-        any = true;
-        take(r);
-    }
-    return any;
-}
-
-void SculptThread::take(SculptRequest r) {
-    if (r == SculptRequest::kSave) {
-        const auto t0 = std::chrono::steady_clock::now();
-        std::string line;
-        bool ok = false;
-        try {
-            if (!saver_) throw Error("no save file for this session");
-            line = saver_(model_);
-            ok = true;
-        } catch (const std::exception& e) {
-            line = e.what();
-        }
-        stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        std::lock_guard<std::mutex> lock(save_mutex_);
-        ++(ok ? save_status_.saves : save_status_.failures);
-        save_status_.message = line;
-        save_status_.ok = ok;
-        return;
-    }
-    stats_.marks.push_back({stats_.samples, r});
-    if (r == SculptRequest::kEndStroke) {
-        close_stroke();
-        return;
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    close_stroke();  // journalled before the undo or redo that follows
-    const bool undo = r == SculptRequest::kUndo;
-    ++(undo ? stats_.undo_requests : stats_.redo_requests);
-    const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
-    if (c.serial == 0) return;  // nothing to undo / redo
-    record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
-    changed_since_checkpoint_ = true;
-    publish(published_centre_m_);  // the haptic window follows at once
-    const auto t1 = std::chrono::steady_clock::now();
-    const double contour_ms = contour_changed(t0, t1);
-    stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    stats_.undo_rays.push_back(c.rays);
-    stats_.undo_redo.push_back(undo ? 0 : 1);
-    stats_.undo_restore_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    stats_.undo_contour_ms.push_back(contour_ms);
-}
-
-bool SculptThread::take_marks(bool& changed, std::size_t& begin, std::size_t n) {
-    if (next_mark_ >= follow_.size() || follow_[next_mark_].after_samples > stats_.samples) return false;
-    flush(begin, n, changed);  // the sweeps before the mark go first, as they did live
-    begin = n;
-    while (next_mark_ < follow_.size() && follow_[next_mark_].after_samples <= stats_.samples)
-        take(follow_[next_mark_++].request);
-    return true;
-}
-
-void SculptThread::close_stroke() {
-    const bool holding = holding_reference();
-    const auto t0 = std::chrono::steady_clock::now();
-    compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
-    IslandRemoval islands;       // the specks the stroke left, removed
-    const std::uint64_t serial = history_->end_stroke(&held, &islands);
-    if (held.rays_changed > 0) {
-        stats_.rays_changed += held.rays_changed;
-        stroke_changed_ = true;
-        changed_since_checkpoint_ = true;
-        last_change_t_s_ = prev_.t_s;
-    }
-    stats_.islands += islands;
-    if (islands.searches > 0) stats_.island_search_ms.push_back(islands.search_ms);
-    if (islands.specks > 0) changed_since_checkpoint_ = true;
-    const bool reference_moves = holding && stroke_changed_;
-    stroke_changed_ = false;
-    push_stroke_ = false;
-    if (serial != 0) record_mark(compute::kJournalStrokeEnd, serial, 0);
-    // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
-    // Removed specks leave the haptic window too.
-    if (reference_moves || islands.specks > 0) publish(published_centre_m_);
-    if (held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
-}
-
 void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
     if (!batch_.empty()) {
-        if (!history_->stroke_open()) last_change_t_s_ = prev_.t_s;  // a stroke opens: its idle clock starts
+        if (!history_->stroke_open()) {  // a stroke opens: its idle clock starts
+            last_change_t_s_ = open_t_s();
+            sites_.opened();
+        }
         push_stroke_ = batch_.back().op == ToolOp::kPush;  // a batch belongs to one stroke (step splits at closes)
         const compute::BooleanStats b = history_->apply(batch_);
         stats_.booleans += batch_.size();
@@ -323,7 +240,7 @@ void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
             changed = true;
             stroke_changed_ = true;
             changed_since_checkpoint_ = true;
-            last_change_t_s_ = prev_.t_s;
+            last_change_t_s_ = open_t_s();
         }
         batch_.clear();
     }
@@ -376,58 +293,37 @@ bool SculptThread::step() {
     bool any = take_requests();
     const auto t0 = std::chrono::steady_clock::now();
     ToolSample s;
-    bool changed = false, sampled = false;
-    SampleTimes oldest_cut;  // the oldest cutting sample's
+    StepWork w;
+    bool sampled = false;
     batch_.clear();
     drained_.clear();
-    std::size_t begin = 0, n = 0;  // drained_[begin, n) not yet journalled
-    any |= take_marks(changed, begin, n);
+    any |= take_marks(w);
     while (samples_.try_pop(s)) {
-        take_marks(changed, begin, n);  // a recorded request that came after the samples drained so far
+        take_marks(w);  // a recorded request that came after the samples drained so far
         sampled = true;
-        ++stats_.samples;
-        if (journal_ || stream_) drained_.push_back(s);
-        const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
-        if (cuts) oldest_cut.keep_older({s.made_s, s.t_s});
-        // A stroke closes where the tool stops cutting or changes what it does; the sweep ending at `s` then
-        // belongs to the next stroke.
-        if ((history_->stroke_open() || !batch_.empty()) && have_prev_ && compute::sample_closes_stroke(prev_, s)) {
-            flush(begin, n, changed);
-            begin = n;
-            close_stroke();
-        }
-        if (have_prev_ && cuts) {
-            const bool mesh = s.tool.kind == ToolKind::kMesh;
-            const bool mirror = mesh && s.symmetry.mirrors != 0;
-            compute::sample_sweeps(prev_, s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr,
-                                   mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
-                                   compute::symmetry_centre(model_.lattice), batch_);
-        }
-        prev_ = s;
-        have_prev_ = true;
-        ++n;
+        take_sample(s, w);
     }
+    any |= take_sites(w, sampled);
     if (!sampled) return any;
-    flush(begin, n, changed);
-    // The tool left the material: nothing changed for kStrokeIdleS of device time.
-    if (idle_close_ && !following_ && history_->stroke_open() && prev_.t_s - last_change_t_s_ >= kStrokeIdleS)
-        take(SculptRequest::kEndStroke);  // recorded: when it happens depends on how the samples were batched
+    flush(w.begin, w.n, w.changed);
+    // The tool left the material: nothing changed for kStrokeIdleS of device time (the open stroke's site's clock).
+    if (idle_close_ && !following_ && history_->stroke_open() && open_t_s() - last_change_t_s_ >= kStrokeIdleS)
+        take(SculptRequest::kEndStroke, sites_.sweeps().open_site());  // recorded: when depends on the batching
     // Haptics first: publish the changed surface before contouring, which only the renderer needs.
     // The window follows the god-object (ToolSample::surface_m), not the HIP, so a hand pushed deep into
     // material does not drag the window away from the proxy it constrains, until the HIP leaves what that
     // window covers (ActiveSurface::window_centre_m). (Widening the window to cover the HIP too was tried: the
     // coarser stride then hides thin walls, and the proxy ends inside material far more often;
-    // tests/stress/test_stress_haptics.cpp measures both.)
-    const Vec3 centre = ActiveSurface::window_centre_m(
-        prev_.surface_m, prev_.position,
-        0.5 * compute::tool_extent_m(tool_span_m_, have_prev_ ? tool_reach_m(prev_.tool) : tool_radius_m_),
+    // tests/stress/test_stress_haptics.cpp measures both.) It follows this site's own tool only.
+    const Vec3 centre = !have_prev_ ? published_centre_m_ : ActiveSurface::window_centre_m(
+        prev_.surface_m, prev_.position, 0.5 * compute::tool_extent_m(tool_span_m_, tool_reach_m(prev_.tool)),
         compute::kDefaultMotionMarginM, model_.lattice.cell_m);
     const double moved_cells = glm::length(centre - published_centre_m_) / model_.lattice.cell_m;
     // A push stroke keeps the haptic surface of its start (holding_reference); it is re-extracted there only to follow
     // the tool.
-    if ((changed && !holding_reference()) || moved_cells > kRecentreCells) publish(centre);
-    if (changed) {
-        pending_sample_.keep_older(oldest_cut);
+    if ((w.changed && !holding_reference()) || moved_cells > kRecentreCells) publish(centre);
+    if (w.changed) {
+        pending_sample_.keep_older(w.oldest_cut);
         contour_changed(t0, std::chrono::steady_clock::now());
     }
     return true;

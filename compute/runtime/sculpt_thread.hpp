@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -23,6 +24,8 @@
 #include "compute/model/tridexel.hpp"
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/runtime/sculpt_history.hpp"
+#include "compute/runtime/site_intake.hpp"
+#include "compute/runtime/site_strokes.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "core/active_surface.hpp"
 #include "core/change_signal.hpp"
@@ -33,14 +36,6 @@
 #include "core/triple_buffer.hpp"
 
 namespace tridex::app {
-
-/// A request to the sculpt thread (SculptThread::request).
-enum class SculptRequest : std::uint8_t {
-    kUndo,       ///< undo the newest stroke (the open one is closed first)
-    kRedo,       ///< redo the newest undone stroke
-    kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
-    kSave,       ///< save the model now with the saver (SculptThread::use_saver)
-};
 
 /// A point of the sculpt thread's sample stream where it took a request that depends on when it came (an undo, a
 /// redo, a stroke close asked for or made because the tool idled), as SculptStats::marks lists them.
@@ -110,6 +105,10 @@ struct SculptStats {
     IslandRemoval islands;
     /// Per stroke searched for specks: the search and its writes, ms.
     std::vector<double> island_search_ms;
+    /// Samples taken from other sites (use_site_intake), of `samples`.
+    std::uint64_t site_samples = 0;
+    /// Undo and redo requests refused because they would take back another site's work, in order (SiteStrokes).
+    std::vector<SculptRefusal> refusals;
     /// Where in the sample stream the thread took each undo, redo and stroke-close request and closed an idle stroke,
     /// in order (SculptMark): what a replay of the same samples needs to repeat the session's strokes
     /// (SculptThread::follow_marks).
@@ -243,6 +242,16 @@ public:
     /// itself (net, local rendering) gets the surface without the haptic thread's help. Throws tridex::Error when
     /// the thread runs.
     void observe_surface(std::function<void(const ActiveSurface&)> observer);
+    /// A shared session: takes other sites' samples and requests from `intake` (after its own tool's samples, each
+    /// pass), in the order they were queued. Each site's sweeps join its own samples, one stroke is open at a time
+    /// (another site's cut closes it), and an undo or redo takes back only the asker's own newest stroke, refused
+    /// (observe_refusals) when another site's stroke is newer or interrupted it, or another site's stroke is open
+    /// (SiteStrokes). The journal and the stream get every site's samples in the order applied. `intake` must outlive
+    /// the thread. Throws tridex::Error when the thread runs.
+    void use_site_intake(SiteIntake& intake);
+    /// Calls `observer` on the sculpt thread with every refused undo or redo (a shared session tells the asker who
+    /// stands in the way). Throws tridex::Error when the thread runs.
+    void observe_refusals(std::function<void(const SculptRefusal&)> observer);
     /// Sets the undo history's memory budget (bytes > 0; default compute::UndoHistory::kDefaultBudgetBytes).
     /// Throws tridex::Error when the thread runs or the budget is 0.
     void set_history_budget(std::size_t bytes);
@@ -345,13 +354,33 @@ public:
     void use_tile_lod(const compute::LodWorkerOptions& options);
 
 private:
+    // A cutting sample's times (ToolSample::made_s, t_s; infinity: none), kept for the oldest of several.
+    struct SampleTimes {
+        double made_s = std::numeric_limits<double>::infinity();
+        double t_s = std::numeric_limits<double>::infinity();
+        void keep_older(const SampleTimes& o) {
+            if (o.made_s < made_s) *this = o;
+        }
+    };
+    // One step's progress through its samples: drained_[begin, n) not journalled yet; whether the model changed.
+    struct StepWork {
+        bool changed = false;
+        std::size_t begin = 0, n = 0;
+        SampleTimes oldest_cut;  // the oldest cutting sample's
+    };
     void run();
     bool step();  // one drain + apply + contour + publish; false when there was nothing to do
+    void take_sample(const ToolSample& s, StepWork& w);  // into batch_, closing the stroke where it ends
+    bool take_sites(StepWork& w, bool& sampled);         // other sites' samples and requests; true when any
     bool take_requests();                            // undo / redo / close requests; true when one was taken
-    void take(SculptRequest r);                      // one request, recorded in stats_.marks unless kSave
-    bool take_marks(bool& changed, std::size_t& begin, std::size_t n);  // follow_marks due now; flushes first
+    void take(SculptRequest r, std::uint8_t site);   // one request of `site`, recorded in stats_.marks (own site)
+    void save_now();                                 // a kSave request
+    void refuse(SculptRequest r, std::uint8_t site, std::uint8_t by_site, std::uint64_t serial);
+    bool take_marks(StepWork& w);                    // follow_marks due now; flushes first
     void flush(std::size_t begin, std::size_t end, bool& changed);  // apply batch_, journal drained_[begin, end)
-    void close_stroke();                             // end the open stroke and journal it
+    // End the open stroke and journal it; by_site: another site's sample or request closed it (its gesture goes on).
+    void close_stroke(std::optional<std::uint8_t> by_site = std::nullopt);
+    double open_t_s() const;  // device time of the open stroke's site's newest sample
     // A stroke-end, undo or redo mark to the journal and the stream (then the stream's after_record).
     void record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
     // Re-contours the dirty tiles and records a changing step (Booleans from t0 to t1, then the contour); returns
@@ -411,7 +440,12 @@ private:
     SpscRing<ToolSample>& samples_;
     TripleBuffer<ActiveSurface>& surface_;
     bool have_prev_ = false;
-    ToolSample prev_{};
+    ToolSample prev_{};                    // the newest sample of local_site_ (the active surface follows it)
+    std::uint8_t local_site_ = 0;          // this session's own tool's site
+    SiteStrokes sites_;                    // each site's sweeps, and whose strokes the history holds
+    SiteIntake* intake_ = nullptr;         // use_site_intake
+    std::vector<SiteEntry> site_entries_;  // drained from intake_, reused
+    std::function<void(const SculptRefusal&)> refusal_observer_;
     Vec3 published_centre_m_;
     double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
     double tool_span_m_ = 0.0;
@@ -427,14 +461,6 @@ private:
     double mesh_interval_s_ = 0.0;
     bool mesh_pending_ = false;                     // contoured since the last mesh publish
     std::uint64_t mesh_version_ = 0;
-    // A cutting sample's times (ToolSample::made_s, t_s; infinity: none), kept for the oldest of several.
-    struct SampleTimes {
-        double made_s = std::numeric_limits<double>::infinity();
-        double t_s = std::numeric_limits<double>::infinity();
-        void keep_older(const SampleTimes& o) {
-            if (o.made_s < made_s) *this = o;
-        }
-    };
     SampleTimes pending_sample_;      // MeshFrame::oldest_sample_s and oldest_sample_t_s of the next publish
     SampleTimes last_oldest_sample_;  // the same of the last publish
     MeshForm mesh_form_ = MeshForm::kWhole;

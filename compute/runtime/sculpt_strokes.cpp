@@ -1,0 +1,181 @@
+// compute/runtime/sculpt_strokes.cpp - the sculpt thread's samples, strokes and requests: its own tool's and other
+// sites' (a shared session), undo and redo, and the marks a replay follows.
+#include <chrono>
+#include <string>
+#include <utility>
+
+#include "compute/journal/journal_format.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
+#include "compute/tools/symmetry.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+void SculptThread::use_site_intake(SiteIntake& intake) {
+    if (thread_.joinable()) throw Error("SculptThread::use_site_intake: call it before start()");
+    intake_ = &intake;
+}
+
+void SculptThread::observe_refusals(std::function<void(const SculptRefusal&)> observer) {
+    if (thread_.joinable()) throw Error("SculptThread::observe_refusals: call it before start()");
+    refusal_observer_ = std::move(observer);
+}
+
+double SculptThread::open_t_s() const {
+    const ToolSample* p = sites_.sweeps().prev(sites_.sweeps().open_site());
+    return p ? p->t_s : prev_.t_s;
+}
+
+void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
+    ++stats_.samples;
+    if (journal_ || stream_) drained_.push_back(s);
+    const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
+    if (cuts) w.oldest_cut.keep_older({s.made_s, s.t_s});
+    // A stroke closes where the tool stops cutting or changes what it does, or another site's tool cuts; the sweep
+    // ending at `s` then belongs to the next stroke.
+    compute::SiteSweeps& sites = sites_.sweeps();
+    const compute::StrokeClose close = sites.closes_before(s, history_->stroke_open() || !batch_.empty());
+    if (close != compute::StrokeClose::kNo) {
+        flush(w.begin, w.n, w.changed);
+        w.begin = w.n;
+        close_stroke(close == compute::StrokeClose::kSiteSwitch ? std::optional<std::uint8_t>(s.site) : std::nullopt);
+    }
+    const bool mesh = cuts && sites.prev(s.site) && s.tool.kind == ToolKind::kMesh;
+    const bool mirror = mesh && s.symmetry.mirrors != 0;
+    sites.advance(s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr, mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
+                  compute::symmetry_centre(model_.lattice), batch_);
+    if (s.site == local_site_) {
+        prev_ = s;
+        have_prev_ = true;
+    }
+    ++w.n;
+}
+
+bool SculptThread::take_sites(StepWork& w, bool& sampled) {
+    if (!intake_) return false;
+    site_entries_.clear();
+    if (intake_->drain(site_entries_) == 0) return false;
+    for (const SiteEntry& e : site_entries_) {
+        if (!e.is_request) {
+            take_sample(e.sample, w);
+            ++stats_.site_samples;
+            sampled = true;
+            continue;
+        }
+        flush(w.begin, w.n, w.changed);  // the site's samples before its request go first
+        w.begin = w.n;
+        take(e.request, e.site);
+    }
+    return true;
+}
+
+bool SculptThread::take_requests() {
+    SculptRequest r;
+    bool any = false;
+    while (requests_.try_pop(r)) {
+        any = true;
+        take(r, local_site_);
+    }
+    return any;
+}
+
+void SculptThread::save_now() {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string line;
+    bool ok = false;
+    try {
+        if (!saver_) throw Error("no save file for this session");
+        line = saver_(model_);
+        ok = true;
+    } catch (const std::exception& e) {
+        line = e.what();
+    }
+    stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::lock_guard<std::mutex> lock(save_mutex_);
+    ++(ok ? save_status_.saves : save_status_.failures);
+    save_status_.message = line;
+    save_status_.ok = ok;
+}
+
+void SculptThread::refuse(SculptRequest r, std::uint8_t site, std::uint8_t by_site, std::uint64_t serial) {
+    const SculptRefusal refusal{r, site, by_site, serial};
+    stats_.refusals.push_back(refusal);
+    if (refusal_observer_) refusal_observer_(refusal);
+}
+
+void SculptThread::take(SculptRequest r, std::uint8_t site) {
+    if (r == SculptRequest::kSave) {
+        save_now();
+        return;
+    }
+    if (site == local_site_) stats_.marks.push_back({stats_.samples, r});
+    // Another site's open stroke is theirs to close; a request never takes it back.
+    const bool others_open = history_->stroke_open() && sites_.sweeps().open_site() != site;
+    if (r == SculptRequest::kEndStroke) {
+        if (!others_open) close_stroke();
+        return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool undo = r == SculptRequest::kUndo;
+    ++(undo ? stats_.undo_requests : stats_.redo_requests);
+    if (others_open) {
+        refuse(r, site, sites_.sweeps().open_site(), 0);
+        return;
+    }
+    close_stroke();  // journalled before the undo or redo that follows
+    const std::uint64_t next = undo ? history_->next_undo_serial() : history_->next_redo_serial();
+    if (const std::optional<std::uint8_t> by = undo ? sites_.blocks_undo(site, next) : sites_.blocks_redo(site, next)) {
+        refuse(r, site, *by, next);
+        return;
+    }
+    const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
+    if (c.serial == 0) return;  // nothing to undo / redo
+    record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
+    changed_since_checkpoint_ = true;
+    publish(published_centre_m_);  // the haptic window follows at once
+    const auto t1 = std::chrono::steady_clock::now();
+    const double contour_ms = contour_changed(t0, t1);
+    stats_.undo_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    stats_.undo_rays.push_back(c.rays);
+    stats_.undo_redo.push_back(undo ? 0 : 1);
+    stats_.undo_restore_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    stats_.undo_contour_ms.push_back(contour_ms);
+}
+
+bool SculptThread::take_marks(StepWork& w) {
+    if (next_mark_ >= follow_.size() || follow_[next_mark_].after_samples > stats_.samples) return false;
+    flush(w.begin, w.n, w.changed);  // the sweeps before the mark go first, as they did live
+    w.begin = w.n;
+    while (next_mark_ < follow_.size() && follow_[next_mark_].after_samples <= stats_.samples)
+        take(follow_[next_mark_++].request, local_site_);
+    return true;
+}
+
+void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
+    const bool holding = holding_reference();
+    const bool was_open = history_->stroke_open();
+    const auto t0 = std::chrono::steady_clock::now();
+    compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
+    IslandRemoval islands;       // the specks the stroke left, removed
+    const std::uint64_t serial = history_->end_stroke(&held, &islands);
+    if (was_open) sites_.closed(serial, by_site);
+    if (held.rays_changed > 0) {
+        stats_.rays_changed += held.rays_changed;
+        stroke_changed_ = true;
+        changed_since_checkpoint_ = true;
+        last_change_t_s_ = open_t_s();
+    }
+    stats_.islands += islands;
+    if (islands.searches > 0) stats_.island_search_ms.push_back(islands.search_ms);
+    if (islands.specks > 0) changed_since_checkpoint_ = true;
+    const bool reference_moves = holding && stroke_changed_;
+    stroke_changed_ = false;
+    push_stroke_ = false;
+    if (serial != 0) record_mark(compute::kJournalStrokeEnd, serial, 0);
+    // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
+    // Removed specks leave the haptic window too.
+    if (reference_moves || islands.specks > 0) publish(published_centre_m_);
+    if (held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
+}
+
+}  // namespace tridex::app

@@ -1,0 +1,64 @@
+// compute/runtime/site_intake.cpp - other sites' samples and requests, queued for the sculpt thread.
+#include "compute/runtime/site_intake.hpp"
+
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+void check_site(std::uint8_t site, const char* what) {
+    if (site == 0 || site >= kMaxSites)
+        throw Error(std::string("site intake: ") + what + " of site " + std::to_string(site) +
+                    ": another site is 1.." + std::to_string(kMaxSites - 1) + " (0 is the session's own tool)");
+}
+}  // namespace
+
+void SiteIntake::push_samples(std::span<const ToolSample> samples) {
+    for (const ToolSample& s : samples) check_site(s.site, "a sample");
+    std::lock_guard lock(mutex_);
+    for (const ToolSample& s : samples) {
+        if (queue_.size() >= kMaxEntries) {
+            ++dropped_;
+            continue;
+        }
+        SiteEntry& e = queue_.emplace_back();
+        e.sample = s;
+        e.site = s.site;
+    }
+}
+
+void SiteIntake::push_request(std::uint8_t site, SculptRequest r) {
+    check_site(site, "a request");
+    if (r == SculptRequest::kSave) throw Error("site intake: site " + std::to_string(site) + " asked to save");
+    std::lock_guard lock(mutex_);
+    if (queue_.size() >= kMaxEntries) {
+        ++dropped_;
+        return;
+    }
+    SiteEntry& e = queue_.emplace_back();
+    e.is_request = true;
+    e.request = r;
+    e.site = site;
+}
+
+std::size_t SiteIntake::drain(std::vector<SiteEntry>& out) {
+    std::lock_guard lock(mutex_);
+    const std::size_t n = queue_.size();
+    out.insert(out.end(), queue_.begin(), queue_.end());
+    queue_.clear();
+    return n;
+}
+
+std::size_t SiteIntake::pending() const {
+    std::lock_guard lock(mutex_);
+    return queue_.size();
+}
+
+std::uint64_t SiteIntake::dropped() const {
+    std::lock_guard lock(mutex_);
+    return dropped_;
+}
+
+}  // namespace tridex::app
