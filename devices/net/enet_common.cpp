@@ -44,7 +44,8 @@ void no_throttle(ENetPeer* peer) {
 void send_datagram(ENetHost* host, ENetPeer* peer, const std::vector<std::uint8_t>& bytes, bool reliable) {
     ENetPacket* packet = enet_packet_create(bytes.data(), bytes.size(), reliable ? ENET_PACKET_FLAG_RELIABLE : 0);
     if (!packet) return;
-    if (enet_peer_send(peer, reliable ? kReliableChannel : kUnreliableChannel, packet) != 0) enet_packet_destroy(packet);
+    if (enet_peer_send(peer, reliable ? kReliableChannel : kUnreliableChannel, packet) != 0)
+        enet_packet_destroy(packet);
     enet_host_flush(host);
 }
 

@@ -169,8 +169,6 @@ void EnetLink::drop_peer() {
     enet_host_flush(m.host);
 }
 
-LinkTraffic EnetLink::traffic() const {
-    return watch_traffic(impl_->watch);
-}
+LinkTraffic EnetLink::traffic() const { return watch_traffic(impl_->watch); }
 
 }  // namespace tridex::devices::net
