@@ -107,7 +107,7 @@ void SealedLink::end_connection() {
     sodium_memzero(own_nonce_, sizeof own_nonce_);
     sodium_memzero(peer_nonce_, sizeof peer_nonce_);
     started_ = established_ = confirmed_ = false;
-    send_counter_[0] = send_counter_[1] = send_counter_[2] = 0;
+    send_counter_[0] = send_counter_[1] = send_counter_[2] = send_counter_[3] = 0;
     recv_[0] = recv_[1] = Channel{};
 }
 

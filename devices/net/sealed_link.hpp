@@ -198,7 +198,7 @@ private:
     bool confirmed_ = false;    // the peer's confirm opened: kConnected went upward (so kDisconnected does too)
     std::string failure_;       // what failed in the handshake since the last one completed ("" = nothing)
     std::vector<std::uint8_t> peer_address_;
-    std::uint64_t send_counter_[3] = {0, 0, 0};  // reliable, unreliable, confirm
+    std::uint64_t send_counter_[4] = {0, 0, 0, 0};  // by channel byte: reliable, unreliable, (hello), confirm
     Channel recv_[2];
     std::vector<std::uint8_t> out_;      // the sealed datagram being sent
     std::vector<std::uint8_t> scratch_;  // the opened payload, swapped into the event
