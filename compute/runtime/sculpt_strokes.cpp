@@ -1,10 +1,12 @@
 // compute/runtime/sculpt_strokes.cpp - the sculpt thread's samples, strokes and requests: its own tool's and other
 // sites' (a shared session), undo and redo, and the marks a replay follows.
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <utility>
 
 #include "compute/journal/journal_format.hpp"
+#include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "compute/tools/symmetry.hpp"
 #include "core/error.hpp"
@@ -44,7 +46,7 @@ void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
     const bool mirror = mesh && s.symmetry.mirrors != 0;
     sites.advance(s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr, mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
                   compute::symmetry_centre(model_.lattice), batch_);
-    if (s.site == local_site_) {
+    if (s.site == local_site_ && !follower_) {
         prev_ = s;
         have_prev_ = true;
     }
@@ -56,15 +58,17 @@ bool SculptThread::take_sites(StepWork& w, bool& sampled) {
     site_entries_.clear();
     if (intake_->drain(site_entries_) == 0) return false;
     for (const SiteEntry& e : site_entries_) {
-        if (!e.is_request) {
+        if (e.kind == SiteEntry::kSample) {
             take_sample(e.sample, w);
             ++stats_.site_samples;
             sampled = true;
             continue;
         }
-        flush(w.begin, w.n, w.changed);  // the site's samples before its request go first
+        flush(w.begin, w.n, w.changed);  // the samples before a request or mark go first
         w.begin = w.n;
-        take(e.request, e.site);
+        if (e.kind == SiteEntry::kMark) follow_mark(e);
+        else if (e.kind == SiteEntry::kCheck) follow_check(e.serial);
+        else take(e.request, e.site);
     }
     return true;
 }
@@ -74,7 +78,8 @@ bool SculptThread::take_requests() {
     bool any = false;
     while (requests_.try_pop(r)) {
         any = true;
-        take(r, local_site_);
+        if (follower_ && r != SculptRequest::kSave) outlet_.request(r);  // the host decides; its marks come back
+        else take(r, local_site_);
     }
     return any;
 }
@@ -128,8 +133,12 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
         refuse(r, site, *by, next);
         return;
     }
+    restore(undo, t0);
+}
+
+compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono::steady_clock::time_point& t0) {
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
-    if (c.serial == 0) return;  // nothing to undo / redo
+    if (c.serial == 0) return c;  // nothing to undo / redo
     record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once
@@ -140,6 +149,57 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
     stats_.undo_redo.push_back(undo ? 0 : 1);
     stats_.undo_restore_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     stats_.undo_contour_ms.push_back(contour_ms);
+    return c;
+}
+
+void SculptThread::follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet) {
+    if (thread_.joinable()) throw Error("SculptThread::follow_host: call it before start()");
+    if (own_site == 0 || own_site >= kMaxSites)
+        throw Error("SculptThread::follow_host: a joiner's site is 1.." + std::to_string(kMaxSites - 1) + ", not " +
+                    std::to_string(own_site));
+    if (!outlet.samples || !outlet.request) throw Error("SculptThread::follow_host: the outlet needs both functions");
+    intake_ = &intake;
+    local_site_ = own_site;
+    outlet_ = std::move(outlet);
+    follower_ = true;
+    following_ = true;  // strokes close where the host's marks say, never for idling
+}
+
+void SculptThread::forward_own(ToolSample s) {
+    s.site = local_site_;
+    ++stats_.forwarded;
+    prev_ = s;  // the active surface follows this site's own tool at once, not its echo from the host
+    have_prev_ = true;
+    own_.push_back(s);
+}
+
+void SculptThread::follow_check(std::uint64_t host_digest) {
+    const std::uint64_t here = compute::model_digest(model_);
+    ++stats_.digest_checks;
+    if (here == host_digest) return;
+    char text[160];
+    std::snprintf(text, sizeof text, "this replica's model (digest %016llx) differs from the host's (%016llx)",
+                  static_cast<unsigned long long>(here), static_cast<unsigned long long>(host_digest));
+    if (outlet_.mismatch) outlet_.mismatch(text);
+    throw Error(std::string("following the host: ") + text);
+}
+
+void SculptThread::follow_mark(const SiteEntry& e) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (e.mark == compute::kJournalStrokeEnd) {
+        if (history_->stroke_open()) close_stroke();
+        if (last_closed_serial_ != e.serial)
+            throw Error("following the host: it closed stroke " + std::to_string(e.serial) + " where this replica closed " +
+                        std::to_string(last_closed_serial_));
+        return;
+    }
+    close_stroke();
+    const bool undo = e.mark == compute::kJournalUndo;
+    const compute::UndoHistory::Change c = restore(undo, t0);
+    if (c.serial != e.serial || c.rays != e.rays)
+        throw Error(std::string("following the host: its ") + (undo ? "undo" : "redo") + " of stroke " +
+                    std::to_string(e.serial) + " (" + std::to_string(e.rays) + " rays) is stroke " +
+                    std::to_string(c.serial) + " (" + std::to_string(c.rays) + " rays) here");
 }
 
 bool SculptThread::take_marks(StepWork& w) {
@@ -159,6 +219,7 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     IslandRemoval islands;       // the specks the stroke left, removed
     const std::uint64_t serial = history_->end_stroke(&held, &islands);
     if (was_open) sites_.closed(serial, by_site);
+    if (serial != 0) last_closed_serial_ = serial;
     if (held.rays_changed > 0) {
         stats_.rays_changed += held.rays_changed;
         stroke_changed_ = true;

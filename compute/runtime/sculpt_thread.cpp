@@ -301,7 +301,12 @@ bool SculptThread::step() {
     while (samples_.try_pop(s)) {
         take_marks(w);  // a recorded request that came after the samples drained so far
         sampled = true;
-        take_sample(s, w);
+        if (follower_) forward_own(s);  // a joiner's own tool: to the host, whose stream carves it here
+        else take_sample(s, w);
+    }
+    if (!own_.empty()) {
+        outlet_.samples(own_);
+        own_.clear();
     }
     any |= take_sites(w, sampled);
     if (!sampled) return any;

@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -107,6 +108,10 @@ struct SculptStats {
     std::vector<double> island_search_ms;
     /// Samples taken from other sites (use_site_intake), of `samples`.
     std::uint64_t site_samples = 0;
+    /// A joiner (follow_host): its own tool's samples handed to the host, not applied here.
+    std::uint64_t forwarded = 0;
+    /// A joiner: the host's digest checks this replica passed (a failed one fails the thread).
+    std::uint64_t digest_checks = 0;
     /// Undo and redo requests refused because they would take back another site's work, in order (SiteStrokes).
     std::vector<SculptRefusal> refusals;
     /// Where in the sample stream the thread took each undo, redo and stroke-close request and closed an idle stroke,
@@ -184,6 +189,14 @@ struct MeshFrame {
     double oldest_sample_t_s = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Where a joiner's sculpt thread sends its own tool's samples and requests (SculptThread::follow_host).
+struct FollowerOutlet {
+    std::function<void(std::span<const ToolSample>)> samples;  ///< each pass's own samples, in order
+    std::function<void(SculptRequest)> request;                ///< an undo, redo or stroke close asked here
+    /// Optional: the host's digest check failed (what differs); the thread then fails (stop() rethrows).
+    std::function<void(const std::string&)> mismatch;
+};
+
 /// Strokes and undo: the samples' sweeps are applied stroke by stroke through a SculptHistory. A stroke closes at a
 /// sample with op kNone (the tool lifted, the workspace button held), at a change of op, material or tool, when
 /// its sweeps have changed nothing for kStrokeIdleS of device time after it changed the model (the tool left the
@@ -249,6 +262,15 @@ public:
     /// (SiteStrokes). The journal and the stream get every site's samples in the order applied. `intake` must outlive
     /// the thread. Throws tridex::Error when the thread runs.
     void use_site_intake(SiteIntake& intake);
+    /// A joiner of a shared session: the model follows the host's stream, which a network thread queues in `intake`
+    /// (SiteIntake::push_host_samples, push_host_mark, push_host_check) in the host's order, applied by the host's rules
+    /// (SiteSweeps; strokes closed, undone and redone at the host's marks, each checked against this replica's serials
+    /// and rays, and the model's digest at the host's checks: a mismatch fails the thread, after outlet.mismatch). This site's own tool (the ring's samples) is not applied here: each pass hands
+    /// its samples, tagged own_site, to outlet.samples, and the active surface follows them at once. Undo, redo and
+    /// stroke-close requests go to outlet.request (the host decides; its marks come back); saves are taken here.
+    /// Both functions are called on the sculpt thread, must be quick and must not throw. Throws tridex::Error when the
+    /// thread runs, own_site is not 1..kMaxSites-1, or a function is missing.
+    void follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet);
     /// Calls `observer` on the sculpt thread with every refused undo or redo (a shared session tells the asker who
     /// stands in the way). Throws tridex::Error when the thread runs.
     void observe_refusals(std::function<void(const SculptRefusal&)> observer);
@@ -377,6 +399,11 @@ private:
     void save_now();                                 // a kSave request
     void refuse(SculptRequest r, std::uint8_t site, std::uint8_t by_site, std::uint64_t serial);
     bool take_marks(StepWork& w);                    // follow_marks due now; flushes first
+    // An undo or redo on the history, journalled, published and contoured (t0: when it was taken); serial 0: none.
+    compute::UndoHistory::Change restore(bool undo, const std::chrono::steady_clock::time_point& t0);
+    void forward_own(ToolSample s);         // follow_host: one own sample, to own_
+    void follow_mark(const SiteEntry& e);   // follow_host: one of the host's marks
+    void follow_check(std::uint64_t host_digest);  // follow_host: the model's digest against the host's
     void flush(std::size_t begin, std::size_t end, bool& changed);  // apply batch_, journal drained_[begin, end)
     // End the open stroke and journal it; by_site: another site's sample or request closed it (its gesture goes on).
     void close_stroke(std::optional<std::uint8_t> by_site = std::nullopt);
@@ -446,6 +473,10 @@ private:
     SiteIntake* intake_ = nullptr;         // use_site_intake
     std::vector<SiteEntry> site_entries_;  // drained from intake_, reused
     std::function<void(const SculptRefusal&)> refusal_observer_;
+    bool follower_ = false;                // follow_host
+    FollowerOutlet outlet_;
+    std::vector<ToolSample> own_;          // follow_host: this pass's own samples
+    std::uint64_t last_closed_serial_ = 0; // the newest stroke closed (serial != 0)
     Vec3 published_centre_m_;
     double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
     double tool_span_m_ = 0.0;

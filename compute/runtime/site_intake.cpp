@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "compute/journal/journal_format.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -29,6 +30,37 @@ void SiteIntake::push_samples(std::span<const ToolSample> samples) {
     }
 }
 
+void SiteIntake::push_host_samples(std::span<const ToolSample> samples) {
+    for (const ToolSample& s : samples)
+        if (s.site >= kMaxSites)
+            throw Error("site intake: the host's sample of site " + std::to_string(s.site) + ": sites are 0.." +
+                        std::to_string(kMaxSites - 1));
+    std::lock_guard lock(mutex_);
+    for (const ToolSample& s : samples) {
+        SiteEntry& e = queue_.emplace_back();
+        e.sample = s;
+        e.site = s.site;
+    }
+}
+
+void SiteIntake::push_host_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
+    if (type != compute::kJournalStrokeEnd && type != compute::kJournalUndo && type != compute::kJournalRedo)
+        throw Error("site intake: the host's mark of type " + std::to_string(type) + " is none of stroke end, undo, redo");
+    std::lock_guard lock(mutex_);
+    SiteEntry& e = queue_.emplace_back();
+    e.kind = SiteEntry::kMark;
+    e.mark = type;
+    e.serial = serial;
+    e.rays = rays;
+}
+
+void SiteIntake::push_host_check(std::uint64_t digest) {
+    std::lock_guard lock(mutex_);
+    SiteEntry& e = queue_.emplace_back();
+    e.kind = SiteEntry::kCheck;
+    e.serial = digest;
+}
+
 void SiteIntake::push_request(std::uint8_t site, SculptRequest r) {
     check_site(site, "a request");
     if (r == SculptRequest::kSave) throw Error("site intake: site " + std::to_string(site) + " asked to save");
@@ -38,7 +70,7 @@ void SiteIntake::push_request(std::uint8_t site, SculptRequest r) {
         return;
     }
     SiteEntry& e = queue_.emplace_back();
-    e.is_request = true;
+    e.kind = SiteEntry::kRequest;
     e.request = r;
     e.site = site;
 }

@@ -21,12 +21,18 @@ enum class SculptRequest : std::uint8_t {
     kSave,       ///< save the model now with the saver (SculptThread::use_saver)
 };
 
-/// One entry of a SiteIntake: a tool sample (its site in sample.site), or a request of `site`.
+/// One entry of a SiteIntake: a tool sample (its site in sample.site), a request of `site` (the host's intake), or a
+/// mark of the host's stream (a follower's intake: journal_format.hpp's kJournalStrokeEnd, kJournalUndo, kJournalRedo),
+/// or the host's digest to check against (kCheck).
 struct SiteEntry {
-    bool is_request = false;
-    ToolSample sample{};                              ///< !is_request: the sample
-    SculptRequest request = SculptRequest::kEndStroke;  ///< is_request: kUndo, kRedo or kEndStroke
-    std::uint8_t site = 0;                            ///< is_request: whose request (0..kMaxSites-1)
+    enum Kind : std::uint8_t { kSample, kRequest, kMark, kCheck };
+    Kind kind = kSample;
+    ToolSample sample{};                              ///< kSample: the sample
+    SculptRequest request = SculptRequest::kEndStroke;  ///< kRequest: kUndo, kRedo or kEndStroke
+    std::uint8_t site = 0;                            ///< kRequest: whose request (0..kMaxSites-1)
+    std::uint32_t mark = 0;                           ///< kMark: its journal record type
+    std::uint64_t serial = 0;                         ///< kMark: the stroke's serial; kCheck: the host's digest
+    std::uint64_t rays = 0;                           ///< kMark: undo, redo: rays written back
 };
 
 /// A queue of other sites' samples and requests for the sculpt thread (SculptThread::use_site_intake), in arrival
@@ -43,6 +49,14 @@ public:
     /// Queues a request of `site`. Throws tridex::Error when site is 0 or >= kMaxSites, or r is kSave (a remote site
     /// does not save the host's model).
     void push_request(std::uint8_t site, SculptRequest r);
+    /// A follower (SculptThread::follow_host): queues the host's stream, one batch of samples (any site) or one mark
+    /// (type kJournalStrokeEnd, kJournalUndo or kJournalRedo of journal_format.hpp) at a time, in the host's order.
+    /// Throws tridex::Error, queuing nothing, for a sample of a site >= kMaxSites or another mark type. Never drops:
+    /// the stream is the model, so a follower that fell behind holds it all (the host's pace bounds it).
+    void push_host_samples(std::span<const ToolSample> samples);
+    void push_host_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
+    /// A follower: the host's model digest (compute::model_digest) after every record queued so far.
+    void push_host_check(std::uint64_t digest);
     /// Moves every queued entry to the end of `out`, in order; returns how many.
     std::size_t drain(std::vector<SiteEntry>& out);
     /// Entries queued now.

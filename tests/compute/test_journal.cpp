@@ -247,8 +247,8 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> bytes = file_bytes(path);
     const std::uint32_t len = get_u32(bytes.data() + 16);
 
-    std::vector<unsigned char> v2 = bytes;  // version 5 with a valid header CRC
-    put_u32(v2.data() + 8, 5);
+    std::vector<unsigned char> v2 = bytes;  // the next version with a valid header CRC
+    put_u32(v2.data() + 8, kJournalVersion + 1);
     put_u32(v2.data() + kJournalHeaderFixedBytes + len, crc32_ieee(v2.data(), kJournalHeaderFixedBytes + len));
     std::vector<unsigned char> damaged = bytes;
     damaged[kJournalHeaderFixedBytes + 3] ^= 0x10;
@@ -256,7 +256,7 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> short_header(bytes.begin(), bytes.begin() + kJournalHeaderFixedBytes + 5);
 
     const std::pair<std::vector<unsigned char>, std::string> cases[] = {
-        {v2, "j.tdj: journal version 5; this build reads versions 1 to 4"},
+        {v2, "j.tdj: journal version 6; this build reads versions 1 to 5"},
         {damaged, "j.tdj: the journal header is damaged (CRC mismatch)"},
         {garbage, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
         {{}, "j.tdj: not a tridex session journal (no TRDXJNL header)"},

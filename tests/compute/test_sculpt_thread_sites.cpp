@@ -8,12 +8,14 @@
 
 #include <chrono>
 #include <filesystem>
+#include <mutex>
 #include <thread>
 
 #include "compute/journal/journal_format.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/journal/journal_writer.hpp"
+#include "compute/journal/stream_buffer.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -249,6 +251,128 @@ TEST(SculptSites, AGestureAnotherSiteInterruptedCannotBeUndoneAndAnOpenStrokeIsN
     compute::journal_apply(again, j.records);
     EXPECT_EQ(compute::model_digest(again), compute::model_digest(live));
     fs::remove(path);
+}
+
+// Moves the host's stream into a follower's intake (what a network thread does).
+void relay(compute::ToolStreamBuffer& stream, SiteIntake& follower) {
+    for (const compute::JournalRecord& r : stream.take().records) {
+        if (r.kind == compute::JournalKind::kBatch) follower.push_host_samples(r.samples);
+        else
+            follower.push_host_mark(r.kind == compute::JournalKind::kStrokeEnd ? compute::kJournalStrokeEnd
+                                    : r.kind == compute::JournalKind::kUndo    ? compute::kJournalUndo
+                                                                               : compute::kJournalRedo,
+                                    r.serial, r.rays);
+    }
+}
+
+TEST(SculptSites, AJoinerFollowsTheHostsStreamWhileItsOwnToolCarvesThroughTheHost) {
+    compute::TriDexel host_model = box_model();
+    compute::TriDexel join_model = box_model();
+    compute::ToolStreamBuffer stream;
+    SiteIntake host_in, join_in;
+    std::vector<SculptRequest> asked;
+    std::mutex asked_mutex;
+    compute::Contourer hc(host_model), jc(join_model);
+    hc.update(host_model);
+    jc.update(join_model);
+    SpscRing<ToolSample> host_ring(4096), join_ring(4096);
+    TripleBuffer<ActiveSurface> hs, js;
+    SculptThread host(host_model, hc, host_ring, hs, Vec3(0.0));
+    SculptThread join(join_model, jc, join_ring, js, Vec3(0.0));
+    host.use_stream(stream);
+    host.use_site_intake(host_in);
+    EXPECT_THROW(join.follow_host(join_in, 0, {}), Error);
+    join.follow_host(join_in, 3,
+                     {[&](std::span<const ToolSample> s) { host_in.push_samples(s); },
+                      [&](SculptRequest r) {
+                          std::lock_guard lock(asked_mutex);
+                          asked.push_back(r);
+                          host_in.push_request(3, r);
+                      },
+                      {}});
+    host.start();
+    join.start();
+    const auto settle = [&] {
+        for (int k = 0; k < 40; ++k) {  // a few round trips of the "network"
+            relay(stream, join_in);
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    };
+    std::vector<ToolSample> mine = groove(0, -0.02, 0.03, -0.03, 90, 2.0);  // the joiner's haptic loop: site 0 there
+    for (const ToolSample& x : groove(0, 0.02, -0.03, 0.03, 90, 0.0)) host_ring.try_push(x);
+    settle();
+    for (const ToolSample& x : mine) join_ring.try_push(x);  // after the host's: the joiner's stroke is the newest
+    settle();
+    ASSERT_TRUE(join.request(SculptRequest::kUndo));  // the joiner's own groove, taken back through the host
+    settle();
+    const std::uint64_t after_undo = compute::model_digest(host_model);
+    ASSERT_TRUE(join.request(SculptRequest::kRedo));
+    settle();
+    host.stop();
+    relay(stream, join_in);
+    settle();
+    join.stop();
+    EXPECT_EQ(join.stats().forwarded, mine.size());
+    EXPECT_EQ(host.stats().site_samples, mine.size());
+    EXPECT_EQ(join.stats().site_samples, 2 * mine.size());  // every site's samples came back from the host
+    EXPECT_EQ(host.stats().history.undos, 1u);
+    EXPECT_EQ(host.stats().history.redos, 1u);
+    EXPECT_EQ(join.stats().undo_ms.size(), 2u);  // the host's undo and redo, followed
+    EXPECT_TRUE(join.stats().refusals.empty());
+    EXPECT_EQ(asked.size(), 2u);
+    EXPECT_EQ(compute::model_digest(join_model), compute::model_digest(host_model));
+
+    // After the undo only the host's own groove was left.
+    compute::TriDexel only_host = box_model();
+    compute::JournalRecord r;
+    r.kind = compute::JournalKind::kBatch;
+    r.samples = groove(0, 0.02, -0.03, 0.03, 90, 0.0);
+    compute::journal_apply(only_host, std::span<const compute::JournalRecord>(&r, 1));
+    EXPECT_EQ(after_undo, compute::model_digest(only_host));
+}
+
+TEST(SculptSites, AFollowerThatHoldsAnotherModelFailsAtTheHostsMark) {
+    compute::TriDexel model = box_model();
+    compute::Contourer c(model);
+    c.update(model);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    SiteIntake in;
+    SculptThread t(model, c, ring, surface, Vec3(0.0));
+    std::string heard;
+    t.follow_host(in, 1, {[](std::span<const ToolSample>) {}, [](SculptRequest) {},
+                          [&heard](const std::string& what) { heard = what; }});
+    t.start();
+    in.push_host_samples(groove(2, 0.0, -0.03, 0.03, 30, 0.0));
+    in.push_host_mark(compute::kJournalStrokeEnd, 7, 0);  // the host's stroke 7: this replica's is 1
+    EXPECT_THROW(in.push_host_mark(99, 1, 0), Error);
+    try {
+        t.stop();
+        ADD_FAILURE() << "the follower did not fail";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("closed stroke 7 where this replica closed 1"), std::string::npos) << e.what();
+    }
+}
+
+TEST(SculptSites, AFollowerChecksItsModelAtTheHostsDigestAndStopsWhenItDiffers) {
+    compute::TriDexel model = box_model();
+    const std::uint64_t start = compute::model_digest(model);
+    compute::Contourer c(model);
+    c.update(model);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    SiteIntake in;
+    SculptThread t(model, c, ring, surface, Vec3(0.0));
+    std::string heard;
+    t.follow_host(in, 2, {[](std::span<const ToolSample>) {}, [](SculptRequest) {},
+                          [&heard](const std::string& what) { heard = what; }});
+    t.start();
+    in.push_host_check(start);  // agrees
+    in.push_host_samples(groove(1, 0.0, -0.03, 0.03, 30, 0.0));
+    in.push_host_check(start);  // the host's model did not change: this one did
+    EXPECT_THROW(t.stop(), Error);
+    EXPECT_EQ(t.stats().digest_checks, 2u);
+    EXPECT_NE(heard.find("differs from the host's"), std::string::npos) << heard;
 }
 
 }  // namespace

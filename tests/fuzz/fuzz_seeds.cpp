@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/session/shared/shared_message.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -126,6 +127,31 @@ void sealed_seeds(const fs::path& dir) {
     put_ops("raw", raw);
 }
 
+/// One message of each kind of a shared session (tests/fuzz/fuzz_shared.cpp).
+void shared_seeds(const fs::path& dir) {
+    const auto put_msg = [&](const std::string& name, const std::vector<unsigned char>& b) { put(dir, "shared", name, b); };
+    put_msg("join", app::encode_join(app::JoinMessage{app::kSharedProtocol, "Bo", Vec3(0.2, 0.4, 0.6)}));
+    put_msg("welcome", app::encode_welcome(app::WelcomeMessage{1, "Ann", "{}", {1, 2, 3}, 42}));
+    ToolSample s;
+    s.op = ToolOp::kSubtract;
+    s.tool.radius_m = 0.004;
+    s.site = 1;
+    const std::vector<ToolSample> samples = {s, s};
+    put_msg("samples", app::encode_samples(samples));
+    put_msg("request", app::encode_request(app::SculptRequest::kUndo));
+    app::RecordsMessage r;
+    r.records.resize(2);
+    r.records[0].samples = samples;
+    r.records[1].kind = compute::JournalKind::kStrokeEnd;
+    r.records[1].serial = 3;
+    r.check_digest = 7;
+    r.check_after = 1;
+    put_msg("records", app::encode_records(r));
+    put_msg("refused", app::encode_refused(app::RefusedMessage{app::SculptRequest::kRedo, 2, "Cy"}));
+    put_msg("presence", app::encode_presence(app::PresenceMessage{2, false, "Cy", Vec3(0.5), Pose{}, 0.004}));
+    put_msg("end", app::encode_end(app::EndMessage{9, 120, "the host ended the session"}));
+}
+
 /// IN packets as fuzz_falcon reads them (a length byte, two modem bytes, data): whole, torn and doubled frames.
 void falcon_seeds(const fs::path& dir) {
     namespace falcon = devices::falcon;
@@ -170,6 +196,7 @@ int main(int argc, char** argv) {
         net_seeds(dir);
         falcon_seeds(dir);
         sealed_seeds(dir);
+        shared_seeds(dir);
         dtrack_seeds(dir);
         for (const auto& seed : fuzz::mesh_seeds()) put(dir, seed.target, seed.name, seed.bytes);
     } catch (const std::exception& e) {

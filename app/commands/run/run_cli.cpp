@@ -10,6 +10,7 @@
 #include "app/commands/command.hpp"
 #include "app/session/run/run_session.hpp"
 #include "app/session/cluster/cluster_session.hpp"
+#include "app/session/shared/shared_session.hpp"
 #include "app/session/runtime/session_companion.hpp"
 #include "app/support/device_lost.hpp"
 #include "devices/registry/device_registry.hpp"
@@ -145,6 +146,15 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_option("--cluster", o.cluster,
                     "Cluster config (JSON): run under mpirun, rank 0 runs the session and the other ranks draw the "
                     "wall's viewports (docs/wall.md)");
+    cmd->add_option("--host", o.host,
+                    "Host a shared session on [ADDR:]PORT: others join with --join and carve this model with you "
+                    "(docs/shared.md)");
+    cmd->add_option("--join", o.join, "Join the shared session hosted at HOST:PORT (its model is the workpiece)");
+    cmd->add_option("--shared-key-file", o.shared_key_file,
+                    "The shared session's key: a file of 32 bytes or 64 hex digits, the same at every site");
+    cmd->add_option("--shared-passphrase-env", o.shared_passphrase_env,
+                    "The shared session's key from a passphrase held in this environment variable");
+    cmd->add_option("--name", o.site_name, "Your name in a shared session, as the others see it");
 }
 
 namespace {
@@ -198,7 +208,7 @@ int run_command(const RunOptions& options) {
             if (c.run) print_run(*c.run);
             return c.exit_code;
         }
-        print_run(run_stereo_session(options));
+        print_run(shared_session_asked(options) ? run_shared_session(options) : run_stereo_session(options));
         return 0;
     } catch (const DeviceLostError& e) {
         std::fprintf(stderr, "tridex: %s\n", e.what());

@@ -120,13 +120,22 @@ bool RunPipeline::Parts::take_input() {
 bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
     const double t = seconds_since(t_render);
     const bool unlimited = su.frames == 0 && su.seconds == 0.0;
+    std::string companion_ended;
+    bool held_open = false;
+    for (const SessionCompanion* c : companions) {
+        if (companion_ended.empty()) companion_ended = c->ended();
+        held_open |= c->holds_session_open();
+    }
     if (su.frames > 0 && frame + 1 >= static_cast<std::uint64_t>(su.frames))
         ended = "--frames " + std::to_string(su.frames) + " rendered";
     else if (su.seconds > 0.0 && t >= su.seconds)
         ended = "--seconds " + format_number(su.seconds) + " passed";
-    else if (offscreen && unlimited && backend->stroke_done())
+    else if (!companion_ended.empty())
+        ended = companion_ended;
+    else if (offscreen && unlimited && !held_open && backend->stroke_done())
         ended = "the stroke ended";
-    else if (offscreen && unlimited && script_end_s > 0.0 && backend->runtime().latest_view().t_s >= script_end_s)
+    else if (offscreen && unlimited && !held_open && script_end_s > 0.0 &&
+             backend->runtime().latest_view().t_s >= script_end_s)
         ended = "the scripted cursor ended";
     else if (study_view && scene.study.end_at_end_cap && study_view->trial_done())
         ended = "the wand reached the end cap";
@@ -136,7 +145,7 @@ bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
         ended = companion_failure;
     else if (backend->runtime().loop_stats().device_lost)
         ended = "the device was lost";
-    else if (safety_s > 0.0 && offscreen && unlimited && t >= safety_s)
+    else if (safety_s > 0.0 && offscreen && unlimited && !held_open && t >= safety_s)
         ended = "the wall-time safety net (" + format_number(safety_s) + " s) stopped the run";
     else
         return false;
@@ -212,6 +221,14 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
             ghosts->append(sym, lv.tool_world, tool_now, frame_objects);
             view.objects = frame_objects;
         }
+    }
+    for (const SessionCompanion* c : companions) {  // what a companion draws (a shared session's other tools)
+        companion_objects.clear();
+        c->add_objects(companion_objects);
+        if (companion_objects.empty()) continue;
+        if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+        frame_objects.insert(frame_objects.end(), companion_objects.begin(), companion_objects.end());
+        view.objects = frame_objects;
     }
     add_menu(view, lv, saving);
     if (su.items) {

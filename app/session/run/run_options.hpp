@@ -149,6 +149,14 @@ struct RunOptions {
     /// A cluster config (app/session/cluster/cluster_config.hpp): run under mpirun, rank 0 runs the session and the
     /// other ranks draw the wall's viewports; "" = one machine.
     std::string cluster;
+    /// A shared session (docs/shared.md): host it, listening on [ADDR:]PORT (--host), or join the host at HOST:PORT
+    /// (--join); "" = none. Either needs the session's key: a key file or the name of an environment variable holding
+    /// its passphrase (--shared-key-file, --shared-passphrase-env).
+    std::string host;
+    std::string join;                   ///< see host
+    std::string shared_key_file;        ///< see host
+    std::string shared_passphrase_env;  ///< see host
+    std::string site_name;              ///< --name: the person, as the others in a shared session see them
     /// Called on the frame thread after every frame (a monitor such as `bench --soak`); it must return quickly, as
     /// its time is the next frame's. Empty = none. Not a command-line option.
     std::function<void(const RunFrameProbe&)> frame_probe;

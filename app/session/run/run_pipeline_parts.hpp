@@ -124,6 +124,7 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<SymmetryGhosts> ghosts;          // the symmetric tools and the mirror planes, while symmetry is on
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
+    std::vector<renderer::SceneObject> companion_objects;  // what the companions add to this frame
     std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects
     std::vector<renderer::SceneObject> pattern_objects;
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m

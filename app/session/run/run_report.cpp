@@ -234,6 +234,7 @@ json run_report_json(const RunResult& r) {
         {"wall_s", r.wall_s},
         {"notes", r.notes},
         {"files", r.files}};
+    for (const auto& [key, value] : r.companions.items()) j[key] = value;  // each companion's part under its key
     conform_report(j);
     return j;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,7 @@
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
 #include "renderer/camera/scene_navigation.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 
@@ -52,8 +54,17 @@ public:
     /// After the threads stopped (the model is final and may be read), before the outputs are written; `last`
     /// is the last frame as shown (frame number one past the last presented).
     virtual void stopped(SessionRuntime& runtime, const FrameShown& last) { (void)runtime, (void)last; }
+    /// Appends the objects it draws in this frame (a shared session's other tools: drawn, never felt); they must stay
+    /// valid until the frame is drawn. Called on the frame loop's thread, once a frame.
+    virtual void add_objects(std::vector<renderer::SceneObject>& out) const { (void)out; }
     /// Why the companion cannot go on; "" while it can.
     virtual std::string failure() const { return ""; }
+    /// Why the session ends now, normally (a shared session's host ended it); "" while it goes on. Asked once a frame.
+    virtual std::string ended() const { return ""; }
+    /// True while an offscreen session must go on past the end of its own stroke or scripted cursor and past the
+    /// offscreen safety net (a joiner of a shared session stays until the host ends it or goes away). --frames and
+    /// --seconds still end it.
+    virtual bool holds_session_open() const { return false; }
     /// Its part of report.json (under its own key), or null.
     virtual nlohmann::json report() const { return nullptr; }
     /// The key of report() in report.json.

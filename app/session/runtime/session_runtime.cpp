@@ -137,6 +137,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
     if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
     if (o.sculpt.stream) sculpt_->use_stream(*o.sculpt.stream);
+    for (const auto& setup : o.sculpt.sculpt_setup) setup(*sculpt_);
     if (!o.sculpt.save_path.empty()) {
         sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_),
                             palette = spec_.palette](const compute::TriDexel& m) {

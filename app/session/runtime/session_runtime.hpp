@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -83,6 +84,10 @@ struct SculptOptions {
     /// Also hands every batch and mark the sculpt thread applies to this sink (SculptThread::use_stream): a
     /// replica of the model elsewhere follows it. nullptr = none. Must outlive the session's threads.
     compute::ToolStreamSink* stream = nullptr;
+    /// Called with the sculpt thread after it is made and set up, before it starts, in order: a companion wires what it
+    /// needs (a shared session's site intake and refusals, SculptThread::use_site_intake, follow_host). Each may throw
+    /// tridex::Error, which fails the session's set-up.
+    std::vector<std::function<void(SculptThread&)>> sculpt_setup{};
 };
 
 /// What `s` asks of the sculpting backend (its --cpu, --gpu, --gpu-contour and --gpu-clay), for decide_backend.

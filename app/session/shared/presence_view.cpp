@@ -1,0 +1,32 @@
+// app/session/shared/presence_view.cpp - the other sites' tools as coloured balls.
+#include "app/session/shared/presence_view.hpp"
+
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "renderer/scene/primitive_meshes.hpp"
+
+namespace tridex::app {
+
+namespace {
+float linear_of(double srgb) {  // the sRGB transfer function's inverse (IEC 61966-2-1)
+    return static_cast<float>(srgb <= 0.04045 ? srgb / 12.92 : std::pow((srgb + 0.055) / 1.055, 2.4));
+}
+}  // namespace
+
+PresenceView::PresenceView() : ball_(renderer::unit_sphere(12, 24)) {}
+
+void PresenceView::append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const {
+    for (const PresenceMessage& p : others) {
+        if (p.gone || !is_finite(p.tool.position) || !(p.tool_radius_m > 0.0)) continue;
+        renderer::SceneObject o;
+        o.mesh = &ball_;
+        o.colour = glm::vec4(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
+        o.world_from_model = glm::mat4(glm::translate(glm::dmat4(1.0), p.tool.position) *
+                                       glm::scale(glm::dmat4(1.0), Vec3(p.tool_radius_m)));
+        out.push_back(o);
+    }
+}
+
+}  // namespace tridex::app

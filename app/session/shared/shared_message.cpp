@@ -1,0 +1,217 @@
+// app/session/shared/shared_message.cpp - encoding and checked decoding of a shared session's messages.
+#include "app/session/shared/shared_message.hpp"
+
+#include "app/session/wire/message_io.hpp"
+#include "compute/journal/journal_format.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+
+namespace {
+
+constexpr unsigned char kMagic[4] = {'T', 'D', 'X', 'S'};
+constexpr std::size_t kMaxName = 64;
+
+MessageWriter writer(SharedKind k) { return MessageWriter(kMagic, static_cast<std::uint8_t>(k)); }
+MessageReader reader(std::span<const unsigned char> b, const std::string& from, SharedKind k) {
+    return MessageReader(b, from, kMagic, static_cast<std::uint8_t>(k), "shared session");
+}
+
+std::string name_of(MessageReader& r, const char* field, bool may_be_empty) {
+    std::string s = r.text(field);
+    if (s.size() > kMaxName || (!may_be_empty && s.empty())) r.fail(field, "a name is 1.." + std::to_string(kMaxName) + " bytes");
+    for (const char c : s)
+        if (static_cast<unsigned char>(c) < 0x20) r.fail(field, "a control character in a name");
+    return s;
+}
+
+Vec3 colour_of(MessageReader& r, const char* field) {
+    const Vec3 c = r.vec3(field);
+    for (int k = 0; k < 3; ++k)
+        if (c[k] < 0.0 || c[k] > 1.0) r.fail(field, "a colour's channels are 0..1");
+    return c;
+}
+
+std::uint8_t site_of(MessageReader& r, const char* field) {
+    const std::uint8_t s = r.u8(field);
+    if (s >= kMaxSites) r.fail(field, "site " + std::to_string(s) + " is not 0.." + std::to_string(kMaxSites - 1));
+    return s;
+}
+
+SculptRequest request_of(MessageReader& r, const char* field) {
+    const std::uint8_t v = r.u8(field);
+    if (v > static_cast<std::uint8_t>(SculptRequest::kEndStroke)) r.fail(field, "not an undo, redo or stroke close");
+    return static_cast<SculptRequest>(v);
+}
+
+}  // namespace
+
+SharedKind shared_kind(std::span<const unsigned char> b, const std::string& from) {
+    if (b.size() < 5 || b[0] != kMagic[0] || b[1] != kMagic[1] || b[2] != kMagic[2] || b[3] != kMagic[3])
+        throw Error(from + ": not a tridex shared session message");
+    if (b[4] < 1 || b[4] > static_cast<unsigned char>(SharedKind::kEnd))
+        throw Error(from + ": kind: unknown kind " + std::to_string(b[4]));
+    return static_cast<SharedKind>(b[4]);
+}
+
+std::vector<unsigned char> encode_join(const JoinMessage& m) {
+    MessageWriter w = writer(SharedKind::kJoin);
+    w.u32(m.protocol);
+    w.text(m.name);
+    w.vec3(m.colour);
+    return w.take();
+}
+
+JoinMessage decode_join(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kJoin);
+    JoinMessage m;
+    m.protocol = r.u32("protocol");
+    m.name = name_of(r, "name", false);
+    m.colour = colour_of(r, "colour");
+    r.end();
+    return m;
+}
+
+std::vector<unsigned char> encode_welcome(const WelcomeMessage& m) {
+    MessageWriter w = writer(SharedKind::kWelcome);
+    w.u8(m.site);
+    w.text(m.host_name);
+    w.text(m.spec_json);
+    w.blob(m.model_tdx);
+    w.u64(m.initial_digest);
+    return w.take();
+}
+
+WelcomeMessage decode_welcome(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kWelcome);
+    WelcomeMessage m;
+    m.site = site_of(r, "site");
+    if (m.site == 0) r.fail("site", "site 0 is the host's");
+    m.host_name = name_of(r, "host_name", false);
+    m.spec_json = r.text("spec");
+    m.model_tdx = r.blob("model");
+    if (m.model_tdx.empty()) r.fail("model", "no model");
+    m.initial_digest = r.u64("initial_digest");
+    r.end();
+    return m;
+}
+
+std::vector<unsigned char> encode_samples(std::span<const ToolSample> samples) {
+    MessageWriter w = writer(SharedKind::kSamples);
+    w.u32(static_cast<std::uint32_t>(samples.size()));
+    for (const ToolSample& s : samples) w.sample(s);
+    return w.take();
+}
+
+std::vector<ToolSample> decode_samples(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kSamples);
+    const std::uint32_t n = r.u32("samples");
+    if (n > kMaxRecordSamples) r.fail("samples", std::to_string(n) + " samples, over the limit");
+    r.need(static_cast<std::size_t>(n) * compute::kJournalSampleBytes, "samples");
+    std::vector<ToolSample> out;
+    out.reserve(n);
+    for (std::uint32_t i = 0; i < n; ++i) out.push_back(r.sample("sample"));
+    r.end();
+    return out;
+}
+
+std::vector<unsigned char> encode_request(SculptRequest q) {
+    MessageWriter w = writer(SharedKind::kRequest);
+    w.u8(static_cast<std::uint8_t>(q));
+    return w.take();
+}
+
+SculptRequest decode_request(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kRequest);
+    const SculptRequest q = request_of(r, "request");
+    r.end();
+    return q;
+}
+
+std::vector<unsigned char> encode_records(const RecordsMessage& m) {
+    MessageWriter w = writer(SharedKind::kRecords);
+    w.u8(m.check_digest ? 1 : 0);
+    w.u64(m.check_digest.value_or(0));
+    w.u32(m.check_after);
+    w.records(m.records);
+    return w.take();
+}
+
+RecordsMessage decode_records(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kRecords);
+    RecordsMessage m;
+    const std::uint8_t has = r.u8("check");
+    if (has > 1) r.fail("check", "not 0 or 1");
+    const std::uint64_t digest = r.u64("check_digest");
+    m.check_after = r.u32("check_after");
+    if (has) m.check_digest = digest;
+    m.records = r.records("records");
+    if (m.check_digest && m.check_after > m.records.size()) r.fail("check_after", "past the records");
+    r.end();
+    return m;
+}
+
+std::vector<unsigned char> encode_refused(const RefusedMessage& m) {
+    MessageWriter w = writer(SharedKind::kRefused);
+    w.u8(static_cast<std::uint8_t>(m.request));
+    w.u8(m.by_site);
+    w.text(m.by_name);
+    return w.take();
+}
+
+RefusedMessage decode_refused(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kRefused);
+    RefusedMessage m;
+    m.request = request_of(r, "request");
+    m.by_site = site_of(r, "by_site");
+    m.by_name = name_of(r, "by_name", true);
+    r.end();
+    return m;
+}
+
+std::vector<unsigned char> encode_presence(const PresenceMessage& m) {
+    MessageWriter w = writer(SharedKind::kPresence);
+    w.u8(m.site);
+    w.u8(m.gone ? 1 : 0);
+    w.text(m.name);
+    w.vec3(m.colour);
+    w.pose(m.tool);
+    w.f64(m.tool_radius_m);
+    return w.take();
+}
+
+PresenceMessage decode_presence(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kPresence);
+    PresenceMessage m;
+    m.site = site_of(r, "site");
+    const std::uint8_t gone = r.u8("gone");
+    if (gone > 1) r.fail("gone", "not 0 or 1");
+    m.gone = gone != 0;
+    m.name = name_of(r, "name", true);
+    m.colour = colour_of(r, "colour");
+    m.tool = r.pose("tool");
+    m.tool_radius_m = r.f64("tool_radius_m");
+    if (m.tool_radius_m < 0.0 || m.tool_radius_m > 1.0) r.fail("tool_radius_m", "must be in [0, 1] m");
+    r.end();
+    return m;
+}
+
+std::vector<unsigned char> encode_end(const EndMessage& m) {
+    MessageWriter w = writer(SharedKind::kEnd);
+    w.u64(m.digest);
+    w.u64(m.records);
+    w.text(m.reason);
+    return w.take();
+}
+
+EndMessage decode_end(std::span<const unsigned char> b, const std::string& from) {
+    MessageReader r = reader(b, from, SharedKind::kEnd);
+    EndMessage m;
+    m.digest = r.u64("digest");
+    m.records = r.u64("records");
+    m.reason = r.text("reason");
+    r.end();
+    return m;
+}
+
+}  // namespace tridex::app

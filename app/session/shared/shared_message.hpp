@@ -1,0 +1,104 @@
+// app/session/shared/shared_message.hpp - the messages of a shared session between its host and its joiners, on the
+// wire: magic "TDXS", a kind byte, then the fields (app/session/wire/message_io.hpp). docs/shared.md gives the
+// protocol.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "compute/journal/journal_reader.hpp"
+#include "compute/runtime/site_intake.hpp"
+#include "core/pose.hpp"
+#include "core/tool_sample.hpp"
+
+namespace tridex::app {
+
+/// The protocol version a joiner states in its join; the host refuses another.
+inline constexpr std::uint32_t kSharedProtocol = 1;
+
+/// Message kinds (the byte after the magic).
+enum class SharedKind : std::uint8_t {
+    kJoin = 1,      ///< joiner -> host, once: who joins
+    kWelcome = 2,   ///< host -> joiner, once: its site and the session (spec, starting model, digest)
+    kSamples = 3,   ///< joiner -> host: its tool's samples, in order
+    kRequest = 4,   ///< joiner -> host: an undo, redo or stroke close
+    kRecords = 5,   ///< host -> joiner: the stream's records in order, with a digest check now and then
+    kRefused = 6,   ///< host -> joiner: a request refused, naming whose stroke stands in the way
+    kPresence = 7,  ///< either way, unreliable: a site's tool, for the others to draw
+    kEnd = 8,       ///< host -> joiner: the session ended (final digest, records sent) or the joiner was turned away
+};
+
+/// A joiner's first message.
+struct JoinMessage {
+    std::uint32_t protocol = kSharedProtocol;
+    std::string name;        ///< the person, for the others' screens and messages (1..64 bytes)
+    Vec3 colour{0.9, 0.5, 0.1};  ///< their tool's colour, sRGB 0..1
+};
+
+/// The host's answer to a join.
+struct WelcomeMessage {
+    std::uint8_t site = 0;                 ///< the joiner's site, 1..kMaxSites-1
+    std::string host_name;                 ///< the host's person
+    std::string spec_json;                 ///< the session spec (spec_to_json), as the journal's header carries it
+    std::vector<unsigned char> model_tdx;  ///< the model the stream starts from, as a .tdx file (zstd sections)
+    std::uint64_t initial_digest = 0;      ///< compute::model_digest of that model
+};
+
+/// The host's stream, continuing: records with indices continuing from the previous message's, and optionally the
+/// digest of the host's model after the first check_after of them.
+struct RecordsMessage {
+    std::vector<compute::JournalRecord> records;
+    std::optional<std::uint64_t> check_digest;
+    std::uint32_t check_after = 0;
+};
+
+/// A refused request (app::SculptRefusal, with the name of who stands in the way).
+struct RefusedMessage {
+    SculptRequest request = SculptRequest::kUndo;
+    std::uint8_t by_site = 0;
+    std::string by_name;
+};
+
+/// Where a site's tool is, for the others to draw it (sent unreliably, newest wins).
+struct PresenceMessage {
+    std::uint8_t site = 0;
+    bool gone = false;       ///< the site left: stop drawing it
+    std::string name;
+    Vec3 colour{1.0};        ///< sRGB 0..1
+    Pose tool;               ///< world m
+    double tool_radius_m = 0.0;
+};
+
+/// The end of the host's session (or a join turned away: reason says why, digest 0).
+struct EndMessage {
+    std::uint64_t digest = 0;   ///< compute::model_digest of the host's final model
+    std::uint64_t records = 0;  ///< records the host sent in all
+    std::string reason;
+};
+
+/// The kind of a shared-session message; throws tridex::Error "<from>: ..." when it is not one.
+SharedKind shared_kind(std::span<const unsigned char> bytes, const std::string& from);
+
+/// Encoders and checked decoders; decode_* throw tridex::Error "<from>: <field>: <what>" on a truncated, oversized or
+/// malformed message (another kind, a bad magic, a count past the end, a sample no writer writes, a bad site or name).
+std::vector<unsigned char> encode_join(const JoinMessage& m);
+JoinMessage decode_join(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_welcome(const WelcomeMessage& m);
+WelcomeMessage decode_welcome(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_samples(std::span<const ToolSample> samples);
+std::vector<ToolSample> decode_samples(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_request(SculptRequest r);
+SculptRequest decode_request(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_records(const RecordsMessage& m);
+RecordsMessage decode_records(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_refused(const RefusedMessage& m);
+RefusedMessage decode_refused(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_presence(const PresenceMessage& m);
+PresenceMessage decode_presence(std::span<const unsigned char> b, const std::string& from);
+std::vector<unsigned char> encode_end(const EndMessage& m);
+EndMessage decode_end(std::span<const unsigned char> b, const std::string& from);
+
+}  // namespace tridex::app
