@@ -114,7 +114,8 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
         return;
     }
     if (site == local_site_) stats_.marks.push_back({stats_.samples, r});
-    // Another site's open stroke is theirs to close; a request never takes it back.
+    // Another site's open stroke is theirs to end; an undo or redo splits it (their gesture goes on), and what it
+    // changed so far then stands in the way like any later stroke.
     const bool others_open = history_->stroke_open() && sites_.sweeps().open_site() != site;
     if (r == SculptRequest::kEndStroke) {
         if (!others_open) close_stroke();
@@ -123,17 +124,16 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool undo = r == SculptRequest::kUndo;
     ++(undo ? stats_.undo_requests : stats_.redo_requests);
-    if (others_open) {
-        refuse(r, site, sites_.sweeps().open_site(), 0);
-        return;
-    }
-    close_stroke();  // journalled before the undo or redo that follows
+    close_stroke(others_open ? std::optional<std::uint8_t>(site) : std::nullopt);  // journalled before the undo
     const std::uint64_t next = undo ? history_->next_undo_serial() : history_->next_redo_serial();
     if (const std::optional<std::uint8_t> by = undo ? sites_.blocks_undo(site, next) : sites_.blocks_redo(site, next)) {
         refuse(r, site, *by, next);
         return;
     }
-    restore(undo, t0);
+    // The whole gesture: the parts other sites' cuts split it into go back (or come back) together.
+    for (std::uint64_t at = next; at != 0 && sites_.same_gesture(at, next);
+         at = undo ? history_->next_undo_serial() : history_->next_redo_serial())
+        if (restore(undo, t0).serial == 0) break;
 }
 
 compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono::steady_clock::time_point& t0) {
@@ -218,7 +218,7 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
     IslandRemoval islands;       // the specks the stroke left, removed
     const std::uint64_t serial = history_->end_stroke(&held, &islands);
-    if (was_open) sites_.closed(serial, by_site);
+    if (was_open) sites_.closed(serial, serial != 0 && history_->next_undo_serial() == serial, by_site);
     if (serial != 0) last_closed_serial_ = serial;
     if (held.rays_changed > 0) {
         stats_.rays_changed += held.rays_changed;

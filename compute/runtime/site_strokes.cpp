@@ -5,33 +5,39 @@ namespace tridex::app {
 
 void SiteStrokes::opened() {
     open_.site = sweeps_.open_site();
-    open_.interrupted_by = sweeps_.interrupted_by(open_.site);
+    if (!sweeps_.interrupted_by(open_.site)) gesture_since_[open_.site] = last_kept_;  // a new gesture
+    open_.since = gesture_since_[open_.site];
 }
 
-void SiteStrokes::closed(std::uint64_t serial, std::optional<std::uint8_t> by_site) {
-    if (serial != 0 && (open_.site != 0 || open_.interrupted_by)) tags_[serial] = open_;  // site 0's plain strokes: no entry
+void SiteStrokes::closed(std::uint64_t serial, bool kept, std::optional<std::uint8_t> by_site) {
+    if (kept && serial != 0) {
+        steps_[serial] = open_;
+        last_kept_ = serial;
+    }
     sweeps_.stroke_closed(by_site);
     open_ = Tag{};
 }
 
-const SiteStrokes::Tag* SiteStrokes::tag(std::uint64_t serial) const {
-    const auto it = tags_.find(serial);
-    return it == tags_.end() ? nullptr : &it->second;
-}
-
 std::optional<std::uint8_t> SiteStrokes::blocks_undo(std::uint8_t site, std::uint64_t serial) const {
     if (serial == 0) return std::nullopt;
-    const Tag* t = tag(serial);
-    const std::uint8_t owner = t ? t->site : 0;
-    if (owner != site) return owner;
-    if (t && t->interrupted_by) return t->interrupted_by;
+    const auto it = steps_.find(serial);
+    const Tag t = it == steps_.end() ? Tag{0, serial - 1} : it->second;
+    if (t.site != site) return t.site;
+    for (auto k = steps_.upper_bound(t.since); k != steps_.end() && k->first < serial; ++k)
+        if (k->second.site != site) return k->second.site;
     return std::nullopt;
+}
+
+bool SiteStrokes::same_gesture(std::uint64_t a, std::uint64_t b) const {
+    const auto ia = steps_.find(a), ib = steps_.find(b);
+    if (ia == steps_.end() || ib == steps_.end()) return a == b;
+    return ia->second.site == ib->second.site && ia->second.since == ib->second.since;
 }
 
 std::optional<std::uint8_t> SiteStrokes::blocks_redo(std::uint8_t site, std::uint64_t serial) const {
     if (serial == 0) return std::nullopt;
-    const Tag* t = tag(serial);
-    const std::uint8_t owner = t ? t->site : 0;
+    const auto it = steps_.find(serial);
+    const std::uint8_t owner = it == steps_.end() ? 0 : it->second.site;
     return owner != site ? std::optional<std::uint8_t>(owner) : std::nullopt;
 }
 

@@ -219,6 +219,38 @@ TEST(SculptSites, UndoIsPersonalAndRefusedNamingWhoCarvedSince) {
     fs::remove(path);
 }
 
+TEST(SculptSites, AToolRestingInMaterialNeverStandsInTheWayOfAnotherSitesUndo) {
+    const std::string path = temp_path("tridex_sites_rest_");
+    compute::TriDexel live = box_model();
+    const std::uint64_t before = compute::model_digest(live);
+    std::vector<ToolSample> rest = groove(1, -0.02, 0.0, 0.0, 400, 3.0);  // site 1 holds its tool still, cutting
+    rest.pop_back();                                                       // and never lifts it
+    {
+        Rig rig(live, path);
+        rig.intake.push_samples(std::vector<ToolSample>(rest.begin(), rest.begin() + 200));
+        rig.settle();
+        const std::uint64_t rested = compute::model_digest(live);  // its first sweep cut a ball's worth once
+        const std::vector<ToolSample> a = groove(0, 0.02, -0.03, 0.03, 80, 0.0);
+        for (std::size_t i = 0; i < a.size(); i += 10) {  // the host's stroke, interleaved with the resting tool
+            rig.own(slice(a, i, std::min(a.size(), i + 10)));
+            rig.settle();
+            rig.intake.push_samples(slice(rest, 200 + i, 210 + i));
+            rig.settle();
+        }
+        ASSERT_TRUE(rig.thread.request(SculptRequest::kUndo));  // the host's whole groove, every part of it
+        rig.settle();
+        ASSERT_TRUE(rig.thread.request(SculptRequest::kUndo));  // then: site 1's resting cut is site 1's to undo
+        rig.settle();
+        EXPECT_EQ(compute::model_digest(live), rested);
+        rig.thread.stop();
+        ASSERT_EQ(rig.thread.stats().refusals.size(), 1u);
+        EXPECT_EQ(rig.thread.stats().refusals[0].by_site, 1);
+        EXPECT_GE(rig.thread.stats().history.undos, 1u);
+    }
+    EXPECT_NE(before, compute::model_digest(live));
+    fs::remove(path);
+}
+
 TEST(SculptSites, AGestureAnotherSiteInterruptedCannotBeUndoneAndAnOpenStrokeIsNotClosedByOthers) {
     const std::string path = temp_path("tridex_sites_gesture_");
     compute::TriDexel live = box_model();
@@ -242,8 +274,7 @@ TEST(SculptSites, AGestureAnotherSiteInterruptedCannotBeUndoneAndAnOpenStrokeIsN
     }
     ASSERT_EQ(heard.size(), 2u);
     EXPECT_EQ(heard[0].site, 1);
-    EXPECT_EQ(heard[0].by_site, 0);  // C was open
-    EXPECT_EQ(heard[0].serial, 0u);
+    EXPECT_EQ(heard[0].by_site, 0);  // C was open: its first part is newer than anything of site 1's
     EXPECT_EQ(heard[1].site, 0);
     EXPECT_EQ(heard[1].by_site, 1);  // B interrupted C
     const compute::Journal j = compute::read_journal(path);
