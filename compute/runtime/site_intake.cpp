@@ -1,6 +1,8 @@
 // compute/runtime/site_intake.cpp - other sites' samples and requests, queued for the sculpt thread.
 #include "compute/runtime/site_intake.hpp"
 
+#include <chrono>
+#include <cmath>
 #include <string>
 
 #include "compute/journal/journal_format.hpp"
@@ -9,6 +11,12 @@
 namespace tridex::app {
 
 namespace {
+// A sample from another machine carries no time of this machine's clock: its arrival stands in (ToolSample::made_s),
+// so latency figures here run from it.
+double arrival_s() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 void check_site(std::uint8_t site, const char* what) {
     if (site == 0 || site >= kMaxSites)
         throw Error(std::string("site intake: ") + what + " of site " + std::to_string(site) +
@@ -18,6 +26,7 @@ void check_site(std::uint8_t site, const char* what) {
 
 void SiteIntake::push_samples(std::span<const ToolSample> samples) {
     for (const ToolSample& s : samples) check_site(s.site, "a sample");
+    const double now = arrival_s();
     std::lock_guard lock(mutex_);
     for (const ToolSample& s : samples) {
         if (queue_.size() >= kMaxEntries) {
@@ -26,6 +35,7 @@ void SiteIntake::push_samples(std::span<const ToolSample> samples) {
         }
         SiteEntry& e = queue_.emplace_back();
         e.sample = s;
+        if (!std::isfinite(e.sample.made_s)) e.sample.made_s = now;
         e.site = s.site;
     }
 }
@@ -35,10 +45,12 @@ void SiteIntake::push_host_samples(std::span<const ToolSample> samples) {
         if (s.site >= kMaxSites)
             throw Error("site intake: the host's sample of site " + std::to_string(s.site) + ": sites are 0.." +
                         std::to_string(kMaxSites - 1));
+    const double now = arrival_s();
     std::lock_guard lock(mutex_);
     for (const ToolSample& s : samples) {
         SiteEntry& e = queue_.emplace_back();
         e.sample = s;
+        if (!std::isfinite(e.sample.made_s)) e.sample.made_s = now;
         e.site = s.site;
     }
 }

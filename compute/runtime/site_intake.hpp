@@ -43,7 +43,8 @@ public:
     /// Most entries held: a push that would exceed it drops the newest entries and counts them (dropped()), so a
     /// sculpt thread that cannot keep up never grows memory without bound. 30 s of one 1 kHz site.
     static constexpr std::size_t kMaxEntries = 30'000;
-    /// Queues `samples` in order. Throws tridex::Error, queuing none of them, when a sample's site is 0 (the session's
+    /// Queues `samples` in order; a sample without a time of this machine's clock (made_s NaN: it came over the
+    /// network) gets its arrival, steady-clock s, so latency figures run from there. Throws tridex::Error, queuing none of them, when a sample's site is 0 (the session's
     /// own tool, whose samples come from its haptic loop) or >= kMaxSites.
     void push_samples(std::span<const ToolSample> samples);
     /// Queues a request of `site`. Throws tridex::Error when site is 0 or >= kMaxSites, or r is kSave (a remote site
@@ -51,6 +52,7 @@ public:
     void push_request(std::uint8_t site, SculptRequest r);
     /// A follower (SculptThread::follow_host): queues the host's stream, one batch of samples (any site) or one mark
     /// (type kJournalStrokeEnd, kJournalUndo or kJournalRedo of journal_format.hpp) at a time, in the host's order.
+    /// Samples get their arrival as made_s, as push_samples gives it.
     /// Throws tridex::Error, queuing nothing, for a sample of a site >= kMaxSites or another mark type. Never drops:
     /// the stream is the model, so a follower that fell behind holds it all (the host's pace bounds it).
     void push_host_samples(std::span<const ToolSample> samples);

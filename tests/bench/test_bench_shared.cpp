@@ -1,0 +1,47 @@
+// Smoke test of `tridex bench --shared` (bench/bench_shared): a short run at two delays times every kind of cut, ends
+// with equal models at both sites, and the joiner's own cut waits at least the round trip.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_shared.hpp"
+#include "core/error.hpp"
+
+namespace tridex::bench {
+namespace {
+
+TEST(BenchShared, AShortRunTimesEveryCutAndEndsWithEqualModels) {
+    SharedBenchOptions o;
+    o.delays_ms = {0.0, 40.0};
+    o.stroke_s = 0.4;
+    o.resolution = 48;
+    o.out = (std::filesystem::temp_directory_path() / ("tridex_test_bench_shared_" + std::to_string(::getpid()))).string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SharedBenchRow> rows = run_shared_bench(o);
+    ASSERT_EQ(rows.size(), 2u);
+    for (const SharedBenchRow& r : rows) {
+        EXPECT_TRUE(r.digests_equal) << r.delay_ms;
+        EXPECT_GT(r.own_host.count(), 0u);
+        EXPECT_GT(r.own_join.count(), 0u);
+        EXPECT_GT(r.other_at_host.count(), 0u);
+        EXPECT_GT(r.other_at_join.count(), 0u);
+        EXPECT_GT(r.host_out_bps, 0.0);
+        EXPECT_GT(r.join_out_bps, 0.0);
+    }
+    EXPECT_GE(rows[1].own_join.percentile_ms(0.5), 80.0);      // two ways of 40 ms
+    EXPECT_GE(rows[1].other_at_join.percentile_ms(0.5), 40.0);  // one way
+    std::ifstream f(std::filesystem::path(o.out) / "shared_bench.json");
+    ASSERT_TRUE(f.good());
+    EXPECT_EQ(nlohmann::json::parse(f).at("rows").size(), 2u);
+    std::filesystem::remove_all(o.out);
+
+    o.loss = 0.7;
+    EXPECT_THROW(run_shared_bench(o), Error);
+}
+
+}  // namespace
+}  // namespace tridex::bench
