@@ -66,6 +66,16 @@ void SiteIntake::push_host_mark(std::uint32_t type, std::uint64_t serial, std::u
     e.rays = rays;
 }
 
+void SiteIntake::push_host_record(const compute::JournalRecord& r) {
+    switch (r.kind) {
+        case compute::JournalKind::kBatch: return push_host_samples(r.samples);
+        case compute::JournalKind::kStrokeEnd: return push_host_mark(compute::kJournalStrokeEnd, r.serial, r.rays);
+        case compute::JournalKind::kUndo: return push_host_mark(compute::kJournalUndo, r.serial, r.rays);
+        case compute::JournalKind::kRedo: return push_host_mark(compute::kJournalRedo, r.serial, r.rays);
+        default: throw Error("site intake: the host's stream holds a record of kind " + std::to_string(static_cast<int>(r.kind)));
+    }
+}
+
 void SiteIntake::push_host_check(std::uint64_t digest) {
     std::lock_guard lock(mutex_);
     SiteEntry& e = queue_.emplace_back();

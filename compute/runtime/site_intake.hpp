@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "compute/journal/journal_reader.hpp"
 #include "core/tool_sample.hpp"
 
 namespace tridex::app {
@@ -57,6 +58,9 @@ public:
     /// the stream is the model, so a follower that fell behind holds it all (the host's pace bounds it).
     void push_host_samples(std::span<const ToolSample> samples);
     void push_host_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
+    /// A follower: one record of the host's stream as it came: a batch (push_host_samples) or a stroke-end, undo or
+    /// redo mark (push_host_mark). Throws tridex::Error as those do, or for another kind of record.
+    void push_host_record(const compute::JournalRecord& r);
     /// A follower: the host's model digest (compute::model_digest) after every record queued so far.
     void push_host_check(std::uint64_t digest);
     /// Moves every queued entry to the end of `out`, in order; returns how many.

@@ -33,6 +33,23 @@ struct ExeResult {
     std::string err;     ///< what it wrote on stderr
 };
 
+/// A fresh, empty folder `prefix + name` under the test's temporary folder.
+inline std::filesystem::path fresh_test_dir(const std::string& prefix, const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / (prefix + name);
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+/// A session key file of 64 hexadecimal characters, every byte the two characters `b` ("5a"), and a line end.
+inline std::filesystem::path hex_key_file(const std::filesystem::path& dir, const std::string& name, const char* b) {
+    const std::filesystem::path p = dir / name;
+    std::ofstream f(p);
+    for (int i = 0; i < 32; ++i) f << b;
+    f << "\n";
+    return p;
+}
+
 #ifdef TRIDEX_EXE
 /// Runs `tridex ARGS` (shell words) under a 300 s timeout with stdout in dir/stdout.txt and stderr in
 /// dir/stderr.txt (dir is created), and waits for it.

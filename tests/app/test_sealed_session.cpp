@@ -26,21 +26,10 @@ using tridex::app::test::Child;
 using tridex::app::test::read_json;
 using tridex::app::test::run_tridex;
 
-// A fresh directory for one test.
-fs::path test_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("tridex_sealed_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path test_dir(const std::string& name) { return tridex::app::test::fresh_test_dir("tridex_sealed_", name); }
 
-// A key file of 64 hexadecimal characters, every byte `b`.
 fs::path key_file(const fs::path& dir, const std::string& name, const char* b) {
-    const fs::path p = dir / name;
-    std::ofstream f(p);
-    for (int i = 0; i < 32; ++i) f << b;
-    f << "\n";
-    return p;
+    return tridex::app::test::hex_key_file(dir, name, b);
 }
 
 // A device server on a free port with these extra arguments; returns its port ("" when it did not start).

@@ -27,19 +27,10 @@ namespace fs = std::filesystem;
 using tridex::app::test::Child;
 using tridex::app::test::read_json;
 
-fs::path test_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("tridex_shared_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path test_dir(const std::string& name) { return tridex::app::test::fresh_test_dir("tridex_shared_", name); }
 
 fs::path key_file(const fs::path& dir, const std::string& name, const char* b) {
-    const fs::path p = dir / name;
-    std::ofstream f(p);
-    for (int i = 0; i < 32; ++i) f << b;
-    f << "\n";
-    return p;
+    return tridex::app::test::hex_key_file(dir, name, b);
 }
 
 std::vector<std::string> site_args(const std::vector<std::string>& role, const fs::path& key, const fs::path& out) {

@@ -286,14 +286,7 @@ TEST(SculptSites, AGestureAnotherSiteInterruptedCannotBeUndoneAndAnOpenStrokeIsN
 
 // Moves the host's stream into a follower's intake (what a network thread does).
 void relay(compute::ToolStreamBuffer& stream, SiteIntake& follower) {
-    for (const compute::JournalRecord& r : stream.take().records) {
-        if (r.kind == compute::JournalKind::kBatch) follower.push_host_samples(r.samples);
-        else
-            follower.push_host_mark(r.kind == compute::JournalKind::kStrokeEnd ? compute::kJournalStrokeEnd
-                                    : r.kind == compute::JournalKind::kUndo    ? compute::kJournalUndo
-                                                                               : compute::kJournalRedo,
-                                    r.serial, r.rays);
-    }
+    for (const compute::JournalRecord& r : stream.take().records) follower.push_host_record(r);
 }
 
 TEST(SculptSites, AJoinerFollowsTheHostsStreamWhileItsOwnToolCarvesThroughTheHost) {

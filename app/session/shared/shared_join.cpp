@@ -208,13 +208,7 @@ bool SharedJoin::poll_once() {
 void SharedJoin::push_records(const RecordsMessage& m) {
     for (std::size_t i = 0; i < m.records.size(); ++i) {
         if (m.check_digest && i == m.check_after) intake_.push_host_check(*m.check_digest);
-        const compute::JournalRecord& r = m.records[i];
-        if (r.kind == compute::JournalKind::kBatch) intake_.push_host_samples(r.samples);
-        else
-            intake_.push_host_mark(r.kind == compute::JournalKind::kStrokeEnd ? compute::kJournalStrokeEnd
-                                   : r.kind == compute::JournalKind::kUndo    ? compute::kJournalUndo
-                                                                              : compute::kJournalRedo,
-                                   r.serial, r.rays);
+        intake_.push_host_record(m.records[i]);
     }
     if (m.check_digest && m.check_after == m.records.size()) intake_.push_host_check(*m.check_digest);
     std::lock_guard lock(mutex_);
