@@ -243,11 +243,14 @@ BenchRun setup_shared(CLI::App& bench) {
     bench.add_option("--shared-delays-ms", o->delays_ms, "With --shared: one-way delays, ms (default 0 10 50 150)");
     bench.add_option("--shared-loss", o->loss, "With --shared: loss of unreliable datagrams (default 0.01)");
     bench.add_option("--shared-stroke-s", o->stroke_s, "With --shared: each groove's length, s (default 2)");
+    bench.add_option("--shared-join-minutes", o->join_minutes,
+                     "With --shared: late joins after these minutes of sculpting, 1..60 (default 1 10)");
     bench.add_option("--shared-resolution", o->resolution, "With --shared: the box's cells along a side (default 96)");
     return [o](const BenchCommon& c) {
         SharedBenchOptions run = *o;
         run.out = c.out;
         (void)run_shared_bench(run);
+        (void)run_late_join_bench(run);
     };
 }
 

@@ -1,5 +1,6 @@
 // Smoke test of `tridex bench --shared` (bench/bench_shared): a short run at two delays times every kind of cut, ends
-// with equal models at both sites, and the joiner's own cut waits at least the round trip.
+// with equal models at both sites, and the joiner's own cut waits at least the round trip; a late join after a
+// minute replays its 60,000 samples.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -38,6 +39,15 @@ TEST(BenchShared, AShortRunTimesEveryCutAndEndsWithEqualModels) {
     ASSERT_TRUE(f.good());
     EXPECT_EQ(nlohmann::json::parse(f).at("rows").size(), 2u);
     std::filesystem::remove_all(o.out);
+
+    o.join_minutes = {1.0};
+    const std::vector<LateJoinRow> late = run_late_join_bench(o);
+    ASSERT_EQ(late.size(), 1u);
+    EXPECT_EQ(late[0].samples, 60000u);
+    EXPECT_GT(late[0].bytes, 60000u * 120u);  // every sample, 120 bytes, and the records' heads
+    EXPECT_GT(late[0].replay_s, 0.0);
+    o.join_minutes = {61.0};
+    EXPECT_THROW(run_late_join_bench(o), Error);
 
     o.loss = 0.7;
     EXPECT_THROW(run_shared_bench(o), Error);
