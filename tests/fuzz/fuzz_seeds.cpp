@@ -147,6 +147,8 @@ void shared_seeds(const fs::path& dir) {
     r.check_digest = 7;
     r.check_after = 1;
     put_msg("records", app::encode_records(r));
+    r.records.assign(60, r.records[0]);  // long enough to be sent packed
+    put_msg("records_packed", app::encode_records(r));
     put_msg("refused", app::encode_refused(app::RefusedMessage{app::SculptRequest::kRedo, 2, "Cy"}));
     put_msg("presence", app::encode_presence(app::PresenceMessage{2, false, "Cy", Vec3(0.5), Pose{}, 0.004}));
     put_msg("end", app::encode_end(app::EndMessage{9, 120, "the host ended the session"}));

@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             case app::SharedKind::kWelcome: (void)app::decode_welcome(b, from); break;
             case app::SharedKind::kSamples: (void)app::decode_samples(b, from); break;
             case app::SharedKind::kRequest: (void)app::decode_request(b, from); break;
-            case app::SharedKind::kRecords: (void)app::decode_records(b, from); break;
+            case app::SharedKind::kRecords:
+            case app::SharedKind::kRecordsPacked: (void)app::decode_records(b, from); break;
             case app::SharedKind::kRefused: (void)app::decode_refused(b, from); break;
             case app::SharedKind::kPresence: (void)app::decode_presence(b, from); break;
             case app::SharedKind::kEnd: (void)app::decode_end(b, from); break;

@@ -229,6 +229,7 @@ void SharedJoin::on_message(const std::vector<std::uint8_t>& bytes) {
             welcomed_ = true;
             return;
         case SharedKind::kRecords:
+        case SharedKind::kRecordsPacked:
             if (!welcomed_) throw Error(from + ": records before the welcome");
             return push_records(decode_records(bytes, from));
         case SharedKind::kRefused: {

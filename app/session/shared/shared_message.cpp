@@ -3,6 +3,7 @@
 
 #include "app/session/wire/message_io.hpp"
 #include "compute/journal/journal_format.hpp"
+#include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -49,7 +50,7 @@ SculptRequest request_of(MessageReader& r, const char* field) {
 SharedKind shared_kind(std::span<const unsigned char> b, const std::string& from) {
     if (b.size() < 5 || b[0] != kMagic[0] || b[1] != kMagic[1] || b[2] != kMagic[2] || b[3] != kMagic[3])
         throw Error(from + ": not a tridex shared session message");
-    if (b[4] < 1 || b[4] > static_cast<unsigned char>(SharedKind::kEnd))
+    if (b[4] < 1 || b[4] > static_cast<unsigned char>(SharedKind::kRecordsPacked))
         throw Error(from + ": kind: unknown kind " + std::to_string(b[4]));
     return static_cast<SharedKind>(b[4]);
 }
@@ -134,10 +135,24 @@ std::vector<unsigned char> encode_records(const RecordsMessage& m) {
     w.u64(m.check_digest.value_or(0));
     w.u32(m.check_after);
     w.records(m.records);
-    return w.take();
+    std::vector<unsigned char> plain = w.take();
+    if (plain.size() < kPackRecordsFromBytes) return plain;
+    MessageWriter packed = writer(SharedKind::kRecordsPacked);
+    std::vector<unsigned char> out = packed.take();
+    const std::vector<unsigned char> frame = compute::pack_bytes(plain);
+    if (out.size() + frame.size() >= plain.size()) return plain;
+    out.insert(out.end(), frame.begin(), frame.end());
+    return out;
 }
 
 RecordsMessage decode_records(std::span<const unsigned char> b, const std::string& from) {
+    if (b.size() > 4 && b[4] == static_cast<unsigned char>(SharedKind::kRecordsPacked)) {
+        (void)reader(b, from, SharedKind::kRecordsPacked);  // the magic
+        const std::vector<unsigned char> plain = compute::unpack_bytes(b.subspan(5), kMaxMessageBlob, from + ": packed records");
+        if (plain.size() > 4 && plain[4] == static_cast<unsigned char>(SharedKind::kRecordsPacked))
+            throw Error(from + ": packed records hold packed records");
+        return decode_records(plain, from);
+    }
     MessageReader r = reader(b, from, SharedKind::kRecords);
     RecordsMessage m;
     const std::uint8_t has = r.u8("check");

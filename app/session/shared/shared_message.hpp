@@ -29,7 +29,11 @@ enum class SharedKind : std::uint8_t {
     kRefused = 6,   ///< host -> joiner: a request refused, naming whose stroke stands in the way
     kPresence = 7,  ///< either way, unreliable: a site's tool, for the others to draw
     kEnd = 8,       ///< host -> joiner: the session ended (final digest, records sent) or the joiner was turned away
+    kRecordsPacked = 9,  ///< host -> joiner: a kRecords message packed as one zstd frame (a backlog, a burst)
 };
+
+/// Records messages at least this long are sent packed (kRecordsPacked) when that is smaller, bytes.
+inline constexpr std::size_t kPackRecordsFromBytes = 4096;
 
 /// A joiner's first message.
 struct JoinMessage {
@@ -92,6 +96,8 @@ std::vector<unsigned char> encode_samples(std::span<const ToolSample> samples);
 std::vector<ToolSample> decode_samples(std::span<const unsigned char> b, const std::string& from);
 std::vector<unsigned char> encode_request(SculptRequest r);
 SculptRequest decode_request(std::span<const unsigned char> b, const std::string& from);
+/// encode_records packs a message of kPackRecordsFromBytes or more (kRecordsPacked) when that is smaller;
+/// decode_records reads either kind.
 std::vector<unsigned char> encode_records(const RecordsMessage& m);
 RecordsMessage decode_records(std::span<const unsigned char> b, const std::string& from);
 std::vector<unsigned char> encode_refused(const RefusedMessage& m);

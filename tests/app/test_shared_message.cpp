@@ -1,0 +1,111 @@
+// A shared session's messages on the wire: each kind round-trips, a long records message travels packed (zstd) and
+// smaller, and bad bytes are refused with a message naming the field: truncation, another magic or kind, a site out
+// of range, a control character in a name, packed records that lie about their size or nest.
+#include <gtest/gtest.h>
+
+#include "app/session/shared/shared_message.hpp"
+#include "compute/journal/stream_pack.hpp"
+#include "core/error.hpp"
+
+namespace tridex::app {
+namespace {
+
+std::string refusal(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+RecordsMessage some_records(std::size_t n) {
+    RecordsMessage m;
+    for (std::size_t i = 0; i < n; ++i) {
+        compute::JournalRecord& r = m.records.emplace_back();
+        r.index = i;
+        for (int k = 0; k < 20; ++k) {
+            ToolSample s;
+            s.t_s = 1e-3 * static_cast<double>(20 * i + k);
+            s.position = Vec3(0.01 * std::sin(s.t_s), 0.02, 0.04);
+            s.op = ToolOp::kSubtract;
+            s.tool.radius_m = 0.004;
+            s.site = static_cast<std::uint8_t>(i % 3);
+            r.samples.push_back(s);
+        }
+    }
+    compute::JournalRecord& mark = m.records.emplace_back();
+    mark.kind = compute::JournalKind::kUndo;
+    mark.index = n;
+    mark.serial = 4;
+    mark.rays = 99;
+    m.check_digest = 0x1234;
+    m.check_after = 1;
+    return m;
+}
+
+TEST(SharedMessage, EveryKindRoundTrips) {
+    const JoinMessage j = decode_join(encode_join({kSharedProtocol, "Bo", Vec3(0.1, 0.2, 0.3)}), "t");
+    EXPECT_EQ(j.name, "Bo");
+    EXPECT_EQ(j.colour, Vec3(0.1, 0.2, 0.3));
+    const WelcomeMessage w = decode_welcome(encode_welcome({3, "Ann", "{\"a\":1}", {9, 8, 7}, 77}), "t");
+    EXPECT_EQ(w.site, 3);
+    EXPECT_EQ(w.model_tdx.size(), 3u);
+    EXPECT_EQ(w.initial_digest, 77u);
+    EXPECT_EQ(decode_request(encode_request(SculptRequest::kRedo), "t"), SculptRequest::kRedo);
+    const RecordsMessage r = decode_records(encode_records(some_records(2)), "t");
+    ASSERT_EQ(r.records.size(), 3u);
+    EXPECT_EQ(r.records[1].samples[5].site, 1);
+    EXPECT_EQ(r.records[2].serial, 4u);
+    EXPECT_EQ(*r.check_digest, 0x1234u);
+    const RefusedMessage f = decode_refused(encode_refused({SculptRequest::kUndo, 2, "Cy"}), "t");
+    EXPECT_EQ(f.by_name, "Cy");
+    const PresenceMessage p = decode_presence(encode_presence({4, true, "Di", Vec3(1.0), Pose{}, 0.005}), "t");
+    EXPECT_TRUE(p.gone);
+    EXPECT_EQ(p.tool_radius_m, 0.005);
+    EXPECT_EQ(decode_end(encode_end({5, 6, "bye"}), "t").reason, "bye");
+}
+
+TEST(SharedMessage, ALongStreamTravelsPackedAndSmaller) {
+    const RecordsMessage m = some_records(400);
+    const std::vector<unsigned char> b = encode_records(m);
+    EXPECT_EQ(shared_kind(b, "t"), SharedKind::kRecordsPacked);
+    const std::size_t plain = 400 * (1 + 8 + 4 + 20 * 120);
+    EXPECT_LT(b.size(), plain / 3);
+    const RecordsMessage back = decode_records(b, "t");
+    ASSERT_EQ(back.records.size(), m.records.size());
+    EXPECT_EQ(back.records[399].samples[19].t_s, m.records[399].samples[19].t_s);
+    EXPECT_EQ(shared_kind(encode_records(some_records(1)), "t"), SharedKind::kRecords);  // short: as it is
+}
+
+TEST(SharedMessage, BadBytesAreRefusedNamingTheField) {
+    std::vector<unsigned char> j = encode_join({kSharedProtocol, "Bo", Vec3(0.5)});
+    EXPECT_NE(refusal([&] { decode_join(std::span(j).first(j.size() - 3), "peer"); }).find("peer: colour: truncated"),
+              std::string::npos);
+    EXPECT_NE(refusal([&] { decode_welcome(j, "peer"); }).find("peer: kind: expected kind 2, got 1"), std::string::npos);
+    std::vector<unsigned char> bad = j;
+    bad[0] = 'X';
+    EXPECT_NE(refusal([&] { shared_kind(bad, "peer"); }).find("not a tridex shared session message"), std::string::npos);
+    EXPECT_NE(refusal([&] { decode_join(encode_join({kSharedProtocol, "B\no", Vec3(0.5)}), "peer"); }).find("control character"),
+              std::string::npos);
+    EXPECT_NE(refusal([&] { decode_join(encode_join({kSharedProtocol, "", Vec3(0.5)}), "peer"); }).find("peer: name"),
+              std::string::npos);
+    EXPECT_NE(refusal([&] { decode_join(encode_join({kSharedProtocol, "Bo", Vec3(2.0)}), "peer"); }).find("peer: colour"),
+              std::string::npos);
+    EXPECT_NE(refusal([&] { decode_presence(encode_presence({kMaxSites, false, "x", Vec3(0.5), Pose{}, 0.0}), "peer"); })
+                  .find("peer: site: site 16"),
+              std::string::npos);
+    // Packed records that hold packed records, or lie about their size.
+    std::vector<unsigned char> packed = encode_records(some_records(400));
+    std::vector<unsigned char> nested = {'T', 'D', 'X', 'S', 9};
+    const std::vector<unsigned char> frame = compute::pack_bytes(packed);
+    nested.insert(nested.end(), frame.begin(), frame.end());
+    EXPECT_NE(refusal([&] { decode_records(nested, "peer"); }).find("packed records hold packed records"), std::string::npos);
+    std::vector<unsigned char> torn(packed.begin(), packed.end() - 10);
+    EXPECT_NE(refusal([&] { decode_records(torn, "peer"); }).find("peer: packed records"), std::string::npos);
+    std::vector<unsigned char> junk = {'T', 'D', 'X', 'S', 9, 1, 2, 3, 4};
+    EXPECT_NE(refusal([&] { decode_records(junk, "peer"); }).find("not a zstd frame"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tridex::app
