@@ -355,23 +355,31 @@ TEST(SculptSites, AJoinerFollowsTheHostsStreamWhileItsOwnToolCarvesThroughTheHos
     EXPECT_EQ(after_undo, compute::model_digest(only_host));
 }
 
-TEST(SculptSites, AFollowerThatHoldsAnotherModelFailsAtTheHostsMark) {
-    compute::TriDexel model = box_model();
-    compute::Contourer c(model);
-    c.update(model);
-    SpscRing<ToolSample> ring(16);
+// A follower on the box that sends nothing anywhere and keeps what its outlet heard of a mismatch.
+struct LoneFollower {
+    explicit LoneFollower(std::uint8_t site) : model(box_model()), contourer(model) {
+        contourer.update(model);
+        thread = std::make_unique<SculptThread>(model, contourer, ring, surface, Vec3(0.0));
+        thread->follow_host(in, site, {[](std::span<const ToolSample>) {}, [](SculptRequest) {},
+                                       [this](const std::string& what) { heard = what; }});
+        thread->start();
+    }
+    compute::TriDexel model;
+    compute::Contourer contourer;
+    SpscRing<ToolSample> ring{16};
     TripleBuffer<ActiveSurface> surface;
     SiteIntake in;
-    SculptThread t(model, c, ring, surface, Vec3(0.0));
     std::string heard;
-    t.follow_host(in, 1, {[](std::span<const ToolSample>) {}, [](SculptRequest) {},
-                          [&heard](const std::string& what) { heard = what; }});
-    t.start();
-    in.push_host_samples(groove(2, 0.0, -0.03, 0.03, 30, 0.0));
-    in.push_host_mark(compute::kJournalStrokeEnd, 7, 0);  // the host's stroke 7: this replica's is 1
-    EXPECT_THROW(in.push_host_mark(99, 1, 0), Error);
+    std::unique_ptr<SculptThread> thread;
+};
+
+TEST(SculptSites, AFollowerThatHoldsAnotherModelFailsAtTheHostsMark) {
+    LoneFollower f(1);
+    f.in.push_host_samples(groove(2, 0.0, -0.03, 0.03, 30, 0.0));
+    f.in.push_host_mark(compute::kJournalStrokeEnd, 7, 0);  // the host's stroke 7: this replica's is 1
+    EXPECT_THROW(f.in.push_host_mark(99, 1, 0), Error);
     try {
-        t.stop();
+        f.thread->stop();
         ADD_FAILURE() << "the follower did not fail";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("closed stroke 7 where this replica closed 1"), std::string::npos) << e.what();
@@ -379,24 +387,14 @@ TEST(SculptSites, AFollowerThatHoldsAnotherModelFailsAtTheHostsMark) {
 }
 
 TEST(SculptSites, AFollowerChecksItsModelAtTheHostsDigestAndStopsWhenItDiffers) {
-    compute::TriDexel model = box_model();
-    const std::uint64_t start = compute::model_digest(model);
-    compute::Contourer c(model);
-    c.update(model);
-    SpscRing<ToolSample> ring(16);
-    TripleBuffer<ActiveSurface> surface;
-    SiteIntake in;
-    SculptThread t(model, c, ring, surface, Vec3(0.0));
-    std::string heard;
-    t.follow_host(in, 2, {[](std::span<const ToolSample>) {}, [](SculptRequest) {},
-                          [&heard](const std::string& what) { heard = what; }});
-    t.start();
-    in.push_host_check(start);  // agrees
-    in.push_host_samples(groove(1, 0.0, -0.03, 0.03, 30, 0.0));
-    in.push_host_check(start);  // the host's model did not change: this one did
-    EXPECT_THROW(t.stop(), Error);
-    EXPECT_EQ(t.stats().digest_checks, 2u);
-    EXPECT_NE(heard.find("differs from the host's"), std::string::npos) << heard;
+    LoneFollower f(2);
+    const std::uint64_t start = compute::model_digest(box_model());
+    f.in.push_host_check(start);  // agrees
+    f.in.push_host_samples(groove(1, 0.0, -0.03, 0.03, 30, 0.0));
+    f.in.push_host_check(start);  // the host's model did not change: this one did
+    EXPECT_THROW(f.thread->stop(), Error);
+    EXPECT_EQ(f.thread->stats().digest_checks, 2u);
+    EXPECT_NE(f.heard.find("differs from the host's"), std::string::npos) << f.heard;
 }
 
 }  // namespace

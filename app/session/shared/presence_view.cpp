@@ -15,6 +15,16 @@ float linear_of(double srgb) {  // the sRGB transfer function's inverse (IEC 619
 }
 }  // namespace
 
+PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour) {
+    PresenceMessage p;
+    p.site = site;
+    p.name = name;
+    p.colour = colour;
+    p.tool = Pose{shown.tool_m, shown.tool_orientation};
+    p.tool_radius_m = shown.tool.radius_m;
+    return p;
+}
+
 PresenceView::PresenceView() : ball_(renderer::unit_sphere(12, 24)) {}
 
 void PresenceView::append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const {

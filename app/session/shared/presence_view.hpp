@@ -3,11 +3,15 @@
 
 #include <vector>
 
+#include "app/session/runtime/session_companion.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "core/tri_mesh.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
+
+/// This site's presence in the frame just shown: its tool's pose and radius, with `site`, `name` and `colour`.
+PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
 
 /// Draws each other site's tool as a ball of its radius in that person's colour (drawn, never felt: each site feels
 /// only its own tool's contact). Keeps the ball's mesh, so it must outlive the frames that draw it.

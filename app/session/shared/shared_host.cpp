@@ -81,12 +81,9 @@ void SharedHost::start(const Workpiece& workpiece, const SessionSpec& spec) {
 }
 
 void SharedHost::before_present(const FrameShown& shown) {
+    const PresenceMessage me = presence_of(shown, 0, o_.name, o_.colour);
     std::lock_guard lock(mutex_);
-    own_presence_.site = 0;
-    own_presence_.name = o_.name;
-    own_presence_.colour = o_.colour;
-    own_presence_.tool = Pose{shown.tool_m, shown.tool_orientation};
-    own_presence_.tool_radius_m = shown.tool.radius_m;
+    own_presence_ = me;
 }
 
 void SharedHost::stopped(SessionRuntime& runtime, const FrameShown&) { finish(runtime.workpiece().model); }

@@ -107,12 +107,9 @@ void SharedJoin::start(const SessionSpec& here) {
 }
 
 void SharedJoin::before_present(const FrameShown& shown) {
+    const PresenceMessage me = presence_of(shown, welcome_.site, o_.name, o_.colour);
     std::lock_guard lock(mutex_);
-    own_presence_.site = welcome_.site;
-    own_presence_.name = o_.name;
-    own_presence_.colour = o_.colour;
-    own_presence_.tool = Pose{shown.tool_m, shown.tool_orientation};
-    own_presence_.tool_radius_m = shown.tool.radius_m;
+    own_presence_ = me;
 }
 
 void SharedJoin::stopped(SessionRuntime& runtime, const FrameShown&) { finish(runtime.workpiece().model); }
