@@ -3,6 +3,7 @@
 // of range, a control character in a name, packed records that lie about their size or nest.
 #include <gtest/gtest.h>
 
+#include "app/session/shared/presence_view.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"
@@ -105,6 +106,25 @@ TEST(SharedMessage, BadBytesAreRefusedNamingTheField) {
     EXPECT_NE(refusal([&] { decode_records(torn, "peer"); }).find("peer: packed records"), std::string::npos);
     std::vector<unsigned char> junk = {'T', 'D', 'X', 'S', 9, 1, 2, 3, 4};
     EXPECT_NE(refusal([&] { decode_records(junk, "peer"); }).find("not a zstd frame"), std::string::npos);
+}
+
+TEST(PresenceView, AnotherSitesToolIsABallAndItsNameAndAGoneSiteIsNotDrawn) {
+    PresenceView view;
+    std::vector<PresenceMessage> others(2);
+    others[0] = PresenceMessage{1, false, "Bo", Vec3(0.5, 0.2, 0.9), Pose{Vec3(0.01, 0.02, 0.03), Quat(1, 0, 0, 0)}, 0.004};
+    others[1] = PresenceMessage{2, true, "Cy", Vec3(0.5), Pose{}, 0.004};
+    std::vector<renderer::SceneObject> out;
+    view.append(others, out);
+    ASSERT_EQ(out.size(), 2u);  // Bo's ball and name; Cy left
+    EXPECT_FLOAT_EQ(out[0].world_from_model[3][0], 0.01f);
+    EXPECT_FLOAT_EQ(out[0].world_from_model[0][0], 0.004f);  // the unit ball scaled to the tool's radius
+    ASSERT_NE(out[1].mesh, nullptr);
+    EXPECT_FALSE(out[1].mesh->triangles.empty());
+    EXPECT_GT(out[1].world_from_model[3][1], 0.02f + 0.004f);  // above the ball
+    const TriMesh* bo = out[1].mesh;
+    out.clear();
+    view.append(others, out);
+    EXPECT_EQ(out[1].mesh, bo);  // the name's mesh is kept, not rebuilt each frame
 }
 
 }  // namespace

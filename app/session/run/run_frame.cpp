@@ -368,6 +368,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
     shown = FrameShown{frame, last_good_head.value_or(scene.head_pose), &nav, dc.eye_separation_m,
                        lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength,
                        &menu_now};
+    shown.proxy_m = lv.proxy_m;
     for (SessionCompanion* c : companions) {
         c->before_present(shown);
         if (companion_failure.empty()) companion_failure = c->failure();

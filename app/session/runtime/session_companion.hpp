@@ -30,6 +30,8 @@ struct FrameShown {
     bool show_tool = true;          ///< whether the tool is drawn
     double ao = 1.0;                ///< ambient occlusion strength, 0..1
     const MenuFrame* menu = nullptr;  ///< the pie menu as drawn (scene m); null or not shown: none
+    /// Where the tool rests on the surface, world m: contact point 0's proxy (god-object), the tool centre when free.
+    Vec3 proxy_m{0.0};
 };
 
 /// What RunPipeline::run throws after a companion failed (once every output is written): the companion's failure and

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "renderer/scene/plane_marks.hpp"
 #include "renderer/scene/primitive_meshes.hpp"
 
 namespace tridex::app {
@@ -20,7 +21,7 @@ PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const st
     p.site = site;
     p.name = name;
     p.colour = colour;
-    p.tool = Pose{shown.tool_m, shown.tool_orientation};
+    p.tool = Pose{is_finite(shown.proxy_m) ? shown.proxy_m : shown.tool_m, shown.tool_orientation};  // as it touches
     p.tool_radius_m = shown.tool.radius_m;
     return p;
 }
@@ -36,6 +37,20 @@ void PresenceView::append(const std::vector<PresenceMessage>& others, std::vecto
         o.world_from_model = glm::mat4(glm::translate(glm::dmat4(1.0), p.tool.position) *
                                        glm::scale(glm::dmat4(1.0), Vec3(p.tool_radius_m)));
         out.push_back(o);
+        Label& label = labels_[p.site];
+        if (label.name != p.name || label.mesh.triangles.empty()) {
+            label.name = p.name;
+            label.mesh = TriMesh{};
+            renderer::add_plane_text(label.mesh, renderer::PlaneFrame{}, p.name, 0.0, kLabelHeightM, kLabelHeightM, 0.5, 0.0);
+        }
+        if (label.mesh.triangles.empty()) continue;
+        renderer::SceneObject name;
+        name.mesh = &label.mesh;
+        name.colour = glm::vec4(o.colour.r, o.colour.g, o.colour.b, 1.0f);
+        name.lit = false;
+        name.world_from_model = glm::mat4(glm::translate(
+            glm::dmat4(1.0), p.tool.position + Vec3(0.0, p.tool_radius_m + 0.5 * kLabelHeightM, 0.0)));
+        out.push_back(name);
     }
 }
 

@@ -1,6 +1,8 @@
 // app/session/shared/presence_view.hpp - the other sites' tools in a shared session, drawn in each person's colour.
 #pragma once
 
+#include <map>
+#include <string>
 #include <vector>
 
 #include "app/session/runtime/session_companion.hpp"
@@ -10,19 +12,28 @@
 
 namespace tridex::app {
 
-/// This site's presence in the frame just shown: its tool's pose and radius, with `site`, `name` and `colour`.
+/// This site's presence in the frame just shown: its tool where it touches (the proxy; the tool centre when free), its
+/// orientation and radius, with `site`, `name` and `colour`.
 PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
 
-/// Draws each other site's tool as a ball of its radius in that person's colour (drawn, never felt: each site feels
-/// only its own tool's contact). Keeps the ball's mesh, so it must outlive the frames that draw it.
+/// Draws each other site's tool as a ball of its radius in that person's colour, their name above it (in the plane of
+/// the screen, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. Keeps the meshes,
+/// so it must outlive the frames that draw them; one thread calls append().
 class PresenceView {
 public:
+    /// Height of a name's letters, m.
+    static constexpr double kLabelHeightM = 0.008;
     PresenceView();
-    /// Appends a ball for each site in `others` that is not gone, has a finite pose and a tool radius > 0.
+    /// Appends a ball and a name for each site in `others` that is not gone, has a finite pose and a tool radius > 0.
     void append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const;
 
 private:
     TriMesh ball_;  // the unit sphere
+    struct Label {
+        std::string name;
+        TriMesh mesh;  // the name on the xy plane, centred on x = 0, its top at y = kLabelHeightM
+    };
+    mutable std::map<std::uint8_t, Label> labels_;  // by site, rebuilt when the name changes
 };
 
 }  // namespace tridex::app
