@@ -22,6 +22,17 @@ enum class SculptRequest : std::uint8_t {
     kSave,       ///< save the model now with the saver (SculptThread::use_saver)
 };
 
+/// The request's name in messages: "undo", "redo", "stroke close" or "save".
+inline const char* sculpt_request_name(SculptRequest r) {
+    switch (r) {
+        case SculptRequest::kUndo: return "undo";
+        case SculptRequest::kRedo: return "redo";
+        case SculptRequest::kEndStroke: return "stroke close";
+        case SculptRequest::kSave: return "save";
+    }
+    return "request";
+}
+
 /// One entry of a SiteIntake: a tool sample (its site in sample.site), a request of `site` (the host's intake), or a
 /// mark of the host's stream (a follower's intake: journal_format.hpp's kJournalStrokeEnd, kJournalUndo, kJournalRedo),
 /// or the host's digest to check against (kCheck).

@@ -16,23 +16,17 @@
 #include "compute/journal/journal_replay.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/journal/stream_buffer.hpp"
-#include "compute/mesh/scan_convert.hpp"
 #include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
-#include "core/primitives.hpp"
+#include "journal_stream.hpp"
 
 namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-compute::TriDexel box_model() {
-    compute::TriDexel m =
-        compute::TriDexel::empty(compute::Lattice::around(Aabb{Vec3(-0.05), Vec3(0.05)}, 40), std::size_t(1) << 30);
-    compute::scan_convert(box_mesh(Aabb{Vec3(-0.0487), Vec3(0.0487)}), m);
-    return m;
-}
+compute::TriDexel box_model() { return test::journal_box_model(); }
 
 // A groove of `n` samples along x on the top face at height y_m, by `site`, starting at device time t0_s; the last
 // sample lifts the tool (op none), which ends the stroke.

@@ -36,9 +36,6 @@ std::vector<unsigned char> read_all(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-const char* request_name(SculptRequest r) {
-    return r == SculptRequest::kUndo ? "undo" : r == SculptRequest::kRedo ? "redo" : "stroke close";
-}
 }  // namespace
 
 SharedHost::SharedHost(SharedHostOptions options, PeerAccept accept) : o_(std::move(options)), accept_(std::move(accept)) {
@@ -126,7 +123,7 @@ void SharedHost::run_network() {
             }
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    }    copy_reports();  // what report() and joiners() give from now on
 }
 
 void SharedHost::serve_once() {
@@ -143,6 +140,11 @@ void SharedHost::serve_once() {
     }
     send_refusals();
     send_presence();
+    if (now_s() - last_reports_s_ >= 0.1) copy_reports();
+}
+
+void SharedHost::copy_reports() {
+    last_reports_s_ = now_s();
     std::lock_guard lock(mutex_);
     reports_.clear();
     for (auto& j : joiners_) {
@@ -295,16 +297,15 @@ void SharedHost::send_records() {
     m.check_after = t.digest_after;
     if (t.digest) ++checks_;
     m.records = std::move(t.records);
-    const std::vector<unsigned char> bytes = encode_records(m);
+    const std::vector<unsigned char> bytes = encode_records(m);  // once, for every joiner
     for (auto& j : joiners_)
-        if (j->joined && !j->gone && j->sent == log_.size()) {
+        if (j->joined && !j->gone) {
+            send_backlog(*j);  // every joiner holds the whole log, so this sends nothing: the new records follow it
             send(*j, bytes, true);
             j->sent += m.records.size();
         }
     for (compute::JournalRecord& r : m.records) log_.push_back(std::move(r));
     records_sent_ = log_.size();
-    for (auto& j : joiners_)
-        if (j->joined && !j->gone) send_backlog(*j);  // a joiner still behind (never: kept for safety)
 }
 
 void SharedHost::send_refusals() {
@@ -317,7 +318,7 @@ void SharedHost::send_refusals() {
         const std::string by = r.by_site < site_names_.size() ? site_names_[r.by_site] : "";
         if (r.site == 0) {
             ++own_refusals_;
-            std::fprintf(stderr, "tridex: %s refused: %s has carved since your stroke began\n", request_name(r.request),
+            std::fprintf(stderr, "tridex: %s refused: %s has carved since your stroke began\n", sculpt_request_name(r.request),
                          by.c_str());
             continue;
         }

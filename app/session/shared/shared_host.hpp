@@ -77,7 +77,7 @@ public:
     void add_objects(std::vector<renderer::SceneObject>& out) const override;
     /// The other sites' tools as last heard (the joiners'), for drawing them. Any thread.
     std::vector<PresenceMessage> others() const;
-    /// The joiners so far (a copy). Any thread.
+    /// The joiners so far (a copy, at most 0.1 s old while the session runs, final after finish()). Any thread.
     std::vector<JoinerReport> joiners() const;
 
 private:
@@ -95,6 +95,7 @@ private:
     void send_refusals();
     void send_presence();
     std::uint8_t site_for(const std::string& name);
+    void copy_reports();  // the joiners' reports, for report() and joiners() (at most every 0.1 s, and at the end)
     double now_s() const;
 
     SharedHostOptions o_;
@@ -120,7 +121,7 @@ private:
     std::uint64_t final_digest_ = 0;
     std::thread thread_;
     double started_s_ = 0.0;
-    double last_check_s_ = 0.0, last_presence_s_ = 0.0;
+    double last_check_s_ = 0.0, last_presence_s_ = 0.0, last_reports_s_ = 0.0;
     std::uint64_t checks_ = 0;
     std::uint64_t records_sent_ = 0;
     std::uint64_t peers_refused_ = 0;  // peers whose handshake failed (another key, unsealed)

@@ -18,9 +18,6 @@ namespace {
 double steady_s() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-const char* request_name(SculptRequest r) {
-    return r == SculptRequest::kUndo ? "undo" : r == SculptRequest::kRedo ? "redo" : "stroke close";
-}
 }  // namespace
 
 SharedJoin::SharedJoin(SharedJoinOptions options, std::unique_ptr<net::DatagramLink> link, const net::SessionKey& key)
@@ -231,7 +228,7 @@ void SharedJoin::on_message(const std::vector<std::uint8_t>& bytes) {
             return push_records(decode_records(bytes, from));
         case SharedKind::kRefused: {
             const RefusedMessage m = decode_refused(bytes, from);
-            std::fprintf(stderr, "tridex: %s refused: %s has carved since your stroke began\n", request_name(m.request),
+            std::fprintf(stderr, "tridex: %s refused: %s has carved since your stroke began\n", sculpt_request_name(m.request),
                          m.by_name.c_str());
             std::lock_guard lock(mutex_);
             ++refusals_;

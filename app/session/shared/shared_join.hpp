@@ -39,15 +39,15 @@ public:
     SharedJoin(SharedJoinOptions options, std::unique_ptr<devices::net::DatagramLink> link,
                const devices::net::SessionKey& key);
     ~SharedJoin() override;
-    /// Connects, sends the join and waits for the welcome (records that follow it are kept for the sculpt thread,
-    /// and from then on a thread of its own serves the link);
-    /// writes the host's starting model to `<out>/shared_start.tdx` and returns the welcome with that path in
-    /// `start_path`. Throws tridex::Error naming the host when it cannot be reached, the handshake fails (another
-    /// key), the host turns the join away (its reason), or no welcome comes within the timeout.
+    /// What join() gives: the host's welcome (its model bytes handed over to the file) and the starting model's file.
     struct Joined {
         WelcomeMessage welcome;
-        std::string start_path;
+        std::string start_path;  ///< `<out>/shared_start.tdx`
     };
+    /// Connects, sends the join and waits for the welcome (records that follow it are kept for the sculpt thread, and
+    /// from then on a thread of its own serves the link); writes the host's starting model to
+    /// `<out>/shared_start.tdx`. Throws tridex::Error naming the host when it cannot be reached, the handshake fails
+    /// (another key), the host turns the join away (its reason), or no welcome comes within the timeout.
     Joined join();
     void configure(SculptOptions& options) override;
     void starting(SessionRuntime& runtime) override;
