@@ -28,8 +28,9 @@ struct Queue {
     }
     /// Moves the oldest datagram into `out` (its capacity is reused for the next datagram).
     void pop_into(std::vector<std::uint8_t>& out) {
+        bytes -= items.front().bytes.size();  // before the swap: the item then holds out's old bytes
         out.swap(items.front().bytes);
-        drop_front();
+        items.pop_front();
     }
     void drop_front() {
         bytes -= items.front().bytes.size();

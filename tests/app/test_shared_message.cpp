@@ -20,6 +20,18 @@ std::string refusal(const std::function<void()>& f) {
     return "";
 }
 
+PresenceMessage tool_presence(std::uint8_t site, bool gone, const std::string& name, const Vec3& colour, const Pose& tool,
+                              double radius_m) {
+    PresenceMessage p;
+    p.site = site;
+    p.gone = gone;
+    p.name = name;
+    p.colour = colour;
+    p.tool = tool;
+    p.tool_radius_m = radius_m;
+    return p;
+}
+
 RecordsMessage some_records(std::size_t n) {
     RecordsMessage m;
     for (std::size_t i = 0; i < n; ++i) {
@@ -61,7 +73,7 @@ TEST(SharedMessage, EveryKindRoundTrips) {
     EXPECT_EQ(*r.check_digest, 0x1234u);
     const RefusedMessage f = decode_refused(encode_refused({SculptRequest::kUndo, 2, "Cy"}), "t");
     EXPECT_EQ(f.by_name, "Cy");
-    const PresenceMessage p = decode_presence(encode_presence({4, true, "Di", Vec3(1.0), Pose{}, 0.005}), "t");
+    const PresenceMessage p = decode_presence(encode_presence(tool_presence(4, true, "Di", Vec3(1.0), Pose{}, 0.005)), "t");
     EXPECT_TRUE(p.gone);
     EXPECT_EQ(p.tool_radius_m, 0.005);
     EXPECT_EQ(decode_end(encode_end({5, 6, "bye"}), "t").reason, "bye");
@@ -93,7 +105,9 @@ TEST(SharedMessage, BadBytesAreRefusedNamingTheField) {
               std::string::npos);
     EXPECT_NE(refusal([&] { decode_join(encode_join({kSharedProtocol, "Bo", Vec3(2.0)}), "peer"); }).find("peer: colour"),
               std::string::npos);
-    EXPECT_NE(refusal([&] { decode_presence(encode_presence({kMaxSites, false, "x", Vec3(0.5), Pose{}, 0.0}), "peer"); })
+    EXPECT_NE(refusal([&] {
+                  decode_presence(encode_presence(tool_presence(kMaxSites, false, "x", Vec3(0.5), Pose{}, 0.0)), "peer");
+              })
                   .find("peer: site: site 16"),
               std::string::npos);
     // Packed records that hold packed records, or lie about their size.
@@ -111,8 +125,8 @@ TEST(SharedMessage, BadBytesAreRefusedNamingTheField) {
 TEST(PresenceView, AnotherSitesToolIsABallAndItsNameAndAGoneSiteIsNotDrawn) {
     PresenceView view;
     std::vector<PresenceMessage> others(2);
-    others[0] = PresenceMessage{1, false, "Bo", Vec3(0.5, 0.2, 0.9), Pose{Vec3(0.01, 0.02, 0.03), Quat(1, 0, 0, 0)}, 0.004};
-    others[1] = PresenceMessage{2, true, "Cy", Vec3(0.5), Pose{}, 0.004};
+    others[0] = tool_presence(1, false, "Bo", Vec3(0.5, 0.2, 0.9), Pose{Vec3(0.01, 0.02, 0.03), Quat(1, 0, 0, 0)}, 0.004);
+    others[1] = tool_presence(2, true, "Cy", Vec3(0.5), Pose{}, 0.004);
     std::vector<renderer::SceneObject> out;
     view.append(others, out);
     ASSERT_EQ(out.size(), 2u);  // Bo's ball and name; Cy left
@@ -125,6 +139,41 @@ TEST(PresenceView, AnotherSitesToolIsABallAndItsNameAndAGoneSiteIsNotDrawn) {
     out.clear();
     view.append(others, out);
     EXPECT_EQ(out[1].mesh, bo);  // the name's mesh is kept, not rebuilt each frame
+}
+
+TEST(PresenceView, ATrackedHeadTravelsInTheSceneFrameAndIsDrawnWithItsNameAndGlasses) {
+    // Ann's scene is moved 1 m along -z and scaled up twice: her head 0.5 m in front of the screen in her room is
+    // 0.75 m in front of the workpiece in the scene, and a real head's size is halved there.
+    renderer::SceneNavigation nav(Pose{Vec3(0.0, 0.0, -1.0), Quat(1, 0, 0, 0)}, 2.0);
+    FrameShown shown;
+    shown.nav = &nav;
+    shown.head = Pose{Vec3(0.0, 0.2, 0.5), Quat(1, 0, 0, 0)};
+    shown.tool = ToolShape{};
+    shown.tool.radius_m = 0.004;
+    const PresenceMessage untracked = presence_of(shown, 0, "Ann", Vec3(0.2, 0.6, 1.0));
+    EXPECT_FALSE(untracked.head_tracked);  // a fixed head is not shown
+    shown.head_tracked = true;
+    const PresenceMessage me = decode_presence(encode_presence(presence_of(shown, 0, "Ann", Vec3(0.2, 0.6, 1.0))), "t");
+    ASSERT_TRUE(me.head_tracked);
+    EXPECT_NEAR(me.head.position.z, 0.75, 1e-12);
+    EXPECT_NEAR(me.head.position.y, 0.1, 1e-12);
+    EXPECT_NEAR(me.head_size_m, kHeadRadiusM / 2.0, 1e-12);
+
+    PresenceView view;
+    std::vector<renderer::SceneObject> out;
+    view.append({me}, out);
+    ASSERT_EQ(out.size(), 5u);  // the tool's ball and name, the head, its glasses, its name
+    EXPECT_FLOAT_EQ(out[2].world_from_model[3][2], 0.75f);
+    EXPECT_NEAR(out[2].world_from_model[1][1], kHeadRadiusM / 2.0, 1e-6);  // the head as big as a head, in the scene
+    EXPECT_LT(out[3].world_from_model[3][2], 0.75f);  // the glasses in front of it (-z looks ahead)
+    EXPECT_LT(out[3].colour.r, 0.1f);
+    EXPECT_EQ(out[4].mesh, out[1].mesh);  // one name mesh, drawn at the tool and, larger, above the head
+    EXPECT_GT(out[4].world_from_model[3][1], 0.1f + kHeadRadiusM / 2.0);
+    EXPECT_GT(out[4].world_from_model[0][0], 1.0f);
+
+    PresenceMessage bad = me;
+    bad.head_size_m = 0.0;
+    EXPECT_NE(refusal([&] { decode_presence(encode_presence(bad), "peer"); }).find("peer: head_size_m"), std::string::npos);
 }
 
 }  // namespace

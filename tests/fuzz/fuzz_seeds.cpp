@@ -150,7 +150,16 @@ void shared_seeds(const fs::path& dir) {
     r.records.assign(60, r.records[0]);  // long enough to be sent packed
     put_msg("records_packed", app::encode_records(r));
     put_msg("refused", app::encode_refused(app::RefusedMessage{app::SculptRequest::kRedo, 2, "Cy"}));
-    put_msg("presence", app::encode_presence(app::PresenceMessage{2, false, "Cy", Vec3(0.5), Pose{}, 0.004}));
+    app::PresenceMessage headed;
+    headed.site = 2;
+    headed.name = "Cy";
+    headed.colour = Vec3(0.5);
+    headed.tool_radius_m = 0.004;
+    put_msg("presence", app::encode_presence(headed));
+    headed.head_tracked = true;
+    headed.head = Pose{Vec3(0.0, 0.3, 0.8), Quat(1, 0, 0, 0)};
+    headed.head_size_m = app::kHeadRadiusM;
+    put_msg("presence_head", app::encode_presence(headed));
     put_msg("end", app::encode_end(app::EndMessage{9, 120, "the host ended the session"}));
 }
 

@@ -369,6 +369,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
                        lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength,
                        &menu_now};
     shown.proxy_m = lv.proxy_m;
+    shown.head_tracked = scene.head != HeadMode::kFixed;
     for (SessionCompanion* c : companions) {
         c->before_present(shown);
         if (companion_failure.empty()) companion_failure = c->failure();

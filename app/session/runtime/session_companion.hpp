@@ -21,17 +21,21 @@ namespace tridex::app {
 /// What one frame of a run session shows, as its companions see it just before it is presented.
 struct FrameShown {
     std::uint64_t frame = 0;        ///< 0, 1, 2, ...
-    Pose head;                      ///< the head pose it is drawn from (world m; the last good one when held)
+    Pose head;                      ///< the head pose it is drawn from (world m, before navigation: `nav` maps the
+                                    ///< scene into this frame; the last good one when held)
     const renderer::SceneNavigation* nav = nullptr;  ///< the scene's navigation (world_from_scene)
     double eye_separation_m = 0.0;  ///< m
-    Vec3 tool_m{0.0};               ///< tool centre, world m
+    Vec3 tool_m{0.0};               ///< tool centre, scene m (the haptic loop's world, which navigation leaves be)
     Quat tool_orientation{1.0, 0.0, 0.0, 0.0};
     ToolShape tool;                 ///< the tool drawn
     bool show_tool = true;          ///< whether the tool is drawn
     double ao = 1.0;                ///< ambient occlusion strength, 0..1
     const MenuFrame* menu = nullptr;  ///< the pie menu as drawn (scene m); null or not shown: none
-    /// Where the tool rests on the surface, world m: contact point 0's proxy (god-object), the tool centre when free.
+    /// Where the tool rests on the surface, scene m: contact point 0's proxy (god-object), the tool centre when free.
     Vec3 proxy_m{0.0};
+    /// The head follows a tracker or a script (not a fixed head, nor one the keyboard and mouse move): a shared
+    /// session shows it to the others.
+    bool head_tracked = false;
 };
 
 /// What RunPipeline::run throws after a companion failed (once every output is written): the companion's failure and

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "renderer/scene/plane_marks.hpp"
 #include "renderer/scene/primitive_meshes.hpp"
@@ -23,34 +24,69 @@ PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const st
     p.colour = colour;
     p.tool = Pose{is_finite(shown.proxy_m) ? shown.proxy_m : shown.tool_m, shown.tool_orientation};  // as it touches
     p.tool_radius_m = shown.tool.radius_m;
+    if (shown.head_tracked && shown.nav && is_finite(shown.head.position)) {
+        // The head is in the room; the others see it where it stands relative to the workpiece (the scene).
+        p.head_tracked = true;
+        p.head.position = shown.nav->to_scene(shown.head.position);
+        p.head.orientation = glm::normalize(glm::conjugate(shown.nav->pose().orientation) * shown.head.orientation);
+        p.head_size_m = kHeadRadiusM / shown.nav->scale();
+    }
     return p;
 }
 
 PresenceView::PresenceView() : ball_(renderer::unit_sphere(12, 24)) {}
 
+const TriMesh* PresenceView::label_of(const PresenceMessage& p) const {
+    Label& label = labels_[p.site];
+    if (label.name != p.name || label.mesh.triangles.empty()) {
+        label.name = p.name;
+        label.mesh = TriMesh{};
+        renderer::add_plane_text(label.mesh, renderer::PlaneFrame{}, p.name, 0.0, kLabelHeightM, kLabelHeightM, 0.5, 0.0);
+    }
+    return label.mesh.triangles.empty() ? nullptr : &label.mesh;
+}
+
 void PresenceView::append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const {
     for (const PresenceMessage& p : others) {
-        if (p.gone || !is_finite(p.tool.position) || !(p.tool_radius_m > 0.0)) continue;
-        renderer::SceneObject o;
-        o.mesh = &ball_;
-        o.colour = glm::vec4(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
-        o.world_from_model = glm::mat4(glm::translate(glm::dmat4(1.0), p.tool.position) *
-                                       glm::scale(glm::dmat4(1.0), Vec3(p.tool_radius_m)));
-        out.push_back(o);
-        Label& label = labels_[p.site];
-        if (label.name != p.name || label.mesh.triangles.empty()) {
-            label.name = p.name;
-            label.mesh = TriMesh{};
-            renderer::add_plane_text(label.mesh, renderer::PlaneFrame{}, p.name, 0.0, kLabelHeightM, kLabelHeightM, 0.5, 0.0);
+        if (p.gone) continue;
+        const glm::vec4 colour(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
+        const TriMesh* label = label_of(p);
+        const auto add_label = [&](const Vec3& at, double scale) {
+            if (!label) return;
+            renderer::SceneObject name;
+            name.mesh = label;
+            name.colour = glm::vec4(colour.r, colour.g, colour.b, 1.0f);
+            name.lit = false;
+            name.world_from_model =
+                glm::mat4(glm::translate(glm::dmat4(1.0), at) * glm::scale(glm::dmat4(1.0), Vec3(scale)));
+            out.push_back(name);
+        };
+        if (is_finite(p.tool.position) && p.tool_radius_m > 0.0) {
+            renderer::SceneObject o;
+            o.mesh = &ball_;
+            o.colour = colour;
+            o.world_from_model = glm::mat4(glm::translate(glm::dmat4(1.0), p.tool.position) *
+                                           glm::scale(glm::dmat4(1.0), Vec3(p.tool_radius_m)));
+            out.push_back(o);
+            add_label(p.tool.position + Vec3(0.0, p.tool_radius_m + 0.5 * kLabelHeightM, 0.0), 1.0);
         }
-        if (label.mesh.triangles.empty()) continue;
-        renderer::SceneObject name;
-        name.mesh = &label.mesh;
-        name.colour = glm::vec4(o.colour.r, o.colour.g, o.colour.b, 1.0f);
-        name.lit = false;
-        name.world_from_model = glm::mat4(glm::translate(
-            glm::dmat4(1.0), p.tool.position + Vec3(0.0, p.tool_radius_m + 0.5 * kLabelHeightM, 0.0)));
-        out.push_back(name);
+        if (p.head_tracked && is_finite(p.head.position) && p.head_size_m > 0.0) {
+            const glm::dmat4 head_from = glm::translate(glm::dmat4(1.0), p.head.position) *
+                                         glm::mat4_cast(glm::normalize(p.head.orientation)) *
+                                         glm::scale(glm::dmat4(1.0), Vec3(p.head_size_m));
+            renderer::SceneObject head;  // a head, a little narrower than deep and tall
+            head.mesh = &ball_;
+            head.colour = colour;
+            head.world_from_model = glm::mat4(head_from * glm::scale(glm::dmat4(1.0), Vec3(0.8, 1.0, 0.95)));
+            out.push_back(head);
+            renderer::SceneObject glasses = head;  // dark glasses at its front (-z looks ahead): where it looks
+            glasses.colour = glm::vec4(0.03f, 0.03f, 0.04f, 1.0f);
+            glasses.world_from_model = glm::mat4(head_from * glm::translate(glm::dmat4(1.0), Vec3(0.0, 0.12, -0.78)) *
+                                                 glm::scale(glm::dmat4(1.0), Vec3(0.78, 0.24, 0.3)));
+            out.push_back(glasses);
+            const double name_scale = 0.45 * p.head_size_m / kLabelHeightM;  // letters a quarter of the head tall
+            add_label(p.head.position + Vec3(0.0, 1.1 * p.head_size_m + 0.5 * name_scale * kLabelHeightM, 0.0), name_scale);
+        }
     }
 }
 

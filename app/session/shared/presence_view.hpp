@@ -13,21 +13,27 @@
 namespace tridex::app {
 
 /// This site's presence in the frame just shown: its tool where it touches (the proxy; the tool centre when free), its
-/// orientation and radius, with `site`, `name` and `colour`.
+/// orientation and radius, with `site`, `name` and `colour`; when shown.head_tracked (and shown.nav is set), its head
+/// mapped into the scene frame (kHeadRadiusM / the scene scale in size).
 PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
 
 /// Draws each other site's tool as a ball of its radius in that person's colour, their name above it (in the plane of
-/// the screen, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. Keeps the meshes,
-/// so it must outlive the frames that draw them; one thread calls append().
+/// the screen, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. A site whose head
+/// is tracked also shows its head (an ellipsoid of the head's size in the same colour, dark glasses at its front
+/// showing where it looks) with the name above it. Everything is in the scene frame, so each site sees the others
+/// where they are relative to the workpiece whatever each navigated. Keeps the meshes, so it must outlive the frames
+/// that draw them; one thread calls append().
 class PresenceView {
 public:
     /// Height of a name's letters, m.
     static constexpr double kLabelHeightM = 0.008;
     PresenceView();
-    /// Appends a ball and a name for each site in `others` that is not gone, has a finite pose and a tool radius > 0.
+    /// Appends, for each site in `others` that is not gone: a ball and a name when its tool has a finite position and
+    /// a radius > 0; a head (two objects) and a name when its head is tracked, finite and of a size > 0.
     void append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const;
 
 private:
+    const TriMesh* label_of(const PresenceMessage& p) const;  // its name's mesh (null for an empty name)
     TriMesh ball_;  // the unit sphere
     struct Label {
         std::string name;

@@ -210,6 +210,7 @@ void SharedHost::on_message(Joiner& j, const std::vector<std::uint8_t>& bytes) {
         }
         case SharedKind::kPresence: {
             PresenceMessage p = decode_presence(bytes, from);
+            ++j.report.presence;
             p.site = j.report.site;
             p.name = j.report.name;
             p.colour = j.colour;
@@ -366,7 +367,7 @@ nlohmann::json SharedHost::report() const {
         js.push_back({{"site", r.site}, {"name", r.name}, {"where", r.where}, {"samples", r.samples},
                       {"requests", r.requests}, {"refusals", r.refusals}, {"bad_messages", r.bad_messages},
                       {"bytes_in", r.bytes_in}, {"bytes_out", r.bytes_out}, {"joined_s", r.joined_s},
-                      {"left_s", r.left_s}, {"sealed_refused", r.sealed_refused}});
+                      {"left_s", r.left_s}, {"sealed_refused", r.sealed_refused}, {"presence", r.presence}});
     return {{"role", "host"}, {"name", o_.name}, {"joiners", js}, {"records", records_sent_},
             {"digest_checks", checks_}, {"final_digest", final_digest_}, {"own_refusals", own_refusals_},
             {"site_samples_dropped", intake_.dropped()}, {"peers_refused", peers_refused_}};

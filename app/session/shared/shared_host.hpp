@@ -47,6 +47,7 @@ struct JoinerReport {
     std::uint64_t samples = 0;      ///< tool samples it sent that were queued
     std::uint64_t requests = 0;     ///< undo, redo and stroke-close requests it sent
     std::uint64_t refusals = 0;     ///< of those, refused (SiteStrokes)
+    std::uint64_t presence = 0;     ///< presence messages heard from it (about 30 a second; unreliable)
     std::uint64_t bad_messages = 0; ///< messages it sent that could not be read (it was dropped at the first)
     std::uint64_t bytes_in = 0, bytes_out = 0;  ///< payload bytes received from it and sent to it
     double joined_s = 0.0, left_s = -1.0;       ///< wall time since the session started, s (-1: still there)

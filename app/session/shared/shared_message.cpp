@@ -192,6 +192,11 @@ std::vector<unsigned char> encode_presence(const PresenceMessage& m) {
     w.vec3(m.colour);
     w.pose(m.tool);
     w.f64(m.tool_radius_m);
+    w.u8(m.head_tracked ? 1 : 0);
+    if (m.head_tracked) {
+        w.pose(m.head);
+        w.f64(m.head_size_m);
+    }
     return w.take();
 }
 
@@ -207,6 +212,14 @@ PresenceMessage decode_presence(std::span<const unsigned char> b, const std::str
     m.tool = r.pose("tool");
     m.tool_radius_m = r.f64("tool_radius_m");
     if (m.tool_radius_m < 0.0 || m.tool_radius_m > 1.0) r.fail("tool_radius_m", "must be in [0, 1] m");
+    const std::uint8_t tracked = r.u8("head_tracked");
+    if (tracked > 1) r.fail("head_tracked", "not 0 or 1");
+    m.head_tracked = tracked != 0;
+    if (m.head_tracked) {
+        m.head = r.pose("head");
+        m.head_size_m = r.f64("head_size_m");
+        if (!(m.head_size_m > 0.0 && m.head_size_m <= 100.0)) r.fail("head_size_m", "must be in (0, 100] m");
+    }
     r.end();
     return m;
 }

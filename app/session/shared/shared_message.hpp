@@ -17,7 +17,7 @@
 namespace tridex::app {
 
 /// The protocol version a joiner states in its join; the host refuses another.
-inline constexpr std::uint32_t kSharedProtocol = 1;
+inline constexpr std::uint32_t kSharedProtocol = 2;
 
 /// Message kinds (the byte after the magic).
 enum class SharedKind : std::uint8_t {
@@ -72,9 +72,16 @@ struct PresenceMessage {
     bool gone = false;       ///< the site left: stop drawing it
     std::string name;
     Vec3 colour{1.0};        ///< sRGB 0..1
-    Pose tool;               ///< world m
-    double tool_radius_m = 0.0;
+    Pose tool;               ///< scene m (the frame the workpiece and the haptic loop's tool live in)
+    double tool_radius_m = 0.0;  ///< scene m
+    /// The person's head follows a tracker (or a script): `head` is where it is and it is drawn for the others.
+    bool head_tracked = false;
+    Pose head;               ///< the head (between the eyes; -z looks ahead, +y up), scene m; meaningful when tracked
+    double head_size_m = 0.0;    ///< a real head's radius in scene m (kHeadRadiusM / the site's scene scale), (0, 100]
 };
+
+/// The radius of a person's head as drawn at the other sites, world m.
+inline constexpr double kHeadRadiusM = 0.09;
 
 /// The end of the host's session (or a join turned away: reason says why, digest 0).
 struct EndMessage {

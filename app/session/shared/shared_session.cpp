@@ -74,6 +74,7 @@ RunResult run_joiner(const RunOptions& options) {
     jo.colour = colour_of_site_name(jo.name);
     jo.out = options.out;
     const net::SessionKey key = session_key(options, "--join");
+    (void)resolve_run(options);  // this site's own scene and options are checked before it takes a site at the host
     SharedJoin shared(jo, net::EnetLink::connect(host, port, kPeerTimeoutS), key);
     const SharedJoin::Joined joined = shared.join();
     const SessionSpec host_spec = spec_from_json(joined.welcome.spec_json, "--join " + options.join + ": the host's session");
