@@ -4,6 +4,7 @@
 #include "bench/bench_shared.hpp"
 
 #include "bench/bench_registry.hpp"
+#include "bench/bench_shared_sites.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -35,50 +36,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace net = devices::net;
-using Clock = std::chrono::steady_clock;
-
-double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
-
-// One site: its model, contour, sculpt thread publishing per-tile meshes, and what its publishes carried.
-struct BenchSite {
-    explicit BenchSite(compute::TriDexel m) : model(std::move(m)), contourer(model) {
-        contourer.update(model);
-        thread = std::make_unique<app::SculptThread>(model, contourer, ring, surface, Vec3(0.0));
-    }
-    void wire(const app::SculptOptions& o) {
-        if (o.stream) thread->use_stream(*o.stream);
-        for (const auto& f : o.sculpt_setup) f(*thread);
-        thread->publish_mesh_to(meshes, 0.0, app::MeshForm::kTiles);
-    }
-    // Takes the newest publish, if new: its publish time and the device time of its oldest cutting sample.
-    void take() {
-        const app::MeshFrame& f = meshes.latest();
-        if (f.version != last_version && std::isfinite(f.oldest_sample_t_s)) seen.push_back({f.published_s, f.oldest_sample_t_s});
-        last_version = f.version;
-    }
-    compute::TriDexel model;
-    compute::Contourer contourer;
-    SpscRing<ToolSample> ring{8192};
-    TripleBuffer<ActiveSurface> surface;
-    TripleBuffer<app::MeshFrame> meshes;
-    std::unique_ptr<app::SculptThread> thread;
-    std::uint64_t last_version = 0;
-    std::vector<std::pair<double, double>> seen;  // (published_s, oldest_sample_t_s)
-};
-
-// The groove a site carves: n samples along x at height y on the box's top face, device times from t0 (1 ms apart).
-std::vector<ToolSample> groove(double y_m, double t0_s, int n) {
-    std::vector<ToolSample> s(static_cast<std::size_t>(n) + 1);
-    for (int i = 0; i <= n; ++i) {
-        ToolSample& x = s[static_cast<std::size_t>(i)];
-        x.t_s = t0_s + i * 1e-3;
-        x.position = Vec3(-0.03 + 0.06 * std::min(i, n - 1) / (n - 1), y_m, 0.046);
-        x.tool.radius_m = 0.004;
-        x.op = i < n ? ToolOp::kSubtract : ToolOp::kNone;
-    }
-    return s;
-}
-
+using namespace shared_sites;
 
 // The latencies of one site's publishes whose oldest cutting sample has a device time in [from_s, to_s): publish time
 // minus the sample's push time (`pushed`, by device time in ms).
@@ -88,25 +46,6 @@ void latencies(const BenchSite& s, const std::vector<double>& pushed, double fro
         const long i = std::lround(t * 1e3);
         if (i < 0 || i >= static_cast<long>(pushed.size()) || pushed[static_cast<std::size_t>(i)] <= 0.0) continue;
         out.add(1e3 * (published - pushed[static_cast<std::size_t>(i)]));
-    }
-}
-
-// Pushes each site's samples (either may be empty) at 1 kHz on the wall clock, noting each push time by device time
-// (ms) in `pushed`, taking both sites' publishes meanwhile.
-void carve(BenchSite& hs, const std::vector<ToolSample>& a, BenchSite& js, const std::vector<ToolSample>& b,
-           std::vector<double>& pushed) {
-    const auto push = [&pushed](BenchSite& site, ToolSample x) {
-        x.made_s = now_s();
-        pushed[static_cast<std::size_t>(std::lround(x.t_s * 1e3))] = x.made_s;
-        while (!site.ring.try_push(x)) std::this_thread::yield();
-    };
-    const auto start = Clock::now();
-    for (std::size_t i = 0; i < std::max(a.size(), b.size()); ++i) {
-        std::this_thread::sleep_until(start + std::chrono::microseconds(1000 * i));
-        if (i < a.size()) push(hs, a[i]);
-        if (i < b.size()) push(js, b[i]);
-        hs.take();
-        js.take();
     }
 }
 
@@ -128,17 +67,13 @@ SharedBenchRow run_row(const SharedBenchOptions& o, double delay_ms, const fs::p
     cfg.loss = o.loss;
     net::LinkShim shim(cfg, [t0] { return now_s() - t0; });
     std::unique_ptr<net::DatagramLink> server_end = shim.server_end();
-    std::uint8_t kb[net::SessionKey::kBytes];
-    for (std::size_t i = 0; i < sizeof kb; ++i) kb[i] = static_cast<std::uint8_t>(7 * i + 1);
-    const net::SessionKey key(kb);
+    const net::SessionKey key = bench_key();
     app::SharedHostOptions ho;
     ho.key = key;
     ho.out = (dir / "host").string();
     fs::create_directories(ho.out);
     app::SharedHost host(ho, [&server_end]() { return std::move(server_end); });
-    compute::TriDexel m = compute::TriDexel::empty(compute::Lattice::around(Aabb{Vec3(-0.05), Vec3(0.05)}, o.resolution),
-                                                   std::size_t{1} << 31);
-    compute::scan_convert(box_mesh(Aabb{Vec3(-0.0487), Vec3(0.0487)}), m);
+    const compute::TriDexel m = bench_box(o.resolution);
     BenchSite hs(m);
     app::SculptOptions hso;
     host.configure(hso);
@@ -229,8 +164,6 @@ std::vector<SharedBenchRow> run_shared_bench(const SharedBenchOptions& o) {
                         {"host_to_joiner_bytes_per_s", r.host_out_bps}, {"joiner_to_host_bytes_per_s", r.join_out_bps},
                         {"digests_equal", r.digests_equal}, {"unreliable_lost", r.lost}});
     }
-    std::printf("haptic period while the link floods: not measured here (no haptic loop runs in this benchmark; the "
-                "sealed link's flood tests cover a device link)\n");
     app::write_json_file((fs::path(o.out) / "shared_bench.json").string(), {{"rows", rows}, {"resolution", o.resolution},
                                                                             {"stroke_s", o.stroke_s}});
     return out;
@@ -246,10 +179,14 @@ BenchRun setup_shared(CLI::App& bench) {
     bench.add_option("--shared-join-minutes", o->join_minutes,
                      "With --shared: late joins after these minutes of sculpting, 1..60 (default 1 10)");
     bench.add_option("--shared-resolution", o->resolution, "With --shared: the box's cells along a side (default 96)");
+    bench.add_option("--shared-flood-s", o->flood_s,
+                     "With --shared: each phase of the haptic period's run over ENet, quiet then flooded, s (default 5; "
+                     "0 skips it)");
     return [o](const BenchCommon& c) {
         SharedBenchOptions run = *o;
         run.out = c.out;
         (void)run_shared_bench(run);
+        (void)run_shared_flood_bench(run);
         (void)run_late_join_bench(run);
     };
 }
@@ -257,7 +194,8 @@ BenchRun setup_shared(CLI::App& bench) {
 const BenchmarkRegistration kRegistration{
     {"shared",
      "A shared session's host and joiner over the link shim at several delays with loss: own and other's cut ready "
-     "to draw after the sample, bytes per second, digests",
+     "to draw after the sample, bytes per second, digests; then the host's haptic period over ENet, quiet and while "
+     "random datagrams flood its port",
      49, setup_shared}};
 
 }  // namespace

@@ -69,6 +69,15 @@ bool is_enet_connect(const enet_uint8* data, std::size_t size) {
     return no_id && (data[header] & ENET_PROTOCOL_COMMAND_MASK) == ENET_PROTOCOL_COMMAND_CONNECT;
 }
 
+/// True when `a` is the address of one of the host's peers that is not disconnected (connected or connecting).
+bool from_a_peer(const ENetHost* host, const ENetAddress& a) {
+    for (std::size_t i = 0; i < host->peerCount; ++i) {
+        const ENetPeer& p = host->peers[i];
+        if (p.state != ENET_PEER_STATE_DISCONNECTED && p.address.host == a.host && p.address.port == a.port) return true;
+    }
+    return false;
+}
+
 /// The watched hosts (ENet's intercept callback carries no user data): looked up by host, without locks.
 std::array<HostWatch, 64> g_watch{};
 
@@ -76,7 +85,11 @@ int ENET_CALLBACK intercept(ENetHost* host, ENetEvent*) {
     for (HostWatch& w : g_watch) {
         if (w.host.load(std::memory_order_acquire) != host) continue;
         w.datagrams.fetch_add(1, std::memory_order_relaxed);
-        if (!w.have_peer.load(std::memory_order_acquire)) return 0;
+        if (!w.have_peer.load(std::memory_order_acquire)) {
+            if (w.hub.load(std::memory_order_relaxed) && !from_a_peer(host, host->receivedAddress))
+                w.foreign.fetch_add(1, std::memory_order_relaxed);
+            return 0;
+        }
         const ENetAddress& a = host->receivedAddress;
         if (a.host == w.peer_host.load(std::memory_order_relaxed) &&
             a.port == w.peer_port.load(std::memory_order_relaxed))
@@ -96,6 +109,7 @@ HostWatch* watch_host(ENetHost* host) {
         w.datagrams.store(0, std::memory_order_relaxed);
         w.foreign.store(0, std::memory_order_relaxed);
         w.have_peer.store(false, std::memory_order_release);
+        w.hub.store(false, std::memory_order_relaxed);
         host->intercept = intercept;
         return &w;
     }

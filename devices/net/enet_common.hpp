@@ -44,11 +44,13 @@ std::string address_text(const ENetAddress& address);
 
 /// What the intercept counts for one host, and the address of its connected peer (written by the thread that
 /// services the host, read by the intercept on that thread and by traffic() on any). While have_peer is false every
-/// datagram is only counted.
+/// datagram is only counted; a hub's (hub true) is also counted as foreign when it comes from an address of none of
+/// the host's peers (connected or connecting), and is left to ENet all the same.
 struct HostWatch {
     std::atomic<ENetHost*> host{nullptr};
     std::atomic<std::uint64_t> datagrams{0}, foreign{0};
     std::atomic<bool> have_peer{false};
+    std::atomic<bool> hub{false};
     std::atomic<enet_uint32> peer_host{0};
     std::atomic<enet_uint16> peer_port{0};
 };

@@ -234,6 +234,7 @@ std::unique_ptr<EnetHub> EnetHub::listen(const std::string& host, std::uint16_t 
     // max_peers can be told it is refused.
     core->host = listen_host("--host", host, port, 2 * max_peers + 1);
     core->watch = watch_host(core->host);
+    if (core->watch) core->watch->hub.store(true, std::memory_order_relaxed);
     core->where = host + ":" + std::to_string(core->host->address.port);
     return std::unique_ptr<EnetHub>(new EnetHub(std::move(core)));
 }
@@ -252,6 +253,8 @@ void EnetHub::service() { core_->service(); }
 std::uint16_t EnetHub::port() const { return core_->host ? core_->host->address.port : 0; }
 
 const char* EnetHub::where() const { return core_->where.c_str(); }
+
+LinkTraffic EnetHub::traffic() const { return watch_traffic(core_->watch); }
 
 HubStats EnetHub::stats() const {
     HubStats s = core_->stats;

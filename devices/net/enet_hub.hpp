@@ -63,7 +63,7 @@ public:
     /// "HOST:PORT") on its first call, then the peer's kData, then kDisconnected once it left, timed out or was
     /// disconnected by the hub (after the datagrams queued before), and then nothing: connected() is false for
     /// good and a peer that comes back is a new accept(). where() is the peer's "HOST:PORT"; traffic() is the
-    /// hub's socket counters (every peer's datagrams; foreign stays 0); drop_peer() disconnects the peer after its
+    /// hub's socket counters (as traffic() below); drop_peer() disconnects the peer after its
     /// queued reliable datagrams, with no kDisconnected after it.
     std::unique_ptr<DatagramLink> accept();
     /// Services ENet (timeout 0) and dispatches at most kMaxEventsPerService events into the per-peer queues
@@ -75,6 +75,11 @@ public:
     const char* where() const;
     /// The counters so far.
     HubStats stats() const;
+    /// The socket's counters so far, readable from any thread: every UDP datagram received (datagrams), and of them
+    /// those from an address of none of the hub's peers, connected or connecting (foreign: floods and stray traffic,
+    /// and each new peer's first connect), which ENet discards unless they are a valid connect. Zeros once closed, or
+    /// when the process watches too many ENet hosts to count this one's.
+    LinkTraffic traffic() const;
 
 private:
     struct Core;

@@ -1,6 +1,7 @@
 // Smoke test of `tridex bench --shared` (bench/bench_shared): a short run at two delays times every kind of cut, ends
 // with equal models at both sites, and the joiner's own cut waits at least the round trip; a late join after a
-// minute replays its 60,000 samples.
+// minute replays its 60,000 samples; the flood run over ENet ticks the haptic loop in both phases, floods and refuses
+// in the second, and ends with equal models.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -52,6 +53,35 @@ TEST(BenchShared, AShortRunTimesEveryCutAndEndsWithEqualModels) {
 
     o.loss = 0.7;
     EXPECT_THROW(run_shared_bench(o), Error);
+}
+
+TEST(BenchShared, TheFloodRunTicksFloodsRefusesAndEndsWithEqualModels) {
+    SharedBenchOptions o;
+    o.flood_s = 1.0;
+    o.resolution = 48;
+    o.out = (std::filesystem::temp_directory_path() / ("tridex_test_bench_flood_" + std::to_string(::getpid()))).string();
+    std::filesystem::remove_all(o.out);
+    const std::vector<SharedFloodRow> rows = run_shared_flood_bench(o);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].phase, "quiet");
+    EXPECT_EQ(rows[1].phase, "flood");
+    for (const SharedFloodRow& r : rows) {
+        EXPECT_GT(r.ticks, 0u) << r.phase;
+        EXPECT_TRUE(r.digests_equal) << r.phase;
+        EXPECT_TRUE(r.carved) << r.phase;
+    }
+    EXPECT_EQ(rows[0].flooded, 0u);
+    EXPECT_GT(rows[1].flooded, 0u);
+    EXPECT_GT(rows[1].hub_foreign + rows[1].sealed_refused, 0u);
+    std::ifstream f(std::filesystem::path(o.out) / "shared_flood.json");
+    ASSERT_TRUE(f.good());
+    EXPECT_EQ(nlohmann::json::parse(f).at("rows").size(), 2u);
+    std::filesystem::remove_all(o.out);
+
+    o.flood_s = 0.0;
+    EXPECT_TRUE(run_shared_flood_bench(o).empty());
+    o.flood_s = 0.2;
+    EXPECT_THROW(run_shared_flood_bench(o), Error);
 }
 
 }  // namespace

@@ -1,7 +1,13 @@
 // The multi-peer ENet listener (devices/net/enet_hub.hpp) over real ENet on loopback: several joiners are served at
 // once, each through its own link, with every datagram reaching the right peer only; sealed links run their
-// handshakes over it; a joiner that leaves is reported and a new one accepted; a peer beyond max_peers is refused.
+// handshakes over it; a joiner that leaves is reported and a new one accepted; a peer beyond max_peers is refused;
+// datagrams from an address of no peer are counted as foreign, a peer's are not.
 #include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <memory>
@@ -223,6 +229,29 @@ TEST(EnetHub, AReaderThatReusesItsBufferKeepsTheQueuesAccountsRight) {
     EXPECT_EQ(s.hub->stats().overflowed, 0u);
     EXPECT_GT(got.size(), 500u) << "of 600 unreliable datagrams on loopback";
     EXPECT_TRUE(h.link->connected());
+}
+
+TEST(EnetHub, DatagramsFromNoPeerCountAsForeignAndAPeersDoNot) {
+    Session s(2);
+    s.join();
+    ASSERT_TRUE(s.run_until([&] { return s.all_up(1); }, 10.0));
+    ASSERT_TRUE(s.identify());
+    const LinkTraffic before = s.hub->traffic();
+    EXPECT_GT(before.datagrams, 0u);
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    ASSERT_GE(fd, 0);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(s.hub->port());
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const std::uint8_t junk[40] = {0x12, 0x34, 0x56};
+    for (int i = 0; i < 20; ++i) ::sendto(fd, junk, sizeof junk, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+    ::close(fd);
+    ASSERT_TRUE(s.run_until([&] { return s.hub->traffic().foreign >= before.foreign + 20; }, 10.0));
+    EXPECT_TRUE(s.round_trip(0, "after the junk"));  // the peer still speaks, and its datagrams are not foreign
+    const LinkTraffic after = s.hub->traffic();
+    EXPECT_EQ(after.foreign, before.foreign + 20);
+    EXPECT_GE(after.datagrams, before.datagrams + 21);
 }
 
 TEST(EnetHub, ListenRefusesBadArgumentsAndABusyPort) {
