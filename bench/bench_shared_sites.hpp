@@ -38,7 +38,7 @@ struct BenchSite {
     }
     /// Hands the sculpt thread a companion's options (its stream and setup) and per-tile mesh publishing.
     void wire(const app::SculptOptions& o) {
-        if (o.stream) thread->use_stream(*o.stream);
+        for (compute::ToolStreamSink* s : o.streams) thread->use_stream(*s);
         for (const auto& f : o.sculpt_setup) f(*thread);
         thread->publish_mesh_to(meshes, 0.0, app::MeshForm::kTiles);
     }

@@ -30,7 +30,7 @@ double SculptThread::open_t_s() const {
 
 void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
     ++stats_.samples;
-    if (journal_ || stream_) drained_.push_back(s);
+    if (journal_ || !streams_.empty()) drained_.push_back(s);
     const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
     if (cuts) w.oldest_cut.keep_older({s.made_s, s.t_s});
     // A stroke closes where the tool stops cutting or changes what it does, or another site's tool cuts; the sweep

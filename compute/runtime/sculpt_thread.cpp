@@ -76,7 +76,7 @@ void SculptThread::use_journal(compute::JournalWriter& journal) {
 
 void SculptThread::use_stream(compute::ToolStreamSink& stream) {
     if (thread_.joinable()) throw Error("SculptThread::use_stream: call it before start()");
-    stream_ = &stream;
+    streams_.push_back(&stream);
     drained_.reserve(samples_.capacity() + 1);
 }
 
@@ -245,17 +245,18 @@ void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
         batch_.clear();
     }
     if (journal_ && end > begin) journal_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
-    if (stream_ && end > begin) {
-        stream_->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
-        stream_->after_record(model_);
-    }
+    if (end > begin)
+        for (compute::ToolStreamSink* s : streams_) {
+            s->append(std::span<const ToolSample>(drained_).subspan(begin, end - begin));
+            s->after_record(model_);
+        }
 }
 
 void SculptThread::record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
     if (journal_) journal_->mark(type, serial, rays);
-    if (stream_) {
-        stream_->mark(type, serial, rays);
-        stream_->after_record(model_);
+    for (compute::ToolStreamSink* s : streams_) {
+        s->mark(type, serial, rays);
+        s->after_record(model_);
     }
 }
 

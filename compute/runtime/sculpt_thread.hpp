@@ -247,7 +247,8 @@ public:
     void use_journal(compute::JournalWriter& journal);
     /// Hands every batch and mark the journal would get to `stream` too, in the same order, each followed by
     /// stream.after_record(model) (compute/journal/tool_stream.hpp), with or without a journal: a replica of the
-    /// model elsewhere (a cluster's render ranks) follows it. `stream` must outlive the thread. Throws
+    /// model elsewhere (a cluster's render ranks, a shared session's joiners) follows it. Called again, adds another
+    /// stream: each gets every record, in the order they were added. `stream` must outlive the thread. Throws
     /// tridex::Error when the thread runs.
     void use_stream(compute::ToolStreamSink& stream);
     /// Calls `observer` (on the sculpt thread, or here once at once with a fresh snapshot around the newest centre)
@@ -457,7 +458,7 @@ private:
     bool changed_since_checkpoint_ = false;
     std::chrono::steady_clock::time_point checkpoint_last_{};
     compute::JournalWriter* journal_ = nullptr;
-    compute::ToolStreamSink* stream_ = nullptr;
+    std::vector<compute::ToolStreamSink*> streams_;
     std::vector<std::shared_ptr<const compute::MeshTool>> mesh_tools_;  // ToolShape::mesh_id -> mesh
     std::shared_ptr<const compute::MeshTool> mesh_tool(std::uint32_t id) const;
     std::vector<std::shared_ptr<const compute::MeshTool>> mirrored_mesh_tools_;  // mesh_id -> mirror image, on first use

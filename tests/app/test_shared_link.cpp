@@ -57,7 +57,7 @@ struct Site {
         thread = std::make_unique<SculptThread>(model, contourer, ring, surface, Vec3(0.0));
     }
     void wire(const SculptOptions& o) {
-        if (o.stream) thread->use_stream(*o.stream);
+        for (compute::ToolStreamSink* s : o.streams) thread->use_stream(*s);
         for (const auto& f : o.sculpt_setup) f(*thread);
     }
     void push(const std::vector<ToolSample>& s) {

@@ -1,7 +1,7 @@
 // `tridex run --host` and two `tridex run --join` as processes over ENet on loopback, each offscreen with the default
 // scene's scripted hand carving the same stroke at once: every site ends with the model of a replay of the host's
 // journal from its starting model, bit for bit, also a joiner killed mid-stroke and joined again; a peer with another
-// key is refused.
+// key is refused; a cluster wall under mpirun joins as one site and every one of its ranks ends with the host's model.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "cluster_launch.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/model/model_digest.hpp"
@@ -103,6 +104,51 @@ TEST(SharedSession, AHostAndTwoJoinersCarvingAtOnceEndWithTheHostsModelAndAStran
     EXPECT_GT(per_site[0], 1000);
     EXPECT_GT(per_site[1], 1000);
     EXPECT_GT(per_site[2], 1000);
+}
+
+TEST(SharedSession, AClusterWallJoinsAsOneSiteAndEveryRankHoldsTheHostsModel) {
+    if (!tridex::app::test::have_mpirun())
+        GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
+    const fs::path dir = test_dir("wall");
+    const fs::path key = key_file(dir, "session.key", "3c");
+    const fs::path scene = tridex::app::test::cluster_data() / "wall_small_scene.json";
+    Child host(site_args({scene.string(), "--host", "127.0.0.1:0", "--name", "Ann", "--seconds", "15"}, key, dir / "host"),
+               true);
+    std::string port;
+    ASSERT_TRUE(host.wait_for_line(std::regex(R"(shared session on 127\.0\.0\.1:([0-9]+);)"), 120.0, port)) << host.seen();
+    // The wall: rank 0 joins and sculpts with the scene's scripted hand, ranks 1 and 2 draw the two halves.
+    const fs::path wall = dir / "wall";
+    const std::string root = geteuid() == 0 ? " --allow-run-as-root" : "";
+    const std::string cmd = "timeout 300 mpirun" + root + " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np 3 " +
+                            std::string(TRIDEX_EXE) + " run " + scene.string() + " --display offscreen --no-items --cluster " +
+                            (tridex::app::test::cluster_data() / "two_tiles.json").string() + " --join 127.0.0.1:" + port +
+                            " --shared-key-file " + key.string() + " --name Wall --out " + wall.string() + " --save " +
+                            (wall / "final.tdx").string() + " > " + (dir / "wall.log").string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    std::ifstream log_in(dir / "wall.log");
+    const std::string log{std::istreambuf_iterator<char>(log_in), {}};
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
+    EXPECT_EQ(host.finish(), 0) << host.seen();
+
+    const std::uint64_t want = replayed_host(dir / "host");
+    EXPECT_EQ(read_json(dir / "host" / "report.json")["shared"]["final_digest"].get<std::uint64_t>(), want);
+    const nlohmann::json w = read_json(wall / "report.json");
+    EXPECT_EQ(w["shared"]["final_digest"].get<std::uint64_t>(), want);
+    EXPECT_TRUE(w["shared"]["digest_match"].get<bool>());
+    EXPECT_EQ(digest_of_tdx(wall / "final.tdx"), want);
+    ASSERT_EQ(w["cluster"]["render_ranks"].size(), 2u) << log;
+    for (const nlohmann::json& r : w["cluster"]["render_ranks"]) {
+        EXPECT_EQ(r["final_digest"].get<std::uint64_t>(), want) << "render rank " << r["rank"];
+        EXPECT_EQ(r["validation_messages"].get<int>(), 0);
+    }
+    // Each render rank built its replica from the model bytes rank 0 sent (the host's starting model).
+    EXPECT_TRUE(fs::exists(wall / "cluster_start_rank1.tdx"));
+    EXPECT_TRUE(fs::exists(wall / "cluster_start_rank2.tdx"));
+    const tridex::compute::Journal j = tridex::compute::read_journal((dir / "host" / "session.tdj").string());
+    std::uint64_t wall_samples = 0;
+    for (const auto& r : j.records)
+        for (const auto& s : r.samples) wall_samples += s.site == 1;
+    EXPECT_GT(wall_samples, 500u);  // the wall's hand carved through the host
 }
 
 }  // namespace

@@ -204,7 +204,9 @@ int run_command(const RunOptions& options) {
     };
     try {
         if (cluster) {
-            const ClusterRunResult c = run_cluster_session(options);
+            // A wall that hosts or joins a shared session: rank 0 is the site, its render ranks draw its replica.
+            const ClusterRunResult c =
+                run_cluster_session(options, shared_session_asked(options) ? RankZeroRun(run_shared_session) : RankZeroRun{});
             if (c.run) print_run(*c.run);
             return c.exit_code;
         }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
@@ -38,12 +39,13 @@ ClusterRoot::ClusterRoot(ClusterTransport& transport, const ClusterConfig& confi
                              "--mca orte_abort_on_non_zero_status 0 (docs/cluster.md)\n");
 }
 
-void ClusterRoot::configure(SculptOptions& options) { options.stream = &stream_; }
+void ClusterRoot::configure(SculptOptions& options) { options.streams.push_back(&stream_); }
 
 void ClusterRoot::starting(SessionRuntime& runtime) {
     HelloMessage h;
     h.spec_json = spec_to_json(runtime.spec());
     h.initial_digest = compute::model_digest(runtime.workpiece().model);
+    if (!runtime.spec().model_path.empty()) h.model_tdx = read_file_bytes(runtime.spec().model_path);
     const std::vector<unsigned char> bytes = encode_hello(h);
     for (int r = 1; r < transport_.size(); ++r) transport_.send(r, bytes);
     // The session starts when every viewport is ready to draw it: nothing sculpted goes unseen on the wall.

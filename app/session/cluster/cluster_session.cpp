@@ -28,7 +28,7 @@ bool launched_by_mpirun() {
            std::getenv("PMI_RANK") != nullptr;
 }
 
-ClusterRunResult run_cluster_session(const RunOptions& options) {
+ClusterRunResult run_cluster_session(const RunOptions& options, const RankZeroRun& rank_zero) {
     if (!cluster_supported()) (void)make_mpi_transport();  // throws the reason
     if (!launched_by_mpirun())
         throw Error("--cluster " + options.cluster + ": a cluster session is started by mpirun, one rank per machine "
@@ -52,7 +52,7 @@ ClusterRunResult run_cluster_session(const RunOptions& options) {
         return out;
     }
     ClusterRoot root(t, config);
-    out.run = RunPipeline(options, {&root}).run();
+    out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
     transport_slot().reset();
     return out;
 }

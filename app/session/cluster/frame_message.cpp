@@ -36,6 +36,7 @@ std::vector<unsigned char> encode_hello(const HelloMessage& m) {
     Writer w(ClusterKind::kHello);
     w.text(m.spec_json);
     w.u64(m.initial_digest);
+    w.blob(m.model_tdx);
     return w.take();
 }
 
@@ -44,6 +45,7 @@ HelloMessage decode_hello(std::span<const unsigned char> bytes, const std::strin
     HelloMessage m;
     m.spec_json = r.text("spec");
     m.initial_digest = r.u64("initial_digest");
+    m.model_tdx = r.blob("model_tdx");
     r.end();
     return m;
 }

@@ -31,6 +31,10 @@ inline constexpr std::uint64_t kHelloAnswerFrame = ~std::uint64_t{0};
 struct HelloMessage {
     std::string spec_json;          ///< the session spec (spec_to_json), as the journal's header carries it
     std::uint64_t initial_digest = 0;  ///< compute::model_digest of rank 0's workpiece before the first sample
+    /// The saved model file (.tdx) the session started from, its bytes as they are, when it started from one (a
+    /// shared session's joiner starts from the host's model): a render rank builds its replica from them rather than
+    /// from a path that may exist on rank 0's machine only. Empty: the spec's mesh, scan-converted as rank 0 did.
+    std::vector<unsigned char> model_tdx;
 };
 
 /// The tool sample stream's records since the last frame, plus what the frame shows.

@@ -17,6 +17,7 @@
 #include "renderer/stereo/frame_eyes.hpp"
 #include "app/session/cluster/frame_message.hpp"
 #include "app/session/report/session_report.hpp"
+#include "app/support/file_bytes.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/duration_histogram.hpp"
 #include "core/error.hpp"
@@ -130,7 +131,17 @@ private:
     void open() {
         const HelloMessage hello = decode_hello(wait_for_rank0(c_.start_timeout_s, "session"), "rank 0's hello");
         const auto t0 = Clock::now();
-        replica_.emplace(hello.spec_json, lod_choice(c_.lod));
+        std::string spec_json = hello.spec_json;
+        if (!hello.model_tdx.empty()) {
+            // The model rank 0 started from, as bytes: its path may exist on rank 0's machine only.
+            const fs::path start = fs::path(o_.out) / ("cluster_start_rank" + std::to_string(t_.rank()) + ".tdx");
+            fs::create_directories(start.parent_path());
+            write_file_bytes(start.string(), hello.model_tdx);
+            SessionSpec spec = spec_from_json(spec_json, "rank 0's hello");
+            spec.model_path = start.string();
+            spec_json = spec_to_json(spec);
+        }
+        replica_.emplace(spec_json, lod_choice(c_.lod));
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
         load_ms_ = ms_since(t0);

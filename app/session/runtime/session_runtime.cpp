@@ -136,7 +136,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
     if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
     if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
-    if (o.sculpt.stream) sculpt_->use_stream(*o.sculpt.stream);
+    for (compute::ToolStreamSink* s : o.sculpt.streams) sculpt_->use_stream(*s);
     for (const auto& setup : o.sculpt.sculpt_setup) setup(*sculpt_);
     if (!o.sculpt.save_path.empty()) {
         sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_),

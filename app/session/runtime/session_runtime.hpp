@@ -81,9 +81,10 @@ struct SculptOptions {
     std::optional<std::vector<SculptMark>> follow_marks{};
     /// --gpu: the GPU compute path whatever the Vulkan device's type (with --cpu: refused, backend_mode()).
     bool gpu = false;
-    /// Also hands every batch and mark the sculpt thread applies to this sink (SculptThread::use_stream): a
-    /// replica of the model elsewhere follows it. nullptr = none. Must outlive the session's threads.
-    compute::ToolStreamSink* stream = nullptr;
+    /// Also hands every batch and mark the sculpt thread applies to each of these sinks, in order
+    /// (SculptThread::use_stream): a replica of the model elsewhere follows each (a cluster's render ranks, a shared
+    /// session's joiners). Each must outlive the session's threads.
+    std::vector<compute::ToolStreamSink*> streams{};
     /// Called with the sculpt thread after it is made and set up, before it starts, in order: a companion wires what it
     /// needs (a shared session's site intake and refusals, SculptThread::use_site_intake, follow_host). Each may throw
     /// tridex::Error, which fails the session's set-up.

@@ -4,9 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
+#include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
@@ -30,12 +29,6 @@ double steady_s() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::vector<unsigned char> read_all(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot be read back");
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 }  // namespace
 
 SharedHost::SharedHost(SharedHostOptions options, PeerAccept accept) : o_(std::move(options)), accept_(std::move(accept)) {
@@ -53,8 +46,7 @@ SharedHost::~SharedHost() {
 double SharedHost::now_s() const { return steady_s() - started_s_; }
 
 void SharedHost::configure(SculptOptions& options) {
-    if (options.stream) throw Error("--host: this session already streams its model elsewhere (a cluster wall)");
-    options.stream = &stream_;
+    options.streams.push_back(&stream_);
     options.sculpt_setup.push_back([this](SculptThread& t) {
         t.use_site_intake(intake_);
         t.observe_refusals([this](const SculptRefusal& r) {
@@ -70,7 +62,7 @@ void SharedHost::start(const Workpiece& workpiece, const SessionSpec& spec) {
     if (thread_.joinable()) throw Error("shared session: the host started twice");
     const std::string path = (std::filesystem::path(o_.out) / "shared_start.tdx").string();
     save_session_model(path, workpiece, spec);
-    start_tdx_ = read_all(path);
+    start_tdx_ = read_file_bytes(path);
     start_digest_ = compute::model_digest(workpiece.model);
     spec_json_ = spec_to_json(spec);
     started_s_ = steady_s();

@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
+#include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
@@ -63,9 +63,7 @@ SharedJoin::Joined SharedJoin::join() {
     j.welcome = welcome_;
     j.start_path = (std::filesystem::path(o_.out) / "shared_start.tdx").string();
     std::filesystem::create_directories(o_.out);
-    std::ofstream f(j.start_path, std::ios::binary | std::ios::trunc);
-    f.write(reinterpret_cast<const char*>(welcome_.model_tdx.data()), static_cast<std::streamsize>(welcome_.model_tdx.size()));
-    if (!f) throw Error(j.start_path + ": cannot write the host's starting model");
+    write_file_bytes(j.start_path, welcome_.model_tdx);
     welcome_.model_tdx.clear();
     welcome_.model_tdx.shrink_to_fit();
     // From now on the link is served on its own thread, so that it stays alive (and the stream keeps arriving into

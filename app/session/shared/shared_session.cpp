@@ -45,7 +45,7 @@ Vec3 colour_of_site_name(const std::string& name) {
     return 0.25 + 0.7 * rgb;
 }
 
-RunResult run_host(const RunOptions& options) {
+RunResult run_host(const RunOptions& options, std::vector<SessionCompanion*> also) {
     std::string host = "0.0.0.0", spec = options.host;
     std::uint16_t port = 0;
     if (spec.find(':') == std::string::npos) spec = host + ":" + spec;
@@ -60,10 +60,11 @@ RunResult run_host(const RunOptions& options) {
                          "--shared-key-file ... (or --shared-passphrase-env ...)\n",
                  hub->where(), static_cast<unsigned>(hub->port()));
     SharedHost shared(ho, [hub] { return hub->accept(); });
-    return RunPipeline(options, {&shared}).run();
+    also.insert(also.begin(), &shared);
+    return RunPipeline(options, also).run();
 }
 
-RunResult run_joiner(const RunOptions& options) {
+RunResult run_joiner(const RunOptions& options, std::vector<SessionCompanion*> also) {
     if (!options.workpiece.empty() || !options.mesh.empty())
         throw Error("--join: the workpiece is the host's; leave out --workpiece and --mesh");
     std::string host;
@@ -84,17 +85,17 @@ RunResult run_joiner(const RunOptions& options) {
     o.workpiece = joined.start_path;
     o.keep_islands = host_spec.keep_islands;
     o.history_mib = static_cast<double>(host_spec.history_budget_bytes) / 1048576.0;
-    return RunPipeline(o, {&shared}).run();
+    also.insert(also.begin(), &shared);
+    return RunPipeline(o, also).run();
 }
 
 }  // namespace
 
 bool shared_session_asked(const RunOptions& options) { return !options.host.empty() || !options.join.empty(); }
 
-RunResult run_shared_session(const RunOptions& options) {
+RunResult run_shared_session(const RunOptions& options, std::vector<SessionCompanion*> also) {
     if (!options.host.empty() && !options.join.empty()) throw Error("--host and --join: choose one");
-    if (!options.cluster.empty()) throw Error("--cluster with --host or --join: a shared cluster wall is not supported yet");
-    return options.host.empty() ? run_joiner(options) : run_host(options);
+    return options.host.empty() ? run_joiner(options, std::move(also)) : run_host(options, std::move(also));
 }
 
 }  // namespace tridex::app
