@@ -130,8 +130,31 @@ TEST(ClusterParts, AFrameMessageRoundTripsBitForBit) {
     EXPECT_EQ(menu_back.menu, with_menu.menu);
     EXPECT_FALSE(back.menu.shown);
     std::vector<unsigned char> bad = encode_frame(with_menu);
-    bad.resize(bad.size() - 3);  // a cut status
+    bad.resize(bad.size() - 4);  // a cut status
     EXPECT_THROW((void)decode_frame(bad, "test"), Error);
+    // A shared session's other sites, one with a tracked head, go along as rank 0 heard them.
+    FrameMessage with_others = m;
+    SitePresence bo;
+    bo.site = 1;
+    bo.name = "Bo";
+    bo.colour = Vec3(0.5, 0.2, 0.9);
+    bo.tool = Pose{Vec3(0.01, 1.3, 0.7), Quat(1, 0, 0, 0)};
+    bo.tool_radius_m = 0.006;
+    bo.head_tracked = true;
+    bo.head = Pose{Vec3(0.0, 1.7, 2.0), Quat(1, 0, 0, 0)};
+    bo.head_size_m = kHeadRadiusM;
+    with_others.others = {bo};
+    const FrameMessage others_back = decode_frame(encode_frame(with_others), "test");
+    ASSERT_EQ(others_back.others.size(), 1u);
+    EXPECT_EQ(others_back.others[0].name, "Bo");
+    EXPECT_EQ(others_back.others[0].head.position, bo.head.position);
+    EXPECT_EQ(encode_frame(others_back), encode_frame(with_others));
+    bo.head_size_m = 0.0;
+    with_others.others = {bo};
+    EXPECT_THROW((void)decode_frame(encode_frame(with_others), "test"), Error);
+    // The hello carries the bytes of the model file the session started from.
+    HelloMessage h{"{}", 77, {1, 2, 3}};
+    EXPECT_EQ(decode_hello(encode_hello(h), "test").model_tdx, h.model_tdx);
 }
 
 TEST(ClusterParts, ABadMessageIsRefusedNamingItsField) {

@@ -3,7 +3,7 @@
 // of range, a control character in a name, packed records that lie about their size or nest.
 #include <gtest/gtest.h>
 
-#include "app/session/shared/presence_view.hpp"
+#include "app/session/view/presence_view.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"

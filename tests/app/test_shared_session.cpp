@@ -140,6 +140,7 @@ TEST(SharedSession, AClusterWallJoinsAsOneSiteAndEveryRankHoldsTheHostsModel) {
     for (const nlohmann::json& r : w["cluster"]["render_ranks"]) {
         EXPECT_EQ(r["final_digest"].get<std::uint64_t>(), want) << "render rank " << r["rank"];
         EXPECT_EQ(r["validation_messages"].get<int>(), 0);
+        EXPECT_EQ(r["other_sites_last_frame"].get<int>(), 1);  // Ann, drawn on the wall's projectors too
     }
     // Each render rank built its replica from the model bytes rank 0 sent (the host's starting model).
     EXPECT_TRUE(fs::exists(wall / "cluster_start_rank1.tdx"));

@@ -73,6 +73,7 @@ FrameMessage ClusterRoot::message_of(const FrameShown& shown, compute::ToolStrea
     m.tool = shown.tool;
     m.ao = std::clamp(shown.ao, 0.0, 1.0);
     if (shown.menu) m.menu = *shown.menu;
+    m.others = shown.others;
     m.records = std::move(taken.records);
     m.check_digest = taken.digest;
     m.check_after = taken.digest_after;

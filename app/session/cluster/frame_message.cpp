@@ -8,7 +8,9 @@
 #include "compute/journal/journal_format.hpp"
 #include "core/error.hpp"
 #include "app/session/wire/message_io.hpp"
+#include "app/session/wire/presence_wire.hpp"
 #include "core/le_bytes.hpp"
+#include "core/tool_sample.hpp"
 #include "core/math.hpp"
 
 namespace tridex::app {
@@ -80,6 +82,9 @@ std::vector<unsigned char> encode_frame(const FrameMessage& m) {
         w.u8(static_cast<std::uint8_t>(f.highlighted + 1));
         w.text(f.status);
     }
+    const std::size_t others = std::min<std::size_t>(m.others.size(), kMaxSites);  // a shared session's other sites
+    w.u8(static_cast<std::uint8_t>(others));
+    for (std::size_t i = 0; i < others; ++i) write_presence(w, m.others[i]);
     return w.take();
 }
 
@@ -131,6 +136,9 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
         f.highlighted = static_cast<int>(r.u8("menu.highlighted")) - 1;
         f.status = r.text("menu.status");
     }
+    const std::uint8_t others = r.u8("others");
+    if (others > kMaxSites) r.fail("others", std::to_string(others) + " sites, more than a session has");
+    for (std::uint8_t i = 0; i < others; ++i) m.others.push_back(read_presence(r));
     r.end();
     return m;
 }
@@ -180,7 +188,7 @@ std::uint64_t decode_go(std::span<const unsigned char> bytes, const std::string&
 }
 
 std::size_t frame_message_bytes(std::size_t batches, std::size_t samples, std::size_t marks) {
-    constexpr std::size_t kHead = 5 + 8 + 1 + 2 * 56 + 8 + 8 + 24 + 32 + 1 + 8 + 8 + 8 + 8 + 8 + 8 + 4 + 4;
+    constexpr std::size_t kHead = 5 + 8 + 1 + 2 * 56 + 8 + 8 + 24 + 32 + 1 + 8 + 8 + 8 + 8 + 8 + 8 + 4 + 4 + 1;
     return kHead + batches * (1 + 8 + 4) + samples * compute::kJournalSampleBytes + marks * (1 + 8 + 8 + 8);
 }
 

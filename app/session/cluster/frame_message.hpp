@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/menu/menu_frame.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
@@ -57,6 +58,9 @@ struct FrameMessage {
     double newest_sample_made_s = 0.0;  ///< steady-clock time of the newest sample in `records` (0: none), s
     double sent_s = 0.0;                ///< steady-clock time rank 0 sent the message, s
     MenuFrame menu;                     ///< the pie menu as rank 0 drew it (not shown: none)
+    /// The other sites of a shared session rank 0 takes part in (FrameShown::others; at most kMaxSites), drawn by
+    /// every render rank as rank 0 draws them (PresenceView).
+    std::vector<SitePresence> others{};
 };
 
 /// A render rank's answer to a frame (kReady) or to the end (kDone).

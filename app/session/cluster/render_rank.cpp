@@ -16,6 +16,7 @@
 #include "app/session/cluster/cluster_replica.hpp"
 #include "renderer/stereo/frame_eyes.hpp"
 #include "app/session/cluster/frame_message.hpp"
+#include "app/session/view/presence_view.hpp"
 #include "app/session/report/session_report.hpp"
 #include "app/support/file_bytes.hpp"
 #include "compute/model/model_digest.hpp"
@@ -226,6 +227,8 @@ private:
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
         menu_objects_.clear();
         menu_drawing_.append(m.menu, menu_root_, menu_objects_);
+        presence_view_.append(m.others, menu_objects_);  // a shared session's other people, drawn as rank 0 draws them
+        others_ = m.others.size();
         if (!menu_objects_.empty()) view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
@@ -271,6 +274,7 @@ private:
                                        {"contour_ms", summary_report_json(contour_ms_)},
                                        {"tiles_contoured", replica_->tiles_contoured()},
                                        {"tiles_deferred_at_end", replica_->tiles_deferred()},
+                                       {"other_sites_last_frame", others_},
                                        {"lod", c_.lod},
                                        {"lod_pending_at_end", replica_->lod_pending()},
                                        {"tile_triangles_last_frame", triangles},
@@ -292,7 +296,9 @@ private:
     MaterialPalette palette_ = default_material_palette();  // the session's materials (rank 0's spec)
     MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
     MenuDrawing menu_drawing_;                          // its meshes, rebuilt when rank 0's menu changes
-    std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects
+    std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects, with the other sites'
+    PresenceView presence_view_;                        // a shared session's other sites (their meshes kept here)
+    std::size_t others_ = 0;                            // other sites in the last frame drawn
     FrameMessage last_;  // the last frame message (without its records): its view, for the report
     std::optional<renderer::WindowSystemScope> glfw_;
     std::optional<gpu::Context> ctx_;

@@ -370,6 +370,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
                        &menu_now};
     shown.proxy_m = lv.proxy_m;
     shown.head_tracked = scene.head != HeadMode::kFixed;
+    for (const SessionCompanion* c : companions) c->add_presence(shown.others);
     for (SessionCompanion* c : companions) {
         c->before_present(shown);
         if (companion_failure.empty()) companion_failure = c->failure();

@@ -10,6 +10,7 @@
 
 #include "app/menu/menu_frame.hpp"
 #include "app/session/runtime/session_runtime.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "core/error.hpp"
 #include "core/pose.hpp"
 #include "core/tool_shape.hpp"
@@ -36,6 +37,9 @@ struct FrameShown {
     /// The head follows a tracker or a script (not a fixed head, nor one the keyboard and mouse move): a shared
     /// session shows it to the others.
     bool head_tracked = false;
+    /// The other sites the companions know of (a shared session's people: SessionCompanion::add_presence), as this
+    /// site draws them; a cluster wall's render ranks draw them too.
+    std::vector<SitePresence> others{};
 };
 
 /// What RunPipeline::run throws after a companion failed (once every output is written): the companion's failure and
@@ -63,6 +67,9 @@ public:
     /// Appends the objects it draws in this frame (a shared session's other tools: drawn, never felt); they must stay
     /// valid until the frame is drawn. Called on the frame loop's thread, once a frame.
     virtual void add_objects(std::vector<renderer::SceneObject>& out) const { (void)out; }
+    /// Appends the other sites it knows of (a shared session's people, gone ones left out), for FrameShown::others.
+    /// Called on the frame loop's thread, once a frame, before before_present().
+    virtual void add_presence(std::vector<SitePresence>& out) const { (void)out; }
     /// Why the companion cannot go on; "" while it can.
     virtual std::string failure() const { return ""; }
     /// Why the session ends now, normally (a shared session's host ended it); "" while it goes on. Asked once a frame.

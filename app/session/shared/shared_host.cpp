@@ -342,6 +342,11 @@ void SharedHost::send_presence() {
 
 void SharedHost::add_objects(std::vector<renderer::SceneObject>& out) const { presence_view_.append(others(), out); }
 
+void SharedHost::add_presence(std::vector<SitePresence>& out) const {
+    for (const SitePresence& p : others())
+        if (!p.gone) out.push_back(p);
+}
+
 std::vector<PresenceMessage> SharedHost::others() const {
     std::lock_guard lock(mutex_);
     return presence_;

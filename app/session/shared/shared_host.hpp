@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "app/session/runtime/session_companion.hpp"
-#include "app/session/shared/presence_view.hpp"
+#include "app/session/view/presence_view.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_buffer.hpp"
 #include "compute/runtime/site_intake.hpp"
@@ -76,6 +76,8 @@ public:
     std::string report_key() const override { return "shared"; }
     /// The other sites' tools, each a ball in its person's colour (PresenceView).
     void add_objects(std::vector<renderer::SceneObject>& out) const override;
+    /// The other sites heard from and not gone (others()).
+    void add_presence(std::vector<SitePresence>& out) const override;
     /// The other sites' tools as last heard (the joiners'), for drawing them. Any thread.
     std::vector<PresenceMessage> others() const;
     /// The joiners so far (a copy, at most 0.1 s old while the session runs, final after finish()). Any thread.

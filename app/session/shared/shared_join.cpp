@@ -136,6 +136,11 @@ std::string SharedJoin::ended() const {
 
 void SharedJoin::add_objects(std::vector<renderer::SceneObject>& out) const { presence_view_.append(others(), out); }
 
+void SharedJoin::add_presence(std::vector<SitePresence>& out) const {
+    for (const SitePresence& p : others())
+        if (!p.gone) out.push_back(p);
+}
+
 std::vector<PresenceMessage> SharedJoin::others() const {
     std::lock_guard lock(mutex_);
     return others_;

@@ -2,6 +2,7 @@
 #include "app/session/shared/shared_message.hpp"
 
 #include "app/session/wire/message_io.hpp"
+#include "app/session/wire/presence_wire.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"
@@ -11,32 +12,10 @@ namespace tridex::app {
 namespace {
 
 constexpr unsigned char kMagic[4] = {'T', 'D', 'X', 'S'};
-constexpr std::size_t kMaxName = 64;
 
 MessageWriter writer(SharedKind k) { return MessageWriter(kMagic, static_cast<std::uint8_t>(k)); }
 MessageReader reader(std::span<const unsigned char> b, const std::string& from, SharedKind k) {
     return MessageReader(b, from, kMagic, static_cast<std::uint8_t>(k), "shared session");
-}
-
-std::string name_of(MessageReader& r, const char* field, bool may_be_empty) {
-    std::string s = r.text(field);
-    if (s.size() > kMaxName || (!may_be_empty && s.empty())) r.fail(field, "a name is 1.." + std::to_string(kMaxName) + " bytes");
-    for (const char c : s)
-        if (static_cast<unsigned char>(c) < 0x20) r.fail(field, "a control character in a name");
-    return s;
-}
-
-Vec3 colour_of(MessageReader& r, const char* field) {
-    const Vec3 c = r.vec3(field);
-    for (int k = 0; k < 3; ++k)
-        if (c[k] < 0.0 || c[k] > 1.0) r.fail(field, "a colour's channels are 0..1");
-    return c;
-}
-
-std::uint8_t site_of(MessageReader& r, const char* field) {
-    const std::uint8_t s = r.u8(field);
-    if (s >= kMaxSites) r.fail(field, "site " + std::to_string(s) + " is not 0.." + std::to_string(kMaxSites - 1));
-    return s;
 }
 
 SculptRequest request_of(MessageReader& r, const char* field) {
@@ -67,8 +46,8 @@ JoinMessage decode_join(std::span<const unsigned char> b, const std::string& fro
     MessageReader r = reader(b, from, SharedKind::kJoin);
     JoinMessage m;
     m.protocol = r.u32("protocol");
-    m.name = name_of(r, "name", false);
-    m.colour = colour_of(r, "colour");
+    m.name = read_site_name(r, "name", false);
+    m.colour = read_colour(r, "colour");
     r.end();
     return m;
 }
@@ -86,9 +65,9 @@ std::vector<unsigned char> encode_welcome(const WelcomeMessage& m) {
 WelcomeMessage decode_welcome(std::span<const unsigned char> b, const std::string& from) {
     MessageReader r = reader(b, from, SharedKind::kWelcome);
     WelcomeMessage m;
-    m.site = site_of(r, "site");
+    m.site = read_site(r, "site");
     if (m.site == 0) r.fail("site", "site 0 is the host's");
-    m.host_name = name_of(r, "host_name", false);
+    m.host_name = read_site_name(r, "host_name", false);
     m.spec_json = r.text("spec");
     m.model_tdx = r.blob("model");
     if (m.model_tdx.empty()) r.fail("model", "no model");
@@ -178,48 +157,21 @@ RefusedMessage decode_refused(std::span<const unsigned char> b, const std::strin
     MessageReader r = reader(b, from, SharedKind::kRefused);
     RefusedMessage m;
     m.request = request_of(r, "request");
-    m.by_site = site_of(r, "by_site");
-    m.by_name = name_of(r, "by_name", true);
+    m.by_site = read_site(r, "by_site");
+    m.by_name = read_site_name(r, "by_name", true);
     r.end();
     return m;
 }
 
 std::vector<unsigned char> encode_presence(const PresenceMessage& m) {
     MessageWriter w = writer(SharedKind::kPresence);
-    w.u8(m.site);
-    w.u8(m.gone ? 1 : 0);
-    w.text(m.name);
-    w.vec3(m.colour);
-    w.pose(m.tool);
-    w.f64(m.tool_radius_m);
-    w.u8(m.head_tracked ? 1 : 0);
-    if (m.head_tracked) {
-        w.pose(m.head);
-        w.f64(m.head_size_m);
-    }
+    write_presence(w, m);
     return w.take();
 }
 
 PresenceMessage decode_presence(std::span<const unsigned char> b, const std::string& from) {
     MessageReader r = reader(b, from, SharedKind::kPresence);
-    PresenceMessage m;
-    m.site = site_of(r, "site");
-    const std::uint8_t gone = r.u8("gone");
-    if (gone > 1) r.fail("gone", "not 0 or 1");
-    m.gone = gone != 0;
-    m.name = name_of(r, "name", true);
-    m.colour = colour_of(r, "colour");
-    m.tool = r.pose("tool");
-    m.tool_radius_m = r.f64("tool_radius_m");
-    if (m.tool_radius_m < 0.0 || m.tool_radius_m > 1.0) r.fail("tool_radius_m", "must be in [0, 1] m");
-    const std::uint8_t tracked = r.u8("head_tracked");
-    if (tracked > 1) r.fail("head_tracked", "not 0 or 1");
-    m.head_tracked = tracked != 0;
-    if (m.head_tracked) {
-        m.head = r.pose("head");
-        m.head_size_m = r.f64("head_size_m");
-        if (!(m.head_size_m > 0.0 && m.head_size_m <= 100.0)) r.fail("head_size_m", "must be in (0, 100] m");
-    }
+    PresenceMessage m = read_presence(r);
     r.end();
     return m;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "compute/journal/journal_reader.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "core/pose.hpp"
 #include "core/tool_sample.hpp"
@@ -66,22 +67,8 @@ struct RefusedMessage {
     std::string by_name;
 };
 
-/// Where a site's tool is, for the others to draw it (sent unreliably, newest wins).
-struct PresenceMessage {
-    std::uint8_t site = 0;
-    bool gone = false;       ///< the site left: stop drawing it
-    std::string name;
-    Vec3 colour{1.0};        ///< sRGB 0..1
-    Pose tool;               ///< scene m (the frame the workpiece and the haptic loop's tool live in)
-    double tool_radius_m = 0.0;  ///< scene m
-    /// The person's head follows a tracker (or a script): `head` is where it is and it is drawn for the others.
-    bool head_tracked = false;
-    Pose head;               ///< the head (between the eyes; -z looks ahead, +y up), scene m; meaningful when tracked
-    double head_size_m = 0.0;    ///< a real head's radius in scene m (kHeadRadiusM / the site's scene scale), (0, 100]
-};
-
-/// The radius of a person's head as drawn at the other sites, world m.
-inline constexpr double kHeadRadiusM = 0.09;
+/// Where a site's tool (and tracked head) is, for the others to draw it (sent unreliably, newest wins).
+using PresenceMessage = SitePresence;
 
 /// The end of the host's session (or a join turned away: reason says why, digest 0).
 struct EndMessage {

@@ -1,5 +1,5 @@
-// app/session/shared/presence_view.cpp - the other sites' tools as coloured balls.
-#include "app/session/shared/presence_view.hpp"
+// app/session/view/presence_view.cpp - the other sites' tools and heads in their colours.
+#include "app/session/view/presence_view.hpp"
 
 #include <cmath>
 
@@ -17,8 +17,8 @@ float linear_of(double srgb) {  // the sRGB transfer function's inverse (IEC 619
 }
 }  // namespace
 
-PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour) {
-    PresenceMessage p;
+SitePresence presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour) {
+    SitePresence p;
     p.site = site;
     p.name = name;
     p.colour = colour;
@@ -36,7 +36,7 @@ PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const st
 
 PresenceView::PresenceView() : ball_(renderer::unit_sphere(12, 24)) {}
 
-const TriMesh* PresenceView::label_of(const PresenceMessage& p) const {
+const TriMesh* PresenceView::label_of(const SitePresence& p) const {
     Label& label = labels_[p.site];
     if (label.name != p.name || label.mesh.triangles.empty()) {
         label.name = p.name;
@@ -46,8 +46,8 @@ const TriMesh* PresenceView::label_of(const PresenceMessage& p) const {
     return label.mesh.triangles.empty() ? nullptr : &label.mesh;
 }
 
-void PresenceView::append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const {
-    for (const PresenceMessage& p : others) {
+void PresenceView::append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out) const {
+    for (const SitePresence& p : others) {
         if (p.gone) continue;
         const glm::vec4 colour(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
         const TriMesh* label = label_of(p);

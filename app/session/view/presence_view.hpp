@@ -1,4 +1,5 @@
-// app/session/shared/presence_view.hpp - the other sites' tools in a shared session, drawn in each person's colour.
+// app/session/view/presence_view.hpp - the other sites of a shared session (their tools and tracked heads), drawn in
+// each person's colour, at a site and on a cluster wall's render ranks.
 #pragma once
 
 #include <map>
@@ -6,7 +7,7 @@
 #include <vector>
 
 #include "app/session/runtime/session_companion.hpp"
-#include "app/session/shared/shared_message.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "core/tri_mesh.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
@@ -15,7 +16,7 @@ namespace tridex::app {
 /// This site's presence in the frame just shown: its tool where it touches (the proxy; the tool centre when free), its
 /// orientation and radius, with `site`, `name` and `colour`; when shown.head_tracked (and shown.nav is set), its head
 /// mapped into the scene frame (kHeadRadiusM / the scene scale in size).
-PresenceMessage presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
+SitePresence presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
 
 /// Draws each other site's tool as a ball of its radius in that person's colour, their name above it (in the plane of
 /// the screen, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. A site whose head
@@ -30,10 +31,10 @@ public:
     PresenceView();
     /// Appends, for each site in `others` that is not gone: a ball and a name when its tool has a finite position and
     /// a radius > 0; a head (two objects) and a name when its head is tracked, finite and of a size > 0.
-    void append(const std::vector<PresenceMessage>& others, std::vector<renderer::SceneObject>& out) const;
+    void append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out) const;
 
 private:
-    const TriMesh* label_of(const PresenceMessage& p) const;  // its name's mesh (null for an empty name)
+    const TriMesh* label_of(const SitePresence& p) const;  // its name's mesh (null for an empty name)
     TriMesh ball_;  // the unit sphere
     struct Label {
         std::string name;
