@@ -171,6 +171,13 @@ TEST(PresenceView, ATrackedHeadTravelsInTheSceneFrameAndIsDrawnWithItsNameAndGla
     EXPECT_GT(out[4].world_from_model[3][1], 0.1f + kHeadRadiusM / 2.0);
     EXPECT_GT(out[4].world_from_model[0][0], 1.0f);
 
+    // Names turn about the vertical to face the viewer: an eye off to the right turns them towards +x.
+    out.clear();
+    view.append({me}, out, Vec3(1.0, 0.1, 0.75));
+    ASSERT_EQ(out.size(), 5u);
+    EXPECT_GT(out[4].world_from_model[2][0], 0.99f);  // the text's front (+z) now points along +x
+    EXPECT_NEAR(out[2].world_from_model[3][2], 0.75f, 1e-6);  // the head itself does not turn with the viewer
+
     PresenceMessage bad = me;
     bad.head_size_m = 0.0;
     EXPECT_NE(refusal([&] { decode_presence(encode_presence(bad), "peer"); }).find("peer: head_size_m"), std::string::npos);

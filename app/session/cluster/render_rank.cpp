@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -227,7 +228,11 @@ private:
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
         menu_objects_.clear();
         menu_drawing_.append(m.menu, menu_root_, menu_objects_);
-        presence_view_.append(m.others, menu_objects_);  // a shared session's other people, drawn as rank 0 draws them
+        if (!m.others.empty()) {  // a shared session's other people, drawn as rank 0 draws them, names facing the head
+            const Vec3 eye = viewports_.empty() ? Vec3(std::numeric_limits<double>::quiet_NaN())
+                                                : ClusterReplica::camera(*viewports_.front()->config, m).head.position;
+            presence_view_.append(m.others, menu_objects_, eye);
+        }
         others_ = m.others.size();
         if (!menu_objects_.empty()) view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {

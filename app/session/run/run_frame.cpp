@@ -222,7 +222,14 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
             view.objects = frame_objects;
         }
     }
-    for (const SessionCompanion* c : companions) {  // what a companion draws (a shared session's other tools)
+    others_now.clear();  // a shared session's other people: their tools and tracked heads, drawn, never felt
+    for (const SessionCompanion* c : companions) c->add_presence(others_now);
+    if (!others_now.empty()) {
+        if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+        presence_view.append(others_now, frame_objects, last_eye_scene_m);
+        view.objects = frame_objects;
+    }
+    for (const SessionCompanion* c : companions) {  // what a companion draws
         companion_objects.clear();
         c->add_objects(companion_objects);
         if (companion_objects.empty()) continue;
@@ -370,7 +377,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
                        &menu_now};
     shown.proxy_m = lv.proxy_m;
     shown.head_tracked = scene.head != HeadMode::kFixed;
-    for (const SessionCompanion* c : companions) c->add_presence(shown.others);
+    shown.others = others_now;
     for (SessionCompanion* c : companions) {
         c->before_present(shown);
         if (companion_failure.empty()) companion_failure = c->failure();

@@ -21,6 +21,7 @@
 #include "app/scene/test_pattern.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/view/elastic_view.hpp"
+#include "app/session/view/presence_view.hpp"
 #include "app/session/view/symmetry_view.hpp"
 #include "app/session/view/frame_budget.hpp"
 #include "app/session/runtime/frame_loop.hpp"
@@ -125,6 +126,8 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
     std::vector<renderer::SceneObject> companion_objects;  // what the companions add to this frame
+    std::vector<SitePresence> others_now;             // the other sites the companions know of, this frame
+    PresenceView presence_view;                       // draws them (keeps their meshes)
     std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects
     std::vector<renderer::SceneObject> pattern_objects;
     Vec3 last_head_m{0.0};                             // the head position the last frame was drawn from, world m

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/session/view/presence_view.hpp"
 #include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
@@ -339,8 +340,6 @@ void SharedHost::send_presence() {
             if (j->joined && !j->gone && j->report.site != p.site) send(*j, bytes, false);
     }
 }
-
-void SharedHost::add_objects(std::vector<renderer::SceneObject>& out) const { presence_view_.append(others(), out); }
 
 void SharedHost::add_presence(std::vector<SitePresence>& out) const {
     for (const SitePresence& p : others())

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "app/session/runtime/session_companion.hpp"
-#include "app/session/view/presence_view.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_buffer.hpp"
 #include "compute/runtime/site_intake.hpp"
@@ -74,8 +73,6 @@ public:
     void finish(const compute::TriDexel& model);
     nlohmann::json report() const override;
     std::string report_key() const override { return "shared"; }
-    /// The other sites' tools, each a ball in its person's colour (PresenceView).
-    void add_objects(std::vector<renderer::SceneObject>& out) const override;
     /// The other sites heard from and not gone (others()).
     void add_presence(std::vector<SitePresence>& out) const override;
     /// The other sites' tools as last heard (the joiners'), for drawing them. Any thread.
@@ -112,7 +109,6 @@ private:
     std::vector<compute::JournalRecord> log_;  // every record so far (network thread)
     std::vector<std::unique_ptr<Joiner>> joiners_;  // network thread; reports copied under mutex_
     std::vector<std::string> site_names_;           // by site: who held it (a rejoin by name gets it again)
-    PresenceView presence_view_;
     mutable std::mutex mutex_;                      // guards the copies below
     std::vector<JoinerReport> reports_;
     std::vector<PresenceMessage> presence_;         // the joiners' newest

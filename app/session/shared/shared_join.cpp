@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/session/view/presence_view.hpp"
 #include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
@@ -133,8 +134,6 @@ std::string SharedJoin::ended() const {
     std::lock_guard lock(mutex_);
     return ended_;
 }
-
-void SharedJoin::add_objects(std::vector<renderer::SceneObject>& out) const { presence_view_.append(others(), out); }
 
 void SharedJoin::add_presence(std::vector<SitePresence>& out) const {
     for (const SitePresence& p : others())

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "app/session/runtime/session_companion.hpp"
-#include "app/session/view/presence_view.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "devices/net/datagram_link.hpp"
@@ -64,8 +63,6 @@ public:
     bool holds_session_open() const override { return true; }
     nlohmann::json report() const override;
     std::string report_key() const override { return "shared"; }
-    /// The other sites' tools, each a ball in its person's colour (PresenceView).
-    void add_objects(std::vector<renderer::SceneObject>& out) const override;
     /// The other sites heard from and not gone (others()).
     void add_presence(std::vector<SitePresence>& out) const override;
     /// The other sites' tools as last heard (the host's and other joiners'), for drawing them. Any thread.
@@ -86,7 +83,6 @@ private:
     bool welcomed_ = false;
     std::thread thread_;
     std::atomic<bool> stop_{false};
-    PresenceView presence_view_;
     mutable std::mutex mutex_;  // guards what follows
     std::vector<ToolSample> outbox_;          // own samples from the sculpt thread, to send
     std::vector<SculptRequest> requests_out_;  // own requests, to send

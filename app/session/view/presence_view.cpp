@@ -46,7 +46,8 @@ const TriMesh* PresenceView::label_of(const SitePresence& p) const {
     return label.mesh.triangles.empty() ? nullptr : &label.mesh;
 }
 
-void PresenceView::append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out) const {
+void PresenceView::append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out,
+                          const Vec3& eye_m) const {
     for (const SitePresence& p : others) {
         if (p.gone) continue;
         const glm::vec4 colour(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
@@ -57,8 +58,12 @@ void PresenceView::append(const std::vector<SitePresence>& others, std::vector<r
             name.mesh = label;
             name.colour = glm::vec4(colour.r, colour.g, colour.b, 1.0f);
             name.lit = false;
-            name.world_from_model =
-                glm::mat4(glm::translate(glm::dmat4(1.0), at) * glm::scale(glm::dmat4(1.0), Vec3(scale)));
+            // Upright, turned about +y so that the text's front (+z) faces the eye.
+            const Vec3 to_eye = eye_m - at;
+            const double yaw = is_finite(eye_m) && (to_eye.x != 0.0 || to_eye.z != 0.0) ? std::atan2(to_eye.x, to_eye.z) : 0.0;
+            name.world_from_model = glm::mat4(glm::translate(glm::dmat4(1.0), at) *
+                                              glm::rotate(glm::dmat4(1.0), yaw, Vec3(0.0, 1.0, 0.0)) *
+                                              glm::scale(glm::dmat4(1.0), Vec3(scale)));
             out.push_back(name);
         };
         if (is_finite(p.tool.position) && p.tool_radius_m > 0.0) {

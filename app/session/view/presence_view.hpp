@@ -2,6 +2,7 @@
 // each person's colour, at a site and on a cluster wall's render ranks.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -19,7 +20,7 @@ namespace tridex::app {
 SitePresence presence_of(const FrameShown& shown, std::uint8_t site, const std::string& name, const Vec3& colour);
 
 /// Draws each other site's tool as a ball of its radius in that person's colour, their name above it (in the plane of
-/// the screen, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. A site whose head
+/// the screen, or facing the viewer, kLabelHeightM tall), drawn, never felt: each site feels only its own tool's contact. A site whose head
 /// is tracked also shows its head (an ellipsoid of the head's size in the same colour, dark glasses at its front
 /// showing where it looks) with the name above it. Everything is in the scene frame, so each site sees the others
 /// where they are relative to the workpiece whatever each navigated. Keeps the meshes, so it must outlive the frames
@@ -30,8 +31,11 @@ public:
     static constexpr double kLabelHeightM = 0.008;
     PresenceView();
     /// Appends, for each site in `others` that is not gone: a ball and a name when its tool has a finite position and
-    /// a radius > 0; a head (two objects) and a name when its head is tracked, finite and of a size > 0.
-    void append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out) const;
+    /// a radius > 0; a head (two objects) and a name when its head is tracked, finite and of a size > 0. Each name
+    /// stands upright and turns about the vertical to face `eye_m` (the viewer's eye, scene m); a non-finite eye
+    /// leaves the names in the plane of the screen.
+    void append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out,
+                const Vec3& eye_m = Vec3(std::numeric_limits<double>::quiet_NaN())) const;
 
 private:
     const TriMesh* label_of(const SitePresence& p) const;  // its name's mesh (null for an empty name)
