@@ -20,6 +20,7 @@
 
 #include "app/session/shared/shared_host.hpp"
 #include "app/session/shared/shared_join.hpp"
+#include "app/session/shared/shared_site.hpp"
 #include "app/support/json_file.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/mesh/scan_convert.hpp"
@@ -80,7 +81,7 @@ SharedBenchRow run_row(const SharedBenchOptions& o, double delay_ms, const fs::p
     hs.wire(hso);
     app::Workpiece wp;
     wp.model = m;
-    host.start(wp, app::SessionSpec{});
+    app::start_shared_host(host, wp, app::SessionSpec{});
     hs.thread->start();
     app::SharedJoinOptions jo;
     jo.out = (dir / "join").string();
@@ -90,7 +91,6 @@ SharedBenchRow run_row(const SharedBenchOptions& o, double delay_ms, const fs::p
     app::SculptOptions jso;
     join.configure(jso);
     js.wire(jso);
-    join.start(app::SessionSpec{});
     js.thread->start();
 
     // Device times tell the phases apart: [0, 100) s the host's and [100, 200) the joiner's grooves carved at once,

@@ -26,6 +26,7 @@
 
 #include "app/session/shared/shared_host.hpp"
 #include "app/session/shared/shared_join.hpp"
+#include "app/session/shared/shared_site.hpp"
 #include "app/support/json_file.hpp"
 #include "bench/bench_shared.hpp"
 #include "bench/bench_shared_sites.hpp"
@@ -208,7 +209,7 @@ SharedFloodRow run_phase(const SharedBenchOptions& o, bool flood, const fs::path
     hs.wire(hso);
     app::Workpiece wp;
     wp.model = m;
-    host.start(wp, app::SessionSpec{});
+    app::start_shared_host(host, wp, app::SessionSpec{});
     hs.thread->start();
     app::SharedJoinOptions jo;
     jo.out = (dir / "join").string();
@@ -218,7 +219,6 @@ SharedFloodRow run_phase(const SharedBenchOptions& o, bool flood, const fs::path
     app::SculptOptions jso;
     join.configure(jso);
     js.wire(jso);
-    join.start(app::SessionSpec{});
     js.thread->start();
 
     devices::SimulatedDevice device(devices::DeviceProfile::phantom_omni(), raster(o.flood_s));

@@ -1,20 +1,24 @@
 // A shared session's host and joiner in one process over the link shim (one-way latency and loss), each with its own
 // sculpt thread: the joiner's replica ends equal to the host's model, its own groove carved through the host, its
 // undo taken back through the host and refused while the host's stroke is newer; a joiner whose link is cut goes
-// away cleanly and the host carries on.
+// away cleanly and the host carries on. No run session and no GPU: these run under ThreadSanitizer too (the host's and
+// the joiner's network threads beside the sculpt threads).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <thread>
 
 #include "app/session/shared/shared_host.hpp"
 #include "app/session/shared/shared_join.hpp"
+#include "app/support/file_bytes.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/model_digest.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
+#include "core/error.hpp"
 #include "core/primitives.hpp"
 #include "devices/net/link_shim.hpp"
 
@@ -71,6 +75,13 @@ struct Site {
     std::unique_ptr<SculptThread> thread;
 };
 
+// Starts `host` on `model` as a run session's host does: the model's .tdx bytes go to every joiner.
+void start_host(SharedHost& host, const compute::TriDexel& model, const fs::path& dir) {
+    const std::string path = (dir / "shared_start.tdx").string();
+    compute::save_tdx(path, model, Mat4(1.0), "{}");
+    host.start(model, read_file_bytes(path), "{}");
+}
+
 // Waits until `done` or 60 s; false on time-out.
 template <class F>
 bool wait_until(F done) {
@@ -104,10 +115,7 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     SculptOptions hso;
     host.configure(hso);
     hs.wire(hso);
-    Workpiece wp;
-    wp.model = hs.model;  // what save_session_model writes: the starting model
-    SessionSpec spec;
-    host.start(wp, spec);
+    start_host(host, hs.model, dir / "host");
     hs.thread->start();
 
     SharedJoinOptions jo;
@@ -122,8 +130,29 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     SculptOptions jso;
     join.configure(jso);
     js.wire(jso);
-    join.start(spec);
     js.thread->start();
+    // Each site's frame loop: its own tool to the others, theirs read back, as a run session's frames do.
+    std::atomic<bool> frames_stop{false};
+    std::thread frames([&] {
+        SitePresence ann, bo;
+        ann.name = "Ann";
+        ann.tool_radius_m = 0.005;
+        bo.name = "Bo";
+        bo.tool_radius_m = 0.005;
+        bo.head_tracked = true;
+        bo.head = Pose{Vec3(0.0, 0.3, 0.6), Quat(1, 0, 0, 0)};
+        bo.head_size_m = kHeadRadiusM;
+        while (!frames_stop.load()) {
+            host.set_own_presence(ann);
+            join.set_own_presence(bo);
+            (void)host.others();
+            (void)join.others();
+            (void)host.joiners();
+            (void)join.failure();
+            (void)join.ended();
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    });
 
     hs.push(groove(0.02, -0.03, 0.03, 150, 0.0));  // the host's groove
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -137,6 +166,18 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     ASSERT_TRUE(js.thread->request(SculptRequest::kRedo));  // the host's stroke is newer: nothing to redo (cleared)
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
+
+    // Each site heard the other's presence (unreliable: newest wins, some lost), the joiner's head with it.
+    EXPECT_TRUE(wait_until([&] { return !host.others().empty() && !join.others().empty(); }));
+    frames_stop.store(true);
+    frames.join();
+    ASSERT_EQ(host.others().size(), 1u);
+    EXPECT_EQ(host.others()[0].name, "Bo");
+    EXPECT_EQ(host.others()[0].site, 1);
+    EXPECT_TRUE(host.others()[0].head_tracked);
+    ASSERT_EQ(join.others().size(), 1u);
+    EXPECT_EQ(join.others()[0].name, "Ann");
+    EXPECT_EQ(join.others()[0].site, 0);
 
     hs.thread->stop();
     host.finish(hs.model);
@@ -170,9 +211,7 @@ TEST(SharedLink, AJoinerWithAnotherKeyNeverJoinsAndTheHostCountsIt) {
     SculptOptions hso;
     host.configure(hso);
     hs.wire(hso);
-    Workpiece wp;
-    wp.model = hs.model;
-    host.start(wp, SessionSpec{});
+    start_host(host, hs.model, dir);
     SharedJoinOptions jo;
     jo.out = dir.string();
     jo.join_timeout_s = 5.0;

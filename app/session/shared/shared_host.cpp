@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "app/session/view/presence_view.hpp"
-#include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
@@ -57,26 +55,20 @@ void SharedHost::configure(SculptOptions& options) {
     });
 }
 
-void SharedHost::starting(SessionRuntime& runtime) { start(runtime.workpiece(), runtime.spec()); }
-
-void SharedHost::start(const Workpiece& workpiece, const SessionSpec& spec) {
+void SharedHost::start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json) {
     if (thread_.joinable()) throw Error("shared session: the host started twice");
-    const std::string path = (std::filesystem::path(o_.out) / "shared_start.tdx").string();
-    save_session_model(path, workpiece, spec);
-    start_tdx_ = read_file_bytes(path);
-    start_digest_ = compute::model_digest(workpiece.model);
-    spec_json_ = spec_to_json(spec);
+    start_tdx_ = std::move(start_tdx);
+    start_digest_ = compute::model_digest(model);
+    spec_json_ = std::move(spec_json);
     started_s_ = steady_s();
     thread_ = std::thread([this] { run_network(); });
 }
 
-void SharedHost::before_present(const FrameShown& shown) {
-    const PresenceMessage me = presence_of(shown, 0, o_.name, o_.colour);
+void SharedHost::set_own_presence(const SitePresence& p) {
     std::lock_guard lock(mutex_);
-    own_presence_ = me;
+    own_presence_ = p;
+    own_presence_.site = 0;
 }
-
-void SharedHost::stopped(SessionRuntime& runtime, const FrameShown&) { finish(runtime.workpiece().model); }
 
 void SharedHost::finish(const compute::TriDexel& model) {
     final_digest_ = compute::model_digest(model);
@@ -339,11 +331,6 @@ void SharedHost::send_presence() {
         for (auto& j : joiners_)
             if (j->joined && !j->gone && j->report.site != p.site) send(*j, bytes, false);
     }
-}
-
-void SharedHost::add_presence(std::vector<SitePresence>& out) const {
-    for (const SitePresence& p : others())
-        if (!p.gone) out.push_back(p);
 }
 
 std::vector<PresenceMessage> SharedHost::others() const {

@@ -12,7 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "app/session/runtime/session_companion.hpp"
+#include <nlohmann/json.hpp>
+
+#include "app/session/runtime/session_runtime.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_buffer.hpp"
 #include "compute/runtime/site_intake.hpp"
@@ -53,28 +56,32 @@ struct JoinerReport {
     std::uint64_t sealed_refused = 0;           ///< datagrams its sealed link refused (forged, replayed, ...)
 };
 
-/// The host's companion of a run session.
-class SharedHost final : public SessionCompanion {
+/// A shared session's host: its network thread and the sculpt thread's wiring (the run session's side is
+/// SharedHostSite, shared_site.hpp).
+class SharedHost {
 public:
     /// `accept` yields joiners' links (each is sealed here with options.key as the listener). Throws tridex::Error when
     /// options.digest_check_s is not > 0.
     SharedHost(SharedHostOptions options, PeerAccept accept);
-    ~SharedHost() override;
-    void configure(SculptOptions& options) override;
-    void starting(SessionRuntime& runtime) override;
-    void before_present(const FrameShown& shown) override;
-    void stopped(SessionRuntime& runtime, const FrameShown& last) override;
-    /// starting()'s work: writes the starting model to `<out>/shared_start.tdx`, keeps its bytes, digest and the spec
-    /// for the joiners, and starts the network thread. Throws tridex::Error when the file cannot be written or the
-    /// host started already.
-    void start(const Workpiece& workpiece, const SessionSpec& spec);
+    ~SharedHost();
+    SharedHost(const SharedHost&) = delete;
+    SharedHost& operator=(const SharedHost&) = delete;
+    /// Before the session's threads are made: the sculpt thread streams to this host and takes the joiners' samples
+    /// and requests from its intake.
+    void configure(SculptOptions& options);
+    /// Once the model is loaded, before the sculpt thread starts: keeps the starting model (`model`, and its .tdx
+    /// file's bytes `start_tdx`, which every joiner gets), its digest and the session spec (`spec_json`) for the
+    /// joiners, and starts the network thread. Throws tridex::Error when the host started already.
+    void start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json);
+    /// Where this site's own tool (and tracked head) is, for the joiners to draw. Any thread.
+    void set_own_presence(const SitePresence& p);
+    /// The options it runs with.
+    const SharedHostOptions& options() const { return o_; }
     /// stopped()'s work, once the sculpt thread stopped: sends the rest of the stream and the end with `model`'s digest,
     /// serves the joiners until they left or options.linger_s passed, and stops the network thread.
     void finish(const compute::TriDexel& model);
-    nlohmann::json report() const override;
-    std::string report_key() const override { return "shared"; }
-    /// The other sites heard from and not gone (others()).
-    void add_presence(std::vector<SitePresence>& out) const override;
+    /// What it did (report.json `shared`).
+    nlohmann::json report() const;
     /// The other sites' tools as last heard (the joiners'), for drawing them. Any thread.
     std::vector<PresenceMessage> others() const;
     /// The joiners so far (a copy, at most 0.1 s old while the session runs, final after finish()). Any thread.

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "app/session/view/presence_view.hpp"
 #include "app/support/file_bytes.hpp"
 #include "compute/journal/journal_format.hpp"
 #include "compute/model/model_digest.hpp"
@@ -90,25 +89,11 @@ void SharedJoin::configure(SculptOptions& options) {
     });
 }
 
-void SharedJoin::starting(SessionRuntime& runtime) { start(runtime.spec()); }
-
-void SharedJoin::start(const SessionSpec& here) {
-    // What decides the model besides the stream must be the host's, or the replica would drift from it.
-    const SessionSpec host = spec_from_json(welcome_.spec_json, "--join " + host_ + ": the host's session");
-    if (here.clay_group_sweeps != host.clay_group_sweeps)
-        throw Error("--join " + host_ + ": this site's scene groups " + std::to_string(here.clay_group_sweeps) +
-                    " clay sweeps, the host's " + std::to_string(host.clay_group_sweeps) + "; use the host's setting");
-    if (here.keep_islands != host.keep_islands || here.history_budget_bytes < host.history_budget_bytes)
-        throw Error("--join " + host_ + ": this site keeps islands or undo memory unlike the host");
-}
-
-void SharedJoin::before_present(const FrameShown& shown) {
-    const PresenceMessage me = presence_of(shown, welcome_.site, o_.name, o_.colour);
+void SharedJoin::set_own_presence(const SitePresence& p) {
     std::lock_guard lock(mutex_);
-    own_presence_ = me;
+    own_presence_ = p;
+    own_presence_.site = welcome_.site;
 }
-
-void SharedJoin::stopped(SessionRuntime& runtime, const FrameShown&) { finish(runtime.workpiece().model); }
 
 void SharedJoin::finish(const compute::TriDexel& model) {
     stop_.store(true);
@@ -133,11 +118,6 @@ std::string SharedJoin::failure() const {
 std::string SharedJoin::ended() const {
     std::lock_guard lock(mutex_);
     return ended_;
-}
-
-void SharedJoin::add_presence(std::vector<SitePresence>& out) const {
-    for (const SitePresence& p : others())
-        if (!p.gone) out.push_back(p);
 }
 
 std::vector<PresenceMessage> SharedJoin::others() const {

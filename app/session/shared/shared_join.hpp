@@ -12,7 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "app/session/runtime/session_companion.hpp"
+#include <nlohmann/json.hpp>
+
+#include "app/session/runtime/session_runtime.hpp"
+#include "app/session/runtime/site_presence.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "devices/net/datagram_link.hpp"
@@ -28,16 +31,19 @@ struct SharedJoinOptions {
     double join_timeout_s = 15.0;    ///< how long to wait for the host's welcome, s
 };
 
-/// The joiner's companion of a run session. Made before the session (join() waits for the welcome, whose starting
-/// model the session then loads), it follows the host until the host ends the session (ended()) or goes away
-/// (failure(): the replica is kept, and --save still saves it).
-class SharedJoin final : public SessionCompanion {
+/// A shared session's joiner: its link to the host, its network thread and the sculpt thread's wiring (the run
+/// session's side is SharedJoinSite, shared_site.hpp). Made before the session (join() waits for the welcome, whose
+/// starting model the session then loads), it follows the host until the host ends the session (ended()) or goes
+/// away (failure(): the replica is kept, and --save still saves it).
+class SharedJoin {
 public:
     /// Seals `link` (a connection to the host, not polled yet) with `key` as the joiner. Throws tridex::Error as
     /// SealedLink does.
     SharedJoin(SharedJoinOptions options, std::unique_ptr<devices::net::DatagramLink> link,
                const devices::net::SessionKey& key);
-    ~SharedJoin() override;
+    ~SharedJoin();
+    SharedJoin(const SharedJoin&) = delete;
+    SharedJoin& operator=(const SharedJoin&) = delete;
     /// What join() gives: the host's welcome (its model bytes handed over to the file) and the starting model's file.
     struct Joined {
         WelcomeMessage welcome;
@@ -48,23 +54,26 @@ public:
     /// `<out>/shared_start.tdx`. Throws tridex::Error naming the host when it cannot be reached, the handshake fails
     /// (another key), the host turns the join away (its reason), or no welcome comes within the timeout.
     Joined join();
-    void configure(SculptOptions& options) override;
-    void starting(SessionRuntime& runtime) override;
-    void before_present(const FrameShown& shown) override;
-    void stopped(SessionRuntime& runtime, const FrameShown& last) override;
-    /// starting()'s work: refuses a session whose spec (`here`) would build another model from the same stream than
-    /// the host's (its clay grouping, islands or undo memory). Throws tridex::Error naming the setting.
-    void start(const SessionSpec& here);
-    /// stopped()'s work, once the sculpt thread stopped: stops the network thread and compares `model`'s digest with
+    /// Before the session's threads are made: the sculpt thread follows the host's stream (SculptThread::follow_host)
+    /// and hands this site's own samples and requests here, for the host. Throws tridex::Error before join().
+    void configure(SculptOptions& options);
+    /// Where this site's own tool (and tracked head) is, for the others to draw. Any thread.
+    void set_own_presence(const SitePresence& p);
+    /// The host's welcome (its model bytes handed over to the file). Valid after join().
+    const WelcomeMessage& welcome() const { return welcome_; }
+    /// The host's address ("HOST:PORT"), for messages.
+    const std::string& host() const { return host_; }
+    /// The options it runs with.
+    const SharedJoinOptions& options() const { return o_; }
+    /// Once the sculpt thread stopped, once the sculpt thread stopped: stops the network thread and compares `model`'s digest with
     /// the host's final one (report.json shared.digest_match; a mismatch is a failure()).
     void finish(const compute::TriDexel& model);
-    std::string failure() const override;
-    std::string ended() const override;
-    bool holds_session_open() const override { return true; }
-    nlohmann::json report() const override;
-    std::string report_key() const override { return "shared"; }
-    /// The other sites heard from and not gone (others()).
-    void add_presence(std::vector<SitePresence>& out) const override;
+    /// Why it cannot go on (the host went away, a digest or mark mismatch); "" while it can. Any thread.
+    std::string failure() const;
+    /// Why the session ends now, normally (the host ended it); "" while it goes on. Any thread.
+    std::string ended() const;
+    /// What it did (report.json `shared`).
+    nlohmann::json report() const;
     /// The other sites' tools as last heard (the host's and other joiners'), for drawing them. Any thread.
     std::vector<PresenceMessage> others() const;
 

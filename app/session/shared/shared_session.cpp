@@ -6,6 +6,7 @@
 #include "app/session/run/run_pipeline.hpp"
 #include "app/session/shared/shared_host.hpp"
 #include "app/session/shared/shared_join.hpp"
+#include "app/session/shared/shared_site.hpp"
 #include "core/error.hpp"
 #include "devices/net/enet_hub.hpp"
 #include "devices/net/enet_link.hpp"
@@ -60,7 +61,8 @@ RunResult run_host(const RunOptions& options, std::vector<SessionCompanion*> als
                          "--shared-key-file ... (or --shared-passphrase-env ...)\n",
                  hub->where(), static_cast<unsigned>(hub->port()));
     SharedHost shared(ho, [hub] { return hub->accept(); });
-    also.insert(also.begin(), &shared);
+    SharedHostSite site(shared);
+    also.insert(also.begin(), &site);
     return RunPipeline(options, also).run();
 }
 
@@ -85,7 +87,8 @@ RunResult run_joiner(const RunOptions& options, std::vector<SessionCompanion*> a
     o.workpiece = joined.start_path;
     o.keep_islands = host_spec.keep_islands;
     o.history_mib = static_cast<double>(host_spec.history_budget_bytes) / 1048576.0;
-    also.insert(also.begin(), &shared);
+    SharedJoinSite site(shared);
+    also.insert(also.begin(), &site);
     return RunPipeline(o, also).run();
 }
 
