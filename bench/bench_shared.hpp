@@ -32,6 +32,10 @@ struct LateJoinRow {
     std::uint64_t bytes = 0;        ///< the stream's messages, bytes (the starting model's .tdx not included)
     double replay_s = 0.0;          ///< applying the stream to the starting model (the host's rules), s
     double contour_s = 0.0;         ///< contouring the model after it, s
+    std::uint64_t model_bytes = 0;  ///< the model as it stands after the stream, as a .tdx file (zstd sections), bytes
+    /// The undo history's before-images after the stream (the host's rules and budget), bytes: what a joiner sent the
+    /// model as it stands would need besides, to follow undos of strokes made before it joined.
+    std::uint64_t history_bytes = 0;
 };
 
 /// One delay: latencies (sample pushed -> mesh with its cut published, ms), bytes per second, digests.

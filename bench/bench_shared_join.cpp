@@ -13,6 +13,7 @@
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/mesh/scan_convert.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 
@@ -52,8 +53,8 @@ std::vector<LateJoinRow> run_late_join_bench(const SharedBenchOptions& o) {
     std::printf("late join: the starting model plus the stream since, replayed by the host's rules and contoured (box "
                 "at %d cells; the transfer itself is the bytes over the link)\n",
                 o.resolution);
-    std::printf("%8s %10s %12s %10s %10s %12s\n", "minutes", "samples", "stream MB", "replay s", "contour s",
-                "at 10 MB/s s");
+    std::printf("%8s %10s %12s %10s %10s %12s | %14s %12s\n", "minutes", "samples", "stream MB", "replay s", "contour s",
+                "at 10 MB/s s", "model now MB", "history MB");
     nlohmann::json js = nlohmann::json::array();
     for (const double minutes : o.join_minutes) {
         if (!(minutes >= 1.0 && minutes <= 60.0)) throw Error("--shared-join-minutes: each must be in [1, 60]");
@@ -71,17 +72,23 @@ std::vector<LateJoinRow> run_late_join_bench(const SharedBenchOptions& o) {
             compute::Lattice::around(Aabb{Vec3(-0.05), Vec3(0.05)}, o.resolution), std::size_t{1} << 31);
         compute::scan_convert(box_mesh(Aabb{Vec3(-0.0487), Vec3(0.0487)}), model);
         const auto t0 = Clock::now();
-        compute::journal_apply(model, stream);
+        const compute::JournalApplyStats applied = compute::journal_apply(model, stream);
         const auto t1 = Clock::now();
+        row.history_bytes = applied.history_bytes;
         compute::Contourer contourer(model);
         contourer.update(model);
         const auto t2 = Clock::now();
         row.replay_s = std::chrono::duration<double>(t1 - t0).count();
         row.contour_s = std::chrono::duration<double>(t2 - t1).count();
-        std::printf("%8.0f %10llu %12.1f %10.2f %10.2f %12.1f\n", minutes, static_cast<unsigned long long>(row.samples),
-                    row.bytes / 1e6, row.replay_s, row.contour_s, row.bytes / 10e6 + row.replay_s + row.contour_s);
+        const std::filesystem::path now_tdx = std::filesystem::path(o.out) / "shared_late_join_model.tdx";
+        compute::save_tdx(now_tdx.string(), model, Mat4(1.0), "{}");
+        row.model_bytes = std::filesystem::file_size(now_tdx);
+        std::filesystem::remove(now_tdx);
+        std::printf("%8.0f %10llu %12.1f %10.2f %10.2f %12.1f | %14.1f %12.1f\n", minutes,
+                    static_cast<unsigned long long>(row.samples), row.bytes / 1e6, row.replay_s, row.contour_s,
+                    row.bytes / 10e6 + row.replay_s + row.contour_s, row.model_bytes / 1e6, row.history_bytes / 1e6);
         js.push_back({{"minutes", minutes}, {"samples", row.samples}, {"bytes", row.bytes}, {"replay_s", row.replay_s},
-                      {"contour_s", row.contour_s}});
+                      {"contour_s", row.contour_s}, {"model_bytes", row.model_bytes}, {"history_bytes", row.history_bytes}});
         rows.push_back(row);
     }
     app::write_json_file((std::filesystem::path(o.out) / "shared_late_join.json").string(), {{"rows", js}});

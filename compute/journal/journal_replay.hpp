@@ -29,6 +29,9 @@ struct JournalApplyStats {
     std::uint64_t islands_removed = 0;  ///< specks removed at stroke ends (JournalApplyFrom::remove_islands)
     double island_volume_m3 = 0.0;      ///< their volume, m^3
     double last_t_s = 0.0;       ///< t_s of the last sample (device time, s); 0 without samples
+    /// Bytes the replay's undo history held after the last record (its before-images: what a copy of the model must
+    /// hold besides the model itself to follow undos and redos of the strokes before it).
+    std::uint64_t history_bytes = 0;
 };
 
 /// Where journal_apply starts.

@@ -163,6 +163,7 @@ struct JournalApplier::State {
     void update_islands() {
         st.islands_removed = history.islands().specks;
         st.island_volume_m3 = history.islands().volume_m3;
+        st.history_bytes = history.stats().bytes;
     }
 };
 
