@@ -50,6 +50,7 @@ std::vector<compute::JournalRecord> scripted_stream(double minutes) {
 std::vector<LateJoinRow> run_late_join_bench(const SharedBenchOptions& o) {
     std::vector<LateJoinRow> rows;
     if (o.join_minutes.empty()) return rows;
+    std::filesystem::create_directories(o.out);
     std::printf("late join: the starting model plus the stream since, replayed by the host's rules and contoured (box "
                 "at %d cells; the transfer itself is the bytes over the link)\n",
                 o.resolution);
