@@ -89,6 +89,16 @@ public:
     std::uint64_t next_redo_serial() const { return redo_.empty() ? 0 : redo_.back().serial; }
     /// Counters and sizes.
     HistoryStats stats() const;
+    /// The undo and redo steps, their serials and the counters, as bytes (little-endian; undo_history_io.cpp): what a
+    /// copy of the model elsewhere needs, besides the model itself, to undo and redo these strokes as this history
+    /// would (a shared session's late joiner). Throws tridex::Error while a stroke is open.
+    std::vector<unsigned char> save_steps() const;
+    /// Replaces the steps, the serial numbering and the counters by those `bytes` hold (save_steps of a history on
+    /// the same lattice). Each ray image keeps the capacity it had, so the bytes held, and so what the budget drops
+    /// later, are the same. Then trims to this history's budget. Throws tridex::Error, changing nothing, while a stroke
+    /// is open or when `bytes` are malformed (a truncated or unknown layout, a ray outside this lattice, intervals
+    /// over their capacity).
+    void load_steps(std::span<const unsigned char> bytes);
     /// Swaps the open stroke's before-images with the model's rays: called once, the model shows the state before
     /// the open stroke (every ray the stroke may have changed was captured before it changed); called again, it is
     /// back. Only the CPU `model` changes (no RayWriter: nothing to mirror, for a reader that swaps back at once:

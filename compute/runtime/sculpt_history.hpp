@@ -11,6 +11,7 @@
 #include "compute/runtime/boolean_backend.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/model/tridexel.hpp"
+#include "core/error.hpp"
 
 namespace tridex::app {
 
@@ -86,6 +87,13 @@ public:
     std::uint64_t next_redo_serial() const { return history_.next_redo_serial(); }
     /// The history's counters and sizes.
     compute::HistoryStats stats() const { return history_.stats(); }
+    /// The closed steps as bytes (UndoHistory::save_steps; throws while a stroke is open or sweeps are held).
+    std::vector<unsigned char> save_steps() const {
+        if (!held_.empty()) throw Error("sculpt history: sweeps are held; close the stroke before saving the steps");
+        return history_.save_steps();
+    }
+    /// Replaces the steps by `bytes` (UndoHistory::load_steps).
+    void load_steps(std::span<const unsigned char> bytes) { history_.load_steps(bytes); }
     /// Calls `read` with the CPU model showing its state before the open stroke (UndoHistory::swap_open_images), then
     /// restores it; with the current state when no stroke is open or its images are gone. `read` must not throw
     /// past the restore: it is called inside a guard that swaps back.

@@ -1,5 +1,6 @@
 // compute/runtime/sculpt_strokes.cpp - the sculpt thread's samples, strokes and requests: its own tool's and other
 // sites' (a shared session), undo and redo, and the marks a replay follows.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -68,6 +69,7 @@ bool SculptThread::take_sites(StepWork& w, bool& sampled) {
         w.begin = w.n;
         if (e.kind == SiteEntry::kMark) follow_mark(e);
         else if (e.kind == SiteEntry::kCheck) follow_check(e.serial);
+        else if (e.kind == SiteEntry::kSnapshot) take_snapshot(e.site);
         else take(e.request, e.site);
     }
     return true;
@@ -152,7 +154,8 @@ compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono:
     return c;
 }
 
-void SculptThread::follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet) {
+void SculptThread::follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet,
+                               std::optional<FollowStart> from) {
     if (thread_.joinable()) throw Error("SculptThread::follow_host: call it before start()");
     if (own_site == 0 || own_site >= kMaxSites)
         throw Error("SculptThread::follow_host: a joiner's site is 1.." + std::to_string(kMaxSites - 1) + ", not " +
@@ -163,6 +166,27 @@ void SculptThread::follow_host(SiteIntake& intake, std::uint8_t own_site, Follow
     outlet_ = std::move(outlet);
     follower_ = true;
     following_ = true;  // strokes close where the host's marks say, never for idling
+    follow_start_ = std::move(from);
+}
+
+void SculptThread::use_snapshots(std::function<void(SculptSnapshot&&)> out) {
+    if (thread_.joinable()) throw Error("SculptThread::use_snapshots: call it before start()");
+    snapshot_out_ = std::move(out);
+}
+
+void SculptThread::take_snapshot(std::uint8_t site) {
+    if (!snapshot_out_) return;
+    close_stroke(site);  // as another site's cut closes it: the open gesture goes on in its next stroke
+    SculptSnapshot s;
+    s.site = site;
+    s.model = model_;
+    // Where it goes it has never been contoured: every tile is to be (a .tdx keeps the flags).
+    std::fill(s.model.tiles.dirty.begin(), s.model.tiles.dirty.end(), compute::TileGrid::kWhole);
+    s.history = history_->save_steps();
+    for (std::uint8_t k = 0; k < kMaxSites; ++k)
+        if (const ToolSample* p = sites_.sweeps().prev(k)) s.prevs.push_back(*p);
+    s.last_closed_serial = last_closed_serial_;
+    snapshot_out_(std::move(s));
 }
 
 void SculptThread::forward_own(ToolSample s) {

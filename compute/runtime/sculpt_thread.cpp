@@ -152,6 +152,12 @@ void SculptThread::start() {
     if (thread_.joinable()) throw Error("SculptThread::start: already running");
     history_ = std::make_unique<SculptHistory>(model_, *backend_, history_budget_);
     history_->remove_islands(remove_islands_);
+    if (follow_start_) {  // joined late: the host's strokes so far, to follow its undos and redos of them
+        history_->load_steps(follow_start_->history);
+        for (const ToolSample& p : follow_start_->prevs) sites_.sweeps().set_prev(p);
+        last_closed_serial_ = follow_start_->last_closed_serial;
+        follow_start_.reset();
+    }
     checkpoint_last_ = std::chrono::steady_clock::now();
     stop_.store(false);
     failure_ = nullptr;

@@ -197,6 +197,25 @@ struct FollowerOutlet {
     std::function<void(const std::string&)> mismatch;
 };
 
+/// The session as it stands, for a site joining a shared session late (SculptThread::use_snapshots): taken by the
+/// host's sculpt thread between two records of its stream, with no stroke open (the open one is closed first, as
+/// another site's cut closes it, and that close is in the stream).
+struct SculptSnapshot {
+    std::uint8_t site = 0;               ///< who joins (SiteIntake::push_snapshot)
+    compute::TriDexel model;             ///< the model after every record streamed so far, every tile marked dirty
+    std::vector<unsigned char> history;  ///< the undo history's steps (SculptHistory::save_steps)
+    std::vector<ToolSample> prevs;       ///< each site's last sample (sweeps continue from it), by site, at most one each
+    std::uint64_t last_closed_serial = 0;  ///< the newest stroke closed
+};
+
+/// Where a follower starts when it joined late: the history and sweeps of a SculptSnapshot (its model is the one the
+/// follower's thread was made with).
+struct FollowStart {
+    std::vector<unsigned char> history;  ///< SculptSnapshot::history
+    std::vector<ToolSample> prevs;       ///< SculptSnapshot::prevs
+    std::uint64_t last_closed_serial = 0;
+};
+
 /// Strokes and undo: the samples' sweeps are applied stroke by stroke through a SculptHistory. A stroke closes at a
 /// sample with op kNone (the tool lifted, the workspace button held), at a change of op, material or tool, when
 /// its sweeps have changed nothing for kStrokeIdleS of device time after it changed the model (the tool left the
@@ -271,7 +290,14 @@ public:
     /// stroke-close requests go to outlet.request (the host decides; its marks come back); saves are taken here.
     /// Both functions are called on the sculpt thread, must be quick and must not throw. Throws tridex::Error when the
     /// thread runs, own_site is not 1..kMaxSites-1, or a function is missing.
-    void follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet);
+    /// `from`: the follower joined late and starts from a snapshot's history and sweeps (its model is the snapshot's);
+    /// without it, from the session's start. Throws tridex::Error as well for malformed history bytes (at start()).
+    void follow_host(SiteIntake& intake, std::uint8_t own_site, FollowerOutlet outlet,
+                     std::optional<FollowStart> from = std::nullopt);
+    /// A host: takes each snapshot request of the intake (SiteIntake::push_snapshot) where it stands in the stream,
+    /// closes the open stroke (journalled and streamed like any close) and calls `out` with the snapshot, on the
+    /// sculpt thread, before the next record is streamed. Throws tridex::Error when the thread runs.
+    void use_snapshots(std::function<void(SculptSnapshot&&)> out);
     /// Calls `observer` on the sculpt thread with every refused undo or redo (a shared session tells the asker who
     /// stands in the way). Throws tridex::Error when the thread runs.
     void observe_refusals(std::function<void(const SculptRefusal&)> observer);
@@ -478,6 +504,9 @@ private:
     FollowerOutlet outlet_;
     std::vector<ToolSample> own_;          // follow_host: this pass's own samples
     std::uint64_t last_closed_serial_ = 0; // the newest stroke closed (serial != 0)
+    std::function<void(SculptSnapshot&&)> snapshot_out_;  // a host: where snapshots go
+    std::optional<FollowStart> follow_start_;               // a late follower: installed at start()
+    void take_snapshot(std::uint8_t site);
     Vec3 published_centre_m_;
     double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
     double tool_span_m_ = 0.0;

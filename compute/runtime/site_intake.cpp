@@ -83,6 +83,14 @@ void SiteIntake::push_host_check(std::uint64_t digest) {
     e.serial = digest;
 }
 
+void SiteIntake::push_snapshot(std::uint8_t site) {
+    check_site(site, "a snapshot");
+    std::lock_guard lock(mutex_);
+    SiteEntry& e = queue_.emplace_back();
+    e.kind = SiteEntry::kSnapshot;
+    e.site = site;
+}
+
 void SiteIntake::push_request(std::uint8_t site, SculptRequest r) {
     check_site(site, "a request");
     if (r == SculptRequest::kSave) throw Error("site intake: site " + std::to_string(site) + " asked to save");

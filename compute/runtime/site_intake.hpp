@@ -37,11 +37,11 @@ inline const char* sculpt_request_name(SculptRequest r) {
 /// mark of the host's stream (a follower's intake: journal_format.hpp's kJournalStrokeEnd, kJournalUndo, kJournalRedo),
 /// or the host's digest to check against (kCheck).
 struct SiteEntry {
-    enum Kind : std::uint8_t { kSample, kRequest, kMark, kCheck };
+    enum Kind : std::uint8_t { kSample, kRequest, kMark, kCheck, kSnapshot };
     Kind kind = kSample;
     ToolSample sample{};                              ///< kSample: the sample
     SculptRequest request = SculptRequest::kEndStroke;  ///< kRequest: kUndo, kRedo or kEndStroke
-    std::uint8_t site = 0;                            ///< kRequest: whose request (0..kMaxSites-1)
+    std::uint8_t site = 0;                            ///< kRequest: whose request; kSnapshot: who joins (0..kMaxSites-1)
     std::uint32_t mark = 0;                           ///< kMark: its journal record type
     std::uint64_t serial = 0;                         ///< kMark: the stroke's serial; kCheck: the host's digest
     std::uint64_t rays = 0;                           ///< kMark: undo, redo: rays written back
@@ -74,6 +74,9 @@ public:
     void push_host_record(const compute::JournalRecord& r);
     /// A follower: the host's model digest (compute::model_digest) after every record queued so far.
     void push_host_check(std::uint64_t digest);
+    /// A host: asks the sculpt thread for a snapshot of the session as it stands, for `site` joining late
+    /// (SculptThread::use_snapshots). Throws tridex::Error when site is 0 or >= kMaxSites.
+    void push_snapshot(std::uint8_t site);
     /// Moves every queued entry to the end of `out`, in order; returns how many.
     std::size_t drain(std::vector<SiteEntry>& out);
     /// Entries queued now.

@@ -75,11 +75,16 @@ struct Site {
     std::unique_ptr<SculptThread> thread;
 };
 
-// Starts `host` on `model` as a run session's host does: the model's .tdx bytes go to every joiner.
+// Starts `host` on `model` as a run session's host does: the model's .tdx bytes go to a joiner that asks for the start,
+// the model as it stands (written the same way) to one that joins late.
 void start_host(SharedHost& host, const compute::TriDexel& model, const fs::path& dir) {
     const std::string path = (dir / "shared_start.tdx").string();
     compute::save_tdx(path, model, Mat4(1.0), "{}");
-    host.start(model, read_file_bytes(path), "{}");
+    const std::string late = (dir / "shared_late_join.tdx").string();
+    host.start(model, read_file_bytes(path), "{}", [late](const compute::TriDexel& m) {
+        compute::save_tdx(late, m, Mat4(1.0), "{}");
+        return read_file_bytes(late);
+    });
 }
 
 // Waits until `done` or 60 s; false on time-out.
@@ -194,6 +199,64 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     const nlohmann::json h = host.report();
     EXPECT_EQ(h["joiners"][0]["requests"].get<std::uint64_t>(), 2u);
     EXPECT_GT(shim.stats().lost, 0u);  // the link lost datagrams (unreliable presence), the stream none
+}
+
+TEST(SharedLink, ALateJoinerGetsTheModelAsItStandsAndFollowsTheHostsUndoOfAStrokeBeforeIt) {
+    const fs::path dir = fs::path(testing::TempDir()) / "tridex_shared_link_late";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "host");
+    fs::create_directories(dir / "join");
+    const auto t0 = Clock::now();
+    net::ShimConfig cfg;
+    cfg.latency_s = 0.01;
+    net::LinkShim shim(cfg, [t0] { return std::chrono::duration<double>(Clock::now() - t0).count(); });
+    std::unique_ptr<net::DatagramLink> server_end = shim.server_end();
+    SharedHostOptions ho;
+    ho.key = key_of(5);
+    ho.out = (dir / "host").string();
+    ho.digest_check_s = 0.2;
+    SharedHost host(ho, [&server_end]() { return std::move(server_end); });
+    Site hs(box_model());
+    SculptOptions hso;
+    host.configure(hso);
+    hs.wire(hso);
+    start_host(host, hs.model, dir / "host");
+    hs.thread->start();
+    hs.push(groove(0.02, -0.03, 0.03, 150, 0.0));  // carved before anyone joins
+    ASSERT_TRUE(wait_until([&] { return hs.thread->live().steps > 0 && hs.ring.size() == 0; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+
+    SharedJoinOptions jo;
+    jo.name = "Bo";
+    jo.out = (dir / "join").string();
+    SharedJoin join(jo, shim.client_end(), key_of(5));
+    const SharedJoin::Joined joined = join.join();
+    EXPECT_GT(joined.welcome.first_record, 0u);  // the model as it stands: the groove is in it
+    EXPECT_FALSE(joined.welcome.history.empty());
+    Site js(compute::load_tdx(joined.start_path, std::size_t{1} << 30).model);
+    EXPECT_EQ(compute::model_digest(js.model), joined.welcome.initial_digest);
+    EXPECT_NE(joined.welcome.initial_digest, compute::model_digest(box_model()));
+    SculptOptions jso;
+    join.configure(jso);
+    js.wire(jso);
+    js.thread->start();
+    ASSERT_TRUE(hs.thread->request(SculptRequest::kUndo));  // the host takes back its stroke from before the join
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    js.push(groove(-0.02, 0.03, -0.03, 100, 0.0));  // and the joiner carves
+    ASSERT_TRUE(wait_until([&] { return !host.joiners().empty() && host.joiners()[0].samples == 101; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+
+    hs.thread->stop();
+    host.finish(hs.model);
+    ASSERT_TRUE(wait_until([&] { return !join.ended().empty(); })) << join.failure();
+    js.thread->stop();
+    join.finish(js.model);
+    EXPECT_EQ(join.failure(), "");
+    EXPECT_TRUE(join.report()["digest_match"].get<bool>());
+    EXPECT_EQ(compute::model_digest(js.model), compute::model_digest(hs.model));
+    EXPECT_EQ(hs.thread->stats().history.undos, 1u);
+    EXPECT_EQ(js.thread->stats().undo_ms.size(), 1u);  // followed from the history the welcome carried
+    EXPECT_GT(host.report()["joiners"][0]["first_record"].get<std::uint64_t>(), 0u);
 }
 
 TEST(SharedLink, AJoinerWithAnotherKeyNeverJoinsAndTheHostCountsIt) {

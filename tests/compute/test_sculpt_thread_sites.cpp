@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "compute/journal/journal_format.hpp"
@@ -347,6 +348,101 @@ TEST(SculptSites, AJoinerFollowsTheHostsStreamWhileItsOwnToolCarvesThroughTheHos
     r.samples = groove(0, 0.02, -0.03, 0.03, 90, 0.0);
     compute::journal_apply(only_host, std::span<const compute::JournalRecord>(&r, 1));
     EXPECT_EQ(after_undo, compute::model_digest(only_host));
+}
+
+// Moves the host's stream from record `first` on into a follower's intake (a late joiner gets only those).
+void relay_from(compute::ToolStreamBuffer& stream, SiteIntake& follower, std::uint64_t first) {
+    for (const compute::JournalRecord& r : stream.take().records)
+        if (r.index >= first) follower.push_host_record(r);
+}
+
+TEST(SculptSites, ALateJoinerStartsFromTheHostsSnapshotAndFollowsUndosOfStrokesMadeBeforeIt) {
+    compute::TriDexel host_model = box_model();
+    compute::ToolStreamBuffer stream;
+    SiteIntake host_in, join_in;
+    compute::Contourer hc(host_model);
+    hc.update(host_model);
+    SpscRing<ToolSample> host_ring(4096);
+    TripleBuffer<ActiveSurface> hs;
+    SculptThread host(host_model, hc, host_ring, hs, Vec3(0.0));
+    host.use_stream(stream);
+    host.use_site_intake(host_in);
+    std::mutex snap_mutex;
+    std::optional<SculptSnapshot> snap;
+    std::uint64_t first = 0;
+    host.use_snapshots([&](SculptSnapshot&& s) {
+        std::lock_guard lock(snap_mutex);
+        first = stream.records();
+        snap = std::move(s);
+    });
+    host.start();
+    const auto settle_host = [&] {
+        for (int k = 0; k < 40 && (host_ring.size() > 0 || host_in.pending() > 0); ++k)
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    };
+    for (const ToolSample& x : groove(0, 0.02, -0.03, 0.03, 60, 0.0)) host_ring.try_push(x);  // A, the host's
+    settle_host();
+    host_in.push_samples(groove(2, -0.02, 0.03, -0.03, 60, 0.0));  // B, site 2's
+    settle_host();
+    const std::vector<ToolSample> c = groove(0, 0.0, -0.03, 0.03, 80, 1.0);  // C, the host's, split by the join
+    for (const ToolSample& x : slice(c, 0, 40)) host_ring.try_push(x);
+    settle_host();
+    host_in.push_snapshot(1);  // site 1 joins late, mid-gesture
+    settle_host();
+    for (const ToolSample& x : slice(c, 40, c.size())) host_ring.try_push(x);
+    settle_host();
+    {
+        std::lock_guard lock(snap_mutex);
+        ASSERT_TRUE(snap.has_value());
+        EXPECT_GT(first, 0u);
+    }
+    // The joiner: the snapshot's model, its history and sweeps, and the stream from the snapshot on.
+    compute::TriDexel join_model = snap->model;
+    compute::Contourer jc(join_model);
+    jc.update(join_model);
+    SpscRing<ToolSample> join_ring(16);
+    TripleBuffer<ActiveSurface> js;
+    SculptThread join(join_model, jc, join_ring, js, Vec3(0.0));
+    join.follow_host(join_in, 1, {[](std::span<const ToolSample>) {}, [](SculptRequest) {}, {}},
+                     FollowStart{snap->history, snap->prevs, snap->last_closed_serial});
+    join.start();
+    const auto settle = [&] {
+        settle_host();
+        for (int k = 0; k < 20; ++k) {
+            relay_from(stream, join_in, first);
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    };
+    settle();
+    ASSERT_TRUE(host.request(SculptRequest::kUndo));  // the host's gesture C, both its parts: one before the join
+    settle();
+    ASSERT_TRUE(host.request(SculptRequest::kUndo));  // B is site 2's: refused
+    settle();
+    host_in.push_request(2, SculptRequest::kUndo);  // site 2 takes back B, carved before the join
+    settle();
+    host_in.push_request(2, SculptRequest::kRedo);
+    settle();
+    host.stop();
+    relay_from(stream, join_in, first);
+    settle();
+    join.stop();
+    EXPECT_EQ(host.stats().history.undos, 3u);  // C's two strokes and B
+    EXPECT_EQ(host.stats().history.redos, 1u);
+    EXPECT_EQ(host.stats().refusals.size(), 1u);
+    EXPECT_EQ(join.stats().undo_ms.size(), 4u);  // the host's undos and redo, followed from the joiner's history
+    EXPECT_EQ(compute::model_digest(join_model), compute::model_digest(host_model));
+
+    // Bad history bytes are refused when the follower starts.
+    compute::TriDexel other = box_model();
+    compute::Contourer oc(other);
+    oc.update(other);
+    SculptThread bad(other, oc, join_ring, js, Vec3(0.0));
+    std::vector<unsigned char> torn = snap->history;
+    torn.resize(torn.size() / 2);
+    bad.follow_host(join_in, 1, {[](std::span<const ToolSample>) {}, [](SculptRequest) {}, {}},
+                    FollowStart{torn, {}, 0});
+    EXPECT_THROW(bad.start(), Error);
 }
 
 // A follower on the box that sends nothing anywhere and keeps what its outlet heard of a mismatch.

@@ -132,6 +132,13 @@ void shared_seeds(const fs::path& dir) {
     const auto put_msg = [&](const std::string& name, const std::vector<unsigned char>& b) { put(dir, "shared", name, b); };
     put_msg("join", app::encode_join(app::JoinMessage{app::kSharedProtocol, "Bo", Vec3(0.2, 0.4, 0.6)}));
     put_msg("welcome", app::encode_welcome(app::WelcomeMessage{1, "Ann", "{}", {1, 2, 3}, 42}));
+    app::WelcomeMessage late{2, "Ann", "{}", {1, 2, 3}, 42};  // a late join: history, sweeps, the record it starts at
+    late.first_record = 1200;
+    late.history = {'T', 'D', 'X', 'H', 1, 0, 0, 0, 9, 0, 0, 0, 0, 0, 0, 0};
+    late.prevs.resize(2);
+    late.prevs[1].site = 1;
+    late.last_closed_serial = 9;
+    put_msg("welcome_late", app::encode_welcome(late));
     ToolSample s;
     s.op = ToolOp::kSubtract;
     s.tool.radius_m = 0.004;

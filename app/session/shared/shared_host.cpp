@@ -17,7 +17,8 @@ namespace net = devices::net;
 struct SharedHost::Joiner {
     std::unique_ptr<net::SealedLink> link;
     JoinerReport report;
-    bool joined = false;  // its join was taken: it has a site and gets the stream
+    bool joined = false;    // its join was taken: it has a site
+    bool welcomed = false;  // it has its model and gets the stream (a late joiner waits for its snapshot)
     bool gone = false;
     std::uint64_t sent = 0;  // records of log_ sent to it
     Vec3 colour{1.0};
@@ -48,6 +49,11 @@ void SharedHost::configure(SculptOptions& options) {
     options.streams.push_back(&stream_);
     options.sculpt_setup.push_back([this](SculptThread& t) {
         t.use_site_intake(intake_);
+        t.use_snapshots([this](SculptSnapshot&& s) {  // on the sculpt thread: every record so far is in the model
+            const std::uint64_t records = stream_.records();
+            std::lock_guard lock(mutex_);
+            snapshots_.push_back(Snapshot{std::move(s), records});
+        });
         t.observe_refusals([this](const SculptRefusal& r) {
             std::lock_guard lock(mutex_);
             refusals_.push_back(r);
@@ -55,9 +61,11 @@ void SharedHost::configure(SculptOptions& options) {
     });
 }
 
-void SharedHost::start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json) {
+void SharedHost::start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json,
+                       ModelBytes model_bytes) {
     if (thread_.joinable()) throw Error("shared session: the host started twice");
     start_tdx_ = std::move(start_tdx);
+    model_bytes_ = std::move(model_bytes);
     start_digest_ = compute::model_digest(model);
     spec_json_ = std::move(spec_json);
     started_s_ = steady_s();
@@ -90,7 +98,7 @@ void SharedHost::run_network() {
                 send_records();  // the last of the stream
                 const EndMessage end{final_digest_, records_sent_, "the host ended the session"};
                 for (auto& j : joiners_)
-                    if (j->joined && !j->gone) send(*j, encode_end(end), true);
+                    if (j->joined && !j->gone) send(*j, encode_end(end), true);  // a late joiner still waiting too
                 linger_until = now_s() + o_.linger_s;
             }
             bool all_gone = true;
@@ -115,6 +123,7 @@ void SharedHost::serve_once() {
     accept_joiners();
     for (auto& j : joiners_)
         if (!j->gone) poll_joiner(*j);
+    welcome_late_joiners();
     if (!final_.load(std::memory_order_acquire)) {
         const double t = now_s();
         if (t - last_check_s_ >= o_.digest_check_s) {
@@ -228,10 +237,46 @@ void SharedHost::on_join(Joiner& j, const JoinMessage& m) {
     j.report.name = m.name;
     j.report.joined_s = now_s();
     j.colour = m.colour;
+    if (!m.from_start && model_bytes_) {
+        // The model as it stands: the sculpt thread takes a snapshot where the request falls in the stream.
+        intake_.push_snapshot(site);
+        std::fprintf(stderr, "tridex: %s joins the shared session from %s (site %d), with the model as it stands\n",
+                     m.name.c_str(), j.report.where.c_str(), site);
+        return;
+    }
     send(j, encode_welcome(WelcomeMessage{site, o_.name, spec_json_, start_tdx_, start_digest_}), true);
+    j.welcomed = true;
     send_backlog(j);
     std::fprintf(stderr, "tridex: %s joined the shared session from %s (site %d)\n", m.name.c_str(),
                  j.report.where.c_str(), site);
+}
+
+void SharedHost::welcome_late_joiners() {
+    std::vector<Snapshot> ready;
+    {
+        std::lock_guard lock(mutex_);
+        ready.swap(snapshots_);
+    }
+    for (Snapshot& s : ready) {
+        Joiner* j = nullptr;
+        for (auto& k : joiners_)
+            if (k->joined && !k->welcomed && !k->gone && k->report.site == s.snapshot.site) j = k.get();
+        if (!j) continue;  // it left while the snapshot was taken
+        send_records();    // the log now holds every record the snapshot's model holds
+        WelcomeMessage w{j->report.site, o_.name, spec_json_, model_bytes_(s.snapshot.model),
+                         compute::model_digest(s.snapshot.model)};
+        w.first_record = s.records;
+        w.history = std::move(s.snapshot.history);
+        w.prevs = std::move(s.snapshot.prevs);
+        w.last_closed_serial = s.snapshot.last_closed_serial;
+        send(*j, encode_welcome(w), true);
+        j->welcomed = true;
+        j->sent = s.records;
+        j->report.first_record = s.records;
+        send_backlog(*j);
+        std::fprintf(stderr, "tridex: %s joined the shared session (site %d) at record %llu\n", j->report.name.c_str(),
+                     j->report.site, static_cast<unsigned long long>(s.records));
+    }
 }
 
 std::uint8_t SharedHost::site_for(const std::string& name) {
@@ -285,7 +330,7 @@ void SharedHost::send_records() {
     m.records = std::move(t.records);
     const std::vector<unsigned char> bytes = encode_records(m);  // once, for every joiner
     for (auto& j : joiners_)
-        if (j->joined && !j->gone) {
+        if (j->welcomed && !j->gone) {
             send_backlog(*j);  // every joiner holds the whole log, so this sends nothing: the new records follow it
             send(*j, bytes, true);
             j->sent += m.records.size();
@@ -309,7 +354,7 @@ void SharedHost::send_refusals() {
             continue;
         }
         for (auto& j : joiners_)
-            if (j->joined && !j->gone && j->report.site == r.site) {
+            if (j->welcomed && !j->gone && j->report.site == r.site) {
                 ++j->report.refusals;
                 send(*j, encode_refused(RefusedMessage{r.request, r.by_site, by}), true);
             }
@@ -329,7 +374,7 @@ void SharedHost::send_presence() {
     for (const PresenceMessage& p : all) {
         const std::vector<unsigned char> bytes = encode_presence(p);
         for (auto& j : joiners_)
-            if (j->joined && !j->gone && j->report.site != p.site) send(*j, bytes, false);
+            if (j->welcomed && !j->gone && j->report.site != p.site) send(*j, bytes, false);
     }
 }
 
@@ -350,7 +395,8 @@ nlohmann::json SharedHost::report() const {
         js.push_back({{"site", r.site}, {"name", r.name}, {"where", r.where}, {"samples", r.samples},
                       {"requests", r.requests}, {"refusals", r.refusals}, {"bad_messages", r.bad_messages},
                       {"bytes_in", r.bytes_in}, {"bytes_out", r.bytes_out}, {"joined_s", r.joined_s},
-                      {"left_s", r.left_s}, {"sealed_refused", r.sealed_refused}, {"presence", r.presence}});
+                      {"left_s", r.left_s}, {"sealed_refused", r.sealed_refused}, {"presence", r.presence},
+                      {"first_record", r.first_record}});
     return {{"role", "host"}, {"name", o_.name}, {"joiners", js}, {"records", records_sent_},
             {"digest_checks", checks_}, {"final_digest", final_digest_}, {"own_refusals", own_refusals_},
             {"site_samples_dropped", intake_.dropped()}, {"peers_refused", peers_refused_}};

@@ -18,6 +18,7 @@
 #include "app/session/runtime/site_presence.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_buffer.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "devices/net/datagram_link.hpp"
 #include "devices/net/sealed_link.hpp"
@@ -50,6 +51,7 @@ struct JoinerReport {
     std::uint64_t requests = 0;     ///< undo, redo and stroke-close requests it sent
     std::uint64_t refusals = 0;     ///< of those, refused (SiteStrokes)
     std::uint64_t presence = 0;     ///< presence messages heard from it (about 30 a second; unreliable)
+    std::uint64_t first_record = 0; ///< the first record it was sent: 0 from the start, else it joined late at it
     std::uint64_t bad_messages = 0; ///< messages it sent that could not be read (it was dropped at the first)
     std::uint64_t bytes_in = 0, bytes_out = 0;  ///< payload bytes received from it and sent to it
     double joined_s = 0.0, left_s = -1.0;       ///< wall time since the session started, s (-1: still there)
@@ -69,10 +71,16 @@ public:
     /// Before the session's threads are made: the sculpt thread streams to this host and takes the joiners' samples
     /// and requests from its intake.
     void configure(SculptOptions& options);
+    /// How a model becomes the bytes of a .tdx file (the session's placement, spec and palette), on the network thread.
+    using ModelBytes = std::function<std::vector<unsigned char>(const compute::TriDexel& model)>;
     /// Once the model is loaded, before the sculpt thread starts: keeps the starting model (`model`, and its .tdx
-    /// file's bytes `start_tdx`, which every joiner gets), its digest and the session spec (`spec_json`) for the
-    /// joiners, and starts the network thread. Throws tridex::Error when the host started already.
-    void start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json);
+    /// file's bytes `start_tdx`), its digest and the session spec (`spec_json`) for the joiners, and starts the network
+    /// thread. With `model_bytes`, a joiner that does not ask for the start (JoinMessage::from_start) joins with the
+    /// model as it stands: a snapshot the sculpt thread takes (SculptThread::use_snapshots), its undo history, and
+    /// the stream from there; without, every joiner gets the starting model and the whole stream. Throws
+    /// tridex::Error when the host started already.
+    void start(const compute::TriDexel& model, std::vector<unsigned char> start_tdx, std::string spec_json,
+               ModelBytes model_bytes = {});
     /// Where this site's own tool (and tracked head) is, for the joiners to draw. Any thread.
     void set_own_presence(const SitePresence& p);
     /// The options it runs with.
@@ -101,6 +109,7 @@ private:
     void send_backlog(Joiner& j);
     void send_refusals();
     void send_presence();
+    void welcome_late_joiners();  // the snapshots taken: their welcomes and the stream since
     std::uint8_t site_for(const std::string& name);
     void copy_reports();  // the joiners' reports, for report() and joiners() (at most every 0.1 s, and at the end)
     double now_s() const;
@@ -121,6 +130,12 @@ private:
     std::vector<PresenceMessage> presence_;         // the joiners' newest
     PresenceMessage own_presence_;
     std::vector<SculptRefusal> refusals_;           // from the sculpt thread, to send
+    struct Snapshot {
+        SculptSnapshot snapshot;
+        std::uint64_t records = 0;  // records streamed before it (its model holds them)
+    };
+    std::vector<Snapshot> snapshots_;               // from the sculpt thread, for late joiners
+    ModelBytes model_bytes_;
     std::uint64_t own_refusals_ = 0;
     std::atomic<bool> stop_{false};
     std::atomic<bool> final_{false};                // the sculpt thread stopped: send the rest and the end

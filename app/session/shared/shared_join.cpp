@@ -39,7 +39,7 @@ SharedJoin::Joined SharedJoin::join() {
         net::LinkEvent ev;
         while (link_->poll(ev)) {
             if (ev.kind == net::LinkEvent::kConnected && !sent) {
-                link_->send(encode_join(JoinMessage{kSharedProtocol, o_.name, o_.colour}), true);
+                link_->send(encode_join(JoinMessage{kSharedProtocol, o_.name, o_.colour, o_.from_start}), true);
                 sent = true;
             } else if (ev.kind == net::LinkEvent::kData) {
                 on_message(ev.data);
@@ -85,7 +85,10 @@ void SharedJoin::configure(SculptOptions& options) {
             requests_out_.push_back(r);
         };
         out.mismatch = [this](const std::string& what) { fail(what); };
-        t.follow_host(intake_, welcome_.site, std::move(out));
+        std::optional<FollowStart> from;
+        if (!welcome_.history.empty())  // joined late: the host's strokes so far, to follow its undos of them
+            from = FollowStart{welcome_.history, welcome_.prevs, welcome_.last_closed_serial};
+        t.follow_host(intake_, welcome_.site, std::move(out), std::move(from));
     });
 }
 
@@ -246,7 +249,7 @@ nlohmann::json SharedJoin::report() const {
             {"requests_sent", requests_sent_}, {"refusals", refusals_}, {"digest_checks", checks_},
             {"bytes_in", bytes_in_}, {"bytes_out", bytes_out_}, {"final_digest", final_digest_},
             {"host_final_digest", end_.digest}, {"host_ended", end_heard_}, {"digest_match", digest_match_},
-            {"sealed_refused", link_->stats().refused()}};
+            {"sealed_refused", link_->stats().refused()}, {"first_record", welcome_.first_record}};
 }
 
 }  // namespace tridex::app

@@ -29,6 +29,9 @@ struct SharedJoinOptions {
     Vec3 colour{0.95, 0.45, 0.1};    ///< their tool's colour, sRGB 0..1
     std::string out;                 ///< the session's output folder: the host's starting model is written there
     double join_timeout_s = 15.0;    ///< how long to wait for the host's welcome, s
+    /// Ask for the session's starting model and the whole stream (a cluster wall, whose render ranks replay from the
+    /// start), not the model as it stands.
+    bool from_start = false;
 };
 
 /// A shared session's joiner: its link to the host, its network thread and the sculpt thread's wiring (the run

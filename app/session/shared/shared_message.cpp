@@ -39,6 +39,7 @@ std::vector<unsigned char> encode_join(const JoinMessage& m) {
     w.u32(m.protocol);
     w.text(m.name);
     w.vec3(m.colour);
+    w.u8(m.from_start ? 1 : 0);
     return w.take();
 }
 
@@ -48,6 +49,9 @@ JoinMessage decode_join(std::span<const unsigned char> b, const std::string& fro
     m.protocol = r.u32("protocol");
     m.name = read_site_name(r, "name", false);
     m.colour = read_colour(r, "colour");
+    const std::uint8_t from_start = r.u8("from_start");
+    if (from_start > 1) r.fail("from_start", "not 0 or 1");
+    m.from_start = from_start != 0;
     r.end();
     return m;
 }
@@ -59,6 +63,11 @@ std::vector<unsigned char> encode_welcome(const WelcomeMessage& m) {
     w.text(m.spec_json);
     w.blob(m.model_tdx);
     w.u64(m.initial_digest);
+    w.u64(m.first_record);
+    w.blob(m.history.empty() ? m.history : compute::pack_bytes(m.history));
+    w.u32(static_cast<std::uint32_t>(m.prevs.size()));
+    for (const ToolSample& s : m.prevs) w.sample(s);
+    w.u64(m.last_closed_serial);
     return w.take();
 }
 
@@ -72,6 +81,13 @@ WelcomeMessage decode_welcome(std::span<const unsigned char> b, const std::strin
     m.model_tdx = r.blob("model");
     if (m.model_tdx.empty()) r.fail("model", "no model");
     m.initial_digest = r.u64("initial_digest");
+    m.first_record = r.u64("first_record");
+    const std::vector<unsigned char> packed = r.blob("history");
+    if (!packed.empty()) m.history = compute::unpack_bytes(packed, kMaxMessageBlob, from + ": history");
+    const std::uint32_t prevs = r.u32("prevs");
+    if (prevs > kMaxSites) r.fail("prevs", std::to_string(prevs) + " samples, more than a session has sites");
+    for (std::uint32_t i = 0; i < prevs; ++i) m.prevs.push_back(r.sample("prevs"));
+    m.last_closed_serial = r.u64("last_closed_serial");
     r.end();
     return m;
 }

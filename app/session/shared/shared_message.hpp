@@ -18,7 +18,7 @@
 namespace tridex::app {
 
 /// The protocol version a joiner states in its join; the host refuses another.
-inline constexpr std::uint32_t kSharedProtocol = 2;
+inline constexpr std::uint32_t kSharedProtocol = 3;
 
 /// Message kinds (the byte after the magic).
 enum class SharedKind : std::uint8_t {
@@ -41,6 +41,9 @@ struct JoinMessage {
     std::uint32_t protocol = kSharedProtocol;
     std::string name;        ///< the person, for the others' screens and messages (1..64 bytes)
     Vec3 colour{0.9, 0.5, 0.1};  ///< their tool's colour, sRGB 0..1
+    /// The joiner wants the model the session started with and the whole stream since (its replica's copies, a cluster
+    /// wall's render ranks, replay from the start), not the model as it stands.
+    bool from_start = false;
 };
 
 /// The host's answer to a join.
@@ -50,6 +53,14 @@ struct WelcomeMessage {
     std::string spec_json;                 ///< the session spec (spec_to_json), as the journal's header carries it
     std::vector<unsigned char> model_tdx;  ///< the model the stream starts from, as a .tdx file (zstd sections)
     std::uint64_t initial_digest = 0;      ///< compute::model_digest of that model
+    /// The index of the first record the joiner receives: 0 for the session's starting model; for the model as it
+    /// stands (a late join), the records before it are in the model.
+    std::uint64_t first_record = 0;
+    /// A late join: the undo history's steps (SculptSnapshot::history; sent packed with zstd), each site's last
+    /// sample, and the newest stroke closed, so that the joiner follows undos of strokes made before it joined.
+    std::vector<unsigned char> history{};
+    std::vector<ToolSample> prevs{};
+    std::uint64_t last_closed_serial = 0;
 };
 
 /// The host's stream, continuing: records with indices continuing from the previous message's, and optionally the

@@ -76,6 +76,7 @@ RunResult run_joiner(const RunOptions& options, std::vector<SessionCompanion*> a
     jo.name = options.site_name.empty() ? "guest" : options.site_name;
     jo.colour = colour_of_site_name(jo.name);
     jo.out = options.out;
+    jo.from_start = !options.cluster.empty();  // a wall's render ranks replay the stream from the session's start
     const net::SessionKey key = session_key(options, "--join");
     (void)resolve_run(options);  // this site's own scene and options are checked before it takes a site at the host
     SharedJoin shared(jo, net::EnetLink::connect(host, port, kPeerTimeoutS), key);

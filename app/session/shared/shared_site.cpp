@@ -6,14 +6,23 @@
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/view/presence_view.hpp"
 #include "app/support/file_bytes.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
 
 void start_shared_host(SharedHost& host, const Workpiece& workpiece, const SessionSpec& spec) {
-    const std::string path = (std::filesystem::path(host.options().out) / "shared_start.tdx").string();
+    const std::filesystem::path out(host.options().out);
+    const std::string path = (out / "shared_start.tdx").string();
     save_session_model(path, workpiece, spec);
-    host.start(workpiece.model, read_file_bytes(path), spec_to_json(spec));
+    // A late joiner's model as it stands, saved as this session saves its model (on the host's network thread).
+    const std::string late = (out / "shared_late_join.tdx").string();
+    host.start(workpiece.model, read_file_bytes(path), spec_to_json(spec),
+               [late, to_world = workpiece.to_world, json = spec_to_json(spec), palette = spec.palette](
+                   const compute::TriDexel& model) {
+                   compute::save_tdx(late, model, to_world, json, 3, palette);
+                   return read_file_bytes(late);
+               });
 }
 
 void check_joiner_spec(const SessionSpec& here, const std::string& host_spec_json, const std::string& host) {

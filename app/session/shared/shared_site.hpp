@@ -12,7 +12,8 @@
 namespace tridex::app {
 
 /// Writes the session's starting model to `<out>/shared_start.tdx` (the host's options.out) and starts `host` with
-/// its bytes, the model and the spec. Throws tridex::Error when the file cannot be written or read back, or as
+/// its bytes, the model and the spec; late joiners get the model as it stands, written the same way to
+/// `<out>/shared_late_join.tdx`. Throws tridex::Error when the file cannot be written or read back, or as
 /// SharedHost::start.
 void start_shared_host(SharedHost& host, const Workpiece& workpiece, const SessionSpec& spec);
 
