@@ -76,22 +76,12 @@ SharedBenchRow run_row(const SharedBenchOptions& o, double delay_ms, const fs::p
     app::SharedHost host(ho, [&server_end]() { return std::move(server_end); });
     const compute::TriDexel m = bench_box(o.resolution);
     BenchSite hs(m);
-    app::SculptOptions hso;
-    host.configure(hso);
-    hs.wire(hso);
-    app::Workpiece wp;
-    wp.model = m;
-    app::start_shared_host(host, wp, app::SessionSpec{});
-    hs.thread->start();
+    start_host_site(host, hs, m);
     app::SharedJoinOptions jo;
     jo.out = (dir / "join").string();
     app::SharedJoin join(jo, shim.client_end(), key);
-    const app::SharedJoin::Joined joined = join.join();
-    BenchSite js(compute::load_tdx(joined.start_path, std::size_t{1} << 31).model);
-    app::SculptOptions jso;
-    join.configure(jso);
-    js.wire(jso);
-    js.thread->start();
+    const std::unique_ptr<BenchSite> joiner = join_site(join);
+    BenchSite& js = *joiner;
 
     // Device times tell the phases apart: [0, 100) s the host's and [100, 200) the joiner's grooves carved at once,
     // [200, 300) the joiner alone, [300, 400) the host alone.

@@ -204,22 +204,12 @@ SharedFloodRow run_phase(const SharedBenchOptions& o, bool flood, const fs::path
     const compute::TriDexel m = bench_box(o.resolution);
     const std::uint64_t start_digest = compute::model_digest(m);
     BenchSite hs(m);
-    app::SculptOptions hso;
-    host.configure(hso);
-    hs.wire(hso);
-    app::Workpiece wp;
-    wp.model = m;
-    app::start_shared_host(host, wp, app::SessionSpec{});
-    hs.thread->start();
+    start_host_site(host, hs, m);
     app::SharedJoinOptions jo;
     jo.out = (dir / "join").string();
     app::SharedJoin join(jo, net::EnetLink::connect("127.0.0.1", port, kPeerTimeoutS), key);
-    const app::SharedJoin::Joined joined = join.join();
-    BenchSite js(compute::load_tdx(joined.start_path, std::size_t{1} << 31).model);
-    app::SculptOptions jso;
-    join.configure(jso);
-    js.wire(jso);
-    js.thread->start();
+    const std::unique_ptr<BenchSite> joiner = join_site(join);
+    BenchSite& js = *joiner;
 
     devices::SimulatedDevice device(devices::DeviceProfile::phantom_omni(), raster(o.flood_s));
     haptics::HapticLoop loop(device, hs.surface, hs.ring, loop_config());

@@ -14,6 +14,10 @@
 #include <vector>
 
 #include "app/session/runtime/session_runtime.hpp"
+#include "app/session/shared/shared_host.hpp"
+#include "app/session/shared/shared_join.hpp"
+#include "app/session/shared/shared_site.hpp"
+#include "compute/model/tdx_file.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -106,6 +110,30 @@ inline compute::TriDexel bench_box(int resolution) {
                                                    std::size_t{1} << 31);
     compute::scan_convert(box_mesh(Aabb{Vec3(-0.0487), Vec3(0.0487)}), m);
     return m;
+}
+
+/// Wires `hs`'s sculpt thread to `host`, starts the host on `m` (a run session's way: the starting model's file in the
+/// host's out folder, late joiners getting the model as it stands) and starts the thread. Throws as SharedHost does.
+inline void start_host_site(app::SharedHost& host, BenchSite& hs, const compute::TriDexel& m) {
+    app::SculptOptions o;
+    host.configure(o);
+    hs.wire(o);
+    app::Workpiece wp;
+    wp.model = m;
+    app::start_shared_host(host, wp, app::SessionSpec{});
+    hs.thread->start();
+}
+
+/// Joins through `join`, builds the joiner's site on the model the host sent, wires its sculpt thread to follow the
+/// host and starts it. Throws as SharedJoin::join does.
+inline std::unique_ptr<BenchSite> join_site(app::SharedJoin& join) {
+    const app::SharedJoin::Joined joined = join.join();
+    auto js = std::make_unique<BenchSite>(compute::load_tdx(joined.start_path, std::size_t{1} << 31).model);
+    app::SculptOptions o;
+    join.configure(o);
+    js->wire(o);
+    js->thread->start();
+    return js;
 }
 
 }  // namespace tridex::bench::shared_sites

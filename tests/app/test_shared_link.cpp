@@ -77,6 +77,23 @@ struct Site {
 
 // Starts `host` on `model` as a run session's host does: the model's .tdx bytes go to a joiner that asks for the start,
 // the model as it stands (written the same way) to one that joins late.
+void start_host(SharedHost& host, const compute::TriDexel& model, const fs::path& dir);
+
+// Wires a site's sculpt thread as the host's (its stream, intake and snapshots) and starts the host on its model.
+void host_site(SharedHost& host, Site& hs, const fs::path& dir) {
+    SculptOptions o;
+    host.configure(o);
+    hs.wire(o);
+    start_host(host, hs.model, dir);
+}
+
+// Wires a site's sculpt thread to follow the host `join` joined.
+void join_site(SharedJoin& join, Site& js) {
+    SculptOptions o;
+    join.configure(o);
+    js.wire(o);
+}
+
 void start_host(SharedHost& host, const compute::TriDexel& model, const fs::path& dir) {
     const std::string path = (dir / "shared_start.tdx").string();
     compute::save_tdx(path, model, Mat4(1.0), "{}");
@@ -117,10 +134,7 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     ho.digest_check_s = 0.2;
     SharedHost host(ho, [&server_end]() { return std::move(server_end); });  // one peer, on the network thread
     Site hs(box_model());
-    SculptOptions hso;
-    host.configure(hso);
-    hs.wire(hso);
-    start_host(host, hs.model, dir / "host");
+    host_site(host, hs, dir / "host");
     hs.thread->start();
 
     SharedJoinOptions jo;
@@ -132,9 +146,7 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     EXPECT_EQ(joined.welcome.host_name, "Ann");
     Site js(compute::load_tdx(joined.start_path, std::size_t{1} << 30).model);
     EXPECT_EQ(compute::model_digest(js.model), compute::model_digest(hs.model));
-    SculptOptions jso;
-    join.configure(jso);
-    js.wire(jso);
+    join_site(join, js);
     js.thread->start();
     // Each site's frame loop: its own tool to the others, theirs read back, as a run session's frames do.
     std::atomic<bool> frames_stop{false};
@@ -217,10 +229,7 @@ TEST(SharedLink, ALateJoinerGetsTheModelAsItStandsAndFollowsTheHostsUndoOfAStrok
     ho.digest_check_s = 0.2;
     SharedHost host(ho, [&server_end]() { return std::move(server_end); });
     Site hs(box_model());
-    SculptOptions hso;
-    host.configure(hso);
-    hs.wire(hso);
-    start_host(host, hs.model, dir / "host");
+    host_site(host, hs, dir / "host");
     hs.thread->start();
     hs.push(groove(0.02, -0.03, 0.03, 150, 0.0));  // carved before anyone joins
     ASSERT_TRUE(wait_until([&] { return hs.thread->live().steps > 0 && hs.ring.size() == 0; }));
@@ -236,9 +245,7 @@ TEST(SharedLink, ALateJoinerGetsTheModelAsItStandsAndFollowsTheHostsUndoOfAStrok
     Site js(compute::load_tdx(joined.start_path, std::size_t{1} << 30).model);
     EXPECT_EQ(compute::model_digest(js.model), joined.welcome.initial_digest);
     EXPECT_NE(joined.welcome.initial_digest, compute::model_digest(box_model()));
-    SculptOptions jso;
-    join.configure(jso);
-    js.wire(jso);
+    join_site(join, js);
     js.thread->start();
     ASSERT_TRUE(hs.thread->request(SculptRequest::kUndo));  // the host takes back its stroke from before the join
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
@@ -271,10 +278,7 @@ TEST(SharedLink, AJoinerWithAnotherKeyNeverJoinsAndTheHostCountsIt) {
     ho.out = dir.string();
     SharedHost host(ho, [&server_end]() { return std::move(server_end); });
     Site hs(box_model());
-    SculptOptions hso;
-    host.configure(hso);
-    hs.wire(hso);
-    start_host(host, hs.model, dir);
+    host_site(host, hs, dir);
     SharedJoinOptions jo;
     jo.out = dir.string();
     jo.join_timeout_s = 5.0;
