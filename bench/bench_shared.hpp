@@ -36,6 +36,9 @@ struct LateJoinRow {
     /// The undo history's before-images after the stream (the host's rules and budget), bytes: what a joiner sent the
     /// model as it stands would need besides, to follow undos of strokes made before it joined.
     std::uint64_t history_bytes = 0;
+    std::uint64_t packed_history_bytes = 0;  ///< the history as the welcome carries it (zstd), bytes
+    double snapshot_s = 0.0;   ///< the host's snapshot: the model copied, the history saved, the .tdx written, packed, s
+    double join_load_s = 0.0;  ///< the joiner's load of the .tdx and the history, and its contour, s
 };
 
 /// One delay: latencies (sample pushed -> mesh with its cut published, ms), bytes per second, digests.

@@ -1,5 +1,6 @@
 // bench/bench_shared_join.cpp - `tridex bench --shared`'s late joins: what a joiner arriving after minutes of
 // sculpting receives (the stream's bytes) and how long it takes to replay it and contour the result.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,8 @@
 #include "bench/bench_shared.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_replay.hpp"
+#include "compute/journal/stream_pack.hpp"
+#include "compute/history/undo_history.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "core/error.hpp"
@@ -45,17 +48,45 @@ std::vector<compute::JournalRecord> scripted_stream(double minutes) {
     return out;
 }
 
+// A join with the model as it stands, timed: at the host, the snapshot (a copy of the model, the history's steps) and
+// what its network thread makes of it (the .tdx, the packed history); at the joiner, loading both and contouring.
+// Fills the row's model_bytes, packed_history_bytes, snapshot_s and join_load_s.
+void time_snapshot_join(const compute::TriDexel& model, const compute::JournalApplier& applier,
+                        const std::filesystem::path& dir, LateJoinRow& row) {
+    const std::filesystem::path tdx = dir / "shared_late_join_model.tdx";
+    const auto t0 = Clock::now();
+    compute::TriDexel copy = model;
+    std::fill(copy.tiles.dirty.begin(), copy.tiles.dirty.end(), compute::TileGrid::kWhole);  // as take_snapshot does
+    const std::vector<unsigned char> steps = applier.history_steps();
+    compute::save_tdx(tdx.string(), copy, Mat4(1.0), "{}");
+    const std::vector<unsigned char> packed = compute::pack_bytes(steps);
+    const auto t1 = Clock::now();
+    compute::TdxModel joined = compute::load_tdx(tdx.string(), std::size_t{1} << 31);
+    compute::UndoHistory history(joined.model.lattice);
+    history.load_steps(compute::unpack_bytes(packed, std::size_t{1} << 30, "the late join's history"));
+    compute::Contourer contourer(joined.model);
+    contourer.update(joined.model);
+    const auto t2 = Clock::now();
+    row.model_bytes = std::filesystem::file_size(tdx);
+    std::filesystem::remove(tdx);
+    row.packed_history_bytes = packed.size();
+    row.snapshot_s = std::chrono::duration<double>(t1 - t0).count();
+    row.join_load_s = std::chrono::duration<double>(t2 - t1).count();
+}
+
 }  // namespace
 
 std::vector<LateJoinRow> run_late_join_bench(const SharedBenchOptions& o) {
     std::vector<LateJoinRow> rows;
     if (o.join_minutes.empty()) return rows;
     std::filesystem::create_directories(o.out);
-    std::printf("late join: the starting model plus the stream since, replayed by the host's rules and contoured (box "
-                "at %d cells; the transfer itself is the bytes over the link)\n",
+    std::printf("late join (box at %d cells). From the start: the starting model plus the stream since, replayed by the "
+                "host's rules and contoured (what a cluster wall asks for). As it stands: the host's snapshot (model copy, "
+                "history, .tdx, packed), then the joiner's load of both and contour (what a joiner gets). Times are "
+                "timed; the transfer is the bytes at 10 MB/s\n",
                 o.resolution);
-    std::printf("%8s %10s %12s %10s %10s %12s | %14s %12s\n", "minutes", "samples", "stream MB", "replay s", "contour s",
-                "at 10 MB/s s", "model now MB", "history MB");
+    std::printf("%8s %10s | %10s %10s %10s %12s | %10s %10s %10s %10s %12s\n", "minutes", "samples", "stream MB",
+                "replay s", "contour s", "at 10 MB/s s", "model MB", "history MB", "snapshot s", "load s", "at 10 MB/s s");
     nlohmann::json js = nlohmann::json::array();
     for (const double minutes : o.join_minutes) {
         if (!(minutes >= 1.0 && minutes <= 60.0)) throw Error("--shared-join-minutes: each must be in [1, 60]");
@@ -73,23 +104,27 @@ std::vector<LateJoinRow> run_late_join_bench(const SharedBenchOptions& o) {
             compute::Lattice::around(Aabb{Vec3(-0.05), Vec3(0.05)}, o.resolution), std::size_t{1} << 31);
         compute::scan_convert(box_mesh(Aabb{Vec3(-0.0487), Vec3(0.0487)}), model);
         const auto t0 = Clock::now();
-        const compute::JournalApplyStats applied = compute::journal_apply(model, stream);
+        compute::JournalApplier applier(model);
+        applier.apply(stream);
+        applier.flush();
         const auto t1 = Clock::now();
-        row.history_bytes = applied.history_bytes;
+        row.history_bytes = applier.stats().history_bytes;
         compute::Contourer contourer(model);
         contourer.update(model);
         const auto t2 = Clock::now();
         row.replay_s = std::chrono::duration<double>(t1 - t0).count();
         row.contour_s = std::chrono::duration<double>(t2 - t1).count();
-        const std::filesystem::path now_tdx = std::filesystem::path(o.out) / "shared_late_join_model.tdx";
-        compute::save_tdx(now_tdx.string(), model, Mat4(1.0), "{}");
-        row.model_bytes = std::filesystem::file_size(now_tdx);
-        std::filesystem::remove(now_tdx);
-        std::printf("%8.0f %10llu %12.1f %10.2f %10.2f %12.1f | %14.1f %12.1f\n", minutes,
+        time_snapshot_join(model, applier, o.out, row);
+        const double now_bytes = static_cast<double>(row.model_bytes + row.packed_history_bytes);
+        std::printf("%8.0f %10llu | %10.1f %10.2f %10.2f %12.1f | %10.2f %10.2f %10.3f %10.3f %12.2f\n", minutes,
                     static_cast<unsigned long long>(row.samples), row.bytes / 1e6, row.replay_s, row.contour_s,
-                    row.bytes / 10e6 + row.replay_s + row.contour_s, row.model_bytes / 1e6, row.history_bytes / 1e6);
+                    row.bytes / 10e6 + row.replay_s + row.contour_s, row.model_bytes / 1e6,
+                    row.packed_history_bytes / 1e6, row.snapshot_s, row.join_load_s,
+                    row.snapshot_s + now_bytes / 10e6 + row.join_load_s);
         js.push_back({{"minutes", minutes}, {"samples", row.samples}, {"bytes", row.bytes}, {"replay_s", row.replay_s},
-                      {"contour_s", row.contour_s}, {"model_bytes", row.model_bytes}, {"history_bytes", row.history_bytes}});
+                      {"contour_s", row.contour_s}, {"model_bytes", row.model_bytes}, {"history_bytes", row.history_bytes},
+                      {"packed_history_bytes", row.packed_history_bytes}, {"snapshot_s", row.snapshot_s},
+                      {"join_load_s", row.join_load_s}});
         rows.push_back(row);
     }
     app::write_json_file((std::filesystem::path(o.out) / "shared_late_join.json").string(), {{"rows", js}});

@@ -94,6 +94,9 @@ public:
     void flush();
     /// What was applied so far.
     const JournalApplyStats& stats() const;
+    /// The replay's undo history as bytes (UndoHistory::save_steps): what a late joiner of a shared session gets with
+    /// the model. Throws tridex::Error while a stroke is open or sweeps are held.
+    std::vector<unsigned char> history_steps() const;
 
 private:
     struct State;

@@ -190,6 +190,8 @@ void JournalApplier::flush() {
 
 const JournalApplyStats& JournalApplier::stats() const { return s_->st; }
 
+std::vector<unsigned char> JournalApplier::history_steps() const { return s_->history.save_steps(); }
+
 JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from,
                                 const ProgressFn& progress) {
     JournalApplier applier(model, from);
