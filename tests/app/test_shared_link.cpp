@@ -104,6 +104,15 @@ void start_host(SharedHost& host, const compute::TriDexel& model, const fs::path
     });
 }
 
+// An empty folder in the test's temporary folder, with a `host` and a `join` folder in it.
+fs::path fresh_sites_dir(const char* name) {
+    const fs::path dir = fs::path(testing::TempDir()) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir / "host");
+    fs::create_directories(dir / "join");
+    return dir;
+}
+
 // Waits until `done` or 60 s; false on time-out.
 template <class F>
 bool wait_until(F done) {
@@ -116,10 +125,7 @@ bool wait_until(F done) {
 }
 
 TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHost) {
-    const fs::path dir = fs::path(testing::TempDir()) / "tridex_shared_link";
-    fs::remove_all(dir);
-    fs::create_directories(dir / "host");
-    fs::create_directories(dir / "join");
+    const fs::path dir = fresh_sites_dir("tridex_shared_link");
     const auto t0 = Clock::now();
     net::ShimConfig cfg;
     cfg.latency_s = 0.02;
@@ -214,10 +220,7 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
 }
 
 TEST(SharedLink, ALateJoinerGetsTheModelAsItStandsAndFollowsTheHostsUndoOfAStrokeBeforeIt) {
-    const fs::path dir = fs::path(testing::TempDir()) / "tridex_shared_link_late";
-    fs::remove_all(dir);
-    fs::create_directories(dir / "host");
-    fs::create_directories(dir / "join");
+    const fs::path dir = fresh_sites_dir("tridex_shared_link_late");
     const auto t0 = Clock::now();
     net::ShimConfig cfg;
     cfg.latency_s = 0.01;
