@@ -27,9 +27,9 @@ public:
     void f64(double v) { put(8, [&](unsigned char* p) { put_f64(p, v); }); }
     void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }
     std::vector<unsigned char> take() { return std::move(b_); }
-    std::vector<unsigned char> b_;
 
 private:
+    std::vector<unsigned char> b_;
     template <class F>
     void put(std::size_t n, F f) {
         b_.resize(b_.size() + n);
@@ -120,6 +120,7 @@ void UndoHistory::load_steps(std::span<const unsigned char> bytes) {
             if (r.axis > 2 || r.index >= copied_[r.axis].size())
                 throw Error("undo history bytes: a ray outside this model's lattice");
             const std::uint32_t n = in.u32("a ray's interval count"), capacity = in.u32("a ray's capacity");
+            // A capacity is kept exactly (it is what the budget counts), but never more than the bytes could describe.
             if (n > capacity || capacity > (bytes.size() / 10) + 64)
                 throw Error("undo history bytes: a ray holds more intervals than its capacity, or an absurd capacity");
             r.intervals.reserve(capacity);

@@ -229,14 +229,6 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         presence_view.append(others_now, frame_objects, last_eye_scene_m);
         view.objects = frame_objects;
     }
-    for (const SessionCompanion* c : companions) {  // what a companion draws
-        companion_objects.clear();
-        c->add_objects(companion_objects);
-        if (companion_objects.empty()) continue;
-        if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
-        frame_objects.insert(frame_objects.end(), companion_objects.begin(), companion_objects.end());
-        view.objects = frame_objects;
-    }
     add_menu(view, lv, saving);
     if (su.items) {
         if (lv.tick > 0) haptic_rate.add(lv.t_s, lv.tick);

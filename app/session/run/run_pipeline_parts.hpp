@@ -125,7 +125,6 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<SymmetryGhosts> ghosts;          // the symmetric tools and the mirror planes, while symmetry is on
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
-    std::vector<renderer::SceneObject> companion_objects;  // what the companions add to this frame
     std::vector<SitePresence> others_now;             // the other sites the companions know of, this frame
     PresenceView presence_view;                       // draws them (keeps their meshes)
     std::vector<PatternPiece> pattern;                 // --test-pattern: its pieces (world m), drawn as objects

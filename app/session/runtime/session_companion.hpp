@@ -64,9 +64,6 @@ public:
     /// After the threads stopped (the model is final and may be read), before the outputs are written; `last`
     /// is the last frame as shown (frame number one past the last presented).
     virtual void stopped(SessionRuntime& runtime, const FrameShown& last) { (void)runtime, (void)last; }
-    /// Appends the objects it draws in this frame (a shared session's other tools: drawn, never felt); they must stay
-    /// valid until the frame is drawn. Called on the frame loop's thread, once a frame.
-    virtual void add_objects(std::vector<renderer::SceneObject>& out) const { (void)out; }
     /// Appends the other sites it knows of (a shared session's people, gone ones left out), for FrameShown::others.
     /// Called on the frame loop's thread, once a frame, before before_present().
     virtual void add_presence(std::vector<SitePresence>& out) const { (void)out; }

@@ -263,8 +263,15 @@ void SharedHost::welcome_late_joiners() {
             if (k->joined && !k->welcomed && !k->gone && k->report.site == s.snapshot.site) j = k.get();
         if (!j) continue;  // it left while the snapshot was taken
         send_records();    // the log now holds every record the snapshot's model holds
-        WelcomeMessage w{j->report.site, o_.name, spec_json_, model_bytes_(s.snapshot.model),
-                         compute::model_digest(s.snapshot.model)};
+        std::vector<unsigned char> model;
+        try {
+            model = model_bytes_(s.snapshot.model);
+        } catch (const Error& e) {  // an unwritable output folder: the joiner hears why, the session goes on
+            send(*j, encode_end(EndMessage{0, 0, std::string("the host could not write its model: ") + e.what()}), true);
+            leave(*j, e.what());
+            continue;
+        }
+        WelcomeMessage w{j->report.site, o_.name, spec_json_, std::move(model), compute::model_digest(s.snapshot.model)};
         w.first_record = s.records;
         w.history = std::move(s.snapshot.history);
         w.prevs = std::move(s.snapshot.prevs);

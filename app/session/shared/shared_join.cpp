@@ -87,7 +87,7 @@ void SharedJoin::configure(SculptOptions& options) {
         out.mismatch = [this](const std::string& what) { fail(what); };
         std::optional<FollowStart> from;
         if (!welcome_.history.empty())  // joined late: the host's strokes so far, to follow its undos of them
-            from = FollowStart{welcome_.history, welcome_.prevs, welcome_.last_closed_serial};
+            from = FollowStart{std::move(welcome_.history), std::move(welcome_.prevs), welcome_.last_closed_serial};
         t.follow_host(intake_, welcome_.site, std::move(out), std::move(from));
     });
 }

@@ -57,7 +57,7 @@ void SharedJoinSite::starting(SessionRuntime& runtime) {
 }
 
 void SharedJoinSite::before_present(const FrameShown& shown) {
-    join_.set_own_presence(presence_of(shown, 0, join_.options().name, join_.options().colour));
+    join_.set_own_presence(presence_of(shown, join_.welcome().site, join_.options().name, join_.options().colour));
 }
 
 void SharedJoinSite::stopped(SessionRuntime& runtime, const FrameShown&) { join_.finish(runtime.workpiece().model); }
