@@ -33,6 +33,22 @@ public:
     [[noreturn]] virtual void abort_all(int code) = 0;
     /// The transport and its library, e.g. "Open MPI 4.1.4".
     virtual std::string name() const = 0;
+
+    // ---- Membership: a transport whose render ranks are processes that come and go (a network wall). MPI's ranks
+    // ---- are fixed at launch: the defaults below describe it (everyone present, nobody arrives or leaves).
+
+    /// True when a render rank may connect after the session started, and a new process may take the place of one
+    /// that failed (release()); false when the ranks are fixed at launch (MPI: a rank's failure ends the session).
+    virtual bool open_membership() const { return false; }
+    /// Rank 0 only: the render ranks (1..size()-1) whose process connected since the last call, in the order they
+    /// came; a rank appears again when a new process took its place after release(). Never throws.
+    virtual std::vector<int> arrivals() { return {}; }
+    /// Rank 0 only: whether render rank `r` has a process connected now (one that arrived and was not released).
+    virtual bool present(int r) const { (void)r; return true; }
+    /// Rank 0 only: forgets render rank `r`'s process (it failed, or holds another model): it is disconnected once
+    /// what was queued for it is sent, what came from it and was not received is dropped, later sends to it are
+    /// dropped, and a new process may claim rank r (it then appears in arrivals()). Nothing for a closed membership.
+    virtual void release(int r) { (void)r; }
 };
 
 /// The time `seconds` (s, finite, >= 0) from now: a deadline for ClusterTransport's waits.
