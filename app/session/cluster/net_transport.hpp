@@ -20,10 +20,13 @@ namespace tridex::app {
 /// process may connect at any time (arrivals()), and after release(r) a new process may claim rank r; a claim of a
 /// rank that a connected process holds, out of range or of another protocol is answered with a refusal naming why,
 /// and the process is disconnected. A message of any size is carried whole (split into datagrams and joined again).
-/// A network thread of its own services the socket, so that peers are answered while the caller's thread is busy.
-/// receive(r, ...) throws tridex::Error "render rank R left (...)" once rank r's process disconnected and nothing
-/// from it is left to receive; send(r, ...) to an absent rank drops the message. abort_all tells every connected
-/// process to end with the code, waits briefly for that to leave, and ends this process. Throws tridex::Error
+/// A network thread of its own services the socket, so that peers are answered while the caller's thread is busy;
+/// the caller's methods may be called from one other thread. receive(r, ...) throws tridex::Error "render rank R
+/// left (...)" once rank r's process disconnected and nothing from it is left to receive; send(r, ...) to an absent
+/// rank drops the message, to a rank out of 1..render_ranks throws. flush() is true once every process present has
+/// acknowledged every message sent to it whole; it is false at once while a process left before acknowledging all
+/// (until release() of its rank or a new claim of it). abort_all tells every connected process to end with the
+/// code, waits up to 1 s for that to arrive, and ends this process (std::_Exit). Throws tridex::Error
 /// "--cluster-listen HOST:PORT: ..." when it cannot listen there, or render_ranks is not 1..31.
 std::unique_ptr<ClusterTransport> make_listener_transport(const std::string& host, std::uint16_t port, int render_ranks,
                                                           const std::optional<devices::net::SessionKey>& key);
@@ -31,12 +34,19 @@ std::unique_ptr<ClusterTransport> make_listener_transport(const std::string& hos
 /// A render rank of a network wall: connects to rank 0 at host:port, claims rank `rank` (1..render_ranks) and waits
 /// until rank 0 accepts the claim or `deadline` passes. size() is render_ranks + 1. Throws tridex::Error
 /// "--cluster-connect HOST:PORT: ..." naming why it could not join: no answer by the deadline, the handshake failed
-/// (rank 0 holds another key, or none), or rank 0's refusal (its reason). Afterwards receive(0, ...) throws
-/// tridex::Error "rank 0 left (...)" once rank 0's connection is gone, and an abort from rank 0 ends this process
-/// with rank 0's code (after printing it on stderr).
+/// (rank 0 holds another key, or none), or rank 0's refusal (its reason). It talks to rank 0 only (send and receive
+/// of another rank throw). Afterwards receive(0, ...) returns what had arrived, then throws tridex::Error "rank 0
+/// left (...)" once rank 0's connection is gone (it is not made again); send(0, ...) then throws the same. An abort
+/// from rank 0 does not end this process: receive(0, ...) and send(0, ...) throw tridex::Error "rank 0 ended the
+/// session (code N)" at once, and the caller ends with code N. flush() is true once rank 0 acknowledged every
+/// message whole. Its own abort_all(code) waits up to 1 s for flush() and ends this process (std::_Exit).
 std::unique_ptr<ClusterTransport> make_member_transport(const std::string& host, std::uint16_t port, int rank,
                                                         int render_ranks,
                                                         const std::optional<devices::net::SessionKey>& key,
                                                         ClusterTransport::Clock::time_point deadline);
+
+/// The UDP port a transport of make_listener_transport listens on (the one the system picked when port 0 was
+/// asked); 0 for any other transport.
+std::uint16_t listener_port(const ClusterTransport& transport);
 
 }  // namespace tridex::app
