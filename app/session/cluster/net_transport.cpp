@@ -95,7 +95,10 @@ public:
                     ++s.sent;  // the member counts the abort as a message: flush waits for it
                 }
         }
-        flush(deadline_after(kAbortFlushS));
+        std::unique_lock lock(mutex_);  // the processes present have the abort, or the time is up
+        cv_.wait_until(lock, deadline_after(kAbortFlushS), [&] {
+            return std::all_of(slots_.begin(), slots_.end(), [](const Slot& s) { return !s.present || s.acked >= s.sent; });
+        });
         std::_Exit(code);
     }
 

@@ -108,7 +108,7 @@ private:
         if (!link_) return false;
         bool busy = false;
         net::LinkEvent ev;
-        for (int n = 0; link_ && n < kMaxEventsPerPass && link_->poll(ev); ++n) {
+        for (int n = 0; link_ && !done_ && n < kMaxEventsPerPass && link_->poll(ev); ++n) {
             busy = true;
             if (ev.kind == net::LinkEvent::kConnected && !accepted_) {
                 link_->send(encode_claim(rank_), true);  // again after a reconnect before the answer
@@ -122,6 +122,7 @@ private:
                 }
             }
         }
+        if (done_) link_.reset();  // refused or failed before the accept: no reconnect, no second claim
         if (!link_) return busy;
         if (!accepted_) {
             const std::string failure = link_->handshake_failure();
@@ -133,7 +134,13 @@ private:
         return send_queued() || busy;
     }
 
-    void thread_failed(const std::string& what) override { end("the network thread failed: " + what); }
+    void thread_failed(const std::string& what) override {
+        {
+            std::lock_guard lock(mutex_);
+            set_phase(Phase::kFailed, "the network thread failed: " + what);
+        }
+        end("the network thread failed: " + what);
+    }
 
     void on_datagram(std::vector<std::uint8_t>& d) {
         const std::optional<Kind> kind = datagram_kind(d);
