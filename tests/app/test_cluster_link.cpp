@@ -181,7 +181,7 @@ TEST(ClusterLink, ANewProcessTakesAReleasedRankAndNothingOfTheOldLeaks) {
     const std::string left = error_of([&] { (void)rank0->receive(1, deadline_after(1.0)); });
     EXPECT_NE(left.find("render rank 1 left"), std::string::npos) << left;
     EXPECT_TRUE(rank0->flush(deadline_after(1.0)));  // nothing was sent to it unacknowledged
-    rank0->send(1, text("to nobody"));  // absent: dropped
+    rank0->send(1, text("to nobody"));               // absent: dropped
     rank0->release(1);
 
     // A second process, alive, sends something rank 0 releases unread.

@@ -36,7 +36,10 @@ class ListenerTransport final : public NetTransport {
 public:
     ListenerTransport(std::unique_ptr<net::EnetHub> hub, int render_ranks, const std::optional<net::SessionKey>& key,
                       const std::string& host)
-        : hub_(std::move(hub)), key_(key), render_ranks_(render_ranks), port_(hub_->port()),
+        : hub_(std::move(hub)),
+          key_(key),
+          render_ranks_(render_ranks),
+          port_(hub_->port()),
           slots_(static_cast<std::size_t>(render_ranks) + 1) {
         name_ = "ENet " + enet_version() + " on " + host + ":" + std::to_string(port_) + (key_ ? " (sealed)" : "");
         start();
@@ -79,25 +82,27 @@ public:
     bool flush(Clock::time_point deadline) override {
         std::unique_lock lock(mutex_);
         const auto all_acked = [&] {
-            return std::all_of(slots_.begin(), slots_.end(), [](const Slot& s) { return !s.lost && s.acked >= s.sent; });
+            return std::all_of(slots_.begin(), slots_.end(),
+                               [](const Slot& s) { return !s.lost && s.acked >= s.sent; });
         };
-        const auto any_lost = [&] { return std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.lost; }); };
+        const auto any_lost = [&] {
+            return std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.lost; });
+        };
         cv_.wait_until(lock, deadline, [&] { return all_acked() || any_lost(); });
         return all_acked();
     }
 
     [[noreturn]] void abort_all(int code) override {
-        {
-            std::lock_guard lock(mutex_);
-            for (Slot& s : slots_)
-                if (s.present) {
-                    s.abort = code;
-                    ++s.sent;  // the member counts the abort as a message: flush waits for it
-                }
-        }
-        std::unique_lock lock(mutex_);  // the processes present have the abort, or the time is up
+        std::unique_lock lock(mutex_);
+        for (Slot& s : slots_)
+            if (s.present) {
+                s.abort = code;
+                ++s.sent;  // the member counts the abort as a message and acknowledges it
+            }
+        // Until every process present has the abort, or the time is up.
         cv_.wait_until(lock, deadline_after(kAbortFlushS), [&] {
-            return std::all_of(slots_.begin(), slots_.end(), [](const Slot& s) { return !s.present || s.acked >= s.sent; });
+            return std::all_of(slots_.begin(), slots_.end(),
+                               [](const Slot& s) { return !s.present || s.acked >= s.sent; });
         });
         std::_Exit(code);
     }
@@ -133,22 +138,22 @@ private:
         std::string where{};       // its process's address
         std::deque<Message> in{};  // whole messages from it, not yet received
         std::size_t in_bytes = 0;
-        std::deque<Message> out{};     // messages for it, not yet handed to the link
-        std::optional<int> abort{};    // an abort to send after `out`
-        std::uint64_t sent = 0;        // messages queued for its process (and an abort)
-        std::uint64_t acked = 0;       // of them, received whole by its process
-        bool lost = false;             // its process left before acknowledging all: flush cannot succeed
+        std::deque<Message> out{};   // messages for it, not yet handed to the link
+        std::optional<int> abort{};  // an abort to send after `out`
+        std::uint64_t sent = 0;      // messages queued for its process (and an abort)
+        std::uint64_t acked = 0;     // of them, received whole by its process
+        bool lost = false;           // its process left before acknowledging all: flush cannot succeed
     };
     /// One connected process, on the network thread only.
     struct Peer {
         std::unique_ptr<net::DatagramLink> link;
         std::string where;
-        double since_s = 0.0;    // when it connected
-        int rank = 0;            // the rank it holds (0: no claim taken yet)
-        std::uint64_t id = 0;    // its number while it holds a rank
+        double since_s = 0.0;  // when it connected
+        int rank = 0;          // the rank it holds (0: no claim taken yet)
+        std::uint64_t id = 0;  // its number while it holds a rank
         MessageJoiner joiner{};
         std::uint64_t received = 0, ack_sent = 0;  // whole messages from it; the count last acknowledged
-        bool gone = false;       // dropped or disconnected: removed at the end of the pass
+        bool gone = false;                         // dropped or disconnected: removed at the end of the pass
     };
     /// A released rank's old process: dropped once `out` went to it.
     struct Drop {
@@ -249,7 +254,7 @@ private:
                     (p.rank ? "render rank " + std::to_string(p.rank) : std::string("a process without a rank")));
     }
 
-    void on_claim(Peer& p, const netwire::Control& c) {
+    void on_claim(Peer& p, const Control& c) {
         if (c.version != kProtocol)
             return refuse(p, "it speaks protocol version " + std::to_string(c.version) + ", rank 0 version " +
                                  std::to_string(kProtocol) + " (run the same tridex on every rank)");
@@ -393,7 +398,8 @@ std::unique_ptr<ClusterTransport> make_listener_transport(const std::string& hos
     const std::string what = "--cluster-listen " + shown + ":" + std::to_string(port);
     if (render_ranks < 1 || render_ranks > 31)
         throw Error(what + ": " + std::to_string(render_ranks) + " render ranks is not 1..31");
-    const std::size_t max_peers = std::min<std::size_t>(static_cast<std::size_t>(render_ranks) + 4, net::EnetHub::kMaxPeers);
+    const std::size_t max_peers =
+        std::min<std::size_t>(static_cast<std::size_t>(render_ranks) + 4, net::EnetHub::kMaxPeers);
     std::unique_ptr<net::EnetHub> hub;
     try {
         hub = net::EnetHub::listen(host, port, max_peers, kPeerTimeoutS);

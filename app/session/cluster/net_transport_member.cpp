@@ -27,7 +27,10 @@ class MemberTransport final : public NetTransport {
 public:
     MemberTransport(std::unique_ptr<net::DatagramLink> link, int rank, int render_ranks, std::string what,
                     std::string name)
-        : link_(std::move(link)), rank_(rank), render_ranks_(render_ranks), what_(std::move(what)),
+        : link_(std::move(link)),
+          rank_(rank),
+          render_ranks_(render_ranks),
+          what_(std::move(what)),
           name_(std::move(name)) {
         start();
     }
@@ -169,8 +172,9 @@ private:
     void on_answer(const std::vector<std::uint8_t>& d, std::optional<Kind> kind) {
         if (kind != Kind::kControl) {
             std::lock_guard lock(mutex_);
-            set_phase(Phase::kFailed, "rank 0 answered with a datagram that is not this protocol's (does rank 0 seal "
-                                      "its datagrams with a key this process was not given?)");
+            set_phase(Phase::kFailed,
+                      "rank 0 answered with a datagram that is not this protocol's (does rank 0 seal "
+                      "its datagrams with a key this process was not given?)");
             return;
         }
         Control c;
@@ -264,7 +268,6 @@ private:
     std::optional<int> aborted_;
     std::string failure_;
 };
-
 
 }  // namespace
 

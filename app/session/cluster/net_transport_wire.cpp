@@ -93,7 +93,8 @@ std::vector<std::uint8_t> encode_accept(int rank) {
 
 std::vector<std::uint8_t> encode_refuse(const std::string& reason) {
     std::vector<std::uint8_t> out = control(ControlType::kRefuse);
-    out.insert(out.end(), reason.begin(), reason.begin() + static_cast<std::ptrdiff_t>(std::min(reason.size(), kMaxReasonBytes)));
+    out.insert(out.end(), reason.begin(),
+               reason.begin() + static_cast<std::ptrdiff_t>(std::min(reason.size(), kMaxReasonBytes)));
     return out;
 }
 
@@ -134,7 +135,9 @@ Control decode_control(const std::vector<std::uint8_t>& d) {
             c.reason.assign(d.begin() + kControlHeader, d.end());
             break;
         case ControlType::kAck: c.count = get_le(d, kControlHeader, 8); break;
-        case ControlType::kAbort: c.code = static_cast<int>(static_cast<std::uint32_t>(get_le(d, kControlHeader, 4))); break;
+        case ControlType::kAbort:
+            c.code = static_cast<int>(static_cast<std::uint32_t>(get_le(d, kControlHeader, 4)));
+            break;
     }
     return c;
 }

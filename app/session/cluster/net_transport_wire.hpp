@@ -32,8 +32,8 @@ constexpr std::size_t kMaxReasonBytes = 1000;
 /// A message's bytes.
 using Message = std::vector<unsigned char>;
 
-constexpr double kPeerTimeoutS = 3.0;  ///< a silent peer is disconnected after this long (s)
-constexpr double kAbortFlushS = 1.0;   ///< abort_all waits this long for what it sent to arrive (s)
+constexpr double kPeerTimeoutS = 3.0;    ///< a silent peer is disconnected after this long (s)
+constexpr double kAbortFlushS = 1.0;     ///< abort_all waits this long for what it sent to arrive (s)
 constexpr int kMaxEventsPerPass = 4096;  ///< events taken from one link per pass of the network thread
 /// Bytes of whole messages from one peer not yet received; past it the peer is disconnected (rank 0) or the
 /// transport fails (a render rank). One message alone is always taken.
@@ -115,7 +115,9 @@ void send_message(devices::net::DatagramLink& link, const Message& m, std::vecto
 class NetTransport : public ClusterTransport {
 protected:
     /// Starts the network thread (the derived object is complete by then).
-    void start() { thread_ = std::thread([this] { run(); }); }
+    void start() {
+        thread_ = std::thread([this] { run(); });
+    }
     /// Stops and joins the network thread; every derived destructor calls it before its members go.
     void stop() {
         stop_.store(true);
