@@ -151,9 +151,10 @@ private:
         double since_s = 0.0;  // when it connected
         int rank = 0;          // the rank it holds (0: no claim taken yet)
         std::uint64_t id = 0;  // its number while it holds a rank
-        MessageJoiner joiner{};
-        std::uint64_t received = 0, ack_sent = 0;  // whole messages from it; the count last acknowledged
-        bool gone = false;                         // dropped or disconnected: removed at the end of the pass
+        Inbox inbox{};
+        Outbox outbox{};
+        bool releasing = false;  // its rank was released: dropped once its outbox is empty
+        bool gone = false;       // dropped or disconnected: removed at the end of the pass
     };
     /// A released rank's old process: dropped once `out` went to it.
     struct Drop {
@@ -171,9 +172,9 @@ private:
         bool busy = accept_peers();
         for (auto& p : peers_)
             if (!p->gone) busy |= poll_peer(*p);
-        busy |= drop_released();
+        busy |= release_peers();
         for (auto& p : peers_)
-            if (!p->gone && p->rank) busy |= send_queued(*p);
+            if (!p->gone && (p->rank || p->releasing)) busy |= pump(*p);
         peers_.erase(std::remove_if(peers_.begin(), peers_.end(), [](const auto& p) { return p->gone; }), peers_.end());
         return busy;
     }
@@ -218,7 +219,7 @@ private:
                          failure.c_str());
             p.link->drop_peer();
             leave(p, failure);
-        } else if (!p.rank && steady_s() - p.since_s > kClaimTimeoutS) {
+        } else if (!p.rank && !p.releasing && steady_s() - p.since_s > kClaimTimeoutS) {
             refuse(p, "no claim of a rank within " + seconds_text(kClaimTimeoutS));
         }
         return n > 0;
@@ -226,12 +227,19 @@ private:
 
     void on_datagram(Peer& p, std::vector<std::uint8_t>& d) {
         const std::optional<Kind> kind = datagram_kind(d);
+        if (p.releasing) {  // only its acknowledgements still matter: they open the window for what it is owed
+            if (kind == Kind::kControl) {
+                const Control c = decode_control(d);
+                if (c.type == ControlType::kAck) p.outbox.acked(c.bytes);
+            }
+            return;
+        }
         if (!kind) throw Error("a datagram of " + std::to_string(d.size()) + " bytes that is not this protocol's");
         if (*kind != Kind::kControl) {
             if (!p.rank) throw Error("a message before the claim of a rank");
             std::optional<Message> m;
             try {
-                m = p.joiner.push(d);
+                m = p.inbox.push(d);
             } catch (const Error& e) {
                 refuse(p, std::string("rank 0 refuses ") + e.what());
                 leave(p, std::string("it sent ") + e.what());
@@ -244,6 +252,7 @@ private:
         if (c.type == ControlType::kClaim && !p.rank) return on_claim(p, c);
         if (c.version != kProtocol) throw Error("a control datagram of version " + std::to_string(c.version));
         if (c.type == ControlType::kAck && p.rank) {
+            p.outbox.acked(c.bytes);
             std::lock_guard lock(mutex_);
             Slot& s = slots_[static_cast<std::size_t>(p.rank)];
             if (s.holder == p.id) s.acked = std::max(s.acked, std::min(c.count, s.sent));
@@ -330,7 +339,6 @@ private:
             if (s.in_bytes + m.size() <= kMaxQueuedBytes || s.in.empty()) {
                 s.in_bytes += m.size();
                 s.in.push_back(std::move(m));
-                ++p.received;
                 cv_.notify_all();
                 return;
             }
@@ -339,8 +347,8 @@ private:
         leave(p, overflow_text());
     }
 
-    // Sends what was queued for a released rank's old process, then drops it.
-    bool drop_released() {
+    // A released rank's old process is owed what was queued for it before the release: it is dropped once that went.
+    bool release_peers() {
         std::vector<Drop> drops;
         {
             std::lock_guard lock(mutex_);
@@ -349,32 +357,34 @@ private:
         for (Drop& d : drops)
             for (auto& p : peers_)
                 if (!p->gone && p->rank && p->id == d.id) {
-                    for (const Message& m : d.out) send_message(*p->link, m, scratch_);
-                    p->link->drop_peer();
-                    p->gone = true;
+                    p->outbox.add(d.out);
+                    p->releasing = true;
                     p->rank = 0;
                 }
         return !drops.empty();
     }
 
-    bool send_queued(Peer& p) {
-        std::deque<Message> out;
-        std::optional<int> abort;
-        {
+    // Takes what the frame thread queued for the peer, hands the link what the window allows, and acknowledges what
+    // came from it.
+    bool pump(Peer& p) {
+        if (p.rank) {
             std::lock_guard lock(mutex_);
             Slot& s = slots_[static_cast<std::size_t>(p.rank)];
-            if (s.holder != p.id) return false;
-            out.swap(s.out);
-            abort = std::exchange(s.abort, std::nullopt);
+            if (s.holder == p.id) {
+                p.outbox.add(s.out);
+                if (s.abort) p.outbox.add_abort(*std::exchange(s.abort, std::nullopt));
+            }
         }
-        for (const Message& m : out) send_message(*p.link, m, scratch_);
-        if (abort) p.link->send(encode_abort(*abort), true);
-        const bool ack = p.received > p.ack_sent;
-        if (ack) {
-            p.link->send(encode_ack(p.received), true);
-            p.ack_sent = p.received;
+        bool busy = p.outbox.pump(*p.link, scratch_);
+        if (const auto ack = p.inbox.ack_due()) {
+            p.link->send(*ack, true);
+            busy = true;
         }
-        return ack || abort || !out.empty();
+        if (p.releasing && p.outbox.empty()) {
+            p.link->drop_peer();
+            p.gone = true;
+        }
+        return busy;
     }
 
     std::unique_ptr<net::EnetHub> hub_;

@@ -150,18 +150,19 @@ private:
         if (!accepted_) return on_answer(d, kind);
         if (!kind) throw Error("a datagram of " + std::to_string(d.size()) + " bytes that is not this protocol's");
         if (*kind != Kind::kControl) {
-            std::optional<Message> m = joiner_.push(d);
+            std::optional<Message> m = inbox_.push(d);
             if (m) deliver(std::move(*m));
             return;
         }
         const Control c = decode_control(d);
         if (c.version != kProtocol) throw Error("a control datagram of version " + std::to_string(c.version));
+        if (c.type == ControlType::kAck) outbox_.acked(c.bytes);
         std::lock_guard lock(mutex_);
         if (c.type == ControlType::kAck) {
             acked_ = std::max(acked_, std::min(c.count, sent_));
         } else if (c.type == ControlType::kAbort) {
             if (!aborted_) aborted_ = c.code;
-            ++received_;  // rank 0 counts the abort as a message: its flush waits for it
+            inbox_.count_message();  // rank 0 counts the abort as a message: its flush waits for it
         } else {
             throw Error("a control datagram of type " + std::to_string(static_cast<int>(c.type)) + " after the accept");
         }
@@ -214,7 +215,6 @@ private:
             if (in_bytes_ + m.size() <= kMaxQueuedBytes || in_.empty()) {
                 in_bytes_ += m.size();
                 in_.push_back(std::move(m));
-                ++received_;
                 cv_.notify_all();
                 return;
             }
@@ -232,27 +232,24 @@ private:
         link_.reset();
     }
 
+    // Takes what the frame thread queued, hands the link what the window allows, and acknowledges what came.
     bool send_queued() {
-        std::deque<Message> out;
-        std::uint64_t received = 0;
         {
             std::lock_guard lock(mutex_);
-            out.swap(out_);
-            received = received_;
+            outbox_.add(out_);
         }
-        for (const Message& m : out) send_message(*link_, m, scratch_);
-        const bool ack = received > ack_sent_;
-        if (ack) {
-            link_->send(encode_ack(received), true);
-            ack_sent_ = received;
+        bool busy = outbox_.pump(*link_, scratch_);
+        if (const auto ack = inbox_.ack_due()) {
+            link_->send(*ack, true);
+            busy = true;
         }
-        return ack || !out.empty();
+        return busy;
     }
 
     // Network thread:
     std::unique_ptr<net::DatagramLink> link_;  // null once the connection ended for good
-    MessageJoiner joiner_{};
-    std::uint64_t ack_sent_ = 0;
+    Inbox inbox_{};
+    Outbox outbox_{};
     const int rank_, render_ranks_;
     const std::string what_, name_;
     // Under mutex_ (accepted_ and done_ are written under it by the network thread, which alone reads them):
@@ -264,7 +261,7 @@ private:
     std::deque<Message> in_;
     std::size_t in_bytes_ = 0;
     std::deque<Message> out_;
-    std::uint64_t sent_ = 0, acked_ = 0, received_ = 0;
+    std::uint64_t sent_ = 0, acked_ = 0;
     std::optional<int> aborted_;
     std::string failure_;
 };

@@ -50,7 +50,7 @@ int field_bytes(ControlType type) {
         case ControlType::kClaim:
         case ControlType::kAccept: return 2;
         case ControlType::kRefuse: return -1;
-        case ControlType::kAck: return 8;
+        case ControlType::kAck: return 16;
         case ControlType::kAbort: return 4;
     }
     return -2;
@@ -98,9 +98,10 @@ std::vector<std::uint8_t> encode_refuse(const std::string& reason) {
     return out;
 }
 
-std::vector<std::uint8_t> encode_ack(std::uint64_t count) {
+std::vector<std::uint8_t> encode_ack(std::uint64_t count, std::uint64_t bytes) {
     std::vector<std::uint8_t> out = control(ControlType::kAck);
     put_u64(out, count);
+    put_u64(out, bytes);
     return out;
 }
 
@@ -134,7 +135,10 @@ Control decode_control(const std::vector<std::uint8_t>& d) {
             if (n > kMaxReasonBytes) throw Error("a refusal of " + std::to_string(n) + " bytes");
             c.reason.assign(d.begin() + kControlHeader, d.end());
             break;
-        case ControlType::kAck: c.count = get_le(d, kControlHeader, 8); break;
+        case ControlType::kAck:
+            c.count = get_le(d, kControlHeader, 8);
+            c.bytes = get_le(d, kControlHeader + 8, 8);
+            break;
         case ControlType::kAbort:
             c.code = static_cast<int>(static_cast<std::uint32_t>(get_le(d, kControlHeader, 4)));
             break;
@@ -142,20 +146,57 @@ Control decode_control(const std::vector<std::uint8_t>& d) {
     return c;
 }
 
-std::optional<std::vector<unsigned char>> MessageJoiner::push(std::vector<std::uint8_t>& datagram) {
+std::optional<Message> Inbox::push(std::vector<std::uint8_t>& datagram) {
     const bool last = datagram[0] == static_cast<std::uint8_t>(Kind::kDataLast);
     const std::size_t n = datagram.size() - 1;
     if (partial_.size() + n > kMaxMessageBytes)
         throw Error("a message over " + std::to_string(kMaxMessageBytes >> 20) + " MiB");
-    if (last && partial_.empty()) {  // a message of one datagram: no copy into partial_
+    bytes_ += n;
+    if (!last) {
+        partial_.insert(partial_.end(), datagram.begin() + 1, datagram.end());
+        return std::nullopt;
+    }
+    ++messages_;
+    if (partial_.empty()) {  // a message of one datagram: no copy into partial_
         datagram.erase(datagram.begin());
-        return std::vector<unsigned char>(std::move(datagram));
+        return Message(std::move(datagram));
     }
     partial_.insert(partial_.end(), datagram.begin() + 1, datagram.end());
-    if (!last) return std::nullopt;
-    std::vector<unsigned char> done;
+    Message done;
     done.swap(partial_);
     return done;
+}
+
+std::optional<std::vector<std::uint8_t>> Inbox::ack_due() {
+    if (messages_ == acked_messages_ && bytes_ == acked_bytes_) return std::nullopt;
+    acked_messages_ = messages_;
+    acked_bytes_ = bytes_;
+    return encode_ack(messages_, bytes_);
+}
+
+void Outbox::add(std::deque<Message>& more) {
+    for (Message& m : more) queue_.push_back(std::move(m));
+    more.clear();
+}
+
+bool Outbox::pump(devices::net::DatagramLink& link, std::vector<std::uint8_t>& scratch) {
+    bool any = false;
+    while (!queue_.empty() && sent_ - acked_ < kWindowBytes) {
+        const Message& m = queue_.front();
+        make_chunk(m, chunk_, scratch);
+        link.send(scratch, true);
+        sent_ += scratch.size() - 1;
+        any = true;
+        if (++chunk_ < chunk_count(m.size())) continue;
+        queue_.pop_front();
+        chunk_ = 0;
+    }
+    if (queue_.empty() && abort_) {
+        link.send(encode_abort(*abort_), true);
+        abort_.reset();
+        any = true;
+    }
+    return any;
 }
 
 std::string enet_version() {
@@ -173,14 +214,6 @@ std::string reason_of(const std::exception& e) {
     const std::string m = e.what();
     const auto at = m.find(": ");
     return at == std::string::npos ? m : m.substr(at + 2);
-}
-
-void send_message(devices::net::DatagramLink& link, const Message& m, std::vector<std::uint8_t>& scratch) {
-    const std::size_t n = chunk_count(m.size());
-    for (std::size_t i = 0; i < n; ++i) {
-        make_chunk(m, i, scratch);
-        link.send(scratch, true);
-    }
 }
 
 void NetTransport::run() {

@@ -4,10 +4,12 @@
 // thread's loop with the lock and signal between it and the session's frame thread.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -38,6 +40,10 @@ constexpr int kMaxEventsPerPass = 4096;  ///< events taken from one link per pas
 /// Bytes of whole messages from one peer not yet received; past it the peer is disconnected (rank 0) or the
 /// transport fails (a render rank). One message alone is always taken.
 constexpr std::size_t kMaxQueuedBytes = std::size_t(1) << 30;
+/// Data bytes a sender hands to its link beyond what the far end acknowledged: each pass of the network thread stays
+/// short (ENet times a peer out when its host is not serviced for kPeerTimeoutS while data is unacknowledged), and
+/// ENet's queues stay small however large the message.
+constexpr std::uint64_t kWindowBytes = std::uint64_t(8) << 20;
 
 /// Byte 0 of every datagram.
 enum class Kind : std::uint8_t {
@@ -51,7 +57,7 @@ enum class ControlType : std::uint8_t {
     kClaim = 1,   ///< member -> rank 0: the rank it claims
     kAccept = 2,  ///< rank 0 -> member: the claim is taken
     kRefuse = 3,  ///< rank 0 -> member: the claim is refused, with the reason
-    kAck = 4,     ///< either way: the count of whole messages received from the other end so far
+    kAck = 4,     ///< either way: whole messages and data bytes received from the other end so far
     kAbort = 5,   ///< rank 0 -> member: the session ends with this exit code
 };
 
@@ -61,7 +67,8 @@ struct Control {
     std::uint16_t version = kProtocol;  ///< another version: only `type` and `version` are read
     int rank = 0;                       ///< kClaim, kAccept
     std::string reason{};               ///< kRefuse
-    std::uint64_t count = 0;            ///< kAck
+    std::uint64_t count = 0;            ///< kAck: whole messages
+    std::uint64_t bytes = 0;            ///< kAck: data bytes (the payloads of data datagrams)
     int code = 0;                       ///< kAbort
 };
 
@@ -80,26 +87,53 @@ std::vector<std::uint8_t> encode_claim(int rank);
 std::vector<std::uint8_t> encode_accept(int rank);
 /// A refusal with its reason (UTF-8, cut at kMaxReasonBytes).
 std::vector<std::uint8_t> encode_refuse(const std::string& reason);
-/// An acknowledgement: `count` whole messages received so far (u64).
-std::vector<std::uint8_t> encode_ack(std::uint64_t count);
+/// An acknowledgement: `count` whole messages and `bytes` data bytes received so far (u64 each).
+std::vector<std::uint8_t> encode_ack(std::uint64_t count, std::uint64_t bytes);
 /// The end of the session with exit code `code` (i32).
 std::vector<std::uint8_t> encode_abort(int code);
 /// A control datagram's fields. Throws tridex::Error naming what is wrong (too short, not "TDXW", an unknown type, a
 /// length that does not match the type). A datagram of another version is returned with its type and version only.
 Control decode_control(const std::vector<std::uint8_t>& datagram);
 
-/// Joins the data datagrams of one peer into messages, in order.
-class MessageJoiner {
+/// What one link received (network thread only): its data datagrams joined into messages, in order, and the counts
+/// its acknowledgements carry.
+class Inbox {
 public:
     /// Takes a data datagram (kDataMore or kDataLast); returns the message it completes, or nullopt while more parts
     /// are to come. Throws tridex::Error when the message would pass kMaxMessageBytes (the peer is then to be
     /// disconnected: the rest of its stream cannot be read).
-    std::optional<std::vector<unsigned char>> push(std::vector<std::uint8_t>& datagram);
-    /// Bytes of the message being joined so far.
-    std::size_t pending_bytes() const { return partial_.size(); }
+    std::optional<Message> push(std::vector<std::uint8_t>& datagram);
+    /// Counts a control datagram the sender counts as a message (an abort).
+    void count_message() { ++messages_; }
+    /// The acknowledgement to send when anything came since the last one, else nullopt (one per pass at most).
+    std::optional<std::vector<std::uint8_t>> ack_due();
 
 private:
-    std::vector<unsigned char> partial_;
+    Message partial_;
+    std::uint64_t messages_ = 0, bytes_ = 0;              // whole messages, data bytes
+    std::uint64_t acked_messages_ = 0, acked_bytes_ = 0;  // as the last acknowledgement said
+};
+
+/// The messages one link sends (network thread only), handed to it as data datagrams while fewer than kWindowBytes
+/// of them are unacknowledged, and an abort once they all went.
+class Outbox {
+public:
+    /// Appends the messages of `more` (which is emptied) after those queued.
+    void add(std::deque<Message>& more);
+    /// Sends abort(code) once every message queued before it went.
+    void add_abort(int code) { abort_ = code; }
+    /// Hands datagrams to `link` as the window allows; true when it sent any.
+    bool pump(devices::net::DatagramLink& link, std::vector<std::uint8_t>& scratch);
+    /// The far end acknowledged `bytes` data bytes in all.
+    void acked(std::uint64_t bytes) { acked_ = std::max(acked_, std::min(bytes, sent_)); }
+    /// True when nothing is left to hand to the link.
+    bool empty() const { return queue_.empty() && !abort_; }
+
+private:
+    std::deque<Message> queue_;
+    std::size_t chunk_ = 0;  // the next datagram of queue_.front()
+    std::uint64_t sent_ = 0, acked_ = 0;
+    std::optional<int> abort_;
 };
 
 /// "ENet 1.3.17": the version of the ENet headers built against.
@@ -108,8 +142,6 @@ std::string enet_version();
 std::string seconds_text(double s);
 /// A devices/net error "--x HOST:PORT: why" as "why", to be given under the cluster option's name.
 std::string reason_of(const std::exception& e);
-/// Sends `m` to the link's peer as its data datagrams, reliably (`scratch`: the datagram being made).
-void send_message(devices::net::DatagramLink& link, const Message& m, std::vector<std::uint8_t>& scratch);
 
 /// What both ends share: the network thread's loop and the lock and signal between it and the frame thread.
 class NetTransport : public ClusterTransport {
