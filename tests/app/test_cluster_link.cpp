@@ -189,11 +189,13 @@ TEST(ClusterLink, ANewProcessTakesAReleasedRankAndNothingOfTheOldLeaks) {
     EXPECT_EQ(rank0->arrivals(), std::vector<int>{1});
     second->send(0, text("stale"));
     ASSERT_TRUE(second->flush(deadline_after(3.0)));
+    rank0->send(1, text("owed"));  // queued before the release: still sent before the disconnect
     rank0->release(1);
     EXPECT_FALSE(rank0->present(1));
     EXPECT_TRUE(rank0->arrivals().empty());
     EXPECT_FALSE(rank0->receive(1, deadline_after(0.05)).has_value());  // "stale" went with the release
     rank0->send(1, text("dropped"));
+    EXPECT_EQ(next(*second, 0), text("owed"));
     const std::string dropped = wait_error(*second, 0, 5.0);
     EXPECT_NE(dropped.find("rank 0 left"), std::string::npos) << dropped;
 

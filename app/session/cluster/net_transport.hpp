@@ -21,7 +21,7 @@ namespace tridex::app {
 /// rank that a connected process holds, out of range or of another protocol is answered with a refusal naming why,
 /// and the process is disconnected. A message of any size is carried whole (split into datagrams and joined again).
 /// A network thread of its own services the socket, so that peers are answered while the caller's thread is busy;
-/// the caller's methods may be called from one other thread. receive(r, ...) throws tridex::Error "render rank R
+/// the methods may be called from a thread other than the one that made it (one thread at a time). receive(r, ...) throws tridex::Error "render rank R
 /// left (...)" once rank r's process disconnected and nothing from it is left to receive; send(r, ...) to an absent
 /// rank drops the message, to a rank out of 1..render_ranks throws. flush() is true once every process present has
 /// acknowledged every message sent to it whole; it is false at once while a process left before acknowledging all

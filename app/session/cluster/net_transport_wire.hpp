@@ -63,13 +63,13 @@ enum class ControlType : std::uint8_t {
 
 /// A decoded control datagram; the fields its type does not carry keep their defaults.
 struct Control {
-    ControlType type = ControlType::kAck;
-    std::uint16_t version = kProtocol;  ///< another version: only `type` and `version` are read
-    int rank = 0;                       ///< kClaim, kAccept
-    std::string reason{};               ///< kRefuse
-    std::uint64_t count = 0;            ///< kAck: whole messages
-    std::uint64_t bytes = 0;            ///< kAck: data bytes (the payloads of data datagrams)
-    int code = 0;                       ///< kAbort
+    ControlType type = ControlType::kAck;  ///< what it says
+    std::uint16_t version = kProtocol;     ///< another version: only `type` and `version` are read
+    int rank = 0;                          ///< kClaim, kAccept
+    std::string reason{};                  ///< kRefuse
+    std::uint64_t count = 0;               ///< kAck: whole messages
+    std::uint64_t bytes = 0;               ///< kAck: data bytes (the payloads of data datagrams)
+    int code = 0;                          ///< kAbort
 };
 
 /// The kind of a datagram (byte 0), or nullopt when it is empty or byte 0 is no Kind.
