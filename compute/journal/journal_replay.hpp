@@ -90,6 +90,12 @@ public:
     /// it as read, so that errors name records by their place in the journal ("journal record K"). Call before the
     /// first apply(). Throws tridex::Error for a sample of a site >= kMaxSites.
     void resume_after(std::uint64_t last_index, std::span<const ToolSample> prevs, std::uint64_t records_before);
+    /// Starts from a session's undo history as it stood (UndoHistory::save_steps bytes: a snapshot's, taken with no
+    /// stroke open), so that undos and redos of strokes made before find them; with from.last_serial (the newest
+    /// stroke closed then) and resume_after (the record the snapshot follows, each site's last sample), records
+    /// streamed after a snapshot apply to its model as they did to the session's. Call before the first apply().
+    /// Throws tridex::Error for malformed bytes (UndoHistory::load_steps).
+    void load_history(std::span<const unsigned char> steps);
     /// Applies a held push group (the end of a journal that ended without closing its stroke).
     void flush();
     /// What was applied so far.

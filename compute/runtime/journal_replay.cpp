@@ -178,6 +178,8 @@ void JournalApplier::resume_after(std::uint64_t last_index, std::span<const Tool
     for (const ToolSample& p : prevs) s_->sites.set_prev(p);
 }
 
+void JournalApplier::load_history(std::span<const unsigned char> steps) { s_->history.load_steps(steps); }
+
 void JournalApplier::apply(std::span<const JournalRecord> records) {
     for (const JournalRecord& r : records) s_->one(r);
     s_->update_islands();

@@ -174,9 +174,12 @@ void SculptThread::use_snapshots(std::function<void(SculptSnapshot&&)> out) {
     snapshot_out_ = std::move(out);
 }
 
-void SculptThread::take_snapshot(std::uint8_t site) {
-    if (!snapshot_out_) return;
-    close_stroke(site);  // as another site's cut closes it: the open gesture goes on in its next stroke
+void SculptThread::use_snapshot_asks(std::function<void(SculptSnapshot&&)> out) {
+    if (thread_.joinable()) throw Error("SculptThread::use_snapshot_asks: call it before start()");
+    ask_out_ = std::move(out);
+}
+
+SculptSnapshot SculptThread::snapshot_now(std::uint8_t site) const {
     SculptSnapshot s;
     s.site = site;
     s.model = model_;
@@ -186,7 +189,22 @@ void SculptThread::take_snapshot(std::uint8_t site) {
     for (std::uint8_t k = 0; k < kMaxSites; ++k)
         if (const ToolSample* p = sites_.sweeps().prev(k)) s.prevs.push_back(*p);
     s.last_closed_serial = last_closed_serial_;
-    snapshot_out_(std::move(s));
+    return s;
+}
+
+void SculptThread::take_snapshot(std::uint8_t site) {
+    if (!snapshot_out_) return;
+    close_stroke(site);  // as another site's cut closes it: the open gesture goes on in its next stroke
+    snapshot_out_(snapshot_now(site));
+}
+
+void SculptThread::serve_snapshot_asks() {
+    const std::uint64_t asked = snapshot_asks_.load(std::memory_order_acquire);
+    if (asked == snapshot_asks_served_ || history_->stroke_open()) return;
+    snapshot_asks_served_ = asked;
+    SculptSnapshot s = snapshot_now(0);
+    s.asks = asked;
+    ask_out_(std::move(s));
 }
 
 void SculptThread::forward_own(ToolSample s) {

@@ -189,6 +189,7 @@ void SculptThread::run() {
             try {
                 const auto t0 = std::chrono::steady_clock::now();
                 worked = step();
+                if (ask_out_) serve_snapshot_asks();
                 if (worked) stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             } catch (...) {
                 failure_ = std::current_exception();

@@ -199,13 +199,15 @@ struct FollowerOutlet {
 
 /// The session as it stands, for a site joining a shared session late (SculptThread::use_snapshots): taken by the
 /// host's sculpt thread between two records of its stream, with no stroke open (the open one is closed first, as
-/// another site's cut closes it, and that close is in the stream).
+/// another site's cut closes it, and that close is in the stream), or asked for a replica of the session's own
+/// (SculptThread::ask_snapshot: taken when no stroke is open).
 struct SculptSnapshot {
-    std::uint8_t site = 0;               ///< who joins (SiteIntake::push_snapshot)
+    std::uint8_t site = 0;               ///< who joins (SiteIntake::push_snapshot); 0: asked (ask_snapshot)
     compute::TriDexel model;             ///< the model after every record streamed so far, every tile marked dirty
     std::vector<unsigned char> history;  ///< the undo history's steps (SculptHistory::save_steps)
     std::vector<ToolSample> prevs;       ///< each site's last sample (sweeps continue from it), by site, at most one each
     std::uint64_t last_closed_serial = 0;  ///< the newest stroke closed
+    std::uint64_t asks = 0;  ///< asked (site 0): the ask_snapshot calls made before it was taken, all served by it
 };
 
 /// Where a follower starts when it joined late: the history and sweeps of a SculptSnapshot (its model is the one the
@@ -298,6 +300,16 @@ public:
     /// closes the open stroke (journalled and streamed like any close) and calls `out` with the snapshot, on the
     /// sculpt thread, before the next record is streamed. Throws tridex::Error when the thread runs.
     void use_snapshots(std::function<void(SculptSnapshot&&)> out);
+    /// Asks, from any thread, for a snapshot of the model as it stands for this session's own replicas (a cluster's
+    /// render rank joining the wall, or replacing one that failed; SculptSnapshot::site is 0). The thread takes it at
+    /// its first pass with no stroke open (it never closes one, so the person's stroke stays one undo step), between
+    /// two records of its stream, and hands it to the function given to use_snapshot_asks; asks made before it is
+    /// taken are served by it (SculptSnapshot::asks). On a session of its own, a shared session's host and a follower
+    /// alike. Returns the number of asks so far, this one included.
+    std::uint64_t ask_snapshot() { return snapshot_asks_.fetch_add(1, std::memory_order_acq_rel) + 1; }
+    /// Where asked snapshots go (ask_snapshot), called on the sculpt thread before the next record is streamed.
+    /// Throws tridex::Error when the thread runs.
+    void use_snapshot_asks(std::function<void(SculptSnapshot&&)> out);
     /// Calls `observer` on the sculpt thread with every refused undo or redo (a shared session tells the asker who
     /// stands in the way). Throws tridex::Error when the thread runs.
     void observe_refusals(std::function<void(const SculptRefusal&)> observer);
@@ -507,6 +519,11 @@ private:
     std::function<void(SculptSnapshot&&)> snapshot_out_;  // a host: where snapshots go
     std::optional<FollowStart> follow_start_;               // a late follower: installed at start()
     void take_snapshot(std::uint8_t site);
+    SculptSnapshot snapshot_now(std::uint8_t site) const;  // the model, history and sweeps as they stand
+    void serve_snapshot_asks();                             // an asked snapshot, when no stroke is open
+    std::function<void(SculptSnapshot&&)> ask_out_;         // use_snapshot_asks
+    std::atomic<std::uint64_t> snapshot_asks_{0};           // ask_snapshot calls so far
+    std::uint64_t snapshot_asks_served_ = 0;                // of them, served by a snapshot
     Vec3 published_centre_m_;
     double tool_radius_m_ = 0.0;  // for the window's extent until the first sample
     double tool_span_m_ = 0.0;

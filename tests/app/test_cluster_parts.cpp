@@ -155,6 +155,24 @@ TEST(ClusterParts, AFrameMessageRoundTripsBitForBit) {
     // The hello carries the bytes of the model file the session started from.
     HelloMessage h{"{}", 77, {1, 2, 3}};
     EXPECT_EQ(decode_hello(encode_hello(h), "test").model_tdx, h.model_tdx);
+    // A late start's hello: where the stream goes on, the undo history (packed on the wire), each site's last sample.
+    h.first_record = 1234;
+    h.history.assign(5000, 7);
+    h.prevs = pass(Vec3(0.1, 0.2, 0.3), 2, 0.0);
+    h.prevs[1].site = 3;
+    h.last_closed_serial = 17;
+    const std::vector<unsigned char> late = encode_hello(h);
+    EXPECT_LT(late.size(), 2000u) << "the history is packed";
+    const HelloMessage late_back = decode_hello(late, "test");
+    EXPECT_EQ(late_back.first_record, 1234u);
+    EXPECT_EQ(late_back.history, h.history);
+    ASSERT_EQ(late_back.prevs.size(), 2u);
+    EXPECT_EQ(late_back.prevs[1].site, 3u);
+    EXPECT_EQ(late_back.prevs[0].position, h.prevs[0].position);
+    EXPECT_EQ(late_back.last_closed_serial, 17u);
+    HelloMessage no_model = h;
+    no_model.model_tdx.clear();
+    EXPECT_THROW(decode_hello(encode_hello(no_model), "test"), Error);
 }
 
 TEST(ClusterParts, ABadMessageIsRefusedNamingItsField) {

@@ -445,6 +445,88 @@ TEST(SculptSites, ALateJoinerStartsFromTheHostsSnapshotAndFollowsUndosOfStrokesM
     EXPECT_THROW(bad.start(), Error);
 }
 
+TEST(SculptSites, AnAskedSnapshotWaitsForTheOpenStrokeAndTheStreamAppliesToItAsToTheSession) {
+    // A session of its own (a wall's rank 0): a snapshot asked mid-stroke is taken once the stroke closed, and a
+    // replica that starts from it (a render rank joining late: JournalApplier with its history) and applies the
+    // stream from its record on ends with the session's model, through undos of strokes made before it.
+    compute::TriDexel model = box_model();
+    compute::ToolStreamBuffer stream;
+    compute::Contourer contourer(model);
+    contourer.update(model);
+    SpscRing<ToolSample> ring(4096);
+    TripleBuffer<ActiveSurface> surface;
+    SculptThread t(model, contourer, ring, surface, Vec3(0.0));
+    t.use_stream(stream);
+    std::mutex m;
+    std::optional<SculptSnapshot> snap;
+    std::uint64_t first = 0;
+    int snapshots = 0;
+    t.use_snapshot_asks([&](SculptSnapshot&& s) {
+        std::lock_guard lock(m);
+        first = stream.records();
+        snap = std::move(s);
+        ++snapshots;
+    });
+    t.start();
+    const auto settle = [&] {
+        for (int k = 0; k < 40 && ring.size() > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        std::this_thread::sleep_for(std::chrono::milliseconds(60));
+    };
+    for (const ToolSample& x : groove(0, 0.02, -0.03, 0.03, 60, 0.0)) ring.try_push(x);  // A
+    settle();
+    const std::vector<ToolSample> b = groove(0, -0.02, 0.03, -0.03, 60, 1.0);  // B: open when the snapshot is asked
+    for (const ToolSample& x : slice(b, 0, 30)) ring.try_push(x);
+    settle();
+    EXPECT_EQ(t.ask_snapshot(), 1u);
+    EXPECT_EQ(t.ask_snapshot(), 2u);
+    settle();
+    {
+        std::lock_guard lock(m);
+        EXPECT_EQ(snapshots, 0) << "a snapshot was taken while a stroke was open";
+    }
+    for (const ToolSample& x : slice(b, 30, b.size())) ring.try_push(x);  // B ends: the tool lifts
+    settle();
+    {
+        std::lock_guard lock(m);
+        ASSERT_EQ(snapshots, 1) << "one snapshot serves both asks";
+        EXPECT_EQ(snap->asks, 2u);
+        EXPECT_EQ(snap->site, 0u);
+        EXPECT_EQ(snap->last_closed_serial, 2u);
+    }
+    for (const ToolSample& x : groove(0, 0.0, -0.03, 0.03, 60, 2.0)) ring.try_push(x);  // C, after the snapshot
+    settle();
+    for (int k = 0; k < 3; ++k) {  // C, then B and A: made before the snapshot
+        ASSERT_TRUE(t.request(SculptRequest::kUndo));
+        settle();
+    }
+    ASSERT_TRUE(t.request(SculptRequest::kRedo));  // A again
+    settle();
+    t.stop();
+    EXPECT_EQ(t.stats().history.undos, 3u);
+    EXPECT_EQ(snapshots, 1);
+
+    const std::vector<compute::JournalRecord> all = stream.take().records;
+    ASSERT_GT(first, 0u);
+    ASSERT_LT(first, all.size());
+    compute::TriDexel replica = snap->model;
+    compute::JournalApplyFrom from;
+    from.last_serial = snap->last_closed_serial;
+    compute::JournalApplier applier(replica, from);
+    applier.load_history(snap->history);
+    applier.resume_after(first - 1, snap->prevs, first);
+    applier.apply(std::span<const compute::JournalRecord>(all).subspan(first));
+    applier.flush();
+    EXPECT_EQ(applier.stats().undos, 3u);
+    EXPECT_EQ(applier.stats().redos, 1u);
+    EXPECT_EQ(compute::model_digest(replica), compute::model_digest(model));
+
+    // Without the history, the undos of strokes made before the snapshot find nothing to undo.
+    compute::TriDexel bare = snap->model;
+    compute::JournalApplier lost(bare, from);
+    lost.resume_after(first - 1, snap->prevs, first);
+    EXPECT_THROW(lost.apply(std::span<const compute::JournalRecord>(all).subspan(first)), Error);
+}
+
 // A follower on the box that sends nothing anywhere and keeps what its outlet heard of a mismatch.
 struct LoneFollower {
     explicit LoneFollower(std::uint8_t site) : model(box_model()), contourer(model) {

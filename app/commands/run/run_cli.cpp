@@ -146,6 +146,12 @@ void add_run_options(CLI::App& run, RunOptions& o) {
     cmd->add_option("--cluster", o.cluster,
                     "Cluster config (JSON): run under mpirun, rank 0 runs the session and the other ranks draw the "
                     "wall's viewports (docs/wall.md)");
+    cmd->add_option("--cluster-listen", o.cluster_listen,
+                    "A wall without mpirun: be its rank 0, listening on [ADDR:]PORT for the render ranks, which may "
+                    "join while it runs or replace one that failed (docs/cluster.md)");
+    cmd->add_option("--cluster-connect", o.cluster_connect,
+                    "A wall without mpirun: draw render rank --rank's viewports for the rank 0 at HOST:PORT");
+    cmd->add_option("--rank", o.cluster_rank, "With --cluster-connect: which render rank of the config this is (1..K)");
     cmd->add_option("--host", o.host,
                     "Host a shared session on [ADDR:]PORT: others join with --join and carve this model with you "
                     "(docs/shared.md)");

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -144,6 +145,11 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     } catch (const Error& e) {
         f.fail(f.path("lod"), e.what());
     }
+    c.key_file = f.text("key_file", "");
+    if (!c.key_file.empty() && std::filesystem::path(c.key_file).is_relative())
+        c.key_file = (std::filesystem::path(source).parent_path() / c.key_file).string();
+    c.passphrase_env = f.text("passphrase_env", "");
+    if (!c.key_file.empty() && !c.passphrase_env.empty()) f.fail("passphrase_env", "give key_file or passphrase_env, not both");
     const json* ranks = f.get("ranks");
     if (!ranks || !ranks->is_array() || ranks->empty()) f.fail("ranks", "must be a non-empty array of render ranks");
     std::set<std::string> names;

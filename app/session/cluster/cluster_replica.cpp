@@ -16,10 +16,17 @@
 
 namespace tridex::app {
 
-ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod) : lod_(lod.on) {
+ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod, const HelloMessage* late)
+    : lod_(lod.on) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
-    applier_ = std::make_unique<compute::JournalApplier>(wp_.model, replay_settings(spec));
+    compute::JournalApplyFrom from = replay_settings(spec);
+    if (late) from.last_serial = late->last_closed_serial;
+    applier_ = std::make_unique<compute::JournalApplier>(wp_.model, from);
+    if (late) {  // the stream goes on from the snapshot the model was saved from
+        if (!late->history.empty()) applier_->load_history(late->history);
+        if (late->first_record > 0) applier_->resume_after(late->first_record - 1, late->prevs, late->first_record);
+    }
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     if (lod_) {
         // As the session's sculpt thread does (SculptThread::use_tile_lod), before the first refresh queues every tile.

@@ -30,7 +30,10 @@ public:
     /// malformed or its workpiece cannot be read or differs from the recorded checksums. With lod.on (the cluster config's "lod", lod_choice), the tiles' and
     /// groups' levels are built on worker threads of their own (compute::LodWorker) and taken in by contour(), so
     /// neither a frame nor the records wait for them.
-    explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {});
+    /// `late`: the render rank joined a running wall (a hello with HelloMessage::first_record and the history): the
+    /// spec's model is the one it joined with, the undo history and each site's sweeps start from the hello's, and
+    /// the first record applied is first_record. Throws tridex::Error as well for malformed history bytes.
+    explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {}, const HelloMessage* late = nullptr);
     ~ClusterReplica();
 
     /// The model's digest (compute::model_digest).

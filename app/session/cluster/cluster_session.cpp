@@ -1,15 +1,18 @@
 // app/session/cluster/cluster_session.cpp - the ranks of a cluster session and their roles.
 #include "app/session/cluster/cluster_session.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 
 #include "app/session/cluster/cluster_config.hpp"
 #include "app/session/cluster/cluster_root.hpp"
 #include "app/session/cluster/cluster_transport.hpp"
+#include "app/session/cluster/net_transport.hpp"
 #include "app/session/cluster/render_rank.hpp"
 #include "app/session/run/run_pipeline.hpp"
 #include "core/error.hpp"
+#include "devices/net/enet_link.hpp"
 
 namespace tridex::app {
 
@@ -28,7 +31,68 @@ bool launched_by_mpirun() {
            std::getenv("PMI_RANK") != nullptr;
 }
 
+namespace {
+
+// The key that seals a network wall's link: the config's, or none.
+std::optional<devices::net::SessionKey> wall_key(const ClusterConfig& config) {
+    devices::net::KeySettings k;
+    k.key_file = config.key_file;
+    k.passphrase_env = config.passphrase_env;
+    k.key_file_name = config.source + ": key_file";
+    k.passphrase_env_name = config.source + ": passphrase_env";
+    return devices::net::key_from_settings(k);
+}
+
+// A wall without mpirun: rank 0 listens, each render rank connects and claims its rank.
+ClusterRunResult run_network_wall(const RunOptions& options, const RankZeroRun& rank_zero) {
+    if (!options.cluster_listen.empty() && !options.cluster_connect.empty())
+        throw Error("--cluster-listen and --cluster-connect: a process is rank 0 (listen) or a render rank (connect), not both");
+    if (launched_by_mpirun())
+        throw Error("--cluster-listen / --cluster-connect start each rank by hand, without mpirun; under mpirun leave "
+                    "them out (docs/cluster.md)");
+    const RunSetup setup = resolve_run(options);
+    const ClusterConfig config = read_cluster_config(options.cluster, setup.scene.display);
+    const int k = static_cast<int>(config.ranks.size());
+    const std::optional<devices::net::SessionKey> key = wall_key(config);
+    ClusterRunResult out;
+    if (!options.cluster_connect.empty()) {
+        if (options.cluster_rank < 1 || options.cluster_rank > k)
+            throw Error("--rank " + std::to_string(options.cluster_rank) + ": " + config.source + " names render ranks 1.." +
+                        std::to_string(k) + "; give --rank with --cluster-connect");
+        std::string host;
+        std::uint16_t port = 0;
+        devices::net::split_host_port(options.cluster_connect, "--cluster-connect", host, port);
+        transport_slot() = make_member_transport(host, port, options.cluster_rank, k, key,
+                                                 deadline_after(config.start_timeout_s));
+        out.rank = options.cluster_rank;
+        RenderRankOptions ro;
+        ro.out = setup.out;
+        ro.validate = setup.validate;
+        out.exit_code = run_render_rank(*transport_slot(), config, ro);
+        transport_slot().reset();
+        return out;
+    }
+    if (options.cluster_rank != 0) throw Error("--rank: only with --cluster-connect (rank 0 is the one that listens)");
+    std::string host = "0.0.0.0", spec = options.cluster_listen;
+    std::uint16_t port = 0;
+    if (spec.find(':') == std::string::npos) spec = host + ":" + spec;
+    devices::net::split_host_port(spec, "--cluster-listen", host, port, true);
+    transport_slot() = make_listener_transport(host, port, k, key);
+    ClusterTransport& t = *transport_slot();
+    std::fprintf(stderr, "tridex: wall rank 0: %s; render ranks join with: tridex run ... --cluster %s "
+                         "--cluster-connect THIS_HOST:%u --rank R\n",
+                 t.name().c_str(), options.cluster.c_str(), static_cast<unsigned>(listener_port(t)));
+    ClusterRoot root(t, config, setup.out);
+    out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
+    transport_slot().reset();
+    return out;
+}
+
+}  // namespace
+
 ClusterRunResult run_cluster_session(const RunOptions& options, const RankZeroRun& rank_zero) {
+    if (!options.cluster_listen.empty() || !options.cluster_connect.empty()) return run_network_wall(options, rank_zero);
+    if (options.cluster_rank != 0) throw Error("--rank: only with --cluster-connect");
     if (!cluster_supported()) (void)make_mpi_transport();  // throws the reason
     if (!launched_by_mpirun())
         throw Error("--cluster " + options.cluster + ": a cluster session is started by mpirun, one rank per machine "
@@ -51,7 +115,7 @@ ClusterRunResult run_cluster_session(const RunOptions& options, const RankZeroRu
         if (out.exit_code == 0) transport_slot().reset();  // MPI_Finalize
         return out;
     }
-    ClusterRoot root(t, config);
+    ClusterRoot root(t, config, setup.out);
     out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
     transport_slot().reset();
     return out;

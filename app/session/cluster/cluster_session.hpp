@@ -23,8 +23,11 @@ using RankZeroRun = std::function<RunResult(const RunOptions& options, std::vect
 
 /// Runs this process's part of the cluster session of `options` (options.cluster names the config): rank 0 runs
 /// the session with a ClusterRoot beside it, through `rank_zero` (empty: RunPipeline); every other rank runs its
-/// viewports (run_render_rank). Throws
-/// tridex::Error when this build has no MPI, the process was not started by mpirun, the config is bad or names
+/// viewports (run_render_rank). Under mpirun the ranks are MPI's; with options.cluster_listen (rank 0) or
+/// options.cluster_connect and cluster_rank (a render rank) they are processes started by hand that reach each other
+/// over the network (app/session/cluster/net_transport.hpp), and render ranks may join the running wall or take a
+/// failed one's place. Throws tridex::Error for a bad --cluster-listen, --cluster-connect or --rank, and (without
+/// them) when this build has no MPI, the process was not started by mpirun, the config is bad or names
 /// another number of ranks, or (rank 0) as run_stereo_session; a rank 0 whose render rank failed writes all its
 /// outputs first, then throws naming the rank. The caller then ends every rank (ClusterTransport::abort_all via
 /// end_cluster_session).

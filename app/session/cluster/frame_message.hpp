@@ -12,6 +12,7 @@
 #include "app/session/runtime/site_presence.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "core/pose.hpp"
+#include "core/tool_sample.hpp"
 #include "core/tool_shape.hpp"
 
 namespace tridex::app {
@@ -36,6 +37,15 @@ struct HelloMessage {
     /// shared session's joiner starts from the host's model): a render rank builds its replica from them rather than
     /// from a path that may exist on rank 0's machine only. Empty: the spec's mesh, scan-converted as rank 0 did.
     std::vector<unsigned char> model_tdx;
+    /// A render rank that joins a running wall, or takes the place of one that failed (a network wall): model_tdx is
+    /// the model as it stood then (a snapshot, SculptThread::ask_snapshot, saved as .tdx), initial_digest its digest,
+    /// and the stream goes on from record first_record. With it come the undo history's steps (sent packed with
+    /// zstd), each site's last sample (sweeps continue from it) and the newest stroke closed, so that undos of strokes
+    /// made before it joined apply here as at rank 0. At the session's start: 0 and empty.
+    std::uint64_t first_record = 0;
+    std::vector<unsigned char> history{};
+    std::vector<ToolSample> prevs{};
+    std::uint64_t last_closed_serial = 0;
 };
 
 /// The tool sample stream's records since the last frame, plus what the frame shows.

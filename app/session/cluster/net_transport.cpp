@@ -292,7 +292,7 @@ private:
                                  held_by + " (a new process may claim it once that one left and was released)");
         p.rank = c.rank;
         p.link->send(encode_accept(c.rank), true);
-        std::fprintf(stderr, "tridex: cluster: render rank %d joined from %s\n", c.rank, p.where.c_str());
+        std::fprintf(stderr, "tridex: cluster: the process at %s claimed render rank %d\n", p.where.c_str(), c.rank);
     }
 
     // Answers the peer with a refusal and disconnects it once that is sent (leave() then frees a rank it held).
@@ -309,12 +309,10 @@ private:
     void leave(Peer& p, const std::string& why) {
         p.gone = true;
         if (!p.rank) return;
-        bool held = false;
         {
             std::lock_guard lock(mutex_);
             Slot& s = slots_[static_cast<std::size_t>(p.rank)];
             if (s.holder == p.id) {
-                held = true;
                 s.present = false;
                 s.holder = 0;
                 s.left = true;
@@ -325,9 +323,6 @@ private:
             }
             cv_.notify_all();
         }
-        if (held)
-            std::fprintf(stderr, "tridex: cluster: render rank %d at %s left (%s)\n", p.rank, p.where.c_str(),
-                         why.c_str());
         p.rank = 0;
     }
 

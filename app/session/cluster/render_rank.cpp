@@ -143,7 +143,9 @@ private:
             spec.model_path = start.string();
             spec_json = spec_to_json(spec);
         }
-        replica_.emplace(spec_json, lod_choice(c_.lod));
+        const bool late = hello.first_record > 0 || !hello.history.empty();  // it joined a running wall
+        replica_.emplace(spec_json, lod_choice(c_.lod), late ? &hello : nullptr);
+        first_record_ = hello.first_record;
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
         load_ms_ = ms_since(t0);
@@ -272,6 +274,7 @@ private:
                                        {"presents", presents_},
                                        {"checks", checks_},
                                        {"workpiece_load_ms", load_ms_},
+                                       {"first_record", first_record_},
                                        {"records", replica_->applied().records},
                                        {"samples", replica_->applied().samples},
                                        {"final_digest", done.digest},
@@ -309,6 +312,7 @@ private:
     std::optional<gpu::Context> ctx_;
     std::vector<std::unique_ptr<Viewport>> viewports_;  // after ctx_: destroyed before it
     double last_present_s_ = 0.0, load_ms_ = 0.0;
+    std::uint64_t first_record_ = 0;  // the stream's record this rank started from (> 0: it joined a running wall)
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
     // Per frame, ms; fixed bins, so a wall session of any length keeps the same memory.

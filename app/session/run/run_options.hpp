@@ -149,6 +149,12 @@ struct RunOptions {
     /// A cluster config (app/session/cluster/cluster_config.hpp): run under mpirun, rank 0 runs the session and the
     /// other ranks draw the wall's viewports; "" = one machine.
     std::string cluster;
+    /// A wall without mpirun (docs/cluster.md): rank 0 listens on [ADDR:]PORT for its render ranks
+    /// (--cluster-listen), or this process is render rank cluster_rank and connects to rank 0 at HOST:PORT
+    /// (--cluster-connect, --rank); render ranks may then join a running wall or take a failed one's place.
+    std::string cluster_listen;
+    std::string cluster_connect;  ///< see cluster_listen
+    int cluster_rank = 0;         ///< see cluster_listen: 1..K with --cluster-connect
     /// A shared session (docs/shared.md): host it, listening on [ADDR:]PORT (--host), or join the host at HOST:PORT
     /// (--join); "" = none. Either needs the session's key: a key file or the name of an environment variable holding
     /// its passphrase (--shared-key-file, --shared-passphrase-env).
