@@ -527,6 +527,47 @@ TEST(SculptSites, AnAskedSnapshotWaitsForTheOpenStrokeAndTheStreamAppliesToItAsT
     EXPECT_THROW(lost.apply(std::span<const compute::JournalRecord>(all).subspan(first)), Error);
 }
 
+TEST(SculptSites, AFollowerServesAnAskedSnapshotOnceTheHostClosedTheStroke) {
+    // A wall that joined a shared session: its rank 0 follows the host, and a render rank joining the wall late gets
+    // a snapshot of that replica, taken between the host's strokes (a follower cannot close one itself).
+    compute::TriDexel model = box_model();
+    compute::Contourer contourer(model);
+    contourer.update(model);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    SiteIntake in;
+    SculptThread t(model, contourer, ring, surface, Vec3(0.0));
+    t.follow_host(in, 1, {[](std::span<const ToolSample>) {}, [](SculptRequest) {}, {}});
+    std::mutex m;
+    int taken = 0;
+    std::uint64_t serial = 0;
+    t.use_snapshot_asks([&](SculptSnapshot&& s) {
+        std::lock_guard lock(m);
+        ++taken;
+        serial = s.last_closed_serial;
+    });
+    t.start();
+    const auto settle = [&] {
+        for (int k = 0; k < 40 && in.pending() > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        std::this_thread::sleep_for(std::chrono::milliseconds(60));
+    };
+    const std::vector<ToolSample> a = groove(2, 0.0, -0.03, 0.03, 30, 0.0);
+    in.push_host_samples(slice(a, 0, 15));  // the host's stroke, open here too
+    settle();
+    EXPECT_EQ(t.ask_snapshot(), 1u);
+    settle();
+    {
+        std::lock_guard lock(m);
+        EXPECT_EQ(taken, 0) << "a snapshot was taken inside the host's stroke";
+    }
+    in.push_host_samples(slice(a, 15, a.size()));
+    in.push_host_mark(compute::kJournalStrokeEnd, 1, 0);
+    settle();
+    t.stop();
+    EXPECT_EQ(taken, 1);
+    EXPECT_EQ(serial, 1u);
+}
+
 // A follower on the box that sends nothing anywhere and keeps what its outlet heard of a mismatch.
 struct LoneFollower {
     explicit LoneFollower(std::uint8_t site) : model(box_model()), contourer(model) {

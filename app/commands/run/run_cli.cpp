@@ -192,6 +192,12 @@ void print_run(const RunResult& r) {
                     c.value("ranks", 0), static_cast<unsigned long long>(c.value("frames", 0ull)),
                     static_cast<unsigned long long>(c.value("checks", 0ull)), c.value("frame_bytes_mean", 0.0),
                     c["swap_spread_ms"].is_object() ? c["swap_spread_ms"].value("p99", 0.0) : 0.0);
+        if (const auto e = c.find("events"); e != c.end() && e->is_array() && !e->empty()) {
+            int joined = 0, let_go = 0;
+            for (const nlohmann::json& x : *e) (x.value("what", "") == "joined" ? joined : let_go) += 1;
+            std::printf("  cluster: %d render rank(s) let go, %d joined the running wall (report.json cluster.events)\n",
+                        let_go, joined);
+        }
     }
     for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
     std::string written;

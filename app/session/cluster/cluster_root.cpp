@@ -294,9 +294,10 @@ void ClusterRoot::lost(int r, std::uint64_t frame, const std::string& why) {
     e.rank = r;
     e.why = why;
     stats_.events.push_back(e);
+    const std::string reason = why.starts_with(who + " ") ? why.substr(who.size() + 1) : why;
     std::fprintf(stderr, "tridex: cluster: render rank %d let go at frame %llu: %s; its viewports stay dark until a "
                          "process takes its place (tridex run ... --cluster-connect HOST:PORT --rank %d)\n",
-                 r, static_cast<unsigned long long>(frame), why.c_str(), r);
+                 r, static_cast<unsigned long long>(frame), reason.c_str(), r);
 }
 
 std::optional<RankAnswer> ClusterRoot::answer_from(int r, Clock::time_point deadline, double timeout_s,
