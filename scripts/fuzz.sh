@@ -17,7 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BUILD="${BUILD:-build/fuzz}"
-TARGETS_ALL=(off ply obj stl tdx scene display_config recording journal dtrack net falcon sealed shared)
+TARGETS_ALL=(off ply obj stl tdx scene display_config recording journal dtrack net falcon sealed shared cluster_wire)
 MAX_LEN="${FUZZ_MAX_LEN:-32768}"
 TIMEOUT="${FUZZ_TIMEOUT:-10}"
 RSS_MB="${FUZZ_RSS_MB:-2048}"

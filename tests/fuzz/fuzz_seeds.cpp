@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/session/cluster/net_transport_wire.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/mesh/scan_convert.hpp"
@@ -170,6 +171,35 @@ void shared_seeds(const fs::path& dir) {
     put_msg("end", app::encode_end(app::EndMessage{9, 120, "the host ended the session"}));
 }
 
+/// A wall's datagrams as fuzz_cluster_wire reads them (each a u16 length, then its bytes): a claim and its answers, a
+/// message of three parts, an acknowledgement and an abort.
+void cluster_wire_seeds(const fs::path& dir) {
+    namespace wire = app::netwire;
+    const auto framed = [](const std::vector<std::vector<std::uint8_t>>& datagrams) {
+        std::string out;
+        for (const std::vector<std::uint8_t>& d : datagrams) {
+            out += static_cast<char>(d.size() & 0xff);
+            out += static_cast<char>(d.size() >> 8);
+            out.append(d.begin(), d.end());
+        }
+        return out;
+    };
+    put(dir, "cluster_wire", "claim", framed({wire::encode_claim(2)}));
+    put(dir, "cluster_wire", "answers", framed({wire::encode_accept(2), wire::encode_refuse("render rank 2 is held"),
+                                                wire::encode_ack(3, 700), wire::encode_abort(5)}));
+    std::vector<std::vector<std::uint8_t>> parts;
+    const std::vector<unsigned char> message(1000, 0x42);
+    for (std::size_t i = 0; i < 3; ++i) {
+        std::vector<std::uint8_t> d = {static_cast<std::uint8_t>(i < 2 ? wire::Kind::kDataMore : wire::Kind::kDataLast)};
+        d.insert(d.end(), message.begin() + static_cast<std::ptrdiff_t>(i * 300), message.begin() + static_cast<std::ptrdiff_t>(i * 300 + 300));
+        parts.push_back(d);
+    }
+    put(dir, "cluster_wire", "message", framed(parts));
+    std::vector<std::uint8_t> one;
+    wire::make_chunk(message, 0, one);
+    put(dir, "cluster_wire", "chunk", framed({one}));
+}
+
 /// IN packets as fuzz_falcon reads them (a length byte, two modem bytes, data): whole, torn and doubled frames.
 void falcon_seeds(const fs::path& dir) {
     namespace falcon = devices::falcon;
@@ -215,6 +245,7 @@ int main(int argc, char** argv) {
         falcon_seeds(dir);
         sealed_seeds(dir);
         shared_seeds(dir);
+        cluster_wire_seeds(dir);
         dtrack_seeds(dir);
         for (const auto& seed : fuzz::mesh_seeds()) put(dir, seed.target, seed.name, seed.bytes);
     } catch (const std::exception& e) {
