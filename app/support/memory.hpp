@@ -10,4 +10,8 @@ namespace tridex::app {
 /// OS does not say.
 std::size_t model_memory_budget_bytes();
 
+/// Bytes of memory a new allocation can have now without swapping: /proc/meminfo's MemAvailable (free memory plus
+/// the page cache the kernel can drop); sysconf _SC_AVPHYS_PAGES when that file is unreadable; 0 when neither says.
+std::size_t available_memory_bytes();
+
 }  // namespace tridex::app
