@@ -6,7 +6,6 @@
 #include <iterator>
 
 #include "compute/journal/journal_format.hpp"
-#include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"
 #include "app/session/wire/message_io.hpp"
 #include "app/session/wire/presence_wire.hpp"
@@ -40,11 +39,7 @@ std::vector<unsigned char> encode_hello(const HelloMessage& m) {
     w.text(m.spec_json);
     w.u64(m.initial_digest);
     w.blob(m.model_tdx);
-    w.u64(m.first_record);
-    w.blob(m.history.empty() ? m.history : compute::pack_bytes(m.history));
-    w.u32(static_cast<std::uint32_t>(m.prevs.size()));
-    for (const ToolSample& s : m.prevs) w.sample(s);
-    w.u64(m.last_closed_serial);
+    write_late_start(w, m.first_record, m.history, m.prevs, m.last_closed_serial);
     return w.take();
 }
 
@@ -54,13 +49,7 @@ HelloMessage decode_hello(std::span<const unsigned char> bytes, const std::strin
     m.spec_json = r.text("spec");
     m.initial_digest = r.u64("initial_digest");
     m.model_tdx = r.blob("model_tdx");
-    m.first_record = r.u64("first_record");
-    const std::vector<unsigned char> packed = r.blob("history");
-    if (!packed.empty()) m.history = compute::unpack_bytes(packed, kMaxMessageBlob, from + ": history");
-    const std::uint32_t prevs = r.u32("prevs");
-    if (prevs > kMaxSites) r.fail("prevs", std::to_string(prevs) + " samples, more than a session has sites");
-    for (std::uint32_t i = 0; i < prevs; ++i) m.prevs.push_back(r.sample("prevs"));
-    m.last_closed_serial = r.u64("last_closed_serial");
+    read_late_start(r, {&m.first_record, &m.history, &m.prevs, &m.last_closed_serial});
     if (m.first_record > 0 && m.model_tdx.empty()) r.fail("model_tdx", "a late start without the model it starts from");
     r.end();
     return m;

@@ -63,11 +63,7 @@ std::vector<unsigned char> encode_welcome(const WelcomeMessage& m) {
     w.text(m.spec_json);
     w.blob(m.model_tdx);
     w.u64(m.initial_digest);
-    w.u64(m.first_record);
-    w.blob(m.history.empty() ? m.history : compute::pack_bytes(m.history));
-    w.u32(static_cast<std::uint32_t>(m.prevs.size()));
-    for (const ToolSample& s : m.prevs) w.sample(s);
-    w.u64(m.last_closed_serial);
+    write_late_start(w, m.first_record, m.history, m.prevs, m.last_closed_serial);
     return w.take();
 }
 
@@ -81,13 +77,7 @@ WelcomeMessage decode_welcome(std::span<const unsigned char> b, const std::strin
     m.model_tdx = r.blob("model");
     if (m.model_tdx.empty()) r.fail("model", "no model");
     m.initial_digest = r.u64("initial_digest");
-    m.first_record = r.u64("first_record");
-    const std::vector<unsigned char> packed = r.blob("history");
-    if (!packed.empty()) m.history = compute::unpack_bytes(packed, kMaxMessageBlob, from + ": history");
-    const std::uint32_t prevs = r.u32("prevs");
-    if (prevs > kMaxSites) r.fail("prevs", std::to_string(prevs) + " samples, more than a session has sites");
-    for (std::uint32_t i = 0; i < prevs; ++i) m.prevs.push_back(r.sample("prevs"));
-    m.last_closed_serial = r.u64("last_closed_serial");
+    read_late_start(r, {&m.first_record, &m.history, &m.prevs, &m.last_closed_serial});
     r.end();
     return m;
 }

@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "compute/journal/journal_format.hpp"
+#include "compute/journal/stream_pack.hpp"
 #include "core/error.hpp"
 #include "core/math.hpp"
 
@@ -141,6 +142,25 @@ void MessageReader::end() const {
 void MessageReader::truncated(std::size_t n, const char* field) const {
     fail(field, "truncated message (" + std::to_string(size_) + " bytes, " + std::to_string(n) + " more needed at byte " +
                     std::to_string(size_ - r_.remaining()) + ")");
+}
+
+void write_late_start(MessageWriter& w, std::uint64_t first_record, const std::vector<unsigned char>& history,
+                      const std::vector<ToolSample>& prevs, std::uint64_t last_closed_serial) {
+    w.u64(first_record);
+    w.blob(history.empty() ? history : compute::pack_bytes(history));
+    w.u32(static_cast<std::uint32_t>(prevs.size()));
+    for (const ToolSample& s : prevs) w.sample(s);
+    w.u64(last_closed_serial);
+}
+
+void read_late_start(MessageReader& r, const LateStartFields& f) {
+    *f.first_record = r.u64("first_record");
+    const std::vector<unsigned char> packed = r.blob("history");
+    if (!packed.empty()) *f.history = compute::unpack_bytes(packed, kMaxMessageBlob, r.from() + ": history");
+    const std::uint32_t prevs = r.u32("prevs");
+    if (prevs > kMaxSites) r.fail("prevs", std::to_string(prevs) + " samples, more than a session has sites");
+    for (std::uint32_t i = 0; i < prevs; ++i) f.prevs->push_back(r.sample("prevs"));
+    *f.last_closed_serial = r.u64("last_closed_serial");
 }
 
 }  // namespace tridex::app

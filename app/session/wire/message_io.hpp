@@ -76,6 +76,8 @@ public:
     std::vector<compute::JournalRecord> records(const char* field);
     /// Refuses bytes after the message's end.
     void end() const;
+    /// Who sent the message, as messages name it.
+    const std::string& from() const { return from_; }
 
 private:
     template <class T>
@@ -90,5 +92,22 @@ private:
     std::size_t size_;
     std::string from_;
 };
+
+/// Where a late joiner's model stands in the stream (a shared session's welcome, a wall's late hello): the record the
+/// stream goes on from, the undo history's steps, each site's last sample and the newest stroke closed
+/// (app::SculptSnapshot's parts), to read into.
+struct LateStartFields {
+    std::uint64_t* first_record = nullptr;
+    std::vector<unsigned char>* history = nullptr;
+    std::vector<ToolSample>* prevs = nullptr;
+    std::uint64_t* last_closed_serial = nullptr;
+};
+
+/// Writes a late start's fields in that order: u64, the history as a blob packed with zstd (empty: none), a u32 count
+/// of samples and the samples, u64.
+void write_late_start(MessageWriter& w, std::uint64_t first_record, const std::vector<unsigned char>& history,
+                      const std::vector<ToolSample>& prevs, std::uint64_t last_closed_serial);
+/// Reads them back; refuses (MessageReader::fail) a history that does not unpack or more samples than kMaxSites.
+void read_late_start(MessageReader& r, const LateStartFields& f);
 
 }  // namespace tridex::app
