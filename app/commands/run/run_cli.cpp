@@ -144,8 +144,8 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                   "Let the haptic loop share its CPU with the drawing thread (default: once the loop runs at "
                   "real-time priority, one CPU is set aside for it)");
     cmd->add_option("--cluster", o.cluster,
-                    "Cluster config (JSON): run under mpirun, rank 0 runs the session and the other ranks draw the "
-                    "wall's viewports (docs/wall.md)");
+                    "Cluster config (JSON): run under mpirun (or with --cluster-listen / --cluster-connect), rank 0 "
+                    "runs the session and the other ranks draw the wall's viewports (docs/cluster.md)");
     cmd->add_option("--cluster-listen", o.cluster_listen,
                     "A wall without mpirun: be its rank 0, listening on [ADDR:]PORT for the render ranks, which may "
                     "join while it runs or replace one that failed (docs/cluster.md)");

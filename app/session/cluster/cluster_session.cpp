@@ -56,9 +56,12 @@ ClusterRunResult run_network_wall(const RunOptions& options, const RankZeroRun& 
     const std::optional<devices::net::SessionKey> key = wall_key(config);
     ClusterRunResult out;
     if (!options.cluster_connect.empty()) {
+        if (options.cluster_rank == 0)
+            throw Error("--cluster-connect: give --rank R, the render rank this process draws (" + config.source +
+                        " names 1.." + std::to_string(k) + ")");
         if (options.cluster_rank < 1 || options.cluster_rank > k)
             throw Error("--rank " + std::to_string(options.cluster_rank) + ": " + config.source + " names render ranks 1.." +
-                        std::to_string(k) + "; give --rank with --cluster-connect");
+                        std::to_string(k));
         std::string host;
         std::uint16_t port = 0;
         devices::net::split_host_port(options.cluster_connect, "--cluster-connect", host, port);
