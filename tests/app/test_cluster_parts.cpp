@@ -170,6 +170,14 @@ TEST(ClusterParts, AFrameMessageRoundTripsBitForBit) {
     EXPECT_EQ(late_back.prevs[1].site, 3u);
     EXPECT_EQ(late_back.prevs[0].position, h.prevs[0].position);
     EXPECT_EQ(late_back.last_closed_serial, 17u);
+    // Rank 0's word to a render rank it lets go, told apart from every other message.
+    EXPECT_EQ(let_go_reason(encode_let_go("at frame 9: it hung")).value_or(""), "at frame 9: it hung");
+    EXPECT_FALSE(let_go_reason(late).has_value());
+    EXPECT_FALSE(let_go_reason(encode_go(3)).has_value());
+    EXPECT_FALSE(let_go_reason(std::vector<unsigned char>{}).has_value());
+    std::vector<unsigned char> torn = encode_let_go("at frame 9: it hung");
+    torn.resize(torn.size() - 3);
+    EXPECT_EQ(let_go_reason(torn).value_or(""), "(its reason could not be read)");
     HelloMessage no_model = h;
     no_model.model_tdx.clear();
     EXPECT_THROW(decode_hello(encode_hello(no_model), "test"), Error);

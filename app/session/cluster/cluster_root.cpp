@@ -287,6 +287,10 @@ void ClusterRoot::lost(int r, std::uint64_t frame, const std::string& why) {
     s = RankSeat{};
     s.seat = Seat::kAbsent;
     last_present_s_[static_cast<std::size_t>(r - 1)] = 0.0;
+    try {  // a process still there hears why before its link is dropped
+        if (transport_.present(r)) transport_.send(r, encode_let_go("at frame " + std::to_string(frame) + ": " + why));
+    } catch (const Error&) {  // it is gone: nothing to tell
+    }
     transport_.release(r);
     if (!was_in) return;
     ClusterStats::Event e;

@@ -190,6 +190,25 @@ std::uint64_t decode_go(std::span<const unsigned char> bytes, const std::string&
     return f;
 }
 
+std::vector<unsigned char> encode_let_go(const std::string& why) {
+    Writer w(ClusterKind::kLetGo);
+    w.text(why);
+    return w.take();
+}
+
+std::optional<std::string> let_go_reason(std::span<const unsigned char> bytes) {
+    if (bytes.size() < 5 || std::memcmp(bytes.data(), kMagic, 4) != 0 || bytes[4] != static_cast<unsigned char>(ClusterKind::kLetGo))
+        return std::nullopt;
+    try {
+        Reader r(bytes, "rank 0", ClusterKind::kLetGo);
+        std::string why = r.text("why");
+        r.end();
+        return why;
+    } catch (const Error&) {
+        return std::string("(its reason could not be read)");
+    }
+}
+
 std::size_t frame_message_bytes(std::size_t batches, std::size_t samples, std::size_t marks) {
     constexpr std::size_t kHead = 5 + 8 + 1 + 2 * 56 + 8 + 8 + 24 + 32 + 1 + 8 + 8 + 8 + 8 + 8 + 8 + 4 + 4 + 1;
     return kHead + batches * (1 + 8 + 4) + samples * compute::kJournalSampleBytes + marks * (1 + 8 + 8 + 8);

@@ -24,6 +24,7 @@ enum class ClusterKind : std::uint8_t {
     kReady = 3,   ///< render rank -> rank 0: frame applied and drawn, ready to present
     kGo = 4,      ///< rank 0 -> render ranks: present the frame (the swap barrier's release)
     kDone = 5,    ///< render rank -> rank 0: the last frame presented, outputs written; its report
+    kLetGo = 6,   ///< rank 0 -> a render rank it lets go (a network wall): why; the rank ends
 };
 
 /// RankAnswer::frame of the answer to the hello: the workpiece is built and checked, the viewports are open.
@@ -97,6 +98,11 @@ std::vector<unsigned char> encode_answer(const RankAnswer& m);
 RankAnswer decode_answer(std::span<const unsigned char> bytes, const std::string& from);
 std::vector<unsigned char> encode_go(std::uint64_t frame);
 std::uint64_t decode_go(std::span<const unsigned char> bytes, const std::string& from);
+
+/// Rank 0's word to a render rank it lets go (ClusterKind::kLetGo), and its reason: the message's `why`, or nullopt
+/// when `bytes` are another message (of any kind, or none: the caller decodes them as it expects).
+std::vector<unsigned char> encode_let_go(const std::string& why);
+std::optional<std::string> let_go_reason(std::span<const unsigned char> bytes);
 
 /// Bytes one frame message takes on the wire for `samples` samples and `marks` marks (sizing, the bench's figures).
 std::size_t frame_message_bytes(std::size_t batches, std::size_t samples, std::size_t marks);

@@ -127,6 +127,8 @@ private:
         if (!got)
             throw Error("rank 0 sent no " + std::string(what) + " within " + format_number(timeout_s) +
                         " s (it ended, hangs or is unreachable)");
+        if (const std::optional<std::string> why = let_go_reason(*got))
+            throw Error("rank 0 let this render rank go " + *why + " (a new process may take its place)");
         return std::move(*got);
     }
 
