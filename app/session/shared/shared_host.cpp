@@ -320,8 +320,7 @@ void SharedHost::send_backlog(Joiner& j) {
     while (j.sent < log_.size()) {
         const std::size_t n = std::min<std::size_t>(o_.max_records_per_message, log_.size() - j.sent);
         RecordsMessage m;
-        m.records.assign(log_.begin() + static_cast<std::ptrdiff_t>(j.sent),
-                         log_.begin() + static_cast<std::ptrdiff_t>(j.sent + n));
+        m.records = log_.read(j.sent, n);
         send(j, encode_records(m), true);
         j.sent += n;
     }
@@ -342,8 +341,9 @@ void SharedHost::send_records() {
             send(*j, bytes, true);
             j->sent += m.records.size();
         }
-    for (compute::JournalRecord& r : m.records) log_.push_back(std::move(r));
+    log_.append(std::move(m.records));
     records_sent_ = log_.size();
+    log_bytes_ = log_.bytes();
 }
 
 void SharedHost::send_refusals() {
@@ -405,7 +405,7 @@ nlohmann::json SharedHost::report() const {
                       {"left_s", r.left_s}, {"sealed_refused", r.sealed_refused}, {"presence", r.presence},
                       {"first_record", r.first_record}});
     return {{"role", "host"}, {"name", o_.name}, {"joiners", js}, {"records", records_sent_},
-            {"digest_checks", checks_}, {"final_digest", final_digest_}, {"own_refusals", own_refusals_},
+            {"stream_log_bytes", log_bytes_}, {"digest_checks", checks_}, {"final_digest", final_digest_}, {"own_refusals", own_refusals_},
             {"site_samples_dropped", intake_.dropped()}, {"peers_refused", peers_refused_}};
 }
 

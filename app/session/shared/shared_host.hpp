@@ -16,6 +16,7 @@
 
 #include "app/session/runtime/session_runtime.hpp"
 #include "app/session/runtime/site_presence.hpp"
+#include "app/session/shared/record_log.hpp"
 #include "app/session/shared/shared_message.hpp"
 #include "compute/journal/stream_buffer.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -122,7 +123,7 @@ private:
     std::string spec_json_;
     std::vector<unsigned char> start_tdx_;
     std::uint64_t start_digest_ = 0;
-    std::vector<compute::JournalRecord> log_;  // every record so far (network thread)
+    RecordLog log_;  // every record so far, packed in chunks (network thread)
     std::vector<std::unique_ptr<Joiner>> joiners_;  // network thread; reports copied under mutex_
     std::vector<std::string> site_names_;           // by site: who held it (a rejoin by name gets it again)
     mutable std::mutex mutex_;                      // guards the copies below
@@ -145,6 +146,7 @@ private:
     double last_check_s_ = 0.0, last_presence_s_ = 0.0, last_reports_s_ = 0.0;
     std::uint64_t checks_ = 0;
     std::uint64_t records_sent_ = 0;
+    std::uint64_t log_bytes_ = 0;  // log_.bytes() after the last records sent
     std::uint64_t peers_refused_ = 0;  // peers whose handshake failed (another key, unsealed)
 };
 
