@@ -15,6 +15,7 @@
 #include "app/session/cluster/net_transport_wire.hpp"
 #include "core/error.hpp"
 #include "devices/net/enet_link.hpp"
+#include "error_of.hpp"
 
 namespace tridex::app {
 namespace {
@@ -55,16 +56,7 @@ Bytes next(ClusterTransport& t, int from, double wait_s = 5.0) {
     return m ? *m : Bytes{};
 }
 
-// The error message of `f`, or "" when it did not throw tridex::Error.
-template <class F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+using test::error_of;
 
 // Waits until rank 0 no longer has render rank r's process (at most wait_s).
 bool wait_absent(const ClusterTransport& rank0, int r, double wait_s) {

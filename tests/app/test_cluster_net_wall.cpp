@@ -9,21 +9,22 @@
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <memory>
+#include <regex>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "app/session/cluster/cluster_replica.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/model_digest.hpp"
+#include "child_process.hpp"
 
 namespace tridex::app {
 namespace {
@@ -45,52 +46,24 @@ std::uint16_t free_udp_port() {
     return ntohs(a.sin_port);
 }
 
-// A process running `cmd` under sh, its output in `log`.
-struct Proc {
-    pid_t pid = -1;
-    fs::path log;
-    int status = -1;
-    bool done = false;
+using test::Child;
 
-    Proc(const std::string& cmd, fs::path log_path) : log(std::move(log_path)) {
-        const std::string line = cmd + " > " + log.string() + " 2>&1";
-        pid = ::fork();
-        if (pid == 0) {
-            ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
-            ::_exit(127);
-        }
-    }
-    ~Proc() {
-        if (!done && pid > 0) {
-            ::kill(pid, SIGKILL);
-            ::waitpid(pid, &status, 0);
-        }
-    }
-    // True once it ended (its exit code in code()).
-    bool ended() {
-        if (!done && ::waitpid(pid, &status, WNOHANG) == pid) done = true;
-        return done;
-    }
-    bool wait_s(double s) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(s);
-        while (!ended() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        return done;
-    }
-    int code() const { return done && WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
-    std::string text() const {
-        std::ifstream in(log);
-        return {std::istreambuf_iterator<char>(in), {}};
-    }
-    // Waits up to `s` seconds until its output holds `what`.
-    bool wait_for_text(const std::string& what, double s) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(s);
-        while (text().find(what) == std::string::npos) {
-            if (std::chrono::steady_clock::now() >= until) return false;
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        }
-        return true;
-    }
-};
+// `tridex run ARGS...` as a child under `timeout 200`, with `env` ("NAME=VALUE", or "") set for it alone; its stdout
+// and stderr are read by the test.
+std::unique_ptr<Child> tridex_child(const std::string& env, std::vector<std::string> args) {
+    std::vector<std::string> argv = {"/usr/bin/env"};
+    if (!env.empty()) argv.push_back(env);
+    argv.insert(argv.end(), {"timeout", "200", TRIDEX_EXE, "run"});
+    argv.insert(argv.end(), args.begin(), args.end());
+    return std::make_unique<Child>(argv, true);
+}
+
+// Waits up to timeout_s for a line of `c`'s output holding `words` (letters, digits and spaces: a plain pattern),
+// among the lines after the last one waited for.
+bool wait_for(Child& c, const std::string& words, double timeout_s) {
+    std::string unused;
+    return c.wait_for_line(std::regex(words), timeout_s, unused);
+}
 
 std::size_t count(const std::string& text, const std::string& what) {
     std::size_t n = 0;
@@ -103,36 +76,34 @@ TEST(ClusterNetWall, RenderRanksJoinTheRunningWallAndANewProcessTakesAFailedOnes
     fs::remove_all(out);
     fs::create_directories(out);
     const std::uint16_t port = free_udp_port();
-    const std::string common = std::string(TRIDEX_EXE) + " run " + (kData / "wall_small_scene_undo.json").string() +
-                               " --display offscreen --no-items --cluster " + (kData / "two_tiles_net.json").string();
+    const std::vector<std::string> common = {(kData / "wall_small_scene_undo.json").string(), "--display", "offscreen",
+                                             "--no-items", "--cluster", (kData / "two_tiles_net.json").string()};
+    const auto with = [&](std::vector<std::string> more) {
+        std::vector<std::string> a = common;
+        a.insert(a.end(), more.begin(), more.end());
+        return a;
+    };
+    const std::string at = "127.0.0.1:" + std::to_string(port);
     const auto render_rank = [&](int rank, const std::string& env, const std::string& name) {
-        return std::make_unique<Proc>(env + " timeout 200 " + common + " --cluster-connect 127.0.0.1:" +
-                                          std::to_string(port) + " --rank " + std::to_string(rank) + " --out " +
-                                          (out / name).string(),
-                                      out / (name + ".log"));
+        return tridex_child(env, with({"--cluster-connect", at, "--rank", std::to_string(rank), "--out", (out / name).string()}));
     };
     // Rank 0 sculpts for 50 s; rank 1 starts with it; rank 2 is not there when the wall starts.
-    Proc root("timeout 200 " + common + " --cluster-listen 127.0.0.1:" + std::to_string(port) + " --seconds 50 --out " +
-                  (out / "root").string(),
-              out / "root.log");
+    auto root = tridex_child("", with({"--cluster-listen", at, "--seconds", "50", "--out", (out / "root").string()}));
     auto rank1 = render_rank(1, "", "rank1");
-    ASSERT_TRUE(root.wait_for_text("render rank 2 has not connected", 60)) << root.text();
+    ASSERT_TRUE(wait_for(*root, "render rank 2 has not connected", 60)) << root->seen();
 
     // Rank 2's first process joins the running wall, then dies at its first frame in step.
     auto first2 = render_rank(2, "TRIDEX_CLUSTER_FAULT=2:0:kill", "rank2_first");
-    ASSERT_TRUE(root.wait_for_text("render rank 2 joined the wall", 60)) << root.text() << first2->text();
-    ASSERT_TRUE(root.wait_for_text("render rank 2 let go", 60)) << root.text();
-    EXPECT_TRUE(first2->wait_s(30));
+    ASSERT_TRUE(wait_for(*root, "render rank 2 joined the wall", 60)) << root->seen();
+    ASSERT_TRUE(wait_for(*root, "render rank 2 let go", 60)) << root->seen();
+    EXPECT_EQ(first2->finish(), 128 + SIGKILL) << first2->seen();
 
     // A new process takes its place, and stays to the end.
     auto second2 = render_rank(2, "", "rank2_second");
-    ASSERT_TRUE(root.wait_s(180)) << "rank 0 did not end";
-    EXPECT_EQ(root.code(), 0) << root.text();
-    ASSERT_TRUE(rank1->wait_s(60));
-    ASSERT_TRUE(second2->wait_s(60));
-    EXPECT_EQ(rank1->code(), 0) << rank1->text();
-    EXPECT_EQ(second2->code(), 0) << second2->text();
-    EXPECT_EQ(count(root.text(), "render rank 2 joined the wall"), 2u) << root.text();
+    ASSERT_TRUE(wait_for(*root, "render rank 2 joined the wall", 120)) << root->seen();
+    EXPECT_EQ(root->finish(), 0) << root->seen();
+    EXPECT_EQ(rank1->finish(), 0) << rank1->seen();
+    EXPECT_EQ(second2->finish(), 0) << second2->seen();
 
     std::ifstream in(out / "root" / "report.json");
     const nlohmann::json report = nlohmann::json::parse(in);
@@ -174,39 +145,33 @@ TEST(ClusterNetWall, AProcessWithoutTheKeyOrWithATakenRankIsTurnedAway) {
     fs::remove_all(out);
     fs::create_directories(out);
     const std::uint16_t port = free_udp_port();
-    const std::string scene = (kData / "wall_small_scene.json").string();
-    const std::string common = std::string(TRIDEX_EXE) + " run " + scene + " --display offscreen --no-items --cluster ";
-    Proc root("timeout 120 " + common + (kData / "two_tiles_net.json").string() + " --cluster-listen 127.0.0.1:" +
-                  std::to_string(port) + " --seconds 20 --out " + (out / "root").string(),
-              out / "root.log");
-    Proc rank1("timeout 120 " + common + (kData / "two_tiles_net.json").string() + " --cluster-connect 127.0.0.1:" +
-                   std::to_string(port) + " --rank 1 --out " + (out / "rank1").string(),
-               out / "rank1.log");
-    ASSERT_TRUE(root.wait_for_text("render rank 2 has not connected", 60)) << root.text();
+    const std::string at = "127.0.0.1:" + std::to_string(port);
+    const auto args = [&](const fs::path& config, std::vector<std::string> more) {
+        std::vector<std::string> a = {(kData / "wall_small_scene.json").string(), "--display", "offscreen", "--no-items",
+                                      "--cluster", config.string()};
+        a.insert(a.end(), more.begin(), more.end());
+        return a;
+    };
+    const fs::path config = kData / "two_tiles_net.json";
+    auto root = tridex_child("", args(config, {"--cluster-listen", at, "--seconds", "20", "--out", (out / "root").string()}));
+    auto rank1 = tridex_child("", args(config, {"--cluster-connect", at, "--rank", "1", "--out", (out / "rank1").string()}));
+    ASSERT_TRUE(wait_for(*root, "render rank 2 has not connected", 60)) << root->seen();
     // Another claim of rank 1 while its process draws.
-    Proc twice("timeout 60 " + common + (kData / "two_tiles_net.json").string() + " --cluster-connect 127.0.0.1:" +
-                   std::to_string(port) + " --rank 1 --out " + (out / "twice").string(),
-               out / "twice.log");
+    auto twice = tridex_child("", args(config, {"--cluster-connect", at, "--rank", "1", "--out", (out / "twice").string()}));
     // A config without the key.
-    nlohmann::json bare = nlohmann::json::parse(std::ifstream(kData / "two_tiles_net.json"));
+    nlohmann::json bare = nlohmann::json::parse(std::ifstream(config));
     bare.erase("key_file");
     const fs::path bare_path = out / "no_key.json";
     std::ofstream(bare_path) << bare.dump();
-    Proc keyless("timeout 60 " + common + bare_path.string() + " --cluster-connect 127.0.0.1:" + std::to_string(port) +
-                     " --rank 2 --out " + (out / "keyless").string(),
-                 out / "keyless.log");
-    ASSERT_TRUE(twice.wait_s(60));
-    ASSERT_TRUE(keyless.wait_s(60));
-    EXPECT_NE(twice.code(), 0);
-    EXPECT_NE(twice.text().find("--cluster-connect 127.0.0.1:" + std::to_string(port)), std::string::npos) << twice.text();
-    EXPECT_NE(twice.text().find("rank 1"), std::string::npos) << twice.text();
-    EXPECT_NE(keyless.code(), 0);
-    EXPECT_NE(keyless.text().find("--cluster-connect"), std::string::npos) << keyless.text();
-    ASSERT_TRUE(root.wait_s(100));
-    EXPECT_EQ(root.code(), 0) << root.text();
-    EXPECT_EQ(count(root.text(), "joined the wall"), 0u) << "nobody joined late: " << root.text();
-    ASSERT_TRUE(rank1.wait_s(60));
-    EXPECT_EQ(rank1.code(), 0) << rank1.text();
+    auto keyless = tridex_child("", args(bare_path, {"--cluster-connect", at, "--rank", "2", "--out", (out / "keyless").string()}));
+    EXPECT_NE(twice->finish(), 0);
+    EXPECT_NE(twice->seen().find("--cluster-connect " + at + ": rank 0 refused the claim: render rank 1 is held"),
+              std::string::npos) << twice->seen();
+    EXPECT_NE(keyless->finish(), 0);
+    EXPECT_NE(keyless->seen().find("--cluster-connect " + at + ":"), std::string::npos) << keyless->seen();
+    EXPECT_EQ(root->finish(), 0) << root->seen();
+    EXPECT_EQ(count(root->seen(), "joined the wall"), 0u) << "nobody joined late: " << root->seen();
+    EXPECT_EQ(rank1->finish(), 0) << rank1->seen();
 }
 
 }  // namespace

@@ -26,6 +26,8 @@
 #include "app/session/batch/session.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
+#include "error_of.hpp"
+#include "test_files.hpp"
 
 namespace tridex::app {
 namespace {
@@ -33,16 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// The message of the tridex::Error `f` throws ("" when it does not throw).
-template <class F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+using test::error_of;
 
 TEST(RunScene, DefaultSceneLoadsWithDocumentedValues) {
     const RunScene s = load_run_scene("");
