@@ -5,11 +5,8 @@
 #include <cstdlib>
 
 #include "app/support/memory.hpp"
-#include "compute/mesh/mesh_io.hpp"
-#include "compute/mesh/scan_convert.hpp"
-#include "compute/model/workpiece.hpp"
+#include "app/scene/workpiece_source.hpp"
 #include "core/error.hpp"
-#include "core/tri_mesh.hpp"
 
 namespace tridex::app {
 
@@ -59,7 +56,7 @@ void check_session_memory(const SessionMemory& need, std::size_t available_bytes
                 "or set TRIDEX_IGNORE_MEMORY_ESTIMATE=1 to try anyway");
 }
 
-void check_live_session_memory(const compute::TriDexel& model, int resolution, SessionKind kind) {
+void check_session_memory_of(const compute::TriDexel& model, int resolution, SessionKind kind) {
     check_session_memory(estimate_session_memory(model, kind), available_memory_bytes(),
                          "workpiece.resolution " + std::to_string(resolution));
 }
@@ -67,12 +64,9 @@ void check_live_session_memory(const compute::TriDexel& model, int resolution, S
 std::optional<SessionMemory> estimate_session_memory_of_mesh(const SessionSpec& spec, SessionKind kind) {
     if (!spec.study_model.empty() || !spec.model_path.empty() || spec.mesh_path.empty()) return std::nullopt;
     if (spec.resolution <= kMemoryProbeResolution) return std::nullopt;
-    const TriMesh input = compute::load_closed_mesh(spec.mesh_path);
-    const TriMesh mesh = compute::transformed(input, compute::fit_to_stock(input.bounds(), spec.workpiece_centre_m, spec.stock_m));
-    const compute::Lattice probe_lattice = compute::Lattice::around(mesh.bounds(), kMemoryProbeResolution);
-    compute::TriDexel probe = compute::TriDexel::empty(probe_lattice, std::size_t(1) << 32);
-    compute::scan_convert(mesh, probe);
-    const SessionMemory p = estimate_session_memory(probe, kind);
+    // Milliseconds at this resolution, so its progress step prints nothing.
+    const Workpiece probe = prepare_workpiece(spec.mesh_path, kMemoryProbeResolution, spec.stock_m, spec.workpiece_centre_m);
+    const SessionMemory p = estimate_session_memory(probe.model, kind);
     const double k = static_cast<double>(spec.resolution) / kMemoryProbeResolution;
     SessionMemory m;
     m.model_bytes = static_cast<std::size_t>(static_cast<double>(p.model_bytes) * k * k);
@@ -83,7 +77,7 @@ std::optional<SessionMemory> estimate_session_memory_of_mesh(const SessionSpec& 
     return m;
 }
 
-void check_live_session_memory_up_front(const SessionSpec& spec, SessionKind kind) {
+void check_session_memory_up_front(const SessionSpec& spec, SessionKind kind) {
     if (const std::optional<SessionMemory> m = estimate_session_memory_of_mesh(spec, kind))
         check_session_memory(*m, available_memory_bytes(), "workpiece.resolution " + std::to_string(spec.resolution));
 }

@@ -47,23 +47,23 @@ SessionMemory estimate_session_memory(const compute::TriDexel& model, SessionKin
 /// or when the environment sets TRIDEX_IGNORE_MEMORY_ESTIMATE=1 (to try anyway: the estimate is rough).
 void check_session_memory(const SessionMemory& need, std::size_t available_bytes, const std::string& what);
 
-/// check_session_memory for a session of kind `kind` of `model`, at lattice resolution `resolution`, against this machine's
-/// available memory (available_memory_bytes); named "workpiece.resolution N" in the message.
-void check_live_session_memory(const compute::TriDexel& model, int resolution, SessionKind kind);
+/// check_session_memory for a session of kind `kind` of `model`, at lattice resolution `resolution`, against this
+/// machine's available memory (available_memory_bytes); named "workpiece.resolution N" in the message.
+void check_session_memory_of(const compute::TriDexel& model, int resolution, SessionKind kind);
 
 /// The same before the workpiece is built, for a spec whose workpiece is a mesh scan-converted at more than
 /// kMemoryProbeResolution cells: the mesh is scan-converted at that resolution and the estimate scaled by the square of
 /// the resolutions' ratio (the contour and the model grow with the surface), so that a lattice too fine is refused
 /// before its scan conversion takes the time and the memory. Nothing for a saved model or a study's walls (checked
-/// once loaded). Throws tridex::Error as check_session_memory, or as load_closed_mesh for a bad mesh.
-void check_live_session_memory_up_front(const SessionSpec& spec, SessionKind kind);
+/// once loaded). Throws tridex::Error as check_session_memory, or as prepare_workpiece for a bad mesh.
+void check_session_memory_up_front(const SessionSpec& spec, SessionKind kind);
 
-/// The estimate check_live_session_memory_up_front makes: a mesh workpiece's session at spec.resolution, from its scan
+/// The estimate check_session_memory_up_front makes: a mesh workpiece's session at spec.resolution, from its scan
 /// conversion at kMemoryProbeResolution; nullopt for a saved model, a study's walls or a resolution at or below the
-/// probe's. Throws tridex::Error as load_closed_mesh.
+/// probe's. Throws tridex::Error as prepare_workpiece (a bad mesh).
 std::optional<SessionMemory> estimate_session_memory_of_mesh(const SessionSpec& spec, SessionKind kind);
 
-/// The resolution check_live_session_memory_up_front scan-converts a mesh at to estimate a finer one.
+/// The resolution check_session_memory_up_front scan-converts a mesh at to estimate a finer one.
 inline constexpr int kMemoryProbeResolution = 128;
 
 /// Bytes as text for messages: "86 MB", "12.1 GB" (decimal units).

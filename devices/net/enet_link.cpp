@@ -34,6 +34,10 @@ void split_host_port(const std::string& s, const std::string& what, std::string&
     port = static_cast<std::uint16_t>(v);
 }
 
+void split_listen_address(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port) {
+    split_host_port(s.find(':') == std::string::npos ? "0.0.0.0:" + s : s, what, host, port, true);
+}
+
 struct EnetLink::Impl {
     ENetHost* host = nullptr;
     ENetPeer* peer = nullptr;  // the one connected peer (server), or the peer being connected to (client)

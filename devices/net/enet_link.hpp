@@ -19,6 +19,10 @@ namespace tridex::devices::net {
 void split_host_port(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port,
                      bool allow_port_zero = false);
 
+/// A listening address "[ADDR:]PORT" split: ADDR defaults to "0.0.0.0" (every interface), PORT may be 0 (one the
+/// system picks). Throws tridex::Error as split_host_port, naming `what`.
+void split_listen_address(const std::string& s, const std::string& what, std::string& host, std::uint16_t& port);
+
 /// An ENet host serving one peer (listen) or connected to a server (connect). Not thread-safe: one thread
 /// sends and polls. A client whose connection drops (server gone or restarted) tries again every
 /// 0.2 s from poll(); a server takes the next peer after its peer left, refuses a second peer while the current

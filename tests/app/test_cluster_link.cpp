@@ -303,6 +303,19 @@ TEST(ClusterLink, RankZerosAbortEndsItsProcessWithTheCode) {
         ::testing::ExitedWithCode(5), "");
 }
 
+TEST(ClusterLink, AListeningAddressIsAPortOrAnAddressAndAPort) {
+    std::string host;
+    std::uint16_t port = 1;
+    devices::net::split_listen_address("7100", "--cluster-listen", host, port);
+    EXPECT_EQ(host, "0.0.0.0");
+    EXPECT_EQ(port, 7100);
+    devices::net::split_listen_address("127.0.0.1:0", "--cluster-listen", host, port);
+    EXPECT_EQ(host, "127.0.0.1");
+    EXPECT_EQ(port, 0);
+    const std::string bad = error_of([&] { devices::net::split_listen_address("wall:x", "--cluster-listen", host, port); });
+    EXPECT_NE(bad.find("--cluster-listen: 'wall:x' is not HOST:PORT"), std::string::npos) << bad;
+}
+
 TEST(ClusterLink, BadOptionsAreNamed) {
     const std::string ranks = error_of([] { listener(0); });
     EXPECT_NE(ranks.find("--cluster-listen 127.0.0.1:0: 0 render ranks is not 1..31"), std::string::npos) << ranks;

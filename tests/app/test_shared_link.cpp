@@ -124,6 +124,16 @@ bool wait_until(F done) {
     return true;
 }
 
+// The host ends the session and the joiner hears the end: both sculpt threads stopped, both sides finished.
+void end_session(SharedHost& host, Site& hs, SharedJoin& join, Site& js) {
+    hs.thread->stop();
+    host.finish(hs.model);
+    ASSERT_TRUE(wait_until([&] { return !join.ended().empty(); })) << join.failure();
+    js.thread->stop();
+    join.finish(js.model);
+    EXPECT_EQ(join.failure(), "");
+}
+
 TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHost) {
     const fs::path dir = fresh_sites_dir("tridex_shared_link");
     const auto t0 = Clock::now();
@@ -202,12 +212,7 @@ TEST(SharedLink, AJoinerOverALossyLinkEndsWithTheHostsModelAndUndoesThroughTheHo
     EXPECT_EQ(join.others()[0].name, "Ann");
     EXPECT_EQ(join.others()[0].site, 0);
 
-    hs.thread->stop();
-    host.finish(hs.model);
-    ASSERT_TRUE(wait_until([&] { return !join.ended().empty(); })) << join.failure();
-    js.thread->stop();
-    join.finish(js.model);
-    EXPECT_EQ(join.failure(), "");
+    ASSERT_NO_FATAL_FAILURE(end_session(host, hs, join, js));
     const nlohmann::json r = join.report();
     EXPECT_TRUE(r["digest_match"].get<bool>());
     EXPECT_GT(r["digest_checks"].get<std::uint64_t>(), 0u);
@@ -256,12 +261,7 @@ TEST(SharedLink, ALateJoinerGetsTheModelAsItStandsAndFollowsTheHostsUndoOfAStrok
     ASSERT_TRUE(wait_until([&] { return !host.joiners().empty() && host.joiners()[0].samples == 101; }));
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
 
-    hs.thread->stop();
-    host.finish(hs.model);
-    ASSERT_TRUE(wait_until([&] { return !join.ended().empty(); })) << join.failure();
-    js.thread->stop();
-    join.finish(js.model);
-    EXPECT_EQ(join.failure(), "");
+    ASSERT_NO_FATAL_FAILURE(end_session(host, hs, join, js));
     EXPECT_TRUE(join.report()["digest_match"].get<bool>());
     EXPECT_EQ(compute::model_digest(js.model), compute::model_digest(hs.model));
     EXPECT_EQ(hs.thread->stats().history.undos, 1u);

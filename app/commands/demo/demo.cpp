@@ -162,10 +162,10 @@ DemoPlan plan_demo(const DemoOptions& o, bool connect_net, const devices::Device
     if (caps.input == devices::InputKind::kHardware) (void)make_device(s, devices::DeviceInputs{});
 
     // 1. Workpiece: load, place in the world, scan-convert into the tri-dexel model (or restore a saved model).
-    check_live_session_memory_up_front(s, SessionKind::kBatch);  // a lattice too fine is refused before its scan conversion
+    check_session_memory_up_front(s, SessionKind::kBatch);  // a lattice too fine is refused before its scan conversion
     d.wp.emplace(prepare_session_workpiece(s));
     Workpiece& wp = *d.wp;  // checksums of the mesh or model for a replay
-    check_live_session_memory(wp.model, wp.resolution, SessionKind::kBatch);  // before its contour, the session's largest part
+    check_session_memory_of(wp.model, wp.resolution, SessionKind::kBatch);  // before its contour, the session's largest part
 
     // 2. The stroke, the device workspace centred on it, and the simulated device that follows it.
     StrokeParams sp;

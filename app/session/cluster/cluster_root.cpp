@@ -102,7 +102,7 @@ void ClusterRoot::start_open(const HelloMessage& hello) {
     std::size_t in = 0;
     while (in < seats_.size() && ClusterTransport::Clock::now() < deadline) {
         for (const int r : transport_.arrivals()) {
-            RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+            RankSeat& s = seat(r);
             if (s.seat != Seat::kAbsent) continue;
             transport_.send(r, bytes);
             s.seat = Seat::kStarting;
@@ -112,7 +112,7 @@ void ClusterRoot::start_open(const HelloMessage& hello) {
     }
     const auto answered_by = deadline_after(config_.start_timeout_s);  // each loads the workpiece meanwhile
     for (int r = 1; r < transport_.size(); ++r) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         if (s.seat == Seat::kAbsent) {
             std::fprintf(stderr, "tridex: cluster: render rank %d has not connected within %s s: the wall starts "
                                  "without it, and it joins when it comes\n", r, format_number(config_.start_timeout_s).c_str());
@@ -131,7 +131,7 @@ void ClusterRoot::start_open(const HelloMessage& hello) {
 void ClusterRoot::admit(std::uint64_t frame) {
     // New processes: each waits for a snapshot taken after it came.
     for (const int r : transport_.arrivals()) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         s = RankSeat{};
         s.seat = Seat::kWaiting;
         s.arrived_s = now_s();
@@ -140,7 +140,7 @@ void ClusterRoot::admit(std::uint64_t frame) {
     }
     // A process that left while it waited or loaded frees its seat.
     for (int r = 1; r < transport_.size(); ++r) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         if ((s.seat == Seat::kWaiting || s.seat == Seat::kStarting) && !transport_.present(r))
             lost(r, frame, "it left while it joined");
     }
@@ -176,8 +176,7 @@ void ClusterRoot::admit(std::uint64_t frame) {
         } catch (const std::exception& e) {
             const std::string why = std::string("its model could not be saved: ") + e.what();
             for (int r = 1; r < transport_.size(); ++r)
-                if (seats_[static_cast<std::size_t>(r - 1)].seat == Seat::kWaiting &&
-                    seats_[static_cast<std::size_t>(r - 1)].ask <= saving_->asks)
+                if (seat(r).seat == Seat::kWaiting && seat(r).ask <= saving_->asks)
                     lost(r, frame, why);
         }
         if (!tdx.empty()) send_late_hellos(std::move(tdx), frame);
@@ -185,7 +184,7 @@ void ClusterRoot::admit(std::uint64_t frame) {
     }
     // Ranks loading their model: their answer, when it came, puts them in step from this frame on.
     for (int r = 1; r < transport_.size(); ++r) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         if (s.seat != Seat::kStarting) continue;
         std::optional<RankAnswer> a;
         try {
@@ -234,7 +233,7 @@ void ClusterRoot::send_late_hellos(std::vector<unsigned char> tdx, std::uint64_t
     h.last_closed_serial = saving_->last_closed_serial;
     std::optional<std::vector<unsigned char>> bytes;
     for (int r = 1; r < transport_.size(); ++r) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         if (s.seat != Seat::kWaiting || s.ask > saving_->asks) continue;  // it came after this snapshot was taken
         if (!bytes) bytes = encode_hello(h);
         // What it holds from the snapshot on: the records kept since it asked, from the snapshot's on.
@@ -282,7 +281,7 @@ void ClusterRoot::fail(const std::string& why) {
 void ClusterRoot::lost(int r, std::uint64_t frame, const std::string& why) {
     const std::string who = "render rank " + std::to_string(r);
     if (!transport_.open_membership()) return fail(why.starts_with(who) ? why : who + " " + why);
-    RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+    RankSeat& s = seat(r);
     const bool was_in = s.seat != Seat::kAbsent;
     s = RankSeat{};
     s.seat = Seat::kAbsent;
@@ -341,10 +340,10 @@ void ClusterRoot::exchange(FrameMessage m, bool first) {
     stats_.frame_bytes.push_back(static_cast<double>(bytes.size()));
     ++stats_.frames;
     const auto t0 = Clock::now();
-    const auto live = [&](int r) { return seats_[static_cast<std::size_t>(r - 1)].seat == Seat::kLive; };
+    const auto live = [&](int r) { return seat(r).seat == Seat::kLive; };
     for (int r = 1; r < transport_.size(); ++r) {
         if (live(r)) {
-            RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+            RankSeat& s = seat(r);
             try {
                 if (s.pending.empty()) {
                     transport_.send(r, bytes);
@@ -360,8 +359,8 @@ void ClusterRoot::exchange(FrameMessage m, bool first) {
                 lost(r, frame, e.what());
                 if (!stats_.failure.empty()) return;
             }
-        } else if (seats_[static_cast<std::size_t>(r - 1)].seat != Seat::kAbsent) {  // joining: kept for it
-            std::vector<compute::JournalRecord>& p = seats_[static_cast<std::size_t>(r - 1)].pending;
+        } else if (seat(r).seat != Seat::kAbsent) {  // joining: kept for it
+            std::vector<compute::JournalRecord>& p = seat(r).pending;
             p.insert(p.end(), m.records.begin(), m.records.end());
         }
     }
@@ -427,7 +426,7 @@ void ClusterRoot::stopped(SessionRuntime& runtime, const FrameShown& last) {
     if (!stats_.failure.empty()) return;
     const auto deadline = deadline_after(config_.timeout_s);
     for (int r = 1; r < transport_.size(); ++r) {
-        RankSeat& s = seats_[static_cast<std::size_t>(r - 1)];
+        RankSeat& s = seat(r);
         if (s.seat == Seat::kWaiting || s.seat == Seat::kStarting) {  // still joining: it has nothing to finish
             lost(r, last.frame, "the session ended while it joined");
             continue;

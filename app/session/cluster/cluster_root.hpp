@@ -90,6 +90,7 @@ private:
         double arrived_s = 0.0, hello_s = 0.0;        // steady s: its connect, its hello sent
     };
     struct Saving;  // a snapshot on its way to .tdx bytes
+    RankSeat& seat(int r) { return seats_[static_cast<std::size_t>(r - 1)]; }  // render rank r's
 
     FrameMessage message_of(const FrameShown& shown, compute::ToolStreamBuffer::Taken taken) const;
     void exchange(FrameMessage m, bool first);  // send, wait for readies, go

@@ -43,6 +43,28 @@ std::optional<devices::net::SessionKey> wall_key(const ClusterConfig& config) {
     return devices::net::key_from_settings(k);
 }
 
+// This process's part once transport_slot() holds its transport: a render rank's viewports, or rank 0's session with
+// a ClusterRoot beside it. A render rank that failed keeps its transport, so that end_cluster_session still reaches
+// every rank.
+ClusterRunResult run_this_rank(const RunOptions& options, const RankZeroRun& rank_zero, const RunSetup& setup,
+                               const ClusterConfig& config) {
+    ClusterTransport& t = *transport_slot();
+    ClusterRunResult out;
+    out.rank = t.rank();
+    if (t.rank() != 0) {
+        RenderRankOptions ro;
+        ro.out = setup.out;
+        ro.validate = setup.validate;
+        out.exit_code = run_render_rank(t, config, ro);
+        if (out.exit_code == 0) transport_slot().reset();  // MPI_Finalize; a network link closed
+        return out;
+    }
+    ClusterRoot root(t, config, setup.out);
+    out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
+    transport_slot().reset();
+    return out;
+}
+
 // A wall without mpirun: rank 0 listens, each render rank connects and claims its rank.
 ClusterRunResult run_network_wall(const RunOptions& options, const RankZeroRun& rank_zero) {
     if (!options.cluster_listen.empty() && !options.cluster_connect.empty())
@@ -54,7 +76,6 @@ ClusterRunResult run_network_wall(const RunOptions& options, const RankZeroRun& 
     const ClusterConfig config = read_cluster_config(options.cluster, setup.scene.display);
     const int k = static_cast<int>(config.ranks.size());
     const std::optional<devices::net::SessionKey> key = wall_key(config);
-    ClusterRunResult out;
     if (!options.cluster_connect.empty()) {
         if (options.cluster_rank == 0)
             throw Error("--cluster-connect: give --rank R, the render rank this process draws (" + config.source +
@@ -67,28 +88,18 @@ ClusterRunResult run_network_wall(const RunOptions& options, const RankZeroRun& 
         devices::net::split_host_port(options.cluster_connect, "--cluster-connect", host, port);
         transport_slot() = make_member_transport(host, port, options.cluster_rank, k, key,
                                                  deadline_after(config.start_timeout_s));
-        out.rank = options.cluster_rank;
-        RenderRankOptions ro;
-        ro.out = setup.out;
-        ro.validate = setup.validate;
-        out.exit_code = run_render_rank(*transport_slot(), config, ro);
-        transport_slot().reset();
-        return out;
+        return run_this_rank(options, rank_zero, setup, config);
     }
     if (options.cluster_rank != 0) throw Error("--rank: only with --cluster-connect (rank 0 is the one that listens)");
-    std::string host = "0.0.0.0", spec = options.cluster_listen;
+    std::string host;
     std::uint16_t port = 0;
-    if (spec.find(':') == std::string::npos) spec = host + ":" + spec;
-    devices::net::split_host_port(spec, "--cluster-listen", host, port, true);
+    devices::net::split_listen_address(options.cluster_listen, "--cluster-listen", host, port);
     transport_slot() = make_listener_transport(host, port, k, key);
-    ClusterTransport& t = *transport_slot();
     std::fprintf(stderr, "tridex: wall rank 0: %s; render ranks join with: tridex run ... --cluster %s "
                          "--cluster-connect THIS_HOST:%u --rank R\n",
-                 t.name().c_str(), options.cluster.c_str(), static_cast<unsigned>(listener_port(t)));
-    ClusterRoot root(t, config, setup.out);
-    out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
-    transport_slot().reset();
-    return out;
+                 transport_slot()->name().c_str(), options.cluster.c_str(),
+                 static_cast<unsigned>(listener_port(*transport_slot())));
+    return run_this_rank(options, rank_zero, setup, config);
 }
 
 }  // namespace
@@ -104,24 +115,11 @@ ClusterRunResult run_cluster_session(const RunOptions& options, const RankZeroRu
     const RunSetup setup = resolve_run(options);  // the wall's display config, and the options checked on every rank
     const ClusterConfig config = read_cluster_config(options.cluster, setup.scene.display);
     transport_slot() = make_mpi_transport();
-    ClusterTransport& t = *transport_slot();
-    ClusterRunResult out;
-    out.rank = t.rank();
-    if (t.size() != static_cast<int>(config.ranks.size()) + 1)
+    const int size = transport_slot()->size();
+    if (size != static_cast<int>(config.ranks.size()) + 1)
         throw Error(config.source + ": names " + std::to_string(config.ranks.size()) + " render ranks, so the session needs mpirun -np " +
-                    std::to_string(config.ranks.size() + 1) + "; it was started with " + std::to_string(t.size()) + " ranks");
-    if (t.rank() != 0) {
-        RenderRankOptions ro;
-        ro.out = setup.out;
-        ro.validate = setup.validate;
-        out.exit_code = run_render_rank(t, config, ro);
-        if (out.exit_code == 0) transport_slot().reset();  // MPI_Finalize
-        return out;
-    }
-    ClusterRoot root(t, config, setup.out);
-    out.run = rank_zero ? rank_zero(options, {&root}) : RunPipeline(options, {&root}).run();
-    transport_slot().reset();
-    return out;
+                    std::to_string(config.ranks.size() + 1) + "; it was started with " + std::to_string(size) + " ranks");
+    return run_this_rank(options, rank_zero, setup, config);
 }
 
 void end_cluster_session(int code) {

@@ -54,9 +54,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     SessionSpec spec = scene.spec;
     const RunStudy& study = scene.study;
     // A study scene's felt walls, or a mesh or a saved model (checksums for a replay).
-    check_live_session_memory_up_front(spec, SessionKind::kLive);  // a lattice too fine is refused before its scan conversion
+    check_session_memory_up_front(spec, SessionKind::kLive);  // a lattice too fine is refused before its scan conversion
     Workpiece wp = prepare_session_workpiece(spec);
-    check_live_session_memory(wp.model, wp.resolution, SessionKind::kLive);  // before its contour, the session's largest part
+    check_session_memory_of(wp.model, wp.resolution, SessionKind::kLive);  // before its contour, the session's largest part
     loaded_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's

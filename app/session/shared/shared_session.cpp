@@ -47,10 +47,9 @@ Vec3 colour_of_site_name(const std::string& name) {
 }
 
 RunResult run_host(const RunOptions& options, std::vector<SessionCompanion*> also) {
-    std::string host = "0.0.0.0", spec = options.host;
+    std::string host;
     std::uint16_t port = 0;
-    if (spec.find(':') == std::string::npos) spec = host + ":" + spec;
-    net::split_host_port(spec, "--host", host, port, true);  // port 0: one the system picks, which the line names
+    net::split_listen_address(options.host, "--host", host, port);  // port 0: one the system picks, which the line names
     SharedHostOptions ho;
     ho.key = session_key(options, "--host");
     ho.name = options.site_name.empty() ? "host" : options.site_name;
