@@ -159,7 +159,9 @@ std::string check_finite(const char* field, const Vec3& v) {
     return is_finite(v) ? std::string() : std::string(field) + " = " + vec_str(v) + " is not finite";
 }
 
-bool recorded_mark_kind(const std::string& k) { return k == "undo" || k == "redo" || k == "end_stroke"; }
+bool recorded_mark_kind(const std::string& k) {
+    return k == "undo" || k == "redo" || k == "end_stroke" || k == "finer" || k == "coarser";
+}
 
 std::string header_json(const std::string& path, const RecordingHeader& h) {
     if (!std::isfinite(h.period_s) || h.period_s <= 0.0)
@@ -174,7 +176,7 @@ std::string header_json(const std::string& path, const RecordingHeader& h) {
             const RecordedMark& m = (*h.marks)[k];
             if (!recorded_mark_kind(m.kind))
                 throw Error(path + ": header.marks[" + std::to_string(k) + "].kind = \"" + m.kind +
-                            "\" is not undo, redo or end_stroke");
+                            "\" is not undo, redo, end_stroke, finer or coarser");
             if (k > 0 && m.after_samples < (*h.marks)[k - 1].after_samples)
                 throw Error(path + ": header.marks[" + std::to_string(k) + "].after_samples decreases");
             marks.push_back({{"after_samples", m.after_samples}, {"kind", m.kind}});
@@ -235,7 +237,7 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
             if (n == e.end() || !n->is_number_unsigned())
                 throw Error(at + ".after_samples missing or not an integer >= 0");
             if (kind == e.end() || !kind->is_string() || !recorded_mark_kind(kind->get<std::string>()))
-                throw Error(at + ".kind missing or not \"undo\", \"redo\" or \"end_stroke\"");
+                throw Error(at + ".kind missing or not \"undo\", \"redo\", \"end_stroke\", \"finer\" or \"coarser\"");
             RecordedMark r{n->get<std::uint64_t>(), kind->get<std::string>()};
             if (!h.marks->empty() && r.after_samples < h.marks->back().after_samples)
                 throw Error(at + ".after_samples = " + std::to_string(r.after_samples) + " is less than the mark before it (" +

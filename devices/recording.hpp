@@ -70,7 +70,7 @@ struct RecordedTick {
 /// samples do not carry: an undo, a redo or a stroke close (the sculpt thread's SculptMark).
 struct RecordedMark {
     std::uint64_t after_samples = 0;  ///< tool samples the sculpt thread had taken before it
-    std::string kind;                 ///< "undo", "redo" or "end_stroke"
+    std::string kind;                 ///< "undo", "redo", "end_stroke", "finer" or "coarser" (a coarseness change)
 };
 
 /// The session-wide part of a recording.

@@ -48,6 +48,12 @@ ActionRegistry make_builtin() {
                   [](ActionTarget& t) { (void)t.resize_tool(-1); }));
     r.add(command("symmetry.toggle", "Symmetry", "|", "sculpting symmetry off, or on again (mirror or radial copies)",
                   [](ActionTarget& t) { t.toggle_symmetry(); }));
+    r.add(command("coarseness.finer", "Finer", "N*2",
+                  "the model re-sampled onto a lattice of twice the resolution (one undo step)",
+                  [](ActionTarget& t) { (void)t.request(SculptRequest::kFiner); }));
+    r.add(command("coarseness.coarser", "Coarser", "N/2",
+                  "the model re-sampled onto a lattice of half the resolution (one undo step)",
+                  [](ActionTarget& t) { (void)t.request(SculptRequest::kCoarser); }));
     r.add(command("edit.undo", "Undo", "<", "undo the newest stroke",
                   [](ActionTarget& t) { (void)t.request(SculptRequest::kUndo); }));
     r.add(command("edit.redo", "Redo", ">", "redo the newest undone stroke",

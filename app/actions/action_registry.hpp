@@ -28,7 +28,7 @@ public:
     virtual std::uint8_t material() const = 0;
     /// Scales the tool by a fixed step per unit (steps > 0 larger); false when it cannot change (a mesh tool, a limit).
     virtual bool resize_tool(int steps) = 0;
-    /// Hands an undo, redo or save to the sculpt thread; false when its queue was full.
+    /// Hands an undo, redo, save or coarseness change to the sculpt thread; false when its queue was full.
     virtual bool request(SculptRequest r) = 0;
     /// Back to the start pose and scale of the scene (and of a keyboard-and-mouse head).
     virtual void reset_scene() = 0;
@@ -84,7 +84,7 @@ private:
 
 /// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.grab, op.next, material.1 ..
 /// material.7 (the palette entry union adds and paint sets; the menu labels them with the session's names), tool.larger,
-/// tool.smaller, symmetry.toggle, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion,
+/// tool.smaller, symmetry.toggle, coarseness.finer, coarseness.coarser, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion,
 /// session.end (commands);
 /// engage, menu, nav.grab, workspace (held); nav.scale, tool.scale (axes).
 const ActionRegistry& builtin_actions();

@@ -40,8 +40,10 @@ MenuItem default_menu(const MaterialPalette& palette) {
     root.children = {
         branch("Operation", "...", {leaf("op.subtract"), leaf("op.union"), leaf("op.paint"), leaf("op.push"),
                                     leaf("op.smooth"), leaf("op.pull"), leaf("op.grab")}),
-        // Larger and Smaller keep their directions (up, down), the colours and the symmetry between them.
-        branch("Tool", "...", {leaf("tool.larger"), colour_branch(palette), leaf("tool.smaller"), leaf("symmetry.toggle")}),
+        // Larger and Smaller keep their directions (up, down); Finer and Coarser (the model's coarseness) below the
+        // colours and the symmetry, on either side.
+        branch("Tool", "...", {leaf("tool.larger"), colour_branch(palette), leaf("coarseness.finer"), leaf("tool.smaller"),
+                               leaf("coarseness.coarser"), leaf("symmetry.toggle")}),
         leaf("edit.redo"),
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),

@@ -3,9 +3,11 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "app/support/memory.hpp"
 #include "app/scene/workpiece_source.hpp"
+#include "compute/tools/model_resample.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -13,6 +15,10 @@ namespace tridex::app {
 namespace {
 std::size_t bytes_per_triangle(SessionKind kind) {
     return kind == SessionKind::kLive ? kLiveBytesPerTriangle : kBatchBytesPerTriangle;
+}
+bool estimate_ignored() {
+    const char* v = std::getenv("TRIDEX_IGNORE_MEMORY_ESTIMATE");
+    return v && std::string(v) == "1";
 }
 }  // namespace
 
@@ -44,7 +50,7 @@ std::string memory_text(std::size_t bytes) {
 
 void check_session_memory(const SessionMemory& need, std::size_t available_bytes, const std::string& what) {
     if (available_bytes == 0) return;
-    if (const char* v = std::getenv("TRIDEX_IGNORE_MEMORY_ESTIMATE"); v && std::string(v) == "1") return;
+    if (estimate_ignored()) return;
     if (static_cast<double>(need.total_bytes) <= 0.9 * static_cast<double>(available_bytes)) return;
     char tri[32];
     std::snprintf(tri, sizeof tri, "%.1f million", static_cast<double>(need.triangles) / 1e6);
@@ -59,6 +65,21 @@ void check_session_memory(const SessionMemory& need, std::size_t available_bytes
 void check_session_memory_of(const compute::TriDexel& model, int resolution, SessionKind kind) {
     check_session_memory(estimate_session_memory(model, kind), available_memory_bytes(),
                          "workpiece.resolution " + std::to_string(resolution));
+}
+
+std::size_t check_resample_memory(const compute::TriDexel& model, int resolution, SessionKind kind) {
+    const SessionMemory now = estimate_session_memory(model, kind);
+    const double k = static_cast<double>(resolution) / compute::lattice_resolution(model.lattice);
+    SessionMemory need;
+    need.model_bytes = static_cast<std::size_t>(static_cast<double>(now.model_bytes) * k * k);
+    need.triangles = static_cast<std::uint64_t>(static_cast<double>(now.triangles) * k * k);
+    need.contour_bytes = static_cast<std::size_t>(need.triangles) * bytes_per_triangle(kind);
+    need.total_bytes = need.model_bytes + need.contour_bytes;
+    const std::size_t available = available_memory_bytes();
+    if (available == 0) return std::numeric_limits<std::size_t>::max();
+    check_session_memory(need, available + now.contour_bytes, "coarseness N = " + std::to_string(resolution));
+    if (estimate_ignored()) return std::numeric_limits<std::size_t>::max();
+    return available + now.contour_bytes;
 }
 
 std::optional<SessionMemory> estimate_session_memory_of_mesh(const SessionSpec& spec, SessionKind kind) {

@@ -51,6 +51,14 @@ void check_session_memory(const SessionMemory& need, std::size_t available_bytes
 /// machine's available memory (available_memory_bytes); named "workpiece.resolution N" in the message.
 void check_session_memory_of(const compute::TriDexel& model, int resolution, SessionKind kind);
 
+/// Before a running session of kind `kind` re-samples its `model` onto `resolution` cells along the longest side (a
+/// coarseness change): the new model and its contour, estimated as estimate_session_memory's scaled by the square of
+/// the resolutions' ratio, against the memory available now plus the current contour's (the new one replaces it; the
+/// old model stays, in the undo history). Throws tridex::Error as check_session_memory, named "coarseness N = M";
+/// returns the bytes the new model may take (compute::resample_model's max_bytes; SIZE_MAX when the available memory
+/// is unknown or the check is turned off).
+std::size_t check_resample_memory(const compute::TriDexel& model, int resolution, SessionKind kind);
+
 /// The same before the workpiece is built, for a spec whose workpiece is a mesh scan-converted at more than
 /// kMemoryProbeResolution cells: the mesh is scan-converted at that resolution and the estimate scaled by the square of
 /// the resolutions' ratio (the contour and the model grow with the surface), so that a lattice too fine is refused

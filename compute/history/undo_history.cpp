@@ -183,6 +183,11 @@ UndoHistory::Change UndoHistory::swap_in(Step& step, const TriDexel& model, cons
     return Change{step.serial, out.size(), step.box_m};
 }
 
+void UndoHistory::drop_redo() {
+    for (const Step& s : redo_) bytes_ -= s.bytes;
+    redo_.clear();
+}
+
 UndoHistory::Change UndoHistory::undo(const TriDexel& model, const RayWriter& write) {
     end_stroke(model);
     if (undo_.empty()) return {};

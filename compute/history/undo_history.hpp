@@ -2,6 +2,7 @@
 // stroke changed, kept within a memory budget.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -76,6 +77,9 @@ public:
         std::uint64_t serial = 0;  ///< the step's serial; 0 = nothing to undo / redo (nothing changed)
         std::size_t rays = 0;      ///< rays written
         Aabb box_m{};              ///< world box of the step's sweeps
+        /// The step changed the model's lattice (app::SculptHistory::resample): the whole model was replaced, `rays`
+        /// counts every ray of the model now and box_m is its lattice's box.
+        bool lattice = false;
     };
     /// Closes the open stroke, then restores the newest undo step: `write` gets its before-images; the rays'
     /// current images are kept for redo(). Returns serial 0 when there is nothing to undo. An exception from
@@ -87,6 +91,14 @@ public:
     /// Serial of the step undo() would restore / redo() would re-apply (after closing the open stroke), 0 when none.
     std::uint64_t next_undo_serial() const { return undo_.empty() ? 0 : undo_.back().serial; }
     std::uint64_t next_redo_serial() const { return redo_.empty() ? 0 : redo_.back().serial; }
+    /// Serial of the newest stroke closed (or of the history's start, `last_serial`), 0 when none.
+    std::uint64_t last_serial() const { return serial_; }
+    /// The next stroke closed gets a serial above `serial` (a step outside this history, such as a lattice change,
+    /// took the serials up to it). Never lowers the numbering.
+    void continue_serials_after(std::uint64_t serial) { serial_ = std::max(serial_, serial); }
+    /// Drops every redo step (a change outside the history, such as a lattice change, made them stale). Closes
+    /// nothing: call it with no stroke open.
+    void drop_redo();
     /// Counters and sizes.
     HistoryStats stats() const;
     /// The undo and redo steps, their serials and the counters, as bytes (little-endian; undo_history_io.cpp): what a

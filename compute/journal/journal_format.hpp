@@ -24,6 +24,10 @@ namespace tridex::compute {
 // kJournalStrokeEnd / kJournalUndo / kJournalRedo payload (marks): 0 record index u64 | 8 stroke serial u64
 //   | 16 rays u64 (undo, redo: rays written back; stroke end: 0). A stroke end closes the open stroke (its serial);
 //   an undo or redo closes it too, then restores or re-applies the stroke with that serial (UndoHistory).
+// kJournalLattice payload (version 6; a mark): 0 record index u64 | 8 step serial u64 | 16 resolution u64: the model
+//   was re-sampled onto a lattice of that many cells along its longest side (app::SculptHistory::resample), as one
+//   undo step with that serial, after closing the open stroke. An undo or redo of that serial swaps the lattices
+//   back or forth; its rays field is then the ray count of the model after it.
 // kJournalCheckpoint payload: 0 record index u64 | 8 model bytes u64 | 16 model CRC-32 u32 | 20 name length N u32
 //   | 24 N bytes: the checkpoint model file (.tdx) next to the journal, by file name, holding the model after every
 //   record before this one.
@@ -45,8 +49,9 @@ inline constexpr char kJournalMagic[8] = {'T', 'R', 'D', 'X', 'J', 'N', 'L', '\0
 /// The version this build writes (and reads, with 1 to 3). 3: samples carry their symmetry (bytes 115, 116), so a
 /// reader of version 2, which would ignore it and build another model, refuses the file. 4: intake records
 /// (kJournalIntake), whose samples a version 3 reader would not apply. 5: samples carry their site (byte 118), so a
-/// reader of version 4, which would join the sweeps of two sites' tools, refuses the file.
-inline constexpr std::uint32_t kJournalVersion = 5;
+/// reader of version 4, which would join the sweeps of two sites' tools, refuses the file. 6: lattice records
+/// (kJournalLattice), which change the model's coarseness.
+inline constexpr std::uint32_t kJournalVersion = 6;
 inline constexpr std::uint32_t kJournalOldestVersion = 1;    ///< oldest version this build reads (batches only)
 inline constexpr std::size_t kJournalSampleBytes = 120;      ///< bytes per ToolSample on disk
 inline constexpr std::size_t kJournalHeaderFixedBytes = 20;  ///< header bytes before the session identity
@@ -58,8 +63,9 @@ inline constexpr std::uint32_t kJournalUndo = 3;             ///< record type: a
 inline constexpr std::uint32_t kJournalRedo = 4;             ///< record type: a stroke redone
 inline constexpr std::uint32_t kJournalCheckpoint = 5;       ///< record type: a checkpoint model was written
 inline constexpr std::uint32_t kJournalIntake = 6;           ///< record type: samples received, not yet applied
+inline constexpr std::uint32_t kJournalLattice = 7;          ///< record type: the model re-sampled (coarseness)
 inline constexpr std::size_t kJournalIntakeHeadBytes = 24;   ///< intake payload before its samples
-inline constexpr std::size_t kJournalMarkBytes = 24;         ///< payload of a stroke-end, undo or redo record
+inline constexpr std::size_t kJournalMarkBytes = 24;         ///< payload of a stroke-end, undo, redo or lattice record
 inline constexpr std::size_t kJournalCheckpointHeadBytes = 24;  ///< checkpoint payload before the file name
 inline constexpr std::uint32_t kJournalMaxNameBytes = 4096;  ///< longest checkpoint file name a reader accepts
 /// Largest session identity and record payload a reader accepts, bytes (a longer length field is damage).

@@ -49,8 +49,8 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (crc32_ieee(p, kJournalRecordHeadBytes + payload) != get_u32(p + kJournalRecordHeadBytes + payload))
         return "CRC mismatch";
     const unsigned char* q = p + kJournalRecordHeadBytes;
-    if (type < kJournalBatch || type > kJournalIntake || (version < 2 && type != kJournalBatch) ||
-        (version < 4 && type == kJournalIntake))
+    if (type < kJournalBatch || type > kJournalLattice || (version < 2 && type != kJournalBatch) ||
+        (version < 4 && type == kJournalIntake) || (version < 6 && type == kJournalLattice))
         return "unknown record type " + std::to_string(type);
     if (payload < 8) return "record too short";
     if (get_u64(q) < index || get_u64(q) > std::max(index, last_index))
@@ -58,7 +58,7 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     rec.offset = off;
     rec.index = get_u64(q);
     rec.kind = static_cast<JournalKind>(type);
-    if (type == kJournalStrokeEnd || type == kJournalUndo || type == kJournalRedo) {
+    if (type == kJournalStrokeEnd || type == kJournalUndo || type == kJournalRedo || type == kJournalLattice) {
         if (payload != kJournalMarkBytes) return "mark record of " + std::to_string(payload) + " bytes";
         rec.serial = get_u64(q + 8);
         rec.rays = get_u64(q + 16);

@@ -20,6 +20,7 @@ enum class JournalKind : std::uint8_t {
     kRedo = 4,        ///< a stroke redone
     kCheckpoint = 5,  ///< a checkpoint model file holds the model as of this record
     kIntake = 6,      ///< samples received before the sculpt thread applied them (parse_journal moves them to the tail)
+    kLattice = 7,     ///< the model re-sampled onto another lattice (its coarseness changed), as one undo step
 };
 
 /// One valid record.
@@ -32,8 +33,8 @@ struct JournalRecord {
     /// the session received and had not applied when its journal ended); applied as the sculpt thread would have.
     bool tail = false;
     std::uint64_t seq = 0;            ///< kIntake: the sequence number of its first sample (samples moved to the tail)
-    std::uint64_t serial = 0;         ///< kStrokeEnd, kUndo, kRedo: the stroke's serial (UndoHistory)
-    std::uint64_t rays = 0;           ///< kUndo, kRedo: rays written back
+    std::uint64_t serial = 0;         ///< kStrokeEnd, kUndo, kRedo, kLattice: the step's serial (UndoHistory)
+    std::uint64_t rays = 0;           ///< kUndo, kRedo: rays written back; kLattice: the new resolution
     std::string checkpoint;           ///< kCheckpoint: the model file's name (in the journal's folder)
     std::uint64_t checkpoint_bytes = 0;  ///< kCheckpoint: its size, bytes
     std::uint32_t checkpoint_crc = 0;    ///< kCheckpoint: its CRC-32 (crc32_ieee of the whole file)

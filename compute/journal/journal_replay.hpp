@@ -25,6 +25,7 @@ struct JournalApplyStats {
     std::uint64_t strokes = 0;   ///< stroke-end marks replayed
     std::uint64_t undos = 0;     ///< undo marks replayed
     std::uint64_t redos = 0;     ///< redo marks replayed
+    std::uint64_t lattices = 0;  ///< coarseness changes replayed (lattice records)
     std::uint64_t marks_skipped = 0;  ///< marks after a gap in record indices that no longer matched the replay
     std::uint64_t islands_removed = 0;  ///< specks removed at stroke ends (JournalApplyFrom::remove_islands)
     double island_volume_m3 = 0.0;      ///< their volume, m^3
@@ -51,7 +52,8 @@ struct JournalApplyFrom {
 
 /// Applies `records` from `from.record` on, in order, to `model` through the CPU reference Booleans, as the sculpt
 /// thread did: one batch per batch record (sample_sweep between consecutive samples of one site, across record boundaries: SiteSweeps; each
-/// batch validated before any of it changes the model), strokes closed, undone and redone at their marks (through
+/// batch validated before any of it changes the model), the model re-sampled at lattice records (its coarseness;
+/// `model` may end on another lattice), strokes closed, undone and redone at their marks (through
 /// an UndoHistory; checkpoint records are skipped; with from.remove_islands each stroke that cut removes its specks
 /// where it closes, as the sculpt thread did), marking dirty tiles. Intake records are skipped; the tail record
 /// (JournalRecord::tail) is applied as the sculpt thread applies what it drains: one batch per stroke, the stroke

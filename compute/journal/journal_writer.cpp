@@ -220,7 +220,7 @@ void JournalWriter::record(std::uint32_t type, const unsigned char* payload, std
 
 void JournalWriter::mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
     std::lock_guard io(io_mutex_);
-    if (type != kJournalStrokeEnd && type != kJournalUndo && type != kJournalRedo) return;
+    if (type != kJournalStrokeEnd && type != kJournalUndo && type != kJournalRedo && type != kJournalLattice) return;
     unsigned char p[kJournalMarkBytes];
     put_u64(p, stats_.records);
     put_u64(p + 8, serial);

@@ -81,8 +81,9 @@ public:
     /// written when none is left). Then hands every buffered byte to the kernel at once, so a process killed after
     /// it returns keeps them. Called by one thread besides the sculpt thread (JournalIntake).
     void intake(std::uint64_t first_seq, std::span<const ToolSample> samples);
-    /// Appends a mark (journal_format.hpp): `type` kJournalStrokeEnd, kJournalUndo or kJournalRedo, the stroke's
-    /// serial and (undo, redo) the rays written back, then sync_if_due(). Other types are ignored.
+    /// Appends a mark (journal_format.hpp): `type` kJournalStrokeEnd, kJournalUndo, kJournalRedo or kJournalLattice,
+    /// the step's serial and (undo, redo) the rays written back or (lattice) the new resolution, then sync_if_due().
+    /// Other types are ignored.
     void mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays = 0);
     /// Appends a checkpoint record naming the model file `name` (a plain file name in the journal's folder; its
     /// size and CRC-32) that holds the model after every record appended so far, and syncs at once (sync()).

@@ -25,9 +25,10 @@ void ToolStreamBuffer::append(std::span<const ToolSample> samples) {
 
 void ToolStreamBuffer::mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays) {
     JournalRecord r;
-    r.kind = type == kJournalUndo   ? JournalKind::kUndo
-             : type == kJournalRedo ? JournalKind::kRedo
-                                             : JournalKind::kStrokeEnd;
+    r.kind = type == kJournalUndo      ? JournalKind::kUndo
+             : type == kJournalRedo    ? JournalKind::kRedo
+             : type == kJournalLattice ? JournalKind::kLattice
+                                       : JournalKind::kStrokeEnd;
     r.serial = serial;
     r.rays = rays;
     std::lock_guard<std::mutex> lock(mutex_);

@@ -12,9 +12,9 @@ namespace tridex::compute {
 struct TriDexel;
 
 /// Receives, on the sculpt thread, what the session journal receives, in the same order: each batch of samples
-/// after it was applied (one call per journal batch record) and each stroke-end, undo or redo mark (type
-/// kJournalStrokeEnd, kJournalUndo or kJournalRedo of journal_format.hpp, the stroke's serial, the rays written
-/// back), then after_record() with the model as it stands after that record. Applying the same calls, in order,
+/// after it was applied (one call per journal batch record) and each stroke-end, undo, redo or lattice mark (type
+/// kJournalStrokeEnd, kJournalUndo, kJournalRedo or kJournalLattice of journal_format.hpp, the step's serial, the
+/// rays written back or the new resolution), then after_record() with the model as it stands after that record. Applying the same calls, in order,
 /// through journal_apply's rules gives the same model bit for bit. Implementations must be quick (the sculpt thread
 /// waits) and must not throw.
 class ToolStreamSink {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -34,7 +35,8 @@ std::vector<ToolSample> journal_last_samples(std::span<const JournalRecord> reco
 std::uint64_t journal_last_serial(std::span<const JournalRecord> records, std::size_t end) {
     std::uint64_t serial = 0;
     for (std::size_t i = 0; i < std::min(end, records.size()); ++i)
-        if (records[i].kind == JournalKind::kStrokeEnd) serial = std::max(serial, records[i].serial);
+        if (records[i].kind == JournalKind::kStrokeEnd || records[i].kind == JournalKind::kLattice)
+            serial = std::max(serial, records[i].serial);
     return serial;
 }
 
@@ -42,7 +44,8 @@ struct JournalApplier::State {
     std::unique_ptr<app::BooleanBackend> cpu;
     app::SculptHistory history;
     std::vector<Sweep> batch;
-    Vec3 centre_m;  // the symmetry centre: the model's lattice's (it never changes during a replay)
+    TriDexel& model;
+    Vec3 centre_m;  // the symmetry centre: the model's lattice's (a lattice record changes it)
     SiteSweeps sites;  // each site's previous sample, and whose stroke is open
     std::optional<std::uint64_t> last_index;  // index of the last record seen (none: the next is the journal's first)
     std::uint64_t position = 0;               // records seen, for error messages
@@ -53,6 +56,7 @@ struct JournalApplier::State {
     State(TriDexel& model, const JournalApplyFrom& from)
         : cpu(app::make_cpu_backend(model)),
           history(model, *cpu, from.history_budget_bytes, from.last_serial),
+          model(model),
           centre_m(symmetry_centre(model.lattice)) {
         history.remove_islands(from.remove_islands);
         cpu->set_clay_group_sweeps(from.clay_group_sweeps);
@@ -81,7 +85,7 @@ struct JournalApplier::State {
                 ++st.marks_skipped;
                 return;
             }
-            (void)(undo ? history.undo() : history.redo());
+            if ((undo ? history.undo() : history.redo()).lattice) centre_m = symmetry_centre(model.lattice);
             ++(undo ? st.undos : st.redos);
             return;
         }
@@ -89,10 +93,34 @@ struct JournalApplier::State {
             throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) +
                             ", but the replay's next is " + (next == 0 ? std::string("none") : "stroke " + std::to_string(next)));
         const UndoHistory::Change c = undo ? history.undo() : history.redo();
+        if (c.lattice) centre_m = symmetry_centre(model.lattice);
         if (c.rays != r.rays)
             throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) + " wrote " +
                             std::to_string(c.rays) + " rays back, the journal says " + std::to_string(r.rays));
         ++(undo ? st.undos : st.redos);
+    }
+
+    // The model re-sampled (its coarseness changed) as one undo step, after the open stroke closed.
+    void lattice(std::uint64_t k, const JournalRecord& r) {
+        history.end_stroke();
+        if (r.rays < static_cast<std::uint64_t>(kResampleMinResolution) ||
+            r.rays > static_cast<std::uint64_t>(kResampleMaxResolution))
+            throw at(k, "a coarseness change to resolution " + std::to_string(r.rays) + ", outside " +
+                            std::to_string(kResampleMinResolution) + ".." + std::to_string(kResampleMaxResolution));
+        UndoHistory::Change c;
+        try {
+            c = history.resample(static_cast<int>(r.rays), std::numeric_limits<std::size_t>::max());
+        } catch (const Error& e) {
+            throw at(k, e.what());
+        }
+        centre_m = symmetry_centre(model.lattice);
+        if (c.serial != r.serial) {
+            if (!damaged)
+                throw at(k, "the journal changes the coarseness as step " + std::to_string(r.serial) +
+                                " where the replay's step is " + std::to_string(c.serial));
+            shift = static_cast<std::int64_t>(r.serial) - static_cast<std::int64_t>(c.serial);
+        }
+        ++st.lattices;
     }
 
     void sweep_to(std::uint64_t k, const ToolSample& s) {
@@ -155,6 +183,7 @@ struct JournalApplier::State {
             case JournalKind::kStrokeEnd: stroke_end(k, r); break;
             case JournalKind::kUndo:
             case JournalKind::kRedo: undo_redo(k, r); break;
+            case JournalKind::kLattice: lattice(k, r); break;
             case JournalKind::kBatch: r.tail ? tail(k, r) : samples(k, r); break;
         }
         ++st.records;

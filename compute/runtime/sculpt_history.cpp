@@ -12,7 +12,7 @@ namespace tridex::app {
 
 SculptHistory::SculptHistory(compute::TriDexel& model, BooleanBackend& backend, std::size_t budget_bytes,
                              std::uint64_t last_serial)
-    : model_(model), backend_(backend), history_(model.lattice, budget_bytes, last_serial) {}
+    : model_(model), backend_(backend), history_(model.lattice, budget_bytes, last_serial), budget_(budget_bytes) {}
 
 compute::BooleanStats SculptHistory::apply(std::span<const compute::Sweep> batch) {
     if (batch.empty()) return {};
@@ -85,17 +85,9 @@ std::uint64_t SculptHistory::end_stroke(compute::BooleanStats* flushed, IslandRe
     cut_radius_m_ = 0.0;
     island_totals_ += removed;
     if (islands) *islands = removed;
-    return history_.end_stroke(model_);
-}
-
-compute::UndoHistory::Change SculptHistory::undo() {
-    end_stroke();
-    return history_.undo(model_, [this](std::span<const compute::RayImage> rays, const Aabb& box) { backend_.write_rays(rays, box); });
-}
-
-compute::UndoHistory::Change SculptHistory::redo() {
-    end_stroke();
-    return history_.redo(model_, [this](std::span<const compute::RayImage> rays, const Aabb& box) { backend_.write_rays(rays, box); });
+    const std::uint64_t serial = history_.end_stroke(model_);
+    if (serial != 0 && history_.next_undo_serial() == serial) clear_redo_eras();  // a new step: lattice redos are stale
+    return serial;
 }
 
 }  // namespace tridex::app

@@ -9,6 +9,7 @@
 
 #include "compute/history/undo_history.hpp"
 #include "compute/runtime/boolean_backend.hpp"
+#include "compute/tools/model_resample.hpp"
 #include "compute/tools/sweep.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/error.hpp"
@@ -69,12 +70,25 @@ public:
     /// remove_islands is on (what it did into `islands` when not null), then closes the open stroke; its serial, 0
     /// when none was open. Throws what the backend's write_rays throws.
     std::uint64_t end_stroke(compute::BooleanStats* flushed = nullptr, IslandRemoval* islands = nullptr);
-    /// Undoes the newest stroke (closing the open one first as end_stroke does); serial 0 when there was nothing to
-    /// undo.
+    /// Undoes the newest stroke, or the newest lattice change when no stroke after it is left to undo (closing the
+    /// open stroke first as end_stroke does); serial 0 when there was nothing to undo. A lattice change's undo puts
+    /// the model from before it back, bit for bit (Change::lattice; every tile marked dirty).
     compute::UndoHistory::Change undo();
-    /// Redoes the newest undone stroke (closing the open one first as end_stroke does); serial 0 when there was
-    /// nothing to redo.
+    /// Redoes the newest undone stroke, or the newest undone lattice change when no stroke before it is left to redo
+    /// (closing the open stroke first as end_stroke does); serial 0 when there was nothing to redo.
     compute::UndoHistory::Change redo();
+    /// Changes the model's coarseness: replaces it by compute::resample_model(model, resolution, max_bytes) (every
+    /// tile dirty), as one undo step with the next serial (Change::lattice, `rays` the new model's ray count). The
+    /// model before it is kept whole for undo; the steps before it stay undoable past it. Clears the redo steps, as
+    /// a stroke does. Kept lattice changes (the models and the histories under them) are held within the history's
+    /// budget: the oldest are dropped first, and a model alone over the budget makes the change final (not
+    /// undoable). Only the CPU backend can follow a lattice change. Throws tridex::Error, changing nothing, while a
+    /// stroke is open or sweeps are held, and as resample_model (a resolution out of range, over max_bytes); `stats`
+    /// (not null) gets resample_model's figures.
+    compute::UndoHistory::Change resample(int resolution, std::size_t max_bytes, compute::ResampleStats* stats = nullptr);
+    /// Lattice changes that undo() / redo() can still take back / re-apply.
+    std::size_t lattice_undo_steps() const { return below_.size(); }
+    std::size_t lattice_redo_steps() const { return above_.size(); }
     /// Whether strokes that cut remove the specks they leave (default false: the session spec decides,
     /// SessionSpec::keep_islands; a replay must use the live session's setting).
     void remove_islands(bool on) { remove_islands_ = on; }
@@ -82,16 +96,16 @@ public:
     bool removes_islands() const { return remove_islands_; }
     /// The speck removals of every stroke closed so far, summed.
     const IslandRemoval& islands() const { return island_totals_; }
-    /// Serials undo() / redo() would take next (after closing the open stroke), 0 when none.
-    std::uint64_t next_undo_serial() const { return history_.next_undo_serial(); }
-    std::uint64_t next_redo_serial() const { return history_.next_redo_serial(); }
-    /// The history's counters and sizes.
-    compute::HistoryStats stats() const { return history_.stats(); }
-    /// The closed steps as bytes (UndoHistory::save_steps; throws while a stroke is open or sweeps are held).
-    std::vector<unsigned char> save_steps() const {
-        if (!held_.empty()) throw Error("sculpt history: sweeps are held; close the stroke before saving the steps");
-        return history_.save_steps();
-    }
+    /// Serials undo() / redo() would take next (after closing the open stroke), a lattice change's included; 0 when
+    /// none.
+    std::uint64_t next_undo_serial() const;
+    std::uint64_t next_redo_serial() const;
+    /// The history's counters and sizes, the kept lattice changes included (their models' and histories' bytes, and
+    /// each change as one undo or redo step).
+    compute::HistoryStats stats() const;
+    /// The closed steps as bytes (UndoHistory::save_steps; throws while a stroke is open or sweeps are held, or when
+    /// the history holds a lattice change, which the bytes cannot carry).
+    std::vector<unsigned char> save_steps() const;
     /// Replaces the steps by `bytes` (UndoHistory::load_steps).
     void load_steps(std::span<const unsigned char> bytes) { history_.load_steps(bytes); }
     /// Calls `read` with the CPU model showing its state before the open stroke (UndoHistory::swap_open_images), then
@@ -111,9 +125,27 @@ public:
     }
 
 private:
+    // The model and history of one side of a lattice change: below_ holds, per change, the model before it with the
+    // strokes made on it; above_ (redo) the model after it with its strokes.
+    struct LatticeEra {
+        compute::TriDexel model;
+        compute::UndoHistory history;
+        std::uint64_t serial = 0;  // the lattice change's serial
+        std::size_t bytes = 0;     // the model's and the history's
+    };
+    bool lattice_undo_next() const;  // undo() would take back the newest lattice change
+    compute::UndoHistory::Change cross(std::vector<LatticeEra>& from, std::vector<LatticeEra>& to);
+    void trim_eras();
+    void clear_redo_eras();  // a new step made the lattice changes undone so far stale
+    static std::size_t era_bytes(const compute::TriDexel& model, const compute::UndoHistory& history);
+
     compute::TriDexel& model_;
     BooleanBackend& backend_;
     compute::UndoHistory history_;
+    std::size_t budget_ = 0;
+    std::vector<LatticeEra> below_, above_;  // oldest first
+    std::uint64_t dropped_strokes_ = 0;      // strokes of the eras dropped, for stats().strokes
+    std::uint64_t lattice_undos_ = 0, lattice_redos_ = 0;  // lattice changes undone and redone
     std::vector<compute::Sweep> held_;  // the open push group, not applied yet
     bool remove_islands_ = false;
     Aabb cut_box_{};             // world box of the open stroke's subtract sweeps (empty: it cut nothing)

@@ -80,7 +80,8 @@ bool SculptThread::take_requests() {
     bool any = false;
     while (requests_.try_pop(r)) {
         any = true;
-        if (follower_ && r != SculptRequest::kSave) outlet_.request(r);  // the host decides; its marks come back
+        const bool local = r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
+        if (follower_ && !local) outlet_.request(r);  // the host decides; its marks come back
         else take(r, local_site_);
     }
     return any;
@@ -115,6 +116,10 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
         save_now();
         return;
     }
+    if (r == SculptRequest::kFiner || r == SculptRequest::kCoarser) {
+        change_coarseness(r, site);
+        return;
+    }
     if (site == local_site_) stats_.marks.push_back({stats_.samples, r});
     // Another site's open stroke is theirs to end; an undo or redo splits it (their gesture goes on), and what it
     // changed so far then stands in the way like any later stroke.
@@ -141,6 +146,7 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
 compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono::steady_clock::time_point& t0) {
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
     if (c.serial == 0) return c;  // nothing to undo / redo
+    if (c.lattice) relattice();   // a coarseness change taken back or made again: the whole model is new
     record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once

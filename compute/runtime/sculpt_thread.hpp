@@ -45,6 +45,13 @@ struct SculptMark {
     SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo or kEndStroke
 };
 
+/// One change of the model's coarseness the sculpt thread made (SculptRequest kFiner or kCoarser).
+struct CoarsenessChange {
+    std::uint64_t serial = 0;              ///< its undo step's serial
+    compute::ResampleStats resample;       ///< the resolutions, cells and volumes before and after (no surface move)
+    double seconds = 0.0;                  ///< wall time of the resample and the whole model's re-contour, s
+};
+
 /// Counters of the sculpt thread, read after stop().
 struct SculptStats {
     std::uint64_t samples = 0;           ///< tool samples drained from the ring
@@ -118,6 +125,8 @@ struct SculptStats {
     /// in order (SculptMark): what a replay of the same samples needs to repeat the session's strokes
     /// (SculptThread::follow_marks).
     std::vector<SculptMark> marks;
+    /// Each coarseness change taken (SculptRequest kFiner, kCoarser; not its undo or redo), in order.
+    std::vector<CoarsenessChange> coarseness;
 };
 
 /// What a monitor reads of the sculpt thread while it runs (SculptThread::live; any thread).
@@ -138,6 +147,9 @@ struct SaveStatus {
     bool ok = true;              ///< false when the last save failed
     std::string journal_error;     ///< why the journal stopped ("" while it works or without one): work is not being kept
     std::string checkpoint_error;  ///< why checkpoints stopped ("" while they work or without them)
+    /// The last coarseness request's line: what changed (resolution, cell, volume), or why it was refused ("" before
+    /// any).
+    std::string coarseness;
 };
 
 /// What a checkpoint writer (SculptThread::use_checkpoints) wrote: the file's name in the journal's folder, its
@@ -345,6 +357,12 @@ public:
     /// on). Without a saver a kSave request is counted as a failure ("no save file"). Throws tridex::Error when the
     /// thread runs.
     void use_saver(std::function<std::string(const compute::TriDexel&)> save);
+    /// Checks, before a coarseness change (SculptRequest kFiner, kCoarser) re-samples `model` onto `resolution` cells
+    /// along its longest side, that the session has the memory for it: `check` throws tridex::Error naming what it
+    /// would take (the request is then refused with that line) or returns the bytes the new model may take
+    /// (compute::resample_model's max_bytes). Without a check, only resample_model's own estimate is held to no limit.
+    /// Throws tridex::Error when the thread runs.
+    void use_lattice_check(std::function<std::size_t(const compute::TriDexel& model, int resolution)> check);
     /// The saves so far and whether the journal and checkpoints still work (any thread; takes a mutex the sculpt
     /// thread holds only to update it).
     SaveStatus save_status() const;
@@ -440,6 +458,13 @@ private:
     bool take_marks(StepWork& w);                    // follow_marks due now; flushes first
     // An undo or redo on the history, journalled, published and contoured (t0: when it was taken); serial 0: none.
     compute::UndoHistory::Change restore(bool undo, const std::chrono::steady_clock::time_point& t0);
+    void change_coarseness(SculptRequest r, std::uint8_t site);  // a kFiner or kCoarser request
+    std::string coarseness_refusal() const;  // why this session cannot change its lattice ("" when it can)
+    void relattice();  // the Contourer and the tile cache made again for the model's new lattice
+    void coarseness_line(const std::string& line);  // into save_status_.coarseness
+    std::function<std::size_t(const compute::TriDexel&, int)> lattice_check_;
+    std::optional<compute::LodWorkerOptions> lod_options_;  // use_tile_lod's, for relattice()
+    void arm_tile_lod(const compute::LodWorkerOptions& options);  // use_tile_lod's work on tile_cache_
     void forward_own(ToolSample s);         // follow_host: one own sample, to own_
     void follow_mark(const SiteEntry& e);   // follow_host: one of the host's marks
     void follow_check(std::uint64_t host_digest);  // follow_host: the model's digest against the host's

@@ -13,6 +13,11 @@ namespace tridex::app {
 void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     if (thread_.joinable()) throw Error("SculptThread::use_tile_lod: call it before start()");
     if (mesh_out_) throw Error("SculptThread::use_tile_lod: call it before publish_mesh_to()");
+    lod_options_ = options;
+    arm_tile_lod(options);
+}
+
+void SculptThread::arm_tile_lod(const compute::LodWorkerOptions& options) {
     const bool coarse = !gpu_contour_ && compute::coarse_groups_apply(model_.lattice.cells, options.coarse_groups_from_cells);
     if (options.coarse_first && !coarse)
         throw Error("SculptThread::use_tile_lod: coarse_first needs coarse groups on the CPU contour");

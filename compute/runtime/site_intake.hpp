@@ -20,15 +20,19 @@ enum class SculptRequest : std::uint8_t {
     kRedo,       ///< redo the newest undone stroke
     kEndStroke,  ///< close the open stroke (e.g. the stylus button was released)
     kSave,       ///< save the model now with the saver (SculptThread::use_saver)
+    kFiner,      ///< the model's coarseness halved: re-sampled onto a lattice of twice the resolution (an undo step)
+    kCoarser,    ///< the model's coarseness doubled: re-sampled onto a lattice of half the resolution (an undo step)
 };
 
-/// The request's name in messages: "undo", "redo", "stroke close" or "save".
+/// The request's name in messages: "undo", "redo", "stroke close", "save", "finer" or "coarser".
 inline const char* sculpt_request_name(SculptRequest r) {
     switch (r) {
         case SculptRequest::kUndo: return "undo";
         case SculptRequest::kRedo: return "redo";
         case SculptRequest::kEndStroke: return "stroke close";
         case SculptRequest::kSave: return "save";
+        case SculptRequest::kFiner: return "finer";
+        case SculptRequest::kCoarser: return "coarser";
     }
     return "request";
 }

@@ -32,4 +32,22 @@ inline std::string write_small_scene(const std::filesystem::path& dir, double st
     return path;
 }
 
+/// Writes scene.json into `dir`: a two-pass scene (Peng's moving workspace: a jump between the passes lifts the tool,
+/// so two strokes) on the bunny at 48 cells, a 3 s stroke, with `keys` (a JSON array of {"t_s", "press"}) pressed
+/// at their device times. Returns its path.
+inline std::string write_two_pass_scene(const std::filesystem::path& dir, const std::string& keys) {
+    const std::string path = (dir / "scene.json").string();
+    std::ofstream(path) << R"({
+  "workpiece": { "resolution": 48, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
+  "tool": { "radius_m": 0.005 },
+  "workspace": { "mode": "peng_moving", "scale": 1.0 },
+  "stroke": { "duration_s": 3.0, "length_m": 0.03, "depth_m": 0.003, "press_axis": "y", "passes": 2,
+              "moves": ["jump"] },
+  "display": { "preset": "desktop", "resolution": [96, 72], "refresh_hz": 60 },
+  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] },
+  "keys": )" << keys << R"(
+})";
+    return path;
+}
+
 }  // namespace tridex::app::test

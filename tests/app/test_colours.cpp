@@ -137,10 +137,12 @@ TEST(Colours, TheMenuAndTheKeysChooseTheMaterials) {
     EXPECT_EQ(root.children[0].children[6].action, "op.grab");
     const MenuItem& tool = root.children[1];
     ASSERT_EQ(tool.label, "Tool");
-    ASSERT_EQ(tool.children.size(), 4u);  // larger up and smaller down, as before; Colour right, Symmetry left
+    ASSERT_EQ(tool.children.size(), 6u);  // larger up and smaller down, as before; Colour right, Symmetry left
     EXPECT_EQ(tool.children[0].action, "tool.larger");
-    EXPECT_EQ(tool.children[2].action, "tool.smaller");
-    EXPECT_EQ(tool.children[3].action, "symmetry.toggle");
+    EXPECT_EQ(tool.children[2].action, "coarseness.finer");
+    EXPECT_EQ(tool.children[3].action, "tool.smaller");
+    EXPECT_EQ(tool.children[4].action, "coarseness.coarser");
+    EXPECT_EQ(tool.children[5].action, "symmetry.toggle");
     ASSERT_EQ(tool.children[1].label, "Colour");
     const MenuItem& colours = tool.children[1];
     ASSERT_EQ(colours.children.size(), 7u);

@@ -81,22 +81,7 @@ TEST(UndoKeys, ChordsParseByNameAndUnknownPartsAreNamed) {
     EXPECT_THROW(parse_key_chord("", "k"), Error);
 }
 
-// A two-pass scene (Peng's moving workspace: a jump between the passes lifts the tool, so two strokes) with keys
-// pressed after the passes.
-std::string write_two_pass_scene(const fs::path& dir, const std::string& keys) {
-    const std::string path = (dir / "scene.json").string();
-    std::ofstream(path) << R"({
-  "workpiece": { "resolution": 48, "stock_m": 0.12, "centre_m": [0.0, 0.0, 0.05] },
-  "tool": { "radius_m": 0.005 },
-  "workspace": { "mode": "peng_moving", "scale": 1.0 },
-  "stroke": { "duration_s": 3.0, "length_m": 0.03, "depth_m": 0.003, "press_axis": "y", "passes": 2,
-              "moves": ["jump"] },
-  "display": { "preset": "desktop", "resolution": [96, 72], "refresh_hz": 60 },
-  "head": { "provider": "fixed", "position_m": [0.0, 0.05, 0.6] },
-  "keys": )" << keys << R"(
-})";
-    return path;
-}
+using test::write_two_pass_scene;
 
 TEST(UndoSession, ScriptedKeysUndoRedoAndSaveAndRecoverRebuildsThatModel) {
     const fs::path dir = test::temp_dir("undo_session");

@@ -256,7 +256,7 @@ TEST(Journal, OtherVersionsGarbageAndDamagedHeadersAreRefusedWithOneLine) {
     const std::vector<unsigned char> short_header(bytes.begin(), bytes.begin() + kJournalHeaderFixedBytes + 5);
 
     const std::pair<std::vector<unsigned char>, std::string> cases[] = {
-        {v2, "j.tdj: journal version 6; this build reads versions 1 to 5"},
+        {v2, "j.tdj: journal version 7; this build reads versions 1 to 6"},
         {damaged, "j.tdj: the journal header is damaged (CRC mismatch)"},
         {garbage, "j.tdj: not a tridex session journal (no TRDXJNL header)"},
         {{}, "j.tdj: not a tridex session journal (no TRDXJNL header)"},

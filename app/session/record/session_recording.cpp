@@ -98,9 +98,11 @@ std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> ma
     std::vector<devices::RecordedMark> out;
     out.reserve(marks.size());
     for (const SculptMark& m : marks) {
-        const char* kind = m.request == SculptRequest::kUndo   ? "undo"
-                           : m.request == SculptRequest::kRedo ? "redo"
-                                                               : "end_stroke";
+        const char* kind = m.request == SculptRequest::kUndo      ? "undo"
+                           : m.request == SculptRequest::kRedo    ? "redo"
+                           : m.request == SculptRequest::kFiner   ? "finer"
+                           : m.request == SculptRequest::kCoarser ? "coarser"
+                                                                  : "end_stroke";
         out.push_back({m.after_samples, kind});
     }
     return out;
@@ -111,9 +113,11 @@ std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHead
     std::vector<SculptMark> out;
     out.reserve(header.marks->size());
     for (const devices::RecordedMark& m : *header.marks) {
-        const SculptRequest r = m.kind == "undo"   ? SculptRequest::kUndo
-                                : m.kind == "redo" ? SculptRequest::kRedo
-                                                   : SculptRequest::kEndStroke;
+        const SculptRequest r = m.kind == "undo"      ? SculptRequest::kUndo
+                                : m.kind == "redo"    ? SculptRequest::kRedo
+                                : m.kind == "finer"   ? SculptRequest::kFiner
+                                : m.kind == "coarser" ? SculptRequest::kCoarser
+                                                      : SculptRequest::kEndStroke;
         out.push_back({m.after_samples, r});
     }
     return out;

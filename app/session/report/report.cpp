@@ -88,6 +88,22 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
             {"checkpoint_error", sculpt.checkpoint_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(sculpt.checkpoint_error)}};
 }
 
+nlohmann::json coarseness_json(const std::vector<CoarsenessChange>& changes) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const CoarsenessChange& c : changes) {
+        const compute::ResampleStats& s = c.resample;
+        out.push_back({{"serial", c.serial},
+                       {"resolution_before", s.resolution_before},
+                       {"resolution_after", s.resolution_after},
+                       {"cell_before_m", s.cell_before_m},
+                       {"cell_after_m", s.cell_after_m},
+                       {"volume_before_m3", s.volume_before_m3},
+                       {"volume_after_m3", s.volume_after_m3},
+                       {"seconds", c.seconds}});
+    }
+    return out;
+}
+
 nlohmann::json history_report_json(const SculptStats& sculpt) {
     const compute::HistoryStats& h = sculpt.history;
     return {{"budget_bytes", h.budget_bytes},
@@ -101,7 +117,8 @@ nlohmann::json history_report_json(const SculptStats& sculpt) {
             {"redos", h.redos},
             {"undo_requests", sculpt.undo_requests},
             {"redo_requests", sculpt.redo_requests},
-            {"undo_ms", summary_json(summarize(sculpt.undo_ms), true)}};
+            {"undo_ms", summary_json(summarize(sculpt.undo_ms), true)},
+            {"coarseness", coarseness_json(sculpt.coarseness)}};
 }
 
 namespace {

@@ -100,6 +100,9 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
 /// redo_requests, undo_ms (per undo or redo that changed the model: rays written back, active surface published,
 /// dirty tiles re-contoured; summary)}.
 nlohmann::json history_report_json(const SculptStats& sculpt);
+/// report.json `history.coarseness`: each coarseness change the sculpt thread made (SculptStats::coarseness), in order:
+/// its serial, the resolutions, cell sizes (m) and volumes (m^3) before and after, and its wall time (s).
+nlohmann::json coarseness_json(const std::vector<CoarsenessChange>& changes);
 
 /// The `tool` block of report.json (every session): shape, radius_m, length_m (flat_end), points, op,
 /// for union and paint material, and the start symmetry when it is not off.

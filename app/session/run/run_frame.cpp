@@ -29,13 +29,15 @@ constexpr std::chrono::microseconds kHandWait{2000};
 // stroke's changes arrive every few frames, and its re-contours and levels keep the cores busy a little longer.
 constexpr double kSculptingHoldS = 0.3;
 
-// The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept.
+// The overlay's lines about saving: what the last Ctrl+S did, and loudly what is no longer being kept; and what the last
+// coarseness change did.
 std::string saving_lines(const SaveStatus& s) {
     std::string out;
     auto line = [&out](const std::string& l) { out += (out.empty() ? "" : "\n") + l; };
     if (!s.journal_error.empty()) line("NOT BEING SAVED: journal stopped: " + s.journal_error);
     if (!s.checkpoint_error.empty()) line("checkpoints stopped: " + s.checkpoint_error);
     if (!s.message.empty()) line(s.ok ? s.message : "save failed: " + s.message);
+    if (!s.coarseness.empty()) line(s.coarseness);
     return out;
 }
 

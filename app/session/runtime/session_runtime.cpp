@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "app/scene/session_memory.hpp"
 #include "app/scene/tool_mesh.hpp"
 #include "app/support/crash_report.hpp"
 #include "app/support/memory.hpp"
@@ -132,6 +133,11 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         }
     }
     sculpt_->set_history_budget(spec_.history_budget_bytes);
+    // A coarseness change is refused, with the memory it would take, when the finer model and its contour do not fit.
+    sculpt_->use_lattice_check([kind = o.publish_meshes ? SessionKind::kLive : SessionKind::kBatch](
+                                   const compute::TriDexel& m, int resolution) {
+        return check_resample_memory(m, resolution, kind);
+    });
     sculpt_->remove_islands(!spec_.keep_islands);
     // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
     if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
