@@ -27,6 +27,11 @@ void SculptThread::use_lattice_check(std::function<std::size_t(const compute::Tr
     lattice_check_ = std::move(check);
 }
 
+void SculptThread::coarse_first_on_lattice_change(bool on) {
+    if (thread_.joinable()) throw Error("SculptThread::coarse_first_on_lattice_change: call it before start()");
+    relattice_coarse_first_ = on;
+}
+
 std::string SculptThread::coarseness_refusal() const {
     if (gpu_contour_) return "the contour runs on the GPU, whose buffers hold this lattice (run with --cpu-contour)";
     if (backend_->path() != "cpu")
@@ -61,6 +66,7 @@ void SculptThread::change_coarseness(SculptRequest r, std::uint8_t site) {
     try {
         const std::size_t max_bytes = lattice_check_ ? lattice_check_(model_, after) : std::numeric_limits<std::size_t>::max();
         done.serial = history_->resample(after, max_bytes, &done.resample).serial;
+        done.resample_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     } catch (const Error& e) {
         coarseness_line("coarseness " + what + " refused: " + e.what());
         return;
@@ -81,15 +87,25 @@ void SculptThread::change_coarseness(SculptRequest r, std::uint8_t site) {
     stats_.coarseness.push_back(done);
 }
 
+void SculptThread::relattice_after(bool undo) {
+    relattice();
+    const int n = compute::lattice_resolution(model_.lattice);
+    coarseness_line(std::string("coarseness: ") + (undo ? "change undone" : "change redone") + ", N = " +
+                    std::to_string(n) + ", cell " + fixed(1e3 * model_.lattice.cell_m, 3) + " mm");
+}
+
 void SculptThread::relattice() {
     contourer_ = compute::Contourer(model_);
-    refiner_.reset();  // a coarse-first start-up belonged to the old lattice: the new one is contoured whole
+    refiner_.reset();  // a start-up's refinement belonged to the old lattice
     shared_tiles_.clear();
     shared_groups_.clear();
     tile_cache_ = compute::TileSurfaceCache{};
     if (lod_options_) {
+        // As at start-up: with coarse groups the new lattice is shown by its coarsest group levels first and its
+        // tiles are contoured after them, nearest the tool first (every tile is dirty, none contoured yet).
         compute::LodWorkerOptions o = *lod_options_;
-        o.coarse_first = false;
+        o.coarse_first =
+            relattice_coarse_first_ && compute::coarse_groups_apply(model_.lattice.cells, o.coarse_groups_from_cells);
         o.lod.cell_m = model_.lattice.cell_m;
         arm_tile_lod(o);
     }

@@ -146,7 +146,7 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
 compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono::steady_clock::time_point& t0) {
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
     if (c.serial == 0) return c;  // nothing to undo / redo
-    if (c.lattice) relattice();   // a coarseness change taken back or made again: the whole model is new
+    if (c.lattice) relattice_after(undo);  // a coarseness change taken back or made again: the whole model is new
     record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
     changed_since_checkpoint_ = true;
     publish(published_centre_m_);  // the haptic window follows at once

@@ -49,7 +49,8 @@ struct SculptMark {
 struct CoarsenessChange {
     std::uint64_t serial = 0;              ///< its undo step's serial
     compute::ResampleStats resample;       ///< the resolutions, cells and volumes before and after (no surface move)
-    double seconds = 0.0;                  ///< wall time of the resample and the whole model's re-contour, s
+    double seconds = 0.0;                  ///< wall time of the whole change (re-sampling, active surface, contour), s
+    double resample_s = 0.0;               ///< of it, the re-sampling (compute::resample_model), s
 };
 
 /// Counters of the sculpt thread, read after stop().
@@ -363,6 +364,11 @@ public:
     /// (compute::resample_model's max_bytes). Without a check, only resample_model's own estimate is held to no limit.
     /// Throws tridex::Error when the thread runs.
     void use_lattice_check(std::function<std::size_t(const compute::TriDexel& model, int resolution)> check);
+    /// With use_tile_lod: after a coarseness change to a lattice where coarse groups apply, the new lattice is first
+    /// shown by its coarsest group levels and its tiles are contoured after them, nearest the tool first, as a
+    /// coarse-first start-up (true, the default); false: every tile is contoured before the change is published.
+    /// Throws tridex::Error when the thread runs.
+    void coarse_first_on_lattice_change(bool on);
     /// The saves so far and whether the journal and checkpoints still work (any thread; takes a mutex the sculpt
     /// thread holds only to update it).
     SaveStatus save_status() const;
@@ -461,9 +467,11 @@ private:
     void change_coarseness(SculptRequest r, std::uint8_t site);  // a kFiner or kCoarser request
     std::string coarseness_refusal() const;  // why this session cannot change its lattice ("" when it can)
     void relattice();  // the Contourer and the tile cache made again for the model's new lattice
+    void relattice_after(bool undo);  // relattice() after an undo or redo of a coarseness change, and its line
     void coarseness_line(const std::string& line);  // into save_status_.coarseness
     std::function<std::size_t(const compute::TriDexel&, int)> lattice_check_;
     std::optional<compute::LodWorkerOptions> lod_options_;  // use_tile_lod's, for relattice()
+    bool relattice_coarse_first_ = true;                    // coarse_first_on_lattice_change
     void arm_tile_lod(const compute::LodWorkerOptions& options);  // use_tile_lod's work on tile_cache_
     void forward_own(ToolSample s);         // follow_host: one own sample, to own_
     void follow_mark(const SiteEntry& e);   // follow_host: one of the host's marks

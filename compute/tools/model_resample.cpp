@@ -2,6 +2,7 @@
 #include "compute/tools/model_resample.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "compute/model/volume.hpp"
+#include "compute/parallel/task_pool.hpp"
 #include "compute/tools/clay_field.hpp"
 #include "core/error.hpp"
 
@@ -332,16 +334,23 @@ TriDexel resample_model(const TriDexel& model, int resolution, std::size_t max_b
         throw Error(msg.str());
     }
     TriDexel out = TriDexel::empty(target, max_bytes);
+    // Every ray on its own (it reads only the old model), so rows of rays run on every core with the same result.
+    std::atomic<std::size_t> copied{0}, blended{0}, field{0};
     for (int a = 0; a < 3; ++a) {
         RaySet& set = out.sets[a];
-        for (int v = 0; v < set.nv; ++v)
-            for (int u = 0; u < set.nu; ++u) {
-                const ResampledRay kind = resample_ray(model, target, a, u, v, set.ray(u, v));
-                (kind == ResampledRay::kCopied    ? st.rays_copied
-                 : kind == ResampledRay::kBlended ? st.rays_blended
-                                                  : st.rays_field)++;
-            }
+        pool_for(static_cast<std::size_t>(set.nv), 1, [&](const Chunk& c) {
+            std::size_t n[3] = {0, 0, 0};
+            for (std::size_t v = c.first; v < c.last; ++v)
+                for (int u = 0; u < set.nu; ++u)
+                    ++n[static_cast<int>(resample_ray(model, target, a, u, static_cast<int>(v), set.ray(u, static_cast<int>(v))))];
+            copied += n[static_cast<int>(ResampledRay::kCopied)];
+            blended += n[static_cast<int>(ResampledRay::kBlended)];
+            field += n[static_cast<int>(ResampledRay::kField)];
+        });
     }
+    st.rays_copied = copied;
+    st.rays_blended = blended;
+    st.rays_field = field;
     std::fill(out.tiles.dirty.begin(), out.tiles.dirty.end(), TileGrid::kWhole);
     if (stats) {
         st.volume_before_m3 = dexel_volume_m3(model);

@@ -69,7 +69,8 @@ ResampledRay resample_ray(const TriDexel& model, const Lattice& target, int axis
 /// resolution returns a bit-for-bit copy (tiles included). Fills `stats` when not null (all but the surface move).
 /// Throws tridex::Error, before allocating, when the
 /// resolution is out of range or the estimated size exceeds `max_bytes` (the message names the resolution, the MiB it
-/// would take and the MiB available). O(new rays x intervals per ray).
+/// would take and the MiB available). O(new rays x intervals per ray), rows of rays on every core (the task pool;
+/// the result does not depend on the split).
 TriDexel resample_model(const TriDexel& model, int resolution, std::size_t max_bytes, ResampleStats* stats = nullptr);
 
 }  // namespace tridex::compute

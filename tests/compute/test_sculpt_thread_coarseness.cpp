@@ -223,6 +223,7 @@ TEST(SculptCoarseness, RequestsChangeTheLatticeLiveAndTheJournalAndTheMarksRebui
         EXPECT_TRUE(t.request(SculptRequest::kUndo));  // the change: back to 48
         wait_drained(ring, t);
         EXPECT_EQ(compute::lattice_resolution(model.lattice), kCells);
+        EXPECT_NE(t.save_status().coarseness.find("change undone, N = 48"), std::string::npos) << t.save_status().coarseness;
         EXPECT_TRUE(t.request(SculptRequest::kRedo));  // the change again
         EXPECT_TRUE(t.request(SculptRequest::kCoarser));  // 96 -> 48: drops the redo of the second cut
         wait_drained(ring, t);
@@ -280,6 +281,47 @@ TEST(SculptCoarseness, RequestsChangeTheLatticeLiveAndTheJournalAndTheMarksRebui
     EXPECT_TRUE(same_lattice(replayed.lattice, live.lattice));
     EXPECT_EQ(model_digest(replayed), live.digest) << "the replay follows the marks bit for bit";
     fs::remove(path);
+}
+
+// With levels of detail and coarse groups on the new lattice, the change publishes coarse group levels first and
+// contours the tiles after them (as a coarse-first start-up); the session ends with the whole contour of the new model.
+TEST(SculptCoarseness, OntoALatticeWithCoarseGroupsTheTilesFollowTheCoarseLevels) {
+    TriDexel model = fresh();
+    compute::Contourer contourer(model);
+    contourer.update(model);
+    SpscRing<ToolSample> ring(4096);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    SculptStats stats;
+    MeshFrame last;
+    {
+        SculptThread t(model, contourer, ring, surface, Vec3(0.0));
+        compute::LodWorkerOptions lod;
+        lod.lod.cell_m = model.lattice.cell_m;
+        lod.coarse_groups_from_cells = 64;  // none at 48 cells, coarse groups at 96
+        t.use_tile_lod(lod);
+        t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
+        t.start();
+        EXPECT_TRUE(t.request(SculptRequest::kFiner));
+        wait_drained(ring, t);
+        push_all(ring, pass(0.0, 0.0, 200, ToolOp::kSubtract));  // a cut while the tiles are being contoured
+        wait_drained(ring, t);
+        t.stop();
+        stats = t.stats();
+        last = meshes.latest();
+    }
+    ASSERT_EQ(stats.coarseness.size(), 1u);
+    EXPECT_GT(stats.startup_tiles_refined, 0u) << "the new lattice's tiles came after its coarse levels";
+    compute::Contourer whole(model);
+    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), compute::TileGrid::kWhole);
+    whole.update(model);
+    const TriMesh a = contourer.mesh(), b = whole.mesh();
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.triangles, b.triangles);
+    std::size_t triangles = 0;
+    for (const auto& tile : last.tiles) triangles += tile->mesh.triangles.size();
+    EXPECT_EQ(triangles, b.triangles.size()) << "the last publish holds every tile of the new lattice";
+    for (const auto& g : last.groups) EXPECT_TRUE(g->children_cover) << g->id;
 }
 
 // A sink that follows the stream (a cluster wall's ranks, a shared session's joiners).

@@ -99,7 +99,8 @@ nlohmann::json coarseness_json(const std::vector<CoarsenessChange>& changes) {
                        {"cell_after_m", s.cell_after_m},
                        {"volume_before_m3", s.volume_before_m3},
                        {"volume_after_m3", s.volume_after_m3},
-                       {"seconds", c.seconds}});
+                       {"seconds", c.seconds},
+                       {"resample_s", c.resample_s}});
     }
     return out;
 }

@@ -159,6 +159,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         lod.coarse_groups_from_cells = o.sculpt.coarse_groups_from_cells;
         lod.coarse_first = coarse_first_;
         sculpt_->use_tile_lod(lod);
+        sculpt_->coarse_first_on_lattice_change(o.sculpt.coarse_first);
     }
     if (o.publish_meshes) sculpt_->publish_mesh_to(meshes_, o.mesh_interval_s, o.mesh_form, &sculpted_changes_);
     // A device that renders contact next to itself (net, local rendering) gets each snapshot from the sculpt thread.
