@@ -265,6 +265,13 @@ compute::JournalApplyFrom replay_settings(const SessionSpec& s) {
     return from;
 }
 
+std::string settings_at_resolution(const std::string& settings_json, int resolution) {
+    nlohmann::json j = nlohmann::json::parse(settings_json, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("resolution")) return settings_json;
+    j["resolution"] = resolution;
+    return j.dump();
+}
+
 std::string spec_to_json(const SessionSpec& s) {
     json materials = json::array();
     for (const MaterialEntry& m : s.materials)

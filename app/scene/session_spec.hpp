@@ -195,6 +195,11 @@ std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path);
 /// default palette is left out, so a default session's JSON is what it was before palettes.
 std::string spec_to_json(const SessionSpec& s);
 
+/// Session settings JSON (spec_to_json's) with their "resolution" set to `resolution`: a model saved after its
+/// coarseness changed, or re-sampled by `tridex resample`. The text as it was when it is not a JSON object holding a
+/// "resolution" (the settings are opaque to the model file).
+std::string settings_at_resolution(const std::string& settings_json, int resolution);
+
 /// Parses spec_to_json's output (and that of older recordings: a ball tool from tool_radius_m, no
 /// materials, the default palette, keep_islands true and clay_group_sweeps 16 when absent); throws tridex::Error "<source>: settings field '<name>': ..." on a
 /// missing or ill-typed field.

@@ -16,6 +16,7 @@
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/workpiece.hpp"
+#include "compute/tools/model_resample.hpp"
 #include "core/tri_mesh.hpp"
 #include "compute/model/volume.hpp"
 #include "core/error.hpp"
@@ -94,7 +95,10 @@ Workpiece prepare_session_workpiece(SessionSpec& spec) {
 }
 
 void save_session_model(const std::string& path, const Workpiece& wp, const SessionSpec& spec) {
-    compute::save_tdx(path, wp.model, wp.to_world, spec_to_json(spec), 3, spec.palette);
+    // The settings name the lattice saved, which a coarseness change may have made another than the start's.
+    compute::save_tdx(path, wp.model, wp.to_world,
+                      settings_at_resolution(spec_to_json(spec), compute::lattice_resolution(wp.model.lattice)), 3,
+                      spec.palette);
 }
 
 namespace {

@@ -19,9 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The resolution of the model `tridex recover` wrote into `dir`.
+// The resolution of the model `tridex recover` wrote into `dir`; its settings must name the same.
 int recovered_resolution(const fs::path& dir) {
-    return compute::lattice_resolution(compute::load_tdx((dir / "model.tdx").string(), std::size_t{1} << 30).model.lattice);
+    const compute::TdxModel m = compute::load_tdx((dir / "model.tdx").string(), std::size_t{1} << 30);
+    const int n = compute::lattice_resolution(m.model.lattice);
+    EXPECT_EQ(nlohmann::json::parse(m.settings_json)["resolution"], n) << "the saved settings name another lattice";
+    return n;
 }
 
 TEST(CoarsenessSession, PageUpAndDownResampleLiveAndRecoverAndReplayRebuildTheModel) {

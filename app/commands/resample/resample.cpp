@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cstdio>
 
+#include "app/scene/session_spec.hpp"
 #include "app/support/memory.hpp"
 #include "app/support/output_dir.hpp"
 #include "app/support/progress.hpp"
@@ -16,15 +17,6 @@
 
 namespace tridex::app {
 namespace {
-
-/// The session settings with their "resolution" set to `resolution` (the text as it was when it is not a JSON
-/// object holding one: the settings are the session's, opaque to the model file).
-std::string settings_at(const std::string& settings_json, int resolution) {
-    nlohmann::json j = nlohmann::json::parse(settings_json, nullptr, false);
-    if (j.is_discarded() || !j.is_object() || !j.contains("resolution")) return settings_json;
-    j["resolution"] = resolution;
-    return j.dump();
-}
 
 double mib(std::size_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
 
@@ -70,7 +62,7 @@ ResampleResult run_resample(const ResampleOptions& o) {
     }
     {
         ProgressReporter::Step step = progress().step("writing " + o.out);
-        compute::save_tdx(o.out, model, saved.to_world, settings_at(saved.settings_json, resolution), 3, saved.palette);
+        compute::save_tdx(o.out, model, saved.to_world, settings_at_resolution(saved.settings_json, resolution), 3, saved.palette);
     }
     const compute::ResampleStats& s = r.stats;
     const auto& c = model.lattice.cells;

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "app/scene/session_memory.hpp"
+#include "compute/tools/model_resample.hpp"
 #include "app/scene/tool_mesh.hpp"
 #include "app/support/crash_report.hpp"
 #include "app/support/memory.hpp"
@@ -125,7 +126,9 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
             sculpt_->use_checkpoints(
                 [name, path, to_world = wp_.to_world, settings = spec_to_json(spec_),
                  palette = spec_.palette](const compute::TriDexel& m) {
-                    compute::save_tdx(path, m, to_world, settings, 3, palette);  // atomic: a failure keeps the previous one
+                    // Atomic: a failure keeps the previous one. The settings name the lattice saved (coarseness changes).
+                    compute::save_tdx(path, m, to_world,
+                                      settings_at_resolution(settings, compute::lattice_resolution(m.lattice)), 3, palette);
                     const auto [crc, bytes] = file_crc32(path);
                     return CheckpointFile{name, bytes, crc};
                 },
@@ -147,7 +150,8 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
     if (!o.sculpt.save_path.empty()) {
         sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_),
                             palette = spec_.palette](const compute::TriDexel& m) {
-            compute::save_tdx(path, m, to_world, settings, 3, palette);
+            compute::save_tdx(path, m, to_world, settings_at_resolution(settings, compute::lattice_resolution(m.lattice)),
+                              3, palette);
             return "saved " + path;
         });
     }
