@@ -63,12 +63,13 @@ class GpuBackend final : public BooleanBackend {
 public:
     // Owning its Context.
     GpuBackend(gpu::Context context, compute::TriDexel& model, bool gpu_clay)
-        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {
+        : own_(std::move(context)), context_(*own_), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)),
+          mirror_(&model) {
         place_clay(gpu_clay);
     }
     // On a shared Context.
     GpuBackend(const gpu::Context* shared, compute::TriDexel& model, bool gpu_clay)
-        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)) {
+        : context_(*shared), sculptor_(std::make_unique<compute::GpuSculptor>(context_, model)), mirror_(&model) {
         place_clay(gpu_clay);
     }
     ~GpuBackend() override {
@@ -112,6 +113,14 @@ public:
         return total;
     }
     void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) override { sculptor_->write_rays(rays, box_m); }
+    void relattice() override {
+        compute::TriDexel& m = *mirror_;
+        const bool gpu_clay = clay_ != nullptr;
+        clay_.reset();  // the old slabs go first: the device holds one lattice at a time
+        sculptor_.reset();
+        sculptor_ = std::make_unique<compute::GpuSculptor>(context_, m);
+        if (gpu_clay) clay_ = std::make_unique<compute::GpuClay>(context_, *sculptor_);
+    }
     std::string path() const override { return "gpu"; }
     std::string device() const override { return context_.device_name(); }
     std::uint64_t spilled_intervals() const override { return sculptor_->slabs().spilled_intervals(); }
@@ -160,6 +169,7 @@ private:
     const gpu::Context& context_;
     std::unique_ptr<compute::GpuSculptor> sculptor_;
     std::unique_ptr<compute::GpuClay> clay_;
+    compute::TriDexel* mirror_ = nullptr;  // the CPU model (the sculptor's mirror), for relattice()
 };
 
 }  // namespace

@@ -34,6 +34,11 @@ public:
     /// the model's tiles around `box_m` (world m) dirty. Throws tridex::Error on an image outside the model or a
     /// device failure.
     virtual void write_rays(std::span<const compute::RayImage> rays, const Aabb& box_m) = 0;
+    /// Makes this path's storage again for the model's lattice after the CPU model was replaced whole (a coarseness
+    /// change, its undo or redo: app::SculptHistory::resample): the GPU path builds its slabs (and its clay kernel)
+    /// again from the CPU model; the CPU path has nothing to do. Throws tridex::Error when the model does not fit the
+    /// device; the backend then holds no storage until a relattice() that succeeds.
+    virtual void relattice() {}
     /// "gpu" or "cpu" (report.json `sculpt_path`).
     virtual std::string path() const = 0;
     /// The Vulkan device name for "gpu"; "" for "cpu".

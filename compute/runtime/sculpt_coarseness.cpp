@@ -34,8 +34,6 @@ void SculptThread::coarse_first_on_lattice_change(bool on) {
 
 std::string SculptThread::coarseness_refusal() const {
     if (gpu_contour_) return "the contour runs on the GPU, whose buffers hold this lattice (run with --cpu-contour)";
-    if (backend_->path() != "cpu")
-        return "the Booleans run on the GPU, whose slabs hold this lattice (run with --cpu)";
     if (!streams_.empty() || intake_ || follower_)
         return "this model is shared (a shared session or a cluster wall follows its stream), and the copies "
                "elsewhere cannot change their lattice yet";

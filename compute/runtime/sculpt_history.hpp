@@ -82,8 +82,9 @@ public:
     /// model before it is kept whole for undo; the steps before it stay undoable past it. Clears the redo steps, as
     /// a stroke does. Kept lattice changes (the models and the histories under them) are held within the history's
     /// budget: the oldest are dropped first, and a model alone over the budget makes the change final (not
-    /// undoable). Only the CPU backend can follow a lattice change. Throws tridex::Error, changing nothing, while a
-    /// stroke is open or sweeps are held, and as resample_model (a resolution out of range, over max_bytes); `stats`
+    /// undoable). The backend follows each change, its undo and redo (BooleanBackend::relattice: the GPU slabs are made
+    /// again). Throws tridex::Error, changing nothing, while a stroke is open or sweeps are held, as resample_model (a
+    /// resolution out of range, over max_bytes), and when the new model does not fit the GPU path's device; `stats`
     /// (not null) gets resample_model's figures.
     compute::UndoHistory::Change resample(int resolution, std::size_t max_bytes, compute::ResampleStats* stats = nullptr);
     /// Lattice changes that undo() / redo() can still take back / re-apply.

@@ -66,6 +66,7 @@ compute::UndoHistory::Change SculptHistory::cross(std::vector<LatticeEra>& from,
     std::swap(model_, era.model);
     std::swap(history_, era.history);
     history_.continue_serials_after(newest);  // serials stay unique across the change
+    backend_.relattice();
     mark_all_dirty(model_);
     era.bytes = era_bytes(era.model, era.history);
     compute::UndoHistory::Change c{era.serial, ray_count(model_), model_.lattice.bounds(), true};
@@ -76,9 +77,6 @@ compute::UndoHistory::Change SculptHistory::cross(std::vector<LatticeEra>& from,
 compute::UndoHistory::Change SculptHistory::resample(int resolution, std::size_t max_bytes, compute::ResampleStats* stats) {
     if (history_.stroke_open() || !held_.empty())
         throw Error("sculpt history: a stroke is open; close it before changing the coarseness");
-    if (backend_.path() != "cpu")
-        throw Error("sculpt history: the coarseness can change only on the CPU Booleans (the " + backend_.path() +
-                    " path keeps the model on the device at its lattice)");
     compute::TriDexel next = compute::resample_model(model_, resolution, max_bytes, stats);
     const std::uint64_t serial = history_.last_serial() + 1;
     history_.drop_redo();
@@ -86,6 +84,14 @@ compute::UndoHistory::Change SculptHistory::resample(int resolution, std::size_t
     LatticeEra era{std::move(model_), compute::UndoHistory(next.lattice, budget_, serial), serial, 0};
     std::swap(history_, era.history);  // era.history: the strokes on the old model
     model_ = std::move(next);
+    try {
+        backend_.relattice();
+    } catch (...) {  // the new lattice does not fit the device: the old one comes back, as it was
+        model_ = std::move(era.model);
+        std::swap(history_, era.history);
+        backend_.relattice();
+        throw;
+    }
     mark_all_dirty(model_);
     era.bytes = era_bytes(era.model, era.history);
     below_.push_back(std::move(era));

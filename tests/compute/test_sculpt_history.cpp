@@ -204,3 +204,40 @@ TEST(SculptHistory, AStrokeLargerThanTheBudgetStaysAppliedAndEndsTheHistory) {
 
 }  // namespace
 }  // namespace tridex::app
+
+namespace tridex::app {
+namespace {
+
+// A coarseness change on either path: the GPU slabs are made again for each lattice (the change, its undo, its redo),
+// and strokes on the new lattice and their undos keep slabs and CPU model equal.
+void coarseness_sequence(bool gpu) {
+    const auto all = strokes(gpu ? 41u : 43u, 3);
+    ASSERT_EQ(all.size(), 3u);
+    Path p(gpu);
+    SculptHistory h(p.model, *p.backend);
+    stroke(h, all[0]);
+    const TriDexel before = p.model;
+    const compute::UndoHistory::Change c = h.resample(2 * kCells, std::size_t{1} << 30);
+    EXPECT_TRUE(c.lattice);
+    EXPECT_EQ(p.model.lattice.cells[0], 2 * kCells);
+    const TriDexel fine = p.model;
+    expect_model(p, fine, "after the change");
+    stroke(h, all[1]);  // sweeps in world metres: the same strokes on the finer lattice
+    expect_model(p, p.model, "a stroke on the finer lattice");
+    EXPECT_EQ(h.undo().serial, 3u);
+    expect_model(p, fine, "its undo");
+    EXPECT_TRUE(h.undo().lattice);
+    EXPECT_EQ(p.model.lattice.cells, before.lattice.cells);
+    EXPECT_EQ(compare(p.model, before).rays, 0u) << "the old lattice's model, bit for bit";
+    expect_model(p, before, "the change undone");
+    stroke(h, all[2]);  // on the old lattice again: the change cannot be redone
+    EXPECT_EQ(h.redo().serial, 0u);
+    expect_model(p, rebuilt(all, {0, 2}), "a new stroke after the undo");
+}
+
+TEST(SculptHistory, ACoarsenessChangeAndItsUndoOnTheCpu) { coarseness_sequence(false); }
+
+TEST(SculptHistory, ACoarsenessChangeAndItsUndoRemakeTheGpuSlabs) { coarseness_sequence(true); }
+
+}  // namespace
+}  // namespace tridex::app
