@@ -17,6 +17,7 @@
 #include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
+#include "sculpt_passes.hpp"
 #include "sweep_programs.hpp"
 
 namespace tridex::app {
@@ -148,37 +149,9 @@ TEST(SculptCoarseness, RefusedWhileAStrokeIsOpenAndFinalWhenTheOldModelOutgrowsT
     EXPECT_EQ(compute::lattice_resolution(small.lattice), kCells / 2);
 }
 
-// A pass along x over the box's +z face at height y, `n` samples from t0_s at 1 kHz.
-std::vector<ToolSample> pass(double y, double t0_s, int n, ToolOp op) {
-    std::vector<ToolSample> s(static_cast<std::size_t>(n));
-    const TriDexel m = fresh();
-    const Vec3 top = m.lattice.to_world(Vec3(24.0, 24.0, 41.5));
-    for (int i = 0; i < n; ++i) {
-        const double u = i / (n - 1.0);
-        s[static_cast<std::size_t>(i)].t_s = t0_s + i * 1e-3;
-        s[static_cast<std::size_t>(i)].position = top + Vec3(-0.015 + 0.03 * u, y, -0.002);
-        s[static_cast<std::size_t>(i)].tool.radius_m = 0.004;
-        s[static_cast<std::size_t>(i)].op = op;
-        s[static_cast<std::size_t>(i)].material = 2;
-    }
-    return s;
-}
-
-void push_all(SpscRing<ToolSample>& ring, const std::vector<ToolSample>& s) {
-    for (const ToolSample& x : s)
-        while (!ring.try_push(x)) std::this_thread::yield();
-}
-
-// Waits until the ring is empty and two more passes of the thread's loop finished; fails after a minute.
-void wait_drained(const SpscRing<ToolSample>& ring, const SculptThread& t) {
-    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (ring.size() > 0 && std::chrono::steady_clock::now() < limit)
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    const std::uint64_t k = t.passes();
-    while (t.passes() < k + 2 && std::chrono::steady_clock::now() < limit)
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (std::chrono::steady_clock::now() >= limit) ADD_FAILURE() << "the sculpt thread did not settle within 60 s";
-}
+using test::pass;
+using test::push_all;
+using test::wait_drained;
 
 // The session's samples: a cut, a lift, a cut, a lift, a cut, a lift (each request comes between two of them).
 std::vector<std::vector<ToolSample>> session_parts() {

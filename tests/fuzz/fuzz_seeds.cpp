@@ -12,6 +12,7 @@
 
 #include "app/session/cluster/net_transport_wire.hpp"
 #include "app/session/shared/shared_message.hpp"
+#include "compute/journal/journal_format.hpp"
 #include "compute/journal/journal_writer.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -71,7 +72,7 @@ void recording_seeds(const fs::path& dir) {
     devices::write_recording((dir / "recording" / "three_ticks.trdxrec").string(), rec);
 }
 
-/// A journal with two batches, a mark and an intake record (its samples the tail).
+/// A journal with two batches, a stroke end, a coarseness change and an intake record (its samples the tail).
 void journal_seeds(const fs::path& dir) {
     fs::create_directories(dir / "journal");
     compute::JournalWriter writer((dir / "journal" / "session.tdj").string(), "{\"seed\": 1}");
@@ -83,7 +84,8 @@ void journal_seeds(const fs::path& dir) {
         batch[i].tool.radius_m = 0.003;
     }
     writer.append(batch);
-    writer.mark(1, 1);
+    writer.mark(compute::kJournalStrokeEnd, 1);
+    writer.mark(compute::kJournalLattice, 2, 96);
     writer.append(batch);
     writer.intake(6, batch);
     writer.close();
