@@ -39,10 +39,11 @@
 namespace tridex::app {
 
 /// A point of the sculpt thread's sample stream where it took a request that depends on when it came (an undo, a
-/// redo, a stroke close asked for or made because the tool idled), as SculptStats::marks lists them.
+/// redo, a stroke close asked for or made because the tool idled, a coarseness change made), as SculptStats::marks
+/// lists them.
 struct SculptMark {
     std::uint64_t after_samples = 0;                     ///< samples drained before it (SculptStats::samples then)
-    SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo or kEndStroke
+    SculptRequest request = SculptRequest::kEndStroke;   ///< kUndo, kRedo, kEndStroke, kFiner or kCoarser
 };
 
 /// One change of the model's coarseness the sculpt thread made (SculptRequest kFiner or kCoarser).
@@ -236,7 +237,9 @@ struct FollowStart {
 /// its sweeps have changed nothing for kStrokeIdleS of device time after it changed the model (the tool left the
 /// material), and at a kEndStroke request; a drained batch is split where a stroke closes. Undo and redo requests
 /// are taken at the start of a step, before that step's samples. Every close, undo and redo is journalled as a
-/// mark between the batch records, so a journal replays the same strokes.
+/// mark between the batch records, so a journal replays the same strokes. Coarseness requests (kFiner, kCoarser)
+/// close the open stroke and re-sample the model onto a lattice of twice or half the resolution as one undo step
+/// (SculptHistory::resample), journalled as a lattice record; the Contourer and the tile cache are made again for it.
 /// Clay: while a push stroke (ToolOp::kPush) is open, the published active surface is the model as it was when the
 /// stroke began (SculptHistory::read_stroke_start), so the haptic force comes from the undeformed reference surface
 /// (Popescu, Burdea, Bouzit, section 3.3); the surface is published again, deformed, when the stroke closes (plastic).
