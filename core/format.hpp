@@ -15,6 +15,13 @@ inline std::string format_number(double v) {
     return buf;
 }
 
+/// `v` with exactly `digits` digits after the point ("0.968", "-0.08"), for figures a message lines up.
+inline std::string format_fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
 /// A length `m` (metres) in millimetres to a tenth of a millimetre, as a person reads it on screen: "11.7 mm",
 /// "12 mm" (no trailing ".0"), "0 mm" (never "-0" nor "8.67e-16"); a non-finite length gives "-- mm".
 inline std::string format_mm(double m) {

@@ -44,8 +44,7 @@ struct JournalApplier::State {
     std::unique_ptr<app::BooleanBackend> cpu;
     app::SculptHistory history;
     std::vector<Sweep> batch;
-    TriDexel& model;
-    Vec3 centre_m;  // the symmetry centre: the model's lattice's (a lattice record changes it)
+    TriDexel& model;  // its lattice's centre is the symmetry centre (a lattice record changes the lattice)
     SiteSweeps sites;  // each site's previous sample, and whose stroke is open
     std::optional<std::uint64_t> last_index;  // index of the last record seen (none: the next is the journal's first)
     std::uint64_t position = 0;               // records seen, for error messages
@@ -56,8 +55,7 @@ struct JournalApplier::State {
     State(TriDexel& model, const JournalApplyFrom& from)
         : cpu(app::make_cpu_backend(model)),
           history(model, *cpu, from.history_budget_bytes, from.last_serial),
-          model(model),
-          centre_m(symmetry_centre(model.lattice)) {
+          model(model) {
         history.remove_islands(from.remove_islands);
         cpu->set_clay_group_sweeps(from.clay_group_sweeps);
     }
@@ -85,7 +83,7 @@ struct JournalApplier::State {
                 ++st.marks_skipped;
                 return;
             }
-            if ((undo ? history.undo() : history.redo()).lattice) centre_m = symmetry_centre(model.lattice);
+            (void)(undo ? history.undo() : history.redo());
             ++(undo ? st.undos : st.redos);
             return;
         }
@@ -93,7 +91,6 @@ struct JournalApplier::State {
             throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) +
                             ", but the replay's next is " + (next == 0 ? std::string("none") : "stroke " + std::to_string(next)));
         const UndoHistory::Change c = undo ? history.undo() : history.redo();
-        if (c.lattice) centre_m = symmetry_centre(model.lattice);
         if (c.rays != r.rays)
             throw at(k, std::string(undo ? "undo" : "redo") + " of stroke " + std::to_string(r.serial) + " wrote " +
                             std::to_string(c.rays) + " rays back, the journal says " + std::to_string(r.rays));
@@ -113,7 +110,6 @@ struct JournalApplier::State {
         } catch (const Error& e) {
             throw at(k, e.what());
         }
-        centre_m = symmetry_centre(model.lattice);
         if (c.serial != r.serial) {
             if (!damaged)
                 throw at(k, "the journal changes the coarseness as step " + std::to_string(r.serial) +
@@ -126,7 +122,7 @@ struct JournalApplier::State {
     void sweep_to(std::uint64_t k, const ToolSample& s) {
         if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
         try {
-            sites.advance(s, nullptr, nullptr, centre_m, batch);
+            sites.advance(s, nullptr, nullptr, symmetry_centre(model.lattice), batch);
         } catch (const Error& e) {
             throw at(k, e.what());
         }

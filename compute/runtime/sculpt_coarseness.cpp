@@ -1,26 +1,14 @@
 // compute/runtime/sculpt_coarseness.cpp - the sculpt thread's coarseness changes: the model re-sampled onto a finer
 // or coarser lattice as one undo step, and the contour and the tile cache made again for it (docs/commands/resample.md, "During a session").
 #include <chrono>
-#include <cstdio>
 #include <limits>
 
 #include "compute/journal/journal_format.hpp"
-#include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
-#include "compute/tools/symmetry.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace tridex::app {
-
-namespace {
-
-std::string fixed(double v, int digits) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.*f", digits, v);
-    return b;
-}
-
-}  // namespace
 
 void SculptThread::use_lattice_check(std::function<std::size_t(const compute::TriDexel&, int)> check) {
     if (thread_.joinable()) throw Error("SculptThread::use_lattice_check: call it before start()");
@@ -80,8 +68,8 @@ void SculptThread::change_coarseness(SculptRequest r, std::uint8_t site) {
     const compute::ResampleStats& s = done.resample;
     const double dv = s.volume_before_m3 > 0.0 ? 100.0 * (s.volume_after_m3 / s.volume_before_m3 - 1.0) : 0.0;
     coarseness_line("coarseness: N = " + std::to_string(before) + " -> " + std::to_string(after) + ", cell " +
-                    fixed(1e3 * s.cell_before_m, 3) + " -> " + fixed(1e3 * s.cell_after_m, 3) + " mm, volume " +
-                    (dv >= 0.0 ? "+" : "") + fixed(dv, 2) + " %, " + fixed(done.seconds, 2) + " s (Ctrl+Z takes it back)");
+                    format_fixed(1e3 * s.cell_before_m, 3) + " -> " + format_fixed(1e3 * s.cell_after_m, 3) + " mm, volume " +
+                    (dv >= 0.0 ? "+" : "") + format_fixed(dv, 2) + " %, " + format_fixed(done.seconds, 2) + " s (Ctrl+Z takes it back)");
     stats_.coarseness.push_back(done);
 }
 
@@ -89,7 +77,7 @@ void SculptThread::relattice_after(bool undo) {
     relattice();
     const int n = compute::lattice_resolution(model_.lattice);
     coarseness_line(std::string("coarseness: ") + (undo ? "change undone" : "change redone") + ", N = " +
-                    std::to_string(n) + ", cell " + fixed(1e3 * model_.lattice.cell_m, 3) + " mm");
+                    std::to_string(n) + ", cell " + format_fixed(1e3 * model_.lattice.cell_m, 3) + " mm");
 }
 
 void SculptThread::relattice() {

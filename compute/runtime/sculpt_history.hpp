@@ -135,6 +135,7 @@ private:
         std::size_t bytes = 0;     // the model's and the history's
     };
     bool lattice_undo_next() const;  // undo() would take back the newest lattice change
+    bool lattice_redo_next() const;  // redo() would make the newest undone lattice change again
     compute::UndoHistory::Change cross(std::vector<LatticeEra>& from, std::vector<LatticeEra>& to);
     void trim_eras();
     void clear_redo_eras();  // a new step made the lattice changes undone so far stale

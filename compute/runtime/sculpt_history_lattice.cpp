@@ -37,8 +37,10 @@ std::uint64_t SculptHistory::next_undo_serial() const {
     return lattice_undo_next() ? below_.back().serial : history_.next_undo_serial();
 }
 
+bool SculptHistory::lattice_redo_next() const { return history_.next_redo_serial() == 0 && !above_.empty(); }
+
 std::uint64_t SculptHistory::next_redo_serial() const {
-    return history_.next_redo_serial() == 0 && !above_.empty() ? above_.back().serial : history_.next_redo_serial();
+    return lattice_redo_next() ? above_.back().serial : history_.next_redo_serial();
 }
 
 compute::UndoHistory::Change SculptHistory::undo() {
@@ -52,7 +54,7 @@ compute::UndoHistory::Change SculptHistory::undo() {
 
 compute::UndoHistory::Change SculptHistory::redo() {
     end_stroke();
-    if (history_.next_redo_serial() == 0 && !above_.empty()) {
+    if (lattice_redo_next()) {
         ++lattice_redos_;
         return cross(above_, below_);
     }
@@ -120,7 +122,8 @@ void SculptHistory::trim_eras() {
 
 compute::HistoryStats SculptHistory::stats() const {
     compute::HistoryStats s = history_.stats();
-    const auto add = [&s](const LatticeEra& e) {
+    // An era below holds undo steps (its change's and its strokes'), one above redo steps.
+    const auto add = [&s](const LatticeEra& e, bool below) {
         const compute::HistoryStats h = e.history.stats();
         s.bytes += e.bytes;
         s.strokes += h.strokes;
@@ -128,15 +131,10 @@ compute::HistoryStats SculptHistory::stats() const {
         s.oversize_strokes += h.oversize_strokes;
         s.undos += h.undos;
         s.redos += h.redos;
+        (below ? s.undo_steps : s.redo_steps) += 1 + (below ? h.undo_steps : h.redo_steps);
     };
-    for (const LatticeEra& e : below_) {
-        add(e);
-        s.undo_steps += 1 + e.history.stats().undo_steps;
-    }
-    for (const LatticeEra& e : above_) {
-        add(e);
-        s.redo_steps += 1 + e.history.stats().redo_steps;
-    }
+    for (const LatticeEra& e : below_) add(e, true);
+    for (const LatticeEra& e : above_) add(e, false);
     s.strokes += dropped_strokes_;
     s.undos += lattice_undos_;
     s.redos += lattice_redos_;
