@@ -51,7 +51,7 @@ ElasticContacts elastic_contacts(const ElasticSphere& sphere, const ToolPoints& 
     return out;
 }
 
-Vec3 elastic_force(const ElasticSphere& sphere, const ElasticContacts& contacts, double max_force_n) {
+Vec3 penetration_force(double stiffness_n_per_m, const ElasticContacts& contacts, double max_force_n) {
     if (!(std::isfinite(max_force_n) && max_force_n > 0.0)) return Vec3(0.0);
     Vec3 normal(0.0);
     double deepest = 0.0;
@@ -62,9 +62,13 @@ Vec3 elastic_force(const ElasticSphere& sphere, const ElasticContacts& contacts,
     }
     const double len = glm::length(normal);
     if (!(len > 0.0) || !std::isfinite(len)) return Vec3(0.0);
-    const Vec3 f = (sphere.stiffness_n_per_m * deepest / len) * normal;
+    const Vec3 f = (stiffness_n_per_m * deepest / len) * normal;
     if (!is_finite(f)) return Vec3(0.0);
     return clamp_force(f, max_force_n);
+}
+
+Vec3 elastic_force(const ElasticSphere& sphere, const ElasticContacts& contacts, double max_force_n) {
+    return penetration_force(sphere.stiffness_n_per_m, contacts, max_force_n);
 }
 
 void deform_elastic_mesh(const TriMesh& reference, const ElasticContacts& contacts, double influence_m,

@@ -48,6 +48,12 @@ struct ElasticContacts {
 /// O(points); allocates nothing.
 ElasticContacts elastic_contacts(const ElasticSphere& sphere, const ToolPoints& points, const Pose& tool_world);
 
+/// The penalty force of contacts against a rigid or undeformed surface, N: F = k * max_m d_m * N, N the unit sum of
+/// the contacts' outward normals n_m weighted by their depths d_m (Popescu 3.2, distance-weighted normals), k =
+/// stiffness_n_per_m (N/m), clamped to max_force_n (N, > 0; a non-positive or non-finite limit, or no contact, gives
+/// zero force). Allocates nothing.
+Vec3 penetration_force(double stiffness_n_per_m, const ElasticContacts& contacts, double max_force_n);
+
 /// The force on the tool, N, from the undeformed reference whatever the drawn surface shows (Popescu 3.3):
 /// F = k * max_m d_m * N, N the unit sum of the contacts' outward normals n_m weighted by their depths d_m (Popescu
 /// 3.2, distance-weighted normals), clamped to max_force_n (N, > 0; a non-positive or non-finite limit gives zero

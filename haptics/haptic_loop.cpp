@@ -93,6 +93,17 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
             capped = true;
         }
     }
+    if (c.reference_objects.size() > kMaxReferenceObjects)
+        throw Error("HapticLoopConfig.reference_objects: " + std::to_string(c.reference_objects.size()) +
+                    " objects; at most " + std::to_string(kMaxReferenceObjects));
+    for (std::size_t i = 0; i < c.reference_objects.size(); ++i) {
+        ReferenceObject& r = c.reference_objects[i];
+        validate(r, "HapticLoopConfig.reference_objects[" + std::to_string(i) + "]");
+        if (cap > 0.0 && r.stiffness_n_per_m > cap) {
+            r.stiffness_n_per_m = cap;
+            capped = true;
+        }
+    }
     return c;
 }
 
@@ -243,6 +254,15 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
         out.force_n += f;
         out.object_force_n += f;
         out.in_contact += ec.count;
+        out.contact = true;
+    }
+    for (const ReferenceObject& r : cfg_.reference_objects) {
+        const ElasticContacts rc = reference_contacts(r, contact_.tool_points(), tool_world);
+        if (rc.count == 0) continue;
+        const Vec3 f = penetration_force(r.stiffness_n_per_m, rc, limits_.max_force_n);
+        out.force_n += f;
+        out.object_force_n += f;
+        out.in_contact += rc.count;
         out.contact = true;
     }
     return out;

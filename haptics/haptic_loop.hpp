@@ -25,6 +25,7 @@
 #include "haptics/menu_detent.hpp"
 #include "haptics/multipoint.hpp"
 #include "haptics/recent_cuts.hpp"
+#include "haptics/reference_object.hpp"
 #include "haptics/wrench_output.hpp"
 #include "haptics/safety.hpp"
 #include "haptics/safety_limits.hpp"
@@ -108,6 +109,10 @@ struct HapticLoopConfig {
     /// elastic_force() of the tool's contact points against its undeformed sphere (Popescu, Burdea, Bouzit 3.3) to
     /// the contact force. Their stiffness is capped like the contact's (the device profile's max stiffness).
     std::vector<ElasticSphere> elastic_objects{};
+    /// Rigid reference objects felt beside the workpiece (closed meshes placed in the scene, never sculpted), at most
+    /// kMaxReferenceObjects: each adds penetration_force() of the tool's contact points against its distance field
+    /// (reference_contacts) to the contact force. Their stiffness is capped like the contact's.
+    std::vector<ReferenceObject> reference_objects{};
     /// Stiffness of the spring a grab (ToolOp::kGrab) pulls the hand back to its anchor with (GrabSpring), N/m
     /// (world), finite and >= 0 (0: none); capped like the contact's (the device profile's max stiffness).
     double grab_stiffness_n_per_m = kGrabStiffnessNPerM;
@@ -118,6 +123,9 @@ inline constexpr std::size_t kFreeRunLead = 16;
 
 /// Most elastic objects a haptic loop feels (HapticLoopConfig::elastic_objects).
 inline constexpr std::size_t kMaxElasticObjects = 16;
+
+/// Most reference objects a haptic loop feels (HapticLoopConfig::reference_objects).
+inline constexpr std::size_t kMaxReferenceObjects = 8;
 
 /// One contact point's state in a tick (world frame, SI units), for recordings.
 struct PointRecord {
@@ -136,8 +144,8 @@ struct TickRecord {
     Vec3 force_n{0.0};         ///< force sent to the device (after filter and the safety stage), world frame, N
     bool contact = false;      ///< the contact stage (god-object) was in contact
     bool hip_inside = false;   ///< point 0 (the HIP for a ball) lay inside material by the snapshot
-    /// The elastic objects' part of the contact force (HapticLoopConfig::elastic_objects, against their undeformed
-    /// spheres), world frame, N, before the workspace mapping's force scale, the filter and the safety stage; 0 when
+    /// The scene objects' part of the contact force (HapticLoopConfig::elastic_objects, against their undeformed
+    /// spheres, and reference_objects, against their distance fields), world frame, N, before the workspace mapping's force scale, the filter and the safety stage; 0 when
     /// the tool touches none.
     Vec3 object_force_n{0.0};
     float period_us = 0.0f;    ///< time since the previous tick's start, us (0 on the first tick)
@@ -326,7 +334,7 @@ private:
         Vec3 force_n{0.0};    // N
         Vec3 torque_nm{0.0};  // N*m, about the tool centre
         Vec3 proxy_m{0.0};    // god-object of point 0 (or the tool centre when free), m
-        Vec3 object_force_n{0.0};  // of it, the elastic objects' part, N
+        Vec3 object_force_n{0.0};  // of it, the scene objects' part (elastic and reference), N
         bool contact = false;
         bool hip_inside = false;  // point 0 inside material by the snapshot
         int in_contact = 0;   // points in contact

@@ -88,6 +88,19 @@ std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ra
         pick_mesh(group->lods.front().mesh, ray, best);
     }
     if (surface.whole) pick_mesh(*surface.whole, ray, best);
+    for (const PlacedMesh& placed : surface.placed) {
+        if (!placed.mesh) continue;
+        const Quat to_local = glm::conjugate(placed.pose.orientation);
+        const Ray local{to_local * (ray.origin_m - placed.pose.position), to_local * ray.dir};
+        const double t_max = best ? best->distance_m : std::numeric_limits<double>::infinity();
+        if (!meets_box(placed.bounds_m, local, t_max)) continue;
+        std::optional<SurfaceHit> hit = best;
+        pick_mesh(*placed.mesh, local, hit);
+        if (!hit || (best && !(hit->distance_m < best->distance_m))) continue;
+        hit->point_m = placed.pose.apply(hit->point_m);  // a rigid pose keeps the distance along the ray
+        hit->normal = placed.pose.orientation * hit->normal;
+        best = hit;
+    }
     return best;
 }
 

@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "compute/contour/contour_tiles.hpp"
+#include "core/aabb.hpp"
 #include "core/math.hpp"
+#include "core/pose.hpp"
 #include "core/tri_mesh.hpp"
 #include "renderer/camera/off_axis.hpp"
 
@@ -31,6 +33,13 @@ struct SurfaceHit {
     double distance_m = 0.0;  ///< from the ray's origin, m
 };
 
+/// A mesh placed in the scene by a rigid pose (a reference object): its triangles in its own frame, m.
+struct PlacedMesh {
+    const TriMesh* mesh = nullptr;  ///< own frame, m; must outlive every PickSurface holding it; null = skipped
+    Pose pose;                      ///< own frame -> world
+    Aabb bounds_m;                  ///< the mesh's bounds in its own frame (culls the ray first)
+};
+
 /// The surface a pick runs against: the published tiles (each with its bounds, culled first) or a whole mesh.
 struct PickSurface {
     std::vector<std::shared_ptr<const compute::TileSurface>> tiles;  ///< the tiles (immutable once published)
@@ -38,10 +47,12 @@ struct PickSurface {
     /// Groups of tiles (MeshFrame::groups): those whose tiles cannot stand in yet (a coarse-first start-up,
     /// TileGroupSurface::children_cover false) are picked on their finest level, as they are drawn.
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
+    /// Meshes placed by a pose (the scene's reference objects), picked like the workpiece.
+    std::vector<PlacedMesh> placed;
 };
 
-/// The nearest hit of `ray` on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets),
-/// or nullopt when it misses. Degenerate triangles are skipped; never throws.
+/// The nearest hit of `ray` on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets, and of
+/// the placed meshes, the ray taken into each one's frame), or nullopt when it misses. Degenerate triangles are skipped; never throws.
 std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ray);
 
 }  // namespace tridex::app

@@ -28,19 +28,7 @@ SceneSphere sphere_of(const json& j, const std::string& source, const std::strin
     o.sphere.radius_m = f.number("radius_m", 0.03, 0.0, 10.0, true);
     o.sphere.stiffness_n_per_m = f.number("stiffness_n_per_m", 300.0, 0.0, 1e5, true);
     o.sphere.influence_m = f.number("influence_radius_m", 0.5 * o.sphere.radius_m, 0.0, o.sphere.radius_m, true);
-    if (const json* c = f.get("colour")) {
-        if (!c->is_array() || (c->size() != 3 && c->size() != 4))
-            f.fail(f.path("colour"), "must be an array of 3 or 4 numbers in [0, 1] (RGB or RGBA)");
-        double v[4] = {0.0, 0.0, 0.0, 1.0};
-        for (std::size_t k = 0; k < c->size(); ++k) {
-            if (!(*c)[k].is_number()) f.fail(f.path("colour"), "must be an array of 3 or 4 numbers in [0, 1]");
-            v[k] = (*c)[k].get<double>();
-            if (!(v[k] >= 0.0 && v[k] <= 1.0))
-                f.fail(f.path("colour"), "each component must be in [0, 1], got " + format_number(v[k]));
-        }
-        o.colour = Vec3(v[0], v[1], v[2]);
-        o.alpha = v[3];
-    }
+    f.rgba("colour", o.colour, o.alpha);
     f.finish();
     haptics::validate(o.sphere, source + ": " + prefix);
     return o;

@@ -436,7 +436,7 @@ void read_wand(Fields& top, RunScene& s) {
 void read_study(Fields& top, const json& j, RunScene& s, const std::string& base_dir) {
     const json* st = top.get("study");
     if (!st) return;
-    for (const char* name : {"workpiece", "tool", "op", "material", "haptics", "stroke", "cursor", "objects"})
+    for (const char* name : {"workpiece", "tool", "op", "material", "haptics", "stroke", "cursor", "objects", "references"})
         if (j.contains(name))
             top.fail(name, "a study scene decides it (the wand, its felt walls, no carving); remove it or the \"study\" field");
     Fields f(*st, top.source(), "study");
@@ -477,6 +477,12 @@ void read_objects(Fields& top, RunScene& s) {
     if (!o) return;
     s.objects = scene_spheres_from_json(*o, top.source());
     for (const SceneSphere& x : s.objects) s.spec.elastic_objects.push_back(x.sphere);
+}
+
+void read_references(Fields& top, RunScene& s, const std::string& base_dir) {
+    const json* r = top.get("references");
+    if (!r) return;
+    s.spec.references = references_from_scene_json(*r, top.source(), base_dir);
 }
 
 }  // namespace
@@ -531,6 +537,7 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
         s.bindings = b->dump();
     }
     read_objects(top, s);
+    read_references(top, s, base_dir);
     read_study(top, j, s, base_dir);
     top.finish();
     if (s.has_stroke && s.stroke.passes > 1 && s.spec.workspace_mode != "peng_moving")

@@ -101,6 +101,11 @@ struct RunStudy {
 ///   "objects": [ { "name": "squeeze_ball", "shape": "sphere", "elastic": true, "centre_m": [x, y, z],
 ///                  "radius_m": 0.03, "stiffness_n_per_m": 300, "influence_radius_m": 0.015,
 ///                  "colour": [r, g, b, a] }, ... ],        // app/scene/elastic_scene.hpp; felt and drawn beside the workpiece
+///   "references": [ { "name": "stand", "mesh": "bar.off",   // closed mesh, relative to the scene file
+///                     "size_m": 0.1, "position_m": [x, y, z],    // longest side; where its box centre stands
+///                     "axis": [0, 1, 0], "angle_deg": 30,        // turned about its centre
+///                     "stiffness_n_per_m": 700, "grid_cell_m": 0, // 0: size_m / 96, at least 0.5 mm
+///                     "colour": [r, g, b, a] }, ... ],           // app/scene/reference_objects.hpp; drawn and felt, never sculpted
 ///   "study": { "scene": "study_tube_scene.json",   // a study scene file (relative to the scene file), RunStudy;
 ///              "model": "test", "seed": 1, "trial": 1,   // then no workpiece, tool, op, haptics or stroke fields
 ///              "end_at_end_cap": false, "phase_line": "...",          // ... an overlay line

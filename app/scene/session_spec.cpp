@@ -324,6 +324,11 @@ std::string spec_to_json(const SessionSpec& s) {
            {"keep_islands", s.keep_islands},
            {"clay_group_sweeps", s.clay_group_sweeps}};
     if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
+    if (!s.references.empty()) {                            // absent in sessions without them, as before
+        json refs = json::array();
+        for (const ReferenceSpec& r : s.references) refs.push_back(reference_settings_json(r));
+        j["references"] = refs;
+    }
     if (s.palette != default_material_palette()) {         // absent with the default palette, as before
         json palette = json::array();
         for (int i = 0; i < kPaletteSize; ++i) {
@@ -451,6 +456,15 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             haptics::validate(e, source + ": settings field 'elastic_objects[" + std::to_string(i) + "]'");
             s.elastic_objects.push_back(e);
         }
+    }
+    if (j.contains("references")) {
+        const json& rs = j.at("references");
+        if (!rs.is_array() || rs.size() > kMaxSceneReferences)
+            throw Error(source + ": settings field 'references' must be an array of at most " +
+                        std::to_string(kMaxSceneReferences) + " objects");
+        for (std::size_t i = 0; i < rs.size(); ++i)
+            s.references.push_back(
+                reference_from_settings_json(rs[i], source + ": settings field 'references[" + std::to_string(i) + "]'"));
     }
     return s;
 }

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/scene/reference_objects.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "core/material_palette.hpp"
@@ -112,6 +113,10 @@ struct SessionSpec {
     /// Elastic (and rigid) spheres felt beside the workpiece (haptics::HapticLoopConfig::elastic_objects; a scene's
     /// "objects"); empty = none.
     std::vector<haptics::ElasticSphere> elastic_objects;
+    /// Reference objects: closed meshes placed beside the workpiece, drawn and felt, never sculpted (a scene's
+    /// "references"; app/scene/reference_objects.hpp). The felt ones change the hand's path, so a recording carries
+    /// them; empty = none.
+    std::vector<ReferenceSpec> references;
     /// Memory the undo history may keep, bytes (compute::UndoHistory; oldest strokes dropped first). It does not
     /// change the model, but a journal replays its undos with it.
     std::size_t history_budget_bytes = std::size_t{256} << 20;
@@ -159,7 +164,8 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
 /// materials entry out of range).
 /// A kMesh tool's contact points come from `tool_mesh_m` (its mesh in the tool frame, m; SessionRuntime passes
 /// the one it sweeps) or, when null, from tool_mesh_path loaded again; cfg.tool.radius_m is then that mesh's
-/// bounding radius.
+/// bounding radius. The reference objects are not loaded here (their distance fields take a while to build):
+/// SessionRuntime adds them (prepare_references) to the configuration it runs.
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
 
 /// The button bits that engage the tool for a device driver, from its capabilities (DriverCapabilities::

@@ -111,7 +111,8 @@ std::string hex32(std::uint32_t v) {
 
 // One recorded file against its recorded CRC-32 and size (bytes 0: not recorded, accepted).
 void check_file(const std::string& what, const std::string& path, std::uint32_t want_crc, std::uint64_t want_bytes,
-                const std::string& source, const std::string& since) {
+                const std::string& source, const std::string& since,
+                const std::string& consequence = "it would carve a different model") {
     if (want_bytes == 0) return;
     std::uint32_t crc = 0;
     std::uint64_t bytes = 0;
@@ -122,7 +123,7 @@ void check_file(const std::string& what, const std::string& path, std::uint32_t 
     }
     if (crc != want_crc || bytes != want_bytes)
         throw Error(source + ": the " + what + " " + path + " changed since " + since + " (CRC-32 " + hex32(crc) +
-                    ", recorded " + hex32(want_crc) + "); it would carve a different model");
+                    ", recorded " + hex32(want_crc) + "); " + consequence);
 }
 
 }  // namespace
@@ -134,6 +135,8 @@ void check_inputs_unchanged(const SessionSpec& s, const std::string& source, con
         check_file("workpiece model", s.model_path, s.model_crc32, s.model_bytes, source, since);
     if (s.tool.kind == ToolKind::kMesh)
         check_file("tool mesh", s.tool_mesh_path, s.tool_mesh_crc32, s.tool_mesh_bytes, source, since);
+    for (const ReferenceSpec& r : s.references)
+        check_file("reference mesh", r.mesh_path, r.mesh_crc32, r.mesh_bytes, source, since, "it would feel different");
 }
 
 }  // namespace tridex::app

@@ -49,10 +49,11 @@ Workpiece prepare_session_workpiece(SessionSpec& spec);
 void save_session_model(const std::string& path, const Workpiece& workpiece, const SessionSpec& spec);
 
 /// Refuses the files a recorded spec names when they are no longer the bytes the session used: the workpiece mesh
-/// or saved model, and a mesh tool's mesh, each against its recorded CRC-32 and size (a file recorded without them,
-/// size 0, is accepted). `since` names the record ("the recording", "the session"). Throws tridex::Error
-/// "<source>: the <workpiece mesh|workpiece model|tool mesh> <path> changed since <since> (CRC-32 0x..., recorded
-/// 0x...); it would carve a different model", or "... cannot be read" for a missing file.
+/// or saved model, a mesh tool's mesh and each reference object's mesh, each against its recorded CRC-32 and size (a
+/// file recorded without them, size 0, is accepted). `since` names the record ("the recording", "the session").
+/// Throws tridex::Error "<source>: the <workpiece mesh|workpiece model|tool mesh|reference mesh> <path> changed since
+/// <since> (CRC-32 0x..., recorded 0x...); it would carve a different model" ("it would feel different" for a
+/// reference), or "... cannot be read" for a missing file.
 void check_inputs_unchanged(const SessionSpec& spec, const std::string& source, const std::string& since);
 
 }  // namespace tridex::app

@@ -93,6 +93,24 @@ public:
         return out;
     }
 
+    /// A colour field: an array of 3 or 4 numbers in [0, 1] (RGB or RGBA) into rgb and alpha; both untouched when the
+    /// field is absent.
+    void rgba(const std::string& name, Vec3& rgb, double& alpha) {
+        const json* c = get(name);
+        if (!c) return;
+        if (!c->is_array() || (c->size() != 3 && c->size() != 4))
+            fail(path(name), "must be an array of 3 or 4 numbers in [0, 1] (RGB or RGBA)");
+        double v[4] = {0.0, 0.0, 0.0, 1.0};
+        for (std::size_t k = 0; k < c->size(); ++k) {
+            if (!(*c)[k].is_number()) fail(path(name), "must be an array of 3 or 4 numbers in [0, 1]");
+            v[k] = (*c)[k].get<double>();
+            if (!(v[k] >= 0.0 && v[k] <= 1.0))
+                fail(path(name), "each component must be in [0, 1], got " + format_number(v[k]));
+        }
+        rgb = Vec3(v[0], v[1], v[2]);
+        alpha = v[3];
+    }
+
     void finish() const {
         for (auto it = j_.begin(); it != j_.end(); ++it)
             if (!known_.count(it.key())) fail(path(it.key()), "unknown field");

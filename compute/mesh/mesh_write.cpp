@@ -3,8 +3,10 @@
 
 // GCC 12 reports OpenMesh's own PropertyT<VectorT<uchar, 3>>::push_back (the vertex colours) as maybe
 // uninitialised, a false positive inside the library's header.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -97,4 +99,6 @@ void write_mesh_file(const std::string& path, const TriMesh& mesh, std::span<con
 
 }  // namespace tridex::compute
 
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif

@@ -20,6 +20,7 @@
 #include "app/session/run/run_session.hpp"
 #include "app/input/surface_pick.hpp"
 #include "compute/mesh/mesh_io.hpp"
+#include "core/primitives.hpp"
 #include "devices/mouse_device.hpp"
 #include "run_test_scene.hpp"
 
@@ -116,6 +117,29 @@ TEST(MouseSession, PicksOnAGroupDrawnInPlaceOfItsTiles) {
     EXPECT_NEAR(hit->distance_m, 2.0, 1e-12);
     group->children_cover = true;  // its tiles are drawn instead: they are the ones picked
     EXPECT_FALSE(pick_surface(surface, down).has_value());
+}
+
+// A reference object's mesh placed by a pose is picked in the world: the ray taken into its frame, the hit brought
+// back; the nearer of it and the workpiece wins.
+TEST(MouseSession, PicksAPlacedMeshThroughItsPoseAndTheNearerSurfaceWins) {
+    const TriMesh cube = box_mesh(Aabb{Vec3(-0.01), Vec3(0.01)});
+    PickSurface surface;
+    Pose pose;
+    pose.position = Vec3(0.1, 0.0, 0.0);
+    pose.orientation = glm::angleAxis(glm::radians(45.0), Vec3(0.0, 0.0, 1.0));  // an edge toward +y
+    surface.placed.push_back({&cube, pose, cube.bounds()});
+    const Ray down{Vec3(0.1, 1.0, 0.0), Vec3(0.0, -1.0, 0.0)};
+    const std::optional<SurfaceHit> hit = pick_surface(surface, down);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(hit->point_m.y, 0.01 * std::sqrt(2.0), 1e-12);  // the turned cube's top edge
+    EXPECT_NEAR(hit->distance_m, 1.0 - 0.01 * std::sqrt(2.0), 1e-12);
+    EXPECT_GT(hit->normal.y, 0.5);  // facing the ray's origin, turned into the world
+    EXPECT_FALSE(pick_surface(surface, Ray{Vec3(0.0, 1.0, 0.0), Vec3(0.0, -1.0, 0.0)}).has_value());
+    // A workpiece mesh in front of it is the one picked.
+    surface.whole = std::make_shared<const TriMesh>(box_mesh(Aabb{Vec3(0.09, 0.05, -0.01), Vec3(0.11, 0.06, 0.01)}));
+    const std::optional<SurfaceHit> front = pick_surface(surface, down);
+    ASSERT_TRUE(front.has_value());
+    EXPECT_NEAR(front->point_m.y, 0.06, 1e-12);
 }
 
 TEST(MouseSession, DragCarvesAGrooveAlongTheCursorPathAndHoveringCarvesNothing) {

@@ -188,6 +188,8 @@ const std::vector<ReportField>& report_schema() {
             {"stopped_by", "SIGINT or SIGTERM when a signal ended the session early; else null"},
             {"stroke_completed", "run with a scripted stroke: the loop played all of it; null for demo and replay"},
             {"deformation", "clay: {max_displacement_m}; scene objects (run): the elastic objects' report; else null"},
+            {"references", "run with reference objects: per object its name, mesh, triangles, size_m, position_m, distance grid "
+                           "(nodes, cell_m, bytes) and build_s; else null"},
             {"sculpt_path", "where the Booleans ran: gpu or cpu"},
             {"sculpt_path_reason", "why the Booleans ran on the CPU; null on the GPU path"},
             {"sculpt_device", "the Vulkan device that sculpted; empty on the CPU path"},

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "app/scene/saved_scene.hpp"
 #include "renderer/scene/overlay_text.hpp"
 
 namespace tridex::app {
@@ -106,6 +107,14 @@ bool RunPipeline::Parts::take_input() {
     }
     sink->set_swap_eyes(swap);
     saving = rt.save_status();
+    if (saving.saves > scene_saves && !rt.spec().references.empty()) {  // Ctrl+S: the scene that opens it again
+        scene_saves = saving.saves;
+        try {
+            write_saved_scene(scene.source, model_save_path, rt.spec());
+        } catch (const Error& e) {
+            r.notes.push_back(std::string("the saved scene was not written: ") + e.what());
+        }
+    }
     if (!saving.journal_error.empty() && !journal_warned) {
         journal_warned = true;
         std::fprintf(stderr, "tridex: this session is no longer being saved: journal: %s; the model stays in memory "
@@ -214,6 +223,11 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         const std::vector<renderer::SceneObject>& o = elastic_view->frame(lv);
         frame_objects.assign(view.objects.begin(), view.objects.end());
         frame_objects.insert(frame_objects.end(), o.begin(), o.end());
+        view.objects = frame_objects;
+    }
+    if (!reference_objects.empty() && !su.test_pattern && !study_view) {  // drawn and felt, never sculpted
+        if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+        frame_objects.insert(frame_objects.end(), reference_objects.begin(), reference_objects.end());
         view.objects = frame_objects;
     }
     if (ghosts && lv.tick > 0 && !su.test_pattern && !study_view) {  // drawn, never felt

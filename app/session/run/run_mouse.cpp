@@ -59,7 +59,12 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
         map_.orientation = lv.box.orientation;
         map_.position = lv.box.position - lv.box.orientation * (scale_ * centre_d_);
     }
-    const StylusTarget target = stylus_.update(screen, eye_m, width_px, height_px, surface);
+    std::optional<PickSurface> with_placed;  // the workpiece and the reference objects
+    if (!placed_.empty()) {
+        with_placed = surface;
+        with_placed->placed = placed_;
+    }
+    const StylusTarget target = stylus_.update(screen, eye_m, width_px, height_px, with_placed ? *with_placed : surface);
     const Vec3 device_m = glm::conjugate(map_.orientation) * (target.hip_m - map_.position) / scale_;
     device_.set_hand(device_m, target.buttons);
     if (!have_target_ || glm::length(target.hip_m - last_target_) > kMovedTolM) {

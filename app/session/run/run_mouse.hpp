@@ -31,6 +31,9 @@ public:
     /// `device` and `runtime` must outlive this; `tool` (the session's) and aim_m (world m) as MouseStylus.
     RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, const ToolShape& tool, const Vec3& aim_m);
 
+    /// Meshes placed in the scene (its reference objects) that the cursor's ray picks beside the workpiece, so the
+    /// tool rides on them too; the meshes must outlive this.
+    void set_placed(std::vector<PlacedMesh> placed) { placed_ = std::move(placed); }
     /// The stylus the window's input (RunInput::use_stylus) or a script drives.
     MouseStylus& stylus() { return stylus_; }
     /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons), and the wheel steps of
@@ -72,6 +75,7 @@ private:
     devices::MouseDevice& device_;
     SessionRuntime& runtime_;
     MouseStylus stylus_;
+    std::vector<PlacedMesh> placed_;  // the reference objects the ray also picks
     Pose map_;            // device -> world rotation and offset in use
     Vec3 map_start_m_{0.0};  // map_.position at the start
     double scale_ = 1.0;  // workspace scale

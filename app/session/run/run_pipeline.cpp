@@ -1,6 +1,8 @@
 // app/session/run/run_pipeline.cpp - `tridex run`: the session's parts opened in order, collected after the frames, and the
 // outputs (the frame loop: app/session/run/run_frame.cpp).
 #include "app/session/run/run_pipeline.hpp"
+
+#include "app/scene/saved_scene.hpp"
 #include "app/support/output_dir.hpp"
 
 #include "app/scene/session_spec.hpp"
@@ -27,6 +29,14 @@ std::string kept_work(const RunSetup& su) {
     if (!su.record.empty()) kept += ", the recording " + su.record;
     if (!su.save.empty()) kept += ", the model " + su.save;
     return kept;
+}
+
+// What a desk window frames: the workpiece's lattice and every reference object's placed mesh, world m.
+Aabb scene_bounds(const SessionRuntime& rt) {
+    Aabb box = rt.workpiece().model.lattice.bounds();
+    for (const PreparedReference& r : rt.references())
+        for (const Vec3& p : r.mesh_m.positions) box.add(r.object.pose.apply(p));
+    return box;
 }
 
 }  // namespace
@@ -108,6 +118,7 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.
     sculpt_options.save_path = !su.save.empty() ? su.save : (fs::path(su.out) / "model.tdx").string();
+    model_save_path = sculpt_options.save_path;
     // --record streams the ticks to disk while the session runs: a recording of any length.
     sculpt_options.stream_recording = su.record;
     for (SessionCompanion* c : companions) c->configure(sculpt_options);
@@ -173,6 +184,15 @@ void RunPipeline::Parts::open_backend() {
     }
     if (!scene.objects.empty())
         elastic_view.emplace(scene.objects, rt.config().tool_points, rt.config().tool.radius_m);
+    std::vector<PlacedMesh> placed;
+    for (std::size_t i = 0; i < rt.references().size(); ++i) {
+        const ReferenceSpec& r = rt.spec().references[i];
+        placed.push_back({&rt.references()[i].mesh_m, rt.references()[i].object.pose, rt.references()[i].mesh_m.bounds()});
+        renderer::SceneObject o{&rt.references()[i].mesh_m, glm::vec4(glm::vec3(r.colour), static_cast<float>(r.alpha))};
+        o.world_from_model = world_from_reference(r);
+        reference_objects.push_back(o);
+    }
+    if (mouse_stylus) mouse_stylus->set_placed(std::move(placed));
     ghosts.emplace(rt.workpiece().model.lattice.bounds(), rt.tool_mesh());
 }
 
@@ -180,13 +200,13 @@ void RunPipeline::Parts::open_backend() {
 // A desk window with a fixed head frames the workpiece as the demo's picture does (framing_screen: the part of the
 // monitor it is seen through, with a margin, at the window's aspect): a zoom, chosen once, so that moving the head
 // still moves the view. Tracked heads, fullscreen and offscreen keep the measured screen; so do scenes that draw
-// more than the workpiece (a study, scene objects, the test pattern).
+// more than the workpiece (a study, scene objects, the test pattern). Reference objects are framed with it.
 void RunPipeline::Parts::frame_desk_window() {
     input->set_metres_per_pixel(dc.screen.width() / base_w);  // the window's own size, not the config's
     if (!window || su.display != DisplayKind::kWindow || scene.head != HeadMode::kFixed || scene.study.enabled ||
         su.test_pattern || !scene.objects.empty())
         return;
-    base_screen = framing_screen(dc.screen, backend->runtime().workpiece().model.lattice.bounds(),
+    base_screen = framing_screen(dc.screen, scene_bounds(backend->runtime()),
                                  scene.head_pose.position, static_cast<double>(base_w) / base_h);
     screen_now = base_screen;
     input->set_metres_per_pixel(base_screen.width() / base_w);
@@ -263,6 +283,7 @@ void RunPipeline::Parts::collect() {
         r.mouse["pick_reads"] = gpu_pick_reads;
     }
     if (study_view) r.study = study_view->report_json();
+    if (!rt.references().empty()) r.references = references_report_json(rt.spec().references, rt.references());
     if (elastic_view) r.deformation = elastic_view->report_json();
     else if (clay_start) {
         const compute::TriDexel& after = rt.workpiece().model;
@@ -317,8 +338,14 @@ void RunPipeline::Parts::write_outputs() {
             }))
             r.files.push_back(su.record);
     }
-    if (!su.save.empty() && writes.attempt(su.save, [&] { save_session_model(su.save, rt.workpiece(), rt.spec()); }))
+    if (!su.save.empty() && writes.attempt(su.save, [&] { save_session_model(su.save, rt.workpiece(), rt.spec()); })) {
         r.files.push_back(su.save);
+        // With objects beside the workpiece, the scene that opens the saved model with them again.
+        const std::string saved_scene = saved_scene_path(su.save);
+        if (!rt.spec().references.empty() &&
+            writes.attempt(saved_scene, [&] { write_saved_scene(scene.source, su.save, rt.spec()); }))
+            r.files.push_back(saved_scene);
+    }
     for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);
     // The render context's messages plus the sculpting device's (its own context on the GPU path).
     r.validation_messages = ctx->validation_messages() + rt.booleans().backend->validation_messages();

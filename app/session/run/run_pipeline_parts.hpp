@@ -122,6 +122,7 @@ struct RunPipeline::Parts final : FrameSteps {
     double safety_s = 0.0;      // offscreen without limits: the wall-time safety net, s (0 = none)
     std::optional<study::StudyView> study_view;    // a study scene's objects, drawn instead of the workpiece
     std::optional<ElasticView> elastic_view;       // scene objects, dented where the loop feels them
+    std::vector<renderer::SceneObject> reference_objects;  // the scene's reference objects, placed by their poses
     std::optional<SymmetryGhosts> ghosts;          // the symmetric tools and the mirror planes, while symmetry is on
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
@@ -167,6 +168,8 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
     std::uint64_t head_frames_held = 0;   // frames drawn from last_good_head instead of the head provider's pose
     SaveStatus saving;                    // this frame's save status, read once by take_input()
+    std::string model_save_path;          // where Ctrl+S writes the model (SculptOptions::save_path)
+    std::uint64_t scene_saves = 0;        // the saves whose scene of models (saved_scene.hpp) was written
     renderer::Screen screen_now{};        // the screen this frame is drawn through (follow_window)
     renderer::Screen base_screen{};       // the screen at the renderer's first size (a desk window: the framing)
     int base_w = 0, base_h = 0;           // the renderer's first size, px

@@ -186,6 +186,7 @@ json run_report_json(const RunResult& r) {
         {"stopped_by", string_or_null(r.stopped_by)},
         {"stroke_completed", r.stroke_completed},
         {"deformation", r.deformation},
+        {"references", r.references},
         {"sculpt_path", r.sculpt_path},
         {"sculpt_path_reason", string_or_null(r.sculpt_path_reason)},
         {"sculpt_device", r.sculpt_device},

@@ -190,6 +190,9 @@ struct RunResult {
     nlohmann::json companions = nlohmann::json::object();
     /// null without scene objects; else app/session/view/elastic_view.hpp ElasticView::report_json (report.json `deformation`).
     nlohmann::json deformation;
+    /// null without reference objects; else app/scene/reference_objects.hpp references_report_json (report.json
+    /// `references`).
+    nlohmann::json references;
     std::size_t ticks = 0;                       ///< haptic tick records kept
     nlohmann::json period_us;                    ///< report.json `period_us` (tick_summary_json)
     nlohmann::json tick_compute_us;              ///< report.json `tick_compute_us` (tick_summary_json)

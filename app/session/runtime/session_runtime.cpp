@@ -88,6 +88,11 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
 }
 
 void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
+    if (!spec_.references.empty()) {
+        ProgressReporter::Step step = progress().step("building the reference objects' distance fields");
+        references_ = prepare_references(spec_.references);
+        for (const PreparedReference& r : references_) cfg_.reference_objects.push_back(r.object);
+    }
     choose_contour(o);
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     const auto t0 = Clock::now();

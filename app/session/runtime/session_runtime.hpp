@@ -230,6 +230,9 @@ public:
     /// A mesh tool's mesh in the tool frame (m; app/scene/tool_mesh.hpp), the one the Booleans sweep and the contact
     /// points lie on; nullptr for a ball or flat end.
     const TriMesh* tool_mesh() const { return mesh_tool_ ? &mesh_tool_->mesh() : nullptr; }
+    /// The spec's reference objects as loaded (own-frame meshes, distance fields, poses), in the spec's order; the
+    /// haptic loop feels them (HapticLoopConfig::reference_objects).
+    const std::vector<PreparedReference>& references() const { return references_; }
     const devices::DeviceProfile& profile() const { return device_->profile(); }  ///< the device's
     /// The device's status channel (lifecycle state, faults, gated and clamped writes); any thread.
     devices::DeviceStatus device_status() const { return device_->status(); }
@@ -269,6 +272,7 @@ private:
     std::unique_ptr<devices::HapticDevice> device_;
     std::shared_ptr<const compute::MeshTool> mesh_tool_;  // kMesh: the session's one mesh tool (mesh_id 0); before cfg_
     haptics::HapticLoopConfig cfg_;
+    std::vector<PreparedReference> references_;  // the spec's reference objects, loaded (their grids shared with cfg_)
     std::optional<gpu::Context> own_context_;  // before the Booleans and the contour: destroyed after them
     BackendChoice booleans_;
     std::unique_ptr<GpuContourShare> gpu_contour_;  // after booleans_ (its slabs), before sculpt_ (uses it)
