@@ -94,6 +94,12 @@ TEST(ReferenceSession, ACubeOnTheStrokesPathIsFeltDrawnAndReplayedTheSame) {
               std::string::npos)
         << changed.err;
     EXPECT_NE(changed.err.find("it would feel different"), std::string::npos) << changed.err;
+    // The journal needs no reference mesh: the samples hold what the hand did, so recover rebuilds the model.
+    const auto recovered = run_tridex("recover " + (dir / "live" / "session.tdj").string() + " --out " +
+                                          (dir / "recovered").string(),
+                                      dir / "recovered");
+    ASSERT_EQ(recovered.exit_code, 0) << recovered.err;
+    EXPECT_EQ(file_text(dir / "recovered" / "sculpted.ply"), file_text(dir / "live" / "sculpted.ply"));
 }
 
 TEST(ReferenceSession, ASavedSessionWritesTheSceneThatOpensTheModelWithItsReferences) {

@@ -69,6 +69,8 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     prepare_output_dir(out, "--out");
     compute::Journal j = compute::read_journal(journal_path);
     SessionSpec s = spec_from_json(j.session, journal_path);
+    // The samples hold what the hand did, reference objects' pushes included: the model needs none of their meshes.
+    s.references.clear();
     check_inputs_unchanged(s, journal_path, "the session");
     validate_spec(s, journal_path);
     // A sample with a tool no session of this spec uses is damage as much as a CRC mismatch: cut there.
