@@ -67,6 +67,11 @@ struct PreparedReference {
     double build_s = 0.0;              ///< loading and building its distance field, s (wall time)
 };
 
+/// A reference's mesh in its own frame, m: loaded (compute::load_closed_mesh: closed, manifold, oriented), centred on
+/// its bounding box and scaled so that the box's longest side is size_m. Throws tridex::Error "<path>: <reason>" as the
+/// loader does, or for a mesh without extent.
+TriMesh load_reference_mesh(const ReferenceSpec& r);
+
 /// Loads each reference's mesh (compute::load_closed_mesh: closed, manifold, oriented), places it and builds its
 /// distance field (compute::build_distance_grid, margin kReferenceMarginM, at most 256 MB each). Throws tridex::Error
 /// "reference '<name>': <path>: <reason>" as the loader does, or for a grid that does not fit.

@@ -11,20 +11,25 @@
 
 namespace tridex::app {
 
+TriMesh load_reference_mesh(const ReferenceSpec& r) {
+    TriMesh m = compute::load_closed_mesh(r.mesh_path);
+    const Aabb box = m.bounds();
+    const Vec3 ext = box.hi - box.lo;
+    const double longest = std::max({ext.x, ext.y, ext.z});
+    if (!(longest > 0.0)) throw Error(r.mesh_path + ": the mesh has no extent");
+    const Vec3 centre = 0.5 * (box.lo + box.hi);
+    const double scale = r.size_m / longest;
+    for (Vec3& v : m.positions) v = (v - centre) * scale;
+    return m;
+}
+
 std::vector<PreparedReference> prepare_references(const std::vector<ReferenceSpec>& refs) {
     std::vector<PreparedReference> out;
     for (const ReferenceSpec& r : refs) {
         const auto t0 = std::chrono::steady_clock::now();
         PreparedReference p;
         try {
-            p.mesh_m = compute::load_closed_mesh(r.mesh_path);
-            const Aabb box = p.mesh_m.bounds();
-            const Vec3 ext = box.hi - box.lo;
-            const double longest = std::max({ext.x, ext.y, ext.z});
-            if (!(longest > 0.0)) throw Error(r.mesh_path + ": the mesh has no extent");
-            const Vec3 centre = 0.5 * (box.lo + box.hi);
-            const double scale = r.size_m / longest;
-            for (Vec3& v : p.mesh_m.positions) v = (v - centre) * scale;
+            p.mesh_m = load_reference_mesh(r);
             const double cell = r.grid_cell_m > 0.0 ? r.grid_cell_m : std::max(r.size_m / kReferenceGridCells, kReferenceMinCellM);
             p.object.grid = std::make_shared<const DistanceGrid>(
                 compute::build_distance_grid(p.mesh_m, cell, kReferenceMarginM, std::size_t{256} << 20));

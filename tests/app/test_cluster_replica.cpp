@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 #include <vector>
 
@@ -173,6 +174,46 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
     EXPECT_GT(triangles[1], 0u);
     EXPECT_LT(triangles[0] * 3, triangles[1] * 2);
     EXPECT_LE((cmp.pixels - cmp.within) * 100, cmp.pixels) << cmp.max_channel_diff;
+}
+
+}  // namespace
+}  // namespace tridex::app
+
+namespace tridex::app {
+namespace {
+
+// A render rank draws rank 0's reference objects, placed by their poses; one whose mesh this machine lacks is named
+// and left out, and the wall goes on.
+TEST(ClusterReplica, DrawsTheSessionsReferenceObjectsAndNamesOneItCannotLoad) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-replica-references";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "cube.off") << "OFF\n8 12 0\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n"
+                                       "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n"
+                                       "3 1 2 6\n3 1 6 5\n3 0 4 7\n3 0 7 3\n";
+    SessionSpec spec = RunScene::default_spec();
+    spec.mesh_path = default_mesh_path();
+    spec.resolution = 32;
+    ReferenceSpec cube;
+    cube.name = "stand";
+    cube.mesh_path = (dir / "cube.off").string();
+    cube.size_m = 0.04;
+    cube.position_m = Vec3(0.1, 0.0, 0.05);
+    spec.references.push_back(cube);
+    ReferenceSpec lost = cube;
+    lost.name = "lost";
+    lost.mesh_path = (dir / "nowhere.off").string();
+    spec.references.push_back(lost);
+    const ClusterReplica replica(spec_to_json(spec));
+    const renderer::SceneView v = replica.view(FrameMessage{});
+    ASSERT_EQ(v.objects.size(), 1u);
+    ASSERT_NE(v.objects[0].mesh, nullptr);
+    EXPECT_EQ(v.objects[0].mesh->triangles.size(), 12u);
+    EXPECT_NEAR(v.objects[0].mesh->bounds().size().x, 0.04, 1e-12);  // placed at size_m
+    EXPECT_FLOAT_EQ(v.objects[0].world_from_model[3][0], 0.1f);      // at its position
+    ASSERT_EQ(replica.reference_notes().size(), 1u);
+    EXPECT_NE(replica.reference_notes()[0].find("reference 'lost' not drawn here: "), std::string::npos)
+        << replica.reference_notes()[0];
 }
 
 }  // namespace

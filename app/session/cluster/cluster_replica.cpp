@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "app/scene/session_spec.hpp"
@@ -27,6 +28,7 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         if (!late->history.empty()) applier_->load_history(late->history);
         if (late->first_record > 0) applier_->resume_after(late->first_record - 1, late->prevs, late->first_record);
     }
+    load_references(spec);
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     if (lod_) {
         // As the session's sculpt thread does (SculptThread::use_tile_lod), before the first refresh queues every tile.
@@ -141,6 +143,26 @@ void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) {
 
 std::size_t ClusterReplica::lod_pending() const { return lod_ ? tiles_.startup_lod_pending() : 0; }
 
+void ClusterReplica::load_references(const SessionSpec& spec) {
+    // Drawn, not felt: the meshes alone, no distance fields. A mesh this machine lacks leaves that object undrawn.
+    reference_meshes_.reserve(spec.references.size());  // the objects point into it
+    std::vector<const ReferenceSpec*> drawn;
+    for (const ReferenceSpec& r : spec.references) {
+        try {
+            reference_meshes_.push_back(load_reference_mesh(r));
+            drawn.push_back(&r);
+        } catch (const Error& e) {
+            reference_notes_.push_back("reference '" + r.name + "' not drawn here: " + e.what());
+            std::fprintf(stderr, "tridex: %s\n", reference_notes_.back().c_str());
+        }
+    }
+    for (std::size_t i = 0; i < drawn.size(); ++i) {
+        renderer::SceneObject o{&reference_meshes_[i], glm::vec4(glm::vec3(drawn[i]->colour), static_cast<float>(drawn[i]->alpha))};
+        o.world_from_model = world_from_reference(*drawn[i]);
+        reference_objects_.push_back(o);
+    }
+}
+
 renderer::SceneView ClusterReplica::view(const FrameMessage& m) const {
     renderer::SceneView v;
     v.tiles = tile_view_.tiles;
@@ -152,6 +174,7 @@ renderer::SceneView ClusterReplica::view(const FrameMessage& m) const {
     v.tool_centre_m = m.tool_m;
     v.tool_orientation = m.tool_orientation;
     v.occlusion_strength = m.ao;
+    v.objects = reference_objects_;
     return v;
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/cluster/cluster_config.hpp"
@@ -60,6 +61,9 @@ public:
     const compute::Contourer& contourer() const { return *contourer_; }
     /// What frame `m` draws: the contoured tiles, the tool as rank 0 drew it, no workspace box or overlay.
     renderer::SceneView view(const FrameMessage& m) const;
+    /// The session's reference objects this replica could not load (its meshes are read from the paths rank 0's spec
+    /// names), one line each: those are not drawn here. Empty when all are.
+    const std::vector<std::string>& reference_notes() const { return reference_notes_; }
     /// The camera of viewport `v` for frame `m`: its screen and eye(s), moved with the scene's navigation
     /// (navigated_camera), a single-eye viewport drawn as a mono view from that eye.
     static renderer::StereoCamera camera(const ClusterViewport& v, const FrameMessage& m);
@@ -72,12 +76,17 @@ public:
     const Workpiece& workpiece() const { return wp_; }
 
 private:
+    void load_references(const SessionSpec& spec);
+
     Workpiece wp_;
     std::unique_ptr<compute::JournalApplier> applier_;
     std::unique_ptr<compute::Contourer> contourer_;
     compute::TileSurfaceCache tiles_;
     TileView tile_view_;
     bool lod_ = false;
+    std::vector<TriMesh> reference_meshes_;                  // the session's reference objects, own frames
+    std::vector<renderer::SceneObject> reference_objects_;   // ... placed by their poses, drawn by view()
+    std::vector<std::string> reference_notes_;               // references not drawn here, and why
     std::size_t deferred_ = 0;
     std::uint64_t contoured_ = 0;
 };

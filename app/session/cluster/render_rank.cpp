@@ -230,7 +230,7 @@ private:
         renderer::SceneView view = replica_->view(m);
         view.palette = &palette_;
         // Rank 0's pie menu, drawn here the same (both eyes, at the hand's depth in the scene).
-        menu_objects_.clear();
+        menu_objects_.assign(view.objects.begin(), view.objects.end());  // the reference objects first
         menu_drawing_.append(m.menu, menu_root_, menu_objects_);
         if (!m.others.empty()) {  // a shared session's other people, drawn as rank 0 draws them, names facing the head
             const Vec3 eye = viewports_.empty() ? Vec3(std::numeric_limits<double>::quiet_NaN())
@@ -238,7 +238,7 @@ private:
             presence_view_.append(m.others, menu_objects_, eye);
         }
         others_ = m.others.size();
-        if (!menu_objects_.empty()) view.objects = menu_objects_;
+        view.objects = menu_objects_;
         for (const std::unique_ptr<Viewport>& vp : viewports_) {
             if (vp->window) vp->window->poll_events();
             vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
@@ -306,7 +306,7 @@ private:
     MaterialPalette palette_ = default_material_palette();  // the session's materials (rank 0's spec)
     MenuItem menu_root_ = default_menu();               // the menu whose rings rank 0's frames name
     MenuDrawing menu_drawing_;                          // its meshes, rebuilt when rank 0's menu changes
-    std::vector<renderer::SceneObject> menu_objects_;   // ... as the view's objects, with the other sites'
+    std::vector<renderer::SceneObject> menu_objects_;   // the view's objects: the references, the menu, the other sites'
     PresenceView presence_view_;                        // a shared session's other sites (their meshes kept here)
     std::size_t others_ = 0;                            // other sites in the last frame drawn
     FrameMessage last_;  // the last frame message (without its records): its view, for the report
