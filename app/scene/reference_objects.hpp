@@ -13,6 +13,10 @@
 #include "core/tri_mesh.hpp"
 #include "haptics/reference_object.hpp"
 
+namespace tridex::renderer {
+struct SceneObject;
+}
+
 namespace tridex::app {
 
 /// Most reference objects a scene may hold (haptics::kMaxReferenceObjects).
@@ -84,5 +88,9 @@ nlohmann::json references_report_json(const std::vector<ReferenceSpec>& refs,
 
 /// The transform a reference's own-frame mesh is drawn with: its pose (rotation then translation).
 glm::mat4 world_from_reference(const ReferenceSpec& r);
+
+/// How the renderer draws reference `r` whose own-frame mesh is `mesh_m` (kept by address: it must outlive the
+/// object): in its colour, placed by world_from_reference.
+renderer::SceneObject reference_scene_object(const ReferenceSpec& r, const TriMesh& mesh_m);
 
 }  // namespace tridex::app

@@ -1,4 +1,5 @@
-// app/scene/reference_prepare.cpp - loading a session's reference objects: meshes placed, distance fields built.
+// app/scene/reference_prepare.cpp - a session's reference objects made ready: meshes placed, distance fields built,
+// how they are drawn.
 #include "app/scene/reference_objects.hpp"
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include "compute/contour/distance_grid_build.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "core/error.hpp"
+#include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 
@@ -42,6 +44,12 @@ std::vector<PreparedReference> prepare_references(const std::vector<ReferenceSpe
         out.push_back(std::move(p));
     }
     return out;
+}
+
+renderer::SceneObject reference_scene_object(const ReferenceSpec& r, const TriMesh& mesh_m) {
+    renderer::SceneObject o{&mesh_m, glm::vec4(glm::vec3(r.colour), static_cast<float>(r.alpha))};
+    o.world_from_model = world_from_reference(r);
+    return o;
 }
 
 }  // namespace tridex::app

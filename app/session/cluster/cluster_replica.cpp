@@ -156,11 +156,8 @@ void ClusterReplica::load_references(const SessionSpec& spec) {
             std::fprintf(stderr, "tridex: %s\n", reference_notes_.back().c_str());
         }
     }
-    for (std::size_t i = 0; i < drawn.size(); ++i) {
-        renderer::SceneObject o{&reference_meshes_[i], glm::vec4(glm::vec3(drawn[i]->colour), static_cast<float>(drawn[i]->alpha))};
-        o.world_from_model = world_from_reference(*drawn[i]);
-        reference_objects_.push_back(o);
-    }
+    for (std::size_t i = 0; i < drawn.size(); ++i)
+        reference_objects_.push_back(reference_scene_object(*drawn[i], reference_meshes_[i]));
 }
 
 renderer::SceneView ClusterReplica::view(const FrameMessage& m) const {

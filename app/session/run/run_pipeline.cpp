@@ -188,9 +188,7 @@ void RunPipeline::Parts::open_backend() {
     for (std::size_t i = 0; i < rt.references().size(); ++i) {
         const ReferenceSpec& r = rt.spec().references[i];
         placed.push_back({&rt.references()[i].mesh_m, rt.references()[i].object.pose, rt.references()[i].mesh_m.bounds()});
-        renderer::SceneObject o{&rt.references()[i].mesh_m, glm::vec4(glm::vec3(r.colour), static_cast<float>(r.alpha))};
-        o.world_from_model = world_from_reference(r);
-        reference_objects.push_back(o);
+        reference_objects.push_back(reference_scene_object(r, rt.references()[i].mesh_m));
     }
     if (mouse_stylus) mouse_stylus->set_placed(std::move(placed));
     ghosts.emplace(rt.workpiece().model.lattice.bounds(), rt.tool_mesh());
