@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "cube_off.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
@@ -188,9 +189,7 @@ TEST(ClusterReplica, DrawsTheSessionsReferenceObjectsAndNamesOneItCannotLoad) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-replica-references";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    std::ofstream(dir / "cube.off") << "OFF\n8 12 0\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n"
-                                       "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n"
-                                       "3 1 2 6\n3 1 6 5\n3 0 4 7\n3 0 7 3\n";
+    test::write_cube_off(dir / "cube.off");
     SessionSpec spec = RunScene::default_spec();
     spec.mesh_path = default_mesh_path();
     spec.resolution = 32;

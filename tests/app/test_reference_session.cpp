@@ -8,19 +8,16 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cube_off.hpp"
 #include "test_files.hpp"
 
 namespace {
 
+using tridex::app::test::bytes_of;
+using tridex::app::test::read_json;
 using tridex::app::test::run_tridex;
+namespace test = tridex::app::test;
 namespace fs = std::filesystem;
-
-// A cube of side 2 centred on the origin, 12 outward triangles.
-void write_cube(const fs::path& path) {
-    std::ofstream(path) << "OFF\n8 12 0\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n"
-                           "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n3 1 2 6\n3 1 6 5\n"
-                           "3 0 4 7\n3 0 7 3\n";
-}
 
 // The bundled squeeze-ball run scene with `references` (JSON) instead of its ball, at 160 x 120 px.
 std::string write_scene(const fs::path& dir, const std::string& references) {
@@ -35,21 +32,11 @@ std::string write_scene(const fs::path& dir, const std::string& references) {
     return path;
 }
 
-nlohmann::json read_report(const fs::path& dir) {
-    std::ifstream f(dir / "report.json");
-    return nlohmann::json::parse(f);
-}
-
-std::string file_text(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
 TEST(ReferenceSession, ACubeOnTheStrokesPathIsFeltDrawnAndReplayedTheSame) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-reference-run";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    write_cube(dir / "cube.off");
+    test::write_cube_off(dir / "cube.off");
     // Where the bundled scene's squeeze ball sits: the stroke passes through it.
     const std::string scene = write_scene(
         dir, R"([{"name": "stone", "mesh": "cube.off", "size_m": 0.024, "position_m": [-0.006, -0.011, 0.09],
@@ -58,7 +45,7 @@ TEST(ReferenceSession, ACubeOnTheStrokesPathIsFeltDrawnAndReplayedTheSame) {
                                      (dir / "rec.trdx").string() + " --out " + (dir / "live").string(),
                                  dir / "live");
     ASSERT_EQ(live.exit_code, 0) << live.err;
-    const nlohmann::json j = read_report(dir / "live");
+    const nlohmann::json j = read_json(dir / "live" / "report.json");
     EXPECT_GT(j["haptics"]["object_contact_ticks"].get<int>(), 10) << j["haptics"].dump();
     EXPECT_GT(j["haptics"]["max_object_force_n"].get<double>(), 0.2) << j["haptics"].dump();
     EXPECT_TRUE(j["stroke_completed"].get<bool>());
@@ -75,15 +62,15 @@ TEST(ReferenceSession, ACubeOnTheStrokesPathIsFeltDrawnAndReplayedTheSame) {
     const auto rp = run_tridex("replay " + (dir / "rec.trdx").string() + " --out " + (dir / "replay").string(),
                                dir / "replay");
     ASSERT_EQ(rp.exit_code, 0) << rp.err;
-    const nlohmann::json jr = read_report(dir / "replay");
+    const nlohmann::json jr = read_json(dir / "replay" / "report.json");
     EXPECT_EQ(jr["haptics"]["object_contact_ticks"], j["haptics"]["object_contact_ticks"]);
-    EXPECT_EQ(file_text(dir / "replay" / "sculpted.ply"), file_text(dir / "live" / "sculpted.ply"));
+    EXPECT_EQ(bytes_of(dir / "replay" / "sculpted.ply"), bytes_of(dir / "live" / "sculpted.ply"));
     // Without the cube the same stroke feels no object.
     const std::string plain = write_scene(dir, "");
     const auto none = run_tridex("run " + plain + " --display offscreen --out " + (dir / "plain").string(), dir / "plain");
     ASSERT_EQ(none.exit_code, 0) << none.err;
-    EXPECT_EQ(read_report(dir / "plain")["haptics"]["object_contact_ticks"], 0);
-    EXPECT_TRUE(read_report(dir / "plain")["references"].is_null());
+    EXPECT_EQ(read_json(dir / "plain" / "report.json")["haptics"]["object_contact_ticks"], 0);
+    EXPECT_TRUE(read_json(dir / "plain" / "report.json")["references"].is_null());
     // A reference mesh that changed after the recording: the replay refuses it.
     std::ofstream(dir / "cube.off", std::ios::app) << "\n";
     const auto changed = run_tridex("replay " + (dir / "rec.trdx").string() + " --out " + (dir / "changed").string(),
@@ -99,14 +86,14 @@ TEST(ReferenceSession, ACubeOnTheStrokesPathIsFeltDrawnAndReplayedTheSame) {
                                           (dir / "recovered").string(),
                                       dir / "recovered");
     ASSERT_EQ(recovered.exit_code, 0) << recovered.err;
-    EXPECT_EQ(file_text(dir / "recovered" / "sculpted.ply"), file_text(dir / "live" / "sculpted.ply"));
+    EXPECT_EQ(bytes_of(dir / "recovered" / "sculpted.ply"), bytes_of(dir / "live" / "sculpted.ply"));
 }
 
 TEST(ReferenceSession, ASavedSessionWritesTheSceneThatOpensTheModelWithItsReferences) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-reference-save";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    write_cube(dir / "cube.off");
+    test::write_cube_off(dir / "cube.off");
     const std::string scene = write_scene(
         dir, R"([{"name": "stone", "mesh": "cube.off", "size_m": 0.024, "position_m": [-0.006, -0.011, 0.09]},
                 {"name": "stand", "mesh": "cube.off", "size_m": 0.05, "position_m": [0.1, 0.0, 0.05],
@@ -119,7 +106,7 @@ TEST(ReferenceSession, ASavedSessionWritesTheSceneThatOpensTheModelWithItsRefere
     ASSERT_EQ(first.exit_code, 0) << first.err;
     const fs::path saved = dir / "kept" / "carved.scene.json";
     ASSERT_TRUE(fs::exists(saved)) << first.err;
-    const nlohmann::json j1 = read_report(dir / "first");
+    const nlohmann::json j1 = read_json(dir / "first" / "report.json");
     bool listed = false;
     for (const auto& f : j1["files"]) listed = listed || f.get<std::string>() == saved.string();
     EXPECT_TRUE(listed) << j1["files"].dump();
@@ -128,7 +115,7 @@ TEST(ReferenceSession, ASavedSessionWritesTheSceneThatOpensTheModelWithItsRefere
                                       (dir / "again").string(),
                                   dir / "again");
     ASSERT_EQ(again.exit_code, 0) << again.err;
-    const nlohmann::json j2 = read_report(dir / "again");
+    const nlohmann::json j2 = read_json(dir / "again" / "report.json");
     EXPECT_NEAR(j2["volume_before_m3"].get<double>(), j1["volume_after_m3"].get<double>(), 1e-12);
     ASSERT_EQ(j2["references"].size(), 2u) << j2.dump();
     EXPECT_EQ(j2["references"][1]["name"], "stand");
@@ -140,7 +127,7 @@ TEST(ReferenceSession, BadReferencesAreRefusedNamingTheFieldOrTheFile) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-reference-bad";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    write_cube(dir / "cube.off");
+    test::write_cube_off(dir / "cube.off");
     auto refused = [&](const std::string& refs, const std::string& want) {
         const std::string scene = write_scene(dir, refs);
         const auto r = run_tridex("run " + scene + " --display offscreen --out " + (dir / "o").string(), dir / "o");

@@ -9,6 +9,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cube_off.hpp"
 #include "app/scene/reference_objects.hpp"
 #include "app/scene/saved_scene.hpp"
 
@@ -22,9 +23,7 @@ TEST(SavedScene, HoldsTheModelAndEveryReferenceAndReadsBackToTheSamePlaces) {
     const fs::path dir = fs::temp_directory_path() / "tridex-test-saved-scene";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    std::ofstream(dir / "cube.off") << "OFF\n8 12 0\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n"
-                                       "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n"
-                                       "3 1 2 6\n3 1 6 5\n3 0 4 7\n3 0 7 3\n";
+    test::write_cube_off(dir / "cube.off");
     const json refs = json::parse(R"([{"name": "a", "mesh": "cube.off", "size_m": 0.05, "position_m": [0.1, 0, 0],
                                        "axis": [1, 2, 3], "angle_deg": -250, "colour": [0.1, 0.2, 0.3, 0.5]},
                                       {"name": "b", "mesh": "cube.off", "grid_cell_m": 0.002}])");
