@@ -15,7 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/le_bytes.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 #include "core/tool_sample.hpp"
 
 namespace tridex::devices {

@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
-#include "haptics/force_clamp.hpp"
+#include "haptics/forces/force_clamp.hpp"
 
 namespace tridex::haptics {
 

@@ -8,9 +8,9 @@
 
 #include "core/error.hpp"
 #include "haptics/constraint_plane.hpp"
-#include "haptics/cutting_force.hpp"
-#include "haptics/force_shading.hpp"
-#include "haptics/friction.hpp"
+#include "haptics/forces/cutting_force.hpp"
+#include "haptics/forces/force_shading.hpp"
+#include "haptics/forces/friction.hpp"
 #include "haptics/snapshot_depth.hpp"
 
 namespace tridex::haptics {

@@ -19,7 +19,7 @@
 #include "core/cpu_reservation.hpp"
 #include "core/error.hpp"
 #include "core/thread_name.hpp"
-#include "haptics/force_clamp.hpp"
+#include "haptics/forces/force_clamp.hpp"
 #include "haptics/realtime.hpp"
 
 namespace tridex::haptics {

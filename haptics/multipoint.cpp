@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "haptics/interaction_mesh.hpp"
+#include "haptics/forces/interaction_mesh.hpp"
 
 namespace tridex::haptics {
 

@@ -1,7 +1,7 @@
 // haptics/safety.cpp - clamps, gate, ramp-in and passivity, in that order.
 #include "haptics/safety.hpp"
 
-#include "haptics/force_clamp.hpp"
+#include "haptics/forces/force_clamp.hpp"
 
 namespace tridex::haptics {
 

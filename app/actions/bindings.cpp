@@ -10,7 +10,7 @@
 
 #include "app/actions/action_registry.hpp"
 #include "core/error.hpp"
-#include "core/json_refusal.hpp"
+#include "core/text/json_refusal.hpp"
 
 namespace tridex::app {
 

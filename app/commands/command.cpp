@@ -21,7 +21,7 @@
 #include "app/support/output_dir.hpp"
 #include "app/support/stop_signal.hpp"
 #include "core/error.hpp"
-#include "core/nearest_name.hpp"
+#include "core/text/nearest_name.hpp"
 
 namespace tridex::app {
 namespace {

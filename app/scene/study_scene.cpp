@@ -9,7 +9,7 @@
 
 #include "app/support/assets.hpp"
 #include "core/error.hpp"
-#include "core/json_refusal.hpp"
+#include "core/text/json_refusal.hpp"
 
 namespace tridex::app::study {
 

@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/math.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex::app {
 
@@ -29,7 +29,7 @@ public:
     }
 
     /// Throws tridex::Error "<source>: field '<field>': <what>"; a field path or reason that quotes the file's
-    /// text (a key, a name) is made printable (core/printable.hpp), so the message stays one line.
+    /// text (a key, a name) is made printable (core/text/printable.hpp), so the message stays one line.
     [[noreturn]] void fail(const std::string& field, const std::string& what) const {
         throw Error(source_ + ": field '" + printable(field, 120) + "': " + printable(what, 400));
     }

@@ -7,7 +7,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "core/json_refusal.hpp"
+#include "core/text/json_refusal.hpp"
 
 namespace tridex::app {
 

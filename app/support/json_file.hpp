@@ -14,7 +14,7 @@ void write_json_file(const std::string& path, const nlohmann::json& j);
 /// "<path>: cannot read the scene file", "<path>: not valid JSON: parse error at line L, column C: syntax error
 /// while parsing object - unexpected string literal; expected '}'" (nlohmann's reason: the line, the column and what
 /// was expected there) or "<path>: not valid JSON: number overflow at line L, column C, field 'workpiece.stock_m':
-/// '1e400' is beyond a double's range ..." (core/json_refusal.hpp).
+/// '1e400' is beyond a double's range ..." (core/text/json_refusal.hpp).
 nlohmann::json read_scene_json(const std::string& path);
 
 }  // namespace tridex::app

@@ -13,7 +13,7 @@
 #include "compute/mesh/openmesh_log.hpp"
 #include "compute/mesh/mesh_weld.hpp"
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex::compute {
 namespace {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex::compute {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "compute/mesh/mesh_text.hpp"
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex::compute {
 namespace {

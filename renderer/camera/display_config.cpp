@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "core/json_refusal.hpp"
-#include "core/printable.hpp"
+#include "core/text/json_refusal.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex::renderer {
 namespace {

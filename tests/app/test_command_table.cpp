@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/commands/command.hpp"
-#include "core/nearest_name.hpp"
+#include "core/text/nearest_name.hpp"
 #include "app/support/device_lost.hpp"
 #include "core/error.hpp"
 

@@ -19,7 +19,7 @@
 #include "compute/mesh/openmesh_log.hpp"
 #include "compute/mesh/ply_reader.hpp"
 #include "core/error.hpp"
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace fs = std::filesystem;
 using tridex::Error;

@@ -1,4 +1,4 @@
-// core/json_refusal.hpp: a JSON text's refusal said with its place. nlohmann places a syntax error itself; a number
+// core/text/json_refusal.hpp: a JSON text's refusal said with its place. nlohmann places a syntax error itself; a number
 // beyond a double's range is placed by parsing again (JsonPlaceFinder), naming the line, the column and the field.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/json_refusal.hpp"
+#include "core/text/json_refusal.hpp"
 
 namespace tridex {
 namespace {

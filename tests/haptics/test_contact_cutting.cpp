@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
-#include "haptics/cutting_force.hpp"
+#include "haptics/forces/cutting_force.hpp"
 #include "haptics/god_object.hpp"
 #include "surfaces.hpp"
 

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
-#include "haptics/friction.hpp"
+#include "haptics/forces/friction.hpp"
 #include "haptics/god_object.hpp"
 #include "surfaces.hpp"
 

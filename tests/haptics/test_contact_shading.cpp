@@ -9,7 +9,7 @@
 #include <numbers>
 #include <utility>
 
-#include "haptics/force_shading.hpp"
+#include "haptics/forces/force_shading.hpp"
 #include "haptics/god_object.hpp"
 #include "surfaces.hpp"
 

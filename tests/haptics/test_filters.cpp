@@ -7,7 +7,7 @@
 #include "core/error.hpp"
 #include "devices/haptic_device.hpp"
 #include "haptics/ewma_filter.hpp"
-#include "haptics/force_clamp.hpp"
+#include "haptics/forces/force_clamp.hpp"
 
 namespace tridex::haptics {
 namespace {

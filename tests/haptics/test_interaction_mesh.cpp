@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "haptics/interaction_mesh.hpp"
+#include "haptics/forces/interaction_mesh.hpp"
 #include "haptics/multipoint.hpp"
 #include "haptics/tool_points.hpp"
 #include "surfaces.hpp"

@@ -19,7 +19,7 @@
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
 #include "haptics/elastic_object.hpp"
-#include "haptics/force_clamp.hpp"
+#include "haptics/forces/force_clamp.hpp"
 #include "haptics/tool_points.hpp"
 #include "renderer/camera/display_config.hpp"
 #include "renderer/camera/off_axis.hpp"

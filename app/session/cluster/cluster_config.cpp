@@ -14,7 +14,7 @@
 #include "app/session/view/tile_view.hpp"
 #include "app/support/json_fields.hpp"
 #include "core/error.hpp"
-#include "core/json_refusal.hpp"
+#include "core/text/json_refusal.hpp"
 
 namespace tridex::app {
 

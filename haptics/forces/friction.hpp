@@ -1,4 +1,4 @@
-// haptics/friction.hpp - Coulomb friction on the god-object (friction cone).
+// haptics/forces/friction.hpp - Coulomb friction on the god-object (friction cone).
 #pragma once
 
 #include "core/math.hpp"

@@ -1,5 +1,5 @@
-// core/nearest_name.cpp - edit distance and the nearest known name.
-#include "core/nearest_name.hpp"
+// core/text/nearest_name.cpp - edit distance and the nearest known name.
+#include "core/text/nearest_name.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-// core/json_refusal.hpp - why a JSON text was refused, in one line that says where. nlohmann's parser places a syntax
+// core/text/json_refusal.hpp - why a JSON text was refused, in one line that says where. nlohmann's parser places a syntax
 // error by line and column itself, but reports a number beyond a double's range ("number overflow parsing '1e400'")
 // with no place; parsing the text again with JsonPlaceFinder (a SAX handler) finds the line, the column and the field.
 // Header-only and written against any nlohmann::basic_json type `Json` given as a template argument, so that core/
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/printable.hpp"
+#include "core/text/printable.hpp"
 
 namespace tridex {
 

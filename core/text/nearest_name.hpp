@@ -1,4 +1,4 @@
-// core/nearest_name.hpp - "did you mean": the known name nearest to a mistyped one, by edit distance.
+// core/text/nearest_name.hpp - "did you mean": the known name nearest to a mistyped one, by edit distance.
 #pragma once
 
 #include <cstddef>

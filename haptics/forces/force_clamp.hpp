@@ -1,4 +1,4 @@
-// haptics/force_clamp.hpp - the last safety stage before a force reaches the device.
+// haptics/forces/force_clamp.hpp - the last safety stage before a force reaches the device.
 #pragma once
 
 #include "core/math.hpp"

@@ -1,4 +1,4 @@
-// haptics/cutting_force.hpp - reaction force of a ball tool removing material (specific cutting force).
+// haptics/forces/cutting_force.hpp - reaction force of a ball tool removing material (specific cutting force).
 #pragma once
 
 #include "core/math.hpp"

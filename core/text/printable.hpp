@@ -1,4 +1,4 @@
-// core/printable.hpp - text taken from a file, made safe to quote in a one-line message.
+// core/text/printable.hpp - text taken from a file, made safe to quote in a one-line message.
 #pragma once
 
 #include <cstddef>

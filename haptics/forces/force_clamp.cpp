@@ -1,5 +1,5 @@
-// haptics/force_clamp.cpp - magnitude clamp with non-finite rejection.
-#include "haptics/force_clamp.hpp"
+// haptics/forces/force_clamp.cpp - magnitude clamp with non-finite rejection.
+#include "haptics/forces/force_clamp.hpp"
 
 #include <algorithm>
 #include <cmath>

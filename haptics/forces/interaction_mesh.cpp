@@ -1,5 +1,5 @@
-// haptics/interaction_mesh.cpp - point force with the unit step, displayed force with the 1/cos(q) gain.
-#include "haptics/interaction_mesh.hpp"
+// haptics/forces/interaction_mesh.cpp - point force with the unit step, displayed force with the 1/cos(q) gain.
+#include "haptics/forces/interaction_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// haptics/force_shading.hpp - vertex normals at dexel ends and their blend (force shading).
+// haptics/forces/force_shading.hpp - vertex normals at dexel ends and their blend (force shading).
 #pragma once
 
 #include "core/active_surface.hpp"

@@ -1,5 +1,5 @@
-// haptics/cutting_force.cpp - chip area of a ball tool and the specific-cutting-force reaction.
-#include "haptics/cutting_force.hpp"
+// haptics/forces/cutting_force.cpp - chip area of a ball tool and the specific-cutting-force reaction.
+#include "haptics/forces/cutting_force.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
-// haptics/friction.cpp - stick or slide on the friction cone.
-#include "haptics/friction.hpp"
+// haptics/forces/friction.cpp - stick or slide on the friction cone.
+#include "haptics/forces/friction.hpp"
 
 namespace tridex::haptics {
 

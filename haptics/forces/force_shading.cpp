@@ -1,5 +1,5 @@
-// haptics/force_shading.cpp - height-field gradient normals at dexel ends, barycentric blend, rotation.
-#include "haptics/force_shading.hpp"
+// haptics/forces/force_shading.cpp - height-field gradient normals at dexel ends, barycentric blend, rotation.
+#include "haptics/forces/force_shading.hpp"
 
 #include <algorithm>
 #include <cmath>

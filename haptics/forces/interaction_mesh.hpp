@@ -1,4 +1,4 @@
-// haptics/interaction_mesh.hpp - the haptic interaction mesh force law: F_m = k*d_m*N_m, F_displayed = sum/cos(q).
+// haptics/forces/interaction_mesh.hpp - the haptic interaction mesh force law: F_m = k*d_m*N_m, F_displayed = sum/cos(q).
 #pragma once
 
 #include "core/math.hpp"
