@@ -82,28 +82,21 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     const double cap = world_stiffness_cap_n_per_m(profile, device_gain(c));
     capped = cap_contact_stiffness(c.contact, cap);
     capped = cap_grab_stiffness(c.grab_stiffness_n_per_m, cap) || capped;
-    if (c.elastic_objects.size() > kMaxElasticObjects)
-        throw Error("HapticLoopConfig.elastic_objects: " + std::to_string(c.elastic_objects.size()) + " objects; at most " +
-                    std::to_string(kMaxElasticObjects));
-    for (std::size_t i = 0; i < c.elastic_objects.size(); ++i) {
-        ElasticSphere& e = c.elastic_objects[i];
-        validate(e, "HapticLoopConfig.elastic_objects[" + std::to_string(i) + "]");
-        if (cap > 0.0 && e.stiffness_n_per_m > cap) {
-            e.stiffness_n_per_m = cap;
-            capped = true;
+    // The scene objects felt beside the workpiece: at most `most`, each checked, each capped like the contact.
+    const auto check_objects = [&](auto& objects, std::size_t most, const std::string& field) {
+        if (objects.size() > most)
+            throw Error("HapticLoopConfig." + field + ": " + std::to_string(objects.size()) + " objects; at most " +
+                        std::to_string(most));
+        for (std::size_t i = 0; i < objects.size(); ++i) {
+            validate(objects[i], "HapticLoopConfig." + field + "[" + std::to_string(i) + "]");
+            if (cap > 0.0 && objects[i].stiffness_n_per_m > cap) {
+                objects[i].stiffness_n_per_m = cap;
+                capped = true;
+            }
         }
-    }
-    if (c.reference_objects.size() > kMaxReferenceObjects)
-        throw Error("HapticLoopConfig.reference_objects: " + std::to_string(c.reference_objects.size()) +
-                    " objects; at most " + std::to_string(kMaxReferenceObjects));
-    for (std::size_t i = 0; i < c.reference_objects.size(); ++i) {
-        ReferenceObject& r = c.reference_objects[i];
-        validate(r, "HapticLoopConfig.reference_objects[" + std::to_string(i) + "]");
-        if (cap > 0.0 && r.stiffness_n_per_m > cap) {
-            r.stiffness_n_per_m = cap;
-            capped = true;
-        }
-    }
+    };
+    check_objects(c.elastic_objects, kMaxElasticObjects, "elastic_objects");
+    check_objects(c.reference_objects, kMaxReferenceObjects, "reference_objects");
     return c;
 }
 
@@ -246,25 +239,20 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
     out.contact = r.in_contact > 0;
     out.hip_inside = r.points > 0 && r.point[0].hip_inside;
     out.points = &r;
-    // Elastic objects: each point's penetration of the undeformed spheres (no allocation: fixed-size contacts).
-    for (const ElasticSphere& e : cfg_.elastic_objects) {
-        const ElasticContacts ec = elastic_contacts(e, contact_.tool_points(), tool_world);
-        if (ec.count == 0) continue;
-        const Vec3 f = elastic_force(e, ec, limits_.max_force_n);
+    // The scene objects: each point's penetration of an elastic sphere's undeformed surface or of a reference object's
+    // distance field, pushed back by its penalty force (no allocation: fixed-size contacts).
+    const auto add = [&](const ElasticContacts& oc, double stiffness_n_per_m) {
+        if (oc.count == 0) return;
+        const Vec3 f = penetration_force(stiffness_n_per_m, oc, limits_.max_force_n);
         out.force_n += f;
         out.object_force_n += f;
-        out.in_contact += ec.count;
+        out.in_contact += oc.count;
         out.contact = true;
-    }
-    for (const ReferenceObject& r : cfg_.reference_objects) {
-        const ElasticContacts rc = reference_contacts(r, contact_.tool_points(), tool_world);
-        if (rc.count == 0) continue;
-        const Vec3 f = penetration_force(r.stiffness_n_per_m, rc, limits_.max_force_n);
-        out.force_n += f;
-        out.object_force_n += f;
-        out.in_contact += rc.count;
-        out.contact = true;
-    }
+    };
+    for (const ElasticSphere& e : cfg_.elastic_objects)
+        add(elastic_contacts(e, contact_.tool_points(), tool_world), e.stiffness_n_per_m);
+    for (const ReferenceObject& r : cfg_.reference_objects)
+        add(reference_contacts(r, contact_.tool_points(), tool_world), r.stiffness_n_per_m);
     return out;
 }
 

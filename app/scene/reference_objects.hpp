@@ -72,8 +72,8 @@ struct PreparedReference {
 };
 
 /// A reference's mesh in its own frame, m: loaded (compute::load_closed_mesh: closed, manifold, oriented), centred on
-/// its bounding box and scaled so that the box's longest side is size_m. Throws tridex::Error "<path>: <reason>" as the
-/// loader does, or for a mesh without extent.
+/// its bounding box and scaled so that the box's longest side is size_m (compute::fit_to_stock). Throws tridex::Error
+/// "<path>: <reason>" as the loader does, or for a mesh without extent.
 TriMesh load_reference_mesh(const ReferenceSpec& r);
 
 /// Loads each reference's mesh (compute::load_closed_mesh: closed, manifold, oriented), places it and builds its

@@ -8,21 +8,19 @@
 
 #include "compute/contour/distance_grid_build.hpp"
 #include "compute/mesh/mesh_io.hpp"
+#include "compute/model/workpiece.hpp"
 #include "core/error.hpp"
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
 
 TriMesh load_reference_mesh(const ReferenceSpec& r) {
-    TriMesh m = compute::load_closed_mesh(r.mesh_path);
-    const Aabb box = m.bounds();
-    const Vec3 ext = box.hi - box.lo;
-    const double longest = std::max({ext.x, ext.y, ext.z});
-    if (!(longest > 0.0)) throw Error(r.mesh_path + ": the mesh has no extent");
-    const Vec3 centre = 0.5 * (box.lo + box.hi);
-    const double scale = r.size_m / longest;
-    for (Vec3& v : m.positions) v = (v - centre) * scale;
-    return m;
+    const TriMesh m = compute::load_closed_mesh(r.mesh_path);
+    try {
+        return compute::transformed(m, compute::fit_to_stock(m.bounds(), Vec3(0.0), r.size_m));
+    } catch (const Error& e) {
+        throw Error(r.mesh_path + ": " + e.what());
+    }
 }
 
 std::vector<PreparedReference> prepare_references(const std::vector<ReferenceSpec>& refs) {

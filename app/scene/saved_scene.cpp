@@ -29,7 +29,7 @@ void absolute_field(json& block, const char* name, const std::string& dir) {
 json reference_scene_json(const ReferenceSpec& r) {
     const Quat q = glm::normalize(r.orientation);
     const double w = std::clamp(q.w, -1.0, 1.0);
-    double angle = 2.0 * std::acos(w) * 180.0 / 3.14159265358979323846;
+    double angle = glm::degrees(2.0 * std::acos(w));
     const double s = std::sqrt(std::max(0.0, 1.0 - w * w));
     Vec3 axis = s > 1e-12 ? Vec3(q.x, q.y, q.z) / s : Vec3(0.0, 1.0, 0.0);
     if (angle > 180.0) {  // the same turn, the short way round: angle_deg stays in [-360, 360]

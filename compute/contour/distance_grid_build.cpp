@@ -18,13 +18,6 @@ namespace tridex::compute {
 
 namespace {
 
-// Whether depth k (grid units) lies inside one of the ray's intervals.
-bool inside_ray(const std::vector<Interval>& ray, double k) {
-    for (const Interval& iv : ray)
-        if (k >= iv.enter && k < iv.exit) return true;
-    return false;
-}
-
 double triangle_distance(const TriMesh& m, std::int32_t t, const Vec3& p) {
     const auto& tri = m.triangles[static_cast<std::size_t>(t)];
     return glm::length(p - closest_point_on_triangle(p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]));
@@ -168,9 +161,12 @@ DistanceGrid build_distance_grid(const TriMesh& mesh_m, double cell_m, double ma
         for (std::size_t r = c.first; r < c.last; ++r) {
             const int i = static_cast<int>(r % nx), j = static_cast<int>(r / nx);
             const std::vector<Interval>& ray = solid.sets[2].ray(i, j);
+            std::size_t at = 0;  // the first interval not yet left behind: nodes k rise along the ray
             for (int k = 0; k < nz; ++k) {
+                while (at < ray.size() && ray[at].exit <= k) ++at;
+                const bool inside = at < ray.size() && ray[at].enter <= k;  // enter <= k < exit
                 const std::size_t n = g.index(i, j, k);
-                g.distance_m[n] = inside_ray(ray, k) ? -unsigned_m[n] : unsigned_m[n];
+                g.distance_m[n] = inside ? -unsigned_m[n] : unsigned_m[n];
             }
         }
     });
