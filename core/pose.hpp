@@ -1,6 +1,7 @@
 // core/pose.hpp - a rigid pose (position in metres, orientation as a unit quaternion).
 #pragma once
 
+#include "core/aabb.hpp"
 #include "core/math.hpp"
 
 namespace tridex {
@@ -20,6 +21,30 @@ struct Pose {
         m[3] = glm::dvec4(position, 1.0);
         return m;
     }
+    /// The inverse transform (parent -> body): inverse().apply(apply(p)) == p up to rounding. Needs a unit
+    /// orientation (the conjugate is its inverse).
+    Pose inverse() const {
+        const Quat q = glm::conjugate(orientation);
+        return Pose{q * -position, q};
+    }
+    /// Whether this is exactly the identity (no move, no turn).
+    bool is_identity() const { return position == Vec3(0.0) && orientation == Quat(1.0, 0.0, 0.0, 0.0); }
 };
+
+/// Composition: (a * b).apply(p) == a.apply(b.apply(p)) (b maps body -> middle frame, a middle -> parent); the
+/// orientation is renormalised so chains of poses stay unit.
+inline Pose operator*(const Pose& a, const Pose& b) {
+    return Pose{a.orientation * b.position + a.position, glm::normalize(a.orientation * b.orientation)};
+}
+
+/// The axis-aligned box (m) holding `box` (in the pose's body frame) once placed by `pose`: the box of its eight
+/// corners mapped into the parent frame. An empty box stays empty.
+inline Aabb placed(const Aabb& box, const Pose& pose) {
+    if (box.empty()) return box;
+    Aabb out;
+    for (int k = 0; k < 8; ++k)
+        out.add(pose.apply(Vec3(k & 1 ? box.hi.x : box.lo.x, k & 2 ? box.hi.y : box.lo.y, k & 4 ? box.hi.z : box.lo.z)));
+    return out;
+}
 
 }  // namespace tridex

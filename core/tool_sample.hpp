@@ -20,10 +20,13 @@ enum class ToolOp : std::uint8_t {
     kSmooth = 5,    ///< clay: relax the surface under the tool, keeping the volume (compute/tools/clay_smooth.hpp)
     kPull = 6,      ///< clay: the touched surface follows the tool outward, its volume taken from a moat (clay_push.hpp)
     kGrab = 7,      ///< clay: the material near the grabbed point moves with the tool, with a falloff (clay_grab.hpp)
+    /// The whole workpiece follows the tool while it is engaged (its pose: haptics::HapticLoop), nothing carved: a
+    /// mode of the haptic loop, never carried by a ToolSample (the samples carry kNone meanwhile).
+    kPlace = 8,
 };
 
 /// The operation's name on the command line and in reports: "none", "subtract", "union", "paint", "push", "smooth",
-/// "pull", "grab".
+/// "pull", "grab", "place".
 inline const char* tool_op_name(ToolOp op) {
     switch (op) {
         case ToolOp::kNone: return "none";
@@ -34,6 +37,7 @@ inline const char* tool_op_name(ToolOp op) {
         case ToolOp::kSmooth: return "smooth";
         case ToolOp::kPull: return "pull";
         case ToolOp::kGrab: return "grab";
+        case ToolOp::kPlace: return "place";
     }
     return "unknown";
 }

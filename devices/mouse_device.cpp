@@ -18,8 +18,11 @@ MouseDevice::MouseDevice(DeviceProfile profile, const Vec3& start_m, double dt_s
         throw Error("MouseDevice: max_speed_m_s = " + std::to_string(follow_.max_speed_m_s) + " must be > 0");
 }
 
-void MouseDevice::set_hand(const Vec3& target_m, std::uint32_t buttons) {
+void MouseDevice::set_hand(const Vec3& target_m, std::uint32_t buttons, const Quat& orientation) {
     Hand& h = hand_.back();
+    const double qn = std::sqrt(orientation.w * orientation.w + orientation.x * orientation.x +
+                                orientation.y * orientation.y + orientation.z * orientation.z);
+    h.orientation = std::abs(qn - 1.0) <= 1e-6 ? orientation / qn : Quat(1.0, 0.0, 0.0, 0.0);
     if (is_finite(target_m)) {
         last_target_ = target_m;
     } else {
@@ -44,7 +47,7 @@ bool MouseDevice::do_read(DeviceState& out) {
     t_ = static_cast<double>(steps_) * dt_;  // no drift from summing dt
     out.t_s = t_;
     out.pose.position = x_;
-    out.pose.orientation = Quat(1.0, 0.0, 0.0, 0.0);
+    out.pose.orientation = h.set ? h.orientation : Quat(1.0, 0.0, 0.0, 0.0);
     out.velocity_m_s = (x_ - before) / dt_;
     out.buttons = h.buttons;
     return true;

@@ -31,7 +31,8 @@ struct MouseFollowParams {
 /// dt per read (so the watchdog sees a steady clock). The hand-off is a latest-value triple buffer: the render
 /// thread never waits for the loop and the loop never waits for it. Forces are ignored (a mouse renders none),
 /// but write() still gates and bounds them (the base class); last_force_n() shows what would have been sent.
-/// Orientation: always identity. A non-finite target is ignored (the stylus stays where it was, counted).
+/// Orientation: as set_hand gives it (identity unless the app turns the hand). A non-finite target is ignored (the
+/// stylus stays where it was, counted).
 class MouseDevice : public HapticDevice {
 public:
     /// `profile`: the limits the loop applies (the simulated device's, e.g. phantom_omni(), named "mouse (...)"
@@ -42,9 +43,10 @@ public:
 
     const DeviceProfile& profile() const override { return profile_; }
 
-    /// Render thread (one writer): the newest hand target, device frame (m), and button bits (mouse_buttons).
-    /// Lock-free, never blocks. A non-finite target keeps the previous one (the buttons still change).
-    void set_hand(const Vec3& target_m, std::uint32_t buttons);
+    /// Render thread (one writer): the newest hand target, device frame (m), button bits (mouse_buttons) and the
+    /// stylus orientation (device frame; reported as given from the next read). Lock-free, never blocks. A non-finite
+    /// target keeps the previous one (the buttons still change); a non-finite or non-unit orientation is identity.
+    void set_hand(const Vec3& target_m, std::uint32_t buttons, const Quat& orientation = Quat(1.0, 0.0, 0.0, 0.0));
     /// Targets refused as non-finite so far (any thread).
     std::uint64_t rejected_targets() const { return rejected_.load(std::memory_order_relaxed); }
     /// The last force written (N, device frame, after the base class's gate and bound); loop thread, or after it stopped.
@@ -62,6 +64,7 @@ private:
     struct Hand {
         Vec3 target_m{0.0};
         std::uint32_t buttons = 0;
+        Quat orientation{1.0, 0.0, 0.0, 0.0};
         bool set = false;
     };
 

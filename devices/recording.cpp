@@ -280,8 +280,9 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
     if (std::isfinite(previous_t_s) && !(t.t_s > previous_t_s))
         return "t_s = " + num(t.t_s) + " does not increase (previous tick: " + num(previous_t_s) + ")";
     if (t.valid > 1) return "valid = " + std::to_string(t.valid) + " is not 0 or 1";
-    if (t.tool_mode > 7) return "tool_mode = " + std::to_string(t.tool_mode) + " is not a ToolOp value (0..7)";
-    if (t.op > 7) return "op = " + std::to_string(t.op) + " is not a ToolOp value (0..7)";
+    constexpr unsigned most = static_cast<unsigned>(ToolOp::kPlace);
+    if (t.tool_mode > most) return "tool_mode = " + std::to_string(t.tool_mode) + " is not a ToolOp value (0..8)";
+    if (t.op > most) return "op = " + std::to_string(t.op) + " is not a ToolOp value (0..8)";
     if (static_cast<unsigned>(t.tool.kind) > 2)
         return "tool.kind = " + std::to_string(static_cast<unsigned>(t.tool.kind)) + " is not a ToolKind value (0..2)";
     if (t.material > kMaxMaterialId)

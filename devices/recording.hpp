@@ -27,7 +27,7 @@ namespace tridex::devices {
 /// with zero deviation and force and bottom_collision_id = -1.
 /// Validity rules (RecordingWriter::write and read_recording enforce them, naming the field):
 ///   - t_s finite and strictly greater than the previous tick's t_s;
-///   - valid is 0 or 1; tool_mode and op are ToolOp values (0..7: kPush 4, kSmooth 5, kPull 6, kGrab 7 included);
+///   - valid is 0 or 1; tool_mode and op are ToolOp values (0..8: kPush 4, kSmooth 5, kPull 6, kGrab 7, kPlace 8);
 ///     tool.kind is a ToolKind value (0..2), tool.radius_m and tool.length_m finite and >= 0;
 ///   - valid == 1: every field of `device` is finite; valid == 0: `device` is recorded as the device
 ///     gave it (it may hold NaN or infinity, that is why the loop flagged it);

@@ -76,6 +76,12 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
     const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     if (!(std::abs(qn - 1.0) <= 1e-6)) bad("device_to_world.orientation |q|", qn, "must be 1 (unit quaternion)");
     c.device_to_world.orientation = q / qn;
+    if (!is_finite(c.workpiece_pose.position)) bad("workpiece_pose.position.x", c.workpiece_pose.position.x,
+                                                    "(or y, z) is not finite");
+    const Quat& wq = c.workpiece_pose.orientation;
+    const double wn = std::sqrt(wq.w * wq.w + wq.x * wq.x + wq.y * wq.y + wq.z * wq.z);
+    if (!(std::abs(wn - 1.0) <= 1e-6)) bad("workpiece_pose.orientation |q|", wn, "must be 1 (unit quaternion)");
+    c.workpiece_pose.orientation = wq / wn;
     if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
@@ -118,6 +124,8 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       watchdog_(cfg_.period_s, cfg_.safety.stale_timeout_s, cfg_.safety.stall_factor, cfg_.safety.rearm_s),
       safety_(limits_, cfg_.safety, cfg_.passivity_control),
       world_to_device_(glm::conjugate(cfg_.device_to_world.orientation)),
+      world_from_model_(cfg_.workpiece_pose),
+      model_from_world_(cfg_.workpiece_pose.inverse()),
       period_hist_(cfg_.period_s / 50.0),
       compute_hist_(cfg_.period_s / 1000.0) {
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
@@ -129,6 +137,8 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
     stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
     grab_ = GrabSpring(cfg_.grab_stiffness_n_per_m);
     cut_surface_ = std::make_unique<ActiveSurface>();
+    view_.back().workpiece_pose = cfg_.workpiece_pose;  // before the first tick too: where the scene placed it
+    view_.publish();
 }
 
 HapticLoop::~HapticLoop() { stop(); }
@@ -159,6 +169,9 @@ void HapticLoop::begin_session() {
     energy_ = 0.0;
     contact_.reset();
     cuts_.clear();
+    world_from_model_ = cfg_.workpiece_pose;
+    model_from_world_ = world_from_model_.inverse();
+    placing_ = false;
     filter_.reset();
     torque_filter_.reset();
     mapper_.reset();
@@ -230,11 +243,13 @@ LoopStats HapticLoop::stats() const {
 }
 
 HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s) {
-    const MultiPointResult& r = contact_.update(surface, tool_world, dt_s);
+    // The workpiece's surface is in its model frame: the tool goes there, the wrench and the proxy come back.
+    const Pose& world_from_model = world_from_model_;
+    const MultiPointResult& r = contact_.update(surface, model_from_world_ * tool_world, dt_s);
     ContactOut out;
-    out.force_n = r.wrench.force_n;
-    out.torque_nm = r.wrench.torque_nm;  // about the tool centre (zero for a single centred point)
-    out.proxy_m = r.points > 0 ? r.point[0].proxy_m : tool_world.position;
+    out.force_n = world_from_model.rotate(r.wrench.force_n);
+    out.torque_nm = world_from_model.rotate(r.wrench.torque_nm);  // about the tool centre (zero for a centred point)
+    out.proxy_m = r.points > 0 ? world_from_model.apply(r.point[0].proxy_m) : tool_world.position;
     out.in_contact = r.in_contact;
     out.contact = r.in_contact > 0;
     out.hip_inside = r.points > 0 && r.point[0].hip_inside;
@@ -257,6 +272,7 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
 }
 
 void HapticLoop::reset_contact() { contact_.reset(); }
+
 
 bool HapticLoop::tick(double now_s, TickRecord& rec) {
     devices::DeviceState state;
@@ -315,16 +331,22 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     ContactOut c;
     c.proxy_m = wf.tool_world.position;
     // A device whose own contact loop runs next to it (net, local rendering) sent the tool sample that loop computed:
-    // the session sculpts with its HIP and proxy, and renders no contact force itself (the device ignores it).
+    // the session sculpts with its HIP and proxy, and renders no contact force itself (the device ignores it). That
+    // loop's world is the workpiece's model frame (configure_net_device maps its device there).
     devices::RemoteToolSample remote;
     const bool remote_contact = device_.remote_tool(remote);
     Pose tool_world = wf.tool_world;
+    const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
+    // Placing: the whole workpiece follows the engaged tool rigidly; its surface is not felt meanwhile.
+    const bool placing = place(tool_op() == ToolOp::kPlace && engaged && wf.coupled && !wf.modelling_paused &&
+                                   !menu.open && !remote_contact,
+                               tool_world);
     if (remote_contact) {
-        tool_world = remote.tool_world;
-        c.proxy_m = remote.proxy_m;
+        tool_world = world_from_model_ * remote.tool_world;
+        c.proxy_m = world_from_model_.apply(remote.proxy_m);
         c.contact = remote.contact;
         c.in_contact = remote.contact ? 1 : 0;
-    } else if (wf.coupled) {
+    } else if (wf.coupled && !placing) {
         // While carving, the contact reads the snapshot with the tool's own sweeps it does not hold yet cut away.
         c = contact(cuts_.apply(surface_.latest(), *cut_surface_), wf.tool_world, dt);
     }
@@ -335,7 +357,6 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     const double fmax = limits_.max_force_n, tmax = limits_.max_torque_nm;
     const Vec3 detent = menu.open && wf.coupled ? menu_detent_force(menu, tool_world.position) : Vec3(0.0);
     // A grab pulls the hand back to where it gripped, while it is engaged (the samples carry kGrab).
-    const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
     const bool grabbing = tool_op() == ToolOp::kGrab && engaged && wf.coupled && !wf.modelling_paused && !menu.open;
     const Vec3 spring = grab_.update(grabbing && !remote_contact, c.contact, tool_world.position);
     const Vec3 world_n = mapper_.force_scale() * (c.force_n + detent + spring) + wf.force_n;
@@ -362,14 +383,14 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     safety_.sent(r * to_device.force_n);  // the passivity books take what the device got (per-axis limits)
 
     const bool hold = wf.modelling_paused || menu.open || carve_gap_ || !wd.force_allowed || out.over_speed ||
-                      !engaged || (remote_contact && (remote.hold || remote.stale));
-    push_sample(state, tool_world, c, hold, !wd.force_allowed || out.over_speed, rec);
+                      !engaged || placing || (remote_contact && (remote.hold || remote.stale));
+    push_sample(state, tool_world, c, hold, !wd.force_allowed || out.over_speed || placing, rec);
 
     last_tool_ = tool_world;
     rec.hip_m = tool_world.position;
     rec.proxy_m = c.proxy_m;
     // The force the device got; a stale remote sample's is an earlier tick's, logged as such.
-    rec.force_n = remote_contact ? remote.force_n : out.force_n;
+    rec.force_n = remote_contact ? world_from_model_.rotate(remote.force_n) : out.force_n;
     rec.remote_stale = remote_contact && remote.stale;
     if (rec.remote_stale) stale_remote_.fetch_add(1, std::memory_order_relaxed);
     rec.contact = c.contact;
@@ -378,13 +399,14 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.points_in_contact = c.in_contact;
     if (c.points) {
         for (int k = 0; k < 2 && k < c.points->points; ++k) {
-            const PointState& p = c.points->point[k];
+            const PointState& p = c.points->point[k];  // in the workpiece's model frame
+            const Pose& wp = world_from_model_;
             PointRecord& pr = rec.points[k];
-            pr.world_m = p.world_m;
-            pr.proxy_m = p.proxy_m;
-            pr.force_n = p.force_n;
+            pr.world_m = wp.apply(p.world_m);
+            pr.proxy_m = wp.apply(p.proxy_m);
+            pr.force_n = wp.rotate(p.force_n);
             pr.depth_m = p.contact ? p.depth_m : 0.0;
-            const Vec3 an = glm::abs(p.normal);
+            const Vec3 an = glm::abs(p.normal);  // the ray sets are the model's axes
             pr.collision_id = !p.contact ? -1 : (an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2));
         }
     }
@@ -402,16 +424,20 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     ToolSample sample;
     sample.t_s = state.t_s;
     sample.made_s = static_cast<double>(now_ns()) * 1e-9;  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
-    sample.position = tool_world.position;
+    // The sculpt thread carves the workpiece in its model frame.
+    const Pose tool_model = model_from_world_ * tool_world;
+    sample.position = tool_model.position;
     {
         const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m
-                                     : c.proxy_m - tool_world.position;
+                                     : model_from_world_.rotate(c.proxy_m - tool_world.position);
         sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
     }
-    sample.orientation = tool_world.orientation;
+    sample.orientation = tool_model.orientation;
     sample.tool = tool_;
     const std::uint16_t op = op_.load(std::memory_order_relaxed);
-    sample.op = hold ? ToolOp::kNone : static_cast<ToolOp>(op & 0xffu);
+    // kPlace moves the pose, never the material: its samples carve nothing.
+    const ToolOp chosen = static_cast<ToolOp>(op & 0xffu);
+    sample.op = hold || chosen == ToolOp::kPlace ? ToolOp::kNone : chosen;
     sample.material = static_cast<std::uint8_t>(op >> 8);
     rec.op = static_cast<ToolOp>(op & 0xffu);
     rec.material = sample.material;
@@ -467,6 +493,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.points_in_contact = rec.points_in_contact;
     v.tool = tool_;
     v.menu_open = rec.menu_open;
+    v.workpiece_pose = world_from_model_;
     view_.publish();
 }
 

@@ -53,6 +53,11 @@ struct HapticLoopConfig {
     ContactParams contact;         ///< god-object stiffness, damping, tool radius
     double ewma_alpha = 0.9;       ///< force filter weight a, [0, 1) (Peng et al.)
     Pose device_to_world;          ///< device frame -> world frame (unit quaternion): the initial workspace mapping
+    /// The workpiece's pose: its model frame (where its lattice, active surface and every ToolSample live) -> the
+    /// world (m, unit quaternion). The contact with the workpiece runs in the model frame and its force and torque
+    /// are turned back into the world; the scene objects, the workspace, the menu and every TickRecord stay in the
+    /// world. Identity (the default): the model frame is the world.
+    Pose workpiece_pose{};
     double workspace_scale = 1.0;  ///< s > 0: world = R * (s * p) + offset, offset = device_to_world.position until the
                                    ///< workspace technique moves it (WorkspaceMapper); kScaling's fixed gain, which also
                                    ///< divides the world's contact force on its way to the device (force_scale())
@@ -222,6 +227,9 @@ struct LoopView {
     ToolShape tool{};               ///< the tool in use (HapticLoop::set_tool)
     bool menu_open = false;         ///< the loop feels the pie menu (HapticLoop::set_menu) on that tick
     double joystick_y = 0.0;        ///< the device's joystick on that tick (DeviceState::joystick_y)
+    /// The workpiece's pose on that tick (its model frame -> the world): HapticLoopConfig::workpiece_pose until the
+    /// tool places it (ToolOp::kPlace). Views draw and pick the workpiece through it.
+    Pose workpiece_pose{};
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
@@ -323,8 +331,8 @@ public:
     /// Throws tridex::Error (publishing nothing) when m.open and check_menu_detent(m, the world stiffness cap
     /// of the device profile under the workspace gain) fails; a closed menu is always taken.
     void set_menu(const MenuDetent& m);
-    /// The newest LoopView (render thread; exactly one reader thread). Default LoopView before the
-    /// first tick.
+    /// The newest LoopView (render thread; exactly one reader thread). Before the first tick: a default LoopView
+    /// (tick 0) with the configured workpiece_pose.
     const LoopView& latest_view() { return view_.latest(); }
 
 private:
@@ -349,6 +357,9 @@ private:
     ContactOut contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s);
     // Forgets the contact history (workspace jump, declutch).
     void reset_contact();
+    // ToolOp::kPlace: while `engaged`, the workpiece follows tool_world rigidly from where the tool gripped it (the
+    // contact forgotten at the grip); returns whether it is held this tick.
+    bool place(bool engaged, const Pose& tool_world);
     // One tick at loop time now_s: read, pipeline, write, sample, record. False when the device is lost
     // (zero force written). rec gets everything but compute_us.
     bool tick(double now_s, TickRecord& rec);
@@ -384,6 +395,10 @@ private:
     Watchdog watchdog_;
     SafetyStage safety_;
     Quat world_to_device_;
+    Pose world_from_model_;  // the workpiece's pose now (cfg_.workpiece_pose until the tool places it)
+    Pose model_from_world_;  // its inverse: where the tool meets the workpiece
+    Pose grip_;              // while placing: the workpiece's pose in the tool's frame at the grip
+    bool placing_ = false;   // the tool held the workpiece on the previous tick
     Pose last_tool_;
     // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
     // limit, so a gap never becomes one long swept capsule.

@@ -1,5 +1,6 @@
 // haptics/haptic_loop_tool.cpp - the haptic loop's tool, operation, symmetry and menu: set from other threads
-// (lock-free: atomics and triple buffers) and taken up by the loop at its next tick.
+// (lock-free: atomics and triple buffers) and taken up by the loop at its next tick; and the tool placing the
+// workpiece (ToolOp::kPlace).
 #include "haptics/haptic_loop.hpp"
 
 #include <cmath>
@@ -63,6 +64,21 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
         if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
             use_tool(c.tool);
     }
+}
+
+bool HapticLoop::place(bool engaged, const Pose& tool_world) {
+    if (!engaged || !is_finite(tool_world.position)) {
+        placing_ = false;
+        return false;
+    }
+    if (!placing_) {  // the grip: where the workpiece sits in the tool's frame, kept while the tool holds it
+        grip_ = tool_world.inverse() * world_from_model_;
+        placing_ = true;
+        reset_contact();
+    }
+    world_from_model_ = tool_world * grip_;
+    model_from_world_ = world_from_model_.inverse();
+    return true;
 }
 
 }  // namespace tridex::haptics

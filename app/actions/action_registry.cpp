@@ -34,7 +34,9 @@ ActionRegistry make_builtin() {
     r.add(command("op.pull", "Pull", "^", "clay: the touched surface follows the tool outward", op(ToolOp::kPull)));
     r.add(command("op.grab", "Grab", "&", "clay: the material near the touched point moves with the tool",
                   op(ToolOp::kGrab)));
-    r.add(command("op.next", "Next op", ">", "the next operation (subtract, union, paint, push, smooth, pull, grab)",
+    r.add(command("op.place", "Place", "@", "the whole workpiece follows the tool while it is engaged: move and turn it",
+                  op(ToolOp::kPlace)));
+    r.add(command("op.next", "Next op", ">", "the next sculpting operation (subtract, union, paint, push, smooth, pull, grab)",
                   [](ActionTarget& t) { t.set_op(next_op(t.op())); }));
     for (int m = 1; m <= kMaxMaterialId; ++m) {
         const auto id = static_cast<std::uint8_t>(m);

@@ -82,7 +82,7 @@ private:
     std::vector<Action> actions_;
 };
 
-/// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.grab, op.next, material.1 ..
+/// The built-in actions: op.subtract, op.union, op.paint, op.push, op.smooth, op.pull, op.grab, op.place, op.next, material.1 ..
 /// material.7 (the palette entry union adds and paint sets; the menu labels them with the session's names), tool.larger,
 /// tool.smaller, symmetry.toggle, coarseness.finer, coarseness.coarser, edit.undo, edit.redo, file.save, view.reset, view.swap_eyes, view.occlusion,
 /// session.end (commands);

@@ -22,10 +22,6 @@ bool whole_number(std::string_view s, int& out) {
 
 }  // namespace
 
-Pose compose(const Pose& a, const Pose& b) {
-    return Pose{a.orientation * b.position + a.position, glm::normalize(a.orientation * b.orientation)};
-}
-
 void parse_port_and_id(std::string_view text, const std::string& option, const std::string& id_name, int id_count,
                        const std::string& usage, int& port, int& id) {
     const std::size_t colon = text.find(':');
@@ -66,7 +62,7 @@ Pose DTrackHead::head_at(double t_s) {
         untracked_ = !s.body.tracked();
         if (!untracked_) {
             last_position_m_ = s.body.position_m;
-            const Pose head = compose(compose(settings_.tracker_to_wall, s.body.pose()), settings_.head_to_eyes);
+            const Pose head = settings_.tracker_to_wall * s.body.pose() * settings_.head_to_eyes;
             tracker_.push(head, static_cast<double>(s.receipt_ns - origin_ns_) * 1e-9);
             pending_latency_ = true;
             pending_receipt_ns_ = s.receipt_ns;

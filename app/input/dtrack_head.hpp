@@ -79,9 +79,6 @@ private:
     DurationHistogram latency_ms_ = DurationHistogram::latency();  // bounded memory however long the session
 };
 
-/// a * b: the transform that applies b, then a.
-Pose compose(const Pose& a, const Pose& b);
-
 /// Parses "PORT[:ID]" (`text`, what follows a prefix such as "dtrack:"): PORT, a whole number 1..65535, into
 /// `port`; an ID, when given, a whole number 0..id_count-1, into `id` (kept when absent). Throws tridex::Error
 /// "<option>: the DTrack UDP port must be ..." or "<option>: the <id_name> must be ..." followed by `usage`.

@@ -48,7 +48,7 @@ WandSample DTrackWand::sample() {
     } else {
         why_ = "tracked";
         w.fresh = true;
-        w.pose = compose(settings_.tracker_to_wall, f.flystick.body.pose());
+        w.pose = settings_.tracker_to_wall * f.flystick.body.pose();
         w.buttons = f.flystick.buttons;
         w.joystick_y = f.flystick.controller_count >= 2 ? f.flystick.controllers[1] : 0.0;
     }

@@ -15,6 +15,7 @@ const std::vector<KeyBinding>& desk_key_bindings() {
         {Key::k5, 0, "op.smooth", false, true},
         {Key::k6, 0, "op.pull", false, true},
         {Key::k7, 0, "op.grab", false, true},
+        {Key::k8, 0, "op.place", false, true},
         {Key::k1, mod::kShift, "material.1", false, true},
         {Key::k2, mod::kShift, "material.2", false, true},
         {Key::k3, mod::kShift, "material.3", false, true},

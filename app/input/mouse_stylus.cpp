@@ -64,6 +64,10 @@ void MouseStylus::wheel(double steps) {
     const double total = wheel_rest_ + std::clamp(steps, -4.0 * kMaxDepthSteps, 4.0 * kMaxDepthSteps);
     const double whole = std::trunc(total);
     wheel_rest_ = total - whole;
+    if (op_ == ToolOp::kPlace) {  // turns the held workpiece; a wheel with nothing held does nothing
+        if (left_) turn_steps_ = (turn_steps_ + static_cast<int>(whole)) % static_cast<int>(360.0 / kTurnStepDeg);
+        return;
+    }
     depth_steps_ = std::clamp(depth_steps_ + static_cast<int>(whole), -kMaxDepthSteps, kMaxDepthSteps);
 }
 
@@ -74,6 +78,7 @@ int MouseStylus::default_depth_steps(ToolOp op) {
     case ToolOp::kSmooth:
     case ToolOp::kPull:
     case ToolOp::kGrab: return 5;
+    case ToolOp::kPlace: return 0;  // held where it touches: the workpiece follows, nothing is pressed
     default: return 10;
     }
 }
@@ -83,6 +88,8 @@ void MouseStylus::set_op(ToolOp op) {
     op_ = op;
     depth_steps_ = default_depth_steps(op);
     wheel_rest_ = 0.0;
+    grip_distance_m_ = -1.0;
+    turn_steps_ = 0;
 }
 
 StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye_m, double width_px, double height_px,
@@ -90,7 +97,11 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
     StylusTarget out;
     out.buttons = (left_ ? devices::mouse_buttons::kEngage : 0u) | (right_ ? devices::mouse_buttons::kStylus : 0u);
     if (left_ && !pressed_) pressed_ = live;  // the groove follows the surface as it was at the press
-    if (!left_) pressed_.reset();
+    if (!left_) {
+        pressed_.reset();
+        grip_distance_m_ = -1.0;
+        turn_steps_ = 0;
+    }
     out.hip_m = last_hip_m_;
     if (!have_cursor_) {
         out.hip_m = aim_m_;
@@ -101,6 +112,14 @@ StylusTarget MouseStylus::update(const renderer::Screen& screen, const Vec3& eye
     const double y = height_px > 0.0 && y_px_ >= height_px ? std::fmod(y_px_, height_px) : y_px_;
     const std::optional<Ray> ray = cursor_ray(screen, eye_m, x, y, width_px, height_px);
     if (!ray) return out;
+    if (op_ == ToolOp::kPlace && left_) {  // the workpiece follows: drag across the view at the grip's distance
+        if (grip_distance_m_ < 0.0) grip_distance_m_ = glm::length(last_hip_m_ - ray->origin_m);
+        const Vec3 hip = ray->origin_m + grip_distance_m_ * ray->dir;
+        if (is_finite(hip)) last_hip_m_ = hip;
+        out.hip_m = last_hip_m_;
+        out.orientation = glm::angleAxis(glm::radians(kTurnStepDeg * turn_steps_), Vec3(0.0, 1.0, 0.0));
+        return out;
+    }
     const std::optional<SurfaceHit> hit = pick_surface(pressed_ ? *pressed_ : live, *ray);
     Vec3 hip;
     if (hit) {
@@ -123,7 +142,7 @@ std::string MouseStylus::status() const {
     const std::string size = tool_.kind == ToolKind::kMesh
                                  ? "mesh tool (fixed size)"
                                  : std::string(to_string(tool_.kind)) + " r " + format_mm(radius_m_) + " ([ ])";
-    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6/7), " + size + ", depth " + format_mm(depth_m()) +
+    return std::string("mouse stylus: ") + name + " (1/2/3/4/5/6/7/8), " + size + ", depth " + format_mm(depth_m()) +
            " (wheel)" + (left_ ? ", engaged" : "") + (right_ ? ", stylus button" : "");
 }
 

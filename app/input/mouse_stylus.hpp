@@ -17,6 +17,9 @@ struct StylusTarget {
     Vec3 hip_m{0.0};             ///< where the tool centre (HIP) should be, world m
     std::uint32_t buttons = 0;   ///< devices::mouse_buttons bits (kEngage: left held, kStylus: right held)
     bool on_surface = false;     ///< the cursor ray met the surface (false: the tool hovers at the last depth)
+    /// The hand's turn (world, unit): identity but while placing (ToolOp::kPlace), whose wheel turns the held
+    /// workpiece about the vertical.
+    Quat orientation{1.0, 0.0, 0.0, 0.0};
 };
 
 /// The mouse stylus (one thread, the window's). The tool rides on the surface under the cursor: a ray from the
@@ -34,6 +37,10 @@ struct StylusTarget {
 /// strength: a depth set for a deep cut does not carry into paint or clay.
 /// For a flat end (its axis up, +y: the mouse turns no tool) r above is its support distance along -n, so its
 /// rim, end face or shank rests on the surface; for a mesh tool, its bounding radius.
+/// Placing (ToolOp::kPlace): the tool rests on the surface (depth 0); while the left button is held the workpiece
+/// follows the tool, so the tool is dragged at the distance from the eye it had when the button went down (across the
+/// view, not over the moving surface) and each wheel step turns the hand, and so the held workpiece, by kTurnStepDeg
+/// about the world's vertical (+y) through the tool; the turn ends with the drag.
 /// resize() scales the tool (ball or flat end; a mesh tool keeps its size) in steps of kSizeStep, from
 /// kSizeStep^-kMaxSizeSteps to kSizeStep^kMaxSizeSteps times the scene's tool; the depth scales with it.
 class MouseStylus {
@@ -41,6 +48,7 @@ public:
     static constexpr double kSizeStep = 1.25;  ///< tool size factor per resize step
     static constexpr int kMaxSizeSteps = 6;    ///< resize steps allowed each way from the scene's tool
     static constexpr int kMaxDepthSteps = 20;  ///< wheel steps allowed each way from the surface (two radii)
+    static constexpr double kTurnStepDeg = 15.0;  ///< placing: the held workpiece's turn per wheel step, degrees
 
     /// tool_radius_m: the ball's radius, m (> 0; the default depth, ten wheel steps); aim_m: where the tool hovers before
     /// the first hit (world m, e.g. in front of the workpiece). Throws tridex::Error for a radius that is not
@@ -59,12 +67,13 @@ public:
     /// Wheel steps (+ = away from the user = deeper, - = out of the surface), summed and taken in whole steps (a
     /// touchpad's fractions add up); the depth stays in [-2 r, 2 r]. Non-finite steps are ignored.
     void wheel(double steps);
-    /// What the tool applies while engaged (subtract, union, paint, push, smooth, pull or grab; kNone is ignored). A
+    /// What the tool applies while engaged (subtract, union, paint, push, smooth, pull, grab, or place: the workpiece
+    /// follows; kNone is ignored). A
     /// different operation than the current one resets the depth to default_depth_steps(op).
     void set_op(ToolOp op);
     /// The depth an operation starts with, in wheel steps (tenths of the radius): subtract and union a full radius
     /// (a groove or ridge as wide as the tool), paint three tenths (the colour follows the surface without cutting),
-    /// push, smooth, pull and grab half a radius.
+    /// push, smooth, pull and grab half a radius, place none (the tool rests on the surface it holds).
     static int default_depth_steps(ToolOp op);
     /// Scales the tool by kSizeStep^steps (within the limits above). Returns false, changing nothing, for a
     /// mesh tool or at the limit.
@@ -110,6 +119,8 @@ private:
     double rest_height_m(const Vec3& normal) const;
     std::optional<PickSurface> pressed_;  // the surface when the left button went down
     double last_distance_m_ = -1.0;       // the last hit's distance along its ray, m (< 0: none yet)
+    double grip_distance_m_ = -1.0;       // placing: the held tool's distance from the eye, m (< 0: not held)
+    int turn_steps_ = 0;                  // placing: wheel steps turned while held
     Vec3 last_hip_m_{0.0};
 };
 

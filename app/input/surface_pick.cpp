@@ -72,9 +72,14 @@ std::optional<Ray> cursor_ray(const renderer::Screen& screen, const Vec3& eye_m,
     return Ray{eye_m, d / n};
 }
 
-std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ray) {
+std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& world_ray) {
     std::optional<SurfaceHit> best;
-    if (!is_finite(ray.origin_m) || !is_finite(ray.dir)) return best;
+    if (!is_finite(world_ray.origin_m) || !is_finite(world_ray.dir)) return best;
+    // The workpiece's tiles and mesh are in its model frame: the ray goes there, the hit comes back (a rigid pose
+    // keeps the distance along the ray).
+    const Pose& wp = surface.workpiece_pose;
+    const Quat to_model = glm::conjugate(wp.orientation);
+    const Ray ray{to_model * (world_ray.origin_m - wp.position), to_model * world_ray.dir};
     for (const auto& tile : surface.tiles) {
         if (!tile) continue;
         const double t_max = best ? best->distance_m : std::numeric_limits<double>::infinity();
@@ -88,10 +93,14 @@ std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ra
         pick_mesh(group->lods.front().mesh, ray, best);
     }
     if (surface.whole) pick_mesh(*surface.whole, ray, best);
+    if (best) {
+        best->point_m = wp.apply(best->point_m);
+        best->normal = wp.orientation * best->normal;
+    }
     for (const PlacedMesh& placed : surface.placed) {
         if (!placed.mesh) continue;
         const Quat to_local = glm::conjugate(placed.pose.orientation);
-        const Ray local{to_local * (ray.origin_m - placed.pose.position), to_local * ray.dir};
+        const Ray local{to_local * (world_ray.origin_m - placed.pose.position), to_local * world_ray.dir};
         const double t_max = best ? best->distance_m : std::numeric_limits<double>::infinity();
         if (!meets_box(placed.bounds_m, local, t_max)) continue;
         std::optional<SurfaceHit> hit = best;

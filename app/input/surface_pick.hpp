@@ -49,10 +49,12 @@ struct PickSurface {
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
     /// Meshes placed by a pose (the scene's reference objects), picked like the workpiece.
     std::vector<PlacedMesh> placed;
+    /// The workpiece's pose: `tiles`, `groups` and `whole` are in its model frame, placed into the world by it.
+    Pose workpiece_pose{};
 };
 
-/// The nearest hit of `ray` on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets, and of
-/// the placed meshes, the ray taken into each one's frame), or nullopt when it misses. Degenerate triangles are skipped; never throws.
+/// The nearest hit of `ray` (world) on `surface` (Moller-Trumbore on the triangles of the tiles whose bounds it meets,
+/// and of the placed meshes, the ray taken into each one's frame, the workpiece's too); the hit is in the world, or nullopt when it misses. Degenerate triangles are skipped; never throws.
 std::optional<SurfaceHit> pick_surface(const PickSurface& surface, const Ray& ray);
 
 }  // namespace tridex::app

@@ -47,7 +47,8 @@ MenuItem default_menu(const MaterialPalette& palette) {
         leaf("edit.redo"),
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),
-        branch("View", "...", {leaf("view.reset"), leaf("view.swap_eyes"), leaf("view.occlusion")}),
+        // Place (the whole workpiece follows the tool) arranges the scene, as the view's slices do.
+        branch("View", "...", {leaf("view.reset"), leaf("view.swap_eyes"), leaf("view.occlusion"), leaf("op.place")}),
         leaf("edit.undo"),
         leaf("op.next"),
     };

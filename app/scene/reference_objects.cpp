@@ -37,11 +37,7 @@ ReferenceSpec reference_of(const json& j, const std::string& source, const std::
     r.position_m = f.vec3("position_m", r.position_m);
     for (int a = 0; a < 3; ++a)
         if (!(std::abs(r.position_m[a]) <= 1e3)) f.fail(f.path("position_m"), "each coordinate must be in [-1000, 1000] m");
-    const Vec3 axis = f.vec3("axis", Vec3(0.0, 1.0, 0.0));
-    const double angle = f.number("angle_deg", 0.0, -360.0, 360.0);
-    const double len = glm::length(axis);
-    if (!(len > 1e-12)) f.fail(f.path("axis"), "must not be zero (the axis the object is turned about)");
-    r.orientation = glm::normalize(glm::angleAxis(glm::radians(angle), axis / len));
+    r.orientation = f.turn();
     r.stiffness_n_per_m = f.number("stiffness_n_per_m", r.stiffness_n_per_m, 0.0, 1e5, true);
     r.grid_cell_m = f.number("grid_cell_m", 0.0, 0.0, r.size_m / 8.0);
     f.rgba("colour", r.colour, r.alpha);

@@ -46,6 +46,14 @@ Quat quat_of(const Fields& f, const json& v, const std::string& field) {
     return out;
 }
 
+// The lattice holds depths as floats from a local origin: a workpiece stays within 1 km of the origin.
+void check_within_reach(Fields& f, const std::string& name, const Vec3& p) {
+    for (int a = 0; a < 3; ++a)
+        if (!(std::abs(p[a]) <= 1e3))
+            f.fail("workpiece." + name, "must lie within 1 km of the origin on every axis, got " + format_number(p[a]) +
+                                            " m on axis " + "xyz"[a]);
+}
+
 void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
     SessionSpec& sp = s.spec;
     const json* w = top.get("workpiece");
@@ -73,6 +81,13 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
             }
         }
         sp.mesh_path.clear();
+        // Where the saved model's centre goes (default: where it was saved), relative to the centre it was saved at
+        // (only known once the model is loaded: workpiece_pose() turns about that centre).
+        if (f.get("position_m")) {
+            sp.workpiece_position_m = f.vec3("position_m", Vec3(0.0));
+            check_within_reach(f, "position_m", *sp.workpiece_position_m);
+        }
+        sp.workpiece_turn = f.turn();
         f.finish();
         return;
     }
@@ -88,10 +103,9 @@ void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
     sp.resolution = f.integer("resolution", sp.resolution, 8, 4096);
     sp.stock_m = f.number("stock_m", sp.stock_m, 0.001, 100.0);  // validate_spec's range
     sp.workpiece_centre_m = f.vec3("centre_m", sp.workpiece_centre_m);
-    for (int a = 0; a < 3; ++a)  // the lattice holds depths as floats from a local origin: stay within reach
-        if (!(std::abs(sp.workpiece_centre_m[a]) <= 1e3))
-            f.fail("workpiece.centre_m", "must lie within 1 km of the origin on every axis, got " +
-                                             format_number(sp.workpiece_centre_m[a]) + " m on axis " + "xyz"[a]);
+    check_within_reach(f, "centre_m", sp.workpiece_centre_m);
+    if (f.get("position_m")) f.fail("workpiece.position_m", "only with workpiece.model (a mesh is placed by centre_m)");
+    sp.workpiece_turn = f.turn();
     f.finish();
 }
 

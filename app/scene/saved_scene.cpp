@@ -26,29 +26,38 @@ void absolute_field(json& block, const char* name, const std::string& dir) {
     if (p.is_relative()) block[name] = (fs::absolute(fs::path(dir) / p)).lexically_normal().string();
 }
 
-json reference_scene_json(const ReferenceSpec& r) {
-    const Quat q = glm::normalize(r.orientation);
+// A turn as the scene writes it: "axis" and "angle_deg" (the short way round, so angle_deg stays in [-180, 180]).
+void put_turn(json& j, const Quat& turn) {
+    const Quat q = glm::normalize(turn);
     const double w = std::clamp(q.w, -1.0, 1.0);
     double angle = glm::degrees(2.0 * std::acos(w));
     const double s = std::sqrt(std::max(0.0, 1.0 - w * w));
     Vec3 axis = s > 1e-12 ? Vec3(q.x, q.y, q.z) / s : Vec3(0.0, 1.0, 0.0);
-    if (angle > 180.0) {  // the same turn, the short way round: angle_deg stays in [-360, 360]
+    if (angle > 180.0) {  // the same turn, the short way round
         angle = 360.0 - angle;
         axis = -axis;
     }
+    j["axis"] = {axis.x, axis.y, axis.z};
+    j["angle_deg"] = angle;
+}
+
+json reference_scene_json(const ReferenceSpec& r) {
     json j{{"name", r.name},
            {"mesh", r.mesh_path},
            {"size_m", r.size_m},
            {"position_m", {r.position_m.x, r.position_m.y, r.position_m.z}},
-           {"axis", {axis.x, axis.y, axis.z}},
-           {"angle_deg", angle},
            {"stiffness_n_per_m", r.stiffness_n_per_m},
            {"colour", {r.colour.x, r.colour.y, r.colour.z, r.alpha}}};
+    put_turn(j, r.orientation);
     if (r.grid_cell_m > 0.0) j["grid_cell_m"] = r.grid_cell_m;
     return j;
 }
 
 }  // namespace
+
+bool needs_saved_scene(const SessionSpec& spec, const Pose& pose) {
+    return !spec.references.empty() || !pose.is_identity();
+}
 
 std::string saved_scene_path(const std::string& model_path) {
     fs::path p(model_path);
@@ -56,11 +65,17 @@ std::string saved_scene_path(const std::string& model_path) {
     return p.string();
 }
 
-json saved_scene_json(json scene, const std::string& scene_dir, const std::string& model_path, const SessionSpec& spec) {
+json saved_scene_json(json scene, const std::string& scene_dir, const std::string& model_path, const SessionSpec& spec,
+                      const Pose& pose) {
     if (!scene.is_object()) scene = json::object();
     for (const char* script : {"stroke", "keys", "cursor"}) scene.erase(script);
     scene["stroke"] = "none";
     scene["workpiece"] = {{"model", fs::path(model_path).filename().string()}};
+    if (!pose.is_identity()) {  // where the model's centre is placed, and its turn
+        const Vec3 at = pose.apply(spec.workpiece_centre_m);
+        scene["workpiece"]["position_m"] = {at.x, at.y, at.z};
+        put_turn(scene["workpiece"], pose.orientation);
+    }
     scene.erase("references");
     if (!spec.references.empty()) {
         json refs = json::array();
@@ -72,13 +87,14 @@ json saved_scene_json(json scene, const std::string& scene_dir, const std::strin
     return scene;
 }
 
-std::string write_saved_scene(const std::string& scene_path, const std::string& model_path, const SessionSpec& spec) {
+std::string write_saved_scene(const std::string& scene_path, const std::string& model_path, const SessionSpec& spec,
+                              const Pose& pose) {
     const bool built_in = scene_path.empty() || scene_path == "<built-in>";
     const json scene = built_in ? json::object() : read_scene_json(scene_path);
     const std::string dir = built_in ? std::string(".") : fs::path(scene_path).parent_path().string();
     const std::string out = saved_scene_path(model_path);
     try {
-        write_file_atomically(out, saved_scene_json(scene, dir, model_path, spec).dump(2) + "\n");
+        write_file_atomically(out, saved_scene_json(scene, dir, model_path, spec, pose).dump(2) + "\n");
     } catch (const Error& e) {
         throw Error(out + ": the saved scene cannot be written: " + e.what());
     }

@@ -67,7 +67,8 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
     c.static_friction = cfg.contact.static_friction;
     c.dynamic_friction = cfg.contact.dynamic_friction;
     c.ewma_alpha = cfg.ewma_alpha;
-    c.device_to_world = cfg.device_to_world;
+    // The server's loop renders against the workpiece's surface, in its model frame: its world is that frame.
+    c.device_to_world = cfg.workpiece_pose.inverse() * cfg.device_to_world;
     c.workspace_scale = cfg.workspace_scale;
     const haptics::WorkspaceConfig& w = cfg.workspace;
     c.workspace_mode = static_cast<std::uint8_t>(w.mode);
@@ -96,8 +97,10 @@ ToolOp parse_tool_op(const std::string& name) {
     if (name == "smooth") return ToolOp::kSmooth;
     if (name == "pull") return ToolOp::kPull;
     if (name == "grab") return ToolOp::kGrab;
+    if (name == "place") return ToolOp::kPlace;
     if (name == "none") return ToolOp::kNone;
-    throw Error("--op: unknown operation '" + name + "'; use subtract, union, paint, push, smooth, pull, grab or none");
+    throw Error("--op: unknown operation '" + name +
+                "'; use subtract, union, paint, push, smooth, pull, grab, place or none");
 }
 
 namespace {
@@ -175,8 +178,14 @@ haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_tick
     cfg.contact_mode = cfg.tool_points.count > 2 ? haptics::MultiPointMode::kInteractionMesh
                                                  : haptics::MultiPointMode::kIndependentProxies;
     cfg.elastic_objects = s.elastic_objects;
+    cfg.workpiece_pose = workpiece_pose(s);
     cfg.reserve_cpu = s.reserve_haptic_cpu;
     return cfg;
+}
+
+Pose workpiece_pose(const SessionSpec& s) {
+    const Vec3& c = s.workpiece_centre_m;
+    return Pose{c + s.workpiece_shift_m - s.workpiece_turn * c, s.workpiece_turn};
 }
 
 namespace {
@@ -202,6 +211,12 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     if (s.resolution < 8 || s.resolution > 4096) fail("resolution", "must be between 8 and 4096", std::to_string(s.resolution));
     range("stock_m", s.stock_m, 1e-3, 100.0);
     point("workpiece_centre_m", s.workpiece_centre_m);
+    point("workpiece_shift_m", s.workpiece_shift_m);
+    {
+        const Quat& q = s.workpiece_turn;
+        const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+        if (!(std::abs(n - 1.0) <= 1e-6)) fail("workpiece_turn", "must be a unit quaternion [w, x, y, z]", format_number(n));
+    }
     point("device_origin_m", s.device_origin_m);
     if (s.tool.kind == ToolKind::kMesh) {
         range("tool.size_m", s.tool_size_m, 1e-3, 0.25 * s.stock_m);
@@ -324,6 +339,11 @@ std::string spec_to_json(const SessionSpec& s) {
            {"keep_islands", s.keep_islands},
            {"clay_group_sweeps", s.clay_group_sweeps}};
     if (!elastic.empty()) j["elastic_objects"] = elastic;  // absent in sessions without them, as before
+    if (!workpiece_pose(s).is_identity()) {                  // absent for an unposed workpiece, as before
+        const Quat& q = s.workpiece_turn;
+        j["workpiece_turn"] = json::array({q.w, q.x, q.y, q.z});
+        j["workpiece_shift_m"] = vec(s.workpiece_shift_m);
+    }
     if (!s.references.empty()) {                            // absent in sessions without them, as before
         json refs = json::array();
         for (const ReferenceSpec& r : s.references) refs.push_back(reference_settings_json(r));
@@ -371,6 +391,14 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
     get(j, "resolution", s.resolution);
     get(j, "stock_m", s.stock_m);
     get_vec("workpiece_centre_m", s.workpiece_centre_m);
+    if (j.contains("workpiece_turn")) {  // added later: sessions before had an unposed workpiece
+        const json& q = j.at("workpiece_turn");
+        if (!q.is_array() || q.size() != 4 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number() ||
+            !q[3].is_number())
+            throw Error(source + ": settings field 'workpiece_turn' must be [w, x, y, z]");
+        s.workpiece_turn = Quat(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+        get_vec("workpiece_shift_m", s.workpiece_shift_m);
+    }
     if (j.contains("tool")) {
         const json& t = j.at("tool");
         std::string shape;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,7 +57,16 @@ struct SessionSpec {
     std::string study_model;
     int resolution = 256;                    ///< lattice cells along the longest side
     double stock_m = 0.3;                    ///< longest side of the placed workpiece, m
-    Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece is centred, world m
+    Vec3 workpiece_centre_m{0.0, 0.0, 0.3};  ///< where the workpiece's lattice is centred, in its model frame, m
+    /// The workpiece's pose (workpiece_pose()): turned by workpiece_turn (model -> world, unit quaternion) about its
+    /// centre, then moved by workpiece_shift_m (world m). Identity and zero (the default): the model frame is the
+    /// world, as in every session before workpieces were posed. The lattice never turns: the pose moves the solid.
+    Quat workpiece_turn{1.0, 0.0, 0.0, 0.0};
+    Vec3 workpiece_shift_m{0.0};
+    /// A saved model's centre as the scene placed it (workpiece.position_m, world m), until
+    /// prepare_session_workpiece turns it into workpiece_shift_m (the model's own centre is known only once it is
+    /// loaded); empty = where it was saved. Not part of the settings: workpiece_shift_m is.
+    std::optional<Vec3> workpiece_position_m{};
     /// The tool that cuts and touches (core/tool_shape.hpp). kMesh: radius_m is the placed mesh's bounding
     /// radius about its tip (set_tool_mesh), mesh_id 0 (the session's one mesh tool).
     ToolShape tool{ToolKind::kBall, 0.008, 0.0, 0};
@@ -167,6 +177,11 @@ void configure_net_device(devices::HapticDevice& device, const haptics::HapticLo
 /// bounding radius. The reference objects are not loaded here (their distance fields take a while to build):
 /// SessionRuntime adds them (prepare_references) to the configuration it runs.
 haptics::HapticLoopConfig loop_config(const SessionSpec& s, std::size_t max_ticks, const TriMesh* tool_mesh_m = nullptr);
+
+/// The workpiece's model frame -> the world (m): turned by s.workpiece_turn about s.workpiece_centre_m, then moved by
+/// s.workpiece_shift_m; identity for an unposed workpiece. loop_config() puts it in HapticLoopConfig::workpiece_pose,
+/// and the views draw and pick the workpiece through it. Needs a unit workpiece_turn (validate_spec checks it).
+Pose workpiece_pose(const SessionSpec& s);
 
 /// The button bits that engage the tool for a device driver, from its capabilities (DriverCapabilities::
 /// engage_button: the desk mouse's left button, a Flystick's trigger); 0 (always engaged) for drivers without one.

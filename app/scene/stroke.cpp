@@ -116,6 +116,13 @@ StrokePlan delayed(StrokePlan plan, double start_s) {
     return plan;
 }
 
+void place_plan(StrokePlan& plan, const Pose& world_from_model) {
+    if (world_from_model.is_identity()) return;
+    for (Vec3& w : plan.world_m) w = world_from_model.apply(w);
+    for (Vec3& d : plan.shift_m) d = world_from_model.rotate(d);
+    plan.centre_m = world_from_model.apply(plan.centre_m);
+}
+
 StrokePlan plan_stroke(const compute::TriDexel& model, const StrokeParams& p) {
     const Aabb box = model.lattice.bounds();
     const int a = p.press_axis;

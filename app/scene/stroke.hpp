@@ -5,6 +5,7 @@
 
 #include "compute/model/tridexel.hpp"
 #include "core/math.hpp"
+#include "core/pose.hpp"
 #include "devices/button_script.hpp"
 
 namespace tridex::app {
@@ -56,6 +57,10 @@ struct StrokePlan {
     /// The hand's targets relative to the device's home, device m (what shift_m and centre_m give).
     std::vector<Vec3> device_offsets_m(double workspace_scale) const;
 };
+
+/// The plan placed by a workpiece's pose (plan_stroke plans in its model frame): every waypoint and the centre
+/// mapped, the workspace shifts turned, so the hand follows the posed surface. The identity changes nothing.
+void place_plan(StrokePlan& plan, const Pose& world_from_model);
 
 /// Plans a pass along world x over the side of the workpiece facing +press_axis (the viewer for
 /// axis 2, the sky for axis 1), through the workpiece's middle, placed where that surface is

@@ -87,6 +87,10 @@ Workpiece prepare_session_workpiece(SessionSpec& spec) {
     spec.resolution = wp.resolution;
     spec.stock_m = std::max(1, wp.resolution - 4) * L.cell_m;  // Lattice::around's 2-cell margins on each end
     spec.workpiece_centre_m = L.bounds().centre();
+    if (spec.workpiece_position_m) {  // the scene placed the model's centre elsewhere: a shift from where it was saved
+        spec.workpiece_shift_m = *spec.workpiece_position_m - spec.workpiece_centre_m;
+        spec.workpiece_position_m.reset();
+    }
     if (spec.palette == default_material_palette()) spec.palette = wp.palette;  // a scene's own names win
     spec.mesh_path.clear();
     spec.mesh_crc32 = 0;

@@ -37,8 +37,9 @@ Workpiece workpiece_from_model(const std::string& tdx_path);
 
 /// The session's workpiece for `spec`, and the spec completed: with spec.model_path, the saved model
 /// (workpiece_from_model), and resolution, stock_m (the longest side less the 2-cell margins, m) and
-/// workpiece_centre_m (the lattice's centre, world m) taken from it, model_crc32/model_bytes set, and its palette when
-/// spec.palette is the default (a scene that names materials keeps its own); else the mesh
+/// workpiece_centre_m (the lattice's centre, model m) taken from it, model_crc32/model_bytes set, and its palette when
+/// spec.palette is the default (a scene that names materials keeps its own), and a scene's workpiece_position_m turned
+/// into workpiece_shift_m from that centre; else the mesh
 /// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. SIGINT or SIGTERM meanwhile ends the program
 /// at once (StopEndsSetUp): there is nothing to keep yet. Throws tridex::Error as those do.
 Workpiece prepare_session_workpiece(SessionSpec& spec);

@@ -93,6 +93,16 @@ public:
         return out;
     }
 
+    /// A turn given as "axis" ([x, y, z], any length but zero; default +y) and "angle_deg" (right-handed about the
+    /// axis, [-360, 360]; default 0): the unit quaternion of that rotation. A zero axis fails naming "axis".
+    Quat turn() {
+        const Vec3 axis = vec3("axis", Vec3(0.0, 1.0, 0.0));
+        const double angle = number("angle_deg", 0.0, -360.0, 360.0);
+        const double len = std::sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
+        if (!(len > 1e-12)) fail(path("axis"), "must not be zero (the axis the object is turned about)");
+        return glm::normalize(glm::angleAxis(glm::radians(angle), axis / len));
+    }
+
     /// A colour field: an array of 3 or 4 numbers in [0, 1] (RGB or RGBA) into rgb and alpha; both untouched when the
     /// field is absent.
     void rgba(const std::string& name, Vec3& rgb, double& alpha) {

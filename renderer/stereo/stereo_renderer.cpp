@@ -333,7 +333,7 @@ void OffscreenStereoRenderer::Impl::add_workpiece(const SceneView& scene, FrameR
     }
     list.cover_all();
     // Without materials the flat clay colour (palette[0]) keeps the images bit-identical to earlier ones.
-    list.add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(1.0f), palette_colours(scene.palette)[0], true).constants.palette =
+    list.add(PipelineKind::kOpaque, fr.workpiece, glm::mat4(scene.workpiece_pose.matrix()), palette_colours(scene.palette)[0], true).constants.palette =
         scene.workpiece_materials ? 1u : 0u;
 }
 
@@ -343,11 +343,11 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
     if (scene.tiles.empty() && tiles.size() == 0 && scene.tile_groups.empty() && groups.size() == 0) return;
     // Tiles read back from the GPU contour: stored and drawn in its grid units.
     ModelFrame frame;
-    glm::mat4 world_from_model(1.0f);
+    glm::mat4 world_from_model(scene.workpiece_pose.matrix());
     if (scene.tiles_from_indirect) {
         if (!scene.indirect_workpiece) throw Error("renderer: SceneView.tiles_from_indirect needs indirect_workpiece");
         frame = ModelFrame{scene.indirect_workpiece->grid_origin_m, scene.indirect_workpiece->cell_m};
-        world_from_model = scene.indirect_workpiece->world_from_grid;
+        world_from_model = world_from_model * scene.indirect_workpiece->world_from_grid;
     }
     std::vector<GpuMesh> retired;  // replaced tiles' buffers: earlier frames in flight may still read them
     tiles.sync(*context, scene.tiles, &retired, frame);
@@ -375,12 +375,13 @@ void OffscreenStereoRenderer::Impl::add_tiles(const SceneView& scene, const Fram
     te.frusta = eyes.frusta;
     te.lod_eyes = eyes.lod;
     const glm::vec4 clay = palette_colours(scene.palette)[0];
+    // The tiles' bounds are in the workpiece's model frame: the eyes go there, the covered boxes come back.
     add_tile_draws(
-        scene, te, tiles, groups,
+        scene, in_model_frame(te, scene.workpiece_pose), tiles, groups,
         [&](const GpuMesh& m) -> StereoDraw& {
             return list.add(PipelineKind::kOpaque, m, world_from_model, clay, true);
         },
-        [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, box_m); }, stats);
+        [&](std::uint32_t mask, const Aabb& box_m) { list.cover(mask, placed(box_m, scene.workpiece_pose)); }, stats);
     stats.tile_uploads = tiles.take_uploads() + groups.take_uploads();
 }
 
@@ -562,13 +563,16 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     // opaque ones now, translucent ones first among the translucent items (each back faces, then front faces): scene
     // objects, proxy, workspace box, bubble. Last the overlay: a panel and its text in pixels, on the screen plane
     // (same clip position in both eyes).
+    const Pose& wp = scene.workpiece_pose;
+    if (!is_finite(wp.position) || !(std::abs(glm::length(wp.orientation) - 1.0) <= 1e-6))
+        throw Error("renderer: SceneView.workpiece_pose must be finite with a unit orientation");
     im.add_workpiece(scene, fr, list);
     im.add_tiles(scene, eyes, list, stats);
     TileDrawEyes te;
     te.strategy = strategy();
     te.eye_count = scene.eye_count;
     te.frusta = eyes.frusta;
-    add_indirect_tile_draws(scene, te, list, stats);
+    add_indirect_tile_draws(scene, in_model_frame(te, scene.workpiece_pose), list, stats);
     im.add_tool(scene, list);
     add_force_arrow(scene, im.cylinder, im.cone, list);
     const std::vector<std::size_t> translucent_objects = im.add_objects(scene, list);

@@ -51,7 +51,11 @@ struct SceneObject {
 
 /// What one frame shows (world metres, y up; the PowerWall screen in z = 0 facing +z).
 struct SceneView {
-    const TriMesh* workpiece = nullptr;  ///< the carved solid, world m; nullptr or empty = not drawn
+    const TriMesh* workpiece = nullptr;  ///< the carved solid, model m; nullptr or empty = not drawn
+    /// The workpiece's model frame -> world (m, rigid): `workpiece`, `tiles`, `tile_groups` and the indirect
+    /// workpiece are in the model frame and drawn through it; culling and levels of detail use the eyes taken into
+    /// that frame. Identity (the default): the model frame is the world.
+    Pose workpiece_pose{};
     Vec3 tool_centre_m{0.0};             ///< centre of the ball tool, world m
     double tool_radius_m = 0;            ///< ball radius, m; <= 0 = no tool drawn
     /// The tool's shape: a ball draws a sphere of tool_radius_m at tool_centre_m; a flat-end mill draws its

@@ -11,6 +11,19 @@
 
 namespace tridex::renderer {
 
+TileDrawEyes in_model_frame(const TileDrawEyes& eyes, const Pose& world_from_model) {
+    if (world_from_model.is_identity()) return eyes;
+    const Mat4 m = world_from_model.matrix();
+    const Mat4 mt = glm::transpose(m);
+    TileDrawEyes out = eyes;
+    for (int e = 0; e < 2; ++e) {
+        // A plane n.x + d >= 0 in the world is (M^T (n, d)).(x_model, 1) >= 0 in the model frame.
+        for (glm::dvec4& p : out.frusta[e].planes) p = mt * p;
+        out.lod_eyes[e].view = eyes.lod_eyes[e].view * m;
+    }
+    return out;
+}
+
 void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCache& tiles,
                     TileMeshCache& groups, const std::function<StereoDraw&(const GpuMesh&)>& add,
                     const std::function<void(std::uint32_t, const Aabb&)>& cover, FrameStats& stats) {
@@ -130,7 +143,7 @@ void add_indirect_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, F
             if (mask & (1u << e)) stats.tile_triangles[e] += t.index_count / 3;
         }
         if (mask == 0) continue;
-        list.cover(mask, t.bounds_m);
+        list.cover(mask, placed(t.bounds_m, scene.workpiece_pose));
         StereoDraw d;
         d.kind = PipelineKind::kContour;
         d.vertices = iw->vertices;
@@ -138,7 +151,7 @@ void add_indirect_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, F
         d.index_count = t.index_count;
         d.indirect = iw->commands;
         d.indirect_offset = static_cast<VkDeviceSize>(t.id) * kIndirectCommandBytes;
-        d.constants.world_from_model = iw->world_from_grid;
+        d.constants.world_from_model = glm::mat4(scene.workpiece_pose.matrix()) * iw->world_from_grid;
         d.constants.colour = palette_colours(scene.palette)[0];
         d.constants.lit = 1u;
         d.constants.palette = 1u;

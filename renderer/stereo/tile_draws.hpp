@@ -27,6 +27,11 @@ struct TileDrawEyes {
     std::array<LodEye, 2> lod_eyes{};  ///< per eye, for the projected error
 };
 
+/// The same eyes seen from a placed object's model frame (world_from_model: rigid, m): each frustum plane and LOD
+/// view taken into that frame, so culling and levels of detail test model-frame bounds directly. Identity returns
+/// the eyes as they are.
+TileDrawEyes in_model_frame(const TileDrawEyes& eyes, const Pose& world_from_model);
+
 /// Appends the opaque draws of scene.tiles and scene.tile_groups (whose GPU meshes `tiles` and `groups` hold,
 /// synced to those lists in that order; `groups` entries carry the group's levels as their levels 1..n).
 /// With scene.lod, each eye draws each group at the coarsest level within scene.lod_max_px (choose_group_levels)

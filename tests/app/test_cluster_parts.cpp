@@ -129,6 +129,19 @@ TEST(ClusterParts, AFrameMessageRoundTripsBitForBit) {
     const FrameMessage menu_back = decode_frame(encode_frame(with_menu), "test");
     EXPECT_EQ(menu_back.menu, with_menu.menu);
     EXPECT_FALSE(back.menu.shown);
+    // A posed workpiece: its pose goes along bit for bit; an unposed one costs no bytes.
+    FrameMessage posed = m;
+    posed.workpiece_pose = Pose{Vec3(0.1, -0.02, 0.3), glm::angleAxis(0.4, glm::normalize(Vec3(1.0, 2.0, 3.0)))};
+    const std::vector<unsigned char> posed_bytes = encode_frame(posed);
+    EXPECT_EQ(posed_bytes.size(), bytes.size() + 7 * 8);
+    const FrameMessage posed_back = decode_frame(posed_bytes, "test");
+    EXPECT_EQ(posed_back.workpiece_pose.position, posed.workpiece_pose.position);
+    EXPECT_NEAR(glm::length(glm::vec<4, double>(posed_back.workpiece_pose.orientation.w - posed.workpiece_pose.orientation.w,
+                                                posed_back.workpiece_pose.orientation.x - posed.workpiece_pose.orientation.x,
+                                                posed_back.workpiece_pose.orientation.y - posed.workpiece_pose.orientation.y,
+                                                posed_back.workpiece_pose.orientation.z - posed.workpiece_pose.orientation.z)),
+                0.0, 1e-15);
+    EXPECT_TRUE(back.workpiece_pose.is_identity());
     std::vector<unsigned char> bad = encode_frame(with_menu);
     bad.resize(bad.size() - 4);  // a cut status
     EXPECT_THROW((void)decode_frame(bad, "test"), Error);

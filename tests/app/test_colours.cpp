@@ -135,6 +135,9 @@ TEST(Colours, TheMenuAndTheKeysChooseTheMaterials) {
     EXPECT_EQ(root.children[0].children.size(), 7u);  // the operations, grab last (subtract still at 12 o'clock)
     EXPECT_EQ(root.children[0].children[0].action, "op.subtract");
     EXPECT_EQ(root.children[0].children[6].action, "op.grab");
+    // Placing the workpiece arranges the scene: the View ring's last slice.
+    ASSERT_EQ(root.children[5].label, "View");
+    EXPECT_EQ(root.children[5].children.back().action, "op.place");
     const MenuItem& tool = root.children[1];
     ASSERT_EQ(tool.label, "Tool");
     ASSERT_EQ(tool.children.size(), 6u);  // larger up and smaller down, as before; Colour right, Symmetry left

@@ -10,6 +10,7 @@
 #include "core/change_signal.hpp"
 #include "core/crc32.hpp"
 #include "core/format.hpp"
+#include "core/pose.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/thread_name.hpp"
 #include "core/tri_mesh.hpp"
@@ -158,8 +159,6 @@ TEST(TriMesh, OpenAndNonManifoldEdgesAreCounted) {
     EXPECT_GE(edge_stats(fan).nonmanifold_edges, 1u);
 }
 
-}  // namespace
-}  // namespace tridex
 
 // ---- CRC-32 (core/crc32.hpp) ----
 
@@ -199,3 +198,24 @@ TEST(ChangeSignal, WakesForACountNotSeenOrAtTheDeadline) {
     other.join();
     EXPECT_EQ(signal.count(), 2u);
 }
+
+TEST(Pose, InverseAndCompositionUndoEachOtherAndPlacedBoxesHoldTheTurnedCorners) {
+    const Pose a{Vec3(0.1, -0.2, 0.3), glm::angleAxis(0.7, glm::normalize(Vec3(1.0, 2.0, -0.5)))};
+    const Pose b{Vec3(-0.05, 0.4, 0.0), glm::angleAxis(-1.3, Vec3(0.0, 0.0, 1.0))};
+    const Vec3 p(0.02, -0.03, 0.05);
+    EXPECT_NEAR(glm::length(a.inverse().apply(a.apply(p)) - p), 0.0, 1e-15);
+    EXPECT_NEAR(glm::length((a * b).apply(p) - a.apply(b.apply(p))), 0.0, 1e-15);
+    EXPECT_NEAR(glm::length((a * a.inverse()).apply(p) - p), 0.0, 1e-15);
+    EXPECT_TRUE(Pose{}.is_identity());
+    EXPECT_FALSE(a.is_identity());
+    // A unit cube turned 45 degrees about z: its box widens to sqrt(2) in x and y, keeps z, and moves with the pose.
+    const Aabb cube{Vec3(-0.5), Vec3(0.5)};
+    const Aabb box = placed(cube, Pose{Vec3(1.0, 0.0, 0.0), glm::angleAxis(glm::radians(45.0), Vec3(0.0, 0.0, 1.0))});
+    EXPECT_NEAR(box.size().x, std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(box.size().y, std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(box.size().z, 1.0, 1e-12);
+    EXPECT_NEAR(box.centre().x, 1.0, 1e-12);
+    EXPECT_TRUE(placed(Aabb{}, a).empty());
+}
+}  // namespace
+}  // namespace tridex

@@ -431,10 +431,10 @@ TEST(Recording, CorruptedValuesRefusedNamingTickAndField) {
     save(path, b);
     expect_refused(path, {tick3, "valid = 2"});
     b = w.bytes;
-    b[w.ticks_at + 3 * kRecordedTickBytes + 376] = 8;  // one past kGrab
+    b[w.ticks_at + 3 * kRecordedTickBytes + 376] = 9;  // one past kPlace
     path = temp_path("mode.trdxrec");
     save(path, b);
-    expect_refused(path, {tick3, "tool_mode = 8"});
+    expect_refused(path, {tick3, "tool_mode = 9"});
     // An id below -1.
     b = w.bytes;
     b[w.ticks_at + 3 * kRecordedTickBytes + 364] = 0xFE;

@@ -99,7 +99,8 @@ void declare_session_options(CLI::App& cmd, DemoCli& o, std::pair<CLI::Option*, 
     cmd.add_flag("--keep-islands", o.demo.keep_islands, kKeepIslandsHelp);
     cmd
         .add_option("--op", o.demo.op,
-                     "What the tool does: subtract, union (add material), paint, push, smooth, pull or grab (clay: move material)")
+                     "What the tool does: subtract, union (add material), paint, push, smooth, pull, grab (clay: move material) "
+                     "or place (the whole workpiece follows the tool; nothing carved)")
         ->capture_default_str();
     cmd.add_option("--symmetry", o.demo.symmetry,
                    std::string("Sculpting symmetry about the workpiece's centre: ") + symmetry_forms() +

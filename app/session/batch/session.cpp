@@ -195,9 +195,10 @@ namespace {
 
 // The symmetric copies of the tool where the session ended, as ghosts, and the mirror planes, as the window draws them.
 std::vector<renderer::SceneObject> symmetry_objects(const SymmetryGhosts& ghosts,
-                                                    const std::vector<haptics::TickRecord>& records, const ToolShape& tool) {
+                                                    const std::vector<haptics::TickRecord>& records, const ToolShape& tool,
+                                                    const Pose& pose) {
     std::vector<renderer::SceneObject> out;
-    if (!records.empty()) ghosts.append(records.back().symmetry, records.back().tool_world, tool, out);
+    if (!records.empty()) ghosts.append(records.back().symmetry, records.back().tool_world, tool, out, pose);
     return out;
 }
 
@@ -208,6 +209,22 @@ void show_final_tool(renderer::SceneView& view, const SessionRun& run, const hap
     view.tool_shape = cfg.tool;
     view.tool_mesh = run.runtime ? run.runtime->tool_mesh() : nullptr;
     if (!run.records.empty()) view.tool_orientation = run.records.back().tool_world.orientation;
+}
+
+// The workspace where the loop left it (workspace moving shifts it); as in Peng et al. (4.1), the box drawn only while
+// its button is held at the end.
+void show_final_workspace(renderer::SceneView& view, const SessionRun& run, const haptics::HapticLoopConfig& cfg,
+                          const devices::DeviceProfile& profile) {
+    const haptics::LoopView& lv = run.last_view;
+    view.show_workspace = lv.tick > 0 && lv.modelling_paused;
+    if (lv.tick > 0) {
+        view.workspace_m = Aabb{lv.box.position - lv.box_half_extents_m, lv.box.position + lv.box_half_extents_m};
+        view.bubble_centre_m = lv.bubble_centre_m;
+        view.bubble_radius_m = lv.bubble_radius_m;
+    } else {
+        const Vec3 c = cfg.device_to_world.position;
+        view.workspace_m = Aabb{profile.workspace_m.lo * cfg.workspace_scale + c, profile.workspace_m.hi * cfg.workspace_scale + c};
+    }
 }
 
 }  // namespace
@@ -243,27 +260,21 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
         view.workpiece_materials = &run.carved_materials;
     }
     show_final_tool(view, run, cfg);
+    // Where the loop left the workpiece (the tool may have placed it).
+    view.workpiece_pose = run.last_view.tick > 0 ? run.last_view.workpiece_pose : cfg.workpiece_pose;
     const SymmetryGhosts ghosts(wp.model.lattice.bounds(), view.tool_mesh);
-    const std::vector<renderer::SceneObject> ghost_objects = symmetry_objects(ghosts, run.records, cfg.tool);
+    const std::vector<renderer::SceneObject> ghost_objects =
+        symmetry_objects(ghosts, run.records, cfg.tool, view.workpiece_pose);
     view.objects = ghost_objects;
-    // As in Peng et al. (4.1): the workspace box only while its button is held at the end.
-    view.show_workspace = run.last_view.tick > 0 && run.last_view.modelling_paused;
-    const haptics::LoopView& lv = run.last_view;
-    if (lv.tick > 0) {  // the workspace where the loop left it (workspace moving shifts it)
-        view.workspace_m = Aabb{lv.box.position - lv.box_half_extents_m, lv.box.position + lv.box_half_extents_m};
-        view.bubble_centre_m = lv.bubble_centre_m;
-        view.bubble_radius_m = lv.bubble_radius_m;
-    } else {
-        const Vec3 c = cfg.device_to_world.position;
-        view.workspace_m = Aabb{profile.workspace_m.lo * cfg.workspace_scale + c, profile.workspace_m.hi * cfg.workspace_scale + c};
-    }
+    show_final_workspace(view, run, cfg, profile);
     Pose head;
     head.position = kHeadPosition;
     ProgressReporter::Step step = progress().step("drawing and writing the outputs");
     const auto t_render = Clock::now();
     // The part of the wall the workpiece is seen through from the head (same eyes, same geometry), so that the
     // workpiece fills the images instead of a tenth of a 3 m wall.
-    const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(), wp.model.lattice.bounds(), head.position,
+    const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(),
+                                                   placed(wp.model.lattice.bounds(), view.workpiece_pose), head.position,
                                                    static_cast<double>(opt.width) / opt.height);
     view.occlusion_strength = opt.ao ? 1.0 : 0.0;
     const renderer::StereoImages eyes = renderer.render(view, screen, head, kEyeSeparation);
@@ -327,6 +338,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.eye_strategy = renderer.strategy_note();
     r.validation_messages = gpu_ctx.validation_messages() - validation_before_render;
     r.workpiece = &wp;
+    r.workpiece_pose_end = view.workpiece_pose;
     if (gpu_contour) {
         r.contour_lock_wait_ms_total = gpu_contour->lock_wait_ms_total();
         r.contour_lock_wait_ms_max = gpu_contour->lock_wait_ms_max();

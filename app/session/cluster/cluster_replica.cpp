@@ -172,6 +172,7 @@ renderer::SceneView ClusterReplica::view(const FrameMessage& m) const {
     v.tool_orientation = m.tool_orientation;
     v.occlusion_strength = m.ao;
     v.objects = reference_objects_;
+    v.workpiece_pose = m.workpiece_pose;  // where rank 0 draws it (the scene's pose, or where the tool placed it)
     return v;
 }
 

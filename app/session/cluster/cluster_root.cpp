@@ -265,6 +265,7 @@ FrameMessage ClusterRoot::message_of(const FrameShown& shown, compute::ToolStrea
     m.tool_orientation = shown.tool_orientation;
     m.tool = shown.tool;
     m.ao = std::clamp(shown.ao, 0.0, 1.0);
+    m.workpiece_pose = shown.workpiece_pose;
     if (shown.menu) m.menu = *shown.menu;
     m.others = shown.others;
     m.records = std::move(taken.records);

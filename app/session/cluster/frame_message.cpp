@@ -58,8 +58,9 @@ HelloMessage decode_hello(std::span<const unsigned char> bytes, const std::strin
 std::vector<unsigned char> encode_frame(const FrameMessage& m) {
     Writer w(ClusterKind::kFrame);
     w.u64(m.frame);
+    const bool posed = !m.workpiece_pose.is_identity();
     w.u8(static_cast<std::uint8_t>((m.last ? 1 : 0) | (m.show_tool ? 2 : 0) | (m.check_digest ? 4 : 0) |
-                                   (m.menu.shown ? 8 : 0)));
+                                   (m.menu.shown ? 8 : 0) | (posed ? 16 : 0)));
     w.pose(m.head);
     w.pose(m.nav_pose);
     w.f64(m.nav_scale);
@@ -88,6 +89,7 @@ std::vector<unsigned char> encode_frame(const FrameMessage& m) {
     const std::size_t others = std::min<std::size_t>(m.others.size(), kMaxSites);  // a shared session's other sites
     w.u8(static_cast<std::uint8_t>(others));
     for (std::size_t i = 0; i < others; ++i) write_presence(w, m.others[i]);
+    if (posed) w.pose(m.workpiece_pose);
     return w.take();
 }
 
@@ -96,7 +98,7 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
     FrameMessage m;
     m.frame = r.u64("frame");
     const std::uint8_t flags = r.u8("flags");
-    if (flags & ~15u) r.fail("flags", "unknown flag bits");
+    if (flags & ~31u) r.fail("flags", "unknown flag bits");
     m.last = flags & 1;
     m.show_tool = flags & 2;
     m.head = r.pose("head");
@@ -142,6 +144,12 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
     const std::uint8_t others = r.u8("others");
     if (others > kMaxSites) r.fail("others", std::to_string(others) + " sites, more than a session has");
     for (std::uint8_t i = 0; i < others; ++i) m.others.push_back(read_presence(r));
+    if (flags & 16) {
+        m.workpiece_pose = r.pose("workpiece_pose");
+        if (!is_finite(m.workpiece_pose.position) || !(std::abs(glm::length(m.workpiece_pose.orientation) - 1.0) <= 1e-6))
+            r.fail("workpiece_pose", "not a finite rigid pose");
+        m.workpiece_pose.orientation = glm::normalize(m.workpiece_pose.orientation);
+    }
     r.end();
     return m;
 }

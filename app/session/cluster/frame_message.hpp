@@ -62,6 +62,7 @@ struct FrameMessage {
     Quat tool_orientation{1.0, 0.0, 0.0, 0.0};
     ToolShape tool;                 ///< the tool's shape (ball, flat end; a mesh tool is drawn as its bounding ball)
     double ao = 1.0;                ///< ambient occlusion strength, 0..1
+    Pose workpiece_pose{};          ///< the workpiece's pose as rank 0 draws it (model -> world; sent when not identity)
     std::vector<compute::JournalRecord> records;  ///< batches and marks in journal order (indices continuing)
     /// A digest check: model_digest of rank 0's model after the first check_after records of `records`.
     std::optional<std::uint64_t> check_digest;

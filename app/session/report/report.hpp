@@ -67,6 +67,9 @@ struct DemoReport {
     double contour_lock_wait_ms_total = 0.0, contour_lock_wait_ms_max = 0.0;
     const compute::JournalStats* journal = nullptr;  ///< the session journal's counters; nullptr = no journal
     const Workpiece* workpiece = nullptr;     ///< the session's workpiece (report.json `workpiece`); not owned, non-null
+    /// Where the session left the workpiece (its pose, model -> world): report.json `workpiece.pose_end` when the tool
+    /// placed it elsewhere than the settings' pose.
+    Pose workpiece_pose_end{};
     std::string command = "demo";             ///< the command that ran the session: demo or replay
     int eye_width = 0, eye_height = 0;        ///< per-eye image size, px
     double eye_separation_m = 0.0;            ///< distance between the eyes, m

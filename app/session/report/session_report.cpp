@@ -269,7 +269,7 @@ std::vector<std::string> report_schema_violations(const nlohmann::json& report) 
     return out;
 }
 
-nlohmann::json workpiece_report_json(const Workpiece& wp) {
+nlohmann::json workpiece_report_json(const Workpiece& wp, const Pose& world_from_model) {
     json transform = json::array();
     for (int row = 0; row < 4; ++row) {
         json rj = json::array();
@@ -277,7 +277,7 @@ nlohmann::json workpiece_report_json(const Workpiece& wp) {
         transform.push_back(rj);
     }
     const compute::Lattice& lat = wp.model.lattice;
-    return {{"transform", transform},
+    json out{{"transform", transform},
             {"volume_mesh_m3", wp.volume_mesh_m3},
             {"volume_dexel_m3", wp.volume_dexel_m3},
             {"volume_dexel_error_rel",
@@ -285,6 +285,14 @@ nlohmann::json workpiece_report_json(const Workpiece& wp) {
             {"resolution", wp.resolution},
             {"cell_m", lat.cell_m},
             {"cells", lat.cells}};
+    if (!world_from_model.is_identity()) out["pose"] = pose_report_json(world_from_model);
+    return out;
+}
+
+nlohmann::json pose_report_json(const Pose& pose) {
+    const Vec3& p = pose.position;
+    const Quat& q = pose.orientation;
+    return {{"position_m", {p.x, p.y, p.z}}, {"orientation", {q.w, q.x, q.y, q.z}}};
 }
 
 nlohmann::json carved_mesh_report_json(const TriMesh& carved) {

@@ -45,7 +45,12 @@ nlohmann::json summary_report_json(const DurationHistogram& h);
 /// `workpiece` block: {transform (4x4 row-major, mesh units -> world m), volume_mesh_m3, volume_dexel_m3,
 /// volume_dexel_error_rel, resolution, cell_m, cells ([x, y, z])}, from the session's workpiece. volume_dexel_m3 is
 /// the model's volume right after scan conversion (or loading); volume_mesh_m3 is 0 for a model loaded from .tdx.
-nlohmann::json workpiece_report_json(const Workpiece& wp);
+/// A posed workpiece (`world_from_model` not the identity) adds pose: {position_m, orientation [w, x, y, z]}, its
+/// model frame -> the world.
+nlohmann::json workpiece_report_json(const Workpiece& wp, const Pose& world_from_model = Pose{});
+
+/// A pose as the report writes it: {position_m: [x, y, z], orientation: [w, x, y, z]}.
+nlohmann::json pose_report_json(const Pose& pose);
 
 /// `mesh` block: the carved (final) mesh's {vertices, triangles, boundary_edges, nonmanifold_edges,
 /// misoriented_edges}.

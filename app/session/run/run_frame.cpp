@@ -107,10 +107,11 @@ bool RunPipeline::Parts::take_input() {
     }
     sink->set_swap_eyes(swap);
     saving = rt.save_status();
-    if (saving.saves > scene_saves && !rt.spec().references.empty()) {  // Ctrl+S: the scene that opens it again
+    // Ctrl+S: the scene that opens it again.
+    if (saving.saves > scene_saves && needs_saved_scene(rt.spec(), lv.workpiece_pose)) {
         scene_saves = saving.saves;
         try {
-            write_saved_scene(scene.source, model_save_path, rt.spec());
+            write_saved_scene(scene.source, model_save_path, rt.spec(), lv.workpiece_pose);
         } catch (const Error& e) {
             r.notes.push_back(std::string("the saved scene was not written: ") + e.what());
         }
@@ -186,6 +187,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     view.tool_orientation = lv.tool_world.orientation;
     if (!mesh.tiled) view.workpiece_materials = &mesh.materials;
     view.palette = &scene.spec.palette;
+    view.workpiece_pose = lv.workpiece_pose;  // where the loop holds it (the tool may place it)
     view.tiles = tiles.tiles;
     view.tile_groups = tiles.groups;
     view.lod = su.lod;
@@ -234,7 +236,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         const Symmetry sym = rt.symmetry();
         if (sym.on()) {
             if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
-            ghosts->append(sym, lv.tool_world, tool_now, frame_objects);
+            ghosts->append(sym, lv.tool_world, tool_now, frame_objects, view.workpiece_pose);
             view.objects = frame_objects;
         }
     }
@@ -384,6 +386,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
                        lv.tool_world.position, lv.tool_world.orientation, view.tool_shape, true, view.occlusion_strength,
                        &menu_now};
     shown.proxy_m = lv.proxy_m;
+    shown.workpiece_pose = view.workpiece_pose;
     shown.head_tracked = scene.head != HeadMode::kFixed;
     shown.others = others_now;
     for (SessionCompanion* c : companions) {

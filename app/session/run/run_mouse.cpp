@@ -38,6 +38,7 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
     surface.tiles = mesh.tiles;
     surface.groups = mesh.groups;
     if (!mesh.tiled && !mesh.mesh.triangles.empty()) surface.whole = std::make_shared<const TriMesh>(mesh.mesh);
+    surface.workpiece_pose = lv.workpiece_pose;
     frame(screen, eye_m, width_px, height_px, surface, lv, now);
 }
 
@@ -66,7 +67,7 @@ void RunMouse::frame(const renderer::Screen& screen, const Vec3& eye_m, double w
     }
     const StylusTarget target = stylus_.update(screen, eye_m, width_px, height_px, with_placed ? *with_placed : surface);
     const Vec3 device_m = glm::conjugate(map_.orientation) * (target.hip_m - map_.position) / scale_;
-    device_.set_hand(device_m, target.buttons);
+    device_.set_hand(device_m, target.buttons, glm::conjugate(map_.orientation) * target.orientation);
     if (!have_target_ || glm::length(target.hip_m - last_target_) > kMovedTolM) {
         have_target_ = true;
         last_target_ = target.hip_m;

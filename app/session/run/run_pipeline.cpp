@@ -31,9 +31,9 @@ std::string kept_work(const RunSetup& su) {
     return kept;
 }
 
-// What a desk window frames: the workpiece's lattice and every reference object's placed mesh, world m.
+// What a desk window frames: the workpiece's placed lattice and every reference object's placed mesh, world m.
 Aabb scene_bounds(const SessionRuntime& rt) {
-    Aabb box = rt.workpiece().model.lattice.bounds();
+    Aabb box = placed(rt.workpiece().model.lattice.bounds(), rt.config().workpiece_pose);
     for (const PreparedReference& r : rt.references())
         for (const Vec3& p : r.mesh_m.positions) box.add(r.object.pose.apply(p));
     return box;
@@ -87,7 +87,8 @@ void RunPipeline::Parts::open_display() {
 // 2. Head, scene navigation, input, the navigation wand.
 void RunPipeline::Parts::open_inputs() {
     head = make_run_head(scene, !offscreen, &km, &tracker, &dtrack);
-    mouse.pivot_m = scene.spec.workpiece_centre_m;
+    // The workpiece's centre where it is placed (a model's centre is only known once loaded: its scene position).
+    mouse.pivot_m = scene.spec.workpiece_position_m.value_or(workpiece_pose(scene.spec).apply(scene.spec.workpiece_centre_m));
     input.emplace(km, nav, mouse);
     if (scene.wand_dtrack) {
         const DTrackWandSettings ws{scene.wand_port, scene.wand_flystick, scene.wand_bind,
@@ -147,7 +148,7 @@ void RunPipeline::Parts::open_backend() {
     r.sculpt_backend_reason = rt.booleans().reason;
     if (!r.sculpt_path_reason.empty()) r.notes.push_back("sculpt path cpu: " + r.sculpt_path_reason);
     r.clay_path_reason = rt.booleans().backend->clay_reason();
-    r.workpiece = workpiece_report_json(rt.workpiece());
+    r.workpiece = workpiece_report_json(rt.workpiece(), rt.config().workpiece_pose);
     r.scan_s = rt.workpiece().scan_s;
     r.loaded_s = backend->loaded_s();
     r.coarse_first = rt.coarse_first();
@@ -301,6 +302,10 @@ void RunPipeline::Parts::collect() {
     r.haptics["stiffness_n_per_m"] = rt.config().contact.stiffness_n_per_m;
     r.haptics["device_link"] = device_link_json(rt.device_link());
     r.haptics["link"] = link_json(rt.device_link());
+    // Where the tool left the workpiece, when it placed it elsewhere (ToolOp::kPlace).
+    const Pose start = rt.config().workpiece_pose, end = rt.latest_view().workpiece_pose;
+    if (end.position != start.position || end.orientation != start.orientation)
+        r.workpiece["pose_end"] = pose_report_json(end);
 }
 
 // 5. Outputs. Every output is tried, each failure noted; one that fails (a full disk) costs none of the others, and
@@ -338,10 +343,11 @@ void RunPipeline::Parts::write_outputs() {
     }
     if (!su.save.empty() && writes.attempt(su.save, [&] { save_session_model(su.save, rt.workpiece(), rt.spec()); })) {
         r.files.push_back(su.save);
-        // With objects beside the workpiece, the scene that opens the saved model with them again.
+        // With objects beside the workpiece or a posed one, the scene that opens the saved model as it was.
         const std::string saved_scene = saved_scene_path(su.save);
-        if (!rt.spec().references.empty() &&
-            writes.attempt(saved_scene, [&] { write_saved_scene(scene.source, su.save, rt.spec()); }))
+        const Pose pose_now = rt.latest_view().workpiece_pose;
+        if (needs_saved_scene(rt.spec(), pose_now) &&
+            writes.attempt(saved_scene, [&] { write_saved_scene(scene.source, su.save, rt.spec(), pose_now); }))
             r.files.push_back(saved_scene);
     }
     for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);

@@ -107,6 +107,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         StrokePlan plan;
         try {
             plan = plan_stroke(wp.model, scene.stroke);
+            place_plan(plan, workpiece_pose(spec));
         } catch (const Error& e) {  // "stroke.duration_s: ...": the scene's field
             throw Error(scene.source + ": " + e.what());
         }
@@ -121,7 +122,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
         start_m_ = plan.world_m.front();
         stroke_ticks_ = static_cast<std::size_t>(std::llround(scene.stroke.end_s() / spec.period_s));
     } else {
-        const Aabb box = wp.model.lattice.bounds();
+        const Aabb box = placed(wp.model.lattice.bounds(), workpiece_pose(spec));
         fit_to(box);
         centre = Vec3(box.centre().x, box.centre().y, box.hi.z + 2.0 * tool_reach_m(spec.tool) + 0.01);
         t_s = {0.0};

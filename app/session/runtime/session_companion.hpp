@@ -34,6 +34,8 @@ struct FrameShown {
     const MenuFrame* menu = nullptr;  ///< the pie menu as drawn (scene m); null or not shown: none
     /// Where the tool rests on the surface, scene m: contact point 0's proxy (god-object), the tool centre when free.
     Vec3 proxy_m{0.0};
+    /// The workpiece's pose as drawn (its model frame -> the scene): the scene's, or where the tool placed it.
+    Pose workpiece_pose{};
     /// The head follows a tracker or a script (not a fixed head, nor one the keyboard and mouse move): a shared
     /// session shows it to the others.
     bool head_tracked = false;

@@ -55,14 +55,16 @@ SymmetryGhosts::SymmetryGhosts(const Aabb& bounds_m, const TriMesh* tool_mesh)
 }
 
 void SymmetryGhosts::append(const Symmetry& s, const Pose& tool_pose, const ToolShape& tool,
-                            std::vector<renderer::SceneObject>& out) const {
+                            std::vector<renderer::SceneObject>& out, const Pose& world_from_model) const {
     if (!s.on() || !valid_symmetry(s) || !is_finite(tool_pose.position) || !(tool.radius_m > 0.0)) return;
+    // Everything below is in the workpiece's model frame, placed into the world by its pose.
+    const glm::mat4 placed = pose_matrix(world_from_model);
     const auto add = [&](const TriMesh& m, const glm::mat4& world, const glm::vec4& colour, bool lit) {
         renderer::SceneObject o;
         o.mesh = &m;
         o.colour = colour;
         o.lit = lit;
-        o.world_from_model = world;
+        o.world_from_model = placed * world;
         out.push_back(o);
     };
     if (s.radial_copies != 0) {  // the axis: a thin rod through the centre, a little longer than the box
@@ -82,7 +84,7 @@ void SymmetryGhosts::append(const Symmetry& s, const Pose& tool_pose, const Tool
         if (s.mirrors & (1u << a)) add(planes_[a], glm::mat4(1.0f), kSymmetryPlaneColour, false);
     const std::vector<compute::SymmetryTransform> ts = compute::symmetry_transforms(s);
     for (std::size_t k = 1; k < ts.size(); ++k) {
-        const Pose p = compute::symmetric_pose(ts[k], centre_, tool_pose);
+        const Pose p = compute::symmetric_pose(ts[k], centre_, world_from_model.inverse() * tool_pose);
         if (tool.kind == ToolKind::kFlatEnd && tool.length_m > 0.0) {
             // As the renderer draws the tool: unit_cylinder's +z onto the tool frame's +y (the shank).
             const glm::dmat4 shape = glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *

@@ -25,16 +25,17 @@ inline constexpr glm::vec4 kSymmetryPlaneColour{0.60f, 0.80f, 1.00f, 0.10f};
 /// renderer; each frame moves them by SceneObject::world_from_model), so it must outlive the frames that draw them.
 class SymmetryGhosts {
 public:
-    /// `bounds_m`: the workpiece lattice's box (world m; its centre is the symmetry centre, as the sculpt thread's);
+    /// `bounds_m`: the workpiece lattice's box (model m; its centre is the symmetry centre, as the sculpt thread's);
     /// `tool_mesh`: a mesh tool's mesh in its tool frame (m), or nullptr (a ball stands in for a mesh tool then).
     /// Throws tridex::Error when the box is empty or not finite.
     SymmetryGhosts(const Aabb& bounds_m, const TriMesh* tool_mesh);
 
     /// Appends to `out` the planes (mirrors) or the axis (radial copies) of `s`, then a ghost of `tool` (its kind and
     /// size now) at each symmetric copy of `tool_pose` (world) but the identity. Appends nothing when `s` is off or
-    /// not valid, or the pose is not finite. The objects point into this object's meshes.
-    void append(const Symmetry& s, const Pose& tool_pose, const ToolShape& tool,
-                std::vector<renderer::SceneObject>& out) const;
+    /// not valid, or the pose is not finite. `world_from_model`: the workpiece's pose now (the planes and copies are
+    /// taken in its model frame, then placed). The objects point into this object's meshes.
+    void append(const Symmetry& s, const Pose& tool_pose, const ToolShape& tool, std::vector<renderer::SceneObject>& out,
+                const Pose& world_from_model = Pose{}) const;
 
 private:
     Aabb bounds_;
