@@ -20,8 +20,8 @@ namespace tridex::renderer {
 
 /// One tile of the workpiece surface as the renderer draws it (the contouring works per 16^3-cell tile).
 struct TileMesh {
-    const TriMesh* mesh = nullptr;  ///< the tile's triangles, world m (nullptr or empty: nothing to draw)
-    Aabb bounds_m;                  ///< world box holding the tile's triangles, m (the culling test uses it)
+    const TriMesh* mesh = nullptr;  ///< the tile's triangles, model m (SceneView::workpiece_pose places them; nullptr or empty: nothing to draw)
+    Aabb bounds_m;                  ///< model box holding the tile's triangles, m (the culling test uses it)
     /// Content version: the renderer re-uploads the tile only when this differs from the uploaded one, so
     /// bump it whenever the mesh (or its materials) changes.
     std::uint64_t version = 0;
