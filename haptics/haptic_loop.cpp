@@ -57,6 +57,15 @@ bool finite_state(const devices::DeviceState& s) {
     throw Error("HapticLoopConfig." + field + " = " + std::to_string(value) + " " + rule);
 }
 
+// A rigid pose: a finite position and a unit quaternion (renormalised to the last bit); bad() names `field` otherwise.
+void check_rigid(Pose& p, const std::string& field) {
+    if (!is_finite(p.position)) bad(field + ".position.x", p.position.x, "(or y, z) is not finite");
+    const Quat& q = p.orientation;
+    const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    if (!(std::abs(n - 1.0) <= 1e-6)) bad(field + ".orientation |q|", n, "must be 1 (unit quaternion)");
+    p.orientation = q / n;
+}
+
 // How much stiffer the device feels a world stiffness: the workspace scale, except in kScaling, whose forces reach
 // the device divided by it (world_stiffness_cap_n_per_m).
 double device_gain(const HapticLoopConfig& c) {
@@ -70,18 +79,8 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
         bad("ewma_alpha", c.ewma_alpha, "must be in [0, 1)");
     if (!(std::isfinite(c.workspace_scale) && c.workspace_scale > 0.0))
         bad("workspace_scale", c.workspace_scale, "must be finite and > 0");
-    if (!is_finite(c.device_to_world.position)) bad("device_to_world.position.x", c.device_to_world.position.x,
-                                                     "(or y, z) is not finite");
-    const Quat& q = c.device_to_world.orientation;
-    const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    if (!(std::abs(qn - 1.0) <= 1e-6)) bad("device_to_world.orientation |q|", qn, "must be 1 (unit quaternion)");
-    c.device_to_world.orientation = q / qn;
-    if (!is_finite(c.workpiece_pose.position)) bad("workpiece_pose.position.x", c.workpiece_pose.position.x,
-                                                    "(or y, z) is not finite");
-    const Quat& wq = c.workpiece_pose.orientation;
-    const double wn = std::sqrt(wq.w * wq.w + wq.x * wq.x + wq.y * wq.y + wq.z * wq.z);
-    if (!(std::abs(wn - 1.0) <= 1e-6)) bad("workpiece_pose.orientation |q|", wn, "must be 1 (unit quaternion)");
-    c.workpiece_pose.orientation = wq / wn;
+    check_rigid(c.device_to_world, "device_to_world");
+    check_rigid(c.workpiece_pose, "workpiece_pose");
     if (c.tool.radius_m == 0.0 && c.tool.kind == ToolKind::kBall) c.tool.radius_m = c.contact.tool_radius_m;
     if (c.tool.radius_m > 0.0) validate_tool(c.tool, "HapticLoopConfig.tool");
     // The safety stage's stiffness limit: the device never renders a wall stiffer than its profile allows.
