@@ -243,12 +243,11 @@ LoopStats HapticLoop::stats() const {
 
 HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s) {
     // The workpiece's surface is in its model frame: the tool goes there, the wrench and the proxy come back.
-    const Pose& world_from_model = world_from_model_;
     const MultiPointResult& r = contact_.update(surface, model_from_world_ * tool_world, dt_s);
     ContactOut out;
-    out.force_n = world_from_model.rotate(r.wrench.force_n);
-    out.torque_nm = world_from_model.rotate(r.wrench.torque_nm);  // about the tool centre (zero for a centred point)
-    out.proxy_m = r.points > 0 ? world_from_model.apply(r.point[0].proxy_m) : tool_world.position;
+    out.force_n = world_from_model_.rotate(r.wrench.force_n);
+    out.torque_nm = world_from_model_.rotate(r.wrench.torque_nm);  // about the tool centre (zero for a centred point)
+    out.proxy_m = r.points > 0 ? world_from_model_.apply(r.point[0].proxy_m) : tool_world.position;
     out.in_contact = r.in_contact;
     out.contact = r.in_contact > 0;
     out.hip_inside = r.points > 0 && r.point[0].hip_inside;
@@ -271,7 +270,6 @@ HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const P
 }
 
 void HapticLoop::reset_contact() { contact_.reset(); }
-
 
 bool HapticLoop::tick(double now_s, TickRecord& rec) {
     devices::DeviceState state;

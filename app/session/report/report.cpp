@@ -271,10 +271,9 @@ nlohmann::json demo_report_json(const DemoReport& r) {
     j["resolution"] = r.resolution;
     j["settings"] = nlohmann::json::parse(spec_to_json(*r.settings));
     j["tool"] = tool_json(*r.settings);
-    const Pose start = workpiece_pose(*r.settings), end = r.workpiece_pose_end;
+    const Pose start = workpiece_pose(*r.settings);
     j["workpiece"] = workpiece_report_json(*r.workpiece, start);
-    if (end.position != start.position || end.orientation != start.orientation)
-        j["workpiece"]["pose_end"] = pose_report_json(end);
+    add_pose_end(j["workpiece"], start, r.workpiece_pose_end);
     j["volume_before_m3"] = r.volume_dexel_m3;
     j["volume_after_m3"] = r.volume_after_m3;
     j["volume_removed_m3"] = r.volume_dexel_m3 - r.volume_after_m3;

@@ -289,6 +289,11 @@ nlohmann::json workpiece_report_json(const Workpiece& wp, const Pose& world_from
     return out;
 }
 
+void add_pose_end(nlohmann::json& workpiece, const Pose& start, const Pose& end) {
+    if (end.position != start.position || end.orientation != start.orientation)
+        workpiece["pose_end"] = pose_report_json(end);
+}
+
 nlohmann::json pose_report_json(const Pose& pose) {
     const Vec3& p = pose.position;
     const Quat& q = pose.orientation;

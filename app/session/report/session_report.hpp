@@ -52,6 +52,10 @@ nlohmann::json workpiece_report_json(const Workpiece& wp, const Pose& world_from
 /// A pose as the report writes it: {position_m: [x, y, z], orientation: [w, x, y, z]}.
 nlohmann::json pose_report_json(const Pose& pose);
 
+/// Adds `pose_end` (pose_report_json of `end`) to a report's `workpiece` block when the session left the workpiece
+/// elsewhere than `start` (the tool placed it, ToolOp::kPlace); adds nothing otherwise.
+void add_pose_end(nlohmann::json& workpiece, const Pose& start, const Pose& end);
+
 /// `mesh` block: the carved (final) mesh's {vertices, triangles, boundary_edges, nonmanifold_edges,
 /// misoriented_edges}.
 nlohmann::json carved_mesh_report_json(const TriMesh& carved);

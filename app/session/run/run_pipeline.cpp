@@ -302,10 +302,7 @@ void RunPipeline::Parts::collect() {
     r.haptics["stiffness_n_per_m"] = rt.config().contact.stiffness_n_per_m;
     r.haptics["device_link"] = device_link_json(rt.device_link());
     r.haptics["link"] = link_json(rt.device_link());
-    // Where the tool left the workpiece, when it placed it elsewhere (ToolOp::kPlace).
-    const Pose start = rt.config().workpiece_pose, end = rt.latest_view().workpiece_pose;
-    if (end.position != start.position || end.orientation != start.orientation)
-        r.workpiece["pose_end"] = pose_report_json(end);
+    add_pose_end(r.workpiece, rt.config().workpiece_pose, rt.latest_view().workpiece_pose);
 }
 
 // 5. Outputs. Every output is tried, each failure noted; one that fails (a full disk) costs none of the others, and

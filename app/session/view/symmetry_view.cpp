@@ -34,10 +34,6 @@ TriMesh plane_mesh(const Aabb& box, const Vec3& centre, int a) {
     return m;
 }
 
-glm::mat4 pose_matrix(const Pose& p) {
-    return glm::mat4(glm::translate(glm::dmat4(1.0), p.position) * glm::mat4_cast(p.orientation));
-}
-
 }  // namespace
 
 SymmetryGhosts::SymmetryGhosts(const Aabb& bounds_m, const TriMesh* tool_mesh)
@@ -58,7 +54,7 @@ void SymmetryGhosts::append(const Symmetry& s, const Pose& tool_pose, const Tool
                             std::vector<renderer::SceneObject>& out, const Pose& world_from_model) const {
     if (!s.on() || !valid_symmetry(s) || !is_finite(tool_pose.position) || !(tool.radius_m > 0.0)) return;
     // Everything below is in the workpiece's model frame, placed into the world by its pose.
-    const glm::mat4 placed = pose_matrix(world_from_model);
+    const glm::mat4 placed(world_from_model.matrix());
     const auto add = [&](const TriMesh& m, const glm::mat4& world, const glm::vec4& colour, bool lit) {
         renderer::SceneObject o;
         o.mesh = &m;
@@ -89,9 +85,9 @@ void SymmetryGhosts::append(const Symmetry& s, const Pose& tool_pose, const Tool
             // As the renderer draws the tool: unit_cylinder's +z onto the tool frame's +y (the shank).
             const glm::dmat4 shape = glm::rotate(glm::dmat4(1.0), -0.5 * glm::pi<double>(), Vec3(1.0, 0.0, 0.0)) *
                                      glm::scale(glm::dmat4(1.0), Vec3(tool.radius_m, tool.radius_m, tool.length_m));
-            add(cylinder_, pose_matrix(p) * glm::mat4(shape), kGhostToolColour, true);
+            add(cylinder_, glm::mat4(p.matrix()) * glm::mat4(shape), kGhostToolColour, true);
         } else if (tool.kind == ToolKind::kMesh && !mesh_.triangles.empty()) {
-            add(ts[k].mirrored ? mirrored_mesh_ : mesh_, pose_matrix(p), kGhostToolColour, true);
+            add(ts[k].mirrored ? mirrored_mesh_ : mesh_, glm::mat4(p.matrix()), kGhostToolColour, true);
         } else {
             add(sphere_, glm::mat4(glm::translate(glm::dmat4(1.0), p.position) *
                                    glm::scale(glm::dmat4(1.0), Vec3(tool.radius_m))),
