@@ -54,8 +54,9 @@ struct KillFigures {
 TEST(ChaosKill, EveryKilledSessionRecoversItsJournalLosingAtMostATenthOfASecond) {
     const unsigned seed = static_cast<unsigned>(Clock::now().time_since_epoch().count());
     std::mt19937 rng(seed);
-    // The session makes one sample per tick, about 10,700 in all: the kill comes after a random one of them.
-    std::uniform_int_distribution<std::uint64_t> moment(1, static_cast<std::uint64_t>(test::kChaosSceneSeconds * 1000.0) - 200);
+    // The session makes one sample per tick, at most about 10,700 in all; a loaded machine drops late ticks (a shared
+    // CI runner made 10,101), so the kill comes after a random one of the first 80 %.
+    std::uniform_int_distribution<std::uint64_t> moment(1, static_cast<std::uint64_t>(test::kChaosSceneSeconds * 800.0));
     const fs::path root = fs::path(testing::TempDir()) / "tridex_chaos_kill";
     fs::remove_all(root);
     fs::create_directories(root);
