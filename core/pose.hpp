@@ -1,6 +1,8 @@
 // core/pose.hpp - a rigid pose (position in metres, orientation as a unit quaternion).
 #pragma once
 
+#include <cmath>
+
 #include "core/aabb.hpp"
 #include "core/math.hpp"
 
@@ -30,6 +32,18 @@ struct Pose {
     /// Whether this is exactly the identity (no move, no turn).
     bool is_identity() const { return position == Vec3(0.0) && orientation == Quat(1.0, 0.0, 0.0, 0.0); }
 };
+
+/// Tolerance on |q| - 1 for a quaternion to count as a unit one (is_unit).
+inline constexpr double kUnitQuatTolerance = 1e-6;
+
+/// Whether `q` is a unit quaternion: |q| within kUnitQuatTolerance of 1 (false for NaN or infinite components).
+inline bool is_unit(const Quat& q) {
+    const double n = glm::length(q);
+    return std::isfinite(n) && std::abs(n - 1.0) <= kUnitQuatTolerance;
+}
+
+/// Whether `p` is a rigid pose: a finite position and a unit orientation (is_unit).
+inline bool is_rigid(const Pose& p) { return is_finite(p.position) && is_unit(p.orientation); }
 
 /// Composition: (a * b).apply(p) == a.apply(b.apply(p)) (b maps body -> middle frame, a middle -> parent); the
 /// orientation is renormalised so chains of poses stay unit.

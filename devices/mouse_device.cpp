@@ -22,7 +22,7 @@ void MouseDevice::set_hand(const Vec3& target_m, std::uint32_t buttons, const Qu
     Hand& h = hand_.back();
     const double qn = std::sqrt(orientation.w * orientation.w + orientation.x * orientation.x +
                                 orientation.y * orientation.y + orientation.z * orientation.z);
-    h.orientation = std::abs(qn - 1.0) <= 1e-6 ? orientation / qn : Quat(1.0, 0.0, 0.0, 0.0);
+    h.orientation = is_unit(orientation) ? orientation / qn : Quat(1.0, 0.0, 0.0, 0.0);
     if (is_finite(target_m)) {
         last_target_ = target_m;
     } else {

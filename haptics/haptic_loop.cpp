@@ -62,7 +62,7 @@ void check_rigid(Pose& p, const std::string& field) {
     if (!is_finite(p.position)) bad(field + ".position.x", p.position.x, "(or y, z) is not finite");
     const Quat& q = p.orientation;
     const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    if (!(std::abs(n - 1.0) <= 1e-6)) bad(field + ".orientation |q|", n, "must be 1 (unit quaternion)");
+    if (!is_unit(q)) bad(field + ".orientation |q|", n, "must be 1 (unit quaternion)");
     p.orientation = q / n;
 }
 
@@ -109,13 +109,13 @@ HapticLoopConfig validated(HapticLoopConfig c, const devices::DeviceProfile& pro
 
 HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface>& surface,
                        SpscRing<ToolSample>& samples, HapticLoopConfig cfg)
+    : HapticLoop(device, {LoopWorkpiece{&surface, &samples, cfg.sample_tap, cfg.workpiece_pose, Aabb{}}}, cfg) {}
+
+HapticLoop::HapticLoop(devices::HapticDevice& device, const std::vector<LoopWorkpiece>& workpieces,
+                       HapticLoopConfig cfg)
     : device_(device),
-      surface_(surface),
-      samples_(samples),
       cfg_(validated(cfg, device.profile(), stiffness_capped_)),
       limits_(SafetyLimits::from(device.profile(), cfg_.safety)),
-      contact_(cfg_.tool_points.count > 0 ? cfg_.tool_points : ToolPoints::single(cfg_.contact.tool_radius_m),
-               cfg_.contact, cfg_.contact_mode),
       output_(output_limits(device.profile())),
       filter_(cfg_.ewma_alpha),
       torque_filter_(cfg_.ewma_alpha),
@@ -123,20 +123,43 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface
       watchdog_(cfg_.period_s, cfg_.safety.stale_timeout_s, cfg_.safety.stall_factor, cfg_.safety.rearm_s),
       safety_(limits_, cfg_.safety, cfg_.passivity_control),
       world_to_device_(glm::conjugate(cfg_.device_to_world.orientation)),
-      world_from_model_(cfg_.workpiece_pose),
-      model_from_world_(cfg_.workpiece_pose.inverse()),
       period_hist_(cfg_.period_s / 50.0),
       compute_hist_(cfg_.period_s / 1000.0) {
+    if (workpieces.empty() || workpieces.size() > kMaxLoopWorkpieces)
+        throw Error("HapticLoop workpieces: " + std::to_string(workpieces.size()) + "; must be 1 to " +
+                    std::to_string(kMaxLoopWorkpieces));
+    const ToolPoints points =
+        cfg_.tool_points.count > 0 ? cfg_.tool_points : ToolPoints::single(cfg_.contact.tool_radius_m);
+    for (std::size_t i = 0; i < workpieces.size(); ++i) {
+        const LoopWorkpiece& w = workpieces[i];
+        if (!w.surface || !w.samples)
+            throw Error("HapticLoop workpieces[" + std::to_string(i) + "]: no active surface or no sample ring");
+        Pose pose = w.pose;
+        check_rigid(pose, "workpieces[" + std::to_string(i) + "].pose");
+        auto p = std::make_unique<Piece>();
+        p->surface = w.surface;
+        p->samples = w.samples;
+        p->tap = w.sample_tap;
+        p->bounds_m = w.bounds_m;
+        p->world_from_model = pose;
+        p->model_from_world = pose.inverse();
+        p->contact = std::make_unique<MultiPointRenderer>(points, cfg_.contact, cfg_.contact_mode);
+        p->cut_surface = std::make_unique<ActiveSurface>();
+        start_poses_.push_back(pose);
+        pieces_.push_back(std::move(p));
+    }
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
-    base_points_ = contact_.tool_points();
+    base_points_ = pieces_[0]->contact->tool_points();
     tool_ = cfg_.tool;
     set_tool_op(cfg_.op, cfg_.material);
     set_symmetry(cfg_.symmetry);
     last_tool_ = mapper_.frame().tool_world;
     stiffness_cap_n_per_m_ = world_stiffness_cap_n_per_m(device.profile(), device_gain(cfg_));
     grab_ = GrabSpring(cfg_.grab_stiffness_n_per_m);
-    cut_surface_ = std::make_unique<ActiveSurface>();
-    view_.back().workpiece_pose = cfg_.workpiece_pose;  // before the first tick too: where the scene placed it
+    LoopView& v = view_.back();  // before the first tick too: where the scene placed the workpieces
+    v.workpiece_pose = start_poses_[0];
+    std::copy(start_poses_.begin(), start_poses_.end(), v.workpiece_poses.begin());
+    v.workpiece_count = static_cast<std::uint8_t>(pieces_.size());
     view_.publish();
 }
 
@@ -166,10 +189,18 @@ void HapticLoop::begin_session() {
     over_2ms_ = 0;
     over_5ms_ = 0;
     energy_ = 0.0;
-    contact_.reset();
-    cuts_.clear();
-    world_from_model_ = cfg_.workpiece_pose;
-    model_from_world_ = world_from_model_.inverse();
+    for (std::size_t i = 0; i < pieces_.size(); ++i) {
+        Piece& p = *pieces_[i];
+        p.contact->reset();
+        p.cuts.clear();
+        p.world_from_model = start_poses_[i];
+        p.model_from_world = p.world_from_model.inverse();
+        p.result = nullptr;
+        p.touched = false;
+        p.carve_gap = false;
+    }
+    target_ = 0;
+    target_held_ = false;
     placing_ = false;
     filter_.reset();
     torque_filter_.reset();
@@ -241,36 +272,6 @@ LoopStats HapticLoop::stats() const {
     return s;
 }
 
-HapticLoop::ContactOut HapticLoop::contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s) {
-    // The workpiece's surface is in its model frame: the tool goes there, the wrench and the proxy come back.
-    const MultiPointResult& r = contact_.update(surface, model_from_world_ * tool_world, dt_s);
-    ContactOut out;
-    out.force_n = world_from_model_.rotate(r.wrench.force_n);
-    out.torque_nm = world_from_model_.rotate(r.wrench.torque_nm);  // about the tool centre (zero for a centred point)
-    out.proxy_m = r.points > 0 ? world_from_model_.apply(r.point[0].proxy_m) : tool_world.position;
-    out.in_contact = r.in_contact;
-    out.contact = r.in_contact > 0;
-    out.hip_inside = r.points > 0 && r.point[0].hip_inside;
-    out.points = &r;
-    // The scene objects: each point's penetration of an elastic sphere's undeformed surface or of a reference object's
-    // distance field, pushed back by its penalty force (no allocation: fixed-size contacts).
-    const auto add = [&](const ElasticContacts& oc, double stiffness_n_per_m) {
-        if (oc.count == 0) return;
-        const Vec3 f = penetration_force(stiffness_n_per_m, oc, limits_.max_force_n);
-        out.force_n += f;
-        out.object_force_n += f;
-        out.in_contact += oc.count;
-        out.contact = true;
-    };
-    for (const ElasticSphere& e : cfg_.elastic_objects)
-        add(elastic_contacts(e, contact_.tool_points(), tool_world), e.stiffness_n_per_m);
-    for (const ReferenceObject& r : cfg_.reference_objects)
-        add(reference_contacts(r, contact_.tool_points(), tool_world), r.stiffness_n_per_m);
-    return out;
-}
-
-void HapticLoop::reset_contact() { contact_.reset(); }
-
 bool HapticLoop::tick(double now_s, TickRecord& rec) {
     devices::DeviceState state;
     if (!device_.read(state)) {
@@ -334,19 +335,24 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     const bool remote_contact = device_.remote_tool(remote);
     Pose tool_world = wf.tool_world;
     const bool engaged = cfg_.engage_mask == 0 || (state.buttons & cfg_.engage_mask) != 0;
-    // Placing: the whole workpiece follows the engaged tool rigidly; its surface is not felt meanwhile.
+    for (const std::unique_ptr<Piece>& p : pieces_) p->result = nullptr;
+    // A remote contact loop (local rendering) meets the first workpiece alone.
+    target_ = remote_contact ? 0 : pick_target(wf.tool_world, target_held_);
+    // Placing: the whole target workpiece follows the engaged tool rigidly; nothing is felt meanwhile.
     const bool placing = place(tool_op() == ToolOp::kPlace && engaged && wf.coupled && !wf.modelling_paused &&
                                    !menu.open && !remote_contact,
                                tool_world);
+    const Pose& first_pose = pieces_[0]->world_from_model;
     if (remote_contact) {
-        tool_world = world_from_model_ * remote.tool_world;
-        c.proxy_m = world_from_model_.apply(remote.proxy_m);
+        tool_world = first_pose * remote.tool_world;
+        c.proxy_m = first_pose.apply(remote.proxy_m);
         c.contact = remote.contact;
         c.in_contact = remote.contact ? 1 : 0;
     } else if (wf.coupled && !placing) {
-        // While carving, the contact reads the snapshot with the tool's own sweeps it does not hold yet cut away.
-        c = contact(cuts_.apply(surface_.latest(), *cut_surface_), wf.tool_world, dt);
+        c = contact(wf.tool_world, dt);
     }
+    if (!c.points)
+        for (const std::unique_ptr<Piece>& p : pieces_) p->touched = false;  // nothing was felt of them
 
     // Clamp before the filter too: a non-finite or huge contact force must not poison the filter state.
     // The world's contact force reaches the device scaled by the mapping's force_scale() (1 / s in kScaling).
@@ -387,7 +393,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.hip_m = tool_world.position;
     rec.proxy_m = c.proxy_m;
     // The force the device got; a stale remote sample's is an earlier tick's, logged as such.
-    rec.force_n = remote_contact ? world_from_model_.rotate(remote.force_n) : out.force_n;
+    rec.force_n = remote_contact ? first_pose.rotate(remote.force_n) : out.force_n;
     rec.remote_stale = remote_contact && remote.stale;
     if (rec.remote_stale) stale_remote_.fetch_add(1, std::memory_order_relaxed);
     rec.contact = c.contact;
@@ -396,8 +402,8 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.points_in_contact = c.in_contact;
     if (c.points) {
         for (int k = 0; k < 2 && k < c.points->points; ++k) {
-            const PointState& p = c.points->point[k];  // in the workpiece's model frame
-            const Pose& wp = world_from_model_;
+            const PointState& p = c.points->point[k];  // in that workpiece's model frame
+            const Pose& wp = *c.points_pose;
             PointRecord& pr = rec.points[k];
             pr.world_m = wp.apply(p.world_m);
             pr.proxy_m = wp.apply(p.proxy_m);
@@ -414,49 +420,6 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     rec.ramp = static_cast<float>(out.ramp);
     rec.passivity_energy_j = safety_.passivity().energy_j();
     return true;
-}
-
-void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool_world, const ContactOut& c, bool hold,
-                             bool gap, TickRecord& rec) {
-    ToolSample sample;
-    sample.t_s = state.t_s;
-    sample.made_s = static_cast<double>(now_ns()) * 1e-9;  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
-    // The sculpt thread carves the workpiece in its model frame.
-    const Pose tool_model = model_from_world_ * tool_world;
-    sample.position = tool_model.position;
-    {
-        const Vec3 offset = c.points ? c.points->point[0].proxy_m - c.points->point[0].world_m
-                                     : model_from_world_.rotate(c.proxy_m - tool_world.position);
-        sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
-    }
-    sample.orientation = tool_model.orientation;
-    sample.tool = tool_;
-    const std::uint16_t op = op_.load(std::memory_order_relaxed);
-    // kPlace moves the pose, never the material: its samples carve nothing.
-    const ToolOp chosen = static_cast<ToolOp>(op & 0xffu);
-    sample.op = hold || chosen == ToolOp::kPlace ? ToolOp::kNone : chosen;
-    sample.material = static_cast<std::uint8_t>(op >> 8);
-    rec.op = static_cast<ToolOp>(op & 0xffu);
-    rec.material = sample.material;
-    sample.symmetry = symmetry_from_bits(symmetry_.load(std::memory_order_relaxed));
-    rec.symmetry = sample.symmetry;
-    rec.tool = tool_;
-    sample.buttons = state.buttons;
-    // A free-running loop (a replay) stays at most kFreeRunLead samples ahead of the sculpt thread, as a paced loop
-    // that the sculpt thread keeps up with does: every sample reaches it, and the surface the contact reads is as
-    // recent as in the session.
-    while (cfg_.free_run && samples_.size() >= kFreeRunLead && !stop_requested_.load(std::memory_order_acquire))
-        std::this_thread::sleep_for(std::chrono::microseconds(50));
-    const bool pushed = samples_.try_push(sample);
-    if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
-    if (pushed && cfg_.sample_tap && !cfg_.sample_tap->try_push(SequencedSample{pushed_, sample}))
-        tap_dropped_.fetch_add(1, std::memory_order_relaxed);
-    cuts_.note(sample, pushed);
-    if (pushed) ++pushed_;
-    if (pushed && pushed_ == cfg_.fault_kill_at_sample) ::kill(::getpid(), SIGKILL);
-    // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
-    // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.
-    carve_gap_ = gap || (!pushed && sample.op == ToolOp::kNone);
 }
 
 void HapticLoop::finish(TickRecord& rec, double compute_s) {
@@ -490,7 +453,10 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.points_in_contact = rec.points_in_contact;
     v.tool = tool_;
     v.menu_open = rec.menu_open;
-    v.workpiece_pose = world_from_model_;
+    v.workpiece_pose = pieces_[0]->world_from_model;
+    for (std::size_t i = 0; i < pieces_.size(); ++i) v.workpiece_poses[i] = pieces_[i]->world_from_model;
+    v.workpiece_count = static_cast<std::uint8_t>(pieces_.size());
+    v.target_workpiece = static_cast<std::uint8_t>(target_);
     view_.publish();
 }
 

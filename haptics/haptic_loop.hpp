@@ -43,6 +43,24 @@ struct ToolChange {
     std::uint8_t material = 0;      ///< the material from then on
     ToolShape tool{};               ///< the tool from then on (HapticLoop::set_tool's rules); radius_m 0 = unchanged
     Symmetry symmetry{};            ///< the symmetry from then on
+    /// The workpiece the samples carve from then on (HapticLoop::choose_workpiece), so a replay carves the workpiece
+    /// each recorded tick carved; -1 = unchanged.
+    int workpiece = -1;
+};
+
+/// Most workpieces one haptic loop feels and sculpts.
+inline constexpr std::size_t kMaxLoopWorkpieces = 8;
+
+/// One workpiece the haptic loop feels and sculpts: where it reads the workpiece's active surface (in the workpiece's
+/// model frame), where it hands the workpiece's sculpt thread its tool samples (model frame), where it also taps them
+/// for the workpiece's journal, its pose, and its lattice's box for choosing the nearest workpiece.
+struct LoopWorkpiece {
+    TripleBuffer<ActiveSurface>* surface = nullptr;  ///< the loop is its only reader; must outlive the loop
+    SpscRing<ToolSample>* samples = nullptr;         ///< the loop is its only producer; must outlive the loop
+    /// As HapticLoopConfig::sample_tap, for this workpiece's samples; nullptr = none.
+    SpscRing<SequencedSample>* sample_tap = nullptr;
+    Pose pose{};       ///< its model frame -> the world (m, unit quaternion)
+    Aabb bounds_m{};   ///< its lattice's box in its model frame, m; empty = never the nearest
 };
 
 /// Settings of the haptic loop (SI units).
@@ -179,6 +197,8 @@ struct TickRecord {
     /// The pie menu was open (HapticLoop::set_menu): the tick's sample carried ToolOp::kNone, and force_n includes the
     /// detent (while the tool followed the stylus).
     bool menu_open = false;
+    /// The workpiece the tick's sample carved (or placed): the others got the tick's sample with ToolOp::kNone.
+    std::uint8_t workpiece = 0;
 };
 
 /// Counters of the loop; readable while it runs.
@@ -228,8 +248,13 @@ struct LoopView {
     bool menu_open = false;         ///< the loop feels the pie menu (HapticLoop::set_menu) on that tick
     double joystick_y = 0.0;        ///< the device's joystick on that tick (DeviceState::joystick_y)
     /// The workpiece's pose on that tick (its model frame -> the world): HapticLoopConfig::workpiece_pose until the
-    /// tool places it (ToolOp::kPlace). Views draw and pick the workpiece through it.
+    /// tool places it (ToolOp::kPlace). Views draw and pick the workpiece through it. With several workpieces, the
+    /// first one's (workpiece_poses[0]).
     Pose workpiece_pose{};
+    /// Every workpiece's pose on that tick, in the loop's order (the first workpiece_count are set).
+    std::array<Pose, kMaxLoopWorkpieces> workpiece_poses{};
+    std::uint8_t workpiece_count = 1;  ///< workpieces the loop feels
+    std::uint8_t target_workpiece = 0; ///< the workpiece the tool carves (or places) now
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
@@ -261,6 +286,13 @@ struct LoopView {
 /// false (or read/write throws), the loop writes zero force and ends by itself (device_lost). On every
 /// exit it writes zero force last. The loop is the only reader of `surface`, the only producer of
 /// `samples` and the only user of `device` while it runs; all three must outlive it.
+/// Several workpieces (LoopWorkpiece): the contact runs against each one's active surface in its own model frame and
+/// the forces and torques add up (each has its own god-objects and recent cuts); each tick's sample goes to every
+/// workpiece in its model frame, carrying the operation only for the target workpiece (the others get kNone, so
+/// their active surfaces follow the tool and no stroke of theirs stays open). The target is the chosen one
+/// (choose_workpiece, a replay's schedule), else the one the tool touched on the previous tick (the current target
+/// first), else the one whose box is nearest; it does not change while the tool carves it where it touches it, nor
+/// while it places (ToolOp::kPlace moves the target alone).
 class HapticLoop {
 public:
     /// Checks the configuration; throws tridex::Error naming the field at fault (HapticLoopConfig.*,
@@ -268,6 +300,11 @@ public:
     /// max_torque_nm). Preallocates (and touches) cfg.max_ticks TickRecords.
     HapticLoop(devices::HapticDevice& device, TripleBuffer<ActiveSurface>& surface, SpscRing<ToolSample>& samples,
                HapticLoopConfig cfg);
+    /// Several workpieces (1..kMaxLoopWorkpieces; cfg.workpiece_pose and cfg.sample_tap are ignored: each
+    /// LoopWorkpiece has its own). Throws tridex::Error as the constructor above, "HapticLoop workpieces: ..." for
+    /// none, too many or a missing surface or ring, and "HapticLoopConfig.workpieces[i].pose...: ..." for a pose that
+    /// is not rigid.
+    HapticLoop(devices::HapticDevice& device, const std::vector<LoopWorkpiece>& workpieces, HapticLoopConfig cfg);
     /// Stops the thread if it runs.
     ~HapticLoop();
     HapticLoop(const HapticLoop&) = delete;
@@ -334,6 +371,14 @@ public:
     /// The newest LoopView (render thread; exactly one reader thread). Before the first tick: a default LoopView
     /// (tick 0) with the configured workpiece_pose.
     const LoopView& latest_view() { return view_.latest(); }
+    /// Chooses the workpiece the tool carves from the next tick on: 0..workpieces()-1, or -1 for the automatic
+    /// choice (touched, else nearest). Any thread, lock-free; the loop takes it when the tool is not carving or
+    /// placing. Returns false, changing nothing, for an index out of range.
+    bool choose_workpiece(int index);
+    /// The chosen workpiece (-1: automatic).
+    int chosen_workpiece() const { return chosen_.load(std::memory_order_relaxed); }
+    /// Workpieces the loop feels.
+    std::size_t workpieces() const { return pieces_.size(); }
 
 private:
     // What the contact stage returns (world frame). The seam where a multi-point renderer replaces
@@ -346,20 +391,23 @@ private:
         bool contact = false;
         bool hip_inside = false;  // point 0 inside material by the snapshot
         int in_contact = 0;   // points in contact
-        const MultiPointResult* points = nullptr;  // per-point detail of this tick (owned by contact_)
+        const MultiPointResult* points = nullptr;  // per-point detail of this tick (of one workpiece's contact)
+        const Pose* points_pose = nullptr;         // that workpiece's pose (points are in its model frame)
     };
 
     void run() noexcept;
     void run_free();  // HapticLoopConfig::free_run: ticks back to back on the tick-count clock
     void begin_session();
-    // The contact stage: force and torque on the tool at tool_world against the snapshot; dt_s is the
-    // damping time step (s).
-    ContactOut contact(const ActiveSurface& surface, const Pose& tool_world, double dt_s);
+    // The contact stage: force and torque on the tool at tool_world against every workpiece's snapshot (less its
+    // recent cuts) and the scene objects; dt_s is the damping time step (s).
+    ContactOut contact(const Pose& tool_world, double dt_s);
     // Forgets the contact history (workspace jump, declutch).
     void reset_contact();
-    // ToolOp::kPlace: while `engaged`, the workpiece follows tool_world rigidly from where the tool gripped it (the
-    // contact forgotten at the grip); returns whether it is held this tick.
+    // ToolOp::kPlace: while `engaged`, the target workpiece follows tool_world rigidly from where the tool gripped it
+    // (the contact forgotten at the grip); returns whether it is held this tick.
     bool place(bool engaged, const Pose& tool_world);
+    // The workpiece this tick's sample carves: held while `keep` (carving or placing), else chosen, touched, nearest.
+    std::size_t pick_target(const Pose& tool_world, bool keep) const;
     // One tick at loop time now_s: read, pipeline, write, sample, record. False when the device is lost
     // (zero force written). rec gets everything but compute_us.
     bool tick(double now_s, TickRecord& rec);
@@ -381,13 +429,28 @@ private:
         ToolShape tool{};
     };
 
+    // One workpiece's channels and contact state (loop thread).
+    struct Piece {
+        TripleBuffer<ActiveSurface>* surface = nullptr;
+        SpscRing<ToolSample>* samples = nullptr;
+        SpscRing<SequencedSample>* tap = nullptr;
+        Aabb bounds_m{};
+        Pose world_from_model{};  // its pose now (the configured one until the tool places it)
+        Pose model_from_world{};  // its inverse: where the tool meets it
+        std::unique_ptr<MultiPointRenderer> contact;
+        RecentCuts cuts{};                          // carving sweeps its snapshot may not hold yet
+        std::unique_ptr<ActiveSurface> cut_surface;  // the snapshot with them subtracted (RecentCuts::apply)
+        const MultiPointResult* result = nullptr;    // its contact on this tick (owned by contact)
+        bool touched = false;     // in contact on the previous tick
+        bool carve_gap = false;   // its next sample must not carve (its previous one was not pushed)
+        std::uint64_t pushed = 0; // samples its ring took since construction
+    };
+
     devices::HapticDevice& device_;
-    TripleBuffer<ActiveSurface>& surface_;
-    SpscRing<ToolSample>& samples_;
     bool stiffness_capped_ = false;  // declared before cfg_: set while cfg_ is built
     HapticLoopConfig cfg_;
     SafetyLimits limits_;
-    MultiPointRenderer contact_;
+    std::vector<std::unique_ptr<Piece>> pieces_;  // at least one; the first is "the workpiece" of a single-piece loop
     OutputLimits output_;  // what the device can render (3/5/6 DOF, per-axis limits)
     EwmaFilter filter_;
     EwmaFilter torque_filter_;
@@ -395,15 +458,16 @@ private:
     Watchdog watchdog_;
     SafetyStage safety_;
     Quat world_to_device_;
-    Pose world_from_model_;  // the workpiece's pose now (cfg_.workpiece_pose until the tool places it)
-    Pose model_from_world_;  // its inverse: where the tool meets the workpiece
+    std::vector<Pose> start_poses_;  // each workpiece's configured pose (every session starts from them)
+    std::size_t target_ = 0;         // the workpiece this tick's sample carves
+    bool target_held_ = false;       // the previous tick carved the touched target or placed it: it stays the target
+    std::atomic<int> chosen_{-1};    // choose_workpiece (-1: automatic)
     Pose grip_;              // while placing: the workpiece's pose in the tool's frame at the grip
     bool placing_ = false;   // the tool held the workpiece on the previous tick
     Pose last_tool_;
     // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
     // limit, so a gap never becomes one long swept capsule.
     bool carve_gap_ = false;
-    std::uint64_t pushed_ = 0;  // samples the sculpt ring took since construction (the next one's SequencedSample::seq)
     // Per-session tick state (loop thread only).
     double prev_now_s_ = 0.0;
     bool have_prev_now_ = false;
@@ -435,8 +499,6 @@ private:
     double stiffness_cap_n_per_m_ = 0.0; // world stiffness cap of the device under the workspace gain, N/m
     TripleBuffer<MenuDetent> menu_updates_;  // set_menu (render thread) -> the loop
     GrabSpring grab_;                        // the grab's spring (loop thread)
-    RecentCuts cuts_;                        // carving sweeps the snapshot may not hold yet (loop thread)
-    std::unique_ptr<ActiveSurface> cut_surface_;  // the snapshot with them subtracted (RecentCuts::apply)
 };
 
 }  // namespace tridex::haptics

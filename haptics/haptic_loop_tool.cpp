@@ -1,9 +1,10 @@
 // haptics/haptic_loop_tool.cpp - the haptic loop's tool, operation, symmetry and menu: set from other threads
 // (lock-free: atomics and triple buffers) and taken up by the loop at its next tick; and the tool placing the
-// workpiece (ToolOp::kPlace).
+// target workpiece (ToolOp::kPlace).
 #include "haptics/haptic_loop.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,10 @@ void HapticLoop::set_menu(const MenuDetent& m) {
 
 void HapticLoop::use_tool(const ToolShape& tool) {
     const double s = tool.radius_m / cfg_.tool.radius_m;
-    if (contact_.set_points(base_points_.scaled(s))) {
+    const ToolPoints scaled = base_points_.scaled(s);
+    bool all = true;  // every workpiece's contact takes the same points, or none does
+    for (const std::unique_ptr<Piece>& p : pieces_) all = p->contact->set_points(scaled) && all;
+    if (all) {
         tool_ = tool;
         device_.observe_tool_scale(s);  // a contact loop next to the device touches with the same tool
     }
@@ -61,6 +65,7 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
         const ToolChange& c = sched[next_change_];
         set_tool_op(c.op, c.material);
         symmetry_.store(symmetry_bits(c.symmetry), std::memory_order_relaxed);
+        if (c.workpiece >= 0) (void)choose_workpiece(c.workpiece);
         if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
             use_tool(c.tool);
     }
@@ -71,13 +76,14 @@ bool HapticLoop::place(bool engaged, const Pose& tool_world) {
         placing_ = false;
         return false;
     }
+    Piece& held = *pieces_[target_];  // the target does not change while placing (pick_target)
     if (!placing_) {  // the grip: where the workpiece sits in the tool's frame, kept while the tool holds it
-        grip_ = tool_world.inverse() * world_from_model_;
+        grip_ = tool_world.inverse() * held.world_from_model;
         placing_ = true;
         reset_contact();
     }
-    world_from_model_ = tool_world * grip_;
-    model_from_world_ = world_from_model_.inverse();
+    held.world_from_model = tool_world * grip_;
+    held.model_from_world = held.world_from_model.inverse();
     return true;
 }
 

@@ -76,8 +76,7 @@ double read_number(const json& j, const std::string& source, const std::string& 
 
 void validate_pose(const Pose& p, const std::string& source, const std::string& field) {
     if (!is_finite(p.position)) fail(source, field + ".position_m", "coordinates must be finite (m)");
-    const double n = glm::length(p.orientation);
-    if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6)
+    if (!is_unit(p.orientation))
         fail(source, field + ".orientation_wxyz", "must be a unit quaternion [w, x, y, z] (|q| = 1 within 1e-6)");
 }
 

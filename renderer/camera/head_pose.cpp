@@ -11,14 +11,9 @@
 namespace tridex::renderer {
 namespace {
 
-bool unit(const Quat& q) {
-    const double n = glm::length(q);
-    return std::isfinite(n) && std::abs(n - 1.0) <= 1e-6;
-}
-
 void require_pose(const Pose& p, const std::string& what) {
     if (!is_finite(p.position)) throw Error(what + ": position must be finite (m)");
-    if (!unit(p.orientation)) throw Error(what + ": orientation must be a unit quaternion");
+    if (!is_unit(p.orientation)) throw Error(what + ": orientation must be a unit quaternion");
 }
 
 std::string num(double v) {

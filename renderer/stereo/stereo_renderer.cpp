@@ -564,7 +564,7 @@ FrameStats OffscreenStereoRenderer::draw(const SceneView& scene, const Screen& s
     // objects, proxy, workspace box, bubble. Last the overlay: a panel and its text in pixels, on the screen plane
     // (same clip position in both eyes).
     const Pose& wp = scene.workpiece_pose;
-    if (!is_finite(wp.position) || !(std::abs(glm::length(wp.orientation) - 1.0) <= 1e-6))
+    if (!is_rigid(wp))
         throw Error("renderer: SceneView.workpiece_pose must be finite with a unit orientation");
     im.add_workpiece(scene, fr, list);
     im.add_tiles(scene, eyes, list, stats);

@@ -146,7 +146,7 @@ FrameMessage decode_frame(std::span<const unsigned char> bytes, const std::strin
     for (std::uint8_t i = 0; i < others; ++i) m.others.push_back(read_presence(r));
     if (flags & 16) {
         m.workpiece_pose = r.pose("workpiece_pose");
-        if (!is_finite(m.workpiece_pose.position) || !(std::abs(glm::length(m.workpiece_pose.orientation) - 1.0) <= 1e-6))
+        if (!is_rigid(m.workpiece_pose))
             r.fail("workpiece_pose", "not a finite rigid pose");
         m.workpiece_pose.orientation = glm::normalize(m.workpiece_pose.orientation);
     }

@@ -1,0 +1,160 @@
+// haptics/haptic_loop_workpieces.cpp - the haptic loop's workpieces: the contact against each one's snapshot in its
+// model frame (and the scene objects beside them), which one the tool carves, and each tick's sample handed to each.
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <ctime>
+#include <limits>
+#include <thread>
+
+#include "haptics/forces/force_clamp.hpp"
+#include "haptics/haptic_loop.hpp"
+
+namespace tridex::haptics {
+
+namespace {
+
+// CLOCK_MONOTONIC in s, as the loop's own clock reads it (whole nanoseconds, then seconds).
+double monotonic_s() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return static_cast<double>(static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec) * 1e-9;
+}
+
+}  // namespace
+
+HapticLoop::ContactOut HapticLoop::contact(const Pose& tool_world, double dt_s) {
+    ContactOut out;
+    // Each workpiece's surface is in its model frame: the tool goes there, the wrench comes back; while carving, the
+    // contact reads the snapshot with the tool's own sweeps it does not hold yet cut away.
+    for (const std::unique_ptr<Piece>& pp : pieces_) {
+        Piece& p = *pp;
+        const ActiveSurface& surface = p.cuts.apply(p.surface->latest(), *p.cut_surface);
+        const MultiPointResult& r = p.contact->update(surface, p.model_from_world * tool_world, dt_s);
+        p.result = &r;
+        p.touched = r.in_contact > 0;
+        out.force_n += p.world_from_model.rotate(r.wrench.force_n);
+        out.torque_nm += p.world_from_model.rotate(r.wrench.torque_nm);  // about the tool centre
+        out.in_contact += r.in_contact;
+    }
+    // The proxy and the points shown are the target's, or the first workpiece touched when the target is not.
+    const Piece* shown = pieces_[target_].get();
+    for (std::size_t i = 0; !shown->touched && i < pieces_.size(); ++i)
+        if (pieces_[i]->touched) shown = pieces_[i].get();
+    const MultiPointResult& r = *shown->result;
+    out.proxy_m = r.points > 0 ? shown->world_from_model.apply(r.point[0].proxy_m) : tool_world.position;
+    out.contact = out.in_contact > 0;
+    out.hip_inside = r.points > 0 && r.point[0].hip_inside;
+    out.points = &r;
+    out.points_pose = &shown->world_from_model;
+    // The scene objects: each point's penetration of an elastic sphere's undeformed surface or of a reference object's
+    // distance field, pushed back by its penalty force (no allocation: fixed-size contacts).
+    const auto add = [&](const ElasticContacts& oc, double stiffness_n_per_m) {
+        if (oc.count == 0) return;
+        const Vec3 f = penetration_force(stiffness_n_per_m, oc, limits_.max_force_n);
+        out.force_n += f;
+        out.object_force_n += f;
+        out.in_contact += oc.count;
+        out.contact = true;
+    };
+    const ToolPoints& points = pieces_[0]->contact->tool_points();
+    for (const ElasticSphere& e : cfg_.elastic_objects)
+        add(elastic_contacts(e, points, tool_world), e.stiffness_n_per_m);
+    for (const ReferenceObject& o : cfg_.reference_objects)
+        add(reference_contacts(o, points, tool_world), o.stiffness_n_per_m);
+    return out;
+}
+
+void HapticLoop::reset_contact() {
+    for (const std::unique_ptr<Piece>& p : pieces_) p->contact->reset();
+}
+
+bool HapticLoop::choose_workpiece(int index) {
+    if (index < -1 || index >= static_cast<int>(pieces_.size())) return false;
+    chosen_.store(index, std::memory_order_relaxed);
+    return true;
+}
+
+std::size_t HapticLoop::pick_target(const Pose& tool_world, bool keep) const {
+    if (keep) return target_;
+    const int chosen = chosen_.load(std::memory_order_relaxed);
+    if (chosen >= 0 && chosen < static_cast<int>(pieces_.size())) return static_cast<std::size_t>(chosen);
+    if (pieces_[target_]->touched) return target_;
+    for (std::size_t i = 0; i < pieces_.size(); ++i)
+        if (pieces_[i]->touched) return i;
+    // The workpiece whose lattice box is nearest the tool centre (in its model frame); the target on a tie.
+    std::size_t best = target_;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < pieces_.size(); ++i) {
+        const Aabb& b = pieces_[i]->bounds_m;
+        if (b.empty()) continue;
+        const Vec3 p = pieces_[i]->model_from_world.apply(tool_world.position);
+        const double d = glm::length(glm::max(glm::max(b.lo - p, p - b.hi), Vec3(0.0)));
+        if (d < best_d || (d == best_d && i == target_)) {
+            best = i;
+            best_d = d;
+        }
+    }
+    return best;
+}
+
+void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool_world, const ContactOut& c, bool hold,
+                             bool gap, TickRecord& rec) {
+    const std::uint16_t op = op_.load(std::memory_order_relaxed);
+    const ToolOp chosen = static_cast<ToolOp>(op & 0xffu);
+    rec.op = chosen;
+    rec.material = static_cast<std::uint8_t>(op >> 8);
+    rec.symmetry = symmetry_from_bits(symmetry_.load(std::memory_order_relaxed));
+    rec.tool = tool_;
+    rec.workpiece = static_cast<std::uint8_t>(target_);
+    const double made_s = monotonic_s();  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
+    // A free-running loop (a replay) stays at most kFreeRunLead samples ahead of each sculpt thread, as a paced loop
+    // that the sculpt threads keep up with does: every sample reaches them, and the surfaces the contact reads are as
+    // recent as in the session.
+    const auto behind = [&] {
+        for (const std::unique_ptr<Piece>& p : pieces_)
+            if (p->samples->size() >= kFreeRunLead) return true;
+        return false;
+    };
+    while (cfg_.free_run && behind() && !stop_requested_.load(std::memory_order_acquire))
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+    for (std::size_t i = 0; i < pieces_.size(); ++i) {
+        Piece& p = *pieces_[i];
+        ToolSample sample;
+        sample.t_s = state.t_s;
+        sample.made_s = made_s;
+        // Each workpiece's sculpt thread carves it in its model frame.
+        const Pose tool_model = p.model_from_world * tool_world;
+        sample.position = tool_model.position;
+        {
+            Vec3 offset(0.0);
+            if (p.result) offset = p.result->point[0].proxy_m - p.result->point[0].world_m;
+            else if (i == 0) offset = p.model_from_world.rotate(c.proxy_m - tool_world.position);
+            sample.surface_m = is_finite(offset) ? sample.position + offset : sample.position;
+        }
+        sample.orientation = tool_model.orientation;
+        sample.tool = tool_;
+        // kPlace moves the pose, never the material: its samples carve nothing. Only the target is carved.
+        sample.op = hold || p.carve_gap || chosen == ToolOp::kPlace || i != target_ ? ToolOp::kNone : chosen;
+        sample.material = rec.material;
+        sample.symmetry = rec.symmetry;
+        sample.buttons = state.buttons;
+        const bool pushed = p.samples->try_push(sample);
+        if (!pushed) dropped_.fetch_add(1, std::memory_order_relaxed);
+        if (pushed && p.tap && !p.tap->try_push(SequencedSample{p.pushed, sample}))
+            tap_dropped_.fetch_add(1, std::memory_order_relaxed);
+        p.cuts.note(sample, pushed);
+        if (pushed) ++p.pushed;
+        if (i == 0 && pushed && p.pushed == cfg_.fault_kill_at_sample) ::kill(::getpid(), SIGKILL);
+        // The sculpt thread sweeps from the last sample it got: after a non-carving sample it never got (a pause, a
+        // jump, an open menu), the next sample must not carve either, or its sweep would bridge the whole stretch.
+        p.carve_gap = !pushed && sample.op == ToolOp::kNone;
+        // A stroke carving the target where the tool touches it, or a placement, keeps it the target.
+        if (i == target_) target_held_ = placing_ || (sample.op != ToolOp::kNone && p.touched);
+    }
+    carve_gap_ = gap;
+}
+
+}  // namespace tridex::haptics
