@@ -235,7 +235,7 @@ private:
         if (!m.others.empty()) {  // a shared session's other people, drawn as rank 0 draws them, names facing the head
             const Vec3 eye = viewports_.empty() ? Vec3(std::numeric_limits<double>::quiet_NaN())
                                                 : ClusterReplica::camera(*viewports_.front()->config, m).head.position;
-            presence_view_.append(m.others, menu_objects_, eye);
+            presence_view_.append(m.others, menu_objects_, eye, m.workpiece_pose);
         }
         others_ = m.others.size();
         view.objects = menu_objects_;

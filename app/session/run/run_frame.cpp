@@ -244,7 +244,7 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
     for (const SessionCompanion* c : companions) c->add_presence(others_now);
     if (!others_now.empty()) {
         if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
-        presence_view.append(others_now, frame_objects, last_eye_scene_m);
+        presence_view.append(others_now, frame_objects, last_eye_scene_m, view.workpiece_pose);
         view.objects = frame_objects;
     }
     add_menu(view, lv, saving);

@@ -18,7 +18,7 @@
 namespace tridex::app {
 
 /// The protocol version a joiner states in its join; the host refuses another.
-inline constexpr std::uint32_t kSharedProtocol = 3;
+inline constexpr std::uint32_t kSharedProtocol = 4;
 
 /// Message kinds (the byte after the magic).
 enum class SharedKind : std::uint8_t {

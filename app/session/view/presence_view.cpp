@@ -22,13 +22,17 @@ SitePresence presence_of(const FrameShown& shown, std::uint8_t site, const std::
     p.site = site;
     p.name = name;
     p.colour = colour;
-    p.tool = Pose{is_finite(shown.proxy_m) ? shown.proxy_m : shown.tool_m, shown.tool_orientation};  // as it touches
+    // Into the workpiece's model frame: the others draw it through their own pose of the shared model.
+    const Pose model_from_scene = shown.workpiece_pose.inverse();
+    p.tool = model_from_scene *
+             Pose{is_finite(shown.proxy_m) ? shown.proxy_m : shown.tool_m, shown.tool_orientation};  // as it touches
     p.tool_radius_m = shown.tool.radius_m;
     if (shown.head_tracked && shown.nav && is_finite(shown.head.position)) {
-        // The head is in the room; the others see it where it stands relative to the workpiece (the scene).
+        // The head is in the room; the others see it where it stands relative to the workpiece.
         p.head_tracked = true;
-        p.head.position = shown.nav->to_scene(shown.head.position);
-        p.head.orientation = glm::normalize(glm::conjugate(shown.nav->pose().orientation) * shown.head.orientation);
+        const Pose head_scene{shown.nav->to_scene(shown.head.position),
+                              glm::normalize(glm::conjugate(shown.nav->pose().orientation) * shown.head.orientation)};
+        p.head = model_from_scene * head_scene;
         p.head_size_m = kHeadRadiusM / shown.nav->scale();
     }
     return p;
@@ -47,9 +51,12 @@ const TriMesh* PresenceView::label_of(const SitePresence& p) const {
 }
 
 void PresenceView::append(const std::vector<SitePresence>& others, std::vector<renderer::SceneObject>& out,
-                          const Vec3& eye_m) const {
-    for (const SitePresence& p : others) {
-        if (p.gone) continue;
+                          const Vec3& eye_m, const Pose& workpiece_pose) const {
+    for (const SitePresence& in_model : others) {
+        if (in_model.gone) continue;
+        SitePresence p = in_model;  // into this site's scene: through its pose of the shared workpiece
+        p.tool = workpiece_pose * in_model.tool;
+        p.head = workpiece_pose * in_model.head;
         const glm::vec4 colour(linear_of(p.colour.x), linear_of(p.colour.y), linear_of(p.colour.z), 0.85f);
         const TriMesh* label = label_of(p);
         const auto add_label = [&](const Vec3& at, double scale) {
