@@ -12,6 +12,19 @@
 
 namespace tridex::test {
 
+/// A loop that renders the contact as it is: a 2 mm ball at 700 N/m, no damping, no filter, no ramp-in, the
+/// scaling workspace at gain 1 (the device frame is the world), no real-time request; carving subtracts.
+inline haptics::HapticLoopConfig plain_plane_config() {
+    haptics::HapticLoopConfig cfg;
+    cfg.contact = haptics::ContactParams{700.0, 0.0, 0.002};
+    cfg.op = ToolOp::kSubtract;
+    cfg.workspace.mode = haptics::WorkspaceMode::kScaling;
+    cfg.ewma_alpha = 0.0;     // no filter: the tick's force is the contact's
+    cfg.safety.ramp_s = 0.0;  // full force from the first tick
+    cfg.request_realtime = false;
+    return cfg;
+}
+
 /// Publishes a copy of `s` as the newest snapshot of `buffer`.
 inline void publish(TripleBuffer<ActiveSurface>& buffer, const ActiveSurface& s) {
     buffer.back() = s;

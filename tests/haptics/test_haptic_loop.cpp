@@ -17,6 +17,12 @@
 namespace tridex::haptics {
 namespace {
 
+#if defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;  // a ThreadSanitizer build (the tsan preset)
+#else
+constexpr bool kSanitized = false;
+#endif
+
 using devices::DeviceProfile;
 using devices::ScriptedPath;
 using devices::SimulatedDevice;
@@ -389,7 +395,9 @@ TEST(HapticLoop, OneSecondPeriodStatistics) {
                 wall_s, med, p99, percentile(period, 1.0), percentile(compute, 0.5), percentile(compute, 0.99),
                 loop.stats().overruns);
     EXPECT_NEAR(med, 1000.0, 50.0);
-    EXPECT_LT(percentile(compute, 0.5), 100.0);  // us: a few us of work, far below the 1 ms budget
+    // us: a few us of work, far below the 1 ms budget. ThreadSanitizer instruments every memory access, which makes
+    // the same tick over ten times slower, so its bound is four times wider (still under half the budget).
+    EXPECT_LT(percentile(compute, 0.5), kSanitized ? 400.0 : 100.0);
     // 1000 ticks on 1 ms deadlines take 1 s, plus skipped deadlines when the shared machine stalls us.
     EXPECT_GT(wall_s, 0.99);
     EXPECT_LT(wall_s, 1.5);

@@ -19,16 +19,7 @@ namespace {
 
 constexpr double kH = 1e-3;  // lattice cell, m
 
-HapticLoopConfig plane_config() {
-    HapticLoopConfig cfg;
-    cfg.contact = ContactParams{700.0, 0.0, 0.002};
-    cfg.op = ToolOp::kSubtract;
-    cfg.workspace.mode = WorkspaceMode::kScaling;
-    cfg.ewma_alpha = 0.0;     // no filter: the tick's force is the contact's
-    cfg.safety.ramp_s = 0.0;  // full force from the first tick
-    cfg.request_realtime = false;
-    return cfg;
-}
+HapticLoopConfig plane_config() { return test::plain_plane_config(); }
 
 // One workpiece: the half-space z < 10.25 mm of its model frame (the box of its 32 x 32 cell window), placed by a
 // pose, with its own surface, ring and tap.
