@@ -43,8 +43,8 @@ struct ToolChange {
     std::uint8_t material = 0;      ///< the material from then on
     ToolShape tool{};               ///< the tool from then on (HapticLoop::set_tool's rules); radius_m 0 = unchanged
     Symmetry symmetry{};            ///< the symmetry from then on
-    /// The workpiece the samples carve from then on (HapticLoop::choose_workpiece), so a replay carves the workpiece
-    /// each recorded tick carved; -1 = unchanged.
+    /// The workpiece the samples carve from then on (HapticLoop::choose_workpiece), taken at once even within a
+    /// stroke, so a replay carves the workpiece each recorded tick carved; -1 = unchanged.
     int workpiece = -1;
 };
 

@@ -65,7 +65,9 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
         const ToolChange& c = sched[next_change_];
         set_tool_op(c.op, c.material);
         symmetry_.store(symmetry_bits(c.symmetry), std::memory_order_relaxed);
-        if (c.workpiece >= 0) (void)choose_workpiece(c.workpiece);
+        // A replay's target: taken at once, even within a stroke (the recorded tick carved it, whatever this replay's
+        // contacts say).
+        if (c.workpiece >= 0 && choose_workpiece(c.workpiece)) target_held_ = false;
         if (tool_change_allowed(c.tool) && (c.tool.radius_m != tool_.radius_m || c.tool.length_m != tool_.length_m))
             use_tool(c.tool);
     }

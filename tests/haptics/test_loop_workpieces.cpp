@@ -146,12 +146,15 @@ TEST(LoopWorkpiecesChoice, ChosenHeldThroughAStrokeAndScheduled) {
     ASSERT_TRUE(loop.choose_workpiece(-1));
     r = loop.step(5e-3);
     EXPECT_EQ(r.workpiece, 0);
-    // A replay's schedule chooses by device time.
+    // A replay's schedule chooses by device time, at once even within a stroke: B from the start, A from the third
+    // tick on while the tool carves B.
     HapticLoopConfig replay = plane_config();
-    ToolChange to_b;
+    ToolChange to_b, to_a;
     to_b.device_t_s = 0.0;
     to_b.workpiece = 1;
-    replay.tool_schedule = {to_b};
+    to_a.device_t_s = 5e-3;  // PoseDevice: read n has t_s = n ms: the fifth step
+    to_a.workpiece = 0;
+    replay.tool_schedule = {to_b, to_a};
     TwoPlanes w2;
     test::PoseDevice dev2(devices::DeviceProfile::phantom_omni());
     HapticLoop replayed(dev2, w2.channels(), replay);
@@ -162,6 +165,14 @@ TEST(LoopWorkpiecesChoice, ChosenHeldThroughAStrokeAndScheduled) {
     EXPECT_TRUE(r.contact);
     EXPECT_EQ(r.workpiece, 1);
     EXPECT_EQ(replayed.chosen_workpiece(), 1);
+    dev2.state.pose.position = in_b(w2, Vec3(0.012, 0.012, 0.016));
+    (void)replayed.step(2e-3);
+    dev2.state.pose.position = in_b(w2, Vec3(0.012, 0.012, 0.0115));  // carving B where it touches it
+    r = replayed.step(3e-3);
+    ASSERT_EQ(r.workpiece, 1);
+    ASSERT_TRUE(r.contact);
+    r = replayed.step(4e-3);
+    EXPECT_EQ(r.workpiece, 0) << "the schedule's change waited for the stroke's end";
 }
 
 TEST(LoopWorkpiecesChoice, TheNearestBoxIsTheTargetWhenNoneIsTouched) {
