@@ -99,6 +99,7 @@ void encode_tick(const RecordedTick& t, unsigned char* out) {
     e.f64(t.tool.radius_m);
     e.f64(t.tool.length_m);
     e.u32(symmetry_bits(t.symmetry));
+    e.u8(static_cast<std::uint8_t>(t.workpiece < 0 ? 0 : t.workpiece));
 }
 
 RecordedTick decode_tick(const unsigned char* in, std::uint32_t version) {
@@ -141,6 +142,7 @@ RecordedTick decode_tick(const unsigned char* in, std::uint32_t version) {
     t.tool.radius_m = d.f64();
     t.tool.length_m = d.f64();
     if (version >= 3) t.symmetry = symmetry_from_bits(d.u32());
+    if (version >= 4) t.workpiece = d.u8();
     return t;
 }
 
@@ -292,6 +294,9 @@ std::string check_tick(const RecordedTick& t, double previous_t_s) {
         return "symmetry = {mirrors " + std::to_string(t.symmetry.mirrors) + ", radial axis " +
                std::to_string(t.symmetry.radial_axis) + ", radial copies " + std::to_string(t.symmetry.radial_copies) +
                "} is not a valid symmetry (mirrors 0..7 without radial copies, or 2..32 copies about axis 0..2)";
+    if (t.workpiece < -1 || t.workpiece >= kMaxRecordedWorkpieces)
+        return "workpiece = " + std::to_string(t.workpiece) + " is not a workpiece index (0.." +
+               std::to_string(kMaxRecordedWorkpieces - 1) + ")";
     if (!(std::isfinite(t.tool.radius_m) && t.tool.radius_m >= 0.0))
         return "tool.radius_m = " + num(t.tool.radius_m) + " must be finite and >= 0";
     if (!(std::isfinite(t.tool.length_m) && t.tool.length_m >= 0.0))
@@ -436,7 +441,10 @@ Recording read_recording(const std::string& path) {
     if (version < 1 || version > kRecordingVersion)
         throw Error(path + ": byte 8: unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
                     std::to_string(kRecordingVersion) + ")");
-    const std::size_t tick_size = version == 1 ? kRecordedTickBytesV1 : version == 2 ? kRecordedTickBytesV2 : kRecordedTickBytes;
+    const std::size_t tick_size = version == 1   ? kRecordedTickBytesV1
+                                  : version == 2 ? kRecordedTickBytesV2
+                                  : version == 3 ? kRecordedTickBytesV3
+                                                 : kRecordedTickBytes;
     if (tick_bytes != tick_size)
         throw Error(path + ": byte 12: tick record size " + std::to_string(tick_bytes) + ", expected " +
                     std::to_string(tick_size) + " for version " + std::to_string(version));

@@ -64,6 +64,9 @@ struct RecordedTick {
     /// The symmetry the tick's sample carried (core/symmetry.hpp; keys and the menu at the desk change it); off in
     /// files before version 3.
     Symmetry symmetry{};
+    /// The workpiece the tick's sample carved (0..kMaxRecordedWorkpieces-1: the haptic loop's target, which a replay
+    /// takes from here rather than from its own contacts); -1 = not recorded (files before version 4).
+    int workpiece = -1;
 };
 
 /// A point in a recorded session's stream of tool samples where the sculpt thread took a request whose timing the
@@ -106,7 +109,8 @@ struct Recording {
 //     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
 //     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing), optional "menu": [...] (the
 //     app's menu track)} (other keys are ignored).
-//   Tick records, 401 bytes each (version 1: 378, ending at `valid`; version 2: 397, ending at the tool length),
+//   Tick records, 402 bytes each (version 1: 378, ending at `valid`; version 2: 397, ending at the tool length;
+//   version 3: 401, ending at the symmetry),
 //   from byte 32 + L; offsets within a record:
 //       0 t_s f64 | 8 device.t_s f64 | 16 device position xyz f64 | 40 device orientation w,x,y,z f64
 //      72 device velocity xyz f64 | 96 device buttons u32 | 100 wand_centre xyz | 124 rotation_axis xyz
@@ -117,12 +121,16 @@ struct Recording {
 //     version 2 adds: 378 op u8 | 379 material u8 | 380 tool kind u8 | 381 tool radius f64 | 389 tool length f64
 //     version 3 adds: 397 symmetry u32 (core/symmetry.hpp symmetry_bits: mirror bits | radial axis << 8
 //     | radial copies << 16)
+//     version 4 adds: 401 workpiece u8 (the workpiece the tick carved, 0..7)
 // ----------------------------------------------------------------------------------------------------
 
 inline constexpr char kRecordingMagic[8] = {'T', 'R', 'D', 'X', 'R', 'E', 'C', '\0'};  ///< first 8 bytes
-inline constexpr std::uint32_t kRecordingVersion = 3;        ///< the version this build writes (it reads 1, 2 and 3)
+inline constexpr std::uint32_t kRecordingVersion = 4;        ///< the version this build writes (it reads 1 to 4)
 inline constexpr std::size_t kRecordingPreambleBytes = 32;   ///< bytes before the header text
-inline constexpr std::size_t kRecordedTickBytes = 401;       ///< bytes per tick record on disk (version 3)
+inline constexpr std::size_t kRecordedTickBytes = 402;       ///< bytes per tick record on disk (version 4)
+inline constexpr std::size_t kRecordedTickBytesV3 = 401;     ///< bytes per tick record of version 3 files
+/// Most workpieces a recorded session may have had (RecordedTick::workpiece; the haptic loop's kMaxLoopWorkpieces).
+inline constexpr int kMaxRecordedWorkpieces = 8;
 inline constexpr std::size_t kRecordedTickBytesV2 = 397;     ///< bytes per tick record of version 2 files
 inline constexpr std::size_t kRecordedTickBytesV1 = 378;     ///< bytes per tick record of version 1 files
 

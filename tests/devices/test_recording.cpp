@@ -107,6 +107,7 @@ Recording sample_recording(int n) {
         t.tool.length_m = t.tool.kind == ToolKind::kFlatEnd ? 0.02 / 3.0 : 0.0;
         if (i % 3 == 1) t.symmetry.mirrors = static_cast<std::uint8_t>(1 + i % 7);
         if (i % 3 == 2) t.symmetry = Symmetry{0, static_cast<std::uint8_t>(i % 3), static_cast<std::uint16_t>(2 + i % 31)};
+        t.workpiece = i % kMaxRecordedWorkpieces;  // every workpiece index
         t.valid = 1;
         if (i == n / 2) {  // a sample the loop flagged: the device gave NaN and infinity
             t.valid = 0;
@@ -156,6 +157,7 @@ void expect_identical(const RecordedTick& a, const RecordedTick& b, std::size_t 
     EXPECT_TRUE(same_bits(a.tool.radius_m, b.tool.radius_m));
     EXPECT_TRUE(same_bits(a.tool.length_m, b.tool.length_m));
     EXPECT_EQ(a.symmetry, b.symmetry);
+    EXPECT_EQ(a.workpiece, b.workpiece);
 }
 
 // Runs read_recording(path), expects a tridex::Error whose message starts with the path and holds
@@ -254,8 +256,8 @@ TEST(Recording, LayoutAndBytesPerTick) {
     const std::size_t header_len = get_u32(w.bytes, 28);
     EXPECT_EQ(w.bytes.size(), kRecordingPreambleBytes + header_len + n * kRecordedTickBytes);
     EXPECT_EQ(std::memcmp(w.bytes.data(), "TRDXREC\0", 8), 0);
-    EXPECT_EQ(get_u32(w.bytes, 8), 3u);
-    EXPECT_EQ(get_u32(w.bytes, 12), 401u);
+    EXPECT_EQ(get_u32(w.bytes, 8), 4u);
+    EXPECT_EQ(get_u32(w.bytes, 12), 402u);
     EXPECT_EQ(get_u32(w.bytes, 16), static_cast<std::uint32_t>(n));
     EXPECT_EQ(get_u32(w.bytes, 20), 0u);  // high half of the u64 tick count
     // The checksum covers the header text and the ticks.
@@ -280,6 +282,8 @@ TEST(Recording, LayoutAndBytesPerTick) {
     EXPECT_EQ(std::bit_cast<double>(u), src.ticks[0].tool.length_m);
     std::memcpy(&u, w.bytes.data() + w.ticks_at + kRecordedTickBytes + 316, 8);
     EXPECT_EQ(std::bit_cast<double>(u), src.ticks[1].force_n.x);
+    // Version 4's field: the workpiece at 401 (tick 3 carved workpiece 3).
+    EXPECT_EQ(w.bytes[w.ticks_at + 3 * kRecordedTickBytes + 401], 3);
     // At 1 kHz: bytes per tick * 1000 ticks/s = that many kB/s (1 kB = 1000 bytes).
     std::printf("bytes per tick: %zu (%zu kB/s at 1 kHz, %.1f MB per minute), header text %zu bytes\n",
                 kRecordedTickBytes, kRecordedTickBytes, kRecordedTickBytes * 60e3 / 1e6, header_len);
@@ -324,10 +328,10 @@ TEST(Recording, WrongMagicVersionSizeRefused) {
         return path;
     };
     expect_refused(variant("magic.trdxrec", 3, 'Y'), {"not a tridex recording", "magic"});
-    expect_refused(variant("version.trdxrec", 8, 4), {"byte 8", "unsupported version 4", "reads versions 1 to 3"});
-    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 401"});
-    // A version 1 preamble over version 3 ticks: the tick size is wrong for version 1.
-    expect_refused(variant("v1size.trdxrec", 8, 1), {"byte 12", "tick record size 401", "expected 378 for version 1"});
+    expect_refused(variant("version.trdxrec", 8, 5), {"byte 8", "unsupported version 5", "reads versions 1 to 4"});
+    expect_refused(variant("size.trdxrec", 12, 0x7B), {"byte 12", "tick record size 379", "expected 402"});
+    // A version 1 preamble over version 4 ticks: the tick size is wrong for version 1.
+    expect_refused(variant("v1size.trdxrec", 8, 1), {"byte 12", "tick record size 402", "expected 378 for version 1"});
     // A text file is not a recording.
     const std::string text = temp_path("text.csv");
     std::ofstream(text) << "t_s,force_n\n0.001,0.5\n0.002,0.6\n";
@@ -360,6 +364,7 @@ TEST(Recording, Version1FilesStillRead) {
         expect.material = 0;
         expect.tool = ToolShape{};
         expect.symmetry = Symmetry{};
+        expect.workpiece = -1;
         expect_identical(expect, back.ticks[i], i);
     }
 }
@@ -387,6 +392,34 @@ TEST(Recording, Version2FilesStillRead) {
     for (std::size_t i = 0; i < src.ticks.size(); ++i) {
         RecordedTick expect = src.ticks[i];
         expect.symmetry = Symmetry{};
+        expect.workpiece = -1;
+        expect_identical(expect, back.ticks[i], i);
+    }
+}
+
+// Version 3 files (401-byte ticks ending at the symmetry) are still read: no workpiece.
+TEST(Recording, Version3FilesStillRead) {
+    const int n = 7;
+    const Written w = write_sample("v4.trdxrec", n);
+    std::vector<unsigned char> v3(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
+    for (int i = 0; i < n; ++i) {
+        const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
+        v3.insert(v3.end(), at, at + static_cast<long>(kRecordedTickBytesV3));
+    }
+    const auto put_u32 = [&v3](std::size_t at, std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) v3[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    };
+    put_u32(8, 3);
+    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV3));
+    put_u32(24, crc32_ieee(v3.data() + 32, v3.size() - 32));
+    const std::string path = temp_path("v3.trdxrec");
+    save(path, v3);
+    const Recording back = read_recording(path);
+    const Recording src = sample_recording(n);
+    ASSERT_EQ(back.ticks.size(), src.ticks.size());
+    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
+        RecordedTick expect = src.ticks[i];
+        expect.workpiece = -1;
         expect_identical(expect, back.ticks[i], i);
     }
 }
@@ -442,6 +475,12 @@ TEST(Recording, CorruptedValuesRefusedNamingTickAndField) {
     path = temp_path("id.trdxrec");
     save(path, b);
     expect_refused(path, {tick3, "top_collision_id = -2"});
+    // A workpiece index past the most a loop has.
+    b = w.bytes;
+    b[w.ticks_at + 3 * kRecordedTickBytes + 401] = 8;
+    path = temp_path("workpiece.trdxrec");
+    save(path, b);
+    expect_refused(path, {tick3, "workpiece = 8", "is not a workpiece index (0..7)"});
 }
 
 TEST(Recording, FlippedBitCaughtByChecksum) {

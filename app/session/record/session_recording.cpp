@@ -9,6 +9,10 @@
 
 namespace tridex::app {
 
+static_assert(devices::kMaxRecordedWorkpieces == static_cast<int>(haptics::kMaxLoopWorkpieces),
+              "a recording holds the workpiece index of any haptic loop");
+
+
 std::string recorded_tool_problem(const ToolShape& session_tool, const ToolShape& used) {
     if (used.kind != session_tool.kind || !(used.radius_m > 0.0)) return "";
     const double k = std::pow(MouseStylus::kSizeStep, MouseStylus::kMaxSizeSteps) * (1.0 + 1e-9);
@@ -55,6 +59,7 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
     t.tool_mode = static_cast<std::uint8_t>(r.modelling_paused ? ToolOp::kNone : used);
     t.valid = r.valid_sample ? 1 : 0;
     t.op = static_cast<std::uint8_t>(used);
+    t.workpiece = r.workpiece;
     if (has_tool) {
         t.material = r.material;
         t.tool = r.tool;
@@ -71,6 +76,7 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     now.material = static_cast<std::uint8_t>(spec.material);
     now.tool = spec.tool;
     now.symmetry = parse_symmetry(spec.symmetry, "symmetry");
+    now.workpiece = -1;  // the first tick that names its workpiece sets it (recordings from version 4)
     for (std::size_t i = 0; i < rec.ticks.size(); ++i) {
         const devices::RecordedTick& t = rec.ticks[i];
         if (t.valid != 1 || !(t.tool.radius_m > 0.0)) continue;
@@ -81,12 +87,13 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
         c.op = static_cast<ToolOp>(t.op);
         c.material = t.material;
         c.symmetry = t.symmetry;
+        if (t.workpiece >= 0) c.workpiece = t.workpiece;
         if (t.tool.kind == spec.tool.kind) {
             c.tool.radius_m = t.tool.radius_m;
             c.tool.length_m = t.tool.length_m;
         }
         if (c.op == now.op && c.material == now.material && c.symmetry == now.symmetry && c.tool.radius_m == now.tool.radius_m &&
-            c.tool.length_m == now.tool.length_m)
+            c.tool.length_m == now.tool.length_m && c.workpiece == now.workpiece)
             continue;
         out.push_back(c);
         now = c;

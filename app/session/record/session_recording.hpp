@@ -30,9 +30,10 @@ devices::RecordedTick to_recorded_tick(const haptics::TickRecord& r, ToolOp op, 
 /// sample without a tool) is not checked.
 std::string recorded_tool_problem(const ToolShape& session_tool, const ToolShape& used);
 
-/// The op, material, symmetry and tool changes of a recorded session, for its replay (HapticLoopConfig::tool_schedule):
-/// one ToolChange at the device time of each valid tick whose op, material, symmetry or tool differs from the valid
-/// tick before it (the first from `spec`'s op, material, symmetry and tool). Ticks without a recorded tool (version 1 files,
+/// The op, material, symmetry, tool and workpiece changes of a recorded session, for its replay
+/// (HapticLoopConfig::tool_schedule): one ToolChange at the device time of each valid tick whose op, material,
+/// symmetry, tool or workpiece differs from the valid tick before it (the first from `spec`'s op, material, symmetry
+/// and tool; the first tick that names its workpiece, from version 4 files, always sets it). Ticks without a recorded tool (version 1 files,
 /// invalid ticks) change nothing; a recorded tool of another kind than spec.tool is ignored. Throws tridex::Error
 /// "tick K: <what>" for a tool no session of `spec` uses (recorded_tool_problem).
 std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec);
