@@ -339,88 +339,49 @@ TEST(Recording, WrongMagicVersionSizeRefused) {
 }
 
 // Version 1 files (378-byte ticks ending at `valid`) are still read: op = tool_mode, no tool recorded.
-TEST(Recording, Version1FilesStillRead) {
-    const int n = 7;
-    const Written w = write_sample("v2.trdxrec", n);
-    std::vector<unsigned char> v1(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
+// The `n`-tick sample `w` as a file of an older `version`: each tick cut to that version's `tick_bytes`, the preamble's
+// version, tick size and checksum made to match. Returns the file's path.
+std::string older_version(const Written& w, int n, std::uint32_t version, std::size_t tick_bytes, const std::string& name) {
+    std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
     for (int i = 0; i < n; ++i) {
         const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
-        v1.insert(v1.end(), at, at + static_cast<long>(kRecordedTickBytesV1));
+        b.insert(b.end(), at, at + static_cast<long>(tick_bytes));
     }
-    const auto put_u32 = [&v1](std::size_t at, std::uint32_t v) {
-        for (int k = 0; k < 4; ++k) v1[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    const auto put_u32 = [&b](std::size_t at, std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) b[at + k] = static_cast<unsigned char>(v >> (8 * k));
     };
-    put_u32(8, 1);
-    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV1));
-    put_u32(24, crc32_ieee(v1.data() + 32, v1.size() - 32));
-    const std::string path = temp_path("v1.trdxrec");
-    save(path, v1);
-    const Recording back = read_recording(path);
-    const Recording src = sample_recording(n);
-    ASSERT_EQ(back.ticks.size(), src.ticks.size());
-    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
-        RecordedTick expect = src.ticks[i];
-        expect.op = expect.tool_mode;
-        expect.material = 0;
-        expect.tool = ToolShape{};
-        expect.symmetry = Symmetry{};
-        expect.workpiece = -1;
-        expect_identical(expect, back.ticks[i], i);
-    }
+    put_u32(8, version);
+    put_u32(12, static_cast<std::uint32_t>(tick_bytes));
+    put_u32(24, crc32_ieee(b.data() + 32, b.size() - 32));
+    const std::string path = temp_path(name);
+    save(path, b);
+    return path;
 }
 
-// Version 2 files (397-byte ticks ending at the tool length) are still read: no symmetry.
-TEST(Recording, Version2FilesStillRead) {
-    const int n = 7;
-    const Written w = write_sample("v3.trdxrec", n);
-    std::vector<unsigned char> v2(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
-    for (int i = 0; i < n; ++i) {
-        const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
-        v2.insert(v2.end(), at, at + static_cast<long>(kRecordedTickBytesV2));
-    }
-    const auto put_u32 = [&v2](std::size_t at, std::uint32_t v) {
-        for (int k = 0; k < 4; ++k) v2[at + k] = static_cast<unsigned char>(v >> (8 * k));
-    };
-    put_u32(8, 2);
-    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV2));
-    put_u32(24, crc32_ieee(v2.data() + 32, v2.size() - 32));
-    const std::string path = temp_path("v2.trdxrec");
-    save(path, v2);
-    const Recording back = read_recording(path);
-    const Recording src = sample_recording(n);
-    ASSERT_EQ(back.ticks.size(), src.ticks.size());
-    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
-        RecordedTick expect = src.ticks[i];
-        expect.symmetry = Symmetry{};
-        expect.workpiece = -1;
-        expect_identical(expect, back.ticks[i], i);
-    }
-}
-
-// Version 3 files (401-byte ticks ending at the symmetry) are still read: no workpiece.
-TEST(Recording, Version3FilesStillRead) {
+// Files of versions 1 to 3 are still read; each version's later fields read as not recorded: version 1 (378-byte
+// ticks ending at `valid`) has the op as tool_mode, no material, tool or symmetry; version 2 (397 bytes, ending at the
+// tool length) no symmetry; version 3 (401 bytes, ending at the symmetry) no workpiece.
+TEST(Recording, OlderVersionsStillRead) {
     const int n = 7;
     const Written w = write_sample("v4.trdxrec", n);
-    std::vector<unsigned char> v3(w.bytes.begin(), w.bytes.begin() + static_cast<long>(w.ticks_at));
-    for (int i = 0; i < n; ++i) {
-        const auto at = w.bytes.begin() + static_cast<long>(w.ticks_at + i * kRecordedTickBytes);
-        v3.insert(v3.end(), at, at + static_cast<long>(kRecordedTickBytesV3));
-    }
-    const auto put_u32 = [&v3](std::size_t at, std::uint32_t v) {
-        for (int k = 0; k < 4; ++k) v3[at + k] = static_cast<unsigned char>(v >> (8 * k));
-    };
-    put_u32(8, 3);
-    put_u32(12, static_cast<std::uint32_t>(kRecordedTickBytesV3));
-    put_u32(24, crc32_ieee(v3.data() + 32, v3.size() - 32));
-    const std::string path = temp_path("v3.trdxrec");
-    save(path, v3);
-    const Recording back = read_recording(path);
     const Recording src = sample_recording(n);
-    ASSERT_EQ(back.ticks.size(), src.ticks.size());
-    for (std::size_t i = 0; i < src.ticks.size(); ++i) {
-        RecordedTick expect = src.ticks[i];
-        expect.workpiece = -1;
-        expect_identical(expect, back.ticks[i], i);
+    const std::size_t sizes[] = {kRecordedTickBytesV1, kRecordedTickBytesV2, kRecordedTickBytesV3};
+    for (std::uint32_t version = 1; version <= 3; ++version) {
+        SCOPED_TRACE("version " + std::to_string(version));
+        const Recording back = read_recording(
+            older_version(w, n, version, sizes[version - 1], "v" + std::to_string(version) + ".trdxrec"));
+        ASSERT_EQ(back.ticks.size(), src.ticks.size());
+        for (std::size_t i = 0; i < src.ticks.size(); ++i) {
+            RecordedTick expect = src.ticks[i];
+            expect.workpiece = -1;
+            if (version < 3) expect.symmetry = Symmetry{};
+            if (version < 2) {
+                expect.op = expect.tool_mode;
+                expect.material = 0;
+                expect.tool = ToolShape{};
+            }
+            expect_identical(expect, back.ticks[i], i);
+        }
     }
 }
 
