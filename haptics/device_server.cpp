@@ -368,19 +368,13 @@ void DeviceServer::run() noexcept {
         if (!rt.fifo) event("real-time scheduling refused: ticks may jitter");
     }
     const auto period_ns = static_cast<std::int64_t>(std::llround(cfg_.period_s * 1e9));
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    std::int64_t next = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec;
+    std::int64_t next = monotonic_ns();
     try {
         while (!stop_requested_.load(std::memory_order_acquire)) {
-            ts.tv_sec = static_cast<time_t>(next / 1'000'000'000LL);
-            ts.tv_nsec = static_cast<long>(next % 1'000'000'000LL);
-            while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-            }
+            sleep_until_ns(next);
             if (!tick(cfg_.clock())) break;
             next += period_ns;
-            clock_gettime(CLOCK_MONOTONIC, &ts);
-            const std::int64_t now = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec;
+            const std::int64_t now = monotonic_ns();
             if (now >= next) next += ((now - next) / period_ns + 1) * period_ns;
         }
     } catch (const std::exception& e) {

@@ -26,20 +26,6 @@ namespace tridex::haptics {
 
 namespace {
 
-std::int64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t t_ns) {
-    timespec ts{};
-    ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000LL);
-    ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000LL);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
-}
-
 // Touches 128 KiB of the calling thread's stack below this frame, a page at a time, so that those pages are mapped
 // (and, under mlockall, locked) before the first tick: no tick takes a page fault on its own stack.
 [[gnu::noinline]] void prefault_stack() {
@@ -469,7 +455,7 @@ TickRecord HapticLoop::step(double loop_time_s) {
         manual_session_ = true;
     }
     TickRecord rec;
-    const std::int64_t start = now_ns();
+    const std::int64_t start = monotonic_ns();
     bool ok = false;
     try {
         ok = tick(loop_time_s, rec);
@@ -491,7 +477,7 @@ TickRecord HapticLoop::step(double loop_time_s) {
         lost.ramp = 0.0f;
         return lost;
     }
-    finish(rec, static_cast<double>(now_ns() - start) * 1e-9);
+    finish(rec, static_cast<double>(monotonic_ns() - start) * 1e-9);
     return rec;
 }
 
@@ -518,15 +504,15 @@ void HapticLoop::run() noexcept {
     }
     prefault_stack();  // the ticks' stack pages resident (and locked) before the first deadline
     const std::int64_t period_ns = std::llround(cfg_.period_s * 1e9);
-    const std::int64_t t0 = now_ns();
+    const std::int64_t t0 = monotonic_ns();
     std::int64_t next = t0;
     try {
         while (!stop_requested_.load(std::memory_order_acquire)) {
             sleep_until_ns(next);
-            const std::int64_t start = now_ns();
+            const std::int64_t start = monotonic_ns();
             TickRecord rec;
             if (!tick(static_cast<double>(start - t0) * 1e-9, rec)) break;  // device lost
-            const std::int64_t end = now_ns();
+            const std::int64_t end = monotonic_ns();
             finish(rec, static_cast<double>(end - start) * 1e-9);
             next += period_ns;
             if (end >= next) {  // missed the next deadline: count it and skip the deadlines already past
@@ -545,10 +531,10 @@ void HapticLoop::run() noexcept {
 
 void HapticLoop::run_free() {
     for (std::uint64_t n = 0; !stop_requested_.load(std::memory_order_acquire); ++n) {
-        const std::int64_t start = now_ns();
+        const std::int64_t start = monotonic_ns();
         TickRecord rec;
         if (!tick(static_cast<double>(n) * cfg_.period_s, rec)) break;  // the replay's end
-        finish(rec, static_cast<double>(now_ns() - start) * 1e-9);
+        finish(rec, static_cast<double>(monotonic_ns() - start) * 1e-9);
     }
 }
 

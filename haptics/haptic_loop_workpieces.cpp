@@ -5,25 +5,14 @@
 
 #include <chrono>
 #include <cstdint>
-#include <ctime>
 #include <limits>
 #include <thread>
 
 #include "haptics/forces/force_clamp.hpp"
 #include "haptics/haptic_loop.hpp"
+#include "haptics/realtime.hpp"
 
 namespace tridex::haptics {
-
-namespace {
-
-// CLOCK_MONOTONIC in s, as the loop's own clock reads it (whole nanoseconds, then seconds).
-double monotonic_s() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<double>(static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec) * 1e-9;
-}
-
-}  // namespace
 
 HapticLoop::ContactOut HapticLoop::contact(const Pose& tool_world, double dt_s) {
     ContactOut out;
@@ -109,7 +98,7 @@ void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool
     rec.symmetry = symmetry_from_bits(symmetry_.load(std::memory_order_relaxed));
     rec.tool = tool_;
     rec.workpiece = static_cast<std::uint8_t>(target_);
-    const double made_s = monotonic_s();  // CLOCK_MONOTONIC: std::chrono::steady_clock on Linux
+    const double made_s = static_cast<double>(monotonic_ns()) * 1e-9;  // std::chrono::steady_clock's time on Linux
     // A free-running loop (a replay) stays at most kFreeRunLead samples ahead of each sculpt thread, as a paced loop
     // that the sculpt threads keep up with does: every sample reaches them, and the surfaces the contact reads are as
     // recent as in the session.

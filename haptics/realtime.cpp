@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -12,6 +13,21 @@
 #include <string>
 
 namespace tridex::haptics {
+
+std::int64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000LL + ts.tv_nsec;
+}
+
+void sleep_until_ns(std::int64_t t_ns) {
+    timespec ts{};
+    ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000LL);
+    ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000LL);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+}
+
 
 RealtimeStatus request_realtime(int priority, bool lock_memory) {
     RealtimeStatus st;

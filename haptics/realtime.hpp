@@ -1,9 +1,18 @@
 // haptics/realtime.hpp - ask the OS for real-time scheduling and resident memory for the haptic thread.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace tridex::haptics {
+
+/// CLOCK_MONOTONIC now, in whole nanoseconds: the clock the real-time threads' absolute deadlines are on
+/// (std::chrono::steady_clock's on Linux). Never fails.
+std::int64_t monotonic_ns();
+
+/// Sleeps until CLOCK_MONOTONIC reaches `t_ns` (an absolute deadline, ns: clock_nanosleep with TIMER_ABSTIME), going
+/// back to sleep after a signal; returns at once for a deadline already past.
+void sleep_until_ns(std::int64_t t_ns);
 
 /// What the system granted to request_realtime(). Refusals are normal (an unprivileged user, a
 /// container without CAP_SYS_NICE, an RT-throttled cgroup) and only reported.
