@@ -181,7 +181,12 @@ std::string header_json(const std::string& path, const RecordingHeader& h) {
                             "\" is not undo, redo, end_stroke, finer or coarser");
             if (k > 0 && m.after_samples < (*h.marks)[k - 1].after_samples)
                 throw Error(path + ": header.marks[" + std::to_string(k) + "].after_samples decreases");
-            marks.push_back({{"after_samples", m.after_samples}, {"kind", m.kind}});
+            if (m.workpiece >= kMaxRecordedWorkpieces)
+                throw Error(path + ": header.marks[" + std::to_string(k) + "].workpiece = " + std::to_string(m.workpiece) +
+                            " is not 0.." + std::to_string(kMaxRecordedWorkpieces - 1));
+            nlohmann::json e = {{"after_samples", m.after_samples}, {"kind", m.kind}};
+            if (m.workpiece > 0) e["workpiece"] = m.workpiece;  // absent for the first, as before
+            marks.push_back(std::move(e));
         }
         j["marks"] = std::move(marks);
     }
@@ -241,6 +246,11 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
             if (kind == e.end() || !kind->is_string() || !recorded_mark_kind(kind->get<std::string>()))
                 throw Error(at + ".kind missing or not \"undo\", \"redo\", \"end_stroke\", \"finer\" or \"coarser\"");
             RecordedMark r{n->get<std::uint64_t>(), kind->get<std::string>()};
+            if (const auto w = e.find("workpiece"); w != e.end()) {
+                if (!w->is_number_unsigned() || w->get<std::uint64_t>() >= static_cast<std::uint64_t>(kMaxRecordedWorkpieces))
+                    throw Error(at + ".workpiece is not an integer 0.." + std::to_string(kMaxRecordedWorkpieces - 1));
+                r.workpiece = static_cast<std::uint8_t>(w->get<std::uint64_t>());
+            }
             if (!h.marks->empty() && r.after_samples < h.marks->back().after_samples)
                 throw Error(at + ".after_samples = " + std::to_string(r.after_samples) + " is less than the mark before it (" +
                             std::to_string(h.marks->back().after_samples) + ")");

@@ -74,6 +74,9 @@ struct RecordedTick {
 struct RecordedMark {
     std::uint64_t after_samples = 0;  ///< tool samples the sculpt thread had taken before it
     std::string kind;                 ///< "undo", "redo", "end_stroke", "finer" or "coarser" (a coarseness change)
+    /// The workpiece whose sculpt thread made it (0..kMaxRecordedWorkpieces-1; every workpiece's thread takes every
+    /// sample, so after_samples counts alike for all). 0 in files written before sessions held several.
+    std::uint8_t workpiece = 0;
 };
 
 /// The session-wide part of a recording.

@@ -50,6 +50,9 @@ ActionRegistry make_builtin() {
                   [](ActionTarget& t) { (void)t.resize_tool(-1); }));
     r.add(command("symmetry.toggle", "Symmetry", "|", "sculpting symmetry off, or on again (mirror or radial copies)",
                   [](ActionTarget& t) { t.toggle_symmetry(); }));
+    r.add(command("workpiece.next", "Workpiece", "#",
+                  "the workpiece the tool carves: automatic (the touched or nearest), then each in turn",
+                  [](ActionTarget& t) { t.next_workpiece(); }));
     r.add(command("coarseness.finer", "Finer", "N*2",
                   "the model re-sampled onto a lattice of twice the resolution (one undo step)",
                   [](ActionTarget& t) { (void)t.request(SculptRequest::kFiner); }));

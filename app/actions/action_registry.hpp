@@ -38,6 +38,9 @@ public:
     virtual void toggle_occlusion() = 0;
     /// Turns the sculpting symmetry off, or on again (the session's own symmetry, a mirror across x when it has none).
     virtual void toggle_symmetry() = 0;
+    /// Chooses the next workpiece the tool carves, in turn: automatic (the touched one, else the nearest), then the
+    /// first, the second, ... and automatic again; nothing with one workpiece.
+    virtual void next_workpiece() = 0;
     /// Ends the session: its outputs are written as when Esc is pressed.
     virtual void end_session() = 0;
 };

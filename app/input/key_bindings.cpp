@@ -33,6 +33,7 @@ const std::vector<KeyBinding>& desk_key_bindings() {
         {Key::kTab, 0, "view.swap_eyes", false, false},
         {Key::kO, 0, "view.occlusion", false, false},
         {Key::kM, 0, "symmetry.toggle", false, false},
+        {Key::kP, 0, "workpiece.next", false, false},
         {Key::kPageUp, 0, "coarseness.finer", false, false},
         {Key::kPageDown, 0, "coarseness.coarser", false, false},
         {Key::kEscape, 0, "session.end", false, false},

@@ -48,7 +48,9 @@ MenuItem default_menu(const MaterialPalette& palette) {
         leaf("file.save"),
         branch("End", "...", {leaf("session.end"), MenuItem{"Cancel", "", "", {}}}),
         // Place (the whole workpiece follows the tool) arranges the scene, as the view's slices do.
-        branch("View", "...", {leaf("view.reset"), leaf("view.swap_eyes"), leaf("view.occlusion"), leaf("op.place")}),
+        // Choosing the workpiece the tool carves (of several) arranges it too.
+        branch("View", "...", {leaf("view.reset"), leaf("view.swap_eyes"), leaf("view.occlusion"), leaf("workpiece.next"),
+                               leaf("op.place")}),
         leaf("edit.undo"),
         leaf("op.next"),
     };

@@ -12,6 +12,8 @@
 #include "app/support/json_fields.hpp"
 #include "app/support/json_file.hpp"
 #include "app/scene/scene_materials.hpp"
+#include "app/scene/scene_workpieces.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/trial_table.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "devices/net/enet_link.hpp"
@@ -44,69 +46,6 @@ Quat quat_of(const Fields& f, const json& v, const std::string& field) {
     const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6) f.fail(field, "must be a unit quaternion (|q| = 1 within 1e-6)");
     return out;
-}
-
-// The lattice holds depths as floats from a local origin: a workpiece stays within 1 km of the origin.
-void check_within_reach(Fields& f, const std::string& name, const Vec3& p) {
-    for (int a = 0; a < 3; ++a)
-        if (!(std::abs(p[a]) <= 1e3))
-            f.fail("workpiece." + name, "must lie within 1 km of the origin on every axis, got " + format_number(p[a]) +
-                                            " m on axis " + "xyz"[a]);
-}
-
-void read_workpiece(Fields& top, RunScene& s, const std::string& base_dir) {
-    SessionSpec& sp = s.spec;
-    const json* w = top.get("workpiece");
-    if (!w) {
-        sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();
-        return;
-    }
-    Fields f(*w, top.source(), "workpiece");
-    const std::string model = f.text("model", "");
-    if (!model.empty()) {  // a saved model decides the lattice, the placement and the resolution
-        for (const char* other : {"mesh", "resolution", "stock_m", "centre_m"})
-            if (f.get(other))
-                f.fail(std::string("workpiece.") + other, "not with workpiece.model (the saved model decides it)");
-        const fs::path p = fs::path(model).is_absolute() ? fs::path(model) : fs::path(base_dir) / model;
-        if (!fs::is_regular_file(p)) f.fail("workpiece.model", "no such file: " + p.string());
-        sp.model_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
-        // The model's names and colours, when the scene renames, recolours or names them (else the session takes
-        // them from the model it loads: prepare_session_workpiece).
-        const json* named = top.get("material");
-        if (top.get("materials") || (named && named->is_string())) {
-            try {
-                sp.palette = compute::load_tdx_palette(sp.model_path);
-            } catch (const Error& e) {
-                f.fail("workpiece.model", e.what());
-            }
-        }
-        sp.mesh_path.clear();
-        // Where the saved model's centre goes (default: where it was saved), relative to the centre it was saved at
-        // (only known once the model is loaded: workpiece_pose() turns about that centre).
-        if (f.get("position_m")) {
-            sp.workpiece_position_m = f.vec3("position_m", Vec3(0.0));
-            check_within_reach(f, "position_m", *sp.workpiece_position_m);
-        }
-        sp.workpiece_turn = f.turn();
-        f.finish();
-        return;
-    }
-    const std::string mesh = f.text("mesh", "");
-    if (mesh.empty()) {
-        sp.mesh_path = fs::absolute(default_mesh_path()).lexically_normal().string();
-    } else {
-        const fs::path p = fs::path(mesh).is_absolute() ? fs::path(mesh) : fs::path(base_dir) / mesh;
-        if (fs::is_directory(p)) f.fail("workpiece.mesh", "is a folder, not a mesh file: " + p.string());
-        if (!fs::is_regular_file(p)) f.fail("workpiece.mesh", "no such file: " + p.string());
-        sp.mesh_path = fs::absolute(p).lexically_normal().string();  // a recording replays from any folder
-    }
-    sp.resolution = f.integer("resolution", sp.resolution, 8, 4096);
-    sp.stock_m = f.number("stock_m", sp.stock_m, 0.001, 100.0);  // validate_spec's range
-    sp.workpiece_centre_m = f.vec3("centre_m", sp.workpiece_centre_m);
-    check_within_reach(f, "centre_m", sp.workpiece_centre_m);
-    if (f.get("position_m")) f.fail("workpiece.position_m", "only with workpiece.model (a mesh is placed by centre_m)");
-    sp.workpiece_turn = f.turn();
-    f.finish();
 }
 
 void read_tool(Fields& top, RunScene& s, const std::string& base_dir) {
@@ -348,6 +287,7 @@ void read_stroke(Fields& top, RunScene& s) {
         if (axis != "y" && axis != "z") f.fail("stroke.press_axis", "must be \"z\" (from the viewer) or \"y\" (from above)");
         p.press_axis = axis == "y" ? 1 : 2;
         p.passes = f.integer("passes", 1, 1, 16);
+        s.stroke_workpiece = static_cast<std::size_t>(f.integer("workpiece", 0, 0, static_cast<int>(workpiece_count(s.spec)) - 1));
         if (const json* mv = f.get("moves")) {
             if (!mv->is_array()) f.fail("stroke.moves", "must be a list of \"jump\" and \"drag\"");
             if (static_cast<int>(mv->size()) > p.passes - 1)
@@ -533,7 +473,8 @@ RunScene run_scene_from_json(const json& j, const std::string& source, const std
     RunScene s;
     s.source = source;
     Fields top(j, source, "");
-    read_workpiece(top, s, base_dir);
+    const json* named = top.get("material");
+    read_scene_workpieces(top, s.spec, base_dir, top.get("materials") || (named && named->is_string()));
     read_tool(top, s, base_dir);
     read_device(top, s, base_dir);
     read_op(top, s);

@@ -71,6 +71,8 @@ struct RunStudy {
 ///                  "resolution": 128,             // lattice cells along the longest side, 8..4096
 ///                  "stock_m": 0.12,               // longest side after scaling, m, (0, 10]
 ///                  "centre_m": [0, 0, 0.05] },    // where its bounding box is centred, m
+///   "workpieces": [ {...}, {...} ],                  // instead of "workpiece": 1..8 such objects, each its own
+///                                                 // model, lattice and pose (app/scene/scene_workpieces.hpp)
 ///   "tool": { "shape": "ball" | "flat_end" | "mesh",       // core/tool_shape.hpp
 ///             "radius_m": 0.006, "length_m": 0.02,            // length_m: flat_end only (default 4 radii)
 ///             "mesh": "tool.off", "size_m": 0.012,            // mesh only (instead of radius_m): a closed mesh
@@ -87,7 +89,8 @@ struct RunStudy {
 ///                                                          // device -> world gain in [0.01, 100] (kWorkspaceScaleMin,
 ///                                                          // kWorkspaceScaleMax), or "fit" (workspace_fit)
 ///   "stroke": { "duration_s": 3, "length_m": 0.08, "depth_m": 0.004, "clearance_m": 0.02,
-///               "press_axis": "z" }  |  "none",              // app/scene/stroke.hpp plan_stroke
+///               "press_axis": "z", "workpiece": 0 }  |  "none",  // app/scene/stroke.hpp plan_stroke, on
+///                                                 // that workpiece of "workpieces"
 ///   "cursor": [ {"t_s": 0.5, "x_px": 400, "y_px": 300, "buttons": 1}, ... ],  // device "mouse": the scripted
 ///                                                 // cursor (pixels of one eye's image; buttons 1 left, 2 right)
 ///   "display": "desktop" | "powerwall" | { display config, renderer/camera/display_config.hpp },
@@ -135,6 +138,8 @@ struct RunScene {
     /// hand, not the model: not in the spec.
     std::map<std::string, double> device_options;
     StrokeParams stroke;                ///< the scripted stroke (tool_radius_m = tool_radius_m)
+    /// The workpiece the scripted stroke is planned on ("stroke": {"workpiece": k}, 0..the scene's workpieces - 1).
+    std::size_t stroke_workpiece = 0;
     renderer::DisplayConfig display = renderer::DisplayConfig::desktop();  ///< screen, stereo output, eyes, rate
     HeadMode head = HeadMode::kFixed;   ///< head pose provider
     Pose head_pose;                     ///< fixed head / tracker fallback pose (position default: display.default_head_m)

@@ -8,6 +8,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "app/scene/workpiece_list.hpp"
 #include "app/support/json_file.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -56,7 +57,7 @@ json reference_scene_json(const ReferenceSpec& r) {
 }  // namespace
 
 bool needs_saved_scene(const SessionSpec& spec, const Pose& pose) {
-    return !spec.references.empty() || !pose.is_identity();
+    return !spec.references.empty() || !pose.is_identity() || !spec.more_workpieces.empty();
 }
 
 std::string saved_scene_path(const std::string& model_path) {
@@ -66,15 +67,29 @@ std::string saved_scene_path(const std::string& model_path) {
 }
 
 json saved_scene_json(json scene, const std::string& scene_dir, const std::string& model_path, const SessionSpec& spec,
-                      const Pose& pose) {
+                      const Pose& pose, const std::vector<Pose>& more_poses) {
     if (!scene.is_object()) scene = json::object();
     for (const char* script : {"stroke", "keys", "cursor"}) scene.erase(script);
     scene["stroke"] = "none";
-    scene["workpiece"] = {{"model", fs::path(model_path).filename().string()}};
-    if (!pose.is_identity()) {  // where the model's centre is placed, and its turn
-        const Vec3 at = pose.apply(spec.workpiece_centre_m);
-        scene["workpiece"]["position_m"] = {at.x, at.y, at.z};
-        put_turn(scene["workpiece"], pose.orientation);
+    // Each workpiece's saved model, its centre where its pose places it, and its turn.
+    const auto entry = [&](std::size_t k, const Pose& at) {
+        json w{{"model", fs::path(path_for_workpiece(model_path, k)).filename().string()}};
+        if (!at.is_identity()) {
+            const Vec3 c = at.apply(workpiece_at(spec, k).centre_m);
+            w["position_m"] = {c.x, c.y, c.z};
+            put_turn(w, at.orientation);
+        }
+        return w;
+    };
+    scene.erase("workpiece");
+    scene.erase("workpieces");
+    if (spec.more_workpieces.empty()) {
+        scene["workpiece"] = entry(0, pose);
+    } else {
+        json all = json::array({entry(0, pose)});
+        for (std::size_t k = 1; k < workpiece_count(spec); ++k)
+            all.push_back(entry(k, k - 1 < more_poses.size() ? more_poses[k - 1] : workpiece_pose(spec_for_workpiece(spec, k))));
+        scene["workpieces"] = all;
     }
     scene.erase("references");
     if (!spec.references.empty()) {
@@ -88,13 +103,13 @@ json saved_scene_json(json scene, const std::string& scene_dir, const std::strin
 }
 
 std::string write_saved_scene(const std::string& scene_path, const std::string& model_path, const SessionSpec& spec,
-                              const Pose& pose) {
+                              const Pose& pose, const std::vector<Pose>& more_poses) {
     const bool built_in = scene_path.empty() || scene_path == "<built-in>";
     const json scene = built_in ? json::object() : read_scene_json(scene_path);
     const std::string dir = built_in ? std::string(".") : fs::path(scene_path).parent_path().string();
     const std::string out = saved_scene_path(model_path);
     try {
-        write_file_atomically(out, saved_scene_json(scene, dir, model_path, spec, pose).dump(2) + "\n");
+        write_file_atomically(out, saved_scene_json(scene, dir, model_path, spec, pose, more_poses).dump(2) + "\n");
     } catch (const Error& e) {
         throw Error(out + ": the saved scene cannot be written: " + e.what());
     }

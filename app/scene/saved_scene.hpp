@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -10,8 +11,8 @@
 
 namespace tridex::app {
 
-/// Whether a saved session needs its scene beside the model to open as it was: objects beside the workpiece, or a
-/// posed workpiece (a .tdx holds the model in its own frame, not where the scene put it).
+/// Whether a saved session needs its scene beside the model to open as it was: objects beside the workpiece, several
+/// workpieces, or a posed workpiece (a .tdx holds the model in its own frame, not where the scene put it).
 /// `pose`: the workpiece's pose now (the scene's, or where the tool placed it).
 bool needs_saved_scene(const SessionSpec& spec, const Pose& pose);
 
@@ -25,13 +26,15 @@ std::string saved_scene_path(const std::string& model_path);
 /// its "references" by the session's (`spec.references`, mesh paths absolute, the turn as axis and angle), its scripts
 /// ("stroke", "keys", "cursor") dropped ("stroke": "none": the new session waits for the hand), and its other relative
 /// paths (tool.mesh, device.key_file, relative to `scene_dir`) made absolute, so it opens from its own folder.
+/// With several workpieces (spec.more_workpieces), "workpieces" instead: the k-th's model is
+/// path_for_workpiece(model_path, k) and its pose more_poses[k-1] (its spec's pose when more_poses is shorter).
 nlohmann::json saved_scene_json(nlohmann::json scene, const std::string& scene_dir, const std::string& model_path,
-                                const SessionSpec& spec, const Pose& pose = Pose{});
+                                const SessionSpec& spec, const Pose& pose = Pose{}, const std::vector<Pose>& more_poses = {});
 
 /// Writes saved_scene_json for the scene file `scene_path` ("" or "<built-in>": the built-in default) to
 /// saved_scene_path(model_path), atomically (a temporary file renamed). Throws tridex::Error naming the file when the
 /// scene cannot be read or the file cannot be written.
 std::string write_saved_scene(const std::string& scene_path, const std::string& model_path, const SessionSpec& spec,
-                              const Pose& pose);
+                              const Pose& pose, const std::vector<Pose>& more_poses = {});
 
 }  // namespace tridex::app

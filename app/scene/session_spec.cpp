@@ -1,5 +1,6 @@
 // app/scene/session_spec.cpp - the session spec: device profile, loop configuration, JSON.
 #include "app/scene/session_spec.hpp"
+#include "app/scene/workpiece_list.hpp"
 
 #include "devices/mouse_device.hpp"
 #include "devices/tracking/tracked_tool_device.hpp"
@@ -253,6 +254,7 @@ void validate_spec(const SessionSpec& s, const std::string& source) {
     } catch (const Error& e) {
         throw Error(source + ": settings: " + e.what());
     }
+    validate_more_workpieces(s, source);
 }
 
 std::pair<std::uint32_t, std::uint64_t> file_crc32(const std::string& path) {
@@ -349,6 +351,7 @@ std::string spec_to_json(const SessionSpec& s) {
         for (const ReferenceSpec& r : s.references) refs.push_back(reference_settings_json(r));
         j["references"] = refs;
     }
+    if (!s.more_workpieces.empty()) j["more_workpieces"] = more_workpieces_json(s);  // absent with one, as before
     if (s.palette != default_material_palette()) {         // absent with the default palette, as before
         json palette = json::array();
         for (int i = 0; i < kPaletteSize; ++i) {
@@ -485,6 +488,7 @@ SessionSpec spec_from_json(const std::string& text, const std::string& source) {
             s.elastic_objects.push_back(e);
         }
     }
+    if (j.contains("more_workpieces")) read_more_workpieces(j.at("more_workpieces"), s, source);
     if (j.contains("references")) {
         const json& rs = j.at("references");
         if (!rs.is_array() || rs.size() > kMaxSceneReferences)

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/scene/reference_objects.hpp"
+#include "app/scene/workpiece_spec.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "core/material_palette.hpp"
@@ -67,6 +68,10 @@ struct SessionSpec {
     /// prepare_session_workpiece turns it into workpiece_shift_m (the model's own centre is known only once it is
     /// loaded); empty = where it was saved. Not part of the settings: workpiece_shift_m is.
     std::optional<Vec3> workpiece_position_m{};
+    /// The session's workpieces after this first one (a scene's "workpieces"[1..], app/scene/workpiece_list.hpp):
+    /// each its own model, lattice and pose, sculpted beside the first by the same tool. At most
+    /// haptics::kMaxLoopWorkpieces - 1; empty (the default) = one workpiece, as in every session before.
+    std::vector<WorkpieceSpec> more_workpieces{};
     /// The tool that cuts and touches (core/tool_shape.hpp). kMesh: radius_m is the placed mesh's bounding
     /// radius about its tip (set_tool_mesh), mesh_id 0 (the session's one mesh tool).
     ToolShape tool{ToolKind::kBall, 0.008, 0.0, 0};

@@ -141,6 +141,12 @@ void check_inputs_unchanged(const SessionSpec& s, const std::string& source, con
         check_file("tool mesh", s.tool_mesh_path, s.tool_mesh_crc32, s.tool_mesh_bytes, source, since);
     for (const ReferenceSpec& r : s.references)
         check_file("reference mesh", r.mesh_path, r.mesh_crc32, r.mesh_bytes, source, since, "it would feel different");
+    for (const WorkpieceSpec& w : s.more_workpieces) {  // each further workpiece's mesh or model
+        if (w.model_path.empty())
+            check_file("workpiece mesh", w.mesh_path, w.mesh_crc32, w.mesh_bytes, source, since);
+        else
+            check_file("workpiece model", w.model_path, w.model_crc32, w.model_bytes, source, since);
+    }
 }
 
 }  // namespace tridex::app

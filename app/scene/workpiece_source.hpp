@@ -49,7 +49,7 @@ Workpiece prepare_session_workpiece(SessionSpec& spec);
 /// was). Throws tridex::Error "<path>: ..." when it cannot be written.
 void save_session_model(const std::string& path, const Workpiece& workpiece, const SessionSpec& spec);
 
-/// Refuses the files a recorded spec names when they are no longer the bytes the session used: the workpiece mesh
+/// Refuses the files a recorded spec names when they are no longer the bytes the session used: each workpiece's mesh
 /// or saved model, a mesh tool's mesh and each reference object's mesh, each against its recorded CRC-32 and size (a
 /// file recorded without them, size 0, is accepted). `since` names the record ("the recording", "the session").
 /// Throws tridex::Error "<source>: the <workpiece mesh|workpiece model|tool mesh|reference mesh> <path> changed since

@@ -427,6 +427,10 @@ std::vector<std::size_t> OffscreenStereoRenderer::Impl::add_objects(const SceneV
                 throw Error("renderer: SceneView.objects[" + std::to_string(i) + "].colour must be in [0, 1]");
         ObjectMesh& om = objects[i];
         if (o.mesh != om.source || o.mesh->triangles.size() != om.triangles) {
+            if (om.source) {  // earlier frames in flight may still read the buffers it had
+                slots.retire(std::move(om.mesh));
+                om.mesh = GpuMesh{};
+            }
             try {
                 om.mesh.assign(*context, *o.mesh);
             } catch (const Error& e) {

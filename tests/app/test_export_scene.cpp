@@ -1,6 +1,7 @@
 // `tridex export SCENE.json`: a scene's workpiece written where the scene's pose places it, vertex for vertex the
 // model's contour moved by the pose; with --objects all, its reference objects beside it in one file (an OBJ object
-// and material each), each where the session draws it; bad combinations refused in one line.
+// and material each), each where the session draws it; a scene of two workpieces as one mesh each or all in one; bad
+// combinations refused in one line.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -14,6 +15,7 @@
 #include "app/commands/export/export.hpp"
 #include "app/scene/reference_objects.hpp"
 #include "app/scene/run_scene.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -162,6 +164,42 @@ TEST(ExportScene, TheWorkpieceIsWhereItsPosePlacesItAndTheReferencesBesideIt) {
     EXPECT_NE(header.find("element vertex " + std::to_string(want_workpiece.size() + want_ref.size()) + "\n"),
               std::string::npos)
         << header;
+    fs::remove_all(dir);
+}
+
+TEST(ExportScene, ASceneOfTwoWorkpiecesExportsOneMeshEachOrAllInOne) {
+    const fs::path dir = test::temp_dir("export_two");
+    (void)write_posed_scene(dir);  // b.tdx
+    const std::string scene_path = (dir / "two.json").string();
+    std::ofstream(scene_path) << R"({"workpieces": [
+        {"model": "b.tdx"},
+        {"mesh": ")" << asset("bunny.off") << R"(", "resolution": 32, "stock_m": 0.08, "centre_m": [0.2, 0, 0.05],
+         "axis": [0, 1, 0], "angle_deg": 90}]})";
+    // What the session draws of the second: its contour through its own pose.
+    RunScene scene = load_run_scene(scene_path);
+    std::vector<Workpiece> more = prepare_more_workpieces(scene.spec);
+    ASSERT_EQ(more.size(), 1u);
+    const Pose pose = workpiece_pose(spec_for_workpiece(scene.spec, 1));
+    compute::Contourer contourer(more[0].model);
+    contourer.update(more[0].model);
+    std::vector<Vec3> want;
+    for (const Vec3& p : contourer.mesh().positions) want.push_back(pose.apply(p));
+
+    ExportOptions o;
+    o.model = scene_path;
+    o.out = (dir / "two.obj").string();
+    const ExportResult r = run_export(o);  // one mesh per workpiece: two.obj and two-wp2.obj
+    EXPECT_EQ(r.workpieces, 2u);
+    ASSERT_TRUE(fs::exists(dir / "two-wp2.obj"));
+    ASSERT_TRUE(fs::exists(dir / "two-wp2.mtl"));
+    EXPECT_LT(largest_gap(read_obj((dir / "two-wp2.obj").string()).vertices.at(""), want), 1e-8);
+    o.objects = "all";
+    o.out = (dir / "all.obj").string();
+    (void)run_export(o);
+    const ObjFile f = read_obj(o.out);
+    EXPECT_EQ(f.order, (std::vector<std::string>{"workpiece", "workpiece_2"}));
+    EXPECT_LT(largest_gap(f.vertices.at("workpiece_2"), want), 1e-8);
+    EXPECT_GT(largest_gap(f.vertices.at("workpiece_2"), contourer.mesh().positions), 0.05);  // it was placed
     fs::remove_all(dir);
 }
 

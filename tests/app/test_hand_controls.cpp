@@ -56,6 +56,7 @@ struct Recorder final : ActionTarget {
     void swap_eyes() override { did.push_back("swap"); }
     void toggle_occlusion() override { did.push_back("ao"); }
     void toggle_symmetry() override { did.push_back("symmetry"); }
+    void next_workpiece() override { did.push_back("workpiece"); }
     void end_session() override { did.push_back("end"); }
 };
 

@@ -10,6 +10,7 @@
 
 #include "app/scene/reference_objects.hpp"
 #include "app/scene/run_scene.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/support/memory.hpp"
 #include "app/support/output_dir.hpp"
@@ -32,7 +33,45 @@ struct ExportSource {
     MaterialPalette palette = default_material_palette();
     Pose pose{};  // the model frame -> the world (a scene's workpiece pose)
     std::vector<ReferenceSpec> references;
+    // A scene's further workpieces: each model, its placement and pose, as the first's.
+    struct More {
+        compute::TriDexel model;
+        Mat4 to_world{1.0};
+        Pose pose{};
+    };
+    std::vector<More> more;
 };
+
+// A model contoured whole on the CPU (as a session's final mesh) and moved into the frame asked for: the world by its
+// pose, scaled to the units, or back into its input mesh's frame.
+struct Contoured {
+    TriMesh mesh;
+    std::vector<std::uint8_t> materials;
+    double volume_dexel_m3 = 0.0;
+    double volume_mesh_m3 = 0.0;  // of the mesh before it was moved or scaled, m^3
+};
+
+Contoured contour_placed(compute::TriDexel& model, const Pose& pose, const Mat4& to_world, bool input_frame,
+                         double scale, const std::string& what) {
+    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
+    compute::Contourer contourer(model);
+    Contoured c;
+    {
+        ProgressReporter::Step step = progress().step("contouring " + what);
+        contourer.update(model, step.fn());
+        c.mesh = contourer.mesh();
+    }
+    c.materials = contourer.mesh_materials();
+    c.volume_dexel_m3 = compute::dexel_volume_m3(model);
+    c.volume_mesh_m3 = signed_volume(c.mesh);
+    if (input_frame) {  // the model frame -> the input mesh's frame: the inverse of the model's placement
+        const Mat4 from_world = glm::inverse(to_world);
+        for (Vec3& p : c.mesh.positions) p = Vec3(from_world * glm::dvec4(p, 1.0));
+    } else {
+        for (Vec3& p : c.mesh.positions) p = scale * pose.apply(p);
+    }
+    return c;
+}
 
 bool is_scene_file(const std::string& path) {
     return path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
@@ -57,6 +96,9 @@ ExportSource load_source(const std::string& path) {
     src.palette = spec.palette;
     src.pose = workpiece_pose(spec);
     src.references = spec.references;
+    std::vector<Workpiece> more = prepare_more_workpieces(spec);
+    for (std::size_t k = 1; k <= more.size(); ++k)
+        src.more.push_back({std::move(more[k - 1].model), more[k - 1].to_world, workpiece_pose(spec_for_workpiece(spec, k))});
     return src;
 }
 
@@ -76,15 +118,20 @@ std::string reference_material_name(const std::string& name) {
     return out.substr(0, kMaterialNameMax);
 }
 
-// The workpiece and the references as OBJ objects, one material per palette entry and one per reference.
-void write_obj(const std::string& out, const TriMesh& mesh, const std::vector<std::uint8_t>& materials,
-               const MaterialPalette& palette, const std::vector<ReferenceSpec>& refs,
-               const std::vector<TriMesh>& ref_meshes) {
-    if (refs.empty()) return compute::write_obj_with_materials(out, mesh, materials, palette);
+// The workpieces ("workpiece", "workpiece_2", ...) and the references as OBJ objects, one material per palette entry
+// and one per reference.
+void write_obj(const std::string& out, const std::vector<Contoured>& pieces, const MaterialPalette& palette,
+               const std::vector<ReferenceSpec>& refs, const std::vector<TriMesh>& ref_meshes) {
+    if (refs.empty() && pieces.size() == 1)
+        return compute::write_obj_with_materials(out, pieces[0].mesh, pieces[0].materials, palette);
     std::vector<compute::ObjMaterial> lib;
     for (const PaletteEntry& e : palette.entries) lib.push_back({e.name, e.rgb});
-    const std::vector<std::uint8_t> tri = compute::triangle_materials(mesh, materials);
-    std::vector<compute::ObjObject> objects{{"workpiece", &mesh, std::vector<std::uint16_t>(tri.begin(), tri.end())}};
+    std::vector<compute::ObjObject> objects;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+        const std::vector<std::uint8_t> tri = compute::triangle_materials(pieces[k].mesh, pieces[k].materials);
+        objects.push_back({k == 0 ? std::string("workpiece") : "workpiece_" + std::to_string(k + 1), &pieces[k].mesh,
+                           std::vector<std::uint16_t>(tri.begin(), tri.end())});
+    }
     for (std::size_t i = 0; i < refs.size(); ++i) {
         std::string name = reference_material_name(refs[i].name);
         for (int k = 2; std::any_of(lib.begin(), lib.end(), [&](const auto& m) { return m.name == name; }); ++k)
@@ -103,6 +150,31 @@ void append_mesh(TriMesh& mesh, const TriMesh& extra) {
     const auto base = static_cast<std::uint32_t>(mesh.positions.size());
     mesh.positions.insert(mesh.positions.end(), extra.positions.begin(), extra.positions.end());
     for (auto t : extra.triangles) mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
+// `pieces` (and, with `refs`, the references) in one file: an OBJ object each, or one STL or PLY mesh (PLY vertices in
+// their material's palette colour, each reference's in its own).
+void write_pieces(const std::string& out, compute::MeshFileFormat format, const std::vector<Contoured>& pieces,
+                  const MaterialPalette& palette, const std::vector<ReferenceSpec>& refs,
+                  const std::vector<TriMesh>& ref_meshes) {
+    if (format == compute::MeshFileFormat::kObj) return write_obj(out, pieces, palette, refs, ref_meshes);
+    TriMesh mesh;
+    std::vector<std::array<std::uint8_t, 3>> colours;
+    const bool ply = format == compute::MeshFileFormat::kPly;
+    for (const Contoured& c : pieces) {
+        append_mesh(mesh, c.mesh);
+        if (ply)
+            for (std::uint8_t m : c.materials) colours.push_back(srgb8(palette[m]));
+    }
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+        append_mesh(mesh, ref_meshes[i]);
+        const Vec3& c = refs[i].colour;
+        if (ply)
+            colours.insert(colours.end(), ref_meshes[i].positions.size(),
+                           {to_byte(static_cast<float>(c.x)), to_byte(static_cast<float>(c.y)),
+                            to_byte(static_cast<float>(c.z))});
+    }
+    compute::write_mesh_file(out, mesh, colours);
 }
 
 }  // namespace
@@ -128,29 +200,28 @@ ExportResult run_export(const ExportOptions& o) {
     check_output_file(o.out, "OUT");
     if (format == compute::MeshFileFormat::kObj) check_output_file(compute::mtl_path_for(o.out), "OUT's material library");
     ExportSource src = load_source(o.model);
-    compute::TriDexel& model = src.model;
-    std::fill(model.tiles.dirty.begin(), model.tiles.dirty.end(), std::uint8_t{1});
-    compute::Contourer contourer(model);
-    TriMesh mesh;
-    {
-        ProgressReporter::Step step = progress().step("contouring the model");
-        contourer.update(model, step.fn());
-        mesh = contourer.mesh();
-    }
-    const std::vector<std::uint8_t> materials = contourer.mesh_materials();
-
+    const bool input = o.frame == "input";
+    std::vector<Contoured> pieces;
+    pieces.push_back(contour_placed(src.model, src.pose, src.to_world, input, scale, "the model"));
+    for (std::size_t k = 0; k < src.more.size(); ++k)
+        pieces.push_back(contour_placed(src.more[k].model, src.more[k].pose, src.more[k].to_world, input, scale,
+                                        "workpiece " + std::to_string(k + 2)));
     ExportResult r;
-    r.volume_dexel_m3 = compute::dexel_volume_m3(model);
-    r.volume_mesh_m3 = signed_volume(mesh);
-    r.vertices = mesh.positions.size();
-    r.triangles = mesh.triangles.size();
-    r.boundary_edges = edge_stats(mesh).boundary_edges;
+    const TriMesh& first = pieces[0].mesh;
+    r.volume_dexel_m3 = pieces[0].volume_dexel_m3;
+    r.volume_mesh_m3 = pieces[0].volume_mesh_m3;
+    r.vertices = first.positions.size();
+    r.triangles = first.triangles.size();
+    r.boundary_edges = edge_stats(first).boundary_edges;
+    r.workpieces = pieces.size();
     if (r.triangles == 0) throw Error(o.model + ": the model is empty; nothing to export");
-    if (o.frame == "input") {  // the model frame -> the input mesh's frame: the inverse of the model's placement
-        const Mat4 from_world = glm::inverse(src.to_world);
-        for (Vec3& p : mesh.positions) p = Vec3(from_world * glm::dvec4(p, 1.0));
-    } else {
-        for (Vec3& p : mesh.positions) p = scale * src.pose.apply(p);
+    // Each further workpiece in a file of its own beside OUT, unless all go in one.
+    std::vector<std::string> files{o.out};
+    for (std::size_t k = 1; k < pieces.size() && !all; ++k) {
+        files.push_back(path_for_workpiece(o.out, k));
+        check_output_file(files.back(), "OUT's workpiece " + std::to_string(k + 1));
+        if (format == compute::MeshFileFormat::kObj)
+            check_output_file(compute::mtl_path_for(files.back()), "OUT's workpiece " + std::to_string(k + 1) + "'s materials");
     }
     std::vector<ReferenceSpec> refs = all ? src.references : std::vector<ReferenceSpec>{};
     std::vector<TriMesh> ref_meshes;
@@ -160,35 +231,25 @@ ExportResult run_export(const ExportOptions& o) {
         for (Vec3& p : ref_meshes.back().positions) p *= scale;
     }
     r.references = refs.size();
-    {
-        ProgressReporter::Step step = progress().step("writing " + o.out);
-        if (format == compute::MeshFileFormat::kObj) {  // OBJ + a material library named from the palette
-            write_obj(o.out, mesh, materials, src.palette, refs, ref_meshes);
-        } else {
-            // PLY: the palette's sRGB colour of each vertex's material, each reference's colour on its vertices.
-            std::vector<std::array<std::uint8_t, 3>> colours;
-            if (format == compute::MeshFileFormat::kPly)
-                for (std::uint8_t m : materials) colours.push_back(srgb8(src.palette[m]));
-            for (std::size_t i = 0; i < refs.size(); ++i) {
-                append_mesh(mesh, ref_meshes[i]);
-                const Vec3& c = refs[i].colour;
-                if (format == compute::MeshFileFormat::kPly)
-                    colours.insert(colours.end(), ref_meshes[i].positions.size(),
-                                   {to_byte(static_cast<float>(c.x)), to_byte(static_cast<float>(c.y)),
-                                    to_byte(static_cast<float>(c.z))});
-            }
-            compute::write_mesh_file(o.out, mesh, colours);
-        }
+    for (std::size_t f = 0; f < files.size(); ++f) {
+        ProgressReporter::Step step = progress().step("writing " + files[f]);
+        const std::vector<Contoured> in_file =
+            all ? std::move(pieces) : std::vector<Contoured>{std::move(pieces[f])};
+        write_pieces(files[f], format, in_file, src.palette, f == 0 ? refs : std::vector<ReferenceSpec>{}, ref_meshes);
     }
     const bool posed = !src.pose.is_identity() && o.frame == "world";
-    std::printf("tridex export: %s -> %s (%zu vertices, %zu triangles, %s%s; volume %.6g m^3, tri-dexel %.6g m^3)%s\n",
+    std::printf("tridex export: %s -> %s (%zu vertices, %zu triangles, %s%s; volume %.6g m^3, tri-dexel %.6g m^3)%s%s\n",
                 o.model.c_str(), o.out.c_str(), r.vertices, r.triangles,
                 o.frame == "input" ? "the input mesh's frame and units"
                 : o.units == "mm"  ? "millimetres"
                 : o.units == "in"  ? "inches"
                                    : "metres",
                 posed ? ", placed by the scene's pose" : "", r.volume_mesh_m3, r.volume_dexel_m3,
-                refs.empty() ? "" : (" and " + std::to_string(refs.size()) + " reference object(s)").c_str());
+                refs.empty() ? "" : (" and " + std::to_string(refs.size()) + " reference object(s)").c_str(),
+                r.workpieces < 2 ? ""
+                : all            ? (" and " + std::to_string(r.workpieces - 1) + " more workpiece(s)").c_str()
+                                 : (", and " + std::to_string(r.workpieces - 1) + " more workpiece(s) beside it (" +
+                                    files[1] + (files.size() > 2 ? ", ..." : "") + ")").c_str());
     return r;
 }
 

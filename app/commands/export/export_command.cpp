@@ -27,8 +27,8 @@ CommandAction setup_export(CLI::App& cmd) {
         ->capture_default_str()
         ->check(CLI::IsMember({"world", "input"}));
     cmd.add_option("--objects", o->objects,
-                   "workpiece: the workpiece alone; all: a scene's workpiece and its reference objects in one file (an "
-                   "OBJ object each)")
+                   "workpiece: the workpiece alone (a scene's further workpieces each in a file beside OUT, "
+                   "OUT-wp2.EXT, ...); all: a scene's workpieces and its reference objects in one file (an OBJ object each)")
         ->capture_default_str()
         ->check(CLI::IsMember({"workpiece", "all"}));
     return [o] {

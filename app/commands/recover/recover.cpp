@@ -12,6 +12,7 @@
 #include "app/support/memory.hpp"
 #include "app/support/output_dir.hpp"
 #include "app/support/progress.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/session_recording.hpp"
 #include "app/session/runtime/session_runtime.hpp"
@@ -199,6 +200,9 @@ void run_recover(const std::string& journal_path, const std::string& out) {
                 out.c_str());
     std::printf("  wrote %s/: sculpted.ply, model.tdx, report.json (`tridex run --workpiece %s` carries on)\n",
                 out.c_str(), (dir / "model.tdx").string().c_str());
+    for (std::size_t k = 1; k <= s.more_workpieces.size(); ++k)  // each further workpiece kept its own journal
+        std::printf("  the session's workpiece %zu has its own journal: tridex recover %s\n", k + 1,
+                    path_for_workpiece(journal_path, k).c_str());
 }
 
 }  // namespace tridex::app

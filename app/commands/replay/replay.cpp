@@ -13,6 +13,7 @@
 #include "app/session/record/session_recording.hpp"
 #include "app/support/progress.hpp"
 #include "app/scene/session_spec.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "core/error.hpp"
@@ -54,6 +55,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     check_inputs_unchanged(s, recording_path, "the recording");
     validate_spec(s, recording_path);
     Workpiece wp = prepare_session_workpiece(s);
+    std::vector<Workpiece> more = prepare_more_workpieces(s);  // a session's further workpieces
     // The menu as the recorded session showed it, for the film strip's pictures.
     const MenuTrack menu_track = MenuTrack::from_json_text(rec.header.menu, recording_path);
     std::optional<Workpiece> strip_start;  // the film strip replays the journal from the workpiece as it was
@@ -83,10 +85,12 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     so.gpu = sculpt.gpu;
     // The live session's undos, redos and stroke closes where its sculpt thread took them.
     so.follow_marks = sculpt_marks(rec.header);
+    for (std::size_t k = 1; k <= more.size(); ++k)  // each further workpiece's own
+        loop.more_follow_marks.push_back(sculpt_marks(rec.header, static_cast<std::uint8_t>(k)).value_or(std::vector<SculptMark>{}));
     std::optional<SessionRun> run;
     try {
         run.emplace(run_session(s, std::move(wp), std::move(device), 0, rec.ticks.size() + 1000, timeout_s, start, so,
-                                loop));
+                                loop, std::move(more)));
     } catch (const Error& e) {  // what the recorded samples asked for (a sweep too far away, ...): name the file
         throw Error(recording_path + ": " + e.what());
     }
@@ -94,7 +98,14 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     named.command = "replay";
     OutputWrites writes;
     write_session_outputs(named, *run, t_start, writes);
-    if (!save.empty()) writes.attempt(save, [&] { save_session_model(save, run->runtime->workpiece(), run->runtime->spec()); });
+    if (!save.empty()) {
+        writes.attempt(save, [&] { save_session_model(save, run->runtime->workpiece(), run->runtime->spec()); });
+        for (std::size_t k = 1; k < run->runtime->workpiece_count(); ++k) {  // each further workpiece beside it
+            const std::string path = path_for_workpiece(save, k);
+            const MoreWorkpiece& m = run->runtime->more_workpiece(k);
+            writes.attempt(path, [&] { save_session_model(path, m.workpiece(), m.spec()); });
+        }
+    }
     if (strip_start) {
         writes.attempt(strip.path, [&] {
             const compute::Journal j = compute::read_journal(strip_journal);

@@ -177,6 +177,13 @@ void print_run(const RunResult& r) {
                 static_cast<unsigned long long>(r.mesh_versions_drawn), r.volume_before_m3, r.volume_after_m3,
                 std::fabs(r.volume_before_m3 - r.volume_after_m3) * 1e6,
                 r.volume_after_m3 > r.volume_before_m3 ? "added" : "removed");
+    if (r.more_workpieces.is_array())  // a scene of several workpieces: each further one's own
+        for (const nlohmann::json& m : r.more_workpieces) {
+            const double before = m["volume_before_m3"].get<double>(), after = m["volume_after_m3"].get<double>();
+            std::printf("  workpiece %d: sculpt %llu steps; volume %.6g -> %.6g m^3 (%.4g cm^3 %s)\n",
+                        m["index"].get<int>() + 1, static_cast<unsigned long long>(m["sculpt"]["steps"].get<std::uint64_t>()),
+                        before, after, std::fabs(before - after) * 1e6, after > before ? "added" : "removed");
+        }
     if (r.sculpt.history.undos + r.sculpt.history.redos > 0 || r.saves.saves + r.saves.failures > 0)
         std::printf("  undo %llu, redo %llu (%zu strokes undoable), Ctrl+S saves %llu\n",
                     static_cast<unsigned long long>(r.sculpt.history.undos),

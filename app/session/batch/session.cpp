@@ -5,6 +5,8 @@
 #include "app/session/runtime/frame_loop.hpp"
 #include "app/session/view/framing.hpp"
 #include "app/session/view/symmetry_view.hpp"
+#include "app/session/view/more_view.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/session/run/run_actions.hpp"
 #include "app/support/progress.hpp"
 #include "app/support/stop_signal.hpp"
@@ -138,13 +140,13 @@ std::pair<int, int> parse_image_size(const std::string& text, const std::string&
 
 SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<devices::HapticDevice> device,
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
-                       const SculptOptions& sculpt_opt, const LoopOverrides& loop) {
+                       const SculptOptions& sculpt_opt, const LoopOverrides& loop, std::vector<Workpiece> more) {
     SessionRun run;
     RuntimeOptions ro;
     ro.sculpt = sculpt_opt;
     ro.loop = loop;
     ro.max_ticks = max_records;
-    run.runtime = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(device), start_m, ro);
+    run.runtime = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(more), std::move(device), start_m, ro);
     SessionRuntime& rt = *run.runtime;
     const BackendChoice& booleans = rt.booleans();
     run.sculpt_path = booleans.backend->path();
@@ -192,6 +194,27 @@ SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<de
 }
 
 namespace {
+
+// The smallest box holding both (an empty one adds nothing).
+Aabb united(Aabb a, const Aabb& b) {
+    if (!b.empty()) {
+        a.add(b.lo);
+        a.add(b.hi);
+    }
+    return a;
+}
+
+// Each further workpiece's final model beside the first's `first_ply` (path_for_workpiece), in its model frame.
+void write_more_meshes(SessionRuntime& rt, const std::string& first_ply, OutputWrites& writes) {
+    for (std::size_t k = 1; k < rt.workpiece_count(); ++k) {
+        const std::string ply = path_for_workpiece(first_ply, k);
+        writes.attempt(ply, [&] {
+            std::vector<std::uint8_t> materials;
+            const TriMesh mesh = rt.more_workpiece(k).final_mesh(materials);
+            compute::write_ply(ply, mesh, materials);
+        });
+    }
+}
 
 // The symmetric copies of the tool where the session ended, as ghosts, and the mirror planes, as the window draws them.
 std::vector<renderer::SceneObject> symmetry_objects(const SymmetryGhosts& ghosts,
@@ -263,8 +286,9 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     // Where the loop left the workpiece (the tool may have placed it).
     view.workpiece_pose = run.last_view.tick > 0 ? run.last_view.workpiece_pose : cfg.workpiece_pose;
     const SymmetryGhosts ghosts(wp.model.lattice.bounds(), view.tool_mesh);
-    const std::vector<renderer::SceneObject> ghost_objects =
-        symmetry_objects(ghosts, run.records, cfg.tool, view.workpiece_pose);
+    std::vector<renderer::SceneObject> ghost_objects = symmetry_objects(ghosts, run.records, cfg.tool, view.workpiece_pose);
+    std::vector<TriMesh> more_meshes;  // the further workpieces' final models, by material (drawn from here)
+    const Aabb more_box = append_final_more(rt, run.last_view, settings.palette, more_meshes, ghost_objects);
     view.objects = ghost_objects;
     show_final_workspace(view, run, cfg, profile);
     Pose head;
@@ -273,9 +297,9 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     const auto t_render = Clock::now();
     // The part of the wall the workpiece is seen through from the head (same eyes, same geometry), so that the
     // workpiece fills the images instead of a tenth of a 3 m wall.
-    const renderer::Screen screen = framing_screen(renderer::Screen::powerwall(),
-                                                   placed(wp.model.lattice.bounds(), view.workpiece_pose), head.position,
-                                                   static_cast<double>(opt.width) / opt.height);
+    const renderer::Screen screen =
+        framing_screen(renderer::Screen::powerwall(), united(placed(wp.model.lattice.bounds(), view.workpiece_pose), more_box),
+                       head.position, static_cast<double>(opt.width) / opt.height);
     view.occlusion_strength = opt.ao ? 1.0 : 0.0;
     const renderer::StereoImages eyes = renderer.render(view, screen, head, kEyeSeparation);
     const double render_s = seconds_since(t_render);
@@ -289,6 +313,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     writes.attempt(file("sbs.png"), [&] { renderer::write_png(file("sbs.png"), renderer::side_by_side(eyes.left, eyes.right)); });
     step.update(0.5);
     writes.attempt(file("sculpted.ply"), [&] { compute::write_ply(file("sculpted.ply"), run.carved, run.carved_materials); });
+    write_more_meshes(rt, file("sculpted.ply"), writes);
     writes.attempt(file("haptics.csv"), [&] { write_haptics_csv(file("haptics.csv"), run.records); });
     step.finish();
 
@@ -321,6 +346,7 @@ void write_session_outputs(const OutputOptions& opt, SessionRun& run, Clock::tim
     r.device_link = run.runtime->device_link();
     r.stopped_by = run.stopped_by;
     r.deformation_max_displacement_m = run.deformation_max_displacement_m;
+    r.more_workpieces = more_workpieces_report_json(rt, run.last_view);
     r.sculpt_path = run.sculpt_path;
     r.sculpt_device = run.sculpt_device;
     r.sculpt_path_reason = run.sculpt_path_reason;

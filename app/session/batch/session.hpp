@@ -66,11 +66,12 @@ struct SessionRun {
 /// ticked `ticks` times (0: until the device vanishes, e.g. a replay's end) or `timeout_s` of wall time
 /// passed, keeping at most `max_records` tick records; start_m (world m) centres the first active-surface snapshot. The exported mesh
 /// (SessionRun::carved) is always the CPU Contourer's, of the final model. `loop`: a replay's additions to the
-/// loop configuration (RuntimeOptions::loop). Rethrows a sculpt-thread failure;
+/// loop configuration (RuntimeOptions::loop). `more`: spec.more_workpieces prepared (prepare_more_workpieces),
+/// sculpted beside the first. Rethrows a sculpt-thread failure;
 /// throws tridex::Error when the model does not fit the GPU or the spec is refused.
 SessionRun run_session(const SessionSpec& spec, Workpiece wp, std::unique_ptr<devices::HapticDevice> device,
                        std::size_t ticks, std::size_t max_records, double timeout_s, const Vec3& start_m,
-                       const SculptOptions& sculpt = {}, const LoopOverrides& loop = {});
+                       const SculptOptions& sculpt = {}, const LoopOverrides& loop = {}, std::vector<Workpiece> more = {});
 
 /// The files write_session_outputs writes into the output folder (demo and replay check them against their other
 /// outputs before the session).
@@ -89,6 +90,7 @@ struct OutputOptions {
 
 /// Renders both eyes of the carved workpiece, framed by framing_screen (tool at its last position, the haptic
 /// workspace as a translucent box and, in bubble mode, the bubble) and writes left.png, right.png, sbs.png, sculpted.ply, haptics.csv and report.json
+/// (and, for each further workpiece k, its sculpted-wp<k+1>.ply, in its model frame)
 /// into opt.out, each through `writes` (a file that cannot be written is said at once and costs no other; the
 /// report lists the files written and notes the others), then prints a summary. The caller writes its other outputs
 /// through `writes` too and then calls writes.finish(). Throws tridex::Error when no Vulkan device is usable.

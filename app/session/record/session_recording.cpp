@@ -1,6 +1,7 @@
 // app/session/record/session_recording.cpp - loop records -> recording file.
 #include "app/session/record/session_recording.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -101,25 +102,33 @@ std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, co
     return out;
 }
 
-std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks) {
+std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks,
+                                                  std::span<const std::vector<SculptMark>> more) {
+    const auto kind_of = [](SculptRequest r) {
+        return r == SculptRequest::kUndo      ? "undo"
+               : r == SculptRequest::kRedo    ? "redo"
+               : r == SculptRequest::kFiner   ? "finer"
+               : r == SculptRequest::kCoarser ? "coarser"
+                                              : "end_stroke";
+    };
     std::vector<devices::RecordedMark> out;
     out.reserve(marks.size());
-    for (const SculptMark& m : marks) {
-        const char* kind = m.request == SculptRequest::kUndo      ? "undo"
-                           : m.request == SculptRequest::kRedo    ? "redo"
-                           : m.request == SculptRequest::kFiner   ? "finer"
-                           : m.request == SculptRequest::kCoarser ? "coarser"
-                                                                  : "end_stroke";
-        out.push_back({m.after_samples, kind});
-    }
+    for (const SculptMark& m : marks) out.push_back({m.after_samples, kind_of(m.request), 0});
+    for (std::size_t k = 0; k < more.size(); ++k)
+        for (const SculptMark& m : more[k])
+            out.push_back({m.after_samples, kind_of(m.request), static_cast<std::uint8_t>(k + 1)});
+    // One order for all: by samples, then by workpiece (each workpiece's own marks keep their order).
+    std::stable_sort(out.begin(), out.end(), [](const devices::RecordedMark& a, const devices::RecordedMark& b) {
+        return a.after_samples != b.after_samples ? a.after_samples < b.after_samples : a.workpiece < b.workpiece;
+    });
     return out;
 }
 
-std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header) {
+std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header, std::uint8_t workpiece) {
     if (!header.marks) return std::nullopt;
     std::vector<SculptMark> out;
-    out.reserve(header.marks->size());
     for (const devices::RecordedMark& m : *header.marks) {
+        if (m.workpiece != workpiece) continue;
         const SculptRequest r = m.kind == "undo"      ? SculptRequest::kUndo
                                 : m.kind == "redo"    ? SculptRequest::kRedo
                                 : m.kind == "finer"   ? SculptRequest::kFiner
@@ -147,13 +156,14 @@ devices::Recording session_recording(const SessionSpec& settings, const std::vec
 }
 
 devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
-                                          std::span<const SculptMark> marks) {
+                                          std::span<const SculptMark> marks,
+                                          std::span<const std::vector<SculptMark>> more_marks) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
     header.notes = notes.empty() ? spec_to_json(settings) : notes;
-    header.marks = recorded_marks(marks);
+    header.marks = recorded_marks(marks, more_marks);
     return header;
 }
 

@@ -38,21 +38,26 @@ std::string recorded_tool_problem(const ToolShape& session_tool, const ToolShape
 /// "tick K: <what>" for a tool no session of `spec` uses (recorded_tool_problem).
 std::vector<haptics::ToolChange> tool_schedule(const devices::Recording& rec, const SessionSpec& spec);
 
-/// The sculpt thread's marks (SculptStats::marks: undos, redos, stroke closes) as a recording header keeps them.
-std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks);
+/// The sculpt thread's marks (SculptStats::marks: undos, redos, stroke closes) as a recording header keeps them, and,
+/// merged among them by after_samples (each workpiece's after the first's at the same count), those of a session's
+/// further workpieces (`more`[k-1] of workpiece k).
+std::vector<devices::RecordedMark> recorded_marks(std::span<const SculptMark> marks,
+                                                  std::span<const std::vector<SculptMark>> more = {});
 
-/// The marks a replay follows (SculptThread::follow_marks), from a recording's header; nullopt when the file has
-/// none recorded (written before marks were kept). The header's marks were checked when it was read.
-std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header);
+/// The marks a replay follows on workpiece `workpiece` (SculptThread::follow_marks), from a recording's header;
+/// nullopt when the file has none recorded (written before marks were kept). The header's marks were checked when it
+/// was read.
+std::optional<std::vector<SculptMark>> sculpt_marks(const devices::RecordingHeader& header, std::uint8_t workpiece = 0);
 
 /// The records of a session without a sculpt thread (a simulated participant) as a recording in memory
 /// (to_recorded_tick per record, the settings in the header notes, no marks), as write_session_recording writes it.
 devices::Recording session_recording(const SessionSpec& settings, const std::vector<haptics::TickRecord>& records);
 
 /// The header of a recording of a session of `settings`: its device profile's name, period and workspace mode,
-/// `notes` ("" = spec_to_json(settings)) and the sculpt thread's `marks`.
+/// `notes` ("" = spec_to_json(settings)) and the sculpt threads' `marks` and `more_marks` (recorded_marks).
 devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
-                                          std::span<const SculptMark> marks);
+                                          std::span<const SculptMark> marks,
+                                          std::span<const std::vector<SculptMark>> more_marks = {});
 
 /// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
 /// spec_to_json) and the sculpt thread's `marks` (SculptStats::marks), so that a replay repeats its undos, redos

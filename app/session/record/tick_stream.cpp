@@ -79,12 +79,13 @@ void TickStream::drain() {
     }
 }
 
-void TickStream::finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu) {
+void TickStream::finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu,
+                        std::span<const std::vector<SculptMark>> more_marks) {
     stop();
     if (!error_.empty()) throw Error(path_ + ": " + error_);
     if (!tmp_ || std::fflush(tmp_) != 0 || std::fseek(tmp_, 0, SEEK_SET) != 0)
         throw Error(path_ + ": cannot read the recording's temporary file back (" + std::strerror(errno) + ")");
-    devices::RecordingHeader header = recording_header(spec_, notes, marks);
+    devices::RecordingHeader header = recording_header(spec_, notes, marks, more_marks);
     header.menu = menu;
     devices::RecordingWriter writer(path_, header);
     std::vector<devices::RecordedTick> chunk(4096);

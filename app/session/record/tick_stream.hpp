@@ -45,10 +45,11 @@ public:
     std::size_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
     /// After stop(): writes the recording to path() (devices::RecordingWriter, atomically) with `notes` as the header
     /// notes ("" = spec_to_json of the spec), the sculpt thread's `marks` and the menu's track `menu` (JSON text, ""
-    /// = none: RecordingHeader::menu), and frees the temporary file. Throws
+    /// = none: RecordingHeader::menu), the further workpieces' marks `more_marks` (recorded_marks), and frees the temporary file. Throws
     /// tridex::Error "<path>: ..." when the temporary file could not be written (a full disk: the error it met),
     /// read back, or the recording not written.
-    void finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu = "");
+    void finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu = "",
+                std::span<const std::vector<SculptMark>> more_marks = {});
     /// The recording file.
     const std::string& path() const { return path_; }
 

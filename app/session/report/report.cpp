@@ -1,6 +1,8 @@
 // app/session/report/report.cpp - report.json, haptics.csv and the summary lines of `tridex demo`.
 #include "app/session/report/report.hpp"
 
+#include "compute/model/volume.hpp"
+
 #include <cmath>
 #include <bit>
 #include <cstdio>
@@ -302,6 +304,7 @@ nlohmann::json demo_report_json(const DemoReport& r) {
     j["stopped_by"] = string_or_null(r.stopped_by);
     if (r.deformation_max_displacement_m)
         j["deformation"] = {{"max_displacement_m", *r.deformation_max_displacement_m}};
+    j["more_workpieces"] = r.more_workpieces;
     j["sculpt_path"] = r.sculpt_path;
     j["sculpt_path_reason"] = string_or_null(r.sculpt_path_reason);
     j["sculpt_device"] = r.sculpt_device;
@@ -396,6 +399,27 @@ void print_summary(const DemoReport& r, const std::string& out_dir, const std::s
     std::string names;
     for (const std::string& f : r.files) names += (names.empty() ? "" : ", ") + std::filesystem::path(f).filename().string();
     std::printf("  wrote %s/: %s in %.1f s\n", out_dir.c_str(), names.empty() ? "nothing" : names.c_str(), r.wall_s);
+}
+
+nlohmann::json more_workpieces_report_json(SessionRuntime& rt, const haptics::LoopView& last) {
+    if (rt.workpiece_count() < 2) return nullptr;
+    nlohmann::json all = nlohmann::json::array();
+    for (std::size_t k = 1; k < rt.workpiece_count(); ++k) {
+        MoreWorkpiece& m = rt.more_workpiece(k);
+        nlohmann::json j = workpiece_report_json(m.workpiece(), m.pose());
+        add_pose_end(j, m.pose(), k < last.workpiece_count ? last.workpiece_poses[k] : m.pose());
+        j["index"] = k;
+        const double after = compute::dexel_volume_m3(m.workpiece().model);
+        j["volume_before_m3"] = m.workpiece().volume_dexel_m3;
+        j["volume_after_m3"] = after;
+        j["volume_removed_m3"] = m.workpiece().volume_dexel_m3 - after;
+        const SculptStats& st = m.sculpt_stats();
+        j["sculpt"] = {{"samples", st.samples}, {"booleans", st.booleans}, {"steps", st.steps}};
+        const compute::JournalStats* js = m.journal_stats();
+        j["journal"] = js && js->error.empty() ? nlohmann::json(m.journal_path()) : nlohmann::json(nullptr);
+        all.push_back(std::move(j));
+    }
+    return all;
 }
 
 }  // namespace tridex::app

@@ -51,6 +51,8 @@ struct DemoReport {
     std::string stopped_by;                   ///< "SIGINT" / "SIGTERM" when a signal ended the session early
     /// Clay sessions (op push, smooth, pull or grab): how far the surface moved, m (report.json `deformation`); unset otherwise.
     std::optional<double> deformation_max_displacement_m;
+    /// A session of several workpieces: the further ones (more_workpieces_report_json); null otherwise.
+    nlohmann::json more_workpieces;
     std::string sculpt_path;                  ///< "gpu" or "cpu": where the Booleans ran
     std::string sculpt_device;                ///< Vulkan device that sculpted ("" on the CPU path)
     std::string sculpt_path_reason;           ///< why the CPU path ran ("--cpu given", "no usable Vulkan device: ...")
@@ -139,5 +141,11 @@ void write_report_json(const std::string& path, const DemoReport& report);
 /// Prints a few lines: where the outputs went and the headline numbers, the first naming `command` ("tridex
 /// demo: ...", "tridex replay: ...").
 void print_summary(const DemoReport& report, const std::string& out_dir, const std::string& command = "demo");
+
+/// report.json `more_workpieces` of a stopped session of several workpieces: per further workpiece (k = 1..), its
+/// index, source and pose (workpiece_report_json, with "pose_end" where the loop held it last: `last`, the loop's
+/// final view), its volumes before and after (m^3), its sculpt thread's samples, Booleans and steps, and its journal;
+/// null with one workpiece.
+nlohmann::json more_workpieces_report_json(SessionRuntime& rt, const haptics::LoopView& last);
 
 }  // namespace tridex::app

@@ -190,6 +190,10 @@ const std::vector<ReportField>& report_schema() {
             {"deformation", "clay: {max_displacement_m}; scene objects (run): the elastic objects' report; else null"},
             {"references", "run with reference objects: per object its name, mesh, triangles, size_m, position_m, distance grid "
                            "(nodes, cell_m, bytes) and build_s; else null"},
+            {"more_workpieces",
+             "a scene of several workpieces: per further workpiece its index (1..), source, lattice, pose and "
+             "pose_end, volume_before_m3, volume_after_m3, volume_removed_m3, sculpt {samples, booleans, steps} and "
+             "journal; else null"},
             {"sculpt_path", "where the Booleans ran: gpu or cpu"},
             {"sculpt_path_reason", "why the Booleans ran on the CPU; null on the GPU path"},
             {"sculpt_device", "the Vulkan device that sculpted; empty on the CPU path"},

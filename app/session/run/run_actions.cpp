@@ -31,6 +31,13 @@ void RunActions::toggle_symmetry() {
     if (runtime_) runtime_->set_symmetry(runtime_->symmetry().on() ? Symmetry{} : symmetry_on_);
 }
 
+void RunActions::next_workpiece() {
+    if (!runtime_ || runtime_->workpiece_count() < 2) return;
+    const int n = static_cast<int>(runtime_->workpiece_count());
+    const int k = runtime_->chosen_workpiece() + 1;  // -1 (automatic) -> 0 -> ... -> n-1 -> -1
+    (void)runtime_->choose_workpiece(k >= n ? -1 : k);
+}
+
 void RunActions::set_op(ToolOp op) {
     if (op == ToolOp::kNone) return;
     op_ = op;

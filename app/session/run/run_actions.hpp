@@ -42,6 +42,7 @@ public:
     void swap_eyes() override { swap_ = !swap_; }
     void toggle_occlusion() override { ao_ = !ao_; }
     void toggle_symmetry() override;
+    void next_workpiece() override;
     void end_session() override { end_ = true; }
 
     bool end_requested() const { return end_; }                     ///< session.end was done

@@ -232,6 +232,11 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
         frame_objects.insert(frame_objects.end(), reference_objects.begin(), reference_objects.end());
         view.objects = frame_objects;
     }
+    if (rt.workpiece_count() > 1 && !su.test_pattern && !study_view) {  // the further workpieces
+        if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
+        more_view.append(rt, lv, scene.spec.palette, frame_objects);
+        view.objects = frame_objects;
+    }
     if (ghosts && lv.tick > 0 && !su.test_pattern && !study_view) {  // drawn, never felt
         const Symmetry sym = rt.symmetry();
         if (sym.on()) {
@@ -258,6 +263,13 @@ renderer::SceneView RunPipeline::Parts::frame_view(const MeshFrame& mesh, const 
             status = mouse_stylus->stylus().status() + colour_line(*actions, scene.spec.palette) +
                      (status.empty() ? "" : "\n" + status);
         if (study_view) status = study_view->status() + (status.empty() ? "" : "\n" + status);
+        if (rt.workpiece_count() > 1) {  // which of several workpieces the tool carves, and why
+            char line[96];
+            const int chosen = rt.chosen_workpiece();
+            std::snprintf(line, sizeof line, "workpiece %d of %zu (%s; P changes)", lv.target_workpiece + 1,
+                          rt.workpiece_count(), chosen >= 0 ? "chosen" : "touched or nearest");
+            status += (status.empty() ? "" : "\n") + std::string(line);
+        }
         if (su.test_pattern) status = test_pattern_lines(last_head_m, lv.tool_world.position) + (status.empty() ? "" : "\n" + status);
         // Eyes drawn below the window's size say so, so that a softer picture is not taken for a fault.
         if (rend->width() < window_eye_w) {
@@ -355,6 +367,16 @@ RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
             const auto [ow, oh] = renderer::output_size(dc.stereo, rend->width(), rend->height());
             w_px = static_cast<double>(fb.width) * rend->width() / ow;
             h_px = static_cast<double>(fb.height) * rend->height() / oh;
+        }
+        SessionRuntime& rt = backend->runtime();
+        if (rt.workpiece_count() > 1) {  // the further workpieces' newest meshes, where the loop holds them
+            std::vector<PlacedMesh> placed = reference_placed;
+            for (std::size_t k = 1; k < rt.workpiece_count(); ++k) {
+                MoreWorkpiece& m = rt.more_workpiece(k);
+                placed.push_back({&m.latest_mesh().mesh, k < lv.workpiece_count ? lv.workpiece_poses[k] : m.pose(),
+                                  m.start_bounds_m()});
+            }
+            mouse_stylus->set_placed(std::move(placed));
         }
         // The GPU contour with levels of detail publishes its tiles read back: the stylus picks on those.
         if (gpu_contour && mesh.tiles.empty())

@@ -3,6 +3,7 @@
 #include "app/session/run/run_pipeline.hpp"
 
 #include "app/scene/saved_scene.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/support/output_dir.hpp"
 
 #include "app/scene/session_spec.hpp"
@@ -191,6 +192,7 @@ void RunPipeline::Parts::open_backend() {
         placed.push_back({&rt.references()[i].mesh_m, rt.references()[i].object.pose, rt.references()[i].mesh_m.bounds()});
         reference_objects.push_back(reference_scene_object(r, rt.references()[i].mesh_m));
     }
+    reference_placed = placed;
     if (mouse_stylus) mouse_stylus->set_placed(std::move(placed));
     ghosts.emplace(rt.workpiece().model.lattice.bounds(), rt.tool_mesh());
 }
@@ -303,6 +305,7 @@ void RunPipeline::Parts::collect() {
     r.haptics["device_link"] = device_link_json(rt.device_link());
     r.haptics["link"] = link_json(rt.device_link());
     add_pose_end(r.workpiece, rt.config().workpiece_pose, rt.latest_view().workpiece_pose);
+    r.more_workpieces = more_workpieces_report_json(rt, rt.latest_view());
 }
 
 // 5. Outputs. Every output is tried, each failure noted; one that fails (a full disk) costs none of the others, and
@@ -324,6 +327,15 @@ void RunPipeline::Parts::write_outputs() {
             compute::write_ply(ply, carved.mesh, carved.materials);
         }))
         r.files.push_back(ply);
+    for (std::size_t k = 1; k < rt.workpiece_count() && !su.test_pattern; ++k) {  // each further workpiece's own
+        const std::string more_ply = path_for_workpiece(ply, k);
+        if (writes.attempt(more_ply, [&] {
+                std::vector<std::uint8_t> materials;
+                const TriMesh mesh = rt.more_workpiece(k).final_mesh(materials);
+                compute::write_ply(more_ply, mesh, materials);
+            }))
+            r.files.push_back(more_ply);
+    }
     if (!su.record.empty()) {
         if (const std::size_t dropped = rt.loop_stats().records_stream_dropped; dropped > 0)
             r.notes.push_back("record: " + std::to_string(dropped) + " of " + std::to_string(rt.loop_stats().ticks) +
@@ -334,17 +346,32 @@ void RunPipeline::Parts::write_outputs() {
                     notes = study::tag_notes(spec_to_json(rt.spec()),
                                              study::StudyTag{st.participant, st.group, st.trial, st.model,
                                                              st.scene.tube.name, study::tube_id(st.scene.tube)});
-                rt.tick_stream()->finish(notes, r.sculpt.marks, menu_track.to_json_text());
+                std::vector<std::vector<SculptMark>> more_marks;  // each further workpiece's own
+                for (std::size_t k = 1; k < rt.workpiece_count(); ++k)
+                    more_marks.push_back(rt.more_workpiece(k).sculpt_stats().marks);
+                rt.tick_stream()->finish(notes, r.sculpt.marks, menu_track.to_json_text(), more_marks);
             }))
             r.files.push_back(su.record);
     }
     if (!su.save.empty() && writes.attempt(su.save, [&] { save_session_model(su.save, rt.workpiece(), rt.spec()); })) {
         r.files.push_back(su.save);
-        // With objects beside the workpiece or a posed one, the scene that opens the saved model as it was.
+        bool all_saved = true;  // each further workpiece's model beside it, with its own spec
+        for (std::size_t k = 1; k < rt.workpiece_count(); ++k) {
+            const std::string more_save = path_for_workpiece(su.save, k);
+            MoreWorkpiece& m = rt.more_workpiece(k);
+            if (writes.attempt(more_save, [&] { save_session_model(more_save, m.workpiece(), m.spec()); }))
+                r.files.push_back(more_save);
+            else
+                all_saved = false;
+        }
+        // With objects beside the workpiece, several workpieces or a posed one, the scene that opens them as they were.
         const std::string saved_scene = saved_scene_path(su.save);
-        const Pose pose_now = rt.latest_view().workpiece_pose;
-        if (needs_saved_scene(rt.spec(), pose_now) &&
-            writes.attempt(saved_scene, [&] { write_saved_scene(scene.source, su.save, rt.spec(), pose_now); }))
+        const haptics::LoopView& lv = rt.latest_view();
+        const Pose pose_now = lv.workpiece_pose;
+        const std::vector<Pose> more_now(lv.workpiece_poses.begin() + 1, lv.workpiece_poses.begin() + rt.workpiece_count());
+        if (all_saved && needs_saved_scene(rt.spec(), pose_now) && writes.attempt(saved_scene, [&] {
+                write_saved_scene(scene.source, su.save, rt.spec(), pose_now, more_now);
+            }))
             r.files.push_back(saved_scene);
     }
     for (const std::string& failure : writes.failures()) r.notes.push_back("not written: " + failure);
@@ -354,6 +381,9 @@ void RunPipeline::Parts::write_outputs() {
     // The journal is written as the session runs: listed when it is whole (`tridex recover` rebuilds the model).
     if (const compute::JournalStats* j = rt.journal_stats(); j && j->error.empty() && !j->path.empty())
         r.files.push_back(j->path);
+    for (std::size_t k = 1; k < rt.workpiece_count(); ++k)
+        if (const compute::JournalStats* j = rt.more_workpiece(k).journal_stats(); j && j->error.empty() && !j->path.empty())
+            r.files.push_back(j->path);
     const std::string report = (out / "report.json").string();
     r.files.push_back(report);
     writes.attempt(report, [&] { write_run_report(report, r); });

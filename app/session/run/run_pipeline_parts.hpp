@@ -21,6 +21,7 @@
 #include "app/scene/test_pattern.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/view/elastic_view.hpp"
+#include "app/session/view/more_view.hpp"
 #include "app/session/view/presence_view.hpp"
 #include "app/session/view/symmetry_view.hpp"
 #include "app/session/view/frame_budget.hpp"
@@ -123,6 +124,8 @@ struct RunPipeline::Parts final : FrameSteps {
     std::optional<study::StudyView> study_view;    // a study scene's objects, drawn instead of the workpiece
     std::optional<ElasticView> elastic_view;       // scene objects, dented where the loop feels them
     std::vector<renderer::SceneObject> reference_objects;  // the scene's reference objects, placed by their poses
+    MoreWorkpiecesView more_view;                  // the further workpieces, through the poses the loop holds
+    std::vector<PlacedMesh> reference_placed;      // the reference objects the mouse stylus picks beside the workpiece
     std::optional<SymmetryGhosts> ghosts;          // the symmetric tools and the mirror planes, while symmetry is on
     std::optional<compute::TriDexel> clay_start;   // a clay session's model before it (deformation.max_displacement_m)
     std::vector<renderer::SceneObject> frame_objects;  // this frame's study and scene objects
@@ -191,6 +194,9 @@ struct RunPipeline::Parts final : FrameSteps {
           eye_h(dc.height_px),
           mouse(renderer::MouseNavigation::for_screen(dc.screen, dc.width_px)),
           companions(std::move(with)) {
+        if (!companions.empty() && !scene.spec.more_workpieces.empty())  // their wires carry one model
+            throw Error(scene.source + ": field 'workpieces': a shared session or a cluster wall takes one workpiece; "
+                        "this scene has " + std::to_string(1 + scene.spec.more_workpieces.size()) + " (docs/workpieces.md)");
         screen_now = dc.screen;
         open_display();
         open_inputs();

@@ -187,6 +187,7 @@ json run_report_json(const RunResult& r) {
         {"stroke_completed", r.stroke_completed},
         {"deformation", r.deformation},
         {"references", r.references},
+        {"more_workpieces", r.more_workpieces},
         {"sculpt_path", r.sculpt_path},
         {"sculpt_path_reason", string_or_null(r.sculpt_path_reason)},
         {"sculpt_device", r.sculpt_device},

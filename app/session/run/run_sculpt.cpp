@@ -12,6 +12,7 @@
 #include "app/scene/study_objects.hpp"
 #include "app/scene/study_participant.hpp"
 #include "app/scene/study_walls.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -57,6 +58,8 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     check_session_memory_up_front(spec, SessionKind::kLive);  // a lattice too fine is refused before its scan conversion
     Workpiece wp = prepare_session_workpiece(spec);
     check_session_memory_of(wp.model, wp.resolution, SessionKind::kLive);  // before its contour, the session's largest part
+    std::vector<Workpiece> more = prepare_more_workpieces(spec);  // a scene's further workpieces
+    for (const Workpiece& m : more) check_session_memory_of(m.model, m.resolution, SessionKind::kLive);
     loaded_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     const devices::DeviceProfile profile = device_profile(spec.device);
     // The hand's path in device coordinates (the device's home, its workspace centre, on the stroke's
@@ -106,8 +109,9 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     } else if (scene.has_stroke && !live) {
         StrokePlan plan;
         try {
-            plan = plan_stroke(wp.model, scene.stroke);
-            place_plan(plan, workpiece_pose(spec));
+            const std::size_t k = scene.stroke_workpiece;  // the workpiece it is planned on
+            plan = plan_stroke(k == 0 ? wp.model : more.at(k - 1).model, scene.stroke);
+            place_plan(plan, workpiece_pose(spec_for_workpiece(spec, k)));
         } catch (const Error& e) {  // "stroke.duration_s: ...": the scene's field
             throw Error(scene.source + ": " + e.what());
         }
@@ -170,7 +174,7 @@ SculptBackend::SculptBackend(const RunScene& scene, double mesh_interval_s, Mesh
     if (study.enabled && live)
         ro.max_ticks = std::max(ro.max_ticks, static_cast<std::size_t>((study.scene.protocol.trial_timeout_s + 10.0) / spec.period_s));
     if (!render_context && !booleans.cpu) ro.sculpt.cpu_contour = true;  // no renderer to draw GPU buffers
-    runtime_ = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(device), start_m_, ro);
+    runtime_ = std::make_unique<SessionRuntime>(spec, std::move(wp), std::move(more), std::move(device), start_m_, ro);
 }
 
 bool SculptBackend::stroke_done() const {

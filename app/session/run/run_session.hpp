@@ -193,6 +193,8 @@ struct RunResult {
     /// null without reference objects; else app/scene/reference_objects.hpp references_report_json (report.json
     /// `references`).
     nlohmann::json references;
+    /// null with one workpiece; else run_report.hpp more_workpieces_report_json (report.json `more_workpieces`).
+    nlohmann::json more_workpieces;
     std::size_t ticks = 0;                       ///< haptic tick records kept
     nlohmann::json period_us;                    ///< report.json `period_us` (tick_summary_json)
     nlohmann::json tick_compute_us;              ///< report.json `tick_compute_us` (tick_summary_json)

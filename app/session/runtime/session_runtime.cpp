@@ -9,6 +9,8 @@
 #include <filesystem>
 
 #include "app/scene/session_memory.hpp"
+#include "app/scene/workpiece_list.hpp"
+#include "app/session/runtime/sculpt_setup.hpp"
 #include "compute/tools/model_resample.hpp"
 #include "app/scene/tool_mesh.hpp"
 #include "app/support/crash_report.hpp"
@@ -67,10 +69,18 @@ BackendRequest backend_request(const SculptOptions& s) {
 
 SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                                const Vec3& start_m, const RuntimeOptions& o)
+    : SessionRuntime(spec, std::move(workpiece), {}, std::move(device), start_m, o) {}
+
+SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::vector<Workpiece> more,
+                               std::unique_ptr<devices::HapticDevice> device, const Vec3& start_m, const RuntimeOptions& o)
     : spec_(spec), wp_(std::move(workpiece)), device_(std::move(device)),
       mesh_tool_(spec.tool.kind == ToolKind::kMesh ? make_session_mesh_tool(spec.tool_mesh_path, spec.tool_size_m) : nullptr),
       cfg_(loop_config(spec, o.max_ticks, tool_mesh())) {
     if (!device_) throw Error("SessionRuntime: no haptic device");
+    if (more.size() != spec_.more_workpieces.size())
+        throw Error("SessionRuntime: " + std::to_string(more.size()) + " further workpieces for a spec of " +
+                    std::to_string(spec_.more_workpieces.size()));
+    more_wp_ = std::move(more);
     cfg_.tool_schedule = o.loop.tool_schedule;
     cfg_.engage_mask |= o.loop.engage_mask;
     cfg_.free_run = o.loop.free_run;
@@ -124,42 +134,13 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         // Samples the sculpt thread has not applied yet are journalled as they leave the haptic loop.
         intake_ = std::make_unique<compute::JournalIntake>(*journal_);
         cfg_.sample_tap = &intake_->ring();
-        if (o.sculpt.checkpoint_s > 0.0) {
-            const std::filesystem::path jp(o.sculpt.journal);
-            const std::string name = jp.filename().string() + ".checkpoint.tdx";
-            const std::string path = (jp.parent_path() / name).string();
-            sculpt_->use_checkpoints(
-                [name, path, to_world = wp_.to_world, settings = spec_to_json(spec_),
-                 palette = spec_.palette](const compute::TriDexel& m) {
-                    // Atomic: a failure keeps the previous one. The settings name the lattice saved (coarseness changes).
-                    compute::save_tdx(path, m, to_world,
-                                      settings_at_resolution(settings, compute::lattice_resolution(m.lattice)), 3, palette);
-                    const auto [crc, bytes] = file_crc32(path);
-                    return CheckpointFile{name, bytes, crc};
-                },
-                o.sculpt.checkpoint_s);
-        }
+        use_session_checkpoints(*sculpt_, o.sculpt.journal, o.sculpt.checkpoint_s, wp_.to_world, spec_);
     }
-    sculpt_->set_history_budget(spec_.history_budget_bytes);
-    // A coarseness change is refused, with the memory it would take, when the finer model and its contour do not fit.
-    sculpt_->use_lattice_check([kind = o.publish_meshes ? SessionKind::kLive : SessionKind::kBatch](
-                                   const compute::TriDexel& m, int resolution) {
-        return check_resample_memory(m, resolution, kind);
-    });
-    sculpt_->remove_islands(!spec_.keep_islands);
-    // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
-    if (driver_caps(spec_.device_driver).strokes_end_on_release) sculpt_->close_strokes_when_idle(false);
+    set_session_sculpting(*sculpt_, spec_, o.publish_meshes ? SessionKind::kLive : SessionKind::kBatch);
     if (o.sculpt.follow_marks) sculpt_->follow_marks(*o.sculpt.follow_marks);
     for (compute::ToolStreamSink* s : o.sculpt.streams) sculpt_->use_stream(*s);
     for (const auto& setup : o.sculpt.sculpt_setup) setup(*sculpt_);
-    if (!o.sculpt.save_path.empty()) {
-        sculpt_->use_saver([path = o.sculpt.save_path, to_world = wp_.to_world, settings = spec_to_json(spec_),
-                            palette = spec_.palette](const compute::TriDexel& m) {
-            compute::save_tdx(path, m, to_world, settings_at_resolution(settings, compute::lattice_resolution(m.lattice)),
-                              3, palette);
-            return "saved " + path;
-        });
-    }
+    use_session_saver(*sculpt_, o.sculpt.save_path, wp_.to_world, spec_);
     if (mesh_tool_) sculpt_->use_mesh_tools({mesh_tool_});  // ToolShape::mesh_id 0
     if (gpu_contour_) sculpt_->use_gpu_contour(*gpu_contour_);
     if (o.publish_meshes && (o.mesh_form == MeshForm::kTiles || gpu_contour_) && o.sculpt.tile_lod) {
@@ -180,7 +161,15 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         cfg_.record_stream = &tick_stream_->ring();
     }
     cfg_.fault_kill_at_sample = fault_kill_at_sample();
-    loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+    if (more_wp_.empty()) {
+        loop_ = std::make_unique<haptics::HapticLoop>(*device_, surface_, *ring_, cfg_);
+    } else {
+        build_more(start_m, o);
+        std::vector<haptics::LoopWorkpiece> pieces{
+            {&surface_, ring_.get(), cfg_.sample_tap, cfg_.workpiece_pose, wp_.model.lattice.bounds()}};
+        for (const auto& m : more_) pieces.push_back(m->loop_workpiece());
+        loop_ = std::make_unique<haptics::HapticLoop>(*device_, pieces, cfg_);
+    }
     if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
         std::fprintf(stderr,
                      "tridex: contact stiffness cut to %.0f N/m (world): the %s renders at most %.0f N/m at a workspace "
@@ -190,6 +179,47 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         cfg_.contact.stiffness_n_per_m = loop_->config().contact.stiffness_n_per_m;
         cfg_.contact.materials = loop_->config().contact.materials;
     }
+}
+
+void SessionRuntime::build_more(const Vec3& start_m, const RuntimeOptions& o) {
+    for (std::size_t k = 1; k <= more_wp_.size(); ++k) {
+        SessionSpec one = spec_for_workpiece(spec_, k);
+        MoreWorkpieceOptions mo;
+        mo.journal = path_for_workpiece(o.sculpt.journal, k);
+        mo.checkpoint_s = o.sculpt.checkpoint_s;
+        mo.save_path = path_for_workpiece(o.sculpt.save_path, k);
+        mo.kind = o.publish_meshes ? SessionKind::kLive : SessionKind::kBatch;
+        mo.publish_meshes = o.publish_meshes;
+        mo.mesh_interval_s = o.mesh_interval_s;
+        mo.sculpted_changes = &sculpted_changes_;
+        if (k - 1 < o.loop.more_follow_marks.size()) mo.follow_marks = o.loop.more_follow_marks[k - 1];
+        else if (o.sculpt.follow_marks) mo.follow_marks = std::vector<SculptMark>{};  // a replay: no idle closes
+        mo.mesh_tool = mesh_tool_;
+        const Vec3 start_model = workpiece_pose(one).inverse().apply(start_m);
+        more_.push_back(std::make_unique<MoreWorkpiece>(std::move(one), std::move(more_wp_[k - 1]), start_model,
+                                                        cfg_.contact.tool_radius_m,
+                                                        haptics::max_point_distance_m(cfg_.tool_points), mo));
+    }
+    more_wp_.clear();
+}
+
+MoreWorkpiece& SessionRuntime::more_workpiece(std::size_t k) {
+    if (k < 1 || k > more_.size())
+        throw Error("workpiece " + std::to_string(k) + ": the session's further workpieces are 1.." +
+                    std::to_string(more_.size()));
+    return *more_[k - 1];
+}
+
+bool SessionRuntime::request(SculptRequest r) {
+    if (more_.empty()) return sculpt_->request(r);
+    if (r == SculptRequest::kSave) {
+        bool all = sculpt_->request(r);
+        for (const auto& m : more_) all = m->request(r) && all;
+        return all;
+    }
+    int k = loop_->chosen_workpiece();
+    if (k < 0) k = loop_->latest_view().target_workpiece;
+    return k <= 0 || static_cast<std::size_t>(k) > more_.size() ? sculpt_->request(r) : more_[k - 1]->request(r);
 }
 
 void SessionRuntime::choose_contour(const RuntimeOptions& o) {
@@ -252,6 +282,7 @@ void SessionRuntime::start() {
     started_ = true;
     t_start_ = Clock::now();
     sculpt_->start();
+    for (const auto& m : more_) m->start();
     if (intake_) intake_->start();
     if (tick_stream_) tick_stream_->start();
     loop_->start();
@@ -264,15 +295,9 @@ void SessionRuntime::stop() {
     if (tick_stream_) tick_stream_->stop();  // every tick the loop pushed is in the temporary file
     session_s_ = seconds_since(t_start_);
     device_->close();
-    try {
-        sculpt_->stop();  // drains the ring, publishes the last surface, syncs the journal; rethrows a failure
-    } catch (...) {
-        if (intake_) intake_->stop();
-        if (journal_) journal_->close();
-        throw;
-    }
-    if (intake_) intake_->stop();  // writes nothing more: every sample it got is in a batch record now
-    if (journal_) journal_->close();
+    // Each sculpt thread drains its ring, publishes its last surface and syncs its journal; a failure is rethrown.
+    stop_sculpting(*sculpt_, intake_.get(), journal_.get());
+    for (const auto& m : more_) m->stop();
 }
 
 SessionRuntime::FinalMesh SessionRuntime::final_mesh() {

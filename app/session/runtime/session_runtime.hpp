@@ -15,6 +15,7 @@
 #include "app/scene/session_spec.hpp"
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/tick_stream.hpp"
+#include "app/session/runtime/more_workpiece.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_intake.hpp"
 #include "compute/journal/journal_writer.hpp"
@@ -113,6 +114,9 @@ struct LoopOverrides {
     bool free_run = false;
     /// The recording's ticks (a replay), against which the session's progress is told; 0: not a replay.
     std::size_t recorded_ticks = 0;
+    /// A replay of several workpieces: the recorded marks of each further workpiece (index k-1 for workpiece k;
+    /// SculptThread::follow_marks); empty = taken as they come.
+    std::vector<std::vector<SculptMark>> more_follow_marks{};
 };
 
 /// How a SessionRuntime places its GPU work and hands its surface over.
@@ -149,6 +153,13 @@ public:
     /// the sculpt thread (SculptThread::use_mesh_tools; the GPU backend takes its dexels with each batch).
     SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::unique_ptr<devices::HapticDevice> device,
                    const Vec3& start_m, const RuntimeOptions& options);
+    /// A session of several workpieces: `more` holds the workpieces of spec.more_workpieces, in order
+    /// (prepare_more_workpieces), each sculpted beside the first by the same loop (MoreWorkpiece: its own journal at
+    /// path_for_workpiece(options.sculpt.journal, k), its save at path_for_workpiece(options.sculpt.save_path, k), its
+    /// replay marks from options.more_follow_marks). Throws tridex::Error as the constructor above, and when `more`
+    /// does not match spec.more_workpieces in number.
+    SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std::vector<Workpiece> more,
+                   std::unique_ptr<devices::HapticDevice> device, const Vec3& start_m, const RuntimeOptions& options);
     /// Stops the threads if they run (errors of the sculpt thread are then dropped: call stop() to see them).
     ~SessionRuntime();
     SessionRuntime(const SessionRuntime&) = delete;
@@ -162,7 +173,18 @@ public:
     void stop();
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
-    bool request(SculptRequest r) { return sculpt_->request(r); }
+    /// With several workpieces, an undo, redo or stroke close goes to the workpiece the tool carves (the chosen one,
+    /// else the loop's target), and a save to every workpiece.
+    bool request(SculptRequest r);
+    /// How many workpieces the session sculpts (1 + spec().more_workpieces.size()).
+    std::size_t workpiece_count() const { return 1 + more_.size(); }
+    /// The k-th further workpiece (k = 1..workpiece_count()-1); throws tridex::Error for another k.
+    MoreWorkpiece& more_workpiece(std::size_t k);
+    /// Chooses the workpiece the tool carves (HapticLoop::choose_workpiece: 0..workpiece_count()-1, -1 automatic);
+    /// any thread. False for an index out of range.
+    bool choose_workpiece(int index) { return loop_->choose_workpiece(index); }
+    /// The chosen workpiece (-1: automatic, the touched or the nearest).
+    int chosen_workpiece() const { return loop_->chosen_workpiece(); }
     /// Changes the Boolean the tool applies from now on (HapticLoop::set_tool_op, with the material chosen last); any
     /// thread. The sculpt thread closes the stroke at the change.
     void set_tool_op(ToolOp op) { loop_->set_tool_op(op, loop_->tool_material()); }
@@ -265,6 +287,7 @@ public:
 
 private:
     void build(const Vec3& start_m, const RuntimeOptions& o);
+    void build_more(const Vec3& start_m, const RuntimeOptions& o);
     void choose_contour(const RuntimeOptions& o);
 
     SessionSpec spec_;
@@ -285,6 +308,8 @@ private:
     std::unique_ptr<compute::JournalWriter> journal_;  // before sculpt_, which appends to it
     std::unique_ptr<compute::JournalIntake> intake_;   // after journal_, which it writes; before loop_, which feeds it
     std::unique_ptr<SculptThread> sculpt_;
+    std::vector<Workpiece> more_wp_;                     // the further workpieces until build() moves them into more_
+    std::vector<std::unique_ptr<MoreWorkpiece>> more_;  // before loop_, which feeds their rings
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;
