@@ -150,18 +150,4 @@ void validate_more_workpieces(const SessionSpec& s, const std::string& source) {
     }
 }
 
-std::vector<Workpiece> prepare_more_workpieces(SessionSpec& s) {
-    std::vector<Workpiece> out;
-    for (std::size_t k = 1; k < workpiece_count(s); ++k) {
-        SessionSpec one = spec_for_workpiece(s, k);
-        try {
-            out.push_back(prepare_session_workpiece(one));
-        } catch (const Error& e) {
-            throw Error(index_name(k) + ": " + e.what());
-        }
-        s.more_workpieces[k - 1] = workpiece_at(one, 0);
-    }
-    return out;
-}
-
 }  // namespace tridex::app

@@ -1,5 +1,5 @@
 // app/scene/workpiece_list.hpp - a session's several workpieces: the k-th as a one-workpiece spec of its own, their
-// settings JSON, their checks and their preparation.
+// settings JSON and their checks (app/scene/workpiece_source.hpp prepares them).
 #pragma once
 
 #include <cstddef>
@@ -9,7 +9,6 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "app/scene/session_spec.hpp"
-#include "app/scene/workpiece_source.hpp"
 #include "app/scene/workpiece_spec.hpp"
 
 namespace tridex::app {
@@ -45,11 +44,5 @@ void read_more_workpieces(const nlohmann::json& a, SessionSpec& s, const std::st
 /// haptics::kMaxLoopWorkpieces workpieces in all, and further workpieces beside a study model. Throws tridex::Error
 /// "<source>: workpieces[k]: settings field ..." naming the workpiece.
 void validate_more_workpieces(const SessionSpec& s, const std::string& source);
-
-/// The session's further workpieces (s.more_workpieces, in order), each prepared as prepare_session_workpiece prepares
-/// the first (a saved model loaded, else the mesh scan-converted), and each entry of s.more_workpieces completed as
-/// that function completes the first (CRC-32s and sizes, a model's lattice and centre, a placed model's shift). Throws
-/// tridex::Error "workpieces[k]: ..." as prepare_session_workpiece does.
-std::vector<Workpiece> prepare_more_workpieces(SessionSpec& s);
 
 }  // namespace tridex::app

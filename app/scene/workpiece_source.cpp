@@ -12,6 +12,7 @@
 #include "app/support/stop_signal.hpp"
 #include "app/scene/study_objects.hpp"
 #include "app/scene/study_walls.hpp"
+#include "app/scene/workpiece_list.hpp"
 #include "compute/mesh/mesh_io.hpp"
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/tdx_file.hpp"
@@ -96,6 +97,20 @@ Workpiece prepare_session_workpiece(SessionSpec& spec) {
     spec.mesh_crc32 = 0;
     spec.mesh_bytes = 0;
     return wp;
+}
+
+std::vector<Workpiece> prepare_more_workpieces(SessionSpec& s) {
+    std::vector<Workpiece> out;
+    for (std::size_t k = 1; k < workpiece_count(s); ++k) {
+        SessionSpec one = spec_for_workpiece(s, k);
+        try {
+            out.push_back(prepare_session_workpiece(one));
+        } catch (const Error& e) {
+            throw Error("workpieces[" + std::to_string(k) + "]" + ": " + e.what());
+        }
+        s.more_workpieces[k - 1] = workpiece_at(one, 0);
+    }
+    return out;
 }
 
 void save_session_model(const std::string& path, const Workpiece& wp, const SessionSpec& spec) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "app/scene/session_spec.hpp"
 #include "compute/model/tridexel.hpp"
@@ -43,6 +44,12 @@ Workpiece workpiece_from_model(const std::string& tdx_path);
 /// scan-converted (prepare_workpiece) with mesh_crc32/mesh_bytes set. SIGINT or SIGTERM meanwhile ends the program
 /// at once (StopEndsSetUp): there is nothing to keep yet. Throws tridex::Error as those do.
 Workpiece prepare_session_workpiece(SessionSpec& spec);
+
+/// The session's further workpieces (s.more_workpieces, in order), each prepared as prepare_session_workpiece prepares
+/// the first (a saved model loaded, else the mesh scan-converted), and each entry of s.more_workpieces completed as
+/// that function completes the first (CRC-32s and sizes, a model's lattice and centre, a placed model's shift). Throws
+/// tridex::Error "workpieces[k]: ..." as prepare_session_workpiece does.
+std::vector<Workpiece> prepare_more_workpieces(SessionSpec& s);
 
 /// Writes the session's model after stop() (the CPU model, which mirrors the GPU's) with its transform and
 /// spec_to_json(spec) as the settings and spec.palette to `path` (.tdx, atomically: a failed save leaves an existing file as it
