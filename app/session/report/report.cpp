@@ -416,7 +416,7 @@ nlohmann::json more_workpieces_report_json(SessionRuntime& rt, const haptics::Lo
         const SculptStats& st = m.sculpt_stats();
         j["sculpt"] = {{"samples", st.samples}, {"booleans", st.booleans}, {"steps", st.steps}};
         const compute::JournalStats* js = m.journal_stats();
-        j["journal"] = js && js->error.empty() ? nlohmann::json(m.journal_path()) : nlohmann::json(nullptr);
+        j["journal"] = js && js->error.empty() ? nlohmann::json(js->path) : nlohmann::json(nullptr);
         all.push_back(std::move(j));
     }
     return all;

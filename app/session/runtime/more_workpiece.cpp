@@ -15,8 +15,7 @@ constexpr std::size_t kRingCapacity = 1 << 16;  // tool samples: 65 s of ticks, 
 
 MoreWorkpiece::MoreWorkpiece(SessionSpec spec, Workpiece workpiece, const Vec3& start_m, double tool_radius_m,
                              double tool_span_m, const MoreWorkpieceOptions& o)
-    : spec_(std::move(spec)), wp_(std::move(workpiece)), journal_path_(o.journal),
-      start_bounds_m_(wp_.model.lattice.bounds()) {
+    : spec_(std::move(spec)), wp_(std::move(workpiece)), start_bounds_m_(wp_.model.lattice.bounds()) {
     booleans_ = make_cpu_backend(wp_.model);
     booleans_->set_clay_group_sweeps(spec_.clay_group_sweeps);  // the grouping decides the model
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);

@@ -81,16 +81,12 @@ public:
     /// Its lattice's box when the session started (model frame, m): a cull box for picks on its meshes (any thread).
     const Aabb& start_bounds_m() const { return start_bounds_m_; }
     const SculptStats& sculpt_stats() const { return sculpt_->stats(); }  ///< after stop()
-    SculptLive sculpt_live() const { return sculpt_->live(); }            ///< any thread
-    SaveStatus save_status() const { return sculpt_->save_status(); }     ///< any thread
-    /// The journal's counters and error; nullptr without a journal. Read after stop().
+    /// The journal's counters, file and error; nullptr without a journal. Read after stop().
     const compute::JournalStats* journal_stats() const { return journal_ ? &journal_->stats() : nullptr; }
-    const std::string& journal_path() const { return journal_path_; }  ///< "" = none
 
 private:
     SessionSpec spec_;
     Workpiece wp_;
-    std::string journal_path_;
     Aabb start_bounds_m_{};
     std::unique_ptr<BooleanBackend> booleans_;
     std::unique_ptr<compute::Contourer> contourer_;

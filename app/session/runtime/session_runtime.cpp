@@ -218,7 +218,7 @@ bool SessionRuntime::request(SculptRequest r) {
         return all;
     }
     int k = loop_->chosen_workpiece();
-    if (k < 0) k = loop_->latest_view().target_workpiece;
+    if (k < 0) k = viewed_target_;
     return k <= 0 || static_cast<std::size_t>(k) > more_.size() ? sculpt_->request(r) : more_[k - 1]->request(r);
 }
 

@@ -174,7 +174,8 @@ public:
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
     /// With several workpieces, an undo, redo or stroke close goes to the workpiece the tool carves (the chosen one,
-    /// else the loop's target), and a save to every workpiece.
+    /// else the target of the view latest_view() last returned: this call never takes a newer view, which would end
+    /// the one its caller may still read), and a save to every workpiece.
     bool request(SculptRequest r);
     /// How many workpieces the session sculpts (1 + spec().more_workpieces.size()).
     std::size_t workpiece_count() const { return 1 + more_.size(); }
@@ -223,7 +224,11 @@ public:
     /// The sculpt thread's counters; valid after stop().
     const SculptStats& sculpt_stats() const { return sculpt_->stats(); }
     /// The newest LoopView (one render thread).
-    const haptics::LoopView& latest_view() { return loop_->latest_view(); }
+    const haptics::LoopView& latest_view() {
+        const haptics::LoopView& v = loop_->latest_view();
+        viewed_target_ = v.target_workpiece;
+        return v;
+    }
     /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
     /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads). Its buttons reach the loop's view
     /// (LoopView::buttons), which the session's bindings read (app/actions/bindings.hpp).
@@ -317,6 +322,7 @@ private:
     double contour_s_ = 0.0, session_s_ = 0.0;
     std::chrono::steady_clock::time_point t_start_{};
     bool started_ = false, stopped_ = false;
+    int viewed_target_ = 0;  // the target of the view latest_view() last returned (its one thread's, as request's)
 };
 
 }  // namespace tridex::app
