@@ -59,6 +59,7 @@ void SculptThread::change_coarseness(SculptRequest r, std::uint8_t site) {
     }
     if (site == local_site_) stats_.marks.push_back({stats_.samples, r});
     last_closed_serial_ = done.serial;
+    undo_clock_.made(done.serial, stats_.samples);
     record_mark(compute::kJournalLattice, done.serial, static_cast<std::uint64_t>(after));
     changed_since_checkpoint_ = true;
     relattice();

@@ -146,6 +146,7 @@ void SculptThread::take(SculptRequest r, std::uint8_t site) {
 compute::UndoHistory::Change SculptThread::restore(bool undo, const std::chrono::steady_clock::time_point& t0) {
     const compute::UndoHistory::Change c = undo ? history_->undo() : history_->redo();
     if (c.serial == 0) return c;  // nothing to undo / redo
+    if (undo) undo_clock_.undone(c.serial, stats_.samples);
     if (c.lattice) relattice_after(undo);  // a coarseness change taken back or made again: the whole model is new
     record_mark(undo ? compute::kJournalUndo : compute::kJournalRedo, c.serial, c.rays);
     changed_since_checkpoint_ = true;
@@ -268,7 +269,9 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     const std::uint64_t serial = history_->end_stroke(&held, &islands);
     if (was_open) sites_.closed(serial, serial != 0 && history_->next_undo_serial() == serial, by_site);
     if (serial != 0) last_closed_serial_ = serial;
+    if (serial != 0 && history_->next_undo_serial() == serial) undo_clock_.closed(serial);
     if (held.rays_changed > 0) {
+        undo_clock_.changed(stats_.samples);
         stats_.rays_changed += held.rays_changed;
         stroke_changed_ = true;
         changed_since_checkpoint_ = true;

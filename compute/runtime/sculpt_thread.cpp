@@ -227,6 +227,8 @@ void SculptThread::run() {
             std::lock_guard<std::mutex> lock(live_mutex_);
             live_.history_bytes = h.bytes;
             live_.history_budget_bytes = h.budget_bytes;
+            live_.undo_times = undo_clock_.times(history_->next_undo_serial(), history_->next_redo_serial(),
+                                                 history_->stroke_open() && stroke_changed_);
         }
         passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
@@ -244,6 +246,7 @@ void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
         stats_.booleans += batch_.size();
         stats_.rays_changed += b.rays_changed;
         if (b.rays_changed > 0) {
+            undo_clock_.changed(stats_.samples);
             changed = true;
             stroke_changed_ = true;
             changed_since_checkpoint_ = true;

@@ -27,6 +27,7 @@
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "compute/runtime/site_strokes.hpp"
+#include "compute/runtime/undo_clock.hpp"
 #include "compute/tools/mesh_tool.hpp"
 #include "core/active_surface.hpp"
 #include "core/change_signal.hpp"
@@ -139,6 +140,8 @@ struct SculptLive {
     /// Per changing step: Booleans (or clay), active-surface publish and dirty-tile re-contouring, ms
     /// (DurationHistogram::fine bins: fixed memory however long the session).
     DurationHistogram step_ms = DurationHistogram::fine();
+    /// Where the newest undo and redo steps stand in the sample stream, as of the last pass that worked.
+    UndoTimes undo_times;
 };
 
 /// What the saver did so far (SculptThread::save_status; any thread).
@@ -515,6 +518,7 @@ private:
     bool following_ = false;                         // follow_marks was called (even with no marks)
     double last_change_t_s_ = 0.0;                 // device time of the newest sample of a batch that changed the model
     bool stroke_changed_ = false;                  // the open stroke changed the model
+    UndoClock undo_clock_;                         // when each undo step was made and undone (SculptLive::undo_times)
     // The open stroke pushes clay (ToolOp::kPush): the haptic loop feels the surface as it was when the stroke began
     // (Popescu, Burdea, Bouzit 3.3: force from the undeformed reference; plastic, so the reference becomes the
     // deformed surface when the stroke ends).

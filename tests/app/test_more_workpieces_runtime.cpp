@@ -1,7 +1,7 @@
 // A SessionRuntime of two workpieces, on its threads (the haptic loop, two sculpt threads, two journals): a simulated
 // hand pressed into the second carves it alone, the first gets every tick in its frame and stays whole; an undo from
 // the window's thread goes to the workpiece the tool carved and gives its volume back bit for bit; each journal
-// replays to its own model. Run under ThreadSanitizer too (the `tsan` test set).
+// replays to its own model; undo and redo follow one order across the workpieces. Run under ThreadSanitizer too (the `tsan` test set).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -93,6 +93,65 @@ TEST(MoreWorkpiecesRuntime, TheTouchedSecondIsCarvedAloneAndItsUndoAndJournalAre
     const compute::JournalApplyStats applied = compute::journal_apply(again.model, j.records, replay_settings(one));
     EXPECT_EQ(applied.undos, 1u);
     EXPECT_EQ(compute::dexel_volume_m3(again.model), second_before);
+}
+
+// One undo order across the workpieces: the hand carves the second bunny, then the first. Two undos from the
+// window's thread take back the first's stroke (the newest), then the second's, whichever the tool is near; a redo
+// brings back the one undone last (the second's).
+TEST(MoreWorkpiecesRuntime, UndoTakesBackTheNewestStrokeOfAllAndRedoTheLastUndone) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-more-workpieces-undo-order";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    SessionSpec s;
+    s.mesh_path = default_mesh_path();
+    s.resolution = 32;
+    s.stock_m = 0.1;
+    s.workpiece_centre_m = Vec3(-0.1, 0.0, 0.05);
+    WorkpieceSpec second = workpiece_at(s, 0);
+    second.centre_m = Vec3(0.1, 0.0, 0.05);
+    s.more_workpieces = {second};
+    s.workspace_mode = "scaling";
+    s.tool = ToolShape{ToolKind::kBall, 0.006, 0.0, 0};
+    const devices::DeviceProfile profile = devices::profile_by_name(s.device);
+    const Vec3 home = devices::home_position_m(profile);
+    s.device_origin_m = Vec3(0.1, 0.0, 0.05) - home;  // the device's home on the second bunny's centre
+    validate_spec(s, "test");
+    Workpiece wp = prepare_session_workpiece(s);
+    std::vector<Workpiece> more = prepare_more_workpieces(s);
+    const double first_before = wp.volume_dexel_m3, second_before = more[0].volume_dexel_m3;
+    // Into the second bunny and out, over to the first (20 cm to the left), into it and out, then held in the air.
+    devices::DeviceInputs in;
+    in.period_s = s.period_s;
+    const Vec3 left(-0.2, 0.0, 0.0);
+    in.hand_path.emplace(std::vector<double>{0.0, 0.3, 1.0, 1.7, 2.4, 3.1, 3.8, 60.0},
+                         std::vector<Vec3>{home + Vec3(0.0, 0.0, 0.08), home + Vec3(0.0, 0.0, 0.08),
+                                           home + Vec3(0.0, 0.0, 0.03), home + Vec3(0.0, 0.0, 0.08),
+                                           home + left + Vec3(0.0, 0.0, 0.08), home + left + Vec3(0.0, 0.0, 0.03),
+                                           home + left + Vec3(0.0, 0.0, 0.08), home + left + Vec3(0.0, 0.0, 0.08)});
+    RuntimeOptions ro;
+    ro.sculpt.cpu = true;
+    ro.sculpt.journal = (dir / "session.tdj").string();
+    SessionRuntime rt(s, std::move(wp), std::move(more), make_device(s, in), home + s.device_origin_m, ro);
+    rt.start();
+    while (rt.latest_view().t_s < 4.6) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_EQ(rt.latest_view().target_workpiece, 0);  // the hand is at the first bunny now
+    const SculptLive first_live = rt.sculpt_live(), second_live = rt.more_workpiece(1).sculpt_live();
+    EXPECT_GT(first_live.undo_times.undo_at, second_live.undo_times.undo_at);  // both closed, the first's newer
+    EXPECT_GE(second_live.undo_times.undo_at, 0);
+    ASSERT_TRUE(rt.request(SculptRequest::kUndo));  // the first's stroke
+    ASSERT_TRUE(rt.request(SculptRequest::kUndo));  // waits for the first to be taken, then the second's
+    ASSERT_TRUE(rt.request(SculptRequest::kRedo));  // the second's again: undone last
+    rt.stop();  // sends what still waits, in turn
+    const SculptStats& a = rt.sculpt_stats();
+    const SculptStats& b = rt.more_workpiece(1).sculpt_stats();
+    EXPECT_EQ(a.history.strokes, 1u);
+    EXPECT_EQ(b.history.strokes, 1u);
+    EXPECT_EQ(a.history.undos, 1u);
+    EXPECT_EQ(a.history.redos, 0u);
+    EXPECT_EQ(b.history.undos, 1u);
+    EXPECT_EQ(b.history.redos, 1u);
+    EXPECT_EQ(compute::dexel_volume_m3(rt.workpiece().model), first_before);  // undone
+    EXPECT_LT(compute::dexel_volume_m3(rt.more_workpiece(1).workpiece().model), second_before);  // redone
 }
 
 }  // namespace

@@ -69,6 +69,9 @@ public:
     void stop();
     /// Queues an undo, redo, stroke close or save (SculptThread::request); one thread. False when the queue is full.
     bool request(SculptRequest r) { return sculpt_->request(r); }
+    /// Its sculpt thread's live counters and passes (SculptThread::live, passes; any thread).
+    SculptLive sculpt_live() const { return sculpt_->live(); }
+    std::uint64_t sculpt_passes() const { return sculpt_->passes(); }
     /// The newest whole mesh (options.publish_meshes; one render thread), in its model frame.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
     /// After stop(): its whole final model contoured on the CPU (model frame, m) with a material id per vertex.

@@ -201,6 +201,17 @@ void SessionRuntime::build_more(const Vec3& start_m, const RuntimeOptions& o) {
                                                         haptics::max_point_distance_m(cfg_.tool_points), mo));
     }
     more_wp_.clear();
+    std::vector<UndoLane> lanes{{[this] { return sculpt_->live().undo_times; }, [this] { return sculpt_->passes(); },
+                                 [this](SculptRequest r) { return sculpt_->request(r); }}};
+    for (const auto& m : more_) {
+        MoreWorkpiece* p = m.get();
+        lanes.push_back({[p] { return p->sculpt_live().undo_times; }, [p] { return p->sculpt_passes(); },
+                         [p](SculptRequest r) { return p->request(r); }});
+    }
+    undo_router_ = std::make_unique<UndoRouter>(std::move(lanes), [this] {
+        const int k = loop_->chosen_workpiece();
+        return k < 0 ? viewed_target_ : k;
+    });
 }
 
 MoreWorkpiece& SessionRuntime::more_workpiece(std::size_t k) {
@@ -217,6 +228,7 @@ bool SessionRuntime::request(SculptRequest r) {
         for (const auto& m : more_) all = m->request(r) && all;
         return all;
     }
+    if (r == SculptRequest::kUndo || r == SculptRequest::kRedo) return undo_router_->ask(r);
     int k = loop_->chosen_workpiece();
     if (k < 0) k = viewed_target_;
     return k <= 0 || static_cast<std::size_t>(k) > more_.size() ? sculpt_->request(r) : more_[k - 1]->request(r);
@@ -291,6 +303,9 @@ void SessionRuntime::start() {
 void SessionRuntime::stop() {
     if (!started_ || stopped_) return;
     stopped_ = true;
+    // Undos and redos still waiting for their turn are sent while the sculpt threads still run.
+    if (undo_router_ && !undo_router_->drain(std::chrono::milliseconds(3000)))
+        std::fprintf(stderr, "tridex: undo or redo requests dropped at the end: a sculpt thread did not take them\n");
     loop_->stop();  // zero force, device disabled
     if (tick_stream_) tick_stream_->stop();  // every tick the loop pushed is in the temporary file
     session_s_ = seconds_since(t_start_);

@@ -16,6 +16,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/tick_stream.hpp"
 #include "app/session/runtime/more_workpiece.hpp"
+#include "app/session/runtime/undo_router.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_intake.hpp"
 #include "compute/journal/journal_writer.hpp"
@@ -173,9 +174,11 @@ public:
     void stop();
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
-    /// With several workpieces, an undo, redo or stroke close goes to the workpiece the tool carves (the chosen one,
-    /// else the target of the view latest_view() last returned: this call never takes a newer view, which would end
-    /// the one its caller may still read), and a save to every workpiece.
+    /// With several workpieces, an undo goes to the workpiece whose step is newest and a redo to the one undone last
+    /// (UndoRouter: one undo order across workpieces; a request may wait a few milliseconds for the one before it,
+    /// sent by poll_device_frame() or stop()), a stroke close or coarseness change to the workpiece the tool carves
+    /// (the chosen one, else the target of the view latest_view() last returned: this call never takes a newer view,
+    /// which would end the one its caller may still read), and a save to every workpiece.
     bool request(SculptRequest r);
     /// How many workpieces the session sculpts (1 + spec().more_workpieces.size()).
     std::size_t workpiece_count() const { return 1 + more_.size(); }
@@ -232,7 +235,11 @@ public:
     /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
     /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads). Its buttons reach the loop's view
     /// (LoopView::buttons), which the session's bindings read (app/actions/bindings.hpp).
-    void poll_device_frame() { device_->poll_on_main_thread(); }
+    /// With several workpieces it also sends the undos and redos waiting for their turn (UndoRouter::pump).
+    void poll_device_frame() {
+        device_->poll_on_main_thread();
+        if (undo_router_) undo_router_->pump();
+    }
     /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
     /// Counts the published surfaces that carry a sculpted change (MeshFrame::oldest_sample_s set): a paced
@@ -315,6 +322,7 @@ private:
     std::unique_ptr<SculptThread> sculpt_;
     std::vector<Workpiece> more_wp_;                     // the further workpieces until build() moves them into more_
     std::vector<std::unique_ptr<MoreWorkpiece>> more_;  // before loop_, which feeds their rings
+    std::unique_ptr<UndoRouter> undo_router_;          // with further workpieces: where undo and redo go
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;

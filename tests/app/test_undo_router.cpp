@@ -1,0 +1,107 @@
+// The undo order across workpieces (UndoRouter): which workpiece an undo and a redo go to, from each sculpt
+// thread's UndoTimes, and one request at a time, each after the one before was taken. Fake lanes, no threads.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "app/session/runtime/undo_router.hpp"
+
+namespace tridex::app {
+namespace {
+
+TEST(UndoOrder, UndoGoesToTheNewestStepOfAll) {
+    std::vector<UndoTimes> t(3);
+    EXPECT_EQ(undo_workpiece(t), -1);  // nothing to undo anywhere
+    t[0].undo_at = 100;
+    t[2].undo_at = 40;
+    EXPECT_EQ(undo_workpiece(t), 0);
+    t[1].undo_at = 250;  // e.g. an open stroke that changed the model
+    EXPECT_EQ(undo_workpiece(t), 1);
+    t[2].undo_at = 250;  // a tie: the later workpiece
+    EXPECT_EQ(undo_workpiece(t), 2);
+}
+
+TEST(UndoOrder, RedoGoesToTheLastUndoneUnlessANewerStepEndedIt) {
+    std::vector<UndoTimes> t(2);
+    EXPECT_EQ(redo_workpiece(t), -1);
+    t[0].newest_step_at = 100;  // the first's stroke at 100, the second's at 200, both undone (second, then first)
+    t[1].newest_step_at = 200;
+    t[1].redo_at = 300;
+    t[0].redo_at = 310;
+    EXPECT_EQ(redo_workpiece(t), 0);
+    t[0].redo_at = -1;  // redone
+    EXPECT_EQ(redo_workpiece(t), 1);
+    t[0].newest_step_at = 400;  // then a new stroke on the first: the second's undone step is no longer redone
+    EXPECT_EQ(redo_workpiece(t), -1);
+}
+
+TEST(UndoOrder, EveryStepOfOneThreadIsTimedByItsClock) {
+    UndoClock c;
+    EXPECT_EQ(c.times(0, 0, false).undo_at, -1);
+    c.changed(10);
+    c.changed(20);
+    EXPECT_EQ(c.times(0, 0, true).undo_at, 20);  // the open stroke, undone by closing it first
+    c.closed(1);
+    c.made(2, 50);  // a coarseness change
+    EXPECT_EQ(c.times(2, 0, false).undo_at, 50);
+    EXPECT_EQ(c.times(1, 0, false).undo_at, 20);
+    c.undone(2, 70);
+    const UndoTimes after = c.times(1, 2, false);
+    EXPECT_EQ(after.redo_at, 70);
+    EXPECT_EQ(after.newest_step_at, 50);
+    EXPECT_EQ(c.times(9, 0, false).undo_at, 0);  // a step from a loaded history: older than all
+}
+
+struct FakeLane {
+    UndoTimes times;
+    std::uint64_t passes = 0;
+    std::vector<SculptRequest> got;
+    UndoLane lane() {
+        return {[this] { return times; }, [this] { return passes; },
+                [this](SculptRequest r) {
+                    got.push_back(r);
+                    return true;
+                }};
+    }
+};
+
+TEST(UndoRouter, RequestsGoOneAtATimeEachAfterTheOneBeforeWasTaken) {
+    FakeLane a, b;
+    a.times.undo_at = 100;
+    a.times.newest_step_at = 100;
+    b.times.undo_at = 200;
+    b.times.newest_step_at = 200;
+    UndoRouter r({a.lane(), b.lane()}, [] { return 0; });
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    EXPECT_EQ(b.got.size(), 1u);  // the newest first
+    EXPECT_EQ(r.waiting(), 1u);   // the second waits until b took the first
+    // b takes it: two passes, its step undone.
+    b.passes += 2;
+    b.times.undo_at = -1;
+    b.times.redo_at = 300;
+    r.pump();
+    EXPECT_EQ(a.got.size(), 1u);
+    EXPECT_EQ(r.waiting(), 0u);
+    a.passes += 2;
+    a.times.undo_at = -1;
+    a.times.redo_at = 310;
+    ASSERT_TRUE(r.ask(SculptRequest::kRedo));
+    EXPECT_EQ(a.got.size(), 2u);  // the one undone last
+    EXPECT_EQ(a.got.back(), SculptRequest::kRedo);
+    EXPECT_FALSE(r.ask(SculptRequest::kEndStroke));  // not routed here
+}
+
+TEST(UndoRouter, NothingAnywhereGoesToTheFallbackAndAStoppedThreadDoesNotHoldTheQueue) {
+    FakeLane a, b;
+    UndoRouter r({a.lane(), b.lane()}, [] { return 1; });
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    EXPECT_EQ(b.got.size(), 1u);  // counted where the tool carves, as with one workpiece
+    ASSERT_TRUE(r.ask(SculptRequest::kRedo));
+    EXPECT_EQ(r.waiting(), 1u);
+    EXPECT_TRUE(r.drain(std::chrono::milliseconds(3000)));  // b never passes: sent after the wait
+    EXPECT_EQ(b.got.size(), 2u);
+}
+
+}  // namespace
+}  // namespace tridex::app
