@@ -1,6 +1,7 @@
 // devices/recording.cpp - the "TRDXREC" binary format (little-endian, field by field), its writer, its
 // validating reader and the CSV export.
 #include "devices/recording.hpp"
+#include "devices/recording_poses.hpp"
 
 #include <array>
 #include <bit>
@@ -190,6 +191,7 @@ std::string header_json(const std::string& path, const RecordingHeader& h) {
         }
         j["marks"] = std::move(marks);
     }
+    if (!h.poses.empty()) j["poses"] = recorded_poses_json(path, h.poses);
     if (!h.menu.empty()) {  // the app's menu track, kept as it gave it (an array)
         nlohmann::json menu;
         try {
@@ -257,6 +259,7 @@ RecordingHeader parse_header(const std::string& path, const std::string& text) {
             h.marks->push_back(std::move(r));
         }
     }
+    if (const auto p = j.find("poses"); p != j.end()) h.poses = parse_recorded_poses(where, *p);
     if (const auto m = j.find("menu"); m != j.end()) {
         if (!m->is_array()) throw Error(where + ": \"menu\" is not an array");
         h.menu = m->dump();  // checked entry by entry by the app that reads it (app/menu/menu_frame.hpp)

@@ -79,6 +79,14 @@ struct RecordedMark {
     std::uint8_t workpiece = 0;
 };
 
+/// A workpiece's pose set during a recorded session (the undo or redo of a placement; the haptic loop's PoseChange):
+/// a replay sets it at the first valid tick at or after device_t_s on which the tool holds no workpiece.
+struct RecordedPose {
+    double device_t_s = 0.0;     ///< device time of the tick that took it, s (finite; never decreasing in a list)
+    std::uint8_t workpiece = 0;  ///< 0..kMaxRecordedWorkpieces-1
+    Pose pose{};                 ///< model frame -> world from then on (m; finite, unit quaternion)
+};
+
 /// The session-wide part of a recording.
 struct RecordingHeader {
     std::string device_name;     ///< DeviceProfile::name of the recorded device (the replay picks its profile)
@@ -91,6 +99,8 @@ struct RecordingHeader {
     /// The in-scene menu's track (the app's JSON array of what the menu showed and when, app/menu/menu_frame.hpp),
     /// so that a replay shows the same menu; "" = none (sessions without a menu, older files).
     std::string menu;
+    /// The workpieces' pose sets in order (empty in files that have none: header key "poses", absent then).
+    std::vector<RecordedPose> poses;
 };
 
 /// A recording in memory.
@@ -111,7 +121,8 @@ struct Recording {
 //   Header text, L bytes at 32: UTF-8 JSON object {"device_name": string, "period_s": number,
 //     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
 //     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing), optional "menu": [...] (the
-//     app's menu track)} (other keys are ignored).
+//     app's menu track), optional "poses": [{"t_s": number, "workpiece": integer, "position_m": [x, y, z],
+//     "orientation": [w, x, y, z]}, ...] (RecordedPose; t_s never decreasing)} (other keys are ignored).
 //   Tick records, 402 bytes each (version 1: 378, ending at `valid`; version 2: 397, ending at the tool length;
 //   version 3: 401, ending at the symmetry),
 //   from byte 32 + L; offsets within a record:

@@ -135,6 +135,7 @@ HapticLoop::HapticLoop(devices::HapticDevice& device, const std::vector<LoopWork
         pieces_.push_back(std::move(p));
     }
     records_.assign(cfg_.max_ticks, TickRecord{});  // allocated and touched here, never in the loop
+    pose_changes_.reserve(kMaxPoseChanges);
     base_points_ = pieces_[0]->contact->tool_points();
     tool_ = cfg_.tool;
     set_tool_op(cfg_.op, cfg_.material);
@@ -188,6 +189,10 @@ void HapticLoop::begin_session() {
     target_ = 0;
     target_held_ = false;
     placing_ = false;
+    placement_ = Placement{};
+    pose_changes_.clear();
+    pose_taken_.store(0, std::memory_order_release);
+    next_pose_change_ = 0;
     filter_.reset();
     torque_filter_.reset();
     mapper_.reset();
@@ -295,6 +300,7 @@ bool HapticLoop::tick(double now_s, TickRecord& rec) {
     };
     if (!finite) return invalid_tick();
     apply_tool_changes(state.t_s);
+    apply_pose_changes(state.t_s);
 
     // Time step of the contact damping, the bubble drift and the energy books: the device's own clock,
     // else the nominal period; bounded to [period/10, 10*period] so a glitching clock cannot blow up.
@@ -443,6 +449,8 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     for (std::size_t i = 0; i < pieces_.size(); ++i) v.workpiece_poses[i] = pieces_[i]->world_from_model;
     v.workpiece_count = static_cast<std::uint8_t>(pieces_.size());
     v.target_workpiece = static_cast<std::uint8_t>(target_);
+    v.placement = placement_;
+    v.samples = pieces_[0]->pushed;
     view_.publish();
 }
 

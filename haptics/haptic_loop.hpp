@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -50,6 +51,24 @@ struct ToolChange {
 
 /// Most workpieces one haptic loop feels and sculpts.
 inline constexpr std::size_t kMaxLoopWorkpieces = 8;
+
+/// A workpiece's pose set on a tick: the undo or redo of a placement (HapticLoop::set_workpiece_pose), or a replay's
+/// repetition of one (HapticLoopConfig::pose_schedule).
+struct PoseChange {
+    double device_t_s = 0.0;     ///< device time of the tick that took it, s (a replay: taken at the first valid
+                                 ///< sample at or after it on which the tool holds no workpiece)
+    std::uint8_t workpiece = 0;  ///< the workpiece, in the loop's order
+    Pose pose{};                 ///< its model frame -> the world from then on (m, unit quaternion)
+};
+
+/// A placement that ended: the tool let go of the workpiece it held with ToolOp::kPlace (LoopView::placement).
+struct Placement {
+    std::uint64_t serial = 0;      ///< 1, 2, ... per placement ended; 0 = none yet
+    std::uint8_t workpiece = 0;    ///< the workpiece it moved, in the loop's order
+    Pose before{};                 ///< its pose at the grip
+    Pose after{};                  ///< its pose at the release
+    std::uint64_t at_samples = 0;  ///< samples its sculpt ring had taken at the release (the sculpt threads' clock)
+};
 
 /// One workpiece the haptic loop feels and sculpts: where it reads the workpiece's active surface (in the workpiece's
 /// model frame), where it hands the workpiece's sculpt thread its tool samples (model frame), where it also taps them
@@ -121,6 +140,9 @@ struct HapticLoopConfig {
     /// Changes applied at device times (a replay of a session whose keys changed the op or the tool size), in
     /// increasing device_t_s; empty for live sessions.
     std::vector<ToolChange> tool_schedule{};
+    /// A replay's pose sets (the session's PoseChange list, device_t_s never decreasing), each taken at the first
+    /// valid sample with t_s >= device_t_s on which the tool holds no workpiece, as the session took it.
+    std::vector<PoseChange> pose_schedule{};
     /// Free running, for a replay that draws no window (nothing waits on its pace): ticks run back to back without
     /// sleeping, the loop clock is tick index x period_s (each tick on time, as the recorded loop meant them), the loop
     /// stays at most kFreeRunLead samples ahead of the sculpt thread (so the sculpt thread gets every sample and the
@@ -255,6 +277,8 @@ struct LoopView {
     std::array<Pose, kMaxLoopWorkpieces> workpiece_poses{};
     std::uint8_t workpiece_count = 1;  ///< workpieces the loop feels
     std::uint8_t target_workpiece = 0; ///< the workpiece the tool carves (or places) now
+    Placement placement{};             ///< the newest placement that ended (serial 0: none yet)
+    std::uint64_t samples = 0;         ///< samples the first workpiece's sculpt ring has taken (the sculpt clock)
 };
 
 /// The 1 kHz haptic thread (DESIGN.md, "three threads"). It ticks on absolute deadlines
@@ -377,6 +401,19 @@ public:
     bool choose_workpiece(int index);
     /// The chosen workpiece (-1: automatic).
     int chosen_workpiece() const { return chosen_.load(std::memory_order_relaxed); }
+    /// Sets workpiece `index`'s pose (model frame -> world, m, unit quaternion) from a coming tick on: the undo or
+    /// redo of a placement. One writer thread (the render thread); the loop takes the sets in order, each at a valid
+    /// sample on which the tool holds no workpiece, forgets that workpiece's contact, lets its next sample carve
+    /// nothing (no sweep across the jump) and keeps the set for the recording (pose_changes()). Returns false,
+    /// changing nothing, for an index out of range, a pose that is not finite or not unit, or when
+    /// kMaxPoseChanges sets were already made or 16 wait.
+    bool set_workpiece_pose(int index, const Pose& pose);
+    /// Pose sets the loop has taken so far (any thread).
+    std::uint64_t pose_changes_taken() const { return pose_taken_.load(std::memory_order_acquire); }
+    /// Every pose set taken this session, in order, with its tick's device time (read after stop()).
+    const std::vector<PoseChange>& pose_changes() const { return pose_changes_; }
+    /// Most pose sets one session keeps.
+    static constexpr std::size_t kMaxPoseChanges = 4096;
     /// Workpieces the loop feels.
     std::size_t workpieces() const { return pieces_.size(); }
 
@@ -415,6 +452,10 @@ private:
     void finish(TickRecord& rec, double compute_s);
     // Takes a new tool from set_tool() and the schedule's changes due at device time t_s (loop thread).
     void apply_tool_changes(double device_t_s);
+    // Takes the pose sets due at device time t_s (set_workpiece_pose, cfg_.pose_schedule) unless the tool holds a
+    // workpiece (loop thread).
+    void apply_pose_changes(double device_t_s);
+    void take_pose(const PoseChange& c);
     // Switches to `tool` (already checked) with contact points scaled from the configured ones.
     void use_tool(const ToolShape& tool);
     // Builds this tick's ToolSample (op kNone when `hold`) and pushes it; `gap` keeps the next sample from carving.
@@ -464,6 +505,14 @@ private:
     std::atomic<int> chosen_{-1};    // choose_workpiece (-1: automatic)
     Pose grip_;              // while placing: the workpiece's pose in the tool's frame at the grip
     bool placing_ = false;   // the tool held the workpiece on the previous tick
+    Pose grip_before_;       // while placing: the held workpiece's pose at the grip
+    Placement placement_;    // the newest placement that ended
+    SpscRing<PoseChange> pose_sets_{16};       // set_workpiece_pose (render thread) -> the loop
+    std::size_t pose_sets_sent_ = 0;           // writer side
+    std::vector<PoseChange> pose_changes_;     // taken (loop thread; reserved kMaxPoseChanges at construction)
+    std::atomic<std::uint64_t> pose_taken_{0};
+    std::size_t next_pose_change_ = 0;         // cfg_.pose_schedule entries taken
+    std::optional<PoseChange> pose_pending_;   // popped while the tool held a workpiece: taken once it lets go
     Pose last_tool_;
     // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
     // limit, so a gap never becomes one long swept capsule.

@@ -74,12 +74,17 @@ void HapticLoop::apply_tool_changes(double device_t_s) {
 }
 
 bool HapticLoop::place(bool engaged, const Pose& tool_world) {
+    Piece& held = *pieces_[target_];  // the target does not change while placing (pick_target)
     if (!engaged || !is_finite(tool_world.position)) {
+        const Pose& now = held.world_from_model;
+        if (placing_ && (now.position != grip_before_.position || now.orientation != grip_before_.orientation))
+            placement_ = Placement{placement_.serial + 1, static_cast<std::uint8_t>(target_), grip_before_, now,
+                                   held.pushed};
         placing_ = false;
         return false;
     }
-    Piece& held = *pieces_[target_];  // the target does not change while placing (pick_target)
     if (!placing_) {  // the grip: where the workpiece sits in the tool's frame, kept while the tool holds it
+        grip_before_ = held.world_from_model;
         grip_ = tool_world.inverse() * held.world_from_model;
         placing_ = true;
         reset_contact();

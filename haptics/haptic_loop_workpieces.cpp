@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <thread>
@@ -87,6 +88,44 @@ std::size_t HapticLoop::pick_target(const Pose& tool_world, bool keep) const {
         }
     }
     return best;
+}
+
+bool HapticLoop::set_workpiece_pose(int index, const Pose& pose) {
+    if (index < 0 || static_cast<std::size_t>(index) >= pieces_.size()) return false;
+    const Quat& q = pose.orientation;
+    const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    if (!is_finite(pose.position) || !std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6) return false;
+    if (pose_sets_sent_ >= kMaxPoseChanges) return false;
+    if (!pose_sets_.try_push(PoseChange{0.0, static_cast<std::uint8_t>(index), pose})) return false;
+    ++pose_sets_sent_;
+    return true;
+}
+
+void HapticLoop::apply_pose_changes(double device_t_s) {
+    if (placing_) return;  // the hand holds a workpiece: a set waits until it lets go
+    PoseChange c;
+    if (!pose_pending_ && pose_sets_.try_pop(c)) pose_pending_ = c;
+    if (pose_pending_) {
+        c = *pose_pending_;
+        pose_pending_.reset();
+        c.device_t_s = device_t_s;
+        take_pose(c);
+    }
+    const std::vector<PoseChange>& sched = cfg_.pose_schedule;
+    for (; next_pose_change_ < sched.size() && sched[next_pose_change_].device_t_s <= device_t_s; ++next_pose_change_)
+        take_pose(PoseChange{device_t_s, sched[next_pose_change_].workpiece, sched[next_pose_change_].pose});
+}
+
+void HapticLoop::take_pose(const PoseChange& c) {
+    if (c.workpiece >= pieces_.size()) return;  // a replay checks its schedule against the workpieces first
+    Piece& p = *pieces_[c.workpiece];
+    p.world_from_model = c.pose;
+    p.model_from_world = c.pose.inverse();
+    p.carve_gap = true;  // no sweep from the old frame's sample to the new one's
+    reset_contact();     // the proxy starts over where the tool is
+    target_held_ = false;
+    if (pose_changes_.size() < pose_changes_.capacity()) pose_changes_.push_back(c);
+    pose_taken_.fetch_add(1, std::memory_order_acq_rel);
 }
 
 void HapticLoop::push_sample(const devices::DeviceState& state, const Pose& tool_world, const ContactOut& c, bool hold,

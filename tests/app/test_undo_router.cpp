@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "app/session/runtime/placement_history.hpp"
 #include "app/session/runtime/undo_router.hpp"
 
 namespace tridex::app {
@@ -98,9 +99,53 @@ TEST(UndoRouter, NothingAnywhereGoesToTheFallbackAndAStoppedThreadDoesNotHoldThe
     ASSERT_TRUE(r.ask(SculptRequest::kUndo));
     EXPECT_EQ(b.got.size(), 1u);  // counted where the tool carves, as with one workpiece
     ASSERT_TRUE(r.ask(SculptRequest::kRedo));
+    EXPECT_EQ(b.got.size(), 2u);  // no other history has anything: at once, behind the first in b's own queue
+    EXPECT_EQ(r.waiting(), 0u);
+    a.times.undo_at = 10;
+    b.times.undo_at = 20;
+    b.passes += 2;
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    EXPECT_EQ(b.got.size(), 3u);
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));  // a has a step: waits for b, which never passes again
     EXPECT_EQ(r.waiting(), 1u);
-    EXPECT_TRUE(r.drain(std::chrono::milliseconds(3000)));  // b never passes: sent after the wait
-    EXPECT_EQ(b.got.size(), 2u);
+    EXPECT_TRUE(r.drain(std::chrono::milliseconds(3000)));  // sent after the wait
+    EXPECT_EQ(a.got.size() + b.got.size(), 4u);
+}
+
+TEST(PlacementHistory, AnEndedPlacementIsAStepWhoseUndoAndRedoSetThePose) {
+    std::vector<std::pair<int, Pose>> sets;
+    bool refuse = false;
+    PlacementHistory h([&](int k, const Pose& p) {
+        if (refuse) return false;
+        sets.emplace_back(k, p);
+        return true;
+    });
+    EXPECT_EQ(h.times().undo_at, -1);
+    EXPECT_TRUE(h.request(SculptRequest::kUndo));  // nothing: nothing done
+    EXPECT_TRUE(sets.empty());
+    const Pose a{Vec3(0.0), Quat(1.0, 0.0, 0.0, 0.0)}, b{Vec3(0.1, 0.0, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    h.observe(haptics::Placement{1, 1, a, b, 500}, 520);
+    h.observe(haptics::Placement{1, 1, a, b, 500}, 530);  // the same one in a later view: still one step
+    EXPECT_EQ(h.undo_steps(), 1u);
+    EXPECT_EQ(h.times().undo_at, 500);
+    EXPECT_EQ(h.times().newest_step_at, 500);
+    refuse = true;
+    EXPECT_FALSE(h.request(SculptRequest::kUndo));  // the loop refused: the step stays
+    EXPECT_EQ(h.undo_steps(), 1u);
+    refuse = false;
+    ASSERT_TRUE(h.request(SculptRequest::kUndo));
+    ASSERT_EQ(sets.size(), 1u);
+    EXPECT_EQ(sets[0].first, 1);
+    EXPECT_EQ(sets[0].second.position, a.position);  // back where it was gripped
+    EXPECT_EQ(h.times().undo_at, -1);
+    EXPECT_EQ(h.times().redo_at, 530);  // undone at the view's clock
+    ASSERT_TRUE(h.request(SculptRequest::kRedo));
+    EXPECT_EQ(sets[1].second.position, b.position);
+    ASSERT_TRUE(h.request(SculptRequest::kUndo));
+    h.observe(haptics::Placement{2, 0, a, b, 700}, 710);  // a new placement ends what could be redone
+    EXPECT_EQ(h.redo_steps(), 0u);
+    EXPECT_EQ(h.times().undo_at, 700);
+    EXPECT_FALSE(h.request(SculptRequest::kEndStroke));
 }
 
 }  // namespace

@@ -537,6 +537,56 @@ TEST(Recording, MarksRoundTripAndBadMarksAreRefused) {
     expect_refused(with_header("m5.trdxrec", head + R"([7]})"), {"marks[0] is not an object"});
 }
 
+TEST(Recording, PoseSetsRoundTripBitForBitAndBadOnesAreRefused) {
+    Recording src = sample_recording(2);
+    const Quat turn = glm::normalize(Quat(0.9, 0.1, -0.3, 0.2));
+    src.header.poses = {RecordedPose{0.125, 0, Pose{Vec3(0.1, -1.0 / 3.0, 0.05), Quat(1.0, 0.0, 0.0, 0.0)}},
+                        RecordedPose{0.5, 3, Pose{Vec3(1e-9, 0.0, 2.0 / 7.0), turn}}};
+    const std::string path = temp_path("poses.trdxrec");
+    write_recording(path, src);
+    const Recording back = read_recording(path);
+    ASSERT_EQ(back.header.poses.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+        EXPECT_EQ(back.header.poses[k].device_t_s, src.header.poses[k].device_t_s);
+        EXPECT_EQ(back.header.poses[k].workpiece, src.header.poses[k].workpiece);
+        EXPECT_EQ(back.header.poses[k].pose.position, src.header.poses[k].pose.position);  // bit for bit
+        EXPECT_EQ(back.header.poses[k].pose.orientation, src.header.poses[k].pose.orientation);
+    }
+    // The writer refuses what the reader would.
+    Recording bad = src;
+    bad.header.poses[1].device_t_s = 0.1;
+    EXPECT_THROW(write_recording(temp_path("w.trdxrec"), bad), Error);
+    bad = src;
+    bad.header.poses[0].pose.orientation = Quat(2.0, 0.0, 0.0, 0.0);
+    EXPECT_THROW(write_recording(temp_path("w.trdxrec"), bad), Error);
+
+    const Written w = write_sample("good_poses.trdxrec", 2);
+    const auto with_header = [&](const std::string& name, const std::string& text) {
+        std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + 32);
+        b[28] = static_cast<unsigned char>(text.size()), b[29] = b[30] = b[31] = 0;
+        b[16] = 0;  // zero ticks
+        b.insert(b.end(), text.begin(), text.end());
+        const std::uint32_t crc = crc32_ieee(text.data(), text.size());
+        for (int i = 0; i < 4; ++i) b[24 + i] = static_cast<unsigned char>(crc >> (8 * i));
+        const std::string p = temp_path(name);
+        save(p, b);
+        return p;
+    };
+    const std::string head = R"({"device_name":"x","period_s":0.001,"workspace_mode":"m","notes":"","poses":)";
+    const std::string one = R"("workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0])";
+    expect_refused(with_header("p1.trdxrec", head + R"({"a":1}})"), {"\"poses\" is not an array"});
+    expect_refused(with_header("p2.trdxrec", head + "[{\"t_s\":1," + one + "},{\"t_s\":0.5," + one + "}]}"),
+                   {"poses[1].t_s decreases"});
+    expect_refused(with_header("p3.trdxrec", head + R"([{"t_s":1,"workpiece":9,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
+                   {"poses[0].workpiece missing or not an integer 0..7"});
+    expect_refused(with_header("p4.trdxrec", head + R"([{"t_s":1,"workpiece":0,"position_m":[0,0],"orientation":[1,0,0,0]}]})"),
+                   {"poses[0].position_m missing or not 3 numbers"});
+    expect_refused(with_header("p5.trdxrec", head + R"([{"t_s":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,1,0,0]}]})"),
+                   {"poses[0].orientation is not a unit quaternion"});
+    expect_refused(with_header("p6.trdxrec", head + R"([{"workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
+                   {"poses[0].t_s missing or not a number"});
+}
+
 TEST(RecordingWriter, RefusesBadTicksAndKeepsTheFileValid) {
     const std::string path = temp_path("w.trdxrec");
     Recording src = sample_recording(4);

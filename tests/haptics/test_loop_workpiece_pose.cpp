@@ -135,6 +135,64 @@ TEST(LoopWorkpiecePose, PlaceMovesAndTurnsTheWorkpieceWithTheEngagedToolAndCarve
     EXPECT_GT(samples, 10u);
 }
 
+// A placement that ends is reported with its poses; setting the pose back (its undo) takes effect at the next valid
+// tick the tool holds nothing, is kept with that tick's device time, and a second loop given it as a schedule takes
+// it at the same tick.
+TEST(LoopWorkpiecePose, APlacementEndsInTheViewAndASetPoseIsTakenKeptAndReplayed) {
+    const Pose start{Vec3(0.01, 0.0, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    const Pose grip{Vec3(0.022, 0.012, 0.0105), Quat(1.0, 0.0, 0.0, 0.0)};
+    const auto run = [&](const std::vector<PoseChange>& schedule, bool set_live, std::vector<PoseChange>& taken,
+                         std::vector<Pose>& poses) {
+        TripleBuffer<ActiveSurface> surface;
+        test::publish(surface, *test::z_plane(kH, 10.25f));
+        SpscRing<ToolSample> ring(4096);
+        test::PoseDevice dev(devices::DeviceProfile::phantom_omni());
+        HapticLoopConfig cfg = plane_config();
+        cfg.op = ToolOp::kPlace;
+        cfg.engage_mask = 1u;
+        cfg.workpiece_pose = start;
+        cfg.pose_schedule = schedule;
+        HapticLoop loop(dev, surface, ring, cfg);
+        dev.state.pose.position = grip.position;
+        for (int t = 0; t < 30; ++t) {
+            dev.state.buttons = t >= 2 && t < 12 ? 1u : 0u;  // held from tick 2, let go at tick 12
+            if (t >= 2 && t < 12) dev.state.pose.position = grip.position + Vec3(0.001 * (t - 1), 0.0, 0.0);
+            if (set_live && t == 8) {
+                EXPECT_TRUE(loop.set_workpiece_pose(0, start));  // asked while held: waits
+            }
+            loop.step(t * 1e-3);
+            poses.push_back(loop.latest_view().workpiece_pose);
+        }
+        const Placement& p = loop.latest_view().placement;  // the newest that ended: the one
+        EXPECT_EQ(p.serial, 1u);
+        EXPECT_EQ(p.before.position, start.position);
+        EXPECT_GT(p.after.position.x - start.position.x, 0.005);
+        EXPECT_GE(p.at_samples, 12u);  // the samples before the release's
+        EXPECT_LE(p.at_samples, 13u);
+        taken = loop.pose_changes();
+        EXPECT_EQ(loop.pose_changes_taken(), taken.size());
+        EXPECT_FALSE(loop.set_workpiece_pose(1, start));  // no second workpiece
+        EXPECT_FALSE(loop.set_workpiece_pose(0, Pose{Vec3(0.0), Quat(2.0, 0.0, 0.0, 0.0)}));
+        EXPECT_FALSE(loop.set_workpiece_pose(0, Pose{Vec3(std::nan(""), 0.0, 0.0), Quat(1.0, 0.0, 0.0, 0.0)}));
+    };
+    std::vector<PoseChange> live;
+    std::vector<Pose> live_poses;
+    run({}, true, live, live_poses);
+    ASSERT_EQ(live.size(), 1u);
+    // The tick that let go took it (device time = (tick + 1) ms).
+    const auto at = static_cast<std::size_t>(std::lround(live[0].device_t_s * 1e3)) - 1;
+    ASSERT_GE(at, 12u);
+    ASSERT_LE(at, 13u);
+    EXPECT_GT(live_poses[at - 1].position.x, start.position.x + 0.005);
+    EXPECT_EQ(live_poses[at].position, start.position);  // back where it was gripped
+    std::vector<PoseChange> again;
+    std::vector<Pose> again_poses;
+    run(live, false, again, again_poses);
+    ASSERT_EQ(again.size(), 1u);
+    EXPECT_EQ(again[0].device_t_s, live[0].device_t_s);
+    for (std::size_t t = 0; t < live_poses.size(); ++t) EXPECT_EQ(again_poses[t].position, live_poses[t].position) << t;
+}
+
 TEST(LoopWorkpiecePose, ANonFiniteOrNonUnitPoseIsRefusedByName) {
     TripleBuffer<ActiveSurface> surface;
     SpscRing<ToolSample> ring(64);

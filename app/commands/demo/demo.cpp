@@ -248,7 +248,8 @@ void run_demo(const DemoOptions& o) {
     OutputWrites writes;
     write_session_outputs(OutputOptions{o.out, o.width, o.height, o.validate, o.ao}, run, t_start, writes);
     if (!o.record.empty())
-        writes.attempt(o.record, [&] { write_session_recording(o.record, s, run.records, "", run.sculpt.marks); });
+        writes.attempt(o.record, [&] { write_session_recording(o.record, s, run.records, "", run.sculpt.marks,
+                                                                run.runtime->pose_changes()); });
     if (!o.save.empty()) writes.attempt(o.save, [&] { save_session_model(o.save, run.runtime->workpiece(), s); });
     if (run.device_lost_at_s) {
         std::string kept;

@@ -65,6 +65,7 @@ void run_replay(const std::string& recording_path, const OutputOptions& out, con
     LoopOverrides loop;
     try {
         loop.tool_schedule = tool_schedule(rec, s);
+        loop.pose_schedule = pose_schedule(rec.header, 1 + more.size());
     } catch (const Error& e) {
         throw Error(recording_path + ": " + e.what());
     }

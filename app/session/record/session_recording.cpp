@@ -157,20 +157,35 @@ devices::Recording session_recording(const SessionSpec& settings, const std::vec
 
 devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
                                           std::span<const SculptMark> marks,
-                                          std::span<const std::vector<SculptMark>> more_marks) {
+                                          std::span<const std::vector<SculptMark>> more_marks,
+                                          std::span<const haptics::PoseChange> poses) {
     devices::RecordingHeader header;
     header.device_name = device_profile(settings.device).name;
     header.period_s = settings.period_s;
     header.workspace_mode = settings.workspace_mode;
     header.notes = notes.empty() ? spec_to_json(settings) : notes;
     header.marks = recorded_marks(marks, more_marks);
+    for (const haptics::PoseChange& c : poses) header.poses.push_back({c.device_t_s, c.workpiece, c.pose});
     return header;
+}
+
+std::vector<haptics::PoseChange> pose_schedule(const devices::RecordingHeader& header, std::size_t workpieces) {
+    std::vector<haptics::PoseChange> out;
+    for (std::size_t k = 0; k < header.poses.size(); ++k) {
+        const devices::RecordedPose& p = header.poses[k];
+        if (p.workpiece >= workpieces)
+            throw Error("poses[" + std::to_string(k) + "].workpiece = " + std::to_string(p.workpiece) +
+                        ", but the session has " + std::to_string(workpieces) + " workpiece" +
+                        (workpieces == 1 ? "" : "s"));
+        out.push_back({p.device_t_s, p.workpiece, p.pose});
+    }
+    return out;
 }
 
 void write_session_recording(const std::string& path, const SessionSpec& settings,
                              const std::vector<haptics::TickRecord>& records, const std::string& notes,
-                             std::span<const SculptMark> marks) {
-    devices::RecordingWriter writer(path, recording_header(settings, notes, marks));
+                             std::span<const SculptMark> marks, std::span<const haptics::PoseChange> poses) {
+    devices::RecordingWriter writer(path, recording_header(settings, notes, marks, {}, poses));
     double prev = -INFINITY;
     for (const haptics::TickRecord& r : records) {
         const devices::RecordedTick t = to_recorded_tick(r, parse_tool_op(settings.op), prev, settings.points);

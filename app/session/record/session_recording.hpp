@@ -55,15 +55,21 @@ devices::Recording session_recording(const SessionSpec& settings, const std::vec
 
 /// The header of a recording of a session of `settings`: its device profile's name, period and workspace mode,
 /// `notes` ("" = spec_to_json(settings)) and the sculpt threads' `marks` and `more_marks` (recorded_marks).
+/// `poses`: the haptic loop's pose sets (HapticLoop::pose_changes: placements undone and redone), kept in order.
 devices::RecordingHeader recording_header(const SessionSpec& settings, const std::string& notes,
                                           std::span<const SculptMark> marks,
-                                          std::span<const std::vector<SculptMark>> more_marks = {});
+                                          std::span<const std::vector<SculptMark>> more_marks = {},
+                                          std::span<const haptics::PoseChange> poses = {});
+
+/// The pose sets a replay's loop repeats (HapticLoopConfig::pose_schedule) from a recording's header. Throws
+/// tridex::Error "poses[k].workpiece = K, but the session has N workpieces" for a workpiece the session lacks.
+std::vector<haptics::PoseChange> pose_schedule(const devices::RecordingHeader& header, std::size_t workpieces);
 
 /// Writes the session's records to `path` (TRDXREC format) with `notes` in the header notes ("" = the settings,
 /// spec_to_json) and the sculpt thread's `marks` (SculptStats::marks), so that a replay repeats its undos, redos
 /// and strokes. Throws tridex::Error "<path>: ..." when it cannot write.
 void write_session_recording(const std::string& path, const SessionSpec& settings,
                              const std::vector<haptics::TickRecord>& records, const std::string& notes = "",
-                             std::span<const SculptMark> marks = {});
+                             std::span<const SculptMark> marks = {}, std::span<const haptics::PoseChange> poses = {});
 
 }  // namespace tridex::app

@@ -80,12 +80,13 @@ void TickStream::drain() {
 }
 
 void TickStream::finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu,
-                        std::span<const std::vector<SculptMark>> more_marks) {
+                        std::span<const std::vector<SculptMark>> more_marks,
+                        std::span<const haptics::PoseChange> poses) {
     stop();
     if (!error_.empty()) throw Error(path_ + ": " + error_);
     if (!tmp_ || std::fflush(tmp_) != 0 || std::fseek(tmp_, 0, SEEK_SET) != 0)
         throw Error(path_ + ": cannot read the recording's temporary file back (" + std::strerror(errno) + ")");
-    devices::RecordingHeader header = recording_header(spec_, notes, marks, more_marks);
+    devices::RecordingHeader header = recording_header(spec_, notes, marks, more_marks, poses);
     header.menu = menu;
     devices::RecordingWriter writer(path_, header);
     std::vector<devices::RecordedTick> chunk(4096);

@@ -48,8 +48,10 @@ public:
     /// = none: RecordingHeader::menu), the further workpieces' marks `more_marks` (recorded_marks), and frees the temporary file. Throws
     /// tridex::Error "<path>: ..." when the temporary file could not be written (a full disk: the error it met),
     /// read back, or the recording not written.
+    /// `poses`: the loop's pose sets (RecordingHeader::poses).
     void finish(const std::string& notes, std::span<const SculptMark> marks, const std::string& menu = "",
-                std::span<const std::vector<SculptMark>> more_marks = {});
+                std::span<const std::vector<SculptMark>> more_marks = {},
+                std::span<const haptics::PoseChange> poses = {});
     /// The recording file.
     const std::string& path() const { return path_; }
 

@@ -349,7 +349,8 @@ void RunPipeline::Parts::write_outputs() {
                 std::vector<std::vector<SculptMark>> more_marks;  // each further workpiece's own
                 for (std::size_t k = 1; k < rt.workpiece_count(); ++k)
                     more_marks.push_back(rt.more_workpiece(k).sculpt_stats().marks);
-                rt.tick_stream()->finish(notes, r.sculpt.marks, menu_track.to_json_text(), more_marks);
+                rt.tick_stream()->finish(notes, r.sculpt.marks, menu_track.to_json_text(), more_marks,
+                                         rt.pose_changes());
             }))
             r.files.push_back(su.record);
     }

@@ -82,6 +82,7 @@ SessionRuntime::SessionRuntime(const SessionSpec& spec, Workpiece workpiece, std
                     std::to_string(spec_.more_workpieces.size()));
     more_wp_ = std::move(more);
     cfg_.tool_schedule = o.loop.tool_schedule;
+    cfg_.pose_schedule = o.loop.pose_schedule;
     cfg_.engage_mask |= o.loop.engage_mask;
     cfg_.free_run = o.loop.free_run;
     configure_net_device(*device_, cfg_);  // local rendering: the server's loop gets the contact parameters
@@ -170,6 +171,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         for (const auto& m : more_) pieces.push_back(m->loop_workpiece());
         loop_ = std::make_unique<haptics::HapticLoop>(*device_, pieces, cfg_);
     }
+    build_undo_order();
     if (loop_->stiffness_capped()) {  // the report and the views show what the device renders
         std::fprintf(stderr,
                      "tridex: contact stiffness cut to %.0f N/m (world): the %s renders at most %.0f N/m at a workspace "
@@ -201,6 +203,11 @@ void SessionRuntime::build_more(const Vec3& start_m, const RuntimeOptions& o) {
                                                         haptics::max_point_distance_m(cfg_.tool_points), mo));
     }
     more_wp_.clear();
+}
+
+void SessionRuntime::build_undo_order() {
+    placements_ = std::make_unique<PlacementHistory>(
+        [this](int k, const Pose& pose) { return loop_->set_workpiece_pose(k, pose); });
     std::vector<UndoLane> lanes{{[this] { return sculpt_->live().undo_times; }, [this] { return sculpt_->passes(); },
                                  [this](SculptRequest r) { return sculpt_->request(r); }}};
     for (const auto& m : more_) {
@@ -208,6 +215,8 @@ void SessionRuntime::build_more(const Vec3& start_m, const RuntimeOptions& o) {
         lanes.push_back({[p] { return p->sculpt_live().undo_times; }, [p] { return p->sculpt_passes(); },
                          [p](SculptRequest r) { return p->request(r); }});
     }
+    lanes.push_back({[this] { return placements_->times(); }, [this] { return loop_->pose_changes_taken(); },
+                     [this](SculptRequest r) { return placements_->request(r); }, 1});
     undo_router_ = std::make_unique<UndoRouter>(std::move(lanes), [this] {
         const int k = loop_->chosen_workpiece();
         return k < 0 ? viewed_target_ : k;
@@ -222,13 +231,13 @@ MoreWorkpiece& SessionRuntime::more_workpiece(std::size_t k) {
 }
 
 bool SessionRuntime::request(SculptRequest r) {
+    if (r == SculptRequest::kUndo || r == SculptRequest::kRedo) return undo_router_->ask(r);
     if (more_.empty()) return sculpt_->request(r);
     if (r == SculptRequest::kSave) {
         bool all = sculpt_->request(r);
         for (const auto& m : more_) all = m->request(r) && all;
         return all;
     }
-    if (r == SculptRequest::kUndo || r == SculptRequest::kRedo) return undo_router_->ask(r);
     int k = loop_->chosen_workpiece();
     if (k < 0) k = viewed_target_;
     return k <= 0 || static_cast<std::size_t>(k) > more_.size() ? sculpt_->request(r) : more_[k - 1]->request(r);
@@ -304,7 +313,7 @@ void SessionRuntime::stop() {
     if (!started_ || stopped_) return;
     stopped_ = true;
     // Undos and redos still waiting for their turn are sent while the sculpt threads still run.
-    if (undo_router_ && !undo_router_->drain(std::chrono::milliseconds(3000)))
+    if (!undo_router_->drain(std::chrono::milliseconds(3000)))
         std::fprintf(stderr, "tridex: undo or redo requests dropped at the end: a sculpt thread did not take them\n");
     loop_->stop();  // zero force, device disabled
     if (tick_stream_) tick_stream_->stop();  // every tick the loop pushed is in the temporary file

@@ -16,6 +16,7 @@
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/record/tick_stream.hpp"
 #include "app/session/runtime/more_workpiece.hpp"
+#include "app/session/runtime/placement_history.hpp"
 #include "app/session/runtime/undo_router.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_intake.hpp"
@@ -118,6 +119,8 @@ struct LoopOverrides {
     /// A replay of several workpieces: the recorded marks of each further workpiece (index k-1 for workpiece k;
     /// SculptThread::follow_marks); empty = taken as they come.
     std::vector<std::vector<SculptMark>> more_follow_marks{};
+    /// The recorded pose sets (placements undone and redone), repeated at their ticks (HapticLoopConfig::pose_schedule).
+    std::vector<haptics::PoseChange> pose_schedule{};
 };
 
 /// How a SessionRuntime places its GPU work and hands its surface over.
@@ -174,9 +177,10 @@ public:
     void stop();
     /// Asks the sculpt thread to undo, redo or close the open stroke (SculptThread::request); one thread (the
     /// window's) may call it. False when the request queue is full.
-    /// With several workpieces, an undo goes to the workpiece whose step is newest and a redo to the one undone last
-    /// (UndoRouter: one undo order across workpieces; a request may wait a few milliseconds for the one before it,
-    /// sent by poll_device_frame() or stop()), a stroke close or coarseness change to the workpiece the tool carves
+    /// An undo takes back the newest step of the session and a redo brings back the one undone last, whichever
+    /// workpiece's stroke or placement it was (UndoRouter, PlacementHistory; a request may wait a few milliseconds
+    /// for the one before it, sent by poll_device_frame() or stop()). With several workpieces, a stroke close or
+    /// coarseness change goes to the workpiece the tool carves
     /// (the chosen one, else the target of the view latest_view() last returned: this call never takes a newer view,
     /// which would end the one its caller may still read), and a save to every workpiece.
     bool request(SculptRequest r);
@@ -220,6 +224,8 @@ public:
     bool started() const { return started_; }
     /// The loop's counters (any time).
     haptics::LoopStats loop_stats() const { return loop_->stats(); }
+    /// The loop's pose sets taken this session (HapticLoop::pose_changes: placements undone and redone); after stop().
+    const std::vector<haptics::PoseChange>& pose_changes() const { return loop_->pose_changes(); }
     /// One record per tick (at most RuntimeOptions::max_ticks); valid after stop().
     const std::vector<haptics::TickRecord>& records() const { return loop_->records(); }
     /// The sculpt thread's live counters (SculptThread::live: steps, undo history bytes, step times; any thread).
@@ -230,15 +236,16 @@ public:
     const haptics::LoopView& latest_view() {
         const haptics::LoopView& v = loop_->latest_view();
         viewed_target_ = v.target_workpiece;
+        placements_->observe(v.placement, v.samples);  // a placement that ended becomes an undo step
         return v;
     }
     /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
     /// there (HapticDevice::poll_on_main_thread: GLFW's gamepads). Its buttons reach the loop's view
     /// (LoopView::buttons), which the session's bindings read (app/actions/bindings.hpp).
-    /// With several workpieces it also sends the undos and redos waiting for their turn (UndoRouter::pump).
+    /// It also sends the undos and redos waiting for their turn (UndoRouter::pump).
     void poll_device_frame() {
         device_->poll_on_main_thread();
-        if (undo_router_) undo_router_->pump();
+        undo_router_->pump();
     }
     /// The newest contoured surface (publish_meshes; one render thread); valid until the next call.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
@@ -300,6 +307,8 @@ public:
 private:
     void build(const Vec3& start_m, const RuntimeOptions& o);
     void build_more(const Vec3& start_m, const RuntimeOptions& o);
+    // The one undo order: a lane per workpiece's sculpt thread and one for the placements (after loop_ is built).
+    void build_undo_order();
     void choose_contour(const RuntimeOptions& o);
 
     SessionSpec spec_;
@@ -322,7 +331,8 @@ private:
     std::unique_ptr<SculptThread> sculpt_;
     std::vector<Workpiece> more_wp_;                     // the further workpieces until build() moves them into more_
     std::vector<std::unique_ptr<MoreWorkpiece>> more_;  // before loop_, which feeds their rings
-    std::unique_ptr<UndoRouter> undo_router_;          // with further workpieces: where undo and redo go
+    std::unique_ptr<PlacementHistory> placements_;     // the placements as undo steps (render thread)
+    std::unique_ptr<UndoRouter> undo_router_;          // where undo and redo go: the strokes' and placements' order
     std::unique_ptr<TickStream> tick_stream_;  // before loop_, which pushes into its ring
     std::unique_ptr<haptics::HapticLoop> loop_;
     std::size_t tiles_initial_ = 0;

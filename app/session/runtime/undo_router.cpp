@@ -40,12 +40,20 @@ bool UndoRouter::ask(SculptRequest r) {
 bool UndoRouter::pump(std::chrono::milliseconds wait) {
     bool ok = true;
     while (!queue_.empty()) {
+        const SculptRequest r = queue_.front();
         if (busy_ >= 0) {
-            const bool taken = lanes_[static_cast<std::size_t>(busy_)].passes() >= busy_pass_ + 2;
-            if (!taken && std::chrono::steady_clock::now() - busy_since_ < wait) return ok;
+            const UndoLane& lane = lanes_[static_cast<std::size_t>(busy_)];
+            const bool taken = lane.progress() >= busy_progress_ + lane.taken_after;
+            if (!taken && std::chrono::steady_clock::now() - busy_since_ < wait) {
+                if (!only_lane_for(r, busy_)) return ok;
+                // Nothing elsewhere: it goes where the one before went, whose own queue keeps their order.
+                queue_.pop_front();
+                busy_progress_ = lane.progress();
+                if (!lane.request(r)) return false;
+                continue;
+            }
             busy_ = -1;
         }
-        const SculptRequest r = queue_.front();
         queue_.pop_front();
         ok = send(r) && ok;
     }
@@ -60,10 +68,19 @@ bool UndoRouter::send(SculptRequest r) {
     if (k < 0) k = fallback_ ? fallback_() : 0;
     if (k < 0 || static_cast<std::size_t>(k) >= lanes_.size()) k = 0;
     const UndoLane& lane = lanes_[static_cast<std::size_t>(k)];
-    busy_pass_ = lane.passes();
+    busy_progress_ = lane.progress();
     if (!lane.request(r)) return false;
     busy_ = k;
     busy_since_ = std::chrono::steady_clock::now();
+    return true;
+}
+
+bool UndoRouter::only_lane_for(SculptRequest r, int k) const {
+    for (std::size_t j = 0; j < lanes_.size(); ++j) {
+        if (static_cast<int>(j) == k) continue;
+        const UndoTimes t = lanes_[j].times();
+        if ((r == SculptRequest::kUndo ? t.undo_at : t.redo_at) >= 0) return false;
+    }
     return true;
 }
 

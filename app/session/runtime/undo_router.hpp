@@ -22,19 +22,24 @@ int undo_workpiece(std::span<const UndoTimes> times);
 /// every workpiece's newest step (UndoTimes::newest_step_at; a newer action ends what can be redone), -1 when none.
 int redo_workpiece(std::span<const UndoTimes> times);
 
-/// One workpiece's sculpt thread as the router sees it.
+/// One undo history as the router sees it: a workpiece's sculpt thread, or the session's placements
+/// (PlacementHistory).
 struct UndoLane {
-    std::function<UndoTimes()> times;             ///< SculptThread::live().undo_times
-    std::function<std::uint64_t()> passes;        ///< SculptThread::passes()
-    std::function<bool(SculptRequest)> request;   ///< SculptThread::request
+    std::function<UndoTimes()> times;             ///< where its newest steps stand (SculptThread::live().undo_times)
+    std::function<std::uint64_t()> progress;      ///< a counter that moves as it works (SculptThread::passes())
+    std::function<bool(SculptRequest)> request;   ///< takes an undo or redo (SculptThread::request)
+    /// How far `progress` moves once a request made before is surely taken (a sculpt thread: two passes).
+    std::uint64_t taken_after = 2;
 };
 
-/// Sends undo and redo requests of a session with several workpieces to the workpiece whose step is newest (undo) or
-/// was undone last (redo), as Blender's and every editor's one undo order does. Each sculpt thread keeps its own
-/// undo history (per-workpiece journals replay alone); this only chooses where a request goes. Requests go one at
-/// a time: the next waits until the previous one's thread has taken it (two more passes), so two quick Ctrl+Z
-/// read the state the first left. With nothing to undo (or redo) anywhere, the request goes to `fallback()` (the
-/// workpiece the tool carves), which counts it as before. One thread (the window's) calls every member.
+/// Sends a session's undo and redo requests to the history whose step is newest (undo) or was undone last (redo):
+/// a workpiece's strokes or the placements, as the one undo order of Blender and every editor. Each sculpt thread
+/// keeps its own undo history (per-workpiece journals replay alone); this only chooses where a request goes.
+/// Requests go one at a time: the next waits until the history the previous one went to has taken it (its
+/// progress moved by taken_after), so two quick Ctrl+Z read the state the first left; it goes at once when no other
+/// history has anything for it (one workpiece and no placements: as without a router). With nothing to undo (or
+/// redo) anywhere, the request goes to workpiece `fallback()` (the one the tool carves), which counts it as before.
+/// One thread (the window's) calls every member.
 class UndoRouter {
 public:
     /// Routes among `lanes` (index = workpiece, 0 the first); `fallback` names the workpiece the tool carves now.
@@ -59,7 +64,9 @@ private:
     std::function<int()> fallback_;
     std::deque<SculptRequest> queue_;
     int busy_ = -1;                 // the lane the last request went to, until it took it
-    std::uint64_t busy_pass_ = 0;   // its passes() when sent
+    std::uint64_t busy_progress_ = 0;  // its progress() when sent
+    // Whether lane `k` is the only one with anything for `r` (the others have nothing to undo, or to redo).
+    bool only_lane_for(SculptRequest r, int k) const;
     std::chrono::steady_clock::time_point busy_since_{};
 };
 
