@@ -80,9 +80,10 @@ struct RecordedMark {
 };
 
 /// A workpiece's pose set during a recorded session (the undo or redo of a placement; the haptic loop's PoseChange):
-/// a replay sets it at the first valid tick at or after device_t_s on which the tool holds no workpiece.
+/// a replay sets it at the first tick from `tick` on with a finite sample on which the tool holds no workpiece.
 struct RecordedPose {
-    double device_t_s = 0.0;     ///< device time of the tick that took it, s (finite; never decreasing in a list)
+    std::uint64_t tick = 0;      ///< the tick that took it (0-based index into the ticks; never decreasing in a list)
+    double device_t_s = 0.0;     ///< that tick's device time, s (finite; for people reading the file)
     std::uint8_t workpiece = 0;  ///< 0..kMaxRecordedWorkpieces-1
     Pose pose{};                 ///< model frame -> world from then on (m; finite, unit quaternion)
 };
@@ -121,8 +122,9 @@ struct Recording {
 //   Header text, L bytes at 32: UTF-8 JSON object {"device_name": string, "period_s": number,
 //     "workspace_mode": string, "notes": string, optional "marks": [{"after_samples": integer >= 0,
 //     "kind": "undo" | "redo" | "end_stroke"}, ...] (after_samples never decreasing), optional "menu": [...] (the
-//     app's menu track), optional "poses": [{"t_s": number, "workpiece": integer, "position_m": [x, y, z],
-//     "orientation": [w, x, y, z]}, ...] (RecordedPose; t_s never decreasing)} (other keys are ignored).
+//     app's menu track), optional "poses": [{"tick": integer >= 0, "t_s": number, "workpiece": integer,
+//     "position_m": [x, y, z], "orientation": [w, x, y, z]}, ...] (RecordedPose; tick never decreasing)} (other
+//     keys are ignored).
 //   Tick records, 402 bytes each (version 1: 378, ending at `valid`; version 2: 397, ending at the tool length;
 //   version 3: 401, ending at the symmetry),
 //   from byte 32 + L; offsets within a record:

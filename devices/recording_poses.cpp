@@ -9,9 +9,9 @@ namespace tridex::devices {
 namespace {
 
 // "" when `p` is a usable entry, else what is wrong with it (the field named after `at`).
-std::string pose_problem(const std::string& at, const RecordedPose& p, double previous_t_s) {
+std::string pose_problem(const std::string& at, const RecordedPose& p, std::uint64_t previous_tick) {
+    if (p.tick < previous_tick) return at + ".tick = " + std::to_string(p.tick) + " decreases";
     if (!std::isfinite(p.device_t_s)) return at + ".t_s is not finite";
-    if (p.device_t_s < previous_t_s) return at + ".t_s decreases";
     if (p.workpiece >= kMaxRecordedWorkpieces)
         return at + ".workpiece is not 0.." + std::to_string(kMaxRecordedWorkpieces - 1);
     const Vec3& x = p.pose.position;
@@ -26,15 +26,16 @@ std::string pose_problem(const std::string& at, const RecordedPose& p, double pr
 
 nlohmann::json recorded_poses_json(const std::string& path, const std::vector<RecordedPose>& poses) {
     nlohmann::json out = nlohmann::json::array();
-    double prev = -INFINITY;
+    std::uint64_t prev = 0;
     for (std::size_t k = 0; k < poses.size(); ++k) {
         const RecordedPose& p = poses[k];
-        const std::string bad = pose_problem(path + ": header.poses[" + std::to_string(k) + "]", p, prev);
+        const std::string bad = pose_problem(path + ": header: poses[" + std::to_string(k) + "]", p, prev);
         if (!bad.empty()) throw Error(bad);
-        prev = p.device_t_s;
+        prev = p.tick;
         const Vec3& x = p.pose.position;
         const Quat& q = p.pose.orientation;
-        out.push_back({{"t_s", p.device_t_s},
+        out.push_back({{"tick", p.tick},
+                       {"t_s", p.device_t_s},
                        {"workpiece", p.workpiece},
                        {"position_m", {x.x, x.y, x.z}},
                        {"orientation", {q.w, q.x, q.y, q.z}}});
@@ -45,7 +46,7 @@ nlohmann::json recorded_poses_json(const std::string& path, const std::vector<Re
 std::vector<RecordedPose> parse_recorded_poses(const std::string& where, const nlohmann::json& j) {
     if (!j.is_array()) throw Error(where + ": \"poses\" is not an array");
     std::vector<RecordedPose> out;
-    double prev = -INFINITY;
+    std::uint64_t prev = 0;
     for (std::size_t k = 0; k < j.size(); ++k) {
         const std::string at = where + ": poses[" + std::to_string(k) + "]";
         const nlohmann::json& e = j[k];
@@ -62,6 +63,9 @@ std::vector<RecordedPose> parse_recorded_poses(const std::string& where, const n
             return v;
         };
         RecordedPose p;
+        const auto tick = e.find("tick");
+        if (tick == e.end() || !tick->is_number_unsigned()) throw Error(at + ".tick missing or not an integer >= 0");
+        p.tick = tick->get<std::uint64_t>();
         const auto t = e.find("t_s");
         if (t == e.end() || !t->is_number()) throw Error(at + ".t_s missing or not a number");
         p.device_t_s = t->get<double>();
@@ -74,7 +78,7 @@ std::vector<RecordedPose> parse_recorded_poses(const std::string& where, const n
         p.pose = Pose{Vec3(x[0], x[1], x[2]), Quat(q[0], q[1], q[2], q[3])};
         const std::string bad = pose_problem(at, p, prev);
         if (!bad.empty()) throw Error(bad);
-        prev = p.device_t_s;
+        prev = p.tick;
         out.push_back(p);
     }
     return out;

@@ -10,7 +10,7 @@
 namespace tridex::devices {
 
 /// The header's "poses" array for `poses`. Throws tridex::Error naming `path` and the entry
-/// (`header.poses[k].orientation ...`) for a time that is not finite or decreases, a workpiece out of
+/// (`header: poses[k].orientation ...`) for a tick that decreases, a time that is not finite, a workpiece out of
 /// 0..kMaxRecordedWorkpieces-1, or a pose that is not finite or not unit.
 nlohmann::json recorded_poses_json(const std::string& path, const std::vector<RecordedPose>& poses);
 /// Reads the header's "poses" value `j` (where: the header's place, for messages). Throws tridex::Error naming the

@@ -193,6 +193,9 @@ void HapticLoop::begin_session() {
     pose_changes_.clear();
     pose_taken_.store(0, std::memory_order_release);
     next_pose_change_ = 0;
+    PoseChange stale;
+    while (pose_sets_.try_pop(stale)) {
+    }  // sets made for an earlier session
     filter_.reset();
     torque_filter_.reset();
     mapper_.reset();
@@ -450,6 +453,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     v.workpiece_count = static_cast<std::uint8_t>(pieces_.size());
     v.target_workpiece = static_cast<std::uint8_t>(target_);
     v.placement = placement_;
+    v.placing = placing_;
     v.samples = pieces_[0]->pushed;
     view_.publish();
 }

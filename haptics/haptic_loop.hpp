@@ -55,8 +55,10 @@ inline constexpr std::size_t kMaxLoopWorkpieces = 8;
 /// A workpiece's pose set on a tick: the undo or redo of a placement (HapticLoop::set_workpiece_pose), or a replay's
 /// repetition of one (HapticLoopConfig::pose_schedule).
 struct PoseChange {
-    double device_t_s = 0.0;     ///< device time of the tick that took it, s (a replay: taken at the first valid
-                                 ///< sample at or after it on which the tool holds no workpiece)
+    /// The session's tick (0-based, as its TickRecords count) that took it: a replay, whose ticks are the recorded
+    /// ones, takes it at the first tick from this one on with a finite sample on which the tool holds no workpiece.
+    std::uint64_t tick = 0;
+    double device_t_s = 0.0;     ///< that tick's device time, s (for people reading a recording)
     std::uint8_t workpiece = 0;  ///< the workpiece, in the loop's order
     Pose pose{};                 ///< its model frame -> the world from then on (m, unit quaternion)
 };
@@ -140,8 +142,9 @@ struct HapticLoopConfig {
     /// Changes applied at device times (a replay of a session whose keys changed the op or the tool size), in
     /// increasing device_t_s; empty for live sessions.
     std::vector<ToolChange> tool_schedule{};
-    /// A replay's pose sets (the session's PoseChange list, device_t_s never decreasing), each taken at the first
-    /// valid sample with t_s >= device_t_s on which the tool holds no workpiece, as the session took it.
+    /// A replay's pose sets (the session's PoseChange list, tick never decreasing, each workpiece in range, each pose
+    /// finite and unit: checked where the recording is read), each taken at the first tick from PoseChange::tick on
+    /// with a finite sample on which the tool holds no workpiece, as the session took it.
     std::vector<PoseChange> pose_schedule{};
     /// Free running, for a replay that draws no window (nothing waits on its pace): ticks run back to back without
     /// sleeping, the loop clock is tick index x period_s (each tick on time, as the recorded loop meant them), the loop
@@ -278,6 +281,7 @@ struct LoopView {
     std::uint8_t workpiece_count = 1;  ///< workpieces the loop feels
     std::uint8_t target_workpiece = 0; ///< the workpiece the tool carves (or places) now
     Placement placement{};             ///< the newest placement that ended (serial 0: none yet)
+    bool placing = false;              ///< the tool holds a workpiece (ToolOp::kPlace, engaged) on that tick
     std::uint64_t samples = 0;         ///< samples the first workpiece's sculpt ring has taken (the sculpt clock)
 };
 
@@ -402,11 +406,12 @@ public:
     /// The chosen workpiece (-1: automatic).
     int chosen_workpiece() const { return chosen_.load(std::memory_order_relaxed); }
     /// Sets workpiece `index`'s pose (model frame -> world, m, unit quaternion) from a coming tick on: the undo or
-    /// redo of a placement. One writer thread (the render thread); the loop takes the sets in order, each at a valid
-    /// sample on which the tool holds no workpiece, forgets that workpiece's contact, lets its next sample carve
-    /// nothing (no sweep across the jump) and keeps the set for the recording (pose_changes()). Returns false,
-    /// changing nothing, for an index out of range, a pose that is not finite or not unit, or when
-    /// kMaxPoseChanges sets were already made or 16 wait.
+    /// redo of a placement. One writer thread (the render thread); the loop takes the sets in order, one per tick,
+    /// each on a tick with a finite sample on which the tool holds no workpiece, forgets that workpiece's contact,
+    /// lets its next sample carve nothing (no sweep across the jump) and keeps the set for the recording
+    /// (pose_changes()). Sets still waiting when a session starts are dropped. Returns false, changing nothing, for
+    /// an index out of range, a pose that is not finite or not unit, or when kMaxPoseChanges sets were made over the
+    /// loop's life or 16 wait.
     bool set_workpiece_pose(int index, const Pose& pose);
     /// Pose sets the loop has taken so far (any thread).
     std::uint64_t pose_changes_taken() const { return pose_taken_.load(std::memory_order_acquire); }
@@ -452,8 +457,8 @@ private:
     void finish(TickRecord& rec, double compute_s);
     // Takes a new tool from set_tool() and the schedule's changes due at device time t_s (loop thread).
     void apply_tool_changes(double device_t_s);
-    // Takes the pose sets due at device time t_s (set_workpiece_pose, cfg_.pose_schedule) unless the tool holds a
-    // workpiece (loop thread).
+    // Takes the pose sets due on this tick (set_workpiece_pose, cfg_.pose_schedule) unless the tool holds a
+    // workpiece (loop thread); device_t_s: the tick's device time.
     void apply_pose_changes(double device_t_s);
     void take_pose(const PoseChange& c);
     // Switches to `tool` (already checked) with contact points scaled from the configured ones.
@@ -512,7 +517,6 @@ private:
     std::vector<PoseChange> pose_changes_;     // taken (loop thread; reserved kMaxPoseChanges at construction)
     std::atomic<std::uint64_t> pose_taken_{0};
     std::size_t next_pose_change_ = 0;         // cfg_.pose_schedule entries taken
-    std::optional<PoseChange> pose_pending_;   // popped while the tool held a workpiece: taken once it lets go
     Pose last_tool_;
     // No carving on the next sample: the first after an invalid sample, a watchdog hold or the speed
     // limit, so a gap never becomes one long swept capsule.

@@ -96,24 +96,27 @@ bool HapticLoop::set_workpiece_pose(int index, const Pose& pose) {
     const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     if (!is_finite(pose.position) || !std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6) return false;
     if (pose_sets_sent_ >= kMaxPoseChanges) return false;
-    if (!pose_sets_.try_push(PoseChange{0.0, static_cast<std::uint8_t>(index), pose})) return false;
+    if (!pose_sets_.try_push(PoseChange{0, 0.0, static_cast<std::uint8_t>(index), pose})) return false;
     ++pose_sets_sent_;
     return true;
 }
 
 void HapticLoop::apply_pose_changes(double device_t_s) {
-    if (placing_) return;  // the hand holds a workpiece: a set waits until it lets go
+    if (placing_) return;  // the hand holds a workpiece: a set waits in the ring until it lets go
+    const std::uint64_t tick = ticks_.load(std::memory_order_relaxed);  // this tick's index (finish() counts it)
     PoseChange c;
-    if (!pose_pending_ && pose_sets_.try_pop(c)) pose_pending_ = c;
-    if (pose_pending_) {
-        c = *pose_pending_;
-        pose_pending_.reset();
+    if (pose_sets_.try_pop(c)) {
+        c.tick = tick;
         c.device_t_s = device_t_s;
         take_pose(c);
     }
     const std::vector<PoseChange>& sched = cfg_.pose_schedule;
-    for (; next_pose_change_ < sched.size() && sched[next_pose_change_].device_t_s <= device_t_s; ++next_pose_change_)
-        take_pose(PoseChange{device_t_s, sched[next_pose_change_].workpiece, sched[next_pose_change_].pose});
+    for (; next_pose_change_ < sched.size() && sched[next_pose_change_].tick <= tick; ++next_pose_change_) {
+        c = sched[next_pose_change_];
+        c.tick = tick;
+        c.device_t_s = device_t_s;
+        take_pose(c);
+    }
 }
 
 void HapticLoop::take_pose(const PoseChange& c) {

@@ -269,7 +269,6 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     const std::uint64_t serial = history_->end_stroke(&held, &islands);
     if (was_open) sites_.closed(serial, serial != 0 && history_->next_undo_serial() == serial, by_site);
     if (serial != 0) last_closed_serial_ = serial;
-    if (serial != 0 && history_->next_undo_serial() == serial) undo_clock_.closed(serial);
     if (held.rays_changed > 0) {
         undo_clock_.changed(stats_.samples);
         stats_.rays_changed += held.rays_changed;
@@ -277,6 +276,8 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
         changed_since_checkpoint_ = true;
         last_change_t_s_ = open_t_s();
     }
+    // Timed by its newest change, the held push group's included.
+    if (serial != 0 && history_->next_undo_serial() == serial) undo_clock_.closed(serial);
     stats_.islands += islands;
     if (islands.searches > 0) stats_.island_search_ms.push_back(islands.search_ms);
     if (islands.specks > 0) changed_since_checkpoint_ = true;

@@ -24,7 +24,8 @@ struct UndoTimes {
 };
 
 /// Keeps, per undo-step serial (UndoHistory's numbering), the sample count of the step's newest change and of its
-/// latest undo; SculptThread feeds it from its one thread. Memory: two entries per step made (16 bytes each).
+/// latest undo; SculptThread feeds it from its one thread. Memory: a map entry per step made and per step undone,
+/// kept for the session.
 class UndoClock {
 public:
     /// The open stroke changed the model after `samples` samples drained.

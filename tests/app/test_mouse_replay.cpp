@@ -296,7 +296,7 @@ TEST(MouseKeys, APlacementIsUndoneInOrderWithTheStrokesAndReplays) {
     ASSERT_EQ(rec.header.poses.size(), 2u);  // back to the start, then moved again
     EXPECT_EQ(rec.header.poses[0].pose.position, Vec3(0.0));
     EXPECT_GT(rec.header.poses[1].pose.position.x, 0.02);
-    EXPECT_LT(rec.header.poses[0].device_t_s, rec.header.poses[1].device_t_s);
+    EXPECT_LT(rec.header.poses[0].tick, rec.header.poses[1].tick);
     const nlohmann::json live = test::read_json(dir / "run" / "report.json");
     ASSERT_TRUE(live["workpiece"].contains("pose_end")) << live["workpiece"].dump();
     EXPECT_EQ(live["workpiece"]["pose_end"]["position_m"][0].get<double>(), rec.header.poses[1].pose.position.x);

@@ -22,20 +22,6 @@ TEST(UndoOrder, UndoGoesToTheNewestStepOfAll) {
     EXPECT_EQ(undo_workpiece(t), 2);
 }
 
-TEST(UndoOrder, RedoGoesToTheLastUndoneUnlessANewerStepEndedIt) {
-    std::vector<UndoTimes> t(2);
-    EXPECT_EQ(redo_workpiece(t), -1);
-    t[0].newest_step_at = 100;  // the first's stroke at 100, the second's at 200, both undone (second, then first)
-    t[1].newest_step_at = 200;
-    t[1].redo_at = 300;
-    t[0].redo_at = 310;
-    EXPECT_EQ(redo_workpiece(t), 0);
-    t[0].redo_at = -1;  // redone
-    EXPECT_EQ(redo_workpiece(t), 1);
-    t[0].newest_step_at = 400;  // then a new stroke on the first: the second's undone step is no longer redone
-    EXPECT_EQ(redo_workpiece(t), -1);
-}
-
 TEST(UndoOrder, EveryStepOfOneThreadIsTimedByItsClock) {
     UndoClock c;
     EXPECT_EQ(c.times(0, 0, false).undo_at, -1);
@@ -97,19 +83,43 @@ TEST(UndoRouter, NothingAnywhereGoesToTheFallbackAndAStoppedThreadDoesNotHoldThe
     FakeLane a, b;
     UndoRouter r({a.lane(), b.lane()}, [] { return 1; });
     ASSERT_TRUE(r.ask(SculptRequest::kUndo));
-    EXPECT_EQ(b.got.size(), 1u);  // counted where the tool carves, as with one workpiece
+    EXPECT_EQ(b.got.size(), 1u);  // counted where the tool carves
+    b.passes += 2;
     ASSERT_TRUE(r.ask(SculptRequest::kRedo));
-    EXPECT_EQ(b.got.size(), 2u);  // no other history has anything: at once, behind the first in b's own queue
-    EXPECT_EQ(r.waiting(), 0u);
+    EXPECT_EQ(b.got.size(), 2u);
+    b.passes += 2;
     a.times.undo_at = 10;
     b.times.undo_at = 20;
-    b.passes += 2;
     ASSERT_TRUE(r.ask(SculptRequest::kUndo));
     EXPECT_EQ(b.got.size(), 3u);
-    ASSERT_TRUE(r.ask(SculptRequest::kUndo));  // a has a step: waits for b, which never passes again
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));  // a has a step too: waits for b, which never passes again
     EXPECT_EQ(r.waiting(), 1u);
-    EXPECT_TRUE(r.drain(std::chrono::milliseconds(3000)));  // sent after the wait
+    EXPECT_FALSE(r.drain(std::chrono::milliseconds(2500)));  // sent after the wait, but never seen taken
+    EXPECT_EQ(r.waiting(), 0u);
     EXPECT_EQ(a.got.size() + b.got.size(), 4u);
+}
+
+TEST(UndoRouter, RedoFollowsTheUndosInReverseUntilANewStepEndsIt) {
+    FakeLane a, b;
+    a.times = UndoTimes{100, -1, 100};
+    b.times = UndoTimes{200, -1, 200};
+    UndoRouter r({a.lane(), b.lane()}, [] { return 0; });
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));  // b's
+    b.passes += 2;
+    b.times = UndoTimes{-1, 300, 200};
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));  // a's
+    a.passes += 2;
+    a.times = UndoTimes{-1, 310, 100};
+    ASSERT_TRUE(r.ask(SculptRequest::kRedo));  // a's: undone last
+    ASSERT_EQ(a.got.size(), 2u);
+    EXPECT_EQ(a.got.back(), SculptRequest::kRedo);
+    a.passes += 2;
+    a.times = UndoTimes{100, -1, 100};
+    // A new stroke on a: b's undone step can no longer be redone, though b's own history still holds it.
+    a.times = UndoTimes{400, -1, 400};
+    ASSERT_TRUE(r.ask(SculptRequest::kRedo));
+    EXPECT_EQ(b.got.size(), 1u);  // nothing sent
+    EXPECT_EQ(a.got.size(), 2u);
 }
 
 TEST(PlacementHistory, AnEndedPlacementIsAStepWhoseUndoAndRedoSetThePose) {

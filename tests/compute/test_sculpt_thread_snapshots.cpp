@@ -156,6 +156,19 @@ TEST(SculptSites, AnAskedSnapshotWaitsForTheOpenStrokeAndTheStreamAppliesToItAsT
     }
     for (const ToolSample& x : slice(b, 30, b.size())) ring.try_push(x);  // B ends: the tool lifts
     settle();
+    for (int k = 0; k < 500; ++k) {  // a loaded machine (TSan, two cores) may take longer than settle()
+        {
+            std::lock_guard lock(m);
+            if (snapshots > 0) break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    int taken = 0;
+    {
+        std::lock_guard lock(m);
+        taken = snapshots;
+    }
+    if (taken != 1) t.stop();  // before the assertion returns: the thread writes into this frame's `snap`
     {
         std::lock_guard lock(m);
         ASSERT_EQ(snapshots, 1) << "one snapshot serves both asks";

@@ -540,21 +540,22 @@ TEST(Recording, MarksRoundTripAndBadMarksAreRefused) {
 TEST(Recording, PoseSetsRoundTripBitForBitAndBadOnesAreRefused) {
     Recording src = sample_recording(2);
     const Quat turn = glm::normalize(Quat(0.9, 0.1, -0.3, 0.2));
-    src.header.poses = {RecordedPose{0.125, 0, Pose{Vec3(0.1, -1.0 / 3.0, 0.05), Quat(1.0, 0.0, 0.0, 0.0)}},
-                        RecordedPose{0.5, 3, Pose{Vec3(1e-9, 0.0, 2.0 / 7.0), turn}}};
+    src.header.poses = {RecordedPose{125, 0.125, 0, Pose{Vec3(0.1, -1.0 / 3.0, 0.05), Quat(1.0, 0.0, 0.0, 0.0)}},
+                        RecordedPose{500, 0.125, 3, Pose{Vec3(1e-9, 0.0, 2.0 / 7.0), turn}}};
     const std::string path = temp_path("poses.trdxrec");
     write_recording(path, src);
     const Recording back = read_recording(path);
     ASSERT_EQ(back.header.poses.size(), 2u);
     for (std::size_t k = 0; k < 2; ++k) {
-        EXPECT_EQ(back.header.poses[k].device_t_s, src.header.poses[k].device_t_s);
+        EXPECT_EQ(back.header.poses[k].tick, src.header.poses[k].tick);
+        EXPECT_EQ(back.header.poses[k].device_t_s, src.header.poses[k].device_t_s);  // a stalled clock may repeat
         EXPECT_EQ(back.header.poses[k].workpiece, src.header.poses[k].workpiece);
         EXPECT_EQ(back.header.poses[k].pose.position, src.header.poses[k].pose.position);  // bit for bit
         EXPECT_EQ(back.header.poses[k].pose.orientation, src.header.poses[k].pose.orientation);
     }
     // The writer refuses what the reader would.
     Recording bad = src;
-    bad.header.poses[1].device_t_s = 0.1;
+    bad.header.poses[1].tick = 100;
     EXPECT_THROW(write_recording(temp_path("w.trdxrec"), bad), Error);
     bad = src;
     bad.header.poses[0].pose.orientation = Quat(2.0, 0.0, 0.0, 0.0);
@@ -573,18 +574,19 @@ TEST(Recording, PoseSetsRoundTripBitForBitAndBadOnesAreRefused) {
         return p;
     };
     const std::string head = R"({"device_name":"x","period_s":0.001,"workspace_mode":"m","notes":"","poses":)";
-    const std::string one = R"("workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0])";
+    const std::string one = R"("t_s":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0])";
     expect_refused(with_header("p1.trdxrec", head + R"({"a":1}})"), {"\"poses\" is not an array"});
-    expect_refused(with_header("p2.trdxrec", head + "[{\"t_s\":1," + one + "},{\"t_s\":0.5," + one + "}]}"),
-                   {"poses[1].t_s decreases"});
-    expect_refused(with_header("p3.trdxrec", head + R"([{"t_s":1,"workpiece":9,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
+    expect_refused(with_header("p2.trdxrec", head + "[{\"tick\":9," + one + "},{\"tick\":8," + one + "}]}"),
+                   {"poses[1].tick = 8 decreases"});
+    expect_refused(with_header("p3.trdxrec", head + R"([{"tick":1,"t_s":1,"workpiece":9,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
                    {"poses[0].workpiece missing or not an integer 0..7"});
-    expect_refused(with_header("p4.trdxrec", head + R"([{"t_s":1,"workpiece":0,"position_m":[0,0],"orientation":[1,0,0,0]}]})"),
+    expect_refused(with_header("p4.trdxrec", head + R"([{"tick":1,"t_s":1,"workpiece":0,"position_m":[0,0],"orientation":[1,0,0,0]}]})"),
                    {"poses[0].position_m missing or not 3 numbers"});
-    expect_refused(with_header("p5.trdxrec", head + R"([{"t_s":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,1,0,0]}]})"),
+    expect_refused(with_header("p5.trdxrec", head + R"([{"tick":1,"t_s":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,1,0,0]}]})"),
                    {"poses[0].orientation is not a unit quaternion"});
-    expect_refused(with_header("p6.trdxrec", head + R"([{"workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
+    expect_refused(with_header("p6.trdxrec", head + R"([{"tick":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0]}]})"),
                    {"poses[0].t_s missing or not a number"});
+    expect_refused(with_header("p7.trdxrec", head + "[{" + one + "}]}"), {"poses[0].tick missing or not an integer >= 0"});
 }
 
 TEST(RecordingWriter, RefusesBadTicksAndKeepsTheFileValid) {

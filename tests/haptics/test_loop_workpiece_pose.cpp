@@ -185,10 +185,12 @@ TEST(LoopWorkpiecePose, APlacementEndsInTheViewAndASetPoseIsTakenKeptAndReplayed
     ASSERT_LE(at, 13u);
     EXPECT_GT(live_poses[at - 1].position.x, start.position.x + 0.005);
     EXPECT_EQ(live_poses[at].position, start.position);  // back where it was gripped
+    EXPECT_EQ(live[0].tick, at);
     std::vector<PoseChange> again;
     std::vector<Pose> again_poses;
     run(live, false, again, again_poses);
     ASSERT_EQ(again.size(), 1u);
+    EXPECT_EQ(again[0].tick, live[0].tick);
     EXPECT_EQ(again[0].device_t_s, live[0].device_t_s);
     for (std::size_t t = 0; t < live_poses.size(); ++t) EXPECT_EQ(again_poses[t].position, live_poses[t].position) << t;
 }

@@ -165,7 +165,7 @@ devices::RecordingHeader recording_header(const SessionSpec& settings, const std
     header.workspace_mode = settings.workspace_mode;
     header.notes = notes.empty() ? spec_to_json(settings) : notes;
     header.marks = recorded_marks(marks, more_marks);
-    for (const haptics::PoseChange& c : poses) header.poses.push_back({c.device_t_s, c.workpiece, c.pose});
+    for (const haptics::PoseChange& c : poses) header.poses.push_back({c.tick, c.device_t_s, c.workpiece, c.pose});
     return header;
 }
 
@@ -177,7 +177,7 @@ std::vector<haptics::PoseChange> pose_schedule(const devices::RecordingHeader& h
             throw Error("poses[" + std::to_string(k) + "].workpiece = " + std::to_string(p.workpiece) +
                         ", but the session has " + std::to_string(workpieces) + " workpiece" +
                         (workpieces == 1 ? "" : "s"));
-        out.push_back({p.device_t_s, p.workpiece, p.pose});
+        out.push_back({p.tick, p.device_t_s, p.workpiece, p.pose});
     }
     return out;
 }

@@ -17,8 +17,9 @@ namespace tridex::app {
 /// Each placement that ended (LoopView::placement) becomes an undo step: its undo sets the workpiece's pose back to
 /// where the tool gripped it, its redo to where the tool let go (through `set_pose`: HapticLoop::set_workpiece_pose,
 /// so the recording keeps the set and a replay repeats it). A new placement ends what can be redone. Steps are timed
-/// in the sculpt threads' samples (UndoTimes) so that the router orders them among the strokes. At most kMaxSteps
-/// undo steps are kept (the oldest dropped). One thread (the window's) calls every member.
+/// in the sculpt threads' samples (UndoTimes) so that the router orders them among the strokes. The view carries only
+/// the newest ended placement, so two that end between two views (a grip and release within one frame) count as
+/// one. At most kMaxSteps undo steps are kept (the oldest dropped). One thread (the window's) calls every member.
 class PlacementHistory {
 public:
     /// `set_pose(workpiece, pose)` returns false when the loop refuses the set (the step then stays where it was).

@@ -216,7 +216,8 @@ void SessionRuntime::build_undo_order() {
                          [p](SculptRequest r) { return p->request(r); }});
     }
     lanes.push_back({[this] { return placements_->times(); }, [this] { return loop_->pose_changes_taken(); },
-                     [this](SculptRequest r) { return placements_->request(r); }, 1});
+                     // While the hand holds a workpiece its pose is the hand's: a placement's undo is refused then.
+                     [this](SculptRequest r) { return !viewed_placing_ && placements_->request(r); }, 1});
     undo_router_ = std::make_unique<UndoRouter>(std::move(lanes), [this] {
         const int k = loop_->chosen_workpiece();
         return k < 0 ? viewed_target_ : k;

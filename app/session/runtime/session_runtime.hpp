@@ -237,6 +237,7 @@ public:
         const haptics::LoopView& v = loop_->latest_view();
         viewed_target_ = v.target_workpiece;
         placements_->observe(v.placement, v.samples);  // a placement that ended becomes an undo step
+        viewed_placing_ = v.placing;
         return v;
     }
     /// The frame loop's once-per-frame call on the window's thread: the device polls an input API that must run
@@ -340,6 +341,7 @@ private:
     double contour_s_ = 0.0, session_s_ = 0.0;
     std::chrono::steady_clock::time_point t_start_{};
     bool started_ = false, stopped_ = false;
+    bool viewed_placing_ = false;  // the view latest_view() last returned: the tool held a workpiece
     int viewed_target_ = 0;  // the target of the view latest_view() last returned (its one thread's, as request's)
 };
 

@@ -1,4 +1,4 @@
-// app/session/runtime/undo_router.cpp - one undo order across several workpieces.
+// app/session/runtime/undo_router.cpp - one undo order across the workpieces and the placements.
 #include "app/session/runtime/undo_router.hpp"
 
 #include <algorithm>
@@ -15,18 +15,6 @@ int undo_workpiece(std::span<const UndoTimes> times) {
     return best;
 }
 
-int redo_workpiece(std::span<const UndoTimes> times) {
-    std::int64_t newest = -1;
-    for (const UndoTimes& t : times) newest = std::max(newest, t.newest_step_at);
-    int best = -1;
-    for (std::size_t k = 0; k < times.size(); ++k) {
-        const std::int64_t at = times[k].redo_at;
-        if (at >= 0 && at >= newest && (best < 0 || at >= times[static_cast<std::size_t>(best)].redo_at))
-            best = static_cast<int>(k);
-    }
-    return best;
-}
-
 UndoRouter::UndoRouter(std::vector<UndoLane> lanes, std::function<int()> fallback)
     : lanes_(std::move(lanes)), fallback_(std::move(fallback)) {}
 
@@ -37,60 +25,87 @@ bool UndoRouter::ask(SculptRequest r) {
     return pump();
 }
 
-bool UndoRouter::pump(std::chrono::milliseconds wait) {
-    bool ok = true;
-    while (!queue_.empty()) {
-        const SculptRequest r = queue_.front();
-        if (busy_ >= 0) {
-            const UndoLane& lane = lanes_[static_cast<std::size_t>(busy_)];
-            const bool taken = lane.progress() >= busy_progress_ + lane.taken_after;
-            if (!taken && std::chrono::steady_clock::now() - busy_since_ < wait) {
-                if (!only_lane_for(r, busy_)) return ok;
-                // Nothing elsewhere: it goes where the one before went, whose own queue keeps their order.
-                queue_.pop_front();
-                busy_progress_ = lane.progress();
-                if (!lane.request(r)) return false;
-                continue;
-            }
-            busy_ = -1;
-        }
-        queue_.pop_front();
-        ok = send(r) && ok;
-    }
-    return ok;
-}
-
-bool UndoRouter::send(SculptRequest r) {
+UndoRouter::Choice UndoRouter::choose(SculptRequest r) {
     std::vector<UndoTimes> times;
     times.reserve(lanes_.size());
-    for (const UndoLane& l : lanes_) times.push_back(l.times());
-    int k = r == SculptRequest::kUndo ? undo_workpiece(times) : redo_workpiece(times);
-    if (k < 0) k = fallback_ ? fallback_() : 0;
-    if (k < 0 || static_cast<std::size_t>(k) >= lanes_.size()) k = 0;
-    const UndoLane& lane = lanes_[static_cast<std::size_t>(k)];
+    std::int64_t newest = -1;
+    for (const UndoLane& l : lanes_) {
+        times.push_back(l.times());
+        newest = std::max(newest, times.back().newest_step_at);
+    }
+    if (newest > newest_) {  // a new step since: what was undone before it can no longer be redone
+        newest_ = newest;
+        undone_.clear();
+    }
+    Choice c;
+    if (r == SculptRequest::kUndo) {
+        c.lane = undo_workpiece(times);
+        c.only = c.lane >= 0;
+        for (std::size_t k = 0; k < times.size() && c.only; ++k)
+            c.only = static_cast<int>(k) == c.lane || times[k].undo_at < 0;
+    } else if (!undone_.empty()) {
+        c.lane = undone_.back();
+        c.only = true;  // the order is the router's own: no other lane's state can change it
+    } else {
+        bool any = false;  // an undone step a newer one ended: nothing to redo in the one order
+        for (const UndoTimes& t : times) any = any || t.redo_at >= 0;
+        if (any) c.drop = true;
+    }
+    if (c.lane < 0 && !c.drop) {  // nothing anywhere: the workpiece the tool carves counts the request
+        c.lane = fallback_ ? fallback_() : 0;
+        if (c.lane < 0 || static_cast<std::size_t>(c.lane) >= lanes_.size()) c.lane = 0;
+        c.counted_only = true;
+    }
+    return c;
+}
+
+bool UndoRouter::send(SculptRequest r, const Choice& c) {
+    if (c.drop) return true;
+    const UndoLane& lane = lanes_[static_cast<std::size_t>(c.lane)];
     busy_progress_ = lane.progress();
     if (!lane.request(r)) return false;
-    busy_ = k;
+    if (!c.counted_only) {
+        if (r == SculptRequest::kUndo) undone_.push_back(c.lane);
+        else undone_.pop_back();
+    }
+    busy_ = c.lane;
     busy_since_ = std::chrono::steady_clock::now();
     return true;
 }
 
-bool UndoRouter::only_lane_for(SculptRequest r, int k) const {
-    for (std::size_t j = 0; j < lanes_.size(); ++j) {
-        if (static_cast<int>(j) == k) continue;
-        const UndoTimes t = lanes_[j].times();
-        if ((r == SculptRequest::kUndo ? t.undo_at : t.redo_at) >= 0) return false;
+bool UndoRouter::taken(std::chrono::milliseconds wait) const {
+    if (busy_ < 0) return true;
+    const UndoLane& lane = lanes_[static_cast<std::size_t>(busy_)];
+    return lane.progress() >= busy_progress_ + lane.taken_after || std::chrono::steady_clock::now() - busy_since_ >= wait;
+}
+
+bool UndoRouter::pump(std::chrono::milliseconds wait) {
+    bool ok = true;
+    while (!queue_.empty()) {
+        const SculptRequest r = queue_.front();
+        if (!taken(wait)) {
+            // The one before is not taken yet: this one goes now only where it would go whatever that one leaves
+            // (the same lane, whose own queue keeps their order).
+            const Choice c = choose(r);
+            if (c.drop || c.lane != busy_ || !c.only) return ok;
+            queue_.pop_front();
+            ok = send(r, c) && ok;
+            continue;
+        }
+        busy_ = -1;
+        queue_.pop_front();
+        ok = send(r, choose(r)) && ok;
     }
-    return true;
+    return ok;
 }
 
 bool UndoRouter::drain(std::chrono::milliseconds timeout) {
     const auto end = std::chrono::steady_clock::now() + timeout;
-    while (!queue_.empty() && std::chrono::steady_clock::now() < end) {
+    while ((!queue_.empty() || !taken(timeout)) && std::chrono::steady_clock::now() < end) {
         pump();
-        if (!queue_.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    const bool all = queue_.empty();
+    const bool all = queue_.empty() && taken(timeout);
     queue_.clear();
     return all;
 }

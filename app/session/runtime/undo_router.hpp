@@ -15,12 +15,9 @@
 
 namespace tridex::app {
 
-/// The workpiece whose step an undo takes back: the largest UndoTimes::undo_at (the later workpiece on a tie), -1
-/// when no workpiece has anything to undo.
+/// The lane whose step an undo takes back: the largest UndoTimes::undo_at (the later lane on a tie), -1 when no lane
+/// has anything to undo.
 int undo_workpiece(std::span<const UndoTimes> times);
-/// The workpiece whose step a redo re-applies: the largest UndoTimes::redo_at among the redo steps undone after
-/// every workpiece's newest step (UndoTimes::newest_step_at; a newer action ends what can be redone), -1 when none.
-int redo_workpiece(std::span<const UndoTimes> times);
 
 /// One undo history as the router sees it: a workpiece's sculpt thread, or the session's placements
 /// (PlacementHistory).
@@ -32,17 +29,19 @@ struct UndoLane {
     std::uint64_t taken_after = 2;
 };
 
-/// Sends a session's undo and redo requests to the history whose step is newest (undo) or was undone last (redo):
-/// a workpiece's strokes or the placements, as the one undo order of Blender and every editor. Each sculpt thread
-/// keeps its own undo history (per-workpiece journals replay alone); this only chooses where a request goes.
-/// Requests go one at a time: the next waits until the history the previous one went to has taken it (its
-/// progress moved by taken_after), so two quick Ctrl+Z read the state the first left; it goes at once when no other
-/// history has anything for it (one workpiece and no placements: as without a router). With nothing to undo (or
-/// redo) anywhere, the request goes to workpiece `fallback()` (the one the tool carves), which counts it as before.
-/// One thread (the window's) calls every member.
+/// Sends a session's undo and redo requests in one order: an undo to the history whose step is newest (a
+/// workpiece's strokes and coarseness changes, or the placements), a redo to the history undone last, as the one undo
+/// order of Blender and every editor. A new step anywhere (a larger UndoTimes::newest_step_at) ends what can be
+/// redone; a redo then does nothing. Each sculpt thread keeps its own undo history (per-workpiece journals replay
+/// alone); this only chooses where a request goes. Requests go one at a time: the next waits until the history the
+/// previous one went to has taken it (its progress moved by taken_after), so two quick Ctrl+Z read the state the
+/// first left, unless it goes to the same history whatever the first leaves (then at once: that history's own queue
+/// keeps their order). With nothing to undo (or redo) anywhere, the request goes to workpiece `fallback()` (the one
+/// the tool carves), whose sculpt thread counts it. One thread (the window's) calls every member.
 class UndoRouter {
 public:
-    /// Routes among `lanes` (index = workpiece, 0 the first); `fallback` names the workpiece the tool carves now.
+    /// Routes among `lanes` (the workpieces' in order, then any others such as the placements'); `fallback` names the
+    /// workpiece the tool carves now.
     UndoRouter(std::vector<UndoLane> lanes, std::function<int()> fallback);
     /// Queues an undo or redo (other requests are not routed here: returns false) and sends what is due. False when
     /// 16 requests already wait or the chosen thread's queue is full.
@@ -50,8 +49,8 @@ public:
     /// Sends the queued requests whose turn came (each once the one before was taken, or after `wait` without the
     /// thread passing: a stopped thread does not hold the queue).
     bool pump(std::chrono::milliseconds wait = std::chrono::milliseconds(1000));
-    /// Sends every queued request, waiting for each in turn, for at most `timeout` in all; false when some were
-    /// left (then dropped).
+    /// Sends every queued request, waiting for each in turn and for the last to be taken, for at most `timeout` in
+    /// all; false when some were left (then dropped) or the last was not seen taken.
     bool drain(std::chrono::milliseconds timeout);
     /// Requests waiting.
     std::size_t waiting() const { return queue_.size(); }
@@ -59,14 +58,23 @@ public:
     static constexpr std::size_t kMaxWaiting = 16;
 
 private:
-    bool send(SculptRequest r);
+    struct Choice {
+        int lane = -1;              // where it goes
+        bool only = false;          // it goes there whatever the request in flight leaves
+        bool drop = false;          // a redo that a newer step ended: nothing is sent
+        bool counted_only = false;  // nothing anywhere: sent to the fallback to be counted
+    };
+    Choice choose(SculptRequest r);
+    bool send(SculptRequest r, const Choice& c);
+    // Whether the request in flight was taken (or `wait` passed since it was sent: a stopped thread holds nothing).
+    bool taken(std::chrono::milliseconds wait) const;
     std::vector<UndoLane> lanes_;
     std::function<int()> fallback_;
     std::deque<SculptRequest> queue_;
-    int busy_ = -1;                 // the lane the last request went to, until it took it
+    std::vector<int> undone_;          // the lanes of the undos sent, newest last: where redo goes
+    std::int64_t newest_ = -1;         // the newest step seen (UndoTimes::newest_step_at over the lanes)
+    int busy_ = -1;                    // the lane the last request went to, until it took it
     std::uint64_t busy_progress_ = 0;  // its progress() when sent
-    // Whether lane `k` is the only one with anything for `r` (the others have nothing to undo, or to redo).
-    bool only_lane_for(SculptRequest r, int k) const;
     std::chrono::steady_clock::time_point busy_since_{};
 };
 
