@@ -26,10 +26,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(MoreWorkpiecesRuntime, TheTouchedSecondIsCarvedAloneAndItsUndoAndJournalAreItsOwn) {
-    const fs::path dir = fs::temp_directory_path() / "tridex-test-more-workpieces-runtime";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+// The default device's home position, m.
+Vec3 device_home() { return devices::home_position_m(devices::profile_by_name(SessionSpec{}.device)); }
+
+// Two bunnies at resolution 32, 20 cm apart (the second turned by `second_turn`), a 6 mm ball, and the device's
+// home on the second bunny's centre.
+SessionSpec two_bunnies(const Quat& second_turn) {
     SessionSpec s;
     s.mesh_path = default_mesh_path();
     s.resolution = 32;
@@ -37,14 +39,21 @@ TEST(MoreWorkpiecesRuntime, TheTouchedSecondIsCarvedAloneAndItsUndoAndJournalAre
     s.workpiece_centre_m = Vec3(-0.1, 0.0, 0.05);
     WorkpieceSpec second = workpiece_at(s, 0);
     second.centre_m = Vec3(0.1, 0.0, 0.05);
-    second.turn = glm::angleAxis(glm::radians(90.0), Vec3(0.0, 1.0, 0.0));
+    second.turn = second_turn;
     s.more_workpieces = {second};
     s.workspace_mode = "scaling";
     s.tool = ToolShape{ToolKind::kBall, 0.006, 0.0, 0};
-    const devices::DeviceProfile profile = devices::profile_by_name(s.device);
-    const Vec3 home = devices::home_position_m(profile);
-    s.device_origin_m = Vec3(0.1, 0.0, 0.05) - home;  // the device's home on the second bunny's centre
+    s.device_origin_m = Vec3(0.1, 0.0, 0.05) - device_home();
     validate_spec(s, "test");
+    return s;
+}
+
+TEST(MoreWorkpiecesRuntime, TheTouchedSecondIsCarvedAloneAndItsUndoAndJournalAreItsOwn) {
+    const fs::path dir = fs::temp_directory_path() / "tridex-test-more-workpieces-runtime";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const Vec3 home = device_home();
+    SessionSpec s = two_bunnies(glm::angleAxis(glm::radians(90.0), Vec3(0.0, 1.0, 0.0)));
     Workpiece wp = prepare_session_workpiece(s);
     std::vector<Workpiece> more = prepare_more_workpieces(s);
     const double first_before = wp.volume_dexel_m3, second_before = more[0].volume_dexel_m3;
@@ -102,20 +111,8 @@ TEST(MoreWorkpiecesRuntime, UndoTakesBackTheNewestStrokeOfAllAndRedoTheLastUndon
     const fs::path dir = fs::temp_directory_path() / "tridex-test-more-workpieces-undo-order";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    SessionSpec s;
-    s.mesh_path = default_mesh_path();
-    s.resolution = 32;
-    s.stock_m = 0.1;
-    s.workpiece_centre_m = Vec3(-0.1, 0.0, 0.05);
-    WorkpieceSpec second = workpiece_at(s, 0);
-    second.centre_m = Vec3(0.1, 0.0, 0.05);
-    s.more_workpieces = {second};
-    s.workspace_mode = "scaling";
-    s.tool = ToolShape{ToolKind::kBall, 0.006, 0.0, 0};
-    const devices::DeviceProfile profile = devices::profile_by_name(s.device);
-    const Vec3 home = devices::home_position_m(profile);
-    s.device_origin_m = Vec3(0.1, 0.0, 0.05) - home;  // the device's home on the second bunny's centre
-    validate_spec(s, "test");
+    const Vec3 home = device_home();
+    SessionSpec s = two_bunnies(Quat(1.0, 0.0, 0.0, 0.0));
     Workpiece wp = prepare_session_workpiece(s);
     std::vector<Workpiece> more = prepare_more_workpieces(s);
     const double first_before = wp.volume_dexel_m3, second_before = more[0].volume_dexel_m3;

@@ -190,6 +190,19 @@ Written write_sample(const std::string& name, int n) {
     return w;
 }
 
+// `w`'s preamble with no ticks and header text `text` (its length and CRC set), written as `name`; returns its path.
+std::string file_with_header(const Written& w, const std::string& name, const std::string& text) {
+    std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + 32);
+    b[28] = static_cast<unsigned char>(text.size()), b[29] = b[30] = b[31] = 0;
+    b[16] = 0;  // zero ticks
+    b.insert(b.end(), text.begin(), text.end());
+    const std::uint32_t crc = crc32_ieee(text.data(), text.size());
+    for (int i = 0; i < 4; ++i) b[24 + i] = static_cast<unsigned char>(crc >> (8 * i));
+    const std::string p = temp_path(name);
+    save(p, b);
+    return p;
+}
+
 TEST(Crc32, KnownCheckValue) {
     // The standard check value of CRC-32/IEEE (zlib, PNG) for the ASCII digits 1..9.
     EXPECT_EQ(crc32_ieee("123456789", 9), 0xCBF43926u);
@@ -516,15 +529,7 @@ TEST(Recording, MarksRoundTripAndBadMarksAreRefused) {
     // Hand-written headers with bad marks: each refused naming the mark and the field.
     const Written w = write_sample("good.trdxrec", 2);
     const auto with_header = [&](const std::string& name, const std::string& text) {
-        std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + 32);
-        b[28] = static_cast<unsigned char>(text.size()), b[29] = b[30] = b[31] = 0;
-        b[16] = 0;  // zero ticks
-        b.insert(b.end(), text.begin(), text.end());
-        const std::uint32_t crc = crc32_ieee(text.data(), text.size());
-        for (int i = 0; i < 4; ++i) b[24 + i] = static_cast<unsigned char>(crc >> (8 * i));
-        const std::string p = temp_path(name);
-        save(p, b);
-        return p;
+        return file_with_header(w, name, text);
     };
     const std::string head = R"({"device_name":"x","period_s":0.001,"workspace_mode":"m","notes":"","marks":)";
     expect_refused(with_header("m1.trdxrec", head + R"({"a":1}})"), {"\"marks\" is not an array"});
@@ -563,15 +568,7 @@ TEST(Recording, PoseSetsRoundTripBitForBitAndBadOnesAreRefused) {
 
     const Written w = write_sample("good_poses.trdxrec", 2);
     const auto with_header = [&](const std::string& name, const std::string& text) {
-        std::vector<unsigned char> b(w.bytes.begin(), w.bytes.begin() + 32);
-        b[28] = static_cast<unsigned char>(text.size()), b[29] = b[30] = b[31] = 0;
-        b[16] = 0;  // zero ticks
-        b.insert(b.end(), text.begin(), text.end());
-        const std::uint32_t crc = crc32_ieee(text.data(), text.size());
-        for (int i = 0; i < 4; ++i) b[24 + i] = static_cast<unsigned char>(crc >> (8 * i));
-        const std::string p = temp_path(name);
-        save(p, b);
-        return p;
+        return file_with_header(w, name, text);
     };
     const std::string head = R"({"device_name":"x","period_s":0.001,"workspace_mode":"m","notes":"","poses":)";
     const std::string one = R"("t_s":1,"workpiece":0,"position_m":[0,0,0],"orientation":[1,0,0,0])";
