@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/pose.hpp"
 
 namespace tridex::devices {
 namespace {
@@ -14,11 +15,8 @@ std::string pose_problem(const std::string& at, const RecordedPose& p, std::uint
     if (!std::isfinite(p.device_t_s)) return at + ".t_s is not finite";
     if (p.workpiece >= kMaxRecordedWorkpieces)
         return at + ".workpiece is not 0.." + std::to_string(kMaxRecordedWorkpieces - 1);
-    const Vec3& x = p.pose.position;
-    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) return at + ".position_m is not finite";
-    const Quat& q = p.pose.orientation;
-    const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6) return at + ".orientation is not a unit quaternion";
+    if (!is_finite(p.pose.position)) return at + ".position_m is not finite";
+    if (!is_unit(p.pose.orientation)) return at + ".orientation is not a unit quaternion";
     return {};
 }
 

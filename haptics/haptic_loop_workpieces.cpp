@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <thread>
@@ -92,9 +91,7 @@ std::size_t HapticLoop::pick_target(const Pose& tool_world, bool keep) const {
 
 bool HapticLoop::set_workpiece_pose(int index, const Pose& pose) {
     if (index < 0 || static_cast<std::size_t>(index) >= pieces_.size()) return false;
-    const Quat& q = pose.orientation;
-    const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    if (!is_finite(pose.position) || !std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6) return false;
+    if (!is_rigid(pose)) return false;
     if (pose_sets_sent_ >= kMaxPoseChanges) return false;
     if (!pose_sets_.try_push(PoseChange{0, 0.0, static_cast<std::uint8_t>(index), pose})) return false;
     ++pose_sets_sent_;

@@ -31,6 +31,13 @@ namespace tridex::app {
 
 namespace {
 
+// The workpiece the tool carves: the chosen one, else `viewed_target` (the target of the view the render thread
+// last took; a newer view would end the one it may still read).
+int carving_workpiece(const haptics::HapticLoop& loop, int viewed_target) {
+    const int k = loop.chosen_workpiece();
+    return k < 0 ? viewed_target : k;
+}
+
 // The chaos tests' fault (docs/benchmarks/chaos.md): TRIDEX_FAULT_KILL_AT_SAMPLE=K kills the session with SIGKILL
 // right after its K-th tool sample (HapticLoopConfig::fault_kill_at_sample); 0 or unset: never.
 std::uint64_t fault_kill_at_sample() {
@@ -218,10 +225,8 @@ void SessionRuntime::build_undo_order() {
     lanes.push_back({[this] { return placements_->times(); }, [this] { return loop_->pose_changes_taken(); },
                      // While the hand holds a workpiece its pose is the hand's: a placement's undo is refused then.
                      [this](SculptRequest r) { return !viewed_placing_ && placements_->request(r); }, 1});
-    undo_router_ = std::make_unique<UndoRouter>(std::move(lanes), [this] {
-        const int k = loop_->chosen_workpiece();
-        return k < 0 ? viewed_target_ : k;
-    });
+    undo_router_ =
+        std::make_unique<UndoRouter>(std::move(lanes), [this] { return carving_workpiece(*loop_, viewed_target_); });
 }
 
 MoreWorkpiece& SessionRuntime::more_workpiece(std::size_t k) {
@@ -239,8 +244,7 @@ bool SessionRuntime::request(SculptRequest r) {
         for (const auto& m : more_) all = m->request(r) && all;
         return all;
     }
-    int k = loop_->chosen_workpiece();
-    if (k < 0) k = viewed_target_;
+    const int k = carving_workpiece(*loop_, viewed_target_);
     return k <= 0 || static_cast<std::size_t>(k) > more_.size() ? sculpt_->request(r) : more_[k - 1]->request(r);
 }
 
