@@ -1,5 +1,5 @@
-// bench/bench_coarse.cpp - `tridex bench --coarse`: the workpiece contoured straight from every 2nd, 4th and 8th
-// ray of its tri-dexel model (compute/model/coarse_lattice.hpp) beside its full contour: time, triangles, memory
+// bench/bench_coarse.cpp - `tridex bench --coarse`: the workpiece contoured straight from every 2nd, 4th, 8th and
+// 16th ray of its tri-dexel model (compute/model/coarse_lattice.hpp) beside its full contour: time, triangles, memory
 // and the two-sided distance between the two surfaces, in metres and in cells.
 #include "bench/bench_registry.hpp"
 
@@ -132,7 +132,7 @@ void run_coarse_bench(const std::vector<int>& resolutions, const BenchCommon& c)
         compute::TriangleGrid full_grid(full_mesh, 8.0 * h);
         // Every full vertex is checked up to N = 256; above, every (N / 256)^2-th (the distance search dominates).
         const std::size_t step = n > 256 ? static_cast<std::size_t>((n / 256) * (n / 256)) : 1;
-        for (const int stride : {2, 4, 8}) {
+        for (const int stride : {2, 4, 8, 16}) {  // 16: a session's coarsest depth
             CoarseRow r;
             r.n = n;
             r.stride = stride;
@@ -175,7 +175,7 @@ BenchRun setup_coarse_bench(CLI::App& bench) {
 
 const BenchmarkRegistration kRegistration{
     {"coarse",
-     "The workpiece contoured from every 2nd, 4th and 8th ray of its model beside its full contour (time, triangles, "
+     "The workpiece contoured from every 2nd, 4th, 8th and 16th ray of its model beside its full contour (time, triangles, "
      "memory, two-sided distance in mm and cells): N = 256, 512, 1024",
      97, setup_coarse_bench}};
 

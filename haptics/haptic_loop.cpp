@@ -434,6 +434,7 @@ void HapticLoop::finish(TickRecord& rec, double compute_s) {
     LoopView& v = view_.back();
     v.tick = n;
     v.t_s = rec.t_s;
+    v.device_t_s = rec.device.t_s;
     v.tool_world = rec.tool_world;
     v.force_n = rec.force_n;
     v.contact = rec.contact;

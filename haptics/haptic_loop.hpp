@@ -256,6 +256,10 @@ struct LoopStats {
 struct LoopView {
     std::uint64_t tick = 0;         ///< ticks so far when published; 0 = nothing yet
     double t_s = 0.0;               ///< loop time of the tick, s
+    /// The device's time of the tick's sample, s (DeviceState::t_s: the clock of the samples, the journal and a
+    /// recording; it falls behind t_s when the loop skips missed deadlines), as the device gave it: a tick with an invalid
+    /// sample may carry a non-finite time.
+    double device_t_s = 0.0;
     Pose tool_world;                ///< tool pose, m
     Vec3 force_n{0.0};              ///< force sent, N
     bool contact = false;           ///< the tool touches material

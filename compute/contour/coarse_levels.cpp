@@ -8,6 +8,7 @@
 #include <string>
 
 #include "compute/mesh/mesh_weld.hpp"
+#include "compute/contour/startup_refine.hpp"
 #include "compute/model/coarse_lattice.hpp"
 #include "core/error.hpp"
 
@@ -17,6 +18,9 @@ struct CoarseGroupLevels::Depth {
     int stride = 2;
     TriDexel model;
     std::unique_ptr<Contourer> contour;
+    // A depth built after the constructor (build_depth) is contoured where its levels are read: its tiles still
+    // waiting for their first contour. Null once every tile is contoured (or when the constructor contoured them all).
+    std::unique_ptr<StartupRefiner> lazy;
     // Per coarse tile: its mesh and materials as last read, and the contour version they were read at (0: never).
     mutable std::vector<TriMesh> meshes;
     mutable std::vector<std::vector<std::uint8_t>> materials;
@@ -28,15 +32,31 @@ struct CoarseGroupLevels::Depth {
             if (c[a] < 0 || c[a] >= model.tiles.tiles[a]) return false;
         return true;
     }
-    // Calls fn(tile index, own) for the coarse tile at `c` (own true) and each of the 26 around it in the grid.
+    // Calls fn(tile index, own, coords) for the coarse tile at `c` (own true) and each of the 26 around it in the grid.
     template <typename Fn>
     void around(const std::array<int, 3>& c, Fn&& fn) const {
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::array<int, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
-                    if (in_grid(n)) fn(tile_index(n), dx == 0 && dy == 0 && dz == 0);
+                    if (in_grid(n)) fn(tile_index(n), dx == 0 && dy == 0 && dz == 0, n);
                 }
+    }
+    // Contours the tiles still waiting for their first contour that the mesh of the coarse tile at `c` and of the 26
+    // around it borrow from (each of those tiles and the tiles next to it). Not thread-safe.
+    void contour_around(const std::array<int, 3>& c) {
+        if (!lazy) return;
+        around(c, [&](std::size_t t, bool, const std::array<int, 3>& n) {
+            if (!lazy->publishable(t)) lazy->refine_group(model, *contour, 1, {n[0] / 2, n[1] / 2, n[2] / 2});
+        });
+        if (lazy->done()) lazy.reset();
+    }
+    // True when the level of the coarse tile at `c` can be read: it and the 26 around it are publishable.
+    bool readable_around(const std::array<int, 3>& c) const {
+        if (!lazy) return true;
+        bool ok = true;
+        around(c, [&](std::size_t t, bool, const std::array<int, 3>&) { ok = ok && lazy->publishable(t); });
+        return ok;
     }
     const TriMesh& mesh_of(std::size_t t, const std::vector<std::uint8_t>*& mats) const {
         const std::uint64_t v = contour->tile_version(t);
@@ -92,7 +112,12 @@ CoarseGroupLevels::CoarseGroupLevels(const TriDexel& fine, const CoarseLevelOpti
     if (first_depth < options.min_depth || first_depth > options.max_depth)
         throw Error("CoarseGroupLevels: first depth " + std::to_string(first_depth) + " is not in min_depth..max_depth");
     levels_.resize(static_cast<std::size_t>(options.max_depth - options.min_depth + 1));
-    for (int d = first_depth; d <= options.max_depth; ++d) build_depth(fine, d);
+    for (int d = first_depth; d <= options.max_depth; ++d) {
+        build_depth(fine, d);
+        Depth& D = *levels_[static_cast<std::size_t>(d - options.min_depth)];
+        D.lazy->finish(D.model, *D.contour);  // the whole coarse model now, on the task pool
+        D.lazy.reset();
+    }
 }
 
 bool CoarseGroupLevels::has_depth(int depth) const {
@@ -112,7 +137,7 @@ void CoarseGroupLevels::build_depth(const TriDexel& fine, int d) {
         if (D->model.tiles.tiles[a] != (fine.tiles.tiles[a] + D->stride - 1) / D->stride)
             throw Error("CoarseGroupLevels: the coarse tiles do not match the depth-" + std::to_string(d) + " groups");
     D->contour = std::make_unique<Contourer>(D->model);
-    D->contour->update(D->model);
+    D->lazy = std::make_unique<StartupRefiner>(D->model, 1, Vec3(0.0));  // takes the tiles to contour from the model
     const std::size_t n = D->model.tiles.count();
     D->meshes.resize(n);
     D->materials.resize(n);
@@ -133,8 +158,10 @@ const CoarseGroupLevels::Depth& CoarseGroupLevels::at(int depth) const {
 void CoarseGroupLevels::read_around(std::span<const std::pair<int, std::array<int, 3>>> groups) {
     const std::vector<std::uint8_t>* mats = nullptr;
     for (const auto& [depth, c] : groups) {
-        const Depth& D = at(depth);
-        D.around(c, [&](std::size_t t, bool) { (void)D.mesh_of(t, mats); });
+        (void)at(depth);  // throws for a depth outside the range or not built
+        Depth& D = *levels_[static_cast<std::size_t>(depth - min_depth())];
+        D.contour_around(c);
+        D.around(c, [&](std::size_t t, bool, const std::array<int, 3>&) { (void)D.mesh_of(t, mats); });
     }
 }
 
@@ -150,15 +177,16 @@ void CoarseGroupLevels::forget_reads() {
     }
 }
 
-std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles) {
+std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles, int from_depth) {
     constexpr int kT = TileGrid::kTileCells;
     constexpr int kReach = TriDexel::kDirtyReachCells;
     std::size_t recontoured = 0;
     std::vector<Interval> scratch;  // one ray's buffer for every re-read
     const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
-    for (auto& Dp : levels_) {
-        if (!Dp) continue;  // built later from the model as it is then
-        Depth& D = *Dp;
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+        if (!levels_[k]) continue;  // built later from the model as it is then
+        if (options_.min_depth + static_cast<int>(k) < from_depth) continue;
+        Depth& D = *levels_[k];
         const int s = D.stride;
         for (const std::uint64_t t : changed_tiles) {
             const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
@@ -194,6 +222,8 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
 TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coords) const {
     const Depth& D = at(depth);
     if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
+    if (!D.readable_around(coords))
+        throw Error("CoarseGroupLevels: the depth-" + std::to_string(depth) + " level of a group not read by read_around()");
     const Lattice& L = D.model.lattice;
     constexpr int kT = TileGrid::kTileCells;
     // The group's box grown by one coarse cell: the ring's triangles have their centroid in it.
@@ -203,7 +233,7 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
     // The pieces as one soup (each tile's vertices, its triangles that belong), welded where tiles share a vertex.
     TriMesh soup;
     std::vector<std::uint8_t> soup_materials;
-    D.around(coords, [&](std::size_t t, bool own) {
+    D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>&) {
         const std::vector<std::uint8_t>* mats = nullptr;
         const TriMesh& m = D.mesh_of(t, mats);
         const auto base = static_cast<std::uint32_t>(soup.positions.size());

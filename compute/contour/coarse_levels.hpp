@@ -55,26 +55,33 @@ public:
 
     /// After `fine` changed: re-reads the coarse rays through the tiles `changed_tiles` (fine tile indices, e.g.
     /// the tiles whose contour version changed) and the kDirtyReachCells cells around them, marks dirty the coarse
-    /// cells whose rays differ, and re-contours those. Returns the coarse tiles re-contoured over every depth.
-    std::size_t update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles);
+    /// cells whose rays differ, and re-contours those, at the depths from_depth..max_depth() that are built (0: from
+    /// min_depth()). Returns the coarse tiles re-contoured over those depths. Calling it again for the same change
+    /// re-reads the rays and finds nothing to re-contour.
+    std::size_t update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles, int from_depth = 0);
 
     /// Depths with levels (min_depth()..max_depth()).
     int min_depth() const { return options_.min_depth; }
     int max_depth() const { return options_.max_depth; }
     /// True when depth d's coarse model is built (by the constructor or build_depth()); false outside the depths.
     bool has_depth(int depth) const;
-    /// Reads `fine` at stride 2^depth and contours that coarse model whole, as the constructor does (nothing when it
-    /// is built already); depth 1 costs about a quarter of the model's whole contour. Throws tridex::Error for a depth
-    /// outside min_depth()..max_depth().
+    /// Reads `fine` at stride 2^depth (nothing when that depth is built already). Unlike the constructor, it does not
+    /// contour that coarse model: read_around() contours the coarse tiles the groups it is given need, the first time
+    /// they are needed, so that reading a depth costs only its rays (depth 1 contoured whole would cost about a quarter
+    /// of the model's whole contour) and each level's contour comes with it. The contour is the same, tile for tile,
+    /// as the constructor's. Throws tridex::Error for a depth outside min_depth()..max_depth().
     void build_depth(const TriDexel& fine, int depth);
     /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in
     /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
     /// cells. An empty mesh where the coarse contour has no surface near the group. Throws tridex::Error for a depth
-    /// outside min_depth()..max_depth() or not built yet (has_depth), or coords outside that depth's group grid.
+    /// outside min_depth()..max_depth() or not built yet (has_depth), coords outside that depth's group grid, or a
+    /// group of a depth read by build_depth() whose tiles read_around() has not contoured yet.
     TileLodLevel level(int depth, const std::array<int, 3>& coords) const;
     /// Reads the meshes of the coarse tiles the levels of `groups` (depth, coords) take (each group's and the 26 around
-    /// it) where their contour changed since they were last read, so that level() of those groups then only reads
-    /// (several threads may call it at once until the next update(), read_around() or forget_reads()).
+    /// it) where their contour changed since they were last read, first contouring those of a depth read by
+    /// build_depth() that were never contoured (and the tiles next to them, whose vertices they share), so that
+    /// level() of those groups then only reads (several threads may call it at once until the next update(),
+    /// read_around() or forget_reads()). Throws as level() for a depth, and as Contourer::update.
     void read_around(std::span<const std::pair<int, std::array<int, 3>>> groups);
     /// Frees the tile meshes read so far (level() reads what it needs again).
     void forget_reads();

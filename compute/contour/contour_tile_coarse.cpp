@@ -52,6 +52,24 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     return out;
 }
 
+std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
+    // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
+    // nothing changed).
+    coarse_->update(*coarse_model_, changed, from);
+    std::vector<std::uint64_t> ids;
+    for (const std::uint64_t id : coarse_stale_) {
+        const int depth = static_cast<int>(id >> 56);
+        if (depth >= from && coarse_->has_depth(depth)) ids.push_back(id);
+    }
+    if (ids.empty()) return 0;
+    std::sort(ids.begin(), ids.end());
+    const std::size_t built = rebuild_coarse_levels(ids);
+    lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return built;
+}
+
 std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now) {
     if (coarse_stale_.empty()) return 0;
     if (now - coarse_changed_at_ < group_settle_) return 0;
@@ -72,9 +90,7 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     const bool startup = coarse_changed_at_ == std::chrono::steady_clock::time_point{};
     const std::size_t budget = startup ? kCoarseStartupLevelsPerCollect : kCoarseLevelsPerCollect;
     if (ids.size() > budget) ids.resize(budget);
-    for (const std::uint64_t id : ids) coarse_stale_.erase(id);
     const std::size_t built = rebuild_coarse_levels(ids);
-    lod_groups_built_ += built;
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return built;
 }
@@ -83,6 +99,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     std::vector<TileGroupSurface*> groups;
     std::vector<std::pair<int, std::array<int, 3>>> where;
     for (const std::uint64_t id : ids) {
+        coarse_stale_.erase(id);
         const std::size_t g = index_of(groups_, id);
         if (g == groups_.size()) continue;  // gone
         groups.push_back(&groups_[g]);
@@ -115,6 +132,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         groups[i]->version = fresh_tile_version();
     }
     coarse_->forget_reads();  // the levels hold what they need; a later rebuild reads its tiles again
+    lod_groups_built_ += groups.size();
     return groups.size();
 }
 

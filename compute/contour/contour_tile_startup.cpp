@@ -31,14 +31,8 @@ bool TileSurfaceCache::build_coarse_depth() {
         if (coarse_->has_depth(d)) continue;
         const auto t0 = std::chrono::steady_clock::now();
         coarse_->build_depth(*coarse_model_, d);
-        // Every group of that depth waiting for its level gets it now (on every core): a stroke's dropped groups
-        // can then stand in for each other instead of waiting for their tiles (tiles_to_cover).
-        std::vector<std::uint64_t> ids;
-        for (const std::uint64_t id : coarse_stale_)
-            if (static_cast<int>(id >> 56) == d) ids.push_back(id);
-        std::sort(ids.begin(), ids.end());
-        for (const std::uint64_t id : ids) coarse_stale_.erase(id);
-        lod_groups_built_ += rebuild_coarse_levels(ids);
+        // The groups of that depth waiting for their levels get them through collect_lods(), a bounded number per
+        // call, so that the caller (the sculpt thread) is not held for thousands of levels at once.
         lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (startup_groups_) update_startup_groups();
         return true;
@@ -79,10 +73,15 @@ void TileSurfaceCache::update_startup_groups() {
         TileGroupSurface& group = groups_[g];
         bool cover = refined[g];
         if (!cover && group.depth > 1) {  // smaller groups stand in where they are refined or have a level
+            // A smaller group whose current coarse read found no surface stands in too: it has nothing to draw
+            // until its tiles arrive (no surface, or a feature thinner than its stride), whatever is drawn above it.
             cover = true;
             for (const std::uint64_t c : group.children) {
                 const std::size_t ci = index_of(groups_, c);
-                if (ci < g && !groups_[ci].children_cover && groups_[ci].lods.empty()) {
+                if (ci >= g) continue;
+                const TileGroupSurface& child = groups_[ci];
+                const bool read_empty = coarse_->has_depth(child.depth) && coarse_stale_.count(child.id) == 0;
+                if (!child.children_cover && child.lods.empty() && !read_empty) {
                     cover = false;
                     break;
                 }
@@ -109,43 +108,5 @@ void TileSurfaceCache::update_startup_groups() {
     startup_groups_ = open || !provisional_.empty();
 }
 
-std::vector<std::uint64_t> TileSurfaceCache::tiles_to_cover(const std::vector<std::uint64_t>& dirty_tiles) const {
-    if (!coarse_ || expected_.empty()) return {};
-    const std::array<int, 3>& dims = coarse_dims_;
-    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
-    std::vector<std::uint64_t> around;  // the change's tiles and their neighbours: their versions change with it
-    for (const std::uint64_t t : dirty_tiles) {
-        const int tx = static_cast<int>(t % nx), ty = static_cast<int>((t / nx) % ny), tz = static_cast<int>(t / (nx * ny));
-        for (int z = std::max(0, tz - 1); z <= std::min(dims[2] - 1, tz + 1); ++z)
-            for (int y = std::max(0, ty - 1); y <= std::min(dims[1] - 1, ty + 1); ++y)
-                for (int x = std::max(0, tx - 1); x <= std::min(dims[0] - 1, tx + 1); ++x)
-                    around.push_back(static_cast<std::uint64_t>(x) + nx * (static_cast<std::uint64_t>(y) + ny * static_cast<std::uint64_t>(z)));
-    }
-    std::sort(around.begin(), around.end());
-    around.erase(std::unique(around.begin(), around.end()), around.end());
-    const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, around);
-    // A dropped group needs its children to stand in: a smaller group with a level (not dropped) does; one without
-    // needs its own children, down to the tiles of depth-1 groups.
-    std::vector<std::uint64_t> todo(reach.begin(), reach.end()), out(dirty_tiles.begin(), dirty_tiles.end());
-    std::unordered_set<std::uint64_t> seen(reach.begin(), reach.end());
-    while (!todo.empty()) {
-        const TileGroupSurface* g = find_by_id(groups_, todo.back());
-        todo.pop_back();
-        if (!g) continue;
-        if (g->depth == 1) {
-            out.insert(out.end(), g->children.begin(), g->children.end());
-            continue;
-        }
-        for (const std::uint64_t c : g->children) {
-            const TileGroupSurface* child = find_by_id(groups_, c);
-            if (!child) continue;
-            const bool stands_in = !reach.count(c) && !child->lods.empty() && !child->lods.front().mesh.triangles.empty();
-            if (!stands_in && seen.insert(c).second) todo.push_back(c);
-        }
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-}
 
 }  // namespace tridex::compute

@@ -108,16 +108,15 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
     update_groups(contourer.tile_dims(), changed);
+    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;
         for (const TileGroupSurface& g : groups_)
             if (g.depth >= coarse_->min_depth() && coarse_->has_depth(g.depth) &&
-                (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth())) {
+                (g.depth >= kCoarseStartupDepth || g.depth == coarse_->max_depth()))
                 ids.push_back(g.id);
-                coarse_stale_.erase(g.id);
-            }
-        lod_groups_built_ += rebuild_coarse_levels(ids);
+        rebuild_coarse_levels(ids);
         lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
     if (lod_ && worker_) {

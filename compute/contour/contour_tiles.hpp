@@ -157,8 +157,10 @@ public:
     /// their tiles have theirs. Shallower groups keep simplified levels (as without this call).
     /// The first refresh() builds the levels of the groups of kCoarseStartupDepth and deeper; collect_lods() those of
     /// the finer groups, kCoarseStartupLevelsPerCollect at a time, without waiting.
-    /// A refresh() that changes tiles drops the level of every group within reach of them (its children are drawn);
-    /// collect_lods() re-reads the coarse models and rebuilds those levels, at most kCoarseLevelsPerCollect at a
+    /// A refresh() that changes tiles re-reads the coarsest model through them and rebuilds the levels of the
+    /// coarsest groups within reach at once (a stroke is drawn coarse, not at full resolution, where a coarse level
+    /// is within the pixel bound); it drops the level of every finer group within reach (its children are drawn), and
+    /// collect_lods() re-reads the finer coarse models and rebuilds those levels, at most kCoarseLevelsPerCollect at a
     /// time, once no tile has changed for LodWorkerOptions::group_settle_s (0 without a worker). group_depth
     /// becomes options.max_depth. `model` is the one the Contourer given to refresh() contours; it must outlive
     /// the cache and not change during refresh() or collect_lods(). Call after enable_lod() and before the first
@@ -166,9 +168,10 @@ public:
     /// coarse_first: only the coarsest depth's model is read now (the first refresh() gives those groups their levels);
     /// build_coarse_depth() reads the finer ones later, and their groups get their levels through collect_lods().
     void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {}, bool coarse_first = false);
-    /// Coarse-first start-up: reads the coarsest depth not read yet (use_coarse_groups with coarse_first) and gives
-    /// its groups their levels (on every core). Returns false when every depth is read. Reading depth 1 costs about
-    /// a quarter of the model's whole contour.
+    /// Coarse-first start-up: reads the coarsest depth not read yet (use_coarse_groups with coarse_first); its groups
+    /// then get their levels through collect_lods(), at most kCoarseStartupLevelsPerCollect per call
+    /// (kCoarseLevelsPerCollect once a stroke changed tiles). Returns false when every depth is read. Reading depth 1
+    /// costs about a quarter of the model's whole contour.
     bool build_coarse_depth();
     /// Coarse-first start-up (after use_coarse_groups, before the first refresh()): tiles of the model that hold
     /// surface but are not contoured yet (compute::StartupRefiner::pending_tiles). The groups over them exist from
@@ -183,16 +186,12 @@ public:
     /// Expected tiles that changed before their first contour (a stroke's, StartupRefiner::pending_among): no longer
     /// expected, so the refresh() that shows them counts them as changed, as any stroke's tiles.
     void stop_expecting(const std::vector<std::uint64_t>& ids);
-    /// Coarse-first start-up, before a change's re-contour: the tiles that must be drawn at full resolution once the
-    /// refresh() after it drops the levels within reach of `dirty_tiles` (the change's dirty tiles; their neighbours,
-    /// whose borrowed vertices move, are counted too): the tiles of every depth-1 group whose level is dropped or
-    /// missing and under a dropped group where no smaller group's level stands in, and `dirty_tiles`. Empty when no
-    /// tile is expected. O(groups reached x their children).
-    std::vector<std::uint64_t> tiles_to_cover(const std::vector<std::uint64_t>& dirty_tiles) const;
     /// Tiles expected and not arrived yet (0 outside a coarse-first start-up).
     std::size_t expected_tiles() const { return expected_.size(); }
     /// True after use_coarse_groups().
     bool coarse_groups() const { return coarse_ != nullptr; }
+    /// Coarse depths, counted from the coarsest, whose groups a refresh() that changes their tiles rebuilds at once.
+    static constexpr int kCoarseDepthsAtOnce = 1;
     /// Coarse group levels rebuilt by collect_lods() at most at a time after a stroke (each reads its coarse tile
     /// and the 26 around), and while start-up's finest groups wait for theirs.
     static constexpr std::size_t kCoarseLevelsPerCollect = 8, kCoarseStartupLevelsPerCollect = 32;
@@ -269,13 +268,17 @@ private:
     std::chrono::steady_clock::time_point coarse_changed_at_{};
     std::array<int, 3> coarse_dims_{};  // the tile grid's dimensions at the last refresh
     // Coarse mode: builds the levels of the groups `ids` (gone ones skipped), each job on every core from
-    // kParallelLodTiles, with its measured error; returns how many were built.
+    // kParallelLodTiles, with its measured error; takes them out of coarse_stale_ and counts them in
+    // lod_groups_built_; returns how many were built.
     std::size_t rebuild_coarse_levels(const std::vector<std::uint64_t>& ids);
     // Coarse mode: the largest distance from sampled vertices of the group's tiles to `level`, m.
     double coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const;
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
+    // Coarse mode, in a refresh() that changed `changed` (fine tile ids): re-reads the coarsest kCoarseDepthsAtOnce
+    // models through them and rebuilds their groups' waiting levels; returns how many.
+    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();

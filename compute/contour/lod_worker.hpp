@@ -89,6 +89,10 @@ struct LodWorkerOptions {
     /// the model has at least this many cells along its longest side and is contoured on the CPU; 0 = never.
     /// Simplifying every tile's and group's levels no longer keeps up with a stroke from there on.
     int coarse_groups_from_cells = kCoarseGroupsFromCells;
+    /// With coarse groups: the coarsest group depth (CoarseLevelOptions::max_depth, 1..6). Depth 4 reads every 16th
+    /// ray, for views where a pixel spans many cells of a fine lattice (docs/design/lod.md, "Depths 1-4 in a
+    /// session"). Regions of a coarse-first start-up stay depth-3 groups (at most 512 tiles each).
+    int coarse_max_depth = 4;
     /// With coarse groups: start-up publishes a first mesh of the coarsest group levels before any tile is contoured,
     /// then contours the tiles region by region (compute::StartupRefiner; docs/design/lod.md, "Coarse first at
     /// start-up"). The Contourer must not have contoured the model yet.

@@ -155,6 +155,20 @@ std::size_t StartupRefiner::refine_next(TriDexel& model, Contourer& contourer) {
     return 0;
 }
 
+std::size_t StartupRefiner::refine_group(TriDexel& model, Contourer& contourer, int depth, const std::array<int, 3>& coords) {
+    if (depth < 1 || depth > 6) return 0;
+    const int span = 1 << depth;
+    std::array<int, 3> lo{}, hi{};  // the group's tiles grown by one
+    for (int a = 0; a < 3; ++a) {
+        if (coords[a] < 0 || coords[a] * span >= dims_[a]) return 0;
+        lo[a] = coords[a] * span - 1;
+        hi[a] = (coords[a] + 1) * span;
+    }
+    const std::size_t marked = mark_box(model, lo, hi);
+    if (marked > 0) contourer.update(model);
+    return marked;
+}
+
 std::vector<std::uint64_t> StartupRefiner::pending_among(const std::vector<std::uint64_t>& tiles) const {
     std::vector<std::uint64_t> out;
     for (const std::uint64_t t : tiles)
@@ -165,11 +179,27 @@ std::vector<std::uint64_t> StartupRefiner::pending_among(const std::vector<std::
 }
 
 std::size_t StartupRefiner::contour_with_change(TriDexel& model, const std::vector<std::uint64_t>& tiles) {
-    std::size_t marked = 0;
+    // A change drops the levels of the depth-1 groups it reaches (TileSurfaceCache::coarse_reach: kDirtyReachCells
+    // fine cells, then kDirtyReachCells + 1 coarse cells of stride 2, short of one tile), so those groups lie among
+    // the groups of the changed tiles' 26 neighbours. Each such group's tiles, grown by one, are contoured: its tiles
+    // are then publishable and the group is covered by them, so the changed surface is drawn at full resolution,
+    // never from a coarser level that must stand in whatever its error.
+    static_assert(TriDexel::kDirtyReachCells + 2 * (TriDexel::kDirtyReachCells + 1) < TileGrid::kTileCells,
+                  "a change reaches past the depth-1 groups of its tiles' neighbours");
+    std::vector<std::uint64_t> groups;  // depth-1 group coordinates packed as tile indices of the even corner tile
     for (const std::uint64_t t : tiles) {
         if (t >= pending_.size()) continue;
-        const std::array<int, 3> c = coords(t);
-        marked += mark_box(model, {c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 1, c[1] + 1, c[2] + 1});
+        for_neighbourhood(coords(t), [&](std::size_t n) {
+            const std::array<int, 3> c = coords(n);
+            groups.push_back(index(c[0] & ~1, c[1] & ~1, c[2] & ~1));
+        });
+    }
+    std::sort(groups.begin(), groups.end());
+    groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+    std::size_t marked = 0;
+    for (const std::uint64_t g : groups) {
+        const std::array<int, 3> c = coords(g);
+        marked += mark_box(model, {c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 2, c[1] + 2, c[2] + 2});
     }
     return marked;
 }

@@ -49,11 +49,17 @@ public:
     /// `contourer` (bound to `model`, whose dirty flags must be clear). Returns the tiles contoured (0 when done).
     /// Throws as Contourer::update.
     std::size_t refine_next(TriDexel& model, Contourer& contourer);
+    /// Contours the pending tiles of the depth-`depth` tile group at group coordinates `coords` (TileGroupSurface::
+    /// coords: 2^depth tiles along each axis) and those within one tile of it, so that every tile of the group is
+    /// publishable after it. Returns the tiles contoured: 0 when none was pending, the depth is outside 1..6 or the
+    /// group lies outside the grid. Throws as Contourer::update.
+    std::size_t refine_group(TriDexel& model, Contourer& contourer, int depth, const std::array<int, 3>& coords);
     /// Of `tiles` (e.g. a change's dirty tiles), those still waiting for their first contour, ascending.
     std::vector<std::uint64_t> pending_among(const std::vector<std::uint64_t>& tiles) const;
-    /// Before a change's re-contour: marks dirty (kWhole unless already dirty) every pending tile of `tiles` and
-    /// within one tile of them, so they can all be published after it, and counts them as contoured (the caller's
-    /// Contourer::update() follows at once). Returns how many were marked.
+    /// Before a change's re-contour: marks dirty (kWhole unless already dirty) every pending tile of the depth-1
+    /// groups (2x2x2 tiles) of `tiles` and of their 26 neighbours, and within one tile of those groups, so that all
+    /// those groups' tiles can be published after it and draw the change at full resolution; counts them as
+    /// contoured (the caller's Contourer::update() follows at once). Returns how many were marked.
     std::size_t contour_with_change(TriDexel& model, const std::vector<std::uint64_t>& tiles);
     /// Contours every pending tile. Returns how many. Throws as Contourer::update.
     std::size_t finish(TriDexel& model, Contourer& contourer);

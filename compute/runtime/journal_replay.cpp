@@ -60,8 +60,20 @@ struct JournalApplier::State {
         cpu->set_clay_group_sweeps(from.clay_group_sweeps);
     }
 
+    // Closes the open stroke as the sculpt thread does (SculptThread::close_stroke): the samples left unswept within
+    // the sweep spacing are swept into it first.
+    std::uint64_t end_stroke(std::uint64_t k) {
+        try {
+            sites.finish_strokes(symmetry_centre(model.lattice), batch);
+        } catch (const Error& e) {
+            throw at(k, e.what());
+        }
+        apply_batch(k);
+        return history.end_stroke();
+    }
+
     void stroke_end(std::uint64_t k, const JournalRecord& r) {
-        const std::uint64_t serial = history.end_stroke();
+        const std::uint64_t serial = end_stroke(k);
         if (damaged && serial != r.serial) {
             if (serial != 0) shift = static_cast<std::int64_t>(r.serial) - static_cast<std::int64_t>(serial);
             else ++st.marks_skipped;
@@ -76,7 +88,7 @@ struct JournalApplier::State {
 
     void undo_redo(std::uint64_t k, const JournalRecord& r) {
         const bool undo = r.kind == JournalKind::kUndo;
-        history.end_stroke();
+        end_stroke(k);
         const std::uint64_t next = undo ? history.next_undo_serial() : history.next_redo_serial();
         if (damaged) {
             if (next == 0 || static_cast<std::int64_t>(next) + shift != static_cast<std::int64_t>(r.serial)) {
@@ -99,7 +111,7 @@ struct JournalApplier::State {
 
     // The model re-sampled (its coarseness changed) as one undo step, after the open stroke closed.
     void lattice(std::uint64_t k, const JournalRecord& r) {
-        history.end_stroke();
+        end_stroke(k);
         if (r.rays < static_cast<std::uint64_t>(kResampleMinResolution) ||
             r.rays > static_cast<std::uint64_t>(kResampleMaxResolution))
             throw at(k, "a coarseness change to resolution " + std::to_string(r.rays) + ", outside " +
@@ -122,7 +134,7 @@ struct JournalApplier::State {
     void sweep_to(std::uint64_t k, const ToolSample& s) {
         if (s.tool.kind == ToolKind::kMesh && s.op != ToolOp::kNone) throw at(k, "a mesh tool, which sessions do not have");
         try {
-            sites.advance(s, nullptr, nullptr, symmetry_centre(model.lattice), batch);
+            sites.advance(s, nullptr, nullptr, symmetry_centre(model.lattice), model.lattice.cell_m, batch);
         } catch (const Error& e) {
             throw at(k, e.what());
         }
@@ -160,7 +172,7 @@ struct JournalApplier::State {
             }
             if (close != StrokeClose::kNo) {
                 apply_batch(k);
-                if (history.end_stroke() != 0) ++st.strokes;
+                if (end_stroke(k) != 0) ++st.strokes;
             }
             sweep_to(k, s);
         }

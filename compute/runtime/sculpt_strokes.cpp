@@ -46,7 +46,7 @@ void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
     const bool mesh = cuts && sites.prev(s.site) && s.tool.kind == ToolKind::kMesh;
     const bool mirror = mesh && s.symmetry.mirrors != 0;
     sites.advance(s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr, mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
-                  compute::symmetry_centre(model_.lattice), batch_);
+                  compute::symmetry_centre(model_.lattice), model_.lattice.cell_m, batch_);
     if (s.site == local_site_ && !follower_) {
         prev_ = s;
         have_prev_ = true;
@@ -264,6 +264,9 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     const bool holding = holding_reference();
     const bool was_open = history_->stroke_open();
     const auto t0 = std::chrono::steady_clock::now();
+    // The samples left unswept within the sweep spacing: the stroke ends where the tool did.
+    bool tail_changed = false;
+    if (sites_.sweeps().finish_strokes(compute::symmetry_centre(model_.lattice), batch_) > 0) flush(0, 0, tail_changed);
     compute::BooleanStats held;  // the stroke's last push group, held back until now (SculptHistory::apply)
     IslandRemoval islands;       // the specks the stroke left, removed
     const std::uint64_t serial = history_->end_stroke(&held, &islands);
@@ -288,7 +291,7 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
     // Removed specks leave the haptic window too.
     if (reference_moves || islands.specks > 0) publish(published_centre_m_);
-    if (held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
+    if (tail_changed || held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
 }
 
 }  // namespace tridex::app

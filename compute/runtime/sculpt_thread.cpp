@@ -276,13 +276,14 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
         stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
         model_.clear_dirty();
     } else {
-        // A coarse-first start-up: the tiles within reach of the change are contoured with it (their groups' levels
-        // are dropped); those it changed before their first contour are a stroke's, not start-up's.
+        // A coarse-first start-up: the tiles of the depth-1 groups the change reaches are contoured with it, so it is
+        // drawn at full resolution (StartupRefiner::contour_with_change); those it changed before their first contour
+        // are a stroke's, not start-up's.
         if (refiner_ && !refiner_->done()) {
             const std::vector<std::uint32_t> d = model_.tiles.dirty_tiles();
             const std::vector<std::uint64_t> dirty(d.begin(), d.end());
             tile_cache_.stop_expecting(refiner_->pending_among(dirty));
-            stats_.startup_tiles_refined += refiner_->contour_with_change(model_, tile_cache_.tiles_to_cover(dirty));
+            stats_.startup_tiles_refined += refiner_->contour_with_change(model_, dirty);
         }
         stats_.tiles_recontoured += contourer_.update(model_);
     }

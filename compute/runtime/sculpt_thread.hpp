@@ -24,6 +24,7 @@
 #include "compute/journal/tool_stream.hpp"
 #include "compute/model/tridexel.hpp"
 #include "compute/runtime/boolean_backend.hpp"
+#include "compute/runtime/detail_requests.hpp"
 #include "compute/runtime/sculpt_history.hpp"
 #include "compute/runtime/site_intake.hpp"
 #include "compute/runtime/site_strokes.hpp"
@@ -439,10 +440,15 @@ public:
     /// the model: its dirty tiles are the ones to contour): the first publish holds no tile, only the groups with the
     /// coarsest depth's levels, which the renderer draws where no tile stands in (TileGroupSurface::children_cover);
     /// each later pass of the thread reads a finer coarse depth or contours the next region of tiles (nearest the
-    /// tool first; compute::StartupRefiner), published as start-up's tiles. A change (stroke, undo) during it
-    /// contours at once its dirty tiles and every tile that must stand in for the group levels it drops
-    /// (TileSurfaceCache::tiles_to_cover). stop() contours what is left.
+    /// tool first; compute::StartupRefiner), published as start-up's tiles; a finer coarse depth is read only while no
+    /// stroke is open. A change (stroke, undo) during it contours at once the tiles of the depth-1 groups it reaches
+    /// (StartupRefiner::contour_with_change), so it is drawn at full resolution; the coarsest groups within reach are
+    /// redrawn with it (TileSurfaceCache::use_coarse_groups). stop() contours what is left.
     void use_tile_lod(const compute::LodWorkerOptions& options);
+    /// With a coarse-first start-up or lattice change: after the finer coarse depths are read, contours only the tile
+    /// groups `requests` asks for (the frames' compute::DetailRequests), finest first, for up to kRefineSliceS per
+    /// pass, instead of every region; tiles no frame needs stay coarse until stop(). Throws when the thread runs.
+    void refine_on_demand(compute::DetailRequests& requests);
 
 private:
     // A cutting sample's times (ToolSample::made_s, t_s; infinity: none), kept for the oldest of several.
@@ -584,6 +590,7 @@ private:
     MeshForm mesh_form_ = MeshForm::kWhole;
     compute::TileSurfaceCache tile_cache_;                              // kTiles: rebuilt per changed tile
     std::unique_ptr<compute::StartupRefiner> refiner_;                  // coarse-first start-up while it runs
+    compute::DetailRequests* detail_ = nullptr;                         // refine_on_demand
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> shared_groups_;  // kTiles: last published, by id
     std::chrono::steady_clock::time_point mesh_last_{};

@@ -2,10 +2,12 @@
 // coarse-first start-up (finer coarse depths and regions of full-resolution tiles after a first mesh of coarse group
 // levels; docs/design/lod.md, "Coarse first at start-up").
 #include <algorithm>
+#include <array>
 #include <chrono>
 
 #include "compute/runtime/sculpt_thread.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -17,16 +19,29 @@ void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
     arm_tile_lod(options);
 }
 
+namespace {
+// The deepest group a coarse-first start-up refines as one region (8x8x8 tiles), whatever the coarsest depth.
+constexpr int kStartupRegionDepth = 3;
+// The depth of the tile blocks a requested group is contoured by (4x4x4 tiles).
+constexpr int kRefineBlockDepth = 2;
+// While a stroke is open the refinement yields sooner, in smaller blocks (2x2x2 tiles): the stroke's samples wait
+// for it, and the cut is drawn only after them.
+constexpr double kRefineStrokeSliceS = 0.02;
+constexpr int kRefineStrokeBlockDepth = 1;
+}  // namespace
+
 void SculptThread::arm_tile_lod(const compute::LodWorkerOptions& options) {
     const bool coarse = !gpu_contour_ && compute::coarse_groups_apply(model_.lattice.cells, options.coarse_groups_from_cells);
     if (options.coarse_first && !coarse)
         throw Error("SculptThread::use_tile_lod: coarse_first needs coarse groups on the CPU contour");
     tile_cache_.enable_lod(options.lod);
     if (coarse) {
-        const compute::CoarseLevelOptions levels;
+        compute::CoarseLevelOptions levels;
+        levels.max_depth = options.coarse_max_depth;
         tile_cache_.use_coarse_groups(model_, levels, options.coarse_first);
         if (options.coarse_first) {
-            refiner_ = std::make_unique<compute::StartupRefiner>(model_, levels.max_depth, published_centre_m_);
+            refiner_ = std::make_unique<compute::StartupRefiner>(model_, std::min(levels.max_depth, kStartupRegionDepth),
+                                                                 published_centre_m_);
             tile_cache_.expect_tiles(refiner_->pending_tiles());
         }
     }
@@ -35,6 +50,11 @@ void SculptThread::arm_tile_lod(const compute::LodWorkerOptions& options) {
     if (refiner_) worker.startup_nice = worker.nice;
     tile_cache_.build_lods_in_background(worker);
     if (gpu_contour_) gpu_contour_->read_back_tiles();
+}
+
+void SculptThread::refine_on_demand(compute::DetailRequests& requests) {
+    if (thread_.joinable()) throw Error("SculptThread::refine_on_demand: call it before start()");
+    detail_ = &requests;
 }
 
 void SculptThread::collect_lods() {
@@ -46,17 +66,48 @@ void SculptThread::collect_lods() {
     lod_pending_.store(pending, std::memory_order_release);
 }
 
+
 void SculptThread::refine_startup(bool finish) {
     if (!refiner_ || refiner_->done()) return;
     if (finish) {
         stats_.startup_tiles_refined += refiner_->finish(model_, contourer_);
-    } else if (!tile_cache_.build_coarse_depth()) {  // the finer levels first: frames draw them once tiles arrive
+    } else if (history_->stroke_open() || !tile_cache_.build_coarse_depth()) {
+        // The finer coarse depths first (frames draw their levels once tiles arrive), but never while a stroke is
+        // open: reading depth 1 of a fine model holds the thread for seconds, and the stroke's samples would wait.
         // Regions until kRefineSliceS has passed: a mesh publish per region would cost about as much as the region.
         const auto t0 = std::chrono::steady_clock::now();
-        do {
-            stats_.startup_tiles_refined += refiner_->refine_next(model_, contourer_);
-        } while (!refiner_->done() &&
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kRefineSliceS);
+        const bool stroke = history_->stroke_open();
+        const double slice_s = stroke ? kRefineStrokeSliceS : kRefineSliceS;
+        const int block_depth = stroke ? kRefineStrokeBlockDepth : kRefineBlockDepth;
+        const auto in_slice = [&] {
+            return !refiner_->done() &&
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
+        };
+        if (detail_) {  // only the groups the frames asked for; the rest again when a frame asks for it
+            std::size_t refined = 0;
+            for (const std::uint64_t id : detail_->take()) {
+                if (!in_slice()) break;
+                // A group whose children cover it now (a finer depth was read since the frame asked) is left to them.
+                const compute::TileGroupSurface* g = compute::find_by_id(tile_cache_.groups(), id);
+                if (!g || g->children_cover) continue;
+                // A large group a block of block_depth at a time, so that the slice bounds the pass (a depth-4
+                // group holds hundreds of surface tiles); blocks already contoured cost a scan of their tiles.
+                const int depth = std::min(g->depth, block_depth), per = 1 << (g->depth - depth);
+                for (int z = 0; z < per && in_slice(); ++z)
+                    for (int y = 0; y < per && in_slice(); ++y)
+                        for (int x = 0; x < per && in_slice(); ++x) {
+                            const std::array<int, 3> c{g->coords[0] * per + x, g->coords[1] * per + y, g->coords[2] * per + z};
+                            refined += refiner_->refine_group(model_, contourer_, depth, c);
+                        }
+            }
+            stats_.startup_tiles_refined += refined;
+            if (refined == 0) return;  // nothing new to publish
+        } else {
+            if (stroke) return;  // a region (up to 8x8x8 tiles) is not split: it waits for the stroke's close
+            do {
+                stats_.startup_tiles_refined += refiner_->refine_next(model_, contourer_);
+            } while (in_slice());
+        }
     }
     if (mesh_out_) mesh_pending_ = true;
 }

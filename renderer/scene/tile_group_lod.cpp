@@ -42,4 +42,9 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
     return level;
 }
 
+bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px) {
+    if (level == 0 || level > group.levels.size() || group.children_cover) return false;
+    return group.levels[level - 1].error_m * px_per_m > max_px;
+}
+
 }  // namespace tridex::renderer

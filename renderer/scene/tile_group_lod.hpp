@@ -41,4 +41,9 @@ struct TileGroup {
 std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
                                              double max_px, std::vector<std::uint8_t>& covered);
 
+/// True when an eye draws `group` at `level` (1-based, as choose_group_levels gives) only because nothing under it can
+/// draw its surface yet (TileGroup::children_cover false) while that level's error_m * px_per_m exceeds max_px: the
+/// eye wants the group's tiles at full resolution (compute::DetailRequests). False for level 0 or out of range.
+bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px);
+
 }  // namespace tridex::renderer

@@ -37,8 +37,8 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
     // with one choice: that of the larger projection (the finer level).
     std::array<std::vector<std::size_t>, 2> group_level;
     std::array<std::vector<std::uint8_t>, 2> group_covered;
+    std::array<std::vector<double>, 2> px;  // per eye and group: pixels_per_metre of its bounds
     if (use_groups) {
-        std::array<std::vector<double>, 2> px;
         for (int e = 0; e < eye_count; ++e) {
             px[e].resize(ng);
             for (std::size_t g = 0; g < ng; ++g) px[e][g] = pixels_per_metre(eyes.lod_eyes[e], scene.tile_groups[g].bounds_m);
@@ -59,11 +59,14 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
                 if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], group.bounds_m)) visible |= 1u << e;
             if (multiview && visible != 0) visible = eyes_drawn;
             std::array<std::uint32_t, 2> mask{};  // per level drawn: the eyes drawing it
+            bool wanting = false;
             for (int e = 0; e < eye_count; ++e)
                 if ((visible & (1u << e)) && group_level[e][g] > 0) {
                     ++stats.groups_drawn[e];
                     mask[e] = 1u << e;
+                    wanting = wanting || wants_detail(group, group_level[e][g], px[e][g], scene.lod_max_px);
                 }
+            if (wanting) stats.groups_wanting_detail.push_back(group.id);
             if (eye_count == 2 && mask[0] && mask[1] && group_level[0][g] == group_level[1][g]) {
                 mask[0] = 0b11u;
                 mask[1] = 0;
@@ -80,6 +83,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
                 d.eye_mask = mask[e];
             }
         }
+        std::sort(stats.groups_wanting_detail.begin(), stats.groups_wanting_detail.end());
     }
 
     for (std::size_t i = 0; i < scene.tiles.size(); ++i) {

@@ -39,6 +39,9 @@ struct FrameStats {
     std::array<std::size_t, 2> tile_triangles{};
     /// Groups of tiles (SceneView::tile_groups) drawn per eye at one of their levels in place of their tiles.
     std::array<std::size_t, 2> groups_drawn{};
+    /// Ids (TileGroup::id) of the visible groups an eye drew over its pixel bound because nothing under them could
+    /// draw their surface yet (wants_detail), ascending: where the frames want full-resolution tiles.
+    std::vector<std::uint64_t> groups_wanting_detail;
     /// Draws recorded (each StereoDraw once, whatever the eyes), and how many more there were before runs of
     /// like draws were merged into one multi-draw indirect command each (DrawBatcher; 0 without the feature).
     std::size_t draws = 0;

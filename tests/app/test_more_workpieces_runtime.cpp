@@ -69,6 +69,7 @@ TEST(MoreWorkpiecesRuntime, TheTouchedSecondIsCarvedAloneAndItsUndoAndJournalAre
     ro.sculpt.cpu = true;
     ro.sculpt.journal = (dir / "session.tdj").string();
     ro.publish_meshes = true;  // the further workpiece hands whole meshes over, as in a run
+    ro.loop.free_run = true;   // surfaces as fresh as in a session that keeps up, however loaded the machine
     SessionRuntime rt(s, std::move(wp), std::move(more), make_device(s, in), home + s.device_origin_m, ro);
     ASSERT_EQ(rt.workpiece_count(), 2u);
     rt.start();
@@ -128,9 +129,17 @@ TEST(MoreWorkpiecesRuntime, UndoTakesBackTheNewestStrokeOfAllAndRedoTheLastUndon
     RuntimeOptions ro;
     ro.sculpt.cpu = true;
     ro.sculpt.journal = (dir / "session.tdj").string();
+    // The loop runs free, at most kFreeRunLead samples ahead of each sculpt thread: the contact then reads surfaces
+    // as fresh as in a session whose sculpt threads keep up, however loaded the machine (a paced loop under
+    // ThreadSanitizer beside other tests can run seconds ahead of them, and where the strokes land then differs).
+    ro.loop.free_run = true;
     SessionRuntime rt(s, std::move(wp), std::move(more), make_device(s, in), home + s.device_origin_m, ro);
     rt.start();
     while (rt.latest_view().t_s < 4.6) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const haptics::LoopStats ls = rt.loop_stats();
+    SCOPED_TRACE(::testing::Message() << "loop: " << ls.ticks << " ticks, " << ls.overruns << " overruns, "
+                                      << ls.samples_dropped << " samples dropped, " << ls.watchdog_trips
+                                      << " watchdog trips, " << ls.velocity_limit_ticks << " ticks over speed");
     EXPECT_EQ(rt.latest_view().target_workpiece, 0);  // the hand is at the first bunny now
     const SculptLive first_live = rt.sculpt_live(), second_live = rt.more_workpiece(1).sculpt_live();
     EXPECT_GT(first_live.undo_times.undo_at, second_live.undo_times.undo_at);  // both closed, the first's newer

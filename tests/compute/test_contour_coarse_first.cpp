@@ -1,10 +1,11 @@
 // Tests of the coarse-first start-up (compute/contour/startup_refine.hpp and TileSurfaceCache::expect_tiles): the first
 // refresh holds no tile and every group over the whole model with the coarsest level; the tiles then replace it
 // region by region and end equal, bit for bit, to a start-up that contoured everything first; a cut during the
-// refinement is contoured at once with the tiles that stand in for the levels it drops.
+// refinement is contoured at once and redraws the coarsest groups within its reach at once.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <memory>
 
 #include "compute/contour/contour_tiles.hpp"
@@ -83,7 +84,7 @@ struct CoarseFirst {
         const std::vector<std::uint32_t> d = model.tiles.dirty_tiles();
         const std::vector<std::uint64_t> dirty(d.begin(), d.end());
         cache.stop_expecting(refiner->pending_among(dirty));
-        refiner->contour_with_change(model, cache.tiles_to_cover(dirty));
+        refiner->contour_with_change(model, dirty);
         contourer.update(model);
         refresh();
     }
@@ -96,15 +97,21 @@ struct CoarseFirst {
     }
 };
 
-// Every group whose children cannot cover it yet has a level of its own or lies under one that must be drawn.
-void expect_no_hole(const TileSurfaceCache& cache) {
+// Every group whose children cannot cover it yet has a level of its own, or lies under one that must be drawn, or
+// has nothing to draw: a fresh read of `model` at its stride finds no surface in it.
+void expect_no_hole(const TileSurfaceCache& cache, const TriDexel& model) {
+    std::array<std::unique_ptr<CoarseGroupLevels>, kTop + 1> fresh;  // read once per depth, when needed
     for (const TileGroupSurface& g : cache.groups())
         if (!g.children_cover && g.lods.empty()) {
             const TileGroupSurface* p = nullptr;
             for (const TileGroupSurface& q : cache.groups())
                 if (q.id == g.parent) p = &q;
             ASSERT_NE(p, nullptr) << "a top group " << g.id << " with nothing under it and no level";
-            EXPECT_FALSE(p->children_cover) << g.id;
+            if (!p->children_cover) continue;
+            ASSERT_LE(g.depth, kTop);
+            if (!fresh[g.depth]) fresh[g.depth] = std::make_unique<CoarseGroupLevels>(model, CoarseLevelOptions{}, g.depth);
+            EXPECT_TRUE(fresh[g.depth]->level(g.depth, g.coords).mesh.triangles.empty())
+                << "group " << g.id << " at depth " << g.depth << " has a surface, no level and nothing drawn over it";
         }
 }
 
@@ -164,7 +171,7 @@ TEST(CoarseFirst, TheFirstRefreshHoldsEveryGroupAtTheCoarsestLevelOverTheWholeMo
         coarse_box.add(g.lods[0].mesh.bounds().hi);
     }
     EXPECT_GE(top, 1u);
-    expect_no_hole(s.cache);
+    expect_no_hole(s.cache, s.model);
     // They cover the whole model: the coarse levels' box is the full contour's within two cells, in a sixteenth
     // of its triangles (rings and skirts included).
     const TriMesh whole = full.contourer.mesh();
@@ -189,7 +196,7 @@ TEST(CoarseFirst, RefinementEndsWithTheTilesAndLevelsOfAFullStartUpBitForBit) {
         ++regions;
         EXPECT_GE(s.cache.tiles().size(), last);
         last = s.cache.tiles().size();
-        expect_no_hole(s.cache);
+        expect_no_hole(s.cache, s.model);
     }
     EXPECT_GT(regions, 1u);
     EXPECT_TRUE(s.refiner->done());
@@ -200,10 +207,11 @@ TEST(CoarseFirst, RefinementEndsWithTheTilesAndLevelsOfAFullStartUpBitForBit) {
     EXPECT_EQ(s.contourer.mesh().positions, full.contourer.mesh().positions);
 }
 
-TEST(CoarseFirst, ACutDuringRefinementIsContouredAtOnceAndEndsAsAFullStartUpWould) {
+TEST(CoarseFirst, ACutDuringRefinementRedrawsTheCoarsestGroupsAtOnceAndEndsAsAFullStartUpWould) {
     CoarseFirst s;
     while (s.cache.build_coarse_depth()) {
     }
+    settle(s.cache);  // the finer depths' levels, as the sculpt thread's idle passes take them in
     ASSERT_GT(s.refiner->refine_next(s.model, s.contourer), 0u);
     s.refresh();
     const std::size_t pending = s.refiner->pending();
@@ -212,18 +220,36 @@ TEST(CoarseFirst, ACutDuringRefinementIsContouredAtOnceAndEndsAsAFullStartUpWoul
     ASSERT_FALSE(dirty.empty());
     s.contour_change();
     EXPECT_LT(s.refiner->pending(), pending);
-    // The cut's tiles are drawn at full resolution at once: each is in the cache and no group over it must be drawn.
+    // The cut's tiles are contoured at once, and the coarsest groups within reach of it are rebuilt from the cut
+    // model at once: each level equals a fresh read of the cut model at that stride. The depth-1 groups the cut
+    // reaches get all their tiles, so no group over a cut tile must be drawn whatever its error: the cut is drawn at
+    // full resolution wherever the view needs it.
     for (const std::uint32_t t : dirty) {
         if (s.contourer.tile_triangle_count(t) == 0) continue;
         bool found = false;
         for (const TileSurface& tile : s.cache.tiles()) found = found || tile.id == t;
         EXPECT_TRUE(found) << "tile " << t;
-        for (const TileGroupSurface& g : s.cache.groups())
-            if (g.depth == 1 && std::find(g.children.begin(), g.children.end(), t) != g.children.end()) {
-                EXPECT_TRUE(g.children_cover) << "the cut's tile " << t << " stands for its group " << g.id;
-            }
     }
-    expect_no_hole(s.cache);
+    const CoarseGroupLevels fresh(s.model, CoarseLevelOptions{}, kTop);
+    std::size_t rebuilt = 0;
+    for (const TileGroupSurface& g : s.cache.groups()) {
+        if (g.depth != kTop || g.lods.empty()) continue;
+        EXPECT_EQ(g.lods[0].mesh.positions, fresh.level(kTop, g.coords).mesh.positions) << g.id;
+        ++rebuilt;
+    }
+    EXPECT_GT(rebuilt, 0u);
+    const std::array<int, 3> dims = s.contourer.tile_dims();
+    for (const TileGroupSurface& g : s.cache.groups()) {
+        if (g.children_cover) continue;
+        const int span = 1 << g.depth;
+        for (const std::uint32_t t : dirty) {
+            const std::array<int, 3> c{static_cast<int>(t % dims[0]), static_cast<int>(t / dims[0] % dims[1]),
+                                       static_cast<int>(t / (dims[0] * dims[1]))};
+            EXPECT_FALSE(c[0] / span == g.coords[0] && c[1] / span == g.coords[1] && c[2] / span == g.coords[2])
+                << "group " << g.id << " at depth " << g.depth << " stands in over cut tile " << t;
+        }
+    }
+    expect_no_hole(s.cache, s.model);
     s.refine_all();
     Full full;
     cut(full.model);

@@ -151,7 +151,7 @@ TEST(CoarseGroups, ASkirtQuadPerBorderEdgeInBothWindings) {
 
 // A cut drops the levels of the groups within reach (their children are drawn), keeps the others, and after the
 // settling the rebuilt levels equal those of a cache built afresh on the cut model, bit for bit.
-TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWould) {
+TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFreshBuildWould) {
     Session s;
     std::map<std::uint64_t, std::uint64_t> before;
     for (const TileGroupSurface& g : s.cache.groups()) before[g.id] = g.version;
@@ -160,17 +160,23 @@ TEST(CoarseGroups, ACutDropsTheLevelsWithinReachAndRebuildsThemAsAFreshBuildWoul
     subtract_capsule(s.model, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
     s.contourer.update(s.model);
     s.cache.refresh(s.contourer);
-    std::size_t dropped = 0, kept = 0;
+    // The coarsest groups within reach are rebuilt by the refresh itself; the finer ones are dropped until settled.
+    const int top_depth = every_depth().max_depth;
+    std::size_t dropped = 0, kept = 0, at_once = 0;
     for (const TileGroupSurface& g : s.cache.groups()) {
-        if (g.version != before[g.id]) {
+        if (g.version == before[g.id]) {
+            ++kept;
+        } else if (g.depth == top_depth) {
+            EXPECT_EQ(g.lods.size(), 1u) << g.id;
+            ++at_once;
+        } else {
             EXPECT_TRUE(g.lods.empty()) << g.id;
             ++dropped;
-        } else {
-            ++kept;
         }
     }
     EXPECT_GT(dropped, 0u);
     EXPECT_GT(kept, 0u);
+    EXPECT_GT(at_once, 0u);
     EXPECT_EQ(s.cache.coarse_waiting(), dropped);
     while (s.cache.coarse_waiting() > 0) ASSERT_GT(s.cache.collect_lods(), 0u);
     Session fresh;  // built on the sphere, then cut the same way
@@ -219,6 +225,40 @@ TEST(CoarseGroups, ManyLevelsBuiltAtOnceEqualThoseBuiltOneByOne) {
         EXPECT_EQ(g.lods[0].mesh.triangles, l.mesh.triangles) << g.id;
         EXPECT_GT(g.lods[0].error_m, 0.0) << g.id;
     }
+}
+
+// A depth read after the constructor (build_depth) contours its coarse tiles only as read_around() needs them, and
+// each level then equals, vertex for vertex, the one of levels whose constructor contoured every depth whole.
+TEST(CoarseGroups, ADepthReadLaterIsContouredWhereItsLevelsAreReadAndGivesTheSameLevels) {
+    const TriDexel model = sphere_model();
+    const CoarseGroupLevels whole(model, every_depth());
+    CoarseGroupLevels later(model, every_depth(), 3);  // depth 3 only, as a coarse-first start-up
+    EXPECT_FALSE(later.has_depth(1));
+    later.build_depth(model, 1);
+    later.build_depth(model, 2);
+    ASSERT_TRUE(later.has_depth(1));
+    const std::array<int, 3> pole{static_cast<int>(kCentre.x) / 32, static_cast<int>(kCentre.y) / 32,
+                                  static_cast<int>(kCentre.z + kRadius) / 32};
+    EXPECT_THROW((void)later.level(1, pole), Error) << "not read by read_around() yet";
+    int compared = 0;
+    for (int depth = 1; depth <= 2; ++depth) {
+        const int groups = 128 / (TileGrid::kTileCells << depth);
+        std::vector<std::pair<int, std::array<int, 3>>> where;
+        for (int z = 0; z < groups; ++z)
+            for (int y = 0; y < groups; ++y)
+                for (int x = 0; x < groups; ++x)
+                    if ((x + y + z) % 3 == 0) where.push_back({depth, {x, y, z}});  // a third of them, scattered
+        later.read_around(where);
+        for (const auto& [d, c] : where) {
+            const TileLodLevel a = whole.level(d, c), b = later.level(d, c);
+            EXPECT_EQ(a.mesh.positions, b.mesh.positions) << d << " " << c[0] << c[1] << c[2];
+            EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << d << " " << c[0] << c[1] << c[2];
+            EXPECT_EQ(a.materials, b.materials);
+            compared += !a.mesh.triangles.empty();
+        }
+        later.forget_reads();
+    }
+    EXPECT_GT(compared, 10);
 }
 
 // With min_depth 2 the depth-1 groups keep the levels simplified from their tiles (a stride-2 model would hold a

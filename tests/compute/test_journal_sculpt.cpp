@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "journal_stream.hpp"
+#include "journalled_session.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "compute/journal/journal_writer.hpp"
@@ -43,25 +44,10 @@ void expect_same_dexels(const compute::TriDexel& a, const compute::TriDexel& b) 
 TEST(JournalSculpt, TheJournalReplaysToTheSameDexelsInAnyBatches) {
     const std::string path = (fs::temp_directory_path() / ("tridex_journal_sculpt_" + std::to_string(::getpid()) + ".tdj")).string();
     compute::TriDexel live = test::journal_box_model();
-    compute::JournalStats stats;
-    {
-        compute::Contourer contourer(live);
-        contourer.update(live);
-        SpscRing<ToolSample> ring(256);
-        TripleBuffer<ActiveSurface> surface;
-        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
-        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
-        t.use_journal(journal);
-        t.start();
-        const auto samples = test::journal_stream();  // trickled: the batches depend on timing
-        for (std::size_t i = 0; i < samples.size(); ++i) {
-            while (!ring.try_push(samples[i])) std::this_thread::yield();
-            if (i % 11 == 0) std::this_thread::sleep_for(std::chrono::microseconds(400));
-        }
-        t.stop();
-        EXPECT_GT(t.stats().busy_ms, 0.0);
-        stats = journal.stats();
-    }
+    const test::JournalledRun run =
+        test::sculpt_journalled(live, test::journal_stream(), path, 11, std::chrono::microseconds(400));
+    EXPECT_GT(run.sculpt.busy_ms, 0.0);
+    const compute::JournalStats& stats = run.journal;
     EXPECT_EQ(stats.error, "");
     EXPECT_EQ(stats.samples, 450u);
     EXPECT_GE(stats.flushes, 2u);  // the header, and the thread's last sync

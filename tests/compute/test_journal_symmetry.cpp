@@ -19,6 +19,7 @@
 #include "compute/mesh/scan_convert.hpp"
 #include "compute/model/model_digest.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
+#include "journalled_session.hpp"
 #include "compute/tools/sample_sweep.hpp"
 #include "core/crc32.hpp"
 #include "core/primitives.hpp"
@@ -89,23 +90,10 @@ TEST(JournalSymmetry, AJournalWrittenWithSymmetryReplaysToTheSameDexels) {
     compute::TriDexel live = box_model();
     std::size_t strokes = 0;
     {
-        compute::Contourer contourer(live);
-        contourer.update(live);
-        SpscRing<ToolSample> ring(256);
-        TripleBuffer<ActiveSurface> surface;
-        compute::JournalWriter journal(path, "session", std::chrono::milliseconds(5));
-        SculptThread t(live, contourer, ring, surface, Vec3(0.0));
-        t.use_journal(journal);
-        t.start();
-        const auto samples = stream();  // trickled: the batches depend on timing
-        for (std::size_t i = 0; i < samples.size(); ++i) {
-            while (!ring.try_push(samples[i])) std::this_thread::yield();
-            if (i % 13 == 0) std::this_thread::sleep_for(std::chrono::microseconds(300));
-        }
-        t.stop();
-        EXPECT_EQ(journal.stats().error, "");
+        const test::JournalledRun run = test::sculpt_journalled(live, stream(), path);  // the batches depend on timing
+        EXPECT_EQ(run.journal.error, "");
         // Each stroke's first sweep starts at the previous stroke's last sample; every copy is counted.
-        EXPECT_EQ(t.stats().booleans, 99u * 2u + 100u * 5u + 100u * 4u);
+        EXPECT_EQ(run.sculpt.booleans, 99u * 2u + 100u * 5u + 100u * 4u);
     }
     const compute::Journal j = compute::read_journal(path);
     EXPECT_EQ(j.version, compute::kJournalVersion);

@@ -3,7 +3,9 @@
 // refinement works, and the session ends with the mesh a start-up that contoured everything first ends with.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <thread>
 
@@ -16,7 +18,7 @@
 namespace tridex::app {
 namespace {
 
-constexpr int kTop = compute::CoarseLevelOptions{}.max_depth;
+const int kTop = compute::LodWorkerOptions{}.coarse_max_depth;  // the sessions' coarsest depth
 
 compute::TriDexel box_model() { return test::box_model(128); }
 
@@ -30,6 +32,16 @@ struct Ended {
     SculptStats stats;
 };
 
+// Per-tile meshes published to `meshes` with coarse group levels at every size: coarse first or not.
+void use_coarse_tiles(SculptThread& t, const compute::TriDexel& m, bool coarse_first, TripleBuffer<MeshFrame>& meshes) {
+    compute::LodWorkerOptions lod;
+    lod.lod.cell_m = m.lattice.cell_m;
+    lod.coarse_groups_from_cells = 1;
+    lod.coarse_first = coarse_first;
+    t.use_tile_lod(lod);
+    t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
+}
+
 // A session with per-tile meshes and coarse group levels: coarse first or everything contoured first.
 Ended session(bool coarse_first) {
     compute::TriDexel m = box_model();
@@ -39,12 +51,7 @@ Ended session(bool coarse_first) {
     TripleBuffer<ActiveSurface> surface;
     TripleBuffer<MeshFrame> meshes;
     SculptThread t(m, contourer, ring, surface, Vec3(0.0, 0.0, 0.07));
-    compute::LodWorkerOptions lod;
-    lod.lod.cell_m = m.lattice.cell_m;
-    lod.coarse_groups_from_cells = 1;
-    lod.coarse_first = coarse_first;
-    t.use_tile_lod(lod);
-    t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
+    use_coarse_tiles(t, m, coarse_first, meshes);
     Ended e;
     e.first = meshes.latest();
     t.start();
@@ -91,6 +98,63 @@ TEST(SculptThreadStartup, TheFirstMeshIsCoarseAndTheLastEqualsAFullStartUpBitFor
         EXPECT_EQ(coarse.last.tiles[i]->mesh.triangles.size(), full.last.tiles[i]->mesh.triangles.size());
     }
     for (const auto& g : coarse.last.groups) EXPECT_TRUE(g->children_cover) << g->id;
+}
+
+// On demand (the frames' DetailRequests): no tile is contoured until a group is asked for; then its tiles, and no
+// region beyond their neighbours; stop() contours the rest, and the contour equals a whole one bit for bit.
+TEST(SculptThreadStartup, OnDemandContoursOnlyTheGroupsAskedForUntilStop) {
+    compute::TriDexel m = box_model();
+    compute::Contourer contourer(m);
+    SpscRing<ToolSample> ring(16);
+    TripleBuffer<ActiveSurface> surface;
+    TripleBuffer<MeshFrame> meshes;
+    compute::DetailRequests requests;
+    SculptThread t(m, contourer, ring, surface, Vec3(0.0, 0.0, 0.07));
+    t.refine_on_demand(requests);
+    use_coarse_tiles(t, m, true, meshes);
+    t.start();
+    // Wait until every coarse depth is read (the depth-1 groups have their levels).
+    const auto until = [&](const std::function<bool(const MeshFrame&)>& ready) {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (std::chrono::steady_clock::now() < end) {
+            if (ready(meshes.latest())) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        return false;
+    };
+    std::uint64_t asked = 0;
+    std::vector<std::uint64_t> children;
+    const bool read = until([&](const MeshFrame& f) {
+        for (const auto& g : f.groups)
+            if (g->depth == 1 && !g->lods.empty() && !g->children_cover) {
+                asked = g->id;
+                children = g->children;
+                return true;
+            }
+        return false;
+    });
+    if (!read) t.stop();
+    ASSERT_TRUE(read) << "the depth-1 groups never got their levels";
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_TRUE(meshes.latest().tiles.empty()) << "no tile before a frame asks for one";
+    const std::vector<std::uint64_t> ids{asked};
+    requests.offer(ids);
+    const bool arrived = until([&](const MeshFrame& f) {
+        std::size_t found = 0;
+        for (const auto& tile : f.tiles) found += std::count(children.begin(), children.end(), tile->id);
+        return found > 0;
+    });
+    const MeshFrame after = meshes.latest();
+    t.stop();
+    ASSERT_TRUE(arrived) << "the tiles of group " << asked << " never arrived";
+    EXPECT_LE(after.tiles.size(), 64u) << "only the group's tiles and their neighbours are contoured";
+    const SculptStats stats = t.stats();
+    EXPECT_GT(stats.startup_tiles_refined, 0u);
+    compute::TriDexel whole = box_model();
+    compute::Contourer all(whole);
+    all.update(whole);
+    EXPECT_EQ(contourer.mesh().positions, all.mesh().positions);
+    EXPECT_EQ(contourer.mesh().triangles, all.mesh().triangles);
 }
 
 TEST(SculptThreadStartup, CoarseFirstNeedsCoarseGroups) {

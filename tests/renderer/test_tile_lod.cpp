@@ -159,5 +159,23 @@ TEST(TileGroupLod, AGroupItsChildrenCannotCoverIsDrawnWhateverItsError) {
     EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 1, 0}));
 }
 
+// A group drawn only because nothing under it can draw its surface, over the bound: the eye wants its tiles.
+TEST(TileGroupLod, AGroupDrawnOverTheBoundForItsChildrenWantsDetail) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}};
+    const std::vector<TileMeshLevel> levels{TileMeshLevel{&tri, nullptr, nullptr, 2e-3}};
+    TileGroup g;
+    g.levels = levels;
+    g.children_cover = false;
+    EXPECT_TRUE(wants_detail(g, 1, 5000.0, 1.0));    // 10 px over a 1 px bound
+    EXPECT_FALSE(wants_detail(g, 1, 400.0, 1.0));    // 0.8 px: within the bound, the level is what the eye wants
+    EXPECT_TRUE(wants_detail(g, 1, 1500.0, 2.0));    // 3 px over a 2 px bound
+    EXPECT_FALSE(wants_detail(g, 0, 5000.0, 1.0));   // not drawn
+    EXPECT_FALSE(wants_detail(g, 2, 5000.0, 1.0));   // no such level
+    g.children_cover = true;                         // its children can be drawn instead: the bound decides
+    EXPECT_FALSE(wants_detail(g, 1, 5000.0, 1.0));
+}
+
 }  // namespace
 }  // namespace tridex::renderer

@@ -37,8 +37,11 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         o.coarse_groups_from_cells = lod.coarse_groups_from_cells;
         tiles_.enable_lod(o.lod);
         const std::array<int, 3>& cells = wp_.model.lattice.cells;
-        if (o.coarse_groups_from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= o.coarse_groups_from_cells)
-            tiles_.use_coarse_groups(wp_.model);
+        if (o.coarse_groups_from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= o.coarse_groups_from_cells) {
+            compute::CoarseLevelOptions levels;
+            levels.max_depth = o.coarse_max_depth;
+            tiles_.use_coarse_groups(wp_.model, levels);
+        }
         tiles_.build_lods_in_background(o);
     }
     contour();

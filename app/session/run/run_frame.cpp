@@ -297,7 +297,7 @@ void RunPipeline::Parts::add_menu(renderer::SceneView& view, const haptics::Loop
         if (!save_lines.empty()) status += "\n" + save_lines;
     }
     menu_now = menu_frame_of(menu, lv.t_s, status);
-    menu_track.add(lv.t_s, menu_now);
+    menu_track.add(lv.device_t_s, menu_now);  // the recording's clock: a replay's samples carry device time
     if (!menu_now.shown) return;
     if (view.objects.data() != frame_objects.data()) frame_objects.assign(view.objects.begin(), view.objects.end());
     menu_drawing.append(menu_now, controls->root(), frame_objects);
@@ -431,6 +431,7 @@ void RunPipeline::Parts::present(std::uint64_t frame, const FrameAim& aim, const
 void RunPipeline::Parts::take_finished_frames() {
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) {
         r.render.add(fs);
+        detail.offer(fs.groups_wanting_detail);
         if (fs.frame == 1) {  // the first frame: when it was done and what it drew (report.json startup)
             r.first_frame_done_s = std::isfinite(fs.gpu_end_s)
                                        ? fs.gpu_end_s

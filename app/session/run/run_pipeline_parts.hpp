@@ -41,6 +41,7 @@
 #include "app/support/device_lost.hpp"
 #include "app/support/stop_signal.hpp"
 #include "compute/mesh/mesh_export.hpp"
+#include "compute/runtime/detail_requests.hpp"
 #include "compute/model/volume.hpp"
 #include "compute/tools/clay_sweep.hpp"
 #include "core/error.hpp"
@@ -111,6 +112,7 @@ struct RunPipeline::Parts final : FrameSteps {
     double wand_prev_t = 0.0;
     WandSample wand_now;  // this frame's wand, read once by take_input()
     // 3. Sculpting threads and what draws beside them.
+    compute::DetailRequests detail;  // the groups the frames want at full resolution, for a coarse-first start-up
     std::optional<SculptBackend> backend;
     GpuContourShare* gpu_contour = nullptr;
     renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
