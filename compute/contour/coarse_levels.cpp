@@ -165,6 +165,12 @@ void CoarseGroupLevels::read_around(std::span<const std::pair<int, std::array<in
     }
 }
 
+bool CoarseGroupLevels::contoured_around(int depth, const std::array<int, 3>& coords) const {
+    const Depth& D = at(depth);
+    if (!D.in_grid(coords)) throw Error("CoarseGroupLevels: group coordinates out of range");
+    return D.readable_around(coords);
+}
+
 void CoarseGroupLevels::forget_reads() {
     for (const auto& D : levels_) {
         if (!D) continue;

@@ -83,6 +83,10 @@ public:
     /// level() of those groups then only reads (several threads may call it at once until the next update(),
     /// read_around() or forget_reads()). Throws as level() for a depth, and as Contourer::update.
     void read_around(std::span<const std::pair<int, std::array<int, 3>>> groups);
+    /// True when read_around() of the depth-d group at `coords` would contour nothing, only read: its depth was
+    /// contoured whole, or the coarse tiles its level takes were contoured before. Throws as level() for a depth or
+    /// coords.
+    bool contoured_around(int depth, const std::array<int, 3>& coords) const;
     /// Frees the tile meshes read so far (level() reads what it needs again).
     void forget_reads();
 

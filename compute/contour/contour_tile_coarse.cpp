@@ -70,7 +70,7 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64
     return built;
 }
 
-std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now) {
+std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open) {
     if (coarse_stale_.empty()) return 0;
     if (now - coarse_changed_at_ < group_settle_) return 0;
     const auto t0 = std::chrono::steady_clock::now();
@@ -89,8 +89,25 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     // Start-up's finest groups (no stroke yet) in larger batches: nothing else waits for the sculpt thread then.
     const bool startup = coarse_changed_at_ == std::chrono::steady_clock::time_point{};
     const std::size_t budget = startup ? kCoarseStartupLevelsPerCollect : kCoarseLevelsPerCollect;
-    if (ids.size() > budget) ids.resize(budget);
-    const std::size_t built = rebuild_coarse_levels(ids);
+    // Levels that only read contoured coarse tiles first; then, within the slice and never during a stroke, those
+    // that contour theirs (a depth read later, tile by tile as its levels need them).
+    std::vector<std::uint64_t> reads, contours;
+    for (const std::uint64_t id : ids) {
+        if (reads.size() >= budget) break;
+        const std::size_t g = index_of(groups_, id);
+        const bool read = g == groups_.size() || coarse_->contoured_around(groups_[g].depth, groups_[g].coords);
+        (read ? reads : contours).push_back(id);  // a group gone is dropped by the rebuild
+    }
+    std::size_t built = rebuild_coarse_levels(reads);
+    if (!stroke_open) {
+        const auto slice_end = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                        std::chrono::duration<double>(kCoarseContourSliceS));
+        for (const std::uint64_t id : contours) {
+            if (built >= budget) break;
+            built += rebuild_coarse_levels({id});
+            if (std::chrono::steady_clock::now() >= slice_end) break;
+        }
+    }
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return built;
 }

@@ -145,7 +145,10 @@ public:
     /// still as it was when its job was queued gets them and a new version, as build_pending_lods gives; a
     /// stale result is dropped, its newer job is queued), then queues the groups that became ready. Returns the
     /// tiles and groups that got levels. Rethrows the first exception a job threw. O(results + groups).
-    std::size_t collect_lods();
+    /// With coarse groups (use_coarse_groups), it also rebuilds the coarse levels that wait; `stroke_open` (a stroke
+    /// is being carved): only those whose coarse tiles are contoured already, so no coarse contour holds the stroke's
+    /// samples (see kCoarseContourSliceS).
+    std::size_t collect_lods(bool stroke_open = false);
     /// Background building: per tile or group that got its levels from the worker, the wall time from the refresh()
     /// that re-contoured the tile (its settling included) or from collect_lods() queueing the group's job to
     /// collect_lods() taking the levels in, ms; for a stroke's tiles and groups only, not start-up's; in
@@ -195,6 +198,11 @@ public:
     /// Coarse group levels rebuilt by collect_lods() at most at a time after a stroke (each reads its coarse tile
     /// and the 26 around), and while start-up's finest groups wait for theirs.
     static constexpr std::size_t kCoarseLevelsPerCollect = 8, kCoarseStartupLevelsPerCollect = 32;
+    /// A coarse level of a depth read by build_coarse_depth() first contours the coarse tiles it takes that were
+    /// never contoured (CoarseGroupLevels::read_around: up to 27 blocks of 2x2x2 coarse tiles). collect_lods() builds
+    /// such levels one after another for at most this long a pass (s; at least one), after those that only read,
+    /// and none while a stroke is open.
+    static constexpr double kCoarseContourSliceS = 0.04;
     /// The first refresh() builds the coarse levels of the groups of this depth and deeper at once (the coarsest
     /// ones, which a first frame of the whole workpiece draws); those of finer groups follow through collect_lods().
     static constexpr int kCoarseStartupDepth = 2;
@@ -280,7 +288,7 @@ private:
     // models through them and rebuilds their groups' waiting levels; returns how many.
     std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
-    std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now);
+    std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
     // Coarse-first start-up (expect_tiles): tiles still expected, those arriving with the next refresh, groups whose
     // level's error was measured before all their tiles were in, and whether the groups' flags need another pass.

@@ -59,7 +59,9 @@ void SculptThread::refine_on_demand(compute::DetailRequests& requests) {
 
 void SculptThread::collect_lods() {
     if (!tile_cache_.lod_enabled()) return;
-    if (tile_cache_.collect_lods() > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
+    // While a stroke is open no coarse level contours its tiles: the stroke's samples would wait for it.
+    const bool stroke = history_ && history_->stroke_open();
+    if (tile_cache_.collect_lods(stroke) > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
     const std::size_t pending = tile_cache_.lod_pending();
     if (tile_cache_.startup_lod_pending() == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
         stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();

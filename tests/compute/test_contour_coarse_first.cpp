@@ -259,6 +259,23 @@ TEST(CoarseFirst, ACutDuringRefinementRedrawsTheCoarsestGroupsAtOnceAndEndsAsAFu
     expect_same_surface(s.cache, full.cache);
 }
 
+// Levels of a depth read later that must contour their coarse tiles first wait while a stroke is open (the others,
+// which only read, are built); between strokes each pass builds at least one of them, until none waits.
+TEST(CoarseFirst, LevelsThatContourTheirCoarseTilesWaitWhileAStrokeIsOpen) {
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {
+    }
+    ASSERT_GT(s.cache.coarse_waiting(), 0u);
+    for (int i = 0; i < 20; ++i) s.cache.collect_lods(true);  // more passes than the levels that only read need
+    const std::size_t during = s.cache.coarse_waiting();
+    EXPECT_GT(during, 0u) << "no level of a depth read later can be built without contouring";
+    for (int i = 0; i < 20; ++i) s.cache.collect_lods(true);
+    EXPECT_EQ(s.cache.coarse_waiting(), during) << "a pass during a stroke contoured coarse tiles";
+    s.cache.collect_lods(false);
+    EXPECT_LT(s.cache.coarse_waiting(), during);
+    settle(s.cache);
+}
+
 TEST(CoarseFirst, RefinerRefusesBadInputAndFinishesEverything) {
     TriDexel m = sphere_model();
     EXPECT_THROW(StartupRefiner(m, 0, Vec3(0.0)), Error);

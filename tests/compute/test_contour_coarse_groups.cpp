@@ -240,6 +240,10 @@ TEST(CoarseGroups, ADepthReadLaterIsContouredWhereItsLevelsAreReadAndGivesTheSam
     const std::array<int, 3> pole{static_cast<int>(kCentre.x) / 32, static_cast<int>(kCentre.y) / 32,
                                   static_cast<int>(kCentre.z + kRadius) / 32};
     EXPECT_THROW((void)later.level(1, pole), Error) << "not read by read_around() yet";
+    EXPECT_FALSE(later.contoured_around(1, pole));
+    EXPECT_TRUE(whole.contoured_around(1, pole)) << "a depth contoured whole only reads";
+    EXPECT_THROW((void)later.contoured_around(1, {-1, 0, 0}), Error);
+    EXPECT_THROW((void)later.contoured_around(4, pole), Error);
     int compared = 0;
     for (int depth = 1; depth <= 2; ++depth) {
         const int groups = 128 / (TileGrid::kTileCells << depth);
@@ -250,6 +254,7 @@ TEST(CoarseGroups, ADepthReadLaterIsContouredWhereItsLevelsAreReadAndGivesTheSam
                     if ((x + y + z) % 3 == 0) where.push_back({depth, {x, y, z}});  // a third of them, scattered
         later.read_around(where);
         for (const auto& [d, c] : where) {
+            EXPECT_TRUE(later.contoured_around(d, c));
             const TileLodLevel a = whole.level(d, c), b = later.level(d, c);
             EXPECT_EQ(a.mesh.positions, b.mesh.positions) << d << " " << c[0] << c[1] << c[2];
             EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << d << " " << c[0] << c[1] << c[2];

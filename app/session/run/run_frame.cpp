@@ -73,7 +73,9 @@ bool RunPipeline::Parts::take_input() {
     }
     // Devices whose input API runs on this thread poll it (their buttons reach the loop's view).
     rt.poll_device_frame();
-    for (const double t_dev = rt.latest_view().t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
+    // Scripted keys and the scripted cursor's end are on device time (the samples' clock, as a recording's), not
+    // on the loop's, which runs ahead of it when the loop skips missed deadlines.
+    for (const double t_dev = rt.latest_view().device_t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
          ++next_key)
         for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input->handle(e);
     // The hands: the keys' actions, the tool's and the wand's buttons through their bindings, and the pie menu.
@@ -147,7 +149,7 @@ bool RunPipeline::Parts::last_frame(std::uint64_t frame) {
     else if (offscreen && unlimited && !held_open && backend->stroke_done())
         ended = "the stroke ended";
     else if (offscreen && unlimited && !held_open && script_end_s > 0.0 &&
-             backend->runtime().latest_view().t_s >= script_end_s)
+             backend->runtime().latest_view().device_t_s >= script_end_s)
         ended = "the scripted cursor ended";
     else if (study_view && scene.study.end_at_end_cap && study_view->trial_done())
         ended = "the wand reached the end cap";
