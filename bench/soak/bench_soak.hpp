@@ -26,8 +26,9 @@ struct SoakMinute {
     int minute = 0;                     ///< 1, 2, ... (the minute that ended)
     double t_s = 0.0;                   ///< wall time since the session's first frame, s
     double rss_mb = 0.0;                ///< resident memory (/proc/self/statm), MB (1e6 bytes)
-    /// The C heap's bytes in use (mallinfo2: arena chunks in use plus mmapped chunks), MB: RSS growth that this does
-    /// not follow is not malloc's (a driver's mappings, fragmentation returned to the system late).
+    /// The C heap's bytes in use (mallinfo2: arena chunks in use plus mmapped chunks), MB, the least read over the
+    /// minute's last kSoakHeapWindowS (bench_soak_minute.hpp): RSS growth that this does not follow is not malloc's
+    /// (a driver's mappings, fragmentation returned to the system late).
     double heap_mb = 0.0;
     std::size_t triangles = 0;          ///< triangles of the workpiece's mesh drawn last (the model's surface)
     double journal_mb = 0.0;            ///< the journal file's size, MB

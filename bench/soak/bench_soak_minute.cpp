@@ -94,7 +94,14 @@ void SoakMonitor::frame(const app::RunFrameProbe& p) {
         return;
     }
     frame_ms_.add(p.frame_ms);
-    if (std::chrono::duration<double>(now - t0_).count() >= 60.0 * (minute_ + 1)) end_minute(p);
+    const double into_s = std::chrono::duration<double>(now - t0_).count();
+    if (into_s >= 60.0 * (minute_ + 1) - kSoakHeapWindowS &&
+        std::chrono::duration<double>(now - heap_read_at_).count() >= kSoakHeapEveryS) {
+        const double heap = heap_bytes();  // mallinfo2 walks the arenas: a few reads a second, not one a frame
+        if (heap_least_ < 0.0 || heap < heap_least_) heap_least_ = heap;
+        heap_read_at_ = now;
+    }
+    if (into_s >= 60.0 * (minute_ + 1)) end_minute(p);
 }
 
 void SoakMonitor::end_minute(const app::RunFrameProbe& p) {
@@ -125,7 +132,9 @@ void SoakMonitor::end_minute(const app::RunFrameProbe& p) {
     const std::uintmax_t journal_bytes = journal_.empty() ? 0 : fs::file_size(journal_, ec);
     m.journal_mb = ec ? 0.0 : static_cast<double>(journal_bytes) / kMb;
     m.rss_mb = resident_bytes() / kMb;
-    m.heap_mb = heap_bytes() / kMb;
+    const double heap_now = heap_bytes();
+    m.heap_mb = (heap_least_ >= 0.0 ? std::min(heap_least_, heap_now) : heap_now) / kMb;
+    heap_least_ = -1.0;
     m.triangles = p.triangles;
     m.fds = proc_entries("fd");
     m.threads = proc_entries("task");

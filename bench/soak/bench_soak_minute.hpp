@@ -23,6 +23,11 @@ int proc_entries(const char* dir);
 /// Watches a run through RunOptions::frame_probe and makes a SoakMinute each time a minute of wall time since the
 /// first frame has passed. Every frame costs one histogram add and a clock read; the minute's reading (copies of the
 /// loop's and the sculpt thread's histograms, /proc, the journal's size) happens on the frame that ends it.
+/// The heap a minute reports is the least read over its last this many seconds (every kSoakHeapEveryS): three of the
+/// scripted sculptor's 5 s cycles, each of which ends with its stroke undone, so a stroke's meshes and buffers in
+/// flight at the minute's end do not count as growth, and a leak still raises the least.
+inline constexpr double kSoakHeapWindowS = 15.0, kSoakHeapEveryS = 0.5;
+
 class SoakMonitor {
 public:
     /// `journal`: the journal file whose size is read; `on_minute` gets each minute's row (on the frame thread).
@@ -44,6 +49,8 @@ private:
     std::size_t ticks_before_ = 0, over_2ms_before_ = 0;
     DurationHistogram step_before_ = DurationHistogram::fine();  // the sculpt thread's step times at the start
     std::uint64_t steps_before_ = 0;
+    double heap_least_ = -1.0;                  // the least heap bytes read in this minute's window; < 0: none yet
+    Clock::time_point heap_read_at_{};          // when it was last read
 };
 
 }  // namespace tridex::bench

@@ -26,6 +26,8 @@ constexpr double kCycleS = 5.0;
 // The head's loop: three positions about the default head, s between them.
 constexpr double kHeadLegS = 20.0;
 
+// The sculptor's repertoire repeats every 6 cycles (30 s): operation, row, direction and tool size, so that the first
+// minute has met every stroke it makes and what grows after it is the process's, not a first stroke's buffers.
 // The keys pressed in cycle i starting at t0 (device time, s). `keep`: every other stroke is undone and every fourth
 // redone, so the model keeps changing; else every stroke is undone (every other one redone and undone again), so the
 // model comes back to where it started every cycle.
@@ -41,16 +43,16 @@ void add_cycle_keys(nlohmann::json& keys, int i, double t0, bool keep) {
             keys.push_back({{"t_s", t0 + 3.4}, {"press", "ctrl+z"}});
         }
     }
-    if (i % 7 == 3) keys.push_back({{"t_s", t0 + 4.0}, {"press", "]"}});  // the tool 1.25 times larger ...
-    if (i % 7 == 6) keys.push_back({{"t_s", t0 + 4.0}, {"press", "["}});  // ... and back
+    if (i % 6 == 2) keys.push_back({{"t_s", t0 + 4.0}, {"press", "]"}});  // the tool 1.25 times larger for three ...
+    if (i % 6 == 5) keys.push_back({{"t_s", t0 + 4.0}, {"press", "["}});  // ... cycles, and back
     if (i % 12 == 11) keys.push_back({{"t_s", t0 + 4.5}, {"press", "ctrl+s"}});  // a save a minute
 }
 
-// The cursor in cycle i: over the bunny, press, drag a groove across it (one of five rows, alternating direction),
+// The cursor in cycle i: over the bunny, press, drag a groove across it (one of three rows, alternating direction),
 // let go and move on.
 void add_cycle_cursor(nlohmann::json& cursor, int i, double t0) {
     const double cx = 0.5 * kWidth, cy = 0.5 * kHeight, dx = kWidth / 8.0, dy = kHeight / 30.0;
-    const double row = cy + dy * (i % 5 - 2);
+    const double row = cy + 2.0 * dy * (i % 3 - 1);
     const double sign = i % 2 == 0 ? 1.0 : -1.0;
     const double xa = cx - sign * dx, xb = cx + sign * dx;
     cursor.push_back({{"t_s", t0 + 0.1}, {"x_px", xa}, {"y_px", row}, {"buttons", 0}});
