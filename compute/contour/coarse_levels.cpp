@@ -72,6 +72,43 @@ struct CoarseGroupLevels::Depth {
 
 namespace {
 
+// One end of an interval, as the coarse contour sees it: where it lies on the ray, its material, and its side.
+struct IntervalEnd {
+    float t;
+    std::uint8_t material;
+    bool exit;
+};
+
+// The ends of intervals [first, last) of `ray`, in order along it (the intervals are sorted and disjoint).
+void interval_ends(const std::vector<Interval>& ray, std::size_t first, std::size_t last, std::vector<IntervalEnd>& out) {
+    out.clear();
+    for (std::size_t i = first; i < last; ++i) {
+        out.push_back({ray[i].enter, ray[i].enter_material, false});
+        out.push_back({ray[i].exit, ray[i].exit_material, true});
+    }
+}
+
+// [t0, t1] spanning the ends that are in one list and not the other (an end that moved, appeared, vanished or changed
+// material or side): the cells between an end's old and new place change, an unchanged end (the far side of an
+// interval the tool only entered) changes nothing around it. False when every end matches.
+bool span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<IntervalEnd>& b, double& t0, double& t1) {
+    t0 = 1e300;
+    t1 = -1e300;
+    const auto take = [&](float t) { t0 = std::min<double>(t0, t), t1 = std::max<double>(t1, t); };
+    std::size_t i = 0, j = 0;
+    while (i < a.size() || j < b.size()) {
+        if (j == b.size() || (i < a.size() && a[i].t < b[j].t)) {
+            take(a[i++].t);
+        } else if (i == a.size() || b[j].t < a[i].t) {
+            take(b[j++].t);
+        } else {  // at the same place
+            if (a[i].material != b[j].material || a[i].exit != b[j].exit) take(a[i].t);
+            ++i, ++j;
+        }
+    }
+    return t0 <= t1;
+}
+
 // One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
 // (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
 bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray,
@@ -87,10 +124,15 @@ bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<I
     if (front == next.size() && front == ray.size()) return false;
     std::size_t back_new = next.size(), back_old = ray.size();
     while (back_new > front && back_old > front && same(next[back_new - 1], ray[back_old - 1])) --back_new, --back_old;
-    t0 = 1e300;
-    t1 = -1e300;
-    for (std::size_t i = front; i < back_new; ++i) t0 = std::min<double>(t0, next[i].enter), t1 = std::max<double>(t1, next[i].exit);
-    for (std::size_t i = front; i < back_old; ++i) t0 = std::min<double>(t0, ray[i].enter), t1 = std::max<double>(t1, ray[i].exit);
+    thread_local std::vector<IntervalEnd> ends_new, ends_old;
+    interval_ends(next, front, back_new, ends_new);
+    interval_ends(ray, front, back_old, ends_old);
+    if (!span_of_changed_ends(ends_new, ends_old, t0, t1)) {  // not reached: differing intervals differ in an end
+        t0 = 1e300;
+        t1 = -1e300;
+        for (std::size_t i = front; i < back_new; ++i) t0 = std::min<double>(t0, next[i].enter), t1 = std::max<double>(t1, next[i].exit);
+        for (std::size_t i = front; i < back_old; ++i) t0 = std::min<double>(t0, ray[i].enter), t1 = std::max<double>(t1, ray[i].exit);
+    }
     ray.swap(scratch);
     return true;
 }

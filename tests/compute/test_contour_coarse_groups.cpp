@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 #include "compute/contour/coarse_levels.hpp"
 #include "compute/contour/contour_tiles.hpp"
@@ -202,6 +203,45 @@ TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFr
         ++compared;
     }
     EXPECT_EQ(compared, again.groups().size());
+}
+
+// A cut into the sphere's top re-reads the coarse rays through its tiles and re-contours only the coarse tiles near
+// the ends that moved: an interval the tool only entered keeps its far end, at the bottom, and nothing there is
+// re-contoured. The levels still equal those of a fresh read of the cut model.
+TEST(CoarseGroups, ACutReContoursOnlyTheCoarseTilesNearTheEndsThatMoved) {
+    TriDexel model = sphere_model();
+    CoarseGroupLevels levels(model, every_depth());
+    model.tiles.dirty.assign(model.tiles.dirty.size(), 0);
+    const Lattice& L = model.lattice;
+    const Vec3 top = L.to_world(kCentre + Vec3(0.0, 0.0, kRadius));
+    subtract_capsule(model, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
+    const std::vector<std::uint32_t> d = model.tiles.dirty_tiles();
+    const std::vector<std::uint64_t> changed(d.begin(), d.end());
+    ASSERT_FALSE(changed.empty());
+    const std::size_t recontoured = levels.update(model, changed);
+    // Per depth, the coarse tiles over the cut's tile columns, at most two layers of them (the cut lies in the top
+    // two tile layers); a re-read that also took each z ray's unchanged bottom end re-contours tiles all the way down.
+    std::size_t cut_columns = 0;
+    for (int depth = 1; depth <= 3; ++depth) {
+        const int span = 1 << depth;
+        std::set<std::pair<int, int>> columns;
+        for (const std::uint64_t t : changed)
+            columns.insert({static_cast<int>(t % 8) / span, static_cast<int>(t / 8 % 8) / span});
+        cut_columns += columns.size();
+    }
+    EXPECT_GT(recontoured, 0u);
+    EXPECT_LE(recontoured, 2 * cut_columns) << "coarse tiles re-contoured for " << changed.size() << " cut tiles";
+    const CoarseGroupLevels fresh(model, every_depth());
+    for (int depth = 1; depth <= 3; ++depth) {
+        const int groups = 128 / (TileGrid::kTileCells << depth);
+        for (int z = 0; z < groups; ++z)
+            for (int y = 0; y < groups; ++y)
+                for (int x = 0; x < groups; ++x) {
+                    const TileLodLevel a = fresh.level(depth, {x, y, z}), b = levels.level(depth, {x, y, z});
+                    EXPECT_EQ(a.mesh.positions, b.mesh.positions) << depth << " " << x << y << z;
+                    EXPECT_EQ(a.materials, b.materials) << depth << " " << x << y << z;
+                }
+    }
 }
 
 // A start-up with many groups of one depth builds their levels on every core (TileSurfaceCache::kParallelLodTiles
