@@ -89,12 +89,14 @@ void interval_ends(const std::vector<Interval>& ray, std::size_t first, std::siz
 }
 
 // [t0, t1] spanning the ends that are in one list and not the other (an end that moved, appeared, vanished or changed
-// material or side): the cells between an end's old and new place change, an unchanged end (the far side of an
-// interval the tool only entered) changes nothing around it. False when every end matches.
-bool span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<IntervalEnd>& b, double& t0, double& t1) {
+// material, side or bits, as reread_ray compares intervals): the cells between an end's old and new place change, an
+// unchanged end (the far side of an interval the tool only entered) changes nothing around it. Lists that differ
+// always give t0 <= t1.
+void span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<IntervalEnd>& b, double& t0, double& t1) {
     t0 = 1e300;
     t1 = -1e300;
     const auto take = [&](float t) { t0 = std::min<double>(t0, t), t1 = std::max<double>(t1, t); };
+    const auto same_bits = [](float x, float y) { return std::memcmp(&x, &y, sizeof(float)) == 0; };
     std::size_t i = 0, j = 0;
     while (i < a.size() || j < b.size()) {
         if (j == b.size() || (i < a.size() && a[i].t < b[j].t)) {
@@ -102,11 +104,10 @@ bool span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<I
         } else if (i == a.size() || b[j].t < a[i].t) {
             take(b[j++].t);
         } else {  // at the same place
-            if (a[i].material != b[j].material || a[i].exit != b[j].exit) take(a[i].t);
+            if (!same_bits(a[i].t, b[j].t) || a[i].material != b[j].material || a[i].exit != b[j].exit) take(a[i].t);
             ++i, ++j;
         }
     }
-    return t0 <= t1;
 }
 
 // One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
@@ -127,12 +128,7 @@ bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<I
     thread_local std::vector<IntervalEnd> ends_new, ends_old;
     interval_ends(next, front, back_new, ends_new);
     interval_ends(ray, front, back_old, ends_old);
-    if (!span_of_changed_ends(ends_new, ends_old, t0, t1)) {  // not reached: differing intervals differ in an end
-        t0 = 1e300;
-        t1 = -1e300;
-        for (std::size_t i = front; i < back_new; ++i) t0 = std::min<double>(t0, next[i].enter), t1 = std::max<double>(t1, next[i].exit);
-        for (std::size_t i = front; i < back_old; ++i) t0 = std::min<double>(t0, ray[i].enter), t1 = std::max<double>(t1, ray[i].exit);
-    }
+    span_of_changed_ends(ends_new, ends_old, t0, t1);
     ray.swap(scratch);
     return true;
 }
