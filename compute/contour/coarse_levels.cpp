@@ -10,6 +10,7 @@
 #include "compute/mesh/mesh_weld.hpp"
 #include "compute/contour/startup_refine.hpp"
 #include "compute/model/coarse_lattice.hpp"
+#include "compute/parallel/task_pool.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -225,38 +226,51 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
     constexpr int kT = TileGrid::kTileCells;
     constexpr int kReach = TriDexel::kDirtyReachCells;
     std::size_t recontoured = 0;
-    std::vector<Interval> scratch;  // one ray's buffer for every re-read
     const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
+    std::vector<std::uint64_t> rays;  // one axis's coarse rays to re-read, as u + nu * v
+    std::vector<std::array<double, 3>> spans;  // per ray: changed (0/1), t0, t1 (coarse grid units)
+    std::vector<std::vector<Interval>> scratch(pool_slots());  // one ray's buffer per pool slot
     for (std::size_t k = 0; k < levels_.size(); ++k) {
         if (!levels_[k]) continue;  // built later from the model as it is then
         if (options_.min_depth + static_cast<int>(k) < from_depth) continue;
         Depth& D = *levels_[k];
         const int s = D.stride;
-        for (const std::uint64_t t : changed_tiles) {
-            const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
-            std::array<int, 3> lo{}, hi{};  // fine nodes whose rays the tile's contour reads
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = std::max(0, tc[a] * kT - kReach);
-                hi[a] = std::min(fine.lattice.cells[a], (tc[a] + 1) * kT + kReach);
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const RaySet& fs = fine.sets[a];
+            RaySet& cs = D.model.sets[a];
+            // The coarse rays through each changed tile and the kDirtyReachCells fine cells around it, each once
+            // however many changed tiles it crosses.
+            rays.clear();
+            for (const std::uint64_t t : changed_tiles) {
+                const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+                const int lo_b = std::max(0, tc[b] * kT - kReach), hi_b = std::min(fine.lattice.cells[b], (tc[b] + 1) * kT + kReach);
+                const int lo_c = std::max(0, tc[c] * kT - kReach), hi_c = std::min(fine.lattice.cells[c], (tc[c] + 1) * kT + kReach);
+                for (int v = (lo_c + s - 1) / s; v * s <= hi_c && v < cs.nv && v * s < fs.nv; ++v)
+                    for (int u = (lo_b + s - 1) / s; u * s <= hi_b && u < cs.nu && u * s < fs.nu; ++u)
+                        rays.push_back(static_cast<std::uint64_t>(u) + static_cast<std::uint64_t>(cs.nu) * static_cast<std::uint64_t>(v));
             }
-            Vec3 blo(1e300), bhi(-1e300);  // coarse grid units
-            for (int a = 0; a < 3; ++a) {
-                const int b = (a + 1) % 3, c = (a + 2) % 3;
-                const RaySet& fs = fine.sets[a];
-                RaySet& cs = D.model.sets[a];
-                for (int v = (lo[c] + s - 1) / s; v * s <= hi[c] && v < cs.nv && v * s < fs.nv; ++v)
-                    for (int u = (lo[b] + s - 1) / s; u * s <= hi[b] && u < cs.nu && u * s < fs.nu; ++u) {
-                        double t0 = 0.0, t1 = 0.0;
-                        if (!reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), scratch, t0, t1)) continue;
-                        Vec3 p0, p1;
-                        p0[a] = t0, p1[a] = t1;
-                        p0[b] = p1[b] = u;
-                        p0[c] = p1[c] = v;
-                        blo = glm::min(blo, glm::min(p0, p1));
-                        bhi = glm::max(bhi, glm::max(p0, p1));
-                    }
+            std::sort(rays.begin(), rays.end());
+            rays.erase(std::unique(rays.begin(), rays.end()), rays.end());
+            spans.assign(rays.size(), {0.0, 0.0, 0.0});
+            // Each ray is its own vector, so rays re-read at once never share storage.
+            pool_for(rays.size(), 64, [&](const Chunk& ch) {
+                for (std::size_t i = ch.first; i < ch.last; ++i) {
+                    const int u = static_cast<int>(rays[i] % static_cast<std::uint64_t>(cs.nu));
+                    const int v = static_cast<int>(rays[i] / static_cast<std::uint64_t>(cs.nu));
+                    double t0 = 0.0, t1 = 0.0;
+                    if (reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), scratch[ch.slot], t0, t1)) spans[i] = {1.0, t0, t1};
+                }
+            });
+            // Dirty: the cells around each changed ray's span of moved interval ends.
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                if (spans[i][0] == 0.0) continue;
+                Vec3 p0, p1;
+                p0[a] = spans[i][1], p1[a] = spans[i][2];
+                p0[b] = p1[b] = static_cast<double>(rays[i] % static_cast<std::uint64_t>(cs.nu));
+                p0[c] = p1[c] = static_cast<double>(rays[i] / static_cast<std::uint64_t>(cs.nu));
+                D.model.mark_dirty_grid(glm::min(p0, p1), glm::max(p0, p1));
             }
-            D.model.mark_dirty_grid(blo, bhi);
         }
         recontoured += D.contour->update(D.model);
     }

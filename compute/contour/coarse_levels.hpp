@@ -54,10 +54,10 @@ public:
     CoarseGroupLevels& operator=(const CoarseGroupLevels&) = delete;
 
     /// After `fine` changed: re-reads the coarse rays through the tiles `changed_tiles` (fine tile indices, e.g.
-    /// the tiles whose contour version changed) and the kDirtyReachCells cells around them, marks dirty the coarse
-    /// cells whose rays differ, and re-contours those, at the depths from_depth..max_depth() that are built (0: from
-    /// min_depth()). Returns the coarse tiles re-contoured over those depths. Calling it again for the same change
-    /// re-reads the rays and finds nothing to re-contour.
+    /// the tiles whose contour version changed) and the kDirtyReachCells cells around them, each ray once and on the
+    /// task pool, marks dirty the coarse cells around the interval ends that moved, and re-contours those, at the
+    /// depths from_depth..max_depth() that are built (0: from min_depth()). Returns the coarse tiles re-contoured over
+    /// those depths. Calling it again for the same change re-reads the rays and finds nothing to re-contour.
     std::size_t update(const TriDexel& fine, std::span<const std::uint64_t> changed_tiles, int from_depth = 0);
 
     /// Depths with levels (min_depth()..max_depth()).

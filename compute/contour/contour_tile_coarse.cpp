@@ -2,6 +2,7 @@
 // coarser strides (CoarseGroupLevels): which a change reaches, and rebuilding them once the change settles.
 #include <algorithm>
 #include <chrono>
+#include <span>
 
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"
@@ -74,11 +75,24 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     if (coarse_stale_.empty()) return 0;
     if (now - coarse_changed_at_ < group_settle_) return 0;
     const auto t0 = std::chrono::steady_clock::now();
+    const auto slice_end = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(kCoarseContourSliceS));
     if (!coarse_changed_.empty()) {
+        // The finer coarse models follow the stroke's tiles between strokes, a slice a pass: during a stroke its
+        // samples would wait for them, and the few levels a pass rebuilds would not repay it (the waiting groups'
+        // children are drawn).
+        if (stroke_open) return 0;
         std::sort(coarse_changed_.begin(), coarse_changed_.end());
         coarse_changed_.erase(std::unique(coarse_changed_.begin(), coarse_changed_.end()), coarse_changed_.end());
-        coarse_->update(*coarse_model_, coarse_changed_);
-        coarse_changed_.clear();
+        std::size_t done = 0;
+        do {
+            const std::size_t n = std::min(kCoarseUpdateTiles, coarse_changed_.size() - done);
+            coarse_->update(*coarse_model_, std::span<const std::uint64_t>(coarse_changed_).subspan(done, n));
+            done += n;
+        } while (done < coarse_changed_.size() && std::chrono::steady_clock::now() < slice_end);
+        coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
+        lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (!coarse_changed_.empty()) return 0;  // levels are rebuilt once every changed tile is read
     }
     // Finest depth first: the levels a close view needs come back first.
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
@@ -100,8 +114,6 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     }
     std::size_t built = rebuild_coarse_levels(reads);
     if (!stroke_open) {
-        const auto slice_end = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                        std::chrono::duration<double>(kCoarseContourSliceS));
         for (const std::uint64_t id : contours) {
             if (built >= budget) break;
             built += rebuild_coarse_levels({id});

@@ -146,8 +146,8 @@ public:
     /// stale result is dropped, its newer job is queued), then queues the groups that became ready. Returns the
     /// tiles and groups that got levels. Rethrows the first exception a job threw. O(results + groups).
     /// With coarse groups (use_coarse_groups), it also rebuilds the coarse levels that wait; `stroke_open` (a stroke
-    /// is being carved): only those whose coarse tiles are contoured already, so no coarse contour holds the stroke's
-    /// samples (see kCoarseContourSliceS).
+    /// is being carved): only those whose coarse tiles are contoured already and read after every change, so no
+    /// coarse contour or re-read holds the stroke's samples (see kCoarseContourSliceS, kCoarseUpdateTiles).
     std::size_t collect_lods(bool stroke_open = false);
     /// Background building: per tile or group that got its levels from the worker, the wall time from the refresh()
     /// that re-contoured the tile (its settling included) or from collect_lods() queueing the group's job to
@@ -163,8 +163,9 @@ public:
     /// A refresh() that changes tiles re-reads the coarsest model through them and rebuilds the levels of the
     /// coarsest groups within reach at once (a stroke is drawn coarse, not at full resolution, where a coarse level
     /// is within the pixel bound); it drops the level of every finer group within reach (its children are drawn), and
-    /// collect_lods() re-reads the finer coarse models and rebuilds those levels, at most kCoarseLevelsPerCollect at a
-    /// time, once no tile has changed for LodWorkerOptions::group_settle_s (0 without a worker). group_depth
+    /// collect_lods() re-reads the finer coarse models (kCoarseUpdateTiles at a time, between strokes) and then
+    /// rebuilds those levels, at most kCoarseLevelsPerCollect at a time, once no tile has changed for
+    /// LodWorkerOptions::group_settle_s (0 without a worker). group_depth
     /// becomes options.max_depth. `model` is the one the Contourer given to refresh() contours; it must outlive
     /// the cache and not change during refresh() or collect_lods(). Call after enable_lod() and before the first
     /// refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as CoarseGroupLevels.
@@ -203,6 +204,10 @@ public:
     /// such levels one after another for at most this long a pass (s; at least one), after those that only read,
     /// and none while a stroke is open.
     static constexpr double kCoarseContourSliceS = 0.04;
+    /// After a stroke, collect_lods() re-reads the finer coarse models through the changed tiles this many tiles at a
+    /// time (CoarseGroupLevels::update), for at most kCoarseContourSliceS a pass (at least one batch), never while a
+    /// stroke is open; the waiting levels are rebuilt once every changed tile is read.
+    static constexpr std::size_t kCoarseUpdateTiles = 64;
     /// The first refresh() builds the coarse levels of the groups of this depth and deeper at once (the coarsest
     /// ones, which a first frame of the whole workpiece draws); those of finer groups follow through collect_lods().
     static constexpr int kCoarseStartupDepth = 2;

@@ -1,6 +1,7 @@
 // Tests of group levels contoured from the model read at coarser strides (compute/contour/coarse_levels.hpp and
 // TileSurfaceCache::use_coarse_groups): every group has its level at once, near the analytic sphere; a ring and a
-// skirt reach past the group's box; a cut drops the levels within reach and rebuilds them, equal to a fresh build.
+// skirt reach past the group's box; a cut drops the levels within reach and rebuilds them, equal to a fresh build
+// (after the stroke, when it is a stroke's).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -203,6 +204,64 @@ TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFr
         ++compared;
     }
     EXPECT_EQ(compared, again.groups().size());
+}
+
+// Two grooves around the sphere (its equator and a meridian), as a stroke's passes cut them: while the stroke is open
+// no pass re-reads the finer coarse models or rebuilds a level they give; after it, passes re-read the changed tiles
+// kCoarseUpdateTiles at a time and rebuild the levels once all are read, equal to a fresh build of the cut sphere.
+void cut_grooves(TriDexel& m) {
+    const Lattice& L = m.lattice;
+    constexpr int kSegments = 16;
+    for (int ring = 0; ring < 2; ++ring)
+        for (int i = 0; i < kSegments; ++i) {
+            const auto on = [&](int k) {
+                const double t = 2.0 * 3.14159265358979 * k / kSegments;
+                const Vec3 p = ring == 0 ? Vec3(std::cos(t), std::sin(t), 0.0) : Vec3(std::cos(t), 0.0, std::sin(t));
+                return L.to_world(kCentre + kRadius * p);
+            };
+            subtract_capsule(m, Segment{on(i), on(i + 1)}, 4.0 * L.cell_m);
+        }
+}
+
+TEST(CoarseGroups, AStrokesCutIsReadAfterItsCloseABatchAtATimeAsAFreshBuildWould) {
+    Session s;
+    cut_grooves(s.model);
+    const std::vector<std::uint32_t> dirty = s.model.tiles.dirty_tiles();
+    ASSERT_GT(dirty.size(), TileSurfaceCache::kCoarseUpdateTiles) << "the grooves must need more than one batch";
+    s.contourer.update(s.model);
+    s.cache.refresh(s.contourer);
+    const std::size_t waiting = s.cache.coarse_waiting();
+    ASSERT_GT(waiting, 0u);
+    std::map<std::uint64_t, std::uint64_t> versions;
+    for (const TileGroupSurface& g : s.cache.groups()) versions[g.id] = g.version;
+    for (int i = 0; i < 10; ++i) EXPECT_EQ(s.cache.collect_lods(true), 0u) << "a pass during the stroke built levels";
+    EXPECT_EQ(s.cache.coarse_waiting(), waiting);
+    for (const TileGroupSurface& g : s.cache.groups()) EXPECT_EQ(g.version, versions[g.id]) << g.id;
+    int passes = 0;
+    while (s.cache.coarse_waiting() > 0 && passes < 1000) {
+        s.cache.collect_lods(false);
+        ++passes;
+    }
+    EXPECT_EQ(s.cache.coarse_waiting(), 0u);
+    Session fresh;
+    cut_grooves(fresh.model);
+    TriDexel cut = fresh.model;
+    Contourer c(cut);
+    cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
+    c.update(cut);
+    TileSurfaceCache again;
+    start_coarse(again, cut, c, every_depth());
+    while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
+    ASSERT_EQ(again.groups().size(), s.cache.groups().size());
+    for (std::size_t i = 0; i < again.groups().size(); ++i) {
+        const TileGroupSurface &a = again.groups()[i], &b = s.cache.groups()[i];
+        ASSERT_EQ(a.id, b.id);
+        ASSERT_EQ(a.lods.size(), b.lods.size()) << a.id;
+        if (a.lods.empty()) continue;
+        EXPECT_EQ(a.lods[0].mesh.positions, b.lods[0].mesh.positions) << a.id;
+        EXPECT_EQ(a.lods[0].mesh.triangles, b.lods[0].mesh.triangles) << a.id;
+        EXPECT_EQ(a.lods[0].materials, b.lods[0].materials) << a.id;
+    }
 }
 
 // A cut into the sphere's top re-reads the coarse rays through its tiles and re-contours only the coarse tiles near
