@@ -197,6 +197,8 @@ TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materi
     std::vector<std::uint32_t> local(tm.keys.size(), kUnused), foreign(tm.foreign.size(), kUnused);
     TriMesh m;
     m.triangles.reserve(tm.triangles.size());
+    m.positions.reserve(tm.keys.size() + tm.foreign.size());
+    materials.reserve(tm.keys.size() + tm.foreign.size());
     // Own vertices first (in key order), then borrowed ones (in key order): a stable layout.
     for (const auto& tri : tm.triangles)
         for (const std::uint32_t r : tri)

@@ -10,6 +10,7 @@
 #include <thread>
 #include <utility>
 
+#include "compute/parallel/task_pool.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -58,12 +59,18 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         s.id = t;
         s.version = version;
         s.source_version = version;
-        s.mesh = contourer.tile_mesh(t, s.materials);
-        if (!worker_) order_for_vertex_cache(s.mesh);  // else the worker orders it with its levels (collect_lods)
-        s.bounds_m = s.mesh.bounds();
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
     }
+    // The changed tiles' meshes on the task pool (a source's tile_mesh only reads); a throw leaves the cache as it was.
+    pool_for(rebuilt.size(), 8, [&](const Chunk& chunk) {
+        for (std::size_t i = chunk.first; i < chunk.last; ++i) {
+            TileSurface& s = rebuilt[i];
+            s.mesh = contourer.tile_mesh(s.id, s.materials);
+            if (!worker_) order_for_vertex_cache(s.mesh);  // else the worker orders it with its levels (collect_lods)
+            s.bounds_m = s.mesh.bounds();
+        }
+    });
     const bool build_now = lod_ && !defer_ && !worker_;
     if (build_now) {
         std::vector<TileSurface*> all;

@@ -61,6 +61,8 @@ LodWorker::~LodWorker() {
         std::lock_guard<std::mutex> lock(mutex_);
         stop_ = true;
         queue_.clear();
+        waiting_tiles_.clear();
+        waiting_groups_.clear();
     }
     wake_.notify_all();
     for (std::thread& t : threads_) t.join();
@@ -69,23 +71,23 @@ LodWorker::~LodWorker() {
 void LodWorker::submit(LodJob job, bool urgent) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        const auto same = std::find_if(queue_.begin(), queue_.end(),
-                                       [&](const LodJob& q) { return q.group == job.group && q.id == job.id; });
-        if (same != queue_.end()) queue_.erase(same);
-        if (urgent)
-            queue_.push_front(std::move(job));
-        else
-            queue_.push_back(std::move(job));
+        auto& index = waiting(job.group);
+        const auto same = index.find(job.id);
+        if (same != index.end()) queue_.erase(same->second);
+        const std::uint64_t id = job.id;
+        const auto at = urgent ? queue_.insert(queue_.begin(), std::move(job)) : queue_.insert(queue_.end(), std::move(job));
+        index[id] = at;
     }
     wake_.notify_one();
 }
 
 bool LodWorker::cancel(bool group, std::uint64_t id) {
     const std::lock_guard<std::mutex> lock(mutex_);
-    const auto same =
-        std::find_if(queue_.begin(), queue_.end(), [&](const LodJob& q) { return q.group == group && q.id == id; });
-    if (same == queue_.end()) return false;
-    queue_.erase(same);
+    auto& index = waiting(group);
+    const auto same = index.find(id);
+    if (same == index.end()) return false;
+    queue_.erase(same->second);
+    index.erase(same);
     return true;
 }
 
@@ -118,6 +120,7 @@ void LodWorker::run() {
         if (stop_) return;
         LodJob job = std::move(queue_.front());
         queue_.pop_front();
+        waiting(job.group).erase(job.id);
         ++running_;
         lock.unlock();
         if (!lowered && startup_over_.load(std::memory_order_acquire)) {

@@ -7,11 +7,12 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
+#include <list>
 #include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "compute/contour/tile_lod.hpp"
@@ -136,7 +137,12 @@ private:
     LodWorkerOptions options_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
-    std::deque<LodJob> queue_;
+    std::list<LodJob> queue_;  // waiting jobs, in the order they start
+    // Each waiting job by (group flag, id): submit() and cancel() find the one they replace or drop at once.
+    std::unordered_map<std::uint64_t, std::list<LodJob>::iterator> waiting_tiles_, waiting_groups_;
+    std::unordered_map<std::uint64_t, std::list<LodJob>::iterator>& waiting(bool group) {
+        return group ? waiting_groups_ : waiting_tiles_;
+    }
     std::vector<LodResult> done_;
     std::size_t running_ = 0;
     std::exception_ptr failure_;

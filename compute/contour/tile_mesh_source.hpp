@@ -27,7 +27,8 @@ public:
     virtual std::uint64_t tile_version(std::size_t tile) const = 0;
     /// The triangles tile `tile` owns as a compact mesh (every vertex used), world m, CCW from outside, with
     /// one material id per vertex in `materials`. Neighbour tiles give a vertex they share bit-identical
-    /// positions. Throws tridex::Error on a bad tile index or an unreadable tile.
+    /// positions. Throws tridex::Error on a bad tile index or an unreadable tile. TileSurfaceCache::refresh calls it
+    /// for several tiles at once from the task pool's threads, so it must only read.
     virtual TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const = 0;
 };
 
