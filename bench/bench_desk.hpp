@@ -51,6 +51,9 @@ struct DeskBenchRow {
     /// The frame's wait for the loop to take the cursor's target (report.json mouse.hand_wait_ms), median and p99
     double hand_wait_median_ms = 0, hand_wait_p99_ms = 0;
     std::uint64_t targets = 0, same_frame = 0;  ///< cursor targets; those drawn by the frame whose input set them
+    /// Cursor targets whose lag was timed (report.json mouse.latency_ms count): those the tool reached before the next
+    /// target came; the lag's median and p99 rest on these alone.
+    std::uint64_t lag_timed = 0;
     nlohmann::json passes = nlohmann::json::object();  ///< pass name (".left" / ".right") -> median GPU ms
     nlohmann::json present;                        ///< the window's present timings (null offscreen)
     nlohmann::json frame_budget;                   ///< report.json render.frame_budget (occlusion, levels, scale)

@@ -151,6 +151,39 @@ TEST(CoarseGroups, ASkirtQuadPerBorderEdgeInBothWindings) {
     EXPECT_THROW(add_skirt(m, mats, short_normals, 0.5), Error);
 }
 
+// Expects every group level of `cache` (settled) to equal, bit for bit, those of a cache built afresh on the sphere
+// cut by `cut_model`; returns how many levels it compared.
+template <typename Cut>
+std::size_t expect_levels_of_a_fresh_build(const TileSurfaceCache& cache, Cut cut_model) {
+    Session fresh;  // built on the sphere, then cut the same way
+    cut_model(fresh.model);
+    TriDexel cut = fresh.model;
+    Contourer c(cut);
+    cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
+    c.update(cut);
+    TileSurfaceCache again;
+    start_coarse(again, cut, c, every_depth());
+    while (again.coarse_waiting() > 0)
+        if (again.collect_lods() == 0) {
+            ADD_FAILURE() << "a settle pass of the fresh build built nothing";
+            break;
+        }
+    EXPECT_EQ(again.groups().size(), cache.groups().size());
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < again.groups().size() && i < cache.groups().size(); ++i) {
+        const TileGroupSurface &a = again.groups()[i], &b = cache.groups()[i];
+        EXPECT_EQ(a.id, b.id);
+        EXPECT_EQ(a.lods.size(), b.lods.size()) << a.id;
+        if (a.lods.empty() || b.lods.empty()) continue;
+        EXPECT_EQ(a.lods[0].mesh.positions, b.lods[0].mesh.positions) << a.id;
+        EXPECT_EQ(a.lods[0].mesh.triangles, b.lods[0].mesh.triangles) << a.id;
+        EXPECT_EQ(a.lods[0].materials, b.lods[0].materials) << a.id;
+        EXPECT_EQ(a.lods[0].error_m, b.lods[0].error_m) << a.id;
+        ++compared;
+    }
+    return compared;
+}
+
 // A cut drops the levels of the groups within reach (their children are drawn), keeps the others, and after the
 // settling the rebuilt levels equal those of a cache built afresh on the cut model, bit for bit.
 TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFreshBuildWould) {
@@ -181,29 +214,10 @@ TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFr
     EXPECT_GT(at_once, 0u);
     EXPECT_EQ(s.cache.coarse_waiting(), dropped);
     while (s.cache.coarse_waiting() > 0) ASSERT_GT(s.cache.collect_lods(), 0u);
-    Session fresh;  // built on the sphere, then cut the same way
-    subtract_capsule(fresh.model, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
-    TriDexel cut = fresh.model;
-    Contourer c(cut);
-    cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
-    c.update(cut);
-    TileSurfaceCache again;
-    start_coarse(again, cut, c, every_depth());
-    while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
-    ASSERT_EQ(again.groups().size(), s.cache.groups().size());
-    std::size_t compared = 0;
-    for (std::size_t i = 0; i < again.groups().size(); ++i) {
-        const TileGroupSurface &a = again.groups()[i], &b = s.cache.groups()[i];
-        ASSERT_EQ(a.id, b.id);
-        ASSERT_EQ(a.lods.size(), b.lods.size()) << a.id;
-        if (a.lods.empty()) continue;
-        EXPECT_EQ(a.lods[0].mesh.positions, b.lods[0].mesh.positions) << a.id;
-        EXPECT_EQ(a.lods[0].mesh.triangles, b.lods[0].mesh.triangles) << a.id;
-        EXPECT_EQ(a.lods[0].materials, b.lods[0].materials) << a.id;
-        EXPECT_EQ(a.lods[0].error_m, b.lods[0].error_m) << a.id;
-        ++compared;
-    }
-    EXPECT_EQ(compared, again.groups().size());
+    const std::size_t compared = expect_levels_of_a_fresh_build(s.cache, [&](TriDexel& m) {
+        subtract_capsule(m, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
+    });
+    EXPECT_EQ(compared, s.cache.groups().size());
 }
 
 // Two grooves around the sphere (its equator and a meridian), as a stroke's passes cut them: while the stroke is open
@@ -243,25 +257,7 @@ TEST(CoarseGroups, AStrokesCutIsReadAfterItsCloseABatchAtATimeAsAFreshBuildWould
         ++passes;
     }
     EXPECT_EQ(s.cache.coarse_waiting(), 0u);
-    Session fresh;
-    cut_grooves(fresh.model);
-    TriDexel cut = fresh.model;
-    Contourer c(cut);
-    cut.tiles.dirty.assign(cut.tiles.dirty.size(), TileGrid::kWhole);
-    c.update(cut);
-    TileSurfaceCache again;
-    start_coarse(again, cut, c, every_depth());
-    while (again.coarse_waiting() > 0) ASSERT_GT(again.collect_lods(), 0u);
-    ASSERT_EQ(again.groups().size(), s.cache.groups().size());
-    for (std::size_t i = 0; i < again.groups().size(); ++i) {
-        const TileGroupSurface &a = again.groups()[i], &b = s.cache.groups()[i];
-        ASSERT_EQ(a.id, b.id);
-        ASSERT_EQ(a.lods.size(), b.lods.size()) << a.id;
-        if (a.lods.empty()) continue;
-        EXPECT_EQ(a.lods[0].mesh.positions, b.lods[0].mesh.positions) << a.id;
-        EXPECT_EQ(a.lods[0].mesh.triangles, b.lods[0].mesh.triangles) << a.id;
-        EXPECT_EQ(a.lods[0].materials, b.lods[0].materials) << a.id;
-    }
+    EXPECT_GT(expect_levels_of_a_fresh_build(s.cache, cut_grooves), 0u);
 }
 
 // A cut into the sphere's top re-reads the coarse rays through its tiles and re-contours only the coarse tiles near
