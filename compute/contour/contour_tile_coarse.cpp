@@ -91,8 +91,10 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             done += n;
         } while (done < coarse_changed_.size() && std::chrono::steady_clock::now() < slice_end);
         coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
-        lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (!coarse_changed_.empty()) return 0;  // levels are rebuilt once every changed tile is read
+        if (!coarse_changed_.empty()) {  // levels are rebuilt once every changed tile is read
+            lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            return 0;
+        }
     }
     // Finest depth first: the levels a close view needs come back first.
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
