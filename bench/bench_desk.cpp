@@ -182,6 +182,9 @@ DeskBenchRow median_row(const std::vector<DeskBenchRow>& runs, int resolution, c
     return out;
 }
 
+// Fewer timed cursor targets than this, and the lag's p99 is within a sample or two of their largest.
+constexpr std::uint64_t kLagTimedForP99 = 100;
+
 // Prints one row of the table and, for a run (not a median), its detail lines.
 void print_row(const DeskBenchRow& r) {
     std::printf("%5d %-13s %5.3g %5.3g %6llu %9.1f %9.1f %10.1f %8.1f %8.1f %8.2f %10.0f %6.2f %s\n", r.resolution,
@@ -220,7 +223,7 @@ void print_row(const DeskBenchRow& r) {
         static_cast<unsigned long long>(r.targets));
     std::printf("  lag timed on %llu of %llu cursor targets (the others were superseded before the tool reached them)%s\n",
                 static_cast<unsigned long long>(r.lag_timed), static_cast<unsigned long long>(r.targets),
-                r.lag_timed < 100 ? ": its p99 is close to the largest of those few" : "");
+                r.lag_timed < kLagTimedForP99 ? ": its p99 is close to the largest of those few" : "");
     std::fflush(stdout);
 }
 

@@ -228,7 +228,11 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
     std::size_t recontoured = 0;
     const auto nx = static_cast<std::uint64_t>(fine.tiles.tiles[0]), ny = static_cast<std::uint64_t>(fine.tiles.tiles[1]);
     std::vector<std::uint64_t> rays;  // one axis's coarse rays to re-read, as u + nu * v
-    std::vector<std::array<double, 3>> spans;  // per ray: changed (0/1), t0, t1 (coarse grid units)
+    struct RaySpan {
+        bool changed = false;
+        double t0 = 0.0, t1 = 0.0;  // the span of the ends that moved, coarse grid units along the ray
+    };
+    std::vector<RaySpan> spans;  // per entry of `rays`
     std::vector<std::vector<Interval>> scratch(pool_slots());  // one ray's buffer per pool slot
     for (std::size_t k = 0; k < levels_.size(); ++k) {
         if (!levels_[k]) continue;  // built later from the model as it is then
@@ -252,21 +256,21 @@ std::size_t CoarseGroupLevels::update(const TriDexel& fine, std::span<const std:
             }
             std::sort(rays.begin(), rays.end());
             rays.erase(std::unique(rays.begin(), rays.end()), rays.end());
-            spans.assign(rays.size(), {0.0, 0.0, 0.0});
+            spans.assign(rays.size(), RaySpan{});
             // Each ray is its own vector, so rays re-read at once never share storage.
             pool_for(rays.size(), 64, [&](const Chunk& ch) {
                 for (std::size_t i = ch.first; i < ch.last; ++i) {
                     const int u = static_cast<int>(rays[i] % static_cast<std::uint64_t>(cs.nu));
                     const int v = static_cast<int>(rays[i] / static_cast<std::uint64_t>(cs.nu));
-                    double t0 = 0.0, t1 = 0.0;
-                    if (reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), scratch[ch.slot], t0, t1)) spans[i] = {1.0, t0, t1};
+                    RaySpan& r = spans[i];
+                    r.changed = reread_ray(fs.ray(u * s, v * s), s, cs.ray(u, v), scratch[ch.slot], r.t0, r.t1);
                 }
             });
             // Dirty: the cells around each changed ray's span of moved interval ends.
             for (std::size_t i = 0; i < rays.size(); ++i) {
-                if (spans[i][0] == 0.0) continue;
+                if (!spans[i].changed) continue;
                 Vec3 p0, p1;
-                p0[a] = spans[i][1], p1[a] = spans[i][2];
+                p0[a] = spans[i].t0, p1[a] = spans[i].t1;
                 p0[b] = p1[b] = static_cast<double>(rays[i] % static_cast<std::uint64_t>(cs.nu));
                 p0[c] = p1[c] = static_cast<double>(rays[i] / static_cast<std::uint64_t>(cs.nu));
                 D.model.mark_dirty_grid(glm::min(p0, p1), glm::max(p0, p1));
