@@ -86,6 +86,7 @@ DeskBenchRow run_one(const DeskBenchOptions& o, const std::string& scene, const 
     r.seconds = o.seconds;
     r.out = out.string();
     r.lod = o.lod;
+    r.stroke_contour = o.stroke_contour;
     r.checkpoint_s = 0.0;
     run_stereo_session(r);
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "report.json"));
@@ -239,6 +240,7 @@ nlohmann::json row_json(const DeskBenchOptions& o, const DeskBenchRow& r) {
                           {"height", o.height},
                           {"seconds", o.seconds},
                           {"lod", o.lod},
+                          {"stroke_contour", o.stroke_contour},
                           {"frames", r.frames},
                           {"frame_ms_median", r.frame_median_ms},
                           {"frame_ms_p99", r.frame_p99_ms},
@@ -288,6 +290,11 @@ BenchRun setup_desk(CLI::App& bench) {
     bench.add_option("--desk-n", c->resolutions,
                      "With --desk: workpiece resolutions N to time, comma-separated, 16..4096 (default: the scene's; "
                      "the first is the baseline of the frame-time ratios), e.g. 256,1024");
+    bench
+        .add_option("--desk-stroke-contour", c->o.stroke_contour,
+                    "With --desk: coarse | full (default coarse): a stroke drawn from the coarse levels while its tiles "
+                    "wait, or contoured at full resolution every step (--stroke-contour)")
+        ->check(CLI::IsMember({"coarse", "full"}));
     bench.add_option("--desk-repeats", c->o.repeats,
                      "With --desk: runs of every row, in turn, and the median over them per row (1..20; default 1)");
     return [c](const BenchCommon& common) {
@@ -350,9 +357,9 @@ std::vector<DeskBenchRow> run_desk_bench(const DeskBenchOptions& o) {
     const fs::path dir = fs::path(o.out) / "desk";
     fs::create_directories(dir);
     std::printf("frames at the desk: the default scene in a %dx%d %s, the mouse carving a groove every 1.6 s, "
-                "%.0f s per output, levels of detail %s\n",
+                "%.0f s per output, levels of detail %s, strokes contoured %s\n",
                 o.width, o.height, display == "window" ? "window" : "offscreen frame (paced; no X display)",
-                o.seconds, o.lod.c_str());
+                o.seconds, o.lod.c_str(), o.stroke_contour == "coarse" ? "coarse while open" : "at full resolution");
     std::printf("target: frame median <= %.0f ms, p99 <= %.0f ms, mouse-to-photon lag <= %.0f frames\n",
                 kTargetMedianMs, kTargetP99Ms, kTargetLagFrames);
     std::printf("%5s %-13s %5s %5s %6s %9s %9s %10s %8s %8s %8s %10s %6s %s\n", "N", "stereo", "scale", "lodpx",

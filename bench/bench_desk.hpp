@@ -21,6 +21,7 @@ struct DeskBenchOptions {
     /// DISPLAY is set, else offscreen.
     std::string display;
     std::string lod = "on";                            ///< levels of detail: on | off
+    std::string stroke_contour = "coarse";             ///< a stroke's tiles: coarse | full (--stroke-contour)
     /// Workpiece resolutions N (cells along the bunny's longest side, 16..4096) timed in turn; empty: the default
     /// scene's own. The first is the baseline the others' frame times are divided by, per output and scale.
     std::vector<int> resolutions;

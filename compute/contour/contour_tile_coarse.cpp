@@ -53,9 +53,10 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     return out;
 }
 
-std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed) {
+std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool deferred) {
     const auto t0 = std::chrono::steady_clock::now();
-    const int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
+    int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
+    if (deferred) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
     // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
     // nothing changed).
     coarse_->update(*coarse_model_, changed, from);
@@ -138,13 +139,16 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     }
     coarse_->read_around(where);  // level() of these only reads from here on, so the jobs may run at once
     // A coarse-first start-up measures a level's error once all its group's tiles are in (update_startup_groups);
-    // until then it keeps the level's estimate.
+    // until then it keeps the level's estimate. A stroke's hidden tiles (defer_tiles) do not wait: the level is
+    // measured against the group's tiles in now, so that frames keep choosing about the levels they chose before,
+    // and again once they are all in.
     std::vector<bool> measure(groups.size(), true);
     if (!expected_.empty()) {
-        const std::vector<bool> refined = groups_refined();
+        const std::vector<bool> refined = groups_refined(), startup_refined = groups_refined(true);
         for (std::size_t i = 0; i < groups.size(); ++i) {
-            measure[i] = refined[static_cast<std::size_t>(groups[i] - groups_.data())];
-            if (measure[i]) provisional_.erase(groups[i]->id);
+            const auto g = static_cast<std::size_t>(groups[i] - groups_.data());
+            measure[i] = startup_refined[g];
+            if (refined[g]) provisional_.erase(groups[i]->id);
             else provisional_.insert(groups[i]->id);
         }
     }

@@ -29,8 +29,8 @@ void TileSurfaceCache::queue_tile_lods(const std::vector<std::size_t>& fresh) {
     const auto now = std::chrono::steady_clock::now();
     for (const std::size_t i : fresh) {
         const TileSurface& t = tiles_[i];
-        const bool arrival = arrived_.count(t.id) != 0;  // start-up's (expect_tiles), however late
-        if (arrival && !expected_.empty()) {  // the groups stand in meanwhile: the tiles' contour goes first
+        const bool arrival = startup_arrival(t.id);  // start-up's (expect_tiles), however late
+        if (arrival && startup_expected() > 0) {  // the groups stand in meanwhile: the tiles' contour goes first
             deferred_.push_back(t.id);
             continue;
         }
@@ -163,7 +163,7 @@ std::size_t TileSurfaceCache::collect_lods(bool stroke_open) {
             queued_.erase(q);
         }
     }
-    if (refreshed_ && startup_waiting_.empty() && expected_.empty()) worker_->end_startup();  // start-up's all in
+    if (refreshed_ && startup_waiting_.empty() && startup_expected() == 0) worker_->end_startup();  // start-up's all in
     // A result can make a group ready, and time ends a ready group's settling.
     if (!results.empty() || now >= settle_due_) queue_ready_groups();
     return taken + coarse;

@@ -16,13 +16,30 @@ void TileSurfaceCache::expect_tiles(const std::vector<std::uint64_t>& ids) {
     startup_groups_ = true;
 }
 
+void TileSurfaceCache::defer_tiles(const std::vector<std::uint64_t>& ids) {
+    if (!coarse_) throw Error("TileSurfaceCache::defer_tiles: call use_coarse_groups() first");
+    if (!refreshed_) throw Error("TileSurfaceCache::defer_tiles: call it after the first refresh()");
+    for (const std::uint64_t id : ids) {
+        expected_.insert(id);
+        stroke_expected_.insert(id);
+    }
+    deferred_changes_.insert(deferred_changes_.end(), ids.begin(), ids.end());
+    if (!ids.empty()) startup_groups_ = true;
+}
+
 void TileSurfaceCache::arrive(const std::vector<std::uint64_t>& ids) {
-    for (const std::uint64_t id : ids)
-        if (expected_.erase(id) > 0) arrived_.insert(id);
+    for (const std::uint64_t id : ids) {
+        if (expected_.erase(id) == 0) continue;
+        arrived_.insert(id);
+        if (stroke_expected_.erase(id) > 0) stroke_arrived_.insert(id);
+    }
 }
 
 void TileSurfaceCache::stop_expecting(const std::vector<std::uint64_t>& ids) {
-    for (const std::uint64_t id : ids) expected_.erase(id);
+    for (const std::uint64_t id : ids) {
+        expected_.erase(id);
+        stroke_expected_.erase(id);
+    }
 }
 
 bool TileSurfaceCache::build_coarse_depth() {
@@ -48,14 +65,17 @@ Aabb TileSurfaceCache::expected_tile_box(std::uint64_t id, const std::array<int,
     return Aabb{l.to_world(c * static_cast<double>(kT) - Vec3(1.0)), l.to_world((c + Vec3(1.0)) * static_cast<double>(kT) + Vec3(1.0))};
 }
 
-std::vector<bool> TileSurfaceCache::groups_refined() const {
+std::vector<bool> TileSurfaceCache::groups_refined(bool startup_only) const {
     std::vector<bool> refined(groups_.size(), true);
-    if (expected_.empty()) return refined;
+    if (expected_.empty() || (startup_only && startup_expected() == 0)) return refined;
+    const auto expected = [&](std::uint64_t id) {
+        return expected_.count(id) != 0 && !(startup_only && stroke_expected_.count(id) != 0);
+    };
     // groups_ is ordered by depth: children before their parents.
     for (std::size_t g = 0; g < groups_.size(); ++g) {
         const TileGroupSurface& group = groups_[g];
         for (const std::uint64_t c : group.children) {
-            if (group.depth == 1 ? expected_.count(c) != 0 : !refined[std::min(index_of(groups_, c), g)]) {
+            if (group.depth == 1 ? expected(c) : !refined[std::min(index_of(groups_, c), g)]) {
                 refined[g] = false;
                 break;
             }

@@ -15,26 +15,6 @@
 
 namespace tridex::compute {
 
-namespace {
-
-// A Contourer as a TileMeshSource.
-class ContourerTiles final : public TileMeshSource {
-public:
-    explicit ContourerTiles(const Contourer& c) : c_(c) {}
-    std::size_t tile_count() const override { return c_.tile_count(); }
-    std::array<int, 3> tile_dims() const override { return c_.tile_dims(); }
-    std::size_t tile_triangle_count(std::size_t t) const override { return c_.tile_triangle_count(t); }
-    std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
-    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
-        return c_.tile_mesh(t, materials);
-    }
-
-private:
-    const Contourer& c_;
-};
-
-}  // namespace
-
 std::size_t TileSurfaceCache::refresh(const Contourer& contourer) { return refresh(ContourerTiles(contourer)); }
 
 std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
@@ -79,7 +59,9 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     }
     // Tiles rebuilt or gone: the groups over them lose their levels.
     // Tiles that arrive in a coarse-first start-up (arrive()) are not changes: no group level is dropped for them.
-    std::vector<std::uint64_t> changed;
+    std::vector<std::uint64_t> changed = std::move(deferred_changes_);  // hidden by their source meanwhile
+    deferred_changes_.clear();
+    const bool deferred = !changed.empty();
     for (const TileSurface& s : rebuilt)
         if (!arrived_.count(s.id)) changed.push_back(s.id);
     {
@@ -107,6 +89,8 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
             next.push_back(std::move(tiles_[st.index]));
         }
     }
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     tiles_ = std::move(next);
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
@@ -115,7 +99,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
     update_groups(contourer.tile_dims(), changed);
-    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed);
+    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed, deferred);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;
@@ -135,14 +119,15 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         } else {  // changed tiles are a stroke's now (their groups: update_groups); arrived ones start-up's
             for (const std::uint64_t id : changed) startup_waiting_.erase(lod_key(false, id));
             for (const std::size_t i : fresh)
-                if (arrived_.count(tiles_[i].id)) startup_waiting_.insert(lod_key(false, tiles_[i].id));
+                if (startup_arrival(tiles_[i].id)) startup_waiting_.insert(lod_key(false, tiles_[i].id));
         }
         queue_tile_lods(fresh);
-        if (expected_.empty() && !deferred_.empty()) queue_deferred_tiles();
+        if (startup_expected() == 0 && !deferred_.empty()) queue_deferred_tiles();
         queue_ready_groups();
     }
     refreshed_ = true;
     arrived_.clear();
+    stroke_arrived_.clear();
     if (startup_groups_) update_startup_groups();
     if (build_now) {  // every group, finest depth first (a group is built from its children's levels)
         const auto t0 = std::chrono::steady_clock::now();

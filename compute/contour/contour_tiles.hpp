@@ -75,6 +75,22 @@ constexpr std::uint64_t tile_group_id(int depth, std::uint64_t index) {
     return (static_cast<std::uint64_t>(depth) << 56) | index;
 }
 
+/// A Contourer as a TileMeshSource (its tiles as they are). Valid while the Contourer lives.
+class ContourerTiles final : public TileMeshSource {
+public:
+    explicit ContourerTiles(const Contourer& c) : c_(c) {}
+    std::size_t tile_count() const override { return c_.tile_count(); }
+    std::array<int, 3> tile_dims() const override { return c_.tile_dims(); }
+    std::size_t tile_triangle_count(std::size_t t) const override { return c_.tile_triangle_count(t); }
+    std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
+        return c_.tile_mesh(t, materials);
+    }
+
+private:
+    const Contourer& c_;
+};
+
 /// Keeps TileSurfaces for every non-empty tile of a Contourer, rebuilding only tiles whose contour changed
 /// (Contourer::tile_version, which also changes when only materials changed). Versions are unique per process, so one cache may follow a new Contourer
 /// (e.g. after a reset): its tiles then all count as changed.
@@ -182,15 +198,25 @@ public:
     /// the first refresh() on, with their coarse levels, and say where no tile stands in for them yet
     /// (TileGroupSurface::children_cover). Throws tridex::Error after a refresh() or without coarse groups.
     void expect_tiles(const std::vector<std::uint64_t>& ids);
+    /// Tiles a stroke changed whose full-resolution contour waits (compute::DeferredContour::defer): the next
+    /// refresh() counts them as changed whether or not its source shows them, rebuilds the coarse levels over them
+    /// down to kDeferredCoarseDepth at once, and they are expected, as start-up's tiles, until they arrive (the groups
+    /// over them stand in, with the start-up's provisional error until their tiles are in). Throws tridex::Error
+    /// without coarse groups or before the first refresh().
+    void defer_tiles(const std::vector<std::uint64_t>& ids);
+    /// The finest coarse depth whose levels a refresh() with deferred tiles rebuilds at once (when the coarse levels
+    /// reach it; the coarsest depth otherwise): the stroke is drawn from these until its tiles arrive.
+    static constexpr int kDeferredCoarseDepth = 2;
     /// Expected tiles that the next refresh() may show (contoured with their neighbours,
-    /// StartupRefiner::take_newly_publishable): they arrive as start-up's tiles, not as changes (no group level is
-    /// dropped for them), and their levels are queued once no tile is expected (the groups stand in until then);
-    /// one without triangles is simply no longer expected. Ids not expected are ignored.
+    /// StartupRefiner::take_newly_publishable, DeferredContour::take_visible): they arrive as start-up's tiles, not as
+    /// changes (no group level is dropped for them), and start-up's levels are queued once no start-up tile is
+    /// expected (the groups stand in until then); a deferred stroke's tiles get theirs as a stroke's. One without
+    /// triangles is simply no longer expected. Ids not expected are ignored.
     void arrive(const std::vector<std::uint64_t>& ids);
     /// Expected tiles that changed before their first contour (a stroke's, StartupRefiner::pending_among): no longer
     /// expected, so the refresh() that shows them counts them as changed, as any stroke's tiles.
     void stop_expecting(const std::vector<std::uint64_t>& ids);
-    /// Tiles expected and not arrived yet (0 outside a coarse-first start-up).
+    /// Tiles expected and not arrived yet (0 outside a coarse-first start-up and deferred strokes).
     std::size_t expected_tiles() const { return expected_.size(); }
     /// True after use_coarse_groups().
     bool coarse_groups() const { return coarse_ != nullptr; }
@@ -225,7 +251,7 @@ public:
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
     /// 0 once start-up's levels are all built, however busy a stroke keeps the worker. 0 before the first refresh.
     /// In a coarse-first start-up the tiles still expected count too.
-    std::size_t startup_lod_pending() const { return startup_waiting_.size() + expected_.size(); }
+    std::size_t startup_lod_pending() const { return startup_waiting_.size() + startup_expected(); }
 
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
@@ -290,8 +316,9 @@ private:
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
     // Coarse mode, in a refresh() that changed `changed` (fine tile ids): re-reads the coarsest kCoarseDepthsAtOnce
-    // models through them and rebuilds their groups' waiting levels; returns how many.
-    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed);
+    // models through them (down to kDeferredCoarseDepth when `deferred`) and rebuilds their groups' waiting levels;
+    // returns how many.
+    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool deferred);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
@@ -299,13 +326,21 @@ private:
     // level's error was measured before all their tiles were in, and whether the groups' flags need another pass.
     std::unordered_set<std::uint64_t> expected_;
     std::unordered_set<std::uint64_t> arrived_;
+    // Deferred strokes (defer_tiles): the expected tiles that are a stroke's, those of them arriving with the next
+    // refresh, and the changes the next refresh counts.
+    std::unordered_set<std::uint64_t> stroke_expected_;
+    std::unordered_set<std::uint64_t> stroke_arrived_;
+    std::vector<std::uint64_t> deferred_changes_;
+    std::size_t startup_expected() const { return expected_.size() - stroke_expected_.size(); }
+    bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;
     bool startup_groups_ = false;
     bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure
     std::vector<std::uint64_t> deferred_;  // arrived tiles whose level jobs wait until no tile is expected
     void queue_deferred_tiles();           // background: jobs for deferred_ (start-up's)
     // Coarse-first: per groups_ entry, true when every tile under it is in tiles_ (none expected).
-    std::vector<bool> groups_refined() const;
+    // startup_only: as if no stroke's tile were expected (defer_tiles).
+    std::vector<bool> groups_refined(bool startup_only = false) const;
     // Coarse-first: sets each group's children_cover and re-measures the error of up to
     // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
     void update_startup_groups();

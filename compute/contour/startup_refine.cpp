@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "compute/contour/deferred_contour.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -145,11 +146,16 @@ std::size_t StartupRefiner::mark_box(TriDexel& model, std::array<int, 3> lo, std
     return marked;
 }
 
+void StartupRefiner::contour(TriDexel& model, Contourer& contourer) {
+    if (beside_) beside_->take_dirty(model);  // the deferred tiles beside these go with them, once
+    contourer.update(model);
+}
+
 std::size_t StartupRefiner::refine_next(TriDexel& model, Contourer& contourer) {
     while (next_ < order_.size()) {
         const std::size_t marked = mark_region(model, order_[next_++]);
         if (marked == 0) continue;  // a change refined it already
-        contourer.update(model);
+        contour(model, contourer);
         return marked;
     }
     return 0;
@@ -165,7 +171,7 @@ std::size_t StartupRefiner::refine_group(TriDexel& model, Contourer& contourer, 
         hi[a] = (coords[a] + 1) * span;
     }
     const std::size_t marked = mark_box(model, lo, hi);
-    if (marked > 0) contourer.update(model);
+    if (marked > 0) contour(model, contourer);
     return marked;
 }
 
@@ -213,7 +219,7 @@ std::size_t StartupRefiner::finish(TriDexel& model, Contourer& contourer) {
             ++marked;
         }
     next_ = order_.size();
-    if (marked > 0) contourer.update(model);
+    if (marked > 0) contour(model, contourer);
     return marked;
 }
 

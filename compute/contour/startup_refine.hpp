@@ -15,6 +15,8 @@
 
 namespace tridex::compute {
 
+class DeferredContour;
+
 /// Contours a freshly loaded model at full resolution a region at a time, so that a first mesh can be published
 /// before any tile is contoured (from coarse group levels, TileSurfaceCache::use_coarse_groups) and the tiles then
 /// replace it region by region.
@@ -63,6 +65,11 @@ public:
     std::size_t contour_with_change(TriDexel& model, const std::vector<std::uint64_t>& tiles);
     /// Contours every pending tile. Returns how many. Throws as Contourer::update.
     std::size_t finish(TriDexel& model, Contourer& contourer);
+    /// From now on, before each contour it makes, the deferred tiles of `deferral` within one tile of the tiles it
+    /// contours are contoured with them (DeferredContour::take_dirty): a stroke's tiles it would contour anyway are
+    /// contoured once, not again by the deferral, and its region can be drawn without waiting for them. `deferral`
+    /// must outlive this refiner; nullptr: none.
+    void contour_beside(DeferredContour* deferral) { beside_ = deferral; }
 
     /// `contourer` seen through the refiner: a tile that is not publishable has no triangles. Valid while both live.
     class Source final : public TileMeshSource {
@@ -84,6 +91,8 @@ public:
     };
 
 private:
+    void contour(TriDexel& model, Contourer& contourer);  // Contourer::update after contour_beside's deferral
+    DeferredContour* beside_ = nullptr;
     std::array<int, 3> coords(std::size_t t) const;
     std::vector<std::uint8_t> near_surface(const TriDexel& model) const;  // per tile: may hold surface
     std::size_t index(int x, int y, int z) const;

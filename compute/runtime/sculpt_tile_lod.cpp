@@ -50,6 +50,10 @@ void SculptThread::arm_tile_lod(const compute::LodWorkerOptions& options) {
     if (refiner_) worker.startup_nice = worker.nice;
     tile_cache_.build_lods_in_background(worker);
     if (gpu_contour_) gpu_contour_->read_back_tiles();
+    count_deferred();
+    deferral_.reset();
+    if (coarse && options.stroke_coarse) deferral_ = std::make_unique<compute::DeferredContour>(model_.tiles.tiles);
+    if (refiner_) refiner_->contour_beside(deferral_.get());
 }
 
 void SculptThread::refine_on_demand(compute::DetailRequests& requests) {
@@ -69,11 +73,39 @@ void SculptThread::collect_lods() {
 }
 
 
+std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
+    std::size_t refined = 0;
+    for (const std::uint64_t id : detail_->take()) {
+        if (!in_slice()) break;
+        // A group whose children cover it now (a finer depth was read since the frame asked) is left to them.
+        const compute::TileGroupSurface* g = compute::find_by_id(tile_cache_.groups(), id);
+        if (!g || g->children_cover) continue;
+        // A large group a block of block_depth at a time, so that the slice bounds the pass (a depth-4 group holds
+        // hundreds of surface tiles); blocks already contoured cost a scan of their tiles.
+        const int depth = std::min(g->depth, block_depth), per = 1 << (g->depth - depth);
+        for (int z = 0; z < per && in_slice(); ++z)
+            for (int y = 0; y < per && in_slice(); ++y)
+                for (int x = 0; x < per && in_slice(); ++x) {
+                    const std::array<int, 3> c{g->coords[0] * per + x, g->coords[1] * per + y, g->coords[2] * per + z};
+                    if (refiner_ && !refiner_->done()) {
+                        const std::size_t n = refiner_->refine_group(model_, contourer_, depth, c);
+                        stats_.startup_tiles_refined += n;
+                        refined += n;
+                    }
+                    if (deferral_) refined += deferral_->contour_group(model_, contourer_, depth, c);
+                }
+    }
+    return refined;
+}
+
 void SculptThread::refine_startup(bool finish) {
-    if (!refiner_ || refiner_->done()) return;
+    const bool startup = refiner_ && !refiner_->done();
+    const bool deferred = deferral_ && deferral_->count() > 0;
+    if (!startup && !deferred) return;
     if (finish) {
-        stats_.startup_tiles_refined += refiner_->finish(model_, contourer_);
-    } else if (history_->stroke_open() || !tile_cache_.build_coarse_depth()) {
+        if (startup) stats_.startup_tiles_refined += refiner_->finish(model_, contourer_);
+        if (deferred) deferral_->contour_all(model_, contourer_);
+    } else if (!startup || history_->stroke_open() || !tile_cache_.build_coarse_depth()) {
         // The finer coarse depths first (frames draw their levels once tiles arrive), but never while a stroke is
         // open: reading depth 1 of a fine model holds the thread for seconds, and the stroke's samples would wait.
         // Regions until kRefineSliceS has passed: a mesh publish per region would cost about as much as the region.
@@ -82,46 +114,59 @@ void SculptThread::refine_startup(bool finish) {
         const double slice_s = stroke ? kRefineStrokeSliceS : kRefineSliceS;
         const int block_depth = stroke ? kRefineStrokeBlockDepth : kRefineBlockDepth;
         const auto in_slice = [&] {
-            return !refiner_->done() &&
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
         };
-        if (detail_) {  // only the groups the frames asked for; the rest again when a frame asks for it
-            std::size_t refined = 0;
-            for (const std::uint64_t id : detail_->take()) {
-                if (!in_slice()) break;
-                // A group whose children cover it now (a finer depth was read since the frame asked) is left to them.
-                const compute::TileGroupSurface* g = compute::find_by_id(tile_cache_.groups(), id);
-                if (!g || g->children_cover) continue;
-                // A large group a block of block_depth at a time, so that the slice bounds the pass (a depth-4
-                // group holds hundreds of surface tiles); blocks already contoured cost a scan of their tiles.
-                const int depth = std::min(g->depth, block_depth), per = 1 << (g->depth - depth);
-                for (int z = 0; z < per && in_slice(); ++z)
-                    for (int y = 0; y < per && in_slice(); ++y)
-                        for (int x = 0; x < per && in_slice(); ++x) {
-                            const std::array<int, 3> c{g->coords[0] * per + x, g->coords[1] * per + y, g->coords[2] * per + z};
-                            refined += refiner_->refine_group(model_, contourer_, depth, c);
-                        }
-            }
-            stats_.startup_tiles_refined += refined;
-            if (refined == 0) return;  // nothing new to publish
-        } else {
-            if (stroke) return;  // a region (up to 8x8x8 tiles) is not split: it waits for the stroke's close
+        std::size_t refined = 0;
+        // Only the groups the frames asked for; the rest of start-up's again when a frame asks for it.
+        if (detail_) refined += refine_requested(in_slice, block_depth);
+        if (!stroke && startup && !detail_) {  // a region (up to 8x8x8 tiles) is not split: it waits for the close
             do {
-                stats_.startup_tiles_refined += refiner_->refine_next(model_, contourer_);
-            } while (in_slice());
+                const std::size_t n = refiner_->refine_next(model_, contourer_);
+                stats_.startup_tiles_refined += n;
+                refined += n;
+            } while (!refiner_->done() && in_slice());
         }
+        // A stroke's deferred tiles once it closed, oldest first, whether or not a frame asks for them: a save or an
+        // export of the mesh reads them, and their levels of detail follow.
+        while (!stroke && deferral_ && deferral_->count() > 0 && in_slice()) {
+            refined += deferral_->contour_oldest(model_, contourer_, kDeferredTilesPerBatch);
+        }
+        if (refined == 0 && !(startup && refiner_->done())) return;  // nothing new to publish
     }
     if (mesh_out_) mesh_pending_ = true;
 }
 
+void SculptThread::count_deferred() {
+    if (deferral_) stats_.deferred_tiles_contoured += deferral_->take_released();
+}
+
 void SculptThread::refresh_tile_cache() {
-    if (!refiner_) {
+    if (!refiner_ && !deferral_) {
         tile_cache_.refresh(contourer_);
         return;
     }
-    tile_cache_.arrive(refiner_->take_newly_publishable());
-    tile_cache_.refresh(compute::StartupRefiner::Source(contourer_, *refiner_));
-    if (refiner_->done()) refiner_.reset();  // every tile is in: the next publish counts as refined
+    // A tile arrives once neither the start-up's refinement nor the deferral hides it; each reports a tile once, when
+    // it stops hiding it, so a tile the other still hides arrives with the other's report.
+    std::vector<std::uint64_t> arrivals;
+    if (refiner_)
+        for (const std::uint64_t t : refiner_->take_newly_publishable())
+            if (!deferral_ || !deferral_->hidden(t)) arrivals.push_back(t);
+    if (deferral_)
+        for (const std::uint64_t t : deferral_->take_visible())
+            if (!refiner_ || refiner_->publishable(t)) arrivals.push_back(t);
+    std::sort(arrivals.begin(), arrivals.end());
+    arrivals.erase(std::unique(arrivals.begin(), arrivals.end()), arrivals.end());
+    tile_cache_.arrive(arrivals);
+    count_deferred();
+    const compute::ContourerTiles whole(contourer_);
+    if (refiner_) {
+        const compute::StartupRefiner::Source startup(contourer_, *refiner_);
+        if (deferral_) tile_cache_.refresh(compute::DeferredContour::Source(startup, *deferral_));
+        else tile_cache_.refresh(startup);
+        if (refiner_->done()) refiner_.reset();  // every tile is in: the next publish counts as refined
+    } else {
+        tile_cache_.refresh(compute::DeferredContour::Source(whole, *deferral_));
+    }
 }
 
 }  // namespace tridex::app

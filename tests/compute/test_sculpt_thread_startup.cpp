@@ -32,18 +32,22 @@ struct Ended {
     SculptStats stats;
 };
 
-// Per-tile meshes published to `meshes` with coarse group levels at every size: coarse first or not.
-void use_coarse_tiles(SculptThread& t, const compute::TriDexel& m, bool coarse_first, TripleBuffer<MeshFrame>& meshes) {
+// Per-tile meshes published to `meshes` with coarse group levels at every size: coarse first or not, strokes drawn
+// coarse or not.
+void use_coarse_tiles(SculptThread& t, const compute::TriDexel& m, bool coarse_first, TripleBuffer<MeshFrame>& meshes,
+                      bool stroke_coarse = false) {
     compute::LodWorkerOptions lod;
     lod.lod.cell_m = m.lattice.cell_m;
     lod.coarse_groups_from_cells = 1;
     lod.coarse_first = coarse_first;
+    lod.stroke_coarse = stroke_coarse;
     t.use_tile_lod(lod);
     t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
 }
 
-// A session with per-tile meshes and coarse group levels: coarse first or everything contoured first.
-Ended session(bool coarse_first) {
+// A session with per-tile meshes and coarse group levels: coarse first or everything contoured first; strokes drawn
+// coarse or contoured at every step.
+Ended session(bool coarse_first, bool stroke_coarse = false) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);
     if (!coarse_first) contourer.update(m);
@@ -51,7 +55,7 @@ Ended session(bool coarse_first) {
     TripleBuffer<ActiveSurface> surface;
     TripleBuffer<MeshFrame> meshes;
     SculptThread t(m, contourer, ring, surface, Vec3(0.0, 0.0, 0.07));
-    use_coarse_tiles(t, m, coarse_first, meshes);
+    use_coarse_tiles(t, m, coarse_first, meshes, stroke_coarse);
     Ended e;
     e.first = meshes.latest();
     t.start();
@@ -155,6 +159,28 @@ TEST(SculptThreadStartup, OnDemandContoursOnlyTheGroupsAskedForUntilStop) {
     all.update(whole);
     EXPECT_EQ(contourer.mesh().positions, all.mesh().positions);
     EXPECT_EQ(contourer.mesh().triangles, all.mesh().triangles);
+}
+
+// A stroke drawn coarse: its tiles wait while it is open and are contoured after it (stop() contours what is left);
+// the session ends with the same contour and tiles, bit for bit, as one that contoured every step, with a full or a
+// coarse-first start-up.
+TEST(SculptThreadStartup, AStrokeDrawnCoarseEndsWithTheContourOfEveryStep) {
+    const Ended every = session(false, false);
+    EXPECT_EQ(every.stats.tiles_deferred, 0u);
+    for (const bool coarse_first : {false, true}) {
+        const Ended coarse = session(coarse_first, true);
+        EXPECT_GT(coarse.stats.steps, 0u);
+        EXPECT_GT(coarse.stats.tiles_deferred, 0u) << "coarse first " << coarse_first;
+        EXPECT_GT(coarse.stats.deferred_tiles_contoured, 0u) << "coarse first " << coarse_first;
+        EXPECT_EQ(coarse.mesh.positions, every.mesh.positions) << "coarse first " << coarse_first;
+        EXPECT_EQ(coarse.mesh.triangles, every.mesh.triangles) << "coarse first " << coarse_first;
+        ASSERT_EQ(coarse.last.tiles.size(), every.last.tiles.size()) << "coarse first " << coarse_first;
+        for (std::size_t i = 0; i < coarse.last.tiles.size(); ++i) {
+            EXPECT_EQ(coarse.last.tiles[i]->id, every.last.tiles[i]->id);
+            EXPECT_EQ(coarse.last.tiles[i]->mesh.triangles.size(), every.last.tiles[i]->mesh.triangles.size());
+        }
+        for (const auto& g : coarse.last.groups) EXPECT_TRUE(g->children_cover) << g->id;
+    }
 }
 
 TEST(SculptThreadStartup, CoarseFirstNeedsCoarseGroups) {

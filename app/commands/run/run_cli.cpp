@@ -91,6 +91,12 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "contoured (coarse), or every tile is contoured before the first frame (full)")
         ->check(CLI::IsMember({"coarse", "full"}))
         ->capture_default_str();
+    cmd->add_option("--stroke-contour", o.stroke_contour,
+                    "coarse | full (default coarse): with coarse group levels, while a stroke is open its tiles wait "
+                    "and the coarse levels over them draw it, and the tiles are contoured once it closes or where a "
+                    "frame asks for more detail (coarse), or every step contours its tiles at full resolution (full)")
+        ->check(CLI::IsMember({"coarse", "full"}))
+        ->capture_default_str();
     cmd->add_option("--ao", o.ao,
                     "on | off: ambient occlusion (cuts shaded darker, edges brighter; default: the display config's "
                     "ambient_occlusion, on); key O toggles it in a window")

@@ -96,6 +96,8 @@ struct RunOptions {
     /// "coarse": with coarse group levels, the first mesh holds the coarsest levels and the tiles are contoured after
     /// it, region by region; "full": every tile is contoured before the first mesh (docs/design/lod.md).
     std::string startup = "coarse";
+    /// --stroke-contour: coarse | full (SculptOptions::stroke_coarse).
+    std::string stroke_contour = "coarse";
     /// "on" | "off": screen-space ambient occlusion (cuts darker, edges brighter); "" = the display config's
     /// ambient_occlusion (on unless it says false). Key O toggles it in a window.
     std::string ao;

@@ -116,8 +116,10 @@ void RunPipeline::Parts::open_backend() {
     sculpt_options.tile_lod = su.lod && su.tiles;
     sculpt_options.coarse_groups_from_cells = su.coarse_groups_from_cells;
     sculpt_options.coarse_first = su.coarse_first;
-    // A coarse-first start-up contours the tiles the frames ask for (they draw the coarse levels everywhere else).
-    if (su.coarse_first) sculpt_options.sculpt_setup.push_back([this](SculptThread& t) { t.refine_on_demand(detail); });
+    sculpt_options.stroke_coarse = su.stroke_coarse;
+    // A coarse-first start-up and a stroke drawn coarse contour the tiles the frames ask for (they draw the coarse
+    // levels everywhere else).
+    if (su.coarse_first || su.stroke_coarse) sculpt_options.sculpt_setup.push_back([this](SculptThread& t) { t.refine_on_demand(detail); });
     sculpt_options.gpu_clay = su.gpu_clay;
     sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.

@@ -102,6 +102,9 @@ RunSetup resolve_run(const RunOptions& o) {
     if (o.startup != "coarse" && o.startup != "full")
         throw Error("--startup: must be coarse or full, got '" + o.startup + "'");
     s.coarse_first = o.startup == "coarse";
+    if (o.stroke_contour != "coarse" && o.stroke_contour != "full")
+        throw Error("--stroke-contour: must be coarse or full, got '" + o.stroke_contour + "'");
+    s.stroke_coarse = o.stroke_contour == "coarse";
     if (!o.ao.empty() && o.ao != "on" && o.ao != "off") throw Error("--ao: must be on or off, got '" + o.ao + "'");
     s.record = o.record;
     if (!s.record.empty()) check_output_file(s.record, "--record");

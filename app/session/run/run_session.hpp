@@ -53,6 +53,8 @@ struct RunSetup {
     int coarse_groups_from_cells = compute::kCoarseGroupsFromCells;
     /// With coarse groups: the tiles are contoured after a first mesh of coarse levels (--startup coarse, default).
     bool coarse_first = true;
+    /// With coarse groups: a stroke's tiles wait while it is open, drawn by the coarse levels (--stroke-contour).
+    bool stroke_coarse = true;
     bool ao = true;                 ///< ambient occlusion at the start (--ao, else the display config's; key O toggles)
     std::string ao_sculpting = "auto";  ///< --ao-while-sculpting: on | off | auto (RunOptions::ao_sculpting)
     double frame_target_ms = 25.0;  ///< the frame-time budget's target, ms (--frame-target-ms; 0 = none)

@@ -156,6 +156,7 @@ void SessionRuntime::build(const Vec3& start_m, const RuntimeOptions& o) {
         lod.lod.cell_m = wp_.model.lattice.cell_m;
         lod.coarse_groups_from_cells = o.sculpt.coarse_groups_from_cells;
         lod.coarse_first = coarse_first_;
+        lod.stroke_coarse = o.sculpt.stroke_coarse;
         sculpt_->use_tile_lod(lod);
         sculpt_->coarse_first_on_lattice_change(o.sculpt.coarse_first);
     }

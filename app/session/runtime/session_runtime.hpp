@@ -73,6 +73,9 @@ struct SculptOptions {
     /// holds the coarsest group levels and the sculpt thread contours the tiles after it, region by region
     /// (compute::LodWorkerOptions::coarse_first; docs/design/lod.md, "Coarse first at start-up").
     bool coarse_first = true;
+    /// With tile_lod and coarse groups on the CPU contour: a stroke's tiles wait while it is open and the coarse levels
+    /// over them draw it (compute::LodWorkerOptions::stroke_coarse; docs/design/lod.md, "Strokes drawn coarse").
+    bool stroke_coarse = true;
     /// A recording streamed to disk while the session runs (TickStream: no length limit, bounded memory), written to
     /// this path by tick_stream()->finish() after stop(); "" = none (a recording, if any, is written from records()).
     std::string stream_recording{};
