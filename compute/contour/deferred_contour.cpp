@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 
+#include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -100,14 +101,8 @@ std::size_t DeferredContour::contour_oldest(TriDexel& model, Contourer& contoure
 
 std::size_t DeferredContour::contour_group(TriDexel& model, Contourer& contourer, int depth,
                                            const std::array<int, 3>& coords) {
-    if (depth < 1 || depth > 6 || count_ == 0) return 0;
-    const int span = 1 << depth;
-    std::array<int, 3> lo{}, hi{};  // the group's tiles grown by one
-    for (int a = 0; a < 3; ++a) {
-        if (coords[a] < 0 || coords[a] * span >= dims_[a]) return 0;
-        lo[a] = coords[a] * span - 1;
-        hi[a] = (coords[a] + 1) * span;
-    }
+    std::array<int, 3> lo{}, hi{};
+    if (count_ == 0 || !group_tiles_grown(dims_, depth, coords, lo, hi)) return 0;
     const std::size_t marked = release_box(model, lo, hi);
     if (marked > 0) contourer.update(model);
     return marked;

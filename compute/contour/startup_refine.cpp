@@ -6,6 +6,7 @@
 #include <string>
 
 #include "compute/contour/deferred_contour.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -162,14 +163,8 @@ std::size_t StartupRefiner::refine_next(TriDexel& model, Contourer& contourer) {
 }
 
 std::size_t StartupRefiner::refine_group(TriDexel& model, Contourer& contourer, int depth, const std::array<int, 3>& coords) {
-    if (depth < 1 || depth > 6) return 0;
-    const int span = 1 << depth;
-    std::array<int, 3> lo{}, hi{};  // the group's tiles grown by one
-    for (int a = 0; a < 3; ++a) {
-        if (coords[a] < 0 || coords[a] * span >= dims_[a]) return 0;
-        lo[a] = coords[a] * span - 1;
-        hi[a] = (coords[a] + 1) * span;
-    }
+    std::array<int, 3> lo{}, hi{};
+    if (!group_tiles_grown(dims_, depth, coords, lo, hi)) return 0;
     const std::size_t marked = mark_box(model, lo, hi);
     if (marked > 0) contour(model, contourer);
     return marked;

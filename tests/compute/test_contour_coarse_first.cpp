@@ -19,17 +19,13 @@ namespace {
 
 using namespace testing;
 
-const Vec3 kCentre(64.31, 63.83, 64.07);  // grid units on a 128-cell cube lattice
-constexpr double kRadius = 48.6;
+const Vec3 kCentre = kOffCentre;  // grid units on a 128-cell cube lattice
+constexpr double kRadius = kOffCentreRadius;
 constexpr int kTop = CoarseLevelOptions{}.max_depth;
 // Regions of 2x2x2 tiles: the sphere's 8x8x8 tiles are one depth-3 region, sessions refine by depth-3 groups.
 constexpr int kRegionDepth = 1;
 
-TriDexel sphere_model() {
-    TriDexel m = empty_model(cube_lattice(128));
-    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kCentre, kRadius, a, u, v); });
-    return m;
-}
+TriDexel sphere_model() { return off_centre_sphere(); }
 
 // A cut across the sphere's +x side, away from the lattice's origin corner where the refinement starts.
 void cut(TriDexel& m) {

@@ -21,14 +21,10 @@ namespace {
 
 using namespace testing;
 
-const Vec3 kCentre(64.31, 63.83, 64.07);  // grid units on a 128-cell cube lattice
-constexpr double kRadius = 48.6;
+const Vec3 kCentre = kOffCentre;  // grid units on a 128-cell cube lattice
+constexpr double kRadius = kOffCentreRadius;
 
-TriDexel sphere_model() {
-    TriDexel m = empty_model(cube_lattice(128));
-    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kCentre, kRadius, a, u, v); });
-    return m;
-}
+TriDexel sphere_model() { return off_centre_sphere(); }
 
 // Coarse levels at depths 1-3 (the default).
 CoarseLevelOptions every_depth() { return CoarseLevelOptions{}; }

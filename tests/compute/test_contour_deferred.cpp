@@ -19,14 +19,10 @@ namespace {
 
 using namespace testing;
 
-const Vec3 kCentre(64.31, 63.83, 64.07);  // grid units on a 128-cell cube lattice
-constexpr double kRadius = 48.6;
+const Vec3 kCentre = kOffCentre;  // grid units on a 128-cell cube lattice
+constexpr double kRadius = kOffCentreRadius;
 
-TriDexel sphere_model() {
-    TriDexel m = empty_model(cube_lattice(128));
-    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kCentre, kRadius, a, u, v); });
-    return m;
-}
+TriDexel sphere_model() { return off_centre_sphere(); }
 
 // Cut k of a groove across the sphere's +z cap: a ball of 10 cells swept over a fifth of the path each.
 void cut(TriDexel& m, int k) {

@@ -61,6 +61,18 @@ inline std::vector<Interval> sphere_chord(const Vec3& c, double r, int a, int u,
     return {Interval{static_cast<float>(c[a] - half), static_cast<float>(c[a] + half)}};
 }
 
+/// The sphere of the coarse-level tests: centre off the lattice's nodes (grid units on a 128-cell cube lattice) and
+/// radius, cells.
+inline const Vec3 kOffCentre(64.31, 63.83, 64.07);
+inline constexpr double kOffCentreRadius = 48.6;
+
+/// That sphere on a 128-cell cube lattice, every tile dirty.
+inline TriDexel off_centre_sphere() {
+    TriDexel m = empty_model(cube_lattice(128));
+    fill_rays(m, [](int a, int u, int v) { return sphere_chord(kOffCentre, kOffCentreRadius, a, u, v); });
+    return m;
+}
+
 /// Exact chord of the axis-aligned box [lo, hi] (grid units) along ray (u, v) of set a.
 inline std::vector<Interval> box_chord(const Vec3& lo, const Vec3& hi, int a, int u, int v) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
