@@ -10,8 +10,8 @@
 namespace tridex::compute {
 
 DeferredContour::DeferredContour(const std::array<int, 3>& tiles) : dims_(tiles) {
-    const std::size_t n = static_cast<std::size_t>(std::max(0, tiles[0])) * static_cast<std::size_t>(std::max(0, tiles[1])) *
-                          static_cast<std::size_t>(std::max(0, tiles[2]));
+    std::size_t n = 1;
+    for (const int k : tiles) n *= static_cast<std::size_t>(std::max(0, k));
     deferred_.assign(n, 0);
     touched_.assign(n, 0);
     near_.assign(n, 0);

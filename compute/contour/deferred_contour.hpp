@@ -53,7 +53,9 @@ public:
     /// True while tile t's contour waits (false for out-of-range t).
     bool deferred(std::size_t t) const { return t < deferred_.size() && deferred_[t] != 0; }
     /// True while tile t may not be drawn: its contour waits, or it was deferred and a neighbour's still waits.
-    bool hidden(std::size_t t) const { return t < deferred_.size() && (deferred_[t] != 0 || (touched_[t] && near_[t] > 0)); }
+    bool hidden(std::size_t t) const {
+        return t < deferred_.size() && (deferred_[t] != 0 || (touched_[t] != 0 && near_[t] > 0));
+    }
     /// Tiles whose contour waits.
     std::size_t count() const { return count_; }
     /// The tiles hidden since defer() that may be drawn again since the last call, ascending, each once.

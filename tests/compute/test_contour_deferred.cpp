@@ -19,21 +19,18 @@ namespace {
 
 using namespace testing;
 
-const Vec3 kCentre = kOffCentre;  // grid units on a 128-cell cube lattice
-constexpr double kRadius = kOffCentreRadius;
-
-TriDexel sphere_model() { return off_centre_sphere(); }
-
 // Cut k of a groove across the sphere's +z cap: a ball of 10 cells swept over a fifth of the path each.
 void cut(TriDexel& m, int k) {
     const Lattice& L = m.lattice;
-    const auto at = [&](double u) { return L.to_world(kCentre + Vec3(-30.0 + 60.0 * u, 8.0 * u, kRadius - 4.0)); };
+    const auto at = [&](double u) {
+        return L.to_world(kOffCentre + Vec3(-30.0 + 60.0 * u, 8.0 * u, kOffCentreRadius - 4.0));
+    };
     subtract_capsule(m, Segment{at(k / 5.0), at((k + 1) / 5.0)}, 10.0 * L.cell_m);
 }
 
 // The model contoured after every cut, and the same cuts with a deferral.
 struct Pair {
-    TriDexel ref_model = sphere_model(), model = sphere_model();
+    TriDexel ref_model = off_centre_sphere(), model = off_centre_sphere();
     Contourer ref{ref_model}, contourer{model};
     DeferredContour deferral{model.tiles.tiles};
     std::set<std::uint64_t> deferred, visible;
@@ -156,7 +153,7 @@ TEST(DeferredContour, AGroupAskedForIsDrawnWholeAtOnce) {
 // beside one never contoured is never drawn).
 TEST(DeferredContour, AStartUpsRefinementBesideADeferredStrokeDrawsOnlyCurrentTiles) {
     Pair p;
-    TriDexel fresh = sphere_model();  // the deferral's model, not contoured yet: a coarse-first start-up
+    TriDexel fresh = off_centre_sphere();  // the deferral's model, not contoured yet: a coarse-first start-up
     Contourer contourer(fresh);
     StartupRefiner refiner(fresh, 1, fresh.lattice.to_world(Vec3(0.0)));
     DeferredContour deferral(fresh.tiles.tiles);
@@ -200,7 +197,7 @@ TEST(DeferredContour, AStartUpsRefinementBesideADeferredStrokeDrawsOnlyCurrentTi
 
 TEST(DeferredContour, RefusesAModelOfAnotherGrid) {
     DeferredContour d({2, 2, 2});
-    TriDexel m = sphere_model();
+    TriDexel m = off_centre_sphere();
     EXPECT_THROW(d.defer(m), Error);
 }
 
