@@ -53,10 +53,10 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     return out;
 }
 
-std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool deferred) {
+std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool stroke_hidden) {
     const auto t0 = std::chrono::steady_clock::now();
     int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
-    if (deferred) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
+    if (stroke_hidden) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
     // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
     // nothing changed).
     coarse_->update(*coarse_model_, changed, from);

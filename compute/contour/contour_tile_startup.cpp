@@ -23,7 +23,7 @@ void TileSurfaceCache::defer_tiles(const std::vector<std::uint64_t>& ids) {
         expected_.insert(id);
         stroke_expected_.insert(id);
     }
-    deferred_changes_.insert(deferred_changes_.end(), ids.begin(), ids.end());
+    stroke_changes_.insert(stroke_changes_.end(), ids.begin(), ids.end());
     if (!ids.empty()) startup_groups_ = true;
 }
 

@@ -59,9 +59,9 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     }
     // Tiles rebuilt or gone: the groups over them lose their levels.
     // Tiles that arrive in a coarse-first start-up (arrive()) are not changes: no group level is dropped for them.
-    std::vector<std::uint64_t> changed = std::move(deferred_changes_);  // hidden by their source meanwhile
-    deferred_changes_.clear();
-    const bool deferred = !changed.empty();
+    std::vector<std::uint64_t> changed = std::move(stroke_changes_);  // hidden by their source meanwhile
+    stroke_changes_.clear();
+    const bool stroke_hidden = !changed.empty();
     for (const TileSurface& s : rebuilt)
         if (!arrived_.count(s.id)) changed.push_back(s.id);
     {
@@ -99,7 +99,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
     update_groups(contourer.tile_dims(), changed);
-    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed, deferred);
+    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed, stroke_hidden);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;

@@ -316,9 +316,9 @@ private:
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
     // Coarse mode, in a refresh() that changed `changed` (fine tile ids): re-reads the coarsest kCoarseDepthsAtOnce
-    // models through them (down to kDeferredCoarseDepth when `deferred`) and rebuilds their groups' waiting levels;
-    // returns how many.
-    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool deferred);
+    // models through them (down to kDeferredCoarseDepth when `stroke_hidden`: defer_tiles) and rebuilds their
+    // groups' waiting levels; returns how many.
+    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool stroke_hidden);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
@@ -330,7 +330,7 @@ private:
     // refresh, and the changes the next refresh counts.
     std::unordered_set<std::uint64_t> stroke_expected_;
     std::unordered_set<std::uint64_t> stroke_arrived_;
-    std::vector<std::uint64_t> deferred_changes_;
+    std::vector<std::uint64_t> stroke_changes_;
     std::size_t startup_expected() const { return expected_.size() - stroke_expected_.size(); }
     bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;

@@ -276,24 +276,23 @@ double SculptThread::contour_changed(const std::chrono::steady_clock::time_point
         stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
         model_.clear_dirty();
     } else {
-        // A coarse-first start-up: the tiles of the depth-1 groups the change reaches are contoured with it, so it is
-        // drawn at full resolution (StartupRefiner::contour_with_change); those it changed before their first contour
-        // are a stroke's, not start-up's.
-        // A stroke drawn coarse: its tiles wait, hidden; the coarse levels over them are rebuilt with the publish.
-        // Start-up's tiles among them stay the refinement's too (it hides them and their neighbours until it has
-        // contoured them), so no tile is drawn beside one never contoured.
-        const bool defer = deferral_ && mesh_out_ && mesh_form_ == MeshForm::kTiles && history_->stroke_open();
-        if (refiner_ && !refiner_->done() && !defer) {
-            const std::vector<std::uint32_t> d = model_.tiles.dirty_tiles();
-            const std::vector<std::uint64_t> dirty(d.begin(), d.end());
-            tile_cache_.stop_expecting(refiner_->pending_among(dirty));
-            stats_.startup_tiles_refined += refiner_->contour_with_change(model_, dirty);
-        }
-        if (defer) {
+        if (deferral_ && mesh_out_ && mesh_form_ == MeshForm::kTiles && history_->stroke_open()) {
+            // A stroke drawn coarse: its tiles wait, hidden; the coarse levels over them are rebuilt with the publish.
+            // Start-up's tiles among them stay the refinement's too (it hides them and their neighbours until it has
+            // contoured them), so no tile is drawn beside one never contoured.
             const std::vector<std::uint64_t> changed = deferral_->defer(model_);
             tile_cache_.defer_tiles(changed);
             stats_.tiles_deferred += changed.size();
         } else {
+            // A coarse-first start-up: the tiles of the depth-1 groups the change reaches are contoured with it, so it
+            // is drawn at full resolution (StartupRefiner::contour_with_change); those it changed before their first
+            // contour are a stroke's, not start-up's.
+            if (refiner_ && !refiner_->done()) {
+                const std::vector<std::uint32_t> d = model_.tiles.dirty_tiles();
+                const std::vector<std::uint64_t> dirty(d.begin(), d.end());
+                tile_cache_.stop_expecting(refiner_->pending_among(dirty));
+                stats_.startup_tiles_refined += refiner_->contour_with_change(model_, dirty);
+            }
             // Deferred tiles the change reaches are contoured with it: no tile borrows a vertex from an old contour.
             if (deferral_) deferral_->take_dirty(model_);
             stats_.tiles_recontoured += contourer_.update(model_);

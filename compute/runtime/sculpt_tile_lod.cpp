@@ -158,14 +158,13 @@ void SculptThread::refresh_tile_cache() {
     arrivals.erase(std::unique(arrivals.begin(), arrivals.end()), arrivals.end());
     tile_cache_.arrive(arrivals);
     count_deferred();
-    const compute::ContourerTiles whole(contourer_);
     if (refiner_) {
         const compute::StartupRefiner::Source startup(contourer_, *refiner_);
         if (deferral_) tile_cache_.refresh(compute::DeferredContour::Source(startup, *deferral_));
         else tile_cache_.refresh(startup);
         if (refiner_->done()) refiner_.reset();  // every tile is in: the next publish counts as refined
     } else {
-        tile_cache_.refresh(compute::DeferredContour::Source(whole, *deferral_));
+        tile_cache_.refresh(compute::DeferredContour::Source(compute::ContourerTiles(contourer_), *deferral_));
     }
 }
 
