@@ -53,17 +53,19 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     return out;
 }
 
-std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool stroke_hidden) {
+std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dims,
+                                                   const std::vector<std::uint64_t>& changed, bool stroke_hidden) {
     const auto t0 = std::chrono::steady_clock::now();
     int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
     if (stroke_hidden) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
     // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
     // nothing changed).
     coarse_->update(*coarse_model_, changed, from);
+    const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, changed);
     std::vector<std::uint64_t> ids;
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = static_cast<int>(id >> 56);
-        if (depth >= from && coarse_->has_depth(depth)) ids.push_back(id);
+        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0) ids.push_back(id);
     }
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());

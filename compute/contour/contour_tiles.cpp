@@ -99,7 +99,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
     update_groups(contourer.tile_dims(), changed);
-    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(changed, stroke_hidden);
+    if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(contourer.tile_dims(), changed, stroke_hidden);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;

@@ -315,10 +315,12 @@ private:
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
-    // Coarse mode, in a refresh() that changed `changed` (fine tile ids): re-reads the coarsest kCoarseDepthsAtOnce
-    // models through them (down to kDeferredCoarseDepth when `stroke_hidden`: defer_tiles) and rebuilds their
-    // groups' waiting levels; returns how many.
-    std::size_t rebuild_coarsest_now(const std::vector<std::uint64_t>& changed, bool stroke_hidden);
+    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles): re-reads the
+    // coarsest kCoarseDepthsAtOnce models through them (down to kDeferredCoarseDepth when `stroke_hidden`:
+    // defer_tiles) and rebuilds the waiting levels of those depths' groups within their reach (coarse_reach), not
+    // other waiting ones (a coarse-first start-up's, left to settle_coarse_levels); returns how many.
+    std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
+                                     bool stroke_hidden);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();

@@ -291,7 +291,8 @@ void SculptThread::close_stroke(std::optional<std::uint8_t> by_site) {
     // Plastic: the deformed surface is the new reference (held sweeps are pushes, so their change lands here too).
     // Removed specks leave the haptic window too, and the tail the sweep spacing left reaches it as a step's cut does.
     if (reference_moves || islands.specks > 0 || (tail_changed && !holding)) publish(published_centre_m_);
-    if (tail_changed || held.rays_changed > 0 || islands.specks > 0) contour_changed(t0, std::chrono::steady_clock::now());
+    if (tail_changed || held.rays_changed > 0 || islands.specks > 0)
+        contour_changed(t0, std::chrono::steady_clock::now(), was_open);
 }
 
 }  // namespace tridex::app

@@ -217,7 +217,16 @@ void SculptThread::run() {
             stats_.busy_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         }
         if (stopping && !worked) {  // the ring was drained after stop was asked
-            if (!failure_) close_stroke();  // the last stroke is a step too
+            if (!failure_) {
+                try {
+                    close_stroke();  // the last stroke is a step too
+                    // Its close's change (deferred as its steps were) reaches the contour and the renderer too.
+                    if (deferral_ && deferral_->count() > 0) refine_startup(true);
+                    publish_mesh_if_due(true);
+                } catch (...) {
+                    failure_ = std::current_exception();
+                }
+            }
             if (journal_) journal_->sync();
             stats_.history = history_->stats();
             return;
@@ -271,13 +280,15 @@ void SculptThread::record_mark(std::uint32_t type, std::uint64_t serial, std::ui
 }
 
 double SculptThread::contour_changed(const std::chrono::steady_clock::time_point& t0,
-                                     const std::chrono::steady_clock::time_point& t1) {
+                                     const std::chrono::steady_clock::time_point& t1, bool stroke_tail) {
     if (gpu_contour_) {
         stats_.tiles_recontoured += gpu_contour_->update_dirty(model_.tiles);
         model_.clear_dirty();
     } else {
-        if (deferral_ && mesh_out_ && mesh_form_ == MeshForm::kTiles && history_->stroke_open()) {
+        if (deferral_ && mesh_out_ && mesh_form_ == MeshForm::kTiles && (history_->stroke_open() || stroke_tail)) {
             // A stroke drawn coarse: its tiles wait, hidden; the coarse levels over them are rebuilt with the publish.
+            // Its tail (the change its close makes) too: contouring the deferred tiles beside it would hold the
+            // samples of the next stroke.
             // Start-up's tiles among them stay the refinement's too (it hides them and their neighbours until it has
             // contoured them), so no tile is drawn beside one never contoured.
             const std::vector<std::uint64_t> changed = deferral_->defer(model_);

@@ -408,9 +408,10 @@ private:
     // A stroke-end, undo or redo mark to the journal and the stream (then the stream's after_record).
     void record_mark(std::uint32_t type, std::uint64_t serial, std::uint64_t rays);
     // Re-contours the dirty tiles and records a changing step (Booleans from t0 to t1, then the contour); returns
-    // the contour's time, ms.
+    // the contour's time, ms. stroke_tail: the change ends a stroke just closed (close_stroke), so it is deferred as
+    // the stroke's own steps were.
     double contour_changed(const std::chrono::steady_clock::time_point& t0,
-                           const std::chrono::steady_clock::time_point& t1);
+                           const std::chrono::steady_clock::time_point& t1, bool stroke_tail = false);
     void checkpoint_if_due();
     void note_persistence();  // copies a new journal or checkpoint error into save_status_
     void publish(const Vec3& centre_m);

@@ -272,6 +272,31 @@ TEST(CoarseFirst, LevelsThatContourTheirCoarseTilesWaitWhileAStrokeIsOpen) {
     settle(s.cache);
 }
 
+// A stroke drawn coarse (defer_tiles) rebuilds at once the waiting levels of the groups within its reach, which draw
+// it, and leaves the other waiting levels of start-up's finer depths to settle between strokes.
+TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) {
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {
+    }
+    const auto waiting = [&](int depth, int x) {  // depth's groups on the x-th side (group coordinates) still waiting
+        std::vector<std::uint64_t> ids;
+        for (const TileGroupSurface& g : s.cache.groups())
+            if (g.depth == depth && g.coords[0] == x && g.lods.empty()) ids.push_back(g.id);
+        return ids;
+    };
+    const std::vector<std::uint64_t> far = waiting(2, 0), near = waiting(2, 1);
+    ASSERT_FALSE(far.empty());
+    ASSERT_FALSE(near.empty());
+    cut(s.model);  // on the +x side: the depth-2 groups at x = 1 are within its reach, those at x = 0 are not
+    const std::vector<std::uint32_t> d = s.model.tiles.dirty_tiles();
+    ASSERT_FALSE(d.empty());
+    s.model.clear_dirty();
+    s.cache.defer_tiles(std::vector<std::uint64_t>(d.begin(), d.end()));
+    s.refresh();
+    EXPECT_EQ(waiting(2, 0), far) << "a level out of the stroke's reach was rebuilt during it";
+    EXPECT_LT(waiting(2, 1).size(), near.size()) << "no level within the stroke's reach was rebuilt";
+}
+
 TEST(CoarseFirst, RefinerRefusesBadInputAndFinishesEverything) {
     TriDexel m = sphere_model();
     EXPECT_THROW(StartupRefiner(m, 0, Vec3(0.0)), Error);

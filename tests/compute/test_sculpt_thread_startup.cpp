@@ -45,9 +45,21 @@ void use_coarse_tiles(SculptThread& t, const compute::TriDexel& m, bool coarse_f
     t.publish_mesh_to(meshes, 0.0, MeshForm::kTiles);
 }
 
+// 100 samples each: a push stroke along the first third of the wavy path, a subtract stroke along the second, and
+// the first push again. A push's last group is held until its close: the subtract's first sample closes the first
+// push, stop() the second.
+std::vector<ToolSample> push_cut_push() {
+    std::vector<ToolSample> s = stream();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (i < 100 || i >= 200) s[i].op = ToolOp::kPush;
+        if (i >= 200) s[i].position = s[i - 200].position;
+    }
+    return s;
+}
+
 // A session with per-tile meshes and coarse group levels: coarse first or everything contoured first; strokes drawn
 // coarse or contoured at every step.
-Ended session(bool coarse_first, bool stroke_coarse = false) {
+Ended session(bool coarse_first, bool stroke_coarse = false, const std::vector<ToolSample>& samples = stream()) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);
     if (!coarse_first) contourer.update(m);
@@ -59,7 +71,7 @@ Ended session(bool coarse_first, bool stroke_coarse = false) {
     Ended e;
     e.first = meshes.latest();
     t.start();
-    for (const ToolSample& s : stream()) {  // a stroke while the tiles are being contoured
+    for (const ToolSample& s : samples) {  // strokes while the tiles are being contoured
         while (!ring.try_push(s)) std::this_thread::yield();
         std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -180,6 +192,25 @@ TEST(SculptThreadStartup, AStrokeDrawnCoarseEndsWithTheContourOfEveryStep) {
             EXPECT_EQ(coarse.last.tiles[i]->mesh.triangles.size(), every.last.tiles[i]->mesh.triangles.size());
         }
         for (const auto& g : coarse.last.groups) EXPECT_TRUE(g->children_cover) << g->id;
+    }
+}
+
+// The change a stroke's close makes (here a push's held group) is deferred as the stroke's steps were, not contoured
+// at the close with the deferred tiles beside it; the last stroke's, closed by stop(), too. Both sessions end with the
+// contour of one that contoured every change at once.
+TEST(SculptThreadStartup, AStrokesCloseIsDeferredTooAndStopContoursIt) {
+    const Ended every = session(false, false, push_cut_push());
+    EXPECT_GT(every.stats.tiles_recontoured, 0u);
+    const Ended coarse = session(false, true, push_cut_push());
+    EXPECT_EQ(coarse.stats.tiles_recontoured, 0u) << "no tile contoured at a step or a close";
+    EXPECT_GT(coarse.stats.tiles_deferred, 0u);
+    EXPECT_GT(coarse.stats.deferred_tiles_contoured, 0u);
+    EXPECT_EQ(coarse.mesh.positions, every.mesh.positions);
+    EXPECT_EQ(coarse.mesh.triangles, every.mesh.triangles);
+    ASSERT_EQ(coarse.last.tiles.size(), every.last.tiles.size());
+    for (std::size_t i = 0; i < coarse.last.tiles.size(); ++i) {
+        EXPECT_EQ(coarse.last.tiles[i]->id, every.last.tiles[i]->id);
+        EXPECT_EQ(coarse.last.tiles[i]->mesh.triangles.size(), every.last.tiles[i]->mesh.triangles.size());
     }
 }
 
