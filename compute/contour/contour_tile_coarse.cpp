@@ -63,15 +63,60 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     coarse_->update(*coarse_model_, changed, from);
     const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, changed);
     std::vector<std::uint64_t> ids;
+    if (stroke_hidden) ids = wanted_finer_groups(dims, from);
+    detail_wanted_.clear();
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = static_cast<int>(id >> 56);
         if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0) ids.push_back(id);
     }
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     const std::size_t built = rebuild_coarse_levels(ids);
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return built;
+}
+
+std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::array<int, 3>& dims, int from) {
+    std::vector<std::uint64_t> wanted = std::move(detail_wanted_);
+    detail_wanted_.clear();
+    std::sort(wanted.begin(), wanted.end());  // finest depth first (the depth is the id's top byte)
+    std::vector<std::uint64_t> finer;
+    int depth = from;
+    for (const std::uint64_t id : wanted) {
+        const std::size_t g = index_of(groups_, id);
+        if (g == groups_.size()) continue;
+        const int d = groups_[g].depth - 1;
+        if (d < std::max(coarse_->min_depth(), kDeferredDetailDepth) || !coarse_->has_depth(d)) continue;
+        for (const std::uint64_t c : groups_[g].children)
+            if (coarse_stale_.count(c) != 0 && finer.size() < kDeferredDetailLevels) {
+                finer.push_back(c);
+                depth = std::min(depth, d);
+            }
+    }
+    if (finer.empty()) return finer;
+    // The changed tiles whose coarse rays a level of those groups reads: within one group of them, at their depth.
+    constexpr int kT = TileGrid::kTileCells;
+    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
+    std::vector<std::uint64_t> tiles;
+    for (const std::uint64_t t : coarse_changed_) {
+        const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+        for (const std::uint64_t id : finer) {
+            const TileGroupSurface& group = groups_[index_of(groups_, id)];
+            const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;
+            bool near = true;
+            for (int a = 0; a < 3 && near; ++a)
+                near = tc[a] >= group.coords[a] * span - grow && tc[a] < (group.coords[a] + 1) * span + grow;
+            if (near) {
+                tiles.push_back(t);
+                break;
+            }
+        }
+    }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    coarse_->update(*coarse_model_, tiles, depth);  // the coarser depths find these rays read already
+    return finer;
 }
 
 std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open) {

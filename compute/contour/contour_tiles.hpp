@@ -206,7 +206,18 @@ public:
     void defer_tiles(const std::vector<std::uint64_t>& ids);
     /// The finest coarse depth whose levels a refresh() with deferred tiles rebuilds at once (when the coarse levels
     /// reach it; the coarsest depth otherwise): the stroke is drawn from these until its tiles arrive.
-    static constexpr int kDeferredCoarseDepth = 2;
+    static constexpr int kDeferredCoarseDepth = 3;
+    /// Groups a frame drew over its pixel bound because nothing under them could stand in
+    /// (renderer::FrameStats::groups_wanting_detail, through compute::DetailRequests). The next refresh() with
+    /// deferred tiles (defer_tiles) also rebuilds the waiting levels one depth under each, down to
+    /// kDeferredDetailDepth, re-reading that depth's coarse model around them first: a stroke is drawn finer than
+    /// kDeferredCoarseDepth only where a frame needs it, and start-up's waiting levels come where a frame needs
+    /// them though a stroke is open. Replaces the ids given before; unknown ids are ignored.
+    void want_detail(std::vector<std::uint64_t> group_ids) { detail_wanted_ = std::move(group_ids); }
+    /// The finest coarse depth want_detail() brings a stroke's groups to.
+    static constexpr int kDeferredDetailDepth = 2;
+    /// At most this many levels under the groups of want_detail() are rebuilt by a refresh() (the finest first).
+    static constexpr std::size_t kDeferredDetailLevels = 16;
     /// Expected tiles that the next refresh() may show (contoured with their neighbours,
     /// StartupRefiner::take_newly_publishable, DeferredContour::take_visible): they arrive as start-up's tiles, not as
     /// changes (no group level is dropped for them), and start-up's levels are queued once no start-up tile is
@@ -303,6 +314,7 @@ private:
     std::unique_ptr<CoarseGroupLevels> coarse_;
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
+    std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
     std::unordered_set<std::uint64_t> coarse_stale_;
     std::chrono::steady_clock::time_point coarse_changed_at_{};
     std::array<int, 3> coarse_dims_{};  // the tile grid's dimensions at the last refresh
@@ -321,6 +333,10 @@ private:
     // other waiting ones (a coarse-first start-up's, left to settle_coarse_levels); returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);
+    // Coarse mode, with a stroke's tiles hidden: up to kDeferredDetailLevels waiting groups one depth under those of
+    // detail_wanted_ (not finer than kDeferredDetailDepth), their depths' coarse models re-read through the changed
+    // tiles around them (coarse_changed_; `from` or finer); empties detail_wanted_. Returns their ids.
+    std::vector<std::uint64_t> wanted_finer_groups(const std::array<int, 3>& dims, int from);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
     std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();

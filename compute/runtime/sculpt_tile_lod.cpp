@@ -158,6 +158,8 @@ void SculptThread::refresh_tile_cache() {
     arrivals.erase(std::unique(arrivals.begin(), arrivals.end()), arrivals.end());
     tile_cache_.arrive(arrivals);
     count_deferred();
+    // While a stroke's tiles are hidden, the groups the frames drew over their bound get finer coarse levels.
+    if (deferral_ && detail_ && history_ && history_->stroke_open()) tile_cache_.want_detail(detail_->take());
     if (refiner_) {
         const compute::StartupRefiner::Source startup(contourer_, *refiner_);
         if (deferral_) tile_cache_.refresh(compute::DeferredContour::Source(startup, *deferral_));

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <utility>
 
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/startup_refine.hpp"
@@ -58,15 +59,16 @@ struct Full {
 
 // The coarse-first start-up, as the sculpt thread runs it.
 struct CoarseFirst {
-    TriDexel model = sphere_model();
+    TriDexel model;
     Contourer contourer{model};
     TileSurfaceCache cache;
     std::unique_ptr<StartupRefiner> refiner;
-    CoarseFirst() {
+    CoarseFirst() : CoarseFirst(sphere_model()) {}
+    explicit CoarseFirst(TriDexel m, const CoarseLevelOptions& levels = {}) : model(std::move(m)) {
         TileLodOptions o;
         o.cell_m = model.lattice.cell_m;
         cache.enable_lod(o);
-        cache.use_coarse_groups(model, CoarseLevelOptions{}, true);
+        cache.use_coarse_groups(model, levels, true);
         refiner = std::make_unique<StartupRefiner>(model, kRegionDepth, model.lattice.to_world(Vec3(0.0)));
         cache.expect_tiles(refiner->pending_tiles());
         refresh();
@@ -272,29 +274,88 @@ TEST(CoarseFirst, LevelsThatContourTheirCoarseTilesWaitWhileAStrokeIsOpen) {
     settle(s.cache);
 }
 
-// A stroke drawn coarse (defer_tiles) rebuilds at once the waiting levels of the groups within its reach, which draw
-// it, and leaves the other waiting levels of start-up's finer depths to settle between strokes.
-TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) {
-    CoarseFirst s;
-    while (s.cache.build_coarse_depth()) {
-    }
-    const auto waiting = [&](int depth, int x) {  // depth's groups on the x-th side (group coordinates) still waiting
-        std::vector<std::uint64_t> ids;
-        for (const TileGroupSurface& g : s.cache.groups())
-            if (g.depth == depth && g.coords[0] == x && g.lods.empty()) ids.push_back(g.id);
-        return ids;
-    };
-    const std::vector<std::uint64_t> far = waiting(2, 0), near = waiting(2, 1);
-    ASSERT_FALSE(far.empty());
-    ASSERT_FALSE(near.empty());
-    cut(s.model);  // on the +x side: the depth-2 groups at x = 1 are within its reach, those at x = 0 are not
+// Two spheres on a 384 x 128 x 128-cell lattice, in the first and the last of its three depth-3 groups along x.
+TriDexel two_spheres() {
+    Lattice L = cube_lattice(128);
+    L.cells[0] = 384;
+    TriDexel m = empty_model(L);
+    fill_rays(m, [&](int a, int u, int v) {
+        std::vector<Interval> ray = sphere_chord(kCentre, kRadius, a, u, v);
+        for (const Interval& i : sphere_chord(kCentre + Vec3(256.0, 0.0, 0.0), kRadius, a, u, v)) ray.push_back(i);
+        return ray;  // along x the first sphere's chord comes first
+    });
+    return m;
+}
+
+// Depth-d groups at group coordinate x whose level still waits.
+std::vector<std::uint64_t> waiting(const TileSurfaceCache& cache, int depth, int x) {
+    std::vector<std::uint64_t> ids;
+    for (const TileGroupSurface& g : cache.groups())
+        if (g.depth == depth && g.coords[0] == x && g.lods.empty()) ids.push_back(g.id);
+    return ids;
+}
+
+// What SculptThread does with a step while a stroke is drawn coarse: the change's tiles are deferred, then refreshed.
+void defer_cut(CoarseFirst& s, const Vec3& offset) {
+    const Lattice& L = s.model.lattice;
+    const Vec3 a = L.to_world(kCentre + offset + Vec3(kRadius, -10.0, 5.0));
+    const Vec3 b = L.to_world(kCentre + offset + Vec3(kRadius - 3.0, 12.0, -4.0));
+    subtract_capsule(s.model, Segment{a, b}, 6.0 * L.cell_m);
     const std::vector<std::uint32_t> d = s.model.tiles.dirty_tiles();
     ASSERT_FALSE(d.empty());
     s.model.clear_dirty();
     s.cache.defer_tiles(std::vector<std::uint64_t>(d.begin(), d.end()));
     s.refresh();
-    EXPECT_EQ(waiting(2, 0), far) << "a level out of the stroke's reach was rebuilt during it";
-    EXPECT_LT(waiting(2, 1).size(), near.size()) << "no level within the stroke's reach was rebuilt";
+}
+
+// A stroke drawn coarse (defer_tiles) rebuilds at once the waiting levels down to kDeferredCoarseDepth of the groups
+// within its reach, which draw it, and leaves the other waiting levels of start-up's finer depths to settle between
+// strokes.
+TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) {
+    const int depth = TileSurfaceCache::kDeferredCoarseDepth;
+    ASSERT_EQ(depth, 3) << "the two spheres lie in two groups of this depth";
+    CoarseLevelOptions levels;
+    levels.max_depth = depth + 1;  // as the sessions': the depth-3 levels wait for their depth's read
+    CoarseFirst s(two_spheres(), levels);
+    while (s.cache.build_coarse_depth()) {
+    }
+    const std::vector<std::uint64_t> far = waiting(s.cache, depth, 0), near = waiting(s.cache, depth, 2);
+    ASSERT_FALSE(far.empty());
+    ASSERT_FALSE(near.empty());
+    defer_cut(s, Vec3(256.0, 0.0, 0.0));  // the second sphere's +x side: far from the group at x = 0
+    EXPECT_EQ(waiting(s.cache, depth, 0), far) << "a level out of the stroke's reach was rebuilt during it";
+    EXPECT_LT(waiting(s.cache, depth, 2).size(), near.size()) << "no level within the stroke's reach was rebuilt";
+}
+
+// During a stroke drawn coarse, the levels under kDeferredCoarseDepth wait, except under the groups a frame asks
+// finer ones for (want_detail): those are rebuilt with the next refresh, up to kDeferredDetailLevels.
+TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {
+    const int depth = TileSurfaceCache::kDeferredDetailDepth;
+    ASSERT_EQ(depth + 1, TileSurfaceCache::kDeferredCoarseDepth);
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {
+    }
+    const auto all = [&] {
+        std::vector<std::uint64_t> ids = waiting(s.cache, depth, 0), more = waiting(s.cache, depth, 1);
+        ids.insert(ids.end(), more.begin(), more.end());
+        return ids;
+    };
+    const std::vector<std::uint64_t> before = all();
+    ASSERT_FALSE(before.empty());
+    ASSERT_LE(before.size(), TileSurfaceCache::kDeferredDetailLevels);
+    defer_cut(s, Vec3(0.0));
+    EXPECT_EQ(all(), before) << "a level finer than the stroke's depth was rebuilt though no frame asked";
+    std::vector<std::uint64_t> top;
+    for (const TileGroupSurface& g : s.cache.groups())
+        if (g.depth == depth + 1) top.push_back(g.id);
+    ASSERT_EQ(top.size(), 1u);
+    s.cache.want_detail(top);
+    defer_cut(s, Vec3(0.0, 0.0, -3.0));
+    EXPECT_TRUE(all().empty()) << all().size() << " of the asked group's " << before.size() << " levels still wait";
+    for (const TileGroupSurface& g : s.cache.groups())
+        if (g.depth == depth && !g.lods.empty()) {
+            EXPECT_GT(g.lods.front().error_m, 0.0) << g.id;
+        }
 }
 
 TEST(CoarseFirst, RefinerRefusesBadInputAndFinishesEverything) {

@@ -94,7 +94,8 @@ std::vector<ReportField> render_fields() {
         {"render.lod",
          "run: tile levels of detail {on, tiles_built, groups_built, discarded (builds thrown away: their tile or "
          "group had changed again), build_ms, pending_at_end, "
-         "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, tile_triangles_per_frame}; null "
+         "all_built_after_first_frame_ms, latency {count, median_ms, p99_ms, max_ms}, frames_over_bound (frames that "
+         "drew a group over its pixel bound: nothing under it could stand in yet), tile_triangles_per_frame}; null "
          "otherwise"},
         {"render.startup",
          "run: start-up {coarse_first (a first mesh of coarse group levels, the tiles contoured after it), "

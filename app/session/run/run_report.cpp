@@ -51,6 +51,7 @@ json lod_json(const RunResult& r, const RenderLog& log) {
                 {"latency", latency},
                 {"tile_triangles_last_frame", {log.tile_triangles_last[0], log.tile_triangles_last[1]}},
                 {"groups_drawn_last_frame", {log.groups_drawn_last[0], log.groups_drawn_last[1]}},
+                {"frames_over_bound", log.frames_over_bound},
                 {"tile_triangles_per_frame",
                  {frames > 0.0 ? static_cast<double>(log.tile_triangles[0]) / frames : 0.0,
                   frames > 0.0 ? static_cast<double>(log.tile_triangles[1]) / frames : 0.0}}};
@@ -120,6 +121,7 @@ void RenderLog::add(const renderer::FrameStats& stats) {
         groups_drawn_last[e] = stats.groups_drawn[e];
     }
     tile_uploads += stats.tile_uploads;
+    if (!stats.groups_wanting_detail.empty()) ++frames_over_bound;
     for (const renderer::PassTime& p : stats.passes) {
         const std::string name = p.pass + (p.eye == 0 ? ".left" : p.eye == 1 ? ".right" : "");
         pass_ms.try_emplace(name, DurationHistogram::fine()).first->second.add(p.ms);

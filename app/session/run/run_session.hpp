@@ -83,6 +83,9 @@ struct RenderLog {
     std::array<std::uint64_t, 2> tile_triangles{};
     /// The last frame's workpiece tile triangles and groups drawn, per eye.
     std::array<std::uint64_t, 2> tile_triangles_last{}, groups_drawn_last{};
+    /// Frames that drew a group over its pixel bound because nothing under it could stand in yet
+    /// (FrameStats::groups_wanting_detail not empty).
+    std::uint64_t frames_over_bound = 0;
     /// Per pass and eye, e.g. "opaque.left", "translucent.right", "overlay" (one pass for both eyes), or
     /// "frame" (CPU clock): that pass's time in every frame, ms (DurationHistogram::fine bins).
     std::map<std::string, DurationHistogram> pass_ms;
