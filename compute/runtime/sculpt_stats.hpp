@@ -67,6 +67,9 @@ struct SculptStats {
     /// tile counted once per step that changed it), and deferred tiles contoured later.
     std::uint64_t tiles_deferred = 0;
     std::uint64_t deferred_tiles_contoured = 0;
+    /// Times background work (a slice of start-up's refinement or of deferred tiles, a mesh publish of their results)
+    /// stopped early or waited because a cutting sample or a request was waiting (SculptThread::cut_waiting).
+    std::uint64_t background_yields = 0;
     /// use_tile_lod: tiles and groups still waiting for their levels at the last mesh publish.
     std::size_t lod_pending = 0;
     /// use_tile_lod: per tile or group re-contoured after start-up that got its levels, the wall time from its

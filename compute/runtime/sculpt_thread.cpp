@@ -184,7 +184,7 @@ void SculptThread::run() {
         const std::uint64_t steps_before = stats_.steps;
         if (failure_) {  // failed earlier: keep the ring drained so the producer never sees it full
             ToolSample s;
-            while (samples_.try_pop(s)) worked = true;
+            while (pop_sample(s)) worked = true;
         } else {
             try {
                 const auto t0 = std::chrono::steady_clock::now();
@@ -199,7 +199,8 @@ void SculptThread::run() {
         if (!failure_) {
             try {
                 // Start-up's refinement waits while the model changes: a stroke's own tiles are contoured at once.
-                if (stats_.steps == steps_before || (stopping && !worked)) refine_startup(stopping && !worked);
+                const bool background = stats_.steps == steps_before;
+                if (background || (stopping && !worked)) refine_startup(stopping && !worked);
                 collect_lods();
                 publish_mesh_if_due(stopping && !worked);  // the last state always reaches the renderer
             } catch (...) {
@@ -242,6 +243,29 @@ void SculptThread::run() {
         passes_.fetch_add(1, std::memory_order_release);
         if (!worked) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
+}
+
+bool SculptThread::cut_waiting() {
+    if (requests_.size() > 0) return true;
+    ToolSample s;
+    while (!carried_cut_ && samples_.try_pop(s)) {
+        carried_.push_back(s);
+        carried_cut_ = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
+    }
+    return carried_cut_;
+}
+
+bool SculptThread::pop_sample(ToolSample& s) {
+    if (carried_next_ < carried_.size()) {
+        s = carried_[carried_next_++];
+        if (carried_next_ == carried_.size()) {
+            carried_.clear();
+            carried_next_ = 0;
+            carried_cut_ = false;
+        }
+        return true;
+    }
+    return samples_.try_pop(s);
 }
 
 void SculptThread::flush(std::size_t begin, std::size_t end, bool& changed) {
@@ -332,7 +356,7 @@ bool SculptThread::step() {
     batch_.clear();
     drained_.clear();
     any |= take_marks(w);
-    while (samples_.try_pop(s)) {
+    while (pop_sample(s)) {
         take_marks(w);  // a recorded request that came after the samples drained so far
         sampled = true;
         if (follower_) forward_own(s);  // a joiner's own tool: to the host, whose stream carves it here
@@ -501,6 +525,11 @@ void SculptThread::publish_mesh_if_due(bool force) {
     const double since_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_last_).count();
     // A sculpted change goes out at once while the renderer has taken the last publish: the hand waits for it.
     const bool sculpted = std::isfinite(pending_sample_.made_s) && !mesh_out_->unread();
+    // Background work's mesh (refined or deferred tiles, levels) waits for a cut's pass, which publishes it too.
+    if (!force && !sculpted && !stop_.load(std::memory_order_acquire) && cut_waiting()) {
+        ++stats_.background_yields;
+        return;
+    }
     if (force || sculpted || since_s >= mesh_interval_s_) publish_mesh();
 }
 

@@ -418,6 +418,10 @@ private:
     void publish_mesh();                // assemble and hand over the mesh (mesh_out_ set)
     void publish_mesh_if_due(bool force);  // publish a pending mesh when the interval passed (or force)
     void collect_lods();                   // take in finished levels of detail (use_tile_lod)
+    // True when a cutting sample (or a request) waits: background work yields to it. Moves the ring's samples into
+    // carried_ to look at them; pop_sample() hands them on in order.
+    bool cut_waiting();
+    bool pop_sample(ToolSample& s);  // the next sample: carried_ first, then the ring
     void share_tile_cache(MeshFrame& slot);  // tile_cache_'s tiles and groups into slot, sharing unchanged ones
     // Coarse-first start-up and strokes drawn coarse: one step of the refinement (a finer coarse depth, a region of
     // tiles, the groups the frames asked for, deferred tiles), or all of it.
@@ -431,6 +435,9 @@ private:
     BooleanBackend* backend_ = nullptr;
     std::vector<compute::Sweep> batch_;           // reused between steps
     std::vector<ToolSample> drained_;             // the step's samples, for the journal; reserved to the ring's capacity
+    std::vector<ToolSample> carried_;             // samples taken from the ring by cut_waiting(), not stepped yet
+    std::size_t carried_next_ = 0;                // the first of carried_ not handed on
+    bool carried_cut_ = false;                    // one of carried_ cuts
     std::unique_ptr<SculptHistory> history_;       // made at start() on the chosen backend
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};

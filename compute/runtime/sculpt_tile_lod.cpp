@@ -65,7 +65,9 @@ void SculptThread::collect_lods() {
     if (!tile_cache_.lod_enabled()) return;
     // While a stroke is open no coarse level contours its tiles: the stroke's samples would wait for it.
     const bool stroke = history_ && history_->stroke_open();
-    if (tile_cache_.collect_lods(stroke) > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
+    // A cut waiting: no coarse tile is contoured either, as during a stroke (the cut's pass comes first).
+    const bool yield = !stroke && !stop_.load(std::memory_order_acquire) && cut_waiting();
+    if (tile_cache_.collect_lods(stroke || yield) > 0 && mesh_out_) mesh_pending_ = true;  // published with the next mesh
     const std::size_t pending = tile_cache_.lod_pending();
     if (tile_cache_.startup_lod_pending() == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
         stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -105,16 +107,19 @@ void SculptThread::refine_startup(bool finish) {
     if (finish) {
         if (startup) stats_.startup_tiles_refined += refiner_->finish(model_, contourer_);
         if (deferred) deferral_->contour_all(model_, contourer_);
-    } else if (!startup || history_->stroke_open() || !tile_cache_.build_coarse_depth()) {
+    } else if (!startup || history_->stroke_open() || cut_waiting() || !tile_cache_.build_coarse_depth()) {
         // The finer coarse depths first (frames draw their levels once tiles arrive), but never while a stroke is
-        // open: reading depth 1 of a fine model holds the thread for seconds, and the stroke's samples would wait.
+        // open or a cut waits: reading a finer depth of a fine model holds the thread, and the samples would wait.
         // Regions until kRefineSliceS has passed: a mesh publish per region would cost about as much as the region.
         const auto t0 = std::chrono::steady_clock::now();
         const bool stroke = history_->stroke_open();
         const double slice_s = stroke ? kRefineStrokeSliceS : kRefineSliceS;
         const int block_depth = stroke ? kRefineStrokeBlockDepth : kRefineBlockDepth;
+        // A slice ends early when a cutting sample waits (its pass comes first), after the work begun.
+        bool yielded = false;
         const auto in_slice = [&] {
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
+            if (!stroke && cut_waiting()) yielded = true;
+            return !yielded && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
         };
         std::size_t refined = 0;
         // Only the groups the frames asked for; the rest of start-up's again when a frame asks for it.
@@ -131,6 +136,7 @@ void SculptThread::refine_startup(bool finish) {
         while (!stroke && deferral_ && deferral_->count() > 0 && in_slice()) {
             refined += deferral_->contour_oldest(model_, contourer_, kDeferredTilesPerBatch);
         }
+        if (yielded) ++stats_.background_yields;
         if (refined == 0 && !(startup && refiner_->done())) return;  // nothing new to publish
     }
     if (mesh_out_) mesh_pending_ = true;

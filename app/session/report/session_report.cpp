@@ -163,6 +163,9 @@ const std::vector<ReportField>& report_schema() {
             {"sculpt.tiles_deferred",
              "strokes drawn coarse (--stroke-contour coarse): tiles whose contour waited for the stroke, summed over steps"},
             {"sculpt.deferred_tiles_contoured", "of those, tiles contoured later (after the stroke, or asked for by a frame)"},
+            {"sculpt.background_yields",
+             "times background work (start-up's refinement, deferred tiles, their mesh publish) stopped early or waited "
+             "for a cutting sample or a request"},
             {"sculpt.publishes", "active-surface snapshots published to the haptic loop"},
             {"sculpt.rate_hz", "changing steps per second of session_s"},
             {"sculpt.boolean_ms",
@@ -332,6 +335,7 @@ nlohmann::json sculpt_report_json(const SculptStats& s, std::size_t tiles_initia
             {"tiles_recontoured", s.tiles_recontoured},
             {"tiles_deferred", s.tiles_deferred},
             {"deferred_tiles_contoured", s.deferred_tiles_contoured},
+            {"background_yields", s.background_yields},
             {"publishes", s.publishes},
             {"rate_hz", session_s > 0.0 ? static_cast<double>(s.steps) / session_s : 0.0},
             {"boolean_ms", summary_report_json(s.boolean_ms)},
