@@ -199,8 +199,7 @@ void SculptThread::run() {
         if (!failure_) {
             try {
                 // Start-up's refinement waits while the model changes: a stroke's own tiles are contoured at once.
-                const bool background = stats_.steps == steps_before;
-                if (background || (stopping && !worked)) refine_startup(stopping && !worked);
+                if (stats_.steps == steps_before || (stopping && !worked)) refine_startup(stopping && !worked);
                 collect_lods();
                 publish_mesh_if_due(stopping && !worked);  // the last state always reaches the renderer
             } catch (...) {
@@ -525,8 +524,10 @@ void SculptThread::publish_mesh_if_due(bool force) {
     const double since_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_last_).count();
     // A sculpted change goes out at once while the renderer has taken the last publish: the hand waits for it.
     const bool sculpted = std::isfinite(pending_sample_.made_s) && !mesh_out_->unread();
-    // Background work's mesh (refined or deferred tiles, levels) waits for a cut's pass, which publishes it too.
-    if (!force && !sculpted && !stop_.load(std::memory_order_acquire) && cut_waiting()) {
+    // Background work's mesh (refined or deferred tiles, levels) waits for a cut's pass, which publishes it too; for
+    // at most kBackgroundPublishWaitS (a tool held cutting in air never changes the model).
+    if (!force && !sculpted && since_s < kBackgroundPublishWaitS && !stop_.load(std::memory_order_acquire) &&
+        cut_waiting()) {
         ++stats_.background_yields;
         return;
     }

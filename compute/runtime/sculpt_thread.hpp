@@ -300,6 +300,9 @@ public:
     /// Coarse-first start-up: wall time (s) a pass of the thread spends contouring regions of tiles (at least one),
     /// as long as no change is waiting (use_tile_lod); after a stroke drawn coarse, contouring its deferred tiles.
     static constexpr double kRefineSliceS = 0.1;
+    /// A mesh publish of background work (start-up's refinement, deferred tiles, levels) waits for a waiting cut's
+    /// pass, which publishes it too, for at most this long after the last publish (s).
+    static constexpr double kBackgroundPublishWaitS = 0.25;
     /// After a stroke drawn coarse (LodWorkerOptions::stroke_coarse): deferred tiles contoured at a time, oldest first.
     static constexpr std::size_t kDeferredTilesPerBatch = 32;
 

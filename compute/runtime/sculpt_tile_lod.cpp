@@ -115,10 +115,12 @@ void SculptThread::refine_startup(bool finish) {
         const bool stroke = history_->stroke_open();
         const double slice_s = stroke ? kRefineStrokeSliceS : kRefineSliceS;
         const int block_depth = stroke ? kRefineStrokeBlockDepth : kRefineBlockDepth;
-        // A slice ends early when a cutting sample waits (its pass comes first), after the work begun.
-        bool yielded = false;
+        // A slice ends early when a cutting sample waits (its pass comes first), after one unit of work (a block, a
+        // region, a batch of deferred tiles), so that a tool held cutting in air does not stop the work for good.
+        bool begun = false, yielded = false;
         const auto in_slice = [&] {
-            if (!stroke && cut_waiting()) yielded = true;
+            if (begun && !stroke && cut_waiting()) yielded = true;
+            begun = true;
             return !yielded && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < slice_s;
         };
         std::size_t refined = 0;
