@@ -100,7 +100,8 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
     const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
     std::vector<std::uint64_t> tiles;
     for (const std::uint64_t t : coarse_changed_) {
-        const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+        const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny),
+                                    static_cast<int>(t / (nx * ny))};
         for (const std::uint64_t id : finer) {
             const TileGroupSurface& group = groups_[index_of(groups_, id)];
             const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;

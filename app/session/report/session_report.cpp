@@ -115,6 +115,42 @@ std::vector<ReportField> render_fields() {
     };
 }
 
+// The sculpt thread's fields of the schema (report_schema).
+std::vector<ReportField> sculpt_fields() {
+    return {
+        {"sculpt", "the sculpt thread's counters"},
+        {"sculpt.samples", "tool samples drained from the haptic loop"},
+        {"sculpt.booleans", "swept-volume Booleans applied (one per segment)"},
+        {"sculpt.steps", "sculpt steps that changed the model"},
+        {"sculpt.rays_changed", "rays whose intervals changed, summed over Booleans"},
+        {"sculpt.tiles_recontoured", "dirty tiles re-contoured, summed over steps"},
+        {"sculpt.tiles_deferred",
+         "strokes drawn coarse (--stroke-contour coarse): tiles whose contour waited for the stroke, summed over steps"},
+        {"sculpt.deferred_tiles_contoured", "of those, tiles contoured later (after the stroke, or asked for by a frame)"},
+        {"sculpt.background_yields",
+         "times background work (start-up's refinement, deferred tiles, their mesh publish) stopped early or waited "
+         "for a cutting sample or a request"},
+        {"sculpt.publishes", "active-surface snapshots published to the haptic loop"},
+        {"sculpt.rate_hz", "changing steps per second of session_s"},
+        {"sculpt.boolean_ms",
+         "per changing step: Booleans and active-surface publish, ms {median, p99, mean, max}"},
+        {"sculpt.contour_ms", "per changing step: dirty-tile re-contouring, ms {median, p99, mean, max}"},
+        {"sculpt.tiles_initial", "tiles contoured before the session"},
+        {"sculpt.tiles_total", "tiles in the model's tile grid"},
+        {"sculpt.backend",
+         "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
+        {"sculpt.backend_reason",
+         "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
+         "Vulkan device is a CPU implementation (llvmpipe ...)\""},
+        {"sculpt.islands_removed",
+         "specks removed: pieces a stroke cut loose, smaller than its tool's ball (0 with "
+         "--keep-islands)"},
+        {"sculpt.island_volume_m3", "their volume, m^3"},
+        {"sculpt.island_searches", "strokes searched for specks (strokes that cut; 0 with --keep-islands)"},
+        {"sculpt.island_search_ms", "per stroke searched: the search and the removal, ms {median, p99, mean, max}"},
+    };
+}
+
 }  // namespace
 
 const std::vector<ReportField>& report_schema() {
@@ -154,36 +190,9 @@ const std::vector<ReportField>& report_schema() {
              "the haptic loop: ticks, rate, period and compute quantiles, contact, forces, device status, "
              "stiffness_n_per_m, device_link (null without a device transport)"},
             {"link", "a device served by `tridex device-server`: {mode, rtt_us, lost, rate_hz, ...}; null otherwise"},
-            {"sculpt", "the sculpt thread's counters"},
-            {"sculpt.samples", "tool samples drained from the haptic loop"},
-            {"sculpt.booleans", "swept-volume Booleans applied (one per segment)"},
-            {"sculpt.steps", "sculpt steps that changed the model"},
-            {"sculpt.rays_changed", "rays whose intervals changed, summed over Booleans"},
-            {"sculpt.tiles_recontoured", "dirty tiles re-contoured, summed over steps"},
-            {"sculpt.tiles_deferred",
-             "strokes drawn coarse (--stroke-contour coarse): tiles whose contour waited for the stroke, summed over steps"},
-            {"sculpt.deferred_tiles_contoured", "of those, tiles contoured later (after the stroke, or asked for by a frame)"},
-            {"sculpt.background_yields",
-             "times background work (start-up's refinement, deferred tiles, their mesh publish) stopped early or waited "
-             "for a cutting sample or a request"},
-            {"sculpt.publishes", "active-surface snapshots published to the haptic loop"},
-            {"sculpt.rate_hz", "changing steps per second of session_s"},
-            {"sculpt.boolean_ms",
-             "per changing step: Booleans and active-surface publish, ms {median, p99, mean, max}"},
-            {"sculpt.contour_ms", "per changing step: dirty-tile re-contouring, ms {median, p99, mean, max}"},
-            {"sculpt.tiles_initial", "tiles contoured before the session"},
-            {"sculpt.tiles_total", "tiles in the model's tile grid"},
-            {"sculpt.backend",
-             "where the Booleans ran: cpu (the CPU pool) or gpu (the Vulkan compute path); as sculpt_path"},
-            {"sculpt.backend_reason",
-             "why: --cpu given, --gpu given, or auto by the Vulkan device's type, e.g. \"auto: the "
-             "Vulkan device is a CPU implementation (llvmpipe ...)\""},
-            {"sculpt.islands_removed",
-             "specks removed: pieces a stroke cut loose, smaller than its tool's ball (0 with "
-             "--keep-islands)"},
-            {"sculpt.island_volume_m3", "their volume, m^3"},
-            {"sculpt.island_searches", "strokes searched for specks (strokes that cut; 0 with --keep-islands)"},
-            {"sculpt.island_search_ms", "per stroke searched: the search and the removal, ms {median, p99, mean, max}"},
+        };
+        for (ReportField& f : sculpt_fields()) fields.push_back(std::move(f));
+        for (ReportField& f : std::vector<ReportField>{
             {"journal", "the session journal's counters; null with --no-journal"},
             {"history", "the undo history at the end: budget, steps, undos, redos, undo_ms"},
             {"saves", "Ctrl+S saves during the session; null for demo and replay (no keys)"},
@@ -241,7 +250,8 @@ const std::vector<ReportField>& report_schema() {
             {"frames",
              "run: frames rendered, presents, frame_ms, interval_ms, gpu_ms histograms; null for demo and "
              "replay"},
-        };
+             })
+            fields.push_back(std::move(f));
         for (ReportField& f : render_fields()) fields.push_back(std::move(f));
         for (ReportField& f : std::vector<ReportField>{
                  {"meshes",
