@@ -95,24 +95,29 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
             }
     }
     if (finer.empty()) return finer;
-    // The changed tiles whose coarse rays a level of those groups reads: within one group of them, at their depth.
+    // The changed tiles whose coarse rays a level of those groups reads: within one group of them, at their depth
+    // (each group's range of tile coordinates, grown so).
     constexpr int kT = TileGrid::kTileCells;
+    std::vector<std::array<int, 6>> ranges;  // lo x, y, z, then hi (exclusive)
+    for (const std::uint64_t id : finer) {
+        const TileGroupSurface& group = groups_[index_of(groups_, id)];
+        const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;
+        std::array<int, 6> r{};
+        for (int a = 0; a < 3; ++a) {
+            r[a] = group.coords[a] * span - grow;
+            r[3 + a] = (group.coords[a] + 1) * span + grow;
+        }
+        ranges.push_back(r);
+    }
     const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
     std::vector<std::uint64_t> tiles;
     for (const std::uint64_t t : coarse_changed_) {
         const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny),
                                     static_cast<int>(t / (nx * ny))};
-        for (const std::uint64_t id : finer) {
-            const TileGroupSurface& group = groups_[index_of(groups_, id)];
-            const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;
-            bool near = true;
-            for (int a = 0; a < 3 && near; ++a)
-                near = tc[a] >= group.coords[a] * span - grow && tc[a] < (group.coords[a] + 1) * span + grow;
-            if (near) {
-                tiles.push_back(t);
-                break;
-            }
-        }
+        const auto inside = [&](const std::array<int, 6>& r) {
+            return tc[0] >= r[0] && tc[1] >= r[1] && tc[2] >= r[2] && tc[0] < r[3] && tc[1] < r[4] && tc[2] < r[5];
+        };
+        if (std::any_of(ranges.begin(), ranges.end(), inside)) tiles.push_back(t);
     }
     std::sort(tiles.begin(), tiles.end());
     tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
