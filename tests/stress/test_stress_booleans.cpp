@@ -1,7 +1,7 @@
-// tests/stress/test_stress_booleans.cpp - a million random swept Booleans on box workpieces, with the
+// tests/stress/test_stress_booleans.cpp - half a million random swept Booleans on box workpieces, with the
 // model's invariants checked after every batch.
 //
-// CpuReference (one test per N = 64, 80, 100, 128; 250k segments each = 1M by default, 10M in the long variant): random segments of mixed
+// CpuReference (one test per N = 64, 80, 100, 128; 125k segments each = 0.5M by default, 10M in the long variant): random segments of mixed
 // operations (subtract, union, paint), ball and flat-end tools (radius 0.3..8 cells, log-uniform; some
 // whole cells), random lengths (zero to 24 cells, log-uniform, so the cost per segment does not grow with N), starts on and off the lattice,
 // some snapped to nodes, applied with apply_sweep in batches of 200..2000. Each batch is subtract-only,
@@ -45,7 +45,7 @@ constexpr std::size_t kSegmentsPerN = 2'500'000;
 constexpr std::size_t kGpuSegments = 1'000'000;
 const std::vector<int> kSizes = {64, 128, 192, 256};
 #else
-constexpr std::size_t kSegmentsPerN = 250'000;  // 4 sizes: a million segments, about 90 s of CPU on an idle core
+constexpr std::size_t kSegmentsPerN = 125'000;  // 4 sizes: half a million segments
 constexpr std::size_t kGpuSegments = 50'000;
 const std::vector<int> kSizes = {64, 80, 100, 128};
 #endif
