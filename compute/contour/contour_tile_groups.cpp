@@ -23,32 +23,30 @@ struct GroupGrid {
         const auto nx = static_cast<std::uint64_t>(tiles[0]), ny = static_cast<std::uint64_t>(tiles[1]);
         return {static_cast<int>(tile % nx), static_cast<int>((tile / nx) % ny), static_cast<int>(tile / (nx * ny))};
     }
+    // The linear index of cell c in a grid of `n` cells along each axis.
+    static std::uint64_t linear(const std::array<int, 3>& c, const std::array<int, 3>& n) {
+        return static_cast<std::uint64_t>(c[0]) +
+               static_cast<std::uint64_t>(n[0]) * (static_cast<std::uint64_t>(c[1]) +
+                                                   static_cast<std::uint64_t>(n[1]) * static_cast<std::uint64_t>(c[2]));
+    }
+    std::uint64_t group_id(int depth, const std::array<int, 3>& g) const { return tile_group_id(depth, linear(g, dims(depth))); }
     std::uint64_t group_of(const std::array<int, 3>& t, int depth) const {
+        return group_id(depth, {t[0] >> depth, t[1] >> depth, t[2] >> depth});
+    }
+    std::array<int, 3> group_coords(std::uint64_t id, int depth) const {
         const std::array<int, 3> g = dims(depth);
-        const auto x = static_cast<std::uint64_t>(t[0] >> depth), y = static_cast<std::uint64_t>(t[1] >> depth),
-                   z = static_cast<std::uint64_t>(t[2] >> depth);
-        return tile_group_id(depth, x + static_cast<std::uint64_t>(g[0]) * (y + static_cast<std::uint64_t>(g[1]) * z));
+        const std::uint64_t index = id & ((std::uint64_t{1} << 56) - 1);
+        const auto nx = static_cast<std::uint64_t>(g[0]), ny = static_cast<std::uint64_t>(g[1]);
+        return {static_cast<int>(index % nx), static_cast<int>((index / nx) % ny), static_cast<int>(index / (nx * ny))};
     }
 };
 
+int depth_of(std::uint64_t group_id) { return static_cast<int>(group_id >> 56); }
+
 }  // namespace
 
-void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles) {
-    const int depth_max = lod_ ? lod_options_.group_depth : 0;
-    if (depth_max <= 0) {
-        groups_.clear();
-        group_pending_.clear();
-        group_queued_.clear();
-        group_changed_at_.clear();
-        return;
-    }
+std::vector<TileGroupSurface> TileSurfaceCache::all_groups(const std::array<int, 3>& dims, int depth_max) const {
     const GroupGrid grid{dims};
-    coarse_dims_ = dims;
-    std::unordered_set<std::uint64_t> stale;
-    if (coarse_) stale = coarse_reach(dims, changed_tiles);
-    for (const std::uint64_t t : changed_tiles)  // simplified groups: those holding a changed tile
-        for (int d = 1; d <= depth_max && (!coarse_ || d < coarse_->min_depth()); ++d)
-            stale.insert(grid.group_of(grid.tile_coords(t), d));
     std::map<std::uint64_t, TileGroupSurface> next;
     const auto add = [&](std::uint64_t tile_id, const Aabb& bounds_m) {
         const std::array<int, 3> tc = grid.tile_coords(tile_id);
@@ -71,38 +69,147 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
     for (const TileSurface& tile : tiles_) add(tile.id, tile.bounds_m);
     for (const std::uint64_t id : expected_) add(id, expected_tile_box(id, dims));  // coarse-first start-up
     std::vector<TileGroupSurface> groups;
+    groups.reserve(next.size());
+    for (auto& [id, g] : next) {
+        std::sort(g.children.begin(), g.children.end());
+        groups.push_back(std::move(g));
+    }
+    return groups;
+}
+
+std::vector<TileGroupSurface> TileSurfaceCache::regrouped(const std::array<int, 3>& dims, int depth_max,
+                                                         const std::vector<std::uint64_t>& ids) const {
+    const GroupGrid grid{dims};
+    std::vector<TileGroupSurface> next;
+    std::size_t finer_begin = 0, finer_end = 0;  // next's groups one depth down
+    auto finer_ids_begin = ids.begin();
+    for (int d = 1; d <= depth_max; ++d) {
+        const auto ids_begin = std::lower_bound(ids.begin(), ids.end(), tile_group_id(d, 0));
+        const auto ids_end = std::lower_bound(ids.begin(), ids.end(), tile_group_id(d + 1, 0));
+        const std::array<int, 3> below = d == 1 ? dims : grid.dims(d - 1);
+        const std::size_t depth_begin = next.size();
+        for (auto it = ids_begin; it != ids_end; ++it) {
+            TileGroupSurface g;
+            g.id = *it;
+            g.depth = d;
+            g.coords = grid.group_coords(g.id, d);
+            g.parent = d < depth_max ? grid.group_id(d + 1, {g.coords[0] >> 1, g.coords[1] >> 1, g.coords[2] >> 1})
+                                     : TileGroupSurface::kNone;
+            const auto add = [&](std::uint64_t child, const Aabb& b) {
+                if (g.children.empty() || g.children.back() != child) g.children.push_back(child);
+                g.bounds_m.add(b.lo);
+                g.bounds_m.add(b.hi);
+            };
+            std::array<int, 3> c{};  // z outermost: children come in ascending id
+            for (c[2] = 2 * g.coords[2]; c[2] <= 2 * g.coords[2] + 1 && c[2] < below[2]; ++c[2])
+                for (c[1] = 2 * g.coords[1]; c[1] <= 2 * g.coords[1] + 1 && c[1] < below[1]; ++c[1])
+                    for (c[0] = 2 * g.coords[0]; c[0] <= 2 * g.coords[0] + 1 && c[0] < below[0]; ++c[0]) {
+                        if (d == 1) {
+                            const std::uint64_t t = GroupGrid::linear(c, dims);
+                            if (const TileSurface* tile = find_by_id(tiles_, t)) add(t, tile->bounds_m);
+                            if (expected_.count(t) != 0) add(t, expected_tile_box(t, dims));
+                            continue;
+                        }
+                        const std::uint64_t child = grid.group_id(d - 1, c);
+                        const TileGroupSurface* from = nullptr;  // a regrouped child as it is now, else as it was
+                        if (std::binary_search(finer_ids_begin, ids_begin, child)) {
+                            const auto f = std::lower_bound(next.begin() + static_cast<std::ptrdiff_t>(finer_begin),
+                                                            next.begin() + static_cast<std::ptrdiff_t>(finer_end), child,
+                                                            [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
+                            if (f != next.begin() + static_cast<std::ptrdiff_t>(finer_end) && f->id == child) from = &*f;
+                        } else {
+                            from = find_by_id(groups_, child);
+                        }
+                        if (from) add(child, from->bounds_m);
+                    }
+            if (!g.children.empty()) next.push_back(std::move(g));
+        }
+        finer_begin = depth_begin;
+        finer_end = next.size();
+        finer_ids_begin = ids_begin;
+    }
+    return next;
+}
+
+void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles,
+                                     const std::vector<std::uint64_t>& touched_tiles) {
+    const int depth_max = lod_ ? lod_options_.group_depth : 0;
+    if (depth_max <= 0) {
+        groups_.clear();
+        group_pending_.clear();
+        group_queued_.clear();
+        group_changed_at_.clear();
+        groups_depth_ = 0;
+        return;
+    }
+    const GroupGrid grid{dims};
+    // Every group again at the first refresh or when the grid changed; else only those over a touched tile or stale.
+    const bool whole = !refreshed_ || groups_depth_ != depth_max || coarse_dims_ != dims;
+    coarse_dims_ = dims;
+    groups_depth_ = depth_max;
+    std::unordered_set<std::uint64_t> stale;
+    if (coarse_) stale = coarse_reach(dims, changed_tiles);
+    for (const std::uint64_t t : changed_tiles)  // simplified groups: those holding a changed tile
+        for (int d = 1; d <= depth_max && (!coarse_ || d < coarse_->min_depth()); ++d)
+            stale.insert(grid.group_of(grid.tile_coords(t), d));
+    std::vector<std::uint64_t> ids;  // regrouped: sorted, so by depth first
+    std::vector<TileGroupSurface> next;
+    if (whole) {
+        next = all_groups(dims, depth_max);
+    } else {
+        for (const std::uint64_t t : touched_tiles)
+            for (int d = 1; d <= depth_max; ++d) ids.push_back(grid.group_of(grid.tile_coords(t), d));
+        for (const std::uint64_t id : stale)
+            if (depth_of(id) >= 1 && depth_of(id) <= depth_max) ids.push_back(id);
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        next = regrouped(dims, depth_max, ids);
+    }
+    std::vector<TileGroupSurface> groups;
     std::vector<bool> pending, queued;
     std::vector<std::chrono::steady_clock::time_point> changed_at;
     // Start-up's groups are never held back (Clock's epoch); a later change starts the group's settling time.
     const auto now = refreshed_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    groups.reserve(next.size());
-    for (auto& [id, g] : next) {
-        std::sort(g.children.begin(), g.children.end());
-        const auto old = std::lower_bound(groups_.begin(), groups_.end(), id,
-                                          [](const TileGroupSurface& x, std::uint64_t v) { return x.id < v; });
-        const bool found = old != groups_.end() && old->id == id;
-        if (found && !stale.count(id) && old->children == g.children) {
-            g.version = old->version;
-            g.lods = std::move(old->lods);
-            g.children_cover = old->children_cover;
-            const auto at = static_cast<std::size_t>(old - groups_.begin());
-            pending.push_back(group_pending_[at]);
-            queued.push_back(at < group_queued_.size() && group_queued_[at]);
-            changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
-        } else if (coarse_ && g.depth >= coarse_->min_depth()) {  // a coarse level at start-up, or once settled
-            g.version = fresh_tile_version();
+    groups.reserve(std::max(next.size(), groups_.size()));
+    const auto keep_old = [&](std::size_t at, TileGroupSurface&& g) {
+        pending.push_back(group_pending_[at]);
+        queued.push_back(at < group_queued_.size() && group_queued_[at]);
+        changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
+        groups.push_back(std::move(g));
+    };
+    // A regrouped group keeps its levels when it is not stale and has the same children; else they are dropped.
+    const auto place = [&](TileGroupSurface&& g, std::size_t old) {
+        if (old < groups_.size() && !stale.count(g.id) && groups_[old].children == g.children) {
+            g.version = groups_[old].version;
+            g.lods = std::move(groups_[old].lods);
+            g.children_cover = groups_[old].children_cover;
+            keep_old(old, std::move(g));
+            return;
+        }
+        g.version = fresh_tile_version();
+        queued.push_back(false);
+        changed_at.push_back(now);
+        if (coarse_ && g.depth >= coarse_->min_depth()) {  // a coarse level at start-up, or once settled
             pending.push_back(false);
-            queued.push_back(false);
-            changed_at.push_back(now);
-            coarse_stale_.insert(id);  // start-up's are built at once (refresh), a stroke's once settled
+            coarse_stale_.insert(g.id);  // start-up's are built at once (refresh), a stroke's once settled
         } else {
-            if (refreshed_) startup_waiting_.erase(lod_key(true, id));  // changed after start-up: a stroke's
-            g.version = fresh_tile_version();
+            if (refreshed_) startup_waiting_.erase(lod_key(true, g.id));  // changed after start-up: a stroke's
             pending.push_back(true);
-            queued.push_back(false);
-            changed_at.push_back(now);
         }
         groups.push_back(std::move(g));
+    };
+    std::size_t o = 0, n = 0;  // both sorted by id: merge them
+    while (o < groups_.size() || n < next.size()) {
+        const std::uint64_t old_id = o < groups_.size() ? groups_[o].id : TileGroupSurface::kNone;
+        const std::uint64_t next_id = n < next.size() ? next[n].id : TileGroupSurface::kNone;
+        if (next_id < old_id) {
+            place(std::move(next[n++]), groups_.size());
+        } else if (next_id == old_id) {
+            place(std::move(next[n++]), o++);
+        } else {  // an old group not regrouped: unchanged, unless every group was regrouped (then it is gone)
+            if (!whole && !std::binary_search(ids.begin(), ids.end(), old_id)) keep_old(o, std::move(groups_[o]));
+            ++o;
+        }
     }
     groups_ = std::move(groups);
     group_pending_ = std::move(pending);

@@ -30,6 +30,7 @@ void TileSurfaceCache::defer_tiles(const std::vector<std::uint64_t>& ids) {
 void TileSurfaceCache::arrive(const std::vector<std::uint64_t>& ids) {
     for (const std::uint64_t id : ids) {
         if (expected_.erase(id) == 0) continue;
+        expected_left_.push_back(id);
         arrived_.insert(id);
         if (stroke_expected_.erase(id) > 0) stroke_arrived_.insert(id);
     }
@@ -37,7 +38,7 @@ void TileSurfaceCache::arrive(const std::vector<std::uint64_t>& ids) {
 
 void TileSurfaceCache::stop_expecting(const std::vector<std::uint64_t>& ids) {
     for (const std::uint64_t id : ids) {
-        expected_.erase(id);
+        if (expected_.erase(id) != 0) expected_left_.push_back(id);
         stroke_expected_.erase(id);
     }
 }

@@ -98,7 +98,11 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         coarse_changed_.insert(coarse_changed_.end(), changed.begin(), changed.end());
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
-    update_groups(contourer.tile_dims(), changed);
+    std::vector<std::uint64_t> touched = std::move(expected_left_);  // tiles whose groups' children or bounds moved
+    expected_left_.clear();
+    touched.insert(touched.end(), changed.begin(), changed.end());
+    for (const std::size_t i : fresh) touched.push_back(tiles_[i].id);
+    update_groups(contourer.tile_dims(), changed, touched);
     if (coarse_ && refreshed_ && !changed.empty()) rebuild_coarsest_now(contourer.tile_dims(), changed, stroke_hidden);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();

@@ -266,7 +266,17 @@ public:
 
 private:
     void build_lods(const std::vector<TileSurface*>& tiles);
-    void update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles);
+    // Brings groups_ up to date: regroups those over `touched_tiles` (tiles that appeared, vanished, changed their
+    // mesh or stopped being expected) and those `changed_tiles` makes stale, or every group at the first refresh or
+    // after the grid changed. A stale group, or one whose children changed, loses its levels.
+    void update_groups(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed_tiles,
+                       const std::vector<std::uint64_t>& touched_tiles);
+    // Every group over tiles_ and expected_, with its children and bounds (no levels), sorted by id.
+    std::vector<TileGroupSurface> all_groups(const std::array<int, 3>& dims, int depth_max) const;
+    // The groups among `ids` (sorted) that have children now, with their children and bounds (no levels), sorted by
+    // id; a group not among `ids` is read from groups_ as it stands.
+    std::vector<TileGroupSurface> regrouped(const std::array<int, 3>& dims, int depth_max,
+                                            const std::vector<std::uint64_t>& ids) const;
     void build_group_lods(const std::vector<std::size_t>& groups);
     void gather_group_parts(const TileGroupSurface& group, std::vector<LodPart>& parts) const;
     // Runs job(0..count-1), on every core from kParallelLodTiles jobs; rethrows the first failure.
@@ -280,6 +290,8 @@ private:
     // The key of a tile's (group false) or group's job in queued_ and startup_waiting_.
     static std::uint64_t lod_key(bool group, std::uint64_t id);
     std::vector<TileGroupSurface> groups_;
+    int groups_depth_ = 0;                         // the group depth groups_ was built with
+    std::vector<std::uint64_t> expected_left_;     // tiles no longer expected since the last refresh (arrive, ...)
     std::vector<bool> group_pending_;              // per groups_ entry: levels wait for build_pending_lods()
     std::vector<TileSurface> tiles_;
     std::vector<std::uint64_t> contour_versions_;  // per tiles_ entry: the Contourer's version it was built from

@@ -14,6 +14,7 @@
 #include "compute/contour/surface_distance.hpp"
 #include "compute/contour/tile_group_lod.hpp"
 #include "compute/tools/boolean.hpp"
+#include "compute/tools/sweep.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 
@@ -332,6 +333,58 @@ TEST(TileGroupLod, DirtyTilesRebuildTheirGroupsOnly) {
         ASSERT_EQ(x.lods.size(), y.lods.size()) << "group " << x.id;
         for (std::size_t k = 0; k < x.lods.size(); ++k) EXPECT_EQ(x.lods[k].mesh.triangles, y.lods[k].mesh.triangles);
     }
+}
+
+TEST(TileGroupLod, GroupsFollowCutsAndAdditionsAsAFreshGroupingWould) {
+    // A refresh regroups only the groups over tiles that changed. A ball in one corner of a 128-cell lattice (8 x 8 x 8
+    // tiles); after a groove, a bead added in the empty far corner (new tiles, new groups), the bead cut away again
+    // (tiles and groups gone) and a cap cut off the ball, every group equals a fresh cache's: id, depth, coordinates,
+    // parent, children and bounds.
+    const Vec3 centre(30.3, 29.8, 30.1);
+    Built b = build(128, [&](int a, int u, int v) { return sphere_chord(centre, 20.0, a, u, v); });
+    const Lattice& l = b.model.lattice;
+    const auto sweep = [&](ToolOp op, const Vec3& from, const Vec3& to, double radius_cells) {
+        Sweep s;
+        s.op = op;
+        s.tool.radius_m = radius_cells * l.cell_m;
+        s.path_m = Segment{l.to_world(from), l.to_world(to)};
+        apply_sweep(b.model, s);
+        b.contourer.update(b.model);
+        b.cache.refresh(b.contourer);
+    };
+    const auto same_as_fresh = [&](const char* what) {
+        SCOPED_TRACE(what);
+        TileSurfaceCache fresh;
+        TileLodOptions o;
+        o.cell_m = l.cell_m;
+        o.group_depth = 3;
+        fresh.enable_lod(o);
+        fresh.refresh(b.contourer);
+        ASSERT_EQ(fresh.groups().size(), b.cache.groups().size());
+        for (std::size_t i = 0; i < fresh.groups().size(); ++i) {
+            const TileGroupSurface& x = b.cache.groups()[i];
+            const TileGroupSurface& y = fresh.groups()[i];
+            ASSERT_EQ(x.id, y.id) << i;
+            EXPECT_EQ(x.depth, y.depth) << x.id;
+            EXPECT_EQ(x.coords, y.coords) << x.id;
+            EXPECT_EQ(x.parent, y.parent) << x.id;
+            EXPECT_EQ(x.children, y.children) << x.id;
+            EXPECT_EQ(x.bounds_m.lo, y.bounds_m.lo) << x.id;
+            EXPECT_EQ(x.bounds_m.hi, y.bounds_m.hi) << x.id;
+        }
+    };
+    const std::size_t groups0 = b.cache.groups().size(), tiles0 = b.cache.tiles().size();
+    sweep(ToolOp::kSubtract, Vec3(5.0, 30.0, 30.0), Vec3(55.0, 31.0, 31.5), 4.0);
+    same_as_fresh("a groove");
+    sweep(ToolOp::kUnion, Vec3(100.0, 100.0, 100.0), Vec3(108.0, 101.0, 102.0), 4.0);
+    same_as_fresh("a bead added");
+    EXPECT_GT(b.cache.groups().size(), groups0) << "the bead made new groups";
+    sweep(ToolOp::kSubtract, Vec3(100.0, 100.0, 100.0), Vec3(108.0, 101.0, 102.0), 8.0);
+    same_as_fresh("the bead cut away");
+    EXPECT_EQ(b.cache.groups().size(), groups0) << "its groups went with it";
+    sweep(ToolOp::kSubtract, Vec3(30.0, 30.0, 64.0), Vec3(30.0, 30.0, 60.0), 22.0);  // the top of the ball
+    same_as_fresh("a cap cut off");
+    EXPECT_LT(b.cache.tiles().size(), tiles0) << "the cap's tiles were emptied";
 }
 
 TEST(TileGroupLod, MergeWeldsSharedVerticesAndRefusesBadInput) {
