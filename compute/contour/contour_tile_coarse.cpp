@@ -125,12 +125,15 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
     return finer;
 }
 
-std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open) {
+std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open,
+                                                   const std::function<bool()>& yield) {
     if (coarse_stale_.empty()) return 0;
     if (now - coarse_changed_at_ < group_settle_) return 0;
     const auto t0 = std::chrono::steady_clock::now();
     const auto slice_end = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                     std::chrono::duration<double>(kCoarseContourSliceS));
+    // The slice ends early when the caller's work waits (yield), after at least one batch or level.
+    const auto in_slice = [&] { return std::chrono::steady_clock::now() < slice_end && !(yield && yield()); };
     if (!coarse_changed_.empty()) {
         // The finer coarse models follow the stroke's tiles between strokes, a slice a pass: during a stroke its
         // samples would wait for them, and the few levels a pass rebuilds would not repay it (the waiting groups'
@@ -143,7 +146,7 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             const std::size_t n = std::min(kCoarseUpdateTiles, coarse_changed_.size() - done);
             coarse_->update(*coarse_model_, std::span<const std::uint64_t>(coarse_changed_).subspan(done, n));
             done += n;
-        } while (done < coarse_changed_.size() && std::chrono::steady_clock::now() < slice_end);
+        } while (done < coarse_changed_.size() && in_slice());
         coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
         if (!coarse_changed_.empty()) {  // levels are rebuilt once every changed tile is read
             lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -173,7 +176,7 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
         for (const std::uint64_t id : contours) {
             if (built >= budget) break;
             built += rebuild_coarse_levels({id});
-            if (std::chrono::steady_clock::now() >= slice_end) break;
+            if (!in_slice()) break;
         }
     }
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

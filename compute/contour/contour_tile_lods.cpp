@@ -110,8 +110,8 @@ void TileSurfaceCache::queue_ready_groups() {
     }
 }
 
-std::size_t TileSurfaceCache::collect_lods(bool stroke_open) {
-    const std::size_t coarse = coarse_ ? settle_coarse_levels(std::chrono::steady_clock::now(), stroke_open) : 0;
+std::size_t TileSurfaceCache::collect_lods(bool stroke_open, const std::function<bool()>& yield) {
+    const std::size_t coarse = coarse_ ? settle_coarse_levels(std::chrono::steady_clock::now(), stroke_open, yield) : 0;
     // Levels that arrived can stand in now; refined groups' errors still to measure.
     if (startup_groups_ && (coarse > 0 || remeasure_more_)) update_startup_groups();
     if (!worker_) return coarse;

@@ -164,7 +164,9 @@ public:
     /// With coarse groups (use_coarse_groups), it also rebuilds the coarse levels that wait; `stroke_open` (a stroke
     /// is being carved): only those whose coarse tiles are contoured already and read after every change, so no
     /// coarse contour or re-read holds the stroke's samples (see kCoarseContourSliceS, kCoarseUpdateTiles).
-    std::size_t collect_lods(bool stroke_open = false);
+    /// `yield` (may be empty): true when the caller's own work waits (a cut): the coarse re-read and the levels that
+    /// contour their coarse tiles stop after their current batch or level, as when the slice ends.
+    std::size_t collect_lods(bool stroke_open = false, const std::function<bool()>& yield = {});
     /// Background building: per tile or group that got its levels from the worker, the wall time from the refresh()
     /// that re-contoured the tile (its settling included) or from collect_lods() queueing the group's job to
     /// collect_lods() taking the levels in, ms; for a stroke's tiles and groups only, not start-up's; in
@@ -244,7 +246,7 @@ public:
     /// After a stroke, collect_lods() re-reads the finer coarse models through the changed tiles this many tiles at a
     /// time (CoarseGroupLevels::update), for at most kCoarseContourSliceS a pass (at least one batch), never while a
     /// stroke is open; the waiting levels are rebuilt once every changed tile is read.
-    static constexpr std::size_t kCoarseUpdateTiles = 64;
+    static constexpr std::size_t kCoarseUpdateTiles = 16;
     /// The first refresh() builds the coarse levels of the groups of this depth and deeper at once (the coarsest
     /// ones, which a first frame of the whole workpiece draws); those of finer groups follow through collect_lods().
     static constexpr int kCoarseStartupDepth = 2;
@@ -350,7 +352,8 @@ private:
     // tiles around them (coarse_changed_; `from` or finer); empties detail_wanted_. Returns their ids.
     std::vector<std::uint64_t> wanted_finer_groups(const std::array<int, 3>& dims, int from);
     // Coarse mode: rebuilds up to kCoarseLevelsPerCollect waiting groups once settled; returns how many.
-    std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open);
+    std::size_t settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open,
+                                     const std::function<bool()>& yield);
     DurationHistogram lod_latency_ms_ = DurationHistogram::latency();
     // Coarse-first start-up (expect_tiles): tiles still expected, those arriving with the next refresh, groups whose
     // level's error was measured before all their tiles were in, and whether the groups' flags need another pass.

@@ -65,10 +65,12 @@ void SculptThread::collect_lods() {
     if (!tile_cache_.lod_enabled()) return;
     // While a stroke is open no coarse level contours its tiles: the stroke's samples would wait for it.
     const bool stroke = history_ && history_->stroke_open();
-    // A cut waiting: no coarse tile is contoured either, as during a stroke (the cut's pass comes first).
-    const bool yield = !stroke && !stop_.load(std::memory_order_acquire) && cut_waiting();
+    // A cut waiting: no coarse tile is contoured either, as during a stroke (the cut's pass comes first); one that
+    // comes meanwhile ends the coarse re-read and contouring after their current batch or level.
+    const auto waits = [this] { return !stop_.load(std::memory_order_acquire) && cut_waiting(); };
+    const bool yield = !stroke && waits();
     // Levels taken in go out with the next mesh.
-    if (tile_cache_.collect_lods(stroke || yield) > 0 && mesh_out_) mesh_pending_ = true;
+    if (tile_cache_.collect_lods(stroke || yield, waits) > 0 && mesh_out_) mesh_pending_ = true;
     const std::size_t pending = tile_cache_.lod_pending();
     if (tile_cache_.startup_lod_pending() == 0 && stats_.lod_all_built_s < 0.0 && mesh_version_ > 0)
         stats_.lod_all_built_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
