@@ -7,6 +7,7 @@
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"
 #include "compute/contour/surface_distance.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -27,13 +28,12 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     // kDirtyReachCells fine cells.
     constexpr int kT = TileGrid::kTileCells, kReach = TriDexel::kDirtyReachCells;
     std::unordered_set<std::uint64_t> out;
-    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
     for (int d = coarse_->min_depth(); d <= coarse_->max_depth(); ++d) {
         const int span = kT << d, grow = (kReach + 1) << d;
         std::array<int, 3> gdims{};
         for (int a = 0; a < 3; ++a) gdims[a] = (dims[a] + (1 << d) - 1) >> d;
         for (const std::uint64_t t : changed_tiles) {
-            const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny), static_cast<int>(t / (nx * ny))};
+            const std::array<int, 3> tc = grid_coords(t, dims);
             std::array<int, 3> lo{}, hi{};
             for (int a = 0; a < 3; ++a) {
                 const int cell_lo = tc[a] * kT - kReach - grow, cell_hi = (tc[a] + 1) * kT + kReach + grow;  // [lo, hi)
@@ -42,12 +42,7 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
             }
             for (int z = lo[2]; z <= hi[2]; ++z)
                 for (int y = lo[1]; y <= hi[1]; ++y)
-                    for (int x = lo[0]; x <= hi[0]; ++x) {
-                        const auto index = static_cast<std::uint64_t>(x) +
-                                           static_cast<std::uint64_t>(gdims[0]) *
-                                               (static_cast<std::uint64_t>(y) + static_cast<std::uint64_t>(gdims[1]) * z);
-                        out.insert(tile_group_id(d, index));
-                    }
+                    for (int x = lo[0]; x <= hi[0]; ++x) out.insert(tile_group_id(d, grid_index({x, y, z}, gdims)));
         }
     }
     return out;
@@ -66,7 +61,7 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     if (stroke_hidden) ids = wanted_finer_groups(dims, from);
     detail_wanted_.clear();
     for (const std::uint64_t id : coarse_stale_) {
-        const int depth = static_cast<int>(id >> 56);
+        const int depth = tile_group_depth(id);
         if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0) ids.push_back(id);
     }
     if (ids.empty()) return 0;
@@ -109,11 +104,9 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
         }
         ranges.push_back(r);
     }
-    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
     std::vector<std::uint64_t> tiles;
     for (const std::uint64_t t : coarse_changed_) {
-        const std::array<int, 3> tc{static_cast<int>(t % nx), static_cast<int>((t / nx) % ny),
-                                    static_cast<int>(t / (nx * ny))};
+        const std::array<int, 3> tc = grid_coords(t, dims);
         const auto inside = [&](const std::array<int, 6>& r) {
             return tc[0] >= r[0] && tc[1] >= r[1] && tc[2] >= r[2] && tc[0] < r[3] && tc[1] < r[4] && tc[2] < r[5];
         };
@@ -156,7 +149,7 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     // Finest depth first: the levels a close view needs come back first.
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
     for (const std::uint64_t id : coarse_stale_)
-        if (coarse_->has_depth(static_cast<int>(id >> 56))) ids.push_back(id);
+        if (coarse_->has_depth(tile_group_depth(id))) ids.push_back(id);
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
     // Start-up's finest groups (no stroke yet) in larger batches: nothing else waits for the sculpt thread then.

@@ -6,6 +6,7 @@
 
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "compute/contour/tile_group_lod.hpp"
 
 namespace tridex::compute {
@@ -19,29 +20,13 @@ struct GroupGrid {
         for (int a = 0; a < 3; ++a) g[a] = (tiles[a] + (1 << depth) - 1) >> depth;
         return g;
     }
-    std::array<int, 3> tile_coords(std::uint64_t tile) const {
-        const auto nx = static_cast<std::uint64_t>(tiles[0]), ny = static_cast<std::uint64_t>(tiles[1]);
-        return {static_cast<int>(tile % nx), static_cast<int>((tile / nx) % ny), static_cast<int>(tile / (nx * ny))};
-    }
-    // The linear index of cell c in a grid of `n` cells along each axis.
-    static std::uint64_t linear(const std::array<int, 3>& c, const std::array<int, 3>& n) {
-        return static_cast<std::uint64_t>(c[0]) +
-               static_cast<std::uint64_t>(n[0]) * (static_cast<std::uint64_t>(c[1]) +
-                                                   static_cast<std::uint64_t>(n[1]) * static_cast<std::uint64_t>(c[2]));
-    }
-    std::uint64_t group_id(int depth, const std::array<int, 3>& g) const { return tile_group_id(depth, linear(g, dims(depth))); }
+    std::array<int, 3> tile_coords(std::uint64_t tile) const { return grid_coords(tile, tiles); }
+    std::uint64_t group_id(int depth, const std::array<int, 3>& g) const { return tile_group_id(depth, grid_index(g, dims(depth))); }
     std::uint64_t group_of(const std::array<int, 3>& t, int depth) const {
         return group_id(depth, {t[0] >> depth, t[1] >> depth, t[2] >> depth});
     }
-    std::array<int, 3> group_coords(std::uint64_t id, int depth) const {
-        const std::array<int, 3> g = dims(depth);
-        const std::uint64_t index = id & ((std::uint64_t{1} << 56) - 1);
-        const auto nx = static_cast<std::uint64_t>(g[0]), ny = static_cast<std::uint64_t>(g[1]);
-        return {static_cast<int>(index % nx), static_cast<int>((index / nx) % ny), static_cast<int>(index / (nx * ny))};
-    }
+    std::array<int, 3> group_coords(std::uint64_t id, int depth) const { return grid_coords(tile_group_index(id), dims(depth)); }
 };
-
-int depth_of(std::uint64_t group_id) { return static_cast<int>(group_id >> 56); }
 
 }  // namespace
 
@@ -105,7 +90,7 @@ std::vector<TileGroupSurface> TileSurfaceCache::regrouped(const std::array<int, 
                 for (c[1] = 2 * g.coords[1]; c[1] <= 2 * g.coords[1] + 1 && c[1] < below[1]; ++c[1])
                     for (c[0] = 2 * g.coords[0]; c[0] <= 2 * g.coords[0] + 1 && c[0] < below[0]; ++c[0]) {
                         if (d == 1) {
-                            const std::uint64_t t = GroupGrid::linear(c, dims);
+                            const std::uint64_t t = grid_index(c, dims);
                             if (const TileSurface* tile = find_by_id(tiles_, t)) add(t, tile->bounds_m);
                             if (expected_.count(t) != 0) add(t, expected_tile_box(t, dims));
                             continue;
@@ -160,7 +145,7 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         for (const std::uint64_t t : touched_tiles)
             for (int d = 1; d <= depth_max; ++d) ids.push_back(grid.group_of(grid.tile_coords(t), d));
         for (const std::uint64_t id : stale)
-            if (depth_of(id) >= 1 && depth_of(id) <= depth_max) ids.push_back(id);
+            if (tile_group_depth(id) >= 1 && tile_group_depth(id) <= depth_max) ids.push_back(id);
         std::sort(ids.begin(), ids.end());
         ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
         next = regrouped(dims, depth_max, ids);

@@ -75,6 +75,12 @@ constexpr std::uint64_t tile_group_id(int depth, std::uint64_t index) {
     return (static_cast<std::uint64_t>(depth) << 56) | index;
 }
 
+/// The depth of the group with id `id` (tile_group_id's top byte).
+constexpr int tile_group_depth(std::uint64_t id) { return static_cast<int>(id >> 56); }
+
+/// The linear index, in its depth's group grid, of the group with id `id` (tile_group_id's lower 56 bits).
+constexpr std::uint64_t tile_group_index(std::uint64_t id) { return id & ((std::uint64_t{1} << 56) - 1); }
+
 /// A Contourer as a TileMeshSource (its tiles as they are). Valid while the Contourer lives.
 class ContourerTiles final : public TileMeshSource {
 public:

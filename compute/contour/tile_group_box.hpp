@@ -2,8 +2,23 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 namespace tridex::compute {
+
+/// The coordinates of cell `index` in a grid of `dims` cells (x fastest, then y, then z): a tile's in the tile grid
+/// from its tile id, or a group's in its depth's group grid from its linear index (tile_group_index). No range check.
+inline std::array<int, 3> grid_coords(std::uint64_t index, const std::array<int, 3>& dims) {
+    const auto nx = static_cast<std::uint64_t>(dims[0]), ny = static_cast<std::uint64_t>(dims[1]);
+    return {static_cast<int>(index % nx), static_cast<int>((index / nx) % ny), static_cast<int>(index / (nx * ny))};
+}
+
+/// The linear index of the cell at coordinates `c` in a grid of `dims` cells, x fastest: grid_coords' inverse.
+inline std::uint64_t grid_index(const std::array<int, 3>& c, const std::array<int, 3>& dims) {
+    return static_cast<std::uint64_t>(c[0]) +
+           static_cast<std::uint64_t>(dims[0]) *
+               (static_cast<std::uint64_t>(c[1]) + static_cast<std::uint64_t>(dims[1]) * static_cast<std::uint64_t>(c[2]));
+}
 
 /// The tiles of the depth-`depth` tile group at group coordinates `coords` (2^depth tiles along each axis,
 /// TileGroupSurface::coords) grown by one tile, as an inclusive box of tile coordinates in `lo`, `hi` (not clamped to
