@@ -146,20 +146,27 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             return 0;
         }
     }
-    // Finest depth first: the levels a close view needs come back first.
+    // Coarsest depth first: a frame descends from a group to its children only once none of their levels waits
+    // (renderer::groups_standing_in), so the view refines a depth at a time.
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
     for (const std::uint64_t id : coarse_stale_)
         if (coarse_->has_depth(tile_group_depth(id))) ids.push_back(id);
     if (ids.empty()) return 0;
-    std::sort(ids.begin(), ids.end());
+    std::sort(ids.begin(), ids.end(), [](std::uint64_t a, std::uint64_t b) {
+        const int da = tile_group_depth(a), db = tile_group_depth(b);
+        return da != db ? da > db : a < b;
+    });
     // Start-up's finest groups (no stroke yet) in larger batches: nothing else waits for the sculpt thread then.
     const bool startup = coarse_changed_at_ == std::chrono::steady_clock::time_point{};
     const std::size_t budget = startup ? kCoarseStartupLevelsPerCollect : kCoarseLevelsPerCollect;
     // Levels that only read contoured coarse tiles first; then, within the slice and never during a stroke, those
     // that contour theirs (a depth read later, tile by tile as its levels need them).
+    // Between strokes a depth is done before a finer one starts; during one, finer levels that only read come
+    // meanwhile.
     std::vector<std::uint64_t> reads, contours;
     for (const std::uint64_t id : ids) {
         if (reads.size() >= budget) break;
+        if (!stroke_open && !contours.empty() && tile_group_depth(id) < tile_group_depth(contours.front())) break;
         const std::size_t g = index_of(groups_, id);
         const bool read = g == groups_.size() || coarse_->contoured_around(groups_[g].depth, groups_[g].coords);
         (read ? reads : contours).push_back(id);  // a group gone is dropped by the rebuild
@@ -214,6 +221,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         groups[i]->lods.clear();
         if (!built[i].mesh.triangles.empty()) groups[i]->lods.push_back(std::move(built[i]));
         groups[i]->version = fresh_tile_version();
+        groups[i]->levels_waiting = false;
     }
     coarse_->forget_reads();  // the levels hold what they need; a later rebuild reads its tiles again
     lod_groups_built_ += groups.size();

@@ -168,10 +168,12 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             g.version = groups_[old].version;
             g.lods = std::move(groups_[old].lods);
             g.children_cover = groups_[old].children_cover;
+            g.levels_waiting = groups_[old].levels_waiting;
             keep_old(old, std::move(g));
             return;
         }
         g.version = fresh_tile_version();
+        g.levels_waiting = true;
         queued.push_back(false);
         changed_at.push_back(now);
         if (coarse_ && g.depth >= coarse_->min_depth()) {  // a coarse level at start-up, or once settled
@@ -269,6 +271,7 @@ void TileSurfaceCache::build_group_lods(const std::vector<std::size_t>& which) {
         TileGroupSurface& g = groups_[which[i]];
         g.lods = std::move(built[i]);
         g.version = fresh_tile_version();
+        g.levels_waiting = false;
         group_pending_[which[i]] = false;
     }
     lod_groups_built_ += which.size();

@@ -138,6 +138,7 @@ std::size_t TileSurfaceCache::collect_lods(bool stroke_open, const std::function
             if (g < groups_.size() && group_pending_[g] && groups_[g].version == r.token) {
                 groups_[g].lods = std::move(r.levels);
                 groups_[g].version = fresh_tile_version();
+                groups_[g].levels_waiting = false;
                 group_pending_[g] = false;
                 group_queued_[g] = false;
                 ++lod_groups_built_;

@@ -67,6 +67,10 @@ struct TileGroupSurface {
     /// (TileSurfaceCache::expect_tiles) and the groups under it cannot stand in for it: a renderer then draws one
     /// of its levels, whatever that level's error on screen.
     bool children_cover = true;
+    /// true while its levels are dropped or not built yet and will be (re)built: a change reached it, or its depth
+    /// waits to be read or simplified. A renderer then draws an enclosing group's level rather than this group's
+    /// children at full resolution (renderer::TileGroup::levels_waiting).
+    bool levels_waiting = false;
 };
 
 /// The id of the depth-d group with linear index `index` in that depth's group grid: the depth in the top

@@ -7,11 +7,24 @@
 
 namespace tridex::renderer {
 
+std::vector<std::uint8_t> groups_standing_in(std::span<const TileGroup> groups) {
+    std::vector<std::uint8_t> out(groups.size(), 0);
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+        if (!groups[g].children_cover) out[g] = 1;
+        const std::size_t p = groups[g].parent;
+        if (p == TileGroup::kNone) continue;
+        if (p >= groups.size()) throw Error("groups_standing_in: parent index " + std::to_string(p) + " out of range");
+        if (groups[g].levels_waiting) out[p] = 1;
+    }
+    return out;
+}
+
 std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
                                              double max_px, std::vector<std::uint8_t>& covered) {
     const std::size_t n = groups.size();
     if (px_per_m.size() != n)
         throw Error("choose_group_levels: " + std::to_string(px_per_m.size()) + " scales for " + std::to_string(n) + " groups");
+    const std::vector<std::uint8_t> stands_in = groups_standing_in(groups);
     std::vector<std::size_t> level(n, 0);
     covered.assign(n, 0);
     // 0 = unresolved, 1 = resolving, 2 = resolved.
@@ -34,7 +47,7 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
                 covered[g] = 1;
             else {
                 level[g] = choose_level(groups[g].levels, px_per_m[g], max_px);
-                if (level[g] == 0 && !groups[g].children_cover && !groups[g].levels.empty()) level[g] = 1;
+                if (level[g] == 0 && stands_in[g] && !groups[g].levels.empty()) level[g] = 1;
             }
             state[g] = 2;
         }
@@ -42,8 +55,8 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
     return level;
 }
 
-bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px) {
-    if (level == 0 || level > group.levels.size() || group.children_cover) return false;
+bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px, bool stands_in) {
+    if (level == 0 || level > group.levels.size() || !stands_in) return false;
     return group.levels[level - 1].error_m * px_per_m > max_px;
 }
 

@@ -27,23 +27,32 @@ struct TileGroup {
     /// are not all contoured, compute::TileGroupSurface::children_cover), so the group is drawn at its coarsest level
     /// within the bound, else its finest, unless an enclosing group is drawn.
     bool children_cover = true;
+    /// true while its levels are being (re)built (compute::TileGroupSurface::levels_waiting): an enclosing group
+    /// with a level is then drawn over the bound rather than descend to this group's children, which would draw the
+    /// group's surface at a finer level than it needs, up to its tiles at full resolution.
+    bool levels_waiting = false;
 };
+
+/// Per group, 1 when its children cannot draw it at their own levels yet: what lies under it does not cover it
+/// (TileGroup::children_cover false), or one of its child groups' levels are waiting (TileGroup::levels_waiting).
+/// Throws tridex::Error when a parent index is out of range.
+std::vector<std::uint8_t> groups_standing_in(std::span<const TileGroup> groups);
 
 /// Per group, what an eye draws: 0 = not this group (an enclosing group is drawn, or none of its levels is
 /// within the bound and its children are considered), k >= 1 = its level k (1-based into levels).
 /// `covered` gets, per group, 1 when an enclosing group is drawn (the group and its tiles are then not drawn).
 /// A group is drawn at its coarsest level whose error_m * px_per_m[g] <= max_px, unless an enclosing group is
-/// drawn; so every tile is drawn at most once, by itself or by exactly one group. A group whose children do not
-/// cover it (TileGroup::children_cover false) and that has levels is drawn whatever its error: its finest level
-/// when none is within the bound. px_per_m: per group, the
+/// drawn; so every tile is drawn at most once, by itself or by exactly one group. A group with levels that stands in
+/// for its children (groups_standing_in: they do not cover it, or a child group's levels are waiting) is drawn
+/// whatever its error: its finest level when none is within the bound. px_per_m: per group, the
 /// pixels_per_metre of its bounds in the eye (size = groups.size()). Throws tridex::Error when sizes differ or a
 /// parent index is out of range or parents form a cycle.
 std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
                                              double max_px, std::vector<std::uint8_t>& covered);
 
-/// True when an eye draws `group` at `level` (1-based, as choose_group_levels gives) only because nothing under it can
-/// draw its surface yet (TileGroup::children_cover false) while that level's error_m * px_per_m exceeds max_px: the
-/// eye wants the group's tiles at full resolution (compute::DetailRequests). False for level 0 or out of range.
-bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px);
+/// True when an eye draws `group` at `level` (1-based, as choose_group_levels gives) only because it stands in for
+/// its children (`stands_in`, from groups_standing_in) while that level's error_m * px_per_m exceeds max_px: the eye
+/// wants the group's tiles, or its child groups' levels (compute::DetailRequests). False for level 0 or out of range.
+bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px, bool stands_in);
 
 }  // namespace tridex::renderer

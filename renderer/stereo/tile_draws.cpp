@@ -38,7 +38,9 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
     std::array<std::vector<std::size_t>, 2> group_level;
     std::array<std::vector<std::uint8_t>, 2> group_covered;
     std::array<std::vector<double>, 2> px;  // per eye and group: pixels_per_metre of its bounds
+    std::vector<std::uint8_t> stands_in;
     if (use_groups) {
+        stands_in = groups_standing_in(scene.tile_groups);
         for (int e = 0; e < eye_count; ++e) {
             px[e].resize(ng);
             for (std::size_t g = 0; g < ng; ++g) px[e][g] = pixels_per_metre(eyes.lod_eyes[e], scene.tile_groups[g].bounds_m);
@@ -64,7 +66,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
                 if ((visible & (1u << e)) && group_level[e][g] > 0) {
                     ++stats.groups_drawn[e];
                     mask[e] = 1u << e;
-                    wanting = wanting || wants_detail(group, group_level[e][g], px[e][g], scene.lod_max_px);
+                    wanting = wanting || wants_detail(group, group_level[e][g], px[e][g], scene.lod_max_px, stands_in[g] != 0);
                 }
             if (wanting) stats.groups_wanting_detail.push_back(group.id);
             if (eye_count == 2 && mask[0] && mask[1] && group_level[0][g] == group_level[1][g]) {

@@ -15,6 +15,8 @@
 #include "app/support/assets.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/tools/boolean.hpp"
+#include "core/segment.hpp"
 #include "gpu/context.hpp"
 #include "lod_render_compare.hpp"
 #include "renderer/camera/display_config.hpp"
@@ -86,6 +88,54 @@ TEST(CoarseGroupRender, TheBunnyAt256And512MatchesItsFullResolutionRender) {
                 EXPECT_LT(double(lod.stats.tile_triangles[0]), 1.5 * double(first)) << n << " " << z;
             }
     }
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+// A cut drops the finer groups' levels until they are rebuilt, while its tiles are all contoured. A close view then
+// draws the enclosing groups over the bound (and names them as wanting detail) rather than the cut region's tiles at
+// full resolution; once the levels are back, the bound decides again and no group wants detail.
+TEST(CoarseGroupRender, GroupsStandInForLevelsACutDroppedUntilTheyAreRebuilt) {
+    gpu::ContextOptions opt;
+    opt.validation = true;
+    gpu::Context ctx = gpu::Context::create(opt);
+    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, 960, 540);
+    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    Coarse c(256);
+    const compute::Lattice& L = c.wp.model.lattice;
+    const Vec3 mid = L.to_world(0.5 * Vec3(L.cells[0], L.cells[1], L.cells[2]));
+    compute::subtract_capsule(c.wp.model, Segment{mid - Vec3(0.1, 0.0, 0.0), mid + Vec3(0.1, 0.0, 0.0)}, 0.01);
+    c.contourer.update(c.wp.model);
+    c.cache.refresh(c.contourer);
+    std::size_t waiting = 0;
+    for (const compute::TileGroupSurface& g : c.cache.groups()) waiting += g.levels_waiting ? 1 : 0;
+    ASSERT_GT(waiting, 0u);
+    renderer::SceneView scene;
+    scene.show_workspace = false;
+    scene.lod = true;
+    Pose head;
+    head.position = Vec3(0.02, 0.06, 0.3);
+    TileView view;
+    const auto render = [&] {
+        tile_view_of(c.cache.tiles(), c.cache.groups(), true, view);
+        scene.tiles = view.tiles;
+        scene.tile_groups = view.groups;
+        return r.render(scene, screen, head, 0.065).stats;
+    };
+    const renderer::FrameStats standing = render();
+    EXPECT_FALSE(standing.groups_wanting_detail.empty());
+    // The same view if the waiting levels were not stood in for: their tiles, at full resolution where they have no
+    // level of their own yet.
+    for (renderer::TileGroup& g : view.groups) g.levels_waiting = false;
+    const renderer::FrameStats descended = r.render(scene, screen, head, 0.065).stats;
+    EXPECT_LT(standing.tile_triangles[0], descended.tile_triangles[0]);
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(180);
+    while ((c.cache.lod_pending() > 0 || c.cache.coarse_waiting() > 0) && std::chrono::steady_clock::now() < limit) {
+        c.cache.collect_lods();
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_EQ(c.cache.coarse_waiting(), 0u);
+    const renderer::FrameStats settled = render();
+    EXPECT_TRUE(settled.groups_wanting_detail.empty());
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 

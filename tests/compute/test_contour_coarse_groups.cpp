@@ -194,6 +194,7 @@ TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFr
     // The coarsest groups within reach are rebuilt by the refresh itself; the finer ones are dropped until settled.
     const int top_depth = every_depth().max_depth;
     std::size_t dropped = 0, kept = 0, at_once = 0;
+    std::set<std::uint64_t> dropped_ids;
     for (const TileGroupSurface& g : s.cache.groups()) {
         if (g.version == before[g.id]) {
             ++kept;
@@ -202,14 +203,30 @@ TEST(CoarseGroups, ACutRebuildsTheCoarsestLevelsAtOnceAndTheRestOnceSettledAsAFr
             ++at_once;
         } else {
             EXPECT_TRUE(g.lods.empty()) << g.id;
+            dropped_ids.insert(g.id);
             ++dropped;
         }
+        EXPECT_EQ(g.levels_waiting, dropped_ids.count(g.id) != 0) << g.id;  // what a renderer stands in for
     }
     EXPECT_GT(dropped, 0u);
     EXPECT_GT(kept, 0u);
     EXPECT_GT(at_once, 0u);
     EXPECT_EQ(s.cache.coarse_waiting(), dropped);
-    while (s.cache.coarse_waiting() > 0) ASSERT_GT(s.cache.collect_lods(), 0u);
+    // The coarsest depth waiting comes back first: no dropped group is back while a coarser one still waits.
+    std::set<int> depths;
+    while (s.cache.coarse_waiting() > 0) {
+        ASSERT_GT(s.cache.collect_lods(), 0u);
+        int coarsest_waiting = 0;
+        for (const TileGroupSurface& g : s.cache.groups())
+            if (g.levels_waiting) coarsest_waiting = std::max(coarsest_waiting, g.depth);
+        for (const TileGroupSurface& g : s.cache.groups())
+            if (dropped_ids.count(g.id) != 0 && !g.levels_waiting) {
+                EXPECT_GE(g.depth, coarsest_waiting) << g.id;
+                depths.insert(g.depth);
+            }
+    }
+    EXPECT_GT(depths.size(), 1u) << "the cut must drop levels at more than one depth";
+    for (const TileGroupSurface& g : s.cache.groups()) EXPECT_FALSE(g.levels_waiting) << g.id;
     const std::size_t compared = expect_levels_of_a_fresh_build(s.cache, [&](TriDexel& m) {
         subtract_capsule(m, Segment{top + Vec3(-0.01, 0.0, 0.0), top + Vec3(0.01, 0.0, 0.0)}, 0.004);
     });

@@ -167,14 +167,59 @@ TEST(TileGroupLod, AGroupDrawnOverTheBoundForItsChildrenWantsDetail) {
     const std::vector<TileMeshLevel> levels{TileMeshLevel{&tri, nullptr, nullptr, 2e-3}};
     TileGroup g;
     g.levels = levels;
-    g.children_cover = false;
-    EXPECT_TRUE(wants_detail(g, 1, 5000.0, 1.0));    // 10 px over a 1 px bound
-    EXPECT_FALSE(wants_detail(g, 1, 400.0, 1.0));    // 0.8 px: within the bound, the level is what the eye wants
-    EXPECT_TRUE(wants_detail(g, 1, 1500.0, 2.0));    // 3 px over a 2 px bound
-    EXPECT_FALSE(wants_detail(g, 0, 5000.0, 1.0));   // not drawn
-    EXPECT_FALSE(wants_detail(g, 2, 5000.0, 1.0));   // no such level
-    g.children_cover = true;                         // its children can be drawn instead: the bound decides
-    EXPECT_FALSE(wants_detail(g, 1, 5000.0, 1.0));
+    EXPECT_TRUE(wants_detail(g, 1, 5000.0, 1.0, true));    // 10 px over a 1 px bound
+    EXPECT_FALSE(wants_detail(g, 1, 400.0, 1.0, true));    // 0.8 px: within the bound, the level is what the eye wants
+    EXPECT_TRUE(wants_detail(g, 1, 1500.0, 2.0, true));    // 3 px over a 2 px bound
+    EXPECT_FALSE(wants_detail(g, 0, 5000.0, 1.0, true));   // not drawn
+    EXPECT_FALSE(wants_detail(g, 2, 5000.0, 1.0, true));   // no such level
+    EXPECT_FALSE(wants_detail(g, 1, 5000.0, 1.0, false));  // its children can be drawn instead: the bound decides
+}
+
+// After a change, the finer groups' levels wait to be rebuilt while their tiles are all in. A group over the bound
+// then stands in for them, drawn at its finest level, rather than let them draw its surface from their tiles at full
+// resolution; once their levels are back, the bound decides again.
+TEST(TileGroupLod, AGroupStandsInForChildrenWhoseLevelsWait) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}};
+    const std::vector<TileMeshLevel> root{TileMeshLevel{&tri, nullptr, nullptr, 8e-3}},
+        child{TileMeshLevel{&tri, nullptr, nullptr, 2e-3}}, none{};
+    // Root 0 over groups 1 and 2; group 3 under 2.
+    std::vector<TileGroup> groups(4);
+    groups[0].levels = root;
+    groups[1].levels = child;
+    groups[1].parent = 0;
+    groups[2].levels = child;
+    groups[2].parent = 0;
+    groups[3].levels = child;
+    groups[3].parent = 2;
+    std::vector<std::uint8_t> covered;
+    const std::vector<double> mid(4, 400.0);  // the root strays by 3.2 px, the others by 0.8 px
+    EXPECT_EQ(choose_group_levels(groups, mid, 1.0, covered), (std::vector<std::size_t>{0, 1, 1, 0}));
+    EXPECT_EQ(groups_standing_in(groups), (std::vector<std::uint8_t>{0, 0, 0, 0}));
+    groups[1].levels = none;  // dropped by a change, rebuilt later
+    groups[1].levels_waiting = true;
+    EXPECT_EQ(groups_standing_in(groups), (std::vector<std::uint8_t>{1, 0, 0, 0}));
+    EXPECT_EQ(choose_group_levels(groups, mid, 1.0, covered), (std::vector<std::size_t>{1, 0, 0, 0}));
+    EXPECT_EQ(covered, (std::vector<std::uint8_t>{0, 1, 1, 1}));
+    EXPECT_TRUE(wants_detail(groups[0], 1, mid[0], 1.0, true));
+    // A waiting grandchild makes its own parent stand in, not the root.
+    groups[1].levels = child;
+    groups[1].levels_waiting = false;
+    groups[3].levels = none;
+    groups[3].levels_waiting = true;
+    EXPECT_EQ(groups_standing_in(groups), (std::vector<std::uint8_t>{0, 0, 1, 0}));
+    const std::vector<double> near(4, 1500.0);  // every level but the grandchild's strays
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 0, 1, 0}));
+    // A group without a level of its own cannot stand in: its children are drawn.
+    groups[2].levels = none;
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 0, 0, 0}));
+    // A child with no surface at its stride (built, nothing to draw) does not wait: the bound decides.
+    groups[3].levels_waiting = false;
+    groups[2].levels = child;
+    EXPECT_EQ(choose_group_levels(groups, near, 1.0, covered), (std::vector<std::size_t>{0, 0, 0, 0}));
+    groups[3].parent = 7;
+    EXPECT_THROW(groups_standing_in(groups), Error);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
             tg.bounds_m = s->bounds_m;
             tg.version = s->version;
             tg.children_cover = s->children_cover;
+            tg.levels_waiting = s->levels_waiting;
             const std::size_t first = out.levels.size();
             for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
             tg.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
