@@ -50,14 +50,26 @@ struct Coarse {
     }
 };
 
+// A 960x540 offscreen renderer with validation on, and the desk's screen.
+gpu::ContextOptions validated() {
+    gpu::ContextOptions opt;
+    opt.validation = true;
+    return opt;
+}
+
+struct Desk {
+    gpu::Context ctx = gpu::Context::create(validated());
+    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, 960, 540);
+    renderer::Screen screen = renderer::Screen::desktop_monitor();
+};
+
 // The desk (desktop monitor, 960x540, mono and stereo) and a close head 0.3 m from the screen, where groups of every
 // depth meet tiles drawn at full resolution or at their own levels.
 TEST(CoarseGroupRender, TheBunnyAt256And512MatchesItsFullResolutionRender) {
-    gpu::ContextOptions opt;
-    opt.validation = true;
-    gpu::Context ctx = gpu::Context::create(opt);
-    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, 960, 540);
-    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    Desk desk;
+    gpu::Context& ctx = desk.ctx;
+    renderer::OffscreenStereoRenderer& r = desk.r;
+    const renderer::Screen& screen = desk.screen;
     std::map<std::pair<double, int>, std::size_t> drawn;  // per view: the triangles drawn at N = 256
     for (const int n : {256, 512}) {
         const Coarse c(n);
@@ -95,11 +107,10 @@ TEST(CoarseGroupRender, TheBunnyAt256And512MatchesItsFullResolutionRender) {
 // draws the enclosing groups over the bound (and names them as wanting detail) rather than the cut region's tiles at
 // full resolution; once the levels are back, the bound decides again and no group wants detail.
 TEST(CoarseGroupRender, GroupsStandInForLevelsACutDroppedUntilTheyAreRebuilt) {
-    gpu::ContextOptions opt;
-    opt.validation = true;
-    gpu::Context ctx = gpu::Context::create(opt);
-    renderer::OffscreenStereoRenderer r = renderer::OffscreenStereoRenderer::create(ctx, 960, 540);
-    const renderer::Screen screen = renderer::Screen::desktop_monitor();
+    Desk desk;
+    gpu::Context& ctx = desk.ctx;
+    renderer::OffscreenStereoRenderer& r = desk.r;
+    const renderer::Screen& screen = desk.screen;
     Coarse c(256);
     const compute::Lattice& L = c.wp.model.lattice;
     const Vec3 mid = L.to_world(0.5 * Vec3(L.cells[0], L.cells[1], L.cells[2]));

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -72,6 +75,17 @@ TEST(TileLod, FarEyePicksACoarserLevelThanNearEye) {
     EXPECT_EQ(choose_level({}, 1.0, 1.0), 0u);
 }
 
+// Groups with the given levels and parent indices, in that order.
+std::vector<TileGroup> group_tree(std::initializer_list<std::pair<std::span<const TileMeshLevel>, std::size_t>> spec) {
+    std::vector<TileGroup> groups;
+    for (const auto& [levels, parent] : spec) {
+        groups.emplace_back();
+        groups.back().levels = levels;
+        groups.back().parent = parent;
+    }
+    return groups;
+}
+
 // A tree of groups: root 0 over groups 1 and 2; group 3 under 1. Errors grow with size.
 TEST(TileGroupLod, GroupsObeyTheBoundAndCoverTheirChildrenOnce) {
     TriMesh tri;
@@ -84,14 +98,7 @@ TEST(TileGroupLod, GroupsObeyTheBoundAndCoverTheirChildrenOnce) {
     };
     const std::vector<TileMeshLevel> root = levels({4e-3, 8e-3}), a = levels({2e-3, 4e-3}), b = levels({1e-3}),
                                      c = levels({0.5e-3, 1e-3});
-    std::vector<TileGroup> groups(4);
-    groups[0].levels = root;
-    groups[1].levels = a;
-    groups[1].parent = 0;
-    groups[2].levels = b;
-    groups[2].parent = 0;
-    groups[3].levels = c;
-    groups[3].parent = 1;
+    std::vector<TileGroup> groups = group_tree({{root, TileGroup::kNone}, {a, 0}, {b, 0}, {c, 1}});
     std::vector<std::uint8_t> covered;
     // Far: the root's coarsest level alone; everything under it is covered.
     std::vector<std::size_t> k = choose_group_levels(groups, std::vector<double>(4, 100.0), 1.0, covered);
@@ -185,14 +192,7 @@ TEST(TileGroupLod, AGroupStandsInForChildrenWhoseLevelsWait) {
     const std::vector<TileMeshLevel> root{TileMeshLevel{&tri, nullptr, nullptr, 8e-3}},
         child{TileMeshLevel{&tri, nullptr, nullptr, 2e-3}}, none{};
     // Root 0 over groups 1 and 2; group 3 under 2.
-    std::vector<TileGroup> groups(4);
-    groups[0].levels = root;
-    groups[1].levels = child;
-    groups[1].parent = 0;
-    groups[2].levels = child;
-    groups[2].parent = 0;
-    groups[3].levels = child;
-    groups[3].parent = 2;
+    std::vector<TileGroup> groups = group_tree({{root, TileGroup::kNone}, {child, 0}, {child, 0}, {child, 2}});
     std::vector<std::uint8_t> covered;
     const std::vector<double> mid(4, 400.0);  // the root strays by 3.2 px, the others by 0.8 px
     EXPECT_EQ(choose_group_levels(groups, mid, 1.0, covered), (std::vector<std::size_t>{0, 1, 1, 0}));
