@@ -34,6 +34,10 @@ struct DeskBenchOptions {
     /// Runs of every row, 1..20: the rows are run in turn, then again, so that a busy moment of a shared machine
     /// falls on one run of each, and the median over the runs is printed (and written) per row.
     int repeats = 1;
+    /// Seconds the cursor hovers before the first groove (0..300), after which the row still carves for `seconds`:
+    /// the frames after start-up's work, as a session an hour long has them. The row's frame count, median and p99
+    /// are then those of the frames after the lead-in (the report's cover the whole session).
+    double lead_in_s = 0.0;
     std::string out = "out/bench";                     ///< output folder: desk/ per session, desk_bench.json
 };
 

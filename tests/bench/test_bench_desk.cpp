@@ -58,6 +58,35 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
     fs::remove_all(o.out);
 }
 
+// After a lead-in the cursor carves as without one, and the row's frames are those after it: fewer than the
+// session's, which the report counts whole.
+TEST(BenchDesk, ARowAfterALeadInTimesOnlyTheFramesAfterIt) {
+    DeskBenchOptions o;
+    o.seconds = 4.0;
+    o.lead_in_s = 3.0;
+    o.stereo = {"mono"};
+    o.display = "offscreen";
+    o.min_scales = {1.0};
+    o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_lead_" + std::to_string(::getpid()))).string();
+    fs::remove_all(o.out);
+    const std::vector<DeskBenchRow> rows = run_desk_bench(o);
+    ASSERT_EQ(rows.size(), 1u);
+    const DeskBenchRow& r = rows[0];
+    const nlohmann::json report =
+        nlohmann::json::parse(std::ifstream(fs::path(o.out) / "desk" / "n0_mono_scale1_run1" / "report.json"));
+    const auto whole = report.at("frames").at("count").get<std::uint64_t>();
+    EXPECT_GT(r.frames, 20u);  // paced at 60 Hz for 4 s
+    EXPECT_LT(r.frames, whole);
+    EXPECT_GT(whole - r.frames, 60u) << "the 3 s lead-in's frames are left out";
+    EXPECT_GT(r.frame_median_ms, 0.0);
+    EXPECT_GE(r.frame_p99_ms, r.frame_median_ms);
+    EXPECT_GT(r.lag_median_ms, 0.0);  // the grooves came after the lead-in
+    EXPECT_NEAR(report.at("session_s").get<double>(), 7.0, 1.0);
+    const nlohmann::json j = nlohmann::json::parse(std::ifstream(fs::path(o.out) / "desk_bench.json"));
+    EXPECT_EQ(j[0]["lead_in_s"], 3.0);
+    fs::remove_all(o.out);
+}
+
 TEST(BenchDesk, RefusesBadOptionsByName) {
     DeskBenchOptions o;
     o.out = (fs::temp_directory_path() / ("tridex_test_bench_desk_bad_" + std::to_string(::getpid()))).string();
@@ -90,6 +119,9 @@ TEST(BenchDesk, RefusesBadOptionsByName) {
     b = o;
     b.repeats = 0;
     refused(b, "--desk-repeats");
+    b = o;
+    b.lead_in_s = -1.0;
+    refused(b, "--desk-lead-in");
     EXPECT_FALSE(fs::exists(o.out));
 }
 
