@@ -63,7 +63,7 @@ TEST(BenchDesk, ShortOffscreenSessionReportsFramesPassesAndLag) {
 TEST(BenchDesk, ARowAfterALeadInTimesOnlyTheFramesAfterIt) {
     DeskBenchOptions o;
     o.seconds = 4.0;
-    o.lead_in_s = 3.0;
+    o.lead_in_s = 2.0;
     o.stereo = {"mono"};
     o.display = "offscreen";
     o.min_scales = {1.0};
@@ -75,15 +75,15 @@ TEST(BenchDesk, ARowAfterALeadInTimesOnlyTheFramesAfterIt) {
     const nlohmann::json report =
         nlohmann::json::parse(std::ifstream(fs::path(o.out) / "desk" / "n0_mono_scale1_run1" / "report.json"));
     const auto whole = report.at("frames").at("count").get<std::uint64_t>();
-    EXPECT_GT(r.frames, 20u);  // paced at 60 Hz for 4 s
+    EXPECT_GT(r.frames, 10u);  // paced at 60 Hz for 4 s, on a loaded machine fewer
     EXPECT_LT(r.frames, whole);
-    EXPECT_GT(whole - r.frames, 60u) << "the 3 s lead-in's frames are left out";
+    EXPECT_GT(whole - r.frames, whole / 8) << "the 2 s lead-in's frames (of about 6 s) are left out";
     EXPECT_GT(r.frame_median_ms, 0.0);
     EXPECT_GE(r.frame_p99_ms, r.frame_median_ms);
     EXPECT_GT(r.lag_median_ms, 0.0);  // the grooves came after the lead-in
-    EXPECT_NEAR(report.at("session_s").get<double>(), 7.0, 1.0);
+    EXPECT_NEAR(report.at("session_s").get<double>(), 6.0, 1.0);
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(fs::path(o.out) / "desk_bench.json"));
-    EXPECT_EQ(j[0]["lead_in_s"], 3.0);
+    EXPECT_EQ(j[0]["lead_in_s"], 2.0);
     fs::remove_all(o.out);
 }
 
