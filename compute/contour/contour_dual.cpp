@@ -54,6 +54,7 @@ Contourer::Contourer(const TriDexel& model) : lattice_(model.lattice), tiles_(mo
     tile_meshes_.resize(static_cast<std::size_t>(tiles_[0]) * tiles_[1] * tiles_[2]);
     versions_.assign(tile_meshes_.size(), 0);
     contoured_.assign(tile_meshes_.size(), 0);
+    triangle_counts_.assign(tile_meshes_.size(), 0);
 }
 
 void Contourer::check_model(const TriDexel& model) const {
@@ -111,6 +112,7 @@ std::size_t Contourer::update(TriDexel& model, const ProgressFn& progress) {
         const std::size_t idx = model.tiles.index(dirty[i][0], dirty[i][1], dirty[i][2]);
         cells += tile_meshes_[idx].cells_visited;
         contoured_[idx] = 1;
+        triangle_counts_[idx] = static_cast<std::uint32_t>(tile_meshes_[idx].triangles.size());
         ++redone;
         if (partial[i] != nullptr) ++partial_tiles;
         if (!same_piece(previous[i], tile_meshes_[idx])) changed.emplace_back(idx, std::move(previous[i]));
@@ -167,7 +169,7 @@ void Contourer::check_tile(std::size_t tile) const {
 
 std::size_t Contourer::tile_triangle_count(std::size_t tile) const {
     check_tile(tile);
-    return tile_meshes_[tile].triangles.size();
+    return triangle_counts_[tile];
 }
 
 std::uint64_t Contourer::tile_version(std::size_t tile) const {

@@ -53,6 +53,7 @@ void expect_well_formed(const TileSurfaceCache& cache, const Contourer& c) {
         }
         EXPECT_FALSE(s.mesh.triangles.empty()) << s.id;
         EXPECT_EQ(s.version, c.tile_version(s.id));
+        EXPECT_EQ(c.tile_triangle_count(s.id), s.mesh.triangles.size()) << s.id;  // the count follows every update
         std::vector<bool> used(s.mesh.positions.size(), false);
         for (const auto& t : s.mesh.triangles)
             for (std::uint32_t v : t) used[v] = true;
