@@ -239,10 +239,7 @@ double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const
     for (int z = group.coords[2] * span; z < (group.coords[2] + 1) * span && z < coarse_dims_[2]; ++z)
         for (int y = group.coords[1] * span; y < (group.coords[1] + 1) * span && y < coarse_dims_[1]; ++y)
             for (int x = group.coords[0] * span; x < (group.coords[0] + 1) * span && x < coarse_dims_[0]; ++x) {
-                const auto id = static_cast<std::uint64_t>(x) +
-                                static_cast<std::uint64_t>(coarse_dims_[0]) *
-                                    (static_cast<std::uint64_t>(y) + static_cast<std::uint64_t>(coarse_dims_[1]) * z);
-                if (const TileSurface* t = find_by_id(tiles_, id)) {
+                if (const TileSurface* t = find_by_id(tiles_, grid_index({x, y, z}, coarse_dims_))) {
                     tiles.push_back(t);
                     vertices += t->mesh.positions.size();
                 }
