@@ -189,7 +189,9 @@ void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     const auto t0 = std::chrono::steady_clock::now();
     // Built aside first, so that an exception leaves every tile as it was.
     std::vector<std::vector<TileLodLevel>> built(tiles.size());
-    run_lod_jobs(tiles.size(), [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); });
+    if (tile_levels())
+        run_lod_jobs(tiles.size(),
+                     [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); });
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         tiles[i]->lods = std::move(built[i]);
         tiles[i]->lods_built = true;

@@ -199,6 +199,8 @@ public:
     /// refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as CoarseGroupLevels.
     /// coarse_first: only the coarsest depth's model is read now (the first refresh() gives those groups their levels);
     /// build_coarse_depth() reads the finer ones later, and their groups get their levels through collect_lods().
+    /// With options.min_depth 1 the tiles get no simplified levels of their own: a tile's coarser level is its depth-1
+    /// group's, and the worker only puts a tile's mesh in vertex-cache order (tile_levels()).
     void use_coarse_groups(const TriDexel& model, const CoarseLevelOptions& options = {}, bool coarse_first = false);
     /// Coarse-first start-up: reads the coarsest depth not read yet (use_coarse_groups with coarse_first); its groups
     /// then get their levels through collect_lods(), at most kCoarseStartupLevelsPerCollect per call
@@ -375,6 +377,8 @@ private:
     std::unordered_set<std::uint64_t> stroke_arrived_;
     std::vector<std::uint64_t> stroke_changes_;
     std::size_t startup_expected() const { return expected_.size() - stroke_expected_.size(); }
+    // Whether tiles get simplified levels of their own: not when coarse groups start at depth 1 (use_coarse_groups).
+    bool tile_levels() const { return !coarse_ || coarse_->min_depth() > 1; }
     bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;
     bool startup_groups_ = false;

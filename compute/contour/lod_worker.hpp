@@ -38,6 +38,9 @@ struct LodJob {
     TriMesh mesh;              ///< tile: its full mesh (put in vertex-cache order before its levels are built)
     std::vector<std::uint8_t> materials;  ///< tile: per vertex, or empty
     std::vector<LodJobPart> parts;        ///< group: its pieces
+    /// Tile: false puts the mesh in vertex-cache order and builds no levels (the result's levels are empty), for
+    /// tiles whose coarser levels are their depth-1 group's (TileSurfaceCache, coarse groups from depth 1).
+    bool levels = true;
 };
 
 /// A finished job.

@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
+#include <string>
+#include <thread>
 
 #include "compute/contour/coarse_levels.hpp"
 #include "compute/contour/contour_tiles.hpp"
@@ -399,6 +403,63 @@ TEST(CoarseGroups, FromMinDepthTwoTheShallowestGroupsKeepSimplifiedLevels) {
     const CoarseGroupLevels levels(model, from_two);
     EXPECT_EQ(levels.min_depth(), 2);
     EXPECT_THROW((void)levels.level(1, {0, 0, 0}), Error);
+}
+
+// From min_depth 1 a tile's coarser level is its depth-1 group's: the tiles get no simplified levels of their own,
+// whether built at once or by the worker (which still puts each tile's mesh in vertex-cache order: the same
+// triangles). With min_depth 2 the tiles keep theirs, from which the depth-1 groups are simplified.
+TEST(CoarseGroups, FromMinDepthOneTheTilesBuildNoLevelsOfTheirOwn) {
+    // A mesh's triangles as position triples, each from its smallest corner on (the winding kept), in any order.
+    const auto triangles = [](const TriMesh& m) {
+        std::multiset<std::array<double, 9>> out;
+        for (const auto& t : m.triangles) {
+            std::array<std::array<double, 3>, 3> p{};
+            for (int k = 0; k < 3; ++k) p[k] = {m.positions[t[k]].x, m.positions[t[k]].y, m.positions[t[k]].z};
+            std::rotate(p.begin(), std::min_element(p.begin(), p.end()), p.end());
+            std::array<double, 9> flat{};
+            for (int k = 0; k < 9; ++k) flat[k] = p[k / 3][k % 3];
+            out.insert(flat);
+        }
+        return out;
+    };
+    for (const bool background : {false, true}) {
+        for (const int min_depth : {1, 2}) {
+            SCOPED_TRACE(std::string(background ? "worker" : "at once") + ", min_depth " + std::to_string(min_depth));
+            CoarseLevelOptions options;
+            options.min_depth = min_depth;
+            TriDexel model = sphere_model();
+            Contourer contourer(model);
+            contourer.update(model);
+            TileSurfaceCache cache;
+            TileLodOptions o;
+            o.cell_m = model.lattice.cell_m;
+            cache.enable_lod(o);
+            if (background) cache.build_lods_in_background();
+            cache.use_coarse_groups(model, options);
+            cache.refresh(contourer);
+            for (int i = 0; i < 20000 && (cache.lod_pending() > 0 || cache.coarse_waiting() > 0); ++i) {
+                cache.collect_lods();
+                std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            }
+            ASSERT_EQ(cache.lod_pending(), 0u);
+            std::size_t with_levels = 0, checked = 0;
+            for (const TileSurface& t : cache.tiles()) {
+                with_levels += !t.lods.empty();
+                if (!background || t.mesh.triangles.empty()) continue;
+                EXPECT_EQ(triangles(t.mesh), triangles(contourer.tile_mesh(static_cast<std::size_t>(t.id)))) << t.id;
+                ++checked;
+            }
+            if (min_depth == 1) {
+                EXPECT_EQ(with_levels, 0u);
+            } else {
+                EXPECT_GT(with_levels, 0u);
+            }
+            if (background) {
+                EXPECT_GT(checked, 0u);
+            }
+            EXPECT_EQ(cache.lod_tiles_built(), cache.tiles().size());
+        }
+    }
 }
 
 TEST(CoarseGroups, RefusesBadOptionsAndALateCall) {
