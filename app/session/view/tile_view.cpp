@@ -1,7 +1,9 @@
 // app/session/view/tile_view.cpp - TileSurface / TileGroupSurface -> renderer::TileMesh / TileGroup.
 #include "app/session/view/tile_view.hpp"
 
-#include <unordered_map>
+#include <algorithm>
+#include <cstdint>
+#include <utility>
 
 #include "compute/contour/lod_worker.hpp"
 #include "core/error.hpp"
@@ -11,6 +13,13 @@ namespace {
 
 renderer::TileMeshLevel level_of(const compute::TileLodLevel& l) {
     return renderer::TileMeshLevel{&l.mesh, l.materials.empty() ? nullptr : &l.materials, &l.normals, l.error_m};
+}
+
+// (id, index) pairs sorted by id, and the index of `id` among them (`none` when absent).
+using IdIndex = std::vector<std::pair<std::uint64_t, std::size_t>>;
+std::size_t find_index(const IdIndex& sorted, std::uint64_t id, std::size_t none) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::pair<std::uint64_t, std::size_t>{id, 0});
+    return it != sorted.end() && it->first == id ? it->second : none;
 }
 
 template <typename GetTile, typename GetGroup>
@@ -26,10 +35,11 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) level_count += s->lods.size();
     out.levels.reserve(level_count);  // the spans below point into it: no reallocation after this
-    std::unordered_map<std::uint64_t, std::size_t> group_index;  // group id -> index in out.groups
+    IdIndex group_index;              // group id -> index in out.groups, sorted by id
+    group_index.reserve(group_count);
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) {
-            group_index.emplace(s->id, out.groups.size());
+            group_index.emplace_back(s->id, out.groups.size());
             renderer::TileGroup tg;
             tg.id = s->id;
             tg.bounds_m = s->bounds_m;
@@ -41,14 +51,17 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
             tg.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
             out.groups.push_back(tg);
         }
-    std::unordered_map<std::uint64_t, std::size_t> tile_group;  // tile id -> index of its depth-1 group
+    std::sort(group_index.begin(), group_index.end());  // already in id order when the lists are (a no-op pass)
+    IdIndex tile_group;  // tile id -> index of its depth-1 group, sorted by tile id
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) {
-            const std::size_t at = group_index.at(s->id);
-            if (const auto p = group_index.find(s->parent); p != group_index.end()) out.groups[at].parent = p->second;
+            const std::size_t at = find_index(group_index, s->id, renderer::TileGroup::kNone);
+            out.groups[at].parent = find_index(group_index, s->parent, renderer::TileGroup::kNone);
             if (s->depth == 1)
-                for (const std::uint64_t t : s->children) tile_group.emplace(t, at);
+                for (const std::uint64_t t : s->children) tile_group.emplace_back(t, at);
         }
+    std::sort(tile_group.begin(), tile_group.end());
+    out.tiles.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
         const compute::TileSurface* s = get(i);
         if (!s) continue;
@@ -63,7 +76,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
             for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
             tm.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
         }
-        if (const auto g = tile_group.find(s->id); g != tile_group.end()) tm.group = g->second;
+        tm.group = find_index(tile_group, s->id, renderer::TileMesh::kNoGroup);
         out.tiles.push_back(tm);
     }
 }
@@ -73,12 +86,25 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
 void tile_view_of(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
                   std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
                   TileView& out) {
+    // A published tile or group is never changed, and `out` holds the ones it was filled from: the same objects
+    // give the same lists.
+    if (out.from_shared && out.from_lods == with_lods &&
+        std::equal(surfaces.begin(), surfaces.end(), out.from_tiles.begin(), out.from_tiles.end()) &&
+        std::equal(groups.begin(), groups.end(), out.from_groups.begin(), out.from_groups.end()))
+        return;
+    out.from_tiles.assign(surfaces.begin(), surfaces.end());
+    out.from_groups.assign(groups.begin(), groups.end());
+    out.from_lods = with_lods;
+    out.from_shared = true;
     fill(surfaces.size(), [&](std::size_t i) { return surfaces[i].get(); }, groups.size(),
          [&](std::size_t g) { return groups[g].get(); }, with_lods, out);
 }
 
 void tile_view_of(std::span<const compute::TileSurface> surfaces, std::span<const compute::TileGroupSurface> groups,
                   bool with_lods, TileView& out) {
+    out.from_tiles.clear();  // these lists change in place: nothing to recognise them by
+    out.from_groups.clear();
+    out.from_shared = false;
     fill(surfaces.size(), [&](std::size_t i) { return &surfaces[i]; }, groups.size(),
          [&](std::size_t g) { return &groups[g]; }, with_lods, out);
 }

@@ -29,18 +29,26 @@ LodChoice lod_choice(const std::string& name);
 
 /// The renderer's view of a list of tiles and groups: `tiles` for SceneView::tiles and `groups` for
 /// SceneView::tile_groups, whose levels point into `levels`. They keep pointers into the TileSurfaces and
-/// TileGroupSurfaces, which must outlive the use of the view.
+/// TileGroupSurfaces, which must outlive the use of the view (the shared overload of tile_view_of holds them).
 struct TileView {
     std::vector<renderer::TileMesh> tiles;
     std::vector<renderer::TileGroup> groups;
     std::vector<renderer::TileMeshLevel> levels;
+    /// The published tiles and groups the lists were filled from (tile_view_of's shared overload; empty after the
+    /// other): a frame that gets the same ones again reuses the lists.
+    std::vector<std::shared_ptr<const compute::TileSurface>> from_tiles;
+    std::vector<std::shared_ptr<const compute::TileGroupSurface>> from_groups;
+    bool from_lods = false;
+    bool from_shared = false;
 };
 
 /// Fills `out` (reusing its storage) with one renderer::TileMesh per surface (mesh, bounds, version, id,
 /// materials) and, when with_lods, its TileSurface::lods as TileMesh::levels (the full mesh's normals at
 /// the kept vertices), and one renderer::TileGroup per group (levels, bounds, version, parent index; each
 /// tile's TileMesh::group names its depth-1 group). Without with_lods `groups` stays empty. Null pointers
-/// are skipped (their children then have no group / parent).
+/// are skipped (their children then have no group / parent). When `surfaces`, `groups` and with_lods are those `out`
+/// was last filled from (the same objects: a published one never changes), `out` is left as it is. O(tiles log
+/// groups) otherwise.
 void tile_view_of(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
                   std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
                   TileView& out);
