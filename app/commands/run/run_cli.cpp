@@ -83,7 +83,8 @@ void add_run_options(CLI::App& run, RunOptions& o) {
                     "on | off | coarse | simplified (default on): tile levels of detail (built per re-contoured tile on a "
                     "worker thread, tiles drawn at full resolution until theirs arrive; each eye draws the coarsest level "
                     "whose error projects to at most a pixel); groups of tiles contoured from every 2nd, 4th, 8th ray of "
-                    "the model (coarse) or simplified from their tiles (simplified); on: coarse from 512 cells")
+                    "the model (coarse; a tile's coarser level is then its group's) or simplified from their tiles "
+                    "(simplified); on: coarse from 512 cells")
         ->capture_default_str();
     cmd->add_option("--startup", o.startup,
                     "coarse | full (default coarse): with coarse group levels (--lod on from 512 cells, or coarse), the "
