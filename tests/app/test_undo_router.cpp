@@ -2,6 +2,8 @@
 // thread's UndoTimes, and one request at a time, each after the one before was taken. Fake lanes, no threads.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
 #include <vector>
 
 #include "app/session/runtime/placement_history.hpp"
@@ -97,6 +99,34 @@ TEST(UndoRouter, NothingAnywhereGoesToTheFallbackAndAStoppedThreadDoesNotHoldThe
     EXPECT_FALSE(r.drain(std::chrono::milliseconds(2500)));  // sent after the wait, but never seen taken
     EXPECT_EQ(r.waiting(), 0u);
     EXPECT_EQ(a.got.size() + b.got.size(), 4u);
+}
+
+// A lane that passes slowly (a long pass under load) has not stopped: the next request waits until it took the one
+// before, and so reads the undo times that one left, however long that takes.
+TEST(UndoRouter, ASlowThreadThatStillPassesHoldsTheQueueUntilItTookTheRequest) {
+    constexpr auto kWait = std::chrono::milliseconds(1000);
+    FakeLane a, b;
+    a.times.undo_at = 100;
+    a.times.newest_step_at = 100;
+    b.times.undo_at = 200;
+    b.times.newest_step_at = 200;
+    UndoRouter r({a.lane(), b.lane()}, [] { return 0; });
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    ASSERT_EQ(b.got.size(), 1u);
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    ++b.passes;  // one pass: not taken yet
+    EXPECT_TRUE(r.pump(kWait));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // over the wait since sent, under it since the pass
+    EXPECT_TRUE(r.pump(kWait));
+    EXPECT_EQ(r.waiting(), 1u);
+    EXPECT_EQ(b.got.size(), 1u) << "sent on b's old undo times";
+    ++b.passes;  // taken: b's step undone
+    b.times.undo_at = -1;
+    b.times.redo_at = 300;
+    EXPECT_TRUE(r.pump(kWait));
+    EXPECT_EQ(r.waiting(), 0u);
+    EXPECT_EQ(a.got.size(), 1u);
 }
 
 TEST(UndoRouter, RedoFollowsTheUndosInReverseUntilANewStepEndsIt) {

@@ -69,14 +69,22 @@ bool UndoRouter::send(SculptRequest r, const Choice& c) {
         else undone_.pop_back();
     }
     busy_ = c.lane;
-    busy_since_ = std::chrono::steady_clock::now();
+    seen_progress_ = busy_progress_;
+    moved_at_ = std::chrono::steady_clock::now();
     return true;
 }
 
-bool UndoRouter::taken(std::chrono::milliseconds wait) const {
+bool UndoRouter::taken(std::chrono::milliseconds wait) {
     if (busy_ < 0) return true;
     const UndoLane& lane = lanes_[static_cast<std::size_t>(busy_)];
-    return lane.progress() >= busy_progress_ + lane.taken_after || std::chrono::steady_clock::now() - busy_since_ >= wait;
+    const std::uint64_t progress = lane.progress();
+    if (progress >= busy_progress_ + lane.taken_after) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (progress != seen_progress_) {  // passing, not stopped: the wait starts again
+        seen_progress_ = progress;
+        moved_at_ = now;
+    }
+    return now - moved_at_ >= wait;
 }
 
 bool UndoRouter::pump(std::chrono::milliseconds wait) {

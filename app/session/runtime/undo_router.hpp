@@ -47,7 +47,7 @@ public:
     /// 16 requests already wait or the chosen thread's queue is full.
     bool ask(SculptRequest r);
     /// Sends the queued requests whose turn came (each once the one before was taken, or after `wait` without the
-    /// thread passing: a stopped thread does not hold the queue).
+    /// thread passing at all: a stopped thread does not hold the queue, a slow one that still passes does).
     bool pump(std::chrono::milliseconds wait = std::chrono::milliseconds(1000));
     /// Sends every queued request, waiting for each in turn and for the last to be taken, for at most `timeout` in
     /// all; false when some were left (then dropped) or the last was not seen taken.
@@ -66,8 +66,9 @@ private:
     };
     Choice choose(SculptRequest r);
     bool send(SculptRequest r, const Choice& c);
-    // Whether the request in flight was taken (or `wait` passed since it was sent: a stopped thread holds nothing).
-    bool taken(std::chrono::milliseconds wait) const;
+    // Whether the request in flight was taken, or its lane's progress has not moved for `wait` (since it was sent or
+    // since it last moved): a stopped thread holds nothing, a slow one that still passes holds the queue.
+    bool taken(std::chrono::milliseconds wait);
     std::vector<UndoLane> lanes_;
     std::function<int()> fallback_;
     std::deque<SculptRequest> queue_;
@@ -75,7 +76,8 @@ private:
     std::int64_t newest_ = -1;         // the newest step seen (UndoTimes::newest_step_at over the lanes)
     int busy_ = -1;                    // the lane the last request went to, until it took it
     std::uint64_t busy_progress_ = 0;  // its progress() when sent
-    std::chrono::steady_clock::time_point busy_since_{};
+    std::uint64_t seen_progress_ = 0;  // its progress() when last looked at
+    std::chrono::steady_clock::time_point moved_at_{};  // when that was sent or last seen to move
 };
 
 }  // namespace tridex::app
