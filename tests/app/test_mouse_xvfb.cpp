@@ -266,15 +266,25 @@ TEST(MouseXvfb, TheMKeyMirrorsADragAcrossTheWorkpiecesCentre) {
     xdo("mouseup 1");
     ASSERT_TRUE(reached) << "no mirrored groove at the mirror image of the drag";
     EXPECT_GT(ray_depth(carved, mid) - ray_depth(before, mid), 0.002);
-    // One undo takes the stroke back with its mirrored copy.
+    // One undo takes the drag back with its mirrored copy. The press before the drag is the same stroke unless the
+    // tool rested in it longer than SculptThread::kStrokeIdleS of device time while the test waited (a slow machine):
+    // then it closed as a stroke of its own and stays, so the whole volume is compared only for one stroke.
     xdo("key ctrl+z");
-    EXPECT_TRUE(wait_for([&] { return save_as("undone.tdx").volume_m3 == before.volume_m3; }));
+    Saved undone;
+    EXPECT_TRUE(wait_for([&] {
+        undone = save_as("undone.tdx");
+        return ray_depth(undone, mid) == ray_depth(before, mid) &&
+               ray_depth(undone, mirror(mid)) == ray_depth(before, mirror(mid));
+    }));
     xdo("key Escape");
     ASSERT_TRUE(wait_for([&] { return !app.running(); })) << "Esc did not close the window";
     EXPECT_EQ(app.exit_code(), 0) << test::bytes_of(dir / "stderr.txt");
     const nlohmann::json rep = test::read_json(out / "report.json");
     EXPECT_EQ(rep["controls"]["actions"]["symmetry.toggle"]["key"], 1) << rep["controls"].dump();
     EXPECT_EQ(rep["history"]["undos"], 1);
+    if (rep["history"]["strokes"] == 1) {
+        EXPECT_EQ(undone.volume_m3, before.volume_m3);
+    }
     if (!HasFailure()) fs::remove_all(dir);
 }
 
