@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdint>
 #include <thread>
 #include <vector>
 
@@ -52,17 +53,28 @@ struct FakeLane {
                     return true;
                 }};
     }
+    // A step to undo, made at `at` (undo-clock units), the lane's newest.
+    void step_at(std::int64_t at) {
+        times.undo_at = at;
+        times.newest_step_at = at;
+    }
+};
+
+// Two workpieces, a's step at 100 and b's newer at 200, and two undos asked at once: the first went to b.
+struct TwoUndos {
+    FakeLane a, b;
+    UndoRouter r{{a.lane(), b.lane()}, [] { return 0; }};
+    TwoUndos() {
+        a.step_at(100);
+        b.step_at(200);
+        EXPECT_TRUE(r.ask(SculptRequest::kUndo));
+        EXPECT_TRUE(r.ask(SculptRequest::kUndo));
+    }
 };
 
 TEST(UndoRouter, RequestsGoOneAtATimeEachAfterTheOneBeforeWasTaken) {
-    FakeLane a, b;
-    a.times.undo_at = 100;
-    a.times.newest_step_at = 100;
-    b.times.undo_at = 200;
-    b.times.newest_step_at = 200;
-    UndoRouter r({a.lane(), b.lane()}, [] { return 0; });
-    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
-    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    TwoUndos two;
+    auto& [a, b, r] = two;
     EXPECT_EQ(b.got.size(), 1u);  // the newest first
     EXPECT_EQ(r.waiting(), 1u);   // the second waits until b took the first
     // b takes it: two passes, its step undone.
@@ -105,14 +117,8 @@ TEST(UndoRouter, NothingAnywhereGoesToTheFallbackAndAStoppedThreadDoesNotHoldThe
 // before, and so reads the undo times that one left, however long that takes.
 TEST(UndoRouter, ASlowThreadThatStillPassesHoldsTheQueueUntilItTookTheRequest) {
     constexpr auto kWait = std::chrono::milliseconds(1000);
-    FakeLane a, b;
-    a.times.undo_at = 100;
-    a.times.newest_step_at = 100;
-    b.times.undo_at = 200;
-    b.times.newest_step_at = 200;
-    UndoRouter r({a.lane(), b.lane()}, [] { return 0; });
-    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
-    ASSERT_TRUE(r.ask(SculptRequest::kUndo));
+    TwoUndos two;
+    auto& [a, b, r] = two;
     ASSERT_EQ(b.got.size(), 1u);
     std::this_thread::sleep_for(std::chrono::milliseconds(600));
     ++b.passes;  // one pass: not taken yet

@@ -51,7 +51,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
             tg.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
             out.groups.push_back(tg);
         }
-    std::sort(group_index.begin(), group_index.end());  // already in id order when the lists are (a no-op pass)
+    std::sort(group_index.begin(), group_index.end());  // for the lookups below
     IdIndex tile_group;  // tile id -> index of its depth-1 group, sorted by tile id
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) {
