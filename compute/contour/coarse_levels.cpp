@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "compute/mesh/mesh_weld.hpp"
@@ -113,6 +114,45 @@ void span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<I
 
 // One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
 // (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
+// The neighbours (TileLodLevel::joins bits) whose coarse tile's mesh holds an open border vertex of the first `own`
+// triangles of `mesh`: `around` holds each neighbour's mesh with its bit.
+std::uint32_t own_border_neighbours(const TriMesh& mesh, std::size_t own,
+                                    const std::vector<std::pair<const TriMesh*, int>>& around) {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(3 * own);
+    for (std::size_t i = 0; i < own; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
+            keys.push_back((std::uint64_t{std::min(a, b)} << 32) | std::max(a, b));
+        }
+    std::sort(keys.begin(), keys.end());
+    using Point = std::array<double, 3>;
+    std::vector<Point> border;  // the open border's vertices, sorted
+    Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const bool once = (i == 0 || keys[i - 1] != keys[i]) && (i + 1 == keys.size() || keys[i + 1] != keys[i]);
+        if (!once) continue;
+        for (const std::uint64_t v : {keys[i] >> 32, keys[i] & 0xffffffffu}) {
+            const Vec3& p = mesh.positions[v];
+            border.push_back({p.x, p.y, p.z});
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    }
+    if (border.empty()) return 0;
+    std::sort(border.begin(), border.end());
+    std::uint32_t joins = 0;
+    for (const auto& [m, bit] : around)
+        for (const Vec3& p : m->positions) {
+            if (p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z) continue;
+            if (std::binary_search(border.begin(), border.end(), Point{p.x, p.y, p.z})) {
+                joins |= 1u << bit;
+                break;
+            }
+        }
+    return joins;
+}
+
 bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray,
                 std::vector<Interval>& scratch, double& t0, double& t1) {
     coarse_ray(fine_ray, stride, scratch);
@@ -292,10 +332,14 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
     Vec3 glo, ghi;
     for (int a = 0; a < 3; ++a) glo[a] = coords[a] * kT - 1.0, ghi[a] = (coords[a] + 1) * kT + 1.0;
     const Vec3 wlo = L.to_world(glo), whi = L.to_world(ghi);
-    // The pieces as one soup (each tile's vertices, its triangles that belong), welded where tiles share a vertex.
+    // The pieces as one soup (each tile's vertices, its triangles that belong), the group's own tile first, welded
+    // where tiles share a vertex. Triangles with two corners at one position are left out here, not by the weld, so
+    // that the weld keeps every triangle in order and the own ones stay the first own_soup.
     TriMesh soup;
     std::vector<std::uint8_t> soup_materials;
-    D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>&) {
+    std::size_t own_soup = 0;
+    std::vector<std::pair<const TriMesh*, int>> neighbours;  // each neighbour's coarse tile mesh, with its joins bit
+    const auto take = [&](std::size_t t, bool own) {
         const std::vector<std::uint8_t>* mats = nullptr;
         const TriMesh& m = D.mesh_of(t, mats);
         const auto base = static_cast<std::uint32_t>(soup.positions.size());
@@ -305,12 +349,27 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
         else
             soup_materials.insert(soup_materials.end(), mats->begin(), mats->end());
         for (const auto& tri : m.triangles) {
+            const Vec3 &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
+            if (a == b || b == c || c == a) continue;
             if (!own) {
-                const Vec3 c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0;
-                if (c.x < wlo.x || c.y < wlo.y || c.z < wlo.z || c.x > whi.x || c.y > whi.y || c.z > whi.z) continue;
+                const Vec3 mid = (a + b + c) / 3.0;
+                if (mid.x < wlo.x || mid.y < wlo.y || mid.z < wlo.z || mid.x > whi.x || mid.y > whi.y || mid.z > whi.z)
+                    continue;
             }
             soup.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
+            if (own) ++own_soup;
         }
+    };
+    D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>&) {
+        if (own) take(t, true);
+    });
+    D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>& n) {
+        if (own) return;
+        take(t, false);
+        const std::vector<std::uint8_t>* mats = nullptr;
+        const TriMesh& m = D.mesh_of(t, mats);
+        if (!m.triangles.empty())
+            neighbours.emplace_back(&m, neighbour_bit(n[0] - coords[0], n[1] - coords[1], n[2] - coords[2]));
     });
     TileLodLevel out;
     std::vector<std::uint32_t> source;
@@ -319,6 +378,10 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
     for (const std::uint32_t v : source) out.materials.push_back(soup_materials[v]);
     out.error_m = options_.error_coarse_cells * L.cell_m;
     if (out.mesh.triangles.empty()) return out;
+    if (out.mesh.triangles.size() == soup.triangles.size()) {  // else (a corner not finite) it is drawn whole
+        out.own_triangles = own_soup;
+        out.joins = own_border_neighbours(out.mesh, own_soup, neighbours);
+    }
     out.normals = vertex_normals(out.mesh);
     add_skirt(out.mesh, out.materials, out.normals, options_.skirt_coarse_cells * L.cell_m);
     return out;

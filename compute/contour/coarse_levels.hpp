@@ -73,7 +73,10 @@ public:
     void build_depth(const TriDexel& fine, int depth);
     /// The level of the depth-d group at `coords` (group coordinates, as TileGroupSurface::coords): its mesh in
     /// world m with the ring and the skirt, per-vertex materials and normals, error_m = error_coarse_cells coarse
-    /// cells. An empty mesh where the coarse contour has no surface near the group. Throws tridex::Error for a depth
+    /// cells. The group's own triangles come first (TileLodLevel::own_triangles, with the neighbours they join in
+    /// TileLodLevel::joins), then the ring's and the skirt's: a renderer may draw only the own ones where every
+    /// joined neighbour draws its own level of this depth. An empty mesh where the coarse contour has no surface near
+    /// the group. Throws tridex::Error for a depth
     /// outside min_depth()..max_depth() or not built yet (has_depth), coords outside that depth's group grid, or a
     /// group of a depth read by build_depth() whose tiles read_around() has not contoured yet.
     TileLodLevel level(int depth, const std::array<int, 3>& coords) const;

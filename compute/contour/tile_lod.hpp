@@ -2,6 +2,7 @@
 // tiles at different levels still meet edge to edge.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,7 +27,19 @@ struct TileLodLevel {
     /// and the distance to a surface changes by at most the distance moved, so that bound holds for every
     /// point, not only the samples.
     double error_m = 0.0;
+    /// A coarse group level's (CoarseGroupLevels::level) leading triangles that are the group's own, its coarse
+    /// tile's contour, before the ring and the skirt that close it against neighbours drawn at other levels. 0: the
+    /// level is drawn whole (a simplified level, or one with no triangles of its own).
+    std::size_t own_triangles = 0;
+    /// With own_triangles: the neighbouring groups of the same depth whose own triangles continue the open border of
+    /// this level's own triangles (their coarse tile's mesh holds one of its vertices), one bit per neighbour at group
+    /// offset (dx, dy, dz) in -1..1, bit neighbour_bit(dx, dy, dz) (never the group's own, 13).
+    std::uint32_t joins = 0;
 };
+
+/// The bit of the neighbour at group offset (dx, dy, dz), each in -1..1, in TileLodLevel::joins: 9 (dz + 1) +
+/// 3 (dy + 1) + (dx + 1), 0..26; 13 is the group itself.
+constexpr int neighbour_bit(int dx, int dy, int dz) { return 9 * (dz + 1) + 3 * (dy + 1) + (dx + 1); }
 
 /// How TileLodLevel::error_m is measured.
 enum class LodErrorMeasure {

@@ -55,6 +55,37 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
     return level;
 }
 
+std::vector<std::uint8_t> groups_drawn_own_only(std::span<const TileGroup> groups, std::span<const std::size_t> level,
+                                                std::span<const std::uint8_t> visible) {
+    const std::size_t n = groups.size();
+    if (level.size() != n || visible.size() != n)
+        throw Error("groups_drawn_own_only: " + std::to_string(level.size()) + " levels and " +
+                    std::to_string(visible.size()) + " visibilities for " + std::to_string(n) + " groups");
+    const auto own_level = [&](std::size_t g) -> const TileMeshLevel* {
+        if (level[g] == 0) return nullptr;
+        if (level[g] > groups[g].levels.size())
+            throw Error("groups_drawn_own_only: level " + std::to_string(level[g]) + " of group " + std::to_string(g) +
+                        " out of range");
+        const TileMeshLevel& l = groups[g].levels[level[g] - 1];
+        return l.own_triangles > 0 ? &l : nullptr;
+    };
+    std::vector<std::uint8_t> out(n, 0);
+    for (std::size_t g = 0; g < n; ++g) {
+        const TileMeshLevel* l = own_level(g);
+        if (!l) continue;
+        bool own_only = true;
+        for (int slot = 0; slot < 27 && own_only; ++slot) {
+            if (!(l->joins & (1u << slot))) continue;
+            const std::size_t nb = groups[g].neighbours[static_cast<std::size_t>(slot)];
+            if (nb != TileGroup::kNone && nb >= n)
+                throw Error("groups_drawn_own_only: neighbour index " + std::to_string(nb) + " out of range");
+            own_only = nb != TileGroup::kNone && visible[nb] != 0 && own_level(nb) != nullptr;
+        }
+        out[g] = own_only ? 1 : 0;
+    }
+    return out;
+}
+
 bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px, bool stands_in) {
     if (level == 0 || level > group.levels.size() || !stands_in) return false;
     return group.levels[level - 1].error_m * px_per_m > max_px;

@@ -2,6 +2,7 @@
 // draws in place of its tiles.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -31,6 +32,16 @@ struct TileGroup {
     /// with a level is then drawn over the bound rather than descend to this group's children, which would draw the
     /// group's surface at a finer level than it needs, up to its tiles at full resolution.
     bool levels_waiting = false;
+    /// The groups of the same depth around this one: slot 9 (dz + 1) + 3 (dy + 1) + (dx + 1) holds the index (in the
+    /// same list) of the group at offset (dx, dy, dz), or kNone where there is none (slot 13 is the group itself and
+    /// unused). Read only where a level has own triangles and joins (TileMeshLevel).
+    std::array<std::size_t, 27> neighbours = no_neighbours();
+
+    static constexpr std::array<std::size_t, 27> no_neighbours() {
+        std::array<std::size_t, 27> a{};
+        a.fill(kNone);
+        return a;
+    }
 };
 
 /// Per group, 1 when its children cannot draw it at their own levels yet: what lies under it does not cover it
@@ -49,6 +60,15 @@ std::vector<std::uint8_t> groups_standing_in(std::span<const TileGroup> groups);
 /// parent index is out of range or parents form a cycle.
 std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, std::span<const double> px_per_m,
                                              double max_px, std::vector<std::uint8_t>& covered);
+
+/// Per group, 1 when an eye draws only the own triangles (TileMeshLevel::own_triangles) of the level it chose for it:
+/// that level (`level`, 1-based per group, as choose_group_levels gives; 0 = not drawn) has own triangles, and every
+/// neighbour its joins name (TileMeshLevel::joins, TileGroup::neighbours) is `visible` to the eye and drawn at a level
+/// with own triangles too, the same depth's coarse contour, whose triangles meet these at the border exactly. A joined
+/// neighbour that is missing, hidden or drawn otherwise (an enclosing group, its children, a simplified level) needs
+/// the ring and skirt. Throws tridex::Error when sizes differ or a level or neighbour index is out of range.
+std::vector<std::uint8_t> groups_drawn_own_only(std::span<const TileGroup> groups, std::span<const std::size_t> level,
+                                                std::span<const std::uint8_t> visible);
 
 /// True when an eye draws `group` at `level` (1-based, as choose_group_levels gives) only because it stands in for
 /// its children (`stands_in`, from groups_standing_in) while that level's error_m * px_per_m exceeds max_px: the eye

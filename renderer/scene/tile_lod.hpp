@@ -2,6 +2,7 @@
 // geometric error projects to at most about a pixel.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -21,6 +22,13 @@ struct TileMeshLevel {
     /// level's own area-weighted normals.
     const std::vector<Vec3>* normals = nullptr;
     double error_m = 0.0;  ///< largest distance between this level's surface and the full mesh's, m (>= 0)
+    /// A group level contoured from the model read at a coarser stride (compute::TileLodLevel::own_triangles): its
+    /// leading triangles that are the group's own, before the ring and skirt that close it against neighbours drawn
+    /// at other levels. 0: always drawn whole.
+    std::size_t own_triangles = 0;
+    /// With own_triangles: the neighbouring groups (TileGroup::neighbours slots) that must draw their own triangles of
+    /// the same depth for this level to be drawn without its ring and skirt (compute::TileLodLevel::joins).
+    std::uint32_t joins = 0;
 };
 
 /// What an eye needs to project lengths: the off-axis eye of off_axis_view() and the screen's pixel density.

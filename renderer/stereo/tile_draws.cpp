@@ -52,14 +52,25 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
     }
     const auto group_takes = [&](int e, std::size_t g) { return group_level[e][g] > 0 || group_covered[e][g] != 0; };
 
-    // Groups drawn in place of their tiles.
+    // Groups drawn in place of their tiles; those whose joined neighbours all draw the same depth's coarse contour
+    // draw only their own triangles (groups_drawn_own_only).
     if (use_groups) {
+        std::vector<std::uint32_t> group_visible(ng, 0);  // eye bits
+        std::array<std::vector<std::uint8_t>, 2> own_only;
+        for (std::size_t g = 0; g < ng; ++g) {
+            for (int e = 0; e < eye_count; ++e)
+                if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], scene.tile_groups[g].bounds_m))
+                    group_visible[g] |= 1u << e;
+            if (multiview && group_visible[g] != 0) group_visible[g] = eyes_drawn;
+        }
+        for (int e = 0; e < eye_count; ++e) {
+            std::vector<std::uint8_t> seen(ng);
+            for (std::size_t g = 0; g < ng; ++g) seen[g] = (group_visible[g] >> e) & 1u;
+            own_only[e] = groups_drawn_own_only(scene.tile_groups, group_level[e], seen);
+        }
         for (std::size_t g = 0; g < ng; ++g) {
             const TileGroup& group = scene.tile_groups[g];
-            std::uint32_t visible = 0;
-            for (int e = 0; e < eye_count; ++e)
-                if (!scene.cull_tiles || may_be_visible(eyes.frusta[e], group.bounds_m)) visible |= 1u << e;
-            if (multiview && visible != 0) visible = eyes_drawn;
+            const std::uint32_t visible = group_visible[g];
             std::array<std::uint32_t, 2> mask{};  // per level drawn: the eyes drawing it
             bool wanting = false;
             for (int e = 0; e < eye_count; ++e)
@@ -69,18 +80,27 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
                     wanting = wanting || wants_detail(group, group_level[e][g], px[e][g], scene.lod_max_px, stands_in[g] != 0);
                 }
             if (wanting) stats.groups_wanting_detail.push_back(group.id);
-            if (eye_count == 2 && mask[0] && mask[1] && group_level[0][g] == group_level[1][g]) {
+            if (eye_count == 2 && mask[0] && mask[1] && group_level[0][g] == group_level[1][g] &&
+                own_only[0][g] == own_only[1][g]) {
                 mask[0] = 0b11u;
                 mask[1] = 0;
             }
             for (int e = 0; e < 2; ++e) {
                 if (mask[e] == 0) continue;
-                const GpuMesh& m = groups.need(g, group_level[e][g]);
+                const std::size_t level = group_level[e][g];
+                const GpuMesh& m = groups.need(g, level);
+                const std::size_t own = group.levels[level - 1].own_triangles;
+                const std::uint32_t indices =
+                    own_only[e][g] && 3 * own <= m.index_count() ? static_cast<std::uint32_t>(3 * own) : m.index_count();
                 for (int f = 0; f < eye_count; ++f)
-                    if (mask[e] & (1u << f)) stats.tile_triangles[f] += m.index_count() / 3;
-                if (m.index_count() == 0) continue;
+                    if (mask[e] & (1u << f)) {
+                        stats.tile_triangles[f] += indices / 3;
+                        if (indices != m.index_count()) ++stats.groups_own_only[f];
+                    }
+                if (indices == 0) continue;
                 cover(mask[e], group.bounds_m);
                 StereoDraw& d = add(m);
+                d.index_count = indices;
                 d.constants.palette = 1u;
                 d.eye_mask = mask[e];
             }

@@ -39,6 +39,8 @@ struct FrameStats {
     std::array<std::size_t, 2> tile_triangles{};
     /// Groups of tiles (SceneView::tile_groups) drawn per eye at one of their levels in place of their tiles.
     std::array<std::size_t, 2> groups_drawn{};
+    /// Of those, the groups an eye drew with their own triangles only, without ring and skirt (groups_drawn_own_only).
+    std::array<std::size_t, 2> groups_own_only{};
     /// Ids (TileGroup::id) of the visible groups an eye drew over its pixel bound because nothing under them could
     /// draw their surface yet (wants_detail), ascending: where the frames want full-resolution tiles.
     std::vector<std::uint64_t> groups_wanting_detail;

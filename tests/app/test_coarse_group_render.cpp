@@ -7,8 +7,9 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
-#include <utility>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "app/scene/workpiece_source.hpp"
 #include "app/session/view/tile_view.hpp"
@@ -93,6 +94,25 @@ TEST(CoarseGroupRender, TheBunnyAt256And512MatchesItsFullResolutionRender) {
                 std::snprintf(what, sizeof what, "[coarse render] N %d, head z %.1f m, %d eye(s)", n, z, eyes);
                 expect_desk_match(lod, full, bg, what);
                 EXPECT_GT(lod.stats.groups_drawn[0], 0u) << n << " " << z;
+                if (z > 0.5) {
+                    // At the desk's distance most groups meet neighbours of their own depth: they draw only their own
+                    // triangles. Every group with its ring and skirt draws the same picture with more triangles.
+                    EXPECT_GT(lod.stats.groups_own_only[0], 0u) << n;
+                    std::vector<renderer::TileGroup> closed(c.view.groups.begin(), c.view.groups.end());
+                    for (renderer::TileGroup& g : closed) g.neighbours = renderer::TileGroup::no_neighbours();
+                    scene.tile_groups = closed;
+                    scene.lod = true;
+                    const renderer::StereoImages rings = r.render(scene, screen, head, 0.065);
+                    scene.tile_groups = c.view.groups;
+                    std::snprintf(what, sizeof what, "[coarse render] N %d, %d eye(s), own only vs rings", n, eyes);
+                    expect_desk_match(lod, rings, bg, what);
+                    EXPECT_EQ(rings.stats.groups_own_only[0], 0u);
+                    EXPECT_LT(lod.stats.tile_triangles[0], rings.stats.tile_triangles[0]) << n;
+                    std::printf("[coarse render] N %d, %d eye(s): %zu of %zu groups own only, %zu triangles (%zu with "
+                                "every ring and skirt)\n",
+                                n, eyes, lod.stats.groups_own_only[0], lod.stats.groups_drawn[0],
+                                lod.stats.tile_triangles[0], rings.stats.tile_triangles[0]);
+                }
                 EXPECT_LT(2 * lod.stats.tile_triangles[0], full.stats.tile_triangles[0]) << n << " " << z;
                 // The cost follows the pixels, not N: the same view draws about as many triangles at every N.
                 auto& first = drawn[{z, eyes}];

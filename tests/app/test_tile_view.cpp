@@ -1,9 +1,11 @@
 // tests/app/test_tile_view.cpp - the renderer's view of published tiles and groups (app/session/view/tile_view.hpp):
-// each group's parent and each tile's depth-1 group as their ids say, whatever the lists' order, and a frame given
-// the same published objects again keeps its lists while a changed tile is taken in.
+// each group's parent, each tile's depth-1 group and the neighbours a coarse level joins as their ids say, whatever
+// the lists' order, and a frame given the same published objects again keeps its lists while a changed tile is
+// taken in.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <memory>
 #include <random>
@@ -39,6 +41,64 @@ Published publish() {
     for (const compute::TileGroupSurface& g : cache.groups())
         p.groups.push_back(std::make_shared<compute::TileGroupSurface>(g));
     return p;
+}
+
+// The bunny at 96 cells with coarse group levels (contoured from the model read at strides 2, 4 and 8), settled.
+Published publish_coarse() {
+    Workpiece wp = prepare_workpiece(default_mesh_path(), 96, 0.3, Vec3(0.0, 0.0, 0.3));
+    compute::Contourer contourer(wp.model);
+    contourer.update(wp.model);
+    compute::TileSurfaceCache cache;
+    compute::TileLodOptions o;
+    o.cell_m = wp.model.lattice.cell_m;
+    cache.enable_lod(o);
+    cache.use_coarse_groups(wp.model);
+    cache.refresh(contourer);
+    while (cache.coarse_waiting() > 0) EXPECT_GT(cache.collect_lods(), 0u);
+    Published p;
+    for (const compute::TileSurface& t : cache.tiles()) p.tiles.push_back(std::make_shared<compute::TileSurface>(t));
+    for (const compute::TileGroupSurface& g : cache.groups())
+        p.groups.push_back(std::make_shared<compute::TileGroupSurface>(g));
+    return p;
+}
+
+// Checks the neighbours of `view`'s groups against `p`: each slot a level joins names the group of the same depth at
+// that offset, or none where there is none. Returns the slots checked that name a group.
+std::size_t expect_neighbours(const TileView& view, const Published& p) {
+    std::map<std::uint64_t, const compute::TileGroupSurface*> by_id;
+    std::map<std::pair<int, std::array<int, 3>>, std::uint64_t> by_place;
+    for (const auto& g : p.groups) {
+        by_id[g->id] = g.get();
+        by_place[{g->depth, g->coords}] = g->id;
+    }
+    std::size_t named = 0;
+    for (const renderer::TileGroup& g : view.groups) {
+        const compute::TileGroupSurface* s = by_id.at(g.id);
+        std::uint32_t joins = 0;
+        for (std::size_t k = 0; k < s->lods.size(); ++k) {
+            EXPECT_EQ(g.levels[k].own_triangles, s->lods[k].own_triangles);
+            EXPECT_EQ(g.levels[k].joins, s->lods[k].joins);
+            joins |= s->lods[k].joins;
+        }
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int slot = compute::neighbour_bit(dx, dy, dz);
+                    if (!(joins & (1u << slot))) continue;
+                    const auto it = by_place.find({s->depth, {s->coords[0] + dx, s->coords[1] + dy, s->coords[2] + dz}});
+                    const std::size_t nb = g.neighbours[static_cast<std::size_t>(slot)];
+                    if (it == by_place.end()) {
+                        EXPECT_EQ(nb, renderer::TileGroup::kNone) << g.id << " slot " << slot;
+                        continue;
+                    }
+                    ++named;
+                    EXPECT_LT(nb, view.groups.size()) << g.id << " slot " << slot;
+                    if (nb < view.groups.size()) {
+                        EXPECT_EQ(view.groups[nb].id, it->second) << g.id << " slot " << slot;
+                    }
+                }
+    }
+    return named;
 }
 
 // Checks `view` against `p` through ids: every group's parent index names its parent's id, every tile's group index
@@ -89,6 +149,18 @@ TEST(TileView, LinksFollowTheIdsInAnyOrder) {
     std::shuffle(p.groups.begin(), p.groups.end(), rng);
     tile_view_of(p.tiles, p.groups, true, view);
     expect_links(view, p);
+}
+
+TEST(TileView, CoarseLevelsNameTheNeighboursTheyJoinInAnyOrder) {
+    Published p = publish_coarse();
+    TileView view;
+    tile_view_of(p.tiles, p.groups, true, view);
+    expect_links(view, p);
+    EXPECT_GT(expect_neighbours(view, p), 0u);
+    std::mt19937 rng(11);
+    std::shuffle(p.groups.begin(), p.groups.end(), rng);
+    tile_view_of(p.tiles, p.groups, true, view);
+    EXPECT_GT(expect_neighbours(view, p), 0u);
 }
 
 TEST(TileView, TheSamePublishedObjectsKeepTheListsAndAChangedTileIsTakenIn) {

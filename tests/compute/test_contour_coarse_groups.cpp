@@ -16,6 +16,7 @@
 
 #include "compute/contour/coarse_levels.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/mesh/mesh_weld.hpp"
 #include "compute/tools/boolean.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
@@ -134,6 +135,79 @@ TEST(CoarseGroups, TheRingReachesPastTheBoxAndTheSkirtHangsFromItsBorder) {
     }
     EXPECT_THROW((void)levels.level(4, {0, 0, 0}), Error);
     EXPECT_THROW((void)levels.level(1, {99, 0, 0}), Error);
+}
+
+// A level's own triangles come first: its coarse tile's contour. Drawn at one depth without rings and skirts, the
+// own triangles of every group close the sphere, and each open border edge of a group's own triangles is an edge of
+// the own triangles of a neighbour its joins name.
+TEST(CoarseGroups, OwnTrianglesFirstAndTheirBorderMeetsTheJoinedNeighbours) {
+    const TriDexel model = sphere_model();
+    CoarseGroupLevels levels(model, every_depth());
+    using Edge = std::pair<std::array<double, 3>, std::array<double, 3>>;
+    const auto edge_of = [](const Vec3& a, const Vec3& b) {
+        const std::array<double, 3> x{a.x, a.y, a.z}, y{b.x, b.y, b.z};
+        return x < y ? Edge{x, y} : Edge{y, x};
+    };
+    for (int depth = 1; depth <= 3; ++depth) {
+        std::array<int, 3> dims{};
+        for (int a = 0; a < 3; ++a) dims[a] = (model.tiles.tiles[a] + (1 << depth) - 1) >> depth;
+        std::map<std::array<int, 3>, TileLodLevel> at;
+        TriMesh own_soup;
+        for (int z = 0; z < dims[2]; ++z)
+            for (int y = 0; y < dims[1]; ++y)
+                for (int x = 0; x < dims[0]; ++x) {
+                    TileLodLevel l = levels.level(depth, {x, y, z});
+                    if (l.mesh.triangles.empty()) continue;
+                    ASSERT_GT(l.own_triangles, 0u) << depth;
+                    ASSERT_LE(l.own_triangles, l.mesh.triangles.size()) << depth;
+                    if (depth < 3) {  // at depth 3 one group holds the closed sphere: nothing to ring
+                        EXPECT_LT(l.own_triangles, l.mesh.triangles.size()) << depth << ": a ring or skirt follows";
+                    }
+                    EXPECT_EQ(l.joins & (1u << neighbour_bit(0, 0, 0)), 0u);
+                    for (std::size_t i = 0; i < l.own_triangles; ++i) {
+                        const auto base = static_cast<std::uint32_t>(own_soup.positions.size());
+                        for (const std::uint32_t v : l.mesh.triangles[i]) own_soup.positions.push_back(l.mesh.positions[v]);
+                        own_soup.triangles.push_back({base, base + 1, base + 2});
+                    }
+                    at.emplace(std::array<int, 3>{x, y, z}, std::move(l));
+                }
+        ASSERT_FALSE(at.empty()) << depth;
+        TriMesh closed = weld_exact(own_soup);
+        EXPECT_NO_THROW(require_closed_outward(closed, "depth " + std::to_string(depth) + " own triangles"));
+        // Per group: its own triangles' edges, counted.
+        std::map<std::array<int, 3>, std::map<Edge, int>> edges;
+        for (const auto& [c, l] : at)
+            for (std::size_t i = 0; i < l.own_triangles; ++i)
+                for (int k = 0; k < 3; ++k)
+                    ++edges[c][edge_of(l.mesh.positions[l.mesh.triangles[i][k]],
+                                       l.mesh.positions[l.mesh.triangles[i][(k + 1) % 3]])];
+        std::size_t border = 0, joined = 0;
+        for (const auto& [c, l] : at) {
+            if (depth == 3) {
+                EXPECT_EQ(l.joins, 0u) << "one group holds the whole lattice";
+            }
+            for (const auto& [e, n] : edges[c]) {
+                if (n != 1) continue;
+                ++border;
+                bool found = false;
+                for (int dz = -1; dz <= 1 && !found; ++dz)
+                    for (int dy = -1; dy <= 1 && !found; ++dy)
+                        for (int dx = -1; dx <= 1 && !found; ++dx) {
+                            if (!(l.joins & (1u << neighbour_bit(dx, dy, dz)))) continue;
+                            const auto it = edges.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                            found = it != edges.end() && it->second.count(e) != 0;
+                        }
+                EXPECT_TRUE(found) << "depth " << depth << ": a border edge of group " << c[0] << "," << c[1] << ","
+                                   << c[2] << " in no joined neighbour's own triangles";
+                joined += found ? 1 : 0;
+            }
+        }
+        if (depth < 3) {
+            EXPECT_GT(border, 0u) << depth;
+        }
+        std::printf("[coarse groups] depth %d: %zu groups, %zu own border edges, %zu met in joined neighbours\n", depth,
+                    at.size(), border, joined);
+    }
 }
 
 TEST(CoarseGroups, ASkirtQuadPerBorderEdgeInBothWindings) {

@@ -222,5 +222,47 @@ TEST(TileGroupLod, AGroupStandsInForChildrenWhoseLevelsWait) {
     EXPECT_THROW(groups_standing_in(groups), Error);
 }
 
+// Four groups of one depth in a row along x (0-1-2-3): each level's own triangles join its x neighbours. A group
+// draws only them when every joined neighbour is visible and draws its own coarse level too.
+TEST(TileGroupLod, AGroupDrawsItsOwnTrianglesOnlyWhereEveryJoinedNeighbourDrawsItsOwn) {
+    TriMesh tri;
+    tri.positions = {Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)};
+    tri.triangles = {{0, 1, 2}, {0, 2, 1}};
+    constexpr int kLeft = 12, kRight = 14;  // slots of the neighbours at x - 1 and x + 1
+    static_assert(kLeft == 9 + 3 + 0 && kRight == 9 + 3 + 2);
+    const auto coarse = [&](std::uint32_t joins) { return TileMeshLevel{&tri, nullptr, nullptr, 1e-3, 1, joins}; };
+    const std::vector<TileMeshLevel> ends_left{coarse(1u << kRight)}, middle{coarse((1u << kLeft) | (1u << kRight))},
+        ends_right{coarse(1u << kLeft)}, simplified{TileMeshLevel{&tri, nullptr, nullptr, 1e-3}};
+    std::vector<TileGroup> groups(4);
+    groups[0].levels = ends_left;
+    groups[1].levels = middle;
+    groups[2].levels = middle;
+    groups[3].levels = ends_right;
+    for (std::size_t g = 0; g < 4; ++g) {
+        if (g > 0) groups[g].neighbours[kLeft] = g - 1;
+        if (g < 3) groups[g].neighbours[kRight] = g + 1;
+    }
+    const std::vector<std::uint8_t> all_seen(4, 1);
+    using Own = std::vector<std::uint8_t>;
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, all_seen), (Own{1, 1, 1, 1}));
+    // Group 3 not drawn at its level (covered, or its tiles drawn): 2 keeps its ring and skirt, 1 and 0 need not.
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 0}, all_seen), (Own{1, 1, 0, 0}));
+    // Group 1 hidden from the eye: its neighbours close themselves.
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, Own{1, 0, 1, 1}), (Own{0, 1, 0, 1}));
+    // A neighbour drawn at a simplified level (no own triangles) does not meet them exactly.
+    groups[3].levels = simplified;
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, all_seen), (Own{1, 1, 0, 0}));
+    groups[3].levels = ends_right;
+    // A joined neighbour that is missing (no group there) needs the ring; one not joined does not matter.
+    groups[2].neighbours[kRight] = TileGroup::kNone;
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, all_seen), (Own{1, 1, 0, 1}));
+    groups[3].neighbours[kRight] = 0;  // not in its joins
+    EXPECT_EQ(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, all_seen), (Own{1, 1, 0, 1}));
+    EXPECT_THROW(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1}, all_seen), Error);
+    EXPECT_THROW(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 2, 1, 1}, all_seen), Error);
+    groups[1].neighbours[kLeft] = 9;
+    EXPECT_THROW(groups_drawn_own_only(groups, std::vector<std::size_t>{1, 1, 1, 1}, all_seen), Error);
+}
+
 }  // namespace
 }  // namespace tridex::renderer

@@ -41,6 +41,7 @@ json lod_json(const RunResult& r, const RenderLog& log) {
                        {"max_ms", l.max_ms()}};
     }
     const double frames = static_cast<double>(log.frames);
+    const auto per_frame = [&](std::uint64_t sum) { return frames > 0.0 ? static_cast<double>(sum) / frames : 0.0; };
     return json{{"on", r.setup.lod},
                 {"tiles_built", s.lod_tiles_built},
                 {"groups_built", s.lod_groups_built},
@@ -52,9 +53,9 @@ json lod_json(const RunResult& r, const RenderLog& log) {
                 {"tile_triangles_last_frame", {log.tile_triangles_last[0], log.tile_triangles_last[1]}},
                 {"groups_drawn_last_frame", {log.groups_drawn_last[0], log.groups_drawn_last[1]}},
                 {"frames_over_bound", log.frames_over_bound},
-                {"tile_triangles_per_frame",
-                 {frames > 0.0 ? static_cast<double>(log.tile_triangles[0]) / frames : 0.0,
-                  frames > 0.0 ? static_cast<double>(log.tile_triangles[1]) / frames : 0.0}}};
+                {"tile_triangles_per_frame", {per_frame(log.tile_triangles[0]), per_frame(log.tile_triangles[1])}},
+                {"groups_per_frame", {per_frame(log.groups_drawn[0]), per_frame(log.groups_drawn[1])}},
+                {"groups_own_only_per_frame", {per_frame(log.groups_own_only[0]), per_frame(log.groups_own_only[1])}}};
 }
 
 // render.startup: from the workpiece loaded to the first frame done and to every tile at full resolution.
@@ -119,6 +120,8 @@ void RenderLog::add(const renderer::FrameStats& stats) {
         tile_triangles[e] += stats.tile_triangles[e];
         tile_triangles_last[e] = stats.tile_triangles[e];
         groups_drawn_last[e] = stats.groups_drawn[e];
+        groups_drawn[e] += stats.groups_drawn[e];
+        groups_own_only[e] += stats.groups_own_only[e];
     }
     tile_uploads += stats.tile_uploads;
     if (!stats.groups_wanting_detail.empty()) ++frames_over_bound;

@@ -83,6 +83,9 @@ struct RenderLog {
     std::array<std::uint64_t, 2> tile_triangles{};
     /// The last frame's workpiece tile triangles and groups drawn, per eye.
     std::array<std::uint64_t, 2> tile_triangles_last{}, groups_drawn_last{};
+    /// Per eye, summed over frames: groups drawn at a level (FrameStats::groups_drawn), and those drawn with their own
+    /// triangles only (FrameStats::groups_own_only).
+    std::array<std::uint64_t, 2> groups_drawn{}, groups_own_only{};
     /// Frames that drew a group over its pixel bound because nothing under it could stand in yet
     /// (FrameStats::groups_wanting_detail not empty).
     std::uint64_t frames_over_bound = 0;

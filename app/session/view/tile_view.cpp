@@ -2,6 +2,7 @@
 #include "app/session/view/tile_view.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <utility>
 
@@ -12,7 +13,8 @@ namespace tridex::app {
 namespace {
 
 renderer::TileMeshLevel level_of(const compute::TileLodLevel& l) {
-    return renderer::TileMeshLevel{&l.mesh, l.materials.empty() ? nullptr : &l.materials, &l.normals, l.error_m};
+    return renderer::TileMeshLevel{&l.mesh, l.materials.empty() ? nullptr : &l.materials, &l.normals, l.error_m,
+                                   l.own_triangles, l.joins};
 }
 
 // (id, index) pairs sorted by id, and the index of `id` among them (`none` when absent).
@@ -20,6 +22,43 @@ using IdIndex = std::vector<std::pair<std::uint64_t, std::size_t>>;
 std::size_t find_index(const IdIndex& sorted, std::uint64_t id, std::size_t none) {
     const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::pair<std::uint64_t, std::size_t>{id, 0});
     return it != sorted.end() && it->first == id ? it->second : none;
+}
+
+// A group's depth and coordinates as one sortable key (coordinates are below 2^16 tiles).
+std::uint64_t place_key(int depth, const std::array<int, 3>& c) {
+    return (static_cast<std::uint64_t>(depth) << 48) | (static_cast<std::uint64_t>(c[2] & 0xffff) << 32) |
+           (static_cast<std::uint64_t>(c[1] & 0xffff) << 16) | static_cast<std::uint64_t>(c[0] & 0xffff);
+}
+
+// TileGroup::neighbours of the groups whose levels join neighbours (the coarse levels with own triangles).
+template <typename GetGroup>
+void link_neighbours(std::size_t group_count, GetGroup&& get_group, const IdIndex& group_index, TileView& out) {
+    IdIndex by_place;  // place_key -> index in out.groups, sorted
+    bool any = false;
+    for (std::size_t g = 0; g < group_count; ++g)
+        if (const compute::TileGroupSurface* s = get_group(g)) {
+            by_place.emplace_back(place_key(s->depth, s->coords), find_index(group_index, s->id, renderer::TileGroup::kNone));
+            for (const compute::TileLodLevel& l : s->lods) any = any || l.joins != 0;
+        }
+    if (!any) return;
+    std::sort(by_place.begin(), by_place.end());
+    for (std::size_t g = 0; g < group_count; ++g) {
+        const compute::TileGroupSurface* s = get_group(g);
+        if (!s) continue;
+        std::uint32_t joins = 0;
+        for (const compute::TileLodLevel& l : s->lods) joins |= l.joins;
+        if (joins == 0) continue;
+        renderer::TileGroup& tg = out.groups[find_index(group_index, s->id, renderer::TileGroup::kNone)];
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int slot = compute::neighbour_bit(dx, dy, dz);
+                    const std::array<int, 3> c{s->coords[0] + dx, s->coords[1] + dy, s->coords[2] + dz};
+                    if (!(joins & (1u << slot)) || c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+                    tg.neighbours[static_cast<std::size_t>(slot)] =
+                        find_index(by_place, place_key(s->depth, c), renderer::TileGroup::kNone);
+                }
+    }
 }
 
 template <typename GetTile, typename GetGroup>
@@ -61,6 +100,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
                 for (const std::uint64_t t : s->children) tile_group.emplace_back(t, at);
         }
     std::sort(tile_group.begin(), tile_group.end());
+    link_neighbours(group_count, get_group, group_index, out);
     out.tiles.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
         const compute::TileSurface* s = get(i);

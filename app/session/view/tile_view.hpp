@@ -44,8 +44,9 @@ struct TileView {
 
 /// Fills `out` (reusing its storage) with one renderer::TileMesh per surface (mesh, bounds, version, id,
 /// materials) and, when with_lods, its TileSurface::lods as TileMesh::levels (the full mesh's normals at
-/// the kept vertices), and one renderer::TileGroup per group (levels, bounds, version, parent index; each
-/// tile's TileMesh::group names its depth-1 group). Without with_lods `groups` stays empty. Null pointers
+/// the kept vertices), and one renderer::TileGroup per group (levels, bounds, version, parent index, and the
+/// neighbours of the groups whose levels join them, TileMeshLevel::joins; each tile's TileMesh::group names its
+/// depth-1 group). Without with_lods `groups` stays empty. Null pointers
 /// are skipped (their children then have no group / parent). When `surfaces`, `groups` and with_lods are those `out`
 /// was last filled from (the same objects: a published one never changes), `out` is left as it is. O(tiles log
 /// groups) otherwise.
