@@ -114,31 +114,44 @@ void span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<I
 
 // One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
 // (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
+// The directed edges (a, b) of the first `count` triangles of `mesh` whose undirected edge is used once among them
+// (open border edges), in triangle order. Linear: each vertex's outgoing edges are listed, and an edge's uses are
+// counted in the lists of its two ends.
+std::vector<std::array<std::uint32_t, 2>> open_edges(const TriMesh& mesh, std::size_t count) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<std::uint32_t> start(nv + 1, 0), to(3 * count);
+    for (std::size_t i = 0; i < count; ++i)
+        for (const std::uint32_t a : mesh.triangles[i]) ++start[a + 1];
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) to[next[mesh.triangles[i][k]]++] = mesh.triangles[i][(k + 1) % 3];
+    const auto uses = [&](std::uint32_t a, std::uint32_t b) {
+        return std::count(to.begin() + start[a], to.begin() + start[a + 1], b);
+    };
+    std::vector<std::array<std::uint32_t, 2>> out;
+    for (std::size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
+            if (uses(a, b) + uses(b, a) == 1) out.push_back({a, b});
+        }
+    return out;
+}
+
 // The neighbours (TileLodLevel::joins bits) whose coarse tile's mesh holds an open border vertex of the first `own`
 // triangles of `mesh`: `around` holds each neighbour's mesh with its bit.
 std::uint32_t own_border_neighbours(const TriMesh& mesh, std::size_t own,
                                     const std::vector<std::pair<const TriMesh*, int>>& around) {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(3 * own);
-    for (std::size_t i = 0; i < own; ++i)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
-            keys.push_back((std::uint64_t{std::min(a, b)} << 32) | std::max(a, b));
-        }
-    std::sort(keys.begin(), keys.end());
     using Point = std::array<double, 3>;
     std::vector<Point> border;  // the open border's vertices, sorted
     Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        const bool once = (i == 0 || keys[i - 1] != keys[i]) && (i + 1 == keys.size() || keys[i + 1] != keys[i]);
-        if (!once) continue;
-        for (const std::uint64_t v : {keys[i] >> 32, keys[i] & 0xffffffffu}) {
+    for (const auto& e : open_edges(mesh, own))
+        for (const std::uint32_t v : e) {
             const Vec3& p = mesh.positions[v];
             border.push_back({p.x, p.y, p.z});
             lo = glm::min(lo, p);
             hi = glm::max(hi, p);
         }
-    }
     if (border.empty()) return 0;
     std::sort(border.begin(), border.end());
     std::uint32_t joins = 0;
@@ -392,43 +405,26 @@ std::size_t add_skirt(TriMesh& mesh, std::vector<std::uint8_t>& materials, std::
     if (materials.size() != nv || normals.size() != nv)
         throw Error("add_skirt: " + std::to_string(materials.size()) + " materials and " + std::to_string(normals.size()) +
                     " normals for " + std::to_string(nv) + " vertices");
-    // Every directed edge with its undirected key, sorted by the key: a key met once is a border edge.
-    struct Edge {
-        std::uint64_t key;
-        std::uint32_t a, b;
-    };
-    std::vector<Edge> edges;
-    edges.reserve(3 * mesh.triangles.size());
-    for (const auto& t : mesh.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-            edges.push_back({(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), a, b});
-        }
-    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
-    std::unordered_map<std::uint32_t, std::uint32_t> below;  // border vertex -> its skirt vertex
+    std::vector<std::uint32_t> below(nv, ~std::uint32_t{0});  // border vertex -> its skirt vertex
     const auto lower = [&](std::uint32_t v) {
-        const auto [it, fresh] = below.emplace(v, static_cast<std::uint32_t>(mesh.positions.size()));
-        if (fresh) {
+        if (below[v] == ~std::uint32_t{0}) {
+            below[v] = static_cast<std::uint32_t>(mesh.positions.size());
             mesh.positions.push_back(mesh.positions[v] - normals[v] * depth_m);
             materials.push_back(materials[v]);
             normals.push_back(normals[v]);
         }
-        return it->second;
+        return below[v];
     };
-    std::size_t skirted = 0;
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-        const bool once = (i == 0 || edges[i - 1].key != edges[i].key) &&
-                          (i + 1 == edges.size() || edges[i + 1].key != edges[i].key);
-        if (!once) continue;
-        const std::uint32_t a = edges[i].a, b = edges[i].b;
+    const std::vector<std::array<std::uint32_t, 2>> border = open_edges(mesh, mesh.triangles.size());
+    mesh.triangles.reserve(mesh.triangles.size() + 4 * border.size());
+    for (const auto& [a, b] : border) {
         const std::uint32_t a2 = lower(a), b2 = lower(b);
         mesh.triangles.push_back({b, a, a2});
         mesh.triangles.push_back({b, a2, b2});
         mesh.triangles.push_back({a, b, a2});  // the other winding: seen from either side
         mesh.triangles.push_back({a2, b, b2});
-        ++skirted;
     }
-    return skirted;
+    return border.size();
 }
 
 }  // namespace tridex::compute

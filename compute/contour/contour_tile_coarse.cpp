@@ -200,11 +200,9 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     // and again once they are all in.
     std::vector<bool> measure(groups.size(), true);
     if (!expected_.empty()) {
-        const std::vector<bool> refined = groups_refined(), startup_refined = groups_refined(true);
         for (std::size_t i = 0; i < groups.size(); ++i) {
-            const auto g = static_cast<std::size_t>(groups[i] - groups_.data());
-            measure[i] = startup_refined[g];
-            if (refined[g]) provisional_.erase(groups[i]->id);
+            measure[i] = group_refined(*groups[i], true);
+            if (group_refined(*groups[i])) provisional_.erase(groups[i]->id);
             else provisional_.insert(groups[i]->id);
         }
     }

@@ -85,6 +85,19 @@ std::vector<bool> TileSurfaceCache::groups_refined(bool startup_only) const {
     return refined;
 }
 
+bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup_only) const {
+    if (expected_.empty() || (startup_only && startup_expected() == 0)) return true;
+    for (const std::uint64_t c : group.children) {
+        if (group.depth == 1) {
+            if (expected_.count(c) != 0 && !(startup_only && stroke_expected_.count(c) != 0)) return false;
+        } else {
+            const std::size_t ci = index_of(groups_, c);
+            if (ci < groups_.size() && !group_refined(groups_[ci], startup_only)) return false;
+        }
+    }
+    return true;
+}
+
 void TileSurfaceCache::update_startup_groups() {
     const std::vector<bool> refined = groups_refined();
     bool open = !expected_.empty();

@@ -388,6 +388,8 @@ private:
     // Coarse-first: per groups_ entry, true when every tile under it is in tiles_ (none expected).
     // startup_only: as if no stroke's tile were expected (defer_tiles).
     std::vector<bool> groups_refined(bool startup_only = false) const;
+    // The same for one group, walking only the groups and tiles under it.
+    bool group_refined(const TileGroupSurface& group, bool startup_only = false) const;
     // Coarse-first: sets each group's children_cover and re-measures the error of up to
     // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
     void update_startup_groups();
