@@ -112,8 +112,6 @@ void span_of_changed_ends(const std::vector<IntervalEnd>& a, const std::vector<I
     }
 }
 
-// One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
-// (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
 // The directed edges (a, b) of the first `count` triangles of `mesh` whose undirected edge is used once among them
 // (open border edges), in triangle order. Linear: each vertex's outgoing edges are listed, and an edge's uses are
 // counted in the lists of its two ends.
@@ -166,6 +164,8 @@ std::uint32_t own_border_neighbours(const TriMesh& mesh, std::size_t own,
     return joins;
 }
 
+// One coarse ray re-read from the fine model into `scratch`: true when it differs from `ray`, which then takes it
+// (`scratch` keeps the old one's storage); [t0, t1] spans every interval end that changed (coarse grid units).
 bool reread_ray(const std::vector<Interval>& fine_ray, int stride, std::vector<Interval>& ray,
                 std::vector<Interval>& scratch, double& t0, double& t1) {
     coarse_ray(fine_ray, stride, scratch);

@@ -25,34 +25,18 @@ struct Published {
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> groups;
 };
 
-// The bunny at 64 cells, contoured in tiles with simplified group levels, as a sculpt thread publishes it.
-Published publish() {
-    Workpiece wp = prepare_workpiece(default_mesh_path(), 64, 0.3, Vec3(0.0, 0.0, 0.3));
+// The bunny at `cells` cells, contoured in tiles as a sculpt thread publishes it: with simplified group levels of
+// depths 1-2, or with coarse group levels (contoured from the model read at strides 2, 4 and 8), settled.
+Published publish(int cells = 64, bool coarse = false) {
+    Workpiece wp = prepare_workpiece(default_mesh_path(), cells, 0.3, Vec3(0.0, 0.0, 0.3));
     compute::Contourer contourer(wp.model);
     contourer.update(wp.model);
     compute::TileSurfaceCache cache;
     compute::TileLodOptions o;
     o.cell_m = wp.model.lattice.cell_m;
-    o.group_depth = 2;
+    if (!coarse) o.group_depth = 2;
     cache.enable_lod(o);
-    cache.refresh(contourer);
-    Published p;
-    for (const compute::TileSurface& t : cache.tiles()) p.tiles.push_back(std::make_shared<compute::TileSurface>(t));
-    for (const compute::TileGroupSurface& g : cache.groups())
-        p.groups.push_back(std::make_shared<compute::TileGroupSurface>(g));
-    return p;
-}
-
-// The bunny at 96 cells with coarse group levels (contoured from the model read at strides 2, 4 and 8), settled.
-Published publish_coarse() {
-    Workpiece wp = prepare_workpiece(default_mesh_path(), 96, 0.3, Vec3(0.0, 0.0, 0.3));
-    compute::Contourer contourer(wp.model);
-    contourer.update(wp.model);
-    compute::TileSurfaceCache cache;
-    compute::TileLodOptions o;
-    o.cell_m = wp.model.lattice.cell_m;
-    cache.enable_lod(o);
-    cache.use_coarse_groups(wp.model);
+    if (coarse) cache.use_coarse_groups(wp.model);
     cache.refresh(contourer);
     while (cache.coarse_waiting() > 0) EXPECT_GT(cache.collect_lods(), 0u);
     Published p;
@@ -152,7 +136,7 @@ TEST(TileView, LinksFollowTheIdsInAnyOrder) {
 }
 
 TEST(TileView, CoarseLevelsNameTheNeighboursTheyJoinInAnyOrder) {
-    Published p = publish_coarse();
+    Published p = publish(96, true);
     TileView view;
     tile_view_of(p.tiles, p.groups, true, view);
     expect_links(view, p);
