@@ -352,7 +352,7 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
     std::vector<std::uint8_t> soup_materials;
     std::size_t own_soup = 0;
     std::vector<std::pair<const TriMesh*, int>> neighbours;  // each neighbour's coarse tile mesh, with its joins bit
-    const auto take = [&](std::size_t t, bool own) {
+    const auto take = [&](std::size_t t, bool own) -> const TriMesh& {
         const std::vector<std::uint8_t>* mats = nullptr;
         const TriMesh& m = D.mesh_of(t, mats);
         const auto base = static_cast<std::uint32_t>(soup.positions.size());
@@ -372,15 +372,14 @@ TileLodLevel CoarseGroupLevels::level(int depth, const std::array<int, 3>& coord
             soup.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
             if (own) ++own_soup;
         }
+        return m;
     };
     D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>&) {
         if (own) take(t, true);
     });
     D.around(coords, [&](std::size_t t, bool own, const std::array<int, 3>& n) {
         if (own) return;
-        take(t, false);
-        const std::vector<std::uint8_t>* mats = nullptr;
-        const TriMesh& m = D.mesh_of(t, mats);
+        const TriMesh& m = take(t, false);
         if (!m.triangles.empty())
             neighbours.emplace_back(&m, neighbour_bit(n[0] - coords[0], n[1] - coords[1], n[2] - coords[2]));
     });

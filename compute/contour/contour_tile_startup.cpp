@@ -69,14 +69,11 @@ Aabb TileSurfaceCache::expected_tile_box(std::uint64_t id, const std::array<int,
 std::vector<bool> TileSurfaceCache::groups_refined(bool startup_only) const {
     std::vector<bool> refined(groups_.size(), true);
     if (expected_.empty() || (startup_only && startup_expected() == 0)) return refined;
-    const auto expected = [&](std::uint64_t id) {
-        return expected_.count(id) != 0 && !(startup_only && stroke_expected_.count(id) != 0);
-    };
     // groups_ is ordered by depth: children before their parents.
     for (std::size_t g = 0; g < groups_.size(); ++g) {
         const TileGroupSurface& group = groups_[g];
         for (const std::uint64_t c : group.children) {
-            if (group.depth == 1 ? expected(c) : !refined[std::min(index_of(groups_, c), g)]) {
+            if (group.depth == 1 ? tile_expected(c, startup_only) : !refined[std::min(index_of(groups_, c), g)]) {
                 refined[g] = false;
                 break;
             }
@@ -89,7 +86,7 @@ bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup
     if (expected_.empty() || (startup_only && startup_expected() == 0)) return true;
     for (const std::uint64_t c : group.children) {
         if (group.depth == 1) {
-            if (expected_.count(c) != 0 && !(startup_only && stroke_expected_.count(c) != 0)) return false;
+            if (tile_expected(c, startup_only)) return false;
         } else {
             const std::size_t ci = index_of(groups_, c);
             if (ci < groups_.size() && !group_refined(groups_[ci], startup_only)) return false;

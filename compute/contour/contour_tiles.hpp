@@ -390,6 +390,10 @@ private:
     std::vector<bool> groups_refined(bool startup_only = false) const;
     // The same for one group, walking only the groups and tiles under it.
     bool group_refined(const TileGroupSurface& group, bool startup_only = false) const;
+    // Whether tile `id` is expected and not in yet (startup_only: not counting a stroke's expected tiles).
+    bool tile_expected(std::uint64_t id, bool startup_only) const {
+        return expected_.count(id) != 0 && !(startup_only && stroke_expected_.count(id) != 0);
+    }
     // Coarse-first: sets each group's children_cover and re-measures the error of up to
     // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
     void update_startup_groups();

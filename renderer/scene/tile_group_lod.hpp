@@ -37,6 +37,7 @@ struct TileGroup {
     /// unused). Read only where a level has own triangles and joins (TileMeshLevel).
     std::array<std::size_t, 27> neighbours = no_neighbours();
 
+    /// Every slot of `neighbours` kNone: the default, no neighbour linked (a level with joins is then drawn whole).
     static constexpr std::array<std::size_t, 27> no_neighbours() {
         std::array<std::size_t, 27> a{};
         a.fill(kNone);

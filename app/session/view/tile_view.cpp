@@ -31,24 +31,26 @@ std::uint64_t place_key(int depth, const std::array<int, 3>& c) {
 }
 
 // TileGroup::neighbours of the groups whose levels join neighbours (the coarse levels with own triangles).
+// out.groups holds the non-null groups in order.
 template <typename GetGroup>
-void link_neighbours(std::size_t group_count, GetGroup&& get_group, const IdIndex& group_index, TileView& out) {
+void link_neighbours(std::size_t group_count, GetGroup&& get_group, TileView& out) {
     IdIndex by_place;  // place_key -> index in out.groups, sorted
     bool any = false;
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) {
-            by_place.emplace_back(place_key(s->depth, s->coords), find_index(group_index, s->id, renderer::TileGroup::kNone));
+            by_place.emplace_back(place_key(s->depth, s->coords), by_place.size());
             for (const compute::TileLodLevel& l : s->lods) any = any || l.joins != 0;
         }
     if (!any) return;
     std::sort(by_place.begin(), by_place.end());
+    std::size_t at = 0;  // index in out.groups
     for (std::size_t g = 0; g < group_count; ++g) {
         const compute::TileGroupSurface* s = get_group(g);
         if (!s) continue;
+        renderer::TileGroup& tg = out.groups[at++];
         std::uint32_t joins = 0;
         for (const compute::TileLodLevel& l : s->lods) joins |= l.joins;
         if (joins == 0) continue;
-        renderer::TileGroup& tg = out.groups[find_index(group_index, s->id, renderer::TileGroup::kNone)];
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -100,7 +102,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
                 for (const std::uint64_t t : s->children) tile_group.emplace_back(t, at);
         }
     std::sort(tile_group.begin(), tile_group.end());
-    link_neighbours(group_count, get_group, group_index, out);
+    link_neighbours(group_count, get_group, out);
     out.tiles.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
         const compute::TileSurface* s = get(i);
