@@ -60,9 +60,16 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     std::vector<std::uint64_t> ids;
     if (stroke_hidden) ids = wanted_finer_groups(dims, from);
     detail_wanted_.clear();
+    // With the stroke's tiles hidden, a group under one the frames drew within its bound waits (for
+    // settle_coarse_levels): the frames do not need it, and would draw that one in its place while it waits.
+    const auto parent_drawn = [&](std::uint64_t id) {
+        if (!stroke_hidden || frames_drew_.empty() || tile_group_depth(id) == coarse_->max_depth()) return false;
+        const std::size_t g = index_of(groups_, id);
+        return g < groups_.size() && std::binary_search(frames_drew_.begin(), frames_drew_.end(), groups_[g].parent);
+    };
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = tile_group_depth(id);
-        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0) ids.push_back(id);
+        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) ids.push_back(id);
     }
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
@@ -70,6 +77,13 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     const std::size_t built = rebuild_coarse_levels(ids);
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return built;
+}
+
+void TileSurfaceCache::frames_drew(std::vector<std::uint64_t> group_ids) {
+    if (group_ids.empty()) return;
+    std::sort(group_ids.begin(), group_ids.end());
+    group_ids.erase(std::unique(group_ids.begin(), group_ids.end()), group_ids.end());
+    frames_drew_ = std::move(group_ids);
 }
 
 std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::array<int, 3>& dims, int from) {

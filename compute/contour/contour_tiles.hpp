@@ -228,6 +228,12 @@ public:
     /// kDeferredCoarseDepth only where a frame needs it, and start-up's waiting levels come where a frame needs
     /// them though a stroke is open. Replaces the ids given before; unknown ids are ignored.
     void want_detail(std::vector<std::uint64_t> group_ids) { detail_wanted_ = std::move(group_ids); }
+    /// Groups the latest frames drew at one of their levels within the pixel bound (renderer::FrameStats::
+    /// groups_at_level, through compute::DrawnGroups): while a stroke's tiles are hidden (defer_tiles), a refresh()
+    /// leaves the waiting levels of groups whose parent is among them for settle_coarse_levels() (the frames did not
+    /// need them, and draw the parent in a waiting child's place: renderer::groups_standing_in). The coarsest depth is
+    /// always rebuilt. Replaces the ids given before; an empty list keeps them.
+    void frames_drew(std::vector<std::uint64_t> group_ids);
     /// The finest coarse depth want_detail() brings a stroke's groups to.
     static constexpr int kDeferredDetailDepth = 2;
     /// At most this many levels under the groups of want_detail() are rebuilt by a refresh() (the finest first).
@@ -341,6 +347,7 @@ private:
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
     std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
+    std::vector<std::uint64_t> frames_drew_;    // frames_drew(), ascending
     std::unordered_set<std::uint64_t> coarse_stale_;
     std::chrono::steady_clock::time_point coarse_changed_at_{};
     std::array<int, 3> coarse_dims_{};  // the tile grid's dimensions at the last refresh

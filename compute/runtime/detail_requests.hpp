@@ -1,5 +1,6 @@
-// compute/runtime/detail_requests.hpp - where the frames want more detail than the coarse group levels give: the
-// render thread offers the tile groups it had to draw over the pixel bound, the sculpt thread contours their tiles.
+// compute/runtime/detail_requests.hpp - what the frames drew and where they want more detail than the coarse group
+// levels give: the render thread offers tile groups (drawn, or drawn over the pixel bound), the sculpt thread reads
+// them (which levels to rebuild during a stroke; which tiles to contour).
 #pragma once
 
 #include <cstddef>
@@ -28,5 +29,10 @@ private:
     std::mutex mutex_;
     std::vector<std::uint64_t> ids_;
 };
+
+/// The tile groups frames drew at one of their levels (renderer::FrameStats::groups_at_level), from the render
+/// thread to the sculpt thread (SculptThread::follow_drawn_groups): the same mailbox as DetailRequests, each id a
+/// compute::tile_group_id. Thread-safe: any thread offers, one takes.
+using DrawnGroups = DetailRequests;
 
 }  // namespace tridex::compute

@@ -365,6 +365,10 @@ public:
     /// (LodWorkerOptions::stroke_coarse), the deferred tiles of those groups too, also in a pass without samples while
     /// the stroke is open. Throws when the thread runs.
     void refine_on_demand(compute::DetailRequests& requests);
+    /// With strokes drawn coarse (LodWorkerOptions::stroke_coarse): the groups the frames drew at a level within the
+    /// pixel bound (compute::DrawnGroups), read at each mesh publish, so that a stroke rebuilds the coarse levels the
+    /// frames draw and leaves those under them for later (TileSurfaceCache::frames_drew). Throws when the thread runs.
+    void follow_drawn_groups(compute::DrawnGroups& drawn);
 
 private:
     // A cutting sample's times (ToolSample::made_s, t_s; infinity: none), kept for the oldest of several.
@@ -519,6 +523,7 @@ private:
     std::unique_ptr<compute::StartupRefiner> refiner_;                  // coarse-first start-up while it runs
     std::unique_ptr<compute::DeferredContour> deferral_;                // strokes drawn coarse (stroke_coarse)
     compute::DetailRequests* detail_ = nullptr;                         // refine_on_demand
+    compute::DrawnGroups* drawn_ = nullptr;                             // follow_drawn_groups
     std::vector<std::shared_ptr<const compute::TileSurface>> shared_tiles_;  // kTiles: last published, by id
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> shared_groups_;  // kTiles: last published, by id
     std::chrono::steady_clock::time_point mesh_last_{};

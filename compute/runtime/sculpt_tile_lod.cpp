@@ -77,6 +77,10 @@ void SculptThread::collect_lods() {
     lod_pending_.store(pending, std::memory_order_release);
 }
 
+void SculptThread::follow_drawn_groups(compute::DrawnGroups& drawn) {
+    if (thread_.joinable()) throw Error("SculptThread::follow_drawn_groups: call it before start()");
+    drawn_ = &drawn;
+}
 
 std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
     std::size_t refined = 0;
@@ -171,6 +175,7 @@ void SculptThread::refresh_tile_cache() {
     count_deferred();
     // While a stroke's tiles are hidden, the groups the frames drew over their bound get finer coarse levels.
     if (deferral_ && detail_ && history_ && history_->stroke_open()) tile_cache_.want_detail(detail_->take());
+    if (deferral_ && drawn_) tile_cache_.frames_drew(drawn_->take());
     if (refiner_) {
         const compute::StartupRefiner::Source startup(contourer_, *refiner_);
         if (deferral_) tile_cache_.refresh(compute::DeferredContour::Source(startup, *deferral_));

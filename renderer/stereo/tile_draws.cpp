@@ -73,6 +73,10 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
             const std::uint32_t visible = group_visible[g];
             std::array<std::uint32_t, 2> mask{};  // per level drawn: the eyes drawing it
             bool wanting = false;
+            bool within = false;  // an eye drew it within the pixel bound (not standing in over it)
+            for (int e = 0; e < eye_count; ++e)
+                within = within || (group_level[e][g] > 0 && group.levels[group_level[e][g] - 1].error_m * px[e][g] <= scene.lod_max_px);
+            if (within) stats.groups_at_level.push_back(group.id);
             for (int e = 0; e < eye_count; ++e)
                 if ((visible & (1u << e)) && group_level[e][g] > 0) {
                     ++stats.groups_drawn[e];
@@ -106,6 +110,7 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
             }
         }
         std::sort(stats.groups_wanting_detail.begin(), stats.groups_wanting_detail.end());
+        std::sort(stats.groups_at_level.begin(), stats.groups_at_level.end());
     }
 
     for (std::size_t i = 0; i < scene.tiles.size(); ++i) {

@@ -44,6 +44,9 @@ struct FrameStats {
     /// Ids (TileGroup::id) of the visible groups an eye drew over its pixel bound because nothing under them could
     /// draw their surface yet (wants_detail), ascending: where the frames want full-resolution tiles.
     std::vector<std::uint64_t> groups_wanting_detail;
+    /// Ids (TileGroup::id) of the groups an eye chose a level for within the pixel bound (not standing in over it),
+    /// visible or not, ascending: nothing under them was needed (compute::DrawnGroups).
+    std::vector<std::uint64_t> groups_at_level;
     /// Draws recorded (each StereoDraw once, whatever the eyes), and how many more there were before runs of
     /// like draws were merged into one multi-draw indirect command each (DrawBatcher; 0 without the feature).
     std::size_t draws = 0;

@@ -4,6 +4,8 @@
 // tolerance, no background through the surface where a ring and a skirt meet a neighbour (no cracks), validation on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -154,6 +156,11 @@ TEST(CoarseGroupRender, GroupsStandInForLevelsACutDroppedUntilTheyAreRebuilt) {
     };
     const renderer::FrameStats standing = render();
     EXPECT_FALSE(standing.groups_wanting_detail.empty());
+    // A group standing in over the bound is not among those drawn within it (what a stroke's rebuild reads).
+    EXPECT_TRUE(std::is_sorted(standing.groups_at_level.begin(), standing.groups_at_level.end()));
+    for (const std::uint64_t id : standing.groups_wanting_detail) {
+        EXPECT_FALSE(std::binary_search(standing.groups_at_level.begin(), standing.groups_at_level.end(), id)) << id;
+    }
     // The same view if the waiting levels were not stood in for: their tiles, at full resolution where they have no
     // level of their own yet.
     for (renderer::TileGroup& g : view.groups) g.levels_waiting = false;
@@ -167,6 +174,9 @@ TEST(CoarseGroupRender, GroupsStandInForLevelsACutDroppedUntilTheyAreRebuilt) {
     ASSERT_EQ(c.cache.coarse_waiting(), 0u);
     const renderer::FrameStats settled = render();
     EXPECT_TRUE(settled.groups_wanting_detail.empty());
+    // Nothing stands in now: every group drawn is drawn within the bound, and so named.
+    EXPECT_GT(settled.groups_drawn[0], 0u);
+    EXPECT_GE(settled.groups_at_level.size(), settled.groups_drawn[0]);
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 

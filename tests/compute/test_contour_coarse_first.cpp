@@ -327,6 +327,37 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
     EXPECT_LT(waiting(s.cache, depth, 2).size(), near.size()) << "no level within the stroke's reach was rebuilt";
 }
 
+// During a stroke drawn coarse, a level under a group the frames drew within the bound (frames_drew) waits for the
+// stroke to settle: the frames draw that group in its place. Elsewhere the stroke's levels are rebuilt at once, and
+// the coarsest depth's always.
+TEST(CoarseFirst, AStrokeDrawnCoarseLeavesTheLevelsUnderAGroupTheFramesDrewForLater) {
+    const int depth = TileSurfaceCache::kDeferredCoarseDepth;
+    CoarseLevelOptions levels;
+    levels.max_depth = depth + 1;
+    const auto group_at = [](const TileSurfaceCache& cache, int d, int x) -> const TileGroupSurface& {
+        for (const TileGroupSurface& g : cache.groups())
+            if (g.depth == d && g.coords[0] == x) return g;
+        throw Error("no such group");
+    };
+    for (const bool drawn : {false, true}) {
+        SCOPED_TRACE(drawn ? "the parent drawn" : "another group drawn");
+        CoarseFirst s(two_spheres(), levels);
+        s.refine_all();
+        const TileGroupSurface& top = group_at(s.cache, depth + 1, 1);  // over the second sphere
+        ASSERT_EQ(group_at(s.cache, depth, 2).parent, top.id);
+        s.cache.frames_drew({drawn ? top.id : group_at(s.cache, depth + 1, 0).id});
+        defer_cut(s, Vec3(256.0, 0.0, 0.0));
+        const TileGroupSurface& child = group_at(s.cache, depth, 2);
+        EXPECT_FALSE(group_at(s.cache, depth + 1, 1).levels_waiting) << "the coarsest level waits";
+        EXPECT_FALSE(group_at(s.cache, depth + 1, 1).lods.empty());
+        EXPECT_EQ(child.levels_waiting, drawn);
+        EXPECT_EQ(child.lods.empty(), drawn);
+        settle(s.cache);  // the stroke is over: its waiting levels come
+        EXPECT_FALSE(group_at(s.cache, depth, 2).levels_waiting);
+        EXPECT_FALSE(group_at(s.cache, depth, 2).lods.empty());
+    }
+}
+
 // During a stroke drawn coarse, the levels under kDeferredCoarseDepth wait, except under the groups a frame asks
 // finer ones for (want_detail): those are rebuilt with the next refresh, up to kDeferredDetailLevels.
 TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {

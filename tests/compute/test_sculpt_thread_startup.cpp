@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "compute/mesh/scan_convert.hpp"
+#include "compute/runtime/detail_requests.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
@@ -58,8 +59,10 @@ std::vector<ToolSample> push_cut_push() {
 }
 
 // A session with per-tile meshes and coarse group levels: coarse first or everything contoured first; strokes drawn
-// coarse or contoured at every step.
-Ended session(bool coarse_first, bool stroke_coarse = false, const std::vector<ToolSample>& samples = stream()) {
+// coarse or contoured at every step; with `top_drawn`, frames that draw every coarsest group within the bound
+// (compute::DrawnGroups, offered from this thread while the sculpt thread runs).
+Ended session(bool coarse_first, bool stroke_coarse = false, const std::vector<ToolSample>& samples = stream(),
+              bool top_drawn = false) {
     compute::TriDexel m = box_model();
     compute::Contourer contourer(m);
     if (!coarse_first) contourer.update(m);
@@ -68,10 +71,17 @@ Ended session(bool coarse_first, bool stroke_coarse = false, const std::vector<T
     TripleBuffer<MeshFrame> meshes;
     SculptThread t(m, contourer, ring, surface, Vec3(0.0, 0.0, 0.07));
     use_coarse_tiles(t, m, coarse_first, meshes, stroke_coarse);
+    compute::DrawnGroups drawn;
+    if (top_drawn) t.follow_drawn_groups(drawn);
     Ended e;
     e.first = meshes.latest();
+    std::vector<std::uint64_t> top;
+    for (const auto& g : e.first.groups)
+        if (g->depth == kTop) top.push_back(g->id);
     t.start();
+    std::size_t k = 0;
     for (const ToolSample& s : samples) {  // strokes while the tiles are being contoured
+        if (top_drawn && k++ % 50 == 0) drawn.offer(top);
         while (!ring.try_push(s)) std::this_thread::yield();
         std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -193,6 +203,16 @@ TEST(SculptThreadStartup, AStrokeDrawnCoarseEndsWithTheContourOfEveryStep) {
         }
         for (const auto& g : coarse.last.groups) EXPECT_TRUE(g->children_cover) << g->id;
     }
+    // Frames that draw the coarsest groups leave the levels under them for later: the contour ends the same.
+    const Ended top = session(false, true, stream(), true);
+    EXPECT_GT(top.stats.tiles_deferred, 0u);
+    EXPECT_EQ(top.mesh.positions, every.mesh.positions);
+    EXPECT_EQ(top.mesh.triangles, every.mesh.triangles);
+    ASSERT_EQ(top.last.tiles.size(), every.last.tiles.size());
+    for (std::size_t i = 0; i < top.last.tiles.size(); ++i) {
+        EXPECT_EQ(top.last.tiles[i]->mesh.triangles.size(), every.last.tiles[i]->mesh.triangles.size());
+    }
+    for (const auto& g : top.last.groups) EXPECT_TRUE(g->children_cover) << g->id;
 }
 
 // The change a stroke's close makes (here a push's held group) is deferred as the stroke's steps were, not contoured

@@ -434,6 +434,7 @@ void RunPipeline::Parts::take_finished_frames() {
     for (const renderer::FrameStats& fs : rend->take_finished_frames()) {
         r.render.add(fs);
         detail.offer(fs.groups_wanting_detail);
+        drawn.offer(fs.groups_at_level);
         if (fs.frame == 1) {  // the first frame: when it was done and what it drew (report.json startup)
             r.first_frame_done_s = std::isfinite(fs.gpu_end_s)
                                        ? fs.gpu_end_s

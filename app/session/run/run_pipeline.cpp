@@ -120,6 +120,7 @@ void RunPipeline::Parts::open_backend() {
     // A coarse-first start-up and a stroke drawn coarse contour the tiles the frames ask for (they draw the coarse
     // levels everywhere else).
     if (su.coarse_first || su.stroke_coarse) sculpt_options.sculpt_setup.push_back([this](SculptThread& t) { t.refine_on_demand(detail); });
+    if (su.stroke_coarse) sculpt_options.sculpt_setup.push_back([this](SculptThread& t) { t.follow_drawn_groups(drawn); });
     sculpt_options.gpu_clay = su.gpu_clay;
     sculpt_options.gpu = su.gpu;
     // Ctrl+S writes the --save file, or model.tdx in the output folder.

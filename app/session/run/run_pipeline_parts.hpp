@@ -113,6 +113,7 @@ struct RunPipeline::Parts final : FrameSteps {
     WandSample wand_now;  // this frame's wand, read once by take_input()
     // 3. Sculpting threads and what draws beside them.
     compute::DetailRequests detail;  // the groups the frames want at full resolution, for a coarse-first start-up
+    compute::DrawnGroups drawn;      // the groups the frames drew at a level, for a stroke's coarse levels
     std::optional<SculptBackend> backend;
     GpuContourShare* gpu_contour = nullptr;
     renderer::IndirectWorkpiece indirect;  // this frame's view of the GPU contour
