@@ -54,8 +54,18 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
     if (stroke_hidden) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
     // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
-    // nothing changed).
-    coarse_->update(*coarse_model_, changed, from);
+    // nothing changed). A change outside a stroke is read at the coarsest depths only: a stroke before it settled reads
+    // it at the stroke's depths too, or their levels would be rebuilt without it.
+    std::vector<std::uint64_t> read = changed;
+    if (!stroke_hidden) {
+        coarse_lagging_.insert(coarse_lagging_.end(), changed.begin(), changed.end());
+    } else if (!coarse_lagging_.empty()) {
+        read.insert(read.end(), coarse_lagging_.begin(), coarse_lagging_.end());
+        std::sort(read.begin(), read.end());
+        read.erase(std::unique(read.begin(), read.end()), read.end());
+        coarse_lagging_.clear();
+    }
+    coarse_->update(*coarse_model_, read, from);
     const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, changed);
     std::vector<std::uint64_t> ids;
     if (stroke_hidden) ids = wanted_finer_groups(dims, from);
@@ -155,6 +165,7 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             done += n;
         } while (done < coarse_changed_.size() && in_slice());
         coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
+        if (coarse_changed_.empty()) coarse_lagging_.clear();  // every depth read them
         if (!coarse_changed_.empty()) {  // levels are rebuilt once every changed tile is read
             lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return 0;

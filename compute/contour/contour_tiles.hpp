@@ -346,6 +346,9 @@ private:
     std::unique_ptr<CoarseGroupLevels> coarse_;
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
+    // Tiles of changes outside a stroke read at the coarsest depths only, until a stroke's refresh or
+    // settle_coarse_levels() reads them at the finer ones.
+    std::vector<std::uint64_t> coarse_lagging_;
     std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
     std::vector<std::uint64_t> frames_drew_;    // frames_drew(), ascending
     std::unordered_set<std::uint64_t> coarse_stale_;

@@ -327,6 +327,27 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
     EXPECT_LT(waiting(s.cache, depth, 2).size(), near.size()) << "no level within the stroke's reach was rebuilt";
 }
 
+// A change outside a stroke (an undo's) re-reads the coarsest model at once and the finer ones once it settles. A
+// stroke that starts before then rebuilds its depth's levels from a model that holds that change too.
+TEST(CoarseFirst, AStrokeBeforeAChangeSettledDrawsThatChangeToo) {
+    const int depth = TileSurfaceCache::kDeferredCoarseDepth;
+    CoarseLevelOptions levels;
+    levels.max_depth = depth + 1;
+    CoarseFirst s(sphere_model(), levels);
+    s.refine_all();
+    cut(s.model);  // the sphere's +x side, contoured at once
+    s.contour_change();
+    defer_cut(s, Vec3(-2.0 * kRadius, 0.0, 0.0));  // its -x side, in the same depth-3 group
+    const CoarseGroupLevels fresh(s.model, levels, depth);
+    std::size_t compared = 0;
+    for (const TileGroupSurface& g : s.cache.groups()) {
+        if (g.depth != depth || g.lods.empty()) continue;
+        EXPECT_EQ(g.lods[0].mesh.positions, fresh.level(depth, g.coords).mesh.positions) << g.id;
+        ++compared;
+    }
+    EXPECT_GT(compared, 0u);
+}
+
 // During a stroke drawn coarse, a level under a group the frames drew within the bound (frames_drew) waits for the
 // stroke to settle: the frames draw that group in its place. Elsewhere the stroke's levels are rebuilt at once, and
 // the coarsest depth's always.
