@@ -113,6 +113,19 @@ void expect_no_hole(const TileSurfaceCache& cache, const TriDexel& model) {
         }
 }
 
+// Every depth-`depth` group with a level has the one a fresh read of `model` at that stride gives; returns how many.
+std::size_t expect_levels_as_read(const TileSurfaceCache& cache, const TriDexel& model, const CoarseLevelOptions& levels,
+                                  int depth) {
+    const CoarseGroupLevels fresh(model, levels, depth);
+    std::size_t compared = 0;
+    for (const TileGroupSurface& g : cache.groups()) {
+        if (g.depth != depth || g.lods.empty()) continue;
+        EXPECT_EQ(g.lods[0].mesh.positions, fresh.level(depth, g.coords).mesh.positions) << g.id;
+        ++compared;
+    }
+    return compared;
+}
+
 void expect_same_surface(const TileSurfaceCache& a, const TileSurfaceCache& b) {
     ASSERT_EQ(a.tiles().size(), b.tiles().size());
     for (std::size_t i = 0; i < a.tiles().size(); ++i) {
@@ -228,14 +241,7 @@ TEST(CoarseFirst, ACutDuringRefinementRedrawsTheCoarsestGroupsAtOnceAndEndsAsAFu
         for (const TileSurface& tile : s.cache.tiles()) found = found || tile.id == t;
         EXPECT_TRUE(found) << "tile " << t;
     }
-    const CoarseGroupLevels fresh(s.model, CoarseLevelOptions{}, kTop);
-    std::size_t rebuilt = 0;
-    for (const TileGroupSurface& g : s.cache.groups()) {
-        if (g.depth != kTop || g.lods.empty()) continue;
-        EXPECT_EQ(g.lods[0].mesh.positions, fresh.level(kTop, g.coords).mesh.positions) << g.id;
-        ++rebuilt;
-    }
-    EXPECT_GT(rebuilt, 0u);
+    EXPECT_GT(expect_levels_as_read(s.cache, s.model, CoarseLevelOptions{}, kTop), 0u);
     const std::array<int, 3> dims = s.contourer.tile_dims();
     for (const TileGroupSurface& g : s.cache.groups()) {
         if (g.children_cover) continue;
@@ -338,14 +344,7 @@ TEST(CoarseFirst, AStrokeBeforeAChangeSettledDrawsThatChangeToo) {
     cut(s.model);  // the sphere's +x side, contoured at once
     s.contour_change();
     defer_cut(s, Vec3(-2.0 * kRadius, 0.0, 0.0));  // its -x side, in the same depth-3 group
-    const CoarseGroupLevels fresh(s.model, levels, depth);
-    std::size_t compared = 0;
-    for (const TileGroupSurface& g : s.cache.groups()) {
-        if (g.depth != depth || g.lods.empty()) continue;
-        EXPECT_EQ(g.lods[0].mesh.positions, fresh.level(depth, g.coords).mesh.positions) << g.id;
-        ++compared;
-    }
-    EXPECT_GT(compared, 0u);
+    EXPECT_GT(expect_levels_as_read(s.cache, s.model, levels, depth), 0u);
 }
 
 // During a stroke drawn coarse, a level under a group the frames drew within the bound (frames_drew) waits for the
