@@ -30,7 +30,8 @@ private:
     std::vector<std::uint64_t> ids_;
 };
 
-/// The tile groups frames drew at one of their levels (renderer::FrameStats::groups_at_level), from the render
+/// The tile groups frames drew at one of their levels within the pixel bound (renderer::FrameStats::groups_at_level,
+/// each frame's offered whole; the sculpt thread takes the union of those since its last take), from the render
 /// thread to the sculpt thread (SculptThread::follow_drawn_groups): the same mailbox as DetailRequests, each id a
 /// compute::tile_group_id. Thread-safe: any thread offers, one takes.
 using DrawnGroups = DetailRequests;
