@@ -86,9 +86,14 @@ std::vector<std::uint8_t> groups_drawn_own_only(std::span<const TileGroup> group
     return out;
 }
 
+bool level_within_bound(const TileGroup& group, std::size_t level, double px_per_m, double max_px) {
+    if (level == 0 || level > group.levels.size()) return false;
+    return group.levels[level - 1].error_m * px_per_m <= max_px;
+}
+
 bool wants_detail(const TileGroup& group, std::size_t level, double px_per_m, double max_px, bool stands_in) {
     if (level == 0 || level > group.levels.size() || !stands_in) return false;
-    return group.levels[level - 1].error_m * px_per_m > max_px;
+    return !level_within_bound(group, level, px_per_m, max_px);
 }
 
 }  // namespace tridex::renderer

@@ -71,6 +71,11 @@ std::vector<std::size_t> choose_group_levels(std::span<const TileGroup> groups, 
 std::vector<std::uint8_t> groups_drawn_own_only(std::span<const TileGroup> groups, std::span<const std::size_t> level,
                                                 std::span<const std::uint8_t> visible);
 
+/// True when `group` drawn at `level` (1-based, as choose_group_levels gives) is within the pixel bound: that level's
+/// error_m (m) times px_per_m (pixels per metre at the group's bounds) is at most max_px. False for level 0 (not drawn)
+/// or out of range.
+bool level_within_bound(const TileGroup& group, std::size_t level, double px_per_m, double max_px);
+
 /// True when an eye draws `group` at `level` (1-based, as choose_group_levels gives) only because it stands in for
 /// its children (`stands_in`, from groups_standing_in) while that level's error_m * px_per_m exceeds max_px: the eye
 /// wants the group's tiles, or its child groups' levels (compute::DetailRequests). False for level 0 or out of range.

@@ -74,10 +74,8 @@ void add_tile_draws(const SceneView& scene, const TileDrawEyes& eyes, TileMeshCa
             std::array<std::uint32_t, 2> mask{};  // per level drawn: the eyes drawing it
             bool wanting = false;
             bool within = false;  // an eye drew it within the pixel bound (not standing in over it)
-            for (int e = 0; e < eye_count; ++e) {
-                const std::size_t l = group_level[e][g];
-                within = within || (l > 0 && group.levels[l - 1].error_m * px[e][g] <= scene.lod_max_px);
-            }
+            for (int e = 0; e < eye_count; ++e)
+                within = within || level_within_bound(group, group_level[e][g], px[e][g], scene.lod_max_px);
             if (within) stats.groups_at_level.push_back(group.id);
             for (int e = 0; e < eye_count; ++e)
                 if ((visible & (1u << e)) && group_level[e][g] > 0) {

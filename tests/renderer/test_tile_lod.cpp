@@ -180,6 +180,12 @@ TEST(TileGroupLod, AGroupDrawnOverTheBoundForItsChildrenWantsDetail) {
     EXPECT_FALSE(wants_detail(g, 0, 5000.0, 1.0, true));   // not drawn
     EXPECT_FALSE(wants_detail(g, 2, 5000.0, 1.0, true));   // no such level
     EXPECT_FALSE(wants_detail(g, 1, 5000.0, 1.0, false));  // its children can be drawn instead: the bound decides
+    // The bound alone (what a frame names in FrameStats::groups_at_level).
+    EXPECT_FALSE(level_within_bound(g, 1, 5000.0, 1.0));  // 10 px over a 1 px bound
+    EXPECT_TRUE(level_within_bound(g, 1, 400.0, 1.0));    // 0.8 px
+    EXPECT_TRUE(level_within_bound(g, 1, 500.0, 1.0));    // 1 px: on the bound is within it
+    EXPECT_FALSE(level_within_bound(g, 0, 400.0, 1.0));   // not drawn
+    EXPECT_FALSE(level_within_bound(g, 2, 400.0, 1.0));   // no such level
 }
 
 // After a change, the finer groups' levels wait to be rebuilt while their tiles are all in. A group over the bound
