@@ -51,25 +51,9 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
 std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed, bool stroke_hidden) {
     const auto t0 = std::chrono::steady_clock::now();
-    int from = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
-    if (stroke_hidden) from = std::max(coarse_->min_depth(), std::min(from, kDeferredCoarseDepth));
-    // Those depths' models are current after this; settle_coarse_levels() re-reads the rest (these rays again, finding
-    // nothing changed). A change outside a stroke is read at the coarsest depths only: a stroke before it settled reads
-    // it at the stroke's depths too, or their levels would be rebuilt without it.
-    std::vector<std::uint64_t> read = changed;
-    if (!stroke_hidden) {
-        coarse_lagging_.insert(coarse_lagging_.end(), changed.begin(), changed.end());
-    } else if (!coarse_lagging_.empty()) {
-        read.insert(read.end(), coarse_lagging_.begin(), coarse_lagging_.end());
-        std::sort(read.begin(), read.end());
-        read.erase(std::unique(read.begin(), read.end()), read.end());
-        coarse_lagging_.clear();
-    }
-    coarse_->update(*coarse_model_, read, from);
+    const int coarsest = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
+    const int from = stroke_hidden ? std::max(coarse_->min_depth(), std::min(coarsest, kDeferredCoarseDepth)) : coarsest;
     const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, changed);
-    std::vector<std::uint64_t> ids;
-    if (stroke_hidden) ids = wanted_finer_groups(dims, from);
-    detail_wanted_.clear();
     // With the stroke's tiles hidden, a group under one the frames drew within its bound waits (for
     // settle_coarse_levels): the frames do not need it, and would draw that one in its place while it waits.
     const auto parent_drawn = [&](std::uint64_t id) {
@@ -77,10 +61,34 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
         const std::size_t g = index_of(groups_, id);
         return g < groups_.size() && std::binary_search(frames_drew_.begin(), frames_drew_.end(), groups_[g].parent);
     };
+    std::vector<std::uint64_t> ids;
+    int read_from = coarsest;  // the finest depth a level rebuilt now needs current
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = tile_group_depth(id);
-        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) ids.push_back(id);
+        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) {
+            ids.push_back(id);
+            read_from = std::min(read_from, depth);
+        }
     }
+    // Only the depths those levels read are re-read now; settle_coarse_levels() re-reads the rest (these rays again,
+    // finding nothing changed). Tiles read at the coarsest depths only wait in coarse_lagging_, until a stroke's
+    // refresh reads them at a finer depth it rebuilds or settle reads them at every depth: a level rebuilt from a
+    // model without them would stay wrong.
+    std::vector<std::uint64_t> read = changed;
+    if (read_from >= coarsest) {
+        coarse_lagging_.insert(coarse_lagging_.end(), changed.begin(), changed.end());
+    } else if (!coarse_lagging_.empty()) {
+        read.insert(read.end(), coarse_lagging_.begin(), coarse_lagging_.end());
+        std::sort(read.begin(), read.end());
+        read.erase(std::unique(read.begin(), read.end()), read.end());
+        coarse_lagging_.clear();
+    }
+    coarse_->update(*coarse_model_, read, read_from);
+    if (stroke_hidden) {
+        std::vector<std::uint64_t> finer = wanted_finer_groups(dims, from);
+        ids.insert(ids.end(), finer.begin(), finer.end());
+    }
+    detail_wanted_.clear();
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

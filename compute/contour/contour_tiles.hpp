@@ -346,8 +346,8 @@ private:
     std::unique_ptr<CoarseGroupLevels> coarse_;
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
-    // Tiles of changes outside a stroke read at the coarsest depths only, until a stroke's refresh or
-    // settle_coarse_levels() reads them at the finer ones.
+    // Tiles of changes read at the coarsest depths only (outside a stroke, or in a stroke's refresh that rebuilt no
+    // finer level), until a stroke's refresh that rebuilds a finer level or settle_coarse_levels() reads them there.
     std::vector<std::uint64_t> coarse_lagging_;
     std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
     std::vector<std::uint64_t> frames_drew_;    // frames_drew(), ascending
@@ -363,10 +363,11 @@ private:
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
-    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles): re-reads the
-    // coarsest kCoarseDepthsAtOnce models through them (down to kDeferredCoarseDepth when `stroke_hidden`:
-    // defer_tiles) and rebuilds the waiting levels of those depths' groups within their reach (coarse_reach), not
-    // other waiting ones (a coarse-first start-up's, left to settle_coarse_levels); returns how many.
+    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles): rebuilds the
+    // waiting levels of the coarsest kCoarseDepthsAtOnce depths' groups within their reach (coarse_reach; down to
+    // kDeferredCoarseDepth when `stroke_hidden`: defer_tiles, but not under a group in frames_drew_), not other
+    // waiting ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarse models of
+    // the depths those levels read through them; returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);
     // Coarse mode, with a stroke's tiles hidden: up to kDeferredDetailLevels waiting groups one depth under those of

@@ -378,6 +378,26 @@ TEST(CoarseFirst, AStrokeDrawnCoarseLeavesTheLevelsUnderAGroupTheFramesDrewForLa
     }
 }
 
+// A stroke's step whose finer levels all wait under groups the frames drew reads its change at the coarsest depth
+// only. A later step that rebuilds a finer level reads the earlier steps' changes at that depth too.
+TEST(CoarseFirst, AStrokeStepRebuildingAFinerLevelReadsTheChangesEarlierStepsLeft) {
+    const int depth = TileSurfaceCache::kDeferredCoarseDepth;
+    CoarseLevelOptions levels;
+    levels.max_depth = depth + 1;
+    CoarseFirst s(two_spheres(), levels);
+    s.refine_all();
+    std::uint64_t top = 0, other = 0;
+    for (const TileGroupSurface& g : s.cache.groups())
+        if (g.depth == depth + 1) (g.coords[0] == 1 ? top : other) = g.id;  // over the second sphere, and the first's
+    ASSERT_NE(top, 0u);
+    ASSERT_NE(other, 0u);
+    s.cache.frames_drew({top});
+    defer_cut(s, Vec3(256.0, 0.0, 0.0));  // its level at depth 3 waits
+    s.cache.frames_drew({other});
+    defer_cut(s, Vec3(256.0 - 2.0 * kRadius, 0.0, 0.0));  // the sphere's other side, in the same depth-3 group
+    EXPECT_GT(expect_levels_as_read(s.cache, s.model, levels, depth), 0u);
+}
+
 // During a stroke drawn coarse, the levels under kDeferredCoarseDepth wait, except under the groups a frame asks
 // finer ones for (want_detail): those are rebuilt with the next refresh, up to kDeferredDetailLevels.
 TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {
