@@ -20,6 +20,41 @@ void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLeve
     lod_options_.group_depth = options.max_depth;
 }
 
+namespace {
+
+// The tiles of `tiles` (ascending) whose coarse rays a level of one of the groups `ids` reads, in a grid of `dims`
+// tiles: those within one group of it, at its depth, and the rays' reach (each group's range of tile coordinates,
+// grown so). Ascending.
+std::vector<std::uint64_t> tiles_near_groups(const std::vector<TileGroupSurface>& groups,
+                                             const std::vector<std::uint64_t>& ids, const std::vector<std::uint64_t>& tiles,
+                                             const std::array<int, 3>& dims) {
+    constexpr int kT = TileGrid::kTileCells;
+    std::vector<std::array<int, 6>> ranges;  // lo x, y, z, then hi (exclusive)
+    for (const std::uint64_t id : ids) {
+        const std::size_t g = index_of(groups, id);
+        if (g == groups.size()) continue;
+        const TileGroupSurface& group = groups[g];
+        const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;
+        std::array<int, 6> r{};
+        for (int a = 0; a < 3; ++a) {
+            r[a] = group.coords[a] * span - grow;
+            r[3 + a] = (group.coords[a] + 1) * span + grow;
+        }
+        ranges.push_back(r);
+    }
+    std::vector<std::uint64_t> near;
+    for (const std::uint64_t t : tiles) {
+        const std::array<int, 3> tc = grid_coords(t, dims);
+        const auto inside = [&](const std::array<int, 6>& r) {
+            return tc[0] >= r[0] && tc[1] >= r[1] && tc[2] >= r[2] && tc[0] < r[3] && tc[1] < r[4] && tc[2] < r[5];
+        };
+        if (std::any_of(ranges.begin(), ranges.end(), inside)) near.push_back(t);
+    }
+    return near;
+}
+
+}  // namespace
+
 std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::array<int, 3>& dims,
                                                                  const std::vector<std::uint64_t>& changed_tiles) const {
     // A changed ray reaches kDirtyReachCells fine cells into the fine contour; the coarse contour reads the rays
@@ -70,20 +105,23 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
             read_from = std::min(read_from, depth);
         }
     }
-    // Only the depths those levels read are re-read now; settle_coarse_levels() re-reads the rest (these rays again,
-    // finding nothing changed). Tiles read at the coarsest depths only wait in coarse_lagging_, until a stroke's
-    // refresh reads them at a finer depth it rebuilds or settle reads them at every depth: a level rebuilt from a
-    // model without them would stay wrong.
-    std::vector<std::uint64_t> read = changed;
-    if (read_from >= coarsest) {
-        coarse_lagging_.insert(coarse_lagging_.end(), changed.begin(), changed.end());
-    } else if (!coarse_lagging_.empty()) {
-        read.insert(read.end(), coarse_lagging_.begin(), coarse_lagging_.end());
-        std::sort(read.begin(), read.end());
-        read.erase(std::unique(read.begin(), read.end()), read.end());
-        coarse_lagging_.clear();
+    // Every change is read at once at the coarsest depths, and at a finer one only around the levels rebuilt there;
+    // settle_coarse_levels() re-reads the rest (these rays again, finding nothing changed). Tiles not read at the
+    // finer depths wait in coarse_lagging_, until a refresh reads them around a finer level it rebuilds or settle
+    // reads them at every depth: a level rebuilt from a model without them would stay wrong.
+    merge_ids(coarse_lagging_, changed);
+    coarse_->update(*coarse_model_, changed, coarsest);
+    if (read_from < coarsest) {
+        std::vector<std::uint64_t> finer;
+        for (const std::uint64_t id : ids)
+            if (tile_group_depth(id) < coarsest) finer.push_back(id);
+        const std::vector<std::uint64_t> near = tiles_near_groups(groups_, finer, coarse_lagging_, dims);
+        coarse_->update(*coarse_model_, near, read_from);  // the coarsest depths find these rays read already
+        std::vector<std::uint64_t> left;
+        std::set_difference(coarse_lagging_.begin(), coarse_lagging_.end(), near.begin(), near.end(),
+                            std::back_inserter(left));
+        coarse_lagging_ = std::move(left);
     }
-    coarse_->update(*coarse_model_, read, read_from);
     if (stroke_hidden) {
         std::vector<std::uint64_t> finer = wanted_finer_groups(dims, from);
         ids.insert(ids.end(), finer.begin(), finer.end());
@@ -122,30 +160,7 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
             }
     }
     if (finer.empty()) return finer;
-    // The changed tiles whose coarse rays a level of those groups reads: within one group of them, at their depth
-    // (each group's range of tile coordinates, grown so).
-    constexpr int kT = TileGrid::kTileCells;
-    std::vector<std::array<int, 6>> ranges;  // lo x, y, z, then hi (exclusive)
-    for (const std::uint64_t id : finer) {
-        const TileGroupSurface& group = groups_[index_of(groups_, id)];
-        const int span = 1 << group.depth, grow = span + (TriDexel::kDirtyReachCells + kT - 1) / kT;
-        std::array<int, 6> r{};
-        for (int a = 0; a < 3; ++a) {
-            r[a] = group.coords[a] * span - grow;
-            r[3 + a] = (group.coords[a] + 1) * span + grow;
-        }
-        ranges.push_back(r);
-    }
-    std::vector<std::uint64_t> tiles;
-    for (const std::uint64_t t : coarse_changed_) {
-        const std::array<int, 3> tc = grid_coords(t, dims);
-        const auto inside = [&](const std::array<int, 6>& r) {
-            return tc[0] >= r[0] && tc[1] >= r[1] && tc[2] >= r[2] && tc[0] < r[3] && tc[1] < r[4] && tc[2] < r[5];
-        };
-        if (std::any_of(ranges.begin(), ranges.end(), inside)) tiles.push_back(t);
-    }
-    std::sort(tiles.begin(), tiles.end());
-    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    const std::vector<std::uint64_t> tiles = tiles_near_groups(groups_, finer, coarse_changed_, dims);
     coarse_->update(*coarse_model_, tiles, depth);  // the coarser depths find these rays read already
     return finer;
 }

@@ -1,5 +1,6 @@
 // compute/contour/contour_tiles.cpp - per-tile surface cache over a Contourer.
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -95,7 +96,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
     if (coarse_ && refreshed_ && !changed.empty()) {  // the coarse models re-read these once they settle
-        coarse_changed_.insert(coarse_changed_.end(), changed.begin(), changed.end());
+        merge_ids(coarse_changed_, changed);
         coarse_changed_at_ = std::chrono::steady_clock::now();
     }
     std::vector<std::uint64_t> touched = std::move(expected_left_);  // tiles whose groups' children or bounds moved

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
+#include <utility>
 #include <vector>
 
 namespace tridex::compute {
@@ -22,6 +24,15 @@ template <typename T>
 const T* find_by_id(const std::vector<T>& sorted, std::uint64_t id) {
     const std::size_t i = index_of(sorted, id);
     return i < sorted.size() ? &sorted[i] : nullptr;
+}
+
+/// Adds the ids of `add` (ascending, no repeats) to `into` (ascending, no repeats), which stays so. O(n + m).
+inline void merge_ids(std::vector<std::uint64_t>& into, const std::vector<std::uint64_t>& add) {
+    if (add.empty()) return;
+    std::vector<std::uint64_t> out;
+    out.reserve(into.size() + add.size());
+    std::set_union(into.begin(), into.end(), add.begin(), add.end(), std::back_inserter(out));
+    into = std::move(out);
 }
 
 }  // namespace tridex::compute

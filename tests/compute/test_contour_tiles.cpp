@@ -11,6 +11,7 @@
 #include "compute/tools/boolean.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 
@@ -222,6 +223,17 @@ TEST(ContourTiles, TileAccessorsRejectOutOfRangeTiles) {
     TileSurfaceCache cache;
     EXPECT_EQ(cache.refresh(contourer), 0u);  // an empty model has no tiles
     EXPECT_TRUE(cache.tiles().empty());
+}
+
+TEST(SortedIds, MergeIdsKeepsTheUnionAscendingWithoutRepeats) {
+    std::vector<std::uint64_t> into{2, 5, 9};
+    merge_ids(into, {1, 5, 7, 12});
+    EXPECT_EQ(into, (std::vector<std::uint64_t>{1, 2, 5, 7, 9, 12}));
+    merge_ids(into, {});
+    EXPECT_EQ(into.size(), 6u);
+    std::vector<std::uint64_t> empty;
+    merge_ids(empty, {3});
+    EXPECT_EQ(empty, std::vector<std::uint64_t>{3});
 }
 
 }  // namespace
