@@ -293,6 +293,21 @@ TriDexel two_spheres() {
     return m;
 }
 
+// Coarse levels down to kDeferredCoarseDepth, one depth under the coarsest, as the sessions' (the stroke's depth then
+// is not the coarsest).
+CoarseLevelOptions to_stroke_depth() {
+    CoarseLevelOptions levels;
+    levels.max_depth = TileSurfaceCache::kDeferredCoarseDepth + 1;
+    return levels;
+}
+
+// The first depth-d group at group coordinate x.
+const TileGroupSurface& group_at(const TileSurfaceCache& cache, int d, int x) {
+    for (const TileGroupSurface& g : cache.groups())
+        if (g.depth == d && g.coords[0] == x) return g;
+    throw Error("no such group");
+}
+
 // Depth-d groups at group coordinate x whose level still waits.
 std::vector<std::uint64_t> waiting(const TileSurfaceCache& cache, int depth, int x) {
     std::vector<std::uint64_t> ids;
@@ -320,9 +335,7 @@ void defer_cut(CoarseFirst& s, const Vec3& offset) {
 TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) {
     const int depth = TileSurfaceCache::kDeferredCoarseDepth;
     ASSERT_EQ(depth, 3) << "the two spheres lie in two groups of this depth";
-    CoarseLevelOptions levels;
-    levels.max_depth = depth + 1;  // as the sessions': the depth-3 levels wait for their depth's read
-    CoarseFirst s(two_spheres(), levels);
+    CoarseFirst s(two_spheres(), to_stroke_depth());  // the depth-3 levels wait for their depth's read
     while (s.cache.build_coarse_depth()) {
     }
     const std::vector<std::uint64_t> far = waiting(s.cache, depth, 0), near = waiting(s.cache, depth, 2);
@@ -337,8 +350,7 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
 // stroke that starts before then rebuilds its depth's levels from a model that holds that change too.
 TEST(CoarseFirst, AStrokeBeforeAChangeSettledDrawsThatChangeToo) {
     const int depth = TileSurfaceCache::kDeferredCoarseDepth;
-    CoarseLevelOptions levels;
-    levels.max_depth = depth + 1;
+    const CoarseLevelOptions levels = to_stroke_depth();
     CoarseFirst s(sphere_model(), levels);
     s.refine_all();
     cut(s.model);  // the sphere's +x side, contoured at once
@@ -352,13 +364,7 @@ TEST(CoarseFirst, AStrokeBeforeAChangeSettledDrawsThatChangeToo) {
 // the coarsest depth's always.
 TEST(CoarseFirst, AStrokeDrawnCoarseLeavesTheLevelsUnderAGroupTheFramesDrewForLater) {
     const int depth = TileSurfaceCache::kDeferredCoarseDepth;
-    CoarseLevelOptions levels;
-    levels.max_depth = depth + 1;
-    const auto group_at = [](const TileSurfaceCache& cache, int d, int x) -> const TileGroupSurface& {
-        for (const TileGroupSurface& g : cache.groups())
-            if (g.depth == d && g.coords[0] == x) return g;
-        throw Error("no such group");
-    };
+    const CoarseLevelOptions levels = to_stroke_depth();
     for (const bool drawn : {false, true}) {
         SCOPED_TRACE(drawn ? "the parent drawn" : "another group drawn");
         CoarseFirst s(two_spheres(), levels);
@@ -382,18 +388,12 @@ TEST(CoarseFirst, AStrokeDrawnCoarseLeavesTheLevelsUnderAGroupTheFramesDrewForLa
 // only. A later step that rebuilds a finer level reads the earlier steps' changes at that depth too.
 TEST(CoarseFirst, AStrokeStepRebuildingAFinerLevelReadsTheChangesEarlierStepsLeft) {
     const int depth = TileSurfaceCache::kDeferredCoarseDepth;
-    CoarseLevelOptions levels;
-    levels.max_depth = depth + 1;
+    const CoarseLevelOptions levels = to_stroke_depth();
     CoarseFirst s(two_spheres(), levels);
     s.refine_all();
-    std::uint64_t top = 0, other = 0;
-    for (const TileGroupSurface& g : s.cache.groups())
-        if (g.depth == depth + 1) (g.coords[0] == 1 ? top : other) = g.id;  // over the second sphere, and the first's
-    ASSERT_NE(top, 0u);
-    ASSERT_NE(other, 0u);
-    s.cache.frames_drew({top});
-    defer_cut(s, Vec3(256.0, 0.0, 0.0));  // its level at depth 3 waits
-    s.cache.frames_drew({other});
+    s.cache.frames_drew({group_at(s.cache, depth + 1, 1).id});  // over the second sphere
+    defer_cut(s, Vec3(256.0, 0.0, 0.0));                         // its level at depth 3 waits
+    s.cache.frames_drew({group_at(s.cache, depth + 1, 0).id});
     defer_cut(s, Vec3(256.0 - 2.0 * kRadius, 0.0, 0.0));  // the sphere's other side, in the same depth-3 group
     EXPECT_GT(expect_levels_as_read(s.cache, s.model, levels, depth), 0u);
 }
