@@ -1,6 +1,5 @@
 // compute/contour/contour_tiles.cpp - per-tile surface cache over a Contourer.
 #include "compute/contour/contour_tiles.hpp"
-#include "compute/contour/sorted_ids.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -11,6 +10,7 @@
 #include <thread>
 #include <utility>
 
+#include "compute/contour/sorted_ids.hpp"
 #include "compute/parallel/task_pool.hpp"
 #include "core/error.hpp"
 

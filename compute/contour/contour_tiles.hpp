@@ -342,12 +342,12 @@ private:
     std::chrono::steady_clock::time_point settle_due_ = std::chrono::steady_clock::time_point::max();
     bool refreshed_ = false;                       // refresh() ran at least once
     // Coarse group levels (use_coarse_groups): the levels, the model they read, the fine tiles changed since they
-    // last read it, the groups waiting for a level, and when a tile last changed.
+    // last read it (ascending, no repeats), the groups waiting for a level, and when a tile last changed.
     std::unique_ptr<CoarseGroupLevels> coarse_;
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
-    // Tiles of changes read at the coarsest depths only (outside a stroke, or in a stroke's refresh that rebuilt no
-    // finer level), until a stroke's refresh that rebuilds a finer level or settle_coarse_levels() reads them there.
+    // Tiles of changes read at the coarsest depths only (ascending, no repeats), until a stroke's refresh that rebuilds
+    // a finer level near them or settle_coarse_levels() reads them there.
     std::vector<std::uint64_t> coarse_lagging_;
     std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
     std::vector<std::uint64_t> frames_drew_;    // frames_drew(), ascending
@@ -363,11 +363,11 @@ private:
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
-    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles): rebuilds the
-    // waiting levels of the coarsest kCoarseDepthsAtOnce depths' groups within their reach (coarse_reach; down to
+    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles, ascending): rebuilds
+    // the waiting levels of the coarsest kCoarseDepthsAtOnce depths' groups within their reach (coarse_reach; down to
     // kDeferredCoarseDepth when `stroke_hidden`: defer_tiles, but not under a group in frames_drew_), not other
-    // waiting ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarse models of
-    // the depths those levels read through them; returns how many.
+    // waiting ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models
+    // through `changed` and a finer one through the changed tiles around the levels rebuilt there; returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);
     // Coarse mode, with a stroke's tiles hidden: up to kDeferredDetailLevels waiting groups one depth under those of
