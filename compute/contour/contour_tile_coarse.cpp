@@ -96,12 +96,13 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
         const std::size_t g = index_of(groups_, id);
         return g < groups_.size() && std::binary_search(frames_drew_.begin(), frames_drew_.end(), groups_[g].parent);
     };
-    std::vector<std::uint64_t> ids;
-    int read_from = coarsest;  // the finest depth a level rebuilt now needs current
+    std::vector<std::uint64_t> ids, finer_ids;  // all to rebuild; those finer than the coarsest depths
+    int read_from = coarsest;                  // the finest depth a level rebuilt now needs current
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = tile_group_depth(id);
         if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) {
             ids.push_back(id);
+            if (depth < coarsest) finer_ids.push_back(id);
             read_from = std::min(read_from, depth);
         }
     }
@@ -111,20 +112,14 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     // reads them at every depth: a level rebuilt from a model without them would stay wrong.
     merge_ids(coarse_lagging_, changed);
     coarse_->update(*coarse_model_, changed, coarsest);
-    if (read_from < coarsest) {
-        std::vector<std::uint64_t> finer;
-        for (const std::uint64_t id : ids)
-            if (tile_group_depth(id) < coarsest) finer.push_back(id);
-        const std::vector<std::uint64_t> near = tiles_near_groups(groups_, finer, coarse_lagging_, dims);
+    if (!finer_ids.empty()) {
+        const std::vector<std::uint64_t> near = tiles_near_groups(groups_, finer_ids, coarse_lagging_, dims);
         coarse_->update(*coarse_model_, near, read_from);  // the coarsest depths find these rays read already
-        std::vector<std::uint64_t> left;
-        std::set_difference(coarse_lagging_.begin(), coarse_lagging_.end(), near.begin(), near.end(),
-                            std::back_inserter(left));
-        coarse_lagging_ = std::move(left);
+        remove_ids(coarse_lagging_, near);
     }
     if (stroke_hidden) {
-        std::vector<std::uint64_t> finer = wanted_finer_groups(dims, from);
-        ids.insert(ids.end(), finer.begin(), finer.end());
+        const std::vector<std::uint64_t> wanted = wanted_finer_groups(dims, from);
+        ids.insert(ids.end(), wanted.begin(), wanted.end());
     }
     detail_wanted_.clear();
     if (ids.empty()) return 0;
@@ -179,8 +174,6 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
         // samples would wait for them, and the few levels a pass rebuilds would not repay it (the waiting groups'
         // children are drawn).
         if (stroke_open) return 0;
-        std::sort(coarse_changed_.begin(), coarse_changed_.end());
-        coarse_changed_.erase(std::unique(coarse_changed_.begin(), coarse_changed_.end()), coarse_changed_.end());
         std::size_t done = 0;
         do {
             const std::size_t n = std::min(kCoarseUpdateTiles, coarse_changed_.size() - done);
@@ -188,11 +181,11 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             done += n;
         } while (done < coarse_changed_.size() && in_slice());
         coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
-        if (coarse_changed_.empty()) coarse_lagging_.clear();  // every depth read them
         if (!coarse_changed_.empty()) {  // levels are rebuilt once every changed tile is read
             lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return 0;
         }
+        coarse_lagging_.clear();  // every depth read them
     }
     // Coarsest depth first: a frame descends from a group to its children only once none of their levels waits
     // (renderer::groups_standing_in), so the view refines a depth at a time.
