@@ -52,6 +52,9 @@ struct AccuracyBenchOptions {
     int dump_worst = 0;                          ///< > 0: print this many worst vertices of each tridex cpu-1t run
                                                  ///< with their cells' crossings (bench_accuracy_dump.hpp)
     bool plots = true;                           ///< write accuracy_<program>.png via gnuplot when installed
+    /// Group depths (1..6) whose coarse levels (read every 2^d-th ray) are measured against the exact solid after
+    /// each program's first tridex path (bench_accuracy_coarse.hpp); empty: none.
+    std::vector<int> coarse_depths{1, 2, 3, 4};
     std::string out = "out/bench";               ///< folder for bench.json
 };
 
@@ -67,7 +70,9 @@ struct AccuracyBenchOptions {
 /// N = 256) and, for every OpenVDB run, the fastest tridex run per path whose max error is at most
 /// OpenVDB's, with the worst such time ratio per program (bench_accuracy_match.hpp); writes bench.json
 /// ({"runs": [...], "matched": [...], "setup": {...}}) into options.out and returns the rows; with
-/// options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). Throws tridex::Error on bad
+/// options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). With options.coarse_depths, the coarse group
+/// levels of the first tridex path's model at those depths are measured against the exact solid too (printed, and in
+/// bench.json "coarse": per program, N and depth, the groups' errors in metres and coarse cells). Throws tridex::Error on bad
 /// options (resolutions, offset, unknown program) or an unwritable folder.
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
 

@@ -11,11 +11,13 @@
 #include <unistd.h>
 
 #include "bench/accuracy/bench_accuracy.hpp"
+#include "bench/accuracy/bench_accuracy_coarse.hpp"
 #include "bench/accuracy/bench_accuracy_exact.hpp"
 #include "bench/accuracy/bench_accuracy_match.hpp"
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "bench/accuracy/bench_accuracy_openvdb.hpp"
 #include "core/error.hpp"
+#include "compute/mesh/scan_convert.hpp"
 #include "core/primitives.hpp"
 
 namespace tridex::bench {
@@ -227,6 +229,70 @@ TEST(BenchAccuracy, RejectsBadOptions) {
     o.offset_cells = 0.0;
     o.programs = {"no_such_program"};
     EXPECT_THROW(run_accuracy_bench(o), Error);
+    o.programs.clear();
+    o.coarse_depths = {7};
+    EXPECT_THROW(run_accuracy_bench(o), Error);
+}
+
+// The coarse group levels at depth 1 of the pocket carved at N = 128 read the rays of the N = 64 lattice: measured
+// against the exact solid with the same samples, their worst group error equals the full N = 64 contour's two-sided
+// error (the levels hold that contour, tile by tile), and every group box the exact surface crosses has a level.
+TEST(BenchAccuracyCoarse, DepthOneLevelsAreAsCloseToTheExactSolidAsAContourAtTheirSpacing) {
+    AccuracyBenchOptions o;
+    o.resolutions = {64, 128};
+    o.programs = {"pocket"};
+    o.cpu_all_cores = false;
+    o.gpu = false;
+    o.openvdb = false;
+    o.volume_samples = 100000;
+    o.samples_per_cell2 = 0.5;
+    o.plots = false;
+    o.coarse_depths = {1, 2};
+    o.out = test_out("tridex_test_bench_accuracy_coarse");
+    std::filesystem::remove_all(o.out);
+    const std::vector<AccuracyRow> rows = run_accuracy_bench(o);
+    std::ifstream in(std::filesystem::path(o.out) / "bench.json");
+    ASSERT_TRUE(in.good());
+    const nlohmann::json j = nlohmann::json::parse(in);
+    std::filesystem::remove_all(o.out);
+    ASSERT_EQ(rows.size(), 2u);
+    ASSERT_EQ(j.at("coarse").size(), 4u);  // two N, two depths
+    const AccuracyRow& full64 = rows[0];
+    ASSERT_EQ(full64.n, 64);
+    const nlohmann::json* d1 = nullptr;
+    for (const nlohmann::json& r : j.at("coarse"))
+        if (r.at("n") == 128 && r.at("depth") == 1) d1 = &r;
+    ASSERT_NE(d1, nullptr);
+    const double coarse_cell = d1->at("coarse_cell_m").get<double>();
+    EXPECT_NEAR(coarse_cell, full64.cell_m, 1e-12);
+    EXPECT_NEAR(d1->at("group_max_m").get<double>(), full64.hausdorff_m, 0.01 * coarse_cell);
+    EXPECT_GT(d1->at("groups").get<std::size_t>(), 8u);
+    EXPECT_EQ(d1->at("samples_without_level").get<std::size_t>(), 0u);
+    EXPECT_EQ(d1->at("over_level_estimate").get<std::size_t>(), 0u);  // the pocket's walls are wide: nothing missed
+}
+
+// The uncarved box with its faces on lattice nodes: every coarse level lies on the faces, whatever the depth.
+TEST(BenchAccuracyCoarse, LevelsOfABoxOnLatticeNodesLieOnItsFaces) {
+    const Program paint = make_program("paint");
+    const ExactSolid exact(paint);
+    compute::Lattice l;
+    l.cell_m = kLatticeSideM / 64;
+    l.cells = {64, 64, 64};
+    compute::TriDexel m = compute::TriDexel::empty(l, std::size_t{1} << 30);
+    compute::scan_convert(box_mesh(Aabb{Vec3(kBoxLoM), Vec3(kBoxHiM)}), m);
+    const std::vector<Vec3> samples = exact.surface_samples(1.0 / (l.cell_m * l.cell_m));
+    const std::vector<CoarseLevelErrors> e = coarse_level_errors(m, exact, samples, {1, 2}, 2);
+    ASSERT_EQ(e.size(), 2u);
+    for (const CoarseLevelErrors& r : e) {
+        EXPECT_GT(r.groups, 0u);
+        EXPECT_GT(r.triangles, 0u);
+        EXPECT_LT(r.group_max_m, 1e-6 * r.coarse_cell_m) << "depth " << r.depth;
+        EXPECT_EQ(r.samples_without_level, 0u);
+    }
+    EXPECT_EQ(e[0].stride, 2);
+    EXPECT_EQ(e[1].stride, 4);
+    EXPECT_THROW(coarse_level_errors(m, exact, samples, {0}, 1), Error);
+    EXPECT_THROW(coarse_level_errors(m, exact, samples, {1}, 0), Error);
 }
 
 }  // namespace
