@@ -106,17 +106,13 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
             read_from = std::min(read_from, depth);
         }
     }
-    // Every change is read at once at the coarsest depths, and at a finer one only around the levels rebuilt there;
-    // settle_coarse_levels() re-reads the rest (these rays again, finding nothing changed). Tiles not read at the
-    // finer depths wait in coarse_lagging_, until a refresh reads them around a finer level it rebuilds or settle
-    // reads them at every depth: a level rebuilt from a model without them would stay wrong.
-    merge_ids(coarse_lagging_, changed);
-    coarse_->update(*coarse_model_, changed, coarsest);
-    if (!finer_ids.empty()) {
-        const std::vector<std::uint64_t> near = tiles_near_groups(groups_, finer_ids, coarse_lagging_, dims);
-        coarse_->update(*coarse_model_, near, read_from);  // the coarsest depths find these rays read already
-        remove_ids(coarse_lagging_, near);
-    }
+    // Every change is read at once at the coarsest depths, and at a finer one only around the levels rebuilt there
+    // (the changed tiles not read there since their last change: coarse_read_to_); settle_coarse_levels() re-reads
+    // the rest at every depth (these rays again, finding nothing changed). A level rebuilt from a model without them
+    // would stay wrong.
+    for (const std::uint64_t t : changed) coarse_read_to_.erase(t);  // changed again: read at no depth yet
+    read_coarse_at(changed, coarsest);
+    if (!finer_ids.empty()) read_coarse_at(unread_at(tiles_near_groups(groups_, finer_ids, coarse_changed_, dims), read_from), read_from);
     if (stroke_hidden) {
         const std::vector<std::uint64_t> wanted = wanted_finer_groups(dims, from);
         ids.insert(ids.end(), wanted.begin(), wanted.end());
@@ -128,6 +124,25 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     const std::size_t built = rebuild_coarse_levels(ids);
     lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return built;
+}
+
+std::vector<std::uint64_t> TileSurfaceCache::unread_at(const std::vector<std::uint64_t>& tiles, int depth) const {
+    std::vector<std::uint64_t> out;
+    out.reserve(tiles.size());
+    for (const std::uint64_t t : tiles) {
+        const auto it = coarse_read_to_.find(t);
+        if (it == coarse_read_to_.end() || it->second > depth) out.push_back(t);
+    }
+    return out;
+}
+
+void TileSurfaceCache::read_coarse_at(const std::vector<std::uint64_t>& tiles, int depth) {
+    if (tiles.empty()) return;
+    coarse_->update(*coarse_model_, tiles, depth);  // the coarser depths find rays read there already
+    for (const std::uint64_t t : tiles) {
+        const auto [it, fresh] = coarse_read_to_.try_emplace(t, depth);
+        if (!fresh) it->second = std::min(it->second, depth);
+    }
 }
 
 void TileSurfaceCache::frames_drew(std::vector<std::uint64_t> group_ids) {
@@ -155,8 +170,8 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
             }
     }
     if (finer.empty()) return finer;
-    const std::vector<std::uint64_t> tiles = tiles_near_groups(groups_, finer, coarse_changed_, dims);
-    coarse_->update(*coarse_model_, tiles, depth);  // the coarser depths find these rays read already
+    const std::vector<std::uint64_t> tiles = unread_at(tiles_near_groups(groups_, finer, coarse_changed_, dims), depth);
+    read_coarse_at(tiles, depth);
     return finer;
 }
 
@@ -180,12 +195,12 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
             coarse_->update(*coarse_model_, std::span<const std::uint64_t>(coarse_changed_).subspan(done, n));
             done += n;
         } while (done < coarse_changed_.size() && in_slice());
+        for (std::size_t i = 0; i < done; ++i) coarse_read_to_.erase(coarse_changed_[i]);  // read at every depth
         coarse_changed_.erase(coarse_changed_.begin(), coarse_changed_.begin() + static_cast<std::ptrdiff_t>(done));
         if (!coarse_changed_.empty()) {  // levels are rebuilt once every changed tile is read
             lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return 0;
         }
-        coarse_lagging_.clear();  // every depth read them
     }
     // Coarsest depth first: a frame descends from a group to its children only once none of their levels waits
     // (renderer::groups_standing_in), so the view refines a depth at a time.

@@ -346,9 +346,14 @@ private:
     std::unique_ptr<CoarseGroupLevels> coarse_;
     const TriDexel* coarse_model_ = nullptr;
     std::vector<std::uint64_t> coarse_changed_;
-    // Tiles of changes read at the coarsest depths only (ascending, no repeats), until a stroke's refresh that rebuilds
-    // a finer level near them or settle_coarse_levels() reads them there.
-    std::vector<std::uint64_t> coarse_lagging_;
+    // Tiles of coarse_changed_ -> the finest depth their latest change was read at (the coarsest depths at once; a
+    // finer one around the levels a stroke's refresh rebuilds or asks for there), so that a read at a finer depth
+    // skips the tiles read there since they last changed. A tile not in it is read at every depth.
+    std::unordered_map<std::uint64_t, int> coarse_read_to_;
+    // The tiles of `tiles` (ascending) whose latest change is not read at `depth` yet, ascending.
+    std::vector<std::uint64_t> unread_at(const std::vector<std::uint64_t>& tiles, int depth) const;
+    // Reads the coarse models through `tiles` (ascending) at `depth` and the coarser depths, and records it.
+    void read_coarse_at(const std::vector<std::uint64_t>& tiles, int depth);
     std::vector<std::uint64_t> detail_wanted_;  // want_detail(), taken by the next refresh() with deferred tiles
     std::vector<std::uint64_t> frames_drew_;    // frames_drew(), ascending
     std::unordered_set<std::uint64_t> coarse_stale_;

@@ -35,14 +35,4 @@ inline void merge_ids(std::vector<std::uint64_t>& into, const std::vector<std::u
     into = std::move(out);
 }
 
-/// Removes the ids of `remove` (ascending, no repeats) from `from` (ascending, no repeats), which stays so. Ids of
-/// `remove` not in `from` are ignored. O(n + m).
-inline void remove_ids(std::vector<std::uint64_t>& from, const std::vector<std::uint64_t>& remove) {
-    if (remove.empty()) return;
-    std::vector<std::uint64_t> out;
-    out.reserve(from.size());
-    std::set_difference(from.begin(), from.end(), remove.begin(), remove.end(), std::back_inserter(out));
-    from = std::move(out);
-}
-
 }  // namespace tridex::compute

@@ -429,6 +429,26 @@ TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {
         }
 }
 
+// Levels a frame asks for again in a later step of the same stroke read the tiles that step changed again, though
+// the earlier step read them at that depth already (only tiles unchanged since are skipped).
+TEST(CoarseFirst, AFinerLevelAskedForAgainReadsTheTilesChangedSinceItsLastRead) {
+    const int depth = TileSurfaceCache::kDeferredDetailDepth;
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {
+    }
+    std::vector<std::uint64_t> top;
+    for (const TileGroupSurface& g : s.cache.groups())
+        if (g.depth == depth + 1) top.push_back(g.id);
+    ASSERT_EQ(top.size(), 1u);
+    s.cache.want_detail(top);
+    defer_cut(s, Vec3(0.0));
+    const std::size_t first = expect_levels_as_read(s.cache, s.model, CoarseLevelOptions{}, depth);
+    ASSERT_GT(first, 0u);
+    s.cache.want_detail(top);
+    defer_cut(s, Vec3(0.0, 0.0, -3.0));  // the same tiles again
+    EXPECT_EQ(expect_levels_as_read(s.cache, s.model, CoarseLevelOptions{}, depth), first);
+}
+
 TEST(CoarseFirst, RefinerRefusesBadInputAndFinishesEverything) {
     TriDexel m = sphere_model();
     EXPECT_THROW(StartupRefiner(m, 0, Vec3(0.0)), Error);

@@ -236,13 +236,5 @@ TEST(SortedIds, MergeIdsKeepsTheUnionAscendingWithoutRepeats) {
     EXPECT_EQ(empty, std::vector<std::uint64_t>{3});
 }
 
-TEST(SortedIds, RemoveIdsKeepsTheRestAscending) {
-    std::vector<std::uint64_t> from{1, 2, 5, 7, 9};
-    remove_ids(from, {2, 4, 9});  // 4 is not there
-    EXPECT_EQ(from, (std::vector<std::uint64_t>{1, 5, 7}));
-    remove_ids(from, {});
-    EXPECT_EQ(from.size(), 3u);
-}
-
 }  // namespace
 }  // namespace tridex::compute
