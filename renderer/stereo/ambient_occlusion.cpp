@@ -16,29 +16,19 @@ namespace {
 constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp and stereo_ao_apply.comp
 constexpr std::uint32_t kBlock = 2;  // the finest block (pixels per value along x and y): the image's size
 constexpr std::uint32_t kBindings = 4;
+constexpr VkDescriptorType kTypes[kBindings] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                                VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
 
 }  // namespace
 
 AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const StereoTarget& target, VkBuffer eyes) {
     const VkDevice device = context.device();
     AmbientOcclusion a;
-    a.width_ = target.width();
-    a.height_ = target.height();
-    gpu::ImageArrayInfo half_info;
-    half_info.width = (static_cast<std::uint32_t>(a.width_) + kBlock - 1) / kBlock;
-    half_info.height = (static_cast<std::uint32_t>(a.height_) + kBlock - 1) / kBlock;
-    half_info.layers = 2;
-    half_info.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    half_info.usage = VK_IMAGE_USAGE_STORAGE_BIT;
-    a.half_ = gpu::ImageArray::create(context, half_info);
-
+    a.eyes_ = eyes;
     VkDescriptorSetLayoutBinding bindings[kBindings]{};
-    const VkDescriptorType types[kBindings] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-                                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     for (std::uint32_t b = 0; b < kBindings; ++b) {
         bindings[b].binding = b;
-        bindings[b].descriptorType = types[b];
+        bindings[b].descriptorType = kTypes[b];
         bindings[b].descriptorCount = 1;
         bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -78,22 +68,36 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     gpu::check(vkCreateSampler(device, &si, nullptr, &sampler), "vkCreateSampler");
     a.sampler_ = UniqueSampler(device, sampler);
 
-    a.pool_ = gpu::allocate_descriptor_sets(device, {{types[0], 3}, {types[1], 3}, {types[2], 6}}, set_layout, 3, a.sets_);
+    a.pool_ = gpu::allocate_descriptor_sets(device, {{kTypes[0], 3}, {kTypes[1], 3}, {kTypes[2], 6}}, set_layout, 3, a.sets_);
+    a.retarget(context, target);
+    return a;
+}
 
-    const VkDescriptorBufferInfo buffer{eyes, 0, sizeof(EyesUniform)};
+void AmbientOcclusion::retarget(const gpu::Context& context, const StereoTarget& target) {
+    const VkDevice device = context.device();
+    width_ = target.width();
+    height_ = target.height();
+    gpu::ImageArrayInfo half_info;
+    half_info.width = (static_cast<std::uint32_t>(width_) + kBlock - 1) / kBlock;
+    half_info.height = (static_cast<std::uint32_t>(height_) + kBlock - 1) / kBlock;
+    half_info.layers = 2;
+    half_info.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    half_info.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    half_ = gpu::ImageArray::create(context, half_info);
+    const VkDescriptorBufferInfo buffer{eyes_, 0, sizeof(EyesUniform)};
     for (int k = 0; k < 3; ++k) {
         const VkImageView depth_view = k == 0 ? target.depth_array_view() : target.depth_layer_array_view(k - 1);
         const VkImageView colour_view = k == 0 ? target.colour_array_view() : target.colour_layer_array_view(k - 1);
-        const VkDescriptorImageInfo depth{a.sampler_.get(), depth_view, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
+        const VkDescriptorImageInfo depth{sampler_.get(), depth_view, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
         const VkDescriptorImageInfo colour{VK_NULL_HANDLE, colour_view, VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorImageInfo half{VK_NULL_HANDLE, a.half_.array_view(), VK_IMAGE_LAYOUT_GENERAL};
+        const VkDescriptorImageInfo half{VK_NULL_HANDLE, half_.array_view(), VK_IMAGE_LAYOUT_GENERAL};
         VkWriteDescriptorSet writes[kBindings]{};
         for (std::uint32_t b = 0; b < kBindings; ++b) {
             writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            writes[b].dstSet = a.sets_[k];
+            writes[b].dstSet = sets_[k];
             writes[b].dstBinding = b;
             writes[b].descriptorCount = 1;
-            writes[b].descriptorType = types[b];
+            writes[b].descriptorType = kTypes[b];
         }
         writes[0].pBufferInfo = &buffer;
         writes[1].pImageInfo = &depth;
@@ -101,7 +105,6 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
         writes[3].pImageInfo = &half;
         vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
     }
-    return a;
 }
 
 void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count,

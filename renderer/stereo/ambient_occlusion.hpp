@@ -34,6 +34,10 @@ public:
     /// descriptor sets over `target` (depth sampled, colour as storage image), that image and the uniform buffer
     /// `eyes` (one EyesUniform). Throws tridex::Error on a Vulkan failure.
     static AmbientOcclusion create(const gpu::Context& context, const StereoTarget& target, VkBuffer eyes);
+    /// Binds it to `target` instead (a resized one, which must outlive it): a new half-resolution image of its size,
+    /// and the descriptor sets rewritten; the pipelines are kept (building them is most of create()'s cost). No
+    /// recorded dispatch of it may still be pending. Throws tridex::Error on a Vulkan failure.
+    void retarget(const gpu::Context& context, const StereoTarget& target);
 
     /// Records the two dispatches over layers first_layer .. first_layer + layer_count - 1 (0..2; one layer is bound
     /// through single-layer views, so the other may be in any layout). Those colour layers
@@ -51,6 +55,7 @@ public:
 private:
     using UniqueSampler = gpu::UniqueHandle<VkSampler, vkDestroySampler>;
     int width_ = 0, height_ = 0;
+    VkBuffer eyes_ = VK_NULL_HANDLE;  // the EyesUniform buffer the sets bind
     gpu::UniqueDescriptorSetLayout set_layout_;
     gpu::UniquePipelineLayout layout_;
     gpu::UniquePipeline pipelines_[2];        // stereo_ao.comp: the obscurance per 2x2 block, per 4x4 block

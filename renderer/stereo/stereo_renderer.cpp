@@ -242,7 +242,7 @@ void OffscreenStereoRenderer::resize(int width, int height) {
     StereoTarget next = StereoTarget::create(*im.context, *im.pipeline, width, height);
     im.target.reset();  // the occlusion images below are made for the new target
     im.target.emplace(std::move(next));
-    for (FrameResources& f : im.frame) f.occlusion = AmbientOcclusion::create(*im.context, *im.target, f.eyes->buffer());
+    for (FrameResources& f : im.frame) f.occlusion.retarget(*im.context, *im.target);
     im.last_read_back = false;
     im.target_empty = true;
 }
