@@ -162,6 +162,35 @@ struct AnaglyphPass::Impl {
             throw Error("anaglyph pass: the renderer has not rendered a frame yet (call render() or draw() first)");
     }
 
+    // The size-dependent parts, for eye images of w x h pixels (render_pass made first).
+    void make_sized(int w, int h) {
+        const VkDevice device = context->device();
+        framebuffer = gpu::UniqueFramebuffer{};
+        gpu::ImageArrayInfo info;
+        info.width = static_cast<std::uint32_t>(w);
+        info.height = static_cast<std::uint32_t>(h);
+        info.layers = 1;
+        info.format = format;
+        info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+        output = gpu::ImageArray::create(*context, info);
+        readback = gpu::Buffer::create(*context, static_cast<VkDeviceSize>(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                       gpu::MemoryDomain::kHost);
+        const VkImageView view = output.layer_view(0);
+        VkFramebufferCreateInfo fb{};
+        fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+        fb.renderPass = render_pass.get();
+        fb.attachmentCount = 1;
+        fb.pAttachments = &view;
+        fb.width = static_cast<std::uint32_t>(w);
+        fb.height = static_cast<std::uint32_t>(h);
+        fb.layers = 1;
+        VkFramebuffer made = VK_NULL_HANDLE;
+        gpu::check(vkCreateFramebuffer(device, &fb, nullptr, &made), "vkCreateFramebuffer");
+        framebuffer = gpu::UniqueFramebuffer(device, made);
+        width = w;
+        height = h;
+    }
+
     void bind_source(VkImageView view) {
         if (view == bound_view) return;
         VkDescriptorImageInfo image{sampler.get(), view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
@@ -177,15 +206,24 @@ struct AnaglyphPass::Impl {
     }
 };
 
-AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height, VkFormat format) {
-    if (format != VK_FORMAT_R8G8B8A8_UNORM && format != VK_FORMAT_B8G8R8A8_UNORM)
-        throw Error("anaglyph pass: output format " + std::to_string(static_cast<int>(format)) +
-                    " is neither R8G8B8A8_UNORM nor B8G8R8A8_UNORM");
+namespace {
+
+// Throws tridex::Error for eye images outside 1..maxImageDimension2D (and the framebuffer limit).
+void check_size(const gpu::Context& context, int width, int height) {
     const auto max_dim = static_cast<int>(std::min<std::uint32_t>(context.properties().limits.maxImageDimension2D,
                                                                    context.properties().limits.maxFramebufferWidth));
     if (width < 1 || height < 1 || width > max_dim || height > max_dim)
         throw Error("anaglyph pass: size " + std::to_string(width) + "x" + std::to_string(height) +
                     " must be within 1.." + std::to_string(max_dim));
+}
+
+}  // namespace
+
+AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height, VkFormat format) {
+    if (format != VK_FORMAT_R8G8B8A8_UNORM && format != VK_FORMAT_B8G8R8A8_UNORM)
+        throw Error("anaglyph pass: output format " + std::to_string(static_cast<int>(format)) +
+                    " is neither R8G8B8A8_UNORM nor B8G8R8A8_UNORM");
+    check_size(context, width, height);
     auto impl = std::make_unique<Impl>();
     Impl& im = *impl;
     im.context = &context;
@@ -194,18 +232,9 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height, 
     im.format = format;
     const VkDevice device = context.device();
 
-    gpu::ImageArrayInfo info;
-    info.width = static_cast<std::uint32_t>(width);
-    info.height = static_cast<std::uint32_t>(height);
-    info.layers = 1;
-    info.format = format;
-    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    im.output = gpu::ImageArray::create(context, info);
     const AnaglyphUniform u = make_uniform();
     im.tables = gpu::Buffer::create(context, sizeof u, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryDomain::kHost);
     im.tables.write(&u, sizeof u);
-    im.readback = gpu::Buffer::create(context, static_cast<VkDeviceSize>(width) * height * 4,
-                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryDomain::kHost);
 
     VkSamplerCreateInfo si{};
     si.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
@@ -257,20 +286,17 @@ AnaglyphPass AnaglyphPass::create(gpu::Context& context, int width, int height, 
     im.layout = gpu::UniquePipelineLayout(device, layout);
 
     im.render_pass = make_render_pass(device, format);
-    const VkImageView view = im.output.layer_view(0);
-    VkFramebufferCreateInfo fb{};
-    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
-    fb.renderPass = im.render_pass.get();
-    fb.attachmentCount = 1;
-    fb.pAttachments = &view;
-    fb.width = static_cast<std::uint32_t>(width);
-    fb.height = static_cast<std::uint32_t>(height);
-    fb.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    gpu::check(vkCreateFramebuffer(device, &fb, nullptr, &framebuffer), "vkCreateFramebuffer");
-    im.framebuffer = gpu::UniqueFramebuffer(device, framebuffer);
+    im.make_sized(width, height);
     im.pipeline = make_pipeline(context, im.render_pass.get(), layout);
     return AnaglyphPass(std::move(impl));
+}
+
+void AnaglyphPass::resize(int width, int height) {
+    Impl& im = *impl_;
+    check_size(*im.context, width, height);
+    if (width == im.width && height == im.height) return;
+    im.context->wait_idle();  // no pass in flight writes or reads the old image
+    im.make_sized(width, height);
 }
 
 AnaglyphPass::AnaglyphPass(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

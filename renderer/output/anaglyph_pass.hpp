@@ -27,6 +27,11 @@ public:
     static AnaglyphPass create(gpu::Context& context, int width, int height,
                                VkFormat format = VK_FORMAT_R8G8B8A8_UNORM);
 
+    /// For eye images of width x height pixels from now on: a new output image, readback buffer and framebuffer; the
+    /// pipeline is kept (building it is most of create()'s cost). Waits for the device to be idle first. Throws as
+    /// create() for a size.
+    void resize(int width, int height);
+
     ~AnaglyphPass();
     AnaglyphPass(AnaglyphPass&&) noexcept;
     AnaglyphPass& operator=(AnaglyphPass&&) noexcept;

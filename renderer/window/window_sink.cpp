@@ -26,9 +26,10 @@ int WindowSink::present(const OffscreenStereoRenderer& renderer) {
     // In the swapchain's format when it is one the pass writes, so that presenting it is a copy, not a blit.
     const VkFormat format =
         presenter_.format() == VK_FORMAT_B8G8R8A8_UNORM ? VK_FORMAT_B8G8R8A8_UNORM : VK_FORMAT_R8G8B8A8_UNORM;
-    if (!anaglyph_ || anaglyph_->width() != renderer.width() || anaglyph_->height() != renderer.height() ||
-        anaglyph_->format() != format)
+    if (!anaglyph_ || anaglyph_->format() != format)
         anaglyph_.emplace(AnaglyphPass::create(*context_, renderer.width(), renderer.height(), format));
+    else
+        anaglyph_->resize(renderer.width(), renderer.height());  // the render scale or the window changed: nothing else
     AnaglyphPass& pass = *anaglyph_;
     const bool swap = presenter_.swap_eyes();
     return presenter_.present_image(pass.image(), pass.format(), pass.width(), pass.height(),

@@ -1,5 +1,6 @@
 // The GPU anaglyph (AnaglyphPass) against the CPU reference compose() on a rendered scene, every method, eyes
 // swapped or not, with Vulkan validation on; the renderer's image stays usable after the pass.
+#include <utility>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -113,6 +114,37 @@ TEST(AnaglyphPass, RefusesBadSizesAndARendererWithoutAFrame) {
     (void)renderer.render(test::test_scene(cube), test::small_screen(), test::test_head(), 0.065);
     EXPECT_THROW(other.compose(renderer, AnaglyphMethod::kDubois, false), Error);  // size differs
     EXPECT_EQ(pass.compose(renderer, AnaglyphMethod::kGray, false).width, 32);
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+}
+
+// Resized with the renderer's eye images (a window's render scale), the pass composes what a pass made at that size
+// composes, and refuses a size out of range.
+TEST(AnaglyphPass, AResizedPassComposesWhatAFreshOneOfThatSizeComposes) {
+    gpu::Context ctx = gpu::Context::create();
+    {
+        constexpr int kW = 160, kH = 120;
+        OffscreenStereoRenderer renderer = OffscreenStereoRenderer::create(ctx, kW, kH);
+        const TriMesh cube = test::test_cube();
+        const SceneView scene = test::test_scene(cube);
+        (void)renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
+        AnaglyphPass pass = AnaglyphPass::create(ctx, kW, kH);
+        (void)pass.compose(renderer, AnaglyphMethod::kDubois, false);
+        for (const auto& [w, h] : {std::pair{kW * 3 / 4, kH * 3 / 4}, std::pair{kW + 24, kH / 2}}) {
+            renderer.resize(w, h);
+            (void)renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
+            EXPECT_THROW((void)pass.compose(renderer, AnaglyphMethod::kDubois, false), Error) << "made for the old size";
+            pass.resize(w, h);
+            ASSERT_EQ(pass.width(), w);
+            ASSERT_EQ(pass.height(), h);
+            AnaglyphPass fresh = AnaglyphPass::create(ctx, w, h);
+            const Image got = pass.compose(renderer, AnaglyphMethod::kDubois, false);
+            const Image want = fresh.compose(renderer, AnaglyphMethod::kDubois, false);
+            ASSERT_EQ(got.width, w);
+            EXPECT_EQ(compare_images(got, want, 0).max_channel_diff, 0) << w << "x" << h;
+        }
+        EXPECT_THROW(pass.resize(0, 10), Error);
+        EXPECT_EQ(pass.width(), kW + 24);  // a refused size keeps the pass as it was
+    }
     EXPECT_EQ(ctx.validation_messages(), 0u);
 }
 
