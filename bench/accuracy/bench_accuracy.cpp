@@ -233,7 +233,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
     std::vector<AccuracyRow> rows;
     nlohmann::json coarse = nlohmann::json::array();
     if (!o.coarse_depths.empty())
-        std::printf("coarse levels after each program's first tridex path, per depth d (stride): groups drawn, own triangles, "
+        std::printf("coarse levels after each program's first tridex path, per depth d (stride): groups measured, own triangles, "
                     "worst group error in mm and fine cells; groups' p50 / p90 / max error in coarse cells; groups over "
                     "the start-up estimate (%.2f coarse cells) and over the level's (1); exact samples in a box with no level\n",
                     compute::TileSurfaceCache::kStartupErrorCoarseCells);

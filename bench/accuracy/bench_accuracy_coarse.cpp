@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
 #include <thread>
 
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
@@ -17,7 +18,7 @@ namespace {
 
 // One group's measured level.
 struct GroupError {
-    bool drawn = false;  // its level has triangles of its own
+    bool measured = false;  // its level has triangles of its own, or exact-surface samples lie in its box
     std::size_t triangles = 0;
     double vertex_m = 0.0, surface_m = 0.0;
     Vec3 worst_vertex{0.0}, worst_sample{0.0};
@@ -71,7 +72,7 @@ GroupError measure_group(const compute::CoarseGroupLevels& levels, int depth, co
         e.samples_missed = last - first;
         return e;
     }
-    e.drawn = true;
+    e.measured = own > 0 || last > first;
     e.triangles = own;
     std::vector<bool> seen(level.mesh.positions.size(), false);
     for (std::size_t t = 0; t < own; ++t)
@@ -133,19 +134,26 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
         levels.read_around(all);  // level() of these only reads from here on, so the threads may call it at once
         std::vector<GroupError> errors(groups);
         std::atomic<std::size_t> next{0};
-        const auto work = [&] {
-            for (std::size_t g = next++; g < groups; g = next++) {
-                errors[g] = measure_group(levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
+        std::vector<std::exception_ptr> failed(static_cast<std::size_t>(threads));
+        const auto work = [&](std::size_t worker) {
+            try {
+                for (std::size_t g = next++; g < groups; g = next++)
+                    errors[g] = measure_group(levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
+            } catch (...) {
+                failed[worker] = std::current_exception();
+                next = groups;  // the others stop too
             }
         };
         std::vector<std::thread> pool;
-        for (int i = 1; i < threads; ++i) pool.emplace_back(work);
-        work();
+        for (int i = 1; i < threads; ++i) pool.emplace_back(work, static_cast<std::size_t>(i));
+        work(0);
         for (std::thread& t : pool) t.join();
+        for (const std::exception_ptr& e : failed)
+            if (e) std::rethrow_exception(e);
         std::vector<double> per_group;
         for (const GroupError& e : errors) {
             r.samples_without_level += e.samples_missed;
-            if (!e.drawn) continue;
+            if (!e.measured) continue;
             ++r.groups;
             r.triangles += e.triangles;
             if (e.vertex_m > r.max_vertex_m) r.max_vertex_m = e.vertex_m, r.worst_vertex = e.worst_vertex;

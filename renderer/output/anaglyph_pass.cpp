@@ -140,6 +140,7 @@ struct AnaglyphPass::Impl {
     gpu::UniqueDescriptorPool pool;
     VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
     VkImageView bound_view = VK_NULL_HANDLE;
+    std::uint64_t bound_generation = 0;  // the source's target_generation() when bound_view was bound
     gpu::UniquePipelineLayout layout;
     gpu::UniqueRenderPass render_pass;
     gpu::UniqueFramebuffer framebuffer;
@@ -165,17 +166,17 @@ struct AnaglyphPass::Impl {
     // The size-dependent parts, for eye images of w x h pixels (render_pass made first).
     void make_sized(int w, int h) {
         const VkDevice device = context->device();
-        framebuffer = gpu::UniqueFramebuffer{};
         gpu::ImageArrayInfo info;
         info.width = static_cast<std::uint32_t>(w);
         info.height = static_cast<std::uint32_t>(h);
         info.layers = 1;
         info.format = format;
         info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-        output = gpu::ImageArray::create(*context, info);
-        readback = gpu::Buffer::create(*context, static_cast<VkDeviceSize>(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                       gpu::MemoryDomain::kHost);
-        const VkImageView view = output.layer_view(0);
+        // Made aside and swapped in at the end, so that a failure leaves the pass as it was.
+        gpu::ImageArray next_output = gpu::ImageArray::create(*context, info);
+        gpu::Buffer next_readback = gpu::Buffer::create(*context, static_cast<VkDeviceSize>(w) * h * 4,
+                                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryDomain::kHost);
+        const VkImageView view = next_output.layer_view(0);
         VkFramebufferCreateInfo fb{};
         fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
         fb.renderPass = render_pass.get();
@@ -186,13 +187,17 @@ struct AnaglyphPass::Impl {
         fb.layers = 1;
         VkFramebuffer made = VK_NULL_HANDLE;
         gpu::check(vkCreateFramebuffer(device, &fb, nullptr, &made), "vkCreateFramebuffer");
-        framebuffer = gpu::UniqueFramebuffer(device, made);
+        framebuffer = gpu::UniqueFramebuffer(device, made);  // the old one goes before the image it views
+        output = std::move(next_output);
+        readback = std::move(next_readback);
         width = w;
         height = h;
     }
 
-    void bind_source(VkImageView view) {
-        if (view == bound_view) return;
+    // Binds the source's colour view, unless it is bound already (the same handle of the same target: a resize can
+    // give a new view the handle value of a destroyed one).
+    void bind_source(VkImageView view, std::uint64_t generation) {
+        if (view == bound_view && generation == bound_generation) return;
         VkDescriptorImageInfo image{sampler.get(), view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         VkWriteDescriptorSet w{};
         w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -203,6 +208,7 @@ struct AnaglyphPass::Impl {
         w.pImageInfo = &image;
         vkUpdateDescriptorSets(context->device(), 1, &w, 0, nullptr);
         bound_view = view;
+        bound_generation = generation;
     }
 };
 
@@ -313,7 +319,7 @@ void AnaglyphPass::record(VkCommandBuffer cmd, const OffscreenStereoRenderer& so
                           bool swap_eyes, bool readback) {
     Impl& im = *impl_;
     im.check_source(source);
-    im.bind_source(source.colour_array_view());
+    im.bind_source(source.colour_array_view(), source.target_generation());
     const VkImage eyes = source.colour_image();
     gpu::image_barrier(cmd, eyes, 2, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,

@@ -28,8 +28,9 @@ public:
                                VkFormat format = VK_FORMAT_R8G8B8A8_UNORM);
 
     /// For eye images of width x height pixels from now on: a new output image, readback buffer and framebuffer; the
-    /// pipeline is kept (building it is most of create()'s cost). Waits for the device to be idle first. Throws as
-    /// create() for a size.
+    /// pipeline is kept (building it is most of create()'s cost). When the size changes it waits for the device to be
+    /// idle first; the same size changes nothing. Throws as create() for a size (the pass stays as it was then, as on
+    /// a Vulkan failure).
     void resize(int width, int height);
 
     ~AnaglyphPass();

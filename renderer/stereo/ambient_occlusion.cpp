@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "core/error.hpp"
 #include "gpu/check.hpp"
 #include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
@@ -74,23 +75,22 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
 }
 
 void AmbientOcclusion::retarget(const gpu::Context& context, const StereoTarget& target) {
+    if (!valid()) throw Error("ambient occlusion: retarget() of one not made by create()");
     const VkDevice device = context.device();
-    width_ = target.width();
-    height_ = target.height();
     gpu::ImageArrayInfo half_info;
-    half_info.width = (static_cast<std::uint32_t>(width_) + kBlock - 1) / kBlock;
-    half_info.height = (static_cast<std::uint32_t>(height_) + kBlock - 1) / kBlock;
+    half_info.width = (static_cast<std::uint32_t>(target.width()) + kBlock - 1) / kBlock;
+    half_info.height = (static_cast<std::uint32_t>(target.height()) + kBlock - 1) / kBlock;
     half_info.layers = 2;
     half_info.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     half_info.usage = VK_IMAGE_USAGE_STORAGE_BIT;
-    half_ = gpu::ImageArray::create(context, half_info);
+    gpu::ImageArray half = gpu::ImageArray::create(context, half_info);  // a failure leaves the old one bound
     const VkDescriptorBufferInfo buffer{eyes_, 0, sizeof(EyesUniform)};
     for (int k = 0; k < 3; ++k) {
         const VkImageView depth_view = k == 0 ? target.depth_array_view() : target.depth_layer_array_view(k - 1);
         const VkImageView colour_view = k == 0 ? target.colour_array_view() : target.colour_layer_array_view(k - 1);
         const VkDescriptorImageInfo depth{sampler_.get(), depth_view, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
         const VkDescriptorImageInfo colour{VK_NULL_HANDLE, colour_view, VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorImageInfo half{VK_NULL_HANDLE, half_.array_view(), VK_IMAGE_LAYOUT_GENERAL};
+        const VkDescriptorImageInfo half_image{VK_NULL_HANDLE, half.array_view(), VK_IMAGE_LAYOUT_GENERAL};
         VkWriteDescriptorSet writes[kBindings]{};
         for (std::uint32_t b = 0; b < kBindings; ++b) {
             writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -102,9 +102,12 @@ void AmbientOcclusion::retarget(const gpu::Context& context, const StereoTarget&
         writes[0].pBufferInfo = &buffer;
         writes[1].pImageInfo = &depth;
         writes[2].pImageInfo = &colour;
-        writes[3].pImageInfo = &half;
+        writes[3].pImageInfo = &half_image;
         vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
     }
+    half_ = std::move(half);
+    width_ = target.width();
+    height_ = target.height();
 }
 
 void AmbientOcclusion::record(VkCommandBuffer cmd, std::uint32_t first_layer, std::uint32_t layer_count,

@@ -24,7 +24,7 @@ enum class OcclusionResolution { kHalf, kQuarter };
 /// samples in 4 symmetric pairs) into an image the pass owns, then shaders/stereo_ao_apply.comp scales every
 /// covered pixel by a depth-aware bilinear blend of the four values around it. The sphere radius (m) and strength
 /// come from EyesUniform::occlusion, the eyes' inverse projections from EyesUniform::view_from_clip /
-/// pixels_per_metre. Bound to one StereoTarget and one EyesUniform buffer; frames in flight may share it (record()
+/// pixels_per_metre. Bound to one StereoTarget at a time (retarget()) and one EyesUniform buffer; frames in flight may share it (record()
 /// orders its own image's reuse after earlier dispatches). Move-only; the Context, the target and the buffer must
 /// outlive it.
 class AmbientOcclusion {
@@ -36,7 +36,8 @@ public:
     static AmbientOcclusion create(const gpu::Context& context, const StereoTarget& target, VkBuffer eyes);
     /// Binds it to `target` instead (a resized one, which must outlive it): a new half-resolution image of its size,
     /// and the descriptor sets rewritten; the pipelines are kept (building them is most of create()'s cost). No
-    /// recorded dispatch of it may still be pending. Throws tridex::Error on a Vulkan failure.
+    /// recorded dispatch of it may still be pending. Throws tridex::Error for one not made by create() (valid()) or
+    /// on a Vulkan failure, and stays bound to the old target then.
     void retarget(const gpu::Context& context, const StereoTarget& target);
 
     /// Records the two dispatches over layers first_layer .. first_layer + layer_count - 1 (0..2; one layer is bound

@@ -119,6 +119,7 @@ struct OffscreenStereoRenderer::Impl {
     std::vector<PixelRect> last_drawn;  // the last submitted frame's drawn rectangles, both eyes
     bool last_read_back = false;  // the last frame's colour layers are in the target's readback buffer
     bool target_empty = false;    // resize() made a new target that no frame has been drawn into yet
+    std::uint64_t target_generation = 0;  // targets resize() made
 
     // After frame `slot` has finished: its timings (GPU timestamps, or the CPU clock from submission to now).
     void time_finished(int slot) {
@@ -245,7 +246,9 @@ void OffscreenStereoRenderer::resize(int width, int height) {
     for (FrameResources& f : im.frame) f.occlusion.retarget(*im.context, *im.target);
     im.last_read_back = false;
     im.target_empty = true;
+    ++im.target_generation;
 }
+std::uint64_t OffscreenStereoRenderer::target_generation() const { return impl_->target_generation; }
 VkImage OffscreenStereoRenderer::colour_image() const { return impl_->target->colour_image(); }
 VkImageView OffscreenStereoRenderer::colour_array_view() const { return impl_->target->colour_array_view(); }
 std::uint64_t OffscreenStereoRenderer::frames_rendered() const { return impl_->frames; }

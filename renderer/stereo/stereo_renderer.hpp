@@ -194,6 +194,9 @@ public:
     /// draw(), and last_images() throws until then. Throws tridex::Error as create() does for a bad size (the old target is
     /// kept then) or on a Vulkan failure.
     void resize(int width, int height);
+    /// How many times resize() has made a new target: a view of colour_image() taken before another value of it may
+    /// have been destroyed (a new view can reuse its handle value).
+    std::uint64_t target_generation() const;
 
     /// Renders one stereo frame: eyes at eye_positions(head, eye_separation_m), each with the off-axis
     /// frustum through `screen` (off_axis_view, near_m/far_m in m); waits for the GPU and returns both images.

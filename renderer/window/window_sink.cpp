@@ -29,7 +29,7 @@ int WindowSink::present(const OffscreenStereoRenderer& renderer) {
     if (!anaglyph_ || anaglyph_->format() != format)
         anaglyph_.emplace(AnaglyphPass::create(*context_, renderer.width(), renderer.height(), format));
     else
-        anaglyph_->resize(renderer.width(), renderer.height());  // the render scale or the window changed: nothing else
+        anaglyph_->resize(renderer.width(), renderer.height());  // follows the render scale or the window; else nothing
     AnaglyphPass& pass = *anaglyph_;
     const bool swap = presenter_.swap_eyes();
     return presenter_.present_image(pass.image(), pass.format(), pass.width(), pass.height(),

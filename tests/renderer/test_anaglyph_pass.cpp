@@ -142,6 +142,16 @@ TEST(AnaglyphPass, AResizedPassComposesWhatAFreshOneOfThatSizeComposes) {
             ASSERT_EQ(got.width, w);
             EXPECT_EQ(compare_images(got, want, 0).max_channel_diff, 0) << w << "x" << h;
         }
+        // The renderer's eyes away and back between two composes: the pass keeps its size and binds the new target.
+        renderer.resize(kW, kH);
+        renderer.resize(kW + 24, kH / 2);
+        (void)renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
+        pass.resize(kW + 24, kH / 2);
+        AnaglyphPass fresh = AnaglyphPass::create(ctx, kW + 24, kH / 2);
+        EXPECT_EQ(compare_images(pass.compose(renderer, AnaglyphMethod::kGray, false),
+                                 fresh.compose(renderer, AnaglyphMethod::kGray, false), 0)
+                      .max_channel_diff,
+                  0);
         EXPECT_THROW(pass.resize(0, 10), Error);
         EXPECT_EQ(pass.width(), kW + 24);  // a refused size keeps the pass as it was
     }

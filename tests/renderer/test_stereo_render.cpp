@@ -99,7 +99,9 @@ TEST(StereoRender, ResizedRendererDrawsWhatAFreshOneOfThatSizeDraws) {
         view.frame_time_ms = 10.0;  // the same text in both renderers
         OffscreenStereoRenderer r = OffscreenStereoRenderer::create(ctx, kW, kH);
         (void)r.render(view, test::small_screen(), test::test_head(), kEyeSeparation);
+        EXPECT_EQ(r.target_generation(), 0u);
         r.resize(kW + 40, kH / 2);
+        EXPECT_EQ(r.target_generation(), 1u);
         EXPECT_EQ(r.width(), kW + 40);
         EXPECT_EQ(r.height(), kH / 2);
         EXPECT_THROW((void)r.last_images(), Error);  // the new target holds no frame yet
@@ -111,6 +113,7 @@ TEST(StereoRender, ResizedRendererDrawsWhatAFreshOneOfThatSizeDraws) {
         EXPECT_EQ(differing_pixels(resized.left, want.left), 0u);
         EXPECT_EQ(differing_pixels(resized.right, want.right), 0u);
         r.resize(kW + 40, kH / 2);  // the same size: nothing changes, the last frame stays readable
+        EXPECT_EQ(r.target_generation(), 1u);
         EXPECT_EQ(differing_pixels(r.last_images().left, want.left), 0u);
         EXPECT_THROW(r.resize(0, 10), Error);
         EXPECT_EQ(r.width(), kW + 40);  // a refused size keeps the old target
