@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "app/support/json_file.hpp"
 #include "bench/accuracy/bench_accuracy_coarse.hpp"
 #include "bench/accuracy/bench_accuracy_dump.hpp"
 #include "bench/accuracy/bench_accuracy_exact.hpp"
@@ -20,14 +21,13 @@
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "bench/accuracy/bench_accuracy_openvdb.hpp"
 #include "bench/accuracy/bench_accuracy_plot.hpp"
-#include "app/support/json_file.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/gpu/gpu_sculptor.hpp"
 #include "compute/mesh/scan_convert.hpp"
-#include "compute/tools/sweep_parallel.hpp"
-#include "compute/tools/sweep.hpp"
 #include "compute/model/volume.hpp"
+#include "compute/tools/sweep.hpp"
+#include "compute/tools/sweep_parallel.hpp"
 #include "core/error.hpp"
 #include "core/primitives.hpp"
 #include "gpu/context.hpp"
@@ -138,15 +138,27 @@ nlohmann::json report_coarse(const std::string& program, int n, double cell_m, c
         const auto cells_of = [&](const Vec3& p) {
             return std::array<double, 3>{(p.x - origin.x) / c, (p.y - origin.y) / c, (p.z - origin.z) / c};
         };
-        std::printf("coarse  %-11s %4d d%d/%-2d %6zu %9zu %8.3f %8.2f %6.3f %6.3f %6.3f %6zu %6zu %7zu\n", program.c_str(), n,
-                    r.depth, r.stride, r.groups, r.triangles, 1e3 * r.group_max_m, r.group_max_m / cell_m, r.group_p50_m / c,
-                    r.group_p90_m / c, r.group_max_m / c, r.over_startup_estimate, r.over_level_estimate, r.samples_without_level);
-        out.push_back({{"program", program}, {"n", n}, {"cell_m", cell_m}, {"depth", r.depth}, {"stride", r.stride},
-                       {"coarse_cell_m", c}, {"groups", r.groups}, {"triangles", r.triangles},
-                       {"max_vertex_m", r.max_vertex_m}, {"max_surface_m", r.max_surface_m},
-                       {"group_p50_m", r.group_p50_m}, {"group_p90_m", r.group_p90_m}, {"group_max_m", r.group_max_m},
-                       {"group_max_fine_cells", r.group_max_m / cell_m}, {"group_max_coarse_cells", r.group_max_m / c},
-                       {"over_startup_estimate", r.over_startup_estimate}, {"over_level_estimate", r.over_level_estimate},
+        std::printf("coarse  %-11s %4d d%d/%-2d %6zu %9zu %8.3f %8.2f %6.3f %6.3f %6.3f %6zu %6zu %7zu\n",
+                    program.c_str(), n, r.depth, r.stride, r.groups, r.triangles, 1e3 * r.group_max_m,
+                    r.group_max_m / cell_m, r.group_p50_m / c, r.group_p90_m / c, r.group_max_m / c,
+                    r.over_startup_estimate, r.over_level_estimate, r.samples_without_level);
+        out.push_back({{"program", program},
+                       {"n", n},
+                       {"cell_m", cell_m},
+                       {"depth", r.depth},
+                       {"stride", r.stride},
+                       {"coarse_cell_m", c},
+                       {"groups", r.groups},
+                       {"triangles", r.triangles},
+                       {"max_vertex_m", r.max_vertex_m},
+                       {"max_surface_m", r.max_surface_m},
+                       {"group_p50_m", r.group_p50_m},
+                       {"group_p90_m", r.group_p90_m},
+                       {"group_max_m", r.group_max_m},
+                       {"group_max_fine_cells", r.group_max_m / cell_m},
+                       {"group_max_coarse_cells", r.group_max_m / c},
+                       {"over_startup_estimate", r.over_startup_estimate},
+                       {"over_level_estimate", r.over_level_estimate},
                        {"samples_without_level", r.samples_without_level},
                        {"worst_vertex_coarse_cells", cells_of(r.worst_vertex)},
                        {"worst_sample_coarse_cells", cells_of(r.worst_sample)}});
@@ -159,35 +171,49 @@ nlohmann::json report_coarse(const std::string& program, int n, double cell_m, c
 nlohmann::json setup_json(const AccuracyBenchOptions& o, const std::vector<Reference>& refs, int threads) {
     nlohmann::json programs = nlohmann::json::array();
     for (const Reference& r : refs)
-        programs.push_back({{"name", r.program.name}, {"moves", r.program.moves.size()}, {"segment_m", r.program.segment_m},
-                            {"tool_radius_m", r.program.tool.radius_m}, {"exact_volume_m3", r.volume_m3},
-                            {"exact_volume_sigma_m3", r.sigma_m3}, {"surface_samples", r.samples.size()}});
+        programs.push_back({{"name", r.program.name},
+                            {"moves", r.program.moves.size()},
+                            {"segment_m", r.program.segment_m},
+                            {"tool_radius_m", r.program.tool.radius_m},
+                            {"exact_volume_m3", r.volume_m3},
+                            {"exact_volume_sigma_m3", r.sigma_m3},
+                            {"surface_samples", r.samples.size()}});
     return {
-        {"workpiece", "0.1 m cube [0.014, 0.114]^3 m, lattice [0, 0.128]^3 m with N cells (cell_m = 0.128 / N), shifted by "
-                      "-offset_cells cells (0: the cube's faces lie on lattice nodes at N = 64, 128, 256)"},
+        {"workpiece",
+         "0.1 m cube [0.014, 0.114]^3 m, lattice [0, 0.128]^3 m with N cells (cell_m = 0.128 / N), shifted by "
+         "-offset_cells cells (0: the cube's faces lie on lattice nodes at N = 64, 128, 256)"},
         {"offset_cells", o.offset_cells},
         {"tridex_threads", threads},
-        {"tridex", "cpu-1t: apply_sweep per segment, one thread; cpu: apply_sweeps_parallel per 64 segments on "
-                   "tridex_threads threads (std::thread::hardware_concurrency); gpu: GpuSculptor::apply per 64 segments (incl. copy "
-                   "to the CPU mirror); contour_s: Contourer::update of the dirty tiles after the program"},
-        {"openvdb", {{"version", openvdb_version()}, {"threads", 1}, {"voxel", "voxel size = tridex cell_m"},
-                     {"narrow_band_voxels", kHalfWidthVoxels},
-                     {"usage", "workpiece createLevelSetBox; ball segment = createLevelSetSphere stamps at <= 0.5 voxel "
-                               "spacing, each csgDifference/csgUnion into the workpiece (10.0.1 has no createLevelSetCapsule); "
-                               "flat-end segment = meshToLevelSet of its exact swept solid; volumeToMesh(isovalue 0) at the "
-                               "end; volume by levelSetVolume; paint = no geometry change (0 s)"},
-                     {"fairness", "same voxel size as the tridex lattice, narrow band 3 voxels (OpenVDB's default), "
-                                  "one thread for both (tbb::global_control; compare openvdb with tridex cpu-1t, the tridex cpu row uses all "
-                                  "cores), same segments, same error metrics"}}},
-        {"errors", "mean/max_error_m: |sdf| of the exact solid at mesh vertices (CSG max/min of exact primitive SDFs: "
-                   "exact near faces, a lower bound near edges); surface_*: quasi-random points on the exact surface -> "
-                   "nearest mesh triangle; hausdorff_m = max of both"},
-        {"volume", "tridex: dexel_volume_m3; openvdb: levelSetVolume; exact: box volume -/+ tool part by quasi-random "
-                   "sampling (exact_volume_sigma_m3 = binomial standard error, conservative)"},
-        {"coarse", "coarse_level_errors: CoarseGroupLevels of the first tridex path's model at each depth (every depth "
-                   "contoured whole); per group, |sdf| at its level's own vertices and exact-surface samples in its box -> "
-                   "its level (own triangles, ring and skirt); estimates: start-up kStartupErrorCoarseCells, level "
-                   "error_coarse_cells, in coarse cells"},
+        {"tridex",
+         "cpu-1t: apply_sweep per segment, one thread; cpu: apply_sweeps_parallel per 64 segments on "
+         "tridex_threads threads (std::thread::hardware_concurrency); gpu: GpuSculptor::apply per 64 segments "
+         "(incl. copy to the CPU mirror); contour_s: Contourer::update of the dirty tiles after the program"},
+        {"openvdb",
+         {{"version", openvdb_version()},
+          {"threads", 1},
+          {"voxel", "voxel size = tridex cell_m"},
+          {"narrow_band_voxels", kHalfWidthVoxels},
+          {"usage",
+           "workpiece createLevelSetBox; ball segment = createLevelSetSphere stamps at <= 0.5 voxel "
+           "spacing, each csgDifference/csgUnion into the workpiece (10.0.1 has no createLevelSetCapsule); "
+           "flat-end segment = meshToLevelSet of its exact swept solid; volumeToMesh(isovalue 0) at the "
+           "end; volume by levelSetVolume; paint = no geometry change (0 s)"},
+          {"fairness",
+           "same voxel size as the tridex lattice, narrow band 3 voxels (OpenVDB's default), "
+           "one thread for both (tbb::global_control; compare openvdb with tridex cpu-1t, the tridex cpu row uses all "
+           "cores), same segments, same error metrics"}}},
+        {"errors",
+         "mean/max_error_m: |sdf| of the exact solid at mesh vertices (CSG max/min of exact primitive SDFs: "
+         "exact near faces, a lower bound near edges); surface_*: quasi-random points on the exact surface -> "
+         "nearest mesh triangle; hausdorff_m = max of both"},
+        {"volume",
+         "tridex: dexel_volume_m3; openvdb: levelSetVolume; exact: box volume -/+ tool part by quasi-random "
+         "sampling (exact_volume_sigma_m3 = binomial standard error, conservative)"},
+        {"coarse",
+         "coarse_level_errors: CoarseGroupLevels of the first tridex path's model at each depth (every depth "
+         "contoured whole); per group, |sdf| at its level's own vertices and exact-surface samples in its box -> "
+         "its level (own triangles, ring and skirt); estimates: start-up kStartupErrorCoarseCells, level "
+         "error_coarse_cells, in coarse cells"},
         {"programs", programs}};
 }
 
@@ -233,13 +259,16 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
     std::vector<AccuracyRow> rows;
     nlohmann::json coarse = nlohmann::json::array();
     if (!o.coarse_depths.empty())
-        std::printf("coarse levels after each program's first tridex path, per depth d (stride): groups measured, own triangles, "
-                    "worst group error in mm and fine cells; groups' p50 / p90 / max error in coarse cells; groups over "
-                    "the start-up estimate (%.2f coarse cells) and over the level's (1); exact samples in a box with no level\n",
-                    compute::TileSurfaceCache::kStartupErrorCoarseCells);
+        std::printf(
+            "coarse levels after each program's first tridex path, per depth d (stride): groups measured, own "
+            "triangles, "
+            "worst group error in mm and fine cells; groups' p50 / p90 / max error in coarse cells; groups over "
+            "the start-up estimate (%.2f coarse cells) and over the level's (1); exact samples in a box with no "
+            "level\n",
+            compute::TileSurfaceCache::kStartupErrorCoarseCells);
     if (!o.coarse_depths.empty())
-        std::printf("coarse  %-11s %4s %5s %6s %9s %8s %8s %6s %6s %6s %6s %6s %7s\n", "program", "N", "d/s", "groups", "triangles",
-                    "max_mm", "max_c", "p50_cc", "p90_cc", "max_cc", ">start", ">level", "missed");
+        std::printf("coarse  %-11s %4s %5s %6s %9s %8s %8s %6s %6s %6s %6s %6s %7s\n", "program", "N", "d/s", "groups",
+                    "triangles", "max_mm", "max_c", "p50_cc", "p90_cc", "max_cc", ">start", ">level", "missed");
     for (const int n : o.resolutions) {
         compute::TriDexel pristine = workpiece(n, o.offset_cells);
         compute::Contourer pristine_contour(pristine);
@@ -285,12 +314,16 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
                 fill_errors(row, mesh, ref, m.lattice.origin_m, threads);
                 print_row(row);
                 if (o.dump_worst > 0 && p == "cpu-1t") dump_worst_vertices(m, mesh, *ref.exact, o.dump_worst);
-                if (!o.coarse_depths.empty() && coarse_from == nullptr) coarse_from = std::make_unique<compute::TriDexel>(std::move(m));
+                if (!o.coarse_depths.empty() && coarse_from == nullptr)
+                    coarse_from = std::make_unique<compute::TriDexel>(std::move(m));
                 rows.push_back(row);
             }
             if (coarse_from) {
-                const auto levels = coarse_level_errors(*coarse_from, *ref.exact, ref.samples, o.coarse_depths, threads);
-                for (nlohmann::json& j : report_coarse(ref.program.name, n, kLatticeSideM / n, coarse_from->lattice.origin_m, levels)) coarse.push_back(std::move(j));
+                const auto levels =
+                    coarse_level_errors(*coarse_from, *ref.exact, ref.samples, o.coarse_depths, threads);
+                for (nlohmann::json& j :
+                     report_coarse(ref.program.name, n, kLatticeSideM / n, coarse_from->lattice.origin_m, levels))
+                    coarse.push_back(std::move(j));
                 coarse_from.reset();
             }
             if (vdb) {
@@ -353,9 +386,11 @@ BenchRun setup_accuracy_bench(CLI::App& bench) {
                      "With --accuracy: print the K worst vertices of each tridex cpu-1t run with their cells' crossings "
                      "and normals against the exact solid")
         ->check(CLI::Range(0, 1000));
-    bench.add_option("--accuracy-coarse-depths", o->options.coarse_depths,
-                     "With --accuracy: group depths (1..6, stride 2^d) whose coarse levels are measured against the exact "
-                     "solid after each program (default 1,2,3,4; 0 for none)")
+    bench
+        .add_option(
+            "--accuracy-coarse-depths", o->options.coarse_depths,
+            "With --accuracy: group depths (1..6, stride 2^d) whose coarse levels are measured against the exact "
+            "solid after each program (default 1,2,3,4; 0 for none)")
         ->delimiter(',')
         ->check(CLI::Range(0, 6));
     return [o](const BenchCommon& c) {

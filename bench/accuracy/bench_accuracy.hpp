@@ -72,8 +72,9 @@ struct AccuracyBenchOptions {
 /// ({"runs": [...], "matched": [...], "setup": {...}}) into options.out and returns the rows; with
 /// options.plots also accuracy_<program>.png (bench_accuracy_plot.hpp). With options.coarse_depths, the coarse group
 /// levels of the first tridex path's model at those depths are measured against the exact solid too (printed, and in
-/// bench.json "coarse": per program, N and depth, the groups' errors in metres and coarse cells). Throws tridex::Error on bad
-/// options (resolutions, offset, unknown program) or an unwritable folder.
+/// bench.json "coarse": per program, N and depth, the groups' errors in metres and coarse cells). Throws
+/// tridex::Error on bad options (resolutions, offset, unknown program, a coarse depth outside 1..6) or an unwritable
+/// folder.
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
 
 }  // namespace tridex::bench

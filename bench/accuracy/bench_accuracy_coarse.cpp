@@ -10,6 +10,7 @@
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "compute/contour/coarse_levels.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
 namespace tridex::bench::accuracy {
@@ -36,7 +37,7 @@ SampleBuckets bucket_samples(const std::vector<Vec3>& samples, const compute::La
     const std::size_t groups = static_cast<std::size_t>(gdims[0]) * gdims[1] * gdims[2];
     std::vector<std::size_t> of(samples.size(), groups);  // groups: outside the lattice
     SampleBuckets b;
-    b.start.assign(groups + 2, 0);
+    b.start.assign(groups + 1, 0);
     for (std::size_t i = 0; i < samples.size(); ++i) {
         std::array<int, 3> c{};
         bool inside = true;
@@ -46,11 +47,10 @@ SampleBuckets bucket_samples(const std::vector<Vec3>& samples, const compute::La
             inside = inside && u >= 0.0 && c[a] < gdims[a];
         }
         if (!inside) continue;
-        of[i] = static_cast<std::size_t>(c[0]) + static_cast<std::size_t>(gdims[0]) * (c[1] + static_cast<std::size_t>(gdims[1]) * c[2]);
+        of[i] = static_cast<std::size_t>(compute::grid_index(c, gdims));
         ++b.start[of[i] + 1];
     }
     for (std::size_t g = 0; g < groups; ++g) b.start[g + 1] += b.start[g];
-    b.start.resize(groups + 1);
     std::vector<std::size_t> next(b.start.begin(), b.start.end() - 1);
     b.order.resize(b.start[groups]);
     for (std::size_t i = 0; i < samples.size(); ++i)
@@ -93,11 +93,6 @@ GroupError measure_group(const compute::CoarseGroupLevels& levels, int depth, co
     return e;
 }
 
-std::array<int, 3> group_coords(std::size_t g, const std::array<int, 3>& gdims) {
-    return {static_cast<int>(g % gdims[0]), static_cast<int>((g / gdims[0]) % gdims[1]),
-            static_cast<int>(g / (static_cast<std::size_t>(gdims[0]) * gdims[1]))};
-}
-
 double quantile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5));
@@ -130,7 +125,7 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
         const SampleBuckets buckets = bucket_samples(samples, model.lattice, r.coarse_cell_m * kT, gdims);
         const std::size_t groups = static_cast<std::size_t>(gdims[0]) * gdims[1] * gdims[2];
         std::vector<std::pair<int, std::array<int, 3>>> all(groups);
-        for (std::size_t g = 0; g < groups; ++g) all[g] = {depth, group_coords(g, gdims)};
+        for (std::size_t g = 0; g < groups; ++g) all[g] = {depth, compute::grid_coords(g, gdims)};
         levels.read_around(all);  // level() of these only reads from here on, so the threads may call it at once
         std::vector<GroupError> errors(groups);
         std::atomic<std::size_t> next{0};
@@ -138,7 +133,8 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
         const auto work = [&](std::size_t worker) {
             try {
                 for (std::size_t g = next++; g < groups; g = next++)
-                    errors[g] = measure_group(levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
+                    errors[g] =
+                        measure_group(levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
             } catch (...) {
                 failed[worker] = std::current_exception();
                 next = groups;  // the others stop too
@@ -160,7 +156,8 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
             if (e.surface_m > r.max_surface_m) r.max_surface_m = e.surface_m, r.worst_sample = e.worst_sample;
             const double two_sided = std::max(e.vertex_m, e.surface_m);
             per_group.push_back(two_sided);
-            if (two_sided > compute::TileSurfaceCache::kStartupErrorCoarseCells * r.coarse_cell_m) ++r.over_startup_estimate;
+            if (two_sided > compute::TileSurfaceCache::kStartupErrorCoarseCells * r.coarse_cell_m)
+                ++r.over_startup_estimate;
             if (two_sided > options.error_coarse_cells * r.coarse_cell_m) ++r.over_level_estimate;
         }
         r.group_p50_m = quantile(per_group, 0.5);

@@ -17,20 +17,20 @@ namespace tridex::bench::accuracy {
 /// level with no triangles of its own (only a ring of its neighbours' and a skirt, TileLodLevel::own_triangles 0) is
 /// measured by the samples alone: its skirt lies inside the surface by design.
 struct CoarseLevelErrors {
-    int depth = 0;                   ///< group depth d: the levels read every 2^d-th ray (stride 2^d)
-    int stride = 0;                  ///< 2^d
-    double coarse_cell_m = 0.0;      ///< the coarse lattice's spacing: stride x the model's cell, m
+    int depth = 0;               ///< group depth d: the levels read every 2^d-th ray (stride 2^d)
+    int stride = 0;              ///< 2^d
+    double coarse_cell_m = 0.0;  ///< the coarse lattice's spacing: stride x the model's cell, m
     /// Groups measured: those whose level has triangles of its own or whose box holds exact-surface samples (a level
     /// of only a ring and a skirt with no surface in its box is drawn but has nothing to measure).
     std::size_t groups = 0;
-    std::size_t triangles = 0;       ///< the levels' own triangles, summed (rings and skirts not counted)
-    double max_vertex_m = 0.0;       ///< largest |sdf| at an own triangle's vertex over every group, m
-    double max_surface_m = 0.0;      ///< largest distance from an exact-surface sample to its group's level, m
-    Vec3 worst_vertex{0.0};          ///< the own vertex with the largest |sdf|, world m
-    Vec3 worst_sample{0.0};          ///< the exact-surface sample farthest from its group's level, world m
-    double group_p50_m = 0.0;        ///< median of the groups' two-sided errors (the upper one for an even count), m
-    double group_p90_m = 0.0;        ///< 90th percentile of the groups' errors, m
-    double group_max_m = 0.0;        ///< largest group error (max of max_vertex_m and max_surface_m), m
+    std::size_t triangles = 0;   ///< the levels' own triangles, summed (rings and skirts not counted)
+    double max_vertex_m = 0.0;   ///< largest |sdf| at an own triangle's vertex over every group, m
+    double max_surface_m = 0.0;  ///< largest distance from an exact-surface sample to its group's level, m
+    Vec3 worst_vertex{0.0};      ///< the own vertex with the largest |sdf|, world m
+    Vec3 worst_sample{0.0};      ///< the exact-surface sample farthest from its group's level, world m
+    double group_p50_m = 0.0;    ///< median of the groups' two-sided errors (the upper one for an even count), m
+    double group_p90_m = 0.0;    ///< 90th percentile of the groups' errors, m
+    double group_max_m = 0.0;    ///< largest group error (max of max_vertex_m and max_surface_m), m
     /// Groups whose error exceeds the estimate a coarse-first start-up draws a level with before its tiles are in
     /// (TileSurfaceCache::kStartupErrorCoarseCells coarse cells).
     std::size_t over_startup_estimate = 0;

@@ -26,8 +26,8 @@ namespace {
 // tiles: those within one group of it, at its depth, and the rays' reach (each group's range of tile coordinates,
 // grown so). Ascending.
 std::vector<std::uint64_t> tiles_near_groups(const std::vector<TileGroupSurface>& groups,
-                                             const std::vector<std::uint64_t>& ids, const std::vector<std::uint64_t>& tiles,
-                                             const std::array<int, 3>& dims) {
+                                             const std::vector<std::uint64_t>& ids,
+                                             const std::vector<std::uint64_t>& tiles, const std::array<int, 3>& dims) {
     constexpr int kT = TileGrid::kTileCells;
     std::vector<std::array<int, 6>> ranges;  // lo x, y, z, then hi (exclusive)
     for (const std::uint64_t id : ids) {
@@ -87,7 +87,8 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
                                                    const std::vector<std::uint64_t>& changed, bool stroke_hidden) {
     const auto t0 = std::chrono::steady_clock::now();
     const int coarsest = std::max(coarse_->min_depth(), coarse_->max_depth() - kCoarseDepthsAtOnce + 1);
-    const int from = stroke_hidden ? std::max(coarse_->min_depth(), std::min(coarsest, kDeferredCoarseDepth)) : coarsest;
+    const int from =
+        stroke_hidden ? std::max(coarse_->min_depth(), std::min(coarsest, kDeferredCoarseDepth)) : coarsest;
     const std::unordered_set<std::uint64_t> reach = coarse_reach(dims, changed);
     // With the stroke's tiles hidden, a group under one the frames drew within its bound waits (for
     // settle_coarse_levels): the frames do not need it, and would draw that one in its place while it waits.
@@ -97,7 +98,7 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
         return g < groups_.size() && std::binary_search(frames_drew_.begin(), frames_drew_.end(), groups_[g].parent);
     };
     std::vector<std::uint64_t> ids, finer_ids;  // all to rebuild; those finer than the coarsest depths
-    int read_from = coarsest;                  // the finest depth a level rebuilt now needs current
+    int read_from = coarsest;                   // the finest depth a level rebuilt now needs current
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = tile_group_depth(id);
         if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) {
@@ -112,7 +113,8 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     // would stay wrong.
     for (const std::uint64_t t : changed) coarse_read_to_.erase(t);  // changed again: read at no depth yet
     read_coarse_at(changed, coarsest);
-    if (!finer_ids.empty()) read_coarse_at(unread_at(tiles_near_groups(groups_, finer_ids, coarse_changed_, dims), read_from), read_from);
+    if (!finer_ids.empty())
+        read_coarse_at(unread_at(tiles_near_groups(groups_, finer_ids, coarse_changed_, dims), read_from), read_from);
     if (stroke_hidden) {
         const std::vector<std::uint64_t> wanted = wanted_finer_groups(dims, from);
         ids.insert(ids.end(), wanted.begin(), wanted.end());

@@ -5,8 +5,8 @@
 
 #include "core/error.hpp"
 #include "gpu/check.hpp"
-#include "gpu/descriptor_sets.hpp"
 #include "gpu/compute_pipeline.hpp"
+#include "gpu/descriptor_sets.hpp"
 #include "gpu/shader_module.hpp"
 #include "renderer/stereo/stereo_uniforms.hpp"
 #include "shaders/spirv.hpp"
@@ -17,7 +17,8 @@ namespace {
 constexpr std::uint32_t kGroup = 8;  // local_size_x/y of stereo_ao.comp and stereo_ao_apply.comp
 constexpr std::uint32_t kBlock = 2;  // the finest block (pixels per value along x and y): the image's size
 constexpr std::uint32_t kBindings = 4;
-constexpr VkDescriptorType kTypes[kBindings] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+constexpr VkDescriptorType kTypes[kBindings] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                                VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                                 VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
 
 }  // namespace
@@ -69,7 +70,8 @@ AmbientOcclusion AmbientOcclusion::create(const gpu::Context& context, const Ste
     gpu::check(vkCreateSampler(device, &si, nullptr, &sampler), "vkCreateSampler");
     a.sampler_ = UniqueSampler(device, sampler);
 
-    a.pool_ = gpu::allocate_descriptor_sets(device, {{kTypes[0], 3}, {kTypes[1], 3}, {kTypes[2], 6}}, set_layout, 3, a.sets_);
+    a.pool_ =
+        gpu::allocate_descriptor_sets(device, {{kTypes[0], 3}, {kTypes[1], 3}, {kTypes[2], 6}}, set_layout, 3, a.sets_);
     a.retarget(context, target);
     return a;
 }

@@ -24,9 +24,9 @@ enum class OcclusionResolution { kHalf, kQuarter };
 /// samples in 4 symmetric pairs) into an image the pass owns, then shaders/stereo_ao_apply.comp scales every
 /// covered pixel by a depth-aware bilinear blend of the four values around it. The sphere radius (m) and strength
 /// come from EyesUniform::occlusion, the eyes' inverse projections from EyesUniform::view_from_clip /
-/// pixels_per_metre. Bound to one StereoTarget at a time (retarget()) and one EyesUniform buffer; frames in flight may share it (record()
-/// orders its own image's reuse after earlier dispatches). Move-only; the Context, the target and the buffer must
-/// outlive it.
+/// pixels_per_metre. Bound to one StereoTarget at a time (retarget()) and one EyesUniform buffer; frames in flight
+/// may share it (record() orders its own image's reuse after earlier dispatches). Move-only; the Context, the target
+/// and the buffer must outlive it.
 class AmbientOcclusion {
 public:
     AmbientOcclusion() = default;

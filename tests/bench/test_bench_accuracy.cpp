@@ -16,8 +16,8 @@
 #include "bench/accuracy/bench_accuracy_match.hpp"
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "bench/accuracy/bench_accuracy_openvdb.hpp"
-#include "core/error.hpp"
 #include "compute/mesh/scan_convert.hpp"
+#include "core/error.hpp"
 #include "core/primitives.hpp"
 
 namespace tridex::bench {

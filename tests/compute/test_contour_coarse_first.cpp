@@ -392,7 +392,7 @@ TEST(CoarseFirst, AStrokeStepRebuildingAFinerLevelReadsTheChangesEarlierStepsLef
     CoarseFirst s(two_spheres(), levels);
     s.refine_all();
     s.cache.frames_drew({group_at(s.cache, depth + 1, 1).id});  // over the second sphere
-    defer_cut(s, Vec3(256.0, 0.0, 0.0));                         // its level at depth 3 waits
+    defer_cut(s, Vec3(256.0, 0.0, 0.0));                        // its level at depth 3 waits
     s.cache.frames_drew({group_at(s.cache, depth + 1, 0).id});
     defer_cut(s, Vec3(256.0 - 2.0 * kRadius, 0.0, 0.0));  // the sphere's other side, in the same depth-3 group
     EXPECT_GT(expect_levels_as_read(s.cache, s.model, levels, depth), 0u);
@@ -434,8 +434,7 @@ TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {
 TEST(CoarseFirst, AFinerLevelAskedForAgainReadsTheTilesChangedSinceItsLastRead) {
     const int depth = TileSurfaceCache::kDeferredDetailDepth;
     CoarseFirst s;
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     std::vector<std::uint64_t> top;
     for (const TileGroupSurface& g : s.cache.groups())
         if (g.depth == depth + 1) top.push_back(g.id);

@@ -8,10 +8,10 @@
 #include <set>
 #include <vector>
 
-#include "compute/tools/boolean.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"
+#include "compute/tools/boolean.hpp"
 #include "core/error.hpp"
 #include "test_contour_models.hpp"
 

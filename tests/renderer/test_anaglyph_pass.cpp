@@ -1,7 +1,7 @@
 // The GPU anaglyph (AnaglyphPass) against the CPU reference compose() on a rendered scene, every method, eyes
 // swapped or not, with Vulkan validation on; the renderer's image stays usable after the pass.
-#include <utility>
 #include <gtest/gtest.h>
+#include <utility>
 
 #include <cstdio>
 
@@ -132,7 +132,8 @@ TEST(AnaglyphPass, AResizedPassComposesWhatAFreshOneOfThatSizeComposes) {
         for (const auto& [w, h] : {std::pair{kW * 3 / 4, kH * 3 / 4}, std::pair{kW + 24, kH / 2}}) {
             renderer.resize(w, h);
             (void)renderer.render(scene, test::small_screen(), test::test_head(), 0.065);
-            EXPECT_THROW((void)pass.compose(renderer, AnaglyphMethod::kDubois, false), Error) << "made for the old size";
+            EXPECT_THROW((void)pass.compose(renderer, AnaglyphMethod::kDubois, false), Error)
+                << "made for the old size";
             pass.resize(w, h);
             ASSERT_EQ(pass.width(), w);
             ASSERT_EQ(pass.height(), h);
