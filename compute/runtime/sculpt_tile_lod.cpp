@@ -7,7 +7,7 @@
 
 #include "compute/runtime/sculpt_thread.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
-#include "compute/contour/sorted_ids.hpp"
+#include "compute/contour/refine_wanted.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -83,28 +83,11 @@ void SculptThread::follow_drawn_groups(compute::DrawnGroups& drawn) {
 }
 
 std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
-    std::size_t refined = 0;
-    for (const std::uint64_t id : detail_->take()) {
-        if (!in_slice()) break;
-        // A group whose children cover it now (a finer depth was read since the frame asked) is left to them.
-        const compute::TileGroupSurface* g = compute::find_by_id(tile_cache_.groups(), id);
-        if (!g || g->children_cover) continue;
-        // A large group a block of block_depth at a time, so that the slice bounds the pass (a depth-4 group holds
-        // hundreds of surface tiles); blocks already contoured cost a scan of their tiles.
-        const int depth = std::min(g->depth, block_depth), per = 1 << (g->depth - depth);
-        for (int z = 0; z < per && in_slice(); ++z)
-            for (int y = 0; y < per && in_slice(); ++y)
-                for (int x = 0; x < per && in_slice(); ++x) {
-                    const std::array<int, 3> c{g->coords[0] * per + x, g->coords[1] * per + y, g->coords[2] * per + z};
-                    if (refiner_ && !refiner_->done()) {
-                        const std::size_t n = refiner_->refine_group(model_, contourer_, depth, c);
-                        stats_.startup_tiles_refined += n;
-                        refined += n;
-                    }
-                    if (deferral_) refined += deferral_->contour_group(model_, contourer_, depth, c);
-                }
-    }
-    return refined;
+    const std::vector<std::uint64_t> ids = detail_->take();
+    const compute::WantedRefined n = compute::refine_wanted_groups(ids, tile_cache_.groups(), model_, contourer_,
+                                                                   refiner_.get(), deferral_.get(), block_depth, in_slice);
+    stats_.startup_tiles_refined += n.startup;
+    return n.startup + n.deferred;
 }
 
 void SculptThread::refine_startup(bool finish) {
