@@ -2,6 +2,7 @@
 // coarser strides (CoarseGroupLevels): which a change reaches, and rebuilding them once the change settles.
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <span>
 
 #include "compute/contour/contour_tiles.hpp"
@@ -180,13 +181,14 @@ std::vector<std::uint64_t> TileSurfaceCache::wanted_finer_groups(const std::arra
 std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::time_point now, bool stroke_open,
                                                    const std::function<bool()>& yield) {
     if (coarse_stale_.empty()) return 0;
-    if (now - coarse_changed_at_ < group_settle_) return 0;
+    const bool settled = now - coarse_changed_at_ >= group_settle_;
+    if (!settled && !build_away_) return 0;
     const auto t0 = std::chrono::steady_clock::now();
     const auto slice_end = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                     std::chrono::duration<double>(kCoarseContourSliceS));
     // The slice ends early when the caller's work waits (yield), after at least one batch or level.
     const auto in_slice = [&] { return std::chrono::steady_clock::now() < slice_end && !(yield && yield()); };
-    if (!coarse_changed_.empty()) {
+    if (settled && !coarse_changed_.empty()) {
         // The finer coarse models follow the stroke's tiles between strokes, a slice a pass: during a stroke its
         // samples would wait for them, and the few levels a pass rebuilds would not repay it (the waiting groups'
         // children are drawn).
@@ -206,9 +208,12 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     }
     // Coarsest depth first: a frame descends from a group to its children only once none of their levels waits
     // (renderer::groups_standing_in), so the view refines a depth at a time.
+    // Not settled (build_away_from_changes): only groups out of reach of the changed tiles, not re-read yet.
+    std::unordered_set<std::uint64_t> reach;
+    if (!settled) reach = coarse_reach(coarse_dims_, coarse_changed_);
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
     for (const std::uint64_t id : coarse_stale_)
-        if (coarse_->has_depth(tile_group_depth(id))) ids.push_back(id);
+        if (coarse_->has_depth(tile_group_depth(id)) && reach.count(id) == 0) ids.push_back(id);
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end(), [](std::uint64_t a, std::uint64_t b) {
         const int da = tile_group_depth(a), db = tile_group_depth(b);
@@ -262,8 +267,17 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
             measure[i] = group_refined(*groups[i], true);
             if (group_refined(*groups[i])) provisional_.erase(groups[i]->id);
             else provisional_.insert(groups[i]->id);
+            estimated_.erase(groups[i]->id);  // a new level: estimated again
         }
     }
+    // A provisional level a change dropped: its error, which the new one keeps at least (the finest levels that
+    // raised it may wait themselves now).
+    std::vector<double> before(groups.size(), 0.0);
+    for (std::size_t i = 0; i < groups.size(); ++i)
+        if (const auto it = dropped_error_.find(groups[i]->id); it != dropped_error_.end()) {
+            if (!measure[i]) before[i] = it->second;
+            dropped_error_.erase(it);
+        }
     std::vector<TileLodLevel> built(groups.size());
     run_lod_jobs(groups.size(), [&](std::size_t i) {
         built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
@@ -271,7 +285,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         if (measure[i])
             built[i].error_m = coarse_level_error(*groups[i], built[i]);
         else  // the level's estimate is one coarse cell (CoarseLevelOptions::error_coarse_cells 1)
-            built[i].error_m *= kStartupErrorCoarseCells;
+            built[i].error_m = std::max(built[i].error_m * kStartupErrorCoarseCells, before[i]);
     });
     for (std::size_t i = 0; i < groups.size(); ++i) {
         groups[i]->lods.clear();
@@ -318,6 +332,52 @@ double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const
         for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(p[i], worst));
     }
     return worst;
+}
+
+std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSurface& group,
+                                                              const TileLodLevel& level) const {
+    const int finest = coarse_->min_depth();
+    // The finest depth's groups under this one, through the groups' children.
+    std::vector<const TileGroupSurface*> under, walk{&group};
+    while (!walk.empty()) {
+        const TileGroupSurface* g = walk.back();
+        walk.pop_back();
+        for (const std::uint64_t c : g->children) {
+            const TileGroupSurface* child = find_by_id(groups_, c);
+            if (!child) continue;
+            if (child->depth > finest) walk.push_back(child);
+            else under.push_back(child);
+        }
+    }
+    // Samples: each finest level's six extreme own vertices (a thin feature the coarser rays missed: an ear) and
+    // its own vertices spread evenly, up to kSamples in all.
+    constexpr std::size_t kSamples = 256;
+    std::size_t vertices = 0;
+    for (const TileGroupSurface* g : under) {
+        if (coarse_stale_.count(g->id) != 0) return std::nullopt;  // its level waits
+        if (!g->lods.empty()) vertices += 3 * g->lods.front().own_triangles;
+    }
+    TriangleGrid grid(level.mesh, 2.0 * lod_options_.cell_m * (1 << group.depth));
+    const std::size_t step = std::max<std::size_t>(1, vertices / kSamples);
+    double worst = 0.0;
+    std::size_t k = 0;
+    for (const TileGroupSurface* g : under) {
+        if (g->lods.empty() || g->lods.front().own_triangles == 0) continue;
+        const TriMesh& m = g->lods.front().mesh;
+        const Vec3& p0 = m.positions[m.triangles.front()[0]];
+        std::array<Vec3, 6> extreme{p0, p0, p0, p0, p0, p0};
+        for (std::size_t t = 0; t < g->lods.front().own_triangles; ++t)
+            for (const std::uint32_t v : m.triangles[t]) {
+                const Vec3& p = m.positions[v];
+                for (int a = 0; a < 3; ++a) {
+                    if (p[a] < extreme[2 * a][a]) extreme[2 * a] = p;
+                    if (p[a] > extreme[2 * a + 1][a]) extreme[2 * a + 1] = p;
+                }
+                if (k++ % step == 0) worst = std::max(worst, grid.distance(p, worst));
+            }
+        for (const Vec3& p : extreme) worst = std::max(worst, grid.distance(p, worst));
+    }
+    return worst + kStartupErrorCoarseCells * lod_options_.cell_m * (1 << finest);
 }
 
 }  // namespace tridex::compute

@@ -172,6 +172,9 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
             keep_old(old, std::move(g));
             return;
         }
+        // A coarse-first start-up's level rebuilt before its tiles are in keeps its predecessor's error at least.
+        if (old < groups_.size() && !groups_[old].lods.empty() && provisional_.count(g.id) != 0)
+            dropped_error_[g.id] = groups_[old].lods.front().error_m;
         g.version = fresh_tile_version();
         g.levels_waiting = true;
         queued.push_back(false);

@@ -1,6 +1,7 @@
 // compute/contour/contour_tile_startup.cpp - TileSurfaceCache in a coarse-first start-up: the groups over tiles not
 // contoured yet, which of them must be drawn coarse, and the finer coarse depths read after the first publish.
 #include <algorithm>
+#include <optional>
 #include <chrono>
 
 #include "compute/contour/contour_tiles.hpp"
@@ -98,7 +99,7 @@ bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup
 void TileSurfaceCache::update_startup_groups() {
     const std::vector<bool> refined = groups_refined();
     bool open = !expected_.empty();
-    std::size_t measured = 0;
+    std::size_t measured = 0, estimated = 0;
     remeasure_more_ = false;
     for (std::size_t g = 0; g < groups_.size(); ++g) {  // children before their parents
         TileGroupSurface& group = groups_[g];
@@ -128,10 +129,26 @@ void TileSurfaceCache::update_startup_groups() {
                 remeasure_more_ = true;
             } else {
                 provisional_.erase(group.id);
+                estimated_.erase(group.id);
                 ++measured;
                 if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
                     group.lods.front().error_m = coarse_level_error(group, group.lods.front());
                 group.version = fresh_tile_version();
+            }
+        }
+        // A deeper level built before its tiles: its estimate raised to how far the finest coarse depth's levels
+        // under it lie from it, once they are read (a thin feature its stride missed shows there first).
+        if (!refined[g] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
+            estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty()) {
+            if (estimated == kStartupEstimatesPerPass) {
+                remeasure_more_ = true;
+            } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
+                ++estimated;
+                estimated_.insert(group.id);
+                if (*e > group.lods.front().error_m) {
+                    group.lods.front().error_m = *e;
+                    group.version = fresh_tile_version();
+                }
             }
         }
         open = open || !group.children_cover;

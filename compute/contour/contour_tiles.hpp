@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -234,6 +235,12 @@ public:
     /// need them, and draw the parent in a waiting child's place: renderer::groups_standing_in). The coarsest depth is
     /// always rebuilt. Replaces the ids given before; an empty list keeps them.
     void frames_drew(std::vector<std::uint64_t> group_ids);
+    /// With coarse groups: true lets collect_lods() build the waiting levels of groups out of reach of the tiles
+    /// changed since the levels last settled (coarse_reach: a coarse-first start-up's finer depths, far from a
+    /// stroke) while tiles keep changing, instead of waiting until none has changed for LodWorkerOptions::
+    /// group_settle_s; those within reach still wait. For a caller whose frames hold no stroke's samples (a cluster
+    /// render rank, whose records change tiles in every frame of a stroke). Default false.
+    void build_away_from_changes(bool on) { build_away_ = on; }
     /// The finest coarse depth want_detail() brings a stroke's groups to.
     static constexpr int kDeferredDetailDepth = 2;
     /// At most this many levels under the groups of want_detail() are rebuilt by a refresh() (the finest first).
@@ -276,6 +283,10 @@ public:
     /// distance over a whole model (`tridex bench --coarse`) somewhat over it; the level's own estimate (one coarse
     /// cell) would have frames draw the finest groups nearly everywhere while the tiles are contoured.
     static constexpr double kStartupErrorCoarseCells = 0.25;
+    /// Coarse-first start-up: the most levels of groups deeper than the finest coarse depth whose estimate
+    /// update_startup_groups() raises at a time, from the finest depth's levels once they are read (each samples the
+    /// finest levels under its group).
+    static constexpr std::size_t kStartupEstimatesPerPass = 16;
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
@@ -333,6 +344,7 @@ private:
     std::vector<bool> group_queued_;               // per groups_ entry: its job is queued (background)
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
+    bool build_away_ = false;                             // build_away_from_changes
     std::chrono::steady_clock::duration tile_settle_{};   // LodWorkerOptions::tile_settle_s
     // A stroke's tiles whose jobs wait for them to settle: tile id -> when it last changed.
     std::unordered_map<std::uint64_t, std::chrono::steady_clock::time_point> settling_;
@@ -365,6 +377,10 @@ private:
     std::size_t rebuild_coarse_levels(const std::vector<std::uint64_t>& ids);
     // Coarse mode: the largest distance from sampled vertices of the group's tiles to `level`, m.
     double coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const;
+    // Coarse-first start-up, for a group deeper than the finest coarse depth whose tiles are not all in: the largest
+    // distance from sampled vertices of the finest depth's levels under it (their own triangles) to `level`, plus
+    // those levels' start-up estimate, m; nullopt while one of them waits for its level.
+    std::optional<double> coarse_level_estimate(const TileGroupSurface& group, const TileLodLevel& level) const;
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
@@ -397,6 +413,8 @@ private:
     bool tile_levels() const { return !coarse_ || coarse_->min_depth() > 1; }
     bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;
+    std::unordered_set<std::uint64_t> estimated_;  // provisional levels whose estimate the finest levels raised
+    std::unordered_map<std::uint64_t, double> dropped_error_;  // provisional levels dropped by a change: their error, m
     bool startup_groups_ = false;
     bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure
     std::vector<std::uint64_t> deferred_;  // arrived tiles whose level jobs wait until no tile is expected

@@ -346,6 +346,56 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
     EXPECT_LT(waiting(s.cache, depth, 2).size(), near.size()) << "no level within the stroke's reach was rebuilt";
 }
 
+// A caller whose frames hold no stroke's samples (a cluster render rank, TileSurfaceCache::build_away_from_changes)
+// builds the waiting levels of start-up's finer depths out of a change's reach while tiles keep changing in every
+// refresh; by default they wait until no tile has changed for the worker's group_settle_s. Those within reach wait
+// either way.
+TEST(CoarseFirst, LevelsAwayFromChangesAreBuiltWhileTilesKeepChangingWhenAsked) {
+    const int depth = TileSurfaceCache::kDeferredCoarseDepth - 1;
+    for (const bool away : {false, true}) {
+        CoarseFirst s(two_spheres(), to_stroke_depth());
+        // The fixture has refreshed once: a second cache, as the fixture's, with a worker whose groups never settle.
+        TileSurfaceCache cache;
+        TileLodOptions o;
+        o.cell_m = s.model.lattice.cell_m;
+        cache.enable_lod(o);
+        cache.use_coarse_groups(s.model, to_stroke_depth(), true);
+        cache.expect_tiles(s.refiner->pending_tiles());
+        LodWorkerOptions w;
+        w.lod = o;
+        w.threads = 1;
+        w.group_settle_s = 10.0;  // the most it takes: longer than the test
+        cache.build_lods_in_background(w);
+        cache.build_away_from_changes(away);
+        cache.refresh(StartupRefiner::Source(s.contourer, *s.refiner));
+        while (cache.build_coarse_depth()) {
+        }
+        const std::vector<std::uint64_t> far = waiting(cache, depth, 0), near = waiting(cache, depth, 5);
+        ASSERT_FALSE(far.empty());
+        ASSERT_FALSE(near.empty());
+        for (int i = 0; i < 6; ++i) {  // the second sphere cut a little deeper in every refresh
+            const Lattice& L = s.model.lattice;
+            const Vec3 c = kCentre + Vec3(256.0 + kRadius - i, 0.0, 0.0);
+            subtract_capsule(s.model, Segment{L.to_world(c - Vec3(0.0, 8.0, 0.0)), L.to_world(c + Vec3(0.0, 8.0, 0.0))},
+                             4.0 * L.cell_m);
+            const std::vector<std::uint32_t> d = s.model.tiles.dirty_tiles();
+            const std::vector<std::uint64_t> dirty(d.begin(), d.end());
+            cache.stop_expecting(s.refiner->pending_among(dirty));
+            s.refiner->contour_with_change(s.model, dirty);
+            s.contourer.update(s.model);
+            cache.arrive(s.refiner->take_newly_publishable());
+            cache.refresh(StartupRefiner::Source(s.contourer, *s.refiner));
+            for (int k = 0; k < 20; ++k) cache.collect_lods();
+        }
+        if (away) {
+            EXPECT_TRUE(waiting(cache, depth, 0).empty()) << "a level out of the changes' reach waited for them to settle";
+        } else {
+            EXPECT_EQ(waiting(cache, depth, 0), far) << "a level was built before the changes settled";
+        }
+        EXPECT_FALSE(waiting(cache, depth, 5).empty()) << "every level within the changes' reach was built";
+    }
+}
+
 // A change outside a stroke (an undo's) re-reads the coarsest model at once and the finer ones once it settles. A
 // stroke that starts before then rebuilds its depth's levels from a model that holds that change too.
 TEST(CoarseFirst, AStrokeBeforeAChangeSettledDrawsThatChangeToo) {
