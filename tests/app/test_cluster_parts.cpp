@@ -257,6 +257,7 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
     EXPECT_EQ(c.ranks[1].viewports[0].stereo, renderer::StereoOutput::kMono);
     EXPECT_EQ(c.ranks[0].viewports[1].width_px, 64);
     EXPECT_EQ(c.lod, "on") << "levels of detail on the render ranks by default";
+    EXPECT_EQ(c.startup, "coarse") << "render ranks start coarse first by default, as run --startup";
 
     const auto error_of = [&](const std::string& text) {
         try {
@@ -275,6 +276,10 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
                   .find("'lod': must be on, off, coarse or simplified, got \"fine\""),
               std::string::npos)
         << error_of(R"({"lod": "fine", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
+    EXPECT_NE(error_of(R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})")
+                  .find("'startup': must be coarse or full, got 'lazy'"),
+              std::string::npos)
+        << error_of(R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a"}]}]})").find("either 'region' or 'corners'"),
               std::string::npos);
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1], "colour": 1}]}]})")

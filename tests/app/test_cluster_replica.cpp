@@ -177,6 +177,147 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
     EXPECT_LE((cmp.pixels - cmp.within) * 100, cmp.pixels) << cmp.max_channel_diff;
 }
 
+// A coarse-first replica (the config's "startup": "coarse") contours no tile before its first view, which draws the
+// coarsest group levels. Drawn frame by frame with the groups each frame wants finer handed back (as a render rank
+// does):
+// - the bunny at four times its size, after 60 frames of a stroke at its tail that changes tiles in every frame and
+//   then until five frames in a row want no detail and no coarse level waits: only the stroke's tiles are
+//   contoured, and the picture is as close to a replica that contoured everything without
+//   levels as one that did so with levels (at most 1.5 times its pixels more than 24 levels off, plus 20): the
+//   start-up error estimates see the thin ears the coarser strides miss;
+// - at 24 times its size (up close), until five frames in a row want no detail and no coarse level waits: the frames
+//   want tiles, which are contoured, and the pictures agree within the previous test's tolerance;
+// and finishing its start-up gives the whole replica's contour bit for bit.
+TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFramesWant) {
+    SessionSpec spec = RunScene::default_spec();
+    spec.mesh_path = default_mesh_path();
+    spec.resolution = 128;
+    const std::string json = spec_to_json(spec);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), lod(json, lod_choice("coarse")), full(json);
+    ASSERT_TRUE(coarse.started_coarse());
+    EXPECT_FALSE(lod.started_coarse());
+    EXPECT_EQ(coarse.tiles_contoured(), 0u);
+    const std::size_t at_start = coarse.startup_pending();
+    EXPECT_GT(at_start, 0u);
+
+    FrameMessage m;
+    m.head = Pose{Vec3(0.0, 1.74, 3.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    m.nav_pose = Pose{Vec3(0.0, 1.74, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    m.show_tool = false;
+    ClusterViewport wall;
+    wall.name = "wall";
+    wall.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
+    wall.width_px = 320;
+    wall.height_px = 240;
+    gpu::ContextOptions gopt;
+    gopt.validation = true;
+    gpu::Context ctx = gpu::Context::create(gopt);
+    auto rend = renderer::OffscreenStereoRenderer::create(ctx, wall.width_px, wall.height_px);
+    renderer::OffscreenSink sink(ctx, renderer::SinkOptions{renderer::StereoOutput::kMono, false,
+                                                            renderer::AnaglyphMethod::kDubois, 60.0});
+    const auto draw = [&](const ClusterReplica& r) -> const renderer::FrameStats& {
+        (void)sink.draw(rend, r.view(m), ClusterReplica::camera(wall, m));
+        (void)sink.present(rend);
+        return rend.last_frame_stats();
+    };
+    const auto picture = [&](const ClusterReplica& r, const std::string& name) {
+        (void)draw(r);
+        const fs::path dir = fs::path(testing::TempDir()) / ("tridex_replica_" + name);
+        fs::create_directories(dir);
+        (void)sink.finish(rend, dir.string());
+        return renderer::read_png((dir / "left.png").string());
+    };
+    const auto off = [](const renderer::Image& a, const renderer::Image& b) {
+        const renderer::ImageComparison c = renderer::compare_images(a, b, 24);
+        return c.pixels - c.within;
+    };
+    // Frames, each wanting detail handed back, until five in a row want none and no coarse level waits (at most
+    // 60 s); how many frames.
+    const auto settle = [&] {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        int frames = 0;
+        for (int quiet = 0; quiet < 5 && std::chrono::steady_clock::now() < until; ++frames) {
+            const renderer::FrameStats& st = draw(coarse);
+            quiet = st.groups_wanting_detail.empty() && coarse.coarse_levels_waiting() == 0 ? quiet + 1 : 0;
+            coarse.want_detail(st.groups_wanting_detail);
+            coarse.contour();
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        return frames;
+    };
+    // The replica with levels from its whole contour: contoured until the worker's levels and its coarse levels are
+    // in (at most 60 s).
+    const auto settle_levels = [](ClusterReplica& r) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        do {
+            r.contour();
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        } while ((r.lod_pending() > 0 || r.coarse_levels_waiting() > 0) && std::chrono::steady_clock::now() < until);
+        ASSERT_EQ(r.lod_pending(), 0u) << "the levels never arrived";
+    };
+    settle_levels(lod);
+
+    m.nav_scale = 24.0;
+    EXPECT_GT(draw(coarse).groups_wanting_detail.size(), 0u) << "the coarsest levels up close are over the pixel bound";
+    m.nav_scale = 4.0;
+    // A stroke at the bunny's tail, a few samples a frame for 60 frames, so that tiles change in every frame.
+    for (int i = 0; i < 60; ++i) {
+        FrameMessage step;
+        compute::JournalRecord r;
+        r.kind = compute::JournalKind::kBatch;
+        for (int k = 0; k < 3; ++k) {
+            ToolSample sample;
+            sample.t_s = (3 * i + k) * 1e-3;
+            sample.position = Vec3(-0.07 + 0.02 * (3 * i + k) / 180.0, 0.0, 0.05);
+            sample.tool.radius_m = 0.006;
+            sample.op = ToolOp::kSubtract;
+            r.samples.push_back(sample);
+        }
+        step.records.push_back(r);
+        coarse.apply(step);
+        full.apply(step);
+        lod.apply(step);
+        const renderer::FrameStats& st = draw(coarse);
+        coarse.want_detail(st.groups_wanting_detail);
+        coarse.contour();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ASSERT_EQ(coarse.digest(), full.digest());
+    full.contour();
+    settle_levels(lod);
+    const int far_frames = settle();
+    const std::size_t far_pending = coarse.startup_pending();
+    const renderer::Image far_full = picture(full, "far_whole");
+    const std::size_t far_off = off(picture(coarse, "far_coarse_first"), far_full);
+    const std::size_t far_lod_off = off(picture(lod, "far_levels"), far_full);
+    m.nav_scale = 24.0;
+    const int near_frames = settle();
+    const std::size_t near_pending = coarse.startup_pending();
+    std::printf("[cluster replica coarse first] tiles waiting: %zu at start, %zu after a stroke and %d frames at 4 "
+                "times the size (%zu pixels over 24 levels off, levels from the whole contour %zu), %zu after %d frames "
+                "at 24 times\n", at_start, far_pending, far_frames, far_off, far_lod_off, near_pending, near_frames);
+    EXPECT_GT(far_pending, 0u) << "the stroke's tiles came with it, the rest waits";
+    EXPECT_LE(far_off, far_lod_off * 3 / 2 + 20);
+    EXPECT_GT(far_pending, near_pending);
+    EXPECT_LT(far_frames, 3000) << "at four times the size the frames never stopped wanting detail";
+    EXPECT_LT(near_frames, 3000) << "up close the frames never stopped wanting detail";
+    EXPECT_EQ(draw(coarse).groups_wanting_detail.size(), 0u);
+
+    (void)settle();
+    EXPECT_EQ(draw(coarse).groups_wanting_detail.size(), 0u);
+    const std::size_t near_off = off(picture(coarse, "near_coarse_first"), picture(full, "near_whole"));
+    EXPECT_EQ(ctx.validation_messages(), 0u);
+    std::printf("[cluster replica coarse first] up close, carved: %zu of %d pixels over 24 levels off\n", near_off,
+                wall.width_px * wall.height_px);
+    EXPECT_LE(near_off * 100, static_cast<std::size_t>(wall.width_px * wall.height_px));
+
+    coarse.finish_startup();
+    EXPECT_EQ(coarse.startup_pending(), 0u);
+    const TriMesh a = coarse.contourer().mesh(), b = full.contourer().mesh();
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.triangles, b.triangles);
+}
+
 }  // namespace
 }  // namespace tridex::app
 

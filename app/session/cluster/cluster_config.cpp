@@ -145,6 +145,9 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     } catch (const Error& e) {
         f.fail(f.path("lod"), e.what());
     }
+    c.startup = f.text("startup", c.startup);
+    if (c.startup != "coarse" && c.startup != "full")
+        f.fail(f.path("startup"), "must be coarse or full, got '" + c.startup + "'");
     c.key_file = f.text("key_file", "");
     if (!c.key_file.empty() && std::filesystem::path(c.key_file).is_relative())
         c.key_file = (std::filesystem::path(source).parent_path() / c.key_file).string();

@@ -3,13 +3,17 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 #include "app/scene/session_spec.hpp"
 #include "app/session/view/run_view.hpp"
 #include "compute/contour/lod_worker.hpp"
+#include "compute/contour/refine_wanted.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "compute/model/model_digest.hpp"
 #include "core/error.hpp"
 #include "renderer/camera/off_axis.hpp"
@@ -17,7 +21,8 @@
 
 namespace tridex::app {
 
-ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod, const HelloMessage* late)
+ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod, const HelloMessage* late,
+                               bool coarse_first)
     : lod_(lod.on) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
@@ -40,11 +45,21 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         if (o.coarse_groups_from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= o.coarse_groups_from_cells) {
             compute::CoarseLevelOptions levels;
             levels.max_depth = o.coarse_max_depth;
-            tiles_.use_coarse_groups(wp_.model, levels);
+            tiles_.use_coarse_groups(wp_.model, levels, coarse_first);
+            // The records change tiles in every frame of a stroke; no frame here holds its samples.
+            tiles_.build_away_from_changes(true);
+            if (coarse_first) {  // as SculptThread::arm_tile_lod: regions of up to 8x8x8 tiles, nearest the middle first
+                const compute::Lattice& l = wp_.model.lattice;
+                const Vec3 middle = l.to_world(Vec3(cells[0], cells[1], cells[2]) * 0.5);
+                refiner_ = std::make_unique<compute::StartupRefiner>(wp_.model, std::min(levels.max_depth, 3), middle);
+                tiles_.expect_tiles(refiner_->pending_tiles());
+                o.startup_nice = o.nice;  // the groups stand in for the tiles' own levels; the tiles come first
+                started_coarse_ = true;
+            }
         }
         tiles_.build_lods_in_background(o);
     }
-    contour();
+    update({}, false);
 }
 
 ClusterReplica::~ClusterReplica() = default;
@@ -65,6 +80,9 @@ std::optional<std::uint64_t> ClusterReplica::apply(const FrameMessage& m) {
 }
 
 namespace {
+
+// The depth of the tile blocks a wanted group is contoured by (4x4x4 tiles), as on the desk.
+constexpr int kRefineBlockDepth = 2;
 
 // Which tiles `frusta` may see: each tile's lattice box grown by one cell (a tile's surface lies within its cells and
 // the vertices it borrows from its neighbours within one cell of it).
@@ -130,19 +148,85 @@ std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::
 
 }  // namespace
 
-void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) {
+void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update(frusta, true); }
+
+void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refine) {
     compute::TileGrid& g = wp_.model.tiles;
-    // Changed tiles no view needs yet: unmarked for this update, marked again after it.
+    if (refiner_) {  // a change to tiles start-up has not contoured: those of the depth-1 groups it reaches come with it
+        const std::vector<std::uint32_t> d = g.dirty_tiles();
+        const std::vector<std::uint64_t> dirty(d.begin(), d.end());
+        tiles_.stop_expecting(refiner_->pending_among(dirty));
+        startup_refined_ += refiner_->contour_with_change(wp_.model, dirty);
+    }
+    // Changed tiles no view needs yet: unmarked for this update (and start-up's slice), marked again after it.
     std::vector<std::uint32_t> wait;
     if (!frusta.empty()) wait = waiting_tiles(g, visible_tiles(wp_.model, frusta));
     for (const std::uint32_t t : wait) g.dirty[t] = 0;
     contoured_ += contourer_->update(wp_.model);
+    if (refiner_ && refine) refine_startup();
     for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
     deferred_ = wait.size();
-    tiles_.refresh(*contourer_);
+    refresh_tiles();
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
 }
+
+void ClusterReplica::refine_startup() {
+    // One finer coarse depth first: frames draw its groups' levels where they need more than the coarsest.
+    if (tiles_.build_coarse_depth()) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    bool begun = false;
+    const auto in_slice = [&] {
+        const bool first = !std::exchange(begun, true);
+        return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
+    };
+    const compute::WantedRefined n = compute::refine_wanted_groups(wanted_, tiles_.groups(), wp_.model, *contourer_,
+                                                                   refiner_.get(), nullptr, kRefineBlockDepth, in_slice);
+    wanted_.clear();
+    startup_refined_ += n.startup;
+    contoured_ += n.startup;
+}
+
+void ClusterReplica::refresh_tiles() {
+    if (!refiner_) {
+        tiles_.refresh(*contourer_);
+        return;
+    }
+    // A tile arrives once it and its neighbours are contoured; one start-up counted but a view left waiting (dirty)
+    // arrives when it is contoured, so that the groups over it stand in until then.
+    const std::vector<std::uint64_t> fresh = refiner_->take_newly_publishable();
+    held_.insert(held_.end(), fresh.begin(), fresh.end());
+    std::vector<std::uint64_t> arrivals, still;
+    for (const std::uint64_t t : held_) (wp_.model.tiles.dirty[t] ? still : arrivals).push_back(t);
+    std::sort(arrivals.begin(), arrivals.end());
+    held_ = std::move(still);
+    tiles_.arrive(arrivals);
+    tiles_.refresh(compute::StartupRefiner::Source(*contourer_, *refiner_));
+    if (refiner_->done() && held_.empty()) refiner_.reset();  // every tile is in
+}
+
+void ClusterReplica::want_detail(std::span<const std::uint64_t> group_ids) {
+    if (!refiner_) return;
+    std::vector<std::uint64_t> ids(group_ids.begin(), group_ids.end());
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    compute::merge_ids(wanted_, ids);
+}
+
+void ClusterReplica::finish_startup() {
+    if (!refiner_) return;
+    contoured_ += contourer_->update(wp_.model);  // the changed tiles waiting for a view too
+    deferred_ = 0;
+    const std::size_t n = refiner_->finish(wp_.model, *contourer_);
+    startup_refined_ += n;
+    contoured_ += n;
+    wanted_.clear();
+    refresh_tiles();
+    if (lod_) tiles_.collect_lods();
+    tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
+}
+
+std::size_t ClusterReplica::startup_pending() const { return refiner_ ? refiner_->pending() : 0; }
 
 std::size_t ClusterReplica::lod_pending() const { return lod_ ? tiles_.startup_lod_pending() : 0; }
 

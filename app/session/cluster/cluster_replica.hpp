@@ -15,6 +15,7 @@
 #include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/startup_refine.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
 #include "renderer/scene/tile_culling.hpp"
@@ -34,7 +35,13 @@ public:
     /// `late`: the render rank joined a running wall (a hello with HelloMessage::first_record and the history): the
     /// spec's model is the one it joined with, the undo history and each site's sweeps start from the hello's, and
     /// the first record applied is first_record. Throws tridex::Error as well for malformed history bytes.
-    explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {}, const HelloMessage* late = nullptr);
+    /// `coarse_first` (a cluster config's "startup" "coarse"), where the groups take coarse levels (lod.on and the
+    /// model has lod.coarse_groups_from_cells cells or more): no tile is contoured here; the first view draws the
+    /// coarsest group levels, and each contour() after it reads one finer coarse depth or contours the tiles under
+    /// the groups the frames want finer (want_detail), as the desk's start-up does (docs/design/lod.md, "Coarse first
+    /// at start-up"). Ignored where coarse groups do not apply.
+    explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {}, const HelloMessage* late = nullptr,
+                            bool coarse_first = false);
     ~ClusterReplica();
 
     /// The model's digest (compute::model_digest).
@@ -50,7 +57,30 @@ public:
     /// changed tile. The tiles drawn by view(); with levels of detail, the levels the worker finished are taken in
     /// first (the groups' coarse levels are rebuilt once their tiles settle). Throws tridex::Error when a frustum's box
     /// test does.
+    /// During a coarse-first start-up, first: a change's tiles not contoured yet are contoured with the tiles of the
+    /// depth-1 groups it reaches (compute::StartupRefiner::contour_with_change, drawn at full resolution); then, for up
+    /// to kStartupSliceS (at least one unit of work), one finer coarse depth is read, or, once every depth is, the
+    /// tiles under the groups want_detail() named are contoured, finest group first, a block of 4x4x4 tiles at a
+    /// time. A tile arrives (the groups over it stop standing in) once it and its neighbours are contoured.
     void contour(std::span<const renderer::Frustum> frusta = {});
+    /// Coarse-first start-up: the groups the last frames drew over their pixel bound because no finer level or
+    /// tile could stand in yet (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the
+    /// next contour() refines (which then forgets them: frames name them again). Nothing outside a start-up.
+    void want_detail(std::span<const std::uint64_t> group_ids);
+    /// Coarse-first start-up: contours every tile it has left (and the changed tiles waiting for a view). Nothing
+    /// outside one. The contour then equals, bit for bit, that of a replica that contoured everything at once.
+    void finish_startup();
+    /// Groups waiting for their coarse level (a coarse-first start-up's finer depths, a stroke's; 0 without coarse
+    /// groups).
+    std::size_t coarse_levels_waiting() const { return tiles_.coarse_waiting(); }
+    /// Tiles a coarse-first start-up has not contoured yet (0 outside one, and once it is done).
+    std::size_t startup_pending() const;
+    /// Tiles a coarse-first start-up has contoured so far (on demand, with changes, or by finish_startup).
+    std::uint64_t startup_tiles_refined() const { return startup_refined_; }
+    /// True when this replica started coarse first (coarse_first and coarse groups apply).
+    bool started_coarse() const { return started_coarse_; }
+    /// The most time one contour() spends on start-up's refinement beyond its first unit of work, s.
+    static constexpr double kStartupSliceS = 0.03;
     /// Changed tiles the last contour() left for a later view (0 after one without frusta).
     std::size_t tiles_deferred() const { return deferred_; }
     /// Tiles contoured by every contour() so far (the first, at construction, included).
@@ -77,6 +107,9 @@ public:
 
 private:
     void load_references(const SessionSpec& spec);
+    void update(std::span<const renderer::Frustum> frusta, bool refine);  // contour(); without start-up's slice
+    void refine_startup();  // contour()'s start-up slice (the model's dirty flags clear)
+    void refresh_tiles();   // the tile cache from the contour, seen through start-up's refinement while it runs
 
     Workpiece wp_;
     std::unique_ptr<compute::JournalApplier> applier_;
@@ -87,6 +120,11 @@ private:
     std::vector<TriMesh> reference_meshes_;                  // the session's reference objects, own frames
     std::vector<renderer::SceneObject> reference_objects_;   // ... placed by their poses, drawn by view()
     std::vector<std::string> reference_notes_;               // references not drawn here, and why
+    std::unique_ptr<compute::StartupRefiner> refiner_;  // a coarse-first start-up while it runs
+    std::vector<std::uint64_t> wanted_;                // groups the frames want finer (want_detail), ascending
+    std::vector<std::uint64_t> held_;                  // tiles publishable but left dirty for a later view
+    bool started_coarse_ = false;
+    std::uint64_t startup_refined_ = 0;
     std::size_t deferred_ = 0;
     std::uint64_t contoured_ = 0;
 };

@@ -146,7 +146,7 @@ private:
             spec_json = spec_to_json(spec);
         }
         const bool late = hello.first_record > 0 || !hello.history.empty();  // it joined a running wall
-        replica_.emplace(spec_json, lod_choice(c_.lod), late ? &hello : nullptr);
+        replica_.emplace(spec_json, lod_choice(c_.lod), late ? &hello : nullptr, c_.startup == "coarse");
         first_record_ = hello.first_record;
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
@@ -243,7 +243,12 @@ private:
             if (vp->window) vp->window->poll_events();
             vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
         }
+        // A coarse-first start-up contours next where these frames drew a group over its pixel bound.
+        if (replica_->startup_pending() > 0)
+            for (const std::unique_ptr<Viewport>& vp : viewports_)
+                replica_->want_detail(vp->rend->last_frame_stats().groups_wanting_detail);
         a.draw_ms = ms_since(t0);
+        if (frames_ == 0) first_frame_ms_ = load_ms_ + a.draw_ms;
         draw_ms_.add(a.draw_ms);
         t_.send(0, encode_answer(a));
         const std::uint64_t go = decode_go(wait_for_rank0(c_.timeout_s, "go"), "rank 0's go");
@@ -287,6 +292,10 @@ private:
                                        {"other_sites_last_frame", others_},
                                        {"lod", c_.lod},
                                        {"lod_pending_at_end", replica_->lod_pending()},
+                                       {"startup", replica_->started_coarse() ? "coarse" : "full"},
+                                       {"startup_tiles_refined", replica_->startup_tiles_refined()},
+                                       {"startup_pending_at_end", replica_->startup_pending()},
+                                       {"first_frame_ms", first_frame_ms_},
                                        {"tile_triangles_last_frame", triangles},
                                        {"draw_ms", summary_report_json(draw_ms_)},
                                        {"validation_messages", ctx_->validation_messages()},
@@ -314,6 +323,7 @@ private:
     std::optional<gpu::Context> ctx_;
     std::vector<std::unique_ptr<Viewport>> viewports_;  // after ctx_: destroyed before it
     double last_present_s_ = 0.0, load_ms_ = 0.0;
+    double first_frame_ms_ = 0.0;  // the replica built, then the first frame contoured and drawn (no waits), ms
     std::uint64_t first_record_ = 0;  // the stream's record this rank started from (> 0: it joined a running wall)
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
