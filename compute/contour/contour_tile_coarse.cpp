@@ -208,12 +208,16 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     }
     // Coarsest depth first: a frame descends from a group to its children only once none of their levels waits
     // (renderer::groups_standing_in), so the view refines a depth at a time.
-    // Not settled (build_away_from_changes): only groups out of reach of the changed tiles, not re-read yet.
-    std::unordered_set<std::uint64_t> reach;
-    if (!settled) reach = coarse_reach(coarse_dims_, coarse_changed_);
+    // Not settled (build_away_from_changes): only groups out of reach of the changed tiles, not re-read yet; their
+    // reach is found again only after a change.
+    if (!settled && (away_reach_at_ != coarse_changed_at_ || away_reach_tiles_ != coarse_changed_.size())) {
+        away_reach_ = coarse_reach(coarse_dims_, coarse_changed_);
+        away_reach_at_ = coarse_changed_at_;
+        away_reach_tiles_ = coarse_changed_.size();
+    }
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
     for (const std::uint64_t id : coarse_stale_)
-        if (coarse_->has_depth(tile_group_depth(id)) && reach.count(id) == 0) ids.push_back(id);
+        if (coarse_->has_depth(tile_group_depth(id)) && (settled || away_reach_.count(id) == 0)) ids.push_back(id);
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end(), [](std::uint64_t a, std::uint64_t b) {
         const int da = tile_group_depth(a), db = tile_group_depth(b);
@@ -252,7 +256,11 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     for (const std::uint64_t id : ids) {
         coarse_stale_.erase(id);
         const std::size_t g = index_of(groups_, id);
-        if (g == groups_.size()) continue;  // gone
+        if (g == groups_.size()) {  // gone
+            estimated_.erase(id);
+            dropped_error_.erase(id);
+            continue;
+        }
         groups.push_back(&groups_[g]);
         where.emplace_back(groups_[g].depth, groups_[g].coords);
     }
@@ -339,6 +347,7 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
     const int finest = coarse_->min_depth();
     // The finest depth's groups under this one, through the groups' children.
     std::vector<const TileGroupSurface*> under, walk{&group};
+    double under_error = 0.0;  // the finest levels' own error (measured, or their start-up estimate)
     while (!walk.empty()) {
         const TileGroupSurface* g = walk.back();
         walk.pop_back();
@@ -363,6 +372,7 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
     std::size_t k = 0;
     for (const TileGroupSurface* g : under) {
         if (g->lods.empty() || g->lods.front().own_triangles == 0) continue;
+        under_error = std::max(under_error, g->lods.front().error_m);
         const TriMesh& m = g->lods.front().mesh;
         const Vec3& p0 = m.positions[m.triangles.front()[0]];
         std::array<Vec3, 6> extreme{p0, p0, p0, p0, p0, p0};
@@ -377,7 +387,7 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
             }
         for (const Vec3& p : extreme) worst = std::max(worst, grid.distance(p, worst));
     }
-    return worst + kStartupErrorCoarseCells * lod_options_.cell_m * (1 << finest);
+    return worst + std::max(under_error, kStartupErrorCoarseCells * lod_options_.cell_m * (1 << finest));
 }
 
 }  // namespace tridex::compute

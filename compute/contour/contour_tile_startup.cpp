@@ -99,7 +99,7 @@ bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup
 void TileSurfaceCache::update_startup_groups() {
     const std::vector<bool> refined = groups_refined();
     bool open = !expected_.empty();
-    std::size_t measured = 0, estimated = 0;
+    std::size_t measured = 0, estimated = 0, tried = 0;
     remeasure_more_ = false;
     for (std::size_t g = 0; g < groups_.size(); ++g) {  // children before their parents
         TileGroupSurface& group = groups_[g];
@@ -138,11 +138,14 @@ void TileSurfaceCache::update_startup_groups() {
         }
         // A deeper level built before its tiles: its estimate raised to how far the finest coarse depth's levels
         // under it lie from it, once they are read (a thin feature its stride missed shows there first).
+        // Only while start-up's tiles are expected under it: a stroke's deferred group is measured against the tiles
+        // in (rebuild_coarse_levels). Each try walks the group's finest levels, so a pass tries a bounded number.
         if (!refined[g] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
-            estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty()) {
-            if (estimated == kStartupEstimatesPerPass) {
+            estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty() &&
+            !group_refined(group, true)) {
+            if (estimated == kStartupEstimatesPerPass || tried == 4 * kStartupEstimatesPerPass) {
                 remeasure_more_ = true;
-            } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
+            } else if (const std::optional<double> e = (++tried, coarse_level_estimate(group, group.lods.front()))) {
                 ++estimated;
                 estimated_.insert(group.id);
                 if (*e > group.lods.front().error_m) {

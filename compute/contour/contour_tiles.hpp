@@ -345,6 +345,11 @@ private:
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
     bool build_away_ = false;                             // build_away_from_changes
+    // build_away_from_changes: the groups within reach of coarse_changed_, as found after the change at away_reach_at_
+    // when it held away_reach_tiles_ tiles.
+    std::unordered_set<std::uint64_t> away_reach_;
+    std::chrono::steady_clock::time_point away_reach_at_{};
+    std::size_t away_reach_tiles_ = 0;
     std::chrono::steady_clock::duration tile_settle_{};   // LodWorkerOptions::tile_settle_s
     // A stroke's tiles whose jobs wait for them to settle: tile id -> when it last changed.
     std::unordered_map<std::uint64_t, std::chrono::steady_clock::time_point> settling_;
@@ -379,7 +384,8 @@ private:
     double coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const;
     // Coarse-first start-up, for a group deeper than the finest coarse depth whose tiles are not all in: the largest
     // distance from sampled vertices of the finest depth's levels under it (their own triangles) to `level`, plus
-    // those levels' start-up estimate, m; nullopt while one of them waits for its level.
+    // the largest of those levels' own errors (at least their start-up estimate), m; nullopt while one of them waits
+    // for its level.
     std::optional<double> coarse_level_estimate(const TileGroupSurface& group, const TileLodLevel& level) const;
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
@@ -413,7 +419,7 @@ private:
     bool tile_levels() const { return !coarse_ || coarse_->min_depth() > 1; }
     bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;
-    std::unordered_set<std::uint64_t> estimated_;  // provisional levels whose estimate the finest levels raised
+    std::unordered_set<std::uint64_t> estimated_;  // provisional levels estimated from the finest levels under them
     std::unordered_map<std::uint64_t, double> dropped_error_;  // provisional levels dropped by a change: their error, m
     bool startup_groups_ = false;
     bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure

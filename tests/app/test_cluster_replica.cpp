@@ -177,6 +177,44 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
     EXPECT_LE((cmp.pixels - cmp.within) * 100, cmp.pixels) << cmp.max_channel_diff;
 }
 
+// A coarse-first replica given a view of the left end: the left groove is contoured with the start-up tiles of the
+// depth-1 groups it reaches; the right one, which no view needs, waits, and so do start-up's tiles beside it, frame
+// after frame (they neither spread nor arrive before they are contoured). A view of everything contours it, and
+// finishing the start-up gives the contour of a replica that contoured everything at once, bit for bit.
+TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTilesBesideIt) {
+    SessionSpec spec = RunScene::default_spec();
+    spec.mesh_path = default_mesh_path();
+    spec.resolution = 256;  // the grooves' depth-1 groups and their neighbours lie apart
+    const std::string json = spec_to_json(spec);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), full(json);
+    const std::size_t at_start = coarse.startup_pending();
+    const FrameMessage m = two_grooves();
+    coarse.apply(m);
+    full.apply(m);
+    full.contour();
+    const renderer::Frustum frusta[] = {left_end()};
+    coarse.contour(frusta);
+    const std::size_t pending = coarse.startup_pending(), deferred = coarse.tiles_deferred();
+    std::printf("[cluster replica coarse first] a view of the left end: %zu of %zu start-up tiles contoured, %zu changed "
+                "tiles wait\n", at_start - pending, at_start, deferred);
+    EXPECT_GT(deferred, 0u);
+    EXPECT_LT(pending, at_start);
+    EXPECT_GT(pending, 0u);
+    for (int i = 0; i < 5; ++i) {
+        coarse.contour(frusta);
+        EXPECT_EQ(coarse.startup_pending(), pending) << "frame " << i << ": start-up's tiles spread from a waiting change";
+        EXPECT_EQ(coarse.tiles_deferred(), deferred);
+    }
+    coarse.contour();
+    EXPECT_EQ(coarse.tiles_deferred(), 0u);
+    EXPECT_LT(coarse.startup_pending(), pending) << "the right groove brought no start-up tile";
+    coarse.finish_startup();
+    EXPECT_EQ(coarse.startup_pending(), 0u);
+    const TriMesh a = coarse.contourer().mesh(), b = full.contourer().mesh();
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.triangles, b.triangles);
+}
+
 // A coarse-first replica (the config's "startup": "coarse") contours no tile before its first view, which draws the
 // coarsest group levels. Drawn frame by frame with the groups each frame wants finer handed back (as a render rank
 // does):

@@ -48,7 +48,7 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
             tiles_.use_coarse_groups(wp_.model, levels, coarse_first);
             // The records change tiles in every frame of a stroke; no frame here holds its samples.
             tiles_.build_away_from_changes(true);
-            if (coarse_first) {  // as SculptThread::arm_tile_lod: regions of up to 8x8x8 tiles, nearest the middle first
+            if (coarse_first) {  // as SculptThread::arm_tile_lod; only the groups frames want are refined (no regions)
                 const compute::Lattice& l = wp_.model.lattice;
                 const Vec3 middle = l.to_world(Vec3(cells[0], cells[1], cells[2]) * 0.5);
                 refiner_ = std::make_unique<compute::StartupRefiner>(wp_.model, std::min(levels.max_depth, 3), middle);
@@ -152,18 +152,32 @@ void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update
 
 void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refine) {
     compute::TileGrid& g = wp_.model.tiles;
-    if (refiner_) {  // a change to tiles start-up has not contoured: those of the depth-1 groups it reaches come with it
-        const std::vector<std::uint32_t> d = g.dirty_tiles();
-        const std::vector<std::uint64_t> dirty(d.begin(), d.end());
-        tiles_.stop_expecting(refiner_->pending_among(dirty));
-        startup_refined_ += refiner_->contour_with_change(wp_.model, dirty);
-    }
-    // Changed tiles no view needs yet: unmarked for this update (and start-up's slice), marked again after it.
+    const std::vector<std::uint8_t> visible = frusta.empty() ? std::vector<std::uint8_t>{} : visible_tiles(wp_.model, frusta);
+    // Changed tiles no view needs yet wait; those contoured now that start-up has not contoured bring the start-up
+    // tiles of the depth-1 groups they reach (StartupRefiner::contour_with_change), which may join a waiting group of
+    // changed tiles to them: then it is contoured now too. Start-up's tiles in a group that waits stay start-up's.
     std::vector<std::uint32_t> wait;
-    if (!frusta.empty()) wait = waiting_tiles(g, visible_tiles(wp_.model, frusta));
+    std::vector<std::uint8_t> handled(refiner_ ? g.count() : 0, 0);
+    for (;;) {
+        wait = frusta.empty() ? std::vector<std::uint32_t>{} : waiting_tiles(g, visible);
+        if (!refiner_) break;
+        std::vector<std::uint8_t> waits(g.count(), 0);
+        for (const std::uint32_t t : wait) waits[t] = 1;
+        std::vector<std::uint64_t> now;
+        for (const std::uint32_t t : g.dirty_tiles())
+            if (!waits[t] && !handled[t]) now.push_back(t);
+        if (now.empty()) break;
+        const std::vector<std::uint8_t> before(g.dirty.begin(), g.dirty.end());
+        tiles_.stop_expecting(refiner_->pending_among(now));
+        startup_refined_ += refiner_->contour_with_change(wp_.model, now);
+        for (const std::uint64_t t : now) handled[t] = 1;
+        for (const std::uint32_t t : g.dirty_tiles())  // those it brought: never asked to bring more
+            if (before[t] == 0) handled[t] = 1;
+    }
+    // Waiting tiles are unmarked for this update (and start-up's slice), and marked again after it.
     for (const std::uint32_t t : wait) g.dirty[t] = 0;
     contoured_ += contourer_->update(wp_.model);
-    if (refiner_ && refine) refine_startup();
+    if (started_coarse_ && refine) refine_startup();
     for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
     deferred_ = wait.size();
     refresh_tiles();
@@ -172,17 +186,17 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
 }
 
 void ClusterReplica::refine_startup() {
+    const std::vector<std::uint64_t> wanted = std::exchange(wanted_, {});  // frames name them again
     // One finer coarse depth first: frames draw its groups' levels where they need more than the coarsest.
-    if (tiles_.build_coarse_depth()) return;
+    if (tiles_.build_coarse_depth() || !refiner_) return;
     const auto t0 = std::chrono::steady_clock::now();
     bool begun = false;
     const auto in_slice = [&] {
         const bool first = !std::exchange(begun, true);
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
-    const compute::WantedRefined n = compute::refine_wanted_groups(wanted_, tiles_.groups(), wp_.model, *contourer_,
-                                                                   refiner_.get(), nullptr, kRefineBlockDepth, in_slice);
-    wanted_.clear();
+    const compute::WantedRefined n = compute::refine_wanted_groups(
+        wanted, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), nullptr, kRefineBlockDepth, in_slice);
     startup_refined_ += n.startup;
     contoured_ += n.startup;
 }
@@ -192,17 +206,10 @@ void ClusterReplica::refresh_tiles() {
         tiles_.refresh(*contourer_);
         return;
     }
-    // A tile arrives once it and its neighbours are contoured; one start-up counted but a view left waiting (dirty)
-    // arrives when it is contoured, so that the groups over it stand in until then.
-    const std::vector<std::uint64_t> fresh = refiner_->take_newly_publishable();
-    held_.insert(held_.end(), fresh.begin(), fresh.end());
-    std::vector<std::uint64_t> arrivals, still;
-    for (const std::uint64_t t : held_) (wp_.model.tiles.dirty[t] ? still : arrivals).push_back(t);
-    std::sort(arrivals.begin(), arrivals.end());
-    held_ = std::move(still);
-    tiles_.arrive(arrivals);
+    // A tile arrives once it and its neighbours are contoured (start-up's tiles in a waiting group are not).
+    tiles_.arrive(refiner_->take_newly_publishable());
     tiles_.refresh(compute::StartupRefiner::Source(*contourer_, *refiner_));
-    if (refiner_->done() && held_.empty()) refiner_.reset();  // every tile is in
+    if (refiner_->done()) refiner_.reset();  // every tile is in
 }
 
 void ClusterReplica::want_detail(std::span<const std::uint64_t> group_ids) {
@@ -214,13 +221,17 @@ void ClusterReplica::want_detail(std::span<const std::uint64_t> group_ids) {
 }
 
 void ClusterReplica::finish_startup() {
-    if (!refiner_) return;
-    contoured_ += contourer_->update(wp_.model);  // the changed tiles waiting for a view too
-    deferred_ = 0;
-    const std::size_t n = refiner_->finish(wp_.model, *contourer_);
-    startup_refined_ += n;
-    contoured_ += n;
+    if (!started_coarse_) return;
+    while (tiles_.build_coarse_depth()) {  // every coarse depth, as a start-up that ran to its end reads them
+    }
     wanted_.clear();
+    if (refiner_) {
+        contoured_ += contourer_->update(wp_.model);  // the changed tiles waiting for a view too
+        deferred_ = 0;
+        const std::size_t n = refiner_->finish(wp_.model, *contourer_);
+        startup_refined_ += n;
+        contoured_ += n;
+    }
     refresh_tiles();
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);

@@ -55,20 +55,24 @@ public:
     /// box grown by a cell, renderer::may_be_visible); the other groups stay marked and wait for a view that needs
     /// them (neighbouring tiles share the vertices on their border, so a group is never split). No frusta: every
     /// changed tile. The tiles drawn by view(); with levels of detail, the levels the worker finished are taken in
-    /// first (the groups' coarse levels are rebuilt once their tiles settle). Throws tridex::Error when a frustum's box
-    /// test does.
-    /// During a coarse-first start-up, first: a change's tiles not contoured yet are contoured with the tiles of the
-    /// depth-1 groups it reaches (compute::StartupRefiner::contour_with_change, drawn at full resolution); then, for up
-    /// to kStartupSliceS (at least one unit of work), one finer coarse depth is read, or, once every depth is, the
-    /// tiles under the groups want_detail() named are contoured, finest group first, a block of 4x4x4 tiles at a
-    /// time. A tile arrives (the groups over it stop standing in) once it and its neighbours are contoured.
+    /// first, and the groups' coarse levels out of reach of the changes are rebuilt while tiles keep changing
+    /// (TileSurfaceCache::build_away_from_changes), those within reach once they settle. Throws tridex::Error when a
+    /// frustum's box test does.
+    /// During a coarse-first start-up, first: the changed tiles contoured now that start-up has not contoured bring
+    /// the start-up tiles of the depth-1 groups they reach (compute::StartupRefiner::contour_with_change, drawn at full
+    /// resolution; a waiting group those join is contoured now too), while start-up's tiles in a waiting group stay
+    /// start-up's; then one finer coarse depth is read, or, once every depth is, the tiles under the groups
+    /// want_detail() named are contoured, finest group first, a block of 4x4x4 tiles at a time, for up to
+    /// kStartupSliceS after the first block. A tile arrives (the groups over it stop standing in) once it and its
+    /// neighbours are contoured (StartupRefiner::publishable).
     void contour(std::span<const renderer::Frustum> frusta = {});
     /// Coarse-first start-up: the groups the last frames drew over their pixel bound because no finer level or
     /// tile could stand in yet (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the
     /// next contour() refines (which then forgets them: frames name them again). Nothing outside a start-up.
     void want_detail(std::span<const std::uint64_t> group_ids);
-    /// Coarse-first start-up: contours every tile it has left (and the changed tiles waiting for a view). Nothing
-    /// outside one. The contour then equals, bit for bit, that of a replica that contoured everything at once.
+    /// Coarse-first start-up: reads every coarse depth not read yet and contours every tile it has left (and the
+    /// changed tiles waiting for a view). Nothing outside one. The contour then equals, bit for bit, that of a replica
+    /// that contoured everything at once.
     void finish_startup();
     /// Groups waiting for their coarse level (a coarse-first start-up's finer depths, a stroke's; 0 without coarse
     /// groups).
@@ -85,7 +89,8 @@ public:
     std::size_t tiles_deferred() const { return deferred_; }
     /// Tiles contoured by every contour() so far (the first, at construction, included).
     std::uint64_t tiles_contoured() const { return contoured_; }
-    /// Tiles and groups whose start-up levels are not built yet (0 without levels of detail).
+    /// Tiles and groups whose start-up levels are not built yet (0 without levels of detail; during a coarse-first
+    /// start-up, its tiles not contoured yet count too).
     std::size_t lod_pending() const;
     /// The contour (its tiles as the last contour() left them).
     const compute::Contourer& contourer() const { return *contourer_; }
@@ -122,7 +127,6 @@ private:
     std::vector<std::string> reference_notes_;               // references not drawn here, and why
     std::unique_ptr<compute::StartupRefiner> refiner_;  // a coarse-first start-up while it runs
     std::vector<std::uint64_t> wanted_;                // groups the frames want finer (want_detail), ascending
-    std::vector<std::uint64_t> held_;                  // tiles publishable but left dirty for a later view
     bool started_coarse_ = false;
     std::uint64_t startup_refined_ = 0;
     std::size_t deferred_ = 0;
