@@ -389,6 +389,8 @@ TEST(CoarseFirst, LevelsAwayFromChangesAreBuiltWhileTilesKeepChangingWhenAsked) 
         }
         if (away) {
             EXPECT_TRUE(waiting(cache, depth, 0).empty()) << "a level out of the changes' reach waited for them to settle";
+            // Those built are the model's as it is now: out of reach, the changes do not touch them.
+            EXPECT_GT(expect_levels_as_read(cache, s.model, to_stroke_depth(), depth), 0u);
         } else {
             EXPECT_EQ(waiting(cache, depth, 0), far) << "a level was built before the changes settled";
         }
