@@ -58,11 +58,23 @@ renderer::Frustum left_end() {
     return f;
 }
 
-TEST(ClusterReplica, ContoursOnlyTheChangedTilesItsViewsNeedAndTheRestLater) {
+// The session spec of the default scene's bunny at `resolution` cells, as rank 0's hello carries it.
+std::string bunny_spec_json(int resolution) {
     SessionSpec spec = RunScene::default_spec();
     spec.mesh_path = default_mesh_path();
-    spec.resolution = 96;
-    const std::string json = spec_to_json(spec);
+    spec.resolution = resolution;
+    return spec_to_json(spec);
+}
+
+// The two replicas' contours are the same, bit for bit.
+void expect_same_contour(const ClusterReplica& a, const ClusterReplica& b) {
+    const TriMesh ma = a.contourer().mesh(), mb = b.contourer().mesh();
+    EXPECT_EQ(ma.positions, mb.positions);
+    EXPECT_EQ(ma.triangles, mb.triangles);
+}
+
+TEST(ClusterReplica, ContoursOnlyTheChangedTilesItsViewsNeedAndTheRestLater) {
+    const std::string json = bunny_spec_json(96);
     ClusterReplica viewed(json), all(json);
     ASSERT_EQ(viewed.digest(), all.digest());
     const std::uint64_t first = viewed.tiles_contoured();
@@ -104,9 +116,7 @@ TEST(ClusterReplica, ContoursOnlyTheChangedTilesItsViewsNeedAndTheRestLater) {
     // A view of everything contours the rest: the same mesh as the replica that contoured every change at once.
     viewed.contour();
     EXPECT_EQ(viewed.tiles_deferred(), 0u);
-    const TriMesh a = viewed.contourer().mesh(), b = all.contourer().mesh();
-    EXPECT_EQ(a.positions, b.positions);
-    EXPECT_EQ(a.triangles, b.triangles);
+    expect_same_contour(viewed, all);
 }
 
 // A replica with levels of detail (groups contoured from the dexels at any size, as the config's "lod": "coarse") and
@@ -114,10 +124,7 @@ TEST(ClusterReplica, ContoursOnlyTheChangedTilesItsViewsNeedAndTheRestLater) {
 // least a third fewer workpiece triangles with levels than without, and the two pictures differ on at most 1 % of the
 // pixels by more than 24 levels (a level's error is under a pixel; what differs is shading).
 TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
-    SessionSpec spec = RunScene::default_spec();
-    spec.mesh_path = default_mesh_path();
-    spec.resolution = 128;
-    const std::string json = spec_to_json(spec);
+    const std::string json = bunny_spec_json(128);
     ClusterReplica lod(json, lod_choice("coarse")), full(json);
     const FrameMessage m0 = two_grooves();
     lod.apply(m0);
@@ -182,10 +189,7 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
 // after frame (they neither spread nor arrive before they are contoured). A view of everything contours it, and
 // finishing the start-up gives the contour of a replica that contoured everything at once, bit for bit.
 TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTilesBesideIt) {
-    SessionSpec spec = RunScene::default_spec();
-    spec.mesh_path = default_mesh_path();
-    spec.resolution = 256;  // the grooves' depth-1 groups and their neighbours lie apart
-    const std::string json = spec_to_json(spec);
+    const std::string json = bunny_spec_json(256);  // the grooves' depth-1 groups and their neighbours lie apart
     ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), full(json);
     const std::size_t at_start = coarse.startup_pending();
     const FrameMessage m = two_grooves();
@@ -210,27 +214,22 @@ TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTiles
     EXPECT_LT(coarse.startup_pending(), pending) << "the right groove brought no start-up tile";
     coarse.finish_startup();
     EXPECT_EQ(coarse.startup_pending(), 0u);
-    const TriMesh a = coarse.contourer().mesh(), b = full.contourer().mesh();
-    EXPECT_EQ(a.positions, b.positions);
-    EXPECT_EQ(a.triangles, b.triangles);
+    expect_same_contour(coarse, full);
 }
 
 // A coarse-first replica (the config's "startup": "coarse") contours no tile before its first view, which draws the
 // coarsest group levels. Drawn frame by frame with the groups each frame wants finer handed back (as a render rank
 // does):
 // - the bunny at four times its size, after 60 frames of a stroke at its tail that changes tiles in every frame and
-//   then until five frames in a row want no detail and no coarse level waits: only the stroke's tiles are
-//   contoured, and the picture is as close to a replica that contoured everything without
-//   levels as one that did so with levels (at most 1.5 times its pixels more than 24 levels off, plus 20): the
-//   start-up error estimates see the thin ears the coarser strides miss;
+//   then until five frames in a row want no detail and no coarse level waits: only the stroke's tiles are contoured,
+//   and the picture is as close to a replica that contoured everything without levels as one that did so with levels
+//   (at most 1.5 times its pixels more than 24 levels off, plus 20): the start-up error estimates see the thin ears
+//   the coarser strides miss;
 // - at 24 times its size (up close), until five frames in a row want no detail and no coarse level waits: the frames
 //   want tiles, which are contoured, and the pictures agree within the previous test's tolerance;
 // and finishing its start-up gives the whole replica's contour bit for bit.
 TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFramesWant) {
-    SessionSpec spec = RunScene::default_spec();
-    spec.mesh_path = default_mesh_path();
-    spec.resolution = 128;
-    const std::string json = spec_to_json(spec);
+    const std::string json = bunny_spec_json(128);
     ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), lod(json, lod_choice("coarse")), full(json);
     ASSERT_TRUE(coarse.started_coarse());
     EXPECT_FALSE(lod.started_coarse());
@@ -351,9 +350,7 @@ TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFrame
 
     coarse.finish_startup();
     EXPECT_EQ(coarse.startup_pending(), 0u);
-    const TriMesh a = coarse.contourer().mesh(), b = full.contourer().mesh();
-    EXPECT_EQ(a.positions, b.positions);
-    EXPECT_EQ(a.triangles, b.triangles);
+    expect_same_contour(coarse, full);
 }
 
 }  // namespace
