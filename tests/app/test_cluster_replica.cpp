@@ -66,6 +66,26 @@ std::string bunny_spec_json(int resolution) {
     return spec_to_json(spec);
 }
 
+// A frame that shows the bunny `scale` times its size on the wall, seen from 3 m, without the tool.
+FrameMessage wall_frame(double scale) {
+    FrameMessage m;
+    m.head = Pose{Vec3(0.0, 1.74, 3.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    m.nav_pose = Pose{Vec3(0.0, 1.74, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
+    m.nav_scale = scale;
+    m.show_tool = false;
+    return m;
+}
+
+// The 3.05 m wall as one 320x240 viewport.
+ClusterViewport small_wall() {
+    ClusterViewport wall;
+    wall.name = "wall";
+    wall.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
+    wall.width_px = 320;
+    wall.height_px = 240;
+    return wall;
+}
+
 // The two replicas' contours are the same, bit for bit.
 void expect_same_contour(const ClusterReplica& a, const ClusterReplica& b) {
     const TriMesh ma = a.contourer().mesh(), mb = b.contourer().mesh();
@@ -145,16 +165,8 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
     ASSERT_EQ(lod.lod_pending(), 0u) << "the start-up levels never arrived";
     EXPECT_EQ(full.lod_pending(), 0u);
 
-    FrameMessage m;
-    m.head = Pose{Vec3(0.0, 1.74, 3.0), Quat(1.0, 0.0, 0.0, 0.0)};
-    m.nav_pose = Pose{Vec3(0.0, 1.74, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};  // the bunny, 8 times its size, on the wall
-    m.nav_scale = 8.0;
-    m.show_tool = false;
-    ClusterViewport wall;
-    wall.name = "wall";
-    wall.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
-    wall.width_px = 320;
-    wall.height_px = 240;
+    const FrameMessage m = wall_frame(8.0);  // the bunny, 8 times its size, on the wall
+    const ClusterViewport wall = small_wall();
     gpu::ContextOptions gopt;
     gopt.validation = true;
     gpu::Context ctx = gpu::Context::create(gopt);
@@ -237,15 +249,8 @@ TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFrame
     const std::size_t at_start = coarse.startup_pending();
     EXPECT_GT(at_start, 0u);
 
-    FrameMessage m;
-    m.head = Pose{Vec3(0.0, 1.74, 3.0), Quat(1.0, 0.0, 0.0, 0.0)};
-    m.nav_pose = Pose{Vec3(0.0, 1.74, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
-    m.show_tool = false;
-    ClusterViewport wall;
-    wall.name = "wall";
-    wall.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
-    wall.width_px = 320;
-    wall.height_px = 240;
+    FrameMessage m = wall_frame(24.0);
+    const ClusterViewport wall = small_wall();
     gpu::ContextOptions gopt;
     gopt.validation = true;
     gpu::Context ctx = gpu::Context::create(gopt);
