@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <memory>
 #include <utility>
 
@@ -344,6 +345,45 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
     defer_cut(s, Vec3(256.0, 0.0, 0.0));  // the second sphere's +x side: far from the group at x = 0
     EXPECT_EQ(waiting(s.cache, depth, 0), far) << "a level out of the stroke's reach was rebuilt during it";
     EXPECT_LT(waiting(s.cache, depth, 2).size(), near.size()) << "no level within the stroke's reach was rebuilt";
+}
+
+// A slab with a thin fin standing on it (3.4 cells thick, 40 cells tall), on a 128-cell cube lattice: the depth-1
+// coarse rays (every 2nd) see the fin, the depth-3 ones (every 8th) miss it.
+TriDexel slab_with_fin() {
+    TriDexel m = empty_model(cube_lattice(128));
+    fill_rays(m, [](int a, int u, int v) {
+        std::vector<Interval> ray = box_chord(Vec3(20.5, 20.5, 20.5), Vec3(107.5, 107.5, 60.5), a, u, v);
+        for (const Interval& i : box_chord(Vec3(40.5, 60.3, 60.5), Vec3(87.5, 63.7, 100.5), a, u, v)) {
+            if (!ray.empty() && i.enter <= ray.back().exit) ray.back().exit = std::max(ray.back().exit, i.exit);
+            else ray.push_back(i);
+        }
+        return ray;
+    });
+    return m;
+}
+
+// A coarse-first start-up's depth-3 level misses the fin: once the depth-1 levels are built, its error estimate is
+// raised from them to about the fin's height, far over a quarter of its coarse cell; a change within its reach
+// rebuilds it at once, and the new level keeps that error until it is estimated again.
+TEST(CoarseFirst, ADeepLevelsEstimateSeesAThinFeatureItsStrideMissesAndKeepsItWhenRebuilt) {
+    CoarseFirst s(slab_with_fin());
+    while (s.cache.build_coarse_depth()) {
+    }
+    settle(s.cache);
+    const auto top_error = [&] {
+        for (const TileGroupSurface& g : s.cache.groups())
+            if (g.depth == kTop && !g.lods.empty()) return g.lods[0].error_m;
+        return -1.0;
+    };
+    const double cell = s.model.lattice.cell_m, flat = TileSurfaceCache::kStartupErrorCoarseCells * cell * (1 << kTop);
+    const double raised = top_error();
+    std::printf("[coarse first] depth-%d estimate with a fin its stride misses: %.1f cells (a quarter coarse cell: %.1f)\n",
+                kTop, raised / cell, flat / cell);
+    EXPECT_GT(raised, 20.0 * cell) << "the estimate did not see the fin";
+    const Lattice& L = s.model.lattice;
+    subtract_capsule(s.model, Segment{L.to_world(Vec3(25.0, 25.0, 62.0)), L.to_world(Vec3(30.0, 25.0, 62.0))}, 3.0 * cell);
+    s.contour_change();
+    EXPECT_GE(top_error(), raised) << "the rebuilt level forgot the fin";
 }
 
 // A caller whose frames hold no stroke's samples (a cluster render rank, TileSurfaceCache::build_away_from_changes)
