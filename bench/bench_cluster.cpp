@@ -87,9 +87,11 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
                             " --oversubscribe --mca orte_abort_on_non_zero_status 0 -np " + std::to_string(o.ranks + 1) + " " +
                             exe + " run " + scene + " --display offscreen --no-items --cluster " + config + " --out " +
                             run.string() + " > " + (dir / "mpirun.log").string() + " 2>&1";
-    std::printf("cluster: mpirun -np %d on this machine (2 cores shared by every rank), rank 0 the session, %d render "
-                "rank%s each a strip of a 3.05 m wall, 640x480 per eye side by side, N = %d, a %.1f s stroke, render ranks' start-up %s\n",
-                o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.resolution, o.stroke_s, o.startup.c_str());
+    std::printf(
+        "cluster: mpirun -np %d on this machine (2 cores shared by every rank), rank 0 the session, %d render "
+        "rank%s each a strip of a 3.05 m wall, 640x480 per eye side by side, N = %d, a %.1f s stroke, render ranks' "
+        "start-up %s\n",
+        o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.resolution, o.stroke_s, o.startup.c_str());
     std::fflush(stdout);
     const int status = std::system(cmd.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
@@ -126,17 +128,19 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
     std::printf("%-34s %12.2f %12.2f\n", "swap spread across ranks, ms", value(cl, "swap_spread_ms", "median"),
                 value(cl, "swap_spread_ms", "p99"));
     for (const nlohmann::json& rank : cl["render_ranks"]) {
-        std::printf("render rank %d: apply %.1f ms, contour %.1f ms, contour + draw %.1f ms (medians; contour p99 %.1f, "
-                    "max %.1f ms), workpiece %.0f ms\n",
-                    rank.value("rank", 0), value(rank, "apply_ms", "median"), value(rank, "contour_ms", "median"),
-                    value(rank, "draw_ms", "median"), value(rank, "contour_ms", "p99"), value(rank, "contour_ms", "max"),
-                    rank.value("workpiece_load_ms", 0.0));
-        std::printf("  start-up %s: first frame %.0f ms after the hello (workpiece, first contour and draw); %llu tiles "
-                    "contoured by start-up, %llu left at the end; %llu triangles in the last frame\n",
-                    rank.value("startup", "?").c_str(), rank.value("first_frame_ms", 0.0),
-                    static_cast<unsigned long long>(rank.value("startup_tiles_refined", 0ull)),
-                    static_cast<unsigned long long>(rank.value("startup_pending_at_end", 0ull)),
-                    static_cast<unsigned long long>(rank.value("tile_triangles_last_frame", 0ull)));
+        std::printf(
+            "render rank %d: apply %.1f ms, contour %.1f ms, contour + draw %.1f ms (medians; contour p99 %.1f, "
+            "max %.1f ms), workpiece %.0f ms\n",
+            rank.value("rank", 0), value(rank, "apply_ms", "median"), value(rank, "contour_ms", "median"),
+            value(rank, "draw_ms", "median"), value(rank, "contour_ms", "p99"), value(rank, "contour_ms", "max"),
+            rank.value("workpiece_load_ms", 0.0));
+        std::printf(
+            "  start-up %s: first frame %.0f ms after the hello (workpiece, first contour and draw); %llu tiles "
+            "contoured by start-up, %llu left at the end; %llu triangles in the last frame\n",
+            rank.value("startup", "?").c_str(), rank.value("first_frame_ms", 0.0),
+            static_cast<unsigned long long>(rank.value("startup_tiles_refined", 0ull)),
+            static_cast<unsigned long long>(rank.value("startup_pending_at_end", 0ull)),
+            static_cast<unsigned long long>(rank.value("tile_triangles_last_frame", 0ull)));
     }
     std::printf("digest checks agreed: %llu; frames in step at %.1f Hz\n", static_cast<unsigned long long>(cl.value("checks", 0ull)),
                 report["frames"].is_object() ? report["frames"].value("rate_hz", 0.0) : 0.0);
@@ -148,9 +152,16 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
     std::printf("on paper, 24 render ranks at 60 Hz: %.2f Mb/s per rank, %.1f Mb/s out of rank 0 = %.3f%% of 10 Gb/s\n",
                 per_rank_bps / 1e6, 24.0 * per_rank_bps / 1e6, 100.0 * 24.0 * per_rank_bps / 10e9);
     write_json_file((fs::path(c.out) / "cluster_bench.json").string(),
-                    {{"ranks", o.ranks + 1}, {"resolution", o.resolution}, {"stroke_s", o.stroke_s}, {"startup", o.startup}, {"cluster", cl},
-                     {"late_join", {{"workpiece_ms", load_ms}, {"stream_apply_ms", apply_ms}, {"records", journal.records.size()},
-                                    {"session_s", session_s}}},
+                    {{"ranks", o.ranks + 1},
+                     {"resolution", o.resolution},
+                     {"stroke_s", o.stroke_s},
+                     {"startup", o.startup},
+                     {"cluster", cl},
+                     {"late_join",
+                      {{"workpiece_ms", load_ms},
+                       {"stream_apply_ms", apply_ms},
+                       {"records", journal.records.size()},
+                       {"session_s", session_s}}},
                      {"cave_24_ranks_mbps", 24.0 * per_rank_bps / 1e6}});
 }
 
@@ -159,9 +170,10 @@ BenchRun setup_cluster(CLI::App& bench) {
     bench.add_option("--cluster-ranks", o->ranks, "With --cluster: render ranks (default 2)");
     bench.add_option("--cluster-resolution", o->resolution, "With --cluster: workpiece cells along its longest side (default 128)");
     bench.add_option("--cluster-stroke-s", o->stroke_s, "With --cluster: the stroke's length, s (default 4)");
-    bench.add_option("--cluster-startup", o->startup,
-                     "With --cluster: the render ranks' start-up where their groups take coarse levels (from 512 cells): "
-                     "coarse (the coarsest levels first, tiles where frames need them) or full (default coarse)");
+    bench.add_option(
+        "--cluster-startup", o->startup,
+        "With --cluster: the render ranks' start-up where their groups take coarse levels (from 512 cells): "
+        "coarse (the coarsest levels first, tiles where frames need them) or full (default coarse)");
     return [o](const BenchCommon& c) { run_cluster(*o, c); };
 }
 

@@ -354,8 +354,10 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
         for (const std::uint64_t c : g->children) {
             const TileGroupSurface* child = find_by_id(groups_, c);
             if (!child) continue;
-            if (child->depth > finest) walk.push_back(child);
-            else under.push_back(child);
+            if (child->depth > finest)
+                walk.push_back(child);
+            else
+                under.push_back(child);
         }
     }
     // Samples: each finest level's six extreme own vertices (a thin feature the coarser rays missed: an ear) and

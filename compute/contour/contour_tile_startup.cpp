@@ -1,8 +1,8 @@
 // compute/contour/contour_tile_startup.cpp - TileSurfaceCache in a coarse-first start-up: the groups over tiles not
 // contoured yet, which of them must be drawn coarse, and the finer coarse depths read after the first publish.
 #include <algorithm>
-#include <optional>
 #include <chrono>
+#include <optional>
 
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"

@@ -12,9 +12,10 @@
 
 namespace tridex::compute {
 
-WantedRefined refine_wanted_groups(std::span<const std::uint64_t> group_ids, const std::vector<TileGroupSurface>& groups,
-                                   TriDexel& model, Contourer& contourer, StartupRefiner* refiner,
-                                   DeferredContour* deferral, int block_depth, const std::function<bool()>& in_slice) {
+WantedRefined refine_wanted_groups(std::span<const std::uint64_t> group_ids,
+                                   const std::vector<TileGroupSurface>& groups, TriDexel& model, Contourer& contourer,
+                                   StartupRefiner* refiner, DeferredContour* deferral, int block_depth,
+                                   const std::function<bool()>& in_slice) {
     if (block_depth < 1 || block_depth > 6)
         throw Error("refine_wanted_groups: block_depth must be 1..6, got " + std::to_string(block_depth));
     WantedRefined refined;
@@ -27,7 +28,8 @@ WantedRefined refine_wanted_groups(std::span<const std::uint64_t> group_ids, con
             for (int y = 0; y < per && in_slice(); ++y)
                 for (int x = 0; x < per && in_slice(); ++x) {
                     const std::array<int, 3> c{g->coords[0] * per + x, g->coords[1] * per + y, g->coords[2] * per + z};
-                    if (refiner && !refiner->done()) refined.startup += refiner->refine_group(model, contourer, depth, c);
+                    if (refiner && !refiner->done())
+                        refined.startup += refiner->refine_group(model, contourer, depth, c);
                     if (deferral) refined.deferred += deferral->contour_group(model, contourer, depth, c);
                 }
     }

@@ -30,8 +30,9 @@ struct WantedRefined {
 /// cost a scan of their tiles). Ids not in `groups` (ascending by id, TileSurfaceCache::groups) and groups whose
 /// children cover them (TileGroupSurface::children_cover: a finer level stands in now) are skipped; a null refiner or
 /// deferral holds nothing back. Throws tridex::Error when block_depth is outside 1..6; otherwise as Contourer::update.
-WantedRefined refine_wanted_groups(std::span<const std::uint64_t> group_ids, const std::vector<TileGroupSurface>& groups,
-                                   TriDexel& model, Contourer& contourer, StartupRefiner* refiner,
-                                   DeferredContour* deferral, int block_depth, const std::function<bool()>& in_slice);
+WantedRefined refine_wanted_groups(std::span<const std::uint64_t> group_ids,
+                                   const std::vector<TileGroupSurface>& groups, TriDexel& model, Contourer& contourer,
+                                   StartupRefiner* refiner, DeferredContour* deferral, int block_depth,
+                                   const std::function<bool()>& in_slice);
 
 }  // namespace tridex::compute

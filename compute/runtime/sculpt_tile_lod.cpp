@@ -5,9 +5,9 @@
 #include <array>
 #include <chrono>
 
-#include "compute/runtime/sculpt_thread.hpp"
-#include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/contour/refine_wanted.hpp"
+#include "compute/runtime/gpu_contour_share.hpp"
+#include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
 
 namespace tridex::app {
@@ -84,8 +84,8 @@ void SculptThread::follow_drawn_groups(compute::DrawnGroups& drawn) {
 
 std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
     const std::vector<std::uint64_t> ids = detail_->take();
-    const compute::WantedRefined n = compute::refine_wanted_groups(ids, tile_cache_.groups(), model_, contourer_,
-                                                                   refiner_.get(), deferral_.get(), block_depth, in_slice);
+    const compute::WantedRefined n = compute::refine_wanted_groups(
+        ids, tile_cache_.groups(), model_, contourer_, refiner_.get(), deferral_.get(), block_depth, in_slice);
     stats_.startup_tiles_refined += n.startup;
     return n.startup + n.deferred;
 }

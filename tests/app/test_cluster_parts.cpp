@@ -276,10 +276,12 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
                   .find("'lod': must be on, off, coarse or simplified, got \"fine\""),
               std::string::npos)
         << error_of(R"({"lod": "fine", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
-    EXPECT_NE(error_of(R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})")
-                  .find("'startup': must be coarse or full, got 'lazy'"),
-              std::string::npos)
-        << error_of(R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
+    EXPECT_NE(
+        error_of(R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})")
+            .find("'startup': must be coarse or full, got 'lazy'"),
+        std::string::npos)
+        << error_of(
+               R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a"}]}]})").find("either 'region' or 'corners'"),
               std::string::npos);
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1], "colour": 1}]}]})")

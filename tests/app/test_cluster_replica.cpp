@@ -211,14 +211,17 @@ TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTiles
     const renderer::Frustum frusta[] = {left_end()};
     coarse.contour(frusta);
     const std::size_t pending = coarse.startup_pending(), deferred = coarse.tiles_deferred();
-    std::printf("[cluster replica coarse first] a view of the left end: %zu of %zu start-up tiles contoured, %zu changed "
-                "tiles wait\n", at_start - pending, at_start, deferred);
+    std::printf(
+        "[cluster replica coarse first] a view of the left end: %zu of %zu start-up tiles contoured, %zu changed "
+        "tiles wait\n",
+        at_start - pending, at_start, deferred);
     EXPECT_GT(deferred, 0u);
     EXPECT_LT(pending, at_start);
     EXPECT_GT(pending, 0u);
     for (int i = 0; i < 5; ++i) {
         coarse.contour(frusta);
-        EXPECT_EQ(coarse.startup_pending(), pending) << "frame " << i << ": start-up's tiles spread from a waiting change";
+        EXPECT_EQ(coarse.startup_pending(), pending)
+            << "frame " << i << ": start-up's tiles spread from a waiting change";
         EXPECT_EQ(coarse.tiles_deferred(), deferred);
     }
     coarse.contour();
@@ -255,8 +258,8 @@ TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFrame
     gopt.validation = true;
     gpu::Context ctx = gpu::Context::create(gopt);
     auto rend = renderer::OffscreenStereoRenderer::create(ctx, wall.width_px, wall.height_px);
-    renderer::OffscreenSink sink(ctx, renderer::SinkOptions{renderer::StereoOutput::kMono, false,
-                                                            renderer::AnaglyphMethod::kDubois, 60.0});
+    renderer::OffscreenSink sink(
+        ctx, renderer::SinkOptions{renderer::StereoOutput::kMono, false, renderer::AnaglyphMethod::kDubois, 60.0});
     const auto draw = [&](const ClusterReplica& r) -> const renderer::FrameStats& {
         (void)sink.draw(rend, r.view(m), ClusterReplica::camera(wall, m));
         (void)sink.present(rend);
@@ -335,9 +338,11 @@ TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFrame
     m.nav_scale = 24.0;
     const int near_frames = settle();
     const std::size_t near_pending = coarse.startup_pending();
-    std::printf("[cluster replica coarse first] tiles waiting: %zu at start, %zu after a stroke and %d frames at 4 "
-                "times the size (%zu pixels over 24 levels off, levels from the whole contour %zu), %zu after %d frames "
-                "at 24 times\n", at_start, far_pending, far_frames, far_off, far_lod_off, near_pending, near_frames);
+    std::printf(
+        "[cluster replica coarse first] tiles waiting: %zu at start, %zu after a stroke and %d frames at 4 "
+        "times the size (%zu pixels over 24 levels off, levels from the whole contour %zu), %zu after %d frames "
+        "at 24 times\n",
+        at_start, far_pending, far_frames, far_off, far_lod_off, near_pending, near_frames);
     EXPECT_GT(far_pending, 0u) << "the stroke's tiles came with it, the rest waits";
     EXPECT_LE(far_off, far_lod_off * 3 / 2 + 20);
     EXPECT_GT(far_pending, near_pending);

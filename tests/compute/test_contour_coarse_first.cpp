@@ -354,8 +354,10 @@ TriDexel slab_with_fin() {
     fill_rays(m, [](int a, int u, int v) {
         std::vector<Interval> ray = box_chord(Vec3(20.5, 20.5, 20.5), Vec3(107.5, 107.5, 60.5), a, u, v);
         for (const Interval& i : box_chord(Vec3(40.5, 60.3, 60.5), Vec3(87.5, 63.7, 100.5), a, u, v)) {
-            if (!ray.empty() && i.enter <= ray.back().exit) ray.back().exit = std::max(ray.back().exit, i.exit);
-            else ray.push_back(i);
+            if (!ray.empty() && i.enter <= ray.back().exit)
+                ray.back().exit = std::max(ray.back().exit, i.exit);
+            else
+                ray.push_back(i);
         }
         return ray;
     });
@@ -367,8 +369,7 @@ TriDexel slab_with_fin() {
 // rebuilds it at once, and the new level keeps that error until it is estimated again.
 TEST(CoarseFirst, ADeepLevelsEstimateSeesAThinFeatureItsStrideMissesAndKeepsItWhenRebuilt) {
     CoarseFirst s(slab_with_fin());
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     settle(s.cache);
     const auto top_error = [&] {
         for (const TileGroupSurface& g : s.cache.groups())
@@ -377,11 +378,13 @@ TEST(CoarseFirst, ADeepLevelsEstimateSeesAThinFeatureItsStrideMissesAndKeepsItWh
     };
     const double cell = s.model.lattice.cell_m, flat = TileSurfaceCache::kStartupErrorCoarseCells * cell * (1 << kTop);
     const double raised = top_error();
-    std::printf("[coarse first] depth-%d estimate with a fin its stride misses: %.1f cells (a quarter coarse cell: %.1f)\n",
-                kTop, raised / cell, flat / cell);
+    std::printf(
+        "[coarse first] depth-%d estimate with a fin its stride misses: %.1f cells (a quarter coarse cell: %.1f)\n",
+        kTop, raised / cell, flat / cell);
     EXPECT_GT(raised, 20.0 * cell) << "the estimate did not see the fin";
     const Lattice& L = s.model.lattice;
-    subtract_capsule(s.model, Segment{L.to_world(Vec3(25.0, 25.0, 62.0)), L.to_world(Vec3(30.0, 25.0, 62.0))}, 3.0 * cell);
+    subtract_capsule(s.model, Segment{L.to_world(Vec3(25.0, 25.0, 62.0)), L.to_world(Vec3(30.0, 25.0, 62.0))},
+                     3.0 * cell);
     s.contour_change();
     EXPECT_GE(top_error(), raised) << "the rebuilt level forgot the fin";
 }
@@ -408,8 +411,7 @@ TEST(CoarseFirst, LevelsAwayFromChangesAreBuiltWhileTilesKeepChangingWhenAsked) 
         cache.build_lods_in_background(w);
         cache.build_away_from_changes(away);
         cache.refresh(StartupRefiner::Source(s.contourer, *s.refiner));
-        while (cache.build_coarse_depth()) {
-        }
+        while (cache.build_coarse_depth()) {}
         const std::vector<std::uint64_t> far = waiting(cache, depth, 0), near = waiting(cache, depth, 5);
         ASSERT_FALSE(far.empty());
         ASSERT_FALSE(near.empty());
@@ -428,7 +430,8 @@ TEST(CoarseFirst, LevelsAwayFromChangesAreBuiltWhileTilesKeepChangingWhenAsked) 
             for (int k = 0; k < 20; ++k) cache.collect_lods();
         }
         if (away) {
-            EXPECT_TRUE(waiting(cache, depth, 0).empty()) << "a level out of the changes' reach waited for them to settle";
+            EXPECT_TRUE(waiting(cache, depth, 0).empty())
+                << "a level out of the changes' reach waited for them to settle";
             // Those built are the model's as it is now: out of reach, the changes do not touch them.
             EXPECT_GT(expect_levels_as_read(cache, s.model, to_stroke_depth(), depth), 0u);
         } else {

@@ -73,8 +73,9 @@ struct ClusterConfig {
 /// the wall's screen, left to right and bottom to top) or "corners": {"lower_left", "lower_right", "upper_left"} (m,
 /// wall space), "width_px", "height_px" (default: the display's pixels times the region's share), "eye" (both | left
 /// | right), "stereo" (a stereo output name; default the display's), "output" (offscreen | window | fullscreen),
-/// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s", "lod", "startup", "key_file", "passphrase_env"}. `display` is the wall's display config
-/// (its screen, resolution and stereo output supply the defaults). Throws tridex::Error naming the file and field:
+/// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s", "lod",
+/// "startup", "key_file", "passphrase_env"}. `display` is the wall's display config (its screen, resolution and
+/// stereo output supply the defaults). Throws tridex::Error naming the file and field:
 /// unreadable or not JSON, unknown fields, ranks missing (they must be 1..K, each once), a viewport with no
 /// area or corners not at right angles, duplicate viewport names, values out of range.
 ClusterConfig read_cluster_config(const std::string& path, const renderer::DisplayConfig& display);

@@ -152,7 +152,8 @@ void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update
 
 void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refine) {
     compute::TileGrid& g = wp_.model.tiles;
-    const std::vector<std::uint8_t> visible = frusta.empty() ? std::vector<std::uint8_t>{} : visible_tiles(wp_.model, frusta);
+    const std::vector<std::uint8_t> visible =
+        frusta.empty() ? std::vector<std::uint8_t>{} : visible_tiles(wp_.model, frusta);
     // Changed tiles no view needs yet wait; those contoured now that start-up has not contoured bring the start-up
     // tiles of the depth-1 groups they reach (StartupRefiner::contour_with_change), which may join a waiting group of
     // changed tiles to them: then it is contoured now too. Start-up's tiles in a group that waits stay start-up's.

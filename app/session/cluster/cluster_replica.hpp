@@ -125,8 +125,8 @@ private:
     std::vector<TriMesh> reference_meshes_;                  // the session's reference objects, own frames
     std::vector<renderer::SceneObject> reference_objects_;   // ... placed by their poses, drawn by view()
     std::vector<std::string> reference_notes_;               // references not drawn here, and why
-    std::unique_ptr<compute::StartupRefiner> refiner_;  // a coarse-first start-up while it runs
-    std::vector<std::uint64_t> wanted_;                // groups the frames want finer (want_detail), ascending
+    std::unique_ptr<compute::StartupRefiner> refiner_;       // a coarse-first start-up while it runs
+    std::vector<std::uint64_t> wanted_;                      // groups the frames want finer (want_detail), ascending
     bool started_coarse_ = false;
     std::uint64_t startup_refined_ = 0;
     std::size_t deferred_ = 0;

@@ -323,7 +323,7 @@ private:
     std::optional<gpu::Context> ctx_;
     std::vector<std::unique_ptr<Viewport>> viewports_;  // after ctx_: destroyed before it
     double last_present_s_ = 0.0, load_ms_ = 0.0;
-    double first_frame_ms_ = 0.0;  // the replica built, then the first frame contoured and drawn (no waits), ms
+    double first_frame_ms_ = 0.0;     // the replica built, then the first frame contoured and drawn (no waits), ms
     std::uint64_t first_record_ = 0;  // the stream's record this rank started from (> 0: it joined a running wall)
     std::uint64_t frames_ = 0, presents_ = 0, checks_ = 0;
     bool diverged_ = false;  // the diverge fault was injected
