@@ -23,6 +23,24 @@ void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLeve
 
 namespace {
 
+// The largest of `worst` and the distances to `grid`'s triangles of every step-th point of `points` (counted across
+// calls by k) and of the six points extreme along x, y and z (a feature the coarse rays missed sticks out there: an
+// ear's tip), m.
+double sampled_distance(std::span<const Vec3> points, TriangleGrid& grid, std::size_t step, std::size_t& k,
+                        double worst) {
+    if (points.empty()) return worst;
+    std::array<std::size_t, 6> extreme{};
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        for (int a = 0; a < 3; ++a) {
+            if (points[i][a] < points[extreme[2 * a]][a]) extreme[2 * a] = i;
+            if (points[i][a] > points[extreme[2 * a + 1]][a]) extreme[2 * a + 1] = i;
+        }
+        if (k++ % step == 0) worst = std::max(worst, grid.distance(points[i], worst));
+    }
+    for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(points[i], worst));
+    return worst;
+}
+
 // The tiles of `tiles` (ascending) whose coarse rays a level of one of the groups `ids` reads, in a grid of `dims`
 // tiles: those within one group of it, at its depth, and the rays' reach (each group's range of tile coordinates,
 // grown so). Ascending.
@@ -210,10 +228,9 @@ std::size_t TileSurfaceCache::settle_coarse_levels(std::chrono::steady_clock::ti
     // (renderer::groups_standing_in), so the view refines a depth at a time.
     // Not settled (build_away_from_changes): only groups out of reach of the changed tiles, not re-read yet; their
     // reach is found again only after a change.
-    if (!settled && (away_reach_at_ != coarse_changed_at_ || away_reach_tiles_ != coarse_changed_.size())) {
+    if (!settled && away_reach_at_ != coarse_changed_at_) {  // coarse_changed_ only grows, with a change, until settled
         away_reach_ = coarse_reach(coarse_dims_, coarse_changed_);
         away_reach_at_ = coarse_changed_at_;
-        away_reach_tiles_ = coarse_changed_.size();
     }
     std::vector<std::uint64_t> ids;  // those whose depth is read (a coarse-first start-up reads the finer ones later)
     for (const std::uint64_t id : coarse_stale_)
@@ -326,19 +343,7 @@ double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const
     const std::size_t step = std::max<std::size_t>(1, vertices / kSamples);
     double worst = 0.0;
     std::size_t k = 0;
-    for (const TileSurface* t : tiles) {
-        const std::vector<Vec3>& p = t->mesh.positions;
-        if (p.empty()) continue;
-        std::array<std::size_t, 6> extreme{};
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            for (int a = 0; a < 3; ++a) {
-                if (p[i][a] < p[extreme[2 * a]][a]) extreme[2 * a] = i;
-                if (p[i][a] > p[extreme[2 * a + 1]][a]) extreme[2 * a + 1] = i;
-            }
-            if (k++ % step == 0) worst = std::max(worst, grid.distance(p[i], worst));
-        }
-        for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(p[i], worst));
-    }
+    for (const TileSurface* t : tiles) worst = sampled_distance(t->mesh.positions, grid, step, k, worst);
     return worst;
 }
 
@@ -360,8 +365,8 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
                 under.push_back(child);
         }
     }
-    // Samples: each finest level's six extreme own vertices (a thin feature the coarser rays missed: an ear) and
-    // its own vertices spread evenly, up to kSamples in all.
+    // Samples (sampled_distance): each finest level's six extreme own corners (a thin feature the coarser rays
+    // missed: an ear) and its own corners spread evenly, up to kSamples in all.
     constexpr std::size_t kSamples = 256;
     std::size_t vertices = 0;
     for (const TileGroupSurface* g : under) {
@@ -372,22 +377,15 @@ std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSur
     const std::size_t step = std::max<std::size_t>(1, vertices / kSamples);
     double worst = 0.0;
     std::size_t k = 0;
+    std::vector<Vec3> own;  // a level's own triangles' corners (not its ring and skirt)
     for (const TileGroupSurface* g : under) {
         if (g->lods.empty() || g->lods.front().own_triangles == 0) continue;
         under_error = std::max(under_error, g->lods.front().error_m);
         const TriMesh& m = g->lods.front().mesh;
-        const Vec3& p0 = m.positions[m.triangles.front()[0]];
-        std::array<Vec3, 6> extreme{p0, p0, p0, p0, p0, p0};
+        own.clear();
         for (std::size_t t = 0; t < g->lods.front().own_triangles; ++t)
-            for (const std::uint32_t v : m.triangles[t]) {
-                const Vec3& p = m.positions[v];
-                for (int a = 0; a < 3; ++a) {
-                    if (p[a] < extreme[2 * a][a]) extreme[2 * a] = p;
-                    if (p[a] > extreme[2 * a + 1][a]) extreme[2 * a + 1] = p;
-                }
-                if (k++ % step == 0) worst = std::max(worst, grid.distance(p, worst));
-            }
-        for (const Vec3& p : extreme) worst = std::max(worst, grid.distance(p, worst));
+            for (const std::uint32_t v : m.triangles[t]) own.push_back(m.positions[v]);
+        worst = sampled_distance(own, grid, step, k, worst);
     }
     return worst + std::max(under_error, kStartupErrorCoarseCells * lod_options_.cell_m * (1 << finest));
 }

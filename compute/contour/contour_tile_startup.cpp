@@ -143,9 +143,10 @@ void TileSurfaceCache::update_startup_groups() {
         if (!refined[g] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
             estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty() &&
             !group_refined(group, true)) {
-            if (estimated == kStartupEstimatesPerPass || tried == 4 * kStartupEstimatesPerPass) {
+            ++tried;
+            if (estimated == kStartupEstimatesPerPass || tried > 4 * kStartupEstimatesPerPass) {
                 remeasure_more_ = true;
-            } else if (const std::optional<double> e = (++tried, coarse_level_estimate(group, group.lods.front()))) {
+            } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
                 ++estimated;
                 estimated_.insert(group.id);
                 if (*e > group.lods.front().error_m) {

@@ -345,11 +345,10 @@ private:
     std::vector<std::chrono::steady_clock::time_point> group_changed_at_;  // per groups_ entry: last change
     std::chrono::steady_clock::duration group_settle_{};  // LodWorkerOptions::group_settle_s
     bool build_away_ = false;                             // build_away_from_changes
-    // build_away_from_changes: the groups within reach of coarse_changed_, as found after the change at away_reach_at_
-    // when it held away_reach_tiles_ tiles.
+    // build_away_from_changes: the groups within reach of coarse_changed_, as found after the change at
+    // away_reach_at_ (a coarse_changed_at_).
     std::unordered_set<std::uint64_t> away_reach_;
     std::chrono::steady_clock::time_point away_reach_at_{};
-    std::size_t away_reach_tiles_ = 0;
     std::chrono::steady_clock::duration tile_settle_{};   // LodWorkerOptions::tile_settle_s
     // A stroke's tiles whose jobs wait for them to settle: tile id -> when it last changed.
     std::unordered_map<std::uint64_t, std::chrono::steady_clock::time_point> settling_;

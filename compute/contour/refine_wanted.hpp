@@ -17,6 +17,10 @@ namespace tridex::compute {
 class DeferredContour;
 class StartupRefiner;
 
+/// The depth of the tile blocks a wanted group is contoured by between strokes (4x4x4 tiles): a depth-4 group's
+/// blocks each fit a pass's slice (the sculpt thread's, a cluster render rank's).
+inline constexpr int kWantedBlockDepth = 2;
+
 /// Tiles refine_wanted_groups contoured, by who held them back.
 struct WantedRefined {
     std::size_t startup = 0;   ///< a coarse-first start-up's tiles (StartupRefiner::refine_group)

@@ -22,8 +22,6 @@ void SculptThread::use_tile_lod(const compute::LodWorkerOptions& options) {
 namespace {
 // The deepest group a coarse-first start-up refines as one region (8x8x8 tiles), whatever the coarsest depth.
 constexpr int kStartupRegionDepth = 3;
-// The depth of the tile blocks a requested group is contoured by (4x4x4 tiles).
-constexpr int kRefineBlockDepth = 2;
 // While a stroke is open the refinement yields sooner, in smaller blocks (2x2x2 tiles): the stroke's samples wait
 // for it, and the cut is drawn only after them.
 constexpr double kRefineStrokeSliceS = 0.02;
@@ -104,7 +102,7 @@ void SculptThread::refine_startup(bool finish) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool stroke = history_->stroke_open();
         const double slice_s = stroke ? kRefineStrokeSliceS : kRefineSliceS;
-        const int block_depth = stroke ? kRefineStrokeBlockDepth : kRefineBlockDepth;
+        const int block_depth = stroke ? kRefineStrokeBlockDepth : compute::kWantedBlockDepth;
         // A slice ends early when a cutting sample waits (its pass comes first), after one unit of work (a block, a
         // region, a batch of deferred tiles), so that a tool held cutting in air does not stop the work for good.
         bool begun = false, yielded = false;

@@ -81,9 +81,6 @@ std::optional<std::uint64_t> ClusterReplica::apply(const FrameMessage& m) {
 
 namespace {
 
-// The depth of the tile blocks a wanted group is contoured by (4x4x4 tiles), as on the desk.
-constexpr int kRefineBlockDepth = 2;
-
 // Which tiles `frusta` may see: each tile's lattice box grown by one cell (a tile's surface lies within its cells and
 // the vertices it borrows from its neighbours within one cell of it).
 std::vector<std::uint8_t> visible_tiles(const compute::TriDexel& model, std::span<const renderer::Frustum> frusta) {
@@ -197,7 +194,7 @@ void ClusterReplica::refine_startup() {
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
     const compute::WantedRefined n = compute::refine_wanted_groups(
-        wanted, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), nullptr, kRefineBlockDepth, in_slice);
+        wanted, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), nullptr, compute::kWantedBlockDepth, in_slice);
     startup_refined_ += n.startup;
     contoured_ += n.startup;
 }
