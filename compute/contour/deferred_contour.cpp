@@ -99,6 +99,26 @@ std::size_t DeferredContour::contour_oldest(TriDexel& model, Contourer& contoure
     return marked;
 }
 
+std::size_t DeferredContour::contour_oldest_where(TriDexel& model, Contourer& contourer, std::size_t max_tiles,
+                                                  const std::function<bool(std::uint64_t)>& wanted) {
+    std::size_t marked = 0;
+    std::vector<std::uint64_t> kept;  // deferred tiles passed over, oldest first
+    while (marked < max_tiles && !order_.empty()) {
+        const std::uint64_t t = order_.front();
+        order_.pop_front();
+        if (!deferred_[t]) continue;  // contoured since (take_dirty, contour_group)
+        if (!wanted(t)) {
+            kept.push_back(t);
+            continue;
+        }
+        release(model, t);
+        ++marked;
+    }
+    order_.insert(order_.begin(), kept.begin(), kept.end());
+    if (marked > 0) contourer.update(model);
+    return marked;
+}
+
 std::size_t DeferredContour::contour_group(TriDexel& model, Contourer& contourer, int depth,
                                            const std::array<int, 3>& coords) {
     std::array<int, 3> lo{}, hi{};

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -28,6 +29,10 @@ namespace tridex::compute {
 /// contour after every step gives. Not thread-safe: the sculpt thread owns it.
 class DeferredContour {
 public:
+    /// Deferred tiles contoured at a time after a stroke, oldest first (a batch of the sculpt thread's or a render
+    /// rank's slice).
+    static constexpr std::size_t kTilesPerBatch = 32;
+
     /// Nothing deferred, for a model with `tiles` tiles along x, y and z (TileGrid::tiles).
     explicit DeferredContour(const std::array<int, 3>& tiles);
 
@@ -47,6 +52,10 @@ public:
     /// tiles can all be drawn after it. Returns how many: 0 when none waits there, the depth is outside 1..6 or the
     /// group lies outside the grid. Throws as Contourer::update.
     std::size_t contour_group(TriDexel& model, Contourer& contourer, int depth, const std::array<int, 3>& coords);
+    /// As contour_oldest, among the deferred tiles `wanted` says true for (a view may see them); the others keep their
+    /// place in the order. Returns how many were contoured. Throws as Contourer::update.
+    std::size_t contour_oldest_where(TriDexel& model, Contourer& contourer, std::size_t max_tiles,
+                                     const std::function<bool(std::uint64_t)>& wanted);
     /// Contours every deferred tile. Returns how many. Throws as Contourer::update.
     std::size_t contour_all(TriDexel& model, Contourer& contourer);
 

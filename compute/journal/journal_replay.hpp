@@ -105,6 +105,9 @@ public:
     /// The replay's undo history as bytes (UndoHistory::save_steps): what a late joiner of a shared session gets with
     /// the model. Throws tridex::Error while a stroke is open or sweeps are held.
     std::vector<unsigned char> history_steps() const;
+    /// True while the records applied so far leave a stroke open (its close not applied yet) or sweeps held (a push
+    /// group): what a copy of the model draws as a stroke in progress.
+    bool stroke_open() const;
 
 private:
     struct State;

@@ -231,6 +231,8 @@ const JournalApplyStats& JournalApplier::stats() const { return s_->st; }
 
 std::vector<unsigned char> JournalApplier::history_steps() const { return s_->history.save_steps(); }
 
+bool JournalApplier::stroke_open() const { return s_->history.stroke_open() || !s_->batch.empty(); }
+
 JournalApplyStats journal_apply(TriDexel& model, std::span<const JournalRecord> records, const JournalApplyFrom& from,
                                 const ProgressFn& progress) {
     JournalApplier applier(model, from);

@@ -303,8 +303,6 @@ public:
     /// A mesh publish of background work (start-up's refinement, deferred tiles, levels) waits for a waiting cut's
     /// pass, which publishes it too, for at most this long after the last publish (s).
     static constexpr double kBackgroundPublishWaitS = 0.25;
-    /// After a stroke drawn coarse (LodWorkerOptions::stroke_coarse): deferred tiles contoured at a time, oldest first.
-    static constexpr std::size_t kDeferredTilesPerBatch = 32;
 
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();

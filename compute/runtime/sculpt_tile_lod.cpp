@@ -2,9 +2,9 @@
 // coarse-first start-up (finer coarse depths and regions of full-resolution tiles after a first mesh of coarse group
 // levels; docs/design/lod.md, "Coarse first at start-up").
 #include <algorithm>
-#include <array>
 #include <chrono>
 
+#include "compute/contour/held_tiles.hpp"
 #include "compute/contour/refine_wanted.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
@@ -124,7 +124,7 @@ void SculptThread::refine_startup(bool finish) {
         // A stroke's deferred tiles once it closed, oldest first, whether or not a frame asks for them: a save or an
         // export of the mesh reads them, and their levels of detail follow.
         while (!stroke && deferral_ && deferral_->count() > 0 && in_slice()) {
-            refined += deferral_->contour_oldest(model_, contourer_, kDeferredTilesPerBatch);
+            refined += deferral_->contour_oldest(model_, contourer_, compute::DeferredContour::kTilesPerBatch);
         }
         if (yielded) ++stats_.background_yields;
         if (refined == 0 && !(startup && refiner_->done())) return;  // nothing new to publish
@@ -137,34 +137,12 @@ void SculptThread::count_deferred() {
 }
 
 void SculptThread::refresh_tile_cache() {
-    if (!refiner_ && !deferral_) {
-        tile_cache_.refresh(contourer_);
-        return;
-    }
-    // A tile arrives once neither the start-up's refinement nor the deferral hides it; each reports a tile once, when
-    // it stops hiding it, so a tile the other still hides arrives with the other's report.
-    std::vector<std::uint64_t> arrivals;
-    if (refiner_)
-        for (const std::uint64_t t : refiner_->take_newly_publishable())
-            if (!deferral_ || !deferral_->hidden(t)) arrivals.push_back(t);
-    if (deferral_)
-        for (const std::uint64_t t : deferral_->take_visible())
-            if (!refiner_ || refiner_->publishable(t)) arrivals.push_back(t);
-    std::sort(arrivals.begin(), arrivals.end());
-    arrivals.erase(std::unique(arrivals.begin(), arrivals.end()), arrivals.end());
-    tile_cache_.arrive(arrivals);
     count_deferred();
     // While a stroke's tiles are hidden, the groups the frames drew over their bound get finer coarse levels.
     if (deferral_ && detail_ && history_ && history_->stroke_open()) tile_cache_.want_detail(detail_->take());
     if (deferral_ && drawn_) tile_cache_.frames_drew(drawn_->take());
-    if (refiner_) {
-        const compute::StartupRefiner::Source startup(contourer_, *refiner_);
-        if (deferral_) tile_cache_.refresh(compute::DeferredContour::Source(startup, *deferral_));
-        else tile_cache_.refresh(startup);
-        if (refiner_->done()) refiner_.reset();  // every tile is in: the next publish counts as refined
-    } else {
-        tile_cache_.refresh(compute::DeferredContour::Source(compute::ContourerTiles(contourer_), *deferral_));
-    }
+    compute::refresh_held_tiles(tile_cache_, contourer_, refiner_.get(), deferral_.get());
+    if (refiner_ && refiner_->done()) refiner_.reset();  // every tile is in: the next publish counts as refined
 }
 
 }  // namespace tridex::app
