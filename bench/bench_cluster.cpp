@@ -35,6 +35,7 @@ struct ClusterCli {
     int resolution = 128;     // workpiece cells along the longest side
     double stroke_s = 4.0;    // the scene's stroke, s
     std::string startup = "coarse";  // the render ranks' start-up (the cluster config's "startup")
+    std::string stroke_contour = "coarse";  // how they draw a stroke (the cluster config's "stroke_contour")
 };
 
 // The wall scene with a stroke of `seconds`, side by side, 640 x 480 per eye.
@@ -55,14 +56,16 @@ std::string write_scene(const fs::path& dir, const ClusterCli& o) {
 }
 
 // K vertical strips of the wall, one per render rank.
-std::string write_config(const fs::path& dir, int ranks, const std::string& startup) {
+std::string write_config(const fs::path& dir, const ClusterCli& o) {
     nlohmann::json rs = nlohmann::json::array();
+    const int ranks = o.ranks;
     for (int r = 1; r <= ranks; ++r)
         rs.push_back({{"rank", r},
                       {"viewports", {{{"name", "strip-" + std::to_string(r)},
                                       {"region", {static_cast<double>(r - 1) / ranks, 0.0, static_cast<double>(r) / ranks, 1.0}}}}}});
     const std::string path = (dir / "cluster_config.json").string();
-    write_json_file(path, {{"check_every_frames", 30}, {"timeout_s", 30}, {"startup", startup}, {"ranks", rs}});
+    write_json_file(path, {{"check_every_frames", 30}, {"timeout_s", 30}, {"startup", o.startup},
+                           {"stroke_contour", o.stroke_contour}, {"ranks", rs}});
     return path;
 }
 
@@ -74,13 +77,15 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
     if (o.ranks < 1 || o.ranks > 16) throw Error("--cluster-ranks: 1..16 render ranks, got " + std::to_string(o.ranks));
     if (o.startup != "coarse" && o.startup != "full")
         throw Error("--cluster-startup: coarse or full, got '" + o.startup + "'");
+    if (o.stroke_contour != "coarse" && o.stroke_contour != "full")
+        throw Error("--cluster-stroke-contour: coarse or full, got '" + o.stroke_contour + "'");
     if (!app::cluster_supported()) throw Error("--cluster: this build has no MPI (install openmpi-bin and libopenmpi-dev, rebuild)");
     if (std::system("command -v mpirun > /dev/null 2>&1") != 0) throw Error("--cluster: mpirun is not installed (Debian's openmpi-bin)");
     app::prepare_output_dir(c.out, "--out");
     const fs::path dir = fs::absolute(fs::path(c.out) / "cluster");
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const std::string scene = write_scene(dir, o), config = write_config(dir, o.ranks, o.startup);
+    const std::string scene = write_scene(dir, o), config = write_config(dir, o);
     const fs::path run = dir / "run";
     const std::string exe = fs::read_symlink("/proc/self/exe").string();
     const std::string cmd = "timeout 600 mpirun" + std::string(geteuid() == 0 ? " --allow-run-as-root" : "") +
@@ -90,8 +95,9 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
     std::printf(
         "cluster: mpirun -np %d on this machine (2 cores shared by every rank), rank 0 the session, %d render "
         "rank%s each a strip of a 3.05 m wall, 640x480 per eye side by side, N = %d, a %.1f s stroke, render ranks' "
-        "start-up %s\n",
-        o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.resolution, o.stroke_s, o.startup.c_str());
+        "start-up %s, strokes contoured %s\n",
+        o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.resolution, o.stroke_s, o.startup.c_str(),
+        o.stroke_contour.c_str());
     std::fflush(stdout);
     const int status = std::system(cmd.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
@@ -141,6 +147,11 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
             static_cast<unsigned long long>(rank.value("startup_tiles_refined", 0ull)),
             static_cast<unsigned long long>(rank.value("startup_pending_at_end", 0ull)),
             static_cast<unsigned long long>(rank.value("tile_triangles_last_frame", 0ull)));
+        std::printf("  strokes contoured %s: %llu tiles contoured in all, %llu tile deferrals, %llu deferred at the end\n",
+                    rank.value("stroke_contour", "?").c_str(),
+                    static_cast<unsigned long long>(rank.value("tiles_contoured", 0ull)),
+                    static_cast<unsigned long long>(rank.value("stroke_tiles_deferred", 0ull)),
+                    static_cast<unsigned long long>(rank.value("stroke_tiles_waiting_at_end", 0ull)));
     }
     std::printf("digest checks agreed: %llu; frames in step at %.1f Hz\n", static_cast<unsigned long long>(cl.value("checks", 0ull)),
                 report["frames"].is_object() ? report["frames"].value("rate_hz", 0.0) : 0.0);
@@ -156,6 +167,7 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
                      {"resolution", o.resolution},
                      {"stroke_s", o.stroke_s},
                      {"startup", o.startup},
+                     {"stroke_contour", o.stroke_contour},
                      {"cluster", cl},
                      {"late_join",
                       {{"workpiece_ms", load_ms},
@@ -174,6 +186,10 @@ BenchRun setup_cluster(CLI::App& bench) {
         "--cluster-startup", o->startup,
         "With --cluster: the render ranks' start-up where their groups take coarse levels (from 512 cells): "
         "coarse (the coarsest levels first, tiles where frames need them) or full (default coarse)");
+    bench.add_option("--cluster-stroke-contour", o->stroke_contour,
+                     "With --cluster: how the render ranks draw a stroke where their groups take coarse levels: coarse "
+                     "(its tiles wait while it is open, the coarse levels stand in) or full (contoured in the frame that "
+                     "brings them) (default coarse)");
     return [o](const BenchCommon& c) { run_cluster(*o, c); };
 }
 

@@ -258,6 +258,7 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
     EXPECT_EQ(c.ranks[0].viewports[1].width_px, 64);
     EXPECT_EQ(c.lod, "on") << "levels of detail on the render ranks by default";
     EXPECT_EQ(c.startup, "coarse") << "render ranks start coarse first by default, as run --startup";
+    EXPECT_EQ(c.stroke_contour, "coarse") << "render ranks draw strokes coarse by default, as run --stroke-contour";
 
     const auto error_of = [&](const std::string& text) {
         try {
@@ -282,6 +283,9 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
         std::string::npos)
         << error_of(
                R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
+    const std::string fine_strokes =
+        error_of(R"({"stroke_contour": "fine", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
+    EXPECT_NE(fine_strokes.find("'stroke_contour': must be coarse or full, got 'fine'"), std::string::npos) << fine_strokes;
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a"}]}]})").find("either 'region' or 'corners'"),
               std::string::npos);
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1], "colour": 1}]}]})")

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "cluster_replica_helpers.hpp"
 #include "cube_off.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/scene/session_spec.hpp"
@@ -26,6 +27,10 @@ namespace tridex::app {
 namespace {
 
 namespace fs = std::filesystem;
+using test::bunny_spec_json;
+using test::expect_same_contour;
+using test::small_wall;
+using test::wall_frame;
 
 constexpr double kViewEdgeX = -0.03;  // the view sees x <= this, m
 
@@ -56,41 +61,6 @@ renderer::Frustum left_end() {
     for (glm::dvec4& p : f.planes) p = glm::dvec4(0.0, 0.0, 0.0, 1.0);
     f.planes[0] = glm::dvec4(-1.0, 0.0, 0.0, kViewEdgeX);
     return f;
-}
-
-// The session spec of the default scene's bunny at `resolution` cells, as rank 0's hello carries it.
-std::string bunny_spec_json(int resolution) {
-    SessionSpec spec = RunScene::default_spec();
-    spec.mesh_path = default_mesh_path();
-    spec.resolution = resolution;
-    return spec_to_json(spec);
-}
-
-// A frame that shows the bunny `scale` times its size on the wall, seen from 3 m, without the tool.
-FrameMessage wall_frame(double scale) {
-    FrameMessage m;
-    m.head = Pose{Vec3(0.0, 1.74, 3.0), Quat(1.0, 0.0, 0.0, 0.0)};
-    m.nav_pose = Pose{Vec3(0.0, 1.74, 0.0), Quat(1.0, 0.0, 0.0, 0.0)};
-    m.nav_scale = scale;
-    m.show_tool = false;
-    return m;
-}
-
-// The 3.05 m wall as one 320x240 viewport.
-ClusterViewport small_wall() {
-    ClusterViewport wall;
-    wall.name = "wall";
-    wall.screen = renderer::Screen{Vec3(-1.524, 0.60, 0.0), Vec3(1.524, 0.60, 0.0), Vec3(-1.524, 2.886, 0.0)};
-    wall.width_px = 320;
-    wall.height_px = 240;
-    return wall;
-}
-
-// The two replicas' contours are the same, bit for bit.
-void expect_same_contour(const ClusterReplica& a, const ClusterReplica& b) {
-    const TriMesh ma = a.contourer().mesh(), mb = b.contourer().mesh();
-    EXPECT_EQ(ma.positions, mb.positions);
-    EXPECT_EQ(ma.triangles, mb.triangles);
 }
 
 TEST(ClusterReplica, ContoursOnlyTheChangedTilesItsViewsNeedAndTheRestLater) {
@@ -202,7 +172,7 @@ TEST(ClusterReplica, LevelsOfDetailDrawFewerTrianglesAndTheSamePicture) {
 // finishing the start-up gives the contour of a replica that contoured everything at once, bit for bit.
 TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTilesBesideIt) {
     const std::string json = bunny_spec_json(256);  // the grooves' depth-1 groups and their neighbours lie apart
-    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), full(json);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, {.coarse_first = true}), full(json);
     const std::size_t at_start = coarse.startup_pending();
     const FrameMessage m = two_grooves();
     coarse.apply(m);
@@ -227,7 +197,7 @@ TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTiles
     coarse.contour();
     EXPECT_EQ(coarse.tiles_deferred(), 0u);
     EXPECT_LT(coarse.startup_pending(), pending) << "the right groove brought no start-up tile";
-    coarse.finish_startup();
+    coarse.finish_contour();
     EXPECT_EQ(coarse.startup_pending(), 0u);
     expect_same_contour(coarse, full);
 }
@@ -245,7 +215,7 @@ TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTiles
 // and finishing its start-up gives the whole replica's contour bit for bit.
 TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFramesWant) {
     const std::string json = bunny_spec_json(128);
-    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, true), lod(json, lod_choice("coarse")), full(json);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, {.coarse_first = true}), lod(json, lod_choice("coarse")), full(json);
     ASSERT_TRUE(coarse.started_coarse());
     EXPECT_FALSE(lod.started_coarse());
     EXPECT_EQ(coarse.tiles_contoured(), 0u);
@@ -358,7 +328,7 @@ TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFrame
                 wall.width_px * wall.height_px);
     EXPECT_LE(near_off * 100, static_cast<std::size_t>(wall.width_px * wall.height_px));
 
-    coarse.finish_startup();
+    coarse.finish_contour();
     EXPECT_EQ(coarse.startup_pending(), 0u);
     expect_same_contour(coarse, full);
 }

@@ -148,6 +148,9 @@ ClusterConfig parse_cluster_config(const std::string& text, const std::string& s
     c.startup = f.text("startup", c.startup);
     if (c.startup != "coarse" && c.startup != "full")
         f.fail(f.path("startup"), "must be coarse or full, got '" + c.startup + "'");
+    c.stroke_contour = f.text("stroke_contour", c.stroke_contour);
+    if (c.stroke_contour != "coarse" && c.stroke_contour != "full")
+        f.fail(f.path("stroke_contour"), "must be coarse or full, got '" + c.stroke_contour + "'");
     c.key_file = f.text("key_file", "");
     if (!c.key_file.empty() && std::filesystem::path(c.key_file).is_relative())
         c.key_file = (std::filesystem::path(source).parent_path() / c.key_file).string();

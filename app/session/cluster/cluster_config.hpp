@@ -59,6 +59,11 @@ struct ClusterConfig {
     /// cells, or "coarse"), as `run --startup`: "coarse" (the coarsest group levels drawn at once, tiles contoured
     /// where frames need them; ClusterReplica's coarse_first) or "full" (every tile contoured before the first frame).
     std::string startup = "coarse";
+    /// How a render rank draws a stroke where its groups take coarse levels, as `run --stroke-contour`: "coarse" (the
+    /// stroke's tiles wait while it is open and the coarse group levels over them stand in, finer where a frame
+    /// needs it; ClusterReplica's stroke_coarse) or "full" (the changed tiles its viewports see are contoured in
+    /// the frame that brings them).
+    std::string stroke_contour = "coarse";
     /// A wall without mpirun (ClusterTransport over the network): the key that seals its link, from a key file (32
     /// bytes or 64 hex digits; a relative path is taken from the config's folder) or the name of an environment
     /// variable holding a passphrase, the same on every rank; both "" = the link is not sealed.
@@ -74,7 +79,7 @@ struct ClusterConfig {
 /// wall space), "width_px", "height_px" (default: the display's pixels times the region's share), "eye" (both | left
 /// | right), "stereo" (a stereo output name; default the display's), "output" (offscreen | window | fullscreen),
 /// "monitor", "swap_eyes" (default the display's)}]}], "check_every_frames", "timeout_s", "start_timeout_s", "lod",
-/// "startup", "key_file", "passphrase_env"}. `display` is the wall's display config (its screen, resolution and
+/// "startup", "stroke_contour", "key_file", "passphrase_env"}. `display` is the wall's display config (its screen, resolution and
 /// stereo output supply the defaults). Throws tridex::Error naming the file and field:
 /// unreadable or not JSON, unknown fields, ranks missing (they must be 1..K, each once), a viewport with no
 /// area or corners not at right angles, duplicate viewport names, values out of range.

@@ -11,6 +11,7 @@
 
 #include "app/scene/session_spec.hpp"
 #include "app/session/view/run_view.hpp"
+#include "compute/contour/held_tiles.hpp"
 #include "compute/contour/lod_worker.hpp"
 #include "compute/contour/refine_wanted.hpp"
 #include "compute/contour/sorted_ids.hpp"
@@ -22,7 +23,7 @@
 namespace tridex::app {
 
 ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lod, const HelloMessage* late,
-                               bool coarse_first)
+                               const ReplicaContour& how)
     : lod_(lod.on) {
     SessionSpec spec = spec_from_json(spec_json, "the session spec from rank 0");
     wp_ = prepare_session_workpiece(spec);
@@ -45,10 +46,10 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         if (o.coarse_groups_from_cells > 0 && std::max({cells[0], cells[1], cells[2]}) >= o.coarse_groups_from_cells) {
             compute::CoarseLevelOptions levels;
             levels.max_depth = o.coarse_max_depth;
-            tiles_.use_coarse_groups(wp_.model, levels, coarse_first);
+            tiles_.use_coarse_groups(wp_.model, levels, how.coarse_first);
             // The records change tiles in every frame of a stroke; no frame here holds its samples.
             tiles_.build_away_from_changes(true);
-            if (coarse_first) {  // as SculptThread::arm_tile_lod; only the groups frames want are refined (no regions)
+            if (how.coarse_first) {  // as SculptThread::arm_tile_lod; only the groups frames want are refined (no regions)
                 const compute::Lattice& l = wp_.model.lattice;
                 const Vec3 middle = l.to_world(Vec3(cells[0], cells[1], cells[2]) * 0.5);
                 refiner_ = std::make_unique<compute::StartupRefiner>(wp_.model, std::min(levels.max_depth, 3), middle);
@@ -60,6 +61,11 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         tiles_.build_lods_in_background(o);
     }
     update({}, false);
+    // After the first refresh: the cache takes deferred tiles from then on.
+    if (how.stroke_coarse && tiles_.coarse_groups()) {
+        deferral_ = std::make_unique<compute::DeferredContour>(wp_.model.tiles.tiles);
+        if (refiner_) refiner_->contour_beside(deferral_.get());
+    }
 }
 
 ClusterReplica::~ClusterReplica() = default;
@@ -68,15 +74,19 @@ std::uint64_t ClusterReplica::digest() const { return compute::model_digest(wp_.
 
 std::optional<std::uint64_t> ClusterReplica::apply(const FrameMessage& m) {
     const std::span<const compute::JournalRecord> all(m.records);
+    // A stroke open before or after the records: what they change is the stroke's (its close included).
+    stroke_changes_ = stroke_changes_ || applier_->stroke_open();
+    std::optional<std::uint64_t> mismatch;
     if (!m.check_digest) {
         applier_->apply(all);
-        return std::nullopt;
+    } else {
+        applier_->apply(all.first(m.check_after));
+        const std::uint64_t mine = digest();
+        applier_->apply(all.subspan(m.check_after));
+        if (mine != *m.check_digest) mismatch = mine;
     }
-    applier_->apply(all.first(m.check_after));
-    const std::uint64_t mine = digest();
-    applier_->apply(all.subspan(m.check_after));
-    if (mine != *m.check_digest) return mine;
-    return std::nullopt;
+    stroke_changes_ = stroke_changes_ || applier_->stroke_open();
+    return mismatch;
 }
 
 namespace {
@@ -143,12 +153,38 @@ std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::
     return wait;
 }
 
+// `visible` grown by one tile (each tile a view may see and its 26 neighbours).
+std::vector<std::uint8_t> near_tiles(const compute::TileGrid& g, const std::vector<std::uint8_t>& visible) {
+    std::vector<std::uint8_t> near(g.count(), 0);
+    for (int tz = 0; tz < g.tiles[2]; ++tz)
+        for (int ty = 0; ty < g.tiles[1]; ++ty)
+            for (int tx = 0; tx < g.tiles[0]; ++tx) {
+                if (!visible[g.index(tx, ty, tz)]) continue;
+                for (int z = std::max(tz - 1, 0); z <= std::min(tz + 1, g.tiles[2] - 1); ++z)
+                    for (int y = std::max(ty - 1, 0); y <= std::min(ty + 1, g.tiles[1] - 1); ++y)
+                        for (int x = std::max(tx - 1, 0); x <= std::min(tx + 1, g.tiles[0] - 1); ++x)
+                            near[g.index(x, y, z)] = 1;
+            }
+    return near;
+}
+
 }  // namespace
 
 void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update(frusta, true); }
 
 void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refine) {
     compute::TileGrid& g = wp_.model.tiles;
+    const bool stroke = deferral_ && std::exchange(stroke_changes_, false);
+    const std::vector<std::uint64_t> wanted = std::exchange(wanted_, {});  // frames name them again
+    if (stroke) {
+        // A stroke drawn coarse: its changed tiles wait, hidden, and the refresh rebuilds the coarse levels over them.
+        // Start-up's tiles among them stay start-up's too (it hides them and their neighbours until it contours them).
+        const std::vector<std::uint64_t> changed = deferral_->defer(wp_.model);
+        if (!changed.empty()) tiles_.defer_tiles(changed);
+        stroke_deferred_ += changed.size();
+    } else if (deferral_) {
+        deferral_->take_dirty(wp_.model);  // no tile contoured now borrows a vertex from an old contour
+    }
     const std::vector<std::uint8_t> visible =
         frusta.empty() ? std::vector<std::uint8_t>{} : visible_tiles(wp_.model, frusta);
     // Changed tiles no view needs yet wait; those contoured now that start-up has not contoured bring the start-up
@@ -172,68 +208,87 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
         for (const std::uint32_t t : g.dirty_tiles())  // those it brought: never asked to bring more
             if (before[t] == 0) handled[t] = 1;
     }
-    // Waiting tiles are unmarked for this update (and start-up's slice), and marked again after it.
+    // Waiting tiles are unmarked for this update (and the slice), and marked again after it.
     for (const std::uint32_t t : wait) g.dirty[t] = 0;
     contoured_ += contourer_->update(wp_.model);
-    if (started_coarse_ && refine) refine_startup();
+    if (refine) refine_held(wanted, frusta.empty() ? visible : near_tiles(g, visible), stroke);
     for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
     deferred_ = wait.size();
-    refresh_tiles();
+    refresh_tiles(wanted, stroke);
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
 }
 
-void ClusterReplica::refine_startup() {
-    const std::vector<std::uint64_t> wanted = std::exchange(wanted_, {});  // frames name them again
-    // One finer coarse depth first: frames draw its groups' levels where they need more than the coarsest.
-    if (tiles_.build_coarse_depth() || !refiner_) return;
+void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& near_view,
+                                 bool stroke) {
+    // A coarse-first start-up reads one finer coarse depth first: frames draw its groups' levels where they need more
+    // than the coarsest.
+    if (started_coarse_ && tiles_.build_coarse_depth()) return;
+    if (!refiner_ && (!deferral_ || deferral_->count() == 0)) return;
     const auto t0 = std::chrono::steady_clock::now();
     bool begun = false;
     const auto in_slice = [&] {
         const bool first = !std::exchange(begun, true);
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
-    const compute::WantedRefined n = compute::refine_wanted_groups(
-        wanted, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), nullptr, compute::kWantedBlockDepth, in_slice);
+    const compute::WantedRefined n = compute::refine_wanted_groups(wanted, tiles_.groups(), wp_.model, *contourer_,
+                                                                   refiner_.get(), deferral_.get(),
+                                                                   compute::kWantedBlockDepth, in_slice);
     startup_refined_ += n.startup;
-    contoured_ += n.startup;
+    contoured_ += n.startup + n.deferred;
+    // Once the stroke closed, its deferred tiles a view may see, oldest first; the others wait for a view.
+    if (stroke || !deferral_) return;
+    const auto seen = [&](std::uint64_t t) { return near_view.empty() || near_view[t] != 0; };
+    while (deferral_->count() > 0 && in_slice()) {
+        const std::size_t k = deferral_->contour_oldest_where(wp_.model, *contourer_, compute::DeferredContour::kTilesPerBatch, seen);
+        if (k == 0) break;
+        contoured_ += k;
+    }
 }
 
-void ClusterReplica::refresh_tiles() {
-    if (!refiner_) {
-        tiles_.refresh(*contourer_);
-        return;
+void ClusterReplica::refresh_tiles(const std::vector<std::uint64_t>& wanted, bool stroke) {
+    if (deferral_) {
+        // While a stroke's tiles are hidden, the groups the frames drew over their bound get finer coarse levels, and
+        // the waiting levels under the groups they drew within it are left for later.
+        if (stroke) tiles_.want_detail(wanted);
+        tiles_.frames_drew(std::exchange(drawn_, {}));
     }
-    // A tile arrives once it and its neighbours are contoured (start-up's tiles in a waiting group are not).
-    tiles_.arrive(refiner_->take_newly_publishable());
-    tiles_.refresh(compute::StartupRefiner::Source(*contourer_, *refiner_));
-    if (refiner_->done()) refiner_.reset();  // every tile is in
+    compute::refresh_held_tiles(tiles_, *contourer_, refiner_.get(), deferral_.get());
+    if (refiner_ && refiner_->done()) refiner_.reset();  // every tile is in
 }
 
 void ClusterReplica::want_detail(std::span<const std::uint64_t> group_ids) {
-    if (!refiner_) return;
+    if (!refiner_ && !deferral_) return;
     std::vector<std::uint64_t> ids(group_ids.begin(), group_ids.end());
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     compute::merge_ids(wanted_, ids);
 }
 
-void ClusterReplica::finish_startup() {
-    if (!started_coarse_) return;
-    while (tiles_.build_coarse_depth()) {  // every coarse depth, as a start-up that ran to its end reads them
-    }
+void ClusterReplica::frames_drew(std::span<const std::uint64_t> group_ids) {
+    if (deferral_) drawn_.insert(drawn_.end(), group_ids.begin(), group_ids.end());
+}
+
+void ClusterReplica::finish_contour() {
+    if (started_coarse_)
+        while (tiles_.build_coarse_depth()) {  // every coarse depth, as a start-up that ran to its end reads them
+        }
     wanted_.clear();
+    if (deferral_) deferral_->take_dirty(wp_.model);  // no changed tile borrows a vertex from an old contour
+    contoured_ += contourer_->update(wp_.model);      // the changed tiles waiting for a view
+    deferred_ = 0;
     if (refiner_) {
-        contoured_ += contourer_->update(wp_.model);  // the changed tiles waiting for a view too
-        deferred_ = 0;
         const std::size_t n = refiner_->finish(wp_.model, *contourer_);
         startup_refined_ += n;
         contoured_ += n;
     }
-    refresh_tiles();
+    if (deferral_) contoured_ += deferral_->contour_all(wp_.model, *contourer_);
+    refresh_tiles({}, false);
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
 }
+
+std::size_t ClusterReplica::stroke_tiles_waiting() const { return deferral_ ? deferral_->count() : 0; }
 
 std::size_t ClusterReplica::startup_pending() const { return refiner_ ? refiner_->pending() : 0; }
 

@@ -15,6 +15,7 @@
 #include "app/session/view/tile_view.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/deferred_contour.hpp"
 #include "compute/contour/startup_refine.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
@@ -22,6 +23,19 @@
 #include "renderer/stereo/stereo_renderer.hpp"
 
 namespace tridex::app {
+
+/// How a replica contours what it draws where its groups take coarse levels (lod.on and the model has
+/// lod.coarse_groups_from_cells cells or more; the cluster config's "startup" and "stroke_contour"). Ignored elsewhere.
+struct ReplicaContour {
+    /// Start coarse first: no tile is contoured at construction; the first view draws the coarsest group levels, and
+    /// each contour() after it reads one finer coarse depth or contours the tiles under the groups the frames want
+    /// finer (want_detail), as the desk's start-up does (docs/design/lod.md, "Coarse first at start-up").
+    bool coarse_first = false;
+    /// Draw strokes coarse: the tiles a stroke changes wait, hidden, while it is open (and its close), and the coarse
+    /// group levels over them stand in, finer where the frames want it (want_detail, frames_drew), as the desk draws a
+    /// stroke (docs/design/lod.md, "Strokes drawn coarse").
+    bool stroke_coarse = false;
+};
 
 /// The model of a session as a render rank holds it. Applying rank 0's records in order gives rank 0's model bit
 /// for bit (JournalApplier on the CPU reference Booleans, the session's island setting and undo budget).
@@ -35,13 +49,9 @@ public:
     /// `late`: the render rank joined a running wall (a hello with HelloMessage::first_record and the history): the
     /// spec's model is the one it joined with, the undo history and each site's sweeps start from the hello's, and
     /// the first record applied is first_record. Throws tridex::Error as well for malformed history bytes.
-    /// `coarse_first` (a cluster config's "startup" "coarse"), where the groups take coarse levels (lod.on and the
-    /// model has lod.coarse_groups_from_cells cells or more): no tile is contoured here; the first view draws the
-    /// coarsest group levels, and each contour() after it reads one finer coarse depth or contours the tiles under
-    /// the groups the frames want finer (want_detail), as the desk's start-up does (docs/design/lod.md, "Coarse first
-    /// at start-up"). Ignored where coarse groups do not apply.
+    /// `how`: a coarse-first start-up and strokes drawn coarse (ReplicaContour).
     explicit ClusterReplica(const std::string& spec_json, const LodChoice& lod = {}, const HelloMessage* late = nullptr,
-                            bool coarse_first = false);
+                            const ReplicaContour& how = {});
     ~ClusterReplica();
 
     /// The model's digest (compute::model_digest).
@@ -58,35 +68,54 @@ public:
     /// first, and the groups' coarse levels out of reach of the changes are rebuilt while tiles keep changing
     /// (TileSurfaceCache::build_away_from_changes), those within reach once they settle. Throws tridex::Error when a
     /// frustum's box test does.
+    /// Strokes drawn coarse (ReplicaContour::stroke_coarse): while the records applied since the last contour() had
+    /// a stroke open, the tiles they changed are not contoured but deferred (compute::DeferredContour), and the
+    /// coarse levels over them are rebuilt instead (TileSurfaceCache::defer_tiles; one depth finer under the groups
+    /// want_detail() named, the waiting levels of those under a group frames_drew() named left for later). The
+    /// deferred tiles under the groups want_detail() named are contoured within the slice below; once no stroke is
+    /// open, those a view may see (or next to one) too, oldest first. Other deferred tiles wait for a view, as
+    /// changed tiles do; a change contoured now takes the deferred tiles next to it along.
     /// During a coarse-first start-up, first: the changed tiles contoured now that start-up has not contoured bring
     /// the start-up tiles of the depth-1 groups they reach (compute::StartupRefiner::contour_with_change, drawn at full
     /// resolution; a waiting group those join is contoured now too), while start-up's tiles in a waiting group stay
     /// start-up's; then one finer coarse depth is read, or, once every depth is, the tiles under the groups
     /// want_detail() named are contoured, finest group first, a block of 4x4x4 tiles at a time, for up to
     /// kStartupSliceS after the first block. A tile arrives (the groups over it stop standing in) once it and its
-    /// neighbours are contoured (StartupRefiner::publishable).
+    /// neighbours are contoured (StartupRefiner::publishable) and no stroke holds it.
     void contour(std::span<const renderer::Frustum> frusta = {});
-    /// Coarse-first start-up: the groups the last frames drew over their pixel bound because no finer level or
-    /// tile could stand in yet (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the
-    /// next contour() refines (which then forgets them: frames name them again). Nothing outside a start-up.
+    /// The groups the last frames drew over their pixel bound because no finer level or tile could stand in yet
+    /// (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the next contour() refines
+    /// (which then forgets them: frames name them again). Nothing unless the replica started coarse first or draws
+    /// strokes coarse.
     void want_detail(std::span<const std::uint64_t> group_ids);
-    /// Coarse-first start-up: reads every coarse depth not read yet and contours every tile it has left (and the
-    /// changed tiles waiting for a view). Nothing outside one. The contour then equals, bit for bit, that of a replica
-    /// that contoured everything at once.
-    void finish_startup();
+    /// Strokes drawn coarse: the groups the last frames drew at a level within their pixel bound
+    /// (renderer::FrameStats::groups_at_level, of every viewport), added to those the next contour() hands the tile
+    /// cache (TileSurfaceCache::frames_drew). Nothing otherwise.
+    void frames_drew(std::span<const std::uint64_t> group_ids);
+    /// Contours everything held back: reads every coarse depth a coarse-first start-up has not read yet, contours
+    /// every tile it has left, the changed tiles waiting for a view and a stroke's deferred tiles. The contour then
+    /// equals, bit for bit, that of a replica that contoured everything at once.
+    void finish_contour();
     /// Groups waiting for their coarse level (a coarse-first start-up's finer depths, a stroke's; 0 without coarse
     /// groups).
     std::size_t coarse_levels_waiting() const { return tiles_.coarse_waiting(); }
     /// Tiles a coarse-first start-up has not contoured yet (0 outside one, and once it is done).
     std::size_t startup_pending() const;
-    /// Tiles a coarse-first start-up has contoured so far (on demand, with changes, or by finish_startup).
+    /// Tiles a coarse-first start-up has contoured so far (on demand, with changes, or by finish_contour).
     std::uint64_t startup_tiles_refined() const { return startup_refined_; }
     /// True when this replica started coarse first (coarse_first and coarse groups apply).
     bool started_coarse() const { return started_coarse_; }
     /// The most time one contour() spends on start-up's refinement beyond its first unit of work, s.
     static constexpr double kStartupSliceS = 0.03;
-    /// Changed tiles the last contour() left for a later view (0 after one without frusta).
+    /// Changed tiles the last contour() left for a later view (0 after one without frusta), a stroke's deferred tiles
+    /// not included.
     std::size_t tiles_deferred() const { return deferred_; }
+    /// True when this replica draws strokes coarse (ReplicaContour::stroke_coarse and coarse groups apply).
+    bool strokes_coarse() const { return deferral_ != nullptr; }
+    /// Strokes drawn coarse: tiles a stroke changed whose contour waits now.
+    std::size_t stroke_tiles_waiting() const;
+    /// Strokes drawn coarse: tile deferrals so far (a tile changed in several contour() calls counts in each).
+    std::uint64_t stroke_tiles_deferred() const { return stroke_deferred_; }
     /// Tiles contoured by every contour() so far (the first, at construction, included).
     std::uint64_t tiles_contoured() const { return contoured_; }
     /// Tiles and groups whose start-up levels are not built yet (0 without levels of detail; during a coarse-first
@@ -112,9 +141,12 @@ public:
 
 private:
     void load_references(const SessionSpec& spec);
-    void update(std::span<const renderer::Frustum> frusta, bool refine);  // contour(); without start-up's slice
-    void refine_startup();  // contour()'s start-up slice (the model's dirty flags clear)
-    void refresh_tiles();   // the tile cache from the contour, seen through start-up's refinement while it runs
+    void update(std::span<const renderer::Frustum> frusta, bool refine);  // contour(); without the slice
+    // contour()'s slice (the model's dirty flags clear): start-up's depth or wanted tiles, a stroke's deferred ones
+    // (`near_view`: tiles a view may see or next to one, empty for every tile).
+    void refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& near_view, bool stroke);
+    // The tile cache from the contour, seen through start-up's refinement and a stroke's deferral.
+    void refresh_tiles(const std::vector<std::uint64_t>& wanted, bool stroke);
 
     Workpiece wp_;
     std::unique_ptr<compute::JournalApplier> applier_;
@@ -126,7 +158,11 @@ private:
     std::vector<renderer::SceneObject> reference_objects_;   // ... placed by their poses, drawn by view()
     std::vector<std::string> reference_notes_;               // references not drawn here, and why
     std::unique_ptr<compute::StartupRefiner> refiner_;       // a coarse-first start-up while it runs
+    std::unique_ptr<compute::DeferredContour> deferral_;     // strokes drawn coarse
     std::vector<std::uint64_t> wanted_;                      // groups the frames want finer (want_detail), ascending
+    std::vector<std::uint64_t> drawn_;                       // groups the frames drew at a level (frames_drew)
+    bool stroke_changes_ = false;  // the records applied since the last contour() had a stroke open
+    std::uint64_t stroke_deferred_ = 0;
     bool started_coarse_ = false;
     std::uint64_t startup_refined_ = 0;
     std::size_t deferred_ = 0;

@@ -146,7 +146,8 @@ private:
             spec_json = spec_to_json(spec);
         }
         const bool late = hello.first_record > 0 || !hello.history.empty();  // it joined a running wall
-        replica_.emplace(spec_json, lod_choice(c_.lod), late ? &hello : nullptr, c_.startup == "coarse");
+        replica_.emplace(spec_json, lod_choice(c_.lod), late ? &hello : nullptr,
+                         ReplicaContour{c_.startup == "coarse", c_.stroke_contour == "coarse"});
         first_record_ = hello.first_record;
         palette_ = spec_from_json(hello.spec_json, "rank 0's hello").palette;  // the session's names and colours
         menu_root_ = default_menu(palette_);
@@ -243,10 +244,13 @@ private:
             if (vp->window) vp->window->poll_events();
             vp->sink->draw(*vp->rend, view, ClusterReplica::camera(*vp->config, m));
         }
-        // A coarse-first start-up contours next where these frames drew a group over its pixel bound.
-        if (replica_->startup_pending() > 0)
-            for (const std::unique_ptr<Viewport>& vp : viewports_)
-                replica_->want_detail(vp->rend->last_frame_stats().groups_wanting_detail);
+        // A coarse-first start-up and a stroke drawn coarse are refined next where these frames drew a group over its
+        // pixel bound; a stroke leaves the levels under those they drew within it for later.
+        for (const std::unique_ptr<Viewport>& vp : viewports_) {
+            const renderer::FrameStats& stats = vp->rend->last_frame_stats();
+            replica_->want_detail(stats.groups_wanting_detail);
+            replica_->frames_drew(stats.groups_at_level);
+        }
         a.draw_ms = ms_since(t0);
         if (frames_ == 0) first_frame_ms_ = load_ms_ + a.draw_ms;
         draw_ms_.add(a.draw_ms);
@@ -296,6 +300,9 @@ private:
                                        {"startup_tiles_refined", replica_->startup_tiles_refined()},
                                        {"startup_pending_at_end", replica_->startup_pending()},
                                        {"first_frame_ms", first_frame_ms_},
+                                       {"stroke_contour", replica_->strokes_coarse() ? "coarse" : "full"},
+                                       {"stroke_tiles_deferred", replica_->stroke_tiles_deferred()},
+                                       {"stroke_tiles_waiting_at_end", replica_->stroke_tiles_waiting()},
                                        {"tile_triangles_last_frame", triangles},
                                        {"draw_ms", summary_report_json(draw_ms_)},
                                        {"validation_messages", ctx_->validation_messages()},
