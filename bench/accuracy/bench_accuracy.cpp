@@ -138,10 +138,11 @@ nlohmann::json report_coarse(const std::string& program, int n, double cell_m, c
         const auto cells_of = [&](const Vec3& p) {
             return std::array<double, 3>{(p.x - origin.x) / c, (p.y - origin.y) / c, (p.z - origin.z) / c};
         };
-        std::printf("coarse  %-11s %4d d%d/%-2d %6zu %9zu %8.3f %8.2f %6.3f %6.3f %6.3f %6zu %6zu %7zu\n",
+        std::printf("coarse  %-11s %4d d%d/%-2d %6zu %9zu %8.3f %8.2f %6.3f %6.3f %6.3f %6zu %6zu %6zu %7.2f %7zu\n",
                     program.c_str(), n, r.depth, r.stride, r.groups, r.triangles, 1e3 * r.group_max_m,
                     r.group_max_m / cell_m, r.group_p50_m / c, r.group_p90_m / c, r.group_max_m / c,
-                    r.over_startup_estimate, r.over_level_estimate, r.samples_without_level);
+                    r.over_startup_estimate, r.over_level_estimate, r.over_dexel_estimate, r.dexel_excess_max_m / cell_m,
+                    r.samples_without_level);
         out.push_back({{"program", program},
                        {"n", n},
                        {"cell_m", cell_m},
@@ -159,6 +160,8 @@ nlohmann::json report_coarse(const std::string& program, int n, double cell_m, c
                        {"group_max_coarse_cells", r.group_max_m / c},
                        {"over_startup_estimate", r.over_startup_estimate},
                        {"over_level_estimate", r.over_level_estimate},
+                       {"over_dexel_estimate", r.over_dexel_estimate},
+                       {"dexel_excess_max_m", r.dexel_excess_max_m},
                        {"samples_without_level", r.samples_without_level},
                        {"worst_vertex_coarse_cells", cells_of(r.worst_vertex)},
                        {"worst_sample_coarse_cells", cells_of(r.worst_sample)}});
@@ -263,12 +266,15 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o) {
             "coarse levels after each program's first tridex path, per depth d (stride): groups measured, own "
             "triangles, "
             "worst group error in mm and fine cells; groups' p50 / p90 / max error in coarse cells; groups over "
-            "the start-up estimate (%.2f coarse cells) and over the level's (1); exact samples in a box with no "
-            "level\n",
+            "the start-up estimate (%.2f coarse cells), over the level's (1) and by more than half a fine cell over "
+            "the distance from the model's own surface points in the box (its rays' ends) to the level, with the "
+            "largest excess in fine cells; "
+            "exact samples in a box with no level\n",
             compute::TileSurfaceCache::kStartupErrorCoarseCells);
     if (!o.coarse_depths.empty())
-        std::printf("coarse  %-11s %4s %5s %6s %9s %8s %8s %6s %6s %6s %6s %6s %7s\n", "program", "N", "d/s", "groups",
-                    "triangles", "max_mm", "max_c", "p50_cc", "p90_cc", "max_cc", ">start", ">level", "missed");
+        std::printf("coarse  %-11s %4s %5s %6s %9s %8s %8s %6s %6s %6s %6s %6s %6s %7s %7s\n", "program", "N", "d/s",
+                    "groups", "triangles", "max_mm", "max_c", "p50_cc", "p90_cc", "max_cc", ">start", ">level",
+                    ">dexel", "dexel+c", "missed");
     for (const int n : o.resolutions) {
         compute::TriDexel pristine = workpiece(n, o.offset_cells);
         compute::Contourer pristine_contour(pristine);

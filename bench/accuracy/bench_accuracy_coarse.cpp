@@ -9,6 +9,7 @@
 
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "compute/contour/coarse_levels.hpp"
+#include "compute/contour/dexel_error.hpp"
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
@@ -22,6 +23,7 @@ struct GroupError {
     bool measured = false;  // its level has triangles of its own, or exact-surface samples lie in its box
     std::size_t triangles = 0;
     double vertex_m = 0.0, surface_m = 0.0;
+    double dexel_m = 0.0;  // compute::dexel_surface_error of the level in its box
     Vec3 worst_vertex{0.0}, worst_sample{0.0};
     std::size_t samples_missed = 0;
 };
@@ -59,7 +61,8 @@ SampleBuckets bucket_samples(const std::vector<Vec3>& samples, const compute::La
 }
 
 // The level of one group against the exact solid.
-GroupError measure_group(const compute::CoarseGroupLevels& levels, int depth, const std::array<int, 3>& coords,
+GroupError measure_group(const compute::TriDexel& model, const compute::CoarseGroupLevels& levels, int depth,
+                         const std::array<int, 3>& coords,
                          const ExactSolid& exact, const std::vector<Vec3>& samples, const SampleBuckets& buckets,
                          std::size_t g, double coarse_cell_m) {
     GroupError e;
@@ -74,6 +77,13 @@ GroupError measure_group(const compute::CoarseGroupLevels& levels, int depth, co
     }
     e.measured = own > 0 || last > first;
     e.triangles = own;
+    constexpr int kT = compute::TileGrid::kTileCells;
+    compute::CellBox box;
+    for (int a = 0; a < 3; ++a) {
+        box.lo[a] = coords[a] * (1 << depth) * kT;
+        box.hi[a] = (coords[a] + 1) * (1 << depth) * kT - 1;
+    }
+    e.dexel_m = compute::dexel_surface_error(model, box, level.mesh, 2.0 * coarse_cell_m, depth == 1 ? 512 : 256);
     std::vector<bool> seen(level.mesh.positions.size(), false);
     for (std::size_t t = 0; t < own; ++t)
         for (const std::uint32_t v : level.mesh.triangles[t]) {
@@ -134,7 +144,7 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
             try {
                 for (std::size_t g = next++; g < groups; g = next++)
                     errors[g] =
-                        measure_group(levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
+                        measure_group(model, levels, depth, all[g].second, exact, samples, buckets, g, r.coarse_cell_m);
             } catch (...) {
                 failed[worker] = std::current_exception();
                 next = groups;  // the others stop too
@@ -159,6 +169,8 @@ std::vector<CoarseLevelErrors> coarse_level_errors(const compute::TriDexel& mode
             if (two_sided > compute::TileSurfaceCache::kStartupErrorCoarseCells * r.coarse_cell_m)
                 ++r.over_startup_estimate;
             if (two_sided > options.error_coarse_cells * r.coarse_cell_m) ++r.over_level_estimate;
+            if (two_sided > e.dexel_m + 0.5 * model.lattice.cell_m) ++r.over_dexel_estimate;
+            r.dexel_excess_max_m = std::max(r.dexel_excess_max_m, two_sided - e.dexel_m);
         }
         r.group_p50_m = quantile(per_group, 0.5);
         r.group_p90_m = quantile(per_group, 0.9);

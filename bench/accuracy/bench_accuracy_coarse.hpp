@@ -34,6 +34,11 @@ struct CoarseLevelErrors {
     /// Groups whose error exceeds the estimate a coarse-first start-up draws a level with before its tiles are in
     /// (TileSurfaceCache::kStartupErrorCoarseCells coarse cells).
     std::size_t over_startup_estimate = 0;
+    /// Groups whose error exceeds the distance from the model's own surface points in their box to their level
+    /// (compute::dexel_surface_error: what a coarse-first start-up takes as a finest-depth level's error before its
+    /// tiles are in) by more than half a fine cell, and the largest excess of any group, m.
+    std::size_t over_dexel_estimate = 0;
+    double dexel_excess_max_m = 0.0;
     /// Groups whose error exceeds the level's own estimate (CoarseLevelOptions::error_coarse_cells coarse cells).
     std::size_t over_level_estimate = 0;
     /// Exact-surface samples in a group box whose level has no triangles (surface the coarse rays missed whole).

@@ -6,6 +6,7 @@
 #include <span>
 
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/dexel_error.hpp"
 #include "compute/contour/sorted_ids.hpp"
 #include "compute/contour/surface_distance.hpp"
 #include "compute/contour/tile_group_box.hpp"
@@ -23,22 +24,16 @@ void TileSurfaceCache::use_coarse_groups(const TriDexel& model, const CoarseLeve
 
 namespace {
 
-// The largest of `worst` and the distances to `grid`'s triangles of every step-th point of `points` (counted across
-// calls by k) and of the six points extreme along x, y and z (a feature the coarse rays missed sticks out there: an
-// ear's tip), m.
-double sampled_distance(std::span<const Vec3> points, TriangleGrid& grid, std::size_t step, std::size_t& k,
-                        double worst) {
-    if (points.empty()) return worst;
-    std::array<std::size_t, 6> extreme{};
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        for (int a = 0; a < 3; ++a) {
-            if (points[i][a] < points[extreme[2 * a]][a]) extreme[2 * a] = i;
-            if (points[i][a] > points[extreme[2 * a + 1]][a]) extreme[2 * a + 1] = i;
-        }
-        if (k++ % step == 0) worst = std::max(worst, grid.distance(points[i], worst));
+// The cells of `group`'s tiles (inclusive).
+CellBox group_cells(const TileGroupSurface& group) {
+    constexpr int kT = TileGrid::kTileCells;
+    const int span = 1 << group.depth;
+    CellBox box;
+    for (int a = 0; a < 3; ++a) {
+        box.lo[a] = group.coords[a] * span * kT;
+        box.hi[a] = (group.coords[a] + 1) * span * kT - 1;
     }
-    for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(points[i], worst));
-    return worst;
+    return box;
 }
 
 // The tiles of `tiles` (ascending) whose coarse rays a level of one of the groups `ids` reads, in a grid of `dims`
@@ -275,11 +270,13 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         const std::size_t g = index_of(groups_, id);
         if (g == groups_.size()) {  // gone
             estimated_.erase(id);
+            missed_.erase(id);
             dropped_error_.erase(id);
             continue;
         }
         groups.push_back(&groups_[g]);
         where.emplace_back(groups_[g].depth, groups_[g].coords);
+        missed_.erase(id);
     }
     coarse_->read_around(where);  // level() of these only reads from here on, so the jobs may run at once
     // A coarse-first start-up measures a level's error once all its group's tiles are in (update_startup_groups);
@@ -309,11 +306,17 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
         if (built[i].mesh.triangles.empty()) return;
         if (measure[i])
             built[i].error_m = coarse_level_error(*groups[i], built[i]);
+        else if (groups[i]->depth == coarse_->min_depth())  // measured against the model's own surface points
+            built[i].error_m = std::max(coarse_level_dexel_error(*groups[i], built[i]), before[i]);
         else  // the level's estimate is one coarse cell (CoarseLevelOptions::error_coarse_cells 1)
             built[i].error_m = std::max(built[i].error_m * kStartupErrorCoarseCells, before[i]);
     });
     for (std::size_t i = 0; i < groups.size(); ++i) {
         groups[i]->lods.clear();
+        // The model has surface in its box that its stride missed.
+        if (built[i].mesh.triangles.empty() && !measure[i] && groups[i]->depth == coarse_->min_depth() &&
+            dexel_surface_in(*coarse_model_, group_cells(*groups[i])))
+            missed_.insert(groups[i]->id);
         if (!built[i].mesh.triangles.empty()) groups[i]->lods.push_back(std::move(built[i]));
         groups[i]->version = fresh_tile_version();
         groups[i]->levels_waiting = false;
@@ -345,6 +348,23 @@ double TileSurfaceCache::coarse_level_error(const TileGroupSurface& group, const
     std::size_t k = 0;
     for (const TileSurface* t : tiles) worst = sampled_distance(t->mesh.positions, grid, step, k, worst);
     return worst;
+}
+
+std::vector<std::uint64_t> TileSurfaceCache::missed_surface_groups() const {
+    std::vector<std::uint64_t> ids;
+    for (const std::uint64_t id : missed_) {
+        const std::size_t g = index_of(groups_, id);
+        if (g < groups_.size() && !groups_[g].children_cover && groups_[g].lods.empty()) ids.push_back(id);
+    }
+    std::sort(ids.begin(), ids.end());
+    return ids;
+}
+
+double TileSurfaceCache::coarse_level_dexel_error(const TileGroupSurface& group, const TileLodLevel& level) const {
+    // As many samples as coarse_level_error takes from the tiles at this depth.
+    const std::size_t samples = group.depth == 1 ? 512 : 256;
+    return dexel_surface_error(*coarse_model_, group_cells(group), level.mesh,
+                               2.0 * lod_options_.cell_m * (1 << group.depth), samples);
 }
 
 std::optional<double> TileSurfaceCache::coarse_level_estimate(const TileGroupSurface& group,

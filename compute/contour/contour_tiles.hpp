@@ -278,15 +278,23 @@ public:
     /// Coarse-first start-up: the errors of levels built before their tiles were in that collect_lods() or
     /// refresh() measures at most at a time once those tiles are in (each reads its group's tile vertices).
     static constexpr std::size_t kStartupErrorsPerPass = 4;
-    /// Coarse-first start-up: a level built before its group's tiles are in takes this many coarse cells as its
-    /// error until it is measured: a typical group's measured error lies well under it, the largest two-sided
-    /// distance over a whole model (`tridex bench --coarse`) somewhat over it; the level's own estimate (one coarse
-    /// cell) would have frames draw the finest groups nearly everywhere while the tiles are contoured.
+    /// Coarse-first start-up: a level deeper than the finest coarse depth built before its group's tiles are in
+    /// takes this many coarse cells as its error until it is measured or estimated from the finest levels under it:
+    /// a typical group's measured error lies well under it, the largest two-sided distance over a whole model
+    /// (`tridex bench --coarse`) somewhat over it; the level's own estimate (one coarse cell) would have frames draw
+    /// the finest groups nearly everywhere while the tiles are contoured. A level of the finest depth is measured
+    /// against the model's own surface points in its box instead (compute::dexel_surface_error), and again against
+    /// its tiles once they are in.
     static constexpr double kStartupErrorCoarseCells = 0.25;
     /// Coarse-first start-up: the most levels of groups deeper than the finest coarse depth whose estimate
     /// update_startup_groups() raises at a time, from the finest depth's levels once they are read (each samples the
     /// finest levels under its group).
     static constexpr std::size_t kStartupEstimatesPerPass = 16;
+    /// Coarse-first start-up: groups of the finest coarse depth whose coarse read found no surface though start-up's
+    /// tiles under them hold some (a feature thinner than their stride: the rays that see it are not read at that
+    /// depth), ascending, while those tiles are not all in. Nothing stands in for them: their caller contours their
+    /// tiles (compute::refine_wanted_groups) as it does for the groups a frame wants finer, whatever the frames ask.
+    std::vector<std::uint64_t> missed_surface_groups() const;
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
@@ -381,6 +389,9 @@ private:
     std::size_t rebuild_coarse_levels(const std::vector<std::uint64_t>& ids);
     // Coarse mode: the largest distance from sampled vertices of the group's tiles to `level`, m.
     double coarse_level_error(const TileGroupSurface& group, const TileLodLevel& level) const;
+    // Coarse mode, for a group of the finest coarse depth whose tiles are not all in: the largest distance from
+    // sampled surface points of the model in its box (its rays' interval ends, dexel_surface_error) to `level`, m.
+    double coarse_level_dexel_error(const TileGroupSurface& group, const TileLodLevel& level) const;
     // Coarse-first start-up, for a group deeper than the finest coarse depth whose tiles are not all in: the largest
     // distance from sampled vertices of the finest depth's levels under it (their own triangles) to `level`, plus
     // the largest of those levels' own errors (at least their start-up estimate), m; nullopt while one of them waits
@@ -419,6 +430,7 @@ private:
     bool startup_arrival(std::uint64_t id) const { return arrived_.count(id) != 0 && stroke_arrived_.count(id) == 0; }
     std::unordered_set<std::uint64_t> provisional_;
     std::unordered_set<std::uint64_t> estimated_;  // provisional levels estimated from the finest levels under them
+    std::unordered_set<std::uint64_t> missed_;     // finest groups whose provisional read found no surface
     std::unordered_map<std::uint64_t, double> dropped_error_;  // provisional levels dropped by a change: their error, m
     bool startup_groups_ = false;
     bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure

@@ -167,6 +167,22 @@ double TriangleGrid::distance(const Vec3& p, double enough) {
     return std::sqrt(best2);
 }
 
+double sampled_distance(std::span<const Vec3> points, TriangleGrid& grid, std::size_t step, std::size_t& k,
+                        double worst) {
+    if (points.empty()) return worst;
+    step = std::max<std::size_t>(step, 1);
+    std::array<std::size_t, 6> extreme{};
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        for (int a = 0; a < 3; ++a) {
+            if (points[i][a] < points[extreme[2 * a]][a]) extreme[2 * a] = i;
+            if (points[i][a] > points[extreme[2 * a + 1]][a]) extreme[2 * a + 1] = i;
+        }
+        if (k++ % step == 0) worst = std::max(worst, grid.distance(points[i], worst));
+    }
+    for (const std::size_t i : extreme) worst = std::max(worst, grid.distance(points[i], worst));
+    return worst;
+}
+
 double max_distance(std::span<const Vec3> points, TriangleGrid& surface) {
     double d = 0.0;
     for (const Vec3& p : points) d = std::max(d, surface.distance(p, d));

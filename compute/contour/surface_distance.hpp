@@ -50,6 +50,13 @@ private:
 /// largest distance found so far.
 double max_distance(std::span<const Vec3> points, TriangleGrid& surface);
 
+/// The largest of `worst` and the distances to `grid`'s triangles of every step-th point of `points` (counted across
+/// calls by `k`, which it advances by the points' count) and of the six points of `points` extreme along x, y and z (a
+/// thin feature a coarser surface missed sticks out there: an ear's tip, a fin's edge), units as the inputs. step 0
+/// counts as 1. Each search stops as soon as it cannot raise the result.
+double sampled_distance(std::span<const Vec3> points, TriangleGrid& grid, std::size_t step, std::size_t& k,
+                        double worst);
+
 /// Points spread over every triangle of `mesh`: the vertices of a regular subdivision of each triangle whose
 /// sub-edges are at most `spacing` long (spacing > 0, same units as the positions), each mesh vertex once. For a
 /// sampled distance between surfaces.

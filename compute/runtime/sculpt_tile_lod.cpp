@@ -6,6 +6,7 @@
 
 #include "compute/contour/held_tiles.hpp"
 #include "compute/contour/refine_wanted.hpp"
+#include "compute/contour/sorted_ids.hpp"
 #include "compute/runtime/gpu_contour_share.hpp"
 #include "compute/runtime/sculpt_thread.hpp"
 #include "core/error.hpp"
@@ -81,7 +82,9 @@ void SculptThread::follow_drawn_groups(compute::DrawnGroups& drawn) {
 }
 
 std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
-    const std::vector<std::uint64_t> ids = detail_->take();
+    // The groups the frames asked for, and start-up's whose coarse reads missed a surface (nothing stands in there).
+    std::vector<std::uint64_t> ids = detail_->take();
+    compute::merge_ids(ids, tile_cache_.missed_surface_groups());
     const compute::WantedRefined n = compute::refine_wanted_groups(
         ids, tile_cache_.groups(), model_, contourer_, refiner_.get(), deferral_.get(), block_depth, in_slice);
     stats_.startup_tiles_refined += n.startup;

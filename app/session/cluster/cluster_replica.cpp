@@ -231,7 +231,10 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
         const bool first = !std::exchange(begun, true);
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
-    const compute::WantedRefined n = compute::refine_wanted_groups(wanted, tiles_.groups(), wp_.model, *contourer_,
+    // Start-up's groups whose coarse reads missed a surface are contoured as if a frame wanted them.
+    std::vector<std::uint64_t> ids = wanted;
+    if (refiner_) compute::merge_ids(ids, tiles_.missed_surface_groups());
+    const compute::WantedRefined n = compute::refine_wanted_groups(ids, tiles_.groups(), wp_.model, *contourer_,
                                                                    refiner_.get(), deferral_.get(),
                                                                    compute::kWantedBlockDepth, in_slice);
     startup_refined_ += n.startup;
