@@ -147,10 +147,12 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
             static_cast<unsigned long long>(rank.value("startup_tiles_refined", 0ull)),
             static_cast<unsigned long long>(rank.value("startup_pending_at_end", 0ull)),
             static_cast<unsigned long long>(rank.value("tile_triangles_last_frame", 0ull)));
-        std::printf("  strokes contoured %s: %llu tiles contoured in all, %llu tile deferrals, %llu deferred at the end\n",
+        std::printf("  strokes contoured %s: %llu tiles contoured in all, %llu tile deferrals, %llu deferred tiles "
+                    "contoured, %llu deferred at the end\n",
                     rank.value("stroke_contour", "?").c_str(),
                     static_cast<unsigned long long>(rank.value("tiles_contoured", 0ull)),
                     static_cast<unsigned long long>(rank.value("stroke_tiles_deferred", 0ull)),
+                    static_cast<unsigned long long>(rank.value("stroke_tiles_contoured", 0ull)),
                     static_cast<unsigned long long>(rank.value("stroke_tiles_waiting_at_end", 0ull)));
     }
     std::printf("digest checks agreed: %llu; frames in step at %.1f Hz\n", static_cast<unsigned long long>(cl.value("checks", 0ull)),

@@ -301,9 +301,15 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
             dropped_error_.erase(it);
         }
     std::vector<TileLodLevel> built(groups.size());
+    std::vector<std::uint8_t> missed(groups.size(), 0);
     run_lod_jobs(groups.size(), [&](std::size_t i) {
         built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
-        if (built[i].mesh.triangles.empty()) return;
+        if (built[i].mesh.triangles.empty()) {
+            // The model has surface in its box that the finest stride missed (start-up's tiles are not in).
+            missed[i] = !measure[i] && groups[i]->depth == coarse_->min_depth() &&
+                        dexel_surface_in(*coarse_model_, group_cells(*groups[i]));
+            return;
+        }
         if (measure[i])
             built[i].error_m = coarse_level_error(*groups[i], built[i]);
         else if (groups[i]->depth == coarse_->min_depth())  // measured against the model's own surface points
@@ -313,10 +319,7 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     });
     for (std::size_t i = 0; i < groups.size(); ++i) {
         groups[i]->lods.clear();
-        // The model has surface in its box that its stride missed.
-        if (built[i].mesh.triangles.empty() && !measure[i] && groups[i]->depth == coarse_->min_depth() &&
-            dexel_surface_in(*coarse_model_, group_cells(*groups[i])))
-            missed_.insert(groups[i]->id);
+        if (missed[i]) missed_.insert(groups[i]->id);
         if (!built[i].mesh.triangles.empty()) groups[i]->lods.push_back(std::move(built[i]));
         groups[i]->version = fresh_tile_version();
         groups[i]->levels_waiting = false;

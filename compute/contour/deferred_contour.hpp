@@ -26,7 +26,7 @@ namespace tridex::compute {
 /// reads a changed end), so it stays drawn; a deferred tile contoured before a deferred neighbour stays hidden until
 /// that neighbour is contoured too. Each tile is contoured from the model as it is then, by the same
 /// Contourer::update as a change contoured at once, so once none waits the contour equals, bit for bit, the one a
-/// contour after every step gives. Not thread-safe: the sculpt thread owns it.
+/// contour after every step gives. Not thread-safe: its owner (the sculpt thread, a render rank's replica) calls it.
 class DeferredContour {
 public:
     /// Deferred tiles contoured at a time after a stroke, oldest first (a batch of the sculpt thread's or a render

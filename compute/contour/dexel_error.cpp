@@ -14,26 +14,31 @@ namespace {
 template <typename F>
 void for_each_end(const TriDexel& model, const CellBox& box, F&& f) {
     const Lattice& l = model.lattice;
-    std::array<int, 3> lo{}, hi{};  // nodes, inclusive
+    // The box's own nodes and ends: [lo, hi + 1) along each axis (the far plane is the next box's), the lattice's
+    // last plane included.
+    std::array<int, 3> lo{}, end{};
     for (int a = 0; a < 3; ++a) {
         lo[a] = std::max(box.lo[a], 0);
-        hi[a] = std::min(box.hi[a] + 1, l.cells[a]);
-        if (lo[a] > hi[a]) return;
+        end[a] = box.hi[a] + 1 >= l.cells[a] ? l.cells[a] + 1 : box.hi[a] + 1;
+        if (lo[a] >= end[a]) return;
     }
     for (const RaySet& set : model.sets) {
         const int a = set.axis, ua = (a + 1) % 3, va = (a + 2) % 3;
-        const auto lo_t = static_cast<float>(lo[a]), hi_t = static_cast<float>(hi[a]);
-        for (int v = lo[va]; v <= hi[va] && v < set.nv; ++v)
-            for (int u = lo[ua]; u <= hi[ua] && u < set.nu; ++u)
-                for (const Interval& in : set.ray(u, v))
+        const auto lo_t = static_cast<float>(lo[a]), end_t = static_cast<float>(end[a]);
+        for (int v = lo[va]; v < end[va] && v < set.nv; ++v)
+            for (int u = lo[ua]; u < end[ua] && u < set.nu; ++u)
+                for (const Interval& in : set.ray(u, v)) {
+                    if (in.exit < lo_t) continue;
+                    if (in.enter >= end_t) break;  // the intervals are in order along the ray
                     for (const float t : {in.enter, in.exit}) {
-                        if (t < lo_t || t > hi_t) continue;
+                        if (t < lo_t || t >= end_t) continue;
                         Vec3 g(0.0);
                         g[a] = t;
                         g[ua] = u;
                         g[va] = v;
                         if (!f(g)) return;
                     }
+                }
     }
 }
 

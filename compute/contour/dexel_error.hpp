@@ -12,7 +12,8 @@
 namespace tridex::compute {
 
 /// The model's surface points in the cells of `box` (inclusive cell range, clamped to the lattice): the ends of every
-/// interval of every ray through the box's lattice nodes that lie within the box, world m. Each is a point of the
+/// interval of every ray through the box's lattice nodes that lie within the box, world m. The box's far faces
+/// belong to the next box (half-open, lo to hi + 1), except the lattice's own last faces. Each is a point of the
 /// exact solid's boundary, where that ray crosses it. An empty box gives none.
 std::vector<Vec3> dexel_surface_points(const TriDexel& model, const CellBox& box);
 

@@ -140,7 +140,6 @@ TEST(ClusterReplicaStrokes, AStrokeDrawnCoarseWaitsHiddenWhereNoFrameWantsItAndE
     const std::size_t waiting = unseen.stroke_tiles_waiting();
     EXPECT_EQ(by_unseen, 0u);
     EXPECT_GT(waiting, 0u);
-    EXPECT_GE(unseen.stroke_tiles_deferred(), waiting);
     EXPECT_GT(by_seen, 0u) << "no frame wanted the stroke finer";
     EXPECT_LT(by_seen, by_full);
     // Levels from the whole contour: until the worker's and the coarse levels are in (at most 60 s).
@@ -192,21 +191,22 @@ TEST(ClusterReplicaStrokes, UpCloseTheFramesGetAStrokesTilesWhereTheyWantDetail)
     ClusterReplica coarse(json, levels, nullptr, {.stroke_coarse = true}), plain(json, levels), full(json);
     Wall wall;
     const FrameMessage m = wall_frame(24.0);
-    // Frames until five in a row want no detail and no level waits in `r` (at most 60 s); how many.
+    // Frames until five in a row want no detail and no level waits in `r` (at most 60 s); how many, or -1 when the
+    // frames never calmed down.
     const auto settle = [&](ClusterReplica& r) {
         const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-        int frames = 0;
-        for (int quiet = 0; quiet < 5 && std::chrono::steady_clock::now() < until; ++frames) {
+        int frames = 0, quiet = 0;
+        for (; quiet < 5 && std::chrono::steady_clock::now() < until; ++frames) {
             r.contour();
             const renderer::FrameStats& st = wall.draw(r, m);
             const bool calm = st.groups_wanting_detail.empty() && r.coarse_levels_waiting() == 0 && r.lod_pending() == 0;
             quiet = calm ? quiet + 1 : 0;
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
-        return frames;
+        return quiet == 5 ? frames : -1;
     };
-    (void)settle(coarse);
-    (void)settle(plain);
+    ASSERT_GE(settle(coarse), 0) << "the frames never calmed down before the stroke";
+    ASSERT_GE(settle(plain), 0) << "the frames never calmed down before the stroke";
     const std::uint64_t first = coarse.tiles_contoured();
     constexpr int kFrames = 40;
     std::uint64_t index = 0;
@@ -237,7 +237,7 @@ TEST(ClusterReplicaStrokes, UpCloseTheFramesGetAStrokesTilesWhereTheyWantDetail)
     EXPECT_GT(wanting, 0u);
     EXPECT_GT(contoured, 0u) << "no tile under a group the frames wanted finer was contoured";
     EXPECT_LT(stroke_off, plain_off);
-    EXPECT_LT(frames, 3000) << "the frames never stopped wanting detail";
+    EXPECT_GE(frames, 0) << "the frames never stopped wanting detail";
     EXPECT_LE(rest_off * 100, wall.pixels());
     EXPECT_EQ(wall.validation_messages(), 0u);
 }
@@ -300,6 +300,59 @@ TEST(ClusterReplicaStrokes, AStrokesTilesNoViewSeesWaitAfterItClosesAndAnUndoTak
     ASSERT_EQ(coarse.digest(), full.digest());
     EXPECT_EQ(coarse.stroke_tiles_waiting(), 0u) << "the undo reaches every deferred tile";
     coarse.contour();
+    expect_same_contour(coarse, full);
+}
+
+// A groove across the bunny along x from x0 to x1 at height z (m), as one batch record.
+compute::JournalRecord groove(double x0, double x1, double z, std::uint64_t& index) {
+    compute::JournalRecord r;
+    r.kind = compute::JournalKind::kBatch;
+    r.index = index++;
+    for (int i = 0; i <= 20; ++i) {
+        ToolSample s;
+        s.t_s = static_cast<double>(index * 100 + i) * 1e-3;
+        s.position = Vec3(x0 + (x1 - x0) * i / 20.0, 0.0, z);
+        s.tool.radius_m = 0.006;
+        s.op = ToolOp::kSubtract;
+        r.samples.push_back(s);
+    }
+    return r;
+}
+
+// With a view of the left end in every frame (as a render rank always has): a stroke across the view's edge, then a
+// second one beside its unseen part, then an undo of the second. The undo's change waits for a view next to the
+// first stroke's unseen waiting tiles, and no frame throws (a tile drawn borrowing a vertex its neighbour's old contour
+// lacks); a view of everything then gives the contour of a replica that contoured every change at once, bit for bit.
+TEST(ClusterReplicaStrokes, AnUndoNoViewSeesBesideAStrokesWaitingTilesWaitsWithThem) {
+    const std::string json = bunny_spec_json(256);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, {.stroke_coarse = true}), full(json);
+    renderer::Frustum left;  // everything with x <= -0.03 m
+    for (glm::dvec4& p : left.planes) p = glm::dvec4(0.0, 0.0, 0.0, 1.0);
+    left.planes[0] = glm::dvec4(-1.0, 0.0, 0.0, -0.03);
+    const renderer::Frustum frusta[] = {left};
+    std::uint64_t index = 0;
+    const auto frame = [&](const compute::JournalRecord& r, int frames) {
+        FrameMessage m;
+        m.records.push_back(r);
+        for (ClusterReplica* c : {&coarse, &full}) c->apply(m);
+        full.contour();
+        ASSERT_NO_THROW(coarse.contour(frusta));
+        for (int i = 1; i < frames; ++i) ASSERT_NO_THROW(coarse.contour(frusta));
+    };
+    frame(groove(-0.06, 0.0, 0.05, index), 1);  // across the view's edge
+    frame(mark(compute::JournalKind::kStrokeEnd, 1, index), 20);
+    const std::size_t unseen = coarse.stroke_tiles_waiting();
+    frame(groove(-0.01, 0.03, 0.045, index), 1);  // beside the first one's unseen part
+    frame(mark(compute::JournalKind::kStrokeEnd, 2, index), 20);
+    ++index;  // after a gap in the indices the replay matches the undo by its serial alone
+    frame(mark(compute::JournalKind::kUndo, 2, index), 5);
+    ASSERT_EQ(coarse.digest(), full.digest());
+    std::printf("[replica strokes] a stroke across the view's edge left %zu tiles unseen; after a second beside them and "
+                "its undo, %zu deferred and %zu changed tiles wait\n",
+                unseen, coarse.stroke_tiles_waiting(), coarse.tiles_deferred());
+    EXPECT_GT(unseen, 0u);
+    coarse.contour();
+    EXPECT_EQ(coarse.stroke_tiles_waiting(), 0u);
     expect_same_contour(coarse, full);
 }
 

@@ -35,6 +35,7 @@ ClusterReplica::ClusterReplica(const std::string& spec_json, const LodChoice& lo
         if (late->first_record > 0) applier_->resume_after(late->first_record - 1, late->prevs, late->first_record);
     }
     load_references(spec);
+    stroke_changes_ = applier_->stroke_open();  // a late joiner resumed inside a push group
     contourer_ = std::make_unique<compute::Contourer>(wp_.model);
     if (lod_) {
         // As the session's sculpt thread does (SculptThread::use_tile_lod), before the first refresh queues every tile.
@@ -115,9 +116,11 @@ std::vector<std::uint8_t> visible_tiles(const compute::TriDexel& model, std::spa
 }
 
 // The changed tiles no view needs yet: every group of changed tiles (26-connected) of which no tile is visible or
-// next to a visible one. A group is contoured whole or not at all, because neighbouring tiles share the vertices on
-// their border: a tile contoured beside a changed one left waiting would borrow vertices that are not there yet.
-std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::vector<std::uint8_t>& visible) {
+// next to a visible one, nor `must` (empty: none) or next to one. A group is contoured whole or not at all, because
+// neighbouring tiles share the vertices on their border: a tile contoured beside a changed one left waiting would
+// borrow vertices that are not there yet.
+std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::vector<std::uint8_t>& visible,
+                                         const std::vector<std::uint8_t>& must) {
     std::vector<std::uint32_t> wait;
     std::vector<std::uint8_t> seen(g.count(), 0);
     std::vector<std::array<int, 3>> group, stack;
@@ -140,7 +143,7 @@ std::vector<std::uint32_t> waiting_tiles(const compute::TileGrid& g, const std::
                                 const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
                                 if (x < 0 || y < 0 || z < 0 || x >= g.tiles[0] || y >= g.tiles[1] || z >= g.tiles[2]) continue;
                                 const std::size_t n = g.index(x, y, z);
-                                needed |= visible[n] != 0;
+                                needed |= visible[n] != 0 || (!must.empty() && must[n] != 0);
                                 if (g.dirty[n] && !seen[n]) {
                                     seen[n] = 1;
                                     stack.push_back({x, y, z});
@@ -182,8 +185,18 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
         const std::vector<std::uint64_t> changed = deferral_->defer(wp_.model);
         if (!changed.empty()) tiles_.defer_tiles(changed);
         stroke_deferred_ += changed.size();
-    } else if (deferral_) {
-        deferral_->take_dirty(wp_.model);  // no tile contoured now borrows a vertex from an old contour
+    }
+    // Deferred tiles among the changed ones or next to one are released (no tile contoured now borrows a vertex from
+    // an old contour), and contoured now with their group of changed tiles, whatever the views: a released tile shows
+    // its mesh, which must not be its contour from before the stroke. So no waiting tile lies next to a deferred one.
+    std::vector<std::uint8_t> released;
+    if (!stroke && deferral_ && deferral_->count() > 0) {
+        std::vector<std::uint8_t> was(g.count(), 0);
+        for (std::size_t t = 0; t < g.count(); ++t) was[t] = deferral_->deferred(t) ? 1 : 0;
+        if (deferral_->take_dirty(wp_.model) > 0) {
+            released.assign(g.count(), 0);
+            for (std::size_t t = 0; t < g.count(); ++t) released[t] = was[t] && !deferral_->deferred(t) ? 1 : 0;
+        }
     }
     const std::vector<std::uint8_t> visible =
         frusta.empty() ? std::vector<std::uint8_t>{} : visible_tiles(wp_.model, frusta);
@@ -193,7 +206,7 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
     std::vector<std::uint32_t> wait;
     std::vector<std::uint8_t> handled(refiner_ ? g.count() : 0, 0);
     for (;;) {
-        wait = frusta.empty() ? std::vector<std::uint32_t>{} : waiting_tiles(g, visible);
+        wait = frusta.empty() ? std::vector<std::uint32_t>{} : waiting_tiles(g, visible, released);
         if (!refiner_) break;
         std::vector<std::uint8_t> waits(g.count(), 0);
         for (const std::uint32_t t : wait) waits[t] = 1;
@@ -211,15 +224,16 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
     // Waiting tiles are unmarked for this update (and the slice), and marked again after it.
     for (const std::uint32_t t : wait) g.dirty[t] = 0;
     contoured_ += contourer_->update(wp_.model);
-    if (refine) refine_held(wanted, frusta.empty() ? visible : near_tiles(g, visible), stroke);
+    if (refine) refine_held(wanted, visible, stroke);
     for (const std::uint32_t t : wait) g.dirty[t] = compute::TileGrid::kWhole;  // its changed cells are not kept
     deferred_ = wait.size();
+    if (deferral_) stroke_contoured_ += deferral_->take_released();
     refresh_tiles(wanted, stroke);
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);
 }
 
-void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& near_view,
+void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& visible,
                                  bool stroke) {
     // A coarse-first start-up reads one finer coarse depth first: frames draw its groups' levels where they need more
     // than the coarsest.
@@ -239,13 +253,16 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
                                                                    compute::kWantedBlockDepth, in_slice);
     startup_refined_ += n.startup;
     contoured_ += n.startup + n.deferred;
-    // Once the stroke closed, its deferred tiles a view may see, oldest first; the others wait for a view.
-    if (stroke || !deferral_) return;
-    const auto seen = [&](std::uint64_t t) { return near_view.empty() || near_view[t] != 0; };
-    while (deferral_->count() > 0 && in_slice()) {
-        const std::size_t k = deferral_->contour_oldest_where(wp_.model, *contourer_, compute::DeferredContour::kTilesPerBatch, seen);
-        if (k == 0) break;
+    // Once the stroke closed, its deferred tiles a view may see (or next to one), oldest first; the others wait for a
+    // view. A batch short of its size found every such tile.
+    if (stroke || !deferral_ || deferral_->count() == 0) return;
+    const std::vector<std::uint8_t> near = visible.empty() ? visible : near_tiles(wp_.model.tiles, visible);
+    const auto seen = [&](std::uint64_t t) { return near.empty() || near[t] != 0; };
+    constexpr std::size_t kBatch = compute::DeferredContour::kTilesPerBatch;
+    while (in_slice()) {
+        const std::size_t k = deferral_->contour_oldest_where(wp_.model, *contourer_, kBatch, seen);
         contoured_ += k;
+        if (k < kBatch) break;
     }
 }
 
@@ -285,7 +302,10 @@ void ClusterReplica::finish_contour() {
         startup_refined_ += n;
         contoured_ += n;
     }
-    if (deferral_) contoured_ += deferral_->contour_all(wp_.model, *contourer_);
+    if (deferral_) {
+        contoured_ += deferral_->contour_all(wp_.model, *contourer_);
+        stroke_contoured_ += deferral_->take_released();
+    }
     refresh_tiles({}, false);
     if (lod_) tiles_.collect_lods();
     tile_view_of(tiles_.tiles(), tiles_.groups(), lod_, tile_view_);

@@ -33,7 +33,8 @@ struct ReplicaContour {
     bool coarse_first = false;
     /// Draw strokes coarse: the tiles a stroke changes wait, hidden, while it is open (and its close), and the coarse
     /// group levels over them stand in, finer where the frames want it (want_detail, frames_drew), as the desk draws a
-    /// stroke (docs/design/lod.md, "Strokes drawn coarse").
+    /// stroke (docs/design/lod.md, "Strokes drawn coarse"). Changed tiles still waiting for a view when a stroke's
+    /// records come are deferred with them.
     bool stroke_coarse = false;
 };
 
@@ -74,7 +75,9 @@ public:
     /// want_detail() named, the waiting levels of those under a group frames_drew() named left for later). The
     /// deferred tiles under the groups want_detail() named are contoured within the slice below; once no stroke is
     /// open, those a view may see (or next to one) too, oldest first. Other deferred tiles wait for a view, as
-    /// changed tiles do; a change contoured now takes the deferred tiles next to it along.
+    /// changed tiles do. A change outside a stroke takes the deferred tiles among its tiles or next to one along, and
+    /// its group of changed tiles is then contoured now whatever the views (a tile released from the deferral shows
+    /// its mesh), so no waiting tile lies next to a deferred one.
     /// During a coarse-first start-up, first: the changed tiles contoured now that start-up has not contoured bring
     /// the start-up tiles of the depth-1 groups they reach (compute::StartupRefiner::contour_with_change, drawn at full
     /// resolution; a waiting group those join is contoured now too), while start-up's tiles in a waiting group stay
@@ -116,6 +119,8 @@ public:
     std::size_t stroke_tiles_waiting() const;
     /// Strokes drawn coarse: tile deferrals so far (a tile changed in several contour() calls counts in each).
     std::uint64_t stroke_tiles_deferred() const { return stroke_deferred_; }
+    /// Strokes drawn coarse: deferred tiles contoured so far (by the slice, with a change or with start-up's tiles).
+    std::uint64_t stroke_tiles_contoured() const { return stroke_contoured_; }
     /// Tiles contoured by every contour() so far (the first, at construction, included).
     std::uint64_t tiles_contoured() const { return contoured_; }
     /// Tiles and groups whose start-up levels are not built yet (0 without levels of detail; during a coarse-first
@@ -143,8 +148,8 @@ private:
     void load_references(const SessionSpec& spec);
     void update(std::span<const renderer::Frustum> frusta, bool refine);  // contour(); without the slice
     // contour()'s slice (the model's dirty flags clear): start-up's depth or wanted tiles, a stroke's deferred ones
-    // (`near_view`: tiles a view may see or next to one, empty for every tile).
-    void refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& near_view, bool stroke);
+    // (`visible`: per tile, whether a view may see it; empty for every tile).
+    void refine_held(const std::vector<std::uint64_t>& wanted, const std::vector<std::uint8_t>& visible, bool stroke);
     // The tile cache from the contour, seen through start-up's refinement and a stroke's deferral.
     void refresh_tiles(const std::vector<std::uint64_t>& wanted, bool stroke);
 
@@ -163,6 +168,7 @@ private:
     std::vector<std::uint64_t> drawn_;                       // groups the frames drew at a level (frames_drew)
     bool stroke_changes_ = false;  // the records applied since the last contour() had a stroke open
     std::uint64_t stroke_deferred_ = 0;
+    std::uint64_t stroke_contoured_ = 0;
     bool started_coarse_ = false;
     std::uint64_t startup_refined_ = 0;
     std::size_t deferred_ = 0;

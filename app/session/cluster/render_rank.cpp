@@ -302,6 +302,7 @@ private:
                                        {"first_frame_ms", first_frame_ms_},
                                        {"stroke_contour", replica_->strokes_coarse() ? "coarse" : "full"},
                                        {"stroke_tiles_deferred", replica_->stroke_tiles_deferred()},
+                                       {"stroke_tiles_contoured", replica_->stroke_tiles_contoured()},
                                        {"stroke_tiles_waiting_at_end", replica_->stroke_tiles_waiting()},
                                        {"tile_triangles_last_frame", triangles},
                                        {"draw_ms", summary_report_json(draw_ms_)},
