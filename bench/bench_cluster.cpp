@@ -64,8 +64,11 @@ std::string write_config(const fs::path& dir, const ClusterCli& o) {
                       {"viewports", {{{"name", "strip-" + std::to_string(r)},
                                       {"region", {static_cast<double>(r - 1) / ranks, 0.0, static_cast<double>(r) / ranks, 1.0}}}}}});
     const std::string path = (dir / "cluster_config.json").string();
-    write_json_file(path, {{"check_every_frames", 30}, {"timeout_s", 30}, {"startup", o.startup},
-                           {"stroke_contour", o.stroke_contour}, {"ranks", rs}});
+    write_json_file(path, {{"check_every_frames", 30},
+                           {"timeout_s", 30},
+                           {"startup", o.startup},
+                           {"stroke_contour", o.stroke_contour},
+                           {"ranks", rs}});
     return path;
 }
 
@@ -147,13 +150,14 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
             static_cast<unsigned long long>(rank.value("startup_tiles_refined", 0ull)),
             static_cast<unsigned long long>(rank.value("startup_pending_at_end", 0ull)),
             static_cast<unsigned long long>(rank.value("tile_triangles_last_frame", 0ull)));
-        std::printf("  strokes contoured %s: %llu tiles contoured in all, %llu tile deferrals, %llu deferred tiles "
-                    "contoured, %llu deferred at the end\n",
-                    rank.value("stroke_contour", "?").c_str(),
-                    static_cast<unsigned long long>(rank.value("tiles_contoured", 0ull)),
-                    static_cast<unsigned long long>(rank.value("stroke_tiles_deferred", 0ull)),
-                    static_cast<unsigned long long>(rank.value("stroke_tiles_contoured", 0ull)),
-                    static_cast<unsigned long long>(rank.value("stroke_tiles_waiting_at_end", 0ull)));
+        std::printf(
+            "  strokes contoured %s: %llu tiles contoured in all, %llu tile deferrals, %llu deferred tiles "
+            "contoured, %llu deferred at the end\n",
+            rank.value("stroke_contour", "?").c_str(),
+            static_cast<unsigned long long>(rank.value("tiles_contoured", 0ull)),
+            static_cast<unsigned long long>(rank.value("stroke_tiles_deferred", 0ull)),
+            static_cast<unsigned long long>(rank.value("stroke_tiles_contoured", 0ull)),
+            static_cast<unsigned long long>(rank.value("stroke_tiles_waiting_at_end", 0ull)));
     }
     std::printf("digest checks agreed: %llu; frames in step at %.1f Hz\n", static_cast<unsigned long long>(cl.value("checks", 0ull)),
                 report["frames"].is_object() ? report["frames"].value("rate_hz", 0.0) : 0.0);
@@ -188,10 +192,11 @@ BenchRun setup_cluster(CLI::App& bench) {
         "--cluster-startup", o->startup,
         "With --cluster: the render ranks' start-up where their groups take coarse levels (from 512 cells): "
         "coarse (the coarsest levels first, tiles where frames need them) or full (default coarse)");
-    bench.add_option("--cluster-stroke-contour", o->stroke_contour,
-                     "With --cluster: how the render ranks draw a stroke where their groups take coarse levels: coarse "
-                     "(its tiles wait while it is open, the coarse levels stand in) or full (contoured in the frame that "
-                     "brings them) (default coarse)");
+    bench.add_option(
+        "--cluster-stroke-contour", o->stroke_contour,
+        "With --cluster: how the render ranks draw a stroke where their groups take coarse levels: coarse "
+        "(its tiles wait while it is open, the coarse levels stand in) or full (contoured in the frame that "
+        "brings them) (default coarse)");
     return [o](const BenchCommon& c) { run_cluster(*o, c); };
 }
 

@@ -141,8 +141,8 @@ nlohmann::json report_coarse(const std::string& program, int n, double cell_m, c
         std::printf("coarse  %-11s %4d d%d/%-2d %6zu %9zu %8.3f %8.2f %6.3f %6.3f %6.3f %6zu %6zu %6zu %7.2f %7zu\n",
                     program.c_str(), n, r.depth, r.stride, r.groups, r.triangles, 1e3 * r.group_max_m,
                     r.group_max_m / cell_m, r.group_p50_m / c, r.group_p90_m / c, r.group_max_m / c,
-                    r.over_startup_estimate, r.over_level_estimate, r.over_dexel_estimate, r.dexel_excess_max_m / cell_m,
-                    r.samples_without_level);
+                    r.over_startup_estimate, r.over_level_estimate, r.over_dexel_estimate,
+                    r.dexel_excess_max_m / cell_m, r.samples_without_level);
         out.push_back({{"program", program},
                        {"n", n},
                        {"cell_m", cell_m},

@@ -9,8 +9,8 @@
 
 #include "bench/accuracy/bench_accuracy_metrics.hpp"
 #include "compute/contour/coarse_levels.hpp"
-#include "compute/contour/dexel_error.hpp"
 #include "compute/contour/contour_tiles.hpp"
+#include "compute/contour/dexel_error.hpp"
 #include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
@@ -62,9 +62,8 @@ SampleBuckets bucket_samples(const std::vector<Vec3>& samples, const compute::La
 
 // The level of one group against the exact solid.
 GroupError measure_group(const compute::TriDexel& model, const compute::CoarseGroupLevels& levels, int depth,
-                         const std::array<int, 3>& coords,
-                         const ExactSolid& exact, const std::vector<Vec3>& samples, const SampleBuckets& buckets,
-                         std::size_t g, double coarse_cell_m) {
+                         const std::array<int, 3>& coords, const ExactSolid& exact, const std::vector<Vec3>& samples,
+                         const SampleBuckets& buckets, std::size_t g, double coarse_cell_m) {
     GroupError e;
     const compute::TileLodLevel level = levels.level(depth, coords);
     // A level without triangles of its own (own_triangles 0) holds only neighbours' ring triangles, measured as

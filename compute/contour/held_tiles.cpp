@@ -28,8 +28,10 @@ void refresh_held_tiles(TileSurfaceCache& cache, const Contourer& contourer, Sta
     cache.arrive(arrivals);
     if (refiner) {
         const StartupRefiner::Source startup(contourer, *refiner);
-        if (deferral) cache.refresh(DeferredContour::Source(startup, *deferral));
-        else cache.refresh(startup);
+        if (deferral)
+            cache.refresh(DeferredContour::Source(startup, *deferral));
+        else
+            cache.refresh(startup);
     } else {
         cache.refresh(DeferredContour::Source(ContourerTiles(contourer), *deferral));
     }

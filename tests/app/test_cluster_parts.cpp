@@ -283,9 +283,10 @@ TEST(ClusterParts, AConfigSplitsTheWallAndItsErrorsNameTheField) {
         std::string::npos)
         << error_of(
                R"({"startup": "lazy", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
-    const std::string fine_strokes =
-        error_of(R"({"stroke_contour": "fine", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
-    EXPECT_NE(fine_strokes.find("'stroke_contour': must be coarse or full, got 'fine'"), std::string::npos) << fine_strokes;
+    const std::string fine_strokes = error_of(
+        R"({"stroke_contour": "fine", "ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1]}]}]})");
+    EXPECT_NE(fine_strokes.find("'stroke_contour': must be coarse or full, got 'fine'"), std::string::npos)
+        << fine_strokes;
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a"}]}]})").find("either 'region' or 'corners'"),
               std::string::npos);
     EXPECT_NE(error_of(R"({"ranks": [{"rank": 1, "viewports": [{"name": "a", "region": [0,0,1,1], "colour": 1}]}]})")

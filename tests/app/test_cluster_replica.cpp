@@ -11,13 +11,13 @@
 #include <thread>
 #include <vector>
 
-#include "cluster_replica_helpers.hpp"
-#include "cube_off.hpp"
 #include "app/scene/run_scene.hpp"
 #include "app/scene/session_spec.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
 #include "app/support/assets.hpp"
+#include "cluster_replica_helpers.hpp"
 #include "compute/contour/contour_dual.hpp"
+#include "cube_off.hpp"
 #include "gpu/context.hpp"
 #include "renderer/image/image.hpp"
 #include "renderer/image/image_compare.hpp"
@@ -215,7 +215,8 @@ TEST(ClusterReplica, CoarseFirstLeavesAChangeNoViewNeedsWaitingWithStartUpsTiles
 // and finishing its start-up gives the whole replica's contour bit for bit.
 TEST(ClusterReplica, CoarseFirstDrawsTheCoarsestLevelsAtOnceAndContoursWhatFramesWant) {
     const std::string json = bunny_spec_json(128);
-    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, {.coarse_first = true}), lod(json, lod_choice("coarse")), full(json);
+    ClusterReplica coarse(json, lod_choice("coarse"), nullptr, {.coarse_first = true}), lod(json, lod_choice("coarse")),
+        full(json);
     ASSERT_TRUE(coarse.started_coarse());
     EXPECT_FALSE(lod.started_coarse());
     EXPECT_EQ(coarse.tiles_contoured(), 0u);

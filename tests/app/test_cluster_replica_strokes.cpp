@@ -11,8 +11,8 @@
 #include <thread>
 #include <vector>
 
-#include "cluster_replica_helpers.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
+#include "cluster_replica_helpers.hpp"
 #include "gpu/context.hpp"
 #include "renderer/image/image.hpp"
 #include "renderer/image/image_compare.hpp"
@@ -60,7 +60,8 @@ public:
     Wall()
         : ctx_(make_context()),
           rend_(renderer::OffscreenStereoRenderer::create(ctx_, wall_.width_px, wall_.height_px)),
-          sink_(ctx_, renderer::SinkOptions{renderer::StereoOutput::kMono, false, renderer::AnaglyphMethod::kDubois, 60.0}) {}
+          sink_(ctx_,
+                renderer::SinkOptions{renderer::StereoOutput::kMono, false, renderer::AnaglyphMethod::kDubois, 60.0}) {}
 
     // Draws `r` through frame `m`, and hands it the groups the frame wants finer and those it drew at a level, as a
     // render rank does.
@@ -135,8 +136,8 @@ TEST(ClusterReplicaStrokes, AStrokeDrawnCoarseWaitsHiddenWhereNoFrameWantsItAndE
         (void)wall.draw(seen, m);
     }
     ASSERT_EQ(unseen.digest(), full.digest());
-    const std::uint64_t by_unseen = unseen.tiles_contoured() - unseen_first, by_seen = seen.tiles_contoured() - seen_first,
-                        by_full = full.tiles_contoured() - full_first;
+    const std::uint64_t by_unseen = unseen.tiles_contoured() - unseen_first,
+                        by_seen = seen.tiles_contoured() - seen_first, by_full = full.tiles_contoured() - full_first;
     const std::size_t waiting = unseen.stroke_tiles_waiting();
     EXPECT_EQ(by_unseen, 0u);
     EXPECT_GT(waiting, 0u);
@@ -199,7 +200,8 @@ TEST(ClusterReplicaStrokes, UpCloseTheFramesGetAStrokesTilesWhereTheyWantDetail)
         for (; quiet < 5 && std::chrono::steady_clock::now() < until; ++frames) {
             r.contour();
             const renderer::FrameStats& st = wall.draw(r, m);
-            const bool calm = st.groups_wanting_detail.empty() && r.coarse_levels_waiting() == 0 && r.lod_pending() == 0;
+            const bool calm =
+                st.groups_wanting_detail.empty() && r.coarse_levels_waiting() == 0 && r.lod_pending() == 0;
             quiet = calm ? quiet + 1 : 0;
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
@@ -229,11 +231,12 @@ TEST(ClusterReplicaStrokes, UpCloseTheFramesGetAStrokesTilesWhereTheyWantDetail)
     const std::size_t plain_off = pixels_off(wall.picture(plain, m, "near_stroke_full"), whole);
     const int frames = settle(coarse);
     const std::size_t rest_off = pixels_off(wall.picture(coarse, m, "near_rest"), whole);
-    std::printf("[replica strokes] up close: %zu groups wanted detail over the stroke; %llu tiles contoured during it, "
-                "%zu waited at its last frame; pixels over 24 levels off then %zu (contouring the stroke's tiles as "
-                "they change: %zu), %zu of %zu after %d frames at rest\n",
-                wanting, static_cast<unsigned long long>(contoured), waiting, stroke_off, plain_off, rest_off,
-                wall.pixels(), frames);
+    std::printf(
+        "[replica strokes] up close: %zu groups wanted detail over the stroke; %llu tiles contoured during it, "
+        "%zu waited at its last frame; pixels over 24 levels off then %zu (contouring the stroke's tiles as "
+        "they change: %zu), %zu of %zu after %d frames at rest\n",
+        wanting, static_cast<unsigned long long>(contoured), waiting, stroke_off, plain_off, rest_off, wall.pixels(),
+        frames);
     EXPECT_GT(wanting, 0u);
     EXPECT_GT(contoured, 0u) << "no tile under a group the frames wanted finer was contoured";
     EXPECT_LT(stroke_off, plain_off);
@@ -347,9 +350,10 @@ TEST(ClusterReplicaStrokes, AnUndoNoViewSeesBesideAStrokesWaitingTilesWaitsWithT
     ++index;  // after a gap in the indices the replay matches the undo by its serial alone
     frame(mark(compute::JournalKind::kUndo, 2, index), 5);
     ASSERT_EQ(coarse.digest(), full.digest());
-    std::printf("[replica strokes] a stroke across the view's edge left %zu tiles unseen; after a second beside them and "
-                "its undo, %zu deferred and %zu changed tiles wait\n",
-                unseen, coarse.stroke_tiles_waiting(), coarse.tiles_deferred());
+    std::printf(
+        "[replica strokes] a stroke across the view's edge left %zu tiles unseen; after a second beside them and "
+        "its undo, %zu deferred and %zu changed tiles wait\n",
+        unseen, coarse.stroke_tiles_waiting(), coarse.tiles_deferred());
     EXPECT_GT(unseen, 0u);
     coarse.contour();
     EXPECT_EQ(coarse.stroke_tiles_waiting(), 0u);

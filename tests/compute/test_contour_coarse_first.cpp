@@ -33,7 +33,8 @@ TriDexel sphere_model() { return off_centre_sphere(); }
 // A cut across the sphere's +x side, away from the lattice's origin corner where the refinement starts.
 void cut(TriDexel& m) {
     const Lattice& L = m.lattice;
-    const Vec3 a = L.to_world(kCentre + Vec3(kRadius, -10.0, 5.0)), b = L.to_world(kCentre + Vec3(kRadius - 3.0, 12.0, -4.0));
+    const Vec3 a = L.to_world(kCentre + Vec3(kRadius, -10.0, 5.0)),
+               b = L.to_world(kCentre + Vec3(kRadius - 3.0, 12.0, -4.0));
     subtract_capsule(m, Segment{a, b}, 6.0 * L.cell_m);
 }
 
@@ -89,8 +90,7 @@ struct CoarseFirst {
         refresh();
     }
     void refine_all() {
-        while (cache.build_coarse_depth()) {
-        }
+        while (cache.build_coarse_depth()) {}
         while (refiner->refine_next(model, contourer) > 0) refresh();
         refresh();
         settle(cache);
@@ -109,15 +109,16 @@ void expect_no_hole(const TileSurfaceCache& cache, const TriDexel& model) {
             ASSERT_NE(p, nullptr) << "a top group " << g.id << " with nothing under it and no level";
             if (!p->children_cover) continue;
             ASSERT_LE(g.depth, kTop);
-            if (!fresh[g.depth]) fresh[g.depth] = std::make_unique<CoarseGroupLevels>(model, CoarseLevelOptions{}, g.depth);
+            if (!fresh[g.depth])
+                fresh[g.depth] = std::make_unique<CoarseGroupLevels>(model, CoarseLevelOptions{}, g.depth);
             EXPECT_TRUE(fresh[g.depth]->level(g.depth, g.coords).mesh.triangles.empty())
                 << "group " << g.id << " at depth " << g.depth << " has a surface, no level and nothing drawn over it";
         }
 }
 
 // Every depth-`depth` group with a level has the one a fresh read of `model` at that stride gives; returns how many.
-std::size_t expect_levels_as_read(const TileSurfaceCache& cache, const TriDexel& model, const CoarseLevelOptions& levels,
-                                  int depth) {
+std::size_t expect_levels_as_read(const TileSurfaceCache& cache, const TriDexel& model,
+                                  const CoarseLevelOptions& levels, int depth) {
     const CoarseGroupLevels fresh(model, levels, depth);
     std::size_t compared = 0;
     for (const TileGroupSurface& g : cache.groups()) {
@@ -200,8 +201,7 @@ TEST(CoarseFirst, TheFirstRefreshHoldsEveryGroupAtTheCoarsestLevelOverTheWholeMo
 TEST(CoarseFirst, RefinementEndsWithTheTilesAndLevelsOfAFullStartUpBitForBit) {
     CoarseFirst s;
     const Full full;
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     // Region by region: tiles arrive, and every group keeps something drawn over its part of the model.
     std::size_t regions = 0, last = 0;
     while (s.refiner->refine_next(s.model, s.contourer) > 0) {
@@ -222,8 +222,7 @@ TEST(CoarseFirst, RefinementEndsWithTheTilesAndLevelsOfAFullStartUpBitForBit) {
 
 TEST(CoarseFirst, ACutDuringRefinementRedrawsTheCoarsestGroupsAtOnceAndEndsAsAFullStartUpWould) {
     CoarseFirst s;
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     settle(s.cache);  // the finer depths' levels, as the sculpt thread's idle passes take them in
     ASSERT_GT(s.refiner->refine_next(s.model, s.contourer), 0u);
     s.refresh();
@@ -269,8 +268,7 @@ TEST(CoarseFirst, ACutDuringRefinementRedrawsTheCoarsestGroupsAtOnceAndEndsAsAFu
 // which only read, are built); between strokes each pass builds at least one of them, until none waits.
 TEST(CoarseFirst, LevelsThatContourTheirCoarseTilesWaitWhileAStrokeIsOpen) {
     CoarseFirst s;
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     ASSERT_GT(s.cache.coarse_waiting(), 0u);
     for (int i = 0; i < 20; ++i) s.cache.collect_lods(true);  // more passes than the levels that only read need
     const std::size_t during = s.cache.coarse_waiting();
@@ -338,8 +336,7 @@ TEST(CoarseFirst, AStrokeDrawnCoarseRebuildsOnlyTheWaitingLevelsWithinItsReach) 
     const int depth = TileSurfaceCache::kDeferredCoarseDepth;
     ASSERT_EQ(depth, 3) << "the two spheres lie in two groups of this depth";
     CoarseFirst s(two_spheres(), to_stroke_depth());  // the depth-3 levels wait for their depth's read
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     const std::vector<std::uint64_t> far = waiting(s.cache, depth, 0), near = waiting(s.cache, depth, 2);
     ASSERT_FALSE(far.empty());
     ASSERT_FALSE(near.empty());
@@ -411,9 +408,10 @@ TEST(CoarseFirst, AFinestLevelBeforeItsTilesIsMeasuredAgainstTheModelsOwnSurface
     }
     std::sort(over_fin.begin(), over_fin.end());
     const std::vector<std::uint64_t> missed = s.cache.missed_surface_groups();
-    std::printf("[coarse first] depth-1 levels before their tiles: %.2f cells at the fin's foot, %.2f on the slab "
-                "(quarter coarse cell %.2f); %zu groups missed the fin\n", foot / cell, flat / cell, quarter / cell,
-                missed.size());
+    std::printf(
+        "[coarse first] depth-1 levels before their tiles: %.2f cells at the fin's foot, %.2f on the slab; "
+        "%zu groups missed the fin\n",
+        foot / cell, flat / cell, missed.size());
     EXPECT_GT(foot, 2.0 * cell) << "the level's error did not see the fin's foot";
     EXPECT_LT(flat, quarter);
     EXPECT_FALSE(over_fin.empty());
@@ -536,8 +534,7 @@ TEST(CoarseFirst, AStrokeDrawnCoarseIsDrawnFinerWhereAFrameAsks) {
     const int depth = TileSurfaceCache::kDeferredDetailDepth;
     ASSERT_EQ(depth + 1, TileSurfaceCache::kDeferredCoarseDepth);
     CoarseFirst s;
-    while (s.cache.build_coarse_depth()) {
-    }
+    while (s.cache.build_coarse_depth()) {}
     const auto all = [&] {
         std::vector<std::uint64_t> ids = waiting(s.cache, depth, 0), more = waiting(s.cache, depth, 1);
         ids.insert(ids.end(), more.begin(), more.end());

@@ -248,9 +248,9 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
     // Start-up's groups whose coarse reads missed a surface are contoured as if a frame wanted them.
     std::vector<std::uint64_t> ids = wanted;
     if (refiner_) compute::merge_ids(ids, tiles_.missed_surface_groups());
-    const compute::WantedRefined n = compute::refine_wanted_groups(ids, tiles_.groups(), wp_.model, *contourer_,
-                                                                   refiner_.get(), deferral_.get(),
-                                                                   compute::kWantedBlockDepth, in_slice);
+    const compute::WantedRefined n =
+        compute::refine_wanted_groups(ids, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), deferral_.get(),
+                                      compute::kWantedBlockDepth, in_slice);
     startup_refined_ += n.startup;
     contoured_ += n.startup + n.deferred;
     // Once the stroke closed, its deferred tiles a view may see (or next to one), oldest first; the others wait for a
