@@ -171,6 +171,19 @@ std::vector<std::uint8_t> near_tiles(const compute::TileGrid& g, const std::vect
     return near;
 }
 
+// Whether a view may see a tile of group `id` (of `groups`, ascending by id), per `visible`.
+bool group_seen(const std::vector<compute::TileGroupSurface>& groups, std::uint64_t id, const compute::TileGrid& g,
+                const std::vector<std::uint8_t>& visible) {
+    const compute::TileGroupSurface* group = compute::find_by_id(groups, id);
+    if (!group) return false;
+    const int span = 1 << group->depth;
+    for (int z = group->coords[2] * span; z < std::min((group->coords[2] + 1) * span, g.tiles[2]); ++z)
+        for (int y = group->coords[1] * span; y < std::min((group->coords[1] + 1) * span, g.tiles[1]); ++y)
+            for (int x = group->coords[0] * span; x < std::min((group->coords[0] + 1) * span, g.tiles[0]); ++x)
+                if (visible[g.index(x, y, z)]) return true;
+    return false;
+}
+
 }  // namespace
 
 void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update(frusta, true); }
@@ -245,9 +258,15 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
         const bool first = !std::exchange(begun, true);
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
-    // Start-up's groups whose coarse reads missed a surface are contoured as if a frame wanted them.
+    // Start-up's groups whose coarse reads missed a surface, where a view may see one of their tiles, are contoured as
+    // if a frame wanted them.
     std::vector<std::uint64_t> ids = wanted;
-    if (refiner_) compute::merge_ids(ids, tiles_.missed_surface_groups());
+    if (refiner_) {
+        std::vector<std::uint64_t> missed = tiles_.missed_surface_groups();
+        if (!visible.empty())
+            std::erase_if(missed, [&](std::uint64_t id) { return !group_seen(tiles_.groups(), id, wp_.model.tiles, visible); });
+        compute::merge_ids(ids, missed);
+    }
     const compute::WantedRefined n =
         compute::refine_wanted_groups(ids, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), deferral_.get(),
                                       compute::kWantedBlockDepth, in_slice);

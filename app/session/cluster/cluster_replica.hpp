@@ -83,8 +83,10 @@ public:
     /// resolution; a waiting group those join is contoured now too), while start-up's tiles in a waiting group stay
     /// start-up's; then one finer coarse depth is read, or, once every depth is, the tiles under the groups
     /// want_detail() named are contoured, finest group first, a block of 4x4x4 tiles at a time, for up to
-    /// kStartupSliceS after the first block. A tile arrives (the groups over it stop standing in) once it and its
-    /// neighbours are contoured (StartupRefiner::publishable) and no stroke holds it.
+    /// kStartupSliceS after the first block, with those of the groups whose coarse read missed a surface their tiles
+    /// hold (TileSurfaceCache::missed_surface_groups) where a view may see one of their tiles. A tile arrives (the
+    /// groups over it stop standing in) once it and its neighbours are contoured (StartupRefiner::publishable) and no
+    /// stroke holds it.
     void contour(std::span<const renderer::Frustum> frusta = {});
     /// The groups the last frames drew over their pixel bound because no finer level or tile could stand in yet
     /// (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the next contour() refines
