@@ -264,7 +264,8 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
     if (refiner_) {
         std::vector<std::uint64_t> missed = tiles_.missed_surface_groups();
         if (!visible.empty())
-            std::erase_if(missed, [&](std::uint64_t id) { return !group_seen(tiles_.groups(), id, wp_.model.tiles, visible); });
+            std::erase_if(missed,
+                          [&](std::uint64_t id) { return !group_seen(tiles_.groups(), id, wp_.model.tiles, visible); });
         compute::merge_ids(ids, missed);
     }
     const compute::WantedRefined n =
