@@ -36,13 +36,14 @@ struct ClusterCli {
     double stroke_s = 4.0;    // the scene's stroke, s
     std::string startup = "coarse";  // the render ranks' start-up (the cluster config's "startup")
     std::string stroke_contour = "coarse";  // how they draw a stroke (the cluster config's "stroke_contour")
+    double stock_m = 0.3;  // the workpiece's size on the wall, m
 };
 
 // The wall scene with a stroke of `seconds`, side by side, 640 x 480 per eye.
 std::string write_scene(const fs::path& dir, const ClusterCli& o) {
     const nlohmann::json scene = {
         {"workpiece", {{"mesh", fs::absolute(app::default_mesh_path()).lexically_normal().string()}, {"resolution", o.resolution},
-                       {"stock_m", 0.3}, {"centre_m", {0.0, 1.3, 0.7}}}},
+                       {"stock_m", o.stock_m}, {"centre_m", {0.0, 1.3, 0.7}}}},
         {"tool", {{"radius_m", 0.01}, {"stiffness_n_per_m", 700}, {"damping_n_s_per_m", 0.5}}},
         {"workspace", {{"mode", "peng_moving"}, {"scale", 1.0}}},
         {"stroke", {{"duration_s", o.stroke_s}, {"length_m", 0.12}, {"depth_m", 0.008}, {"clearance_m", 0.03}, {"press_axis", "z"}}},
@@ -82,6 +83,8 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
         throw Error("--cluster-startup: coarse or full, got '" + o.startup + "'");
     if (o.stroke_contour != "coarse" && o.stroke_contour != "full")
         throw Error("--cluster-stroke-contour: coarse or full, got '" + o.stroke_contour + "'");
+    if (!(o.stock_m >= 0.05 && o.stock_m <= 3.0))
+        throw Error("--cluster-stock-m: 0.05..3 m, got " + std::to_string(o.stock_m));
     if (!app::cluster_supported()) throw Error("--cluster: this build has no MPI (install openmpi-bin and libopenmpi-dev, rebuild)");
     if (std::system("command -v mpirun > /dev/null 2>&1") != 0) throw Error("--cluster: mpirun is not installed (Debian's openmpi-bin)");
     app::prepare_output_dir(c.out, "--out");
@@ -97,17 +100,21 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
                             run.string() + " > " + (dir / "mpirun.log").string() + " 2>&1";
     std::printf(
         "cluster: mpirun -np %d on this machine (2 cores shared by every rank), rank 0 the session, %d render "
-        "rank%s each a strip of a 3.05 m wall, 640x480 per eye side by side, N = %d, a %.1f s stroke, render ranks' "
-        "start-up %s, strokes contoured %s\n",
-        o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.resolution, o.stroke_s, o.startup.c_str(),
+        "rank%s each a strip of a 3.05 m wall, 640x480 per eye side by side, the workpiece %.2f m, N = %d, a %.1f s "
+        "stroke, render ranks' start-up %s, strokes contoured %s\n",
+        o.ranks + 1, o.ranks, o.ranks == 1 ? "" : "s", o.stock_m, o.resolution, o.stroke_s, o.startup.c_str(),
         o.stroke_contour.c_str());
     std::fflush(stdout);
     const int status = std::system(cmd.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
         throw Error("--cluster: the cluster session failed (exit " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
                     "); its log: " + (dir / "mpirun.log").string());
+    // mpirun exits 0 when a rank fails before the session starts (orte_abort_on_non_zero_status 0): no report then.
     std::ifstream in(run / "report.json");
-    const nlohmann::json report = nlohmann::json::parse(in);
+    const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
+    if (!in || report.is_discarded() || !report.contains("cluster"))
+        throw Error("--cluster: the cluster session wrote no report (" + (run / "report.json").string() +
+                    "); its log: " + (dir / "mpirun.log").string());
     const nlohmann::json& cl = report.at("cluster");
 
     // A late-joining rank: the workpiece built from the spec, then the whole stream applied (no checkpoint this short).
@@ -174,6 +181,7 @@ void run_cluster(const ClusterCli& o, const BenchCommon& c) {
                      {"stroke_s", o.stroke_s},
                      {"startup", o.startup},
                      {"stroke_contour", o.stroke_contour},
+                     {"stock_m", o.stock_m},
                      {"cluster", cl},
                      {"late_join",
                       {{"workpiece_ms", load_ms},
@@ -192,6 +200,9 @@ BenchRun setup_cluster(CLI::App& bench) {
         "--cluster-startup", o->startup,
         "With --cluster: the render ranks' start-up where their groups take coarse levels (from 512 cells): "
         "coarse (the coarsest levels first, tiles where frames need them) or full (default coarse)");
+    bench.add_option("--cluster-stock-m", o->stock_m,
+                     "With --cluster: the workpiece's size on the wall, m (0.05..3; default 0.3: the bunny about 100 "
+                     "pixels tall; 1 fills most of the wall's height)");
     bench.add_option(
         "--cluster-stroke-contour", o->stroke_contour,
         "With --cluster: how the render ranks draw a stroke where their groups take coarse levels: coarse "
