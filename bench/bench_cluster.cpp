@@ -36,20 +36,35 @@ struct ClusterCli {
     double stroke_s = 4.0;    // the scene's stroke, s
     std::string startup = "coarse";  // the render ranks' start-up (the cluster config's "startup")
     std::string stroke_contour = "coarse";  // how they draw a stroke (the cluster config's "stroke_contour")
-    double stock_m = 0.3;  // the workpiece's size on the wall, m
+    double stock_m = 0.3;                   // the workpiece's size on the wall, m
 };
 
 // The wall scene with a stroke of `seconds`, side by side, 640 x 480 per eye.
 std::string write_scene(const fs::path& dir, const ClusterCli& o) {
     const nlohmann::json scene = {
-        {"workpiece", {{"mesh", fs::absolute(app::default_mesh_path()).lexically_normal().string()}, {"resolution", o.resolution},
-                       {"stock_m", o.stock_m}, {"centre_m", {0.0, 1.3, 0.7}}}},
+        {"workpiece",
+         {{"mesh", fs::absolute(app::default_mesh_path()).lexically_normal().string()},
+          {"resolution", o.resolution},
+          {"stock_m", o.stock_m},
+          {"centre_m", {0.0, 1.3, 0.7}}}},
         {"tool", {{"radius_m", 0.01}, {"stiffness_n_per_m", 700}, {"damping_n_s_per_m", 0.5}}},
         {"workspace", {{"mode", "peng_moving"}, {"scale", 1.0}}},
-        {"stroke", {{"duration_s", o.stroke_s}, {"length_m", 0.12}, {"depth_m", 0.008}, {"clearance_m", 0.03}, {"press_axis", "z"}}},
-        {"display", {{"preset", "powerwall"},
-                     {"screen", {{"lower_left", {-1.524, 0.6, 0.0}}, {"lower_right", {1.524, 0.6, 0.0}}, {"upper_left", {-1.524, 2.886, 0.0}}}},
-                     {"stereo", "side-by-side"}, {"refresh_hz", 60}, {"resolution", {640, 480}}, {"default_head_m", {0.0, 1.7, 2.0}}}},
+        {"stroke",
+         {{"duration_s", o.stroke_s},
+          {"length_m", 0.12},
+          {"depth_m", 0.008},
+          {"clearance_m", 0.03},
+          {"press_axis", "z"}}},
+        {"display",
+         {{"preset", "powerwall"},
+          {"screen",
+           {{"lower_left", {-1.524, 0.6, 0.0}},
+            {"lower_right", {1.524, 0.6, 0.0}},
+            {"upper_left", {-1.524, 2.886, 0.0}}}},
+          {"stereo", "side-by-side"},
+          {"refresh_hz", 60},
+          {"resolution", {640, 480}},
+          {"default_head_m", {0.0, 1.7, 2.0}}}},
         {"head", {{"provider", "fixed"}, {"position_m", {0.0, 1.7, 2.0}}}}};
     const std::string path = (dir / "cluster_scene.json").string();
     write_json_file(path, scene);
