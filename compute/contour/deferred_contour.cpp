@@ -71,7 +71,7 @@ std::size_t DeferredContour::release_box(TriDexel& model, std::array<int, 3> lo,
     return marked;
 }
 
-std::size_t DeferredContour::take_dirty(TriDexel& model) {
+std::size_t DeferredContour::take_dirty(TriDexel& model, std::vector<std::uint64_t>* released) {
     if (count_ == 0 || model.tiles.tiles != dims_) return 0;
     std::vector<std::size_t> dirty;
     for (std::size_t t = 0; t < deferred_.size(); ++t)
@@ -82,21 +82,13 @@ std::size_t DeferredContour::take_dirty(TriDexel& model) {
             if (!deferred_[n]) return;
             release(model, n);
             ++marked;
+            if (released) released->push_back(n);
         });
     return marked;
 }
 
 std::size_t DeferredContour::contour_oldest(TriDexel& model, Contourer& contourer, std::size_t max_tiles) {
-    std::size_t marked = 0;
-    while (marked < max_tiles && !order_.empty()) {
-        const std::uint64_t t = order_.front();
-        order_.pop_front();
-        if (!deferred_[t]) continue;  // contoured since (take_dirty, contour_group)
-        release(model, t);
-        ++marked;
-    }
-    if (marked > 0) contourer.update(model);
-    return marked;
+    return contour_oldest_where(model, contourer, max_tiles, [](std::uint64_t) { return true; });
 }
 
 std::size_t DeferredContour::contour_oldest_where(TriDexel& model, Contourer& contourer, std::size_t max_tiles,

@@ -42,8 +42,9 @@ public:
     std::vector<std::uint64_t> defer(TriDexel& model);
     /// Before the caller contours a change at once (Contourer::update): every deferred tile among the dirty ones or
     /// next to one is marked dirty whole (its old contour may differ anywhere) and leaves the set, so that no tile the
-    /// change contours borrows a vertex from an old contour. Returns how many.
-    std::size_t take_dirty(TriDexel& model);
+    /// change contours borrows a vertex from an old contour. Returns how many; `released` (may be null) receives
+    /// their ids too, in no particular order.
+    std::size_t take_dirty(TriDexel& model, std::vector<std::uint64_t>* released = nullptr);
     /// Contours the deferred tiles, oldest deferral first, until `max_tiles` are marked. Returns how many were
     /// contoured (0 when none waits). Throws as Contourer::update.
     std::size_t contour_oldest(TriDexel& model, Contourer& contourer, std::size_t max_tiles);

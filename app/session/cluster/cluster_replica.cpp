@@ -191,7 +191,7 @@ void ClusterReplica::contour(std::span<const renderer::Frustum> frusta) { update
 void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refine) {
     compute::TileGrid& g = wp_.model.tiles;
     const bool stroke = deferral_ && std::exchange(stroke_changes_, false);
-    const std::vector<std::uint64_t> wanted = std::exchange(wanted_, {});  // frames name them again
+    const std::vector<std::uint64_t> wanted = wanted_.take();  // frames name them again
     if (stroke) {
         // A stroke drawn coarse: its changed tiles wait, hidden, and the refresh rebuilds the coarse levels over them.
         // Start-up's tiles among them stay start-up's too (it hides them and their neighbours until it contours them).
@@ -203,12 +203,11 @@ void ClusterReplica::update(std::span<const renderer::Frustum> frusta, bool refi
     // an old contour), and contoured now with their group of changed tiles, whatever the views: a released tile shows
     // its mesh, which must not be its contour from before the stroke. So no waiting tile lies next to a deferred one.
     std::vector<std::uint8_t> released;
-    if (!stroke && deferral_ && deferral_->count() > 0) {
-        std::vector<std::uint8_t> was(g.count(), 0);
-        for (std::size_t t = 0; t < g.count(); ++t) was[t] = deferral_->deferred(t) ? 1 : 0;
-        if (deferral_->take_dirty(wp_.model) > 0) {
+    if (!stroke && deferral_) {
+        std::vector<std::uint64_t> ids;
+        if (deferral_->take_dirty(wp_.model, &ids) > 0) {
             released.assign(g.count(), 0);
-            for (std::size_t t = 0; t < g.count(); ++t) released[t] = was[t] && !deferral_->deferred(t) ? 1 : 0;
+            for (const std::uint64_t t : ids) released[t] = 1;
         }
     }
     const std::vector<std::uint8_t> visible =
@@ -291,29 +290,25 @@ void ClusterReplica::refresh_tiles(const std::vector<std::uint64_t>& wanted, boo
         // While a stroke's tiles are hidden, the groups the frames drew over their bound get finer coarse levels, and
         // the waiting levels under the groups they drew within it are left for later.
         if (stroke) tiles_.want_detail(wanted);
-        tiles_.frames_drew(std::exchange(drawn_, {}));
+        tiles_.frames_drew(drawn_.take());
     }
     compute::refresh_held_tiles(tiles_, *contourer_, refiner_.get(), deferral_.get());
     if (refiner_ && refiner_->done()) refiner_.reset();  // every tile is in
 }
 
 void ClusterReplica::want_detail(std::span<const std::uint64_t> group_ids) {
-    if (!refiner_ && !deferral_) return;
-    std::vector<std::uint64_t> ids(group_ids.begin(), group_ids.end());
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    compute::merge_ids(wanted_, ids);
+    if (refiner_ || deferral_) wanted_.offer(group_ids);
 }
 
 void ClusterReplica::frames_drew(std::span<const std::uint64_t> group_ids) {
-    if (deferral_) drawn_.insert(drawn_.end(), group_ids.begin(), group_ids.end());
+    if (deferral_) drawn_.offer(group_ids);
 }
 
 void ClusterReplica::finish_contour() {
     if (started_coarse_)
         while (tiles_.build_coarse_depth()) {  // every coarse depth, as a start-up that ran to its end reads them
         }
-    wanted_.clear();
+    (void)wanted_.take();
     if (deferral_) deferral_->take_dirty(wp_.model);  // no changed tile borrows a vertex from an old contour
     contoured_ += contourer_->update(wp_.model);      // the changed tiles waiting for a view
     deferred_ = 0;

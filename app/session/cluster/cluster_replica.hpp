@@ -17,6 +17,7 @@
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/deferred_contour.hpp"
 #include "compute/contour/startup_refine.hpp"
+#include "compute/runtime/detail_requests.hpp"
 #include "compute/journal/journal_replay.hpp"
 #include "renderer/output/stereo_sink.hpp"
 #include "renderer/scene/tile_culling.hpp"
@@ -90,8 +91,8 @@ public:
     void contour(std::span<const renderer::Frustum> frusta = {});
     /// The groups the last frames drew over their pixel bound because no finer level or tile could stand in yet
     /// (renderer::FrameStats::groups_wanting_detail, of every viewport), added to those the next contour() refines
-    /// (which then forgets them: frames name them again). Nothing unless the replica started coarse first or draws
-    /// strokes coarse.
+    /// (which then forgets them: frames name them again; at most compute::DetailRequests::kMaxIds wait). Nothing
+    /// unless the replica started coarse first or draws strokes coarse.
     void want_detail(std::span<const std::uint64_t> group_ids);
     /// Strokes drawn coarse: the groups the last frames drew at a level within their pixel bound
     /// (renderer::FrameStats::groups_at_level, of every viewport), added to those the next contour() hands the tile
@@ -166,8 +167,8 @@ private:
     std::vector<std::string> reference_notes_;               // references not drawn here, and why
     std::unique_ptr<compute::StartupRefiner> refiner_;       // a coarse-first start-up while it runs
     std::unique_ptr<compute::DeferredContour> deferral_;     // strokes drawn coarse
-    std::vector<std::uint64_t> wanted_;                      // groups the frames want finer (want_detail), ascending
-    std::vector<std::uint64_t> drawn_;                       // groups the frames drew at a level (frames_drew)
+    compute::DetailRequests wanted_;                         // groups the frames want finer (want_detail)
+    compute::DrawnGroups drawn_;                             // groups the frames drew at a level (frames_drew)
     bool stroke_changes_ = false;  // the records applied since the last contour() had a stroke open
     std::uint64_t stroke_deferred_ = 0;
     std::uint64_t stroke_contoured_ = 0;
