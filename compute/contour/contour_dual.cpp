@@ -158,6 +158,7 @@ void Contourer::bump_versions(const std::vector<std::pair<std::size_t, contour::
                     }
                 }
     }
+    normal_sharers(changed, slot, bump);
     for (const std::size_t t : bump) versions_[t] = v;
 }
 
@@ -192,8 +193,22 @@ TriMesh Contourer::tile_mesh(std::size_t tile) const {
 }
 
 TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const {
+    return assemble_tile(tile, materials, nullptr);
+}
+
+TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials,
+                             std::vector<Vec3>& normals) const {
+    std::vector<contour::VertexKey> keys;
+    TriMesh m = assemble_tile(tile, materials, &keys);
+    surface_normals(tile, keys, normals);
+    return m;
+}
+
+TriMesh Contourer::assemble_tile(std::size_t tile, std::vector<std::uint8_t>& materials,
+                                 std::vector<contour::VertexKey>* keys) const {
     check_tile(tile);
     materials.clear();
+    if (keys) keys->clear();
     const contour::TileMesh& tm = tile_meshes_[tile];
     constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> local(tm.keys.size(), kUnused), foreign(tm.foreign.size(), kUnused);
@@ -210,6 +225,7 @@ TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materi
             local[i] = static_cast<std::uint32_t>(m.positions.size());
             m.positions.push_back(lattice_.to_world(tm.grid[i]));
             materials.push_back(tm.materials[i]);
+            if (keys) keys->push_back(tm.keys[i]);
         }
     for (const auto& tri : tm.triangles)
         for (const std::uint32_t r : tri)
@@ -220,6 +236,7 @@ TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materi
             const auto [owner, at] = owned_vertex(tm.foreign[i]);
             m.positions.push_back(lattice_.to_world(tile_meshes_[owner].grid[at]));
             materials.push_back(tile_meshes_[owner].materials[at]);
+            if (keys) keys->push_back(tm.foreign[i]);
         }
     for (const auto& tri : tm.triangles) {
         std::array<std::uint32_t, 3> g{};

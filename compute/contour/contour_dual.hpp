@@ -93,7 +93,8 @@ public:
     /// Content version of tile `tile`'s surface: changes after an update() exactly when the triangles the
     /// tile owns or the positions or materials of its own vertices changed, or a vertex they use that a
     /// neighbour tile owns moved, changed material or vanished (so a paint-only stroke, which moves no
-    /// vertex, still gives the painted tiles new versions); otherwise
+    /// vertex, still gives the painted tiles new versions), or a neighbour tile's triangles around a vertex
+    /// it uses changed (the vertex's surface normal, tile_mesh(tile, materials, normals), changed); otherwise
     /// unchanged (a dirty tile whose re-contour gave the same piece keeps its version). Values come from one
     /// process-wide counter, so versions of different Contourers never coincide; 0 = never contoured.
     /// Throws tridex::Error when tile >= tile_count().
@@ -106,8 +107,28 @@ public:
     /// As tile_mesh(tile), also filling `materials` with one material id per returned vertex (same order;
     /// equal to mesh_materials() of the same vertices). Throws as tile_mesh() (`materials` then unspecified).
     TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const;
+    /// As tile_mesh(tile, materials), also filling `normals` with one unit normal per returned vertex: the
+    /// area-weighted normal of the whole surface at that vertex (the triangles of every tile that use it, the
+    /// neighbour tiles' included), so that neighbouring tiles shade a vertex they share alike and the tiles
+    /// together are shaded as mesh() is with core vertex_normals (the same sum, up to rounding; two tiles sharing
+    /// a vertex give it the same normal, bit for bit). A vertex whose triangles have no area gets (0, 0, 0).
+    /// Reads the tile's 26 neighbours' triangles near it. Throws as tile_mesh().
+    TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const;
 
 private:
+    /// tile_mesh's assembly; with `keys`, also the vertex key of each returned vertex.
+    TriMesh assemble_tile(std::size_t tile, std::vector<std::uint8_t>& materials,
+                          std::vector<contour::VertexKey>* keys) const;
+    /// The whole surface's area-weighted unit normal at each vertex of tile `tile`'s mesh (`keys`: their keys,
+    /// parallel to mesh.positions), summed over the triangles of the tile and its neighbours in ascending tile
+    /// order (contour_tile_normals.cpp).
+    void surface_normals(std::size_t tile, const std::vector<contour::VertexKey>& keys,
+                         std::vector<Vec3>& normals) const;
+    /// Tiles outside `changed` (`slot`: position in `changed` + 1 per tile, 0 if not changed) whose vertex normals
+    /// a changed tile's update may have changed: those using a vertex of a triangle the update added, removed or
+    /// reshaped. Appended to `bump`.
+    void normal_sharers(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed,
+                        const std::vector<std::uint32_t>& slot, std::vector<std::size_t>& bump) const;
     void check_model(const TriDexel& model) const;
     void check_tile(std::size_t tile) const;
     /// Index of vertex `key` in the piece of its owner tile (tile, index); throws as mesh() when that tile

@@ -252,7 +252,7 @@ void TileSurfaceCache::gather_group_parts(const TileGroupSurface& root, std::vec
                 if (const TileLodLevel* l = level_within(t->lods, limit_m))
                     parts.push_back(LodPart{&l->mesh, l->materials, l->normals, l->error_m});
                 else
-                    parts.push_back(LodPart{&t->mesh, t->materials, {}, 0.0});
+                    parts.push_back(LodPart{&t->mesh, t->materials, t->normals, 0.0});
             } else if (const TileGroupSurface* child = find_by_id(groups_, c)) {
                 if (const TileLodLevel* l = level_within(child->lods, limit_m))
                     parts.push_back(LodPart{&l->mesh, l->materials, l->normals, l->error_m});

@@ -63,6 +63,7 @@ LodJob TileSurfaceCache::tile_job(std::size_t i) const {
     job.token = contour_versions_[i];
     job.mesh = tiles_[i].mesh;
     job.materials = tiles_[i].materials;
+    job.normals = tiles_[i].normals;
     job.levels = tile_levels();
     return job;
 }

@@ -47,7 +47,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     pool_for(rebuilt.size(), 8, [&](const Chunk& chunk) {
         for (std::size_t i = chunk.first; i < chunk.last; ++i) {
             TileSurface& s = rebuilt[i];
-            s.mesh = contourer.tile_mesh(s.id, s.materials);
+            s.mesh = contourer.tile_mesh(s.id, s.materials, s.normals);
             if (!worker_) order_for_vertex_cache(s.mesh);  // else the worker orders it with its levels (collect_lods)
             s.bounds_m = s.mesh.bounds();
         }
@@ -192,7 +192,10 @@ void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     std::vector<std::vector<TileLodLevel>> built(tiles.size());
     if (tile_levels())
         run_lod_jobs(tiles.size(),
-                     [&](std::size_t i) { built[i] = build_tile_lod(tiles[i]->mesh, tiles[i]->materials, lod_options_); });
+                     [&](std::size_t i) {
+                         built[i] =
+                             build_lod_levels(tiles[i]->mesh, tiles[i]->materials, tiles[i]->normals, 0.0, lod_options_);
+                     });
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         tiles[i]->lods = std::move(built[i]);
         tiles[i]->lods_built = true;

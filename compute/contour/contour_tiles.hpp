@@ -39,6 +39,10 @@ struct TileSurface {
     TriMesh mesh;
     /// Material id per mesh vertex (size = mesh.positions.size(); Contourer::mesh_materials' rule).
     std::vector<std::uint8_t> materials;
+    /// Unit normal per mesh vertex: the whole surface's area-weighted normal there, the neighbour tiles' triangles
+    /// included (TileMeshSource::tile_mesh), so that tiles sharing a vertex shade it alike; empty when the source
+    /// gives none (a renderer then takes the mesh's own normals).
+    std::vector<Vec3> normals;
     /// Coarser levels of detail of mesh, finest first (build_tile_lod; empty unless the cache builds them).
     std::vector<TileLodLevel> lods;
     /// true once the levels of this mesh were built (`lods` may then still be empty: the mesh does not simplify).
@@ -94,8 +98,9 @@ public:
     std::array<int, 3> tile_dims() const override { return c_.tile_dims(); }
     std::size_t tile_triangle_count(std::size_t t) const override { return c_.tile_triangle_count(t); }
     std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
-    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
-        return c_.tile_mesh(t, materials);
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials,
+                      std::vector<Vec3>& normals) const override {
+        return c_.tile_mesh(t, materials, normals);
     }
 
 private:

@@ -83,8 +83,9 @@ public:
             return d_.hidden(t) ? 0 : base_.tile_triangle_count(t);
         }
         std::uint64_t tile_version(std::size_t t) const override { return base_.tile_version(t); }
-        TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
-            return base_.tile_mesh(t, materials);
+        TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials,
+                          std::vector<Vec3>& normals) const override {
+            return base_.tile_mesh(t, materials, normals);
         }
 
     private:

@@ -41,6 +41,7 @@ struct LodJob {
     /// Tile: false puts the mesh in vertex-cache order and builds no levels (the result's levels are empty), for
     /// tiles whose coarser levels are their depth-1 group's (TileSurfaceCache, coarse groups from depth 1).
     bool levels = true;
+    std::vector<Vec3> normals;  ///< tile: per vertex unit normals (TileSurface::normals), or empty (the mesh's own)
 };
 
 /// A finished job.

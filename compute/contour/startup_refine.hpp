@@ -81,8 +81,9 @@ public:
             return r_.publishable(t) ? c_.tile_triangle_count(t) : 0;
         }
         std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
-        TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials) const override {
-            return c_.tile_mesh(t, materials);
+        TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials,
+                          std::vector<Vec3>& normals) const override {
+            return c_.tile_mesh(t, materials, normals);
         }
 
     private:

@@ -26,10 +26,14 @@ public:
     /// fresh_tile_version() (never 0 once contoured, unique per process).
     virtual std::uint64_t tile_version(std::size_t tile) const = 0;
     /// The triangles tile `tile` owns as a compact mesh (every vertex used), world m, CCW from outside, with
-    /// one material id per vertex in `materials`. Neighbour tiles give a vertex they share bit-identical
-    /// positions. Throws tridex::Error on a bad tile index or an unreadable tile. TileSurfaceCache::refresh calls it
-    /// for several tiles at once from the task pool's threads, so it must only read.
-    virtual TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const = 0;
+    /// one material id per vertex in `materials`, and in `normals` either one unit normal per vertex (the whole
+    /// surface's at that vertex, the neighbour tiles' triangles included, so that tiles sharing a vertex shade it
+    /// alike) or nothing (a renderer then takes the mesh's own area-weighted normals). Neighbour tiles give a vertex
+    /// they share bit-identical positions. Throws tridex::Error on a bad tile index or an unreadable tile.
+    /// TileSurfaceCache::refresh calls it for several tiles at once from the task pool's threads, so it must only
+    /// read.
+    virtual TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials,
+                              std::vector<Vec3>& normals) const = 0;
 };
 
 }  // namespace tridex::compute

@@ -74,7 +74,9 @@ const GpuMesh& TileMeshCache::need(std::size_t i, std::size_t level) {
         if (level == 0) {
             std::span<const std::uint8_t> materials;
             if (t.materials) materials = *t.materials;
-            slot.assign(*context_, t.mesh ? *t.mesh : kEmpty, materials, {}, pool_.get(), frame_);
+            std::span<const Vec3> normals;
+            if (t.normals) normals = *t.normals;
+            slot.assign(*context_, t.mesh ? *t.mesh : kEmpty, materials, normals, pool_.get(), frame_);
         } else {
             const TileMeshLevel& l = t.levels[level - 1];
             std::span<const std::uint8_t> lm;

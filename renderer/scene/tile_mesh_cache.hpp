@@ -37,6 +37,10 @@ struct TileMesh {
     /// Index in SceneView::tile_groups of the smallest group holding this tile (TileGroup), or kNoGroup.
     std::size_t group = kNoGroup;
     static constexpr std::size_t kNoGroup = std::numeric_limits<std::size_t>::max();
+    /// Optional per-vertex unit normals (size = mesh->positions.size()), e.g. the whole surface's at the tile's border
+    /// vertices, so that neighbouring tiles shade a shared vertex alike; nullptr or empty = the mesh's own
+    /// area-weighted normals (core vertex_normals).
+    const std::vector<Vec3>* normals = nullptr;
 };
 
 /// GPU copies of tile meshes keyed by TileMesh::id. sync() takes the frame's list: it notes which tiles are new or

@@ -232,10 +232,10 @@ TEST(TileLod, CancelDropsOnlyAWaitingJob) {
         while (!open.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     };
     LodWorker worker(w);
-    worker.submit(LodJob{false, 1, 0, {}, {}, {}, true}, false);
+    worker.submit(LodJob{false, 1, 0, {}, {}, {}, true, {}}, false);
     while (started.load() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    worker.submit(LodJob{false, 2, 0, {}, {}, {}, true}, false);
-    worker.submit(LodJob{true, 2, 0, {}, {}, {}, true}, false);
+    worker.submit(LodJob{false, 2, 0, {}, {}, {}, true, {}}, false);
+    worker.submit(LodJob{true, 2, 0, {}, {}, {}, true, {}}, false);
     EXPECT_FALSE(worker.cancel(false, 1));  // running
     EXPECT_TRUE(worker.cancel(false, 2));   // waiting: the tile's job, not the group's with the same id
     EXPECT_FALSE(worker.cancel(false, 2));
@@ -262,7 +262,7 @@ TEST(TileLod, WorkersDropToTheirNiceValueOnceStartupIsOver) {
     };
     LodWorker worker(w);
     const auto run_job = [&](std::uint64_t id) {
-        worker.submit(LodJob{false, id, 0, {}, {}, {}, true}, false);
+        worker.submit(LodJob{false, id, 0, {}, {}, {}, true, {}}, false);
         drain(worker);
     };
     run_job(1);

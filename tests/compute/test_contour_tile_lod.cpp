@@ -202,7 +202,9 @@ TEST(TileLod, BackgroundLevelsMatchThoseBuiltInRefresh) {
 TEST(TileLod, LevelsKeepAttributesOfTheFullMesh) {
     const Built b = sphere(48);
     for (const TileSurface& s : b.cache.tiles()) {
-        const std::vector<Vec3> normals = vertex_normals(s.mesh);
+        // The full mesh's normals: the whole surface's at its vertices (Contourer::tile_mesh with normals).
+        const std::vector<Vec3>& normals = s.normals;
+        ASSERT_EQ(normals.size(), s.mesh.positions.size());
         std::map<std::array<double, 3>, std::size_t> at;
         for (std::size_t v = 0; v < s.mesh.positions.size(); ++v)
             at[{s.mesh.positions[v].x, s.mesh.positions[v].y, s.mesh.positions[v].z}] = v;

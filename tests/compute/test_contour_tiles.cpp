@@ -78,13 +78,16 @@ std::vector<std::array<int, 3>> tile_coords(const TriDexel& m) {
 struct Snapshot {
     std::vector<std::uint64_t> versions;
     std::vector<TriMesh> meshes;
+    std::vector<std::vector<Vec3>> normals;  // the whole surface's at each tile's vertices
 };
 
 Snapshot snapshot(const Contourer& c) {
     Snapshot s;
     for (std::size_t t = 0; t < c.tile_count(); ++t) {
         s.versions.push_back(c.tile_version(t));
-        s.meshes.push_back(c.tile_mesh(t));
+        std::vector<std::uint8_t> materials;
+        s.normals.emplace_back();
+        s.meshes.push_back(c.tile_mesh(t, materials, s.normals.back()));
     }
     return s;
 }
@@ -130,12 +133,13 @@ TEST(ContourTiles, UnionOfTilesIsTheMeshBeforeAndAfterACapsuleCarve) {
     const auto coords = tile_coords(model);
     std::set<std::size_t> changed_mesh, changed_version;
     for (std::size_t t = 0; t < contourer.tile_count(); ++t) {
-        if (!same_mesh(before.meshes[t], after.meshes[t])) changed_mesh.insert(t);
+        if (!same_mesh(before.meshes[t], after.meshes[t]) || before.normals[t] != after.normals[t])
+            changed_mesh.insert(t);
         if (before.versions[t] != after.versions[t]) changed_version.insert(t);
     }
     EXPECT_FALSE(changed_mesh.empty());
     // Exactness: a version changes when and only when the tile's mesh (own triangles, own or borrowed
-    // vertex positions) changed.
+    // vertex positions) or its vertices' normals (a neighbour's triangles around a shared vertex) changed.
     EXPECT_EQ(changed_version, changed_mesh);
     for (std::size_t t : changed_version) {
         bool near_dirty = false;

@@ -113,6 +113,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
         tm.version = s->version;
         tm.id = s->id;
         tm.materials = &s->materials;
+        tm.normals = &s->normals;
         if (with_lods && !s->lods.empty()) {
             const std::size_t first = out.levels.size();
             for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));

@@ -1,0 +1,203 @@
+// compute/contour/contour_tile_normals.cpp - the whole surface's vertex normals of one tile's mesh, and which
+// neighbour tiles' normals an update changed.
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "compute/contour/contour_dual.hpp"
+
+namespace tridex::compute {
+
+namespace {
+
+constexpr int kT = TileGrid::kTileCells;
+// Cells beyond a tile's box whose triangles may use a vertex of its mesh: a triangle uses vertices anchored within
+// one cell of the cell that emitted it, and a tile's mesh uses vertices anchored within one cell of its box.
+constexpr int kReachCells = 3;
+constexpr std::size_t kAbsent = std::numeric_limits<std::size_t>::max();
+
+std::size_t find_key(const contour::TileMesh& piece, contour::VertexKey key) {
+    const auto it = std::lower_bound(piece.keys.begin(), piece.keys.end(), key);
+    return it == piece.keys.end() || *it != key ? kAbsent : static_cast<std::size_t>(it - piece.keys.begin());
+}
+
+contour::VertexKey key_of(const contour::TileMesh& piece, std::uint32_t r) {
+    return r < contour::TileMesh::kForeign ? piece.keys[r] : piece.foreign[r - contour::TileMesh::kForeign];
+}
+
+std::array<int, 3> coords_of(std::size_t t, const std::array<int, 3>& tiles) {
+    const auto nx = static_cast<std::size_t>(tiles[0]), ny = static_cast<std::size_t>(tiles[1]);
+    return {static_cast<int>(t % nx), static_cast<int>(t / nx % ny), static_cast<int>(t / (nx * ny))};
+}
+
+std::size_t index_of(const std::array<int, 3>& c, const std::array<int, 3>& tiles) {
+    return static_cast<std::size_t>(c[0]) +
+           static_cast<std::size_t>(tiles[0]) *
+               (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(tiles[1]) * static_cast<std::size_t>(c[2]));
+}
+
+// Whether tile `piece` (the tile at `tile` coordinates) uses or owns vertex `key`.
+bool holds(const contour::TileMesh& piece, contour::VertexKey key) {
+    return find_key(piece, key) != kAbsent || std::binary_search(piece.foreign.begin(), piece.foreign.end(), key);
+}
+
+}  // namespace
+
+void Contourer::surface_normals(std::size_t tile, const std::vector<contour::VertexKey>& keys,
+                                std::vector<Vec3>& normals) const {
+    std::vector<std::pair<contour::VertexKey, std::uint32_t>> at(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) at[i] = {keys[i], static_cast<std::uint32_t>(i)};
+    std::sort(at.begin(), at.end());
+    const auto find = [&](contour::VertexKey k) -> std::uint32_t {
+        const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, std::uint32_t{0}));
+        return it != at.end() && it->first == k ? it->second : std::numeric_limits<std::uint32_t>::max();
+    };
+    normals.assign(keys.size(), Vec3(0.0));
+    const std::array<int, 3> t = coords_of(tile, tiles_);
+    std::array<int, 3> lo{}, hi{};  // cells (inclusive) whose triangles may use the mesh's vertices
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = t[a] * kT - kReachCells;
+        hi[a] = (t[a] + 1) * kT - 1 + kReachCells;
+    }
+    const auto position = [&](const contour::TileMesh& piece, std::uint32_t r) {
+        if (r < contour::TileMesh::kForeign) return lattice_.to_world(piece.grid[r]);
+        const auto [owner, i] = owned_vertex(piece.foreign[r - contour::TileMesh::kForeign]);
+        return lattice_.to_world(tile_meshes_[owner].grid[i]);
+    };
+    // Ascending tile order and each tile's triangles in order, as mesh() lists them: the sums are vertex_normals'
+    // over mesh(), and any tile sharing a vertex adds the same triangles in the same order.
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
+                if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= tiles_[0] || u[1] >= tiles_[1] || u[2] >= tiles_[2])
+                    continue;
+                const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
+                const bool filter = (dx | dy | dz) != 0 && piece.triangle_cells.size() == piece.triangles.size();
+                for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
+                    if (filter) {
+                        const int c = piece.triangle_cells[k];
+                        const std::array<int, 3> g{u[0] * kT + c % kT, u[1] * kT + c / kT % kT, u[2] * kT + c / (kT * kT)};
+                        if (g[0] < lo[0] || g[0] > hi[0] || g[1] < lo[1] || g[1] > hi[1] || g[2] < lo[2] || g[2] > hi[2])
+                            continue;
+                    }
+                    const auto& tri = piece.triangles[k];
+                    std::array<std::uint32_t, 3> mine{};
+                    bool any = false;
+                    for (int v = 0; v < 3; ++v) {
+                        mine[v] = find(key_of(piece, tri[v]));
+                        any = any || mine[v] != std::numeric_limits<std::uint32_t>::max();
+                    }
+                    if (!any) continue;
+                    const Vec3 a = position(piece, tri[0]);
+                    const Vec3 fn = glm::cross(position(piece, tri[1]) - a, position(piece, tri[2]) - a);
+                    for (int v = 0; v < 3; ++v)
+                        if (mine[v] != std::numeric_limits<std::uint32_t>::max()) normals[mine[v]] += fn;
+                }
+            }
+    for (Vec3& n : normals) {
+        const double len = glm::length(n);
+        n = len > 0.0 ? n / len : Vec3(0.0);
+    }
+}
+
+void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed,
+                               const std::vector<std::uint32_t>& slot, std::vector<std::size_t>& bump) const {
+    std::vector<std::uint8_t> marked(tile_meshes_.size(), 0);
+    for (const std::size_t t : bump) marked[t] = 1;
+    const auto outside_neighbour = [&](std::size_t c) {  // a neighbour not changed itself, with triangles
+        const std::array<int, 3> t = coords_of(c, tiles_);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
+                    if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= tiles_[0] || u[1] >= tiles_[1] || u[2] >= tiles_[2])
+                        continue;
+                    const std::size_t n = index_of(u, tiles_);
+                    if (slot[n] == 0 && !marked[n] && triangle_counts_[n] > 0) return true;
+                }
+        return false;
+    };
+    std::vector<contour::VertexKey> moved, touched;
+    for (const auto& [c, before] : changed) {
+        if (!outside_neighbour(c)) continue;
+        const contour::TileMesh& now = tile_meshes_[c];
+        // Vertices the triangles use that moved: own ones by position, borrowed ones whose owner changed too.
+        moved.clear();
+        for (std::size_t i = 0; i < now.keys.size(); ++i) {
+            const std::size_t j = find_key(before, now.keys[i]);
+            if (j != kAbsent && before.grid[j] != now.grid[i]) moved.push_back(now.keys[i]);
+        }
+        for (const contour::TileMesh* p : {&before, &now})
+            for (const contour::VertexKey k : p->foreign) {
+                const std::size_t owner = codec_.owner_tile(k);
+                if (slot[owner] == 0) continue;
+                const contour::TileMesh& old = changed[slot[owner] - 1].second;
+                const std::size_t a = find_key(tile_meshes_[owner], k), b = find_key(old, k);
+                if (a == kAbsent || b == kAbsent || tile_meshes_[owner].grid[a] != old.grid[b]) moved.push_back(k);
+            }
+        std::sort(moved.begin(), moved.end());
+        // The vertices of every triangle added, removed or reshaped, cell by cell (triangles are listed by
+        // ascending emitting cell; a cell that emitted the same triangles keeps its order).
+        touched.clear();
+        const auto take = [&](const contour::TileMesh& p, std::size_t from, std::size_t to) {
+            for (std::size_t k = from; k < to; ++k)
+                for (const std::uint32_t r : p.triangles[k]) touched.push_back(key_of(p, r));
+        };
+        const bool by_cell = before.triangle_cells.size() == before.triangles.size() &&
+                             now.triangle_cells.size() == now.triangles.size();
+        if (!by_cell) {
+            take(before, 0, before.triangles.size());
+            take(now, 0, now.triangles.size());
+        } else {
+            std::size_t i = 0, j = 0;
+            while (i < before.triangles.size() || j < now.triangles.size()) {
+                const int ci = i < before.triangles.size() ? before.triangle_cells[i] : 1 << 30;
+                const int cj = j < now.triangles.size() ? now.triangle_cells[j] : 1 << 30;
+                const int cell = std::min(ci, cj);
+                std::size_t i2 = i, j2 = j;
+                while (i2 < before.triangles.size() && before.triangle_cells[i2] == cell) ++i2;
+                while (j2 < now.triangles.size() && now.triangle_cells[j2] == cell) ++j2;
+                bool same = i2 - i == j2 - j;
+                for (std::size_t k = 0; same && k < i2 - i; ++k)
+                    for (int v = 0; v < 3 && same; ++v) {
+                        const contour::VertexKey key = key_of(now, now.triangles[j + k][v]);
+                        same = key == key_of(before, before.triangles[i + k][v]) &&
+                               !std::binary_search(moved.begin(), moved.end(), key);
+                    }
+                if (!same) {
+                    take(before, i, i2);
+                    take(now, j, j2);
+                }
+                i = i2;
+                j = j2;
+            }
+        }
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        // The tiles around each such vertex (those whose cells may emit a triangle using it) that use it.
+        for (const contour::VertexKey k : touched) {
+            const contour::Node a = codec_.anchor(k);
+            std::array<int, 3> t0{}, t1{};
+            for (int ax = 0; ax < 3; ++ax) {
+                t0[ax] = std::clamp((a[ax] - 1) / kT, 0, tiles_[ax] - 1);
+                t1[ax] = std::clamp((a[ax] + 1) / kT, 0, tiles_[ax] - 1);
+            }
+            for (int z = t0[2]; z <= t1[2]; ++z)
+                for (int y = t0[1]; y <= t1[1]; ++y)
+                    for (int x = t0[0]; x <= t1[0]; ++x) {
+                        const std::size_t n = index_of({x, y, z}, tiles_);
+                        if (n == c || slot[n] != 0 || marked[n] || triangle_counts_[n] == 0) continue;
+                        if (!holds(tile_meshes_[n], k)) continue;
+                        marked[n] = 1;
+                        bump.push_back(n);
+                    }
+        }
+    }
+}
+
+}  // namespace tridex::compute
