@@ -81,8 +81,10 @@ void Contourer::surface_normals(std::size_t tile, const std::vector<contour::Ver
                 for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
                     if (filter) {
                         const int c = piece.triangle_cells[k];
-                        const std::array<int, 3> g{u[0] * kT + c % kT, u[1] * kT + c / kT % kT, u[2] * kT + c / (kT * kT)};
-                        if (g[0] < lo[0] || g[0] > hi[0] || g[1] < lo[1] || g[1] > hi[1] || g[2] < lo[2] || g[2] > hi[2])
+                        const std::array<int, 3> g{u[0] * kT + c % kT, u[1] * kT + c / kT % kT,
+                                                   u[2] * kT + c / (kT * kT)};
+                        if (g[0] < lo[0] || g[0] > hi[0] || g[1] < lo[1] || g[1] > hi[1] || g[2] < lo[2] ||
+                            g[2] > hi[2])
                             continue;
                     }
                     const auto& tri = piece.triangles[k];

@@ -191,11 +191,9 @@ void TileSurfaceCache::build_lods(const std::vector<TileSurface*>& tiles) {
     // Built aside first, so that an exception leaves every tile as it was.
     std::vector<std::vector<TileLodLevel>> built(tiles.size());
     if (tile_levels())
-        run_lod_jobs(tiles.size(),
-                     [&](std::size_t i) {
-                         built[i] =
-                             build_lod_levels(tiles[i]->mesh, tiles[i]->materials, tiles[i]->normals, 0.0, lod_options_);
-                     });
+        run_lod_jobs(tiles.size(), [&](std::size_t i) {
+            built[i] = build_lod_levels(tiles[i]->mesh, tiles[i]->materials, tiles[i]->normals, 0.0, lod_options_);
+        });
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         tiles[i]->lods = std::move(built[i]);
         tiles[i]->lods_built = true;

@@ -98,8 +98,7 @@ public:
     std::array<int, 3> tile_dims() const override { return c_.tile_dims(); }
     std::size_t tile_triangle_count(std::size_t t) const override { return c_.tile_triangle_count(t); }
     std::uint64_t tile_version(std::size_t t) const override { return c_.tile_version(t); }
-    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials,
-                      std::vector<Vec3>& normals) const override {
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const override {
         return c_.tile_mesh(t, materials, normals);
     }
 

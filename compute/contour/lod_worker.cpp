@@ -32,7 +32,8 @@ void lower_priority(int nice) {
 
 std::vector<TileLodLevel> build(const LodJob& job, const TileLodOptions& o) {
     if (!job.group)
-        return job.levels ? build_lod_levels(job.mesh, job.materials, job.normals, 0.0, o) : std::vector<TileLodLevel>{};
+        return job.levels ? build_lod_levels(job.mesh, job.materials, job.normals, 0.0, o)
+                          : std::vector<TileLodLevel>{};
     std::vector<LodPart> parts;
     parts.reserve(job.parts.size());
     for (const LodJobPart& p : job.parts) parts.push_back(LodPart{&p.mesh, p.materials, p.normals, p.error_m});

@@ -25,8 +25,7 @@ public:
     std::array<int, 3> tile_dims() const override { return dims_; }
     std::size_t tile_triangle_count(std::size_t t) const override { return triangles_.at(t); }
     std::uint64_t tile_version(std::size_t t) const override { return versions_.at(t); }
-    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials,
-                      std::vector<Vec3>& normals) const override {
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const override {
         const auto r = read_.find(static_cast<std::uint32_t>(t));
         if (r == read_.end()) throw Error("GPU contouring: tile " + std::to_string(t) + " changed but was not read back");
         materials = r->second.materials;

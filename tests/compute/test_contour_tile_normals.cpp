@@ -110,8 +110,8 @@ TEST(ContourTileNormals, AVersionChangesWheneverTheTilesNormalsDo) {
         std::vector<std::vector<Vec3>> normals_now;
         read(meshes_now, normals_now);
         for (std::size_t t = 0; t < versions.size(); ++t) {
-            const bool same_mesh = meshes_now[t].positions == meshes[t].positions &&
-                                   meshes_now[t].triangles == meshes[t].triangles;
+            const bool same_mesh =
+                meshes_now[t].positions == meshes[t].positions && meshes_now[t].triangles == meshes[t].triangles;
             const bool same_normals = normals_now[t] == normals[t];
             if (contourer.tile_version(t) == versions[t]) {
                 EXPECT_TRUE(same_mesh) << "cut " << cut << " tile " << t;
