@@ -199,7 +199,7 @@ TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materi
 TriMesh Contourer::tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const {
     std::vector<contour::VertexKey> keys;
     TriMesh m = assemble_tile(tile, materials, &keys);
-    surface_normals(tile, keys, normals);
+    surface_normals(tile, m, keys, normals);
     return m;
 }
 

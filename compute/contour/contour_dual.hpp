@@ -119,10 +119,10 @@ private:
     /// tile_mesh's assembly; with `keys`, also the vertex key of each returned vertex.
     TriMesh assemble_tile(std::size_t tile, std::vector<std::uint8_t>& materials,
                           std::vector<contour::VertexKey>* keys) const;
-    /// The whole surface's area-weighted unit normal at each vertex of tile `tile`'s mesh (`keys`: their keys,
-    /// parallel to mesh.positions), summed over the triangles of the tile and its neighbours in ascending tile
+    /// The whole surface's area-weighted unit normal at each vertex of tile `tile`'s assembled `mesh` (`keys`: their
+    /// keys, parallel to mesh.positions), summed over the triangles of the tile and its neighbours in ascending tile
     /// order (contour_tile_normals.cpp).
-    void surface_normals(std::size_t tile, const std::vector<contour::VertexKey>& keys,
+    void surface_normals(std::size_t tile, const TriMesh& mesh, const std::vector<contour::VertexKey>& keys,
                          std::vector<Vec3>& normals) const;
     /// Tiles outside `changed` (`slot`: position in `changed` + 1 per tile, 0 if not changed) whose vertex normals
     /// a changed tile's update may have changed: those using a vertex of a triangle the update added, removed or

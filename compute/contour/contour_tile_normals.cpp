@@ -15,9 +15,10 @@ namespace tridex::compute {
 namespace {
 
 constexpr int kT = TileGrid::kTileCells;
-// Cells beyond a tile's box whose triangles may use a vertex of its mesh: a triangle uses vertices anchored within
-// one cell of the cell that emitted it, and a tile's mesh uses vertices anchored within one cell of its box.
-constexpr int kReachCells = 3;
+// Cells beyond a tile's box [t0, t0 + kT) whose triangles may use a vertex of its mesh: a triangle emitted by cell c
+// uses vertices anchored at c - 1 .. c, so the tile's own triangles use vertices anchored at t0 - 1 .. t0 + kT - 1,
+// and other triangles using those are emitted by cells t0 - 1 .. t0 + kT.
+constexpr int kReachBelow = 1, kReachAbove = 1;
 constexpr std::size_t kAbsent = std::numeric_limits<std::size_t>::max();
 
 std::size_t find_key(const contour::TileMesh& piece, contour::VertexKey key) {
@@ -47,26 +48,51 @@ bool holds(const contour::TileMesh& piece, contour::VertexKey key) {
 
 }  // namespace
 
-void Contourer::surface_normals(std::size_t tile, const std::vector<contour::VertexKey>& keys,
+void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std::vector<contour::VertexKey>& keys,
                                 std::vector<Vec3>& normals) const {
-    std::vector<std::pair<contour::VertexKey, std::uint32_t>> at(keys.size());
-    for (std::size_t i = 0; i < keys.size(); ++i) at[i] = {keys[i], static_cast<std::uint32_t>(i)};
-    std::sort(at.begin(), at.end());
+    // The mesh's vertices by key: an open-addressed table at most half full (a neighbour's triangle is looked up
+    // three times, and most of those it reads use none of them).
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    std::size_t size = 16;
+    while (size < 2 * keys.size()) size *= 2;
+    std::vector<std::pair<contour::VertexKey, std::uint32_t>> table(size, {0, kNone});
+    const auto slot_of = [&](contour::VertexKey k) {
+        return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20) & (size - 1);
+    };
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        std::size_t h = slot_of(keys[i]);
+        while (table[h].second != kNone) h = (h + 1) & (size - 1);
+        table[h] = {keys[i], static_cast<std::uint32_t>(i)};
+    }
     const auto find = [&](contour::VertexKey k) -> std::uint32_t {
-        const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, std::uint32_t{0}));
-        return it != at.end() && it->first == k ? it->second : std::numeric_limits<std::uint32_t>::max();
+        for (std::size_t h = slot_of(k);; h = (h + 1) & (size - 1))
+            if (table[h].second == kNone || table[h].first == k) return table[h].second;
     };
     normals.assign(keys.size(), Vec3(0.0));
     const std::array<int, 3> t = coords_of(tile, tiles_);
     std::array<int, 3> lo{}, hi{};  // cells (inclusive) whose triangles may use the mesh's vertices
     for (int a = 0; a < 3; ++a) {
-        lo[a] = t[a] * kT - kReachCells;
-        hi[a] = (t[a] + 1) * kT - 1 + kReachCells;
+        lo[a] = t[a] * kT - kReachBelow;
+        hi[a] = (t[a] + 1) * kT - 1 + kReachAbove;
     }
     const auto position = [&](const contour::TileMesh& piece, std::uint32_t r) {
         if (r < contour::TileMesh::kForeign) return lattice_.to_world(piece.grid[r]);
         const auto [owner, i] = owned_vertex(piece.foreign[r - contour::TileMesh::kForeign]);
         return lattice_.to_world(tile_meshes_[owner].grid[i]);
+    };
+    const auto add = [&](const contour::TileMesh& piece, std::size_t k) {  // triangle k of a neighbour's piece
+        const auto& tri = piece.triangles[k];
+        std::array<std::uint32_t, 3> mine{};
+        bool any = false;
+        for (int v = 0; v < 3; ++v) {
+            mine[v] = find(key_of(piece, tri[v]));
+            any = any || mine[v] != kNone;
+        }
+        if (!any) return;
+        const Vec3 a = position(piece, tri[0]);
+        const Vec3 fn = glm::cross(position(piece, tri[1]) - a, position(piece, tri[2]) - a);
+        for (int v = 0; v < 3; ++v)
+            if (mine[v] != kNone) normals[mine[v]] += fn;
     };
     // Ascending tile order and each tile's triangles in order, as mesh() lists them: the sums are vertex_normals'
     // over mesh(), and any tile sharing a vertex adds the same triangles in the same order.
@@ -76,29 +102,35 @@ void Contourer::surface_normals(std::size_t tile, const std::vector<contour::Ver
                 const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
                 if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= tiles_[0] || u[1] >= tiles_[1] || u[2] >= tiles_[2])
                     continue;
+                if ((dx | dy | dz) == 0) {  // the tile's own triangles: all of them, as assembled in `mesh`
+                    for (const auto& tri : mesh.triangles) {
+                        const Vec3& a = mesh.positions[tri[0]];
+                        const Vec3 fn = glm::cross(mesh.positions[tri[1]] - a, mesh.positions[tri[2]] - a);
+                        for (const std::uint32_t v : tri) normals[v] += fn;
+                    }
+                    continue;
+                }
                 const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
-                const bool filter = (dx | dy | dz) != 0 && piece.triangle_cells.size() == piece.triangles.size();
-                for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
-                    if (filter) {
-                        const int c = piece.triangle_cells[k];
-                        const std::array<int, 3> g{u[0] * kT + c % kT, u[1] * kT + c / kT % kT,
-                                                   u[2] * kT + c / (kT * kT)};
-                        if (g[0] < lo[0] || g[0] > hi[0] || g[1] < lo[1] || g[1] > hi[1] || g[2] < lo[2] ||
-                            g[2] > hi[2])
-                            continue;
-                    }
-                    const auto& tri = piece.triangles[k];
-                    std::array<std::uint32_t, 3> mine{};
-                    bool any = false;
-                    for (int v = 0; v < 3; ++v) {
-                        mine[v] = find(key_of(piece, tri[v]));
-                        any = any || mine[v] != std::numeric_limits<std::uint32_t>::max();
-                    }
-                    if (!any) continue;
-                    const Vec3 a = position(piece, tri[0]);
-                    const Vec3 fn = glm::cross(position(piece, tri[1]) - a, position(piece, tri[2]) - a);
-                    for (int v = 0; v < 3; ++v)
-                        if (mine[v] != std::numeric_limits<std::uint32_t>::max()) normals[mine[v]] += fn;
+                const auto& cells = piece.triangle_cells;
+                if (cells.size() != piece.triangles.size()) {  // no cell per triangle: every triangle
+                    for (std::size_t k = 0; k < piece.triangles.size(); ++k) add(piece, k);
+                    continue;
+                }
+                // Its cells within [lo, hi], tile-local, visited in ascending order.
+                std::array<int, 3> r0{}, r1{};
+                bool empty = false;
+                for (int a = 0; a < 3; ++a) {
+                    r0[a] = std::max(lo[a] - u[a] * kT, 0);
+                    r1[a] = std::min(hi[a] - u[a] * kT, kT - 1);
+                    empty = empty || r0[a] > r1[a];
+                }
+                if (empty) continue;
+                // The cells of slabs z = r0..r1 are one run (cells ascend as x + kT (y + kT z)); x and y are filtered.
+                const auto first = std::lower_bound(cells.begin(), cells.end(), kT * kT * r0[2]);
+                for (auto it = first; it != cells.end() && *it < kT * kT * (r1[2] + 1); ++it) {
+                    const int x = *it % kT, y = *it / kT % kT;
+                    if (x >= r0[0] && x <= r1[0] && y >= r0[1] && y <= r1[1])
+                        add(piece, static_cast<std::size_t>(it - cells.begin()));
                 }
             }
     for (Vec3& n : normals) {
@@ -130,9 +162,16 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
         const contour::TileMesh& now = tile_meshes_[c];
         // Vertices the triangles use that moved: own ones by position, borrowed ones whose owner changed too.
         moved.clear();
-        for (std::size_t i = 0; i < now.keys.size(); ++i) {
-            const std::size_t j = find_key(before, now.keys[i]);
-            if (j != kAbsent && before.grid[j] != now.grid[i]) moved.push_back(now.keys[i]);
+        for (std::size_t i = 0, j = 0; i < now.keys.size() && j < before.keys.size();) {  // both ascending
+            if (now.keys[i] < before.keys[j]) {
+                ++i;
+            } else if (before.keys[j] < now.keys[i]) {
+                ++j;
+            } else {
+                if (before.grid[j] != now.grid[i]) moved.push_back(now.keys[i]);
+                ++i;
+                ++j;
+            }
         }
         for (const contour::TileMesh* p : {&before, &now})
             for (const contour::VertexKey k : p->foreign) {
@@ -145,10 +184,21 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
         std::sort(moved.begin(), moved.end());
         // The vertices of every triangle added, removed or reshaped, cell by cell (triangles are listed by
         // ascending emitting cell; a cell that emitted the same triangles keeps its order).
+        // Only vertices anchored within one cell of the tile's border: no other tile uses the others.
         touched.clear();
+        const std::array<int, 3> c0 = coords_of(c, tiles_);
         const auto take = [&](const contour::TileMesh& p, std::size_t from, std::size_t to) {
             for (std::size_t k = from; k < to; ++k)
-                for (const std::uint32_t r : p.triangles[k]) touched.push_back(key_of(p, r));
+                for (const std::uint32_t r : p.triangles[k]) {
+                    const contour::VertexKey key = key_of(p, r);
+                    const contour::Node a = codec_.anchor(key);
+                    bool border = false;
+                    for (int ax = 0; ax < 3; ++ax) {
+                        const int x = a[ax] - c0[ax] * kT;
+                        border = border || x <= 0 || x >= kT - 1;
+                    }
+                    if (border) touched.push_back(key);
+                }
         };
         const bool by_cell = before.triangle_cells.size() == before.triangles.size() &&
                              now.triangle_cells.size() == now.triangles.size();
@@ -164,6 +214,15 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
                 std::size_t i2 = i, j2 = j;
                 while (i2 < before.triangles.size() && before.triangle_cells[i2] == cell) ++i2;
                 while (j2 < now.triangles.size() && now.triangle_cells[j2] == cell) ++j2;
+                // A cell whose local coordinates are all 2 .. kT - 2 emits triangles whose vertices are anchored at
+                // 1 .. kT - 2, which no other tile uses (a tile uses vertices anchored within one cell of its box).
+                bool inner = true;
+                for (const int x : {cell % kT, cell / kT % kT, cell / (kT * kT)}) inner = inner && x >= 2 && x <= kT - 2;
+                if (inner) {
+                    i = i2;
+                    j = j2;
+                    continue;
+                }
                 bool same = i2 - i == j2 - j;
                 for (std::size_t k = 0; same && k < i2 - i; ++k)
                     for (int v = 0; v < 3 && same; ++v) {
