@@ -217,7 +217,8 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
                 // A cell whose local coordinates are all 2 .. kT - 2 emits triangles whose vertices are anchored at
                 // 1 .. kT - 2, which no other tile uses (a tile uses vertices anchored within one cell of its box).
                 bool inner = true;
-                for (const int x : {cell % kT, cell / kT % kT, cell / (kT * kT)}) inner = inner && x >= 2 && x <= kT - 2;
+                for (const int x : {cell % kT, cell / kT % kT, cell / (kT * kT)})
+                    inner = inner && x >= 2 && x <= kT - 2;
                 if (inner) {
                     i = i2;
                     j = j2;
