@@ -11,7 +11,11 @@
 // on any plane, more in a concave cut (groove floor, the foot of a ridge), less on a convex edge or crest. The
 // colour scale is 1 + strength * (1 - 2 obscurance), clamped to 0.3..1.45: cuts darken, edges and crests
 // brighten, flat faces keep their colour. Pairs with a sample whose surface lies more than 2R in front of P
-// (another object in front) or outside the image are left out; samples on the background count as empty.
+// (another object in front) are left out; samples on the background count as empty. A pair reaching past the
+// image's edge is drawn in towards P (its offsets scaled until both samples lie inside, its chord the sphere's at
+// the smaller offset), so the obscurance changes smoothly up to the edge, where it reaches one half, instead of
+// stepping where a pair's offset leaves the image (close up, where R covers many pixels, those steps showed as
+// rectangles inset from the image's edges).
 // Dispatched over the blocks of the region that may hold opaque surface plus a ring of one block (the neighbours
 // stereo_ao_apply.comp reads).
 #extension GL_GOOGLE_include_directive : require
@@ -33,12 +37,16 @@ float occlusion_scale(ivec2 p, float z, int layer, int texel, ivec2 size) {
     vec2 radius_px = radius * eyes.pixels_per_metre[layer].xy / z;
     if (max(radius_px.x, radius_px.y) < 1.0) return 1.0;  // the sphere is within one pixel: nothing to resolve
     float occupied = 0.0, total = 0.0;
+    vec2 room = vec2(min(p, size - 1 - p));  // pixels from p to the image's nearer edge, per axis
     for (int i = 0; i < kPairs; ++i) {
-        float h = radius * sqrt(max(1.0 - dot(kDisk[i], kDisk[i]), 0.0));
-        ivec2 d = ivec2(round(kDisk[i] * radius_px));
+        vec2 reach = abs(kDisk[i] * radius_px);
+        float s = 1.0;  // the pair's offsets scaled by s keep both samples inside the image
+        if (reach.x > room.x) s = min(s, room.x / reach.x);
+        if (reach.y > room.y) s = min(s, room.y / reach.y);
+        vec2 u = kDisk[i] * s;
+        float h = radius * sqrt(max(1.0 - dot(u, u), 0.0));
+        ivec2 d = clamp(ivec2(round(u * radius_px)), -ivec2(room), ivec2(room));
         ivec2 qa = p + d, qb = p - d;
-        if (min(min(qa.x, qa.y), min(qb.x, qb.y)) < 0 || max(qa.x, qb.x) >= size.x || max(qa.y, qb.y) >= size.y)
-            continue;
         float filled = 0.0;
         bool counts = true;
         for (int s = 0; s < 2; ++s) {
