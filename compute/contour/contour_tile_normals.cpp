@@ -41,7 +41,20 @@ std::size_t index_of(const std::array<int, 3>& c, const std::array<int, 3>& tile
                (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(tiles[1]) * static_cast<std::size_t>(c[2]));
 }
 
-// Whether tile `piece` (the tile at `tile` coordinates) uses or owns vertex `key`.
+// Calls f(u, self) for each tile u of the 3 x 3 x 3 block around tile t that lies in the grid, in ascending index
+// order (self: u is t).
+template <typename F>
+void for_each_around(const std::array<int, 3>& t, const std::array<int, 3>& tiles, F&& f) {
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
+                if (u[0] >= 0 && u[1] >= 0 && u[2] >= 0 && u[0] < tiles[0] && u[1] < tiles[1] && u[2] < tiles[2])
+                    f(u, (dx | dy | dz) == 0);
+            }
+}
+
+// Whether tile `piece` uses or owns vertex `key`.
 bool holds(const contour::TileMesh& piece, contour::VertexKey key) {
     return find_key(piece, key) != kAbsent || std::binary_search(piece.foreign.begin(), piece.foreign.end(), key);
 }
@@ -96,25 +109,20 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
     };
     // Ascending tile order and each tile's triangles in order, as mesh() lists them: the sums are vertex_normals'
     // over mesh(), and any tile sharing a vertex adds the same triangles in the same order.
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
-                if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= tiles_[0] || u[1] >= tiles_[1] || u[2] >= tiles_[2])
-                    continue;
-                if ((dx | dy | dz) == 0) {  // the tile's own triangles: all of them, as assembled in `mesh`
+    for_each_around(t, tiles_, [&](const std::array<int, 3>& u, bool self) {
+                if (self) {  // the tile's own triangles: all of them, as assembled in `mesh`
                     for (const auto& tri : mesh.triangles) {
                         const Vec3& a = mesh.positions[tri[0]];
                         const Vec3 fn = glm::cross(mesh.positions[tri[1]] - a, mesh.positions[tri[2]] - a);
                         for (const std::uint32_t v : tri) normals[v] += fn;
                     }
-                    continue;
+                    return;
                 }
                 const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
                 const auto& cells = piece.triangle_cells;
                 if (cells.size() != piece.triangles.size()) {  // no cell per triangle: every triangle
                     for (std::size_t k = 0; k < piece.triangles.size(); ++k) add(piece, k);
-                    continue;
+                    return;
                 }
                 // Its cells within [lo, hi], tile-local, visited in ascending order.
                 std::array<int, 3> r0{}, r1{};
@@ -124,7 +132,7 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
                     r1[a] = std::min(hi[a] - u[a] * kT, kT - 1);
                     empty = empty || r0[a] > r1[a];
                 }
-                if (empty) continue;
+                if (empty) return;
                 // The cells of slabs z = r0..r1 are one run (cells ascend as x + kT (y + kT z)); x and y are filtered.
                 const auto first = std::lower_bound(cells.begin(), cells.end(), kT * kT * r0[2]);
                 for (auto it = first; it != cells.end() && *it < kT * kT * (r1[2] + 1); ++it) {
@@ -132,7 +140,7 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
                     if (x >= r0[0] && x <= r1[0] && y >= r0[1] && y <= r1[1])
                         add(piece, static_cast<std::size_t>(it - cells.begin()));
                 }
-            }
+            });
     for (Vec3& n : normals) {
         const double len = glm::length(n);
         n = len > 0.0 ? n / len : Vec3(0.0);
@@ -144,17 +152,12 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
     std::vector<std::uint8_t> marked(tile_meshes_.size(), 0);
     for (const std::size_t t : bump) marked[t] = 1;
     const auto outside_neighbour = [&](std::size_t c) {  // a neighbour not changed itself, with triangles
-        const std::array<int, 3> t = coords_of(c, tiles_);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const std::array<int, 3> u{t[0] + dx, t[1] + dy, t[2] + dz};
-                    if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= tiles_[0] || u[1] >= tiles_[1] || u[2] >= tiles_[2])
-                        continue;
-                    const std::size_t n = index_of(u, tiles_);
-                    if (slot[n] == 0 && !marked[n] && triangle_counts_[n] > 0) return true;
-                }
-        return false;
+        bool any = false;
+        for_each_around(coords_of(c, tiles_), tiles_, [&](const std::array<int, 3>& u, bool) {
+            const std::size_t n = index_of(u, tiles_);
+            any = any || (slot[n] == 0 && !marked[n] && triangle_counts_[n] > 0);
+        });
+        return any;
     };
     std::vector<contour::VertexKey> moved, touched;
     for (const auto& [c, before] : changed) {
