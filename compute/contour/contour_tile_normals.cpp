@@ -110,37 +110,37 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
     // Ascending tile order and each tile's triangles in order, as mesh() lists them: the sums are vertex_normals'
     // over mesh(), and any tile sharing a vertex adds the same triangles in the same order.
     for_each_around(t, tiles_, [&](const std::array<int, 3>& u, bool self) {
-                if (self) {  // the tile's own triangles: all of them, as assembled in `mesh`
-                    for (const auto& tri : mesh.triangles) {
-                        const Vec3& a = mesh.positions[tri[0]];
-                        const Vec3 fn = glm::cross(mesh.positions[tri[1]] - a, mesh.positions[tri[2]] - a);
-                        for (const std::uint32_t v : tri) normals[v] += fn;
-                    }
-                    return;
-                }
-                const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
-                const auto& cells = piece.triangle_cells;
-                if (cells.size() != piece.triangles.size()) {  // no cell per triangle: every triangle
-                    for (std::size_t k = 0; k < piece.triangles.size(); ++k) add(piece, k);
-                    return;
-                }
-                // Its cells within [lo, hi], tile-local, visited in ascending order.
-                std::array<int, 3> r0{}, r1{};
-                bool empty = false;
-                for (int a = 0; a < 3; ++a) {
-                    r0[a] = std::max(lo[a] - u[a] * kT, 0);
-                    r1[a] = std::min(hi[a] - u[a] * kT, kT - 1);
-                    empty = empty || r0[a] > r1[a];
-                }
-                if (empty) return;
-                // The cells of slabs z = r0..r1 are one run (cells ascend as x + kT (y + kT z)); x and y are filtered.
-                const auto first = std::lower_bound(cells.begin(), cells.end(), kT * kT * r0[2]);
-                for (auto it = first; it != cells.end() && *it < kT * kT * (r1[2] + 1); ++it) {
-                    const int x = *it % kT, y = *it / kT % kT;
-                    if (x >= r0[0] && x <= r1[0] && y >= r0[1] && y <= r1[1])
-                        add(piece, static_cast<std::size_t>(it - cells.begin()));
-                }
-            });
+        if (self) {  // the tile's own triangles: all of them, as assembled in `mesh`
+            for (const auto& tri : mesh.triangles) {
+                const Vec3& a = mesh.positions[tri[0]];
+                const Vec3 fn = glm::cross(mesh.positions[tri[1]] - a, mesh.positions[tri[2]] - a);
+                for (const std::uint32_t v : tri) normals[v] += fn;
+            }
+            return;
+        }
+        const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
+        const auto& cells = piece.triangle_cells;
+        if (cells.size() != piece.triangles.size()) {  // no cell per triangle: every triangle
+            for (std::size_t k = 0; k < piece.triangles.size(); ++k) add(piece, k);
+            return;
+        }
+        // Its cells within [lo, hi], tile-local, visited in ascending order.
+        std::array<int, 3> r0{}, r1{};
+        bool empty = false;
+        for (int a = 0; a < 3; ++a) {
+            r0[a] = std::max(lo[a] - u[a] * kT, 0);
+            r1[a] = std::min(hi[a] - u[a] * kT, kT - 1);
+            empty = empty || r0[a] > r1[a];
+        }
+        if (empty) return;
+        // The cells of slabs z = r0..r1 are one run (cells ascend as x + kT (y + kT z)); x and y are filtered.
+        const auto first = std::lower_bound(cells.begin(), cells.end(), kT * kT * r0[2]);
+        for (auto it = first; it != cells.end() && *it < kT * kT * (r1[2] + 1); ++it) {
+            const int x = *it % kT, y = *it / kT % kT;
+            if (x >= r0[0] && x <= r1[0] && y >= r0[1] && y <= r1[1])
+                add(piece, static_cast<std::size_t>(it - cells.begin()));
+        }
+    });
     for (Vec3& n : normals) {
         const double len = glm::length(n);
         n = len > 0.0 ? n / len : Vec3(0.0);
