@@ -40,10 +40,10 @@ float occlusion_scale(ivec2 p, float z, int layer, int texel, ivec2 size) {
     vec2 room = vec2(min(p, size - 1 - p));  // pixels from p to the image's nearer edge, per axis
     for (int i = 0; i < kPairs; ++i) {
         vec2 reach = abs(kDisk[i] * radius_px);
-        float s = 1.0;  // the pair's offsets scaled by s keep both samples inside the image
-        if (reach.x > room.x) s = min(s, room.x / reach.x);
-        if (reach.y > room.y) s = min(s, room.y / reach.y);
-        vec2 u = kDisk[i] * s;
+        float shrink = 1.0;  // the pair's offsets scaled by this keep both samples inside the image
+        if (reach.x > room.x) shrink = min(shrink, room.x / reach.x);
+        if (reach.y > room.y) shrink = min(shrink, room.y / reach.y);
+        vec2 u = kDisk[i] * shrink;
         float h = radius * sqrt(max(1.0 - dot(u, u), 0.0));
         ivec2 d = clamp(ivec2(round(u * radius_px)), -ivec2(room), ivec2(room));
         ivec2 qa = p + d, qb = p - d;

@@ -93,8 +93,9 @@ public:
     /// Content version of tile `tile`'s surface: changes after an update() exactly when the triangles the
     /// tile owns or the positions or materials of its own vertices changed, or a vertex they use that a
     /// neighbour tile owns moved, changed material or vanished (so a paint-only stroke, which moves no
-    /// vertex, still gives the painted tiles new versions), or a neighbour tile's triangles around a vertex
-    /// it uses changed (the vertex's surface normal, tile_mesh(tile, materials, normals), changed); otherwise
+    /// vertex, still gives the painted tiles new versions), or a triangle around a vertex it uses was added,
+    /// removed or reshaped in any tile (the vertex's surface normal, tile_mesh(tile, materials, normals), changed; a
+    /// few such tiles get a new version although the normal came out the same); otherwise
     /// unchanged (a dirty tile whose re-contour gave the same piece keeps its version). Values come from one
     /// process-wide counter, so versions of different Contourers never coincide; 0 = never contoured.
     /// Throws tridex::Error when tile >= tile_count().
@@ -109,9 +110,9 @@ public:
     TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials) const;
     /// As tile_mesh(tile, materials), also filling `normals` with one unit normal per returned vertex: the
     /// area-weighted normal of the whole surface at that vertex (the triangles of every tile that use it, the
-    /// neighbour tiles' included), so that neighbouring tiles shade a vertex they share alike and the tiles
-    /// together are shaded as mesh() is with core vertex_normals (the same sum, up to rounding; two tiles sharing
-    /// a vertex give it the same normal, bit for bit). A vertex whose triangles have no area gets (0, 0, 0).
+    /// neighbour tiles' included), so that neighbouring tiles shade a vertex they share alike: core
+    /// vertex_normals(mesh()) at the same vertex, bit for bit (the same triangles summed in the same order). A
+    /// vertex whose triangles have no area gets (0, 0, 0).
     /// Reads the tile's 26 neighbours' triangles near it. Throws as tile_mesh().
     TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const;
 
@@ -125,8 +126,8 @@ private:
     void surface_normals(std::size_t tile, const TriMesh& mesh, const std::vector<contour::VertexKey>& keys,
                          std::vector<Vec3>& normals) const;
     /// Tiles outside `changed` (`slot`: position in `changed` + 1 per tile, 0 if not changed) whose vertex normals
-    /// a changed tile's update may have changed: those using a vertex of a triangle the update added, removed or
-    /// reshaped. Appended to `bump`.
+    /// the update may have changed: those using a vertex of a triangle it added, removed or reshaped, in a changed
+    /// tile or in another tile through a vertex that moved. Appended to `bump` (the tiles already in it are kept).
     void normal_sharers(const std::vector<std::pair<std::size_t, contour::TileMesh>>& changed,
                         const std::vector<std::uint32_t>& slot, std::vector<std::size_t>& bump) const;
     void check_model(const TriDexel& model) const;

@@ -54,9 +54,90 @@ void for_each_around(const std::array<int, 3>& t, const std::array<int, 3>& tile
             }
 }
 
-// Whether tile `piece` uses or owns vertex `key`.
+// Whether tile `piece` holds vertex `key` (owns it or borrows it).
 bool holds(const contour::TileMesh& piece, contour::VertexKey key) {
     return find_key(piece, key) != kAbsent || std::binary_search(piece.foreign.begin(), piece.foreign.end(), key);
+}
+
+// Appends to `out` the keys of the vertices `now` owns that `before` owned too at another position.
+void own_moved(const contour::TileMesh& before, const contour::TileMesh& now, std::vector<contour::VertexKey>& out) {
+    for (std::size_t i = 0, j = 0; i < now.keys.size() && j < before.keys.size();) {  // both ascending
+        if (now.keys[i] < before.keys[j]) {
+            ++i;
+        } else if (before.keys[j] < now.keys[i]) {
+            ++j;
+        } else {
+            if (before.grid[j] != now.grid[i]) out.push_back(now.keys[i]);
+            ++i;
+            ++j;
+        }
+    }
+}
+
+// Whether a tile around tile t (t itself aside) is outside the update (`slot` 0), not bumped yet and has triangles.
+bool outside_neighbour(const std::array<int, 3>& t, const std::array<int, 3>& tiles, const std::vector<std::uint32_t>& slot,
+                       const std::vector<std::uint8_t>& marked, const std::vector<std::uint32_t>& triangles) {
+    bool any = false;
+    for_each_around(t, tiles, [&](const std::array<int, 3>& u, bool self) {
+        const std::size_t n = index_of(u, tiles);
+        any = any || (!self && slot[n] == 0 && !marked[n] && triangles[n] > 0);
+    });
+    return any;
+}
+
+// Appends to `out` the vertices of triangles [from, to) of `piece` (the tile at `t`) anchored within one cell of the
+// tile's border: no other tile uses the others.
+void border_keys(const contour::KeyCodec& codec, const std::array<int, 3>& t, const contour::TileMesh& piece,
+                 std::size_t from, std::size_t to, std::vector<contour::VertexKey>& out) {
+    for (std::size_t k = from; k < to; ++k)
+        for (const std::uint32_t r : piece.triangles[k]) {
+            const contour::VertexKey key = key_of(piece, r);
+            const contour::Node a = codec.anchor(key);
+            bool border = false;
+            for (int ax = 0; ax < 3; ++ax) {
+                const int x = a[ax] - t[ax] * kT;
+                border = border || x <= 0 || x >= kT - 1;
+            }
+            if (border) out.push_back(key);
+        }
+}
+
+// Appends to `out` the border vertices (border_keys) of every triangle the update of the tile at `t` from `before` to
+// `now` added, removed or reshaped (`moved`, sorted: its vertices that moved), cell by cell: triangles are listed by
+// ascending emitting cell, and a cell that emitted the same triangles keeps their order. A cell whose local
+// coordinates are all 2 .. kT - 2 is skipped: its triangles use vertices anchored at 1 .. kT - 2, no other tile's.
+void reshaped_border_keys(const contour::KeyCodec& codec, const std::array<int, 3>& t, const contour::TileMesh& before,
+                          const contour::TileMesh& now, const std::vector<contour::VertexKey>& moved,
+                          std::vector<contour::VertexKey>& out) {
+    if (before.triangle_cells.size() != before.triangles.size() || now.triangle_cells.size() != now.triangles.size()) {
+        border_keys(codec, t, before, 0, before.triangles.size(), out);
+        border_keys(codec, t, now, 0, now.triangles.size(), out);
+        return;
+    }
+    std::size_t i = 0, j = 0;
+    while (i < before.triangles.size() || j < now.triangles.size()) {
+        const int ci = i < before.triangles.size() ? before.triangle_cells[i] : 1 << 30;
+        const int cj = j < now.triangles.size() ? now.triangle_cells[j] : 1 << 30;
+        const int cell = std::min(ci, cj);
+        std::size_t i2 = i, j2 = j;
+        while (i2 < before.triangles.size() && before.triangle_cells[i2] == cell) ++i2;
+        while (j2 < now.triangles.size() && now.triangle_cells[j2] == cell) ++j2;
+        bool inner = true;
+        for (const int x : {cell % kT, cell / kT % kT, cell / (kT * kT)}) inner = inner && x >= 2 && x <= kT - 2;
+        bool same = inner || i2 - i == j2 - j;
+        for (std::size_t k = 0; !inner && same && k < i2 - i; ++k)
+            for (int v = 0; v < 3 && same; ++v) {
+                const contour::VertexKey key = key_of(now, now.triangles[j + k][v]);
+                same = key == key_of(before, before.triangles[i + k][v]) &&
+                       !std::binary_search(moved.begin(), moved.end(), key);
+            }
+        if (!same) {
+            border_keys(codec, t, before, i, i2, out);
+            border_keys(codec, t, now, j, j2, out);
+        }
+        i = i2;
+        j = j2;
+    }
 }
 
 }  // namespace
@@ -151,101 +232,12 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
                                const std::vector<std::uint32_t>& slot, std::vector<std::size_t>& bump) const {
     std::vector<std::uint8_t> marked(tile_meshes_.size(), 0);
     for (const std::size_t t : bump) marked[t] = 1;
-    const auto outside_neighbour = [&](std::size_t c) {  // a neighbour not changed itself, with triangles
-        bool any = false;
-        for_each_around(coords_of(c, tiles_), tiles_, [&](const std::array<int, 3>& u, bool) {
-            const std::size_t n = index_of(u, tiles_);
-            any = any || (slot[n] == 0 && !marked[n] && triangle_counts_[n] > 0);
-        });
-        return any;
-    };
-    std::vector<contour::VertexKey> moved, touched;
-    for (const auto& [c, before] : changed) {
-        if (!outside_neighbour(c)) continue;
-        const contour::TileMesh& now = tile_meshes_[c];
-        // Vertices the triangles use that moved: own ones by position, borrowed ones whose owner changed too.
-        moved.clear();
-        for (std::size_t i = 0, j = 0; i < now.keys.size() && j < before.keys.size();) {  // both ascending
-            if (now.keys[i] < before.keys[j]) {
-                ++i;
-            } else if (before.keys[j] < now.keys[i]) {
-                ++j;
-            } else {
-                if (before.grid[j] != now.grid[i]) moved.push_back(now.keys[i]);
-                ++i;
-                ++j;
-            }
-        }
-        for (const contour::TileMesh* p : {&before, &now})
-            for (const contour::VertexKey k : p->foreign) {
-                const std::size_t owner = codec_.owner_tile(k);
-                if (slot[owner] == 0) continue;
-                const contour::TileMesh& old = changed[slot[owner] - 1].second;
-                const std::size_t a = find_key(tile_meshes_[owner], k), b = find_key(old, k);
-                if (a == kAbsent || b == kAbsent || tile_meshes_[owner].grid[a] != old.grid[b]) moved.push_back(k);
-            }
-        std::sort(moved.begin(), moved.end());
-        // The vertices of every triangle added, removed or reshaped, cell by cell (triangles are listed by
-        // ascending emitting cell; a cell that emitted the same triangles keeps its order).
-        // Only vertices anchored within one cell of the tile's border: no other tile uses the others.
-        touched.clear();
-        const std::array<int, 3> c0 = coords_of(c, tiles_);
-        const auto take = [&](const contour::TileMesh& p, std::size_t from, std::size_t to) {
-            for (std::size_t k = from; k < to; ++k)
-                for (const std::uint32_t r : p.triangles[k]) {
-                    const contour::VertexKey key = key_of(p, r);
-                    const contour::Node a = codec_.anchor(key);
-                    bool border = false;
-                    for (int ax = 0; ax < 3; ++ax) {
-                        const int x = a[ax] - c0[ax] * kT;
-                        border = border || x <= 0 || x >= kT - 1;
-                    }
-                    if (border) touched.push_back(key);
-                }
-        };
-        const bool by_cell = before.triangle_cells.size() == before.triangles.size() &&
-                             now.triangle_cells.size() == now.triangles.size();
-        if (!by_cell) {
-            take(before, 0, before.triangles.size());
-            take(now, 0, now.triangles.size());
-        } else {
-            std::size_t i = 0, j = 0;
-            while (i < before.triangles.size() || j < now.triangles.size()) {
-                const int ci = i < before.triangles.size() ? before.triangle_cells[i] : 1 << 30;
-                const int cj = j < now.triangles.size() ? now.triangle_cells[j] : 1 << 30;
-                const int cell = std::min(ci, cj);
-                std::size_t i2 = i, j2 = j;
-                while (i2 < before.triangles.size() && before.triangle_cells[i2] == cell) ++i2;
-                while (j2 < now.triangles.size() && now.triangle_cells[j2] == cell) ++j2;
-                // A cell whose local coordinates are all 2 .. kT - 2 emits triangles whose vertices are anchored at
-                // 1 .. kT - 2, which no other tile uses (a tile uses vertices anchored within one cell of its box).
-                bool inner = true;
-                for (const int x : {cell % kT, cell / kT % kT, cell / (kT * kT)})
-                    inner = inner && x >= 2 && x <= kT - 2;
-                if (inner) {
-                    i = i2;
-                    j = j2;
-                    continue;
-                }
-                bool same = i2 - i == j2 - j;
-                for (std::size_t k = 0; same && k < i2 - i; ++k)
-                    for (int v = 0; v < 3 && same; ++v) {
-                        const contour::VertexKey key = key_of(now, now.triangles[j + k][v]);
-                        same = key == key_of(before, before.triangles[i + k][v]) &&
-                               !std::binary_search(moved.begin(), moved.end(), key);
-                    }
-                if (!same) {
-                    take(before, i, i2);
-                    take(now, j, j2);
-                }
-                i = i2;
-                j = j2;
-            }
-        }
-        std::sort(touched.begin(), touched.end());
-        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-        // The tiles around each such vertex (those whose cells may emit a triangle using it) that use it.
-        for (const contour::VertexKey k : touched) {
+    // Bumps the tiles other than `self`, outside `changed`, that use one of `keys` (sorted): those around each key's
+    // anchor, whose cells may emit a triangle using it.
+    const auto bump_users = [&](std::vector<contour::VertexKey>& keys, std::size_t self) {
+        std::sort(keys.begin(), keys.end());
+        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        for (const contour::VertexKey k : keys) {
             const contour::Node a = codec_.anchor(k);
             std::array<int, 3> t0{}, t1{};
             for (int ax = 0; ax < 3; ++ax) {
@@ -256,13 +248,56 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
                 for (int y = t0[1]; y <= t1[1]; ++y)
                     for (int x = t0[0]; x <= t1[0]; ++x) {
                         const std::size_t n = index_of({x, y, z}, tiles_);
-                        if (n == c || slot[n] != 0 || marked[n] || triangle_counts_[n] == 0) continue;
+                        if (n == self || slot[n] != 0 || marked[n] || triangle_counts_[n] == 0) continue;
                         if (!holds(tile_meshes_[n], k)) continue;
                         marked[n] = 1;
                         bump.push_back(n);
                     }
         }
+    };
+    std::vector<contour::VertexKey> moved, touched, all_moved;
+    for (const auto& [c, before] : changed) {
+        const contour::TileMesh& now = tile_meshes_[c];
+        moved.clear();
+        own_moved(before, now, moved);
+        all_moved.insert(all_moved.end(), moved.begin(), moved.end());
+        if (!outside_neighbour(coords_of(c, tiles_), tiles_, slot, marked, triangle_counts_)) continue;
+        // Borrowed vertices whose owner changed too and that moved.
+        for (const contour::TileMesh* p : {&before, &now})
+            for (const contour::VertexKey k : p->foreign) {
+                const std::size_t owner = codec_.owner_tile(k);
+                if (slot[owner] == 0) continue;
+                const contour::TileMesh& old = changed[slot[owner] - 1].second;
+                const std::size_t a = find_key(tile_meshes_[owner], k), b = find_key(old, k);
+                if (a == kAbsent || b == kAbsent || tile_meshes_[owner].grid[a] != old.grid[b]) moved.push_back(k);
+            }
+        std::sort(moved.begin(), moved.end());
+        touched.clear();
+        reshaped_border_keys(codec_, coords_of(c, tiles_), before, now, moved, touched);
+        bump_users(touched, c);
     }
+    // A triangle of a tile outside `changed` is reshaped too when a changed tile's vertex it uses moved: the normals of
+    // its other vertices change, and the tiles using those need new versions (the tile itself borrows the moved
+    // vertex: bump_versions has given it one).
+    if (all_moved.empty()) return;
+    std::sort(all_moved.begin(), all_moved.end());
+    std::vector<std::uint8_t> seen(tile_meshes_.size(), 0);
+    for (const auto& entry : changed)
+        for_each_around(coords_of(entry.first, tiles_), tiles_, [&](const std::array<int, 3>& u, bool) {
+            const std::size_t n = index_of(u, tiles_);
+            if (slot[n] != 0 || seen[n] || triangle_counts_[n] == 0) return;
+            seen[n] = 1;
+            const contour::TileMesh& piece = tile_meshes_[n];
+            touched.clear();
+            for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
+                bool uses = false;
+                for (const std::uint32_t r : piece.triangles[k])
+                    uses = uses || (r >= contour::TileMesh::kForeign &&
+                                    std::binary_search(all_moved.begin(), all_moved.end(), key_of(piece, r)));
+                if (uses) border_keys(codec_, coords_of(n, tiles_), piece, k, k + 1, touched);
+            }
+            if (!touched.empty()) bump_users(touched, n);
+        });
 }
 
 }  // namespace tridex::compute

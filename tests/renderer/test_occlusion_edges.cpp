@@ -28,8 +28,7 @@ double luma(const Image& img, int x, int y) {
 // A ball of radius 0.4 m just behind the test screen fills the view; with a 6 cm occlusion sphere (about 130 pixels
 // across) its shading with the occlusion, divided by its shading without, is the occlusion's colour scale per pixel.
 // Between neighbouring pixels that scale changes by less than 5 % (the pixels next to the edge, where a pair's
-// offsets shrink to a pixel or two, change most), nowhere by the step a pair leaving the image used to make (with
-// such pairs left out, 14 %).
+// offsets shrink to a pixel or two, change most), nowhere by the step a pair leaving the image used to make.
 TEST(OcclusionEdges, TheScaleChangesSmoothlyUpToTheImagesEdges) {
     gpu::Context ctx = gpu::Context::create({});
     TriMesh ball = unit_sphere(96, 192);
