@@ -75,8 +75,9 @@ void own_moved(const contour::TileMesh& before, const contour::TileMesh& now, st
 }
 
 // Whether a tile around tile t (t itself aside) is outside the update (`slot` 0), not bumped yet and has triangles.
-bool outside_neighbour(const std::array<int, 3>& t, const std::array<int, 3>& tiles, const std::vector<std::uint32_t>& slot,
-                       const std::vector<std::uint8_t>& marked, const std::vector<std::uint32_t>& triangles) {
+bool outside_neighbour(const std::array<int, 3>& t, const std::array<int, 3>& tiles,
+                       const std::vector<std::uint32_t>& slot, const std::vector<std::uint8_t>& marked,
+                       const std::vector<std::uint32_t>& triangles) {
     bool any = false;
     for_each_around(t, tiles, [&](const std::array<int, 3>& u, bool self) {
         const std::size_t n = index_of(u, tiles);

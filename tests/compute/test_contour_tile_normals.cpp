@@ -160,8 +160,8 @@ TEST(ContourTileNormals, CutsNearTileCornersGiveEveryTileWhoseNormalsChangedANew
             std::vector<Vec3> n;
             read(t, m, n);
             if (contourer.tile_version(t) == versions[t]) {
-                const bool same = m.positions == meshes[t].positions && m.triangles == meshes[t].triangles &&
-                                  n == normals[t];
+                const bool same =
+                    m.positions == meshes[t].positions && m.triangles == meshes[t].triangles && n == normals[t];
                 EXPECT_TRUE(same) << "cut " << cut << " tile " << t;
                 stale += same ? 0 : 1;
             }

@@ -141,7 +141,8 @@ TEST(ContourTiles, UnionOfTilesIsTheMeshBeforeAndAfterACapsuleCarve) {
     // A version changes whenever the tile's mesh (own triangles, own or borrowed vertex positions) or its vertices'
     // normals (a neighbour's triangles around a shared vertex) changed; a tile whose neighbour's triangles near it
     // changed may get one with its normals the same, but here none does.
-    EXPECT_TRUE(std::includes(changed_version.begin(), changed_version.end(), changed_mesh.begin(), changed_mesh.end()));
+    EXPECT_TRUE(
+        std::includes(changed_version.begin(), changed_version.end(), changed_mesh.begin(), changed_mesh.end()));
     EXPECT_EQ(changed_version, changed_mesh);
     for (std::size_t t : changed_version) {
         bool near_dirty = false;
