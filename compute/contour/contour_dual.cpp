@@ -28,18 +28,11 @@ bool same_piece(const contour::TileMesh& a, const contour::TileMesh& b) {
            a.foreign == b.foreign;
 }
 
-constexpr std::size_t kAbsent = std::numeric_limits<std::size_t>::max();
-
-/// Index of `key` in `piece`, or kAbsent when the piece does not own it.
-std::size_t find_in(const contour::TileMesh& piece, contour::VertexKey key) {
-    const auto it = std::lower_bound(piece.keys.begin(), piece.keys.end(), key);
-    if (it == piece.keys.end() || *it != key) return kAbsent;
-    return static_cast<std::size_t>(it - piece.keys.begin());
-}
+constexpr std::size_t kAbsent = contour::TileMesh::kNotOwned;
 
 /// True when vertex `key` has the same position and material in both pieces (false when either lacks it).
 bool same_vertex(const contour::TileMesh& now, const contour::TileMesh& before, contour::VertexKey key) {
-    const std::size_t a = find_in(now, key), b = find_in(before, key);
+    const std::size_t a = now.find(key), b = before.find(key);
     if (a == kAbsent || b == kAbsent) return false;
     return now.grid[a] == before.grid[b] && now.materials[a] == before.materials[b];
 }
@@ -180,7 +173,7 @@ std::uint64_t Contourer::tile_version(std::size_t tile) const {
 
 std::pair<std::size_t, std::size_t> Contourer::owned_vertex(contour::VertexKey key) const {
     const std::size_t t = codec_.owner_tile(key);
-    const std::size_t i = find_in(tile_meshes_[t], key);
+    const std::size_t i = tile_meshes_[t].find(key);
     if (i == kAbsent)
         throw Error("contour: tile " + std::to_string(t) +
                     " lacks a vertex its neighbour needs; the model changed without mark_dirty() covering the change");

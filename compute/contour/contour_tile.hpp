@@ -1,6 +1,7 @@
 // compute/contour/contour_tile.hpp - manifold dual contouring of one tile of cells into a cached piece of mesh.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -45,6 +46,12 @@ struct KeyCodec {
 /// The cached mesh piece of one tile, in grid units.
 struct TileMesh {
     std::vector<VertexKey> keys;   ///< vertices this tile owns, sorted ascending
+    static constexpr std::size_t kNotOwned = static_cast<std::size_t>(-1);
+    /// Index in `keys` of vertex `key` (a binary search), or kNotOwned when this tile does not own it.
+    std::size_t find(VertexKey key) const {
+        const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+        return it == keys.end() || *it != key ? kNotOwned : static_cast<std::size_t>(it - keys.begin());
+    }
     std::vector<Vec3> grid;        ///< their positions, grid units, parallel to keys
     /// Their material ids, parallel to keys (rule: see TileContourer, "vertex materials").
     std::vector<std::uint8_t> materials;

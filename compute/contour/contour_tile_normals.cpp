@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
+#include "compute/contour/tile_group_box.hpp"
 
 namespace tridex::compute {
 
@@ -19,26 +20,10 @@ constexpr int kT = TileGrid::kTileCells;
 // uses vertices anchored at c - 1 .. c, so the tile's own triangles use vertices anchored at t0 - 1 .. t0 + kT - 1,
 // and other triangles using those are emitted by cells t0 - 1 .. t0 + kT.
 constexpr int kReachBelow = 1, kReachAbove = 1;
-constexpr std::size_t kAbsent = std::numeric_limits<std::size_t>::max();
-
-std::size_t find_key(const contour::TileMesh& piece, contour::VertexKey key) {
-    const auto it = std::lower_bound(piece.keys.begin(), piece.keys.end(), key);
-    return it == piece.keys.end() || *it != key ? kAbsent : static_cast<std::size_t>(it - piece.keys.begin());
-}
+constexpr std::size_t kAbsent = contour::TileMesh::kNotOwned;
 
 contour::VertexKey key_of(const contour::TileMesh& piece, std::uint32_t r) {
     return r < contour::TileMesh::kForeign ? piece.keys[r] : piece.foreign[r - contour::TileMesh::kForeign];
-}
-
-std::array<int, 3> coords_of(std::size_t t, const std::array<int, 3>& tiles) {
-    const auto nx = static_cast<std::size_t>(tiles[0]), ny = static_cast<std::size_t>(tiles[1]);
-    return {static_cast<int>(t % nx), static_cast<int>(t / nx % ny), static_cast<int>(t / (nx * ny))};
-}
-
-std::size_t index_of(const std::array<int, 3>& c, const std::array<int, 3>& tiles) {
-    return static_cast<std::size_t>(c[0]) +
-           static_cast<std::size_t>(tiles[0]) *
-               (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(tiles[1]) * static_cast<std::size_t>(c[2]));
 }
 
 // Calls f(u, self) for each tile u of the 3 x 3 x 3 block around tile t that lies in the grid, in ascending index
@@ -56,7 +41,7 @@ void for_each_around(const std::array<int, 3>& t, const std::array<int, 3>& tile
 
 // Whether tile `piece` holds vertex `key` (owns it or borrows it).
 bool holds(const contour::TileMesh& piece, contour::VertexKey key) {
-    return find_key(piece, key) != kAbsent || std::binary_search(piece.foreign.begin(), piece.foreign.end(), key);
+    return piece.find(key) != kAbsent || std::binary_search(piece.foreign.begin(), piece.foreign.end(), key);
 }
 
 // Appends to `out` the keys of the vertices `now` owns that `before` owned too at another position.
@@ -80,7 +65,7 @@ bool outside_neighbour(const std::array<int, 3>& t, const std::array<int, 3>& ti
                        const std::vector<std::uint32_t>& triangles) {
     bool any = false;
     for_each_around(t, tiles, [&](const std::array<int, 3>& u, bool self) {
-        const std::size_t n = index_of(u, tiles);
+        const std::size_t n = grid_index(u, tiles);
         any = any || (!self && slot[n] == 0 && !marked[n] && triangles[n] > 0);
     });
     return any;
@@ -164,7 +149,7 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
             if (table[h].second == kNone || table[h].first == k) return table[h].second;
     };
     normals.assign(keys.size(), Vec3(0.0));
-    const std::array<int, 3> t = coords_of(tile, tiles_);
+    const std::array<int, 3> t = grid_coords(tile, tiles_);
     std::array<int, 3> lo{}, hi{};  // cells (inclusive) whose triangles may use the mesh's vertices
     for (int a = 0; a < 3; ++a) {
         lo[a] = t[a] * kT - kReachBelow;
@@ -200,7 +185,7 @@ void Contourer::surface_normals(std::size_t tile, const TriMesh& mesh, const std
             }
             return;
         }
-        const contour::TileMesh& piece = tile_meshes_[index_of(u, tiles_)];
+        const contour::TileMesh& piece = tile_meshes_[grid_index(u, tiles_)];
         const auto& cells = piece.triangle_cells;
         if (cells.size() != piece.triangles.size()) {  // no cell per triangle: every triangle
             for (std::size_t k = 0; k < piece.triangles.size(); ++k) add(piece, k);
@@ -248,7 +233,7 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
             for (int z = t0[2]; z <= t1[2]; ++z)
                 for (int y = t0[1]; y <= t1[1]; ++y)
                     for (int x = t0[0]; x <= t1[0]; ++x) {
-                        const std::size_t n = index_of({x, y, z}, tiles_);
+                        const std::size_t n = grid_index({x, y, z}, tiles_);
                         if (n == self || slot[n] != 0 || marked[n] || triangle_counts_[n] == 0) continue;
                         if (!holds(tile_meshes_[n], k)) continue;
                         marked[n] = 1;
@@ -262,19 +247,19 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
         moved.clear();
         own_moved(before, now, moved);
         all_moved.insert(all_moved.end(), moved.begin(), moved.end());
-        if (!outside_neighbour(coords_of(c, tiles_), tiles_, slot, marked, triangle_counts_)) continue;
+        if (!outside_neighbour(grid_coords(c, tiles_), tiles_, slot, marked, triangle_counts_)) continue;
         // Borrowed vertices whose owner changed too and that moved.
         for (const contour::TileMesh* p : {&before, &now})
             for (const contour::VertexKey k : p->foreign) {
                 const std::size_t owner = codec_.owner_tile(k);
                 if (slot[owner] == 0) continue;
                 const contour::TileMesh& old = changed[slot[owner] - 1].second;
-                const std::size_t a = find_key(tile_meshes_[owner], k), b = find_key(old, k);
+                const std::size_t a = tile_meshes_[owner].find(k), b = old.find(k);
                 if (a == kAbsent || b == kAbsent || tile_meshes_[owner].grid[a] != old.grid[b]) moved.push_back(k);
             }
         std::sort(moved.begin(), moved.end());
         touched.clear();
-        reshaped_border_keys(codec_, coords_of(c, tiles_), before, now, moved, touched);
+        reshaped_border_keys(codec_, grid_coords(c, tiles_), before, now, moved, touched);
         bump_users(touched, c);
     }
     // A triangle of a tile outside `changed` is reshaped too when a changed tile's vertex it uses moved: the normals of
@@ -284,18 +269,22 @@ void Contourer::normal_sharers(const std::vector<std::pair<std::size_t, contour:
     std::sort(all_moved.begin(), all_moved.end());
     std::vector<std::uint8_t> seen(tile_meshes_.size(), 0);
     for (const auto& entry : changed)
-        for_each_around(coords_of(entry.first, tiles_), tiles_, [&](const std::array<int, 3>& u, bool) {
-            const std::size_t n = index_of(u, tiles_);
+        for_each_around(grid_coords(entry.first, tiles_), tiles_, [&](const std::array<int, 3>& u, bool) {
+            const std::size_t n = grid_index(u, tiles_);
             if (slot[n] != 0 || seen[n] || triangle_counts_[n] == 0) return;
             seen[n] = 1;
             const contour::TileMesh& piece = tile_meshes_[n];
+            if (std::none_of(piece.foreign.begin(), piece.foreign.end(), [&](contour::VertexKey k) {
+                    return std::binary_search(all_moved.begin(), all_moved.end(), k);
+                }))
+                return;  // it borrows no moved vertex
             touched.clear();
             for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
                 bool uses = false;
                 for (const std::uint32_t r : piece.triangles[k])
                     uses = uses || (r >= contour::TileMesh::kForeign &&
                                     std::binary_search(all_moved.begin(), all_moved.end(), key_of(piece, r)));
-                if (uses) border_keys(codec_, coords_of(n, tiles_), piece, k, k + 1, touched);
+                if (uses) border_keys(codec_, grid_coords(n, tiles_), piece, k, k + 1, touched);
             }
             if (!touched.empty()) bump_users(touched, n);
         });
