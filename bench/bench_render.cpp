@@ -139,7 +139,8 @@ std::string lod_build_line(const compute::TileSurfaceCache& cache, const compute
     const std::size_t step = std::max<std::size_t>(1, all.size() / std::max<std::size_t>(1, timed_tiles));
     for (std::size_t i = 0; i < all.size(); i += step) {
         const auto t0 = Clock::now();
-        const auto built = compute::build_tile_lod(all[i].mesh, all[i].materials, lod_options);
+        // With the tile's whole-surface normals, as the session's worker builds them (LodJob::normals).
+        const auto built = compute::build_lod_levels(all[i].mesh, all[i].materials, all[i].normals, 0.0, lod_options);
         one_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     }
     for (const compute::TileSurface& s : all) {
