@@ -129,7 +129,7 @@ void apply_setting(renderer::SceneView& scene, const Setting& st) {
 
 // The cost of the levels of detail of `cache` (workpiece of N = n cells) built with `lod_options`: its whole build, and
 // one tile at a time on one thread (up to about `timed_tiles` tiles spread over the list: what a dirty tile costs the
-// sculpt thread), with the levels per tile and per group and the coarsest levels' triangles. Prints the line and
+// thread that builds its levels), with the levels per tile and per group and the coarsest levels' triangles. Prints the line and
 // returns it.
 std::string lod_build_line(const compute::TileSurfaceCache& cache, const compute::TileLodOptions& lod_options, int n,
                            std::size_t timed_tiles) {
@@ -139,7 +139,8 @@ std::string lod_build_line(const compute::TileSurfaceCache& cache, const compute
     const std::size_t step = std::max<std::size_t>(1, all.size() / std::max<std::size_t>(1, timed_tiles));
     for (std::size_t i = 0; i < all.size(); i += step) {
         const auto t0 = Clock::now();
-        // With the tile's whole-surface normals, as the session's worker builds them (LodJob::normals).
+        // As TileSurfaceCache::build_lods and the LOD worker build a tile's levels: with its whole-surface normals
+        // (TileSurface::normals).
         const auto built = compute::build_lod_levels(all[i].mesh, all[i].materials, all[i].normals, 0.0, lod_options);
         one_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     }
