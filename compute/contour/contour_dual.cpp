@@ -152,7 +152,10 @@ void Contourer::bump_versions(const std::vector<std::pair<std::size_t, contour::
                 }
     }
     normal_sharers(changed, slot, bump);
-    for (const std::size_t t : bump) versions_[t] = v;
+    for (const std::size_t t : bump) {
+        versions_[t] = v;
+        changes_.add(v, t);
+    }
 }
 
 void Contourer::check_tile(std::size_t tile) const {

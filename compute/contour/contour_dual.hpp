@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compute/contour/contour_tile.hpp"
+#include "compute/contour/tile_change_log.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/progress.hpp"
 #include "core/tri_mesh.hpp"
@@ -100,6 +101,14 @@ public:
     /// process-wide counter, so versions of different Contourers never coincide; 0 = never contoured.
     /// Throws tridex::Error when tile >= tile_count().
     std::uint64_t tile_version(std::size_t tile) const;
+    /// Appends the tiles whose version changed after `mark` (a fresh_tile_version() value) to `out`, unsorted, with
+    /// repeats, and returns true; false when this Contourer cannot tell (a mark from before it was made, or older than
+    /// its record keeps: TileChangeLog). O(log n + answer).
+    bool tiles_changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const {
+        return changes_.since(mark, out);
+    }
+    /// Identifies this Contourer's record of changes among the process's (TileMeshSource::change_view).
+    std::uint64_t change_id() const { return changes_.id(); }
     /// The triangles tile `tile` owns as a compact mesh, world metres, CCW from outside: its own vertices
     /// that those triangles use, then the borrowed ones (owned by neighbour tiles), each once. The union of
     /// all tiles' triangles is mesh()'s triangles (same positions, bit for bit). O(tile triangles x log).
@@ -152,6 +161,7 @@ private:
     // Per tile, its piece's triangle count: a cache's refresh reads every tile's, and a TileMesh per tile is far
     // larger than a cache line.
     std::vector<std::uint32_t> triangle_counts_;
+    TileChangeLog changes_;  // every version given, with its tile
 };
 
 }  // namespace tridex::compute

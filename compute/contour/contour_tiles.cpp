@@ -28,13 +28,15 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         std::size_t index;  // into rebuilt (fresh) or tiles_ (kept)
     };
     std::vector<Step> order;
-    for (std::size_t t = 0; t < count; ++t) {
+    std::size_t visited = 0;
+    const auto visit = [&](std::size_t t) {
+        ++visited;
         while (old < tiles_.size() && tiles_[old].id < t) ++old;
-        if (contourer.tile_triangle_count(t) == 0) continue;
+        if (contourer.tile_triangle_count(t) == 0) return;
         const std::uint64_t version = contourer.tile_version(t);
         if (old < tiles_.size() && tiles_[old].id == t && contour_versions_[old] == version) {
             order.push_back({false, old});
-            continue;
+            return;
         }
         TileSurface s;
         s.id = t;
@@ -42,6 +44,22 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         s.source_version = version;
         order.push_back({true, rebuilt.size()});
         rebuilt.push_back(std::move(s));
+    };
+    // The tiles that may have changed since the last refresh, when the source can say; else every tile. A tile not
+    // among them keeps its entry.
+    const std::uint64_t mark = fresh_tile_version();
+    std::vector<std::uint64_t> maybe;
+    if (changed_since_last(contourer, maybe)) {
+        std::size_t k = 0, c = 0;  // walk tiles_ and maybe together, ascending
+        while (c < maybe.size() && maybe[c] < count) {
+            while (k < tiles_.size() && tiles_[k].id < maybe[c]) order.push_back({false, k++});
+            visit(maybe[c]);
+            if (k < tiles_.size() && tiles_[k].id == maybe[c]) ++k;
+            ++c;
+        }
+        while (k < tiles_.size()) order.push_back({false, k++});
+    } else {
+        for (std::size_t t = 0; t < count; ++t) visit(t);
     }
     // The changed tiles' meshes on the task pool (a source's tile_mesh only reads); a throw leaves the cache as it was.
     pool_for(rebuilt.size(), 8, [&](const Chunk& chunk) {
@@ -52,6 +70,9 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
             s.bounds_m = s.mesh.bounds();
         }
     });
+    change_mark_ = mark;
+    change_view_ = contourer.change_view();
+    last_visited_ = visited;
     const bool build_now = lod_ && !defer_ && !worker_;
     if (build_now) {
         std::vector<TileSurface*> all;
@@ -145,6 +166,14 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
     return rebuilt.size();
+}
+
+bool TileSurfaceCache::changed_since_last(const TileMeshSource& source, std::vector<std::uint64_t>& tiles) const {
+    const std::uint64_t view = source.change_view();
+    if (!refreshed_ || view == 0 || view != change_view_ || !source.changed_since(change_mark_, tiles)) return false;
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    return true;
 }
 
 void TileSurfaceCache::enable_lod(const TileLodOptions& options) {

@@ -101,6 +101,10 @@ public:
     TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const override {
         return c_.tile_mesh(t, materials, normals);
     }
+    bool changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const override {
+        return c_.tiles_changed_since(mark, out);
+    }
+    std::uint64_t change_view() const override { return c_.change_id(); }
 
 private:
     const Contourer& c_;
@@ -113,7 +117,9 @@ class TileSurfaceCache {
 public:
     /// Rebuilds the tiles whose version changed since the last refresh (all on the first call) and drops
     /// tiles that became empty. Returns the number of tiles rebuilt. O(changed tiles' triangles) plus a
-    /// scan of the tile versions. Throws tridex::Error as Contourer::tile_mesh (the cache is then unchanged).
+    /// scan of the tile versions: of the tiles the source says may have changed since the last refresh
+    /// (TileMeshSource::changed_since, under the same change_view) and the cache's own, or of every tile when it
+    /// cannot say. Throws tridex::Error as Contourer::tile_mesh (the cache is then unchanged).
     std::size_t refresh(const Contourer& contourer);
     /// As refresh(contourer), from any tiled surface (e.g. the GPU contour read back). Throws as its tile_mesh.
     std::size_t refresh(const TileMeshSource& source);
@@ -122,6 +128,9 @@ public:
     const std::vector<TileSurface>& tiles() const { return tiles_; }
     /// Total triangles over tiles().
     std::size_t triangle_count() const;
+    /// Tiles whose triangle count and version the last refresh() read from its source: those the source named as
+    /// maybe changed (TileMeshSource::changed_since), or every tile.
+    std::size_t last_refresh_visits() const { return last_visited_; }
     /// Groups over the current tiles (empty unless enable_lod() with TileLodOptions::group_depth > 0), ordered
     /// by id (so by depth, finest first). Each refresh() keeps the groups none of whose tiles changed and drops
     /// the levels of the others (new version); their levels are rebuilt where the tiles' are. References are
@@ -339,6 +348,12 @@ private:
     std::vector<TileSurface> tiles_;
     std::vector<std::uint64_t> contour_versions_;  // per tiles_ entry: the Contourer's version it was built from
     std::vector<bool> pending_;                    // per tiles_ entry: levels wait for build_pending_lods()
+    // The tiles `source` says may have changed since the last refresh() (ascending, no repeats) into `tiles`, when it
+    // can say (TileMeshSource::changed_since under the same change_view): true; else false.
+    bool changed_since_last(const TileMeshSource& source, std::vector<std::uint64_t>& tiles) const;
+    std::uint64_t change_mark_ = 0;                // fresh_tile_version() when the last refresh began reading
+    std::uint64_t change_view_ = 0;                // the source's change_view() then
+    std::size_t last_visited_ = 0;                 // last_refresh_visits()
     bool defer_ = false;
     bool lod_ = false;
     TileLodOptions lod_options_{};

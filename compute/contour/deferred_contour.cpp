@@ -39,7 +39,11 @@ std::vector<std::uint64_t> DeferredContour::defer(TriDexel& model) {
         deferred_[t] = 1;
         ++count_;
         order_.push_back(t);
-        for_neighbourhood(t, [&](std::size_t n) { ++near_[n]; });
+        const std::uint64_t stamp = fresh_tile_version();
+        for_neighbourhood(t, [&](std::size_t n) {
+            ++near_[n];
+            changes_.add(stamp, n);  // hidden() of it and of the touched tiles around it
+        });
     }
     model.clear_dirty();
     return changed;
@@ -50,7 +54,9 @@ void DeferredContour::release(TriDexel& model, std::size_t t) {
     deferred_[t] = 0;
     ++released_;
     if (--count_ == 0) order_.clear();
+    const std::uint64_t stamp = fresh_tile_version();
     for_neighbourhood(t, [&](std::size_t n) {
+        changes_.add(stamp, n);
         if (--near_[n] == 0 && touched_[n] && !deferred_[n]) {
             touched_[n] = 0;
             visible_.push_back(n);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
+#include "compute/contour/tile_change_log.hpp"
 #include "compute/contour/tile_mesh_source.hpp"
 #include "compute/model/tridexel.hpp"
 
@@ -87,6 +88,12 @@ public:
                           std::vector<Vec3>& normals) const override {
             return base_.tile_mesh(t, materials, normals);
         }
+        bool changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const override {
+            return base_.changed_since(mark, out) && d_.changes_.since(mark, out);
+        }
+        std::uint64_t change_view() const override {
+            return combine_change_views(base_.change_view(), d_.changes_.id());
+        }
 
     private:
         const TileMeshSource& base_;
@@ -108,6 +115,7 @@ private:
     std::vector<std::uint8_t> near_;      // per tile: deferred tiles among it and its 26 neighbours
     std::deque<std::uint64_t> order_;     // deferrals, oldest first (tiles released since are skipped)
     std::vector<std::uint64_t> visible_;  // tiles visible again since the last take_visible()
+    TileChangeLog changes_;               // tiles whose hidden() may have changed, when
     std::size_t count_ = 0;
     std::size_t released_ = 0;
 };

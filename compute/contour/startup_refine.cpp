@@ -110,8 +110,11 @@ std::vector<std::uint64_t> StartupRefiner::pending_tiles() const {
 void StartupRefiner::contoured(std::size_t t) {
     pending_[t] = 0;
     --pending_count_;
+    const std::uint64_t stamp = fresh_tile_version();
     for_neighbourhood(coords(t), [&](std::size_t n) {
-        if (--near_pending_[n] == 0 && !reported_[n]) {
+        if (--near_pending_[n] != 0) return;
+        changes_.add(stamp, n);  // publishable from now on
+        if (!reported_[n]) {
             reported_[n] = 1;
             fresh_.push_back(n);
         }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compute/contour/contour_dual.hpp"
+#include "compute/contour/tile_change_log.hpp"
 #include "compute/contour/tile_mesh_source.hpp"
 #include "compute/model/tridexel.hpp"
 #include "core/math.hpp"
@@ -85,6 +86,10 @@ public:
                           std::vector<Vec3>& normals) const override {
             return c_.tile_mesh(t, materials, normals);
         }
+        bool changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const override {
+            return c_.tiles_changed_since(mark, out) && r_.changes_.since(mark, out);
+        }
+        std::uint64_t change_view() const override { return combine_change_views(c_.change_id(), r_.changes_.id()); }
 
     private:
         const Contourer& c_;
@@ -118,6 +123,7 @@ private:
     std::vector<std::uint8_t> near_pending_; // per tile: pending tiles among it and its 26 neighbours
     std::vector<std::uint8_t> reported_;     // per tile: 1 once take_newly_publishable() returned it
     std::vector<std::uint64_t> fresh_;       // tiles that became publishable since the last take
+    TileChangeLog changes_;                  // tiles that became publishable, when
     std::vector<std::size_t> order_;         // regions holding pending tiles at the start, nearest first
     std::size_t next_ = 0;                   // the first of order_ not yet refined
     std::size_t pending_count_ = 0;

@@ -34,6 +34,19 @@ public:
     /// read.
     virtual TriMesh tile_mesh(std::size_t tile, std::vector<std::uint8_t>& materials,
                               std::vector<Vec3>& normals) const = 0;
+    /// Appends to `out` (unsorted, with repeats) every tile whose triangle count or version, as this source shows
+    /// them, may have changed after `mark` (a fresh_tile_version() value taken while reading a source of the same
+    /// change_view()), and returns true; returns false when it cannot tell (changes after `mark` were not all
+    /// recorded, or the source keeps no record): the reader then visits every tile. Default: false.
+    virtual bool changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const {
+        (void)mark;
+        (void)out;
+        return false;
+    }
+    /// What this source shows, as a value: two sources with the same value show the same tiles (the same Contourer
+    /// through the same start-up refiner and stroke deferral), so a mark taken reading one holds for the other.
+    /// Default 0: keeps no record (changed_since() is false).
+    virtual std::uint64_t change_view() const { return 0; }
 };
 
 }  // namespace tridex::compute
