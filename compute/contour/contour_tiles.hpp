@@ -351,9 +351,9 @@ private:
     // The tiles `source` says may have changed since the last refresh() (ascending, no repeats) into `tiles`, when it
     // can say (TileMeshSource::changed_since under the same change_view): true; else false.
     bool changed_since_last(const TileMeshSource& source, std::vector<std::uint64_t>& tiles) const;
-    std::uint64_t change_mark_ = 0;                // fresh_tile_version() when the last refresh began reading
-    std::uint64_t change_view_ = 0;                // the source's change_view() then
-    std::size_t last_visited_ = 0;                 // last_refresh_visits()
+    std::uint64_t change_mark_ = 0;  // fresh_tile_version() when the last refresh began reading
+    std::uint64_t change_view_ = 0;  // the source's change_view() then
+    std::size_t last_visited_ = 0;   // last_refresh_visits()
     bool defer_ = false;
     bool lod_ = false;
     TileLodOptions lod_options_{};

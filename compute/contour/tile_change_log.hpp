@@ -35,10 +35,9 @@ public:
     /// false (out unchanged) when entries after `mark` may have been dropped, or made before the log was.
     bool since(std::uint64_t mark, std::vector<std::uint64_t>& out) const {
         if (mark < floor_) return false;
-        const auto first = std::upper_bound(entries_.begin(), entries_.end(), mark,
-                                            [](std::uint64_t m, const std::pair<std::uint64_t, std::uint64_t>& e) {
-                                                return m < e.first;
-                                            });
+        const auto first = std::upper_bound(
+            entries_.begin(), entries_.end(), mark,
+            [](std::uint64_t m, const std::pair<std::uint64_t, std::uint64_t>& e) { return m < e.first; });
         for (auto it = first; it != entries_.end(); ++it) out.push_back(it->second);
         return true;
     }

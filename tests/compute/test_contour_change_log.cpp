@@ -55,7 +55,8 @@ void cut(TriDexel& m, int k, int side = 0) {
     const Lattice& L = m.lattice;
     const double r = kOffCentreRadius - 4.0;
     const auto at = [&](double u) {
-        return L.to_world(kOffCentre + (side == 0 ? Vec3(-30.0 + 12.0 * u, 8.0 * u, r) : Vec3(-30.0 + 12.0 * u, -r, 6.0 * u)));
+        return L.to_world(kOffCentre +
+                          (side == 0 ? Vec3(-30.0 + 12.0 * u, 8.0 * u, r) : Vec3(-30.0 + 12.0 * u, -r, 6.0 * u)));
     };
     subtract_capsule(m, Segment{at(k), at(k + 1)}, 6.0 * L.cell_m);
 }
@@ -80,8 +81,10 @@ void run_session(bool startup) {
     TriDexel model = off_centre_sphere();
     Contourer contourer(model);
     std::unique_ptr<StartupRefiner> refiner;
-    if (startup) refiner = std::make_unique<StartupRefiner>(model, 1, model.lattice.to_world(Vec3(0.0)));
-    else contourer.update(model);
+    if (startup)
+        refiner = std::make_unique<StartupRefiner>(model, 1, model.lattice.to_world(Vec3(0.0)));
+    else
+        contourer.update(model);
     DeferredContour deferral(model.tiles.tiles);
     if (refiner) refiner->contour_beside(&deferral);
     TileSurfaceCache cache;
@@ -89,7 +92,7 @@ void run_session(bool startup) {
     const auto check = [&] {
         refresh_held_tiles(cache, contourer, refiner.get(), &deferral);
         if (refreshes++ > 0) visits += cache.last_refresh_visits();  // the first reads every tile
-        TileSurfaceCache whole;                                       // every tile read once, through the same view
+        TileSurfaceCache whole;                                      // every tile read once, through the same view
         if (refiner) {
             const StartupRefiner::Source source(contourer, *refiner);
             whole.refresh(DeferredContour::Source(source, deferral));
