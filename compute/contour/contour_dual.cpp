@@ -48,6 +48,7 @@ Contourer::Contourer(const TriDexel& model) : lattice_(model.lattice), tiles_(mo
     versions_.assign(tile_meshes_.size(), 0);
     contoured_.assign(tile_meshes_.size(), 0);
     triangle_counts_.assign(tile_meshes_.size(), 0);
+    changes_ = TileChangeLog(TileChangeLog::entries_for(tile_meshes_.size()));
 }
 
 void Contourer::check_model(const TriDexel& model) const {
@@ -153,8 +154,8 @@ void Contourer::bump_versions(const std::vector<std::pair<std::size_t, contour::
     }
     normal_sharers(changed, slot, bump);
     for (const std::size_t t : bump) {
+        changes_.add(v, t);  // recorded first: a record of a change that did not happen costs only a visit
         versions_[t] = v;
-        changes_.add(v, t);
     }
 }
 

@@ -158,8 +158,8 @@ private:
     std::size_t last_cells_ = 0;
     std::vector<std::uint8_t> contoured_;  // per tile: 1 once an update() has contoured it (its piece is current)
     std::vector<std::uint64_t> versions_;  // per tile, see tile_version()
-    // Per tile, its piece's triangle count: a cache's refresh reads every tile's, and a TileMesh per tile is far
-    // larger than a cache line.
+    // Per tile, its piece's triangle count: a cache's refresh reads many tiles' (every tile's when it cannot tell the
+    // changed ones), and a TileMesh per tile is far larger than a cache line.
     std::vector<std::uint32_t> triangle_counts_;
     TileChangeLog changes_;  // every version given, with its tile
 };

@@ -70,9 +70,6 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
             s.bounds_m = s.mesh.bounds();
         }
     });
-    change_mark_ = mark;
-    change_view_ = contourer.change_view();
-    last_visited_ = visited;
     const bool build_now = lod_ && !defer_ && !worker_;
     if (build_now) {
         std::vector<TileSurface*> all;
@@ -116,6 +113,10 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     tiles_ = std::move(next);
     contour_versions_ = std::move(next_versions);
     pending_ = std::move(next_pending);
+    // Only now that tiles_ holds what was read: a throw before leaves the mark too as it was.
+    change_mark_ = mark;
+    change_view_ = contourer.change_view();
+    last_visited_ = visited;
     if (coarse_ && refreshed_ && !changed.empty()) {  // the coarse models re-read these once they settle
         merge_ids(coarse_changed_, changed);
         coarse_changed_at_ = std::chrono::steady_clock::now();

@@ -15,6 +15,7 @@ DeferredContour::DeferredContour(const std::array<int, 3>& tiles) : dims_(tiles)
     deferred_.assign(n, 0);
     touched_.assign(n, 0);
     near_.assign(n, 0);
+    changes_ = TileChangeLog(TileChangeLog::entries_for(n));
 }
 
 template <typename F>
@@ -41,8 +42,8 @@ std::vector<std::uint64_t> DeferredContour::defer(TriDexel& model) {
         order_.push_back(t);
         const std::uint64_t stamp = fresh_tile_version();
         for_neighbourhood(t, [&](std::size_t n) {
+            changes_.add(stamp, n);  // hidden() of it and of the touched tiles around it (recorded first)
             ++near_[n];
-            changes_.add(stamp, n);  // hidden() of it and of the touched tiles around it
         });
     }
     model.clear_dirty();

@@ -19,6 +19,7 @@ StartupRefiner::StartupRefiner(TriDexel& model, int region_depth, const Vec3& ne
     pending_.assign(n, 0);
     near_pending_.assign(n, 0);
     reported_.assign(n, 0);
+    changes_ = TileChangeLog(TileChangeLog::entries_for(n));
     for (int a = 0; a < 3; ++a) region_dims_[a] = (dims_[a] + (1 << depth_) - 1) >> depth_;
     std::vector<std::uint8_t> has_pending(
         static_cast<std::size_t>(region_dims_[0]) * region_dims_[1] * region_dims_[2], 0);
@@ -112,8 +113,8 @@ void StartupRefiner::contoured(std::size_t t) {
     --pending_count_;
     const std::uint64_t stamp = fresh_tile_version();
     for_neighbourhood(coords(t), [&](std::size_t n) {
+        if (near_pending_[n] == 1) changes_.add(stamp, n);  // publishable from now on (recorded first)
         if (--near_pending_[n] != 0) return;
-        changes_.add(stamp, n);  // publishable from now on
         if (!reported_[n]) {
             reported_[n] = 1;
             fresh_.push_back(n);

@@ -14,6 +14,7 @@
 #include "compute/contour/startup_refine.hpp"
 #include "compute/contour/tile_change_log.hpp"
 #include "compute/tools/boolean.hpp"
+#include "core/error.hpp"
 #include "test_contour_models.hpp"
 
 namespace tridex::compute {
@@ -48,6 +49,21 @@ TEST(TileChangeLog, ListsTheTilesAfterAMarkAndRefusesAMarkItNoLongerCovers) {
     ASSERT_TRUE(log.since(late, out));
     EXPECT_EQ(out, (std::vector<std::uint64_t>{1}));
     EXPECT_NE(log.id(), TileChangeLog().id());
+    // A copy changes apart from its original from now on: a record of its own, which knows nothing from before.
+    const TileChangeLog copy = log;
+    EXPECT_NE(copy.id(), log.id());
+    EXPECT_FALSE(copy.since(late, out));
+    EXPECT_EQ(TileChangeLog::entries_for(10), 4096u);
+    EXPECT_EQ(TileChangeLog::entries_for(100000), 200000u);
+    EXPECT_EQ(TileChangeLog::entries_for(std::size_t{1} << 30), TileChangeLog::kMaxEntries);
+    TileChangeLog small(4);
+    const std::uint64_t mark = fresh_tile_version();
+    for (std::uint64_t t = 0; t < 4; ++t) small.add(fresh_tile_version(), t);
+    out.clear();
+    EXPECT_TRUE(small.since(mark, out));
+    EXPECT_EQ(out.size(), 4u);
+    small.add(fresh_tile_version(), 9);  // full: the older half goes
+    EXPECT_FALSE(small.since(mark, out));
 }
 
 // Cut k of a groove across the sphere's +z cap (`side` 0), or across its -y side (`side` 1).
@@ -124,6 +140,16 @@ void run_session(bool startup) {
     check();
     if (startup) {
         EXPECT_GT(cache.tiles().size(), first) << "the refinement's tiles arrived";
+        // The refiner dropped once every tile is in, as the sculpt thread does: another view, read whole once.
+        refiner.reset();
+        check();
+        EXPECT_EQ(cache.last_refresh_visits(), contourer.tile_count());
+        visits -= contourer.tile_count();
+        cut(model, 1, 1);
+        deferral.take_dirty(model);
+        contourer.update(model);
+        check();
+        EXPECT_LT(cache.last_refresh_visits(), contourer.tile_count() / 4);
     }
     // The records answered: the refreshes after the first visited a small part of the tiles.
     EXPECT_LT(visits, (refreshes - 1) * contourer.tile_count() / 4) << visits << " visits in " << refreshes;
@@ -139,6 +165,53 @@ TEST(TileChangeLog, ACacheVisitingOnlyTheChangedTilesHoldsWhatAWholeScanReads) {
         SCOPED_TRACE("after start-up");
         run_session(false);
     }
+}
+
+// A source whose meshes can be made to carry one material too few: the levels built from them then throw.
+class SpoiledTiles final : public TileMeshSource {
+public:
+    explicit SpoiledTiles(const Contourer& c) : base_(c) {}
+    bool spoil = false;
+    std::size_t tile_count() const override { return base_.tile_count(); }
+    std::array<int, 3> tile_dims() const override { return base_.tile_dims(); }
+    std::size_t tile_triangle_count(std::size_t t) const override { return base_.tile_triangle_count(t); }
+    std::uint64_t tile_version(std::size_t t) const override { return base_.tile_version(t); }
+    TriMesh tile_mesh(std::size_t t, std::vector<std::uint8_t>& materials, std::vector<Vec3>& normals) const override {
+        TriMesh m = base_.tile_mesh(t, materials, normals);
+        if (spoil && !materials.empty()) materials.pop_back();
+        return m;
+    }
+    bool changed_since(std::uint64_t mark, std::vector<std::uint64_t>& out) const override {
+        return base_.changed_since(mark, out);
+    }
+    std::uint64_t change_view() const override { return base_.change_view(); }
+
+private:
+    ContourerTiles base_;
+};
+
+// A refresh that throws after reading the changed tiles (their levels, built at once) keeps its last mark: the next
+// refresh reads those tiles again.
+TEST(TileChangeLog, ARefreshThatThrowsKeepsItsMark) {
+    TriDexel model = off_centre_sphere();
+    Contourer contourer(model);
+    contourer.update(model);
+    SpoiledTiles source(contourer);
+    TileSurfaceCache cache;
+    TileLodOptions lod;
+    lod.cell_m = model.lattice.cell_m;
+    cache.enable_lod(lod);  // no worker, not deferred: refresh() builds the levels
+    cache.refresh(source);
+    cut(model, 0);
+    contourer.update(model);
+    source.spoil = true;
+    EXPECT_THROW(cache.refresh(source), Error);
+    source.spoil = false;
+    cache.refresh(source);
+    EXPECT_LT(cache.last_refresh_visits(), contourer.tile_count() / 4);
+    TileSurfaceCache whole;
+    whole.refresh(contourer);
+    expect_same_tiles(cache, whole);
 }
 
 TEST(TileChangeLog, AMarkFromBeforeTheRecordsGetsNoAnswer) {
