@@ -115,7 +115,7 @@ private:
     std::vector<std::uint8_t> near_;      // per tile: deferred tiles among it and its 26 neighbours
     std::deque<std::uint64_t> order_;     // deferrals, oldest first (tiles released since are skipped)
     std::vector<std::uint64_t> visible_;  // tiles visible again since the last take_visible()
-    TileChangeLog changes_;               // tiles whose hidden() may have changed, when
+    TileChangeLog changes_;               // each tile whose hidden() may have changed, with the stamp it may have
     std::size_t count_ = 0;
     std::size_t released_ = 0;
 };

@@ -123,7 +123,7 @@ private:
     std::vector<std::uint8_t> near_pending_; // per tile: pending tiles among it and its 26 neighbours
     std::vector<std::uint8_t> reported_;     // per tile: 1 once take_newly_publishable() returned it
     std::vector<std::uint64_t> fresh_;       // tiles that became publishable since the last take
-    TileChangeLog changes_;                  // tiles that became publishable, when
+    TileChangeLog changes_;                  // each tile that became publishable, with the stamp it did
     std::vector<std::size_t> order_;         // regions holding pending tiles at the start, nearest first
     std::size_t next_ = 0;                   // the first of order_ not yet refined
     std::size_t pending_count_ = 0;
