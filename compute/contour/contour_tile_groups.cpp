@@ -150,54 +150,83 @@ void TileSurfaceCache::update_groups(const std::array<int, 3>& dims, const std::
         ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
         next = regrouped(dims, depth_max, ids);
     }
-    std::vector<TileGroupSurface> groups;
-    std::vector<bool> pending, queued;
-    std::vector<std::chrono::steady_clock::time_point> changed_at;
     // Start-up's groups are never held back (Clock's epoch); a later change starts the group's settling time.
     const auto now = refreshed_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    groups.reserve(std::max(next.size(), groups_.size()));
-    const auto keep_old = [&](std::size_t at, TileGroupSurface&& g) {
-        pending.push_back(group_pending_[at]);
-        queued.push_back(at < group_queued_.size() && group_queued_[at]);
-        changed_at.push_back(at < group_changed_at_.size() ? group_changed_at_[at] : now);
-        groups.push_back(std::move(g));
+    struct Kept {  // what a group's entry in group_pending_, group_queued_ and group_changed_at_ becomes
+        bool pending = false, queued = false;
+        std::chrono::steady_clock::time_point changed_at;
+    };
+    const auto kept_state = [&](std::size_t at) {
+        return Kept{group_pending_[at], at < group_queued_.size() && group_queued_[at],
+                    at < group_changed_at_.size() ? group_changed_at_[at] : now};
+    };
+    // Whether the groups `ids` that exist now are exactly those regrouped (`next`, the same order).
+    const auto same_group_ids = [&]() {
+        std::size_t n = 0;
+        for (const std::uint64_t id : ids) {
+            const bool in_next = n < next.size() && next[n].id == id;
+            if (in_next) ++n;
+            if (in_next != (index_of(groups_, id) < groups_.size())) return false;
+        }
+        return n == next.size();
     };
     // A regrouped group keeps its levels when it is not stale and has the same children; else they are dropped.
-    const auto place = [&](TileGroupSurface&& g, std::size_t old) {
+    const auto settle = [&](TileGroupSurface& g, std::size_t old) -> Kept {
         if (old < groups_.size() && !stale.count(g.id) && groups_[old].children == g.children) {
             g.version = groups_[old].version;
             g.lods = std::move(groups_[old].lods);
             g.children_cover = groups_[old].children_cover;
             g.levels_waiting = groups_[old].levels_waiting;
-            keep_old(old, std::move(g));
-            return;
+            return kept_state(old);
         }
         // A coarse-first start-up's level rebuilt before its tiles are in keeps its predecessor's error at least.
         if (old < groups_.size() && !groups_[old].lods.empty() && provisional_.count(g.id) != 0)
             dropped_error_[g.id] = groups_[old].lods.front().error_m;
         g.version = fresh_tile_version();
         g.levels_waiting = true;
-        queued.push_back(false);
-        changed_at.push_back(now);
+        Kept k{false, false, now};
         if (coarse_ && g.depth >= coarse_->min_depth()) {  // a coarse level at start-up, or once settled
-            pending.push_back(false);
             coarse_stale_.insert(g.id);  // start-up's are built at once (refresh), a stroke's once settled
         } else {
             if (refreshed_) startup_waiting_.erase(lod_key(true, g.id));  // changed after start-up: a stroke's
-            pending.push_back(true);
+            k.pending = true;
         }
+        return k;
+    };
+    if (!whole && same_group_ids()) {  // no group appears or goes: update the regrouped ones where they are
+        group_queued_.resize(groups_.size(), false);
+        group_changed_at_.resize(groups_.size(), now);
+        for (TileGroupSurface& g : next) {
+            const std::size_t o = index_of(groups_, g.id);
+            const Kept k = settle(g, o);
+            groups_[o] = std::move(g);
+            group_pending_[o] = k.pending;
+            group_queued_[o] = k.queued;
+            group_changed_at_[o] = k.changed_at;
+        }
+        return;
+    }
+    std::vector<TileGroupSurface> groups;
+    std::vector<bool> pending, queued;
+    std::vector<std::chrono::steady_clock::time_point> changed_at;
+    groups.reserve(std::max(next.size(), groups_.size()));
+    const auto push = [&](TileGroupSurface&& g, const Kept& k) {
+        pending.push_back(k.pending);
+        queued.push_back(k.queued);
+        changed_at.push_back(k.changed_at);
         groups.push_back(std::move(g));
     };
     std::size_t o = 0, n = 0;  // both sorted by id: merge them
     while (o < groups_.size() || n < next.size()) {
         const std::uint64_t old_id = o < groups_.size() ? groups_[o].id : TileGroupSurface::kNone;
         const std::uint64_t next_id = n < next.size() ? next[n].id : TileGroupSurface::kNone;
-        if (next_id < old_id) {
-            place(std::move(next[n++]), groups_.size());
-        } else if (next_id == old_id) {
-            place(std::move(next[n++]), o++);
+        if (next_id <= old_id) {
+            const std::size_t at = next_id == old_id ? o++ : groups_.size();
+            const Kept k = settle(next[n], at);
+            push(std::move(next[n++]), k);
         } else {  // an old group not regrouped: unchanged, unless every group was regrouped (then it is gone)
-            if (!whole && !std::binary_search(ids.begin(), ids.end(), old_id)) keep_old(o, std::move(groups_[o]));
+            if (!whole && !std::binary_search(ids.begin(), ids.end(), old_id))
+                push(std::move(groups_[o]), kept_state(o));
             ++o;
         }
     }

@@ -2,10 +2,13 @@
 // contoured yet, which of them must be drawn coarse, and the finer coarse depths read after the first publish.
 #include <algorithm>
 #include <chrono>
+#include <numeric>
 #include <optional>
+#include <unordered_set>
 
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/sorted_ids.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "core/error.hpp"
 
 namespace tridex::compute {
@@ -96,14 +99,58 @@ bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup
     return true;
 }
 
+void TileSurfaceCache::stroke_pass_groups(std::vector<std::size_t>& visit, std::vector<bool>& refined) const {
+    std::unordered_set<std::uint64_t> over;  // the groups over an expected tile
+    std::array<int, 3> dims1{};              // the depth-1 groups' grid
+    for (int a = 0; a < 3; ++a) dims1[a] = (coarse_dims_[a] + 1) >> 1;
+    for (const std::uint64_t t : expected_) {
+        const std::array<int, 3> tc = grid_coords(t, coarse_dims_);
+        std::size_t g = index_of(groups_, tile_group_id(1, grid_index({tc[0] >> 1, tc[1] >> 1, tc[2] >> 1}, dims1)));
+        while (g < groups_.size() && over.insert(groups_[g].id).second)  // up its parents, to one already seen
+            g = groups_[g].parent == TileGroupSurface::kNone ? groups_.size() : index_of(groups_, groups_[g].parent);
+    }
+    std::vector<std::uint64_t> ids(over.begin(), over.end());
+    ids.insert(ids.end(), uncovered_.begin(), uncovered_.end());
+    // Of the refined groups whose level waits, a pass measures the first kStartupErrorsPerPass in id order, and
+    // notes from the next one that more wait: only those are looked at.
+    std::vector<std::uint64_t> waiting;
+    for (const std::uint64_t id : provisional_)
+        if (over.count(id) == 0) waiting.push_back(id);
+    std::sort(waiting.begin(), waiting.end());
+    std::size_t taken = 0;
+    for (auto it = waiting.begin(); it != waiting.end() && taken <= kStartupErrorsPerPass; ++it)
+        if (index_of(groups_, *it) < groups_.size()) {
+            ids.push_back(*it);
+            ++taken;
+        }
+    for (const std::uint64_t id : ids)
+        if (const std::size_t g = index_of(groups_, id); g < groups_.size()) visit.push_back(g);
+    std::sort(visit.begin(), visit.end());
+    visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
+    refined.reserve(visit.size());
+    for (const std::size_t g : visit) refined.push_back(over.count(groups_[g].id) == 0);
+}
+
 void TileSurfaceCache::update_startup_groups() {
-    const std::vector<bool> refined = groups_refined();
+    // With start-up's tiles all in, only the groups stroke_pass_groups() names may change; else every group.
+    std::vector<std::size_t> visit;
+    std::vector<bool> refined;
+    if (startup_expected() == 0 && !pass_every_group_) {
+        stroke_pass_groups(visit, refined);
+    } else {
+        refined = groups_refined();
+        visit.resize(groups_.size());
+        std::iota(visit.begin(), visit.end(), std::size_t{0});
+    }
+    last_group_pass_visits_ = visit.size();
     bool open = !expected_.empty();
     std::size_t measured = 0, estimated = 0, tried = 0;
     remeasure_more_ = false;
-    for (std::size_t g = 0; g < groups_.size(); ++g) {  // children before their parents
+    uncovered_.clear();
+    for (std::size_t k = 0; k < visit.size(); ++k) {  // children before their parents
+        const std::size_t g = visit[k];
         TileGroupSurface& group = groups_[g];
-        bool cover = refined[g];
+        bool cover = refined[k];
         if (!cover && group.depth > 1) {  // smaller groups stand in where they are refined or have a level
             // A smaller group whose current coarse read found no surface stands in too: it has nothing to draw
             // until its tiles arrive (no surface, or a feature thinner than its stride), whatever is drawn above it.
@@ -124,7 +171,7 @@ void TileSurfaceCache::update_startup_groups() {
             group.version = fresh_tile_version();
         }
         // Its level's error, now that its tiles are all in (a few per call: each reads its tiles' vertices).
-        if (refined[g] && provisional_.count(group.id) > 0) {
+        if (refined[k] && provisional_.count(group.id) > 0) {
             if (measured == kStartupErrorsPerPass) {
                 remeasure_more_ = true;
             } else {
@@ -140,7 +187,7 @@ void TileSurfaceCache::update_startup_groups() {
         // under it lie from it, once they are read (a thin feature its stride missed shows there first).
         // Only while start-up's tiles are expected under it: a stroke's deferred group is measured against the tiles
         // in (rebuild_coarse_levels). Each try walks the group's finest levels, so a pass tries a bounded number.
-        if (!refined[g] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
+        if (!refined[k] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
             estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty() &&
             !group_refined(group, true)) {
             ++tried;
@@ -155,6 +202,7 @@ void TileSurfaceCache::update_startup_groups() {
                 }
             }
         }
+        if (!group.children_cover) uncovered_.push_back(group.id);
         open = open || !group.children_cover;
     }
     startup_groups_ = open || !provisional_.empty();

@@ -18,49 +18,93 @@ namespace tridex::compute {
 
 std::size_t TileSurfaceCache::refresh(const Contourer& contourer) { return refresh(ContourerTiles(contourer)); }
 
-std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
-    // First build the changed tiles aside, so an exception leaves the cache as it was.
-    std::vector<TileSurface> rebuilt;
-    std::size_t old = 0;  // walks tiles_ (sorted by id) alongside the tile indices
-    const std::size_t count = contourer.tile_count();
-    struct Step {
-        bool fresh;
-        std::size_t index;  // into rebuilt (fresh) or tiles_ (kept)
-    };
-    std::vector<Step> order;
-    std::size_t visited = 0;
-    const auto visit = [&](std::size_t t) {
-        ++visited;
+TileSurfaceCache::TileRead TileSurfaceCache::read_tile_changes(const TileMeshSource& source) const {
+    TileRead read;
+    std::size_t old = 0;  // walks tiles_ (sorted by id) alongside the visited tiles, ascending
+    const auto visit = [&](std::uint64_t t) {
+        ++read.visited;
         while (old < tiles_.size() && tiles_[old].id < t) ++old;
-        if (contourer.tile_triangle_count(t) == 0) return;
-        const std::uint64_t version = contourer.tile_version(t);
-        if (old < tiles_.size() && tiles_[old].id == t && contour_versions_[old] == version) {
-            order.push_back({false, old});
+        const bool had = old < tiles_.size() && tiles_[old].id == t;
+        if (source.tile_triangle_count(t) == 0) {
+            if (had) read.gone.push_back(old);
             return;
         }
+        const std::uint64_t version = source.tile_version(t);
+        if (had && contour_versions_[old] == version) return;
         TileSurface s;
         s.id = t;
         s.version = version;
         s.source_version = version;
-        order.push_back({true, rebuilt.size()});
-        rebuilt.push_back(std::move(s));
+        read.rebuilt.push_back(std::move(s));
     };
     // The tiles that may have changed since the last refresh, when the source can say; else every tile. A tile not
     // among them keeps its entry.
-    const std::uint64_t mark = fresh_tile_version();
+    const std::size_t count = source.tile_count();
     std::vector<std::uint64_t> maybe;
-    if (changed_since_last(contourer, maybe)) {
-        std::size_t k = 0, c = 0;  // walk tiles_ and maybe together, ascending
-        while (c < maybe.size() && maybe[c] < count) {
-            while (k < tiles_.size() && tiles_[k].id < maybe[c]) order.push_back({false, k++});
-            visit(maybe[c]);
-            if (k < tiles_.size() && tiles_[k].id == maybe[c]) ++k;
-            ++c;
-        }
-        while (k < tiles_.size()) order.push_back({false, k++});
+    if (changed_since_last(source, maybe)) {
+        for (const std::uint64_t t : maybe)
+            if (t < count) visit(t);
     } else {
         for (std::size_t t = 0; t < count; ++t) visit(t);
+        for (std::size_t k = old; k < tiles_.size(); ++k)  // past the source's last tile
+            if (tiles_[k].id >= count) read.gone.push_back(k);
     }
+    return read;
+}
+
+std::vector<std::size_t> TileSurfaceCache::place_read_tiles(TileRead&& read, bool pending) {
+    std::vector<TileSurface>& rebuilt = read.rebuilt;
+    std::vector<std::size_t> fresh;  // where the rebuilt tiles are now in tiles_
+    fresh.reserve(rebuilt.size());
+    // No tile gone and none new: each rebuilt tile takes its predecessor's place, and the others stay where they are.
+    bool in_place = read.gone.empty();
+    for (std::size_t r = 0; r < rebuilt.size() && in_place; ++r) {
+        fresh.push_back(index_of(tiles_, rebuilt[r].id));
+        in_place = fresh.back() < tiles_.size();
+    }
+    if (in_place) {
+        for (std::size_t r = 0; r < rebuilt.size(); ++r) {
+            contour_versions_[fresh[r]] = rebuilt[r].version;
+            pending_[fresh[r]] = pending;
+            tiles_[fresh[r]] = std::move(rebuilt[r]);
+        }
+        return fresh;
+    }
+    fresh.clear();
+    std::vector<TileSurface> next;
+    std::vector<std::uint64_t> next_versions;
+    std::vector<bool> next_pending;
+    next.reserve(tiles_.size() + rebuilt.size());
+    std::size_t r = 0, g = 0;  // both ascending: rebuilt by id, gone by index
+    for (std::size_t k = 0; k <= tiles_.size(); ++k) {
+        const std::uint64_t id = k < tiles_.size() ? tiles_[k].id : ~std::uint64_t{0};
+        bool replaced = false;
+        for (; r < rebuilt.size() && rebuilt[r].id <= id; ++r) {
+            replaced = replaced || rebuilt[r].id == id;
+            fresh.push_back(next.size());
+            next_versions.push_back(rebuilt[r].version);
+            next_pending.push_back(pending);
+            next.push_back(std::move(rebuilt[r]));
+        }
+        if (k == tiles_.size()) break;
+        while (g < read.gone.size() && read.gone[g] < k) ++g;
+        if (replaced || (g < read.gone.size() && read.gone[g] == k)) continue;
+        next_versions.push_back(contour_versions_[k]);
+        next_pending.push_back(pending_[k]);
+        next.push_back(std::move(tiles_[k]));
+    }
+    tiles_ = std::move(next);
+    contour_versions_ = std::move(next_versions);
+    pending_ = std::move(next_pending);
+    return fresh;
+}
+
+std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
+    // First build the changed tiles aside, so an exception leaves the cache as it was.
+    const std::uint64_t mark = fresh_tile_version();
+    TileRead read = read_tile_changes(contourer);
+    std::vector<TileSurface>& rebuilt = read.rebuilt;
+    const std::size_t visited = read.visited;
     // The changed tiles' meshes on the task pool (a source's tile_mesh only reads); a throw leaves the cache as it was.
     pool_for(rebuilt.size(), 8, [&](const Chunk& chunk) {
         for (std::size_t i = chunk.first; i < chunk.last; ++i) {
@@ -83,36 +127,11 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     const bool stroke_hidden = !changed.empty();
     for (const TileSurface& s : rebuilt)
         if (!arrived_.count(s.id)) changed.push_back(s.id);
-    {
-        std::size_t k = 0;
-        for (const TileSurface& t : tiles_) {
-            while (k < order.size() && (order[k].fresh ? rebuilt[order[k].index].id : tiles_[order[k].index].id) < t.id) ++k;
-            if (k == order.size() || (order[k].fresh ? rebuilt[order[k].index].id : tiles_[order[k].index].id) != t.id)
-                changed.push_back(t.id);
-        }
-    }
-    std::vector<TileSurface> next;
-    std::vector<std::uint64_t> next_versions;
-    std::vector<bool> next_pending;
-    std::vector<std::size_t> fresh;  // entries of `next` rebuilt now
-    next.reserve(order.size());
-    for (const Step& st : order) {
-        if (st.fresh) {
-            fresh.push_back(next.size());
-            next_versions.push_back(rebuilt[st.index].version);
-            next_pending.push_back(lod_ && !build_now);
-            next.push_back(std::move(rebuilt[st.index]));
-        } else {
-            next_versions.push_back(contour_versions_[st.index]);
-            next_pending.push_back(pending_[st.index]);
-            next.push_back(std::move(tiles_[st.index]));
-        }
-    }
+    for (const std::size_t k : read.gone) changed.push_back(tiles_[k].id);
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-    tiles_ = std::move(next);
-    contour_versions_ = std::move(next_versions);
-    pending_ = std::move(next_pending);
+    const std::size_t rebuilt_count = rebuilt.size();
+    const std::vector<std::size_t> fresh = place_read_tiles(std::move(read), lod_ && !build_now);
     // Only now that tiles_ holds what was read: a throw before leaves the mark too as it was.
     change_mark_ = mark;
     change_view_ = contourer.change_view();
@@ -166,7 +185,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
         }
         lod_build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
-    return rebuilt.size();
+    return rebuilt_count;
 }
 
 bool TileSurfaceCache::changed_since_last(const TileMeshSource& source, std::vector<std::uint64_t>& tiles) const {

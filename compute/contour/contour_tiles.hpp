@@ -131,6 +131,13 @@ public:
     /// Tiles whose triangle count and version the last refresh() read from its source: those the source named as
     /// maybe changed (TileMeshSource::changed_since), or every tile.
     std::size_t last_refresh_visits() const { return last_visited_; }
+    /// Groups whose cover (TileGroupSurface::children_cover) and waiting error the last pass over them looked at.
+    /// While start-up's tiles are expected each pass looks at every group; after, only at those over a stroke's
+    /// hidden tiles (defer_tiles), those the last pass left uncovered and the next few whose level waits to be
+    /// measured.
+    std::size_t last_group_pass_visits() const { return last_group_pass_visits_; }
+    /// For tests: true makes every pass look at every group, as during start-up (false: the default).
+    void pass_every_group(bool every) { pass_every_group_ = every; }
     /// Groups over the current tiles (empty unless enable_lod() with TileLodOptions::group_depth > 0), ordered
     /// by id (so by depth, finest first). Each refresh() keeps the groups none of whose tiles changed and drops
     /// the levels of the others (new version); their levels are rebuilt where the tiles' are. References are
@@ -338,6 +345,18 @@ private:
     void queue_tile_lods(const std::vector<std::size_t>& fresh);
     void queue_ready_groups();                                   // background: jobs for groups now ready
     void queue_settled_tiles(std::chrono::steady_clock::time_point now);  // background: a stroke's quiet tiles
+    // What a refresh read from its source: the tiles to rebuild (ascending id; id and versions set, no mesh yet),
+    // the indices in tiles_ of the tiles that have no triangles any more, and how many tiles it read.
+    struct TileRead {
+        std::vector<TileSurface> rebuilt;
+        std::vector<std::size_t> gone;
+        std::size_t visited = 0;
+    };
+    // The tiles the source records as changed since the last refresh when it can say, else every tile. Only reads.
+    TileRead read_tile_changes(const TileMeshSource& source) const;
+    // Puts the rebuilt tiles (meshes read) in tiles_ and drops the gone ones, each rebuilt tile `pending` for its
+    // levels; in place when no tile comes or goes. Returns the rebuilt tiles' indices in tiles_, ascending.
+    std::vector<std::size_t> place_read_tiles(TileRead&& read, bool pending);
     LodJob tile_job(std::size_t i) const;  // the job for tiles_[i]'s levels: copies of its mesh and materials
     // The key of a tile's (group false) or group's job in queued_ and startup_waiting_.
     static std::uint64_t lod_key(bool group, std::uint64_t id);
@@ -467,6 +486,14 @@ private:
     // Coarse-first: sets each group's children_cover and re-measures the error of up to
     // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
     void update_startup_groups();
+    // Once no start-up tile is expected: the groups update_startup_groups() must visit (indices into groups_,
+    // ascending), and per each whether it is refined. Those are the groups over an expected tile (a stroke's, not
+    // refined), those its last pass left uncovered and the first refined ones whose level waits to be measured (as
+    // many as a pass measures, and one more); any other group is refined and covered, and is not measured now.
+    void stroke_pass_groups(std::vector<std::size_t>& visit, std::vector<bool>& refined) const;
+    std::vector<std::uint64_t> uncovered_;  // groups update_startup_groups' last pass left with children_cover false
+    std::size_t last_group_pass_visits_ = 0;
+    bool pass_every_group_ = false;
     // Coarse-first: the box of expected tile `id` grown by a cell (its mesh may borrow vertices that far), m.
     Aabb expected_tile_box(std::uint64_t id, const std::array<int, 3>& dims) const;
 };
