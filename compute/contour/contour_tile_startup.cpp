@@ -106,6 +106,10 @@ void TileSurfaceCache::stroke_pass_groups(std::vector<std::size_t>& visit, std::
     for (const std::uint64_t t : expected_) {
         const std::array<int, 3> tc = grid_coords(t, coarse_dims_);
         std::size_t g = index_of(groups_, tile_group_id(1, grid_index({tc[0] >> 1, tc[1] >> 1, tc[2] >> 1}, dims1)));
+        // Only a tile its group lists counts (one deferred since the last regrouping does not yet, as in the whole
+        // pass: groups_refined).
+        if (g < groups_.size() && !std::binary_search(groups_[g].children.begin(), groups_[g].children.end(), t))
+            continue;
         while (g < groups_.size() && over.insert(groups_[g].id).second)  // up its parents, to one already seen
             g = groups_[g].parent == TileGroupSurface::kNone ? groups_.size() : index_of(groups_, groups_[g].parent);
     }

@@ -75,6 +75,9 @@ std::vector<std::size_t> TileSurfaceCache::place_read_tiles(TileRead&& read, boo
     std::vector<std::uint64_t> next_versions;
     std::vector<bool> next_pending;
     next.reserve(tiles_.size() + rebuilt.size());
+    next_versions.reserve(tiles_.size() + rebuilt.size());
+    next_pending.reserve(tiles_.size() + rebuilt.size());
+    fresh.reserve(rebuilt.size());
     std::size_t r = 0, g = 0;  // both ascending: rebuilt by id, gone by index
     for (std::size_t k = 0; k <= tiles_.size(); ++k) {
         const std::uint64_t id = k < tiles_.size() ? tiles_[k].id : ~std::uint64_t{0};

@@ -346,7 +346,8 @@ private:
     void queue_ready_groups();                                   // background: jobs for groups now ready
     void queue_settled_tiles(std::chrono::steady_clock::time_point now);  // background: a stroke's quiet tiles
     // What a refresh read from its source: the tiles to rebuild (ascending id; id and versions set, no mesh yet),
-    // the indices in tiles_ of the tiles that have no triangles any more, and how many tiles it read.
+    // the indices in tiles_ of the tiles that have no triangles any more or lie past the source's last tile, and how
+    // many tiles it read.
     struct TileRead {
         std::vector<TileSurface> rebuilt;
         std::vector<std::size_t> gone;
