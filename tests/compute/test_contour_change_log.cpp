@@ -66,17 +66,6 @@ TEST(TileChangeLog, ListsTheTilesAfterAMarkAndRefusesAMarkItNoLongerCovers) {
     EXPECT_FALSE(small.since(mark, out));
 }
 
-// Cut k of a groove across the sphere's +z cap (`side` 0), or across its -y side (`side` 1).
-void cut(TriDexel& m, int k, int side = 0) {
-    const Lattice& L = m.lattice;
-    const double r = kOffCentreRadius - 4.0;
-    const auto at = [&](double u) {
-        return L.to_world(kOffCentre +
-                          (side == 0 ? Vec3(-30.0 + 12.0 * u, 8.0 * u, r) : Vec3(-30.0 + 12.0 * u, -r, 6.0 * u)));
-    };
-    subtract_capsule(m, Segment{at(k), at(k + 1)}, 6.0 * L.cell_m);
-}
-
 // The same tiles, versions and meshes in both caches.
 void expect_same_tiles(const TileSurfaceCache& a, const TileSurfaceCache& b) {
     ASSERT_EQ(a.tiles().size(), b.tiles().size());
@@ -123,13 +112,13 @@ void run_session(bool startup) {
         SCOPED_TRACE("step " + std::to_string(step));
         if (refiner && step % 3 == 0) refiner->refine_next(model, contourer);
         if (step % 4 == 1) {  // a stroke's step: deferred
-            cut(model, step / 4);
+            groove_cut(model, step / 4);
             deferral.defer(model);
         }
         if (step % 4 == 3) deferral.contour_oldest(model, contourer, 5);  // between strokes
         if (step % 8 == 6) {  // changes contoured at once, taking the deferred tiles they reach
-            cut(model, 2 + step / 8);
-            cut(model, step / 8, 1);
+            groove_cut(model, 2 + step / 8);
+            groove_cut(model, step / 8, 1);
             deferral.take_dirty(model);
             contourer.update(model);
         }
@@ -145,7 +134,7 @@ void run_session(bool startup) {
         check();
         EXPECT_EQ(cache.last_refresh_visits(), contourer.tile_count());
         visits -= contourer.tile_count();
-        cut(model, 1, 1);
+        groove_cut(model, 1, 1);
         deferral.take_dirty(model);
         contourer.update(model);
         check();
@@ -202,7 +191,7 @@ TEST(TileChangeLog, ARefreshThatThrowsKeepsItsMark) {
     lod.cell_m = model.lattice.cell_m;
     cache.enable_lod(lod);  // no worker, not deferred: refresh() builds the levels
     cache.refresh(source);
-    cut(model, 0);
+    groove_cut(model, 0);
     contourer.update(model);
     source.spoil = true;
     EXPECT_THROW(cache.refresh(source), Error);

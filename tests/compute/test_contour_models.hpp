@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "compute/model/tridexel.hpp"
+#include "compute/tools/boolean.hpp"
 #include "core/tri_mesh.hpp"
 
 namespace tridex::compute::testing {
@@ -71,6 +72,18 @@ inline TriDexel off_centre_sphere() {
     TriDexel m = empty_model(cube_lattice(128));
     fill_rays(m, [](int a, int u, int v) { return sphere_chord(kOffCentre, kOffCentreRadius, a, u, v); });
     return m;
+}
+
+/// Cut k (0, 1, ...) of a groove across off_centre_sphere()'s +z cap (`side` 0) or its -y side (`side` 1): a capsule
+/// 6 cells in radius, each cut 12 cells on from the last.
+inline void groove_cut(TriDexel& m, int k, int side = 0) {
+    const Lattice& L = m.lattice;
+    const double r = kOffCentreRadius - 4.0;
+    const auto at = [&](double u) {
+        return L.to_world(kOffCentre +
+                          (side == 0 ? Vec3(-30.0 + 12.0 * u, 8.0 * u, r) : Vec3(-30.0 + 12.0 * u, -r, 6.0 * u)));
+    };
+    subtract_capsule(m, Segment{at(k), at(k + 1)}, 6.0 * L.cell_m);
 }
 
 /// Exact chord of the axis-aligned box [lo, hi] (grid units) along ray (u, v) of set a.

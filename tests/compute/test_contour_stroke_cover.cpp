@@ -19,17 +19,6 @@ namespace {
 
 using namespace testing;
 
-// Cut k of a groove across the sphere's +z cap (`side` 0) or its -y side (`side` 1).
-void cut(TriDexel& m, int k, int side) {
-    const Lattice& L = m.lattice;
-    const double r = kOffCentreRadius - 4.0;
-    const auto at = [&](double u) {
-        return L.to_world(kOffCentre +
-                          (side == 0 ? Vec3(-30.0 + 12.0 * u, 8.0 * u, r) : Vec3(-30.0 + 12.0 * u, -r, 6.0 * u)));
-    };
-    subtract_capsule(m, Segment{at(k), at(k + 1)}, 6.0 * L.cell_m);
-}
-
 // A session with every tile contoured at start-up and the coarse group levels, whose strokes are drawn coarse: each
 // step's tiles are deferred and hidden, and contoured between strokes, as the sculpt thread does.
 struct Session {
@@ -52,7 +41,7 @@ struct Session {
     // A step's tiles deferred, then the background's collect (its pass runs before the refresh regroups them), then
     // the refresh, as the sculpt thread does.
     void defer_step(int k, int side) {
-        cut(model, k, side);
+        groove_cut(model, k, side);
         cache.defer_tiles(deferral.defer(model));
         cache.collect_lods();
     }
