@@ -79,8 +79,7 @@ std::unordered_set<std::uint64_t> TileSurfaceCache::coarse_reach(const std::arra
     std::unordered_set<std::uint64_t> out;
     for (int d = coarse_->min_depth(); d <= coarse_->max_depth(); ++d) {
         const int span = kT << d, grow = (kReach + 1) << d;
-        std::array<int, 3> gdims{};
-        for (int a = 0; a < 3; ++a) gdims[a] = (dims[a] + (1 << d) - 1) >> d;
+        const std::array<int, 3> gdims = group_grid_dims(dims, d);
         for (const std::uint64_t t : changed_tiles) {
             const std::array<int, 3> tc = grid_coords(t, dims);
             std::array<int, 3> lo{}, hi{};

@@ -15,15 +15,11 @@ namespace {
 struct GroupGrid {
     std::array<int, 3> tiles{};
 
-    std::array<int, 3> dims(int depth) const {
-        std::array<int, 3> g{};
-        for (int a = 0; a < 3; ++a) g[a] = (tiles[a] + (1 << depth) - 1) >> depth;
-        return g;
-    }
+    std::array<int, 3> dims(int depth) const { return group_grid_dims(tiles, depth); }
     std::array<int, 3> tile_coords(std::uint64_t tile) const { return grid_coords(tile, tiles); }
     std::uint64_t group_id(int depth, const std::array<int, 3>& g) const { return tile_group_id(depth, grid_index(g, dims(depth))); }
     std::uint64_t group_of(const std::array<int, 3>& t, int depth) const {
-        return group_id(depth, {t[0] >> depth, t[1] >> depth, t[2] >> depth});
+        return tile_group_id(depth, group_index_of(t, tiles, depth));
     }
     std::array<int, 3> group_coords(std::uint64_t id, int depth) const { return grid_coords(tile_group_index(id), dims(depth)); }
 };

@@ -101,11 +101,9 @@ bool TileSurfaceCache::group_refined(const TileGroupSurface& group, bool startup
 
 void TileSurfaceCache::stroke_pass_groups(std::vector<std::size_t>& visit, std::vector<bool>& refined) const {
     std::unordered_set<std::uint64_t> over;  // the groups over an expected tile
-    std::array<int, 3> dims1{};              // the depth-1 groups' grid
-    for (int a = 0; a < 3; ++a) dims1[a] = (coarse_dims_[a] + 1) >> 1;
     for (const std::uint64_t t : expected_) {
-        const std::array<int, 3> tc = grid_coords(t, coarse_dims_);
-        std::size_t g = index_of(groups_, tile_group_id(1, grid_index({tc[0] >> 1, tc[1] >> 1, tc[2] >> 1}, dims1)));
+        const std::uint64_t group = tile_group_id(1, group_index_of(grid_coords(t, coarse_dims_), coarse_dims_, 1));
+        std::size_t g = index_of(groups_, group);
         // Only a tile its group lists counts (one deferred since the last regrouping does not yet, as in the whole
         // pass: groups_refined).
         if (g < groups_.size() && !std::binary_search(groups_[g].children.begin(), groups_[g].children.end(), t))

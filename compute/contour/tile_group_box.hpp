@@ -20,6 +20,20 @@ inline std::uint64_t grid_index(const std::array<int, 3>& c, const std::array<in
                (static_cast<std::uint64_t>(c[1]) + static_cast<std::uint64_t>(dims[1]) * static_cast<std::uint64_t>(c[2]));
 }
 
+/// The grid of depth-`depth` tile groups (2^depth tiles along each axis) over a grid of `dims` tiles: the group
+/// count along each axis, rounded up. depth >= 0; no range check.
+inline std::array<int, 3> group_grid_dims(const std::array<int, 3>& dims, int depth) {
+    std::array<int, 3> g{};
+    for (int a = 0; a < 3; ++a) g[a] = (dims[a] + (1 << depth) - 1) >> depth;
+    return g;
+}
+
+/// The linear index, in group_grid_dims(dims, depth), of the depth-`depth` group holding the tile at coordinates
+/// `tile` of a grid of `dims` tiles (tile_group_id(depth, this) is its id). No range check.
+inline std::uint64_t group_index_of(const std::array<int, 3>& tile, const std::array<int, 3>& dims, int depth) {
+    return grid_index({tile[0] >> depth, tile[1] >> depth, tile[2] >> depth}, group_grid_dims(dims, depth));
+}
+
 /// The tiles of the depth-`depth` tile group at group coordinates `coords` (2^depth tiles along each axis,
 /// TileGroupSurface::coords) grown by one tile, as an inclusive box of tile coordinates in `lo`, `hi` (not clamped to
 /// the grid: the caller clamps). Returns false, leaving them as they were, when the depth is outside 1..6 or the group
