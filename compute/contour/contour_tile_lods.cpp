@@ -114,8 +114,8 @@ void TileSurfaceCache::queue_ready_groups() {
 
 std::size_t TileSurfaceCache::collect_lods(bool stroke_open, const std::function<bool()>& yield) {
     const std::size_t coarse = coarse_ ? settle_coarse_levels(std::chrono::steady_clock::now(), stroke_open, yield) : 0;
-    // Levels that arrived can stand in now; refined groups' errors still to measure.
-    if (startup_groups_ && (coarse > 0 || remeasure_more_)) update_startup_groups();
+    // Levels that arrived can stand in now; levels' errors still to measure, but not while a stroke is open.
+    if (startup_groups_ && (coarse > 0 || (remeasure_more_ && !stroke_open))) update_startup_groups(!stroke_open);
     if (!worker_) return coarse;
     std::vector<LodResult> results;
     worker_->take(results);

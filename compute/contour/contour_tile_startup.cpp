@@ -133,7 +133,47 @@ void TileSurfaceCache::stroke_pass_groups(std::vector<std::size_t>& visit, std::
     for (const std::size_t g : visit) refined.push_back(over.count(groups_[g].id) == 0);
 }
 
-void TileSurfaceCache::update_startup_groups() {
+void TileSurfaceCache::rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated) {
+    // Its level's error, now that its tiles are all in (a few per pass: each reads its tiles' vertices).
+    if (refined && provisional_.count(group.id) > 0) {
+        if (rated.measured == kStartupErrorsPerPass) {
+            remeasure_more_ = true;
+        } else {
+            provisional_.erase(group.id);
+            estimated_.erase(group.id);
+            ++rated.measured;
+            ++startup_errors_rated_;
+            if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
+                group.lods.front().error_m = coarse_level_error(group, group.lods.front());
+            group.version = fresh_tile_version();
+        }
+    }
+    // A deeper level built before its tiles: its estimate raised to how far the finest coarse depth's levels under it
+    // lie from it, once they are read (a thin feature its stride missed shows there first). Only while start-up's
+    // tiles are expected under it: a stroke's deferred group is measured against the tiles in
+    // (rebuild_coarse_levels). Each try walks the group's finest levels, so a pass tries a bounded number; once it
+    // has found that more wait than it tries, a candidate's own walk (group_refined) is skipped: it could only say
+    // again that more wait.
+    const bool full = rated.estimated == kStartupEstimatesPerPass || rated.tried > 4 * kStartupEstimatesPerPass;
+    if (refined || group.depth <= coarse_->min_depth() || provisional_.count(group.id) == 0 ||
+        estimated_.count(group.id) != 0 || !coarse_->has_depth(coarse_->min_depth()) || group.lods.empty() ||
+        (full && remeasure_more_) || group_refined(group, true))
+        return;
+    ++rated.tried;
+    if (rated.estimated == kStartupEstimatesPerPass || rated.tried > 4 * kStartupEstimatesPerPass) {
+        remeasure_more_ = true;
+    } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
+        ++rated.estimated;
+        ++startup_errors_rated_;
+        estimated_.insert(group.id);
+        if (*e > group.lods.front().error_m) {
+            group.lods.front().error_m = *e;
+            group.version = fresh_tile_version();
+        }
+    }
+}
+
+void TileSurfaceCache::update_startup_groups(bool measure) {
     // With start-up's tiles all in, only the groups stroke_pass_groups() names may change; else every group.
     std::vector<std::size_t> visit;
     std::vector<bool> refined;
@@ -146,8 +186,9 @@ void TileSurfaceCache::update_startup_groups() {
     }
     last_group_pass_visits_ = visit.size();
     bool open = !expected_.empty();
-    std::size_t measured = 0, estimated = 0, tried = 0;
-    remeasure_more_ = false;
+    ErrorsRated rated;
+    // A pass that sets the cover only leaves every waiting error to a later one, which finds out what waits.
+    remeasure_more_ = !measure && !provisional_.empty();
     uncovered_.clear();
     for (std::size_t k = 0; k < visit.size(); ++k) {  // children before their parents
         const std::size_t g = visit[k];
@@ -172,43 +213,11 @@ void TileSurfaceCache::update_startup_groups() {
             group.children_cover = cover;
             group.version = fresh_tile_version();
         }
-        // Its level's error, now that its tiles are all in (a few per call: each reads its tiles' vertices).
-        if (refined[k] && provisional_.count(group.id) > 0) {
-            if (measured == kStartupErrorsPerPass) {
-                remeasure_more_ = true;
-            } else {
-                provisional_.erase(group.id);
-                estimated_.erase(group.id);
-                ++measured;
-                if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
-                    group.lods.front().error_m = coarse_level_error(group, group.lods.front());
-                group.version = fresh_tile_version();
-            }
-        }
-        // A deeper level built before its tiles: its estimate raised to how far the finest coarse depth's levels
-        // under it lie from it, once they are read (a thin feature its stride missed shows there first).
-        // Only while start-up's tiles are expected under it: a stroke's deferred group is measured against the tiles
-        // in (rebuild_coarse_levels). Each try walks the group's finest levels, so a pass tries a bounded number.
-        if (!refined[k] && group.depth > coarse_->min_depth() && provisional_.count(group.id) > 0 &&
-            estimated_.count(group.id) == 0 && coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty() &&
-            !group_refined(group, true)) {
-            ++tried;
-            if (estimated == kStartupEstimatesPerPass || tried > 4 * kStartupEstimatesPerPass) {
-                remeasure_more_ = true;
-            } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
-                ++estimated;
-                estimated_.insert(group.id);
-                if (*e > group.lods.front().error_m) {
-                    group.lods.front().error_m = *e;
-                    group.version = fresh_tile_version();
-                }
-            }
-        }
+        if (measure) rate_startup_error(group, refined[k], rated);
         if (!group.children_cover) uncovered_.push_back(group.id);
         open = open || !group.children_cover;
     }
     startup_groups_ = open || !provisional_.empty();
 }
-
 
 }  // namespace tridex::compute

@@ -177,7 +177,8 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     refreshed_ = true;
     arrived_.clear();
     stroke_arrived_.clear();
-    if (startup_groups_) update_startup_groups();
+    // A stroke's step (tiles hidden meanwhile) sets only the cover: its samples wait for this refresh.
+    if (startup_groups_) update_startup_groups(!stroke_hidden);
     if (build_now) {  // every group, finest depth first (a group is built from its children's levels)
         const auto t0 = std::chrono::steady_clock::now();
         for (int d = 1; d <= lod_options_.group_depth; ++d) {

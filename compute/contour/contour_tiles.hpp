@@ -317,6 +317,9 @@ public:
     std::vector<std::uint64_t> missed_surface_groups() const;
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
+    /// Coarse-first start-up: the level errors the passes over the groups' cover have measured (kStartupErrorsPerPass)
+    /// or estimated (kStartupEstimatesPerPass) since the cache was made. The passes of a stroke's steps do neither.
+    std::size_t startup_errors_rated() const { return startup_errors_rated_; }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
     /// 0 once start-up's levels are all built, however busy a stroke keeps the worker. 0 before the first refresh.
@@ -472,7 +475,7 @@ private:
     std::unordered_set<std::uint64_t> missed_;     // finest groups whose provisional read found no surface
     std::unordered_map<std::uint64_t, double> dropped_error_;  // provisional levels dropped by a change: their error, m
     bool startup_groups_ = false;
-    bool remeasure_more_ = false;  // update_startup_groups left refined groups' errors to measure
+    bool remeasure_more_ = false;          // update_startup_groups left levels' errors to measure or estimate
     std::vector<std::uint64_t> deferred_;  // arrived tiles whose level jobs wait until no tile is expected
     void queue_deferred_tiles();           // background: jobs for deferred_ (start-up's)
     // Coarse-first: per groups_ entry, true when every tile under it is in tiles_ (none expected).
@@ -484,9 +487,20 @@ private:
     bool tile_expected(std::uint64_t id, bool startup_only) const {
         return expected_.count(id) != 0 && !(startup_only && stroke_expected_.count(id) != 0);
     }
-    // Coarse-first: sets each group's children_cover and re-measures the error of up to
-    // kStartupErrorsPerPass levels built before their tiles were all in (new versions where either changed).
-    void update_startup_groups();
+    // Coarse-first: sets each group's children_cover and, with `measure`, re-measures the error of up to
+    // kStartupErrorsPerPass levels built before their tiles were all in and raises up to kStartupEstimatesPerPass
+    // estimates (new versions where any changed). Without `measure` (a pass in a stroke's path: its step's refresh,
+    // collect_lods with the stroke open) only the cover is set, and remeasure_more_ marks what it left for a later
+    // pass.
+    void update_startup_groups(bool measure = true);
+    // What one pass of update_startup_groups has measured, estimated and tried to estimate.
+    struct ErrorsRated {
+        std::size_t measured = 0, estimated = 0, tried = 0;
+    };
+    // One group's part of a measuring pass: its level's error measured if it is `refined` and provisional, or its
+    // estimate raised if it is deeper than the finest coarse depth and start-up's tiles under it are expected; within
+    // the pass's bounds, else remeasure_more_ is set.
+    void rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated);
     // Once no start-up tile is expected: the groups update_startup_groups() must visit (indices into groups_,
     // ascending), and per each whether it is refined. Those are the groups over an expected tile (a stroke's, not
     // refined), those its last pass left uncovered and the first refined ones whose level waits to be measured (as
@@ -494,6 +508,7 @@ private:
     void stroke_pass_groups(std::vector<std::size_t>& visit, std::vector<bool>& refined) const;
     std::vector<std::uint64_t> uncovered_;  // groups update_startup_groups' last pass left with children_cover false
     std::size_t last_group_pass_visits_ = 0;
+    std::size_t startup_errors_rated_ = 0;
     bool pass_every_group_ = false;
     // Coarse-first: the box of expected tile `id` grown by a cell (its mesh may borrow vertices that far), m.
     Aabb expected_tile_box(std::uint64_t id, const std::array<int, 3>& dims) const;

@@ -15,6 +15,7 @@
 #include "compute/contour/startup_refine.hpp"
 #include "compute/tools/boolean.hpp"
 #include "core/error.hpp"
+#include "test_coarse_first_session.hpp"
 #include "test_contour_models.hpp"
 
 namespace tridex::compute {
@@ -25,23 +26,12 @@ using namespace testing;
 const Vec3 kCentre = kOffCentre;  // grid units on a 128-cell cube lattice
 constexpr double kRadius = kOffCentreRadius;
 constexpr int kTop = CoarseLevelOptions{}.max_depth;
-// Regions of 2x2x2 tiles: the sphere's 8x8x8 tiles are one depth-3 region, sessions refine by depth-3 groups.
-constexpr int kRegionDepth = 1;
-
-TriDexel sphere_model() { return off_centre_sphere(); }
-
 // A cut across the sphere's +x side, away from the lattice's origin corner where the refinement starts.
 void cut(TriDexel& m) {
     const Lattice& L = m.lattice;
     const Vec3 a = L.to_world(kCentre + Vec3(kRadius, -10.0, 5.0)),
                b = L.to_world(kCentre + Vec3(kRadius - 3.0, 12.0, -4.0));
     subtract_capsule(m, Segment{a, b}, 6.0 * L.cell_m);
-}
-
-// Groups take every level until none waits, and the errors of the coarse-first levels are measured.
-void settle(TileSurfaceCache& cache) {
-    for (int i = 0; i < 400; ++i) cache.collect_lods();
-    EXPECT_EQ(cache.coarse_waiting(), 0u);
 }
 
 // The start-up that contours every tile before the first refresh.
@@ -56,43 +46,6 @@ struct Full {
         cache.enable_lod(o);
         cache.use_coarse_groups(model, CoarseLevelOptions{});
         cache.refresh(contourer);
-        settle(cache);
-    }
-};
-
-// The coarse-first start-up, as the sculpt thread runs it.
-struct CoarseFirst {
-    TriDexel model;
-    Contourer contourer{model};
-    TileSurfaceCache cache;
-    std::unique_ptr<StartupRefiner> refiner;
-    CoarseFirst() : CoarseFirst(sphere_model()) {}
-    explicit CoarseFirst(TriDexel m, const CoarseLevelOptions& levels = {}) : model(std::move(m)) {
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
-        cache.use_coarse_groups(model, levels, true);
-        refiner = std::make_unique<StartupRefiner>(model, kRegionDepth, model.lattice.to_world(Vec3(0.0)));
-        cache.expect_tiles(refiner->pending_tiles());
-        refresh();
-    }
-    void refresh() {
-        cache.arrive(refiner->take_newly_publishable());
-        cache.refresh(StartupRefiner::Source(contourer, *refiner));
-    }
-    // What SculptThread::contour_changed does for a change during the refinement.
-    void contour_change() {
-        const std::vector<std::uint32_t> d = model.tiles.dirty_tiles();
-        const std::vector<std::uint64_t> dirty(d.begin(), d.end());
-        cache.stop_expecting(refiner->pending_among(dirty));
-        refiner->contour_with_change(model, dirty);
-        contourer.update(model);
-        refresh();
-    }
-    void refine_all() {
-        while (cache.build_coarse_depth()) {}
-        while (refiner->refine_next(model, contourer) > 0) refresh();
-        refresh();
         settle(cache);
     }
 };

@@ -1,6 +1,7 @@
 // Tests of TileSurfaceCache's pass over the groups' cover and waiting errors once start-up's tiles are all in: during
 // strokes drawn coarse (defer_tiles) it looks only at the groups over the stroke's hidden tiles, those it left
-// uncovered and those whose level waits to be measured, and leaves every group as a pass over all of them does.
+// uncovered and those whose level waits to be measured, and leaves every group as a pass over all of them does; and
+// in a coarse-first start-up the passes of a stroke's steps leave the levels' errors to measure for after it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include "compute/contour/deferred_contour.hpp"
 #include "compute/contour/held_tiles.hpp"
 #include "compute/tools/boolean.hpp"
+#include "test_coarse_first_session.hpp"
 #include "test_contour_models.hpp"
 
 namespace tridex::compute {
@@ -121,6 +123,35 @@ TEST(StrokeCover, APassOverTheStrokesGroupsLeavesEveryGroupAsAWholePassDoes) {
     EXPECT_GT(most_uncovered, 0u) << "no stroke left a group uncovered: the comparison would not see a wrong cover";
     EXPECT_GT(fewest_visits, 0u);
     EXPECT_LT(fewest_visits, few.cache.groups().size() / 4) << "the passes during strokes looked at most groups";
+}
+
+// In a coarse-first start-up, with the stroke's rebuilt levels waiting to be estimated and refined groups' levels
+// to be measured: the passes of a stroke's steps (its refresh, the collect with the stroke open) set the cover and
+// rate no level's error, so that the step's samples do not wait for that work; the first collect after the stroke
+// takes it up again.
+TEST(StrokeCover, AStrokesPassesLeaveTheLevelsErrorsForAfterIt) {
+    CoarseFirst s;
+    while (s.cache.build_coarse_depth()) {}
+    settle(s.cache);  // every level in, and every estimate made
+    for (int i = 0; i < 30; ++i) ASSERT_GT(s.refiner->refine_next(s.model, s.contourer), 0u);
+    s.refresh();
+    const std::size_t before = s.cache.startup_errors_rated();
+    for (int k = 0; k < 3; ++k) {  // a stroke's steps across the sphere's +z side, away from the refined regions
+        SCOPED_TRACE("step " + std::to_string(k));
+        groove_cut(s.model, k);
+        const std::vector<std::uint32_t> d = s.model.tiles.dirty_tiles();
+        ASSERT_FALSE(d.empty());
+        s.model.clear_dirty();
+        s.cache.defer_tiles(std::vector<std::uint64_t>(d.begin(), d.end()));
+        s.refresh();
+        EXPECT_EQ(s.cache.startup_errors_rated(), before) << "the step's refresh rated a level's error";
+        for (int i = 0; i < 4; ++i) s.cache.collect_lods(true);
+        EXPECT_EQ(s.cache.startup_errors_rated(), before) << "a collect with the stroke open rated a level's error";
+    }
+    s.cache.collect_lods();
+    const std::size_t after = s.cache.startup_errors_rated() - before;
+    std::printf("[stroke cover] level errors rated by the first collect after the stroke: %zu\n", after);
+    EXPECT_GT(after, 0u) << "no level's error waited: the stroke's passes had nothing to leave";
 }
 
 }  // namespace
