@@ -133,6 +133,12 @@ void TileSurfaceCache::stroke_pass_groups(std::vector<std::size_t>& visit, std::
     for (const std::size_t g : visit) refined.push_back(over.count(groups_[g].id) == 0);
 }
 
+bool TileSurfaceCache::startup_error_may_wait(const TileGroupSurface& group, bool refined) const {
+    if (provisional_.count(group.id) == 0) return false;
+    return refined || (group.depth > coarse_->min_depth() && estimated_.count(group.id) == 0 &&
+                       coarse_->has_depth(coarse_->min_depth()) && !group.lods.empty());
+}
+
 void TileSurfaceCache::rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated) {
     // Its level's error, now that its tiles are all in (a few per pass: each reads its tiles' vertices).
     if (refined && provisional_.count(group.id) > 0) {
@@ -187,8 +193,7 @@ void TileSurfaceCache::update_startup_groups(bool measure) {
     last_group_pass_visits_ = visit.size();
     bool open = !expected_.empty();
     ErrorsRated rated;
-    // A pass that sets the cover only leaves every waiting error to a later one, which finds out what waits.
-    remeasure_more_ = !measure && !provisional_.empty();
+    remeasure_more_ = false;
     uncovered_.clear();
     for (std::size_t k = 0; k < visit.size(); ++k) {  // children before their parents
         const std::size_t g = visit[k];
@@ -213,7 +218,10 @@ void TileSurfaceCache::update_startup_groups(bool measure) {
             group.children_cover = cover;
             group.version = fresh_tile_version();
         }
-        if (measure) rate_startup_error(group, refined[k], rated);
+        if (measure)
+            rate_startup_error(group, refined[k], rated);
+        else if (!remeasure_more_)  // a pass that sets the cover only leaves what waits to a later one
+            remeasure_more_ = startup_error_may_wait(group, refined[k]);
         if (!group.children_cover) uncovered_.push_back(group.id);
         open = open || !group.children_cover;
     }

@@ -318,7 +318,8 @@ public:
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
     /// Coarse-first start-up: the level errors the passes over the groups' cover have measured (kStartupErrorsPerPass)
-    /// or estimated (kStartupEstimatesPerPass) since the cache was made. The passes of a stroke's steps do neither.
+    /// or estimated (kStartupEstimatesPerPass) since the cache was made. The passes of a refresh() whose tiles a
+    /// stroke hides (defer_tiles) and of collect_lods() with `stroke_open` do neither.
     std::size_t startup_errors_rated() const { return startup_errors_rated_; }
     /// Background building: the tiles and groups that the first refresh() left waiting for their levels and that
     /// still wait without having changed since (a later change makes one a stroke's, timed by lod_latency_ms()):
@@ -489,9 +490,9 @@ private:
     }
     // Coarse-first: sets each group's children_cover and, with `measure`, re-measures the error of up to
     // kStartupErrorsPerPass levels built before their tiles were all in and raises up to kStartupEstimatesPerPass
-    // estimates (new versions where any changed). Without `measure` (a pass in a stroke's path: its step's refresh,
-    // collect_lods with the stroke open) only the cover is set, and remeasure_more_ marks what it left for a later
-    // pass.
+    // estimates (new versions where any changed). Without `measure` (a pass in a stroke's path: a refresh whose
+    // tiles a stroke hides, collect_lods with the stroke open) only the cover is set, and remeasure_more_ marks that
+    // errors may wait for a later pass.
     void update_startup_groups(bool measure = true);
     // What one pass of update_startup_groups has measured, estimated and tried to estimate.
     struct ErrorsRated {
@@ -501,6 +502,9 @@ private:
     // estimate raised if it is deeper than the finest coarse depth and start-up's tiles under it are expected; within
     // the pass's bounds, else remeasure_more_ is set.
     void rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated);
+    // Whether rate_startup_error might measure or estimate `group`'s level (without walking the tiles under it: true
+    // may be too many, never too few).
+    bool startup_error_may_wait(const TileGroupSurface& group, bool refined) const;
     // Once no start-up tile is expected: the groups update_startup_groups() must visit (indices into groups_,
     // ascending), and per each whether it is refined. Those are the groups over an expected tile (a stroke's, not
     // refined), those its last pass left uncovered and the first refined ones whose level waits to be measured (as
@@ -508,7 +512,7 @@ private:
     void stroke_pass_groups(std::vector<std::size_t>& visit, std::vector<bool>& refined) const;
     std::vector<std::uint64_t> uncovered_;  // groups update_startup_groups' last pass left with children_cover false
     std::size_t last_group_pass_visits_ = 0;
-    std::size_t startup_errors_rated_ = 0;
+    std::size_t startup_errors_rated_ = 0;  // level errors measured or estimated: startup_errors_rated()
     bool pass_every_group_ = false;
     // Coarse-first: the box of expected tile `id` grown by a cell (its mesh may borrow vertices that far), m.
     Aabb expected_tile_box(std::uint64_t id, const std::array<int, 3>& dims) const;

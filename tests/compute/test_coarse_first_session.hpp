@@ -16,7 +16,7 @@
 namespace tridex::compute::testing {
 
 // Regions of 2x2x2 tiles: the sphere's 8x8x8 tiles are one depth-3 region, sessions refine by depth-3 groups.
-constexpr int kRegionDepth = 1;
+inline constexpr int kRegionDepth = 1;
 
 inline TriDexel sphere_model() { return off_centre_sphere(); }
 
