@@ -140,19 +140,21 @@ bool TileSurfaceCache::startup_error_may_wait(const TileGroupSurface& group, boo
 }
 
 void TileSurfaceCache::rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated) {
+    if (!startup_error_may_wait(group, refined)) return;
     // Its level's error, now that its tiles are all in (a few per pass: each reads its tiles' vertices).
-    if (refined && provisional_.count(group.id) > 0) {
+    if (refined) {
         if (rated.measured == kStartupErrorsPerPass) {
             remeasure_more_ = true;
-        } else {
-            provisional_.erase(group.id);
-            estimated_.erase(group.id);
-            ++rated.measured;
-            ++startup_errors_rated_;
-            if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
-                group.lods.front().error_m = coarse_level_error(group, group.lods.front());
-            group.version = fresh_tile_version();
+            return;
         }
+        provisional_.erase(group.id);
+        estimated_.erase(group.id);
+        ++rated.measured;
+        ++startup_errors_rated_;
+        if (!group.lods.empty() && !group.lods.front().mesh.triangles.empty())
+            group.lods.front().error_m = coarse_level_error(group, group.lods.front());
+        group.version = fresh_tile_version();
+        return;
     }
     // A deeper level built before its tiles: its estimate raised to how far the finest coarse depth's levels under it
     // lie from it, once they are read (a thin feature its stride missed shows there first). Only while start-up's
@@ -160,13 +162,9 @@ void TileSurfaceCache::rate_startup_error(TileGroupSurface& group, bool refined,
     // (rebuild_coarse_levels). Each try walks the group's finest levels, so a pass tries a bounded number; once it
     // has found that more wait than it tries, a candidate's own walk (group_refined) is skipped: it could only say
     // again that more wait.
-    const bool full = rated.estimated == kStartupEstimatesPerPass || rated.tried > 4 * kStartupEstimatesPerPass;
-    if (refined || group.depth <= coarse_->min_depth() || provisional_.count(group.id) == 0 ||
-        estimated_.count(group.id) != 0 || !coarse_->has_depth(coarse_->min_depth()) || group.lods.empty() ||
-        (full && remeasure_more_) || group_refined(group, true))
-        return;
+    if ((rated.estimates_full() && remeasure_more_) || group_refined(group, true)) return;
     ++rated.tried;
-    if (rated.estimated == kStartupEstimatesPerPass || rated.tried > 4 * kStartupEstimatesPerPass) {
+    if (rated.estimates_full()) {
         remeasure_more_ = true;
     } else if (const std::optional<double> e = coarse_level_estimate(group, group.lods.front())) {
         ++rated.estimated;

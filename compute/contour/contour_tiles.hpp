@@ -497,13 +497,18 @@ private:
     // What one pass of update_startup_groups has measured, estimated and tried to estimate.
     struct ErrorsRated {
         std::size_t measured = 0, estimated = 0, tried = 0;
+        // Whether the pass has made or tried as many estimates as it may.
+        bool estimates_full() const {
+            return estimated == kStartupEstimatesPerPass || tried > 4 * kStartupEstimatesPerPass;
+        }
     };
     // One group's part of a measuring pass: its level's error measured if it is `refined` and provisional, or its
     // estimate raised if it is deeper than the finest coarse depth and start-up's tiles under it are expected; within
     // the pass's bounds, else remeasure_more_ is set.
     void rate_startup_error(TileGroupSurface& group, bool refined, ErrorsRated& rated);
-    // Whether rate_startup_error might measure or estimate `group`'s level (without walking the tiles under it: true
-    // may be too many, never too few).
+    // Whether rate_startup_error might measure (`refined`) or estimate `group`'s level: it is provisional, and for an
+    // estimate deeper than the finest coarse depth, not estimated yet and with a level. Walks nothing under it, so
+    // true may be too many (start-up's tiles under it all in), never too few.
     bool startup_error_may_wait(const TileGroupSurface& group, bool refined) const;
     // Once no start-up tile is expected: the groups update_startup_groups() must visit (indices into groups_,
     // ascending), and per each whether it is refined. Those are the groups over an expected tile (a stroke's, not

@@ -20,6 +20,16 @@ inline constexpr int kRegionDepth = 1;
 
 inline TriDexel sphere_model() { return off_centre_sphere(); }
 
+// Levels of detail on `cache` at `model`'s cell size, with coarse group levels (`coarse_first`: a coarse-first
+// start-up, TileSurfaceCache::use_coarse_groups).
+inline void use_coarse_lod(TileSurfaceCache& cache, const TriDexel& model, const CoarseLevelOptions& levels = {},
+                           bool coarse_first = false) {
+    TileLodOptions o;
+    o.cell_m = model.lattice.cell_m;
+    cache.enable_lod(o);
+    cache.use_coarse_groups(model, levels, coarse_first);
+}
+
 // Groups take every level until none waits, and the errors of the coarse-first levels are measured.
 inline void settle(TileSurfaceCache& cache) {
     for (int i = 0; i < 400; ++i) cache.collect_lods();
@@ -34,10 +44,7 @@ struct CoarseFirst {
     std::unique_ptr<StartupRefiner> refiner;
     CoarseFirst() : CoarseFirst(sphere_model()) {}
     explicit CoarseFirst(TriDexel m, const CoarseLevelOptions& levels = {}) : model(std::move(m)) {
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
-        cache.use_coarse_groups(model, levels, true);
+        use_coarse_lod(cache, model, levels, true);
         refiner = std::make_unique<StartupRefiner>(model, kRegionDepth, model.lattice.to_world(Vec3(0.0)));
         cache.expect_tiles(refiner->pending_tiles());
         refresh();

@@ -41,10 +41,7 @@ struct Full {
     TileSurfaceCache cache;
     Full() {
         contourer.update(model);
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
-        cache.use_coarse_groups(model, CoarseLevelOptions{});
+        use_coarse_lod(cache, model);
         cache.refresh(contourer);
         settle(cache);
     }

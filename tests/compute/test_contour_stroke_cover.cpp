@@ -31,10 +31,7 @@ struct Session {
 
     explicit Session(bool every) {
         contourer.update(model);
-        TileLodOptions o;
-        o.cell_m = model.lattice.cell_m;
-        cache.enable_lod(o);
-        cache.use_coarse_groups(model, CoarseLevelOptions{});
+        use_coarse_lod(cache, model);
         cache.pass_every_group(every);
         refresh();
         for (int i = 0; i < 400; ++i) cache.collect_lods();
