@@ -169,12 +169,158 @@ TEST(TileView, TheSamePublishedObjectsKeepTheListsAndAChangedTileIsTakenIn) {
     ASSERT_EQ(view.tiles.size(), count);
     EXPECT_EQ(view.tiles[3].version, changed->version);
     EXPECT_EQ(view.tiles[3].mesh, &changed->mesh);
-    EXPECT_NE(view.tiles[0].version, 0u);
+    EXPECT_EQ(view.tiles[0].version, 0u) << "the changed tile was not taken in place";
     expect_links(view, p);
     // Without levels the groups go, though the objects are the same.
     tile_view_of(p.tiles, p.groups, false, view);
     EXPECT_TRUE(view.groups.empty());
     EXPECT_TRUE(view.tiles[3].levels.empty());
+}
+
+// Expects `a` and `b` to hold the same lists entry by entry (the levels by content, not by where they are stored).
+void expect_same_view(const TileView& a, const TileView& b) {
+    const auto same_levels = [](std::span<const renderer::TileMeshLevel> x,
+                                std::span<const renderer::TileMeshLevel> y) {
+        if (x.size() != y.size()) return false;
+        for (std::size_t k = 0; k < x.size(); ++k)
+            if (x[k].mesh != y[k].mesh || x[k].materials != y[k].materials || x[k].normals != y[k].normals ||
+                x[k].error_m != y[k].error_m || x[k].own_triangles != y[k].own_triangles || x[k].joins != y[k].joins)
+                return false;
+        return true;
+    };
+    ASSERT_EQ(a.tiles.size(), b.tiles.size());
+    ASSERT_EQ(a.groups.size(), b.groups.size());
+    for (std::size_t i = 0; i < a.tiles.size(); ++i) {
+        const renderer::TileMesh &x = a.tiles[i], &y = b.tiles[i];
+        EXPECT_TRUE(x.mesh == y.mesh && x.version == y.version && x.id == y.id && x.materials == y.materials &&
+                    x.normals == y.normals && x.group == y.group && x.bounds_m.lo == y.bounds_m.lo &&
+                    x.bounds_m.hi == y.bounds_m.hi)
+            << "tile " << i;
+        EXPECT_TRUE(same_levels(x.levels, y.levels)) << "tile " << i;
+    }
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+        const renderer::TileGroup &x = a.groups[g], &y = b.groups[g];
+        EXPECT_TRUE(x.id == y.id && x.version == y.version && x.parent == y.parent &&
+                    x.children_cover == y.children_cover && x.levels_waiting == y.levels_waiting &&
+                    x.neighbours == y.neighbours && x.bounds_m.lo == y.bounds_m.lo && x.bounds_m.hi == y.bounds_m.hi)
+            << "group " << g;
+        EXPECT_TRUE(same_levels(x.levels, y.levels)) << "group " << g;
+    }
+}
+
+// Later publishes, as a sculpt thread makes them: some tiles and groups replaced by new objects of the same ids
+// (other levels, more, fewer or none; versions; flags; a depth-1 group's children), some gone and some back. Each is
+// merged into the lists by id (an unchanged tile keeps its entry) and equals a fresh fill of that publish.
+TEST(TileView, LaterPublishesAreMergedByIdAsAFreshFillGivesThem) {
+    for (const bool coarse : {false, true}) {
+        SCOPED_TRACE(coarse ? "coarse group levels" : "simplified levels");
+        Published all = publish(coarse ? 96 : 64, coarse);  // every object a round may list, sorted by id
+        std::vector<bool> tile_in(all.tiles.size(), true), group_in(all.groups.size(), true);
+        const auto listed = [&] {
+            Published p;
+            for (std::size_t i = 0; i < all.tiles.size(); ++i)
+                if (tile_in[i]) p.tiles.push_back(all.tiles[i]);
+            for (std::size_t g = 0; g < all.groups.size(); ++g)
+                if (group_in[g]) p.groups.push_back(all.groups[g]);
+            return p;
+        };
+        Published p = listed();
+        TileView view;
+        tile_view_of(p.tiles, p.groups, true, view);
+        std::mt19937 rng(coarse ? 5 : 3);
+        int merged = 0;
+        std::vector<std::size_t> gone_tiles, gone_groups;  // the last odd round's
+        for (int round = 0; round < 8; ++round) {
+            SCOPED_TRACE(round);
+            std::size_t need = 0;          // the most levels this round can add after view.levels' end
+            for (int k = 0; k < 6; ++k) {  // tiles: a new version, their levels cut to one or dropped, or doubled
+                const std::size_t i = rng() % all.tiles.size();
+                auto t = std::make_shared<compute::TileSurface>(*all.tiles[i]);
+                t->version += 1000;
+                if (k % 3 == 0 && t->lods.size() > 1) t->lods.resize(1);
+                if (k % 3 == 1) t->lods.clear();
+                if (k % 3 == 2) t->lods.insert(t->lods.end(), t->lods.begin(), t->lods.end());
+                need += t->lods.size();
+                all.tiles[i] = t;
+            }
+            for (int k = 0; k < 6; ++k) {  // groups: a new version and flags, a level more or less
+                const std::size_t g = rng() % all.groups.size();
+                auto s = std::make_shared<compute::TileGroupSurface>(*all.groups[g]);
+                s->version += 1000;
+                s->children_cover = !s->children_cover;
+                s->levels_waiting = !s->levels_waiting;
+                if (k % 2 == 0 && !s->lods.empty()) s->lods.push_back(s->lods.back());
+                if (k % 2 == 1 && s->lods.size() > 1) s->lods.pop_back();
+                s->bounds_m = s->bounds_m.inflated(0.001);
+                need += s->lods.size();
+                all.groups[g] = s;
+            }
+            // Odd rounds only: tiles and groups gone or back, and a depth-1 group's children (even rounds keep every
+            // group in its place, so that carried entries keep their indices).
+            // The last odd round's gone ones come back.
+            for (int k = 0; k < (round % 2 == 1 ? 4 : 0); ++k) {
+                const std::size_t i = rng() % all.tiles.size(), g = rng() % all.groups.size();
+                tile_in[i] = !tile_in[i];
+                group_in[g] = !group_in[g];
+                need += all.tiles[i]->lods.size() + all.groups[g]->lods.size();
+                gone_tiles.push_back(i);
+                gone_groups.push_back(g);
+            }
+            for (std::size_t n = 0; round % 2 == 1 && n + 4 < gone_tiles.size(); ++n) {
+                tile_in[gone_tiles[n]] = !tile_in[gone_tiles[n]];
+                group_in[gone_groups[n]] = !group_in[gone_groups[n]];
+                need += all.tiles[gone_tiles[n]]->lods.size() + all.groups[gone_groups[n]]->lods.size();
+            }
+            if (round % 2 == 1 && gone_tiles.size() > 4) {
+                gone_tiles.erase(gone_tiles.begin(), gone_tiles.end() - 4);
+                gone_groups.erase(gone_groups.begin(), gone_groups.end() - 4);
+            }
+            // A depth-1 group lists one child fewer.
+            for (std::size_t g = rng() % all.groups.size(); round % 2 == 1 && g < all.groups.size(); ++g)
+                if (all.groups[g]->depth == 1 && all.groups[g]->children.size() > 1) {
+                    auto s = std::make_shared<compute::TileGroupSurface>(*all.groups[g]);
+                    s->children.erase(s->children.begin() + static_cast<std::ptrdiff_t>(rng() % s->children.size()));
+                    need += s->lods.size();
+                    all.groups[g] = s;
+                    break;
+                }
+            const Published last = p;
+            p = listed();
+            // A tile both publishes list as the same object, marked in the view: a merge carries its entry.
+            std::size_t mark = 0;
+            while (mark < last.tiles.size() &&
+                   std::find(p.tiles.begin(), p.tiles.end(), last.tiles[mark]) == p.tiles.end())
+                ++mark;
+            ASSERT_LT(mark, last.tiles.size());
+            const std::uint64_t marked_id = last.tiles[mark]->id;
+            view.tiles[mark].version = 0;
+            const bool room = view.levels.capacity() - view.levels.size() >= need;
+            tile_view_of(p.tiles, p.groups, true, view);
+            const auto at = std::find_if(view.tiles.begin(), view.tiles.end(),
+                                         [&](const renderer::TileMesh& t) { return t.id == marked_id; });
+            ASSERT_NE(at, view.tiles.end());
+            if (room) {
+                EXPECT_EQ(at->version, 0u) << "the lists were filled anew though the levels had room";
+                ++merged;
+            }
+            at->version = (*std::find_if(p.tiles.begin(), p.tiles.end(), [&](const auto& t) {
+                              return t->id == marked_id;
+                          }))->version;
+            TileView fresh;
+            tile_view_of(p.tiles, p.groups, true, fresh);
+            expect_same_view(view, fresh);
+            if (coarse) {
+                EXPECT_GT(expect_neighbours(view, p), 0u);
+            }
+        }
+        EXPECT_GE(merged, 4) << "too few rounds had room for a merge";
+        // Lists out of id order are filled anew, as before.
+        std::reverse(p.tiles.begin(), p.tiles.end());
+        tile_view_of(p.tiles, p.groups, true, view);
+        TileView fresh;
+        tile_view_of(p.tiles, p.groups, true, fresh);
+        expect_same_view(view, fresh);
+    }
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 // as the renderer's tile and group lists, with their levels of detail.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compute/contour/contour_tiles.hpp"
@@ -34,12 +36,22 @@ struct TileView {
     std::vector<renderer::TileMesh> tiles;
     std::vector<renderer::TileGroup> groups;
     std::vector<renderer::TileMeshLevel> levels;
+    /// Each group's place (its depth and coordinates as one key) and index in `groups`, sorted by place: how a
+    /// group's neighbours are found.
+    std::vector<std::pair<std::uint64_t, std::size_t>> group_places;
+    /// (tile id, id of the depth-1 group listing it) for every child of a depth-1 group, sorted: the group of a tile
+    /// that comes in a later publish.
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> tile_groups;
+    /// The lists a later publish's are merged into (swapped with `tiles` and `groups`), kept for their storage.
+    std::vector<renderer::TileMesh> spare_tiles;
+    std::vector<renderer::TileGroup> spare_groups;
     /// The published tiles and groups the lists were filled from (tile_view_of's shared overload; empty after the
     /// other): a frame that gets the same ones again reuses the lists.
     std::vector<std::shared_ptr<const compute::TileSurface>> from_tiles;
     std::vector<std::shared_ptr<const compute::TileGroupSurface>> from_groups;
     bool from_lods = false;
     bool from_shared = false;
+    bool from_sorted = false;  ///< the published lists were sorted by id with no null entry
 };
 
 /// Fills `out` (reusing its storage) with one renderer::TileMesh per surface (mesh, bounds, version, id,
@@ -48,8 +60,10 @@ struct TileView {
 /// neighbours of the groups whose levels join them, TileMeshLevel::joins; each tile's TileMesh::group names its
 /// depth-1 group). Without with_lods `groups` stays empty. Null pointers
 /// are skipped (their children then have no group / parent). When `surfaces`, `groups` and with_lods are those `out`
-/// was last filled from (the same objects: a published one never changes), `out` is left as it is. O(tiles log
-/// groups) otherwise.
+/// was last filled from (the same objects: a published one never changes), `out` is left as it is. When both lists
+/// are sorted by id (as a sculpt thread publishes them) and so were the last ones, the new lists are merged into the
+/// last ones by id: unchanged objects keep their entries, replaced, new and gone ones are rewritten, added or
+/// dropped, in O(tiles + groups) plus a search per changed entry. O(tiles log tiles) otherwise.
 void tile_view_of(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
                   std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
                   TileView& out);
