@@ -23,22 +23,14 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
         entries_.clear();
         frame_ = frame;
     }
-    order_.clear();
     // Blocks with one vertex + index buffer over each: tile draws of one block share a binding.
     if (!pool_)
         pool_ = gpu::BufferPool::create(context, VkDeviceSize{32} << 20,
                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    const auto key_of = [](const TileMesh& t, std::size_t i) { return t.id == TileMesh::kIdFromPosition ? i : t.id; };
     std::size_t changed = 0;
-    for (std::size_t i = 0; i < tiles.size(); ++i) {
-        const TileMesh& t = tiles[i];
-        const std::uint64_t key = t.id == TileMesh::kIdFromPosition ? i : t.id;
-        auto [it, fresh] = entries_.try_emplace(key);
-        if (fresh) it->second = std::make_unique<Entry>();
-        Entry& e = *it->second;
-        if (!fresh && e.seen == syncs_) {
-            order_.clear();
-            throw Error("renderer: SceneView.tiles lists tile id " + std::to_string(key) + " twice");
-        }
+    // Takes tile t (at i) into its entry; a new or changed version retires what was uploaded.
+    const auto take = [&](Entry& e, const TileMesh& t, std::size_t i, bool fresh) {
         e.seen = syncs_;
         e.source = t;
         e.index = i;
@@ -50,6 +42,28 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
             e.version = t.version;
             ++changed;
         }
+    };
+    // The same ids in the same order as the last sync's (every frame between publishes, and a publish that moved no
+    // tile): each entry is found by its position, none is dropped, and none is listed twice (the last sync checked).
+    bool same = order_.size() == tiles.size() && entries_.size() == order_.size();
+    for (std::size_t i = 0; same && i < tiles.size(); ++i)
+        same = key_of(order_[i]->source, order_[i]->index) == key_of(tiles[i], i);
+    if (same) {
+        for (std::size_t i = 0; i < tiles.size(); ++i) take(*order_[i], tiles[i], i, false);
+        return changed;
+    }
+    order_.clear();
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        const TileMesh& t = tiles[i];
+        const std::uint64_t key = key_of(t, i);
+        auto [it, fresh] = entries_.try_emplace(key);
+        if (fresh) it->second = std::make_unique<Entry>();
+        Entry& e = *it->second;
+        if (!fresh && e.seen == syncs_) {
+            order_.clear();
+            throw Error("renderer: SceneView.tiles lists tile id " + std::to_string(key) + " twice");
+        }
+        take(e, t, i, fresh);
         order_.push_back(&e);
     }
     std::erase_if(entries_, [&](const auto& kv) {

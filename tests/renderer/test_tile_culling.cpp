@@ -207,6 +207,19 @@ TEST(TileCulling, TilesAreUploadedWhenDrawnOnceAndAgainOnlyWhenTheirVersionChang
         v.tiles = five.tiles;
         EXPECT_EQ(frame().stats.tile_uploads, 1u);
         EXPECT_EQ(r.tile_uploads_total(), 7u);
+        // The same tiles in another order: found by id, nothing uploaded, the same picture; then a changed version
+        // in that order is uploaded once.
+        const StereoImages in_order = frame();
+        std::vector<TileMesh> reversed(five.tiles.rbegin(), five.tiles.rend());
+        v.tiles = reversed;
+        const StereoImages shuffled = frame();
+        EXPECT_EQ(shuffled.stats.tile_uploads, 0u);
+        EXPECT_EQ(compare_images(shuffled.left, in_order.left, 0).within, 64u * 48u);
+        reversed[1].version = 3;
+        EXPECT_EQ(frame().stats.tile_uploads, 1u);
+        EXPECT_EQ(frame().stats.tile_uploads, 0u);
+        v.tiles = five.tiles;
+        EXPECT_EQ(frame().stats.tile_uploads, 1u) << "the tile's version went back";
         v.cull_tiles = true;
 
         // Duplicate ids and bad materials are user errors naming the field; the renderer stays usable.
