@@ -21,6 +21,7 @@ std::size_t TileMeshCache::sync(const gpu::Context& context, std::span<const Til
     if (!(frame == frame_)) {  // every mesh stored in the old frame goes
         for (auto& kv : entries_) retire(*kv.second);
         entries_.clear();
+        order_.clear();
         frame_ = frame;
     }
     // Blocks with one vertex + index buffer over each: tile draws of one block share a binding.

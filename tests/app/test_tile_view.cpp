@@ -229,6 +229,17 @@ TEST(TileView, LaterPublishesAreMergedByIdAsAFreshFillGivesThem) {
         tile_view_of(p.tiles, p.groups, true, view);
         std::mt19937 rng(coarse ? 5 : 3);
         int merged = 0;
+        std::vector<std::pair<std::size_t, std::shared_ptr<const compute::TileGroupSurface>>> fewer;  // as they were
+        std::size_t joined = 0;
+        while (joined < all.groups.size() &&
+               std::none_of(all.groups[joined]->lods.begin(), all.groups[joined]->lods.end(),
+                            [](const compute::TileLodLevel& l) { return l.joins != 0; }))
+            ++joined;
+        if (coarse) {
+            ASSERT_LT(joined, all.groups.size()) << "no coarse level joins a neighbour";
+        }
+        TileView plain;  // the same publishes without levels
+        tile_view_of(p.tiles, p.groups, false, plain);
         std::vector<std::size_t> gone_tiles, gone_groups;  // the last odd round's
         for (int round = 0; round < 8; ++round) {
             SCOPED_TRACE(round);
@@ -275,15 +286,26 @@ TEST(TileView, LaterPublishesAreMergedByIdAsAFreshFillGivesThem) {
                 gone_tiles.erase(gone_tiles.begin(), gone_tiles.end() - 4);
                 gone_groups.erase(gone_groups.begin(), gone_groups.end() - 4);
             }
-            // A depth-1 group lists one child fewer.
+            // A depth-1 group lists one child fewer; the last odd round's lists it again.
+            for (std::size_t n = 0; round % 2 == 1 && n < fewer.size(); ++n) {
+                all.groups[fewer[n].first] = fewer[n].second;
+                need += fewer[n].second->lods.size();
+            }
+            if (round % 2 == 1) fewer.clear();
             for (std::size_t g = rng() % all.groups.size(); round % 2 == 1 && g < all.groups.size(); ++g)
                 if (all.groups[g]->depth == 1 && all.groups[g]->children.size() > 1) {
+                    fewer.emplace_back(g, all.groups[g]);
                     auto s = std::make_shared<compute::TileGroupSurface>(*all.groups[g]);
                     s->children.erase(s->children.begin() + static_cast<std::ptrdiff_t>(rng() % s->children.size()));
                     need += s->lods.size();
                     all.groups[g] = s;
                     break;
                 }
+            // A group whose levels join neighbours goes in round 1 and comes back in round 3.
+            if (joined < all.groups.size() && (round == 1 || round == 3)) {
+                group_in[joined] = round == 3;
+                need += all.groups[joined]->lods.size();
+            }
             const Published last = p;
             p = listed();
             // A tile both publishes list as the same object, marked in the view: a merge carries its entry.
@@ -294,8 +316,19 @@ TEST(TileView, LaterPublishesAreMergedByIdAsAFreshFillGivesThem) {
             ASSERT_LT(mark, last.tiles.size());
             const std::uint64_t marked_id = last.tiles[mark]->id;
             view.tiles[mark].version = 0;
+            plain.tiles[mark].version = 0;
             const bool room = view.levels.capacity() - view.levels.size() >= need;
             tile_view_of(p.tiles, p.groups, true, view);
+            tile_view_of(p.tiles, p.groups, false, plain);
+            TileView plain_fresh;
+            tile_view_of(p.tiles, p.groups, false, plain_fresh);
+            const auto plain_at = std::find_if(plain.tiles.begin(), plain.tiles.end(),
+                                               [&](const renderer::TileMesh& t) { return t.id == marked_id; });
+            ASSERT_NE(plain_at, plain.tiles.end());
+            EXPECT_EQ(plain_at->version, 0u) << "the lists without levels were filled anew";
+            plain_at->version = plain_fresh.tiles[static_cast<std::size_t>(plain_at - plain.tiles.begin())].version;
+            expect_same_view(plain, plain_fresh);
+            EXPECT_TRUE(plain.groups.empty());
             const auto at = std::find_if(view.tiles.begin(), view.tiles.end(),
                                          [&](const renderer::TileMesh& t) { return t.id == marked_id; });
             ASSERT_NE(at, view.tiles.end());
@@ -314,12 +347,19 @@ TEST(TileView, LaterPublishesAreMergedByIdAsAFreshFillGivesThem) {
             }
         }
         EXPECT_GE(merged, 4) << "too few rounds had room for a merge";
-        // Lists out of id order are filled anew, as before.
-        std::reverse(p.tiles.begin(), p.tiles.end());
-        tile_view_of(p.tiles, p.groups, true, view);
-        TileView fresh;
-        tile_view_of(p.tiles, p.groups, true, fresh);
-        expect_same_view(view, fresh);
+        // Lists with a null entry, or out of id order, are filled anew (a null entry is skipped).
+        for (const bool reversed : {false, true}) {
+            Published odd = p;
+            if (reversed)
+                std::reverse(odd.tiles.begin(), odd.tiles.end());
+            else
+                odd.tiles[1] = nullptr;
+            tile_view_of(odd.tiles, odd.groups, true, view);
+            TileView fresh;
+            tile_view_of(odd.tiles, odd.groups, true, fresh);
+            expect_same_view(view, fresh);
+            EXPECT_EQ(view.tiles.size(), p.tiles.size() - (reversed ? 0 : 1));
+        }
     }
 }
 

@@ -39,6 +39,29 @@ std::uint32_t joins_of(const compute::TileGroupSurface& s) {
     return joins;
 }
 
+// A group's entry with its own fields (no levels, parent or neighbours).
+renderer::TileGroup group_entry(const compute::TileGroupSurface& s) {
+    renderer::TileGroup tg;
+    tg.id = s.id;
+    tg.bounds_m = s.bounds_m;
+    tg.version = s.version;
+    tg.children_cover = s.children_cover;
+    tg.levels_waiting = s.levels_waiting;
+    return tg;
+}
+
+// A tile's entry with its own fields (no levels or group).
+renderer::TileMesh tile_entry(const compute::TileSurface& s) {
+    renderer::TileMesh tm;
+    tm.mesh = &s.mesh;
+    tm.bounds_m = s.bounds_m;
+    tm.version = s.version;
+    tm.id = s.id;
+    tm.materials = &s.materials;
+    tm.normals = &s.normals;
+    return tm;
+}
+
 // Sets tg.neighbours for group `s`: the index of the group of the same depth in each slot its levels join, from
 // `by_place` (place_key -> index in the groups' list, sorted); kNone in every other slot.
 void link_group(const compute::TileGroupSurface& s, const IdIndex& by_place, renderer::TileGroup& tg) {
@@ -91,12 +114,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
     for (std::size_t g = 0; g < group_count; ++g)
         if (const compute::TileGroupSurface* s = get_group(g)) {
             group_index.emplace_back(s->id, out.groups.size());
-            renderer::TileGroup tg;
-            tg.id = s->id;
-            tg.bounds_m = s->bounds_m;
-            tg.version = s->version;
-            tg.children_cover = s->children_cover;
-            tg.levels_waiting = s->levels_waiting;
+            renderer::TileGroup tg = group_entry(*s);
             const std::size_t first = out.levels.size();
             for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
             tg.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
@@ -120,13 +138,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
     for (std::size_t i = 0; i < count; ++i) {
         const compute::TileSurface* s = get(i);
         if (!s) continue;
-        renderer::TileMesh tm;
-        tm.mesh = &s->mesh;
-        tm.bounds_m = s->bounds_m;
-        tm.version = s->version;
-        tm.id = s->id;
-        tm.materials = &s->materials;
-        tm.normals = &s->normals;
+        renderer::TileMesh tm = tile_entry(*s);
         if (with_lods && !s->lods.empty()) {
             const std::size_t first = out.levels.size();
             for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
@@ -158,27 +170,6 @@ bool put_levels(const std::vector<compute::TileLodLevel>& lods, std::span<const 
     }
     at = std::span<const renderer::TileMeshLevel>(first, lods.size());
     return true;
-}
-
-renderer::TileGroup group_entry(const compute::TileGroupSurface& s) {
-    renderer::TileGroup tg;
-    tg.id = s.id;
-    tg.bounds_m = s.bounds_m;
-    tg.version = s.version;
-    tg.children_cover = s.children_cover;
-    tg.levels_waiting = s.levels_waiting;
-    return tg;
-}
-
-renderer::TileMesh tile_entry(const compute::TileSurface& s) {
-    renderer::TileMesh tm;
-    tm.mesh = &s.mesh;
-    tm.bounds_m = s.bounds_m;
-    tm.version = s.version;
-    tm.id = s.id;
-    tm.materials = &s.materials;
-    tm.normals = &s.normals;
-    return tm;
 }
 
 // True when every item is set and the ids ascend strictly.
@@ -240,6 +231,9 @@ bool merge_groups(std::span<const std::shared_ptr<const compute::TileGroupSurfac
         if (i < old.size() && out.groups[i].id == id) {
             renderer::TileGroup tg = out.groups[i];
             if (old[i] != now) {
+                // An id names one place and parent; a list where it does not is filled anew.
+                if (now->parent != old[i]->parent || now->depth != old[i]->depth || now->coords != old[i]->coords)
+                    return false;
                 const renderer::TileGroup was = tg;
                 tg = group_entry(*now);
                 tg.levels = was.levels;
@@ -315,13 +309,15 @@ void link_merged(std::span<const std::shared_ptr<const compute::TileGroupSurface
 // and `groups` (the same) by one merge by id: an entry whose object is the same is carried as it is, a replaced one
 // rewritten (over its old levels where they fit), new ones added and gone ones dropped; parents, neighbours and the
 // tiles' groups follow (out.tile_groups). O(tiles + groups), plus a search per new or moved entry; an unchanged object
-// is not read (its id is its entry's). Returns false when the lists are not sorted, hold a null entry, or the levels
+// is not read to find its place (its id is its entry's). Returns false when the lists are not sorted, hold a null entry, or the levels
 // have no room left (out.levels then holds unused levels): fill() then makes
 // the lists anew.
 bool merge_update(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
                   std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
                   TileView& out) {
     if (!out.from_shared || !out.from_sorted || out.from_lods != with_lods) return false;
+    // Until the merge is done the lists match no publish: an exception on the way leaves them to a fill.
+    out.from_shared = false;
     std::vector<std::size_t> remap, relink, added;
     std::vector<TileGroupPair> gone, came;
     if (with_lods) {
@@ -369,6 +365,7 @@ bool merge_update(std::span<const std::shared_ptr<const compute::TileSurface>> s
     if (with_lods) out.groups.swap(out.spare_groups);
     out.from_tiles.assign(surfaces.begin(), surfaces.end());
     out.from_groups.assign(groups.begin(), groups.end());
+    out.from_shared = true;
     return true;
 }
 

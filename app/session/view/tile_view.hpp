@@ -42,8 +42,9 @@ struct TileView {
     /// (tile id, id of the depth-1 group listing it) for every child of a depth-1 group, sorted: the group of a tile
     /// that comes in a later publish.
     std::vector<std::pair<std::uint64_t, std::uint64_t>> tile_groups;
-    /// The lists a later publish's are merged into (swapped with `tiles` and `groups`), kept for their storage.
+    /// The list a later publish's tiles are merged into (then swapped with `tiles`), kept for its storage.
     std::vector<renderer::TileMesh> spare_tiles;
+    /// The list a later publish's groups are merged into (then swapped with `groups`), kept for its storage.
     std::vector<renderer::TileGroup> spare_groups;
     /// The published tiles and groups the lists were filled from (tile_view_of's shared overload; empty after the
     /// other): a frame that gets the same ones again reuses the lists.
