@@ -62,21 +62,55 @@ renderer::TileMesh tile_entry(const compute::TileSurface& s) {
     return tm;
 }
 
+// Calls f(slot, coords) for each place around group `s` at its depth (compute::neighbour_bit's slots, the group's
+// own slot 13 included) whose coordinates are not negative.
+template <typename F>
+void for_each_place_around(const compute::TileGroupSurface& s, F&& f) {
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::array<int, 3> c{s.coords[0] + dx, s.coords[1] + dy, s.coords[2] + dz};
+                if (c[0] >= 0 && c[1] >= 0 && c[2] >= 0) f(compute::neighbour_bit(dx, dy, dz), c);
+            }
+}
+
+// The slot that names a group from the neighbour in `slot`: the opposite offset.
+int opposite_slot(int slot) { return 26 - slot; }
+
 // Sets tg.neighbours for group `s`: the index of the group of the same depth in each slot its levels join, from
 // `by_place` (place_key -> index in the groups' list, sorted); kNone in every other slot.
 void link_group(const compute::TileGroupSurface& s, const IdIndex& by_place, renderer::TileGroup& tg) {
     tg.neighbours = renderer::TileGroup::no_neighbours();
     const std::uint32_t joins = joins_of(s);
     if (joins == 0) return;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int slot = compute::neighbour_bit(dx, dy, dz);
-                const std::array<int, 3> c{s.coords[0] + dx, s.coords[1] + dy, s.coords[2] + dz};
-                if (!(joins & (1u << slot)) || c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
-                tg.neighbours[static_cast<std::size_t>(slot)] =
-                    find_index(by_place, place_key(s.depth, c), renderer::TileGroup::kNone);
-            }
+    for_each_place_around(s, [&](int slot, const std::array<int, 3>& c) {
+        if (joins & (1u << slot))
+            tg.neighbours[static_cast<std::size_t>(slot)] =
+                find_index(by_place, place_key(s.depth, c), renderer::TileGroup::kNone);
+    });
+}
+
+// Points `at` at `lods` as levels: in place of the span it held where they fit, else after out.levels' end. Returns
+// false, changing nothing, when that end has no room left within out.levels' capacity (a reallocation would move
+// every other entry's levels).
+bool put_levels(const std::vector<compute::TileLodLevel>& lods, std::span<const renderer::TileMeshLevel>& at,
+                TileView& out) {
+    if (lods.empty()) {
+        at = {};
+        return true;
+    }
+    renderer::TileMeshLevel* first = nullptr;
+    if (lods.size() <= at.size()) {
+        first = out.levels.data() + (at.data() - out.levels.data());
+        for (std::size_t k = 0; k < lods.size(); ++k) first[k] = level_of(lods[k]);
+    } else {
+        if (out.levels.size() + lods.size() > out.levels.capacity()) return false;
+        const std::size_t begin = out.levels.size();
+        for (const compute::TileLodLevel& l : lods) out.levels.push_back(level_of(l));
+        first = out.levels.data() + begin;
+    }
+    at = std::span<const renderer::TileMeshLevel>(first, lods.size());
+    return true;
 }
 
 // TileGroup::neighbours of the groups whose levels join neighbours (the coarse levels with own triangles), and
@@ -115,9 +149,7 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
         if (const compute::TileGroupSurface* s = get_group(g)) {
             group_index.emplace_back(s->id, out.groups.size());
             renderer::TileGroup tg = group_entry(*s);
-            const std::size_t first = out.levels.size();
-            for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
-            tg.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
+            put_levels(s->lods, tg.levels, out);  // within the room reserved above
             out.groups.push_back(tg);
         }
     std::sort(group_index.begin(), group_index.end());  // for the lookups below
@@ -139,37 +171,10 @@ void fill(std::size_t count, GetTile&& get, std::size_t group_count, GetGroup&& 
         const compute::TileSurface* s = get(i);
         if (!s) continue;
         renderer::TileMesh tm = tile_entry(*s);
-        if (with_lods && !s->lods.empty()) {
-            const std::size_t first = out.levels.size();
-            for (const compute::TileLodLevel& l : s->lods) out.levels.push_back(level_of(l));
-            tm.levels = std::span<const renderer::TileMeshLevel>(out.levels.data() + first, s->lods.size());
-        }
+        if (with_lods) put_levels(s->lods, tm.levels, out);  // within the room reserved above
         tm.group = find_index(tile_group, s->id, renderer::TileMesh::kNoGroup);
         out.tiles.push_back(tm);
     }
-}
-
-// Points `at` at `lods` as levels: in place of the span it held where they fit, else after out.levels' end. Returns
-// false, changing nothing, when that end has no room left within out.levels' capacity (a reallocation would move
-// every other entry's levels).
-bool put_levels(const std::vector<compute::TileLodLevel>& lods, std::span<const renderer::TileMeshLevel>& at,
-                TileView& out) {
-    if (lods.empty()) {
-        at = {};
-        return true;
-    }
-    renderer::TileMeshLevel* first = nullptr;
-    if (lods.size() <= at.size()) {
-        first = out.levels.data() + (at.data() - out.levels.data());
-        for (std::size_t k = 0; k < lods.size(); ++k) first[k] = level_of(lods[k]);
-    } else {
-        if (out.levels.size() + lods.size() > out.levels.capacity()) return false;
-        const std::size_t begin = out.levels.size();
-        for (const compute::TileLodLevel& l : lods) out.levels.push_back(level_of(l));
-        first = out.levels.data() + begin;
-    }
-    at = std::span<const renderer::TileMeshLevel>(first, lods.size());
-    return true;
 }
 
 // True when every item is set and the ids ascend strictly.
@@ -290,28 +295,22 @@ void link_merged(std::span<const std::shared_ptr<const compute::TileGroupSurface
         std::merge(places.begin(), places.end(), came.begin(), came.end(), std::back_inserter(out.group_places));
     }
     for (const std::size_t j : relink) link_group(*groups[j], out.group_places, next[j]);
-    for (const std::size_t a : added) {
-        const compute::TileGroupSurface& s = *groups[a];
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const std::array<int, 3> c{s.coords[0] + dx, s.coords[1] + dy, s.coords[2] + dz};
-                    if ((dx == 0 && dy == 0 && dz == 0) || c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
-                    const std::size_t n = find_index(out.group_places, place_key(s.depth, c), kNone);
-                    const int back = compute::neighbour_bit(-dx, -dy, -dz);  // the slot that names `a` from n
-                    if (n != kNone && (joins_of(*groups[n]) & (1u << back)))
-                        next[n].neighbours[static_cast<std::size_t>(back)] = a;
-                }
-    }
+    for (const std::size_t a : added)
+        for_each_place_around(*groups[a], [&](int slot, const std::array<int, 3>& c) {
+            const std::size_t n = find_index(out.group_places, place_key(groups[a]->depth, c), kNone);
+            const int back = opposite_slot(slot);  // the slot that names `a` from n
+            if (n != kNone && n != a && (joins_of(*groups[n]) & (1u << back)))
+                next[n].neighbours[static_cast<std::size_t>(back)] = a;
+        });
 }
 
 // The lists `out` was filled from (tile_view_of's shared overload, ids ascending, no null entry) brought to `surfaces`
 // and `groups` (the same) by one merge by id: an entry whose object is the same is carried as it is, a replaced one
 // rewritten (over its old levels where they fit), new ones added and gone ones dropped; parents, neighbours and the
 // tiles' groups follow (out.tile_groups). O(tiles + groups), plus a search per new or moved entry; an unchanged object
-// is not read to find its place (its id is its entry's). Returns false when the lists are not sorted, hold a null entry, or the levels
-// have no room left (out.levels then holds unused levels): fill() then makes
-// the lists anew.
+// is not read to find its place (its id is its entry's). Returns false when the lists are not sorted, hold a null
+// entry, or give an id another place or parent, or when the levels have no room left (out.levels then holds unused
+// levels): fill() then makes the lists anew.
 bool merge_update(std::span<const std::shared_ptr<const compute::TileSurface>> surfaces,
                   std::span<const std::shared_ptr<const compute::TileGroupSurface>> groups, bool with_lods,
                   TileView& out) {
