@@ -112,9 +112,13 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
     };
     std::vector<std::uint64_t> ids, finer_ids;  // all to rebuild; those finer than the coarsest depths
     int read_from = coarsest;                   // the finest depth a level rebuilt now needs current
+    // The coarsest depths' waiting levels are rebuilt wherever they are, not only within reach: a group there also
+    // loses its level when its children change (a stroke's deferred tiles arriving), and nothing would draw or pick
+    // its surface until it settles. Their coarse models hold every change already (read at once, below).
     for (const std::uint64_t id : coarse_stale_) {
         const int depth = tile_group_depth(id);
-        if (depth >= from && coarse_->has_depth(depth) && reach.count(id) != 0 && !parent_drawn(id)) {
+        if (depth >= from && coarse_->has_depth(depth) && (depth >= coarsest || reach.count(id) != 0) &&
+            !parent_drawn(id)) {
             ids.push_back(id);
             if (depth < coarsest) finer_ids.push_back(id);
             read_from = std::min(read_from, depth);
@@ -132,7 +136,7 @@ std::size_t TileSurfaceCache::rebuild_coarsest_now(const std::array<int, 3>& dim
         const std::vector<std::uint64_t> wanted = wanted_finer_groups(dims, from);
         ids.insert(ids.end(), wanted.begin(), wanted.end());
     }
-    detail_wanted_.clear();
+    if (!changed.empty()) detail_wanted_.clear();
     if (ids.empty()) return 0;
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

@@ -443,11 +443,12 @@ private:
     // Coarse mode: the groups within reach of the changed tiles (their coarse contour or their ring can change).
     std::unordered_set<std::uint64_t> coarse_reach(const std::array<int, 3>& dims,
                                                    const std::vector<std::uint64_t>& changed_tiles) const;
-    // Coarse mode, in a refresh() that changed `changed` (fine tile ids in a grid of `dims` tiles, ascending): rebuilds
-    // the waiting levels of the coarsest kCoarseDepthsAtOnce depths' groups within their reach (coarse_reach; down to
-    // kDeferredCoarseDepth when `stroke_hidden`: defer_tiles, but not under a group in frames_drew_), not other
-    // waiting ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models
-    // through `changed` and a finer one through the changed tiles around the levels rebuilt there; returns how many.
+    // Coarse mode, in a refresh() after start-up's that changed `changed` (fine tile ids in a grid of `dims` tiles,
+    // ascending; may be empty): rebuilds every waiting level of the coarsest kCoarseDepthsAtOnce depths (wherever it
+    // is: a regrouping drops them too), and, within the change's reach (coarse_reach), down to kDeferredCoarseDepth
+    // when `stroke_hidden` (defer_tiles, but not under a group in frames_drew_), not other waiting ones (a
+    // coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models through `changed`
+    // and a finer one through the changed tiles around the levels rebuilt there; returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);
     // Coarse mode, with a stroke's tiles hidden: up to kDeferredDetailLevels waiting groups one depth under those of
