@@ -417,8 +417,10 @@ TEST(MouseSession, QuickJumpsLeaveNoProxyBehind) {
     // reads the snapshot with its own carving sweeps cut (RecentCuts), so a late snapshot no longer holds the proxy on
     // material already cut, whatever the load. What may stay over one radius is a ball pressed into a spot where no
     // free centre lies within a radius (a concave spot narrower than the ball), where that gap is right: a few ticks.
-    // A proxy left behind (the fault this guards) stays for thousands of ticks.
-    EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 1.5 * 0.006) << p.dump();
+    // A proxy left behind (the fault this guards) stays for thousands of ticks, 24-64 mm away. The gap itself may
+    // pass 1.5 radii for a tick or two when the loop's thread wakes late on a loaded machine and the HIP has jumped
+    // meanwhile; the tick count is the guard, the gap only bounds how far.
+    EXPECT_LT(p["max_gap_hip_outside_m"].get<double>(), 3.0 * 0.006) << p.dump();
     EXPECT_LT(p["ticks_over_radius_hip_outside"].get<long>(), 5) << p.dump();
     EXPECT_LT(p["max_force_rise_n"].get<double>(), 0.2) << p.dump();
 }
