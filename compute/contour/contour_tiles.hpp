@@ -211,7 +211,7 @@ public:
     /// the finer groups, kCoarseStartupLevelsPerCollect at a time, without waiting.
     /// A refresh() that changes tiles re-reads the coarsest model through them and rebuilds the levels of the
     /// coarsest groups within reach at once (a stroke is drawn coarse, not at full resolution, where a coarse level
-    /// is within the pixel bound); it drops the level of every finer group within reach (its children are drawn), and
+    /// is within the pixel bound), as every refresh() does for a coarsest group whose children changed; it drops the level of every finer group within reach (its children are drawn), and
     /// collect_lods() re-reads the finer coarse models (kCoarseUpdateTiles at a time, between strokes) and then
     /// rebuilds those levels, at most kCoarseLevelsPerCollect at a time, once no tile has changed for
     /// LodWorkerOptions::group_settle_s (0 without a worker). group_depth
@@ -446,8 +446,8 @@ private:
     // Coarse mode, in a refresh() after start-up's that changed `changed` (fine tile ids in a grid of `dims` tiles,
     // ascending; may be empty): rebuilds every waiting level of the coarsest kCoarseDepthsAtOnce depths (wherever it
     // is: a regrouping drops them too), and, within the change's reach (coarse_reach), down to kDeferredCoarseDepth
-    // when `stroke_hidden` (defer_tiles, but not under a group in frames_drew_), not other waiting ones (a
-    // coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models through `changed`
+    // when `stroke_hidden` (defer_tiles, but not under a group in frames_drew_), not the finer depths' other waiting
+    // ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models through `changed`
     // and a finer one through the changed tiles around the levels rebuilt there; returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);

@@ -104,9 +104,8 @@ struct LodWorkerOptions {
     bool coarse_first = false;
     /// With coarse groups: while a stroke is open its tiles' full-resolution contour waits (compute::DeferredContour)
     /// and the coarse levels over them, rebuilt with each step down to TileSurfaceCache::kDeferredCoarseDepth, draw
-    /// the stroke; the tiles are contoured where a frame asks for more detail (SculptThread::refine_on_demand: while
-    /// the stroke is open too), else all of them after the stroke closes (docs/design/lod.md, "Strokes drawn
-    /// coarse").
+    /// the stroke; the tiles are contoured after the stroke closes, or while it is open where a frame asks for more
+    /// detail (docs/design/lod.md, "Strokes drawn coarse").
     bool stroke_coarse = false;
     /// Called on a worker thread before each job (tests: hold the worker to show that nobody waits for it).
     std::function<void(const LodJob&)> before_job;

@@ -360,9 +360,8 @@ public:
     /// With a coarse-first start-up or lattice change: after the finer coarse depths are read, contours only the tile
     /// groups `requests` asks for (the frames' compute::DetailRequests), finest first, for up to kRefineSliceS per
     /// pass, instead of every region; tiles no frame needs stay coarse until stop(). With strokes drawn coarse
-    /// (LodWorkerOptions::stroke_coarse), a stroke's deferred tiles likewise: those of the groups asked for, also in a
-    /// pass without samples while the stroke is open; the others wait for a frame or stop(). Throws when the thread
-    /// runs.
+    /// (LodWorkerOptions::stroke_coarse), the deferred tiles of those groups too, also in a pass without samples while
+    /// the stroke is open. Throws when the thread runs.
     void refine_on_demand(compute::DetailRequests& requests);
     /// With strokes drawn coarse (LodWorkerOptions::stroke_coarse): the groups the frames drew at a level within the
     /// pixel bound (compute::DrawnGroups), read at each mesh publish, so that a stroke rebuilds the coarse levels the

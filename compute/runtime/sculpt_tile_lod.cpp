@@ -124,10 +124,9 @@ void SculptThread::refine_startup(bool finish) {
                 refined += n;
             } while (!refiner_->done() && in_slice());
         }
-        // A stroke's deferred tiles once it closed: with frames asking (detail_), only those under the groups they
-        // asked for (refine_requested), as start-up's; the others stand coarse until a frame needs them or the thread
-        // ends (the session's mesh then reads every tile). Without requests, all of them, oldest first.
-        while (!stroke && !detail_ && deferral_ && deferral_->count() > 0 && in_slice()) {
+        // A stroke's deferred tiles once it closed, oldest first, whether or not a frame asks for them: a save or an
+        // export of the mesh reads them, and their levels of detail follow.
+        while (!stroke && deferral_ && deferral_->count() > 0 && in_slice()) {
             refined += deferral_->contour_oldest(model_, contourer_, compute::DeferredContour::kTilesPerBatch);
         }
         if (yielded) ++stats_.background_yields;
