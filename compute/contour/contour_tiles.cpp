@@ -148,8 +148,7 @@ std::size_t TileSurfaceCache::refresh(const TileMeshSource& contourer) {
     touched.insert(touched.end(), changed.begin(), changed.end());
     for (const std::size_t i : fresh) touched.push_back(tiles_[i].id);
     update_groups(contourer.tile_dims(), changed, touched);
-    if (coarse_ && refreshed_ && (!changed.empty() || !coarse_stale_.empty()))
-        rebuild_coarsest_now(contourer.tile_dims(), changed, stroke_hidden);
+    if (coarse_ && refreshed_) rebuild_coarsest_now(contourer.tile_dims(), changed, stroke_hidden);
     if (coarse_ && !refreshed_) {  // start-up: the coarser groups' levels now, the finest by collect_lods()
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::uint64_t> ids;

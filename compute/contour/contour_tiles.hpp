@@ -211,13 +211,14 @@ public:
     /// the finer groups, kCoarseStartupLevelsPerCollect at a time, without waiting.
     /// A refresh() that changes tiles re-reads the coarsest model through them and rebuilds the levels of the
     /// coarsest groups within reach at once (a stroke is drawn coarse, not at full resolution, where a coarse level
-    /// is within the pixel bound), as every refresh() does for a coarsest group whose children changed; it drops the level of every finer group within reach (its children are drawn), and
-    /// collect_lods() re-reads the finer coarse models (kCoarseUpdateTiles at a time, between strokes) and then
-    /// rebuilds those levels, at most kCoarseLevelsPerCollect at a time, once no tile has changed for
-    /// LodWorkerOptions::group_settle_s (0 without a worker). group_depth
-    /// becomes options.max_depth. `model` is the one the Contourer given to refresh() contours; it must outlive
-    /// the cache and not change during refresh() or collect_lods(). Call after enable_lod() and before the first
-    /// refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as CoarseGroupLevels.
+    /// is within the pixel bound), as every refresh() does for a coarsest group whose children changed; it drops the
+    /// level of every finer group within reach (its children are drawn), and collect_lods() re-reads the finer coarse
+    /// models (kCoarseUpdateTiles at a time, between strokes) and then rebuilds those levels, at most
+    /// kCoarseLevelsPerCollect at a time, once no tile has changed for LodWorkerOptions::group_settle_s (0 without a
+    /// worker). group_depth becomes options.max_depth. `model` is the one the Contourer given to refresh() contours;
+    /// it must outlive the cache and not change during refresh() or collect_lods(). Call after enable_lod() and
+    /// before the first refresh(). Throws tridex::Error without enable_lod(), after a refresh(), or as
+    /// CoarseGroupLevels.
     /// coarse_first: only the coarsest depth's model is read now (the first refresh() gives those groups their levels);
     /// build_coarse_depth() reads the finer ones later, and their groups get their levels through collect_lods().
     /// With options.min_depth 1 the tiles get no simplified levels of their own: a tile's coarser level is its depth-1
@@ -447,8 +448,8 @@ private:
     // ascending; may be empty): rebuilds every waiting level of the coarsest kCoarseDepthsAtOnce depths (wherever it
     // is: a regrouping drops them too), and, within the change's reach (coarse_reach), down to kDeferredCoarseDepth
     // when `stroke_hidden` (defer_tiles, but not under a group in frames_drew_), not the finer depths' other waiting
-    // ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models through `changed`
-    // and a finer one through the changed tiles around the levels rebuilt there; returns how many.
+    // ones (a coarse-first start-up's, left to settle_coarse_levels), after re-reading the coarsest models through
+    // `changed` and a finer one through the changed tiles around the levels rebuilt there; returns how many.
     std::size_t rebuild_coarsest_now(const std::array<int, 3>& dims, const std::vector<std::uint64_t>& changed,
                                      bool stroke_hidden);
     // Coarse mode, with a stroke's tiles hidden: up to kDeferredDetailLevels waiting groups one depth under those of
