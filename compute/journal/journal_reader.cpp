@@ -113,8 +113,13 @@ void take_tail(Journal& j) {
     tail.tail = true;
     std::uint64_t next = applied;  // the sequence number the tail needs next
     bool gap = !j.damage.empty();
+    // After damage, the intake samples numbered past every batch sample, the lost ones counted by their estimate.
+    std::uint64_t placed = applied;
+    for (const JournalDamage& d : j.damage) placed += d.samples_lost;
     for (JournalRecord& r : j.records) {
         if (r.kind != JournalKind::kIntake) continue;
+        if (gap && r.seq + r.samples.size() > placed)
+            j.tail_unplaced += r.seq + r.samples.size() - std::max<std::uint64_t>(r.seq, placed);
         for (std::size_t i = 0; i < r.samples.size() && !gap; ++i) {
             const std::uint64_t seq = r.seq + i;
             if (seq < next) continue;

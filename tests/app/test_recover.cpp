@@ -184,6 +184,9 @@ TEST(Recover, ABitFlipCostsOnlyTheDamagedRecord) {
         std::ofstream out(dir / "flipped.tdj", std::ios::binary);
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     }
+    // A session that ended normally holds every sample it received in its batches, intake records or not (a loaded
+    // machine writes them when the sculpt thread falls behind): the damage leaves no received sample unplaced.
+    EXPECT_EQ(compute::read_journal((dir / "flipped.tdj").string()).tail_unplaced, 0u);
     const test::ExeResult rec = test::run_tridex("recover " + (dir / "flipped.tdj").string() + " --out " + (dir / "rec").string(), dir / "recl");
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
     EXPECT_EQ(std::count(rec.err.begin(), rec.err.end(), '\n'), 1) << rec.err;
@@ -198,6 +201,7 @@ TEST(Recover, ABitFlipCostsOnlyTheDamagedRecord) {
     EXPECT_EQ(rr["journal_damage"]["skipped_bytes"], size);
     EXPECT_EQ(rr["journal_damage"]["samples_lost"], j.records[hit].samples.size());
     EXPECT_EQ(rr["journal_damage"]["marks_skipped"], 0);
+    EXPECT_EQ(rr["journal_damage"]["tail_samples_unplaced"], 0);
     EXPECT_EQ(rr["samples"].get<std::uint64_t>(), j.samples - j.records[hit].samples.size());
     EXPECT_EQ(test::bytes_of(dir / "rec" / "sculpted.ply"), independent_ply(dir / "flipped.tdj", dir));
 }

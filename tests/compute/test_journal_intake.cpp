@@ -100,6 +100,34 @@ TEST(JournalIntake, ATailAfterDamageIsNotApplied) {
     ASSERT_EQ(j.damage.size(), 1u);
     EXPECT_EQ(j.tail_samples, 0u);
     EXPECT_FALSE(j.records.back().tail);
+    EXPECT_EQ(j.damage[0].samples_lost, 10u);
+    EXPECT_EQ(j.tail_unplaced, 20u);  // 40..59: past the 30 batch samples kept and the 10 lost
+    fs::remove(path);
+}
+
+// Intake records whose samples the batches after them hold (the sculpt thread was behind, then caught up): damage
+// elsewhere leaves no tail unplaced, so recovery has nothing to warn of.
+TEST(JournalIntake, DamageLeavesNoTailUnplacedWhenTheBatchesHoldTheIntake) {
+    const std::vector<ToolSample> s = test::journal_stream();
+    const std::string path = temp_path("caught_up.tdj");
+    {
+        compute::JournalWriter w(path, "session");
+        w.append(part(s, 0, 20));
+        w.intake(20, part(s, 20, 40));
+        w.append(part(s, 20, 30));
+        w.append(part(s, 30, 40));
+    }
+    std::vector<unsigned char> b = file_bytes(path);
+    // A bit flipped in the batch of 20..29: the intake's end (40) is past the 30 batch samples kept, not past the
+    // 10 more the damaged stretch is estimated to hold.
+    b[b.size() - 2 * (8 + 16 + 10 * 120 + 4) + 40] ^= 0x10;
+    const compute::Journal j = compute::parse_journal(b, "caught_up.tdj");
+    ASSERT_EQ(j.damage.size(), 1u);
+    EXPECT_FALSE(j.cut);
+    EXPECT_EQ(j.damage[0].samples_lost, 10u);
+    EXPECT_EQ(j.intake_samples, 20u);
+    EXPECT_EQ(j.tail_samples, 0u);
+    EXPECT_EQ(j.tail_unplaced, 0u);
     fs::remove(path);
 }
 

@@ -51,11 +51,11 @@ DamageTotals report_damage(const std::string& journal_path, const compute::Journ
                      static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.byte_offset),
                      static_cast<unsigned long long>(d.samples_lost), d.reason.c_str());
     }
-    if (!j.damage.empty() && j.intake_samples > 0)
+    if (j.tail_unplaced > 0)
         std::fprintf(stderr,
-                     "tridex: %s: the samples received after the last applied batch are not replayed: the damage "
-                     "before them leaves their place in the stream unknown\n",
-                     journal_path.c_str());
+                     "tridex: %s: about %llu samples received after the last applied batch are not replayed: the "
+                     "damage before them leaves their place in the stream unknown\n",
+                     journal_path.c_str(), static_cast<unsigned long long>(j.tail_unplaced));
     if (j.cut)
         std::fprintf(stderr, "tridex: %s: cut at record %llu (byte offset %llu): %s; recovering the records before it\n",
                      journal_path.c_str(), static_cast<unsigned long long>(j.cut->record),
@@ -181,7 +181,8 @@ void run_recover(const std::string& journal_path, const std::string& out) {
     r["journal_damage"] = {{"damaged_records", damage.records},
                            {"skipped_bytes", damage.bytes},
                            {"samples_lost", damage.samples},
-                           {"marks_skipped", applied.marks_skipped}};
+                           {"marks_skipped", applied.marks_skipped},
+                           {"tail_samples_unplaced", j.tail_unplaced}};
     r["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
     r["files"] = {(dir / "sculpted.ply").string(), (dir / "model.tdx").string(), (dir / "report.json").string()};
     r["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
