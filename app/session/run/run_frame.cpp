@@ -360,8 +360,10 @@ RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
     const auto t0 = Clock::now();
     if (mouse_stylus) {
         const haptics::LoopView& lv = backend->runtime().latest_view();  // not used after await_hand()
-        // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus.
-        if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, lv.t_s);
+        // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus, on
+        // device time as the scripted keys (a cursor on loop time, which runs ahead, would press before a key
+        // scripted earlier).
+        if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, lv.device_t_s);
         // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
         double w_px = rend->width(), h_px = rend->height();
         if (window) {

@@ -23,7 +23,7 @@ RunMouse::RunMouse(devices::MouseDevice& device, SessionRuntime& runtime, const 
 }
 
 void RunMouse::apply_script(const CursorScript& script, double t_dev_s) {
-    if (script.empty()) return;
+    if (script.empty() || !std::isfinite(t_dev_s)) return;
     for (; wheel_next_ < script.points.size() && script.points[wheel_next_].t_s <= t_dev_s; ++wheel_next_)
         if (script.points[wheel_next_].wheel != 0.0) stylus_.wheel(script.points[wheel_next_].wheel);
     const CursorPoint p = script.at(t_dev_s);

@@ -37,7 +37,8 @@ public:
     /// The stylus the window's input (RunInput::use_stylus) or a script drives.
     MouseStylus& stylus() { return stylus_; }
     /// Offscreen: applies the scripted cursor at device time t_dev_s (position and buttons), and the wheel steps of
-    /// every point reached since the last call (once each).
+    /// every point reached since the last call (once each). A non-finite t_dev_s (a tick without a valid sample)
+    /// changes nothing.
     void apply_script(const CursorScript& script, double t_dev_s);
     /// Once per frame, before drawing: hands a changed op or tool size to the loop, then the target from the
     /// cursor's ray (`screen` and cyclopean `eye_m` in the model's frame, the eye image width_px x height_px)
