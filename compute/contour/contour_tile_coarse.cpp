@@ -308,8 +308,9 @@ std::size_t TileSurfaceCache::rebuild_coarse_levels(const std::vector<std::uint6
     run_lod_jobs(groups.size(), [&](std::size_t i) {
         built[i] = coarse_->level(groups[i]->depth, groups[i]->coords);
         if (built[i].mesh.triangles.empty()) {
-            // The model has surface in its box that the finest stride missed (start-up's tiles are not in).
-            missed[i] = !measure[i] && groups[i]->depth == coarse_->min_depth() &&
+            // The model has surface in its box that the finest stride missed, and tiles of start-up or of a stroke
+            // drawn coarse are not in to show it (a feature thinner than the stride: a bead, a fin).
+            missed[i] = groups[i]->depth == coarse_->min_depth() && !group_refined(*groups[i]) &&
                         dexel_surface_in(*coarse_model_, group_cells(*groups[i]));
             return;
         }

@@ -82,7 +82,8 @@ void SculptThread::follow_drawn_groups(compute::DrawnGroups& drawn) {
 }
 
 std::size_t SculptThread::refine_requested(const std::function<bool()>& in_slice, int block_depth) {
-    // The groups the frames asked for, and start-up's whose coarse reads missed a surface (nothing stands in there).
+    // The groups the frames asked for, and those whose coarse reads missed a surface that tiles not yet in hold
+    // (start-up's, or a stroke's drawn coarse: nothing stands in there).
     std::vector<std::uint64_t> ids = detail_->take();
     compute::merge_ids(ids, tile_cache_.missed_surface_groups());
     const compute::WantedRefined n = compute::refine_wanted_groups(

@@ -15,7 +15,11 @@
 #include "compute/contour/contour_tiles.hpp"
 #include "compute/contour/deferred_contour.hpp"
 #include "compute/contour/held_tiles.hpp"
+#include "compute/contour/refine_wanted.hpp"
+#include "compute/contour/sorted_ids.hpp"
+#include "compute/contour/tile_group_box.hpp"
 #include "compute/tools/boolean.hpp"
+#include "compute/tools/sweep.hpp"
 #include "test_coarse_first_session.hpp"
 #include "test_contour_models.hpp"
 
@@ -172,6 +176,47 @@ TEST(StrokeArrivals, TheCoarsestLevelsHoldTheWholeSurfaceWhileAStrokesTilesArriv
         arrival_refreshes, coarsest_regrouped_by_arrivals, worst);
     EXPECT_GT(coarsest_regrouped_by_arrivals, 0u)
         << "no arrival regrouped a coarsest group: the test would not see its level missing";
+}
+
+// A bead added in the air, thinner than the coarsest levels' stride, by a stroke drawn coarse: its group's coarse read
+// finds no surface and its tile is hidden, so nothing would show it until the stroke's tiles arrive. The group is
+// listed as missing a surface (as start-up's are), and contouring the tiles of the listed groups shows it.
+TEST(StrokeArrivals, ABeadThinnerThanTheCoarseStrideIsListedAndItsTileContouredFirst) {
+    Session s;
+    const Lattice& L = s.model.lattice;
+    // In the air of the lattice's far corner (the sphere's surface is over 20 cells away), on odd nodes: the rays
+    // through it are odd, the coarsest levels read every second one.
+    const Vec3 bead(113.0, 113.0, 113.0);
+    const double radius_cells = 0.8;
+    Sweep add;
+    add.op = ToolOp::kUnion;
+    add.tool.radius_m = radius_cells * L.cell_m;
+    add.path_m = Segment{L.to_world(bead), L.to_world(bead)};
+    ASSERT_GT(apply_sweep(s.model, add).rays_changed, 0u);
+    s.cache.defer_tiles(s.deferral.defer(s.model));
+    s.cache.collect_lods(true);
+    s.refresh();
+    const int t = 113 / TileGrid::kTileCells;  // the bead's tile, whose cells the sphere does not reach
+    const std::uint64_t tile = grid_index({t, t, t}, s.contourer.tile_dims());
+    const std::uint64_t group = tile_group_id(kCoarsest, group_index_of({t, t, t}, s.contourer.tile_dims(), kCoarsest));
+    const auto bead_drawn = [&] {
+        const std::size_t i = index_of(s.cache.tiles(), tile);
+        return i < s.cache.tiles().size() && !s.cache.tiles()[i].mesh.triangles.empty();
+    };
+    ASSERT_FALSE(bead_drawn()) << "the bead's tile is in before its stroke's tiles arrive: nothing to test";
+    const std::size_t g = index_of(s.cache.groups(), group);
+    ASSERT_LT(g, s.cache.groups().size()) << "no group over the bead's tile";
+    ASSERT_TRUE(s.cache.groups()[g].lods.empty() || s.cache.groups()[g].lods.front().mesh.triangles.empty())
+        << "the coarse read saw the bead: nothing to test";
+    const std::vector<std::uint64_t> missed = s.cache.missed_surface_groups();
+    EXPECT_TRUE(std::binary_search(missed.begin(), missed.end(), group)) << "the bead's group is not listed";
+    // As the sculpt thread does with the groups a frame asks for and those listed here.
+    const WantedRefined n = refine_wanted_groups(missed, s.cache.groups(), s.model, s.contourer, nullptr, &s.deferral,
+                                                 1, [] { return true; });
+    EXPECT_GT(n.deferred, 0u);
+    s.refresh();
+    EXPECT_TRUE(bead_drawn()) << "the bead's tile is still not in";
+    EXPECT_TRUE(s.cache.missed_surface_groups().empty());
 }
 
 }  // namespace
