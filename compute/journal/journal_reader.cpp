@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 #include "compute/journal/journal_format.hpp"
 #include "core/crc32.hpp"
@@ -84,7 +85,10 @@ std::string check_record(std::span<const unsigned char> b, std::uint64_t off, st
     if (payload != head + std::uint64_t{count} * kJournalSampleBytes)
         return "batch length does not match its " + std::to_string(count) + " samples";
     if (get_u32(q + 12) != 0) return "reserved field set";
-    if (type == kJournalIntake) rec.seq = get_u64(q + 16);
+    if (type == kJournalIntake) {
+        rec.seq = get_u64(q + 16);
+        if (rec.seq > std::numeric_limits<std::uint64_t>::max() - count) return "intake sequence number out of range";
+    }
     rec.samples.resize(count);
     for (std::uint32_t i = 0; i < count; ++i)
     {
@@ -112,14 +116,19 @@ void take_tail(Journal& j) {
     tail.kind = JournalKind::kBatch;
     tail.tail = true;
     std::uint64_t next = applied;  // the sequence number the tail needs next
-    bool gap = !j.damage.empty();
-    // After damage, the intake samples numbered past every batch sample, the lost ones counted by their estimate.
+    const bool damaged = !j.damage.empty();
+    bool gap = damaged;
+    // After damage, the intake samples numbered past every batch sample, the lost ones counted by their estimate (an
+    // upper bound on the batch samples lost; the highest end counted so far, so that overlaps count once).
     std::uint64_t placed = applied;
     for (const JournalDamage& d : j.damage) placed += d.samples_lost;
     for (JournalRecord& r : j.records) {
         if (r.kind != JournalKind::kIntake) continue;
-        if (gap && r.seq + r.samples.size() > placed)
-            j.tail_unplaced += r.seq + r.samples.size() - std::max<std::uint64_t>(r.seq, placed);
+        const std::uint64_t end = r.seq + r.samples.size();
+        if (damaged && end > placed) {
+            j.tail_unplaced += end - std::max<std::uint64_t>(r.seq, placed);
+            placed = end;
+        }
         for (std::size_t i = 0; i < r.samples.size() && !gap; ++i) {
             const std::uint64_t seq = r.seq + i;
             if (seq < next) continue;

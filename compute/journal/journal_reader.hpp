@@ -65,8 +65,10 @@ struct Journal {
     std::uint64_t samples = 0;           ///< samples in `records` (batches and the tail)
     std::uint64_t intake_samples = 0;    ///< samples the intake records held (most also in batch records)
     std::uint64_t tail_samples = 0;      ///< of those, the tail's: received, never applied, applied by a replay
-    /// After damage: intake samples numbered past the batches' samples and the damaged stretches' estimated ones,
-    /// so received and perhaps never applied; not applied, since the damage leaves their place in the stream unknown.
+    /// After damage (0 without): intake samples numbered past the batches' samples and the damaged stretches'
+    /// estimated ones (JournalDamage::samples_lost), so received and perhaps never applied; not replayed, since the
+    /// damage leaves their place in the stream unknown. An under-count when a damaged stretch held more than site-0
+    /// batch samples (an intake record, another site's samples): the estimate then places too many.
     std::uint64_t tail_unplaced = 0;
     std::uint64_t file_bytes = 0;        ///< size of the input
     std::optional<JournalCut> cut;       ///< set when the file ends in damage no intact record follows

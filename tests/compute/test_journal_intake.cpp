@@ -76,6 +76,7 @@ TEST(JournalIntake, TheTailIsTheIntakeSamplesThatFollowTheBatchesWithoutAGap) {
     EXPECT_EQ(j.intake_samples, 25u);
     EXPECT_EQ(j.tail_samples, 20u);
     EXPECT_EQ(j.samples, 40u);
+    EXPECT_EQ(j.tail_unplaced, 0u);  // a gap in the intake's numbers is not damage: 45..49 are simply not the tail
     std::size_t n = 0;
     expect_prefix(j, s, n);
     EXPECT_EQ(n, 40u);
@@ -128,6 +129,26 @@ TEST(JournalIntake, DamageLeavesNoTailUnplacedWhenTheBatchesHoldTheIntake) {
     EXPECT_EQ(j.intake_samples, 20u);
     EXPECT_EQ(j.tail_samples, 0u);
     EXPECT_EQ(j.tail_unplaced, 0u);
+    fs::remove(path);
+}
+
+// The same with the intake running 5 samples past the last batch: those 5 are unplaced, counted once though the intake
+// record starts before the damage.
+TEST(JournalIntake, DamageLeavesUnplacedOnlyTheIntakePastTheBatches) {
+    const std::vector<ToolSample> s = test::journal_stream();
+    const std::string path = temp_path("straddle.tdj");
+    {
+        compute::JournalWriter w(path, "session");
+        w.append(part(s, 0, 20));
+        w.intake(20, part(s, 20, 45));
+        w.append(part(s, 20, 30));
+        w.append(part(s, 30, 40));
+    }
+    std::vector<unsigned char> b = file_bytes(path);
+    b[b.size() - 2 * (8 + 16 + 10 * 120 + 4) + 40] ^= 0x10;  // the batch of 20..29
+    const compute::Journal j = compute::parse_journal(b, "straddle.tdj");
+    ASSERT_EQ(j.damage.size(), 1u);
+    EXPECT_EQ(j.tail_unplaced, 5u);  // 40..44
     fs::remove(path);
 }
 

@@ -257,10 +257,10 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
         const bool first = !std::exchange(begun, true);
         return first || std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < kStartupSliceS;
     };
-    // Start-up's groups whose coarse reads missed a surface, where a view may see one of their tiles, are contoured as
-    // if a frame wanted them.
+    // Groups whose coarse reads missed a surface that start-up's or a stroke's tiles not yet in hold, where a view may
+    // see one of their tiles, are contoured as if a frame wanted them.
     std::vector<std::uint64_t> ids = wanted;
-    if (refiner_) {
+    {
         std::vector<std::uint64_t> missed = tiles_.missed_surface_groups();
         if (!visible.empty())
             std::erase_if(missed,

@@ -75,9 +75,10 @@ bool RunPipeline::Parts::take_input() {
     rt.poll_device_frame();
     // Scripted keys and the scripted cursor's end are on device time (the samples' clock, as a recording's), not
     // on the loop's, which runs ahead of it when the loop skips missed deadlines.
-    for (const double t_dev = rt.latest_view().device_t_s; next_key < scene.keys.size() && scene.keys[next_key].t_s <= t_dev;
-         ++next_key)
-        for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, t_dev)) input->handle(e);
+    // The scripted cursor (aim) takes the same time, so no key lands after a press scripted later.
+    script_t_s = rt.latest_view().device_t_s;
+    for (; next_key < scene.keys.size() && scene.keys[next_key].t_s <= script_t_s; ++next_key)
+        for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, script_t_s)) input->handle(e);
     // The hands: the keys' actions, the tool's and the wand's buttons through their bindings, and the pie menu.
     if (wand) wand_now = wand->sample();
     const haptics::LoopView& lv = rt.latest_view();
@@ -360,10 +361,10 @@ RunPipeline::Parts::FrameAim RunPipeline::Parts::aim(const MeshFrame& mesh) {
     const auto t0 = Clock::now();
     if (mouse_stylus) {
         const haptics::LoopView& lv = backend->runtime().latest_view();  // not used after await_hand()
-        // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus, on
-        // device time as the scripted keys (a cursor on loop time, which runs ahead, would press before a key
-        // scripted earlier).
-        if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, lv.device_t_s);
+        // Offscreen, or a window whose scene scripts the cursor (bench --stalls): the script moves the stylus, at the
+        // device time the frame's scripted keys took (a cursor on loop time, which runs ahead, would press before a
+        // key scripted earlier).
+        if (!window || !scene.cursor.empty()) mouse_stylus->apply_script(scene.cursor, script_t_s);
         // The cursor is in one eye's image (side by side: either half; top-bottom: either half).
         double w_px = rend->width(), h_px = rend->height();
         if (window) {

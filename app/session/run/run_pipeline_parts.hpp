@@ -169,6 +169,7 @@ struct RunPipeline::Parts final : FrameSteps {
     GpuTileSplit gpu_split;  // GPU contour with levels: the read-back tiles this frame draws instead of the buffers
     std::string ended = "the window was closed";
     std::size_t next_key = 0;     // scene.keys not yet pressed
+    double script_t_s = 0.0;      // the device time this frame's scripted keys and cursor use, read once per frame
     bool journal_warned = false;  // said once that the journal stopped
     Clock::time_point t_render{}, prev_start{};
     std::optional<Pose> last_good_head;   // the newest head pose whose eyes saw the screen
