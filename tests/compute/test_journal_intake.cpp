@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <thread>
+#include <utility>
 
 #include "journal_stream.hpp"
 #include "compute/journal/journal_format.hpp"
@@ -106,50 +107,40 @@ TEST(JournalIntake, ATailAfterDamageIsNotApplied) {
     fs::remove(path);
 }
 
-// Intake records whose samples the batches after them hold (the sculpt thread was behind, then caught up): damage
-// elsewhere leaves no tail unplaced, so recovery has nothing to warn of.
-TEST(JournalIntake, DamageLeavesNoTailUnplacedWhenTheBatchesHoldTheIntake) {
-    const std::vector<ToolSample> s = test::journal_stream();
-    const std::string path = temp_path("caught_up.tdj");
+// Batches of 0..19, 20..29 and 30..39, the middle one damaged, after an intake record of 20..intake_end written while
+// the sculpt thread was behind: the journal as read.
+compute::Journal damaged_after_intake(const std::vector<ToolSample>& s, std::size_t intake_end,
+                                      const std::string& name) {
+    const std::string path = temp_path(name);
     {
         compute::JournalWriter w(path, "session");
         w.append(part(s, 0, 20));
-        w.intake(20, part(s, 20, 40));
+        w.intake(20, part(s, 20, intake_end));
         w.append(part(s, 20, 30));
         w.append(part(s, 30, 40));
     }
     std::vector<unsigned char> b = file_bytes(path);
-    // A bit flipped in the batch of 20..29: the intake's end (40) is past the 30 batch samples kept, not past the
-    // 10 more the damaged stretch is estimated to hold.
-    b[b.size() - 2 * (8 + 16 + 10 * 120 + 4) + 40] ^= 0x10;
-    const compute::Journal j = compute::parse_journal(b, "caught_up.tdj");
-    ASSERT_EQ(j.damage.size(), 1u);
-    EXPECT_FALSE(j.cut);
-    EXPECT_EQ(j.damage[0].samples_lost, 10u);
-    EXPECT_EQ(j.intake_samples, 20u);
-    EXPECT_EQ(j.tail_samples, 0u);
-    EXPECT_EQ(j.tail_unplaced, 0u);
+    b[b.size() - 2 * (8 + 16 + 10 * 120 + 4) + 40] ^= 0x10;  // a bit flipped in the batch of 20..29
     fs::remove(path);
+    return compute::parse_journal(b, name);
 }
 
-// The same with the intake running 5 samples past the last batch: those 5 are unplaced, counted once though the intake
-// record starts before the damage.
+// Intake whose samples the batches after it hold (the sculpt thread was behind, then caught up): its end (40) is past
+// the 30 batch samples kept, not past the 10 more the damaged stretch is estimated to hold, so no tail is unplaced and
+// recovery has nothing to warn of. Intake running 5 samples past the last batch leaves those 5 unplaced, counted once
+// though the record starts before the damage.
 TEST(JournalIntake, DamageLeavesUnplacedOnlyTheIntakePastTheBatches) {
     const std::vector<ToolSample> s = test::journal_stream();
-    const std::string path = temp_path("straddle.tdj");
-    {
-        compute::JournalWriter w(path, "session");
-        w.append(part(s, 0, 20));
-        w.intake(20, part(s, 20, 45));
-        w.append(part(s, 20, 30));
-        w.append(part(s, 30, 40));
+    for (const auto& [end, unplaced] : {std::pair<std::size_t, std::uint64_t>{40, 0}, {45, 5}}) {
+        SCOPED_TRACE("intake of 20.." + std::to_string(end - 1));
+        const compute::Journal j = damaged_after_intake(s, end, "damaged_" + std::to_string(end) + ".tdj");
+        ASSERT_EQ(j.damage.size(), 1u);
+        EXPECT_FALSE(j.cut);
+        EXPECT_EQ(j.damage[0].samples_lost, 10u);
+        EXPECT_EQ(j.intake_samples, end - 20);
+        EXPECT_EQ(j.tail_samples, 0u);
+        EXPECT_EQ(j.tail_unplaced, unplaced);
     }
-    std::vector<unsigned char> b = file_bytes(path);
-    b[b.size() - 2 * (8 + 16 + 10 * 120 + 4) + 40] ^= 0x10;  // the batch of 20..29
-    const compute::Journal j = compute::parse_journal(b, "straddle.tdj");
-    ASSERT_EQ(j.damage.size(), 1u);
-    EXPECT_EQ(j.tail_unplaced, 5u);  // 40..44
-    fs::remove(path);
 }
 
 // The tail spans both stroke changes; the replay closes the strokes there, as the sculpt thread would have, and the
