@@ -311,11 +311,10 @@ public:
     /// update_startup_groups() raises at a time, from the finest depth's levels once they are read (each samples the
     /// finest levels under its group).
     static constexpr std::size_t kStartupEstimatesPerPass = 16;
-    /// Groups of the finest coarse depth whose coarse read found no surface though tiles under them that are not in
-    /// yet (start-up's, or a stroke's hidden by defer_tiles) hold some (a feature thinner than their stride: the rays
-    /// that see it are not read at that depth), ascending, while those tiles are not all in. Nothing stands in for
-    /// them: their caller contours their tiles (compute::refine_wanted_groups) as it does for the groups a frame wants
-    /// finer, whatever the frames ask.
+    /// Groups of the finest coarse depth whose coarse read found no surface though their tiles not in yet (start-up's
+    /// or a stroke's hidden ones) hold some (a feature thinner than the stride), ascending, until those tiles are in.
+    /// Nothing stands in for them: their caller contours their tiles (compute::refine_wanted_groups) as it does for
+    /// the groups a frame wants finer, whatever the frames ask.
     std::vector<std::uint64_t> missed_surface_groups() const;
     /// Groups waiting for their coarse level (dropped by a stroke, not yet rebuilt).
     std::size_t coarse_waiting() const { return coarse_stale_.size(); }
