@@ -260,13 +260,11 @@ void ClusterReplica::refine_held(const std::vector<std::uint64_t>& wanted, const
     // Groups whose coarse reads missed a surface that start-up's or a stroke's tiles not yet in hold, where a view may
     // see one of their tiles, are contoured as if a frame wanted them.
     std::vector<std::uint64_t> ids = wanted;
-    {
-        std::vector<std::uint64_t> missed = tiles_.missed_surface_groups();
-        if (!visible.empty())
-            std::erase_if(missed,
-                          [&](std::uint64_t id) { return !group_seen(tiles_.groups(), id, wp_.model.tiles, visible); });
-        compute::merge_ids(ids, missed);
-    }
+    std::vector<std::uint64_t> missed = tiles_.missed_surface_groups();
+    if (!visible.empty())
+        std::erase_if(missed,
+                      [&](std::uint64_t id) { return !group_seen(tiles_.groups(), id, wp_.model.tiles, visible); });
+    compute::merge_ids(ids, missed);
     const compute::WantedRefined n =
         compute::refine_wanted_groups(ids, tiles_.groups(), wp_.model, *contourer_, refiner_.get(), deferral_.get(),
                                       compute::kWantedBlockDepth, in_slice);

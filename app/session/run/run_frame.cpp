@@ -73,9 +73,8 @@ bool RunPipeline::Parts::take_input() {
     }
     // Devices whose input API runs on this thread poll it (their buttons reach the loop's view).
     rt.poll_device_frame();
-    // Scripted keys and the scripted cursor's end are on device time (the samples' clock, as a recording's), not
-    // on the loop's, which runs ahead of it when the loop skips missed deadlines.
-    // The scripted cursor (aim) takes the same time, so no key lands after a press scripted later.
+    // Scripted keys, the scripted cursor (aim) and its end are on device time (the samples' clock, as a recording's),
+    // read once per frame, not on the loop's, which runs ahead of it when the loop skips missed deadlines.
     script_t_s = rt.latest_view().device_t_s;
     for (; next_key < scene.keys.size() && scene.keys[next_key].t_s <= script_t_s; ++next_key)
         for (const renderer::InputEvent& e : chord_events(scene.keys[next_key].chord, script_t_s)) input->handle(e);
