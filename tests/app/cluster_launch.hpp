@@ -1,6 +1,6 @@
 // tests/app/cluster_launch.hpp - a three-rank cluster session of the small wall scene under mpirun on this machine
 // (rank 0 the session, ranks 1 and 2 the render ranks of a cluster config in tests/data/cluster), for the cluster and
-// chaos tests. Needs TRIDEX_EXE and TRIDEX_SOURCE_DIR defined by the test's build.
+// chaos tests. The executable and the source tree come from ctest's environment (tests/test_paths.hpp).
 #pragma once
 
 #include <sys/wait.h>
@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include "../test_paths.hpp"
 
 namespace tridex::app::test {
 

@@ -21,10 +21,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../test_paths.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
+#include "child_process.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/model_digest.hpp"
-#include "child_process.hpp"
 
 namespace tridex::app {
 namespace {

@@ -12,15 +12,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../renderer/test_window_xvfb.hpp"
+#include "../test_paths.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
+#include "cluster_launch.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/model_digest.hpp"
 #include "gpu/context.hpp"
 #include "renderer/image/image.hpp"
 #include "renderer/image/image_compare.hpp"
 #include "renderer/output/offscreen_sink.hpp"
-#include "../renderer/test_window_xvfb.hpp"
-#include "cluster_launch.hpp"
 
 namespace tridex::app {
 namespace {

@@ -10,9 +10,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "test_files.hpp"
 #include <sstream>
 #include <string>
+#include "../test_paths.hpp"
+#include "test_files.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../renderer/test_window_xvfb.hpp"
+#include "../test_paths.hpp"
 #include "run_test_scene.hpp"
 #include "test_files.hpp"
 #include "xvfb_session.hpp"

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../test_paths.hpp"
 #include "test_files.hpp"
 
 namespace {

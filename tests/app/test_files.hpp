@@ -12,6 +12,7 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
+#include "../test_paths.hpp"
 
 namespace tridex::app::test {
 
@@ -50,7 +51,6 @@ inline std::filesystem::path hex_key_file(const std::filesystem::path& dir, cons
     return p;
 }
 
-#ifdef TRIDEX_EXE
 /// Runs `tridex ARGS` (shell words) under a 300 s timeout with stdout in dir/stdout.txt and stderr in
 /// dir/stderr.txt (dir is created), and waits for it.
 inline ExeResult run_tridex(const std::string& args, const std::filesystem::path& dir) {
@@ -64,6 +64,5 @@ inline ExeResult run_tridex(const std::string& args, const std::filesystem::path
     r.err = bytes_of(err);
     return r;
 }
-#endif
 
 }  // namespace tridex::app::test

@@ -25,10 +25,11 @@
 #include <nlohmann/json.hpp>
 
 #include "../renderer/test_window_xvfb.hpp"
-#include "app/support/memory.hpp"
+#include "../test_paths.hpp"
 #include "app/input/surface_pick.hpp"
-#include "app/session/view/framing.hpp"
 #include "app/session/batch/session.hpp"
+#include "app/session/view/framing.hpp"
+#include "app/support/memory.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "compute/model/volume.hpp"

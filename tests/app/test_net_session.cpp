@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../test_paths.hpp"
 #include "child_process.hpp"
 #include "test_files.hpp"
 

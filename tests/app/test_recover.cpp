@@ -22,9 +22,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "test_files.hpp"
-#include "app/session/runtime/session_runtime.hpp"
+#include "../test_paths.hpp"
 #include "app/scene/session_spec.hpp"
+#include "app/session/runtime/session_runtime.hpp"
 #include "compute/contour/contour_dual.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/mesh/mesh_export.hpp"
@@ -32,6 +32,7 @@
 #include "compute/model/volume.hpp"
 #include "compute/tools/sample_sweep.hpp"
 #include "compute/tools/sweep.hpp"
+#include "test_files.hpp"
 
 extern char** environ;
 

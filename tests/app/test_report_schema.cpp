@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../test_paths.hpp"
 #include "app/session/report/session_report.hpp"
 #include "compute/model/tdx_file.hpp"
 #include "test_files.hpp"

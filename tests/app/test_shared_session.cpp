@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "../test_paths.hpp"
 #include "child_process.hpp"
 #include "cluster_launch.hpp"
 #include "compute/journal/journal_reader.hpp"

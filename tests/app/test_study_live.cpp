@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include "../test_paths.hpp"
 #include "renderer/image/image.hpp"
 #include "test_files.hpp"
 

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../test_paths.hpp"
 #include "app/input/key_script.hpp"
 #include "app/input/run_input.hpp"
 #include "compute/journal/journal_reader.hpp"

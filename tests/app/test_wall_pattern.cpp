@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../test_paths.hpp"
 #include "app/scene/test_pattern.hpp"
 #include "core/error.hpp"
 #include "renderer/image/image.hpp"

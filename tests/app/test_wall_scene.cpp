@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../test_paths.hpp"
 #include "renderer/image/image.hpp"
 #include "test_files.hpp"
 

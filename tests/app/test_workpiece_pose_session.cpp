@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../test_paths.hpp"
 #include "test_files.hpp"
 
 namespace {

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include "../test_paths.hpp"
 
 namespace tridex::app::test {
 

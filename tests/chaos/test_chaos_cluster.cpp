@@ -5,8 +5,9 @@
 // TRIDEX_CHAOS_RANK_KILLS sets how many kills (default 3; the long form in docs/benchmarks/chaos.md runs 20).
 #include <gtest/gtest.h>
 
-#include "chaos_env.hpp"
 #include <sys/wait.h>
+#include "../test_paths.hpp"
+#include "chaos_env.hpp"
 
 #include <cstdio>
 #include <cstdlib>

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "../test_paths.hpp"
 #include "child_process.hpp"
 #include "test_files.hpp"
 

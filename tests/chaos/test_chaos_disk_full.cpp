@@ -6,6 +6,7 @@
 // rows, and the journal's intact records recover. TRIDEX_CHAOS_DISKS sets how many sizes (default 4).
 #include <gtest/gtest.h>
 
+#include "../test_paths.hpp"
 #include "chaos_env.hpp"
 
 #include <sys/mount.h>

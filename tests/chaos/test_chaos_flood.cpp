@@ -26,6 +26,7 @@
 
 #include "../devices/dtrack_sender.hpp"
 #include "../devices/udp_flood.hpp"
+#include "../test_paths.hpp"
 #include "chaos_env.hpp"
 #include "child_process.hpp"
 #include "test_files.hpp"

@@ -6,6 +6,7 @@
 // docs/benchmarks/chaos.md runs 50).
 #include <gtest/gtest.h>
 
+#include "../test_paths.hpp"
 #include "chaos_env.hpp"
 
 #include <algorithm>

@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "../test_paths.hpp"
 #include "tests/layout/include_rules.hpp"
 
 namespace tridex::layout {
