@@ -32,7 +32,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
+// The cluster configs and scenes (read when a test runs, from ctest's environment).
+fs::path cluster_data() { return fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster"; }
 
 // A UDP port nobody holds now (bound, read, closed).
 std::uint16_t free_udp_port() {
@@ -77,8 +78,9 @@ TEST(ClusterNetWall, RenderRanksJoinTheRunningWallAndANewProcessTakesAFailedOnes
     fs::remove_all(out);
     fs::create_directories(out);
     const std::uint16_t port = free_udp_port();
-    const std::vector<std::string> common = {(kData / "wall_small_scene_undo.json").string(), "--display", "offscreen",
-                                             "--no-items", "--cluster", (kData / "two_tiles_net.json").string()};
+    const std::vector<std::string> common = {
+        (cluster_data() / "wall_small_scene_undo.json").string(), "--display", "offscreen", "--no-items", "--cluster",
+        (cluster_data() / "two_tiles_net.json").string()};
     const auto with = [&](std::vector<std::string> more) {
         std::vector<std::string> a = common;
         a.insert(a.end(), more.begin(), more.end());
@@ -148,12 +150,16 @@ TEST(ClusterNetWall, AProcessWithoutTheKeyOrWithATakenRankIsTurnedAway) {
     const std::uint16_t port = free_udp_port();
     const std::string at = "127.0.0.1:" + std::to_string(port);
     const auto args = [&](const fs::path& config, std::vector<std::string> more) {
-        std::vector<std::string> a = {(kData / "wall_small_scene.json").string(), "--display", "offscreen", "--no-items",
-                                      "--cluster", config.string()};
+        std::vector<std::string> a = {(cluster_data() / "wall_small_scene.json").string(),
+                                      "--display",
+                                      "offscreen",
+                                      "--no-items",
+                                      "--cluster",
+                                      config.string()};
         a.insert(a.end(), more.begin(), more.end());
         return a;
     };
-    const fs::path config = kData / "two_tiles_net.json";
+    const fs::path config = cluster_data() / "two_tiles_net.json";
     auto root = tridex_child("", args(config, {"--cluster-listen", at, "--seconds", "20", "--out", (out / "root").string()}));
     auto rank1 = tridex_child("", args(config, {"--cluster-connect", at, "--rank", "1", "--out", (out / "rank1").string()}));
     ASSERT_TRUE(wait_for(*root, "render rank 2 has not connected", 60)) << root->seen();

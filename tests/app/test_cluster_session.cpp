@@ -28,7 +28,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster";
+// The cluster configs and scenes (read when a test runs, from ctest's environment).
+fs::path cluster_data() { return fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster"; }
 
 using test::Launch;
 using test::have_mpirun;
@@ -46,7 +47,7 @@ Quat q4(const nlohmann::json& j) { return Quat(j[0].get<double>(), j[1].get<doub
 TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
     if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
     const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_ok";
-    const Launch l = mpirun3(out, kData / "two_tiles.json");
+    const Launch l = mpirun3(out, cluster_data() / "two_tiles.json");
     ASSERT_EQ(l.exit_code, 0) << l.log;
     const nlohmann::json report = read_json(out / "report.json");
     const nlohmann::json& c = report["cluster"];
@@ -133,7 +134,7 @@ TEST(ClusterSession, ThreeRanksDrawTheWallOneMachineDraws) {
 TEST(ClusterSession, ARenderRankThatDiesEndsTheSessionAndKeepsItsWork) {
     if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
     const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_dies";
-    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:3:exit");
+    const Launch l = mpirun3(out, cluster_data() / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:3:exit");
     EXPECT_EQ(l.exit_code, 5) << l.log;  // rank 0 kept its work, then ended every rank with 5
     EXPECT_NE(l.log.find("render rank 2 did not answer frame "), std::string::npos) << l.log;
     EXPECT_NE(l.log.find("kept its work"), std::string::npos) << l.log;
@@ -151,7 +152,7 @@ TEST(ClusterSession, ARenderRankThatDiesEndsTheSessionAndKeepsItsWork) {
 TEST(ClusterSession, ARenderRankThatHangsIsNamedWithinTheTimeout) {
     if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
     const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_hangs";
-    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=1:2:hang");
+    const Launch l = mpirun3(out, cluster_data() / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=1:2:hang");
     EXPECT_EQ(l.exit_code, 5) << l.log;  // rank 0 kept its work, then ended every rank with 5
     EXPECT_NE(l.log.find("render rank 1 did not answer frame "), std::string::npos) << l.log;
     EXPECT_NE(l.log.find("within 5 s"), std::string::npos) << l.log;
@@ -165,7 +166,7 @@ TEST(ClusterSession, AWindowViewportPresentsEveryFrameOnItsDisplay) {
     if (std::system("command -v Xvfb > /dev/null 2>&1") != 0) GTEST_SKIP() << "needs Xvfb (scripts/install-deps.sh installs xvfb)";
     renderer::test::VirtualDisplay display(640, 480);
     const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_window";
-    const Launch l = mpirun3(out, kData / "window_tile.json");
+    const Launch l = mpirun3(out, cluster_data() / "window_tile.json");
     ASSERT_EQ(l.exit_code, 0) << l.log;
     const nlohmann::json c = read_json(out / "report.json")["cluster"];
     ASSERT_EQ(c["render_ranks"].size(), 2u) << c.dump(1);
@@ -187,7 +188,7 @@ TEST(ClusterSession, AWindowViewportPresentsEveryFrameOnItsDisplay) {
 TEST(ClusterSession, AReplicaThatDivergesIsCaughtByTheDigestCheck) {
     if (!have_mpirun()) GTEST_SKIP() << "mpirun is not installed (Debian's openmpi-bin; scripts/install-deps.sh installs it)";
     const fs::path out = fs::path(testing::TempDir()) / "tridex_cluster_diverges";
-    const Launch l = mpirun3(out, kData / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:1:diverge");
+    const Launch l = mpirun3(out, cluster_data() / "two_tiles_quick_timeout.json", "TRIDEX_CLUSTER_FAULT=2:1:diverge");
     EXPECT_EQ(l.exit_code, 5) << l.log;  // rank 0 kept its work, then ended every rank with 5
     EXPECT_NE(l.log.find("render rank 2 holds another model than rank 0 at frame "), std::string::npos) << l.log;
     const nlohmann::json report = read_json(out / "report.json");

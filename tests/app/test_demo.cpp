@@ -224,11 +224,8 @@ TEST(Devices, ListsDriversAsTextAndJson) {
     EXPECT_TRUE(wand);
 }
 
-// ctest sets TRIDEX_SHARED_DATA; run by hand, the test falls back to the source tree's neighbour.
-std::string data(const char* rel) {
-    const char* env = std::getenv("TRIDEX_SHARED_DATA");
-    return std::string(env ? env : TRIDEX_SHARED_DATA_DIR) + "/" + rel;
-}
+// A file of the shared test data (TRIDEX_SHARED_DATA, which ctest sets).
+std::string data(const char* rel) { return std::string(TRIDEX_SHARED_DATA_DIR) + "/" + rel; }
 
 // A command that fails leaves no empty output folder behind; a folder that was there already stays.
 TEST(Demo, AFailedCommandLeavesNoEmptyOutputFolder) {

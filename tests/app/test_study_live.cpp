@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 using test::read_json;
 using test::run_tridex;
 
-const fs::path kAssets = TRIDEX_ASSETS_DIR;
+// The bundled assets (read when a test runs, from ctest's environment).
+fs::path assets() { return TRIDEX_ASSETS_DIR; }
 
 // Pixels of the image whose colour is clearly red / clearly green (the contact colours over the dark background).
 int count_pixels(const renderer::Image& im, bool red) {
@@ -39,7 +40,7 @@ TEST(StudyLive, ModelScenesShowTheTubeAndItsContactColour) {
     const fs::path dir = fs::temp_directory_path() / "tridex_study_live_scenes";
     fs::remove_all(dir);
     // Visual training, stopped half way through (the scripted wand wanders into the wall on the way).
-    const auto v = run_tridex("run " + (kAssets / "study_visual_training.json").string() +
+    const auto v = run_tridex("run " + (assets() / "study_visual_training.json").string() +
                                   " --display offscreen --validate --out " + (dir / "visual").string(),
                               dir / "visual_run");
     ASSERT_EQ(v.exit_code, 0) << v.err;
@@ -52,7 +53,7 @@ TEST(StudyLive, ModelScenesShowTheTubeAndItsContactColour) {
     const renderer::Image left = renderer::read_png((dir / "visual" / "left.png").string());
     EXPECT_GT(count_pixels(left, false), 500);  // the green tube (not touched at the end cap)
     // Haptic training: the walls are felt (contact ticks) but the tube is not drawn.
-    const auto h = run_tridex("run " + (kAssets / "study_haptic_training.json").string() +
+    const auto h = run_tridex("run " + (assets() / "study_haptic_training.json").string() +
                                   " --display offscreen --validate --out " + (dir / "haptic").string(),
                               dir / "haptic_run");
     ASSERT_EQ(h.exit_code, 0) << h.err;
@@ -67,7 +68,7 @@ TEST(StudyLive, ModelScenesShowTheTubeAndItsContactColour) {
     EXPECT_GT(count_pixels(left, true), 50);
     EXPECT_LT(count_pixels(hl, false), count_pixels(left, false));
     // A scene that sets both a study and a workpiece is refused with one line naming the field.
-    std::ofstream(dir / "bad.json") << R"({"study": {"scene": ")" << (kAssets / "study_tube_scene.json").string()
+    std::ofstream(dir / "bad.json") << R"({"study": {"scene": ")" << (assets() / "study_tube_scene.json").string()
                                     << R"("}, "workpiece": {"resolution": 64}})";
     const auto b = run_tridex("run " + (dir / "bad.json").string() + " --display offscreen --frames 1 --out " +
                                   (dir / "bad").string(),
@@ -83,8 +84,8 @@ TEST(StudyLive, TheFalconReachesTheTubeThroughAFittedGainAndAReplayFeelsTheSameW
     const fs::path dir = fs::temp_directory_path() / ("tridex_study_falcon_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
-    nlohmann::json sc = read_json(kAssets / "study_haptic_training.json");
-    sc["study"]["scene"] = (kAssets / "study_tube_scene.json").string();
+    nlohmann::json sc = read_json(assets() / "study_haptic_training.json");
+    sc["study"]["scene"] = (assets() / "study_tube_scene.json").string();
     sc["device"] = {{"driver", "falcon-emulator"}, {"profile", "falcon"}};
     sc["workspace"] = {{"mode", "scaling"}, {"scale", "fit"}};
     std::ofstream(dir / "falcon.json") << sc.dump();
@@ -122,7 +123,7 @@ TEST(StudyLive, ProtocolPhasesInOrderWithTestTrialsGatedByTheEndCap) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     // The bundled tube with a short protocol.
-    std::ifstream in(kAssets / "study_tube_scene.json");
+    std::ifstream in(assets() / "study_tube_scene.json");
     nlohmann::json scene = nlohmann::json::parse(in);
     scene["protocol"] = {{"introduction_s", 0.5}, {"presentation_s", 0.5}, {"test_look_s", 0.5}, {"training_s", 1.0},
                          {"test_trials", 2}, {"trial_timeout_s", 120}};

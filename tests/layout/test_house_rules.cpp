@@ -21,7 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kRoot = TRIDEX_SOURCE_DIR;
+// The source tree (read when a test runs, from ctest's environment).
+fs::path source_root() { return TRIDEX_SOURCE_DIR; }
 const std::vector<std::string> kCodeFolders = {"app", "bench", "compute", "renderer", "haptics", "devices", "core", "gpu"};
 
 std::string read(const fs::path& p) {
@@ -108,7 +109,7 @@ TEST(HouseRules, LongFunctionsAreFoundInASyntheticTree) {
 
 TEST(HouseRules, NoFunctionOver150LinesOutsideTests) {
     std::set<std::pair<std::string, std::string>> seen;
-    for (const LongFunction& f : long_functions(kRoot, kCodeFolders, 150)) {
+    for (const LongFunction& f : long_functions(source_root(), kCodeFolders, 150)) {
         if (kLongFunctionsAllowed.count({f.file, f.name})) {
             seen.insert({f.file, f.name});
             std::printf("allow-listed: %s: %s (%d lines)\n", f.file.c_str(), f.name.c_str(), f.lines);
@@ -125,8 +126,8 @@ TEST(HouseRules, NoFileOver600LinesWithoutAReasonInItsFirstComment) {
     std::vector<std::string> folders = kCodeFolders;
     folders.push_back("tests");
     int checked = 0;
-    for (const std::string& rel : sources(kRoot, folders)) {
-        const std::string text = read(kRoot / rel);
+    for (const std::string& rel : sources(source_root(), folders)) {
+        const std::string text = read(source_root() / rel);
         ++checked;
         if (std::count(text.begin(), text.end(), '\n') <= 600) continue;
         // The first comment: the leading lines that start with "//".
@@ -167,8 +168,8 @@ TEST(HouseRules, NoNewDriverNameComparisonOutsideDevices) {
     for (const std::string& f : kCodeFolders)
         if (f != "devices") folders.push_back(f);
     std::map<std::string, int> seen;
-    for (const std::string& rel : sources(kRoot, folders)) {
-        const int n = driver_name_compares(read(kRoot / rel));
+    for (const std::string& rel : sources(source_root(), folders)) {
+        const int n = driver_name_compares(read(source_root() / rel));
         if (n == 0) continue;
         seen[rel] = n;
         const auto it = kDriverComparesAllowed.find(rel);
@@ -256,7 +257,7 @@ TEST(HouseRules, FolderCyclesAreFoundInASyntheticTree) {
 }
 
 TEST(HouseRules, NoNewIncludeLoopBetweenFolders) {
-    const std::set<std::string> cycles = folder_cycles(kRoot, kCodeFolders);
+    const std::set<std::string> cycles = folder_cycles(source_root(), kCodeFolders);
     for (const std::string& c : cycles) {
         EXPECT_TRUE(kFolderCyclesAllowed.count(c))
             << "these folders include each other around a loop: " << c
@@ -292,7 +293,7 @@ TEST(HouseRules, AppLayersAreKnownFolders) {
     EXPECT_EQ(app_layer("app/scene/run_scene.hpp"), 2);
     EXPECT_EQ(app_layer("app/demo.cpp"), -1);
     int checked = 0;
-    for (const std::string& rel : sources(kRoot, {"app"})) {
+    for (const std::string& rel : sources(source_root(), {"app"})) {
         ++checked;
         EXPECT_GE(app_layer(rel), 0) << rel << ": app/ holds main.cpp and the folders commands/, session/, scene/, menu/, "
                                      << "input/, actions/ and support/ only; put the file in the layer it belongs to";
@@ -305,7 +306,7 @@ TEST(HouseRules, AppLayersAreKnownFolders) {
 TEST(HouseRules, AppCommandsAndSessionKeepTheirFilesInFolders) {
     const std::set<std::string> kTopOfCommands = {"app/commands/command.cpp", "app/commands/command.hpp"};
     int checked = 0;
-    for (const std::string& rel : sources(kRoot, {"app/commands", "app/session"})) {
+    for (const std::string& rel : sources(source_root(), {"app/commands", "app/session"})) {
         ++checked;
         const std::string folder = fs::path(rel).parent_path().generic_string();
         if (folder == "app/commands") {
@@ -321,10 +322,10 @@ TEST(HouseRules, AppCommandsAndSessionKeepTheirFilesInFolders) {
 TEST(HouseRules, AppLayersIncludeDownwardOnly) {
     static const std::regex include_line(R"re(^\s*#\s*include\s*"(app/[^"]+)")re");
     int checked = 0;
-    for (const std::string& rel : sources(kRoot, {"app"})) {
+    for (const std::string& rel : sources(source_root(), {"app"})) {
         const int from = app_layer(rel);
         ++checked;
-        std::stringstream ss(read(kRoot / rel));
+        std::stringstream ss(read(source_root() / rel));
         int line_no = 0;
         for (std::string line; std::getline(ss, line);) {
             ++line_no;
