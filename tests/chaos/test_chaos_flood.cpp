@@ -197,11 +197,31 @@ TEST(ChaosFlood, TenTimesTheRateOnBothPortsIsCountedAndLeavesTheLoopAlone) {
     EXPECT_NE(run.server_said.find(", 0 malformed"), std::string::npos) << run.server_said;
 
     // The haptic loop: the flood's period p99 within one tick of the baseline's (both printed: a shared machine's
-    // noise is larger than any effect of a flood on the loop).
-    const double p99_base = base.report.at("haptics").at("period_us").at("p99").get<double>();
-    const double p99_flood = run.report.at("haptics").at("period_us").at("p99").get<double>();
-    const double worst_base = base.report.at("haptics").at("period_us").at("max").get<double>();
-    const double worst_flood = run.report.at("haptics").at("period_us").at("max").get<double>();
+    // noise is larger than any effect of a flood on the loop). A stall of the machine during one of the two runs
+    // can pass that bound once; a flood that reaches the loop passes it every time, so a pair over the bound is run
+    // again and the second pair decides.
+    const auto period = [](const FloodRun& r, const char* key) {
+        return r.report.at("haptics").at("period_us").at(key).get<double>();
+    };
+    double p99_base = period(base, "p99");
+    double p99_flood = period(run, "p99");
+    double worst_base = period(base, "max");
+    double worst_flood = period(run, "max");
+    if (p99_flood > p99_base + 1000.0) {
+        std::printf(
+            "[ chaos ] haptic period p99 %.0f us flooded vs %.0f us baseline (worst %.0f vs %.0f us): over one "
+            "tick, so the pair runs again\n",
+            p99_flood, p99_base, worst_flood, worst_base);
+        const FloodRun base2 = run_session(dir / "baseline_again", flood_s, false);
+        const FloodRun run2 = run_session(dir / "flooded_again", flood_s, true);
+        ASSERT_EQ(base2.exit_code, 0) << base2.session_said;
+        ASSERT_EQ(run2.exit_code, 0) << run2.session_said;
+        ASSERT_TRUE(base2.report.is_object() && run2.report.is_object()) << base2.session_said << run2.session_said;
+        p99_base = period(base2, "p99");
+        p99_flood = period(run2, "p99");
+        worst_base = period(base2, "max");
+        worst_flood = period(run2, "max");
+    }
     EXPECT_LE(p99_flood, p99_base + 1000.0);
     std::printf("[ chaos ] flood %.0f s: DTrack %llu good, %llu random, %llu replayed -> %llu accepted, %llu rejected "
                 "(%s), %llu dropped by the kernel\n",
