@@ -24,6 +24,7 @@
 #include "../test_paths.hpp"
 #include "app/session/cluster/cluster_replica.hpp"
 #include "child_process.hpp"
+#include "cluster_launch.hpp"
 #include "compute/journal/journal_reader.hpp"
 #include "compute/model/model_digest.hpp"
 
@@ -32,8 +33,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The cluster configs and scenes (read when a test runs, from ctest's environment).
-fs::path cluster_data() { return fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster"; }
+using test::cluster_data;
 
 // A UDP port nobody holds now (bound, read, closed).
 std::uint16_t free_udp_port() {

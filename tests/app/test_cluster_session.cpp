@@ -28,11 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The cluster configs and scenes (read when a test runs, from ctest's environment).
-fs::path cluster_data() { return fs::path(TRIDEX_SOURCE_DIR) / "tests" / "data" / "cluster"; }
-
-using test::Launch;
+using test::cluster_data;
 using test::have_mpirun;
+using test::Launch;
 using test::mpirun3;
 
 nlohmann::json read_json(const fs::path& p) {
