@@ -91,6 +91,10 @@ struct SculptStats {
     std::vector<double> undo_contour_ms;
     std::uint64_t undo_requests = 0;   ///< undo requests taken (including those with nothing to undo)
     std::uint64_t redo_requests = 0;   ///< redo requests taken
+    /// Undo and redo requests that waited for the local tool's release (SculptThread::strokes_end_on_release).
+    std::uint64_t held_requests = 0;
+    /// Undo and redo requests dropped because SculptThread::kMaxHeldRequests already waited.
+    std::uint64_t held_requests_dropped = 0;
     compute::HistoryStats history;     ///< the undo history at stop()
     std::uint64_t checkpoints = 0;     ///< checkpoint models written
     double checkpoint_ms_total = 0.0;  ///< wall time spent writing them, ms

@@ -43,6 +43,12 @@ void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
         w.begin = w.n;
         close_stroke(close == compute::StrokeClose::kSiteSwitch ? std::optional<std::uint8_t>(s.site) : std::nullopt);
     }
+    // The local tool stopped cutting: the requests asked during its drag are taken here, after the drag.
+    if (!held_requests_.empty() && s.site == local_site_ && !cuts) {
+        flush(w.begin, w.n, w.changed);
+        w.begin = w.n;
+        take_held_requests();
+    }
     const bool mesh = cuts && sites.prev(s.site) && s.tool.kind == ToolKind::kMesh;
     const bool mirror = mesh && s.symmetry.mirrors != 0;
     sites.advance(s, mesh ? mesh_tool(s.tool.mesh_id) : nullptr, mirror ? mirrored_mesh_tool(s.tool.mesh_id) : nullptr,
@@ -81,10 +87,38 @@ bool SculptThread::take_requests() {
     while (requests_.try_pop(r)) {
         any = true;
         const bool local = r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
-        if (follower_ && !local) outlet_.request(r);  // the host decides; its marks come back
-        else take(r, local_site_);
+        if (holds_request(r)) {
+            if (held_requests_.size() < kMaxHeldRequests) {
+                held_requests_.push_back(r);
+                ++stats_.held_requests;
+            } else {
+                ++stats_.held_requests_dropped;
+            }
+        } else if (follower_ && !local) {
+            outlet_.request(r);  // the host decides; its marks come back
+        } else {
+            take(r, local_site_);
+        }
     }
     return any;
+}
+
+bool SculptThread::holds_request(SculptRequest r) const {
+    if (idle_close_ || (r != SculptRequest::kUndo && r != SculptRequest::kRedo)) return false;
+    const bool local_cuts = have_prev_ && prev_.op != ToolOp::kNone && prev_.tool.radius_m > 0.0;
+    return local_cuts || !held_requests_.empty();
+}
+
+void SculptThread::take_held_requests() {
+    std::vector<SculptRequest> held;
+    held.swap(held_requests_);
+    if (follower_ && !held.empty()) {  // to the host after the samples up to the release, in their order
+        if (!own_.empty()) outlet_.samples(own_);
+        own_.clear();
+        for (const SculptRequest r : held) outlet_.request(r);
+        return;
+    }
+    for (const SculptRequest r : held) take(r, local_site_);
 }
 
 void SculptThread::save_now() {
@@ -220,6 +254,7 @@ void SculptThread::forward_own(ToolSample s) {
     prev_ = s;  // the active surface follows this site's own tool at once, not its echo from the host
     have_prev_ = true;
     own_.push_back(s);
+    if (!held_requests_.empty() && !(s.op != ToolOp::kNone && s.tool.radius_m > 0.0)) take_held_requests();
 }
 
 void SculptThread::follow_check(std::uint64_t host_digest) {

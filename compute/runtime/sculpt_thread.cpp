@@ -97,9 +97,9 @@ void SculptThread::remove_islands(bool on) {
     remove_islands_ = on;
 }
 
-void SculptThread::close_strokes_when_idle(bool on) {
-    if (thread_.joinable()) throw Error("SculptThread::close_strokes_when_idle: call it before start()");
-    idle_close_ = on;
+void SculptThread::strokes_end_on_release(bool on) {
+    if (thread_.joinable()) throw Error("SculptThread::strokes_end_on_release: call it before start()");
+    idle_close_ = !on;
 }
 
 void SculptThread::use_checkpoints(std::function<CheckpointFile(const compute::TriDexel&)> write, double interval_s) {
@@ -220,6 +220,7 @@ void SculptThread::run() {
             if (!failure_) {
                 try {
                     close_stroke();  // the last stroke is a step too
+                    take_held_requests();  // asked during a drag the session ended in
                     // Its close's change (deferred as its steps were) reaches the contour and the renderer too.
                     if (deferral_ && deferral_->count() > 0) refine_startup(true);
                     publish_mesh_if_due(true);

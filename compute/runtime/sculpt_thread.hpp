@@ -250,11 +250,18 @@ public:
     /// part of the stroke: journalled with it, undone and redone with it, published and contoured at once. Throws
     /// tridex::Error when the thread runs.
     void remove_islands(bool on);
-    /// Whether an open stroke closes after kStrokeIdleS of device time without a change (default true: a force
-    /// device's stroke ends when the tool leaves the material). Off for input whose stroke is a held button (the
-    /// mouse stylus: its samples carry op none when the button is up, which closes the stroke), so that holding
-    /// still mid-drag does not split one stroke into several undo steps. Throws tridex::Error when the thread runs.
-    void close_strokes_when_idle(bool on);
+    /// Whether a stroke is a held button (default false: a force device's stroke ends when the tool leaves the
+    /// material, closed after kStrokeIdleS of device time without a change). On for input whose stroke is a held
+    /// button (the mouse stylus, a Flystick's trigger: samples carry op none while it is up, which closes the stroke):
+    /// - no stroke closes for idling, so holding still mid-drag keeps one stroke one undo step;
+    /// - an undo or redo request taken while the local tool cuts (its newest sample carries an op) waits until the
+    ///   local tool stops cutting (the release, or a gap in its samples), and is then taken at that sample, so that
+    ///   it takes back the whole drag however the release and the request raced to the thread. Later undo and redo
+    ///   requests wait behind it, in order; at most kMaxHeldRequests wait, further ones are dropped (counted in
+    ///   SculptStats::held_requests_dropped). Requests still waiting when the thread stops are taken then. A joiner
+    ///   (follow_host) sends them to the host after its own samples up to the release.
+    /// Throws tridex::Error when the thread runs.
+    void strokes_end_on_release(bool on);
     /// Replays a recorded session's marks (SculptStats::marks of the live session, in order): the thread takes each
     /// as a request once it has drained exactly mark.after_samples samples (splitting a step's batch there, so the
     /// sweeps before and after it fall as they did live), and closes no stroke for idling, even with no marks (the
@@ -297,6 +304,8 @@ public:
     bool request(SculptRequest r);
     /// Device time (s) without a change after which an open stroke closes.
     static constexpr double kStrokeIdleS = 0.5;
+    /// Undo and redo requests that may wait for a held stroke's release (strokes_end_on_release).
+    static constexpr std::size_t kMaxHeldRequests = 64;
     /// Coarse-first start-up: wall time (s) a pass of the thread spends contouring regions of tiles (at least one),
     /// as long as no change is waiting (use_tile_lod); after a stroke drawn coarse, contouring its deferred tiles.
     static constexpr double kRefineSliceS = 0.1;
@@ -388,6 +397,8 @@ private:
     void take_sample(const ToolSample& s, StepWork& w);  // into batch_, closing the stroke where it ends
     bool take_sites(StepWork& w, bool& sampled);         // other sites' samples and requests; true when any
     bool take_requests();                            // undo / redo / close requests; true when one was taken
+    bool holds_request(SculptRequest r) const;       // r waits for the local tool's release (strokes_end_on_release)
+    void take_held_requests();                       // the requests that waited, in order
     void take(SculptRequest r, std::uint8_t site);   // one request of `site`, recorded in stats_.marks (own site)
     void save_now();                                 // a kSave request
     void refuse(SculptRequest r, std::uint8_t site, std::uint8_t by_site, std::uint64_t serial);
@@ -446,7 +457,8 @@ private:
     std::unique_ptr<SculptHistory> history_;       // made at start() on the chosen backend
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};
-    bool idle_close_ = true;                         // close_strokes_when_idle
+    bool idle_close_ = true;                         // !strokes_end_on_release
+    std::vector<SculptRequest> held_requests_;       // undo / redo waiting for the local tool's release
     bool remove_islands_ = false;                    // remove_islands
     std::vector<SculptMark> follow_;                 // follow_marks
     std::size_t next_mark_ = 0;                      // the first of follow_ not yet taken

@@ -150,7 +150,7 @@ TEST(SculptThreadHistory, IdleClosingCanBeTurnedOffForHeldButtonStrokes) {
             Rig rig(live);
             SpscRing<ToolSample>& ring = rig.ring;
             SculptThread& t = rig.thread;
-            t.close_strokes_when_idle(idle_close);
+            t.strokes_end_on_release(!idle_close);
             t.start();
             auto a = pass(-0.01, 0.0, 200, ToolOp::kSubtract);
             std::vector<ToolSample> hold(700, a.back());  // the tool held still where the pass ended
@@ -170,6 +170,90 @@ TEST(SculptThreadHistory, IdleClosingCanBeTurnedOffForHeldButtonStrokes) {
         }
         EXPECT_EQ(stats.history.strokes, 1u) << "idle closing off";
     }
+}
+
+// With strokes that end on release (the mouse's left button), an undo asked while the tool still cuts (the request
+// reached the thread before the release did) waits for the release and takes back the whole drag: the model is the
+// fresh box again, one stroke, its mark after the release sample. With idle closing (a force device) the same order
+// undoes only the part before the request, and the rest of the drag stays carved.
+TEST(SculptThreadHistory, AnUndoAskedDuringAHeldStrokeWaitsForTheRelease) {
+    for (const bool held : {true, false}) {
+        TriDexel live = fresh();
+        SculptStats stats;
+        {
+            Rig rig(live);
+            SculptThread& t = rig.thread;
+            t.strokes_end_on_release(held);
+            t.start();
+            push_all(rig.ring, pass(-0.01, 0.0, 200, ToolOp::kSubtract));
+            wait_drained(rig.ring, t);
+            EXPECT_TRUE(t.request(SculptRequest::kUndo));
+            wait_drained(rig.ring, t);
+            push_all(rig.ring, pass(0.0, 0.2, 200, ToolOp::kSubtract));  // the drag goes on: the button still held
+            wait_drained(rig.ring, t);
+            push_all(rig.ring, pass(0.0, 0.4, 5, ToolOp::kNone));  // released
+            wait_drained(rig.ring, t);
+            t.stop();
+            stats = t.stats();
+        }
+        const std::size_t diff = compare(live, fresh()).rays;
+        ASSERT_EQ(stats.marks.size(), 1u) << held;
+        EXPECT_EQ(stats.marks[0].request, SculptRequest::kUndo);
+        EXPECT_EQ(stats.history.undos, 1u) << held;
+        if (held) {
+            EXPECT_EQ(diff, 0u) << "the whole drag is taken back";
+            EXPECT_EQ(stats.history.strokes, 1u);
+            EXPECT_EQ(stats.marks[0].after_samples, 401u) << "taken at the release sample";
+            EXPECT_EQ(stats.held_requests, 1u);
+        } else {
+            EXPECT_GT(diff, 0u) << "idle closing undoes at once: the drag's rest stays";
+            EXPECT_EQ(stats.history.strokes, 2u);
+            EXPECT_EQ(stats.marks[0].after_samples, 200u);
+            EXPECT_EQ(stats.held_requests, 0u);
+        }
+    }
+}
+
+// With strokes that end on release, undo requests asked during a drag the session ends in are taken when the thread
+// stops, after the drag's stroke closes; redo waits behind an undo in order.
+TEST(SculptThreadHistory, RequestsHeldWhenTheSessionEndsMidDragAreTakenAtStop) {
+    TriDexel live = fresh();
+    SculptStats stats;
+    {
+        Rig rig(live);
+        SculptThread& t = rig.thread;
+        t.strokes_end_on_release(true);
+        t.start();
+        push_all(rig.ring, pass(-0.01, 0.0, 200, ToolOp::kSubtract));
+        push_all(rig.ring, pass(-0.01, 0.2, 5, ToolOp::kNone));
+        push_all(rig.ring, pass(0.01, 0.4, 200, ToolOp::kSubtract));  // the second drag, never released
+        wait_drained(rig.ring, t);
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));
+        EXPECT_TRUE(t.request(SculptRequest::kUndo));
+        EXPECT_TRUE(t.request(SculptRequest::kRedo));
+        wait_drained(rig.ring, t);
+        t.stop();
+        stats = t.stats();
+    }
+    ASSERT_EQ(stats.marks.size(), 3u);
+    EXPECT_EQ(stats.marks[0].request, SculptRequest::kUndo);
+    EXPECT_EQ(stats.marks[1].request, SculptRequest::kUndo);
+    EXPECT_EQ(stats.marks[2].request, SculptRequest::kRedo);
+    EXPECT_EQ(stats.history.strokes, 2u);
+    EXPECT_EQ(stats.history.undos, 2u);
+    EXPECT_EQ(stats.history.redos, 1u);
+    EXPECT_EQ(stats.held_requests, 3u);
+    // The second drag undone, the first undone and redone: the first drag's groove alone.
+    TriDexel expect = fresh();
+    {
+        Rig rig(expect);
+        rig.thread.start();
+        push_all(rig.ring, pass(-0.01, 0.0, 200, ToolOp::kSubtract));
+        push_all(rig.ring, pass(-0.01, 0.2, 5, ToolOp::kNone));
+        wait_drained(rig.ring, rig.thread);
+        rig.thread.stop();
+    }
+    EXPECT_EQ(compare(live, expect).rays, 0u);
 }
 
 // A replay of the same samples that follows the live thread's marks (SculptStats::marks) repeats its undos, redos and

@@ -332,6 +332,58 @@ TEST(SculptSites, AJoinerFollowsTheHostsStreamWhileItsOwnToolCarvesThroughTheHos
     EXPECT_EQ(after_undo, compute::model_digest(only_host));
 }
 
+// A joiner whose strokes end on release (the mouse) holds an undo asked while its tool still cuts and sends it to the
+// host only after its samples up to the release, so the host takes back the whole drag.
+TEST(SculptSites, AJoinersUndoAskedMidDragReachesTheHostAfterItsRelease) {
+    compute::TriDexel model = box_model();
+    compute::Contourer contourer(model);
+    contourer.update(model);
+    SpscRing<ToolSample> ring(4096);
+    TripleBuffer<ActiveSurface> surface;
+    SiteIntake in;
+    std::mutex log_mutex;
+    std::vector<std::size_t> sent_before_request;  // per request: the samples the host had been sent before it
+    std::size_t sent = 0;
+    SculptThread join(model, contourer, ring, surface, Vec3(0.0));
+    join.strokes_end_on_release(true);
+    join.follow_host(in, 2,
+                     {[&](std::span<const ToolSample> s) {
+                          std::lock_guard lock(log_mutex);
+                          sent += s.size();
+                      },
+                      [&](SculptRequest) {
+                          std::lock_guard lock(log_mutex);
+                          sent_before_request.push_back(sent);
+                      },
+                      {}});
+    join.start();
+    const auto settle = [&] {
+        const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (ring.size() > 0 && std::chrono::steady_clock::now() < limit)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        const std::uint64_t k = join.passes();
+        while (join.passes() < k + 2 && std::chrono::steady_clock::now() < limit)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    };
+    std::vector<ToolSample> drag = groove(0, -0.02, 0.03, -0.03, 90, 0.0);
+    ToolSample release = drag.back();  // the groove's last sample lifts the tool: held back until after the request
+    drag.pop_back();
+    for (const ToolSample& x : drag) ASSERT_TRUE(ring.try_push(x));
+    settle();
+    ASSERT_TRUE(join.request(SculptRequest::kUndo));  // the button still held
+    settle();
+    {
+        std::lock_guard lock(log_mutex);
+        EXPECT_TRUE(sent_before_request.empty()) << "sent while the tool still cut";
+    }
+    ASSERT_TRUE(ring.try_push(release));
+    settle();
+    join.stop();
+    ASSERT_EQ(sent_before_request.size(), 1u);
+    EXPECT_EQ(sent_before_request[0], drag.size() + 1) << "the request follows the release sample";
+    EXPECT_EQ(join.stats().held_requests, 1u);
+}
+
 // A follower on the box that sends nothing anywhere and keeps what its outlet heard of a mismatch.
 struct LoneFollower {
     explicit LoneFollower(std::uint8_t site) : model(box_model()), contourer(model) {

@@ -120,6 +120,8 @@ nlohmann::json history_report_json(const SculptStats& sculpt) {
             {"redos", h.redos},
             {"undo_requests", sculpt.undo_requests},
             {"redo_requests", sculpt.redo_requests},
+            {"held_requests", sculpt.held_requests},
+            {"held_requests_dropped", sculpt.held_requests_dropped},
             {"undo_ms", summary_json(summarize(sculpt.undo_ms), true)},
             {"coarseness", coarseness_json(sculpt.coarseness)}};
 }

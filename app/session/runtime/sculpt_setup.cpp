@@ -14,8 +14,9 @@ void set_session_sculpting(SculptThread& sculpt, const SessionSpec& spec, Sessio
         return check_resample_memory(m, resolution, kind);
     });
     sculpt.remove_islands(!spec.keep_islands);
-    // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops.
-    if (driver_caps(spec.device_driver).strokes_end_on_release) sculpt.close_strokes_when_idle(false);
+    // A stroke held on a button (the mouse's left button, a Flystick's trigger) must not split when the hand stops,
+    // and an undo asked as the button is released takes back that whole stroke.
+    if (driver_caps(spec.device_driver).strokes_end_on_release) sculpt.strokes_end_on_release(true);
 }
 
 void stop_sculpting(SculptThread& sculpt, compute::JournalIntake* intake, compute::JournalWriter* journal) {
