@@ -44,7 +44,8 @@ void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
         close_stroke(close == compute::StrokeClose::kSiteSwitch ? std::optional<std::uint8_t>(s.site) : std::nullopt);
     }
     // The local tool stopped cutting: the requests asked during its drag are taken here, after the drag.
-    if (!held_requests_.empty() && s.site == local_site_ && !cuts) {
+    // (A joiner's own samples come back from the host as echoes: its release is seen in forward_own instead.)
+    if (!follower_ && !held_requests_.empty() && s.site == local_site_ && !cuts) {
         flush(w.begin, w.n, w.changed);
         w.begin = w.n;
         take_held_requests();
@@ -91,6 +92,7 @@ bool SculptThread::take_requests() {
             if (held_requests_.size() < kMaxHeldRequests) {
                 held_requests_.push_back(r);
                 ++stats_.held_requests;
+                held_count_.store(held_requests_.size(), std::memory_order_release);
             } else {
                 ++stats_.held_requests_dropped;
             }
@@ -104,21 +106,30 @@ bool SculptThread::take_requests() {
 }
 
 bool SculptThread::holds_request(SculptRequest r) const {
-    if (idle_close_ || (r != SculptRequest::kUndo && r != SculptRequest::kRedo)) return false;
-    const bool local_cuts = have_prev_ && prev_.op != ToolOp::kNone && prev_.tool.radius_m > 0.0;
-    return local_cuts || !held_requests_.empty();
+    if (idle_close_) return false;
+    if (!held_requests_.empty()) return true;  // every request after a held one waits behind it, in order
+    if (r != SculptRequest::kUndo && r != SculptRequest::kRedo) return false;
+    return have_prev_ && prev_.op != ToolOp::kNone && prev_.tool.radius_m > 0.0;  // the local tool cuts
 }
 
 void SculptThread::take_held_requests() {
     std::vector<SculptRequest> held;
     held.swap(held_requests_);
-    if (follower_ && !held.empty()) {  // to the host after the samples up to the release, in their order
-        if (!own_.empty()) outlet_.samples(own_);
+    held_count_.store(0, std::memory_order_release);
+    if (held.empty()) return;
+    // A joiner's go to the host after its samples up to the release, in their order; its saves and coarseness
+    // changes are its own.
+    if (follower_ && !own_.empty()) {
+        outlet_.samples(own_);
         own_.clear();
-        for (const SculptRequest r : held) outlet_.request(r);
-        return;
     }
-    for (const SculptRequest r : held) take(r, local_site_);
+    for (const SculptRequest r : held) {
+        const bool local = r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
+        if (follower_ && !local)
+            outlet_.request(r);
+        else
+            take(r, local_site_);
+    }
 }
 
 void SculptThread::save_now() {

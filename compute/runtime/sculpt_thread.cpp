@@ -228,6 +228,8 @@ void SculptThread::run() {
                     failure_ = std::current_exception();
                 }
             }
+            stats_.held_requests_dropped += held_requests_.size();  // after a failure nothing is taken
+            held_requests_.clear();
             if (journal_) journal_->sync();
             stats_.history = history_->stats();
             return;

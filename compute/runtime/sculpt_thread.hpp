@@ -149,7 +149,8 @@ struct FollowStart {
 /// sample with op kNone (the tool lifted, the workspace button held), at a change of op, material or tool, when
 /// its sweeps have changed nothing for kStrokeIdleS of device time after it changed the model (the tool left the
 /// material), and at a kEndStroke request; a drained batch is split where a stroke closes. Undo and redo requests
-/// are taken at the start of a step, before that step's samples. Every close, undo and redo is journalled as a
+/// are taken at the start of a step, before that step's samples, except while a held-button stroke is open
+/// (strokes_end_on_release): then they wait for its release. Every close, undo and redo is journalled as a
 /// mark between the batch records, so a journal replays the same strokes. Coarseness requests (kFiner, kCoarser)
 /// close the open stroke and re-sample the model onto a lattice of twice or half the resolution as one undo step
 /// (SculptHistory::resample), journalled as a lattice record; the Contourer and the tile cache are made again for it.
@@ -255,11 +256,12 @@ public:
     /// button (the mouse stylus, a Flystick's trigger: samples carry op none while it is up, which closes the stroke):
     /// - no stroke closes for idling, so holding still mid-drag keeps one stroke one undo step;
     /// - an undo or redo request taken while the local tool cuts (its newest sample carries an op) waits until the
-    ///   local tool stops cutting (the release, or a gap in its samples), and is then taken at that sample, so that
-    ///   it takes back the whole drag however the release and the request raced to the thread. Later undo and redo
-    ///   requests wait behind it, in order; at most kMaxHeldRequests wait, further ones are dropped (counted in
-    ///   SculptStats::held_requests_dropped). Requests still waiting when the thread stops are taken then. A joiner
-    ///   (follow_host) sends them to the host after its own samples up to the release.
+    ///   local tool stops cutting (the release, or a gap in its samples), and is then taken after that sample (its
+    ///   mark counts it), so that an undo takes back the whole drag when the thread had drained part of it. Every
+    ///   later request (a save, a coarseness change too) waits behind it, in order; at most kMaxHeldRequests wait,
+    ///   further ones are dropped (counted in SculptStats::held_requests_dropped). Requests still waiting when the
+    ///   thread stops are taken then. A joiner (follow_host) sends its undos and redos to the host after its own
+    ///   samples up to the release, also at stop.
     /// Throws tridex::Error when the thread runs.
     void strokes_end_on_release(bool on);
     /// Replays a recorded session's marks (SculptStats::marks of the live session, in order): the thread takes each
@@ -299,8 +301,9 @@ public:
     /// takes a mutex the sculpt thread holds only to update them, once per step and once per pass).
     SculptLive live() const;
     /// Queues an undo, redo, stroke-close or save request for the sculpt thread (taken at its next step, within about a
-    /// millisecond when idle). One thread may call it (a single-producer queue); false when 64 requests are
-    /// already waiting. Safe while the thread runs; requests queued before start() are taken at its first step.
+    /// millisecond when idle, or later when it waits for a release: strokes_end_on_release). One thread may call it
+    /// (a single-producer queue); false when 64 requests are already waiting. Safe while the thread runs; requests
+    /// queued before start() are taken at its first step.
     bool request(SculptRequest r);
     /// Device time (s) without a change after which an open stroke closes.
     static constexpr double kStrokeIdleS = 0.5;
@@ -315,16 +318,21 @@ public:
 
     /// Starts the thread. Throws tridex::Error when it is already running.
     void start();
-    /// Processes every sample still in the ring, closes the open stroke (journalled), then joins; call it after the producer (the haptic
-    /// loop) has stopped. Idempotent. Rethrows the first exception the thread hit (a bad sample, out
-    /// of memory); after such a failure the thread kept draining the ring without applying anything.
+    /// Processes every sample still in the ring, closes the open stroke (journalled), takes the requests still held
+    /// for a release (a joiner sends them to the host, which its own model then does not follow), then joins; call
+    /// it after the producer (the haptic loop) has stopped. Idempotent. Rethrows the first exception the thread hit
+    /// (a bad sample, out of memory); after such a failure the thread kept draining the ring without applying
+    /// anything, and the held requests are dropped (counted).
     void stop();
     /// Counters; call after stop().
     const SculptStats& stats() const { return stats_; }
     /// How many passes of the thread's loop have finished (any thread). A pass takes every queued request, drains
     /// the ring, applies and publishes; so once two more passes finish after a caller queued requests and the ring
-    /// is empty, all of them have taken effect.
+    /// is empty, all of them have taken effect, unless requests_held() is above 0.
     std::uint64_t passes() const { return passes_.load(std::memory_order_acquire); }
+    /// Requests waiting for the local tool's release (strokes_end_on_release), as of the thread's last change of
+    /// them; while any wait, passes() moving does not mean a request was taken. Any thread.
+    std::size_t requests_held() const { return held_count_.load(std::memory_order_acquire); }
     /// Tiles and groups whose levels of detail are still being built (use_tile_lod), as of the thread's last
     /// pass. Any thread.
     std::size_t lod_tiles_pending() const { return lod_pending_.load(std::memory_order_acquire); }
@@ -458,7 +466,8 @@ private:
     std::size_t history_budget_ = compute::UndoHistory::kDefaultBudgetBytes;
     SpscRing<SculptRequest> requests_{64};
     bool idle_close_ = true;                         // !strokes_end_on_release
-    std::vector<SculptRequest> held_requests_;       // undo / redo waiting for the local tool's release
+    std::vector<SculptRequest> held_requests_;       // requests waiting for the local tool's release
+    std::atomic<std::size_t> held_count_{0};         // held_requests_.size(), for requests_held()
     bool remove_islands_ = false;                    // remove_islands
     std::vector<SculptMark> follow_;                 // follow_marks
     std::size_t next_mark_ = 0;                      // the first of follow_ not yet taken

@@ -45,13 +45,15 @@ TEST(UndoOrder, EveryStepOfOneThreadIsTimedByItsClock) {
 struct FakeLane {
     UndoTimes times;
     std::uint64_t passes = 0;
+    std::size_t held = 0;  // requests it holds for a release (SculptThread::requests_held)
     std::vector<SculptRequest> got;
     UndoLane lane() {
         return {[this] { return times; }, [this] { return passes; },
                 [this](SculptRequest r) {
                     got.push_back(r);
                     return true;
-                }};
+                },
+                2, [this] { return held; }};
     }
     // A step to undo, made at `at` (undo-clock units), the lane's newest.
     void step_at(std::int64_t at) {
@@ -133,6 +135,32 @@ TEST(UndoRouter, ASlowThreadThatStillPassesHoldsTheQueueUntilItTookTheRequest) {
     EXPECT_TRUE(r.pump(kWait));
     EXPECT_EQ(r.waiting(), 0u);
     EXPECT_EQ(a.got.size(), 1u);
+}
+
+// A lane whose thread holds the request for the tool's release (a mouse drag on b) has not taken it, however often it
+// passes: the second undo waits for the release and then reads the times the first left. Draining at the end counts
+// a held request as taken (the thread takes it as it stops), so the second is sent rather than dropped.
+TEST(UndoRouter, ARequestHeldForTheReleaseHoldsTheQueueUntilItIsTaken) {
+    TwoUndos two;
+    auto& [a, b, r] = two;
+    ASSERT_EQ(b.got.size(), 1u);
+    b.held = 1;
+    b.passes += 10;
+    EXPECT_TRUE(r.pump());
+    EXPECT_EQ(r.waiting(), 1u) << "sent while b still held the first";
+    EXPECT_EQ(a.got.size(), 0u);
+    b.held = 0;  // released: b's drag undone
+    b.times.undo_at = -1;
+    b.times.redo_at = 300;
+    EXPECT_TRUE(r.pump());
+    EXPECT_EQ(r.waiting(), 0u);
+    EXPECT_EQ(a.got.size(), 1u);
+
+    TwoUndos at_end;
+    at_end.b.held = 1;
+    (void)at_end.r.drain(std::chrono::milliseconds(50));  // a never passes: the second is not seen taken
+    EXPECT_EQ(at_end.r.waiting(), 0u);
+    EXPECT_EQ(at_end.a.got.size() + at_end.b.got.size(), 2u) << "drained: the held one counts as taken";
 }
 
 TEST(UndoRouter, RedoFollowsTheUndosInReverseUntilANewStepEndsIt) {

@@ -11,7 +11,7 @@
 
 namespace tridex::app {
 
-inline compute::TriDexel box_model() { return test::journal_box_model(); }
+inline compute::TriDexel box_model() { return tridex::test::journal_box_model(); }
 
 // A groove of `n` samples along x on the top face at height y_m, by `site`, starting at device time t0_s; the last
 // sample lifts the tool (op none), which ends the stroke.

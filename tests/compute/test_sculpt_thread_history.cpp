@@ -232,6 +232,9 @@ TEST(SculptThreadHistory, RequestsHeldWhenTheSessionEndsMidDragAreTakenAtStop) {
         EXPECT_TRUE(t.request(SculptRequest::kUndo));
         EXPECT_TRUE(t.request(SculptRequest::kRedo));
         wait_drained(rig.ring, t);
+        EXPECT_EQ(t.requests_held(), 3u);
+        push_all(rig.ring, pass(0.01, 0.6, 200, ToolOp::kSubtract));  // the drag goes on, back across
+        wait_drained(rig.ring, t);
         t.stop();
         stats = t.stats();
     }
@@ -243,7 +246,8 @@ TEST(SculptThreadHistory, RequestsHeldWhenTheSessionEndsMidDragAreTakenAtStop) {
     EXPECT_EQ(stats.history.undos, 2u);
     EXPECT_EQ(stats.history.redos, 1u);
     EXPECT_EQ(stats.held_requests, 3u);
-    // The second drag undone, the first undone and redone: the first drag's groove alone.
+    EXPECT_EQ(stats.marks[0].after_samples, 605u) << "taken at stop, after the whole drag";
+    // The second drag (both passes) undone, the first undone and redone: the first drag's groove alone.
     TriDexel expect = fresh();
     {
         Rig rig(expect);

@@ -102,8 +102,8 @@ nlohmann::json journal_report_json(const compute::JournalStats* journal, const S
 /// The `history` block of report.json (demo, run): the undo history at the end {budget_bytes, bytes, undo_steps,
 /// redo_steps, strokes (strokes that changed the model), dropped_steps (oldest steps dropped for the budget),
 /// oversize_strokes (strokes larger than the budget: applied, not undoable), undos, redos, undo_requests,
-/// redo_requests, undo_ms (per undo or redo that changed the model: rays written back, active surface published,
-/// dirty tiles re-contoured; summary)}.
+/// redo_requests, held_requests (waited for a held button's release), held_requests_dropped, undo_ms (per undo or
+/// redo that changed the model: rays written back, active surface published, dirty tiles re-contoured; summary)}.
 nlohmann::json history_report_json(const SculptStats& sculpt);
 /// report.json `history.coarseness`: each coarseness change the sculpt thread made (SculptStats::coarseness), in order:
 /// its serial, the resolutions, cell sizes (m) and volumes (m^3) before and after, and its wall time (s).

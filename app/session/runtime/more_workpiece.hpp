@@ -72,6 +72,8 @@ public:
     /// Its sculpt thread's live counters and passes (SculptThread::live, passes; any thread).
     SculptLive sculpt_live() const { return sculpt_->live(); }
     std::uint64_t sculpt_passes() const { return sculpt_->passes(); }
+    /// Its sculpt thread's requests waiting for the tool's release (SculptThread::requests_held). Any thread.
+    std::size_t sculpt_requests_held() const { return sculpt_->requests_held(); }
     /// The newest whole mesh (options.publish_meshes; one render thread), in its model frame.
     const MeshFrame& latest_mesh() { return meshes_.latest(); }
     /// After stop(): its whole final model contoured on the CPU (model frame, m) with a material id per vertex.

@@ -217,11 +217,12 @@ void SessionRuntime::build_undo_order() {
     placements_ = std::make_unique<PlacementHistory>(
         [this](int k, const Pose& pose) { return loop_->set_workpiece_pose(k, pose); });
     std::vector<UndoLane> lanes{{[this] { return sculpt_->live().undo_times; }, [this] { return sculpt_->passes(); },
-                                 [this](SculptRequest r) { return sculpt_->request(r); }}};
+                                 [this](SculptRequest r) { return sculpt_->request(r); }, 2,
+                                 [this] { return sculpt_->requests_held(); }}};
     for (const auto& m : more_) {
         MoreWorkpiece* p = m.get();
         lanes.push_back({[p] { return p->sculpt_live().undo_times; }, [p] { return p->sculpt_passes(); },
-                         [p](SculptRequest r) { return p->request(r); }});
+                         [p](SculptRequest r) { return p->request(r); }, 2, [p] { return p->sculpt_requests_held(); }});
     }
     lanes.push_back({[this] { return placements_->times(); }, [this] { return loop_->pose_changes_taken(); },
                      // While the hand holds a workpiece its pose is the hand's: a placement's undo is refused then.

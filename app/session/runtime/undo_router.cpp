@@ -77,6 +77,7 @@ bool UndoRouter::send(SculptRequest r, const Choice& c) {
 bool UndoRouter::taken(std::chrono::milliseconds wait) {
     if (busy_ < 0) return true;
     const UndoLane& lane = lanes_[static_cast<std::size_t>(busy_)];
+    if (lane.holding && lane.holding() > 0) return draining_;
     const std::uint64_t progress = lane.progress();
     if (progress >= busy_progress_ + lane.taken_after) return true;
     const auto now = std::chrono::steady_clock::now();
@@ -108,6 +109,7 @@ bool UndoRouter::pump(std::chrono::milliseconds wait) {
 }
 
 bool UndoRouter::drain(std::chrono::milliseconds timeout) {
+    draining_ = true;
     const auto end = std::chrono::steady_clock::now() + timeout;
     while ((!queue_.empty() || !taken(timeout)) && std::chrono::steady_clock::now() < end) {
         pump();

@@ -27,6 +27,9 @@ struct UndoLane {
     std::function<bool(SculptRequest)> request;   ///< takes an undo or redo (SculptThread::request)
     /// How far `progress` moves once a request made before is surely taken (a sculpt thread: two passes).
     std::uint64_t taken_after = 2;
+    /// Requests it holds untaken however far `progress` moves (SculptThread::requests_held: waiting for the tool's
+    /// release); empty: none ever are.
+    std::function<std::size_t()> holding = {};
 };
 
 /// Sends a session's undo and redo requests in one order: an undo to the history whose step is newest (a
@@ -68,6 +71,8 @@ private:
     bool send(SculptRequest r, const Choice& c);
     // Whether the request in flight was taken, or its lane's progress has not moved for `wait` (since it was sent or
     // since it last moved): a stopped thread holds nothing, a slow one that still passes holds the queue.
+    // A lane that holds requests (UndoLane::holding) has not taken the one in flight, except while draining at the
+    // end, when the thread takes what it holds as it stops.
     bool taken(std::chrono::milliseconds wait);
     std::vector<UndoLane> lanes_;
     std::function<int()> fallback_;
@@ -78,6 +83,7 @@ private:
     std::uint64_t busy_progress_ = 0;  // its progress() when sent
     std::uint64_t seen_progress_ = 0;  // its progress() when last looked at
     std::chrono::steady_clock::time_point moved_at_{};  // when that was sent or last seen to move
+    bool draining_ = false;                             // in drain()
 };
 
 }  // namespace tridex::app
