@@ -398,9 +398,14 @@ TEST(HapticLoop, OneSecondPeriodStatistics) {
     // us: a few us of work, far below the 1 ms budget. ThreadSanitizer instruments every memory access, which makes
     // the same tick over ten times slower, so its bound is four times wider (still under half the budget).
     EXPECT_LT(percentile(compute, 0.5), kSanitized ? 400.0 : 100.0);
-    // 1000 ticks on 1 ms deadlines take 1 s, plus skipped deadlines when the shared machine stalls us.
+    // 1000 ticks on 1 ms deadlines take 1 s, plus the deadlines skipped while the shared machine stalled the thread:
+    // the time of the periods over 2 ms beyond their 1 ms. What is left is the loop's own pace; a loop that lost time
+    // on its own would exceed the bound however quiet the machine.
+    double stalled_s = 0.0;
+    for (const double p : period)
+        if (p > 2000.0) stalled_s += 1e-6 * (p - 1000.0);
     EXPECT_GT(wall_s, 0.99);
-    EXPECT_LT(wall_s, 1.5);
+    EXPECT_LT(wall_s - stalled_s, 1.5) << "stalls " << stalled_s << " s";
 }
 
 }  // namespace
