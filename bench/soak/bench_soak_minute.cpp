@@ -113,10 +113,13 @@ void SoakMonitor::end_minute(const app::RunFrameProbe& p) {
     m.frame_p99_ms = frame_ms_.percentile_ms(0.99);
     frame_ms_.clear();
     const haptics::LoopStats loop = p.runtime->loop_stats();
-    const haptics::Histogram period = minus(loop.period_histogram, period_before_);
+    haptics::Histogram period = minus(loop.period_histogram, period_before_);
     m.ticks = loop.ticks - ticks_before_;
-    m.period_p99_us = 1e6 * period.quantile(0.99);
     m.period_worst_us = 1e6 * worst_of(period, period_before_, loop.period_histogram);
+    // The minute's own longest period (or its lower bound), not an earlier minute's: a quantile that falls beyond the
+    // bins is then that bound too, never above the worst.
+    period.max_s = 1e-6 * m.period_worst_us;
+    m.period_p99_us = 1e6 * period.quantile(0.99);
     m.periods_over_2ms = loop.periods_over_2ms - over_2ms_before_;
     period_before_ = loop.period_histogram;
     ticks_before_ = loop.ticks;
