@@ -14,6 +14,15 @@
 
 namespace tridex::app {
 
+namespace {
+// The sample's tool carves (an op and a tool with a size).
+bool tool_cuts(const ToolSample& s) { return s.op != ToolOp::kNone && s.tool.radius_m > 0.0; }
+// A request a joiner takes itself rather than sending it to the host.
+bool local_request(SculptRequest r) {
+    return r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
+}
+}  // namespace
+
 void SculptThread::use_site_intake(SiteIntake& intake) {
     if (thread_.joinable()) throw Error("SculptThread::use_site_intake: call it before start()");
     intake_ = &intake;
@@ -32,7 +41,7 @@ double SculptThread::open_t_s() const {
 void SculptThread::take_sample(const ToolSample& s, StepWork& w) {
     ++stats_.samples;
     if (journal_ || !streams_.empty()) drained_.push_back(s);
-    const bool cuts = s.op != ToolOp::kNone && s.tool.radius_m > 0.0;
+    const bool cuts = tool_cuts(s);
     if (cuts) w.oldest_cut.keep_older({s.made_s, s.t_s});
     // A stroke closes where the tool stops cutting or changes what it does, or another site's tool cuts; the sweep
     // ending at `s` then belongs to the next stroke.
@@ -87,7 +96,6 @@ bool SculptThread::take_requests() {
     bool any = false;
     while (requests_.try_pop(r)) {
         any = true;
-        const bool local = r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
         if (holds_request(r)) {
             if (held_requests_.size() < kMaxHeldRequests) {
                 held_requests_.push_back(r);
@@ -96,7 +104,7 @@ bool SculptThread::take_requests() {
             } else {
                 ++stats_.held_requests_dropped;
             }
-        } else if (follower_ && !local) {
+        } else if (follower_ && !local_request(r)) {
             outlet_.request(r);  // the host decides; its marks come back
         } else {
             take(r, local_site_);
@@ -109,7 +117,7 @@ bool SculptThread::holds_request(SculptRequest r) const {
     if (idle_close_) return false;
     if (!held_requests_.empty()) return true;  // every request after a held one waits behind it, in order
     if (r != SculptRequest::kUndo && r != SculptRequest::kRedo) return false;
-    return have_prev_ && prev_.op != ToolOp::kNone && prev_.tool.radius_m > 0.0;  // the local tool cuts
+    return have_prev_ && tool_cuts(prev_);
 }
 
 void SculptThread::take_held_requests() {
@@ -124,8 +132,7 @@ void SculptThread::take_held_requests() {
         own_.clear();
     }
     for (const SculptRequest r : held) {
-        const bool local = r == SculptRequest::kSave || r == SculptRequest::kFiner || r == SculptRequest::kCoarser;
-        if (follower_ && !local)
+        if (follower_ && !local_request(r))
             outlet_.request(r);
         else
             take(r, local_site_);
@@ -265,7 +272,7 @@ void SculptThread::forward_own(ToolSample s) {
     prev_ = s;  // the active surface follows this site's own tool at once, not its echo from the host
     have_prev_ = true;
     own_.push_back(s);
-    if (!held_requests_.empty() && !(s.op != ToolOp::kNone && s.tool.radius_m > 0.0)) take_held_requests();
+    if (!held_requests_.empty() && !tool_cuts(s)) take_held_requests();
 }
 
 void SculptThread::follow_check(std::uint64_t host_digest) {
